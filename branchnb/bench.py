@@ -1,0 +1,97 @@
+"""Benchmark rows: each measures one operation against a named anchor in the same run.
+
+Every technique may provide a module ``branchnb.<technique>._bench`` with a
+function ``rows(quick: bool) -> list[BenchRow]``; :func:`run` collects
+them. The anchor is either another implementation timed in the same
+process (e.g. ``skimage.graph.MCP``), or a figure the paper reports; the
+ratio is ours / anchor, so < 1 means faster than the anchor.
+"""
+
+from __future__ import annotations
+
+import importlib
+import importlib.util
+import time
+from dataclasses import dataclass
+from typing import Callable
+
+__all__ = ["BenchRow", "timeit", "run", "format_table", "SUITES"]
+
+#: Modules searched for a ``rows(quick)`` function, in display order.
+SUITES = (
+    "branchnb.core._bench",
+    "branchnb.branching._bench",
+    "branchnb.dendrite._bench",
+    "branchnb.trees._bench",
+    "branchnb.leaves._bench",
+    "branchnb.strokes._bench",
+)
+
+
+@dataclass
+class BenchRow:
+    """One benchmark figure.
+
+    Attributes
+    ----------
+    name : str
+        What was measured (with the input size).
+    seconds : float
+        Our time (best of the repeats).
+    anchor : str
+        What it is compared with.
+    anchor_seconds : float
+        The anchor's time, measured in the same run or quoted from the paper.
+    note : str
+        Anything the reader needs (e.g. "paper figure, other machine").
+    """
+
+    name: str
+    seconds: float
+    anchor: str
+    anchor_seconds: float
+    note: str = ""
+
+    @property
+    def ratio(self) -> float:
+        """ours / anchor."""
+        return self.seconds / self.anchor_seconds if self.anchor_seconds > 0 else float("inf")
+
+
+def timeit(fn: Callable[[], object], *, repeat: int = 3, warmup: bool = True) -> float:
+    """Best wall time of ``repeat`` calls of ``fn`` (after one warm-up call, e.g. for JIT)."""
+    if warmup:
+        fn()
+    best = float("inf")
+    for _ in range(max(1, repeat)):
+        t0 = time.perf_counter()
+        fn()
+        best = min(best, time.perf_counter() - t0)
+    return best
+
+
+def run(quick: bool = False, suites=SUITES) -> list[BenchRow]:
+    """Collect the rows of every available suite."""
+    rows: list[BenchRow] = []
+    for mod_name in suites:
+        if importlib.util.find_spec(mod_name.rsplit(".", 1)[0]) is None:
+            continue
+        if importlib.util.find_spec(mod_name) is None:
+            continue
+        mod = importlib.import_module(mod_name)
+        rows.extend(mod.rows(quick))
+    return rows
+
+
+def format_table(rows: list[BenchRow]) -> str:
+    """Plain-text table of rows."""
+    header = ("benchmark", "ours [s]", "anchor", "anchor [s]", "ratio", "note")
+    body = [
+        (r.name, f"{r.seconds:.4f}", r.anchor, f"{r.anchor_seconds:.4f}", f"{r.ratio:.3f}", r.note)
+        for r in rows
+    ]
+    widths = [max(len(str(x)) for x in col) for col in zip(header, *body)]
+    line = "  ".join("{:<%d}" % w for w in widths)
+    out = [line.format(*header), line.format(*("-" * w for w in widths))]
+    out += [line.format(*r) for r in body]
+    return "\n".join(out)

@@ -1,0 +1,268 @@
+"""Image conventions shared by every technique.
+
+Images are ``float32`` arrays with values in [0, 1] and shape ``(H, W, C)``
+with ``C`` = 3 (RGB) or 4 (RGBA). Points are ``(x, y)`` pixel coordinates
+with the origin at the top-left corner: ``x`` indexes columns, ``y`` rows,
+and the centre of pixel ``image[r, c]`` is at ``(c, r)``.
+
+The converters here are the door every public function walks its input
+through, so that the algorithms behind them can assume clean data.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = [
+    "as_float_image",
+    "as_rgb",
+    "as_rgba",
+    "as_gray",
+    "as_mask",
+    "as_points",
+    "to_uint8",
+    "split_alpha",
+    "composite_over",
+]
+
+_INT_SCALE = {np.dtype(np.uint8): 255.0, np.dtype(np.uint16): 65535.0}
+
+
+def _check_array(image, name: str) -> np.ndarray:
+    if not isinstance(image, np.ndarray):
+        try:
+            image = np.asarray(image)
+        except Exception as exc:  # pragma: no cover - exotic inputs
+            raise TypeError(f"{name} must be array-like, got {type(image).__name__}") from exc
+    if image.dtype == object or not (
+        np.issubdtype(image.dtype, np.number) or image.dtype == bool
+    ):
+        raise TypeError(f"{name} must have a numeric dtype, got {image.dtype}")
+    if image.size == 0:
+        raise ValueError(f"{name} is empty (shape {image.shape})")
+    return image
+
+
+def as_float_image(image, *, name: str = "image") -> np.ndarray:
+    """Convert an image to the project convention: float32 in [0, 1], H x W x C.
+
+    Parameters
+    ----------
+    image : array_like
+        ``(H, W)`` grayscale, or ``(H, W, C)`` with ``C`` in {1, 3, 4}.
+        ``uint8`` and ``uint16`` are scaled to [0, 1]; ``bool`` maps to
+        {0, 1}; floats must already lie in [0, 1] (a tolerance of 1e-6 is
+        clipped away).
+    name : str, optional
+        Argument name used in error messages.
+
+    Returns
+    -------
+    out : (H, W, C) float32 ndarray
+        A new array (the input is never modified). Grayscale input becomes
+        ``C = 1``.
+
+    Raises
+    ------
+    TypeError
+        Non-numeric dtype, or an integer dtype other than uint8/uint16.
+    ValueError
+        Empty input, wrong number of dimensions or channels, NaN/inf, or
+        float values outside [0, 1].
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> as_float_image(np.full((2, 3), 255, np.uint8)).shape
+    (2, 3, 1)
+    """
+    image = _check_array(image, name)
+    if image.ndim == 2:
+        image = image[:, :, None]
+    if image.ndim != 3:
+        raise ValueError(
+            f"{name} must be 2-D (H, W) or 3-D (H, W, C), got shape {image.shape}"
+        )
+    if image.shape[2] not in (1, 3, 4):
+        raise ValueError(f"{name} must have 1, 3 or 4 channels, got {image.shape[2]}")
+    if image.dtype == bool:
+        return image.astype(np.float32)
+    if np.issubdtype(image.dtype, np.integer):
+        scale = _INT_SCALE.get(image.dtype)
+        if scale is None:
+            raise TypeError(
+                f"{name} has integer dtype {image.dtype}; use uint8, uint16 or float in [0, 1]"
+            )
+        return (image.astype(np.float32) / np.float32(scale))
+    out = image.astype(np.float32, copy=True)
+    if not np.all(np.isfinite(out)):
+        raise ValueError(f"{name} contains NaN or infinite values")
+    lo, hi = float(out.min()), float(out.max())
+    if lo < -1e-6 or hi > 1 + 1e-6:
+        raise ValueError(
+            f"{name} is float with values in [{lo:.4g}, {hi:.4g}]; expected [0, 1]"
+        )
+    np.clip(out, 0.0, 1.0, out=out)
+    return out
+
+
+def as_rgb(image, *, background=(1.0, 1.0, 1.0), name: str = "image") -> np.ndarray:
+    """Convert to an (H, W, 3) float32 RGB image.
+
+    Grayscale is replicated over the three channels; RGBA is composited
+    over ``background`` (white by default).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> as_rgb(np.zeros((4, 5))).shape
+    (4, 5, 3)
+    """
+    image = as_float_image(image, name=name)
+    c = image.shape[2]
+    if c == 1:
+        return np.repeat(image, 3, axis=2)
+    if c == 4:
+        return composite_over(image, background)
+    return image
+
+
+def as_rgba(image, *, name: str = "image") -> np.ndarray:
+    """Convert to an (H, W, 4) float32 RGBA image (opaque alpha if absent).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> as_rgba(np.zeros((4, 5, 3)))[..., 3].min()
+    1.0
+    """
+    image = as_float_image(image, name=name)
+    c = image.shape[2]
+    if c == 4:
+        return image
+    rgb = np.repeat(image, 3, axis=2) if c == 1 else image
+    alpha = np.ones(rgb.shape[:2] + (1,), np.float32)
+    return np.concatenate([rgb, alpha], axis=2)
+
+
+def as_gray(image, *, name: str = "image") -> np.ndarray:
+    """Convert to an (H, W) float32 luminance image (Rec. 709 weights).
+
+    Alpha, if present, is ignored.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> float(as_gray(np.ones((2, 2, 3)))[0, 0])
+    1.0
+    """
+    image = as_float_image(image, name=name)
+    if image.shape[2] == 1:
+        return image[:, :, 0]
+    rgb = image[:, :, :3]
+    return (rgb @ np.array([0.2126, 0.7152, 0.0722], np.float32)).astype(np.float32)
+
+
+def as_mask(mask, *, shape: tuple[int, int] | None = None, name: str = "mask") -> np.ndarray:
+    """Validate a 2-D boolean mask (nonzero means True).
+
+    Parameters
+    ----------
+    mask : array_like, (H, W)
+    shape : (int, int), optional
+        Required ``(H, W)``.
+    """
+    mask = _check_array(mask, name)
+    if mask.ndim != 2:
+        raise ValueError(f"{name} must be 2-D (H, W), got shape {mask.shape}")
+    if shape is not None and mask.shape != tuple(shape):
+        raise ValueError(f"{name} has shape {mask.shape}, expected {tuple(shape)}")
+    if np.issubdtype(mask.dtype, np.floating) and not np.all(np.isfinite(mask)):
+        raise ValueError(f"{name} contains NaN or infinite values")
+    return mask.astype(bool)
+
+
+def as_points(
+    points,
+    *,
+    name: str = "points",
+    min_points: int = 1,
+    image_shape: tuple[int, ...] | None = None,
+) -> np.ndarray:
+    """Validate an (N, 2) array of (x, y) points and return it as float64.
+
+    Parameters
+    ----------
+    points : array_like, (N, 2)
+    name : str
+        Argument name used in error messages.
+    min_points : int
+        Minimum N.
+    image_shape : tuple, optional
+        If given, every point must lie inside ``[0, W-1] x [0, H-1]``
+        (with half a pixel of tolerance).
+
+    Examples
+    --------
+    >>> as_points([(0, 0), (3, 4)]).shape
+    (2, 2)
+    """
+    try:
+        arr = np.asarray(points, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"{name} must be an (N, 2) array of numbers") from exc
+    if arr.ndim == 1 and arr.size == 0:
+        arr = arr.reshape(0, 2)
+    if arr.ndim != 2 or arr.shape[1] != 2:
+        raise ValueError(f"{name} must have shape (N, 2), got {arr.shape}")
+    if len(arr) < min_points:
+        raise ValueError(f"{name} needs at least {min_points} point(s), got {len(arr)}")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name} contains NaN or infinite coordinates")
+    if image_shape is not None and len(arr):
+        h, w = image_shape[:2]
+        x, y = arr[:, 0], arr[:, 1]
+        bad = (x < -0.5) | (x > w - 0.5) | (y < -0.5) | (y > h - 0.5)
+        if bad.any():
+            i = int(np.flatnonzero(bad)[0])
+            raise ValueError(
+                f"{name}[{i}] = ({x[i]:.1f}, {y[i]:.1f}) lies outside the {w} x {h} image"
+            )
+    return arr.copy()
+
+
+def to_uint8(image) -> np.ndarray:
+    """Convert a [0, 1] float image to uint8 (rounding), keeping its shape.
+
+    A trailing single channel is dropped so the result can be saved directly.
+    """
+    image = as_float_image(image)
+    out = np.round(image * 255.0).astype(np.uint8)
+    return out[:, :, 0] if out.shape[2] == 1 else out
+
+
+def split_alpha(image, *, name: str = "image") -> tuple[np.ndarray, np.ndarray]:
+    """Return ``(rgb, alpha)`` of an image; alpha is all ones if absent."""
+    rgba = as_rgba(image, name=name)
+    return rgba[:, :, :3], rgba[:, :, 3]
+
+
+def composite_over(image, background=(1.0, 1.0, 1.0)) -> np.ndarray:
+    """Composite an RGBA image over a constant colour or an RGB image.
+
+    Parameters
+    ----------
+    image : (H, W, 4) array_like
+    background : 3-tuple or (H, W, 3) array_like
+    """
+    rgba = as_rgba(image)
+    bg = np.asarray(background, dtype=np.float32)
+    if bg.ndim == 1:
+        if bg.shape != (3,):
+            raise ValueError(f"background must be an RGB triple, got shape {bg.shape}")
+    else:
+        bg = as_rgb(bg, name="background")
+        if bg.shape[:2] != rgba.shape[:2]:
+            raise ValueError("background must have the same height and width as image")
+    a = rgba[:, :, 3:4]
+    return (rgba[:, :, :3] * a + bg * (1.0 - a)).astype(np.float32)

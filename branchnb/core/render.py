@@ -1,0 +1,166 @@
+"""Rasterise polylines with per-vertex width, anti-aliased.
+
+Each edge is drawn as a tapered capsule (radius interpolated linearly
+between its two vertices); overlapping capsules combine by maximum
+coverage, so joints and branch points show no double-blended seams.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+from .image import as_float_image
+
+__all__ = ["draw_polylines", "coverage_polylines", "pack_polylines"]
+
+
+@numba.njit(cache=True)
+def _rasterise(segs, seg_color, height, width, coverage, colour_idx):
+    # segs: (S, 6) x0, y0, r0, x1, y1, r1
+    for s in range(segs.shape[0]):
+        x0, y0, r0, x1, y1, r1 = segs[s, 0], segs[s, 1], segs[s, 2], segs[s, 3], segs[s, 4], segs[s, 5]
+        rmax = max(r0, r1) + 1.0
+        c0 = max(int(np.floor(min(x0, x1) - rmax)), 0)
+        c1 = min(int(np.ceil(max(x0, x1) + rmax)), width - 1)
+        q0 = max(int(np.floor(min(y0, y1) - rmax)), 0)
+        q1 = min(int(np.ceil(max(y0, y1) + rmax)), height - 1)
+        dx, dy = x1 - x0, y1 - y0
+        len2 = dx * dx + dy * dy
+        for r in range(q0, q1 + 1):
+            for c in range(c0, c1 + 1):
+                px, py = c - x0, r - y0
+                t = 0.0
+                if len2 > 0:
+                    t = (px * dx + py * dy) / len2
+                    t = min(max(t, 0.0), 1.0)
+                ex, ey = px - t * dx, py - t * dy
+                d = np.sqrt(ex * ex + ey * ey)
+                rad = r0 + t * (r1 - r0)
+                # Sub-pixel radii: fade the line instead of letting it vanish.
+                if rad < 0.5:
+                    cov = min(max(0.5 - d + 0.5, 0.0), 1.0) * 2.0 * rad
+                else:
+                    cov = min(max(rad - d + 0.5, 0.0), 1.0)
+                if cov > coverage[r, c]:
+                    coverage[r, c] = cov
+                    colour_idx[r, c] = seg_color[s]
+
+
+def pack_polylines(polylines, widths=None, default_width: float = 1.0):
+    """Validate polylines and widths; return ``(segments (S, 6), polyline index (S,))``.
+
+    Parameters
+    ----------
+    polylines : sequence of (N_i, 2) array_like
+    widths : None, float, or sequence of float / (N_i,) array_like
+        Full line width (diameter) per polyline or per vertex.
+    """
+    if isinstance(polylines, np.ndarray) and polylines.ndim == 2:
+        polylines = [polylines]
+    segs, owner = [], []
+    for i, pl in enumerate(polylines):
+        p = np.asarray(pl, dtype=np.float64)
+        if p.ndim != 2 or p.shape[1] != 2:
+            raise ValueError(f"polylines[{i}] must have shape (N, 2), got {p.shape}")
+        if not np.all(np.isfinite(p)):
+            raise ValueError(f"polylines[{i}] contains NaN or infinite coordinates")
+        if len(p) == 0:
+            continue
+        if widths is None:
+            w = np.full(len(p), default_width)
+        elif np.ndim(widths) == 0:
+            w = np.full(len(p), float(widths))
+        else:
+            wi = widths[i]
+            w = np.full(len(p), float(wi)) if np.ndim(wi) == 0 else np.asarray(wi, np.float64)
+            if w.shape != (len(p),):
+                raise ValueError(f"widths[{i}] must be a number or have {len(p)} entries")
+        if not np.all(np.isfinite(w)) or np.any(w < 0):
+            raise ValueError(f"widths for polylines[{i}] must be finite and >= 0")
+        r = w / 2.0
+        if len(p) == 1:  # a dot
+            p = np.vstack([p, p])
+            r = np.concatenate([r, r])
+        segs.append(np.column_stack([p[:-1], r[:-1], p[1:], r[1:]]))
+        owner.append(np.full(len(p) - 1, i))
+    if not segs:
+        return np.zeros((0, 6)), np.zeros(0, np.int64)
+    return np.vstack(segs), np.concatenate(owner).astype(np.int64)
+
+
+def coverage_polylines(shape, polylines, widths=None) -> tuple[np.ndarray, np.ndarray]:
+    """Anti-aliased coverage of polylines on an ``(H, W)`` grid.
+
+    Returns
+    -------
+    coverage : (H, W) float32 in [0, 1]
+    owner : (H, W) int64
+        Index of the polyline that covers each pixel most (-1 if none).
+    """
+    h, w = int(shape[0]), int(shape[1])
+    if h <= 0 or w <= 0:
+        raise ValueError(f"shape must be positive, got {shape}")
+    segs, owner = pack_polylines(polylines, widths)
+    coverage = np.zeros((h, w), np.float32)
+    idx = np.full((h, w), -1, np.int64)
+    if len(segs):
+        _rasterise(segs, owner, h, w, coverage, idx)
+    return coverage, idx
+
+
+def draw_polylines(image, polylines, widths=None, colors=(0.0, 0.0, 0.0), *,
+                   alpha: float = 1.0) -> np.ndarray:
+    """Draw polylines with per-vertex width onto a copy of ``image``.
+
+    Parameters
+    ----------
+    image : (H, W, C) array_like
+        Canvas (any layout accepted by :func:`as_float_image`); RGBA
+        canvases get their alpha raised under the strokes.
+    polylines : sequence of (N_i, 2) array_like
+        Vertices in (x, y) pixels.
+    widths : float or sequence, optional
+        Full width per polyline, or per vertex (``(N_i,)`` arrays).
+    colors : colour or sequence of colours
+        One RGB(A) triple for all, or one per polyline.
+    alpha : float
+        Global opacity.
+
+    Returns
+    -------
+    out : ndarray, same shape as the converted ``image``
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = draw_polylines(np.ones((20, 20, 3)), [[(2, 10), (17, 10)]], widths=[[2, 6]])
+    >>> float(img[10, 15, 0]) < 0.1
+    True
+    """
+    img = as_float_image(image)
+    if not 0 <= alpha <= 1:
+        raise ValueError(f"alpha must be in [0, 1], got {alpha}")
+    n_lines = 1 if (isinstance(polylines, np.ndarray) and polylines.ndim == 2) else len(polylines)
+    col = np.asarray(colors, dtype=np.float32)
+    if col.ndim == 1:
+        col = np.broadcast_to(col, (max(n_lines, 1), col.shape[0]))
+    if col.ndim != 2 or col.shape[1] not in (1, 3, 4) or col.shape[0] != max(n_lines, 1):
+        raise ValueError("colors must be one colour or one colour per polyline")
+    if not np.all(np.isfinite(col)):
+        raise ValueError("colors contains NaN or infinite values")
+    if col.shape[1] == 1:
+        col = np.repeat(col, 3, axis=1)
+    col_alpha = col[:, 3] if col.shape[1] == 4 else np.ones(len(col), np.float32)
+    coverage, idx = coverage_polylines(img.shape[:2], polylines, widths)
+    a = coverage * alpha * np.where(idx >= 0, col_alpha[np.maximum(idx, 0)], 0.0)
+    a = a[:, :, None].astype(np.float32)
+    c = img.shape[2]
+    src = col[np.maximum(idx, 0), :3]
+    if c == 1:
+        src = (src @ np.array([0.2126, 0.7152, 0.0722], np.float32))[:, :, None]
+    out = img.copy()
+    out[:, :, : min(c, 3)] = img[:, :, : min(c, 3)] * (1 - a) + src[:, :, : min(c, 3)] * a
+    if c == 4:
+        out[:, :, 3] = img[:, :, 3] + a[:, :, 0] * (1 - img[:, :, 3])
+    return np.clip(out, 0, 1).astype(np.float32)
