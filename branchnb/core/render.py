@@ -58,6 +58,8 @@ def pack_polylines(polylines, widths=None, default_width: float = 1.0):
     """
     if isinstance(polylines, np.ndarray) and polylines.ndim == 2:
         polylines = [polylines]
+        if widths is not None and not isinstance(widths, (int, float, np.number)):
+            widths = [widths]
     segs, owner = [], []
     for i, pl in enumerate(polylines):
         p = np.asarray(pl, dtype=np.float64)
@@ -69,11 +71,14 @@ def pack_polylines(polylines, widths=None, default_width: float = 1.0):
             continue
         if widths is None:
             w = np.full(len(p), default_width)
-        elif np.ndim(widths) == 0:
+        elif isinstance(widths, (int, float, np.number)):
             w = np.full(len(p), float(widths))
         else:
             wi = widths[i]
-            w = np.full(len(p), float(wi)) if np.ndim(wi) == 0 else np.asarray(wi, np.float64)
+            if isinstance(wi, (int, float, np.number)):
+                w = np.full(len(p), float(wi))
+            else:
+                w = np.asarray(wi, np.float64)
             if w.shape != (len(p),):
                 raise ValueError(f"widths[{i}] must be a number or have {len(p)} entries")
         if not np.all(np.isfinite(w)) or np.any(w < 0):

@@ -1,0 +1,305 @@
+"""The branching structure: a tree of branches, each a polyline with per-vertex thickness.
+
+A :class:`Structure` is what the user annotates on an example image, what
+the learned models are trained on, and what synthesis produces. Branch 0
+(and any branch with ``parent is None``) is a root; every other branch
+starts at vertex ``parent_vertex`` of branch ``parent``.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..core.image import as_float_image, as_points
+from ..core.io import encode_png
+from ..core.polyline import polyline_length, resample_uniform, turning_angles
+from ..core.render import draw_polylines
+from ..core.svg import polylines_to_svg
+
+__all__ = ["Branch", "Structure"]
+
+
+@dataclass
+class Branch:
+    """One branch.
+
+    Attributes
+    ----------
+    points : (N, 2) float ndarray
+        Vertices (x, y) in pixels. For a child branch, ``points[0]`` is the
+        furcation point on the parent.
+    thickness : (N,) float ndarray
+        Radius ``r`` at each vertex (pixels, > 0): half the visible width.
+    parent : int or None
+        Index of the parent branch, None for a root.
+    parent_vertex : int or None
+        Vertex of the parent the branch starts at.
+    """
+
+    points: np.ndarray
+    thickness: np.ndarray
+    parent: int | None = None
+    parent_vertex: int | None = None
+
+    def __post_init__(self):
+        self.points = as_points(self.points, name="points", min_points=1)
+        t = np.asarray(self.thickness, dtype=np.float64)
+        if t.ndim == 0:
+            t = np.full(len(self.points), float(t))
+        if t.shape != (len(self.points),):
+            raise ValueError(
+                f"thickness must have one value per vertex ({len(self.points)}), got shape {t.shape}"
+            )
+        if not np.all(np.isfinite(t)) or np.any(t <= 0):
+            raise ValueError("thickness must be finite and > 0 at every vertex")
+        self.thickness = t
+        if (self.parent is None) != (self.parent_vertex is None):
+            raise ValueError("parent and parent_vertex must both be set or both be None")
+
+    @property
+    def length(self) -> float:
+        """Arc length (pixels)."""
+        return polyline_length(self.points) if len(self.points) > 1 else 0.0
+
+    def angles(self) -> np.ndarray:
+        """Turning angles alpha at the interior vertices (N - 2 values, radians)."""
+        return turning_angles(self.points) if len(self.points) > 2 else np.zeros(0)
+
+
+@dataclass
+class Structure:
+    """A branching structure: a list of :class:`Branch` forming a forest.
+
+    Examples
+    --------
+    >>> s = Structure([Branch([(0, 0), (10, 0), (20, 5)], 2.0)])
+    >>> s.add_branch([(10, 0), (12, 10)], 1.0, parent=0, parent_vertex=1)
+    1
+    >>> s.n_vertices, s.children(0)
+    (5, [1])
+    """
+
+    branches: list[Branch] = field(default_factory=list)
+    #: Optional (height, width) of the image the structure lives on.
+    image_shape: tuple[int, int] | None = None
+
+    def __post_init__(self):
+        self.branches = [b if isinstance(b, Branch) else Branch(**b) for b in self.branches]
+        self.validate()
+
+    # -- building -------------------------------------------------------
+    def add_branch(self, points, thickness, parent: int | None = None,
+                   parent_vertex: int | None = None) -> int:
+        """Append a branch and return its index."""
+        b = Branch(points, thickness, parent, parent_vertex)
+        self.branches.append(b)
+        try:
+            self.validate()
+        except ValueError:
+            self.branches.pop()
+            raise
+        return len(self.branches) - 1
+
+    def validate(self) -> "Structure":
+        """Check parent links (existing branch, valid vertex, no cycles)."""
+        n = len(self.branches)
+        for i, b in enumerate(self.branches):
+            if b.parent is None:
+                continue
+            if not (0 <= b.parent < n) or b.parent == i:
+                raise ValueError(f"branches[{i}].parent = {b.parent} is not another branch index")
+            nv = len(self.branches[b.parent].points)
+            if not (0 <= b.parent_vertex < nv):
+                raise ValueError(
+                    f"branches[{i}].parent_vertex = {b.parent_vertex} outside parent's {nv} vertices"
+                )
+        for i in range(n):
+            seen, j = set(), i
+            while self.branches[j].parent is not None:
+                if j in seen:
+                    raise ValueError(f"branch {i} is part of a parent cycle")
+                seen.add(j)
+                j = self.branches[j].parent
+        return self
+
+    def remove_subtree(self, index: int) -> "Structure":
+        """A new structure without branch ``index`` and all its descendants."""
+        if not 0 <= index < len(self.branches):
+            raise ValueError(f"index {index} out of range for {len(self.branches)} branches")
+        drop = {index}
+        changed = True
+        while changed:
+            changed = False
+            for i, b in enumerate(self.branches):
+                if i not in drop and b.parent in drop:
+                    drop.add(i)
+                    changed = True
+        keep = [i for i in range(len(self.branches)) if i not in drop]
+        remap = {old: new for new, old in enumerate(keep)}
+        out = []
+        for i in keep:
+            b = self.branches[i]
+            out.append(Branch(b.points.copy(), b.thickness.copy(),
+                              remap.get(b.parent) if b.parent is not None else None,
+                              b.parent_vertex))
+        return Structure(out, self.image_shape)
+
+    # -- queries --------------------------------------------------------
+    @property
+    def n_vertices(self) -> int:
+        return int(sum(len(b.points) for b in self.branches))
+
+    @property
+    def total_length(self) -> float:
+        return float(sum(b.length for b in self.branches))
+
+    def children(self, index: int) -> list[int]:
+        """Indices of the branches that start on branch ``index``."""
+        return [i for i, b in enumerate(self.branches) if b.parent == index]
+
+    def generation(self, index: int) -> int:
+        """0 for roots, 1 for their children, ..."""
+        g, j = 0, index
+        while self.branches[j].parent is not None:
+            j = self.branches[j].parent
+            g += 1
+        return g
+
+    def angles(self) -> np.ndarray:
+        """All turning angles of all branches, concatenated."""
+        parts = [b.angles() for b in self.branches]
+        return np.concatenate(parts) if parts else np.zeros(0)
+
+    def thicknesses(self) -> np.ndarray:
+        """All vertex thicknesses, concatenated."""
+        parts = [b.thickness for b in self.branches]
+        return np.concatenate(parts) if parts else np.zeros(0)
+
+    def segments(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """All edges as ``(p0 (E, 2), p1 (E, 2), branch index (E,))``."""
+        p0, p1, owner = [], [], []
+        for i, b in enumerate(self.branches):
+            if len(b.points) > 1:
+                p0.append(b.points[:-1])
+                p1.append(b.points[1:])
+                owner.append(np.full(len(b.points) - 1, i))
+        if not p0:
+            return np.zeros((0, 2)), np.zeros((0, 2)), np.zeros(0, int)
+        return np.vstack(p0), np.vstack(p1), np.concatenate(owner)
+
+    def bounds(self) -> tuple[float, float, float, float]:
+        """``(xmin, ymin, xmax, ymax)`` including thickness."""
+        if not self.branches:
+            raise ValueError("structure is empty")
+        pts = np.vstack([b.points for b in self.branches])
+        r = np.concatenate([b.thickness for b in self.branches])
+        return (float((pts[:, 0] - r).min()), float((pts[:, 1] - r).min()),
+                float((pts[:, 0] + r).max()), float((pts[:, 1] + r).max()))
+
+    # -- transforms -----------------------------------------------------
+    def resampled(self, h: float) -> "Structure":
+        """Every branch resampled at uniform arc-length step ``h``.
+
+        Child branches keep their furcation point: ``parent_vertex`` is
+        moved to the nearest resampled vertex of the parent and the child's
+        first vertex snaps to it.
+        """
+        if not self.branches:
+            raise ValueError("structure is empty")
+        new = []
+        for b in self.branches:
+            if len(b.points) < 2 or b.length <= 0:
+                new.append((b.points.copy(), b.thickness.copy()))
+                continue
+            p, t = resample_uniform(b.points, h, values=b.thickness, include_end=True)
+            new.append((p, t))
+        out = []
+        for i, b in enumerate(self.branches):
+            p, t = new[i]
+            pv = None
+            if b.parent is not None:
+                anchor = self.branches[b.parent].points[b.parent_vertex]
+                pp = new[b.parent][0]
+                pv = int(np.argmin(np.hypot(*(pp - anchor).T)))
+                p = p.copy()
+                p[0] = pp[pv]
+            out.append(Branch(p, t, b.parent, pv))
+        return Structure(out, self.image_shape)
+
+    # -- I/O ------------------------------------------------------------
+    def to_dict(self) -> dict:
+        return {
+            "image_shape": list(self.image_shape) if self.image_shape else None,
+            "branches": [
+                {
+                    "points": b.points.tolist(),
+                    "thickness": b.thickness.tolist(),
+                    "parent": b.parent,
+                    "parent_vertex": b.parent_vertex,
+                }
+                for b in self.branches
+            ],
+        }
+
+    def to_json(self) -> str:
+        """Serialise to a JSON string (round-trips through :meth:`from_json`)."""
+        return json.dumps(self.to_dict())
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "Structure":
+        if not isinstance(d, dict) or "branches" not in d:
+            raise ValueError("a structure dict needs a 'branches' list")
+        shape = d.get("image_shape")
+        return cls([Branch(**b) for b in d["branches"]], tuple(shape) if shape else None)
+
+    @classmethod
+    def from_json(cls, text: str) -> "Structure":
+        """Parse a structure written by :meth:`to_json`."""
+        try:
+            d = json.loads(text)
+        except (TypeError, json.JSONDecodeError) as exc:
+            raise ValueError(f"text is not valid structure JSON: {exc}") from exc
+        return cls.from_dict(d)
+
+    # -- rendering ------------------------------------------------------
+    def _canvas_shape(self, shape) -> tuple[int, int]:
+        if shape is not None:
+            return int(shape[0]), int(shape[1])
+        if self.image_shape is not None:
+            return self.image_shape
+        x0, y0, x1, y1 = self.bounds()
+        return int(np.ceil(y1)) + 2, int(np.ceil(x1)) + 2
+
+    def render(self, shape=None, *, background=None, color=(0.0, 0.0, 0.0)) -> np.ndarray:
+        """Rasterise the skeleton with its thickness (width = 2 r).
+
+        Parameters
+        ----------
+        shape : (H, W), optional
+            Canvas size; ``image_shape`` or the bounds by default.
+        background : (H, W, C) array_like, optional
+            Image to draw on (white if None).
+        color : RGB triple
+        """
+        if background is None:
+            h, w = self._canvas_shape(shape)
+            background = np.ones((h, w, 3), np.float32)
+        else:
+            background = as_float_image(background, name="background")
+        return draw_polylines(background, [b.points for b in self.branches],
+                              widths=[2 * b.thickness for b in self.branches], colors=color)
+
+    def to_svg(self, shape=None, *, color=(0.0, 0.0, 0.0)) -> str:
+        """SVG document of the skeleton with thickness."""
+        h, w = self._canvas_shape(shape)
+        return polylines_to_svg([b.points for b in self.branches],
+                                widths=[2 * b.thickness for b in self.branches],
+                                colors=color, size=(w, h), background=(1, 1, 1))
+
+    def _repr_png_(self) -> bytes | None:
+        if not self.branches:
+            return None
+        return encode_png(self.render())
