@@ -1,0 +1,1 @@
+"""Image-based tree variations (Argudo, Andujar, Chica, CGF 2020)."""
