@@ -142,7 +142,7 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
     if hi < 16 or w < 16:
         raise ValueError(f"image must be at least 16 x 16 pixels, got {w} x {hi}")
     rng = as_rng(rng)
-    h = hi + int(round(p.trunk_height * hi))
+    h = hi + round(p.trunk_height * hi)
     img = np.ones((h, w, 3), np.float32)
     img[:hi] = img0
     imp = np.zeros((h, w), np.float32)
