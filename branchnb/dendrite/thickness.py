@@ -3,10 +3,10 @@
 **Importance thickness.** Each node's radius follows a rolling average
 of the importance sampled along its branch, over a window of ``window``
 nodes centred on the node. Toward the root the window continues into the
-parent branch (through the junction); toward the tip it is allowed to
-overshoot the branch end, where the importance counts as zero, so the last
-``window / 2`` nodes of every branch taper off and tips thin out
-naturally:
+parent branch (through the junction; only at the root of the whole tree
+does it shrink); toward the tip it is allowed to overshoot the branch end,
+where the importance counts as zero, so the last ``window / 2`` nodes of
+every branch taper off and tips thin out naturally:
 
     r(i) = r_min + (r_max - r_min) * mean(I over the window of i)
 
@@ -34,13 +34,16 @@ def _rolling(values, parent, nxt, half):
     out = np.empty(n)
     for i in range(n):
         acc = values[i]
-        # toward the root (through junctions into parent branches)
+        count = 1 + half  # the tip side always counts its full half window
+        # toward the root (through junctions into parent branches); the window
+        # shrinks at the root itself, so the trunk base keeps its width
         j = i
         for _ in range(half):
             j = parent[j]
             if j < 0:
                 break
             acc += values[j]
+            count += 1
         # toward the tip; past the tip the window overshoots into zeros
         j = i
         for _ in range(half):
@@ -48,7 +51,7 @@ def _rolling(values, parent, nxt, half):
             if j < 0:
                 break
             acc += values[j]
-        out[i] = acc / (2 * half + 1)
+        out[i] = acc / count
     return out
 
 
