@@ -33,6 +33,7 @@ class ErrorArea(widgets.HTML):
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         self.last_error: str | None = None
+        self._depth = 0
         self.layout.display = "none"
 
     def show(self, exc: BaseException) -> None:
@@ -56,30 +57,31 @@ class ErrorArea(widgets.HTML):
     def guard(self, fn):
         """Wrap ``fn`` so that exceptions are shown here instead of propagating.
 
-        A successful call clears a previous error.
+        The outermost guarded call clears the previous error when it starts,
+        so an error stays visible until the user's next action; guarded
+        callbacks nested inside it (e.g. model observers) do not clear it.
         """
 
         @functools.wraps(fn)
         def wrapper(*args, **kwargs):
-            try:
-                result = fn(*args, **kwargs)
-            except Exception as exc:  # noqa: BLE001 - shown to the user
-                self.show(exc)
-                return None
-            self.clear()
-            return result
+            with self.catch():
+                return fn(*args, **kwargs)
+            return None
 
         return wrapper
 
     @contextmanager
     def catch(self):
         """Context manager form of :meth:`guard`."""
+        if self._depth == 0 and self.last_error is not None:
+            self.clear()
+        self._depth += 1
         try:
             yield
         except Exception as exc:  # noqa: BLE001 - shown to the user
             self.show(exc)
-        else:
-            self.clear()
+        finally:
+            self._depth -= 1
 
 
 class ProgressBar(widgets.HBox):
