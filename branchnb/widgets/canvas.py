@@ -117,7 +117,7 @@ class AnnotationCanvas(widgets.VBox):
 
         self.canvas = MultiCanvas(4)
         self._tools = widgets.ToggleButtons(options=list(modes), value=mode if mode in modes else modes[0],
-                                            style={"button_width": "68px"})
+                                            style={"button_width": "80px"})
         self._label_picker = widgets.Dropdown(options=list(self.labels), description="label",
                                               layout=widgets.Layout(width="180px"))
         self._radius_slider = widgets.FloatSlider(value=self.radius, min=0.5, max=40.0, step=0.5,
