@@ -15,7 +15,14 @@ from .lattice import Lattice, direction_factors, make_lattice, node_weights
 from .metaphors import LightningParams, lightning, render_lightning, render_vines
 from .planner import METRICS, PlanResult, plan
 from .render import Rendering, cost_image, draw_points, render_plain, visiting_order_image
-from .stylize import Stylization, StylizeParams, Stylizer, stylize
+from .stylization import (
+    MetricComparison,
+    Stylization,
+    StylizeParams,
+    Stylizer,
+    compare_metrics,
+    stylize,
+)
 from .thickness import branch_thickness, importance_thickness, rolling_importance
 
 __all__ = [
@@ -24,6 +31,7 @@ __all__ = [
     "ImportanceParams",
     "Lattice",
     "LightningParams",
+    "MetricComparison",
     "PathStats",
     "PlanResult",
     "Rendering",
@@ -31,6 +39,7 @@ __all__ = [
     "StylizeParams",
     "Stylizer",
     "branch_thickness",
+    "compare_metrics",
     "build_dendrite",
     "cost_image",
     "direction_factors",

@@ -40,7 +40,7 @@ def rows(quick: bool = False) -> list[BenchRow]:
     from .. import data
     from .lattice import make_lattice
     from .planner import plan
-    from .stylize import StylizeParams, Stylizer
+    from .stylization import StylizeParams, Stylizer
 
     n = 512
     lat = make_lattice(np.zeros((n, n)), noise=1.0, epsilon=0.5, rng=0)

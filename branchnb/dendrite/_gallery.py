@@ -21,7 +21,7 @@ def render(outdir: Path) -> list[GalleryItem]:
     from .pareidolia import pareidolia_tree
     from .planner import plan
     from .render import render_plain, visiting_order_image
-    from .stylize import StylizeParams, Stylizer
+    from .stylization import StylizeParams, Stylizer
     from .thickness import branch_thickness
     from .trees import grow_layers, grow_tree, render_layers
 
