@@ -72,7 +72,10 @@ def metric_code(metric: str) -> int:
 # skipped lazily (no decrease-key); when the heap or the entry pool fills
 # up it is compacted in place, so no array is reallocated inside the loop.
 # This matters for the non-scalar metric, whose frontier holds most of the
-# graph at once: a single heap over it would be ~18 levels deep.
+# graph at once: a single heap over it would be ~18 levels deep. For that
+# metric, entries whose key1 equals the current level (the key1 of the node
+# just settled: the flood inside one basin) go to a second, single-key heap
+# ordered by key2 alone; a pop takes the smaller top of the two heaps.
 #
 # State: hk/hn heap keys (interleaved k1, k2) and nodes, n its size;
 # ek/en/enext the pool of bucket entries (keys, node or -1 once consumed,
@@ -181,6 +184,67 @@ def _hpush_room(hk, hn, n, k1, k2, v, metric, a, mmax, total, done):
 
 
 @numba.njit(cache=True)
+def _hpush1(hk, hn, n, k, v):
+    i = n
+    while i > 0:
+        p = (i - 1) // _ARITY
+        if k < hk[p]:
+            hk[i] = hk[p]
+            hn[i] = hn[p]
+            i = p
+        else:
+            break
+    hk[i] = k
+    hn[i] = v
+    return n + 1
+
+
+@numba.njit(cache=True)
+def _hpop1(hk, hn, n):
+    n -= 1
+    if n > 0:
+        lk = hk[n]
+        ln = hn[n]
+        i = 0
+        while True:
+            c0 = _ARITY * i + 1
+            if c0 >= n:
+                break
+            c = c0
+            b = hk[c]
+            for j in range(c0 + 1, min(c0 + _ARITY, n)):
+                if hk[j] < b:
+                    c = j
+                    b = hk[j]
+            if b < lk:
+                hk[i] = b
+                hn[i] = hn[c]
+                i = c
+            else:
+                break
+        hk[i] = lk
+        hn[i] = ln
+    return n
+
+
+@numba.njit(cache=True)
+def _hpush1_room(hk, hn, n, k, v, level, metric, a, mmax, total, done):
+    """Push onto the level heap (entries (level, k)); compact it first if full."""
+    if n >= hn.shape[0]:
+        m = 0
+        for i in range(n):
+            u = hn[i]
+            if _live(level, hk[i], u, metric, a, mmax, total, done):
+                hk[m] = hk[i]
+                hn[m] = u
+                m += 1
+        n = 0
+        for i in range(m):  # rebuild (entries are few after compaction)
+            n = _hpush1(hk, hn, n, hk[i], hn[i])
+    return _hpush1(hk, hn, n, k, v)
+
+
+@numba.njit(cache=True)
 def _compact_pool(ek, en, enext, head, ne, lo, inv, metric, a, mmax, total, done):
     """Drop consumed and superseded bucket entries and relink the buckets.
 
@@ -265,6 +329,8 @@ def _start(n_nodes, seeds, mmax, total, parent, n_buckets):
     cap = n_nodes + 16
     hk = np.empty(2 * cap)
     hn = np.empty(cap, np.int32)
+    lk = np.empty(cap)  # the level heap (non-scalar metric): entries (level, total)
+    ln = np.empty(cap, np.int32)
     cap = 2 * n_nodes + 16  # room for superseded entries before a compaction
     ek = np.empty(2 * cap)
     en = np.empty(cap, np.int32)
@@ -278,7 +344,7 @@ def _start(n_nodes, seeds, mmax, total, parent, n_buckets):
             total[s] = 0.0
             parent[s] = -1
             n = _hpush(hk, hn, n, 0.0, 0.0, s)
-    return hk, hn, ek, en, enext, head, done, n
+    return hk, hn, lk, ln, ek, en, enext, head, done, n
 
 
 @numba.njit(cache=True)
@@ -294,24 +360,34 @@ def _count_stops(stop_at):
 @numba.njit(cache=True)
 def _dijkstra_lattice(w, height, width, drow, dcol, factor, seeds, metric, a,
                       mmax, total, parent, order, stop_at, key_hint, n_buckets):
-    hk, hn, ek, en, enext, head, done, n = _start(
+    hk, hn, lk, ln, ek, en, enext, head, done, n = _start(
         height * width, seeds, mmax, total, parent, n_buckets)
     ne = 0
+    nl = 0
+    level = 0.0
     cur = 0
     lo = 0.0
     inv = n_buckets / key_hint
     remaining = _count_stops(stop_at)
     count = 0
     while True:
-        if n == 0:
+        if n == 0 and nl == 0:
             n, cur, lo, inv = _advance(hk, hn, ek, en, enext, head, cur, lo, inv,
                                        metric, a, mmax, total, done)
             if n == 0:
                 break
-        u = hn[0]
-        n = _hpop(hk, hn, n)
-        if done[u]:
-            continue
+        if nl > 0 and (n == 0 or level < hk[0] or (level == hk[0] and lk[0] < hk[1])):
+            u = ln[0]
+            nl = _hpop1(lk, ln, nl)
+            if done[u]:
+                continue
+        else:
+            u = hn[0]
+            k1u = hk[0]
+            n = _hpop(hk, hn, n)
+            if done[u]:
+                continue
+            level = k1u
         done[u] = True
         order[count] = u
         count += 1
@@ -345,7 +421,9 @@ def _dijkstra_lattice(w, height, width, drow, dcol, factor, seeds, metric, a,
                 total[v] = s
                 parent[v] = u
                 x = (nk1 - lo) * inv
-                if x < cur + 1:
+                if metric == 1 and nk1 == level:
+                    nl = _hpush1_room(lk, ln, nl, nk2, v, level, metric, a, mmax, total, done)
+                elif x < cur + 1:
                     n = _hpush_room(hk, hn, n, nk1, nk2, v, metric, a, mmax, total, done)
                 else:
                     if ne >= en.shape[0]:
@@ -364,24 +442,34 @@ def _dijkstra_lattice(w, height, width, drow, dcol, factor, seeds, metric, a,
 @numba.njit(cache=True)
 def _dijkstra_csr(indptr, indices, data, seeds, metric, a,
                   mmax, total, parent, order, stop_at, key_hint, n_buckets):
-    hk, hn, ek, en, enext, head, done, n = _start(
+    hk, hn, lk, ln, ek, en, enext, head, done, n = _start(
         indptr.shape[0] - 1, seeds, mmax, total, parent, n_buckets)
     ne = 0
+    nl = 0
+    level = 0.0
     cur = 0
     lo = 0.0
     inv = n_buckets / key_hint
     remaining = _count_stops(stop_at)
     count = 0
     while True:
-        if n == 0:
+        if n == 0 and nl == 0:
             n, cur, lo, inv = _advance(hk, hn, ek, en, enext, head, cur, lo, inv,
                                        metric, a, mmax, total, done)
             if n == 0:
                 break
-        u = hn[0]
-        n = _hpop(hk, hn, n)
-        if done[u]:
-            continue
+        if nl > 0 and (n == 0 or level < hk[0] or (level == hk[0] and lk[0] < hk[1])):
+            u = ln[0]
+            nl = _hpop1(lk, ln, nl)
+            if done[u]:
+                continue
+        else:
+            u = hn[0]
+            k1u = hk[0]
+            n = _hpop(hk, hn, n)
+            if done[u]:
+                continue
+            level = k1u
         done[u] = True
         order[count] = u
         count += 1
@@ -407,7 +495,9 @@ def _dijkstra_csr(indptr, indices, data, seeds, metric, a,
                 total[v] = s
                 parent[v] = u
                 x = (nk1 - lo) * inv
-                if x < cur + 1:
+                if metric == 1 and nk1 == level:
+                    nl = _hpush1_room(lk, ln, nl, nk2, v, level, metric, a, mmax, total, done)
+                elif x < cur + 1:
                     n = _hpush_room(hk, hn, n, nk1, nk2, v, metric, a, mmax, total, done)
                 else:
                     if ne >= en.shape[0]:
