@@ -28,7 +28,12 @@ and the planner settles nodes in increasing order of a key built from it:
     large ``a`` approaches the non-scalar one.
 
 Relaxation replaces a node's label only when the new key is strictly
-smaller. The hot loop is a numba-compiled indexed binary heap (decrease-key)
+smaller. The non-scalar key is the whole label and the cumulative metric is
+isotone, so their results do not depend on how exact key ties are broken;
+the blend key ``a * M + S`` does not determine ``(M, S)`` and is not
+isotone, so with exact key ties (e.g. small integer weights) its tree
+depends on which tied path is settled first. With real-valued random
+weights such ties practically never occur. The hot loop is a numba-compiled indexed binary heap (decrease-key)
 over flat arrays with precomputed neighbour offsets; the lattice version
 computes edge costs on the fly (:mod:`.lattice`), the sparse version walks
 a CSR matrix.
