@@ -418,3 +418,13 @@ def test_bench_rows_quick():
     out = rows(quick=True)
     assert len(out) == 5 and all(r.seconds > 0 and r.anchor_seconds > 0 for r in out)
     assert out[3].seconds < out[3].anchor_seconds  # far below the paper's 237 s
+
+
+def test_metric_mix_per_iteration():
+    from branchnb.dendrite.trees import iteration_metric
+
+    p = TreeParams(iterations=4, blend_weight=900.0, mix_power=1.0)
+    assert [iteration_metric(i, p) for i in range(1, 5)] == [
+        ("cumulative", 0.0), ("blend", 300.0), ("blend", 600.0), ("blend", 900.0)]
+    flat = TreeParams(iterations=3, mix_power=0.0)
+    assert [iteration_metric(i, flat)[1] for i in (2, 3)] == [1000.0, 1000.0]

@@ -15,8 +15,8 @@ A tree is grown in a few iterations on a randomly weighted lattice:
    shorter twigs close to the previous one. The metric moves from
    cumulative toward the non-scalar-like blend ``a * max + total``
    (``a = blend_weight`` = 1000 in the paper, reached at the last iteration,
-   ``a_i = blend_weight * ((i - 1) / (n - 1)) ** 2``) over the iterations, so
-   the twigs get more erratic than the limbs.
+   ``a_i = blend_weight * ((i - 1) / (n - 1)) ** mix_power``) over the
+   iterations, so the twigs get more erratic than the limbs.
 3. **Thickness**: after every iteration all existing nodes get thicker
    (``+ increment``), so the oldest parts, the trunk and main limbs, end up
    thickest. ``pipe > 0`` adds the pipe model (radius growing with the
@@ -78,6 +78,8 @@ class TreeParams:
                                 help="reject endpoints closer than this fraction of R_i")
     blend_weight: float = param(1000.0, min=0.0, max=10000.0, log=True,
                                 help="a of the last iteration's blend metric (paper: 1000)")
+    mix_power: float = param(2.0, min=0.0, max=6.0, step=0.25,
+                             help="metric mix per iteration: a_i = a ((i-1)/(n-1)) ** power")
     noise: float = param(1.0, min=0.0, max=5.0, step=0.05, help="random node weight amplitude")
     epsilon: float = param(0.5, min=0.0, max=5.0, step=0.05, help="constant node weight")
     tip_width: float = param(0.8, min=0.1, max=10.0, step=0.1, help="width of new twigs (px)")
@@ -129,12 +131,14 @@ class GrownTree:
 
 
 def iteration_metric(i: int, params: TreeParams) -> tuple[str, float]:
-    """``(metric, a)`` of iteration ``i`` (1-based): cumulative first, then a blend whose
-    weight rises quadratically to ``blend_weight`` at the last iteration."""
+    """``(metric, a)`` of iteration ``i`` (1-based): cumulative first, then the blend
+    ``a_i * M + S`` with ``a_i = blend_weight * ((i - 1) / (n - 1)) ** mix_power``
+    (``mix_power = 0``: the full blend from iteration 2 on; 1: linear; 2: quadratic)."""
     if i <= 1 or params.blend_weight == 0:
         return "cumulative", 0.0
     n = max(params.iterations, 2)
-    return "blend", float(params.blend_weight * ((i - 1) / (n - 1)) ** 2)
+    power = getattr(params, "mix_power", 2.0)
+    return "blend", float(params.blend_weight * ((i - 1) / (n - 1)) ** power)
 
 
 def crown_mask(shape, params: TreeParams) -> np.ndarray:
