@@ -311,6 +311,9 @@ def build_dendrite(plan_result: PlanResult, endpoints, *, base: Dendrite | None 
     Returns
     -------
     Dendrite
+        Every endpoint is a node of it. An endpoint that an earlier (longer)
+        path already passes through adds no branch and is not listed in
+        ``tips``; duplicate endpoints (same pixel) count once.
 
     Raises
     ------
