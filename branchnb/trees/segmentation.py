@@ -52,7 +52,6 @@ from __future__ import annotations
 
 import json
 from dataclasses import dataclass, field
-from functools import lru_cache
 from pathlib import Path
 
 import cv2
@@ -79,6 +78,7 @@ __all__ = [
     "mean_iou",
     "load_reference_masks",
     "load_reference_scribbles",
+    "reference_from_scribbles",
     "evaluate_reference",
     "overlay_labels",
     "BACKGROUND",
@@ -263,6 +263,7 @@ class _Stem:
     rows: tuple[int, int] | None      # (top, bottom) rows of the stem band (inclusive)
     axis: float                       # x of the stem axis
     colour: np.ndarray                # mean CIELAB colour of the stem
+    region: np.ndarray | None = None  # stem pixels: the band's component at the bottom
 
 
 def _find_stem(mask: np.ndarray, foliage: np.ndarray, lab: np.ndarray, stem_width: float) -> _Stem:
@@ -290,11 +291,21 @@ def _find_stem(mask: np.ndarray, foliage: np.ndarray, lab: np.ndarray, stem_widt
         return _Stem(None, float(np.median(xs)), np.full(3, np.nan))
     band = np.zeros_like(mask)
     band[best[0]: best[1] + 1] = mask[best[0]: best[1] + 1]
+    # The stem is the piece of the band standing on the band's bottom row (a
+    # frond or branch hanging down beside it is not part of the stem).
+    comp, n_comp = ndi.label(band, structure=np.ones((3, 3)))
+    if n_comp > 1:
+        bottom = np.bincount(comp[best[1]], minlength=n_comp + 1)
+        bottom[0] = 0
+        if bottom.max() == 0:
+            bottom = np.bincount(comp.ravel(), minlength=n_comp + 1)
+            bottom[0] = 0
+        band = comp == int(np.argmax(bottom))
     pix = band & ~foliage
     if pix.sum() < 4:
         return _Stem(None, float(np.median(xs)), np.full(3, np.nan))
     axis = float(np.median(np.nonzero(pix)[1]))
-    return _Stem(best, axis, np.median(lab[pix], axis=0))
+    return _Stem(best, axis, np.median(lab[pix], axis=0), band)
 
 
 def tree_features(rgba, *, stem_width: float = 0.45, alpha_threshold: float = 0.5) -> dict:
@@ -391,7 +402,7 @@ def automatic_seeds(cues: dict) -> np.ndarray:
         t, b = stem.rows
         # Leave the upper 10 % of the band (where the crown begins) unseeded.
         t = t + int(0.1 * (b - t + 1))
-        band[t: b + 1] = mask[t: b + 1]
+        band[t: b + 1] = stem.region[t: b + 1]
         trunk = ndi.binary_erosion(band & ~foliage, iterations=1, border_value=0)
         if trunk.sum() < 4:
             trunk = band & ~foliage
@@ -699,7 +710,12 @@ def segment_tree(rgba, scribbles=None, params: SegmentParams | None = None, *,
             trunk = _keep_stem_connected(trunk, (user == TRUNK) | (seeds == TRUNK))
     # Back to the input resolution.
     if s < 1.0:
-        t_full = cv2.resize(trunk.astype(np.float32), (W, H), interpolation=cv2.INTER_LINEAR) >= 0.5
+        # Extend the labels to every pixel (nearest opaque working pixel) before
+        # upsampling, so that silhouette pixels of the full-size image that are
+        # transparent at the working size take their neighbour's label.
+        _, (iy, ix) = ndi.distance_transform_edt(~mask, return_indices=True)
+        filled = trunk[iy, ix].astype(np.float32)
+        t_full = cv2.resize(filled, (W, H), interpolation=cv2.INTER_LINEAR) >= 0.5
         prob_full = cv2.resize(prob, (W, H), interpolation=cv2.INTER_LINEAR)
         seeds_full = cv2.resize(seeds, (W, H), interpolation=cv2.INTER_NEAREST)
     else:
@@ -765,19 +781,31 @@ def mean_iou(preds, refs) -> float:
     return float(np.mean(scores))
 
 
-@lru_cache(maxsize=1)
+MASK_SUFFIX = "_mask"
+
+
+def _mask_path(name: str) -> Path:
+    return MASKS_DIR / f"{name}{MASK_SUFFIX}.png"
+
+
 def _reference_names() -> tuple[str, ...]:
     if not MASKS_DIR.is_dir():
         return ()
-    return tuple(sorted(p.stem for p in MASKS_DIR.glob("*.png")))
+    return tuple(sorted(p.stem[: -len(MASK_SUFFIX)] for p in MASKS_DIR.glob(f"*{MASK_SUFFIX}.png")))
 
 
 def load_reference_masks(names=None) -> dict[str, np.ndarray]:
     """The project's hand-labelled crown/trunk masks of the sample trees.
 
+    They live in ``data/trees_masks/<name>_mask.png`` (8-bit label images).
+    Each was made like an app user would make it: run :func:`segment_tree`,
+    look at the result, correct it with scribbles, repeat; the scribbles
+    are stored in ``data/trees_masks/scribbles.json`` and
+    :func:`reference_from_scribbles` rebuilds a mask from them.
+
     Parameters
     ----------
-    names : sequence of str, optional
+    names : str or sequence of str, optional
         Sample names (``branchnb.data.names("trees")``); all labelled ones
         if None.
 
@@ -803,25 +831,70 @@ def load_reference_masks(names=None) -> dict[str, np.ndarray]:
     for n in names:
         if n not in available:
             raise ValueError(f"no reference mask for {n!r}; labelled: {list(available)}")
-        raw = cv2.imread(str(MASKS_DIR / f"{n}.png"), cv2.IMREAD_UNCHANGED)
-        if raw is None:  # pragma: no cover - corrupt file
-            raise ValueError(f"could not read {MASKS_DIR / f'{n}.png'}")
+        raw = cv2.imread(str(_mask_path(n)), cv2.IMREAD_UNCHANGED)
+        if raw is None or raw.ndim != 2:  # pragma: no cover - corrupt file
+            raise ValueError(f"could not read a label image from {_mask_path(n)}")
         out[n] = raw.astype(np.uint8)
     return out
 
 
-def load_reference_scribbles(name: str) -> list[tuple[str, np.ndarray]]:
+def _scribble_table() -> dict:
+    path = MASKS_DIR / "scribbles.json"
+    return json.loads(path.read_text()) if path.is_file() else {}
+
+
+def load_reference_scribbles(name: str, *, ignore: bool = False) -> list[dict]:
     """The scribbles that corrected the automatic segmentation of ``name``.
 
-    They were drawn (as polylines of width ``SegmentParams.scribble_width``)
-    when the reference masks were made; ``segment_tree(image, scribbles)``
-    with them reproduces most of the reference mask.
+    Parameters
+    ----------
+    name : str
+        A sample tree.
+    ignore : bool
+        Also return the ``"ignore"`` polygons (closed; filled with 255 in
+        the reference: ground patches, grass), which are not scribbles.
+
+    Returns
+    -------
+    list of dict
+        ``{"label": "crown" | "trunk", "points": (N, 2) array, "radii":
+        (N,) array or None}``, accepted by ``segment_tree(..., scribbles=)``.
+        Empty when the automatic result needed no correction.
     """
-    path = MASKS_DIR / "scribbles.json"
-    table = json.loads(path.read_text()) if path.is_file() else {}
+    table = _scribble_table()
     if name not in table:
         raise ValueError(f"no stored scribbles for {name!r}")
-    return [(d["label"], np.asarray(d["points"], float)) for d in table[name]]
+    out = []
+    for d in table[name]:
+        if d["label"] == "ignore" and not ignore:
+            continue
+        out.append({"label": d["label"], "points": np.asarray(d["points"], float),
+                    "radii": None if d.get("radii") is None else np.asarray(d["radii"], float)})
+    return out
+
+
+def reference_from_scribbles(name: str, image=None) -> np.ndarray:
+    """Rebuild the reference label image of ``name`` from its stored scribbles.
+
+    ``segment_tree(image, scribbles)`` with default parameters and
+    ``rng=0``, then the ``"ignore"`` polygons set to 255 on opaque pixels.
+    This is how ``data/trees_masks/*_mask.png`` were written; a later change
+    of the segmenter can move a few pixels, the stored PNGs are the labels.
+    """
+    from .. import data
+
+    img = data.load(name) if image is None else image
+    items = load_reference_scribbles(name, ignore=True)
+    scribbles = [d for d in items if d["label"] != "ignore"]
+    seg = segment_tree(img, scribbles=scribbles or None, rng=0)
+    labels = seg.labels
+    opaque = labels > 0
+    for d in items:
+        if d["label"] == "ignore":
+            poly = np.zeros(labels.shape, np.uint8)
+            cv2.fillPoly(poly, [np.round(d["points"]).astype(np.int32)], 1)
+            labels[(poly > 0) & opaque] = IGNORE
+    return labels
 
 
 def evaluate_reference(names=None, params: SegmentParams | None = None, *,
