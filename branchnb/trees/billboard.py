@@ -502,13 +502,20 @@ def _working_image(img: np.ndarray, max_size: int) -> tuple[np.ndarray, float]:
     return np.dstack([rgb, a]).clip(0, 1).astype(np.float32), s
 
 
-def _volume_mask(crown: np.ndarray) -> np.ndarray:
+def _volume_mask(crown: np.ndarray, trunk: np.ndarray | None = None) -> np.ndarray:
     """The silhouette that is inflated: the crown with gaps closed and holes filled.
 
-    Photographed crowns are lacy (sky shows through); inflating every hole
-    would flatten the volume, so small gaps (closing with a disc of 2 % of
-    the crown size) and enclosed holes are filled first.
+    Photographed crowns are lacy (sky shows through) and branches drawn
+    over a crown cut it into pieces; inflating around every hole would
+    flatten the volume. So the trunk pixels inside the crown's convex hull
+    join it, then small gaps (closing with a disc of 2 % of the crown
+    size) and enclosed holes are filled.
     """
+    if trunk is not None and trunk.any():
+        pts = np.column_stack(np.nonzero(crown)[::-1]).astype(np.int32)
+        hull = np.zeros(crown.shape, np.uint8)
+        cv2.fillConvexPoly(hull, cv2.convexHull(pts), 1)
+        crown = crown | (trunk & (hull > 0))
     ys, xs = np.nonzero(crown)
     D = max(ys.max() - ys.min() + 1, xs.max() - xs.min() + 1)
     r = max(1, int(round(0.02 * D)))
@@ -628,7 +635,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
 
     # 3. Volume.
     if crown.any():
-        vol = _volume_mask(crown)
+        vol = _volume_mask(crown, trunk_w)
         hn = inflate_silhouette(vol)
         r_in = float(ndi.distance_transform_edt(np.pad(vol, 1)).max())
         hmap = (hn * p.depth_scale * r_in).astype(np.float32)
