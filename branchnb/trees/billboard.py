@@ -139,6 +139,9 @@ class BillboardCloud:
         Colour factor (1 = as in the image; interior billboards are darker).
     layer : (K,) int
         ``FRONT``, ``REAR``, ``INTERIOR`` or ``TRUNK_LAYER``.
+    source : (K,) int
+        Index of the front billboard a rear/interior billboard copies (its
+        own index for front and trunk billboards).
     textures : list of (h, w, 4) float32
         Straight (not premultiplied) RGBA textures.
     axis : float
@@ -161,6 +164,7 @@ class BillboardCloud:
     texture: np.ndarray
     tint: np.ndarray
     layer: np.ndarray
+    source: np.ndarray
     textures: list = field(repr=False)
     axis: float = 0.0
     image: np.ndarray = field(default=None, repr=False)
@@ -643,9 +647,9 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
         hmap = np.zeros((H, W), np.float32)
     axis = float(np.nonzero(crown)[1].mean()) if crown.any() else float(np.nonzero(opaque)[1].mean())
 
-    centers, sizes, tex_idx, tints, layers, textures = [], [], [], [], [], []
+    centers, sizes, tex_idx, tints, layers, sources, textures = [], [], [], [], [], [], []
 
-    def add(x0, y0, tex, z, tint, layer, tex_id=None):
+    def add(x0, y0, tex, z, tint, layer, source=None, tex_id=None):
         h, w = tex.shape[:2]
         if tex_id is None:
             textures.append(tex.astype(np.float32))
@@ -655,7 +659,8 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
         tex_idx.append(tex_id)
         tints.append(tint)
         layers.append(layer)
-        return tex_id
+        sources.append(len(sources) if source is None else source)
+        return len(sources) - 1
 
     # 4a. Front layer.
     n_sp = int(sp_ext.max())
@@ -683,7 +688,8 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
         y0, x0 = sl[0].start, sl[1].start
         tex = work[sl].copy()
         tex[:, :, 3] *= keep
-        front_tex[k] = (x0, y0, add(x0, y0, tex, float(z_front[k]), 1.0, FRONT))
+        bid = add(x0, y0, tex, float(z_front[k]), 1.0, FRONT)
+        front_tex[k] = (x0, y0, bid, tex_idx[bid])
         zf_map[sl][keep] = z_front[k]
 
     # 4b. Rear layer: mirrored positions about the axis, behind the image plane.
@@ -691,7 +697,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
     # its soft edges in the front view.
     allowed = (crown_ext & (alpha >= 0.99)).astype(np.float32)
     if p.rear_layer:
-        for k, (x0, y0, tid) in front_tex.items():
+        for k, (x0, y0, bid, tid) in front_tex.items():
             tex = textures[tid]
             h, w = tex.shape[:2]
             cx = 2.0 * axis - (x0 + 0.5 * w)
@@ -703,7 +709,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
             ys, xs = np.nonzero(a > 0)
             hh = hmap[np.clip(ys + y0, 0, H - 1), np.clip(xs + rx0, 0, W - 1)]
             z = -float(hh.mean()) * (1.0 - p.darkness_depth * (1.0 - rank[k]))
-            add(rx0, y0, t, min(z, -1e-3), 1.0, REAR)
+            add(rx0, y0, t, min(z, -1e-3), 1.0, REAR, source=bid)
 
     # 4c. Interior billboards at blue-noise positions, darkened with depth.
     if p.n_interior > 0 and n_sp > 0 and hmap.max() > 0:
@@ -714,7 +720,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
             k = int(sp_ext[yi, xi])
             if k == 0 or k not in front_tex:
                 continue
-            x0, y0, tid = front_tex[k]
+            x0, y0, bid, tid = front_tex[k]
             tex = textures[tid]
             h, w = tex.shape[:2]
             ix0, iy0 = round(px - 0.5 * w), round(py - 0.5 * h)
@@ -727,7 +733,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
             zcap = max(zcap, 1e-3)
             z = float(rng.uniform(-0.9, 0.9)) * zcap
             depth01 = (0.9 * zcap - z) / (1.8 * zcap)
-            add(ix0, iy0, t, z, 1.0 - p.interior_darkening * depth01, INTERIOR)
+            add(ix0, iy0, t, z, 1.0 - p.interior_darkening * depth01, INTERIOR, source=bid)
 
     # 4d. The trunk: one billboard on the image plane.
     cut = _cut(work, trunk_ext)
@@ -741,6 +747,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
         texture=np.asarray(tex_idx, np.int64),
         tint=np.asarray(tints, np.float64),
         layer=np.asarray(layers, np.int64),
+        source=np.asarray(sources, np.int64),
         textures=textures, axis=axis, image=work, superpixels=sp_lab,
         depth=hmap, replaced=curves, scale=s,
     )

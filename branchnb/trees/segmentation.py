@@ -191,7 +191,8 @@ def tree_rgba(image, *, alpha_threshold: float = 0.5, name: str = "image") -> tu
     ------
     ValueError
         No alpha channel (use e.g. ``branchnb.trees`` normalisation to make
-        one from the background colour), or no opaque pixel.
+        one from the background colour), no opaque pixel, or no transparent
+        pixel (no silhouette).
     """
     img = as_float_image(image, name=name)
     if img.shape[2] != 4:
@@ -204,6 +205,10 @@ def tree_rgba(image, *, alpha_threshold: float = 0.5, name: str = "image") -> tu
     mask = img[:, :, 3] >= alpha_threshold
     if mask.sum() < 16:
         raise ValueError(f"{name} is (almost) fully transparent: no tree pixels with alpha >= {alpha_threshold}")
+    if mask.all():
+        raise ValueError(
+            f"{name} is fully opaque: there is no silhouette; make the background transparent first"
+        )
     return img, mask
 
 
@@ -439,6 +444,9 @@ def automatic_seeds(cues: dict) -> np.ndarray:
             above[stem.rows[0] - max(2, int(0.02 * D)):] = False
             seeds[above & (seeds == 0)] = CROWN
         # A brown stem and no foliage anywhere: a bare tree, all trunk.
+    elif cues["woody"].sum() >= 0.5 * mask.sum():
+        # No foliage colour and no narrow stem, but mostly wood: bare wood, all trunk.
+        seeds[mask] = TRUNK
     return seeds
 
 
