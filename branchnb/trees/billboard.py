@@ -23,8 +23,9 @@ camera turns around the tree. The steps follow the paper:
    inflated into a height field ``h`` solving the biharmonic equation
    ``Δ²h = 1`` with ``h = 0`` (and ``Δh = 0``) on the silhouette: the
    boundary stays on the image plane. ``h`` is scaled so that its maximum
-   is ``depth_scale`` times the crown's largest inscribed radius (a round
-   crown becomes a sphere). The volume spans ``-h <= z <= h``.
+   is ``depth_scale`` times half the crown's width: trees are roughly
+   symmetric about their vertical axis, so the crown is about as deep as
+   it is wide (a round crown becomes a sphere). The volume spans ``-h <= z <= h``.
 4. **Layers**: front billboards at ``z = h̄ (1 - δ (1 - ℓ))`` where ``h̄``
    is the mean height over the superpixel and ``ℓ`` in [0, 1] its
    brightness rank (darker billboards are pushed deeper, ``δ`` =
@@ -108,7 +109,7 @@ class BillboardParams:
     chord_tolerance: float = param(0.1, min=0.01, max=0.5, step=0.01,
                                    help="relative chord-length mismatch allowed for a silhouette piece")
     depth_scale: float = param(1.0, min=0.0, max=3.0, step=0.05,
-                               help="max inflation height / largest inscribed radius of the crown")
+                               help="max inflation height / half the crown width (1: as deep as wide)")
     darkness_depth: float = param(0.5, min=0.0, max=1.0, step=0.05,
                                   help="delta: the darkest billboard sits at (1 - delta) of its height")
     rear_layer: bool = param(True, help="add the rear layer (mirrored positions)")
@@ -512,8 +513,8 @@ def _volume_mask(crown: np.ndarray, trunk: np.ndarray | None = None) -> np.ndarr
     Photographed crowns are lacy (sky shows through) and branches drawn
     over a crown cut it into pieces; inflating around every hole would
     flatten the volume. So the trunk pixels inside the crown's convex hull
-    join it, then small gaps (closing with a disc of 2 % of the crown
-    size) and enclosed holes are filled.
+    join it, then gaps (closing with a disc of 4 % of the crown size) and
+    enclosed holes are filled.
     """
     if trunk is not None and trunk.any():
         pts = np.column_stack(np.nonzero(crown)[::-1]).astype(np.int32)
@@ -522,7 +523,7 @@ def _volume_mask(crown: np.ndarray, trunk: np.ndarray | None = None) -> np.ndarr
         crown = crown | (trunk & (hull > 0))
     ys, xs = np.nonzero(crown)
     D = max(ys.max() - ys.min() + 1, xs.max() - xs.min() + 1)
-    r = max(1, int(round(0.02 * D)))
+    r = max(1, int(round(0.04 * D)))
     k = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
     pad = 2 * r + 1
     m = np.pad(crown.astype(np.uint8), pad)
@@ -641,8 +642,9 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
     if crown.any():
         vol = _volume_mask(crown, trunk_w)
         hn = inflate_silhouette(vol)
-        r_in = float(ndi.distance_transform_edt(np.pad(vol, 1)).max())
-        hmap = (hn * p.depth_scale * r_in).astype(np.float32)
+        xs_c = np.nonzero(crown)[1]
+        half_width = 0.5 * float(xs_c.max() - xs_c.min() + 1)
+        hmap = (hn * p.depth_scale * half_width).astype(np.float32)
     else:
         hmap = np.zeros((H, W), np.float32)
     axis = float(np.nonzero(crown)[1].mean()) if crown.any() else float(np.nonzero(opaque)[1].mean())
