@@ -1,4 +1,4 @@
-"""Billboard cloud from a single tree image (the paper's last section).
+"""Billboard cloud from a single tree image.
 
 A frontal RGBA tree image becomes a cloud of small textured quads
 ("billboards") spread in a 3-D volume, which gives parallax when the
