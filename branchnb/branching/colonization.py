@@ -44,6 +44,40 @@ def _point_segment_dist2(px, py, x0, y0, x1, y1):
     return ex * ex + ey * ey
 
 
+def auto_rho(structure, h: float = 4.0) -> float:
+    """A density radius from the example: its median half-gap between branches.
+
+    The background's distance transform to the (rasterised) skeleton has
+    its local maxima half-way between neighbouring branches; their median
+    is the typical half-gap. Clipped to ``[h, 50 h]``.
+
+    Examples
+    --------
+    >>> from branchnb.branching.structure import Branch, Structure
+    >>> s = Structure([Branch([(5, y), (95, y)], 1.0) for y in (10, 50, 90)])
+    >>> round(auto_rho(s))
+    20
+    """
+    from scipy import ndimage as ndi
+
+    from ..core.render import coverage_polylines
+
+    x0, y0, x1, y1 = structure.bounds()
+    pad = 2
+    ox, oy = np.floor(x0) - pad, np.floor(y0) - pad
+    shape = (int(np.ceil(y1 - oy)) + pad + 1, int(np.ceil(x1 - ox)) + pad + 1)
+    pls = [b.points - (ox, oy) for b in structure.branches]
+    cov, _ = coverage_polylines(shape, pls, 1.0)
+    dt = ndi.distance_transform_edt(cov < 0.5)
+    peaks = (dt == ndi.maximum_filter(dt, 5)) & (dt > 2)
+    # ignore the margin band, where the distance grows without a neighbour
+    peaks[:pad + 1] = peaks[-pad - 1:] = False
+    peaks[:, :pad + 1] = peaks[:, -pad - 1:] = False
+    if not peaks.any():
+        return float(4 * h)
+    return float(np.clip(np.median(dt[peaks]), h, 50 * h))
+
+
 class DensityMap:
     """``D(p) = exp(-d(p, B)^2 / rho^2)`` on a grid covering the domain.
 

@@ -182,7 +182,7 @@ def structure_from_polylines(image, polylines, params: ClickParams | None = None
     >>> img = np.ones((60, 80)); img[28:33, :] = 0; img[:30, 39:42] = 0
     >>> s = structure_from_polylines(img, [[(2, 30), (77, 30)], [(40, 30), (40, 3)]])
     >>> s.branches[1].parent, s.branches[1].parent_vertex
-    (0, 10)
+    (0, 9)
     """
     p = check_params(params if params is not None else ClickParams())
     gray = gray_for_extraction(image)
@@ -243,15 +243,24 @@ def _polarity(gray: np.ndarray, polarity: str, sigma: float) -> str:
     return "bright" if skew > 0 else "dark"
 
 
-def _outside_field_of_view(gray: np.ndarray, margin: float) -> np.ndarray:
-    """Large, uniformly near-black regions (outside a circular fundus view) plus a margin."""
+def _outside_field_of_view(gray: np.ndarray, margin: float, sigma_max: float) -> np.ndarray:
+    """Large near-black regions (outside a circular fundus view) plus a margin.
+
+    Only regions of at least 1 % of the image that are much thicker than
+    any ridge the filter looks for (inner radius > 4 sigma_max) count, so
+    thin black branches on a light background are kept.
+    """
     dark = gray < 0.04
     if dark.mean() < 0.01:
         return np.zeros_like(dark)
-    lab, _n = ndi.label(dark)
+    lab, _ = ndi.label(dark)
     sizes = np.bincount(lab.ravel())
     sizes[0] = 0
-    big = sizes >= 0.01 * gray.size
+    thick = np.zeros(len(sizes))
+    dt = ndi.distance_transform_edt(dark)
+    np.maximum.at(thick, lab.ravel(), dt.ravel())
+    big = (sizes >= 0.01 * gray.size) & (thick > 4 * sigma_max)
+    big[0] = False
     out = big[lab]
     if out.any() and margin > 0:
         out = ndi.distance_transform_edt(~out) <= margin
@@ -289,7 +298,7 @@ def ridge_response(image, params: ExtractionParams | None = None) -> tuple[np.nd
     fn = {"sato": filters.sato, "frangi": filters.frangi, "meijering": filters.meijering}[p.filter]
     resp = fn(gray, sigmas=sigmas, black_ridges=(pol == "dark"))
     if pol == "dark":
-        resp[_outside_field_of_view(gray, 2.5 * p.sigma_max + 2)] = 0
+        resp[_outside_field_of_view(gray, 2.5 * p.sigma_max + 2, p.sigma_max)] = 0
     resp[: 1] = resp[-1:] = 0
     resp[:, :1] = resp[:, -1:] = 0
     top = np.percentile(resp, 99.9)
@@ -338,8 +347,8 @@ def _skeleton_graph(skel: np.ndarray):
 
 def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length: float = 12.0,
                           min_component_length: float = 60.0, root="thickest",
-                          scale: float = 1.0, smooth: float = 1.0,
-                          image_shape=None) -> Structure:
+                          scale: float = 1.0, smooth: float = 4.0,
+                          smooth_radius: float = 8.0, image_shape=None) -> Structure:
     """Convert a one-pixel skeleton into a tree of branches.
 
     Each connected piece becomes one tree: a root end point is chosen
@@ -365,8 +374,13 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
         The skeleton is a ``scale`` x downscaled copy; coordinates and
         radii are divided by it.
     smooth : float
-        Gaussian smoothing (in skeleton pixels) of each pixel path before
-        resampling, which removes the staircase of the pixel grid.
+        Gaussian smoothing (full-size pixels of arc length) of each pixel
+        path before resampling; removes the staircase of the pixel grid,
+        whose noise would otherwise dominate the turning angles.
+    smooth_radius : float
+        Gaussian smoothing of the radius along each branch (full-size
+        pixels of arc length): the distance transform bumps at every
+        junction and blob, which the synthesis would otherwise copy.
     image_shape : (H, W), optional
         Stored on the result (full-size).
     """
@@ -421,7 +435,7 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
         pv = pred[v]
         if pv >= 0:
             children.setdefault(int(pv), []).append(int(v))
-            hv = height[v] + g[v, pv]
+            hv = height[v] + np.hypot(ys[v] - ys[pv], xs[v] - xs[pv])
             height[pv] = max(height[pv], hv)
     min_len_px = min_branch_length * scale
     # Decompose: (start node, parent branch, index of start node on the parent path)
@@ -442,21 +456,33 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
             for u in children.get(node, ()):
                 if i + 1 < len(path) and u == path[i + 1]:
                     continue
-                if height[u] + g[node, u] >= min_len_px:
+                if height[u] + np.hypot(ys[u] - ys[node], xs[u] - xs[node]) >= min_len_px:
                     stack.append((u, bi, i))
     # Build branches in creation order; children prepend their furcation node.
     new_index: dict[int, int] = {}
+    built: list[Branch] = []
     for bi, (path, par, pvx) in enumerate(paths):
         nodes = path if par is None else [paths[par][0][pvx]] + path
         pts = pts_full[nodes]
         r = r_full[nodes]
         if par is not None and par not in new_index:
             continue
+        if par is not None and len(nodes) > 2:
+            # The distance transform near the junction measures the parent:
+            # use the child's own radius from one parent radius onwards.
+            arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pts, axis=0).T))])
+            inside = arc < r[0] + 1.0
+            if inside.all():
+                inside[-1] = False
+            first = int(np.argmin(inside))
+            r = r.copy()
+            r[:first] = r[first]
         if len(pts) >= 3 and smooth > 0:
-            sm = ndi.gaussian_filter1d(pts, smooth, axis=0, mode="nearest")
+            sm = ndi.gaussian_filter1d(pts, smooth * scale, axis=0, mode="nearest")
             sm[0], sm[-1] = pts[0], pts[-1]
             pts = sm
-            r = ndi.gaussian_filter1d(r, max(smooth, 1.0), mode="nearest")
+        if len(r) >= 3 and smooth_radius > 0:
+            r = _median_then_gauss(r, smooth_radius * scale)
         length = polyline_length(pts)
         if length < max(h, 1e-9) or (par is None and length < min_branch_length):
             continue
@@ -464,14 +490,20 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
         if len(rp) < 2:
             continue
         if par is None:
-            new_index[bi] = out.add_branch(rp, rr)
+            built.append(Branch(rp, np.maximum(rr, 0.5)))
         else:
-            parent_b = out.branches[new_index[par]]
+            parent_b = built[new_index[par]]
             anchor = pts[0]
             v = int(np.argmin(np.hypot(*(parent_b.points - anchor).T)))
             rp[0] = parent_b.points[v]
-            new_index[bi] = out.add_branch(rp, rr, new_index[par], v)
-    return out
+            built.append(Branch(rp, np.maximum(rr, 0.5), new_index[par], v))
+        new_index[bi] = len(built) - 1
+    return Structure(built, image_shape=out.image_shape)
+
+
+def _median_then_gauss(r: np.ndarray, sigma: float) -> np.ndarray:
+    k = max(3, int(round(sigma)) | 1)
+    return ndi.gaussian_filter1d(ndi.median_filter(r, size=k, mode="nearest"), sigma, mode="nearest")
 
 
 def extract_structure(image, params: ExtractionParams | None = None, *, mask=None,
@@ -537,7 +569,8 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
     radius = ndi.distance_transform_edt(bw) - 0.5
     s = skeleton_to_structure(skel, radius, h=p.h, min_branch_length=p.min_branch_length,
                               min_component_length=p.min_component_length, root=p.root,
-                              scale=p.scale, image_shape=gray.shape[:2])
+                              scale=p.scale, smooth=p.smooth_path, smooth_radius=p.smooth_radius,
+                              image_shape=gray.shape[:2])
     if return_maps:
         return s, (resp, bw, skel)
     return s

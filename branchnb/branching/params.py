@@ -37,6 +37,8 @@ class SynthesisParams:
     k: int = param(12, min=0, max=64,
                    help="history: the last k + 1 (angle, thickness) pairs are matched; paper k = 3 m")
     c: int = param(2, min=1, max=20, help="choose among the c best candidates, probability ~ Q")
+    thickness_blend: bool = param(True, help="shift copied radii so they continue from the tip, the "
+                                  "shift fading over the m elements (off = the paper's exact copy)")
     # -- global histogram matching ---------------------------------------------
     wG: float = param(50.0, min=0.0, max=500.0, step=1.0,
                       help="global histogram weight wG in Q* = Q exp(wG (dA + dR) n_t / m)")
@@ -44,14 +46,17 @@ class SynthesisParams:
     # -- furcation model ---------------------------------------------------------
     d: int = param(-1, min=-1, max=50,
                    help="furcations per branch d; -1 draws d from the input's children-per-branch")
-    min_spacing: int = param(2, min=0, max=50,
+    min_spacing: int = param(4, min=0, max=50,
                              help="minimum index distance between furcations on a branch")
+    mirror_children: bool = param(True, help="also offer each input furcation mirrored (angles negated) "
+                                  "when choosing a child's first segment")
     svm_C: float = param(1.0, min=1e-3, max=1e3, log=True,
                          help="regularisation C of the linear SVM of the furcation model")
     # -- space colonization -------------------------------------------------------
     colonization: bool = param(True, help="space colonization: Q** = Q* / (D + eps), no crossings")
-    rho: float = param(8.0, min=0.5, max=100.0, step=0.5,
-                       help="density radius rho in D(p) = exp(-d(p, B)^2 / rho^2) (pixels)")
+    rho: float = param(0.0, min=0.0, max=200.0, step=0.5,
+                       help="density radius rho in D(p) = exp(-d(p, B)^2 / rho^2) (pixels); "
+                            "0 = auto: the example's median half-gap between branches")
     inv_eps: float = param(1000.0, min=1.0, max=1e6, log=True, help="1 / eps in Q* / (D + eps)")
     # -- guided synthesis ---------------------------------------------------------
     guidance_width: float = param(40.0, min=1.0, max=500.0, step=1.0,
@@ -106,6 +111,10 @@ class ExtractionParams:
     min_component_length: float = param(60.0, min=0.0, max=5000.0, step=5.0,
                                         help="drop connected pieces shorter than this in total")
     h: float = param(4.0, min=1.0, max=32.0, step=0.5, help="resampling step h of the result")
+    smooth_path: float = param(4.0, min=0.0, max=50.0, step=0.5,
+                               help="smooth each skeleton path over this arc length (pixel staircase)")
+    smooth_radius: float = param(8.0, min=0.0, max=100.0, step=1.0,
+                                 help="smooth the radius along each branch over this arc length")
     scale: float = param(1.0, min=0.1, max=1.0, step=0.05,
                          help="process a downscaled copy (faster); results are in full-size pixels")
     root: str = param("thickest", options=("thickest", "top", "bottom", "left", "right"),

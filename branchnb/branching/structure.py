@@ -87,7 +87,14 @@ class Structure:
     image_shape: tuple[int, int] | None = None
 
     def __post_init__(self):
+        if not isinstance(self.branches, (list, tuple)):
+            raise TypeError(f"branches must be a list of Branch, got {type(self.branches).__name__}")
         self.branches = [b if isinstance(b, Branch) else Branch(**b) for b in self.branches]
+        if self.image_shape is not None:
+            shp = tuple(int(v) for v in tuple(self.image_shape)[:2])
+            if len(shp) != 2 or min(shp) <= 0:
+                raise ValueError(f"image_shape must be a positive (H, W), got {self.image_shape}")
+            self.image_shape = shp
         self.validate()
 
     # -- building -------------------------------------------------------
@@ -104,8 +111,19 @@ class Structure:
         return len(self.branches) - 1
 
     def validate(self) -> Structure:
-        """Check parent links (existing branch, valid vertex, no cycles)."""
+        """Check parent links (existing branch, valid vertex, no cycles) and, if
+        ``image_shape`` is set, that every vertex lies inside the image
+        (half a pixel of tolerance)."""
         n = len(self.branches)
+        if self.image_shape is not None:
+            h, w = self.image_shape
+            for i, b in enumerate(self.branches):
+                x, y = b.points[:, 0], b.points[:, 1]
+                bad = (x < -0.5) | (x > w - 0.5) | (y < -0.5) | (y > h - 0.5)
+                if bad.any():
+                    j = int(np.flatnonzero(bad)[0])
+                    raise ValueError(f"branches[{i}].points[{j}] = ({x[j]:.1f}, {y[j]:.1f}) lies outside "
+                                     f"the {w} x {h} image")
         for i, b in enumerate(self.branches):
             if b.parent is None:
                 continue
@@ -146,6 +164,35 @@ class Structure:
                               remap.get(b.parent) if b.parent is not None else None,
                               b.parent_vertex))
         return Structure(out, self.image_shape)
+
+    def copy(self) -> "Structure":
+        """A deep copy."""
+        return Structure([Branch(b.points.copy(), b.thickness.copy(), b.parent, b.parent_vertex)
+                          for b in self.branches], self.image_shape)
+
+    def with_thickness(self, index: int, vertex: int | slice, r) -> "Structure":
+        """A copy with the thickness of ``branches[index]`` at ``vertex`` set to ``r`` (> 0).
+
+        The paper's thickness stays user-editable: this is the edit.
+
+        Examples
+        --------
+        >>> s = Structure([Branch([(0, 0), (10, 0)], 2.0)])
+        >>> s.with_thickness(0, 1, 5.0).branches[0].thickness.tolist()
+        [2.0, 5.0]
+        """
+        if not 0 <= index < len(self.branches):
+            raise ValueError(f"index {index} out of range for {len(self.branches)} branches")
+        out = self.copy()
+        t = out.branches[index].thickness.copy()
+        try:
+            t[vertex] = r
+        except IndexError as exc:
+            raise ValueError(f"vertex {vertex} out of range for branch {index} "
+                             f"({len(t)} vertices)") from exc
+        out.branches[index] = Branch(out.branches[index].points, t, out.branches[index].parent,
+                                     out.branches[index].parent_vertex)
+        return out
 
     # -- queries --------------------------------------------------------
     @property

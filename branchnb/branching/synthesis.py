@@ -42,6 +42,7 @@ from .bending import BendingModel, branch_elements
 from .colonization import (
     DensityMap,
     SegmentStore,
+    auto_rho,
     crosses_existing,
     growth_directions,
     profile_density,
@@ -103,6 +104,8 @@ class StructureModel:
     first_r: np.ndarray = field(repr=False, default=None)
     first_len: np.ndarray = field(repr=False, default=None)
     max_branch_length: float = 0.0
+    rho: float = 8.0  #: the automatic density radius (used when params.rho == 0)
+    r_min: float = 0.5
     branch_generation: np.ndarray = field(repr=False, default=None)
     branch_length: np.ndarray = field(repr=False, default=None)
     branch_r0: np.ndarray = field(repr=False, default=None)
@@ -207,6 +210,8 @@ def fit_model(example: Structure, params: SynthesisParams | None = None) -> Stru
                           edges_a=hm.edges_a, edges_r=hm.edges_r,
                           first_a=fa, first_r=fr, first_len=fl,
                           max_branch_length=max(b.length for b in ex.branches),
+                          r_min=float(ex.thicknesses().min()),
+                          rho=auto_rho(ex, p.h),
                           branch_generation=np.array([ex.generation(i) for i in range(nb)]),
                           branch_length=np.array([b.length for b in ex.branches]),
                           branch_r0=np.array([np.mean(b.thickness[:3]) for b in ex.branches]))
@@ -244,6 +249,16 @@ class CandidateScores:
     D_c: np.ndarray
     G_c: np.ndarray
     crossing: np.ndarray
+
+
+def _blend_radii(rad: np.ndarray, delta: float, m: int, r_min: float) -> np.ndarray:
+    """Shift copied radii by ``delta`` fading linearly to ``delta / m`` (thickness continuity).
+
+    ``delta`` is the tip's radius minus the radius that precedes the copied
+    elements in the input, so the first copied radius continues the tip.
+    """
+    w = 1.0 - np.arange(len(rad)) / max(m, 1)
+    return np.maximum(rad + delta * w, r_min)
 
 
 def _rotate(v: np.ndarray, theta: float) -> np.ndarray:
@@ -397,7 +412,8 @@ class _Grower:
         self.guidance = guidance
         self.scorer = scorer
         self.matcher = model.matcher(params.wG)
-        self.density = DensityMap(self.shape, params.rho) if params.colonization else None
+        self.rho = params.rho if params.rho > 0 else model.rho
+        self.density = DensityMap(self.shape, self.rho) if params.colonization else None
         self.store = SegmentStore()
         self.branches: list[_BranchState] = []
         self.total_length = 0.0
@@ -519,7 +535,7 @@ class _Grower:
 
     # -- starting branches ------------------------------------------------
     def _start_branch(self, x0, theta0, heads, Q, parent, parent_vertex, generation,
-                      betas=None) -> int | None:
+                      betas=None, mirror=None) -> int | None:
         """Start a branch at ``x0`` with one of the candidate input heads (vectorised)."""
         model, p = self.model, self.p
         heads = np.asarray(heads, np.int64)
@@ -530,7 +546,8 @@ class _Grower:
         th0 = theta0 + (np.zeros(H) if betas is None else np.asarray(betas, np.float64))
         n = model.first_len[heads]
         # vertices after x0: x1 (first edge, no turn) then the n first elements
-        turns = np.concatenate([np.zeros((H, 1)), model.first_a[heads]], axis=1)
+        sign = np.where(mirror, -1.0, 1.0) if mirror is not None else np.ones(H)
+        turns = np.concatenate([np.zeros((H, 1)), model.first_a[heads] * sign[:, None]], axis=1)
         valid = np.arange(p.m + 1)[None, :] <= n[:, None]
         th = th0[:, None] + np.cumsum(turns * valid, axis=1)
         steps = p.h * valid
@@ -543,7 +560,11 @@ class _Grower:
         score = np.asarray(Q, np.float64).copy()
         if self.matcher.wG > 0 and self.matcher.n_nodes > 0:
             st0 = model.head_start[heads]
-            ca = model.cum_a[st0 + n] - model.cum_a[st0]
+            # mirrored heads have negated angles: bin them directly
+            ok = np.arange(p.m)[None, :] < n[:, None]
+            bins_a = self.matcher.bin_angles(model.first_a[heads] * sign[:, None])
+            flat = (bins_a + p.bins * np.arange(H)[:, None])[ok]
+            ca = np.bincount(flat, minlength=H * p.bins).reshape(H, p.bins).astype(np.float64)
             cr = model.cum_r[st0 + n] - model.cum_r[st0]
             score *= self.matcher.factors(ca, cr)
         if self.guidance is not None:
@@ -565,7 +586,7 @@ class _Grower:
         pl = full[:cut]
         head = model.bending.heads[hd]
         ne = max(cut - 2, 0)
-        ea = list(model.first_a[hd, :ne])
+        ea = list(sign[j] * model.first_a[hd, :ne])
         er = list(model.first_r[hd, :ne])
         radii = [head["r0"], head["r1"]] + er
         d = pl[-1] - pl[-2]
@@ -604,9 +625,17 @@ class _Grower:
         if len(heads) == 0:
             return None
         betas = np.array([model.bending.heads[h]["beta"] or 0.0 for h in heads])
+        mirror = np.zeros(len(heads), bool)
+        if self.p.mirror_children:
+            # the same furcations reflected: parent window and child angles negated
+            Qm = fm.child_quality(-wa[vertex], wr[vertex])[usable]
+            heads = np.concatenate([heads, heads])
+            Q = np.concatenate([Q, Qm])
+            betas = np.concatenate([betas, -betas])
+            mirror = np.concatenate([mirror, ~mirror])
         tg = tangents(pts)[vertex]
         return self._start_branch(pts[vertex], float(np.arctan2(tg[1], tg[0])), heads, Q, parent,
-                                  vertex, st.generation + 1, betas=betas)
+                                  vertex, st.generation + 1, betas=betas, mirror=mirror)
 
     # -- growing ----------------------------------------------------------
     def step(self, bi: int) -> bool:
@@ -656,6 +685,8 @@ class _Grower:
         new_pts = pts[j, :n]
         ang = bm.cont_angles[t, :n]
         rad = bm.cont_radii[t, :n]
+        if p.thickness_blend and n:
+            rad = _blend_radii(rad, st.radii[-1] - bm.radii[t], p.m, self.model.r_min)
         ok = self._inside(new_pts)
         if not ok.all():
             cut = int(np.argmin(ok))
@@ -752,6 +783,7 @@ class _Grower:
             "total_length": self.total_length,
             "coverage": self.density.coverage() if self.density is not None else None,
             "furcation_probability": self.model.furcation.probability_method,
+            "rho": self.rho,
         }
 
 
