@@ -502,7 +502,7 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
 
 
 def _median_then_gauss(r: np.ndarray, sigma: float) -> np.ndarray:
-    k = max(3, int(round(sigma)) | 1)
+    k = max(3, round(sigma) | 1)
     return ndi.gaussian_filter1d(ndi.median_filter(r, size=k, mode="nearest"), sigma, mode="nearest")
 
 

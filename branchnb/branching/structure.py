@@ -165,12 +165,12 @@ class Structure:
                               b.parent_vertex))
         return Structure(out, self.image_shape)
 
-    def copy(self) -> "Structure":
+    def copy(self) -> Structure:
         """A deep copy."""
         return Structure([Branch(b.points.copy(), b.thickness.copy(), b.parent, b.parent_vertex)
                           for b in self.branches], self.image_shape)
 
-    def with_thickness(self, index: int, vertex: int | slice, r) -> "Structure":
+    def with_thickness(self, index: int, vertex: int | slice, r) -> Structure:
         """A copy with the thickness of ``branches[index]`` at ``vertex`` set to ``r`` (> 0).
 
         The paper's thickness stays user-editable: this is the edit.

@@ -166,7 +166,7 @@ def fit_model(example: Structure, params: SynthesisParams | None = None) -> Stru
     >>> t = np.linspace(0, 6, 200)
     >>> ex = Structure([Branch(np.c_[20 * t, 10 * np.sin(t)] + 50, 2.0)])
     >>> fit_model(ex).bending.n_elements
-    32
+    31
     """
     example = _check_example(example)
     p = check_params(params if params is not None else SynthesisParams())
