@@ -133,7 +133,7 @@ class BendingModel:
         Lc = np.concatenate(loc).astype(np.int64) if loc else np.zeros(0, np.int64)
         T = len(A)
         ends = np.zeros(T, np.int64)  # index one past the last element of each element's branch
-        for i, hd in enumerate(heads):
+        for hd in heads:
             ends[hd["start"]: hd["start"] + hd["n"]] = hd["start"] + hd["n"]
         j = np.arange(T)[:, None] + 1 + np.arange(m)[None, :]
         ok = j < ends[:, None]

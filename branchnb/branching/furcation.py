@@ -145,7 +145,7 @@ class FurcationModel:
         pwa, pwr, cidx = [], [], []
         n = len(structure.branches)
         counts = np.zeros(n, np.int64)
-        for j, b in enumerate(structure.branches):
+        for b in structure.branches:
             if b.parent is not None:
                 counts[b.parent] += 1
         for i, b in enumerate(structure.branches):
