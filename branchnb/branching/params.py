@@ -111,6 +111,9 @@ class ExtractionParams:
     min_component_length: float = param(60.0, min=0.0, max=5000.0, step=5.0,
                                         help="drop connected pieces shorter than this in total")
     h: float = param(4.0, min=1.0, max=32.0, step=0.5, help="resampling step h of the result")
+    radius: str = param("fwhm", options=("fwhm", "ridge"),
+                        help="thickness: distance transform of the half-contrast (FWHM) mask, or of "
+                             "the thresholded ridge mask")
     smooth_path: float = param(4.0, min=0.0, max=50.0, step=0.5,
                                help="smooth each skeleton path over this arc length (pixel staircase)")
     smooth_radius: float = param(8.0, min=0.0, max=100.0, step=1.0,

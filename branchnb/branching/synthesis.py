@@ -261,6 +261,13 @@ def _blend_radii(rad: np.ndarray, delta: float, m: int, r_min: float) -> np.ndar
     return np.maximum(rad + delta * w, r_min)
 
 
+def _rank_key(score: np.ndarray) -> np.ndarray:
+    """Scores rounded to float32 for ranking: equal scores computed in a
+    different order (last-bit differences) tie and fall back to the
+    candidate index, so every scorer ranks identically."""
+    return np.asarray(score, np.float64).astype(np.float32)
+
+
 def _rotate(v: np.ndarray, theta: float) -> np.ndarray:
     c, s = np.cos(theta), np.sin(theta)
     out = np.empty_like(v)
@@ -443,7 +450,7 @@ class _Grower:
     def global_stop(self) -> bool:
         if self.stop_reason:
             return True
-        if self.total_length >= self.p.max_total_length:
+        if self.total_length >= self.p.max_total_length - 1e-6:  # tolerance: summation order
             self.stop_reason = "total length"
         elif self.density is not None and self.p.max_coverage < 1 and \
                 self.density.coverage() >= self.p.max_coverage:
@@ -456,7 +463,7 @@ class _Grower:
 
     def _pick(self, score: np.ndarray, polylines_fn) -> int | None:
         """Among the c best valid candidates, choose one with probability ~ score."""
-        order = np.lexsort((np.arange(len(score)), -score))
+        order = np.lexsort((np.arange(len(score)), -_rank_key(score)))
         chosen: list[int] = []
         tries = 0
         for j in order:
@@ -507,7 +514,7 @@ class _Grower:
                 score[sel] = np.where(cr, 0.0, base[sel] / (dc + eps))
                 free_below |= bool(np.any(~cr & (dc < p.stop_density)))
             ev = order[:pos]
-            srt = ev[np.lexsort((ev, -score[ev]))]
+            srt = ev[np.lexsort((ev, -_rank_key(score[ev])))]
             chosen: list[int] = []
             tries, last = 0, np.inf
             for j in srt:
@@ -705,7 +712,7 @@ class _Grower:
             st.stop = "end of input branch"
             return False
         length = (len(st.points) - 1) * p.h
-        if length >= st.target:
+        if length >= st.target - 1e-9:
             st.stop = "branch length"
             return False
         if length >= self.max_branch_len:
