@@ -161,8 +161,11 @@ def test_branch_rejects_bad_input(bad, match):
 
 
 def test_structure_rejects_vertices_outside_the_image_and_cycles():
-    with pytest.raises(ValueError, match="outside the 50 x 40 image"):
-        Structure([Branch([(0, 0), (60, 10)], 1.0)], image_shape=(40, 50))
+    s = Structure([Branch([(0, 0), (60, 10)], 1.0)], image_shape=(40, 50))  # allowed: may be cropped
+    with pytest.raises(ValueError, match=r"branches\[0\].points\[1\].*outside the 50 x 40 image"):
+        s.check_inside()
+    with pytest.raises(ValueError, match="example.*outside"):
+        fit_model(s)
     a = Branch([(0, 0), (5, 0)], 1.0, parent=1, parent_vertex=0)
     b = Branch([(0, 0), (0, 5)], 1.0, parent=0, parent_vertex=0)
     with pytest.raises(ValueError, match="cycle"):

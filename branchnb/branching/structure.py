@@ -111,19 +111,13 @@ class Structure:
         return len(self.branches) - 1
 
     def validate(self) -> Structure:
-        """Check parent links (existing branch, valid vertex, no cycles) and, if
-        ``image_shape`` is set, that every vertex lies inside the image
-        (half a pixel of tolerance)."""
+        """Check parent links (existing branch, valid vertex, no cycles).
+
+        Vertices outside ``image_shape`` are allowed here (a synthesized
+        structure may be cropped by its output); :meth:`check_inside`
+        rejects them where an image is involved.
+        """
         n = len(self.branches)
-        if self.image_shape is not None:
-            h, w = self.image_shape
-            for i, b in enumerate(self.branches):
-                x, y = b.points[:, 0], b.points[:, 1]
-                bad = (x < -0.5) | (x > w - 0.5) | (y < -0.5) | (y > h - 0.5)
-                if bad.any():
-                    j = int(np.flatnonzero(bad)[0])
-                    raise ValueError(f"branches[{i}].points[{j}] = ({x[j]:.1f}, {y[j]:.1f}) lies outside "
-                                     f"the {w} x {h} image")
         for i, b in enumerate(self.branches):
             if b.parent is None:
                 continue
@@ -164,6 +158,31 @@ class Structure:
                               remap.get(b.parent) if b.parent is not None else None,
                               b.parent_vertex))
         return Structure(out, self.image_shape)
+
+    def check_inside(self, shape=None, *, name: str = "structure") -> Structure:
+        """Raise ValueError if a vertex lies outside ``shape`` (default ``image_shape``).
+
+        Half a pixel of tolerance, as for pixel centres. Returns ``self``.
+
+        Examples
+        --------
+        >>> Structure([Branch([(0, 0), (60, 10)], 1.0)], image_shape=(40, 50)).check_inside()
+        Traceback (most recent call last):
+        ...
+        ValueError: structure.branches[0].points[1] = (60.0, 10.0) lies outside the 50 x 40 image
+        """
+        shp = shape if shape is not None else self.image_shape
+        if shp is None:
+            return self
+        h, w = int(shp[0]), int(shp[1])
+        for i, b in enumerate(self.branches):
+            x, y = b.points[:, 0], b.points[:, 1]
+            bad = (x < -0.5) | (x > w - 0.5) | (y < -0.5) | (y > h - 0.5)
+            if bad.any():
+                j = int(np.flatnonzero(bad)[0])
+                raise ValueError(f"{name}.branches[{i}].points[{j}] = ({x[j]:.1f}, {y[j]:.1f}) lies outside "
+                                 f"the {w} x {h} image")
+        return self
 
     def copy(self) -> Structure:
         """A deep copy."""

@@ -138,6 +138,7 @@ def _check_example(example) -> Structure:
         raise TypeError(f"example must be a Structure or StructureModel, got {type(example).__name__}")
     if not example.branches:
         raise ValueError("example structure is empty: annotate or extract at least one branch")
+    example.check_inside(name="example")
     return example
 
 
