@@ -19,7 +19,11 @@ from ..core.polyline import polyline_length, resample_uniform, turning_angles
 from ..core.render import draw_polylines
 from ..core.svg import polylines_to_svg
 
-__all__ = ["Branch", "Structure"]
+__all__ = ["Branch", "Structure", "GENERATION_COLORS"]
+
+#: Colours of generations 0, 1, 2, ... (the last repeats for deeper ones).
+GENERATION_COLORS = ((0.10, 0.62, 0.20), (0.15, 0.35, 0.95), (0.95, 0.60, 0.05),
+                     (0.90, 0.15, 0.55), (0.05, 0.70, 0.75))
 
 
 @dataclass
@@ -339,7 +343,8 @@ class Structure:
         _x0, _y0, x1, y1 = self.bounds()
         return int(np.ceil(y1)) + 2, int(np.ceil(x1)) + 2
 
-    def render(self, shape=None, *, background=None, color=(0.0, 0.0, 0.0)) -> np.ndarray:
+    def render(self, shape=None, *, background=None, color=(0.0, 0.0, 0.0), by_generation: bool = False,
+               alpha: float = 1.0, min_width: float = 0.0) -> np.ndarray:
         """Rasterise the skeleton with its thickness (width = 2 r).
 
         Parameters
@@ -348,15 +353,28 @@ class Structure:
             Canvas size; ``image_shape`` or the bounds by default.
         background : (H, W, C) array_like, optional
             Image to draw on (white if None).
-        color : RGB triple
+        color : RGB triple, or one per branch
+        by_generation : bool
+            Colour each branch by its generation (:data:`GENERATION_COLORS`).
+        alpha : float
+            Opacity of the strokes.
+        min_width : float
+            Draw every stroke at least this wide (pixels), e.g. to see a
+            thin skeleton over a photo.
         """
         if background is None:
             h, w = self._canvas_shape(shape)
             background = np.ones((h, w, 3), np.float32)
         else:
             background = as_float_image(background, name="background")
+        if not self.branches:
+            return background.copy()
+        if by_generation:
+            pal = np.asarray(GENERATION_COLORS, np.float32)
+            color = pal[np.minimum([self.generation(i) for i in range(len(self.branches))], len(pal) - 1)]
         return draw_polylines(background, [b.points for b in self.branches],
-                              widths=[2 * b.thickness for b in self.branches], colors=color)
+                              widths=[np.maximum(2 * b.thickness, min_width) for b in self.branches],
+                              colors=color, alpha=alpha)
 
     def to_svg(self, shape=None, *, color=(0.0, 0.0, 0.0)) -> str:
         """SVG document of the skeleton with thickness."""
