@@ -329,10 +329,10 @@ def score_candidates(model: StructureModel, hist_a, hist_r, tip, theta: float, *
     input) get the best continuing candidate's density and the tip's
     guidance, so colonization neither favours nor prevents stopping.
 
-    The synthesis loop evaluates the density lazily (only for candidates
-    that can still reach the ``c`` best, an exact bound since
-    ``score <= Q * hist / eps``); this function scores everything and is
-    the reference the lazy path is tested against.
+    Per step the work is a handful of ``(J, L)``, ``(J, m)``, ``(J, B)`` and
+    ``(J, n_samples)`` array operations over all ``J`` candidates; the
+    candidates' vertices, PCA directions and histogram counts are
+    precomputed in the tip's frame by :func:`fit_model`.
     """
     b = _base_scores(model, hist_a, hist_r, tip, theta, params, matcher, guidance)
     J = len(b.t)
@@ -413,8 +413,6 @@ class _Grower:
     def __init__(self, model: StructureModel, params: SynthesisParams, rng, shape,
                  guidance: Guidance | None, scorer=None):
         self.model, self.p, self.rng = model, params, rng
-        # a custom scorer (e.g. a reference loop) disables the lazy path
-        self.lazy = scorer is None
         scorer = scorer or score_candidates
         self.shape = (int(shape[0]), int(shape[1]))
         self.guidance = guidance
@@ -486,60 +484,6 @@ class _Grower:
             return None
         w = score[chosen]
         return chosen[int(self.rng.choice(len(chosen), p=w / w.sum()))]
-
-    def _lazy_pick(self, b: _Base, live: np.ndarray, tip, polylines_fn):
-        """Exact branch-and-bound version of colonization + :meth:`_pick`.
-
-        Candidates are visited by decreasing ``base = Q * hist / G``; the
-        density profile is evaluated chunk by chunk, and the search stops
-        once the c-th valid candidate beats ``base / eps`` of every
-        candidate not evaluated yet (none of them can enter the top c).
-        Returns ``(index or None, density_stop)``.
-        """
-        p = self.p
-        eps = p.eps
-        base = b.base
-        cand = np.flatnonzero(live & (base > 0))
-        order = cand[np.argsort(-base[cand], kind="stable")]
-        score = np.zeros(len(base))
-        checked: dict[int, bool] = {}
-        free_below = False
-        length = 3.0 * p.m * p.h
-        pos, chunk = 0, 96
-        while True:
-            sel = order[pos:pos + chunk]
-            pos += len(sel)
-            chunk *= 2
-            if len(sel):
-                dc, cr, _ = profile_density(self.density, tip, b.dirs[sel], length)
-                score[sel] = np.where(cr, 0.0, base[sel] / (dc + eps))
-                free_below |= bool(np.any(~cr & (dc < p.stop_density)))
-            ev = order[:pos]
-            srt = ev[np.lexsort((ev, -_rank_key(score[ev])))]
-            chosen: list[int] = []
-            tries, last = 0, np.inf
-            for j in srt:
-                if score[j] <= 0:
-                    break
-                tries += 1
-                if tries > self._cap():
-                    break
-                last = score[j]
-                if j not in checked:
-                    checked[j] = crosses_existing(self.store, polylines_fn(j))
-                if not checked[j]:
-                    chosen.append(int(j))
-                    if len(chosen) == p.c:
-                        break
-            if pos >= len(order):
-                break
-            ub = base[order[pos]] / eps
-            done = len(chosen) == p.c or tries > self._cap()
-            if free_below and done and last > ub:
-                break
-        if not free_below:
-            return None, True
-        return self._draw(score, chosen), False
 
     # -- starting branches ------------------------------------------------
     def _start_branch(self, x0, theta0, heads, Q, parent, parent_vertex, generation,
@@ -656,35 +600,23 @@ class _Grower:
             return False
         tip = np.asarray(st.points[-1])
         self.steps += 1
-        lazy = self.lazy and self.density is not None and p.branch_end == "length"
-        if lazy:
-            b = _base_scores(self.model, st.elem_a, st.elem_r, tip, st.theta, p, self.matcher,
-                             self.guidance)
-            pts, n_arr, t_arr = b.points, b.n_new, b.t
-        else:
-            cs = self.scorer(self.model, st.elem_a, st.elem_r, tip, st.theta, params=p,
-                             matcher=self.matcher, density=self.density, guidance=self.guidance)
-            pts, n_arr, t_arr = cs.points, cs.n_new, cs.t
+        cs = self.scorer(self.model, st.elem_a, st.elem_r, tip, st.theta, params=p,
+                         matcher=self.matcher, density=self.density, guidance=self.guidance)
+        pts, n_arr, t_arr = cs.points, cs.n_new, cs.t
         self.n_candidates += len(t_arr)
 
         def poly(j):
             return np.vstack([tip, pts[j, : max(n_arr[j], 0)]])
 
-        if lazy:
-            j, dense = self._lazy_pick(b, n_arr > 0, tip, poly)
-            if dense:
+        score = cs.score
+        if p.branch_end == "length":
+            score = np.where(n_arr > 0, score, 0.0)
+        if self.density is not None:
+            free = (~cs.crossing) & (n_arr > 0)
+            if not free.any() or cs.D_c[free].min() >= p.stop_density:
                 st.stop = "density"
                 return False
-        else:
-            score = cs.score
-            if p.branch_end == "length":
-                score = np.where(n_arr > 0, score, 0.0)
-            if self.density is not None:
-                free = (~cs.crossing) & (n_arr > 0)
-                if not free.any() or cs.D_c[free].min() >= p.stop_density:
-                    st.stop = "density"
-                    return False
-            j = self._pick(score, poly)
+        j = self._pick(score, poly)
         if j is None:
             st.stop = "blocked"
             return False
