@@ -65,7 +65,11 @@ def naive_score_candidates(model, hist_a, hist_r, tip, theta, *, params, matcher
         g = 1.0
         if guidance is not None:
             if n:
-                g = float(np.mean(guidance.sample(np.array(pts[:n]))))
+                from .colonization import growth_directions
+
+                d = growth_directions(tip, np.array([pts]), np.array([n]))[0]
+                g = float(np.mean([guidance.sample(np.array([[tip[0] + u * d[0], tip[1] + u * d[1]]]))[0]
+                                   for u in (length * (i + 1) / 16 for i in range(16))]))
             else:
                 g = float(guidance.sample(np.asarray(tip, float)[None])[0])
         ts.append(t)

@@ -6,8 +6,14 @@ valley of width ``w`` goes down to ``1 - depth``:
     G(p) = 1 - depth * exp(-d(p, path)^2 / w^2).
 
 Candidate probabilities are scaled the way space colonization scales
-them: ``Q / (G_c + eps)`` with ``G_c`` the mean of G over the vertices the
-candidate would add, so branches prefer to run down the valley.
+them, so branches prefer to run down the valley:
+
+    Q*** = Q** / (G_c + eps),
+
+where, as for the density, ``G_c`` is read along the candidate's growth
+direction (PCA of the vertices it adds) up to three extension lengths
+ahead -- here its mean, so a branch that drifted out of the valley sees
+the candidates turning back into it.
 """
 
 from __future__ import annotations
@@ -104,6 +110,13 @@ class Guidance:
         out = np.ones(p.shape[:-1], np.float32)
         out[ok] = self.map[r[ok], c[ok]]
         return out
+
+    def along(self, tip, directions, length: float, n_samples: int = 16) -> np.ndarray:
+        """Mean of G along rays from ``tip`` in ``directions`` ``(J, 2)`` up to ``length``."""
+        t = np.linspace(length / n_samples, length, n_samples)
+        tip = np.asarray(tip, np.float64)
+        pts = tip[None, None, :] + t[None, :, None] * np.asarray(directions, np.float64)[:, None, :]
+        return self.sample(pts).astype(np.float64).mean(axis=1)
 
     def start(self) -> tuple[float, float, float] | None:
         """``(x, y, angle)`` at the path's start, heading along it."""

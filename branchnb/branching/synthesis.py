@@ -308,10 +308,8 @@ def _base_scores(model: StructureModel, hist_a, hist_r, tip, theta: float, param
         hf = np.ones(J)
     G_c = np.ones(J)
     if guidance is not None:
-        w = (np.arange(bm.m)[None, :] < n_new[:, None])
-        g = guidance.sample(pts).astype(np.float64)
-        G_c = np.where(n_new == 0, float(guidance.sample(np.asarray(tip, float)[None])[0]),
-                       (g * w).sum(1) / np.maximum(w.sum(1), 1))
+        g = guidance.along(tip, dirs, 3.0 * params.m * params.h)
+        G_c = np.where(n_new == 0, float(guidance.sample(np.asarray(tip, float)[None])[0]), g)
         base = base / (G_c + params.eps)
     return _Base(t=t, Q=Q, n_new=n_new, points=pts, dirs=dirs, hist_factor=hf, G_c=G_c, base=base)
 
@@ -519,11 +517,10 @@ class _Grower:
             ca = np.bincount(flat, minlength=H * p.bins).reshape(H, p.bins).astype(np.float64)
             cr = model.cum_r[st0 + n] - model.cum_r[st0]
             score *= self.matcher.factors(ca, cr)
+        dirs = growth_directions(x0, new, n + 1)
         if self.guidance is not None:
-            g = self.guidance.sample(new).astype(np.float64)
-            score = score / ((g * valid).sum(1) / valid.sum(1) + p.eps)
+            score = score / (self.guidance.along(x0, dirs, 3.0 * p.m * p.h) + p.eps)
         if self.density is not None:
-            dirs = growth_directions(x0, new, n + 1)
             dc, cross, _ = profile_density(self.density, x0, dirs, 3.0 * p.m * p.h)
             score = np.where(cross, 0.0, score / (dc + p.eps))
         inside = self._inside(new[:, 0])
@@ -560,7 +557,9 @@ class _Grower:
         nb = len(model.example.branches)
         usable = [i for i in range(nb) if model.first_len[i] > 0]
         roots = [i for i in usable if model.example.branches[i].parent is None]
-        pool = roots or usable
+        # With fewer than 3 input roots every new root would start with the same
+        # copied head; then any input branch's head may start a root.
+        pool = roots if len(roots) >= 3 else usable
         Q = np.ones(len(pool))
         return self._start_branch(np.array([x, y], float), float(theta), pool, Q, None, None, 0)
 
