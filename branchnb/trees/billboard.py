@@ -427,7 +427,34 @@ def replace_straight_edges(labels: np.ndarray, silhouette: np.ndarray, *, straig
             continue                       # never swallow a whole superpixel
         sub[move] = other
         curves.append(curve)
+    if curves:
+        lab = _merge_fragments(lab)
     return lab, curves
+
+
+def _merge_fragments(lab: np.ndarray) -> np.ndarray:
+    """Keep each label's largest 4-connected piece; stray pieces join their nearest other label.
+
+    Curves of neighbouring edges can overlap and cut a few pixels off a
+    superpixel; such islands would stretch its billboard's bounding box.
+    """
+    out = lab.copy()
+    stray = np.zeros(lab.shape, bool)
+    for k, sl in enumerate(ndi.find_objects(lab), start=1):
+        if sl is None:
+            continue
+        comp, nc = ndi.label(lab[sl] == k)
+        if nc <= 1:
+            continue
+        sizes = np.bincount(comp.ravel())
+        sizes[0] = 0
+        stray[sl] |= (comp > 0) & (comp != int(np.argmax(sizes)))
+    if not stray.any():
+        return out
+    out[stray] = 0
+    _, (iy, ix) = ndi.distance_transform_edt(out == 0, return_indices=True)
+    out[stray] = out[iy[stray], ix[stray]]
+    return out
 
 
 # ---------------------------------------------------------------------------
