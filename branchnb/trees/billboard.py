@@ -390,6 +390,7 @@ def replace_straight_edges(labels: np.ndarray, silhouette: np.ndarray, *, straig
         return lab, []
     curves = []
     H, W = lab.shape
+    count = np.bincount(lab.ravel()).astype(np.int64)
     for (a, b), (pts, dir_ab) in sorted(_edges(lab).items()):
         st = _straight_edge(pts, straightness, min_edge_length)
         if st is None:
@@ -423,9 +424,12 @@ def replace_straight_edges(labels: np.ndarray, silhouette: np.ndarray, *, straig
         cv2.fillPoly(region, [poly - [x0, y0]], 1)
         sub = lab[y0:y1, x0:x1]
         move = (region > 0) & (sub == into)
-        if not move.any() or move.sum() >= (lab == into).sum():
+        n_move = int(move.sum())
+        if n_move == 0 or n_move >= count[into]:
             continue                       # never swallow a whole superpixel
         sub[move] = other
+        count[into] -= n_move
+        count[other] += n_move
         curves.append(curve)
     if curves:
         lab = _merge_fragments(lab)
