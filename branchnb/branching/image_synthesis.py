@@ -1,0 +1,543 @@
+"""Image synthesis for a branching structure: the example's texture on a new skeleton.
+
+Given an example image with its structure (the *source*) and a new
+structure (the *target*, e.g. from :mod:`branchnb.branching.synthesis`),
+:func:`synthesize_image` produces the image of the target structure:
+
+1. **Fragments** (:mod:`.fragments`): the target skeleton is covered by
+   disks of radius ``3 r`` every ``lambda (s_i + s_{i+1})`` and at every
+   furcation; for each, in order, the source fragment of lowest shape
+   cost ``S`` plus colour cost ``wC C`` (random among the ``c`` best) is
+   chosen and rigidly aligned.
+2. **Displacement** (:mod:`.displacement`): a smooth bi-Laplacian field
+   bends the fragment so that its skeleton and edges fall exactly on the
+   target's.
+3. **Seams and colours** (:mod:`.blending`): a graph cut through the
+   overlap with what is already synthesised, then a gradient-domain
+   correction anchored to the fragment's own colours (no drift). At a
+   furcation the parent's fragments are cleared around the branching
+   point before the furcation fragment and the child are synthesised.
+   Source pixels of *other* branches than the fragment's own are never
+   copied, nor the fragment's branch past a target tip.
+4. **Gap completion** (:mod:`.completion`): the rest of the image is
+   quilted from branch-free windows of the example, so no pseudo-branch
+   appears.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from ..core.image import as_float_image, as_points
+from ..core.io import encode_png
+from ..core.params import check_params, param
+from ..core.polyline import rigid_align
+from ..core.random import as_rng
+from ..core.render import draw_polylines
+from ..core.warp import remap
+from .blending import compose_piece
+from .completion import complete_gaps
+from .displacement import backward_map, displacement_field
+from .fragments import (
+    Fragment,
+    FragmentLibrary,
+    choose_among_best,
+    colour_cost,
+    shape_cost,
+    shape_vectors,
+    source_fragments,
+    target_fragments,
+)
+from .skeleton_map import PixelMap, SkeletonMap
+from .structure import Structure
+
+__all__ = ["ImageSynthesisParams", "ImageSynthesisResult", "FragmentMatch", "synthesize_image"]
+
+
+@dataclass
+class ImageSynthesisParams:
+    """Parameters of :func:`synthesize_image` (defaults: the paper's values where it gives them)."""
+
+    lam: float = param(0.75, min=0.3, max=1.5, step=0.05, label="lambda",
+                       help="lambda: fragment centres are lambda * (s_i + s_i+1) apart (paper: 0.75)")
+    radius_scale: float = param(3.0, min=1.5, max=6.0, step=0.25,
+                                help="fragment radius s = scale * local thickness r (paper: 3)")
+    min_radius: float = param(6.0, min=2.0, max=32.0, step=1.0,
+                              help="smallest fragment radius in pixels (for hairline branches)")
+    max_radius: float = param(64.0, min=8.0, max=256.0, step=1.0,
+                              help="largest fragment radius in pixels")
+    k: int = param(9, min=3, max=33, step=1, help="k: skeleton samples per shape vector")
+    w_s: float = param(2.0, min=0.0, max=20.0, step=0.1, label="wS",
+                       help="wS: weight of the thickness difference |mu - nu|^2 in S (paper: 2)")
+    w_c: float = param(1000.0, min=0.0, max=1e5, log=True, label="wC",
+                       help="wC: weight of the colour cost C (mean squared colour difference "
+                            "on the overlap) against S (squared pixels)")
+    c: int = param(2, min=1, max=10, step=1,
+                   help="c: choose at random among the c best source fragments")
+    shortlist: int = param(16, min=1, max=64, step=1,
+                           help="source fragments of lowest S whose colour cost C is evaluated")
+    source_density: float = param(2.0, min=1.0, max=8.0, step=0.5,
+                                  help="source fragment centres per paper spacing "
+                                       "(1 = the paper's tiling; more = more candidates)")
+    reverse: bool = param(True, help="also use source fragments read tip-to-root")
+    displacement: bool = param(True, help="bend fragments onto the target skeleton with the "
+                                          "bi-Laplacian displacement field")
+    match_thickness: bool = param(True, help="also constrain the branch edges (r along the normal) "
+                                             "so the displacement fixes the width too")
+    displacement_step: int = param(2, min=1, max=8, step=1,
+                                   help="grid step of the displacement solve (pixels)")
+    seams: str = param("graphcut", options=("graphcut", "overlay"),
+                       help="graph-cut seams through overlaps, or plain overlay (baseline)")
+    poisson: bool = param(True, help="gradient-domain (Poisson) photometric correction")
+    anchors: bool = param(True, help="extra boundary constraints of the Poisson correction "
+                                     "(tie uncovered pixels to the fragment's colours: no drift)")
+    anchor_weight: float = param(10.0, min=0.0, max=1000.0, log=True,
+                                 help="weight of the Poisson anchor constraints")
+    furcation_clear: float = param(0.6, min=0.0, max=1.0, step=0.05,
+                                   help="fraction of a furcation fragment's radius cleared of the "
+                                        "parent's fragments before the child is synthesised")
+    exclusion: float = param(1.5, min=1.0, max=4.0, step=0.1,
+                             help="source pixels within exclusion * r + margin of a branch count "
+                                  "as that branch (never copied for another branch or a gap)")
+    exclusion_margin: float = param(2.0, min=0.0, max=16.0, step=0.5,
+                                    help="margin (pixels) added to the branch body")
+    completion: bool = param(True, help="fill the gaps between branches automatically")
+    patch_size: int = param(32, min=8, max=128, step=2,
+                            help="gap completion: patch side (pixels)")
+    patch_overlap: float = param(0.25, min=0.1, max=0.5, step=0.05,
+                                 help="gap completion: overlap of neighbouring patches")
+    completion_tolerance: float = param(0.1, min=0.0, max=1.0, step=0.05,
+                                        help="gap completion: windows within (1 + tol) of the best "
+                                             "match are equally likely")
+
+
+@dataclass
+class FragmentMatch:
+    """One synthesised target fragment and the source fragment chosen for it.
+
+    Attributes
+    ----------
+    target, source : Fragment
+    shape_cost : float
+        ``S`` of the chosen candidate.
+    colour_cost : float
+        ``C`` of the chosen candidate.
+    angle : float
+        Rotation of the rigid alignment (radians).
+    max_displacement : float
+        Largest skeleton correction the displacement field applied (pixels).
+    pixels : int
+        Output pixels the fragment ended up providing.
+    """
+
+    target: Fragment
+    source: Fragment
+    shape_cost: float
+    colour_cost: float
+    angle: float
+    max_displacement: float
+    pixels: int
+
+
+@dataclass
+class ImageSynthesisResult:
+    """Result of :func:`synthesize_image`.
+
+    Attributes
+    ----------
+    image : (H, W, C) float32 ndarray
+        The synthesised image (same channels as the example).
+    fragment_mask : (H, W) bool ndarray
+        Pixels provided by skeleton fragments.
+    fill_mask : (H, W) bool ndarray
+        Pixels provided by gap completion.
+    source : (H, W, 2) float ndarray
+        Example pixel (x, y) each output pixel was copied from (before the
+        photometric correction); NaN where none.
+    fragment_index : (H, W) int ndarray
+        Index into ``fragments`` of the fragment that provided each pixel
+        (-1 for gap completion).
+    seams : (H, W) bool ndarray
+        Seam pixels of all compositions (fragments and patches).
+    fragments : list of FragmentMatch
+    seam_cost : float
+        Sum of the seam costs of every composition.
+    target : Structure
+        The target structure (as given).
+    timings : dict
+        Seconds spent per stage.
+    params : ImageSynthesisParams
+    """
+
+    image: np.ndarray
+    fragment_mask: np.ndarray
+    fill_mask: np.ndarray
+    source: np.ndarray
+    fragment_index: np.ndarray
+    seams: np.ndarray
+    fragments: list
+    seam_cost: float
+    target: Structure
+    timings: dict = field(default_factory=dict)
+    params: ImageSynthesisParams | None = None
+
+    def overlay(self, *, skeleton: bool = True, seams: bool = True) -> np.ndarray:
+        """The image with the target skeleton (red) and the seams (yellow) drawn over it."""
+        img = self.image
+        if img.shape[2] != 3:
+            from ..core.image import as_rgb
+
+            img = as_rgb(img)
+        img = img.copy()
+        if seams:
+            img[self.seams] = 0.6 * img[self.seams] + 0.4 * np.array([1.0, 0.9, 0.0], np.float32)
+        if skeleton:
+            img = draw_polylines(img, [b.points for b in self.target.branches], widths=1.0,
+                                 colors=(0.9, 0.1, 0.1))
+        return img
+
+    def _repr_png_(self) -> bytes:
+        return encode_png(self.image)
+
+
+# ---------------------------------------------------------------------------
+# validation
+
+
+def _check_structure(s, name: str, image_shape=None) -> Structure:
+    if not isinstance(s, Structure):
+        raise TypeError(f"{name} must be a branchnb.branching.Structure, got {type(s).__name__}")
+    if not s.branches:
+        raise ValueError(f"{name} is empty: it has no branches")
+    if s.total_length <= 0:
+        raise ValueError(f"{name} has zero total length: every branch is a single point")
+    if image_shape is not None:
+        for i, b in enumerate(s.branches):
+            as_points(b.points, name=f"{name}.branches[{i}].points", image_shape=image_shape)
+    return s
+
+
+# ---------------------------------------------------------------------------
+# per-fragment helpers
+
+
+@dataclass
+class _Context:
+    ex: np.ndarray
+    sm_s: SkeletonMap
+    sm_t: SkeletonMap
+    pm_s: PixelMap
+    src_core: np.ndarray
+    p: ImageSynthesisParams
+
+
+def _target_window(sm: SkeletonMap, branch: int, arc: float, radius: float):
+    """Offsets range ``[lo, hi]`` of the target disk that lies on ``branch``."""
+    L = float(sm.lengths[branch])
+    lo = -arc if arc - 1.5 * radius < 0 else -np.inf
+    hi = L - arc if arc + 1.5 * radius > L else np.inf
+    return lo, hi
+
+
+def _allowed(ctx: _Context, mx, my, src: Fragment, tgt: Fragment) -> np.ndarray:
+    """Source pixels a fragment may copy: not the body of any other branch,
+    nor its own branch beyond the part that lands on the target skeleton."""
+    h, w = ctx.pm_s.dist.shape
+    ix = np.clip(np.rint(mx).astype(np.int64), 0, w - 1)
+    iy = np.clip(np.rint(my).astype(np.int64), 0, h - 1)
+    core = ctx.src_core[iy, ix]
+    owner = ctx.pm_s.branch[iy, ix]
+    arc = ctx.pm_s.arc[iy, ix]
+    slack = 0.5
+
+    def in_window(branch_s, centre_s, sign, lo, hi):
+        a, b = centre_s + sign * lo, centre_s + sign * hi
+        lo_s, hi_s = min(a, b) - slack, max(a, b) + slack
+        return (owner == branch_s) & (arc >= lo_s) & (arc <= hi_s)
+
+    lo, hi = _target_window(ctx.sm_t, tgt.branch, tgt.arc, tgt.radius)
+    ok = in_window(src.branch, src.arc, src.sign, lo, hi)
+    if tgt.kind == "furcation":
+        Lc = float(ctx.sm_t.lengths[tgt.child])
+        ok |= in_window(src.child, 0.0, 1.0, -np.inf, Lc if Lc < 1.5 * tgt.radius else np.inf)
+    return ~core | ok
+
+
+def _constraints(ctx: _Context, src: Fragment, tgt: Fragment, rot, trans):
+    """Target points ``q`` and displacements ``q - (R p + t)`` of the skeleton (and edges)."""
+    sm_s, sm_t = ctx.sm_s, ctx.sm_t
+    R = tgt.radius
+    step = max(1.0, float(ctx.p.displacement_step))
+    qs, ds = [], []
+
+    def add(bt, st, bs, ss, sign, offsets):
+        if len(offsets) == 0:
+            return
+        q = sm_t.position(bt, st + offsets)
+        p = sm_s.position(bs, ss + sign * offsets)
+        tp = p @ rot.T + trans
+        qs.append(q)
+        ds.append(q - tp)
+        if ctx.p.match_thickness:
+            rt = sm_t.thickness(bt, st + offsets)
+            rs = sm_s.thickness(bs, ss + sign * offsets)
+            tt = sm_t.tangent(bt, st + offsets, 1.0)
+            ts = sm_s.tangent(bs, ss + sign * offsets, sign)
+            nt = np.stack([-tt[:, 1], tt[:, 0]], 1)
+            ns = np.stack([-ts[:, 1], ts[:, 0]], 1)
+            for side in (1.0, -1.0):
+                qe = q + side * rt[:, None] * nt
+                pe = p + side * rs[:, None] * ns
+                qs.append(qe)
+                ds.append(qe - (pe @ rot.T + trans))
+
+    o = np.arange(-R, R + 1e-9, step)
+    o = o[~sm_t.clamped(np.full(len(o), tgt.branch), tgt.arc + o)]
+    add(tgt.branch, tgt.arc, src.branch, src.arc, src.sign, o)
+    if tgt.kind == "furcation":
+        oc = np.arange(step, R + 1e-9, step)
+        oc = oc[~sm_t.clamped(np.full(len(oc), tgt.child), oc)]
+        add(tgt.child, 0.0, src.child, 0.0, 1.0, oc)
+    if not qs:
+        return np.zeros((0, 2)), np.zeros((0, 2))
+    return np.vstack(qs), np.vstack(ds)
+
+
+# ---------------------------------------------------------------------------
+# the public entry
+
+
+def synthesize_image(example_image, example_structure: Structure, target_structure: Structure,
+                     params: ImageSynthesisParams | None = None, rng=None,
+                     progress: Callable[[float, str], None] | None = None, *,
+                     shape: tuple[int, int] | None = None) -> ImageSynthesisResult:
+    """Synthesise the image of ``target_structure`` with the texture of an example.
+
+    Parameters
+    ----------
+    example_image : (H, W[, C]) array_like
+        The example. Grayscale gives a grayscale result; RGBA images are
+        synthesised with alpha as a fourth channel (so transparent
+        examples give transparent results).
+    example_structure : Structure
+        The example's branches (every vertex inside the example image).
+    target_structure : Structure
+        The branches to synthesise. Parts outside the output are cropped;
+        at least one vertex must lie inside.
+    params : ImageSynthesisParams, optional
+    rng : int or numpy.random.Generator, optional
+        Seed for the random choices (same seed, same image).
+    progress : callable(fraction: float, text: str), optional
+        Called as the synthesis advances (e.g. a progress bar).
+    shape : (H, W), optional
+        Output size: ``target_structure.image_shape``, else the example's.
+
+    Returns
+    -------
+    ImageSynthesisResult
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from branchnb.branching.structure import Structure, Branch
+    >>> rng = np.random.default_rng(0)
+    >>> img = (0.6 + 0.1 * rng.random((64, 64, 3))).astype(np.float32)
+    >>> img[30:34, 4:60] = 0.1                                    # a dark horizontal branch
+    >>> src = Structure([Branch([(4, 31.5), (59, 31.5)], 2.0)])
+    >>> tgt = Structure([Branch([(31.5, 4), (31.5, 59)], 2.0)])   # the same, vertical
+    >>> out = synthesize_image(img, src, tgt, rng=0)
+    >>> bool(out.image[30, 31, 0] < 0.3 and out.image[10, 10, 0] > 0.5)
+    True
+    """
+    t_start = time.perf_counter()
+    p = check_params(params if params is not None else ImageSynthesisParams())
+    if params is not None and not isinstance(params, ImageSynthesisParams):
+        raise TypeError(f"params must be ImageSynthesisParams, got {type(params).__name__}")
+    rng = as_rng(rng)
+    if progress is not None and not callable(progress):
+        raise TypeError("progress must be a callable(fraction, text) or None")
+    ex = as_float_image(example_image, name="example_image")
+    _check_structure(example_structure, "example_structure", ex.shape[:2])
+    _check_structure(target_structure, "target_structure")
+    if shape is None:
+        shape = target_structure.image_shape or ex.shape[:2]
+    H, W = int(shape[0]), int(shape[1])
+    if H < 1 or W < 1:
+        raise ValueError(f"shape must be positive, got {shape}")
+    pts = np.vstack([b.points for b in target_structure.branches])
+    inside = (pts[:, 0] >= -0.5) & (pts[:, 0] <= W - 0.5) & (pts[:, 1] >= -0.5) & (pts[:, 1] <= H - 0.5)
+    if not inside.any():
+        raise ValueError(f"target_structure lies entirely outside the {W} x {H} output")
+
+    def report(frac, text):
+        if progress is not None:
+            progress(float(min(max(frac, 0.0), 1.0)), text)
+
+    report(0.0, "preparing fragments")
+    timings = {}
+    sm_s = SkeletonMap(example_structure, 1.0)
+    sm_t = SkeletonMap(target_structure, 1.0)
+    pm_s = sm_s.pixel_map(ex.shape[:2])
+    pm_t = sm_t.pixel_map((H, W))
+    src_core = pm_s.core(p.exclusion, p.exclusion_margin)
+    ctx = _Context(ex, sm_s, sm_t, pm_s, src_core, p)
+    geo = dict(lam=p.lam, scale=p.radius_scale, min_radius=p.min_radius, max_radius=p.max_radius)
+    lib_b, lib_f = source_fragments(sm_s, density=p.source_density, reverse=p.reverse, **geo)
+    if len(lib_b) == 0:
+        raise ValueError("example_structure yields no source fragment (all branches have zero length)")
+    # Without a furcation in the example, children start with ordinary fragments.
+    targets = target_fragments(sm_t, furcations=len(lib_f) > 0, **geo)
+    timings["prepare"] = time.perf_counter() - t_start
+
+    C = ex.shape[2]
+    canvas = np.zeros((H, W, C), np.float32)
+    covered = np.zeros((H, W), bool)
+    owner = np.full((H, W), -1, np.int64)  # target branch whose fragment provided the pixel
+    source = np.full((H, W, 2), np.nan)
+    frag_index = np.full((H, W), -1, np.int64)
+    seams = np.zeros((H, W), bool)
+    body = pm_t.core(1.0, 1.0)
+    matches: list[FragmentMatch] = []
+    total_seam = 0.0
+    t0 = time.perf_counter()
+    frag_share = 0.75 if p.completion else 1.0
+    for i, tf in enumerate(targets):
+        report(frag_share * i / max(len(targets), 1), f"fragment {i + 1} / {len(targets)}")
+        R = tf.radius
+        pad = 2
+        x0 = int(np.floor(tf.center[0] - R)) - pad
+        y0 = int(np.floor(tf.center[1] - R)) - pad
+        size = int(np.ceil(2 * R)) + 2 * pad + 2
+        if x0 + size <= 0 or y0 + size <= 0 or x0 >= W or y0 >= H:
+            continue
+        lib: FragmentLibrary = lib_f if tf.kind == "furcation" else lib_b
+        child = [tf.child] if tf.kind == "furcation" else None
+        q, nu = shape_vectors(sm_t, [tf.branch], [tf.arc], [1.0], R, p.k, child)
+        ps, mu = shape_vectors(sm_s, lib.branch, lib.arc, lib.sign, R, p.k,
+                               lib.child if tf.kind == "furcation" else None)
+        S, rot, trans = shape_cost(ps, mu, q[0], nu[0], p.w_s)
+        short = np.argsort(S, kind="stable")[: p.shortlist]
+        yy, xx = np.mgrid[0:size, 0:size]
+        disk = (xx + x0 - tf.center[0]) ** 2 + (yy + y0 - tf.center[1]) ** 2 <= R * R
+        # Existing canvas under the window (zero outside the image).
+        ex_win, cov_win = _window(canvas, covered, x0, y0, size)
+        costs_c = np.zeros(len(short))
+        if p.w_c > 0 and cov_win.any():
+            for j, cand in enumerate(short):
+                mx, my = backward_map((x0, y0), (size, size), rot[cand], trans[cand])
+                pix, inimg = remap(ex, mx, my)
+                val = disk & inimg & _allowed(ctx, mx, my, lib[cand], tf)
+                costs_c[j] = colour_cost(ex_win, cov_win, pix, val)
+        pick = short[choose_among_best(S[short] + p.w_c * costs_c, p.c, rng)]
+        src = lib[pick]
+        T = rigid_align(ps[pick], q[0])
+        fld = None
+        max_disp = 0.0
+        if p.displacement:
+            qc, dc = _constraints(ctx, src, tf, T.rotation, T.translation)
+            if len(qc):
+                max_disp = float(np.hypot(*dc.T).max())
+                fld = displacement_field((size, size), qc - (x0, y0), dc,
+                                         step=p.displacement_step)
+        mx, my = backward_map((x0, y0), (size, size), T.rotation, T.translation, fld)
+        pix, inimg = remap(ex, mx, my)
+        valid = disk & inimg & _allowed(ctx, mx, my, src, tf)
+        mine = {tf.branch} if tf.kind == "branch" else {tf.branch, tf.child}
+        b_win = _crop(pm_t.branch, x0, y0, size, -1)
+        body_win = _crop(body, x0, y0, size, False)
+        own_body = body_win & np.isin(b_win, list(mine))
+        if tf.kind == "branch":
+            lo, hi = _target_window(sm_t, tf.branch, tf.arc, R)
+            a_win = _crop(pm_t.arc, x0, y0, size, 0.0)
+            own_body &= (a_win >= tf.arc + max(lo, -R) - 1) & (a_win <= tf.arc + min(hi, R) + 1)
+        own_win = _crop(owner, x0, y0, size, -1)
+        protect_piece = own_body & ~np.isin(own_win, list(mine)) & valid
+        protect_canvas = body_win & ~np.isin(b_win, list(mine))
+        if tf.kind == "furcation" and p.furcation_clear > 0:
+            clear = ((xx + x0 - tf.center[0]) ** 2 + (yy + y0 - tf.center[1]) ** 2
+                     <= (p.furcation_clear * R) ** 2) & valid & ~protect_canvas
+            _uncover(covered, clear, x0, y0)
+        comp = compose_piece(canvas, covered, pix, valid, (x0, y0), protect_canvas=protect_canvas,
+                             protect_piece=protect_piece, method=p.seams, poisson=p.poisson,
+                             anchored=p.anchors, anchor_weight=p.anchor_weight)
+        n_pix = 0
+        if comp is not None:
+            wr, wc = comp.window
+            tk = comp.take
+            n_pix = int(tk.sum())
+            total_seam += comp.cost
+            seams[wr, wc] |= comp.seam
+            o_sub = owner[wr, wc]
+            if tf.kind == "furcation":
+                o_sub[tk] = np.where(pm_t.branch[wr, wc][tk] == tf.child, tf.child, tf.branch)
+            else:
+                o_sub[tk] = tf.branch
+            frag_index[wr, wc][tk] = len(matches)
+            sm_x, sm_y = mx[comp.sub], my[comp.sub]
+            source[wr, wc, 0][tk] = sm_x[tk]
+            source[wr, wc, 1][tk] = sm_y[tk]
+        j = int(np.flatnonzero(short == pick)[0])
+        matches.append(FragmentMatch(tf, src, float(S[pick]), float(costs_c[j]), T.angle,
+                                     max_disp, n_pix))
+    fragment_mask = frag_index >= 0
+    timings["fragments"] = time.perf_counter() - t0
+
+    fill = np.zeros((H, W), bool)
+    if p.completion and not covered.all():
+        t1 = time.perf_counter()
+
+        def sub_progress(frac, text):
+            report(frag_share + (1.0 - frag_share) * frac, text)
+
+        comp = complete_gaps(canvas, covered, ex, src_core, patch_size=p.patch_size,
+                             overlap=p.patch_overlap, protect=body & fragment_mask,
+                             tolerance=p.completion_tolerance, method=p.seams, poisson=p.poisson,
+                             anchored=p.anchors, anchor_weight=p.anchor_weight, rng=rng,
+                             progress=sub_progress)
+        fill = comp.filled
+        has = fill
+        source[has] = comp.source[has]
+        frag_index[has] = -1
+        fragment_mask &= ~fill
+        seams |= comp.seams
+        total_seam += comp.seam_cost
+        timings["completion"] = time.perf_counter() - t1
+    timings["total"] = time.perf_counter() - t_start
+    report(1.0, "done")
+    return ImageSynthesisResult(canvas, fragment_mask, fill, source, frag_index, seams, matches,
+                                total_seam, target_structure, timings, p)
+
+
+def _window(canvas, covered, x0, y0, size):
+    H, W = covered.shape
+    img = np.zeros((size, size, canvas.shape[2]), np.float32)
+    cov = np.zeros((size, size), bool)
+    r0, r1 = max(y0, 0), min(y0 + size, H)
+    c0, c1 = max(x0, 0), min(x0 + size, W)
+    if r0 < r1 and c0 < c1:
+        img[r0 - y0:r1 - y0, c0 - x0:c1 - x0] = canvas[r0:r1, c0:c1]
+        cov[r0 - y0:r1 - y0, c0 - x0:c1 - x0] = covered[r0:r1, c0:c1]
+    return img, cov
+
+
+def _crop(arr, x0, y0, size, fill):
+    H, W = arr.shape[:2]
+    out = np.full((size, size) + arr.shape[2:], fill, dtype=arr.dtype)
+    r0, r1 = max(y0, 0), min(y0 + size, H)
+    c0, c1 = max(x0, 0), min(x0 + size, W)
+    if r0 < r1 and c0 < c1:
+        out[r0 - y0:r1 - y0, c0 - x0:c1 - x0] = arr[r0:r1, c0:c1]
+    return out
+
+
+def _uncover(covered, mask, x0, y0):
+    H, W = covered.shape
+    size = mask.shape[0]
+    r0, r1 = max(y0, 0), min(y0 + size, H)
+    c0, c1 = max(x0, 0), min(x0 + size, W)
+    if r0 < r1 and c0 < c1:
+        covered[r0:r1, c0:c1] &= ~mask[r0 - y0:r1 - y0, c0 - x0:c1 - x0]
