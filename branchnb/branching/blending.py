@@ -17,6 +17,9 @@ two steps:
    window that nothing covers yet are tied to the piece's own colours, so
    a correction fades out across the piece instead of being handed on to
    the next piece: colours do not drift along a chain of fragments.
+   Protected canvas pixels (bodies of other branches) are *neutral* in the
+   correction: the piece meets them with its own colours, so a branch's
+   colour does not bleed into the background next to it as a halo.
 """
 
 from __future__ import annotations
@@ -70,7 +73,7 @@ def _clip_window(origin, size, shape):
 def compose_piece(canvas: np.ndarray, covered: np.ndarray, piece: np.ndarray, valid: np.ndarray,
                   origin, *, protect_canvas=None, protect_piece=None, method: str = "graphcut",
                   poisson: bool = True, anchored: bool = True,
-                  anchor_weight: float = 10.0) -> Composition | None:
+                  anchor_weight: float = 10.0, screen: float = 0.0) -> Composition | None:
     """Compose ``piece`` (covering ``valid``) into ``canvas`` **in place**.
 
     Parameters
@@ -87,7 +90,8 @@ def compose_piece(canvas: np.ndarray, covered: np.ndarray, piece: np.ndarray, va
         Pixels the piece may cover.
     origin : (x0, y0)
     protect_canvas, protect_piece : (h, w) bool ndarray, optional
-        Overlap pixels pinned to the old image / to the piece.
+        Overlap pixels pinned to the old image / to the piece. Protected
+        canvas pixels do not constrain the photometric correction.
     method : {"graphcut", "overlay"}
         Seam by minimum cut, or the new piece simply on top (baseline).
     poisson : bool
@@ -97,6 +101,11 @@ def compose_piece(canvas: np.ndarray, covered: np.ndarray, piece: np.ndarray, va
         boundary constraints against colour drift).
     anchor_weight : float
         Weight of those constraints.
+    screen : float
+        If > 0, every solved pixel is tied to the piece's colour with this
+        weight instead (screened Poisson): a correction then fades within
+        about ``1 / sqrt(screen)`` pixels of the seam, so the colour of a
+        bright or dark neighbour cannot spread across the piece as a halo.
 
     Returns
     -------
@@ -139,11 +148,18 @@ def compose_piece(canvas: np.ndarray, covered: np.ndarray, piece: np.ndarray, va
         return Composition(win, sub, take, seam, cost)
     new = P
     kept = covA & ~take
-    if poisson and kept.any():
-        target = np.where(kept[:, :, None], A, P)
-        anchor = (~covA & ~take) if anchored else None
-        new = poisson_blend(target, P, ~kept, anchor=anchor,
-                            anchor_weight=anchor_weight if anchored else 0.0)
+    neutral = kept & protect_canvas[sub] if protect_canvas is not None else None
+    if poisson and kept.any() and (neutral is None or not np.array_equal(neutral, kept)):
+        # Kept pixels are the Dirichlet boundary; neutral ones take the
+        # piece's own value there (no correction injected from them).
+        bnd = kept if neutral is None else kept & ~neutral
+        target = np.where(bnd[:, :, None], A, P)
+        if screen > 0:
+            new = poisson_blend(target, P, ~kept, anchor=~kept, anchor_weight=screen)
+        else:
+            anchor = (~covA & ~take) if anchored else None
+            new = poisson_blend(target, P, ~kept, anchor=anchor,
+                                anchor_weight=anchor_weight if anchored else 0.0)
     A[take] = new[take]
     covA[take] = True
     return Composition(win, sub, take, seam, cost)

@@ -2,30 +2,39 @@
 
 The paper completed the area between the synthesised branches by hand, in
 about ten minutes of interactive image completion per result. Here it is
-automatic: square patches are quilted into the remaining gaps (Efros &
-Freeman 2001 / Kwatra et al. 2003 style) from **branch-free** windows of
-the example only:
+automatic, by patch quilting (Efros & Freeman 2001) with graph-cut seams
+(Kwatra et al. 2003) from the example's **branch-free** pixels only:
 
-* a source window is admissible only if none of its pixels lies in the
-  example's branch region (the skeleton's body grown by a margin), so no
-  branch texture can be copied and no pseudo-branch appears;
-* the gap cell with the most already-known pixels is filled first (the
-  filling grows inwards from the fragments); its window is matched by
-  masked SSD on the known pixels (OpenCV ``matchTemplate`` on a reduced
-  image, refined at full resolution) and one of the near-best windows is
-  drawn at random;
-* the patch is composed with a graph-cut seam and a gradient-domain
-  correction (:func:`branchnb.branching.blending.compose_piece`); synthesised
-  branch bodies are protected and never overwritten.
+* ``forbidden`` marks the example pixels that must never be copied: the
+  annotated branches with a margin, unannotated branch-like pixels and
+  the matte (:mod:`branchnb.branching.regions`). A patch may come from a
+  window that contains forbidden pixels, but those pixels are *not part
+  of the patch*: they are never copied, so no branch texture and no
+  pseudo-branch can appear. Windows whose forbidden pixels would fall on
+  still-empty output pixels are penalised, so wholly branch-free windows
+  win when they match about as well;
+* the output is covered by square cells (side ``patch_size``, overlapping
+  by ``overlap``); the cell with the most already-known pixels is filled
+  first, so the filling grows inwards from the fragments; holes left by
+  forbidden pixels become cells of their own in a second pass;
+* a cell's window is matched by SSD on its known pixels (OpenCV
+  ``matchTemplate`` on a reduced copy of the example, refined at full
+  resolution) and one of the windows within ``(1 + tolerance)`` of the
+  best is drawn at random;
+* the patch is composed with a graph-cut seam and an anchored
+  gradient-domain correction (:func:`branchnb.branching.blending.compose_piece`);
+  the synthesised branch bodies are protected: never overwritten, and
+  neutral in the colour correction (no halo).
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import cv2
 import numpy as np
+from scipy import ndimage as ndi
 
 from ..core.random import as_rng
 from .blending import compose_piece
@@ -48,8 +57,10 @@ class CompletionResult:
     seam_cost : float
         Sum of the seam costs of all patches.
     patch_size : int
-        Patch size actually used (reduced if the example has no branch-free
-        window of the requested size).
+        Patch side actually used.
+    n_inpainted : int
+        Pixels no patch could fill (all its candidate pixels were forbidden),
+        filled by OpenCV's diffusion inpainting as a last resort.
     """
 
     filled: np.ndarray
@@ -58,6 +69,7 @@ class CompletionResult:
     n_patches: int
     seam_cost: float
     patch_size: int
+    n_inpainted: int = 0
 
 
 def admissible_windows(forbidden: np.ndarray, size: int, margin: int = 0) -> np.ndarray:
@@ -70,19 +82,26 @@ def admissible_windows(forbidden: np.ndarray, size: int, margin: int = 0) -> np.
     size : int
         Window side.
     margin : int
-        Keep a band of ``margin`` pixels of image around the window (the
-        band may touch branches: it only serves as colour anchors).
+        The windows must stay ``margin`` pixels inside the image.
 
     Returns
     -------
     ok : (H - size + 1, W - size + 1) bool ndarray
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> f = np.zeros((6, 6), bool); f[:, 3] = True
+    >>> admissible_windows(f, 3).astype(int)
+    array([[1, 0, 0, 0],
+           [1, 0, 0, 0],
+           [1, 0, 0, 0],
+           [1, 0, 0, 0]])
     """
     h, w = forbidden.shape
     if size > h or size > w:
         return np.zeros((max(h - size + 1, 0), max(w - size + 1, 0)), bool)
-    ii = np.zeros((h + 1, w + 1), np.int64)
-    ii[1:, 1:] = np.cumsum(np.cumsum(forbidden.astype(np.int64), 0), 1)
-    cnt = ii[size:, size:] - ii[:-size, size:] - ii[size:, :-size] + ii[:-size, :-size]
+    cnt = _box_count(forbidden, size)
     ok = cnt == 0
     if margin > 0:
         ok[:margin, :] = False
@@ -92,11 +111,18 @@ def admissible_windows(forbidden: np.ndarray, size: int, margin: int = 0) -> np.
     return ok
 
 
+def _box_count(mask: np.ndarray, size: int) -> np.ndarray:
+    """Number of True pixels in every ``size x size`` window (top-left indexed)."""
+    ii = np.zeros((mask.shape[0] + 1, mask.shape[1] + 1), np.int64)
+    ii[1:, 1:] = np.cumsum(np.cumsum(mask.astype(np.int64), 0), 1)
+    return ii[size:, size:] - ii[:-size, size:] - ii[size:, :-size] + ii[:-size, :-size]
+
+
 def _cv(img: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(img[:, :, 0] if img.shape[2] == 1 else img, np.float32)
 
 
-def _cells(h: int, w: int, size: int, step: int) -> list[tuple[int, int]]:
+def _grid_cells(h: int, w: int, size: int, step: int) -> list[tuple[int, int]]:
     ys = list(range(0, max(h - size, 0) + 1, step))
     xs = list(range(0, max(w - size, 0) + 1, step))
     if ys[-1] != max(h - size, 0):
@@ -106,11 +132,117 @@ def _cells(h: int, w: int, size: int, step: int) -> list[tuple[int, int]]:
     return [(y, x) for y in ys for x in xs]
 
 
+def _hole_cells(uncovered: np.ndarray, size: int) -> list[tuple[int, int]]:
+    """Cells (top-left y, x) centred on the holes that remain after a pass."""
+    h, w = uncovered.shape
+    lab, n = ndi.label(uncovered)
+    cells = []
+    for sl in ndi.find_objects(lab):
+        if sl is None:
+            continue
+        r0, r1, c0, c1 = sl[0].start, sl[0].stop, sl[1].start, sl[1].stop
+        step = max(size // 2, 1)
+        for yc in range(r0, r1, step):
+            for xc in range(c0, c1, step):
+                y1, x1 = min(yc + step, r1), min(xc + step, c1)
+                cy, cx = (yc + y1) // 2, (xc + x1) // 2
+                y = int(np.clip(cy - size // 2, 0, max(h - size, 0)))
+                x = int(np.clip(cx - size // 2, 0, max(w - size, 0)))
+                cells.append((y, x))
+    return list(dict.fromkeys(cells))
+
+
+class _Matcher:
+    """Masked-SSD window search in the example, coarse then fine."""
+
+    def __init__(self, example: np.ndarray, forbidden: np.ndarray, size: int, margin: int,
+                 search_size: int, forbid_weight: float):
+        eh, ew = example.shape[:2]
+        self.size, self.margin = size, margin
+        self.ex = _cv(example)
+        self.forbid = forbidden.astype(np.float32)
+        self.scale = max(1, int(np.ceil(max(eh, ew) / float(search_size))))
+        s = self.scale
+        if s > 1:
+            self.small = cv2.resize(self.ex, (max(ew // s, 1), max(eh // s, 1)), interpolation=cv2.INTER_AREA)
+            self.forbid_small = cv2.resize(self.forbid, self.small.shape[1::-1], interpolation=cv2.INTER_AREA)
+        else:
+            self.small, self.forbid_small = self.ex, self.forbid
+        self.tsz = max(size // s, 2)
+        # Windows that stay inside the example with their anchor band and
+        # are not entirely forbidden.
+        cnt = _box_count(forbidden, size)
+        self.usable = cnt < size * size
+        if margin > 0:
+            self.usable[:margin, :] = False
+            self.usable[:, :margin] = False
+            self.usable[self.usable.shape[0] - margin:, :] = False
+            self.usable[:, self.usable.shape[1] - margin:] = False
+        if not self.usable.any():
+            raise ValueError("example_image has no usable (branch-free) pixels to complete the gaps from")
+        self.usable_small = self.usable[::s, ::s]
+        self.forbid_weight = forbid_weight
+        self.channels = example.shape[2]
+
+    def choose(self, tpl: np.ndarray, known: np.ndarray, tolerance: float,
+               rng: np.random.Generator) -> tuple[int, int]:
+        """Top-left (y, x) in the example of the window used for one cell."""
+        size, s = self.size, self.scale
+        unknown = (~known).astype(np.float32)
+        n_unknown = max(float(unknown.sum()), 1.0)
+        n_known = float(known.sum())
+        t_cv = _cv(tpl)
+        m = known.astype(np.float32)
+        if s > 1:
+            t_s = cv2.resize(t_cv, (self.tsz, self.tsz), interpolation=cv2.INTER_AREA)
+            m_s = cv2.resize(m, (self.tsz, self.tsz), interpolation=cv2.INTER_AREA)
+            u_s = cv2.resize(unknown, (self.tsz, self.tsz), interpolation=cv2.INTER_AREA)
+            m_s = (m_s > 0.99).astype(np.float32)
+        else:
+            t_s, m_s, u_s = t_cv, m, unknown
+        # Fraction of the cell's empty pixels the window would leave empty
+        # (its forbidden pixels), and the mean squared colour difference on
+        # the known pixels.
+        f = cv2.matchTemplate(self.forbid_small, u_s, cv2.TM_CCORR) / max(float(u_s.sum()), 1.0)
+        cost = self.forbid_weight * f
+        if m_s.sum() >= 1:
+            ssd = cv2.matchTemplate(self.small, t_s, cv2.TM_SQDIFF, mask=m_s)
+            cost = cost + ssd / (float(m_s.sum()) * self.channels)
+        hh = min(cost.shape[0], self.usable_small.shape[0])
+        ww = min(cost.shape[1], self.usable_small.shape[1])
+        c = np.full(cost.shape, np.inf)
+        c[:hh, :ww] = np.where(self.usable_small[:hh, :ww], cost[:hh, :ww], np.inf)
+        c[~np.isfinite(c)] = np.inf
+        best = float(c.min())
+        if not np.isfinite(best):
+            cand = np.argwhere(self.usable)
+            return tuple(int(v) for v in cand[rng.integers(len(cand))])
+        good = np.argwhere(c <= best + tolerance * abs(best) + 1e-9)
+        cy, cx = (int(v) * s for v in good[rng.integers(len(good))])
+        if s == 1:
+            return cy, cx
+        # Refine at full resolution around the coarse choice.
+        y0, y1 = max(cy - s, 0), min(cy + s, self.usable.shape[0] - 1)
+        x0, x1 = max(cx - s, 0), min(cx + s, self.usable.shape[1] - 1)
+        region = self.ex[y0:y1 + size, x0:x1 + size]
+        fr = self.forbid[y0:y1 + size, x0:x1 + size]
+        res = cv2.matchTemplate(fr, unknown, cv2.TM_CCORR) * (self.forbid_weight / n_unknown)
+        if n_known >= 1:
+            res = res + cv2.matchTemplate(region, t_cv, cv2.TM_SQDIFF, mask=m) / (n_known * self.channels)
+        ok = self.usable[y0:y0 + res.shape[0], x0:x0 + res.shape[1]]
+        res = np.where(ok, res, np.inf)
+        if not np.isfinite(res).any():
+            return cy, cx
+        iy, ix = np.unravel_index(int(np.argmin(res)), res.shape)
+        return y0 + int(iy), x0 + int(ix)
+
+
 def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
                   forbidden: np.ndarray, *, patch_size: int = 32, overlap: float = 0.25,
                   protect: np.ndarray | None = None, tolerance: float = 0.1,
-                  search_size: int = 256, method: str = "graphcut", poisson: bool = True,
-                  anchored: bool = True, anchor_weight: float = 10.0, rng=None,
+                  forbid_weight: float = 0.05, search_size: int = 192, method: str = "graphcut",
+                  poisson: bool = True, anchored: bool = True, anchor_weight: float = 10.0,
+                  screen: float = 0.05, min_free: float = 0.02, max_passes: int = 4, rng=None,
                   progress: Callable[[float, str], None] | None = None) -> CompletionResult:
     """Fill every uncovered pixel of ``canvas`` **in place** with branch-free texture.
 
@@ -123,10 +255,10 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
     example : (h, w, C) float32 ndarray
         The example image.
     forbidden : (h, w) bool ndarray
-        Example pixels that must never be copied (its branches with a margin).
+        Example pixels that must never be copied (branches with a margin, matte).
     patch_size : int
-        Side of the square patches (reduced automatically if the example
-        has no branch-free window that large; the minimum is 6).
+        Side of the square cells and patches: reduced (down to 8) until at
+        least ``min_free`` of the example's windows are wholly branch-free.
     overlap : float
         Overlap of neighbouring cells, as a fraction of ``patch_size``.
     protect : (H, W) bool ndarray, optional
@@ -134,11 +266,21 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
     tolerance : float
         Windows with a matching cost within ``(1 + tolerance)`` of the best
         are equally likely (quilting's randomness).
+    forbid_weight : float
+        Cost of a window per unit fraction of the cell's empty pixels that
+        its forbidden pixels would leave empty (against the mean squared
+        colour difference on the known pixels).
     search_size : int
         The example is searched at a scale where its long side is at most
         this many pixels; the choice is refined at full resolution.
-    method, poisson, anchored, anchor_weight
-        Composition of each patch, see :func:`branchnb.branching.blending.compose_piece`.
+    method, poisson, anchored, anchor_weight, screen
+        Composition of each patch, see :func:`branchnb.branching.blending.compose_piece`
+        (with ``screen > 0`` the anchors are replaced by a screened correction
+        that stays near the seams).
+    min_free : float
+        See ``patch_size``.
+    max_passes : int
+        Passes over the remaining holes before the last-resort inpainting.
     rng : int or numpy.random.Generator, optional
     progress : callable(fraction, text), optional
 
@@ -149,129 +291,87 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
     rng = as_rng(rng)
     H, W = covered.shape
     eh, ew = example.shape[:2]
+    if forbidden.shape != (eh, ew):
+        raise ValueError(f"forbidden must have the example's shape {(eh, ew)}, got {forbidden.shape}")
     margin = 2 if (poisson and anchored) else 0
     size = int(min(patch_size, H, W, eh - 2 * margin, ew - 2 * margin))
-    ok = None
-    while size >= 6:
-        ok = admissible_windows(forbidden, size, margin)
-        if ok.any():
-            break
-        size = int(size * 0.75)
-    if ok is None or not ok.any():
-        raise ValueError(
-            "example_image has no branch-free window of at least 6 x 6 pixels to complete the "
-            "gaps from; reduce the exclusion margin or disable completion"
-        )
+    if size < 4:
+        raise ValueError(f"example_image ({ew} x {eh}) is too small for gap completion")
+    # Smaller patches where branch-free windows of the requested size are
+    # too rare to choose from (every cell would reuse the same few).
+    while size > 8 and (_box_count(forbidden, size) == 0).mean() < min_free:
+        size = max(8, int(round(size * 0.75)))
     full = size + 2 * margin
     step = max(1, int(round(size * (1.0 - overlap))))
+    matcher = _Matcher(example, forbidden, size, margin, search_size, forbid_weight)
     filled = np.zeros((H, W), bool)
     source = np.full((H, W, 2), np.nan)
     seams = np.zeros((H, W), bool)
     total_cost = 0.0
     n_patches = 0
+    n_total = max(int((~covered).sum()), 1)
+    prot_full = protect if protect is not None else None
 
-    # Reduced example for the search.
-    scale = max(1, int(np.ceil(max(eh, ew) / float(search_size))))
-    ex_cv = _cv(example)
-    small = cv2.resize(ex_cv, (max(ew // scale, 1), max(eh // scale, 1)),
-                       interpolation=cv2.INTER_AREA) if scale > 1 else ex_cv
-    tsz = max(size // scale, 2)
-    ok_small = ok[::scale, ::scale]
-
-    cells = _cells(H, W, size, step)
-    ii_known = None
-    pending = [c for c in cells if not covered[c[0]:c[0] + size, c[1]:c[1] + size].all()]
-    n_start = max(len(pending), 1)
-    while pending:
-        ii_known = np.zeros((H + 1, W + 1), np.int64)
-        ii_known[1:, 1:] = np.cumsum(np.cumsum(covered, 0), 1)
-        frac = []
-        for (y, x) in pending:
-            k = (ii_known[y + size, x + size] - ii_known[y, x + size]
-                 - ii_known[y + size, x] + ii_known[y, x])
-            frac.append(k)
-        frac = np.array(frac)
-        done = frac >= size * size
-        if done.any():
-            pending = [c for c, d in zip(pending, done) if not d]
-            frac = frac[~done]
-            if not pending:
-                break
-        y, x = pending.pop(int(np.argmax(frac)))
-        known = covered[y:y + size, x:x + size]
-        tpl = canvas[y:y + size, x:x + size]
-        sy, sx = _choose_window(ex_cv, small, ok, ok_small, tpl, known, size, tsz, scale,
-                                tolerance, rng)
-        # Piece = inner window plus the anchor band.
-        py0, px0 = sy - margin, sx - margin
-        piece = example[py0:py0 + full, px0:px0 + full]
-        valid = np.zeros((full, full), bool)
-        valid[margin:margin + size, margin:margin + size] = True
-        prot = None
-        if protect is not None:
-            prot = np.zeros((full, full), bool)
-            r0, c0 = y - margin, x - margin
-            rr0, cc0 = max(r0, 0), max(c0, 0)
-            rr1, cc1 = min(r0 + full, H), min(c0 + full, W)
-            prot[rr0 - r0:rr1 - r0, cc0 - c0:cc1 - c0] = protect[rr0:rr1, cc0:cc1]
-        comp = compose_piece(canvas, covered, piece, valid, (x - margin, y - margin),
-                             protect_canvas=prot, method=method, poisson=poisson,
-                             anchored=anchored, anchor_weight=anchor_weight)
-        n_patches += 1
-        if comp is not None:
-            total_cost += comp.cost
-            wr, wc = comp.window
-            tk = comp.take
-            filled[wr, wc] |= tk
-            seams[wr, wc] |= comp.seam
-            rows, cols = np.nonzero(tk)
-            src = source[wr, wc]
-            # Window pixel (i, j) of the piece came from example (px0 + j', py0 + i').
-            src[rows, cols, 0] = px0 + cols + comp.sub[1].start
-            src[rows, cols, 1] = py0 + rows + comp.sub[0].start
-        if progress is not None:
-            progress(1.0 - len(pending) / n_start, f"gap completion: {n_patches} patches")
-    return CompletionResult(filled, source, seams, n_patches, total_cost, size)
+    for pass_i in range(max_passes):
+        if covered.all():
+            break
+        cells = _grid_cells(H, W, size, step) if pass_i == 0 else _hole_cells(~covered, size)
+        pending = [c for c in cells if not covered[c[0]:c[0] + size, c[1]:c[1] + size].all()]
+        while pending:
+            ii = np.zeros((H + 1, W + 1), np.int64)
+            ii[1:, 1:] = np.cumsum(np.cumsum(covered, 0), 1)
+            ys = np.array([c[0] for c in pending])
+            xs = np.array([c[1] for c in pending])
+            known_n = ii[ys + size, xs + size] - ii[ys, xs + size] - ii[ys + size, xs] + ii[ys, xs]
+            keep = known_n < size * size
+            if not keep.all():
+                pending = [c for c, k in zip(pending, keep) if k]
+                known_n = known_n[keep]
+                if not pending:
+                    break
+            y, x = pending.pop(int(np.argmax(known_n)))
+            known = covered[y:y + size, x:x + size]
+            sy, sx = matcher.choose(canvas[y:y + size, x:x + size], known, tolerance, rng)
+            # Piece = the window plus its anchor band; forbidden pixels are no part of it.
+            py0, px0 = sy - margin, sx - margin
+            piece = example[py0:py0 + full, px0:px0 + full]
+            valid = np.zeros((full, full), bool)
+            valid[margin:margin + size, margin:margin + size] = True
+            valid &= ~forbidden[py0:py0 + full, px0:px0 + full]
+            prot = None
+            if prot_full is not None:
+                prot = np.zeros((full, full), bool)
+                r0, c0 = y - margin, x - margin
+                rr0, cc0 = max(r0, 0), max(c0, 0)
+                rr1, cc1 = min(r0 + full, H), min(c0 + full, W)
+                prot[rr0 - r0:rr1 - r0, cc0 - c0:cc1 - c0] = prot_full[rr0:rr1, cc0:cc1]
+            comp = compose_piece(canvas, covered, piece, valid, (x - margin, y - margin),
+                                 protect_canvas=prot, method=method, poisson=poisson,
+                                 anchored=anchored, anchor_weight=anchor_weight, screen=screen)
+            n_patches += 1
+            if comp is not None:
+                total_cost += comp.cost
+                wr, wc = comp.window
+                tk = comp.take
+                filled[wr, wc] |= tk
+                seams[wr, wc] |= comp.seam
+                rows, cols = np.nonzero(tk)
+                src = source[wr, wc]
+                src[rows, cols, 0] = px0 + cols + comp.sub[1].start
+                src[rows, cols, 1] = py0 + rows + comp.sub[0].start
+            if progress is not None:
+                progress(min(1.0, 1.0 - (~covered).sum() / n_total), f"gap completion: {n_patches} patches")
+    n_inpainted = int((~covered).sum())
+    if n_inpainted:
+        _inpaint(canvas, covered)
+        filled |= ~covered
+        covered[:] = True
+    return CompletionResult(filled, source, seams, n_patches, total_cost, size, n_inpainted)
 
 
-def _choose_window(ex_cv, small, ok, ok_small, tpl, known, size, tsz, scale, tolerance, rng):
-    """Top-left example corner of the window used for one cell."""
-    cand = np.argwhere(ok)
-    if not known.any():
-        return tuple(cand[rng.integers(len(cand))])
-    t_cv = _cv(tpl)
-    m = known.astype(np.float32)
-    if scale > 1:
-        t_s = cv2.resize(t_cv, (tsz, tsz), interpolation=cv2.INTER_AREA)
-        m_s = (cv2.resize(m, (tsz, tsz), interpolation=cv2.INTER_AREA) > 0.99).astype(np.float32)
-        if not m_s.any():
-            m_s = (cv2.resize(m, (tsz, tsz), interpolation=cv2.INTER_AREA) > 0.5).astype(np.float32)
-    else:
-        t_s, m_s = t_cv, m
-    if m_s.any():
-        res = cv2.matchTemplate(small, t_s, cv2.TM_SQDIFF, mask=m_s)
-        hh = min(res.shape[0], ok_small.shape[0])
-        ww = min(res.shape[1], ok_small.shape[1])
-        cost = np.full(res.shape, np.inf)
-        cost[:hh, :ww] = np.where(ok_small[:hh, :ww], res[:hh, :ww], np.inf)
-        best = float(cost.min())
-    else:
-        best = np.inf
-    if not np.isfinite(best):
-        coarse = [tuple(cand[rng.integers(len(cand))])]
-    else:
-        good = np.argwhere(cost <= best * (1.0 + tolerance) + 1e-6)
-        pick = good[rng.integers(len(good))]
-        coarse = [(int(pick[0]) * scale, int(pick[1]) * scale)]
-    # Refine at full resolution around the coarse choice.
-    cy, cx = coarse[0]
-    r = scale if scale > 1 else 0
-    y0, y1 = max(cy - r, 0), min(cy + r, ok.shape[0] - 1)
-    x0, x1 = max(cx - r, 0), min(cx + r, ok.shape[1] - 1)
-    region = ex_cv[y0:y1 + size, x0:x1 + size]
-    res = cv2.matchTemplate(region, t_cv, cv2.TM_SQDIFF, mask=m)
-    res = np.where(ok[y0:y0 + res.shape[0], x0:x0 + res.shape[1]], res, np.inf)
-    if not np.isfinite(res).any():
-        return cy, cx
-    iy, ix = np.unravel_index(int(np.argmin(res)), res.shape)
-    return y0 + int(iy), x0 + int(ix)
+def _inpaint(canvas: np.ndarray, covered: np.ndarray) -> None:
+    """Diffuse the known colours into the last holes (OpenCV Telea), in place."""
+    hole = (~covered).astype(np.uint8)
+    for c in range(canvas.shape[2]):
+        ch = np.ascontiguousarray(canvas[..., c])
+        canvas[..., c] = cv2.inpaint(ch, hole, 3, cv2.INPAINT_TELEA)

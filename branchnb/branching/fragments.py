@@ -97,7 +97,7 @@ class FragmentLibrary:
                         float(self.radius[i]), int(self.sign[i]), ch if ch >= 0 else None)
 
     @classmethod
-    def from_list(cls, kind: str, frags: list[Fragment]) -> "FragmentLibrary":
+    def from_list(cls, kind: str, frags: list[Fragment]) -> FragmentLibrary:
         n = len(frags)
         return cls(
             kind,

@@ -27,18 +27,19 @@ structure (the *target*, e.g. from :mod:`branchnb.branching.synthesis`),
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
+import cv2
 import numpy as np
+from scipy import ndimage as ndi
 
-from ..core.image import as_float_image, as_points
+from ..core.image import as_float_image, as_mask, as_points, as_rgb
 from ..core.io import encode_png
 from ..core.params import check_params, param
 from ..core.polyline import rigid_align
 from ..core.random import as_rng
 from ..core.render import draw_polylines
-from ..core.warp import remap
 from .blending import compose_piece
 from .completion import complete_gaps
 from .displacement import backward_map, displacement_field
@@ -46,12 +47,12 @@ from .fragments import (
     Fragment,
     FragmentLibrary,
     choose_among_best,
-    colour_cost,
     shape_cost,
     shape_vectors,
     source_fragments,
     target_fragments,
 )
+from .regions import ExampleRegions, example_regions
 from .skeleton_map import PixelMap, SkeletonMap
 from .structure import Structure
 
@@ -78,7 +79,7 @@ class ImageSynthesisParams:
                             "on the overlap) against S (squared pixels)")
     c: int = param(2, min=1, max=10, step=1,
                    help="c: choose at random among the c best source fragments")
-    shortlist: int = param(16, min=1, max=64, step=1,
+    shortlist: int = param(64, min=1, max=256, step=1,
                            help="source fragments of lowest S whose colour cost C is evaluated")
     source_density: float = param(2.0, min=1.0, max=8.0, step=0.5,
                                   help="source fragment centres per paper spacing "
@@ -105,6 +106,13 @@ class ImageSynthesisParams:
                                   "as that branch (never copied for another branch or a gap)")
     exclusion_margin: float = param(2.0, min=0.0, max=16.0, step=0.5,
                                     help="margin (pixels) added to the branch body")
+    avoid_unannotated: bool = param(True, help="also treat unannotated branch-like example pixels "
+                                               "(faint branches the structure misses) as branches")
+    branch_like: float = param(0.1, min=0.02, max=2.0, step=0.05,
+                               help="branch-likeness threshold: fraction of the way from the local "
+                                    "background colour to the branch colour")
+    exclude_matte: bool = param(True, help="never copy a flat black/white matte connected to the "
+                                           "example's border (e.g. around a fundus photo)")
     completion: bool = param(True, help="fill the gaps between branches automatically")
     patch_size: int = param(32, min=8, max=128, step=2,
                             help="gap completion: patch side (pixels)")
@@ -113,6 +121,16 @@ class ImageSynthesisParams:
     completion_tolerance: float = param(0.1, min=0.0, max=1.0, step=0.05,
                                         help="gap completion: windows within (1 + tol) of the best "
                                              "match are equally likely")
+    completion_screen: float = param(0.05, min=0.0, max=1.0, step=0.01,
+                                     help="gap completion: screening weight of the Poisson "
+                                          "correction (corrections fade within ~1/sqrt(w) px of a "
+                                          "seam; 0 = anchors only)")
+    completion_rim: int = param(3, min=0, max=16, step=1,
+                                help="gap completion: width (pixels) of the fragments' outer rim "
+                                     "a patch's seam may cut into")
+    forbid_weight: float = param(0.05, min=0.0, max=1.0, step=0.01,
+                                 help="gap completion: penalty for windows whose branch pixels "
+                                      "(never copied) would leave holes")
 
 
 @dataclass
@@ -168,6 +186,10 @@ class ImageSynthesisResult:
         Sum of the seam costs of every composition.
     target : Structure
         The target structure (as given).
+    example_regions : ExampleRegions
+        Branch body, branch-like and unusable masks of the example.
+    n_inpainted : int
+        Output pixels no patch could fill (diffusion-inpainted; normally 0).
     timings : dict
         Seconds spent per stage.
     params : ImageSynthesisParams
@@ -182,16 +204,14 @@ class ImageSynthesisResult:
     fragments: list
     seam_cost: float
     target: Structure
+    example_regions: ExampleRegions | None = None
+    n_inpainted: int = 0
     timings: dict = field(default_factory=dict)
     params: ImageSynthesisParams | None = None
 
     def overlay(self, *, skeleton: bool = True, seams: bool = True) -> np.ndarray:
         """The image with the target skeleton (red) and the seams (yellow) drawn over it."""
-        img = self.image
-        if img.shape[2] != 3:
-            from ..core.image import as_rgb
-
-            img = as_rgb(img)
+        img = as_rgb(self.image) if self.image.shape[2] != 3 else self.image
         img = img.copy()
         if seams:
             img[self.seams] = 0.6 * img[self.seams] + 0.4 * np.array([1.0, 0.9, 0.0], np.float32)
@@ -231,8 +251,31 @@ class _Context:
     sm_s: SkeletonMap
     sm_t: SkeletonMap
     pm_s: PixelMap
-    src_core: np.ndarray
+    excluded: np.ndarray   # example pixels of some branch (body or branch-like)
+    unusable: np.ndarray   # example pixels never copied
     p: ImageSynthesisParams
+
+
+def _sample(ex: np.ndarray, mx: np.ndarray, my: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Bilinear samples of ``ex`` at ``(mx, my)`` and where they lie inside it.
+
+    Same as :func:`branchnb.core.warp.remap` on an already validated image,
+    but only the example's region under the maps is handed to OpenCV.
+    """
+    h, w = ex.shape[:2]
+    valid = (mx >= -0.5) & (mx <= w - 0.5) & (my >= -0.5) & (my <= h - 0.5)
+    if not valid.any():
+        return np.zeros(mx.shape + (ex.shape[2],), np.float32), valid
+    x0 = int(np.clip(np.floor(mx.min()) - 1, 0, w - 1))
+    x1 = int(np.clip(np.ceil(mx.max()) + 2, x0 + 1, w))
+    y0 = int(np.clip(np.floor(my.min()) - 1, 0, h - 1))
+    y1 = int(np.clip(np.ceil(my.max()) + 2, y0 + 1, h))
+    roi = ex[y0:y1, x0:x1]
+    out = cv2.remap(roi, mx - np.float32(x0), my - np.float32(y0), interpolation=cv2.INTER_LINEAR,
+                    borderMode=cv2.BORDER_REPLICATE)
+    if out.ndim == 2:
+        out = out[:, :, None]
+    return out, valid
 
 
 def _target_window(sm: SkeletonMap, branch: int, arc: float, radius: float):
@@ -243,28 +286,72 @@ def _target_window(sm: SkeletonMap, branch: int, arc: float, radius: float):
     return lo, hi
 
 
-def _allowed(ctx: _Context, mx, my, src: Fragment, tgt: Fragment) -> np.ndarray:
-    """Source pixels a fragment may copy: not the body of any other branch,
-    nor its own branch beyond the part that lands on the target skeleton."""
+def _allowed(ctx: _Context, mx, my, lib: FragmentLibrary, idx, tgt: Fragment) -> np.ndarray:
+    """Source pixels fragments may copy: not the matte, not any other branch
+    (annotated body or branch-like), nor their own branch beyond the part
+    that lands on the target skeleton.
+
+    ``mx, my`` are ``(N, h, w)`` source coordinates of candidates ``idx`` of ``lib``.
+    """
     h, w = ctx.pm_s.dist.shape
     ix = np.clip(np.rint(mx).astype(np.int64), 0, w - 1)
     iy = np.clip(np.rint(my).astype(np.int64), 0, h - 1)
-    core = ctx.src_core[iy, ix]
+    excl = ctx.excluded[iy, ix]
     owner = ctx.pm_s.branch[iy, ix]
     arc = ctx.pm_s.arc[iy, ix]
     slack = 0.5
+    idx = np.atleast_1d(idx)
 
     def in_window(branch_s, centre_s, sign, lo, hi):
         a, b = centre_s + sign * lo, centre_s + sign * hi
-        lo_s, hi_s = min(a, b) - slack, max(a, b) + slack
-        return (owner == branch_s) & (arc >= lo_s) & (arc <= hi_s)
+        lo_s = np.minimum(a, b)[:, None, None] - slack
+        hi_s = np.maximum(a, b)[:, None, None] + slack
+        return (owner == branch_s[:, None, None]) & (arc >= lo_s) & (arc <= hi_s)
 
     lo, hi = _target_window(ctx.sm_t, tgt.branch, tgt.arc, tgt.radius)
-    ok = in_window(src.branch, src.arc, src.sign, lo, hi)
+    ok = in_window(lib.branch[idx], lib.arc[idx], lib.sign[idx], lo, hi)
     if tgt.kind == "furcation":
         Lc = float(ctx.sm_t.lengths[tgt.child])
-        ok |= in_window(src.child, 0.0, 1.0, -np.inf, Lc if Lc < 1.5 * tgt.radius else np.inf)
-    return ~core | ok
+        zero = np.zeros(len(idx))
+        ok |= in_window(lib.child[idx], zero, zero + 1.0, -np.inf,
+                        Lc if Lc < 1.5 * tgt.radius else np.inf)
+    return (~excl | ok) & ~ctx.unusable[iy, ix]
+
+
+def _backward_maps(origin, size: int, rot: np.ndarray, trans: np.ndarray):
+    """:func:`~branchnb.branching.displacement.backward_map` for ``N`` rigid transforms at once."""
+    yy, xx = np.mgrid[0:size, 0:size].astype(np.float32)
+    X = (xx + origin[0])[None] - trans[:, 0, None, None]
+    Y = (yy + origin[1])[None] - trans[:, 1, None, None]
+    mx = rot[:, 0, 0, None, None] * X + rot[:, 1, 0, None, None] * Y
+    my = rot[:, 0, 1, None, None] * X + rot[:, 1, 1, None, None] * Y
+    return mx.astype(np.float32), my.astype(np.float32)
+
+
+def _colour_costs(ctx: _Context, lib: FragmentLibrary, idx, rot, trans, tgt: Fragment,
+                  origin, size: int, disk, ex_win, cov_win, body_win) -> np.ndarray:
+    """Colour cost ``C`` of candidates ``idx``: squared colour difference on the overlap.
+
+    The mean over the overlap pixels on the target branch body and the
+    mean over the others count half each, so that the few branch pixels
+    weigh as much as the background around them: a candidate whose
+    branch does not continue the previous fragment's is not outscored by
+    a blank one that merely matches the background.
+    """
+    n = len(idx)
+    mx, my = _backward_maps(origin, size, rot[idx], trans[idx])
+    pix, inimg = _sample(ctx.ex, mx.reshape(n * size, size), my.reshape(n * size, size))
+    pix = pix.reshape(n, size, size, -1)
+    inimg = inimg.reshape(n, size, size)
+    ov = disk[None] & inimg & _allowed(ctx, mx, my, lib, idx, tgt) & cov_win[None]
+    d = ((pix - ex_win[None]) ** 2).sum(-1)
+    parts = []
+    for m in (ov & body_win[None], ov & ~body_win[None]):
+        cnt = m.sum((1, 2))
+        parts.append((np.where(cnt > 0, (d * m).sum((1, 2)) / np.maximum(cnt, 1), 0.0), cnt > 0))
+    (c_on, has_on), (c_off, has_off) = parts
+    both = has_on & has_off
+    return np.where(both, 0.5 * (c_on + c_off), c_on + c_off)
 
 
 def _constraints(ctx: _Context, src: Fragment, tgt: Fragment, rot, trans):
@@ -314,7 +401,8 @@ def _constraints(ctx: _Context, src: Fragment, tgt: Fragment, rot, trans):
 def synthesize_image(example_image, example_structure: Structure, target_structure: Structure,
                      params: ImageSynthesisParams | None = None, rng=None,
                      progress: Callable[[float, str], None] | None = None, *,
-                     shape: tuple[int, int] | None = None) -> ImageSynthesisResult:
+                     shape: tuple[int, int] | None = None,
+                     example_mask=None) -> ImageSynthesisResult:
     """Synthesise the image of ``target_structure`` with the texture of an example.
 
     Parameters
@@ -335,6 +423,9 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         Called as the synthesis advances (e.g. a progress bar).
     shape : (H, W), optional
         Output size: ``target_structure.image_shape``, else the example's.
+    example_mask : (H, W) bool array_like, optional
+        Example pixels that may be copied at all (default: all but a flat
+        black/white matte, see ``params.exclude_matte``).
 
     Returns
     -------
@@ -354,15 +445,19 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     True
     """
     t_start = time.perf_counter()
-    p = check_params(params if params is not None else ImageSynthesisParams())
-    if params is not None and not isinstance(params, ImageSynthesisParams):
+    if params is None:
+        params = ImageSynthesisParams()
+    if not isinstance(params, ImageSynthesisParams):
         raise TypeError(f"params must be ImageSynthesisParams, got {type(params).__name__}")
+    p = check_params(params)
     rng = as_rng(rng)
     if progress is not None and not callable(progress):
         raise TypeError("progress must be a callable(fraction, text) or None")
     ex = as_float_image(example_image, name="example_image")
     _check_structure(example_structure, "example_structure", ex.shape[:2])
     _check_structure(target_structure, "target_structure")
+    if example_mask is not None:
+        example_mask = as_mask(example_mask, shape=ex.shape[:2], name="example_mask")
     if shape is None:
         shape = target_structure.image_shape or ex.shape[:2]
     H, W = int(shape[0]), int(shape[1])
@@ -383,8 +478,10 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     sm_t = SkeletonMap(target_structure, 1.0)
     pm_s = sm_s.pixel_map(ex.shape[:2])
     pm_t = sm_t.pixel_map((H, W))
-    src_core = pm_s.core(p.exclusion, p.exclusion_margin)
-    ctx = _Context(ex, sm_s, sm_t, pm_s, src_core, p)
+    regions = example_regions(ex, pm_s, exclusion=p.exclusion, margin=p.exclusion_margin,
+                              threshold=p.branch_like if p.avoid_unannotated else None,
+                              matte=p.exclude_matte, example_mask=example_mask)
+    ctx = _Context(ex, sm_s, sm_t, pm_s, regions.body | regions.branch_like, regions.unusable, p)
     geo = dict(lam=p.lam, scale=p.radius_scale, min_radius=p.min_radius, max_radius=p.max_radius)
     lib_b, lib_f = source_fragments(sm_s, density=p.source_density, reverse=p.reverse, **geo)
     if len(lib_b) == 0:
@@ -404,9 +501,13 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     matches: list[FragmentMatch] = []
     total_seam = 0.0
     t0 = time.perf_counter()
-    frag_share = 0.75 if p.completion else 1.0
+    frag_share = 0.6 if p.completion else 1.0
+    # Shape vectors of the source library depend on the target radius only
+    # through the sampling offsets: cache them per radius.
+    vec_cache: dict = {}
     for i, tf in enumerate(targets):
-        report(frag_share * i / max(len(targets), 1), f"fragment {i + 1} / {len(targets)}")
+        if i % 8 == 0:
+            report(frag_share * i / max(len(targets), 1), f"fragment {i + 1} / {len(targets)}")
         R = tf.radius
         pad = 2
         x0 = int(np.floor(tf.center[0] - R)) - pad
@@ -417,8 +518,11 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         lib: FragmentLibrary = lib_f if tf.kind == "furcation" else lib_b
         child = [tf.child] if tf.kind == "furcation" else None
         q, nu = shape_vectors(sm_t, [tf.branch], [tf.arc], [1.0], R, p.k, child)
-        ps, mu = shape_vectors(sm_s, lib.branch, lib.arc, lib.sign, R, p.k,
-                               lib.child if tf.kind == "furcation" else None)
+        key = (tf.kind, round(R, 2))
+        if key not in vec_cache:
+            vec_cache[key] = shape_vectors(sm_s, lib.branch, lib.arc, lib.sign, R, p.k,
+                                           lib.child if tf.kind == "furcation" else None)
+        ps, mu = vec_cache[key]
         S, rot, trans = shape_cost(ps, mu, q[0], nu[0], p.w_s)
         short = np.argsort(S, kind="stable")[: p.shortlist]
         yy, xx = np.mgrid[0:size, 0:size]
@@ -427,11 +531,8 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         ex_win, cov_win = _window(canvas, covered, x0, y0, size)
         costs_c = np.zeros(len(short))
         if p.w_c > 0 and cov_win.any():
-            for j, cand in enumerate(short):
-                mx, my = backward_map((x0, y0), (size, size), rot[cand], trans[cand])
-                pix, inimg = remap(ex, mx, my)
-                val = disk & inimg & _allowed(ctx, mx, my, lib[cand], tf)
-                costs_c[j] = colour_cost(ex_win, cov_win, pix, val)
+            costs_c = _colour_costs(ctx, lib, short, rot, trans, tf, (x0, y0), size, disk,
+                                    ex_win, cov_win, _crop(body, x0, y0, size, False))
         pick = short[choose_among_best(S[short] + p.w_c * costs_c, p.c, rng)]
         src = lib[pick]
         T = rigid_align(ps[pick], q[0])
@@ -444,19 +545,19 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
                 fld = displacement_field((size, size), qc - (x0, y0), dc,
                                          step=p.displacement_step)
         mx, my = backward_map((x0, y0), (size, size), T.rotation, T.translation, fld)
-        pix, inimg = remap(ex, mx, my)
-        valid = disk & inimg & _allowed(ctx, mx, my, src, tf)
-        mine = {tf.branch} if tf.kind == "branch" else {tf.branch, tf.child}
+        pix, inimg = _sample(ex, mx, my)
+        valid = disk & inimg & _allowed(ctx, mx[None], my[None], lib, pick, tf)[0]
+        mine = [tf.branch] if tf.kind == "branch" else [tf.branch, tf.child]
         b_win = _crop(pm_t.branch, x0, y0, size, -1)
         body_win = _crop(body, x0, y0, size, False)
-        own_body = body_win & np.isin(b_win, list(mine))
+        own_body = body_win & np.isin(b_win, mine)
         if tf.kind == "branch":
             lo, hi = _target_window(sm_t, tf.branch, tf.arc, R)
             a_win = _crop(pm_t.arc, x0, y0, size, 0.0)
             own_body &= (a_win >= tf.arc + max(lo, -R) - 1) & (a_win <= tf.arc + min(hi, R) + 1)
         own_win = _crop(owner, x0, y0, size, -1)
-        protect_piece = own_body & ~np.isin(own_win, list(mine)) & valid
-        protect_canvas = body_win & ~np.isin(b_win, list(mine))
+        protect_piece = own_body & ~np.isin(own_win, mine) & valid
+        protect_canvas = body_win & ~np.isin(b_win, mine)
         if tf.kind == "furcation" and p.furcation_clear > 0:
             clear = ((xx + x0 - tf.center[0]) ** 2 + (yy + y0 - tf.center[1]) ** 2
                      <= (p.furcation_clear * R) ** 2) & valid & ~protect_canvas
@@ -483,33 +584,42 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         j = int(np.flatnonzero(short == pick)[0])
         matches.append(FragmentMatch(tf, src, float(S[pick]), float(costs_c[j]), T.angle,
                                      max_disp, n_pix))
-    fragment_mask = frag_index >= 0
+    # Pixels a later fragment uncovered (furcation clearing) and nobody retook.
+    frag_index[~covered] = -1
+    source[~covered] = np.nan
     timings["fragments"] = time.perf_counter() - t0
 
     fill = np.zeros((H, W), bool)
+    n_inpainted = 0
     if p.completion and not covered.all():
         t1 = time.perf_counter()
 
         def sub_progress(frac, text):
             report(frag_share + (1.0 - frag_share) * frac, text)
 
-        comp = complete_gaps(canvas, covered, ex, src_core, patch_size=p.patch_size,
-                             overlap=p.patch_overlap, protect=body & fragment_mask,
-                             tolerance=p.completion_tolerance, method=p.seams, poisson=p.poisson,
-                             anchored=p.anchors, anchor_weight=p.anchor_weight, rng=rng,
-                             progress=sub_progress)
+        # Patches may only cut into a thin rim of the fragments (to hide the
+        # disks' edges), never into the branches.
+        rim = int(p.completion_rim)
+        inner = ndi.binary_erosion(covered, iterations=rim, border_value=1) if rim > 0 else covered
+        comp = complete_gaps(canvas, covered, ex, regions.forbidden, patch_size=p.patch_size,
+                             overlap=p.patch_overlap, protect=(body & covered) | inner,
+                             tolerance=p.completion_tolerance, forbid_weight=p.forbid_weight,
+                             method=p.seams, poisson=p.poisson, anchored=p.anchors,
+                             anchor_weight=p.anchor_weight,
+                             screen=p.completion_screen if p.anchors else 0.0,
+                             rng=rng, progress=sub_progress)
         fill = comp.filled
-        has = fill
-        source[has] = comp.source[has]
-        frag_index[has] = -1
-        fragment_mask &= ~fill
+        source[fill] = comp.source[fill]
+        frag_index[fill] = -1
         seams |= comp.seams
         total_seam += comp.seam_cost
+        n_inpainted = comp.n_inpainted
         timings["completion"] = time.perf_counter() - t1
+    fragment_mask = frag_index >= 0
     timings["total"] = time.perf_counter() - t_start
     report(1.0, "done")
     return ImageSynthesisResult(canvas, fragment_mask, fill, source, frag_index, seams, matches,
-                                total_seam, target_structure, timings, p)
+                                total_seam, target_structure, regions, n_inpainted, timings, p)
 
 
 def _window(canvas, covered, x0, y0, size):
