@@ -156,7 +156,7 @@ class _Matcher:
     """Masked-SSD window search in the example, coarse then fine."""
 
     def __init__(self, example: np.ndarray, forbidden: np.ndarray, size: int, margin: int,
-                 search_size: int, forbid_weight: float):
+                 search_size: int, forbid_weight: float, reuse_weight: float = 0.5):
         eh, ew = example.shape[:2]
         self.size, self.margin = size, margin
         self.ex = _cv(example)
@@ -182,6 +182,9 @@ class _Matcher:
             raise ValueError("example_image has no usable (branch-free) pixels to complete the gaps from")
         self.usable_small = self.usable[::s, ::s]
         self.forbid_weight = forbid_weight
+        self.reuse_weight = reuse_weight
+        # How often the example around each (reduced) window was used already.
+        self.used = np.zeros(self.usable_small.shape, np.float64)
         self.channels = example.shape[2]
 
     def choose(self, tpl: np.ndarray, known: np.ndarray, tolerance: float,
@@ -213,12 +216,20 @@ class _Matcher:
         c = np.full(cost.shape, np.inf)
         c[:hh, :ww] = np.where(self.usable_small[:hh, :ww], cost[:hh, :ww], np.inf)
         c[~np.isfinite(c)] = np.inf
-        best = float(c.min())
-        if not np.isfinite(best):
+        fin = np.isfinite(c)
+        if not fin.any():
             cand = np.argwhere(self.usable)
             return tuple(int(v) for v in cand[rng.integers(len(cand))])
+        # Reuse penalty: every earlier use of a nearby window costs half a
+        # typical match, so the same few windows are not tiled everywhere.
+        typical = max(float(np.median(c[fin])), 1e-4)
+        c[:hh, :ww] += self.reuse_weight * typical * self.used[:hh, :ww]
+        best = float(c.min())
         good = np.argwhere(c <= best + tolerance * abs(best) + 1e-9)
-        cy, cx = (int(v) * s for v in good[rng.integers(len(good))])
+        gy, gx = (int(v) for v in good[rng.integers(len(good))])
+        r = max(self.tsz // 2, 1)
+        self.used[max(gy - r, 0):gy + r + 1, max(gx - r, 0):gx + r + 1] += 1.0
+        cy, cx = gy * s, gx * s
         if s == 1:
             return cy, cx
         # Refine at full resolution around the coarse choice.
@@ -242,7 +253,8 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
                   protect: np.ndarray | None = None, tolerance: float = 0.1,
                   forbid_weight: float = 0.05, search_size: int = 192, method: str = "graphcut",
                   poisson: bool = True, anchored: bool = True, anchor_weight: float = 10.0,
-                  screen: float = 0.05, min_free: float = 0.02, max_passes: int = 4, rng=None,
+                  screen: float = 0.05, min_free: float = 0.0, reuse_weight: float = 0.5,
+                  max_passes: int = 4, rng=None,
                   progress: Callable[[float, str], None] | None = None) -> CompletionResult:
     """Fill every uncovered pixel of ``canvas`` **in place** with branch-free texture.
 
@@ -279,6 +291,9 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
         that stays near the seams).
     min_free : float
         See ``patch_size``.
+    reuse_weight : float
+        Penalty for reusing the example around an already used window,
+        per earlier use, in units of the median matching cost.
     max_passes : int
         Passes over the remaining holes before the last-resort inpainting.
     rng : int or numpy.random.Generator, optional
@@ -303,7 +318,7 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
         size = max(8, int(round(size * 0.75)))
     full = size + 2 * margin
     step = max(1, int(round(size * (1.0 - overlap))))
-    matcher = _Matcher(example, forbidden, size, margin, search_size, forbid_weight)
+    matcher = _Matcher(example, forbidden, size, margin, search_size, forbid_weight, reuse_weight)
     filled = np.zeros((H, W), bool)
     source = np.full((H, W, 2), np.nan)
     seams = np.zeros((H, W), bool)
@@ -316,20 +331,14 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
         if covered.all():
             break
         cells = _grid_cells(H, W, size, step) if pass_i == 0 else _hole_cells(~covered, size)
-        pending = [c for c in cells if not covered[c[0]:c[0] + size, c[1]:c[1] + size].all()]
-        while pending:
-            ii = np.zeros((H + 1, W + 1), np.int64)
-            ii[1:, 1:] = np.cumsum(np.cumsum(covered, 0), 1)
-            ys = np.array([c[0] for c in pending])
-            xs = np.array([c[1] for c in pending])
-            known_n = ii[ys + size, xs + size] - ii[ys, xs + size] - ii[ys + size, xs] + ii[ys, xs]
-            keep = known_n < size * size
-            if not keep.all():
-                pending = [c for c, k in zip(pending, keep) if k]
-                known_n = known_n[keep]
-                if not pending:
-                    break
-            y, x = pending.pop(int(np.argmax(known_n)))
+        cells = np.array(cells, np.int64).reshape(-1, 2)
+        known_n = np.array([covered[y:y + size, x:x + size].sum() for y, x in cells], np.int64)
+        todo = known_n < size * size
+        while todo.any():
+            # The cell with the most known pixels next (filling grows inwards).
+            i = int(np.argmax(np.where(todo, known_n, -1)))
+            todo[i] = False
+            y, x = (int(v) for v in cells[i])
             known = covered[y:y + size, x:x + size]
             sy, sx = matcher.choose(canvas[y:y + size, x:x + size], known, tolerance, rng)
             # Piece = the window plus its anchor band; forbidden pixels are no part of it.
@@ -359,7 +368,14 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
                 src = source[wr, wc]
                 src[rows, cols, 0] = px0 + cols + comp.sub[1].start
                 src[rows, cols, 1] = py0 + rows + comp.sub[0].start
-            if progress is not None:
+            # Update the known counts of the cells the patch touched.
+            near = np.flatnonzero(todo & (np.abs(cells[:, 0] - y) < size + margin)
+                                  & (np.abs(cells[:, 1] - x) < size + margin))
+            for j in near:
+                cy, cx = cells[j]
+                known_n[j] = covered[cy:cy + size, cx:cx + size].sum()
+            todo[near[known_n[near] >= size * size]] = False
+            if progress is not None and n_patches % 16 == 0:
                 progress(min(1.0, 1.0 - (~covered).sum() / n_total), f"gap completion: {n_patches} patches")
     n_inpainted = int((~covered).sum())
     if n_inpainted:

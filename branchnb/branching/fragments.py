@@ -40,6 +40,7 @@ __all__ = [
     "shape_vectors",
     "rigid_fit_batch",
     "shape_cost",
+    "ShapeBank",
     "colour_cost",
     "choose_among_best",
 ]
@@ -317,6 +318,50 @@ def shape_cost(p: np.ndarray, mu: np.ndarray, q: np.ndarray, nu: np.ndarray,
     """
     res, rot, trans = rigid_fit_batch(p, q)
     return res + w_s * ((mu - nu[None, :]) ** 2).sum(axis=1), rot, trans
+
+
+class ShapeBank:
+    """Source shape vectors prepared for scoring against many targets.
+
+    :func:`shape_cost` for every candidate, with the parts that depend
+    only on the sources (centred positions, their squared norms, the
+    thickness norms) computed once: scoring one target fragment against
+    thousands of sources is then two matrix-vector products.
+
+    Parameters
+    ----------
+    p : (N, K, 2) ndarray
+        Source positions.
+    mu : (N, K) ndarray
+        Source thicknesses.
+    """
+
+    def __init__(self, p: np.ndarray, mu: np.ndarray):
+        self.p = p
+        self.mu = mu
+        self.mean = p.mean(axis=1)
+        pc = p - self.mean[:, None, :]
+        self.flat = pc.reshape(len(p), -1)                       # (x0, y0, x1, y1, ...)
+        self.flat_perp = np.stack([-pc[..., 1], pc[..., 0]], -1).reshape(len(p), -1)
+        self.norm2 = (pc**2).sum(axis=(1, 2))
+        self.mu2 = (mu**2).sum(axis=1)
+
+    def __len__(self) -> int:
+        return len(self.p)
+
+    def costs(self, q: np.ndarray, nu: np.ndarray, w_s: float = 2.0) -> np.ndarray:
+        """``S`` of every source against target ``(q, nu)`` (same values as :func:`shape_cost`)."""
+        qc = (q - q.mean(axis=0)).ravel()
+        a = self.flat @ qc                   # sum p . q
+        b = self.flat_perp @ qc              # sum p x q
+        res = np.maximum(self.norm2 + qc @ qc - 2.0 * np.hypot(a, b), 0.0)
+        thick = self.mu2 - 2.0 * (self.mu @ nu) + nu @ nu
+        return res + w_s * np.maximum(thick, 0.0)
+
+    def fit(self, idx, q: np.ndarray):
+        """Rotations and translations aligning sources ``idx`` onto ``q``."""
+        _, rot, trans = rigid_fit_batch(self.p[np.atleast_1d(idx)], q)
+        return rot, trans
 
 
 def colour_cost(existing: np.ndarray, covered: np.ndarray, pixels: np.ndarray,

@@ -46,8 +46,8 @@ from .displacement import backward_map, displacement_field
 from .fragments import (
     Fragment,
     FragmentLibrary,
+    ShapeBank,
     choose_among_best,
-    shape_cost,
     shape_vectors,
     source_fragments,
     target_fragments,
@@ -128,6 +128,9 @@ class ImageSynthesisParams:
     completion_rim: int = param(3, min=0, max=16, step=1,
                                 help="gap completion: width (pixels) of the fragments' outer rim "
                                      "a patch's seam may cut into")
+    min_free: float = param(0.0, min=0.0, max=0.5, step=0.005,
+                            help="gap completion: shrink patches until this fraction of the "
+                                 "example's windows is wholly branch-free")
     forbid_weight: float = param(0.05, min=0.0, max=1.0, step=0.01,
                                  help="gap completion: penalty for windows whose branch pixels "
                                       "(never copied) would leave holes")
@@ -330,7 +333,7 @@ def _backward_maps(origin, size: int, rot: np.ndarray, trans: np.ndarray):
 
 def _colour_costs(ctx: _Context, lib: FragmentLibrary, idx, rot, trans, tgt: Fragment,
                   origin, size: int, disk, ex_win, cov_win, body_win) -> np.ndarray:
-    """Colour cost ``C`` of candidates ``idx``: squared colour difference on the overlap.
+    """Colour cost ``C`` of candidates ``idx`` (rigidly placed by ``rot, trans``) on the overlap.
 
     The mean over the overlap pixels on the target branch body and the
     mean over the others count half each, so that the few branch pixels
@@ -339,7 +342,7 @@ def _colour_costs(ctx: _Context, lib: FragmentLibrary, idx, rot, trans, tgt: Fra
     a blank one that merely matches the background.
     """
     n = len(idx)
-    mx, my = _backward_maps(origin, size, rot[idx], trans[idx])
+    mx, my = _backward_maps(origin, size, rot, trans)
     pix, inimg = _sample(ctx.ex, mx.reshape(n * size, size), my.reshape(n * size, size))
     pix = pix.reshape(n, size, size, -1)
     inimg = inimg.reshape(n, size, size)
@@ -520,11 +523,14 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         q, nu = shape_vectors(sm_t, [tf.branch], [tf.arc], [1.0], R, p.k, child)
         key = (tf.kind, round(R, 2))
         if key not in vec_cache:
-            vec_cache[key] = shape_vectors(sm_s, lib.branch, lib.arc, lib.sign, R, p.k,
-                                           lib.child if tf.kind == "furcation" else None)
-        ps, mu = vec_cache[key]
-        S, rot, trans = shape_cost(ps, mu, q[0], nu[0], p.w_s)
-        short = np.argsort(S, kind="stable")[: p.shortlist]
+            vec_cache[key] = ShapeBank(*shape_vectors(sm_s, lib.branch, lib.arc, lib.sign, R, p.k,
+                                                      lib.child if tf.kind == "furcation" else None))
+        bank = vec_cache[key]
+        S = bank.costs(q[0], nu[0], p.w_s)
+        n_short = min(p.shortlist, len(S))
+        short = np.argpartition(S, n_short - 1)[:n_short] if n_short < len(S) else np.arange(len(S))
+        short = short[np.argsort(S[short], kind="stable")]
+        rot, trans = bank.fit(short, q[0])
         yy, xx = np.mgrid[0:size, 0:size]
         disk = (xx + x0 - tf.center[0]) ** 2 + (yy + y0 - tf.center[1]) ** 2 <= R * R
         # Existing canvas under the window (zero outside the image).
@@ -533,9 +539,10 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         if p.w_c > 0 and cov_win.any():
             costs_c = _colour_costs(ctx, lib, short, rot, trans, tf, (x0, y0), size, disk,
                                     ex_win, cov_win, _crop(body, x0, y0, size, False))
-        pick = short[choose_among_best(S[short] + p.w_c * costs_c, p.c, rng)]
+        j = choose_among_best(S[short] + p.w_c * costs_c, p.c, rng)
+        pick = int(short[j])
         src = lib[pick]
-        T = rigid_align(ps[pick], q[0])
+        T = rigid_align(bank.p[pick], q[0])
         fld = None
         max_disp = 0.0
         if p.displacement:
@@ -581,7 +588,6 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
             sm_x, sm_y = mx[comp.sub], my[comp.sub]
             source[wr, wc, 0][tk] = sm_x[tk]
             source[wr, wc, 1][tk] = sm_y[tk]
-        j = int(np.flatnonzero(short == pick)[0])
         matches.append(FragmentMatch(tf, src, float(S[pick]), float(costs_c[j]), T.angle,
                                      max_disp, n_pix))
     # Pixels a later fragment uncovered (furcation clearing) and nobody retook.
@@ -604,6 +610,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         comp = complete_gaps(canvas, covered, ex, regions.forbidden, patch_size=p.patch_size,
                              overlap=p.patch_overlap, protect=(body & covered) | inner,
                              tolerance=p.completion_tolerance, forbid_weight=p.forbid_weight,
+                             min_free=p.min_free,
                              method=p.seams, poisson=p.poisson, anchored=p.anchors,
                              anchor_weight=p.anchor_weight,
                              screen=p.completion_screen if p.anchors else 0.0,
