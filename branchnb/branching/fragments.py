@@ -197,7 +197,7 @@ def source_fragments(sm: SkeletonMap, *, lam: float = 0.75, scale: float = 3.0,
     ----------
     density : float
         Candidate centres per paper spacing ``lambda (s_i + s_{i+1})``
-        (1 = the paper's tiling; more gives more candidates).
+        (1 = the paper's tiling; more adds candidates between its centres).
     reverse : bool
         Also offer every fragment read tip-to-root (``sign = -1``).
     """
@@ -206,12 +206,29 @@ def source_fragments(sm: SkeletonMap, *, lam: float = 0.75, scale: float = 3.0,
     for b in range(sm.n_branches):
         if sm.lengths[b] <= 0:
             continue
-        for s in place_along_branch(sm, b, 0.0, lam=lam, scale=scale, min_radius=min_radius,
-                                    max_radius=max_radius, density=density):
+        arcs = place_along_branch(sm, b, 0.0, lam=lam, scale=scale, min_radius=min_radius,
+                                  max_radius=max_radius)
+        parent = sm.parent(b)
+        if parent is not None and sm.lengths[parent] > 0:
+            # A child's target tiling starts one spacing after its furcation
+            # fragment: offer the same positions.
+            r_f = max(float(sm.thickness(parent, sm.parent_arc(b))), float(sm.thickness(b, 0.0)))
+            after = place_along_branch(sm, b, 0.0, lam=lam, scale=scale, min_radius=min_radius,
+                                       max_radius=max_radius,
+                                       prev_radius=float(fragment_radius(r_f, scale, min_radius,
+                                                                         max_radius)))
+            arcs = np.concatenate([arcs, after[np.min(np.abs(after[:, None] - arcs[None]), axis=1) > 0.25]])
+            arcs.sort()
+        if density > 1:
+            # The paper's tiling plus denser candidates in between.
+            more = place_along_branch(sm, b, 0.0, lam=lam, scale=scale, min_radius=min_radius,
+                                      max_radius=max_radius, density=density)
+            arcs = np.concatenate([arcs, more[np.min(np.abs(more[:, None] - arcs[None]), axis=1) > 0.25]])
+            arcs.sort()
+        for s in arcs:
             R = float(fragment_radius(sm.thickness(b, s), scale, min_radius, max_radius))
             for sg in signs:
                 branch.append(Fragment("branch", b, float(s), sm.position(b, s), R, sg))
-        parent = sm.parent(b)
         if parent is not None and sm.lengths[parent] > 0:
             s_p = sm.parent_arc(b)
             r = max(float(sm.thickness(parent, s_p)), float(sm.thickness(b, 0.0)))

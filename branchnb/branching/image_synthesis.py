@@ -553,7 +553,6 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
                                          step=p.displacement_step)
         mx, my = backward_map((x0, y0), (size, size), T.rotation, T.translation, fld)
         pix, inimg = _sample(ex, mx, my)
-        valid = disk & inimg & _allowed(ctx, mx[None], my[None], lib, pick, tf)[0]
         mine = [tf.branch] if tf.kind == "branch" else [tf.branch, tf.child]
         b_win = _crop(pm_t.branch, x0, y0, size, -1)
         body_win = _crop(body, x0, y0, size, False)
@@ -562,6 +561,13 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
             lo, hi = _target_window(sm_t, tf.branch, tf.arc, R)
             a_win = _crop(pm_t.arc, x0, y0, size, 0.0)
             own_body &= (a_win >= tf.arc + max(lo, -R) - 1) & (a_win <= tf.arc + min(hi, R) + 1)
+        # The fragment's own branch body is always taken from it (even where
+        # the source shows a neighbouring branch there: branch texture in a
+        # branch beats a hole filled with background later).
+        allowed = _allowed(ctx, mx[None], my[None], lib, pick, tf)[0]
+        src_ok = ~ctx.unusable[np.clip(np.rint(my).astype(np.int64), 0, ex.shape[0] - 1),
+                               np.clip(np.rint(mx).astype(np.int64), 0, ex.shape[1] - 1)]
+        valid = disk & inimg & (allowed | (own_body & src_ok))
         own_win = _crop(owner, x0, y0, size, -1)
         protect_piece = own_body & ~np.isin(own_win, mine) & valid
         protect_canvas = body_win & ~np.isin(b_win, mine)
