@@ -75,7 +75,8 @@ def displacement_field(shape, points, displacements, *, step: int = 2,
     d = np.asarray(displacements, float).reshape(-1, 2)
     if len(pts) != len(d):
         raise ValueError("points and displacements must have the same length")
-    gh, gw = (h - 1) // step + 2, (w - 1) // step + 2
+    # Nodes 0, g, 2g, ... up to the first at or past the last pixel.
+    gh, gw = max(-(-(h - 1) // step) + 1, 2), max(-(-(w - 1) // step) + 1, 2)
     ok = (pts[:, 0] >= 0) & (pts[:, 0] <= w - 1) & (pts[:, 1] >= 0) & (pts[:, 1] <= h - 1)
     ok &= np.all(np.isfinite(d), axis=1)
     pts, d = pts[ok], d[ok]

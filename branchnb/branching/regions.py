@@ -143,9 +143,10 @@ def example_regions(image: np.ndarray, pm: PixelMap, *, exclusion: float = 1.5,
         Body = pixels within ``exclusion * r + margin`` of the skeleton.
     threshold : float or None
         Branch-likeness above which an unannotated pixel counts as a
-        branch (raised to the 95th percentile of the likeness over the
-        background if that is higher; None: only the annotated body counts).
-        Connected groups of fewer than 12 such pixels are ignored.
+        branch (None: only the annotated body counts). It is raised to
+        the median + 3 MADs of the likeness over the background if that is
+        higher, and connected groups of fewer than 12 pixels, or wider
+        than 1.5 times the thickest annotated branch, are ignored.
     matte : bool
         Exclude a flat black/white matte connected to the border.
     example_mask : (H, W) bool ndarray, optional
@@ -161,17 +162,25 @@ def example_regions(image: np.ndarray, pm: PixelMap, *, exclusion: float = 1.5,
     likeness = branch_likeness(image, pm, ~unusable)
     like = np.zeros((h, w), bool)
     if threshold is not None:
-        # Ordinary texture variation (specks in mud, grain) is not a branch:
-        # the threshold is at least the 95th percentile over the background.
         far = (pm.dist > 3.0 * pm.radius + 4.0) & ~unusable
-        thr = max(threshold, float(np.percentile(likeness[far], 95))) if far.any() else threshold
+        thr = threshold
+        if far.sum() > 16:
+            # Ordinary texture variation (blotches in the ground, specks in
+            # mud) is not a branch: stay above the background's own spread.
+            lf = likeness[far]
+            med = float(np.median(lf))
+            thr = max(threshold, med + 3.0 * 1.4826 * float(np.median(np.abs(lf - med))))
         like = (likeness > thr) & ~body & ~unusable
         if like.any():
-            # Specks of a few pixels are texture, not branches.
+            # Keep connected groups that are big enough and as thin as a
+            # branch (wide blobs are texture, specks are noise).
             lab, n = ndi.label(like)
             sizes = np.bincount(lab.ravel())
-            sizes[0] = 0
-            like = sizes[lab] >= 12
+            half = ndi.maximum(ndi.distance_transform_edt(like), lab, np.arange(n + 1))
+            r_ref = float(np.percentile(pm.radius[pm.dist <= 0.5], 95)) if (pm.dist <= 0.5).any() else 2.0
+            keep = (sizes >= 12) & (np.asarray(half) <= max(1.5 * r_ref, 2.0) + 1.0)
+            keep[0] = False
+            like = keep[lab]
             it = int(np.ceil(margin))
             if it > 0 and like.any():
                 like = ndi.binary_dilation(like, iterations=it) & ~body
