@@ -307,3 +307,17 @@ def test_progress_is_reported_from_0_to_1(river):
     assert fr[0] == 0.0 and fr[-1] == 1.0
     assert all(b >= a for a, b in zip(fr, fr[1:]))
     assert any("gap completion" in t for _, t in seen)
+
+
+def test_flatten_shading_removes_a_brightness_ramp():
+    from branchnb.branching.regions import flatten_shading
+
+    img, _, _ = _ramp_example()
+    bg = np.ones(img.shape[:2], bool)
+    bg[18:30] = False
+    flat = flatten_shading(img, bg, 8.0)
+    cols = flat[bg.nonzero()[0], bg.nonzero()[1], 0].reshape(-1, img.shape[1]).mean(axis=0)
+    raw = img[bg][:, 0].reshape(-1, img.shape[1]).mean(axis=0)
+    assert np.ptp(raw[8:-8]) > 0.3
+    assert np.ptp(cols[8:-8]) < 0.05
+    assert abs(cols.mean() - raw.mean()) < 0.02

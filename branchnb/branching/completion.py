@@ -203,29 +203,36 @@ class _Matcher:
             m_s = (m_s > 0.99).astype(np.float32)
         else:
             t_s, m_s, u_s = t_cv, m, unknown
-        # Fraction of the cell's empty pixels the window would leave empty
-        # (its forbidden pixels), and the mean squared colour difference on
-        # the known pixels.
+        # Mean squared colour difference on the known pixels, and the
+        # fraction of the cell's empty pixels the window would leave empty
+        # (its forbidden pixels are not copied).
+        hh, ww = self.usable_small.shape
         f = cv2.matchTemplate(self.forbid_small, u_s, cv2.TM_CCORR) / max(float(u_s.sum()), 1.0)
-        cost = self.forbid_weight * f
-        if m_s.sum() >= 1:
-            ssd = cv2.matchTemplate(self.small, t_s, cv2.TM_SQDIFF, mask=m_s)
-            cost = cost + ssd / (float(m_s.sum()) * self.channels)
-        hh = min(cost.shape[0], self.usable_small.shape[0])
-        ww = min(cost.shape[1], self.usable_small.shape[1])
-        c = np.full(cost.shape, np.inf)
-        c[:hh, :ww] = np.where(self.usable_small[:hh, :ww], cost[:hh, :ww], np.inf)
-        c[~np.isfinite(c)] = np.inf
-        fin = np.isfinite(c)
-        if not fin.any():
+        hh, ww = min(hh, f.shape[0]), min(ww, f.shape[1])
+        usable = np.zeros(f.shape, bool)
+        usable[:hh, :ww] = self.usable_small[:hh, :ww]
+        if not usable.any():
             cand = np.argwhere(self.usable)
             return tuple(int(v) for v in cand[rng.integers(len(cand))])
-        # Reuse penalty: every earlier use of a nearby window costs half a
-        # typical match, so the same few windows are not tiled everywhere.
-        typical = max(float(np.median(c[fin])), 1e-4)
-        c[:hh, :ww] += self.reuse_weight * typical * self.used[:hh, :ww]
+        if m_s.sum() >= 1:
+            ssd = cv2.matchTemplate(self.small, t_s, cv2.TM_SQDIFF, mask=m_s) / (float(m_s.sum()) * self.channels)
+            ssd = np.where(np.isfinite(ssd), ssd, np.inf)
+            typical = max(float(np.median(ssd[usable & np.isfinite(ssd)])) if np.isfinite(ssd[usable]).any()
+                          else 1e-3, 1e-5)
+        else:
+            ssd, typical = np.zeros(f.shape), 1e-3
+        # Penalties in units of a typical match: holes left by forbidden
+        # pixels, and reuse of the example around earlier windows (so the
+        # same few windows are not tiled everywhere).
+        used = np.zeros(f.shape)
+        used[:hh, :ww] = self.used[:hh, :ww]
+        c = ssd + typical * (self.forbid_weight * f + self.reuse_weight * used)
+        c = np.where(usable, c, np.inf)
         best = float(c.min())
-        good = np.argwhere(c <= best + tolerance * abs(best) + 1e-9)
+        if not np.isfinite(best):
+            cand = np.argwhere(self.usable)
+            return tuple(int(v) for v in cand[rng.integers(len(cand))])
+        good = np.argwhere(c <= best + tolerance * abs(best) + 1e-12)
         gy, gx = (int(v) for v in good[rng.integers(len(good))])
         r = max(self.tsz // 2, 1)
         self.used[max(gy - r, 0):gy + r + 1, max(gx - r, 0):gx + r + 1] += 1.0
@@ -237,7 +244,7 @@ class _Matcher:
         x0, x1 = max(cx - s, 0), min(cx + s, self.usable.shape[1] - 1)
         region = self.ex[y0:y1 + size, x0:x1 + size]
         fr = self.forbid[y0:y1 + size, x0:x1 + size]
-        res = cv2.matchTemplate(fr, unknown, cv2.TM_CCORR) * (self.forbid_weight / n_unknown)
+        res = cv2.matchTemplate(fr, unknown, cv2.TM_CCORR) * (typical * self.forbid_weight / n_unknown)
         if n_known >= 1:
             res = res + cv2.matchTemplate(region, t_cv, cv2.TM_SQDIFF, mask=m) / (n_known * self.channels)
         ok = self.usable[y0:y0 + res.shape[0], x0:x0 + res.shape[1]]
@@ -251,7 +258,7 @@ class _Matcher:
 def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
                   forbidden: np.ndarray, *, patch_size: int = 32, overlap: float = 0.25,
                   protect: np.ndarray | None = None, tolerance: float = 0.1,
-                  forbid_weight: float = 0.05, search_size: int = 192, method: str = "graphcut",
+                  forbid_weight: float = 1.0, search_size: int = 192, method: str = "graphcut",
                   poisson: bool = True, anchored: bool = True, anchor_weight: float = 10.0,
                   screen: float = 0.05, min_free: float = 0.0, reuse_weight: float = 0.5,
                   max_passes: int = 4, rng=None,
@@ -280,8 +287,8 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
         are equally likely (quilting's randomness).
     forbid_weight : float
         Cost of a window per unit fraction of the cell's empty pixels that
-        its forbidden pixels would leave empty (against the mean squared
-        colour difference on the known pixels).
+        its forbidden pixels would leave empty, in units of the median
+        matching cost (mean squared colour difference on the known pixels).
     search_size : int
         The example is searched at a scale where its long side is at most
         this many pixels; the choice is refined at full resolution.
@@ -293,7 +300,7 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
         See ``patch_size``.
     reuse_weight : float
         Penalty for reusing the example around an already used window,
-        per earlier use, in units of the median matching cost.
+        per earlier use, in the same units.
     max_passes : int
         Passes over the remaining holes before the last-resort inpainting.
     rng : int or numpy.random.Generator, optional

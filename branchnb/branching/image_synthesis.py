@@ -52,7 +52,7 @@ from .fragments import (
     source_fragments,
     target_fragments,
 )
-from .regions import ExampleRegions, example_regions
+from .regions import ExampleRegions, example_regions, flatten_shading
 from .skeleton_map import PixelMap, SkeletonMap
 from .structure import Structure
 
@@ -111,6 +111,11 @@ class ImageSynthesisParams:
     branch_like: float = param(0.1, min=0.02, max=2.0, step=0.05,
                                help="branch-likeness threshold: fraction of the way from the local "
                                     "background colour to the branch colour")
+    flatten_shading: float = param(0.0, min=0.0, max=0.5, step=0.01,
+                                   help="divide out the example's large-scale shading (vignetting, "
+                                        "uneven light) before copying, so pieces from bright and "
+                                        "dark parts match; Gaussian scale as a fraction of the "
+                                        "example's size, e.g. 0.05 (0 = copy as is, the paper)")
     exclude_matte: bool = param(True, help="never copy a flat black/white matte connected to the "
                                            "example's border (e.g. around a fundus photo)")
     completion: bool = param(True, help="fill the gaps between branches automatically")
@@ -131,9 +136,9 @@ class ImageSynthesisParams:
     min_free: float = param(0.0, min=0.0, max=0.5, step=0.005,
                             help="gap completion: shrink patches until this fraction of the "
                                  "example's windows is wholly branch-free")
-    forbid_weight: float = param(0.05, min=0.0, max=1.0, step=0.01,
-                                 help="gap completion: penalty for windows whose branch pixels "
-                                      "(never copied) would leave holes")
+    forbid_weight: float = param(1.0, min=0.0, max=20.0, step=0.1,
+                                 help="gap completion: penalty (in typical match costs) for windows "
+                                      "whose branch pixels (never copied) would leave holes")
 
 
 @dataclass
@@ -484,6 +489,9 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     regions = example_regions(ex, pm_s, exclusion=p.exclusion, margin=p.exclusion_margin,
                               threshold=p.branch_like if p.avoid_unannotated else None,
                               matte=p.exclude_matte, example_mask=example_mask)
+    if p.flatten_shading > 0:
+        bg = ~(regions.forbidden | ndi.binary_dilation(regions.body | regions.branch_like, iterations=3))
+        ex = flatten_shading(ex, bg, p.flatten_shading * max(ex.shape[:2]))
     ctx = _Context(ex, sm_s, sm_t, pm_s, regions.body | regions.branch_like, regions.unusable, p)
     geo = dict(lam=p.lam, scale=p.radius_scale, min_radius=p.min_radius, max_radius=p.max_radius)
     lib_b, lib_f = source_fragments(sm_s, density=p.source_density, reverse=p.reverse, **geo)

@@ -26,7 +26,7 @@ from scipy import ndimage as ndi
 
 from .skeleton_map import PixelMap
 
-__all__ = ["ExampleRegions", "example_regions", "branch_likeness", "matte_mask"]
+__all__ = ["ExampleRegions", "example_regions", "branch_likeness", "matte_mask", "flatten_shading"]
 
 
 @dataclass
@@ -66,6 +66,32 @@ def _normalized_blur(img: np.ndarray, weight: np.ndarray, sigma: float) -> np.nd
         mean = (img * weight[..., None]).sum((0, 1)) / max(weight.sum(), 1.0)
         out[~good] = mean
     return out
+
+
+def flatten_shading(image: np.ndarray, background: np.ndarray, sigma: float) -> np.ndarray:
+    """The example with its large-scale shading (vignetting, uneven light) divided out.
+
+    The shading is the Gaussian average (``sigma`` pixels) of the
+    ``background`` pixels only, so branches and their glow are not taken
+    for light; every pixel is multiplied by ``mean shading / shading(x)``.
+    Fragments and gap patches copied from a bright and a dark part of the
+    example then meet without a step in brightness that no seam can hide.
+
+    Parameters
+    ----------
+    image : (H, W, C) float ndarray
+    background : (H, W) bool ndarray
+        Pixels that show the background texture.
+    sigma : float
+        Scale of the shading (pixels); well above the texture's own scale.
+    """
+    if not background.any():
+        return image.astype(np.float32)
+    img = image.astype(np.float64)
+    shade = _normalized_blur(img, background.astype(np.float64), sigma)
+    mean = img[background].mean(axis=0)
+    gain = mean / np.maximum(shade, 1e-3)
+    return np.clip(img * gain, 0.0, 1.0).astype(np.float32)
 
 
 def branch_likeness(image: np.ndarray, pm: PixelMap, usable: np.ndarray | None = None
