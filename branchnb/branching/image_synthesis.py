@@ -286,6 +286,63 @@ def _sample(ex: np.ndarray, mx: np.ndarray, my: np.ndarray) -> tuple[np.ndarray,
     return out, valid
 
 
+def _free_ends(sm: SkeletonMap, pm: PixelMap) -> tuple[np.ndarray, np.ndarray]:
+    """Which branch ends of the example are free tips.
+
+    An end is *joined* (no tip) when it is a furcation (a child's start)
+    or when another branch's body lies within ``2 r + 4`` pixels of it: the
+    annotation (or the extraction) stopped the branch where it runs into
+    another one. A target tip must not be copied from a joined end, or it
+    would carry a piece of junction instead of a tip.
+    """
+    n = sm.n_branches
+    h, w = pm.dist.shape
+    other_body = pm.dist <= pm.radius + 1.0
+    free = np.zeros((n, 2), bool)
+    for b in range(n):
+        for k, arc in enumerate((0.0, float(sm.lengths[b]))):
+            if k == 0 and sm.parent(b) is not None:
+                continue
+            x, y = sm.position(b, arc)
+            rad = 2.0 * float(sm.thickness(b, arc)) + 4.0
+            x0, x1 = max(int(x - rad), 0), min(int(x + rad) + 2, w)
+            y0, y1 = max(int(y - rad), 0), min(int(y + rad) + 2, h)
+            if x0 >= x1 or y0 >= y1:
+                continue
+            yy, xx = np.mgrid[y0:y1, x0:x1]
+            disk = (xx - x) ** 2 + (yy - y) ** 2 <= rad * rad
+            blk = (y0, y1, x0, x1)
+            others = other_body[blk[0]:blk[1], blk[2]:blk[3]] & (pm.branch[blk[0]:blk[1], blk[2]:blk[3]] != b)
+            free[b, k] = not (disk & others).any()
+    return free[:, 0], free[:, 1]
+
+
+def _tip_penalty(sm_t: SkeletonMap, tf: Fragment, lib: FragmentLibrary, lengths: np.ndarray,
+                 free_start: np.ndarray, free_end: np.ndarray) -> np.ndarray:
+    """Rule out source windows that end at a joined end where the target window ends at a tip."""
+    R = tf.radius
+    L_t = float(sm_t.lengths[tf.branch])
+    pen = np.zeros(len(lib))
+    tip_fwd = tf.arc + R > L_t
+    tip_bwd = tf.arc - R < 0 and sm_t.parent(tf.branch) is None
+    if not (tip_fwd or tip_bwd):
+        return pen
+    L = lengths[lib.branch]
+    fwd = lib.sign > 0
+    # Ends reached when reading forward / backward from the candidate's centre.
+    end_fwd_free = np.where(fwd, free_end[lib.branch], free_start[lib.branch])
+    end_bwd_free = np.where(fwd, free_start[lib.branch], free_end[lib.branch])
+    clamps_fwd = np.where(fwd, lib.arc + R > L, lib.arc - R < 0)
+    clamps_bwd = np.where(fwd, lib.arc - R < 0, lib.arc + R > L)
+    bad = np.zeros(len(lib), bool)
+    if tip_fwd:
+        bad |= clamps_fwd & ~end_fwd_free
+    if tip_bwd:
+        bad |= clamps_bwd & ~end_bwd_free
+    pen[bad] = 1e6
+    return pen
+
+
 def _target_window(sm: SkeletonMap, branch: int, arc: float, radius: float):
     """Offsets range ``[lo, hi]`` of the target disk that lies on ``branch``."""
     L = float(sm.lengths[branch])
@@ -495,6 +552,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     ctx = _Context(ex, sm_s, sm_t, pm_s, regions.body | regions.branch_like, regions.unusable, p)
     geo = dict(lam=p.lam, scale=p.radius_scale, min_radius=p.min_radius, max_radius=p.max_radius)
     lib_b, lib_f = source_fragments(sm_s, density=p.source_density, reverse=p.reverse, **geo)
+    free_start, free_end = _free_ends(sm_s, pm_s)
     if len(lib_b) == 0:
         raise ValueError("example_structure yields no source fragment (all branches have zero length)")
     # Without a furcation in the example, children start with ordinary fragments.
@@ -535,6 +593,8 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
                                                       lib.child if tf.kind == "furcation" else None))
         bank = vec_cache[key]
         S = bank.costs(q[0], nu[0], p.w_s)
+        if tf.kind == "branch":
+            S = S + _tip_penalty(sm_t, tf, lib_b, sm_s.lengths, free_start, free_end)
         n_short = min(p.shortlist, len(S))
         short = np.argpartition(S, n_short - 1)[:n_short] if n_short < len(S) else np.arange(len(S))
         short = short[np.argsort(S[short], kind="stable")]
