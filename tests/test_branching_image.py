@@ -322,3 +322,30 @@ def test_flatten_shading_removes_a_brightness_ramp():
     assert np.ptp(cols[8:-8]) < 0.1
     assert abs(np.polyfit(np.arange(img.shape[1]), cols, 1)[0]) * img.shape[1] < 0.05
     assert abs(cols.mean() - raw.mean()) < 0.02
+
+
+def test_target_tips_are_not_copied_from_joined_ends():
+    """A branch that stops at another one has no tip: target tips come from free ends."""
+    rng = np.random.default_rng(0)
+    img = (0.6 + 0.05 * rng.random((96, 96, 3))).astype(np.float32)
+    img[46:50, 4:92] = 0.1                      # branch 0, horizontal, free ends
+    img[10:46, 30:33] = 0.1                     # branch 1 runs into branch 0 (joined end)
+    img[52:90, 70:73] = 0.1                     # branch 2 rises into branch 0 from below
+    ex = Structure([Branch([(4, 47.5), (91, 47.5)], 2.0),
+                    Branch([(31, 10), (31, 45)], 1.5),
+                    Branch([(71, 89), (71, 53)], 1.5)])
+    from branchnb.branching.image_synthesis import _free_ends
+
+    sm = SkeletonMap(ex)
+    free_start, free_end = _free_ends(sm, sm.pixel_map((96, 96)))
+    assert free_start.tolist() == [True, True, True] and free_end.tolist() == [True, False, False]
+    tgt = Structure([Branch([(10, 20), (60, 30)], 1.5)])
+    r = synthesize_image(img, ex, tgt, rng=0, params=ImageSynthesisParams(c=3))
+    L = SkeletonMap(tgt).lengths[0]
+    for f in r.fragments:
+        if f.target.arc + f.target.radius > L:          # the window reaches the tip
+            s = f.source
+            end_free = free_end[s.branch] if s.sign > 0 else free_start[s.branch]
+            reaches = (s.arc + f.target.radius > sm.lengths[s.branch]) if s.sign > 0 \
+                else (s.arc - f.target.radius < 0)
+            assert end_free or not reaches

@@ -318,13 +318,13 @@ def _free_ends(sm: SkeletonMap, pm: PixelMap) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _tip_penalty(sm_t: SkeletonMap, tf: Fragment, lib: FragmentLibrary, lengths: np.ndarray,
-                 free_start: np.ndarray, free_end: np.ndarray) -> np.ndarray:
-    """Rule out source windows that end at a joined end where the target window ends at a tip."""
+                 free_start: np.ndarray, free_end: np.ndarray, free_t) -> np.ndarray:
+    """Rule out source windows that end at a joined end where the target window ends at a free tip."""
     R = tf.radius
     L_t = float(sm_t.lengths[tf.branch])
     pen = np.zeros(len(lib))
-    tip_fwd = tf.arc + R > L_t
-    tip_bwd = tf.arc - R < 0 and sm_t.parent(tf.branch) is None
+    tip_fwd = tf.arc + R > L_t and free_t[1][tf.branch]
+    tip_bwd = tf.arc - R < 0 and free_t[0][tf.branch]
     if not (tip_fwd or tip_bwd):
         return pen
     L = lengths[lib.branch]
@@ -553,6 +553,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     geo = dict(lam=p.lam, scale=p.radius_scale, min_radius=p.min_radius, max_radius=p.max_radius)
     lib_b, lib_f = source_fragments(sm_s, density=p.source_density, reverse=p.reverse, **geo)
     free_start, free_end = _free_ends(sm_s, pm_s)
+    free_t = _free_ends(sm_t, pm_t)
     if len(lib_b) == 0:
         raise ValueError("example_structure yields no source fragment (all branches have zero length)")
     # Without a furcation in the example, children start with ordinary fragments.
@@ -594,7 +595,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         bank = vec_cache[key]
         S = bank.costs(q[0], nu[0], p.w_s)
         if tf.kind == "branch":
-            S = S + _tip_penalty(sm_t, tf, lib_b, sm_s.lengths, free_start, free_end)
+            S = S + _tip_penalty(sm_t, tf, lib_b, sm_s.lengths, free_start, free_end, free_t)
         n_short = min(p.shortlist, len(S))
         short = np.argpartition(S, n_short - 1)[:n_short] if n_short < len(S) else np.arange(len(S))
         short = short[np.argsort(S[short], kind="stable")]
