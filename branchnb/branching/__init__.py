@@ -5,6 +5,7 @@ image, synthesize new skeletons, then a new image from fragments of the
 example.
 """
 
+from .image_synthesis import ImageSynthesisParams, ImageSynthesisResult, synthesize_image
 from .structure import Branch, Structure
 
-__all__ = ["Branch", "Structure"]
+__all__ = ["Branch", "ImageSynthesisParams", "ImageSynthesisResult", "Structure", "synthesize_image"]
