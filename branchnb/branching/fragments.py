@@ -14,9 +14,11 @@ For a target fragment, every source fragment is scored by
   ``p``/``q`` are the ``k`` skeleton positions resampled across the source
   and target disks, ``mu``/``nu`` their thicknesses and ``(R, t)`` the
   closed-form rigid alignment of ``p`` onto ``q`` (one 2-D ICP step);
-* the colour cost ``C``: the mean squared colour difference between the
+* the colour cost ``C``: the squared colour difference between the
   rigidly placed candidate and what is already synthesised under it (the
-  previous target fragment).
+  previous target fragment), computed in
+  :mod:`branchnb.branching.image_synthesis` for a shortlist of the
+  candidates of lowest ``S``.
 
 The choice is greedy: among the ``c`` candidates of lowest ``S + wC C``
 one is drawn at random.
@@ -41,7 +43,6 @@ __all__ = [
     "rigid_fit_batch",
     "shape_cost",
     "ShapeBank",
-    "colour_cost",
     "choose_among_best",
 ]
 
@@ -379,22 +380,6 @@ class ShapeBank:
         """Rotations and translations aligning sources ``idx`` onto ``q``."""
         _, rot, trans = rigid_fit_batch(self.p[np.atleast_1d(idx)], q)
         return rot, trans
-
-
-def colour_cost(existing: np.ndarray, covered: np.ndarray, pixels: np.ndarray,
-                valid: np.ndarray) -> float:
-    """Colour consistency ``C``: mean squared colour difference on the overlap.
-
-    The overlap is where the candidate is ``valid`` and the target is
-    already ``covered``. Returns 0 when they do not overlap (the first
-    fragment of a root).
-    """
-    ov = covered & valid
-    n = int(ov.sum())
-    if n == 0:
-        return 0.0
-    d = existing[ov] - pixels[ov]
-    return float((d * d).sum() / n)
 
 
 def choose_among_best(total: np.ndarray, c: int, rng: np.random.Generator) -> int:

@@ -5,10 +5,14 @@ structure (the *target*, e.g. from :mod:`branchnb.branching.synthesis`),
 :func:`synthesize_image` produces the image of the target structure:
 
 1. **Fragments** (:mod:`.fragments`): the target skeleton is covered by
-   disks of radius ``3 r`` every ``lambda (s_i + s_{i+1})`` and at every
-   furcation; for each, in order, the source fragment of lowest shape
-   cost ``S`` plus colour cost ``wC C`` (random among the ``c`` best) is
-   chosen and rigidly aligned.
+   disks of radius ``s = 3 r`` every ``lambda (s_i + s_{i+1})`` and at every
+   furcation, visited root first, generation by generation. For each, every
+   source fragment gets the shape cost ``S = sum ||R p - q||^2 + wS |mu - nu|^2``
+   after its closed-form rigid alignment; the ``shortlist`` of lowest ``S``
+   also get the colour cost ``C`` on the overlap with what is already
+   synthesised, and one of the ``c`` lowest ``S + wC C`` is drawn.
+   A target tip is never copied from a source end that runs into another
+   branch (no tip there).
 2. **Displacement** (:mod:`.displacement`): a smooth bi-Laplacian field
    bends the fragment so that its skeleton and edges fall exactly on the
    target's.
@@ -17,11 +21,16 @@ structure (the *target*, e.g. from :mod:`branchnb.branching.synthesis`),
    correction anchored to the fragment's own colours (no drift). At a
    furcation the parent's fragments are cleared around the branching
    point before the furcation fragment and the child are synthesised.
-   Source pixels of *other* branches than the fragment's own are never
-   copied, nor the fragment's branch past a target tip.
+   Source pixels of other branches (annotated or merely branch-like, see
+   :mod:`.regions`) are never copied, nor the fragment's own branch past
+   the part that lands on the target skeleton.
 4. **Gap completion** (:mod:`.completion`): the rest of the image is
-   quilted from branch-free windows of the example, so no pseudo-branch
-   appears.
+   quilted from branch-free example pixels with graph-cut seams, so no
+   pseudo-branch appears.
+
+The parameters not given by the paper (``wC``, the shortlist, the density
+of source fragments, the gap-completion settings) are documented in
+:class:`ImageSynthesisParams`.
 """
 
 from __future__ import annotations
@@ -61,7 +70,18 @@ __all__ = ["ImageSynthesisParams", "ImageSynthesisResult", "FragmentMatch", "syn
 
 @dataclass
 class ImageSynthesisParams:
-    """Parameters of :func:`synthesize_image` (defaults: the paper's values where it gives them)."""
+    """Parameters of :func:`synthesize_image`.
+
+    The paper gives ``lambda = 0.75``, ``s = 3 r`` and ``wS = 2``; the rest
+    (``k``, ``wC``, ``c``, the shortlist, the gap completion, which the paper
+    did by hand) are this implementation's choices, tuned on the sample
+    images.
+
+    Examples
+    --------
+    >>> ImageSynthesisParams(c=1, completion=False).lam
+    0.75
+    """
 
     lam: float = param(0.75, min=0.3, max=1.5, step=0.05, label="lambda",
                        help="lambda: fragment centres are lambda * (s_i + s_i+1) apart (paper: 0.75)")
@@ -76,9 +96,10 @@ class ImageSynthesisParams:
                        help="wS: weight of the thickness difference |mu - nu|^2 in S (paper: 2)")
     w_c: float = param(1000.0, min=0.0, max=1e5, log=True, label="wC",
                        help="wC: weight of the colour cost C (mean squared colour difference "
-                            "on the overlap) against S (squared pixels)")
+                            "on the overlap, branch and background pixels weighted equally) "
+                            "against S (squared pixels)")
     c: int = param(2, min=1, max=10, step=1,
-                   help="c: choose at random among the c best source fragments")
+                   help="c: choose at random among the c best source fragments (1 = greedy)")
     shortlist: int = param(64, min=1, max=256, step=1,
                            help="source fragments of lowest S whose colour cost C is evaluated")
     source_density: float = param(2.0, min=1.0, max=8.0, step=0.5,
