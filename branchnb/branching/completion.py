@@ -258,7 +258,7 @@ class _Matcher:
 def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
                   forbidden: np.ndarray, *, patch_size: int = 32, overlap: float = 0.25,
                   protect: np.ndarray | None = None, tolerance: float = 0.1,
-                  forbid_weight: float = 1.0, search_size: int = 192, method: str = "graphcut",
+                  forbid_weight: float = 5.0, search_size: int = 192, method: str = "graphcut",
                   poisson: bool = True, anchored: bool = True, anchor_weight: float = 10.0,
                   screen: float = 0.05, min_free: float = 0.0, reuse_weight: float = 0.5,
                   max_passes: int = 4, rng=None,

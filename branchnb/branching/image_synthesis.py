@@ -157,7 +157,7 @@ class ImageSynthesisParams:
     min_free: float = param(0.0, min=0.0, max=0.5, step=0.005,
                             help="gap completion: shrink patches until this fraction of the "
                                  "example's windows is wholly branch-free")
-    forbid_weight: float = param(1.0, min=0.0, max=20.0, step=0.1,
+    forbid_weight: float = param(5.0, min=0.0, max=50.0, step=0.5,
                                  help="gap completion: penalty (in typical match costs) for windows "
                                       "whose branch pixels (never copied) would leave holes")
 
