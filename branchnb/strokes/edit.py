@@ -8,7 +8,7 @@ target strokes:
 1. **Strokes** (:mod:`~branchnb.strokes.strokes`): pairs in drawing order,
    control-point pairs (end points plus the user's).
 2. **Branching** (:mod:`~branchnb.strokes.junctions`): target strokes that
-   start on another one become branches (snapped, extended into the
+   start on another one become branches (extended into the
    parent, composed after it).
 3. **Fetching** (:mod:`~branchnb.strokes.fetch`): samples every ``h``
    pixels along each target stroke, the texture around the corresponding
@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..core.image import as_float_image, as_rgb, as_rgba, composite_over
+from ..core.image import as_float_image, as_rgba, composite_over
 from ..core.io import encode_png
 from ..core.params import check_params, param
 from ..core.random import as_rng
@@ -52,11 +52,12 @@ class StrokeEditParams:
 
     patch_size: int = param(
         0, min=0, max=256, step=2,
-        help="patch diameter 2r (px); 0 = auto: covers the object's width along the source "
-             "strokes (48 px for opaque images)")
+        help="patch diameter 2r (px); 0 = auto: r = 1.2 w + 4 follows the object's half width w "
+             "along the source strokes (48 px for opaque images)")
     spacing: float = param(
         0.0, min=0.0, max=128.0, step=1.0,
-        help="sample spacing h along the target strokes (px); 0 = auto (r / 2)")
+        help="sample spacing h along the target strokes (px), at most the local patch radius r; "
+             "0 = auto (r / 2)")
     search_window: int = param(
         8, min=0, max=64, step=1,
         help="global sampling search window W: p' moves up to +-W px along the source stroke")
@@ -104,6 +105,8 @@ class StrokeSamples:
         Their source arc lengths.
     shift : (M, 2) ndarray
         Chosen ``(delta, epsilon)`` relative to the arc-length mapping.
+    radius : (M,) ndarray
+        Patch radius ``r`` of each sample.
     pinned : (M,) bool ndarray
         Samples at control points.
     energy : float
@@ -116,6 +119,7 @@ class StrokeSamples:
     source: np.ndarray
     source_s: np.ndarray
     shift: np.ndarray
+    radius: np.ndarray
     pinned: np.ndarray
     energy: float
     pairwise: float
@@ -147,12 +151,11 @@ class StrokeEditResult:
     samples : list of StrokeSamples
         Per stroke pair, in input order.
     pairs : list of StrokePair
-        The stroke pairs used (target strokes snapped/extended at junctions).
+        The stroke pairs used (target strokes extended at junctions).
     junctions : list of Junction
     radius : float
-        Patch radius ``r`` used.
-    spacing : float
-        Sample spacing ``h`` used.
+        Typical (median) patch radius ``r`` along the source strokes; the
+        radius of every sample is in ``samples[i].radius``.
     params : StrokeEditParams
     """
 
@@ -166,7 +169,6 @@ class StrokeEditResult:
     pairs: list = field(default_factory=list)
     junctions: list = field(default_factory=list)
     radius: float = 0.0
-    spacing: float = 0.0
     params: StrokeEditParams | None = None
 
     def show(self, *, seams: bool = False, background=(1.0, 1.0, 1.0),
@@ -181,18 +183,39 @@ class StrokeEditResult:
         return encode_png(self.show())
 
 
-def _resolve(params: StrokeEditParams, index, pairs) -> tuple[float, float]:
-    if params.patch_size > 0:
-        radius = params.patch_size / 2.0
-    elif index.has_alpha:
-        widths = np.concatenate([
-            index.width_along(p.source, np.linspace(0, p.source.length, 64)) for p in pairs])
-        w = float(np.percentile(widths, 90))
-        radius = max(6.0, 1.25 * w + 3.0)
-    else:
-        radius = 24.0
-    spacing = params.spacing if params.spacing > 0 else max(2.0, radius / 2.0)
-    return radius, spacing
+def _sampling_geometry(params: StrokeEditParams, index, k: int, pair: StrokePair):
+    """Per target arc length: the patch radius r and the sample step h."""
+    def radius(s_t):
+        return index.radius(k, pair.source_arc_length(s_t), params.patch_size)
+
+    def step(s_t):
+        r = radius(s_t)
+        return np.minimum(params.spacing, r) if params.spacing > 0 else np.maximum(r / 2.0, 1.0)
+
+    return radius, step
+
+
+def _background(background, target_shape, src_shape):
+    """Validate ``background``; returns (colour or None, image or None, target shape)."""
+    bg_img = None
+    if background is not None:
+        bg = np.asarray(background)
+        if bg.ndim == 1:
+            if bg.shape not in ((3,), (4,)) or not np.all(np.isfinite(bg.astype(float))):
+                raise ValueError(
+                    f"background must be an RGB(A) colour or an image, got shape {bg.shape}")
+            if np.any((bg.astype(float) < 0) | (bg.astype(float) > 1)):
+                raise ValueError("background colour values must lie in [0, 1]")
+        else:
+            bg_img = as_rgba(as_float_image(background, name="background"), name="background")
+            if target_shape is not None and tuple(target_shape)[:2] != bg_img.shape[:2]:
+                raise ValueError(
+                    f"target_shape {tuple(target_shape)[:2]} differs from the background image's "
+                    f"{bg_img.shape[:2]}")
+            target_shape = bg_img.shape[:2]
+    if target_shape is None:
+        target_shape = src_shape[:2]
+    return bg_img, _check_shape(target_shape)
 
 
 def edit_structure(image, source_strokes, target_strokes, params: StrokeEditParams | None = None,
@@ -208,7 +231,9 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
         region is then the union of the patches copied around the source
         strokes).
     source_strokes : list of (N, 2) array_like or Stroke
-        Strokes along the object's skeleton, on ``image``.
+        Strokes along the object's skeleton, on ``image``. The same
+        stroke may be given several times (e.g. to grow two branches
+        from one example branch).
     target_strokes : list of (N, 2) array_like or Stroke
         One per source stroke (paired in order, same direction of travel):
         where the object's parts go. A target stroke starting or ending on
@@ -218,9 +243,9 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
         Per pair, None or ``(source_points, target_points)``: extra
         control-point pairs, points clicked near the two strokes.
     target_shape : (H, W), optional
-        Size of the output domain (default: the source image's, or the
-        background image's).
-    background : None, RGB triple or (H, W, C) image, optional
+        Size of the output domain (default: the background image's, or
+        the source image's).
+    background : None, RGB(A) colour or (H, W, C) image, optional
         What lies behind the object: None keeps it transparent.
     rng : int or numpy.random.Generator, optional
         Accepted for API uniformity; the method is deterministic.
@@ -249,39 +274,25 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
     True
     """
     params = StrokeEditParams() if params is None else params
+    if not isinstance(params, StrokeEditParams):
+        raise TypeError(f"params must be a StrokeEditParams, got {type(params).__name__}")
     check_params(params)
     as_rng(rng)
     src_img = as_rgba(image, name="image")
-    bg_img = None
-    if background is not None:
-        bg = np.asarray(background, dtype=np.float32)
-        if bg.ndim == 1:
-            if bg.shape not in ((3,), (4,)):
-                raise ValueError(f"background must be an RGB(A) colour or an image, got shape {bg.shape}")
-        else:
-            bg_img = as_float_image(background, name="background")
-            if target_shape is not None and tuple(target_shape)[:2] != bg_img.shape[:2]:
-                raise ValueError(
-                    f"target_shape {tuple(target_shape)[:2]} differs from the background image's "
-                    f"{bg_img.shape[:2]}")
-            target_shape = bg_img.shape[:2]
-    if target_shape is None:
-        target_shape = src_img.shape[:2]
-    target_shape = _check_shape(target_shape)
+    bg_img, target_shape = _background(background, target_shape, src_img.shape)
     pairs = make_pairs(source_strokes, target_strokes, control_points,
                        source_shape=src_img.shape, target_shape=target_shape)
     index = source_index(src_img, [p.source for p in pairs])
-    radius, spacing = _resolve(params, index, pairs)
-    window = spacing
-    tol = params.junction_tolerance if params.junction_tolerance > 0 else radius / 3.0
+    typical = float(np.median(np.concatenate([
+        index.radius(k, np.linspace(0, p.source.length, 32), params.patch_size)
+        for k, p in enumerate(pairs)])))
+    window = max(typical / 2.0, 2.0)  # chord half-length for the stroke directions
+    tol = params.junction_tolerance if params.junction_tolerance > 0 else max(typical / 3.0, 2.0)
 
     # Branching: junctions among the target strokes.
     junctions = find_junctions([p.target for p in pairs], tol)
     src_junctions = find_junctions([p.source for p in pairs], tol)
     src_joined = {(j.child, j.end) for j in src_junctions}
-    src_joined |= {(j.parent, 0) for j in src_junctions if j.parent_s <= tol}
-    src_joined |= {(j.parent, 1) for j in src_junctions
-                   if pairs[j.parent].source.length - j.parent_s <= tol}
     attached: list[StrokePair] = list(pairs)
     extra = [{0: 0.0, 1: 0.0} for _ in pairs]
     for i, pair in enumerate(pairs):
@@ -290,10 +301,16 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
             continue
         depth = {}
         for jn in mine:
-            if params.extend_branches and (i, jn.end) not in src_joined:
+            end_cut = index.cut_ends[i][jn.end]
+            if params.extend_branches and (i, jn.end) not in src_joined and not end_cut:
+                # A free end (a tip) glued to the parent: push it under the parent.
+                # (A cut end, or one that meets another source stroke, ends at the
+                # parent's centre line as it is.)
                 par = pairs[jn.parent]
-                w = index.width_along(par.source, par.source_arc_length(jn.parent_s))
-                depth[jn.end] = float(min(w, radius)) if np.isfinite(w) else 0.0
+                w = float(index.half_width(jn.parent, par.source_arc_length(jn.parent_s)))
+                if not index.has_alpha:
+                    w = float(index.radius(jn.parent, 0.0, params.patch_size)) / 2.0
+                depth[jn.end] = min(w, typical)
         attached[i], extra[i] = attach(pair, mine, [p.target for p in pairs], depth)
     order = stroke_order(len(pairs), junctions)
 
@@ -301,18 +318,19 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
     if params.sampling == "none":
         offsets = offsets[:1]
     scale = max(params.search_window + params.search_across, 1)
-    size = 2 * int(np.ceil(radius)) + 1
     placed: list[PlacedPatch] = []
     samples: list[StrokeSamples | None] = [None] * len(pairs)
     e_total = e_pair = 0.0
     for i in order:
         pair = attached[i]
-        smp = sample_pair(pair, spacing, window=window)
+        radius_of, step_of = _sampling_geometry(params, index, i, pair)
+        smp = sample_pair(pair, step_of, window=window)
+        radii = radius_of(smp.s)
         fetched, unaries, offs = [], [], []
         for j in range(len(smp)):
             off = offsets[:1] if smp.pinned[j] else offsets
-            f = fetch(index, i, pair.source, smp.source_s[j] + off[:, 0], off[:, 1],
-                      smp.points[j], smp.angles[j], radius, window=window)
+            f = fetch(index, i, smp.source_s[j] + off[:, 0], off[:, 1],
+                      smp.points[j], smp.angles[j], float(radii[j]), window=window)
             fetched.append(f)
             offs.append(off)
             unaries.append(params.shift_penalty * np.abs(off).sum(axis=1) / scale)
@@ -330,16 +348,17 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
             pin_core, keep = True, None
             for jn in mine:
                 end_s = 0.0 if jn.end == 0 else pair.target.length
-                near = abs(smp.s[j] - end_s) <= extra[i][jn.end] + radius
+                near = abs(smp.s[j] - end_s) <= extra[i][jn.end] + f.radius
                 if not near:
                     continue
                 pin_core = False
-                into = pair.target.point_at(min(max(end_s + (1 if jn.end == 0 else -1) * radius,
-                                                    0.0), pair.target.length)) - jn.point
+                step = f.radius if jn.end == 0 else -f.radius
+                into = pair.target.point_at(min(max(end_s + step, 0.0), pair.target.length)) \
+                    - jn.point
                 nrm = np.hypot(*into)
                 if nrm > 1e-9:
-                    fs = far_side(jn, attached[jn.parent].target, into / nrm, f.origin, size,
-                                  window=window)
+                    fs = far_side(jn, attached[jn.parent].target, into / nrm, f.origin,
+                                  f.valid.shape[1], window=window)
                     keep = fs if keep is None else keep | fs
             placed.append(PlacedPatch(f.pixels[k], f.valid[k], f.origin, pin_core, keep))
         samples[i] = StrokeSamples(
@@ -347,7 +366,7 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
                                                 for j, k in enumerate(res.choice)]),
             source_s=np.array([fetched[j].source_s[k] for j, k in enumerate(res.choice)]),
             shift=np.array([offs[j][k] for j, k in enumerate(res.choice)]),
-            pinned=smp.pinned, energy=res.energy, pairwise=res.pairwise)
+            radius=radii, pinned=smp.pinned, energy=res.energy, pairwise=res.pairwise)
 
     comp = compose(placed, target_shape, method=params.composition, power=params.seam_power,
                    gradient_weighted=params.gradient_weighted)
@@ -372,19 +391,26 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
     if background is None:
         out = layer.copy()
     elif bg_img is None:
-        out = np.dstack([composite_over(layer, np.asarray(background, np.float32)[:3]),
-                         np.ones(target_shape, np.float32)])
+        colour = np.asarray(background, np.float32)
+        bg_rgba = np.broadcast_to(np.append(colour[:3], colour[3] if len(colour) == 4 else 1.0),
+                                  (*target_shape, 4))
+        out = _over(layer, bg_rgba)
     else:
-        bg_rgba = as_rgba(bg_img)
-        a = layer[:, :, 3:4]
-        out_a = a + bg_rgba[:, :, 3:4] * (1 - a)
-        rgb = layer[:, :, :3] * a + as_rgb(bg_img[:, :, :3] if bg_img.shape[2] == 4 else bg_img) \
-            * bg_rgba[:, :, 3:4] * (1 - a)
-        out = np.dstack([np.where(out_a > 1e-6, rgb / np.maximum(out_a, 1e-6), 0.0), out_a])
+        out = _over(layer, bg_img)
     return StrokeEditResult(
         image=np.clip(out, 0, 1).astype(np.float32), mask=mask, seams=seams, energies=energies,
         layer=layer, labels=comp.labels, samples=samples, pairs=attached, junctions=junctions,
-        radius=float(radius), spacing=float(spacing), params=dataclasses.replace(params))
+        radius=typical, params=dataclasses.replace(params))
+
+
+def _over(layer: np.ndarray, bg: np.ndarray) -> np.ndarray:
+    """Straight-alpha RGBA ``layer`` over straight-alpha RGBA ``bg``."""
+    a = layer[:, :, 3:4]
+    b = bg[:, :, 3:4]
+    out_a = a + b * (1 - a)
+    rgb = layer[:, :, :3] * a + bg[:, :, :3] * b * (1 - a)
+    rgb = np.where(out_a > 1e-6, rgb / np.maximum(out_a, 1e-6), 0.0)
+    return np.dstack([rgb, out_a]).astype(np.float32)
 
 
 def _check_shape(shape) -> tuple[int, int]:

@@ -14,18 +14,42 @@ Global texture sampling (:mod:`branchnb.strokes.sampling`) may move
 ``p'`` a little along (and across) the source stroke; the moves are the
 *candidates* fetched here.
 
+Patch size
+----------
+For an RGBA object the patch radius follows the object: ``r(s') = 1.2
+w(s') + 4`` where ``w`` is the object's half width across the source
+stroke at ``p'`` (measured along the stroke normal, robust to strokes
+drawn a little off-centre and to crossings, smoothed along the stroke),
+so a patch always spans the whole width plus a margin of background, and
+a tapering branch gets smaller patches towards its tip. A fixed
+``patch_size`` overrides it; opaque images use 48 px.
+
 Which source pixels a patch may copy
 ------------------------------------
-Every source pixel is owned by its nearest source-stroke point (stroke
-index and arc length: a Voronoi partition computed with a distance
-transform). A patch fetched around ``p'`` on source stroke ``k`` at arc
-length ``s'`` copies only the pixels owned by stroke ``k`` at arc lengths
-within ``1.5 r`` of ``s'``: so it never drags along the part of the
-object drawn by another stroke, nor a part of the same stroke that folds
-back nearby (a loop of rope). The transparent pixels around an RGBA
-object belong to the patches too: they carry the silhouette, and the
-graph cut decides between "object" and "background" like between any
-two textures.
+Each source stroke ``k`` owns the pixels that are (within 2 px) as near
+to it as to any other source stroke: a patch fetched on stroke ``k``
+never drags along the part of the object another stroke draws (the same
+stroke given twice, e.g. to grow two branches from one example branch,
+shares its pixels). For an RGBA object it owns them only within a tube
+of the object's half width plus a margin (``0.15 w + 3`` px of
+background, where the seams can run around the silhouette) around the
+stroke, so parts of the object nobody stroked (a crossing strand, a side
+branch) are not dragged along either. Among those, a patch centred at arc length ``s'``
+copies only pixels whose nearest stroke point lies within ``1.5 r`` of
+``s'``, so it does not copy a part of the same stroke that folds back
+nearby (a loop of rope). The transparent pixels around an RGBA object
+belong to the patches too: they carry the silhouette, and the graph cut
+decides between "object" and "background" like between any two textures.
+
+Stroke ends
+-----------
+Where the object ends shortly after a stroke end (a tail tip, a branch
+tip: the object goes on for less than ``max(2 w, 8)`` px along the
+stroke direction, ``w`` the stroke's median half width), the patches copy the tip as it is. Where the stroke
+ends in the middle of a longer object (a piece of rope, a branch drawn
+from the trunk), the object is cut straight across the stroke at its end
+point, so the synthesized piece has a clean cut end (hidden inside the
+parent for a branch) instead of a round bite out of the source.
 
 The *object region* is where the source is opaque (alpha > 0.5) for an
 RGBA image; for an opaque image it is the union of the copied patches.
@@ -38,17 +62,27 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage as ndi
 
-from ..core.graphcut import _gradmag  # the edge strength of the seam energy
+from ..core.graphcut import _gradmag  # the edge strength G of the seam energy
 from ..core.image import as_rgba
 from ..core.warp import transfer_patch
 from .strokes import Stroke, StrokePair
 
-__all__ = ["SourceIndex", "Samples", "Fetched", "source_index", "sample_pair", "fetch"]
+__all__ = ["SourceIndex", "Samples", "Fetched", "source_index", "sample_pair", "fetch",
+           "OPAQUE_RADIUS"]
 
-#: Scale of the gradient-magnitude channel carried along with the patches.
-_GMAX = 4.0
 #: A patch copies pixels owned by its stroke within this many radii of its arc length.
 _REACH = 1.5
+#: A pixel belongs to every stroke within this many pixels of its nearest stroke.
+_SHARE = 2.0
+#: Patch radius for opaque images (no silhouette to measure the width from).
+OPAQUE_RADIUS = 24.0
+#: Longest distance the width measurement walks from the stroke (px).
+_MAX_WIDTH = 256
+
+
+def auto_radius(half_width):
+    """Patch radius ``r = 1.2 w + 4`` for the object's half width ``w`` (px)."""
+    return 1.2 * np.asarray(half_width, float) + 4.0
 
 
 @dataclass
@@ -60,45 +94,70 @@ class SourceIndex:
     premult : (H, W, 4) float32 ndarray
         Premultiplied RGBA (so that interpolation and colour differences
         treat transparent pixels consistently).
-    aux : (H, W, 3) float32 ndarray
-        ``x / (W - 1)``, ``y / (H - 1)`` and gradient magnitude ``/ 4``:
-        warped with the texture to know where each patch pixel came from
-        and how strong the edges are there.
     grad : (H, W) float32 ndarray
-        Gradient magnitude ``|grad|`` of ``premult`` (Sobel, summed over channels).
+        Gradient magnitude ``|grad|`` of ``premult`` (Sobel, summed over
+        channels): the edge strength of the seam energy.
     object : (H, W) bool ndarray
-        The object region.
-    owner : (H, W) int32 ndarray
-        Source stroke owning each pixel (its nearest stroke).
-    owner_s : (H, W) float32 ndarray
-        Arc length of the owning stroke point.
-    half_width : (H, W) float32 ndarray
-        Distance to the nearest non-object pixel (``inf``-free; the image
-        border counts as outside only for RGBA images).
+        The object region (alpha > 0.5; everything for opaque images).
     has_alpha : bool
         Whether the object region came from an alpha channel.
+    strokes : list of Stroke
+        The source strokes.
+    s_map : list of (H, W) float32 ndarray
+        Per stroke: arc length of the stroke point nearest to each pixel.
+    allowed : list of (H, W) bool ndarray
+        Per stroke: the pixels its patches may copy (owned by it, inside
+        its tube, not beyond a cut end). Identical strokes share their
+        arrays.
+    weight : list of (H, W) float32 ndarray
+        Per stroke: 1 inside the tube and before cut ends, 0 outside, with
+        a one-pixel ramp: the copied pixels are multiplied by it, so the
+        edges where a patch cuts through the object are anti-aliased.
+    width_s, width : list of (n,) ndarray
+        Per stroke: the object's half width ``w`` (px) along the stroke,
+        sampled at arc lengths ``width_s`` (smoothed; 0 for opaque images).
+    cut_ends : list of (bool, bool)
+        Per stroke: whether the object is cut straight at its start / end.
     """
 
     premult: np.ndarray
-    aux: np.ndarray
     grad: np.ndarray
     object: np.ndarray
-    owner: np.ndarray
-    owner_s: np.ndarray
-    half_width: np.ndarray
     has_alpha: bool
+    strokes: list
+    s_map: list
+    allowed: list
+    weight: list
+    width_s: list
+    width: list
+    cut_ends: list
 
     @property
     def shape(self) -> tuple[int, int]:
         return self.object.shape
 
-    def width_along(self, stroke: Stroke, s) -> np.ndarray:
-        """Half width of the object at arc lengths ``s`` of a source stroke (pixels)."""
-        p = stroke.point_at(s)
-        h, w = self.shape
-        c = np.clip(np.round(p[..., 0]).astype(int), 0, w - 1)
-        r = np.clip(np.round(p[..., 1]).astype(int), 0, h - 1)
-        return self.half_width[r, c]
+    def half_width(self, k: int, s) -> np.ndarray:
+        """Half width ``w`` of the object at arc lengths ``s`` of source stroke ``k`` (px)."""
+        return np.interp(np.asarray(s, float), self.width_s[k], self.width[k])
+
+    def radius(self, k: int, s, patch_size: float = 0.0) -> np.ndarray:
+        """Patch radius ``r`` at arc lengths ``s`` of source stroke ``k``.
+
+        ``patch_size > 0`` gives ``r = patch_size / 2`` everywhere;
+        otherwise :func:`auto_radius` of the largest half width within
+        half a patch radius along the stroke (so that neighbouring
+        patches, half a radius apart, cover the whole tube) for RGBA, or
+        :data:`OPAQUE_RADIUS` (opaque images).
+        """
+        s = np.asarray(s, float)
+        if patch_size > 0:
+            return np.full(s.shape, patch_size / 2.0)
+        if not self.has_alpha:
+            return np.full(s.shape, OPAQUE_RADIUS)
+        wv = self.width[k]
+        reach = int(np.ceil(float(auto_radius(wv.max())) / 2.0))
+        cover = ndi.maximum_filter1d(wv, size=2 * reach + 1, mode="nearest")
+        return auto_radius(np.interp(s, self.width_s[k], cover))
 
 
 def source_index(image, source_strokes: list[Stroke]) -> SourceIndex:
@@ -109,6 +168,14 @@ def source_index(image, source_strokes: list[Stroke]) -> SourceIndex:
     image : (H, W, C) array_like
         The source image (RGBA objects on a transparent background, or opaque).
     source_strokes : list of Stroke
+        Inside the image (see :func:`~branchnb.strokes.strokes.make_pairs`).
+
+    Examples
+    --------
+    >>> img = np.zeros((30, 60, 4), np.float32); img[10:20, 5:55] = 1.0
+    >>> idx = source_index(img, [Stroke([(5, 15), (30, 15)])])
+    >>> float(idx.half_width(0, 10.0)), idx.cut_ends[0]
+    (5.5, (False, True))
     """
     rgba = as_rgba(image)
     h, w = rgba.shape[:2]
@@ -117,29 +184,182 @@ def source_index(image, source_strokes: list[Stroke]) -> SourceIndex:
     premult = rgba.copy()
     premult[:, :, :3] *= alpha[:, :, None]
     grad = _gradmag(premult).astype(np.float32)
-    yy, xx = np.mgrid[0:h, 0:w].astype(np.float32)
-    aux = np.dstack([xx / max(w - 1, 1), yy / max(h - 1, 1),
-                     np.clip(grad / _GMAX, 0.0, 1.0)]).astype(np.float32)
     obj = alpha > 0.5 if has_alpha else np.ones((h, w), bool)
-    # Seeds: the strokes rasterised every half pixel.
-    seed_id = np.full((h, w), -1, np.int32)
-    seed_s = np.zeros((h, w), np.float32)
+    # Distance to the background (the image border counts as background).
+    edt = ndi.distance_transform_edt(np.pad(obj, 1))[1:-1, 1:-1] if has_alpha else None
+
+    # Per distinct stroke: distance and arc length of the nearest stroke point.
+    keys, uniq = [], {}
+    for st in source_strokes:
+        key = st.points.tobytes()
+        keys.append(key)
+        if key not in uniq:
+            uniq[key] = _distance_map(st, (h, w))
+    d_min = np.min(np.stack([d for d, _ in uniq.values()]), axis=0) if len(uniq) > 1 else None
+    yy, xx = np.mgrid[0:h, 0:w].astype(np.float32)
+
+    s_maps, allowed, weights, width_s, widths, cuts = [], [], [], [], [], []
+    done: dict = {}
     for k, st in enumerate(source_strokes):
-        s = np.linspace(0.0, st.length, max(2, int(np.ceil(st.length * 2)) + 1))
-        p = st.point_at(s)
-        c = np.clip(np.round(p[:, 0]).astype(int), 0, w - 1)
-        r = np.clip(np.round(p[:, 1]).astype(int), 0, h - 1)
-        seed_id[r, c] = k
-        seed_s[r, c] = s
-    _, (ir, ic) = ndi.distance_transform_edt(seed_id < 0, return_indices=True)
-    owner = seed_id[ir, ic].astype(np.int32)
-    owner_s = seed_s[ir, ic].astype(np.float32)
-    if has_alpha:
-        half = ndi.distance_transform_edt(np.pad(obj, 1))[1:-1, 1:-1]
-    else:
-        half = np.full((h, w), np.inf)
-    return SourceIndex(premult, aux, grad, obj, owner, owner_s,
-                       half.astype(np.float32), has_alpha)
+        d, s_map = uniq[keys[k]]
+        ws, wv, typical = _width_profile(st, obj, edt) if has_alpha else (
+            np.array([0.0, st.length]), np.zeros(2), 0.0)
+        cut = tuple(_is_cut(st, obj, typical, end) for end in (0, 1))
+        key = (keys[k], cut)
+        if key not in done:
+            own = np.ones((h, w), bool) if d_min is None else d <= d_min + _SHARE
+            weight = np.ones((h, w), np.float32)
+            if has_alpha:
+                # The tube of the object's half width (plus a margin of
+                # background) around the stroke, with a one-pixel ramp so
+                # that cut-off side parts get an anti-aliased edge; the
+                # object beyond the stroke ends is handled below.
+                tube = np.interp(s_map, ws, wv)
+                interior = (s_map > 1.0) & (s_map < st.length - 1.0)
+                ramp = np.clip(tube + _tube_margin(tube) - d + 0.5, 0.0, 1.0)
+                weight = np.where(interior, ramp, 1.0).astype(np.float32)
+            for end, is_cut in enumerate(cut):
+                if is_cut:
+                    weight *= _beyond_weight(st, end, s_map, xx, yy)
+            done[key] = (own & (weight > 0), weight)
+        s_maps.append(s_map)
+        allowed.append(done[key][0])
+        weights.append(done[key][1])
+        width_s.append(ws)
+        widths.append(wv)
+        cuts.append(cut)
+    return SourceIndex(premult, grad, obj, has_alpha, list(source_strokes), s_maps, allowed,
+                       weights, width_s, widths, cuts)
+
+
+def _tube_margin(half_width):
+    """Background kept around the silhouette: ``0.15 w + 3`` px."""
+    return 0.15 * half_width + 3.0
+
+
+def _distance_map(stroke: Stroke, shape) -> tuple[np.ndarray, np.ndarray]:
+    h, w = shape
+    seeds = np.ones((h, w), bool)
+    seed_s = np.zeros((h, w), np.float32)
+    s = np.linspace(0.0, stroke.length, max(2, int(np.ceil(stroke.length * 2)) + 1))
+    p = stroke.point_at(s)
+    c = np.clip(np.round(p[:, 0]).astype(int), 0, w - 1)
+    r = np.clip(np.round(p[:, 1]).astype(int), 0, h - 1)
+    seeds[r, c] = False
+    seed_s[r, c] = s
+    d, (ir, ic) = ndi.distance_transform_edt(seeds, return_indices=True)
+    return d.astype(np.float32), seed_s[ir, ic]
+
+
+def _lookup(mask: np.ndarray, pts: np.ndarray) -> np.ndarray:
+    """``mask`` at the nearest pixels of ``pts`` (False outside the image)."""
+    h, w = mask.shape
+    c = np.round(pts[..., 0]).astype(np.int64)
+    r = np.round(pts[..., 1]).astype(np.int64)
+    inside = (c >= 0) & (c < w) & (r >= 0) & (r < h)
+    out = np.zeros(pts.shape[:-1], bool)
+    out[inside] = mask[r[inside], c[inside]]
+    return out
+
+
+def _run_length(inside: np.ndarray) -> np.ndarray:
+    """Number of leading True values along the last axis."""
+    first_out = np.argmin(inside, axis=-1)
+    return np.where(inside.all(axis=-1), inside.shape[-1], first_out)
+
+
+def _width_profile(stroke: Stroke, obj: np.ndarray, edt: np.ndarray):
+    """Smoothed half width a patch centred on ``stroke`` needs, every pixel of arc length.
+
+    Along the normal at each stroke point ``p``, the run of object pixels
+    containing ``p`` (or the nearest run, for a stroke drawn a little off
+    the object) spans ``[t0, t1]``; a patch centred on ``p`` needs
+    ``max(|t0|, |t1|)``. Where the normal runs along another part of the
+    object (a crossing), the run is capped by ``2 m + 2`` with ``m`` the
+    largest distance to the background within ``edt(p) + 2`` px of ``p``
+    (the object's half width at its medial axis, also for a stroke up to
+    half a width off-centre). A median filter along the stroke then
+    removes short outliers, a running maximum keeps the patches over
+    local bulges and a Gaussian smooths the profile.
+
+    Returns the arc lengths, the widths and the stroke's median raw width.
+    """
+    s = np.linspace(0.0, stroke.length, max(2, int(np.ceil(stroke.length)) + 1))
+    p = stroke.point_at(s)
+    n = stroke.normal_at(s, window=3.0)
+    t = np.arange(-_MAX_WIDTH, _MAX_WIDTH + 1, dtype=float)
+    inside = _lookup(obj, p[:, None, :] + t[None, :, None] * n[:, None, :])
+    runs, _ = ndi.label(inside, structure=[[0, 0, 0], [1, 1, 1], [0, 0, 0]])
+    near = np.argmin(np.where(inside, np.abs(t)[None], np.inf), axis=1)
+    lab = runs[np.arange(len(s)), near]
+    wv = np.zeros(len(s))
+    boxes = ndi.find_objects(runs)
+    for i, lb in enumerate(lab):
+        if lb > 0:
+            cols = boxes[lb - 1][1]
+            wv[i] = max(abs(t[cols.start]), abs(t[cols.stop - 1])) + 0.5
+    wv = np.minimum(wv, 2.0 * _local_max(edt, p) + 2.0)
+    typical = max(1, int(np.ceil(np.median(wv))))
+    wv = ndi.median_filter(wv, size=2 * typical + 1, mode="nearest")
+    wv = ndi.maximum_filter1d(wv, size=2 * typical + 1, mode="nearest")
+    # Smooth, so that the tube's edge has no steps where the width changes.
+    wv = ndi.gaussian_filter1d(wv, sigma=typical / 2.0, mode="nearest")
+    return s, wv.astype(float), float(typical)
+
+
+def _local_max(edt: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """Largest ``edt`` within ``edt(p) + 2`` px of each point ``p``."""
+    h, w = edt.shape
+    e0 = edt[np.clip(np.round(p[:, 1]).astype(int), 0, h - 1),
+             np.clip(np.round(p[:, 0]).astype(int), 0, w - 1)]
+    rho = int(np.ceil(min(float(e0.max()), _MAX_WIDTH))) + 2
+    oy, ox = np.mgrid[-rho:rho + 1, -rho:rho + 1]
+    off = np.column_stack([ox.ravel(), oy.ravel()]).astype(float)
+    out = np.zeros(len(p))
+    chunk = max(1, 1_000_000 // len(off))  # bounded memory
+    for lo in range(0, len(p), chunk):
+        pts = np.round(p[lo:lo + chunk])
+        q = pts[:, None, :] + off[None]
+        c = q[..., 0].astype(np.int64)
+        r = q[..., 1].astype(np.int64)
+        ok = (c >= 0) & (c < w) & (r >= 0) & (r < h)
+        ok &= np.hypot(off[:, 0], off[:, 1])[None] <= e0[lo:lo + chunk, None] + 2.0
+        val = np.zeros(q.shape[:2])
+        val[ok] = edt[r[ok], c[ok]]
+        out[lo:lo + chunk] = val.max(axis=1)
+    return out
+
+
+def _end_direction(stroke: Stroke, end: int, window: float) -> tuple[np.ndarray, np.ndarray]:
+    s_end = 0.0 if end == 0 else stroke.length
+    a = float(stroke.angle_at(s_end, window=window))
+    u = np.array([np.cos(a), np.sin(a)])
+    return stroke.point_at(s_end), (-u if end == 0 else u)
+
+
+def _is_cut(stroke: Stroke, obj: np.ndarray, half_width: float, end: int) -> bool:
+    """Whether the object goes on for more than ``max(2 w, 8)`` px beyond the stroke end.
+
+    ``w`` is the stroke's typical (median) half width.
+    """
+    p, u = _end_direction(stroke, end, window=max(3.0, half_width))
+    limit = max(2.0 * half_width, 8.0)
+    t = np.arange(1.0, np.ceil(limit) + 2.0)
+    run = _run_length(_lookup(obj, p[None] + t[:, None] * u[None]))
+    return bool(run > limit)
+
+
+def _beyond_weight(stroke: Stroke, end: int, s_map: np.ndarray, xx: np.ndarray,
+                   yy: np.ndarray) -> np.ndarray:
+    """0 past the straight cut at a stroke end, 1 before it, a one-pixel ramp between.
+
+    "Past" = the nearest stroke point is the end point and the pixel lies
+    ahead of it along the stroke direction.
+    """
+    p, u = _end_direction(stroke, end, window=3.0)
+    at_end = s_map <= 1.0 if end == 0 else s_map >= stroke.length - 1.0
+    ahead = (xx - p[0]) * u[0] + (yy - p[1]) * u[1]
+    return np.where(at_end, np.clip(0.5 - ahead, 0.0, 1.0), 1.0).astype(np.float32)
 
 
 @dataclass
@@ -171,12 +391,23 @@ class Samples:
         return len(self.s)
 
 
-def sample_pair(pair: StrokePair, spacing: float, *, window: float) -> Samples:
+def sample_pair(pair: StrokePair, spacing, *, window: float) -> Samples:
     """Sample the target stroke of ``pair`` every ``spacing`` pixels (about).
 
     Each stretch between consecutive target control points is divided
-    into equal steps no longer than ``spacing``, so the control points
-    themselves are samples (and are pinned).
+    into the fewest equal-count steps no longer than ``spacing``, so the
+    control points themselves are samples (and are pinned).
+
+    Parameters
+    ----------
+    pair : StrokePair
+    spacing : float or callable
+        The step ``h`` (px), or a function of the target arc length
+        giving the local step (e.g. half the local patch radius): the
+        samples are then spread so that each step is about ``h`` where it
+        starts.
+    window : float
+        Chord half-length for the target directions.
 
     Examples
     --------
@@ -186,14 +417,26 @@ def sample_pair(pair: StrokePair, spacing: float, *, window: float) -> Samples:
     >>> smp.s.tolist(), smp.source_s.tolist()
     ([0.0, 3.3333333333333335, 6.666666666666667, 10.0], [0.0, 6.666666666666667, 13.333333333333334, 20.0])
     """
-    if not (np.isfinite(spacing) and spacing > 0):
-        raise ValueError(f"spacing must be > 0, got {spacing}")
     ct = pair.control[:, 1]
+    if callable(spacing):
+        grid = np.linspace(0.0, pair.target.length, max(2, int(np.ceil(pair.target.length * 2)) + 1))
+        h = np.asarray(spacing(grid), float)
+        if h.shape != grid.shape or not np.all(np.isfinite(h) & (h > 0)):
+            raise ValueError("spacing(s) must return finite steps > 0")
+        # N(s) = integral of ds / h: samples at equal steps of N.
+        n_of_s = np.concatenate([[0.0], np.cumsum(np.diff(grid) * 0.5 * (1 / h[1:] + 1 / h[:-1]))])
+    else:
+        if not (np.isfinite(spacing) and spacing > 0):
+            raise ValueError(f"spacing must be > 0, got {spacing}")
+        grid = np.array([0.0, pair.target.length])
+        n_of_s = grid / float(spacing)
     parts = [np.array([ct[0]])]
     pinned = [True]
     for t0, t1 in zip(ct[:-1], ct[1:]):
-        n = max(1, int(np.ceil((t1 - t0) / spacing - 1e-9)))
-        parts.append(np.linspace(t0, t1, n + 1)[1:])
+        n0, n1 = np.interp([t0, t1], grid, n_of_s)
+        n = max(1, int(np.ceil(n1 - n0 - 1e-9)))
+        inner = np.interp(np.linspace(n0, n1, n + 1)[1:-1], n_of_s, grid)
+        parts.append(np.concatenate([inner, [t1]]))
         pinned.extend([False] * (n - 1) + [True])
     s = np.concatenate(parts)
     return Samples(
@@ -215,15 +458,17 @@ class Fetched:
         Premultiplied RGBA, in the target frame.
     valid : (K, S, S) bool ndarray
         Pixels the patch may contribute (inside the disk of radius ``r``,
-        on the source image and owned by the stroke near ``s'``).
+        on the source image and allowed for the stroke near ``s'``).
     grad : (K, S, S) float32 ndarray
-        Gradient magnitude at the source location of each pixel.
+        Edge strength at the source location of each pixel.
     origin : (int, int)
         Target ``(x, y)`` of pixel ``[0, 0]``.
     source_points : (K, 2) ndarray
         ``p'`` of each candidate.
     source_s : (K,) ndarray
         Source arc length of each candidate.
+    radius : float
+        Patch radius ``r``.
     """
 
     pixels: np.ndarray
@@ -232,25 +477,24 @@ class Fetched:
     origin: tuple[int, int]
     source_points: np.ndarray
     source_s: np.ndarray
+    radius: float = 0.0
 
     def take(self, k: int) -> Fetched:
         """The stack reduced to candidate ``k``."""
         sl = slice(k, k + 1)
         return Fetched(self.pixels[sl], self.valid[sl], self.grad[sl], self.origin,
-                       self.source_points[sl], self.source_s[sl])
+                       self.source_points[sl], self.source_s[sl], self.radius)
 
 
-def fetch(index: SourceIndex, stroke_id: int, stroke: Stroke, source_s, across,
-          dst_point, dst_angle: float, radius: float, *, window: float) -> Fetched:
+def fetch(index: SourceIndex, stroke_id: int, source_s, across, dst_point, dst_angle: float,
+          radius: float, *, window: float) -> Fetched:
     """Fetch candidate patches for one target sample.
 
     Parameters
     ----------
     index : SourceIndex
     stroke_id : int
-        Index of ``stroke`` among the source strokes (for ownership).
-    stroke : Stroke
-        The source stroke.
+        Which source stroke (index into ``index.strokes``).
     source_s : (K,) array_like
         Source arc lengths ``s'`` of the candidates (clamped to the stroke).
     across : (K,) array_like
@@ -264,23 +508,40 @@ def fetch(index: SourceIndex, stroke_id: int, stroke: Stroke, source_s, across,
     window : float
         Chord half-length used for the source orientation.
     """
+    stroke = index.strokes[stroke_id]
     s = np.clip(np.atleast_1d(np.asarray(source_s, float)), 0.0, stroke.length)
     e = np.broadcast_to(np.asarray(across, float), s.shape)
     centres = stroke.point_at(s) + e[:, None] * stroke.normal_at(s, window=window)
     angles = stroke.angle_at(s, window=window)
     h, w = index.shape
+    s_map, allowed = index.s_map[stroke_id], index.allowed[stroke_id]
+    weight = index.weight[stroke_id]
+    half = int(np.ceil(radius)) + 2
     pix, valid, grad = [], [], []
     origin = None
+    dx, dy = map(float, dst_point)
     for c, a, sk in zip(centres, angles, s):
-        patch = transfer_patch(index.premult, c, a, dst_point, dst_angle, radius, circular=True)
-        aux = transfer_patch(index.aux, c, a, dst_point, dst_angle, radius).pixels
+        # Crop the source around p' (the disk of radius r maps inside it).
+        x0 = int(np.clip(np.floor(c[0]) - half, 0, w - 1))
+        y0 = int(np.clip(np.floor(c[1]) - half, 0, h - 1))
+        x1 = int(np.clip(np.ceil(c[0]) + half + 1, x0 + 1, w))
+        y1 = int(np.clip(np.ceil(c[1]) + half + 1, y0 + 1, h))
+        patch = transfer_patch(index.premult[y0:y1, x0:x1], (c[0] - x0, c[1] - y0), a,
+                               dst_point, dst_angle, radius, circular=True)
+        wt = transfer_patch(weight[y0:y1, x0:x1, None], (c[0] - x0, c[1] - y0), a,
+                            dst_point, dst_angle, radius).pixels[:, :, 0]
         origin = patch.origin
-        col = np.clip(np.rint(aux[:, :, 0] * (w - 1)).astype(np.int64), 0, w - 1)
-        row = np.clip(np.rint(aux[:, :, 1] * (h - 1)).astype(np.int64), 0, h - 1)
-        ok = (patch.valid & (index.owner[row, col] == stroke_id)
-              & (np.abs(index.owner_s[row, col] - sk) <= _REACH * radius))
-        pix.append(patch.pixels)
+        # Where each patch pixel came from: p = R(a - dst_angle) (q - p_dst) + p'.
+        n = patch.valid.shape[0]
+        th = float(a) - float(dst_angle)
+        u, v = np.meshgrid(np.arange(n) + origin[0] - dx, np.arange(n) + origin[1] - dy)
+        sx = np.cos(th) * u - np.sin(th) * v + c[0]
+        sy = np.sin(th) * u + np.cos(th) * v + c[1]
+        col = np.clip(np.rint(sx).astype(np.int64), 0, w - 1)
+        row = np.clip(np.rint(sy).astype(np.int64), 0, h - 1)
+        ok = patch.valid & allowed[row, col] & (np.abs(s_map[row, col] - sk) <= _REACH * radius)
+        pix.append(patch.pixels * wt[:, :, None])
         valid.append(ok)
-        grad.append(aux[:, :, 2] * _GMAX)
+        grad.append(index.grad[row, col])
     return Fetched(np.stack(pix), np.stack(valid), np.stack(grad).astype(np.float32),
-                   origin, centres, s)
+                   origin, centres, s, float(radius))

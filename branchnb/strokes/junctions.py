@@ -9,13 +9,15 @@ A junction is handled in three ways:
    cut into the canvas that already holds its parent
    (:func:`stroke_order`, a topological order; cycles are broken in
    drawing order).
-2. **Geometry.** The child's end point is snapped onto the parent. If the
-   child's *source* stroke has a free end there (it does not itself start
-   on another source stroke), its end cap would show as a rounded tip
-   glued to the parent; the child is therefore extended into the parent
-   by the parent's half width, so the cap lies under the parent and the
-   branch grows out of it (:func:`attach`). A source stroke that already
-   starts on another source stroke carries a real junction texture and is
+2. **Geometry.** The child keeps the end point the user drew. If the
+   child's *source* stroke has a free end there (a tip: it neither starts
+   on another source stroke nor ends inside a longer object, see
+   :mod:`~branchnb.strokes.fetch`), its end cap would show as a rounded
+   tip glued to the parent; the child is therefore extended into the
+   parent by the parent's half width, so the cap lies under the parent
+   and the branch grows out of it (:func:`attach`). A source stroke that
+   starts on another source stroke, or is cut straight at that end,
+   carries junction texture (or a clean cut hidden in the parent) and is
    not extended.
 3. **Composition.** The patches of the child near the junction may not
    paint over the far side of the parent (the canvas pixels beyond the
@@ -122,7 +124,7 @@ def stroke_order(n: int, junctions: list[Junction]) -> list[int]:
 
 def attach(pair: StrokePair, junctions: list[Junction], target_strokes: list[Stroke],
            depth: dict) -> tuple[StrokePair, dict]:
-    """Snap the target stroke of ``pair`` onto its parents and extend it into them.
+    """Extend the target stroke of ``pair`` into its parents at its junction ends.
 
     Parameters
     ----------
@@ -145,11 +147,6 @@ def attach(pair: StrokePair, junctions: list[Junction], target_strokes: list[Str
     """
     pts = pair.target.points.copy()
     added = {0: 0.0, 1: 0.0}
-    for jn in junctions:
-        if jn.end == 0:
-            pts[0] = jn.point
-        else:
-            pts[-1] = jn.point
     for jn in junctions:
         e = float(depth.get(jn.end, 0.0))
         if e <= 0:
