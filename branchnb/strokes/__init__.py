@@ -16,6 +16,7 @@ overlaps stitched with graph-cut seams, branches joined at junctions.
 """
 
 from .composition import Composition, PlacedPatch, compose, labelling_cost, seam_mask
+from .display import PAIR_COLORS, draw_strokes, pair_color, pair_color_hex
 from .edit import StrokeEditParams, StrokeEditResult, StrokeSamples, edit_structure
 from .fetch import Fetched, Samples, SourceIndex, fetch, sample_pair, source_index
 from .junctions import Junction, attach, far_side, find_junctions, stroke_order
@@ -23,6 +24,7 @@ from .sampling import SamplingResult, candidate_offsets, chain_energy, greedy, p
 from .strokes import Stroke, StrokePair, make_pairs
 
 __all__ = [
+    "PAIR_COLORS",
     "Composition",
     "Fetched",
     "Junction",
@@ -39,6 +41,7 @@ __all__ = [
     "candidate_offsets",
     "chain_energy",
     "compose",
+    "draw_strokes",
     "edit_structure",
     "far_side",
     "fetch",
@@ -46,6 +49,8 @@ __all__ = [
     "greedy",
     "labelling_cost",
     "make_pairs",
+    "pair_color",
+    "pair_color_hex",
     "pair_energies",
     "sample_pair",
     "seam_mask",

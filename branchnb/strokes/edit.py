@@ -33,6 +33,7 @@ from ..core.io import encode_png
 from ..core.params import check_params, param
 from ..core.random import as_rng
 from .composition import PlacedPatch, compose, labelling_cost, seam_mask
+from .display import draw_strokes
 from .fetch import fetch, sample_pair, source_index
 from .junctions import attach, far_side, find_junctions, stroke_order
 from .sampling import candidate_offsets, choose, pair_energies
@@ -171,12 +172,18 @@ class StrokeEditResult:
     radius: float = 0.0
     params: StrokeEditParams | None = None
 
-    def show(self, *, seams: bool = False, background=(1.0, 1.0, 1.0),
+    def show(self, *, seams: bool = False, strokes: bool = False, background=(1.0, 1.0, 1.0),
              seam_color=(1.0, 0.0, 0.0)) -> np.ndarray:
-        """RGB picture: the image over ``background``, seams optionally drawn."""
+        """RGB picture: the image over ``background``, seams and target strokes optionally drawn.
+
+        Target strokes are drawn in their pair colours
+        (:func:`~branchnb.strokes.display.draw_strokes`).
+        """
         rgb = composite_over(self.image, background)
         if seams:
             rgb[self.seams] = np.asarray(seam_color, np.float32)
+        if strokes and self.pairs:
+            rgb = draw_strokes(rgb, [p.target.points for p in self.pairs], width=1.5)
         return rgb
 
     def _repr_png_(self) -> bytes:
@@ -370,11 +377,11 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
 
     comp = compose(placed, target_shape, method=params.composition, power=params.seam_power,
                    gradient_weighted=params.gradient_weighted)
+    # For an opaque source the alpha is 1 on every copied pixel (less on the
+    # anti-aliased edges of cut ends), 0 elsewhere: the object region is the
+    # union of the patches.
     premult = comp.image
     alpha = premult[:, :, 3].copy()
-    if not index.has_alpha:
-        alpha = np.where(comp.covered, 1.0, 0.0).astype(np.float32)
-        premult[:, :, 3] = alpha
     layer = np.zeros_like(premult)
     nz = alpha > 1e-6
     layer[nz, :3] = np.clip(premult[nz, :3] / alpha[nz, None], 0.0, 1.0)
