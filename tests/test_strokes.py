@@ -373,3 +373,22 @@ def test_draw_strokes_colours_pairs():
     assert np.allclose(img[10, 25], pair_color(0), atol=0.05)
     assert np.allclose(img[22, 25], pair_color(1), atol=0.05)
     assert np.allclose(img[2, 2], 1.0)
+
+
+def test_source_region_and_colour_histograms(band):
+    from branchnb.strokes import compare_colours
+
+    img, skel = band
+    ident = edit_structure(img, [skel], [skel])
+    obj = img[..., 3] > 0.5
+    assert (ident.source_region & obj).sum() > 0.98 * obj.sum()
+    cmp = compare_colours(img, ident)
+    assert [c.labels for c in cmp] == [["source object", "result"]] * 3
+    assert max(c.distances[1] for c in cmp) < 0.05
+    # a bent copy of half the band: same colours, a different object than a far-off colour
+    half = edit_structure(img, [skel[:80]], [_bent(skel)[:80]])
+    assert max(c.distances[1] for c in compare_colours(img, half)) < 0.3
+    blue = img.copy()
+    blue[..., :3] = (0.1, 0.1, 0.9)
+    other = edit_structure(blue, [skel], [skel])
+    assert min(c.distances[1] for c in compare_colours(img, other)) > 0.5

@@ -18,6 +18,7 @@ overlaps stitched with graph-cut seams, branches joined at junctions.
 from .composition import Composition, PlacedPatch, compose, labelling_cost, seam_mask
 from .display import PAIR_COLORS, draw_strokes, pair_color, pair_color_hex
 from .edit import StrokeEditParams, StrokeEditResult, StrokeSamples, edit_structure
+from .evaluation import compare_colours, object_colours
 from .fetch import Fetched, Samples, SourceIndex, fetch, sample_pair, source_index
 from .junctions import Junction, attach, far_side, find_junctions, stroke_order
 from .sampling import SamplingResult, candidate_offsets, chain_energy, greedy, pair_energies, viterbi
@@ -40,6 +41,7 @@ __all__ = [
     "attach",
     "candidate_offsets",
     "chain_energy",
+    "compare_colours",
     "compose",
     "draw_strokes",
     "edit_structure",
@@ -49,6 +51,7 @@ __all__ = [
     "greedy",
     "labelling_cost",
     "make_pairs",
+    "object_colours",
     "pair_color",
     "pair_color_hex",
     "pair_energies",

@@ -157,6 +157,10 @@ class StrokeEditResult:
     radius : float
         Typical (median) patch radius ``r`` along the source strokes; the
         radius of every sample is in ``samples[i].radius``.
+    source_region : (H_src, W_src) bool ndarray
+        The source object pixels the chosen patches copy (the source
+        object region the result is made of; compare their colours with
+        the result's, e.g. :func:`branchnb.core.histogram.compare_samples`).
     params : StrokeEditParams
     """
 
@@ -170,6 +174,7 @@ class StrokeEditResult:
     pairs: list = field(default_factory=list)
     junctions: list = field(default_factory=list)
     radius: float = 0.0
+    source_region: np.ndarray | None = None
     params: StrokeEditParams | None = None
 
     def show(self, *, seams: bool = False, strokes: bool = False, background=(1.0, 1.0, 1.0),
@@ -328,6 +333,7 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
     placed: list[PlacedPatch] = []
     samples: list[StrokeSamples | None] = [None] * len(pairs)
     e_total = e_pair = 0.0
+    source_region = np.zeros(index.shape, bool)
     for i in order:
         pair = attached[i]
         radius_of, step_of = _sampling_geometry(params, index, i, pair)
@@ -368,6 +374,8 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
                                   f.valid.shape[1], window=window)
                     keep = fs if keep is None else keep | fs
             placed.append(PlacedPatch(f.pixels[k], f.valid[k], f.origin, pin_core, keep))
+            rows, cols = f.source_pixels(k, index.shape)
+            source_region[rows, cols] = True
         samples[i] = StrokeSamples(
             target=smp.points, source=np.array([fetched[j].source_points[k]
                                                 for j, k in enumerate(res.choice)]),
@@ -407,7 +415,8 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
     return StrokeEditResult(
         image=np.clip(out, 0, 1).astype(np.float32), mask=mask, seams=seams, energies=energies,
         layer=layer, labels=comp.labels, samples=samples, pairs=attached, junctions=junctions,
-        radius=typical, params=dataclasses.replace(params))
+        radius=typical, source_region=source_region & index.object,
+        params=dataclasses.replace(params))
 
 
 def _over(layer: np.ndarray, bg: np.ndarray) -> np.ndarray:

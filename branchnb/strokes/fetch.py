@@ -467,6 +467,12 @@ class Fetched:
         ``p'`` of each candidate.
     source_s : (K,) ndarray
         Source arc length of each candidate.
+    source_angles : (K,) ndarray
+        Source stroke direction at each ``p'``.
+    dst_point : (2,) ndarray
+        The target sample ``p``.
+    dst_angle : float
+        Target direction at ``p``.
     radius : float
         Patch radius ``r``.
     """
@@ -477,13 +483,40 @@ class Fetched:
     origin: tuple[int, int]
     source_points: np.ndarray
     source_s: np.ndarray
+    source_angles: np.ndarray
+    dst_point: np.ndarray
+    dst_angle: float
     radius: float = 0.0
 
     def take(self, k: int) -> Fetched:
         """The stack reduced to candidate ``k``."""
         sl = slice(k, k + 1)
         return Fetched(self.pixels[sl], self.valid[sl], self.grad[sl], self.origin,
-                       self.source_points[sl], self.source_s[sl], self.radius)
+                       self.source_points[sl], self.source_s[sl], self.source_angles[sl],
+                       self.dst_point, self.dst_angle, self.radius)
+
+    def source_pixels(self, k: int, shape) -> tuple[np.ndarray, np.ndarray]:
+        """``(rows, cols)`` of the source pixels candidate ``k`` copies (its valid pixels)."""
+        sx, sy = _source_coords(self.source_points[k], self.source_angles[k], self.dst_point,
+                                self.dst_angle, self.origin, self.valid.shape[1])
+        v = self.valid[k]
+        h, w = shape[:2]
+        return (np.clip(np.rint(sy[v]).astype(np.int64), 0, h - 1),
+                np.clip(np.rint(sx[v]).astype(np.int64), 0, w - 1))
+
+
+def _source_coords(centre, angle: float, dst_point, dst_angle: float, origin, n: int):
+    """Source ``(x, y)`` of every pixel of an ``n`` x ``n`` patch at ``origin``.
+
+    The inverse of the rotation :func:`~branchnb.core.warp.transfer_patch`
+    applies: ``p = R(angle - dst_angle) (q - p_dst) + p'``.
+    """
+    th = float(angle) - float(dst_angle)
+    u, v = np.meshgrid(np.arange(n) + origin[0] - float(dst_point[0]),
+                       np.arange(n) + origin[1] - float(dst_point[1]))
+    sx = np.cos(th) * u - np.sin(th) * v + centre[0]
+    sy = np.sin(th) * u + np.cos(th) * v + centre[1]
+    return sx, sy
 
 
 def fetch(index: SourceIndex, stroke_id: int, source_s, across, dst_point, dst_angle: float,
@@ -519,7 +552,6 @@ def fetch(index: SourceIndex, stroke_id: int, source_s, across, dst_point, dst_a
     half = int(np.ceil(radius)) + 2
     pix, valid, grad = [], [], []
     origin = None
-    dx, dy = map(float, dst_point)
     for c, a, sk in zip(centres, angles, s):
         # Crop the source around p' (the disk of radius r maps inside it).
         x0 = int(np.clip(np.floor(c[0]) - half, 0, w - 1))
@@ -531,12 +563,7 @@ def fetch(index: SourceIndex, stroke_id: int, source_s, across, dst_point, dst_a
         wt = transfer_patch(weight[y0:y1, x0:x1, None], (c[0] - x0, c[1] - y0), a,
                             dst_point, dst_angle, radius).pixels[:, :, 0]
         origin = patch.origin
-        # Where each patch pixel came from: p = R(a - dst_angle) (q - p_dst) + p'.
-        n = patch.valid.shape[0]
-        th = float(a) - float(dst_angle)
-        u, v = np.meshgrid(np.arange(n) + origin[0] - dx, np.arange(n) + origin[1] - dy)
-        sx = np.cos(th) * u - np.sin(th) * v + c[0]
-        sy = np.sin(th) * u + np.cos(th) * v + c[1]
+        sx, sy = _source_coords(c, a, dst_point, dst_angle, origin, patch.valid.shape[0])
         col = np.clip(np.rint(sx).astype(np.int64), 0, w - 1)
         row = np.clip(np.rint(sy).astype(np.int64), 0, h - 1)
         ok = patch.valid & allowed[row, col] & (np.abs(s_map[row, col] - sk) <= _REACH * radius)
@@ -544,4 +571,5 @@ def fetch(index: SourceIndex, stroke_id: int, source_s, across, dst_point, dst_a
         valid.append(ok)
         grad.append(index.grad[row, col])
     return Fetched(np.stack(pix), np.stack(valid), np.stack(grad).astype(np.float32),
-                   origin, centres, s, float(radius))
+                   origin, centres, s, np.asarray(angles, float),
+                   np.asarray(dst_point, float), float(dst_angle), float(radius))
