@@ -16,7 +16,7 @@ overlaps stitched with graph-cut seams, branches joined at junctions.
 """
 
 from .composition import Composition, PlacedPatch, compose, labelling_cost, seam_mask
-from .display import PAIR_COLORS, draw_strokes, pair_color, pair_color_hex
+from .display import PAIR_COLORS, draw_strokes, pair_color, pair_color_hex, stroke_markers
 from .edit import StrokeEditParams, StrokeEditResult, StrokeSamples, edit_structure
 from .evaluation import compare_colours, object_colours
 from .fetch import Fetched, Samples, SourceIndex, fetch, sample_pair, source_index
@@ -58,6 +58,7 @@ __all__ = [
     "sample_pair",
     "seam_mask",
     "source_index",
+    "stroke_markers",
     "stroke_order",
     "viterbi",
 ]
