@@ -303,8 +303,6 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
 
     # Branching: junctions among the target strokes.
     junctions = find_junctions([p.target for p in pairs], tol)
-    src_junctions = find_junctions([p.source for p in pairs], tol)
-    src_joined = {(j.child, j.end) for j in src_junctions}
     attached: list[StrokePair] = list(pairs)
     extra = [{0: 0.0, 1: 0.0} for _ in pairs]
     for i, pair in enumerate(pairs):
@@ -314,10 +312,10 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
         depth = {}
         for jn in mine:
             end_cut = index.cut_ends[i][jn.end]
-            if params.extend_branches and (i, jn.end) not in src_joined and not end_cut:
+            if params.extend_branches and not end_cut:
                 # A free end (a tip) glued to the parent: push it under the parent.
-                # (A cut end, or one that meets another source stroke, ends at the
-                # parent's centre line as it is.)
+                # (A cut end -- also one that starts on another source stroke --
+                # ends at the parent's centre line as it is.)
                 par = pairs[jn.parent]
                 w = float(index.half_width(jn.parent, par.source_arc_length(jn.parent_s)))
                 if not index.has_alpha:

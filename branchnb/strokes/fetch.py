@@ -43,7 +43,9 @@ decides between "object" and "background" like between any two textures.
 
 Stroke ends
 -----------
-Where the object ends shortly after a stroke end (a tail tip, a branch
+A stroke end lying on another source stroke (a branch drawn from the
+trunk) is a *joined* end: the object there belongs to the other stroke,
+and it is cut straight across like below. Where the object ends shortly after a stroke end (a tail tip, a branch
 tip: the object goes on for less than ``max(2 w, 8)`` px along the
 stroke direction, ``w`` the stroke's median half width), the patches copy the tip as it is. Where the stroke
 ends in the middle of a longer object (a piece of rope, a branch drawn
@@ -198,13 +200,18 @@ def source_index(image, source_strokes: list[Stroke]) -> SourceIndex:
     d_min = np.min(np.stack([d for d, _ in uniq.values()]), axis=0) if len(uniq) > 1 else None
     yy, xx = np.mgrid[0:h, 0:w].astype(np.float32)
 
+    # Widths along every stroke, ends joined to another stroke, cut ends.
+    raw = [_raw_width(st, obj, edt) if has_alpha else
+           (np.array([0.0, st.length]), np.zeros(2), 0.0) for st in source_strokes]
+    joined = _joined_ends(source_strokes, raw, keys)
     s_maps, allowed, weights, width_s, widths, cuts = [], [], [], [], [], []
     done: dict = {}
     for k, st in enumerate(source_strokes):
         d, s_map = uniq[keys[k]]
-        ws, wv, typical = _width_profile(st, obj, edt) if has_alpha else (
-            np.array([0.0, st.length]), np.zeros(2), 0.0)
-        cut = tuple(_is_cut(st, obj, typical, end) for end in (0, 1))
+        ws, wv, typical = raw[k]
+        cut = tuple(joined[k][end] or _is_cut(st, obj, typical, end) for end in (0, 1))
+        if has_alpha:
+            wv = _smooth_width(wv, typical, cut)
         key = (keys[k], cut)
         if key not in done:
             own = np.ones((h, w), bool) if d_min is None else d <= d_min + _SHARE
@@ -268,8 +275,8 @@ def _run_length(inside: np.ndarray) -> np.ndarray:
     return np.where(inside.all(axis=-1), inside.shape[-1], first_out)
 
 
-def _width_profile(stroke: Stroke, obj: np.ndarray, edt: np.ndarray):
-    """Smoothed half width a patch centred on ``stroke`` needs, every pixel of arc length.
+def _raw_width(stroke: Stroke, obj: np.ndarray, edt: np.ndarray):
+    """Half width a patch centred on ``stroke`` needs, every pixel of arc length (unsmoothed).
 
     Along the normal at each stroke point ``p``, the run of object pixels
     containing ``p`` (or the nearest run, for a stroke drawn a little off
@@ -278,11 +285,9 @@ def _width_profile(stroke: Stroke, obj: np.ndarray, edt: np.ndarray):
     object (a crossing), the run is capped by ``2 m + 2`` with ``m`` the
     largest distance to the background within ``edt(p) + 2`` px of ``p``
     (the object's half width at its medial axis, also for a stroke up to
-    half a width off-centre). A median filter along the stroke then
-    removes short outliers, a running maximum keeps the patches over
-    local bulges and a Gaussian smooths the profile.
+    half a width off-centre).
 
-    Returns the arc lengths, the widths and the stroke's median raw width.
+    Returns the arc lengths, the widths and their median (at least 1).
     """
     s = np.linspace(0.0, stroke.length, max(2, int(np.ceil(stroke.length)) + 1))
     p = stroke.point_at(s)
@@ -299,12 +304,50 @@ def _width_profile(stroke: Stroke, obj: np.ndarray, edt: np.ndarray):
             cols = boxes[lb - 1][1]
             wv[i] = max(abs(t[cols.start]), abs(t[cols.stop - 1])) + 0.5
     wv = np.minimum(wv, 2.0 * _local_max(edt, p) + 2.0)
-    typical = max(1, int(np.ceil(np.median(wv))))
-    wv = ndi.median_filter(wv, size=2 * typical + 1, mode="nearest")
-    wv = ndi.maximum_filter1d(wv, size=2 * typical + 1, mode="nearest")
-    # Smooth, so that the tube's edge has no steps where the width changes.
-    wv = ndi.gaussian_filter1d(wv, sigma=typical / 2.0, mode="nearest")
-    return s, wv.astype(float), float(typical)
+    return s, wv, float(max(1, int(np.ceil(np.median(wv)))))
+
+
+def _smooth_width(wv: np.ndarray, typical: float, cut) -> np.ndarray:
+    """The width profile used for the tube and the patch radius.
+
+    At a cut end (the stroke runs into a longer object: a branch drawn
+    from the trunk, a tail drawn from the body) the widths above 1.5
+    times the median are the parent's and are replaced by the first width
+    of the stroke's own. A median filter along the stroke then removes
+    short outliers, a running maximum keeps the patches over local bulges
+    and a Gaussian smooths the profile, so that the tube's edge has no
+    steps where the width changes.
+    """
+    wv = wv.copy()
+    for end in (0, 1):
+        if cut[end]:
+            w = wv if end == 0 else wv[::-1]
+            free = np.flatnonzero(w <= 1.5 * typical)
+            if len(free):
+                w[:free[0]] = w[free[0]]
+    n = int(typical)
+    wv = ndi.median_filter(wv, size=2 * n + 1, mode="nearest")
+    wv = ndi.maximum_filter1d(wv, size=2 * n + 1, mode="nearest")
+    return ndi.gaussian_filter1d(wv, sigma=typical / 2.0, mode="nearest").astype(float)
+
+
+def _joined_ends(strokes, raw, keys) -> list[tuple[bool, bool]]:
+    """Ends lying on another (different) stroke, within half its local width + 3 px."""
+    out = []
+    for k, st in enumerate(strokes):
+        flags = []
+        for end in (0, 1):
+            q = st.points[0 if end == 0 else -1][None]
+            hit = False
+            for j, other in enumerate(strokes):
+                if j == k or keys[j] == keys[k]:
+                    continue
+                s, d = other.project(q)
+                tol = 0.5 * float(np.interp(s[0], raw[j][0], raw[j][1])) + 3.0
+                hit |= bool(d[0] <= tol) and 1.0 < s[0] < other.length - 1.0
+            flags.append(hit)
+        out.append(tuple(flags))
+    return out
 
 
 def _local_max(edt: np.ndarray, p: np.ndarray) -> np.ndarray:
