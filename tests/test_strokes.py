@@ -314,7 +314,7 @@ def test_a_branch_grows_out_of_its_parent(band):
     branch = np.c_[np.linspace(start[0], start[0] + 60, 30), np.linspace(100, 30, 30)]
     shape = (150, 200)
     alone = edit_structure(img, [part], [trunk], target_shape=shape)
-    res = edit_structure(img, [part, skel[60:120]], [trunk, branch], target_shape=shape)
+    res = edit_structure(img, [part, part], [trunk, branch], target_shape=shape)
     assert len(res.junctions) == 1 and res.junctions[0].parent == 0
     lab, n = ndi.label(res.mask)
     assert n == 1  # one connected object
@@ -392,3 +392,21 @@ def test_source_region_and_colour_histograms(band):
     blue[..., :3] = (0.1, 0.1, 0.9)
     other = edit_structure(blue, [skel], [skel])
     assert min(c.distances[1] for c in compare_colours(img, other)) > 0.5
+
+
+def test_a_branch_copied_from_the_trunk_leaves_the_trunk_behind():
+    # a wide trunk (half width 20) with a thin branch (half width 5) growing from its centre line
+    img = np.zeros((120, 200, 4), np.float32)
+    img[10:110, 30:70] = (0.4, 0.25, 0.1, 1.0)
+    img[55:65, 50:190] = (0.5, 0.3, 0.1, 1.0)
+    img[55:65, 120:190, 1] = np.linspace(0.3, 0.8, 70)  # some texture along the branch
+    trunk, branch = [(50, 105), (50, 15)], [(50, 60), (185, 60)]
+    index = source_index(img, [Stroke(trunk), Stroke(branch)])
+    assert index.cut_ends[1] == (True, False)  # joined to the trunk at its start
+    assert index.half_width(1, 2.0) < 8  # the branch's own width, not the trunk's
+    # copy the branch alone, vertically, into an empty domain
+    res = edit_structure(img, [trunk, branch], [[(20, 110), (20, 20)], [(100, 10), (100, 145)]],
+                         target_shape=(150, 200))
+    rows = res.mask[10:140, 60:140]
+    widths = rows.sum(axis=1)
+    assert widths.max() <= 15 and np.median(widths) >= 9

@@ -31,10 +31,11 @@ to it as to any other source stroke: a patch fetched on stroke ``k``
 never drags along the part of the object another stroke draws (the same
 stroke given twice, e.g. to grow two branches from one example branch,
 shares its pixels). For an RGBA object it owns them only within a tube
-of the object's half width plus a margin (``0.15 w + 3`` px of
-background, where the seams can run around the silhouette) around the
-stroke, so parts of the object nobody stroked (a crossing strand, a side
-branch) are not dragged along either. Among those, a patch centred at arc length ``s'``
+around the stroke: the object's half width ``w`` plus 2 px, and for
+background pixels a wider margin (``0.15 w + 3`` px, where the seams can
+run around the silhouette). So parts of the object nobody stroked (a
+crossing strand, a side branch, the trunk a branch was drawn from) are
+not dragged along. Among those, a patch centred at arc length ``s'``
 copies only pixels whose nearest stroke point lies within ``1.5 r`` of
 ``s'``, so it does not copy a part of the same stroke that folds back
 nearby (a loop of rope). The transparent pixels around an RGBA object
@@ -76,6 +77,8 @@ __all__ = ["SourceIndex", "Samples", "Fetched", "source_index", "sample_pair", "
 _REACH = 1.5
 #: A pixel belongs to every stroke within this many pixels of its nearest stroke.
 _SHARE = 2.0
+#: Opaque pixels are copied up to this far beyond the half width (px).
+_OPAQUE_MARGIN = 2.0
 #: Patch radius for opaque images (no silhouette to measure the width from).
 OPAQUE_RADIUS = 24.0
 #: Longest distance the width measurement walks from the stroke (px).
@@ -204,26 +207,31 @@ def source_index(image, source_strokes: list[Stroke]) -> SourceIndex:
     raw = [_raw_width(st, obj, edt) if has_alpha else
            (np.array([0.0, st.length]), np.zeros(2), 0.0) for st in source_strokes]
     joined = _joined_ends(source_strokes, raw, keys)
-    s_maps, allowed, weights, width_s, widths, cuts = [], [], [], [], [], []
+    cuts = [tuple(joined[k][end] or _is_cut(st, obj, raw[k][2], end) for end in (0, 1))
+            for k, st in enumerate(source_strokes)]
+    widths = [_smooth_width(raw[k][1], raw[k][2], cuts[k]) if has_alpha else raw[k][1]
+              for k in range(len(source_strokes))]
+    width_s = [raw[k][0] for k in range(len(source_strokes))]
+    s_maps, allowed, weights = [], [], []
     done: dict = {}
     for k, st in enumerate(source_strokes):
         d, s_map = uniq[keys[k]]
-        ws, wv, typical = raw[k]
-        cut = tuple(joined[k][end] or _is_cut(st, obj, typical, end) for end in (0, 1))
-        if has_alpha:
-            wv = _smooth_width(wv, typical, cut)
+        ws, wv, cut = width_s[k], widths[k], cuts[k]
         key = (keys[k], cut)
         if key not in done:
             own = np.ones((h, w), bool) if d_min is None else d <= d_min + _SHARE
             weight = np.ones((h, w), np.float32)
             if has_alpha:
-                # The tube of the object's half width (plus a margin of
-                # background) around the stroke, with a one-pixel ramp so
-                # that cut-off side parts get an anti-aliased edge; the
-                # object beyond the stroke ends is handled below.
+                # The tube of the object's half width around the stroke, plus
+                # a margin of background (only background: opaque pixels in
+                # the margin belong to something else -- a side branch, the
+                # trunk a branch was drawn from), with a one-pixel ramp so
+                # that cut-off parts get an anti-aliased edge. The object
+                # beyond the stroke ends is handled below.
                 tube = np.interp(s_map, ws, wv)
+                margin = np.where(obj, _OPAQUE_MARGIN, _tube_margin(tube))
                 interior = (s_map > 1.0) & (s_map < st.length - 1.0)
-                ramp = np.clip(tube + _tube_margin(tube) - d + 0.5, 0.0, 1.0)
+                ramp = np.clip(tube + margin - d + 0.5, 0.0, 1.0)
                 weight = np.where(interior, ramp, 1.0).astype(np.float32)
             for end, is_cut in enumerate(cut):
                 if is_cut:
@@ -232,9 +240,6 @@ def source_index(image, source_strokes: list[Stroke]) -> SourceIndex:
         s_maps.append(s_map)
         allowed.append(done[key][0])
         weights.append(done[key][1])
-        width_s.append(ws)
-        widths.append(wv)
-        cuts.append(cut)
     return SourceIndex(premult, grad, obj, has_alpha, list(source_strokes), s_maps, allowed,
                        weights, width_s, widths, cuts)
 
