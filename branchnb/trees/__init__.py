@@ -1,0 +1,1 @@
+"""Image-based tree variations (placeholder, filled below)."""
