@@ -12,8 +12,8 @@ from __future__ import annotations
 import importlib
 import importlib.util
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 __all__ = ["BenchRow", "timeit", "run", "format_table", "SUITES"]
 
@@ -91,7 +91,7 @@ def format_table(rows: list[BenchRow]) -> str:
         for r in rows
     ]
     widths = [max(len(str(x)) for x in col) for col in zip(header, *body)]
-    line = "  ".join("{:<%d}" % w for w in widths)
+    line = "  ".join(f"{{:<{w}}}" for w in widths)
     out = [line.format(*header), line.format(*("-" * w for w in widths))]
     out += [line.format(*r) for r in body]
     return "\n".join(out)

@@ -27,16 +27,21 @@ def lab_command(notebook=None, extra=()) -> list[str]:
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="branchnb", description=__doc__)
     sub = parser.add_subparsers(dest="cmd", required=True)
-    p_lab = sub.add_parser("lab", help="open JupyterLab on the tour notebook (or NOTEBOOK)")
-    p_lab.add_argument("notebook", nargs="?", help="notebook to open (default: notebooks/00_tour.ipynb)")
+    p_lab = sub.add_parser("lab", help="open JupyterLab on the tour notebook (or NOTEBOOK)",
+                           description="Other options are passed on to jupyter lab.")
+    p_lab.add_argument("lab_args", nargs=argparse.REMAINDER,
+                       help="[NOTEBOOK] [jupyter lab options]; NOTEBOOK defaults to notebooks/00_tour.ipynb")
     p_gal = sub.add_parser("gallery", help="render one example per technique to PNGs + index.html")
     p_gal.add_argument("outdir")
     p_bench = sub.add_parser("bench", help="print benchmark figures, each against its anchor")
     p_bench.add_argument("--quick", action="store_true", help="smaller inputs, for a smoke run")
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if argv[:1] == ["lab"] and not {"-h", "--help"} & set(argv[1:2]):
+        # Everything after "lab" goes to jupyter lab untouched (argparse would reorder it).
+        rest = argv[1:]
+        notebook = rest.pop(0) if rest and not rest[0].startswith("-") else None
+        return subprocess.call(lab_command(notebook, rest))
     args, extra = parser.parse_known_args(argv)
-
-    if args.cmd == "lab":
-        return subprocess.call(lab_command(args.notebook, extra))
     if extra:
         parser.error(f"unrecognized arguments: {' '.join(extra)}")
     if args.cmd == "gallery":

@@ -73,8 +73,12 @@ def _samples(outdir: Path) -> list[GalleryItem]:
     return items
 
 
-def build(outdir, sections=SECTIONS) -> list[GalleryItem]:
-    """Render the gallery into ``outdir`` (created if needed) and write ``index.html``."""
+def build(outdir, sections=None) -> list[GalleryItem]:
+    """Render the gallery into ``outdir`` (created if needed) and write ``index.html``.
+
+    ``sections`` lists the technique modules to include (:data:`SECTIONS` by default).
+    """
+    sections = SECTIONS if sections is None else sections
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     items = _samples(outdir)

@@ -103,7 +103,7 @@ class Structure:
             raise
         return len(self.branches) - 1
 
-    def validate(self) -> "Structure":
+    def validate(self) -> Structure:
         """Check parent links (existing branch, valid vertex, no cycles)."""
         n = len(self.branches)
         for i, b in enumerate(self.branches):
@@ -125,7 +125,7 @@ class Structure:
                 j = self.branches[j].parent
         return self
 
-    def remove_subtree(self, index: int) -> "Structure":
+    def remove_subtree(self, index: int) -> Structure:
         """A new structure without branch ``index`` and all its descendants."""
         if not 0 <= index < len(self.branches):
             raise ValueError(f"index {index} out of range for {len(self.branches)} branches")
@@ -200,7 +200,7 @@ class Structure:
                 float((pts[:, 0] + r).max()), float((pts[:, 1] + r).max()))
 
     # -- transforms -----------------------------------------------------
-    def resampled(self, h: float) -> "Structure":
+    def resampled(self, h: float) -> Structure:
         """Every branch resampled at uniform arc-length step ``h``.
 
         Child branches keep their furcation point: ``parent_vertex`` is
@@ -249,14 +249,14 @@ class Structure:
         return json.dumps(self.to_dict())
 
     @classmethod
-    def from_dict(cls, d: dict) -> "Structure":
+    def from_dict(cls, d: dict) -> Structure:
         if not isinstance(d, dict) or "branches" not in d:
             raise ValueError("a structure dict needs a 'branches' list")
         shape = d.get("image_shape")
         return cls([Branch(**b) for b in d["branches"]], tuple(shape) if shape else None)
 
     @classmethod
-    def from_json(cls, text: str) -> "Structure":
+    def from_json(cls, text: str) -> Structure:
         """Parse a structure written by :meth:`to_json`."""
         try:
             d = json.loads(text)

@@ -108,7 +108,7 @@ def seam_cut(a, b, region, pin_a, pin_b, *, power: float = 1.0,
     >>> a, b = np.zeros((4, 6, 3)), np.ones((4, 6, 3))
     >>> pin_a = np.zeros((4, 6), bool); pin_a[:, 0] = True
     >>> pin_b = np.zeros((4, 6), bool); pin_b[:, -1] = True
-    >>> seam_cut(a, b, np.ones((4, 6), bool), pin_a, pin_b)[:, -1].all()
+    >>> bool(seam_cut(a, b, np.ones((4, 6), bool), pin_a, pin_b)[:, -1].all())
     True
     """
     right, down = pair_costs(a, b, power=power, gradient_weighted=gradient_weighted)
@@ -210,7 +210,7 @@ def compose_overlap(a, mask_a, b, mask_b, *, power: float = 1.0,
     >>> ma = np.zeros((8, 8), bool); ma[:, :6] = True
     >>> mb = np.zeros((8, 8), bool); mb[:, 2:] = True
     >>> r = compose_overlap(a, ma, b, mb)
-    >>> bool(r.mask.all()) and r.image[0, 0, 0] == 0 and r.image[0, 7, 0] == 1
+    >>> bool(r.mask.all() and r.image[0, 0, 0] == 0 and r.image[0, 7, 0] == 1)
     True
     """
     a = as_float_image(a, name="a")

@@ -133,7 +133,7 @@ def as_rgba(image, *, name: str = "image") -> np.ndarray:
     Examples
     --------
     >>> import numpy as np
-    >>> as_rgba(np.zeros((4, 5, 3)))[..., 3].min()
+    >>> float(as_rgba(np.zeros((4, 5, 3)))[..., 3].min())
     1.0
     """
     image = as_float_image(image, name=name)

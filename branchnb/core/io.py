@@ -12,13 +12,18 @@ from .image import as_float_image, to_uint8
 __all__ = ["imread", "imsave", "encode_png"]
 
 
-def encode_png(image) -> bytes:
-    """Encode an image (any layout accepted by ``as_float_image``) as PNG bytes (lossless)."""
+def _opencv_u8(image) -> np.ndarray:
+    """uint8 in OpenCV's channel order (BGR / BGRA)."""
     u8 = to_uint8(image)
     if u8.ndim == 3:
         code = cv2.COLOR_RGBA2BGRA if u8.shape[2] == 4 else cv2.COLOR_RGB2BGR
         u8 = cv2.cvtColor(u8, code)
-    ok, buf = cv2.imencode(".png", u8)
+    return u8
+
+
+def encode_png(image) -> bytes:
+    """Encode an image (any layout accepted by ``as_float_image``) as PNG bytes (lossless)."""
+    ok, buf = cv2.imencode(".png", _opencv_u8(image))
     if not ok:  # pragma: no cover - OpenCV failure
         raise RuntimeError("PNG encoding failed")
     return buf.tobytes()
@@ -27,11 +32,7 @@ def encode_png(image) -> bytes:
 def imsave(path, image) -> Path:
     """Save an image to ``path`` (format from the suffix; PNG keeps alpha)."""
     path = Path(path)
-    u8 = to_uint8(image)
-    if u8.ndim == 3:
-        code = cv2.COLOR_RGBA2BGRA if u8.shape[2] == 4 else cv2.COLOR_RGB2BGR
-        u8 = cv2.cvtColor(u8, code)
-    if not cv2.imwrite(str(path), u8):
+    if not cv2.imwrite(str(path), _opencv_u8(image)):
         raise ValueError(f"could not write image to {path}")
     return path
 

@@ -1,0 +1,62 @@
+"""Dendritic structures by path planning.
+
+Long & Mould, "Dendritic stylization" (The Visual Computer 25, 2009), built
+on Xu & Mould, "Modeling dendritic structures using path planning" (GRAPP
+2007): least-cost paths from a seed to many endpoints on a randomly weighted
+lattice merge into a dendrite; a partial non-scalar path metric (maximum
+edge cost first, cumulative cost second) makes the branches jagged and
+lightning-like.
+"""
+
+from .dendrite import Dendrite, PathStats, build_dendrite, path_statistics
+from .endpoints import place_endpoints, random_endpoints
+from .importance import ImportanceParams, importance_map
+from .lattice import Lattice, direction_factors, make_lattice, node_weights
+from .metaphors import LightningParams, lightning, render_lightning, render_vines
+from .planner import METRICS, PlanResult, plan
+from .render import Rendering, cost_image, draw_points, render_plain, visiting_order_image
+from .stylization import (
+    MetricComparison,
+    Stylization,
+    StylizeParams,
+    Stylizer,
+    compare_metrics,
+    stylize,
+)
+from .thickness import branch_thickness, importance_thickness, rolling_importance
+
+__all__ = [
+    "METRICS",
+    "Dendrite",
+    "ImportanceParams",
+    "Lattice",
+    "LightningParams",
+    "MetricComparison",
+    "PathStats",
+    "PlanResult",
+    "Rendering",
+    "Stylization",
+    "StylizeParams",
+    "Stylizer",
+    "branch_thickness",
+    "compare_metrics",
+    "build_dendrite",
+    "cost_image",
+    "direction_factors",
+    "draw_points",
+    "importance_map",
+    "importance_thickness",
+    "lightning",
+    "make_lattice",
+    "node_weights",
+    "path_statistics",
+    "place_endpoints",
+    "plan",
+    "random_endpoints",
+    "render_lightning",
+    "render_plain",
+    "render_vines",
+    "rolling_importance",
+    "stylize",
+    "visiting_order_image",
+]

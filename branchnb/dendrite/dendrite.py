@@ -1,0 +1,450 @@
+"""The dendrite: paths traced back from the endpoints (paper, section 3).
+
+After the planner has labelled every node, each endpoint is followed back
+along its parent pointers until the path meets the structure built so far
+(or reaches a seed). The union of these paths is a tree: every node has
+one parent, so there are no loops, and branches only merge toward the
+seed. Endpoints are traced farthest first (in hop count), so the first
+branch is the longest path and later ones attach to it as side branches.
+
+The result is a :class:`Dendrite`: the nodes in the order they were added
+(a parent always comes before its children), per-node radius, and the
+branch decomposition used for thickness and polylines.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numba
+import numpy as np
+
+from ..core.io import encode_png
+from .planner import PlanResult
+
+__all__ = ["Dendrite", "PathStats", "build_dendrite", "path_statistics"]
+
+
+@numba.njit(cache=True)
+def _hop_depth(parent, order):
+    depth = np.full(parent.shape[0], -1, np.int64)
+    for i in range(order.shape[0]):
+        u = order[i]
+        p = parent[u]
+        depth[u] = 0 if p < 0 else depth[p] + 1
+    return depth
+
+
+@numba.njit(cache=True)
+def _trace(parent, ends, tree_index, start_count):
+    """Trace each endpoint back until it meets the tree; see build_dendrite."""
+    n_max = parent.shape[0]
+    out_nodes = np.empty(n_max, np.int64)
+    out_parent = np.empty(n_max, np.int64)
+    b_start = np.empty(ends.shape[0] + 1, np.int64)
+    b_junction = np.empty(ends.shape[0], np.int64)
+    b_tip = np.empty(ends.shape[0], np.int64)
+    m = 0
+    nb = 0
+    for e in ends:
+        if tree_index[e] >= 0:
+            continue  # the endpoint already lies on the structure
+        length = 0
+        v = e
+        while v >= 0 and tree_index[v] < 0:
+            length += 1
+            v = parent[v]
+        junction = tree_index[v] if v >= 0 else -1
+        # write root-first
+        v = e
+        for k in range(length - 1, -1, -1):
+            out_nodes[m + k] = v
+            v = parent[v]
+        for k in range(length):
+            idx = start_count + m + k
+            tree_index[out_nodes[m + k]] = idx
+            out_parent[m + k] = junction if k == 0 else idx - 1
+        b_start[nb] = m
+        b_junction[nb] = junction
+        b_tip[nb] = start_count + m + length - 1
+        nb += 1
+        m += length
+    b_start[nb] = m
+    return out_nodes[:m], out_parent[:m], b_start[: nb + 1], b_junction[:nb], b_tip[:nb]
+
+
+@numba.njit(cache=True)
+def _accumulate_up(parent, values):
+    out = values.copy()
+    for i in range(parent.shape[0] - 1, -1, -1):
+        p = parent[i]
+        if p >= 0:
+            out[p] += out[i]
+    return out
+
+
+@numba.njit(cache=True)
+def _root_of(parent):
+    root = np.arange(parent.shape[0])
+    for i in range(parent.shape[0]):
+        if parent[i] >= 0:
+            root[i] = root[parent[i]]
+    return root
+
+
+@numba.njit(cache=True)
+def _depth_down(parent, steps):
+    out = np.zeros(parent.shape[0])
+    for i in range(parent.shape[0]):
+        p = parent[i]
+        if p >= 0:
+            out[i] = out[p] + steps[i]
+    return out
+
+
+@dataclass
+class Dendrite:
+    """A tree of lattice (or graph) nodes with per-node radius.
+
+    Attributes
+    ----------
+    nodes : (M,) int64
+        Graph node of each tree node.
+    parent : (M,) int64
+        Index (into this tree) of each node's parent, -1 for a root;
+        always ``parent[i] < i``.
+    points : (M, 2) float64
+        ``(x, y)`` of each node (pixel centres on a lattice).
+    radius : (M,) float64
+        Half the drawn width at each node (pixels).
+    branches : list of (n_b,) int64 arrays
+        Tree indices of each branch, root side first. A side branch starts
+        with its junction node on its parent branch, so its polyline is
+        attached to the parent's.
+    branch_parent : (B,) int64
+        Parent branch of each branch (-1 for a root branch).
+    tips : (E,) int64
+        Tree index of each traced endpoint.
+    shape : (H, W) or None
+        Lattice / image shape.
+    iteration : (M,) int64
+        Growth iteration that added each node (trees; 0 otherwise).
+    """
+
+    nodes: np.ndarray
+    parent: np.ndarray
+    points: np.ndarray
+    radius: np.ndarray
+    branches: list
+    branch_parent: np.ndarray
+    tips: np.ndarray
+    shape: tuple[int, int] | None = None
+    iteration: np.ndarray = field(default=None)
+
+    def __post_init__(self):
+        if self.iteration is None:
+            self.iteration = np.zeros(len(self.nodes), np.int64)
+
+    # -- structure ------------------------------------------------------
+    @property
+    def n_nodes(self) -> int:
+        return len(self.nodes)
+
+    @property
+    def n_branches(self) -> int:
+        return len(self.branches)
+
+    def is_tree(self) -> bool:
+        """True if every node has one earlier parent and no node repeats (no cycles)."""
+        idx = np.arange(self.n_nodes)
+        roots = self.parent < 0
+        return bool(np.all(self.parent[~roots] < idx[~roots])
+                    and np.unique(self.nodes).size == self.n_nodes)
+
+    def leaf_count(self) -> np.ndarray:
+        """Number of tips in the subtree of each node."""
+        leaf = np.zeros(self.n_nodes)
+        leaf[self.tips] = 1.0
+        return _accumulate_up(self.parent, leaf)
+
+    def hop_depth(self) -> np.ndarray:
+        """Number of edges from each node to its root."""
+        return _depth_down(self.parent, np.ones(self.n_nodes)).astype(np.int64)
+
+    def arc_depth(self) -> np.ndarray:
+        """Path length (pixels) from each node's root to the node."""
+        steps = np.zeros(self.n_nodes)
+        has = self.parent >= 0
+        d = self.points[has] - self.points[self.parent[has]]
+        steps[has] = np.hypot(d[:, 0], d[:, 1])
+        return _depth_down(self.parent, steps)
+
+    def next_in_branch(self) -> np.ndarray:
+        """The next node along each node's own branch (-1 at a tip)."""
+        nxt = np.full(self.n_nodes, -1, np.int64)
+        for b in self.branches:
+            nxt[b[:-1]] = b[1:]
+        return nxt
+
+    def owner(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(branch, position)`` of each node in the branch it belongs to
+        (a junction node belongs to the branch it continues, not the side branch)."""
+        br = np.full(self.n_nodes, -1, np.int64)
+        pos = np.full(self.n_nodes, -1, np.int64)
+        for i, b in enumerate(self.branches):
+            first = 0 if self.branch_parent[i] < 0 else 1
+            br[b[first:]] = i
+            pos[b[first:]] = np.arange(first, len(b))
+        return br, pos
+
+    def with_radius(self, radius) -> Dendrite:
+        """A copy with a new per-node radius."""
+        r = np.asarray(radius, np.float64)
+        if r.shape != (self.n_nodes,) or not np.all(np.isfinite(r)) or (r < 0).any():
+            raise ValueError(f"radius must be {self.n_nodes} finite values >= 0")
+        return Dendrite(self.nodes, self.parent, self.points, r, self.branches,
+                        self.branch_parent, self.tips, self.shape, self.iteration)
+
+    # -- geometry -------------------------------------------------------
+    def smoothed_points(self, iterations: int = 0) -> np.ndarray:
+        """Node positions after ``iterations`` passes of [1, 2, 1] / 4 averaging
+        along the branches (about a Gaussian of sigma sqrt(iterations / 2)
+        nodes). Roots and tips stay fixed; junctions move with their own branch,
+        so side branches stay attached."""
+        if iterations < 0:
+            raise ValueError(f"iterations must be >= 0, got {iterations}")
+        p = self.points.copy()
+        if iterations == 0 or self.n_nodes < 3:
+            return p
+        nxt = self.next_in_branch()
+        free = (self.parent >= 0) & (nxt >= 0)
+        i, prv, nx = np.flatnonzero(free), self.parent[free], nxt[free]
+        for _ in range(int(iterations)):
+            p[i] = 0.25 * p[prv] + 0.5 * p[i] + 0.25 * p[nx]
+        return p
+
+    def polylines(self, smooth: int = 0) -> list[np.ndarray]:
+        """One ``(n_b, 2)`` polyline per branch (smoothed with :meth:`smoothed_points`)."""
+        p = self.smoothed_points(smooth)
+        return [p[b] for b in self.branches]
+
+    def widths(self) -> list[np.ndarray]:
+        """Full width (2 r) at each vertex of each branch polyline."""
+        return [2.0 * self.radius[b] for b in self.branches]
+
+    def to_structure(self):
+        """The dendrite as a :class:`branchnb.branching.Structure`
+        (thickness = radius, floored at 0.05 px)."""
+        from ..branching.structure import Branch, Structure
+
+        _, pos = self.owner()
+        out = []
+        r = np.maximum(self.radius, 0.05)
+        for i, b in enumerate(self.branches):
+            pb = int(self.branch_parent[i])
+            out.append(Branch(self.points[b], r[b], None if pb < 0 else pb,
+                              None if pb < 0 else int(pos[b[0]])))
+        return Structure(out, self.shape)
+
+    # -- output ---------------------------------------------------------
+    def render(self, background=None, *, color=(0.0, 0.0, 0.0), smooth: int = 2) -> np.ndarray:
+        """Draw the branches with their widths (plain metaphor) on ``background``
+        (white canvas of ``shape`` by default)."""
+        from .render import render_plain
+
+        return render_plain(self, background=background, color=color, smooth=smooth).image
+
+    def to_svg(self, *, color=(0.0, 0.0, 0.0), smooth: int = 2) -> str:
+        """SVG document of the plain rendering."""
+        from .render import render_plain
+
+        return render_plain(self, color=color, smooth=smooth).svg
+
+    def _repr_png_(self) -> bytes | None:
+        if self.shape is None or self.n_nodes == 0:
+            return None
+        return encode_png(self.render())
+
+
+def _endpoint_nodes(plan_result: PlanResult, endpoints) -> np.ndarray:
+    n = plan_result.n_nodes
+    if plan_result.shape is not None:
+        from ..core.image import as_points
+
+        h, w = plan_result.shape
+        pts = as_points(endpoints, name="endpoints", min_points=1, image_shape=(h, w))
+        col = np.clip(np.rint(pts[:, 0]).astype(np.int64), 0, w - 1)
+        row = np.clip(np.rint(pts[:, 1]).astype(np.int64), 0, h - 1)
+        return row * w + col
+    e = np.atleast_1d(np.asarray(endpoints))
+    if e.size == 0:
+        raise ValueError("endpoints is empty: give at least one endpoint")
+    if not np.issubdtype(e.dtype, np.integer):
+        raise TypeError("endpoints must be integer node indices on a general graph")
+    e = e.ravel().astype(np.int64)
+    if e.min() < 0 or e.max() >= n:
+        raise ValueError(f"endpoint nodes must lie in [0, {n})")
+    return e
+
+
+def build_dendrite(plan_result: PlanResult, endpoints, *, base: Dendrite | None = None,
+                   positions=None, radius: float = 1.0, iteration: int = 0) -> Dendrite:
+    """Trace the endpoints back to the seeds and return the dendrite.
+
+    Parameters
+    ----------
+    plan_result : PlanResult
+        Output of :func:`~branchnb.dendrite.planner.plan`.
+    endpoints : array_like
+        ``(E, 2)`` points ``(x, y)`` on a lattice (rounded to the nearest
+        pixel), or node indices on a general graph.
+    base : Dendrite, optional
+        An existing structure that was the seed set of ``plan_result``;
+        the new branches are added to it (iterative tree growth).
+    positions : (N, 2) array_like, optional
+        Node coordinates for a general graph (pixel centres on a lattice).
+    radius : float
+        Initial radius of the new nodes.
+    iteration : int
+        Stored in :attr:`Dendrite.iteration` for the new nodes.
+
+    Returns
+    -------
+    Dendrite
+        Every endpoint is a node of it. An endpoint that an earlier (longer)
+        path already passes through adds no branch and is not listed in
+        ``tips``; duplicate endpoints (same pixel) count once.
+
+    Raises
+    ------
+    ValueError
+        No endpoints, an endpoint outside the graph, or one the planner
+        did not reach (a wall, another component, or cut off by ``stop_at``).
+
+    Examples
+    --------
+    >>> from branchnb.dendrite.lattice import make_lattice
+    >>> from branchnb.dendrite.planner import plan
+    >>> res = plan(make_lattice(np.zeros((40, 40)), rng=0), (20, 39))
+    >>> d = build_dendrite(res, [(2, 2), (37, 3), (20, 5)])
+    >>> d.is_tree(), len(d.tips)
+    (True, 3)
+    """
+    if not isinstance(plan_result, PlanResult):
+        raise TypeError(f"plan_result must be a PlanResult, got {type(plan_result).__name__}")
+    ends = _endpoint_nodes(plan_result, endpoints)
+    unreached = ~np.isfinite(plan_result.total_cost[ends])
+    if unreached.any():
+        bad = int(ends[np.flatnonzero(unreached)[0]])
+        where = (f"(x, y) = ({bad % plan_result.shape[1]}, {bad // plan_result.shape[1]})"
+                 if plan_result.shape is not None else f"node {bad}")
+        raise ValueError(f"{int(unreached.sum())} endpoint(s) were not reached by the planner, "
+                         f"e.g. {where}: a wall or a part of the graph cut off from the seeds")
+    ends = np.unique(ends)
+    depth = _hop_depth(plan_result.parent, plan_result.order)
+    ends = ends[np.argsort(-depth[ends], kind="stable")]
+
+    n = plan_result.n_nodes
+    tree_index = np.full(n, -1, np.int64)
+    if base is not None:
+        if not isinstance(base, Dendrite):
+            raise TypeError("base must be a Dendrite")
+        if base.nodes.size and base.nodes.max() >= n:
+            raise ValueError("base does not live on this graph")
+        tree_index[base.nodes] = np.arange(base.n_nodes)
+        start = base.n_nodes
+    else:
+        start = 0
+    new_nodes, new_parent, b_start, b_junction, b_tip = _trace(
+        plan_result.parent, ends, tree_index, start)
+
+    if plan_result.shape is not None:
+        w = plan_result.shape[1]
+        new_points = np.column_stack([new_nodes % w, new_nodes // w]).astype(np.float64)
+    elif positions is not None:
+        pos = np.asarray(positions, np.float64)
+        if pos.shape != (n, 2) or not np.all(np.isfinite(pos)):
+            raise ValueError(f"positions must be a finite ({n}, 2) array")
+        new_points = pos[new_nodes]
+    else:
+        new_points = np.zeros((len(new_nodes), 2))
+
+    # owner branch of each tree node, to find each new branch's parent branch
+    if base is not None:
+        owner_base, _ = base.owner()
+        branches = list(base.branches)
+        branch_parent = list(base.branch_parent)
+        nodes = np.concatenate([base.nodes, new_nodes])
+        parent = np.concatenate([base.parent, new_parent])
+        points = np.concatenate([base.points, new_points])
+        radius_all = np.concatenate([base.radius, np.full(len(new_nodes), float(radius))])
+        iters = np.concatenate([base.iteration, np.full(len(new_nodes), int(iteration))])
+        tips = list(base.tips)
+    else:
+        owner_base = np.zeros(0, np.int64)
+        branches, branch_parent, tips = [], [], []
+        nodes, parent, points = new_nodes, new_parent, new_points
+        radius_all = np.full(len(new_nodes), float(radius))
+        iters = np.full(len(new_nodes), int(iteration), np.int64)
+    owner = np.concatenate([owner_base, np.full(len(new_nodes), -1, np.int64)])
+    for k in range(len(b_junction)):
+        s, e = start + b_start[k], start + b_start[k + 1]
+        j = int(b_junction[k])
+        idx = np.arange(s, e)
+        bi = len(branches)
+        if j >= 0:
+            branches.append(np.concatenate([[j], idx]))
+            branch_parent.append(int(owner[j]))
+        else:
+            branches.append(idx)
+            branch_parent.append(-1)
+        owner[idx] = bi
+        tips.append(int(b_tip[k]))
+    return Dendrite(nodes, parent, points, radius_all, branches,
+                    np.asarray(branch_parent, np.int64), np.asarray(tips, np.int64),
+                    plan_result.shape, iters)
+
+
+@dataclass
+class PathStats:
+    """Per-endpoint statistics of the full path from the seed set.
+
+    Attributes
+    ----------
+    length : (E,) path length in pixels.
+    straight : (E,) straight-line distance from the path's seed to the endpoint.
+    tortuosity : (E,) ``length / straight`` (>= 1; NaN if the endpoint is a seed).
+    max_edge : (E,) largest edge cost on the path (the non-scalar ``M``).
+    total : (E,) cumulative cost of the path.
+    """
+
+    length: np.ndarray
+    straight: np.ndarray
+    tortuosity: np.ndarray
+    max_edge: np.ndarray
+    total: np.ndarray
+
+
+def path_statistics(dendrite: Dendrite, plan_result: PlanResult) -> PathStats:
+    """Tortuosity and costs of the seed-to-tip path of every tip of ``dendrite``.
+
+    Examples
+    --------
+    >>> from branchnb.dendrite.lattice import make_lattice
+    >>> from branchnb.dendrite.planner import plan
+    >>> res = plan(make_lattice(np.zeros((30, 30)), rng=0), (15, 29))
+    >>> st = path_statistics(build_dendrite(res, [(3, 3), (26, 4)]), res)
+    >>> bool((st.tortuosity >= 1).all())
+    True
+    """
+    arc = dendrite.arc_depth()
+    root = _root_of(dendrite.parent)
+    t = dendrite.tips
+    length = arc[t]
+    d = dendrite.points[t] - dendrite.points[root[t]]
+    straight = np.hypot(d[:, 0], d[:, 1])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        tort = np.where(straight > 0, length / np.where(straight > 0, straight, 1), np.nan)
+    g = dendrite.nodes[t]
+    return PathStats(length, straight, tort, plan_result.max_cost[g], plan_result.total_cost[g])
+

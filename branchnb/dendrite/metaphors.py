@@ -1,0 +1,298 @@
+"""Rendering metaphors (paper, section 7): plain dendrite, vines and lightning.
+
+* **plain**: variable-width anti-aliased lines (:func:`~branchnb.dendrite.render.render_plain`).
+* **vines**: the branches as smooth curves (heavily smoothed along the
+  tree), with optional curls at the tips and leaves along the stems.
+* **lightning**: a glow (blurred wide strokes) under a bright thin core on
+  a night sky. :func:`lightning` also *grows* a lightning bolt: on a lattice
+  whose up and sideways edges cost more than downward ones
+  (:func:`~branchnb.dendrite.lattice.direction_factors`), planned with the
+  non-scalar metric from a seed at the top, so the branches fork downward.
+
+Every function returns a :class:`~branchnb.dendrite.render.Rendering`
+(raster + SVG).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import ndimage
+
+from ..core.params import check_params, param
+from ..core.random import as_rng
+from ..core.render import coverage_polylines, draw_polylines
+from ..core.svg import polylines_to_svg
+from .dendrite import Dendrite, build_dendrite
+from .lattice import direction_factors, make_lattice
+from .planner import plan
+from .render import Rendering, _canvas, render_plain, svg_document
+
+__all__ = [
+    "METAPHORS",
+    "LightningParams",
+    "lightning",
+    "render",
+    "render_lightning",
+    "render_vines",
+    "vine_curves",
+]
+
+METAPHORS = ("plain", "vines", "lightning")
+
+
+def render(dendrite: Dendrite, metaphor: str = "plain", **options) -> Rendering:
+    """Render ``dendrite`` with a metaphor by name (options go to its function)."""
+    if metaphor == "plain":
+        return render_plain(dendrite, **options)
+    if metaphor == "vines":
+        return render_vines(dendrite, **options)
+    if metaphor == "lightning":
+        return render_lightning(dendrite, **options)
+    raise ValueError(f"metaphor must be one of {list(METAPHORS)}, got {metaphor!r}")
+
+
+# ----------------------------------------------------------------------- vines
+def _tip_tangent(line: np.ndarray, k: int = 6) -> np.ndarray:
+    d = line[-1] - line[max(0, len(line) - 1 - k)]
+    n = np.hypot(*d)
+    return d / n if n > 0 else np.array([1.0, 0.0])
+
+
+def _curl(start, direction, length, turn, rng, step=0.75):
+    """A tendril curl: a spiral whose curvature grows as it winds in."""
+    n = max(int(length / step), 4)
+    phi = np.arctan2(direction[1], direction[0])
+    pts = [np.asarray(start, float)]
+    total = rng.uniform(1.3, 2.2) * 2 * np.pi  # how far it winds
+    for k in range(1, n):
+        t = k / n
+        # curvature rises like 1 / (1 - t): an inward spiral
+        phi += turn * total / n * (0.4 + 1.6 * t * t)
+        pts.append(pts[-1] + step * np.array([np.cos(phi), np.sin(phi)]))
+    return np.array(pts)
+
+
+def _leaf(base, direction, length, width, side):
+    """A leaf as a polyline with a lens-shaped width profile (tapers to 0 at both ends)."""
+    s = np.linspace(0.0, 1.0, 9)
+    normal = np.array([-direction[1], direction[0]]) * side
+    bend = 0.12 * length * np.sin(np.pi * s)  # a slight curve
+    pts = base + np.outer(s * length, direction) + np.outer(bend, normal)
+    widths = width * np.sin(np.pi * np.clip(s * 0.92 + 0.04, 0, 1)) ** 0.8
+    return pts, widths
+
+
+def vine_curves(dendrite: Dendrite, *, smooth: int = 12, curls: float = 0.6,
+                curl_length: float = 14.0, leaves: bool = True, leaf_spacing: float = 14.0,
+                leaf_length: float = 7.0, leaf_width: float = 4.0, max_leaf_radius: float = 1.6,
+                rng=None):
+    """Geometry of the vine metaphor.
+
+    Returns
+    -------
+    stems : list of (n, 2) arrays, stem_widths : list of (n,) arrays,
+    leaves : list of (9, 2) arrays, leaf_widths : list of (9,) arrays
+    """
+    if smooth < 0 or not 0 <= curls <= 1 or leaf_spacing <= 0:
+        raise ValueError("smooth must be >= 0, curls in [0, 1], leaf_spacing > 0")
+    rng = as_rng(rng)
+    p = dendrite.smoothed_points(smooth)
+    stems, widths, leaf_pts, leaf_w = [], [], [], []
+    for bi, b in enumerate(dendrite.branches):
+        line, wid = p[b], 2.0 * dendrite.radius[b]
+        if len(line) >= 3 and rng.random() < curls:
+            t = _tip_tangent(line)
+            curl = _curl(line[-1], t, curl_length * rng.uniform(0.6, 1.2),
+                         rng.choice([-1.0, 1.0]), rng)
+            cw = np.linspace(max(wid[-1], 0.6), 0.3, len(curl))
+            line = np.vstack([line, curl[1:]])
+            wid = np.concatenate([wid, cw[1:]])
+        stems.append(line)
+        widths.append(wid)
+        if not leaves or len(line) < 4:
+            continue
+        seg = np.diff(line, axis=0)
+        arc = np.concatenate([[0.0], np.cumsum(np.hypot(seg[:, 0], seg[:, 1]))])
+        side = 1.0 if bi % 2 else -1.0
+        s = rng.uniform(0.3, 1.0) * leaf_spacing
+        while s < arc[-1] - 2.0:
+            k = int(np.searchsorted(arc, s))
+            k = min(max(k, 1), len(line) - 1)
+            r = wid[min(k, len(wid) - 1)] / 2.0
+            if r <= max_leaf_radius:
+                t = line[k] - line[k - 1]
+                t = t / (np.hypot(*t) or 1.0)
+                ang = side * np.deg2rad(rng.uniform(35, 65))
+                c, sn = np.cos(ang), np.sin(ang)
+                d = np.array([c * t[0] - sn * t[1], sn * t[0] + c * t[1]])
+                size = rng.uniform(0.75, 1.25)
+                lp, lw = _leaf(line[k], d, leaf_length * size, leaf_width * size, side)
+                leaf_pts.append(lp)
+                leaf_w.append(lw)
+            side = -side
+            s += leaf_spacing * rng.uniform(0.7, 1.3)
+    return stems, widths, leaf_pts, leaf_w
+
+
+def render_vines(dendrite: Dendrite, *, background=None, stem_color=(0.22, 0.3, 0.12),
+                 leaf_color=(0.3, 0.55, 0.18), smooth: int = 12, curls: float = 0.6,
+                 curl_length: float = 14.0, leaves: bool = True, leaf_spacing: float = 14.0,
+                 leaf_length: float = 7.0, leaf_width: float = 4.0, rng=0) -> Rendering:
+    """The vine metaphor: smooth stems, curled tips, alternating leaves.
+
+    Leaf colours vary slightly around ``leaf_color``; leaves grow only where
+    the stem is thin (radius <= 1.6 px). See :func:`vine_curves` for the
+    geometry parameters.
+    """
+    canvas = _canvas(dendrite, background)
+    stems, widths, lp, lw = vine_curves(
+        dendrite, smooth=smooth, curls=curls, curl_length=curl_length, leaves=leaves,
+        leaf_spacing=leaf_spacing, leaf_length=leaf_length, leaf_width=leaf_width, rng=rng)
+    img = draw_polylines(canvas, stems, widths=widths, colors=stem_color)
+    h, w = canvas.shape[:2]
+    cols = None
+    if lp:
+        shade = as_rng(rng).uniform(0.8, 1.2, (len(lp), 1))
+        cols = np.clip(np.asarray(leaf_color)[None, :] * shade, 0, 1)
+        img = draw_polylines(img, lp, widths=lw, colors=cols)
+
+    def svg():
+        layers = [(polylines_to_svg(stems, widths=widths, colors=stem_color, size=(w, h)), "")]
+        if lp:
+            layers.append((polylines_to_svg(lp, widths=lw, colors=cols, size=(w, h)), ""))
+        return svg_document((w, h), layers, background=(1, 1, 1))
+
+    return Rendering(img, svg)
+
+
+# ------------------------------------------------------------------- lightning
+def render_lightning(dendrite: Dendrite, *, background=None, sky=(0.02, 0.02, 0.07),
+                     core_color=(1.0, 1.0, 1.0), glow_color=(0.55, 0.6, 1.0),
+                     glow_sigma: float = 5.0, glow_strength: float = 4.0,
+                     core_scale: float = 0.6, smooth: int = 0) -> Rendering:
+    """The lightning metaphor: a blurred glow under a bright core.
+
+    Parameters
+    ----------
+    background : (H, W, C) array_like, optional
+        Image to draw on; a plain ``sky`` colour by default.
+    glow_sigma : float
+        Blur of the glow (pixels).
+    glow_strength : float
+        Gain of the glow.
+    core_scale : float
+        Core width relative to the dendrite's widths.
+    smooth : int
+        Smoothing passes (0 keeps the jagged lattice look, fitting for lightning).
+
+    The SVG uses an ``feGaussianBlur`` filter for the glow.
+    """
+    if glow_sigma <= 0 or glow_strength < 0 or core_scale <= 0:
+        raise ValueError("glow_sigma and core_scale must be > 0, glow_strength >= 0")
+    canvas = _canvas(dendrite, background, fill=sky)
+    lines = dendrite.polylines(smooth)
+    widths = dendrite.widths()
+    h, w = canvas.shape[:2]
+    # the glow is the blurred coverage of widened strokes: thick channels glow
+    # most, hair-thin branches hardly at all; 1 - exp(-x) saturates softly
+    glow_w = [x * 2.5 for x in widths]
+    cov, _ = coverage_polylines((h, w), lines, glow_w)
+    glow = ndimage.gaussian_filter(cov.astype(np.float64), glow_sigma)
+    glow = glow + 0.5 * ndimage.gaussian_filter(cov.astype(np.float64), glow_sigma * 3)
+    # dense structures (a stylized image) would glow everywhere: scale so the
+    # densest 2 % of the picture saturates, but never boost a sparse bolt
+    ref = max(float(np.percentile(glow, 98.0)), 0.15)
+    a = (1.0 - np.exp(-glow_strength * glow / ref * 0.15))[:, :, None]
+    img = canvas * (1 - a) + np.asarray(glow_color, np.float32) * a
+    core_w = [x * core_scale for x in widths]
+    img = draw_polylines(np.clip(img, 0, 1), lines, widths=core_w, colors=core_color)
+
+    def svg():
+        defs = (f'<filter id="glow" x="-20%" y="-20%" width="140%" height="140%">'
+                f'<feGaussianBlur stdDeviation="{glow_sigma:.2f}"/></filter>')
+        layers = [
+            (polylines_to_svg(lines, widths=glow_w, colors=glow_color,
+                              size=(w, h)), 'filter="url(#glow)" opacity="0.9"'),
+            (polylines_to_svg(lines, widths=core_w, colors=core_color, size=(w, h)), ""),
+        ]
+        return svg_document((w, h), layers, background=sky, defs=defs)
+
+    return Rendering(img.astype(np.float32), svg)
+
+
+@dataclass
+class LightningParams:
+    """A lightning bolt grown on a direction-weighted lattice."""
+
+    noise: float = param(1.0, min=0.0, max=5.0, step=0.05, help="random node weight amplitude")
+    epsilon: float = param(0.3, min=0.0, max=5.0, step=0.05, help="constant node weight")
+    up_cost: float = param(6.0, min=1.0, max=50.0, step=0.5,
+                           help="factor on edges stepping up (branches grow downward)")
+    side_cost: float = param(1.6, min=1.0, max=20.0, step=0.1,
+                             help="factor on sideways edges")
+    metric: str = param("nonscalar", options=("cumulative", "nonscalar", "blend"),
+                        help="path metric (non-scalar gives the jagged forks)")
+    n_branches: int = param(60, min=0, max=2000, help="endpoints of the side branches")
+    spread: float = param(0.45, min=0.05, max=1.0, step=0.05,
+                          help="half-width of the branch region at the bottom (fraction of W)")
+    main_weight: float = param(40.0, min=1.0, max=1000.0, log=True,
+                               help="the ground strike counts as this many tips (thick channel)")
+    min_width: float = param(0.6, min=0.1, max=10.0, step=0.1, help="width of the finest branches")
+    max_width: float = param(5.0, min=0.5, max=30.0, step=0.5, help="widest channel")
+
+
+def lightning(shape, params: LightningParams | None = None, *, start=None, strike=None,
+              rng=None) -> Dendrite:
+    """Grow a lightning bolt: non-scalar paths that prefer to go down.
+
+    Parameters
+    ----------
+    shape : (H, W)
+    params : LightningParams, optional
+    start : (x, y), optional
+        Where the bolt leaves the cloud (top centre by default).
+    strike : (x, y), optional
+        Where it hits the ground (random near the bottom by default).
+    rng : {numpy.random.Generator, int}, optional
+
+    Returns
+    -------
+    Dendrite
+        With the pipe-model thickness; the channel to ``strike`` is thickest.
+
+    Examples
+    --------
+    >>> bolt = lightning((80, 60), LightningParams(n_branches=10), rng=0)
+    >>> bolt.is_tree(), bolt.shape
+    (True, (80, 60))
+    """
+    p = check_params(params if params is not None else LightningParams())
+    h, w = int(shape[0]), int(shape[1])
+    if h < 4 or w < 4:
+        raise ValueError(f"shape must be at least 4 x 4, got {shape}")
+    rng = as_rng(rng)
+    f = direction_factors(down=1.0, side=p.side_cost, up=p.up_cost)
+    lat = make_lattice(np.zeros((h, w)), epsilon=p.epsilon, noise=p.noise, rng=rng, factors=f)
+    start = np.array([w / 2.0, 0.0]) if start is None else np.asarray(start, float)
+    if strike is None:
+        strike = np.array([np.clip(w / 2 + rng.normal(0, w * 0.15), 0, w - 1), h - 1.0])
+    res = plan(lat, start, metric=p.metric)
+    # side branches: random points in a cone widening downward from the start
+    n = p.n_branches
+    y = h * rng.uniform(0.1, 0.95, n) ** 0.8
+    half = p.spread * w * (y / h)
+    x = np.clip(start[0] + rng.uniform(-1, 1, n) * half, 0, w - 1)
+    ends = np.vstack([np.asarray(strike, float)[None], np.column_stack([x, y])])
+    d = build_dendrite(res, ends)
+    # pipe model with the strike weighted: the main channel carries the charge
+    main = int(np.flatnonzero(d.nodes == lat.node_index(np.asarray(strike)[None])[0])[0])
+    tipw = np.zeros(d.n_nodes)
+    tipw[d.tips] = 1.0
+    tipw[main] = p.main_weight
+    from .dendrite import _accumulate_up
+
+    load = _accumulate_up(d.parent, tipw)
+    width = np.minimum(p.min_width * np.maximum(load, 1.0) ** 0.5, p.max_width)
+    return d.with_radius(0.5 * width)

@@ -1,0 +1,478 @@
+"""AnnotationCanvas: draw polylines, strokes, scribbles and points on an image.
+
+The view is an ipycanvas ``MultiCanvas`` with four layers: the image, an
+optional result overlay, the finished annotations, and the shape being
+drawn. It edits an :class:`~branchnb.widgets.model.AnnotationModel`; all
+coordinates it stores or reports are image pixels ``(x, y)``, whatever the
+zoom, pan or on-screen size of the canvas (ipycanvas reports mouse
+positions in canvas pixels, and the view maps them through its own
+zoom/pan transform).
+
+Interaction
+-----------
+- ``polyline``: click vertices; click the last vertex again, press Enter or
+  the "finish" button to end. A polyline started on a vertex of another
+  one snaps to it and records ``meta["parent"] = [shape, vertex]``.
+  New vertices get the radius slider's value.
+- ``stroke`` / ``scribble``: press, drag, release. Scribbles carry the
+  current ``label`` and its colour.
+- ``point``: click.
+- ``edit``: click a vertex to select it, drag to move it; the radius
+  slider (or ``[`` / ``]``) changes the selected vertex's radius; Delete
+  removes the selected shape.
+- ``pan``: drag to pan. The mouse wheel zooms about the pointer; "fit"
+  resets the view. Ctrl+Z / Ctrl+Y undo and redo.
+
+Freehand drawing is incremental: each mouse move adds one segment to the
+top layer inside a single batched message; nothing else is redrawn.
+"""
+
+from __future__ import annotations
+
+import ipywidgets as widgets
+import numpy as np
+import traitlets
+from ipycanvas import MultiCanvas
+
+from ..core.image import as_float_image, as_rgba
+from ..core.io import encode_png
+from ._draw import batched
+from .feedback import ErrorArea
+from .model import AnnotationEvent, AnnotationModel
+
+__all__ = ["AnnotationCanvas", "DEFAULT_LABELS"]
+
+MODES = ("polyline", "stroke", "scribble", "point", "edit", "pan")
+
+#: Default scribble labels and colours.
+DEFAULT_LABELS = {"foreground": "#e53935", "background": "#1e88e5"}
+
+_KIND_COLOURS = {"polyline": "#ffb300", "stroke": "#00e676", "point": "#ff1744"}
+_SNAP_PX = 8.0  # screen pixels
+
+
+class AnnotationCanvas(widgets.VBox):
+    """An image with annotation tools, zoom and pan.
+
+    Parameters
+    ----------
+    image : (H, W, C) array_like
+        Any layout accepted by :func:`branchnb.core.image.as_float_image`.
+    mode : str
+        Initial tool: one of ``polyline``, ``stroke``, ``scribble``,
+        ``point``, ``edit``, ``pan``.
+    labels : dict, optional
+        Scribble label -> CSS colour.
+    max_display : int
+        Long side of the canvas in screen pixels at zoom "fit".
+    model : AnnotationModel, optional
+        Share a model between views; a new one by default.
+    modes : sequence of str, optional
+        Tools offered in the toolbar (all by default).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> c = AnnotationCanvas(np.zeros((100, 200, 3)), mode="point")
+    >>> c.handle_mouse_down(*c.image_to_view(50, 20))
+    >>> c.model.shapes[0].points.round(6).tolist()
+    [[50.0, 20.0]]
+    """
+
+    #: Current tool.
+    mode = traitlets.Unicode("polyline")
+    #: Current scribble label.
+    label = traitlets.Unicode("")
+    #: Radius (image pixels) of new polyline vertices / the selected vertex.
+    radius = traitlets.Float(3.0)
+    #: Zoom: screen pixels per image pixel.
+    zoom = traitlets.Float(1.0)
+    #: Last pointer position in image pixels (x, y), or None.
+    pointer = traitlets.Any(None)
+
+    def __init__(self, image, *, mode: str = "polyline", labels: dict | None = None,
+                 max_display: int = 640, model: AnnotationModel | None = None,
+                 modes=MODES):
+        self.errors = ErrorArea()
+        self.model = model if model is not None else AnnotationModel()
+        self.labels = dict(labels or DEFAULT_LABELS)
+        if not self.labels:
+            raise ValueError("labels must name at least one scribble label")
+        for m in modes:
+            if m not in MODES:
+                raise ValueError(f"modes must be a subset of {MODES}, got {m!r}")
+        if not isinstance(max_display, (int, np.integer)) or max_display < 64:
+            raise ValueError(f"max_display must be an int >= 64, got {max_display!r}")
+        self.max_display = int(max_display)
+        self._image = as_rgba(image, name="image")
+        self._image_widget = widgets.Image(format="png")
+        self._overlay_widget = widgets.Image(format="png")
+        self._has_overlay = False
+        self._offset = np.zeros(2)
+        self._active: list[tuple[float, float]] | None = None
+        self._panning: tuple[float, float] | None = None
+        self._dragging = False
+        self._last_view: tuple[float, float] | None = None
+        self.selected: tuple[int, int] | None = None
+
+        self.canvas = MultiCanvas(4)
+        self._tools = widgets.ToggleButtons(options=list(modes), value=mode if mode in modes else modes[0],
+                                            style={"button_width": "80px"})
+        self._label_picker = widgets.Dropdown(options=list(self.labels), description="label",
+                                              layout=widgets.Layout(width="180px"))
+        self._radius_slider = widgets.FloatSlider(value=self.radius, min=0.5, max=40.0, step=0.5,
+                                                  description="radius", continuous_update=False,
+                                                  layout=widgets.Layout(width="260px"))
+        buttons = []
+        for name, tip, handler in (
+            ("undo", "undo (Ctrl+Z)", lambda _: self.model.undo()),
+            ("redo", "redo (Ctrl+Y)", lambda _: self.model.redo()),
+            ("clear", "remove all annotations", lambda _: self.model.clear()),
+            ("finish", "finish the polyline (Enter)", lambda _: self.finish()),
+            ("+", "zoom in", lambda _: self.zoom_by(1.25)),
+            ("-", "zoom out", lambda _: self.zoom_by(0.8)),
+            ("fit", "fit the image", lambda _: self.fit()),
+        ):
+            b = widgets.Button(description=name, tooltip=tip, layout=widgets.Layout(width="auto"))
+            b.on_click(self.errors.guard(handler))
+            buttons.append(b)
+        self.status = widgets.HTML()
+        toolbar = widgets.VBox([
+            self._tools,
+            widgets.HBox([self._label_picker, self._radius_slider] + buttons,
+                         layout=widgets.Layout(flex_flow="row wrap")),
+        ])
+        super().__init__([toolbar, self.canvas, self.status, self.errors])
+
+        traitlets.link((self._tools, "value"), (self, "mode"))
+        traitlets.link((self._label_picker, "value"), (self, "label"))
+        traitlets.link((self._radius_slider, "value"), (self, "radius"))
+        self.label = self._label_picker.value
+        self.mode = self._tools.value
+
+        g = self.errors.guard
+        self.canvas.on_mouse_down(g(self.handle_mouse_down))
+        self.canvas.on_mouse_move(g(self.handle_mouse_move))
+        self.canvas.on_mouse_up(g(self.handle_mouse_up))
+        self.canvas.on_mouse_out(g(self.handle_mouse_out))
+        self.canvas.on_mouse_wheel(g(self.handle_wheel))
+        self.canvas.on_key_down(g(self.handle_key))
+        self.canvas.on_client_ready(g(lambda: self.redraw()))
+        self.model.observe(g(self._on_model))
+        self.set_image(self._image)
+
+    # -- validation of traits ---------------------------------------------
+    @traitlets.validate("mode")
+    def _valid_mode(self, proposal):
+        if proposal["value"] not in MODES:
+            raise traitlets.TraitError(f"mode must be one of {MODES}, got {proposal['value']!r}")
+        return proposal["value"]
+
+    @traitlets.validate("radius")
+    def _valid_radius(self, proposal):
+        r = float(proposal["value"])
+        if not np.isfinite(r) or r <= 0:
+            raise traitlets.TraitError(f"radius must be > 0, got {r}")
+        return r
+
+    @traitlets.observe("mode")
+    def _mode_changed(self, change):
+        self._end_active()
+        self.selected = None
+        self._label_picker.layout.display = None if change["new"] == "scribble" else "none"
+        self._update_status()
+
+    @traitlets.observe("radius")
+    def _radius_changed(self, change):
+        if self.selected is not None:
+            i, j = self.selected
+            s = self.model.shapes[i]
+            if s.radii is not None and not np.isclose(s.radii[j], change["new"]):
+                self.model.set_radius(i, j, change["new"])
+
+    # -- image, overlay, view transform --------------------------------------
+    @property
+    def image_shape(self) -> tuple[int, int]:
+        return self._image.shape[:2]
+
+    def set_image(self, image) -> None:
+        """Replace the background image (annotations are kept) and fit the view."""
+        self._image = as_rgba(image, name="image")
+        self._image_widget.value = encode_png(self._image)
+        h, w = self.image_shape
+        s = self.max_display / max(h, w)
+        self.canvas.width = int(round(w * s))
+        self.canvas.height = int(round(h * s))
+        self.canvas.layout.width = f"{self.canvas.width}px"
+        self.canvas.layout.max_width = "100%"
+        self.fit()
+
+    def set_overlay(self, overlay) -> None:
+        """Show an RGBA image (same size as the image) over it, under the annotations; None hides it."""
+        if overlay is None:
+            self._has_overlay = False
+        else:
+            ov = as_float_image(overlay, name="overlay")
+            if ov.shape[:2] != self.image_shape:
+                raise ValueError(f"overlay must be {self.image_shape} like the image, got {ov.shape[:2]}")
+            self._overlay_widget.value = encode_png(as_rgba(ov))
+            self._has_overlay = True
+        self._draw_background()
+
+    def fit(self) -> None:
+        """Zoom so that the whole image fills the canvas."""
+        h, w = self.image_shape
+        self.zoom = min(self.canvas.width / w, self.canvas.height / h)
+        self._offset = np.zeros(2)
+        self.redraw()
+
+    def zoom_by(self, factor: float, about=None) -> None:
+        """Multiply the zoom by ``factor`` keeping view point ``about`` fixed (canvas centre by default)."""
+        if not np.isfinite(factor) or factor <= 0:
+            raise ValueError(f"factor must be > 0, got {factor}")
+        if about is None:
+            about = (self.canvas.width / 2, self.canvas.height / 2)
+        fit = min(self.canvas.width / self.image_shape[1], self.canvas.height / self.image_shape[0])
+        new = float(np.clip(self.zoom * factor, fit / 4, 64.0))
+        about = np.asarray(about, float)
+        self._offset = about - (about - self._offset) * (new / self.zoom)
+        self.zoom = new
+        self.redraw()
+
+    def pan_by(self, dx: float, dy: float) -> None:
+        """Shift the view by (dx, dy) screen pixels."""
+        self._offset = self._offset + [dx, dy]
+        self.redraw()
+
+    def view_to_image(self, x: float, y: float) -> tuple[float, float]:
+        """Canvas pixel -> image pixel (pixel centres at integers)."""
+        return ((x - self._offset[0]) / self.zoom - 0.5, (y - self._offset[1]) / self.zoom - 0.5)
+
+    def image_to_view(self, x, y):
+        """Image pixel -> canvas pixel (arrays allowed)."""
+        return ((np.asarray(x) + 0.5) * self.zoom + self._offset[0],
+                (np.asarray(y) + 0.5) * self.zoom + self._offset[1])
+
+    def _inside(self, x: float, y: float) -> bool:
+        h, w = self.image_shape
+        return -0.5 <= x <= w - 0.5 and -0.5 <= y <= h - 0.5
+
+    # -- drawing ------------------------------------------------------------
+    def _draw_background(self) -> None:
+        h, w = self.image_shape
+        x0, y0 = self._offset
+        with batched():
+            for layer, show, img in ((0, True, self._image_widget),
+                                     (1, self._has_overlay, self._overlay_widget)):
+                c = self.canvas[layer]
+                c.clear()
+                c.image_smoothing_enabled = self.zoom < 2.0
+                if show:
+                    c.draw_image(img, float(x0), float(y0), float(w * self.zoom), float(h * self.zoom))
+
+    def _colour(self, shape) -> str:
+        if shape.kind == "scribble":
+            return self.labels.get(shape.label, "#ffffff")
+        return shape.meta.get("color", _KIND_COLOURS.get(shape.kind, "#ffffff"))
+
+    def _draw_shape(self, c, shape) -> None:
+        x, y = self.image_to_view(shape.points[:, 0], shape.points[:, 1])
+        pts = np.column_stack([x, y])
+        colour = self._colour(shape)
+        c.stroke_style = colour
+        c.fill_style = colour
+        if shape.kind == "point":
+            c.fill_circles(x, y, 5)
+            return
+        c.line_width = 3 if shape.kind == "scribble" else 2
+        if len(pts) > 1:
+            c.stroke_lines(pts)
+        if shape.kind == "polyline":
+            if shape.radii is not None:
+                c.global_alpha = 0.35
+                c.stroke_circles(x, y, np.maximum(shape.radii * self.zoom, 1.0))
+                c.global_alpha = 1.0
+            c.fill_circles(x, y, 3.5 if shape.closed else 4.5)
+        elif len(pts) == 1:
+            c.fill_circles(x, y, 2)
+
+    def _draw_shapes(self) -> None:
+        c = self.canvas[2]
+        with batched():
+            c.clear()
+            for s in self.model.shapes:
+                self._draw_shape(c, s)
+            self._draw_selection(c)
+
+    def _draw_selection(self, c) -> None:
+        if self.selected is None:
+            return
+        i, j = self.selected
+        if i >= len(self.model) or j >= len(self.model.shapes[i].points):
+            self.selected = None
+            return
+        x, y = self.image_to_view(*self.model.shapes[i].points[j])
+        c.stroke_style = "#ffffff"
+        c.line_width = 2
+        c.stroke_circle(float(x), float(y), 7)
+
+    def redraw(self) -> None:
+        """Redraw every layer (after zoom, pan, undo, ...)."""
+        with batched():
+            self._draw_background()
+            self._draw_shapes()
+            self.canvas[3].clear()
+        self._update_status()
+
+    def _on_model(self, event: AnnotationEvent) -> None:
+        if event.type == "add" and self.selected is None:
+            with batched():
+                self._draw_shape(self.canvas[2], self.model.shapes[event.index])
+        else:
+            self._draw_shapes()
+        self._update_status()
+
+    def _update_status(self) -> None:
+        p = self.pointer
+        where = f"x = {p[0]:.1f}, y = {p[1]:.1f}" if p is not None else "x, y: -"
+        h, w = self.image_shape
+        self.status.value = (
+            f"<span style='font-family:monospace'>{where} &nbsp;|&nbsp; image {w} x {h} px"
+            f" &nbsp;|&nbsp; zoom {self.zoom * 100:.0f} % &nbsp;|&nbsp; {len(self.model)} shape(s)"
+            f" &nbsp;|&nbsp; tool: {self.mode}</span>"
+        )
+
+    # -- polylines ------------------------------------------------------------
+    def finish(self) -> None:
+        """End the polyline being drawn (no-op if none)."""
+        i = self.model.open_polyline()
+        if i is not None:
+            self.model.set_closed(i, True)
+
+    def _snap(self, xy, exclude=None):
+        hit = self.model.nearest_vertex(xy, max_distance=_SNAP_PX / self.zoom, exclude=exclude)
+        return hit
+
+    # -- mouse & keyboard -------------------------------------------------------
+    def handle_mouse_down(self, x: float, y: float) -> None:
+        """Mouse pressed at canvas pixel (x, y)."""
+        ix, iy = self.view_to_image(x, y)
+        self.pointer = (ix, iy)
+        if self.mode == "pan":
+            self._panning = (x, y)
+            return
+        if not self._inside(ix, iy):
+            return
+        if self.mode == "point":
+            self.model.add_shape("point", [(ix, iy)], label=self.label or None)
+        elif self.mode in ("stroke", "scribble"):
+            self._active = [(ix, iy)]
+            c = self.canvas[3]
+            with batched():
+                c.clear()
+                colour = self.labels.get(self.label, "#fff") if self.mode == "scribble" else _KIND_COLOURS["stroke"]
+                c.stroke_style = colour
+                c.fill_style = colour
+                c.line_width = 3 if self.mode == "scribble" else 2
+                c.fill_circle(float(x), float(y), 1.5)
+        elif self.mode == "polyline":
+            self._polyline_click(ix, iy)
+        elif self.mode == "edit":
+            self.selected = self.model.nearest_vertex((ix, iy), max_distance=_SNAP_PX / self.zoom)
+            self._dragging = self.selected is not None
+            if self.selected is not None:
+                s = self.model.shapes[self.selected[0]]
+                if s.radii is not None:
+                    self.radius = float(s.radii[self.selected[1]])
+            self._draw_shapes()
+
+    def _polyline_click(self, ix: float, iy: float) -> None:
+        i = self.model.open_polyline()
+        if i is None:
+            hit = self._snap((ix, iy))
+            meta = {}
+            if hit is not None:
+                ix, iy = self.model.shapes[hit[0]].points[hit[1]]
+                meta["parent"] = [int(hit[0]), int(hit[1])]
+            self.model.add_shape("polyline", [(ix, iy)], radii=[self.radius], closed=False, meta=meta)
+            return
+        last = self.model.shapes[i].points[-1]
+        if np.hypot(ix - last[0], iy - last[1]) * self.zoom <= _SNAP_PX:
+            self.model.set_closed(i, True)  # clicking the last vertex again ends the polyline
+            return
+        self.model.append_point(i, (ix, iy), radius=self.radius)
+
+    def handle_mouse_move(self, x: float, y: float) -> None:
+        ix, iy = self.view_to_image(x, y)
+        self.pointer = (ix, iy)
+        self._last_view = (x, y)
+        if self._panning is not None:
+            px, py = self._panning
+            self._panning = (x, y)
+            self.pan_by(x - px, y - py)
+            return
+        if self._active is not None:
+            if not self._inside(ix, iy):
+                return
+            lx, ly = self.image_to_view(*self._active[-1])
+            self._active.append((ix, iy))
+            with batched():
+                self.canvas[3].stroke_line(float(lx), float(ly), float(x), float(y))
+            return
+        if self._dragging and self.selected is not None and self._inside(ix, iy):
+            # Move on release only (one undo step); show a marker meanwhile.
+            c = self.canvas[3]
+            with batched():
+                c.clear()
+                c.stroke_style = "#ffffff"
+                c.stroke_circle(float(x), float(y), 7)
+
+    def handle_mouse_up(self, x: float, y: float) -> None:
+        ix, iy = self.view_to_image(x, y)
+        self._panning = None
+        if self._dragging and self.selected is not None:
+            self._dragging = False
+            i, j = self.selected
+            old = self.model.shapes[i].points[j]
+            if self._inside(ix, iy) and np.hypot(ix - old[0], iy - old[1]) * self.zoom > 1.0:
+                self.model.move_vertex(i, j, (ix, iy))
+            self.canvas[3].clear()
+            return
+        self._end_active()
+
+    def handle_mouse_out(self, x: float, y: float) -> None:
+        self._panning = None
+        self._dragging = False
+        self._end_active()
+
+    def _end_active(self) -> None:
+        if self._active is None:
+            return
+        pts, self._active = self._active, None
+        kind = "scribble" if self.mode == "scribble" else "stroke"
+        label = self.label if kind == "scribble" else None
+        self.canvas[3].clear()
+        self.model.add_shape(kind, pts, label=label)
+
+    def handle_wheel(self, dx: float, dy: float) -> None:
+        """Zoom about the last pointer position (wheel up = zoom in)."""
+        self.zoom_by(float(np.exp(-np.clip(dy, -500, 500) / 500.0)), about=self._last_view)
+
+    def handle_key(self, key: str, shift: bool, ctrl: bool, meta: bool) -> None:
+        mod = ctrl or meta
+        if mod and key.lower() == "z":
+            self.model.undo()
+        elif mod and key.lower() == "y":
+            self.model.redo()
+        elif key == "Enter":
+            self.finish()
+        elif key == "Escape":
+            self._active = None
+            self.canvas[3].clear()
+            self.finish()
+        elif key in ("[", "]") and self.selected is not None:
+            self.radius = max(0.5, self.radius * (1.25 if key == "]" else 0.8))
+        elif key in ("Delete", "Backspace") and self.selected is not None:
+            i = self.selected[0]
+            self.selected = None
+            self.model.remove_shape(i)

@@ -1,0 +1,316 @@
+"""The annotation model: shapes, undo/redo and JSON, with no widget code.
+
+The canvas view (:mod:`branchnb.widgets.canvas`) edits an
+:class:`AnnotationModel`; everything it does can be done (and is tested)
+by calling the model directly. Points are always image pixels ``(x, y)``.
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..core.image import as_points
+
+__all__ = ["KINDS", "Shape", "AnnotationEvent", "AnnotationModel"]
+
+#: Shape kinds: click-by-click polylines with a radius per vertex, freehand
+#: strokes, freehand scribbles with a label, and single points.
+KINDS = ("polyline", "stroke", "scribble", "point")
+
+
+@dataclass
+class Shape:
+    """One annotation.
+
+    Attributes
+    ----------
+    kind : str
+        One of :data:`KINDS`.
+    points : (N, 2) float ndarray
+        Vertices in image pixels.
+    radii : (N,) float ndarray or None
+        Per-vertex radius (polylines), None otherwise.
+    label : str or None
+        Class label (scribbles, points) or any tag the app wants.
+    closed : bool
+        Whether a polyline is finished (no more vertices are appended).
+    meta : dict
+        JSON-serialisable extras, e.g. ``{"parent": [shape, vertex]}`` for
+        a polyline that starts on another one.
+    """
+
+    kind: str
+    points: np.ndarray
+    radii: np.ndarray | None = None
+    label: str | None = None
+    closed: bool = True
+    meta: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        if self.kind not in KINDS:
+            raise ValueError(f"kind must be one of {KINDS}, got {self.kind!r}")
+        self.points = as_points(self.points, name="points", min_points=1)
+        if self.radii is not None:
+            r = np.asarray(self.radii, dtype=np.float64)
+            if r.shape != (len(self.points),):
+                raise ValueError(f"radii must have one value per point ({len(self.points)}), got {r.shape}")
+            if not np.all(np.isfinite(r)) or np.any(r <= 0):
+                raise ValueError("radii must be finite and > 0")
+            self.radii = r
+        if self.label is not None and not isinstance(self.label, str):
+            raise TypeError(f"label must be a str or None, got {type(self.label).__name__}")
+        if not isinstance(self.meta, dict):
+            raise TypeError("meta must be a dict")
+
+    def to_dict(self) -> dict:
+        return {
+            "kind": self.kind,
+            "points": self.points.tolist(),
+            "radii": None if self.radii is None else self.radii.tolist(),
+            "label": self.label,
+            "closed": self.closed,
+            "meta": self.meta,
+        }
+
+
+@dataclass(frozen=True)
+class AnnotationEvent:
+    """What changed: ``type`` in {"add", "append", "update", "remove", "clear",
+    "load", "undo", "redo"}; ``index`` is the affected shape (or None)."""
+
+    type: str
+    index: int | None = None
+
+
+class AnnotationModel:
+    """A list of shapes with undo/redo and JSON round trip.
+
+    Every edit is one undo step (a polyline vertex, a whole freehand
+    stroke, a radius change, a clear). Observers are called after each
+    change with an :class:`AnnotationEvent`.
+
+    Examples
+    --------
+    >>> m = AnnotationModel()
+    >>> i = m.add_shape("polyline", [(10, 10)], radii=[3.0], closed=False)
+    >>> m.append_point(i, (20, 15))
+    >>> m.shapes[0].points.tolist()
+    [[10.0, 10.0], [20.0, 15.0]]
+    >>> m.undo(); len(m.shapes[0].points)
+    True
+    1
+    >>> AnnotationModel.from_json(m.to_json()).shapes[0].kind
+    'polyline'
+    """
+
+    def __init__(self, shapes=(), *, max_undo: int = 200):
+        self._shapes: list[Shape] = [s if isinstance(s, Shape) else Shape(**s) for s in shapes]
+        self._undo: list[list[Shape]] = []
+        self._redo: list[list[Shape]] = []
+        self._observers: list[Callable[[AnnotationEvent], None]] = []
+        self.max_undo = int(max_undo)
+
+    # -- observation ----------------------------------------------------
+    def observe(self, callback: Callable[[AnnotationEvent], None]) -> None:
+        """Call ``callback(event)`` after every change."""
+        if not callable(callback):
+            raise TypeError("callback must be callable")
+        self._observers.append(callback)
+
+    def unobserve(self, callback) -> None:
+        self._observers.remove(callback)
+
+    def _notify(self, event: AnnotationEvent) -> None:
+        for cb in list(self._observers):
+            cb(event)
+
+    def _checkpoint(self) -> None:
+        self._undo.append(copy.deepcopy(self._shapes))
+        if len(self._undo) > self.max_undo:
+            self._undo.pop(0)
+        self._redo.clear()
+
+    def _index(self, index: int) -> int:
+        if not isinstance(index, (int, np.integer)) or not -len(self._shapes) <= index < len(self._shapes):
+            raise ValueError(f"shape index {index!r} out of range for {len(self._shapes)} shapes")
+        return int(index) % len(self._shapes)
+
+    # -- queries ----------------------------------------------------------
+    @property
+    def shapes(self) -> tuple[Shape, ...]:
+        """The shapes (read-only view; edit through the methods)."""
+        return tuple(self._shapes)
+
+    def __len__(self) -> int:
+        return len(self._shapes)
+
+    def of_kind(self, kind: str) -> list[Shape]:
+        """Shapes of one kind, in drawing order."""
+        if kind not in KINDS:
+            raise ValueError(f"kind must be one of {KINDS}, got {kind!r}")
+        return [s for s in self._shapes if s.kind == kind]
+
+    def open_polyline(self) -> int | None:
+        """Index of the polyline still being drawn, if any."""
+        for i in range(len(self._shapes) - 1, -1, -1):
+            s = self._shapes[i]
+            if s.kind == "polyline" and not s.closed:
+                return i
+        return None
+
+    def nearest_vertex(self, xy, *, kinds=("polyline",), max_distance: float = np.inf,
+                       exclude: int | None = None) -> tuple[int, int] | None:
+        """``(shape, vertex)`` of the vertex nearest to ``xy`` within ``max_distance``."""
+        p = as_points([xy], name="xy")[0]
+        best, best_d = None, max_distance
+        for i, s in enumerate(self._shapes):
+            if s.kind not in kinds or i == exclude:
+                continue
+            d = np.hypot(*(s.points - p).T)
+            j = int(np.argmin(d))
+            if d[j] <= best_d:
+                best, best_d = (i, j), float(d[j])
+        return best
+
+    # -- edits ------------------------------------------------------------
+    def add_shape(self, kind: str, points, *, radii=None, label: str | None = None,
+                  closed: bool = True, meta: dict | None = None) -> int:
+        """Add a shape; returns its index."""
+        shape = Shape(kind, points, radii, label, closed, dict(meta or {}))
+        self._checkpoint()
+        self._shapes.append(shape)
+        self._notify(AnnotationEvent("add", len(self._shapes) - 1))
+        return len(self._shapes) - 1
+
+    def append_point(self, index: int, xy, radius: float | None = None) -> None:
+        """Append a vertex to an open polyline (or any shape)."""
+        i = self._index(index)
+        s = self._shapes[i]
+        p = as_points([xy], name="xy")
+        if s.radii is not None:
+            r = s.radii[-1] if radius is None else float(radius)
+            if not np.isfinite(r) or r <= 0:
+                raise ValueError(f"radius must be > 0, got {radius}")
+        self._checkpoint()
+        s.points = np.vstack([s.points, p])
+        if s.radii is not None:
+            s.radii = np.append(s.radii, r)
+        self._notify(AnnotationEvent("append", i))
+
+    def set_closed(self, index: int, closed: bool = True) -> None:
+        """Finish (or reopen) a polyline."""
+        i = self._index(index)
+        self._checkpoint()
+        self._shapes[i].closed = bool(closed)
+        self._notify(AnnotationEvent("update", i))
+
+    def set_radius(self, index: int, vertex: int, radius: float) -> None:
+        """Set the radius of one vertex of a polyline."""
+        i = self._index(index)
+        s = self._shapes[i]
+        if s.radii is None:
+            raise ValueError(f"shape {i} ({s.kind}) has no radii")
+        if not -len(s.radii) <= vertex < len(s.radii):
+            raise ValueError(f"vertex {vertex} out of range for {len(s.radii)} vertices")
+        if not np.isfinite(radius) or radius <= 0:
+            raise ValueError(f"radius must be > 0, got {radius}")
+        self._checkpoint()
+        s.radii = s.radii.copy()
+        s.radii[vertex] = float(radius)
+        self._notify(AnnotationEvent("update", i))
+
+    def move_vertex(self, index: int, vertex: int, xy) -> None:
+        """Move one vertex."""
+        i = self._index(index)
+        s = self._shapes[i]
+        if not -len(s.points) <= vertex < len(s.points):
+            raise ValueError(f"vertex {vertex} out of range for {len(s.points)} vertices")
+        p = as_points([xy], name="xy")[0]
+        self._checkpoint()
+        s.points = s.points.copy()
+        s.points[vertex] = p
+        self._notify(AnnotationEvent("update", i))
+
+    def remove_shape(self, index: int) -> None:
+        i = self._index(index)
+        self._checkpoint()
+        del self._shapes[i]
+        self._notify(AnnotationEvent("remove", i))
+
+    def clear(self) -> None:
+        """Remove every shape (undoable)."""
+        if not self._shapes:
+            return
+        self._checkpoint()
+        self._shapes.clear()
+        self._notify(AnnotationEvent("clear"))
+
+    # -- history ----------------------------------------------------------
+    @property
+    def can_undo(self) -> bool:
+        return bool(self._undo)
+
+    @property
+    def can_redo(self) -> bool:
+        return bool(self._redo)
+
+    def undo(self) -> bool:
+        """Revert the last edit; False if there is nothing to undo."""
+        if not self._undo:
+            return False
+        self._redo.append(self._shapes)
+        self._shapes = self._undo.pop()
+        self._notify(AnnotationEvent("undo"))
+        return True
+
+    def redo(self) -> bool:
+        """Re-apply the last undone edit; False if there is nothing to redo."""
+        if not self._redo:
+            return False
+        self._undo.append(self._shapes)
+        self._shapes = self._redo.pop()
+        self._notify(AnnotationEvent("redo"))
+        return True
+
+    # -- serialisation ----------------------------------------------------
+    def to_dict(self) -> dict:
+        return {"version": 1, "shapes": [s.to_dict() for s in self._shapes]}
+
+    def to_json(self) -> str:
+        """All shapes as JSON (image-pixel coordinates)."""
+        return json.dumps(self.to_dict())
+
+    @staticmethod
+    def _parse(text) -> list[Shape]:
+        try:
+            d = json.loads(text) if isinstance(text, (str, bytes)) else text
+        except json.JSONDecodeError as exc:
+            raise ValueError(f"text is not valid annotation JSON: {exc}") from exc
+        if not isinstance(d, dict) or not isinstance(d.get("shapes"), list):
+            raise ValueError("annotation JSON needs a 'shapes' list")
+        out = []
+        for k, s in enumerate(d["shapes"]):
+            if not isinstance(s, dict):
+                raise ValueError(f"shapes[{k}] must be an object")
+            try:
+                out.append(Shape(**s))
+            except TypeError as exc:
+                raise ValueError(f"shapes[{k}] has unexpected fields: {exc}") from exc
+        return out
+
+    def load_json(self, text) -> None:
+        """Replace all shapes by those in ``text`` (undoable)."""
+        shapes = self._parse(text)
+        self._checkpoint()
+        self._shapes = shapes
+        self._notify(AnnotationEvent("load"))
+
+    @classmethod
+    def from_json(cls, text) -> AnnotationModel:
+        """A new model holding the shapes in ``text``."""
+        return cls(cls._parse(text))

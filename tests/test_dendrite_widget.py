@@ -1,0 +1,100 @@
+"""DendriteApp driven from Python: callbacks, caching, modes and errors."""
+
+from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import pytest
+
+from branchnb.dendrite import StylizeParams
+from branchnb.widgets.dendrite import DendriteApp
+
+
+def _image():
+    img = np.ones((60, 60))
+    img[15:45, 15:45] = 0.0
+    return img
+
+
+@pytest.fixture
+def app():
+    return DendriteApp(_image(), params=StylizeParams(n_endpoints=60, stipple_iterations=3))
+
+
+def test_starts_with_both_metrics_side_by_side(app):
+    assert app.errors.last_error is None
+    c = app.comparison
+    assert c.first.params.metric == "cumulative" and c.second.params.metric == "nonscalar"
+    assert c.first.endpoints is c.second.endpoints  # same endpoints
+    assert len(app.views.images) == 3
+    # histograms: tortuosity and max edge of both metrics on shared bins
+    assert app.hist_max_edge.comparison.labels == ["cumulative", "nonscalar"]
+    assert (c.stats_second.max_edge <= c.stats_first.max_edge).all()
+    assert np.nanmean(c.stats_second.tortuosity) > np.nanmean(c.stats_first.tortuosity)
+
+
+def test_click_places_the_seed(app):
+    app.canvas.handle_mouse_down(*app.canvas.image_to_view(5, 50))
+    app.canvas.handle_mouse_up(*app.canvas.image_to_view(5, 50))
+    seed = app.comparison.second.seed
+    assert np.allclose(seed, (5, 50), atol=0.5)
+    root = app.comparison.second.dendrite.points[app.comparison.second.dendrite.parent < 0]
+    assert np.allclose(root, np.rint(seed))
+
+
+def test_slider_changes_reuse_the_cached_plan(app):
+    plan = app.comparison.second.plan
+    ends = app.comparison.second.endpoints
+    before = app.comparison.second.dendrite.radius.max()
+    app.panels["stylize"].controls["max_width"].value = 7.0
+    assert app.comparison.second.plan is plan
+    assert app.comparison.second.dendrite.radius.max() > 1.5 * before
+    app.panels["stylize"].controls["metric"].value = "blend"
+    assert app.comparison.second.params.metric == "blend"
+    assert app.comparison.second.endpoints is ends
+    app.panels["stylize"].controls["n_endpoints"].value = 100
+    assert len(app.comparison.second.endpoints) == 100
+
+
+@pytest.mark.parametrize("metaphor", ["plain", "vines", "lightning"])
+def test_metaphors_and_svg_export(app, metaphor, tmp_path):
+    app.metaphor.value = metaphor
+    assert app.errors.last_error is None
+    path = app.save_svg(tmp_path / "out.svg")
+    assert ET.parse(path).getroot().tag.endswith("svg")
+
+
+def test_tree_modes(app):
+    p = app.panels["tree"]
+    p.set_values(dataclass_replace(p.values, iterations=2, radius=15.0))
+    app.mode = "tree"
+    assert app.errors.last_error is None
+    d = app.tree.dendrite
+    assert d.is_tree() and d.iteration.max() == 2
+    assert "blend" in app.schedule.value
+    app.layers.value = 2
+    assert isinstance(app.tree, list) and len(app.tree) == 2
+    pp = app.panels["pareidolia"]
+    pp.set_values(dataclass_replace(pp.values, n_endpoints=40, iterations=2))
+    app.mode = "pareidolia"
+    assert app.errors.last_error is None and app.tree.dendrite.is_tree()
+
+
+def test_errors_are_shown_and_the_app_survives(app):
+    panel = app.panels["stylize"]
+    panel.controls["min_width"].value = 5.0
+    panel.controls["max_width"].value = 1.0
+    assert "max_width" in app.errors.last_error
+    panel.controls["max_width"].value = 6.0
+    assert app.errors.last_error is None
+    with pytest.raises(ValueError, match="nothing rendered"):
+        DendriteApp.save_svg(type("X", (), {"rendering": None})(), "x.svg")
+    with pytest.raises(ValueError, match="mode"):
+        DendriteApp(_image(), mode="oil")
+
+
+def dataclass_replace(obj, **kw):
+    import dataclasses
+
+    return dataclasses.replace(obj, **kw)
