@@ -128,28 +128,42 @@ class PinPoints:
     has_trunk: bool
 
 
-def stem_trunk_mask(alpha, *, jump: float = 2.0, max_trunk_width: float = 0.35,
-                    min_trunk_height: float = 0.02) -> np.ndarray:
+def stem_trunk_mask(alpha, *, jump: float = 2.0, crown_width: float = 0.5,
+                    max_trunk_width: float = 0.35, min_trunk_height: float = 0.03,
+                    max_ground_height: float = 0.2) -> np.ndarray:
     """Geometric trunk estimate: the narrow stem at the bottom of the silhouette.
 
-    Row widths (opaque pixels per row, median-filtered over 5 rows) are
-    scanned from the bottom up while tracking their running minimum, the
-    stem width; the crown baseline is the first row whose width exceeds
-    ``jump`` times the stem width. Rows below it are trunk. The scan starts
-    at the widest row below the neck (the narrowest row of the lower half,
-    ignoring the bottom 3 %), so a rounded tip, flared roots or a ground
-    patch do not count as the stem.
+    A fallback for the crown/trunk segmentation that uses the opacity mask
+    alone. Row widths ``w(y)`` (opaque pixels per row, median-filtered over
+    5 rows) are read from the bottom up:
+
+    1. Rows at least ``crown_width`` times the widest row are *wide*. Wide
+       rows near the bottom (within ``max_ground_height`` of the tree) are
+       a ground patch or spread roots.
+    2. The *stem* is the longest run of narrow rows that starts within
+       that bottom band and ends below a wide row; its width ``w_s`` is the
+       median of its widths (robust to a pointed tip or flared roots).
+    3. The crown baseline: walking down from that lowest wide row while
+       ``w(y) > jump * w_s``; every row below it is trunk.
+
+    No trunk is reported when the stem is shorter than
+    ``min_trunk_height`` of the tree height, wider than
+    ``max_trunk_width`` of the widest row, or when the bottom rows are wide.
 
     Parameters
     ----------
     alpha : (H, W) array_like
         Opacity mask (nonzero = opaque).
     jump : float
-        Width ratio marking the crown baseline.
+        Width ratio (to the stem width) marking the crown baseline.
+    crown_width : float
+        Rows at least this fraction of the widest row are certainly crown.
     max_trunk_width : float
         A stem wider than this fraction of the widest row is no trunk.
     min_trunk_height : float
         A stem shorter than this fraction of the tree height is no trunk.
+    max_ground_height : float
+        Wide bottom rows up to this fraction of the height are ground.
 
     Returns
     -------
@@ -163,38 +177,55 @@ def stem_trunk_mask(alpha, *, jump: float = 2.0, max_trunk_width: float = 0.35,
     >>> t = stem_trunk_mask(m); int(t.sum()), bool(t[30, 15]), bool(t[10, 15])
     (52, True, False)
     """
+    for name, v in (("jump", jump), ("crown_width", crown_width),
+                    ("max_trunk_width", max_trunk_width),
+                    ("min_trunk_height", min_trunk_height),
+                    ("max_ground_height", max_ground_height)):
+        if not np.isfinite(v) or v < 0:
+            raise ValueError(f"{name} must be a finite number >= 0, got {v!r}")
     m = as_mask(alpha, name="alpha")
+    out = np.zeros_like(m)
     rows = np.flatnonzero(m.any(axis=1))
     if rows.size == 0:
-        return np.zeros_like(m)
-    top, bottom = int(rows[0]), int(rows[-1])
-    widths = m.sum(axis=1).astype(np.float64)
-    seg = median_filter(widths[top:bottom + 1], size=5, mode="nearest")
-    w_max = float(seg.max())
-    runmin = np.inf
-    baseline = None
-    height = bottom - top + 1
-    # The rounded tip (or flared roots, a ground patch) at the bottom is not
-    # the stem: find the neck (narrowest row of the lower half above the
-    # tip), then start the scan at the widest row below it.
-    n = len(seg)
-    tip = max(1, int(np.ceil(0.03 * height)))
-    half = n // 2
-    if n - tip <= half:
-        return np.zeros_like(m)
-    neck = half + int(np.argmin(seg[half:n - tip]))
-    start = neck + int(np.argmax(seg[neck:]))
-    for k in range(start, -1, -1):
-        w = seg[k]
-        if w > 0:
-            runmin = min(runmin, w)
-        if runmin < np.inf and w > jump * runmin:
-            baseline = top + k  # first crown row (from below)
-            break
-    out = np.zeros_like(m)
-    if baseline is None:
         return out
-    if runmin > max_trunk_width * w_max or (bottom - baseline) < min_trunk_height * height:
+    top, bottom = int(rows[0]), int(rows[-1])
+    height = bottom - top + 1
+    seg = median_filter(m[top:bottom + 1].sum(axis=1).astype(np.float64), size=5,
+                        mode="nearest")
+    w_max = float(seg.max())
+    wide = seg >= crown_width * w_max
+    n = len(seg)
+    min_rows = max(min_trunk_height * height, 2.0)
+    # 1. + 2. runs of narrow rows that start within the ground band at the
+    # bottom and end below a wide row; the longest is the stem (wide rows
+    # and short narrow runs below it are a ground patch or roots).
+    best = None  # (length, stem_bottom, crown_low)
+    k = n - 1
+    while True:
+        while k >= 0 and wide[k]:
+            k -= 1
+        if k < 0 or (n - 1 - k) > max_ground_height * height:
+            break
+        run_bottom = k
+        while k >= 0 and not wide[k]:
+            k -= 1
+        if k < 0:
+            break  # no wide row above: a bare pole, not a crown
+        if best is None or run_bottom - k > best[0]:
+            best = (run_bottom - k, run_bottom, k)
+    if best is None or best[0] < min_rows:
+        return out
+    _, stem_bottom, crown_low = best
+    stem = seg[crown_low + 1:stem_bottom + 1]
+    w_s = float(np.median(stem))
+    if w_s > max_trunk_width * w_max:
+        return out
+    # 3. walk down from the crown while the rows are much wider than the stem
+    k = crown_low
+    while k + 1 <= stem_bottom and seg[k + 1] > jump * w_s:
+        k += 1
+    baseline = top + k  # lowest crown row
+    if (bottom - baseline) < max(min_trunk_height * height, 1):
         return out
     out[baseline + 1:] = m[baseline + 1:]
     return out
