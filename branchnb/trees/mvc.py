@@ -26,6 +26,7 @@ polygons. ACM TOG 25(4), 2006.
 from __future__ import annotations
 
 import cv2
+import numba
 import numpy as np
 
 from ..core.image import as_mask, as_points, as_rgba
@@ -39,56 +40,100 @@ __all__ = [
     "transfer_colour",
 ]
 
-_CHUNK = 1 << 15
+@numba.njit(cache=True)
+def _mvc_point(x: float, y: float, v: np.ndarray, s: np.ndarray, r: np.ndarray,
+               t: np.ndarray, lam: np.ndarray) -> None:
+    """Mean value coordinates of one point (x, y) w.r.t. polygon ``v`` into ``lam``.
+
+    ``s``, ``r``, ``t`` are scratch arrays of sizes (M, 2), M, M.
+    """
+    m = v.shape[0]
+    for i in range(m):
+        s[i, 0] = v[i, 0] - x                                 # s_i = v_i - p
+        s[i, 1] = v[i, 1] - y
+        r[i] = np.sqrt(s[i, 0] * s[i, 0] + s[i, 1] * s[i, 1])  # r_i = |s_i|
+        if r[i] <= 1e-12:                                     # on a vertex
+            lam[:] = 0.0
+            lam[i] = 1.0
+            return
+    for i in range(m):
+        j = i + 1 if i + 1 < m else 0
+        a = s[i, 0] * s[j, 1] - s[i, 1] * s[j, 0]            # 2 A_i = det(s_i, s_i+1)
+        d = s[i, 0] * s[j, 0] + s[i, 1] * s[j, 1]            # D_i = <s_i, s_i+1>
+        rr = r[i] * r[j]
+        den = rr + d                                          # r_i r_i+1 (1 + cos alpha_i)
+        if den <= 1e-12 * rr and abs(a) <= 1e-9 * rr:         # on edge i: linear limit
+            lam[:] = 0.0
+            lam[i] = r[j] / (r[i] + r[j])
+            lam[j] = r[i] / (r[i] + r[j])
+            return
+        t[i] = a / den                                        # tan(alpha_i / 2), signed
+    total = 0.0
+    wabs = 0.0
+    for i in range(m):
+        h = i - 1 if i > 0 else m - 1
+        w = (t[h] + t[i]) / r[i]                              # w_i
+        lam[i] = w
+        total += w
+        wabs += abs(w)
+    if abs(total) > 1e-12 * wabs:
+        for i in range(m):
+            lam[i] /= total
+        return
+    # W(p) = 0 (possible outside a self-intersecting cage): nearest edge point.
+    best = np.inf
+    bi = 0
+    bu = 0.0
+    for i in range(m):
+        j = i + 1 if i + 1 < m else 0
+        ex = v[j, 0] - v[i, 0]
+        ey = v[j, 1] - v[i, 1]
+        ee = ex * ex + ey * ey
+        u = 0.0 if ee <= 0.0 else min(max(-(s[i, 0] * ex + s[i, 1] * ey) / ee, 0.0), 1.0)
+        dx = v[i, 0] + u * ex - x
+        dy = v[i, 1] + u * ey - y
+        dist = dx * dx + dy * dy
+        if dist < best:
+            best = dist
+            bi = i
+            bu = u
+    lam[:] = 0.0
+    lam[bi] += 1.0 - bu
+    lam[bi + 1 if bi + 1 < m else 0] += bu
 
 
-def _mvc_block(x: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """Mean value coordinates of points ``x`` (P, 2) w.r.t. polygon ``v`` (M, 2)."""
-    s = v[None, :, :] - x[:, None, :]                       # s_i = v_i - x
-    r = np.sqrt(s[..., 0] ** 2 + s[..., 1] ** 2)            # r_i = |s_i|
-    sn = np.roll(s, -1, axis=1)
-    rn = np.roll(r, -1, axis=1)
-    a = s[..., 0] * sn[..., 1] - s[..., 1] * sn[..., 0]     # 2 A_i = det(s_i, s_i+1)
-    d = s[..., 0] * sn[..., 0] + s[..., 1] * sn[..., 1]     # D_i = <s_i, s_i+1>
-    rr = r * rn
-    den = rr + d                                            # r_i r_i+1 (1 + cos alpha_i)
-    scale = np.maximum(rr, 1e-300)
-    on_edge = (den <= 1e-12 * scale) & (np.abs(a) <= 1e-9 * scale)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t = np.where(on_edge, 0.0, a / np.where(on_edge, 1.0, den))  # tan(alpha_i / 2), signed
-        w = (np.roll(t, 1, axis=1) + t) / r
-    lam = np.empty_like(w)
-    at_vertex = r <= 1e-12
-    total = w.sum(axis=1)
-    wabs = np.abs(w).sum(axis=1)
-    ok = np.isfinite(total) & (np.abs(total) > 1e-12 * np.where(np.isfinite(wabs), wabs, 1.0))
-    ok &= ~at_vertex.any(axis=1) & ~on_edge.any(axis=1)
-    lam[ok] = w[ok] / total[ok, None]
-    bad = np.flatnonzero(~ok)
-    if bad.size:
-        lam[bad] = 0.0
-        m = v.shape[0]
-        for k in bad:                                       # rare: on the cage or W = 0
-            vert = np.flatnonzero(at_vertex[k])
-            if vert.size:
-                lam[k, vert[0]] = 1.0
-                continue
-            edge = np.flatnonzero(on_edge[k])
-            if edge.size:
-                i = edge[0]
-                j = (i + 1) % m
-                lam[k, i] = rn[k, i] / (r[k, i] + rn[k, i])
-                lam[k, j] = r[k, i] / (r[k, i] + rn[k, i])
-                continue
-            # W(x) = 0 (possible outside a self-intersecting cage): project on the nearest edge.
-            e = np.roll(v, -1, axis=0) - v
-            u = np.clip(np.einsum("ij,ij->i", x[k] - v, e) / np.maximum((e * e).sum(1), 1e-300),
-                        0.0, 1.0)
-            dist = np.hypot(*(v + u[:, None] * e - x[k]).T)
-            i = int(np.argmin(dist))
-            lam[k, i] += 1.0 - u[i]
-            lam[k, (i + 1) % m] += u[i]
-    return lam
+@numba.njit(cache=True)
+def _mvc_all(x: np.ndarray, v: np.ndarray) -> np.ndarray:
+    m = v.shape[0]
+    out = np.empty((x.shape[0], m))
+    s = np.empty((m, 2))
+    r = np.empty(m)
+    t = np.empty(m)
+    for k in range(x.shape[0]):
+        _mvc_point(x[k, 0], x[k, 1], v, s, r, t, out[k])
+    return out
+
+
+@numba.njit(cache=True)
+def _mvc_map(x: np.ndarray, v: np.ndarray, dst: np.ndarray) -> np.ndarray:
+    m = v.shape[0]
+    nk = dst.shape[0]
+    out = np.zeros((nk, x.shape[0], 2))
+    s = np.empty((m, 2))
+    r = np.empty(m)
+    t = np.empty(m)
+    lam = np.empty(m)
+    for k in range(x.shape[0]):
+        _mvc_point(x[k, 0], x[k, 1], v, s, r, t, lam)
+        for c in range(nk):
+            qx = 0.0
+            qy = 0.0
+            for i in range(m):
+                qx += lam[i] * dst[c, i, 0]
+                qy += lam[i] * dst[c, i, 1]
+            out[c, k, 0] = qx
+            out[c, k, 1] = qy
+    return out
 
 
 def mean_value_coordinates(points, polygon) -> np.ndarray:
@@ -114,8 +159,10 @@ def mean_value_coordinates(points, polygon) -> np.ndarray:
     ``r_i = |s_i|``: the signed angle makes the coordinates valid for
     arbitrary polygons, and the expression is finite everywhere except on
     an edge, where the limit (linear interpolation between the edge's end
-    points) is used, as it is on a vertex. Vectorised over points in blocks
-    of 32768 points.
+    points) is used, as it is on a vertex. Where the weights sum to zero
+    (possible outside a self-intersecting polygon) the point is snapped to
+    the nearest edge point. One compiled (numba) loop over the points; the
+    memory footprint is the output only.
 
     Examples
     --------
@@ -126,10 +173,7 @@ def mean_value_coordinates(points, polygon) -> np.ndarray:
     """
     x = as_points(points, name="points", min_points=0)
     v = as_points(polygon, name="polygon", min_points=3)
-    out = np.empty((len(x), len(v)))
-    for k in range(0, len(x), _CHUNK):
-        out[k:k + _CHUNK] = _mvc_block(x[k:k + _CHUNK], v)
-    return out
+    return _mvc_all(np.ascontiguousarray(x), np.ascontiguousarray(v))
 
 
 def mvc_map(points, cage_from, cage_to) -> np.ndarray:
@@ -151,7 +195,7 @@ def mvc_map(points, cage_from, cage_to) -> np.ndarray:
     --------
     >>> import numpy as np
     >>> sq = np.array([(0, 0), (2, 0), (2, 2), (0, 2)], float)
-    >>> mvc_map([(1, 1), (0.5, 1.5)], sq, 3 * sq + 1).tolist()
+    >>> mvc_map([(1, 1), (0.5, 1.5)], sq, 3 * sq + 1).round(9).tolist()
     [[4.0, 4.0], [2.5, 5.5]]
     """
     x = as_points(points, name="points", min_points=0)
@@ -164,10 +208,8 @@ def mvc_map(points, cage_from, cage_to) -> np.ndarray:
                          f"got {dst.shape}")
     if not np.all(np.isfinite(dst3)):
         raise ValueError("cage_to contains NaN or infinite values")
-    out = np.empty((len(dst3), len(x), 2))
-    for k in range(0, len(x), _CHUNK):
-        lam = _mvc_block(x[k:k + _CHUNK], src)
-        out[:, k:k + _CHUNK] = np.einsum("pm,kmc->kpc", lam, dst3)
+    out = _mvc_map(np.ascontiguousarray(x), np.ascontiguousarray(src),
+                   np.ascontiguousarray(dst3))
     return out[0] if single else out
 
 
@@ -189,14 +231,22 @@ def sample_rgba(image, points) -> np.ndarray:
     p = as_points(points, name="points", min_points=0)
     if len(p) == 0:
         return np.zeros((0, 4), np.float32)
-    mx = p[:, 0].astype(np.float32).reshape(-1, 1)
-    my = p[:, 1].astype(np.float32).reshape(-1, 1)
-    out = np.empty((len(p), 4), np.float32)
-    step = 1 << 15  # OpenCV maps are limited to SHRT_MAX rows
-    for k in range(0, len(p), step):
-        out[k:k + step] = cv2.remap(img, mx[k:k + step], my[k:k + step], cv2.INTER_LINEAR,
-                                    borderMode=cv2.BORDER_CONSTANT,
-                                    borderValue=(0, 0, 0, 0))[:, 0, :]
+    # OpenCV maps must be smaller than SHRT_MAX in both directions: lay the
+    # points out as rows of 1024.
+    width = 1024
+    n = len(p)
+    rows = -(-n // width)
+    mx = np.full(rows * width, -2.0, np.float32)
+    my = np.full(rows * width, -2.0, np.float32)
+    mx[:n], my[:n] = p[:, 0], p[:, 1]
+    mx, my = mx.reshape(rows, width), my.reshape(rows, width)
+    out = np.empty((rows * width, 4), np.float32)
+    step = 16384
+    for k in range(0, rows, step):
+        out[k * width:(k + step) * width] = cv2.remap(
+            img, mx[k:k + step], my[k:k + step], cv2.INTER_LINEAR,
+            borderMode=cv2.BORDER_CONSTANT, borderValue=(0, 0, 0, 0)).reshape(-1, 4)
+    out = out[:n]
     return out
 
 
