@@ -1,1 +1,33 @@
-"""Image-based tree variations (placeholder, filled below)."""
+"""Image-based tree variations (Argudo, Andujar, Chica, CGF 2020).
+
+New tree images from a small library of RGBA trees: contour morphing with
+pinned resampling, mean-value-coordinate colour transfer and histogram
+transfer. See :mod:`branchnb.trees.variations` for the pipeline.
+"""
+
+from .contour import ContourParams, PinPoints, TreeContour, stem_trunk_mask, tree_contour
+from .exemplar import ExemplarParams, alpha_from_background, extract_contours, normalize_exemplar
+from .histogram_transfer import histogram_transfer
+from .morph import combine_shapes, dirichlet_weights, fill_contour
+from .mvc import mean_value_coordinates, transfer_colour
+from .variations import (
+    RPG_TREES,
+    Exemplar,
+    TreeLibrary,
+    Variation,
+    VariationParams,
+    make_variation,
+    morph_sequence,
+    process_exemplar,
+    tree_variations,
+)
+
+__all__ = [
+    "ContourParams", "PinPoints", "TreeContour", "stem_trunk_mask", "tree_contour",
+    "ExemplarParams", "alpha_from_background", "extract_contours", "normalize_exemplar",
+    "histogram_transfer",
+    "combine_shapes", "dirichlet_weights", "fill_contour",
+    "mean_value_coordinates", "transfer_colour",
+    "RPG_TREES", "Exemplar", "TreeLibrary", "Variation", "VariationParams",
+    "make_variation", "morph_sequence", "process_exemplar", "tree_variations",
+]
