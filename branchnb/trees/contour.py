@@ -129,8 +129,8 @@ class PinPoints:
 
 
 def stem_trunk_mask(alpha, *, jump: float = 2.0, crown_width: float = 0.5,
-                    max_trunk_width: float = 0.35, min_trunk_height: float = 0.03,
-                    max_ground_height: float = 0.2) -> np.ndarray:
+                    max_trunk_width: float = 0.45, min_trunk_height: float = 0.03,
+                    min_aspect: float = 0.5, max_ground_height: float = 0.2) -> np.ndarray:
     """Geometric trunk estimate: the narrow stem at the bottom of the silhouette.
 
     A fallback for the crown/trunk segmentation that uses the opacity mask
@@ -147,7 +147,8 @@ def stem_trunk_mask(alpha, *, jump: float = 2.0, crown_width: float = 0.5,
        ``w(y) > jump * w_s``; every row below it is trunk.
 
     No trunk is reported when the stem is shorter than
-    ``min_trunk_height`` of the tree height, wider than
+    ``min_trunk_height`` of the tree height or than ``min_aspect`` times its
+    width (the rounded bottom of a round crown is no stem), wider than
     ``max_trunk_width`` of the widest row, or when the bottom rows are wide.
 
     Parameters
@@ -162,6 +163,8 @@ def stem_trunk_mask(alpha, *, jump: float = 2.0, crown_width: float = 0.5,
         A stem wider than this fraction of the widest row is no trunk.
     min_trunk_height : float
         A stem shorter than this fraction of the tree height is no trunk.
+    min_aspect : float
+        A trunk lower than this multiple of its width is no trunk.
     max_ground_height : float
         Wide bottom rows up to this fraction of the height are ground.
 
@@ -179,7 +182,7 @@ def stem_trunk_mask(alpha, *, jump: float = 2.0, crown_width: float = 0.5,
     """
     for name, v in (("jump", jump), ("crown_width", crown_width),
                     ("max_trunk_width", max_trunk_width),
-                    ("min_trunk_height", min_trunk_height),
+                    ("min_trunk_height", min_trunk_height), ("min_aspect", min_aspect),
                     ("max_ground_height", max_ground_height)):
         if not np.isfinite(v) or v < 0:
             raise ValueError(f"{name} must be a finite number >= 0, got {v!r}")
@@ -225,7 +228,7 @@ def stem_trunk_mask(alpha, *, jump: float = 2.0, crown_width: float = 0.5,
     while k + 1 <= stem_bottom and seg[k + 1] > jump * w_s:
         k += 1
     baseline = top + k  # lowest crown row
-    if (bottom - baseline) < max(min_trunk_height * height, 1):
+    if (bottom - baseline) < max(min_trunk_height * height, min_aspect * w_s, 1):
         return out
     out[baseline + 1:] = m[baseline + 1:]
     return out

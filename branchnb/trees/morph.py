@@ -153,7 +153,9 @@ def winding_number(polygon, shape: tuple[int, int]) -> np.ndarray:
     Returns
     -------
     (H, W) int32 ndarray
-        Signed number of turns of the polygon around each pixel centre.
+        Signed number of turns of the polygon around each pixel centre:
+        +1 inside a loop that runs counter-clockwise on screen (y down,
+        like the tree contours), -1 inside a clockwise one.
 
     Notes
     -----
