@@ -364,7 +364,21 @@ def test_histogram_transfer_matches_reference_ignoring_background(lib):
     np.testing.assert_array_equal(out[:, :, 3], src[:, :, 3])
     assert np.all(out[src[:, :, 3] == 0, :3] == 0)
     # matching to itself changes nothing
-    np.testing.assert_allclose(histogram_transfer(src, src), src, atol=1e-6)
+    np.testing.assert_allclose(histogram_transfer(src, src), src, atol=1 / 255 + 1e-6)
+
+
+def test_channel_mapping_flat_and_continuous():
+    from branchnb.trees.histogram_transfer import channel_mapping
+    rng = np.random.default_rng(0)
+    ref = rng.uniform(0.2, 0.6, 20000)
+    # a flat channel takes the reference mean, not its maximum
+    assert abs(channel_mapping(np.zeros(100), ref)[0] - ref.mean()) < 1e-9
+    # continuous data: the classical quantile mapping F_r^-1(F_s(v))
+    src = rng.uniform(0, 1, 20000)
+    lut = channel_mapping(src, ref)
+    np.testing.assert_allclose(lut[[64, 128, 192]], 0.2 + 0.4 * np.array([64, 128, 192]) / 255,
+                               atol=0.01)
+    assert np.all(np.diff(lut) >= -1e-12)
 
 
 def test_variation_with_reference(lib):

@@ -31,6 +31,7 @@ import numpy as np
 from ..core.image import as_float_image, as_mask, as_rgba, composite_over
 from ..core.io import encode_png
 from ..core.params import check_params, param
+from ..core.render import draw_polylines
 
 __all__ = [
     "ExemplarParams",
@@ -325,6 +326,33 @@ class ContourSet:
     exterior: list = field(default_factory=list)
     interior: list = field(default_factory=list)
     tree: np.ndarray | None = None
+    shape: tuple[int, int] | None = None
+
+    def render(self, background=None) -> np.ndarray:
+        """RGB picture: exterior borders green, interior (hole) borders blue, ``C`` red.
+
+        Parameters
+        ----------
+        background : (H, W, 3|4) array_like, optional
+            Drawn faded underneath (e.g. the normalised exemplar).
+        """
+        if background is None:
+            if self.shape is None:
+                raise ValueError("give a background: this ContourSet does not know its image size")
+            img = np.ones(self.shape + (3,), np.float32)
+        else:
+            img = composite_over(as_float_image(background), (1.0, 1.0, 1.0)) * 0.35 + 0.65
+        lw = max(1.0, img.shape[0] / 400)
+        loops = [np.vstack([c, c[:1]]) for c in self.exterior]
+        holes = [np.vstack([c, c[:1]]) for c in self.interior]
+        if holes:
+            img = draw_polylines(img, holes, widths=lw, colors=(0.1, 0.3, 0.95))
+        if loops:
+            img = draw_polylines(img, loops, widths=lw, colors=(0.1, 0.65, 0.1))
+        if self.tree is not None:
+            img = draw_polylines(img, [np.vstack([self.tree, self.tree[:1]])], widths=2 * lw,
+                                 colors=(0.85, 0.05, 0.05))
+        return img
 
 
 def extract_contours(alpha, *, threshold: float = 0.5) -> ContourSet:
@@ -374,4 +402,4 @@ def extract_contours(alpha, *, threshold: float = 0.5) -> ContourSet:
     tree = ext[int(np.argmax(lengths))]
     if len(tree) >= 3 and signed_area(tree) > 0:
         tree = tree[::-1].copy()
-    return ContourSet(ext, inner, tree)
+    return ContourSet(ext, inner, tree, mask.shape)

@@ -34,41 +34,60 @@ def opaque_pixels(image, *, threshold: float = 0.5, name: str = "image") -> np.n
     return img[img[:, :, 3] >= threshold][:, :3]
 
 
-def channel_mapping(source, reference) -> tuple[np.ndarray, np.ndarray]:
-    """Monotone map of one channel's values so their histogram matches ``reference``'s.
+def channel_mapping(source, reference, levels: int = 256) -> np.ndarray:
+    """Lookup table that gives one channel of ``source`` the histogram of ``reference``.
 
     Parameters
     ----------
     source, reference : (P,) and (Q,) array_like
-        Samples of one channel.
+        Samples of one channel, in [0, 1].
+    levels : int
+        Source values are grouped into this many levels (8-bit by default).
 
     Returns
     -------
-    values, mapped : (U,) ndarrays
-        The distinct source values and their images: a source value at
-        quantile ``F_s(v)`` goes to the reference value at the same
-        quantile, ``F_r^{-1}(F_s(v))`` (linear interpolation in between).
-        Apply it with ``np.interp(x, values, mapped)``.
+    (levels,) float ndarray
+        ``lut[k]`` is the new value of source level ``k``: the mean of the
+        reference's quantile function over the quantile band
+        ``[F_s(k-), F_s(k)]`` the level occupies in the source. For
+        continuous data (thin bands) this is the classical
+        ``F_r^{-1}(F_s(v))``; for a flat-coloured drawing, where one level
+        holds a large share of the pixels, it is the mean of the reference
+        colours in that share instead of the single value at its upper end
+        (which would send e.g. an all-zero blue channel to the reference's
+        maximum blue). Levels absent from the source get
+        ``F_r^{-1}(F_s(k))``, so the table stays monotone.
 
     Examples
     --------
-    >>> v, m = channel_mapping([0.0, 0.0, 1.0, 1.0], [0.2, 0.2, 0.6, 0.6])
-    >>> v.tolist(), m.tolist()
-    ([0.0, 1.0], [0.2, 0.6])
+    >>> lut = channel_mapping([0.0, 0.0, 1.0, 1.0], [0.2, 0.2, 0.6, 0.6])
+    >>> round(float(lut[0]), 3), round(float(lut[255]), 3)
+    (0.2, 0.6)
     """
     src = np.asarray(source, dtype=np.float64).ravel()
-    ref = np.asarray(reference, dtype=np.float64).ravel()
+    ref = np.sort(np.asarray(reference, dtype=np.float64).ravel())
     if src.size == 0 or ref.size == 0:
         raise ValueError("source and reference need at least one sample each")
-    sv, sc = np.unique(src, return_counts=True)
-    rv, rc = np.unique(ref, return_counts=True)
-    sq = np.cumsum(sc) / src.size
-    rq = np.cumsum(rc) / ref.size
-    return sv, np.interp(sq, rq, rv)
+    lv = _levels(src, levels)
+    counts = np.bincount(lv, minlength=levels).astype(np.float64)
+    q_hi = np.cumsum(counts) / src.size
+    q_lo = q_hi - counts / src.size
+    n = ref.size
+    q_grid = np.arange(n + 1) / n
+    integral = np.concatenate([[0.0], np.cumsum(ref)]) / n   # G(q) = int_0^q F_r^{-1}
+    width = q_hi - q_lo
+    band_mean = (np.interp(q_hi, q_grid, integral) - np.interp(q_lo, q_grid, integral)) / \
+        np.maximum(width, 1e-300)
+    at_q = np.interp(q_hi, (np.arange(n) + 0.5) / n, ref)
+    return np.where(width > 0, band_mean, at_q)
+
+
+def _levels(values: np.ndarray, levels: int) -> np.ndarray:
+    return np.clip(np.round(values * (levels - 1)), 0, levels - 1).astype(np.int64)
 
 
 def histogram_transfer(image, reference, *, threshold: float = 0.5,
-                       strength: float = 1.0) -> np.ndarray:
+                       strength: float = 1.0, levels: int = 256) -> np.ndarray:
     """Match the per-channel colour histograms of a tree to a reference tree.
 
     Parameters
@@ -82,6 +101,8 @@ def histogram_transfer(image, reference, *, threshold: float = 0.5,
         images (paper: 0.5, the normalisation threshold).
     strength : float
         Blend between the input colours (0) and the matched ones (1).
+    levels : int
+        Quantisation of the channel values (see :func:`channel_mapping`).
 
     Returns
     -------
@@ -107,6 +128,8 @@ def histogram_transfer(image, reference, *, threshold: float = 0.5,
     ref = as_rgba(reference, name="reference")
     if not (0.0 <= float(strength) <= 1.0):
         raise ValueError(f"strength must lie in [0, 1], got {strength}")
+    if not isinstance(levels, (int, np.integer)) or levels < 2:
+        raise ValueError(f"levels must be an int >= 2, got {levels!r}")
     opaque = img[:, :, 3] >= threshold
     if not opaque.any():
         raise ValueError(f"image has no opaque pixel (alpha >= {threshold})")
@@ -118,8 +141,8 @@ def histogram_transfer(image, reference, *, threshold: float = 0.5,
     vis_px = img[visible][:, :3]
     matched = np.empty_like(vis_px)
     for c in range(3):
-        values, mapped = channel_mapping(src_px[:, c], ref_px[:, c])
-        matched[:, c] = np.interp(vis_px[:, c], values, mapped)
+        lut = channel_mapping(src_px[:, c], ref_px[:, c], levels)
+        matched[:, c] = lut[_levels(vis_px[:, c], levels)]
     out = img.copy()
     s = float(strength)
     out[visible, :3] = np.clip((1.0 - s) * vis_px + s * matched, 0.0, 1.0)

@@ -41,6 +41,7 @@ from ..core.image import as_float_image, composite_over
 from ..core.io import encode_png
 from ..core.params import check_params, param
 from ..core.random import as_rng
+from ..core.render import draw_polylines
 from .contour import ContourParams, TreeContour, simplify_contour, stem_trunk_mask, tree_contour
 from .exemplar import ContourSet, ExemplarParams, Normalized, extract_contours, normalize_exemplar
 from .histogram_transfer import histogram_transfer
@@ -135,6 +136,16 @@ class Exemplar:
         """RGB: the exemplar with ``C_r``, ``C_s`` and the pin points drawn on it."""
         return self.contour.render(self.image)
 
+    def render_trunk(self) -> np.ndarray:
+        """RGB: the exemplar with the trunk tinted red and ``B``, ``R``, ``L`` marked."""
+        img = composite_over(self.image, (1.0, 1.0, 1.0))
+        img[self.trunk] = 0.45 * img[self.trunk] + 0.55 * np.array([0.9, 0.1, 0.1], np.float32)
+        lw = max(1.0, self.size / 300)
+        p = self.contour.pins
+        for pt, col in ((p.b, (0.9, 0.0, 0.0)), (p.r, (0.0, 0.2, 0.9)), (p.l, (0.8, 0.0, 0.8))):
+            img = draw_polylines(img, [np.asarray(pt, float)[None]], widths=8 * lw, colors=col)
+        return img
+
     def _repr_png_(self) -> bytes:
         return encode_png(self.render())
 
@@ -216,15 +227,18 @@ class VariationParams:
     m_points : int
         ``M``, vertices of the simplified contours (cages) used by the
         colour transfer (paper: 20, its speed/quality sweet spot).
+    n_mix : int
+        Random variations mix this many exemplars, picked at random from
+        the selection (0: all of them). The paper draws random convex
+        weights without naming a distribution; mixing all of a dozen trees
+        at once averages them into the same blob every time, while two or
+        three per draw give distinct trees in the style of the library.
     concentration : float
-        Dirichlet parameter ``alpha`` of random shape weights. The paper
-        draws random convex weights without naming a distribution; 1 is
-        uniform on the simplex, which for a library of a dozen trees
-        averages them all into the same blob. The default 0.3 gives a few
-        dominant exemplars per draw, so variations differ from each other.
+        Dirichlet parameter ``alpha`` of random shape weights over the
+        mixed exemplars (1: uniform on the simplex).
     colour_concentration : float
         Dirichlet parameter of the random colour weights (the paper's
-        "random convex combination"). The default 0.2 usually lets one
+        "random convex combination"). The default 0.3 usually lets one
         exemplar dominate the colour, which keeps drawn details (outlines,
         branches) from ghosting; raise it for smoother mixes.
     keep : float
@@ -232,9 +246,11 @@ class VariationParams:
     """
 
     m_points: int = param(20, min=6, max=100, step=1, help="M, cage vertices (paper: 20)")
-    concentration: float = param(0.3, min=0.05, max=20.0, step=0.05, log=True,
+    n_mix: int = param(3, min=0, max=50, step=1,
+                       help="exemplars mixed per random variation (0: all)")
+    concentration: float = param(1.0, min=0.05, max=20.0, step=0.05, log=True,
                                  help="Dirichlet concentration of random shape weights")
-    colour_concentration: float = param(0.2, min=0.05, max=20.0, step=0.05, log=True,
+    colour_concentration: float = param(0.3, min=0.05, max=20.0, step=0.05, log=True,
                                         help="Dirichlet concentration of random colour weights")
     keep: float = param(0.5, min=0.0, max=1.0, step=0.05,
                         help="variations of T: minimum weight of T")
@@ -330,7 +346,17 @@ def _check_compatible(exemplars: list[Exemplar]) -> None:
                              f"{e.name!r} differ")
 
 
-def _weights_from(weights, exemplars, rng, concentration, name="weights"):
+def _random_weights(k: int, n_mix: int, concentration: float, rng) -> np.ndarray:
+    """Dirichlet weights over ``n_mix`` exemplars picked at random among ``k`` (0: all)."""
+    rng = as_rng(rng)
+    m = k if n_mix <= 0 or n_mix >= k else int(n_mix)
+    w = np.zeros(k)
+    idx = np.sort(rng.choice(k, size=m, replace=False)) if m < k else np.arange(k)
+    w[idx] = dirichlet_weights(m, concentration, rng=rng)
+    return w
+
+
+def _weights_from(weights, exemplars, rng, concentration, name="weights", n_mix=0):
     if isinstance(weights, dict):
         names = [e.name for e in exemplars]
         unknown = set(weights) - set(names)
@@ -338,7 +364,7 @@ def _weights_from(weights, exemplars, rng, concentration, name="weights"):
             raise ValueError(f"{name}: unknown exemplar(s) {sorted(unknown)}")
         weights = [float(weights.get(n, 0.0)) for n in names]
     if weights is None:
-        return dirichlet_weights(len(exemplars), concentration, rng=rng)
+        return _random_weights(len(exemplars), n_mix, concentration, rng)
     return check_weights(weights, len(exemplars), name=name)
 
 
@@ -352,8 +378,9 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     library : TreeLibrary or sequence of Exemplar
     weights : (k,) array_like or dict, optional
         Convex shape weights ``w_i`` (>= 0, summing to 1), one per selected
-        exemplar, or ``{name: weight}`` (missing names get 0). None draws
-        them from a Dirichlet distribution (``params.concentration``).
+        exemplar, or ``{name: weight}`` (missing names get 0). None picks
+        ``params.n_mix`` exemplars at random and draws their weights from a
+        Dirichlet distribution (``params.concentration``).
     params : VariationParams, optional
         ``m_points`` (M = 20), concentrations, ``keep``.
     use : sequence of str or int, optional
@@ -399,7 +426,7 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     rng = as_rng(rng)
     exemplars = _select(_as_exemplars(library), use)
     _check_compatible(exemplars)
-    w = _weights_from(weights, exemplars, rng, p.concentration)
+    w = _weights_from(weights, exemplars, rng, p.concentration, n_mix=p.n_mix)
     if isinstance(colour_weights, str):
         if colour_weights != "shape":
             raise ValueError(f"colour_weights must be weights, None or 'shape', got {colour_weights!r}")
@@ -445,12 +472,13 @@ def _reference_image(reference, library) -> tuple[np.ndarray, str]:
 
 
 def variation_weights(k: int, index: int, keep: float = 0.5, *, concentration=1.0,
-                      rng=None) -> np.ndarray:
+                      n_mix: int = 0, rng=None) -> np.ndarray:
     """Random convex weights in which exemplar ``index`` keeps at least ``keep``.
 
-    ``w = keep e_index + (1 - keep) d`` with ``d`` a Dirichlet draw over all
-    ``k`` exemplars: ``T = index`` keeps ``keep`` plus its share of the rest,
-    so it stays recognisable while the others vary.
+    ``w = keep e_index + (1 - keep) d`` with ``d`` a Dirichlet draw over
+    ``n_mix`` exemplars picked at random (0: all ``k``): ``T = index`` keeps
+    ``keep`` plus its share of the rest, so it stays recognisable while the
+    others vary.
 
     Examples
     --------
@@ -464,7 +492,7 @@ def variation_weights(k: int, index: int, keep: float = 0.5, *, concentration=1.
         raise ValueError(f"index {index} out of range for {k} exemplars")
     if not 0.0 <= float(keep) <= 1.0:
         raise ValueError(f"keep must lie in [0, 1], got {keep}")
-    w = (1.0 - keep) * dirichlet_weights(k, concentration, rng=rng)
+    w = (1.0 - keep) * _random_weights(k, n_mix, concentration, rng)
     w[index] += keep
     return w / w.sum()
 
@@ -483,7 +511,9 @@ def tree_variations(library, target, n: int = 6, params: VariationParams | None 
     n : int
         Number of variations.
     params : VariationParams, optional
-        ``keep`` (0.5) is the minimum shape and colour weight of ``T``.
+        ``keep`` (0.5) is the minimum shape and colour weight of ``T``;
+        the rest goes to ``n_mix`` random exemplars (``T`` may be among
+        them) with Dirichlet weights.
     use : sequence, optional
         The exemplars to mix with (default: all; ``T`` is always used).
     rng : int or numpy.random.Generator, optional
@@ -528,9 +558,12 @@ def tree_variations(library, target, n: int = 6, params: VariationParams | None 
     rng = as_rng(rng)
     out = []
     for _ in range(int(n)):
-        w = variation_weights(len(chosen), ti, p.keep, concentration=p.concentration, rng=rng)
-        cw = variation_weights(len(chosen), ti, p.keep, concentration=p.colour_concentration,
-                               rng=rng)
+        w = variation_weights(len(chosen), ti, p.keep, concentration=p.concentration,
+                              n_mix=p.n_mix, rng=rng)
+        cw = np.zeros_like(w)
+        mixed = np.flatnonzero(w > 0)
+        cw[mixed] = variation_weights(len(mixed), int(np.flatnonzero(mixed == ti)[0]), p.keep,
+                                      concentration=p.colour_concentration, rng=rng)
         out.append(make_variation(chosen, w, p, colour_weights=cw, reference=reference, rng=rng))
     return out
 
