@@ -57,6 +57,8 @@ __all__ = [
     "TreeLibrary",
     "make_variation",
     "variation_weights",
+    "nearby_weights",
+    "similar_variations",
     "tree_variations",
     "morph_sequence",
     "tile_images",
@@ -471,6 +473,27 @@ def _reference_image(reference, library) -> tuple[np.ndarray, str]:
     return as_float_image(reference, name="reference"), "image"
 
 
+def nearby_weights(centre, keep: float = 0.6, *, concentration=1.0, n_mix: int = 0,
+                   rng=None) -> np.ndarray:
+    """Random convex weights near ``centre``: ``keep centre + (1 - keep) d``.
+
+    ``d`` is a Dirichlet draw over ``n_mix`` exemplars picked at random (0:
+    all). Every exemplar keeps at least ``keep`` times its weight in
+    ``centre``, so the result stays recognisably like the centre mix.
+
+    Examples
+    --------
+    >>> w = nearby_weights([0.5, 0.5, 0.0], 0.8, rng=0)
+    >>> bool(w[0] >= 0.4 and w[1] >= 0.4 and abs(w.sum() - 1) < 1e-12)
+    True
+    """
+    c = check_weights(centre, name="centre")
+    if not 0.0 <= float(keep) <= 1.0:
+        raise ValueError(f"keep must lie in [0, 1], got {keep}")
+    w = keep * c + (1.0 - keep) * _random_weights(len(c), n_mix, concentration, rng)
+    return w / w.sum()
+
+
 def variation_weights(k: int, index: int, keep: float = 0.5, *, concentration=1.0,
                       n_mix: int = 0, rng=None) -> np.ndarray:
     """Random convex weights in which exemplar ``index`` keeps at least ``keep``.
@@ -478,7 +501,7 @@ def variation_weights(k: int, index: int, keep: float = 0.5, *, concentration=1.
     ``w = keep e_index + (1 - keep) d`` with ``d`` a Dirichlet draw over
     ``n_mix`` exemplars picked at random (0: all ``k``): ``T = index`` keeps
     ``keep`` plus its share of the rest, so it stays recognisable while the
-    others vary.
+    others vary (:func:`nearby_weights` around a corner of the simplex).
 
     Examples
     --------
@@ -490,11 +513,55 @@ def variation_weights(k: int, index: int, keep: float = 0.5, *, concentration=1.
         raise ValueError(f"k must be a positive int, got {k!r}")
     if not -k <= index < k:
         raise ValueError(f"index {index} out of range for {k} exemplars")
-    if not 0.0 <= float(keep) <= 1.0:
-        raise ValueError(f"keep must lie in [0, 1], got {keep}")
-    w = (1.0 - keep) * _random_weights(k, n_mix, concentration, rng)
-    w[index] += keep
-    return w / w.sum()
+    return nearby_weights(np.eye(k)[index], keep, concentration=concentration, n_mix=n_mix,
+                          rng=rng)
+
+
+def similar_variations(library, variation: Variation, n: int = 6,
+                       params: VariationParams | None = None, *, keep: float = 0.6,
+                       rng=None, **overrides) -> list[Variation]:
+    """"More like this": random variations around an existing variation's weights.
+
+    Parameters
+    ----------
+    library : TreeLibrary or sequence of Exemplar
+        Must contain the exemplars of ``variation``.
+    variation : Variation
+        The centre; its exemplars, shape and colour weights and reference
+        are reused.
+    n : int
+        Number of variations.
+    keep : float
+        Share of the centre's weights every new variation keeps
+        (:func:`nearby_weights`); the rest is a random Dirichlet mix of
+        ``params.n_mix`` exemplars of the same set.
+
+    Returns
+    -------
+    list of Variation
+    """
+    p = params if params is not None else VariationParams()
+    if overrides:
+        p = replace(p, **overrides)
+    check_params(p)
+    if not isinstance(variation, Variation):
+        raise TypeError(f"variation must be a Variation, got {type(variation).__name__}")
+    if not isinstance(n, (int, np.integer)) or n < 1:
+        raise ValueError(f"n must be a positive int, got {n!r}")
+    chosen = _select(_as_exemplars(library), list(variation.names))
+    rng = as_rng(rng)
+    ref = variation.reference
+    if ref == "image":
+        raise ValueError("the variation's reference was an array; give similar variations "
+                         "a named reference")
+    out = []
+    for _ in range(int(n)):
+        w = nearby_weights(variation.weights, keep, concentration=p.concentration,
+                           n_mix=p.n_mix, rng=rng)
+        cw = nearby_weights(variation.colour_weights, keep, concentration=p.colour_concentration,
+                            n_mix=p.n_mix, rng=rng)
+        out.append(make_variation(chosen, w, p, colour_weights=cw, reference=ref, rng=rng))
+    return out
 
 
 def tree_variations(library, target, n: int = 6, params: VariationParams | None = None, *,
@@ -690,6 +757,11 @@ class TreeLibrary:
                       **kwargs) -> list[Variation]:
         """:func:`tree_variations` on this library."""
         return tree_variations(self, target, n, params, **kwargs)
+
+    def similar(self, variation: Variation, n: int = 6, params: VariationParams | None = None,
+                **kwargs) -> list[Variation]:
+        """:func:`similar_variations` on this library."""
+        return similar_variations(self, variation, n, params, **kwargs)
 
     def morph(self, a, b, steps: int = 5, params: VariationParams | None = None,
               **kwargs) -> list[Variation]:
