@@ -2,7 +2,9 @@
 
 New tree images from a small library of RGBA trees: contour morphing with
 pinned resampling, mean-value-coordinate colour transfer and histogram
-transfer. See :mod:`branchnb.trees.variations` for the pipeline.
+transfer (:mod:`branchnb.trees.variations` strings the steps together), the
+crown/trunk segmentation (:mod:`branchnb.trees.segmentation`) and billboard
+clouds (:mod:`branchnb.trees.billboard`).
 """
 
 from .contour import ContourParams, PinPoints, TreeContour, stem_trunk_mask, tree_contour
@@ -10,6 +12,16 @@ from .exemplar import ExemplarParams, alpha_from_background, extract_contours, n
 from .histogram_transfer import histogram_transfer
 from .morph import combine_shapes, dirichlet_weights, fill_contour
 from .mvc import mean_value_coordinates, transfer_colour
+from .segmentation import (  # noqa: F401
+    Segmentation,
+    SegmentParams,
+    evaluate_reference,
+    load_reference_masks,
+    load_reference_scribbles,
+    reference_from_scribbles,
+    segment_tree,
+    segmentation_iou,
+)
 from .variations import (
     RPG_TREES,
     Exemplar,
@@ -19,6 +31,7 @@ from .variations import (
     make_variation,
     morph_sequence,
     process_exemplar,
+    similar_variations,
     tree_variations,
 )
 
@@ -29,5 +42,6 @@ __all__ = [
     "combine_shapes", "dirichlet_weights", "fill_contour",
     "mean_value_coordinates", "transfer_colour",
     "RPG_TREES", "Exemplar", "TreeLibrary", "Variation", "VariationParams",
-    "make_variation", "morph_sequence", "process_exemplar", "tree_variations",
+    "make_variation", "morph_sequence", "process_exemplar", "similar_variations",
+    "tree_variations",
 ]
