@@ -148,9 +148,33 @@ def test_given_trunk_mask_is_used():
     trunk[45:, :] = True                               # a lower trunk top than the geometric one
     ex = process_exemplar(img, "t", size=64, trunk_mask=trunk)
     assert ex.trunk_source == "mask"
-    auto = process_exemplar(img, "t", size=64)
+    auto = process_exemplar(img, "t", size=64, trunk="stem")
     assert auto.trunk_source == "stem"
     assert ex.contour.pins.r[1] > auto.contour.pins.r[1] + 3
+
+
+@pytest.mark.parametrize("name, source", [("tree_rpg_03", "segmentation"),
+                                          ("tree_rpg_11", "stem")])
+def test_trunk_from_segmentation_or_stem(name, source):
+    ex = process_exemplar(data.load(name), name, size=SIZE)
+    assert ex.trunk_source == source
+    assert ex.contour.pins.has_trunk        # a bare tree (all wood) still gets its stem pins
+    # the trunk lies below the crown and contains B
+    b = np.round(ex.contour.pins.b).astype(int)
+    assert ex.trunk[b[1] - 2, b[0]]
+    with pytest.raises(ValueError, match="trunk must be one of"):
+        process_exemplar(data.load(name), size=64, trunk="network")
+
+
+def test_with_trunk_moves_the_pins(lib):
+    ex = lib["tree_rpg_03"]
+    lower = ex.trunk.copy()
+    rows = np.flatnonzero(lower.any(axis=1))
+    lower[: rows[0] + (rows[-1] - rows[0]) // 2] = False          # keep the lower half of the trunk
+    moved = ex.with_trunk(lower)
+    assert moved.trunk_source == "mask"
+    assert moved.contour.pins.r[1] > ex.contour.pins.r[1] + 5
+    np.testing.assert_allclose(moved.contour.pins.b, ex.contour.pins.b)
 
 
 @pytest.mark.parametrize("ground", [False, True])

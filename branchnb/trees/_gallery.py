@@ -46,10 +46,11 @@ def render(outdir: Path) -> list[GalleryItem]:
     save("trees_morph.png", tile_images([v.image for v in seq], cols=6), "Morph sequence",
          "weights (1 - t, t) for t = 0, 0.2, ..., 1; colour weights follow the shape weights")
 
-    rand = [lib.variation(rng=i) for i in range(12)]
+    leafy = [f"tree_rpg_{i:02d}" for i in range(1, 11)]
+    rand = [lib.variation(use=leafy, rng=i) for i in range(12)]
     save("trees_random.png", tile_images([v.image for v in rand], cols=6),
          "Random variations",
-         "12 random variations of the 14 RPG sprites: 3 exemplars per draw, Dirichlet shape "
+         "12 random variations of the broadleaf and conifer RPG sprites (01-10): 3 exemplars per draw, Dirichlet shape "
          "weights, colour concentration 0.3, M = 20")
 
     target = "tree_rpg_04"

@@ -37,7 +37,7 @@ import cv2
 import numpy as np
 
 from .. import data as _data
-from ..core.image import as_float_image, composite_over
+from ..core.image import as_float_image, as_mask, composite_over
 from ..core.io import encode_png
 from ..core.params import check_params, param
 from ..core.random import as_rng
@@ -52,6 +52,8 @@ __all__ = [
     "RPG_TREES",
     "Exemplar",
     "process_exemplar",
+    "exemplar_trunk",
+    "TRUNK_METHODS",
     "VariationParams",
     "Variation",
     "TreeLibrary",
@@ -90,8 +92,9 @@ class Exemplar:
     normalized : Normalized
         The crop/scale that maps the source image to the working image.
     trunk_source : str
-        ``"mask"`` (given), ``"segmentation"`` or ``"stem"`` (geometric
-        fallback :func:`~branchnb.trees.contour.stem_trunk_mask`).
+        ``"mask"`` (given), ``"segmentation"``
+        (:func:`~branchnb.trees.segmentation.segment_tree`) or ``"stem"``
+        (the geometric :func:`~branchnb.trees.contour.stem_trunk_mask`).
     """
 
     name: str
@@ -134,6 +137,13 @@ class Exemplar:
                                               dilation=p.dilation, n_points_crown=p.n_crown)
         return self._cages[m]
 
+    def with_trunk(self, trunk, source: str = "mask") -> Exemplar:
+        """The same exemplar with another trunk mask (working-image pixels): new pin
+        points, ``C_r`` and ``C_s``. Used to apply a corrected segmentation."""
+        t = as_mask(trunk, shape=self.alpha.shape, name="trunk") & self.alpha
+        tc = tree_contour(self.contours.tree, self.alpha, t, self.contour.params)
+        return Exemplar(self.name, self.image, t, self.contours, tc, self.normalized, source)
+
     def render(self) -> np.ndarray:
         """RGB: the exemplar with ``C_r``, ``C_s`` and the pin points drawn on it."""
         return self.contour.render(self.image)
@@ -152,11 +162,50 @@ class Exemplar:
         return encode_png(self.render())
 
 
-def _auto_trunk(norm: Normalized) -> tuple[np.ndarray, str]:
-    return stem_trunk_mask(norm.alpha), "stem"
+#: How :func:`process_exemplar` finds the trunk when no mask is given.
+TRUNK_METHODS = ("auto", "segmentation", "stem")
 
 
-def process_exemplar(image, name: str = "", *, trunk_mask=None,
+def exemplar_trunk(image, method: str = "auto", *, rng=0) -> tuple[np.ndarray, str]:
+    """Trunk mask of a normalised exemplar and the method that produced it.
+
+    Parameters
+    ----------
+    image : (S, S, 4) array_like
+        A normalised exemplar.
+    method : {"auto", "segmentation", "stem"}
+        ``"segmentation"``: the crown/trunk segmenter
+        (:func:`~branchnb.trees.segmentation.segment_tree`); ``"stem"``: the
+        geometric stem estimate (:func:`~branchnb.trees.contour.stem_trunk_mask`);
+        ``"auto"``: the segmentation, unless it leaves (almost) no crown (a
+        bare tree is all wood), where the pin points would collapse onto
+        ``B``; then the stem estimate, so a bare tree's trunk still lines
+        up with the trunks of leafy trees.
+    rng : int
+        Seed of the segmenter's random forest.
+
+    Returns
+    -------
+    trunk : (S, S) bool ndarray
+    source : str
+        ``"segmentation"`` or ``"stem"``.
+    """
+    if method not in TRUNK_METHODS:
+        raise ValueError(f"trunk must be one of {list(TRUNK_METHODS)}, got {method!r}")
+    img = as_float_image(image, name="image")
+    alpha = img[:, :, 3] >= 0.5
+    if method == "stem":
+        return stem_trunk_mask(alpha), "stem"
+    from .segmentation import segment_tree
+
+    trunk = segment_tree(img, rng=rng).trunk & alpha
+    crown = alpha & ~trunk
+    if method == "auto" and crown.sum() < 0.02 * alpha.sum():
+        return stem_trunk_mask(alpha), "stem"
+    return trunk, "segmentation"
+
+
+def process_exemplar(image, name: str = "", *, trunk_mask=None, trunk: str = "auto",
                      exemplar_params: ExemplarParams | None = None,
                      contour_params: ContourParams | None = None, **overrides) -> Exemplar:
     """Process one tree image for the library (normalise, contour, pins, ``C_r``, ``C_s``).
@@ -169,10 +218,11 @@ def process_exemplar(image, name: str = "", *, trunk_mask=None,
     name : str
         Label of the exemplar.
     trunk_mask : (H, W) array_like, optional
-        Trunk pixels in ``image`` (e.g. a corrected segmentation); by
-        default the geometric stem estimate
-        :func:`~branchnb.trees.contour.stem_trunk_mask` on the normalised
-        mask.
+        Trunk pixels in ``image`` (e.g. a hand-corrected segmentation).
+    trunk : {"auto", "segmentation", "stem"}
+        How to find the trunk without ``trunk_mask`` (see
+        :func:`exemplar_trunk`; default: the crown/trunk segmentation, the
+        stem estimate for trees without crown).
     exemplar_params : ExemplarParams, optional
         Normalisation (``size`` S = 1024, alpha threshold 0.5, components).
     contour_params : ContourParams, optional
@@ -209,12 +259,12 @@ def process_exemplar(image, name: str = "", *, trunk_mask=None,
     cp = replace(cp, **{k: v for k, v in overrides.items() if k in c_fields})
     norm = normalize_exemplar(image, ep)
     if trunk_mask is None:
-        trunk, source = _auto_trunk(norm)
+        tmask, source = exemplar_trunk(norm.image, trunk)
     else:
-        trunk, source = norm.warp_mask(trunk_mask) & norm.alpha, "mask"
+        tmask, source = norm.warp_mask(trunk_mask) & norm.alpha, "mask"
     contours = extract_contours(norm.alpha)
-    tc = tree_contour(contours.tree, norm.alpha, trunk, cp)
-    return Exemplar(str(name), norm.image, trunk, contours, tc, norm, source)
+    tc = tree_contour(contours.tree, norm.alpha, tmask, cp)
+    return Exemplar(str(name), norm.image, tmask, contours, tc, norm, source)
 
 
 # ----------------------------------------------------------------------------- variations
@@ -677,6 +727,8 @@ class TreeLibrary:
         Working size ``S`` of trees added later (paper: 1024).
     contour_params : ContourParams, optional
         For trees added later.
+    trunk : {"auto", "segmentation", "stem"}
+        How trees added later find their trunk (:func:`exemplar_trunk`).
 
     Examples
     --------
@@ -686,8 +738,11 @@ class TreeLibrary:
     """
 
     def __init__(self, exemplars: Sequence[Exemplar] = (), *, size: int = 1024,
-                 contour_params: ContourParams | None = None):
+                 contour_params: ContourParams | None = None, trunk: str = "auto"):
+        if trunk not in TRUNK_METHODS:
+            raise ValueError(f"trunk must be one of {list(TRUNK_METHODS)}, got {trunk!r}")
         self.exemplars: list[Exemplar] = []
+        self.trunk = trunk
         self.size = int(size)
         self.contour_params = contour_params if contour_params is not None else ContourParams()
         check_params(ExemplarParams(size=self.size), name="size")
@@ -696,9 +751,9 @@ class TreeLibrary:
 
     @classmethod
     def from_data(cls, names: Sequence[str] | None = None, *, size: int = 1024,
-                  contour_params: ContourParams | None = None) -> TreeLibrary:
+                  contour_params: ContourParams | None = None, trunk: str = "auto") -> TreeLibrary:
         """A library of sample trees from ``branchnb.data`` (default: :data:`RPG_TREES`)."""
-        lib = cls(size=size, contour_params=contour_params)
+        lib = cls(size=size, contour_params=contour_params, trunk=trunk)
         for n in (RPG_TREES if names is None else names):
             lib.add(_data.load(n), n)
         return lib
@@ -729,10 +784,15 @@ class TreeLibrary:
     def add(self, image, name: str | None = None, *, trunk_mask=None) -> Exemplar:
         """Process an RGBA tree image and add it (see :func:`process_exemplar`)."""
         name = f"tree_{len(self)}" if name is None else str(name)
-        ex = process_exemplar(image, name, trunk_mask=trunk_mask,
+        ex = process_exemplar(image, name, trunk_mask=trunk_mask, trunk=self.trunk,
                               exemplar_params=ExemplarParams(size=self.size),
                               contour_params=self.contour_params)
         return self.add_exemplar(ex)
+
+    def set_trunk(self, name: str, trunk, source: str = "mask") -> Exemplar:
+        """Replace the trunk mask (working-image pixels) of exemplar ``name``,
+        e.g. with a segmentation corrected by scribbles; pins and contours follow."""
+        return self.add_exemplar(self[name].with_trunk(trunk, source))
 
     def add_exemplar(self, exemplar: Exemplar) -> Exemplar:
         """Add (or replace, by name) an already processed exemplar."""
