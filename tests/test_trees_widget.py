@@ -136,3 +136,41 @@ def test_bad_library():
         TreeVariationsApp([1, 2])
     with pytest.raises(ValueError, match="empty"):
         TreeVariationsApp(TreeLibrary(size=128))
+
+
+def test_scribbles_correct_the_trunk_and_move_the_pins(app, lib):
+    app.seg_tree.value = "tree_rpg_03"
+    ex = lib["tree_rpg_03"]
+    r_before = ex.contour.pins.r.copy()
+    rows = np.flatnonzero(ex.trunk.any(axis=1))
+    top, bottom = rows[0], rows[-1]
+    mid = top + (bottom - top) // 2
+    xs = np.flatnonzero(ex.trunk[mid])
+    # mark the upper half of the trunk as crown: the trunk top moves down
+    for y in range(top - 2, mid, 2):
+        app.seg_canvas.model.add_shape("scribble", [(xs[0] - 3, y), (xs[-1] + 3, y)], label="crown")
+    assert app.errors.last_error is None
+    ex2 = lib["tree_rpg_03"]
+    assert ex2.trunk_source == "scribbles"
+    assert not ex2.trunk[top + 2:mid - 2].any()
+    assert ex2.contour.pins.r[1] > r_before[1] + 3
+    assert "scribbles" in app.seg_status.value
+    # switching trees keeps each tree's scribbles; "automatic" drops them
+    app.seg_tree.value = "tree_rpg_01"
+    assert len(app.seg_canvas.model.of_kind("scribble")) == 0
+    app.seg_tree.value = "tree_rpg_03"
+    assert len(app.seg_canvas.model.of_kind("scribble")) > 0
+    app.seg_reset.click()
+    assert lib["tree_rpg_03"].trunk_source in ("segmentation", "stem")
+    np.testing.assert_allclose(lib["tree_rpg_03"].contour.pins.r, r_before)
+
+
+@pytest.mark.skipif(not __import__("branchnb.widgets.trees", fromlist=["x"]).HAS_BILLBOARD,
+                    reason="billboard module not available")
+def test_billboard_cloud_tab(app):
+    cloud = app.build_cloud("tree_rpg_06", yaw=40.0)
+    assert app.errors.last_error is None
+    assert cloud is app.cloud and cloud.n_billboards > 10
+    assert len(app.cloud_view.images) == 2
+    app.yaw.value = -60.0
+    assert "-60" in app.cloud_view.titles[1].value

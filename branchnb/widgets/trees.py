@@ -14,17 +14,24 @@ A thin app over :mod:`branchnb.trees`:
   distances to the reference;
 * **morph**: two trees and a slider ``t`` (weights ``1 - t``, ``t``);
 * **more like this**: a grid of random variations around the current mix
-  (each keeps ``keep`` of its weights); "use" adopts one as the new mix.
+  (each keeps ``keep`` of its weights); "use" adopts one as the new mix;
+* **segmentation**: the crown/trunk segmentation of a library tree on an
+  annotation canvas; crown/trunk scribbles re-run the segmenter and the
+  corrected trunk moves the tree's pin points (and so every mix using it);
+* **billboard cloud** (when :mod:`branchnb.trees.billboard` is available):
+  the cloud of the current variation or of a library tree, seen from any
+  yaw angle.
 
 Every callback is guarded: errors are shown in the app's error area and the
 app keeps working. Everything the widgets do is a method callable from
 Python (``select``, ``set_weight``, ``random_weights``, ``set_morph``,
-``more_like_this``, ``adopt``).
+``more_like_this``, ``adopt``, ``segment``, ``build_cloud``, ``set_yaw``).
 """
 
 from __future__ import annotations
 
 import dataclasses
+import importlib.util
 
 import cv2
 import ipywidgets as widgets
@@ -34,12 +41,26 @@ from ..core.image import composite_over
 from ..core.io import encode_png
 from ..trees.histogram_transfer import histogram_transfer, opaque_pixels
 from ..trees.morph import dirichlet_weights
-from ..trees.variations import TreeLibrary, Variation, VariationParams, make_variation
+from ..trees.segmentation import segment_tree
+from ..trees.variations import (
+    TreeLibrary,
+    Variation,
+    VariationParams,
+    exemplar_trunk,
+    make_variation,
+)
+from .canvas import AnnotationCanvas
 from .feedback import ErrorArea
 from .histograms import HistogramCompare
 from .imageview import ImageView
 
 __all__ = ["TreeVariationsApp", "convex_update"]
+
+#: Scribble labels of the segmentation canvas and their colours.
+SEG_LABELS = {"trunk": "#c62828", "crown": "#2e7d32"}
+
+#: Whether the billboard-cloud module is available.
+HAS_BILLBOARD = importlib.util.find_spec("branchnb.trees.billboard") is not None
 
 #: Extra histogram-transfer references offered besides the library trees.
 REFERENCES = ("maple_leaf_03", "maple_leaf_01", "tree_cutout_broadleaf", "evergreen")
@@ -204,14 +225,58 @@ class TreeVariationsApp(widgets.VBox):
         similar = widgets.VBox([widgets.HBox([self.keep, self.n_similar, self.more_button]),
                                 self.grid])
 
-        self.tabs = widgets.Tab(children=[mix, morph, similar])
-        for i, title in enumerate(("mix", "morph", "more like this")):
+        # -- segmentation (scribble correction)
+        self.segmentation = None
+        self._scribbles: dict[str, str] = {}
+        self._loading_scribbles = False
+        self.seg_tree = widgets.Dropdown(options=names, value=names[0], description="tree")
+        self.seg_tree.observe(g(lambda _c: self._on_seg_tree()), names="value")
+        self.seg_canvas = AnnotationCanvas(self.library[names[0]].image, mode="scribble",
+                                           modes=("scribble", "pan"), labels=SEG_LABELS,
+                                           max_display=int(max(256, 1.5 * display)))
+        self.seg_canvas.model.observe(g(self._on_scribble))
+        self.seg_reset = widgets.Button(description="automatic", icon="undo",
+                                        tooltip="drop the scribbles of this tree",
+                                        layout=widgets.Layout(width="auto"))
+        self.seg_reset.on_click(g(lambda _: self.seg_canvas.model.clear()))
+        self.seg_status = widgets.HTML()
+        self.seg_view = ImageView(width=int(display))
+        seg_tab = widgets.VBox([
+            widgets.HBox([self.seg_tree, self.seg_reset]),
+            widgets.HTML("scribble <b>trunk</b> (red) or <b>crown</b> (green) where the "
+                         "segmentation is wrong; the pin points B, R, L follow"),
+            widgets.HBox([self.seg_canvas, self.seg_view]), self.seg_status])
+
+        children = [mix, morph, similar, seg_tab]
+        titles = ["mix", "morph", "more like this", "segmentation"]
+
+        # -- billboard cloud
+        self.cloud = None
+        if HAS_BILLBOARD:
+            self.cloud_source = widgets.Dropdown(options=["current variation"] + names,
+                                                 value="current variation", description="tree")
+            self.cloud_button = widgets.Button(description="build cloud", icon="cubes",
+                                               layout=widgets.Layout(width="auto"))
+            self.cloud_button.on_click(g(lambda _: self.build_cloud()))
+            self.yaw = widgets.FloatSlider(value=30.0, min=-180.0, max=180.0, step=5.0,
+                                           description="yaw", continuous_update=False)
+            self.yaw.observe(g(lambda _c: self.set_yaw()), names="value")
+            self.cloud_view = ImageView(width=int(display))
+            self.cloud_status = widgets.HTML()
+            children.append(widgets.VBox([
+                widgets.HBox([self.cloud_source, self.cloud_button, self.yaw]),
+                self.cloud_status, self.cloud_view]))
+            titles.append("billboard cloud")
+
+        self.tabs = widgets.Tab(children=children)
+        for i, title in enumerate(titles):
             self.tabs.set_title(i, title)
         super().__init__([widgets.HTML("<b>library</b> (check the trees to mix)"),
                           self.thumbnails, self.errors, self.tabs])
         self._rebuild_sliders()
         g(self.update)()
         g(self.set_morph)()
+        g(self._show_segmentation)()
 
     # -- public API -------------------------------------------------------------
     @property
@@ -370,7 +435,99 @@ class TreeVariationsApp(widgets.VBox):
         self._rebuild_sliders(keep_weights=True)
         self.update()
 
+    def segment(self, name: str | None = None, scribbles=None) -> None:
+        """Segment library tree ``name`` (default: the one shown) with optional
+        scribbles and give the library the new trunk (pins follow)."""
+        name = self.seg_tree.value if name is None else name
+        ex = self.library[name]
+        shapes = self.seg_canvas.model.of_kind("scribble") if scribbles is None else scribbles
+        if name != self.seg_tree.value and scribbles is None:
+            shapes = []
+        if shapes:
+            seg = segment_tree(ex.image, scribbles=shapes)
+            self.segmentation = seg
+            self.library.set_trunk(name, seg.trunk, "scribbles")
+        else:  # back to the library's automatic trunk
+            trunk, source = exemplar_trunk(ex.image, self.library.trunk)
+            self.segmentation = None
+            self.library.set_trunk(name, trunk, source)
+        self._show_segmentation()
+        if name in self.selected or name in (self.morph_a.value, self.morph_b.value):
+            self.update()
+            self.set_morph()
+
+    def build_cloud(self, source: str | None = None, yaw: float | None = None):
+        """Build the billboard cloud of the current variation or a library tree."""
+        if not HAS_BILLBOARD:
+            raise RuntimeError("branchnb.trees.billboard is not available")
+        from ..trees.billboard import billboard_cloud
+
+        with self.errors.catch():
+            if source is not None:
+                self.cloud_source.value = source
+            src = self.cloud_source.value
+            if src == "current variation":
+                if self.variation is None:
+                    raise ValueError("no current variation")
+                self.cloud = billboard_cloud(self.variation.image, rng=int(self.rng.value))
+            else:
+                ex = self.library[src]
+                self.cloud = billboard_cloud(ex.image, ex.trunk, rng=int(self.rng.value))
+            counts = ", ".join(f"{k} {v}" for k, v in self.cloud.counts().items())
+            self.cloud_status.value = f"{self.cloud.n_billboards} billboards ({counts})"
+            self.set_yaw(yaw)
+        return self.cloud
+
+    def set_yaw(self, yaw: float | None = None) -> None:
+        """Render the billboard cloud from ``yaw`` degrees (0: the input view)."""
+        if yaw is not None:
+            self._syncing = True
+            try:
+                self.yaw.value = float(yaw)
+            finally:
+                self._syncing = False
+        if self.cloud is None:
+            return
+        y = float(self.yaw.value)
+        self.cloud_view.update([self.cloud.render(0.0), self.cloud.render(y)],
+                               ["front view (yaw 0)", f"yaw {y:.0f} deg"])
+
     # -- internals ----------------------------------------------------------------
+    def _seg_overlay(self, ex) -> np.ndarray:
+        over = np.zeros(ex.image.shape[:2] + (4,), np.float32)
+        crown = ex.alpha & ~ex.trunk
+        over[crown] = (0.1, 0.8, 0.1, 0.35)
+        over[ex.trunk] = (0.9, 0.1, 0.1, 0.45)
+        return over
+
+    def _show_segmentation(self) -> None:
+        ex = self.library[self.seg_tree.value]
+        self.seg_canvas.set_overlay(self._seg_overlay(ex))
+        self.seg_view.update([ex.render()], ["pins B (red), R (blue), L (magenta); C_r, C_s"])
+        p = ex.contour.pins
+        self.seg_status.value = (
+            f"trunk from <b>{ex.trunk_source}</b>: {ex.trunk.sum() / max(ex.alpha.sum(), 1):.1%} of "
+            f"the tree &nbsp;|&nbsp; B ({p.b[0]:.0f}, {p.b[1]:.0f}), R ({p.r[0]:.0f}, {p.r[1]:.0f}), "
+            f"L ({p.l[0]:.0f}, {p.l[1]:.0f})" + ("" if p.has_trunk else " (no trunk: L = R = B)"))
+
+    def _on_seg_tree(self) -> None:
+        self._loading_scribbles = True
+        try:
+            name = self.seg_tree.value
+            self.seg_canvas.set_image(self.library[name].image)
+            self.seg_canvas.model.load_json(self._scribbles.get(name, '{"shapes": []}'))
+        finally:
+            self._loading_scribbles = False
+        self._show_segmentation()
+
+    def _on_scribble(self, _event) -> None:
+        if self._loading_scribbles:
+            return
+        name = self.seg_tree.value
+        self._scribbles[name] = self.seg_canvas.model.to_json()
+        self.segment(name)
+
+    # -- internals (mix) ------------------------------------------------------------
     def _reference_image(self, ref: str) -> np.ndarray:
         if ref in self.library.names:
             return self.library[ref].image
