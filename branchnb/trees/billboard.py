@@ -23,8 +23,9 @@ camera turns around the tree. The steps follow the paper:
    inflated into a height field ``h`` solving the biharmonic equation
    ``Δ²h = 1`` with ``h = 0`` (and ``Δh = 0``) on the silhouette: the
    boundary stays on the image plane. ``h`` is scaled so that its maximum
-   is ``depth_scale`` times the crown's largest inscribed radius (a round
-   crown becomes a sphere). The volume spans ``-h <= z <= h``.
+   is ``depth_scale`` times half the crown's width: trees are roughly
+   symmetric about their vertical axis, so the crown is about as deep as
+   it is wide (a round crown becomes a sphere). The volume spans ``-h <= z <= h``.
 4. **Layers**: front billboards at ``z = h̄ (1 - δ (1 - ℓ))`` where ``h̄``
    is the mean height over the superpixel and ``ℓ`` in [0, 1] its
    brightness rank (darker billboards are pushed deeper, ``δ`` =
@@ -108,7 +109,7 @@ class BillboardParams:
     chord_tolerance: float = param(0.1, min=0.01, max=0.5, step=0.01,
                                    help="relative chord-length mismatch allowed for a silhouette piece")
     depth_scale: float = param(1.0, min=0.0, max=3.0, step=0.05,
-                               help="max inflation height / largest inscribed radius of the crown")
+                               help="max inflation height / half the crown width (1: as deep as wide)")
     darkness_depth: float = param(0.5, min=0.0, max=1.0, step=0.05,
                                   help="delta: the darkest billboard sits at (1 - delta) of its height")
     rear_layer: bool = param(True, help="add the rear layer (mirrored positions)")
@@ -139,6 +140,9 @@ class BillboardCloud:
         Colour factor (1 = as in the image; interior billboards are darker).
     layer : (K,) int
         ``FRONT``, ``REAR``, ``INTERIOR`` or ``TRUNK_LAYER``.
+    source : (K,) int
+        Index of the front billboard a rear/interior billboard copies (its
+        own index for front and trunk billboards).
     textures : list of (h, w, 4) float32
         Straight (not premultiplied) RGBA textures.
     axis : float
@@ -161,6 +165,7 @@ class BillboardCloud:
     texture: np.ndarray
     tint: np.ndarray
     layer: np.ndarray
+    source: np.ndarray
     textures: list = field(repr=False)
     axis: float = 0.0
     image: np.ndarray = field(default=None, repr=False)
@@ -502,16 +507,23 @@ def _working_image(img: np.ndarray, max_size: int) -> tuple[np.ndarray, float]:
     return np.dstack([rgb, a]).clip(0, 1).astype(np.float32), s
 
 
-def _volume_mask(crown: np.ndarray) -> np.ndarray:
+def _volume_mask(crown: np.ndarray, trunk: np.ndarray | None = None) -> np.ndarray:
     """The silhouette that is inflated: the crown with gaps closed and holes filled.
 
-    Photographed crowns are lacy (sky shows through); inflating every hole
-    would flatten the volume, so small gaps (closing with a disc of 2 % of
-    the crown size) and enclosed holes are filled first.
+    Photographed crowns are lacy (sky shows through) and branches drawn
+    over a crown cut it into pieces; inflating around every hole would
+    flatten the volume. So the trunk pixels inside the crown's convex hull
+    join it, then gaps (closing with a disc of 4 % of the crown size) and
+    enclosed holes are filled.
     """
+    if trunk is not None and trunk.any():
+        pts = np.column_stack(np.nonzero(crown)[::-1]).astype(np.int32)
+        hull = np.zeros(crown.shape, np.uint8)
+        cv2.fillConvexPoly(hull, cv2.convexHull(pts), 1)
+        crown = crown | (trunk & (hull > 0))
     ys, xs = np.nonzero(crown)
     D = max(ys.max() - ys.min() + 1, xs.max() - xs.min() + 1)
-    r = max(1, int(round(0.02 * D)))
+    r = max(1, int(round(0.04 * D)))
     k = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
     pad = 2 * r + 1
     m = np.pad(crown.astype(np.uint8), pad)
@@ -628,17 +640,18 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
 
     # 3. Volume.
     if crown.any():
-        vol = _volume_mask(crown)
+        vol = _volume_mask(crown, trunk_w)
         hn = inflate_silhouette(vol)
-        r_in = float(ndi.distance_transform_edt(np.pad(vol, 1)).max())
-        hmap = (hn * p.depth_scale * r_in).astype(np.float32)
+        xs_c = np.nonzero(crown)[1]
+        half_width = 0.5 * float(xs_c.max() - xs_c.min() + 1)
+        hmap = (hn * p.depth_scale * half_width).astype(np.float32)
     else:
         hmap = np.zeros((H, W), np.float32)
     axis = float(np.nonzero(crown)[1].mean()) if crown.any() else float(np.nonzero(opaque)[1].mean())
 
-    centers, sizes, tex_idx, tints, layers, textures = [], [], [], [], [], []
+    centers, sizes, tex_idx, tints, layers, sources, textures = [], [], [], [], [], [], []
 
-    def add(x0, y0, tex, z, tint, layer, tex_id=None):
+    def add(x0, y0, tex, z, tint, layer, source=None, tex_id=None):
         h, w = tex.shape[:2]
         if tex_id is None:
             textures.append(tex.astype(np.float32))
@@ -648,7 +661,8 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
         tex_idx.append(tex_id)
         tints.append(tint)
         layers.append(layer)
-        return tex_id
+        sources.append(len(sources) if source is None else source)
+        return len(sources) - 1
 
     # 4a. Front layer.
     n_sp = int(sp_ext.max())
@@ -676,7 +690,8 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
         y0, x0 = sl[0].start, sl[1].start
         tex = work[sl].copy()
         tex[:, :, 3] *= keep
-        front_tex[k] = (x0, y0, add(x0, y0, tex, float(z_front[k]), 1.0, FRONT))
+        bid = add(x0, y0, tex, float(z_front[k]), 1.0, FRONT)
+        front_tex[k] = (x0, y0, bid, tex_idx[bid])
         zf_map[sl][keep] = z_front[k]
 
     # 4b. Rear layer: mirrored positions about the axis, behind the image plane.
@@ -684,7 +699,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
     # its soft edges in the front view.
     allowed = (crown_ext & (alpha >= 0.99)).astype(np.float32)
     if p.rear_layer:
-        for k, (x0, y0, tid) in front_tex.items():
+        for k, (x0, y0, bid, tid) in front_tex.items():
             tex = textures[tid]
             h, w = tex.shape[:2]
             cx = 2.0 * axis - (x0 + 0.5 * w)
@@ -696,7 +711,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
             ys, xs = np.nonzero(a > 0)
             hh = hmap[np.clip(ys + y0, 0, H - 1), np.clip(xs + rx0, 0, W - 1)]
             z = -float(hh.mean()) * (1.0 - p.darkness_depth * (1.0 - rank[k]))
-            add(rx0, y0, t, min(z, -1e-3), 1.0, REAR)
+            add(rx0, y0, t, min(z, -1e-3), 1.0, REAR, source=bid)
 
     # 4c. Interior billboards at blue-noise positions, darkened with depth.
     if p.n_interior > 0 and n_sp > 0 and hmap.max() > 0:
@@ -707,7 +722,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
             k = int(sp_ext[yi, xi])
             if k == 0 or k not in front_tex:
                 continue
-            x0, y0, tid = front_tex[k]
+            x0, y0, bid, tid = front_tex[k]
             tex = textures[tid]
             h, w = tex.shape[:2]
             ix0, iy0 = round(px - 0.5 * w), round(py - 0.5 * h)
@@ -720,7 +735,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
             zcap = max(zcap, 1e-3)
             z = float(rng.uniform(-0.9, 0.9)) * zcap
             depth01 = (0.9 * zcap - z) / (1.8 * zcap)
-            add(ix0, iy0, t, z, 1.0 - p.interior_darkening * depth01, INTERIOR)
+            add(ix0, iy0, t, z, 1.0 - p.interior_darkening * depth01, INTERIOR, source=bid)
 
     # 4d. The trunk: one billboard on the image plane.
     cut = _cut(work, trunk_ext)
@@ -734,6 +749,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
         texture=np.asarray(tex_idx, np.int64),
         tint=np.asarray(tints, np.float64),
         layer=np.asarray(layers, np.int64),
+        source=np.asarray(sources, np.int64),
         textures=textures, axis=axis, image=work, superpixels=sp_lab,
         depth=hmap, replaced=curves, scale=s,
     )

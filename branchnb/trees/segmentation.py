@@ -191,7 +191,8 @@ def tree_rgba(image, *, alpha_threshold: float = 0.5, name: str = "image") -> tu
     ------
     ValueError
         No alpha channel (use e.g. ``branchnb.trees`` normalisation to make
-        one from the background colour), or no opaque pixel.
+        one from the background colour), no opaque pixel, or no transparent
+        pixel (no silhouette).
     """
     img = as_float_image(image, name=name)
     if img.shape[2] != 4:
@@ -204,6 +205,10 @@ def tree_rgba(image, *, alpha_threshold: float = 0.5, name: str = "image") -> tu
     mask = img[:, :, 3] >= alpha_threshold
     if mask.sum() < 16:
         raise ValueError(f"{name} is (almost) fully transparent: no tree pixels with alpha >= {alpha_threshold}")
+    if mask.all():
+        raise ValueError(
+            f"{name} is fully opaque: there is no silhouette; make the background transparent first"
+        )
     return img, mask
 
 
@@ -266,6 +271,24 @@ class _Stem:
     region: np.ndarray | None = None  # stem pixels: the band's component at the bottom
 
 
+def _stem_piece(mask: np.ndarray, top: int, bot: int) -> np.ndarray:
+    """The piece of the rows ``top..bot`` of ``mask`` standing on row ``bot``.
+
+    A frond or branch hanging down beside the stem is not part of it.
+    """
+    band = np.zeros_like(mask)
+    band[top: bot + 1] = mask[top: bot + 1]
+    comp, n_comp = ndi.label(band, structure=np.ones((3, 3)))
+    if n_comp > 1:
+        bottom = np.bincount(comp[bot], minlength=n_comp + 1)
+        bottom[0] = 0
+        if bottom.max() == 0:
+            bottom = np.bincount(comp.ravel(), minlength=n_comp + 1)
+            bottom[0] = 0
+        band = comp == int(np.argmax(bottom))
+    return band
+
+
 def _find_stem(mask: np.ndarray, foliage: np.ndarray, lab: np.ndarray, stem_width: float) -> _Stem:
     rows = np.nonzero(mask.any(axis=1))[0]
     y0, y1 = int(rows[0]), int(rows[-1])
@@ -276,7 +299,8 @@ def _find_stem(mask: np.ndarray, foliage: np.ndarray, lab: np.ndarray, stem_widt
     narrow[y1 + 1:] = False
     # Runs of narrow rows, lowest first, within the lower 60 % of the tree.
     lab_rows, n = ndi.label(narrow)
-    best = None
+    xs = np.nonzero(mask)[1]
+    best, band = None, None
     for k in range(n, 0, -1):
         ys = np.nonzero(lab_rows == k)[0]
         top, bot = int(ys[0]), int(ys[-1])
@@ -284,23 +308,16 @@ def _find_stem(mask: np.ndarray, foliage: np.ndarray, lab: np.ndarray, stem_widt
             continue
         if bot - top + 1 < max(3, 0.03 * height):
             continue
-        if best is None or bot > best[1]:
-            best = (top, bot)
-    xs = np.nonzero(mask)[1]
+        piece = _stem_piece(mask, top, bot)
+        # A stem stands upright: at least half as tall as it is wide (this
+        # rejects e.g. the tapering bottom of a ground patch).
+        row_w = piece.sum(axis=1)
+        if bot - top + 1 < 0.5 * np.median(row_w[row_w > 0]):
+            continue
+        best, band = (top, bot), piece
+        break
     if best is None:
         return _Stem(None, float(np.median(xs)), np.full(3, np.nan))
-    band = np.zeros_like(mask)
-    band[best[0]: best[1] + 1] = mask[best[0]: best[1] + 1]
-    # The stem is the piece of the band standing on the band's bottom row (a
-    # frond or branch hanging down beside it is not part of the stem).
-    comp, n_comp = ndi.label(band, structure=np.ones((3, 3)))
-    if n_comp > 1:
-        bottom = np.bincount(comp[best[1]], minlength=n_comp + 1)
-        bottom[0] = 0
-        if bottom.max() == 0:
-            bottom = np.bincount(comp.ravel(), minlength=n_comp + 1)
-            bottom[0] = 0
-        band = comp == int(np.argmax(bottom))
     pix = band & ~foliage
     if pix.sum() < 4:
         return _Stem(None, float(np.median(xs)), np.full(3, np.nan))
@@ -439,6 +456,9 @@ def automatic_seeds(cues: dict) -> np.ndarray:
             above[stem.rows[0] - max(2, int(0.02 * D)):] = False
             seeds[above & (seeds == 0)] = CROWN
         # A brown stem and no foliage anywhere: a bare tree, all trunk.
+    elif cues["woody"].sum() >= 0.5 * mask.sum():
+        # No foliage colour and no narrow stem, but mostly wood: bare wood, all trunk.
+        seeds[mask] = TRUNK
     return seeds
 
 
