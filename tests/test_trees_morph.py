@@ -503,3 +503,13 @@ def test_simplify_contour_rejects_tiny_m():
     cr = np.random.default_rng(0).uniform(0, 50, (100, 2))
     with pytest.raises(ValueError, match="m_points"):
         simplify_contour(cr, m_points=4)
+
+
+def test_bench_rows_quick():
+    from branchnb.bench import BenchRow
+    from branchnb.trees._bench import rows
+
+    out = rows(quick=True)
+    assert all(isinstance(r, BenchRow) and r.seconds > 0 and r.anchor_seconds > 0 for r in out)
+    assert out[0].anchor_seconds == 5.5 and "1024x1024 variation" in out[0].name
+    assert any("mean value coordinates" in r.name for r in out)

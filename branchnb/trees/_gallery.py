@@ -33,6 +33,7 @@ def render(outdir: Path) -> list[GalleryItem]:
          "contour C_r (N = 2000) and simplified cage C_s (M = 20)")
 
     names = ["tree_rpg_01", "tree_rpg_03", "tree_rpg_06", "tree_rpg_10"]
+    leafy = [f"tree_rpg_{i:02d}" for i in range(1, 11)]  # broadleaf and conifer sprites
     cells = []
     for a in names:
         for b in names:
@@ -46,7 +47,6 @@ def render(outdir: Path) -> list[GalleryItem]:
     save("trees_morph.png", tile_images([v.image for v in seq], cols=6), "Morph sequence",
          "weights (1 - t, t) for t = 0, 0.2, ..., 1; colour weights follow the shape weights")
 
-    leafy = [f"tree_rpg_{i:02d}" for i in range(1, 11)]
     rand = [lib.variation(use=leafy, rng=i) for i in range(12)]
     save("trees_random.png", tile_images([v.image for v in rand], cols=6),
          "Random variations",
@@ -54,10 +54,11 @@ def render(outdir: Path) -> list[GalleryItem]:
          "weights, colour concentration 0.3, M = 20")
 
     target = "tree_rpg_04"
-    vs = lib.variations_of(target, 5, rng=2)
+    vs = lib.variations_of(target, 5, use=leafy, rng=2)
     save("trees_variations_of.png", tile_images([lib[target].image] + [v.image for v in vs], cols=6),
          "Variations of one tree",
-         f"left: {target}; right: variations that keep at least half of its shape and colour weight")
+         f"left: {target}; right: variations that keep at least half of its shape and colour weight, "
+         "mixed with sprites 01-10")
 
     autumn = lib.variation({"tree_rpg_01": 0.5, "tree_rpg_03": 0.5}, use=names, rng=3,
                            reference="maple_leaf_03")
