@@ -74,7 +74,7 @@ RPG_TREES = tuple(f"tree_rpg_{i:02d}" for i in range(1, 15))
 # ----------------------------------------------------------------------------- exemplars
 
 
-@dataclass
+@dataclass(eq=False)
 class Exemplar:
     """A processed library tree.
 
@@ -308,7 +308,7 @@ class VariationParams:
                         help="variations of T: minimum weight of T")
 
 
-@dataclass
+@dataclass(eq=False)
 class Variation:
     """A synthesised tree.
 
