@@ -194,6 +194,20 @@ def test_obj_export_parses_back(cloud, tmp_path):
     assert (tmp_path / "tree_atlas.png").is_file() and "map_Kd tree_atlas.png" in mtl
 
 
+def test_crossed_export_doubles_quads(cloud, tmp_path):
+    K = cloud.n_billboards
+    q = quad_vertices(cloud, crossed=True)
+    assert q.shape == (2 * K, 4, 3)
+    front, turned = q[:K], q[K:]
+    # Same centres; the turned quads lie in the y-z plane (edge-on from the front).
+    assert np.allclose(front.mean(axis=1), turned.mean(axis=1))
+    assert np.allclose(turned[:, :, 0], turned[:, :1, 0]) and np.allclose(front[:, :, 2], front[:, :1, 2])
+    doc = json.loads(export_gltf(cloud, tmp_path / "x.gltf", crossed=True).read_text())
+    assert doc["accessors"][0]["count"] == 8 * K and doc["accessors"][3]["count"] == 12 * K
+    text = export_obj(cloud, tmp_path / "x.obj", crossed=True).read_text()
+    assert len(re.findall(r"^f ", text, re.M)) == 2 * K
+
+
 def test_texture_atlas_packs_without_overlap():
     rng = np.random.default_rng(0)
     texs = [rng.random((int(rng.integers(3, 30)), int(rng.integers(3, 30)), 4)).astype(np.float32)

@@ -1,4 +1,4 @@
-"""Billboard cloud from a single tree image (section 6 of the paper).
+"""Billboard cloud from a single tree image.
 
 A frontal RGBA tree image becomes a cloud of small textured quads
 ("billboards") spread in a 3-D volume, which gives parallax when the
@@ -32,8 +32,10 @@ camera turns around the tree. The steps follow the paper:
    ``darkness_depth``); a rear layer with the positions mirrored
    horizontally about the crown's axis at ``z < 0`` (the texture itself is
    not mirrored); ``n_interior`` extra billboards at blue-noise positions
-   (weighted Voronoi stippling of ``h``) inside the volume, each with the
-   texture of the superpixel under it, darkened with its depth; the trunk
+   inside the volume (weighted Voronoi stippling with density ``h``, the
+   volume's half thickness, so the points spread evenly in 3-D; depth
+   uniform between the front and back layers), each with the texture of
+   the superpixel under it, darkened with its depth; the trunk
    as one billboard on the image plane ``z = 0``.
 
 Billboards are *axial* billboards (each quad turns about its vertical

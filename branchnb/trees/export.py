@@ -118,14 +118,22 @@ def _frame(cloud, height: float):
     return k, float(cloud.axis), bottom
 
 
-def quad_vertices(cloud, *, yaw: float = 0.0, height: float = 10.0) -> np.ndarray:
+def quad_vertices(cloud, *, yaw: float = 0.0, height: float = 10.0, crossed: bool = False) -> np.ndarray:
     """Corners of every billboard quad in metres, facing the camera at ``yaw`` degrees.
+
+    Parameters
+    ----------
+    crossed : bool
+        Append a second quad per billboard turned by 90 degrees about its
+        vertical axis (a "cross" billboard: generic viewers then show some
+        volume from the side too; edge-on, it is invisible in the ``yaw``
+        view).
 
     Returns
     -------
-    (K, 4, 3) float64
+    (K, 4, 3) or (2K, 4, 3) float64
         Top-left, top-right, bottom-right, bottom-left (as seen from the
-        camera), ``y`` up.
+        camera), ``y`` up; with ``crossed`` the K turned quads follow.
     """
     k, ax, bottom = _frame(cloud, height)
     c = cloud.centers
@@ -139,7 +147,10 @@ def quad_vertices(cloud, *, yaw: float = 0.0, height: float = 10.0) -> np.ndarra
     tr = centre + hw * right + hh * up
     br = centre + hw * right - hh * up
     bl = centre - hw * right - hh * up
-    return np.stack([tl, tr, br, bl], axis=1)
+    quads = np.stack([tl, tr, br, bl], axis=1)
+    if crossed:
+        return np.concatenate([quads, quad_vertices(cloud, yaw=float(yaw) + 90.0, height=height)])
+    return quads
 
 
 def _uvs(cloud, rects, atlas_shape):
@@ -153,7 +164,7 @@ def _uvs(cloud, rects, atlas_shape):
 
 
 def export_gltf(cloud, path, *, yaw: float = 0.0, height: float = 10.0,
-                embed_texture: bool = False) -> Path:
+                embed_texture: bool = False, crossed: bool = False) -> Path:
     """Write the cloud as a glTF 2.0 file (``.gltf`` JSON, embedded buffer).
 
     Parameters
@@ -168,6 +179,8 @@ def export_gltf(cloud, path, *, yaw: float = 0.0, height: float = 10.0,
         Tree height in metres.
     embed_texture : bool
         Put the atlas PNG inside the buffer instead of a separate file.
+    crossed : bool
+        Two perpendicular quads per billboard (see :func:`quad_vertices`).
 
     Returns
     -------
@@ -179,11 +192,12 @@ def export_gltf(cloud, path, *, yaw: float = 0.0, height: float = 10.0,
     if cloud.n_billboards == 0:
         raise ValueError("cloud has no billboards")
     atlas, rects = texture_atlas(cloud.textures)
-    quads = quad_vertices(cloud, yaw=yaw, height=height)
+    quads = quad_vertices(cloud, yaw=yaw, height=height, crossed=crossed)
     K = len(quads)
+    owner = np.arange(K) % cloud.n_billboards
     pos = quads.reshape(-1, 3).astype(np.float32)
-    uv = _uvs(cloud, rects, atlas.shape).reshape(-1, 2).astype(np.float32)
-    col = np.repeat(np.clip(cloud.tint, 0, 1)[:, None], 3, axis=1)
+    uv = _uvs(cloud, rects, atlas.shape)[owner].reshape(-1, 2).astype(np.float32)
+    col = np.repeat(np.clip(cloud.tint[owner], 0, 1)[:, None], 3, axis=1)
     col = np.repeat(col, 4, axis=0).astype(np.float32)
     base = (np.arange(K, dtype=np.uint32) * 4)[:, None]
     idx = (base + np.array([0, 3, 2, 0, 2, 1], np.uint32)[None, :]).reshape(-1).astype(np.uint32)
@@ -237,6 +251,8 @@ def export_gltf(cloud, path, *, yaw: float = 0.0, height: float = 10.0,
                 "billboards": "axial: turn each quad about the vertical axis through its centre "
                               "to face the camera",
                 "yaw": float(yaw),
+                "crossed": bool(crossed),
+                "quads_per_billboard": 2 if crossed else 1,
                 "centers": np.round(centres, 5).tolist(),
                 "layers": [LAYER_NAMES[int(v)] for v in cloud.layer],
             },
@@ -260,7 +276,8 @@ def export_gltf(cloud, path, *, yaw: float = 0.0, height: float = 10.0,
     return path
 
 
-def export_obj(cloud, path, *, yaw: float = 0.0, height: float = 10.0, tint_levels: int = 16) -> Path:
+def export_obj(cloud, path, *, yaw: float = 0.0, height: float = 10.0, tint_levels: int = 16,
+               crossed: bool = False) -> Path:
     """Write the cloud as Wavefront OBJ + MTL + atlas PNG.
 
     Parameters
@@ -268,7 +285,7 @@ def export_obj(cloud, path, *, yaw: float = 0.0, height: float = 10.0, tint_leve
     cloud : BillboardCloud
     path : str or Path
         Output ``.obj``; ``<stem>.mtl`` and ``<stem>_atlas.png`` go beside it.
-    yaw, height : float
+    yaw, height, crossed :
         As in :func:`export_gltf`.
     tint_levels : int
         Darkening is quantised into this many materials (``Kd`` multiplies
@@ -286,14 +303,16 @@ def export_obj(cloud, path, *, yaw: float = 0.0, height: float = 10.0, tint_leve
     if tint_levels < 1:
         raise ValueError(f"tint_levels must be >= 1, got {tint_levels}")
     atlas, rects = texture_atlas(cloud.textures)
-    quads = quad_vertices(cloud, yaw=yaw, height=height)
-    uv = _uvs(cloud, rects, atlas.shape)
+    quads = quad_vertices(cloud, yaw=yaw, height=height, crossed=crossed)
+    owner = np.arange(len(quads)) % cloud.n_billboards
+    uv = _uvs(cloud, rects, atlas.shape)[owner]
     path.parent.mkdir(parents=True, exist_ok=True)
     atlas_path = path.with_name(path.stem + "_atlas.png")
     mtl_path = path.with_suffix(".mtl")
     imsave(atlas_path, atlas)
-    level = np.clip(np.round(np.clip(cloud.tint, 0, 1) * (tint_levels - 1)), 0, tint_levels - 1).astype(int) \
-        if tint_levels > 1 else np.zeros(len(cloud.tint), int)
+    tint = np.clip(cloud.tint[owner], 0, 1)
+    level = np.clip(np.round(tint * (tint_levels - 1)), 0, tint_levels - 1).astype(int) \
+        if tint_levels > 1 else np.zeros(len(tint), int)
     used = sorted(set(level.tolist()))
     mtl = ["# branchnb.trees billboard cloud"]
     for lv in used:
@@ -302,7 +321,8 @@ def export_obj(cloud, path, *, yaw: float = 0.0, height: float = 10.0, tint_leve
                 "d 1.0", "illum 1", f"map_Kd {atlas_path.name}", f"map_d {atlas_path.name}", ""]
     mtl_path.write_text("\n".join(mtl))
     lines = ["# branchnb.trees billboard cloud: one quad per billboard (axial billboards),",
-             f"# {cloud.n_billboards} quads, y up, metres, facing yaw {float(yaw):g} degrees",
+             f"# {len(quads)} quads, y up, metres, facing yaw {float(yaw):g} degrees"
+             + (" (crossed: second half turned by 90 degrees)" if crossed else ""),
              f"mtllib {mtl_path.name}"]
     lines += [f"v {x:.6f} {y:.6f} {z:.6f}" for x, y, z in quads.reshape(-1, 3)]
     lines += [f"vt {u:.6f} {1.0 - v:.6f}" for u, v in uv.reshape(-1, 2)]
@@ -312,7 +332,8 @@ def export_obj(cloud, path, *, yaw: float = 0.0, height: float = 10.0, tint_leve
         lines.append(f"usemtl tint_{lv:02d}")
         for i in np.flatnonzero(level == lv):
             a = 4 * i + 1
-            lines.append(f"g billboard_{i:04d}_{LAYER_NAMES[int(cloud.layer[i])]}")
+            j = int(owner[i])
+            lines.append(f"g billboard_{j:04d}_{LAYER_NAMES[int(cloud.layer[j])]}" + ("_x" if i != j else ""))
             # tl, bl, br, tr: counter-clockwise seen from the camera.
             lines.append(f"f {a}/{a} {a + 3}/{a + 3} {a + 2}/{a + 2} {a + 1}/{a + 1}")
     path.write_text("\n".join(lines) + "\n")

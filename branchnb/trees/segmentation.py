@@ -1,4 +1,4 @@
-"""Crown/trunk segmentation of an RGBA tree image (section 4.2 of the paper).
+"""Crown/trunk segmentation of an RGBA tree image.
 
 The paper labels every opaque pixel of a tree image as *crown* (foliage) or
 *trunk* (stem, visible branches, roots) with a fine-tuned deep network.
@@ -13,12 +13,13 @@ segmenter from the cues a person would use, in four steps:
    to the background.
 2. **Confident seeds** (:func:`automatic_seeds`), derived from the image
    itself: the *stem* is the lowest band of rows where the silhouette is
-   narrow (< ``stem_width`` of the widest row); its non-foliage pixels are
-   trunk seeds. Foliage-coloured pixels, and thin bands squeezed between
-   foliage and background (the drawn outline of clip-art crowns), are
-   crown seeds. Without any foliage colour the image is a silhouette or a
-   bare tree: a woody (brown) stem makes the whole tree trunk, a black or
-   grey one makes everything above the stem crown.
+   narrow (< ``stem_width`` of the widest row) whose piece standing on the
+   band's bottom row is upright (at least half as tall as wide); its
+   non-foliage pixels are trunk seeds. Foliage-coloured pixels, and thin
+   bands squeezed between foliage and background (the drawn outline of
+   clip-art crowns), are crown seeds. Without any foliage colour the image is a silhouette or a
+   bare tree: a woody (brown) stem, or mostly brown pixels, make the whole
+   tree trunk; a black or grey stem makes everything above it crown.
 3. **Per-pixel classifier**: a random forest (scikit-learn) trained on the
    seeds of *this* image (self-supervised, no labelled data needed) gives
    ``p(trunk)`` for every opaque pixel. User scribbles are added to the
@@ -35,7 +36,11 @@ brought back to the input resolution.
 
 :func:`load_reference_masks` loads the project's own hand-labelled masks of
 the sample trees (``data/trees_masks/``) and :func:`evaluate_reference` the
-mean IoU of the automatic segmenter against them.
+mean IoU of the automatic segmenter against them: 0.986 over the 23 sample
+trees (the paper's network: 0.672 on its own test set). The references were
+made by correcting this segmenter's output with scribbles, so the figure is
+optimistic (pixels the labeller accepted unchanged count as correct) and not
+comparable with the paper's.
 
 Label convention: 0 background, 1 crown, 2 trunk, 255 "not part of the
 tree" (ground patch, grass: ignored by the scores).
