@@ -149,6 +149,7 @@ class AnnotationCanvas(widgets.VBox):
         traitlets.link((self._radius_slider, "value"), (self, "radius"))
         self.label = self._label_picker.value
         self.mode = self._tools.value
+        self._show_tool_options()
 
         g = self.errors.guard
         self.canvas.on_mouse_down(g(self.handle_mouse_down))
@@ -179,8 +180,12 @@ class AnnotationCanvas(widgets.VBox):
     def _mode_changed(self, change):
         self._end_active()
         self.selected = None
-        self._label_picker.layout.display = None if change["new"] == "scribble" else "none"
+        self._show_tool_options()
         self._update_status()
+
+    def _show_tool_options(self) -> None:
+        self._label_picker.layout.display = None if self.mode == "scribble" else "none"
+        self._radius_slider.layout.display = None if self.mode in ("polyline", "edit") else "none"
 
     @traitlets.observe("radius")
     def _radius_changed(self, change):
