@@ -221,3 +221,10 @@ def test_error_area_and_progress():
     assert seen == [0, 1, 2, 3] and bar.bar.value == 1.0
     bar.update(0.5, "half")
     assert bar.text.value == "half"
+
+
+def test_tool_options_follow_the_mode():
+    c = AnnotationCanvas(np.zeros((10, 10, 3)), mode="polyline")
+    assert c._label_picker.layout.display == "none" and c._radius_slider.layout.display is None
+    c.mode = "scribble"
+    assert c._label_picker.layout.display is None and c._radius_slider.layout.display == "none"

@@ -19,7 +19,11 @@ from ..core.polyline import polyline_length, resample_uniform, turning_angles
 from ..core.render import draw_polylines
 from ..core.svg import polylines_to_svg
 
-__all__ = ["Branch", "Structure"]
+__all__ = ["Branch", "Structure", "GENERATION_COLORS"]
+
+#: Colours of generations 0, 1, 2, ... (the last repeats for deeper ones).
+GENERATION_COLORS = ((0.10, 0.62, 0.20), (0.15, 0.35, 0.95), (0.95, 0.60, 0.05),
+                     (0.90, 0.15, 0.55), (0.05, 0.70, 0.75))
 
 
 @dataclass
@@ -87,7 +91,14 @@ class Structure:
     image_shape: tuple[int, int] | None = None
 
     def __post_init__(self):
+        if not isinstance(self.branches, (list, tuple)):
+            raise TypeError(f"branches must be a list of Branch, got {type(self.branches).__name__}")
         self.branches = [b if isinstance(b, Branch) else Branch(**b) for b in self.branches]
+        if self.image_shape is not None:
+            shp = tuple(int(v) for v in tuple(self.image_shape)[:2])
+            if len(shp) != 2 or min(shp) <= 0:
+                raise ValueError(f"image_shape must be a positive (H, W), got {self.image_shape}")
+            self.image_shape = shp
         self.validate()
 
     # -- building -------------------------------------------------------
@@ -104,7 +115,12 @@ class Structure:
         return len(self.branches) - 1
 
     def validate(self) -> Structure:
-        """Check parent links (existing branch, valid vertex, no cycles)."""
+        """Check parent links (existing branch, valid vertex, no cycles).
+
+        Vertices outside ``image_shape`` are allowed here (a synthesized
+        structure may be cropped by its output); :meth:`check_inside`
+        rejects them where an image is involved.
+        """
         n = len(self.branches)
         for i, b in enumerate(self.branches):
             if b.parent is None:
@@ -146,6 +162,60 @@ class Structure:
                               remap.get(b.parent) if b.parent is not None else None,
                               b.parent_vertex))
         return Structure(out, self.image_shape)
+
+    def check_inside(self, shape=None, *, name: str = "structure") -> Structure:
+        """Raise ValueError if a vertex lies outside ``shape`` (default ``image_shape``).
+
+        Half a pixel of tolerance, as for pixel centres. Returns ``self``.
+
+        Examples
+        --------
+        >>> Structure([Branch([(0, 0), (60, 10)], 1.0)], image_shape=(40, 50)).check_inside()
+        Traceback (most recent call last):
+        ...
+        ValueError: structure.branches[0].points[1] = (60.0, 10.0) lies outside the 50 x 40 image
+        """
+        shp = shape if shape is not None else self.image_shape
+        if shp is None:
+            return self
+        h, w = int(shp[0]), int(shp[1])
+        for i, b in enumerate(self.branches):
+            x, y = b.points[:, 0], b.points[:, 1]
+            bad = (x < -0.5) | (x > w - 0.5) | (y < -0.5) | (y > h - 0.5)
+            if bad.any():
+                j = int(np.flatnonzero(bad)[0])
+                raise ValueError(f"{name}.branches[{i}].points[{j}] = ({x[j]:.1f}, {y[j]:.1f}) lies outside "
+                                 f"the {w} x {h} image")
+        return self
+
+    def copy(self) -> Structure:
+        """A deep copy."""
+        return Structure([Branch(b.points.copy(), b.thickness.copy(), b.parent, b.parent_vertex)
+                          for b in self.branches], self.image_shape)
+
+    def with_thickness(self, index: int, vertex: int | slice, r) -> Structure:
+        """A copy with the thickness of ``branches[index]`` at ``vertex`` set to ``r`` (> 0).
+
+        The paper's thickness stays user-editable: this is the edit.
+
+        Examples
+        --------
+        >>> s = Structure([Branch([(0, 0), (10, 0)], 2.0)])
+        >>> s.with_thickness(0, 1, 5.0).branches[0].thickness.tolist()
+        [2.0, 5.0]
+        """
+        if not 0 <= index < len(self.branches):
+            raise ValueError(f"index {index} out of range for {len(self.branches)} branches")
+        out = self.copy()
+        t = out.branches[index].thickness.copy()
+        try:
+            t[vertex] = r
+        except IndexError as exc:
+            raise ValueError(f"vertex {vertex} out of range for branch {index} "
+                             f"({len(t)} vertices)") from exc
+        out.branches[index] = Branch(out.branches[index].points, t, out.branches[index].parent,
+                                     out.branches[index].parent_vertex)
+        return out
 
     # -- queries --------------------------------------------------------
     @property
@@ -270,10 +340,11 @@ class Structure:
             return int(shape[0]), int(shape[1])
         if self.image_shape is not None:
             return self.image_shape
-        x0, y0, x1, y1 = self.bounds()
+        _x0, _y0, x1, y1 = self.bounds()
         return int(np.ceil(y1)) + 2, int(np.ceil(x1)) + 2
 
-    def render(self, shape=None, *, background=None, color=(0.0, 0.0, 0.0)) -> np.ndarray:
+    def render(self, shape=None, *, background=None, color=(0.0, 0.0, 0.0), by_generation: bool = False,
+               alpha: float = 1.0, min_width: float = 0.0) -> np.ndarray:
         """Rasterise the skeleton with its thickness (width = 2 r).
 
         Parameters
@@ -282,15 +353,28 @@ class Structure:
             Canvas size; ``image_shape`` or the bounds by default.
         background : (H, W, C) array_like, optional
             Image to draw on (white if None).
-        color : RGB triple
+        color : RGB triple, or one per branch
+        by_generation : bool
+            Colour each branch by its generation (:data:`GENERATION_COLORS`).
+        alpha : float
+            Opacity of the strokes.
+        min_width : float
+            Draw every stroke at least this wide (pixels), e.g. to see a
+            thin skeleton over a photo.
         """
         if background is None:
             h, w = self._canvas_shape(shape)
             background = np.ones((h, w, 3), np.float32)
         else:
             background = as_float_image(background, name="background")
+        if not self.branches:
+            return background.copy()
+        if by_generation:
+            pal = np.asarray(GENERATION_COLORS, np.float32)
+            color = pal[np.minimum([self.generation(i) for i in range(len(self.branches))], len(pal) - 1)]
         return draw_polylines(background, [b.points for b in self.branches],
-                              widths=[2 * b.thickness for b in self.branches], colors=color)
+                              widths=[np.maximum(2 * b.thickness, min_width) for b in self.branches],
+                              colors=color, alpha=alpha)
 
     def to_svg(self, shape=None, *, color=(0.0, 0.0, 0.0)) -> str:
         """SVG document of the skeleton with thickness."""

@@ -1,0 +1,214 @@
+"""Bending model: a Markov chain over (turning angle, thickness) sequences.
+
+Every branch of the example, resampled at step ``h``, becomes a sequence
+of *elements*: element ``i`` is the pair ``(alpha_i, r_{i+1})`` of the
+turning angle at vertex ``i`` and the thickness of the following vertex,
+so appending one element to a branch turns it by ``alpha`` at its tip and
+adds a vertex ``h`` further on with radius ``r``.
+
+Synthesis keeps the history of the last ``k + 1`` elements of the growing
+branch. Every sub-sequence of ``k + 1`` consecutive input elements is a
+candidate; its quality is
+
+    Q = dist(alpha_H, alpha_W) * dist(r_H, r_W),
+    dist(X, Y) = 1 / (||X - Y|| + 1) + 1,
+
+and one of the ``c`` best candidates (probability proportional to Q)
+contributes the ``m`` elements that follow it in the input. A candidate
+that ends its input branch with fewer than ``m`` followers ends the
+synthesized branch too: that is how the Markov chain learns where
+branches stop. All candidates are scored at once with numpy.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..core.polyline import tangents
+from .structure import Structure
+
+__all__ = ["BendingModel", "branch_elements", "markov_dist"]
+
+
+def markov_dist(x, y, axis: int = -1) -> np.ndarray:
+    """The paper's similarity ``dist(X, Y) = 1 / (||X - Y|| + 1) + 1`` (in (1, 2]).
+
+    Examples
+    --------
+    >>> float(markov_dist([0.0, 0.0], [3.0, 4.0]))
+    1.1666666666666667
+    """
+    d = np.asarray(x, np.float64) - np.asarray(y, np.float64)
+    return 1.0 / (np.sqrt(np.sum(d * d, axis=axis)) + 1.0) + 1.0
+
+
+def branch_elements(points: np.ndarray, radii: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Elements ``(alpha_i, r_{i+1})``, i = 1 .. N-2, of one resampled branch.
+
+    Returns ``(angles (N-2,), radii (N-2,))``; empty for N < 3.
+    """
+    p = np.asarray(points, np.float64)
+    r = np.asarray(radii, np.float64)
+    if len(p) < 3:
+        return np.zeros(0), np.zeros(0)
+    d = np.diff(p, axis=0)
+    u, v = d[:-1], d[1:]
+    cross = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
+    dot = np.einsum("ij,ij->i", u, v)
+    return np.arctan2(cross, dot), r[2:].copy()
+
+
+def _angle_between(u: np.ndarray, v: np.ndarray) -> float:
+    return float(np.arctan2(u[0] * v[1] - u[1] * v[0], u[0] * v[0] + u[1] * v[1]))
+
+
+@dataclass
+class BendingModel:
+    """The example's element sequences, ready for vectorised candidate scoring.
+
+    Build it with :meth:`fit` from a structure already resampled at ``h``.
+
+    Attributes
+    ----------
+    m, k : int
+        Elements appended per step, history length ``k + 1``.
+    angles, radii : (T,) ndarray
+        All elements of all branches, concatenated.
+    branch, local : (T,) int ndarray
+        Branch of each element and its index inside the branch sequence.
+    cont_angles, cont_radii : (T, m) ndarray
+        The (up to) ``m`` elements following each element (0 beyond).
+    cont_len : (T,) int ndarray
+        How many followers exist (< m near the end of a branch).
+    heads : list of dict
+        Per input branch: first radii ``r0``, ``r1``, branching angle
+        ``beta`` (children), number of elements.
+    """
+
+    m: int
+    k: int
+    h: float
+    angles: np.ndarray
+    radii: np.ndarray
+    branch: np.ndarray
+    local: np.ndarray
+    cont_angles: np.ndarray
+    cont_radii: np.ndarray
+    cont_len: np.ndarray
+    starts: np.ndarray
+    heads: list = field(default_factory=list)
+    local_points: np.ndarray = field(default=None, repr=False)
+    _windows: dict = field(default_factory=dict, repr=False)
+
+    @classmethod
+    def fit(cls, structure: Structure, m: int, k: int, h: float) -> BendingModel:
+        """Collect the elements of every branch of a structure resampled at ``h``."""
+        angs, rads, br, loc, starts, heads = [], [], [], [], [], []
+        total = 0
+        for i, b in enumerate(structure.branches):
+            a, r = branch_elements(b.points, b.thickness)
+            beta = None
+            if b.parent is not None and len(b.points) >= 2:
+                par = structure.branches[b.parent]
+                if len(par.points) >= 2:
+                    t = tangents(par.points)[b.parent_vertex]
+                    beta = _angle_between(t, b.points[1] - b.points[0])
+            heads.append({
+                "r0": float(b.thickness[0]),
+                "r1": float(b.thickness[1]) if len(b.thickness) > 1 else float(b.thickness[0]),
+                "beta": beta, "n": len(a), "start": total,
+                "step": float(np.hypot(*(b.points[1] - b.points[0]))) if len(b.points) > 1 else 0.0,
+            })
+            starts.append(total)
+            angs.append(a)
+            rads.append(r)
+            br.append(np.full(len(a), i))
+            loc.append(np.arange(len(a)))
+            total += len(a)
+        A = np.concatenate(angs) if angs else np.zeros(0)
+        R = np.concatenate(rads) if rads else np.zeros(0)
+        B = np.concatenate(br).astype(np.int64) if br else np.zeros(0, np.int64)
+        Lc = np.concatenate(loc).astype(np.int64) if loc else np.zeros(0, np.int64)
+        T = len(A)
+        ends = np.zeros(T, np.int64)  # index one past the last element of each element's branch
+        for hd in heads:
+            ends[hd["start"]: hd["start"] + hd["n"]] = hd["start"] + hd["n"]
+        j = np.arange(T)[:, None] + 1 + np.arange(m)[None, :]
+        ok = j < ends[:, None]
+        jj = np.where(ok, j, 0)
+        ca = np.where(ok, A[jj] if T else 0.0, 0.0)
+        cr = np.where(ok, R[jj] if T else 0.0, 0.0)
+        model = cls(m=int(m), k=int(k), h=float(h), angles=A, radii=R, branch=B, local=Lc,
+                    cont_angles=ca, cont_radii=cr, cont_len=ok.sum(axis=1).astype(np.int64),
+                    starts=np.asarray(starts, np.int64), heads=heads)
+        # Each candidate's appended vertices in the tip's frame (tip at 0, heading +x):
+        # at synthesis time they only need a rotation and a translation.
+        th = np.cumsum(ca, axis=1)
+        step = float(h) * ok
+        model.local_points = np.stack([np.cumsum(np.cos(th) * step, axis=1),
+                                       np.cumsum(np.sin(th) * step, axis=1)], axis=-1)
+        return model
+
+    @property
+    def n_elements(self) -> int:
+        return len(self.angles)
+
+    def windows(self, L: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """All candidates for a history of length ``L``.
+
+        Returns ``(t, WA, WR)``: the index ``t`` of the last element of each
+        window and the ``(J, L)`` windows of angles and radii.
+        """
+        if L in self._windows:
+            return self._windows[L]
+        t = np.flatnonzero(self.local >= L - 1)
+        off = np.arange(L - 1, -1, -1)
+        idx = t[:, None] - off[None, :]
+        out = (t, self.angles[idx], self.radii[idx])
+        self._windows[L] = out
+        return out
+
+    def max_history(self) -> int:
+        """Longest history for which candidates exist (<= k + 1)."""
+        longest = int(self.local.max()) + 1 if self.n_elements else 0
+        return min(self.k + 1, longest)
+
+    def quality(self, hist_angles, hist_radii) -> tuple[np.ndarray, np.ndarray]:
+        """Markov quality ``Q`` of every candidate for a history.
+
+        Parameters
+        ----------
+        hist_angles, hist_radii : (L0,) array_like
+            The growing branch's elements so far; the last
+            ``min(L0, k + 1, max_history)`` are used.
+
+        Returns
+        -------
+        t : (J,) int ndarray
+            Candidate windows (index of their last element).
+        Q : (J,) ndarray
+            ``dist(alpha) * dist(r)``.
+        """
+        ha = np.asarray(hist_angles, np.float64)
+        hr = np.asarray(hist_radii, np.float64)
+        L = min(len(ha), self.max_history())
+        if L < 1:
+            raise ValueError("the history is empty: a branch needs at least one element")
+        t, WA, WR = self.windows(L)
+        q = markov_dist(WA, ha[-L:]) * markov_dist(WR, hr[-L:])
+        return t, q
+
+    def continuation_points(self, t: np.ndarray, tip, theta: float) -> np.ndarray:
+        """Vertices each candidate would append: ``(J, m, 2)``.
+
+        Positions beyond a candidate's ``cont_len`` repeat its last vertex.
+        """
+        rel = self.local_points[t]
+        c, s = np.cos(theta), np.sin(theta)
+        tip = np.asarray(tip, np.float64)
+        out = np.empty_like(rel)
+        out[..., 0] = tip[0] + c * rel[..., 0] - s * rel[..., 1]
+        out[..., 1] = tip[1] + s * rel[..., 0] + c * rel[..., 1]
+        return out

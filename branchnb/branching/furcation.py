@@ -1,0 +1,263 @@
+"""Furcation model: where branches split, learnt with a linear SVM.
+
+Every vertex ``i`` of every input branch is described by its *non-causal*
+window of ``2k + 1`` (turning angle, thickness) pairs centred on ``i``
+plus ``n-`` and ``n+``, the index distances to the previous / next
+furcation on the branch (or to its start / end). Vertices where a child
+branch starts are labelled +1, the others -1, and a linear SVM
+(scikit-learn ``LinearSVC``, features standardised, classes balanced)
+separates them.
+
+Probabilities: with at least 3 furcations and 3 other vertices the SVM
+is wrapped in ``CalibratedClassifierCV(method="sigmoid")`` (Platt
+scaling, cross-validated); with fewer, the decision value ``f`` is mapped
+through the logistic ``1 / (1 + exp(-f))``. Either way the ranking of
+vertices -- all the synthesis needs -- is the SVM's.
+
+On a synthesized branch the ``d`` vertices of highest probability become
+furcations (greedily: after each pick ``n-``/``n+`` change and the
+probabilities are recomputed), optionally at least ``min_spacing``
+vertices apart. ``d`` is drawn from the input's children-per-branch
+distribution (among input branches of similar length) unless the user
+sets it. A child's first segment is then chosen by comparing the
+parent's non-causal window at the furcation with the parent windows at
+every input furcation (the bending model's ``Q``); the causal model
+continues the child from there.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .bending import branch_elements, markov_dist
+from .structure import Structure
+
+__all__ = ["FurcationModel", "furcation_features", "vertex_angles", "window_features"]
+
+
+def vertex_angles(points) -> np.ndarray:
+    """Turning angle at every vertex (0 at the two ends), ``(N,)``."""
+    p = np.asarray(points, np.float64)
+    out = np.zeros(len(p))
+    if len(p) >= 3:
+        out[1:-1] = branch_elements(p, np.ones(len(p)))[0]
+    return out
+
+
+def window_features(av: np.ndarray, rv: np.ndarray, k: int) -> tuple[np.ndarray, np.ndarray]:
+    """Non-causal windows of ``2k + 1`` angles and thicknesses centred on each vertex.
+
+    Angles are padded with 0 (straight) and thicknesses with the end value.
+    """
+    av = np.asarray(av, np.float64)
+    rv = np.asarray(rv, np.float64)
+    pa = np.pad(av, k, mode="constant")
+    pr = np.pad(rv, k, mode="edge")
+    idx = np.arange(len(av))[:, None] + np.arange(2 * k + 1)[None, :]
+    return pa[idx], pr[idx]
+
+
+def _gaps(n: int, furcations) -> tuple[np.ndarray, np.ndarray]:
+    """``n-`` (distance to the previous furcation or the start) and ``n+`` per vertex."""
+    f = np.unique(np.asarray(list(furcations), np.int64))
+    i = np.arange(n)
+    if len(f) == 0:
+        return i.astype(np.float64), (n - 1 - i).astype(np.float64)
+    pos = np.searchsorted(f, i, side="left")  # f[pos - 1] < i
+    prev = np.where(pos > 0, f[np.clip(pos - 1, 0, len(f) - 1)], 0)
+    posr = np.searchsorted(f, i, side="right")  # f[posr] > i
+    nxt = np.where(posr < len(f), f[np.clip(posr, 0, len(f) - 1)], n - 1)
+    return (i - prev).astype(np.float64), (nxt - i).astype(np.float64)
+
+
+def furcation_features(av, rv, furcations, k: int) -> np.ndarray:
+    """Feature matrix ``(N, 2 (2k + 1) + 2)``: windows, then ``n-`` and ``n+``."""
+    wa, wr = window_features(av, rv, k)
+    nm, npl = _gaps(len(av), furcations)
+    return np.hstack([wa, wr, nm[:, None], npl[:, None]])
+
+
+def _unroll(clf, method: str) -> list:
+    """``[(w, b, A, B)]`` such that ``p = mean_i 1 / (1 + exp(A_i (w_i . x + b_i) + B_i))``."""
+
+    def linear(pipe):
+        scaler, svm = pipe[0], pipe[-1]
+        scale = np.where(scaler.scale_ > 0, scaler.scale_, 1.0)
+        w = svm.coef_[0] / scale
+        b = float(svm.intercept_[0] - (scaler.mean_ / scale) @ svm.coef_[0])
+        return w, b
+
+    if method == "calibrated":
+        out = []
+        for cc in clf.calibrated_classifiers_:
+            w, b = linear(cc.estimator)
+            cal = cc.calibrators[0]
+            out.append((w, b, float(cal.a_), float(cal.b_)))
+        return out
+    w, b = linear(clf)
+    return [(w, b, -1.0, 0.0)]
+
+
+@dataclass
+class FurcationModel:
+    """The furcation SVM and the input's furcation examples.
+
+    Attributes
+    ----------
+    k : int
+        Half window.
+    classifier : sklearn estimator or None
+        None if the input has no furcation (synthesis then never branches).
+    probability_method : {"calibrated", "sigmoid", "none"}
+    parent_windows_a, parent_windows_r : (F, 2k + 1) ndarray
+        Non-causal windows of the parent at each input furcation.
+    child_index : (F,) int ndarray
+        The input child branch of each furcation.
+    children_per_branch, branch_lengths : ndarray
+        For drawing ``d``.
+    """
+
+    k: int
+    classifier: object = None
+    probability_method: str = "none"
+    parent_windows_a: np.ndarray = field(default_factory=lambda: np.zeros((0, 1)))
+    parent_windows_r: np.ndarray = field(default_factory=lambda: np.zeros((0, 1)))
+    child_index: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
+    children_per_branch: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
+    branch_lengths: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    n_positive: int = 0
+    n_negative: int = 0
+    #: The fitted classifier unrolled into numpy: per (calibration) fold the
+    #: standardised linear decision ``w . x + b`` and the sigmoid ``(A, B)``.
+    _linear: list = field(default_factory=list, repr=False)
+
+    @classmethod
+    def fit(cls, structure: Structure, k: int, C: float = 1.0) -> FurcationModel:
+        """Train on a structure resampled at the synthesis step ``h``."""
+        from sklearn.pipeline import make_pipeline
+        from sklearn.preprocessing import StandardScaler
+        from sklearn.svm import LinearSVC
+
+        X, y = [], []
+        pwa, pwr, cidx = [], [], []
+        n = len(structure.branches)
+        counts = np.zeros(n, np.int64)
+        for b in structure.branches:
+            if b.parent is not None:
+                counts[b.parent] += 1
+        for i, b in enumerate(structure.branches):
+            N = len(b.points)
+            av = vertex_angles(b.points)
+            furc = sorted({structure.branches[j].parent_vertex for j in structure.children(i)})
+            if N >= 3:
+                F = furcation_features(av, b.thickness, furc, k)
+                lab = np.full(N, -1)
+                lab[[f for f in furc if 0 < f < N - 1]] = 1
+                X.append(F[1:-1])
+                y.append(lab[1:-1])
+            wa, wr = window_features(av, b.thickness, k)
+            for j in structure.children(i):
+                c = structure.branches[j]
+                if len(c.points) < 2:
+                    continue
+                pwa.append(wa[c.parent_vertex])
+                pwr.append(wr[c.parent_vertex])
+                cidx.append(j)
+        lengths = np.array([b.length for b in structure.branches])
+        model = cls(k=int(k), children_per_branch=counts, branch_lengths=lengths,
+                    parent_windows_a=np.array(pwa).reshape(-1, 2 * k + 1),
+                    parent_windows_r=np.array(pwr).reshape(-1, 2 * k + 1),
+                    child_index=np.asarray(cidx, np.int64))
+        if not X:
+            return model
+        X = np.vstack(X)
+        y = np.concatenate(y)
+        n_pos, n_neg = int((y > 0).sum()), int((y < 0).sum())
+        model.n_positive, model.n_negative = n_pos, n_neg
+        if n_pos == 0 or n_neg == 0:
+            return model
+        svm = make_pipeline(StandardScaler(), LinearSVC(C=C, class_weight="balanced", max_iter=5000))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # ConvergenceWarning on tiny inputs
+            if n_pos >= 3 and n_neg >= 3:
+                from sklearn.calibration import CalibratedClassifierCV
+
+                clf = CalibratedClassifierCV(svm, method="sigmoid", cv=3)
+                clf.fit(X, y)
+                model.probability_method = "calibrated"
+            else:
+                clf = svm.fit(X, y)
+                model.probability_method = "sigmoid"
+        model.classifier = clf
+        model._linear = _unroll(clf, model.probability_method)
+        return model
+
+    @property
+    def can_branch(self) -> bool:
+        return self.classifier is not None and len(self.child_index) > 0
+
+    def probabilities(self, points, radii, furcations=()) -> np.ndarray:
+        """Furcation probability of every vertex of a branch, ``(N,)``."""
+        N = len(points)
+        if not self.can_branch or N < 3:
+            return np.zeros(N)
+        F = furcation_features(vertex_angles(points), radii, furcations, self.k)
+        return self._proba(F)
+
+    def _proba(self, F: np.ndarray) -> np.ndarray:
+        # Same numbers as classifier.predict_proba (tested), without sklearn's
+        # per-call overhead inside the synthesis loop.
+        out = np.zeros(len(F))
+        for w, b, A, B in self._linear:
+            f = F @ w + b
+            out += 1.0 / (1.0 + np.exp(np.clip(A * f + B, -50, 50)))
+        return out / len(self._linear)
+
+    def choose(self, points, radii, d: int, *, min_spacing: int = 0, existing=()) -> list[int]:
+        """Greedily pick ``d`` furcation vertices of highest probability.
+
+        Vertices 0 and N-1 are excluded, and so are vertices closer than
+        ``min_spacing`` (index distance) to an already chosen or
+        ``existing`` furcation.
+        """
+        N = len(points)
+        chosen: list[int] = []
+        furc = list(existing)
+        if not self.can_branch or N < 3 or d <= 0:
+            return chosen
+        for _ in range(int(d)):
+            p = self.probabilities(points, radii, furc)
+            ok = np.ones(N, bool)
+            ok[0] = ok[-1] = False
+            for f in furc:
+                lo, hi = max(f - max(min_spacing, 1) + 1, 0), min(f + max(min_spacing, 1), N)
+                ok[lo:hi] = False
+            if not ok.any():
+                break
+            v = int(np.flatnonzero(ok)[np.argmax(p[ok])])
+            chosen.append(v)
+            furc.append(v)
+        return sorted(chosen)
+
+    def sample_d(self, length: float, rng: np.random.Generator, bandwidth: float = 0.5) -> int:
+        """Draw ``d`` from the children counts of input branches of similar length.
+
+        Input branches are weighted by ``exp(-log(L / L_b)^2 / (2 bw^2))``.
+        """
+        if len(self.children_per_branch) == 0 or length <= 0:
+            return 0
+        L = np.maximum(self.branch_lengths, 1e-6)
+        w = np.exp(-np.log(length / L) ** 2 / (2 * bandwidth ** 2))
+        if w.sum() <= 0:
+            w = np.ones_like(w)
+        j = rng.choice(len(w), p=w / w.sum())
+        return int(self.children_per_branch[j])
+
+    def child_quality(self, window_a, window_r) -> np.ndarray:
+        """Q of every input furcation for a synthesized parent window, ``(F,)``."""
+        if len(self.child_index) == 0:
+            return np.zeros(0)
+        return markov_dist(self.parent_windows_a, window_a) * markov_dist(self.parent_windows_r, window_r)

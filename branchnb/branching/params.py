@@ -1,0 +1,140 @@
+"""Parameters of branching-structure extraction and synthesis, with the paper's defaults.
+
+Lengths are in pixels of the example image. The paper ties its Markov
+parameters to a *feature size* ``s`` and the resampling step ``h``:
+``m = s / h`` elements are appended per step and the history holds
+``k + 1`` elements with ``k = 3 m``. The defaults below are these rules
+for ``s = 16`` and ``h = 4`` (``m = 4``, ``k = 12``);
+:meth:`SynthesisParams.from_feature_size` applies them to any ``s``, ``h``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+from ..core.params import check_params, param
+
+__all__ = ["ClickParams", "ExtractionParams", "SynthesisParams"]
+
+
+@dataclass
+class SynthesisParams:
+    """Structure synthesis (paper sections: bending model, global histogram
+    matching, furcation model, space colonization, guided synthesis, stopping).
+
+    Examples
+    --------
+    >>> p = SynthesisParams.from_feature_size(24, h=4)
+    >>> (p.m, p.k)
+    (6, 18)
+    """
+
+    # -- resampling / bending model (Markov) ---------------------------------
+    h: float = param(4.0, min=1.0, max=32.0, step=0.5,
+                     help="resampling step h (pixels) between successive vertices")
+    m: int = param(4, min=1, max=32, help="elements appended per step, m = s / h (feature size s)")
+    k: int = param(12, min=0, max=64,
+                   help="history: the last k + 1 (angle, thickness) pairs are matched; paper k = 3 m")
+    c: int = param(2, min=1, max=20, help="choose among the c best candidates, probability ~ Q")
+    thickness_blend: bool = param(True, help="shift copied radii so they continue from the tip, the "
+                                  "shift fading over the m elements (off = the paper's exact copy)")
+    # -- global histogram matching ---------------------------------------------
+    wG: float = param(50.0, min=0.0, max=500.0, step=1.0,
+                      help="global histogram weight wG in Q* = Q exp(wG (dA + dR) n_t / m)")
+    bins: int = param(16, min=2, max=64, help="histogram bins B over the input's min..max")
+    # -- furcation model ---------------------------------------------------------
+    d: int = param(-1, min=-1, max=50,
+                   help="furcations per branch d; -1 draws d from the input's children-per-branch")
+    min_spacing: int = param(4, min=0, max=50,
+                             help="minimum index distance between furcations on a branch")
+    mirror_children: bool = param(True, help="also offer each input furcation mirrored (angles negated) "
+                                  "when choosing a child's first segment")
+    svm_C: float = param(1.0, min=1e-3, max=1e3, log=True,
+                         help="regularisation C of the linear SVM of the furcation model")
+    # -- space colonization -------------------------------------------------------
+    colonization: bool = param(True, help="space colonization: Q** = Q* / (D + eps), no crossings")
+    rho: float = param(0.0, min=0.0, max=200.0, step=0.5,
+                       help="density radius rho in D(p) = exp(-d(p, B)^2 / rho^2) (pixels); "
+                            "0 = auto: the example's median half-gap between branches")
+    inv_eps: float = param(1000.0, min=1.0, max=1e6, log=True, help="1 / eps in Q* / (D + eps)")
+    # -- guided synthesis ---------------------------------------------------------
+    guidance_width: float = param(40.0, min=1.0, max=500.0, step=1.0,
+                                  help="width of the guidance valley along the user path (pixels)")
+    # -- stopping -----------------------------------------------------------------
+    max_generations: int = param(4, min=0, max=20,
+                                 help="stop: maximum branch generation (0 = roots only)")
+    max_total_length: float = param(20000.0, min=0.0, max=1e6, step=100.0,
+                                    help="stop: maximum total length of all branches (pixels)")
+    max_coverage: float = param(0.6, min=0.0, max=1.0, step=0.01,
+                                help="stop: fraction of the domain with density D > 0.5")
+    stop_density: float = param(0.9, min=0.0, max=1.0, step=0.01,
+                                help="stop a branch when every candidate sees density >= this")
+    branch_end: str = param("length", options=("length", "markov"),
+                            help="a branch ends at a length drawn from input branches of its generation "
+                                 "and similar thickness ('length'), or where the chain reaches the end of "
+                                 "an input branch ('markov')")
+    max_branch_factor: float = param(1.5, min=0.1, max=10.0, step=0.1,
+                                     help="a branch grows at most this times the longest input branch")
+
+    @classmethod
+    def from_feature_size(cls, s: float, h: float = 4.0, **overrides) -> SynthesisParams:
+        """The paper's rules ``m = s / h`` (rounded, >= 1) and ``k = 3 m``."""
+        if not s > 0 or not h > 0:
+            raise ValueError(f"feature size s and step h must be > 0, got s={s}, h={h}")
+        m = max(1, round(s / h))
+        p = cls(h=float(h), m=m, k=3 * m)
+        p = dataclasses.replace(p, **overrides)
+        return check_params(p)
+
+    @property
+    def eps(self) -> float:
+        return 1.0 / self.inv_eps
+
+
+@dataclass
+class ExtractionParams:
+    """Automatic extraction of a source structure (``extract_structure``)."""
+
+    filter: str = param("sato", options=("sato", "frangi", "meijering"),
+                        help="ridge / vesselness filter (scikit-image)")
+    polarity: str = param("auto", options=("auto", "dark", "bright"),
+                          help="branches darker or brighter than the background")
+    sigma_min: float = param(1.0, min=0.5, max=20.0, step=0.5, help="smallest filter scale (pixels)")
+    sigma_max: float = param(4.0, min=0.5, max=40.0, step=0.5, help="largest filter scale (pixels)")
+    threshold: float = param(0.0, min=0.0, max=1.0, step=0.01,
+                             help="ridge threshold on the normalised response; 0 = Otsu")
+    hysteresis: float = param(0.5, min=0.05, max=1.0, step=0.05,
+                              help="low threshold = hysteresis x high threshold")
+    min_branch_length: float = param(12.0, min=0.0, max=500.0, step=1.0,
+                                     help="drop skeleton end branches (spurs) shorter than this")
+    min_component_length: float = param(60.0, min=0.0, max=5000.0, step=5.0,
+                                        help="drop connected pieces shorter than this in total")
+    h: float = param(4.0, min=1.0, max=32.0, step=0.5, help="resampling step h of the result")
+    radius: str = param("fwhm", options=("fwhm", "ridge"),
+                        help="thickness: distance transform of the half-contrast (FWHM) mask, or of "
+                             "the thresholded ridge mask")
+    smooth_path: float = param(4.0, min=0.0, max=50.0, step=0.5,
+                               help="smooth each skeleton path over this arc length (pixel staircase)")
+    smooth_radius: float = param(8.0, min=0.0, max=100.0, step=1.0,
+                                 help="smooth the radius along each branch over this arc length")
+    scale: float = param(1.0, min=0.1, max=1.0, step=0.05,
+                         help="process a downscaled copy (faster); results are in full-size pixels")
+    root: str = param("thickest", options=("thickest", "top", "bottom", "left", "right"),
+                      help="which end point of each connected piece becomes the root")
+
+
+@dataclass
+class ClickParams:
+    """Input extraction from user clicks: resampling + perpendicular thickness search."""
+
+    h: float = param(4.0, min=1.0, max=32.0, step=0.5, help="resampling step h (pixels)")
+    max_radius: float = param(15.0, min=1.0, max=200.0, step=1.0,
+                              help="thickness search range perpendicular to the branch (pixels)")
+    min_radius: float = param(0.75, min=0.1, max=20.0, step=0.05, help="smallest thickness r")
+    smooth: int = param(2, min=0, max=20,
+                        help="median-smooth the thickness over 2 smooth + 1 vertices (0 = off)")
+    sigma: float = param(1.0, min=0.0, max=10.0, step=0.25,
+                         help="Gaussian scale of the gradient (pixels)")
+    snap: float = param(12.0, min=0.0, max=200.0, step=1.0,
+                        help="a polyline starting this close to a branch becomes its child")

@@ -1,0 +1,909 @@
+"""Structure synthesis: grow a new branching structure like an example.
+
+Putting the paper's models together (see the modules of the same names):
+
+1. the example is resampled at step ``h`` and learnt: the bending model's
+   element sequences, the global histograms, the furcation SVM;
+2. every root starts with the head of an input root branch and is grown
+   step by step: all candidate sub-sequences are scored at once
+   (``Q`` of the bending model, times the histogram factor, divided by
+   the density ``D_c + eps`` of space colonization and by the guidance
+   ``G_c + eps``), crossing candidates get ``Q = 0``, and one of the ``c``
+   best is chosen with probability proportional to its score; its ``m``
+   following elements are appended;
+3. a finished branch receives ``d`` furcations at the vertices of highest
+   SVM probability; each child's first segment is chosen by the parent's
+   non-causal window, then the child is grown the same way (breadth
+   first, generation by generation);
+4. synthesis stops at the maximum generation, the maximum total length,
+   or when the density covers the domain; a single branch stops when the
+   Markov chain reaches the end of an input branch, when every candidate
+   is blocked (crossing or too dense), when it leaves the domain, or
+   when it gets longer than ``max_branch_factor`` x the longest input
+   branch.
+
+Everything random goes through ``rng``: the same seed gives the same
+structure.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..core.io import encode_png
+from ..core.params import check_params
+from ..core.polyline import tangents
+from ..core.random import as_rng
+from .bending import BendingModel, branch_elements
+from .colonization import (
+    DensityMap,
+    SegmentStore,
+    auto_rho,
+    crosses_existing,
+    growth_directions,
+    profile_density,
+)
+from .furcation import FurcationModel, vertex_angles, window_features
+from .guidance import Guidance
+from .histogram_matching import HistogramMatcher, histogram_distances
+from .params import SynthesisParams
+from .structure import Branch, Structure
+
+__all__ = [
+    "CandidateScores",
+    "StructureModel",
+    "SynthesisResult",
+    "extend_branch",
+    "fit_model",
+    "score_candidates",
+    "synthesize_structure",
+]
+
+_FIT_FIELDS = ("h", "m", "k", "bins", "svm_C")
+
+
+# --------------------------------------------------------------------------
+# Learning
+# --------------------------------------------------------------------------
+@dataclass
+class StructureModel:
+    """Everything learnt from an example structure.
+
+    Attributes
+    ----------
+    source : Structure
+        The example as given.
+    example : Structure
+        The example resampled at ``params.h`` (what the models see).
+    bending : BendingModel
+    furcation : FurcationModel
+    params : SynthesisParams
+        The parameters the model was fitted with.
+    """
+
+    source: Structure
+    example: Structure
+    bending: BendingModel
+    furcation: FurcationModel
+    params: SynthesisParams
+    cum_a: np.ndarray = field(repr=False, default=None)
+    cum_r: np.ndarray = field(repr=False, default=None)
+    cand_counts_a: np.ndarray = field(repr=False, default=None)
+    cand_counts_r: np.ndarray = field(repr=False, default=None)
+    cand_sq_a: np.ndarray = field(repr=False, default=None)
+    cand_sq_r: np.ndarray = field(repr=False, default=None)
+    local_dirs: np.ndarray = field(repr=False, default=None)
+    head_start: np.ndarray = field(repr=False, default=None)
+    edges_a: np.ndarray = field(repr=False, default=None)
+    edges_r: np.ndarray = field(repr=False, default=None)
+    first_a: np.ndarray = field(repr=False, default=None)
+    first_r: np.ndarray = field(repr=False, default=None)
+    first_len: np.ndarray = field(repr=False, default=None)
+    max_branch_length: float = 0.0
+    rho: float = 8.0  #: the automatic density radius (used when params.rho == 0)
+    r_min: float = 0.5
+    branch_generation: np.ndarray = field(repr=False, default=None)
+    branch_length: np.ndarray = field(repr=False, default=None)
+    branch_r0: np.ndarray = field(repr=False, default=None)
+
+    def sample_length(self, generation: int, r_start: float, rng, bandwidth: float = 0.5) -> float:
+        """Target length of a new branch: the length of an input branch of the same
+        generation (the deepest available if deeper), chosen with weights
+        ``exp(-log(r / r_b)^2 / (2 bw^2))`` on the starting thickness."""
+        g = min(int(generation), int(self.branch_generation.max()))
+        idx = np.flatnonzero(self.branch_generation == g)
+        if len(idx) == 0:
+            idx = np.arange(len(self.branch_length))
+        r = np.maximum(self.branch_r0[idx], 1e-6)
+        w = np.exp(-np.log(max(r_start, 1e-6) / r) ** 2 / (2 * bandwidth ** 2)) + 1e-12
+        j = idx[rng.choice(len(idx), p=w / w.sum())]
+        return float(self.branch_length[j])
+
+    def matcher(self, wG: float) -> HistogramMatcher:
+        return HistogramMatcher(self.example.angles(), self.example.thicknesses(),
+                                bins=self.params.bins, wG=wG, m=self.params.m)
+
+    def compatible(self, params: SynthesisParams) -> bool:
+        return all(getattr(params, f) == getattr(self.params, f) for f in _FIT_FIELDS)
+
+
+def _check_example(example) -> Structure:
+    if isinstance(example, StructureModel):
+        return example.source
+    if not isinstance(example, Structure):
+        raise TypeError(f"example must be a Structure or StructureModel, got {type(example).__name__}")
+    if not example.branches:
+        raise ValueError("example structure is empty: annotate or extract at least one branch")
+    example.check_inside(name="example")
+    return example
+
+
+def fit_model(example: Structure, params: SynthesisParams | None = None) -> StructureModel:
+    """Learn the bending, histogram and furcation models from an example.
+
+    Parameters
+    ----------
+    example : Structure
+        The source structure (any vertex spacing; it is resampled at ``h``).
+    params : SynthesisParams, optional
+        Uses ``h``, ``m``, ``k``, ``bins``, ``svm_C``.
+
+    Raises
+    ------
+    ValueError
+        Empty example, or no branch with at least ``k + m + 2`` vertices
+        after resampling (a full history of ``k + 1`` elements plus a
+        continuation is needed somewhere). Shorter branches are kept: they
+        feed the histograms, the furcation model and the candidates for
+        short histories (the start of a branch).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.linspace(0, 6, 200)
+    >>> ex = Structure([Branch(np.c_[20 * t, 10 * np.sin(t)] + 50, 2.0)])
+    >>> fit_model(ex).bending.n_elements
+    31
+    """
+    example = _check_example(example)
+    p = check_params(params if params is not None else SynthesisParams())
+    ex = example.resampled(p.h)
+    longest = max(len(b.points) for b in ex.branches)
+    need = p.k + p.m + 2
+    if longest < need:
+        raise ValueError(
+            f"every branch of example is shorter than k + m: the longest has {longest} vertices at "
+            f"step h = {p.h}, need k + m + 2 = {need}. Lower k or m, lower h, or annotate longer branches")
+    bending = BendingModel.fit(ex, p.m, p.k, p.h)
+    furc = FurcationModel.fit(ex, p.k, p.svm_C)
+    hm = HistogramMatcher(ex.angles(), ex.thicknesses(), bins=p.bins, wG=p.wG, m=p.m)
+    T, B = bending.n_elements, p.bins
+    oa = np.zeros((T + 1, B))
+    orr = np.zeros((T + 1, B))
+    if T:
+        oa[1:][np.arange(T), hm.bin_angles(bending.angles)] = 1
+        orr[1:][np.arange(T), hm.bin_radii(bending.radii)] = 1
+    cum_a, cum_r = np.cumsum(oa, axis=0), np.cumsum(orr, axis=0)
+    nb = len(ex.branches)
+    fa, fr = np.zeros((nb, p.m)), np.zeros((nb, p.m))
+    fl = np.zeros(nb, np.int64)
+    for i, hd in enumerate(bending.heads):
+        n = min(p.m, hd["n"])
+        s = hd["start"]
+        fa[i, :n] = bending.angles[s:s + n]
+        fr[i, :n] = bending.radii[s:s + n]
+        fl[i] = n
+    tt = np.arange(T)
+    nn = bending.cont_len
+    cca = cum_a[tt + 1 + nn] - cum_a[tt + 1] if T else np.zeros((0, B))
+    ccr = cum_r[tt + 1 + nn] - cum_r[tt + 1] if T else np.zeros((0, B))
+    ldirs = growth_directions(np.zeros(2), bending.local_points, nn) if T else np.zeros((0, 2))
+    return StructureModel(source=example, example=ex, bending=bending, furcation=furc, params=p,
+                          cum_a=cum_a, cum_r=cum_r, cand_counts_a=cca, cand_counts_r=ccr,
+                          cand_sq_a=np.einsum("ij,ij->i", cca, cca),
+                          cand_sq_r=np.einsum("ij,ij->i", ccr, ccr),
+                          local_dirs=ldirs,
+                          head_start=np.array([hd["start"] for hd in bending.heads], np.int64),
+                          edges_a=hm.edges_a, edges_r=hm.edges_r,
+                          first_a=fa, first_r=fr, first_len=fl,
+                          max_branch_length=max(b.length for b in ex.branches),
+                          r_min=float(ex.thicknesses().min()),
+                          rho=auto_rho(ex, p.h),
+                          branch_generation=np.array([ex.generation(i) for i in range(nb)]),
+                          branch_length=np.array([b.length for b in ex.branches]),
+                          branch_r0=np.array([np.mean(b.thickness[:3]) for b in ex.branches]))
+
+
+# --------------------------------------------------------------------------
+# Candidate scoring (vectorised over all candidates)
+# --------------------------------------------------------------------------
+@dataclass
+class CandidateScores:
+    """Scores of all candidates of one step.
+
+    Attributes
+    ----------
+    t : (J,) int ndarray
+        Candidate windows (index of their last input element).
+    Q : (J,) ndarray
+        Markov quality ``Q``.
+    score : (J,) ndarray
+        Final score ``Q***`` used for the choice (0 = forbidden).
+    points : (J, m, 2) ndarray
+        Vertices each candidate would append.
+    n_new : (J,) int ndarray
+        Real number of appended vertices.
+    hist_factor, D_c, G_c : (J,) ndarray
+    crossing : (J,) bool ndarray
+    """
+
+    t: np.ndarray
+    Q: np.ndarray
+    score: np.ndarray
+    points: np.ndarray
+    n_new: np.ndarray
+    hist_factor: np.ndarray
+    D_c: np.ndarray
+    G_c: np.ndarray
+    crossing: np.ndarray
+
+
+def _blend_radii(rad: np.ndarray, delta: float, m: int, r_min: float) -> np.ndarray:
+    """Shift copied radii by ``delta`` fading linearly to ``delta / m`` (thickness continuity).
+
+    ``delta`` is the tip's radius minus the radius that precedes the copied
+    elements in the input, so the first copied radius continues the tip.
+    """
+    w = 1.0 - np.arange(len(rad)) / max(m, 1)
+    return np.maximum(rad + delta * w, r_min)
+
+
+def _rank_key(score: np.ndarray) -> np.ndarray:
+    """Scores rounded to float32 for ranking: equal scores computed in a
+    different order (last-bit differences) tie and fall back to the
+    candidate index, so every scorer ranks identically."""
+    return np.asarray(score, np.float64).astype(np.float32)
+
+
+def _rotate(v: np.ndarray, theta: float) -> np.ndarray:
+    c, s = np.cos(theta), np.sin(theta)
+    out = np.empty_like(v)
+    out[..., 0] = c * v[..., 0] - s * v[..., 1]
+    out[..., 1] = s * v[..., 0] + c * v[..., 1]
+    return out
+
+
+@dataclass
+class _Base:
+    """Everything about the candidates of one step except the density."""
+
+    t: np.ndarray
+    Q: np.ndarray
+    n_new: np.ndarray
+    points: np.ndarray
+    dirs: np.ndarray
+    hist_factor: np.ndarray
+    G_c: np.ndarray
+    base: np.ndarray
+
+
+def _base_scores(model: StructureModel, hist_a, hist_r, tip, theta: float, params: SynthesisParams,
+                 matcher: HistogramMatcher | None, guidance: Guidance | None) -> _Base:
+    bm = model.bending
+    t, Q = bm.quality(hist_a, hist_r)
+    n_new = bm.cont_len[t]
+    pts = bm.continuation_points(t, tip, theta)
+    dirs = _rotate(model.local_dirs[t], theta)
+    J = len(t)
+    base = Q.copy()
+    if matcher is not None and matcher.wG > 0 and matcher.n_nodes > 0:
+        hf = matcher.factors(model.cand_counts_a[t], model.cand_counts_r[t],
+                             model.cand_sq_a[t], model.cand_sq_r[t])
+        base *= hf
+    else:
+        hf = np.ones(J)
+    G_c = np.ones(J)
+    if guidance is not None:
+        g = guidance.along(tip, dirs, 3.0 * params.m * params.h)
+        G_c = np.where(n_new == 0, float(guidance.sample(np.asarray(tip, float)[None])[0]), g)
+        base = base / (G_c + params.eps)
+    return _Base(t=t, Q=Q, n_new=n_new, points=pts, dirs=dirs, hist_factor=hf, G_c=G_c, base=base)
+
+
+def score_candidates(model: StructureModel, hist_a, hist_r, tip, theta: float, *,
+                     params: SynthesisParams, matcher: HistogramMatcher | None = None,
+                     density: DensityMap | None = None,
+                     guidance: Guidance | None = None) -> CandidateScores:
+    """Score every candidate continuation of a branch tip (vectorised).
+
+    ``score = Q * exp(wG (dA + dR) n_t / m) / (D_c + eps) / (G_c + eps)``
+    with the colonization and guidance factors only when ``density`` /
+    ``guidance`` are given; candidates whose density profile shows a
+    crossing get 0. Candidates that end the branch (no followers in the
+    input) get the best continuing candidate's density and the tip's
+    guidance, so colonization neither favours nor prevents stopping.
+
+    Per step the work is a handful of ``(J, L)``, ``(J, m)``, ``(J, B)`` and
+    ``(J, n_samples)`` array operations over all ``J`` candidates; the
+    candidates' vertices, PCA directions and histogram counts are
+    precomputed in the tip's frame by :func:`fit_model`.
+    """
+    b = _base_scores(model, hist_a, hist_r, tip, theta, params, matcher, guidance)
+    J = len(b.t)
+    term = b.n_new == 0
+    D_c = np.zeros(J)
+    crossing = np.zeros(J, bool)
+    score = b.base.copy()
+    if density is not None:
+        live = ~term
+        if live.any():
+            dc, cross, _ = profile_density(density, tip, b.dirs[live], 3.0 * params.m * params.h)
+            D_c[live] = dc
+            crossing[live] = cross
+            ok = live.copy()
+            ok[live] = ~cross
+            D_c[term] = D_c[ok].min() if ok.any() else 1.0
+        score = np.where(crossing, 0.0, score / (D_c + params.eps))
+    return CandidateScores(t=b.t, Q=b.Q, score=score, points=b.points, n_new=b.n_new,
+                           hist_factor=b.hist_factor, D_c=D_c, G_c=b.G_c, crossing=crossing)
+
+
+# --------------------------------------------------------------------------
+# Result
+# --------------------------------------------------------------------------
+@dataclass
+class SynthesisResult:
+    """A synthesized structure with its diagnostics.
+
+    Attributes
+    ----------
+    structure : Structure
+    example : Structure
+        The example resampled at ``h`` (what the result is compared with).
+    diagnostics : dict
+        ``time_s``, ``steps``, ``candidates_per_step``, ``stop_reason``,
+        ``branch_stops`` (count per reason), ``n_branches``, ``n_vertices``,
+        ``total_length``, ``coverage``, ``hist_distance`` (angle,
+        thickness, sum), ``furcation_probability``.
+    density : (H, W) ndarray or None
+        Final density map (space colonization on).
+    """
+
+    structure: Structure
+    example: Structure
+    diagnostics: dict
+    density: np.ndarray | None = None
+
+    def histogram_distances(self, bins: int = 16, metric: str = "l2sq") -> dict:
+        return histogram_distances(self.example, self.structure, bins=bins, metric=metric)
+
+    def render(self, **kw) -> np.ndarray:
+        return self.structure.render(**kw)
+
+    def _repr_png_(self) -> bytes | None:
+        if not self.structure.branches:
+            return None
+        return encode_png(self.structure.render())
+
+
+# --------------------------------------------------------------------------
+# Growth
+# --------------------------------------------------------------------------
+@dataclass
+class _BranchState:
+    points: list
+    radii: list
+    elem_a: list
+    elem_r: list
+    theta: float
+    parent: int | None
+    parent_vertex: int | None
+    generation: int
+    stop: str = ""
+    target: float = np.inf
+
+
+class _Grower:
+    def __init__(self, model: StructureModel, params: SynthesisParams, rng, shape,
+                 guidance: Guidance | None, scorer=None):
+        self.model, self.p, self.rng = model, params, rng
+        scorer = scorer or score_candidates
+        self.shape = (int(shape[0]), int(shape[1]))
+        self.guidance = guidance
+        self.scorer = scorer
+        self.matcher = model.matcher(params.wG)
+        self.rho = params.rho if params.rho > 0 else model.rho
+        self.density = DensityMap(self.shape, self.rho) if params.colonization else None
+        self.store = SegmentStore()
+        self.branches: list[_BranchState] = []
+        self.total_length = 0.0
+        self.steps = 0
+        self.n_candidates = 0
+        self.stop_reason = ""
+        self.max_branch_len = params.max_branch_factor * model.max_branch_length
+
+    # -- bookkeeping ------------------------------------------------------
+    def _inside(self, pts: np.ndarray) -> np.ndarray:
+        h, w = self.shape
+        return (pts[:, 0] >= -0.5) & (pts[:, 0] <= w - 0.5) & (pts[:, 1] >= -0.5) & (pts[:, 1] <= h - 0.5)
+
+    def _register(self, polyline: np.ndarray, angles=(), radii=()) -> None:
+        poly = np.asarray(polyline, np.float64)
+        if len(poly) > 1:
+            self.store.add_polyline(poly)
+            if self.density is not None:
+                self.density.add_segments(poly[:-1], poly[1:])
+            self.total_length += float(np.hypot(*np.diff(poly, axis=0).T).sum())
+        self.matcher.add(angles, radii)
+
+    def add_existing(self, structure: Structure) -> None:
+        for b in structure.branches:
+            self._register(b.points, b.angles(), b.thickness)
+
+    def global_stop(self) -> bool:
+        if self.stop_reason:
+            return True
+        if self.total_length >= self.p.max_total_length - 1e-6:  # tolerance: summation order
+            self.stop_reason = "total length"
+        elif self.density is not None and self.p.max_coverage < 1 and \
+                self.density.coverage() >= self.p.max_coverage:
+            self.stop_reason = "density (coverage)"
+        return bool(self.stop_reason)
+
+    # -- selection --------------------------------------------------------
+    def _cap(self) -> int:
+        return 64 + 4 * self.p.c
+
+    def _pick(self, score: np.ndarray, polylines_fn) -> int | None:
+        """Among the c best valid candidates, choose one with probability ~ score."""
+        order = np.lexsort((np.arange(len(score)), -_rank_key(score)))
+        chosen: list[int] = []
+        tries = 0
+        for j in order:
+            if score[j] <= 0 or not np.isfinite(score[j]):
+                break
+            if self.density is not None:
+                tries += 1
+                if tries > self._cap():
+                    break
+                if crosses_existing(self.store, polylines_fn(j)):
+                    continue
+            chosen.append(int(j))
+            if len(chosen) == self.p.c:
+                break
+        return self._draw(score, chosen)
+
+    def _draw(self, score, chosen) -> int | None:
+        if not chosen:
+            return None
+        w = score[chosen]
+        return chosen[int(self.rng.choice(len(chosen), p=w / w.sum()))]
+
+    # -- starting branches ------------------------------------------------
+    def _start_branch(self, x0, theta0, heads, Q, parent, parent_vertex, generation,
+                      betas=None, mirror=None) -> int | None:
+        """Start a branch at ``x0`` with one of the candidate input heads (vectorised)."""
+        model, p = self.model, self.p
+        heads = np.asarray(heads, np.int64)
+        if len(heads) == 0:
+            return None
+        x0 = np.asarray(x0, np.float64)
+        H = len(heads)
+        th0 = theta0 + (np.zeros(H) if betas is None else np.asarray(betas, np.float64))
+        n = model.first_len[heads]
+        # vertices after x0: x1 (first edge, no turn) then the n first elements
+        sign = np.where(mirror, -1.0, 1.0) if mirror is not None else np.ones(H)
+        turns = np.concatenate([np.zeros((H, 1)), model.first_a[heads] * sign[:, None]], axis=1)
+        valid = np.arange(p.m + 1)[None, :] <= n[:, None]
+        th = th0[:, None] + np.cumsum(turns * valid, axis=1)
+        steps = p.h * valid
+        new = np.stack([x0[0] + np.cumsum(np.cos(th) * steps, axis=1),
+                        x0[1] + np.cumsum(np.sin(th) * steps, axis=1)], axis=-1)
+
+        def poly(j):
+            return np.vstack([x0, new[j, : n[j] + 1]])
+
+        score = np.asarray(Q, np.float64).copy()
+        if self.matcher.wG > 0 and self.matcher.n_nodes > 0:
+            st0 = model.head_start[heads]
+            # mirrored heads have negated angles: bin them directly
+            ok = np.arange(p.m)[None, :] < n[:, None]
+            bins_a = self.matcher.bin_angles(model.first_a[heads] * sign[:, None])
+            flat = (bins_a + p.bins * np.arange(H)[:, None])[ok]
+            ca = np.bincount(flat, minlength=H * p.bins).reshape(H, p.bins).astype(np.float64)
+            cr = model.cum_r[st0 + n] - model.cum_r[st0]
+            score *= self.matcher.factors(ca, cr)
+        dirs = growth_directions(x0, new, n + 1)
+        if self.guidance is not None:
+            score = score / (self.guidance.along(x0, dirs, 3.0 * p.m * p.h) + p.eps)
+        if self.density is not None:
+            dc, cross, _ = profile_density(self.density, x0, dirs, 3.0 * p.m * p.h)
+            score = np.where(cross, 0.0, score / (dc + p.eps))
+        inside = self._inside(new[:, 0])
+        score = np.where(inside, score, 0.0)
+        j = self._pick(score, poly)
+        if j is None:
+            return None
+        hd = int(heads[j])
+        full = poly(j)
+        ok = self._inside(full)
+        cut = len(full) if ok.all() else int(np.argmin(ok))
+        pl = full[:cut]
+        head = model.bending.heads[hd]
+        ne = max(cut - 2, 0)
+        ea = list(sign[j] * model.first_a[hd, :ne])
+        er = list(model.first_r[hd, :ne])
+        radii = [head["r0"], head["r1"]] + er
+        d = pl[-1] - pl[-2]
+        st = _BranchState(points=list(pl), radii=radii, elem_a=ea, elem_r=er,
+                          theta=float(np.arctan2(d[1], d[0])), parent=parent,
+                          parent_vertex=parent_vertex, generation=generation)
+        if p.branch_end == "length":
+            st.target = model.sample_length(generation, float(np.mean(radii[:3])), self.rng)
+        if cut < len(full):
+            st.stop = "left the domain"
+        elif n[j] < p.m and p.branch_end == "markov":
+            st.stop = "end of input branch"
+        self._register(pl, ea, radii)
+        self.branches.append(st)
+        return len(self.branches) - 1
+
+    def start_root(self, x, y, theta) -> int | None:
+        model = self.model
+        nb = len(model.example.branches)
+        usable = [i for i in range(nb) if model.first_len[i] > 0]
+        roots = [i for i in usable if model.example.branches[i].parent is None]
+        # With fewer than 3 input roots every new root would start with the same
+        # copied head; then any input branch's head may start a root.
+        pool = roots if len(roots) >= 3 else usable
+        Q = np.ones(len(pool))
+        return self._start_branch(np.array([x, y], float), float(theta), pool, Q, None, None, 0)
+
+    def start_child(self, parent: int, vertex: int) -> int | None:
+        model, fm = self.model, self.model.furcation
+        st = self.branches[parent]
+        pts = np.asarray(st.points)
+        rad = np.asarray(st.radii)
+        wa, wr = window_features(vertex_angles(pts), rad, fm.k)
+        Q = fm.child_quality(wa[vertex], wr[vertex])
+        heads = fm.child_index
+        usable = model.first_len[heads] > 0
+        heads, Q = heads[usable], Q[usable]
+        if len(heads) == 0:
+            return None
+        betas = np.array([model.bending.heads[h]["beta"] or 0.0 for h in heads])
+        mirror = np.zeros(len(heads), bool)
+        if self.p.mirror_children:
+            # the same furcations reflected: parent window and child angles negated
+            Qm = fm.child_quality(-wa[vertex], wr[vertex])[usable]
+            heads = np.concatenate([heads, heads])
+            Q = np.concatenate([Q, Qm])
+            betas = np.concatenate([betas, -betas])
+            mirror = np.concatenate([mirror, ~mirror])
+        tg = tangents(pts)[vertex]
+        return self._start_branch(pts[vertex], float(np.arctan2(tg[1], tg[0])), heads, Q, parent,
+                                  vertex, st.generation + 1, betas=betas, mirror=mirror)
+
+    # -- growing ----------------------------------------------------------
+    def step(self, bi: int) -> bool:
+        """One Markov step of branch ``bi``; False when the branch stops."""
+        st, p = self.branches[bi], self.p
+        if st.stop:
+            return False
+        if not st.elem_a:
+            st.stop = "no history"
+            return False
+        tip = np.asarray(st.points[-1])
+        self.steps += 1
+        cs = self.scorer(self.model, st.elem_a, st.elem_r, tip, st.theta, params=p,
+                         matcher=self.matcher, density=self.density, guidance=self.guidance)
+        pts, n_arr, t_arr = cs.points, cs.n_new, cs.t
+        self.n_candidates += len(t_arr)
+
+        def poly(j):
+            return np.vstack([tip, pts[j, : max(n_arr[j], 0)]])
+
+        score = cs.score
+        if p.branch_end == "length":
+            score = np.where(n_arr > 0, score, 0.0)
+        if self.density is not None:
+            free = (~cs.crossing) & (n_arr > 0)
+            if not free.any() or cs.D_c[free].min() >= p.stop_density:
+                st.stop = "density"
+                return False
+        j = self._pick(score, poly)
+        if j is None:
+            st.stop = "blocked"
+            return False
+        t, n = int(t_arr[j]), int(n_arr[j])
+        bm = self.model.bending
+        new_pts = pts[j, :n]
+        ang = bm.cont_angles[t, :n]
+        rad = bm.cont_radii[t, :n]
+        if p.thickness_blend and n:
+            rad = _blend_radii(rad, st.radii[-1] - bm.radii[t], p.m, self.model.r_min)
+        ok = self._inside(new_pts)
+        if not ok.all():
+            cut = int(np.argmin(ok))
+            new_pts, ang, rad = new_pts[:cut], ang[:cut], rad[:cut]
+            st.stop = "left the domain"
+        if len(new_pts):
+            self._register(np.vstack([tip, new_pts]), ang, rad)
+            st.points.extend(new_pts)
+            st.radii.extend(rad.tolist())
+            st.elem_a.extend(ang.tolist())
+            st.elem_r.extend(rad.tolist())
+            st.theta += float(ang.sum())
+        if st.stop:
+            return False
+        if n < p.m and p.branch_end == "markov":
+            st.stop = "end of input branch"
+            return False
+        length = (len(st.points) - 1) * p.h
+        if length >= st.target - 1e-9:
+            st.stop = "branch length"
+            return False
+        if length >= self.max_branch_len:
+            st.stop = "max branch length"
+            return False
+        return True
+
+    def grow(self, bi: int, max_steps: int | None = None) -> None:
+        k = 0
+        while max_steps is None or k < max_steps:
+            if self.global_stop():
+                return
+            if not self.step(bi):
+                return
+            k += 1
+
+    def furcate(self, bi: int) -> list[int]:
+        st, p = self.branches[bi], self.p
+        if st.generation >= p.max_generations or not self.model.furcation.can_branch:
+            return []
+        pts = np.asarray(st.points)
+        rad = np.asarray(st.radii)
+        length = (len(pts) - 1) * p.h
+        d = p.d if p.d >= 0 else self.model.furcation.sample_d(length, self.rng)
+        verts = self.model.furcation.choose(pts, rad, d, min_spacing=p.min_spacing)
+        kids = []
+        for v in verts:
+            if self.global_stop():
+                break
+            c = self.start_child(bi, v)
+            if c is not None:
+                kids.append(c)
+        return kids
+
+    def run(self, starts) -> None:
+        queue = []
+        for (x, y, th) in starts:
+            if self.global_stop():
+                break
+            r = self.start_root(x, y, th)
+            if r is not None:
+                queue.append(r)
+        qi = 0
+        while qi < len(queue):
+            bi = queue[qi]
+            qi += 1
+            if self.global_stop():
+                break
+            self.grow(bi)
+            if self.global_stop():
+                break
+            queue.extend(self.furcate(bi))
+        if not self.stop_reason:
+            self.stop_reason = "no branch can grow" if queue else "no root could start"
+
+    def structure(self) -> Structure:
+        out = []
+        for st in self.branches:
+            pts = np.asarray(st.points, np.float64)
+            out.append(Branch(pts, np.asarray(st.radii, np.float64), st.parent, st.parent_vertex))
+        return Structure(out, image_shape=self.shape)
+
+    def diagnostics(self, t0: float) -> dict:
+        stops: dict[str, int] = {}
+        for st in self.branches:
+            stops[st.stop or "not finished"] = stops.get(st.stop or "not finished", 0) + 1
+        return {
+            "time_s": time.perf_counter() - t0,
+            "steps": self.steps,
+            "candidates_per_step": self.n_candidates / max(self.steps, 1),
+            "stop_reason": self.stop_reason,
+            "branch_stops": stops,
+            "n_branches": len(self.branches),
+            "n_vertices": int(sum(len(st.points) for st in self.branches)),
+            "total_length": self.total_length,
+            "coverage": self.density.coverage() if self.density is not None else None,
+            "furcation_probability": self.model.furcation.probability_method,
+            "rho": self.rho,
+        }
+
+
+# --------------------------------------------------------------------------
+# Public entry points
+# --------------------------------------------------------------------------
+def _resolve(example, params) -> tuple[StructureModel, SynthesisParams]:
+    p = check_params(params if params is not None else SynthesisParams())
+    if isinstance(example, StructureModel):
+        model = example if example.compatible(p) else fit_model(example.source, p)
+    else:
+        model = fit_model(_check_example(example), p)
+    return model, p
+
+
+def _domain(model: StructureModel, shape) -> tuple[int, int]:
+    if shape is not None:
+        if len(shape) < 2 or int(shape[0]) <= 0 or int(shape[1]) <= 0:
+            raise ValueError(f"shape must be a positive (H, W), got {shape}")
+        return int(shape[0]), int(shape[1])
+    if model.source.image_shape is not None:
+        return tuple(int(v) for v in model.source.image_shape[:2])
+    _x0, _y0, x1, y1 = model.source.bounds()
+    return int(np.ceil(y1)) + 2, int(np.ceil(x1)) + 2
+
+
+def _default_starts(model: StructureModel, shape, guidance) -> list[tuple[float, float, float]]:
+    if guidance is not None and guidance.start() is not None:
+        return [guidance.start()]
+    src = model.example
+    sy, sx = 1.0, 1.0
+    if src.image_shape is not None:
+        sy, sx = shape[0] / src.image_shape[0], shape[1] / src.image_shape[1]
+    out = []
+    for b in src.branches:
+        if b.parent is None and len(b.points) >= 2:
+            d = b.points[1] - b.points[0]
+            out.append((float(b.points[0, 0] * sx), float(b.points[0, 1] * sy),
+                        float(np.arctan2(d[1], d[0]))))
+    return out
+
+
+def _check_guidance(guidance, shape):
+    if guidance is None:
+        return None
+    if not isinstance(guidance, Guidance):
+        g = np.asarray(guidance)
+        guidance = Guidance(g)
+    if guidance.shape != tuple(shape):
+        raise ValueError(f"guidance map has shape {guidance.shape}, the domain is {tuple(shape)}")
+    return guidance
+
+
+def synthesize_structure(example, params: SynthesisParams | None = None, *, rng=None,
+                         guidance=None, shape=None, starts=None,
+                         _scorer=None) -> SynthesisResult:
+    """Synthesize a new branching structure that looks like ``example``.
+
+    Parameters
+    ----------
+    example : Structure or StructureModel
+        The source structure, or a model from :func:`fit_model` (refitted
+        automatically if ``params`` changes ``h``, ``m``, ``k``, ``bins``
+        or ``svm_C``).
+    params : SynthesisParams, optional
+        The paper's defaults if omitted.
+    rng : int or numpy.random.Generator, optional
+        Seed: the same seed gives the same structure.
+    guidance : Guidance or (H, W) array_like, optional
+        Guidance map ``G`` (see :mod:`~branchnb.branching.guidance`); with
+        a path and no ``starts``, the root starts at the path's start.
+    shape : (H, W), optional
+        Output domain (default: the example's ``image_shape``).
+    starts : sequence of (x, y, angle), optional
+        Root start points and initial directions (radians, image
+        coordinates); default: the example's roots (scaled to ``shape``).
+
+    Returns
+    -------
+    SynthesisResult
+        ``.structure`` plus ``.diagnostics``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.linspace(0, 12, 400)
+    >>> trunk = np.c_[10 + 20 * t, 100 + 8 * np.sin(2 * t)]
+    >>> ex = Structure([Branch(trunk, 3.0)], image_shape=(200, 260))
+    >>> res = synthesize_structure(ex, rng=1)
+    >>> res.structure.n_vertices > 20
+    True
+    """
+    t0 = time.perf_counter()
+    model, p = _resolve(example, params)
+    rng = as_rng(rng)
+    shp = _domain(model, shape)
+    guidance = _check_guidance(guidance, shp)
+    if starts is None:
+        starts = _default_starts(model, shp, guidance)
+    else:
+        st = np.asarray(starts, np.float64)
+        if st.ndim != 2 or st.shape[1] != 3 or not np.all(np.isfinite(st)):
+            raise ValueError("starts must be a sequence of finite (x, y, angle) triples")
+        h, w = shp
+        bad = (st[:, 0] < -0.5) | (st[:, 0] > w - 0.5) | (st[:, 1] < -0.5) | (st[:, 1] > h - 0.5)
+        if bad.any():
+            raise ValueError(f"starts[{int(np.flatnonzero(bad)[0])}] lies outside the {w} x {h} domain")
+        starts = [tuple(map(float, s)) for s in st]
+    g = _Grower(model, p, rng, shp, guidance, scorer=_scorer)
+    g.run(starts)
+    s = g.structure()
+    diag = g.diagnostics(t0)
+    if s.branches and s.angles().size:
+        diag["hist_distance"] = histogram_distances(model.example, s, bins=p.bins)
+    dens = g.density.image() if g.density is not None else None
+    return SynthesisResult(structure=s, example=model.example, diagnostics=diag, density=dens)
+
+
+def extend_branch(structure: Structure, index: int, example, params: SynthesisParams | None = None,
+                  *, n_steps: int | None = None, rng=None, guidance=None,
+                  shape=None) -> SynthesisResult:
+    """Grow one branch of an existing structure further with the learnt model.
+
+    The branch's last elements are its history; all other branches count
+    for space colonization and the histograms. Children keep their
+    furcation vertices (vertices are only appended).
+
+    Parameters
+    ----------
+    structure : Structure
+        The structure to extend (e.g. a synthesis result).
+    index : int
+        The branch to extend; it needs at least 3 vertices.
+    example : Structure or StructureModel
+        What to learn from.
+    n_steps : int, optional
+        Number of Markov steps (``m`` vertices each); until the branch
+        stops by default.
+
+    Returns
+    -------
+    SynthesisResult
+    """
+    t0 = time.perf_counter()
+    if not isinstance(structure, Structure):
+        raise TypeError(f"structure must be a Structure, got {type(structure).__name__}")
+    if not structure.branches:
+        raise ValueError("structure is empty")
+    if not isinstance(index, (int, np.integer)) or not 0 <= index < len(structure.branches):
+        raise ValueError(f"index must be a branch index in [0, {len(structure.branches)}), got {index!r}")
+    if n_steps is not None and (not isinstance(n_steps, (int, np.integer)) or n_steps < 1):
+        raise ValueError(f"n_steps must be a positive int or None, got {n_steps!r}")
+    b = structure.branches[index]
+    if len(b.points) < 3:
+        raise ValueError(f"branch {index} has {len(b.points)} vertices; extending needs >= 3 for a history")
+    model, p = _resolve(example, params)
+    rng = as_rng(rng)
+    shp = tuple(structure.image_shape) if shape is None and structure.image_shape else _domain(model, shape)
+    guidance = _check_guidance(guidance, shp)
+    g = _Grower(model, p, rng, shp, guidance)
+    g.add_existing(structure)
+    for i, br in enumerate(structure.branches):
+        ea, er = branch_elements(br.points, br.thickness)
+        d = br.points[-1] - br.points[-2] if len(br.points) > 1 else np.array([1.0, 0.0])
+        g.branches.append(_BranchState(points=list(br.points), radii=list(br.thickness),
+                                       elem_a=list(ea), elem_r=list(er),
+                                       theta=float(np.arctan2(d[1], d[0])), parent=br.parent,
+                                       parent_vertex=br.parent_vertex,
+                                       generation=structure.generation(i), stop="existing"))
+    g.branches[index].stop = ""
+    g.max_branch_len = np.inf
+    g.grow(index, n_steps)
+    if not g.stop_reason:
+        g.stop_reason = g.branches[index].stop or "n_steps"
+    s = g.structure()
+    diag = g.diagnostics(t0)
+    diag["added_vertices"] = len(s.branches[index].points) - len(b.points)
+    dens = g.density.image() if g.density is not None else None
+    return SynthesisResult(structure=s, example=model.example, diagnostics=diag, density=dens)
+
+
+def replace_params(params: SynthesisParams, **changes) -> SynthesisParams:
+    """``dataclasses.replace`` plus validation."""
+    return check_params(dataclasses.replace(params, **changes))

@@ -1,0 +1,340 @@
+"""Export a billboard cloud to glTF 2.0 or OBJ + MTL, with one texture atlas.
+
+Both formats get one quad per billboard, textured from a shared atlas PNG
+(shelf packing; colours bled into the transparent texels so that texture
+filtering does not darken the cut-outs). The quads face the camera of
+``yaw`` degrees (0 = the input view). Billboard clouds are meant to be
+drawn as axial billboards (each quad turned about its vertical axis to
+face the camera); the glTF file lists each quad's centre and layer in
+``meshes[0].extras`` for engines that do that, and a generic viewer shows
+the fixed quads (what :func:`~branchnb.trees.preview.render_cloud` draws
+with ``facing="fixed"``).
+
+Units and axes: metres, ``y`` up, ``z`` towards the front view's camera,
+the origin at the foot of the tree's vertical axis; ``height`` sets the
+tree height.
+
+* glTF: one ``.gltf`` JSON file with the geometry buffer embedded as a
+  base64 data URI and the atlas as ``<stem>_atlas.png`` next to it (or
+  embedded too, ``embed_texture=True``). Interior billboards are darkened
+  through the ``COLOR_0`` vertex colour (multiplied with the texture by
+  glTF's base colour rule); the material is unlit
+  (``KHR_materials_unlit``), double sided, ``alphaMode: MASK``.
+* OBJ: ``.obj`` + ``.mtl`` + atlas; darkening is quantised into a few
+  materials whose ``Kd`` multiplies ``map_Kd``.
+
+Examples
+--------
+>>> import tempfile, pathlib, json
+>>> from branchnb import data
+>>> from branchnb.trees.billboard import billboard_cloud
+>>> cloud = billboard_cloud(data.load("tree_rpg_03"), rng=0)
+>>> out = export_gltf(cloud, pathlib.Path(tempfile.mkdtemp()) / "tree.gltf")
+>>> json.loads(out.read_text())["asset"]["version"]
+'2.0'
+"""
+
+from __future__ import annotations
+
+import base64
+import json
+from pathlib import Path
+
+import numpy as np
+from scipy import ndimage as ndi
+
+from ..core.io import encode_png, imsave
+
+__all__ = ["texture_atlas", "quad_vertices", "export_gltf", "export_obj"]
+
+
+def texture_atlas(textures, *, padding: int = 2, bleed: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    """Pack RGBA textures into one atlas (shelf packing, tallest first).
+
+    Parameters
+    ----------
+    textures : sequence of (h, w, 4) float arrays
+    padding : int
+        Transparent texels between neighbours.
+    bleed : bool
+        Copy the nearest opaque colour into transparent texels (alpha stays 0).
+
+    Returns
+    -------
+    atlas : (Ha, Wa, 4) float32
+        Width a power of two.
+    rects : (N, 4) int64
+        ``(x, y, w, h)`` of each texture in the atlas.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> atlas, rects = texture_atlas([np.ones((4, 6, 4)), np.ones((3, 3, 4))])
+    >>> rects[0].tolist()
+    [2, 2, 6, 4]
+    """
+    texs = [np.asarray(t, np.float32) for t in textures]
+    if not texs:
+        raise ValueError("textures is empty")
+    for i, t in enumerate(texs):
+        if t.ndim != 3 or t.shape[2] != 4 or t.shape[0] < 1 or t.shape[1] < 1:
+            raise ValueError(f"textures[{i}] must be (h, w, 4), got {t.shape}")
+    area = sum((t.shape[0] + padding) * (t.shape[1] + padding) for t in texs)
+    widest = max(t.shape[1] for t in texs) + 2 * padding
+    Wa = 1 << int(np.ceil(np.log2(max(widest, np.sqrt(area * 1.15), 16))))
+    order = sorted(range(len(texs)), key=lambda i: (-texs[i].shape[0], -texs[i].shape[1], i))
+    rects = np.zeros((len(texs), 4), np.int64)
+    x = y = padding
+    shelf = 0
+    for i in order:
+        h, w = texs[i].shape[:2]
+        if x + w + padding > Wa:
+            x = padding
+            y += shelf + padding
+            shelf = 0
+        rects[i] = (x, y, w, h)
+        x += w + padding
+        shelf = max(shelf, h)
+    Ha = int(y + shelf + padding)
+    atlas = np.zeros((Ha, Wa, 4), np.float32)
+    for (x, y, w, h), t in zip(rects, texs):
+        atlas[y:y + h, x:x + w] = t
+    if bleed and (atlas[:, :, 3] > 0).any():
+        empty = atlas[:, :, 3] <= 0
+        _, (iy, ix) = ndi.distance_transform_edt(empty, return_indices=True)
+        rgb = atlas[:, :, :3]
+        rgb[empty] = rgb[iy[empty], ix[empty]]
+    return atlas, rects
+
+
+def _frame(cloud, height: float):
+    """Metres per pixel and the origin (axis x, bottom y) in pixels."""
+    if not (np.isfinite(height) and height > 0):
+        raise ValueError(f"height must be a positive number, got {height}")
+    a = cloud.image[:, :, 3] > 0
+    ys = np.nonzero(a.any(axis=1))[0]
+    top, bottom = float(ys[0]), float(ys[-1] + 1)
+    k = height / max(bottom - top, 1.0)
+    return k, float(cloud.axis), bottom
+
+
+def quad_vertices(cloud, *, yaw: float = 0.0, height: float = 10.0, crossed: bool = False) -> np.ndarray:
+    """Corners of every billboard quad in metres, facing the camera at ``yaw`` degrees.
+
+    Parameters
+    ----------
+    crossed : bool
+        Append a second quad per billboard turned by 90 degrees about its
+        vertical axis (a "cross" billboard: generic viewers then show some
+        volume from the side too; edge-on, it is invisible in the ``yaw``
+        view).
+
+    Returns
+    -------
+    (K, 4, 3) or (2K, 4, 3) float64
+        Top-left, top-right, bottom-right, bottom-left (as seen from the
+        camera), ``y`` up; with ``crossed`` the K turned quads follow.
+    """
+    k, ax, bottom = _frame(cloud, height)
+    c = cloud.centers
+    centre = np.stack([(c[:, 0] - ax) * k, (bottom - c[:, 1]) * k, c[:, 2] * k], axis=1)
+    t = np.deg2rad(float(yaw))
+    right = np.array([np.cos(t), 0.0, np.sin(t)])
+    up = np.array([0.0, 1.0, 0.0])
+    hw = 0.5 * cloud.sizes[:, 0:1] * k
+    hh = 0.5 * cloud.sizes[:, 1:2] * k
+    tl = centre - hw * right + hh * up
+    tr = centre + hw * right + hh * up
+    br = centre + hw * right - hh * up
+    bl = centre - hw * right - hh * up
+    quads = np.stack([tl, tr, br, bl], axis=1)
+    if crossed:
+        return np.concatenate([quads, quad_vertices(cloud, yaw=float(yaw) + 90.0, height=height)])
+    return quads
+
+
+def _uvs(cloud, rects, atlas_shape):
+    Ha, Wa = atlas_shape[:2]
+    r = rects[cloud.texture].astype(np.float64)
+    u0, v0 = r[:, 0] / Wa, r[:, 1] / Ha
+    u1, v1 = (r[:, 0] + r[:, 2]) / Wa, (r[:, 1] + r[:, 3]) / Ha
+    # tl, tr, br, bl with v measured from the top (glTF convention).
+    return np.stack([np.stack([u0, v0], 1), np.stack([u1, v0], 1),
+                     np.stack([u1, v1], 1), np.stack([u0, v1], 1)], axis=1)
+
+
+def export_gltf(cloud, path, *, yaw: float = 0.0, height: float = 10.0,
+                embed_texture: bool = False, crossed: bool = False) -> Path:
+    """Write the cloud as a glTF 2.0 file (``.gltf`` JSON, embedded buffer).
+
+    Parameters
+    ----------
+    cloud : BillboardCloud
+    path : str or Path
+        Output ``.gltf`` file; the atlas goes to ``<stem>_atlas.png`` beside it
+        unless ``embed_texture``.
+    yaw : float
+        The quads face the camera at this yaw (degrees).
+    height : float
+        Tree height in metres.
+    embed_texture : bool
+        Put the atlas PNG inside the buffer instead of a separate file.
+    crossed : bool
+        Two perpendicular quads per billboard (see :func:`quad_vertices`).
+
+    Returns
+    -------
+    Path of the ``.gltf`` file.
+    """
+    path = Path(path)
+    if path.suffix.lower() != ".gltf":
+        raise ValueError(f"path must end in .gltf, got {path.name!r}")
+    if cloud.n_billboards == 0:
+        raise ValueError("cloud has no billboards")
+    atlas, rects = texture_atlas(cloud.textures)
+    quads = quad_vertices(cloud, yaw=yaw, height=height, crossed=crossed)
+    K = len(quads)
+    owner = np.arange(K) % cloud.n_billboards
+    pos = quads.reshape(-1, 3).astype(np.float32)
+    uv = _uvs(cloud, rects, atlas.shape)[owner].reshape(-1, 2).astype(np.float32)
+    col = np.repeat(np.clip(cloud.tint[owner], 0, 1)[:, None], 3, axis=1)
+    col = np.repeat(col, 4, axis=0).astype(np.float32)
+    base = (np.arange(K, dtype=np.uint32) * 4)[:, None]
+    idx = (base + np.array([0, 3, 2, 0, 2, 1], np.uint32)[None, :]).reshape(-1).astype(np.uint32)
+
+    blobs = [pos.tobytes(), uv.tobytes(), col.tobytes(), idx.tobytes()]
+    png = encode_png(atlas) if embed_texture else None
+    if png is not None:
+        blobs.append(png)
+    views, offset, data = [], 0, bytearray()
+    targets = [34962, 34962, 34962, 34963, None]
+    for b, tgt in zip(blobs, targets):
+        pad = (-len(data)) % 4
+        data.extend(b"\0" * pad)
+        offset = len(data)
+        view = {"buffer": 0, "byteOffset": offset, "byteLength": len(b)}
+        if tgt is not None:
+            view["target"] = tgt
+        views.append(view)
+        data.extend(b)
+    accessors = [
+        {"bufferView": 0, "componentType": 5126, "count": int(len(pos)), "type": "VEC3",
+         "min": pos.min(axis=0).tolist(), "max": pos.max(axis=0).tolist()},
+        {"bufferView": 1, "componentType": 5126, "count": int(len(uv)), "type": "VEC2"},
+        {"bufferView": 2, "componentType": 5126, "count": int(len(col)), "type": "VEC3"},
+        {"bufferView": 3, "componentType": 5125, "count": int(len(idx)), "type": "SCALAR",
+         "min": [int(idx.min())], "max": [int(idx.max())]},
+    ]
+    k, ax, bottom = _frame(cloud, height)
+    centres = np.stack([(cloud.centers[:, 0] - ax) * k, (bottom - cloud.centers[:, 1]) * k,
+                        cloud.centers[:, 2] * k], axis=1)
+    from .billboard import LAYER_NAMES
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    if png is not None:
+        image = {"bufferView": 4, "mimeType": "image/png"}
+    else:
+        atlas_path = path.with_name(path.stem + "_atlas.png")
+        imsave(atlas_path, atlas)
+        image = {"uri": atlas_path.name}
+    doc = {
+        "asset": {"version": "2.0", "generator": "branchnb.trees billboard cloud"},
+        "extensionsUsed": ["KHR_materials_unlit"],
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0, "name": "tree"}],
+        "meshes": [{
+            "name": "billboards",
+            "primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1, "COLOR_0": 2},
+                            "indices": 3, "material": 0, "mode": 4}],
+            "extras": {
+                "billboards": "axial: turn each quad about the vertical axis through its centre "
+                              "to face the camera",
+                "yaw": float(yaw),
+                "crossed": bool(crossed),
+                "quads_per_billboard": 2 if crossed else 1,
+                "centers": np.round(centres, 5).tolist(),
+                "layers": [LAYER_NAMES[int(v)] for v in cloud.layer],
+            },
+        }],
+        "materials": [{
+            "name": "billboard_atlas",
+            "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0.0,
+                                     "roughnessFactor": 1.0},
+            "alphaMode": "MASK", "alphaCutoff": 0.5, "doubleSided": True,
+            "extensions": {"KHR_materials_unlit": {}},
+        }],
+        "textures": [{"source": 0, "sampler": 0}],
+        "samplers": [{"magFilter": 9729, "minFilter": 9987, "wrapS": 33071, "wrapT": 33071}],
+        "images": [image],
+        "buffers": [{"byteLength": len(data),
+                     "uri": "data:application/octet-stream;base64," + base64.b64encode(bytes(data)).decode()}],
+        "bufferViews": views,
+        "accessors": accessors,
+    }
+    path.write_text(json.dumps(doc))
+    return path
+
+
+def export_obj(cloud, path, *, yaw: float = 0.0, height: float = 10.0, tint_levels: int = 16,
+               crossed: bool = False) -> Path:
+    """Write the cloud as Wavefront OBJ + MTL + atlas PNG.
+
+    Parameters
+    ----------
+    cloud : BillboardCloud
+    path : str or Path
+        Output ``.obj``; ``<stem>.mtl`` and ``<stem>_atlas.png`` go beside it.
+    yaw, height, crossed :
+        As in :func:`export_gltf`.
+    tint_levels : int
+        Darkening is quantised into this many materials (``Kd`` multiplies
+        the texture).
+
+    Returns
+    -------
+    Path of the ``.obj`` file.
+    """
+    path = Path(path)
+    if path.suffix.lower() != ".obj":
+        raise ValueError(f"path must end in .obj, got {path.name!r}")
+    if cloud.n_billboards == 0:
+        raise ValueError("cloud has no billboards")
+    if tint_levels < 1:
+        raise ValueError(f"tint_levels must be >= 1, got {tint_levels}")
+    atlas, rects = texture_atlas(cloud.textures)
+    quads = quad_vertices(cloud, yaw=yaw, height=height, crossed=crossed)
+    owner = np.arange(len(quads)) % cloud.n_billboards
+    uv = _uvs(cloud, rects, atlas.shape)[owner]
+    path.parent.mkdir(parents=True, exist_ok=True)
+    atlas_path = path.with_name(path.stem + "_atlas.png")
+    mtl_path = path.with_suffix(".mtl")
+    imsave(atlas_path, atlas)
+    tint = np.clip(cloud.tint[owner], 0, 1)
+    level = np.clip(np.round(tint * (tint_levels - 1)), 0, tint_levels - 1).astype(int) \
+        if tint_levels > 1 else np.zeros(len(tint), int)
+    used = sorted(set(level.tolist()))
+    mtl = ["# branchnb.trees billboard cloud"]
+    for lv in used:
+        t = lv / (tint_levels - 1) if tint_levels > 1 else 1.0
+        mtl += [f"newmtl tint_{lv:02d}", "Ka 0 0 0", f"Kd {t:.4f} {t:.4f} {t:.4f}", "Ks 0 0 0",
+                "d 1.0", "illum 1", f"map_Kd {atlas_path.name}", f"map_d {atlas_path.name}", ""]
+    mtl_path.write_text("\n".join(mtl))
+    lines = ["# branchnb.trees billboard cloud: one quad per billboard (axial billboards),",
+             f"# {len(quads)} quads, y up, metres, facing yaw {float(yaw):g} degrees"
+             + (" (crossed: second half turned by 90 degrees)" if crossed else ""),
+             f"mtllib {mtl_path.name}"]
+    lines += [f"v {x:.6f} {y:.6f} {z:.6f}" for x, y, z in quads.reshape(-1, 3)]
+    lines += [f"vt {u:.6f} {1.0 - v:.6f}" for u, v in uv.reshape(-1, 2)]
+    from .billboard import LAYER_NAMES
+
+    for lv in used:
+        lines.append(f"usemtl tint_{lv:02d}")
+        for i in np.flatnonzero(level == lv):
+            a = 4 * i + 1
+            j = int(owner[i])
+            lines.append(f"g billboard_{j:04d}_{LAYER_NAMES[int(cloud.layer[j])]}" + ("_x" if i != j else ""))
+            # tl, bl, br, tr: counter-clockwise seen from the camera.
+            lines.append(f"f {a}/{a} {a + 3}/{a + 3} {a + 2}/{a + 2} {a + 1}/{a + 1}")
+    path.write_text("\n".join(lines) + "\n")
+    return path

@@ -1,0 +1,165 @@
+"""BranchingApp driven from Python: clicks, buttons and sliders call the same methods."""
+
+from __future__ import annotations
+
+import importlib.util
+
+import numpy as np
+import pytest
+
+from branchnb.branching import Branch, Structure
+from branchnb.widgets.branching import BranchingApp, annotations_to_structure, structure_to_annotations
+
+
+def send(canvas, event: str, x: float, y: float):
+    top = canvas.canvas._canvases[-1]
+    top._handle_frontend_event(top, {"event": event, "x": x, "y": y}, [])
+
+
+def click(canvas, x, y):
+    send(canvas, "mouse_down", *canvas.image_to_view(x, y))
+    send(canvas, "mouse_up", *canvas.image_to_view(x, y))
+
+
+def wiggle_structure(shape=(200, 300)) -> Structure:
+    t = np.linspace(0, 1, 70)
+    trunk = np.c_[15 + 270 * t, 100 + 25 * np.sin(7 * t)]
+    s = Structure([Branch(trunk, np.linspace(4, 2, len(t)))], image_shape=shape)
+    for v, side in ((20, -1), (40, 1)):
+        u = np.linspace(0, 1, 25)[:, None]
+        d = np.array([0.6, side * 0.8])
+        s.add_branch(trunk[v] + u * 70 * d + np.c_[np.zeros(25), 3 * np.sin(9 * u[:, 0])], 1.5,
+                     parent=0, parent_vertex=v)
+    return s
+
+
+@pytest.fixture
+def app():
+    img = np.ones((200, 300, 3), np.float32)
+    a = BranchingApp(img, structure=wiggle_structure(), max_display=300)
+    a.panel.debounce = 0
+    return a
+
+
+def test_structure_annotation_roundtrip(app):
+    s = wiggle_structure()
+    t, index = annotations_to_structure(app.canvas.model.shapes, s.image_shape)
+    assert index == [0, 1, 2]
+    assert [(b.parent, b.parent_vertex) for b in t.branches] == [(None, None), (0, 20), (0, 40)]
+    assert np.allclose(t.branches[1].thickness, 1.5)
+    assert '"parent": [0, 20]' in structure_to_annotations(s)
+
+
+def test_clicked_polylines_become_parent_and_child():
+    img = np.ones((120, 200, 3), np.float32)
+    img[58:63, :] = 0.1
+    img[:60, 99:102] = 0.1
+    app = BranchingApp(img, max_display=400)
+    for p in [(5, 60), (100, 60.2), (195, 60)]:
+        click(app.canvas, *p)
+    app.canvas.finish()
+    click(app.canvas, 100.3, 60.4)  # snaps to vertex 1 of the first polyline
+    click(app.canvas, 100, 5)
+    app.canvas.finish()
+    s = app.example_structure()
+    assert len(s.branches) == 2 and (s.branches[1].parent, s.branches[1].parent_vertex) == (0, 1)
+    # the paper's input step: resampling at h and thickness by maximum-gradient search
+    r = app.refine()
+    steps = np.hypot(*np.diff(r.branches[0].points, axis=0).T)
+    assert np.allclose(steps[:-1], app.params.h, atol=0.05)
+    assert abs(np.median(r.branches[0].thickness) - 2.5) < 0.8
+    assert abs(np.median(r.branches[1].thickness[3:]) - 1.5) < 0.8
+    assert np.allclose(r.branches[1].points[0], r.branches[0].points[r.branches[1].parent_vertex])
+    assert app.canvas.model.can_undo
+
+
+def test_synthesize_updates_view_histograms_and_branch_picker(app):
+    res = app.synthesize()
+    assert res.structure.n_vertices > 20
+    assert app.branch_pick.max == len(res.structure.branches) - 1
+    assert len(app.view.children) >= 1
+    d_angle = app.hist_angle.comparison.distances[1]
+    assert d_angle == pytest.approx(res.histogram_distances()["angle"], rel=1e-6)
+    assert "vertices" in app.info.value
+
+
+def test_sliders_resynthesize_with_the_new_parameters(app):
+    app.synthesize()
+    first = app.result.structure.to_json()
+    app.panel.controls["max_generations"].value = 0
+    assert app.result.structure.to_json() != first
+    assert all(b.parent is None for b in app.result.structure.branches)
+    app.seed.value = 5
+    assert app.result.diagnostics["n_branches"] == len(app.result.structure.branches)
+
+
+def test_same_seed_same_structure(app):
+    a = app.synthesize().structure.to_json()
+    b = app.synthesize().structure.to_json()
+    assert a == b
+
+
+def test_extend_and_delete_output_branch(app):
+    app.synthesize()
+    s = app.result.structure
+    i = int(np.argmax([len(b.points) for b in s.branches]))
+    before = len(s.branches[i].points)
+    res = app.extend(i, 4)
+    assert len(app.result.structure.branches[i].points) == before + res.diagnostics["added_vertices"]
+    n = len(app.result.structure.branches)
+    app.delete_output_branch(0)
+    assert len(app.result.structure.branches) < n
+
+
+def test_delete_selected_subbranch_in_the_example(app):
+    app.canvas.mode = "edit"
+    click(app.canvas, *app.canvas.model.shapes[1].points[5])
+    assert app.canvas.selected == (1, 5)
+    out = app.delete_selected_subbranch()
+    assert len(out.branches) == 2 and app.example_structure().branches[1].parent_vertex == 40
+    app.canvas.selected = (0, 3)
+    assert app.delete_selected_subbranch().branches == []
+
+
+def test_guidance_stroke_is_used(app):
+    assert app.guidance() is None
+    app.canvas.model.add_shape("stroke", [(10, 180), (150, 150), (290, 180)])
+    g = app.guidance()
+    assert g is not None and g.map[180, 10] < 0.05
+    s = app.example_structure()
+    assert len(s.branches) == 3  # strokes are not branches
+    app.clear_guidance()
+    assert app.guidance() is None and len(app.example_structure().branches) == 3
+
+
+def test_buttons_show_errors_and_stay_alive():
+    app = BranchingApp(np.ones((100, 150, 3), np.float32))
+    app.buttons["extend"].click()
+    assert "synthesize a structure first" in app.errors.value
+    app.buttons["synthesize"].click()
+    assert "empty" in app.errors.value
+    app.buttons["delete"].click()
+    assert "select a vertex" in app.errors.value
+    with pytest.raises(ValueError, match="outside"):
+        app.set_structure(wiggle_structure())  # drawn for a 300 x 200 image
+
+
+def test_extract_button_on_a_drawn_tree():
+    img = np.ones((120, 200), np.float32)
+    img[58:65, 10:190] = 0
+    img[10:60, 99:102] = 0
+    app = BranchingApp(img)
+    app.buttons["extract"].click()
+    assert app.errors.last_error is None
+    s = app.example_structure()
+    assert len(s.branches) == 2 and s.branches[1].parent == 0
+
+
+def test_render_image_button(app):
+    app.synthesize()
+    app.buttons["render"].click()
+    if importlib.util.find_spec("branchnb.branching.image_synthesis") is None:
+        assert "not available" in app.errors.value
+    else:
+        assert app.image_result is not None and app.image_result.image.shape[:2] == (200, 300)
+        assert app.progress.bar.value == 1.0

@@ -1,0 +1,280 @@
+"""Billboard clouds: construction, preview, export (branchnb.trees.billboard/preview/export)."""
+
+from __future__ import annotations
+
+import base64
+import json
+import re
+
+import cv2
+import numpy as np
+import pytest
+
+from branchnb import data
+from branchnb.core.image import composite_over
+from branchnb.trees import segment_tree
+from branchnb.trees.billboard import (
+    FRONT,
+    INTERIOR,
+    REAR,
+    TRUNK_LAYER,
+    BillboardParams,
+    billboard_cloud,
+    inflate_silhouette,
+    replace_straight_edges,
+)
+from branchnb.trees.export import export_gltf, export_obj, quad_vertices, texture_atlas
+from branchnb.trees.preview import render_cloud
+
+SMALL = BillboardParams(max_size=320)
+
+
+def _psnr_opaque(render, image):
+    a = composite_over(render, (0.0, 0.0, 0.0))
+    b = composite_over(image, (0.0, 0.0, 0.0))
+    m = image[:, :, 3] >= 0.5
+    mse = float(((a - b)[m] ** 2).mean())
+    return np.inf if mse == 0 else 10 * np.log10(1.0 / mse)
+
+
+@pytest.fixture(scope="module")
+def cloud():
+    img = data.load("tree_rpg_02")
+    return billboard_cloud(img, segment_tree(img, rng=0), SMALL, rng=0)
+
+
+@pytest.mark.parametrize("name", ["tree_rpg_02", "tree_cutout_broadleaf", "tree_rpg_13"])
+def test_front_view_reproduces_input(name):
+    img = data.load(name)
+    c = billboard_cloud(img, params=SMALL, rng=1)
+    front = render_cloud(c, 0.0, crop="image")
+    assert front.shape == c.image.shape
+    assert _psnr_opaque(front, c.image) >= 30.0
+    # Turning away changes the picture, a full turn gives it back.
+    assert _psnr_opaque(render_cloud(c, 60.0, crop="image"), c.image) < 25.0
+    assert np.allclose(render_cloud(c, 360.0, crop="image"), front, atol=1e-5)
+
+
+def test_layers_and_depths(cloud):
+    counts = cloud.counts()
+    assert 200 <= counts["front"] <= 320          # ~256 superpixels (paper default)
+    assert counts["trunk"] == 1 and counts["rear"] > 150 and 100 <= counts["interior"] <= 128
+    z = cloud.centers[:, 2]
+    assert (z[cloud.layer == FRONT] > 0).all()
+    assert (z[cloud.layer == REAR] < 0).all()
+    assert (z[cloud.layer == TRUNK_LAYER] == 0).all()
+    # Interior billboards lie inside the volume and are darker the deeper they are.
+    inter = cloud.layer == INTERIOR
+    assert (np.abs(z[inter]) <= z[cloud.layer == FRONT].max()).all()
+    assert cloud.tint[inter].min() >= 1 - 0.6 - 1e-9 and cloud.tint[inter].max() <= 1.0
+    assert np.corrcoef(z[inter], cloud.tint[inter])[0, 1] > 0.5
+    assert (cloud.tint[~inter] == 1.0).all()
+
+
+def test_rear_layer_mirrors_positions_not_textures(cloud):
+    rear = np.flatnonzero(cloud.layer == REAR)
+    src = cloud.source[rear]
+    assert (cloud.layer[src] == FRONT).all()
+    x_front = cloud.centers[src, 0]
+    assert np.allclose(cloud.centers[rear, 0], 2 * cloud.axis - x_front, atol=1.0)
+    assert np.allclose(cloud.centers[rear, 1], cloud.centers[src, 1])
+    # Same texture, not mirrored: the colours agree where the trimmed rear alpha is set.
+    for r, s in zip(rear[:20], src[:20]):
+        tr, ts = cloud.textures[cloud.texture[r]], cloud.textures[cloud.texture[s]]
+        on = tr[:, :, 3] > 0
+        assert np.allclose(tr[:, :, :3][on], ts[:, :, :3][on])
+
+
+def test_front_billboards_tile_the_crown(cloud):
+    H, W = cloud.image.shape[:2]
+    cover = np.zeros((H, W))
+    for i in np.flatnonzero(cloud.layer == FRONT):
+        t = cloud.textures[cloud.texture[i]]
+        h, w = t.shape[:2]
+        x0 = int(round(cloud.centers[i, 0] - w / 2))
+        y0 = int(round(cloud.centers[i, 1] - h / 2))
+        cover[y0:y0 + h, x0:x0 + w] += t[:, :, 3] > 0
+    assert cover.max() == 1                       # no overlap
+    crown = cloud.superpixels > 0
+    assert (cover[crown] == 1).all()              # every crown pixel covered
+
+
+def test_darker_billboards_are_pushed_deeper():
+    img = data.load("tree_rpg_02")
+    seg = segment_tree(img, rng=0)
+    flat = billboard_cloud(img, seg, BillboardParams(max_size=320, darkness_depth=0.0, n_interior=0,
+                                                     rear_layer=False), rng=0)
+    deep = billboard_cloud(img, seg, BillboardParams(max_size=320, darkness_depth=0.5, n_interior=0,
+                                                     rear_layer=False), rng=0)
+    f = flat.layer == FRONT
+    ratio = deep.centers[f, 2] / flat.centers[f, 2]
+    lum = np.array([(t[..., :3] @ [0.2126, 0.7152, 0.0722])[t[..., 3] > 0.5].mean()
+                    for t in (deep.textures[k] for k in deep.texture[f])])
+    assert ratio.min() == pytest.approx(0.5, abs=0.02) and ratio.max() == pytest.approx(1.0)
+    order = np.argsort(lum)
+    assert np.corrcoef(np.arange(len(order)), ratio[order])[0, 1] > 0.9
+
+
+def test_inflation_matches_the_biharmonic_disc():
+    n, R = 101, 40.0
+    yy, xx = np.mgrid[:n, :n]
+    r2 = (xx - 50.0) ** 2 + (yy - 50.0) ** 2
+    disc = r2 < R ** 2
+    h = inflate_silhouette(disc, max_solve=256)
+    exact = np.where(disc, (R ** 2 - r2) * (5 * R ** 2 - r2), 0.0)
+    exact /= exact.max()
+    assert h[~disc].max() == 0.0
+    assert np.abs(h - exact)[disc].max() < 0.03
+
+
+def test_straight_edges_replaced_by_silhouette_pieces():
+    # Two superpixels split by a straight vertical edge inside a wavy blob.
+    H = W = 120
+    yy, xx = np.mgrid[:H, :W]
+    ang = np.arctan2(yy - 60, xx - 60)
+    blob = np.hypot(xx - 60, yy - 60) < 45 + 4 * np.sin(9 * ang)
+    labels = np.where(blob, np.where(xx < 60, 1, 2), 0)
+    new, curves = replace_straight_edges(labels, blob, rng=3)
+    assert len(curves) == 1
+    assert np.array_equal(new > 0, blob)              # still a partition of the same pixels
+    moved = (new != labels) & blob
+    assert moved.sum() > 20
+    # The new curve joins the straight edge's ends and stays on one side of it.
+    c = curves[0]
+    assert np.abs(c[:, 0] - 60).max() > 2
+    assert np.all(c[:, 0] >= 60 - 0.75) or np.all(c[:, 0] <= 60 + 0.75)
+    assert {round(c[0, 1]), round(c[-1, 1])} <= set(range(10, 112))
+
+
+def test_gltf_export_parses_back(cloud, tmp_path):
+    path = export_gltf(cloud, tmp_path / "tree.gltf", height=8.0)
+    doc = json.loads(path.read_text())
+    K = cloud.n_billboards
+    acc = doc["accessors"]
+    assert [a["count"] for a in acc] == [4 * K, 4 * K, 4 * K, 6 * K]
+    uri = doc["buffers"][0]["uri"]
+    blob = base64.b64decode(uri.split(",", 1)[1])
+    assert len(blob) == doc["buffers"][0]["byteLength"]
+
+    def read(i, dtype, width):
+        v = doc["bufferViews"][acc[i]["bufferView"]]
+        return np.frombuffer(blob, dtype, acc[i]["count"] * width, v["byteOffset"]).reshape(-1, width)
+
+    pos, uv = read(0, np.float32, 3), read(1, np.float32, 2)
+    idx = read(3, np.uint32, 1).ravel()
+    assert np.allclose(pos, quad_vertices(cloud, height=8.0).reshape(-1, 3), atol=1e-5)
+    assert idx.max() == 4 * K - 1
+    assert pos[:, 1].max() == pytest.approx(8.0, abs=0.05) and pos[:, 1].min() >= -1e-3
+    atlas = cv2.imread(str(tmp_path / doc["images"][0]["uri"]), cv2.IMREAD_UNCHANGED)
+    Ha, Wa = atlas.shape[:2]
+    assert atlas.shape[2] == 4 and Wa & (Wa - 1) == 0
+    # Every quad's UV rectangle holds its texture's alpha.
+    for i in range(0, K, 17):
+        q = uv[4 * i: 4 * i + 4] * [Wa, Ha]
+        x0, y0 = np.round(q.min(axis=0)).astype(int)
+        x1, y1 = np.round(q.max(axis=0)).astype(int)
+        tex = cloud.textures[cloud.texture[i]]
+        assert (y1 - y0, x1 - x0) == tex.shape[:2]
+        assert np.abs(atlas[y0:y1, x0:x1, 3] / 255.0 - tex[:, :, 3]).max() < 1 / 255 + 1e-6
+    assert doc["materials"][0]["alphaMode"] == "MASK"
+    assert len(doc["meshes"][0]["extras"]["centers"]) == K
+
+
+def test_obj_export_parses_back(cloud, tmp_path):
+    path = export_obj(cloud, tmp_path / "tree.obj")
+    text = path.read_text()
+    K = cloud.n_billboards
+    assert len(re.findall(r"^v ", text, re.M)) == 4 * K
+    assert len(re.findall(r"^vt ", text, re.M)) == 4 * K
+    faces = re.findall(r"^f (.+)$", text, re.M)
+    assert len(faces) == K and all(len(f.split()) == 4 for f in faces)
+    mtl = (tmp_path / "tree.mtl").read_text()
+    used = set(re.findall(r"^usemtl (\S+)", text, re.M))
+    assert used == set(re.findall(r"^newmtl (\S+)", mtl, re.M))
+    assert (tmp_path / "tree_atlas.png").is_file() and "map_Kd tree_atlas.png" in mtl
+
+
+def test_crossed_export_doubles_quads(cloud, tmp_path):
+    K = cloud.n_billboards
+    q = quad_vertices(cloud, crossed=True)
+    assert q.shape == (2 * K, 4, 3)
+    front, turned = q[:K], q[K:]
+    # Same centres; the turned quads lie in the y-z plane (edge-on from the front).
+    assert np.allclose(front.mean(axis=1), turned.mean(axis=1))
+    assert np.allclose(turned[:, :, 0], turned[:, :1, 0]) and np.allclose(front[:, :, 2], front[:, :1, 2])
+    doc = json.loads(export_gltf(cloud, tmp_path / "x.gltf", crossed=True).read_text())
+    assert doc["accessors"][0]["count"] == 8 * K and doc["accessors"][3]["count"] == 12 * K
+    text = export_obj(cloud, tmp_path / "x.obj", crossed=True).read_text()
+    assert len(re.findall(r"^f ", text, re.M)) == 2 * K
+
+
+def test_texture_atlas_packs_without_overlap():
+    rng = np.random.default_rng(0)
+    texs = [rng.random((int(rng.integers(3, 30)), int(rng.integers(3, 30)), 4)).astype(np.float32)
+            for _ in range(40)]
+    atlas, rects = texture_atlas(texs, padding=1, bleed=False)
+    used = np.zeros(atlas.shape[:2], int)
+    for (x, y, w, h), t in zip(rects, texs):
+        assert np.array_equal(atlas[y:y + h, x:x + w], t)
+        used[y:y + h, x:x + w] += 1
+    assert used.max() == 1
+
+
+def test_preview_modes(cloud):
+    fixed90 = render_cloud(cloud, 90.0, facing="fixed", crop="image")
+    # Fixed quads are edge-on at 90 degrees: nothing is drawn.
+    assert fixed90[:, :, 3].sum() < 0.02 * cloud.image[:, :, 3].sum()
+    back = render_cloud(cloud, 180.0, crop="fit")
+    assert back.shape[0] == cloud.image.shape[0] and back[:, :, 3].sum() > 0
+    small = render_cloud(cloud, 30.0, background=(1, 1, 1), height=64)
+    assert small.shape[0] == 64 and small.shape[2] == 3
+    with pytest.raises(ValueError, match="facing"):
+        render_cloud(cloud, 0.0, facing="sideways")
+    with pytest.raises(ValueError, match="yaw"):
+        render_cloud(cloud, float("nan"))
+
+
+def test_no_trunk_and_bare_tree():
+    img = data.load("tree_rpg_05")
+    c = billboard_cloud(img, np.zeros(img.shape[:2], bool), SMALL, rng=0)
+    assert c.counts()["trunk"] == 0 and c.counts()["front"] > 100
+    assert _psnr_opaque(render_cloud(c, 0.0, crop="image"), c.image) >= 30.0
+    bare = data.load("tree_rpg_11")
+    b = billboard_cloud(bare, np.ones(bare.shape[:2], bool), SMALL, rng=0)
+    assert b.counts() == {"front": 0, "rear": 0, "interior": 0, "trunk": 1}
+    assert _psnr_opaque(render_cloud(b, 0.0, crop="image"), b.image) >= 30.0
+
+
+@pytest.mark.parametrize(
+    "image, match",
+    [
+        (np.ones((20, 20, 3), np.float32), "must be RGBA"),
+        (np.zeros((20, 20, 4), np.float32), "fully transparent"),
+        (np.ones((20, 20, 4), np.float32), "fully opaque"),
+    ],
+)
+def test_bad_images(image, match):
+    with pytest.raises(ValueError, match=match):
+        billboard_cloud(image)
+
+
+def test_bad_arguments(cloud, tmp_path):
+    img = data.load("tree_rpg_05")
+    with pytest.raises(ValueError, match="trunk must be"):
+        billboard_cloud(img, np.zeros((3, 3), bool))
+    with pytest.raises(ValueError, match="n_segments"):
+        billboard_cloud(img, params=BillboardParams(n_segments=0))
+    with pytest.raises(ValueError, match=r"\.gltf"):
+        export_gltf(cloud, tmp_path / "x.glb")
+    with pytest.raises(ValueError, match="height"):
+        export_obj(cloud, tmp_path / "x.obj", height=-1.0)
+
+
+def test_bench_and_gallery(tmp_path):
+    from branchnb.trees._bench_cloud import bench_rows
+    from branchnb.trees._gallery_cloud import gallery_items
+
+    rows = bench_rows(quick=True)
+    assert len(rows) == 1 and rows[0].seconds > 0 and rows[0].anchor_seconds == 20.0
+    items = gallery_items(tmp_path)
+    assert len(items) >= 3 and all((tmp_path / it.filename).is_file() for it in items)
