@@ -349,3 +349,13 @@ def test_target_tips_are_not_copied_from_joined_ends():
             reaches = (s.arc + f.target.radius > sm.lengths[s.branch]) if s.sign > 0 \
                 else (s.arc - f.target.radius < 0)
             assert end_free or not reaches
+
+
+def test_flat_white_background_is_not_a_matte():
+    """A drawing on white: the white is the background to copy, not a matte."""
+    img = np.ones((80, 120, 3), np.float32)
+    img[38:43, 5:115] = 0.0
+    ex = Structure([Branch([(5, 40), (114, 40)], 2.5)])
+    assert not matte_mask(img).any()
+    r = synthesize_image(img, ex, Structure([Branch([(60, 5), (60, 75)], 2.5)]), rng=0)
+    assert r.image[40, 60].max() < 0.2 and r.image[40, 20].min() > 0.95 and r.image[10, 10].min() > 0.95

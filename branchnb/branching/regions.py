@@ -124,7 +124,7 @@ def branch_likeness(image: np.ndarray, pm: PixelMap, usable: np.ndarray | None =
 
 
 def matte_mask(image: np.ndarray, *, tol: float = 0.04, min_fraction: float = 0.01,
-               dilate: int = 3) -> np.ndarray:
+               max_fraction: float = 0.5, dilate: int = 3) -> np.ndarray:
     """Flat black or white regions connected to the border (e.g. the mask around a fundus photo).
 
     Parameters
@@ -132,8 +132,10 @@ def matte_mask(image: np.ndarray, *, tol: float = 0.04, min_fraction: float = 0.
     image : (H, W, C) float ndarray
     tol : float
         Pixels darker than ``tol`` or brighter than ``1 - tol`` in every channel.
-    min_fraction : float
-        Ignore a matte smaller than this fraction of the image.
+    min_fraction, max_fraction : float
+        Ignore a matte smaller than ``min_fraction`` of the image, or larger
+        than ``max_fraction``: then the flat colour is the example's
+        background itself (a drawing on white, a diagram), not a matte.
     dilate : int
         Grow the matte by this many pixels (its edge is blurred in photos).
     """
@@ -148,7 +150,7 @@ def matte_mask(image: np.ndarray, *, tol: float = 0.04, min_fraction: float = 0.
         if len(border) == 0:
             continue
         m = np.isin(lab, border)
-        if m.mean() >= min_fraction:
+        if min_fraction <= m.mean() <= max_fraction:
             mask |= m
     if mask.any() and dilate > 0:
         mask = ndi.binary_dilation(mask, iterations=dilate)
@@ -211,5 +213,5 @@ def example_regions(image: np.ndarray, pm: PixelMap, *, exclusion: float = 1.5,
             if it > 0 and like.any():
                 like = ndi.binary_dilation(like, iterations=it) & ~body
     if unusable.all():
-        raise ValueError("example_mask leaves no usable example pixel")
+        raise ValueError("example_mask leaves no usable example pixel (outside the mask and the matte)")
     return ExampleRegions(body, like, unusable, likeness)
