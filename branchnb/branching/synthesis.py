@@ -769,7 +769,7 @@ def _default_starts(model: StructureModel, shape, guidance) -> list[tuple[float,
 MAX_ROOT_ATTEMPTS = 8
 
 
-def _root_escaped(g: "_Grower", min_root_length: float) -> bool:
+def _root_escaped(g: _Grower, min_root_length: float) -> bool:
     """True if a root left the domain before growing ``min_root_length``."""
     for st in g.branches:
         if st.parent is None and st.stop == "left the domain":
@@ -779,7 +779,7 @@ def _root_escaped(g: "_Grower", min_root_length: float) -> bool:
     return False
 
 
-def _grow_with_retries(model, p, rng, shp, guidance, starts, scorer) -> "_Grower":
+def _grow_with_retries(model, p, rng, shp, guidance, starts, scorer) -> _Grower:
     """Grow, restarting when a root walks out of the domain at once.
 
     A root starts at an example root's head with its heading; near the
