@@ -22,10 +22,11 @@ __all__ = ["gallery_items"]
 
 SECTION = "Branching structures"
 
-#: Real examples: (data name, extraction options, structure seed, image params).
+#: Real examples: (data name, extraction options, structure seed, image params, where the structure is
+#: learnt and synthesized: "full" resolution then scaled to half, or at "half" resolution).
 REAL = (
-    ("retina_fundus", {}, 6, ImageSynthesisParams(flatten_shading=0.05)),
-    ("lightning_trace", {"root": "top"}, 2, ImageSynthesisParams()),
+    ("retina_fundus", {"scale": 0.5}, 3, ImageSynthesisParams(flatten_shading=0.05), "full"),
+    ("lightning_trace", {"root": "top"}, 2, ImageSynthesisParams(), "half"),
 )
 
 
@@ -64,12 +65,17 @@ def gallery_items(outdir) -> list[GalleryItem]:
         from .extraction import extract_structure
         from .synthesis import synthesize_structure
 
-        for name, ex_kw, seed, params in REAL:
-            img = data.load(name)
-            h, w = img.shape[:2]
-            img = resize(img, (h // 2, w // 2), anti_aliasing=True).astype(np.float32).clip(0, 1)
-            example = extract_structure(img, **ex_kw)
-            target = synthesize_structure(example, rng=seed).structure
+        for name, ex_kw, seed, params, where in REAL:
+            full = data.load(name)
+            h, w = full.shape[:2]
+            img = resize(full, (h // 2, w // 2), anti_aliasing=True).astype(np.float32).clip(0, 1)
+            if where == "full":
+                example = extract_structure(full, **ex_kw)
+                target = synthesize_structure(example, rng=seed).structure.scaled(0.5)
+                example = example.scaled(0.5)
+            else:
+                example = extract_structure(img, **ex_kw)
+                target = synthesize_structure(example, rng=seed).structure
             res = synthesize_image(img, example, target, params, rng=0)
             fn = f"branching_image_{name}.png"
             imsave(outdir / fn, _panel(img, example, target, res.image))
