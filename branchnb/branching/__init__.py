@@ -18,6 +18,7 @@ from .extraction import (
 )
 from .guidance import Guidance, guidance_map
 from .histogram_matching import histogram_distances
+from .image_synthesis import ImageSynthesisParams, ImageSynthesisResult, synthesize_image
 from .params import ClickParams, ExtractionParams, SynthesisParams
 from .structure import Branch, Structure
 from .synthesis import (
@@ -44,6 +45,9 @@ __all__ = [
                          "fit_model",
                          "guidance_map",
                          "histogram_distances",
+                         "ImageSynthesisParams",
+                         "ImageSynthesisResult",
+                         "synthesize_image",
                          "structure_from_polylines",
                          "synthesize_structure",
 ]

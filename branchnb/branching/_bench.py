@@ -140,26 +140,7 @@ def rows(quick: bool = False) -> list[BenchRow]:
 
 
 def _image_rows() -> list[BenchRow]:
-    """Image synthesis of a 512 x 512 output, when the image-synthesis part is installed.
+    """Image synthesis of a 512 x 512 output (rows from :mod:`._bench_image`)."""
+    from ._bench_image import bench_rows
 
-    Anchor: the paper's fastest reported time per image (8.6 s; 8.6 to 72.8 s),
-    measured on the paper's machine.
-    """
-    import importlib.util
-
-    if importlib.util.find_spec("branchnb.branching.image_synthesis") is None:
-        return []
-    from skimage.transform import resize
-
-    from .. import data
-    from .extraction import extract_structure
-    from .image_synthesis import synthesize_image
-    from .params import SynthesisParams
-    from .synthesis import synthesize_structure
-
-    img = resize(data.load("retina_fundus"), (512, 512), anti_aliasing=True).astype(np.float32).clip(0, 1)
-    ex = extract_structure(img, h=SynthesisParams().h)
-    target = synthesize_structure(ex, rng=0).structure
-    sec = timeit(lambda: synthesize_image(img, ex, target, rng=0), repeat=1, warmup=False)
-    return [BenchRow("image synthesis, 512 x 512 retina (fragments + gap completion)", sec,
-                     "paper, fastest reported image", 8.6, "paper figure (8.6 to 72.8 s), other machine")]
+    return bench_rows(quick=False)

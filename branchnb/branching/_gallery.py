@@ -106,19 +106,12 @@ def render(outdir: Path) -> list[GalleryItem]:
     items.append(GalleryItem(SECTION, "guided synthesis", fn,
                              "guidance valley (grey) along a user path (red); lightning example"))
 
-    items.extend(_image_synthesis(outdir, structures["retina_fundus"], res.structure))
+    items.extend(_image_synthesis(outdir))
     return items
 
 
-def _image_synthesis(outdir: Path, example, target) -> list[GalleryItem]:
-    """The final image from the image-synthesis part (items 9-10), when it is available."""
-    try:
-        from .image_synthesis import synthesize_image
-    except ImportError:  # the fragment-based image synthesis is not merged yet
-        return []
-    img = data.load("retina_fundus")
-    out = synthesize_image(img, example, target, rng=0)
-    fn = "branching_image_retina.png"
-    imsave(outdir / fn, _side_by_side(img[..., :3], out.image[..., :3]))
-    return [GalleryItem(SECTION, "synthesized image (retina)", fn,
-                        "left: example; right: fragments along the synthesized structure + gap completion")]
+def _image_synthesis(outdir: Path) -> list[GalleryItem]:
+    """The final images of fragment-based synthesis (items 9-10): retina, lightning, a river."""
+    from ._gallery_image import gallery_items
+
+    return gallery_items(outdir)

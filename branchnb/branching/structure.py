@@ -193,6 +193,27 @@ class Structure:
         return Structure([Branch(b.points.copy(), b.thickness.copy(), b.parent, b.parent_vertex)
                           for b in self.branches], self.image_shape)
 
+    def scaled(self, factor: float) -> Structure:
+        """The structure at another image resolution: points, thickness and image shape times ``factor``.
+
+        Pixel centres map to pixel centres (``x' = (x + 0.5) f - 0.5``).
+
+        Examples
+        --------
+        >>> s = Structure([Branch([(0.5, 0.5), (10.5, 0.5)], 2.0)], image_shape=(20, 30))
+        >>> t = s.scaled(2.0)
+        >>> t.branches[0].points.tolist(), t.image_shape, float(t.branches[0].thickness[0])
+        ([[1.5, 1.5], [21.5, 1.5]], (40, 60), 4.0)
+        """
+        f = float(factor)
+        if not np.isfinite(f) or f <= 0:
+            raise ValueError(f"factor must be a positive number, got {factor!r}")
+        shape = None
+        if self.image_shape is not None:
+            shape = (max(1, int(round(self.image_shape[0] * f))), max(1, int(round(self.image_shape[1] * f))))
+        return Structure([Branch((b.points + 0.5) * f - 0.5, b.thickness * f, b.parent, b.parent_vertex)
+                          for b in self.branches], shape)
+
     def with_thickness(self, index: int, vertex: int | slice, r) -> Structure:
         """A copy with the thickness of ``branches[index]`` at ``vertex`` set to ``r`` (> 0).
 

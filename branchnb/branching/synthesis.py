@@ -765,6 +765,49 @@ def _default_starts(model: StructureModel, shape, guidance) -> list[tuple[float,
     return out
 
 
+#: Attempts at growing the roots before the largest result is kept.
+MAX_ROOT_ATTEMPTS = 8
+
+
+def _root_escaped(g: _Grower, min_root_length: float) -> bool:
+    """True if a root left the domain before growing ``min_root_length``."""
+    for st in g.branches:
+        if st.parent is None and st.stop == "left the domain":
+            pts = np.asarray(st.points, np.float64)
+            if len(pts) < 2 or np.hypot(*np.diff(pts, axis=0).T).sum() < min_root_length:
+                return True
+    return False
+
+
+def _grow_with_retries(model, p, rng, shp, guidance, starts, scorer) -> _Grower:
+    """Grow, restarting when a root walks out of the domain at once.
+
+    A root starts at an example root's head with its heading; near the
+    image border the first copied pieces often lead straight out, which
+    ends the whole synthesis after a few steps (the paper's user simply
+    places the seed again). When a root leaves the domain before growing
+    half the example's median root length (at most a quarter of the
+    domain's short side), synthesis restarts with the next draws of the
+    same generator, so results stay reproducible, up to
+    :data:`MAX_ROOT_ATTEMPTS` times; the attempt with the most vertices is
+    kept. Guided synthesis is never restarted.
+    """
+    roots = [b.length for b in model.example.branches if b.parent is None and len(b.points) > 1]
+    min_len = min(0.5 * float(np.median(roots)), 0.25 * min(shp)) if roots else 0.0
+    # A guided root follows the user's path, out of the domain if the path goes there.
+    attempts = 1 if guidance is not None else MAX_ROOT_ATTEMPTS
+    best = None
+    for attempt in range(1, attempts + 1):
+        g = _Grower(model, p, rng, shp, guidance, scorer=scorer)
+        g.run(starts)
+        g.attempt = attempt
+        if best is None or sum(len(b.points) for b in g.branches) > sum(len(b.points) for b in best.branches):
+            best = g
+        if not _root_escaped(g, min_len):
+            return g
+    return best
+
+
 def _check_guidance(guidance, shape):
     if guidance is None:
         return None
@@ -831,10 +874,10 @@ def synthesize_structure(example, params: SynthesisParams | None = None, *, rng=
         if bad.any():
             raise ValueError(f"starts[{int(np.flatnonzero(bad)[0])}] lies outside the {w} x {h} domain")
         starts = [tuple(map(float, s)) for s in st]
-    g = _Grower(model, p, rng, shp, guidance, scorer=_scorer)
-    g.run(starts)
+    g = _grow_with_retries(model, p, rng, shp, guidance, starts, _scorer)
     s = g.structure()
     diag = g.diagnostics(t0)
+    diag["attempts"] = g.attempt
     if s.branches and s.angles().size:
         diag["hist_distance"] = histogram_distances(model.example, s, bins=p.bins)
     dens = g.density.image() if g.density is not None else None

@@ -32,11 +32,13 @@ import numpy as np
 from ..branching import (
     ClickParams,
     Guidance,
+    ImageSynthesisParams,
     Structure,
     SynthesisParams,
     extend_branch,
     extract_structure,
     fit_model,
+    synthesize_image,
     synthesize_structure,
 )
 from ..branching.extraction import estimate_thickness, gray_for_extraction
@@ -142,6 +144,8 @@ class BranchingApp(widgets.VBox):
         g = self.errors.guard
         self.canvas = AnnotationCanvas(as_rgb(self.image), mode="polyline", max_display=max_display,
                                        modes=("polyline", "edit", "stroke", "pan"))
+        # Image synthesis only runs on "render image", so its panel needs no callback.
+        self.image_panel = ParamPanel(ImageSynthesisParams(), debounce=0)
         self.panel = ParamPanel(params if params is not None else SynthesisParams(), debounce=0.3,
                                 continuous=False, title="synthesis parameters")
         self.seed = widgets.BoundedIntText(value=0, min=0, max=2**31 - 1, description="seed",
@@ -213,7 +217,8 @@ class BranchingApp(widgets.VBox):
         ])
         super().__init__([
             widgets.HBox([left, right], layout=widgets.Layout(flex_flow="row wrap")),
-            widgets.Accordion(children=[self.panel], titles=("parameters",)),
+            widgets.Accordion(children=[self.panel, self.image_panel],
+                              titles=("structure synthesis parameters", "image synthesis parameters")),
             self.errors,
         ])
 
@@ -357,16 +362,12 @@ class BranchingApp(widgets.VBox):
         """Synthesize the final image along the structure (fragment-based image synthesis)."""
         if self.result is None:
             raise ValueError("synthesize a structure first")
-        try:
-            from ..branching.image_synthesis import synthesize_image
-        except ImportError as exc:  # pragma: no cover - depends on the image-synthesis part
-            raise RuntimeError("image synthesis (branchnb.branching.image_synthesis) is not available "
-                               "in this installation") from exc
         self.progress.update(0.0, "starting")
         out = synthesize_image(self.image, self.example_structure(), self.result.structure,
+                               params=self.image_panel.values,
                                rng=int(self.seed.value), progress=self.progress.update,
                                shape=self.image_shape)
-        self.progress.done(f"done in {sum(getattr(out, 'timings', {}).values()):.1f} s")
+        self.progress.done(f"done in {out.timings.get('total', 0.0):.1f} s")
         self.image_result = out
         self._show()
         return out

@@ -50,6 +50,15 @@ DEFAULT_LABELS = {"foreground": "#e53935", "background": "#1e88e5"}
 _KIND_COLOURS = {"polyline": "#ffb300", "stroke": "#00e676", "point": "#ff1744"}
 _SNAP_PX = 8.0  # screen pixels
 
+_MODE_HELP = {
+    "polyline": "click vertices; click the last one again (or Enter) to finish",
+    "stroke": "drag to draw freehand",
+    "scribble": "drag to draw with the current label",
+    "point": "click to place a point",
+    "edit": "click a vertex to select, drag to move; radius slider / [ ] resize; Delete removes",
+    "pan": "drag to pan; the mouse wheel zooms",
+}
+
 
 class AnnotationCanvas(widgets.VBox):
     """An image with annotation tools, zoom and pan.
@@ -117,7 +126,7 @@ class AnnotationCanvas(widgets.VBox):
 
         self.canvas = MultiCanvas(4)
         self._tools = widgets.ToggleButtons(options=list(modes), value=mode if mode in modes else modes[0],
-                                            style={"button_width": "80px"})
+                                            tooltips=[_MODE_HELP[m] for m in modes])
         self._label_picker = widgets.Dropdown(options=list(self.labels), description="label",
                                               layout=widgets.Layout(width="180px"))
         self._radius_slider = widgets.FloatSlider(value=self.radius, min=0.5, max=40.0, step=0.5,
@@ -210,6 +219,12 @@ class AnnotationCanvas(widgets.VBox):
         self.canvas.height = int(round(h * s))
         self.canvas.layout.width = f"{self.canvas.width}px"
         self.canvas.layout.max_width = "100%"
+        # The whole widget is as wide as its canvas (toolbar rows wrap), so
+        # that apps can put two canvases side by side.
+        width = max(self.canvas.width, 320)
+        self.layout.width = f"{width + 8}px"
+        n_tools = max(len(self._tools.options), 1)
+        self._tools.style.button_width = f"{int(min(80, max(52, width / n_tools - 6)))}px"
         self.fit()
 
     def set_overlay(self, overlay) -> None:

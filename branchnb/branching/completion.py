@@ -1,0 +1,400 @@
+"""Automatic gap completion: filling the space between branches.
+
+The paper completed the area between the synthesised branches by hand, in
+about ten minutes of interactive image completion per result. Here it is
+automatic, by patch quilting (Efros & Freeman 2001) with graph-cut seams
+(Kwatra et al. 2003) from the example's **branch-free** pixels only:
+
+* ``forbidden`` marks the example pixels that must never be copied: the
+  annotated branches with a margin, unannotated branch-like pixels and
+  the matte (:mod:`branchnb.branching.regions`). A patch may come from a
+  window that contains forbidden pixels, but those pixels are *not part
+  of the patch*: they are never copied, so no branch texture and no
+  pseudo-branch can appear. Windows whose forbidden pixels would fall on
+  still-empty output pixels are penalised, so wholly branch-free windows
+  win when they match about as well;
+* the output is covered by square cells (side ``patch_size``, overlapping
+  by ``overlap``); the cell with the most already-known pixels is filled
+  first, so the filling grows inwards from the fragments; holes left by
+  forbidden pixels become cells of their own in a second pass;
+* a cell's window is matched by SSD on its known pixels (OpenCV
+  ``matchTemplate`` on a reduced copy of the example, refined at full
+  resolution) and one of the windows within ``(1 + tolerance)`` of the
+  best is drawn at random;
+* the patch is composed with a graph-cut seam and an anchored
+  gradient-domain correction (:func:`branchnb.branching.blending.compose_piece`);
+  the synthesised branch bodies are protected: never overwritten, and
+  neutral in the colour correction (no halo).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+from scipy import ndimage as ndi
+
+from ..core.random import as_rng
+from .blending import compose_piece
+
+__all__ = ["CompletionResult", "admissible_windows", "complete_gaps"]
+
+
+@dataclass
+class CompletionResult:
+    """Result of :func:`complete_gaps`.
+
+    Attributes
+    ----------
+    filled : (H, W) bool ndarray
+        Pixels filled by completion patches.
+    source : (H, W, 2) float ndarray
+        Example pixel (x, y) each filled pixel was copied from (NaN elsewhere).
+    seams : (H, W) bool ndarray
+    n_patches : int
+    seam_cost : float
+        Sum of the seam costs of all patches.
+    patch_size : int
+        Patch side actually used.
+    n_inpainted : int
+        Pixels no patch could fill (all its candidate pixels were forbidden),
+        filled by OpenCV's diffusion inpainting as a last resort.
+    """
+
+    filled: np.ndarray
+    source: np.ndarray
+    seams: np.ndarray
+    n_patches: int
+    seam_cost: float
+    patch_size: int
+    n_inpainted: int = 0
+
+
+def admissible_windows(forbidden: np.ndarray, size: int, margin: int = 0) -> np.ndarray:
+    """Top-left corners of ``size x size`` windows containing no forbidden pixel.
+
+    Parameters
+    ----------
+    forbidden : (H, W) bool ndarray
+        The example's branch region.
+    size : int
+        Window side.
+    margin : int
+        The windows must stay ``margin`` pixels inside the image.
+
+    Returns
+    -------
+    ok : (H - size + 1, W - size + 1) bool ndarray
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> f = np.zeros((6, 6), bool); f[:, 3] = True
+    >>> admissible_windows(f, 3).astype(int)
+    array([[1, 0, 0, 0],
+           [1, 0, 0, 0],
+           [1, 0, 0, 0],
+           [1, 0, 0, 0]])
+    """
+    h, w = forbidden.shape
+    if size > h or size > w:
+        return np.zeros((max(h - size + 1, 0), max(w - size + 1, 0)), bool)
+    cnt = _box_count(forbidden, size)
+    ok = cnt == 0
+    if margin > 0:
+        ok[:margin, :] = False
+        ok[:, :margin] = False
+        ok[ok.shape[0] - margin:, :] = False
+        ok[:, ok.shape[1] - margin:] = False
+    return ok
+
+
+def _box_count(mask: np.ndarray, size: int) -> np.ndarray:
+    """Number of True pixels in every ``size x size`` window (top-left indexed)."""
+    ii = np.zeros((mask.shape[0] + 1, mask.shape[1] + 1), np.int64)
+    ii[1:, 1:] = np.cumsum(np.cumsum(mask.astype(np.int64), 0), 1)
+    return ii[size:, size:] - ii[:-size, size:] - ii[size:, :-size] + ii[:-size, :-size]
+
+
+def _cv(img: np.ndarray) -> np.ndarray:
+    return np.ascontiguousarray(img[:, :, 0] if img.shape[2] == 1 else img, np.float32)
+
+
+def _grid_cells(h: int, w: int, size: int, step: int) -> list[tuple[int, int]]:
+    ys = list(range(0, max(h - size, 0) + 1, step))
+    xs = list(range(0, max(w - size, 0) + 1, step))
+    if ys[-1] != max(h - size, 0):
+        ys.append(max(h - size, 0))
+    if xs[-1] != max(w - size, 0):
+        xs.append(max(w - size, 0))
+    return [(y, x) for y in ys for x in xs]
+
+
+def _hole_cells(uncovered: np.ndarray, size: int) -> list[tuple[int, int]]:
+    """Cells (top-left y, x) centred on the holes that remain after a pass."""
+    h, w = uncovered.shape
+    lab, n = ndi.label(uncovered)
+    cells = []
+    for sl in ndi.find_objects(lab):
+        if sl is None:
+            continue
+        r0, r1, c0, c1 = sl[0].start, sl[0].stop, sl[1].start, sl[1].stop
+        step = max(size // 2, 1)
+        for yc in range(r0, r1, step):
+            for xc in range(c0, c1, step):
+                y1, x1 = min(yc + step, r1), min(xc + step, c1)
+                cy, cx = (yc + y1) // 2, (xc + x1) // 2
+                y = int(np.clip(cy - size // 2, 0, max(h - size, 0)))
+                x = int(np.clip(cx - size // 2, 0, max(w - size, 0)))
+                cells.append((y, x))
+    return list(dict.fromkeys(cells))
+
+
+class _Matcher:
+    """Masked-SSD window search in the example, coarse then fine."""
+
+    def __init__(self, example: np.ndarray, forbidden: np.ndarray, size: int, margin: int,
+                 search_size: int, forbid_weight: float, reuse_weight: float = 0.5):
+        eh, ew = example.shape[:2]
+        self.size, self.margin = size, margin
+        self.ex = _cv(example)
+        self.forbid = forbidden.astype(np.float32)
+        self.scale = max(1, int(np.ceil(max(eh, ew) / float(search_size))))
+        s = self.scale
+        if s > 1:
+            self.small = cv2.resize(self.ex, (max(ew // s, 1), max(eh // s, 1)), interpolation=cv2.INTER_AREA)
+            self.forbid_small = cv2.resize(self.forbid, self.small.shape[1::-1], interpolation=cv2.INTER_AREA)
+        else:
+            self.small, self.forbid_small = self.ex, self.forbid
+        self.tsz = max(size // s, 2)
+        # Windows that stay inside the example with their anchor band and
+        # are not entirely forbidden.
+        cnt = _box_count(forbidden, size)
+        self.usable = cnt < size * size
+        if margin > 0:
+            self.usable[:margin, :] = False
+            self.usable[:, :margin] = False
+            self.usable[self.usable.shape[0] - margin:, :] = False
+            self.usable[:, self.usable.shape[1] - margin:] = False
+        if not self.usable.any():
+            raise ValueError("example_image has no usable (branch-free) pixels to complete the gaps from")
+        self.usable_small = self.usable[::s, ::s]
+        self.forbid_weight = forbid_weight
+        self.reuse_weight = reuse_weight
+        # How often the example around each (reduced) window was used already.
+        self.used = np.zeros(self.usable_small.shape, np.float64)
+        self.channels = example.shape[2]
+
+    def choose(self, tpl: np.ndarray, known: np.ndarray, tolerance: float,
+               rng: np.random.Generator) -> tuple[int, int]:
+        """Top-left (y, x) in the example of the window used for one cell."""
+        size, s = self.size, self.scale
+        unknown = (~known).astype(np.float32)
+        n_unknown = max(float(unknown.sum()), 1.0)
+        n_known = float(known.sum())
+        t_cv = _cv(tpl)
+        m = known.astype(np.float32)
+        if s > 1:
+            t_s = cv2.resize(t_cv, (self.tsz, self.tsz), interpolation=cv2.INTER_AREA)
+            m_s = cv2.resize(m, (self.tsz, self.tsz), interpolation=cv2.INTER_AREA)
+            u_s = cv2.resize(unknown, (self.tsz, self.tsz), interpolation=cv2.INTER_AREA)
+            m_s = (m_s > 0.99).astype(np.float32)
+        else:
+            t_s, m_s, u_s = t_cv, m, unknown
+        # Mean squared colour difference on the known pixels, and the
+        # fraction of the cell's empty pixels the window would leave empty
+        # (its forbidden pixels are not copied).
+        hh, ww = self.usable_small.shape
+        f = cv2.matchTemplate(self.forbid_small, u_s, cv2.TM_CCORR) / max(float(u_s.sum()), 1.0)
+        hh, ww = min(hh, f.shape[0]), min(ww, f.shape[1])
+        usable = np.zeros(f.shape, bool)
+        usable[:hh, :ww] = self.usable_small[:hh, :ww]
+        if not usable.any():
+            cand = np.argwhere(self.usable)
+            return tuple(int(v) for v in cand[rng.integers(len(cand))])
+        if m_s.sum() >= 1:
+            ssd = cv2.matchTemplate(self.small, t_s, cv2.TM_SQDIFF, mask=m_s) / (float(m_s.sum()) * self.channels)
+            ssd = np.where(np.isfinite(ssd), ssd, np.inf)
+            typical = max(float(np.median(ssd[usable & np.isfinite(ssd)])) if np.isfinite(ssd[usable]).any()
+                          else 1e-3, 1e-5)
+        else:
+            ssd, typical = np.zeros(f.shape), 1e-3
+        # Penalties in units of a typical match: holes left by forbidden
+        # pixels, and reuse of the example around earlier windows (so the
+        # same few windows are not tiled everywhere).
+        used = np.zeros(f.shape)
+        used[:hh, :ww] = self.used[:hh, :ww]
+        c = ssd + typical * (self.forbid_weight * f + self.reuse_weight * used)
+        c = np.where(usable, c, np.inf)
+        best = float(c.min())
+        if not np.isfinite(best):
+            cand = np.argwhere(self.usable)
+            return tuple(int(v) for v in cand[rng.integers(len(cand))])
+        good = np.argwhere(c <= best + tolerance * abs(best) + 1e-12)
+        gy, gx = (int(v) for v in good[rng.integers(len(good))])
+        r = max(self.tsz // 2, 1)
+        self.used[max(gy - r, 0):gy + r + 1, max(gx - r, 0):gx + r + 1] += 1.0
+        cy, cx = gy * s, gx * s
+        if s == 1:
+            return cy, cx
+        # Refine at full resolution around the coarse choice.
+        y0, y1 = max(cy - s, 0), min(cy + s, self.usable.shape[0] - 1)
+        x0, x1 = max(cx - s, 0), min(cx + s, self.usable.shape[1] - 1)
+        region = self.ex[y0:y1 + size, x0:x1 + size]
+        fr = self.forbid[y0:y1 + size, x0:x1 + size]
+        res = cv2.matchTemplate(fr, unknown, cv2.TM_CCORR) * (typical * self.forbid_weight / n_unknown)
+        if n_known >= 1:
+            res = res + cv2.matchTemplate(region, t_cv, cv2.TM_SQDIFF, mask=m) / (n_known * self.channels)
+        ok = self.usable[y0:y0 + res.shape[0], x0:x0 + res.shape[1]]
+        res = np.where(ok, res, np.inf)
+        if not np.isfinite(res).any():
+            return cy, cx
+        iy, ix = np.unravel_index(int(np.argmin(res)), res.shape)
+        return y0 + int(iy), x0 + int(ix)
+
+
+def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
+                  forbidden: np.ndarray, *, patch_size: int = 32, overlap: float = 0.25,
+                  protect: np.ndarray | None = None, tolerance: float = 0.1,
+                  forbid_weight: float = 5.0, search_size: int = 192, method: str = "graphcut",
+                  poisson: bool = True, anchored: bool = True, anchor_weight: float = 10.0,
+                  screen: float = 0.05, min_free: float = 0.0, reuse_weight: float = 0.5,
+                  max_passes: int = 4, rng=None,
+                  progress: Callable[[float, str], None] | None = None) -> CompletionResult:
+    """Fill every uncovered pixel of ``canvas`` **in place** with branch-free texture.
+
+    Parameters
+    ----------
+    canvas : (H, W, C) float32 ndarray
+        Partly synthesised image (modified).
+    covered : (H, W) bool ndarray
+        Pixels already synthesised (modified; all True on return).
+    example : (h, w, C) float32 ndarray
+        The example image.
+    forbidden : (h, w) bool ndarray
+        Example pixels that must never be copied (branches with a margin, matte).
+    patch_size : int
+        Side of the square cells and patches: reduced (down to 8) until at
+        least ``min_free`` of the example's windows are wholly branch-free.
+    overlap : float
+        Overlap of neighbouring cells, as a fraction of ``patch_size``.
+    protect : (H, W) bool ndarray, optional
+        Canvas pixels a patch must never replace (the synthesised branches).
+    tolerance : float
+        Windows with a matching cost within ``(1 + tolerance)`` of the best
+        are equally likely (quilting's randomness).
+    forbid_weight : float
+        Cost of a window per unit fraction of the cell's empty pixels that
+        its forbidden pixels would leave empty, in units of the median
+        matching cost (mean squared colour difference on the known pixels).
+    search_size : int
+        The example is searched at a scale where its long side is at most
+        this many pixels; the choice is refined at full resolution.
+    method, poisson, anchored, anchor_weight, screen
+        Composition of each patch, see :func:`branchnb.branching.blending.compose_piece`
+        (with ``screen > 0`` the anchors are replaced by a screened correction
+        that stays near the seams).
+    min_free : float
+        See ``patch_size``.
+    reuse_weight : float
+        Penalty for reusing the example around an already used window,
+        per earlier use, in the same units.
+    max_passes : int
+        Passes over the remaining holes before the last-resort inpainting.
+    rng : int or numpy.random.Generator, optional
+    progress : callable(fraction, text), optional
+
+    Returns
+    -------
+    CompletionResult
+    """
+    rng = as_rng(rng)
+    H, W = covered.shape
+    eh, ew = example.shape[:2]
+    if forbidden.shape != (eh, ew):
+        raise ValueError(f"forbidden must have the example's shape {(eh, ew)}, got {forbidden.shape}")
+    margin = 2 if (poisson and anchored) else 0
+    size = int(min(patch_size, H, W, eh - 2 * margin, ew - 2 * margin))
+    if size < 4:
+        raise ValueError(f"example_image ({ew} x {eh}) is too small for gap completion")
+    # Smaller patches where branch-free windows of the requested size are
+    # too rare to choose from (every cell would reuse the same few).
+    while size > 8 and (_box_count(forbidden, size) == 0).mean() < min_free:
+        size = max(8, int(round(size * 0.75)))
+    full = size + 2 * margin
+    step = max(1, int(round(size * (1.0 - overlap))))
+    matcher = _Matcher(example, forbidden, size, margin, search_size, forbid_weight, reuse_weight)
+    filled = np.zeros((H, W), bool)
+    source = np.full((H, W, 2), np.nan)
+    seams = np.zeros((H, W), bool)
+    total_cost = 0.0
+    n_patches = 0
+    n_total = max(int((~covered).sum()), 1)
+    prot_full = protect if protect is not None else None
+
+    for pass_i in range(max_passes):
+        if covered.all():
+            break
+        cells = _grid_cells(H, W, size, step) if pass_i == 0 else _hole_cells(~covered, size)
+        cells = np.array(cells, np.int64).reshape(-1, 2)
+        known_n = np.array([covered[y:y + size, x:x + size].sum() for y, x in cells], np.int64)
+        todo = known_n < size * size
+        while todo.any():
+            # The cell with the most known pixels next (filling grows inwards).
+            i = int(np.argmax(np.where(todo, known_n, -1)))
+            todo[i] = False
+            y, x = (int(v) for v in cells[i])
+            known = covered[y:y + size, x:x + size]
+            sy, sx = matcher.choose(canvas[y:y + size, x:x + size], known, tolerance, rng)
+            # Piece = the window plus its anchor band; forbidden pixels are no part of it.
+            py0, px0 = sy - margin, sx - margin
+            piece = example[py0:py0 + full, px0:px0 + full]
+            valid = np.zeros((full, full), bool)
+            valid[margin:margin + size, margin:margin + size] = True
+            valid &= ~forbidden[py0:py0 + full, px0:px0 + full]
+            prot = None
+            if prot_full is not None:
+                prot = np.zeros((full, full), bool)
+                r0, c0 = y - margin, x - margin
+                rr0, cc0 = max(r0, 0), max(c0, 0)
+                rr1, cc1 = min(r0 + full, H), min(c0 + full, W)
+                prot[rr0 - r0:rr1 - r0, cc0 - c0:cc1 - c0] = prot_full[rr0:rr1, cc0:cc1]
+            comp = compose_piece(canvas, covered, piece, valid, (x - margin, y - margin),
+                                 protect_canvas=prot, method=method, poisson=poisson,
+                                 anchored=anchored, anchor_weight=anchor_weight, screen=screen)
+            n_patches += 1
+            if comp is not None:
+                total_cost += comp.cost
+                wr, wc = comp.window
+                tk = comp.take
+                filled[wr, wc] |= tk
+                seams[wr, wc] |= comp.seam
+                rows, cols = np.nonzero(tk)
+                src = source[wr, wc]
+                src[rows, cols, 0] = px0 + cols + comp.sub[1].start
+                src[rows, cols, 1] = py0 + rows + comp.sub[0].start
+            # Update the known counts of the cells the patch touched.
+            near = np.flatnonzero(todo & (np.abs(cells[:, 0] - y) < size + margin)
+                                  & (np.abs(cells[:, 1] - x) < size + margin))
+            for j in near:
+                cy, cx = cells[j]
+                known_n[j] = covered[cy:cy + size, cx:cx + size].sum()
+            todo[near[known_n[near] >= size * size]] = False
+            if progress is not None and n_patches % 16 == 0:
+                progress(min(1.0, 1.0 - (~covered).sum() / n_total), f"gap completion: {n_patches} patches")
+    n_inpainted = int((~covered).sum())
+    if n_inpainted:
+        _inpaint(canvas, covered)
+        filled |= ~covered
+        covered[:] = True
+    return CompletionResult(filled, source, seams, n_patches, total_cost, size, n_inpainted)
+
+
+def _inpaint(canvas: np.ndarray, covered: np.ndarray) -> None:
+    """Diffuse the known colours into the last holes (OpenCV Telea), in place."""
+    hole = (~covered).astype(np.uint8)
+    for c in range(canvas.shape[2]):
+        ch = np.ascontiguousarray(canvas[..., c])
+        canvas[..., c] = cv2.inpaint(ch, hole, 3, cv2.INPAINT_TELEA)

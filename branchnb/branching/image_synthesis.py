@@ -1,0 +1,756 @@
+"""Image synthesis for a branching structure: the example's texture on a new skeleton.
+
+Given an example image with its structure (the *source*) and a new
+structure (the *target*, e.g. from :mod:`branchnb.branching.synthesis`),
+:func:`synthesize_image` produces the image of the target structure:
+
+1. **Fragments** (:mod:`.fragments`): the target skeleton is covered by
+   disks of radius ``s = 3 r`` every ``lambda (s_i + s_{i+1})`` and at every
+   furcation, visited root first, generation by generation. For each, every
+   source fragment gets the shape cost ``S = sum ||R p - q||^2 + wS |mu - nu|^2``
+   after its closed-form rigid alignment; the ``shortlist`` of lowest ``S``
+   also get the colour cost ``C`` on the overlap with what is already
+   synthesised, and one of the ``c`` lowest ``S + wC C`` is drawn.
+   A target tip is never copied from a source end that runs into another
+   branch (no tip there).
+2. **Displacement** (:mod:`.displacement`): a smooth bi-Laplacian field
+   bends the fragment so that its skeleton and edges fall exactly on the
+   target's.
+3. **Seams and colours** (:mod:`.blending`): a graph cut through the
+   overlap with what is already synthesised, then a gradient-domain
+   correction anchored to the fragment's own colours (no drift). At a
+   furcation the parent's fragments are cleared around the branching
+   point before the furcation fragment and the child are synthesised.
+   Source pixels of other branches (annotated or merely branch-like, see
+   :mod:`.regions`) are never copied, nor the fragment's own branch past
+   the part that lands on the target skeleton.
+4. **Gap completion** (:mod:`.completion`): the rest of the image is
+   quilted from branch-free example pixels with graph-cut seams, so no
+   pseudo-branch appears.
+
+The parameters not given by the paper (``wC``, the shortlist, the density
+of source fragments, the gap-completion settings) are documented in
+:class:`ImageSynthesisParams`.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import cv2
+import numpy as np
+from scipy import ndimage as ndi
+
+from ..core.image import as_float_image, as_mask, as_points, as_rgb
+from ..core.io import encode_png
+from ..core.params import check_params, param
+from ..core.polyline import rigid_align
+from ..core.random import as_rng
+from ..core.render import draw_polylines
+from .blending import compose_piece
+from .completion import complete_gaps
+from .displacement import backward_map, displacement_field
+from .fragments import (
+    Fragment,
+    FragmentLibrary,
+    ShapeBank,
+    choose_among_best,
+    shape_vectors,
+    source_fragments,
+    target_fragments,
+)
+from .regions import ExampleRegions, example_regions, flatten_shading
+from .skeleton_map import PixelMap, SkeletonMap
+from .structure import Structure
+
+__all__ = ["ImageSynthesisParams", "ImageSynthesisResult", "FragmentMatch", "synthesize_image"]
+
+
+@dataclass
+class ImageSynthesisParams:
+    """Parameters of :func:`synthesize_image`.
+
+    The paper gives ``lambda = 0.75``, ``s = 3 r`` and ``wS = 2``; the rest
+    (``k``, ``wC``, ``c``, the shortlist, the gap completion, which the paper
+    did by hand) are this implementation's choices, tuned on the sample
+    images.
+
+    Examples
+    --------
+    >>> ImageSynthesisParams(c=1, completion=False).lam
+    0.75
+    """
+
+    lam: float = param(0.75, min=0.3, max=1.5, step=0.05, label="lambda",
+                       help="lambda: fragment centres are lambda * (s_i + s_i+1) apart (paper: 0.75)")
+    radius_scale: float = param(3.0, min=1.5, max=6.0, step=0.25,
+                                help="fragment radius s = scale * local thickness r (paper: 3)")
+    min_radius: float = param(6.0, min=2.0, max=32.0, step=1.0,
+                              help="smallest fragment radius in pixels (for hairline branches)")
+    max_radius: float = param(64.0, min=8.0, max=256.0, step=1.0,
+                              help="largest fragment radius in pixels")
+    k: int = param(9, min=3, max=33, step=1, help="k: skeleton samples per shape vector")
+    w_s: float = param(2.0, min=0.0, max=20.0, step=0.1, label="wS",
+                       help="wS: weight of the thickness difference |mu - nu|^2 in S (paper: 2)")
+    w_c: float = param(1000.0, min=0.0, max=1e5, log=True, label="wC",
+                       help="wC: weight of the colour cost C (mean squared colour difference "
+                            "on the overlap, branch and background pixels weighted equally) "
+                            "against S (squared pixels)")
+    c: int = param(2, min=1, max=10, step=1,
+                   help="c: choose at random among the c best source fragments (1 = greedy)")
+    shortlist: int = param(64, min=1, max=256, step=1,
+                           help="source fragments of lowest S whose colour cost C is evaluated")
+    source_density: float = param(2.0, min=1.0, max=8.0, step=0.5,
+                                  help="source fragment centres per paper spacing "
+                                       "(1 = the paper's tiling; more = more candidates)")
+    reverse: bool = param(True, help="also use source fragments read tip-to-root")
+    displacement: bool = param(True, help="bend fragments onto the target skeleton with the "
+                                          "bi-Laplacian displacement field")
+    match_thickness: bool = param(True, help="also constrain the branch edges (r along the normal) "
+                                             "so the displacement fixes the width too")
+    displacement_step: int = param(2, min=1, max=8, step=1,
+                                   help="grid step of the displacement solve (pixels)")
+    seams: str = param("graphcut", options=("graphcut", "overlay"),
+                       help="graph-cut seams through overlaps, or plain overlay (baseline)")
+    poisson: bool = param(True, help="gradient-domain (Poisson) photometric correction")
+    anchors: bool = param(True, help="extra boundary constraints of the Poisson correction "
+                                     "(tie uncovered pixels to the fragment's colours: no drift)")
+    anchor_weight: float = param(10.0, min=0.0, max=1000.0, log=True,
+                                 help="weight of the Poisson anchor constraints")
+    furcation_clear: float = param(0.6, min=0.0, max=1.0, step=0.05,
+                                   help="fraction of a furcation fragment's radius cleared of the "
+                                        "parent's fragments before the child is synthesised")
+    exclusion: float = param(1.5, min=1.0, max=4.0, step=0.1,
+                             help="source pixels within exclusion * r + margin of a branch count "
+                                  "as that branch (never copied for another branch or a gap)")
+    exclusion_margin: float = param(2.0, min=0.0, max=16.0, step=0.5,
+                                    help="margin (pixels) added to the branch body")
+    avoid_unannotated: bool = param(True, help="also treat unannotated branch-like example pixels "
+                                               "(faint branches the structure misses) as branches")
+    branch_like: float = param(0.1, min=0.02, max=2.0, step=0.05,
+                               help="branch-likeness threshold: fraction of the way from the local "
+                                    "background colour to the branch colour")
+    flatten_shading: float = param(0.0, min=0.0, max=0.5, step=0.01,
+                                   help="divide out the example's large-scale shading (vignetting, "
+                                        "uneven light) before copying, so pieces from bright and "
+                                        "dark parts match; Gaussian scale as a fraction of the "
+                                        "example's size, e.g. 0.05 (0 = copy as is, the paper)")
+    exclude_matte: bool = param(True, help="never copy a flat black/white matte connected to the "
+                                           "example's border (e.g. around a fundus photo)")
+    completion: bool = param(True, help="fill the gaps between branches automatically")
+    patch_size: int = param(32, min=8, max=128, step=2,
+                            help="gap completion: patch side (pixels)")
+    patch_overlap: float = param(0.25, min=0.1, max=0.5, step=0.05,
+                                 help="gap completion: overlap of neighbouring patches")
+    completion_tolerance: float = param(0.1, min=0.0, max=1.0, step=0.05,
+                                        help="gap completion: windows within (1 + tol) of the best "
+                                             "match are equally likely")
+    completion_screen: float = param(0.05, min=0.0, max=1.0, step=0.01,
+                                     help="gap completion: screening weight of the Poisson "
+                                          "correction (corrections fade within ~1/sqrt(w) px of a "
+                                          "seam; 0 = anchors only)")
+    completion_rim: int = param(3, min=0, max=16, step=1,
+                                help="gap completion: width (pixels) of the fragments' outer rim "
+                                     "a patch's seam may cut into")
+    min_free: float = param(0.0, min=0.0, max=0.5, step=0.005,
+                            help="gap completion: shrink patches until this fraction of the "
+                                 "example's windows is wholly branch-free")
+    forbid_weight: float = param(5.0, min=0.0, max=50.0, step=0.5,
+                                 help="gap completion: penalty (in typical match costs) for windows "
+                                      "whose branch pixels (never copied) would leave holes")
+
+
+@dataclass
+class FragmentMatch:
+    """One synthesised target fragment and the source fragment chosen for it.
+
+    Attributes
+    ----------
+    target, source : Fragment
+    shape_cost : float
+        ``S`` of the chosen candidate.
+    colour_cost : float
+        ``C`` of the chosen candidate.
+    angle : float
+        Rotation of the rigid alignment (radians).
+    max_displacement : float
+        Largest skeleton correction the displacement field applied (pixels).
+    pixels : int
+        Output pixels the fragment ended up providing.
+    """
+
+    target: Fragment
+    source: Fragment
+    shape_cost: float
+    colour_cost: float
+    angle: float
+    max_displacement: float
+    pixels: int
+
+
+@dataclass
+class ImageSynthesisResult:
+    """Result of :func:`synthesize_image`.
+
+    Attributes
+    ----------
+    image : (H, W, C) float32 ndarray
+        The synthesised image (same channels as the example).
+    fragment_mask : (H, W) bool ndarray
+        Pixels provided by skeleton fragments.
+    fill_mask : (H, W) bool ndarray
+        Pixels provided by gap completion.
+    source : (H, W, 2) float ndarray
+        Example pixel (x, y) each output pixel was copied from (before the
+        photometric correction); NaN where none.
+    fragment_index : (H, W) int ndarray
+        Index into ``fragments`` of the fragment that provided each pixel
+        (-1 for gap completion).
+    seams : (H, W) bool ndarray
+        Seam pixels of all compositions (fragments and patches).
+    fragments : list of FragmentMatch
+    seam_cost : float
+        Sum of the seam costs of every composition.
+    target : Structure
+        The target structure (as given).
+    example_regions : ExampleRegions
+        Branch body, branch-like and unusable masks of the example.
+    n_inpainted : int
+        Output pixels no patch could fill (diffusion-inpainted; normally 0).
+    timings : dict
+        Seconds spent per stage.
+    params : ImageSynthesisParams
+    """
+
+    image: np.ndarray
+    fragment_mask: np.ndarray
+    fill_mask: np.ndarray
+    source: np.ndarray
+    fragment_index: np.ndarray
+    seams: np.ndarray
+    fragments: list
+    seam_cost: float
+    target: Structure
+    example_regions: ExampleRegions | None = None
+    n_inpainted: int = 0
+    timings: dict = field(default_factory=dict)
+    params: ImageSynthesisParams | None = None
+
+    def overlay(self, *, skeleton: bool = True, seams: bool = True) -> np.ndarray:
+        """The image with the target skeleton (red) and the seams (yellow) drawn over it."""
+        img = as_rgb(self.image) if self.image.shape[2] != 3 else self.image
+        img = img.copy()
+        if seams:
+            img[self.seams] = 0.6 * img[self.seams] + 0.4 * np.array([1.0, 0.9, 0.0], np.float32)
+        if skeleton:
+            img = draw_polylines(img, [b.points for b in self.target.branches], widths=1.0,
+                                 colors=(0.9, 0.1, 0.1))
+        return img
+
+    def _repr_png_(self) -> bytes:
+        return encode_png(self.image)
+
+
+# ---------------------------------------------------------------------------
+# validation
+
+
+def _check_structure(s, name: str, image_shape=None) -> Structure:
+    if not isinstance(s, Structure):
+        raise TypeError(f"{name} must be a branchnb.branching.Structure, got {type(s).__name__}")
+    if not s.branches:
+        raise ValueError(f"{name} is empty: it has no branches")
+    if s.total_length <= 0:
+        raise ValueError(f"{name} has zero total length: every branch is a single point")
+    if image_shape is not None:
+        for i, b in enumerate(s.branches):
+            as_points(b.points, name=f"{name}.branches[{i}].points", image_shape=image_shape)
+    return s
+
+
+# ---------------------------------------------------------------------------
+# per-fragment helpers
+
+
+@dataclass
+class _Context:
+    ex: np.ndarray
+    sm_s: SkeletonMap
+    sm_t: SkeletonMap
+    pm_s: PixelMap
+    excluded: np.ndarray   # example pixels of some branch (body or branch-like)
+    unusable: np.ndarray   # example pixels never copied
+    p: ImageSynthesisParams
+
+
+def _sample(ex: np.ndarray, mx: np.ndarray, my: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Bilinear samples of ``ex`` at ``(mx, my)`` and where they lie inside it.
+
+    Same as :func:`branchnb.core.warp.remap` on an already validated image,
+    but only the example's region under the maps is handed to OpenCV.
+    """
+    h, w = ex.shape[:2]
+    valid = (mx >= -0.5) & (mx <= w - 0.5) & (my >= -0.5) & (my <= h - 0.5)
+    if not valid.any():
+        return np.zeros(mx.shape + (ex.shape[2],), np.float32), valid
+    x0 = int(np.clip(np.floor(mx.min()) - 1, 0, w - 1))
+    x1 = int(np.clip(np.ceil(mx.max()) + 2, x0 + 1, w))
+    y0 = int(np.clip(np.floor(my.min()) - 1, 0, h - 1))
+    y1 = int(np.clip(np.ceil(my.max()) + 2, y0 + 1, h))
+    roi = ex[y0:y1, x0:x1]
+    out = cv2.remap(roi, mx - np.float32(x0), my - np.float32(y0), interpolation=cv2.INTER_LINEAR,
+                    borderMode=cv2.BORDER_REPLICATE)
+    if out.ndim == 2:
+        out = out[:, :, None]
+    return out, valid
+
+
+def _free_ends(sm: SkeletonMap, pm: PixelMap) -> tuple[np.ndarray, np.ndarray]:
+    """Which branch ends of the example are free tips.
+
+    An end is *joined* (no tip) when it is a furcation (a child's start)
+    or when another branch's body lies within ``2 r + 4`` pixels of it: the
+    annotation (or the extraction) stopped the branch where it runs into
+    another one. A target tip must not be copied from a joined end, or it
+    would carry a piece of junction instead of a tip.
+    """
+    n = sm.n_branches
+    h, w = pm.dist.shape
+    other_body = pm.dist <= pm.radius + 1.0
+    free = np.zeros((n, 2), bool)
+    for b in range(n):
+        for k, arc in enumerate((0.0, float(sm.lengths[b]))):
+            if k == 0 and sm.parent(b) is not None:
+                continue
+            x, y = sm.position(b, arc)
+            rad = 2.0 * float(sm.thickness(b, arc)) + 4.0
+            x0, x1 = max(int(x - rad), 0), min(int(x + rad) + 2, w)
+            y0, y1 = max(int(y - rad), 0), min(int(y + rad) + 2, h)
+            if x0 >= x1 or y0 >= y1:
+                continue
+            yy, xx = np.mgrid[y0:y1, x0:x1]
+            disk = (xx - x) ** 2 + (yy - y) ** 2 <= rad * rad
+            blk = (y0, y1, x0, x1)
+            others = other_body[blk[0]:blk[1], blk[2]:blk[3]] & (pm.branch[blk[0]:blk[1], blk[2]:blk[3]] != b)
+            free[b, k] = not (disk & others).any()
+    return free[:, 0], free[:, 1]
+
+
+def _tip_penalty(sm_t: SkeletonMap, tf: Fragment, lib: FragmentLibrary, lengths: np.ndarray,
+                 free_start: np.ndarray, free_end: np.ndarray, free_t) -> np.ndarray:
+    """Rule out source windows that end at a joined end where the target window ends at a free tip."""
+    R = tf.radius
+    L_t = float(sm_t.lengths[tf.branch])
+    pen = np.zeros(len(lib))
+    tip_fwd = tf.arc + R > L_t and free_t[1][tf.branch]
+    tip_bwd = tf.arc - R < 0 and free_t[0][tf.branch]
+    if not (tip_fwd or tip_bwd):
+        return pen
+    L = lengths[lib.branch]
+    fwd = lib.sign > 0
+    # Ends reached when reading forward / backward from the candidate's centre.
+    end_fwd_free = np.where(fwd, free_end[lib.branch], free_start[lib.branch])
+    end_bwd_free = np.where(fwd, free_start[lib.branch], free_end[lib.branch])
+    clamps_fwd = np.where(fwd, lib.arc + R > L, lib.arc - R < 0)
+    clamps_bwd = np.where(fwd, lib.arc - R < 0, lib.arc + R > L)
+    bad = np.zeros(len(lib), bool)
+    if tip_fwd:
+        bad |= clamps_fwd & ~end_fwd_free
+    if tip_bwd:
+        bad |= clamps_bwd & ~end_bwd_free
+    pen[bad] = 1e6
+    return pen
+
+
+def _target_window(sm: SkeletonMap, branch: int, arc: float, radius: float):
+    """Offsets range ``[lo, hi]`` of the target disk that lies on ``branch``."""
+    L = float(sm.lengths[branch])
+    lo = -arc if arc - 1.5 * radius < 0 else -np.inf
+    hi = L - arc if arc + 1.5 * radius > L else np.inf
+    return lo, hi
+
+
+def _allowed(ctx: _Context, mx, my, lib: FragmentLibrary, idx, tgt: Fragment) -> np.ndarray:
+    """Source pixels fragments may copy: not the matte, not any other branch
+    (annotated body or branch-like), nor their own branch beyond the part
+    that lands on the target skeleton.
+
+    ``mx, my`` are ``(N, h, w)`` source coordinates of candidates ``idx`` of ``lib``.
+    """
+    h, w = ctx.pm_s.dist.shape
+    ix = np.clip(np.rint(mx).astype(np.int64), 0, w - 1)
+    iy = np.clip(np.rint(my).astype(np.int64), 0, h - 1)
+    excl = ctx.excluded[iy, ix]
+    owner = ctx.pm_s.branch[iy, ix]
+    arc = ctx.pm_s.arc[iy, ix]
+    slack = 0.5
+    idx = np.atleast_1d(idx)
+
+    def in_window(branch_s, centre_s, sign, lo, hi):
+        a, b = centre_s + sign * lo, centre_s + sign * hi
+        lo_s = np.minimum(a, b)[:, None, None] - slack
+        hi_s = np.maximum(a, b)[:, None, None] + slack
+        return (owner == branch_s[:, None, None]) & (arc >= lo_s) & (arc <= hi_s)
+
+    lo, hi = _target_window(ctx.sm_t, tgt.branch, tgt.arc, tgt.radius)
+    ok = in_window(lib.branch[idx], lib.arc[idx], lib.sign[idx], lo, hi)
+    if tgt.kind == "furcation":
+        Lc = float(ctx.sm_t.lengths[tgt.child])
+        zero = np.zeros(len(idx))
+        ok |= in_window(lib.child[idx], zero, zero + 1.0, -np.inf,
+                        Lc if Lc < 1.5 * tgt.radius else np.inf)
+    return (~excl | ok) & ~ctx.unusable[iy, ix]
+
+
+def _backward_maps(origin, size: int, rot: np.ndarray, trans: np.ndarray):
+    """:func:`~branchnb.branching.displacement.backward_map` for ``N`` rigid transforms at once."""
+    yy, xx = np.mgrid[0:size, 0:size].astype(np.float32)
+    X = (xx + origin[0])[None] - trans[:, 0, None, None]
+    Y = (yy + origin[1])[None] - trans[:, 1, None, None]
+    mx = rot[:, 0, 0, None, None] * X + rot[:, 1, 0, None, None] * Y
+    my = rot[:, 0, 1, None, None] * X + rot[:, 1, 1, None, None] * Y
+    return mx.astype(np.float32), my.astype(np.float32)
+
+
+def _colour_costs(ctx: _Context, lib: FragmentLibrary, idx, rot, trans, tgt: Fragment,
+                  origin, size: int, disk, ex_win, cov_win, body_win) -> np.ndarray:
+    """Colour cost ``C`` of candidates ``idx`` (rigidly placed by ``rot, trans``) on the overlap.
+
+    The mean over the overlap pixels on the target branch body and the
+    mean over the others count half each, so that the few branch pixels
+    weigh as much as the background around them: a candidate whose
+    branch does not continue the previous fragment's is not outscored by
+    a blank one that merely matches the background.
+    """
+    n = len(idx)
+    mx, my = _backward_maps(origin, size, rot, trans)
+    pix, inimg = _sample(ctx.ex, mx.reshape(n * size, size), my.reshape(n * size, size))
+    pix = pix.reshape(n, size, size, -1)
+    inimg = inimg.reshape(n, size, size)
+    ov = disk[None] & inimg & _allowed(ctx, mx, my, lib, idx, tgt) & cov_win[None]
+    d = ((pix - ex_win[None]) ** 2).sum(-1)
+    parts = []
+    for m in (ov & body_win[None], ov & ~body_win[None]):
+        cnt = m.sum((1, 2))
+        parts.append((np.where(cnt > 0, (d * m).sum((1, 2)) / np.maximum(cnt, 1), 0.0), cnt > 0))
+    (c_on, has_on), (c_off, has_off) = parts
+    both = has_on & has_off
+    return np.where(both, 0.5 * (c_on + c_off), c_on + c_off)
+
+
+def _constraints(ctx: _Context, src: Fragment, tgt: Fragment, rot, trans):
+    """Target points ``q`` and displacements ``q - (R p + t)`` of the skeleton (and edges)."""
+    sm_s, sm_t = ctx.sm_s, ctx.sm_t
+    R = tgt.radius
+    step = max(1.0, float(ctx.p.displacement_step))
+    qs, ds = [], []
+
+    def add(bt, st, bs, ss, sign, offsets):
+        if len(offsets) == 0:
+            return
+        q = sm_t.position(bt, st + offsets)
+        p = sm_s.position(bs, ss + sign * offsets)
+        tp = p @ rot.T + trans
+        qs.append(q)
+        ds.append(q - tp)
+        if ctx.p.match_thickness:
+            rt = sm_t.thickness(bt, st + offsets)
+            rs = sm_s.thickness(bs, ss + sign * offsets)
+            tt = sm_t.tangent(bt, st + offsets, 1.0)
+            ts = sm_s.tangent(bs, ss + sign * offsets, sign)
+            nt = np.stack([-tt[:, 1], tt[:, 0]], 1)
+            ns = np.stack([-ts[:, 1], ts[:, 0]], 1)
+            for side in (1.0, -1.0):
+                qe = q + side * rt[:, None] * nt
+                pe = p + side * rs[:, None] * ns
+                qs.append(qe)
+                ds.append(qe - (pe @ rot.T + trans))
+
+    o = np.arange(-R, R + 1e-9, step)
+    o = o[~sm_t.clamped(np.full(len(o), tgt.branch), tgt.arc + o)]
+    add(tgt.branch, tgt.arc, src.branch, src.arc, src.sign, o)
+    if tgt.kind == "furcation":
+        oc = np.arange(step, R + 1e-9, step)
+        oc = oc[~sm_t.clamped(np.full(len(oc), tgt.child), oc)]
+        add(tgt.child, 0.0, src.child, 0.0, 1.0, oc)
+    if not qs:
+        return np.zeros((0, 2)), np.zeros((0, 2))
+    return np.vstack(qs), np.vstack(ds)
+
+
+# ---------------------------------------------------------------------------
+# the public entry
+
+
+def synthesize_image(example_image, example_structure: Structure, target_structure: Structure,
+                     params: ImageSynthesisParams | None = None, rng=None,
+                     progress: Callable[[float, str], None] | None = None, *,
+                     shape: tuple[int, int] | None = None,
+                     example_mask=None) -> ImageSynthesisResult:
+    """Synthesise the image of ``target_structure`` with the texture of an example.
+
+    Parameters
+    ----------
+    example_image : (H, W[, C]) array_like
+        The example. Grayscale gives a grayscale result; RGBA images are
+        synthesised with alpha as a fourth channel (so transparent
+        examples give transparent results).
+    example_structure : Structure
+        The example's branches (every vertex inside the example image).
+    target_structure : Structure
+        The branches to synthesise. Parts outside the output are cropped;
+        at least one vertex must lie inside.
+    params : ImageSynthesisParams, optional
+    rng : int or numpy.random.Generator, optional
+        Seed for the random choices (same seed, same image).
+    progress : callable(fraction: float, text: str), optional
+        Called as the synthesis advances (e.g. a progress bar).
+    shape : (H, W), optional
+        Output size: ``target_structure.image_shape``, else the example's.
+    example_mask : (H, W) bool array_like, optional
+        Example pixels that may be copied at all (default: all but a flat
+        black/white matte, see ``params.exclude_matte``).
+
+    Returns
+    -------
+    ImageSynthesisResult
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from branchnb.branching.structure import Structure, Branch
+    >>> rng = np.random.default_rng(0)
+    >>> img = (0.6 + 0.1 * rng.random((64, 64, 3))).astype(np.float32)
+    >>> img[30:34, 4:60] = 0.1                                    # a dark horizontal branch
+    >>> src = Structure([Branch([(4, 31.5), (59, 31.5)], 2.0)])
+    >>> tgt = Structure([Branch([(31.5, 4), (31.5, 59)], 2.0)])   # the same, vertical
+    >>> out = synthesize_image(img, src, tgt, rng=0)
+    >>> bool(out.image[30, 31, 0] < 0.3 and out.image[10, 10, 0] > 0.5)
+    True
+    """
+    t_start = time.perf_counter()
+    if params is None:
+        params = ImageSynthesisParams()
+    if not isinstance(params, ImageSynthesisParams):
+        raise TypeError(f"params must be ImageSynthesisParams, got {type(params).__name__}")
+    p = check_params(params)
+    rng = as_rng(rng)
+    if progress is not None and not callable(progress):
+        raise TypeError("progress must be a callable(fraction, text) or None")
+    ex = as_float_image(example_image, name="example_image")
+    _check_structure(example_structure, "example_structure", ex.shape[:2])
+    _check_structure(target_structure, "target_structure")
+    if example_mask is not None:
+        example_mask = as_mask(example_mask, shape=ex.shape[:2], name="example_mask")
+    if shape is None:
+        shape = target_structure.image_shape or ex.shape[:2]
+    H, W = int(shape[0]), int(shape[1])
+    if H < 1 or W < 1:
+        raise ValueError(f"shape must be positive, got {shape}")
+    pts = np.vstack([b.points for b in target_structure.branches])
+    inside = (pts[:, 0] >= -0.5) & (pts[:, 0] <= W - 0.5) & (pts[:, 1] >= -0.5) & (pts[:, 1] <= H - 0.5)
+    if not inside.any():
+        raise ValueError(f"target_structure lies entirely outside the {W} x {H} output")
+
+    def report(frac, text):
+        if progress is not None:
+            progress(float(min(max(frac, 0.0), 1.0)), text)
+
+    report(0.0, "preparing fragments")
+    timings = {}
+    sm_s = SkeletonMap(example_structure, 1.0)
+    sm_t = SkeletonMap(target_structure, 1.0)
+    pm_s = sm_s.pixel_map(ex.shape[:2])
+    pm_t = sm_t.pixel_map((H, W))
+    regions = example_regions(ex, pm_s, exclusion=p.exclusion, margin=p.exclusion_margin,
+                              threshold=p.branch_like if p.avoid_unannotated else None,
+                              matte=p.exclude_matte, example_mask=example_mask)
+    if p.flatten_shading > 0:
+        bg = ~(regions.forbidden | ndi.binary_dilation(regions.body | regions.branch_like, iterations=3))
+        ex = flatten_shading(ex, bg, p.flatten_shading * max(ex.shape[:2]))
+    ctx = _Context(ex, sm_s, sm_t, pm_s, regions.body | regions.branch_like, regions.unusable, p)
+    geo = dict(lam=p.lam, scale=p.radius_scale, min_radius=p.min_radius, max_radius=p.max_radius)
+    lib_b, lib_f = source_fragments(sm_s, density=p.source_density, reverse=p.reverse, **geo)
+    free_start, free_end = _free_ends(sm_s, pm_s)
+    free_t = _free_ends(sm_t, pm_t)
+    if len(lib_b) == 0:
+        raise ValueError("example_structure yields no source fragment (all branches have zero length)")
+    # Without a furcation in the example, children start with ordinary fragments.
+    targets = target_fragments(sm_t, furcations=len(lib_f) > 0, **geo)
+    timings["prepare"] = time.perf_counter() - t_start
+
+    C = ex.shape[2]
+    canvas = np.zeros((H, W, C), np.float32)
+    covered = np.zeros((H, W), bool)
+    owner = np.full((H, W), -1, np.int64)  # target branch whose fragment provided the pixel
+    source = np.full((H, W, 2), np.nan)
+    frag_index = np.full((H, W), -1, np.int64)
+    seams = np.zeros((H, W), bool)
+    body = pm_t.core(1.0, 1.0)
+    matches: list[FragmentMatch] = []
+    total_seam = 0.0
+    t0 = time.perf_counter()
+    frag_share = 0.6 if p.completion else 1.0
+    # Shape vectors of the source library depend on the target radius only
+    # through the sampling offsets: cache them per radius.
+    vec_cache: dict = {}
+    for i, tf in enumerate(targets):
+        if i % 8 == 0:
+            report(frag_share * i / max(len(targets), 1), f"fragment {i + 1} / {len(targets)}")
+        R = tf.radius
+        pad = 2
+        x0 = int(np.floor(tf.center[0] - R)) - pad
+        y0 = int(np.floor(tf.center[1] - R)) - pad
+        size = int(np.ceil(2 * R)) + 2 * pad + 2
+        if x0 + size <= 0 or y0 + size <= 0 or x0 >= W or y0 >= H:
+            continue
+        lib: FragmentLibrary = lib_f if tf.kind == "furcation" else lib_b
+        child = [tf.child] if tf.kind == "furcation" else None
+        q, nu = shape_vectors(sm_t, [tf.branch], [tf.arc], [1.0], R, p.k, child)
+        key = (tf.kind, round(R, 2))
+        if key not in vec_cache:
+            vec_cache[key] = ShapeBank(*shape_vectors(sm_s, lib.branch, lib.arc, lib.sign, R, p.k,
+                                                      lib.child if tf.kind == "furcation" else None))
+        bank = vec_cache[key]
+        S = bank.costs(q[0], nu[0], p.w_s)
+        if tf.kind == "branch":
+            S = S + _tip_penalty(sm_t, tf, lib_b, sm_s.lengths, free_start, free_end, free_t)
+        n_short = min(p.shortlist, len(S))
+        short = np.argpartition(S, n_short - 1)[:n_short] if n_short < len(S) else np.arange(len(S))
+        short = short[np.argsort(S[short], kind="stable")]
+        rot, trans = bank.fit(short, q[0])
+        yy, xx = np.mgrid[0:size, 0:size]
+        disk = (xx + x0 - tf.center[0]) ** 2 + (yy + y0 - tf.center[1]) ** 2 <= R * R
+        # Existing canvas under the window (zero outside the image).
+        ex_win, cov_win = _window(canvas, covered, x0, y0, size)
+        costs_c = np.zeros(len(short))
+        if p.w_c > 0 and cov_win.any():
+            costs_c = _colour_costs(ctx, lib, short, rot, trans, tf, (x0, y0), size, disk,
+                                    ex_win, cov_win, _crop(body, x0, y0, size, False))
+        j = choose_among_best(S[short] + p.w_c * costs_c, p.c, rng)
+        pick = int(short[j])
+        src = lib[pick]
+        T = rigid_align(bank.p[pick], q[0])
+        fld = None
+        max_disp = 0.0
+        if p.displacement:
+            qc, dc = _constraints(ctx, src, tf, T.rotation, T.translation)
+            if len(qc):
+                max_disp = float(np.hypot(*dc.T).max())
+                fld = displacement_field((size, size), qc - (x0, y0), dc,
+                                         step=p.displacement_step)
+        mx, my = backward_map((x0, y0), (size, size), T.rotation, T.translation, fld)
+        pix, inimg = _sample(ex, mx, my)
+        mine = [tf.branch] if tf.kind == "branch" else [tf.branch, tf.child]
+        b_win = _crop(pm_t.branch, x0, y0, size, -1)
+        body_win = _crop(body, x0, y0, size, False)
+        own_body = body_win & np.isin(b_win, mine)
+        if tf.kind == "branch":
+            lo, hi = _target_window(sm_t, tf.branch, tf.arc, R)
+            a_win = _crop(pm_t.arc, x0, y0, size, 0.0)
+            own_body &= (a_win >= tf.arc + max(lo, -R) - 1) & (a_win <= tf.arc + min(hi, R) + 1)
+        # The fragment's own branch body is always taken from it (even where
+        # the source shows a neighbouring branch there: branch texture in a
+        # branch beats a hole filled with background later).
+        allowed = _allowed(ctx, mx[None], my[None], lib, pick, tf)[0]
+        src_ok = ~ctx.unusable[np.clip(np.rint(my).astype(np.int64), 0, ex.shape[0] - 1),
+                               np.clip(np.rint(mx).astype(np.int64), 0, ex.shape[1] - 1)]
+        valid = disk & inimg & (allowed | (own_body & src_ok))
+        own_win = _crop(owner, x0, y0, size, -1)
+        protect_piece = own_body & ~np.isin(own_win, mine) & valid
+        protect_canvas = body_win & ~np.isin(b_win, mine)
+        if tf.kind == "furcation" and p.furcation_clear > 0:
+            clear = ((xx + x0 - tf.center[0]) ** 2 + (yy + y0 - tf.center[1]) ** 2
+                     <= (p.furcation_clear * R) ** 2) & valid & ~protect_canvas
+            _uncover(covered, clear, x0, y0)
+        comp = compose_piece(canvas, covered, pix, valid, (x0, y0), protect_canvas=protect_canvas,
+                             protect_piece=protect_piece, method=p.seams, poisson=p.poisson,
+                             anchored=p.anchors, anchor_weight=p.anchor_weight)
+        n_pix = 0
+        if comp is not None:
+            wr, wc = comp.window
+            tk = comp.take
+            n_pix = int(tk.sum())
+            total_seam += comp.cost
+            seams[wr, wc] |= comp.seam
+            o_sub = owner[wr, wc]
+            if tf.kind == "furcation":
+                o_sub[tk] = np.where(pm_t.branch[wr, wc][tk] == tf.child, tf.child, tf.branch)
+            else:
+                o_sub[tk] = tf.branch
+            frag_index[wr, wc][tk] = len(matches)
+            sm_x, sm_y = mx[comp.sub], my[comp.sub]
+            source[wr, wc, 0][tk] = sm_x[tk]
+            source[wr, wc, 1][tk] = sm_y[tk]
+        matches.append(FragmentMatch(tf, src, float(S[pick]), float(costs_c[j]), T.angle,
+                                     max_disp, n_pix))
+    # Pixels a later fragment uncovered (furcation clearing) and nobody retook.
+    frag_index[~covered] = -1
+    source[~covered] = np.nan
+    timings["fragments"] = time.perf_counter() - t0
+
+    fill = np.zeros((H, W), bool)
+    n_inpainted = 0
+    if p.completion and not covered.all():
+        t1 = time.perf_counter()
+
+        def sub_progress(frac, text):
+            report(frag_share + (1.0 - frag_share) * frac, text)
+
+        # Patches may only cut into a thin rim of the fragments (to hide the
+        # disks' edges), never into the branches.
+        rim = int(p.completion_rim)
+        inner = ndi.binary_erosion(covered, iterations=rim, border_value=1) if rim > 0 else covered
+        comp = complete_gaps(canvas, covered, ex, regions.forbidden, patch_size=p.patch_size,
+                             overlap=p.patch_overlap, protect=(body & covered) | inner,
+                             tolerance=p.completion_tolerance, forbid_weight=p.forbid_weight,
+                             min_free=p.min_free,
+                             method=p.seams, poisson=p.poisson, anchored=p.anchors,
+                             anchor_weight=p.anchor_weight,
+                             screen=p.completion_screen if p.anchors else 0.0,
+                             rng=rng, progress=sub_progress)
+        fill = comp.filled
+        source[fill] = comp.source[fill]
+        frag_index[fill] = -1
+        seams |= comp.seams
+        total_seam += comp.seam_cost
+        n_inpainted = comp.n_inpainted
+        timings["completion"] = time.perf_counter() - t1
+    fragment_mask = frag_index >= 0
+    timings["total"] = time.perf_counter() - t_start
+    report(1.0, "done")
+    return ImageSynthesisResult(canvas, fragment_mask, fill, source, frag_index, seams, matches,
+                                total_seam, target_structure, regions, n_inpainted, timings, p)
+
+
+def _window(canvas, covered, x0, y0, size):
+    H, W = covered.shape
+    img = np.zeros((size, size, canvas.shape[2]), np.float32)
+    cov = np.zeros((size, size), bool)
+    r0, r1 = max(y0, 0), min(y0 + size, H)
+    c0, c1 = max(x0, 0), min(x0 + size, W)
+    if r0 < r1 and c0 < c1:
+        img[r0 - y0:r1 - y0, c0 - x0:c1 - x0] = canvas[r0:r1, c0:c1]
+        cov[r0 - y0:r1 - y0, c0 - x0:c1 - x0] = covered[r0:r1, c0:c1]
+    return img, cov
+
+
+def _crop(arr, x0, y0, size, fill):
+    H, W = arr.shape[:2]
+    out = np.full((size, size) + arr.shape[2:], fill, dtype=arr.dtype)
+    r0, r1 = max(y0, 0), min(y0 + size, H)
+    c0, c1 = max(x0, 0), min(x0 + size, W)
+    if r0 < r1 and c0 < c1:
+        out[r0 - y0:r1 - y0, c0 - x0:c1 - x0] = arr[r0:r1, c0:c1]
+    return out
+
+
+def _uncover(covered, mask, x0, y0):
+    H, W = covered.shape
+    size = mask.shape[0]
+    r0, r1 = max(y0, 0), min(y0 + size, H)
+    c0, c1 = max(x0, 0), min(x0 + size, W)
+    if r0 < r1 and c0 < c1:
+        covered[r0:r1, c0:c1] &= ~mask[r0 - y0:r1 - y0, c0 - x0:c1 - x0]

@@ -1,0 +1,217 @@
+"""Which example pixels belong to a branch, and which may be copied at all.
+
+Image synthesis copies example pixels in two ways: fragments copy the
+neighbourhood of one source branch, gap completion copies the space
+*between* branches. Both must know where the branches are:
+
+* the **body** of the annotated structure: pixels within
+  ``exclusion * r + margin`` of the skeleton (``r`` the local thickness);
+* **branch-like** pixels the annotation missed (faint lightning
+  branches, hairline cracks, small vessels): pixels whose colour lies at
+  least ``threshold`` of the way from the *local* background colour towards
+  the colour of the annotated branches. Copied into a gap they would be
+  pseudo-branches;
+* the **matte**: a flat black or white region connected to the image
+  border (the mask around a fundus photograph, letterboxing), which is no
+  texture of the example and is never copied; plus whatever the caller
+  excludes with an explicit ``example_mask``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import ndimage as ndi
+
+from .skeleton_map import PixelMap
+
+__all__ = ["ExampleRegions", "example_regions", "branch_likeness", "matte_mask", "flatten_shading"]
+
+
+@dataclass
+class ExampleRegions:
+    """Masks over the example image, all ``(H, W)`` bool.
+
+    Attributes
+    ----------
+    body : annotated branches (skeleton within ``exclusion * r + margin``).
+    branch_like : unannotated pixels that look like a branch (dilated by the margin).
+    unusable : matte and pixels outside ``example_mask``: never copied.
+    likeness : (H, W) float ndarray
+        The branch-likeness score (0 = local background colour, 1 = branch colour).
+    """
+
+    body: np.ndarray
+    branch_like: np.ndarray
+    unusable: np.ndarray
+    likeness: np.ndarray
+
+    @property
+    def forbidden(self) -> np.ndarray:
+        """Pixels gap completion must never copy: ``body | branch_like | unusable``."""
+        return self.body | self.branch_like | self.unusable
+
+
+def _normalized_blur(img: np.ndarray, weight: np.ndarray, sigma: float) -> np.ndarray:
+    """Gaussian average of ``img`` over the pixels where ``weight`` is 1."""
+    w = ndi.gaussian_filter(weight.astype(np.float64), sigma, mode="nearest")
+    out = np.empty(img.shape, np.float64)
+    for c in range(img.shape[2]):
+        out[..., c] = ndi.gaussian_filter(img[..., c] * weight, sigma, mode="nearest")
+    good = w > 1e-3
+    out[good] /= w[good, None]
+    if not good.all():
+        # Far from every background pixel: the global background mean.
+        mean = (img * weight[..., None]).sum((0, 1)) / max(weight.sum(), 1.0)
+        out[~good] = mean
+    return out
+
+
+def flatten_shading(image: np.ndarray, background: np.ndarray, sigma: float) -> np.ndarray:
+    """The example with its large-scale shading (vignetting, uneven light) divided out.
+
+    The shading is the Gaussian average (``sigma`` pixels) of the
+    ``background`` pixels only, so branches and their glow are not taken
+    for light; every pixel is multiplied by ``mean shading / shading(x)``.
+    Fragments and gap patches copied from a bright and a dark part of the
+    example then meet without a step in brightness that no seam can hide.
+
+    Parameters
+    ----------
+    image : (H, W, C) float ndarray
+    background : (H, W) bool ndarray
+        Pixels that show the background texture.
+    sigma : float
+        Scale of the shading (pixels); well above the texture's own scale.
+    """
+    if not background.any():
+        return image.astype(np.float32)
+    img = image.astype(np.float64)
+    shade = _normalized_blur(img, background.astype(np.float64), sigma)
+    mean = img[background].mean(axis=0)
+    gain = mean / np.maximum(shade, 1e-3)
+    return np.clip(img * gain, 0.0, 1.0).astype(np.float32)
+
+
+def branch_likeness(image: np.ndarray, pm: PixelMap, usable: np.ndarray | None = None
+                    ) -> np.ndarray:
+    """Score ``(H, W)``: how far each pixel lies from its local background towards the branch colour.
+
+    The local background ``bg(x)`` a Gaussian average (sigma ``max(6, 4 r)``)
+    of the pixels farther than ``3 r + 4`` from every branch. The score is
+    ``(I(x) - bg(x)) . u / |u|^2`` with ``u`` the median of ``I - bg`` over
+    the centre lines: 0 on the background, about 1 on an annotated branch. All zero when branches and
+    background have about the same colour (nothing to detect).
+    """
+    img = image.astype(np.float64)
+    h, w = img.shape[:2]
+    if usable is None:
+        usable = np.ones((h, w), bool)
+    centre = (pm.dist <= 0.5 * pm.radius + 0.5) & usable
+    far = (pm.dist > 3.0 * pm.radius + 4.0) & usable
+    if centre.sum() < 4 or far.sum() < 16:
+        return np.zeros((h, w))
+    r_med = float(np.median(pm.radius[centre]))
+    bg = _normalized_blur(img, far.astype(np.float64), max(6.0, 4.0 * r_med))
+    u = np.median(img[centre] - bg[centre], axis=0)
+    n2 = float(u @ u)
+    # Below ~4 grey levels of contrast there is nothing to tell apart.
+    if n2 < 0.03**2:
+        return np.zeros((h, w))
+    sm = ndi.gaussian_filter(img, (0.7, 0.7, 0), mode="nearest")
+    return ((sm - bg) @ u) / n2
+
+
+def matte_mask(image: np.ndarray, *, tol: float = 0.04, min_fraction: float = 0.01,
+               max_fraction: float = 0.5, dilate: int = 3) -> np.ndarray:
+    """Flat black or white regions connected to the border (e.g. the mask around a fundus photo).
+
+    Parameters
+    ----------
+    image : (H, W, C) float ndarray
+    tol : float
+        Pixels darker than ``tol`` or brighter than ``1 - tol`` in every channel.
+    min_fraction, max_fraction : float
+        Ignore a matte smaller than ``min_fraction`` of the image, or larger
+        than ``max_fraction``: then the flat colour is the example's
+        background itself (a drawing on white, a diagram), not a matte.
+    dilate : int
+        Grow the matte by this many pixels (its edge is blurred in photos).
+    """
+    rgb = image[..., :3] if image.shape[2] >= 3 else image[..., :1]
+    mask = np.zeros(image.shape[:2], bool)
+    for flat in (np.all(rgb <= tol, axis=2), np.all(rgb >= 1.0 - tol, axis=2)):
+        lab, n = ndi.label(flat)
+        if n == 0:
+            continue
+        border = np.unique(np.concatenate([lab[0], lab[-1], lab[:, 0], lab[:, -1]]))
+        border = border[border > 0]
+        if len(border) == 0:
+            continue
+        m = np.isin(lab, border)
+        if min_fraction <= m.mean() <= max_fraction:
+            mask |= m
+    if mask.any() and dilate > 0:
+        mask = ndi.binary_dilation(mask, iterations=dilate)
+    return mask
+
+
+def example_regions(image: np.ndarray, pm: PixelMap, *, exclusion: float = 1.5,
+                    margin: float = 2.0, threshold: float | None = 0.1,
+                    matte: bool = True, example_mask: np.ndarray | None = None) -> ExampleRegions:
+    """The body, branch-like and unusable masks of an example.
+
+    Parameters
+    ----------
+    image : (H, W, C) float ndarray
+    pm : PixelMap
+        Nearest-skeleton map of the example structure on the image grid.
+    exclusion, margin : float
+        Body = pixels within ``exclusion * r + margin`` of the skeleton.
+    threshold : float or None
+        Branch-likeness above which an unannotated pixel counts as a
+        branch (None: only the annotated body counts). It is raised to
+        the median + 3 MADs of the likeness over the background if that is
+        higher, and connected groups of fewer than 12 pixels, or wider
+        than 1.5 times the thickest annotated branch, are ignored.
+    matte : bool
+        Exclude a flat black/white matte connected to the border.
+    example_mask : (H, W) bool ndarray, optional
+        Pixels that may be copied at all (True = usable).
+    """
+    h, w = image.shape[:2]
+    unusable = np.zeros((h, w), bool)
+    if matte:
+        unusable |= matte_mask(image)
+    if example_mask is not None:
+        unusable |= ~example_mask
+    body = pm.core(exclusion, margin)
+    likeness = branch_likeness(image, pm, ~unusable)
+    like = np.zeros((h, w), bool)
+    if threshold is not None:
+        far = (pm.dist > 3.0 * pm.radius + 4.0) & ~unusable
+        thr = threshold
+        if far.sum() > 16:
+            # Ordinary texture variation (blotches in the ground, specks in
+            # mud) is not a branch: stay above the background's own spread.
+            lf = likeness[far]
+            med = float(np.median(lf))
+            thr = max(threshold, med + 3.0 * 1.4826 * float(np.median(np.abs(lf - med))))
+        like = (likeness > thr) & ~body & ~unusable
+        if like.any():
+            # Keep connected groups that are big enough and as thin as a
+            # branch (wide blobs are texture, specks are noise).
+            lab, n = ndi.label(like)
+            sizes = np.bincount(lab.ravel())
+            half = ndi.maximum(ndi.distance_transform_edt(like), lab, np.arange(n + 1))
+            r_ref = float(np.percentile(pm.radius[pm.dist <= 0.5], 95)) if (pm.dist <= 0.5).any() else 2.0
+            keep = (sizes >= 12) & (np.asarray(half) <= max(1.5 * r_ref, 2.0) + 1.0)
+            keep[0] = False
+            like = keep[lab]
+            it = int(np.ceil(margin))
+            if it > 0 and like.any():
+                like = ndi.binary_dilation(like, iterations=it) & ~body
+    if unusable.all():
+        raise ValueError("example_mask leaves no usable example pixel (outside the mask and the matte)")
+    return ExampleRegions(body, like, unusable, likeness)

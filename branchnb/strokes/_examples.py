@@ -1,0 +1,62 @@
+"""Example edits on the sample objects (shared by the gallery, the benchmarks and the tests).
+
+Each example returns ``(image, source_strokes, target_strokes, kwargs)``
+for :func:`~branchnb.strokes.edit_structure`. The strokes were drawn by
+hand along the objects' skeletons.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .. import data
+
+__all__ = ["LIZARD_TAIL", "rope_bend", "lizard_straighten", "tree_add_branch", "EXAMPLES"]
+
+#: The lizard's tail, from the hips to the tip (``lizard`` image pixels).
+LIZARD_TAIL = np.array([
+    [472, 465], [496, 489], [516, 514], [532, 539], [546, 564], [556, 589], [566, 614],
+    [577, 639], [588, 664], [596, 689], [604, 714], [615, 739], [628, 764], [645, 789],
+    [665, 814], [688, 838], [713, 859], [738, 874], [763, 886], [788, 895], [813, 901],
+    [838, 905], [863, 905], [888, 903], [913, 899], [938, 894], [963, 887], [988, 877],
+    [1008, 860]], float)
+
+#: ``tree_rpg_12``: the trunk up to the right fork, the left branch, the middle branch.
+TREE_TRUNK = np.array([(205, 435), (208, 310), (245, 250), (300, 195), (330, 160),
+                       (370, 110), (398, 45)], float)
+TREE_LEFT = np.array([(208, 310), (185, 255), (150, 205), (112, 165), (100, 130), (60, 100),
+                      (15, 95)], float)
+TREE_MIDDLE = np.array([(325, 160), (300, 140), (265, 115), (245, 80), (215, 15)], float)
+
+
+def rope_bend():
+    """Bend the straight part of the rope along a quarter circle (512 x 512 output)."""
+    img = data.load("rope_loop")
+    src = np.array([(215, 515), (215, 815)], float)
+    a = np.linspace(0, np.pi / 2, 40)
+    tgt = np.c_[110 + 200 * np.sin(a), 80 + 200 * (1 - np.cos(a))]
+    return img, [src], [tgt], {"target_shape": (512, 512)}
+
+
+def lizard_straighten():
+    """Straighten the lizard's curled tail (1000 x 130 output)."""
+    img = data.load("lizard")
+    length = float(np.hypot(*np.diff(LIZARD_TAIL, axis=0).T).sum())
+    tgt = np.array([(150, 60), (150 + length, 60)])
+    return img, [LIZARD_TAIL], [tgt], {"target_shape": (130, 1000)}
+
+
+def tree_add_branch():
+    """Keep the trunk and two branches, grow a new branch from the trunk (same size output)."""
+    img = data.load("tree_rpg_12")
+    new = np.array([(245, 250), (300, 262), (360, 255), (430, 225), (480, 215)], float)
+    src = [TREE_TRUNK, TREE_LEFT, TREE_MIDDLE, TREE_MIDDLE]
+    tgt = [TREE_TRUNK, TREE_LEFT, TREE_MIDDLE, new]
+    return img, src, tgt, {}
+
+
+EXAMPLES = {
+    "rope_bend": rope_bend,
+    "lizard_straighten": lizard_straighten,
+    "tree_add_branch": tree_add_branch,
+}

@@ -1,0 +1,437 @@
+"""Structure editing with user strokes: the public entry point.
+
+The user draws strokes along the skeleton of an object (*source strokes*)
+and corresponding strokes in the output domain (*target strokes*);
+:func:`edit_structure` re-synthesizes the object's texture along the
+target strokes:
+
+1. **Strokes** (:mod:`~branchnb.strokes.strokes`): pairs in drawing order,
+   control-point pairs (end points plus the user's).
+2. **Branching** (:mod:`~branchnb.strokes.junctions`): target strokes that
+   start on another one become branches (extended into the
+   parent, composed after it).
+3. **Fetching** (:mod:`~branchnb.strokes.fetch`): samples every ``h``
+   pixels along each target stroke, the texture around the corresponding
+   source point copied rotated into place.
+4. **Global texture sampling** (:mod:`~branchnb.strokes.sampling`): the
+   source points are moved within a search window to minimise the sum of
+   the pairwise compositing energies of neighbouring samples, by dynamic
+   programming.
+5. **Graph-cut composition** (:mod:`~branchnb.strokes.composition`): the
+   overlapping patches are stitched along minimum-cost seams.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..core.image import as_float_image, as_rgba, composite_over
+from ..core.io import encode_png
+from ..core.params import check_params, param
+from ..core.random import as_rng
+from .composition import PlacedPatch, compose, labelling_cost, seam_mask
+from .display import draw_strokes
+from .fetch import fetch, sample_pair, source_index
+from .junctions import attach, far_side, find_junctions, stroke_order
+from .sampling import candidate_offsets, choose, pair_energies
+from .strokes import StrokePair, make_pairs
+
+__all__ = ["StrokeEditParams", "StrokeEditResult", "StrokeSamples", "edit_structure"]
+
+
+@dataclass
+class StrokeEditParams:
+    """Parameters of :func:`edit_structure`.
+
+    The extended abstract gives no numbers; the defaults below are the
+    values that work on the sample objects (``lizard``, ``rope_loop``,
+    the bare RPG trees). Sizes are in pixels of the source image.
+    """
+
+    patch_size: int = param(
+        0, min=0, max=256, step=2,
+        help="patch diameter 2r (px); 0 = auto: r = 1.2 w + 4 follows the object's half width w "
+             "along the source strokes (48 px for opaque images)")
+    spacing: float = param(
+        0.0, min=0.0, max=128.0, step=1.0,
+        help="sample spacing h along the target strokes (px), at most the local patch radius r; "
+             "0 = auto (r / 2)")
+    search_window: int = param(
+        8, min=0, max=64, step=1,
+        help="global sampling search window W: p' moves up to +-W px along the source stroke")
+    search_across: int = param(
+        0, min=0, max=16, step=1,
+        help="p' also moves up to +- this many px across the source stroke")
+    search_step: int = param(2, min=1, max=16, step=1, help="step of the search window (px)")
+    seam_power: float = param(
+        1.0, min=0.25, max=4.0, step=0.25,
+        help="exponent on the colour difference d(x) in the seam cost d ** power / G")
+    gradient_weighted: bool = param(
+        True, help="divide the seam cost by the edge strength G(x, y) so seams follow edges")
+    sampling: str = param(
+        "dp", options=("dp", "greedy", "none"),
+        help="choice of sample correspondences: dynamic programming, greedy, or plain "
+             "arc-length mapping")
+    composition: str = param(
+        "graphcut", options=("graphcut", "overlay"),
+        help="stitch overlapping patches with graph-cut seams or simply paint them over")
+    shift_penalty: float = param(
+        0.01, min=0.0, max=10.0, step=0.01,
+        help="lambda: prior pulling p' towards the arc-length mapping (a tie-breaker)")
+    junction_tolerance: float = param(
+        0.0, min=0.0, max=64.0, step=1.0,
+        help="a stroke end this close to another target stroke makes a branch (px); "
+             "0 = auto (r / 3)")
+    extend_branches: bool = param(
+        True, help="extend branches whose source end is free into their parent (hides the end cap)")
+    energy_stride: int = param(
+        2, min=1, max=4, step=1, ui=False,
+        help="evaluate the pairwise energies on every n-th pixel (speed)")
+
+
+@dataclass
+class StrokeSamples:
+    """What happened along one stroke pair.
+
+    Attributes
+    ----------
+    target : (M, 2) ndarray
+        Sample positions ``p`` on the target stroke.
+    source : (M, 2) ndarray
+        The chosen source points ``p'``.
+    source_s : (M,) ndarray
+        Their source arc lengths.
+    shift : (M, 2) ndarray
+        Chosen ``(delta, epsilon)`` relative to the arc-length mapping.
+    radius : (M,) ndarray
+        Patch radius ``r`` of each sample.
+    pinned : (M,) bool ndarray
+        Samples at control points.
+    energy : float
+        Chain energy of the choice (pairwise + shift prior).
+    pairwise : float
+        Sum of the pairwise compositing energies.
+    """
+
+    target: np.ndarray
+    source: np.ndarray
+    source_s: np.ndarray
+    shift: np.ndarray
+    radius: np.ndarray
+    pinned: np.ndarray
+    energy: float
+    pairwise: float
+
+
+@dataclass
+class StrokeEditResult:
+    """Result of :func:`edit_structure`.
+
+    Attributes
+    ----------
+    image : (H, W, 4) float32 ndarray
+        The synthesized object over the background (transparent if none
+        was given), straight (not premultiplied) alpha.
+    mask : (H, W) bool ndarray
+        Object mask: alpha > 0.5 of the synthesized object.
+    seams : (H, W) bool ndarray
+        Pixels along the seams between patches (on the object).
+    energies : dict
+        ``"sampling"``: total chain energy of global sampling (sum over
+        strokes); ``"sampling_pairwise"``: its pairwise part;
+        ``"seam"``: total seam cost of the final labelling
+        (:func:`~branchnb.strokes.composition.labelling_cost`);
+        ``"seam_steps"``: sum of the per-patch cut costs.
+    layer : (H, W, 4) float32 ndarray
+        The object alone on a transparent background.
+    labels : (H, W) int ndarray
+        Patch each pixel comes from (-1: none).
+    samples : list of StrokeSamples
+        Per stroke pair, in input order.
+    pairs : list of StrokePair
+        The stroke pairs used (target strokes extended at junctions).
+    junctions : list of Junction
+    radius : float
+        Typical (median) patch radius ``r`` along the source strokes; the
+        radius of every sample is in ``samples[i].radius``.
+    source_region : (H_src, W_src) bool ndarray
+        The source object pixels the chosen patches copy (the source
+        object region the result is made of; compare their colours with
+        the result's, e.g. :func:`branchnb.core.histogram.compare_samples`).
+    params : StrokeEditParams
+    """
+
+    image: np.ndarray
+    mask: np.ndarray
+    seams: np.ndarray
+    energies: dict
+    layer: np.ndarray
+    labels: np.ndarray
+    samples: list = field(default_factory=list)
+    pairs: list = field(default_factory=list)
+    junctions: list = field(default_factory=list)
+    radius: float = 0.0
+    source_region: np.ndarray | None = None
+    params: StrokeEditParams | None = None
+
+    def show(self, *, seams: bool = False, strokes: bool = False, background=(1.0, 1.0, 1.0),
+             seam_color=(1.0, 0.0, 0.0)) -> np.ndarray:
+        """RGB picture: the image over ``background``, seams and target strokes optionally drawn.
+
+        Target strokes are drawn in their pair colours
+        (:func:`~branchnb.strokes.display.draw_strokes`).
+        """
+        rgb = composite_over(self.image, background)
+        if seams:
+            rgb[self.seams] = np.asarray(seam_color, np.float32)
+        if strokes and self.pairs:
+            rgb = draw_strokes(rgb, [p.target.points for p in self.pairs], width=1.5)
+        return rgb
+
+    def _repr_png_(self) -> bytes:
+        return encode_png(self.show())
+
+
+def _sampling_geometry(params: StrokeEditParams, index, k: int, pair: StrokePair):
+    """Per target arc length: the patch radius r and the sample step h."""
+    def radius(s_t):
+        return index.radius(k, pair.source_arc_length(s_t), params.patch_size)
+
+    def step(s_t):
+        r = radius(s_t)
+        return np.minimum(params.spacing, r) if params.spacing > 0 else np.maximum(r / 2.0, 1.0)
+
+    return radius, step
+
+
+def _background(background, target_shape, src_shape):
+    """Validate ``background``; returns (colour or None, image or None, target shape)."""
+    bg_img = None
+    if background is not None:
+        bg = np.asarray(background)
+        if bg.ndim == 1:
+            if bg.shape not in ((3,), (4,)) or not np.all(np.isfinite(bg.astype(float))):
+                raise ValueError(
+                    f"background must be an RGB(A) colour or an image, got shape {bg.shape}")
+            if np.any((bg.astype(float) < 0) | (bg.astype(float) > 1)):
+                raise ValueError("background colour values must lie in [0, 1]")
+        else:
+            bg_img = as_rgba(as_float_image(background, name="background"), name="background")
+            if target_shape is not None and tuple(target_shape)[:2] != bg_img.shape[:2]:
+                raise ValueError(
+                    f"target_shape {tuple(target_shape)[:2]} differs from the background image's "
+                    f"{bg_img.shape[:2]}")
+            target_shape = bg_img.shape[:2]
+    if target_shape is None:
+        target_shape = src_shape[:2]
+    return bg_img, _check_shape(target_shape)
+
+
+def edit_structure(image, source_strokes, target_strokes, params: StrokeEditParams | None = None,
+                   *, control_points=None, target_shape=None, background=None,
+                   rng=None) -> StrokeEditResult:
+    """Re-synthesize an object along new strokes.
+
+    Parameters
+    ----------
+    image : (H, W, C) array_like
+        Source image: an RGBA object on a transparent background (the
+        object region is alpha > 0.5), or an opaque image (the object
+        region is then the union of the patches copied around the source
+        strokes).
+    source_strokes : list of (N, 2) array_like or Stroke
+        Strokes along the object's skeleton, on ``image``. The same
+        stroke may be given several times (e.g. to grow two branches
+        from one example branch).
+    target_strokes : list of (N, 2) array_like or Stroke
+        One per source stroke (paired in order, same direction of travel):
+        where the object's parts go. A target stroke starting or ending on
+        another target stroke makes a branch.
+    params : StrokeEditParams, optional
+    control_points : list, optional
+        Per pair, None or ``(source_points, target_points)``: extra
+        control-point pairs, points clicked near the two strokes.
+    target_shape : (H, W), optional
+        Size of the output domain (default: the background image's, or
+        the source image's).
+    background : None, RGB(A) colour or (H, W, C) image, optional
+        What lies behind the object: None keeps it transparent.
+    rng : int or numpy.random.Generator, optional
+        Accepted for API uniformity; the method is deterministic.
+
+    Returns
+    -------
+    StrokeEditResult
+
+    Raises
+    ------
+    ValueError
+        Different numbers of source and target strokes, a stroke with
+        fewer than two points or zero length, control points out of order,
+        a source stroke leaving the image, a target stroke entirely
+        outside the output domain (a target stroke partly outside is
+        clipped), bad parameters.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.zeros((40, 60, 4), np.float32)
+    >>> img[15:25, 5:55] = (0.6, 0.4, 0.2, 1.0)
+    >>> src = [[(8, 20), (52, 20)]]
+    >>> res = edit_structure(img, src, src)          # identity edit
+    >>> bool(np.abs(res.image - img)[res.mask].max() < 1e-5)
+    True
+    """
+    params = StrokeEditParams() if params is None else params
+    if not isinstance(params, StrokeEditParams):
+        raise TypeError(f"params must be a StrokeEditParams, got {type(params).__name__}")
+    check_params(params)
+    as_rng(rng)
+    src_img = as_rgba(image, name="image")
+    bg_img, target_shape = _background(background, target_shape, src_img.shape)
+    pairs = make_pairs(source_strokes, target_strokes, control_points,
+                       source_shape=src_img.shape, target_shape=target_shape)
+    index = source_index(src_img, [p.source for p in pairs])
+    typical = float(np.median(np.concatenate([
+        index.radius(k, np.linspace(0, p.source.length, 32), params.patch_size)
+        for k, p in enumerate(pairs)])))
+    window = max(typical / 2.0, 2.0)  # chord half-length for the stroke directions
+    tol = params.junction_tolerance if params.junction_tolerance > 0 else max(typical / 3.0, 2.0)
+
+    # Branching: junctions among the target strokes.
+    junctions = find_junctions([p.target for p in pairs], tol)
+    attached: list[StrokePair] = list(pairs)
+    extra = [{0: 0.0, 1: 0.0} for _ in pairs]
+    for i, pair in enumerate(pairs):
+        mine = [j for j in junctions if j.child == i]
+        if not mine:
+            continue
+        depth = {}
+        for jn in mine:
+            end_cut = index.cut_ends[i][jn.end]
+            if params.extend_branches and not end_cut:
+                # A free end (a tip) glued to the parent: push it under the parent.
+                # (A cut end -- also one that starts on another source stroke --
+                # ends at the parent's centre line as it is.)
+                par = pairs[jn.parent]
+                w = float(index.half_width(jn.parent, par.source_arc_length(jn.parent_s)))
+                if not index.has_alpha:
+                    w = float(index.radius(jn.parent, 0.0, params.patch_size)) / 2.0
+                depth[jn.end] = min(w, typical)
+        attached[i], extra[i] = attach(pair, mine, [p.target for p in pairs], depth)
+    order = stroke_order(len(pairs), junctions)
+
+    offsets = candidate_offsets(params.search_window, params.search_step, params.search_across)
+    if params.sampling == "none":
+        offsets = offsets[:1]
+    scale = max(params.search_window + params.search_across, 1)
+    placed: list[PlacedPatch] = []
+    samples: list[StrokeSamples | None] = [None] * len(pairs)
+    e_total = e_pair = 0.0
+    source_region = np.zeros(index.shape, bool)
+    for i in order:
+        pair = attached[i]
+        radius_of, step_of = _sampling_geometry(params, index, i, pair)
+        smp = sample_pair(pair, step_of, window=window)
+        radii = radius_of(smp.s)
+        fetched, unaries, offs = [], [], []
+        for j in range(len(smp)):
+            off = offsets[:1] if smp.pinned[j] else offsets
+            f = fetch(index, i, smp.source_s[j] + off[:, 0], off[:, 1],
+                      smp.points[j], smp.angles[j], float(radii[j]), window=window)
+            fetched.append(f)
+            offs.append(off)
+            unaries.append(params.shift_penalty * np.abs(off).sum(axis=1) / scale)
+        pairwise = [pair_energies(fetched[j], fetched[j + 1], power=params.seam_power,
+                                  gradient_weighted=params.gradient_weighted,
+                                  stride=params.energy_stride)
+                    for j in range(len(smp) - 1)]
+        res = choose(unaries, pairwise, params.sampling)
+        e_total += res.energy
+        e_pair += res.pairwise
+        # Junction handling for the child's patches near its attached ends.
+        mine = [jn for jn in junctions if jn.child == i]
+        for j, k in enumerate(res.choice):
+            f = fetched[j]
+            pin_core, keep = True, None
+            for jn in mine:
+                end_s = 0.0 if jn.end == 0 else pair.target.length
+                near = abs(smp.s[j] - end_s) <= extra[i][jn.end] + f.radius
+                if not near:
+                    continue
+                pin_core = False
+                step = f.radius if jn.end == 0 else -f.radius
+                into = pair.target.point_at(min(max(end_s + step, 0.0), pair.target.length)) \
+                    - jn.point
+                nrm = np.hypot(*into)
+                if nrm > 1e-9:
+                    fs = far_side(jn, attached[jn.parent].target, into / nrm, f.origin,
+                                  f.valid.shape[1], window=window)
+                    keep = fs if keep is None else keep | fs
+            placed.append(PlacedPatch(f.pixels[k], f.valid[k], f.origin, pin_core, keep))
+            rows, cols = f.source_pixels(k, index.shape)
+            source_region[rows, cols] = True
+        samples[i] = StrokeSamples(
+            target=smp.points, source=np.array([fetched[j].source_points[k]
+                                                for j, k in enumerate(res.choice)]),
+            source_s=np.array([fetched[j].source_s[k] for j, k in enumerate(res.choice)]),
+            shift=np.array([offs[j][k] for j, k in enumerate(res.choice)]),
+            radius=radii, pinned=smp.pinned, energy=res.energy, pairwise=res.pairwise)
+
+    comp = compose(placed, target_shape, method=params.composition, power=params.seam_power,
+                   gradient_weighted=params.gradient_weighted)
+    # For an opaque source the alpha is 1 on every copied pixel (less on the
+    # anti-aliased edges of cut ends), 0 elsewhere: the object region is the
+    # union of the patches.
+    premult = comp.image
+    alpha = premult[:, :, 3].copy()
+    layer = np.zeros_like(premult)
+    nz = alpha > 1e-6
+    layer[nz, :3] = np.clip(premult[nz, :3] / alpha[nz, None], 0.0, 1.0)
+    layer[:, :, 3] = alpha
+    mask = alpha > 0.5
+    seams = seam_mask(comp.labels, alpha, min_alpha=0.1)
+    energies = {
+        "sampling": float(e_total),
+        "sampling_pairwise": float(e_pair),
+        "seam": labelling_cost(placed, comp.labels, power=params.seam_power,
+                               gradient_weighted=params.gradient_weighted),
+        "seam_steps": float(comp.step_costs.sum()),
+    }
+    if background is None:
+        out = layer.copy()
+    elif bg_img is None:
+        colour = np.asarray(background, np.float32)
+        bg_rgba = np.broadcast_to(np.append(colour[:3], colour[3] if len(colour) == 4 else 1.0),
+                                  (*target_shape, 4))
+        out = _over(layer, bg_rgba)
+    else:
+        out = _over(layer, bg_img)
+    return StrokeEditResult(
+        image=np.clip(out, 0, 1).astype(np.float32), mask=mask, seams=seams, energies=energies,
+        layer=layer, labels=comp.labels, samples=samples, pairs=attached, junctions=junctions,
+        radius=typical, source_region=source_region & index.object,
+        params=dataclasses.replace(params))
+
+
+def _over(layer: np.ndarray, bg: np.ndarray) -> np.ndarray:
+    """Straight-alpha RGBA ``layer`` over straight-alpha RGBA ``bg``."""
+    a = layer[:, :, 3:4]
+    b = bg[:, :, 3:4]
+    out_a = a + b * (1 - a)
+    rgb = layer[:, :, :3] * a + bg[:, :, :3] * b * (1 - a)
+    rgb = np.where(out_a > 1e-6, rgb / np.maximum(out_a, 1e-6), 0.0)
+    return np.dstack([rgb, out_a]).astype(np.float32)
+
+
+def _check_shape(shape) -> tuple[int, int]:
+    try:
+        h, w = (int(v) for v in tuple(shape)[:2])
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"target_shape must be (H, W), got {shape!r}") from exc
+    if h < 1 or w < 1:
+        raise ValueError(f"target_shape must be positive, got {(h, w)}")
+    return h, w

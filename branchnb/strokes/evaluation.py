@@ -1,0 +1,62 @@
+"""Evaluation: colour histograms of the source object region and the result.
+
+A re-synthesized object should be made of the same colours as the part
+of the source it copies: the histograms of each colour channel over the
+source object region (:attr:`StrokeEditResult.source_region`) and over
+the result's object mask, on shared bins, with their distance
+(:func:`branchnb.core.histogram.compare_samples`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..core.histogram import HistogramComparison, compare_samples
+from ..core.image import as_mask, as_rgba
+
+__all__ = ["CHANNELS", "object_colours", "compare_colours"]
+
+#: Channel names of :func:`compare_colours`.
+CHANNELS = ("red", "green", "blue")
+
+
+def object_colours(image, mask) -> np.ndarray:
+    """``(N, 3)`` straight RGB colours of ``image`` under ``mask`` (pixels with alpha > 0.5).
+
+    Examples
+    --------
+    >>> img = np.zeros((2, 2, 4)); img[0, 0] = (1, 0.5, 0, 1)
+    >>> object_colours(img, np.ones((2, 2), bool)).tolist()
+    [[1.0, 0.5, 0.0]]
+    """
+    rgba = as_rgba(image)
+    m = as_mask(mask, shape=rgba.shape[:2]) & (rgba[:, :, 3] > 0.5)
+    return rgba[m][:, :3].astype(np.float64)
+
+
+def compare_colours(image, result, *, bins: int = 16, metric: str = "l1") -> list[HistogramComparison]:
+    """Per-channel histograms of the source object region vs the result's object.
+
+    Parameters
+    ----------
+    image : (H, W, C) array_like
+        The source image given to :func:`~branchnb.strokes.edit_structure`.
+    result : StrokeEditResult
+    bins : int
+    metric : str
+        See :func:`branchnb.core.histogram.histogram_distance`.
+
+    Returns
+    -------
+    list of HistogramComparison
+        One per channel of :data:`CHANNELS`, labels ``["source object",
+        "result"]``, on the range [0, 1].
+    """
+    if result.source_region is None:
+        raise ValueError("result has no source_region (not made by edit_structure)")
+    src = object_colours(image, result.source_region)
+    out = object_colours(result.layer, result.mask)
+    if not len(src) or not len(out):
+        raise ValueError("the source region or the result is empty: nothing to compare")
+    return [compare_samples(src[:, c], out[:, c], labels=["source object", "result"], bins=bins,
+                            range=(0.0, 1.0), metric=metric) for c in range(3)]

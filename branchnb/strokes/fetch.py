@@ -1,0 +1,623 @@
+"""Fetching source texture: samples along the target strokes, rotated patches from the source.
+
+Each target stroke is sampled every ``h`` pixels of arc length, and every
+control point is a sample too. A sample ``p`` between target control
+points ``c_i`` and ``c_i+1`` maps to the point ``p'`` at the same
+arc-length fraction between the corresponding source control points
+(:meth:`~branchnb.strokes.strokes.StrokePair.source_arc_length`). The
+texture around ``p'`` is copied to ``p``, rotated so that the source
+stroke direction at ``p'`` lines up with the target stroke direction at
+``p`` (:func:`branchnb.core.warp.transfer_patch`, circular patches of
+radius ``r``).
+
+Global texture sampling (:mod:`branchnb.strokes.sampling`) may move
+``p'`` a little along (and across) the source stroke; the moves are the
+*candidates* fetched here.
+
+Patch size
+----------
+For an RGBA object the patch radius follows the object: ``r(s') = 1.2
+w(s') + 4`` where ``w`` is the object's half width across the source
+stroke at ``p'`` (measured along the stroke normal, robust to strokes
+drawn a little off-centre and to crossings, smoothed along the stroke),
+so a patch always spans the whole width plus a margin of background, and
+a tapering branch gets smaller patches towards its tip. A fixed
+``patch_size`` overrides it; opaque images use 48 px.
+
+Which source pixels a patch may copy
+------------------------------------
+Each source stroke ``k`` owns the pixels that are (within 2 px) as near
+to it as to any other source stroke: a patch fetched on stroke ``k``
+never drags along the part of the object another stroke draws (the same
+stroke given twice, e.g. to grow two branches from one example branch,
+shares its pixels). For an RGBA object it owns them only within a tube
+around the stroke: the object's half width ``w`` plus 2 px, and for
+background pixels a wider margin (``0.15 w + 3`` px, where the seams can
+run around the silhouette). So parts of the object nobody stroked (a
+crossing strand, a side branch, the trunk a branch was drawn from) are
+not dragged along. Among those, a patch centred at arc length ``s'``
+copies only pixels whose nearest stroke point lies within ``1.5 r`` of
+``s'``, so it does not copy a part of the same stroke that folds back
+nearby (a loop of rope). The transparent pixels around an RGBA object
+belong to the patches too: they carry the silhouette, and the graph cut
+decides between "object" and "background" like between any two textures.
+
+Stroke ends
+-----------
+A stroke end lying on another source stroke (a branch drawn from the
+trunk) is a *joined* end: the object there belongs to the other stroke,
+and it is cut straight across like below. Where the object ends shortly after a stroke end (a tail tip, a branch
+tip: the object goes on for less than ``max(2 w, 8)`` px along the
+stroke direction, ``w`` the stroke's median half width), the patches copy the tip as it is. Where the stroke
+ends in the middle of a longer object (a piece of rope, a branch drawn
+from the trunk), the object is cut straight across the stroke at its end
+point, so the synthesized piece has a clean cut end (hidden inside the
+parent for a branch) instead of a round bite out of the source.
+
+The *object region* is where the source is opaque (alpha > 0.5) for an
+RGBA image; for an opaque image it is the union of the copied patches.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import ndimage as ndi
+
+from ..core.graphcut import _gradmag  # the edge strength G of the seam energy
+from ..core.image import as_rgba
+from ..core.warp import transfer_patch
+from .strokes import Stroke, StrokePair
+
+__all__ = ["SourceIndex", "Samples", "Fetched", "source_index", "sample_pair", "fetch",
+           "OPAQUE_RADIUS"]
+
+#: A patch copies pixels owned by its stroke within this many radii of its arc length.
+_REACH = 1.5
+#: A pixel belongs to every stroke within this many pixels of its nearest stroke.
+_SHARE = 2.0
+#: Opaque pixels are copied up to this far beyond the half width (px).
+_OPAQUE_MARGIN = 2.0
+#: Patch radius for opaque images (no silhouette to measure the width from).
+OPAQUE_RADIUS = 24.0
+#: Longest distance the width measurement walks from the stroke (px).
+_MAX_WIDTH = 256
+
+
+def auto_radius(half_width):
+    """Patch radius ``r = 1.2 w + 4`` for the object's half width ``w`` (px)."""
+    return 1.2 * np.asarray(half_width, float) + 4.0
+
+
+@dataclass
+class SourceIndex:
+    """The source image prepared for fetching.
+
+    Attributes
+    ----------
+    premult : (H, W, 4) float32 ndarray
+        Premultiplied RGBA (so that interpolation and colour differences
+        treat transparent pixels consistently).
+    grad : (H, W) float32 ndarray
+        Gradient magnitude ``|grad|`` of ``premult`` (Sobel, summed over
+        channels): the edge strength of the seam energy.
+    object : (H, W) bool ndarray
+        The object region (alpha > 0.5; everything for opaque images).
+    has_alpha : bool
+        Whether the object region came from an alpha channel.
+    strokes : list of Stroke
+        The source strokes.
+    s_map : list of (H, W) float32 ndarray
+        Per stroke: arc length of the stroke point nearest to each pixel.
+    allowed : list of (H, W) bool ndarray
+        Per stroke: the pixels its patches may copy (owned by it, inside
+        its tube, not beyond a cut end). Identical strokes share their
+        arrays.
+    weight : list of (H, W) float32 ndarray
+        Per stroke: 1 inside the tube and before cut ends, 0 outside, with
+        a one-pixel ramp: the copied pixels are multiplied by it, so the
+        edges where a patch cuts through the object are anti-aliased.
+    width_s, width : list of (n,) ndarray
+        Per stroke: the object's half width ``w`` (px) along the stroke,
+        sampled at arc lengths ``width_s`` (smoothed; 0 for opaque images).
+    cut_ends : list of (bool, bool)
+        Per stroke: whether the object is cut straight at its start / end.
+    """
+
+    premult: np.ndarray
+    grad: np.ndarray
+    object: np.ndarray
+    has_alpha: bool
+    strokes: list
+    s_map: list
+    allowed: list
+    weight: list
+    width_s: list
+    width: list
+    cut_ends: list
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return self.object.shape
+
+    def half_width(self, k: int, s) -> np.ndarray:
+        """Half width ``w`` of the object at arc lengths ``s`` of source stroke ``k`` (px)."""
+        return np.interp(np.asarray(s, float), self.width_s[k], self.width[k])
+
+    def radius(self, k: int, s, patch_size: float = 0.0) -> np.ndarray:
+        """Patch radius ``r`` at arc lengths ``s`` of source stroke ``k``.
+
+        ``patch_size > 0`` gives ``r = patch_size / 2`` everywhere;
+        otherwise :func:`auto_radius` of the largest half width within
+        half a patch radius along the stroke (so that neighbouring
+        patches, half a radius apart, cover the whole tube) for RGBA, or
+        :data:`OPAQUE_RADIUS` (opaque images).
+        """
+        s = np.asarray(s, float)
+        if patch_size > 0:
+            return np.full(s.shape, patch_size / 2.0)
+        if not self.has_alpha:
+            return np.full(s.shape, OPAQUE_RADIUS)
+        wv = self.width[k]
+        reach = int(np.ceil(float(auto_radius(wv.max())) / 2.0))
+        cover = ndi.maximum_filter1d(wv, size=2 * reach + 1, mode="nearest")
+        return auto_radius(np.interp(s, self.width_s[k], cover))
+
+
+def source_index(image, source_strokes: list[Stroke]) -> SourceIndex:
+    """Prepare ``image`` for fetching along ``source_strokes``.
+
+    Parameters
+    ----------
+    image : (H, W, C) array_like
+        The source image (RGBA objects on a transparent background, or opaque).
+    source_strokes : list of Stroke
+        Inside the image (see :func:`~branchnb.strokes.strokes.make_pairs`).
+
+    Examples
+    --------
+    >>> img = np.zeros((30, 60, 4), np.float32); img[10:20, 5:55] = 1.0
+    >>> idx = source_index(img, [Stroke([(5, 15), (30, 15)])])
+    >>> float(idx.half_width(0, 10.0)), idx.cut_ends[0]
+    (5.5, (False, True))
+    """
+    rgba = as_rgba(image)
+    h, w = rgba.shape[:2]
+    alpha = rgba[:, :, 3]
+    has_alpha = bool((alpha < 0.999).any())
+    premult = rgba.copy()
+    premult[:, :, :3] *= alpha[:, :, None]
+    grad = _gradmag(premult).astype(np.float32)
+    obj = alpha > 0.5 if has_alpha else np.ones((h, w), bool)
+    # Distance to the background (the image border counts as background).
+    edt = ndi.distance_transform_edt(np.pad(obj, 1))[1:-1, 1:-1] if has_alpha else None
+
+    # Per distinct stroke: distance and arc length of the nearest stroke point.
+    keys, uniq = [], {}
+    for st in source_strokes:
+        key = st.points.tobytes()
+        keys.append(key)
+        if key not in uniq:
+            uniq[key] = _distance_map(st, (h, w))
+    d_min = np.min(np.stack([d for d, _ in uniq.values()]), axis=0) if len(uniq) > 1 else None
+    yy, xx = np.mgrid[0:h, 0:w].astype(np.float32)
+
+    # Widths along every stroke, ends joined to another stroke, cut ends.
+    raw = [_raw_width(st, obj, edt) if has_alpha else
+           (np.array([0.0, st.length]), np.zeros(2), 0.0) for st in source_strokes]
+    joined = _joined_ends(source_strokes, raw, keys)
+    cuts = [tuple(joined[k][end] or _is_cut(st, obj, raw[k][2], end) for end in (0, 1))
+            for k, st in enumerate(source_strokes)]
+    widths = [_smooth_width(raw[k][1], raw[k][2], cuts[k]) if has_alpha else raw[k][1]
+              for k in range(len(source_strokes))]
+    width_s = [raw[k][0] for k in range(len(source_strokes))]
+    s_maps, allowed, weights = [], [], []
+    done: dict = {}
+    for k, st in enumerate(source_strokes):
+        d, s_map = uniq[keys[k]]
+        ws, wv, cut = width_s[k], widths[k], cuts[k]
+        key = (keys[k], cut)
+        if key not in done:
+            own = np.ones((h, w), bool) if d_min is None else d <= d_min + _SHARE
+            weight = np.ones((h, w), np.float32)
+            if has_alpha:
+                # The tube of the object's half width around the stroke, plus
+                # a margin of background (only background: opaque pixels in
+                # the margin belong to something else -- a side branch, the
+                # trunk a branch was drawn from), with a one-pixel ramp so
+                # that cut-off parts get an anti-aliased edge. The object
+                # beyond the stroke ends is handled below.
+                tube = np.interp(s_map, ws, wv)
+                margin = np.where(obj, _OPAQUE_MARGIN, _tube_margin(tube))
+                interior = (s_map > 1.0) & (s_map < st.length - 1.0)
+                ramp = np.clip(tube + margin - d + 0.5, 0.0, 1.0)
+                weight = np.where(interior, ramp, 1.0).astype(np.float32)
+            for end, is_cut in enumerate(cut):
+                if is_cut:
+                    weight *= _beyond_weight(st, end, s_map, xx, yy)
+            done[key] = (own & (weight > 0), weight)
+        s_maps.append(s_map)
+        allowed.append(done[key][0])
+        weights.append(done[key][1])
+    return SourceIndex(premult, grad, obj, has_alpha, list(source_strokes), s_maps, allowed,
+                       weights, width_s, widths, cuts)
+
+
+def _tube_margin(half_width):
+    """Background kept around the silhouette: ``0.15 w + 3`` px."""
+    return 0.15 * half_width + 3.0
+
+
+def _distance_map(stroke: Stroke, shape) -> tuple[np.ndarray, np.ndarray]:
+    h, w = shape
+    seeds = np.ones((h, w), bool)
+    seed_s = np.zeros((h, w), np.float32)
+    s = np.linspace(0.0, stroke.length, max(2, int(np.ceil(stroke.length * 2)) + 1))
+    p = stroke.point_at(s)
+    c = np.clip(np.round(p[:, 0]).astype(int), 0, w - 1)
+    r = np.clip(np.round(p[:, 1]).astype(int), 0, h - 1)
+    seeds[r, c] = False
+    seed_s[r, c] = s
+    d, (ir, ic) = ndi.distance_transform_edt(seeds, return_indices=True)
+    return d.astype(np.float32), seed_s[ir, ic]
+
+
+def _lookup(mask: np.ndarray, pts: np.ndarray) -> np.ndarray:
+    """``mask`` at the nearest pixels of ``pts`` (False outside the image)."""
+    h, w = mask.shape
+    c = np.round(pts[..., 0]).astype(np.int64)
+    r = np.round(pts[..., 1]).astype(np.int64)
+    inside = (c >= 0) & (c < w) & (r >= 0) & (r < h)
+    out = np.zeros(pts.shape[:-1], bool)
+    out[inside] = mask[r[inside], c[inside]]
+    return out
+
+
+def _run_length(inside: np.ndarray) -> np.ndarray:
+    """Number of leading True values along the last axis."""
+    first_out = np.argmin(inside, axis=-1)
+    return np.where(inside.all(axis=-1), inside.shape[-1], first_out)
+
+
+def _raw_width(stroke: Stroke, obj: np.ndarray, edt: np.ndarray):
+    """Half width a patch centred on ``stroke`` needs, every pixel of arc length (unsmoothed).
+
+    Along the normal at each stroke point ``p``, the run of object pixels
+    containing ``p`` (or the nearest run, for a stroke drawn a little off
+    the object) spans ``[t0, t1]``; a patch centred on ``p`` needs
+    ``max(|t0|, |t1|)``. Where the normal runs along another part of the
+    object (a crossing), the run is capped by ``2 m + 2`` with ``m`` the
+    largest distance to the background within ``edt(p) + 2`` px of ``p``
+    (the object's half width at its medial axis, also for a stroke up to
+    half a width off-centre).
+
+    Returns the arc lengths, the widths and their median (at least 1).
+    """
+    s = np.linspace(0.0, stroke.length, max(2, int(np.ceil(stroke.length)) + 1))
+    p = stroke.point_at(s)
+    n = stroke.normal_at(s, window=3.0)
+    t = np.arange(-_MAX_WIDTH, _MAX_WIDTH + 1, dtype=float)
+    inside = _lookup(obj, p[:, None, :] + t[None, :, None] * n[:, None, :])
+    runs, _ = ndi.label(inside, structure=[[0, 0, 0], [1, 1, 1], [0, 0, 0]])
+    near = np.argmin(np.where(inside, np.abs(t)[None], np.inf), axis=1)
+    lab = runs[np.arange(len(s)), near]
+    wv = np.zeros(len(s))
+    boxes = ndi.find_objects(runs)
+    for i, lb in enumerate(lab):
+        if lb > 0:
+            cols = boxes[lb - 1][1]
+            wv[i] = max(abs(t[cols.start]), abs(t[cols.stop - 1])) + 0.5
+    wv = np.minimum(wv, 2.0 * _local_max(edt, p) + 2.0)
+    return s, wv, float(max(1, int(np.ceil(np.median(wv)))))
+
+
+def _smooth_width(wv: np.ndarray, typical: float, cut) -> np.ndarray:
+    """The width profile used for the tube and the patch radius.
+
+    At a cut end (the stroke runs into a longer object: a branch drawn
+    from the trunk, a tail drawn from the body) the widths above 1.5
+    times the median are the parent's and are replaced by the first width
+    of the stroke's own. A median filter along the stroke then removes
+    short outliers, a running maximum keeps the patches over local bulges
+    and a Gaussian smooths the profile, so that the tube's edge has no
+    steps where the width changes.
+    """
+    wv = wv.copy()
+    for end in (0, 1):
+        if cut[end]:
+            w = wv if end == 0 else wv[::-1]
+            free = np.flatnonzero(w <= 1.5 * typical)
+            if len(free):
+                w[:free[0]] = w[free[0]]
+    n = int(typical)
+    wv = ndi.median_filter(wv, size=2 * n + 1, mode="nearest")
+    wv = ndi.maximum_filter1d(wv, size=2 * n + 1, mode="nearest")
+    return ndi.gaussian_filter1d(wv, sigma=typical / 2.0, mode="nearest").astype(float)
+
+
+def _joined_ends(strokes, raw, keys) -> list[tuple[bool, bool]]:
+    """Ends lying on another (different) stroke, within half its local width + 3 px."""
+    out = []
+    for k, st in enumerate(strokes):
+        flags = []
+        for end in (0, 1):
+            q = st.points[0 if end == 0 else -1][None]
+            hit = False
+            for j, other in enumerate(strokes):
+                if j == k or keys[j] == keys[k]:
+                    continue
+                s, d = other.project(q)
+                tol = 0.5 * float(np.interp(s[0], raw[j][0], raw[j][1])) + 3.0
+                hit |= bool(d[0] <= tol) and 1.0 < s[0] < other.length - 1.0
+            flags.append(hit)
+        out.append(tuple(flags))
+    return out
+
+
+def _local_max(edt: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """Largest ``edt`` within ``edt(p) + 2`` px of each point ``p``."""
+    h, w = edt.shape
+    e0 = edt[np.clip(np.round(p[:, 1]).astype(int), 0, h - 1),
+             np.clip(np.round(p[:, 0]).astype(int), 0, w - 1)]
+    rho = int(np.ceil(min(float(e0.max()), _MAX_WIDTH))) + 2
+    oy, ox = np.mgrid[-rho:rho + 1, -rho:rho + 1]
+    off = np.column_stack([ox.ravel(), oy.ravel()]).astype(float)
+    out = np.zeros(len(p))
+    chunk = max(1, 1_000_000 // len(off))  # bounded memory
+    for lo in range(0, len(p), chunk):
+        pts = np.round(p[lo:lo + chunk])
+        q = pts[:, None, :] + off[None]
+        c = q[..., 0].astype(np.int64)
+        r = q[..., 1].astype(np.int64)
+        ok = (c >= 0) & (c < w) & (r >= 0) & (r < h)
+        ok &= np.hypot(off[:, 0], off[:, 1])[None] <= e0[lo:lo + chunk, None] + 2.0
+        val = np.zeros(q.shape[:2])
+        val[ok] = edt[r[ok], c[ok]]
+        out[lo:lo + chunk] = val.max(axis=1)
+    return out
+
+
+def _end_direction(stroke: Stroke, end: int, window: float) -> tuple[np.ndarray, np.ndarray]:
+    s_end = 0.0 if end == 0 else stroke.length
+    a = float(stroke.angle_at(s_end, window=window))
+    u = np.array([np.cos(a), np.sin(a)])
+    return stroke.point_at(s_end), (-u if end == 0 else u)
+
+
+def _is_cut(stroke: Stroke, obj: np.ndarray, half_width: float, end: int) -> bool:
+    """Whether the object goes on for more than ``max(2 w, 8)`` px beyond the stroke end.
+
+    ``w`` is the stroke's typical (median) half width.
+    """
+    p, u = _end_direction(stroke, end, window=max(3.0, half_width))
+    limit = max(2.0 * half_width, 8.0)
+    t = np.arange(1.0, np.ceil(limit) + 2.0)
+    run = _run_length(_lookup(obj, p[None] + t[:, None] * u[None]))
+    return bool(run > limit)
+
+
+def _beyond_weight(stroke: Stroke, end: int, s_map: np.ndarray, xx: np.ndarray,
+                   yy: np.ndarray) -> np.ndarray:
+    """0 past the straight cut at a stroke end, 1 before it, a one-pixel ramp between.
+
+    "Past" = the nearest stroke point is the end point and the pixel lies
+    ahead of it along the stroke direction.
+    """
+    p, u = _end_direction(stroke, end, window=3.0)
+    at_end = s_map <= 1.0 if end == 0 else s_map >= stroke.length - 1.0
+    ahead = (xx - p[0]) * u[0] + (yy - p[1]) * u[1]
+    return np.where(at_end, np.clip(0.5 - ahead, 0.0, 1.0), 1.0).astype(np.float32)
+
+
+@dataclass
+class Samples:
+    """Samples along one target stroke.
+
+    Attributes
+    ----------
+    s : (M,) ndarray
+        Target arc lengths.
+    points : (M, 2) ndarray
+        Target positions ``p``.
+    angles : (M,) ndarray
+        Target stroke direction at ``p`` (radians).
+    source_s : (M,) ndarray
+        Nominal source arc lengths of ``p'`` (arc-length fraction between
+        control points).
+    pinned : (M,) bool ndarray
+        Samples at control points (their correspondence is fixed).
+    """
+
+    s: np.ndarray
+    points: np.ndarray
+    angles: np.ndarray
+    source_s: np.ndarray
+    pinned: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.s)
+
+
+def sample_pair(pair: StrokePair, spacing, *, window: float) -> Samples:
+    """Sample the target stroke of ``pair`` every ``spacing`` pixels (about).
+
+    Each stretch between consecutive target control points is divided
+    into the fewest equal-count steps no longer than ``spacing``, so the
+    control points themselves are samples (and are pinned).
+
+    Parameters
+    ----------
+    pair : StrokePair
+    spacing : float or callable
+        The step ``h`` (px), or a function of the target arc length
+        giving the local step (e.g. half the local patch radius): the
+        samples are then spread so that each step is about ``h`` where it
+        starts.
+    window : float
+        Chord half-length for the target directions.
+
+    Examples
+    --------
+    >>> from branchnb.strokes.strokes import Stroke, StrokePair
+    >>> pair = StrokePair(Stroke([(0, 0), (20, 0)]), Stroke([(0, 0), (0, 10)]))
+    >>> smp = sample_pair(pair, 4.0, window=2.0)
+    >>> smp.s.tolist(), smp.source_s.tolist()
+    ([0.0, 3.3333333333333335, 6.666666666666667, 10.0], [0.0, 6.666666666666667, 13.333333333333334, 20.0])
+    """
+    ct = pair.control[:, 1]
+    if callable(spacing):
+        grid = np.linspace(0.0, pair.target.length, max(2, int(np.ceil(pair.target.length * 2)) + 1))
+        h = np.asarray(spacing(grid), float)
+        if h.shape != grid.shape or not np.all(np.isfinite(h) & (h > 0)):
+            raise ValueError("spacing(s) must return finite steps > 0")
+        # N(s) = integral of ds / h: samples at equal steps of N.
+        n_of_s = np.concatenate([[0.0], np.cumsum(np.diff(grid) * 0.5 * (1 / h[1:] + 1 / h[:-1]))])
+    else:
+        if not (np.isfinite(spacing) and spacing > 0):
+            raise ValueError(f"spacing must be > 0, got {spacing}")
+        grid = np.array([0.0, pair.target.length])
+        n_of_s = grid / float(spacing)
+    parts = [np.array([ct[0]])]
+    pinned = [True]
+    for t0, t1 in zip(ct[:-1], ct[1:]):
+        n0, n1 = np.interp([t0, t1], grid, n_of_s)
+        n = max(1, int(np.ceil(n1 - n0 - 1e-9)))
+        inner = np.interp(np.linspace(n0, n1, n + 1)[1:-1], n_of_s, grid)
+        parts.append(np.concatenate([inner, [t1]]))
+        pinned.extend([False] * (n - 1) + [True])
+    s = np.concatenate(parts)
+    return Samples(
+        s=s,
+        points=pair.target.point_at(s),
+        angles=pair.target.angle_at(s, window=window),
+        source_s=pair.source_arc_length(s),
+        pinned=np.array(pinned, bool),
+    )
+
+
+@dataclass
+class Fetched:
+    """Candidate patches for one target sample, stacked.
+
+    Attributes
+    ----------
+    pixels : (K, S, S, 4) float32 ndarray
+        Premultiplied RGBA, in the target frame.
+    valid : (K, S, S) bool ndarray
+        Pixels the patch may contribute (inside the disk of radius ``r``,
+        on the source image and allowed for the stroke near ``s'``).
+    grad : (K, S, S) float32 ndarray
+        Edge strength at the source location of each pixel.
+    origin : (int, int)
+        Target ``(x, y)`` of pixel ``[0, 0]``.
+    source_points : (K, 2) ndarray
+        ``p'`` of each candidate.
+    source_s : (K,) ndarray
+        Source arc length of each candidate.
+    source_angles : (K,) ndarray
+        Source stroke direction at each ``p'``.
+    dst_point : (2,) ndarray
+        The target sample ``p``.
+    dst_angle : float
+        Target direction at ``p``.
+    radius : float
+        Patch radius ``r``.
+    """
+
+    pixels: np.ndarray
+    valid: np.ndarray
+    grad: np.ndarray
+    origin: tuple[int, int]
+    source_points: np.ndarray
+    source_s: np.ndarray
+    source_angles: np.ndarray
+    dst_point: np.ndarray
+    dst_angle: float
+    radius: float = 0.0
+
+    def take(self, k: int) -> Fetched:
+        """The stack reduced to candidate ``k``."""
+        sl = slice(k, k + 1)
+        return Fetched(self.pixels[sl], self.valid[sl], self.grad[sl], self.origin,
+                       self.source_points[sl], self.source_s[sl], self.source_angles[sl],
+                       self.dst_point, self.dst_angle, self.radius)
+
+    def source_pixels(self, k: int, shape) -> tuple[np.ndarray, np.ndarray]:
+        """``(rows, cols)`` of the source pixels candidate ``k`` copies (its valid pixels)."""
+        sx, sy = _source_coords(self.source_points[k], self.source_angles[k], self.dst_point,
+                                self.dst_angle, self.origin, self.valid.shape[1])
+        v = self.valid[k]
+        h, w = shape[:2]
+        return (np.clip(np.rint(sy[v]).astype(np.int64), 0, h - 1),
+                np.clip(np.rint(sx[v]).astype(np.int64), 0, w - 1))
+
+
+def _source_coords(centre, angle: float, dst_point, dst_angle: float, origin, n: int):
+    """Source ``(x, y)`` of every pixel of an ``n`` x ``n`` patch at ``origin``.
+
+    The inverse of the rotation :func:`~branchnb.core.warp.transfer_patch`
+    applies: ``p = R(angle - dst_angle) (q - p_dst) + p'``.
+    """
+    th = float(angle) - float(dst_angle)
+    u, v = np.meshgrid(np.arange(n) + origin[0] - float(dst_point[0]),
+                       np.arange(n) + origin[1] - float(dst_point[1]))
+    sx = np.cos(th) * u - np.sin(th) * v + centre[0]
+    sy = np.sin(th) * u + np.cos(th) * v + centre[1]
+    return sx, sy
+
+
+def fetch(index: SourceIndex, stroke_id: int, source_s, across, dst_point, dst_angle: float,
+          radius: float, *, window: float) -> Fetched:
+    """Fetch candidate patches for one target sample.
+
+    Parameters
+    ----------
+    index : SourceIndex
+    stroke_id : int
+        Which source stroke (index into ``index.strokes``).
+    source_s : (K,) array_like
+        Source arc lengths ``s'`` of the candidates (clamped to the stroke).
+    across : (K,) array_like
+        Offsets of the candidates along the source normal (pixels).
+    dst_point : (x, y)
+        Target sample ``p``.
+    dst_angle : float
+        Target direction at ``p``.
+    radius : float
+        Patch radius ``r``.
+    window : float
+        Chord half-length used for the source orientation.
+    """
+    stroke = index.strokes[stroke_id]
+    s = np.clip(np.atleast_1d(np.asarray(source_s, float)), 0.0, stroke.length)
+    e = np.broadcast_to(np.asarray(across, float), s.shape)
+    centres = stroke.point_at(s) + e[:, None] * stroke.normal_at(s, window=window)
+    angles = stroke.angle_at(s, window=window)
+    h, w = index.shape
+    s_map, allowed = index.s_map[stroke_id], index.allowed[stroke_id]
+    weight = index.weight[stroke_id]
+    half = int(np.ceil(radius)) + 2
+    pix, valid, grad = [], [], []
+    origin = None
+    for c, a, sk in zip(centres, angles, s):
+        # Crop the source around p' (the disk of radius r maps inside it).
+        x0 = int(np.clip(np.floor(c[0]) - half, 0, w - 1))
+        y0 = int(np.clip(np.floor(c[1]) - half, 0, h - 1))
+        x1 = int(np.clip(np.ceil(c[0]) + half + 1, x0 + 1, w))
+        y1 = int(np.clip(np.ceil(c[1]) + half + 1, y0 + 1, h))
+        patch = transfer_patch(index.premult[y0:y1, x0:x1], (c[0] - x0, c[1] - y0), a,
+                               dst_point, dst_angle, radius, circular=True)
+        wt = transfer_patch(weight[y0:y1, x0:x1, None], (c[0] - x0, c[1] - y0), a,
+                            dst_point, dst_angle, radius).pixels[:, :, 0]
+        origin = patch.origin
+        sx, sy = _source_coords(c, a, dst_point, dst_angle, origin, patch.valid.shape[0])
+        col = np.clip(np.rint(sx).astype(np.int64), 0, w - 1)
+        row = np.clip(np.rint(sy).astype(np.int64), 0, h - 1)
+        ok = patch.valid & allowed[row, col] & (np.abs(s_map[row, col] - sk) <= _REACH * radius)
+        pix.append(patch.pixels * wt[:, :, None])
+        valid.append(ok)
+        grad.append(index.grad[row, col])
+    return Fetched(np.stack(pix), np.stack(valid), np.stack(grad).astype(np.float32),
+                   origin, centres, s, np.asarray(angles, float),
+                   np.asarray(dst_point, float), float(dst_angle), float(radius))

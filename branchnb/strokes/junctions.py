@@ -1,0 +1,184 @@
+"""Branching: target strokes that start (or end) on another stroke form junctions.
+
+When the user draws a stroke whose end point lies on another target
+stroke (within a tolerance), the two meet at a *junction*: the stroke
+touching with its end is the *child* (a branch), the other the *parent*.
+A junction is handled in three ways:
+
+1. **Order.** Parents are composed before their children, so a branch is
+   cut into the canvas that already holds its parent
+   (:func:`stroke_order`, a topological order; cycles are broken in
+   drawing order).
+2. **Geometry.** The child keeps the end point the user drew. If the
+   child's *source* stroke has a free end there (a tip: it neither starts
+   on another source stroke nor ends inside a longer object, see
+   :mod:`~branchnb.strokes.fetch`), its end cap would show as a rounded
+   tip glued to the parent; the child is therefore extended into the
+   parent by the parent's half width, so the cap lies under the parent
+   and the branch grows out of it (:func:`attach`). A source stroke that
+   starts on another source stroke, or is cut straight at that end,
+   carries junction texture (or a clean cut hidden in the parent) and is
+   not extended.
+3. **Composition.** The patches of the child near the junction may not
+   paint over the far side of the parent (the canvas pixels beyond the
+   parent's centre line are pinned to the canvas, :func:`far_side`), and
+   their centres are not forced on top, so where the parent already looks
+   right the graph cut keeps it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .strokes import Stroke, StrokePair
+
+__all__ = ["Junction", "find_junctions", "stroke_order", "attach", "far_side"]
+
+
+@dataclass(frozen=True)
+class Junction:
+    """A stroke end lying on another stroke.
+
+    Attributes
+    ----------
+    child : int
+        Index of the stroke touching with an end.
+    end : int
+        0 if the child's first point touches, 1 if its last point does.
+    parent : int
+        Index of the stroke touched.
+    parent_s : float
+        Arc length of the junction on the parent.
+    point : (2,) ndarray
+        The junction point on the parent.
+    distance : float
+        Gap between the child's end point and the parent.
+    """
+
+    child: int
+    end: int
+    parent: int
+    parent_s: float
+    point: np.ndarray
+    distance: float
+
+
+def find_junctions(strokes: list[Stroke], tolerance: float) -> list[Junction]:
+    """Junctions among ``strokes``: every stroke end within ``tolerance`` of another stroke.
+
+    Each end attaches to at most one stroke (the nearest). A stroke end
+    touching the *end* of another stroke also counts (the strokes then
+    continue each other), except that of two ends touching each other only
+    the later stroke is the child.
+
+    Examples
+    --------
+    >>> from branchnb.strokes.strokes import Stroke
+    >>> trunk = Stroke([(0, 0), (0, 100)])
+    >>> branch = Stroke([(1, 50), (40, 20)])
+    >>> [(j.child, j.end, j.parent, j.parent_s) for j in find_junctions([trunk, branch], 3)]
+    [(1, 0, 0, 50.0)]
+    """
+    out = []
+    for i, st in enumerate(strokes):
+        for end, q in ((0, st.points[0]), (1, st.points[-1])):
+            best = None
+            for j, other in enumerate(strokes):
+                if j == i:
+                    continue
+                s, d = other.project(q[None])
+                if d[0] <= tolerance and (best is None or d[0] < best[2]):
+                    best = (j, float(s[0]), float(d[0]))
+            if best is None:
+                continue
+            j, s, d = best
+            at_end = min(s, strokes[j].length - s) <= tolerance
+            if at_end and j > i:
+                # Two ends meeting: the later-drawn stroke is the child.
+                continue
+            out.append(Junction(i, end, j, s, strokes[j].point_at(s), d))
+    return out
+
+
+def stroke_order(n: int, junctions: list[Junction]) -> list[int]:
+    """Stroke indices with every parent before its children (drawing order otherwise).
+
+    Examples
+    --------
+    >>> j = Junction(0, 0, 1, 5.0, np.zeros(2), 0.0)
+    >>> stroke_order(3, [j])
+    [1, 0, 2]
+    """
+    parents = {i: {j.parent for j in junctions if j.child == i} for i in range(n)}
+    done: list[int] = []
+    left = list(range(n))
+    while left:
+        ready = [i for i in left if not (parents[i] - set(done))]
+        nxt = ready[0] if ready else left[0]  # a cycle: break it in drawing order
+        done.append(nxt)
+        left.remove(nxt)
+    return done
+
+
+def attach(pair: StrokePair, junctions: list[Junction], target_strokes: list[Stroke],
+           depth: dict) -> tuple[StrokePair, dict]:
+    """Extend the target stroke of ``pair`` into its parents at its junction ends.
+
+    Parameters
+    ----------
+    pair : StrokePair
+    junctions : list of Junction
+        The junctions where this pair's target stroke is the child.
+    target_strokes : list of Stroke
+        All target strokes (for the parents' directions).
+    depth : dict
+        ``{end: e}``: how far to extend the stroke into the parent at each
+        end (0 for no extension).
+
+    Returns
+    -------
+    pair : StrokePair
+        With the new target stroke; interior control points keep their
+        position on the stroke.
+    shift : dict
+        ``{end: extra length}`` added at each end.
+    """
+    pts = pair.target.points.copy()
+    added = {0: 0.0, 1: 0.0}
+    for jn in junctions:
+        e = float(depth.get(jn.end, 0.0))
+        if e <= 0:
+            continue
+        if jn.end == 0:
+            d = pts[0] - pts[min(1, len(pts) - 1)]
+        else:
+            d = pts[-1] - pts[max(len(pts) - 2, 0)]
+        n = np.hypot(*d)
+        if n < 1e-9:
+            continue
+        ext = pts[0 if jn.end == 0 else -1] + d / n * e
+        pts = np.vstack([ext, pts]) if jn.end == 0 else np.vstack([pts, ext])
+        added[jn.end] = e
+    target = Stroke(pts, name=pair.target.name)
+    inner = pair.control[1:-1].copy()
+    inner[:, 1] += added[0]
+    return StrokePair(pair.source, target, inner, name=pair.name), added
+
+
+def far_side(junction: Junction, parent: Stroke, child_dir: np.ndarray, origin, size: int,
+             *, window: float) -> np.ndarray:
+    """Pixels of a ``size`` x ``size`` patch at ``origin`` beyond the parent's centre line.
+
+    "Beyond" is the side of the parent's tangent line at the junction
+    away from the child's direction ``child_dir`` (a unit vector pointing
+    from the junction into the child).
+    """
+    t = parent.angle_at(junction.parent_s, window=window)
+    nrm = np.array([-np.sin(float(t)), np.cos(float(t))])
+    side = np.sign(nrm @ child_dir) or 1.0
+    x0, y0 = origin
+    yy, xx = np.mgrid[0:size, 0:size]
+    rel = np.stack([xx + x0 - junction.point[0], yy + y0 - junction.point[1]], axis=-1)
+    return (rel @ nrm) * side < -0.5

@@ -1,0 +1,553 @@
+"""Pin points, resampling and the simplified contour (paper, Sec. "Contour resampling").
+
+Given the tree contour ``C`` of a normalised exemplar:
+
+* **Pin points.** ``B`` is the tree bottom (the lowest contour point, the
+  median one if several share the lowest row). ``R`` and ``L`` are the top
+  right and top left of the trunk: walking along ``C`` from ``B`` to the
+  right and to the left, the first points that belong to the crown. With no
+  visible trunk, ``L = R = B``. The trunk/crown split comes from a trunk mask
+  (the crown/trunk segmentation, or the geometric fallback
+  :func:`stem_trunk_mask`).
+* **Resampling.** ``C`` is resampled by chord length to ``N = 2000`` points
+  with fixed counts per segment: 200 on the right trunk side (``B -> R``),
+  1600 on the crown (``R -> L``) and 200 on the left trunk side
+  (``L -> B``). So ``B``, ``R`` and ``L`` sit at the fixed indices
+  ``0``, ``200`` and ``1800`` of every resampled contour ``C_r``, and the
+  contours of different trees correspond point by point. The shape vector
+  is ``C_r`` minus its centroid, flattened to ``2N`` numbers
+  ``(x_0, y_0, x_1, y_1, ...)``.
+* **Simplified contour.** ``C_s``: the interior of ``C_r`` is filled,
+  dilated (8 iterations of a 3 x 3 square), and its outer border resampled
+  to ``M = 20`` points with the same proportions per segment (2 / 16 / 2,
+  pinned at the border points nearest ``B``, ``R``, ``L``). ``C_s`` is the
+  cage of the mean-value-coordinate colour transfer.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import cv2
+import numpy as np
+from scipy.ndimage import median_filter
+
+from ..core.image import as_mask, as_points, composite_over
+from ..core.io import encode_png
+from ..core.params import check_params, param
+from ..core.render import draw_polylines
+from .exemplar import signed_area
+from .morph import fill_contour
+
+__all__ = [
+    "ContourParams",
+    "PinPoints",
+    "TreeContour",
+    "stem_trunk_mask",
+    "pin_points",
+    "segment_counts",
+    "resample_pinned",
+    "shape_vector",
+    "simplify_contour",
+    "tree_contour",
+]
+
+
+@dataclass
+class ContourParams:
+    """Contour resampling parameters (defaults: the paper's).
+
+    Attributes
+    ----------
+    n_points : int
+        ``N``, points of the resampled contour ``C_r`` (paper: 2000).
+    n_crown : int
+        Points on the crown segment ``R -> L`` (paper: 1600); each trunk
+        side gets ``(N - n_crown) / 2`` (paper: 200).
+    m_points : int
+        ``M``, points of the simplified contour ``C_s`` (paper: 20, its
+        speed/quality sweet spot).
+    dilation : int
+        Dilation iterations (3 x 3) before simplification (paper: 8).
+    trunk_radius : float
+        Radius, as a fraction of the image size, of the window that decides
+        whether a contour point is trunk (majority of opaque pixels in the
+        window are trunk); it makes the pin points robust to outlines or
+        stray labels in the trunk mask.
+    """
+
+    n_points: int = param(2000, min=40, max=8000, step=10, help="N, resampled contour points")
+    n_crown: int = param(1600, min=20, max=8000, step=10, help="points on the crown R -> L")
+    m_points: int = param(20, min=6, max=200, step=1, help="M, simplified contour points (paper: 20)")
+    dilation: int = param(8, min=0, max=64, step=1, help="dilation iterations before simplifying")
+    trunk_radius: float = param(0.015, min=0.0, max=0.2, step=0.005,
+                                help="window radius (fraction of size) to label contour points",
+                                ui=False)
+
+
+def _check_contour_params(p: ContourParams) -> ContourParams:
+    check_params(p)
+    if p.n_crown >= p.n_points or (p.n_points - p.n_crown) % 2:
+        raise ValueError(
+            f"params.n_crown must be < n_points with an even remainder for the two trunk sides, "
+            f"got n_points={p.n_points}, n_crown={p.n_crown}"
+        )
+    return p
+
+
+def segment_counts(n: int, n_crown: int) -> tuple[int, int, int]:
+    """Points per segment ``(B -> R, R -> L, L -> B)`` for ``n`` points, ``n_crown`` on the crown.
+
+    For the simplified contour use the crown share of the full one:
+    ``segment_counts(20, round(20 * 1600 / 2000))`` is ``(2, 16, 2)``.
+    """
+    t = (n - n_crown) // 2
+    return t, n - 2 * t, t
+
+
+@dataclass
+class PinPoints:
+    """The three pin points of a tree contour.
+
+    Attributes
+    ----------
+    b, r, l : (2,) float ndarray
+        Tree bottom ``B``, trunk top right ``R``, trunk top left ``L`` (x, y).
+    ib, ir, il : int
+        Their indices in the contour they were found on.
+    has_trunk : bool
+        False when no trunk is visible (then ``L = R = B``).
+    """
+
+    b: np.ndarray
+    r: np.ndarray
+    l: np.ndarray  # noqa: E741  (paper's symbol)
+    ib: int
+    ir: int
+    il: int
+    has_trunk: bool
+
+
+def stem_trunk_mask(alpha, *, jump: float = 2.0, crown_width: float = 0.5,
+                    max_trunk_width: float = 0.45, min_trunk_height: float = 0.03,
+                    min_aspect: float = 0.5, max_ground_height: float = 0.2) -> np.ndarray:
+    """Geometric trunk estimate: the narrow stem at the bottom of the silhouette.
+
+    A fallback for the crown/trunk segmentation that uses the opacity mask
+    alone. Row widths ``w(y)`` (opaque pixels per row, median-filtered over
+    5 rows) are read from the bottom up:
+
+    1. Rows at least ``crown_width`` times the widest row are *wide*. Wide
+       rows near the bottom (within ``max_ground_height`` of the tree) are
+       a ground patch or spread roots.
+    2. The *stem* is the longest run of narrow rows that starts within
+       that bottom band and ends below a wide row; its width ``w_s`` is the
+       median of its widths (robust to a pointed tip or flared roots).
+    3. The crown baseline: walking down from that lowest wide row while
+       ``w(y) > jump * w_s``; every row below it is trunk.
+
+    No trunk is reported when the stem is shorter than
+    ``min_trunk_height`` of the tree height or than ``min_aspect`` times its
+    width (the rounded bottom of a round crown is no stem), wider than
+    ``max_trunk_width`` of the widest row, or when the bottom rows are wide.
+
+    Parameters
+    ----------
+    alpha : (H, W) array_like
+        Opacity mask (nonzero = opaque).
+    jump : float
+        Width ratio (to the stem width) marking the crown baseline.
+    crown_width : float
+        Rows at least this fraction of the widest row are certainly crown.
+    max_trunk_width : float
+        A stem wider than this fraction of the widest row is no trunk.
+    min_trunk_height : float
+        A stem shorter than this fraction of the tree height is no trunk.
+    min_aspect : float
+        A trunk lower than this multiple of its width is no trunk.
+    max_ground_height : float
+        Wide bottom rows up to this fraction of the height are ground.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        The trunk (empty if no trunk is visible).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> m = np.zeros((40, 30), bool); m[2:25, 3:27] = True; m[25:38, 13:17] = True
+    >>> t = stem_trunk_mask(m); int(t.sum()), bool(t[30, 15]), bool(t[10, 15])
+    (52, True, False)
+    """
+    for name, v in (("jump", jump), ("crown_width", crown_width),
+                    ("max_trunk_width", max_trunk_width),
+                    ("min_trunk_height", min_trunk_height), ("min_aspect", min_aspect),
+                    ("max_ground_height", max_ground_height)):
+        if not np.isfinite(v) or v < 0:
+            raise ValueError(f"{name} must be a finite number >= 0, got {v!r}")
+    m = as_mask(alpha, name="alpha")
+    out = np.zeros_like(m)
+    rows = np.flatnonzero(m.any(axis=1))
+    if rows.size == 0:
+        return out
+    top, bottom = int(rows[0]), int(rows[-1])
+    height = bottom - top + 1
+    seg = median_filter(m[top:bottom + 1].sum(axis=1).astype(np.float64), size=5,
+                        mode="nearest")
+    w_max = float(seg.max())
+    wide = seg >= crown_width * w_max
+    n = len(seg)
+    min_rows = max(min_trunk_height * height, 2.0)
+    # 1. + 2. runs of narrow rows that start within the ground band at the
+    # bottom and end below a wide row; the longest is the stem (wide rows
+    # and short narrow runs below it are a ground patch or roots).
+    best = None  # (length, stem_bottom, crown_low)
+    k = n - 1
+    while True:
+        while k >= 0 and wide[k]:
+            k -= 1
+        if k < 0 or (n - 1 - k) > max_ground_height * height:
+            break
+        run_bottom = k
+        while k >= 0 and not wide[k]:
+            k -= 1
+        if k < 0:
+            break  # no wide row above: a bare pole, not a crown
+        if best is None or run_bottom - k > best[0]:
+            best = (run_bottom - k, run_bottom, k)
+    if best is None or best[0] < min_rows:
+        return out
+    _, stem_bottom, crown_low = best
+    stem = seg[crown_low + 1:stem_bottom + 1]
+    w_s = float(np.median(stem))
+    if w_s > max_trunk_width * w_max:
+        return out
+    # 3. walk down from the crown while the rows are much wider than the stem
+    k = crown_low
+    while k + 1 <= stem_bottom and seg[k + 1] > jump * w_s:
+        k += 1
+    baseline = top + k  # lowest crown row
+    if (bottom - baseline) < max(min_trunk_height * height, min_aspect * w_s, 1):
+        return out
+    out[baseline + 1:] = m[baseline + 1:]
+    return out
+
+
+def _trunkness(trunk: np.ndarray, opaque: np.ndarray, points: np.ndarray, radius: int) -> np.ndarray:
+    """Fraction of opaque pixels that are trunk in a window around each point."""
+    h, w = opaque.shape
+    if radius <= 0:
+        xi = np.clip(np.round(points[:, 0]).astype(int), 0, w - 1)
+        yi = np.clip(np.round(points[:, 1]).astype(int), 0, h - 1)
+        return trunk[yi, xi].astype(np.float64)
+    k = 2 * radius + 1
+    t = cv2.boxFilter((trunk & opaque).astype(np.float32), -1, (k, k), normalize=False,
+                      borderType=cv2.BORDER_CONSTANT)
+    o = cv2.boxFilter(opaque.astype(np.float32), -1, (k, k), normalize=False,
+                      borderType=cv2.BORDER_CONSTANT)
+    xi = np.clip(np.round(points[:, 0]).astype(int), 0, w - 1)
+    yi = np.clip(np.round(points[:, 1]).astype(int), 0, h - 1)
+    return t[yi, xi] / np.maximum(o[yi, xi], 1.0)
+
+
+def pin_points(contour, alpha, trunk_mask=None, *, radius: float = 0.015) -> PinPoints:
+    """Find the pin points ``B``, ``R``, ``L`` on a tree contour.
+
+    Parameters
+    ----------
+    contour : (K, 2) array_like
+        The tree contour ``C`` (closed, counter-clockwise on screen as
+        returned by :func:`~branchnb.trees.exemplar.extract_contours`;
+        the orientation is fixed here if not).
+    alpha : (H, W) array_like
+        Opacity mask of the tree.
+    trunk_mask : (H, W) array_like, optional
+        Trunk pixels (from the crown/trunk segmentation). None uses
+        :func:`stem_trunk_mask`.
+    radius : float
+        Window radius (fraction of the image size) for labelling contour
+        points as trunk or crown.
+
+    Returns
+    -------
+    PinPoints
+        Indices refer to ``contour`` (after orientation).
+
+    Notes
+    -----
+    ``B`` is the lowest contour point (the median in x of those on the
+    lowest row). If ``B`` is not on the trunk, or the walk from ``B`` never
+    reaches the crown (a bare tree that is all trunk), no trunk is visible
+    and ``L = R = B``.
+    """
+    c = as_points(contour, name="contour", min_points=3)
+    opaque = as_mask(alpha, name="alpha")
+    if signed_area(c) > 0:
+        c = c[::-1]
+    trunk = (stem_trunk_mask(opaque) if trunk_mask is None
+             else as_mask(trunk_mask, shape=opaque.shape, name="trunk_mask"))
+    k = len(c)
+    ymax = c[:, 1].max()
+    low = np.flatnonzero(c[:, 1] >= ymax - 0.5)
+    ib = int(low[np.argsort(c[low, 0], kind="stable")[(len(low) - 1) // 2]])
+    b = c[ib]
+    none = PinPoints(b.copy(), b.copy(), b.copy(), ib, ib, ib, False)
+    if not (trunk & opaque).any():
+        return none
+    r_px = int(round(radius * max(opaque.shape)))
+    is_trunk = _trunkness(trunk, opaque, c, r_px) >= 0.5
+    if not is_trunk[ib]:
+        return none
+    fwd = np.roll(is_trunk, -ib)            # fwd[j] = point ib + j (to the right)
+    stop_r = np.flatnonzero(~fwd)
+    if stop_r.size == 0:
+        return none
+    jr = int(stop_r[0])
+    bwd = fwd[::-1]                          # bwd[j] = point ib - 1 - j
+    jl = int(np.flatnonzero(~bwd)[0]) + 1    # steps backwards
+    if jr + jl >= k - 2:
+        return none
+    ir, il = (ib + jr) % k, (ib - jl) % k
+    return PinPoints(b.copy(), c[ir].copy(), c[il].copy(), ib, ir, il, True)
+
+
+def _arc(points: np.ndarray) -> np.ndarray:
+    return np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(points, axis=0).T))])
+
+
+def _sample_closed(points: np.ndarray, s_new: np.ndarray) -> np.ndarray:
+    """Points at arc lengths ``s_new`` along a closed polyline starting at points[0]."""
+    loop = np.vstack([points, points[:1]])
+    s = _arc(loop)
+    keep = np.concatenate([[True], np.diff(s) > 1e-12])
+    s, loop = s[keep], loop[keep]
+    return np.stack([np.interp(s_new, s, loop[:, 0]), np.interp(s_new, s, loop[:, 1])], axis=1)
+
+
+def resample_pinned(contour, pins: PinPoints, n_points: int = 2000,
+                    n_crown: int = 1600) -> np.ndarray:
+    """Resample ``C`` by chord length with fixed point counts between the pin points.
+
+    Parameters
+    ----------
+    contour : (K, 2) array_like
+        The contour the ``pins`` indices refer to.
+    pins : PinPoints
+    n_points, n_crown : int
+        ``N`` and the crown's share (paper: 2000 and 1600).
+
+    Returns
+    -------
+    (N, 2) float64 ndarray
+        ``C_r`` with ``B`` at index 0, ``R`` at ``t = (N - n_crown) / 2`` and
+        ``L`` at ``t + n_crown``; segments ``B -> R``, ``R -> L``, ``L -> B``
+        are each sampled uniformly in arc length. Without a trunk the trunk
+        segments collapse onto ``B``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> sq = np.array([(5, 10), (10, 10), (10, 0), (0, 0), (0, 10)], float)
+    >>> pins = PinPoints(sq[0], sq[1], sq[4], 0, 1, 4, True)
+    >>> cr = resample_pinned(sq, pins, 40, 30)
+    >>> cr[[0, 5, 35]].tolist()
+    [[5.0, 10.0], [10.0, 10.0], [0.0, 10.0]]
+    """
+    c = as_points(contour, name="contour", min_points=3)
+    k = len(c)
+    t_right, n_c, t_left = segment_counts(n_points, n_crown)
+    rolled = np.roll(c, -pins.ib, axis=0)
+    jr = (pins.ir - pins.ib) % k
+    jl = (pins.il - pins.ib) % k
+    if not pins.has_trunk:
+        jr = jl = 0
+    elif not (0 < jr < jl < k):
+        raise ValueError("pins are not in the order B -> R -> L along the contour")
+    loop = np.vstack([rolled, rolled[:1]])
+    s = _arc(loop)
+    s_b, s_end = 0.0, s[-1]
+    s_r, s_l = (s[jr], s[jl]) if pins.has_trunk else (0.0, s_end)
+    s_new = np.concatenate([
+        np.linspace(s_b, s_r, t_right, endpoint=False),
+        np.linspace(s_r, s_l, n_c, endpoint=False),
+        np.linspace(s_l, s_end, t_left, endpoint=False),
+    ])
+    return _sample_closed(rolled, s_new)
+
+
+def shape_vector(resampled) -> np.ndarray:
+    """Mean-subtracted ``2N`` shape vector ``(x_0, y_0, x_1, y_1, ...)`` of ``C_r``.
+
+    Examples
+    --------
+    >>> shape_vector([(0, 0), (2, 0), (2, 2), (0, 2)]).tolist()
+    [-1.0, -1.0, 1.0, -1.0, 1.0, 1.0, -1.0, 1.0]
+    """
+    p = as_points(resampled, name="resampled", min_points=1)
+    return (p - p.mean(axis=0)).ravel()
+
+
+def simplify_contour(resampled, n_crown_fraction: float = 0.8, *, m_points: int = 20,
+                     dilation: int = 8, n_points_crown: int | None = None) -> np.ndarray:
+    """Simplified contour ``C_s``: fill ``C_r``, dilate, resample the border to ``M`` points.
+
+    Parameters
+    ----------
+    resampled : (N, 2) array_like
+        ``C_r`` with the pin layout of :func:`resample_pinned`.
+    n_crown_fraction : float
+        Crown share of ``C_r`` (``n_crown / N``, paper: 0.8); sets where
+        ``R`` and ``L`` are in ``C_r`` and the split of ``C_s``.
+    m_points : int
+        ``M`` (paper: 20).
+    dilation : int
+        3 x 3 dilation iterations (paper: 8).
+
+    Returns
+    -------
+    (M, 2) float64 ndarray
+        Counter-clockwise on screen, starting at the border point nearest
+        ``B``; the points nearest ``R`` and ``L`` sit at the same fixed
+        indices as in ``C_r``'s proportions (2 and 18 for M = 20), so the
+        simplified contours of different trees correspond too.
+    """
+    cr = as_points(resampled, name="resampled", min_points=6)
+    n = len(cr)
+    n_crown = int(round(n * n_crown_fraction)) if n_points_crown is None else n_points_crown
+    t, _, _ = segment_counts(n, n_crown)
+    b, r, l = cr[0], cr[t], cr[n - t]  # noqa: E741
+    if m_points < 6:
+        raise ValueError(f"m_points must be >= 6, got {m_points}")
+    pad = int(dilation) + 3
+    lo = np.floor(cr.min(axis=0)).astype(int) - pad
+    hi = np.ceil(cr.max(axis=0)).astype(int) + pad
+    size = (int(hi[1] - lo[1]) + 1, int(hi[0] - lo[0]) + 1)
+    local = cr - lo
+    mask = fill_contour(local, size).astype(np.uint8)
+    # Thin contours (no pixel centre inside) still get a footprint.
+    cv2.polylines(mask, [np.round(local).astype(np.int32)], True, 1)
+    if dilation > 0:
+        mask = cv2.dilate(mask, np.ones((3, 3), np.uint8), iterations=int(dilation))
+    borders, _ = cv2.findContours(mask, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
+    border = max(borders, key=cv2.contourArea)[:, 0, :].astype(np.float64) + lo
+    if signed_area(border) > 0:
+        border = border[::-1]
+    ib = int(np.argmin(np.hypot(*(border - b).T)))
+    border = np.roll(border, -ib, axis=0)
+    loop = np.vstack([border, border[:1]])
+    s = _arc(loop)
+    total = s[-1]
+    s_pts = s[:-1]
+    sr = float(s_pts[np.argmin(np.hypot(*(border - r).T))])
+    sl = float(s_pts[np.argmin(np.hypot(*(border - l).T))])
+    mt, mc, _ = segment_counts(m_points, int(round(m_points * n_crown / n)))
+    gap = 0.5 * total / m_points
+    # Keep the order B -> R -> L and distinct vertices even for a tiny or absent trunk.
+    if not (0 < sr < sl < total):
+        sr, sl = gap, total - gap
+    sr = min(max(sr, gap), total - 3 * gap)
+    sl = max(min(sl, total - gap), sr + 2 * gap)
+    s_new = np.concatenate([
+        np.linspace(0.0, sr, mt, endpoint=False),
+        np.linspace(sr, sl, mc, endpoint=False),
+        np.linspace(sl, total, mt, endpoint=False),
+    ])
+    return _sample_closed(border, s_new)
+
+
+@dataclass
+class TreeContour:
+    """The contour data of one tree: ``C``, pin points, ``C_r``, shape vector and ``C_s``.
+
+    Attributes
+    ----------
+    contour : (K, 2) ndarray
+        ``C`` (border pixel centres, counter-clockwise on screen).
+    pins : PinPoints
+        ``B``, ``R``, ``L`` with indices into ``contour``.
+    resampled : (N, 2) ndarray
+        ``C_r``.
+    simplified : (M, 2) ndarray
+        ``C_s``.
+    params : ContourParams
+    shape : (H, W)
+        Size of the image the contour lives in.
+    """
+
+    contour: np.ndarray
+    pins: PinPoints
+    resampled: np.ndarray
+    simplified: np.ndarray
+    params: ContourParams
+    shape: tuple[int, int]
+
+    @property
+    def pin_indices(self) -> tuple[int, int, int]:
+        """Fixed indices of ``B``, ``R``, ``L`` in ``C_r`` (0, 200, 1800 for the paper)."""
+        t, c, _ = segment_counts(self.params.n_points, self.params.n_crown)
+        return 0, t, t + c
+
+    @property
+    def centroid(self) -> np.ndarray:
+        """Mean of ``C_r``."""
+        return self.resampled.mean(axis=0)
+
+    @property
+    def vector(self) -> np.ndarray:
+        """Mean-subtracted 2N shape vector."""
+        return shape_vector(self.resampled)
+
+    def render(self, background=None) -> np.ndarray:
+        """RGB picture: ``C_r`` (green), ``C_s`` (orange), ``B``/``R``/``L`` (red/blue/magenta)."""
+        h, w = self.shape
+        bg = np.ones((h, w, 3), np.float32) if background is None else composite_over(
+            background, (1.0, 1.0, 1.0)) * 0.5 + 0.5
+        lw = max(1.0, h / 300)
+        img = draw_polylines(bg, [np.vstack([self.resampled, self.resampled[:1]])],
+                             widths=lw, colors=(0.1, 0.6, 0.1))
+        img = draw_polylines(img, [np.vstack([self.simplified, self.simplified[:1]])],
+                             widths=lw, colors=(0.95, 0.5, 0.0))
+        img = draw_polylines(img, [p[None] for p in self.simplified], widths=3 * lw,
+                             colors=(0.95, 0.5, 0.0))
+        i_b, i_r, i_l = self.pin_indices
+        for idx, col in ((i_b, (0.9, 0.0, 0.0)), (i_r, (0.0, 0.2, 0.9)), (i_l, (0.8, 0.0, 0.8))):
+            img = draw_polylines(img, [self.resampled[idx][None]], widths=6 * lw, colors=col)
+        return img
+
+    def _repr_png_(self) -> bytes:
+        return encode_png(self.render())
+
+
+def tree_contour(contour, alpha, trunk_mask=None, params: ContourParams | None = None,
+                 **overrides) -> TreeContour:
+    """All contour steps for one tree: pin points, ``C_r`` and ``C_s``.
+
+    Parameters
+    ----------
+    contour : (K, 2) array_like
+        The tree contour ``C``.
+    alpha : (H, W) array_like
+        Opacity mask of the tree.
+    trunk_mask : (H, W) array_like, optional
+        Trunk pixels; None uses :func:`stem_trunk_mask`.
+    params : ContourParams, optional
+    **overrides
+        Fields of ``params`` to override (e.g. ``m_points=30``).
+
+    Returns
+    -------
+    TreeContour
+    """
+    p = params if params is not None else ContourParams()
+    if overrides:
+        p = replace(p, **overrides)
+    p = _check_contour_params(p)
+    opaque = as_mask(alpha, name="alpha")
+    c = as_points(contour, name="contour", min_points=3)
+    if signed_area(c) > 0:
+        c = c[::-1].copy()
+    pins = pin_points(c, opaque, trunk_mask, radius=p.trunk_radius)
+    cr = resample_pinned(c, pins, p.n_points, p.n_crown)
+    cs = simplify_contour(cr, m_points=p.m_points, dilation=p.dilation, n_points_crown=p.n_crown)
+    return TreeContour(c, pins, cr, cs, p, opaque.shape)

@@ -1,0 +1,872 @@
+"""Tree variations: a library of processed exemplars and new trees made from them.
+
+This module strings the paper's steps together:
+
+1. every library image is **processed once** (:func:`process_exemplar`):
+   normalised, its tree contour ``C`` extracted, the pin points found from
+   the crown/trunk split, resampled to ``C_r`` (``N = 2000``) and simplified
+   to the cage ``C_s`` (``M = 20``);
+2. a **variation** (:func:`make_variation`) combines the ``C_r`` of some
+   exemplars with convex weights (user weights or a Dirichlet draw), fills
+   the combined contour for the new alpha mask, simplifies it to the target
+   cage, and colours it from the exemplars through mean value coordinates;
+   an optional reference tree recolours the result by histogram transfer;
+3. **variations of one tree** ``T`` (:func:`tree_variations`) keep ``T``
+   recognisable by giving it a guaranteed share ``keep`` of both the shape
+   and the colour weights, the rest going to random other exemplars.
+
+:class:`TreeLibrary` holds the processed exemplars and offers the same
+operations as methods. Results are :class:`Variation` objects that show
+themselves in a notebook.
+
+Examples
+--------
+>>> from branchnb.trees import TreeLibrary
+>>> lib = TreeLibrary.from_data(["tree_rpg_01", "tree_rpg_03"], size=256)
+>>> v = lib.variation([0.5, 0.5], rng=1)
+>>> v.image.shape, v.names
+((256, 256, 4), ('tree_rpg_01', 'tree_rpg_03'))
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field, replace
+
+import cv2
+import numpy as np
+
+from .. import data as _data
+from ..core.image import as_float_image, as_mask, composite_over
+from ..core.io import encode_png
+from ..core.params import check_params, param
+from ..core.random import as_rng
+from ..core.render import draw_polylines
+from .contour import ContourParams, TreeContour, simplify_contour, stem_trunk_mask, tree_contour
+from .exemplar import ContourSet, ExemplarParams, Normalized, extract_contours, normalize_exemplar
+from .histogram_transfer import histogram_transfer
+from .morph import check_weights, combine_shapes, dirichlet_weights, fill_contour
+from .mvc import transfer_colour
+
+__all__ = [
+    "RPG_TREES",
+    "Exemplar",
+    "process_exemplar",
+    "exemplar_trunk",
+    "TRUNK_METHODS",
+    "VariationParams",
+    "Variation",
+    "TreeLibrary",
+    "make_variation",
+    "variation_weights",
+    "nearby_weights",
+    "similar_variations",
+    "tree_variations",
+    "morph_sequence",
+    "tile_images",
+]
+
+#: The 14 RPG map sprites of ``branchnb.data``: one consistent drawing style
+#: (broadleaf, conifer, bare and palm trees), the default library.
+RPG_TREES = tuple(f"tree_rpg_{i:02d}" for i in range(1, 15))
+
+
+# ----------------------------------------------------------------------------- exemplars
+
+
+@dataclass(eq=False)
+class Exemplar:
+    """A processed library tree.
+
+    Attributes
+    ----------
+    name : str
+    image : (S, S, 4) float32 ndarray
+        The normalised exemplar (binary alpha, black background).
+    trunk : (S, S) bool ndarray
+        Trunk pixels used for the pin points.
+    contours : ContourSet
+        Exterior/interior borders; ``contours.tree`` is ``C``.
+    contour : TreeContour
+        Pin points, ``C_r`` and ``C_s`` (with the default ``M``).
+    normalized : Normalized
+        The crop/scale that maps the source image to the working image.
+    trunk_source : str
+        ``"mask"`` (given), ``"segmentation"``
+        (:func:`~branchnb.trees.segmentation.segment_tree`) or ``"stem"``
+        (the geometric :func:`~branchnb.trees.contour.stem_trunk_mask`).
+    """
+
+    name: str
+    image: np.ndarray
+    trunk: np.ndarray
+    contours: ContourSet
+    contour: TreeContour
+    normalized: Normalized
+    trunk_source: str = "stem"
+    _cages: dict = field(default_factory=dict, repr=False, compare=False)
+
+    @property
+    def size(self) -> int:
+        """Working size ``S``."""
+        return int(self.image.shape[0])
+
+    @property
+    def alpha(self) -> np.ndarray:
+        """Binary opacity ``(S, S)``."""
+        return self.image[:, :, 3] >= 0.5
+
+    @property
+    def resampled(self) -> np.ndarray:
+        """``C_r`` (N, 2)."""
+        return self.contour.resampled
+
+    @property
+    def vector(self) -> np.ndarray:
+        """Mean-subtracted 2N shape vector."""
+        return self.contour.vector
+
+    def cage(self, m_points: int | None = None) -> np.ndarray:
+        """Simplified contour ``C_s`` with ``M = m_points`` vertices (cached)."""
+        p = self.contour.params
+        m = p.m_points if m_points is None else int(m_points)
+        if m == p.m_points:
+            return self.contour.simplified
+        if m not in self._cages:
+            self._cages[m] = simplify_contour(self.contour.resampled, m_points=m,
+                                              dilation=p.dilation, n_points_crown=p.n_crown)
+        return self._cages[m]
+
+    def with_trunk(self, trunk, source: str = "mask") -> Exemplar:
+        """The same exemplar with another trunk mask (working-image pixels): new pin
+        points, ``C_r`` and ``C_s``. Used to apply a corrected segmentation."""
+        t = as_mask(trunk, shape=self.alpha.shape, name="trunk") & self.alpha
+        tc = tree_contour(self.contours.tree, self.alpha, t, self.contour.params)
+        return Exemplar(self.name, self.image, t, self.contours, tc, self.normalized, source)
+
+    def render(self) -> np.ndarray:
+        """RGB: the exemplar with ``C_r``, ``C_s`` and the pin points drawn on it."""
+        return self.contour.render(self.image)
+
+    def render_trunk(self) -> np.ndarray:
+        """RGB: the exemplar with the trunk tinted red and ``B``, ``R``, ``L`` marked."""
+        img = composite_over(self.image, (1.0, 1.0, 1.0))
+        img[self.trunk] = 0.45 * img[self.trunk] + 0.55 * np.array([0.9, 0.1, 0.1], np.float32)
+        lw = max(1.0, self.size / 300)
+        p = self.contour.pins
+        for pt, col in ((p.b, (0.9, 0.0, 0.0)), (p.r, (0.0, 0.2, 0.9)), (p.l, (0.8, 0.0, 0.8))):
+            img = draw_polylines(img, [np.asarray(pt, float)[None]], widths=8 * lw, colors=col)
+        return img
+
+    def _repr_png_(self) -> bytes:
+        return encode_png(self.render())
+
+
+#: How :func:`process_exemplar` finds the trunk when no mask is given.
+TRUNK_METHODS = ("auto", "segmentation", "stem")
+
+
+def exemplar_trunk(image, method: str = "auto", *, rng=0) -> tuple[np.ndarray, str]:
+    """Trunk mask of a normalised exemplar and the method that produced it.
+
+    Parameters
+    ----------
+    image : (S, S, 4) array_like
+        A normalised exemplar.
+    method : {"auto", "segmentation", "stem"}
+        ``"segmentation"``: the crown/trunk segmenter
+        (:func:`~branchnb.trees.segmentation.segment_tree`); ``"stem"``: the
+        geometric stem estimate (:func:`~branchnb.trees.contour.stem_trunk_mask`);
+        ``"auto"``: the segmentation, unless it leaves (almost) no crown (a
+        bare tree is all wood), where the pin points would collapse onto
+        ``B``; then the stem estimate, so a bare tree's trunk still lines
+        up with the trunks of leafy trees.
+    rng : int
+        Seed of the segmenter's random forest.
+
+    Returns
+    -------
+    trunk : (S, S) bool ndarray
+    source : str
+        ``"segmentation"`` or ``"stem"``.
+    """
+    if method not in TRUNK_METHODS:
+        raise ValueError(f"trunk must be one of {list(TRUNK_METHODS)}, got {method!r}")
+    img = as_float_image(image, name="image")
+    alpha = img[:, :, 3] >= 0.5
+    if method == "stem":
+        return stem_trunk_mask(alpha), "stem"
+    from .segmentation import segment_tree
+
+    trunk = segment_tree(img, rng=rng).trunk & alpha
+    crown = alpha & ~trunk
+    if method == "auto" and crown.sum() < 0.02 * alpha.sum():
+        return stem_trunk_mask(alpha), "stem"
+    return trunk, "segmentation"
+
+
+def process_exemplar(image, name: str = "", *, trunk_mask=None, trunk: str = "auto",
+                     exemplar_params: ExemplarParams | None = None,
+                     contour_params: ContourParams | None = None, **overrides) -> Exemplar:
+    """Process one tree image for the library (normalise, contour, pins, ``C_r``, ``C_s``).
+
+    Parameters
+    ----------
+    image : (H, W, 4) array_like
+        RGBA tree with a transparent background (an RGB picture needs an
+        alpha first: :func:`~branchnb.trees.exemplar.alpha_from_background`).
+    name : str
+        Label of the exemplar.
+    trunk_mask : (H, W) array_like, optional
+        Trunk pixels in ``image`` (e.g. a hand-corrected segmentation).
+    trunk : {"auto", "segmentation", "stem"}
+        How to find the trunk without ``trunk_mask`` (see
+        :func:`exemplar_trunk`; default: the crown/trunk segmentation, the
+        stem estimate for trees without crown).
+    exemplar_params : ExemplarParams, optional
+        Normalisation (``size`` S = 1024, alpha threshold 0.5, components).
+    contour_params : ContourParams, optional
+        ``N``, crown share, ``M``, dilation.
+    **overrides
+        Fields of either parameter set, e.g. ``size=512`` or ``m_points=30``.
+
+    Returns
+    -------
+    Exemplar
+
+    Raises
+    ------
+    ValueError
+        No alpha channel, fully transparent/opaque image, several trees
+        with ``components="error"``, a bad trunk mask.
+
+    Examples
+    --------
+    >>> from branchnb import data
+    >>> ex = process_exemplar(data.load("tree_rpg_05"), "rpg_05", size=256)
+    >>> ex.resampled.shape, ex.cage().shape, ex.contour.pin_indices
+    ((2000, 2), (20, 2), (0, 200, 1800))
+    """
+    ep = exemplar_params if exemplar_params is not None else ExemplarParams()
+    cp = contour_params if contour_params is not None else ContourParams()
+    e_fields = {f for f in ExemplarParams.__dataclass_fields__}
+    c_fields = {f for f in ContourParams.__dataclass_fields__}
+    unknown = set(overrides) - e_fields - c_fields
+    if unknown:
+        raise TypeError(f"unknown parameter(s) {sorted(unknown)}; "
+                        f"ExemplarParams: {sorted(e_fields)}, ContourParams: {sorted(c_fields)}")
+    ep = replace(ep, **{k: v for k, v in overrides.items() if k in e_fields})
+    cp = replace(cp, **{k: v for k, v in overrides.items() if k in c_fields})
+    norm = normalize_exemplar(image, ep)
+    if trunk_mask is None:
+        tmask, source = exemplar_trunk(norm.image, trunk)
+    else:
+        tmask, source = norm.warp_mask(trunk_mask) & norm.alpha, "mask"
+    contours = extract_contours(norm.alpha)
+    tc = tree_contour(contours.tree, norm.alpha, tmask, cp)
+    return Exemplar(str(name), norm.image, tmask, contours, tc, norm, source)
+
+
+# ----------------------------------------------------------------------------- variations
+
+
+@dataclass
+class VariationParams:
+    """Parameters of variation synthesis (defaults: the paper's).
+
+    Attributes
+    ----------
+    m_points : int
+        ``M``, vertices of the simplified contours (cages) used by the
+        colour transfer (paper: 20, its speed/quality sweet spot).
+    n_mix : int
+        Random variations mix this many exemplars, picked at random from
+        the selection (0: all of them). The paper draws random convex
+        weights without naming a distribution; mixing all of a dozen trees
+        at once averages them into the same blob every time, while two or
+        three per draw give distinct trees in the style of the library.
+    concentration : float
+        Dirichlet parameter ``alpha`` of random shape weights over the
+        mixed exemplars (1: uniform on the simplex).
+    colour_concentration : float
+        Dirichlet parameter of the random colour weights (the paper's
+        "random convex combination"). The default 0.3 usually lets one
+        exemplar dominate the colour, which keeps drawn details (outlines,
+        branches) from ghosting; raise it for smoother mixes.
+    keep : float
+        Variations of one tree ``T``: share of the weights ``T`` keeps.
+    """
+
+    m_points: int = param(20, min=6, max=100, step=1, help="M, cage vertices (paper: 20)")
+    n_mix: int = param(3, min=0, max=50, step=1,
+                       help="exemplars mixed per random variation (0: all)")
+    concentration: float = param(1.0, min=0.05, max=20.0, step=0.05, log=True,
+                                 help="Dirichlet concentration of random shape weights")
+    colour_concentration: float = param(0.3, min=0.05, max=20.0, step=0.05, log=True,
+                                        help="Dirichlet concentration of random colour weights")
+    keep: float = param(0.5, min=0.0, max=1.0, step=0.05,
+                        help="variations of T: minimum weight of T")
+
+
+@dataclass(eq=False)
+class Variation:
+    """A synthesised tree.
+
+    Attributes
+    ----------
+    image : (S, S, 4) float32 ndarray
+        Straight RGBA; alpha is the maximum of the exemplars' sampled
+        alphas inside the new contour.
+    names : tuple of str
+        The exemplars combined.
+    weights : (k,) ndarray
+        Convex shape weights, one per exemplar in ``names``.
+    colour_weights : (k,) ndarray
+        Convex colour weights.
+    resampled : (N, 2) ndarray
+        The combined contour ``C_r``.
+    cage : (M, 2) ndarray
+        Its simplified contour ``C_s`` (the target cage).
+    mask : (S, S) bool ndarray
+        The filled combined contour.
+    reference : str or None
+        Name of the histogram-transfer reference, if any.
+    """
+
+    image: np.ndarray
+    names: tuple
+    weights: np.ndarray
+    colour_weights: np.ndarray
+    resampled: np.ndarray
+    cage: np.ndarray
+    mask: np.ndarray
+    reference: str | None = None
+
+    @property
+    def rgb(self) -> np.ndarray:
+        """The tree over a white background, ``(S, S, 3)``."""
+        return composite_over(self.image, (1.0, 1.0, 1.0))
+
+    def label(self, digits: int = 2) -> str:
+        """Short text: the nonzero weights, e.g. ``"0.6 tree_rpg_01 + 0.4 tree_rpg_03"``."""
+        return " + ".join(f"{w:.{digits}f} {n}" for n, w in zip(self.names, self.weights) if w > 0)
+
+    def _repr_png_(self) -> bytes:
+        return encode_png(self.rgb)
+
+
+def _as_exemplars(library) -> list[Exemplar]:
+    if isinstance(library, TreeLibrary):
+        return list(library.exemplars)
+    if isinstance(library, Exemplar):
+        return [library]
+    if isinstance(library, Sequence) and all(isinstance(e, Exemplar) for e in library):
+        return list(library)
+    raise TypeError("library must be a TreeLibrary or a sequence of Exemplar, "
+                    f"got {type(library).__name__}")
+
+
+def _select(exemplars: list[Exemplar], use) -> list[Exemplar]:
+    if use is None:
+        return exemplars
+    names = [e.name for e in exemplars]
+    out = []
+    for u in use:
+        if isinstance(u, (int, np.integer)) and not isinstance(u, bool):
+            if not -len(exemplars) <= u < len(exemplars):
+                raise ValueError(f"use: index {u} out of range for {len(exemplars)} exemplars")
+            out.append(exemplars[int(u)])
+        elif isinstance(u, str):
+            if u not in names:
+                raise ValueError(f"use: no exemplar named {u!r}; the library has {names}")
+            out.append(exemplars[names.index(u)])
+        else:
+            raise TypeError(f"use: entries must be names or indices, got {u!r}")
+    if not out:
+        raise ValueError("use selects no exemplar")
+    return out
+
+
+def _check_compatible(exemplars: list[Exemplar]) -> None:
+    e0 = exemplars[0]
+    for e in exemplars[1:]:
+        if e.size != e0.size:
+            raise ValueError(f"exemplars must share the working size: {e0.name!r} is {e0.size}, "
+                             f"{e.name!r} is {e.size}")
+        if e.resampled.shape != e0.resampled.shape or e.contour.pin_indices != e0.contour.pin_indices:
+            raise ValueError(f"exemplars must share N and the crown share: {e0.name!r} and "
+                             f"{e.name!r} differ")
+
+
+def _random_weights(k: int, n_mix: int, concentration: float, rng) -> np.ndarray:
+    """Dirichlet weights over ``n_mix`` exemplars picked at random among ``k`` (0: all)."""
+    rng = as_rng(rng)
+    m = k if n_mix <= 0 or n_mix >= k else int(n_mix)
+    w = np.zeros(k)
+    idx = np.sort(rng.choice(k, size=m, replace=False)) if m < k else np.arange(k)
+    w[idx] = dirichlet_weights(m, concentration, rng=rng)
+    return w
+
+
+def _weights_from(weights, exemplars, rng, concentration, name="weights", n_mix=0):
+    if isinstance(weights, dict):
+        names = [e.name for e in exemplars]
+        unknown = set(weights) - set(names)
+        if unknown:
+            raise ValueError(f"{name}: unknown exemplar(s) {sorted(unknown)}")
+        weights = [float(weights.get(n, 0.0)) for n in names]
+    if weights is None:
+        return _random_weights(len(exemplars), n_mix, concentration, rng)
+    return check_weights(weights, len(exemplars), name=name)
+
+
+def make_variation(library, weights=None, params: VariationParams | None = None, *,
+                   use=None, colour_weights=None, reference=None, rng=None,
+                   **overrides) -> Variation:
+    """Synthesise a new tree as a convex combination of exemplars.
+
+    Parameters
+    ----------
+    library : TreeLibrary or sequence of Exemplar
+    weights : (k,) array_like or dict, optional
+        Convex shape weights ``w_i`` (>= 0, summing to 1), one per selected
+        exemplar, or ``{name: weight}`` (missing names get 0). None picks
+        ``params.n_mix`` exemplars at random and draws their weights from a
+        Dirichlet distribution (``params.concentration``).
+    params : VariationParams, optional
+        ``m_points`` (M = 20), concentrations, ``keep``.
+    use : sequence of str or int, optional
+        The exemplars to combine (default: all of ``library``).
+    colour_weights : (k,) array_like, dict or "shape", optional
+        Convex weights of the exemplars' colours. None draws a random
+        convex combination (the paper), ``"shape"`` reuses ``weights``
+        (a morph).
+    reference : str, Exemplar or (H, W, 4) array_like, optional
+        Recolour the result by histogram transfer to this tree.
+    rng : int or numpy.random.Generator, optional
+    **overrides
+        Fields of ``params``.
+
+    Returns
+    -------
+    Variation
+
+    Raises
+    ------
+    ValueError
+        Weights negative or not summing to 1, wrong count, exemplars of
+        different working sizes, an empty selection.
+
+    Notes
+    -----
+    Exemplars with zero shape weight take no part (so weights ``(1, 0)``
+    return the first exemplar itself). A single exemplar is allowed and
+    reproduces it: its only convex combination is itself.
+
+    Examples
+    --------
+    >>> from branchnb.trees import TreeLibrary
+    >>> lib = TreeLibrary.from_data(["tree_rpg_05", "tree_rpg_06"], size=128)
+    >>> v = make_variation(lib, {"tree_rpg_05": 0.3, "tree_rpg_06": 0.7}, rng=0)
+    >>> v.weights.tolist()
+    [0.3, 0.7]
+    """
+    p = params if params is not None else VariationParams()
+    if overrides:
+        p = replace(p, **overrides)
+    check_params(p)
+    rng = as_rng(rng)
+    exemplars = _select(_as_exemplars(library), use)
+    _check_compatible(exemplars)
+    w = _weights_from(weights, exemplars, rng, p.concentration, n_mix=p.n_mix)
+    if isinstance(colour_weights, str):
+        if colour_weights != "shape":
+            raise ValueError(f"colour_weights must be weights, None or 'shape', got {colour_weights!r}")
+        cw = w.copy()
+    elif colour_weights is None:
+        cw = np.zeros(len(exemplars))
+        idx = np.flatnonzero(w > 0)
+        cw[idx] = dirichlet_weights(len(idx), p.colour_concentration, rng=rng)
+    else:
+        cw = _weights_from(colour_weights, exemplars, rng, p.colour_concentration,
+                           name="colour_weights")
+    used = np.flatnonzero((w > 0) | (cw > 0))
+    s = exemplars[0].size
+    cr = combine_shapes([exemplars[i].resampled for i in used], w[used])
+    # C runs through the border pixel centres: grow the fill by one pixel so
+    # the border pixels are coloured too (alpha comes from the samples).
+    mask = fill_contour(cr, (s, s))
+    mask = cv2.dilate(mask.astype(np.uint8), np.ones((3, 3), np.uint8)).astype(bool)
+    cparams = exemplars[0].contour.params
+    cage = simplify_contour(cr, m_points=p.m_points, dilation=cparams.dilation,
+                            n_points_crown=cparams.n_crown)
+    image = transfer_colour([exemplars[i].image for i in used],
+                            [exemplars[i].cage(p.m_points) for i in used],
+                            cage, mask, colour_weights=cw[used] / cw[used].sum())
+    ref_name = None
+    if reference is not None:
+        ref_img, ref_name = _reference_image(reference, library)
+        image = histogram_transfer(image, ref_img)
+    return Variation(image, tuple(e.name for e in exemplars), w, cw, cr, cage, mask, ref_name)
+
+
+def _reference_image(reference, library) -> tuple[np.ndarray, str]:
+    if isinstance(reference, Exemplar):
+        return reference.image, reference.name
+    if isinstance(reference, str):
+        if isinstance(library, TreeLibrary) and reference in library.names:
+            return library[reference].image, reference
+        try:
+            return _data.load(reference), reference
+        except (KeyError, ValueError, FileNotFoundError) as exc:
+            raise ValueError(f"reference: no library tree or sample named {reference!r}") from exc
+    return as_float_image(reference, name="reference"), "image"
+
+
+def nearby_weights(centre, keep: float = 0.6, *, concentration=1.0, n_mix: int = 0,
+                   rng=None) -> np.ndarray:
+    """Random convex weights near ``centre``: ``keep centre + (1 - keep) d``.
+
+    ``d`` is a Dirichlet draw over ``n_mix`` exemplars picked at random (0:
+    all). Every exemplar keeps at least ``keep`` times its weight in
+    ``centre``, so the result stays recognisably like the centre mix.
+
+    Examples
+    --------
+    >>> w = nearby_weights([0.5, 0.5, 0.0], 0.8, rng=0)
+    >>> bool(w[0] >= 0.4 and w[1] >= 0.4 and abs(w.sum() - 1) < 1e-12)
+    True
+    """
+    c = check_weights(centre, name="centre")
+    if not 0.0 <= float(keep) <= 1.0:
+        raise ValueError(f"keep must lie in [0, 1], got {keep}")
+    w = keep * c + (1.0 - keep) * _random_weights(len(c), n_mix, concentration, rng)
+    return w / w.sum()
+
+
+def variation_weights(k: int, index: int, keep: float = 0.5, *, concentration=1.0,
+                      n_mix: int = 0, rng=None) -> np.ndarray:
+    """Random convex weights in which exemplar ``index`` keeps at least ``keep``.
+
+    ``w = keep e_index + (1 - keep) d`` with ``d`` a Dirichlet draw over
+    ``n_mix`` exemplars picked at random (0: all ``k``): ``T = index`` keeps
+    ``keep`` plus its share of the rest, so it stays recognisable while the
+    others vary (:func:`nearby_weights` around a corner of the simplex).
+
+    Examples
+    --------
+    >>> w = variation_weights(4, 2, 0.6, rng=0)
+    >>> bool(w[2] >= 0.6 and abs(w.sum() - 1) < 1e-12)
+    True
+    """
+    if not isinstance(k, (int, np.integer)) or k < 1:
+        raise ValueError(f"k must be a positive int, got {k!r}")
+    if not -k <= index < k:
+        raise ValueError(f"index {index} out of range for {k} exemplars")
+    return nearby_weights(np.eye(k)[index], keep, concentration=concentration, n_mix=n_mix,
+                          rng=rng)
+
+
+def similar_variations(library, variation: Variation, n: int = 6,
+                       params: VariationParams | None = None, *, keep: float = 0.6,
+                       rng=None, **overrides) -> list[Variation]:
+    """"More like this": random variations around an existing variation's weights.
+
+    Parameters
+    ----------
+    library : TreeLibrary or sequence of Exemplar
+        Must contain the exemplars of ``variation``.
+    variation : Variation
+        The centre; its exemplars, shape and colour weights and reference
+        are reused.
+    n : int
+        Number of variations.
+    keep : float
+        Share of the centre's weights every new variation keeps
+        (:func:`nearby_weights`); the rest is a random Dirichlet mix of
+        ``params.n_mix`` exemplars of the same set.
+
+    Returns
+    -------
+    list of Variation
+    """
+    p = params if params is not None else VariationParams()
+    if overrides:
+        p = replace(p, **overrides)
+    check_params(p)
+    if not isinstance(variation, Variation):
+        raise TypeError(f"variation must be a Variation, got {type(variation).__name__}")
+    if not isinstance(n, (int, np.integer)) or n < 1:
+        raise ValueError(f"n must be a positive int, got {n!r}")
+    chosen = _select(_as_exemplars(library), list(variation.names))
+    rng = as_rng(rng)
+    ref = variation.reference
+    if ref == "image":
+        raise ValueError("the variation's reference was an array; give similar variations "
+                         "a named reference")
+    out = []
+    for _ in range(int(n)):
+        w = nearby_weights(variation.weights, keep, concentration=p.concentration,
+                           n_mix=p.n_mix, rng=rng)
+        cw = nearby_weights(variation.colour_weights, keep, concentration=p.colour_concentration,
+                            n_mix=p.n_mix, rng=rng)
+        out.append(make_variation(chosen, w, p, colour_weights=cw, reference=ref, rng=rng))
+    return out
+
+
+def tree_variations(library, target, n: int = 6, params: VariationParams | None = None, *,
+                    use=None, rng=None, reference=None, **overrides) -> list[Variation]:
+    """Variations of one tree ``T`` that keep it recognisable.
+
+    Parameters
+    ----------
+    library : TreeLibrary or sequence of Exemplar
+        Must contain ``target`` and at least one other exemplar.
+    target : str or int
+        ``T``: the name or index of the user's tree in the library (add a
+        new tree with :meth:`TreeLibrary.add` first).
+    n : int
+        Number of variations.
+    params : VariationParams, optional
+        ``keep`` (0.5) is the minimum shape and colour weight of ``T``;
+        the rest goes to ``n_mix`` random exemplars (``T`` may be among
+        them) with Dirichlet weights.
+    use : sequence, optional
+        The exemplars to mix with (default: all; ``T`` is always used).
+    rng : int or numpy.random.Generator, optional
+    reference : optional
+        Histogram-transfer reference (see :func:`make_variation`).
+
+    Returns
+    -------
+    list of Variation
+
+    Examples
+    --------
+    >>> from branchnb.trees import TreeLibrary
+    >>> lib = TreeLibrary.from_data(["tree_rpg_01", "tree_rpg_02", "tree_rpg_03"], size=128)
+    >>> vs = tree_variations(lib, "tree_rpg_02", 2, rng=0, keep=0.7)
+    >>> [bool(v.weights[1] >= 0.7) for v in vs]
+    [True, True]
+    """
+    p = params if params is not None else VariationParams()
+    if overrides:
+        p = replace(p, **overrides)
+    check_params(p)
+    if not isinstance(n, (int, np.integer)) or n < 1:
+        raise ValueError(f"n must be a positive int, got {n!r}")
+    exemplars = _as_exemplars(library)
+    names = [e.name for e in exemplars]
+    if isinstance(target, str):
+        if target not in names:
+            raise ValueError(f"target {target!r} is not in the library ({names}); add it first")
+        t = names.index(target)
+    else:
+        t = int(target)
+        if not -len(names) <= t < len(names):
+            raise ValueError(f"target index {t} out of range for {len(names)} exemplars")
+        t %= len(names)
+    chosen = _select(exemplars, use)
+    if exemplars[t] not in chosen:
+        chosen = [exemplars[t]] + chosen
+    if len(chosen) < 2:
+        raise ValueError("variations of a tree need at least one other exemplar to mix with")
+    ti = chosen.index(exemplars[t])
+    rng = as_rng(rng)
+    out = []
+    for _ in range(int(n)):
+        w = variation_weights(len(chosen), ti, p.keep, concentration=p.concentration,
+                              n_mix=p.n_mix, rng=rng)
+        cw = np.zeros_like(w)
+        mixed = np.flatnonzero(w > 0)
+        cw[mixed] = variation_weights(len(mixed), int(np.flatnonzero(mixed == ti)[0]), p.keep,
+                                      concentration=p.colour_concentration, rng=rng)
+        out.append(make_variation(chosen, w, p, colour_weights=cw, reference=reference, rng=rng))
+    return out
+
+
+def morph_sequence(library, a, b, steps: int = 5, params: VariationParams | None = None, *,
+                   colour: str = "shape", rng=None, **overrides) -> list[Variation]:
+    """Morph from tree ``a`` to tree ``b``: weights ``(1 - t, t)`` for ``t`` in ``[0, 1]``.
+
+    Parameters
+    ----------
+    library : TreeLibrary or sequence of Exemplar
+    a, b : str or int
+        The two trees.
+    steps : int
+        Number of frames (>= 2), ``t = 0 ... 1``.
+    colour : {"shape", "random"}
+        Colour weights follow the shape weights (a morph) or are random.
+
+    Returns
+    -------
+    list of Variation
+    """
+    if not isinstance(steps, (int, np.integer)) or steps < 2:
+        raise ValueError(f"steps must be an int >= 2, got {steps!r}")
+    if colour not in ("shape", "random"):
+        raise ValueError(f"colour must be 'shape' or 'random', got {colour!r}")
+    pair = _select(_as_exemplars(library), [a, b])
+    rng = as_rng(rng)
+    return [make_variation(pair, [1.0 - t, t], params, rng=rng,
+                           colour_weights="shape" if colour == "shape" else None, **overrides)
+            for t in np.linspace(0.0, 1.0, int(steps))]
+
+
+# ----------------------------------------------------------------------------- library
+
+
+class TreeLibrary:
+    """Processed exemplars that variations are made from.
+
+    Parameters
+    ----------
+    exemplars : sequence of Exemplar, optional
+    size : int
+        Working size ``S`` of trees added later (paper: 1024).
+    contour_params : ContourParams, optional
+        For trees added later.
+    trunk : {"auto", "segmentation", "stem"}
+        How trees added later find their trunk (:func:`exemplar_trunk`).
+
+    Examples
+    --------
+    >>> lib = TreeLibrary.from_data(["tree_rpg_05", "tree_rpg_06"], size=128)
+    >>> len(lib), lib.names
+    (2, ['tree_rpg_05', 'tree_rpg_06'])
+    """
+
+    def __init__(self, exemplars: Sequence[Exemplar] = (), *, size: int = 1024,
+                 contour_params: ContourParams | None = None, trunk: str = "auto"):
+        if trunk not in TRUNK_METHODS:
+            raise ValueError(f"trunk must be one of {list(TRUNK_METHODS)}, got {trunk!r}")
+        self.exemplars: list[Exemplar] = []
+        self.trunk = trunk
+        self.size = int(size)
+        self.contour_params = contour_params if contour_params is not None else ContourParams()
+        check_params(ExemplarParams(size=self.size), name="size")
+        for e in exemplars:
+            self.add_exemplar(e)
+
+    @classmethod
+    def from_data(cls, names: Sequence[str] | None = None, *, size: int = 1024,
+                  contour_params: ContourParams | None = None, trunk: str = "auto") -> TreeLibrary:
+        """A library of sample trees from ``branchnb.data`` (default: :data:`RPG_TREES`)."""
+        lib = cls(size=size, contour_params=contour_params, trunk=trunk)
+        for n in (RPG_TREES if names is None else names):
+            lib.add(_data.load(n), n)
+        return lib
+
+    # -- contents
+    @property
+    def names(self) -> list[str]:
+        return [e.name for e in self.exemplars]
+
+    def __len__(self) -> int:
+        return len(self.exemplars)
+
+    def __iter__(self):
+        return iter(self.exemplars)
+
+    def __contains__(self, name) -> bool:
+        return name in self.names
+
+    def __getitem__(self, key) -> Exemplar:
+        return _select(self.exemplars, [key])[0]
+
+    def index(self, name: str) -> int:
+        """Position of the exemplar called ``name``."""
+        if name not in self.names:
+            raise ValueError(f"no exemplar named {name!r}; the library has {self.names}")
+        return self.names.index(name)
+
+    def add(self, image, name: str | None = None, *, trunk_mask=None) -> Exemplar:
+        """Process an RGBA tree image and add it (see :func:`process_exemplar`)."""
+        name = f"tree_{len(self)}" if name is None else str(name)
+        ex = process_exemplar(image, name, trunk_mask=trunk_mask, trunk=self.trunk,
+                              exemplar_params=ExemplarParams(size=self.size),
+                              contour_params=self.contour_params)
+        return self.add_exemplar(ex)
+
+    def set_trunk(self, name: str, trunk, source: str = "mask") -> Exemplar:
+        """Replace the trunk mask (working-image pixels) of exemplar ``name``,
+        e.g. with a segmentation corrected by scribbles; pins and contours follow."""
+        return self.add_exemplar(self[name].with_trunk(trunk, source))
+
+    def add_exemplar(self, exemplar: Exemplar) -> Exemplar:
+        """Add (or replace, by name) an already processed exemplar."""
+        if not isinstance(exemplar, Exemplar):
+            raise TypeError(f"exemplar must be an Exemplar, got {type(exemplar).__name__}")
+        if self.exemplars:
+            _check_compatible([self.exemplars[0], exemplar])
+        elif exemplar.size != self.size:
+            self.size = exemplar.size
+        if exemplar.name in self.names:
+            self.exemplars[self.index(exemplar.name)] = exemplar
+        else:
+            self.exemplars.append(exemplar)
+        return exemplar
+
+    # -- operations
+    def variation(self, weights=None, params: VariationParams | None = None, **kwargs) -> Variation:
+        """:func:`make_variation` on this library."""
+        return make_variation(self, weights, params, **kwargs)
+
+    def variations_of(self, target, n: int = 6, params: VariationParams | None = None,
+                      **kwargs) -> list[Variation]:
+        """:func:`tree_variations` on this library."""
+        return tree_variations(self, target, n, params, **kwargs)
+
+    def similar(self, variation: Variation, n: int = 6, params: VariationParams | None = None,
+                **kwargs) -> list[Variation]:
+        """:func:`similar_variations` on this library."""
+        return similar_variations(self, variation, n, params, **kwargs)
+
+    def morph(self, a, b, steps: int = 5, params: VariationParams | None = None,
+              **kwargs) -> list[Variation]:
+        """:func:`morph_sequence` on this library."""
+        return morph_sequence(self, a, b, steps, params, **kwargs)
+
+    def thumbnails(self, size: int = 96) -> list[np.ndarray]:
+        """Each exemplar over white, ``(size, size, 3)``."""
+        return [cv2.resize(composite_over(e.image, (1.0, 1.0, 1.0)), (size, size),
+                           interpolation=cv2.INTER_AREA) for e in self.exemplars]
+
+    def contact_sheet(self, size: int = 96, cols: int = 7) -> np.ndarray:
+        """All thumbnails in a grid."""
+        return tile_images(self.thumbnails(size), cols=cols)
+
+    def __repr__(self) -> str:
+        return f"TreeLibrary({len(self)} exemplars, size={self.size}: {', '.join(self.names)})"
+
+    def _repr_png_(self) -> bytes | None:
+        return encode_png(self.contact_sheet()) if self.exemplars else None
+
+
+def tile_images(images: Sequence[np.ndarray], cols: int = 4, *, pad: int = 2,
+                background=(1.0, 1.0, 1.0)) -> np.ndarray:
+    """Lay same-sized RGB(A) images out in a grid (RGBA composited over ``background``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> tile_images([np.zeros((4, 4, 3))] * 3, cols=2, pad=1).shape
+    (9, 9, 3)
+    """
+    if not images:
+        raise ValueError("images is empty")
+    ims = [composite_over(im, background) if np.asarray(im).shape[-1] == 4
+           else np.asarray(im, dtype=np.float32) for im in images]
+    h, w = ims[0].shape[:2]
+    if any(im.shape[:2] != (h, w) for im in ims):
+        raise ValueError("images must all have the same size")
+    cols = max(1, min(int(cols), len(ims)))
+    rows = -(-len(ims) // cols)
+    out = np.empty((rows * h + (rows - 1) * pad, cols * w + (cols - 1) * pad, 3), np.float32)
+    out[:] = np.asarray(background, np.float32)
+    for i, im in enumerate(ims):
+        r, c = divmod(i, cols)
+        out[r * (h + pad):r * (h + pad) + h, c * (w + pad):c * (w + pad) + w] = im[:, :, :3]
+    return out
+

@@ -1,0 +1,573 @@
+"""TreeVariationsApp: mix library trees with sliders, morph, "more like this", recolour.
+
+A thin app over :mod:`branchnb.trees`:
+
+* **library**: a thumbnail per exemplar with a checkbox; the checked trees
+  are mixed;
+* **mix**: one weight slider per checked tree, kept convex (moving one
+  rescales the others so they still sum to 1), "random weights" (a
+  Dirichlet draw from the rng seed), ``M`` (cage vertices, paper: 20), the
+  colour mode (random convex combination as in the paper, or the shape
+  weights), and a reference tree for histogram transfer. The result, the
+  variation before recolouring and the reference are shown side by side,
+  with the R, G and B histograms of reference, source and result and their
+  distances to the reference;
+* **morph**: two trees and a slider ``t`` (weights ``1 - t``, ``t``);
+* **more like this**: a grid of random variations around the current mix
+  (each keeps ``keep`` of its weights); "use" adopts one as the new mix;
+* **segmentation**: the crown/trunk segmentation of a library tree on an
+  annotation canvas; crown/trunk scribbles re-run the segmenter and the
+  corrected trunk moves the tree's pin points (and so every mix using it);
+* **billboard cloud** (when :mod:`branchnb.trees.billboard` is available):
+  the cloud of the current variation or of a library tree, seen from any
+  yaw angle.
+
+Every callback is guarded: errors are shown in the app's error area and the
+app keeps working. Everything the widgets do is a method callable from
+Python (``select``, ``set_weight``, ``random_weights``, ``set_morph``,
+``more_like_this``, ``adopt``, ``segment``, ``build_cloud``, ``set_yaw``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import importlib.util
+
+import cv2
+import ipywidgets as widgets
+import numpy as np
+
+from ..core.image import composite_over
+from ..core.io import encode_png
+from ..trees.histogram_transfer import histogram_transfer, opaque_pixels
+from ..trees.morph import dirichlet_weights
+from ..trees.segmentation import segment_tree
+from ..trees.variations import (
+    TreeLibrary,
+    Variation,
+    VariationParams,
+    exemplar_trunk,
+    make_variation,
+)
+from .canvas import AnnotationCanvas
+from .feedback import ErrorArea
+from .histograms import HistogramCompare
+from .imageview import ImageView
+
+__all__ = ["TreeVariationsApp", "convex_update"]
+
+#: Scribble labels of the segmentation canvas and their colours.
+SEG_LABELS = {"trunk": "#c62828", "crown": "#2e7d32"}
+
+#: Whether the billboard-cloud module is available.
+HAS_BILLBOARD = importlib.util.find_spec("branchnb.trees.billboard") is not None
+
+#: Extra histogram-transfer references offered besides the library trees.
+REFERENCES = ("maple_leaf_03", "maple_leaf_01", "tree_cutout_broadleaf", "evergreen")
+
+
+def convex_update(weights, index: int, value: float) -> np.ndarray:
+    """Set ``weights[index] = value`` and rescale the others so the sum stays 1.
+
+    The others keep their proportions; if they are all zero they share
+    ``1 - value`` equally.
+
+    Examples
+    --------
+    >>> convex_update([0.5, 0.3, 0.2], 0, 0.8).round(3).tolist()
+    [0.8, 0.12, 0.08]
+    >>> convex_update([1.0, 0.0, 0.0], 0, 0.4).round(3).tolist()
+    [0.4, 0.3, 0.3]
+    """
+    w = np.asarray(weights, dtype=np.float64).copy()
+    k = len(w)
+    v = float(np.clip(value, 0.0, 1.0))
+    if k == 1:
+        return np.ones(1)
+    w[index] = 0.0
+    rest = w.sum()
+    w = w * ((1.0 - v) / rest) if rest > 1e-12 else np.full(k, (1.0 - v) / (k - 1))
+    w[index] = v
+    return w
+
+
+def _thumb(image, size: int) -> np.ndarray:
+    return cv2.resize(composite_over(image, (1.0, 1.0, 1.0)), (size, size),
+                      interpolation=cv2.INTER_AREA)
+
+
+class TreeVariationsApp(widgets.VBox):
+    """Interactive image-based tree variations.
+
+    Parameters
+    ----------
+    library : TreeLibrary, optional
+        Processed exemplars (default: the 14 RPG sprites at 512 x 512).
+    selected : sequence of str, optional
+        Trees checked at start (default: the first two).
+    display : int
+        Display width of each result image (screen pixels).
+    thumb : int
+        Thumbnail size.
+    references : sequence of str
+        Sample names offered as histogram-transfer references besides the
+        library trees.
+
+    Attributes
+    ----------
+    variation : Variation or None
+        The current mix (after histogram transfer, if a reference is set).
+    source : Variation or None
+        The same mix before histogram transfer.
+    morph_result : Variation or None
+    similar : list of Variation
+
+    Examples
+    --------
+    >>> lib = TreeLibrary.from_data(["tree_rpg_01", "tree_rpg_03"], size=128)
+    >>> app = TreeVariationsApp(lib)
+    >>> app.set_weight("tree_rpg_01", 0.75)
+    >>> app.weights.tolist()
+    [0.75, 0.25]
+    """
+
+    def __init__(self, library: TreeLibrary | None = None, *, selected=None, display: int = 256,
+                 thumb: int = 72, references=REFERENCES):
+        self.library = library if library is not None else TreeLibrary.from_data(size=512)
+        if not isinstance(self.library, TreeLibrary):
+            raise TypeError(f"library must be a TreeLibrary, got {type(self.library).__name__}")
+        if len(self.library) == 0:
+            raise ValueError("library is empty: add trees first")
+        names = self.library.names
+        sel = list(selected) if selected is not None else names[:2]
+        for n in sel:
+            if n not in names:
+                raise ValueError(f"selected: no tree named {n!r} in the library")
+        self.errors = ErrorArea()
+        g = self.errors.guard
+        self.variation: Variation | None = None
+        self.source: Variation | None = None
+        self.morph_result: Variation | None = None
+        self.similar: list[Variation] = []
+        self._syncing = False
+        self._weights: dict[str, float] = {}
+
+        # -- library thumbnails
+        self.checks: dict[str, widgets.Checkbox] = {}
+        cells = []
+        for ex in self.library:
+            img = widgets.Image(value=encode_png(_thumb(ex.image, thumb)), format="png",
+                                layout=widgets.Layout(width=f"{thumb}px", height=f"{thumb}px"))
+            cb = widgets.Checkbox(value=ex.name in sel, description=ex.name, indent=False,
+                                  layout=widgets.Layout(width=f"{max(thumb, 90)}px"))
+            cb.style.description_width = "0px"
+            cb.observe(g(self._on_check), names="value")
+            self.checks[ex.name] = cb
+            cells.append(widgets.VBox([img, cb], layout=widgets.Layout(align_items="center")))
+        self.thumbnails = widgets.HBox(cells, layout=widgets.Layout(flex_flow="row wrap"))
+
+        # -- mix controls
+        self.sliders_box = widgets.VBox()
+        self.sliders: dict[str, widgets.FloatSlider] = {}
+        self.m_points = widgets.IntSlider(value=VariationParams().m_points, min=6, max=60,
+                                          description="M", continuous_update=False,
+                                          tooltip="cage vertices of the colour transfer (paper: 20)")
+        self.rng = widgets.BoundedIntText(value=0, min=0, max=2**31 - 1, description="rng seed",
+                                          layout=widgets.Layout(width="180px"))
+        self.colour_mode = widgets.Dropdown(options=[("random (paper)", "random"),
+                                                     ("= shape weights", "shape")],
+                                            value="random", description="colour")
+        refs = [("none", None)] + [(n, n) for n in names] + [(n, n) for n in references
+                                                             if n not in names]
+        self.reference = widgets.Dropdown(options=refs, value=None, description="reference")
+        self.random_button = widgets.Button(description="random weights", icon="random",
+                                            layout=widgets.Layout(width="auto"))
+        self.random_button.on_click(g(lambda _: self.random_weights()))
+        for w in (self.m_points, self.rng, self.colour_mode, self.reference):
+            w.observe(g(lambda _c: self.update()), names="value")
+        self.views = ImageView(width=int(display))
+        self.hists = [HistogramCompare(bins=16, metric="l1", title=f"{c} channel", width=560,
+                                       height=130) for c in ("red", "green", "blue")]
+        self.status = widgets.HTML()
+        mix = widgets.VBox([
+            widgets.HBox([
+                widgets.VBox([widgets.HTML("<b>weights</b> (kept convex)"), self.sliders_box,
+                              self.random_button],
+                             layout=widgets.Layout(width="430px")),
+                widgets.VBox([self.m_points, self.rng, self.colour_mode, self.reference]),
+            ]),
+            self.status, self.views, *self.hists,
+        ])
+
+        # -- morph
+        self.morph_a = widgets.Dropdown(options=names, value=names[0], description="tree a")
+        self.morph_b = widgets.Dropdown(options=names, value=names[min(1, len(names) - 1)],
+                                        description="tree b")
+        self.morph_t = widgets.FloatSlider(value=0.5, min=0.0, max=1.0, step=0.05,
+                                           description="t", continuous_update=False)
+        for w in (self.morph_a, self.morph_b, self.morph_t):
+            w.observe(g(self._on_morph_widget), names="value")
+        self.morph_view = ImageView(width=int(display))
+        morph = widgets.VBox([widgets.HBox([self.morph_a, self.morph_b, self.morph_t]),
+                              self.morph_view])
+
+        # -- more like this
+        self.keep = widgets.FloatSlider(value=0.6, min=0.0, max=1.0, step=0.05, description="keep",
+                                        continuous_update=False,
+                                        tooltip="share of the current weights each variation keeps")
+        self.n_similar = widgets.IntSlider(value=6, min=1, max=12, description="count",
+                                           continuous_update=False)
+        self.more_button = widgets.Button(description="more like this", icon="th",
+                                          layout=widgets.Layout(width="auto"))
+        self.more_button.on_click(g(lambda _: self.more_like_this()))
+        self.grid = widgets.HBox(layout=widgets.Layout(flex_flow="row wrap"))
+        self._grid_size = max(96, int(display) // 2)
+        similar = widgets.VBox([widgets.HBox([self.keep, self.n_similar, self.more_button]),
+                                self.grid])
+
+        # -- segmentation (scribble correction)
+        self.segmentation = None
+        self._scribbles: dict[str, str] = {}
+        self._loading_scribbles = False
+        self.seg_tree = widgets.Dropdown(options=names, value=names[0], description="tree")
+        self.seg_tree.observe(g(lambda _c: self._on_seg_tree()), names="value")
+        self.seg_canvas = AnnotationCanvas(self.library[names[0]].image, mode="scribble",
+                                           modes=("scribble", "pan"), labels=SEG_LABELS,
+                                           max_display=int(max(256, 1.5 * display)))
+        self.seg_canvas.model.observe(g(self._on_scribble))
+        self.seg_reset = widgets.Button(description="automatic", icon="undo",
+                                        tooltip="drop the scribbles of this tree",
+                                        layout=widgets.Layout(width="auto"))
+        self.seg_reset.on_click(g(lambda _: self.seg_canvas.model.clear()))
+        self.seg_status = widgets.HTML()
+        self.seg_view = ImageView(width=int(display))
+        seg_tab = widgets.VBox([
+            widgets.HBox([self.seg_tree, self.seg_reset]),
+            widgets.HTML("scribble <b>trunk</b> (red) or <b>crown</b> (green) where the "
+                         "segmentation is wrong; the pin points B, R, L follow"),
+            widgets.HBox([self.seg_canvas, self.seg_view]), self.seg_status])
+
+        children = [mix, morph, similar, seg_tab]
+        titles = ["mix", "morph", "more like this", "segmentation"]
+
+        # -- billboard cloud
+        self.cloud = None
+        if HAS_BILLBOARD:
+            self.cloud_source = widgets.Dropdown(options=["current variation"] + names,
+                                                 value="current variation", description="tree")
+            self.cloud_button = widgets.Button(description="build cloud", icon="cubes",
+                                               layout=widgets.Layout(width="auto"))
+            self.cloud_button.on_click(g(lambda _: self.build_cloud()))
+            self.yaw = widgets.FloatSlider(value=30.0, min=-180.0, max=180.0, step=5.0,
+                                           description="yaw", continuous_update=False)
+            self.yaw.observe(g(lambda _c: self.set_yaw()), names="value")
+            self.cloud_view = ImageView(width=int(display))
+            self.cloud_status = widgets.HTML()
+            children.append(widgets.VBox([
+                widgets.HBox([self.cloud_source, self.cloud_button, self.yaw]),
+                self.cloud_status, self.cloud_view]))
+            titles.append("billboard cloud")
+
+        self.tabs = widgets.Tab(children=children)
+        for i, title in enumerate(titles):
+            self.tabs.set_title(i, title)
+        super().__init__([widgets.HTML("<b>library</b> (check the trees to mix)"),
+                          self.thumbnails, self.errors, self.tabs])
+        self._rebuild_sliders()
+        g(self.update)()
+        g(self.set_morph)()
+        g(self._show_segmentation)()
+
+    # -- public API -------------------------------------------------------------
+    @property
+    def selected(self) -> list[str]:
+        """Names of the checked trees, in library order."""
+        return [n for n in self.library.names if self.checks[n].value]
+
+    @property
+    def weights(self) -> np.ndarray:
+        """Shape weights of the checked trees (convex)."""
+        return np.array([self._weights[n] for n in self.selected])
+
+    def params(self) -> VariationParams:
+        return VariationParams(m_points=int(self.m_points.value))
+
+    def select(self, names) -> None:
+        """Check exactly these trees (weights reset to equal shares)."""
+        names = list(names)
+        for n in names:
+            if n not in self.checks:
+                raise ValueError(f"no tree named {n!r} in the library")
+        self._syncing = True
+        try:
+            for n, cb in self.checks.items():
+                cb.value = n in names
+        finally:
+            self._syncing = False
+        self._rebuild_sliders()
+        self.update()
+
+    def set_weights(self, weights) -> None:
+        """Set all weights of the checked trees (dict or sequence; validated as convex)."""
+        from ..trees.morph import check_weights
+
+        sel = self.selected
+        if isinstance(weights, dict):
+            weights = [float(weights.get(n, 0.0)) for n in sel]
+        w = check_weights(weights, len(sel))
+        self._weights = dict(zip(sel, w))
+        self._sync_sliders()
+        self.update()
+
+    def set_weight(self, name: str, value: float) -> None:
+        """Move one slider; the others are rescaled to keep the weights convex."""
+        sel = self.selected
+        if name not in sel:
+            raise ValueError(f"{name!r} is not checked; check it first")
+        w = convex_update(self.weights, sel.index(name), value)
+        self._weights = dict(zip(sel, w))
+        self._sync_sliders()
+        self.update()
+
+    def random_weights(self) -> None:
+        """Draw Dirichlet weights for the checked trees from the rng seed."""
+        sel = self.selected
+        if not sel:
+            raise ValueError("check at least one tree")
+        p = VariationParams()
+        w = dirichlet_weights(len(sel), p.concentration, rng=int(self.rng.value))
+        self.set_weights(w)
+
+    def update(self) -> None:
+        """Recompute the mix and redraw the result, images and histograms."""
+        with self.errors.catch():
+            sel = self.selected
+            if not sel:
+                raise ValueError("check at least one tree of the library to mix")
+            w = self.weights
+            colour = "shape" if self.colour_mode.value == "shape" else None
+            rng = int(self.rng.value)
+            self.source = make_variation(self.library, w, self.params(), use=sel,
+                                         colour_weights=colour, rng=rng)
+            ref = self.reference.value
+            if ref is None:
+                self.variation = self.source
+                dom = sel[int(np.argmax(w))]
+                ref_img = self.library[dom].image
+                images = [self.source.image, ref_img]
+                titles = ["variation", f"largest weight: {dom}"]
+                samples = (ref_img, self.source.image)
+                labels = [dom, "variation"]
+            else:
+                ref_img = self._reference_image(ref)
+                self.variation = dataclasses.replace(
+                    self.source, image=histogram_transfer(self.source.image, ref_img),
+                    reference=ref)
+                images = [self.variation.image, self.source.image, ref_img]
+                titles = ["result", "before transfer", f"reference: {ref}"]
+                samples = (ref_img, self.source.image, self.variation.image)
+                labels = ["reference", "source", "result"]
+            self.views.update(images, titles)
+            px = [opaque_pixels(s) for s in samples]
+            for c, h in enumerate(self.hists):
+                h.update(*[p[:, c] for p in px], labels=labels, range=(0.0, 1.0))
+            cw = self.variation.colour_weights
+            self.status.value = (
+                "shape: " + self.variation.label() + " &nbsp;|&nbsp; colour: "
+                + " + ".join(f"{c:.2f} {n}" for n, c in zip(self.variation.names, cw) if c > 0)
+                + f" &nbsp;|&nbsp; M = {self.m_points.value}")
+
+    def set_morph(self, a: str | None = None, b: str | None = None, t: float | None = None) -> None:
+        """Morph tree ``a`` into tree ``b`` at ``t`` (weights ``1 - t``, ``t``)."""
+        self._syncing = True
+        try:
+            if a is not None:
+                self.morph_a.value = a
+            if b is not None:
+                self.morph_b.value = b
+            if t is not None:
+                self.morph_t.value = float(t)
+        finally:
+            self._syncing = False
+        with self.errors.catch():
+            a, b, t = self.morph_a.value, self.morph_b.value, float(self.morph_t.value)
+            if a == b:
+                self.morph_result = make_variation(self.library, [1.0], self.params(), use=[a])
+            else:
+                self.morph_result = make_variation(self.library, [1.0 - t, t], self.params(),
+                                                   use=[a, b], colour_weights="shape")
+            self.morph_view.update([self.library[a].image, self.morph_result.image,
+                                    self.library[b].image],
+                                   [f"a: {a}", f"t = {t:.2f}", f"b: {b}"])
+
+    def more_like_this(self, n: int | None = None) -> list[Variation]:
+        """Random variations around the current mix, shown in the grid."""
+        with self.errors.catch():
+            if self.variation is None:
+                raise ValueError("no current variation to vary")
+            count = int(self.n_similar.value if n is None else n)
+            self.similar = self.library.similar(self.variation, count, self.params(),
+                                                keep=float(self.keep.value),
+                                                rng=int(self.rng.value) + 1)
+            cells = []
+            for i, v in enumerate(self.similar):
+                img = widgets.Image(value=encode_png(_thumb(v.image, self._grid_size)),
+                                    format="png")
+                btn = widgets.Button(description=f"use {i + 1}", layout=widgets.Layout(width="auto"),
+                                     tooltip=v.label())
+                btn.on_click(self.errors.guard(lambda _b, i=i: self.adopt(i)))
+                cells.append(widgets.VBox([img, btn], layout=widgets.Layout(align_items="center")))
+            self.grid.children = cells
+        return self.similar
+
+    def adopt(self, index: int) -> None:
+        """Make grid variation ``index`` the current mix (its shape weights)."""
+        if not 0 <= index < len(self.similar):
+            raise ValueError(f"index {index} out of range for {len(self.similar)} variations")
+        v = self.similar[index]
+        self._syncing = True
+        try:
+            for n, cb in self.checks.items():
+                cb.value = n in v.names
+        finally:
+            self._syncing = False
+        self._weights = dict(zip(v.names, v.weights))
+        self._rebuild_sliders(keep_weights=True)
+        self.update()
+
+    def segment(self, name: str | None = None, scribbles=None) -> None:
+        """Segment library tree ``name`` (default: the one shown) with optional
+        scribbles and give the library the new trunk (pins follow)."""
+        name = self.seg_tree.value if name is None else name
+        ex = self.library[name]
+        shapes = self.seg_canvas.model.of_kind("scribble") if scribbles is None else scribbles
+        if name != self.seg_tree.value and scribbles is None:
+            shapes = []
+        if shapes:
+            seg = segment_tree(ex.image, scribbles=shapes)
+            self.segmentation = seg
+            self.library.set_trunk(name, seg.trunk, "scribbles")
+        else:  # back to the library's automatic trunk
+            trunk, source = exemplar_trunk(ex.image, self.library.trunk)
+            self.segmentation = None
+            self.library.set_trunk(name, trunk, source)
+        self._show_segmentation()
+        if name in self.selected or name in (self.morph_a.value, self.morph_b.value):
+            self.update()
+            self.set_morph()
+
+    def build_cloud(self, source: str | None = None, yaw: float | None = None):
+        """Build the billboard cloud of the current variation or a library tree."""
+        if not HAS_BILLBOARD:
+            raise RuntimeError("branchnb.trees.billboard is not available")
+        from ..trees.billboard import billboard_cloud
+
+        with self.errors.catch():
+            if source is not None:
+                self.cloud_source.value = source
+            src = self.cloud_source.value
+            if src == "current variation":
+                if self.variation is None:
+                    raise ValueError("no current variation")
+                self.cloud = billboard_cloud(self.variation.image, rng=int(self.rng.value))
+            else:
+                ex = self.library[src]
+                self.cloud = billboard_cloud(ex.image, ex.trunk, rng=int(self.rng.value))
+            counts = ", ".join(f"{k} {v}" for k, v in self.cloud.counts().items())
+            self.cloud_status.value = f"{self.cloud.n_billboards} billboards ({counts})"
+            self.set_yaw(yaw)
+        return self.cloud
+
+    def set_yaw(self, yaw: float | None = None) -> None:
+        """Render the billboard cloud from ``yaw`` degrees (0: the input view)."""
+        if yaw is not None:
+            self._syncing = True
+            try:
+                self.yaw.value = float(yaw)
+            finally:
+                self._syncing = False
+        if self.cloud is None:
+            return
+        y = float(self.yaw.value)
+        self.cloud_view.update([self.cloud.render(0.0), self.cloud.render(y)],
+                               ["front view (yaw 0)", f"yaw {y:.0f} deg"])
+
+    # -- internals ----------------------------------------------------------------
+    def _seg_overlay(self, ex) -> np.ndarray:
+        over = np.zeros(ex.image.shape[:2] + (4,), np.float32)
+        crown = ex.alpha & ~ex.trunk
+        over[crown] = (0.1, 0.8, 0.1, 0.35)
+        over[ex.trunk] = (0.9, 0.1, 0.1, 0.45)
+        return over
+
+    def _show_segmentation(self) -> None:
+        ex = self.library[self.seg_tree.value]
+        self.seg_canvas.set_overlay(self._seg_overlay(ex))
+        self.seg_view.update([ex.render()], ["pins B (red), R (blue), L (magenta); C_r, C_s"])
+        p = ex.contour.pins
+        self.seg_status.value = (
+            f"trunk from <b>{ex.trunk_source}</b>: {ex.trunk.sum() / max(ex.alpha.sum(), 1):.1%} of "
+            f"the tree &nbsp;|&nbsp; B ({p.b[0]:.0f}, {p.b[1]:.0f}), R ({p.r[0]:.0f}, {p.r[1]:.0f}), "
+            f"L ({p.l[0]:.0f}, {p.l[1]:.0f})" + ("" if p.has_trunk else " (no trunk: L = R = B)"))
+
+    def _on_seg_tree(self) -> None:
+        self._loading_scribbles = True
+        try:
+            name = self.seg_tree.value
+            self.seg_canvas.set_image(self.library[name].image)
+            self.seg_canvas.model.load_json(self._scribbles.get(name, '{"shapes": []}'))
+        finally:
+            self._loading_scribbles = False
+        self._show_segmentation()
+
+    def _on_scribble(self, _event) -> None:
+        if self._loading_scribbles:
+            return
+        name = self.seg_tree.value
+        self._scribbles[name] = self.seg_canvas.model.to_json()
+        self.segment(name)
+
+    # -- internals (mix) ------------------------------------------------------------
+    def _reference_image(self, ref: str) -> np.ndarray:
+        if ref in self.library.names:
+            return self.library[ref].image
+        from .. import data
+
+        return data.load(ref)
+
+    def _on_morph_widget(self, _change) -> None:
+        if not self._syncing:
+            self.set_morph()
+
+    def _on_check(self, _change) -> None:
+        if self._syncing:
+            return
+        self._rebuild_sliders()
+        self.update()
+
+    def _rebuild_sliders(self, keep_weights: bool = False) -> None:
+        sel = self.selected
+        if not keep_weights:
+            self._weights = {n: 1.0 / len(sel) for n in sel} if sel else {}
+        self.sliders = {}
+        for n in sel:
+            s = widgets.FloatSlider(value=self._weights[n], min=0.0, max=1.0, step=0.01,
+                                    description=n, continuous_update=False,
+                                    style={"description_width": "110px"},
+                                    layout=widgets.Layout(width="420px"))
+            s.observe(self.errors.guard(lambda c, n=n: self._on_slider(n, c["new"])), names="value")
+            self.sliders[n] = s
+        self.sliders_box.children = list(self.sliders.values())
+
+    def _sync_sliders(self) -> None:
+        self._syncing = True
+        try:
+            for n, s in self.sliders.items():
+                s.value = round(float(self._weights[n]), 4)
+        finally:
+            self._syncing = False
+
+    def _on_slider(self, name: str, value: float) -> None:
+        if self._syncing:
+            return
+        self.set_weight(name, value)

@@ -1,0 +1,154 @@
+"""StrokeEditApp driven from Python: mouse strokes, control clicks, sliders, errors."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from branchnb.strokes import pair_color_hex
+from branchnb.widgets.strokes import StrokeEditApp, strokes_from_shapes
+
+
+def send(canvas, event: str, x: float, y: float):
+    top = canvas.canvas._canvases[-1]
+    top._handle_frontend_event(top, {"event": event, "x": x, "y": y}, [])
+
+
+def drag(canvas, points):
+    """Press, drag through ``points`` (image pixels) and release: a freehand stroke."""
+    canvas.mode = "stroke"
+    pts = [canvas.image_to_view(*p) for p in points]
+    send(canvas, "mouse_down", *pts[0])
+    for p in pts[1:]:
+        send(canvas, "mouse_move", *p)
+    send(canvas, "mouse_up", *pts[-1])
+
+
+def click(canvas, x, y, mode="point"):
+    canvas.mode = mode
+    send(canvas, "mouse_down", *canvas.image_to_view(x, y))
+    send(canvas, "mouse_up", *canvas.image_to_view(x, y))
+
+
+def striped_bar(shape=(60, 160)):
+    """An RGBA bar with stripes along x (so every part of it looks different)."""
+    h, w = shape
+    img = np.zeros((h, w, 4), np.float32)
+    x = np.arange(10, w - 10)
+    img[22:38, 10:w - 10, 0] = 0.5 + 0.4 * np.sin(x / 4.0)
+    img[22:38, 10:w - 10, 1] = np.linspace(0.2, 0.8, len(x))
+    img[22:38, 10:w - 10, 2] = 0.3
+    img[22:38, 10:w - 10, 3] = 1.0
+    return img
+
+
+SRC = [(14, 30), (60, 30), (100, 30), (146, 30)]
+TGT = [(20, 10), (60, 30), (80, 50), (130, 50)]
+
+
+@pytest.fixture
+def app():
+    a = StrokeEditApp(striped_bar(), max_display=320)
+    a.panel.debounce = 0
+    return a
+
+
+def test_drawing_a_pair_of_strokes_runs_the_edit(app):
+    drag(app.source_canvas, SRC)
+    assert app.result is None and "draw 1 more target" in app.status.value
+    drag(app.target_canvas, TGT)
+    assert app.errors.last_error is None
+    res = app.result
+    assert res is not None and res.mask.sum() > 500
+    # the result follows the target stroke: the bar is now low on the right
+    assert res.mask[45:55, 110:130].mean() > 0.8 and not res.mask[25:35, 110:130].any()
+    # pairing is visible: both strokes carry pair 0's colour
+    for c in (app.source_canvas, app.target_canvas):
+        assert c.model.shapes[0].meta["color"] == pair_color_hex(0)
+    # the result lies over the target canvas, the histograms compare colours
+    assert app.target_canvas._has_overlay and app.view.images
+    assert [h.comparison.labels for h in app.hists] == [["source object", "result"]] * 3
+    assert max(h.comparison.distances[1] for h in app.hists) < 0.5
+    assert "1 source / 1 target" in app.status.value
+
+
+def test_second_pair_gets_its_own_colour(app):
+    app.add_stroke("source", SRC)
+    app.add_stroke("target", TGT)
+    app.add_stroke("source", [(20, 30), (80, 30)])
+    assert "draw 1 more target" in app.status.value
+    app.add_stroke("target", [(100, 5), (140, 10)])
+    assert app.errors.last_error is None
+    colours = [s.meta["color"] for s in app.target_canvas.model.shapes]
+    assert colours == [pair_color_hex(0), pair_color_hex(1)]
+    assert app.result.mask[:15, 100:140].any()
+
+
+def test_control_points_by_clicking(app):
+    app.add_stroke("source", SRC)
+    app.add_stroke("target", TGT)
+    click(app.source_canvas, 40, 31)
+    assert "0 target control points" in app.status.value
+    click(app.target_canvas, 95, 49)
+    assert app.errors.last_error is None
+    pair = app.result.pairs[0]
+    assert pair.n_control == 3
+    # the source point at s = 26 now maps to the target point clicked
+    s_src, s_tgt = pair.control[1]
+    assert s_src == pytest.approx(26.0, abs=1.0)
+    assert np.allclose(pair.target.point_at(s_tgt), (95, 50), atol=1.5)
+    assert app.source_canvas.model.shapes[-1].meta["color"] == pair_color_hex(0)
+    # a second pair out of order -> a clear error, the app keeps working
+    click(app.source_canvas, 120, 30)
+    click(app.target_canvas, 40, 20)
+    assert "out of order" in app.errors.last_error
+    app.target_canvas.model.undo()
+    app.source_canvas.model.undo()
+    assert app.errors.last_error is None and app.result.pairs[0].n_control == 3
+
+
+def test_sliders_and_seams(app):
+    app.add_stroke("source", SRC)
+    app.add_stroke("target", TGT)
+    app.panel.controls["composition"].value = "overlay"
+    assert app.result.params.composition == "overlay"
+    app.panel.controls["patch_size"].value = 24
+    assert app.result.radius == 12.0
+    app.show_seams.value = True
+    ov = app.result.seams
+    assert ov.any()
+    assert app.view.titles[0].value.startswith("result (seams")
+
+
+def test_errors_are_shown_and_the_app_survives(app):
+    app.add_stroke("source", [(50, 30), (50.2, 30)])  # zero length
+    app.add_stroke("target", TGT)
+    assert "zero length" in app.errors.last_error
+    app.source_canvas.model.undo()
+    app.add_stroke("source", SRC)
+    assert app.errors.last_error is None and app.result is not None
+    with pytest.raises(ValueError, match="side"):
+        app.add_stroke("middle", SRC)
+
+
+def test_reverse_and_clear(app):
+    app.add_stroke("source", SRC)
+    app.add_stroke("target", TGT)
+    before = app.result.layer.copy()
+    app.reverse_target()
+    tgt, _, _, _ = strokes_from_shapes(app.target_canvas.model.shapes)
+    assert np.allclose(tgt[0][0], TGT[-1])
+    assert not np.allclose(app.result.layer, before)
+    app.clear()
+    assert len(app.source_canvas.model) == 0 and "0 source / 0 target" in app.status.value
+    with pytest.raises(ValueError, match="no target stroke"):
+        app.reverse_target()
+
+
+def test_background_and_target_shape():
+    app = StrokeEditApp(striped_bar(), background=(0.2, 0.3, 0.4), target_shape=(80, 120),
+                        max_display=200)
+    app.add_stroke("source", SRC)
+    app.add_stroke("target", [(10, 40), (110, 40)])
+    assert app.result.image.shape == (80, 120, 4)
+    assert np.allclose(app.result.image[2, 2], (0.2, 0.3, 0.4, 1.0))

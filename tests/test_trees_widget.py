@@ -1,0 +1,176 @@
+"""TreeVariationsApp driven from Python: selection, convex sliders, reference and
+histograms, morph, "more like this", and errors shown in the app."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from branchnb.trees import TreeLibrary
+from branchnb.widgets.trees import TreeVariationsApp, convex_update
+
+NAMES = ["tree_rpg_01", "tree_rpg_03", "tree_rpg_06"]
+
+
+@pytest.fixture(scope="module")
+def lib():
+    return TreeLibrary.from_data(NAMES, size=128)
+
+
+@pytest.fixture
+def app(lib):
+    return TreeVariationsApp(lib, display=128, thumb=48)
+
+
+def iou(a, b):
+    return float((a & b).sum() / max((a | b).sum(), 1))
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_convex_update_keeps_sum_and_proportions(seed):
+    rng = np.random.default_rng(seed)
+    w = rng.dirichlet(np.ones(4))
+    i, v = int(rng.integers(4)), float(rng.random())
+    out = convex_update(w, i, v)
+    assert abs(out.sum() - 1) < 1e-12 and (out >= 0).all() and out[i] == pytest.approx(v)
+    others = np.delete(np.arange(4), i)
+    np.testing.assert_allclose(out[others] / out[others].sum(), w[others] / w[others].sum())
+
+
+def test_starts_with_two_trees_mixed_equally(app):
+    assert app.errors.last_error is None
+    assert app.selected == NAMES[:2]
+    np.testing.assert_allclose(app.weights, [0.5, 0.5])
+    assert app.variation.image.shape == (128, 128, 4)
+    assert set(app.sliders) == set(NAMES[:2])
+    assert app.morph_result is not None
+
+
+def test_slider_moves_keep_weights_convex(app):
+    app.checks["tree_rpg_06"].value = True           # check a third tree: equal shares
+    np.testing.assert_allclose(app.weights, [1 / 3] * 3)
+    app.sliders["tree_rpg_03"].value = 0.7           # the user drags a slider
+    w = app.weights
+    assert w.sum() == pytest.approx(1.0) and w[1] == pytest.approx(0.7)
+    assert w[0] == pytest.approx(w[2])
+    assert [s.value for s in app.sliders.values()] == pytest.approx(list(w), abs=1e-4)
+    np.testing.assert_allclose(app.variation.weights, w)
+
+
+def test_weight_one_reproduces_the_exemplar(app, lib):
+    app.set_weights({"tree_rpg_01": 1.0, "tree_rpg_03": 0.0})
+    a = app.variation.image[:, :, 3] >= 0.5
+    assert iou(a, lib["tree_rpg_01"].alpha) > 0.97
+
+
+def test_random_weights_follow_the_seed(app):
+    app.rng.value = 3
+    app.random_weights()
+    w3 = app.weights.copy()
+    app.rng.value = 4
+    app.random_weights()
+    assert not np.allclose(app.weights, w3)
+    app.rng.value = 3
+    app.random_weights()
+    np.testing.assert_allclose(app.weights, w3)
+
+
+def test_reference_histograms_get_closer(app):
+    app.reference.value = "maple_leaf_03"
+    assert app.variation.reference == "maple_leaf_03"
+    assert len(app.views.images) == 3
+    for h in app.hists:
+        c = h.comparison
+        assert c.labels == ["reference", "source", "result"]
+        assert c.distances[2] < c.distances[1]       # result closer to the reference than source
+    app.reference.value = None
+    assert app.variation is app.source
+
+
+def test_m_and_colour_mode(app):
+    app.m_points.value = 12
+    assert app.variation.cage.shape == (12, 2)
+    app.colour_mode.value = "shape"
+    np.testing.assert_allclose(app.variation.colour_weights, app.variation.weights)
+
+
+def test_morph_slider(app, lib):
+    app.set_morph("tree_rpg_01", "tree_rpg_06", 0.0)
+    assert iou(app.morph_result.image[:, :, 3] >= 0.5, lib["tree_rpg_01"].alpha) > 0.95
+    app.morph_t.value = 1.0
+    assert iou(app.morph_result.image[:, :, 3] >= 0.5, lib["tree_rpg_06"].alpha) > 0.95
+    app.set_morph(t=0.5)
+    np.testing.assert_allclose(app.morph_result.weights, [0.5, 0.5])
+    app.set_morph(b="tree_rpg_01")                  # the same tree twice: itself
+    assert app.errors.last_error is None
+    assert app.morph_result.names == ("tree_rpg_01",)
+
+
+def test_more_like_this_and_adopt(app):
+    app.set_weights([0.8, 0.2])
+    app.keep.value = 0.7
+    vs = app.more_like_this(4)
+    assert len(vs) == 4 and len(app.grid.children) == 4
+    for v in vs:
+        assert v.weights[0] >= 0.7 * 0.8 - 1e-9 and v.weights[1] >= 0.7 * 0.2 - 1e-9
+    app.grid.children[2].children[1].click()          # the "use 3" button
+    np.testing.assert_allclose(app.weights, vs[2].weights)
+    np.testing.assert_allclose(app.variation.weights, vs[2].weights)
+
+
+def test_errors_are_shown_and_the_app_survives(app):
+    for cb in app.checks.values():
+        cb.value = False
+    assert "check at least one tree" in app.errors.last_error
+    app.checks["tree_rpg_03"].value = True
+    assert app.errors.last_error is None
+    np.testing.assert_allclose(app.weights, [1.0])
+    with pytest.raises(ValueError, match="sum to 1"):
+        app.set_weights([0.5])
+    with pytest.raises(ValueError, match="not checked"):
+        app.set_weight("tree_rpg_01", 0.3)
+
+
+def test_bad_library():
+    with pytest.raises(TypeError, match="TreeLibrary"):
+        TreeVariationsApp([1, 2])
+    with pytest.raises(ValueError, match="empty"):
+        TreeVariationsApp(TreeLibrary(size=128))
+
+
+def test_scribbles_correct_the_trunk_and_move_the_pins(app, lib):
+    app.seg_tree.value = "tree_rpg_03"
+    ex = lib["tree_rpg_03"]
+    r_before = ex.contour.pins.r.copy()
+    rows = np.flatnonzero(ex.trunk.any(axis=1))
+    top, bottom = rows[0], rows[-1]
+    mid = top + (bottom - top) // 2
+    xs = np.flatnonzero(ex.trunk[mid])
+    # mark the upper half of the trunk as crown: the trunk top moves down
+    for y in range(top - 2, mid, 2):
+        app.seg_canvas.model.add_shape("scribble", [(xs[0] - 3, y), (xs[-1] + 3, y)], label="crown")
+    assert app.errors.last_error is None
+    ex2 = lib["tree_rpg_03"]
+    assert ex2.trunk_source == "scribbles"
+    assert not ex2.trunk[top + 2:mid - 2].any()
+    assert ex2.contour.pins.r[1] > r_before[1] + 3
+    assert "scribbles" in app.seg_status.value
+    # switching trees keeps each tree's scribbles; "automatic" drops them
+    app.seg_tree.value = "tree_rpg_01"
+    assert len(app.seg_canvas.model.of_kind("scribble")) == 0
+    app.seg_tree.value = "tree_rpg_03"
+    assert len(app.seg_canvas.model.of_kind("scribble")) > 0
+    app.seg_reset.click()
+    assert lib["tree_rpg_03"].trunk_source in ("segmentation", "stem")
+    np.testing.assert_allclose(lib["tree_rpg_03"].contour.pins.r, r_before)
+
+
+@pytest.mark.skipif(not __import__("branchnb.widgets.trees", fromlist=["x"]).HAS_BILLBOARD,
+                    reason="billboard module not available")
+def test_billboard_cloud_tab(app):
+    cloud = app.build_cloud("tree_rpg_06", yaw=40.0)
+    assert app.errors.last_error is None
+    assert cloud is app.cloud and cloud.n_billboards > 10
+    assert len(app.cloud_view.images) == 2
+    app.yaw.value = -60.0
+    assert "-60" in app.cloud_view.titles[1].value
