@@ -307,15 +307,32 @@ class Structure:
                 continue
             p, t = resample_uniform(b.points, h, values=b.thickness, include_end=True)
             new.append((p, t))
+        return self.with_polylines(new)
+
+    def with_polylines(self, polylines) -> Structure:
+        """The same tree with new vertices for every branch, children re-attached.
+
+        Parameters
+        ----------
+        polylines : sequence of (points (N_i, 2), thickness (N_i,))
+            One new polyline per branch, in branch order (e.g. resampled or
+            refined versions of the current ones).
+
+        Each child's ``parent_vertex`` moves to the vertex of the parent's new
+        polyline nearest to its old furcation point, and the child's first
+        vertex snaps to it, so furcations survive any re-sampling.
+        """
+        if len(polylines) != len(self.branches):
+            raise ValueError(f"polylines must have one entry per branch ({len(self.branches)}), "
+                             f"got {len(polylines)}")
         out = []
-        for i, b in enumerate(self.branches):
-            p, t = new[i]
+        for b, (p, t) in zip(self.branches, polylines):
             pv = None
             if b.parent is not None:
                 anchor = self.branches[b.parent].points[b.parent_vertex]
-                pp = new[b.parent][0]
+                pp = np.asarray(polylines[b.parent][0], np.float64)
                 pv = int(np.argmin(np.hypot(*(pp - anchor).T)))
-                p = p.copy()
+                p = np.array(p, np.float64)
                 p[0] = pp[pv]
             out.append(Branch(p, t, b.parent, pv))
         return Structure(out, self.image_shape)

@@ -267,17 +267,8 @@ class BranchingApp(widgets.VBox):
             r = estimate_thickness(gray, pts, max_radius=p.max_radius, min_radius=p.min_radius,
                                    sigma=p.sigma, smooth=p.smooth) if len(pts) >= 2 else b.thickness
             new.append((pts, r))
-        out = []
-        for (pts, r), b in zip(new, s.branches):
-            pv = None
-            if b.parent is not None:
-                anchor = s.branches[b.parent].points[b.parent_vertex]
-                pp = new[b.parent][0]
-                pv = int(np.argmin(np.hypot(*(pp - anchor).T)))
-                pts = pts.copy()
-                pts[0] = pp[pv]
-            out.append(Branch(pts, r, b.parent, pv))
-        st = Structure(out, image_shape=self.image_shape)
+        st = s.with_polylines(new)
+        st.image_shape = self.image_shape
         self.set_structure(st)
         return st
 
