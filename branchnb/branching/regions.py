@@ -11,6 +11,10 @@ neighbourhood of one source branch, gap completion copies the space
   least ``threshold`` of the way from the *local* background colour towards
   the colour of the annotated branches. Copied into a gap they would be
   pseudo-branches;
+* **salient spots**: blobs much darker or brighter than their
+  surroundings that are no branch (the optic disc and the fovea of a
+  retina, a stone in mud). The example has each of them once; copied
+  into several gaps they would be conspicuous repetitions;
 * the **matte**: a flat black or white region connected to the image
   border (the mask around a fundus photograph, letterboxing), which is no
   texture of the example and is never copied; plus whatever the caller
@@ -23,10 +27,12 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy import ndimage as ndi
+from skimage.filters import apply_hysteresis_threshold
 
 from .skeleton_map import PixelMap
 
-__all__ = ["ExampleRegions", "example_regions", "branch_likeness", "matte_mask", "flatten_shading"]
+__all__ = ["ExampleRegions", "example_regions", "branch_likeness", "matte_mask", "salient_mask",
+           "flatten_shading"]
 
 
 @dataclass
@@ -40,17 +46,20 @@ class ExampleRegions:
     unusable : matte and pixels outside ``example_mask``: never copied.
     likeness : (H, W) float ndarray
         The branch-likeness score (0 = local background colour, 1 = branch colour).
+    salient : salient spots (not copied into gaps, nor by another branch's fragments).
     """
 
     body: np.ndarray
     branch_like: np.ndarray
     unusable: np.ndarray
     likeness: np.ndarray
+    salient: np.ndarray | None = None
 
     @property
     def forbidden(self) -> np.ndarray:
-        """Pixels gap completion must never copy: ``body | branch_like | unusable``."""
-        return self.body | self.branch_like | self.unusable
+        """Pixels gap completion must never copy: ``body | branch_like | salient | unusable``."""
+        out = self.body | self.branch_like | self.unusable
+        return out | self.salient if self.salient is not None else out
 
 
 def _normalized_blur(img: np.ndarray, weight: np.ndarray, sigma: float) -> np.ndarray:
@@ -157,9 +166,57 @@ def matte_mask(image: np.ndarray, *, tol: float = 0.04, min_fraction: float = 0.
     return mask
 
 
+def salient_mask(image: np.ndarray, background: np.ndarray, *, z: float = 6.0,
+                 sigma: float = 3.0, scale: float = 0.08, max_fraction: float = 0.05,
+                 min_area: int = 30, grow: int = 4) -> np.ndarray:
+    """Spots much darker or brighter than the surrounding background texture.
+
+    The image smoothed at ``sigma`` pixels is compared with the background
+    average at ``scale * max(H, W)`` pixels (over ``background`` pixels
+    only); the residual's robust z-score (median and MAD over the
+    background pixels, largest over the channels) above ``z`` marks a
+    spot, which extends over its connected pixels above ``z / 2``. At most
+    ``max_fraction`` of the background passes ``z`` (the threshold rises if
+    needed: a texture full of spots has no outliers),
+    connected spots smaller than ``min_area`` pixels are dropped and the
+    rest grown by ``grow`` pixels.
+    """
+    h, w = image.shape[:2]
+    if background.sum() < 64:
+        return np.zeros((h, w), bool)
+    img = image.astype(np.float64)
+    sm = ndi.gaussian_filter(img, (sigma, sigma, 0), mode="nearest")
+    spot = np.zeros((h, w), bool)
+    for _ in range(2):
+        # The second round estimates the surroundings without the spots found.
+        bg = _normalized_blur(img, (background & ~spot).astype(np.float64),
+                              max(scale * max(h, w), 16.0))
+        res = sm - bg
+        zz = np.zeros((h, w))
+        for c in range(img.shape[2]):
+            rc = res[..., c]
+            med = float(np.median(rc[background]))
+            mad = 1.4826 * float(np.median(np.abs(rc[background] - med)))
+            zz = np.maximum(zz, np.abs(rc - med) / max(mad, 5e-3))
+        thr = max(z, float(np.quantile(zz[background], 1.0 - max_fraction)))
+        # Hysteresis: a spot extends over its connected pixels above thr / 2.
+        spot = apply_hysteresis_threshold(zz, 0.5 * thr, thr) & background
+    if not spot.any():
+        return spot
+    lab, n = ndi.label(spot)
+    sizes = np.bincount(lab.ravel())
+    keep = sizes >= min_area
+    keep[0] = False
+    spot = keep[lab]
+    if grow > 0 and spot.any():
+        spot = ndi.binary_dilation(spot, iterations=grow)
+    return spot
+
+
 def example_regions(image: np.ndarray, pm: PixelMap, *, exclusion: float = 1.5,
                     margin: float = 2.0, threshold: float | None = 0.1,
-                    matte: bool = True, example_mask: np.ndarray | None = None) -> ExampleRegions:
+                    matte: bool = True, example_mask: np.ndarray | None = None,
+                    salient: float | None = None) -> ExampleRegions:
     """The body, branch-like and unusable masks of an example.
 
     Parameters
@@ -179,6 +236,9 @@ def example_regions(image: np.ndarray, pm: PixelMap, *, exclusion: float = 1.5,
         Exclude a flat black/white matte connected to the border.
     example_mask : (H, W) bool ndarray, optional
         Pixels that may be copied at all (True = usable).
+    salient : float or None
+        z-score above which a spot counts as salient (see :func:`salient_mask`);
+        None: no salient spots.
     """
     h, w = image.shape[:2]
     unusable = np.zeros((h, w), bool)
@@ -214,4 +274,8 @@ def example_regions(image: np.ndarray, pm: PixelMap, *, exclusion: float = 1.5,
                 like = ndi.binary_dilation(like, iterations=it) & ~body
     if unusable.all():
         raise ValueError("example_mask leaves no usable example pixel (outside the mask and the matte)")
-    return ExampleRegions(body, like, unusable, likeness)
+    spots = None
+    if salient is not None:
+        near = ndi.binary_dilation(body | like, iterations=3)
+        spots = salient_mask(image, ~near & ~unusable, z=salient) & ~body & ~unusable
+    return ExampleRegions(body, like, unusable, likeness, spots)
