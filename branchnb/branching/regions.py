@@ -25,6 +25,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import cv2
 import numpy as np
 from scipy import ndimage as ndi
 from skimage.filters import apply_hysteresis_threshold
@@ -63,7 +64,24 @@ class ExampleRegions:
 
 
 def _normalized_blur(img: np.ndarray, weight: np.ndarray, sigma: float) -> np.ndarray:
-    """Gaussian average of ``img`` over the pixels where ``weight`` is 1."""
+    """Gaussian average of ``img`` over the pixels where ``weight`` is 1.
+
+    Wide blurs (``sigma >= 12``) are computed on a grid ``sigma / 6`` times
+    coarser and interpolated back (the result is smooth at that scale).
+    """
+    f = int(sigma // 6) if sigma >= 12 else 1
+    if f > 1:
+        h, w_ = weight.shape
+        hs, ws = max(h // f, 1), max(w_ // f, 1)
+        wt = weight.astype(np.float32)
+        sw = cv2.resize(wt, (ws, hs), interpolation=cv2.INTER_AREA)
+        si = cv2.resize((img * wt[..., None]).astype(np.float32), (ws, hs),
+                        interpolation=cv2.INTER_AREA).reshape(hs, ws, -1)
+        si = si / np.maximum(sw, 1e-9)[..., None]
+        coarse = _normalized_blur(si.astype(np.float64), sw.astype(np.float64) / max(sw.max(), 1e-9),
+                                  sigma / f)
+        out = cv2.resize(coarse.astype(np.float32), (w_, h), interpolation=cv2.INTER_LINEAR)
+        return out.reshape(img.shape).astype(np.float64)
     w = ndi.gaussian_filter(weight.astype(np.float64), sigma, mode="nearest")
     out = np.empty(img.shape, np.float64)
     for c in range(img.shape[2]):
