@@ -97,6 +97,12 @@ def test_front_billboards_tile_the_crown(cloud):
     assert cover.max() == 1                       # no overlap
     crown = cloud.superpixels > 0
     assert (cover[crown] == 1).all()              # every crown pixel covered
+    # Edge replacement leaves (almost) every superpixel in one piece.
+    from scipy import ndimage as ndi
+
+    lab = cloud.superpixels
+    pieces = [ndi.label(lab == k)[1] for k in range(1, lab.max() + 1)]
+    assert sum(n > 1 for n in pieces) <= 0.02 * len(pieces)
 
 
 def test_darker_billboards_are_pushed_deeper():

@@ -27,6 +27,7 @@ from scipy import ndimage as ndi
 from .image import as_float_image, as_mask
 
 __all__ = [
+    "gradient_magnitude",
     "pair_costs",
     "seam_cut",
     "seam_cost",
@@ -37,7 +38,17 @@ __all__ = [
 _HARD = 1e9
 
 
-def _gradmag(img: np.ndarray) -> np.ndarray:
+def gradient_magnitude(img: np.ndarray) -> np.ndarray:
+    """Sobel gradient magnitude over all channels (root of the summed squares): the edge strength in ``G(s, t)``.
+
+    Parameters
+    ----------
+    img : (H, W, C) float ndarray
+
+    Returns
+    -------
+    (H, W) ndarray
+    """
     gy = ndi.sobel(img, axis=0, mode="nearest") / 8.0
     gx = ndi.sobel(img, axis=1, mode="nearest") / 8.0
     return np.sqrt((gx**2 + gy**2).sum(axis=2))
@@ -75,7 +86,7 @@ def pair_costs(a, b, *, power: float = 1.0, gradient_weighted: bool = True,
     right = d[:, :-1] + d[:, 1:]
     down = d[:-1, :] + d[1:, :]
     if gradient_weighted:
-        g = _gradmag(a) + _gradmag(b)
+        g = gradient_magnitude(a) + gradient_magnitude(b)
         right = right / (g[:, :-1] + g[:, 1:] + eps)
         down = down / (g[:-1, :] + g[1:, :] + eps)
     return right.astype(np.float64), down.astype(np.float64)

@@ -65,7 +65,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage as ndi
 
-from ..core.graphcut import _gradmag  # the edge strength G of the seam energy
+from ..core.graphcut import gradient_magnitude  # the edge strength G of the seam energy
 from ..core.image import as_rgba
 from ..core.warp import transfer_patch
 from .strokes import Stroke, StrokePair
@@ -188,7 +188,7 @@ def source_index(image, source_strokes: list[Stroke]) -> SourceIndex:
     has_alpha = bool((alpha < 0.999).any())
     premult = rgba.copy()
     premult[:, :, :3] *= alpha[:, :, None]
-    grad = _gradmag(premult).astype(np.float32)
+    grad = gradient_magnitude(premult).astype(np.float32)
     obj = alpha > 0.5 if has_alpha else np.ones((h, w), bool)
     # Distance to the background (the image border counts as background).
     edt = ndi.distance_transform_edt(np.pad(obj, 1))[1:-1, 1:-1] if has_alpha else None

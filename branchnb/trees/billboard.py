@@ -390,6 +390,7 @@ def replace_straight_edges(labels: np.ndarray, silhouette: np.ndarray, *, straig
         return lab, []
     curves = []
     H, W = lab.shape
+    count = np.bincount(lab.ravel()).astype(np.int64)
     for (a, b), (pts, dir_ab) in sorted(_edges(lab).items()):
         st = _straight_edge(pts, straightness, min_edge_length)
         if st is None:
@@ -423,11 +424,41 @@ def replace_straight_edges(labels: np.ndarray, silhouette: np.ndarray, *, straig
         cv2.fillPoly(region, [poly - [x0, y0]], 1)
         sub = lab[y0:y1, x0:x1]
         move = (region > 0) & (sub == into)
-        if not move.any() or move.sum() >= (lab == into).sum():
+        n_move = int(move.sum())
+        if n_move == 0 or n_move >= count[into]:
             continue                       # never swallow a whole superpixel
         sub[move] = other
+        count[into] -= n_move
+        count[other] += n_move
         curves.append(curve)
+    if curves:
+        lab = _merge_fragments(lab)
     return lab, curves
+
+
+def _merge_fragments(lab: np.ndarray) -> np.ndarray:
+    """Keep each label's largest 4-connected piece; stray pieces join their nearest other label.
+
+    Curves of neighbouring edges can overlap and cut a few pixels off a
+    superpixel; such islands would stretch its billboard's bounding box.
+    """
+    out = lab.copy()
+    stray = np.zeros(lab.shape, bool)
+    for k, sl in enumerate(ndi.find_objects(lab), start=1):
+        if sl is None:
+            continue
+        comp, nc = ndi.label(lab[sl] == k)
+        if nc <= 1:
+            continue
+        sizes = np.bincount(comp.ravel())
+        sizes[0] = 0
+        stray[sl] |= (comp > 0) & (comp != int(np.argmax(sizes)))
+    if not stray.any():
+        return out
+    out[stray] = 0
+    _, (iy, ix) = ndi.distance_transform_edt(out == 0, return_indices=True)
+    out[stray] = out[iy[stray], ix[stray]]
+    return out
 
 
 # ---------------------------------------------------------------------------
