@@ -222,6 +222,30 @@ def test_matte_is_detected_and_never_copied():
     assert r.image.max(axis=2).min() > 0.1
 
 
+def test_salient_spot_is_never_copied_into_gaps():
+    """A pale spot (no branch) of the example is excluded, so it is not repeated in the gaps."""
+    img, s = river_example((128, 128), 0)
+    img = img.copy()
+    pm = SkeletonMap(s).pixel_map(img.shape[:2])
+    yy, xx = np.mgrid[0:128, 0:128]
+    room = np.minimum(pm.dist, np.minimum(np.minimum(xx, 127 - xx), np.minimum(yy, 127 - yy)))
+    cy, cx = np.unravel_index(int(np.argmax(room)), room.shape)   # far from branches and borders
+    assert room[cy, cx] > 20
+    spot = (xx - cx) ** 2 + (yy - cy) ** 2 <= 8**2
+    img[spot] = np.minimum(img[spot] * 1.5, 1.0)
+    reg = example_regions(img, pm, salient=6.0)
+    assert reg.salient[spot].all()
+    assert reg.salient.mean() < 0.05
+    assert not example_regions(img, pm).forbidden[spot].any()  # salient=None: not excluded
+    r = synthesize_image(img, s, random_tree((128, 128), 3), rng=0)
+    src = r.source[r.fill_mask]
+    sx, sy = np.rint(src[:, 0]).astype(int), np.rint(src[:, 1]).astype(int)
+    assert not spot[sy, sx].any()
+    # Fragments of the branches do not bring it along either.
+    fsrc = r.source[r.fragment_mask]
+    assert not spot[np.rint(fsrc[:, 1]).astype(int), np.rint(fsrc[:, 0]).astype(int)].any()
+
+
 # --------------------------------------------------------------------------- displacement
 
 

@@ -156,7 +156,7 @@ class _Matcher:
     """Masked-SSD window search in the example, coarse then fine."""
 
     def __init__(self, example: np.ndarray, forbidden: np.ndarray, size: int, margin: int,
-                 search_size: int, forbid_weight: float, reuse_weight: float = 0.5):
+                 search_size: int, forbid_weight: float, reuse_weight: float = 1.0):
         eh, ew = example.shape[:2]
         self.size, self.margin = size, margin
         self.ex = _cv(example)
@@ -183,8 +183,8 @@ class _Matcher:
         self.usable_small = self.usable[::s, ::s]
         self.forbid_weight = forbid_weight
         self.reuse_weight = reuse_weight
-        # How often the example around each (reduced) window was used already.
-        self.used = np.zeros(self.usable_small.shape, np.float64)
+        # How often each (reduced) example pixel was copied already.
+        self.used = np.zeros(self.small.shape[:2], np.float32)
         self.channels = example.shape[2]
 
     def choose(self, tpl: np.ndarray, known: np.ndarray, tolerance: float,
@@ -224,8 +224,13 @@ class _Matcher:
         # Penalties in units of a typical match: holes left by forbidden
         # pixels, and reuse of the example around earlier windows (so the
         # same few windows are not tiled everywhere).
+        # Mean earlier use of the pixels under each window (a window that
+        # half overlaps a used one pays half): a distinctive spot of the
+        # example is not repeated by shifted windows either.
+        box = cv2.boxFilter(self.used, -1, (self.tsz, self.tsz), anchor=(0, 0),
+                            normalize=True, borderType=cv2.BORDER_CONSTANT)
         used = np.zeros(f.shape)
-        used[:hh, :ww] = self.used[:hh, :ww]
+        used[:hh, :ww] = box[:hh, :ww]
         c = ssd + typical * (self.forbid_weight * f + self.reuse_weight * used)
         c = np.where(usable, c, np.inf)
         best = float(c.min())
@@ -234,8 +239,7 @@ class _Matcher:
             return tuple(int(v) for v in cand[rng.integers(len(cand))])
         good = np.argwhere(c <= best + tolerance * abs(best) + 1e-12)
         gy, gx = (int(v) for v in good[rng.integers(len(good))])
-        r = max(self.tsz // 2, 1)
-        self.used[max(gy - r, 0):gy + r + 1, max(gx - r, 0):gx + r + 1] += 1.0
+        self.used[gy:gy + self.tsz, gx:gx + self.tsz] += 1.0
         cy, cx = gy * s, gx * s
         if s == 1:
             return cy, cx
@@ -260,7 +264,7 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
                   protect: np.ndarray | None = None, tolerance: float = 0.1,
                   forbid_weight: float = 5.0, search_size: int = 192, method: str = "graphcut",
                   poisson: bool = True, anchored: bool = True, anchor_weight: float = 10.0,
-                  screen: float = 0.05, min_free: float = 0.0, reuse_weight: float = 0.5,
+                  screen: float = 0.05, min_free: float = 0.0, reuse_weight: float = 1.0,
                   max_passes: int = 4, rng=None,
                   progress: Callable[[float, str], None] | None = None) -> CompletionResult:
     """Fill every uncovered pixel of ``canvas`` **in place** with branch-free texture.
@@ -299,8 +303,9 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
     min_free : float
         See ``patch_size``.
     reuse_weight : float
-        Penalty for reusing the example around an already used window,
-        per earlier use, in the same units.
+        Penalty for reusing example pixels: the mean number of earlier
+        copies of the pixels under a window, times this weight, in the
+        same units.
     max_passes : int
         Passes over the remaining holes before the last-resort inpainting.
     rng : int or numpy.random.Generator, optional

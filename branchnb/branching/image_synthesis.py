@@ -129,6 +129,12 @@ class ImageSynthesisParams:
                                     help="margin (pixels) added to the branch body")
     avoid_unannotated: bool = param(True, help="also treat unannotated branch-like example pixels "
                                                "(faint branches the structure misses) as branches")
+    avoid_salient: bool = param(True, help="never copy salient spots (blobs much darker or brighter "
+                                           "than their surroundings, e.g. a retina's optic disc and "
+                                           "fovea) into gaps or for another branch: repeated, they "
+                                           "would stand out")
+    salient_z: float = param(6.0, min=2.0, max=20.0, step=0.5,
+                             help="robust z-score above which a spot counts as salient")
     branch_like: float = param(0.1, min=0.02, max=2.0, step=0.05,
                                help="branch-likeness threshold: fraction of the way from the local "
                                     "background colour to the branch colour")
@@ -566,11 +572,15 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     pm_t = sm_t.pixel_map((H, W))
     regions = example_regions(ex, pm_s, exclusion=p.exclusion, margin=p.exclusion_margin,
                               threshold=p.branch_like if p.avoid_unannotated else None,
-                              matte=p.exclude_matte, example_mask=example_mask)
+                              matte=p.exclude_matte, example_mask=example_mask,
+                              salient=p.salient_z if p.avoid_salient else None)
     if p.flatten_shading > 0:
         bg = ~(regions.forbidden | ndi.binary_dilation(regions.body | regions.branch_like, iterations=3))
         ex = flatten_shading(ex, bg, p.flatten_shading * max(ex.shape[:2]))
-    ctx = _Context(ex, sm_s, sm_t, pm_s, regions.body | regions.branch_like, regions.unusable, p)
+    excluded = regions.body | regions.branch_like
+    if regions.salient is not None:
+        excluded = excluded | regions.salient
+    ctx = _Context(ex, sm_s, sm_t, pm_s, excluded, regions.unusable, p)
     geo = dict(lam=p.lam, scale=p.radius_scale, min_radius=p.min_radius, max_radius=p.max_radius)
     lib_b, lib_f = source_fragments(sm_s, density=p.source_density, reverse=p.reverse, **geo)
     free_start, free_end = _free_ends(sm_s, pm_s)

@@ -11,6 +11,10 @@ neighbourhood of one source branch, gap completion copies the space
   least ``threshold`` of the way from the *local* background colour towards
   the colour of the annotated branches. Copied into a gap they would be
   pseudo-branches;
+* **salient spots**: blobs much darker or brighter than their
+  surroundings that are no branch (the optic disc and the fovea of a
+  retina, a stone in mud). The example has each of them once; copied
+  into several gaps they would be conspicuous repetitions;
 * the **matte**: a flat black or white region connected to the image
   border (the mask around a fundus photograph, letterboxing), which is no
   texture of the example and is never copied; plus whatever the caller
@@ -21,12 +25,15 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import cv2
 import numpy as np
 from scipy import ndimage as ndi
+from skimage.filters import apply_hysteresis_threshold
 
 from .skeleton_map import PixelMap
 
-__all__ = ["ExampleRegions", "example_regions", "branch_likeness", "matte_mask", "flatten_shading"]
+__all__ = ["ExampleRegions", "example_regions", "branch_likeness", "matte_mask", "salient_mask",
+           "flatten_shading"]
 
 
 @dataclass
@@ -40,21 +47,41 @@ class ExampleRegions:
     unusable : matte and pixels outside ``example_mask``: never copied.
     likeness : (H, W) float ndarray
         The branch-likeness score (0 = local background colour, 1 = branch colour).
+    salient : salient spots (not copied into gaps, nor by another branch's fragments).
     """
 
     body: np.ndarray
     branch_like: np.ndarray
     unusable: np.ndarray
     likeness: np.ndarray
+    salient: np.ndarray | None = None
 
     @property
     def forbidden(self) -> np.ndarray:
-        """Pixels gap completion must never copy: ``body | branch_like | unusable``."""
-        return self.body | self.branch_like | self.unusable
+        """Pixels gap completion must never copy: ``body | branch_like | salient | unusable``."""
+        out = self.body | self.branch_like | self.unusable
+        return out | self.salient if self.salient is not None else out
 
 
 def _normalized_blur(img: np.ndarray, weight: np.ndarray, sigma: float) -> np.ndarray:
-    """Gaussian average of ``img`` over the pixels where ``weight`` is 1."""
+    """Gaussian average of ``img`` over the pixels where ``weight`` is 1.
+
+    Wide blurs (``sigma >= 12``) are computed on a grid ``sigma / 6`` times
+    coarser and interpolated back (the result is smooth at that scale).
+    """
+    f = int(sigma // 6) if sigma >= 12 else 1
+    if f > 1:
+        h, w_ = weight.shape
+        hs, ws = max(h // f, 1), max(w_ // f, 1)
+        wt = weight.astype(np.float32)
+        sw = cv2.resize(wt, (ws, hs), interpolation=cv2.INTER_AREA)
+        si = cv2.resize((img * wt[..., None]).astype(np.float32), (ws, hs),
+                        interpolation=cv2.INTER_AREA).reshape(hs, ws, -1)
+        si = si / np.maximum(sw, 1e-9)[..., None]
+        coarse = _normalized_blur(si.astype(np.float64), sw.astype(np.float64) / max(sw.max(), 1e-9),
+                                  sigma / f)
+        out = cv2.resize(coarse.astype(np.float32), (w_, h), interpolation=cv2.INTER_LINEAR)
+        return out.reshape(img.shape).astype(np.float64)
     w = ndi.gaussian_filter(weight.astype(np.float64), sigma, mode="nearest")
     out = np.empty(img.shape, np.float64)
     for c in range(img.shape[2]):
@@ -157,9 +184,57 @@ def matte_mask(image: np.ndarray, *, tol: float = 0.04, min_fraction: float = 0.
     return mask
 
 
+def salient_mask(image: np.ndarray, background: np.ndarray, *, z: float = 6.0,
+                 sigma: float = 3.0, scale: float = 0.08, max_fraction: float = 0.05,
+                 min_area: int = 30, grow: int = 4) -> np.ndarray:
+    """Spots much darker or brighter than the surrounding background texture.
+
+    The image smoothed at ``sigma`` pixels is compared with the background
+    average at ``scale * max(H, W)`` pixels (over ``background`` pixels
+    only); the residual's robust z-score (median and MAD over the
+    background pixels, largest over the channels) above ``z`` marks a
+    spot, which extends over its connected pixels above ``z / 2``. At most
+    ``max_fraction`` of the background passes ``z`` (the threshold rises if
+    needed: a texture full of spots has no outliers),
+    connected spots smaller than ``min_area`` pixels are dropped and the
+    rest grown by ``grow`` pixels.
+    """
+    h, w = image.shape[:2]
+    if background.sum() < 64:
+        return np.zeros((h, w), bool)
+    img = image.astype(np.float64)
+    sm = ndi.gaussian_filter(img, (sigma, sigma, 0), mode="nearest")
+    spot = np.zeros((h, w), bool)
+    for _ in range(2):
+        # The second round estimates the surroundings without the spots found.
+        bg = _normalized_blur(img, (background & ~spot).astype(np.float64),
+                              max(scale * max(h, w), 16.0))
+        res = sm - bg
+        zz = np.zeros((h, w))
+        for c in range(img.shape[2]):
+            rc = res[..., c]
+            med = float(np.median(rc[background]))
+            mad = 1.4826 * float(np.median(np.abs(rc[background] - med)))
+            zz = np.maximum(zz, np.abs(rc - med) / max(mad, 5e-3))
+        thr = max(z, float(np.quantile(zz[background], 1.0 - max_fraction)))
+        # Hysteresis: a spot extends over its connected pixels above thr / 2.
+        spot = apply_hysteresis_threshold(zz, 0.5 * thr, thr) & background
+    if not spot.any():
+        return spot
+    lab, n = ndi.label(spot)
+    sizes = np.bincount(lab.ravel())
+    keep = sizes >= min_area
+    keep[0] = False
+    spot = keep[lab]
+    if grow > 0 and spot.any():
+        spot = ndi.binary_dilation(spot, iterations=grow)
+    return spot
+
+
 def example_regions(image: np.ndarray, pm: PixelMap, *, exclusion: float = 1.5,
                     margin: float = 2.0, threshold: float | None = 0.1,
-                    matte: bool = True, example_mask: np.ndarray | None = None) -> ExampleRegions:
+                    matte: bool = True, example_mask: np.ndarray | None = None,
+                    salient: float | None = None) -> ExampleRegions:
     """The body, branch-like and unusable masks of an example.
 
     Parameters
@@ -179,6 +254,9 @@ def example_regions(image: np.ndarray, pm: PixelMap, *, exclusion: float = 1.5,
         Exclude a flat black/white matte connected to the border.
     example_mask : (H, W) bool ndarray, optional
         Pixels that may be copied at all (True = usable).
+    salient : float or None
+        z-score above which a spot counts as salient (see :func:`salient_mask`);
+        None: no salient spots.
     """
     h, w = image.shape[:2]
     unusable = np.zeros((h, w), bool)
@@ -214,4 +292,8 @@ def example_regions(image: np.ndarray, pm: PixelMap, *, exclusion: float = 1.5,
                 like = ndi.binary_dilation(like, iterations=it) & ~body
     if unusable.all():
         raise ValueError("example_mask leaves no usable example pixel (outside the mask and the matte)")
-    return ExampleRegions(body, like, unusable, likeness)
+    spots = None
+    if salient is not None:
+        near = ndi.binary_dilation(body | like, iterations=3)
+        spots = salient_mask(image, ~near & ~unusable, z=salient) & ~body & ~unusable
+    return ExampleRegions(body, like, unusable, likeness, spots)
