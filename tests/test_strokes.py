@@ -410,3 +410,21 @@ def test_a_branch_copied_from_the_trunk_leaves_the_trunk_behind():
     rows = res.mask[10:140, 60:140]
     widths = rows.sum(axis=1)
     assert widths.max() <= 15 and np.median(widths) >= 9
+
+
+def test_cut_end_inside_a_wider_body_stays_within_the_tube():
+    # a thin tail (half width 5) leaving a wide body (half width 25); the
+    # stroke starts inside the body, so its start is cut straight across --
+    # only across the tail's tube, not along the whole body (a line of
+    # half-transparent body pixels along the cut once leaked out).
+    img = np.zeros((100, 200, 4), np.float32)
+    img[25:75, 10:60] = (0.3, 0.3, 0.3, 1.0)
+    img[45:55, 60:190] = (0.6, 0.4, 0.2, 1.0)
+    img[45:55, 60:190, 1] = np.linspace(0.2, 0.7, 130)
+    tail = [(40, 50), (180, 50)]
+    assert source_index(img, [Stroke(tail)]).cut_ends[0] == (True, False)
+    res = edit_structure(img, [tail], [[(100, 10), (100, 150)]], StrokeEditParams(patch_size=60),
+                         target_shape=(160, 200))
+    rows, cols = np.nonzero(res.image[..., 3] > 0.01)
+    assert rows.min() >= 9  # nothing beyond the cut
+    assert np.abs(cols - 100).max() <= 5 + 2 + 2  # half width + opaque margin + ramp

@@ -51,7 +51,8 @@ tip: the object goes on for less than ``max(2 w, 8)`` px along the
 stroke direction, ``w`` the stroke's median half width), the patches copy the tip as it is. Where the stroke
 ends in the middle of a longer object (a piece of rope, a branch drawn
 from the trunk), the object is cut straight across the stroke at its end
-point, so the synthesized piece has a clean cut end (hidden inside the
+point, within the tube (a tail stroked from inside a wider body takes the
+tail's width, not the body's), so the synthesized piece has a clean cut end (hidden inside the
 parent for a branch) instead of a round bite out of the source.
 
 The *object region* is where the source is opaque (alpha > 0.5) for an
@@ -79,6 +80,8 @@ _REACH = 1.5
 _SHARE = 2.0
 #: Opaque pixels are copied up to this far beyond the half width (px).
 _OPAQUE_MARGIN = 2.0
+#: Alpha above which a pixel counts as part of the object for the tube margins.
+_INKED = 0.02
 #: Patch radius for opaque images (no silhouette to measure the width from).
 OPAQUE_RADIUS = 24.0
 #: Longest distance the width measurement walks from the stroke (px).
@@ -190,6 +193,10 @@ def source_index(image, source_strokes: list[Stroke]) -> SourceIndex:
     premult[:, :, :3] *= alpha[:, :, None]
     grad = gradient_magnitude(premult).astype(np.float32)
     obj = alpha > 0.5 if has_alpha else np.ones((h, w), bool)
+    # Pixels with any coverage: the narrow margin applies to them, so that a
+    # silhouette cut by the tube loses its anti-aliased rim with it (no ghost
+    # line of faint pixels beyond a gap).
+    inked = alpha > _INKED
     # Distance to the background (the image border counts as background).
     edt = ndi.distance_transform_edt(np.pad(obj, 1))[1:-1, 1:-1] if has_alpha else None
 
@@ -229,13 +236,17 @@ def source_index(image, source_strokes: list[Stroke]) -> SourceIndex:
                 # that cut-off parts get an anti-aliased edge. The object
                 # beyond the stroke ends is handled below.
                 tube = np.interp(s_map, ws, wv)
-                margin = np.where(obj, _OPAQUE_MARGIN, _tube_margin(tube))
+                margin = np.where(inked, _OPAQUE_MARGIN, _tube_margin(tube))
                 interior = (s_map > 1.0) & (s_map < st.length - 1.0)
                 ramp = np.clip(tube + margin - d + 0.5, 0.0, 1.0)
                 weight = np.where(interior, ramp, 1.0).astype(np.float32)
             for end, is_cut in enumerate(cut):
                 if is_cut:
                     weight *= _beyond_weight(st, end, s_map, xx, yy)
+                    if has_alpha:
+                        # The cut line itself: only across the tube.
+                        w_end = float(np.interp(0.0 if end == 0 else st.length, ws, wv))
+                        weight *= _end_tube(st, end, s_map, xx, yy, w_end, inked)
             done[key] = (own & (weight > 0), weight)
         s_maps.append(s_map)
         allowed.append(done[key][0])
@@ -408,6 +419,22 @@ def _beyond_weight(stroke: Stroke, end: int, s_map: np.ndarray, xx: np.ndarray,
     at_end = s_map <= 1.0 if end == 0 else s_map >= stroke.length - 1.0
     ahead = (xx - p[0]) * u[0] + (yy - p[1]) * u[1]
     return np.where(at_end, np.clip(0.5 - ahead, 0.0, 1.0), 1.0).astype(np.float32)
+
+
+def _end_tube(stroke: Stroke, end: int, s_map: np.ndarray, xx: np.ndarray, yy: np.ndarray,
+              half_width: float, inked: np.ndarray) -> np.ndarray:
+    """The tube of :func:`source_index` continued over the pixels nearest to a cut end.
+
+    Those pixels lie on the half plane behind the end point; the tube
+    bounds them laterally (distance from the stroke's end line), with the
+    same margins and one-pixel ramp as along the stroke.
+    """
+    p, u = _end_direction(stroke, end, window=3.0)
+    at_end = s_map <= 1.0 if end == 0 else s_map >= stroke.length - 1.0
+    lateral = np.abs((xx - p[0]) * u[1] - (yy - p[1]) * u[0])
+    margin = np.where(inked, _OPAQUE_MARGIN, _tube_margin(half_width))
+    ramp = np.clip(half_width + margin - lateral + 0.5, 0.0, 1.0)
+    return np.where(at_end, ramp, 1.0).astype(np.float32)
 
 
 @dataclass
