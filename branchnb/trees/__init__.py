@@ -9,7 +9,7 @@ clouds (:mod:`branchnb.trees.billboard`).
 
 from .billboard import BillboardCloud, BillboardParams, billboard_cloud  # noqa: F401
 from .contour import ContourParams, PinPoints, TreeContour, stem_trunk_mask, tree_contour
-from .exemplar import ExemplarParams, alpha_from_background, extract_contours, normalize_exemplar
+from .exemplar import ExemplarParams, alpha_from_background, extract_contours, normalize_exemplar, tree_rgba
 from .export import export_gltf, export_obj  # noqa: F401
 from .histogram_transfer import histogram_transfer
 from .morph import combine_shapes, dirichlet_weights, fill_contour

@@ -73,7 +73,8 @@ from ..core.params import check_params, param
 from ..core.poisson import grid_laplacian
 from ..core.random import as_rng
 from ..core.sampling import stipple
-from .segmentation import Segmentation, segment_tree, tree_rgba
+from .exemplar import tree_rgba
+from .segmentation import Segmentation, segment_tree
 
 __all__ = [
     "BillboardParams",
@@ -632,7 +633,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
     ['front', 'interior', 'rear', 'trunk']
     """
     p = check_params(params if params is not None else BillboardParams())
-    img, opaque_full = tree_rgba(rgba, alpha_threshold=p.alpha_threshold, name="rgba")
+    img, opaque_full = tree_rgba(rgba, alpha_threshold=p.alpha_threshold, min_pixels=16, name="rgba")
     rng = as_rng(rng)
     H0, W0 = opaque_full.shape
     if trunk is None:

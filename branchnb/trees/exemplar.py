@@ -38,6 +38,7 @@ __all__ = [
     "Normalized",
     "alpha_from_background",
     "normalize_exemplar",
+    "tree_rgba",
     "ContourSet",
     "extract_contours",
     "signed_area",
@@ -211,6 +212,47 @@ def _select_components(opaque: np.ndarray, mode: str, second_fraction: float):
     return labels == largest, n - 2
 
 
+def tree_rgba(image, *, alpha_threshold: float = 0.5, min_pixels: int = 1,
+              name: str = "image") -> tuple[np.ndarray, np.ndarray]:
+    """Validate an RGBA tree image; return ``(rgba float32, opaque mask)``.
+
+    The door every tree function walks its input through (normalisation,
+    segmentation, billboard clouds).
+
+    Raises
+    ------
+    ValueError
+        No alpha channel (make one from the background colour with
+        :func:`alpha_from_background`), no opaque pixel, or no transparent
+        pixel (no silhouette).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.zeros((8, 8, 4)); img[2:6, 3:5] = 1.0
+    >>> int(tree_rgba(img)[1].sum())
+    8
+    """
+    img = as_float_image(image, name=name)
+    if img.shape[2] != 4:
+        raise ValueError(
+            f"{name} must be RGBA (H, W, 4) with the tree opaque on a transparent background, "
+            f"got {img.shape[2]} channel(s); make an alpha channel with alpha_from_background(image, tol)"
+        )
+    if not 0.0 <= alpha_threshold <= 1.0:
+        raise ValueError(f"alpha_threshold must be in [0, 1], got {alpha_threshold}")
+    mask = img[:, :, 3] >= alpha_threshold
+    if mask.sum() < max(min_pixels, 1):
+        raise ValueError(f"{name} is (almost) fully transparent: fewer than {max(min_pixels, 1)} pixel(s) "
+                         f"with alpha >= {alpha_threshold}")
+    if mask.all():
+        raise ValueError(
+            f"{name} is fully opaque: there is no background to separate the tree from; "
+            "make one with alpha_from_background(image, tol)"
+        )
+    return img, mask
+
+
 def normalize_exemplar(image, params: ExemplarParams | None = None, **overrides) -> Normalized:
     """Normalise a tree image (paper: threshold, black background, crop, square, resize).
 
@@ -255,23 +297,8 @@ def normalize_exemplar(image, params: ExemplarParams | None = None, **overrides)
     if overrides:
         from dataclasses import replace
         p = check_params(replace(p, **overrides))
-    img = as_float_image(image)
-    if img.shape[2] != 4:
-        raise ValueError(
-            f"image has no alpha channel ({img.shape[2]} channels): tree exemplars need a "
-            "transparent background; make one with alpha_from_background(image, tol)"
-        )
+    img, opaque = tree_rgba(image, alpha_threshold=p.alpha_threshold)
     h, w = img.shape[:2]
-    opaque = img[:, :, 3] >= p.alpha_threshold
-    n_opaque = int(opaque.sum())
-    if n_opaque == 0:
-        raise ValueError("image is fully transparent: no pixel has alpha >= "
-                         f"{p.alpha_threshold}")
-    if n_opaque == opaque.size:
-        raise ValueError(
-            "image is fully opaque: there is no background to separate the tree from; "
-            "make one with alpha_from_background(image, tol)"
-        )
     opaque, dropped = _select_components(opaque, p.components, p.second_tree_fraction)
     ys, xs = np.nonzero(opaque)
     x0, x1, y0, y1 = int(xs.min()), int(xs.max()) + 1, int(ys.min()), int(ys.max()) + 1

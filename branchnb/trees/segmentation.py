@@ -72,12 +72,12 @@ from ..core.io import encode_png
 from ..core.params import check_params, param
 from ..core.random import as_rng
 from ..core.render import coverage_polylines
+from .exemplar import tree_rgba
 
 __all__ = [
     "SegmentParams",
     "Segmentation",
     "segment_tree",
-    "tree_rgba",
     "tree_features",
     "automatic_seeds",
     "rasterize_scribbles",
@@ -189,34 +189,6 @@ class Segmentation:
 # ---------------------------------------------------------------------------
 # Input
 # ---------------------------------------------------------------------------
-
-
-def tree_rgba(image, *, alpha_threshold: float = 0.5, name: str = "image") -> tuple[np.ndarray, np.ndarray]:
-    """Validate an RGBA tree image; return ``(rgba float32, opaque mask)``.
-
-    Raises
-    ------
-    ValueError
-        No alpha channel (use e.g. ``branchnb.trees`` normalisation to make
-        one from the background colour), no opaque pixel, or no transparent
-        pixel (no silhouette).
-    """
-    img = as_float_image(image, name=name)
-    if img.shape[2] != 4:
-        raise ValueError(
-            f"{name} must be RGBA (H, W, 4) with the tree opaque on a transparent background, "
-            f"got {img.shape[2]} channel(s); add an alpha channel first"
-        )
-    if not 0.0 <= alpha_threshold <= 1.0:
-        raise ValueError(f"alpha_threshold must be in [0, 1], got {alpha_threshold}")
-    mask = img[:, :, 3] >= alpha_threshold
-    if mask.sum() < 16:
-        raise ValueError(f"{name} is (almost) fully transparent: no tree pixels with alpha >= {alpha_threshold}")
-    if mask.all():
-        raise ValueError(
-            f"{name} is fully opaque: there is no silhouette; make the background transparent first"
-        )
-    return img, mask
 
 
 def _resize_to(img: np.ndarray, work_size: int) -> tuple[np.ndarray, float]:
@@ -350,7 +322,7 @@ def tree_features(rgba, *, stem_width: float = 0.45, alpha_threshold: float = 0.
         (opaque pixels), ``foliage`` and ``woody`` colour masks, ``stem``
         (band rows, axis, colour) and ``D`` (tree size in pixels).
     """
-    img, mask = tree_rgba(rgba, alpha_threshold=alpha_threshold, name="rgba")
+    img, mask = tree_rgba(rgba, alpha_threshold=alpha_threshold, min_pixels=16, name="rgba")
     rgb = img[:, :, :3]
     h, w = mask.shape
     lab = rgb2lab(rgb).astype(np.float32)
@@ -672,7 +644,7 @@ def segment_tree(rgba, scribbles=None, params: SegmentParams | None = None, *,
     True
     """
     p = check_params(params if params is not None else SegmentParams())
-    img, mask_full = tree_rgba(rgba, alpha_threshold=p.alpha_threshold, name="rgba")
+    img, mask_full = tree_rgba(rgba, alpha_threshold=p.alpha_threshold, min_pixels=16, name="rgba")
     rng = as_rng(rng)
     H, W = mask_full.shape
     small, s = _resize_to(img, p.work_size)
