@@ -40,7 +40,7 @@ from .variations import (
 
 __all__ = [
     "ContourParams", "PinPoints", "TreeContour", "stem_trunk_mask", "tree_contour",
-    "ExemplarParams", "alpha_from_background", "extract_contours", "normalize_exemplar",
+    "ExemplarParams", "alpha_from_background", "extract_contours", "normalize_exemplar", "tree_rgba",
     "histogram_transfer",
     "combine_shapes", "dirichlet_weights", "fill_contour",
     "mean_value_coordinates", "transfer_colour",
