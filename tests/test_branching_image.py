@@ -19,6 +19,7 @@ from branchnb.branching.image_synthesis import (
 from branchnb.branching.regions import example_regions, matte_mask
 from branchnb.branching.skeleton_map import SkeletonMap
 from branchnb.branching.structure import Branch, Structure
+from branchnb.core.metrics import psnr
 from branchnb.core.poisson import grid_laplacian
 from branchnb.core.polyline import rigid_align
 
@@ -38,8 +39,6 @@ def synthesized(river):
     return synthesize_image(img, s, target, rng=0)
 
 
-def psnr(a, b):
-    return 10 * np.log10(1.0 / max(float(np.mean((a - b) ** 2)), 1e-20))
 
 
 # --------------------------------------------------------------------------- fragments

@@ -95,3 +95,20 @@ def test_cli_gallery(tmp_path, capsys, monkeypatch):
     monkeypatch.setattr(branchnb.gallery, "SECTIONS", ())
     assert main(["gallery", str(tmp_path / "g")]) == 0
     assert "index.html" in capsys.readouterr().out
+
+
+def test_metrics():
+    from branchnb.core.metrics import iou, psnr
+
+    a = np.zeros((4, 4, 3))
+    b = a.copy()
+    b[0, 0] = 0.5
+    m = np.zeros((4, 4), bool)
+    m[1:, 1:] = True
+    assert psnr(a, a) == np.inf and psnr(a, b, m) == np.inf
+    assert psnr(a, b) == pytest.approx(10 * np.log10(1 / (0.25 * 3 / 48)))
+    assert iou(m, m) == 1.0 and iou(m, ~m) == 0.0
+    with pytest.raises(ValueError, match="same shape"):
+        psnr(a, a[:2])
+    with pytest.raises(ValueError, match="no pixel"):
+        psnr(a, b, np.zeros((4, 4), bool))

@@ -10,6 +10,7 @@ import pytest
 from scipy import ndimage as ndi
 
 from branchnb import data
+from branchnb.core.metrics import psnr
 from branchnb.strokes import (
     PlacedPatch,
     Stroke,
@@ -64,9 +65,6 @@ def band_object(shape=(90, 200), half_width=9.0, period=14.0, seed=0):
     return img, skel
 
 
-def psnr(a, b, mask):
-    mse = float(np.mean((np.asarray(a, float)[mask] - np.asarray(b, float)[mask]) ** 2))
-    return np.inf if mse == 0 else 10 * np.log10(1.0 / mse)
 
 
 def premult(img):

@@ -12,6 +12,7 @@ import pytest
 
 from branchnb import data
 from branchnb.core.image import composite_over
+from branchnb.core.metrics import psnr
 from branchnb.trees import segment_tree
 from branchnb.trees.billboard import (
     FRONT,
@@ -32,9 +33,7 @@ SMALL = BillboardParams(max_size=320)
 def _psnr_opaque(render, image):
     a = composite_over(render, (0.0, 0.0, 0.0))
     b = composite_over(image, (0.0, 0.0, 0.0))
-    m = image[:, :, 3] >= 0.5
-    mse = float(((a - b)[m] ** 2).mean())
-    return np.inf if mse == 0 else 10 * np.log10(1.0 / mse)
+    return psnr(a, b, image[:, :, 3] >= 0.5)
 
 
 @pytest.fixture(scope="module")

@@ -9,6 +9,7 @@ import pytest
 
 from branchnb import data
 from branchnb.core.histogram import compare_samples
+from branchnb.core.metrics import iou, psnr
 from branchnb.trees import (
     ContourParams,
     TreeLibrary,
@@ -39,13 +40,8 @@ def lib():
     return TreeLibrary.from_data(MIX, size=SIZE)
 
 
-def psnr(a, b, mask):
-    mse = float(np.mean((np.asarray(a, np.float64)[mask] - np.asarray(b, np.float64)[mask]) ** 2))
-    return np.inf if mse == 0 else 10 * np.log10(1.0 / mse)
 
 
-def iou(a, b):
-    return float((a & b).sum() / max((a | b).sum(), 1))
 
 
 def _tree_image(h=60, w=50, trunk=True):

@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from branchnb.core.metrics import iou
 from branchnb.trees import TreeLibrary
 from branchnb.widgets.trees import TreeVariationsApp, convex_update
 
@@ -22,8 +23,6 @@ def app(lib):
     return TreeVariationsApp(lib, display=128, thumb=48)
 
 
-def iou(a, b):
-    return float((a & b).sum() / max((a | b).sum(), 1))
 
 
 @pytest.mark.parametrize("seed", range(5))

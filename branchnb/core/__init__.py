@@ -1,5 +1,5 @@
 """What two or more techniques share: image conventions, polylines, histograms,
-rendering, graph-cut seams, Poisson compositing, warps and stippling.
+rendering, graph-cut seams, Poisson compositing, warps, stippling and comparison metrics.
 
 Each concept lives in its own module; the most used functions are
 re-exported here.
@@ -18,6 +18,7 @@ from .image import (
     split_alpha,
     to_uint8,
 )
+from .metrics import iou, psnr
 from .poisson import grid_laplacian, poisson_blend
 from .polyline import (
     RigidTransform,
@@ -57,10 +58,12 @@ __all__ = [
     "grid_laplacian",
     "histogram_distance",
     "histograms",
+    "iou",
     "normals",
     "poisson_blend",
     "polyline_length",
     "polylines_to_svg",
+    "psnr",
     "remap",
     "resample_chord",
     "resample_uniform",
