@@ -25,7 +25,7 @@ from scipy.sparse import csgraph
 
 from ..core.image import as_gray, as_points, as_rgb
 from ..core.params import check_params
-from ..core.polyline import normals, polyline_length, resample_uniform
+from ..core.polyline import arc_length, normals, polyline_length, resample_uniform
 from .params import ClickParams, ExtractionParams
 from .structure import Branch, Structure
 
@@ -470,7 +470,7 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
         if par is not None and len(nodes) > 2:
             # The distance transform near the junction measures the parent:
             # use the child's own radius from one parent radius onwards.
-            arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pts, axis=0).T))])
+            arc = arc_length(pts)
             inside = arc < r[0] + 1.0
             if inside.all():
                 inside[-1] = False

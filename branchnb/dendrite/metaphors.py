@@ -21,6 +21,7 @@ import numpy as np
 from scipy import ndimage
 
 from ..core.params import check_params, param
+from ..core.polyline import arc_length
 from ..core.random import as_rng
 from ..core.render import coverage_polylines, draw_polylines
 from ..core.svg import polylines_to_svg
@@ -113,8 +114,7 @@ def vine_curves(dendrite: Dendrite, *, smooth: int = 12, curls: float = 0.6,
         widths.append(wid)
         if not leaves or len(line) < 4:
             continue
-        seg = np.diff(line, axis=0)
-        arc = np.concatenate([[0.0], np.cumsum(np.hypot(seg[:, 0], seg[:, 1]))])
+        arc = arc_length(line)
         side = 1.0 if bi % 2 else -1.0
         s = rng.uniform(0.3, 1.0) * leaf_spacing
         while s < arc[-1] - 2.0:

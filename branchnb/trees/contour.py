@@ -35,6 +35,7 @@ from scipy.ndimage import median_filter
 from ..core.image import as_mask, as_points, composite_over
 from ..core.io import encode_png
 from ..core.params import check_params, param
+from ..core.polyline import arc_length
 from ..core.render import draw_polylines
 from .exemplar import signed_area
 from .morph import fill_contour
@@ -312,14 +313,10 @@ def pin_points(contour, alpha, trunk_mask=None, *, radius: float = 0.015) -> Pin
     return PinPoints(b.copy(), c[ir].copy(), c[il].copy(), ib, ir, il, True)
 
 
-def _arc(points: np.ndarray) -> np.ndarray:
-    return np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(points, axis=0).T))])
-
-
 def _sample_closed(points: np.ndarray, s_new: np.ndarray) -> np.ndarray:
     """Points at arc lengths ``s_new`` along a closed polyline starting at points[0]."""
     loop = np.vstack([points, points[:1]])
-    s = _arc(loop)
+    s = arc_length(loop)
     keep = np.concatenate([[True], np.diff(s) > 1e-12])
     s, loop = s[keep], loop[keep]
     return np.stack([np.interp(s_new, s, loop[:, 0]), np.interp(s_new, s, loop[:, 1])], axis=1)
@@ -365,7 +362,7 @@ def resample_pinned(contour, pins: PinPoints, n_points: int = 2000,
     elif not (0 < jr < jl < k):
         raise ValueError("pins are not in the order B -> R -> L along the contour")
     loop = np.vstack([rolled, rolled[:1]])
-    s = _arc(loop)
+    s = arc_length(loop)
     s_b, s_end = 0.0, s[-1]
     s_r, s_l = (s[jr], s[jl]) if pins.has_trunk else (0.0, s_end)
     s_new = np.concatenate([
@@ -436,7 +433,7 @@ def simplify_contour(resampled, n_crown_fraction: float = 0.8, *, m_points: int 
     ib = int(np.argmin(np.hypot(*(border - b).T)))
     border = np.roll(border, -ib, axis=0)
     loop = np.vstack([border, border[:1]])
-    s = _arc(loop)
+    s = arc_length(loop)
     total = s[-1]
     s_pts = s[:-1]
     sr = float(s_pts[np.argmin(np.hypot(*(border - r).T))])
