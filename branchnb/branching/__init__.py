@@ -20,7 +20,7 @@ from .guidance import Guidance, guidance_map
 from .histogram_matching import histogram_distances
 from .image_synthesis import ImageSynthesisParams, ImageSynthesisResult, synthesize_image
 from .params import ClickParams, ExtractionParams, SynthesisParams
-from .structure import Branch, Structure
+from ..core.structure import Branch, Structure
 from .synthesis import (
                          StructureModel,
                          SynthesisResult,

@@ -16,7 +16,7 @@ from ..core.io import imsave
 from ..gallery import GalleryItem
 from ._image_examples import random_tree, river_example
 from .image_synthesis import ImageSynthesisParams, synthesize_image
-from .structure import Structure
+from ..core.structure import Structure
 
 __all__ = ["gallery_items"]
 

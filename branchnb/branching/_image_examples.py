@@ -12,7 +12,7 @@ from scipy import ndimage as ndi
 
 from ..core.random import as_rng
 from ..core.render import draw_polylines
-from .structure import Branch, Structure
+from ..core.structure import Branch, Structure
 
 
 def _walk(rng, start, heading, length, step=4.0, wiggle=0.18):

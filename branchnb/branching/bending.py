@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..core.polyline import tangents
-from .structure import Structure
+from ..core.structure import Structure
 
 __all__ = ["BendingModel", "branch_elements", "markov_dist"]
 

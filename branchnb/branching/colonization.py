@@ -53,7 +53,7 @@ def auto_rho(structure, h: float = 4.0) -> float:
 
     Examples
     --------
-    >>> from branchnb.branching.structure import Branch, Structure
+    >>> from branchnb.core.structure import Branch, Structure
     >>> s = Structure([Branch([(5, y), (95, y)], 1.0) for y in (10, 50, 90)])
     >>> round(auto_rho(s))
     20

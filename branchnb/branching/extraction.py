@@ -27,7 +27,7 @@ from ..core.image import as_gray, as_points, as_rgb
 from ..core.params import check_params
 from ..core.polyline import arc_length, normals, polyline_length, resample_uniform
 from .params import ClickParams, ExtractionParams
-from .structure import Branch, Structure
+from ..core.structure import Branch, Structure
 
 __all__ = [
     "branch_from_clicks",

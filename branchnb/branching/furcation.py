@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .bending import branch_elements, markov_dist
-from .structure import Structure
+from ..core.structure import Structure
 
 __all__ = ["FurcationModel", "furcation_features", "vertex_angles", "window_features"]
 

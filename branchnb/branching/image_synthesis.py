@@ -49,8 +49,8 @@ from ..core.params import check_params, param
 from ..core.polyline import rigid_align
 from ..core.random import as_rng
 from ..core.render import draw_polylines
-from .blending import compose_piece
-from .completion import complete_gaps
+from ..core.blending import compose_piece
+from ..core.completion import complete_gaps
 from .displacement import backward_map, displacement_field
 from .fragments import (
     Fragment,
@@ -63,7 +63,7 @@ from .fragments import (
 )
 from .regions import ExampleRegions, example_regions, flatten_shading
 from .skeleton_map import PixelMap, SkeletonMap
-from .structure import Structure
+from ..core.structure import Structure
 
 __all__ = ["ImageSynthesisParams", "ImageSynthesisResult", "FragmentMatch", "synthesize_image"]
 
@@ -526,7 +526,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     Examples
     --------
     >>> import numpy as np
-    >>> from branchnb.branching.structure import Structure, Branch
+    >>> from branchnb.core.structure import Structure, Branch
     >>> rng = np.random.default_rng(0)
     >>> img = (0.6 + 0.1 * rng.random((64, 64, 3))).astype(np.float32)
     >>> img[30:34, 4:60] = 0.1                                    # a dark horizontal branch

@@ -16,7 +16,7 @@ import numpy as np
 from scipy import ndimage as ndi
 
 from ..core.polyline import arc_length
-from .structure import Structure
+from ..core.structure import Structure
 
 __all__ = ["SkeletonMap", "PixelMap"]
 
@@ -60,7 +60,7 @@ class SkeletonMap:
 
     Examples
     --------
-    >>> from branchnb.branching.structure import Structure, Branch
+    >>> from branchnb.core.structure import Structure, Branch
     >>> sm = SkeletonMap(Structure([Branch([(0, 0), (10, 0)], 2.0)]))
     >>> sm.position([0], [4.0]).tolist()
     [[4.0, 0.0]]

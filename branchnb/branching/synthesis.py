@@ -51,7 +51,7 @@ from .furcation import FurcationModel, vertex_angles, window_features
 from .guidance import Guidance
 from .histogram_matching import HistogramMatcher, histogram_distances
 from .params import SynthesisParams
-from .structure import Branch, Structure
+from ..core.structure import Branch, Structure
 
 __all__ = [
     "CandidateScores",

@@ -1,5 +1,6 @@
 """What two or more techniques share: image conventions, polylines, histograms,
-rendering, graph-cut seams, Poisson compositing, warps, stippling and comparison metrics.
+rendering, skeleton structures, graph-cut seams, Poisson compositing, example-based
+completion, warps, stippling and comparison metrics.
 
 Each concept lives in its own module; the most used functions are
 re-exported here.
@@ -35,10 +36,13 @@ from .polyline import (
 from .random import as_rng
 from .render import coverage_polylines, draw_polylines
 from .sampling import stipple
+from .structure import Branch, Structure
 from .svg import polylines_to_svg
 from .warp import Patch, remap, transfer_patch
 
 __all__ = [
+    "Branch",
+    "Structure",
     "Patch",
     "RigidTransform",
     "SeamComposition",

@@ -233,9 +233,9 @@ class Dendrite:
         return [2.0 * self.radius[b] for b in self.branches]
 
     def to_structure(self):
-        """The dendrite as a :class:`branchnb.branching.Structure`
+        """The dendrite as a :class:`branchnb.core.structure.Structure`
         (thickness = radius, floored at 0.05 px)."""
-        from ..branching.structure import Branch, Structure
+        from ..core.structure import Branch, Structure
 
         _, pos = self.owner()
         out = []

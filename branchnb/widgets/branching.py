@@ -42,7 +42,7 @@ from ..branching import (
     synthesize_structure,
 )
 from ..branching.extraction import estimate_thickness, gray_for_extraction
-from ..branching.structure import Branch
+from ..core.structure import Branch
 from ..core.image import as_float_image, as_rgb
 from ..core.polyline import resample_uniform
 from . import AnnotationCanvas, ErrorArea, HistogramCompare, ImageView, ParamPanel, ProgressBar

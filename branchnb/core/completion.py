@@ -22,7 +22,7 @@ automatic, by patch quilting (Efros & Freeman 2001) with graph-cut seams
   resolution) and one of the windows within ``(1 + tolerance)`` of the
   best is drawn at random;
 * the patch is composed with a graph-cut seam and an anchored
-  gradient-domain correction (:func:`branchnb.branching.blending.compose_piece`);
+  gradient-domain correction (:func:`branchnb.core.blending.compose_piece`);
   the synthesised branch bodies are protected: never overwritten, and
   neutral in the colour correction (no halo).
 """
@@ -36,7 +36,7 @@ import cv2
 import numpy as np
 from scipy import ndimage as ndi
 
-from ..core.random import as_rng
+from .random import as_rng
 from .blending import compose_piece
 
 __all__ = ["CompletionResult", "admissible_windows", "complete_gaps"]
@@ -297,7 +297,7 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
         The example is searched at a scale where its long side is at most
         this many pixels; the choice is refined at full resolution.
     method, poisson, anchored, anchor_weight, screen
-        Composition of each patch, see :func:`branchnb.branching.blending.compose_piece`
+        Composition of each patch, see :func:`branchnb.core.blending.compose_piece`
         (with ``screen > 0`` the anchors are replaced by a screened correction
         that stays near the seams).
     min_free : float

@@ -13,11 +13,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..core.image import as_float_image, as_points
-from ..core.io import encode_png
-from ..core.polyline import polyline_length, resample_uniform, turning_angles
-from ..core.render import draw_polylines
-from ..core.svg import polylines_to_svg
+from .image import as_float_image, as_points
+from .io import encode_png
+from .polyline import polyline_length, resample_uniform, turning_angles
+from .render import draw_polylines
+from .svg import polylines_to_svg
 
 __all__ = ["Branch", "Structure", "GENERATION_COLORS"]
 

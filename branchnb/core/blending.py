@@ -29,8 +29,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage as ndi
 
-from ..core.graphcut import seam_cost, seam_cut
-from ..core.poisson import poisson_blend
+from .graphcut import seam_cost, seam_cut
+from .poisson import poisson_blend
 
 __all__ = ["Composition", "compose_piece"]
 
