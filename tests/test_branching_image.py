@@ -8,7 +8,6 @@ import scipy.sparse as sp
 from scipy import ndimage as ndi
 
 from branchnb.branching._image_examples import random_tree, river_example
-from branchnb.core.blending import compose_piece
 from branchnb.branching.displacement import displacement_field
 from branchnb.branching.fragments import ShapeBank, rigid_fit_batch, shape_cost
 from branchnb.branching.image_synthesis import (
@@ -18,10 +17,11 @@ from branchnb.branching.image_synthesis import (
 )
 from branchnb.branching.regions import example_regions, matte_mask
 from branchnb.branching.skeleton_map import SkeletonMap
-from branchnb.core.structure import Branch, Structure
+from branchnb.core.blending import compose_piece
 from branchnb.core.metrics import psnr
 from branchnb.core.poisson import grid_laplacian
 from branchnb.core.polyline import rigid_align
+from branchnb.core.structure import Branch, Structure
 
 SHAPE = (112, 112)
 

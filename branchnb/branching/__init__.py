@@ -10,6 +10,7 @@ colonization and optional guidance.
 >>> from branchnb.branching import Structure, Branch, synthesize_structure
 """
 
+from ..core.structure import Branch, Structure
 from .extraction import (
                          branch_from_clicks,
                          estimate_thickness,
@@ -20,7 +21,6 @@ from .guidance import Guidance, guidance_map
 from .histogram_matching import histogram_distances
 from .image_synthesis import ImageSynthesisParams, ImageSynthesisResult, synthesize_image
 from .params import ClickParams, ExtractionParams, SynthesisParams
-from ..core.structure import Branch, Structure
 from .synthesis import (
                          StructureModel,
                          SynthesisResult,

@@ -13,10 +13,10 @@ from pathlib import Path
 import numpy as np
 
 from ..core.io import imsave
+from ..core.structure import Structure
 from ..gallery import GalleryItem
 from ._image_examples import random_tree, river_example
 from .image_synthesis import ImageSynthesisParams, synthesize_image
-from ..core.structure import Structure
 
 __all__ = ["gallery_items"]
 

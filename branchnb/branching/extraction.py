@@ -26,8 +26,8 @@ from scipy.sparse import csgraph
 from ..core.image import as_gray, as_points, as_rgb
 from ..core.params import check_params
 from ..core.polyline import arc_length, normals, polyline_length, resample_uniform
-from .params import ClickParams, ExtractionParams
 from ..core.structure import Branch, Structure
+from .params import ClickParams, ExtractionParams
 
 __all__ = [
     "branch_from_clicks",

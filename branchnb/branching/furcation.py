@@ -32,8 +32,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .bending import branch_elements, markov_dist
 from ..core.structure import Structure
+from .bending import branch_elements, markov_dist
 
 __all__ = ["FurcationModel", "furcation_features", "vertex_angles", "window_features"]
 

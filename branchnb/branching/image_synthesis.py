@@ -43,14 +43,15 @@ import cv2
 import numpy as np
 from scipy import ndimage as ndi
 
+from ..core.blending import compose_piece
+from ..core.completion import complete_gaps
 from ..core.image import as_float_image, as_mask, as_points, as_rgb
 from ..core.io import encode_png
 from ..core.params import check_params, param
 from ..core.polyline import rigid_align
 from ..core.random import as_rng
 from ..core.render import draw_polylines
-from ..core.blending import compose_piece
-from ..core.completion import complete_gaps
+from ..core.structure import Structure
 from .displacement import backward_map, displacement_field
 from .fragments import (
     Fragment,
@@ -63,7 +64,6 @@ from .fragments import (
 )
 from .regions import ExampleRegions, example_regions, flatten_shading
 from .skeleton_map import PixelMap, SkeletonMap
-from ..core.structure import Structure
 
 __all__ = ["ImageSynthesisParams", "ImageSynthesisResult", "FragmentMatch", "synthesize_image"]
 

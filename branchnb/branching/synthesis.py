@@ -38,6 +38,7 @@ from ..core.io import encode_png
 from ..core.params import check_params
 from ..core.polyline import tangents
 from ..core.random import as_rng
+from ..core.structure import Branch, Structure
 from .bending import BendingModel, branch_elements
 from .colonization import (
     DensityMap,
@@ -51,7 +52,6 @@ from .furcation import FurcationModel, vertex_angles, window_features
 from .guidance import Guidance
 from .histogram_matching import HistogramMatcher, histogram_distances
 from .params import SynthesisParams
-from ..core.structure import Branch, Structure
 
 __all__ = [
     "CandidateScores",

@@ -36,8 +36,8 @@ import cv2
 import numpy as np
 from scipy import ndimage as ndi
 
-from .random import as_rng
 from .blending import compose_piece
+from .random import as_rng
 
 __all__ = ["CompletionResult", "admissible_windows", "complete_gaps"]
 

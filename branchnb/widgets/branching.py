@@ -42,9 +42,9 @@ from ..branching import (
     synthesize_structure,
 )
 from ..branching.extraction import estimate_thickness, gray_for_extraction
-from ..core.structure import Branch
 from ..core.image import as_float_image, as_rgb
 from ..core.polyline import resample_uniform
+from ..core.structure import Branch
 from . import AnnotationCanvas, ErrorArea, HistogramCompare, ImageView, ParamPanel, ProgressBar
 
 __all__ = ["BranchingApp", "annotations_to_structure", "structure_to_annotations"]
