@@ -1,0 +1,284 @@
+"""Ground clutter at the trunk foot: find it and split it off the tree.
+
+Drawn and photographed trees often stand on something: a pile of fallen
+leaves, a tuft of grass, a shadow, rocks, a hill, a tray or a base disc.
+The paper's exemplars are clean cut-outs; with clutter at the foot the
+lowest contour point is not the trunk foot, the segmentation calls the
+leaf pile crown, and every mix maps a trunk onto a leaf pile. So before
+anything else the clutter is cut off (:func:`split_ground`), and the tree
+alone is normalised, segmented and pinned.
+
+The cut is geometric and reads the silhouette like a person would: the
+trunk is the narrow *neck* between the crown above and whatever it stands
+on below. For every row ``y`` the *neck width* ``c(y)`` is the number of
+opaque pixels of row ``y`` that are connected to the crown through the rows
+above ``y`` **and** to the bottom of the picture through the rows below it
+(:func:`neck_profile`). A hill beside the trunk, a sun behind the island or
+a frond hanging down beside the stem do not count; a leaf pile round the
+trunk does, because it touches the trunk. Read from the bottom up, ``c``
+is wide on the ground, narrow on the trunk (``w_t``, the median over the
+narrow band) and wide again on the crown. The trunk foot is the lowest row
+of the trunk, found by walking down from the narrow band while
+``c(y) <= jump * w_t`` (a flared trunk base stays trunk); the tree is the
+part above the foot that is connected to the crown, the ground is the rest.
+
+No ground is reported when the bottom rows are already the trunk, when no
+narrow band of at least ``min_stem_height`` of the tree height sits under
+a crown, or when the wide rows at the bottom are taller than
+``max_ground_height`` of the tree (a bush or a conifer whose branches reach
+the ground).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+from scipy import ndimage as ndi
+
+from ..core.image import as_mask
+from ..core.params import check_params, param
+from .exemplar import tree_rgba
+
+__all__ = ["GroundParams", "GroundSplit", "neck_profile", "split_ground", "ground_mask"]
+
+
+@dataclass
+class GroundParams:
+    """Parameters of :func:`split_ground` (not in the paper: its exemplars have no ground).
+
+    Attributes
+    ----------
+    stem_width : float
+        A row is trunk while its neck width is below this fraction of the
+        crown's widest row.
+    jump : float
+        Below the trunk, a row wider than ``jump`` times the trunk width is
+        ground (a flared trunk base up to that width stays trunk).
+    min_stem_height : float
+        The narrow band must be at least this fraction of the tree height.
+    max_ground_height : float
+        Wide bottom rows taller than this fraction of the tree are no
+        ground but the tree itself (bushes, conifers).
+    work_size : int
+        Long side of the image the profile is computed on.
+    """
+
+    stem_width: float = param(0.45, min=0.05, max=0.95, step=0.05,
+                              help="trunk rows are narrower than this fraction of the crown")
+    jump: float = param(2.5, min=1.0, max=10.0, step=0.1,
+                        help="ground rows are wider than this multiple of the trunk")
+    min_stem_height: float = param(0.015, min=0.0, max=0.5, step=0.01,
+                                   help="shortest trunk (fraction of the tree height)")
+    max_ground_height: float = param(0.5, min=0.0, max=0.9, step=0.05,
+                                     help="tallest ground (fraction of the height)")
+    work_size: int = param(256, min=64, max=2048, step=32, help="long side of the working mask")
+
+
+@dataclass
+class GroundSplit:
+    """A tree image split into the tree and the clutter at its foot.
+
+    Attributes
+    ----------
+    tree : (H, W) bool ndarray
+        Opaque pixels of the tree (crown and trunk down to the foot).
+    ground : (H, W) bool ndarray
+        Opaque pixels that are not the tree (empty when there is no ground).
+    foot : (float, float) or None
+        ``(x, y)`` of the trunk foot (middle of the trunk's lowest row),
+        None without a visible trunk.
+    trunk_width : float
+        Median neck width of the trunk band in input pixels (0 without trunk).
+    """
+
+    tree: np.ndarray
+    ground: np.ndarray
+    foot: tuple[float, float] | None
+    trunk_width: float
+
+    @property
+    def has_ground(self) -> bool:
+        return bool(self.ground.any())
+
+    def cut(self, image) -> np.ndarray:
+        """``image`` (RGBA) with the ground made transparent (and black)."""
+        img = np.array(image, dtype=np.float32, copy=True)
+        img[self.ground] = 0.0
+        return img
+
+
+def _crown_component(labels: np.ndarray, top_rows: int) -> int:
+    """The label owning most pixels of the top rows (the crown)."""
+    counts = np.bincount(labels[:top_rows].ravel())
+    counts[0] = 0
+    return int(np.argmax(counts)) if counts.max() > 0 else 0
+
+
+def neck_profile(mask, *, top_fraction: float = 0.3) -> np.ndarray:
+    """Neck width ``c(y)`` of every row of a silhouette (see the module text).
+
+    Parameters
+    ----------
+    mask : (H, W) array_like
+        The opaque pixels.
+    top_fraction : float
+        The crown is the component owning most pixels of this top share of
+        the rows above ``y``.
+
+    Returns
+    -------
+    (H,) float64 ndarray
+        Opaque pixels of each row connected both to the crown above and to
+        the lowest opaque row below (8-connectivity); 0 on empty rows.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> m = np.zeros((30, 20), bool); m[2:14, 2:18] = True; m[14:24, 9:11] = True
+    >>> m[24:28, 1:19] = True; m[18:24, 1:5] = True     # ground, and a rock beside the trunk
+    >>> c = neck_profile(m); int(c[20]), int(c[26]), int(c[8])
+    (2, 18, 16)
+    """
+    m = as_mask(mask, name="mask")
+    h = m.shape[0]
+    c = np.zeros(h)
+    rows = np.flatnonzero(m.any(axis=1))
+    if rows.size == 0:
+        return c
+    y0, y1 = int(rows[0]), int(rows[-1])
+    eight = np.ones((3, 3), bool)
+    for y in range(y0, y1 + 1):
+        if not m[y].any():
+            continue
+        top, _ = ndi.label(m[y0:y + 1], structure=eight)
+        n_top = max(1, int(round(top_fraction * (y - y0 + 1))))
+        crown = _crown_component(top, n_top)
+        above = top[-1] == crown
+        below, _ = ndi.label(m[y:y1 + 1], structure=eight)
+        ids = np.unique(below[-1])
+        ids = ids[ids > 0]
+        reach = np.isin(below[0], ids)
+        c[y] = float(np.count_nonzero(above & reach & m[y]))
+    return c
+
+
+def _foot_row(c: np.ndarray, widths: np.ndarray, p: GroundParams) -> tuple[int | None, float, int]:
+    """(foot row or None, trunk width, lowest stem row) from the neck profile."""
+    rows = np.flatnonzero(widths > 0)
+    y0, y1 = int(rows[0]), int(rows[-1])
+    height = y1 - y0 + 1
+    crown_w = float(widths[y0:y0 + max(1, int(0.6 * height))].max())
+    narrow = p.stem_width * crown_w
+    runs, n = ndi.label((c > 0) & (c < narrow))
+    min_rows = max(2, p.min_stem_height * height)
+    best = None  # (trunk width, top, bottom)
+    for k in range(n, 0, -1):
+        band = np.flatnonzero(runs == k)
+        top, bottom = int(band[0]), int(band[-1])
+        if bottom - top + 1 < min_rows:
+            continue
+        if bottom < y0 + (1.0 - p.max_ground_height) * height - 1:
+            break     # the wide rows below are too tall to be ground
+        # A crown must sit on the band (the pointed tip of a conifer is no trunk).
+        if np.count_nonzero(widths[y0:top] >= narrow) < 0.15 * height:
+            continue
+        # The band can hold the trunk and a narrow stand below it (a tray):
+        # the trunk is its narrow part.
+        w_t = float(np.percentile(c[top:bottom + 1], 25))
+        # Of several bands the trunk is the narrowest: the others are the
+        # tapering lower edge of a ground patch, or a stand.
+        if best is None or w_t < best[0]:
+            best = (w_t, top, bottom)
+    if best is None:
+        return None, 0.0, y1
+    w_t, top, bottom = best
+    foot = top + int(np.flatnonzero(c[top:bottom + 1] <= 1.5 * w_t)[-1])
+    while foot + 1 <= y1 and 0 < c[foot + 1] <= p.jump * w_t:
+        foot += 1
+    return foot, w_t, bottom
+
+
+def split_ground(image, params: GroundParams | None = None, **overrides) -> GroundSplit:
+    """Split the clutter at the trunk foot (leaves, grass, shadow, rocks, hill) off a tree.
+
+    Parameters
+    ----------
+    image : (H, W, 4) array_like or (H, W) bool array_like
+        RGBA tree on a transparent background, or its opacity mask.
+    params : GroundParams, optional
+    **overrides
+        Fields of ``params``.
+
+    Returns
+    -------
+    GroundSplit
+        ``tree`` and ``ground`` masks at the input resolution and the
+        trunk foot.
+
+    Raises
+    ------
+    ValueError
+        No alpha channel, fully transparent or fully opaque image.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.zeros((60, 40, 4), np.float32)
+    >>> img[5:30, 5:35] = (0.1, 0.6, 0.1, 1)          # crown
+    >>> img[30:50, 18:22] = (0.4, 0.25, 0.1, 1)       # trunk
+    >>> img[50:56, 2:38] = (0.7, 0.4, 0.1, 1)         # leaf pile
+    >>> s = split_ground(img)
+    >>> s.has_ground, bool(s.tree[40, 20]), bool(s.ground[53, 5]), s.foot
+    (True, True, True, (19.5, 49.0))
+    """
+    p = check_params(params if params is not None else GroundParams())
+    if overrides:
+        from dataclasses import replace
+        p = check_params(replace(p, **overrides))
+    arr = np.asarray(image)
+    if arr.ndim == 2:
+        mask = as_mask(arr, name="image")
+        if not mask.any():
+            raise ValueError("image has no opaque pixel")
+    else:
+        _, mask = tree_rgba(image, name="image")
+    h, w = mask.shape
+    s = min(1.0, p.work_size / max(h, w))
+    small = mask if s >= 1.0 else cv2.resize(
+        mask.astype(np.float32), (max(1, round(w * s)), max(1, round(h * s))),
+        interpolation=cv2.INTER_AREA) >= 0.5
+    if not small.any():
+        small = mask
+        s = 1.0
+    empty = np.zeros_like(mask)
+    c = neck_profile(small)
+    foot_small, w_t, _ = _foot_row(c, small.sum(axis=1).astype(float), p)
+    if foot_small is None:
+        return GroundSplit(mask.copy(), empty, None, 0.0)
+    rows_small = np.flatnonzero(small.any(axis=1))
+    if foot_small >= rows_small[-1]:
+        ys = np.flatnonzero(mask.any(axis=1))
+        y_f = int(ys[-1])
+        tree = mask.copy()
+        ground = empty
+    else:
+        # Foot row at the input resolution: the bottom edge of the small row.
+        y_f = min(h - 1, int(np.floor((foot_small + 1) / s)) - 1) if s < 1.0 else foot_small
+        upper = mask.copy()
+        upper[y_f + 1:] = False
+        lab, _ = ndi.label(upper, structure=np.ones((3, 3), bool))
+        ys = np.flatnonzero(upper.any(axis=1))
+        top_rows = max(1, int(0.3 * (y_f - ys[0] + 1)))
+        crown = _crown_component(lab[ys[0]:], top_rows)
+        tree = lab == crown
+        ground = mask & ~tree
+    xs = np.flatnonzero(tree[y_f])
+    foot = (float(np.median(xs)), float(y_f)) if xs.size else None
+    return GroundSplit(tree, ground, foot, w_t / s)
+
+
+def ground_mask(image, params: GroundParams | None = None, **overrides) -> np.ndarray:
+    """Just the ground of :func:`split_ground` (an ``(H, W)`` bool mask)."""
+    return split_ground(image, params, **overrides).ground
