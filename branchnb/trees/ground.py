@@ -67,7 +67,7 @@ class GroundParams:
 
     stem_width: float = param(0.45, min=0.05, max=0.95, step=0.05,
                               help="trunk rows are narrower than this fraction of the crown")
-    jump: float = param(2.5, min=1.0, max=10.0, step=0.1,
+    jump: float = param(2.0, min=1.0, max=10.0, step=0.1,
                         help="ground rows are wider than this multiple of the trunk")
     min_stem_height: float = param(0.015, min=0.0, max=0.5, step=0.01,
                                    help="shortest trunk (fraction of the tree height)")
@@ -90,13 +90,18 @@ class GroundSplit:
         ``(x, y)`` of the trunk foot (middle of the trunk's lowest row),
         None without a visible trunk.
     trunk_width : float
-        Median neck width of the trunk band in input pixels (0 without trunk).
+        Neck width of the trunk band in input pixels (0 without trunk).
+    stem : (H, W) bool ndarray
+        The trunk as the geometry sees it: the neck pixels from the foot up
+        to where the crown widens (empty without a visible trunk). Colour
+        cannot find a green palm trunk or a trunk a few pixels wide; this can.
     """
 
     tree: np.ndarray
     ground: np.ndarray
     foot: tuple[float, float] | None
     trunk_width: float
+    stem: np.ndarray | None = None
 
     @property
     def has_ground(self) -> bool:
@@ -116,7 +121,7 @@ def _crown_component(labels: np.ndarray, top_rows: int) -> int:
     return int(np.argmax(counts)) if counts.max() > 0 else 0
 
 
-def neck_profile(mask, *, top_fraction: float = 0.3) -> np.ndarray:
+def neck_profile(mask, *, top_fraction: float = 0.3, return_mask: bool = False):
     """Neck width ``c(y)`` of every row of a silhouette (see the module text).
 
     Parameters
@@ -126,6 +131,9 @@ def neck_profile(mask, *, top_fraction: float = 0.3) -> np.ndarray:
     top_fraction : float
         The crown is the component owning most pixels of this top share of
         the rows above ``y``.
+
+    return_mask : bool
+        Also return the ``(H, W)`` mask of those pixels.
 
     Returns
     -------
@@ -144,9 +152,10 @@ def neck_profile(mask, *, top_fraction: float = 0.3) -> np.ndarray:
     m = as_mask(mask, name="mask")
     h = m.shape[0]
     c = np.zeros(h)
+    neck = np.zeros_like(m)
     rows = np.flatnonzero(m.any(axis=1))
     if rows.size == 0:
-        return c
+        return (c, neck) if return_mask else c
     y0, y1 = int(rows[0]), int(rows[-1])
     eight = np.ones((3, 3), bool)
     for y in range(y0, y1 + 1):
@@ -160,12 +169,13 @@ def neck_profile(mask, *, top_fraction: float = 0.3) -> np.ndarray:
         ids = np.unique(below[-1])
         ids = ids[ids > 0]
         reach = np.isin(below[0], ids)
-        c[y] = float(np.count_nonzero(above & reach & m[y]))
-    return c
+        neck[y] = above & reach & m[y]
+        c[y] = float(np.count_nonzero(neck[y]))
+    return (c, neck) if return_mask else c
 
 
 def _foot_row(c: np.ndarray, widths: np.ndarray, p: GroundParams) -> tuple[int | None, float, int]:
-    """(foot row or None, trunk width, lowest stem row) from the neck profile."""
+    """(foot row or None, trunk width, top row of the trunk band) from the neck profile."""
     rows = np.flatnonzero(widths > 0)
     y0, y1 = int(rows[0]), int(rows[-1])
     height = y1 - y0 + 1
@@ -197,7 +207,7 @@ def _foot_row(c: np.ndarray, widths: np.ndarray, p: GroundParams) -> tuple[int |
     foot = top + int(np.flatnonzero(c[top:bottom + 1] <= 1.5 * w_t)[-1])
     while foot + 1 <= y1 and 0 < c[foot + 1] <= p.jump * w_t:
         foot += 1
-    return foot, w_t, bottom
+    return foot, w_t, top
 
 
 def split_ground(image, params: GroundParams | None = None, **overrides) -> GroundSplit:
@@ -253,10 +263,14 @@ def split_ground(image, params: GroundParams | None = None, **overrides) -> Grou
         small = mask
         s = 1.0
     empty = np.zeros_like(mask)
-    c = neck_profile(small)
-    foot_small, w_t, _ = _foot_row(c, small.sum(axis=1).astype(float), p)
+    c, neck = neck_profile(small, return_mask=True)
+    foot_small, w_t, top_small = _foot_row(c, small.sum(axis=1).astype(float), p)
     if foot_small is None:
-        return GroundSplit(mask.copy(), empty, None, 0.0)
+        return GroundSplit(mask.copy(), empty, None, 0.0, empty.copy())
+    stem_small = np.zeros_like(small)
+    stem_small[top_small:foot_small + 1] = neck[top_small:foot_small + 1]
+    stem = stem_small if s >= 1.0 else cv2.resize(
+        stem_small.astype(np.uint8), (w, h), interpolation=cv2.INTER_NEAREST).astype(bool)
     rows_small = np.flatnonzero(small.any(axis=1))
     if foot_small >= rows_small[-1]:
         ys = np.flatnonzero(mask.any(axis=1))
@@ -276,7 +290,12 @@ def split_ground(image, params: GroundParams | None = None, **overrides) -> Grou
         ground = mask & ~tree
     xs = np.flatnonzero(tree[y_f])
     foot = (float(np.median(xs)), float(y_f)) if xs.size else None
-    return GroundSplit(tree, ground, foot, w_t / s)
+    if s < 1.0:  # nearest upsampling misses the trunk's edge pixels
+        k = 2 * int(np.ceil(1.0 / s)) + 1
+        stem = cv2.dilate(stem.astype(np.uint8), np.ones((1, k), np.uint8)).astype(bool)
+    stem &= tree
+    stem[y_f + 1:] = False
+    return GroundSplit(tree, ground, foot, w_t / s, stem)
 
 
 def ground_mask(image, params: GroundParams | None = None, **overrides) -> np.ndarray:

@@ -58,7 +58,7 @@ Examples
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import cv2
@@ -73,6 +73,7 @@ from ..core.params import check_params, param
 from ..core.random import as_rng
 from ..core.render import coverage_polylines
 from .exemplar import tree_rgba
+from .ground import split_ground
 
 __all__ = [
     "SegmentParams",
@@ -142,6 +143,7 @@ class SegmentParams:
                          help="maximum training pixels per class")
     n_trees: int = param(40, min=5, max=300, help="trees of the random forest")
     connected_trunk: bool = param(True, help="give trunk pieces not reaching the stem to the crown")
+    ground: bool = param(True, help="cut ground clutter at the trunk foot off first (split_ground)")
 
 
 @dataclass
@@ -158,6 +160,10 @@ class Segmentation:
         Training labels used (0 none, 1 crown, 2 trunk), scribbles included.
     image : (H, W, 4) float32 ndarray
         The input, as RGBA.
+    ground : (H, W) bool ndarray or None
+        Opaque pixels cut off as ground clutter at the trunk foot (leaves,
+        grass, shadow, rocks, a stand: :func:`~branchnb.trees.ground.split_ground`),
+        neither crown nor trunk; None when nothing was cut.
     """
 
     crown: np.ndarray
@@ -165,13 +171,16 @@ class Segmentation:
     probability: np.ndarray
     seeds: np.ndarray
     image: np.ndarray = field(repr=False)
+    ground: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def labels(self) -> np.ndarray:
-        """(H, W) uint8: 0 background, 1 crown, 2 trunk."""
+        """(H, W) uint8: 0 background, 1 crown, 2 trunk, 255 ground (not part of the tree)."""
         out = np.zeros(self.crown.shape, np.uint8)
         out[self.crown] = CROWN
         out[self.trunk] = TRUNK
+        if self.ground is not None:
+            out[self.ground & ~self.crown & ~self.trunk] = IGNORE
         return out
 
     @property
@@ -647,6 +656,18 @@ def segment_tree(rgba, scribbles=None, params: SegmentParams | None = None, *,
     img, mask_full = tree_rgba(rgba, alpha_threshold=p.alpha_threshold, min_pixels=16, name="rgba")
     rng = as_rng(rng)
     H, W = mask_full.shape
+    if p.ground:
+        split = split_ground(mask_full)
+        ground = split.ground
+        if scribbles is not None and ground.any():
+            # A scribble on the cut-off part puts it back into the tree.
+            ground = ground & (rasterize_scribbles(scribbles, (H, W), width=p.scribble_width) == 0)
+        if ground.any() and (mask_full & ~ground).sum() >= 16:
+            cut = img.copy()
+            cut[ground] = 0.0
+            seg = segment_tree(cut, scribbles, replace(p, ground=False), rng=rng)
+            return Segmentation(crown=seg.crown, trunk=seg.trunk, probability=seg.probability,
+                                seeds=seg.seeds, image=img, ground=ground)
     small, s = _resize_to(img, p.work_size)
     # Premultiplied downsampling keeps transparent colours from bleeding in.
     if s < 1.0:

@@ -43,7 +43,15 @@ from ..core.params import check_params, param
 from ..core.random import as_rng
 from ..core.render import draw_polylines
 from .contour import ContourParams, TreeContour, simplify_contour, stem_trunk_mask, tree_contour
-from .exemplar import ContourSet, ExemplarParams, Normalized, extract_contours, normalize_exemplar
+from .exemplar import (
+    ContourSet,
+    ExemplarParams,
+    Normalized,
+    extract_contours,
+    normalize_exemplar,
+    tree_rgba,
+)
+from .ground import split_ground
 from .histogram_transfer import histogram_transfer
 from .morph import check_weights, combine_shapes, dirichlet_weights, fill_contour
 from .mvc import transfer_colour
@@ -54,6 +62,7 @@ __all__ = [
     "process_exemplar",
     "exemplar_trunk",
     "TRUNK_METHODS",
+    "GROUND_METHODS",
     "VariationParams",
     "Variation",
     "TreeLibrary",
@@ -95,6 +104,10 @@ class Exemplar:
         ``"mask"`` (given), ``"segmentation"``
         (:func:`~branchnb.trees.segmentation.segment_tree`) or ``"stem"``
         (the geometric :func:`~branchnb.trees.contour.stem_trunk_mask`).
+    ground : (H, W) bool ndarray or None
+        Ground clutter cut off the source image before normalisation
+        (:func:`~branchnb.trees.ground.split_ground`), in source pixels;
+        None when nothing was cut.
     """
 
     name: str
@@ -104,6 +117,7 @@ class Exemplar:
     contour: TreeContour
     normalized: Normalized
     trunk_source: str = "stem"
+    ground: np.ndarray | None = field(default=None, repr=False)
     _cages: dict = field(default_factory=dict, repr=False, compare=False)
 
     @property
@@ -142,7 +156,8 @@ class Exemplar:
         points, ``C_r`` and ``C_s``. Used to apply a corrected segmentation."""
         t = as_mask(trunk, shape=self.alpha.shape, name="trunk") & self.alpha
         tc = tree_contour(self.contours.tree, self.alpha, t, self.contour.params)
-        return Exemplar(self.name, self.image, t, self.contours, tc, self.normalized, source)
+        return Exemplar(self.name, self.image, t, self.contours, tc, self.normalized, source,
+                        self.ground)
 
     def render(self) -> np.ndarray:
         """RGB: the exemplar with ``C_r``, ``C_s`` and the pin points drawn on it."""
@@ -164,6 +179,8 @@ class Exemplar:
 
 #: How :func:`process_exemplar` finds the trunk when no mask is given.
 TRUNK_METHODS = ("auto", "segmentation", "stem")
+#: What :func:`process_exemplar` does with clutter at the trunk foot.
+GROUND_METHODS = ("cut", "keep")
 
 
 def exemplar_trunk(image, method: str = "auto", *, rng=0) -> tuple[np.ndarray, str]:
@@ -180,7 +197,11 @@ def exemplar_trunk(image, method: str = "auto", *, rng=0) -> tuple[np.ndarray, s
         ``"auto"``: the segmentation, unless it leaves (almost) no crown (a
         bare tree is all wood), where the pin points would collapse onto
         ``B``; then the stem estimate, so a bare tree's trunk still lines
-        up with the trunks of leafy trees.
+        up with the trunks of leafy trees. Both segmentation modes add the
+        narrow neck between the crown and the foot
+        (:attr:`~branchnb.trees.ground.GroundSplit.stem`): colour cannot
+        find a green palm trunk or a trunk a few pixels wide, the
+        silhouette can.
     rng : int
         Seed of the segmenter's random forest.
 
@@ -199,6 +220,9 @@ def exemplar_trunk(image, method: str = "auto", *, rng=0) -> tuple[np.ndarray, s
     from .segmentation import segment_tree
 
     trunk = segment_tree(img, rng=rng).trunk & alpha
+    stem = split_ground(alpha).stem
+    if stem is not None and stem.any():
+        trunk = trunk | stem
     crown = alpha & ~trunk
     if method == "auto" and crown.sum() < 0.02 * alpha.sum():
         return stem_trunk_mask(alpha), "stem"
@@ -206,7 +230,7 @@ def exemplar_trunk(image, method: str = "auto", *, rng=0) -> tuple[np.ndarray, s
 
 
 def process_exemplar(image, name: str = "", *, trunk_mask=None, trunk: str = "auto",
-                     exemplar_params: ExemplarParams | None = None,
+                     ground: str = "cut", exemplar_params: ExemplarParams | None = None,
                      contour_params: ContourParams | None = None, **overrides) -> Exemplar:
     """Process one tree image for the library (normalise, contour, pins, ``C_r``, ``C_s``).
 
@@ -223,6 +247,13 @@ def process_exemplar(image, name: str = "", *, trunk_mask=None, trunk: str = "au
         How to find the trunk without ``trunk_mask`` (see
         :func:`exemplar_trunk`; default: the crown/trunk segmentation, the
         stem estimate for trees without crown).
+    ground : {"cut", "keep"}
+        ``"cut"``: ground clutter at the trunk foot (leaf piles, grass,
+        shadows, rocks, a hill or a stand) is cut off before anything else
+        (:func:`~branchnb.trees.ground.split_ground`), so ``B`` is the trunk
+        foot, the tree stands on the bottom edge like every other exemplar
+        and no variation maps a trunk onto a leaf pile; ``"keep"``: the
+        whole silhouette is the tree (the paper's clean cut-outs).
     exemplar_params : ExemplarParams, optional
         Normalisation (``size`` S = 1024, alpha threshold 0.5, components).
     contour_params : ContourParams, optional
@@ -257,6 +288,15 @@ def process_exemplar(image, name: str = "", *, trunk_mask=None, trunk: str = "au
                         f"ExemplarParams: {sorted(e_fields)}, ContourParams: {sorted(c_fields)}")
     ep = replace(ep, **{k: v for k, v in overrides.items() if k in e_fields})
     cp = replace(cp, **{k: v for k, v in overrides.items() if k in c_fields})
+    if ground not in GROUND_METHODS:
+        raise ValueError(f"ground must be one of {list(GROUND_METHODS)}, got {ground!r}")
+    cut = None
+    if ground == "cut":
+        img, opaque = tree_rgba(image, alpha_threshold=ep.alpha_threshold)
+        split = split_ground(opaque)
+        if split.has_ground:
+            cut = split.ground
+            image = split.cut(img)
     norm = normalize_exemplar(image, ep)
     if trunk_mask is None:
         tmask, source = exemplar_trunk(norm.image, trunk)
@@ -264,7 +304,7 @@ def process_exemplar(image, name: str = "", *, trunk_mask=None, trunk: str = "au
         tmask, source = norm.warp_mask(trunk_mask) & norm.alpha, "mask"
     contours = extract_contours(norm.alpha)
     tc = tree_contour(contours.tree, norm.alpha, tmask, cp)
-    return Exemplar(str(name), norm.image, tmask, contours, tc, norm, source)
+    return Exemplar(str(name), norm.image, tmask, contours, tc, norm, source, cut)
 
 
 # ----------------------------------------------------------------------------- variations
@@ -729,6 +769,9 @@ class TreeLibrary:
         For trees added later.
     trunk : {"auto", "segmentation", "stem"}
         How trees added later find their trunk (:func:`exemplar_trunk`).
+    ground : {"cut", "keep"}
+        Whether trees added later have ground clutter at the trunk foot
+        cut off (:func:`process_exemplar`).
 
     Examples
     --------
@@ -738,11 +781,15 @@ class TreeLibrary:
     """
 
     def __init__(self, exemplars: Sequence[Exemplar] = (), *, size: int = 1024,
-                 contour_params: ContourParams | None = None, trunk: str = "auto"):
+                 contour_params: ContourParams | None = None, trunk: str = "auto",
+                 ground: str = "cut"):
         if trunk not in TRUNK_METHODS:
             raise ValueError(f"trunk must be one of {list(TRUNK_METHODS)}, got {trunk!r}")
+        if ground not in GROUND_METHODS:
+            raise ValueError(f"ground must be one of {list(GROUND_METHODS)}, got {ground!r}")
         self.exemplars: list[Exemplar] = []
         self.trunk = trunk
+        self.ground = ground
         self.size = int(size)
         self.contour_params = contour_params if contour_params is not None else ContourParams()
         check_params(ExemplarParams(size=self.size), name="size")
@@ -751,9 +798,10 @@ class TreeLibrary:
 
     @classmethod
     def from_data(cls, names: Sequence[str] | None = None, *, size: int = 1024,
-                  contour_params: ContourParams | None = None, trunk: str = "auto") -> TreeLibrary:
+                  contour_params: ContourParams | None = None, trunk: str = "auto",
+                  ground: str = "cut") -> TreeLibrary:
         """A library of sample trees from ``branchnb.data`` (default: :data:`RPG_TREES`)."""
-        lib = cls(size=size, contour_params=contour_params, trunk=trunk)
+        lib = cls(size=size, contour_params=contour_params, trunk=trunk, ground=ground)
         for n in (RPG_TREES if names is None else names):
             lib.add(_data.load(n), n)
         return lib
@@ -785,7 +833,7 @@ class TreeLibrary:
         """Process an RGBA tree image and add it (see :func:`process_exemplar`)."""
         name = f"tree_{len(self)}" if name is None else str(name)
         ex = process_exemplar(image, name, trunk_mask=trunk_mask, trunk=self.trunk,
-                              exemplar_params=ExemplarParams(size=self.size),
+                              ground=self.ground, exemplar_params=ExemplarParams(size=self.size),
                               contour_params=self.contour_params)
         return self.add_exemplar(ex)
 
