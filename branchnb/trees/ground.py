@@ -192,7 +192,10 @@ def _foot_row(c: np.ndarray, widths: np.ndarray, p: GroundParams) -> tuple[int |
         if bottom < y0 + (1.0 - p.max_ground_height) * height - 1:
             break     # the wide rows below are too tall to be ground
         # A crown must sit on the band (the pointed tip of a conifer is no trunk).
-        if np.count_nonzero(widths[y0:top] >= narrow) < 0.15 * height:
+        # The crown sits right on top: a low wide patch (a leaf pile above
+        # the tapering lower edge of the ground) is no crown.
+        above = widths[max(y0, top - int(0.25 * height)):top]
+        if np.count_nonzero(above >= narrow) < 0.15 * height:
             continue
         # The band can hold the trunk and a narrow stand below it (a tray):
         # the trunk is its narrow part.
@@ -267,8 +270,13 @@ def split_ground(image, params: GroundParams | None = None, **overrides) -> Grou
     foot_small, w_t, top_small = _foot_row(c, small.sum(axis=1).astype(float), p)
     if foot_small is None:
         return GroundSplit(mask.copy(), empty, None, 0.0, empty.copy())
+    # The stem ends where the crown widens: walking up from the foot while
+    # the neck stays within ``jump`` times the trunk width.
+    stem_top = foot_small
+    while stem_top - 1 >= top_small and c[stem_top - 1] <= p.jump * w_t:
+        stem_top -= 1
     stem_small = np.zeros_like(small)
-    stem_small[top_small:foot_small + 1] = neck[top_small:foot_small + 1]
+    stem_small[stem_top:foot_small + 1] = neck[stem_top:foot_small + 1]
     stem = stem_small if s >= 1.0 else cv2.resize(
         stem_small.astype(np.uint8), (w, h), interpolation=cv2.INTER_NEAREST).astype(bool)
     rows_small = np.flatnonzero(small.any(axis=1))

@@ -222,7 +222,13 @@ def exemplar_trunk(image, method: str = "auto", *, rng=0) -> tuple[np.ndarray, s
     trunk = segment_tree(img, rng=rng).trunk & alpha
     stem = split_ground(alpha).stem
     if stem is not None and stem.any():
-        trunk = trunk | stem
+        # Colour missed the trunk (a green palm trunk, a trunk a few pixels
+        # wide) when it covers little of the lower half of the neck.
+        rows = np.flatnonzero(stem.any(axis=1))
+        low = stem.copy()
+        low[: (rows[0] + rows[-1]) // 2] = False
+        if (trunk & low).sum() < 0.5 * low.sum():
+            trunk = trunk | stem
     crown = alpha & ~trunk
     if method == "auto" and crown.sum() < 0.02 * alpha.sum():
         return stem_trunk_mask(alpha), "stem"

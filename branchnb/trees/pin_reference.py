@@ -1,0 +1,49 @@
+"""Hand-placed reference pins and the pin error of an exemplar against them.
+
+``data/trees_pins/pins.json`` holds pin points ``B``, ``R``, ``L`` placed by
+eye on sample trees (source pixels; how they were made is in the file's
+``note``). :func:`pin_errors` measures how far the automatic pins of
+:func:`~branchnb.trees.variations.process_exemplar` are from them, as a
+fraction of the tree height (``B`` to the top of the tree).
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["PINS_FILE", "load_reference_pins", "source_pins", "pin_errors"]
+
+#: The hand-placed pins.
+PINS_FILE = Path(__file__).resolve().parent.parent.parent / "data" / "trees_pins" / "pins.json"
+
+
+def load_reference_pins() -> dict[str, dict[str, np.ndarray]]:
+    """name -> {"B", "R", "L"} -> (x, y) in source-image pixels."""
+    table = json.loads(PINS_FILE.read_text())["pins"]
+    return {n: {k: np.asarray(v, float) for k, v in d.items()} for n, d in table.items()}
+
+
+def source_pins(exemplar) -> dict[str, np.ndarray]:
+    """An exemplar's pins ``B``, ``R``, ``L`` mapped back to its source image."""
+    nz = exemplar.normalized
+    x0, y0 = nz.box[:2]
+    out = {}
+    p = exemplar.contour.pins
+    for k, pt in (("B", p.b), ("R", p.r), ("L", p.l)):
+        out[k] = (np.asarray(pt, float) - np.asarray(nz.offset) + 0.5) / nz.scale - 0.5 + (x0, y0)
+    return out
+
+
+def pin_errors(found: dict, reference: dict, alpha) -> dict[str, float]:
+    """Distance of each found pin to its reference, over the tree height.
+
+    The height runs from the reference ``B`` up to the top opaque row of
+    ``alpha`` (the source image's opacity).
+    """
+    a = np.asarray(alpha) >= 0.5
+    top = int(np.flatnonzero(a.any(axis=1))[0])
+    height = max(float(reference["B"][1]) - top, 1.0)
+    return {k: float(np.hypot(*(np.asarray(found[k]) - reference[k])) / height) for k in ("B", "R", "L")}
