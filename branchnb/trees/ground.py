@@ -200,6 +200,8 @@ def _foot_row(c: np.ndarray, widths: np.ndarray, p: GroundParams) -> tuple[int |
         # The band can hold the trunk and a narrow stand below it (a tray):
         # the trunk is its narrow part.
         w_t = float(np.percentile(c[top:bottom + 1], 25))
+        if bottom >= y1 - 1 and bottom - top + 1 < 0.5 * c[top:bottom + 1].max():
+            continue  # the rounded bottom of a crown is no trunk
         # Of several bands the trunk is the narrowest: the others are the
         # tapering lower edge of a ground patch, or a stand.
         if best is None or w_t < best[0]:

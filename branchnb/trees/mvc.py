@@ -8,8 +8,8 @@ coordinates ``lambda_i(p)`` with respect to the target's simplified contour
 .. math:: q = \\sum_i \\lambda_i(p)\\, C_{s,i}^{\\mathrm{src}},
 
 where RGBA is sampled bilinearly. With several exemplars, the output alpha
-is the maximum of the sampled alphas and the colour a random convex
-combination of the contributions that are not transparent.
+is opaque where a sampled exemplar is opaque (a clean cut-out) and the
+colour a random convex combination of the contributions that are opaque.
 
 Mean value coordinates (Floater 2003) are computed with the formulation of
 Hormann & Floater (2006) for *arbitrary* planar polygons: signed angles, so
@@ -276,10 +276,11 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
     Returns
     -------
     (H, W, 4) float32 ndarray
-        Straight (not premultiplied) RGBA: alpha is the maximum sampled
-        alpha inside ``target_mask`` (0 outside); colour is
-        ``sum_i c_i a_i rgb_i / sum_i c_i a_i`` over the exemplars whose
-        sample is not transparent; black where alpha is 0.
+        Straight (not premultiplied) RGBA with binary alpha: 1 where at
+        least one exemplar with colour weight > 0 is opaque (sampled alpha
+        >= 0.5) inside ``target_mask``; colour is
+        ``sum_i c_i [a_i >= 0.5] rgb_i / sum_i c_i [a_i >= 0.5]`` (only
+        exemplars opaque at the mapped point blend); black where alpha is 0.
 
     Examples
     --------
@@ -313,16 +314,22 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
     ys, xs = np.nonzero(mask)
     pts = np.stack([xs, ys], axis=1).astype(np.float64)
     mapped = mvc_map(pts, tcage, np.stack([cages[i] for i in used]))
-    amax = np.zeros(len(pts), np.float32)
+    # A source takes part at a pixel only where it is opaque there (sampled
+    # alpha >= 0.5): where it is transparent its colour is not blended in as
+    # a half-transparent layer, and the result is a clean cut-out.
+    opaque = np.zeros(len(pts), bool)
     num = np.zeros((len(pts), 3), np.float64)
     den = np.zeros(len(pts), np.float64)
     for k, i in enumerate(used):
         smp = sample_rgba(srcs[i], mapped[k])
-        amax = np.maximum(amax, smp[:, 3])
-        num += cw[i] * smp[:, :3]
-        den += cw[i] * smp[:, 3]
-    rgb = np.where(den[:, None] > 1e-6, num / np.maximum(den, 1e-12)[:, None], 0.0)
+        a = smp[:, 3]
+        on = a >= 0.5
+        opaque |= on
+        straight = smp[:, :3] / np.maximum(a, 1e-6)[:, None]
+        num += (cw[i] * on)[:, None] * straight
+        den += cw[i] * on
+    rgb = np.where(den[:, None] > 1e-12, num / np.maximum(den, 1e-12)[:, None], 0.0)
     out = np.zeros(mask.shape + (4,), np.float32)
-    out[ys, xs, :3] = np.clip(rgb, 0.0, 1.0) * (amax[:, None] > 0)
-    out[ys, xs, 3] = amax
+    out[ys, xs, :3] = np.clip(rgb, 0.0, 1.0) * opaque[:, None]
+    out[ys, xs, 3] = opaque
     return out

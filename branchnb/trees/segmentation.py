@@ -896,8 +896,8 @@ def load_reference_scribbles(name: str, *, ignore: bool = False) -> list[dict]:
 def reference_from_scribbles(name: str, image=None) -> np.ndarray:
     """Rebuild the reference label image of ``name`` from its stored scribbles.
 
-    ``segment_tree(image, scribbles)`` with default parameters and
-    ``rng=0``, then the ``"ignore"`` polygons set to 255 on opaque pixels.
+    ``segment_tree(image, scribbles)`` with default parameters (but no
+    ground cut, which came later) and ``rng=0``, then the ``"ignore"`` polygons set to 255 on opaque pixels.
     This is how ``data/trees_masks/*_mask.png`` were written; a later change
     of the segmenter can move a few pixels, the stored PNGs are the labels.
     """
@@ -906,7 +906,8 @@ def reference_from_scribbles(name: str, image=None) -> np.ndarray:
     img = data.load(name) if image is None else image
     items = load_reference_scribbles(name, ignore=True)
     scribbles = [d for d in items if d["label"] != "ignore"]
-    seg = segment_tree(img, scribbles=scribbles or None, rng=0)
+    # The stored masks were made before the ground cut existed.
+    seg = segment_tree(img, scribbles=scribbles or None, params=SegmentParams(ground=False), rng=0)
     labels = seg.labels
     opaque = labels > 0
     for d in items:

@@ -35,6 +35,7 @@ from dataclasses import dataclass, field, replace
 
 import cv2
 import numpy as np
+from scipy import ndimage as ndi
 
 from .. import data as _data
 from ..core.image import as_float_image, as_mask, composite_over
@@ -73,6 +74,8 @@ __all__ = [
     "tree_variations",
     "morph_sequence",
     "tile_images",
+    "one_piece",
+    "exemplar_largest_hole",
 ]
 
 #: The 14 RPG map sprites of ``branchnb.data``: one consistent drawing style
@@ -361,8 +364,10 @@ class Variation:
     Attributes
     ----------
     image : (S, S, 4) float32 ndarray
-        Straight RGBA; alpha is the maximum of the exemplars' sampled
-        alphas inside the new contour.
+        Straight RGBA with binary alpha (opaque where an exemplar with
+        colour weight is opaque inside the new contour), one piece: stray
+        islands are dropped and holes larger than the exemplars' own are
+        filled (:func:`one_piece`).
     names : tuple of str
         The exemplars combined.
     weights : (k,) ndarray
@@ -549,11 +554,81 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     image = transfer_colour([exemplars[i].image for i in used],
                             [exemplars[i].cage(p.m_points) for i in used],
                             cage, mask, colour_weights=cw[used] / cw[used].sum())
+    image = one_piece(image, [exemplars[i] for i in used])
     ref_name = None
     if reference is not None:
         ref_img, ref_name = _reference_image(reference, library)
         image = histogram_transfer(image, ref_img)
     return Variation(image, tuple(e.name for e in exemplars), w, cw, cr, cage, mask, ref_name)
+
+
+def _holes(alpha: np.ndarray) -> tuple[np.ndarray, int]:
+    """Transparent regions not connected to the image border, and their count."""
+    lab, n = ndi.label(~alpha)
+    border = np.unique(np.concatenate([lab[0], lab[-1], lab[:, 0], lab[:, -1]]))
+    holes = (lab > 0) & ~np.isin(lab, border)
+    return holes, int(n - np.count_nonzero(border > 0))
+
+
+def exemplar_largest_hole(exemplar: Exemplar) -> int:
+    """Area (pixels) of the largest interior transparent hole of an exemplar."""
+    holes, _ = _holes(exemplar.alpha)
+    if not holes.any():
+        return 0
+    lab, _ = ndi.label(holes)
+    return int(np.bincount(lab.ravel())[1:].max())
+
+
+def one_piece(image, exemplars: Sequence[Exemplar]) -> np.ndarray:
+    """Keep a variation in one piece, like its exemplars.
+
+    The largest opaque component (8-connected) is kept; other components
+    are kept only if some exemplar has several pieces and they are at least
+    as large as that exemplar's smallest piece. Interior transparent holes
+    larger than the largest hole of the exemplars are filled, with the
+    colour of the nearest opaque pixel.
+
+    Parameters
+    ----------
+    image : (S, S, 4) array_like
+        Straight RGBA with binary alpha.
+    exemplars : sequence of Exemplar
+        The exemplars that were mixed.
+
+    Returns
+    -------
+    (S, S, 4) float32 ndarray
+    """
+    img = np.array(image, dtype=np.float32, copy=True)
+    alpha = img[:, :, 3] >= 0.5
+    if not alpha.any():
+        return img
+    lab, n = ndi.label(alpha, structure=np.ones((3, 3), bool))
+    if n > 1:
+        areas = np.bincount(lab.ravel())
+        areas[0] = 0
+        keep = areas >= areas.max()
+        pieces = [np.bincount(ndi.label(e.alpha, structure=np.ones((3, 3), bool))[0].ravel())[1:]
+                  for e in exemplars]
+        multi = [p.min() for p in pieces if len(p) > 1]
+        if multi:
+            keep |= areas >= min(multi)
+        keep[0] = False
+        alpha = keep[lab]
+    holes, _ = _holes(alpha)
+    if holes.any():
+        limit = max((exemplar_largest_hole(e) for e in exemplars), default=0)
+        hl, _ = ndi.label(holes)
+        sizes = np.bincount(hl.ravel())
+        sizes[0] = 0
+        fill = (sizes > limit)[hl] & holes
+        if fill.any():
+            _, (iy, ix) = ndi.distance_transform_edt(~alpha, return_indices=True)
+            img[fill, :3] = img[iy[fill], ix[fill], :3]
+            alpha = alpha | fill
+    img[~alpha] = 0.0
+    img[:, :, 3] = alpha
+    return img
 
 
 def _reference_image(reference, library) -> tuple[np.ndarray, str]:
