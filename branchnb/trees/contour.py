@@ -252,6 +252,29 @@ def _trunkness(trunk: np.ndarray, opaque: np.ndarray, points: np.ndarray, radius
     return t[yi, xi] / np.maximum(o[yi, xi], 1.0)
 
 
+def _close_gaps(flags: np.ndarray, max_gap: int) -> np.ndarray:
+    """Fill runs of False up to ``max_gap`` long between True runs of a closed sequence.
+
+    Clutter drawn over the trunk foot (grass blades, leaves) makes the walk
+    along the trunk side meet short crown-coloured excursions; the crown
+    itself is a long run.
+    """
+    if max_gap <= 0 or flags.all() or not flags.any():
+        return flags
+    start = int(np.flatnonzero(flags)[0])
+    f = np.roll(flags, -start)              # starts on True
+    out = f.copy()
+    edges = np.flatnonzero(np.diff(f.astype(np.int8)))
+    falls = edges[f[edges]]
+    rises = edges[~f[edges]]
+    for a in falls:
+        nxt = rises[rises > a]
+        end = int(nxt[0]) if nxt.size else len(f) - 1   # the last gap wraps onto f[0]
+        if end - a <= max_gap:
+            out[a + 1:end + 1] = True
+    return np.roll(out, start)
+
+
 def pin_points(contour, alpha, trunk_mask=None, *, radius: float = 0.015) -> PinPoints:
     """Find the pin points ``B``, ``R``, ``L`` on a tree contour.
 
@@ -277,8 +300,12 @@ def pin_points(contour, alpha, trunk_mask=None, *, radius: float = 0.015) -> Pin
 
     Notes
     -----
-    ``B`` is the lowest contour point (the median in x of those on the
-    lowest row). If ``B`` is not on the trunk, or the walk from ``B`` never
+    ``B`` is the bottom of the tree: of the contour points within 2 % of
+    the height of the lowest row, the low one nearest the middle of their
+    span (the paper: the lowest point; a trunk base cut at a slant would put
+    that at a corner); when that point is not trunk (clutter drawn over the
+    trunk foot) but a trunk point lies within 5 % of the height above it,
+    the lowest trunk point is ``B``. If ``B`` is not on the trunk, or the walk from ``B`` never
     reaches the crown (a bare tree that is all trunk), no trunk is visible
     and ``L = R = B``.
     """
@@ -290,8 +317,13 @@ def pin_points(contour, alpha, trunk_mask=None, *, radius: float = 0.015) -> Pin
              else as_mask(trunk_mask, shape=opaque.shape, name="trunk_mask"))
     k = len(c)
     ymax = c[:, 1].max()
-    low = np.flatnonzero(c[:, 1] >= ymax - 0.5)
-    ib = int(low[np.argsort(c[low, 0], kind="stable")[(len(low) - 1) // 2]])
+    # The middle of the bottom: the contour points within 2 % of the height
+    # of the lowest row span the trunk's base; B is the lowest point nearest
+    # the middle of that span (a trunk base cut at a slant has its lowest
+    # point at one corner).
+    band = np.flatnonzero(c[:, 1] >= ymax - max(0.5, 0.02 * (ymax - c[:, 1].min())))
+    x_mid = 0.5 * (c[band, 0].min() + c[band, 0].max())
+    ib = int(band[np.argmin(np.abs(c[band, 0] - x_mid) + 4.0 * (ymax - c[band, 1]))])
     b = c[ib]
     none = PinPoints(b.copy(), b.copy(), b.copy(), ib, ib, ib, False)
     if not (trunk & opaque).any():
@@ -299,7 +331,18 @@ def pin_points(contour, alpha, trunk_mask=None, *, radius: float = 0.015) -> Pin
     r_px = int(round(radius * max(opaque.shape)))
     is_trunk = _trunkness(trunk, opaque, c, r_px) >= 0.5
     if not is_trunk[ib]:
-        return none
+        # Clutter drawn over the trunk foot (grass blades, leaves): B is the
+        # lowest trunk point of the contour if it is near the bottom.
+        height = ymax - c[:, 1].min()
+        cand = np.flatnonzero(is_trunk & (c[:, 1] >= ymax - 0.05 * height))
+        if cand.size == 0:
+            return none
+        y_low = c[cand, 1].max()
+        low = cand[c[cand, 1] >= y_low - 0.5]
+        ib = int(low[np.argsort(c[low, 0], kind="stable")[(len(low) - 1) // 2]])
+        b = c[ib]
+        none = PinPoints(b.copy(), b.copy(), b.copy(), ib, ib, ib, False)
+    is_trunk = _close_gaps(is_trunk, int(0.3 * (ymax - c[:, 1].min())))
     fwd = np.roll(is_trunk, -ib)            # fwd[j] = point ib + j (to the right)
     stop_r = np.flatnonzero(~fwd)
     if stop_r.size == 0:

@@ -55,7 +55,8 @@ class GroundParams:
         crown's widest row.
     jump : float
         Below the trunk, a row wider than ``jump`` times the trunk width is
-        ground (a flared trunk base up to that width stays trunk).
+        ground (a flared trunk base up to that width stays trunk, if it
+        widens smoothly: by at most 25 % per row).
     min_stem_height : float
         The narrow band must be at least this fraction of the tree height.
     max_ground_height : float
@@ -210,9 +211,36 @@ def _foot_row(c: np.ndarray, widths: np.ndarray, p: GroundParams) -> tuple[int |
         return None, 0.0, y1
     w_t, top, bottom = best
     foot = top + int(np.flatnonzero(c[top:bottom + 1] <= 1.5 * w_t)[-1])
-    while foot + 1 <= y1 and 0 < c[foot + 1] <= p.jump * w_t:
+    # Walk down while the trunk widens smoothly (a leaning or flared trunk):
+    # at most 25 % (or 2 px) per row and ``jump`` times its width overall;
+    # ground starts where the width jumps.
+    cap = p.jump * max(w_t, c[foot])
+    while (foot + 1 <= y1 and 0 < c[foot + 1] <= cap
+           and c[foot + 1] <= max(1.25 * c[foot], c[foot] + 2)):
         foot += 1
     return foot, w_t, top
+
+
+def _drop_side_clutter(tree: np.ndarray, stem: np.ndarray, top: int, foot: int,
+                       trunk_width: float) -> np.ndarray:
+    """Cut grass blades and leaves that lean on the trunk above the foot.
+
+    In the trunk rows, whatever is neither the trunk (the neck opened with a
+    horizontal line of half the trunk width, grown back by one pixel) nor
+    connected to the crown above is clutter.
+    """
+    k = max(3, int(round(0.5 * trunk_width)))
+    core = cv2.morphologyEx((stem & tree).astype(np.uint8), cv2.MORPH_OPEN, np.ones((1, k), np.uint8))
+    core = cv2.dilate(core, np.ones((3, 3), np.uint8)).astype(bool) & tree
+    rest = tree & ~core
+    lab, n = ndi.label(rest, structure=np.ones((3, 3), bool))
+    if n == 0:
+        return tree
+    crown_ids = np.unique(lab[:max(top, 0)])
+    band = np.zeros_like(tree)
+    band[max(top, 0):foot + 1] = True
+    clutter = (lab > 0) & ~np.isin(lab, crown_ids) & band
+    return tree & ~clutter
 
 
 def split_ground(image, params: GroundParams | None = None, **overrides) -> GroundSplit:
@@ -297,6 +325,7 @@ def split_ground(image, params: GroundParams | None = None, **overrides) -> Grou
         top_rows = max(1, int(0.3 * (y_f - ys[0] + 1)))
         crown = _crown_component(lab[ys[0]:], top_rows)
         tree = lab == crown
+        tree = _drop_side_clutter(tree, stem, int(np.floor(stem_top / s)), y_f, w_t / s)
         ground = mask & ~tree
     xs = np.flatnonzero(tree[y_f])
     foot = (float(np.median(xs)), float(y_f)) if xs.size else None

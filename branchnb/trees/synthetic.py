@@ -212,6 +212,11 @@ def synthetic_tree(kind: str = "leaf_pile", *, rng=None, size: int = 256) -> Syn
     ground_b &= ~crown_b
     trunk_b &= ~ground_b
     trunk_b[int(np.ceil(foot_y)) + 1:] = False
+    # B is the visible trunk foot: the middle of the trunk's lowest visible row
+    rows = np.flatnonzero(trunk_b.any(axis=1))
+    if rows.size:
+        xs = np.flatnonzero(trunk_b[rows[-1]])
+        pins["B"] = (float(0.5 * (xs[0] + xs[-1])), float(rows[-1]))
     labels = np.zeros((S, S), np.uint8)
     labels[crown_b] = CROWN
     labels[trunk_b] = TRUNK

@@ -220,9 +220,10 @@ def exemplar_trunk(image, method: str = "auto", *, rng=0) -> tuple[np.ndarray, s
     alpha = img[:, :, 3] >= 0.5
     if method == "stem":
         return stem_trunk_mask(alpha), "stem"
-    from .segmentation import segment_tree
+    from .segmentation import SegmentParams, segment_tree
 
-    trunk = segment_tree(img, rng=rng).trunk & alpha
+    # The ground decision was made on the source image (process_exemplar).
+    trunk = segment_tree(img, params=SegmentParams(ground=False), rng=rng).trunk & alpha
     stem = split_ground(alpha).stem
     if stem is not None and stem.any():
         # Colour missed the trunk (a green palm trunk, a trunk a few pixels
