@@ -301,9 +301,10 @@ def split_ground(image, params: GroundParams | None = None, **overrides) -> Grou
     if foot_small is None:
         return GroundSplit(mask.copy(), empty, None, 0.0, empty.copy())
     # The stem ends where the crown widens: walking up from the foot while
-    # the neck stays within ``jump`` times the trunk width.
+    # the neck does not widen by more than 25 % (or 2 px) per row.
     stem_top = foot_small
-    while stem_top - 1 >= top_small and c[stem_top - 1] <= p.jump * w_t:
+    while (stem_top - 1 >= top_small and c[stem_top - 1] > 0
+           and c[stem_top - 1] <= max(1.25 * c[stem_top], c[stem_top] + 2)):
         stem_top -= 1
     stem_small = np.zeros_like(small)
     stem_small[stem_top:foot_small + 1] = neck[stem_top:foot_small + 1]
