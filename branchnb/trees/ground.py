@@ -196,7 +196,7 @@ def _foot_row(c: np.ndarray, widths: np.ndarray, p: GroundParams) -> tuple[int |
         # The crown sits right on top: a low wide patch (a leaf pile above
         # the tapering lower edge of the ground) is no crown.
         above = widths[max(y0, top - int(0.25 * height)):top]
-        if np.count_nonzero(above >= narrow) < 0.15 * height:
+        if np.count_nonzero(above >= narrow) < 0.1 * height:
             continue
         # The band can hold the trunk and a narrow stand below it (a tray):
         # the trunk is its narrow part.
