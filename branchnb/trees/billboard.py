@@ -34,9 +34,13 @@ camera turns around the tree. The steps follow the paper:
    not mirrored); ``n_interior`` extra billboards at blue-noise positions
    inside the volume (weighted Voronoi stippling with density ``h``, the
    volume's half thickness, so the points spread evenly in 3-D; depth
-   uniform between the front and back layers), each with the texture of
-   the superpixel under it, darkened with its depth; the trunk
-   as one billboard on the image plane ``z = 0``.
+   uniform between the front and back layers), each with the outline of
+   the superpixel under it, darkened with its depth (in proportion to the
+   crown's own shading: flat-coloured clip art is not darkened, so its
+   flat regions stay flat from the side); rear and interior billboards show
+   the input colours under their own front-view footprint; the trunk (with
+   any ground clutter at its foot, which is no crown to inflate) as one
+   billboard on the image plane ``z = 0``.
 
 Billboards are *axial* billboards (each quad turns about its vertical
 axis to face the camera, the usual way trees are drawn with billboards),
@@ -119,7 +123,8 @@ class BillboardParams:
     n_interior: int = param(128, min=0, max=4096, log=True,
                             help="extra billboards at blue-noise positions inside the volume")
     interior_darkening: float = param(0.6, min=0.0, max=1.0, step=0.05,
-                                      help="colour factor lost by the deepest interior billboard")
+                                      help="colour factor lost by the deepest interior billboard "
+                                           "(times the crown's shading, 0 for flat colour)")
     max_size: int = param(1024, min=64, max=4096, step=64,
                           help="long side of the working image (paper: 1024)")
     alpha_threshold: float = param(0.5, min=0.0, max=1.0, step=0.05,
@@ -600,6 +605,43 @@ def _trim(tex: np.ndarray, x0: float, y0: float, allowed: np.ndarray) -> np.ndar
     return out
 
 
+def _recolour(tex: np.ndarray, x0: float, y0: float, image: np.ndarray) -> np.ndarray:
+    """``tex`` with the colours of ``image`` under its front-view footprint.
+
+    A rear or interior billboard keeps the outline of the superpixel it was
+    copied from but shows what lies in front of it in the input: a large
+    flat-coloured region then stays flat coloured from the side instead of
+    being speckled with colours carried over from elsewhere.
+    """
+    h, w = tex.shape[:2]
+    H, W = image.shape[:2]
+    xi, yi = int(round(x0)), int(round(y0))
+    ys = np.clip(np.arange(h) + yi, 0, H - 1)
+    xs = np.clip(np.arange(w) + xi, 0, W - 1)
+    out = tex.copy()
+    out[:, :, :3] = image[np.ix_(ys, xs)][:, :, :3]
+    return out
+
+
+def _shading(image: np.ndarray, labels: np.ndarray) -> float:
+    """How much a crown is shaded, in [0, 1]: the median colour spread inside its superpixels.
+
+    0 for flat-coloured clip art (every superpixel one colour), 1 for a
+    photograph; scales the darkening of interior billboards, which would
+    otherwise speckle flat colour regions seen from the side.
+    """
+    n = int(labels.max())
+    if n == 0:
+        return 0.0
+    lum = image[:, :, :3] @ np.array([0.2126, 0.7152, 0.0722], np.float32)
+    idx = labels.ravel()
+    cnt = np.bincount(idx, minlength=n + 1).astype(np.float64)
+    m1 = np.bincount(idx, weights=lum.ravel(), minlength=n + 1) / np.maximum(cnt, 1)
+    m2 = np.bincount(idx, weights=lum.ravel() ** 2, minlength=n + 1) / np.maximum(cnt, 1)
+    std = np.sqrt(np.maximum(m2 - m1 ** 2, 0.0))[1:][cnt[1:] > 0]
+    return float(np.clip(np.median(std) / 0.05, 0.0, 1.0)) if std.size else 0.0
+
+
 def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
                     rng=0) -> BillboardCloud:
     """Turn one RGBA tree image into a billboard cloud.
@@ -636,10 +678,12 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
     img, opaque_full = tree_rgba(rgba, alpha_threshold=p.alpha_threshold, min_pixels=16, name="rgba")
     rng = as_rng(rng)
     H0, W0 = opaque_full.shape
-    if trunk is None:
-        trunk_full = segment_tree(img, rng=rng).trunk
-    elif isinstance(trunk, Segmentation):
-        trunk_full = trunk.trunk
+    if trunk is None or isinstance(trunk, Segmentation):
+        seg = segment_tree(img, rng=rng) if trunk is None else trunk
+        # Ground clutter at the foot (a leaf pile, an island, a stand) joins
+        # the trunk billboard: it is no crown to inflate and looks alike from
+        # every side.
+        trunk_full = seg.trunk if seg.ground is None else seg.trunk | seg.ground
     else:
         trunk_full = np.asarray(trunk)
         if trunk_full.shape != (H0, W0):
@@ -738,7 +782,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
             h, w = tex.shape[:2]
             cx = 2.0 * axis - (x0 + 0.5 * w)
             rx0 = round(cx - 0.5 * w)
-            t = _trim(tex, rx0, y0, allowed)
+            t = _recolour(_trim(tex, rx0, y0, allowed), rx0, y0, work)
             a = t[:, :, 3]
             if a.sum() < 1.0:
                 continue
@@ -749,6 +793,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
 
     # 4c. Interior billboards at blue-noise positions, darkened with depth.
     if p.n_interior > 0 and n_sp > 0 and hmap.max() > 0:
+        shade = _shading(work, sp_lab)
         pts = stipple(hmap * crown, int(p.n_interior), iterations=10, rng=rng)
         for px, py in pts:
             xi = int(np.clip(round(px), 0, W - 1))
@@ -760,7 +805,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
             tex = textures[tid]
             h, w = tex.shape[:2]
             ix0, iy0 = round(px - 0.5 * w), round(py - 0.5 * h)
-            t = _trim(tex, ix0, iy0, allowed)
+            t = _recolour(_trim(tex, ix0, iy0, allowed), ix0, iy0, work)
             a = t[:, :, 3]
             if a.sum() < 1.0:
                 continue
@@ -769,7 +814,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
             zcap = max(zcap, 1e-3)
             z = float(rng.uniform(-0.9, 0.9)) * zcap
             depth01 = (0.9 * zcap - z) / (1.8 * zcap)
-            add(ix0, iy0, t, z, 1.0 - p.interior_darkening * depth01, INTERIOR, source=bid)
+            add(ix0, iy0, t, z, 1.0 - p.interior_darkening * shade * depth01, INTERIOR, source=bid)
 
     # 4d. The trunk: one billboard on the image plane.
     cut = _cut(work, trunk_ext)

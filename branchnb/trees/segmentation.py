@@ -144,6 +144,7 @@ class SegmentParams:
     n_trees: int = param(40, min=5, max=300, help="trees of the random forest")
     connected_trunk: bool = param(True, help="give trunk pieces not reaching the stem to the crown")
     ground: bool = param(True, help="cut ground clutter at the trunk foot off first (split_ground)")
+    neck_trunk: bool = param(True, help="add the silhouette's narrow neck when colour missed the trunk")
 
 
 @dataclass
@@ -618,6 +619,26 @@ def _keep_stem_connected(trunk: np.ndarray, anchor: np.ndarray) -> np.ndarray:
     return np.isin(lab, keep)
 
 
+def _missed_neck(trunk: np.ndarray, mask: np.ndarray) -> np.ndarray:
+    """The silhouette's trunk (:attr:`~branchnb.trees.ground.GroundSplit.stem`)
+    when colour missed it, else nothing.
+
+    Colour cannot find a green palm trunk, or a trunk a few pixels wide at
+    the working size; the narrow neck between crown and foot can. It is
+    used when the classified trunk covers less than half of the neck's
+    lower half.
+    """
+    stem = split_ground(mask).stem
+    if stem is None or not stem.any():
+        return np.zeros_like(mask)
+    rows = np.flatnonzero(stem.any(axis=1))
+    low = stem.copy()
+    low[: (rows[0] + rows[-1]) // 2] = False
+    if (trunk & low).sum() >= 0.5 * low.sum():
+        return np.zeros_like(mask)
+    return stem
+
+
 def segment_tree(rgba, scribbles=None, params: SegmentParams | None = None, *,
                  rng=0) -> Segmentation:
     """Segment an RGBA tree image into crown and trunk.
@@ -740,6 +761,8 @@ def segment_tree(rgba, scribbles=None, params: SegmentParams | None = None, *,
         seeds_full = cv2.resize(seeds, (W, H), interpolation=cv2.INTER_NEAREST)
     else:
         t_full, prob_full, seeds_full = trunk, prob, seeds
+    if p.neck_trunk:
+        t_full = t_full | _missed_neck(t_full, mask_full)
     if user_full is not None:
         t_full = np.where(user_full == TRUNK, True, np.where(user_full == CROWN, False, t_full))
         seeds_full = np.where(user_full > 0, user_full, seeds_full)

@@ -200,11 +200,9 @@ def exemplar_trunk(image, method: str = "auto", *, rng=0) -> tuple[np.ndarray, s
         ``"auto"``: the segmentation, unless it leaves (almost) no crown (a
         bare tree is all wood), where the pin points would collapse onto
         ``B``; then the stem estimate, so a bare tree's trunk still lines
-        up with the trunks of leafy trees. Both segmentation modes add the
-        narrow neck between the crown and the foot
-        (:attr:`~branchnb.trees.ground.GroundSplit.stem`): colour cannot
-        find a green palm trunk or a trunk a few pixels wide, the
-        silhouette can.
+        up with the trunks of leafy trees. The segmenter adds the narrow
+        neck between the crown and the foot when colour missed the trunk
+        (``SegmentParams.neck_trunk``).
     rng : int
         Seed of the segmenter's random forest.
 
@@ -224,15 +222,6 @@ def exemplar_trunk(image, method: str = "auto", *, rng=0) -> tuple[np.ndarray, s
 
     # The ground decision was made on the source image (process_exemplar).
     trunk = segment_tree(img, params=SegmentParams(ground=False), rng=rng).trunk & alpha
-    stem = split_ground(alpha).stem
-    if stem is not None and stem.any():
-        # Colour missed the trunk (a green palm trunk, a trunk a few pixels
-        # wide) when it covers little of the lower half of the neck.
-        rows = np.flatnonzero(stem.any(axis=1))
-        low = stem.copy()
-        low[: (rows[0] + rows[-1]) // 2] = False
-        if (trunk & low).sum() < 0.5 * low.sum():
-            trunk = trunk | stem
     crown = alpha & ~trunk
     if method == "auto" and crown.sum() < 0.02 * alpha.sum():
         return stem_trunk_mask(alpha), "stem"
