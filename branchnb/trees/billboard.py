@@ -39,8 +39,9 @@ camera turns around the tree. The steps follow the paper:
    crown's own shading: flat-coloured clip art is not darkened, so its
    flat regions stay flat from the side); rear and interior billboards show
    the input colours under their own front-view footprint; the trunk (with
-   any ground clutter at its foot, which is no crown to inflate) as one
-   billboard on the image plane ``z = 0``.
+   any ground clutter at its foot, which is no crown to inflate, as a
+   second one) on the image plane ``z = 0``, a leaning trunk cut into
+   horizontal strips so that it stays under the crown in side views.
 
 Billboards are *axial* billboards (each quad turns about its vertical
 axis to face the camera, the usual way trees are drawn with billboards),
@@ -684,11 +685,14 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
         # the trunk billboard: it is no crown to inflate and looks alike from
         # every side.
         trunk_full = seg.trunk if seg.ground is None else seg.trunk | seg.ground
+        ground_full = seg.ground
     else:
         trunk_full = np.asarray(trunk)
         if trunk_full.shape != (H0, W0):
             raise ValueError(f"trunk must be an (H, W) mask of shape {(H0, W0)}, got {trunk_full.shape}")
         trunk_full = trunk_full.astype(bool)
+    if trunk is not None and not isinstance(trunk, Segmentation):
+        ground_full = None
     work, s = _working_image(img, p.max_size)
     H, W = work.shape[:2]
     alpha = work[:, :, 3]
@@ -816,11 +820,35 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
             depth01 = (0.9 * zcap - z) / (1.8 * zcap)
             add(ix0, iy0, t, z, 1.0 - p.interior_darkening * shade * depth01, INTERIOR, source=bid)
 
-    # 4d. The trunk: one billboard on the image plane.
-    cut = _cut(work, trunk_ext)
-    if cut is not None:
-        x0, y0, tex = cut
-        add(x0, y0, tex, 0.0, 1.0, TRUNK_LAYER)
+    # 4d. The trunk: one billboard on the image plane; ground clutter at its
+    # foot another one (in one quad, a wide island would pull the trunk off
+    # the crown's axis in side views).
+    ground_ext = np.zeros_like(trunk_ext)
+    if ground_full is not None and ground_full.any():
+        g = ground_full if s >= 1.0 else cv2.resize(
+            ground_full.astype(np.float32), (W, H), interpolation=cv2.INTER_AREA) >= 0.5
+        ground_ext = _extend(np.where(trunk_ext & g, 1, np.where(trunk_ext, 2, 0)).astype(np.int32),
+                             trunk_ext) == 1
+    # A leaning trunk is cut into horizontal strips, each its own axial
+    # billboard: turned sideways, one flat quad would swing its top away from
+    # the crown by half the lean; strips follow the crown's axis.
+    trunk_only = trunk_ext & ~ground_ext
+    pieces = [ground_ext]
+    rows = np.flatnonzero(trunk_only.any(axis=1))
+    if rows.size:
+        cols = np.nonzero(trunk_only)[1]
+        lean = float(np.ptp(cols)) - float(np.median(trunk_only.sum(axis=1)[rows]))
+        n_strips = int(np.clip(np.ceil(lean / max(2.0, 0.02 * H)), 1, 16))
+        edges = np.linspace(rows[0], rows[-1] + 1, n_strips + 1).round().astype(int)
+        for a, b in zip(edges[:-1], edges[1:]):
+            strip = np.zeros_like(trunk_only)
+            strip[a:b] = trunk_only[a:b]
+            pieces.append(strip)
+    for piece in pieces:
+        cut = _cut(work, piece)
+        if cut is not None:
+            x0, y0, tex = cut
+            add(x0, y0, tex, 0.0, 1.0, TRUNK_LAYER)
 
     return BillboardCloud(
         centers=np.asarray(centers, np.float64).reshape(-1, 3),
