@@ -57,7 +57,8 @@ def test_front_view_reproduces_input(name):
 def test_layers_and_depths(cloud):
     counts = cloud.counts()
     assert 200 <= counts["front"] <= 320          # ~256 superpixels (paper default)
-    assert counts["trunk"] == 1 and counts["rear"] > 150 and 100 <= counts["interior"] <= 128
+    # the trunk is one quad, or strips of a leaning trunk
+    assert 1 <= counts["trunk"] <= 16 and counts["rear"] > 150 and 100 <= counts["interior"] <= 128
     z = cloud.centers[:, 2]
     assert (z[cloud.layer == FRONT] > 0).all()
     assert (z[cloud.layer == REAR] < 0).all()
@@ -77,11 +78,20 @@ def test_rear_layer_mirrors_positions_not_textures(cloud):
     x_front = cloud.centers[src, 0]
     assert np.allclose(cloud.centers[rear, 0], 2 * cloud.axis - x_front, atol=1.0)
     assert np.allclose(cloud.centers[rear, 1], cloud.centers[src, 1])
-    # Same texture, not mirrored: the colours agree where the trimmed rear alpha is set.
+    # The source's outline, not mirrored, with the input colours under the rear
+    # billboard's own footprint (flat regions stay flat from the side).
+    H, W = cloud.image.shape[:2]
     for r, s in zip(rear[:20], src[:20]):
         tr, ts = cloud.textures[cloud.texture[r]], cloud.textures[cloud.texture[s]]
+        assert tr.shape == ts.shape
         on = tr[:, :, 3] > 0
-        assert np.allclose(tr[:, :, :3][on], ts[:, :, :3][on])
+        assert not (on & (ts[:, :, 3] == 0)).any()
+        h, w = tr.shape[:2]
+        x0 = int(round(cloud.centers[r, 0] - w / 2))
+        y0 = int(round(cloud.centers[r, 1] - h / 2))
+        ys, xs = np.nonzero(on)
+        under = cloud.image[np.clip(ys + y0, 0, H - 1), np.clip(xs + x0, 0, W - 1), :3]
+        assert np.allclose(tr[ys, xs, :3], under)
 
 
 def test_front_billboards_tile_the_crown(cloud):

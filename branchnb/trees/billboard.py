@@ -835,9 +835,12 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
     trunk_only = trunk_ext & ~ground_ext
     pieces = [ground_ext]
     rows = np.flatnonzero(trunk_only.any(axis=1))
-    if rows.size:
-        cols = np.nonzero(trunk_only)[1]
-        lean = float(np.ptp(cols)) - float(np.median(trunk_only.sum(axis=1)[rows]))
+    if rows.size and not crown.any():
+        pieces.append(trunk_only)
+    elif rows.size:
+        yy, xx = np.nonzero(trunk_only)
+        centres = np.bincount(yy, weights=xx)[rows] / np.bincount(yy)[rows]
+        lean = float(np.ptp(centres))
         n_strips = int(np.clip(np.ceil(lean / max(2.0, 0.02 * H)), 1, 16))
         edges = np.linspace(rows[0], rows[-1] + 1, n_strips + 1).round().astype(int)
         for a, b in zip(edges[:-1], edges[1:]):
