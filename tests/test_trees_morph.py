@@ -99,8 +99,10 @@ def test_resampled_contour_split_and_pins(name):
     np.testing.assert_allclose(cr[0], pins.b)
     np.testing.assert_allclose(cr[200], pins.r)
     np.testing.assert_allclose(cr[1800], pins.l)
-    # B is the lowest point; R and L above it, R right of L
-    assert pins.b[1] == tc.contour[:, 1].max()
+    # B is at the bottom (the middle of the base, within 2 % of the height of the
+    # lowest row); R and L above it, R right of L
+    ys = tc.contour[:, 1]
+    assert pins.b[1] >= ys.max() - 0.02 * (ys.max() - ys.min()) - 0.5
     assert pins.r[1] < pins.b[1] and pins.l[1] < pins.b[1] and pins.r[0] > pins.l[0]
     # chord-length sampling: equal steps along C within each segment
     loop = np.vstack([cr, cr[:1]])
