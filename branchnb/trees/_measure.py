@@ -1,0 +1,75 @@
+"""Measurements for the notes (not run by the tests): ``python -m branchnb.trees._measure pins|pairs [size]``.
+
+``pins``: pin errors against the hand-placed references (``data/trees_pins``)
+and the procedural truths (24 trees, ``synthetic_trees(3, rng=7)``), with the
+ground cut and without (``ground="keep"``).
+``pairs``: every pair of the sample library, ``trees_ground`` and 8 procedural
+trees mixed 50/50 with colour weights (0.5, 0.5) and (1, 0): soft alpha,
+foreign colour, pieces, holes.
+"""
+
+from __future__ import annotations
+
+import itertools
+import sys
+import time
+
+import numpy as np
+
+from .. import data
+from .pin_reference import load_reference_pins, pin_errors, source_pins
+from .quality import foreign_colour_fraction, large_holes, pieces, soft_alpha_fraction
+from .synthetic import synthetic_trees
+from .variations import TreeLibrary, exemplar_largest_hole, make_variation, process_exemplar
+
+
+def measure_pins(size: int = 256) -> None:
+    refs = load_reference_pins()
+    synth = synthetic_trees(3, rng=7, size=256)
+    for ground in ("keep", "cut"):
+        ok_h = 0
+        for name, ref in refs.items():
+            img = data.load(name)
+            e = pin_errors(source_pins(process_exemplar(img, name, size=size, ground=ground)), ref,
+                           img[..., 3])
+            ok_h += max(e.values()) <= 0.05
+            print(f"  {ground:4s} {name:28s} B {e['B']:.3f} R {e['R']:.3f} L {e['L']:.3f}")
+        ok_s = 0
+        for t in synth:
+            e = pin_errors(source_pins(process_exemplar(t.image, t.kind, size=size, ground=ground)),
+                           {k: np.asarray(v) for k, v in t.pins.items()}, t.image[..., 3])
+            ok_s += max(e.values()) <= 0.05
+        print(f"ground={ground}: hand-placed within 5 %: {ok_h}/{len(refs)}, procedural: {ok_s}/{len(synth)}")
+
+
+def measure_pairs(size: int = 128) -> None:
+    t0 = time.perf_counter()
+    lib = TreeLibrary(size=size)
+    for n in data.names("trees") + data.names("trees_ground"):
+        lib.add(data.load(n), n)
+    for t in synthetic_trees(1, rng=3, size=256):
+        lib.add(t.image, f"synth_{t.kind}")
+    holes = {e.name: exemplar_largest_hole(e) for e in lib}
+    own = {e.name: pieces(e.alpha) for e in lib}
+    soft, foreign0, extra, holey, n = [], [], [], 0, 0
+    for a, b in itertools.combinations(lib.names, 2):
+        for cw in ([0.5, 0.5], [1.0, 0.0]):
+            v = make_variation(lib, [0.5, 0.5], use=[a, b], colour_weights=cw, rng=0)
+            soft.append(soft_alpha_fraction(v.image))
+            if cw[1] == 0:
+                foreign0.append(foreign_colour_fraction(v.image, [lib[a].image]))
+            if pieces(v.image[..., 3]) > max(own[a], own[b]):
+                extra.append((a, b))
+            holey += large_holes(v.image[..., 3], max(holes[a], holes[b])) > 0
+            n += 1
+    print(f"{len(lib)} exemplars, {n} variations in {time.perf_counter() - t0:.0f} s")
+    print(f"soft alpha (0.1..0.9 inside): max {max(soft):.4f}")
+    print(f"foreign colour at colour weights (1, 0): mean {np.mean(foreign0):.5f}, max {max(foreign0):.5f}")
+    print(f"more pieces than the exemplars: {len(extra)} {sorted(set(x for p in extra for x in p))}")
+    print(f"holes larger than the exemplars': {holey}")
+
+
+if __name__ == "__main__":
+    what = sys.argv[1] if len(sys.argv) > 1 else "pins"
+    size = int(sys.argv[2]) if len(sys.argv) > 2 else (256 if what == "pins" else 128)
+    (measure_pins if what == "pins" else measure_pairs)(size)
