@@ -10,6 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from .validate import Int, checked
 
 __all__ = [
     "shared_bins",
@@ -24,6 +25,9 @@ __all__ = [
     "METRICS",
 ]
 
+#: Number of histogram bins: at least one, and few enough to allocate.
+_BINS = Int(1, 100_000)
+
 
 def _sample(x, name: str) -> np.ndarray:
     try:
@@ -37,6 +41,7 @@ def _sample(x, name: str) -> np.ndarray:
     return a
 
 
+@checked(bins=_BINS)
 def shared_bins(*samples, bins: int = 16, range: tuple[float, float] | None = None) -> np.ndarray:
     """Bin edges shared by all samples: ``bins`` equal bins over their joint range.
 
@@ -62,6 +67,7 @@ def shared_bins(*samples, bins: int = 16, range: tuple[float, float] | None = No
     return np.linspace(lo, hi, int(bins) + 1)
 
 
+@checked(bins=_BINS)
 def histograms(*samples, bins: int = 16, range: tuple[float, float] | None = None,
                weights=None) -> tuple[np.ndarray, np.ndarray]:
     """Normalised histograms of several samples on shared bins.
@@ -192,6 +198,7 @@ class HistogramComparison:
     distances: np.ndarray
 
 
+@checked(bins=_BINS)
 def compare_samples(*samples, labels=None, bins: int = 16, range=None,
                     metric: str = "l1") -> HistogramComparison:
     """Bin samples together and measure each one's distance to the first.

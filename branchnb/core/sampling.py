@@ -12,10 +12,12 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from .random import as_rng
+from .validate import MAX_COUNT, MAX_ITERATIONS, Int, checked
 
 __all__ = ["stipple"]
 
 
+@checked(n_points=Int(1, MAX_COUNT), iterations=Int(0, MAX_ITERATIONS))
 def stipple(density, n_points: int, *, iterations: int = 20, rng=None) -> np.ndarray:
     """Place ``n_points`` by weighted Voronoi stippling of ``density``.
 
@@ -63,7 +65,7 @@ def stipple(density, n_points: int, *, iterations: int = 20, rng=None) -> np.nda
     pick = rng.choice(flat.size, size=n_points, replace=flat.size < n_points, p=w / w.sum())
     pts = pix[pick] + rng.uniform(-0.5, 0.5, (n_points, 2))
     for _ in range(iterations):
-        _, owner = cKDTree(pts).query(pix, workers=-1)
+        _, owner = cKDTree(pts).query(pix)  # one thread: worker threads could outlive a KeyboardInterrupt and crash the kernel
         mass = np.bincount(owner, weights=w, minlength=n_points)
         cx = np.bincount(owner, weights=w * pix[:, 0], minlength=n_points)
         cy = np.bincount(owner, weights=w * pix[:, 1], minlength=n_points)

@@ -13,6 +13,7 @@ import cv2
 import numpy as np
 
 from .image import as_float_image
+from .validate import Real, checked
 
 __all__ = ["Patch", "transfer_patch", "remap"]
 
@@ -50,6 +51,7 @@ class Patch:
         return img, mask
 
 
+@checked(radius=Real(0, 4096, low_open=True), scale=Real(0, 1000, low_open=True))
 def transfer_patch(image, src_center, src_angle: float, dst_center, dst_angle: float,
                    radius: float, *, scale: float = 1.0, circular: bool = False) -> Patch:
     """Copy the texture around ``src_center`` to a patch around ``dst_center``.
