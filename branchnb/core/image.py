@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .validate import COORD_LIMIT, as_colour, real_array
+from .validate import COORD_LIMIT, MAX_COUNT, as_colour, check_int, check_shape, real_array
 
 __all__ = [
     "as_float_image",
@@ -218,12 +218,15 @@ def as_points(
         arr = arr.reshape(0, 2)
     if arr.ndim != 2 or arr.shape[1] != 2:
         raise ValueError(f"{name} must have shape (N, 2), got {arr.shape}")
+    min_points = check_int(min_points, "min_points", 0, MAX_COUNT)
     if len(arr) < min_points:
         raise ValueError(f"{name} needs at least {min_points} point(s), got {len(arr)}")
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"{name} contains NaN or infinite coordinates")
     if len(arr) and float(np.abs(arr).max()) > COORD_LIMIT:
         raise ValueError(f"{name} has a coordinate beyond +-{COORD_LIMIT:g} pixels")
+    if image_shape is not None:
+        image_shape = check_shape(image_shape, "image_shape")
     if image_shape is not None and len(arr):
         h, w = image_shape[:2]
         x, y = arr[:, 0], arr[:, 1]

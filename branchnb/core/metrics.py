@@ -42,8 +42,12 @@ def psnr(a, b, mask=None, *, data_range: float = 1.0) -> float:
         if not mask.any():
             raise ValueError("mask selects no pixel")
         a, b = a[mask], b[mask]
-    mse = float(np.mean((a - b) ** 2))
-    return float("inf") if mse == 0 else float(10 * np.log10(data_range**2 / mse))
+    # Scaled so that huge values or ranges neither overflow nor underflow.
+    scale = max(float(np.abs(a).max()), float(np.abs(b).max()), 1e-300)
+    mse_scaled = float(np.mean(((a / scale) - (b / scale)) ** 2))
+    if mse_scaled == 0:
+        return float("inf")
+    return float(20 * np.log10(data_range) - 20 * np.log10(scale) - 10 * np.log10(mse_scaled))
 
 
 def iou(a, b) -> float:

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .image import as_points
-from .validate import MAX_COUNT, Int, Real, checked
+from .validate import MAX_COUNT, Int, Real, checked, real_array
 
 __all__ = [
     "arc_length",
@@ -31,7 +31,7 @@ __all__ = [
 def _values(values, n: int, name: str = "values") -> np.ndarray | None:
     if values is None:
         return None
-    v = np.asarray(values, dtype=np.float64)
+    v = real_array(values, name, allow_empty=True, finite=False)
     if v.shape[:1] != (n,):
         raise ValueError(f"{name} must have one row per vertex ({n}), got shape {v.shape}")
     if not np.all(np.isfinite(v)):

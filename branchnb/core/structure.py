@@ -18,7 +18,7 @@ from .jsonio import dumps_strict, loads_strict
 from .polyline import polyline_length, resample_uniform, turning_angles
 from .render import draw_polylines
 from .svg import polylines_to_svg
-from .validate import check_int, check_shape, real_array
+from .validate import COORD_LIMIT, check_int, check_real, check_shape, real_array
 
 __all__ = ["Branch", "Structure", "GENERATION_COLORS", "STRUCTURE_JSON_VERSION"]
 
@@ -144,10 +144,16 @@ class Structure:
                 j = self.branches[j].parent
         return self
 
+    def _index(self, index, name: str = "index") -> int:
+        index = check_int(index, name)
+        if not 0 <= index < len(self.branches):
+            raise ValueError(f"{name} {index} out of range for {len(self.branches)} branches")
+        return index
+
     def remove_subtree(self, index: int) -> Structure:
         """A new structure without branch ``index`` and all its descendants."""
-        if not 0 <= index < len(self.branches):
-            raise ValueError(f"index {index} out of range for {len(self.branches)} branches")
+        index = self._index(index)
+        self.validate()
         drop = {index}
         changed = True
         while changed:
@@ -178,7 +184,7 @@ class Structure:
         ...
         ValueError: structure.branches[0].points[1] = (60.0, 10.0) lies outside the 50 x 40 image
         """
-        shp = shape if shape is not None else self.image_shape
+        shp = check_shape(shape, "shape") if shape is not None else self.image_shape
         if shp is None:
             return self
         h, w = int(shp[0]), int(shp[1])
@@ -188,7 +194,7 @@ class Structure:
             if bad.any():
                 j = int(np.flatnonzero(bad)[0])
                 raise ValueError(f"{name}.branches[{i}].points[{j}] = ({x[j]:.1f}, {y[j]:.1f}) lies outside "
-                                 f"the {w} x {h} image")
+                                 f"the {w} x {h} image{' given as shape' if shape is not None else ''}")
         return self
 
     def copy(self) -> Structure:
@@ -208,9 +214,10 @@ class Structure:
         >>> t.branches[0].points.tolist(), t.image_shape, float(t.branches[0].thickness[0])
         ([[1.5, 1.5], [21.5, 1.5]], (40, 60), 4.0)
         """
-        f = float(factor)
-        if not np.isfinite(f) or f <= 0:
-            raise ValueError(f"factor must be a positive number, got {factor!r}")
+        f = check_real(factor, "factor", 0, low_open=True)
+        _x0, _y0, x1, y1 = self.bounds() if self.branches else (0, 0, 0, 0)
+        if max(abs(x1), abs(y1), *(self.image_shape or ())) * f > COORD_LIMIT:
+            raise ValueError(f"factor {f:g} would move points beyond +-{COORD_LIMIT:g} pixels")
         shape = None
         if self.image_shape is not None:
             shape = (max(1, int(round(self.image_shape[0] * f))), max(1, int(round(self.image_shape[1] * f))))
@@ -228,13 +235,14 @@ class Structure:
         >>> s.with_thickness(0, 1, 5.0).branches[0].thickness.tolist()
         [2.0, 5.0]
         """
-        if not 0 <= index < len(self.branches):
-            raise ValueError(f"index {index} out of range for {len(self.branches)} branches")
+        index = self._index(index)
+        if not isinstance(vertex, slice):
+            vertex = check_int(vertex, "vertex")
         out = self.copy()
         t = out.branches[index].thickness.copy()
         try:
             t[vertex] = r
-        except IndexError as exc:
+        except (IndexError, OverflowError) as exc:
             raise ValueError(f"vertex {vertex} out of range for branch {index} "
                              f"({len(t)} vertices)") from exc
         out.branches[index] = Branch(out.branches[index].points, t, out.branches[index].parent,
@@ -252,14 +260,18 @@ class Structure:
 
     def children(self, index: int) -> list[int]:
         """Indices of the branches that start on branch ``index``."""
+        index = self._index(index)
         return [i for i, b in enumerate(self.branches) if b.parent == index]
 
     def generation(self, index: int) -> int:
         """0 for roots, 1 for their children, ..."""
-        g, j = 0, index
+        j = self._index(index)
+        g = 0
         while self.branches[j].parent is not None:
             j = self.branches[j].parent
             g += 1
+            if g > len(self.branches):  # parents changed after construction into a cycle
+                raise ValueError(f"branch {index} is part of a parent cycle")
         return g
 
     def angles(self) -> np.ndarray:
@@ -325,6 +337,8 @@ class Structure:
         polyline nearest to its old furcation point, and the child's first
         vertex snaps to it, so furcations survive any re-sampling.
         """
+        if isinstance(polylines, (str, bytes)) or not hasattr(polylines, "__len__"):
+            raise TypeError(f"polylines must be a sequence of (points, thickness), got {type(polylines).__name__}")
         if len(polylines) != len(self.branches):
             raise ValueError(f"polylines must have one entry per branch ({len(self.branches)}), "
                              f"got {len(polylines)}")
@@ -372,7 +386,7 @@ class Structure:
             the field (``structure['branches'][3]['thickness']``).
         """
         if not isinstance(d, dict):
-            raise TypeError(f"{name} must be a JSON object, got {type(d).__name__}")
+            raise TypeError(f"d ({name}) must be a JSON object (dict), got {type(d).__name__}")
         version = d.get("version", STRUCTURE_JSON_VERSION)
         if version != STRUCTURE_JSON_VERSION or isinstance(version, bool):
             raise ValueError(f"{name}['version'] = {version!r} is not supported (expected {STRUCTURE_JSON_VERSION})")
@@ -445,6 +459,8 @@ class Structure:
             Draw every stroke at least this wide (pixels), e.g. to see a
             thin skeleton over a photo.
         """
+        min_width = check_real(min_width, "min_width", 0, 1e4)
+        self.validate()
         if background is None:
             h, w = self._canvas_shape(shape)
             background = np.ones((h, w, 3), np.float32)

@@ -43,6 +43,8 @@ __all__ = [
     "as_colours",
     "check_shape",
     "as_polylines",
+    "as_point",
+    "check_range_pair",
     "check_finite",
 ]
 
@@ -237,9 +239,10 @@ def checked(**specs):
         for pname, p in sig.parameters.items():
             if p.kind in (p.VAR_POSITIONAL, p.VAR_KEYWORD):
                 continue
-            default = None if p.default is p.empty else p.default
+            optional_none = p.default is None or (isinstance(p.annotation, str) and "None" in p.annotation)
+            default = p.empty if p.default is p.empty else p.default
             if pname in specs:
-                plan.append((pname, specs[pname], default is None))
+                plan.append((pname, specs[pname], optional_none))
             elif pname == "rng":
                 plan.append((pname, lambda v, n, _a: check_rng(v, n), True))
             elif p.annotation is not p.empty and (auto := _auto_spec(p.annotation, default)):
@@ -411,3 +414,24 @@ def check_finite(values, name: str, *, limit: float | None = None) -> np.ndarray
     if limit is not None and arr.size and float(np.abs(arr).max()) > limit:
         raise ValueError(f"{name} has a value of magnitude {float(np.abs(arr).max()):g}, beyond the limit {limit:g}")
     return arr
+
+
+def as_point(point, name: str = "point") -> np.ndarray:
+    """One finite ``(x, y)`` point within :data:`COORD_LIMIT`, as a float64 array of 2."""
+    p = real_array(point, name, ndim=1)
+    if p.shape != (2,):
+        raise ValueError(f"{name} must be an (x, y) pair, got {p.shape[0]} value(s)")
+    return check_finite(p, name, limit=COORD_LIMIT)
+
+
+def check_range_pair(value, name: str = "range", *, allow_none: bool = True, allow_equal: bool = True):
+    """A finite ``(lo, hi)`` with ``lo <= hi`` (or ``lo < hi``) as two floats, or None."""
+    if value is None and allow_none:
+        return None
+    if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != 2:
+        raise TypeError(f"{name} must be a (lo, hi) pair, got {value!r:.60}")
+    lo = check_real(value[0], f"{name}[0]")
+    hi = check_real(value[1], f"{name}[1]")
+    if hi < lo or (hi == lo and not allow_equal):
+        raise ValueError(f"{name} must have lo {'<=' if allow_equal else '<'} hi, got ({lo:g}, {hi:g})")
+    return lo, hi
