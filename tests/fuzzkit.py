@@ -497,7 +497,7 @@ ARGS = {
        for f in ("nodes", "parent", "points", "radius", "branches", "branch_parent", "tips")},
     "dendrite:Lattice.weights": lambda: 1.0 + _img(24, 24, 1),
     "dendrite:importance_map.image": _e("image"),
-    "dendrite:lightning.shape": _v((32, 24)),
+    "dendrite:lightning.shape": _v((32, 24)), "dendrite:visiting_order_image.seeds": _v(True),
     "dendrite:place_endpoints.n_endpoints": _v(12),
     "dendrite:random_endpoints.mask": _e("mask"),
     "dendrite:stylize.image": lambda: example("stylizer").image, "dendrite:stylize.params": _e("stylize_params"),

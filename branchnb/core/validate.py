@@ -24,6 +24,7 @@ import functools
 import inspect
 import numbers
 import operator
+import re
 
 import numpy as np
 
@@ -39,6 +40,7 @@ __all__ = [
     "Point",
     "Shape",
     "Colour",
+    "Instance",
     "checked",
     "check_real",
     "check_int",
@@ -261,6 +263,31 @@ class Colour:
         return as_colour(value, name, channels=self.channels)
 
 
+class Instance:
+    """Spec for :func:`checked`: an instance of a class named here (by name, so no import is needed)."""
+
+    def __init__(self, *class_names):
+        self.names = set(class_names)
+
+    def __call__(self, value, name, allow_none):
+        if value is None and allow_none:
+            return None
+        if not self.names & {k.__name__ for k in type(value).__mro__}:
+            raise TypeError(f"{name} must be a {' or '.join(sorted(self.names))}, got {type(value).__name__}")
+        return value
+
+
+def _class_spec(annotation):
+    """An :class:`Instance` spec for annotations like ``"Dendrite"`` or ``"PlanResult | None"``."""
+    if not isinstance(annotation, str):
+        return None
+    parts = [p.strip() for p in annotation.split("|")]
+    names = [p for p in parts if p != "None"]
+    if not names or not all(re.fullmatch(r"[A-Z][A-Za-z0-9_]*", p) for p in names):
+        return None
+    return Instance(*names), "None" in parts
+
+
 def _check_objects(value, name):
     """Parameter dataclasses go through ``check_params``; structures through ``validate``."""
     import dataclasses
@@ -332,6 +359,8 @@ def checked(**specs):
                 plan.append((pname, specs[pname], optional_none))
             elif pname == "rng":
                 plan.append((pname, lambda v, n, _a: check_rng(v, n), True))
+            elif (cls_spec := _class_spec(p.annotation)) is not None:
+                plan.append((pname, cls_spec[0], cls_spec[1] or p.default is None))
             elif p.annotation is not p.empty and (auto := _auto_spec(p.annotation, default)):
                 kind, allow_none = auto
                 if kind == "bool":

@@ -20,7 +20,7 @@ import numba
 import numpy as np
 
 from ..core.io import encode_png
-from ..core.validate import MAX_ITERATIONS, Array, Colour, Int, Real, checked
+from ..core.validate import MAX_ITERATIONS, Array, Colour, Int, Real, check_shape, checked, real_array
 from .planner import PlanResult
 
 __all__ = ["Dendrite", "PathStats", "build_dendrite", "path_statistics"]
@@ -143,8 +143,19 @@ class Dendrite:
     iteration: np.ndarray = field(default=None)
 
     def __post_init__(self):
+        self.nodes = real_array(self.nodes, "nodes", ndim=1, dtype=np.int64, allow_empty=True, min=0)
+        n = len(self.nodes)
+        self.parent = real_array(self.parent, "parent", ndim=1, dtype=np.int64, allow_empty=True, min=-1)
+        self.points = real_array(self.points, "points", ndim=2, allow_empty=True)
+        self.radius = real_array(self.radius, "radius", ndim=1, allow_empty=True, min=0)
+        for name in ("parent", "points", "radius"):
+            if len(getattr(self, name)) != n:
+                raise ValueError(f"{name} must have one row per node ({n}), got {len(getattr(self, name))}")
+        if self.shape is not None:
+            self.shape = check_shape(self.shape, "shape")
         if self.iteration is None:
-            self.iteration = np.zeros(len(self.nodes), np.int64)
+            self.iteration = np.zeros(n, np.int64)
+        self.iteration = real_array(self.iteration, "iteration", ndim=1, dtype=np.int64, allow_empty=True, min=0)
 
     # -- structure ------------------------------------------------------
     @property

@@ -166,7 +166,7 @@ class Lattice:
         self.weights = np.ascontiguousarray(_check_weights(self.weights, "weights"))
         if self.factors is None:
             self.factors = direction_factors()
-        f = np.asarray(self.factors, dtype=np.float64)
+        f = real_array(self.factors, "factors", finite=False)
         if f.shape != (8,) or not np.all(np.isfinite(f)) or (f <= 0).any():
             raise ValueError("factors must be 8 positive finite numbers (one per direction)")
         self.factors = f

@@ -17,7 +17,7 @@ from ..core.image import as_float_image, as_points, as_rgb
 from ..core.io import encode_png
 from ..core.render import draw_polylines
 from ..core.svg import polylines_to_svg
-from ..core.validate import Choice, Colour, Int, Real, check_finite, check_output_path, checked
+from ..core.validate import Choice, Colour, Instance, Int, Real, check_output_path, checked, real_array
 from .planner import PlanResult
 
 __all__ = [
@@ -39,7 +39,7 @@ class Rendering:
     """
 
     def __init__(self, image: np.ndarray, svg):
-        self.image = check_finite(image, "image")
+        self.image = real_array(image, "image", ndim=(2, 3), dtype=np.float32)
         if not (isinstance(svg, str) or callable(svg)):
             raise TypeError(f"svg must be a string or a function returning one, got {type(svg).__name__}")
         self._svg = svg
@@ -109,7 +109,7 @@ def svg_document(size, layers, *, background=None, defs: str = "") -> str:
     return "\n".join(out)
 
 
-@checked(color=Colour(), smooth=Int(0, 10_000), width_scale=Real(0, 1e3))
+@checked(dendrite=Instance("Dendrite"), color=Colour(), smooth=Int(0, 10_000), width_scale=Real(0, 1e3))
 def render_plain(dendrite, *, background=None, color=(0.0, 0.0, 0.0), smooth: int = 2,
                  width_scale: float = 1.0) -> Rendering:
     """The plain metaphor: every branch as an anti-aliased line of varying width.
