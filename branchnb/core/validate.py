@@ -41,6 +41,7 @@ __all__ = [
     "Shape",
     "Colour",
     "Instance",
+    "ListOf",
     "checked",
     "check_real",
     "check_int",
@@ -277,10 +278,31 @@ class Instance:
         return value
 
 
+class ListOf:
+    """Spec for :func:`checked`: a list or tuple whose items are instances of the named classes."""
+
+    def __init__(self, *class_names):
+        self.item = Instance(*class_names)
+
+    def __call__(self, value, name, allow_none):
+        if value is None and allow_none:
+            return None
+        if isinstance(value, (str, bytes, dict)) or not isinstance(value, (list, tuple)):
+            raise TypeError(f"{name} must be a list of {' or '.join(sorted(self.item.names))}, "
+                            f"got {type(value).__name__}")
+        for i, v in enumerate(value):
+            self.item(v, f"{name}[{i}]", False)
+        return value
+
+
 def _class_spec(annotation):
-    """An :class:`Instance` spec for annotations like ``"Dendrite"`` or ``"PlanResult | None"``."""
+    """An :class:`Instance` spec for annotations like ``"Dendrite"``, ``"PlanResult | None"``
+    or ``"list[Stroke]"``."""
     if not isinstance(annotation, str):
         return None
+    m = re.fullmatch(r"list\[([A-Z][A-Za-z0-9_]*)\]", annotation.strip())
+    if m:
+        return ListOf(m.group(1)), False
     parts = [p.strip() for p in annotation.split("|")]
     names = [p for p in parts if p != "None"]
     if not names or not all(re.fullmatch(r"[A-Z][A-Za-z0-9_]*", p) for p in names):
