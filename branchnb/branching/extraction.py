@@ -197,6 +197,8 @@ def structure_from_polylines(image, polylines, params: ClickParams | None = None
     gray = gray_for_extraction(image)
     if polylines is None or len(polylines) == 0:
         raise ValueError("polylines is empty: click at least one branch")
+    if radii is not None and (isinstance(radii, (str, bytes)) or not hasattr(radii, "__len__")):
+        raise TypeError(f"radii must be one entry per polyline, got {type(radii).__name__}")
     if radii is not None and len(radii) != len(polylines):
         raise ValueError(f"radii must have one entry per polyline ({len(polylines)})")
     s = Structure([], image_shape=gray.shape[:2])

@@ -560,7 +560,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     pts = np.vstack([b.points for b in target_structure.branches])
     inside = (pts[:, 0] >= -0.5) & (pts[:, 0] <= W - 0.5) & (pts[:, 1] >= -0.5) & (pts[:, 1] <= H - 0.5)
     if not inside.any():
-        raise ValueError(f"target_structure lies entirely outside the {W} x {H} output")
+        raise ValueError(f"target_structure lies entirely outside the {W} x {H} output (shape)")
 
     def report(frac, text):
         if progress is not None:

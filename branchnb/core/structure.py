@@ -18,7 +18,7 @@ from .jsonio import dumps_strict, loads_strict
 from .polyline import polyline_length, resample_uniform, turning_angles
 from .render import draw_polylines
 from .svg import polylines_to_svg
-from .validate import COORD_LIMIT, check_int, check_real, check_shape, real_array
+from .validate import COORD_LIMIT, check_finite, check_int, check_real, check_shape, real_array
 
 __all__ = ["Branch", "Structure", "GENERATION_COLORS", "STRUCTURE_JSON_VERSION"]
 
@@ -126,6 +126,13 @@ class Structure:
         """
         n = len(self.branches)
         for i, b in enumerate(self.branches):
+            # Branches are mutable: re-check what the rasterisers and models index with.
+            if not isinstance(b, Branch):
+                raise TypeError(f"branches[{i}] must be a Branch, got {type(b).__name__}")
+            check_finite(b.points, f"branches[{i}].points", limit=COORD_LIMIT)
+            if np.shape(b.thickness) != (len(b.points),) or not np.all(np.asarray(b.thickness) > 0):
+                raise ValueError(f"branches[{i}].thickness must be one positive value per vertex")
+            check_finite(b.thickness, f"branches[{i}].thickness", limit=COORD_LIMIT)
             if b.parent is None:
                 continue
             if not (0 <= b.parent < n) or b.parent == i:

@@ -42,6 +42,8 @@ __all__ = [
     "Colour",
     "Instance",
     "ListOf",
+    "Seq",
+    "Colormap",
     "checked",
     "check_real",
     "check_int",
@@ -220,6 +222,29 @@ class Array:
         if value is None and allow_none:
             return None
         return real_array(value, name, **self.kw)
+
+
+class Seq:
+    """Spec for :func:`checked`: a list or tuple (e.g. one entry per stroke), not a string or a number."""
+
+    def __call__(self, value, name, allow_none):
+        if value is None and allow_none:
+            return None
+        if isinstance(value, (str, bytes, dict)) or not hasattr(value, "__len__") or (
+                isinstance(value, np.ndarray) and value.ndim == 0):
+            raise TypeError(f"{name} must be a sequence (list or tuple), got {type(value).__name__}")
+        return value
+
+
+class Colormap:
+    """Spec for :func:`checked`: the name of a matplotlib colormap."""
+
+    def __call__(self, value, name, allow_none):
+        import matplotlib
+
+        if not isinstance(value, str) or value not in matplotlib.colormaps:
+            raise ValueError(f"{name} must be a matplotlib colormap name (e.g. 'magma'), got {value!r:.60}")
+        return value
 
 
 class Choice:

@@ -150,7 +150,8 @@ class Dendrite:
         self.radius = real_array(self.radius, "radius", ndim=1, allow_empty=True, min=0)
         for name in ("parent", "points", "radius"):
             if len(getattr(self, name)) != n:
-                raise ValueError(f"{name} must have one row per node ({n}), got {len(getattr(self, name))}")
+                raise ValueError(f"{name} must have one row per node (len(nodes) = {n}), "
+                                 f"got {len(getattr(self, name))}")
         if self.shape is not None:
             self.shape = check_shape(self.shape, "shape")
         if self.iteration is None:

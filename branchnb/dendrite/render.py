@@ -17,7 +17,7 @@ from ..core.image import as_float_image, as_points, as_rgb
 from ..core.io import encode_png
 from ..core.render import draw_polylines
 from ..core.svg import polylines_to_svg
-from ..core.validate import Choice, Colour, Instance, Int, Real, check_output_path, checked, real_array
+from ..core.validate import Choice, Colormap, Colour, Instance, Int, Real, check_output_path, checked, real_array
 from .planner import PlanResult
 
 __all__ = [
@@ -146,7 +146,7 @@ def render_plain(dendrite, *, background=None, color=(0.0, 0.0, 0.0), smooth: in
                                                      size=(w, h), background=(1, 1, 1)))
 
 
-@checked(bands=Int(1, 4096))
+@checked(bands=Int(1, 4096), cmap=Colormap())
 def visiting_order_image(plan_result: PlanResult, *, bands: int = 16, cmap: str = "magma",
                          seeds: bool = True) -> np.ndarray:
     """The order in which Dijkstra settled the nodes, as banded contours.

@@ -226,6 +226,10 @@ def labelling_cost(patches: list[PlacedPatch], labels: np.ndarray, *, power: flo
     """
     lab = np.asarray(labels)
     h, w = lab.shape
+    if not len(patches):
+        raise ValueError("patches is empty")
+    if lab.size and lab.max() >= len(patches):
+        raise ValueError(f"labels refer to patch {int(lab.max())} but there are {len(patches)} patches")
     pairs = set()
     for a, b in ((lab[:, :-1], lab[:, 1:]), (lab[:-1, :], lab[1:, :])):
         m = (a != b) & (a >= 0) & (b >= 0)

@@ -12,7 +12,7 @@ import numpy as np
 
 from ..core.image import as_points, as_rgb, as_rgba
 from ..core.render import draw_polylines
-from ..core.validate import MAX_COUNT, Colour, Int, Real, checked
+from ..core.validate import MAX_COUNT, Colour, Int, Real, Seq, checked
 
 __all__ = ["PAIR_COLORS", "pair_color", "pair_color_hex", "draw_strokes", "stroke_markers"]
 
@@ -67,7 +67,7 @@ def _marks(strokes, width: float, control, first: int, lines: bool):
     return out_l, out_c, out_w
 
 
-@checked(width=Real(0, 1e4), first=Int(0, MAX_COUNT), background=Colour())
+@checked(strokes=Seq(), width=Real(0, 1e4), control=Seq(), first=Int(0, MAX_COUNT), background=Colour())
 def draw_strokes(image, strokes, *, width: float = 2.0, control=None, first: int = 0,
                  background=(1.0, 1.0, 1.0)) -> np.ndarray:
     """Draw ``strokes`` on an RGB copy of ``image`` in their pair colours.
@@ -98,7 +98,7 @@ def draw_strokes(image, strokes, *, width: float = 2.0, control=None, first: int
     return draw_polylines(out, lines, widths=widths, colors=colours)
 
 
-@checked(width=Real(0, 1e4), first=Int(0, MAX_COUNT))
+@checked(strokes=Seq(), width=Real(0, 1e4), control=Seq(), first=Int(0, MAX_COUNT))
 def stroke_markers(canvas, strokes, *, width: float = 2.0, control=None,
                    first: int = 0) -> np.ndarray:
     """Start dots, end arrowheads and control rings of ``strokes`` over an RGBA ``canvas``.

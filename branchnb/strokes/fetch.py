@@ -68,7 +68,7 @@ from scipy import ndimage as ndi
 
 from ..core.graphcut import gradient_magnitude  # the edge strength G of the seam energy
 from ..core.image import as_rgba
-from ..core.validate import Array, Int, Real, Shape, checked
+from ..core.validate import COORD_LIMIT, MAX_COUNT, Array, Int, Real, Shape, check_real, checked
 from ..core.warp import transfer_patch
 from .strokes import Stroke, StrokePair
 
@@ -87,6 +87,15 @@ _INKED = 0.02
 OPAQUE_RADIUS = 24.0
 #: Longest distance the width measurement walks from the stroke (px).
 _MAX_WIDTH = 256
+
+
+#: Arc lengths and offsets along/across a stroke: finite and within the coordinate limit.
+_OFFSETS = Array(ndim=(0, 1), min=-COORD_LIMIT, max=COORD_LIMIT)
+
+
+def _SPACING(value, name, allow_none):
+    """A step ``h > 0`` in pixels, or a function of the arc length giving one."""
+    return value if callable(value) else check_real(value, name, 0, 1e5, low_open=True)
 
 
 def auto_radius(half_width):
@@ -145,9 +154,9 @@ class SourceIndex:
     def shape(self) -> tuple[int, int]:
         return self.object.shape
 
-    def _stroke(self, k: int) -> None:
+    def _stroke(self, k: int, name: str = "k") -> None:
         if not 0 <= k < len(self.strokes):
-            raise ValueError(f"k = {k} is not a source stroke index (there are {len(self.strokes)})")
+            raise ValueError(f"{name} = {k} is not a source stroke index (there are {len(self.strokes)})")
 
     @checked(k=Int(0), s=Array(ndim=(0, 1)))
     def half_width(self, k: int, s) -> np.ndarray:
@@ -475,7 +484,7 @@ class Samples:
         return len(self.s)
 
 
-@checked(window=Real(0, 1e4))
+@checked(spacing=_SPACING, window=Real(0, 1e4))
 def sample_pair(pair: StrokePair, spacing, *, window: float) -> Samples:
     """Sample the target stroke of ``pair`` every ``spacing`` pixels (about).
 
@@ -511,8 +520,8 @@ def sample_pair(pair: StrokePair, spacing, *, window: float) -> Samples:
         # N(s) = integral of ds / h: samples at equal steps of N.
         n_of_s = np.concatenate([[0.0], np.cumsum(np.diff(grid) * 0.5 * (1 / h[1:] + 1 / h[:-1]))])
     else:
-        if not (np.isfinite(spacing) and spacing > 0):
-            raise ValueError(f"spacing must be > 0, got {spacing}")
+        if pair.target.length / spacing > MAX_COUNT:
+            raise ValueError(f"spacing {spacing:g} would make more than {MAX_COUNT} samples along the target stroke")
         grid = np.array([0.0, pair.target.length])
         n_of_s = grid / float(spacing)
     parts = [np.array([ct[0]])]
@@ -612,8 +621,9 @@ def _source_coords(centre, angle: float, dst_point, dst_angle: float, origin, n:
     return sx, sy
 
 
-@checked(stroke_id=Int(0), source_s=Array(ndim=(0, 1)), across=Array(ndim=(0, 1)), dst_point=Array(ndim=(1, 2)),
-         radius=Real(0, 1e4, low_open=True), window=Real(0, 1e4))
+@checked(stroke_id=Int(0), source_s=_OFFSETS, across=_OFFSETS,
+         dst_point=Array(ndim=1, min=-COORD_LIMIT, max=COORD_LIMIT), radius=Real(0, 1e4, low_open=True),
+         window=Real(0, 1e4))
 def fetch(index: SourceIndex, stroke_id: int, source_s, across, dst_point, dst_angle: float,
           radius: float, *, window: float) -> Fetched:
     """Fetch candidate patches for one target sample.
@@ -636,6 +646,9 @@ def fetch(index: SourceIndex, stroke_id: int, source_s, across, dst_point, dst_a
     window : float
         Chord half-length used for the source orientation.
     """
+    index._stroke(stroke_id, "stroke_id")
+    if dst_point.shape != (2,):
+        raise ValueError(f"dst_point must be one (x, y) point, got shape {dst_point.shape}")
     stroke = index.strokes[stroke_id]
     s = np.clip(np.atleast_1d(np.asarray(source_s, float)), 0.0, stroke.length)
     e = np.broadcast_to(np.asarray(across, float), s.shape)

@@ -217,8 +217,8 @@ def _check_chain(unaries, pairwise):
                              f"got {np.shape(pw)}")
     if len(unaries) == 0 or len(pairwise) != len(unaries) - 1:
         raise ValueError(
-            f"a chain of {len(unaries)} samples needs {max(len(unaries) - 1, 0)} pairwise tables, "
-            f"got {len(pairwise)}"
+            f"unaries and pairwise: a chain of {len(unaries)} samples needs "
+            f"{max(len(unaries) - 1, 0)} pairwise tables, got {len(pairwise)}"
         )
     for j, pw in enumerate(pairwise):
         if pw.shape != (len(unaries[j]), len(unaries[j + 1])):

@@ -25,7 +25,7 @@ import numpy as np
 
 from ..core.image import as_points
 from ..core.polyline import arc_length
-from ..core.validate import Array, Real, Shape, checked, real_array
+from ..core.validate import Array, Real, Seq, Shape, checked, real_array
 
 __all__ = ["Stroke", "StrokePair", "make_pairs"]
 
@@ -256,7 +256,7 @@ def _as_stroke(obj, name: str) -> Stroke:
     return Stroke(obj, name=name)
 
 
-@checked(source_shape=Shape(), target_shape=Shape())
+@checked(source_strokes=Seq(), target_strokes=Seq(), control_points=Seq(), source_shape=Shape(), target_shape=Shape())
 def make_pairs(source_strokes, target_strokes, control_points=None, *,
                source_shape=None, target_shape=None) -> list[StrokePair]:
     """Pair source and target strokes in drawing order and validate them.
