@@ -43,6 +43,7 @@ __all__ = [
     "Instance",
     "ListOf",
     "Seq",
+    "Image",
     "Colormap",
     "checked",
     "check_real",
@@ -224,6 +225,19 @@ class Array:
         return real_array(value, name, **self.kw)
 
 
+class Image:
+    """Spec for :func:`checked`: an image :func:`~branchnb.core.image.as_float_image` accepts
+    (checked, passed on unchanged)."""
+
+    def __call__(self, value, name, allow_none):
+        if value is None and allow_none:
+            return None
+        from .image import as_float_image
+
+        as_float_image(value, name=name)
+        return value
+
+
 class Seq:
     """Spec for :func:`checked`: a list or tuple (e.g. one entry per stroke), not a string or a number."""
 
@@ -320,11 +334,19 @@ class ListOf:
         return value
 
 
+def _annotation_text(annotation) -> str:
+    """An annotation as source text (``from __future__ import annotations`` gives it so already)."""
+    if isinstance(annotation, str):
+        return annotation
+    if isinstance(annotation, type):
+        return annotation.__name__
+    return re.sub(r"\b[\w.]+\.(\w+)", r"\1", str(annotation)).replace("NoneType", "None")
+
+
 def _class_spec(annotation):
     """An :class:`Instance` spec for annotations like ``"Dendrite"``, ``"PlanResult | None"``
     or ``"list[Stroke]"``."""
-    if not isinstance(annotation, str):
-        return None
+    annotation = _annotation_text(annotation)
     m = re.fullmatch(r"list\[([A-Z][A-Za-z0-9_]*)\]", annotation.strip())
     if m:
         return ListOf(m.group(1)), False
@@ -359,8 +381,7 @@ _AUTO = {"float": Real(), "int": Int(), "bool": None}
 
 def _auto_spec(annotation, default):
     """The check an annotation asks for: ('float'|'int'|'bool', allow_none) or None."""
-    if not isinstance(annotation, str):
-        annotation = getattr(annotation, "__name__", str(annotation))
+    annotation = _annotation_text(annotation)
     parts = {p.strip() for p in annotation.split("|")}
     allow_none = "None" in parts or default is None
     parts.discard("None")
@@ -400,7 +421,7 @@ def checked(**specs):
         for pname, p in sig.parameters.items():
             if p.kind in (p.VAR_POSITIONAL, p.VAR_KEYWORD):
                 continue
-            optional_none = p.default is None or (isinstance(p.annotation, str) and "None" in p.annotation)
+            optional_none = p.default is None or "None" in _annotation_text(p.annotation)
             default = p.empty if p.default is p.empty else p.default
             if pname in specs:
                 plan.append((pname, specs[pname], optional_none))

@@ -37,7 +37,7 @@ from ..core.io import encode_png
 from ..core.params import check_params, param
 from ..core.polyline import arc_length
 from ..core.render import draw_polylines
-from ..core.validate import Array, Real, checked
+from ..core.validate import Array, Image, Real, checked
 from .exemplar import signed_area
 from .morph import fill_contour
 
@@ -498,7 +498,7 @@ class TreeContour:
         """Mean-subtracted 2N shape vector."""
         return shape_vector(self.resampled)
 
-    @checked()
+    @checked(background=Image())
     def render(self, background=None) -> np.ndarray:
         """RGB picture: ``C_r`` (green), ``C_s`` (orange), ``B``/``R``/``L`` (red/blue/magenta)."""
         h, w = self.shape

@@ -23,7 +23,7 @@ import numpy as np
 
 from ..core.image import as_points
 from ..core.random import as_rng
-from ..core.validate import MAX_COUNT, Array, Choice, Int, Real, Shape, checked
+from ..core.validate import MAX_COUNT, Array, Choice, Int, Real, Shape, checked, real_array
 
 __all__ = [
     "check_weights",
@@ -61,10 +61,7 @@ def check_weights(weights, n: int | None = None, *, name: str = "weights",
     >>> check_weights([0.25, 0.75]).tolist()
     [0.25, 0.75]
     """
-    try:
-        w = np.asarray(weights, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise TypeError(f"{name} must be a 1-D array of numbers") from exc
+    w = real_array(weights, name, allow_empty=True, finite=False)
     if w.ndim != 1 or w.size == 0:
         raise ValueError(f"{name} must be a non-empty 1-D array, got shape {w.shape}")
     if n is not None and w.size != n:

@@ -72,7 +72,7 @@ from ..core.io import encode_png
 from ..core.params import check_params, param
 from ..core.random import as_rng
 from ..core.render import coverage_polylines
-from ..core.validate import Array, checked
+from ..core.validate import Array, Image, checked
 from .exemplar import tree_rgba
 
 __all__ = [
@@ -875,6 +875,7 @@ def load_reference_scribbles(name: str, *, ignore: bool = False) -> list[dict]:
     return out
 
 
+@checked(image=Image())
 def reference_from_scribbles(name: str, image=None) -> np.ndarray:
     """Rebuild the reference label image of ``name`` from its stored scribbles.
 

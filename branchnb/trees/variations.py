@@ -42,7 +42,7 @@ from ..core.io import encode_png
 from ..core.params import check_params, param
 from ..core.random import as_rng
 from ..core.render import draw_polylines
-from ..core.validate import Array, Choice, Int, Real, checked
+from ..core.validate import Array, Choice, Int, Real, Seq, check_int, checked
 from .contour import ContourParams, TreeContour, simplify_contour, stem_trunk_mask, tree_contour
 from .exemplar import ContourSet, ExemplarParams, Normalized, extract_contours, normalize_exemplar
 from .histogram_transfer import histogram_transfer
@@ -381,22 +381,23 @@ def _exemplar_list(library) -> list[Exemplar]:
                     f"got {type(library).__name__}")
 
 
-def _select(exemplars: list[Exemplar], use) -> list[Exemplar]:
+def _select(exemplars: list[Exemplar], use, labels=None) -> list[Exemplar]:
     if use is None:
         return exemplars
     names = [e.name for e in exemplars]
     out = []
-    for u in use:
+    for i, u in enumerate(use):
+        label = labels[i] if labels is not None else "use"
         if isinstance(u, (int, np.integer)) and not isinstance(u, bool):
             if not -len(exemplars) <= u < len(exemplars):
-                raise ValueError(f"use: index {u} out of range for {len(exemplars)} exemplars")
+                raise ValueError(f"{label}: index {u} out of range for {len(exemplars)} exemplars")
             out.append(exemplars[int(u)])
         elif isinstance(u, str):
             if u not in names:
-                raise ValueError(f"use: no exemplar named {u!r}; the library has {names}")
+                raise ValueError(f"{label}: no exemplar named {u!r}; the library has {names}")
             out.append(exemplars[names.index(u)])
         else:
-            raise TypeError(f"use: entries must be names or indices, got {u!r}")
+            raise TypeError(f"{label}: entries must be names or indices, got {u!r}")
     if not out:
         raise ValueError("use selects no exemplar")
     return out
@@ -435,7 +436,7 @@ def _weights_from(weights, exemplars, rng, concentration, name="weights", n_mix=
     return check_weights(weights, len(exemplars), name=name)
 
 
-@checked()
+@checked(use=Seq())
 def make_variation(library, weights=None, params: VariationParams | None = None, *,
                    use=None, colour_weights=None, reference=None, rng=None,
                    **overrides) -> Variation:
@@ -631,7 +632,7 @@ def similar_variations(library, variation: Variation, n: int = 6,
     return out
 
 
-@checked(n=Int(1, MAX_VARIATIONS))
+@checked(n=Int(1, MAX_VARIATIONS), use=Seq())
 def tree_variations(library, target, n: int = 6, params: VariationParams | None = None, *,
                     use=None, rng=None, reference=None, **overrides) -> list[Variation]:
     """Variations of one tree ``T`` that keep it recognisable.
@@ -680,7 +681,7 @@ def tree_variations(library, target, n: int = 6, params: VariationParams | None 
             raise ValueError(f"target {target!r} is not in the library ({names}); add it first")
         t = names.index(target)
     else:
-        t = int(target)
+        t = check_int(target, "target")
         if not -len(names) <= t < len(names):
             raise ValueError(f"target index {t} out of range for {len(names)} exemplars")
         t %= len(names)
@@ -729,7 +730,7 @@ def morph_sequence(library, a, b, steps: int = 5, params: VariationParams | None
         raise ValueError(f"steps must be an int >= 2, got {steps!r}")
     if colour not in ("shape", "random"):
         raise ValueError(f"colour must be 'shape' or 'random', got {colour!r}")
-    pair = _select(_as_exemplars(library), [a, b])
+    pair = _select(_as_exemplars(library), [a, b], labels=("a", "b"))
     rng = as_rng(rng)
     return [make_variation(pair, [1.0 - t, t], params, rng=rng,
                            colour_weights="shape" if colour == "shape" else None, **overrides)
@@ -759,7 +760,7 @@ class TreeLibrary:
     (2, ['tree_rpg_05', 'tree_rpg_06'])
     """
 
-    @checked(size=Int(16, 8192))
+    @checked(exemplars=Seq(), size=Int(16, 8192))
     def __init__(self, exemplars: Sequence[Exemplar] = (), *, size: int = 1024,
                  contour_params: ContourParams | None = None, trunk: str = "auto"):
         if trunk not in TRUNK_METHODS:
