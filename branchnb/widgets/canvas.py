@@ -205,26 +205,33 @@ class AnnotationCanvas(widgets.VBox):
                                                   layout=widgets.Layout(width="230px"))
         g = self.errors.guard
         buttons = []
-        for name, tip, handler in (
-            ("undo", "undo (Ctrl+Z)", lambda _: self.model.undo()),
-            ("redo", "redo (Ctrl+Y)", lambda _: self.model.redo()),
-            ("clear", "remove all annotations", lambda _: self.model.clear()),
-            ("finish", "finish the polyline (Enter)", lambda _: self.finish()),
-            ("+", "zoom in", lambda _: self.zoom_by(_WHEEL_STEP)),
-            ("-", "zoom out", lambda _: self.zoom_by(1 / _WHEEL_STEP)),
-            ("fit", "fit the image", lambda _: self.fit()),
+        self.buttons: dict[str, widgets.Button] = {}
+        for name, icon, tip, handler in (
+            ("undo", "undo", "undo (Ctrl+Z)", lambda _: self.model.undo()),
+            ("redo", "repeat", "redo (Ctrl+Y)", lambda _: self.model.redo()),
+            ("clear", "trash", "remove all annotations on this canvas (undoable)",
+             lambda _: self.model.clear()),
+            ("finish", "check", "finish the polyline (Enter, or click its last vertex again)",
+             lambda _: self.finish()),
+            ("+", "search-plus", "zoom in (mouse wheel)", lambda _: self.zoom_by(_WHEEL_STEP)),
+            ("-", "search-minus", "zoom out (mouse wheel)", lambda _: self.zoom_by(1 / _WHEEL_STEP)),
+            ("fit", "expand", "fit the image into the canvas", lambda _: self.fit()),
         ):
-            b = widgets.Button(description=name, tooltip=tip, layout=widgets.Layout(width="auto"))
+            b = widgets.Button(description="", icon=icon, tooltip=tip,
+                               layout=widgets.Layout(width="34px", padding="0"))
             b.on_click(g(handler))
             buttons.append(b)
-        self.buttons = {b.description: b for b in buttons}
+            self.buttons[name] = b
         self.buttons["finish"].layout.display = None if "polyline" in modes else "none"
         self.status = widgets.HTML(layout=widgets.Layout(width="100%", overflow="hidden"))
         # The options row keeps its height whatever the tool (no jump of the canvas).
-        self._options = widgets.HBox([self._label_picker, self._radius_slider] + buttons,
-                                     layout=widgets.Layout(flex_flow="row wrap", min_height="32px",
+        self._options = widgets.HBox([self._label_picker, self._radius_slider],
+                                     layout=widgets.Layout(flex_flow="row wrap", min_height="30px",
                                                            align_items="center"))
-        toolbar = widgets.VBox([self._tools, self._options])
+        toolbar = widgets.VBox([
+            widgets.HBox([self._tools] + buttons, layout=widgets.Layout(flex_flow="row wrap",
+                                                                        align_items="center")),
+            self._options])
         self._probe = _PixelRatioProbe()
         children = [toolbar, self.canvas, self.status, self._probe]
         if errors is None:
@@ -303,12 +310,12 @@ class AnnotationCanvas(widgets.VBox):
 
     def _show_tool_options(self) -> None:
         # visibility, not display: the row keeps its size and the canvas does not jump
+        offered = {v for _, v in self._tools.options}
         self._label_picker.layout.visibility = "visible" if self.mode == "scribble" else "hidden"
-        self._label_picker.layout.display = None if "scribble" in [v for _, v in self._tools.options] \
-            else "none"
+        self._label_picker.layout.display = None if "scribble" in offered else "none"
         self._radius_slider.layout.visibility = "visible" if self.mode in ("polyline", "edit") else "hidden"
-        self._radius_slider.layout.display = None if {"polyline", "edit"} & {
-            v for _, v in self._tools.options} else "none"
+        self._radius_slider.layout.display = None if {"polyline", "edit"} & offered else "none"
+        self._options.layout.display = None if {"scribble", "polyline", "edit"} & offered else "none"
 
     @traitlets.observe("radius")
     def _radius_changed(self, change):
@@ -534,13 +541,12 @@ class AnnotationCanvas(widgets.VBox):
 
     def _update_status(self) -> None:
         p = self.pointer
-        where = f"x {p[0]:7.1f}, y {p[1]:7.1f}" if p is not None else "x, y: -"
+        where = f"x {p[0]:.0f}, y {p[1]:.0f}" if p is not None else "x, y -"
         h, w = self.image_shape
         self.status.value = (
             "<div style='font-family:monospace;font-size:11px;white-space:nowrap;overflow:hidden;"
-            f"text-overflow:ellipsis;color:#444'>{where} | {w} x {h} px | zoom "
-            f"{self.zoom / self.pixel_ratio * 100:.0f} % | {len(self.model)} shape(s) | "
-            f"{_MODE_LABELS.get(self.mode, self.mode)}</div>"
+            f"text-overflow:ellipsis;color:#444'>{where} · {w}×{h} px · "
+            f"{self.zoom / self.pixel_ratio * 100:.0f} % · {len(self.model)} shapes</div>"
         )
 
     # -- polylines ------------------------------------------------------------

@@ -132,6 +132,9 @@ class AppShell(widgets.VBox):
         self._actions: dict[str, Callable[[], None]] = {}
         self._job: _Job | None = None
         self._lock = threading.Lock()
+        self._live_pending: Callable | None = None
+        self._live_job: _Job | None = None
+        self._live_thread: threading.Thread | None = None
         self.header = widgets.HTML(
             f"<div style='display:flex;align-items:baseline;gap:12px;white-space:nowrap;"
             f"overflow:hidden;text-overflow:ellipsis'><b style='font-size:15px'>{html.escape(title)}"
@@ -261,11 +264,88 @@ class AppShell(widgets.VBox):
         job.thread.start()
 
     def progress(self, fraction: float, text: str = "") -> None:
-        """Progress callback for long work: shows it, raises :class:`Cancelled` after "cancel"."""
-        job = self._job
-        if job is not None and job.cancelled.is_set():
-            raise Cancelled(f"{job.name} cancelled")
+        """Progress callback for long work: shows it, raises :class:`Cancelled` after "cancel".
+
+        Live updates (:meth:`live`) are cancelled the same way when a newer
+        change arrives.
+        """
+        for job in (self._job, self._live_job):
+            if job is not None and job.cancelled.is_set() and threading.current_thread() is job.thread:
+                raise Cancelled(f"{job.name} cancelled")
         self.status.progress(fraction, text)
+
+    # -- live updates (slider moves) ---------------------------------------------------
+    def live(self, name: str, full: Callable[[], object], *, preview: Callable[[], object] | None = None,
+             stale: Callable[[], None] | None = None) -> None:
+        """A parameter changed: a fast ``preview()`` now, the ``full()`` result after it.
+
+        ``preview`` runs at once (keep it under 200 ms: reduced resolution,
+        cached stages); ``stale`` marks the shown result as out of date when
+        there is no preview. ``full`` runs in the background inside a
+        kernel, latest request wins: a newer change cancels the running one
+        at its next :meth:`progress` and its result is dropped. Outside a
+        kernel both run at once, in order.
+        """
+        if preview is not None:
+            with self.status.busy(f"{name} preview"):
+                preview()
+        elif stale is not None:
+            with self.status.catch(action=False):
+                stale()
+        if not self._use_thread():
+            self.run(name, full)
+            return
+        with self._lock:
+            self._live_pending = (name, full)
+            if self._live_job is not None:
+                self._live_job.cancelled.set()
+            start = self._live_thread is None
+            if start:
+                self._live_thread = threading.Thread(target=self._live_worker, name="branchnb-live",
+                                                     daemon=True)
+        if start:
+            self._live_thread.start()
+        else:
+            self.status.set_busy(name)
+
+    def _live_worker(self) -> None:
+        while True:
+            with self._lock:
+                if self._live_pending is None:
+                    self._live_thread = None
+                    self._live_job = None
+                    break
+                name, full = self._live_pending
+                self._live_pending = None
+                job = _Job(name)
+                job.thread = threading.current_thread()
+                self._live_job = job
+            self.status.set_busy(name)
+            t0 = time.perf_counter()
+            try:
+                out = full()
+                if job.cancelled.is_set():
+                    continue  # superseded: a newer request is pending
+                dt = time.perf_counter() - t0
+                self.status.last_seconds = dt
+                self.status.text = f"{name}: {dt:.2f} s" + (f" | {out}" if isinstance(out, str) else "")
+                self.status.clear()
+            except Cancelled:
+                continue
+            except Exception as exc:  # noqa: BLE001 - shown to the user
+                self.status.show(exc)
+            finally:
+                if self._live_pending is None and self._job is None:
+                    self.status.set_idle()
+        if self._job is None:
+            self.status.set_idle()
+
+    def wait_live(self, timeout: float = 60.0) -> bool:
+        """Wait until the live updates are done; True if none is running."""
+        t_end = time.perf_counter() + timeout
+        while self._live_thread is not None and time.perf_counter() < t_end:
+            time.sleep(0.01)
+        return self._live_thread is None
 
     def cancel(self) -> None:
         """Ask the running work to stop at its next progress report."""
