@@ -54,10 +54,10 @@ from ..core.polyline import resample_uniform
 from ..core.render import draw_polylines
 from ..core.structure import Branch
 from .canvas import AnnotationCanvas
+from .feedback import ProgressBar
 from .histograms import HistogramCompare
 from .imageview import ImageView
 from .params import ParamPanel
-from .feedback import ProgressBar
 from .shell import AppShell
 
 __all__ = ["BranchingApp", "annotations_to_structure", "structure_to_annotations"]
