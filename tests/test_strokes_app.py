@@ -117,7 +117,7 @@ def test_sliders_and_seams(app):
     app.show_seams.value = True
     ov = app.result.seams
     assert ov.any()
-    assert app.view.titles[0].value.startswith("result (seams")
+    assert app.view.title_texts[0].startswith("result (seams")
 
 
 def test_errors_are_shown_and_the_app_survives(app):

@@ -172,4 +172,4 @@ def test_billboard_cloud_tab(app):
     assert cloud is app.cloud and cloud.n_billboards > 10
     assert len(app.cloud_view.images) == 2
     app.yaw.value = -60.0
-    assert "-60" in app.cloud_view.titles[1].value
+    assert "-60" in app.cloud_view.title_texts[1]
