@@ -13,7 +13,9 @@ arrays, colours in [0, 1], coordinates small enough to index pixels with.
 
 Parameters annotated ``float``, ``int`` or ``bool`` (optionally ``| None``
 when the default is None) are type-checked without being listed; ``rng``
-is checked with :func:`check_rng`.
+is checked with :func:`check_rng`; parameter dataclasses passed in go
+through :func:`~branchnb.core.params.check_params` and structures through
+``Structure.validate`` (which catches parent cycles made after construction).
 """
 
 from __future__ import annotations
@@ -22,6 +24,7 @@ import functools
 import inspect
 import numbers
 import operator
+import re
 
 import numpy as np
 
@@ -32,6 +35,13 @@ __all__ = [
     "MAX_ITERATIONS",
     "Real",
     "Int",
+    "Array",
+    "Choice",
+    "Point",
+    "Shape",
+    "Colour",
+    "Instance",
+    "ListOf",
     "checked",
     "check_real",
     "check_int",
@@ -46,6 +56,7 @@ __all__ = [
     "as_point",
     "check_range_pair",
     "check_finite",
+    "check_output_path",
 ]
 
 #: Largest |coordinate| (pixels) a point may have. Far beyond any image, small
@@ -174,12 +185,18 @@ def check_rng(rng, name: str = "rng"):
 
 
 class Real:
-    """Spec for :func:`checked`: a real number in a range."""
+    """Spec for :func:`checked`: a real number in a range (``arrays=True``: or an array of them)."""
 
-    def __init__(self, min=None, max=None, *, low_open=False, high_open=False, allow_inf=False):
+    def __init__(self, min=None, max=None, *, low_open=False, high_open=False, allow_inf=False, arrays=False):
         self.kw = dict(min=min, max=max, low_open=low_open, high_open=high_open, allow_inf=allow_inf)
+        self.arrays = arrays
 
     def __call__(self, value, name, allow_none):
+        if self.arrays and isinstance(value, np.ndarray) and value.ndim > 0:
+            arr = real_array(value, name, allow_inf=self.kw["allow_inf"])
+            for v in (arr.min(), arr.max()):
+                check_real(v, name, **self.kw)
+            return arr
         return check_real(value, name, allow_none=allow_none, **self.kw)
 
 
@@ -191,6 +208,125 @@ class Int:
 
     def __call__(self, value, name, allow_none):
         return check_int(value, name, self.min, self.max, allow_none=allow_none)
+
+
+class Array:
+    """Spec for :func:`checked`: a real array (see :func:`real_array` for the options)."""
+
+    def __init__(self, **kwargs):
+        self.kw = kwargs
+
+    def __call__(self, value, name, allow_none):
+        if value is None and allow_none:
+            return None
+        return real_array(value, name, **self.kw)
+
+
+class Choice:
+    """Spec for :func:`checked`: one of a few values (strings are matched exactly)."""
+
+    def __init__(self, *options):
+        self.options = options
+
+    def __call__(self, value, name, allow_none):
+        if value is None and allow_none:
+            return None
+        return check_choice(value, name, self.options)
+
+
+class Point:
+    """Spec for :func:`checked`: one finite (x, y) point."""
+
+    def __call__(self, value, name, allow_none):
+        if value is None and allow_none:
+            return None
+        return as_point(value, name)
+
+
+class Shape:
+    """Spec for :func:`checked`: a positive (H, W) within :data:`MAX_PIXELS`."""
+
+    def __call__(self, value, name, allow_none):
+        if value is None and allow_none:
+            return None
+        return check_shape(value, name)
+
+
+class Colour:
+    """Spec for :func:`checked`: one colour in [0, 1]."""
+
+    def __init__(self, channels=(3, 4)):
+        self.channels = channels
+
+    def __call__(self, value, name, allow_none):
+        if value is None and allow_none:
+            return None
+        return as_colour(value, name, channels=self.channels)
+
+
+class Instance:
+    """Spec for :func:`checked`: an instance of a class named here (by name, so no import is needed)."""
+
+    def __init__(self, *class_names):
+        self.names = set(class_names)
+
+    def __call__(self, value, name, allow_none):
+        if value is None and allow_none:
+            return None
+        if not self.names & {k.__name__ for k in type(value).__mro__}:
+            raise TypeError(f"{name} must be a {' or '.join(sorted(self.names))}, got {type(value).__name__}")
+        return value
+
+
+class ListOf:
+    """Spec for :func:`checked`: a list or tuple whose items are instances of the named classes."""
+
+    def __init__(self, *class_names):
+        self.item = Instance(*class_names)
+
+    def __call__(self, value, name, allow_none):
+        if value is None and allow_none:
+            return None
+        if isinstance(value, (str, bytes, dict)) or not isinstance(value, (list, tuple)):
+            raise TypeError(f"{name} must be a list of {' or '.join(sorted(self.item.names))}, "
+                            f"got {type(value).__name__}")
+        for i, v in enumerate(value):
+            self.item(v, f"{name}[{i}]", False)
+        return value
+
+
+def _class_spec(annotation):
+    """An :class:`Instance` spec for annotations like ``"Dendrite"``, ``"PlanResult | None"``
+    or ``"list[Stroke]"``."""
+    if not isinstance(annotation, str):
+        return None
+    m = re.fullmatch(r"list\[([A-Z][A-Za-z0-9_]*)\]", annotation.strip())
+    if m:
+        return ListOf(m.group(1)), False
+    parts = [p.strip() for p in annotation.split("|")]
+    names = [p for p in parts if p != "None"]
+    if not names or not all(re.fullmatch(r"[A-Z][A-Za-z0-9_]*", p) for p in names):
+        return None
+    return Instance(*names), "None" in parts
+
+
+def _check_objects(value, name):
+    """Parameter dataclasses go through ``check_params``; structures through ``validate``."""
+    import dataclasses
+
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        fields = dataclasses.fields(value)
+        if fields and all("help" in f.metadata for f in fields):
+            from .params import check_params
+
+            check_params(value, name=name)
+            return
+    validate = getattr(type(value), "validate", None)
+    if validate is not None and type(value).__name__ == "Structure":
+        try:
+            value.validate()
+        except ValueError as exc:
+            raise ValueError(f"{name}: {exc}") from None
 
 
 _AUTO = {"float": Real(), "int": Int(), "bool": None}
@@ -245,6 +381,8 @@ def checked(**specs):
                 plan.append((pname, specs[pname], optional_none))
             elif pname == "rng":
                 plan.append((pname, lambda v, n, _a: check_rng(v, n), True))
+            elif (cls_spec := _class_spec(p.annotation)) is not None:
+                plan.append((pname, cls_spec[0], cls_spec[1] or p.default is None))
             elif p.annotation is not p.empty and (auto := _auto_spec(p.annotation, default)):
                 kind, allow_none = auto
                 if kind == "bool":
@@ -265,6 +403,9 @@ def checked(**specs):
             for pname, spec, allow_none in plan:
                 if pname in arguments:
                     arguments[pname] = spec(arguments[pname], pname, allow_none)
+            for pname, value in arguments.items():
+                if pname not in specs and not isinstance(value, (int, float, str, np.ndarray, type(None))):
+                    _check_objects(value, pname)
             return func(*bound.args, **bound.kwargs)
 
         return wrapper
@@ -274,7 +415,7 @@ def checked(**specs):
 
 def real_array(values, name: str, *, ndim: int | tuple[int, ...] | None = None, dtype=np.float64,
                finite: bool = True, allow_empty: bool = False, min: float | None = None,
-               max: float | None = None) -> np.ndarray:
+               max: float | None = None, allow_inf: bool = False) -> np.ndarray:
     """A real (non-complex, numeric) array as ``dtype``.
 
     Parameters
@@ -285,6 +426,8 @@ def real_array(values, name: str, *, ndim: int | tuple[int, ...] | None = None, 
         Allowed numbers of dimensions.
     finite : bool
         Reject NaN and inf.
+    allow_inf : bool
+        With ``finite``, reject only NaN (inf may mean "wall" or "unreached").
     allow_empty : bool
         Accept zero-size arrays.
     min, max : float, optional
@@ -315,8 +458,15 @@ def real_array(values, name: str, *, ndim: int | tuple[int, ...] | None = None, 
             raise ValueError(f"{name} must have {' or '.join(map(str, allowed))} dimension(s), got shape {arr.shape}")
     if arr.size == 0 and not allow_empty:
         raise ValueError(f"{name} is empty (shape {arr.shape})")
+    if np.issubdtype(np.dtype(dtype), np.integer) and arr.dtype.kind == "f":
+        if not np.all(np.isfinite(arr)) or not np.all(arr == np.round(arr)):
+            raise TypeError(f"{name} must hold integers, got non-integral or non-finite values")
+        if arr.size and np.abs(arr).max() > np.iinfo(dtype).max:
+            raise ValueError(f"{name} has values beyond the {np.dtype(dtype)} range")
     arr = arr.astype(dtype, copy=True)
-    if finite and not np.all(np.isfinite(arr)):
+    if finite and allow_inf and arr.dtype.kind == "f" and np.isnan(arr).any():
+        raise ValueError(f"{name} contains NaN values")
+    if finite and not allow_inf and not np.all(np.isfinite(arr)):
         raise ValueError(f"{name} contains NaN or infinite values")
     if arr.size and min is not None and float(np.nanmin(arr)) < min:
         raise ValueError(f"{name} must be >= {min}, got a minimum of {float(np.nanmin(arr)):g}")
@@ -435,3 +585,22 @@ def check_range_pair(value, name: str = "range", *, allow_none: bool = True, all
     if hi < lo or (hi == lo and not allow_equal):
         raise ValueError(f"{name} must have lo {'<=' if allow_equal else '<'} hi, got ({lo:g}, {hi:g})")
     return lo, hi
+
+
+def check_output_path(path, name: str = "path", *, suffixes: tuple[str, ...] | None = None):
+    """A path a file can be written to: not empty, not a directory, in an existing folder.
+
+    Returns a :class:`pathlib.Path`. With ``suffixes``, the file name must end with one of them.
+    """
+    from pathlib import Path
+
+    if not isinstance(path, (str, Path)) or (isinstance(path, str) and not path.strip()):
+        raise TypeError(f"{name} must be a non-empty file path, got {path!r:.60}")
+    p = Path(path)
+    if p.is_dir():
+        raise ValueError(f"{name} {str(p)!r} is a directory, not a file")
+    if not p.parent.is_dir():
+        raise ValueError(f"{name}: folder {str(p.parent)!r} does not exist")
+    if suffixes and p.suffix.lower() not in suffixes:
+        raise ValueError(f"{name} must end with {' or '.join(suffixes)}, got {p.name!r}")
+    return p
