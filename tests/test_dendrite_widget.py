@@ -108,7 +108,10 @@ def test_only_the_last_click_is_shown_as_the_seed(app):
     assert np.allclose(app.comparison.second.seed, (50, 40), atol=0.5)
 
 
-def test_slider_move_shows_a_half_resolution_preview_first(app):
+def test_slider_move_shows_a_half_resolution_preview_first():
+    img = np.ones((120, 120))
+    img[30:90, 30:90] = 0.0
+    app = DendriteApp(img, params=StylizeParams(n_endpoints=120, stipple_iterations=3))
     app.panels["stylize"].controls["max_width"].value = 6.0
     assert app.preview is not None
     assert app.preview.rendering.image.shape[0] < app.comparison.second.rendering.image.shape[0]
