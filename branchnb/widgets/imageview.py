@@ -83,6 +83,7 @@ class ImageView(widgets.HBox):
                            for _ in images]
             self.titles = [widgets.HTML(layout=widgets.Layout(width=f"{self.width}px"))
                            for _ in images]
+            self._title_text = [""] * len(images)
             self.children = [widgets.VBox([t, im]) for t, im in zip(self.titles, self.images)]
         for i, (img, title) in enumerate(zip(images, titles)):
             data, fmt = _encode(self._shrink(img), self.fast)
