@@ -34,7 +34,6 @@ import dataclasses
 import time
 
 import cv2
-
 import ipywidgets as widgets
 import numpy as np
 
