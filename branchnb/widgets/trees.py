@@ -23,7 +23,8 @@ A thin app over :mod:`branchnb.trees`:
   yaw angle.
 
 Every callback is guarded: errors are shown in the app's status line (the
-kit's :class:`~branchnb.widgets.shell.AppShell`) and the app keeps working. Everything the widgets do is a method callable from
+kit's :class:`~branchnb.widgets.shell.AppShell`) and the app keeps working.
+Everything the widgets do is a method callable from
 Python (``select``, ``set_weight``, ``random_weights``, ``set_morph``,
 ``more_like_this``, ``adopt``, ``segment``, ``build_cloud``, ``set_yaw``).
 """
