@@ -248,7 +248,7 @@ class AnnotationCanvas(widgets.VBox):
         passive = self.errors.guard(action=False)
         self.canvas.on_mouse_down(g(self.handle_mouse_down))
         self.canvas.on_mouse_move(passive(self.handle_mouse_move))
-        self.canvas.on_mouse_up(g(self.handle_mouse_up))
+        self.canvas.on_mouse_up(passive(self.handle_mouse_up))
         self.canvas.on_mouse_out(passive(self.handle_mouse_out))
         self.canvas.on_mouse_wheel(passive(self.handle_wheel))
         self.canvas.on_key_down(g(self.handle_key))

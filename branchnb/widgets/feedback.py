@@ -74,13 +74,13 @@ class ErrorArea(widgets.HTML):
         self.last_error: str | None = None
         self.last_traceback: str | None = None
         self._depth = 0
-        self._failed_in_call = False
+        self._n_shown = 0  # errors shown so far: an action clears only if it showed none
         self._lock = threading.RLock()
         self.layout.display = "none"
 
     def show(self, exc: BaseException) -> None:
         """Display an exception."""
-        self._failed_in_call = True
+        self._n_shown += 1
         self.last_error = _message(exc)
         self.last_traceback = _traceback(exc)
         self.value = (
@@ -122,8 +122,7 @@ class ErrorArea(widgets.HTML):
         with self._lock:
             self._depth += 1
             outermost = self._depth == 1
-            if outermost:
-                self._failed_in_call = False
+            shown_before = self._n_shown
         try:
             yield
         except Exception as exc:  # noqa: BLE001 - shown to the user
@@ -132,7 +131,7 @@ class ErrorArea(widgets.HTML):
             with self._lock:
                 self._depth -= 1
             # Cleared only by a whole action that succeeded (nothing inside it failed either).
-            if outermost and action and not self._failed_in_call and self.last_error is not None:
+            if outermost and action and self._n_shown == shown_before and self.last_error is not None:
                 self._succeeded()
 
     def _succeeded(self) -> None:
@@ -196,7 +195,7 @@ class StatusLine(ErrorArea):
             self._render("ok", self.text)
 
     def show(self, exc: BaseException) -> None:
-        self._failed_in_call = True
+        self._n_shown += 1
         self.last_error = _message(exc)
         self.last_traceback = _traceback(exc)
         self._render("error", self.last_error, self.last_traceback)
@@ -243,6 +242,7 @@ class StatusLine(ErrorArea):
         """
         self.set_busy(name)
         t0 = time.perf_counter()
+        shown_before = self._n_shown
         with self.catch():
             try:
                 yield
@@ -251,7 +251,9 @@ class StatusLine(ErrorArea):
                 self.set_idle()
             msg = message() if callable(message) else message
             self.text = f"{name}: {self.last_seconds:.2f} s" + (f" | {msg}" if msg else "")
-        if self.last_error is None:
+        if self._n_shown == shown_before:
+            # A finished computation is a successful action, even inside a mouse callback.
+            self.last_error = self.last_traceback = None
             self._render("ok", self.text)
         else:
             self._render("error", f"{name} failed after {self.last_seconds:.2f} s: {self.last_error}",

@@ -73,6 +73,12 @@ class HistogramCompare(widgets.VBox):
         self.comparison = comparison
         self._draw()
 
+    def clear(self) -> None:
+        """Back to "no data yet" (e.g. after the data was removed)."""
+        self.comparison = None
+        self.caption.value = ""
+        self._draw_empty()
+
     def _draw_empty(self) -> None:
         c = self.canvas
         with batched():

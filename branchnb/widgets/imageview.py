@@ -83,12 +83,23 @@ class ImageView(widgets.HBox):
                            for _ in images]
             self.titles = [widgets.HTML(layout=widgets.Layout(width=f"{self.width}px"))
                            for _ in images]
+            self._title_text = [""] * len(images)
             self.children = [widgets.VBox([t, im]) for t, im in zip(self.titles, self.images)]
         for i, (img, title) in enumerate(zip(images, titles)):
             data, fmt = _encode(self._shrink(img), self.fast)
             self.images[i].format = fmt
             self.images[i].value = data
             self.set_title(i, title)
+
+    def update_one(self, index: int, image, title: str | None = None) -> None:
+        """Replace one image (and its title) in place."""
+        if not 0 <= index < len(self.images):
+            raise ValueError(f"index {index} out of range for {len(self.images)} images")
+        data, fmt = _encode(self._shrink(image), self.fast)
+        self.images[index].format = fmt
+        self.images[index].value = data
+        if title is not None:
+            self.set_title(index, title)
 
     def set_title(self, index: int, title: str) -> None:
         """Change one image's title (e.g. to mark it out of date)."""

@@ -227,6 +227,9 @@ class ParamPanel(widgets.VBox):
         default: the field's ``label`` metadata, else its name.
     log : sequence of str
         Extra fields shown with a logarithmic slider (they span decades).
+    hide : sequence of str
+        Fields without a control (they keep the given value; the app may
+        offer them elsewhere).
     errors : ErrorArea or StatusLine, optional
         Where errors go (the app's status line); a new area by default.
 
@@ -253,7 +256,7 @@ class ParamPanel(widgets.VBox):
                  continuous: bool = False, title: str | None = None,
                  sections: Sequence[tuple[str, Sequence[str]]] | None = None,
                  closed: Sequence[str] = (), labels: Mapping | None = None,
-                 log: Sequence[str] = (), errors: ErrorArea | None = None):
+                 log: Sequence[str] = (), hide: Sequence[str] = (), errors: ErrorArea | None = None):
         if isinstance(params, type):
             if not dataclasses.is_dataclass(params):
                 raise TypeError(f"params must be a dataclass, got {params.__name__}")
@@ -275,12 +278,13 @@ class ParamPanel(widgets.VBox):
         self.rows: dict[str, _Row] = {}
         self.controls: dict[str, widgets.Widget] = {}
         names = [f.name for f, _ in param_info(params)]
-        for name in list(labels) + list(log):
+        for name in list(labels) + list(log) + list(hide):
             if name not in names:
-                raise ValueError(f"labels/log: {self._type.__name__} has no field {name!r}")
+                raise ValueError(f"labels/log/hide: {self._type.__name__} has no field {name!r}")
         for f, meta in param_info(params):
             value = getattr(params, f.name)
-            if not meta.get("ui", True) or not isinstance(value, (bool, int, float, str, enum.Enum)):
+            if not meta.get("ui", True) or f.name in hide or not isinstance(
+                    value, (bool, int, float, str, enum.Enum)):
                 self._fixed[f.name] = value
                 continue
             lab = labels.get(f.name, meta.get("label") or f.name.replace("_", " "))
