@@ -202,7 +202,7 @@ def _connect(client, scheduler, n_workers):
     n = _default_workers() if n_workers is None else int(n_workers)
     if n < 1:
         raise ValueError(f"n_workers must be >= 1, got {n_workers!r}")
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
                            silence_logs=logging.WARNING)
     return Client(cluster), cluster
 
