@@ -17,11 +17,11 @@ Jobs (:data:`JOBS`): ``tree_variations``, ``billboard_cloud``,
 ('dendrite_tree', 500, True)
 """
 
+from . import _builtin  # noqa: F401  (registers the technique jobs)
 from .jobs import JOBS, ItemOutput, Job, get_job, register_job
 from .manifest import read_manifest
 from .runner import BatchSummary, run_batch
 from .spec import BatchSpec, load_spec, params_to_dict, save_spec, spec_from_params
-from . import _builtin  # noqa: E402,F401  (registers the technique jobs)
 
 __all__ = [
     "BatchSpec", "BatchSummary", "ItemOutput", "JOBS", "Job", "get_job", "load_spec", "params_to_dict",

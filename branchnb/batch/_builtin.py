@@ -8,15 +8,14 @@ the functions, so ``import branchnb.batch`` stays light.
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import tempfile
 from pathlib import Path
 
 import numpy as np
 
-from ..branching.params import SynthesisParams
 from ..branching.image_synthesis import ImageSynthesisParams
+from ..branching.params import SynthesisParams
 from ..dendrite.trees import TreeParams
 from ..trees.billboard import BillboardParams
 from ..trees.variations import VariationParams
@@ -298,9 +297,3 @@ register_job(Job(
     stem="branching",
     description="branching structures (JSON, PNG, SVG) learnt from an annotated example's JSON, and "
                 "their images synthesised from the example image when one is given"))
-
-
-# ----------------------------------------------------------------------------- leaf variations
-
-if importlib.util.find_spec(f"{__package__.rsplit('.', 1)[0]}.leaves") is not None:
-    from . import _leaves  # noqa: F401  (registers "leaf_variations")

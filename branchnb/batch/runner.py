@@ -320,7 +320,8 @@ def run_batch(spec, outdir, *, client=None, scheduler: str | None = None, n_work
                 [shared_future] = client_.scatter([shared], broadcast=True, hash=False)
                 k = chunk or max(1, min(16, len(todo) // (4 * summary.workers)))
                 chunks = [todo[j:j + k] for j in range(0, len(todo), k)]
-                _run_chunks(client_, job, shared_future, spec.shared_inputs(), chunks, 2 * summary.workers, futures, record)
+                _run_chunks(client_, job, shared_future, spec.shared_inputs(), chunks, 2 * summary.workers,
+                            futures, record)
         except KeyboardInterrupt:
             summary.interrupted = True
         finally:

@@ -31,7 +31,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
-import tomllib
+import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -40,6 +40,11 @@ import numpy as np
 
 from ..core.params import check_params
 from .jobs import Job, get_job
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover - Python 3.10 (the tomli dependency)
+    import tomli as tomllib
 
 __all__ = ["BatchSpec", "load_spec", "save_spec", "spec_from_params", "params_to_dict", "MAX_COUNT"]
 
@@ -200,9 +205,11 @@ class BatchSpec:
     def item_seeds(self, indices=None) -> list[int]:
         """Seeds of items ``indices`` (all by default): ``SeedSequence(seed).spawn(count)``,
         each child reduced to one 63-bit int (the ``rng`` the job gets, and the manifest's ``seed``)."""
-        children = np.random.SeedSequence(self.seed).spawn(self.count)
         idx = range(self.count) if indices is None else indices
-        return [int(children[i].generate_state(1, np.uint64)[0] >> np.uint64(1)) for i in idx]
+        # child i of SeedSequence(seed).spawn(count) is SeedSequence(seed, spawn_key=(i,)): built
+        # directly, so a million-item spec does not hold a million children
+        return [int(np.random.SeedSequence(self.seed, spawn_key=(int(i),)).generate_state(1, np.uint64)[0]
+                    >> np.uint64(1)) for i in idx]
 
     def _item_values(self, index: int) -> dict[str, Any]:
         values = {k: v[index % len(v)] for k, v in self.vary.items()}
