@@ -124,9 +124,13 @@ def _batch(args) -> int:
         raise CommandError(f"--workers must be >= 1, got {args.workers}")
     if args.chunk is not None and args.chunk < 1:
         raise CommandError(f"--chunk must be >= 1, got {args.chunk}")
-    summary = run_batch(spec, outdir, scheduler=args.scheduler, n_workers=args.workers,
-                        chunk=args.chunk, progress=None if args.no_progress else "tqdm")
+    try:
+        summary = run_batch(spec, outdir, scheduler=args.scheduler, n_workers=args.workers,
+                            chunk=args.chunk, progress=None if args.no_progress else "tqdm")
+    except (ValueError, TypeError) as exc:  # a bad shared input, e.g. a library folder without trees
+        raise CommandError(str(exc)) from None
     print(summary)
+    print(f"manifest: {summary.outdir / 'manifest.jsonl'}")
     return 130 if summary.interrupted else (1 if summary.failed else 0)
 
 

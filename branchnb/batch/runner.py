@@ -81,8 +81,7 @@ class BatchSummary:
         if left:
             parts.append(f"{left} not run")
         return (f"batch {self.job} {state}: " + ", ".join(parts) + f" of {self.total} in "
-                f"{self.seconds:.1f} s ({self.items_per_second:.2f} items/s on {self.workers} workers); "
-                f"manifest: {self.outdir / 'manifest.jsonl'}")
+                f"{self.seconds:.1f} s ({self.items_per_second:.2f} items/s on {self.workers} workers)")
 
 
 def item_stem(job: Job, index: int, count: int) -> str:
@@ -203,7 +202,7 @@ def _connect(client, scheduler, n_workers):
     if n < 1:
         raise ValueError(f"n_workers must be >= 1, got {n_workers!r}")
     cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
-                           silence_logs=logging.WARNING)
+                           silence_logs=logging.ERROR)
     return Client(cluster), cluster
 
 

@@ -31,6 +31,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+import re
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -302,9 +303,13 @@ def _toml_value(v, where: str) -> str:
             raise ValueError(f"{where}: TOML has no null; save this spec as JSON")
         return "[" + ", ".join(_toml_value(x, where) for x in v) + "]"
     if isinstance(v, dict):
-        return "{" + ", ".join(f"{json.dumps(k)} = {_toml_value(x, where)}" for k, x in v.items()
+        return "{" + ", ".join(f"{_toml_key(k)} = {_toml_value(x, where)}" for k, x in v.items()
                                if x is not None) + "}"
     raise TypeError(f"{where}: cannot write {type(v).__name__} to TOML")
+
+
+def _toml_key(k: str) -> str:
+    return k if re.fullmatch(r"[A-Za-z0-9_-]+", k) else json.dumps(k)
 
 
 def _toml(d: dict) -> str:
@@ -316,7 +321,7 @@ def _toml(d: dict) -> str:
     tables += [(f'items."{i}"', over) for i, over in d.get("items", {}).items()]
     for name, table in tables:
         lines += ["", f"[{name}]"]
-        lines += [f"{json.dumps(k)} = {_toml_value(v, f'{name}.{k}')}" for k, v in table.items()
+        lines += [f"{_toml_key(k)} = {_toml_value(v, f'{name}.{k}')}" for k, v in table.items()
                   if v is not None]  # TOML has no null: a missing key means the default
     return "\n".join(lines) + "\n"
 
