@@ -59,10 +59,15 @@ def _build_venv(tmp: Path) -> Path:
     # the dependencies: this interpreter's site folders as plain path entries (their .pth files, such
     # as an editable install's finder, are not run), after the venv's own site-packages
     deps = [p for p in sys.path if p.endswith(("site-packages", "dist-packages"))]
-    Path(purelib, "_branchnb_test_deps.pth").write_text("\n".join(deps) + "\n")
     wheel = next(dist.glob("branchnb-*.whl"))
+    # without PYTHONPATH: it holds the checkout, whose egg-info would make pip skip the wheel as
+    # "already satisfied"
+    clean = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
     subprocess.run([sys.executable, "-m", "pip", "--python", str(py), "install", "--no-deps", "-q", str(wheel)],
-                   check=True, timeout=300)
+                   check=True, timeout=300, env=clean)
+    # only now: before the install, pip would see the editable branchnb through these paths and
+    # skip the wheel as "already satisfied"
+    Path(purelib, "_branchnb_test_deps.pth").write_text("\n".join(deps) + "\n")
     return env_dir
 
 
