@@ -67,6 +67,7 @@ import numpy as np
 from scipy import ndimage as ndi
 from skimage.color import rgb2hsv, rgb2lab
 
+from .. import data as _data
 from ..core.image import as_float_image, composite_over
 from ..core.io import encode_png
 from ..core.params import check_params, param
@@ -100,7 +101,7 @@ BACKGROUND, CROWN, TRUNK, IGNORE = 0, 1, 2, 255
 LABEL_NAMES = {"crown": CROWN, "trunk": TRUNK}
 
 #: Folder of the hand-labelled masks (``data/trees_masks``).
-MASKS_DIR = Path(__file__).resolve().parent.parent.parent / "data" / "trees_masks"
+MASKS_DIR = _data.DATA_DIR / "trees_masks"
 
 FEATURE_NAMES = (
     "L", "a", "b",                     # CIELAB colour / 100
