@@ -638,6 +638,16 @@ ARGS = {
     "widgets:AnnotationModel.move_vertex.xy": _v((3.0, 3.0)), "widgets:AnnotationModel.remove_shape.index": _v(0),
     "widgets:AnnotationModel.load_json.text": lambda: example("annotation_model").to_json(),
     "widgets:AnnotationModel.from_json.text": lambda: example("annotation_model").to_json(),
+    # ---- batch
+    "batch:BatchSpec.job": _v("branching"), "batch:BatchSpec.count": _v(2),
+    "batch:BatchSpec.from_dict.d": lambda: {"job": "branching", "count": 2, "seed": 0},
+    "batch:get_job.name": _v("branching"), "batch:params_to_dict.params": lambda: importlib.import_module("branchnb.branching").SynthesisParams(),
+    "batch:spec_from_params.job": _v("branching"), "batch:spec_from_params.count": _v(2),
+    "batch:save_spec.spec": lambda: importlib.import_module("branchnb.batch").BatchSpec(job="branching", count=2),
+    "batch:save_spec.path": lambda: str(Path(tempfile.mkdtemp(prefix="fuzz")) / "spec.json"),
+    "batch:load_spec.path": lambda: str(importlib.import_module("branchnb.batch").save_spec(
+        importlib.import_module("branchnb.batch").BatchSpec(job="branching", count=2), Path(tempfile.mkdtemp(prefix="fuzz")) / "spec.json")),
+    "batch:read_manifest.path": lambda: str(Path(tempfile.mkdtemp(prefix="fuzz")) / "manifest.jsonl"),
     "widgets:AnnotationModel.observe.callback": _v(print), "widgets:AnnotationModel.unobserve.callback": _v(print),
 }
 
@@ -658,6 +668,8 @@ INSTANCES = {
 SKIP_ARGS = {"progress", "_scorer", "self", "cls", "name"}
 #: Targets the harness leaves alone (network, big downloads, or pure re-exports of callables).
 SKIP_TARGETS = {"trees:TreeLibrary.from_data", "trees:evaluate_reference",
+                # whole batch runs (dask workers) and the global job registry: tested by their own suite
+                "batch:run_batch", "batch:register_job", "batch:Job",
                 "widgets:AnnotationModel.unobserve", "widgets:AnnotationModel.set_radius",
                 "branching:StructureModel.sample_length", "branching:StructureModel.matcher"}
 
@@ -1189,6 +1201,8 @@ def run_case(case: Case, allow_nonfinite: bool = False) -> tuple[str, str]:
 
 def _worker(conn):
     os.environ.setdefault("OMP_NUM_THREADS", "1")
+    # A bad path argument (a plain string) must not write into the checkout: work in a temp folder.
+    os.chdir(tempfile.mkdtemp(prefix="fuzz-cwd"))
     while True:
         try:
             msg = conn.recv()
