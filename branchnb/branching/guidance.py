@@ -106,7 +106,7 @@ class Guidance:
     def sample(self, points) -> np.ndarray:
         """G at points ``(..., 2)``; 1 outside the map."""
         p = real_array(points, "points")
-        if p.shape[-1] != 2 or p.ndim < 1:
+        if p.ndim < 1 or p.shape[-1] != 2:
             raise ValueError(f"points must have shape (..., 2), got {p.shape}")
         c = np.round(p[..., 0]).astype(np.int64)
         r = np.round(p[..., 1]).astype(np.int64)

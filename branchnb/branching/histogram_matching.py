@@ -153,7 +153,7 @@ def histogram_distances(example, structure, *, bins: int = 16,
     ea, er = example.angles(), example.thicknesses()
     sa, sr = structure.angles(), structure.thicknesses()
     if ea.size == 0 or sa.size == 0:
-        raise ValueError("both structures need at least one turning angle (a branch of >= 3 vertices)")
+        raise ValueError("example and structure both need at least one turning angle (a branch of >= 3 vertices)")
     out = {}
     for key, x, y in (("angle", ea, sa), ("thickness", er, sr)):
         rng = (float(x.min()), float(x.max()))

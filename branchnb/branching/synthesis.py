@@ -814,8 +814,10 @@ def _check_guidance(guidance, shape):
     if guidance is None:
         return None
     if not isinstance(guidance, Guidance):
-        g = np.asarray(guidance)
-        guidance = Guidance(g)
+        try:
+            guidance = Guidance(guidance)
+        except (TypeError, ValueError) as exc:
+            raise type(exc)(f"guidance: {exc}") from None
     if guidance.shape != tuple(shape):
         raise ValueError(f"guidance map has shape {guidance.shape}, the domain is {tuple(shape)}")
     return guidance

@@ -432,7 +432,7 @@ class PathStats:
     ----------
     length : (E,) path length in pixels.
     straight : (E,) straight-line distance from the path's seed to the endpoint.
-    tortuosity : (E,) ``length / straight`` (>= 1; NaN if the endpoint is a seed).
+    tortuosity : (E,) ``length / straight`` (>= 1; 1 for an endpoint on a seed, a path of length 0).
     max_edge : (E,) largest edge cost on the path (the non-scalar ``M``).
     total : (E,) cumulative cost of the path.
     """
@@ -464,7 +464,7 @@ def path_statistics(dendrite: Dendrite, plan_result: PlanResult) -> PathStats:
     d = dendrite.points[t] - dendrite.points[root[t]]
     straight = np.hypot(d[:, 0], d[:, 1])
     with np.errstate(invalid="ignore", divide="ignore"):
-        tort = np.where(straight > 0, length / np.where(straight > 0, straight, 1), np.nan)
+        tort = np.where(straight > 0, length / np.where(straight > 0, straight, 1), 1.0)
     g = dendrite.nodes[t]
     return PathStats(length, straight, tort, plan_result.max_cost[g], plan_result.total_cost[g])
 

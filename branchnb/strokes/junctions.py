@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core.validate import MAX_COUNT, Array, Int, Real, checked
+from ..core.validate import MAX_COUNT, Array, Int, Point, Real, checked
 from .strokes import Stroke, StrokePair
 
 __all__ = ["Junction", "find_junctions", "stroke_order", "attach", "far_side"]
@@ -177,7 +177,7 @@ def attach(pair: StrokePair, junctions: list[Junction], target_strokes: list[Str
     return StrokePair(pair.source, target, inner, name=pair.name), added
 
 
-@checked(child_dir=Array(ndim=1), origin=Array(ndim=1), size=Int(1, 4096), window=Real(0, 1e4))
+@checked(child_dir=Array(ndim=1), origin=Point(), size=Int(1, 4096), window=Real(0, 1e4))
 def far_side(junction: Junction, parent: Stroke, child_dir: np.ndarray, origin, size: int,
              *, window: float) -> np.ndarray:
     """Pixels of a ``size`` x ``size`` patch at ``origin`` beyond the parent's centre line.

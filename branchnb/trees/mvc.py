@@ -308,7 +308,7 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
              for i, c in enumerate(source_cages)]
     tcage = as_points(target_cage, name="target_cage", min_points=3)
     if len(cages) != len(srcs):
-        raise ValueError(f"need one cage per source: {len(srcs)} sources, {len(cages)} cages")
+        raise ValueError(f"source_cages: need one cage per source: {len(srcs)} sources, {len(cages)} cages")
     for i, c in enumerate(cages):
         if c.shape != tcage.shape:
             raise ValueError(f"source_cages[{i}] has {len(c)} vertices, target_cage {len(tcage)}: "

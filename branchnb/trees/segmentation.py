@@ -833,7 +833,7 @@ def load_reference_masks(names=None) -> dict[str, np.ndarray]:
     out = {}
     for n in names:
         if n not in available:
-            raise ValueError(f"no reference mask for {n!r}; labelled: {list(available)}")
+            raise ValueError(f"names: no reference mask for {n!r}; labelled: {list(available)}")
         raw = cv2.imread(str(_mask_path(n)), cv2.IMREAD_UNCHANGED)
         if raw is None or raw.ndim != 2:  # pragma: no cover - corrupt file
             raise ValueError(f"could not read a label image from {_mask_path(n)}")
