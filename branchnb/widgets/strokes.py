@@ -74,7 +74,7 @@ LABELS = {
 }
 
 #: Long side (px) of the reduced-size edit shown while a slow full edit is computed.
-PREVIEW_SIZE = 200
+PREVIEW_SIZE = 160
 #: A full edit slower than this (s) gets a reduced-size preview first.
 PREVIEW_AFTER = 0.25
 
