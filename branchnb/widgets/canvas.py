@@ -278,6 +278,8 @@ class AnnotationCanvas(widgets.VBox):
 
     @staticmethod
     def _valid_ratio_value(r) -> float:
+        if isinstance(r, bool) or not isinstance(r, (int, float, np.integer, np.floating)):
+            raise ValueError(f"pixel_ratio must be a number in [0.5, 4], got {r!r}")
         r = float(r)
         if not np.isfinite(r) or not 0.5 <= r <= 4:
             raise ValueError(f"pixel_ratio must be in [0.5, 4], got {r}")

@@ -135,6 +135,9 @@ class TreeVariationsApp(widgets.VBox):
 
     def __init__(self, library: TreeLibrary | None = None, *, selected=None, display: int = 256,
                  thumb: int = 72, references=REFERENCES):
+        for arg, v, lo in (("display", display, 64), ("thumb", thumb, 16)):
+            if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < lo:
+                raise ValueError(f"{arg} must be an int >= {lo} (pixels), got {v!r}")
         self.library = library if library is not None else TreeLibrary.from_data(size=512)
         if not isinstance(self.library, TreeLibrary):
             raise TypeError(f"library must be a TreeLibrary, got {type(self.library).__name__}")
