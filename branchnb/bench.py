@@ -26,6 +26,7 @@ SUITES = (
     "branchnb.leaves._bench",
     "branchnb.strokes._bench",
     "branchnb.batch._bench",
+    "branchnb.widgets._bench",
 )
 
 

@@ -186,6 +186,6 @@ def test_no_tree_checked_leaves_no_stale_result(app):
 def test_reference_none_is_shown_as_none_and_labels_are_whole(app):
     app.reference.value = None
     assert app.reference.index == 0 and app.reference.label == "none"
-    html = app.thumbnails.children[0].children[1].children[1].value
-    assert "tree_rpg_01" in html  # the whole name, not a clipped checkbox label
+    cb = app.thumbnails.children[0].children[1]
+    assert cb.description == "tree_rpg_01" and cb.style.description_width == "initial"  # not clipped
     assert app.params() == type(app.params())()  # the panel's exact defaults

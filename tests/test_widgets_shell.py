@@ -245,3 +245,41 @@ def test_adding_a_vertex_sends_the_same_little_whatever_the_number_of_shapes(n_s
     cost = _bytes_sent(lambda: send(c, "mouse_down", *c.image_to_view(40, 30)))
     assert len(c.model.shapes[-1].points) == 2
     assert 0 < cost < 3000  # one segment, one vertex: not a redraw of every shape
+
+
+# -- clear messages for bad app arguments (issue 13, class 5) ------------------------------
+def _apps():
+    from branchnb.trees.variations import TreeLibrary
+    from branchnb.widgets import HistogramCompare, ImageView
+    from branchnb.widgets.dendrite import DendriteApp
+    from branchnb.widgets.strokes import StrokeEditApp
+    from branchnb.widgets.trees import TreeVariationsApp
+
+    img = np.random.default_rng(0).random((40, 60, 3)).astype(np.float32)
+    lib = TreeLibrary.from_data(["tree_rpg_01", "tree_rpg_03"], size=64)
+    return {
+        "max_display": lambda v: AnnotationCanvas(img, max_display=v),
+        "pixel_ratio": lambda v: AnnotationCanvas(img, pixel_ratio=v),
+        "max_size": lambda v: DendriteApp(img, max_size=v),
+        "display": lambda v: TreeVariationsApp(lib, display=v),
+        "thumb": lambda v: TreeVariationsApp(lib, thumb=v),
+        "width": lambda v: ImageView(width=v),
+        "height": lambda v: HistogramCompare(height=v),
+        "target_shape": lambda v: StrokeEditApp(img, target_shape=v),
+        "background": lambda v: StrokeEditApp(img, background=v),
+    }
+
+
+def test_bad_app_arguments_name_the_argument():
+    cryptic = ("negative dimensions", "could not convert", "invalid literal", "NoneType", "OpenCV")
+    for arg, make in _apps().items():
+        for bad in (-5, 0, "a", None, float("nan"), (1, 2, "x"), True):
+            if bad is None and arg in ("background", "pixel_ratio", "target_shape"):
+                continue  # None is valid: transparent / the browser's ratio / the source's size
+            try:
+                make(bad)
+            except (ValueError, TypeError) as exc:
+                msg = str(exc)
+                assert arg in msg and not any(c in msg for c in cryptic), (arg, bad, msg)
+            else:
+                raise AssertionError(f"{arg}={bad!r} was accepted")

@@ -250,12 +250,12 @@ class BranchingApp(widgets.VBox):
         self.branch_pick = widgets.IntSlider(value=0, min=0, max=0, description="branch",
                                              continuous_update=False, tooltip="output branch to extend "
                                              "or delete (outlined in the view)",
-                                             style={"description_width": "44px"},
-                                             layout=widgets.Layout(width="200px"))
+                                             style={"description_width": "initial"},
+                                             layout=widgets.Layout(width="210px"))
         self.steps = widgets.BoundedIntText(value=5, min=1, max=500, description="steps",
                                             tooltip="Markov steps added by 'extend'",
-                                            style={"description_width": "34px"},
-                                            layout=widgets.Layout(width="100px"))
+                                            style={"description_width": "initial"},
+                                            layout=widgets.Layout(width="110px"))
         extend = widgets.Button(description="extend", icon="plus", tooltip="grow the picked output "
                                 "branch further", layout=widgets.Layout(width="auto"))
         extend.on_click(lambda _: sh.run("extend", self.extend))

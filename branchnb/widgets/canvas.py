@@ -61,8 +61,6 @@ _WHEEL_STEP = 1.2  # zoom factor per wheel notch
 #: What the tool buttons say (the values stay the short mode names).
 _MODE_LABELS = {"polyline": "polyline", "stroke": "freehand", "scribble": "scribble",
                 "point": "point", "edit": "select/move", "pan": "pan"}
-_MODE_ICONS = {"polyline": "share-alt", "stroke": "pencil", "scribble": "paint-brush",
-               "point": "dot-circle-o", "edit": "mouse-pointer", "pan": "arrows"}
 
 _MODE_HELP = {
     "polyline": "click vertices; click the last one again (or Enter) to finish",
@@ -193,8 +191,7 @@ class AnnotationCanvas(widgets.VBox):
         self.canvas = MultiCanvas(4)
         self._tools = widgets.ToggleButtons(options=[(_MODE_LABELS[m], m) for m in modes], value=mode,
                                             tooltips=[_MODE_HELP[m] for m in modes],
-                                            icons=[_MODE_ICONS[m] for m in modes],
-                                            style={"button_width": "auto"})
+                                            style={"button_width": "auto", "button_padding": "0 8px"})
         self._tools.layout.display = None if len(modes) > 1 else "none"
         self._label_picker = widgets.Dropdown(options=list(self.labels), description="label",
                                               style={"description_width": "36px"},
@@ -237,6 +234,7 @@ class AnnotationCanvas(widgets.VBox):
         if errors is None:
             children.append(self.errors)
         super().__init__(children)
+        self.add_class("bnb-canvas")
 
         traitlets.link((self._tools, "value"), (self, "mode"))
         traitlets.link((self._label_picker, "value"), (self, "label"))
@@ -280,6 +278,8 @@ class AnnotationCanvas(widgets.VBox):
 
     @staticmethod
     def _valid_ratio_value(r) -> float:
+        if isinstance(r, bool) or not isinstance(r, (int, float, np.integer, np.floating)):
+            raise ValueError(f"pixel_ratio must be a number in [0.5, 4], got {r!r}")
         r = float(r)
         if not np.isfinite(r) or not 0.5 <= r <= 4:
             raise ValueError(f"pixel_ratio must be in [0.5, 4], got {r}")

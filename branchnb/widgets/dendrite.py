@@ -203,7 +203,7 @@ class DendriteApp(widgets.VBox):
                                                            "the image hidden in a tree's crown"],
                                                  style={"button_width": "auto"})
         self.metaphor = widgets.Dropdown(options=list(METAPHORS), value="plain", description="metaphor",
-                                         style={"description_width": "56px"},
+                                         style={"description_width": "initial"},
                                          layout=widgets.Layout(width="170px"))
         self.rng = widgets.BoundedIntText(value=0, min=0, max=2**31 - 1, description="seed",
                                           tooltip="random seed", style={"description_width": "32px"},

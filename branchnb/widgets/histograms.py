@@ -46,6 +46,9 @@ class HistogramCompare(widgets.VBox):
             raise ValueError(f"metric must be one of {sorted(METRICS)}, got {metric!r}")
         if not isinstance(bins, (int, np.integer)) or bins < 1:
             raise ValueError(f"bins must be a positive int, got {bins!r}")
+        for arg, v in (("width", width), ("height", height)):
+            if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 32 <= v <= 4096:
+                raise ValueError(f"{arg} must be an int in [32, 4096] (pixels), got {v!r}")
         self.bins = int(bins)
         self.metric = metric
         self.title = title

@@ -57,6 +57,7 @@ class ImageView(widgets.HBox):
     def __init__(self, images=(), titles=(), *, fast: bool = False, width: int = 320,
                  max_size: int | None = None):
         super().__init__(layout=widgets.Layout(flex_flow="row wrap"))
+        self.add_class("bnb-view")
         if isinstance(width, bool) or not isinstance(width, int) or width < 16:
             raise ValueError(f"width must be an int >= 16 (pixels), got {width!r}")
         if max_size is not None and (isinstance(max_size, bool) or not isinstance(max_size, int)
@@ -78,8 +79,9 @@ class ImageView(widgets.HBox):
             titles = self.title_texts[: len(images)]
         titles = list(titles) + [""] * (len(images) - len(titles))
         if len(self.images) != len(images):
-            self.images = [widgets.Image(layout=widgets.Layout(width=f"{self.width}px",
-                                                               object_fit="contain"))
+            self.images = [widgets.Image(layout=widgets.Layout(width=f"{self.width}px", max_width="100%",
+                                                               object_fit="contain",
+                                                               border="1px solid #ddd"))
                            for _ in images]
             self.titles = [widgets.HTML(layout=widgets.Layout(width=f"{self.width}px"))
                            for _ in images]

@@ -132,6 +132,7 @@ class _Row:
         self.message = widgets.HTML(layout=widgets.Layout(display="none"))
         self.box = widgets.VBox([widgets.HBox(parts, layout=widgets.Layout(align_items="center")),
                                  self.message], layout=widgets.Layout(margin="0 0 1px 0"))
+        self.box.add_class(f"bnb-param-{name}")  # for tests in a real browser
 
     # -- values -----------------------------------------------------------------
     def is_snap(self, shown) -> bool:

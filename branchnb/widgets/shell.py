@@ -117,6 +117,9 @@ class AppShell(widgets.VBox):
 
     def __init__(self, title: str = "", *, help: str = "", background: bool | None = None,
                  sidebar_width: int = SIDEBAR_WIDTH):
+        if not isinstance(title, str) or not isinstance(help, str):
+            raise TypeError(f"title and help must be strings, got {type(title).__name__} and "
+                            f"{type(help).__name__}")
         if background not in (None, True, False):
             raise ValueError(f"background must be None, True or False, got {background!r}")
         if not isinstance(sidebar_width, int) or sidebar_width < 200:

@@ -74,7 +74,7 @@ LABELS = {
 }
 
 #: Long side (px) of the reduced-size edit shown while a slow full edit is computed.
-PREVIEW_SIZE = 200
+PREVIEW_SIZE = 160
 #: A full edit slower than this (s) gets a reduced-size preview first.
 PREVIEW_AFTER = 0.25
 
@@ -82,10 +82,10 @@ PREVIEW_AFTER = 0.25
 def _check_target_shape(shape):
     if shape is None:
         return None
-    if isinstance(shape, (str, bytes)) or not hasattr(shape, "__len__") or len(shape) < 2:
+    if isinstance(shape, (str, bytes)) or not hasattr(shape, "__len__") or len(shape) != 2:
         raise ValueError(f"target_shape must be (height, width) in pixels, got {shape!r}")
     out = []
-    for v in tuple(shape)[:2]:
+    for v in tuple(shape):
         if isinstance(v, bool) or not isinstance(v, (int, np.integer)) and not (
                 isinstance(v, (float, np.floating)) and float(v).is_integer()):
             raise ValueError(f"target_shape must be two whole numbers (height, width), got {shape!r}")

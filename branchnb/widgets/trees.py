@@ -135,6 +135,9 @@ class TreeVariationsApp(widgets.VBox):
 
     def __init__(self, library: TreeLibrary | None = None, *, selected=None, display: int = 256,
                  thumb: int = 72, references=REFERENCES):
+        for arg, v, lo in (("display", display, 64), ("thumb", thumb, 16)):
+            if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < lo:
+                raise ValueError(f"{arg} must be an int >= {lo} (pixels), got {v!r}")
         self.library = library if library is not None else TreeLibrary.from_data(size=512)
         if not isinstance(self.library, TreeLibrary):
             raise TypeError(f"library must be a TreeLibrary, got {type(self.library).__name__}")
@@ -163,16 +166,13 @@ class TreeVariationsApp(widgets.VBox):
         for ex in self.library:
             img = widgets.Image(value=encode_png(_thumb(ex.image, thumb)), format="png",
                                 layout=widgets.Layout(width=f"{thumb}px", height=f"{thumb}px"))
-            cb = widgets.Checkbox(value=ex.name in sel, description="", indent=False, tooltip=ex.name,
-                                  layout=widgets.Layout(width="20px"))
+            cb = widgets.Checkbox(value=ex.name in sel, description=ex.name, indent=False,
+                                  tooltip=f"mix {ex.name}", style={"description_width": "initial"},
+                                  layout=widgets.Layout(width="auto"))
             cb.observe(g(self._on_check), names="value")
             self.checks[ex.name] = cb
-            name = widgets.HTML(f"<span style='font-size:11px;line-height:12px;word-break:break-all'"
-                                f" title='{ex.name}'>{ex.name}</span>",
-                                layout=widgets.Layout(width=f"{thumb - 18}px"))
-            cells.append(widgets.VBox([img, widgets.HBox([cb, name], layout=widgets.Layout(
-                align_items="center"))], layout=widgets.Layout(align_items="center", width=f"{thumb + 6}px",
-                                                              margin="0 2px")))
+            cells.append(widgets.VBox([img, cb], layout=widgets.Layout(align_items="center",
+                                                                      margin="0 4px")))
         self.thumbnails = widgets.HBox(cells, layout=widgets.Layout(flex_flow="row wrap"))
 
         # -- mix controls
@@ -194,13 +194,13 @@ class TreeVariationsApp(widgets.VBox):
                                                              if n not in names]
         self.reference = widgets.Dropdown(options=refs, index=0, description="reference",
                                           tooltip="histogram transfer of the colours to this image",
-                                          style={"description_width": "60px"},
-                                          layout=widgets.Layout(width="300px"))
+                                          style={"description_width": "64px"},
+                                          layout=widgets.Layout(width="310px"))
         # "none" stays shown when the value is set to None from Python (index None = blank)
         self.reference.observe(lambda c: setattr(self.reference, "index", 0) if c["new"] is None else None,
                                names="index")
-        self.colour_mode.layout.width = "300px"
-        self.colour_mode.style.description_width = "60px"
+        self.colour_mode.layout.width = "310px"
+        self.colour_mode.style.description_width = "64px"
         self.random_button = self.shell.add_action(
             "random weights", self.random_weights, icon="random",
             tooltip="Dirichlet weights for the checked trees from the seed")
@@ -238,6 +238,7 @@ class TreeVariationsApp(widgets.VBox):
             "more like this", lambda: f"{len(self.more_like_this())} variations", icon="th", primary=True,
             tooltip="random variations around the current mix (tab 'more like this')")
         self.grid = widgets.HBox(layout=widgets.Layout(flex_flow="row wrap"))
+        self.grid.add_class("bnb-view")
         self._grid_size = max(96, int(display) // 2)
         similar = widgets.VBox([widgets.HBox([self.keep, self.n_similar]),
                                 self.grid])
@@ -591,9 +592,10 @@ class TreeVariationsApp(widgets.VBox):
         for n in sel:
             s = widgets.FloatSlider(value=self._weights[n], min=0.0, max=1.0, step=0.01,
                                     description=n, continuous_update=False,
-                                    style={"description_width": "110px"},
-                                    layout=widgets.Layout(width="420px"))
+                                    style={"description_width": "96px"},
+                                    layout=widgets.Layout(width="320px"))
             s.observe(self.errors.guard(lambda c, n=n: self._on_slider(n, c["new"])), names="value")
+            s.add_class(f"bnb-weight-{n}")
             self.sliders[n] = s
         self.sliders_box.children = list(self.sliders.values())
 
@@ -608,4 +610,5 @@ class TreeVariationsApp(widgets.VBox):
     def _on_slider(self, name: str, value: float) -> None:
         if self._syncing:
             return
-        self.set_weight(name, value)
+        with self.shell.busy("mix"):
+            self.set_weight(name, value)
