@@ -267,3 +267,45 @@ def test_command_line_batch_on_a_scheduler_and_ctrl_c_keeps_the_manifest(client2
                           str(tmp_path / "o2")], capture_output=True, text=True, timeout=60)
     assert bad.returncode == 1 and "Traceback" not in bad.stderr and "missing.json" in bad.stderr
     assert os.path.isdir(tmp_path / "o2")
+
+
+def _json_values():
+    from hypothesis import strategies as st
+
+    scalars = st.one_of(st.none(), st.booleans(), st.integers(-10**6, 10**12),
+                        st.floats(allow_nan=True, allow_infinity=True), st.text(max_size=8))
+    return st.recursive(scalars, lambda inner: st.one_of(st.lists(inner, max_size=3),
+                                                         st.dictionaries(st.text(max_size=6), inner, max_size=3)),
+                        max_leaves=8)
+
+
+def test_any_malformed_spec_gives_a_clear_error():
+    from hypothesis import given, settings
+    from hypothesis import strategies as st
+
+    keys = st.sampled_from(["job", "count", "seed", "inputs", "params", "vary", "items", "other"])
+    jobs = st.sampled_from(["tree_variations", "billboard_cloud", "dendrite_tree", "branching", "x"])
+    sections = st.dictionaries(st.sampled_from(["variation", "tree", "billboard", "synthesis", "image", "zz"]),
+                               st.dictionaries(st.sampled_from(["keep", "m_points", "iterations", "radius",
+                                                                "n_segments", "h", "nope"]), _json_values(),
+                                               max_size=3), max_size=2)
+
+    @settings(max_examples=150, deadline=None)
+    @given(st.dictionaries(keys, _json_values(), max_size=5), jobs, st.one_of(st.integers(-3, 30), _json_values()),
+           sections)
+    def check(d, job, count, params):
+        d = dict(d, job=job, count=count)
+        if params:
+            d["params"] = params
+        try:
+            spec = BatchSpec.from_dict(d)
+        except (ValueError, TypeError) as exc:
+            assert str(exc)
+            return
+        for i in range(min(spec.count, 3)):               # items: valid, or a clear per-item error
+            try:
+                spec.item_params(i)
+            except (ValueError, TypeError) as exc:
+                assert f"item {i}" in str(exc)
+
+    check()
