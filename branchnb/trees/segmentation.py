@@ -73,6 +73,7 @@ from ..core.io import encode_png
 from ..core.params import check_params, param
 from ..core.random import as_rng
 from ..core.render import coverage_polylines
+from ..core.validate import Array, checked
 from .exemplar import tree_rgba
 
 __all__ = [
@@ -610,6 +611,7 @@ def _keep_stem_connected(trunk: np.ndarray, anchor: np.ndarray) -> np.ndarray:
     return np.isin(lab, keep)
 
 
+@checked()
 def segment_tree(rgba, scribbles=None, params: SegmentParams | None = None, *,
                  rng=0) -> Segmentation:
     """Segment an RGBA tree image into crown and trunk.
@@ -735,6 +737,7 @@ def segment_tree(rgba, scribbles=None, params: SegmentParams | None = None, *,
 # ---------------------------------------------------------------------------
 
 
+@checked(pred=Array(ndim=2), ref=Array(ndim=2))
 def segmentation_iou(pred, ref) -> dict[str, float]:
     """Per-class IoU of a predicted label image against a reference.
 
