@@ -290,7 +290,7 @@ def test_any_malformed_spec_gives_a_clear_error():
                                                                 "n_segments", "h", "nope"]), _json_values(),
                                                max_size=3), max_size=2)
 
-    @settings(max_examples=150, deadline=None)
+    @settings(max_examples=80, deadline=None)
     @given(st.dictionaries(keys, _json_values(), max_size=5), jobs, st.one_of(st.integers(-3, 30), _json_values()),
            sections)
     def check(d, job, count, params):
