@@ -309,3 +309,24 @@ def test_any_malformed_spec_gives_a_clear_error():
                 assert f"item {i}" in str(exc)
 
     check()
+
+
+def test_leaf_variations_job(client2, tmp_path):
+    """Runs once branchnb.leaves (layered synthesis) is in the tree."""
+    pytest.importorskip("branchnb.leaves.synthesis")
+    from branchnb.leaves import leaf_family
+
+    fam = leaf_family(3, size=160, rng=1)
+    (tmp_path / "ex").mkdir()
+    for i, leaf in enumerate(fam):
+        imsave(tmp_path / "ex" / f"leaf_{i}.png", leaf.image)
+    for k in ("veins", "spots"):
+        imsave(tmp_path / f"{k}.png", np.repeat(fam[0].layers[k][..., None].astype(np.float32), 3, 2))
+    spec = BatchSpec.from_dict({"job": "leaf_variations", "count": 3, "seed": 2,
+                                "inputs": {"exemplars": "ex", "layers": {"veins": "veins.png", "spots": "spots.png"}}},
+                               base_dir=tmp_path)
+    s = run_batch(spec, tmp_path / "out", client=client2, progress=None)
+    assert s.done == 3, read_manifest(tmp_path / "out")
+    leaves = [imread(p) for p in sorted((tmp_path / "out").glob("leaf_*.png"))]
+    assert all(im.shape[2] == 4 and (im[..., 3] > 0.5).mean() > 0.1 for im in leaves)
+    assert len({hashlib.sha256(p.read_bytes()).hexdigest() for p in (tmp_path / "out").glob("leaf_*.png")}) == 3
