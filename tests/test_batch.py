@@ -117,13 +117,17 @@ def test_resume_recomputes_exactly_the_deleted_items(twenty, library_dir, client
     assert _digests(out, "tree_*.png") == before
     changed = {p.name for p in out.glob("tree_*.png") if p.stat().st_mtime_ns != mtimes.get(p.name)}
     assert changed == set(deleted)
-    # a damaged file is recomputed too; a changed parameter recomputes everything it touches
+    # a damaged file is recomputed too, and so is an item whose parameters changed
     (out / "tree_00003.png").write_bytes(b"\x89PNG\r\n\x1a\nbroken")
     s = run_batch(_tree_spec(library_dir), out, client=client2, progress=None)
     assert (s.done, s.skipped) == (1, 19)
     assert _digests(out, "tree_*.png") == before
     lines = (out / "manifest.jsonl").read_text().splitlines()
     assert len(lines) == 20                                # compacted: one record per item
+    changed = _tree_spec(library_dir, items={"7": {"variation.m_points": 24}})
+    s = run_batch(changed, out, client=client2, progress=None)
+    assert (s.done, s.skipped) == (1, 19)
+    assert read_manifest(out)[7]["params"]["variation"]["m_points"] == 24
 
 
 def test_invalid_item_fails_clearly_and_the_rest_finish(library_dir, client2, tmp_path):

@@ -311,7 +311,9 @@ def _register_leaves() -> None:
         if (importlib.util.find_spec("branchnb.leaves") is None
                 or importlib.util.find_spec("branchnb.leaves.synthesis") is None):
             return
-        from . import _leaves  # noqa: F401
+        from . import _leaves
+
+        _leaves.register()
     except ImportError as exc:  # the leaves API changed: the other jobs keep working
         warnings.warn(f"branchnb.batch: no leaf_variations job ({exc})", RuntimeWarning, stacklevel=2)
 

@@ -3,7 +3,8 @@
 The analysis (training layers, registration, layer induction, residuals)
 runs once in ``prepare`` and is scattered; each item is one
 :func:`~branchnb.leaves.synthesis.generate_leaf` with a seed drawn from the
-item's ``rng``.
+item's ``rng``. :func:`register` adds the job (``branchnb.batch`` calls it
+when ``branchnb.leaves`` is there); this module imports without it.
 """
 
 from __future__ import annotations
@@ -12,16 +13,14 @@ import json
 
 import numpy as np
 
-from ..leaves.analysis import analyze
-from ..leaves.induction import InductionParams
-from ..leaves.layers import LayerSet
-from ..leaves.synthesis import SynthesisParams, generate_leaf
 from ._builtin import _image_sources, _load
 from .jobs import ItemOutput, Job, register_job, resolve_path
 
 
 def _layers(value, base_dir):
     """A LayerSet JSON file (the leaf app's scribbles), or ``{layer: mask image}`` on the training leaf."""
+    from ..leaves.layers import LayerSet
+
     if isinstance(value, str):
         path = resolve_path(value, base_dir, name="layers")
         try:
@@ -40,6 +39,8 @@ def _layers(value, base_dir):
 
 
 def _prepare(inputs, base_dir, params):
+    from ..leaves.analysis import analyze
+
     srcs = _image_sources(inputs["exemplars"], base_dir, name="exemplars", default=())
     images = [_load(s) for _, s in srcs]
     rng = inputs["rng"]
@@ -51,14 +52,20 @@ def _prepare(inputs, base_dir, params):
 
 def _make(analysis, params, inputs, rng, stem) -> ItemOutput:
     from ..core.io import encode_png
+    from ..leaves.synthesis import generate_leaf
 
     leaf = generate_leaf(analysis, int(rng.integers(2**31 - 1)), params["synthesis"])
     return ItemOutput({f"{stem}.png": encode_png(np.clip(leaf.image, 0.0, 1.0))}, leaf.record())
 
 
-register_job(Job(
-    "leaf_variations", sections={"synthesis": SynthesisParams, "induction": InductionParams},
-    inputs={"exemplars": None, "training_index": 0, "layers": None, "rng": 0},
-    prepare=_prepare, make=_make, stem="leaf",
-    description="new RGBA leaves by structural layering from a few exemplars of one kind and the layers "
-                "scribbled on one of them (a LayerSet JSON or layer masks)"))
+def register() -> Job:
+    """Register the ``leaf_variations`` job (needs ``branchnb.leaves``)."""
+    from ..leaves.induction import InductionParams
+    from ..leaves.synthesis import SynthesisParams
+
+    return register_job(Job(
+        "leaf_variations", sections={"synthesis": SynthesisParams, "induction": InductionParams},
+        inputs={"exemplars": None, "training_index": 0, "layers": None, "rng": 0},
+        prepare=_prepare, make=_make, stem="leaf",
+        description="new RGBA leaves by structural layering from a few exemplars of one kind and the layers "
+                    "scribbled on one of them (a LayerSet JSON or layer masks)"), replace=True)
