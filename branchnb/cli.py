@@ -120,6 +120,8 @@ def _batch(args) -> int:
             spec = spec.with_count(args.count)
     except (OSError, ValueError, TypeError) as exc:
         raise CommandError(f"spec {args.spec!r}: {exc}") from None
+    if args.workers is not None and args.scheduler is not None:
+        raise CommandError("--workers sets up a local cluster; with --scheduler the cluster has its own workers")
     if args.workers is not None and args.workers < 1:
         raise CommandError(f"--workers must be >= 1, got {args.workers}")
     if args.chunk is not None and args.chunk < 1:

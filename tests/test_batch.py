@@ -117,13 +117,17 @@ def test_resume_recomputes_exactly_the_deleted_items(twenty, library_dir, client
     assert _digests(out, "tree_*.png") == before
     changed = {p.name for p in out.glob("tree_*.png") if p.stat().st_mtime_ns != mtimes.get(p.name)}
     assert changed == set(deleted)
-    # a damaged file is recomputed too; a changed parameter recomputes everything it touches
+    # a damaged file is recomputed too, and so is an item whose parameters changed
     (out / "tree_00003.png").write_bytes(b"\x89PNG\r\n\x1a\nbroken")
     s = run_batch(_tree_spec(library_dir), out, client=client2, progress=None)
     assert (s.done, s.skipped) == (1, 19)
     assert _digests(out, "tree_*.png") == before
     lines = (out / "manifest.jsonl").read_text().splitlines()
     assert len(lines) == 20                                # compacted: one record per item
+    changed = _tree_spec(library_dir, items={"7": {"variation.m_points": 24}})
+    s = run_batch(changed, out, client=client2, progress=None)
+    assert (s.done, s.skipped) == (1, 19)
+    assert read_manifest(out)[7]["params"]["variation"]["m_points"] == 24
 
 
 def test_invalid_item_fails_clearly_and_the_rest_finish(library_dir, client2, tmp_path):
@@ -267,3 +271,66 @@ def test_command_line_batch_on_a_scheduler_and_ctrl_c_keeps_the_manifest(client2
                           str(tmp_path / "o2")], capture_output=True, text=True, timeout=60)
     assert bad.returncode == 1 and "Traceback" not in bad.stderr and "missing.json" in bad.stderr
     assert os.path.isdir(tmp_path / "o2")
+
+
+def _json_values():
+    from hypothesis import strategies as st
+
+    scalars = st.one_of(st.none(), st.booleans(), st.integers(-10**6, 10**12),
+                        st.floats(allow_nan=True, allow_infinity=True), st.text(max_size=8))
+    return st.recursive(scalars, lambda inner: st.one_of(st.lists(inner, max_size=3),
+                                                         st.dictionaries(st.text(max_size=6), inner, max_size=3)),
+                        max_leaves=8)
+
+
+def test_any_malformed_spec_gives_a_clear_error():
+    from hypothesis import given, settings
+    from hypothesis import strategies as st
+
+    keys = st.sampled_from(["job", "count", "seed", "inputs", "params", "vary", "items", "other"])
+    jobs = st.sampled_from(["tree_variations", "billboard_cloud", "dendrite_tree", "branching", "x"])
+    sections = st.dictionaries(st.sampled_from(["variation", "tree", "billboard", "synthesis", "image", "zz"]),
+                               st.dictionaries(st.sampled_from(["keep", "m_points", "iterations", "radius",
+                                                                "n_segments", "h", "nope"]), _json_values(),
+                                               max_size=3), max_size=2)
+
+    @settings(max_examples=80, deadline=None)
+    @given(st.dictionaries(keys, _json_values(), max_size=5), jobs, st.one_of(st.integers(-3, 30), _json_values()),
+           sections)
+    def check(d, job, count, params):
+        d = dict(d, job=job, count=count)
+        if params:
+            d["params"] = params
+        try:
+            spec = BatchSpec.from_dict(d)
+        except (ValueError, TypeError) as exc:
+            assert str(exc)
+            return
+        for i in range(min(spec.count, 3)):               # items: valid, or a clear per-item error
+            try:
+                spec.item_params(i)
+            except (ValueError, TypeError) as exc:
+                assert f"item {i}" in str(exc)
+
+    check()
+
+
+def test_leaf_variations_job(client2, tmp_path):
+    """Runs once branchnb.leaves (layered synthesis) is in the tree."""
+    pytest.importorskip("branchnb.leaves.synthesis")
+    from branchnb.leaves import leaf_family
+
+    fam = leaf_family(3, size=160, rng=1)
+    (tmp_path / "ex").mkdir()
+    for i, leaf in enumerate(fam):
+        imsave(tmp_path / "ex" / f"leaf_{i}.png", leaf.image)
+    for k in ("veins", "spots"):
+        imsave(tmp_path / f"{k}.png", np.repeat(fam[0].layers[k][..., None].astype(np.float32), 3, 2))
+    spec = BatchSpec.from_dict({"job": "leaf_variations", "count": 3, "seed": 2,
+                                "inputs": {"exemplars": "ex", "layers": {"veins": "veins.png", "spots": "spots.png"}}},
+                               base_dir=tmp_path)
+    s = run_batch(spec, tmp_path / "out", client=client2, progress=None)
+    assert s.done == 3, read_manifest(tmp_path / "out")
+    leaves = [imread(p) for p in sorted((tmp_path / "out").glob("leaf_*.png"))]
+    assert all(im.shape[2] == 4 and (im[..., 3] > 0.5).mean() > 0.1 for im in leaves)
+    assert len({hashlib.sha256(p.read_bytes()).hexdigest() for p in (tmp_path / "out").glob("leaf_*.png")}) == 3

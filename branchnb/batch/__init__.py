@@ -8,7 +8,8 @@ files and ``OUTDIR/manifest.jsonl`` as they finish, and resumes where a
 previous run stopped.
 
 Jobs (:data:`JOBS`): ``tree_variations``, ``billboard_cloud``,
-``dendrite_tree``, ``branching``; :func:`register_job` adds more.
+``dendrite_tree``, ``branching`` and, with :mod:`branchnb.leaves`,
+``leaf_variations``; :func:`register_job` adds more.
 
 >>> from branchnb.batch import spec_from_params, JOBS
 >>> from branchnb.dendrite.trees import TreeParams

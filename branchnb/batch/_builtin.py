@@ -297,3 +297,25 @@ register_job(Job(
     stem="branching",
     description="branching structures (JSON, PNG, SVG) learnt from an annotated example's JSON, and "
                 "their images synthesised from the example image when one is given"))
+
+
+# ----------------------------------------------------------------------------- leaf variations
+
+
+def _register_leaves() -> None:
+    """Register ``leaf_variations`` when ``branchnb.leaves`` has its layered synthesis."""
+    import importlib.util
+    import warnings
+
+    try:
+        if (importlib.util.find_spec("branchnb.leaves") is None
+                or importlib.util.find_spec("branchnb.leaves.synthesis") is None):
+            return
+        from . import _leaves
+
+        _leaves.register()
+    except ImportError as exc:  # the leaves API changed: the other jobs keep working
+        warnings.warn(f"branchnb.batch: no leaf_variations job ({exc})", RuntimeWarning, stacklevel=2)
+
+
+_register_leaves()
