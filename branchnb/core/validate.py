@@ -313,7 +313,7 @@ class Instance:
         if value is None and allow_none:
             return None
         if not self.names & {k.__name__ for k in type(value).__mro__}:
-            raise TypeError(f"{name} must be a {' or '.join(sorted(self.names))}, got {type(value).__name__}")
+            raise TypeError(f"{name} must be {' or '.join(sorted(self.names))}, got {type(value).__name__}")
         return value
 
 
