@@ -132,6 +132,10 @@ class BatchSpec:
 
     def __post_init__(self):
         job = get_job(self.job)
+        if self.base_dir is not None:
+            if not isinstance(self.base_dir, (str, Path)) or str(self.base_dir) == "":
+                raise TypeError(f"base_dir must be a folder path or None, got {self.base_dir!r}")
+            object.__setattr__(self, "base_dir", Path(self.base_dir))
         if isinstance(self.count, bool) or not isinstance(self.count, (int, np.integer)):
             raise TypeError(f"count must be an int, got {self.count!r}")
         if not 1 <= self.count <= MAX_COUNT:
@@ -263,7 +267,7 @@ class BatchSpec:
                 raise ValueError(f"the spec needs a {key!r}")
         return cls(job=d["job"], count=d["count"], seed=d.get("seed", 0), inputs=d.get("inputs", {}),
                    params=d.get("params", {}), vary=d.get("vary", {}), items=d.get("items", {}),
-                   base_dir=Path(base_dir) if base_dir is not None else None)
+                   base_dir=base_dir)
 
 
 def _reject_constant(name):
@@ -278,11 +282,16 @@ def load_spec(path) -> BatchSpec:
     ValueError
         Unknown suffix, a syntax error (with its position), or an invalid spec.
     """
+    if not isinstance(path, (str, Path)) or str(path) == "":
+        raise TypeError(f"path must be a spec file path, got {path!r}")
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix not in (".json", ".toml"):
-        raise ValueError(f"spec file must end in .json or .toml, got {path.name!r}")
-    text = path.read_text(encoding="utf-8")
+        raise ValueError(f"path: a spec file must end in .json or .toml, got {path.name!r}")
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ValueError(f"path: cannot read the spec {str(path)!r}: {getattr(exc, 'strerror', None) or exc}") from None
     try:
         data = (json.loads(text, parse_constant=_reject_constant) if suffix == ".json"
                 else tomllib.loads(text))
@@ -372,6 +381,8 @@ def spec_from_params(job: str, *params, count: int, seed: int = 0, only_changed:
     (0.7, 100)
     """
     j = get_job(job)
+    if not isinstance(only_changed, bool):
+        raise TypeError(f"only_changed must be a bool, got {only_changed!r}")
     by_type = {cls: s for s, cls in j.sections.items()}
     sections = {}
     for p in params:
@@ -384,4 +395,5 @@ def spec_from_params(job: str, *params, count: int, seed: int = 0, only_changed:
             default = params_to_dict(type(p)())
             d = {k: v for k, v in d.items() if default.get(k) != v}
         sections[section] = d
-    return BatchSpec(job=job, count=count, seed=seed, inputs=inputs, params=sections, vary=vary or {})
+    return BatchSpec(job=job, count=count, seed=seed, inputs=inputs, params=sections,
+                     vary={} if vary is None else vary)
