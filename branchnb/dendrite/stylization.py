@@ -4,9 +4,11 @@
 2. lattice weights ``w = c (1 - I) + epsilon + noise * U``: important
    pixels are cheap, so the structure grows along dark regions and edges;
 3. Dijkstra from the seed with the chosen metric;
-4. endpoints stippled on ``I``;
+4. endpoints stippled on ``I`` (none where ``I`` is below a threshold:
+   flat paper stays clean);
 5. paths traced back from the endpoints into one dendrite;
-6. thickness from the rolling importance along the branches;
+6. thickness from the rolling importance along the branches, then
+   rescaled so the local ink follows the image's darkness (``tone``);
 7. rendering with a metaphor (plain lines, vines or lightning).
 
 :class:`Stylizer` caches every stage keyed by the parameters it depends
@@ -26,11 +28,12 @@ from ..core.io import encode_png
 from ..core.params import check_params, param
 from .dendrite import Dendrite, PathStats, build_dendrite, path_statistics
 from .endpoints import place_endpoints
-from .importance import ImportanceParams, importance_map
+from .importance import ImportanceParams, darkness, importance_map
 from .lattice import Lattice, node_weights
 from .planner import METRICS, PlanResult, plan
 from .render import Rendering
-from .thickness import branch_thickness, importance_thickness
+from .scale import length_scale
+from .thickness import branch_thickness, importance_thickness, tone_thickness
 
 __all__ = [
     "MetricComparison",
@@ -50,9 +53,15 @@ class StylizeParams:
     map, the non-scalar metric, about 3,000 endpoints (its examples use 2,000
     - 3,800) placed by stippling, thickness from a rolling average of
     importance. The paper does not print the remaining numbers (weight
-    constant and noise amplitude, stippling contrast, window, widths); those
-    defaults are ours, chosen by eye on the sample images for 512 x 512
-    inputs.
+    constant and noise amplitude, stippling contrast, window, widths, tone);
+    those defaults are ours, measured on photos, drawings, leaves and night
+    scenes of 256 - 1024 px.
+
+    **Lengths** (``sigma``, ``window``, ``tone_sigma``, ``min_width``,
+    ``max_width``) are given for a 512 x 512 image; with ``scale_lengths``
+    (default) they are multiplied by the image diagonal / 724 px
+    (:func:`~branchnb.dendrite.scale.length_scale`), so every size gives the
+    same picture. ``scale_lengths=False`` reads them as pixels.
     """
 
     # importance (section 4)
@@ -61,7 +70,7 @@ class StylizeParams:
     gradient_weight: float = param(3.0, min=0.0, max=10.0, step=0.1,
                                    help="w_G: weight of the gradient (paper: 3 x w_I)")
     sigma: float = param(1.5, min=0.0, max=8.0, step=0.25,
-                         help="Gaussian smoothing before the gradient (pixels)")
+                         help="Gaussian smoothing before the gradient (px at 512 x 512)")
     # lattice (section 3)
     cost_weight: float = param(1.0, min=0.0, max=10.0, step=0.1,
                                help="c: weight of (1 - importance) in the node weights")
@@ -77,21 +86,32 @@ class StylizeParams:
     # endpoints (section 5)
     n_endpoints: int = param(3000, min=1, max=20000, step=50,
                              help="number of stippled endpoints (paper: 2,000 - 3,800)")
-    endpoint_gamma: float = param(2.0, min=0.25, max=4.0, step=0.05,
-                                  help="endpoint density = importance ** gamma + floor")
-    endpoint_floor: float = param(0.01, min=0.0, max=1.0, step=0.01,
-                                  help="density floor: a few endpoints in empty regions")
+    endpoint_gamma: float = param(1.0, min=0.25, max=4.0, step=0.05,
+                                  help="endpoint density = importance ** gamma")
+    endpoint_threshold: float = param(0.05, min=0.0, max=0.5, step=0.01,
+                                      help="importance below this is empty paper: no endpoints")
+    endpoint_floor: float = param(0.0, min=0.0, max=1.0, step=0.01,
+                                  help="density added everywhere: endpoints in empty regions too")
     stipple_iterations: int = param(10, min=0, max=50,
                                     help="Lloyd iterations of the weighted Voronoi stippling")
     # thickness (section 6)
     thickness: str = param("importance", options=("importance", "subtree", "distance"),
                            help="importance emphasis, or branch thickness from the tree")
     window: int = param(15, min=1, max=101, step=2,
-                        help="rolling-average window along the branches (nodes)")
+                        help="rolling-average window along the branches (nodes at 512 x 512)")
     contrast: float = param(1.5, min=0.25, max=4.0, step=0.05,
                             help="exponent on the normalised rolling importance")
-    min_width: float = param(0.2, min=0.0, max=10.0, step=0.1, help="narrowest stroke (px)")
-    max_width: float = param(4.0, min=0.0, max=30.0, step=0.1, help="widest stroke (px)")
+    tone: float = param(0.5, min=0.0, max=1.0, step=0.05,
+                        help="tone vs edges: 0 = importance emphasis only, 1 = ink matches darkness")
+    tone_sigma: float = param(8.0, min=1.0, max=40.0, step=0.5,
+                              help="scale over which ink is matched to darkness (px at 512 x 512)")
+    hierarchy: float = param(0.25, min=0.0, max=1.0, step=0.05,
+                             help="width x (tips carried) ** hierarchy: trunks thicker than twigs")
+    min_width: float = param(0.2, min=0.0, max=10.0, step=0.1,
+                             help="narrowest stroke (px at 512 x 512)")
+    max_width: float = param(4.0, min=0.0, max=30.0, step=0.1,
+                             help="widest stroke (px at 512 x 512)")
+    scale_lengths: bool = param(True, help="lengths are for 512 x 512 and scale with the diagonal")
 
 
 @dataclass
@@ -131,10 +151,11 @@ def _subset(p, names):
     return tuple(getattr(p, n) for n in names)
 
 
-_IMPORTANCE = ("intensity_weight", "gradient_weight", "sigma")
+_IMPORTANCE = ("intensity_weight", "gradient_weight", "sigma", "scale_lengths")
 _LATTICE = ("cost_weight", "epsilon", "noise")
 _PLAN = ("metric", "blend_weight")
-_ENDPOINTS = ("n_endpoints", "endpoint_gamma", "endpoint_floor", "stipple_iterations")
+_ENDPOINTS = ("n_endpoints", "endpoint_gamma", "endpoint_threshold", "endpoint_floor",
+              "stipple_iterations")
 
 
 class Stylizer:
@@ -175,14 +196,32 @@ class Stylizer:
         self._cache[key] = value = fn()
         return value
 
-    def default_seed(self) -> np.ndarray:
-        """The image centre."""
+    def length_scale(self, p: StylizeParams) -> float:
+        """Factor on the length parameters (image diagonal / 724 px, or 1)."""
+        return length_scale(self.shape) if p.scale_lengths else 1.0
+
+    def default_seed(self, params: StylizeParams | None = None) -> np.ndarray:
+        """The image centre; with ``params``, the pixel nearest to it whose importance
+        reaches ``params.endpoint_threshold`` (so the seed is not on empty paper)."""
         h, w = self.shape
-        return np.array([(w - 1) / 2.0, (h - 1) / 2.0])
+        centre = np.array([(w - 1) / 2.0, (h - 1) / 2.0])
+        if params is None:
+            return centre
+        ok = self.importance(params) >= max(params.endpoint_threshold, 1e-6)
+        if not ok.any() or ok[int(round(centre[1])), int(round(centre[0]))]:
+            return centre
+        ys, xs = np.nonzero(ok)
+        k = int(np.argmin((xs - centre[0]) ** 2 + (ys - centre[1]) ** 2))
+        return np.array([float(xs[k]), float(ys[k])])
 
     def importance(self, p: StylizeParams) -> np.ndarray:
         return self._get(("importance", _subset(p, _IMPORTANCE)), lambda: importance_map(
-            self.image, ImportanceParams(p.intensity_weight, p.gradient_weight, p.sigma)))
+            self.image, ImportanceParams(p.intensity_weight, p.gradient_weight,
+                                         p.sigma * self.length_scale(p))))
+
+    def darkness(self) -> np.ndarray:
+        """The tone target ``1 - luminance``."""
+        return self._get(("darkness",), lambda: darkness(self.image))
 
     def lattice(self, p: StylizeParams, rng_seed: int) -> Lattice:
         def make():
@@ -200,11 +239,15 @@ class Stylizer:
                          blend_weight=p.blend_weight))
 
     def endpoints(self, p: StylizeParams, rng_seed: int) -> np.ndarray:
-        return self._get(
-            ("endpoints", _subset(p, _IMPORTANCE + _ENDPOINTS), rng_seed),
-            lambda: place_endpoints(self.importance(p), p.n_endpoints, gamma=p.endpoint_gamma,
-                                    floor=p.endpoint_floor, iterations=p.stipple_iterations,
-                                    rng=rng_seed + 1))
+        def make():
+            imp = self.importance(p)
+            floor, threshold = p.endpoint_floor, p.endpoint_threshold
+            if floor <= 0 and not (imp >= threshold).any() or not (imp > 0).any():
+                floor, threshold = 1.0, 0.0  # nothing important (a blank image): spread evenly
+            return place_endpoints(imp, p.n_endpoints, gamma=p.endpoint_gamma, floor=floor,
+                                   threshold=threshold, iterations=p.stipple_iterations,
+                                   rng=rng_seed + 1)
+        return self._get(("endpoints", _subset(p, _IMPORTANCE + _ENDPOINTS), rng_seed), make)
 
     def dendrite(self, p: StylizeParams, seed, rng_seed: int) -> Dendrite:
         seed_key = tuple(np.round(np.asarray(seed, float), 3))
@@ -236,20 +279,27 @@ class Stylizer:
         rng = int(rng)
         if p.max_width < p.min_width:
             raise ValueError(f"params.max_width ({p.max_width}) < params.min_width ({p.min_width})")
-        seed = self.default_seed() if seed is None else as_points(
+        seed = self.default_seed(p) if seed is None else as_points(
             np.reshape(np.asarray(seed, float), (1, 2)), name="seed", image_shape=self.shape)[0]
         lat = self.lattice(p, rng)
         res = self.plan(p, seed, rng)
         ends = self.endpoints(p, rng)
         d = self.dendrite(p, seed, rng)
         imp = self.importance(p)
+        k = self.length_scale(p)
+        lo, hi = p.min_width * k, p.max_width * k
         if p.thickness == "importance":
             ref = max(float(np.percentile(imp, 99.0)), 1e-3)
-            d = importance_thickness(d, imp, window=p.window, min_width=p.min_width,
-                                     max_width=p.max_width, contrast=p.contrast, reference=ref)
+            window = max(1, int(round(p.window * k)) // 2 * 2 + 1)
+            d = importance_thickness(d, imp, window=window, min_width=lo, max_width=hi,
+                                     contrast=p.contrast, reference=ref)
+            if p.hierarchy > 0:
+                d = d.with_radius(d.radius * np.maximum(d.leaf_count(), 1.0) ** p.hierarchy)
+            if p.tone > 0:
+                d = tone_thickness(d, self.darkness(), sigma=p.tone_sigma * k, min_width=lo,
+                                   max_width=hi, strength=p.tone)
         else:
-            d = branch_thickness(d, mode=p.thickness, min_width=p.min_width,
-                                 max_width=p.max_width)
+            d = branch_thickness(d, mode=p.thickness, min_width=lo, max_width=hi)
         rendering = None
         if metaphor is not None:
             from .metaphors import render as render_metaphor
