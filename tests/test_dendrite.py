@@ -280,7 +280,7 @@ def test_stylize_small_image_and_cache():
     st = Stylizer(_test_image())
     # the paper's importance emphasis alone, in pixels, endpoints everywhere
     p = StylizeParams(n_endpoints=80, stipple_iterations=5, tone=0.0, hierarchy=0.0,
-                      scale_lengths=False, endpoint_threshold=0.0, endpoint_floor=0.01)
+                      lattice_size=0, endpoint_threshold=0.0, endpoint_floor=0.01)
     out = st.run(p, rng=0)
     assert out.dendrite.is_tree()
     ends = out.lattice.node_index(out.endpoints)

@@ -32,7 +32,6 @@ from .importance import ImportanceParams, darkness, importance_map
 from .lattice import Lattice, node_weights
 from .planner import METRICS, PlanResult, plan
 from .render import Rendering
-from .scale import length_scale
 from .thickness import branch_thickness, importance_thickness, tone_thickness
 
 __all__ = [
@@ -57,11 +56,16 @@ class StylizeParams:
     those defaults are ours, measured on photos, drawings, leaves and night
     scenes of 256 - 1024 px.
 
-    **Lengths** (``sigma``, ``window``, ``tone_sigma``, ``min_width``,
-    ``max_width``) are given for a 512 x 512 image; with ``scale_lengths``
-    (default) they are multiplied by the image diagonal / 724 px
-    (:func:`~branchnb.dendrite.scale.length_scale`), so every size gives the
-    same picture. ``scale_lengths=False`` reads them as pixels.
+    **Scale.** The dendrite is planned on a lattice of ``lattice_size``
+    (the image resampled so its diagonal is that of a ``lattice_size`` square,
+    512 x 512 by default) and drawn back on the image at its own size, so a
+    256-px and a 1024-px input give the same picture. Lengths (``sigma``,
+    ``window``, ``tone_sigma``, ``min_width``, ``max_width``) are in lattice
+    pixels, i.e. pixels of a 512 x 512 image. The non-scalar metric is not
+    scale-free (on a bigger random lattice a larger share of the nodes ties
+    at the percolation bottleneck and the branches straighten into a radial
+    burst), which is why the lattice, not only the lengths, keeps one size.
+    ``lattice_size=0`` plans on the image's own pixels.
     """
 
     # importance (section 4)
@@ -70,7 +74,7 @@ class StylizeParams:
     gradient_weight: float = param(3.0, min=0.0, max=10.0, step=0.1,
                                    help="w_G: weight of the gradient (paper: 3 x w_I)")
     sigma: float = param(1.5, min=0.0, max=8.0, step=0.25,
-                         help="Gaussian smoothing before the gradient (px at 512 x 512)")
+                         help="Gaussian smoothing before the gradient (lattice px)")
     # lattice (section 3)
     cost_weight: float = param(1.0, min=0.0, max=10.0, step=0.1,
                                help="c: weight of (1 - importance) in the node weights")
@@ -98,37 +102,44 @@ class StylizeParams:
     thickness: str = param("importance", options=("importance", "subtree", "distance"),
                            help="importance emphasis, or branch thickness from the tree")
     window: int = param(15, min=1, max=101, step=2,
-                        help="rolling-average window along the branches (nodes at 512 x 512)")
+                        help="rolling-average window along the branches (nodes)")
     contrast: float = param(1.5, min=0.25, max=4.0, step=0.05,
                             help="exponent on the normalised rolling importance")
     tone: float = param(0.5, min=0.0, max=1.0, step=0.05,
                         help="tone vs edges: 0 = importance emphasis only, 1 = ink matches darkness")
     tone_sigma: float = param(8.0, min=1.0, max=40.0, step=0.5,
-                              help="scale over which ink is matched to darkness (px at 512 x 512)")
+                              help="scale over which ink is matched to darkness (lattice px)")
     hierarchy: float = param(0.25, min=0.0, max=1.0, step=0.05,
                              help="width x (tips carried) ** hierarchy: trunks thicker than twigs")
     min_width: float = param(0.2, min=0.0, max=10.0, step=0.1,
-                             help="narrowest stroke (px at 512 x 512)")
+                             help="narrowest stroke (lattice px)")
     max_width: float = param(4.0, min=0.0, max=30.0, step=0.1,
-                             help="widest stroke (px at 512 x 512)")
-    scale_lengths: bool = param(True, help="lengths are for 512 x 512 and scale with the diagonal")
+                             help="widest stroke (lattice px)")
+    lattice_size: int = param(512, min=0, max=4096, step=64,
+                              help="plan on a lattice with the diagonal of this square (0 = image)")
 
 
 @dataclass
 class Stylization:
     """Everything the stylization computed.
 
+    ``importance``, ``lattice`` and ``plan`` live on the planning lattice;
+    ``endpoints``, ``seed``, ``dendrite`` and ``rendering`` are in image
+    pixels (``dendrite.nodes`` still index the lattice).
+
     Attributes
     ----------
     image : (H, W, 3) float32 input (RGB)
-    importance : (H, W) float32
+    importance : (h, w) float32, on the lattice
     lattice : Lattice
     plan : PlanResult
-    endpoints : (E, 2) float64
-    dendrite : Dendrite (with thickness)
+    endpoints : (E, 2) float64, image (x, y)
+    dendrite : Dendrite (with thickness), image coordinates
     rendering : Rendering or None
     params : StylizeParams
-    seed : (2,) float64 (x, y)
+    seed : (2,) float64 (x, y), image
+    scale : (2,) float64
+        Image pixels per lattice pixel in x and y.
     """
 
     image: np.ndarray
@@ -140,6 +151,7 @@ class Stylization:
     rendering: Rendering | None
     params: StylizeParams
     seed: np.ndarray
+    scale: np.ndarray = dataclasses.field(default_factory=lambda: np.ones(2))
 
     def _repr_png_(self) -> bytes:
         if self.rendering is not None:
@@ -151,7 +163,7 @@ def _subset(p, names):
     return tuple(getattr(p, n) for n in names)
 
 
-_IMPORTANCE = ("intensity_weight", "gradient_weight", "sigma", "scale_lengths")
+_IMPORTANCE = ("lattice_size", "intensity_weight", "gradient_weight", "sigma")
 _LATTICE = ("cost_weight", "epsilon", "noise")
 _PLAN = ("metric", "blend_weight")
 _ENDPOINTS = ("n_endpoints", "endpoint_gamma", "endpoint_threshold", "endpoint_floor",
@@ -196,9 +208,25 @@ class Stylizer:
         self._cache[key] = value = fn()
         return value
 
-    def length_scale(self, p: StylizeParams) -> float:
-        """Factor on the length parameters (image diagonal / 724 px, or 1)."""
-        return length_scale(self.shape) if p.scale_lengths else 1.0
+    def working_image(self, p: StylizeParams) -> np.ndarray:
+        """The image resampled to the planning lattice (``p.lattice_size``)."""
+        return self._get(("work", p.lattice_size), lambda: _resample(self.image, p.lattice_size))
+
+    def scale(self, p: StylizeParams) -> np.ndarray:
+        """Image pixels per lattice pixel, ``(sx, sy)``."""
+        h, w = self.shape
+        hw, ww = self.working_image(p).shape[:2]
+        return np.array([w / ww, h / hw])
+
+    def to_lattice(self, p: StylizeParams, points) -> np.ndarray:
+        """Image ``(x, y)`` points in lattice coordinates (pixel centres map to centres)."""
+        hw, ww = self.working_image(p).shape[:2]
+        q = (np.asarray(points, float) + 0.5) / self.scale(p) - 0.5
+        return np.clip(q, 0, [ww - 1, hw - 1])
+
+    def to_image(self, p: StylizeParams, points) -> np.ndarray:
+        """Lattice ``(x, y)`` points in image coordinates."""
+        return (np.asarray(points, float) + 0.5) * self.scale(p) - 0.5
 
     def default_seed(self, params: StylizeParams | None = None) -> np.ndarray:
         """The image centre; with ``params``, the pixel nearest to it whose importance
@@ -208,20 +236,22 @@ class Stylizer:
         if params is None:
             return centre
         ok = self.importance(params) >= max(params.endpoint_threshold, 1e-6)
-        if not ok.any() or ok[int(round(centre[1])), int(round(centre[0]))]:
+        c = np.rint(self.to_lattice(params, centre)).astype(int)
+        if not ok.any() or ok[c[1], c[0]]:
             return centre
         ys, xs = np.nonzero(ok)
-        k = int(np.argmin((xs - centre[0]) ** 2 + (ys - centre[1]) ** 2))
-        return np.array([float(xs[k]), float(ys[k])])
+        k = int(np.argmin((xs - c[0]) ** 2 + (ys - c[1]) ** 2))
+        return self.to_image(params, [float(xs[k]), float(ys[k])])
 
     def importance(self, p: StylizeParams) -> np.ndarray:
+        """Importance map on the lattice."""
         return self._get(("importance", _subset(p, _IMPORTANCE)), lambda: importance_map(
-            self.image, ImportanceParams(p.intensity_weight, p.gradient_weight,
-                                         p.sigma * self.length_scale(p))))
+            self.working_image(p), ImportanceParams(p.intensity_weight, p.gradient_weight,
+                                                    p.sigma)))
 
-    def darkness(self) -> np.ndarray:
-        """The tone target ``1 - luminance``."""
-        return self._get(("darkness",), lambda: darkness(self.image))
+    def darkness(self, p: StylizeParams) -> np.ndarray:
+        """The tone target ``1 - luminance`` on the lattice."""
+        return self._get(("darkness", p.lattice_size), lambda: darkness(self.working_image(p)))
 
     def lattice(self, p: StylizeParams, rng_seed: int) -> Lattice:
         def make():
@@ -281,32 +311,59 @@ class Stylizer:
             raise ValueError(f"params.max_width ({p.max_width}) < params.min_width ({p.min_width})")
         seed = self.default_seed(p) if seed is None else as_points(
             np.reshape(np.asarray(seed, float), (1, 2)), name="seed", image_shape=self.shape)[0]
+        seed_lat = self.to_lattice(p, seed)
         lat = self.lattice(p, rng)
-        res = self.plan(p, seed, rng)
+        res = self.plan(p, seed_lat, rng)
         ends = self.endpoints(p, rng)
-        d = self.dendrite(p, seed, rng)
+        d = self.dendrite(p, seed_lat, rng)
         imp = self.importance(p)
-        k = self.length_scale(p)
-        lo, hi = p.min_width * k, p.max_width * k
+        lo, hi = p.min_width, p.max_width
         if p.thickness == "importance":
             ref = max(float(np.percentile(imp, 99.0)), 1e-3)
-            window = max(1, int(round(p.window * k)) // 2 * 2 + 1)
-            d = importance_thickness(d, imp, window=window, min_width=lo, max_width=hi,
+            d = importance_thickness(d, imp, window=p.window, min_width=lo, max_width=hi,
                                      contrast=p.contrast, reference=ref)
             if p.hierarchy > 0:
                 d = d.with_radius(d.radius * np.maximum(d.leaf_count(), 1.0) ** p.hierarchy)
             if p.tone > 0:
-                d = tone_thickness(d, self.darkness(), sigma=p.tone_sigma * k, min_width=lo,
+                d = tone_thickness(d, self.darkness(p), sigma=p.tone_sigma, min_width=lo,
                                    max_width=hi, strength=p.tone)
         else:
             d = branch_thickness(d, mode=p.thickness, min_width=lo, max_width=hi)
+        scale = self.scale(p)
+        d = _on_image(d, self, p)
         rendering = None
         if metaphor is not None:
             from .metaphors import render as render_metaphor
 
             rendering = render_metaphor(d, metaphor, **render_options)
-        return Stylization(self.image, imp, lat, res, ends, d, rendering,
-                           dataclasses.replace(p), np.asarray(seed, float))
+        ends_image = ends if np.allclose(scale, 1.0) else self.to_image(p, ends)
+        return Stylization(self.image, imp, lat, res, ends_image, d, rendering,
+                           dataclasses.replace(p), np.asarray(seed, float), scale)
+
+
+def _resample(image: np.ndarray, lattice_size: int) -> np.ndarray:
+    """``image`` resized so its diagonal is that of a ``lattice_size`` square (0: as is)."""
+    if lattice_size == 0:
+        return image
+    h, w = image.shape[:2]
+    f = lattice_size / float(np.sqrt(0.5 * (h * h + w * w)))
+    shape = (max(2, round(h * f)), max(2, round(w * f)))
+    if shape == (h, w):
+        return image
+    from skimage.transform import resize
+
+    return resize(image, (*shape, image.shape[2]), order=1, anti_aliasing=f < 1,
+                  preserve_range=True).astype(np.float32)
+
+
+def _on_image(d: Dendrite, st: Stylizer, p: StylizeParams) -> Dendrite:
+    """The lattice dendrite in image coordinates (points and widths scaled)."""
+    scale = st.scale(p)
+    if np.allclose(scale, 1.0):
+        return d
+    k = float(np.sqrt(scale[0] * scale[1]))
+    return Dendrite(d.nodes, d.parent, st.to_image(p, d.points), d.radius * k, d.branches,
+                    d.branch_parent, d.tips, st.shape, d.iteration)
 
 
 def stylize(image, params: StylizeParams | None = None, *, seed=None, rng: int = 0,
@@ -375,7 +432,9 @@ def compare_metrics(stylizer: Stylizer, params: StylizeParams | None = None, *, 
 
 
 def _endpoint_stats(s: Stylization) -> PathStats:
-    nodes = np.unique(s.lattice.node_index(s.endpoints))
+    hl, wl = s.lattice.shape
+    lat_ends = np.clip((s.endpoints + 0.5) / s.scale - 0.5, 0, [wl - 1, hl - 1])
+    nodes = np.unique(s.lattice.node_index(lat_ends))
     d = s.dendrite
     where = np.full(s.plan.n_nodes, -1, np.int64)
     where[d.nodes] = np.arange(d.n_nodes)
