@@ -367,7 +367,9 @@ def test_occlusion_layers_share_the_trunk():
 def test_pareidolia_branches_follow_the_image_on_its_side():
     img = np.ones((96, 96))
     img[20:70, 8:40] = 0.0  # a dark block on the left (image) side
-    t = pareidolia_tree(img, PareidoliaParams(n_endpoints=150, iterations=3), rng=0)
+    t = pareidolia_tree(img, PareidoliaParams(n_endpoints=150, iterations=3, side="left",
+                                              crown="ellipse", random_ratio=0.5,
+                                              lattice_size=0), rng=0)
     d = t.dendrite
     assert d.is_tree()
     assert len(t.endpoints_random) == 75  # about half as many random endpoints

@@ -12,7 +12,9 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["REFERENCE_DIAGONAL", "length_scale", "scaled"]
+import numpy as np
+
+__all__ = ["REFERENCE_DIAGONAL", "length_scale", "lattice_shape", "resample_to_lattice", "scaled"]
 
 #: Diagonal (px) of the 512 x 512 image the length defaults are given for.
 REFERENCE_DIAGONAL = math.hypot(512.0, 512.0)
@@ -35,3 +37,31 @@ def scaled(value, shape, default: float) -> float:
     if value is not None:
         return float(value)
     return float(default) * length_scale(shape)
+
+
+def lattice_shape(shape, lattice_size: int) -> tuple[int, int]:
+    """``shape`` resized so its diagonal is that of a ``lattice_size`` square (0: as is).
+
+    Examples
+    --------
+    >>> lattice_shape((1024, 1024), 512), lattice_shape((300, 400), 0)
+    ((512, 512), (300, 400))
+    """
+    h, w = int(shape[0]), int(shape[1])
+    if lattice_size == 0:
+        return h, w
+    f = lattice_size / math.sqrt(0.5 * (h * h + w * w))
+    return max(2, round(h * f)), max(2, round(w * f))
+
+
+def resample_to_lattice(image: np.ndarray, lattice_size: int) -> np.ndarray:
+    """An (H, W, C) image resampled to :func:`lattice_shape` (bilinear, anti-aliased
+    when shrinking)."""
+    shape = lattice_shape(image.shape[:2], lattice_size)
+    if shape == tuple(image.shape[:2]):
+        return image
+    from skimage.transform import resize
+
+    shrink = shape[0] < image.shape[0]
+    return resize(image, (*shape, image.shape[2]), order=1, anti_aliasing=shrink,
+                  preserve_range=True).astype(np.float32)

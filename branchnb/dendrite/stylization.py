@@ -32,6 +32,7 @@ from .importance import ImportanceParams, darkness, importance_map
 from .lattice import Lattice, node_weights
 from .planner import METRICS, PlanResult, plan
 from .render import Rendering
+from .scale import resample_to_lattice
 from .thickness import branch_thickness, importance_thickness, tone_thickness
 
 __all__ = [
@@ -210,7 +211,7 @@ class Stylizer:
 
     def working_image(self, p: StylizeParams) -> np.ndarray:
         """The image resampled to the planning lattice (``p.lattice_size``)."""
-        return self._get(("work", p.lattice_size), lambda: _resample(self.image, p.lattice_size))
+        return self._get(("work", p.lattice_size), lambda: resample_to_lattice(self.image, p.lattice_size))
 
     def scale(self, p: StylizeParams) -> np.ndarray:
         """Image pixels per lattice pixel, ``(sx, sy)``."""
@@ -330,7 +331,8 @@ class Stylizer:
         else:
             d = branch_thickness(d, mode=p.thickness, min_width=lo, max_width=hi)
         scale = self.scale(p)
-        d = _on_image(d, self, p)
+        if not np.allclose(scale, 1.0):
+            d = d.rescaled(self.shape)
         rendering = None
         if metaphor is not None:
             from .metaphors import render as render_metaphor
@@ -339,31 +341,6 @@ class Stylizer:
         ends_image = ends if np.allclose(scale, 1.0) else self.to_image(p, ends)
         return Stylization(self.image, imp, lat, res, ends_image, d, rendering,
                            dataclasses.replace(p), np.asarray(seed, float), scale)
-
-
-def _resample(image: np.ndarray, lattice_size: int) -> np.ndarray:
-    """``image`` resized so its diagonal is that of a ``lattice_size`` square (0: as is)."""
-    if lattice_size == 0:
-        return image
-    h, w = image.shape[:2]
-    f = lattice_size / float(np.sqrt(0.5 * (h * h + w * w)))
-    shape = (max(2, round(h * f)), max(2, round(w * f)))
-    if shape == (h, w):
-        return image
-    from skimage.transform import resize
-
-    return resize(image, (*shape, image.shape[2]), order=1, anti_aliasing=f < 1,
-                  preserve_range=True).astype(np.float32)
-
-
-def _on_image(d: Dendrite, st: Stylizer, p: StylizeParams) -> Dendrite:
-    """The lattice dendrite in image coordinates (points and widths scaled)."""
-    scale = st.scale(p)
-    if np.allclose(scale, 1.0):
-        return d
-    k = float(np.sqrt(scale[0] * scale[1]))
-    return Dendrite(d.nodes, d.parent, st.to_image(p, d.points), d.radius * k, d.branches,
-                    d.branch_parent, d.tips, st.shape, d.iteration)
 
 
 def stylize(image, params: StylizeParams | None = None, *, seed=None, rng: int = 0,
