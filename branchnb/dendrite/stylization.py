@@ -347,12 +347,15 @@ class Stylizer:
         scale = self.scale(p)
         if not np.allclose(scale, 1.0):
             d = d.rescaled(self.shape)
+            d.points[d.parent < 0] = seed  # the dendrite starts exactly at the seed
         rendering = None
         if metaphor is not None:
             from .metaphors import render as render_metaphor
 
             rendering = render_metaphor(d, metaphor, **render_options)
-        ends_image = ends if np.allclose(scale, 1.0) else self.to_image(p, ends)
+        ends_image = ends if np.allclose(scale, 1.0) else self._get(
+            ("endpoints_image", _subset(p, _IMPORTANCE + _ENDPOINTS), rng),
+            lambda: self.to_image(p, ends))
         return Stylization(self.image, imp, lat, res, ends_image, d, rendering,
                            dataclasses.replace(p), np.asarray(seed, float), scale)
 
