@@ -338,7 +338,8 @@ class Stylizer:
             d = importance_thickness(d, imp, window=p.window, min_width=lo, max_width=hi,
                                      contrast=p.contrast, reference=ref)
             if p.hierarchy > 0:
-                d = d.with_radius(d.radius * np.maximum(d.leaf_count(), 1.0) ** p.hierarchy)
+                r = d.radius * np.maximum(d.leaf_count(), 1.0) ** p.hierarchy
+                d = d.with_radius(np.clip(r, lo / 2, hi / 2))
             if p.tone > 0:
                 d = tone_thickness(d, self.darkness(p), sigma=p.tone_sigma, min_width=lo,
                                    max_width=hi, strength=p.tone)
