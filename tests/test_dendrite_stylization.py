@@ -252,3 +252,31 @@ def test_pareidolia_hides_a_recognisable_picture(name):
     assert carried >= 0.95 * len(d.tips)
     assert 2 * d.radius[middle] / k == pytest.approx(p.tip_width + p.pipe * np.sqrt(carried - 1),
                                                      rel=0.1)
+
+
+# ---------------------------------------------------------------- ties
+def test_large_ties_are_replanned_non_scalar():
+    from branchnb.dendrite import build_dendrite, make_lattice, path_statistics, plan
+    from branchnb.dendrite.ties import refine_ties, tie_share
+
+    lat = make_lattice(np.zeros((96, 96)), epsilon=0.5, noise=1.0, rng=2)
+    res = plan(lat, (48, 48), metric="nonscalar")
+    assert tie_share(res) > 0.9  # one edge opened almost the whole lattice at once
+    ref = refine_ties(lat, res)
+    np.testing.assert_array_equal(ref.max_cost, res.max_cost)  # M stays the bottleneck
+    # still a tree in settle order: every parent is settled before its child
+    rank = np.empty(lat.n_nodes, np.int64)
+    rank[ref.order] = np.arange(len(ref.order))
+    has = ref.parent >= 0
+    assert np.all(rank[ref.parent[has]] < rank[has])
+    assert sorted(ref.order.tolist()) == list(range(lat.n_nodes))
+    # the new paths never use an edge above the node's M
+    g = lat.to_sparse()
+    nodes = np.flatnonzero(has)[::97]
+    edges = np.array([g[ref.parent[v], v] for v in nodes])
+    assert np.all(edges <= ref.max_cost[nodes] + 1e-12)
+    # inside the tie the branches wander like non-scalar ones instead of running straight
+    ends = np.column_stack([np.arange(4, 92, 8).repeat(11), np.tile(np.arange(4, 92, 8), 11)])
+    before = np.nanmean(path_statistics(build_dendrite(res, ends), res).tortuosity)
+    after = np.nanmean(path_statistics(build_dendrite(ref, ends), ref).tortuosity)
+    assert after > before + 0.15

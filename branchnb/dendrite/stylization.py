@@ -35,6 +35,7 @@ from .planner import METRICS, PlanResult, plan
 from .render import Rendering
 from .scale import resample_to_lattice
 from .thickness import branch_thickness, importance_thickness, tone_thickness
+from .ties import refine_ties
 
 __all__ = [
     "MetricComparison",
@@ -89,6 +90,8 @@ class StylizeParams:
                         help="path metric: cumulative, non-scalar (max edge, then sum), or blend")
     blend_weight: float = param(1000.0, min=0.0, max=10000.0, log=True,
                                 help="a in a * max_edge + total (metric='blend')")
+    break_ties: bool = param(True, help="re-plan large ties of the non-scalar metric "
+                                        "(else they fill with smooth radial paths)")
     # endpoints (section 5)
     n_endpoints: int = param(3000, min=1, max=20000, step=50,
                              help="number of stippled endpoints (paper: 2,000 - 3,800)")
@@ -167,7 +170,7 @@ def _subset(p, names):
 
 _IMPORTANCE = ("lattice_size", "intensity_weight", "gradient_weight", "sigma")
 _LATTICE = ("cost_weight", "epsilon", "noise")
-_PLAN = ("metric", "blend_weight")
+_PLAN = ("metric", "blend_weight", "break_ties")
 _ENDPOINTS = ("n_endpoints", "endpoint_gamma", "endpoint_threshold", "endpoint_floor",
               "stipple_iterations")
 
@@ -280,8 +283,14 @@ class Stylizer:
         seed = tuple(np.round(np.asarray(seed, float), 3))
         return self._get(
             ("plan", _subset(p, _IMPORTANCE + _LATTICE + _PLAN), seed, rng_seed),
-            lambda: plan(self.lattice(p, rng_seed), seed, metric=p.metric,
-                         blend_weight=p.blend_weight))
+            lambda: self._plan(p, seed, rng_seed))
+
+    def _plan(self, p: StylizeParams, seed, rng_seed: int) -> PlanResult:
+        lat = self.lattice(p, rng_seed)
+        res = plan(lat, seed, metric=p.metric, blend_weight=p.blend_weight)
+        if p.metric == "nonscalar" and p.break_ties:
+            res = refine_ties(lat, res)
+        return res
 
     def endpoints(self, p: StylizeParams, rng_seed: int) -> np.ndarray:
         def make():
