@@ -23,16 +23,18 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage
 
+from ..core.image import as_points
 from ..core.params import check_params, param
 from ..core.polyline import arc_length
 from ..core.random import as_rng
 from ..core.render import coverage_polylines, draw_polylines
 from ..core.svg import polylines_to_svg
+from ..core.validate import Colour, Int, Point, Real, Shape, checked
 from .dendrite import Dendrite, build_dendrite
 from .lattice import direction_factors, make_lattice
 from .planner import plan
 from .render import Rendering, _canvas, render_plain, svg_document
-from .scale import length_scale, scaled
+from .scale import length_scale
 
 __all__ = [
     "METAPHORS",
@@ -94,6 +96,19 @@ VINE_LENGTHS = {"curl_length": 14.0, "leaf_spacing": 14.0, "leaf_length": 7.0,
                 "leaf_width": 4.0, "max_leaf_radius": 1.6}
 
 
+#: Metaphor lengths never shrink below this share of their 512 x 512 values, so a
+#: thumbnail (diagonal under ~180 px) still shows leaves, curls and a glow.
+MIN_SCALE = 0.25
+
+
+def _unit(shape) -> float:
+    return max(length_scale(shape), MIN_SCALE)
+
+
+def _len(value, shape, default: float) -> float:
+    return float(value) if value is not None else float(default) * _unit(shape)
+
+
 def _vine_smooth(smooth, shape) -> int:
     # [1, 2, 1] passes blur by sqrt(passes / 2) nodes: passes grow with the scale squared
     if smooth is not None:
@@ -109,8 +124,8 @@ def vine_curves(dendrite: Dendrite, *, smooth: int | None = None, curls: float =
     """Geometry of the vine metaphor.
 
     Lengths left at None are :data:`VINE_LENGTHS` scaled to the dendrite's
-    image diagonal; ``smooth`` (passes along the branches) scales with its
-    square.
+    image diagonal (never below :data:`MIN_SCALE` of them); ``smooth``
+    (passes along the branches) scales with its square.
 
     Returns
     -------
@@ -119,12 +134,12 @@ def vine_curves(dendrite: Dendrite, *, smooth: int | None = None, curls: float =
     """
     shape = dendrite.shape if dendrite.shape is not None else (512, 512)
     smooth = _vine_smooth(smooth, dendrite.shape)
-    curl_length = scaled(curl_length, shape, VINE_LENGTHS["curl_length"])
-    leaf_spacing = scaled(leaf_spacing, shape, VINE_LENGTHS["leaf_spacing"])
-    leaf_length = scaled(leaf_length, shape, VINE_LENGTHS["leaf_length"])
-    leaf_width = scaled(leaf_width, shape, VINE_LENGTHS["leaf_width"])
-    max_leaf_radius = scaled(max_leaf_radius, shape, VINE_LENGTHS["max_leaf_radius"])
-    unit = length_scale(shape)
+    curl_length = _len(curl_length, shape, VINE_LENGTHS["curl_length"])
+    leaf_spacing = _len(leaf_spacing, shape, VINE_LENGTHS["leaf_spacing"])
+    leaf_length = _len(leaf_length, shape, VINE_LENGTHS["leaf_length"])
+    leaf_width = _len(leaf_width, shape, VINE_LENGTHS["leaf_width"])
+    max_leaf_radius = _len(max_leaf_radius, shape, VINE_LENGTHS["max_leaf_radius"])
+    unit = _unit(shape)
     if smooth < 0 or not 0 <= curls <= 1 or leaf_spacing <= 0:
         raise ValueError("smooth must be >= 0, curls in [0, 1], leaf_spacing > 0")
     rng = as_rng(rng)
@@ -165,6 +180,8 @@ def vine_curves(dendrite: Dendrite, *, smooth: int | None = None, curls: float =
     return stems, widths, leaf_pts, leaf_w
 
 
+@checked(stem_color=Colour(), leaf_color=Colour(), smooth=Int(0, 10_000), curls=Real(0, 1), curl_length=Real(0, 1e4),
+         leaf_spacing=Real(0.5, 1e4), leaf_length=Real(0, 1e4), leaf_width=Real(0, 1e4))
 def render_vines(dendrite: Dendrite, *, background=None, stem_color=(0.22, 0.3, 0.12),
                  leaf_color=(0.3, 0.55, 0.18), smooth: int | None = None, curls: float = 0.6,
                  curl_length: float | None = None, leaves: bool = True,
@@ -176,6 +193,7 @@ def render_vines(dendrite: Dendrite, *, background=None, stem_color=(0.22, 0.3, 
     the stem is thin (radius <= 1.6 px at 512 x 512). See :func:`vine_curves`
     for the geometry parameters; None means "scaled to the image diagonal".
     """
+    rng = as_rng(rng)  # one stream for the geometry and the leaf shades: rng=s equals default_rng(s)
     canvas = _canvas(dendrite, background)
     stems, widths, lp, lw = vine_curves(
         dendrite, smooth=smooth, curls=curls, curl_length=curl_length, leaves=leaves,
@@ -184,7 +202,7 @@ def render_vines(dendrite: Dendrite, *, background=None, stem_color=(0.22, 0.3, 
     h, w = canvas.shape[:2]
     cols = None
     if lp:
-        shade = as_rng(rng).uniform(0.8, 1.2, (len(lp), 1))
+        shade = rng.uniform(0.8, 1.2, (len(lp), 1))
         cols = np.clip(np.asarray(leaf_color)[None, :] * shade, 0, 1)
         img = draw_polylines(img, lp, widths=lw, colors=cols)
 
@@ -198,6 +216,8 @@ def render_vines(dendrite: Dendrite, *, background=None, stem_color=(0.22, 0.3, 
 
 
 # ------------------------------------------------------------------- lightning
+@checked(sky=Colour(), core_color=Colour(), glow_color=Colour(), glow_sigma=Real(0, 1e3), glow_strength=Real(0, 1e4),
+         core_scale=Real(0, 1e3), smooth=Int(0, 10_000))
 def render_lightning(dendrite: Dendrite, *, background=None, sky=(0.02, 0.02, 0.07),
                      core_color=(1.0, 1.0, 1.0), glow_color=(0.55, 0.6, 1.0),
                      glow_sigma: float | None = None, glow_strength: float = 4.0,
@@ -221,7 +241,7 @@ def render_lightning(dendrite: Dendrite, *, background=None, sky=(0.02, 0.02, 0.
     The SVG uses an ``feGaussianBlur`` filter for the glow.
     """
     canvas = _canvas(dendrite, background, fill=sky)
-    glow_sigma = scaled(glow_sigma, canvas.shape[:2], 5.0)
+    glow_sigma = _len(glow_sigma, canvas.shape[:2], 5.0)
     if glow_sigma <= 0 or glow_strength < 0 or core_scale <= 0:
         raise ValueError("glow_sigma and core_scale must be > 0, glow_strength >= 0")
     lines = dendrite.polylines(smooth)
@@ -278,6 +298,7 @@ class LightningParams:
     scale_lengths: bool = param(True, help="widths are for 512 x 512 and scale with the diagonal")
 
 
+@checked(shape=Shape(), start=Point(), strike=Point())
 def lightning(shape, params: LightningParams | None = None, *, start=None, strike=None,
               rng=None) -> Dendrite:
     """Grow a lightning bolt: non-scalar paths that prefer to go down.
@@ -304,9 +325,12 @@ def lightning(shape, params: LightningParams | None = None, *, start=None, strik
     (True, (80, 60))
     """
     p = check_params(params if params is not None else LightningParams())
-    h, w = int(shape[0]), int(shape[1])
+    h, w = shape
     if h < 4 or w < 4:
         raise ValueError(f"shape must be at least 4 x 4, got {shape}")
+    for name, point in (("start", start), ("strike", strike)):
+        if point is not None:
+            as_points(point[None], name=name, image_shape=(h, w))
     rng = as_rng(rng)
     f = direction_factors(down=1.0, side=p.side_cost, up=p.up_cost)
     lat = make_lattice(np.zeros((h, w)), epsilon=p.epsilon, noise=p.noise, rng=rng, factors=f)

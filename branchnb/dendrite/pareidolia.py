@@ -22,8 +22,9 @@ The tree grows as in :mod:`.trees`, but its crown is the picture:
   stippled endpoints stay on the image side and the random ones go to the
   other side, so the picture dissolves into ordinary twigs.
 * **Thickness.** The pipe model (Leonardo's rule, width ``tip_width *
-  n_tips ** (1 / 2)``) makes a trunk that tapers at every fork, plus the
-  importance emphasis (rolling importance along the branches). Inside the
+  n_tips ** (1 / 2)``) makes a trunk that tapers at every fork; each later
+  iteration adds ``increment`` to the older branches; plus the importance
+  emphasis (rolling importance along the branches). Inside the
   crown the widths are then matched to the picture's tone
   (:func:`~branchnb.dendrite.thickness.tone_thickness`), capped by a limit
   that is the pipe width at the fork and falls to ``max_width`` over
@@ -98,6 +99,8 @@ class PareidoliaParams:
     tone: float = param(0.8, min=0.0, max=1.0, step=0.05,
                         help="inside the crown: 0 = tree widths, 1 = ink matches the picture")
     tip_width: float = param(0.5, min=0.1, max=10.0, step=0.1, help="width of new twigs (px)")
+    increment: float = param(0.2, min=0.0, max=20.0, step=0.1,
+                             help="width added per later iteration: older branches are thicker (px)")
     max_width: float = param(5.0, min=0.5, max=30.0, step=0.5,
                              help="widest stroke in the crown, away from the trunk (px)")
     limb_length: float = param(60.0, min=1.0, max=500.0, step=5.0,
@@ -323,7 +326,7 @@ def _thickness(d: Dendrite, p: PareidoliaParams, imp, dark, crown, n_trunk: int)
     leaf = np.zeros(d.n_nodes)
     leaf[d.tips] = 1.0
     tips = np.maximum(_accumulate_up(d.parent, leaf), 1.0)
-    width = p.tip_width + p.pipe * np.sqrt(tips - 1.0)
+    width = p.tip_width + p.pipe * np.sqrt(tips - 1.0) + p.increment * (p.iterations - d.iteration)
     if p.thickness == "branch":
         return d.with_radius(width / 2)
     emph = rolling_importance(d, imp, p.window)
