@@ -28,7 +28,7 @@ from ..core.image import as_float_image, as_points, as_rgb
 from ..core.io import encode_png
 from ..core.params import check_params, param
 from ..core.random import as_seed
-from ..core.validate import Choice, Int, Point, checked
+from ..core.validate import Array, Choice, Int, Point, checked
 from .dendrite import Dendrite, PathStats, build_dendrite, path_statistics
 from .endpoints import place_endpoints
 from .importance import ImportanceParams, darkness, importance_map
@@ -218,26 +218,31 @@ class Stylizer:
         self._cache[key] = value = fn()
         return value
 
+    @checked()
     def working_image(self, p: StylizeParams) -> np.ndarray:
         """The image resampled to the planning lattice (``p.lattice_size``)."""
         return self._get(("work", p.lattice_size), lambda: resample_to_lattice(self.image, p.lattice_size))
 
+    @checked()
     def scale(self, p: StylizeParams) -> np.ndarray:
         """Image pixels per lattice pixel, ``(sx, sy)``."""
         h, w = self.shape
         hw, ww = self.working_image(p).shape[:2]
         return np.array([w / ww, h / hw])
 
+    @checked(points=Array(ndim=(1, 2)))
     def to_lattice(self, p: StylizeParams, points) -> np.ndarray:
         """Image ``(x, y)`` points in lattice coordinates (pixel centres map to centres)."""
         hw, ww = self.working_image(p).shape[:2]
         q = (np.asarray(points, float) + 0.5) / self.scale(p) - 0.5
         return np.clip(q, 0, [ww - 1, hw - 1])
 
+    @checked(points=Array(ndim=(1, 2)))
     def to_image(self, p: StylizeParams, points) -> np.ndarray:
         """Lattice ``(x, y)`` points in image coordinates."""
         return (np.asarray(points, float) + 0.5) * self.scale(p) - 0.5
 
+    @checked()
     def default_seed(self, params: StylizeParams | None = None) -> np.ndarray:
         """Where the dendrite starts by default.
 
@@ -273,6 +278,7 @@ class Stylizer:
             self.working_image(p), ImportanceParams(p.intensity_weight, p.gradient_weight,
                                                     p.sigma)))
 
+    @checked()
     def darkness(self, p: StylizeParams) -> np.ndarray:
         """The tone target ``1 - luminance`` on the lattice."""
         return self._get(("darkness", p.lattice_size), lambda: darkness(self.working_image(p)))
