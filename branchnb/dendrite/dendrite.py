@@ -219,6 +219,30 @@ class Dendrite:
         return Dendrite(self.nodes, self.parent, self.points, r, self.branches,
                         self.branch_parent, self.tips, self.shape, self.iteration)
 
+    def rescaled(self, shape) -> Dendrite:
+        """The same dendrite drawn on an image of ``shape`` (H, W): points map pixel
+        centre to pixel centre, radii scale by the geometric mean of the two factors.
+        ``nodes`` keep indexing the original lattice.
+
+        Examples
+        --------
+        >>> from branchnb.dendrite.lattice import make_lattice
+        >>> from branchnb.dendrite.planner import plan
+        >>> d = build_dendrite(plan(make_lattice(np.zeros((10, 10)), rng=0), (5, 9)), [(5, 0)])
+        >>> big = d.rescaled((20, 20))
+        >>> big.shape, float(big.points[:, 1].max()), float(big.radius[0] / d.radius[0])
+        ((20, 20), 18.5, 2.0)
+        """
+        if self.shape is None:
+            raise ValueError("rescaled needs a dendrite with an image shape")
+        h, w = int(shape[0]), int(shape[1])
+        if h < 1 or w < 1:
+            raise ValueError(f"shape must be positive, got {shape}")
+        sx, sy = w / self.shape[1], h / self.shape[0]
+        pts = (self.points + 0.5) * np.array([sx, sy]) - 0.5
+        return Dendrite(self.nodes, self.parent, pts, self.radius * float(np.sqrt(sx * sy)),
+                        self.branches, self.branch_parent, self.tips, (h, w), self.iteration)
+
     # -- geometry -------------------------------------------------------
     @checked(iterations=Int(0, 10_000))
     def smoothed_points(self, iterations: int = 0) -> np.ndarray:
