@@ -509,7 +509,7 @@ def test_checked_decorator_checks_annotations_rng_params_and_classes():
 
     s = fuzzkit._structure()
     assert f(s, 3.0) == 3
-    with pytest.raises(TypeError, match="structure must be a Structure"):
+    with pytest.raises(TypeError, match="structure must be Structure"):
         f("s")
     with pytest.raises(TypeError, match="^n must be an int"):
         f(s, "3")
