@@ -1,0 +1,1 @@
+"""Leaf variations by structural layering (Assa & Cohen-Or, C&G 2012)."""
