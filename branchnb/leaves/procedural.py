@@ -196,7 +196,7 @@ class _Shape:
         if total > limit:
             eps *= limit / total
         self.eps = eps
-        self.teeth_phase = float(rng.uniform(0, 1))
+        self.teeth_phase = 0.0  # teeth are part of the kind: material points keep their place
         self.aspect = float(np.exp(rng.normal(0.0, 0.07 * v)))
         self.bend = float(rng.normal(0.0, 0.12 * v))
         self.centre = np.array(kind["centre"], np.float64)
