@@ -41,14 +41,18 @@ __all__ = ["LayerInduction", "LeafAnalysis", "analyze", "induce", "warp_mask"]
 Progress = Callable[[float, str], None]
 
 
-def warp_mask(registration, mask, *, to_training: bool) -> np.ndarray:
-    """A bool mask carried through a registration (bilinear, then > 0.5)."""
+def warp_mask(registration, mask, *, to_training: bool, level: float = 0.5) -> np.ndarray:
+    """A bool mask carried through a registration (bilinear, then ``> level``).
+
+    A thin layer (a one-pixel vein) warped bilinearly may fall below 0.5
+    between pixel centres and break up; ``level`` below 0.5 keeps it whole.
+    """
     m = np.asarray(mask, np.float32)
     out = registration.to_training(m) if to_training else registration.from_training(m)
     out = np.asarray(out)
     if out.ndim == 3:
         out = out[..., 0]
-    return out > 0.5
+    return out > level
 
 
 @dataclass
@@ -267,7 +271,7 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
             report(step / steps, f"layer {name}: colour and space terms on exemplar {e + 1}/{n}")
             step += 1
             eps_px, _, lib_r = lengths[e]
-            ru = user if e == t else warp_mask(registrations[e], user, to_training=False) & blades[e]
+            ru = user if e == t else warp_mask(registrations[e], user, to_training=False, level=0.25) & blades[e]
             d = ndi.distance_transform_edt(~ru).astype(np.float32) if ru.any() else \
                 np.full(ru.shape, 1e6, np.float32)
             s = colour_similarity(q[e], blades[e], cdf, n_px)

@@ -38,12 +38,15 @@ exemplar and a user layer ``c``:
     leans on space; a non-structural one (spots) leans on colour.
 
 **Scale.** ``eps = 40`` px and ``n = 8`` are the paper's values for leaves
-photographed at about 2 MP; we take such a leaf's blade to cover about
-``reference_area = 1e6`` px and scale every length by
-``s = sqrt(blade area / reference_area)``: ``eps_px = eps s`` and
-``n_px = max(3, round(n s))``. The liberal radius ``||x, c||^2 < 2 eps`` is
-read in the paper's pixels (``||x, c|| < sqrt(80) = 8.9`` px at 2 MP) and
-scaled the same way: ``||x, c|| < eps_px sqrt(2 / eps)``.
+photographed at about 2 MP (1633 x 1225): a leaf filling such a frame
+spans about 1100 px and its blade covers about half of its bounding box,
+``reference_area = 6e5`` px. Every length is scaled by the leaf's linear
+size against that, ``s = sqrt(blade area / reference_area)``:
+``eps_px = eps s`` and ``n_px = max(1, round(n s))`` (and at most the
+layer's own width, see :func:`layer_neighbourhood`). The liberal radius
+``||x, c||^2 < 2 eps`` is read in the paper's pixels
+(``||x, c|| < sqrt(80) = 8.9`` px at 2 MP) and scaled the same way:
+``||x, c|| < eps_px sqrt(2 / eps)``.
 
 **Residuals** (the paper's Fig. 7): after a layer is induced its pixels are
 filled from the rest of the same leaf (:func:`remove_layer`) and the next
@@ -99,7 +102,7 @@ class InductionParams:
     liberal_threshold: float = param(0.1, min=0.0, max=1.0, step=0.01,
                                      help="S_e bound of the liberal layers L~e (paper: 0.1)")
     bins: int = param(32, min=4, max=128, help="histogram bins per CIELAB channel")
-    reference_area: float = param(1.0e6, min=1.0e3, max=1.0e8, log=True, ui=False,
+    reference_area: float = param(6.0e5, min=1.0e3, max=1.0e8, log=True, ui=False,
                                   help="blade area (px) of a leaf at the paper's resolution")
     min_neighbourhood: int = param(1, min=1, max=16, ui=False,
                                    help="smallest scaled neighbourhood side (px)")
@@ -156,7 +159,7 @@ def colour_space(images, blades, bins: int = 32) -> ColourSpace:
     return ColourSpace(mid - span / 2, mid + span / 2, int(bins))
 
 
-def leaf_scale(blade, reference_area: float = 1.0e6) -> float:
+def leaf_scale(blade, reference_area: float = 6.0e5) -> float:
     """``s = sqrt(blade area / reference_area)``: the leaf's size against the paper's."""
     area = float(np.count_nonzero(blade))
     if area <= 0:
