@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import ndimage as ndi
 
-from ..core.image import as_mask, as_rgb, as_rgba
+from ..core.image import as_mask, as_rgb
 from ..core.params import check_params
 from ..core.random import as_rng
 from .induction import (
@@ -36,7 +36,7 @@ from .induction import (
 )
 from .layers import LayerSet, SnapParams, TrainingLayers, grow_layers
 
-__all__ = ["LayerInduction", "LeafAnalysis", "analyze", "induce", "warp_mask"]
+__all__ = ["LayerInduction", "LeafAnalysis", "analyze", "induce", "normalise_exemplars", "warp_mask"]
 
 Progress = Callable[[float, str], None]
 
@@ -133,6 +133,10 @@ class LeafAnalysis:
         layers (``residuals[0]`` = the exemplars, ``residuals[-1]`` the
         background).
     layer_set : LayerSet or None
+        The user's layers, scribbles in canvas pixels.
+    rng_seed : int
+    offsets : list of (dx, dy)
+        Where each input exemplar's pixel (0, 0) lies on the common canvas.
     """
 
     exemplars: list
@@ -146,6 +150,7 @@ class LeafAnalysis:
     residuals: list = field(repr=False)
     layer_set: LayerSet | None = None
     rng_seed: int = 0
+    offsets: list = field(default_factory=list)
 
     @property
     def lambdas(self) -> dict:
@@ -303,21 +308,77 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
     return out, residuals, space
 
 
-def _normalise_exemplars(exemplars) -> tuple[list, list]:
+def normalise_exemplars(exemplars) -> tuple[list, list, list]:
+    """Exemplars on one common canvas, each centred on its blade by a whole-pixel shift.
+
+    Each leaf is normalised by :func:`branchnb.leaves.exemplar.prepare_exemplars`
+    (alpha, or a plain-background model); then all are padded to one
+    canvas (the blend of inverse warps in synthesis needs one), centred on
+    their blade centroids by integer shifts, so nothing is resampled and
+    the user's scribbles on the training leaf move by the same shift.
+
+    Returns
+    -------
+    images : list of (H, W, 4) float32
+    blades : list of (H, W) bool
+    offsets : list of (dx, dy) int
+        Where each input's pixel (0, 0) lands on the canvas.
+    """
+    from .exemplar import Exemplar, prepare_exemplars
+    if isinstance(exemplars, np.ndarray) and exemplars.dtype != object and exemplars.ndim in (2, 3):
+        raise ValueError("exemplars must be a list of leaf images, got a single image; "
+                         "the method needs at least two leaves of one kind")
     try:
-        from .exemplar import normalize_exemplars  # the exemplar module of this package
-    except ImportError:  # pragma: no cover - until the exemplar module lands
-        normalize_exemplars = None
-    if normalize_exemplars is not None:
-        res = normalize_exemplars(exemplars)
-        return list(res.images), list(res.blades)
-    if not isinstance(exemplars, (list, tuple)):
-        raise TypeError(f"exemplars must be a list of RGBA images, got {type(exemplars).__name__}")
-    imgs = [as_rgba(getattr(e, "image", e), name=f"exemplars[{i}]") for i, e in enumerate(exemplars)]
-    shapes = {im.shape[:2] for im in imgs}
-    if len(shapes) != 1:
-        raise ValueError(f"exemplars must share one size, got {sorted(shapes)}")
-    return imgs, [im[..., 3] > 0.5 for im in imgs]
+        items = list(exemplars)
+    except TypeError as exc:
+        raise TypeError(f"exemplars must be a list of leaf images, got {type(exemplars).__name__}") from exc
+    items = [e if isinstance(e, Exemplar) else getattr(e, "image", e) for e in items]
+    prepared = prepare_exemplars(items, size_policy="keep", names=[f"exemplars[{i}]" for i in range(len(items))])
+    cents = []
+    half_h = half_w = 0
+    for e in prepared:
+        ys, xs = np.nonzero(e.blade)
+        cy, cx = int(round(ys.mean())), int(round(xs.mean()))
+        cents.append((cx, cy))
+        h, w = e.shape
+        half_h = max(half_h, cy, h - cy)
+        half_w = max(half_w, cx, w - cx)
+    H, W = 2 * half_h, 2 * half_w
+    images, blades, offsets = [], [], []
+    for e, (cx, cy) in zip(prepared, cents):
+        dx, dy = half_w - cx, half_h - cy
+        h, w = e.shape
+        img = np.zeros((H, W, 4), np.float32)
+        img[dy:dy + h, dx:dx + w] = e.rgba
+        b = np.zeros((H, W), bool)
+        b[dy:dy + h, dx:dx + w] = e.blade
+        images.append(img)
+        blades.append(b)
+        offsets.append((int(dx), int(dy)))
+    return images, blades, offsets
+
+
+def _shift_mask(mask, offset, shape, name):
+    m = as_mask(mask, name=name)
+    out = np.zeros(shape, bool)
+    dx, dy = offset
+    h, w = m.shape
+    if dy + h > shape[0] or dx + w > shape[1]:
+        raise ValueError(f"{name} has shape {m.shape}, larger than the training leaf")
+    out[dy:dy + h, dx:dx + w] = m
+    return out
+
+
+def _shift_layers(layer_set: LayerSet, offset) -> LayerSet:
+    import copy
+    ls = copy.deepcopy(layer_set)
+    d = np.asarray(offset, float)
+    for layer in ls.layers:
+        for s in layer.scribbles:
+            s.points = s.points + d
+    for s in ls.background:
+        s.points = s.points + d
+    return ls
 
 
 def analyze(exemplars, training_index: int, layers, params: InductionParams | None = None,
@@ -356,7 +417,7 @@ def analyze(exemplars, training_index: int, layers, params: InductionParams | No
     params = check_params(params if params is not None else InductionParams(), name="params")
     if isinstance(rng, np.random.Generator) or rng is None:
         rng = int(as_rng(rng).integers(2**31 - 1))
-    images, blades = _normalise_exemplars(exemplars)
+    images, blades, offsets = normalise_exemplars(exemplars)
     n = len(images)
     if n < 2:
         raise ValueError(f"exemplars must hold at least two leaves, got {n}")
@@ -371,15 +432,16 @@ def analyze(exemplars, training_index: int, layers, params: InductionParams | No
     report(0.0, "training layers")
     layer_set = None
     if isinstance(layers, LayerSet):
-        layer_set = layers
-        training = grow_layers(images[t], blades[t], layers, snap_params, rng=rng)
+        # Scribbles are in the training image's own pixels: move them with it.
+        layer_set = _shift_layers(layers, offsets[t])
+        training = grow_layers(images[t], blades[t], layer_set, snap_params, rng=rng)
     elif isinstance(layers, dict):
         if not layers:
             raise ValueError("layers is empty: give a LayerSet or at least one layer mask")
         masks = {}
         taken = np.zeros_like(blades[t])
         for name, m in layers.items():
-            m = as_mask(m, shape=blades[t].shape, name=f"layers[{name!r}]") & blades[t] & ~taken
+            m = _shift_mask(m, offsets[t], blades[t].shape, f"layers[{name!r}]") & blades[t] & ~taken
             if not m.any():
                 raise ValueError(f"layers[{name!r}] selects no pixel of the training leaf's blade")
             masks[name] = m
@@ -401,4 +463,4 @@ def analyze(exemplars, training_index: int, layers, params: InductionParams | No
         [im[..., :3] for im in images], blades, t, {k: training.masks[k] for k in training.order},
         registrations, params, progress=_progress(progress, 0.5, 1.0), rng=rng)
     return LeafAnalysis(images, blades, t, training, list(registrations), params, space, layers_out,
-                        residuals, layer_set, rng)
+                        residuals, layer_set, rng, offsets)
