@@ -22,11 +22,21 @@ class TrueRegistration:
         t = np.asarray(training_points, float)
         self._fwd = RBFInterpolator(e, t, kernel="thin_plate_spline", smoothing=0.0)
         self._inv = RBFInterpolator(t, e, kernel="thin_plate_spline", smoothing=0.0)
+        # The splines are smooth: evaluate on an 8-px grid, interpolate bilinearly.
         h, w = self.shape
-        ys, xs = np.mgrid[0:h, 0:w]
-        grid = np.column_stack([xs.ravel(), ys.ravel()]).astype(float)
-        self.map_to_training = self._inv(grid).reshape(h, w, 2).astype(np.float32)
-        self.map_from_training = self._fwd(grid).reshape(h, w, 2).astype(np.float32)
+        step = 8
+        gy, gx = np.arange(0, h + step, step), np.arange(0, w + step, step)
+        xx, yy = np.meshgrid(gx, gy)
+        grid = np.column_stack([xx.ravel(), yy.ravel()]).astype(float)
+        self.map_to_training = self._dense(self._inv(grid), len(gy), len(gx), step)
+        self.map_from_training = self._dense(self._fwd(grid), len(gy), len(gx), step)
+
+    def _dense(self, values, gh, gw, step):
+        import cv2
+        h, w = self.shape
+        coarse = values.reshape(gh, gw, 2).astype(np.float32)
+        big = cv2.resize(coarse, ((gw - 1) * step + 1, (gh - 1) * step + 1), interpolation=cv2.INTER_LINEAR)
+        return np.ascontiguousarray(big[:h, :w])
 
     def forward(self, points):
         return self._fwd(np.asarray(points, float).reshape(-1, 2))

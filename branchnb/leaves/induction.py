@@ -277,6 +277,21 @@ def colour_similarity(q: np.ndarray, blade, cdfs: np.ndarray, size: int) -> np.n
     def box(a):
         return cv2.boxFilter(a, -1, ksize, normalize=False, borderType=cv2.BORDER_CONSTANT)
 
+    if size == 1:
+        # A one-pixel window: the EMD of a point mass at bin k against the
+        # layer is a lookup, sum_{b<k} G(b) + sum_{k<=b<B-1} (1 - G(b)).
+        total = np.zeros((k,) + q.shape[:2], np.float32)
+        for ch in range(3):
+            for j in range(k):
+                g = cdfs[j, ch, :bins - 1]
+                below = np.concatenate([[0.0], np.cumsum(g)])  # sum_{b<k} G(b), k = 0..B-1
+                above = np.concatenate([np.cumsum((1.0 - g)[::-1])[::-1], [0.0]])  # sum_{b>=k} (1 - G(b))
+                lut = (below + above).astype(np.float32)
+                total[j] += lut[q[..., ch]]
+        s = total / np.float32(3 * (bins - 1))
+        s[:, ~blade] = 1.0
+        np.clip(s, 0.0, 1.0, out=s)
+        return s[0] if single else s
     count = box(bf)
     inv = np.where(count > 0.5, 1.0 / np.maximum(count, 1e-6), 0.0).astype(np.float32)
     total = np.zeros((k,) + q.shape[:2], np.float32)
@@ -457,14 +472,21 @@ def remove_layer(image, blade, mask, *, grow: int = 1, thin_width: float = 6.0,
             # the patch's own layer pixels leave holes), then blended.
             wl, _ = ndi.label(wide, structure=np.ones((3, 3)))
             ring = max(3, patch_size // 4)
+            H, W = rgb.shape[:2]
             for sl in ndi.find_objects(wl):
-                r0, r1 = max(sl[0].start - ring, 0), min(sl[0].stop + ring, rgb.shape[0])
-                c0, c1 = max(sl[1].start - ring, 0), min(sl[1].stop + ring, rgb.shape[1])
+                r0, r1 = max(sl[0].start - ring, 0), min(sl[0].stop + ring, H)
+                c0, c1 = max(sl[1].start - ring, 0), min(sl[1].stop + ring, W)
+                size = max(r1 - r0, c1 - c0, patch_size)
+                # The example: the leaf around the part (three part sizes
+                # each way), nearby texture matches best and is fast to search.
+                reach = 3 * size
+                er0, er1 = max(r0 - reach, 0), min(r1 + reach, H)
+                ec0, ec1 = max(c0 - reach, 0), min(c1 + reach, W)
                 sub = canvas[r0:r1, c0:c1].copy()
                 cov = covered[r0:r1, c0:c1].copy()
-                size = max(r1 - r0, c1 - c0, patch_size)
                 try:
-                    complete_gaps(sub, cov, ext, forbidden, patch_size=size, poisson=True, rng=rng)
+                    complete_gaps(sub, cov, ext[er0:er1, ec0:ec1], forbidden[er0:er1, ec0:ec1],
+                                  patch_size=size, poisson=True, rng=rng)
                 except ValueError:
                     continue  # too little layer-free texture: keep the diffusion fill
                 canvas[r0:r1, c0:c1] = sub
