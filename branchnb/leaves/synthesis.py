@@ -21,9 +21,12 @@ A new leaf is built in the training leaf's frame, then given a new shape:
    coefficients per exemplar (a ``shape_grid`` x ``shape_grid`` grid drawn
    from a symmetric Dirichlet of ``shape_concentration``), smoothed by a Gaussian of ``shape_sigma`` times
    the leaf size and normalised per pixel.
-4. **Texture correction** where the blended warp stretches or squeezes
-   (:func:`branchnb.leaves.correction.correct_texture`), and the alpha of
-   the training leaf's blade carried by the same warp.
+4. **Texture correction** where the composed warp stretches or squeezes
+   (:func:`branchnb.leaves.correction.correct_texture`), applied to the
+   background before the layers go on (so no vein or spot is replaced by
+   plain texture), and the alpha of the training leaf's blade carried by
+   the shape warp. All maps are composed first, so every image is
+   resampled once.
 
 Every leaf keeps the seed that made it, the exemplars it used and the mean
 shape weights; :func:`save_leaves` writes RGBA PNGs and a strict-JSON record.
@@ -299,7 +302,14 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
     bg = int(rng.integers(n))
     base_amp = params.background_warp * p.registration_error
     d0 = random_warp(shape, base_amp, corr, rng)
-    rgb = _sample(p.stage[-1][bg], p.source_coords(bg, m, d0))[..., :3]
+    c_bg = p.source_coords(bg, m, d0)
+    alpha = _sample(p.alpha_t, m)[..., 0]
+    rgb = _sample(p.stage[-1][bg], c_bg)[..., :3]
+    if params.correct:
+        # Texture correction where the composed warp stretches or squeezes,
+        # from the background exemplar's unwarped residual (before the layers
+        # go on, so no vein or spot is replaced by plain texture).
+        rgb = _correct(rgb, alpha > 0.5, c_bg, p.stage[-1][bg], a.blades[bg], rng)
     warps = {"background": base_amp}
     used = {bg}
     chosen = {}
@@ -320,29 +330,30 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
         warps[L.name] = amp
         c = p.source_coords(e, m, random_warp(shape, amp, corr, rng))
         col = _sample(p.stage[k][e], c)[..., :3]
-        alpha = np.clip(_sample(p.layer_masks[k][e], c)[..., 0], 0, 1)
-        wgt = (np.clip(_sample(p.layer_weights[k][e], c)[..., 0], 0, None) + 1e-6) * alpha
-        cover = np.maximum(cover, alpha)
+        a_k = np.clip(_sample(p.layer_masks[k][e], c)[..., 0], 0, 1)
+        wgt = (np.clip(_sample(p.layer_weights[k][e], c)[..., 0], 0, None) + 1e-6) * a_k
+        cover = np.maximum(cover, a_k)
         mix += wgt[..., None] * col
         wsum += wgt
     layer_rgb = mix / np.maximum(wsum, 1e-12)[..., None]
     rgb = rgb * (1 - cover[..., None]) + layer_rgb * cover[..., None]
-    alpha = _sample(p.alpha_t, m)[..., 0]
-    if params.correct:
-        rgb = _correct(rgb, alpha > 0.5, m, a, rng)
     img = np.dstack([np.clip(rgb, 0, 1) * (alpha[..., None] > 0), np.clip(alpha, 0, 1)]).astype(np.float32)
     inside = alpha > 0.5
     sw = [float(wts[i][inside].mean()) if inside.any() else float(wts[i].mean()) for i in range(n)]
     return GeneratedLeaf(img, int(seed), bg, chosen, sw, warps)
 
 
-def _correct(rgb, blade, mapping, analysis, rng):
+def _correct(rgb, blade, mapping, source, source_blade, rng):
     try:
         from .correction import correct_texture
     except ImportError:  # pragma: no cover - the correction module is another part of the package
         return rgb
-    out = correct_texture(rgb, blade, mapping, analysis, rng=rng)
-    return getattr(out, "image", out)
+    if not blade.any():
+        return rgb
+    try:
+        return correct_texture(rgb, mapping, source, mask=blade, source_mask=source_blade, rng=rng).image
+    except ValueError:
+        return rgb  # nothing to copy from: keep the warped texture
 
 
 def generate(analysis, n: int = 8, *, rng=None, params: SynthesisParams | None = None,
