@@ -388,14 +388,14 @@ def grow_layers(image, blade, layer_set: LayerSet, params: SnapParams | None = N
         raise TypeError(f"layer_set must be a LayerSet, got {type(layer_set).__name__}")
     if not layer_set.layers:
         raise ValueError("layer_set has no layers: add at least one layer with scribbles")
+    if blade.sum() < 16:
+        raise ValueError("blade is (almost) empty: the training leaf has no blade pixels")
+    marks = _check_scribbles(layer_set, blade)
     for layer in layer_set.layers:
         if not layer.scribbles:
             raise ValueError(f"layer_set layer {layer.name!r} has no scribbles: scribble it or remove it")
-    if blade.sum() < 16:
-        raise ValueError("blade is (almost) empty: the training leaf has no blade pixels")
     from ..core.random import as_rng
     rng = as_rng(rng)
-    marks = _check_scribbles(layer_set, blade)
     lab = rgb2lab(rgb).astype(np.float32)
     # L in 0..100, a/b roughly -80..80: scale so the three weigh alike.
     feat = lab / np.float32(100.0)
