@@ -36,7 +36,7 @@ from .induction import (
 )
 from .layers import LayerSet, SnapParams, TrainingLayers, grow_layers
 
-__all__ = ["LayerInduction", "LeafAnalysis", "analyze", "induce", "normalise_exemplars", "warp_mask"]
+__all__ = ["IdentityRegistration", "LayerInduction", "LeafAnalysis", "analyze", "induce", "normalise_exemplars", "warp_mask"]
 
 Progress = Callable[[float, str], None]
 
@@ -53,6 +53,26 @@ def warp_mask(registration, mask, *, to_training: bool, level: float = 0.5) -> n
     if out.ndim == 3:
         out = out[..., 0]
     return out > level
+
+
+class IdentityRegistration:
+    """The training leaf's registration to itself (same interface as the others)."""
+
+    def __init__(self, shape):
+        h, w = shape
+        xx, yy = np.meshgrid(np.arange(w, dtype=np.float32), np.arange(h, dtype=np.float32))
+        self.shape = (h, w)
+        self.map_to_training = self.map_from_training = np.stack([xx, yy], -1)
+
+    def forward(self, points) -> np.ndarray:
+        return np.asarray(points, float).reshape(-1, 2).copy()
+
+    inverse = forward
+
+    def to_training(self, image_or_mask):
+        return np.array(image_or_mask, copy=True)
+
+    from_training = to_training
 
 
 @dataclass
@@ -455,8 +475,11 @@ def analyze(exemplars, training_index: int, layers, params: InductionParams | No
         registrations = []
         for i in range(n):
             report(0.05 + 0.45 * i / n, f"registering exemplar {i + 1}/{n}")
-            registrations.append(register(images[i], images[t], blades[i], blades[t],
-                                          params=registration_params, rng=rng))
+            if i == t:
+                registrations.append(IdentityRegistration(blades[t].shape))
+            else:
+                registrations.append(register(images[i], images[t], blades[i], blades[t],
+                                              params=registration_params, rng=rng))
     elif len(registrations) != n:
         raise ValueError(f"registrations must have one entry per exemplar ({n}), got {len(registrations)}")
     layers_out, residuals, space = induce(
