@@ -36,7 +36,8 @@ from .induction import (
 )
 from .layers import LayerSet, SnapParams, TrainingLayers, grow_layers
 
-__all__ = ["IdentityRegistration", "LayerInduction", "LeafAnalysis", "analyze", "induce", "normalise_exemplars", "warp_mask"]
+__all__ = ["IdentityRegistration", "LayerInduction", "LeafAnalysis", "analyze", "induce",
+           "normalise_exemplars", "warp_mask"]
 
 Progress = Callable[[float, str], None]
 

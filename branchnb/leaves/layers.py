@@ -7,9 +7,11 @@ Tang & Shum 2004), the tool the paper names for this step:
 1. the blade is over-segmented into small superpixels (SLIC in CIELAB,
    :func:`skimage.segmentation.slic` restricted to the blade);
 2. a colour model of the layer (k-means centres of the colours under its
-   scribbles) and one of the rest (colours under the other layers' and the
-   blade's scribbles, plus the half of the blade least like the layer: a
-   layer never covers most of the blade) give each superpixel the data
+   scribbles, only the half of each scribble's pixels that stand out from
+   the blade around it: a brush wider than a vein also covers blade) and
+   one of the rest (colours under the other layers' and the blade's
+   scribbles, plus the blade without the ``max_layer_fraction`` (15 %) of
+   it most like the layer) give each superpixel the data
    costs ``E1(fg) = d_F / (d_F + d_B)``, ``E1(bg) = d_B / (d_F + d_B)``
    (``d`` = distance to the nearest centre);
 3. neighbouring superpixels pay ``E2 = exp(-beta |C_i - C_j|^2)`` per pixel
@@ -223,10 +225,13 @@ class SnapParams:
 
     superpixel_size: float = param(5.0, min=2.0, max=40.0, step=0.5,
                                    help="mean superpixel side (px); smaller than the thinnest layer")
-    compactness: float = param(4.0, min=0.1, max=40.0, help="SLIC compactness (low: follows colour edges)")
+    compactness: float = param(4.0, min=0.1, max=40.0,
+                               help="SLIC compactness in CIELAB units (low: follows colour edges)")
     clusters: int = param(32, min=2, max=64, help="k-means colour centres per model (lazy snapping: 64)")
     smoothness: float = param(1.0, min=0.0, max=20.0, help="weight of E2 against E1 (lazy snapping's lambda)")
     refine: bool = param(True, help="pixel-level graph cut after the superpixel one")
+    max_layer_fraction: float = param(0.15, min=0.01, max=0.9, step=0.01,
+                                      help="largest fraction of the blade a layer covers (background model)")
     prior: float = param(0.3, min=0.0, max=2.0, step=0.05,
                          help="weight of the superpixel labelling in the pixel-level cut")
 
@@ -279,14 +284,15 @@ def scribble_mask(scribbles, shape) -> np.ndarray:
     return out.astype(bool)
 
 
-def _check_scribbles(layer_set: LayerSet, blade: np.ndarray) -> dict:
-    """Rasterise and validate every scribble; returns name -> mask (blade pixels only)."""
+def _check_scribbles(layer_set: LayerSet, blade: np.ndarray) -> tuple[dict, dict]:
+    """Rasterise and validate every scribble: name -> union mask, and name -> one mask per scribble."""
     shape = blade.shape
-    out = {}
+    out, each = {}, {}
     groups = [(x.name, f"layers[{x.name!r}]", x.scribbles) for x in layer_set.layers]
     groups.append(("blade", "layers.background", layer_set.background))
     for name, label, scribbles in groups:
         m = np.zeros(shape, bool)
+        each[name] = []
         for i, s in enumerate(scribbles):
             p = s.points
             if (p[:, 0] < -0.5).any() or (p[:, 0] > shape[1] - 0.5).any() or \
@@ -298,7 +304,34 @@ def _check_scribbles(layer_set: LayerSet, blade: np.ndarray) -> dict:
                 raise ValueError(f"{label}.scribbles[{i}] lies outside the leaf "
                                  f"({int(on)} of {int(si.sum())} pixels on the blade)")
             m |= si & blade
+            each[name].append(si & blade)
         out[name] = m
+    return out, each
+
+
+def _on_layer(each: list, feat: np.ndarray, blade: np.ndarray) -> np.ndarray:
+    """The pixels of each scribble that stand out from the blade around it.
+
+    A scribble drawn with a brush wider than its layer (a 3-px stroke on a
+    1-px vein) covers plain blade as well; the half of its pixels least
+    like a ring of blade 2-5 px around it is what it marks. A scribble
+    inside a wide layer (a spot) keeps the half nearest its centre line's
+    colour contrast, all of it on the layer.
+    """
+    out = np.zeros(blade.shape, bool)
+    for m in each:
+        if m.sum() < 4:
+            out |= m
+            continue
+        ring = ndi.binary_dilation(m, iterations=5) & ~ndi.binary_dilation(m, iterations=2) & blade
+        if ring.sum() < 4:
+            out |= m
+            continue
+        ref = np.median(feat[ring], axis=0)
+        d = np.sqrt(((feat[m] - ref) ** 2).sum(1))
+        keep = d >= np.median(d)
+        ys, xs = np.nonzero(m)
+        out[ys[keep], xs[keep]] = True
     return out
 
 
@@ -390,7 +423,7 @@ def grow_layers(image, blade, layer_set: LayerSet, params: SnapParams | None = N
         raise ValueError("layer_set has no layers: add at least one layer with scribbles")
     if blade.sum() < 16:
         raise ValueError("blade is (almost) empty: the training leaf has no blade pixels")
-    marks = _check_scribbles(layer_set, blade)
+    marks, each = _check_scribbles(layer_set, blade)
     for layer in layer_set.layers:
         if not layer.scribbles:
             raise ValueError(f"layer_set layer {layer.name!r} has no scribbles: scribble it or remove it")
@@ -404,7 +437,7 @@ def grow_layers(image, blade, layer_set: LayerSet, params: SnapParams | None = N
     # seeds by k-means and is an order of magnitude slower), cut to the blade.
     rows, cols = np.nonzero(blade)
     r0, r1, c0, c1 = rows.min(), rows.max() + 1, cols.min(), cols.max() + 1
-    box = slic(feat[r0:r1, c0:c1], n_segments=max(16, int((r1 - r0) * (c1 - c0) / params.superpixel_size**2)),
+    box = slic(lab[r0:r1, c0:c1], n_segments=max(16, int((r1 - r0) * (c1 - c0) / params.superpixel_size**2)),
                compactness=params.compactness, start_label=1, channel_axis=-1,
                enforce_connectivity=True, convert2lab=False)
     sp = np.zeros((h, w), np.int64)
@@ -424,7 +457,7 @@ def grow_layers(image, blade, layer_set: LayerSet, params: SnapParams | None = N
 
     masks = {}
     for layer in layer_set.ordered():
-        fg_px = marks[layer.name]
+        fg_px = _on_layer(each[layer.name], feat, blade)
         others = np.zeros_like(fg_px)
         for name, m in marks.items():
             if name != layer.name:
@@ -432,8 +465,10 @@ def grow_layers(image, blade, layer_set: LayerSet, params: SnapParams | None = N
         others &= ~fg_px
         fg_c = _kmeans(feat[fg_px], params.clusters, rng)
         d_f_blade = _nearest(blade_feat, fg_c)
-        # The half of the blade least like the layer, plus the other scribbles.
-        far = np.argpartition(d_f_blade, len(d_f_blade) // 2)[len(d_f_blade) // 2:]
+        # The blade without the part most like the layer (a layer covers at
+        # most max_layer_fraction of it), plus the other scribbles.
+        k_near = int(len(d_f_blade) * params.max_layer_fraction)
+        far = np.argpartition(d_f_blade, k_near)[k_near:]
         bg_samples = np.concatenate([blade_feat[far], feat[others]])
         bg_c = _kmeans(bg_samples, params.clusters, rng)
         d_b_blade = _nearest(blade_feat, bg_c)
@@ -460,7 +495,11 @@ def grow_layers(image, blade, layer_set: LayerSet, params: SnapParams | None = N
         is_fg[0] = False
         mask = is_fg[sp] & blade
         if params.refine:
-            mask = _refine(mask, feat, blade, fg_px, others, fg_c, bg_c, params.prior, params.smoothness)
+            # The superpixel labelling weighs in as far as its own colour
+            # evidence was clear: |E1(fg) - E1(bg)| per pixel of the superpixel.
+            conf = np.abs(e_fg - e_bg) / np.maximum(area, 1.0)
+            mask = _refine(mask, feat, blade, fg_px, others, fg_c, bg_c, params.prior * conf[sp],
+                           params.smoothness)
         masks[layer.name] = mask
     # Overlaps go to the upper layer.
     taken = np.zeros((h, w), bool)
@@ -470,10 +509,11 @@ def grow_layers(image, blade, layer_set: LayerSet, params: SnapParams | None = N
     return TrainingLayers(masks, blade, blade & ~taken, [x.name for x in layer_set.ordered()], sp)
 
 
-def _refine(mask, feat, blade, fg_px, bg_px, fg_c, bg_c, prior: float, smoothness: float) -> np.ndarray:
+def _refine(mask, feat, blade, fg_px, bg_px, fg_c, bg_c, prior, smoothness: float) -> np.ndarray:
     """Pixel-level graph cut over the whole blade (lazy snapping's second step).
 
-    Data term: the pixel's own colour costs plus ``prior`` times the
+    Data term: the pixel's own colour costs plus ``prior`` (per pixel:
+    the weight times the superpixel's colour confidence) for the
     superpixel labelling (so the superpixels steady the cut, while a layer
     thinner than a superpixel, a one-pixel vein, can still be found).
     """
@@ -487,8 +527,9 @@ def _refine(mask, feat, blade, fg_px, bg_px, fg_c, bg_c, prior: float, smoothnes
     d_b = _nearest(flat, bg_c).reshape(shp)
     tot = d_f + d_b + 1e-6
     m = mask[r0:r1, c0:c1]
-    cost_fg = d_f / tot + prior * (~m)
-    cost_bg = d_b / tot + prior * m
+    pr = np.broadcast_to(np.asarray(prior, float), mask.shape)[r0:r1, c0:c1]
+    cost_fg = d_f / tot + pr * (~m)
+    cost_bg = d_b / tot + pr * m
     pin_f = fg_px[r0:r1, c0:c1]
     pin_b = (~reg | bg_px[r0:r1, c0:c1]) & ~pin_f
     g = maxflow.Graph[float]()
