@@ -7,6 +7,44 @@ edges (:mod:`.keypoints`), non-rigid registration by TPS-RPM
 measuring (:mod:`.procedural`).
 """
 
+from .correction import TextureCorrection, correct_texture, distorted_pixels, jacobian_singular_values
+from .exemplar import Exemplar, blade_mask, leaf_exemplar, prepare_exemplars
+from .keypoints import Keypoints, edge_keypoints, edge_strength
 from .procedural import KINDS, PALETTES, ProceduralLeaf, leaf_family, procedural_leaf
+from .registration import (
+    Registration,
+    RegistrationParams,
+    ThinPlateSpline,
+    draw_registration,
+    register,
+    start_alignment,
+    start_candidates,
+    tps_rpm,
+)
 
-__all__ = ["KINDS", "PALETTES", "ProceduralLeaf", "leaf_family", "procedural_leaf"]
+__all__ = [
+    "KINDS",
+    "PALETTES",
+    "Exemplar",
+    "Keypoints",
+    "ProceduralLeaf",
+    "Registration",
+    "RegistrationParams",
+    "TextureCorrection",
+    "ThinPlateSpline",
+    "blade_mask",
+    "correct_texture",
+    "distorted_pixels",
+    "draw_registration",
+    "edge_keypoints",
+    "edge_strength",
+    "jacobian_singular_values",
+    "leaf_exemplar",
+    "leaf_family",
+    "prepare_exemplars",
+    "procedural_leaf",
+    "register",
+    "start_alignment",
+    "start_candidates",
+    "tps_rpm",
+]
