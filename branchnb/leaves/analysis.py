@@ -22,6 +22,7 @@ from ..core.random import as_rng
 from .induction import (
     ColourSpace,
     InductionParams,
+    blade_lab_stats,
     choose_threshold,
     colour_similarity,
     colour_space,
@@ -278,6 +279,7 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         space = colour_space(rgb, blades, params.bins)
     t = training_index
     lengths = [scaled_lengths(params, b) for b in blades]
+    stats = [blade_lab_stats(im, b) for im, b in zip(rgb, blades)]
     residual = list(rgb)
     residuals = [list(rgb)]
     taken = [np.zeros_like(b) for b in blades]
@@ -289,7 +291,8 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         user = as_mask(user_masks[name], shape=blades[t].shape, name=f"user_masks[{name!r}]") & blades[t]
         if not user.any():
             raise ValueError(f"user_masks[{name!r}] is empty on the training leaf's blade")
-        q = [quantise(r, space) for r in residual]
+        q = [quantise(r, space, stats=stats[e], reference=stats[t]) if params.match_colours and e != t
+             else quantise(r, space) for e, r in enumerate(residual)]
         cdf = layer_cdfs(q[t], user, space.bins)
         n_px = layer_neighbourhood(params, blades[t], user)
         colour, dist, reg_user, liberal_t, spat = [], [], [], [], []

@@ -68,6 +68,7 @@ from ..core.params import param
 
 __all__ = [
     "InductionParams",
+    "blade_lab_stats",
     "ColourSpace",
     "colour_space",
     "leaf_scale",
@@ -104,6 +105,8 @@ class InductionParams:
     bins: int = param(32, min=4, max=128, help="histogram bins per CIELAB channel")
     reference_area: float = param(6.0e5, min=1.0e3, max=1.0e8, log=True, ui=False,
                                   help="blade area (px) of a leaf at the paper's resolution")
+    match_colours: bool = param(True, help="match each exemplar's blade colour statistics to the "
+                                             "training leaf's before comparing colours")
     min_neighbourhood: int = param(1, min=1, max=16, ui=False,
                                    help="smallest scaled neighbourhood side (px)")
 
@@ -214,9 +217,24 @@ def layer_neighbourhood(params: InductionParams, blade, layer_mask) -> int:
     return max(1, n)
 
 
-def quantise(image, space: ColourSpace) -> np.ndarray:
-    """Per-channel CIELAB bin index of every pixel: (H, W, 3) uint8 in ``[0, bins)``."""
+def blade_lab_stats(image, blade) -> tuple[np.ndarray, np.ndarray]:
+    """Mean and standard deviation of the CIELAB channels over a blade."""
+    px = _lab(image)[as_mask(blade, name="blade")]
+    return px.mean(0), np.maximum(px.std(0), 1e-3)
+
+
+def quantise(image, space: ColourSpace, *, stats=None, reference=None) -> np.ndarray:
+    """Per-channel CIELAB bin index of every pixel: (H, W, 3) uint8 in ``[0, bins)``.
+
+    With ``stats`` (this leaf's blade mean and std, :func:`blade_lab_stats`)
+    and ``reference`` (the training leaf's), the channels are first moved
+    affinely onto the reference's, so leaves of one kind whose overall
+    colour differs (autumn leaves: yellow, orange, brown) compare by their
+    pattern rather than their hue.
+    """
     lab = _lab(image)
+    if stats is not None and reference is not None:
+        lab = (lab - stats[0]) / stats[1] * reference[1] + reference[0]
     t = (lab - space.lo) / (space.hi - space.lo)
     q = np.floor(np.clip(t, 0.0, 1.0 - 1e-6) * space.bins)
     return q.astype(np.uint8)
