@@ -423,8 +423,8 @@ def remove_layer(image, blade, mask, *, grow: int = 1, thin_width: float = 6.0,
                  patch_size: int | None = None, rng=None) -> np.ndarray:
     """Fill the pixels of an induced layer from the rest of the same leaf (the residual).
 
-    Thin parts of the layer (veins: at most ``thin_width`` pixels across)
-    are filled by OpenCV's Telea inpainting, which continues the blade's
+    Thin parts of the layer (veins: at most ``thin_width`` pixels across,
+    and elongated parts of any width) are filled by OpenCV's Telea inpainting, which continues the blade's
     colour across a few pixels without visible blur; wide parts (spots)
     by example-based patch quilting with graph-cut seams
     (:func:`branchnb.core.completion.complete_gaps`) from the leaf's
@@ -477,6 +477,14 @@ def remove_layer(image, blade, mask, *, grow: int = 1, thin_width: float = 6.0,
     yy, xx = np.mgrid[-r:r + 1, -r:r + 1]
     disk = xx**2 + yy**2 <= r * r
     wide = ndi.binary_dilation(ndi.binary_opening(mask, structure=disk), iterations=1) & mask
+    # Only blob-like wide parts (spots); elongated ones (a broad petiole or
+    # midrib) are filled along their length by diffusion as well.
+    wl, nw = ndi.label(wide, structure=np.ones((3, 3)))
+    for i, sl in enumerate(ndi.find_objects(wl), start=1):
+        side = max(sl[0].stop - sl[0].start, sl[1].stop - sl[1].start)
+        part = wl[sl] == i
+        if part.sum() < 0.15 * side * side:
+            wide[sl] &= ~part
     thin = mask & ~wide
     filled = telea(ext, mask)
     out[thin] = filled[thin]
