@@ -61,13 +61,21 @@ class SynthesisParams:
     # -- guided synthesis ---------------------------------------------------------
     guidance_width: float = param(40.0, min=1.0, max=500.0, step=1.0,
                                   help="width of the guidance valley along the user path (pixels)")
+    # -- roots ----------------------------------------------------------------------
+    roots: str = param("learned", options=("learned", "example"),
+                       help="where roots start: drawn from the learnt root model (on the same boundary "
+                            "as the example's roots, heading into the domain, spaced like them), or "
+                            "exactly at the example's root starts")
+    n_roots: int = param(-1, min=-1, max=500,
+                         help="roots (separate trees) to grow; -1 = as many as the example has")
     # -- stopping -----------------------------------------------------------------
     max_generations: int = param(4, min=0, max=20,
                                  help="stop: maximum branch generation (0 = roots only)")
     max_total_length: float = param(20000.0, min=0.0, max=1e6, step=100.0,
                                     help="stop: maximum total length of all branches (pixels)")
-    max_coverage: float = param(0.6, min=0.0, max=1.0, step=0.01,
-                                help="stop: fraction of the domain with density D > 0.5")
+    max_coverage: float = param(0.0, min=0.0, max=1.0, step=0.01,
+                                help="stop: fraction of the domain within rho of a branch; 0 = auto: "
+                                     "the example's own fraction (fills to the example's density)")
     stop_density: float = param(0.9, min=0.0, max=1.0, step=0.01,
                                 help="stop a branch when every candidate sees density >= this")
     branch_end: str = param("length", options=("length", "markov"),
