@@ -116,7 +116,7 @@ def river_map_example(shape=(256, 256), rng=0, *, n_trees: int = 14, river_color
         r = np.linspace(r_mouth, 0.55 * r_mouth, len(trunk))
         root = len(branches)
         branches.append(Branch(trunk, r))
-        _mark(occupied, trunk, 3)
+        _mark(occupied, trunk, 4.5)
         # tributaries: join the trunk from the side, thinner than the trunk where they join
         n_kids = rng.integers(1, 4)
         cand = np.arange(len(trunk) // 5, len(trunk) * 4 // 5)
@@ -128,7 +128,7 @@ def river_map_example(shape=(256, 256), rng=0, *, n_trees: int = 14, river_color
                 continue
             r0 = 0.7 * r[v]
             branches.append(Branch(kid, np.linspace(r0, max(0.5 * r0, 0.6), len(kid)), root, int(v)))
-            _mark(occupied, kid[2:], 3)
+            _mark(occupied, kid[4:], 4.5)
     img = np.empty(shape + (3,), np.float32)
     img[:] = SEA
     img[land] = LAND

@@ -128,8 +128,15 @@ class ExtractionParams:
                                  help="smooth the radius along each branch over this arc length")
     scale: float = param(1.0, min=0.1, max=1.0, step=0.05,
                          help="process a downscaled copy (faster); results are in full-size pixels")
-    root: str = param("thickest", options=("thickest", "top", "bottom", "left", "right"),
-                      help="which end point of each connected piece becomes the root")
+    root: str = param("thickest", options=("thickest", "top", "bottom", "left", "right", "border",
+                                           "nearest_region"),
+                      help="which end point of each connected piece becomes the root: the thickest, "
+                           "the top-most ..., the one nearest to the image border, or the one nearest "
+                           "to a large flat region (the sea a river drains into; else the border)")
+    binary: str = param("auto", options=("auto", "on", "off"),
+                        help="binary (or near-binary) input such as a water mask: centre lines by the "
+                             "medial axis with the distance-transform radius instead of the ridge "
+                             "filter; auto = detect it")
 
 
 @dataclass
