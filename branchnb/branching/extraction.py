@@ -32,6 +32,7 @@ from .params import ClickParams, ExtractionParams
 __all__ = [
     "branch_from_clicks",
     "estimate_thickness",
+    "example_domain",
     "extract_structure",
     "binary_channels",
     "flat_background",
@@ -766,6 +767,38 @@ def flat_background(gray, branches, radius: float, tol: float = 0.02) -> np.ndar
     keep = touch & (filled <= 0.001 * np.maximum(area, 1))
     keep[0] = False
     return keep[lab]
+
+
+def example_domain(image, structure: Structure | None = None, *, radius: float = 12.0) -> np.ndarray:
+    """Where an example's branches live: the image minus its large branch-free flat regions.
+
+    For a binary mask, the foreground regions far wider than the channels
+    (the sea of a delta, see :func:`binary_channels`) are outside; for any
+    other image, the large flat-colour regions that touch the border and
+    hold no branch (the sea around a river map's land, see
+    :func:`flat_background`; the branches are ``structure`` if given).
+    Pass the result to :func:`~branchnb.branching.fit_model` as ``domain``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> m = np.zeros((100, 100)); m[70:] = 1; m[:70, 48:52] = 1   # a channel into a sea
+    >>> d = example_domain(m)
+    >>> bool(d[10, 50]), bool(d[90, 50])
+    (True, False)
+    """
+    gray = gray_for_extraction(image)
+    if is_binary(gray):
+        _ch, region, _sk, _r = binary_channels(gray)
+        return ~region
+    branches = np.zeros(gray.shape, bool)
+    if structure is not None and structure.branches:
+        from ..core.render import coverage_polylines
+
+        cov, _ = coverage_polylines(gray.shape, [b.points for b in structure.branches],
+                                    [2 * b.thickness + 2 for b in structure.branches])
+        branches = cov > 0.5
+    return ~flat_background(gray, branches, radius)
 
 
 def _extract_binary(gray, p: ExtractionParams, mask, return_maps: bool):
