@@ -726,14 +726,15 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
     bw = remove_small_objects(bw, max_size=min_area) if _rso_has_max_size() else \
         remove_small_objects(bw, min_size=min_area)
     skel = skeletonize(bw)
+    work = rescale(gray, p.scale, anti_aliasing=True) if p.scale < 1 else gray
+    outside = border_flat_regions(work, 4 * p.sigma_max)
+    skel &= ~outline_pixels(skel, outside, 2 * p.sigma_max + 2)
     if p.radius == "fwhm":
-        work = rescale(gray, p.scale, anti_aliasing=True) if p.scale < 1 else gray
         radius = half_contrast_radius(work, skel, _pol, p.sigma_max)
     else:
         radius = ndi.distance_transform_edt(bw) - 0.5
     region = None
     if p.root == "nearest_region":
-        work = rescale(gray, p.scale, anti_aliasing=True) if p.scale < 1 else gray
         region = flat_background(work, bw, 4 * p.sigma_max)
     s = skeleton_to_structure(skel, radius, h=p.h, min_branch_length=p.min_branch_length,
                               min_component_length=p.min_component_length, root=p.root,
@@ -742,6 +743,49 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
     if return_maps:
         return s, (resp, bw, skel)
     return s
+
+
+def border_flat_regions(gray, radius: float, tol: float = 0.02) -> np.ndarray:
+    """Large flat-colour regions (wider than ``radius``) that touch the image border."""
+    g = np.asarray(gray, np.float64)
+    flat = (ndi.maximum_filter(g, 5) - ndi.minimum_filter(g, 5)) < tol
+    big = large_flat_regions(flat, radius, min_area=0.02)
+    lab, n = ndi.label(big)
+    if n == 0:
+        return big
+    touch = np.zeros(n + 1, bool)
+    for edge in (lab[0], lab[-1], lab[:, 0], lab[:, -1]):
+        touch[edge] = True
+    touch[0] = False
+    return touch[lab]
+
+
+def outline_pixels(skeleton, outside, reach: float) -> np.ndarray:
+    """Skeleton pixels that trace the outline of the ``outside`` regions (a map's country border, a coast line).
+
+    A skeleton pixel within ``reach`` of ``outside`` is outline when, looking
+    away from the nearest outside pixel, the other side is no outside: the
+    line separates the outside from the rest. A branch lying *in* a flat
+    region (a lightning bolt in a flat sky) has that region on both sides
+    and stays; a river mouth loses at most ``reach`` pixels.
+    """
+    sk = np.asarray(skeleton, bool)
+    out = np.asarray(outside, bool)
+    if not out.any() or not sk.any():
+        return np.zeros_like(sk)
+    dist, (iy, ix) = ndi.distance_transform_edt(~out, return_indices=True)
+    ys, xs = np.nonzero(sk & (dist <= reach))
+    if len(ys) == 0:
+        return np.zeros_like(sk)
+    d = dist[ys, xs]
+    vy, vx = iy[ys, xs] - ys, ix[ys, xs] - xs
+    n = np.maximum(np.hypot(vy, vx), 1e-9)
+    step = d + 3.0
+    oy = np.clip(np.rint(ys - vy / n * step).astype(int), 0, sk.shape[0] - 1)
+    ox = np.clip(np.rint(xs - vx / n * step).astype(int), 0, sk.shape[1] - 1)
+    res = np.zeros_like(sk)
+    res[ys, xs] = ~out[oy, ox]
+    return res
 
 
 def flat_background(gray, branches, radius: float, tol: float = 0.02) -> np.ndarray:

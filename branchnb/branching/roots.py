@@ -79,6 +79,9 @@ class RootModel:
     spacing : float
         Median distance from a root start to the nearest other start, as a
         fraction of the example's diagonal (inf for one root).
+    lengths : (R,) ndarray
+        Root lengths (pixels); a start is only drawn where the initial
+        heading stays in the domain for half the median root length.
     """
 
     n_roots: int
@@ -88,6 +91,11 @@ class RootModel:
     positions: np.ndarray
     depth: np.ndarray
     spacing: float
+    lengths: np.ndarray | None = None
+
+    def _reach(self, h: int, w: int) -> float:
+        med = float(np.median(self.lengths)) if self.lengths is not None and len(self.lengths) else 0.0
+        return max(min(0.5 * med, 0.3 * min(h, w)), 4.0)
 
     def sample(self, domain: np.ndarray, rng=None, n: int | None = None,
                min_depth: float = 2.0) -> list[tuple[float, float, float]]:
@@ -118,7 +126,7 @@ class RootModel:
             # Prefer places near the example root (relative position), more
             # spread the more roots share that kind; keep the spacing.
             same = max(int(np.sum(self.sides == kind)), 1)
-            sig = 0.5 * diag / np.sqrt(same) if kind != 5 else 0.25 * diag / np.sqrt(same)
+            sig = 0.3 * diag / np.sqrt(same) if kind != 5 else 0.2 * diag / np.sqrt(same)
             px, py = self.positions[j] * (w, h)
             wgt = np.exp(-((xs - px) ** 2 + (ys - py) ** 2) / (2 * sig ** 2)) + 1e-9
             if starts:
@@ -130,13 +138,24 @@ class RootModel:
                     wgt = wgt * far
                 else:
                     wgt = wgt * (dmin / (dmin.max() + 1e-9)) ** 4 + 1e-12
+            if kind == 5:
+                ang = np.full(len(ys), float(self.directions[j]) + rng.normal(0, 0.2))
+            else:
+                ang = np.arctan2(ny[ys, xs], nx[ys, xs]) + self.offsets[j] + rng.normal(0, 0.1)
+            # the heading must stay in the domain for a while (no root walks out at once)
+            reach = self._reach(h, w)
+            ok = np.ones(len(ys), bool)
+            for f in (0.25, 0.5, 0.75, 1.0):
+                px_ = np.rint(xs + f * reach * np.cos(ang)).astype(np.int64)
+                py_ = np.rint(ys + f * reach * np.sin(ang)).astype(np.int64)
+                inside = (px_ >= 0) & (px_ < w) & (py_ >= 0) & (py_ < h)
+                ok &= inside
+                ok[inside] &= dom[py_[inside], px_[inside]]
+            if ok.any():
+                wgt = wgt * ok + 1e-12 * ~ok
             k = int(rng.choice(len(ys), p=wgt / wgt.sum()))
             y, x = int(ys[k]), int(xs[k])
-            if kind == 5:
-                ang = float(self.directions[j]) + rng.normal(0, 0.2)
-            else:
-                ang = float(np.arctan2(ny[y, x], nx[y, x]) + self.offsets[j] + rng.normal(0, 0.1))
-            starts.append((float(x), float(y), ang))
+            starts.append((float(x), float(y), float(ang[k])))
         return starts
 
 
@@ -203,4 +222,4 @@ def fit_roots(structure: Structure, domain: np.ndarray | None = None, shape=None
     # a boundary root heads into the domain: never more than 80 degrees off the normal
     offs_a = np.clip(np.array(offs, float), -1.4, 1.4)
     return RootModel(len(roots), np.array(sides, np.int64), offs_a, np.array(dirs, float), pos_a,
-                     np.array(depth, float), spacing)
+                     np.array(depth, float), spacing, np.array([b.length for b in roots], float))

@@ -472,6 +472,7 @@ class _Grower:
         self.n_candidates = 0
         self.stop_reason = ""
         self.max_branch_len = params.max_branch_factor * model.max_branch_length
+        self.fill_rounds = 0
 
     # -- bookkeeping ------------------------------------------------------
     def _inside(self, pts: np.ndarray) -> np.ndarray:
@@ -724,15 +725,22 @@ class _Grower:
                 return
             k += 1
 
-    def furcate(self, bi: int) -> list[int]:
+    def furcate(self, bi: int, extra: bool = False) -> list[int]:
         st, p = self.branches[bi], self.p
         if st.generation >= p.max_generations or not self.model.furcation.can_branch:
+            return []
+        if st.stop == "existing":
             return []
         pts = np.asarray(st.points)
         rad = np.asarray(st.radii)
         length = (len(pts) - 1) * p.h
-        d = p.d if p.d >= 0 else self.model.furcation.sample_d(length, self.rng)
-        verts = self.model.furcation.choose(pts, rad, d, min_spacing=p.min_spacing)
+        if extra:
+            d = 1
+            existing = [b.parent_vertex for b in self.branches if b.parent == bi]
+        else:
+            d = p.d if p.d >= 0 else self.model.furcation.sample_d(length, self.rng)
+            existing = ()
+        verts = self.model.furcation.choose(pts, rad, d, min_spacing=p.min_spacing, existing=existing)
         kids = []
         for v in verts:
             if self.global_stop():
@@ -742,6 +750,19 @@ class _Grower:
                 kids.append(c)
         return kids
 
+    def _drain(self, queue: list[int]) -> None:
+        """Grow the queued branches breadth first, queueing their children."""
+        qi = 0
+        while qi < len(queue):
+            bi = queue[qi]
+            qi += 1
+            if self.global_stop():
+                return
+            self.grow(bi)
+            if self.global_stop():
+                return
+            queue.extend(self.furcate(bi))
+
     def run(self, starts) -> None:
         queue = []
         for (x, y, th) in starts:
@@ -750,16 +771,21 @@ class _Grower:
             r = self.start_root(x, y, th)
             if r is not None:
                 queue.append(r)
-        qi = 0
-        while qi < len(queue):
-            bi = queue[qi]
-            qi += 1
-            if self.global_stop():
+        self._drain(queue)
+        # Everything stopped before the domain is as dense as the example:
+        # furcate the grown branches once more (highest furcation probability
+        # away from their children), round after round.
+        for _ in range(self.p.fill_rounds):
+            if self.global_stop() or self.density is None or not self.branches:
                 break
-            self.grow(bi)
-            if self.global_stop():
+            before = len(self.branches)
+            for bi in range(before):
+                if self.global_stop():
+                    break
+                self._drain(self.furcate(bi, extra=True))
+            if len(self.branches) == before:
                 break
-            queue.extend(self.furcate(bi))
+            self.fill_rounds += 1
         if not self.stop_reason:
             self.stop_reason = "no branch can grow" if queue else "no root could start"
 
@@ -786,6 +812,8 @@ class _Grower:
             "coverage": self.density.coverage() if self.density is not None else None,
             "furcation_probability": self.model.furcation.probability_method,
             "rho": self.rho,
+            "coverage_target": self.coverage_target,
+            "fill_rounds": self.fill_rounds,
         }
 
 
@@ -858,10 +886,21 @@ def _grow_with_retries(model, p, rng, shp, guidance, starts, scorer, domain=None
     domain's short side), synthesis restarts with the next draws of the
     same generator, so results stay reproducible, up to
     :data:`MAX_ROOT_ATTEMPTS` times; the attempt with the most vertices is
-    kept. Guided synthesis is never restarted.
+    kept. With starts drawn from the root model, a result shorter than a
+    quarter of the example's total length (scaled by the domain's area)
+    is grown again the same way (new starts). Guided synthesis is never
+    restarted.
     """
     roots = [b.length for b in model.example.branches if b.parent is None and len(b.points) > 1]
     min_len = min(0.5 * float(np.median(roots)), 0.25 * min(shp)) if roots else 0.0
+    # A forest that died young (its roots blocked or ended at once) is grown again too.
+    frame = _frame(model.source)
+    area_ratio = (shp[0] * shp[1]) / max(frame[0] * frame[1], 1)
+    if domain is not None and model.domain is not None:
+        area_ratio = float(np.count_nonzero(domain)) / max(float(np.count_nonzero(model.domain)), 1.0)
+    min_total = 0.0
+    if starts is None or callable(starts):
+        min_total = min(0.25 * model.example.total_length * area_ratio, 0.5 * p.max_total_length)
     # A guided root follows the user's path, out of the domain if the path goes there.
     attempts = 1 if guidance is not None else MAX_ROOT_ATTEMPTS
     best = None
@@ -871,7 +910,7 @@ def _grow_with_retries(model, p, rng, shp, guidance, starts, scorer, domain=None
         g.attempt = attempt
         if best is None or sum(len(b.points) for b in g.branches) > sum(len(b.points) for b in best.branches):
             best = g
-        if not _root_escaped(g, min_len):
+        if not _root_escaped(g, min_len) and g.total_length >= min_total:
             return g
     return best
 
