@@ -203,3 +203,12 @@ def test_completion_by_region_fills_each_region_from_its_own_pixels():
                   example_regions=ex_lab, rng=0, poisson=False)
     assert covered.all()
     assert np.all(canvas[lab == 0] == 0.0) and np.all(canvas[lab == 1] == 1.0)
+
+
+def test_root_rule_point():
+    img = np.ones((80, 120))
+    img[38:43, 10:110] = 0
+    s = extract_structure(img, root=(112.0, 40.0), min_component_length=20)
+    assert s.branches[0].points[0, 0] > 100
+    s = extract_structure(img, root=(5.0, 40.0), min_component_length=20)
+    assert s.branches[0].points[0, 0] < 20

@@ -679,7 +679,15 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         Grey, RGB or RGBA (composited over white).
     params : ExtractionParams, optional
         Filter, polarity, scales, thresholds, pruning, ``h``, working
-        ``scale``, root rule. Keyword ``overrides`` replace single fields.
+        ``scale``, root rule. Keyword ``overrides`` replace single fields;
+        ``root=(x, y)`` roots every piece at its end nearest to that point.
+        Binary (or near-binary) input such as a water mask is detected
+        (``binary="auto"``) and traced by its medial axis, the radius from
+        the distance transform; foreground regions far wider than the
+        channels (a sea) are no branches, and braided channels (cycles) are
+        cut into a tree where the two fronts of the shortest-path tree meet.
+        Outlines of large flat regions touching the border (a country
+        border, a coast line) are no branches either.
     mask : (H, W) bool array_like, optional
         Only look inside this region.
     return_maps : bool
@@ -704,6 +712,12 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
     from skimage.transform import rescale, resize
 
     p = params if params is not None else ExtractionParams()
+    root_point = None
+    if "root" in overrides and not isinstance(overrides["root"], str):
+        # root=(x, y): each piece's root is its end point nearest to that point
+        root_point = tuple(float(v) for v in np.asarray(overrides.pop("root"), np.float64).reshape(2))
+        if not all(np.isfinite(root_point)):
+            raise ValueError(f"root point must be finite (x, y), got {root_point}")
     if overrides:
         unknown = set(overrides) - {f.name for f in dataclasses.fields(p)}
         if unknown:
@@ -712,7 +726,7 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
     check_params(p)
     gray = gray_for_extraction(image)
     if p.binary == "on" or (p.binary == "auto" and is_binary(gray)):
-        return _extract_binary(gray, p, mask, return_maps)
+        return _extract_binary(gray, p, mask, return_maps, root_point)
     resp, _pol = ridge_response(gray, p)
     if mask is not None:
         from ..core.image import as_mask
@@ -737,7 +751,8 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
     if p.root == "nearest_region":
         region = flat_background(work, bw, 4 * p.sigma_max)
     s = skeleton_to_structure(skel, radius, h=p.h, min_branch_length=p.min_branch_length,
-                              min_component_length=p.min_component_length, root=p.root,
+                              min_component_length=p.min_component_length,
+                              root=p.root if root_point is None else root_point,
                               scale=p.scale, smooth=p.smooth_path, smooth_radius=p.smooth_radius,
                               image_shape=gray.shape[:2], region=region)
     if return_maps:
@@ -845,7 +860,7 @@ def example_domain(image, structure: Structure | None = None, *, radius: float =
     return ~flat_background(gray, branches, radius)
 
 
-def _extract_binary(gray, p: ExtractionParams, mask, return_maps: bool):
+def _extract_binary(gray, p: ExtractionParams, mask, return_maps: bool, root_point=None):
     """``extract_structure`` for a binary mask: medial axis + distance-transform radius.
 
     Braided channels form cycles; the shortest-path tree from each root
@@ -866,7 +881,7 @@ def _extract_binary(gray, p: ExtractionParams, mask, return_maps: bool):
         if m.shape != skel.shape:
             m = resize(m.astype(np.float32), skel.shape, order=0) > 0.5
         skel &= m
-    root = p.root
+    root = p.root if root_point is None else root_point
     s = skeleton_to_structure(skel, radius, h=p.h, min_branch_length=p.min_branch_length,
                               min_component_length=p.min_component_length, root=root,
                               scale=p.scale, smooth=p.smooth_path, smooth_radius=p.smooth_radius,

@@ -357,6 +357,25 @@ def _free_ends(sm: SkeletonMap, pm: PixelMap) -> tuple[np.ndarray, np.ndarray]:
     return free[:, 0], free[:, 1]
 
 
+def _joined_at_region_edge(sm: SkeletonMap, labels: np.ndarray, free_start: np.ndarray,
+                           free_end: np.ndarray) -> None:
+    """An example end where the branch meets another flat region (a channel's mouth at the
+    sea) is no tip either: copied as one it would carry a piece of that region (a blob)."""
+    h, w = labels.shape
+    for b in range(sm.n_branches):
+        xm, ym = sm.position(b, 0.5 * float(sm.lengths[b]))
+        own = labels[int(np.clip(round(ym), 0, h - 1)), int(np.clip(round(xm), 0, w - 1))]
+        for arr, arc in ((free_start, 0.0), (free_end, float(sm.lengths[b]))):
+            if not arr[b]:
+                continue
+            x, y = sm.position(b, arc)
+            rad = 2.0 * float(sm.thickness(b, arc)) + 4.0
+            x0, x1 = max(int(x - rad), 0), min(int(x + rad) + 2, w)
+            y0, y1 = max(int(y - rad), 0), min(int(y + rad) + 2, h)
+            if x0 < x1 and y0 < y1 and np.any(labels[y0:y1, x0:x1] != own):
+                arr[b] = False
+
+
 def _tip_penalty(sm_t: SkeletonMap, tf: Fragment, lib: FragmentLibrary, lengths: np.ndarray,
                  free_start: np.ndarray, free_end: np.ndarray, free_t) -> np.ndarray:
     """Rule out source windows that end at a joined end where the target window ends at a free tip."""
@@ -614,6 +633,8 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     geo = dict(lam=p.lam, scale=p.radius_scale, min_radius=p.min_radius, max_radius=p.max_radius)
     lib_b, lib_f = source_fragments(sm_s, density=p.source_density, reverse=p.reverse, **geo)
     free_start, free_end = _free_ends(sm_s, pm_s)
+    if labels_ex.max() >= 1:
+        _joined_at_region_edge(sm_s, labels_ex, free_start, free_end)
     free_t = _free_ends(sm_t, pm_t)
     if len(lib_b) == 0:
         raise ValueError("example_structure yields no source fragment (all branches have zero length)")

@@ -1066,6 +1066,9 @@ def extend_branch(structure: Structure, index: int, example, params: SynthesisPa
     guidance = _check_guidance(guidance, shp)
     g = _Grower(model, p, rng, shp, guidance, domain=_check_domain(None, model, shp))
     g.add_existing(structure)
+    if p.max_coverage <= 0:
+        # extending is an explicit request: the automatic coverage target does not stop it
+        g.coverage_target = 1.0
     for i, br in enumerate(structure.branches):
         ea, er = branch_elements(br.points, br.thickness)
         d = br.points[-1] - br.points[-2] if len(br.points) > 1 else np.array([1.0, 0.0])
