@@ -545,7 +545,11 @@ def test_markov_branch_end_option(lightning_model):
 def test_extend_branch_appends_to_one_branch_only(lightning_model):
     p = dataclasses.replace(SynthesisParams(), max_total_length=800.0)
     base = synthesize_structure(lightning_model, p, rng=0, starts=LIGHTNING_START).structure
-    i = int(np.argmax([len(b.points) for b in base.branches]))
+    h, w = base.image_shape
+    # the longest branch whose tip is not at the border (one that walked out cannot grow on)
+    room = [min(b.points[-1][0], w - b.points[-1][0], b.points[-1][1], h - b.points[-1][1]) > 20
+            for b in base.branches]
+    i = int(np.argmax([len(b.points) * ok for b, ok in zip(base.branches, room)]))
     res = extend_branch(base, i, lightning_model, SynthesisParams(), n_steps=3, rng=0)
     out = res.structure
     assert res.diagnostics["added_vertices"] > 0
