@@ -212,3 +212,25 @@ def test_root_rule_point():
     assert s.branches[0].points[0, 0] > 100
     s = extract_structure(img, root=(5.0, 40.0), min_component_length=20)
     assert s.branches[0].points[0, 0] < 20
+
+
+def test_a_frame_around_the_image_is_no_branch(delta):
+    mask, channels, sea, plain = delta
+    framed = mask.copy()
+    framed[:2] = framed[-2:] = 1
+    framed[:, :2] = framed[:, -2:] = 1
+    s = extract_structure(framed, root="nearest_region")
+    pts = np.vstack([b.points for b in s.branches])
+    h, w = mask.shape
+    near_frame = (pts[:, 0] < 4) | (pts[:, 0] > w - 5) | (pts[:, 1] < 4)
+    assert near_frame.mean() < 0.02
+    assert abs(s.total_length - plain.total_length) < 0.1 * plain.total_length
+    rgb = np.ones((120, 160, 3), np.float32)
+    rgb[40:44, 10:150] = 0.1
+    rgb[2:5, :] = rgb[-5:-2, :] = 0.0          # a drawn frame line along the top and bottom
+    rgb[:, 2:5] = rgb[:, -5:-2] = 0.0
+    for img in (rgb, np.clip(rgb + np.random.default_rng(0).uniform(-0.12, 0.12, rgb.shape), 0, 1)):
+        s = extract_structure(img, min_component_length=20)   # binary path, then the ridge filter
+        assert len(s.branches) == 1 and abs(np.median(s.branches[0].points[:, 1]) - 41.5) < 2
+    from branchnb.branching.extraction import is_binary
+    assert not is_binary(img) and abs(np.median(s.branches[0].points[:, 1]) - 41.5) < 2

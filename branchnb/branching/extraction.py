@@ -36,6 +36,7 @@ __all__ = [
     "extract_structure",
     "binary_channels",
     "flat_background",
+    "frame_lines",
     "gray_for_extraction",
     "is_binary",
     "large_flat_regions",
@@ -569,6 +570,37 @@ def half_contrast_radius(gray, skeleton, polarity: str, sigma_max: float) -> np.
     return ndi.distance_transform_edt(mask) - 0.5
 
 
+def frame_lines(mask, band: int = 4, share: float = 0.5) -> np.ndarray:
+    """Pixels of ``mask`` that form a line along the image frame (a drawn border, a map's frame).
+
+    Along each side, the band of ``band`` pixels is a frame line when
+    ``mask`` covers at least ``share`` of that side's length there; a
+    branch that merely enters the image through a side covers a few pixels.
+    """
+    m = np.asarray(mask, bool)
+    out = np.zeros_like(m)
+    h, w = m.shape
+    b = int(min(band, h // 4, w // 4))
+    if b < 1:
+        return out
+    for sl, axis in (((slice(0, b), slice(None)), 0), ((slice(h - b, h), slice(None)), 0),
+                     ((slice(None), slice(0, b)), 1), ((slice(None), slice(w - b, w)), 1)):
+        strip = m[sl]
+        if strip.any(axis=axis).mean() < share:
+            continue
+        # a line, not the edge of a wide region (a sea reaching the border): the
+        # next band inwards is mostly free
+        r0, r1 = sl[0].start, sl[0].stop
+        c0, c1 = sl[1].start, sl[1].stop
+        if axis == 0:
+            inner = m[b:2 * b] if r0 == 0 else m[h - 2 * b:h - b]
+        else:
+            inner = m[:, b:2 * b] if c0 == 0 else m[:, w - 2 * b:w - b]
+        if inner.any(axis=axis).mean() < 0.5 * share:
+            out[r0:r1, c0:c1] = strip
+    return out
+
+
 def is_binary(gray, *, tol: float = 0.1, share: float = 0.97) -> bool:
     """True if at least ``share`` of the pixels lie within ``tol`` (of the range) of the darkest
     or the brightest level, and the two levels differ by at least 0.25 (a mask, maybe anti-aliased).
@@ -642,6 +674,7 @@ def binary_channels(gray, polarity: str = "auto"):
         fg = ~bright
     else:
         fg = bright if bright.mean() <= 0.5 else ~bright
+    fg = fg & ~frame_lines(fg, band=8)
     dt = ndi.distance_transform_edt(np.pad(fg, 1, mode="edge"))[1:-1, 1:-1]
     sk0 = skeletonize(fg)
     r_med = float(np.median(dt[sk0])) if sk0.any() else 1.0
@@ -737,6 +770,7 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         resp = np.where(m, resp, 0).astype(np.float32)
     bw = ridge_mask(resp, p.threshold, p.hysteresis)
     min_area = max(4, int((p.min_component_length * p.scale) * 2))
+    bw = bw & ~frame_lines(bw, band=int(np.ceil(3 * p.sigma_max)) + 3)
     bw = remove_small_objects(bw, max_size=min_area) if _rso_has_max_size() else \
         remove_small_objects(bw, min_size=min_area)
     skel = skeletonize(bw)
