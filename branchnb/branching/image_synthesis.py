@@ -609,7 +609,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     pm_t = sm_t.pixel_map((H, W))
     # Flat-colour examples (maps, masks): their regions, and no matte / Poisson.
     labels_ex, flat_share = flat_colour_regions(ex, pm_s.core(p.exclusion, p.exclusion_margin))
-    flat = bool(flat_share >= 0.6 and labels_ex.max() >= 1)
+    flat = bool(flat_share >= 0.5 and labels_ex.max() >= 1)
     labels_t = None
     if flat and p.keep_regions:
         if target_regions is not None:
