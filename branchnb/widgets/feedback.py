@@ -210,13 +210,13 @@ class StatusLine(ErrorArea):
         """Buttons disabled while a callback runs."""
         self._run_buttons.extend(buttons)
 
-    def set_busy(self, name: str) -> None:
-        """Spinner, "computing <name> ...", run buttons disabled, cancel enabled."""
+    def set_busy(self, name: str, *, cancellable: bool = False) -> None:
+        """Spinner, "computing <name> ...", run buttons disabled, cancel offered if ``cancellable``."""
         self.busy_now = True
         self._render("busy", f"computing {name} ...")
         for b in self._run_buttons:
             b.disabled = True
-        if self.cancel_button is not None:
+        if self.cancel_button is not None and cancellable:
             self.cancel_button.disabled = False
             self.cancel_button.layout.visibility = "visible"
 
