@@ -14,6 +14,7 @@ import dataclasses
 from dataclasses import dataclass
 
 from ..core.params import check_params, param
+from ..core.validate import Real, checked
 
 __all__ = ["ClickParams", "ExtractionParams", "SynthesisParams"]
 
@@ -78,6 +79,7 @@ class SynthesisParams:
                                      help="a branch grows at most this times the longest input branch")
 
     @classmethod
+    @checked(s=Real(0, 1e5, low_open=True), h=Real(0, 1e3, low_open=True))
     def from_feature_size(cls, s: float, h: float = 4.0, **overrides) -> SynthesisParams:
         """The paper's rules ``m = s / h`` (rounded, >= 1) and ``k = 3 m``."""
         if not s > 0 or not h > 0:
