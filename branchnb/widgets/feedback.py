@@ -28,6 +28,11 @@ __all__ = ["Cancelled", "ErrorArea", "ProgressBar", "StatusLine"]
 class Cancelled(Exception):
     """Raised inside long work (by its progress callback) when the user pressed "cancel"."""
 
+    def __init__(self, message: str = "cancelled"):
+        if not isinstance(message, str):
+            raise TypeError(f"message must be a str, got {type(message).__name__}")
+        super().__init__(message)
+
 
 _SPINNER = (
     "<style>@keyframes bnb-spin{to{transform:rotate(360deg)}}"
