@@ -195,3 +195,29 @@ def test_parameters_panel_is_honest_and_labelled(app):
     assert "history length" in app.panel.rows["k"].label.value
     assert app.panel.rows["k"].label.tooltip.startswith("history")
     assert type(app.panel.controls["max_total_length"]).__name__ == "FloatLogSlider"
+
+
+def test_render_image_runs_in_the_background_and_cancel_stops_it(app, monkeypatch):
+    import threading
+
+    import branchnb.widgets.branching as mod
+
+    app.synthesize()
+    started = threading.Event()
+
+    def slow(*args, progress=None, **kwargs):
+        started.set()
+        for i in range(500):
+            progress(i / 500, "fragments")
+            threading.Event().wait(0.01)
+        raise AssertionError("not cancelled")
+
+    monkeypatch.setattr(mod, "synthesize_image", slow)
+    app.shell.background = True
+    app.shell.click("render image")
+    assert started.wait(10) and app.buttons["synthesize"].disabled
+    assert app.shell.cancel_button.layout.visibility == "visible"
+    app.shell.cancel()
+    assert app.shell.wait(10)
+    assert "cancelled" in app.errors.text and app.errors.last_error is None
+    assert app.progress.text.value == "cancelled" and not app.buttons["synthesize"].disabled

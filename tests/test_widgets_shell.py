@@ -75,7 +75,7 @@ def test_shell_actions_busy_error_details_and_cancel():
             steps.append(i)
         return "finished"
 
-    shell.add_action("render", long_work, background=True, primary=True)
+    shell.add_action("render", long_work, background=True, cancellable=True, primary=True)
     other = shell.add_action("other", lambda: None)
     shell.click("render")
     assert started.wait(5)

@@ -232,7 +232,8 @@ class BranchingApp(widgets.VBox):
         sh.add_action("synthesize", self.synthesize, icon="play", primary=True,
                       tooltip="grow a new structure from the example")
         sh.add_action("render image", lambda: self.render_image(progress=self.shell.progress), icon="image",
-                      background=True, tooltip="synthesize the final image from fragments of the example "
+                      background=True, cancellable=True,
+                      tooltip="synthesize the final image from fragments of the example "
                       "(slow; cancel stops it between fragments)")
         sh.add_action("extract", self.extract, icon="magic",
                       tooltip="find the example's structure automatically (ridge filter + skeleton)")

@@ -191,7 +191,7 @@ class AnnotationCanvas(widgets.VBox):
         self.canvas = MultiCanvas(4)
         self._tools = widgets.ToggleButtons(options=[(_MODE_LABELS[m], m) for m in modes], value=mode,
                                             tooltips=[_MODE_HELP[m] for m in modes],
-                                            style={"button_width": "auto", "button_padding": "0 8px"})
+                                            style={"button_width": "auto"})
         self._tools.layout.display = None if len(modes) > 1 else "none"
         self._label_picker = widgets.Dropdown(options=list(self.labels), description="label",
                                               style={"description_width": "36px"},

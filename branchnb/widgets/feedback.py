@@ -28,6 +28,11 @@ __all__ = ["Cancelled", "ErrorArea", "ProgressBar", "StatusLine"]
 class Cancelled(Exception):
     """Raised inside long work (by its progress callback) when the user pressed "cancel"."""
 
+    def __init__(self, message: str = "cancelled"):
+        if not isinstance(message, str):
+            raise TypeError(f"message must be a str, got {type(message).__name__}")
+        super().__init__(message)
+
 
 _SPINNER = (
     "<style>@keyframes bnb-spin{to{transform:rotate(360deg)}}"
@@ -210,13 +215,13 @@ class StatusLine(ErrorArea):
         """Buttons disabled while a callback runs."""
         self._run_buttons.extend(buttons)
 
-    def set_busy(self, name: str) -> None:
-        """Spinner, "computing <name> ...", run buttons disabled, cancel enabled."""
+    def set_busy(self, name: str, *, cancellable: bool = False) -> None:
+        """Spinner, "computing <name> ...", run buttons disabled, cancel offered if ``cancellable``."""
         self.busy_now = True
         self._render("busy", f"computing {name} ...")
         for b in self._run_buttons:
             b.disabled = True
-        if self.cancel_button is not None:
+        if self.cancel_button is not None and cancellable:
             self.cancel_button.disabled = False
             self.cancel_button.layout.visibility = "visible"
 

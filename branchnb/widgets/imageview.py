@@ -56,7 +56,7 @@ class ImageView(widgets.HBox):
 
     def __init__(self, images=(), titles=(), *, fast: bool = False, width: int = 320,
                  max_size: int | None = None):
-        super().__init__(layout=widgets.Layout(flex_flow="row wrap"))
+        super().__init__(layout=widgets.Layout(flex_flow="row wrap", max_width="100%"))
         self.add_class("bnb-view")
         if isinstance(width, bool) or not isinstance(width, int) or width < 16:
             raise ValueError(f"width must be an int >= 16 (pixels), got {width!r}")
@@ -83,10 +83,12 @@ class ImageView(widgets.HBox):
                                                                object_fit="contain",
                                                                border="1px solid #ddd"))
                            for _ in images]
-            self.titles = [widgets.HTML(layout=widgets.Layout(width=f"{self.width}px"))
+            self.titles = [widgets.HTML(layout=widgets.Layout(width=f"{self.width}px", max_width="100%"))
                            for _ in images]
             self._title_text = [""] * len(images)
-            self.children = [widgets.VBox([t, im]) for t, im in zip(self.titles, self.images)]
+            # Cells shrink with a narrow column instead of being clipped.
+            self.children = [widgets.VBox([t, im], layout=widgets.Layout(max_width="100%", min_width="0"))
+                             for t, im in zip(self.titles, self.images)]
         for i, (img, title) in enumerate(zip(images, titles)):
             data, fmt = _encode(self._shrink(img), self.fast)
             self.images[i].format = fmt

@@ -171,13 +171,14 @@ class AppShell(widgets.VBox):
         self._tools.children = list(self._tools.children) + list(items)
 
     def add_action(self, name: str, fn: Callable[[], object], *, tooltip: str = "", icon: str = "",
-                   primary: bool = False, background: bool = False, label: str | None = None,
-                   run: bool = True) -> widgets.Button:
+                   primary: bool = False, background: bool = False, cancellable: bool = False,
+                   label: str | None = None, run: bool = True) -> widgets.Button:
         """A toolbar button that runs ``fn()`` with the busy state.
 
         ``fn`` may return a string: the status line shows it after the
-        time. ``background=True`` for long work (threaded in a kernel,
-        cancellable through :meth:`progress`). ``run=False`` for quick
+        time. ``background=True`` for long work (threaded in a kernel);
+        ``cancellable=True`` when ``fn`` calls :meth:`progress` between its
+        steps, so that "cancel" can stop it (the button is offered only then). ``run=False`` for quick
         buttons that are not disabled while something computes (e.g.
         "clear"). ``primary`` styles the app's main action.
         """
@@ -189,7 +190,7 @@ class AppShell(widgets.VBox):
                            button_style="primary" if primary else "",
                            layout=widgets.Layout(width="auto"))
         def action():
-            self.run(name, fn, background=background)
+            self.run(name, fn, background=background, cancellable=cancellable)
 
         b.on_click(lambda _b: action())
         self.buttons[name] = b
@@ -228,7 +229,8 @@ class AppShell(widgets.VBox):
             return False
         return True
 
-    def run(self, name: str, fn: Callable[[], object], *, background: bool = False) -> None:
+    def run(self, name: str, fn: Callable[[], object], *, background: bool = False,
+            cancellable: bool = False) -> None:
         """Run ``fn`` in the busy state; its string result (if any) goes to the status line."""
         if self._job is not None:
             self.status.show(RuntimeError(f"{self._job.name} is still running: wait or press cancel"))
@@ -241,7 +243,7 @@ class AppShell(widgets.VBox):
             return
         job = _Job(name)
         self._job = job
-        self.status.set_busy(name)
+        self.status.set_busy(name, cancellable=cancellable)
 
         def work():
             t0 = time.perf_counter()
