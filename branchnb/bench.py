@@ -25,6 +25,8 @@ SUITES = (
     "branchnb.trees._bench",
     "branchnb.leaves._bench",
     "branchnb.strokes._bench",
+    "branchnb.batch._bench",
+    "branchnb.widgets._bench",
 )
 
 

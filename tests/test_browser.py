@@ -1,11 +1,17 @@
-"""Real browser: JupyterLab + Debian's Chromium (Playwright) on the tour notebook.
+"""Real browser: JupyterLab + Debian's Chromium (Playwright): the tour and every app.
 
-Opens the tour, runs all cells, drags the mouse across the annotation
-canvas and checks that the kernel received the stroke in image pixels and
-that the canvas changed on screen. How to run it by hand is in the
-README. Playwright cannot download its own browser here, so Debian's
-``/usr/bin/chromium`` is used; the test is skipped only if it is missing.
-Set ``BRANCHNB_SCREENSHOTS=DIR`` to keep a screenshot of the canvas.
+The tour test runs the tour notebook, drags across the annotation canvas
+and checks that the kernel received the stroke in image pixels and that
+the canvas changed on screen. The app tests open a small notebook per app
+(written into the server's temporary folder), draw on the canvas, press
+the app's main action, move one slider, and check that the view changed
+and that no error is shown; each measures the slider-to-preview latency
+(printed, not asserted) and saves a screenshot at 1400 x 1000 (one app at
+device pixel ratio 2). One JupyterLab server and one browser serve all
+tests. How to run it by hand is in the README. Playwright cannot download
+its own browser here, so Debian's ``/usr/bin/chromium`` is used; the tests
+are skipped only if it is missing. Set ``BRANCHNB_SCREENSHOTS=DIR`` to
+keep the screenshots (and ``latency.json``) there.
 """
 
 from __future__ import annotations
@@ -45,9 +51,10 @@ def _get(url: str):
         return json.loads(r.read())
 
 
-@pytest.fixture
-def lab(tmp_path):
-    """A JupyterLab server with an isolated config on a copy of the notebooks."""
+@pytest.fixture(scope="module")
+def lab(tmp_path_factory):
+    """One JupyterLab server (isolated config) for every test here, on a copy of the notebooks."""
+    tmp_path = tmp_path_factory.mktemp("lab")
     nbdir = tmp_path / "notebooks"
     shutil.copytree(ROOT / "notebooks", nbdir)
     cfg = tmp_path / "jupyter"
@@ -77,7 +84,8 @@ def lab(tmp_path):
                 time.sleep(0.5)
         else:
             pytest.fail("JupyterLab did not start")
-        yield {"base": base, "token": token, "runtime": cfg / "runtime", "log": tmp_path / "lab.log"}
+        yield {"base": base, "token": token, "runtime": cfg / "runtime", "log": tmp_path / "lab.log",
+               "nbdir": nbdir}
     finally:
         try:
             req = urllib.request.Request(f"{base}/api/shutdown?token={token}", method="POST")
@@ -86,6 +94,25 @@ def lab(tmp_path):
         except Exception:
             proc.kill()
         log.close()
+
+
+@pytest.fixture(scope="module")
+def chromium():
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as pw:
+        browser = pw.chromium.launch(executable_path=CHROMIUM, headless=True, args=LAUNCH_ARGS)
+        try:
+            yield browser
+        finally:
+            browser.close()
+
+
+def _delete_kernels(lab) -> None:
+    base, token = lab["base"], lab["token"]
+    for k in _get(f"{base}/api/kernels?token={token}"):
+        req = urllib.request.Request(f"{base}/api/kernels/{k['id']}?token={token}", method="DELETE")
+        urllib.request.urlopen(req, timeout=10)
 
 
 def _kernel_eval(runtime: Path, kernel_id: str, code: str) -> str:
@@ -112,81 +139,373 @@ def _kernel_eval(runtime: Path, kernel_id: str, code: str) -> str:
         client.stop_channels()
 
 
-def test_tour_canvas_drag_reaches_kernel(lab, tmp_path):
-    from playwright.sync_api import sync_playwright
-
+def test_tour_canvas_drag_reaches_kernel(lab, chromium, tmp_path):
     base, token = lab["base"], lab["token"]
-    with sync_playwright() as pw:
-        browser = pw.chromium.launch(executable_path=CHROMIUM, headless=True, args=LAUNCH_ARGS)
-        try:
-            page = browser.new_page(viewport={"width": 1400, "height": 1000})
-            page.goto(f"{base}/lab/tree/00_tour.ipynb?token={token}")
-            # Wait for the kernel to exist, be idle and be connected before running anything.
-            kernel = None
-            for _ in range(120):
-                ks = _get(f"{base}/api/kernels?token={token}")
-                ready = [k for k in ks if k["execution_state"] == "idle" and k["connections"] >= 1]
-                if ready:
-                    kernel = ready[0]
-                    break
-                time.sleep(0.5)
-            assert kernel, "no idle kernel connected to the notebook"
-            page.wait_for_selector(".jp-Notebook", timeout=60_000)
-            page.click("#jp-MainMenu .lm-MenuBar-item:has-text('Run')")
-            page.click(".lm-Menu li[data-command='runmenu:run-all']")
+    page = chromium.new_page(viewport={"width": 1400, "height": 1000})
+    try:
+        page.goto(f"{base}/lab/tree/00_tour.ipynb?token={token}")
+        # Wait for the kernel to exist, be idle and be connected before running anything.
+        kernel = None
+        for _ in range(120):
+            ks = _get(f"{base}/api/kernels?token={token}")
+            ready = [k for k in ks if k["execution_state"] == "idle" and k["connections"] >= 1]
+            if ready:
+                kernel = ready[0]
+                break
+            time.sleep(0.5)
+        assert kernel, "no idle kernel connected to the notebook"
+        page.wait_for_selector(".jp-Notebook", timeout=60_000)
+        page.click("#jp-MainMenu .lm-MenuBar-item:has-text('Run')")
+        page.click(".lm-Menu li[data-command='runmenu:run-all']")
 
-            canvas_sel = ".jp-OutputArea-output .jupyter-widgets canvas"
-            page.wait_for_selector(canvas_sel, timeout=120_000)
-            # Wait for run-all to finish: the last code cell's output appears.
-            for _ in range(240):
-                probe = "print('style' in globals())"  # defined by one of the last cells
-                if _kernel_eval(lab["runtime"], kernel["id"], probe).strip() == "True":
-                    break
-                time.sleep(0.5)
-            canvas = page.locator(canvas_sel).first
-            canvas.scroll_into_view_if_needed()
-            time.sleep(1.0)
-            box = canvas.bounding_box()
-            assert box and box["width"] > 100
-            before = np.frombuffer(page.screenshot(clip=box), np.uint8)
+        canvas_sel = ".jp-OutputArea-output .jupyter-widgets canvas"
+        page.wait_for_selector(canvas_sel, timeout=120_000)
+        # Wait for run-all to finish: the last code cell's output appears.
+        for _ in range(240):
+            probe = "print('style' in globals())"  # defined by one of the last cells
+            if _kernel_eval(lab["runtime"], kernel["id"], probe).strip() == "True":
+                break
+            time.sleep(0.5)
+        canvas = page.locator(canvas_sel).first
+        canvas.scroll_into_view_if_needed()
+        time.sleep(1.0)
+        box = canvas.bounding_box()
+        assert box and box["width"] > 100
+        before = np.frombuffer(page.screenshot(clip=box), np.uint8)
 
-            n_before = int(_kernel_eval(lab["runtime"], kernel["id"],
-                                        "print(len(canvas.model.of_kind('stroke')))"))
-            start = (box["x"] + 0.30 * box["width"], box["y"] + 0.25 * box["height"])
-            end = (box["x"] + 0.70 * box["width"], box["y"] + 0.65 * box["height"])
-            page.mouse.move(*start)
-            page.mouse.down()
-            page.mouse.move(*end, steps=15)
-            page.mouse.up()
+        n_before = int(_kernel_eval(lab["runtime"], kernel["id"],
+                                    "print(len(canvas.model.of_kind('stroke')))"))
+        start = (box["x"] + 0.30 * box["width"], box["y"] + 0.25 * box["height"])
+        end = (box["x"] + 0.70 * box["width"], box["y"] + 0.65 * box["height"])
+        page.mouse.move(*start)
+        page.mouse.down()
+        page.mouse.move(*end, steps=15)
+        page.mouse.up()
 
-            code = ("import json; s = canvas.model.of_kind('stroke'); "
-                    "print(json.dumps({'n': len(s), 'pts': s[-1].points.tolist() if s else [], "
-                    "'shape': list(canvas.image_shape)}))")
-            got = None
-            for _ in range(40):
-                got = json.loads(_kernel_eval(lab["runtime"], kernel["id"], code))
-                if got["n"] > n_before:
-                    break
-                time.sleep(0.5)
-            assert got["n"] == n_before + 1, f"the kernel did not receive the stroke: {got}"
-            pts = np.array(got["pts"])
-            h, w = got["shape"]
-            assert len(pts) >= 5
-            # Image pixels: the drag went from 30 %/25 % to 70 %/65 % of the displayed canvas.
-            assert np.allclose(pts[0], (0.30 * w, 0.25 * h), atol=0.03 * w)
-            assert np.allclose(pts[-1], (0.70 * w, 0.65 * h), atol=0.03 * w)
+        code = ("import json; s = canvas.model.of_kind('stroke'); "
+                "print(json.dumps({'n': len(s), 'pts': s[-1].points.tolist() if s else [], "
+                "'shape': list(canvas.image_shape)}))")
+        got = None
+        for _ in range(40):
+            got = json.loads(_kernel_eval(lab["runtime"], kernel["id"], code))
+            if got["n"] > n_before:
+                break
+            time.sleep(0.5)
+        assert got["n"] == n_before + 1, f"the kernel did not receive the stroke: {got}"
+        pts = np.array(got["pts"])
+        h, w = got["shape"]
+        assert len(pts) >= 5
+        # Image pixels: the drag went from 30 %/25 % to 70 %/65 % of the displayed canvas.
+        assert np.allclose(pts[0], (0.30 * w, 0.25 * h), atol=0.03 * w)
+        assert np.allclose(pts[-1], (0.70 * w, 0.65 * h), atol=0.03 * w)
 
-            changed = 0
-            for _ in range(20):
-                after = np.frombuffer(page.screenshot(clip=box), np.uint8)
-                changed = before.size != after.size or np.count_nonzero(before != after)
-                if changed:
-                    break
-                time.sleep(0.25)
-            shots = Path(os.environ.get("BRANCHNB_SCREENSHOTS", tmp_path))
-            shots.mkdir(parents=True, exist_ok=True)
-            page.screenshot(path=str(shots / "tour_canvas.png"), clip={
-                "x": 0, "y": max(box["y"] - 120, 0), "width": 1400, "height": box["height"] + 220})
-            assert changed, "the canvas did not change on screen after the drag"
-        finally:
-            browser.close()
+        changed = 0
+        for _ in range(20):
+            after = np.frombuffer(page.screenshot(clip=box), np.uint8)
+            changed = before.size != after.size or np.count_nonzero(before != after)
+            if changed:
+                break
+            time.sleep(0.25)
+        shots = Path(os.environ.get("BRANCHNB_SCREENSHOTS", tmp_path))
+        shots.mkdir(parents=True, exist_ok=True)
+        page.screenshot(path=str(shots / "tour_canvas.png"), clip={
+            "x": 0, "y": max(box["y"] - 120, 0), "width": 1400, "height": box["height"] + 220})
+        assert changed, "the canvas did not change on screen after the drag"
+    finally:
+        page.close()
+        _delete_kernels(lab)
+
+
+# -- the four apps ---------------------------------------------------------------------
+SHOTS = Path(os.environ.get("BRANCHNB_SCREENSHOTS", "")) if os.environ.get("BRANCHNB_SCREENSHOTS") else None
+LATENCY: dict[str, dict] = {}
+
+APP_CODE = {
+    "branching": """
+import cv2
+from branchnb import data
+from branchnb.branching import extract_structure
+from branchnb.widgets.branching import BranchingApp
+img = cv2.resize(data.load("retina_fundus"), (360, 360), interpolation=cv2.INTER_AREA)
+app = BranchingApp(img, structure=extract_structure(img))
+app
+""",
+    "dendrite": """
+from branchnb import data
+from branchnb.widgets.dendrite import DendriteApp
+app = DendriteApp(data.load("camera"), max_size=240)
+app
+""",
+    "strokes": """
+import numpy as np
+from branchnb.widgets.strokes import StrokeEditApp
+x = np.arange(300)
+bar = np.zeros((120, 300, 4), np.float32)
+bar[45:75, 15:285, 0] = 0.5 + 0.4 * np.sin(x[15:285] / 6.0)
+bar[45:75, 15:285, 1] = np.linspace(0.2, 0.8, 270)
+bar[45:75, 15:285, 2] = 0.3
+bar[45:75, 15:285, 3] = 1.0
+app = StrokeEditApp(bar, target_shape=(200, 300), max_display=280)
+app
+""",
+    "trees": """
+from branchnb.trees.variations import TreeLibrary
+from branchnb.widgets.trees import TreeVariationsApp
+lib = TreeLibrary.from_data(["tree_rpg_01", "tree_rpg_03", "tree_rpg_06"], size=160)
+app = TreeVariationsApp(lib, display=200, thumb=64)
+app
+""",
+}
+
+_RECORDER = """() => {
+  const root = document.querySelector('.bnb-app');
+  const rec = {img: [], busy: [], ok: [], err: [], up: []};
+  window.__bnb = rec;
+  const status = () => {
+    const st = root.querySelector('.bnb-status');
+    if (!st) return;
+    const t = performance.now();
+    if (st.classList.contains('bnb-status-busy')) rec.busy.push(t);
+    if (st.classList.contains('bnb-status-ok')) rec.ok.push(t);
+    if (st.classList.contains('bnb-status-error')) rec.err.push(t);
+  };
+  new MutationObserver(ms => {
+    const t = performance.now();
+    for (const m of ms) {
+      const el = m.target.nodeType === 1 ? m.target : m.target.parentElement;
+      if (el && el.closest('.bnb-view') && (m.type === 'childList' || m.attributeName === 'src')) rec.img.push(t);
+    }
+    status();
+  }).observe(root, {attributes: true, attributeFilter: ['src'], childList: true, subtree: true,
+                    characterData: true});
+  document.addEventListener('pointerup', () => rec.up.push(performance.now()), true);
+}"""
+
+
+def _notebook(path: Path, code: str) -> None:
+    import nbformat
+
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [nbformat.v4.new_code_cell(code.strip())]
+    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
+    nbformat.write(nb, str(path))
+
+
+def _open(lab, chromium, name: str, dpr: float = 1.0):
+    """Open the app's notebook, run it, wait until the app is shown and idle."""
+    base, token = lab["base"], lab["token"]
+    _notebook(lab["nbdir"] / f"app_{name}.ipynb", APP_CODE[name])
+    page = chromium.new_page(viewport={"width": 1400, "height": 1000}, device_scale_factor=dpr)
+    # A workspace of its own: JupyterLab does not reopen the previous tests' notebooks.
+    page.goto(f"{base}/lab/workspaces/{name}/tree/app_{name}.ipynb?token={token}")
+    kernel = None
+    for _ in range(120):
+        ready = [s["kernel"] for s in _get(f"{base}/api/sessions?token={token}")
+                 if s["path"].endswith(f"app_{name}.ipynb") and s["kernel"]["execution_state"] == "idle"
+                 and s["kernel"]["connections"] >= 1]
+        if ready:
+            kernel = ready[0]
+            break
+        time.sleep(0.5)
+    assert kernel, "no idle kernel connected to the notebook"
+    page.wait_for_selector(".jp-Notebook", timeout=60_000)
+    page.click("#jp-MainMenu .lm-MenuBar-item:has-text('Run')")
+    page.click(".lm-Menu li[data-command='runmenu:run-all']")
+    page.wait_for_selector(".bnb-app canvas", timeout=180_000)
+    page.evaluate("document.querySelector('.bnb-app').scrollIntoView({block: 'start'})")
+    _wait_idle(lab, kernel)
+    page.evaluate(_RECORDER)
+    return page, kernel
+
+
+def _eval(lab, kernel, code: str) -> str:
+    return _kernel_eval(lab["runtime"], kernel["id"], code).strip()
+
+
+def _wait_idle(lab, kernel, timeout: float = 120.0) -> None:
+    """Until the app's callbacks (and background work) are done."""
+    code = ("print(app.shell.running or app.shell._live_thread is not None or app.errors.busy_now)")
+    t_end = time.time() + timeout
+    while time.time() < t_end:
+        if _eval(lab, kernel, code) == "False":
+            return
+        time.sleep(0.25)
+    raise AssertionError("the app stayed busy")
+
+
+def _rec(page) -> dict:
+    return page.evaluate("window.__bnb")
+
+
+def _no_error(page, lab, kernel) -> None:
+    err = _eval(lab, kernel, "print(app.errors.last_error)")
+    assert err == "None", f"the app shows an error: {err}"
+    assert page.locator(".bnb-app .bnb-status-error").count() == 0
+
+
+def _drag(page, box, points, steps: int = 6) -> None:
+    """Press, move through ``points`` (fractions of ``box``), release."""
+    xy = [(box["x"] + fx * box["width"], box["y"] + fy * box["height"]) for fx, fy in points]
+    page.mouse.move(*xy[0])
+    page.mouse.down()
+    for p in xy[1:]:
+        page.mouse.move(*p, steps=steps)
+    page.mouse.up()
+
+
+def _click(page, box, fx: float, fy: float) -> None:
+    page.mouse.click(box["x"] + fx * box["width"], box["y"] + fy * box["height"])
+
+
+def _press(page, lab, kernel, label: str, *, changes: bool = True) -> None:
+    """Press a toolbar action; wait until it finished; no error, and (``changes``) a new view."""
+    n_img, n_ok = len(_rec(page)["img"]), len(_rec(page)["ok"])
+    page.locator(f".bnb-app .widget-button:text-is('{label}')").first.click()
+    time.sleep(0.3)
+    _wait_idle(lab, kernel)
+    time.sleep(0.5)
+    _no_error(page, lab, kernel)
+    assert len(_rec(page)["ok"]) > n_ok, f"'{label}' did not report that it finished"
+    if changes:
+        assert len(_rec(page)["img"]) > n_img, f"'{label}' did not change the view"
+
+
+def _move_slider(page, lab, kernel, selector: str, dx: float, app: str) -> None:
+    """Drag a slider's handle by ``dx`` px; record the latency of busy state, first image and result."""
+    handle = page.locator(f"{selector} .noUi-handle").first
+    handle.scroll_into_view_if_needed()
+    box = handle.bounding_box()
+    assert box, f"no slider {selector}"
+    before = _rec(page)
+    n_img, n_ok = len(before["img"]), len(before["ok"])
+    cx, cy = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+    page.mouse.move(cx, cy)
+    page.mouse.down()
+    page.mouse.move(cx + dx, cy, steps=4)
+    page.mouse.up()
+    t_end = time.time() + 120
+    while time.time() < t_end:
+        r = _rec(page)
+        if len(r["img"]) > n_img and len(r["ok"]) > n_ok:
+            break
+        time.sleep(0.1)
+    _wait_idle(lab, kernel)
+    r = _rec(page)
+    up = r["up"][-1]
+    first = [t for t in r["img"][n_img:] if t >= up]
+    done = [t for t in r["ok"][n_ok:] if t >= up]
+    busy = [t for t in r["busy"] if t >= up]
+    LATENCY[app] = {"slider": selector, "busy_ms": round(busy[0] - up) if busy else None,
+                    "first_view_ms": round(first[0] - up) if first else None,
+                    "done_ms": round(done[-1] - up) if done else None}
+    print(f"slider latency {app}: {LATENCY[app]}")
+    assert first, f"{app}: moving {selector} did not change the view"
+    _no_error(page, lab, kernel)
+
+
+def _screenshot(page, name: str, tmp_path: Path) -> Path:
+    """The page at 1400 x 1000 with the app at the top."""
+    out = SHOTS or tmp_path
+    out.mkdir(parents=True, exist_ok=True)
+    page.evaluate("document.querySelector('.bnb-app').scrollIntoView({block: 'start'})")
+    time.sleep(0.4)
+    path = out / f"app_{name}.png"
+    page.screenshot(path=str(path))
+    (out / "latency.json").write_text(json.dumps(LATENCY, indent=1))
+    return path
+
+
+def _canvas_box(page, index: int = 0):
+    canvases = page.locator(".bnb-app .bnb-canvas").nth(index).locator("canvas")
+    c = canvases.nth(canvases.count() - 1)  # the top layer of the MultiCanvas
+    c.scroll_into_view_if_needed()
+    box = c.bounding_box()
+    assert box and box["width"] > 50
+    return box
+
+
+def test_branching_app_in_the_browser(lab, chromium, tmp_path):
+    page, kernel = _open(lab, chromium, "branching")
+    try:
+        n0 = int(_eval(lab, kernel, "print(len(app.canvas.model.of_kind('polyline')))"))
+        box = _canvas_box(page)
+        for fx, fy in ((0.2, 0.8), (0.35, 0.7), (0.5, 0.72), (0.5, 0.72)):  # the last click ends it
+            _click(page, box, fx, fy)
+            time.sleep(0.15)
+        time.sleep(0.5)
+        n1 = int(_eval(lab, kernel, "print(len(app.canvas.model.of_kind('polyline')))"))
+        assert n1 == n0 + 1, "the clicked polyline did not reach the kernel"
+        _press(page, lab, kernel, "synthesize")
+        _move_slider(page, lab, kernel, ".bnb-param-c", 14, "branching")
+        assert _eval(lab, kernel, "print(app.params.c)") != "2"
+        _screenshot(page, "branching", tmp_path)
+    finally:
+        page.close()
+        _delete_kernels(lab)
+
+
+def test_dendrite_app_in_the_browser_at_dpr_2(lab, chromium, tmp_path):
+    page, kernel = _open(lab, chromium, "dendrite", dpr=2.0)
+    try:
+        assert _eval(lab, kernel, "print(app.canvas.pixel_ratio)") == "2.0"
+        box = _canvas_box(page)
+        _click(page, box, 0.3, 0.4)
+        time.sleep(0.5)
+        _wait_idle(lab, kernel)
+        seed = json.loads(_eval(lab, kernel, "print(app.seed.tolist())"))
+        w = int(_eval(lab, kernel, "print(app.image.shape[1])"))
+        assert abs(seed[0] - 0.3 * w) < 0.03 * w
+        _move_slider(page, lab, kernel, ".bnb-param-max_width", 20, "dendrite")
+        # "update" recomputes the same state (cached stages): the same picture, no error
+        _press(page, lab, kernel, "update", changes=False)
+        page.locator(".bnb-app .widget-toggle-button:text-is('tree')").first.click()  # the tree mode
+        time.sleep(0.5)
+        _wait_idle(lab, kernel)
+        _no_error(page, lab, kernel)
+        _press(page, lab, kernel, "update", changes=False)
+        assert _eval(lab, kernel, "print(type(app.tree).__name__)") == "GrownTree"
+        _screenshot(page, "dendrite_dpr2", tmp_path)
+    finally:
+        page.close()
+        _delete_kernels(lab)
+
+
+def test_strokes_app_in_the_browser(lab, chromium, tmp_path):
+    page, kernel = _open(lab, chromium, "strokes")
+    try:
+        src = _canvas_box(page, 0)
+        _drag(page, src, [(0.08, 0.5), (0.5, 0.5), (0.92, 0.5)])
+        time.sleep(0.3)
+        tgt = _canvas_box(page, 1)
+        _drag(page, tgt, [(0.1, 0.2), (0.5, 0.5), (0.9, 0.8)])
+        time.sleep(0.5)
+        _wait_idle(lab, kernel)
+        assert _eval(lab, kernel, "print(app.result is not None)") == "True"
+        _move_slider(page, lab, kernel, ".bnb-param-seam_power", 25, "strokes")
+        _press(page, lab, kernel, "reverse last target")  # the object now runs the other way
+        _press(page, lab, kernel, "re-synthesize", changes=False)  # the same strokes: the same result
+        _screenshot(page, "strokes", tmp_path)
+    finally:
+        page.close()
+        _delete_kernels(lab)
+
+
+def test_trees_app_in_the_browser(lab, chromium, tmp_path):
+    page, kernel = _open(lab, chromium, "trees")
+    try:
+        page.locator(".bnb-app .lm-TabBar-tab:has-text('segmentation')").first.click()
+        time.sleep(0.5)
+        box = _canvas_box(page)
+        _drag(page, box, [(0.45, 0.85), (0.5, 0.7), (0.55, 0.85)])
+        time.sleep(0.5)
+        _wait_idle(lab, kernel)
+        assert _eval(lab, kernel, "print(len(app.seg_canvas.model.of_kind('scribble')))") == "1"
+        page.locator(".bnb-app .lm-TabBar-tab:has-text('mix')").first.click()
+        time.sleep(0.3)
+        _move_slider(page, lab, kernel, ".bnb-weight-tree_rpg_01", 30, "trees")
+        page.locator(".bnb-app .lm-TabBar-tab:has-text('more like this')").first.click()
+        _press(page, lab, kernel, "more like this")
+        _screenshot(page, "trees", tmp_path)
+    finally:
+        page.close()
+        _delete_kernels(lab)

@@ -278,7 +278,9 @@ def _test_image():
 
 def test_stylize_small_image_and_cache():
     st = Stylizer(_test_image())
-    p = StylizeParams(n_endpoints=80, stipple_iterations=5)
+    # the paper's importance emphasis alone, in pixels, endpoints everywhere
+    p = StylizeParams(n_endpoints=80, stipple_iterations=5, tone=0.0, hierarchy=0.0,
+                      lattice_size=0, endpoint_threshold=0.0, endpoint_floor=0.01)
     out = st.run(p, rng=0)
     assert out.dendrite.is_tree()
     ends = out.lattice.node_index(out.endpoints)
@@ -365,7 +367,9 @@ def test_occlusion_layers_share_the_trunk():
 def test_pareidolia_branches_follow_the_image_on_its_side():
     img = np.ones((96, 96))
     img[20:70, 8:40] = 0.0  # a dark block on the left (image) side
-    t = pareidolia_tree(img, PareidoliaParams(n_endpoints=150, iterations=3), rng=0)
+    t = pareidolia_tree(img, PareidoliaParams(n_endpoints=150, iterations=3, side="left",
+                                              crown="ellipse", random_ratio=0.5,
+                                              lattice_size=0), rng=0)
     d = t.dendrite
     assert d.is_tree()
     assert len(t.endpoints_random) == 75  # about half as many random endpoints

@@ -14,6 +14,7 @@ from ..core.structure import Branch, Structure
 from .extraction import (
                          branch_from_clicks,
                          estimate_thickness,
+                         example_domain,
                          extract_structure,
                          structure_from_polylines,
 )
@@ -40,6 +41,7 @@ __all__ = [
                          "SynthesisResult",
                          "branch_from_clicks",
                          "estimate_thickness",
+                         "example_domain",
                          "extend_branch",
                          "extract_structure",
                          "fit_model",

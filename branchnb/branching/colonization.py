@@ -29,6 +29,7 @@ import numpy as np
 __all__ = [
     "DensityMap",
     "SegmentStore",
+    "coverage_fraction",
     "crosses_existing",
     "growth_directions",
     "profile_density",
@@ -99,7 +100,8 @@ class DensityMap:
     (True, True)
     """
 
-    def __init__(self, shape, rho: float, cell: float | None = None):
+    def __init__(self, shape, rho: float, cell: float | None = None, *, domain=None,
+                 level: float = 0.5):
         h, w = int(shape[0]), int(shape[1])
         if h <= 0 or w <= 0:
             raise ValueError(f"shape must be positive, got {shape}")
@@ -113,7 +115,20 @@ class DensityMap:
         self.cell = float(cell)
         self.grid = np.zeros((int(np.ceil(h / self.cell)), int(np.ceil(w / self.cell))), np.float32)
         self.n_updates = 0
-        self._n_above = 0  # cells with D > 0.5, kept up to date for coverage()
+        #: coverage() counts domain cells with D > level (kept up to date incrementally)
+        self.level = float(level)
+        gh, gw = self.grid.shape
+        if domain is None:
+            self.domain = np.ones((gh, gw), bool)
+        else:
+            import cv2
+
+            d = np.asarray(domain, bool)
+            if d.shape != (h, w):
+                raise ValueError(f"domain must have the shape {(h, w)}, got {d.shape}")
+            self.domain = cv2.resize(d.astype(np.uint8), (gw, gh), interpolation=cv2.INTER_NEAREST) > 0
+        self._n_domain = max(int(self.domain.sum()), 1)
+        self._n_above = 0
 
     def add_segments(self, p0, p1) -> None:
         """Raise the density around new segments (local update within ``3 rho``)."""
@@ -139,9 +154,10 @@ class DensityMap:
             d2 = np.minimum(d2, _point_segment_dist2(X, Y, a[0], a[1], b[0], b[1]))
         D = np.exp(-d2 / self.rho ** 2).astype(np.float32)
         win = self.grid[r0:r1, c0:c1]
-        before = int(np.count_nonzero(win > 0.5))
+        dom = self.domain[r0:r1, c0:c1]
+        before = int(np.count_nonzero((win > self.level) & dom))
         np.maximum(win, D, out=win)
-        self._n_above += int(np.count_nonzero(win > 0.5)) - before
+        self._n_above += int(np.count_nonzero((win > self.level) & dom)) - before
         self.n_updates += 1
 
     def sample(self, points) -> np.ndarray:
@@ -155,17 +171,50 @@ class DensityMap:
         out[ok] = self.grid[r[ok], c[ok]]
         return out
 
-    def coverage(self, level: float = 0.5) -> float:
-        """Fraction of the domain with density above ``level``."""
-        if level == 0.5:
-            return self._n_above / self.grid.size
-        return float(np.mean(self.grid > level))
+    def coverage(self, level: float | None = None) -> float:
+        """Fraction of the domain with density above ``level`` (default: the map's ``level``).
+
+        With ``level = exp(-1)`` this is the fraction of the domain within
+        ``rho`` of a branch (``D = exp(-d^2 / rho^2)``).
+        """
+        if level is None or level == self.level:
+            return self._n_above / self._n_domain
+        return float(np.count_nonzero((self.grid > level) & self.domain) / self._n_domain)
 
     def image(self) -> np.ndarray:
         """The density grid resized to the domain, ``(H, W)`` float32."""
         import cv2
 
         return cv2.resize(self.grid, (self.shape[1], self.shape[0]), interpolation=cv2.INTER_LINEAR)
+
+
+def coverage_fraction(structure, shape, rho: float, domain=None) -> float:
+    """Fraction of the domain (default: the whole ``(H, W)`` frame) within ``rho`` pixels of a branch.
+
+    The measure the automatic stopping rule aims at (pixel-exact here).
+
+    Examples
+    --------
+    >>> from branchnb.core.structure import Branch, Structure
+    >>> s = Structure([Branch([(0, 50), (99, 50)], 1.0)])
+    >>> round(coverage_fraction(s, (100, 100), 10.0), 2)
+    0.21
+    """
+    from scipy import ndimage as ndi
+
+    from ..core.render import coverage_polylines
+
+    h, w = int(shape[0]), int(shape[1])
+    dom = np.ones((h, w), bool) if domain is None else np.asarray(domain, bool)
+    if dom.shape != (h, w):
+        raise ValueError(f"domain must have the shape {(h, w)}, got {dom.shape}")
+    if not structure.branches or not dom.any():
+        return 0.0
+    cov, _ = coverage_polylines((h, w), [b.points for b in structure.branches], 1.0)
+    if not (cov >= 0.5).any():
+        return 0.0
+    d = ndi.distance_transform_edt(cov < 0.5)
+    return float(np.count_nonzero((d <= rho) & dom) / np.count_nonzero(dom))
 
 
 def growth_directions(tip, new_points: np.ndarray, n_valid: np.ndarray) -> np.ndarray:

@@ -27,13 +27,20 @@ from ..core.image import as_gray, as_points, as_rgb
 from ..core.params import check_params
 from ..core.polyline import arc_length, normals, polyline_length, resample_uniform
 from ..core.structure import Branch, Structure
+from ..core.validate import Array, Int, Point, Real, checked
 from .params import ClickParams, ExtractionParams
 
 __all__ = [
     "branch_from_clicks",
     "estimate_thickness",
+    "example_domain",
     "extract_structure",
+    "binary_channels",
+    "flat_background",
+    "frame_lines",
     "gray_for_extraction",
+    "is_binary",
+    "large_flat_regions",
     "ridge_mask",
     "ridge_response",
     "skeleton_to_structure",
@@ -54,6 +61,12 @@ def gray_for_extraction(image, *, name: str = "image") -> np.ndarray:
 # --------------------------------------------------------------------------
 # From clicks (the paper's input)
 # --------------------------------------------------------------------------
+#: A radius search bound (pixels).
+_RADIUS = Real(0, 1e3, low_open=True)
+
+
+@checked(points=Array(ndim=2), max_radius=_RADIUS, min_radius=_RADIUS, sigma=Real(0, 100), smooth=Int(0, 1000),
+         step=Real(0.01, 100))
 def estimate_thickness(image, points, *, max_radius: float = 15.0, min_radius: float = 0.75,
                        sigma: float = 1.0, smooth: int = 2, step: float = 0.25,
                        return_offsets: bool = False):
@@ -123,6 +136,7 @@ def estimate_thickness(image, points, *, max_radius: float = 15.0, min_radius: f
     return r
 
 
+@checked(parent=Int(0), parent_vertex=Int(0), start=Point())
 def branch_from_clicks(image, points, params: ClickParams | None = None, *,
                        parent: int | None = None, parent_vertex: int | None = None,
                        start=None) -> Branch:
@@ -165,6 +179,7 @@ def branch_from_clicks(image, points, params: ClickParams | None = None, *,
     return Branch(res, r, parent, parent_vertex)
 
 
+@checked()
 def structure_from_polylines(image, polylines, params: ClickParams | None = None,
                              radii=None) -> Structure:
     """A structure from several clicked polylines (one per branch).
@@ -188,6 +203,8 @@ def structure_from_polylines(image, polylines, params: ClickParams | None = None
     gray = gray_for_extraction(image)
     if polylines is None or len(polylines) == 0:
         raise ValueError("polylines is empty: click at least one branch")
+    if radii is not None and (isinstance(radii, (str, bytes)) or not hasattr(radii, "__len__")):
+        raise TypeError(f"radii must be one entry per polyline, got {type(radii).__name__}")
     if radii is not None and len(radii) != len(polylines):
         raise ValueError(f"radii must have one entry per polyline ({len(polylines)})")
     s = Structure([], image_shape=gray.shape[:2])
@@ -348,7 +365,8 @@ def _skeleton_graph(skel: np.ndarray):
 def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length: float = 12.0,
                           min_component_length: float = 60.0, root="thickest",
                           scale: float = 1.0, smooth: float = 4.0,
-                          smooth_radius: float = 8.0, image_shape=None) -> Structure:
+                          smooth_radius: float = 8.0, image_shape=None, region=None,
+                          spur_factor: float = 2.0) -> Structure:
     """Convert a one-pixel skeleton into a tree of branches.
 
     Each connected piece becomes one tree: a root end point is chosen
@@ -367,8 +385,10 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
         Resampling step of the result.
     min_branch_length, min_component_length : float
         Pruning thresholds in pixels of the *output* (full-size) image.
-    root : {"thickest", "top", "bottom", "left", "right"} or (x, y)
-        Root end point per piece: the thickest, the top-most ..., or the
+    root : {"thickest", "top", "bottom", "left", "right", "border", "nearest_region"} or (x, y)
+        Root end point per piece: the thickest, the top-most ..., the one
+        nearest to the image border, the one nearest to ``region`` (e.g.
+        the sea a river flows into; the border if there is none), or the
         one nearest to a given point (full-size pixels).
     scale : float
         The skeleton is a ``scale`` x downscaled copy; coordinates and
@@ -383,6 +403,12 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
         junction and blob, which the synthesis would otherwise copy.
     image_shape : (H, W), optional
         Stored on the result (full-size).
+    region : (H, W) bool array_like, optional
+        At the skeleton's scale: the region ``root="nearest_region"`` looks for.
+    spur_factor : float
+        A side subtree is also pruned when it is shorter than this times the
+        radius where it leaves its parent (the skeleton's spurs at the bends of
+        wide channels are about one radius long).
     """
     sk = np.asarray(skeleton).astype(bool)
     rad = np.asarray(radius, np.float64)
@@ -400,6 +426,16 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
     r_full = np.maximum(rad[ys, xs] / scale, 0.5)
     # Component lengths (sum of spanning edges ~ number of pixels).
     comp_len = np.bincount(comp, minlength=n_comp) / scale
+    hh, ww = sk.shape
+    yy_, xx_ = np.mgrid[0:hh, 0:ww]
+    border_dist = np.minimum(np.minimum(yy_, hh - 1 - yy_), np.minimum(xx_, ww - 1 - xx_)).astype(np.float64)
+    region_dist = border_dist
+    if isinstance(root, str) and root == "nearest_region" and region is not None:
+        reg = np.asarray(region, bool)
+        if reg.shape != sk.shape:
+            raise ValueError(f"region must have the skeleton's shape {sk.shape}, got {reg.shape}")
+        if reg.any():
+            region_dist = ndi.distance_transform_edt(~reg)
     roots = []
     for c in np.flatnonzero(comp_len >= min_component_length):
         members = np.flatnonzero(comp == c)
@@ -416,8 +452,12 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
                 key = pts_full[cand, 0]
             elif root == "right":
                 key = -pts_full[cand, 0]
+            elif root in ("border", "nearest_region"):
+                key = region_dist[ys[cand], xs[cand]] if root == "nearest_region" else \
+                    border_dist[ys[cand], xs[cand]]
             else:
-                raise ValueError(f"root must be thickest/top/bottom/left/right or (x, y), got {root!r}")
+                raise ValueError("root must be thickest/top/bottom/left/right/border/nearest_region "
+                                 f"or (x, y), got {root!r}")
         else:
             q = np.asarray(root, np.float64).reshape(2)
             key = np.hypot(*(pts_full[cand] - q).T)
@@ -456,7 +496,8 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
             for u in children.get(node, ()):
                 if i + 1 < len(path) and u == path[i + 1]:
                     continue
-                if height[u] + np.hypot(ys[u] - ys[node], xs[u] - xs[node]) >= min_len_px:
+                sub = height[u] + np.hypot(ys[u] - ys[node], xs[u] - xs[node])
+                if sub >= max(min_len_px, spur_factor * rad[ys[node], xs[node]]):
                     stack.append((u, bi, i))
     # Build branches in creation order; children prepend their furcation node.
     new_index: dict[int, int] = {}
@@ -540,11 +581,134 @@ def half_contrast_radius(gray, skeleton, polarity: str, sigma_max: float) -> np.
     return ndi.distance_transform_edt(mask) - 0.5
 
 
+def frame_lines(mask, band: int = 4, share: float = 0.5) -> np.ndarray:
+    """Pixels of ``mask`` that form a line along the image frame (a drawn border, a map's frame).
+
+    Along each side, the band of ``band`` pixels is a frame line when
+    ``mask`` covers at least ``share`` of that side's length there; a
+    branch that merely enters the image through a side covers a few pixels.
+    """
+    m = np.asarray(mask, bool)
+    out = np.zeros_like(m)
+    h, w = m.shape
+    b = int(min(band, h // 4, w // 4))
+    if b < 1:
+        return out
+    for sl, axis in (((slice(0, b), slice(None)), 0), ((slice(h - b, h), slice(None)), 0),
+                     ((slice(None), slice(0, b)), 1), ((slice(None), slice(w - b, w)), 1)):
+        strip = m[sl]
+        if strip.any(axis=axis).mean() < share:
+            continue
+        # a line, not the edge of a wide region (a sea reaching the border): the
+        # next band inwards is mostly free
+        r0, r1 = sl[0].start, sl[0].stop
+        c0, c1 = sl[1].start, sl[1].stop
+        if axis == 0:
+            inner = m[b:2 * b] if r0 == 0 else m[h - 2 * b:h - b]
+        else:
+            inner = m[:, b:2 * b] if c0 == 0 else m[:, w - 2 * b:w - b]
+        if inner.any(axis=axis).mean() < 0.5 * share:
+            out[r0:r1, c0:c1] = strip
+    return out
+
+
+def is_binary(gray, *, tol: float = 0.1, share: float = 0.97) -> bool:
+    """True if at least ``share`` of the pixels lie within ``tol`` (of the range) of the darkest
+    or the brightest level, and the two levels differ by at least 0.25 (a mask, maybe anti-aliased).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> m = np.zeros((20, 20)); m[5:9] = 1
+    >>> is_binary(m), is_binary(np.linspace(0, 1, 400).reshape(20, 20))
+    (True, False)
+    """
+    g = np.asarray(gray, np.float64)
+    lo, hi = np.percentile(g, [1, 99])
+    if hi - lo < 0.25:
+        return False
+    t = tol * (hi - lo)
+    return bool(np.mean((np.abs(g - lo) <= t) | (np.abs(g - hi) <= t)) >= share)
+
+
+def large_flat_regions(mask, radius: float, min_area: float = 0.01) -> np.ndarray:
+    """Parts of ``mask`` far wider than any branch: a sea, a lake, a flat background.
+
+    The opening of ``mask`` with a disk of ``radius`` keeps what a disk of
+    that radius fits into; its connected pieces of at least ``min_area`` of
+    the image are returned, grown by one pixel.
+    """
+    import cv2
+
+    m = np.asarray(mask, bool)
+    r = max(int(round(radius)), 1)
+    disk = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
+    opened = cv2.morphologyEx(m.astype(np.uint8), cv2.MORPH_OPEN, disk, borderType=cv2.BORDER_REPLICATE) > 0
+    lab, n = ndi.label(opened)
+    if n == 0:
+        return np.zeros_like(m)
+    sizes = np.bincount(lab.ravel())
+    keep = sizes >= min_area * m.size
+    keep[0] = False
+    out = keep[lab]
+    return ndi.binary_dilation(out) & m if out.any() else out
+
+
+def binary_channels(gray, polarity: str = "auto"):
+    """Foreground channels of a binary mask, the large flat regions removed, and the medial axis.
+
+    The foreground is the bright class (``polarity="bright"``), the dark one
+    (``"dark"``), or with ``"auto"`` the class that covers less of the image.
+    Foreground regions much wider than the channels (more than 3 x their
+    median radius and 1 % of the image, e.g. the sea a delta drains into)
+    are no branches: they are returned as ``region``.
+
+    Returns
+    -------
+    channels : (H, W) bool
+    region : (H, W) bool
+        The large flat foreground regions.
+    skeleton : (H, W) bool
+        Medial axis of ``channels``.
+    radius : (H, W) float
+        Distance transform of the whole foreground (the channel's half width
+        on its centre line), capped at the flat regions' scale.
+    """
+    from skimage.morphology import skeletonize
+
+    g = np.asarray(gray, np.float64)
+    lo, hi = np.percentile(g, [1, 99])
+    bright = g > 0.5 * (lo + hi)
+    if polarity == "bright":
+        fg = bright
+    elif polarity == "dark":
+        fg = ~bright
+    else:
+        fg = bright if bright.mean() <= 0.5 else ~bright
+    fg = fg & ~frame_lines(fg, band=8)
+    dt = ndi.distance_transform_edt(np.pad(fg, 1, mode="edge"))[1:-1, 1:-1]
+    sk0 = skeletonize(fg)
+    r_med = float(np.median(dt[sk0])) if sk0.any() else 1.0
+    big_r = max(3.0 * r_med, 3.0)
+    region = large_flat_regions(fg, big_r)
+    channels = fg & ~region
+    skel = skeletonize(channels)
+    # Skeleton stubs along the region's edge are outline, not branches.
+    if region.any():
+        skel &= ndi.distance_transform_edt(~region) > 1.5
+    # The distance to the nearest background pixel centre is r + 0.5 on an
+    # odd-width channel's centre pixel and r on an even one (the centre line
+    # falls between two pixels): -0.25 is unbiased on average.
+    radius = np.minimum(dt, big_r) - 0.25
+    return channels, region, skel, np.maximum(radius, 0.5)
+
+
 def _median_then_gauss(r: np.ndarray, sigma: float) -> np.ndarray:
     k = max(3, round(sigma) | 1)
     return ndi.gaussian_filter1d(ndi.median_filter(r, size=k, mode="nearest"), sigma, mode="nearest")
 
 
+@checked()
 def extract_structure(image, params: ExtractionParams | None = None, *, mask=None,
                       return_maps: bool = False, **overrides):
     """Find a source structure in an image automatically.
@@ -560,7 +724,15 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         Grey, RGB or RGBA (composited over white).
     params : ExtractionParams, optional
         Filter, polarity, scales, thresholds, pruning, ``h``, working
-        ``scale``, root rule. Keyword ``overrides`` replace single fields.
+        ``scale``, root rule. Keyword ``overrides`` replace single fields;
+        ``root=(x, y)`` roots every piece at its end nearest to that point.
+        Binary (or near-binary) input such as a water mask is detected
+        (``binary="auto"``) and traced by its medial axis, the radius from
+        the distance transform; foreground regions far wider than the
+        channels (a sea) are no branches, and braided channels (cycles) are
+        cut into a tree where the two fronts of the shortest-path tree meet.
+        Outlines of large flat regions touching the border (a country
+        border, a coast line) are no branches either.
     mask : (H, W) bool array_like, optional
         Only look inside this region.
     return_maps : bool
@@ -585,6 +757,12 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
     from skimage.transform import rescale, resize
 
     p = params if params is not None else ExtractionParams()
+    root_point = None
+    if "root" in overrides and not isinstance(overrides["root"], str):
+        # root=(x, y): each piece's root is its end point nearest to that point
+        root_point = tuple(float(v) for v in np.asarray(overrides.pop("root"), np.float64).reshape(2))
+        if not all(np.isfinite(root_point)):
+            raise ValueError(f"root point must be finite (x, y), got {root_point}")
     if overrides:
         unknown = set(overrides) - {f.name for f in dataclasses.fields(p)}
         if unknown:
@@ -592,6 +770,8 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         p = dataclasses.replace(p, **overrides)
     check_params(p)
     gray = gray_for_extraction(image)
+    if p.binary == "on" or (p.binary == "auto" and is_binary(gray)):
+        return _extract_binary(gray, p, mask, return_maps, root_point)
     resp, _pol = ridge_response(gray, p)
     if mask is not None:
         from ..core.image import as_mask
@@ -602,20 +782,158 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         resp = np.where(m, resp, 0).astype(np.float32)
     bw = ridge_mask(resp, p.threshold, p.hysteresis)
     min_area = max(4, int((p.min_component_length * p.scale) * 2))
+    bw = bw & ~frame_lines(bw, band=int(np.ceil(3 * p.sigma_max)) + 3)
     bw = remove_small_objects(bw, max_size=min_area) if _rso_has_max_size() else \
         remove_small_objects(bw, min_size=min_area)
     skel = skeletonize(bw)
+    work = rescale(gray, p.scale, anti_aliasing=True) if p.scale < 1 else gray
+    outside = border_flat_regions(work, 4 * p.sigma_max)
+    skel &= ~outline_pixels(skel, outside, 2 * p.sigma_max + 2)
     if p.radius == "fwhm":
-        work = rescale(gray, p.scale, anti_aliasing=True) if p.scale < 1 else gray
         radius = half_contrast_radius(work, skel, _pol, p.sigma_max)
     else:
         radius = ndi.distance_transform_edt(bw) - 0.5
+    region = None
+    if p.root == "nearest_region":
+        region = flat_background(work, bw, 4 * p.sigma_max)
     s = skeleton_to_structure(skel, radius, h=p.h, min_branch_length=p.min_branch_length,
-                              min_component_length=p.min_component_length, root=p.root,
+                              min_component_length=p.min_component_length,
+                              root=p.root if root_point is None else root_point,
                               scale=p.scale, smooth=p.smooth_path, smooth_radius=p.smooth_radius,
-                              image_shape=gray.shape[:2])
+                              image_shape=gray.shape[:2], region=region)
     if return_maps:
         return s, (resp, bw, skel)
+    return s
+
+
+def border_flat_regions(gray, radius: float, tol: float = 0.02) -> np.ndarray:
+    """Large flat-colour regions (wider than ``radius``) that touch the image border."""
+    g = np.asarray(gray, np.float64)
+    flat = (ndi.maximum_filter(g, 5) - ndi.minimum_filter(g, 5)) < tol
+    big = large_flat_regions(flat, radius, min_area=0.02)
+    lab, n = ndi.label(big)
+    if n == 0:
+        return big
+    touch = np.zeros(n + 1, bool)
+    for edge in (lab[0], lab[-1], lab[:, 0], lab[:, -1]):
+        touch[edge] = True
+    touch[0] = False
+    return touch[lab]
+
+
+def outline_pixels(skeleton, outside, reach: float) -> np.ndarray:
+    """Skeleton pixels that trace the outline of the ``outside`` regions (a map's country border, a coast line).
+
+    A skeleton pixel within ``reach`` of ``outside`` is outline when, looking
+    away from the nearest outside pixel, the other side is no outside: the
+    line separates the outside from the rest. A branch lying *in* a flat
+    region (a lightning bolt in a flat sky) has that region on both sides
+    and stays; a river mouth loses at most ``reach`` pixels.
+    """
+    sk = np.asarray(skeleton, bool)
+    out = np.asarray(outside, bool)
+    if not out.any() or not sk.any():
+        return np.zeros_like(sk)
+    dist, (iy, ix) = ndi.distance_transform_edt(~out, return_indices=True)
+    ys, xs = np.nonzero(sk & (dist <= reach))
+    if len(ys) == 0:
+        return np.zeros_like(sk)
+    d = dist[ys, xs]
+    vy, vx = iy[ys, xs] - ys, ix[ys, xs] - xs
+    n = np.maximum(np.hypot(vy, vx), 1e-9)
+    step = d + 3.0
+    oy = np.clip(np.rint(ys - vy / n * step).astype(int), 0, sk.shape[0] - 1)
+    ox = np.clip(np.rint(xs - vx / n * step).astype(int), 0, sk.shape[1] - 1)
+    res = np.zeros_like(sk)
+    res[ys, xs] = ~out[oy, ox]
+    return res
+
+
+def flat_background(gray, branches, radius: float, tol: float = 0.02) -> np.ndarray:
+    """Large flat-colour regions without branches (the sea around a river map's land).
+
+    Pixels whose 5 x 5 neighbourhood varies by less than ``tol`` form flat
+    regions; those wider than ``radius`` (see :func:`large_flat_regions`)
+    that hold (almost) no ``branches`` pixel and touch the image border are
+    returned.
+    """
+    g = np.asarray(gray, np.float64)
+    flat = (ndi.maximum_filter(g, 5) - ndi.minimum_filter(g, 5)) < tol
+    big = large_flat_regions(flat, radius, min_area=0.02)
+    lab, n = ndi.label(big)
+    if n == 0:
+        return big
+    touch = np.zeros(n + 1, bool)
+    for edge in (lab[0], lab[-1], lab[:, 0], lab[:, -1]):
+        touch[edge] = True
+    filled = np.zeros(n + 1)
+    np.add.at(filled, lab[np.asarray(branches, bool)], 1)
+    area = np.bincount(lab.ravel(), minlength=n + 1)
+    keep = touch & (filled <= 0.001 * np.maximum(area, 1))
+    keep[0] = False
+    return keep[lab]
+
+
+def example_domain(image, structure: Structure | None = None, *, radius: float = 12.0) -> np.ndarray:
+    """Where an example's branches live: the image minus its large branch-free flat regions.
+
+    For a binary mask, the foreground regions far wider than the channels
+    (the sea of a delta, see :func:`binary_channels`) are outside; for any
+    other image, the large flat-colour regions that touch the border and
+    hold no branch (the sea around a river map's land, see
+    :func:`flat_background`; the branches are ``structure`` if given).
+    Pass the result to :func:`~branchnb.branching.fit_model` as ``domain``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> m = np.zeros((100, 100)); m[70:] = 1; m[:70, 48:52] = 1   # a channel into a sea
+    >>> d = example_domain(m)
+    >>> bool(d[10, 50]), bool(d[90, 50])
+    (True, False)
+    """
+    gray = gray_for_extraction(image)
+    if is_binary(gray):
+        _ch, region, _sk, _r = binary_channels(gray)
+        return ~region
+    branches = np.zeros(gray.shape, bool)
+    if structure is not None and structure.branches:
+        from ..core.render import coverage_polylines
+
+        cov, _ = coverage_polylines(gray.shape, [b.points for b in structure.branches],
+                                    [2 * b.thickness + 2 for b in structure.branches])
+        branches = cov > 0.5
+    return ~flat_background(gray, branches, radius)
+
+
+def _extract_binary(gray, p: ExtractionParams, mask, return_maps: bool, root_point=None):
+    """``extract_structure`` for a binary mask: medial axis + distance-transform radius.
+
+    Braided channels form cycles; the shortest-path tree from each root
+    cuts every cycle once, where the two fronts meet (see
+    :func:`skeleton_to_structure`).
+    """
+    from skimage.transform import rescale
+
+    work = rescale(gray, p.scale, order=0, anti_aliasing=False) if p.scale < 1 else gray
+    pol = p.polarity
+    channels, region, skel, radius = binary_channels(work, pol)
+    if mask is not None:
+        from skimage.transform import resize
+
+        from ..core.image import as_mask
+
+        m = as_mask(mask, shape=gray.shape)
+        if m.shape != skel.shape:
+            m = resize(m.astype(np.float32), skel.shape, order=0) > 0.5
+        skel &= m
+    root = p.root if root_point is None else root_point
+    s = skeleton_to_structure(skel, radius, h=p.h, min_branch_length=p.min_branch_length,
+                              min_component_length=p.min_component_length, root=root,
+                              scale=p.scale, smooth=p.smooth_path, smooth_radius=p.smooth_radius,
+                              image_shape=gray.shape[:2], region=region)
+    if return_maps:
+        return s, (channels.astype(np.float32), channels, skel)
     return s
 
 

@@ -25,10 +25,12 @@ from scipy import ndimage as ndi
 
 from ..core.image import as_points
 from ..core.polyline import resample_uniform
+from ..core.validate import Array, Int, Point, Real, Shape, checked, real_array
 
 __all__ = ["Guidance", "guidance_map"]
 
 
+@checked(shape=Shape(), path=Array(ndim=2), width=Real(1e-3, 1e5), depth=Real(0, 1e3))
 def guidance_map(shape, path, width: float = 40.0, depth: float = 1.0) -> np.ndarray:
     """The guidance map ``G`` (float32, ``(H, W)``) for a path.
 
@@ -62,7 +64,7 @@ def guidance_map(shape, path, width: float = 40.0, depth: float = 1.0) -> np.nda
     r = np.clip(np.round(dense[:, 1]).astype(int), 0, h - 1)
     inside = (dense[:, 0] > -0.5) & (dense[:, 0] < w - 0.5) & (dense[:, 1] > -0.5) & (dense[:, 1] < h - 0.5)
     if not inside.any():
-        raise ValueError("path lies entirely outside the domain")
+        raise ValueError("path lies entirely outside the domain given by shape")
     mask[r[inside], c[inside]] = False
     d = ndi.distance_transform_edt(mask)
     return (1.0 - depth * np.exp(-(d ** 2) / width ** 2)).astype(np.float32)
@@ -82,7 +84,7 @@ class Guidance:
     path: np.ndarray | None = None
 
     def __post_init__(self):
-        g = np.asarray(self.map, np.float32)
+        g = real_array(self.map, "map", dtype=np.float32, allow_empty=True, finite=False)
         if g.ndim != 2 or g.size == 0:
             raise ValueError(f"guidance map must be a non-empty 2-D array, got shape {g.shape}")
         if not np.all(np.isfinite(g)) or g.min() < 0:
@@ -92,6 +94,7 @@ class Guidance:
             self.path = as_points(self.path, name="path", min_points=2)
 
     @classmethod
+    @checked(shape=Shape(), width=Real(1e-3, 1e5), depth=Real(0, 1e3))
     def from_path(cls, shape, path, width: float = 40.0, depth: float = 1.0) -> Guidance:
         """Guidance with a valley of width ``width`` along ``path``."""
         return cls(guidance_map(shape, path, width, depth), as_points(path, name="path", min_points=2))
@@ -102,7 +105,9 @@ class Guidance:
 
     def sample(self, points) -> np.ndarray:
         """G at points ``(..., 2)``; 1 outside the map."""
-        p = np.asarray(points, np.float64)
+        p = real_array(points, "points")
+        if p.ndim < 1 or p.shape[-1] != 2:
+            raise ValueError(f"points must have shape (..., 2), got {p.shape}")
         c = np.round(p[..., 0]).astype(np.int64)
         r = np.round(p[..., 1]).astype(np.int64)
         h, w = self.map.shape
@@ -111,6 +116,7 @@ class Guidance:
         out[ok] = self.map[r[ok], c[ok]]
         return out
 
+    @checked(tip=Point(), directions=Array(ndim=2), length=Real(0, 1e5), n_samples=Int(1, 10_000))
     def along(self, tip, directions, length: float, n_samples: int = 16) -> np.ndarray:
         """Mean of G along rays from ``tip`` in ``directions`` ``(J, 2)`` up to ``length``."""
         t = np.linspace(length / n_samples, length, n_samples)

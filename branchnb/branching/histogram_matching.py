@@ -20,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.histogram import histograms, l2_squared_distance
+from ..core.validate import Instance, Int, checked
 
 __all__ = ["HistogramMatcher", "histogram_distances"]
 
@@ -132,6 +133,7 @@ class HistogramMatcher:
         return np.exp(np.clip(x, -50, 50))
 
 
+@checked(example=Instance("Structure"), structure=Instance("Structure"), bins=Int(1, 100_000))
 def histogram_distances(example, structure, *, bins: int = 16,
                         metric: str = "l2sq") -> dict[str, float]:
     """Angle and thickness histogram distances of a structure to an example.
@@ -151,7 +153,7 @@ def histogram_distances(example, structure, *, bins: int = 16,
     ea, er = example.angles(), example.thicknesses()
     sa, sr = structure.angles(), structure.thicknesses()
     if ea.size == 0 or sa.size == 0:
-        raise ValueError("both structures need at least one turning angle (a branch of >= 3 vertices)")
+        raise ValueError("example and structure both need at least one turning angle (a branch of >= 3 vertices)")
     out = {}
     for key, x, y in (("angle", ea, sa), ("thickness", er, sr)):
         rng = (float(x.min()), float(x.max()))

@@ -52,6 +52,7 @@ from ..core.polyline import rigid_align
 from ..core.random import as_rng
 from ..core.render import draw_polylines
 from ..core.structure import Structure
+from ..core.validate import Shape, checked
 from .displacement import backward_map, displacement_field
 from .fragments import (
     Fragment,
@@ -62,7 +63,7 @@ from .fragments import (
     source_fragments,
     target_fragments,
 )
-from .regions import ExampleRegions, example_regions, flatten_shading
+from .regions import ExampleRegions, example_regions, flat_colour_regions, flatten_shading
 from .skeleton_map import PixelMap, SkeletonMap
 
 __all__ = ["ImageSynthesisParams", "ImageSynthesisResult", "FragmentMatch", "synthesize_image"]
@@ -145,6 +146,12 @@ class ImageSynthesisParams:
                                         "example's size, e.g. 0.05 (0 = copy as is, the paper)")
     exclude_matte: bool = param(True, help="never copy a flat black/white matte connected to the "
                                            "example's border (e.g. around a fundus photo)")
+    keep_regions: bool = param(True, help="flat-colour examples (maps, masks): segment the example into "
+                                          "its flat regions (land, sea), lay them out in the output as in "
+                                          "the example, and fill every output pixel only from example "
+                                          "pixels of its own region (seams follow region boundaries)")
+    flat_poisson: bool = param(False, help="also run the Poisson correction on flat-colour examples (off: "
+                                           "it would blur their flat colours into halos)")
     completion: bool = param(True, help="fill the gaps between branches automatically")
     patch_size: int = param(32, min=8, max=128, step=2,
                             help="gap completion: patch side (pixels)")
@@ -223,6 +230,9 @@ class ImageSynthesisResult:
         The target structure (as given).
     example_regions : ExampleRegions
         Branch body, branch-like and unusable masks of the example.
+    example_labels, labels : (H, W) int ndarray or None
+        Flat-colour regions of the example and of the output
+        (``params.keep_regions``).
     n_inpainted : int
         Output pixels no patch could fill (diffusion-inpainted; normally 0).
     timings : dict
@@ -243,6 +253,10 @@ class ImageSynthesisResult:
     n_inpainted: int = 0
     timings: dict = field(default_factory=dict)
     params: ImageSynthesisParams | None = None
+    #: Flat-colour regions of the example ((h, w) int; all 0 when it is not flat-coloured).
+    example_labels: np.ndarray | None = None
+    #: Region of every output pixel (None when regions were not kept).
+    labels: np.ndarray | None = None
 
     def overlay(self, *, skeleton: bool = True, seams: bool = True) -> np.ndarray:
         """The image with the target skeleton (red) and the seams (yellow) drawn over it."""
@@ -342,6 +356,25 @@ def _free_ends(sm: SkeletonMap, pm: PixelMap) -> tuple[np.ndarray, np.ndarray]:
             others = other_body[blk[0]:blk[1], blk[2]:blk[3]] & (pm.branch[blk[0]:blk[1], blk[2]:blk[3]] != b)
             free[b, k] = not (disk & others).any()
     return free[:, 0], free[:, 1]
+
+
+def _joined_at_region_edge(sm: SkeletonMap, labels: np.ndarray, free_start: np.ndarray,
+                           free_end: np.ndarray) -> None:
+    """An example end where the branch meets another flat region (a channel's mouth at the
+    sea) is no tip either: copied as one it would carry a piece of that region (a blob)."""
+    h, w = labels.shape
+    for b in range(sm.n_branches):
+        xm, ym = sm.position(b, 0.5 * float(sm.lengths[b]))
+        own = labels[int(np.clip(round(ym), 0, h - 1)), int(np.clip(round(xm), 0, w - 1))]
+        for arr, arc in ((free_start, 0.0), (free_end, float(sm.lengths[b]))):
+            if not arr[b]:
+                continue
+            x, y = sm.position(b, arc)
+            rad = 2.0 * float(sm.thickness(b, arc)) + 4.0
+            x0, x1 = max(int(x - rad), 0), min(int(x + rad) + 2, w)
+            y0, y1 = max(int(y - rad), 0), min(int(y + rad) + 2, h)
+            if x0 < x1 and y0 < y1 and np.any(labels[y0:y1, x0:x1] != own):
+                arr[b] = False
 
 
 def _tip_penalty(sm_t: SkeletonMap, tf: Fragment, lib: FragmentLibrary, lengths: np.ndarray,
@@ -490,11 +523,12 @@ def _constraints(ctx: _Context, src: Fragment, tgt: Fragment, rot, trans):
 # the public entry
 
 
+@checked(shape=Shape())
 def synthesize_image(example_image, example_structure: Structure, target_structure: Structure,
                      params: ImageSynthesisParams | None = None, rng=None,
                      progress: Callable[[float, str], None] | None = None, *,
                      shape: tuple[int, int] | None = None,
-                     example_mask=None) -> ImageSynthesisResult:
+                     example_mask=None, target_regions=None) -> ImageSynthesisResult:
     """Synthesise the image of ``target_structure`` with the texture of an example.
 
     Parameters
@@ -518,6 +552,11 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     example_mask : (H, W) bool array_like, optional
         Example pixels that may be copied at all (default: all but a flat
         black/white matte, see ``params.exclude_matte``).
+    target_regions : (H, W) int array_like, optional
+        Region label of every output pixel (labels of
+        ``ImageSynthesisResult.example_labels``), for flat-colour examples
+        with ``params.keep_regions``; default: the example's layout resized
+        to the output (the target grown in the example's domain).
 
     Returns
     -------
@@ -558,7 +597,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     pts = np.vstack([b.points for b in target_structure.branches])
     inside = (pts[:, 0] >= -0.5) & (pts[:, 0] <= W - 0.5) & (pts[:, 1] >= -0.5) & (pts[:, 1] <= H - 0.5)
     if not inside.any():
-        raise ValueError(f"target_structure lies entirely outside the {W} x {H} output")
+        raise ValueError(f"target_structure lies entirely outside the {W} x {H} output (shape)")
 
     def report(frac, text):
         if progress is not None:
@@ -570,9 +609,21 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     sm_t = SkeletonMap(target_structure, 1.0)
     pm_s = sm_s.pixel_map(ex.shape[:2])
     pm_t = sm_t.pixel_map((H, W))
+    # Flat-colour examples (maps, masks): their regions, and no matte / Poisson.
+    labels_ex, flat_share = flat_colour_regions(ex, pm_s.core(p.exclusion, p.exclusion_margin))
+    flat = bool(flat_share >= 0.5 and labels_ex.max() >= 1)
+    labels_t = None
+    if flat and p.keep_regions:
+        if target_regions is not None:
+            labels_t = np.asarray(target_regions)
+            if labels_t.shape != (H, W) or not np.issubdtype(labels_t.dtype, np.integer):
+                raise ValueError(f"target_regions must be an integer (H, W) = {(H, W)} label map")
+        else:
+            labels_t = cv2.resize(labels_ex.astype(np.int32), (W, H), interpolation=cv2.INTER_NEAREST)
+    use_poisson = p.poisson and (not flat or p.flat_poisson)
     regions = example_regions(ex, pm_s, exclusion=p.exclusion, margin=p.exclusion_margin,
                               threshold=p.branch_like if p.avoid_unannotated else None,
-                              matte=p.exclude_matte, example_mask=example_mask,
+                              matte=p.exclude_matte and not flat, example_mask=example_mask,
                               salient=p.salient_z if p.avoid_salient else None)
     if p.flatten_shading > 0:
         bg = ~(regions.forbidden | ndi.binary_dilation(regions.body | regions.branch_like, iterations=3))
@@ -584,6 +635,8 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     geo = dict(lam=p.lam, scale=p.radius_scale, min_radius=p.min_radius, max_radius=p.max_radius)
     lib_b, lib_f = source_fragments(sm_s, density=p.source_density, reverse=p.reverse, **geo)
     free_start, free_end = _free_ends(sm_s, pm_s)
+    if labels_ex.max() >= 1:
+        _joined_at_region_edge(sm_s, labels_ex, free_start, free_end)
     free_t = _free_ends(sm_t, pm_t)
     if len(lib_b) == 0:
         raise ValueError("example_structure yields no source fragment (all branches have zero length)")
@@ -668,6 +721,11 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         src_ok = ~ctx.unusable[np.clip(np.rint(my).astype(np.int64), 0, ex.shape[0] - 1),
                                np.clip(np.rint(mx).astype(np.int64), 0, ex.shape[1] - 1)]
         valid = disk & inimg & (allowed | (own_body & src_ok))
+        if labels_t is not None:
+            # background pixels only from the target pixel's own region (land from land)
+            src_lab = labels_ex[np.clip(np.rint(my).astype(np.int64), 0, ex.shape[0] - 1),
+                                np.clip(np.rint(mx).astype(np.int64), 0, ex.shape[1] - 1)]
+            valid &= (src_lab == _crop(labels_t, x0, y0, size, -1)) | own_body
         own_win = _crop(owner, x0, y0, size, -1)
         protect_piece = own_body & ~np.isin(own_win, mine) & valid
         protect_canvas = body_win & ~np.isin(b_win, mine)
@@ -676,7 +734,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
                      <= (p.furcation_clear * R) ** 2) & valid & ~protect_canvas
             _uncover(covered, clear, x0, y0)
         comp = compose_piece(canvas, covered, pix, valid, (x0, y0), protect_canvas=protect_canvas,
-                             protect_piece=protect_piece, method=p.seams, poisson=p.poisson,
+                             protect_piece=protect_piece, method=p.seams, poisson=use_poisson,
                              anchored=p.anchors, anchor_weight=p.anchor_weight)
         n_pix = 0
         if comp is not None:
@@ -717,10 +775,11 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
                              overlap=p.patch_overlap, protect=(body & covered) | inner,
                              tolerance=p.completion_tolerance, forbid_weight=p.forbid_weight,
                              min_free=p.min_free,
-                             method=p.seams, poisson=p.poisson, anchored=p.anchors,
+                             method=p.seams, poisson=use_poisson, anchored=p.anchors,
                              anchor_weight=p.anchor_weight,
                              screen=p.completion_screen if p.anchors else 0.0,
-                             rng=rng, progress=sub_progress)
+                             rng=rng, progress=sub_progress, regions=labels_t,
+                             example_regions=labels_ex if labels_t is not None else None)
         fill = comp.filled
         source[fill] = comp.source[fill]
         frag_index[fill] = -1
@@ -729,10 +788,13 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         n_inpainted = comp.n_inpainted
         timings["completion"] = time.perf_counter() - t1
     fragment_mask = frag_index >= 0
+    # Every stage keeps [0, 1]; this guards the contract (finite, in range) for any input.
+    np.clip(np.nan_to_num(canvas, nan=0.0), 0.0, 1.0, out=canvas)
     timings["total"] = time.perf_counter() - t_start
     report(1.0, "done")
     return ImageSynthesisResult(canvas, fragment_mask, fill, source, frag_index, seams, matches,
-                                total_seam, target_structure, regions, n_inpainted, timings, p)
+                                total_seam, target_structure, regions, n_inpainted, timings, p,
+                                example_labels=labels_ex, labels=labels_t)
 
 
 def _window(canvas, covered, x0, y0, size):

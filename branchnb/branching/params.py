@@ -14,6 +14,7 @@ import dataclasses
 from dataclasses import dataclass
 
 from ..core.params import check_params, param
+from ..core.validate import Real, checked
 
 __all__ = ["ClickParams", "ExtractionParams", "SynthesisParams"]
 
@@ -61,13 +62,24 @@ class SynthesisParams:
     # -- guided synthesis ---------------------------------------------------------
     guidance_width: float = param(40.0, min=1.0, max=500.0, step=1.0,
                                   help="width of the guidance valley along the user path (pixels)")
+    # -- roots ----------------------------------------------------------------------
+    roots: str = param("learned", options=("learned", "example"),
+                       help="where roots start: drawn from the learnt root model (on the same boundary "
+                            "as the example's roots, heading into the domain, spaced like them), or "
+                            "exactly at the example's root starts")
+    n_roots: int = param(-1, min=-1, max=500,
+                         help="roots (separate trees) to grow; -1 = as many as the example has")
     # -- stopping -----------------------------------------------------------------
     max_generations: int = param(4, min=0, max=20,
                                  help="stop: maximum branch generation (0 = roots only)")
     max_total_length: float = param(20000.0, min=0.0, max=1e6, step=100.0,
                                     help="stop: maximum total length of all branches (pixels)")
-    max_coverage: float = param(0.6, min=0.0, max=1.0, step=0.01,
-                                help="stop: fraction of the domain with density D > 0.5")
+    max_coverage: float = param(0.0, min=0.0, max=1.0, step=0.01,
+                                help="stop: fraction of the domain within rho of a branch; 0 = auto: "
+                                     "the example's own fraction (fills to the example's density)")
+    fill_rounds: int = param(3, min=0, max=20,
+                             help="stop: when every branch has stopped before the coverage target is "
+                                  "reached, furcate the grown branches once more, up to this many rounds")
     stop_density: float = param(0.9, min=0.0, max=1.0, step=0.01,
                                 help="stop a branch when every candidate sees density >= this")
     branch_end: str = param("length", options=("length", "markov"),
@@ -78,6 +90,7 @@ class SynthesisParams:
                                      help="a branch grows at most this times the longest input branch")
 
     @classmethod
+    @checked(s=Real(0, 1e5, low_open=True), h=Real(0, 1e3, low_open=True))
     def from_feature_size(cls, s: float, h: float = 4.0, **overrides) -> SynthesisParams:
         """The paper's rules ``m = s / h`` (rounded, >= 1) and ``k = 3 m``."""
         if not s > 0 or not h > 0:
@@ -120,8 +133,15 @@ class ExtractionParams:
                                  help="smooth the radius along each branch over this arc length")
     scale: float = param(1.0, min=0.1, max=1.0, step=0.05,
                          help="process a downscaled copy (faster); results are in full-size pixels")
-    root: str = param("thickest", options=("thickest", "top", "bottom", "left", "right"),
-                      help="which end point of each connected piece becomes the root")
+    root: str = param("thickest", options=("thickest", "top", "bottom", "left", "right", "border",
+                                           "nearest_region"),
+                      help="which end point of each connected piece becomes the root: the thickest, "
+                           "the top-most ..., the one nearest to the image border, or the one nearest "
+                           "to a large flat region (the sea a river drains into; else the border)")
+    binary: str = param("auto", options=("auto", "on", "off"),
+                        help="binary (or near-binary) input such as a water mask: centre lines by the "
+                             "medial axis with the distance-transform radius instead of the ridge "
+                             "filter; auto = detect it")
 
 
 @dataclass

@@ -33,7 +33,7 @@ from skimage.filters import apply_hysteresis_threshold
 from .skeleton_map import PixelMap
 
 __all__ = ["ExampleRegions", "example_regions", "branch_likeness", "matte_mask", "salient_mask",
-           "flatten_shading"]
+           "flatten_shading", "flat_colour_regions"]
 
 
 @dataclass
@@ -297,3 +297,74 @@ def example_regions(image: np.ndarray, pm: PixelMap, *, exclusion: float = 1.5,
         near = ndi.binary_dilation(body | like, iterations=3)
         spots = salient_mask(image, ~near & ~unusable, z=salient) & ~body & ~unusable
     return ExampleRegions(body, like, unusable, likeness, spots)
+
+
+def flat_colour_regions(image: np.ndarray, exclude: np.ndarray | None = None, *, tol: float = 0.03,
+                        min_fraction: float = 0.02) -> tuple[np.ndarray, float]:
+    """Segment an example into its large flat-colour regions (land and sea of a map, a mask's two values).
+
+    Pixels whose 5 x 5 neighbourhood varies by less than ``tol`` in every
+    channel are flat; their connected pieces are grouped by mean colour
+    (within ``2 tol``), and every group covering at least ``min_fraction``
+    of the image is a region. Every other pixel (texture, branches, the
+    ``exclude`` mask, e.g. the annotated branch bodies) takes the label of
+    the nearest region pixel, so a branch lies in the region around it.
+
+    Returns
+    -------
+    labels : (H, W) int32 ndarray
+        Region index per pixel (all 0 when there are fewer than two regions).
+    share : float
+        Fraction of the image that is flat and in a region.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.zeros((40, 40, 3), np.float32); img[:, 20:] = 0.8
+    >>> lab, share = flat_colour_regions(img)
+    >>> int(lab[5, 5]), int(lab[5, 35]), share > 0.8
+    (0, 1, True)
+    """
+    img = np.asarray(image, np.float32)
+    h, w = img.shape[:2]
+    rng_ = np.zeros((h, w), np.float32)
+    k = np.ones((5, 5), np.uint8)
+    for c in range(min(img.shape[2], 3)):
+        ch = np.ascontiguousarray(img[..., c])
+        rng_ = np.maximum(rng_, cv2.dilate(ch, k) - cv2.erode(ch, k))
+    flat = rng_ < tol
+    if exclude is not None:
+        flat &= ~np.asarray(exclude, bool)
+    lab, n = ndi.label(flat)
+    zeros = np.zeros((h, w), np.int32)
+    if n == 0:
+        return zeros, 0.0
+    area = np.bincount(lab.ravel(), minlength=n + 1)
+    means = np.stack([ndi.mean(img[..., c], lab, np.arange(1, n + 1)) for c in range(min(img.shape[2], 3))], 1)
+    order = np.argsort(-area[1:]) + 1
+    groups: list[list[int]] = []
+    colours: list[np.ndarray] = []
+    for i in order:
+        if area[i] < 0.0005 * h * w:
+            break
+        col = means[i - 1]
+        for g, c in enumerate(colours):
+            if np.max(np.abs(c - col)) <= 2 * tol:
+                groups[g].append(int(i))
+                break
+        else:
+            groups.append([int(i)])
+            colours.append(col)
+    region_of = np.full(n + 1, -1, np.int32)
+    k_reg = 0
+    for g in groups:
+        if area[g].sum() >= min_fraction * h * w:
+            region_of[g] = k_reg
+            k_reg += 1
+    if k_reg < 2:
+        share = float(area[[i for g in groups for i in g if region_of[i] >= 0]].sum() / (h * w)) if k_reg else 0.0
+        return zeros, share
+    labels = region_of[lab]
+    share = float(np.mean(labels >= 0))
+    _, (iy, ix) = ndi.distance_transform_edt(labels < 0, return_indices=True)
+    return labels[iy, ix].astype(np.int32), share

@@ -39,11 +39,13 @@ from ..core.params import check_params
 from ..core.polyline import tangents
 from ..core.random import as_rng
 from ..core.structure import Branch, Structure
+from ..core.validate import Array, Int, Shape, checked
 from .bending import BendingModel, branch_elements
 from .colonization import (
     DensityMap,
     SegmentStore,
     auto_rho,
+    coverage_fraction,
     crosses_existing,
     growth_directions,
     profile_density,
@@ -52,6 +54,7 @@ from .furcation import FurcationModel, vertex_angles, window_features
 from .guidance import Guidance
 from .histogram_matching import HistogramMatcher, histogram_distances
 from .params import SynthesisParams
+from .roots import RootModel, fit_roots
 
 __all__ = [
     "CandidateScores",
@@ -109,6 +112,12 @@ class StructureModel:
     branch_generation: np.ndarray = field(repr=False, default=None)
     branch_length: np.ndarray = field(repr=False, default=None)
     branch_r0: np.ndarray = field(repr=False, default=None)
+    #: Where the example's branches may grow ((H, W) bool), None = its whole frame.
+    domain: np.ndarray | None = field(repr=False, default=None)
+    roots: RootModel | None = None
+    #: Fraction of the example's domain within ``rho`` of a branch.
+    coverage: float = 0.0
+    _coverage_rho: float = field(repr=False, default=-1.0)
 
     def sample_length(self, generation: int, r_start: float, rng, bandwidth: float = 0.5) -> float:
         """Target length of a new branch: the length of an input branch of the same
@@ -127,8 +136,22 @@ class StructureModel:
         return HistogramMatcher(self.example.angles(), self.example.thicknesses(),
                                 bins=self.params.bins, wG=wG, m=self.params.m)
 
+    def coverage_at(self, rho: float) -> float:
+        """Fraction of the example's domain within ``rho`` of one of its branches."""
+        if abs(rho - self._coverage_rho) > 1e-9:
+            self.coverage = coverage_fraction(self.example, _frame(self.source), rho, self.domain)
+            self._coverage_rho = float(rho)
+        return self.coverage
+
     def compatible(self, params: SynthesisParams) -> bool:
         return all(getattr(params, f) == getattr(self.params, f) for f in _FIT_FIELDS)
+
+
+def _frame(s: Structure) -> tuple[int, int]:
+    if s.image_shape is not None:
+        return tuple(int(v) for v in s.image_shape[:2])
+    _x0, _y0, x1, y1 = s.bounds()
+    return int(np.ceil(y1)) + 2, int(np.ceil(x1)) + 2
 
 
 def _check_example(example) -> Structure:
@@ -142,7 +165,9 @@ def _check_example(example) -> Structure:
     return example
 
 
-def fit_model(example: Structure, params: SynthesisParams | None = None) -> StructureModel:
+@checked()
+def fit_model(example: Structure, params: SynthesisParams | None = None, *,
+              domain=None) -> StructureModel:
     """Learn the bending, histogram and furcation models from an example.
 
     Parameters
@@ -151,6 +176,12 @@ def fit_model(example: Structure, params: SynthesisParams | None = None) -> Stru
         The source structure (any vertex spacing; it is resampled at ``h``).
     params : SynthesisParams, optional
         Uses ``h``, ``m``, ``k``, ``bins``, ``svm_C``.
+    domain : (H, W) bool array_like, optional
+        Where the example's branches live (e.g. the land of a river map,
+        see :func:`~branchnb.branching.regions.example_domain`); default
+        the whole ``image_shape``. The root model (:mod:`.roots`) learns
+        where roots start relative to its boundary, and the coverage
+        target is measured inside it.
 
     Raises
     ------
@@ -171,6 +202,15 @@ def fit_model(example: Structure, params: SynthesisParams | None = None) -> Stru
     """
     example = _check_example(example)
     p = check_params(params if params is not None else SynthesisParams())
+    dom = None
+    if domain is not None:
+        from ..core.image import as_mask
+
+        if example.image_shape is None:
+            raise ValueError("domain needs example.image_shape (the frame the domain covers)")
+        dom = as_mask(domain, shape=example.image_shape, name="domain")
+        if not dom.any():
+            raise ValueError("domain is empty: no pixel where branches may grow")
     ex = example.resampled(p.h)
     longest = max(len(b.points) for b in ex.branches)
     need = p.k + p.m + 2
@@ -202,6 +242,9 @@ def fit_model(example: Structure, params: SynthesisParams | None = None) -> Stru
     cca = cum_a[tt + 1 + nn] - cum_a[tt + 1] if T else np.zeros((0, B))
     ccr = cum_r[tt + 1 + nn] - cum_r[tt + 1] if T else np.zeros((0, B))
     ldirs = growth_directions(np.zeros(2), bending.local_points, nn) if T else np.zeros((0, 2))
+    rho = auto_rho(ex, p.h)
+    frame = _frame(example)
+    cover = coverage_fraction(ex, frame, p.rho if p.rho > 0 else rho, dom)
     return StructureModel(source=example, example=ex, bending=bending, furcation=furc, params=p,
                           cum_a=cum_a, cum_r=cum_r, cand_counts_a=cca, cand_counts_r=ccr,
                           cand_sq_a=np.einsum("ij,ij->i", cca, cca),
@@ -212,7 +255,8 @@ def fit_model(example: Structure, params: SynthesisParams | None = None) -> Stru
                           first_a=fa, first_r=fr, first_len=fl,
                           max_branch_length=max(b.length for b in ex.branches),
                           r_min=float(ex.thicknesses().min()),
-                          rho=auto_rho(ex, p.h),
+                          rho=rho, domain=dom, coverage=cover, _coverage_rho=p.rho if p.rho > 0 else rho,
+                          roots=fit_roots(ex, dom, shape=frame),
                           branch_generation=np.array([ex.generation(i) for i in range(nb)]),
                           branch_length=np.array([b.length for b in ex.branches]),
                           branch_r0=np.array([np.mean(b.thickness[:3]) for b in ex.branches]))
@@ -409,7 +453,7 @@ class _BranchState:
 
 class _Grower:
     def __init__(self, model: StructureModel, params: SynthesisParams, rng, shape,
-                 guidance: Guidance | None, scorer=None):
+                 guidance: Guidance | None, scorer=None, domain: np.ndarray | None = None):
         self.model, self.p, self.rng = model, params, rng
         scorer = scorer or score_candidates
         self.shape = (int(shape[0]), int(shape[1]))
@@ -417,7 +461,12 @@ class _Grower:
         self.scorer = scorer
         self.matcher = model.matcher(params.wG)
         self.rho = params.rho if params.rho > 0 else model.rho
-        self.density = DensityMap(self.shape, self.rho) if params.colonization else None
+        self.domain = domain
+        # coverage = fraction of the domain within rho of a branch (D > exp(-1))
+        self.density = DensityMap(self.shape, self.rho, domain=domain, level=float(np.exp(-1.0))) \
+            if params.colonization else None
+        self.coverage_target = params.max_coverage if params.max_coverage > 0 else \
+            min(model.coverage_at(self.rho), 1.0)
         self.store = SegmentStore()
         self.branches: list[_BranchState] = []
         self.total_length = 0.0
@@ -425,11 +474,17 @@ class _Grower:
         self.n_candidates = 0
         self.stop_reason = ""
         self.max_branch_len = params.max_branch_factor * model.max_branch_length
+        self.fill_rounds = 0
 
     # -- bookkeeping ------------------------------------------------------
     def _inside(self, pts: np.ndarray) -> np.ndarray:
         h, w = self.shape
-        return (pts[:, 0] >= -0.5) & (pts[:, 0] <= w - 0.5) & (pts[:, 1] >= -0.5) & (pts[:, 1] <= h - 0.5)
+        ok = (pts[:, 0] >= -0.5) & (pts[:, 0] <= w - 0.5) & (pts[:, 1] >= -0.5) & (pts[:, 1] <= h - 0.5)
+        if self.domain is not None and ok.any():
+            ix = np.clip(np.rint(pts[:, 0]).astype(np.int64), 0, w - 1)
+            iy = np.clip(np.rint(pts[:, 1]).astype(np.int64), 0, h - 1)
+            ok &= self.domain[iy, ix]
+        return ok
 
     def _register(self, polyline: np.ndarray, angles=(), radii=()) -> None:
         poly = np.asarray(polyline, np.float64)
@@ -449,8 +504,8 @@ class _Grower:
             return True
         if self.total_length >= self.p.max_total_length - 1e-6:  # tolerance: summation order
             self.stop_reason = "total length"
-        elif self.density is not None and self.p.max_coverage < 1 and \
-                self.density.coverage() >= self.p.max_coverage:
+        elif self.density is not None and self.coverage_target < 1 and \
+                self.density.coverage() >= self.coverage_target:
             self.stop_reason = "density (coverage)"
         return bool(self.stop_reason)
 
@@ -485,8 +540,13 @@ class _Grower:
 
     # -- starting branches ------------------------------------------------
     def _start_branch(self, x0, theta0, heads, Q, parent, parent_vertex, generation,
-                      betas=None, mirror=None) -> int | None:
-        """Start a branch at ``x0`` with one of the candidate input heads (vectorised)."""
+                      betas=None, mirror=None, r_cap: float | None = None) -> int | None:
+        """Start a branch at ``x0`` with one of the candidate input heads (vectorised).
+
+        ``r_cap`` (a child: the parent's radius at the junction) bounds the
+        copied head's radii: a head taken from a thicker input branch is
+        scaled down so the child never starts thicker than its parent.
+        """
         model, p = self.model, self.p
         heads = np.asarray(heads, np.int64)
         if len(heads) == 0:
@@ -538,6 +598,11 @@ class _Grower:
         ea = list(sign[j] * model.first_a[hd, :ne])
         er = list(model.first_r[hd, :ne])
         radii = [head["r0"], head["r1"]] + er
+        if r_cap is not None:
+            f = min(1.0, r_cap / max(max(radii[:3]), 1e-9))
+            if f < 1.0:
+                radii = [max(r * f, model.r_min) for r in radii]
+                er = radii[2:]
         d = pl[-1] - pl[-2]
         st = _BranchState(points=list(pl), radii=radii, elem_a=ea, elem_r=er,
                           theta=float(np.arctan2(d[1], d[0])), parent=parent,
@@ -586,7 +651,8 @@ class _Grower:
             mirror = np.concatenate([mirror, ~mirror])
         tg = tangents(pts)[vertex]
         return self._start_branch(pts[vertex], float(np.arctan2(tg[1], tg[0])), heads, Q, parent,
-                                  vertex, st.generation + 1, betas=betas, mirror=mirror)
+                                  vertex, st.generation + 1, betas=betas, mirror=mirror,
+                                  r_cap=float(rad[vertex]))
 
     # -- growing ----------------------------------------------------------
     def step(self, bi: int) -> bool:
@@ -661,15 +727,22 @@ class _Grower:
                 return
             k += 1
 
-    def furcate(self, bi: int) -> list[int]:
+    def furcate(self, bi: int, extra: bool = False) -> list[int]:
         st, p = self.branches[bi], self.p
         if st.generation >= p.max_generations or not self.model.furcation.can_branch:
+            return []
+        if st.stop == "existing":
             return []
         pts = np.asarray(st.points)
         rad = np.asarray(st.radii)
         length = (len(pts) - 1) * p.h
-        d = p.d if p.d >= 0 else self.model.furcation.sample_d(length, self.rng)
-        verts = self.model.furcation.choose(pts, rad, d, min_spacing=p.min_spacing)
+        if extra:
+            d = 1
+            existing = [b.parent_vertex for b in self.branches if b.parent == bi]
+        else:
+            d = p.d if p.d >= 0 else self.model.furcation.sample_d(length, self.rng)
+            existing = ()
+        verts = self.model.furcation.choose(pts, rad, d, min_spacing=p.min_spacing, existing=existing)
         kids = []
         for v in verts:
             if self.global_stop():
@@ -679,6 +752,19 @@ class _Grower:
                 kids.append(c)
         return kids
 
+    def _drain(self, queue: list[int]) -> None:
+        """Grow the queued branches breadth first, queueing their children."""
+        qi = 0
+        while qi < len(queue):
+            bi = queue[qi]
+            qi += 1
+            if self.global_stop():
+                return
+            self.grow(bi)
+            if self.global_stop():
+                return
+            queue.extend(self.furcate(bi))
+
     def run(self, starts) -> None:
         queue = []
         for (x, y, th) in starts:
@@ -687,16 +773,21 @@ class _Grower:
             r = self.start_root(x, y, th)
             if r is not None:
                 queue.append(r)
-        qi = 0
-        while qi < len(queue):
-            bi = queue[qi]
-            qi += 1
-            if self.global_stop():
+        self._drain(queue)
+        # Everything stopped before the domain is as dense as the example:
+        # furcate the grown branches once more (highest furcation probability
+        # away from their children), round after round.
+        for _ in range(self.p.fill_rounds):
+            if self.global_stop() or self.density is None or not self.branches:
                 break
-            self.grow(bi)
-            if self.global_stop():
+            before = len(self.branches)
+            for bi in range(before):
+                if self.global_stop():
+                    break
+                self._drain(self.furcate(bi, extra=True))
+            if len(self.branches) == before:
                 break
-            queue.extend(self.furcate(bi))
+            self.fill_rounds += 1
         if not self.stop_reason:
             self.stop_reason = "no branch can grow" if queue else "no root could start"
 
@@ -723,6 +814,8 @@ class _Grower:
             "coverage": self.density.coverage() if self.density is not None else None,
             "furcation_probability": self.model.furcation.probability_method,
             "rho": self.rho,
+            "coverage_target": self.coverage_target,
+            "fill_rounds": self.fill_rounds,
         }
 
 
@@ -732,7 +825,7 @@ class _Grower:
 def _resolve(example, params) -> tuple[StructureModel, SynthesisParams]:
     p = check_params(params if params is not None else SynthesisParams())
     if isinstance(example, StructureModel):
-        model = example if example.compatible(p) else fit_model(example.source, p)
+        model = example if example.compatible(p) else fit_model(example.source, p, domain=example.domain)
     else:
         model = fit_model(_check_example(example), p)
     return model, p
@@ -749,9 +842,14 @@ def _domain(model: StructureModel, shape) -> tuple[int, int]:
     return int(np.ceil(y1)) + 2, int(np.ceil(x1)) + 2
 
 
-def _default_starts(model: StructureModel, shape, guidance) -> list[tuple[float, float, float]]:
+def _default_starts(model: StructureModel, shape, guidance, params: SynthesisParams | None = None,
+                    domain=None, rng=None) -> list[tuple[float, float, float]]:
     if guidance is not None and guidance.start() is not None:
         return [guidance.start()]
+    if params is not None and params.roots == "learned" and model.roots is not None and model.roots.n_roots:
+        dom = domain if domain is not None else np.ones(tuple(shape), bool)
+        n = params.n_roots if params.n_roots >= 0 else None
+        return model.roots.sample(dom, rng, n)
     src = model.example
     sy, sx = 1.0, 1.0
     if src.image_shape is not None:
@@ -779,7 +877,7 @@ def _root_escaped(g: _Grower, min_root_length: float) -> bool:
     return False
 
 
-def _grow_with_retries(model, p, rng, shp, guidance, starts, scorer) -> _Grower:
+def _grow_with_retries(model, p, rng, shp, guidance, starts, scorer, domain=None) -> _Grower:
     """Grow, restarting when a root walks out of the domain at once.
 
     A root starts at an example root's head with its heading; near the
@@ -790,37 +888,69 @@ def _grow_with_retries(model, p, rng, shp, guidance, starts, scorer) -> _Grower:
     domain's short side), synthesis restarts with the next draws of the
     same generator, so results stay reproducible, up to
     :data:`MAX_ROOT_ATTEMPTS` times; the attempt with the most vertices is
-    kept. Guided synthesis is never restarted.
+    kept. With starts drawn from the root model, a result shorter than a
+    quarter of the example's total length (scaled by the domain's area)
+    is grown again the same way (new starts). Guided synthesis is never
+    restarted.
     """
     roots = [b.length for b in model.example.branches if b.parent is None and len(b.points) > 1]
     min_len = min(0.5 * float(np.median(roots)), 0.25 * min(shp)) if roots else 0.0
+    # A forest that died young (its roots blocked or ended at once) is grown again too.
+    frame = _frame(model.source)
+    area_ratio = (shp[0] * shp[1]) / max(frame[0] * frame[1], 1)
+    if domain is not None and model.domain is not None:
+        area_ratio = float(np.count_nonzero(domain)) / max(float(np.count_nonzero(model.domain)), 1.0)
+    min_total = 0.0
+    if starts is None or callable(starts):
+        min_total = min(0.25 * model.example.total_length * area_ratio, 0.5 * p.max_total_length)
     # A guided root follows the user's path, out of the domain if the path goes there.
     attempts = 1 if guidance is not None else MAX_ROOT_ATTEMPTS
     best = None
     for attempt in range(1, attempts + 1):
-        g = _Grower(model, p, rng, shp, guidance, scorer=scorer)
-        g.run(starts)
+        g = _Grower(model, p, rng, shp, guidance, scorer=scorer, domain=domain)
+        g.run(starts(rng) if callable(starts) else starts)
         g.attempt = attempt
         if best is None or sum(len(b.points) for b in g.branches) > sum(len(b.points) for b in best.branches):
             best = g
-        if not _root_escaped(g, min_len):
+        if not _root_escaped(g, min_len) and g.total_length >= min_total:
             return g
     return best
+
+
+def _check_domain(domain, model: StructureModel, shape):
+    import cv2
+
+    from ..core.image import as_mask
+
+    if domain is None:
+        if model.domain is None:
+            return None
+        d = model.domain
+        if d.shape != tuple(shape):
+            d = cv2.resize(d.astype(np.uint8), (shape[1], shape[0]), interpolation=cv2.INTER_NEAREST) > 0
+        return d
+    d = as_mask(domain, shape=tuple(shape), name="domain")
+    if not d.any():
+        raise ValueError("domain is empty: no pixel where branches may grow")
+    return d
 
 
 def _check_guidance(guidance, shape):
     if guidance is None:
         return None
     if not isinstance(guidance, Guidance):
-        g = np.asarray(guidance)
-        guidance = Guidance(g)
+        try:
+            guidance = Guidance(guidance)
+        except (TypeError, ValueError) as exc:
+            raise type(exc)(f"guidance: {exc}") from None
     if guidance.shape != tuple(shape):
         raise ValueError(f"guidance map has shape {guidance.shape}, the domain is {tuple(shape)}")
     return guidance
 
 
+@checked(shape=Shape(), starts=Array(ndim=2))
 def synthesize_structure(example, params: SynthesisParams | None = None, *, rng=None,
-                         guidance=None, shape=None, starts=None,
+                         guidance=None, shape=None, starts=None, domain=None,
                          _scorer=None) -> SynthesisResult:
     """Synthesize a new branching structure that looks like ``example``.
 
@@ -841,7 +971,15 @@ def synthesize_structure(example, params: SynthesisParams | None = None, *, rng=
         Output domain (default: the example's ``image_shape``).
     starts : sequence of (x, y, angle), optional
         Root start points and initial directions (radians, image
-        coordinates); default: the example's roots (scaled to ``shape``).
+        coordinates). Default (``params.roots = "learned"``): ``n_roots``
+        starts (default: as many as the example has trees) drawn from the
+        learnt root model (:mod:`.roots`): on the same kind of boundary as
+        the example's roots (an image side, the domain's edge such as a
+        coast, or inside), heading into the domain; ``roots = "example"``
+        uses the example's own root starts (scaled to ``shape``).
+    domain : (H, W) bool array_like, optional
+        Where branches may grow (a branch stops where it would leave it);
+        default: the model's domain (resized to ``shape``) or the whole frame.
 
     Returns
     -------
@@ -863,8 +1001,14 @@ def synthesize_structure(example, params: SynthesisParams | None = None, *, rng=
     rng = as_rng(rng)
     shp = _domain(model, shape)
     guidance = _check_guidance(guidance, shp)
+    dom = _check_domain(domain, model, shp)
     if starts is None:
-        starts = _default_starts(model, shp, guidance)
+        if guidance is not None or p.roots != "learned":
+            starts = _default_starts(model, shp, guidance, p, dom, rng)
+        else:
+            # drawn again at every attempt (a root that walked out gets a new start)
+            def starts(r):
+                return _default_starts(model, shp, None, p, dom, r)
     else:
         st = np.asarray(starts, np.float64)
         if st.ndim != 2 or st.shape[1] != 3 or not np.all(np.isfinite(st)):
@@ -874,7 +1018,7 @@ def synthesize_structure(example, params: SynthesisParams | None = None, *, rng=
         if bad.any():
             raise ValueError(f"starts[{int(np.flatnonzero(bad)[0])}] lies outside the {w} x {h} domain")
         starts = [tuple(map(float, s)) for s in st]
-    g = _grow_with_retries(model, p, rng, shp, guidance, starts, _scorer)
+    g = _grow_with_retries(model, p, rng, shp, guidance, starts, _scorer, dom)
     s = g.structure()
     diag = g.diagnostics(t0)
     diag["attempts"] = g.attempt
@@ -884,6 +1028,7 @@ def synthesize_structure(example, params: SynthesisParams | None = None, *, rng=
     return SynthesisResult(structure=s, example=model.example, diagnostics=diag, density=dens)
 
 
+@checked(index=Int(0), n_steps=Int(1, 100_000), shape=Shape())
 def extend_branch(structure: Structure, index: int, example, params: SynthesisParams | None = None,
                   *, n_steps: int | None = None, rng=None, guidance=None,
                   shape=None) -> SynthesisResult:
@@ -925,8 +1070,11 @@ def extend_branch(structure: Structure, index: int, example, params: SynthesisPa
     rng = as_rng(rng)
     shp = tuple(structure.image_shape) if shape is None and structure.image_shape else _domain(model, shape)
     guidance = _check_guidance(guidance, shp)
-    g = _Grower(model, p, rng, shp, guidance)
+    g = _Grower(model, p, rng, shp, guidance, domain=_check_domain(None, model, shp))
     g.add_existing(structure)
+    if p.max_coverage <= 0:
+        # extending is an explicit request: the automatic coverage target does not stop it
+        g.coverage_target = 1.0
     for i, br in enumerate(structure.branches):
         ea, er = branch_elements(br.points, br.thickness)
         d = br.points[-1] - br.points[-2] if len(br.points) > 1 else np.array([1.0, 0.0])

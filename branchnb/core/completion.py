@@ -60,7 +60,7 @@ class CompletionResult:
         Patch side actually used.
     n_inpainted : int
         Pixels no patch could fill (all its candidate pixels were forbidden),
-        filled by OpenCV's diffusion inpainting as a last resort.
+        filled with the colour of the nearest known pixels as a last resort.
     """
 
     filled: np.ndarray
@@ -266,7 +266,9 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
                   poisson: bool = True, anchored: bool = True, anchor_weight: float = 10.0,
                   screen: float = 0.05, min_free: float = 0.0, reuse_weight: float = 1.0,
                   max_passes: int = 4, rng=None,
-                  progress: Callable[[float, str], None] | None = None) -> CompletionResult:
+                  progress: Callable[[float, str], None] | None = None,
+                  regions: np.ndarray | None = None, example_regions: np.ndarray | None = None,
+                  outside: np.ndarray | None = None) -> CompletionResult:
     """Fill every uncovered pixel of ``canvas`` **in place** with branch-free texture.
 
     Parameters
@@ -310,6 +312,17 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
         Passes over the remaining holes before the last-resort inpainting.
     rng : int or numpy.random.Generator, optional
     progress : callable(fraction, text), optional
+    regions, example_regions : (H, W) and (h, w) int ndarray, optional
+        Region labels of the canvas and of the example (e.g. land and sea
+        of a map, from a flat-colour segmentation). Given both, each
+        region is completed on its own, only from example pixels of the
+        same region: land from land, sea from sea. A patch never covers
+        pixels of another region, so seams follow the region boundaries,
+        and other regions are neutral in its colour correction.
+    outside : (H, W) bool ndarray, optional
+        Canvas pixels this call neither fills nor matches against (used for
+        the per-region passes; also available to callers that complete one
+        part of an image).
 
     Returns
     -------
@@ -320,6 +333,27 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
     eh, ew = example.shape[:2]
     if forbidden.shape != (eh, ew):
         raise ValueError(f"forbidden must have the example's shape {(eh, ew)}, got {forbidden.shape}")
+    if regions is not None and example_regions is not None:
+        regions = np.asarray(regions)
+        example_regions = np.asarray(example_regions)
+        if regions.shape != (H, W) or example_regions.shape != (eh, ew):
+            raise ValueError(f"regions must have the canvas shape {(H, W)} and example_regions the "
+                             f"example's {(eh, ew)}, got {regions.shape} and {example_regions.shape}")
+        labels = np.unique(regions[~covered])
+        if len(np.unique(regions)) > 1 or len(labels) > 1:
+            return _complete_by_region(canvas, covered, example, forbidden, regions, example_regions,
+                                       labels, outside, rng, progress,
+                                       dict(patch_size=patch_size, overlap=overlap, protect=protect,
+                                            tolerance=tolerance, forbid_weight=forbid_weight,
+                                            search_size=search_size, method=method, poisson=poisson,
+                                            anchored=anchored, anchor_weight=anchor_weight, screen=screen,
+                                            min_free=min_free, reuse_weight=reuse_weight,
+                                            max_passes=max_passes))
+    if outside is not None:
+        outside = np.asarray(outside, bool)
+        covered_in = covered.copy()
+        covered |= outside
+        protect = outside if protect is None else (np.asarray(protect, bool) | outside)
     margin = 2 if (poisson and anchored) else 0
     size = int(min(patch_size, H, W, eh - 2 * margin, ew - 2 * margin))
     if size < 4:
@@ -352,12 +386,16 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
             todo[i] = False
             y, x = (int(v) for v in cells[i])
             known = covered[y:y + size, x:x + size]
+            if outside is not None:
+                known = known & ~outside[y:y + size, x:x + size]
             sy, sx = matcher.choose(canvas[y:y + size, x:x + size], known, tolerance, rng)
             # Piece = the window plus its anchor band; forbidden pixels are no part of it.
             py0, px0 = sy - margin, sx - margin
             piece = example[py0:py0 + full, px0:px0 + full]
             valid = np.zeros((full, full), bool)
             valid[margin:margin + size, margin:margin + size] = True
+            if outside is not None:
+                valid[margin:margin + size, margin:margin + size] = ~outside[y:y + size, x:x + size]
             valid &= ~forbidden[py0:py0 + full, px0:px0 + full]
             prot = None
             if prot_full is not None:
@@ -394,12 +432,69 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
         _inpaint(canvas, covered)
         filled |= ~covered
         covered[:] = True
+    if outside is not None:
+        covered[:] = covered_in | filled
     return CompletionResult(filled, source, seams, n_patches, total_cost, size, n_inpainted)
 
 
+def _complete_by_region(canvas, covered, example, forbidden, regions, example_regions, labels, outside,
+                        rng, progress, kw) -> CompletionResult:
+    """:func:`complete_gaps` once per region, each from the example's pixels of that region."""
+    H, W = covered.shape
+    filled = np.zeros((H, W), bool)
+    source = np.full((H, W, 2), np.nan)
+    seams = np.zeros((H, W), bool)
+    n_patches, cost, n_inp, size = 0, 0.0, 0, kw["patch_size"]
+    labels = sorted(labels, key=lambda k: -int(np.count_nonzero(regions == k)))
+    for i, k in enumerate(labels):
+        mine = regions == k
+        forb = forbidden | (example_regions != k)
+        if forb.all():  # the example has no usable pixel of this region: any region will do
+            forb = forbidden
+        out_k = ~mine if outside is None else (~mine | outside)
+
+        def sub(frac, text, i=i):
+            if progress is not None:
+                progress((i + frac) / len(labels), text)
+
+        r = complete_gaps(canvas, covered, example, forb, rng=rng, progress=sub, outside=out_k, **kw)
+        filled |= r.filled
+        src = r.filled
+        source[src] = r.source[src]
+        seams |= r.seams
+        n_patches += r.n_patches
+        cost += r.seam_cost
+        n_inp += r.n_inpainted
+        size = r.patch_size
+    return CompletionResult(filled, source, seams, n_patches, cost, size, n_inp)
+
+
 def _inpaint(canvas: np.ndarray, covered: np.ndarray) -> None:
-    """Diffuse the known colours into the last holes (OpenCV Telea), in place."""
-    hole = (~covered).astype(np.uint8)
-    for c in range(canvas.shape[2]):
-        ch = np.ascontiguousarray(canvas[..., c])
-        canvas[..., c] = cv2.inpaint(ch, hole, 3, cv2.INPAINT_TELEA)
+    """Fill the last holes with the colour of the nearest known pixels, in place.
+
+    Each hole pixel takes the mean of the known pixels at the nearest
+    distance found by a normalised box average that grows until it reaches
+    them. (OpenCV's Telea inpainting is not used: on float32 images it
+    returns values far outside [0, 1].) The result stays within the range
+    of the known colours.
+    """
+    hole = ~covered
+    if not hole.any():
+        return
+    if not covered.any():
+        canvas[hole] = 0.0
+        return
+    known = covered.astype(np.float32)
+    vals = np.where(covered[:, :, None], canvas, 0.0).astype(np.float32)
+    todo = hole.copy()
+    k = 3
+    while todo.any():
+        w = cv2.boxFilter(known, -1, (k, k), normalize=False, borderType=cv2.BORDER_CONSTANT)
+        ok = todo & (w > 0)
+        if ok.any():
+            for c in range(canvas.shape[2]):
+                s = cv2.boxFilter(np.ascontiguousarray(vals[:, :, c]), -1, (k, k), normalize=False,
+                                  borderType=cv2.BORDER_CONSTANT)
+                canvas[:, :, c][ok] = s[ok] / w[ok]
+            todo &= ~ok
+        k = 2 * k + 1

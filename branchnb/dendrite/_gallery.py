@@ -44,11 +44,13 @@ def render(outdir: Path) -> list[GalleryItem]:
          "same lattice and 200 endpoints; left cumulative, right non-scalar (max edge, then sum); "
          "bottom: Dijkstra's visiting order as contour bands")
 
-    for name in ("astronaut", "camera", "chelsea"):
+    for name in ("astronaut", "camera", "chelsea", "zelkova_leaf", "lightning_noaa"):
         st = Stylizer(data.load(name))
         out = st.run(StylizeParams(), rng=0)
         save(f"dendrite_stylized_{name}.png", out.rendering.image, f"Dendritic stylization: {name}",
-             "3,000 stippled endpoints, non-scalar metric, importance emphasis")
+             "defaults: 3,000 stippled endpoints, non-scalar metric, importance emphasis and tone; "
+             "no endpoints on empty paper")
+    st = Stylizer(data.load("chelsea"))
     cum = st.run(StylizeParams(metric="cumulative"), rng=0)
     save("dendrite_stylized_chelsea_cumulative.png", cum.rendering.image,
          "Stylization, cumulative metric", "same endpoints as above, cumulative metric")
@@ -65,6 +67,9 @@ def render(outdir: Path) -> list[GalleryItem]:
          "Trees by iterative growth", "4 iterations (cumulative trunk, then blended metric, "
          "shrinking radius); right: 3 trees from one trunk drawn back to front (occlusion)")
     par = pareidolia_tree(data.load("astronaut"), rng=0)
+    leaf = pareidolia_tree(data.load("zelkova_leaf"), rng=0)
     save("dendrite_pareidolia.png", par.render().image, "Pareidolia tree",
-         "astronaut hidden on the left of the crown; random twigs on the right")
+         "astronaut hidden in the crown; the crown follows the picture, pipe-model trunk")
+    save("dendrite_pareidolia_leaf.png", leaf.render().image, "Pareidolia tree: a leaf",
+         "a leaf photo as the crown: the crown takes the leaf's outline")
     return items

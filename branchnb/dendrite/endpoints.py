@@ -14,9 +14,13 @@ our importance map already produces by weighting the gradient 3x. Voronoi
 stippling is vectorised, reproducible from ``rng`` and shared with other
 techniques of the package.
 
-Density = ``importance ** gamma + floor``: the small ``floor`` keeps a few
-endpoints in empty (white) regions, and makes a constant image give
-uniformly spread endpoints instead of an error.
+Density = ``importance ** gamma`` where the importance reaches
+``threshold``, plus ``floor`` everywhere. Below the threshold a pixel
+counts as empty paper and gets no endpoints, so flat backgrounds stay
+clean (the dendrite only crosses them to join separate parts); a positive
+``floor`` puts a few endpoints there anyway. A weighted centroid can fall
+into an empty gap (inside a ring, between two arms): such endpoints are
+moved to the nearest pixel of positive density.
 """
 
 from __future__ import annotations
@@ -26,6 +30,7 @@ import numpy as np
 from ..core.image import as_mask
 from ..core.random import as_rng
 from ..core.sampling import stipple
+from ..core.validate import MAX_COUNT, Array, Int, Real, checked
 
 __all__ = ["endpoint_density", "place_endpoints", "random_endpoints"]
 
@@ -40,21 +45,27 @@ def _check_importance(importance) -> np.ndarray:
 
 
 def endpoint_density(importance, *, gamma: float = 1.0, floor: float = 0.02,
-                     mask=None) -> np.ndarray:
-    """The stippling density ``importance ** gamma + floor`` (0 outside ``mask``)."""
+                     threshold: float = 0.0, mask=None) -> np.ndarray:
+    """The stippling density ``importance ** gamma`` (0 below ``threshold``) ``+ floor``,
+    0 outside ``mask``."""
     imp = _check_importance(importance)
     if not np.isfinite(gamma) or gamma <= 0:
         raise ValueError(f"gamma must be > 0, got {gamma}")
     if not np.isfinite(floor) or floor < 0:
         raise ValueError(f"floor must be >= 0, got {floor}")
-    d = imp ** gamma + floor
+    if not np.isfinite(threshold) or threshold < 0:
+        raise ValueError(f"threshold must be >= 0, got {threshold}")
+    d = np.where(imp >= threshold, imp ** gamma, 0.0) + floor
     if mask is not None:
         d = np.where(as_mask(mask, shape=imp.shape), d, 0.0)
     return d
 
 
+@checked(importance=Array(ndim=2), n_endpoints=Int(1, MAX_COUNT), gamma=Real(0, 100, low_open=True),
+         floor=Real(0, 1), iterations=Int(0, 10_000))
 def place_endpoints(importance, n_endpoints: int, *, gamma: float = 1.0, floor: float = 0.02,
-                    iterations: int = 10, mask=None, rng=None) -> np.ndarray:
+                    threshold: float = 0.0, iterations: int = 10, mask=None,
+                    rng=None) -> np.ndarray:
     """Blue-noise endpoints whose density follows the importance map.
 
     Parameters
@@ -67,6 +78,8 @@ def place_endpoints(importance, n_endpoints: int, *, gamma: float = 1.0, floor: 
         Contrast of the density (``importance ** gamma``).
     floor : float
         Density added everywhere (see the module docstring).
+    threshold : float
+        Importance below which a pixel gets no endpoints (unless ``floor > 0``).
     iterations : int
         Lloyd iterations of the stippling.
     mask : (H, W) bool array_like, optional
@@ -93,27 +106,29 @@ def place_endpoints(importance, n_endpoints: int, *, gamma: float = 1.0, floor: 
         raise TypeError(f"n_endpoints must be an int, got {n_endpoints!r}")
     if n_endpoints < 1:
         raise ValueError(f"n_endpoints must be >= 1, got {n_endpoints}")
-    d = endpoint_density(importance, gamma=gamma, floor=floor, mask=mask)
+    d = endpoint_density(importance, gamma=gamma, floor=floor, threshold=threshold, mask=mask)
     if not (d > 0).any():
-        raise ValueError("the endpoint density is zero everywhere (empty mask and no floor)")
+        raise ValueError("the endpoint density is zero everywhere (empty mask, nothing above "
+                         "the threshold and no floor)")
     pts = stipple(d, int(n_endpoints), iterations=iterations, rng=rng)
     h, w = d.shape
     pts[:, 0] = np.clip(pts[:, 0], 0, w - 1)
     pts[:, 1] = np.clip(pts[:, 1], 0, h - 1)
-    if mask is not None:  # a centroid may fall outside a non-convex mask: snap it back
-        m = as_mask(mask, shape=d.shape) & (d > 0)
-        ys, xs = np.nonzero(m)
-        col = np.rint(pts[:, 0]).astype(int)
-        row = np.rint(pts[:, 1]).astype(int)
-        bad = ~m[row, col]
-        if bad.any():
-            from scipy.spatial import cKDTree
+    # a centroid may fall into an empty gap of a non-convex region: snap it back
+    m = d > 0
+    col = np.rint(pts[:, 0]).astype(int)
+    row = np.rint(pts[:, 1]).astype(int)
+    bad = ~m[row, col]
+    if bad.any():
+        from scipy.spatial import cKDTree
 
-            _, j = cKDTree(np.column_stack([xs, ys])).query(pts[bad])
-            pts[bad] = np.column_stack([xs[j], ys[j]])
+        ys, xs = np.nonzero(m)
+        _, j = cKDTree(np.column_stack([xs, ys])).query(pts[bad])
+        pts[bad] = np.column_stack([xs[j], ys[j]])
     return pts
 
 
+@checked(n_endpoints=Int(1, MAX_COUNT))
 def random_endpoints(mask, n_endpoints: int, *, rng=None) -> np.ndarray:
     """``n_endpoints`` uniformly random pixels of ``mask`` as (x, y) points (white noise)."""
     m = as_mask(mask)

@@ -10,7 +10,10 @@
   non-scalar metric from a seed at the top, so the branches fork downward.
 
 Every function returns a :class:`~branchnb.dendrite.render.Rendering`
-(raster + SVG).
+(raster + SVG). Lengths left at ``None`` (leaf size and spacing, curl
+length, smoothing, glow) are given for a 512 x 512 image and scale with the
+dendrite's diagonal (:mod:`.scale`), so a 256-px and a 1024-px input look
+alike; a number is taken as pixels.
 """
 
 from __future__ import annotations
@@ -20,15 +23,18 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage
 
+from ..core.image import as_points
 from ..core.params import check_params, param
 from ..core.polyline import arc_length
 from ..core.random import as_rng
 from ..core.render import coverage_polylines, draw_polylines
 from ..core.svg import polylines_to_svg
+from ..core.validate import Colour, Int, Point, Real, Shape, checked
 from .dendrite import Dendrite, build_dendrite
 from .lattice import direction_factors, make_lattice
 from .planner import plan
 from .render import Rendering, _canvas, render_plain, svg_document
+from .scale import length_scale
 
 __all__ = [
     "METAPHORS",
@@ -85,17 +91,55 @@ def _leaf(base, direction, length, width, side):
     return pts, widths
 
 
-def vine_curves(dendrite: Dendrite, *, smooth: int = 12, curls: float = 0.6,
-                curl_length: float = 14.0, leaves: bool = True, leaf_spacing: float = 14.0,
-                leaf_length: float = 7.0, leaf_width: float = 4.0, max_leaf_radius: float = 1.6,
+#: Vine lengths (pixels at 512 x 512) used when an argument is None.
+VINE_LENGTHS = {"curl_length": 14.0, "leaf_spacing": 14.0, "leaf_length": 7.0,
+                "leaf_width": 4.0, "max_leaf_radius": 1.6}
+
+
+#: Metaphor lengths never shrink below this share of their 512 x 512 values, so a
+#: thumbnail (diagonal under ~180 px) still shows leaves, curls and a glow.
+MIN_SCALE = 0.25
+
+
+def _unit(shape) -> float:
+    return max(length_scale(shape), MIN_SCALE)
+
+
+def _len(value, shape, default: float) -> float:
+    return float(value) if value is not None else float(default) * _unit(shape)
+
+
+def _vine_smooth(smooth, shape) -> int:
+    # [1, 2, 1] passes blur by sqrt(passes / 2) nodes: passes grow with the scale squared
+    if smooth is not None:
+        return int(smooth)
+    return max(1, round(12 * length_scale(shape) ** 2)) if shape is not None else 12
+
+
+def vine_curves(dendrite: Dendrite, *, smooth: int | None = None, curls: float = 0.6,
+                curl_length: float | None = None, leaves: bool = True,
+                leaf_spacing: float | None = None, leaf_length: float | None = None,
+                leaf_width: float | None = None, max_leaf_radius: float | None = None,
                 rng=None):
     """Geometry of the vine metaphor.
+
+    Lengths left at None are :data:`VINE_LENGTHS` scaled to the dendrite's
+    image diagonal (never below :data:`MIN_SCALE` of them); ``smooth``
+    (passes along the branches) scales with its square.
 
     Returns
     -------
     stems : list of (n, 2) arrays, stem_widths : list of (n,) arrays,
     leaves : list of (9, 2) arrays, leaf_widths : list of (9,) arrays
     """
+    shape = dendrite.shape if dendrite.shape is not None else (512, 512)
+    smooth = _vine_smooth(smooth, dendrite.shape)
+    curl_length = _len(curl_length, shape, VINE_LENGTHS["curl_length"])
+    leaf_spacing = _len(leaf_spacing, shape, VINE_LENGTHS["leaf_spacing"])
+    leaf_length = _len(leaf_length, shape, VINE_LENGTHS["leaf_length"])
+    leaf_width = _len(leaf_width, shape, VINE_LENGTHS["leaf_width"])
+    max_leaf_radius = _len(max_leaf_radius, shape, VINE_LENGTHS["max_leaf_radius"])
+    unit = _unit(shape)
     if smooth < 0 or not 0 <= curls <= 1 or leaf_spacing <= 0:
         raise ValueError("smooth must be >= 0, curls in [0, 1], leaf_spacing > 0")
     rng = as_rng(rng)
@@ -106,8 +150,8 @@ def vine_curves(dendrite: Dendrite, *, smooth: int = 12, curls: float = 0.6,
         if len(line) >= 3 and rng.random() < curls:
             t = _tip_tangent(line)
             curl = _curl(line[-1], t, curl_length * rng.uniform(0.6, 1.2),
-                         rng.choice([-1.0, 1.0]), rng)
-            cw = np.linspace(max(wid[-1], 0.6), 0.3, len(curl))
+                         rng.choice([-1.0, 1.0]), rng, step=0.75 * min(unit, 1.0))
+            cw = np.linspace(max(wid[-1], 0.6 * unit), 0.3 * unit, len(curl))
             line = np.vstack([line, curl[1:]])
             wid = np.concatenate([wid, cw[1:]])
         stems.append(line)
@@ -117,7 +161,7 @@ def vine_curves(dendrite: Dendrite, *, smooth: int = 12, curls: float = 0.6,
         arc = arc_length(line)
         side = 1.0 if bi % 2 else -1.0
         s = rng.uniform(0.3, 1.0) * leaf_spacing
-        while s < arc[-1] - 2.0:
+        while s < arc[-1] - 2.0 * unit:
             k = int(np.searchsorted(arc, s))
             k = min(max(k, 1), len(line) - 1)
             r = wid[min(k, len(wid) - 1)] / 2.0
@@ -136,16 +180,20 @@ def vine_curves(dendrite: Dendrite, *, smooth: int = 12, curls: float = 0.6,
     return stems, widths, leaf_pts, leaf_w
 
 
+@checked(stem_color=Colour(), leaf_color=Colour(), smooth=Int(0, 10_000), curls=Real(0, 1), curl_length=Real(0, 1e4),
+         leaf_spacing=Real(0.5, 1e4), leaf_length=Real(0, 1e4), leaf_width=Real(0, 1e4))
 def render_vines(dendrite: Dendrite, *, background=None, stem_color=(0.22, 0.3, 0.12),
-                 leaf_color=(0.3, 0.55, 0.18), smooth: int = 12, curls: float = 0.6,
-                 curl_length: float = 14.0, leaves: bool = True, leaf_spacing: float = 14.0,
-                 leaf_length: float = 7.0, leaf_width: float = 4.0, rng=0) -> Rendering:
+                 leaf_color=(0.3, 0.55, 0.18), smooth: int | None = None, curls: float = 0.6,
+                 curl_length: float | None = None, leaves: bool = True,
+                 leaf_spacing: float | None = None, leaf_length: float | None = None,
+                 leaf_width: float | None = None, rng=0) -> Rendering:
     """The vine metaphor: smooth stems, curled tips, alternating leaves.
 
     Leaf colours vary slightly around ``leaf_color``; leaves grow only where
-    the stem is thin (radius <= 1.6 px). See :func:`vine_curves` for the
-    geometry parameters.
+    the stem is thin (radius <= 1.6 px at 512 x 512). See :func:`vine_curves`
+    for the geometry parameters; None means "scaled to the image diagonal".
     """
+    rng = as_rng(rng)  # one stream for the geometry and the leaf shades: rng=s equals default_rng(s)
     canvas = _canvas(dendrite, background)
     stems, widths, lp, lw = vine_curves(
         dendrite, smooth=smooth, curls=curls, curl_length=curl_length, leaves=leaves,
@@ -154,7 +202,7 @@ def render_vines(dendrite: Dendrite, *, background=None, stem_color=(0.22, 0.3, 
     h, w = canvas.shape[:2]
     cols = None
     if lp:
-        shade = as_rng(rng).uniform(0.8, 1.2, (len(lp), 1))
+        shade = rng.uniform(0.8, 1.2, (len(lp), 1))
         cols = np.clip(np.asarray(leaf_color)[None, :] * shade, 0, 1)
         img = draw_polylines(img, lp, widths=lw, colors=cols)
 
@@ -168,9 +216,11 @@ def render_vines(dendrite: Dendrite, *, background=None, stem_color=(0.22, 0.3, 
 
 
 # ------------------------------------------------------------------- lightning
+@checked(sky=Colour(), core_color=Colour(), glow_color=Colour(), glow_sigma=Real(0, 1e3), glow_strength=Real(0, 1e4),
+         core_scale=Real(0, 1e3), smooth=Int(0, 10_000))
 def render_lightning(dendrite: Dendrite, *, background=None, sky=(0.02, 0.02, 0.07),
                      core_color=(1.0, 1.0, 1.0), glow_color=(0.55, 0.6, 1.0),
-                     glow_sigma: float = 5.0, glow_strength: float = 4.0,
+                     glow_sigma: float | None = None, glow_strength: float = 4.0,
                      core_scale: float = 0.6, smooth: int = 0) -> Rendering:
     """The lightning metaphor: a blurred glow under a bright core.
 
@@ -178,8 +228,9 @@ def render_lightning(dendrite: Dendrite, *, background=None, sky=(0.02, 0.02, 0.
     ----------
     background : (H, W, C) array_like, optional
         Image to draw on; a plain ``sky`` colour by default.
-    glow_sigma : float
-        Blur of the glow (pixels).
+    glow_sigma : float, optional
+        Blur of the glow (pixels); 5 px at 512 x 512 scaled to the image
+        diagonal by default.
     glow_strength : float
         Gain of the glow.
     core_scale : float
@@ -189,9 +240,10 @@ def render_lightning(dendrite: Dendrite, *, background=None, sky=(0.02, 0.02, 0.
 
     The SVG uses an ``feGaussianBlur`` filter for the glow.
     """
+    canvas = _canvas(dendrite, background, fill=sky)
+    glow_sigma = _len(glow_sigma, canvas.shape[:2], 5.0)
     if glow_sigma <= 0 or glow_strength < 0 or core_scale <= 0:
         raise ValueError("glow_sigma and core_scale must be > 0, glow_strength >= 0")
-    canvas = _canvas(dendrite, background, fill=sky)
     lines = dendrite.polylines(smooth)
     widths = dendrite.widths()
     h, w = canvas.shape[:2]
@@ -239,10 +291,14 @@ class LightningParams:
                           help="half-width of the branch region at the bottom (fraction of W)")
     main_weight: float = param(40.0, min=1.0, max=1000.0, log=True,
                                help="the ground strike counts as this many tips (thick channel)")
-    min_width: float = param(0.6, min=0.1, max=10.0, step=0.1, help="width of the finest branches")
-    max_width: float = param(5.0, min=0.5, max=30.0, step=0.5, help="widest channel")
+    min_width: float = param(0.6, min=0.1, max=10.0, step=0.1,
+                             help="width of the finest branches (px at 512 x 512)")
+    max_width: float = param(5.0, min=0.5, max=30.0, step=0.5,
+                             help="widest channel (px at 512 x 512)")
+    scale_lengths: bool = param(True, help="widths are for 512 x 512 and scale with the diagonal")
 
 
+@checked(shape=Shape(), start=Point(), strike=Point())
 def lightning(shape, params: LightningParams | None = None, *, start=None, strike=None,
               rng=None) -> Dendrite:
     """Grow a lightning bolt: non-scalar paths that prefer to go down.
@@ -269,9 +325,12 @@ def lightning(shape, params: LightningParams | None = None, *, start=None, strik
     (True, (80, 60))
     """
     p = check_params(params if params is not None else LightningParams())
-    h, w = int(shape[0]), int(shape[1])
+    h, w = shape
     if h < 4 or w < 4:
         raise ValueError(f"shape must be at least 4 x 4, got {shape}")
+    for name, point in (("start", start), ("strike", strike)):
+        if point is not None:
+            as_points(point[None], name=name, image_shape=(h, w))
     rng = as_rng(rng)
     f = direction_factors(down=1.0, side=p.side_cost, up=p.up_cost)
     lat = make_lattice(np.zeros((h, w)), epsilon=p.epsilon, noise=p.noise, rng=rng, factors=f)
@@ -294,5 +353,6 @@ def lightning(shape, params: LightningParams | None = None, *, start=None, strik
     from .dendrite import _accumulate_up
 
     load = _accumulate_up(d.parent, tipw)
-    width = np.minimum(p.min_width * np.maximum(load, 1.0) ** 0.5, p.max_width)
+    k = length_scale((h, w)) if p.scale_lengths else 1.0
+    width = np.minimum(p.min_width * k * np.maximum(load, 1.0) ** 0.5, p.max_width * k)
     return d.with_radius(0.5 * width)

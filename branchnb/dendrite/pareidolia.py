@@ -1,25 +1,38 @@
 """Pareidolia trees: an image hidden in the branches of a tree (paper, section 9).
 
-The tree grows as in :mod:`.trees`, but after the trunk its lattice is
-guided by an input image:
+The tree grows as in :mod:`.trees`, but its crown is the picture:
 
-* iteration 1 (trunk and main limbs) uses random weights only;
-* later iterations use ``w = c (1 - I) + epsilon + noise(x) * U`` with the
-  image's importance ``I``: the branches run along its dark regions and
-  edges. The random contribution ``noise(x)`` rises linearly from
-  ``noise_image`` on the image side to ``noise_random`` on the other side,
-  so the picture dissolves into ordinary twigs across the crown;
-* endpoints are stippled on the importance map over the image side, and
-  about half as many (``random_ratio``) are uniform random points over the
-  other side; they are added over the iterations in growing batches;
-* thickness is the importance emphasis (rolling importance along the
-  branches, :func:`~branchnb.dendrite.thickness.rolling_importance`) on
-  top of the tree's own thickness (iteration thickening plus a pipe-model
-  term for the trunk), or the tree thickness alone (``thickness="branch"``).
+* **Canvas and crown.** The canvas is the image with a blank strip of
+  ``trunk_height`` below it. The crown is the image's content: where the
+  blurred importance says there is something to draw (a leaf's silhouette,
+  a portrait's figure), filled and smoothed, inside a rounded box of the
+  image (``crown="content"``); ``crown="ellipse"`` is the fixed ellipse.
+* **Iteration 1, trunk and main limbs** (cumulative metric): the trunk rises
+  from the bottom centre of the strip to the crown's base on a calm random
+  lattice; the main limbs leave its upper part toward well-spaced points
+  of the crown on the image-weighted lattice, so even the limbs run along
+  dark regions and edges instead of crossing the picture at random.
+* **Later iterations** use ``w = c (1 - I) + epsilon + noise(x) * U`` with
+  the image's importance ``I``; the whole structure so far is the seed
+  set. Endpoints are stippled on the importance in the crown, plus
+  ``random_ratio`` as many uniform random ones (for twigs in the light
+  parts), added in growing batches. With ``side="left"`` or ``"right"``
+  the picture shows on that side only: the random contribution rises
+  linearly from ``noise_image`` to ``noise_random`` across the crown, the
+  stippled endpoints stay on the image side and the random ones go to the
+  other side, so the picture dissolves into ordinary twigs.
+* **Thickness.** The pipe model (Leonardo's rule, width ``tip_width *
+  n_tips ** (1 / 2)``) makes a trunk that tapers at every fork; each later
+  iteration adds ``increment`` to the older branches; plus the importance
+  emphasis (rolling importance along the branches). Inside the
+  crown the widths are then matched to the picture's tone
+  (:func:`~branchnb.dendrite.thickness.tone_thickness`), capped by a limit
+  that is the pipe width at the fork and falls to ``max_width`` over
+  ``limb_length`` of path: thick limbs near the trunk, a readable picture
+  in the crown. ``thickness="branch"`` keeps the tree thickness only.
 
-The canvas is the image with a blank strip of ``trunk_height`` below it:
-the trunk rises from the bottom centre of the strip and the crown is an
-ellipse over the image, so the picture sits in the crown.
+Everything is computed on a lattice of ``lattice_size`` (like the
+stylization) and drawn back at the image's own size.
 """
 
 from __future__ import annotations
@@ -28,65 +41,83 @@ import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
+from scipy import ndimage
 
 from ..core.image import as_float_image, as_rgb
 from ..core.io import encode_png
 from ..core.params import check_params, param
 from ..core.random import as_rng
-from .dendrite import Dendrite, build_dendrite
+from ..core.sampling import stipple
+from .dendrite import Dendrite, _accumulate_up, build_dendrite
 from .endpoints import place_endpoints, random_endpoints
-from .importance import ImportanceParams, importance_map
+from .importance import ImportanceParams, darkness, importance_map
 from .lattice import Lattice, node_weights
 from .planner import plan
 from .render import Rendering
-from .thickness import rolling_importance
-from .trees import TreeParams, crown_mask, grow_tree, iteration_metric, render_tree
+from .scale import resample_to_lattice
+from .thickness import rolling_importance, tone_thickness
+from .trees import TreeParams, crown_mask, iteration_metric, render_tree
 
-__all__ = ["PareidoliaParams", "PareidoliaTree", "pareidolia_tree", "side_ramp"]
+__all__ = ["PareidoliaParams", "PareidoliaTree", "content_crown", "pareidolia_tree",
+           "side_ramp"]
 
 
 @dataclass
 class PareidoliaParams:
-    """Image-guided tree. Tree-growth fields as in :class:`TreeParams`."""
+    """Image-guided tree. Lengths are in lattice pixels (a 512 x 512 image)."""
 
-    side: str = param("left", options=("left", "right"), help="where the image shows")
-    n_endpoints: int = param(1800, min=10, max=20000, step=50,
-                             help="stippled endpoints on the image side")
-    random_ratio: float = param(0.5, min=0.0, max=2.0, step=0.05,
-                                help="random endpoints on the other side, per image endpoint")
+    side: str = param("full", options=("full", "left", "right"),
+                      help="where the image shows: the whole crown or one side")
+    crown: str = param("content", options=("content", "ellipse"),
+                       help="crown shape: the image's content, or a fixed ellipse")
+    crown_blur: float = param(10.0, min=1.0, max=60.0, step=1.0,
+                              help="smoothing of the content crown (lattice px)")
+    n_endpoints: int = param(2400, min=10, max=20000, step=50,
+                             help="stippled endpoints on the image")
+    random_ratio: float = param(0.15, min=0.0, max=2.0, step=0.05,
+                                help="uniform random endpoints per stippled one")
     noise_image: float = param(0.25, min=0.0, max=5.0, step=0.05,
-                               help="random weight amplitude on the image side")
+                               help="random weight amplitude on the image")
     noise_random: float = param(1.5, min=0.0, max=5.0, step=0.05,
-                                help="random weight amplitude on the far side")
+                                help="random weight amplitude on the far side (side != full)")
     cost_weight: float = param(2.0, min=0.0, max=10.0, step=0.1,
                                help="c: weight of (1 - importance) in the lattice")
     epsilon: float = param(0.3, min=0.0, max=5.0, step=0.05, help="constant node weight")
     intensity_weight: float = param(1.0, min=0.0, max=10.0, step=0.1, help="w_I")
     gradient_weight: float = param(3.0, min=0.0, max=10.0, step=0.1, help="w_G (paper: 3 w_I)")
-    endpoint_gamma: float = param(2.0, min=0.25, max=4.0, step=0.05,
+    endpoint_gamma: float = param(1.0, min=0.25, max=4.0, step=0.05,
                                   help="image endpoints density = importance ** gamma")
     iterations: int = param(4, min=2, max=8, help="growth iterations (1 = trunk)")
-    trunk_endpoints: int = param(7, min=1, max=100, help="main limbs of iteration 1")
+    trunk_endpoints: int = param(9, min=1, max=100, help="main limbs of iteration 1")
     blend_weight: float = param(1000.0, min=0.0, max=10000.0, log=True,
                                 help="a of the last iteration's blend metric (paper: 1000)")
     thickness: str = param("importance", options=("importance", "branch"),
-                           help="importance emphasis or tree thickness only")
+                           help="importance emphasis and tone, or tree thickness only")
     window: int = param(15, min=1, max=101, step=2, help="rolling importance window (nodes)")
-    emphasis: float = param(4.0, min=0.0, max=20.0, step=0.1,
+    emphasis: float = param(2.0, min=0.0, max=20.0, step=0.1,
                             help="extra width at full importance (px)")
+    tone: float = param(0.8, min=0.0, max=1.0, step=0.05,
+                        help="inside the crown: 0 = tree widths, 1 = ink matches the picture")
     tip_width: float = param(0.5, min=0.1, max=10.0, step=0.1, help="width of new twigs (px)")
-    increment: float = param(0.9, min=0.0, max=20.0, step=0.1,
-                             help="width added to existing nodes after each iteration (px)")
-    pipe: float = param(0.2, min=0.0, max=5.0, step=0.05,
-                        help="extra width * sqrt(tips carried): a thick trunk")
+    increment: float = param(0.2, min=0.0, max=20.0, step=0.1,
+                             help="width added per later iteration: older branches are thicker (px)")
+    max_width: float = param(5.0, min=0.5, max=30.0, step=0.5,
+                             help="widest stroke in the crown, away from the trunk (px)")
+    limb_length: float = param(60.0, min=1.0, max=500.0, step=5.0,
+                               help="path length over which the limbs thin to max_width (px)")
+    pipe: float = param(0.4, min=0.0, max=5.0, step=0.05,
+                        help="pipe model: width = tip_width + pipe * sqrt(tips carried)")
     trunk_height: float = param(0.4, min=0.1, max=2.0, step=0.05,
                                 help="blank strip below the image for the trunk (x image height)")
+    lattice_size: int = param(512, min=0, max=4096, step=64,
+                              help="plan on a lattice with the diagonal of this square (0 = image)")
 
 
 @dataclass
 class PareidoliaTree:
     """The result: ``dendrite`` (with thickness) on the canvas (image + trunk strip),
-    the input image and its importance on that canvas, and the endpoints used."""
+    the canvas image, the importance and crown on the planning lattice, and the
+    endpoints used (canvas pixels)."""
 
     image: np.ndarray
     importance: np.ndarray
@@ -94,11 +125,21 @@ class PareidoliaTree:
     endpoints_image: np.ndarray
     endpoints_random: np.ndarray
     params: PareidoliaParams
+    crown: np.ndarray | None = None
 
     def render(self, **options) -> Rendering:
         """:func:`~branchnb.dendrite.trees.render_tree` of the tree."""
-        options.setdefault("smooth", 2)
+        options.setdefault("smooth", 3)
         return render_tree(self.dendrite, **options)
+
+    def crown_on_canvas(self) -> np.ndarray:
+        """The crown as an (H, W) bool mask on the canvas."""
+        from skimage.transform import resize
+
+        h, w = self.image.shape[:2]
+        if self.crown.shape == (h, w):
+            return self.crown.copy()
+        return resize(self.crown.astype(float), (h, w), order=0) > 0.5
 
     def _repr_png_(self) -> bytes:
         return encode_png(self.render().image)
@@ -115,13 +156,62 @@ def side_ramp(shape, side: str = "left") -> np.ndarray:
     return np.broadcast_to(t, (h, w)).copy()
 
 
+def content_crown(importance, *, blur: float = 10.0, threshold: float = 0.05) -> np.ndarray:
+    """The crown of a picture: where it has something to draw, filled and smoothed.
+
+    Pixels whose importance reaches ``threshold`` are blurred over ``blur``
+    pixels; the crown is where that fraction exceeds 0.25, with holes filled,
+    specks (below 2 % of the largest part) dropped, and clipped to a rounded
+    box (superellipse of exponent 3) of the image so that a picture filling
+    its frame still gets a crown-like outline.
+
+    Examples
+    --------
+    >>> imp = np.zeros((60, 80)); imp[10:50, 30:50] = 1.0
+    >>> c = content_crown(imp, blur=3)
+    >>> bool(c[30, 40]), bool(c[30, 5]), bool(c[30, 28])
+    (True, False, True)
+    """
+    imp = np.asarray(importance, dtype=np.float64)
+    if imp.ndim != 2 or min(imp.shape) < 2:
+        raise ValueError(f"importance must be an (H, W) array, got shape {imp.shape}")
+    h, w = imp.shape
+    frac = ndimage.gaussian_filter((imp >= threshold).astype(np.float64), blur)
+    mask = ndimage.binary_fill_holes(frac > 0.25)
+    lab, n = ndimage.label(mask)
+    if n > 1:
+        sizes = np.bincount(lab.ravel())[1:]
+        mask = np.isin(lab, 1 + np.flatnonzero(sizes >= 0.02 * sizes.max()))
+    yy, xx = np.mgrid[0:h, 0:w]
+    box = (np.abs((xx - (w - 1) / 2) / (w / 2)) ** 3
+           + np.abs((yy - (h - 1) / 2) / (h / 2)) ** 3) <= 1.0
+    mask &= box
+    if not mask.any():  # nothing to draw: the rounded box itself
+        mask = box
+    return mask
+
+
+def _fork_point(crown: np.ndarray) -> np.ndarray:
+    """Where the trunk enters the crown: below the crown's centre of mass, a little
+    inside its lower edge."""
+    ys, xs = np.nonzero(crown)
+    cx = float(np.clip(np.median(xs), xs.min(), xs.max()))
+    col = crown[:, int(round(cx))]
+    rows = np.flatnonzero(col)
+    if rows.size == 0:  # a concave crown: the nearest crown pixel below the centre
+        k = int(np.argmin(np.abs(xs - cx) - 1e-3 * ys))
+        return np.array([float(xs[k]), float(ys[k])])
+    bottom, top = rows.max(), rows.min()
+    return np.array([cx, bottom - 0.08 * (bottom - top)])
+
+
 def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) -> PareidoliaTree:
-    """Grow a tree whose crown shows ``image`` on one side.
+    """Grow a tree whose crown shows ``image``.
 
     Parameters
     ----------
     image : array_like
-        The picture to hide (grey or colour); the canvas has its size.
+        The picture to hide (grey or colour); the canvas has its width.
     params : PareidoliaParams, optional
     rng : {numpy.random.Generator, int}, optional
 
@@ -132,34 +222,70 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
     Examples
     --------
     >>> img = np.ones((96, 96)); img[20:50, 10:40] = 0.0
-    >>> t = pareidolia_tree(img, PareidoliaParams(n_endpoints=60, iterations=2), rng=0)
+    >>> t = pareidolia_tree(img, PareidoliaParams(n_endpoints=60, iterations=2,
+    ...                                           lattice_size=0), rng=0)
     >>> t.dendrite.is_tree()
     True
     """
     p = check_params(params if params is not None else PareidoliaParams())
-    img0 = as_rgb(as_float_image(image, name="image"), name="image")
-    hi, w = img0.shape[:2]
-    if hi < 16 or w < 16:
-        raise ValueError(f"image must be at least 16 x 16 pixels, got {w} x {hi}")
+    full = as_rgb(as_float_image(image, name="image"), name="image")
+    if full.shape[0] < 16 or full.shape[1] < 16:
+        raise ValueError(f"image must be at least 16 x 16 pixels, got {full.shape[1]} x "
+                         f"{full.shape[0]}")
     rng = as_rng(rng)
+    img0 = resample_to_lattice(full, p.lattice_size)
+    hi, w = img0.shape[:2]
     h = hi + round(p.trunk_height * hi)
     img = np.ones((h, w, 3), np.float32)
     img[:hi] = img0
     imp = np.zeros((h, w), np.float32)
     imp[:hi] = importance_map(img0, ImportanceParams(p.intensity_weight, p.gradient_weight))
-    ramp = side_ramp((h, w), p.side)
-    tp = TreeParams(iterations=1, trunk_endpoints=p.trunk_endpoints, epsilon=p.epsilon,
-                    noise=1.0, tip_width=p.tip_width, increment=p.increment, pipe=0.0,
-                    crown_top=0.0, crown_bottom=(hi + 0.5) / h, crown_width=1.0,
+    dark = np.zeros((h, w), np.float32)
+    dark[:hi] = darkness(img0)
+
+    # crown
+    tp = TreeParams(iterations=p.iterations, trunk_endpoints=p.trunk_endpoints,
+                    epsilon=p.epsilon, noise=1.0, tip_width=p.tip_width, increment=0.0,
+                    pipe=0.0, crown_top=0.0, crown_bottom=(hi + 0.5) / h, crown_width=1.0,
                     blend_weight=p.blend_weight)
-    d = grow_tree((h, w), tp, rng=rng).dendrite  # iteration 1: random weights
-    # endpoints: stippled on the image side, uniform random on the other side
-    crown = crown_mask((h, w), tp)
-    img_side = ramp < 0.5
-    e_img = place_endpoints(imp, p.n_endpoints, gamma=p.endpoint_gamma, floor=0.005,
-                            mask=img_side & crown, rng=rng)
+    crown = np.zeros((h, w), bool)
+    if p.crown == "content":
+        crown[:hi] = content_crown(imp[:hi], blur=p.crown_blur)
+    else:
+        crown = crown_mask((h, w), tp)
+    if p.side == "full":
+        noise = np.full((h, w), p.noise_image)
+        img_side = np.ones((h, w), bool)
+    else:
+        ramp = side_ramp((h, w), p.side)
+        noise = p.noise_image + (p.noise_random - p.noise_image) * ramp
+        img_side = ramp < 0.5
+    cost = p.cost_weight * (1.0 - imp.astype(np.float64))
+
+    # iteration 1: the trunk on a calm random lattice, the limbs on the image lattice
+    root = np.array([(w - 1) / 2.0, h - 1.0])
+    fork = _fork_point(crown)
+    calm = Lattice(node_weights(np.zeros((h, w)), epsilon=1.0, noise=0.3, rng=rng))
+    trunk = build_dendrite(plan(calm, root, metric="cumulative"), fork[None],
+                           radius=p.tip_width / 2, iteration=1)
+    k = max(1, round(trunk.n_nodes * 0.75))
+    seeds = np.zeros(h * w, bool)
+    seeds[trunk.nodes[k - 1:]] = True
+    top = np.flatnonzero(crown.any(axis=1))
+    upper = crown & (np.arange(h)[:, None] < top.min() + 0.8 * (top.max() - top.min() + 1))
+    limb_ends = stipple(upper.astype(float), p.trunk_endpoints, iterations=15, rng=rng)
+    lat = Lattice(node_weights(cost, epsilon=p.epsilon, noise=noise, rng=rng))
+    d = build_dendrite(plan(lat, seeds.reshape(h, w), metric="cumulative"), limb_ends,
+                       base=trunk, radius=p.tip_width / 2, iteration=1)
+
+    # endpoints: stippled on the importance in the crown, a few random ones
+    e_img = place_endpoints(imp, p.n_endpoints, gamma=p.endpoint_gamma, floor=0.0,
+                            threshold=0.05, mask=img_side & crown, rng=rng) \
+        if (imp[img_side & crown] >= 0.05).any() else random_endpoints(
+            img_side & crown, p.n_endpoints, rng=rng)
     n_rand = round(p.random_ratio * p.n_endpoints)
-    e_rand = (random_endpoints(crown & ~img_side, n_rand, rng=rng) if n_rand > 0
+    rand_region = crown & ~img_side if p.side != "full" else crown
+    e_rand = (random_endpoints(rand_region, n_rand, rng=rng) if n_rand > 0 and rand_region.any()
               else np.zeros((0, 2)))
     ends = np.vstack([e_img, e_rand])
     ends = ends[rng.permutation(len(ends))]
@@ -167,27 +293,60 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
     n_it = p.iterations - 1
     sizes = 2.0 ** np.arange(n_it)
     cuts = np.round(np.cumsum(sizes) / sizes.sum() * len(ends)).astype(int)
-    cost = p.cost_weight * (1.0 - imp.astype(np.float64))
-    noise = p.noise_image + (p.noise_random - p.noise_image) * ramp
     start = 0
-    for k, i in enumerate(range(2, p.iterations + 1)):
-        batch = ends[start:cuts[k]]
-        start = cuts[k]
+    for j, i in enumerate(range(2, p.iterations + 1)):
+        batch = ends[start:cuts[j]]
+        start = cuts[j]
         if len(batch) == 0:
             continue
-        metric, a = iteration_metric(i, dataclasses.replace(tp, iterations=p.iterations))
+        metric, a = iteration_metric(i, tp)
         lat = Lattice(node_weights(cost, epsilon=p.epsilon, noise=noise, rng=rng))
         seeds = np.zeros(h * w, bool)
         seeds[d.nodes] = True
         res = plan(lat, seeds.reshape(h, w), metric=metric, blend_weight=a)
-        d = build_dendrite(res, batch, base=d.with_radius(d.radius + p.increment / 2),
-                           radius=p.tip_width / 2, iteration=i)
-    if p.pipe > 0:
-        from .trees import _pipe_width
+        d = build_dendrite(res, batch, base=d, radius=p.tip_width / 2, iteration=i)
 
-        d = d.with_radius(d.radius + _pipe_width(d, p.tip_width, p.pipe) / 2)
-    if p.thickness == "importance":
-        emph = rolling_importance(d, imp, p.window)
-        ref = max(float(np.percentile(imp, 99.0)), 1e-3)
-        d = d.with_radius(d.radius + 0.5 * p.emphasis * np.clip(emph / ref, 0, 1) ** 1.5)
-    return PareidoliaTree(img, imp, d, e_img, e_rand, dataclasses.replace(p))
+    d = _thickness(d, p, imp, dark, crown, trunk.n_nodes)
+    shape_full = (full.shape[0] + round(p.trunk_height * full.shape[0]), full.shape[1])
+    canvas = np.ones((*shape_full, 3), np.float32)
+    canvas[:full.shape[0]] = full
+    scale = np.array([shape_full[1] / w, shape_full[0] / h])
+
+    def to_canvas(pts):
+        return (np.asarray(pts, float) + 0.5) * scale - 0.5
+
+    if shape_full != (h, w):
+        d = d.rescaled(shape_full)
+    return PareidoliaTree(canvas, imp, d, to_canvas(e_img), to_canvas(e_rand).reshape(-1, 2),
+                          dataclasses.replace(p), crown)
+
+
+def _thickness(d: Dendrite, p: PareidoliaParams, imp, dark, crown, n_trunk: int) -> Dendrite:
+    """Pipe model + importance emphasis; tone-matched under a limb cap inside the crown."""
+    leaf = np.zeros(d.n_nodes)
+    leaf[d.tips] = 1.0
+    tips = np.maximum(_accumulate_up(d.parent, leaf), 1.0)
+    width = p.tip_width + p.pipe * np.sqrt(tips - 1.0) + p.increment * (p.iterations - d.iteration)
+    if p.thickness == "branch":
+        return d.with_radius(width / 2)
+    emph = rolling_importance(d, imp, p.window)
+    ref = max(float(np.percentile(imp, 99.0)), 1e-3)
+    width = width + p.emphasis * np.clip(emph / ref, 0, 1) ** 1.5
+    inside = crown.ravel()[d.nodes]
+    inside[:n_trunk] = False  # the trunk keeps its pipe width up to the fork
+    if p.tone <= 0 or not inside.any():
+        return d.with_radius(width / 2)
+    # limb cap: the fork's pipe width, thinning to max_width along the path from the fork
+    arc = d.arc_depth()
+    fork_arc = arc[n_trunk - 1] if n_trunk > 0 else 0.0
+    from_fork = np.maximum(arc - fork_arc, 0.0)
+    cap = np.maximum(p.max_width, width * np.exp(-from_fork / p.limb_length))
+    floor = np.minimum(width * np.exp(-from_fork / p.limb_length), cap)
+    toned = tone_thickness(d.with_radius(width / 2), dark, sigma=8.0, min_width=p.tip_width * 0.4,
+                           max_width=float(cap.max()), strength=p.tone)
+    w_tone = np.clip(2.0 * toned.radius, floor, cap)
+    # a slight flare at the foot of the trunk
+    height = d.points[:, 1].max() - d.points[:, 1]
+    flare = 1.0 + 0.35 * np.clip(1.0 - height / (0.12 * d.shape[0]), 0.0, 1.0) ** 2
+    flare[n_trunk:] = 1.0
+    return d.with_radius(np.where(inside, w_tone, width * flare) / 2)

@@ -4,9 +4,11 @@
 2. lattice weights ``w = c (1 - I) + epsilon + noise * U``: important
    pixels are cheap, so the structure grows along dark regions and edges;
 3. Dijkstra from the seed with the chosen metric;
-4. endpoints stippled on ``I``;
+4. endpoints stippled on ``I`` (none where ``I`` is below a threshold:
+   flat paper stays clean);
 5. paths traced back from the endpoints into one dendrite;
-6. thickness from the rolling importance along the branches;
+6. thickness from the rolling importance along the branches, then
+   rescaled so the local ink follows the image's darkness (``tone``);
 7. rendering with a metaphor (plain lines, vines or lightning).
 
 :class:`Stylizer` caches every stage keyed by the parameters it depends
@@ -20,17 +22,22 @@ import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
+from scipy import ndimage
 
 from ..core.image import as_float_image, as_points, as_rgb
 from ..core.io import encode_png
 from ..core.params import check_params, param
+from ..core.random import as_seed
+from ..core.validate import Array, Choice, Int, Point, checked
 from .dendrite import Dendrite, PathStats, build_dendrite, path_statistics
 from .endpoints import place_endpoints
-from .importance import ImportanceParams, importance_map
+from .importance import ImportanceParams, darkness, importance_map
 from .lattice import Lattice, node_weights
 from .planner import METRICS, PlanResult, plan
 from .render import Rendering
-from .thickness import branch_thickness, importance_thickness
+from .scale import resample_to_lattice
+from .thickness import branch_thickness, importance_thickness, tone_thickness
+from .ties import refine_ties
 
 __all__ = [
     "MetricComparison",
@@ -41,6 +48,9 @@ __all__ = [
     "stylize",
 ]
 
+#: A planner metric name.
+_METRIC = Choice(*METRICS)
+
 
 @dataclass
 class StylizeParams:
@@ -50,9 +60,20 @@ class StylizeParams:
     map, the non-scalar metric, about 3,000 endpoints (its examples use 2,000
     - 3,800) placed by stippling, thickness from a rolling average of
     importance. The paper does not print the remaining numbers (weight
-    constant and noise amplitude, stippling contrast, window, widths); those
-    defaults are ours, chosen by eye on the sample images for 512 x 512
-    inputs.
+    constant and noise amplitude, stippling contrast, window, widths, tone);
+    those defaults are ours, measured on photos, drawings, leaves and night
+    scenes of 256 - 1024 px.
+
+    **Scale.** The dendrite is planned on a lattice of ``lattice_size``
+    (the image resampled so its diagonal is that of a ``lattice_size`` square,
+    512 x 512 by default) and drawn back on the image at its own size, so a
+    256-px and a 1024-px input give the same picture. Lengths (``sigma``,
+    ``window``, ``tone_sigma``, ``min_width``, ``max_width``) are in lattice
+    pixels, i.e. pixels of a 512 x 512 image. The non-scalar metric is not
+    scale-free (on a bigger random lattice a larger share of the nodes ties
+    at the percolation bottleneck and the branches straighten into a radial
+    burst), which is why the lattice, not only the lengths, keeps one size.
+    ``lattice_size=0`` plans on the image's own pixels.
     """
 
     # importance (section 4)
@@ -61,7 +82,7 @@ class StylizeParams:
     gradient_weight: float = param(3.0, min=0.0, max=10.0, step=0.1,
                                    help="w_G: weight of the gradient (paper: 3 x w_I)")
     sigma: float = param(1.5, min=0.0, max=8.0, step=0.25,
-                         help="Gaussian smoothing before the gradient (pixels)")
+                         help="Gaussian smoothing before the gradient (lattice px)")
     # lattice (section 3)
     cost_weight: float = param(1.0, min=0.0, max=10.0, step=0.1,
                                help="c: weight of (1 - importance) in the node weights")
@@ -74,13 +95,17 @@ class StylizeParams:
                         help="path metric: cumulative, non-scalar (max edge, then sum), or blend")
     blend_weight: float = param(1000.0, min=0.0, max=10000.0, log=True,
                                 help="a in a * max_edge + total (metric='blend')")
+    break_ties: bool = param(True, help="re-plan large ties of the non-scalar metric "
+                                        "(else they fill with smooth radial paths)")
     # endpoints (section 5)
     n_endpoints: int = param(3000, min=1, max=20000, step=50,
                              help="number of stippled endpoints (paper: 2,000 - 3,800)")
-    endpoint_gamma: float = param(2.0, min=0.25, max=4.0, step=0.05,
-                                  help="endpoint density = importance ** gamma + floor")
-    endpoint_floor: float = param(0.01, min=0.0, max=1.0, step=0.01,
-                                  help="density floor: a few endpoints in empty regions")
+    endpoint_gamma: float = param(1.0, min=0.25, max=4.0, step=0.05,
+                                  help="endpoint density = importance ** gamma")
+    endpoint_threshold: float = param(0.05, min=0.0, max=0.5, step=0.01,
+                                      help="importance below this is empty paper: no endpoints")
+    endpoint_floor: float = param(0.0, min=0.0, max=1.0, step=0.01,
+                                  help="density added everywhere: endpoints in empty regions too")
     stipple_iterations: int = param(10, min=0, max=50,
                                     help="Lloyd iterations of the weighted Voronoi stippling")
     # thickness (section 6)
@@ -90,25 +115,41 @@ class StylizeParams:
                         help="rolling-average window along the branches (nodes)")
     contrast: float = param(1.5, min=0.25, max=4.0, step=0.05,
                             help="exponent on the normalised rolling importance")
-    min_width: float = param(0.2, min=0.0, max=10.0, step=0.1, help="narrowest stroke (px)")
-    max_width: float = param(4.0, min=0.0, max=30.0, step=0.1, help="widest stroke (px)")
+    tone: float = param(0.5, min=0.0, max=1.0, step=0.05,
+                        help="tone vs edges: 0 = importance emphasis only, 1 = ink matches darkness")
+    tone_sigma: float = param(8.0, min=1.0, max=40.0, step=0.5,
+                              help="scale over which ink is matched to darkness (lattice px)")
+    hierarchy: float = param(0.25, min=0.0, max=1.0, step=0.05,
+                             help="width x (tips carried) ** hierarchy: trunks thicker than twigs")
+    min_width: float = param(0.2, min=0.0, max=10.0, step=0.1,
+                             help="narrowest stroke (lattice px)")
+    max_width: float = param(4.0, min=0.0, max=30.0, step=0.1,
+                             help="widest stroke (lattice px)")
+    lattice_size: int = param(512, min=0, max=4096, step=64,
+                              help="plan on a lattice with the diagonal of this square (0 = image)")
 
 
 @dataclass
 class Stylization:
     """Everything the stylization computed.
 
+    ``importance``, ``lattice`` and ``plan`` live on the planning lattice;
+    ``endpoints``, ``seed``, ``dendrite`` and ``rendering`` are in image
+    pixels (``dendrite.nodes`` still index the lattice).
+
     Attributes
     ----------
     image : (H, W, 3) float32 input (RGB)
-    importance : (H, W) float32
+    importance : (h, w) float32, on the lattice
     lattice : Lattice
     plan : PlanResult
-    endpoints : (E, 2) float64
-    dendrite : Dendrite (with thickness)
+    endpoints : (E, 2) float64, image (x, y)
+    dendrite : Dendrite (with thickness), image coordinates
     rendering : Rendering or None
     params : StylizeParams
-    seed : (2,) float64 (x, y)
+    seed : (2,) float64 (x, y), image
+    scale : (2,) float64
+        Image pixels per lattice pixel in x and y.
     """
 
     image: np.ndarray
@@ -120,6 +161,7 @@ class Stylization:
     rendering: Rendering | None
     params: StylizeParams
     seed: np.ndarray
+    scale: np.ndarray = dataclasses.field(default_factory=lambda: np.ones(2))
 
     def _repr_png_(self) -> bytes:
         if self.rendering is not None:
@@ -131,10 +173,11 @@ def _subset(p, names):
     return tuple(getattr(p, n) for n in names)
 
 
-_IMPORTANCE = ("intensity_weight", "gradient_weight", "sigma")
+_IMPORTANCE = ("lattice_size", "intensity_weight", "gradient_weight", "sigma")
 _LATTICE = ("cost_weight", "epsilon", "noise")
-_PLAN = ("metric", "blend_weight")
-_ENDPOINTS = ("n_endpoints", "endpoint_gamma", "endpoint_floor", "stipple_iterations")
+_PLAN = ("metric", "blend_weight", "break_ties")
+_ENDPOINTS = ("n_endpoints", "endpoint_gamma", "endpoint_threshold", "endpoint_floor",
+              "stipple_iterations")
 
 
 class Stylizer:
@@ -175,15 +218,72 @@ class Stylizer:
         self._cache[key] = value = fn()
         return value
 
-    def default_seed(self) -> np.ndarray:
-        """The image centre."""
+    @checked()
+    def working_image(self, p: StylizeParams) -> np.ndarray:
+        """The image resampled to the planning lattice (``p.lattice_size``)."""
+        return self._get(("work", p.lattice_size), lambda: resample_to_lattice(self.image, p.lattice_size))
+
+    @checked()
+    def scale(self, p: StylizeParams) -> np.ndarray:
+        """Image pixels per lattice pixel, ``(sx, sy)``."""
         h, w = self.shape
-        return np.array([(w - 1) / 2.0, (h - 1) / 2.0])
+        hw, ww = self.working_image(p).shape[:2]
+        return np.array([w / ww, h / hw])
 
+    @checked(points=Array(ndim=(1, 2)))
+    def to_lattice(self, p: StylizeParams, points) -> np.ndarray:
+        """Image ``(x, y)`` points in lattice coordinates (pixel centres map to centres)."""
+        hw, ww = self.working_image(p).shape[:2]
+        q = (np.asarray(points, float) + 0.5) / self.scale(p) - 0.5
+        return np.clip(q, 0, [ww - 1, hw - 1])
+
+    @checked(points=Array(ndim=(1, 2)))
+    def to_image(self, p: StylizeParams, points) -> np.ndarray:
+        """Lattice ``(x, y)`` points in image coordinates."""
+        return (np.asarray(points, float) + 0.5) * self.scale(p) - 0.5
+
+    @checked()
+    def default_seed(self, params: StylizeParams | None = None) -> np.ndarray:
+        """Where the dendrite starts by default.
+
+        Without ``params``, the image centre. With them, the centre of the most
+        important region: the maximum of the importance blurred over 8 % of the
+        lattice diagonal. The non-scalar metric floods from the seed in order of
+        the path's largest edge, so everything behind a costly barrier (a bright
+        region around the seed) ties at that barrier's cost and is reached by
+        nearly straight cumulative paths, a radial burst; starting in the
+        darkest, most detailed region keeps the branches wandering where the
+        ink is.
+        """
+        h, w = self.shape
+        if params is None:
+            return np.array([(w - 1) / 2.0, (h - 1) / 2.0])
+        imp = self.importance(params).astype(np.float64)
+        if np.ptp(imp) == 0:
+            return np.array([(w - 1) / 2.0, (h - 1) / 2.0])
+        sigma = 0.08 * float(np.hypot(*imp.shape))
+        smooth = ndimage.gaussian_filter(imp, sigma, mode="constant")
+        row, col = np.unravel_index(int(np.argmax(smooth)), smooth.shape)
+        if imp[row, col] < params.endpoint_threshold:  # e.g. inside a ring: the nearest ink
+            ys, xs = np.nonzero(imp >= params.endpoint_threshold)
+            if xs.size:
+                k = int(np.argmin((xs - col) ** 2 + (ys - row) ** 2))
+                row, col = ys[k], xs[k]
+        return self.to_image(params, [float(col), float(row)])
+
+    @checked()
     def importance(self, p: StylizeParams) -> np.ndarray:
+        """Importance map on the lattice."""
         return self._get(("importance", _subset(p, _IMPORTANCE)), lambda: importance_map(
-            self.image, ImportanceParams(p.intensity_weight, p.gradient_weight, p.sigma)))
+            self.working_image(p), ImportanceParams(p.intensity_weight, p.gradient_weight,
+                                                    p.sigma)))
 
+    @checked()
+    def darkness(self, p: StylizeParams) -> np.ndarray:
+        """The tone target ``1 - luminance`` on the lattice."""
+        return self._get(("darkness", p.lattice_size), lambda: darkness(self.working_image(p)))
+
+    @checked(rng_seed=Int(0))
     def lattice(self, p: StylizeParams, rng_seed: int) -> Lattice:
         def make():
             imp = self.importance(p)
@@ -192,20 +292,33 @@ class Stylizer:
             return Lattice(w)
         return self._get(("lattice", _subset(p, _IMPORTANCE + _LATTICE), rng_seed), make)
 
+    @checked(seed=Point(), rng_seed=Int(0))
     def plan(self, p: StylizeParams, seed, rng_seed: int) -> PlanResult:
         seed = tuple(np.round(np.asarray(seed, float), 3))
         return self._get(
             ("plan", _subset(p, _IMPORTANCE + _LATTICE + _PLAN), seed, rng_seed),
-            lambda: plan(self.lattice(p, rng_seed), seed, metric=p.metric,
-                         blend_weight=p.blend_weight))
+            lambda: self._plan(p, seed, rng_seed))
 
+    def _plan(self, p: StylizeParams, seed, rng_seed: int) -> PlanResult:
+        lat = self.lattice(p, rng_seed)
+        res = plan(lat, seed, metric=p.metric, blend_weight=p.blend_weight)
+        if p.metric == "nonscalar" and p.break_ties:
+            res = refine_ties(lat, res)
+        return res
+
+    @checked(rng_seed=Int(0))
     def endpoints(self, p: StylizeParams, rng_seed: int) -> np.ndarray:
-        return self._get(
-            ("endpoints", _subset(p, _IMPORTANCE + _ENDPOINTS), rng_seed),
-            lambda: place_endpoints(self.importance(p), p.n_endpoints, gamma=p.endpoint_gamma,
-                                    floor=p.endpoint_floor, iterations=p.stipple_iterations,
-                                    rng=rng_seed + 1))
+        def make():
+            imp = self.importance(p)
+            floor, threshold = p.endpoint_floor, p.endpoint_threshold
+            if floor <= 0 and not (imp >= threshold).any() or not (imp > 0).any():
+                floor, threshold = 1.0, 0.0  # nothing important (a blank image): spread evenly
+            return place_endpoints(imp, p.n_endpoints, gamma=p.endpoint_gamma, floor=floor,
+                                   threshold=threshold, iterations=p.stipple_iterations,
+                                   rng=rng_seed + 1)
+        return self._get(("endpoints", _subset(p, _IMPORTANCE + _ENDPOINTS), rng_seed), make)
 
+    @checked(seed=Point(), rng_seed=Int(0))
     def dendrite(self, p: StylizeParams, seed, rng_seed: int) -> Dendrite:
         seed_key = tuple(np.round(np.asarray(seed, float), 3))
         key = ("dendrite", _subset(p, _IMPORTANCE + _LATTICE + _PLAN + _ENDPOINTS),
@@ -213,7 +326,8 @@ class Stylizer:
         return self._get(key, lambda: build_dendrite(self.plan(p, seed, rng_seed),
                                                      self.endpoints(p, rng_seed)))
 
-    def run(self, params: StylizeParams | None = None, *, seed=None, rng: int = 0,
+    @checked(seed=Point())
+    def run(self, params: StylizeParams | None = None, *, seed=None, rng: int | np.random.Generator = 0,
             metaphor: str | None = "plain", **render_options) -> Stylization:
         """Run (or reuse) every stage and render.
 
@@ -231,35 +345,47 @@ class Stylizer:
             Passed to the metaphor's render function.
         """
         p = check_params(params if params is not None else StylizeParams())
-        if isinstance(rng, bool) or not isinstance(rng, (int, np.integer)) or rng < 0:
-            raise TypeError(f"rng must be a non-negative int seed here, got {rng!r}")
-        rng = int(rng)
+        rng = as_seed(rng)  # stages are cached by an int seed; a Generator gives one
         if p.max_width < p.min_width:
             raise ValueError(f"params.max_width ({p.max_width}) < params.min_width ({p.min_width})")
-        seed = self.default_seed() if seed is None else as_points(
+        seed = self.default_seed(p) if seed is None else as_points(
             np.reshape(np.asarray(seed, float), (1, 2)), name="seed", image_shape=self.shape)[0]
+        seed_lat = self.to_lattice(p, seed)
         lat = self.lattice(p, rng)
-        res = self.plan(p, seed, rng)
+        res = self.plan(p, seed_lat, rng)
         ends = self.endpoints(p, rng)
-        d = self.dendrite(p, seed, rng)
+        d = self.dendrite(p, seed_lat, rng)
         imp = self.importance(p)
+        lo, hi = p.min_width, p.max_width
         if p.thickness == "importance":
             ref = max(float(np.percentile(imp, 99.0)), 1e-3)
-            d = importance_thickness(d, imp, window=p.window, min_width=p.min_width,
-                                     max_width=p.max_width, contrast=p.contrast, reference=ref)
+            d = importance_thickness(d, imp, window=p.window, min_width=lo, max_width=hi,
+                                     contrast=p.contrast, reference=ref)
+            if p.hierarchy > 0:
+                r = d.radius * np.maximum(d.leaf_count(), 1.0) ** p.hierarchy
+                d = d.with_radius(np.clip(r, lo / 2, hi / 2))
+            if p.tone > 0:
+                d = tone_thickness(d, self.darkness(p), sigma=p.tone_sigma, min_width=lo,
+                                   max_width=hi, strength=p.tone)
         else:
-            d = branch_thickness(d, mode=p.thickness, min_width=p.min_width,
-                                 max_width=p.max_width)
+            d = branch_thickness(d, mode=p.thickness, min_width=lo, max_width=hi)
+        scale = self.scale(p)
+        if not np.allclose(scale, 1.0):
+            d = d.rescaled(self.shape)
+            d.points[d.parent < 0] = seed  # the dendrite starts exactly at the seed
         rendering = None
         if metaphor is not None:
             from .metaphors import render as render_metaphor
 
             rendering = render_metaphor(d, metaphor, **render_options)
-        return Stylization(self.image, imp, lat, res, ends, d, rendering,
-                           dataclasses.replace(p), np.asarray(seed, float))
+        ends_image = ends if np.allclose(scale, 1.0) else self._get(
+            ("endpoints_image", _subset(p, _IMPORTANCE + _ENDPOINTS), rng),
+            lambda: self.to_image(p, ends))
+        return Stylization(self.image, imp, lat, res, ends_image, d, rendering,
+                           dataclasses.replace(p), np.asarray(seed, float), scale)
 
 
-def stylize(image, params: StylizeParams | None = None, *, seed=None, rng: int = 0,
+def stylize(image, params: StylizeParams | None = None, *, seed=None, rng: int | np.random.Generator = 0,
             metaphor: str | None = "plain", **render_options) -> Stylization:
     """Dendritic stylization of ``image`` (one-shot :class:`Stylizer`).
 
@@ -297,8 +423,9 @@ class MetricComparison:
         return encode_png(np.concatenate(imgs, axis=1))
 
 
+@checked(first=_METRIC, second=_METRIC)
 def compare_metrics(stylizer: Stylizer, params: StylizeParams | None = None, *, seed=None,
-                    rng: int = 0, first: str = "cumulative", second: str | None = None,
+                    rng: int | np.random.Generator = 0, first: str = "cumulative", second: str | None = None,
                     metaphor: str | None = "plain", **render_options) -> MetricComparison:
     """Run the stylization twice on the same endpoints: ``first`` and ``second`` metric.
 
@@ -314,6 +441,7 @@ def compare_metrics(stylizer: Stylizer, params: StylizeParams | None = None, *, 
     ('nonscalar', True)
     """
     p = check_params(params if params is not None else StylizeParams())
+    rng = as_seed(rng)  # both runs share one seed, so they share the endpoints
     if second is None:
         second = p.metric if p.metric != first else "nonscalar"
     a = stylizer.run(dataclasses.replace(p, metric=first), seed=seed, rng=rng, metaphor=metaphor,
@@ -325,7 +453,9 @@ def compare_metrics(stylizer: Stylizer, params: StylizeParams | None = None, *, 
 
 
 def _endpoint_stats(s: Stylization) -> PathStats:
-    nodes = np.unique(s.lattice.node_index(s.endpoints))
+    hl, wl = s.lattice.shape
+    lat_ends = np.clip((s.endpoints + 0.5) / s.scale - 0.5, 0, [wl - 1, hl - 1])
+    nodes = np.unique(s.lattice.node_index(lat_ends))
     d = s.dendrite
     where = np.full(s.plan.n_nodes, -1, np.int64)
     where[d.nodes] = np.arange(d.n_nodes)

@@ -16,16 +16,30 @@ itself: ``"subtree"`` uses the pipe model (Leonardo's rule),
 endpoints the node carries (``exponent = 2``: cross-section areas add up
 at forks); ``"distance"`` thins linearly with the path length from the
 root (the trunk).
+
+**Tone.** Importance emphasis alone draws edges; the paper's figures also
+keep the picture's tone: dark regions read dark. :func:`tone_thickness`
+rescales the widths so the local amount of ink matches the image's local
+darkness. With ``A(x)`` the ink per unit area of the current strokes
+(width x length of every edge, Gaussian-blurred over ``sigma``) and ``T(x)``
+the blurred darkness, lines of total area ``A`` cover about
+``1 - exp(-A)`` of the paper (strokes combine by maximum coverage), so
+every node's width is multiplied by ``(-ln(1 - T) / A) ** strength`` a few
+times, clipped to ``[min_width, max_width]``. ``strength = 0`` keeps the
+importance emphasis, ``1`` matches the tone; in between the edges stay
+thicker than their surroundings while dark regions fill in.
 """
 
 from __future__ import annotations
 
 import numba
 import numpy as np
+from scipy import ndimage
 
+from ..core.validate import Array, Int, Real, checked
 from .dendrite import Dendrite
 
-__all__ = ["branch_thickness", "importance_thickness", "rolling_importance"]
+__all__ = ["branch_thickness", "importance_thickness", "rolling_importance", "tone_thickness"]
 
 
 @numba.njit(cache=True)
@@ -55,6 +69,7 @@ def _rolling(values, parent, nxt, half):
     return out
 
 
+@checked(importance=Array(ndim=2), window=Int(1, 10_000))
 def rolling_importance(dendrite: Dendrite, importance, window: int = 15) -> np.ndarray:
     """Rolling mean of ``importance`` along the branches (see the module docstring).
 
@@ -89,6 +104,8 @@ def rolling_importance(dendrite: Dendrite, importance, window: int = 15) -> np.n
     return _rolling(vals, dendrite.parent, dendrite.next_in_branch(), int(window) // 2)
 
 
+@checked(importance=Array(ndim=2), window=Int(1, 10_000), min_width=Real(0, 1e4), max_width=Real(0, 1e4),
+         contrast=Real(0, 1e3), reference=Real(0, low_open=True))
 def importance_thickness(dendrite: Dendrite, importance, *, window: int = 15,
                          min_width: float = 0.4, max_width: float = 4.0,
                          contrast: float = 1.0, reference: float | None = None) -> Dendrite:
@@ -134,6 +151,83 @@ def importance_thickness(dendrite: Dendrite, importance, *, window: int = 15,
     return dendrite.with_radius(0.5 * (min_width + (max_width - min_width) * avg ** contrast))
 
 
+def tone_thickness(dendrite: Dendrite, darkness, *, sigma: float = 8.0, min_width: float = 0.2,
+                   max_width: float = 4.0, strength: float = 1.0, black: float = 0.7,
+                   iterations: int = 4) -> Dendrite:
+    """Rescale the widths so the local ink follows ``darkness`` (see the module docstring).
+
+    Parameters
+    ----------
+    dendrite : Dendrite
+        With its current widths (e.g. from :func:`importance_thickness`).
+    darkness : (H, W) array_like
+        Target tone in [0, 1] on the dendrite's lattice (1 = black).
+    sigma : float
+        Blur (pixels) over which ink and darkness are compared; larger
+        than the spacing of the branches.
+    min_width, max_width : float
+        Clip range of the widths (pixels).
+    strength : float
+        Exponent on the correction (0 = no change, 1 = match the tone).
+    black : float
+        Ink coverage that stands for black: the target coverage is
+        ``black * darkness`` (pen and ink leaves paper between strokes, and a
+        linear tone scale keeps dark regions apart from black ones).
+    iterations : int
+        Correction passes (clipping makes one pass inexact).
+
+    Returns
+    -------
+    Dendrite
+        A copy with the new radius.
+
+    Examples
+    --------
+    >>> from branchnb.dendrite import plan, make_lattice, build_dendrite, random_endpoints
+    >>> res = plan(make_lattice(np.zeros((60, 60)), rng=0), (30, 30))
+    >>> d = build_dendrite(res, random_endpoints(np.ones((60, 60), bool), 80, rng=0))
+    >>> dark = np.zeros((60, 60)); dark[:, :30] = 0.8
+    >>> t = tone_thickness(d.with_radius(np.full(d.n_nodes, 0.5)), dark, sigma=4)
+    >>> left = t.points[:, 0] < 25
+    >>> bool(t.radius[left].mean() > 3 * t.radius[t.points[:, 0] > 35].mean())
+    True
+    """
+    if not isinstance(dendrite, Dendrite):
+        raise TypeError("dendrite must be a Dendrite")
+    if dendrite.shape is None:
+        raise ValueError("tone_thickness needs a dendrite on an image lattice")
+    _check_widths(min_width, max_width)
+    dark = np.asarray(darkness, dtype=np.float64)
+    if dark.shape != tuple(dendrite.shape):
+        raise ValueError(f"darkness has shape {dark.shape}, expected {tuple(dendrite.shape)}")
+    if not np.all(np.isfinite(dark)):
+        raise ValueError("darkness contains NaN or infinite values")
+    if not np.isfinite(sigma) or sigma <= 0:
+        raise ValueError(f"sigma must be > 0, got {sigma}")
+    if not np.isfinite(strength) or strength < 0:
+        raise ValueError(f"strength must be >= 0, got {strength}")
+    if not np.isfinite(black) or not 0 < black <= 1:
+        raise ValueError(f"black must be in (0, 1], got {black}")
+    width = 2.0 * dendrite.radius
+    if strength == 0 or dendrite.n_nodes == 0:
+        return dendrite.with_radius(0.5 * np.clip(width, min_width, max_width))
+    h, w = dendrite.shape
+    has = dendrite.parent >= 0
+    seg = np.zeros(dendrite.n_nodes)
+    step = dendrite.points[has] - dendrite.points[dendrite.parent[has]]
+    seg[has] = np.hypot(step[:, 0], step[:, 1])
+    target = ndimage.gaussian_filter(np.clip(dark, 0.0, 1.0), sigma)
+    # ink area needed for coverage black * T with randomly overlapping strokes
+    need = -np.log1p(-np.clip(black * target, 0.0, 0.95)).ravel()[dendrite.nodes]
+    tiny = 1e-4
+    for _ in range(int(iterations)):
+        ink = np.bincount(dendrite.nodes, weights=width * seg, minlength=h * w).reshape(h, w)
+        have = ndimage.gaussian_filter(ink, sigma).ravel()[dendrite.nodes]
+        width = np.clip(width * ((need + tiny) / (have + tiny)) ** strength, min_width, max_width)
+    return dendrite.with_radius(0.5 * width)
+
+
+@checked(min_width=Real(0, 1e4), max_width=Real(0, 1e4), exponent=Real(0, 100, low_open=True))
 def branch_thickness(dendrite: Dendrite, *, mode: str = "subtree", min_width: float = 0.6,
                      max_width: float | None = 8.0, exponent: float = 2.0) -> Dendrite:
     """Radius from the tree structure alone.

@@ -32,6 +32,7 @@ from ..core.image import as_float_image, as_rgba, composite_over
 from ..core.io import encode_png
 from ..core.params import check_params, param
 from ..core.random import as_rng
+from ..core.validate import Seq, Shape, checked
 from .composition import PlacedPatch, compose, labelling_cost, seam_mask
 from .display import draw_strokes
 from .fetch import fetch, sample_pair, source_index
@@ -230,6 +231,7 @@ def _background(background, target_shape, src_shape):
     return bg_img, _check_shape(target_shape)
 
 
+@checked(source_strokes=Seq(), target_strokes=Seq(), control_points=Seq(), target_shape=Shape())
 def edit_structure(image, source_strokes, target_strokes, params: StrokeEditParams | None = None,
                    *, control_points=None, target_shape=None, background=None,
                    rng=None) -> StrokeEditResult:

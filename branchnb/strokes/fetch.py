@@ -68,6 +68,7 @@ from scipy import ndimage as ndi
 
 from ..core.graphcut import gradient_magnitude  # the edge strength G of the seam energy
 from ..core.image import as_rgba
+from ..core.validate import COORD_LIMIT, MAX_COUNT, Array, Int, Real, Shape, check_real, checked
 from ..core.warp import transfer_patch
 from .strokes import Stroke, StrokePair
 
@@ -86,6 +87,15 @@ _INKED = 0.02
 OPAQUE_RADIUS = 24.0
 #: Longest distance the width measurement walks from the stroke (px).
 _MAX_WIDTH = 256
+
+
+#: Arc lengths and offsets along/across a stroke: finite and within the coordinate limit.
+_OFFSETS = Array(ndim=(0, 1), min=-COORD_LIMIT, max=COORD_LIMIT)
+
+
+def _SPACING(value, name, allow_none):
+    """A step ``h > 0`` in pixels, or a function of the arc length giving one."""
+    return value if callable(value) else check_real(value, name, 0, 1e5, low_open=True)
 
 
 def auto_radius(half_width):
@@ -144,10 +154,17 @@ class SourceIndex:
     def shape(self) -> tuple[int, int]:
         return self.object.shape
 
+    def _stroke(self, k: int, name: str = "k") -> None:
+        if not 0 <= k < len(self.strokes):
+            raise ValueError(f"{name} = {k} is not a source stroke index (there are {len(self.strokes)})")
+
+    @checked(k=Int(0), s=Array(ndim=(0, 1)))
     def half_width(self, k: int, s) -> np.ndarray:
         """Half width ``w`` of the object at arc lengths ``s`` of source stroke ``k`` (px)."""
+        self._stroke(k)
         return np.interp(np.asarray(s, float), self.width_s[k], self.width[k])
 
+    @checked(k=Int(0), s=Array(ndim=(0, 1)), patch_size=Real(0, 1e4))
     def radius(self, k: int, s, patch_size: float = 0.0) -> np.ndarray:
         """Patch radius ``r`` at arc lengths ``s`` of source stroke ``k``.
 
@@ -157,7 +174,7 @@ class SourceIndex:
         patches, half a radius apart, cover the whole tube) for RGBA, or
         :data:`OPAQUE_RADIUS` (opaque images).
         """
-        s = np.asarray(s, float)
+        self._stroke(k)
         if patch_size > 0:
             return np.full(s.shape, patch_size / 2.0)
         if not self.has_alpha:
@@ -168,6 +185,7 @@ class SourceIndex:
         return auto_radius(np.interp(s, self.width_s[k], cover))
 
 
+@checked()
 def source_index(image, source_strokes: list[Stroke]) -> SourceIndex:
     """Prepare ``image`` for fetching along ``source_strokes``.
 
@@ -466,6 +484,7 @@ class Samples:
         return len(self.s)
 
 
+@checked(spacing=_SPACING, window=Real(0, 1e4))
 def sample_pair(pair: StrokePair, spacing, *, window: float) -> Samples:
     """Sample the target stroke of ``pair`` every ``spacing`` pixels (about).
 
@@ -501,8 +520,8 @@ def sample_pair(pair: StrokePair, spacing, *, window: float) -> Samples:
         # N(s) = integral of ds / h: samples at equal steps of N.
         n_of_s = np.concatenate([[0.0], np.cumsum(np.diff(grid) * 0.5 * (1 / h[1:] + 1 / h[:-1]))])
     else:
-        if not (np.isfinite(spacing) and spacing > 0):
-            raise ValueError(f"spacing must be > 0, got {spacing}")
+        if pair.target.length / spacing > MAX_COUNT:
+            raise ValueError(f"spacing {spacing:g} would make more than {MAX_COUNT} samples along the target stroke")
         grid = np.array([0.0, pair.target.length])
         n_of_s = grid / float(spacing)
     parts = [np.array([ct[0]])]
@@ -563,15 +582,23 @@ class Fetched:
     dst_angle: float
     radius: float = 0.0
 
+    def _candidate(self, k: int) -> None:
+        if not 0 <= k < len(self.pixels):
+            raise ValueError(f"k = {k} is not a candidate index (there are {len(self.pixels)})")
+
+    @checked(k=Int(0))
     def take(self, k: int) -> Fetched:
         """The stack reduced to candidate ``k``."""
+        self._candidate(k)
         sl = slice(k, k + 1)
         return Fetched(self.pixels[sl], self.valid[sl], self.grad[sl], self.origin,
                        self.source_points[sl], self.source_s[sl], self.source_angles[sl],
                        self.dst_point, self.dst_angle, self.radius)
 
+    @checked(k=Int(0), shape=Shape())
     def source_pixels(self, k: int, shape) -> tuple[np.ndarray, np.ndarray]:
         """``(rows, cols)`` of the source pixels candidate ``k`` copies (its valid pixels)."""
+        self._candidate(k)
         sx, sy = _source_coords(self.source_points[k], self.source_angles[k], self.dst_point,
                                 self.dst_angle, self.origin, self.valid.shape[1])
         v = self.valid[k]
@@ -594,6 +621,9 @@ def _source_coords(centre, angle: float, dst_point, dst_angle: float, origin, n:
     return sx, sy
 
 
+@checked(stroke_id=Int(0), source_s=_OFFSETS, across=_OFFSETS,
+         dst_point=Array(ndim=1, min=-COORD_LIMIT, max=COORD_LIMIT), radius=Real(0, 1e4, low_open=True),
+         window=Real(0, 1e4))
 def fetch(index: SourceIndex, stroke_id: int, source_s, across, dst_point, dst_angle: float,
           radius: float, *, window: float) -> Fetched:
     """Fetch candidate patches for one target sample.
@@ -616,6 +646,9 @@ def fetch(index: SourceIndex, stroke_id: int, source_s, across, dst_point, dst_a
     window : float
         Chord half-length used for the source orientation.
     """
+    index._stroke(stroke_id, "stroke_id")
+    if dst_point.shape != (2,):
+        raise ValueError(f"dst_point must be one (x, y) point, got shape {dst_point.shape}")
     stroke = index.strokes[stroke_id]
     s = np.clip(np.atleast_1d(np.asarray(source_s, float)), 0.0, stroke.length)
     e = np.broadcast_to(np.asarray(across, float), s.shape)

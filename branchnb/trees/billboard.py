@@ -78,6 +78,7 @@ from ..core.params import check_params, param
 from ..core.poisson import grid_laplacian
 from ..core.random import as_rng
 from ..core.sampling import stipple
+from ..core.validate import Real, checked
 from .exemplar import tree_rgba
 from .segmentation import Segmentation, segment_tree
 
@@ -191,6 +192,7 @@ class BillboardCloud:
         """Number of billboards per layer name."""
         return {name: int((self.layer == v).sum()) for v, name in LAYER_NAMES.items()}
 
+    @checked(yaw=Real(-1e6, 1e6))
     def render(self, yaw: float = 0.0, **kwargs) -> np.ndarray:
         """Software preview from ``yaw`` degrees; see :func:`branchnb.trees.preview.render_cloud`."""
         from .preview import render_cloud
@@ -643,6 +645,7 @@ def _shading(image: np.ndarray, labels: np.ndarray) -> float:
     return float(np.clip(np.median(std) / 0.05, 0.0, 1.0)) if std.size else 0.0
 
 
+@checked()
 def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
                     rng=0) -> BillboardCloud:
     """Turn one RGBA tree image into a billboard cloud.

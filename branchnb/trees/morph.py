@@ -23,6 +23,7 @@ import numpy as np
 
 from ..core.image import as_points
 from ..core.random import as_rng
+from ..core.validate import MAX_COUNT, Array, Choice, Int, Real, Shape, checked, real_array
 
 __all__ = [
     "check_weights",
@@ -60,10 +61,7 @@ def check_weights(weights, n: int | None = None, *, name: str = "weights",
     >>> check_weights([0.25, 0.75]).tolist()
     [0.25, 0.75]
     """
-    try:
-        w = np.asarray(weights, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise TypeError(f"{name} must be a 1-D array of numbers") from exc
+    w = real_array(weights, name, allow_empty=True, finite=False)
     if w.ndim != 1 or w.size == 0:
         raise ValueError(f"{name} must be a non-empty 1-D array, got shape {w.shape}")
     if n is not None and w.size != n:
@@ -80,6 +78,7 @@ def check_weights(weights, n: int | None = None, *, name: str = "weights",
     return w / w.sum()
 
 
+@checked(n=Int(1, MAX_COUNT), concentration=Real(0, 1e6, low_open=True, arrays=True))
 def dirichlet_weights(n: int, concentration=1.0, *, rng=None) -> np.ndarray:
     """Random convex weights: a draw from a Dirichlet distribution.
 
@@ -110,6 +109,7 @@ def dirichlet_weights(n: int, concentration=1.0, *, rng=None) -> np.ndarray:
     return as_rng(rng).dirichlet(a)
 
 
+@checked(shapes=Array(ndim=(2, 3)), weights=Array(ndim=1))
 def combine_shapes(shapes, weights) -> np.ndarray:
     """Convex combination ``sum_i w_i s_i`` of corresponding contours or shape vectors.
 
@@ -190,6 +190,7 @@ def winding_number(polygon, shape: tuple[int, int]) -> np.ndarray:
     return np.cumsum(diff[:, :w], axis=1, dtype=np.int32)
 
 
+@checked(polygon=Array(ndim=2), shape=Shape(), rule=Choice("nonzero", "evenodd"))
 def fill_contour(polygon, shape: tuple[int, int], *, rule: str = "nonzero") -> np.ndarray:
     """Rasterise the region enclosed by a (possibly self-intersecting) contour.
 

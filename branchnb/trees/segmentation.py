@@ -67,11 +67,13 @@ import numpy as np
 from scipy import ndimage as ndi
 from skimage.color import rgb2hsv, rgb2lab
 
+from .. import data as _data
 from ..core.image import as_float_image, composite_over
 from ..core.io import encode_png
 from ..core.params import check_params, param
 from ..core.random import as_rng
 from ..core.render import coverage_polylines
+from ..core.validate import Array, Image, checked
 from .exemplar import tree_rgba
 from .ground import split_ground
 
@@ -100,7 +102,7 @@ BACKGROUND, CROWN, TRUNK, IGNORE = 0, 1, 2, 255
 LABEL_NAMES = {"crown": CROWN, "trunk": TRUNK}
 
 #: Folder of the hand-labelled masks (``data/trees_masks``).
-MASKS_DIR = Path(__file__).resolve().parent.parent.parent / "data" / "trees_masks"
+MASKS_DIR = _data.DATA_DIR / "trees_masks"
 
 FEATURE_NAMES = (
     "L", "a", "b",                     # CIELAB colour / 100
@@ -639,6 +641,7 @@ def _missed_neck(trunk: np.ndarray, mask: np.ndarray) -> np.ndarray:
     return stem
 
 
+@checked()
 def segment_tree(rgba, scribbles=None, params: SegmentParams | None = None, *,
                  rng=0) -> Segmentation:
     """Segment an RGBA tree image into crown and trunk.
@@ -778,6 +781,7 @@ def segment_tree(rgba, scribbles=None, params: SegmentParams | None = None, *,
 # ---------------------------------------------------------------------------
 
 
+@checked(pred=Array(ndim=2), ref=Array(ndim=2))
 def segmentation_iou(pred, ref) -> dict[str, float]:
     """Per-class IoU of a predicted label image against a reference.
 
@@ -873,7 +877,7 @@ def load_reference_masks(names=None) -> dict[str, np.ndarray]:
     out = {}
     for n in names:
         if n not in available:
-            raise ValueError(f"no reference mask for {n!r}; labelled: {list(available)}")
+            raise ValueError(f"names: no reference mask for {n!r}; labelled: {list(available)}")
         raw = cv2.imread(str(_mask_path(n)), cv2.IMREAD_UNCHANGED)
         if raw is None or raw.ndim != 2:  # pragma: no cover - corrupt file
             raise ValueError(f"could not read a label image from {_mask_path(n)}")
@@ -916,6 +920,7 @@ def load_reference_scribbles(name: str, *, ignore: bool = False) -> list[dict]:
     return out
 
 
+@checked(image=Image())
 def reference_from_scribbles(name: str, image=None) -> np.ndarray:
     """Rebuild the reference label image of ``name`` from its stored scribbles.
 

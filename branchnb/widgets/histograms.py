@@ -46,6 +46,9 @@ class HistogramCompare(widgets.VBox):
             raise ValueError(f"metric must be one of {sorted(METRICS)}, got {metric!r}")
         if not isinstance(bins, (int, np.integer)) or bins < 1:
             raise ValueError(f"bins must be a positive int, got {bins!r}")
+        for arg, v in (("width", width), ("height", height)):
+            if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 32 <= v <= 4096:
+                raise ValueError(f"{arg} must be an int in [32, 4096] (pixels), got {v!r}")
         self.bins = int(bins)
         self.metric = metric
         self.title = title
@@ -72,6 +75,12 @@ class HistogramCompare(widgets.VBox):
             raise TypeError("comparison must be a HistogramComparison")
         self.comparison = comparison
         self._draw()
+
+    def clear(self) -> None:
+        """Back to "no data yet" (e.g. after the data was removed)."""
+        self.comparison = None
+        self.caption.value = ""
+        self._draw_empty()
 
     def _draw_empty(self) -> None:
         c = self.canvas
@@ -124,7 +133,7 @@ class HistogramCompare(widgets.VBox):
                 c.text_align = "left"
         rows = " &nbsp; ".join(
             f"<span style='color:{PALETTE[j % len(PALETTE)]}'>&#9632;</span> {cmp.labels[j]} vs "
-            f"{cmp.labels[0]}: <b>{self.metric} = {cmp.distances[j]:.4f}</b>"
+            f"{cmp.labels[0]}: <b>{self.metric} = {cmp.distances[j]:.3g}</b>"
             for j in range(1, k)
         )
         head = f"<b>{self.title}</b> &nbsp; " if self.title else ""

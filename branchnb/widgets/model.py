@@ -18,6 +18,42 @@ from ..core.image import as_points
 
 __all__ = ["KINDS", "Shape", "AnnotationEvent", "AnnotationModel"]
 
+def _number(value, name: str, *, positive: bool = False, allow_inf: bool = False) -> float:
+    """A real number (not bool) for argument ``name``: finite (or +inf if allowed), > 0 if ``positive``."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise TypeError(f"{name} must be a number, got {type(value).__name__}")
+    v = float(value)
+    if v != v or (np.isinf(v) and not (allow_inf and v > 0)):
+        raise ValueError(f"{name} must be a finite number, got {value!r}")
+    if positive and not v > 0:
+        raise ValueError(f"{name} must be > 0, got {value!r}")
+    if not positive and v < 0:
+        raise ValueError(f"{name} must be >= 0, got {value!r}")
+    return v
+
+
+def _int(value, name: str) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{name} must be an int, got {type(value).__name__}")
+    return int(value)
+
+
+def _bool(value, name: str) -> bool:
+    if not isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{name} must be True or False, got {value!r}")
+    return bool(value)
+
+
+def _json_meta(meta, name: str = "meta") -> dict:
+    if not isinstance(meta, dict):
+        raise TypeError(f"{name} must be a dict, got {type(meta).__name__}")
+    try:
+        json.dumps(meta, allow_nan=False)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{name} must be JSON-serialisable with finite numbers: {exc}") from None
+    return meta
+
+
 #: Shape kinds: click-by-click polylines with a radius per vertex, freehand
 #: strokes, freehand scribbles with a label, and single points.
 KINDS = ("polyline", "stroke", "scribble", "point")
@@ -52,11 +88,14 @@ class Shape:
     meta: dict = field(default_factory=dict)
 
     def __post_init__(self):
-        if self.kind not in KINDS:
+        if not isinstance(self.kind, str) or self.kind not in KINDS:
             raise ValueError(f"kind must be one of {KINDS}, got {self.kind!r}")
         self.points = as_points(self.points, name="points", min_points=1)
         if self.radii is not None:
-            r = np.asarray(self.radii, dtype=np.float64)
+            r = np.asarray(self.radii)
+            if r.dtype == object or not (np.issubdtype(r.dtype, np.integer) or np.issubdtype(r.dtype, np.floating)):
+                raise TypeError(f"radii must be real numbers, got dtype {r.dtype}")
+            r = r.astype(np.float64)
             if r.shape != (len(self.points),):
                 raise ValueError(f"radii must have one value per point ({len(self.points)}), got {r.shape}")
             if not np.all(np.isfinite(r)) or np.any(r <= 0):
@@ -64,8 +103,8 @@ class Shape:
             self.radii = r
         if self.label is not None and not isinstance(self.label, str):
             raise TypeError(f"label must be a str or None, got {type(self.label).__name__}")
-        if not isinstance(self.meta, dict):
-            raise TypeError("meta must be a dict")
+        self.closed = _bool(self.closed, "closed")
+        self.meta = _json_meta(self.meta)
 
     def to_dict(self) -> dict:
         return {
@@ -109,11 +148,25 @@ class AnnotationModel:
     """
 
     def __init__(self, shapes=(), *, max_undo: int = 200):
-        self._shapes: list[Shape] = [s if isinstance(s, Shape) else Shape(**s) for s in shapes]
+        if isinstance(shapes, (str, bytes, dict)) or not hasattr(shapes, "__iter__"):
+            raise TypeError(f"shapes must be a sequence of Shape or dicts, got {type(shapes).__name__}")
+        self._shapes: list[Shape] = []
+        for k, s in enumerate(shapes):
+            if isinstance(s, Shape):
+                self._shapes.append(s)
+            elif isinstance(s, dict):
+                try:
+                    self._shapes.append(Shape(**s))
+                except TypeError as exc:
+                    raise TypeError(f"shapes[{k}]: {exc}") from None
+            else:
+                raise TypeError(f"shapes[{k}] must be a Shape or a dict, got {type(s).__name__}")
         self._undo: list[list[Shape]] = []
         self._redo: list[list[Shape]] = []
         self._observers: list[Callable[[AnnotationEvent], None]] = []
-        self.max_undo = int(max_undo)
+        self.max_undo = _int(max_undo, "max_undo")
+        if not 0 <= self.max_undo <= 100_000:
+            raise ValueError(f"max_undo must be in [0, 100000], got {max_undo!r}")
 
     # -- observation ----------------------------------------------------
     def observe(self, callback: Callable[[AnnotationEvent], None]) -> None:
@@ -123,6 +176,8 @@ class AnnotationModel:
         self._observers.append(callback)
 
     def unobserve(self, callback) -> None:
+        if callback not in self._observers:
+            raise ValueError("callback is not observing this model")
         self._observers.remove(callback)
 
     def _notify(self, event: AnnotationEvent) -> None:
@@ -136,7 +191,9 @@ class AnnotationModel:
         self._redo.clear()
 
     def _index(self, index: int) -> int:
-        if not isinstance(index, (int, np.integer)) or not -len(self._shapes) <= index < len(self._shapes):
+        if isinstance(index, bool) or not isinstance(index, (int, np.integer)):
+            raise TypeError(f"index must be an int, got {type(index).__name__}")
+        if not -len(self._shapes) <= index < len(self._shapes):
             raise ValueError(f"shape index {index!r} out of range for {len(self._shapes)} shapes")
         return int(index) % len(self._shapes)
 
@@ -151,7 +208,7 @@ class AnnotationModel:
 
     def of_kind(self, kind: str) -> list[Shape]:
         """Shapes of one kind, in drawing order."""
-        if kind not in KINDS:
+        if not isinstance(kind, str) or kind not in KINDS:
             raise ValueError(f"kind must be one of {KINDS}, got {kind!r}")
         return [s for s in self._shapes if s.kind == kind]
 
@@ -167,6 +224,13 @@ class AnnotationModel:
                        exclude: int | None = None) -> tuple[int, int] | None:
         """``(shape, vertex)`` of the vertex nearest to ``xy`` within ``max_distance``."""
         p = as_points([xy], name="xy")[0]
+        max_distance = _number(max_distance, "max_distance", allow_inf=True)
+        if isinstance(kinds, str):
+            kinds = (kinds,)
+        if not hasattr(kinds, "__iter__") or any(not isinstance(k, str) or k not in KINDS for k in kinds):
+            raise ValueError(f"kinds must be a sequence of {KINDS}, got {kinds!r}")
+        if exclude is not None:
+            exclude = _int(exclude, "exclude")
         best, best_d = None, max_distance
         for i, s in enumerate(self._shapes):
             if s.kind not in kinds or i == exclude:
@@ -181,6 +245,8 @@ class AnnotationModel:
     def add_shape(self, kind: str, points, *, radii=None, label: str | None = None,
                   closed: bool = True, meta: dict | None = None) -> int:
         """Add a shape; returns its index."""
+        if meta is not None and not isinstance(meta, dict):
+            raise TypeError(f"meta must be a dict or None, got {type(meta).__name__}")
         shape = Shape(kind, points, radii, label, closed, dict(meta or {}))
         self._checkpoint()
         self._shapes.append(shape)
@@ -192,10 +258,10 @@ class AnnotationModel:
         i = self._index(index)
         s = self._shapes[i]
         p = as_points([xy], name="xy")
+        if radius is not None:
+            radius = _number(radius, "radius", positive=True)
         if s.radii is not None:
-            r = s.radii[-1] if radius is None else float(radius)
-            if not np.isfinite(r) or r <= 0:
-                raise ValueError(f"radius must be > 0, got {radius}")
+            r = s.radii[-1] if radius is None else radius
         self._checkpoint()
         s.points = np.vstack([s.points, p])
         if s.radii is not None:
@@ -205,8 +271,9 @@ class AnnotationModel:
     def set_closed(self, index: int, closed: bool = True) -> None:
         """Finish (or reopen) a polyline."""
         i = self._index(index)
+        closed = _bool(closed, "closed")
         self._checkpoint()
-        self._shapes[i].closed = bool(closed)
+        self._shapes[i].closed = closed
         self._notify(AnnotationEvent("update", i))
 
     def set_radius(self, index: int, vertex: int, radius: float) -> None:
@@ -215,10 +282,10 @@ class AnnotationModel:
         s = self._shapes[i]
         if s.radii is None:
             raise ValueError(f"shape {i} ({s.kind}) has no radii")
+        vertex = _int(vertex, "vertex")
         if not -len(s.radii) <= vertex < len(s.radii):
             raise ValueError(f"vertex {vertex} out of range for {len(s.radii)} vertices")
-        if not np.isfinite(radius) or radius <= 0:
-            raise ValueError(f"radius must be > 0, got {radius}")
+        radius = _number(radius, "radius", positive=True)
         self._checkpoint()
         s.radii = s.radii.copy()
         s.radii[vertex] = float(radius)
@@ -228,6 +295,7 @@ class AnnotationModel:
         """Move one vertex."""
         i = self._index(index)
         s = self._shapes[i]
+        vertex = _int(vertex, "vertex")
         if not -len(s.points) <= vertex < len(s.points):
             raise ValueError(f"vertex {vertex} out of range for {len(s.points)} vertices")
         p = as_points([xy], name="xy")[0]
@@ -287,20 +355,25 @@ class AnnotationModel:
 
     @staticmethod
     def _parse(text) -> list[Shape]:
+        if not isinstance(text, (str, bytes, bytearray, dict)):
+            raise TypeError(f"text must be annotation JSON (str) or its dict, got {type(text).__name__}")
         try:
-            d = json.loads(text) if isinstance(text, (str, bytes)) else text
-        except json.JSONDecodeError as exc:
-            raise ValueError(f"text is not valid annotation JSON: {exc}") from exc
+            d = json.loads(text) if isinstance(text, (str, bytes, bytearray)) else text
+        except (json.JSONDecodeError, UnicodeDecodeError, RecursionError) as exc:
+            raise ValueError(f"text is not valid annotation JSON: {exc}") from None
         if not isinstance(d, dict) or not isinstance(d.get("shapes"), list):
-            raise ValueError("annotation JSON needs a 'shapes' list")
+            raise ValueError("text: annotation JSON needs a 'shapes' list")
+        version = d.get("version", 1)
+        if version != 1 or isinstance(version, bool):
+            raise ValueError(f"text: unsupported annotation JSON version {version!r} (this reads version 1)")
         out = []
         for k, s in enumerate(d["shapes"]):
             if not isinstance(s, dict):
-                raise ValueError(f"shapes[{k}] must be an object")
+                raise ValueError(f"text: shapes[{k}] must be an object")
             try:
                 out.append(Shape(**s))
-            except TypeError as exc:
-                raise ValueError(f"shapes[{k}] has unexpected fields: {exc}") from exc
+            except (TypeError, ValueError) as exc:
+                raise ValueError(f"text: shapes[{k}]: {exc}") from None
         return out
 
     def load_json(self, text) -> None:

@@ -1,0 +1,206 @@
+"""Procedural map-like examples with a known answer (tests, notebook, bench).
+
+``river_map_example`` draws a drainage map: an island of flat land colour in
+a flat sea, with many separate river trees that start at the coast and
+climb inland, drawn with :func:`branchnb.core.render.draw_polylines` from a
+procedurally grown forest, so the true structure (several roots on the
+coast) is known. ``delta_mask_example`` draws a binary water mask of a
+braided delta: white channels of very different widths on black, with a
+white sea along the bottom, and returns the true centre lines and radii.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy import ndimage as ndi
+
+from ..core.random import as_rng
+from ..core.render import draw_polylines
+from ..core.structure import Branch, Structure
+
+__all__ = ["LAND", "SEA", "RIVER", "delta_mask_example", "island_mask", "river_map_example"]
+
+LAND = (0.93, 0.89, 0.76)
+SEA = (0.62, 0.80, 0.93)
+RIVER = (0.08, 0.33, 0.72)
+
+
+def island_mask(shape, rng, *, size: float = 0.36) -> np.ndarray:
+    """A smooth irregular island (True) in the middle of the frame; the sea touches every border."""
+    rng = as_rng(rng)
+    h, w = shape
+    yy, xx = np.mgrid[0:h, 0:w]
+    cx, cy = w / 2 + rng.normal(0, 0.03 * w), h / 2 + rng.normal(0, 0.03 * h)
+    ang = np.arctan2(yy - cy, xx - cx)
+    rad = np.hypot((xx - cx) / w, (yy - cy) / h)
+    edge = np.full(ang.shape, size)
+    for k in (2, 3, 5):
+        edge += rng.uniform(0.015, 0.035) * np.cos(k * ang + rng.uniform(0, 2 * np.pi))
+    return rad < edge
+
+
+def _grow_river(rng, start, heading, length, inland, occupied, step=2.0, wiggle=0.12, pull=0.25):
+    """Walk uphill (away from the coast) from ``start``; stop near the coast or another river."""
+    h, w = inland.shape
+    gy, gx = np.gradient(ndi.gaussian_filter(inland, 4.0))
+    pts = [np.asarray(start, float)]
+    th = heading
+    for i in range(int(length / step)):
+        x, y = pts[-1]
+        ix, iy = int(np.clip(round(x), 0, w - 1)), int(np.clip(round(y), 0, h - 1))
+        up = np.arctan2(gy[iy, ix], gx[iy, ix])
+        d = np.angle(np.exp(1j * (up - th)))
+        th += pull * d * 0.3 + rng.normal(0, wiggle)
+        nxt = pts[-1] + step * np.array([np.cos(th), np.sin(th)])
+        jx, jy = int(round(nxt[0])), int(round(nxt[1]))
+        if not (0 <= jx < w and 0 <= jy < h) or inland[jy, jx] < 4.0:
+            break
+        if i > 3 and occupied[jy, jx]:
+            break
+        pts.append(nxt)
+    return np.array(pts)
+
+
+def _mark(occupied, pts, radius):
+    h, w = occupied.shape
+    r = int(np.ceil(radius))
+    for x, y in pts[::2]:
+        x0, x1 = max(int(x) - r, 0), min(int(x) + r + 1, w)
+        y0, y1 = max(int(y) - r, 0), min(int(y) + r + 1, h)
+        occupied[y0:y1, x0:x1] = True
+
+
+def river_map_example(shape=(256, 256), rng=0, *, n_trees: int = 14, river_color=RIVER,
+                      r_mouth: float = 1.8) -> tuple[np.ndarray, Structure, np.ndarray]:
+    """A river map: flat land, flat sea around it, separate river trees draining to the coast.
+
+    Returns
+    -------
+    image : (H, W, 3) float32
+    structure : Structure
+        The forest that was drawn (one root per river, its first vertex at the mouth).
+    land : (H, W) bool
+        The land (the domain the rivers grow in).
+
+    Examples
+    --------
+    >>> img, s, land = river_map_example((128, 128), 0, n_trees=6)
+    >>> sum(b.parent is None for b in s.branches) >= 4
+    True
+    """
+    rng = as_rng(rng)
+    h, w = shape
+    land = island_mask(shape, rng)
+    inland = ndi.distance_transform_edt(land)
+    coast = land & ~ndi.binary_erosion(land)
+    cy, cx = np.nonzero(coast)
+    order = np.argsort(np.arctan2(cy - cy.mean(), cx - cx.mean()))
+    cy, cx = cy[order], cx[order]
+    occupied = np.zeros(shape, bool)
+    branches: list[Branch] = []
+    n = len(cy)
+    offs = (np.arange(n_trees) + rng.uniform(0, 1)) / n_trees
+    gy, gx = np.gradient(ndi.gaussian_filter(inland, 4.0))
+    size = min(h, w)
+    for o in offs:
+        k = int(o * n) % n
+        x, y = float(cx[k]), float(cy[k])
+        head = np.arctan2(gy[int(y), int(x)], gx[int(y), int(x)]) + rng.normal(0, 0.25)
+        x += 3 * np.cos(head)
+        y += 3 * np.sin(head)
+        if occupied[int(y), int(x)]:
+            continue
+        trunk = _grow_river(rng, (x, y), head, rng.uniform(0.25, 0.4) * size, inland, occupied)
+        if len(trunk) < 8:
+            continue
+        r = np.linspace(r_mouth, 0.55 * r_mouth, len(trunk))
+        root = len(branches)
+        branches.append(Branch(trunk, r))
+        _mark(occupied, trunk, 4.5)
+        # tributaries: join the trunk from the side, thinner than the trunk where they join
+        n_kids = rng.integers(1, 4)
+        cand = np.arange(len(trunk) // 5, len(trunk) * 4 // 5)
+        for v in np.sort(rng.choice(cand, min(n_kids, len(cand)), replace=False)):
+            t = trunk[min(v + 1, len(trunk) - 1)] - trunk[max(v - 1, 0)]
+            base = np.arctan2(t[1], t[0]) + rng.choice([-1, 1]) * rng.uniform(0.5, 1.0)
+            kid = _grow_river(rng, trunk[v], base, rng.uniform(0.1, 0.22) * size, inland, occupied)
+            if len(kid) < 6:
+                continue
+            r0 = 0.7 * r[v]
+            branches.append(Branch(kid, np.linspace(r0, max(0.5 * r0, 0.6), len(kid)), root, int(v)))
+            _mark(occupied, kid[4:], 4.5)
+    img = np.empty(shape + (3,), np.float32)
+    img[:] = SEA
+    img[land] = LAND
+    img = draw_polylines(img, [b.points for b in branches], widths=[2 * b.thickness for b in branches],
+                         colors=river_color)
+    return img, Structure(branches, image_shape=shape), land
+
+
+def _curve(p0, p1, rng, bend: float, step: float = 1.0) -> np.ndarray:
+    """A smooth cubic curve from p0 to p1 with random sideways control points."""
+    p0, p1 = np.asarray(p0, float), np.asarray(p1, float)
+    d = p1 - p0
+    n = np.array([-d[1], d[0]]) / max(np.hypot(*d), 1e-9)
+    c1 = p0 + d / 3 + n * rng.normal(0, bend)
+    c2 = p0 + 2 * d / 3 + n * rng.normal(0, bend)
+    m = max(int(np.hypot(*d) / step), 2)
+    t = np.linspace(0, 1, m)[:, None]
+    return ((1 - t) ** 3 * p0 + 3 * (1 - t) ** 2 * t * c1 + 3 * (1 - t) * t ** 2 * c2 + t ** 3 * p1)
+
+
+def delta_mask_example(shape=(256, 256), rng=0) -> tuple[np.ndarray, list, np.ndarray]:
+    """A binary water mask of a braided delta.
+
+    One wide channel enters at the top, splits into two arms of different
+    widths that rejoin (a cycle), splits again into three distributaries
+    (wide, medium, thin) that reach a sea filling the bottom of the frame.
+
+    Returns
+    -------
+    mask : (H, W) float32
+        1 = water, 0 = land.
+    channels : list of ((N, 2) ndarray, float)
+        Each channel's centre line (x, y) and radius (half width), clipped to land.
+    sea : (H, W) bool
+
+    Examples
+    --------
+    >>> m, ch, sea = delta_mask_example((128, 128), 0)
+    >>> set(np.unique(m).tolist()) == {0.0, 1.0}, len(ch)
+    (True, 7)
+    """
+    rng = as_rng(rng)
+    h, w = shape
+    s = min(h, w) / 256.0
+    sea_y = 0.84 * h + rng.normal(0, 0.01 * h)
+    xs = lambda f: w * f + rng.normal(0, 0.02 * w)  # noqa: E731
+    top, a = (xs(0.5), -2.0), (xs(0.5), 0.28 * h)
+    join, b = (xs(0.5), 0.52 * h), (xs(0.5), 0.62 * h)
+    specs = [
+        (top, a, 8.0 * s),
+        (a, (join[0] - 0.22 * w, 0.42 * h), 5.0 * s),
+        (a, (join[0] + 0.2 * w, 0.40 * h), 2.5 * s),
+        (b, (xs(0.18), sea_y + 8), 4.5 * s),
+        (b, (xs(0.52), sea_y + 8), 2.2 * s),
+        (b, (xs(0.85), sea_y + 8), 1.4 * s),
+    ]
+    lines = []
+    for k, (p, q, r) in enumerate(specs):
+        c = _curve(p, q, rng, 0.04 * w)
+        if k in (1, 2):  # the two arms continue back to the join point
+            c = np.vstack([c, _curve(q, join, rng, 0.03 * w)[1:]])
+        lines.append((c, r))
+    trunk2 = _curve(join, b, rng, 0.01 * w)
+    lines[0] = (lines[0][0], lines[0][1])
+    lines.insert(3, (trunk2, 6.0 * s))
+    yy = np.arange(h)[:, None]
+    sea = np.broadcast_to(yy >= sea_y, shape).copy()
+    canvas = np.zeros(shape + (3,), np.float32)
+    canvas = draw_polylines(canvas, [c for c, _ in lines], widths=[2 * r for _, r in lines], colors=(1, 1, 1))
+    mask = (canvas[:, :, 0] > 0.5) | sea
+    channels = []
+    for c, r in lines:
+        inside = (c[:, 1] < sea_y - r) & (c[:, 1] >= 0)
+        channels.append((c[inside], float(r)))
+    return mask.astype(np.float32), channels, sea

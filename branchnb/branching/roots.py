@@ -1,0 +1,225 @@
+"""Where roots start: a small learned model of an example's roots.
+
+An example may hold several trees (a river map: one tree per river, all
+draining to the coast). :func:`fit_roots` learns, for every root of the
+example,
+
+* its **kind**: on the boundary of the domain (the image border, or the
+  edge of a region the branches do not enter, such as the sea), or
+  *inside* the domain;
+* for a boundary root, which boundary it starts on (one of the four image
+  sides, or the region edge) and the angle between its initial direction
+  and the boundary's inward normal; for an inside root its direction;
+* how many roots there are.
+
+:meth:`RootModel.sample` draws new starts ``(x, y, angle)`` in any domain:
+every new root copies the kind of one example root (cycling through them
+in a random order), starts at a random place on the same boundary (or
+inside), spaced from the other starts like the example's roots are, and
+heads into the domain with the copied angle to the inward normal.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import ndimage as ndi
+
+from ..core.random import as_rng
+from ..core.structure import Structure
+
+__all__ = ["RootModel", "boundary_frame", "fit_roots"]
+
+_SIDES = ("top", "bottom", "left", "right", "region", "inside")
+
+
+def boundary_frame(domain: np.ndarray):
+    """Distance to the domain's boundary, the inward normal and the boundary class of every pixel.
+
+    The boundary is the image border plus the edge of the pixels outside
+    ``domain``. Returns ``(dist, normal_x, normal_y, side)`` with ``side``
+    an index into ``("top", "bottom", "left", "right", "region")``: which
+    boundary is nearest.
+    """
+    d = np.asarray(domain, bool)
+    h, w = d.shape
+    padded = np.pad(d, 1, constant_values=False)
+    dist, (iy, ix) = ndi.distance_transform_edt(padded, return_indices=True)
+    dist, iy, ix = dist[1:-1, 1:-1], iy[1:-1, 1:-1] - 1, ix[1:-1, 1:-1] - 1
+    sm = ndi.gaussian_filter(dist, 2.0)
+    gy, gx = np.gradient(sm)
+    n = np.hypot(gx, gy) + 1e-12
+    side = np.full((h, w), 4, np.int8)
+    side[iy <= -1] = 0
+    side[iy >= h] = 1
+    side[ix <= -1] = 2
+    side[ix >= w] = 3
+    return dist, gx / n, gy / n, side
+
+
+@dataclass
+class RootModel:
+    """The learnt roots of an example (see the module docstring).
+
+    Attributes
+    ----------
+    n_roots : int
+        Number of roots (trees) in the example.
+    sides : (R,) int ndarray
+        Per example root: 0-3 image side, 4 region edge, 5 inside.
+    offsets : (R,) ndarray
+        Initial direction minus the inward normal (radians), boundary roots.
+    directions : (R,) ndarray
+        Initial direction (radians), inside roots.
+    positions : (R, 2) ndarray
+        Start points as fractions of the example's width and height.
+    depth : (R,) ndarray
+        Distance of each start to the boundary (pixels).
+    spacing : float
+        Median distance from a root start to the nearest other start, as a
+        fraction of the example's diagonal (inf for one root).
+    lengths : (R,) ndarray
+        Root lengths (pixels); a start is only drawn where the initial
+        heading stays in the domain for half the median root length.
+    """
+
+    n_roots: int
+    sides: np.ndarray
+    offsets: np.ndarray
+    directions: np.ndarray
+    positions: np.ndarray
+    depth: np.ndarray
+    spacing: float
+    lengths: np.ndarray | None = None
+
+    def _reach(self, h: int, w: int) -> float:
+        med = float(np.median(self.lengths)) if self.lengths is not None and len(self.lengths) else 0.0
+        return max(min(0.5 * med, 0.3 * min(h, w)), 4.0)
+
+    def sample(self, domain: np.ndarray, rng=None, n: int | None = None,
+               min_depth: float = 2.0) -> list[tuple[float, float, float]]:
+        """Draw ``n`` (default ``n_roots``) starts ``(x, y, angle)`` in ``domain`` ((H, W) bool)."""
+        rng = as_rng(rng)
+        dom = np.asarray(domain, bool)
+        h, w = dom.shape
+        n = self.n_roots if n is None else int(n)
+        if n <= 0 or not dom.any():
+            return []
+        dist, nx, ny, side = boundary_frame(dom)
+        diag = float(np.hypot(h, w))
+        spacing = self.spacing * diag if np.isfinite(self.spacing) else 0.0
+        order = np.concatenate([rng.permutation(self.n_roots) for _ in range(n // self.n_roots + 1)])[:n]
+        starts: list[tuple[float, float, float]] = []
+        for j in order:
+            kind = int(self.sides[j])
+            depth = max(float(self.depth[j]), min_depth)
+            if kind == 5:
+                band = dom & (dist >= max(depth * 0.5, min_depth))
+            else:
+                band = dom & (np.abs(dist - depth) <= 1.0) & (side == kind)
+                if not band.any():  # that boundary does not exist here: any boundary
+                    band = dom & (np.abs(dist - depth) <= 1.0)
+            ys, xs = np.nonzero(band)
+            if len(ys) == 0:
+                ys, xs = np.nonzero(dom)
+            # Prefer places near the example root (relative position), more
+            # spread the more roots share that kind; keep the spacing.
+            same = max(int(np.sum(self.sides == kind)), 1)
+            sig = 0.3 * diag / np.sqrt(same) if kind != 5 else 0.2 * diag / np.sqrt(same)
+            px, py = self.positions[j] * (w, h)
+            wgt = np.exp(-((xs - px) ** 2 + (ys - py) ** 2) / (2 * sig ** 2)) + 1e-9
+            if starts:
+                st = np.array([(x, y) for x, y, _ in starts])
+                dmin = np.sqrt(((xs[:, None] - st[None, :, 0]) ** 2 +
+                                (ys[:, None] - st[None, :, 1]) ** 2).min(1))
+                far = dmin >= 0.8 * spacing
+                if far.any():
+                    wgt = wgt * far
+                else:
+                    wgt = wgt * (dmin / (dmin.max() + 1e-9)) ** 4 + 1e-12
+            if kind == 5:
+                ang = np.full(len(ys), float(self.directions[j]) + rng.normal(0, 0.2))
+            else:
+                ang = np.arctan2(ny[ys, xs], nx[ys, xs]) + self.offsets[j] + rng.normal(0, 0.1)
+            # the heading must stay in the domain for a while (no root walks out at once)
+            reach = self._reach(h, w)
+            ok = np.ones(len(ys), bool)
+            for f in (0.25, 0.5, 0.75, 1.0):
+                px_ = np.rint(xs + f * reach * np.cos(ang)).astype(np.int64)
+                py_ = np.rint(ys + f * reach * np.sin(ang)).astype(np.int64)
+                inside = (px_ >= 0) & (px_ < w) & (py_ >= 0) & (py_ < h)
+                ok &= inside
+                ok[inside] &= dom[py_[inside], px_[inside]]
+            if ok.any():
+                wgt = wgt * ok + 1e-12 * ~ok
+            k = int(rng.choice(len(ys), p=wgt / wgt.sum()))
+            y, x = int(ys[k]), int(xs[k])
+            starts.append((float(x), float(y), float(ang[k])))
+        return starts
+
+
+def fit_roots(structure: Structure, domain: np.ndarray | None = None, shape=None,
+              boundary_distance: float | None = None) -> RootModel:
+    """Learn the roots of ``structure`` (see :class:`RootModel`).
+
+    Parameters
+    ----------
+    structure : Structure
+    domain : (H, W) bool ndarray, optional
+        Where the branches may grow (default: the whole image).
+    shape : (H, W), optional
+        Default: ``structure.image_shape`` or its bounds.
+    boundary_distance : float, optional
+        A root starting closer than this to the boundary is a boundary
+        root (default: ``max(8, 4 r0)`` pixels, ``r0`` its first radius).
+
+    Examples
+    --------
+    >>> from branchnb.core.structure import Branch, Structure
+    >>> s = Structure([Branch([(50, 1), (50, 60)], 2.0)], image_shape=(100, 100))
+    >>> rm = fit_roots(s)
+    >>> rm.n_roots, _SIDES[int(rm.sides[0])], round(float(rm.offsets[0]), 2)
+    (1, 'top', 0.0)
+    """
+    if domain is not None:
+        dom = np.asarray(domain, bool)
+    else:
+        if shape is None:
+            shape = structure.image_shape
+        if shape is None:
+            _x0, _y0, x1, y1 = structure.bounds()
+            shape = (int(np.ceil(y1)) + 2, int(np.ceil(x1)) + 2)
+        dom = np.ones(tuple(int(v) for v in shape[:2]), bool)
+    h, w = dom.shape
+    dist, nx, ny, side = boundary_frame(dom)
+    roots = [b for b in structure.branches if b.parent is None and len(b.points) >= 2]
+    sides, offs, dirs, pos, depth = [], [], [], [], []
+    for b in roots:
+        x, y = b.points[0]
+        ix, iy = int(np.clip(round(x), 0, w - 1)), int(np.clip(round(y), 0, h - 1))
+        # initial direction over the first ~12 px
+        arc = np.r_[0.0, np.cumsum(np.hypot(*np.diff(b.points, axis=0).T))]
+        k = int(np.clip(np.searchsorted(arc, 12.0), 1, len(b.points) - 1))
+        d = b.points[k] - b.points[0]
+        ang = float(np.arctan2(d[1], d[0]))
+        lim = boundary_distance if boundary_distance is not None else max(8.0, 4.0 * float(b.thickness[0]))
+        on_boundary = dist[iy, ix] <= lim
+        sides.append(int(side[iy, ix]) if on_boundary else 5)
+        inward = float(np.arctan2(ny[iy, ix], nx[iy, ix]))
+        offs.append(float(np.angle(np.exp(1j * (ang - inward)))))
+        dirs.append(ang)
+        pos.append((x / w, y / h))
+        depth.append(float(dist[iy, ix]))
+    pos_a = np.array(pos, float).reshape(-1, 2)
+    if len(pos_a) > 1:
+        pxy = pos_a * (w, h)
+        dd = np.hypot(*(pxy[:, None] - pxy[None]).transpose(2, 0, 1))
+        np.fill_diagonal(dd, np.inf)
+        spacing = float(np.median(dd.min(1)) / np.hypot(h, w))
+    else:
+        spacing = float("inf")
+    # a boundary root heads into the domain: never more than 80 degrees off the normal
+    offs_a = np.clip(np.array(offs, float), -1.4, 1.4)
+    return RootModel(len(roots), np.array(sides, np.int64), offs_a, np.array(dirs, float), pos_a,
+                     np.array(depth, float), spacing, np.array([b.length for b in roots], float))

@@ -1,0 +1,67 @@
+"""Image-size awareness: lengths given for a 512 x 512 image scale with the diagonal.
+
+Every length default of the dendrite technique (stroke widths, smoothing
+scales, vine leaves and curls, lightning glow) is stated for a 512 x 512
+image and multiplied by :func:`length_scale` of the actual image, so a
+256-px and a 1024-px input give the same picture at their own resolution.
+Counts (endpoints, iterations) do not scale: the same number of branches
+at any size is what keeps the results alike.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["REFERENCE_DIAGONAL", "length_scale", "lattice_shape", "resample_to_lattice", "scaled"]
+
+#: Diagonal (px) of the 512 x 512 image the length defaults are given for.
+REFERENCE_DIAGONAL = math.hypot(512.0, 512.0)
+
+
+def length_scale(shape) -> float:
+    """``diagonal(shape) / diagonal(512 x 512)``.
+
+    Examples
+    --------
+    >>> length_scale((512, 512)), length_scale((1024, 1024))
+    (1.0, 2.0)
+    """
+    h, w = int(shape[0]), int(shape[1])
+    return math.hypot(h, w) / REFERENCE_DIAGONAL
+
+
+def scaled(value, shape, default: float) -> float:
+    """``value`` if given (pixels), else ``default`` (pixels at 512 x 512) scaled to ``shape``."""
+    if value is not None:
+        return float(value)
+    return float(default) * length_scale(shape)
+
+
+def lattice_shape(shape, lattice_size: int) -> tuple[int, int]:
+    """``shape`` resized so its diagonal is that of a ``lattice_size`` square (0: as is).
+
+    Examples
+    --------
+    >>> lattice_shape((1024, 1024), 512), lattice_shape((300, 400), 0)
+    ((512, 512), (300, 400))
+    """
+    h, w = int(shape[0]), int(shape[1])
+    if lattice_size == 0:
+        return h, w
+    f = lattice_size / math.sqrt(0.5 * (h * h + w * w))
+    return max(2, round(h * f)), max(2, round(w * f))
+
+
+def resample_to_lattice(image: np.ndarray, lattice_size: int) -> np.ndarray:
+    """An (H, W, C) image resampled to :func:`lattice_shape` (bilinear, anti-aliased
+    when shrinking)."""
+    shape = lattice_shape(image.shape[:2], lattice_size)
+    if shape == tuple(image.shape[:2]):
+        return image
+    from skimage.transform import resize
+
+    shrink = shape[0] < image.shape[0]
+    return resize(image, (*shape, image.shape[2]), order=1, anti_aliasing=shrink,
+                  preserve_range=True).astype(np.float32)

@@ -1,0 +1,316 @@
+"""Leaf exemplars at the door: an RGB(A) image becomes colour, alpha and a blade mask.
+
+The method needs, for every exemplar, the leaf's colours and its blade
+(the silhouette, petiole included). Two kinds of input are accepted:
+
+* **RGBA** with a meaningful alpha (a cut-out leaf): the blade is
+  ``alpha > 0.5``, the alpha is kept as the leaf's matte.
+* **Opaque** images of a leaf on a plain background (a scan or a photo
+  on paper): a background model is fitted to the image border, which
+  must be plain. Each pixel's distance from the border colour (CIELAB
+  Delta E, plus the chroma difference, so a pale-green leaf on white
+  stands out) is thresholded by Otsu's method; the blade is the largest
+  connected component (with parts of at least ``min_part`` of its size), its small holes filled (specular highlights,
+  pale veins), large holes kept (real holes in the leaf). The alpha is
+  then the blade mask, feathered by one pixel.
+
+Images whose border is not plain, or whose distance map has no clear
+two-class split, or whose "leaf" touches most of the border, are
+rejected with a ``ValueError``: the method cannot know where such a leaf
+ends, and guessing would silently ruin every later step.
+
+Exemplar sets (:func:`prepare_exemplars`) need at least two leaves.
+They may differ in size: registration maps every exemplar into the
+training leaf's frame whatever its size, so ``size_policy="keep"`` leaves
+them as they are; ``"pad"`` pads every image (transparent) to the largest
+height and width, centred on its blade; ``"resize"`` additionally scales
+each leaf so its blade area equals the training leaf's, then pads.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+from scipy import ndimage as ndi
+from skimage.color import rgb2lab
+from skimage.filters import threshold_otsu
+
+from ..core.image import as_float_image
+from ..core.io import encode_png
+
+__all__ = ["Exemplar", "leaf_exemplar", "blade_mask", "prepare_exemplars"]
+
+#: The border is "plain" when the median colour distance of border pixels
+#: from the border's median colour stays below this (CIELAB Delta E).
+PLAIN_BORDER_DELTA_E = 12.0
+#: Otsu's split must explain at least this fraction of the variance of
+#: the distance map (between-class / total variance).
+MIN_SEPARABILITY = 0.6
+
+
+@dataclass
+class Exemplar:
+    """A normalised leaf exemplar.
+
+    Attributes
+    ----------
+    rgb : (H, W, 3) float32 ndarray
+    alpha : (H, W) float32 ndarray
+        The matte: the input's alpha, or the feathered blade mask.
+    blade : (H, W) bool ndarray
+        The leaf's silhouette (lamina and petiole).
+    mask_source : str
+        ``"alpha"`` or ``"background"`` (the background model).
+    name : str
+    """
+
+    rgb: np.ndarray
+    alpha: np.ndarray
+    blade: np.ndarray
+    mask_source: str = "alpha"
+    name: str = ""
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return self.blade.shape
+
+    @property
+    def rgba(self) -> np.ndarray:
+        """(H, W, 4) float32: colour and matte."""
+        return np.dstack([self.rgb, self.alpha]).astype(np.float32)
+
+    def on_white(self) -> np.ndarray:
+        a = self.alpha[:, :, None]
+        return (self.rgb * a + (1.0 - a)).astype(np.float32)
+
+    def _repr_png_(self) -> bytes:
+        return encode_png(self.on_white())
+
+
+def _border_pixels(img: np.ndarray, width: int) -> np.ndarray:
+    b = np.zeros(img.shape[:2], bool)
+    b[:width, :] = b[-width:, :] = b[:, :width] = b[:, -width:] = True
+    return img[b]
+
+
+def blade_mask(image, *, max_hole: float = 0.01, min_part: float = 0.02, name: str = "image") -> np.ndarray:
+    """The blade of a leaf on a plain background (opaque image).
+
+    Parameters
+    ----------
+    image : (H, W, 3) or (H, W) array_like
+        Opaque image of one leaf on a plain background.
+    max_hole : float
+        Holes in the blade smaller than this fraction of its area are filled.
+    min_part : float
+        Besides the largest component, components of at least this fraction
+        of its area are kept (the pinnae of a compound leaf).
+    name : str
+        Argument name in error messages.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+
+    Raises
+    ------
+    ValueError
+        A busy (non-plain) border, no clear leaf/background split, or a
+        blade touching most of the border.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.ones((40, 40, 3)); img[10:30, 12:28] = (0.2, 0.5, 0.1)
+    >>> int(blade_mask(img).sum())
+    320
+    """
+    img = as_float_image(image, name=name)
+    if img.shape[2] == 4:
+        img = img[:, :, :3]
+    if img.shape[2] == 1:
+        img = np.repeat(img, 3, axis=2)
+    h, w = img.shape[:2]
+    if min(h, w) < 16:
+        raise ValueError(f"{name} is too small for a background model ({w} x {h}; need 16 x 16)")
+    lab = rgb2lab(img).astype(np.float32)
+    bw = max(2, min(h, w) // 50)
+    border = _border_pixels(lab, bw)
+    bg = np.median(border, axis=0)
+    spread = float(np.median(np.linalg.norm(border - bg, axis=1)))
+    if spread > PLAIN_BORDER_DELTA_E:
+        raise ValueError(
+            f"{name} has no alpha and a busy background (border colours vary by Delta E {spread:.1f} "
+            f"> {PLAIN_BORDER_DELTA_E}): give a cut-out (RGBA) leaf or a leaf on a plain background")
+    de = np.linalg.norm(lab - bg, axis=2)
+    chroma = np.hypot(lab[..., 1], lab[..., 2])
+    dist = de + np.abs(chroma - float(np.hypot(bg[1], bg[2])))
+    dist = cv2.GaussianBlur(dist, (0, 0), 1.0)
+    if float(dist.max() - dist.min()) < 1e-3:
+        raise ValueError(f"{name} is uniform: there is no leaf to find")
+    t = float(threshold_otsu(dist))
+    fg = dist > t
+    var = float(dist.var())
+    m0 = float(dist[~fg].mean()) if (~fg).any() else 0.0
+    m1 = float(dist[fg].mean()) if fg.any() else 0.0
+    p1 = float(fg.mean())
+    separability = p1 * (1 - p1) * (m1 - m0) ** 2 / max(var, 1e-12)
+    if separability < MIN_SEPARABILITY:
+        raise ValueError(
+            f"{name} has no clear leaf/background split (Otsu separability {separability:.2f} < "
+            f"{MIN_SEPARABILITY}): give a cut-out (RGBA) leaf or a leaf on a plain background")
+    lab_cc, n = ndi.label(fg)
+    if n == 0:
+        raise ValueError(f"{name}: no leaf found")
+    sizes = np.bincount(lab_cc.ravel())[1:]
+    # The largest component, and the parts of a compound leaf (pinnae
+    # cut apart by a pale rachis), but not dust or shadows.
+    keep = np.flatnonzero((sizes >= min_part * sizes.max()) & (sizes >= 5e-4 * h * w)) + 1
+    blade = np.isin(lab_cc, keep)
+    holes = ndi.binary_fill_holes(blade) & ~blade
+    if holes.any():
+        hl, nh = ndi.label(holes)
+        hs = np.bincount(hl.ravel())[1:]
+        small = np.flatnonzero(hs < max_hole * blade.sum()) + 1
+        blade |= np.isin(hl, small)
+    touching = _border_pixels(blade[:, :, None], 1).mean()
+    if touching > 0.5 or blade.mean() > 0.95:
+        raise ValueError(f"{name}: the leaf/background split covers most of the image border; "
+                         "is the background really plain?")
+    if blade.sum() < 0.002 * h * w:
+        raise ValueError(f"{name}: the leaf found is tiny ({int(blade.sum())} pixels)")
+    return blade
+
+
+def leaf_exemplar(image, *, name: str = "image", max_hole: float = 0.01) -> Exemplar:
+    """Normalise one leaf image into an :class:`Exemplar`.
+
+    Parameters
+    ----------
+    image : array_like
+        ``(H, W, 4)`` RGBA (alpha used when it is not all opaque), or an
+        opaque ``(H, W, 3)`` / ``(H, W)`` image of a leaf on a plain
+        background (see :func:`blade_mask`). uint8, uint16 or float in [0, 1].
+    name : str
+        Used in error messages and kept on the result.
+    max_hole : float
+        See :func:`blade_mask`.
+
+    Returns
+    -------
+    Exemplar
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> rgba = np.zeros((32, 32, 4)); rgba[8:24, 8:24] = (0.2, 0.6, 0.1, 1.0)
+    >>> ex = leaf_exemplar(rgba)
+    >>> ex.mask_source, int(ex.blade.sum())
+    ('alpha', 256)
+    """
+    img = as_float_image(image, name=name)
+    if img.shape[2] == 1:
+        img = np.repeat(img, 3, axis=2)
+    if img.shape[2] == 4 and float(img[:, :, 3].min()) < 0.5:
+        rgb, alpha = img[:, :, :3], img[:, :, 3].copy()
+        blade = alpha > 0.5
+        if blade.sum() < 16:
+            raise ValueError(f"{name}: the alpha channel holds almost no leaf ({int(blade.sum())} opaque pixels)")
+        if blade.all():
+            raise ValueError(f"{name}: the alpha channel marks the whole image as leaf")
+        return Exemplar(np.ascontiguousarray(rgb), alpha, blade, "alpha", name)
+    rgb = np.ascontiguousarray(img[:, :, :3])
+    blade = blade_mask(rgb, max_hole=max_hole, name=name)
+    alpha = cv2.GaussianBlur(blade.astype(np.float32), (0, 0), 0.7)
+    alpha = np.where(blade, np.maximum(alpha, 0.5), np.minimum(alpha, 0.49)).astype(np.float32)
+    return Exemplar(rgb, alpha, blade, "background", name)
+
+
+def _place(ex: Exemplar, shape: tuple[int, int], scale: float = 1.0) -> Exemplar:
+    """``ex`` scaled about its blade centroid and centred on a transparent canvas of ``shape``."""
+    H, W = shape
+    ys, xs = np.nonzero(ex.blade)
+    cx, cy = float(xs.mean()), float(ys.mean())
+    tx, ty = W / 2.0 - scale * cx, H / 2.0 - scale * cy
+    if scale == 1.0:  # whole-pixel shifts: padding never resamples
+        tx, ty = round(tx), round(ty)
+    m = np.array([[scale, 0.0, tx], [0.0, scale, ty]])
+    rgba = cv2.warpAffine(ex.rgba, m, (W, H), flags=cv2.INTER_LINEAR if scale >= 1 else cv2.INTER_AREA,
+                          borderMode=cv2.BORDER_CONSTANT, borderValue=(0, 0, 0, 0))
+    blade = cv2.warpAffine(ex.blade.astype(np.float32), m, (W, H), flags=cv2.INTER_LINEAR) > 0.5
+    return Exemplar(np.clip(rgba[:, :, :3], 0, 1), np.clip(rgba[:, :, 3], 0, 1), blade, ex.mask_source, ex.name)
+
+
+def prepare_exemplars(images, *, size_policy: str = "keep", names=None, min_count: int = 2,
+                      max_hole: float = 0.01) -> list[Exemplar]:
+    """Normalise a set of exemplars of one kind; the first is the training leaf.
+
+    Parameters
+    ----------
+    images : sequence of array_like or Exemplar
+        At least ``min_count`` leaf images (see :func:`leaf_exemplar`).
+    size_policy : {"keep", "pad", "resize"}
+        ``"keep"``: sizes may differ (registration maps every exemplar into
+        the training frame). ``"pad"``: pad all to the largest height and
+        width, each centred on its blade. ``"resize"``: scale each so its
+        blade area equals the training leaf's, then pad to a common size.
+    names : sequence of str, optional
+    min_count : int
+        The method mixes several exemplars; two is the least that makes sense.
+    max_hole : float
+        See :func:`blade_mask`.
+
+    Returns
+    -------
+    list of Exemplar
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> a = np.zeros((30, 20, 4)); a[5:25, 5:15] = (0.2, 0.6, 0.1, 1)
+    >>> b = np.zeros((40, 40, 4)); b[5:35, 10:30] = (0.2, 0.6, 0.1, 1)
+    >>> [e.shape for e in prepare_exemplars([a, b], size_policy="pad")]
+    [(40, 40), (40, 40)]
+    """
+    if isinstance(images, np.ndarray) and images.ndim in (2, 3) and images.dtype != object:
+        raise ValueError("images must be a sequence of leaf images, got a single image array; "
+                         f"the method needs at least {min_count} exemplars")
+    try:
+        items = list(images)
+    except TypeError as exc:
+        raise TypeError(f"images must be a sequence of leaf images, got {type(images).__name__}") from exc
+    if len(items) < min_count:
+        raise ValueError(f"images holds {len(items)} exemplar(s); the method needs at least {min_count} "
+                         "leaves of one kind (the first is the training leaf)")
+    if size_policy not in ("keep", "pad", "resize"):
+        raise ValueError(f"size_policy must be 'keep', 'pad' or 'resize', got {size_policy!r}")
+    if names is not None and len(names) != len(items):
+        raise ValueError(f"names has {len(names)} entries for {len(items)} images")
+    out = []
+    for i, item in enumerate(items):
+        nm = names[i] if names is not None else f"images[{i}]"
+        if isinstance(item, Exemplar):
+            out.append(item)
+        else:
+            out.append(leaf_exemplar(item, name=nm, max_hole=max_hole))
+    if size_policy == "keep":
+        return out
+    scales = [1.0] * len(out)
+    if size_policy == "resize":
+        ref = float(out[0].blade.sum())
+        scales = [float(np.sqrt(ref / e.blade.sum())) for e in out]
+    # Common canvas: every scaled blade's bounding box around its centroid fits.
+    half_h, half_w = 0.0, 0.0
+    for e, s in zip(out, scales):
+        ys, xs = np.nonzero(e.blade)
+        cy, cx = ys.mean(), xs.mean()
+        if size_policy == "pad":
+            half_h = max(half_h, cy, e.shape[0] - cy)
+            half_w = max(half_w, cx, e.shape[1] - cx)
+        else:
+            half_h = max(half_h, s * (cy - ys.min() + 2), s * (ys.max() - cy + 2), s * e.shape[0] / 2)
+            half_w = max(half_w, s * (cx - xs.min() + 2), s * (xs.max() - cx + 2), s * e.shape[1] / 2)
+    shape = (int(np.ceil(2 * half_h)), int(np.ceil(2 * half_w)))
+    return [_place(e, shape, s) for e, s in zip(out, scales)]

@@ -1,0 +1,935 @@
+"""Non-rigid registration of an exemplar leaf to the training leaf: TPS-RPM.
+
+The paper registers every exemplar to the training leaf with TPS-RPM
+(Chui & Rangarajan 2003) on about 100 keypoints per leaf
+(:func:`branchnb.leaves.keypoints.edge_keypoints`). No maintained Python 3
+implementation exists; this is one, in numpy.
+
+Steps
+-----
+1. **Start** (:func:`start_alignment`): an affine map of the exemplar's
+   blade onto the training blade from their moments. The centroids are
+   matched, and the shapes are matched either by a similarity (scale from
+   the areas) or by the full moment-matching affine map
+   ``C_t^(1/2) R(theta) C_e^(-1/2)`` (C: second-moment matrices). The
+   rotation ``theta`` (the principal axes have a sign ambiguity, and
+   round leaves such as maple have no reliable axis) is searched over the
+   whole circle in ``rotation_step`` steps, optionally with mirroring;
+   the candidate whose warped blade overlaps the training blade best
+   (IoU on a reduced grid) wins and is refined in 1-degree steps.
+2. **TPS-RPM**. Source points ``v_i`` (the exemplar's keypoints after the
+   start map) and target points ``x_a`` (the training leaf's), in
+   coordinates normalised by the training blade (centroid at 0, radius
+   ``sqrt(area / pi)`` = 1), so the parameters do not depend on image size.
+   Deterministic annealing from ``T_init`` (largest squared distance
+   between the point sets) down to ``T_final`` (mean squared
+   nearest-neighbour distance of the targets) at rate ``r``; at every
+   temperature, ``iterations`` rounds of
+
+   * softassign: ``m_ai = exp(-|x_a - f(v_i)|^2 / 2T) / T``, with an
+     outlier row and column (``exp(-|x - centre|^2 / 2 T_init) / T_init``,
+     the paper's outlier cluster at the centre of mass), points of
+     different labels (outline / interior) never matched, then Sinkhorn
+     normalisation of the inlier rows and columns;
+   * the thin-plate spline ``f(v) = d^T [1, v] + sum_j w_j U(|v - v_j|)``,
+     ``U(r) = r^2 log r``, fitted to the virtual targets
+     ``y_i = sum_a m_ai x_a / sum_a m_ai`` with weights
+     ``sum_a m_ai`` by minimising
+     ``sum_i c_i |y_i - f(v_i)|^2 + lambda1 tr(w^T Phi w) + lambda2 |D - I|^2``
+     (D: the linear part of ``d``; the translation is free), with the
+     regularisers annealed as in the paper: ``lambda = lambda_init K T``.
+
+3. **Dense maps**. ``forward`` (exemplar -> training) is the start map
+   followed by the spline. ``inverse`` is a second thin-plate spline fitted
+   to forward-mapped samples of the exemplar, refined by Newton steps on
+   the exact forward map, so ``inverse(forward(p))`` returns ``p``. Both
+   are evaluated on a grid of ``grid_step`` pixels and interpolated
+   bilinearly, which is fast at a megapixel and exact to a small
+   fraction of a pixel for a smooth spline.
+
+References
+----------
+H. Chui, A. Rangarajan, "A new point matching algorithm for non-rigid
+registration", Computer Vision and Image Understanding 89 (2003) 114-141.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+import cv2
+import numpy as np
+from scipy.interpolate import RBFInterpolator
+from scipy.spatial import cKDTree
+from threadpoolctl import threadpool_limits
+
+from ..core.image import as_float_image, as_mask
+from ..core.params import check_params, param
+from ..core.warp import remap
+from .exemplar import Exemplar, leaf_exemplar
+from .keypoints import Keypoints, edge_keypoints
+
+__all__ = ["RegistrationParams", "Registration", "register", "start_alignment", "start_candidates", "tps_rpm",
+           "draw_registration", "ThinPlateSpline"]
+
+
+@dataclass
+class RegistrationParams:
+    """Parameters of :func:`register`; defaults are the papers' values.
+
+    Attributes
+    ----------
+    n_keypoints : int
+        Keypoints per leaf (Assa & Cohen-Or: about 100).
+    outline_fraction : float
+        Fraction of them on the blade outline.
+    anneal_rate : float
+        Chui & Rangarajan's ``r`` (0.93).
+    lambda1_init, lambda2_init : float
+        Initial bending / affine regularisation (Chui & Rangarajan: 1 and
+        0.01), multiplied by the number of points and the temperature.
+    iterations : int
+        Softassign / spline rounds per temperature (Chui & Rangarajan: 5).
+    sinkhorn_iterations : int
+        Row/column normalisation rounds per softassign.
+    t_final_scale : float
+        ``T_final`` = this times the mean squared nearest-neighbour
+        distance of the training keypoints (Chui & Rangarajan: 1).
+    use_labels : bool
+        Match outline points only with outline points and interior points
+        with interior points.
+    start : {"best", "similarity", "affine"}
+        Family of start maps (``"best"`` tries both).
+    rotation_step : float
+        Degrees between the start rotations tried.
+    mirror : bool
+        Also try mirrored starts (leaves photographed from the back).
+    grid_step : int
+        Spacing (pixels) of the grid the dense maps are evaluated on.
+    """
+
+    n_keypoints: int = param(100, min=10, max=400, help="keypoints per leaf (paper: about 100)")
+    outline_fraction: float = param(0.35, min=0.0, max=1.0, step=0.05, help="share of keypoints on the outline")
+    anneal_rate: float = param(0.93, min=0.5, max=0.99, step=0.01, help="annealing rate r (Chui: 0.93)")
+    lambda1_init: float = param(10.0, min=1e-4, max=1000.0, log=True,
+                                help="bending regulariser lambda1 (Chui: 1 for unit-square data)")
+    lambda2_init: float = param(0.01, min=0.0, max=100.0, help="affine regulariser lambda2 (Chui: 0.01)")
+    iterations: int = param(5, min=1, max=50, help="rounds per temperature (Chui: 5)")
+    sinkhorn_iterations: int = param(30, min=1, max=500, help="Sinkhorn normalisation rounds")
+    t_final_scale: float = param(0.1, min=0.01, max=100.0, log=True,
+                                 help="T_final / mean squared nearest-neighbour distance")
+    use_labels: bool = param(True, help="match outline with outline, interior with interior")
+    outline_points: int = param(100, min=10, max=400, help="outline samples of the outline stage")
+    n_starts: int = param(3, min=1, max=12, help="start maps tried (the best outline fit wins)")
+    refine: bool = param(True, help="refine the outline registration with all keypoints")
+    refine_t_init: float = param(16.0, min=1.0, max=1000.0, log=True,
+                                 help="refinement start temperature / mean squared nearest-neighbour distance")
+    refine_stiffness: float = param(10.0, min=0.01, max=1000.0, log=True,
+                                    help="lambda1 of the refinement / lambda1 of the outline stage")
+    start: str = param("similarity", options=("similarity", "affine"), help="start map family")
+    rotation_step: float = param(5.0, min=0.5, max=90.0, help="degrees between start rotations")
+    mirror: bool = param(False, help="also try mirrored starts")
+    grid_step: int = param(8, min=1, max=64, help="grid spacing of the dense maps (px)")
+
+
+# ---------------------------------------------------------------------------
+# thin-plate spline
+
+def _tps_kernel(r2: np.ndarray) -> np.ndarray:
+    """``U = r^2 log r = r2 log(r2) / 2`` (0 at r = 0)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out = 0.5 * r2 * np.log(r2)
+    return np.where(r2 > 0, out, 0.0)
+
+
+def _sqdist(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    d = a[:, None, :] - b[None, :, :]
+    return (d * d).sum(-1)
+
+
+@dataclass
+class ThinPlateSpline:
+    """``f(p) = d^T [1, p] + sum_j w_j U(|p - c_j|)`` in 2-D.
+
+    Attributes
+    ----------
+    centres : (K, 2) ndarray
+    w : (K, 2) ndarray
+        Non-affine coefficients (``P^T w = 0``).
+    d : (3, 2) ndarray
+        Affine part: rows translation, x, y.
+    """
+
+    centres: np.ndarray
+    w: np.ndarray
+    d: np.ndarray
+
+    @classmethod
+    def identity(cls, centres) -> ThinPlateSpline:
+        c = np.asarray(centres, np.float64)
+        return cls(c, np.zeros_like(c), np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]))
+
+    @classmethod
+    def fit(cls, source, target, *, weights=None, lambda1: float = 0.0,
+            lambda2: float = 0.0) -> ThinPlateSpline:
+        return _SplineSystem(source).fit(target, weights=weights, lambda1=lambda1, lambda2=lambda2)
+
+    def __call__(self, points) -> np.ndarray:
+        p = np.asarray(points, np.float64).reshape(-1, 2)
+        out = np.empty_like(p)
+        for s in range(0, len(p), 8192):  # bounded memory at a megapixel
+            q = p[s:s + 8192]
+            out[s:s + 8192] = self.d[0] + q @ self.d[1:] + _tps_kernel(_sqdist(q, self.centres)) @ self.w
+        return out
+
+    def jacobian(self, points) -> np.ndarray:
+        """(N, 2, 2) ``J[n, i, j] = d f_i / d p_j``."""
+        p = np.asarray(points, np.float64).reshape(-1, 2)
+        out = np.empty((len(p), 2, 2))
+        for s in range(0, len(p), 8192):
+            q = p[s:s + 8192]
+            diff = q[:, None, :] - self.centres[None]
+            r2 = (diff * diff).sum(-1)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                g = np.where(r2 > 0, np.log(r2) + 1.0, 0.0)  # dU/dp = (log r2 + 1) (p - c)
+            out[s:s + 8192] = self.d[1:].T[None] + np.einsum("nk,nkj,ki->nij", g, diff, self.w)
+        return out
+
+
+class _SplineSystem:
+    """What a spline fit on fixed centres can precompute (TPS-RPM refits hundreds of times)."""
+
+    def __init__(self, source):
+        v = np.asarray(source, np.float64)
+        if v.ndim != 2 or v.shape[1] != 2:
+            raise ValueError(f"source must have shape (K, 2), got {v.shape}")
+        self.v = v
+        k = len(v)
+        p = np.column_stack([np.ones(k), v])
+        q, _ = np.linalg.qr(p, mode="complete")
+        self.q2 = q[:, 3:]
+        phi = _tps_kernel(_sqdist(v, v))
+        self.a = np.hstack([p, phi @ self.q2])
+        self.bend = self.q2.T @ phi @ self.q2
+
+    def fit(self, target, *, weights=None, lambda1=0.0, lambda2=0.0) -> ThinPlateSpline:
+        y = np.asarray(target, np.float64)
+        k = len(self.v)
+        if y.shape != (k, 2):
+            raise ValueError(f"target must have shape {(k, 2)}, got {y.shape}")
+        c = np.ones(k) if weights is None else np.clip(np.asarray(weights, np.float64), 1e-6, None)
+        ca = c[:, None] * self.a
+        h = self.a.T @ ca
+        rhs = ca.T @ y
+        h[1, 1] += lambda2
+        h[2, 2] += lambda2
+        rhs[1:3] += lambda2 * np.eye(2)
+        if k > 3:
+            h[3:, 3:] += lambda1 * self.bend
+        z = _solve(h, rhs)
+        w = self.q2 @ z[3:] if k > 3 else np.zeros_like(self.v)
+        return ThinPlateSpline(self.v, w, z[:3])
+
+
+def _solve(a, b):
+    try:
+        return np.linalg.solve(a, b)
+    except np.linalg.LinAlgError:
+        return np.linalg.lstsq(a, b, rcond=None)[0]
+
+
+# ---------------------------------------------------------------------------
+# TPS-RPM
+
+def _softassign(x, fv, lab_x, lab_v, t, t0, cx, cv, sinkhorn):
+    n, k = len(x), len(fv)
+    m = np.zeros((n + 1, k + 1))
+    d2 = _sqdist(x, fv)
+    # Work in log space relative to the best entry so small T does not underflow.
+    logm = -d2 / (2 * t) - np.log(t)
+    if lab_x is not None:
+        logm = np.where(lab_x[:, None] == lab_v[None, :], logm, -np.inf)
+    log_out_col = -((x - cv) ** 2).sum(1) / (2 * t0) - np.log(t0)
+    log_out_row = -((fv - cx) ** 2).sum(1) / (2 * t0) - np.log(t0)
+    top = max(float(np.max(logm)), float(log_out_col.max()), float(log_out_row.max()))
+    m[:n, :k] = np.exp(logm - top)
+    m[:n, k] = np.exp(log_out_col - top)
+    m[n, :k] = np.exp(log_out_row - top)
+    for _ in range(sinkhorn):
+        m[:n] /= np.maximum(m[:n].sum(1, keepdims=True), 1e-300)
+        m[:, :k] /= np.maximum(m[:, :k].sum(0, keepdims=True), 1e-300)
+    return m[:n, :k]
+
+
+def tps_rpm(source, target, *, source_labels=None, target_labels=None,
+            params: RegistrationParams | None = None,
+            t_init: float | None = None) -> tuple[ThinPlateSpline, np.ndarray]:
+    """Match two point sets and fit a thin-plate spline ``source -> target`` (Chui & Rangarajan).
+
+    Parameters
+    ----------
+    source : (K, 2) array_like
+        Moving points ``v_i`` (already roughly aligned).
+    target : (N, 2) array_like
+        Fixed points ``x_a``.
+    source_labels, target_labels : (K,), (N,) int array_like, optional
+        Points are only matched to points with the same label.
+    params : RegistrationParams, optional
+    t_init : float, optional
+        Start temperature; default (Chui & Rangarajan) the largest squared
+        distance between the two sets. A refinement of a good alignment
+        starts lower.
+
+    Returns
+    -------
+    spline : ThinPlateSpline
+        ``source -> target``.
+    match : (N, K) ndarray
+        The final soft correspondence matrix (inlier part).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> rng = np.random.default_rng(0)
+    >>> x = rng.uniform(-1, 1, (60, 2))
+    >>> v = x + 0.08 * np.sin(3 * x[:, ::-1])
+    >>> f, m = tps_rpm(v, x)
+    >>> float(np.abs(f(v) - x).mean()) < 0.02
+    True
+    """
+    prm = check_params(params if params is not None else RegistrationParams(), name="params")
+    v = np.asarray(source, np.float64)
+    x = np.asarray(target, np.float64)
+    if v.ndim != 2 or v.shape[1] != 2 or len(v) < 4:
+        raise ValueError(f"source must be an (K, 2) array with K >= 4, got shape {v.shape}")
+    if x.ndim != 2 or x.shape[1] != 2 or len(x) < 4:
+        raise ValueError(f"target must be an (N, 2) array with N >= 4, got shape {x.shape}")
+    if not (np.isfinite(v).all() and np.isfinite(x).all()):
+        raise ValueError("source and target must be finite")
+    lab_v = lab_x = None
+    if source_labels is not None or target_labels is not None:
+        if source_labels is None or target_labels is None:
+            raise ValueError("give both source_labels and target_labels, or neither")
+        lab_v, lab_x = np.asarray(source_labels), np.asarray(target_labels)
+        if lab_v.shape != (len(v),) or lab_x.shape != (len(x),):
+            raise ValueError("labels must have one entry per point")
+    nn = cKDTree(x).query(x, k=2)[0][:, 1]
+    t_final = max(prm.t_final_scale * float(np.mean(nn ** 2)), 1e-12)
+    t_init = float(_sqdist(x, v).max()) if t_init is None else max(float(t_init), t_final)
+    cx = x.mean(0)
+    f = ThinPlateSpline.identity(v)
+    system = _SplineSystem(v)
+    t = t_init
+    # Hundreds of small solves: BLAS threads only add overhead (and stall on a busy machine).
+    with threadpool_limits(1):
+        return _anneal(x, v, f, system, lab_x, lab_v, t, t_init, t_final, cx, prm)
+
+
+def _anneal(x, v, f, system, lab_x, lab_v, t, t_init, t_final, cx, prm):
+    k = len(v)
+    m = np.zeros((len(x), k))
+    while True:
+        for _ in range(prm.iterations):
+            fv = f(v)
+            m = _softassign(x, fv, lab_x, lab_v, t, t_init, cx, fv.mean(0), prm.sinkhorn_iterations)
+            mass = m.sum(0)
+            y = np.where(mass[:, None] > 1e-9, (m.T @ x) / np.maximum(mass[:, None], 1e-300), fv)
+            f = system.fit(y, weights=np.clip(mass, 1e-3, 1.0),
+                           lambda1=prm.lambda1_init * k * t, lambda2=prm.lambda2_init * k * t)
+        if t <= t_final:
+            break
+        t = max(t * prm.anneal_rate, t_final)
+    return f, m
+
+
+# ---------------------------------------------------------------------------
+# start alignment
+
+def _moments(mask: np.ndarray):
+    ys, xs = np.nonzero(mask)
+    pts = np.column_stack([xs, ys]).astype(np.float64)
+    mu = pts.mean(0)
+    cov = np.cov((pts - mu).T) + 1e-6 * np.eye(2)
+    return mu, cov, float(len(pts))
+
+
+def _sqrtm(c, inverse=False):
+    vals, vecs = np.linalg.eigh(c)
+    vals = np.maximum(vals, 1e-9)
+    p = -0.5 if inverse else 0.5
+    return (vecs * vals ** p) @ vecs.T
+
+
+def _rot(theta):
+    c, s = np.cos(theta), np.sin(theta)
+    return np.array([[c, -s], [s, c]])
+
+
+def _contour_points(mask: np.ndarray, n: int = 600) -> np.ndarray:
+    contours, _ = cv2.findContours(mask.astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
+    pts = np.vstack([c[:, 0, :] for c in contours]).astype(np.float64)
+    if len(pts) > n:
+        pts = pts[np.linspace(0, len(pts) - 1, n).astype(int)]
+    return pts
+
+
+class _Chamfer:
+    """Mean distance of mapped points to a mask's outline (distance transform lookup)."""
+
+    def __init__(self, mask: np.ndarray, region: bool = False):
+        edge = np.ones(mask.shape, np.uint8)
+        if region:  # distance to the region itself
+            edge[mask] = 0
+        else:  # distance to its outline
+            edge[cv2.morphologyEx(mask.astype(np.uint8), cv2.MORPH_GRADIENT, np.ones((3, 3), np.uint8)) > 0] = 0
+        self.dt = cv2.distanceTransform(edge, cv2.DIST_L2, 3)
+        self.h, self.w = mask.shape
+
+    def __call__(self, pts: np.ndarray) -> float:
+        x, y = pts[:, 0], pts[:, 1]
+        xc, yc = np.clip(x, 0, self.w - 1), np.clip(y, 0, self.h - 1)
+        d = self.dt[np.round(yc).astype(int), np.round(xc).astype(int)]
+        d = d + np.hypot(x - xc, y - yc)  # outside the image: at least this far
+        return float(np.sqrt(np.mean(d * d)))
+
+
+def _thin_parts(mask: np.ndarray) -> np.ndarray:
+    """Thin protrusions of a blade (petiole, drawn-out tips): what an opening removes."""
+    r = max(1, int(round(0.05 * np.sqrt(mask.sum()))))
+    k = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
+    opened = cv2.morphologyEx(mask.astype(np.uint8), cv2.MORPH_OPEN, k) > 0
+    thin = mask & ~opened
+    return thin if thin.sum() >= max(8, 0.002 * mask.sum()) else np.zeros_like(mask)
+
+
+class _StartScore:
+    """Symmetric RMS chamfer distance of the outlines (+ of the thin parts) under an affine map."""
+
+    def __init__(self, me: np.ndarray, mt: np.ndarray):
+        self.out_e, self.out_t = _contour_points(me), _contour_points(mt)
+        self.cham_e, self.cham_t = _Chamfer(me), _Chamfer(mt)
+        te, tt = _thin_parts(me), _thin_parts(mt)
+        self.thin = te.any() and tt.any()
+        if self.thin:
+            self.thin_e = np.column_stack(np.nonzero(te)[::-1]).astype(np.float64)
+            self.thin_t = np.column_stack(np.nonzero(tt)[::-1]).astype(np.float64)
+            self.thin_e = self.thin_e[:: max(1, len(self.thin_e) // 300)]
+            self.thin_t = self.thin_t[:: max(1, len(self.thin_t) // 300)]
+            self.dt_te, self.dt_tt = _Chamfer(te, region=True), _Chamfer(tt, region=True)
+
+    def __call__(self, mat: np.ndarray) -> float:
+        lin, off = mat[:, :2], mat[:, 2]
+        inv = np.linalg.inv(lin)
+        scale = np.sqrt(abs(np.linalg.det(lin)))
+        c = self.cham_t(self.out_e @ lin.T + off) + self.cham_e((self.out_t - off) @ inv.T) * scale
+        if self.thin:
+            c += self.dt_tt(self.thin_e @ lin.T + off) + self.dt_te((self.thin_t - off) @ inv.T) * scale
+        return c
+
+
+def _affine_icp(mat: np.ndarray, src: np.ndarray, dst: np.ndarray, iterations: int = 15) -> np.ndarray:
+    """Refine an affine map of outline points ``src`` onto ``dst`` (symmetric nearest points, trimmed)."""
+    tree_d, tree_s = cKDTree(dst), None
+    for _ in range(iterations):
+        lin, off = mat[:, :2], mat[:, 2]
+        ms = src @ lin.T + off
+        d1, i1 = tree_d.query(ms)
+        tree_s = cKDTree(ms)
+        d2, i2 = tree_s.query(dst)
+        a = np.vstack([src, src[i2]])
+        b = np.vstack([dst[i1], dst])
+        d = np.concatenate([d1, d2])
+        keep = d <= np.percentile(d, 90)
+        a_h = np.column_stack([a[keep], np.ones(keep.sum())])
+        sol, *_ = np.linalg.lstsq(a_h, b[keep], rcond=None)
+        new = sol.T
+        if np.abs(new - mat).max() < 1e-4:
+            mat = new
+            break
+        mat = new
+    return mat
+
+
+def start_candidates(exemplar_blade, training_blade, *, start: str = "similarity",
+                     rotation_step: float = 5.0, mirror: bool = False,
+                     n: int = 3) -> list[tuple[np.ndarray, float]]:
+    """The ``n`` best distinct start maps (2 x 3, exemplar px -> training px), best first, with their scores.
+
+    Every candidate maps the exemplar blade's centroid onto the training
+    blade's and scales it by the square root of the area ratio; rotations
+    cover the circle ``rotation_step`` apart (optionally mirrored). The
+    score is the symmetric RMS chamfer distance of the two outlines (in
+    training pixels) plus that of their thin parts (petiole, drawn-out
+    tips: what a morphological opening removes), which tell base from tip
+    on an almost symmetric blade. Local minima of the score more than 30
+    degrees apart are refined in steps of a tenth of ``rotation_step``;
+    with ``start="affine"`` each is then refined to an affine map by
+    trimmed symmetric ICP on the outlines.
+    """
+    me = as_mask(exemplar_blade, name="exemplar_blade")
+    mt = as_mask(training_blade, name="training_blade")
+    for nm, m in (("exemplar_blade", me), ("training_blade", mt)):
+        if m.sum() < 16:
+            raise ValueError(f"{nm} has only {int(m.sum())} pixels: no leaf to align")
+    if start not in ("similarity", "affine"):
+        raise ValueError(f"start must be 'similarity' or 'affine', got {start!r}")
+    if not 0 < rotation_step <= 180:
+        raise ValueError(f"rotation_step must be in (0, 180], got {rotation_step}")
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
+        raise ValueError(f"n must be a positive int, got {n!r}")
+    mu_e, _, a_e = _moments(me)
+    mu_t, _, a_t = _moments(mt)
+    score = _StartScore(me, mt)
+    sc = np.sqrt(a_t / a_e)
+
+    def matrix(th, fl):
+        lin = sc * _rot(th) @ fl
+        return np.hstack([lin, (mu_t - lin @ mu_e)[:, None]])
+
+    flips = [np.eye(2)] + ([np.diag([1.0, -1.0])] if mirror else [])
+    step = np.deg2rad(rotation_step)
+    thetas = np.arange(0, 2 * np.pi, step)
+    found = []
+    for fl in flips:
+        costs = np.array([score(matrix(th, fl)) for th in thetas])
+        m = len(costs)
+        for idx in np.argsort(costs):
+            # Keep local minima that are far from the ones kept.
+            if costs[idx] > min(costs[(idx - 1) % m], costs[(idx + 1) % m]):
+                continue
+            th = thetas[idx]
+            if any(f is fl and abs(_wrap_angle(th - t0)) < np.deg2rad(30) for _, f, t0 in found):
+                continue
+            found.append((costs[idx], fl, th))
+    found.sort(key=lambda c: c[0])
+    out = []
+    for c, fl, th in found[:n]:
+        best_c, best_th = c, th
+        for dth in np.linspace(-step, step, 21):
+            c2 = score(matrix(th + dth, fl))
+            if c2 < best_c:
+                best_c, best_th = c2, th + dth
+        mat = matrix(best_th, fl)
+        if start == "affine":
+            mat = _affine_icp(mat, score.out_e, score.out_t)
+            best_c = score(mat)
+        out.append((mat, float(best_c)))
+    out.sort(key=lambda c: c[1])
+    return out
+
+
+def _outline_samples(mask: np.ndarray, n: int) -> np.ndarray:
+    """``n`` points evenly spaced along a blade's outer outline."""
+    from .keypoints import _outline_points
+
+    return _outline_points(mask, n)
+
+
+def _outline_fit(mapped: np.ndarray, target: np.ndarray) -> float:
+    """Symmetric RMS nearest-point distance of two point sets."""
+    d1, _ = cKDTree(target).query(mapped)
+    d2, _ = cKDTree(mapped).query(target)
+    return float(np.sqrt(np.mean(d1 ** 2)) + np.sqrt(np.mean(d2 ** 2)))
+
+
+def _wrap_angle(a):
+    return (a + np.pi) % (2 * np.pi) - np.pi
+
+
+def start_alignment(exemplar_blade, training_blade, *, start: str = "similarity", rotation_step: float = 5.0,
+                    mirror: bool = False) -> tuple[np.ndarray, float]:
+    """The best start map (2 x 3, exemplar pixels -> training pixels) and its blade overlap (IoU).
+
+    See :func:`start_candidates` for how it is found.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> a = np.zeros((60, 60), bool); a[10:50, 25:35] = True; a[10:20, 35:45] = True
+    >>> b = np.rot90(a).copy()
+    >>> m, score = start_alignment(a, b)
+    >>> score > 0.9
+    True
+    """
+    mat, _ = start_candidates(exemplar_blade, training_blade, start=start, rotation_step=rotation_step,
+                              mirror=mirror, n=1)[0]
+    return mat, _blade_iou(mat, as_mask(exemplar_blade), as_mask(training_blade))
+
+
+def _blade_iou(mat, me, mt) -> float:
+    warped = cv2.warpAffine(me.astype(np.float32), mat, mt.shape[::-1], flags=cv2.INTER_LINEAR) > 0.5
+    union = np.logical_or(warped, mt).sum()
+    return float(np.logical_and(warped, mt).sum() / union) if union else 0.0
+
+
+# ---------------------------------------------------------------------------
+# result
+
+def _bilinear_upsample(coarse: np.ndarray, step: int, shape: tuple[int, int]) -> np.ndarray:
+    """Values at every pixel of ``shape`` from samples at ``(j * step, i * step)``."""
+    h, w = shape
+    ys = np.arange(h) / step
+    xs = np.arange(w) / step
+    y0 = np.minimum(np.floor(ys).astype(int), coarse.shape[0] - 2)
+    x0 = np.minimum(np.floor(xs).astype(int), coarse.shape[1] - 2)
+    fy = (ys - y0)[:, None, None]
+    fx = (xs - x0)[None, :, None]
+    c00 = coarse[y0][:, x0]
+    c01 = coarse[y0][:, x0 + 1]
+    c10 = coarse[y0 + 1][:, x0]
+    c11 = coarse[y0 + 1][:, x0 + 1]
+    top = c00 * (1 - fx) + c01 * fx
+    bot = c10 * (1 - fx) + c11 * fx
+    return (top * (1 - fy) + bot * fy).astype(np.float32)
+
+
+def _coarse_grid(shape, step):
+    h, w = shape
+    gy = np.arange(int(np.ceil((h - 1) / step)) + 2) * step
+    gx = np.arange(int(np.ceil((w - 1) / step)) + 2) * step
+    xx, yy = np.meshgrid(gx, gy)
+    return np.column_stack([xx.ravel(), yy.ravel()]).astype(np.float64), (len(gy), len(gx))
+
+
+@dataclass
+class Registration:
+    """An exemplar registered to the training leaf.
+
+    Attributes
+    ----------
+    start : (2, 3) ndarray
+        Affine start map, exemplar pixels -> training pixels.
+    start_iou : float
+        Blade overlap after the start map.
+    splines : list of ThinPlateSpline
+        Applied in turn, in normalised training coordinates
+        (``(p - centre) / radius``): the outline stage, then the refinement
+        with all keypoints.
+    centre : (2,) ndarray
+    radius : float
+    exemplar_keypoints, training_keypoints : Keypoints
+    match : (N, K) ndarray
+        Soft correspondences (rows: training keypoints, columns: exemplar keypoints).
+    exemplar_shape, training_shape : (int, int)
+    grid_step : int
+    """
+
+    start: np.ndarray
+    start_iou: float
+    splines: list
+    centre: np.ndarray
+    radius: float
+    exemplar_keypoints: Keypoints
+    training_keypoints: Keypoints
+    match: np.ndarray
+    exemplar_shape: tuple[int, int]
+    training_shape: tuple[int, int]
+    grid_step: int = 8
+    _inverse_init: RBFInterpolator | None = field(default=None, repr=False)
+    _map_to: np.ndarray | None = field(default=None, repr=False)
+    _map_from: np.ndarray | None = field(default=None, repr=False)
+
+    # point maps ------------------------------------------------------------------
+    def _normalise(self, p):
+        return (p - self.centre) / self.radius
+
+    def _start_map(self, p):
+        return p @ self.start[:, :2].T + self.start[:, 2]
+
+    def forward(self, points) -> np.ndarray:
+        """Exemplar pixels (x, y) -> training pixels."""
+        p = _points(points, "points")
+        q = self._normalise(self._start_map(p))
+        for f in self.splines:
+            q = f(q)
+        return q * self.radius + self.centre
+
+    def forward_jacobian(self, points) -> np.ndarray:
+        """(N, 2, 2) Jacobian of :meth:`forward`."""
+        p = _points(points, "points")
+        q = self._normalise(self._start_map(p))
+        j = np.broadcast_to(self.start[:, :2], (len(p), 2, 2)).copy()
+        for f in self.splines:
+            j = f.jacobian(q) @ j
+            q = f(q)
+        return j
+
+    def inverse(self, points, *, newton_steps: int = 6) -> np.ndarray:
+        """Training pixels (x, y) -> exemplar pixels (Newton-refined inverse of :meth:`forward`)."""
+        y = _points(points, "points")
+        if self._inverse_init is None:
+            self._fit_inverse()
+        p = self._inverse_init(self._normalise(y))
+        for _ in range(newton_steps):
+            r = self.forward(p) - y
+            j = self.forward_jacobian(p)
+            det = j[:, 0, 0] * j[:, 1, 1] - j[:, 0, 1] * j[:, 1, 0]
+            ok = np.abs(det) > 1e-9
+            step = np.zeros_like(p)
+            jinv = np.stack([np.stack([j[:, 1, 1], -j[:, 0, 1]], -1),
+                             np.stack([-j[:, 1, 0], j[:, 0, 0]], -1)], 1) / np.where(ok, det, 1.0)[:, None, None]
+            step[ok] = np.einsum("nij,nj->ni", jinv[ok], r[ok])
+            # Damped where a full step would not reduce the residual much (fold-overs far outside).
+            p = p - np.clip(step, -self.radius, self.radius)
+        return p
+
+    def _fit_inverse(self):
+        he, we = self.exemplar_shape
+        n = 28
+        gx, gy = np.meshgrid(np.linspace(-0.1 * we, 1.1 * we, n), np.linspace(-0.1 * he, 1.1 * he, n))
+        samples = np.vstack([np.column_stack([gx.ravel(), gy.ravel()]), self.exemplar_keypoints.points])
+        fwd = self.forward(samples)
+        self._inverse_init = RBFInterpolator(self._normalise(fwd), samples, kernel="thin_plate_spline",
+                                             smoothing=1e-6, degree=1)
+
+    # dense maps ------------------------------------------------------------------
+    @property
+    def map_to_training(self) -> np.ndarray:
+        """(H_t, W_t, 2) float32: the exemplar (x, y) each training pixel comes from."""
+        if self._map_to is None:
+            grid, gshape = _coarse_grid(self.training_shape, self.grid_step)
+            coarse = self.inverse(grid).reshape(gshape + (2,))
+            self._map_to = _bilinear_upsample(coarse, self.grid_step, self.training_shape)
+        return self._map_to
+
+    @property
+    def map_from_training(self) -> np.ndarray:
+        """(H_e, W_e, 2) float32: the training (x, y) each exemplar pixel goes to."""
+        if self._map_from is None:
+            grid, gshape = _coarse_grid(self.exemplar_shape, self.grid_step)
+            coarse = self.forward(grid).reshape(gshape + (2,))
+            self._map_from = _bilinear_upsample(coarse, self.grid_step, self.exemplar_shape)
+        return self._map_from
+
+    def to_training(self, image_or_mask) -> np.ndarray:
+        """The exemplar image (or mask) resampled into the training frame (training-sized).
+
+        Bool masks come back as bool (False outside the exemplar); images as
+        float32 ``(H_t, W_t, C)`` (border colours replicated outside the exemplar).
+        """
+        return _apply(image_or_mask, self.map_to_training, self.exemplar_shape, "image_or_mask")
+
+    def from_training(self, image_or_mask) -> np.ndarray:
+        """A training-frame image (or mask) resampled into the exemplar frame."""
+        return _apply(image_or_mask, self.map_from_training, self.training_shape, "image_or_mask")
+
+    @property
+    def matches(self) -> np.ndarray:
+        """(M, 2) int: ``(exemplar index, training index)`` pairs of mutual best soft matches."""
+        if self.match.size == 0:
+            return np.zeros((0, 2), np.int64)
+        best_t = np.argmax(self.match, axis=0)  # for each exemplar point
+        best_e = np.argmax(self.match, axis=1)  # for each training point
+        ex = np.arange(self.match.shape[1])
+        mutual = (best_e[best_t] == ex) & (self.match[best_t, ex] > 0.5)
+        return np.column_stack([ex[mutual], best_t[mutual]])
+
+    @property
+    def error_px(self) -> float:
+        """Median distance (training px) between matched points after the warp: the registration error."""
+        mt = self.matches
+        if not len(mt):
+            return float("nan")
+        a = self.forward(self.exemplar_keypoints.points[mt[:, 0]])
+        b = self.training_keypoints.points[mt[:, 1]]
+        return float(np.median(np.hypot(*(a - b).T)))
+
+
+def _points(points, name):
+    p = np.asarray(points, np.float64)
+    if p.ndim == 1 and p.shape == (2,):
+        p = p[None]
+    if p.ndim != 2 or p.shape[1] != 2:
+        raise ValueError(f"{name} must have shape (N, 2), got {p.shape}")
+    if not np.isfinite(p).all():
+        raise ValueError(f"{name} contains NaN or infinite coordinates")
+    return p
+
+
+def _apply(image_or_mask, mp: np.ndarray, src_shape, name):
+    arr = np.asarray(image_or_mask)
+    if arr.shape[:2] != tuple(src_shape):
+        raise ValueError(f"{name} must have height and width {tuple(src_shape)}, got {arr.shape[:2]}")
+    if arr.dtype == bool:
+        out, valid = remap(arr.astype(np.float32), mp[..., 0], mp[..., 1])
+        return (out[..., 0] > 0.5) & valid if arr.ndim == 2 else (out > 0.5) & valid[..., None]
+    img = as_float_image(arr, name=name)
+    out, _ = remap(img, mp[..., 0], mp[..., 1])
+    return out[..., 0] if arr.ndim == 2 else out
+
+
+def _as_leaf(leaf, blade, name):
+    if blade is not None:
+        img = as_float_image(leaf.image if hasattr(leaf, "image") else leaf, name=name)
+        m = as_mask(blade, shape=img.shape[:2], name=f"{name}_blade")
+        if m.sum() < 16:
+            raise ValueError(f"{name}_blade has only {int(m.sum())} pixels: no leaf to register")
+        rgb = np.repeat(img, 3, axis=2) if img.shape[2] == 1 else img[:, :, :3]
+        alpha = img[:, :, 3] if img.shape[2] == 4 else m.astype(np.float32)
+        return Exemplar(np.ascontiguousarray(rgb), alpha, m, "given", name)
+    if isinstance(leaf, Exemplar):
+        return leaf
+    if hasattr(leaf, "image") and hasattr(leaf, "blade"):  # ProceduralLeaf
+        return _as_leaf(leaf.image, leaf.blade, name)
+    return leaf_exemplar(leaf, name=name)
+
+
+def register(exemplar, training, exemplar_blade=None, training_blade=None, *,
+             params: RegistrationParams | None = None, rng=None,
+             exemplar_keypoints: Keypoints | None = None,
+             training_keypoints: Keypoints | None = None) -> Registration:
+    """Register ``exemplar`` to ``training`` (TPS-RPM on edge keypoints from a blade-moment start).
+
+    Parameters
+    ----------
+    exemplar, training : Exemplar, ProceduralLeaf or image array_like
+        Leaves (images without a blade are normalised by
+        :func:`branchnb.leaves.exemplar.leaf_exemplar`).
+    exemplar_blade, training_blade : (H, W) bool array_like, optional
+        The leaves' blade masks, when known (they override the alpha).
+    params : RegistrationParams, optional
+    rng : optional
+        Accepted for a uniform signature; registration is deterministic.
+    exemplar_keypoints, training_keypoints : Keypoints, optional
+        Precomputed keypoints (e.g. the training leaf's, shared by all exemplars).
+
+    Returns
+    -------
+    Registration
+
+    Examples
+    --------
+    >>> from branchnb.leaves import leaf_family
+    >>> a, b = leaf_family(2, size=96, rng=0)
+    >>> reg = register(b, a)
+    >>> reg.map_to_training.shape
+    (96, 96, 2)
+    """
+    prm = check_params(params if params is not None else RegistrationParams(), name="params")
+    ex = _as_leaf(exemplar, exemplar_blade, "exemplar")
+    tr = _as_leaf(training, training_blade, "training")
+    kp_e = exemplar_keypoints or edge_keypoints(ex.rgb, ex.blade, prm.n_keypoints,
+                                                outline_fraction=prm.outline_fraction)
+    kp_t = training_keypoints or edge_keypoints(tr.rgb, tr.blade, prm.n_keypoints,
+                                                outline_fraction=prm.outline_fraction)
+    for nm, kp in (("exemplar", kp_e), ("training", kp_t)):
+        if len(kp) < 8:
+            raise ValueError(f"{nm} has only {len(kp)} keypoints; registration needs at least 8")
+    ys, xs = np.nonzero(tr.blade)
+    centre = np.array([xs.mean(), ys.mean()])
+    radius = float(np.sqrt(tr.blade.sum() / np.pi))
+
+    def norm(p):
+        return (p - centre) / radius
+
+    # Stage 1: the outlines alone (the structure every leaf of a kind
+    # shares), from each of the best start maps; the one whose registered
+    # outline fits best wins.
+    cont_e = _outline_samples(ex.blade, prm.outline_points)
+    cont_t = _outline_samples(tr.blade, prm.outline_points)
+    dense_t = _contour_points(tr.blade, 2000)
+    cands = start_candidates(ex.blade, tr.blade, start=prm.start, rotation_step=prm.rotation_step,
+                             mirror=prm.mirror, n=prm.n_starts)
+    best = None
+    for mat, _ in cands:
+        ce = norm(cont_e @ mat[:, :2].T + mat[:, 2])
+        f1, _ = tps_rpm(ce, norm(cont_t), params=prm)
+        fit = _outline_fit(f1(norm(_contour_points(ex.blade, 2000) @ mat[:, :2].T + mat[:, 2])), norm(dense_t))
+        if best is None or fit < best[0]:
+            best = (fit, mat, f1)
+    _, start, f1 = best
+    start_iou = _blade_iou(start, ex.blade, tr.blade)
+    splines = [f1]
+    v = f1(norm(kp_e.points @ start[:, :2].T + start[:, 2]))
+    x = norm(kp_t.points)
+    labels = (kp_e.labels, kp_t.labels) if prm.use_labels else (None, None)
+    if prm.refine:
+        # Stage 2: all keypoints (interior edges too), a local refinement:
+        # it starts at a few times the final temperature, stiffer.
+        nn = cKDTree(x).query(x, k=2)[0][:, 1]
+        t2 = prm.refine_t_init * float(np.mean(nn ** 2))
+        stiff = replace(prm, lambda1_init=prm.lambda1_init * prm.refine_stiffness)
+        f2, match = tps_rpm(v, x, source_labels=labels[0], target_labels=labels[1], params=stiff, t_init=t2)
+        splines.append(f2)
+    else:
+        match = _softassign(x, v, labels[1], labels[0], 1e-2, 1.0, x.mean(0), v.mean(0), prm.sinkhorn_iterations)
+    return Registration(start, start_iou, splines, centre, radius, kp_e, kp_t, match,
+                        ex.blade.shape, tr.blade.shape, prm.grid_step)
+
+
+def draw_registration(registration: Registration, exemplar_image, training_image, *,
+                      grid: int = 12, blade=None) -> np.ndarray:
+    """A picture of a registration: the exemplar with the training grid warped onto it, and the training leaf.
+
+    Left: the exemplar, its keypoints (red: outline, blue: interior) and
+    the lines of a regular grid of the training frame mapped into it by
+    :meth:`Registration.inverse`. Right: the training leaf with its
+    keypoints (hollow) and the exemplar's keypoints mapped by
+    :meth:`Registration.forward` (filled), matched pairs joined.
+
+    Parameters
+    ----------
+    registration : Registration
+    exemplar_image, training_image : array_like
+        RGB(A) images of the two leaves (RGBA is shown over white).
+    grid : int
+        Number of grid lines across the training leaf's larger side.
+    blade : (H_t, W_t) bool array_like, optional
+        Only grid points inside this training mask (dilated) are drawn.
+
+    Returns
+    -------
+    (max(H_e, H_t), W_e + W_t, 3) float32 ndarray
+    """
+    from ..core.image import as_rgb
+    from ..core.render import draw_polylines
+
+    reg = registration
+    ex = as_rgb(exemplar_image, name="exemplar_image")
+    tr = as_rgb(training_image, name="training_image")
+    if ex.shape[:2] != tuple(reg.exemplar_shape) or tr.shape[:2] != tuple(reg.training_shape):
+        raise ValueError("exemplar_image and training_image must have the registered leaves' shapes")
+    ht, wt = reg.training_shape
+    scale = max(ht, wt) / 512.0
+    lw = max(1.0, 1.5 * scale)
+    keep = None
+    if blade is not None:
+        keep = _dilate(as_mask(blade, shape=(ht, wt), name="blade"), int(max(ht, wt) / grid))
+    lines = []
+    ticks = np.linspace(0, 1, 4 * grid + 1)
+    for g in np.linspace(0, 1, grid + 1):
+        for pts in (np.column_stack([ticks * (wt - 1), np.full_like(ticks, g * (ht - 1))]),
+                    np.column_stack([np.full_like(ticks, g * (wt - 1)), ticks * (ht - 1)])):
+            if keep is not None:
+                inside = keep[np.round(pts[:, 1]).astype(int), np.round(pts[:, 0]).astype(int)]
+                # Split the line where it leaves the mask.
+                runs = np.split(np.arange(len(pts)), np.flatnonzero(np.diff(inside.astype(int)) != 0) + 1)
+                for r in runs:
+                    if len(r) >= 2 and inside[r[0]]:
+                        lines.append(reg.inverse(pts[r]))
+            else:
+                lines.append(reg.inverse(pts))
+    left = draw_polylines(ex * 0.6 + 0.4, lines, widths=lw, colors=(0.1, 0.5, 0.1))
+    kpe = reg.exemplar_keypoints
+    cols = [(0.85, 0.1, 0.1) if lab == 0 else (0.1, 0.2, 0.85) for lab in kpe.labels]
+    left = draw_polylines(left, [p[None] for p in kpe.points], widths=4 * lw, colors=cols)
+    right = tr * 0.6 + 0.4
+    kpt = reg.training_keypoints
+    fwd = reg.forward(kpe.points)
+    mt = reg.matches
+    if len(mt):
+        right = draw_polylines(right, [np.vstack([fwd[i], kpt.points[j]]) for i, j in mt],
+                               widths=lw * 0.8, colors=(0.4, 0.4, 0.4))
+    right = draw_polylines(right, [p[None] for p in kpt.points], widths=5 * lw, colors=(0.1, 0.1, 0.1))
+    right = draw_polylines(right, [p[None] for p in kpt.points], widths=3 * lw, colors=(1.0, 1.0, 1.0))
+    right = draw_polylines(right, [p[None] for p in fwd], widths=3 * lw, colors=cols)
+    h = max(left.shape[0], right.shape[0])
+    canvas = np.ones((h, left.shape[1] + right.shape[1], 3), np.float32)
+    canvas[:left.shape[0], :left.shape[1]] = left
+    canvas[:right.shape[0], left.shape[1]:] = right
+    return canvas
+
+
+def _dilate(mask: np.ndarray, radius: int) -> np.ndarray:
+    k = 2 * max(radius, 0) + 1
+    return cv2.dilate(mask.astype(np.uint8), np.ones((k, k), np.uint8)) > 0
