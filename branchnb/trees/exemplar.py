@@ -250,7 +250,8 @@ def tree_rgba(image, *, alpha_threshold: float = 0.5, min_pixels: int = 1,
                          f"with alpha >= {alpha_threshold}")
     if mask.all():
         raise ValueError(
-            f"{name} is fully opaque: there is no background to separate the tree from; "
+            f"{name} is fully opaque (alpha >= alpha_threshold = {alpha_threshold:g} everywhere): there is "
+            "no background to separate the tree from; "
             "make one with alpha_from_background(image, tol)"
         )
     return img, mask
