@@ -236,7 +236,10 @@ class StrokePair:
         ts, _ = self.target.project(tp)
         new = np.vstack([self.control[1:-1], np.column_stack([ss, ts])])
         new = new[np.argsort(new[:, 1], kind="stable")]
-        return StrokePair(self.source, self.target, new, name=self.name)
+        try:
+            return StrokePair(self.source, self.target, new, name=self.name)
+        except ValueError as exc:
+            raise ValueError(f"source_points/target_points: {exc}") from None
 
     @property
     def n_control(self) -> int:
