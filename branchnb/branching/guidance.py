@@ -62,6 +62,8 @@ def guidance_map(shape, path, width: float = 40.0, depth: float = 1.0) -> np.nda
         raise ValueError(f"width must be > 0, got {width}")
     if not 0 < depth <= 1:
         raise ValueError(f"depth must be in (0, 1], got {depth}")
+    if not np.any(np.ptp(p, axis=0) > 0):
+        raise ValueError("path has zero length: all its points coincide")
     dense = resample_uniform(p, 0.5, include_end=True)
     mask = np.ones((h, w), bool)
     c = np.clip(np.round(dense[:, 0]).astype(int), 0, w - 1)

@@ -70,7 +70,8 @@ class Stroke:
         s = arc_length(p) if len(p) > 1 else np.zeros(1)
         if s[-1] < MIN_LENGTH:
             raise ValueError(
-                f"{self.name} has zero length ({s[-1]:.3g} px): draw a stroke of at least "
+                f"{'points' if self.name == 'stroke' else self.name} has zero length ({s[-1]:.3g} px): "
+                "draw a stroke of at least "
                 f"{MIN_LENGTH:g} pixel"
             )
         p.setflags(write=False)
