@@ -224,7 +224,7 @@ def as_points(
         raise ValueError(f"{name} must have shape (N, 2), got {arr.shape}")
     min_points = check_int(min_points, "min_points", 0, MAX_COUNT)
     if len(arr) < min_points:
-        raise ValueError(f"{name} needs at least {min_points} point(s), got {len(arr)}")
+        raise ValueError(f"{name} needs at least {min_points} point(s) (min_points), got {len(arr)}")
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"{name} contains NaN or infinite coordinates")
     if len(arr) and float(np.abs(arr).max()) > COORD_LIMIT:
