@@ -518,11 +518,11 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
             first = int(np.argmin(inside))
             r = r.copy()
             r[:first] = r[first]
-        if len(pts) >= 3 and smooth > 0:
+        if len(pts) >= 3 and smooth * scale > _NO_BLUR:
             sm = ndi.gaussian_filter1d(pts, smooth * scale, axis=0, mode="nearest")
             sm[0], sm[-1] = pts[0], pts[-1]
             pts = sm
-        if len(r) >= 3 and smooth_radius > 0:
+        if len(r) >= 3 and smooth_radius * scale > _NO_BLUR:
             r = _median_then_gauss(r, smooth_radius * scale)
         length = polyline_length(pts)
         if length < max(h, 1e-9) or (par is None and length < min_branch_length):
@@ -701,6 +701,10 @@ def binary_channels(gray, polarity: str = "auto"):
     # falls between two pixels): -0.25 is unbiased on average.
     radius = np.minimum(dt, big_r) - 0.25
     return channels, region, skel, np.maximum(radius, 0.5)
+
+
+#: Gaussian sigmas (pixels) below this are no smoothing (scipy divides by a vanishing sigma).
+_NO_BLUR = 1e-3
 
 
 def _median_then_gauss(r: np.ndarray, sigma: float) -> np.ndarray:

@@ -25,12 +25,16 @@ from scipy import ndimage as ndi
 
 from ..core.image import as_points
 from ..core.polyline import resample_uniform
-from ..core.validate import Array, Int, Point, Real, Shape, checked, real_array
+from ..core.validate import COORD_LIMIT, Array, Int, Point, Real, Shape, checked, real_array
 
 __all__ = ["Guidance", "guidance_map"]
 
 
-@checked(shape=Shape(), path=Array(ndim=2), width=Real(1e-3, 1e5), depth=Real(0, 1e3))
+#: A guidance path: finite points within the coordinate limit.
+_PATH = Array(ndim=2, min=-COORD_LIMIT, max=COORD_LIMIT)
+
+
+@checked(shape=Shape(), path=_PATH, width=Real(1e-3, 1e5), depth=Real(0, 1e3))
 def guidance_map(shape, path, width: float = 40.0, depth: float = 1.0) -> np.ndarray:
     """The guidance map ``G`` (float32, ``(H, W)``) for a path.
 
@@ -58,6 +62,8 @@ def guidance_map(shape, path, width: float = 40.0, depth: float = 1.0) -> np.nda
         raise ValueError(f"width must be > 0, got {width}")
     if not 0 < depth <= 1:
         raise ValueError(f"depth must be in (0, 1], got {depth}")
+    if not np.any(np.ptp(p, axis=0) > 0):
+        raise ValueError("path has zero length: all its points coincide")
     dense = resample_uniform(p, 0.5, include_end=True)
     mask = np.ones((h, w), bool)
     c = np.clip(np.round(dense[:, 0]).astype(int), 0, w - 1)
@@ -94,7 +100,7 @@ class Guidance:
             self.path = as_points(self.path, name="path", min_points=2)
 
     @classmethod
-    @checked(shape=Shape(), width=Real(1e-3, 1e5), depth=Real(0, 1e3))
+    @checked(shape=Shape(), path=_PATH, width=Real(1e-3, 1e5), depth=Real(0, 1e3))
     def from_path(cls, shape, path, width: float = 40.0, depth: float = 1.0) -> Guidance:
         """Guidance with a valley of width ``width`` along ``path``."""
         return cls(guidance_map(shape, path, width, depth), as_points(path, name="path", min_points=2))

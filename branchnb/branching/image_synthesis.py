@@ -286,7 +286,10 @@ def _check_structure(s, name: str, image_shape=None) -> Structure:
         raise ValueError(f"{name} has zero total length: every branch is a single point")
     if image_shape is not None:
         for i, b in enumerate(s.branches):
-            as_points(b.points, name=f"{name}.branches[{i}].points", image_shape=image_shape)
+            try:
+                as_points(b.points, name=f"{name}.branches[{i}].points", image_shape=image_shape)
+            except ValueError as exc:
+                raise ValueError(f"{exc} (the example_image)" if name == "example_structure" else str(exc)) from None
     return s
 
 

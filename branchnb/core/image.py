@@ -169,7 +169,8 @@ def as_gray(image, *, name: str = "image") -> np.ndarray:
     return (rgb @ np.array([0.2126, 0.7152, 0.0722], np.float32)).astype(np.float32)
 
 
-def as_mask(mask, *, shape: tuple[int, int] | None = None, name: str = "mask") -> np.ndarray:
+def as_mask(mask, *, shape: tuple[int, int] | None = None, name: str = "mask",
+            like: str | None = None) -> np.ndarray:
     """Validate a 2-D boolean mask (nonzero means True).
 
     Parameters
@@ -177,12 +178,15 @@ def as_mask(mask, *, shape: tuple[int, int] | None = None, name: str = "mask") -
     mask : array_like, (H, W)
     shape : (int, int), optional
         Required ``(H, W)``.
+    like : str, optional
+        Name of the argument ``shape`` comes from, for the error message.
     """
     mask = _check_array(mask, name)
     if mask.ndim != 2:
         raise ValueError(f"{name} must be 2-D (H, W), got shape {mask.shape}")
     if shape is not None and mask.shape != tuple(shape):
-        raise ValueError(f"{name} has shape {mask.shape}, expected {tuple(shape)}")
+        raise ValueError(f"{name} has shape {mask.shape}, expected {tuple(shape)}"
+                         + (f" (the shape of {like})" if like else ""))
     if np.issubdtype(mask.dtype, np.floating) and not np.all(np.isfinite(mask)):
         raise ValueError(f"{name} contains NaN or infinite values")
     return mask.astype(bool)
@@ -220,7 +224,7 @@ def as_points(
         raise ValueError(f"{name} must have shape (N, 2), got {arr.shape}")
     min_points = check_int(min_points, "min_points", 0, MAX_COUNT)
     if len(arr) < min_points:
-        raise ValueError(f"{name} needs at least {min_points} point(s), got {len(arr)}")
+        raise ValueError(f"{name} needs at least {min_points} point(s) (min_points), got {len(arr)}")
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"{name} contains NaN or infinite coordinates")
     if len(arr) and float(np.abs(arr).max()) > COORD_LIMIT:

@@ -32,7 +32,7 @@ def object_colours(image, mask) -> np.ndarray:
     [[1.0, 0.5, 0.0]]
     """
     rgba = as_rgba(image)
-    m = as_mask(mask, shape=rgba.shape[:2]) & (rgba[:, :, 3] > 0.5)
+    m = as_mask(mask, shape=rgba.shape[:2], like="image") & (rgba[:, :, 3] > 0.5)
     return rgba[m][:, :3].astype(np.float64)
 
 

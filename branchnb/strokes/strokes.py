@@ -70,7 +70,8 @@ class Stroke:
         s = arc_length(p) if len(p) > 1 else np.zeros(1)
         if s[-1] < MIN_LENGTH:
             raise ValueError(
-                f"{self.name} has zero length ({s[-1]:.3g} px): draw a stroke of at least "
+                f"{'points' if self.name == 'stroke' else self.name} has zero length ({s[-1]:.3g} px): "
+                "draw a stroke of at least "
                 f"{MIN_LENGTH:g} pixel"
             )
         p.setflags(write=False)
@@ -236,7 +237,10 @@ class StrokePair:
         ts, _ = self.target.project(tp)
         new = np.vstack([self.control[1:-1], np.column_stack([ss, ts])])
         new = new[np.argsort(new[:, 1], kind="stable")]
-        return StrokePair(self.source, self.target, new, name=self.name)
+        try:
+            return StrokePair(self.source, self.target, new, name=self.name)
+        except ValueError as exc:
+            raise ValueError(f"source_points/target_points: {exc}") from None
 
     @property
     def n_control(self) -> int:

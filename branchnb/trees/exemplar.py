@@ -246,11 +246,12 @@ def tree_rgba(image, *, alpha_threshold: float = 0.5, min_pixels: int = 1,
         raise ValueError(f"alpha_threshold must be in [0, 1], got {alpha_threshold}")
     mask = img[:, :, 3] >= alpha_threshold
     if mask.sum() < max(min_pixels, 1):
-        raise ValueError(f"{name} is (almost) fully transparent: fewer than {max(min_pixels, 1)} pixel(s) "
-                         f"with alpha >= {alpha_threshold}")
+        raise ValueError(f"{name} is (almost) fully transparent: fewer than min_pixels = {max(min_pixels, 1)} "
+                         f"pixel(s) with alpha >= {alpha_threshold}")
     if mask.all():
         raise ValueError(
-            f"{name} is fully opaque: there is no background to separate the tree from; "
+            f"{name} is fully opaque (alpha >= alpha_threshold = {alpha_threshold:g} everywhere): there is "
+            "no background to separate the tree from; "
             "make one with alpha_from_background(image, tol)"
         )
     return img, mask

@@ -65,7 +65,7 @@ def check_weights(weights, n: int | None = None, *, name: str = "weights",
     if w.ndim != 1 or w.size == 0:
         raise ValueError(f"{name} must be a non-empty 1-D array, got shape {w.shape}")
     if n is not None and w.size != n:
-        raise ValueError(f"{name} needs one weight per exemplar ({n}), got {w.size}")
+        raise ValueError(f"{name} needs one weight per exemplar (shapes/exemplars: {n}), got {w.size}")
     if not np.all(np.isfinite(w)):
         raise ValueError(f"{name} contains NaN or infinite values")
     if np.any(w < -atol):
