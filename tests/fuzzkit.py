@@ -370,6 +370,65 @@ def _annotation_model():
     return AnnotationModel([Shape("polyline", np.array([(1.0, 2.0), (5.0, 6.0)]), closed=False)])
 
 
+# ---- leaves: one tiny procedural family (64 px) and everything built from it, cached per process
+def _leaf_family():
+    from branchnb.leaves import leaf_family
+
+    return leaf_family(3, size=64, rng=0)
+
+
+def _fast_reg_params():
+    from branchnb.leaves import RegistrationParams
+
+    return RegistrationParams(n_keypoints=16, iterations=1, sinkhorn_iterations=5, outline_points=16, n_starts=1,
+                              refine=False, anneal_rate=0.5, rotation_step=45.0)
+
+
+def _leaf_layer_set():
+    from branchnb.leaves import Layer, LayerSet, simulate_scribbles
+
+    leaf = example("leaf_family")[0]
+    return LayerSet([Layer("veins", "#ff0000", 0, simulate_scribbles(leaf.layers["veins"], 3, length=8.0, rng=1)),
+                     Layer("spots", "#0000ff", 1, simulate_scribbles(leaf.layers["spots"], 3, length=6.0, rng=1))])
+
+
+def _leaf_registration():
+    from branchnb.leaves import register
+
+    fam = example("leaf_family")
+    return register(fam[1].image, fam[0].image, exemplar_blade=fam[1].blade, training_blade=fam[0].blade,
+                    params=example("leaf_reg_params"), rng=0)
+
+
+def _leaf_masks():
+    leaf = example("leaf_family")[0]
+    return {"veins": leaf.layers["veins"], "spots": leaf.layers["spots"]}
+
+
+def _leaf_analysis():
+    from branchnb.leaves import analyze
+
+    return analyze(example("leaf_family"), 0, _leaf_masks(), registration_params=example("leaf_reg_params"), rng=0)
+
+
+def _leaf_generated():
+    from branchnb.leaves import generate
+
+    return generate(example("leaf_analysis"), n=1, rng=0)[0]
+
+
+def _leaf_tps():
+    from branchnb.leaves import ThinPlateSpline
+
+    src = np.array([(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0), (0.5, 0.4)])
+    return ThinPlateSpline.fit(src, src * 1.1 + 0.05, lambda1=0.01)
+
+
+def _leaf_warp_map(h=24, w=24):
+    yy, xx = np.mgrid[:h, :w].astype(np.float64)
+    return np.dstack([xx + 1.5 * np.sin(yy / 4.0), yy * 1.2])
+
+
 _EXAMPLES = {
     "image": lambda: _img(),
     "gray": lambda: _img(c=1),
@@ -404,6 +463,9 @@ _EXAMPLES = {
     "guidance": _guidance,
     "annotation_model": _annotation_model,
     "ex_params": _ex_params,
+    "leaf_family": _leaf_family, "leaf_reg_params": _fast_reg_params, "leaf_layer_set": _leaf_layer_set,
+    "leaf_registration": _leaf_registration, "leaf_analysis": _leaf_analysis, "leaf_generated": _leaf_generated,
+    "leaf_tps": _leaf_tps,
 }
 
 
@@ -648,6 +710,65 @@ ARGS = {
     "batch:load_spec.path": lambda: str(importlib.import_module("branchnb.batch").save_spec(
         importlib.import_module("branchnb.batch").BatchSpec(job="branching", count=2), Path(tempfile.mkdtemp(prefix="fuzz")) / "spec.json")),
     "batch:read_manifest.path": lambda: str(Path(tempfile.mkdtemp(prefix="fuzz")) / "manifest.jsonl"),
+    # ---- leaves (a 64 px procedural family; see _leaf_family)
+    "leaves:Layer.name": _v("veins"), "leaves:Layer.from_dict.d": lambda: example("leaf_layer_set").layers[0].to_dict(),
+    "leaves:LayerSet.get.name": _v("veins"), "leaves:LayerSet.remove.name": _v("spots"),
+    "leaves:LayerSet.move.name": _v("spots"), "leaves:LayerSet.move.new_index": _v(0),
+    "leaves:LayerSet.add.name": _v("new"), "leaves:LayerSet.add_scribble.name": _v("veins"),
+    "leaves:LayerSet.add_scribble.points": _v([(20.0, 30.0), (30.0, 32.0)]),
+    "leaves:LayerSet.from_dict.d": lambda: example("leaf_layer_set").to_dict(),
+    "leaves:LayerSet.from_json.text": lambda: example("leaf_layer_set").to_json(),
+    "leaves:Scribble.points": _v([(20.0, 30.0), (30.0, 32.0)]),
+    "leaves:Scribble.from_dict.d": lambda: example("leaf_layer_set").layers[0].scribbles[0].to_dict(),
+    "leaves:grow_layers.image": lambda: example("leaf_family")[0].image,
+    "leaves:grow_layers.blade": lambda: example("leaf_family")[0].blade,
+    "leaves:grow_layers.layer_set": _e("leaf_layer_set"),
+    "leaves:simulate_scribbles.mask": lambda: example("leaf_family")[0].layers["veins"], "leaves:simulate_scribbles.n": _v(3),
+    "leaves:LayerInduction.spatial.e": _v(1), "leaves:LeafAnalysis.overlay.e": _v(1), "leaves:LeafAnalysis.layer.name": _v("veins"),
+    "leaves:analyze.exemplars": _e("leaf_family"), "leaves:analyze.training_index": _v(0), "leaves:analyze.layers": _leaf_masks,
+    "leaves:analyze.registrations": lambda: list(example("leaf_analysis").registrations),
+    "leaves:generate.analysis": _e("leaf_analysis"), "leaves:generate.n": _v(1),
+    "leaves:save_leaves.leaves": lambda: [example("leaf_generated")],
+    "leaves:save_leaves.outdir": lambda: str(Path(tempfile.mkdtemp(prefix="fuzz")) / "leaves"),
+    "leaves:Registration.forward.points": _v(np.array([(20.0, 30.0), (32.0, 32.0)])),
+    "leaves:Registration.forward_jacobian.points": _v(np.array([(20.0, 30.0), (32.0, 32.0)])),
+    "leaves:Registration.inverse.points": _v(np.array([(20.0, 30.0), (32.0, 32.0)])),
+    "leaves:Registration.to_training.image_or_mask": lambda: example("leaf_family")[1].image,
+    "leaves:Registration.from_training.image_or_mask": lambda: example("leaf_family")[0].blade,
+    "leaves:ThinPlateSpline.identity.centres": _v(np.array([(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)])),
+    "leaves:ThinPlateSpline.fit.source": _v(np.array([(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0), (0.5, 0.4)])),
+    "leaves:ThinPlateSpline.fit.target": _v(np.array([(0.1, 0.0), (1.1, 0.1), (0.0, 1.1), (1.2, 1.0), (0.5, 0.5)])),
+    "leaves:ThinPlateSpline.jacobian.points": _v(np.array([(0.2, 0.3), (0.7, 0.5)])),
+    "leaves:blade_mask.image": lambda: example("leaf_family")[0].image,
+    "leaves:leaf_exemplar.image": lambda: example("leaf_family")[0].image,
+    "leaves:prepare_exemplars.images": lambda: [leaf.image for leaf in example("leaf_family")[:2]],
+    "leaves:correct_texture.warped": lambda: _img(24, 24), "leaves:correct_texture.warp_map": _leaf_warp_map,
+    "leaves:correct_texture.source_image": lambda: _img(32, 32, seed=1),
+    "leaves:distorted_pixels.warp_map": _leaf_warp_map, "leaves:jacobian_singular_values.warp_map": _leaf_warp_map,
+    "leaves:draw_registration.registration": _e("leaf_registration"),
+    "leaves:draw_registration.exemplar_image": lambda: example("leaf_family")[1].image,
+    "leaves:draw_registration.training_image": lambda: example("leaf_family")[0].image,
+    "leaves:edge_keypoints.image": lambda: example("leaf_family")[0].image,
+    "leaves:edge_keypoints.blade": lambda: example("leaf_family")[0].blade, "leaves:edge_keypoints.n_points": _v(20),
+    "leaves:edge_strength.image": lambda: example("leaf_family")[0].image,
+    "leaves:procedural_leaf.variation": _v(1.0), "leaves:leaf_family.variation": _v(1.0),
+    "leaves:correct_texture.mask": _v(np.ones((24, 24), bool)), "leaves:distorted_pixels.mask": _v(np.ones((24, 24), bool)),
+    "leaves:edge_strength.mask": lambda: example("leaf_family")[0].blade,
+    "leaves:leaf_family.n": _v(2), "leaves:leaf_family.size": _v(64), "leaves:procedural_leaf.size": _v(64),
+    "leaves:register.exemplar": lambda: example("leaf_family")[1].image,
+    "leaves:register.training": lambda: example("leaf_family")[0].image,
+    "leaves:register.exemplar_blade": lambda: example("leaf_family")[1].blade,
+    "leaves:register.training_blade": lambda: example("leaf_family")[0].blade,
+    "leaves:register.params": _e("leaf_reg_params"),
+    "leaves:start_alignment.exemplar_blade": lambda: example("leaf_family")[1].blade,
+    "leaves:start_alignment.training_blade": lambda: example("leaf_family")[0].blade,
+    "leaves:start_alignment.rotation_step": _v(45.0),
+    "leaves:start_candidates.exemplar_blade": lambda: example("leaf_family")[1].blade,
+    "leaves:start_candidates.training_blade": lambda: example("leaf_family")[0].blade,
+    "leaves:start_candidates.rotation_step": _v(45.0),
+    "leaves:tps_rpm.source": lambda: example("leaf_family")[1].keypoints[:16] / 64.0,
+    "leaves:tps_rpm.target": lambda: example("leaf_family")[0].keypoints[:16] / 64.0,
+    "leaves:tps_rpm.params": _e("leaf_reg_params"),
     "widgets:AnnotationModel.observe.callback": _v(print), "widgets:AnnotationModel.unobserve.callback": _v(print),
 }
 
@@ -662,6 +783,14 @@ INSTANCES = {
     "Shape": lambda: example("annotation_model").shapes[0], "Rendering": lambda: importlib.import_module("branchnb.dendrite").render_plain(example("dendrite")),
     "Patch": lambda: importlib.import_module("branchnb.core").transfer_patch(_img(), (12, 12), 0.0, (14, 10), 0.0, 4),
     "SynthesisParams": lambda: importlib.import_module("branchnb.branching").SynthesisParams(),
+    # a class name several packages use: "package:Class" first
+    "leaves:Exemplar": lambda: importlib.import_module("branchnb.leaves").leaf_exemplar(example("leaf_family")[0].image),
+    "leaves:SynthesisParams": lambda: importlib.import_module("branchnb.leaves").SynthesisParams(),
+    "Layer": lambda: example("leaf_layer_set").layers[0], "LayerSet": "leaf_layer_set",
+    "Scribble": lambda: example("leaf_layer_set").layers[0].scribbles[0],
+    "LeafAnalysis": "leaf_analysis", "LayerInduction": lambda: example("leaf_analysis").layers[0],
+    "GeneratedLeaf": "leaf_generated", "ProceduralLeaf": lambda: example("leaf_family")[0],
+    "Registration": "leaf_registration", "ThinPlateSpline": "leaf_tps",
 }
 
 #: Arguments never fuzzed: progress callbacks and internal hooks.
@@ -674,8 +803,8 @@ SKIP_TARGETS = {"trees:TreeLibrary.from_data", "trees:evaluate_reference",
                 "branching:StructureModel.sample_length", "branching:StructureModel.matcher"}
 
 
-def _instance(cls_name):
-    spec = INSTANCES.get(cls_name)
+def _instance(cls_name, package=None):
+    spec = INSTANCES.get(f"{package}:{cls_name}", INSTANCES.get(cls_name))
     if spec is None:
         return None
     return copy.deepcopy(spec() if callable(spec) else example(spec))
@@ -770,7 +899,7 @@ def baseline(target: Target):
         if isinstance(attr, (classmethod, staticmethod)):
             fn = getattr(obj, meth)
         else:
-            inst = _instance(obj.__name__)
+            inst = _instance(obj.__name__, target.package)
             if inst is None:
                 raise LookupError(f"no example instance of {obj.__name__}")
             fn = getattr(inst, meth)
@@ -945,7 +1074,7 @@ def cases_for(target: Target, *, valid: bool = True) -> list[Case]:
     if target.kind == "class" and _is_container(obj):
         return []  # plain result data, built by the library; its methods are fuzzed on an example instance
     if target.kind == "method" and not isinstance(inspect.getattr_static(obj, meth), (classmethod, staticmethod)) \
-            and obj.__name__ not in INSTANCES:
+            and obj.__name__ not in INSTANCES and f"{target.package}:{obj.__name__}" not in INSTANCES:
         return []
     try:
         fn, args, kwargs, var = baseline(target)
