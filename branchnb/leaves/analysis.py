@@ -19,6 +19,7 @@ from scipy import ndimage as ndi
 from ..core.image import as_mask, as_rgb
 from ..core.params import check_params
 from ..core.random import as_rng
+from ..core.validate import check_int
 from .induction import (
     ColourSpace,
     InductionParams,
@@ -123,6 +124,7 @@ class LayerInduction:
 
     def spatial(self, e: int) -> np.ndarray:
         """``F(x, c)`` on exemplar ``e`` (recomputed from the stored terms)."""
+        e = check_int(e, "e", 0, len(self.distance) - 1)
         return spatial_term(self.distance[e], self.colour[e], self.eps_px[e])
 
     @property
@@ -216,6 +218,7 @@ class LeafAnalysis:
 
     def overlay(self, e: int) -> np.ndarray:
         """Exemplar ``e`` on white with its induced layers tinted in the layers' colours."""
+        e = check_int(e, "e", 0, len(self.exemplars) - 1)
         rgb = as_rgb(self.exemplars[e])
         out = rgb.copy()
         colours = {}
@@ -441,6 +444,8 @@ def analyze(exemplars, training_index: int, layers, params: InductionParams | No
     params = check_params(params if params is not None else InductionParams(), name="params")
     if isinstance(rng, np.random.Generator) or rng is None:
         rng = int(as_rng(rng).integers(2**31 - 1))
+    if isinstance(exemplars, (str, bytes, dict)) or not hasattr(exemplars, "__len__") or len(exemplars) < 2:
+        raise ValueError(f"exemplars must be a list of at least 2 leaves (one kind), got {exemplars!r:.60}")
     images, blades, offsets = normalise_exemplars(exemplars)
     n = len(images)
     if n < 2:

@@ -48,17 +48,16 @@ from scipy import ndimage as ndi
 from ..core.completion import CompletionResult, complete_gaps
 from ..core.image import as_float_image, as_mask
 from ..core.random import as_rng
+from ..core.validate import COORD_LIMIT, Int, check_finite, checked, real_array
 
 __all__ = ["jacobian_singular_values", "distorted_pixels", "correct_texture", "TextureCorrection"]
 
 
 def _check_map(warp_map, name="warp_map") -> np.ndarray:
-    m = np.asarray(warp_map, np.float64)
+    m = real_array(warp_map, name, finite=False)
     if m.ndim != 3 or m.shape[2] != 2 or min(m.shape[:2]) < 2:
         raise ValueError(f"{name} must have shape (H, W, 2) with H, W >= 2, got {m.shape}")
-    if not np.isfinite(m).all():
-        raise ValueError(f"{name} contains NaN or infinite values")
-    return m
+    return check_finite(m, name, limit=COORD_LIMIT)
 
 
 def jacobian_singular_values(warp_map) -> np.ndarray:
@@ -169,6 +168,7 @@ class TextureCorrection:
     completion: CompletionResult | None
 
 
+@checked(grow=Int(0, 1000), patch_size=Int(3, 1024))
 def correct_texture(warped, warp_map, source_image, *, band=(0.5, 2.0), mask=None, source_mask=None,
                     grow: int = 3, patch_size: int | None = None, rng=None, **completion_kwargs) -> TextureCorrection:
     """Re-texture the strongly stretched or squeezed parts of a warped image.

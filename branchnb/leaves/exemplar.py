@@ -39,6 +39,7 @@ from skimage.filters import threshold_otsu
 
 from ..core.image import as_float_image
 from ..core.io import encode_png
+from ..core.validate import Int, Real, Seq, checked
 
 __all__ = ["Exemplar", "leaf_exemplar", "blade_mask", "prepare_exemplars"]
 
@@ -95,6 +96,7 @@ def _border_pixels(img: np.ndarray, width: int) -> np.ndarray:
     return img[b]
 
 
+@checked(max_hole=Real(0.0, 1.0), min_part=Real(0.0, 1.0))
 def blade_mask(image, *, max_hole: float = 0.01, min_part: float = 0.02, name: str = "image") -> np.ndarray:
     """The blade of a leaf on a plain background (opaque image).
 
@@ -184,6 +186,7 @@ def blade_mask(image, *, max_hole: float = 0.01, min_part: float = 0.02, name: s
     return blade
 
 
+@checked(max_hole=Real(0.0, 1.0))
 def leaf_exemplar(image, *, name: str = "image", max_hole: float = 0.01) -> Exemplar:
     """Normalise one leaf image into an :class:`Exemplar`.
 
@@ -243,6 +246,7 @@ def _place(ex: Exemplar, shape: tuple[int, int], scale: float = 1.0) -> Exemplar
     return Exemplar(np.clip(rgba[:, :, :3], 0, 1), np.clip(rgba[:, :, 3], 0, 1), blade, ex.mask_source, ex.name)
 
 
+@checked(min_count=Int(1, 10_000), max_hole=Real(0.0, 1.0), names=Seq())
 def prepare_exemplars(images, *, size_policy: str = "keep", names=None, min_count: int = 2,
                       max_hole: float = 0.01) -> list[Exemplar]:
     """Normalise a set of exemplars of one kind; the first is the training leaf.

@@ -21,6 +21,7 @@ import numpy as np
 from scipy import ndimage as ndi
 
 from ..core.image import as_float_image, as_mask
+from ..core.validate import Int, Real, checked
 
 __all__ = ["Keypoints", "edge_keypoints", "edge_strength", "OUTLINE", "INTERIOR"]
 
@@ -40,6 +41,14 @@ class Keypoints:
         return len(self.points)
 
 
+def _same_shape(mask, shape, name):
+    if np.shape(mask) != tuple(shape):
+        raise ValueError(f"{name} has shape {np.shape(mask)}, but image is {tuple(shape)} (they must match)")
+    return mask
+
+
+@checked(diameter=Int(1, 64), sigma_color=Real(0.0, 1e3, low_open=True),
+         sigma_space=Real(0.0, 1e3, low_open=True))
 def edge_strength(image, mask=None, *, diameter: int | None = None, sigma_color: float = 0.1,
                   sigma_space: float | None = None) -> np.ndarray:
     """Sobel gradient magnitude of the bilateral-filtered luminance.
@@ -76,7 +85,7 @@ def edge_strength(image, mask=None, *, diameter: int | None = None, sigma_color:
     else:
         gray = np.ascontiguousarray(img[:, :, 0])
     if mask is not None:
-        m = as_mask(mask, shape=(h, w), name="mask")
+        m = as_mask(_same_shape(mask, (h, w), "mask"), shape=(h, w), name="mask")
         if m.any():
             gray = np.where(m, gray, float(gray[m].mean())).astype(np.float32)
     d = int(diameter) if diameter is not None else max(5, min(h, w) // 60)
@@ -114,6 +123,8 @@ def _outline_points(blade: np.ndarray, n: int) -> np.ndarray:
     return np.vstack(out) if out else np.zeros((0, 2))
 
 
+@checked(n_points=Int(1, 10_000), outline_fraction=Real(0.0, 1.0), min_distance=Real(0.0, 1e5),
+         margin=Real(0.0, 1e5), relative_threshold=Real(0.0, 1.0))
 def edge_keypoints(image, blade, n_points: int = 100, *, outline_fraction: float = 0.35,
                    min_distance: float | None = None, margin: float | None = None,
                    relative_threshold: float = 0.15, **edge_kwargs) -> Keypoints:
@@ -156,7 +167,7 @@ def edge_keypoints(image, blade, n_points: int = 100, *, outline_fraction: float
     """
     img = as_float_image(image)
     h, w = img.shape[:2]
-    m = as_mask(blade, shape=(h, w), name="blade")
+    m = as_mask(_same_shape(blade, (h, w), "blade"), shape=(h, w), name="blade")
     if m.sum() < 16:
         raise ValueError(f"blade has only {int(m.sum())} pixels: no leaf to place keypoints on")
     if isinstance(n_points, bool) or not isinstance(n_points, (int, np.integer)) or n_points < 4:

@@ -28,7 +28,6 @@ the upper one keeps the pixel; the background (blade) is what remains.
 
 from __future__ import annotations
 
-import json
 import re
 from dataclasses import dataclass, field
 
@@ -40,13 +39,17 @@ from skimage.color import rgb2lab
 from skimage.segmentation import slic
 
 from ..core.image import as_mask, as_points, as_rgb
+from ..core.jsonio import dumps_strict, loads_strict
 from ..core.params import check_params, param
+from ..core.validate import MAX_COUNT, check_int, check_real
 
 __all__ = ["Scribble", "Layer", "LayerSet", "SnapParams", "TrainingLayers",
            "scribble_mask", "grow_layers", "simulate_scribbles"]
 
 _HEX = re.compile(r"^#[0-9a-fA-F]{6}$")
 _HARD = 1e9
+#: Scribbles one call of :func:`simulate_scribbles` may make (a user draws 10-15 per layer).
+MAX_SCRIBBLES = 10_000
 
 
 @dataclass
@@ -58,17 +61,30 @@ class Scribble:
 
     def __post_init__(self):
         self.points = as_points(self.points, name="points", min_points=1)
-        r = float(self.radius)
-        if not (np.isfinite(r) and r > 0):
-            raise ValueError(f"radius must be finite and > 0, got {self.radius!r}")
-        self.radius = r
+        self.radius = check_real(self.radius, "radius", 0.0, 1e6, low_open=True)
 
     def to_dict(self) -> dict:
         return {"points": self.points.tolist(), "radius": self.radius}
 
     @classmethod
     def from_dict(cls, d: dict) -> Scribble:
-        return cls(np.asarray(d["points"], float), float(d.get("radius", 2.0)))
+        _check_dict(d, "d", "points")
+        return cls(d["points"], d.get("radius", 2.0))
+
+
+def _check_dict(d, name: str, *keys) -> dict:
+    if not isinstance(d, dict):
+        raise TypeError(f"{name} must be a dict, got {type(d).__name__}")
+    missing = [k for k in keys if k not in d]
+    if missing:
+        raise ValueError(f"{name} lacks the key(s) {missing}")
+    return d
+
+
+def _check_list(value, name: str) -> list:
+    if isinstance(value, (str, bytes, dict)) or not isinstance(value, (list, tuple)):
+        raise TypeError(f"{name} must be a list, got {type(value).__name__}")
+    return list(value)
 
 
 def _as_scribble(s, name: str) -> Scribble:
@@ -110,7 +126,8 @@ class Layer:
         if isinstance(self.order, bool) or not isinstance(self.order, (int, np.integer)):
             raise TypeError(f"order must be an int, got {self.order!r}")
         self.order = int(self.order)
-        self.scribbles = [_as_scribble(s, f"scribbles[{i}]") for i, s in enumerate(self.scribbles)]
+        self.scribbles = [_as_scribble(s, f"scribbles[{i}]")
+                          for i, s in enumerate(_check_list(self.scribbles, "scribbles"))]
 
     def to_dict(self) -> dict:
         return {"name": self.name, "colour": self.colour, "order": self.order,
@@ -118,8 +135,9 @@ class Layer:
 
     @classmethod
     def from_dict(cls, d: dict) -> Layer:
-        return cls(d["name"], d.get("colour", "#d62728"), int(d.get("order", 0)),
-                   [Scribble.from_dict(s) for s in d.get("scribbles", [])])
+        _check_dict(d, "d", "name")
+        return cls(d["name"], d.get("colour", "#d62728"), check_int(d.get("order", 0), "order"),
+                   [Scribble.from_dict(s) for s in _check_list(d.get("scribbles", []), "scribbles")])
 
 
 @dataclass
@@ -140,6 +158,8 @@ class LayerSet:
     background: list = field(default_factory=list)
 
     def __post_init__(self):
+        self.layers = _check_list(self.layers, "layers")
+        self.background = _check_list(self.background, "background")
         for i, layer in enumerate(self.layers):
             if not isinstance(layer, Layer):
                 raise TypeError(f"layers[{i}] must be a Layer, got {type(layer).__name__}")
@@ -179,6 +199,7 @@ class LayerSet:
         order = self.ordered()
         layer = self.get(name)
         order.remove(layer)
+        new_index = check_int(new_index, "new_index", -MAX_COUNT, MAX_COUNT)
         order.insert(int(np.clip(new_index, 0, len(order))), layer)
         for i, x in enumerate(order):
             x.order = i
@@ -205,18 +226,18 @@ class LayerSet:
 
     def to_json(self) -> str:
         """Strict JSON (no NaN)."""
-        return json.dumps(self.to_dict(), allow_nan=False)
+        return dumps_strict(self.to_dict(), name="layer set")
 
     @classmethod
     def from_dict(cls, d: dict) -> LayerSet:
         if not isinstance(d, dict) or "layers" not in d:
-            raise ValueError("a layer set must be a dict with a 'layers' list")
-        return cls([Layer.from_dict(x) for x in d["layers"]],
-                   [Scribble.from_dict(s) for s in d.get("background", [])])
+            raise ValueError("d (a layer set) must be a dict with a 'layers' list")
+        return cls([Layer.from_dict(x) for x in _check_list(d["layers"], "layers")],
+                   [Scribble.from_dict(s) for s in _check_list(d.get("background", []), "background")])
 
     @classmethod
     def from_json(cls, text: str) -> LayerSet:
-        return cls.from_dict(json.loads(text))
+        return cls.from_dict(loads_strict(text, name="text"))
 
 
 @dataclass
@@ -416,6 +437,8 @@ def grow_layers(image, blade, layer_set: LayerSet, params: SnapParams | None = N
     """
     params = check_params(params if params is not None else SnapParams(), name="params")
     rgb = as_rgb(image, name="image")
+    if np.shape(blade) != rgb.shape[:2]:
+        raise ValueError(f"blade has shape {np.shape(blade)}, but image is {rgb.shape[:2]} (they must match)")
     blade = as_mask(blade, shape=rgb.shape[:2], name="blade")
     if not isinstance(layer_set, LayerSet):
         raise TypeError(f"layer_set must be a LayerSet, got {type(layer_set).__name__}")
@@ -588,8 +611,9 @@ def simulate_scribbles(mask, n: int = 12, *, length: float = 20.0, radius: float
     mask = as_mask(mask, name="mask")
     if not mask.any():
         raise ValueError("mask is empty: nothing to scribble on")
-    if not isinstance(n, (int, np.integer)) or n < 1:
-        raise ValueError(f"n must be a positive int, got {n!r}")
+    n = check_int(n, "n", 1, MAX_SCRIBBLES)
+    length = check_real(length, "length", 0.0, 1e6, low_open=True)
+    radius = check_real(radius, "radius", 0.0, 1e6, low_open=True, allow_none=True)
     rng = as_rng(rng)
     skel = skeletonize(mask)
     if not skel.any():

@@ -63,6 +63,7 @@ from scipy.spatial import cKDTree
 from ..core.image import to_uint8
 from ..core.random import as_rng
 from ..core.render import coverage_polylines
+from ..core.validate import Int, Real, Seq, check_int, checked, real_array
 
 __all__ = ["ProceduralLeaf", "procedural_leaf", "leaf_family", "KINDS", "PALETTES"]
 
@@ -444,7 +445,7 @@ def _check_args(kind, size, palette, variation, rotation, scale, n_keypoints):
         raise ValueError(f"variation must be in [0, 3], got {variation!r}")
     if not (np.isfinite(rotation) and 0.0 <= rotation <= 180.0):
         raise ValueError(f"rotation must be in [0, 180] degrees, got {rotation!r}")
-    sc = tuple(float(v) for v in scale) if np.ndim(scale) == 1 else ()
+    sc = tuple(float(v) for v in real_array(scale, "scale", ndim=1, allow_empty=True))
     if len(sc) != 2 or not (0.1 <= sc[0] <= sc[1] <= 1.0):
         raise ValueError(f"scale must be (low, high) with 0.1 <= low <= high <= 1, got {scale!r}")
     if isinstance(n_keypoints, bool) or not isinstance(n_keypoints, (int, np.integer)) or n_keypoints < 1:
@@ -467,6 +468,8 @@ def material_keypoints(n: int) -> tuple[np.ndarray, np.ndarray]:
     return ac, rho
 
 
+@checked(variation=Real(0.0, 3.0), rotation=Real(0.0, 180.0), n_keypoints=Int(1, 10_000),
+         size=Int(32, 4096), scale=Seq(), n_spots=Seq())
 def procedural_leaf(kind: str = "lobed", *, size: int = 512, palette: str = "green",
                     variation: float = 1.0, rotation: float = 30.0,
                     scale: tuple[float, float] = (0.72, 0.9), n_spots: tuple[int, int] = (2, 5),
@@ -507,7 +510,8 @@ def procedural_leaf(kind: str = "lobed", *, size: int = 512, palette: str = "gre
     False
     """
     sc = _check_args(kind, size, palette, variation, rotation, scale, n_keypoints)
-    if np.ndim(n_spots) != 1 or len(n_spots) != 2 or not 0 <= int(n_spots[0]) <= int(n_spots[1]) <= 50:
+    n_spots = tuple(check_int(v, "n_spots", 0, 50) for v in n_spots)
+    if len(n_spots) != 2 or not n_spots[0] <= n_spots[1]:
         raise ValueError(f"n_spots must be (low, high) with 0 <= low <= high <= 50, got {n_spots!r}")
     if isinstance(rng, (int, np.integer)) and not isinstance(rng, bool):
         if rng < 0:
@@ -593,6 +597,8 @@ def procedural_leaf(kind: str = "lobed", *, size: int = 512, palette: str = "gre
                           kind, palette, info, vein_px, vein_w)
 
 
+@checked(n=Int(1, 10_000), variation=Real(0.0, 3.0), rotation=Real(0.0, 180.0),
+         n_keypoints=Int(1, 10_000), size=Int(32, 4096), scale=Seq(), n_spots=Seq())
 def leaf_family(n: int, *, size: int = 512, kind: str = "lobed", palette: str = "green",
                 variation: float = 1.0, rotation: float = 30.0,
                 scale: tuple[float, float] = (0.72, 0.9), n_spots: tuple[int, int] = (2, 5),

@@ -65,6 +65,7 @@ from threadpoolctl import threadpool_limits
 
 from ..core.image import as_float_image, as_mask
 from ..core.params import check_params, param
+from ..core.validate import COORD_LIMIT, Choice, Instance, Int, Real, check_finite, check_int, checked, real_array
 from ..core.warp import remap
 from .exemplar import Exemplar, leaf_exemplar
 from .keypoints import Keypoints, edge_keypoints
@@ -166,12 +167,21 @@ class ThinPlateSpline:
 
     @classmethod
     def identity(cls, centres) -> ThinPlateSpline:
-        c = np.asarray(centres, np.float64)
+        c = _points(centres, "centres", limit=COORD_LIMIT)
         return cls(c, np.zeros_like(c), np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]))
 
     @classmethod
+    @checked(lambda1=Real(0.0, 1e12), lambda2=Real(0.0, 1e12))
     def fit(cls, source, target, *, weights=None, lambda1: float = 0.0,
             lambda2: float = 0.0) -> ThinPlateSpline:
+        source = _points(source, "source", limit=COORD_LIMIT)
+        target = _points(target, "target", limit=COORD_LIMIT)
+        if target.shape != source.shape:
+            raise ValueError(f"target must have the shape of source {source.shape}, got {target.shape}")
+        if weights is not None:
+            weights = real_array(weights, "weights", ndim=1, min=0.0, max=1e12)
+            if weights.shape != (len(source),):
+                raise ValueError(f"weights must have shape ({len(source)},), got {weights.shape}")
         return _SplineSystem(source).fit(target, weights=weights, lambda1=lambda1, lambda2=lambda2)
 
     def __call__(self, points) -> np.ndarray:
@@ -184,7 +194,7 @@ class ThinPlateSpline:
 
     def jacobian(self, points) -> np.ndarray:
         """(N, 2, 2) ``J[n, i, j] = d f_i / d p_j``."""
-        p = np.asarray(points, np.float64).reshape(-1, 2)
+        p = _points(points, "points", limit=COORD_LIMIT)
         out = np.empty((len(p), 2, 2))
         for s in range(0, len(p), 8192):
             q = p[s:s + 8192]
@@ -261,6 +271,7 @@ def _softassign(x, fv, lab_x, lab_v, t, t0, cx, cv, sinkhorn):
     return m[:n, :k]
 
 
+@checked(t_init=Real(0.0, 1e6, low_open=True))
 def tps_rpm(source, target, *, source_labels=None, target_labels=None,
             params: RegistrationParams | None = None,
             t_init: float | None = None) -> tuple[ThinPlateSpline, np.ndarray]:
@@ -450,6 +461,7 @@ def _affine_icp(mat: np.ndarray, src: np.ndarray, dst: np.ndarray, iterations: i
     return mat
 
 
+@checked(rotation_step=Real(0.5, 90.0), n=Int(1, 1000), start=Choice("similarity", "affine"))
 def start_candidates(exemplar_blade, training_blade, *, start: str = "similarity",
                      rotation_step: float = 5.0, mirror: bool = False,
                      n: int = 3) -> list[tuple[np.ndarray, float]]:
@@ -536,6 +548,7 @@ def _wrap_angle(a):
     return (a + np.pi) % (2 * np.pi) - np.pi
 
 
+@checked(rotation_step=Real(0.5, 90.0), start=Choice("similarity", "affine"))
 def start_alignment(exemplar_blade, training_blade, *, start: str = "similarity", rotation_step: float = 5.0,
                     mirror: bool = False) -> tuple[np.ndarray, float]:
     """The best start map (2 x 3, exemplar pixels -> training pixels) and its blade overlap (IoU).
@@ -656,6 +669,7 @@ class Registration:
 
     def inverse(self, points, *, newton_steps: int = 6) -> np.ndarray:
         """Training pixels (x, y) -> exemplar pixels (Newton-refined inverse of :meth:`forward`)."""
+        newton_steps = check_int(newton_steps, "newton_steps", 0, 100)
         y = _points(points, "points")
         if self._inverse_init is None:
             self._fit_inverse()
@@ -735,15 +749,14 @@ class Registration:
         return float(np.median(np.hypot(*(a - b).T)))
 
 
-def _points(points, name):
-    p = np.asarray(points, np.float64)
+def _points(points, name, limit: float = COORD_LIMIT):
+    """(N, 2) finite real points within ``limit`` (pixel coordinates beyond it are no image's)."""
+    p = real_array(points, name, allow_empty=True)
     if p.ndim == 1 and p.shape == (2,):
         p = p[None]
     if p.ndim != 2 or p.shape[1] != 2:
         raise ValueError(f"{name} must have shape (N, 2), got {p.shape}")
-    if not np.isfinite(p).all():
-        raise ValueError(f"{name} contains NaN or infinite coordinates")
-    return p
+    return check_finite(p, name, limit=limit)
 
 
 def _apply(image_or_mask, mp: np.ndarray, src_shape, name):
@@ -857,6 +870,7 @@ def register(exemplar, training, exemplar_blade=None, training_blade=None, *,
                         ex.blade.shape, tr.blade.shape, prm.grid_step)
 
 
+@checked(grid=Int(2, 256), registration=Instance("Registration"))
 def draw_registration(registration: Registration, exemplar_image, training_image, *,
                       grid: int = 12, blade=None) -> np.ndarray:
     """A picture of a registration: the exemplar with the training grid warped onto it, and the training leaf.

@@ -34,7 +34,6 @@ shape weights; :func:`save_leaves` writes RGBA PNGs and a strict-JSON record.
 
 from __future__ import annotations
 
-import json
 import os
 from dataclasses import dataclass, field
 
@@ -43,6 +42,7 @@ import numpy as np
 from scipy import ndimage as ndi
 
 from ..core.io import encode_png
+from ..core.jsonio import dumps_strict
 from ..core.params import check_params, param
 from ..core.random import as_rng
 from ..core.warp import remap
@@ -396,7 +396,13 @@ def save_leaves(leaves, outdir, *, prefix: str = "leaf") -> list[str]:
 
     Returns the paths written (PNGs, then the JSON).
     """
+    if isinstance(leaves, (str, bytes, dict)) or not isinstance(leaves, (list, tuple)):
+        raise TypeError(f"leaves must be a list of GeneratedLeaf, got {type(leaves).__name__}")
     leaves = list(leaves)
+    if not isinstance(outdir, (str, os.PathLike)) or not str(outdir).strip():
+        raise TypeError(f"outdir must be a non-empty folder path, got {outdir!r:.60}")
+    if os.path.exists(outdir) and not os.path.isdir(outdir):
+        raise ValueError(f"outdir {str(outdir)!r} is a file, not a folder")
     for i, leaf in enumerate(leaves):
         if not isinstance(leaf, GeneratedLeaf):
             raise TypeError(f"leaves[{i}] must be a GeneratedLeaf, got {type(leaf).__name__}")
@@ -414,8 +420,9 @@ def save_leaves(leaves, outdir, *, prefix: str = "leaf") -> list[str]:
         records.append(rec)
         paths.append(path)
     jpath = os.path.join(outdir, f"{prefix}s.json")
+    text = dumps_strict({"version": 1, "leaves": records}, name="leaves", indent=1)
     with open(jpath, "w") as f:
-        json.dump({"version": 1, "leaves": records}, f, allow_nan=False, indent=1)
+        f.write(text)
     paths.append(jpath)
     return paths
 
