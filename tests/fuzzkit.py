@@ -424,9 +424,10 @@ def _leaf_tps():
     return ThinPlateSpline.fit(src, src * 1.1 + 0.05, lambda1=0.01)
 
 
-def _leaf_warp_map(h=24, w=24):
+def _leaf_warp_map(h=32, w=32):
+    """The right third squeezed (texture stretched): correct_texture has something to correct."""
     yy, xx = np.mgrid[:h, :w].astype(np.float64)
-    return np.dstack([xx + 1.5 * np.sin(yy / 4.0), yy * 1.2])
+    return np.dstack([np.where(xx < 20, xx, 20 + 0.3 * (xx - 20)), yy])
 
 
 _EXAMPLES = {
@@ -727,6 +728,7 @@ ARGS = {
     "leaves:LayerInduction.spatial.e": _v(1), "leaves:LeafAnalysis.overlay.e": _v(1), "leaves:LeafAnalysis.layer.name": _v("veins"),
     "leaves:analyze.exemplars": _e("leaf_family"), "leaves:analyze.training_index": _v(0), "leaves:analyze.layers": _leaf_masks,
     "leaves:analyze.registrations": lambda: list(example("leaf_analysis").registrations),
+    "leaves:analyze.registration_params": _e("leaf_reg_params"),
     "leaves:generate.analysis": _e("leaf_analysis"), "leaves:generate.n": _v(1),
     "leaves:save_leaves.leaves": lambda: [example("leaf_generated")],
     "leaves:save_leaves.outdir": lambda: str(Path(tempfile.mkdtemp(prefix="fuzz")) / "leaves"),
@@ -742,7 +744,7 @@ ARGS = {
     "leaves:blade_mask.image": lambda: example("leaf_family")[0].image,
     "leaves:leaf_exemplar.image": lambda: example("leaf_family")[0].image,
     "leaves:prepare_exemplars.images": lambda: [leaf.image for leaf in example("leaf_family")[:2]],
-    "leaves:correct_texture.warped": lambda: _img(24, 24), "leaves:correct_texture.warp_map": _leaf_warp_map,
+    "leaves:correct_texture.warped": lambda: _img(32, 32), "leaves:correct_texture.warp_map": _leaf_warp_map,
     "leaves:correct_texture.source_image": lambda: _img(32, 32, seed=1),
     "leaves:distorted_pixels.warp_map": _leaf_warp_map, "leaves:jacobian_singular_values.warp_map": _leaf_warp_map,
     "leaves:draw_registration.registration": _e("leaf_registration"),
@@ -752,7 +754,7 @@ ARGS = {
     "leaves:edge_keypoints.blade": lambda: example("leaf_family")[0].blade, "leaves:edge_keypoints.n_points": _v(20),
     "leaves:edge_strength.image": lambda: example("leaf_family")[0].image,
     "leaves:procedural_leaf.variation": _v(1.0), "leaves:leaf_family.variation": _v(1.0),
-    "leaves:correct_texture.mask": _v(np.ones((24, 24), bool)), "leaves:distorted_pixels.mask": _v(np.ones((24, 24), bool)),
+    "leaves:correct_texture.mask": _v(np.ones((32, 32), bool)), "leaves:distorted_pixels.mask": _v(np.ones((32, 32), bool)),
     "leaves:edge_strength.mask": lambda: example("leaf_family")[0].blade,
     "leaves:leaf_family.n": _v(2), "leaves:leaf_family.size": _v(64), "leaves:procedural_leaf.size": _v(64),
     "leaves:register.exemplar": lambda: example("leaf_family")[1].image,

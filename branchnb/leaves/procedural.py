@@ -434,6 +434,11 @@ def _value_noise(shape, cell: float, rng: np.random.Generator) -> np.ndarray:
     return (up - up.mean()) / max(float(up.std()), 1e-6)
 
 
+def _size_spec(value, name, allow_none):
+    """``size`` is checked with the other arguments in :func:`_check_args` (a ValueError for 64.5 too)."""
+    return value
+
+
 def _check_args(kind, size, palette, variation, rotation, scale, n_keypoints):
     if kind not in KINDS:
         raise ValueError(f"kind must be one of {sorted(KINDS)}, got {kind!r}")
@@ -469,7 +474,7 @@ def material_keypoints(n: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 @checked(variation=Real(0.0, 3.0), rotation=Real(0.0, 180.0), n_keypoints=Int(1, 10_000),
-         size=Int(32, 4096), scale=Seq(), n_spots=Seq())
+         scale=Seq(), n_spots=Seq(), size=_size_spec)
 def procedural_leaf(kind: str = "lobed", *, size: int = 512, palette: str = "green",
                     variation: float = 1.0, rotation: float = 30.0,
                     scale: tuple[float, float] = (0.72, 0.9), n_spots: tuple[int, int] = (2, 5),
@@ -598,7 +603,7 @@ def procedural_leaf(kind: str = "lobed", *, size: int = 512, palette: str = "gre
 
 
 @checked(n=Int(1, 10_000), variation=Real(0.0, 3.0), rotation=Real(0.0, 180.0),
-         n_keypoints=Int(1, 10_000), size=Int(32, 4096), scale=Seq(), n_spots=Seq())
+         n_keypoints=Int(1, 10_000), scale=Seq(), n_spots=Seq(), size=_size_spec)
 def leaf_family(n: int, *, size: int = 512, kind: str = "lobed", palette: str = "green",
                 variation: float = 1.0, rotation: float = 30.0,
                 scale: tuple[float, float] = (0.72, 0.9), n_spots: tuple[int, int] = (2, 5),

@@ -309,8 +309,8 @@ def tps_rpm(source, target, *, source_labels=None, target_labels=None,
     True
     """
     prm = check_params(params if params is not None else RegistrationParams(), name="params")
-    v = np.asarray(source, np.float64)
-    x = np.asarray(target, np.float64)
+    v = _points(source, "source", limit=COORD_LIMIT)
+    x = _points(target, "target", limit=COORD_LIMIT)
     if v.ndim != 2 or v.shape[1] != 2 or len(v) < 4:
         raise ValueError(f"source must be an (K, 2) array with K >= 4, got shape {v.shape}")
     if x.ndim != 2 or x.shape[1] != 2 or len(x) < 4:
@@ -761,6 +761,8 @@ def _points(points, name, limit: float = COORD_LIMIT):
 
 def _apply(image_or_mask, mp: np.ndarray, src_shape, name):
     arr = np.asarray(image_or_mask)
+    if arr.ndim not in (2, 3):
+        raise ValueError(f"{name} must be 2-D (H, W) or 3-D (H, W, C), got shape {arr.shape}")
     if arr.shape[:2] != tuple(src_shape):
         raise ValueError(f"{name} must have height and width {tuple(src_shape)}, got {arr.shape[:2]}")
     if arr.dtype == bool:
@@ -787,6 +789,7 @@ def _as_leaf(leaf, blade, name):
     return leaf_exemplar(leaf, name=name)
 
 
+@checked()
 def register(exemplar, training, exemplar_blade=None, training_blade=None, *,
              params: RegistrationParams | None = None, rng=None,
              exemplar_keypoints: Keypoints | None = None,
