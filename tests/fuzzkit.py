@@ -888,7 +888,7 @@ def baseline(target: Target):
             if p.default is not p.empty:
                 continue
             if p.name == "params" or (isinstance(p.annotation, str) and "Params" in p.annotation):
-                val = _default_params(p.annotation)
+                val = _default_params(p.annotation, target.package)
                 if val is None:
                     raise LookupError(f"no example for {p.name}")
             else:
@@ -910,13 +910,15 @@ def baseline(target: Target):
     return fn, args, kwargs, var
 
 
-def _default_params(annotation):
+def _default_params(annotation, package=None):
+    """Default parameters named by ``annotation``, from the target's own package first
+    (several packages have a ``SynthesisParams``)."""
     if not isinstance(annotation, str):
         return None
     m = re.search(r"(\w+Params)", annotation)
     if not m:
         return None
-    for pkg in packages():
+    for pkg in ([package] if package else []) + packages():
         mod = importlib.import_module(f"branchnb.{pkg}")
         if hasattr(mod, m.group(1)):
             return getattr(mod, m.group(1))()
@@ -1108,7 +1110,7 @@ def cases_for(target: Target, *, valid: bool = True) -> list[Case]:
                     out.append(Case(target.id, f"{p.name}.{f.name}", kind, val))
             continue
         if ex is None and isinstance(p.annotation, str) and "Params" in p.annotation:
-            dp = _default_params(p.annotation)
+            dp = _default_params(p.annotation, target.package)
             if dp is not None:
                 for f in dataclasses.fields(dp):
                     for kind, val in field_bad_values(f):
@@ -1280,7 +1282,7 @@ def _prepare(case: Case):
             params = kwargs.get(head)
             if params is None:
                 p = dict((q.name, q) for q in signature_of(target)[0])[head]
-                params = _default_params(p.annotation)
+                params = _default_params(p.annotation, target.package)
             params = copy.copy(params)
             object.__setattr__(params, field, value)
             kwargs[head] = params

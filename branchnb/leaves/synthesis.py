@@ -378,6 +378,9 @@ def generate(analysis, n: int = 8, *, rng=None, params: SynthesisParams | None =
         raise TypeError(f"analysis must be a LeafAnalysis, got {type(analysis).__name__}")
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not 1 <= n <= 100000:
         raise ValueError(f"n must be an int in [1, 100000], got {n!r}")
+    if params is not None and not isinstance(params, SynthesisParams):
+        raise TypeError(f"params must be a branchnb.leaves.SynthesisParams, got {type(params).__module__}."
+                        f"{type(params).__name__}")
     params = check_params(params if params is not None else SynthesisParams(), name="params")
     gen = as_rng(rng)
     seeds = gen.integers(0, 2**31 - 1, size=int(n))
