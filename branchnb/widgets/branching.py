@@ -8,6 +8,10 @@ The app wires the widget kit to :mod:`branchnb.branching`:
 - "extract" fills the canvas with :func:`~branchnb.branching.extract_structure`,
   "refine clicks" resamples the clicked polylines and measures their
   thickness perpendicular to the branch (the paper's input step);
+- the model is fitted inside the example's domain
+  (:func:`~branchnb.branching.example_domain`: the image minus large
+  branch-free flat regions such as a map's sea), so roots start on the same
+  kind of boundary and the coverage target is measured where branches live;
 - a :class:`ParamPanel` of :class:`~branchnb.branching.SynthesisParams`
   (m, k, c, wG, rho, d, generations, ...) grouped by the paper's steps,
   and a seed; changing them re-synthesizes (in the background inside a
@@ -118,7 +122,7 @@ IMAGE_LABELS = {
     "avoid_unannotated": ("avoid unannotated", ""), "avoid_salient": ("avoid salient spots", ""),
     "salient_z": ("salient spot z", "z"), "branch_like": ("branch-like level", ""),
     "flatten_shading": ("flatten shading", ""), "exclude_matte": ("exclude matte", ""),
-    "keep_regions": ("keep map regions", ""), "flat_poisson": ("Poisson on flat colours", ""),
+    "keep_regions": ("keep map regions", ""), "flat_poisson": ("flat-colour Poisson", ""),
     "completion": ("complete gaps", ""), "patch_size": ("patch size", ""),
     "patch_overlap": ("patch overlap", ""), "completion_tolerance": ("completion tolerance", ""),
     "completion_screen": ("completion screen", ""), "completion_rim": ("completion rim", ""),
@@ -170,7 +174,7 @@ class BranchingApp(widgets.VBox):
                                        modes=("polyline", "edit", "stroke", "pan"), errors=status)
         self.panel = ParamPanel(params if params is not None else SynthesisParams(), errors=status,
                                 sections=SYNTHESIS_SECTIONS, labels=SYNTHESIS_LABELS,
-                                closed=("furcations", "space colonization", "guidance and stopping"),
+                                closed=("furcations", "space colonization", "roots", "guidance and stopping"),
                                 log=("max_total_length",), title="structure synthesis")
         # Image synthesis only runs on "render image", so its panel needs no callback.
         self.image_panel = ParamPanel(ImageSynthesisParams(), errors=status, sections=IMAGE_SECTIONS,

@@ -71,15 +71,15 @@ STYLIZE_LABELS = {
     "intensity_weight": ("darkness weight", "w_I"), "gradient_weight": ("gradient weight", "w_G"),
     "sigma": ("gradient smoothing", "\u03c3"), "n_endpoints": ("endpoints", "N"),
     "endpoint_gamma": ("density exponent", "\u03b3"), "endpoint_floor": ("density floor", ""),
-    "stipple_iterations": ("Lloyd iterations", ""), "lattice_size": ("planning lattice (0 = image)", ""),
-    "endpoint_threshold": ("empty below importance", ""), "break_ties": ("re-plan large ties", ""),
+    "stipple_iterations": ("Lloyd iterations", ""), "lattice_size": ("lattice (0 = image)", ""),
+    "endpoint_threshold": ("no endpoints below", ""), "break_ties": ("re-plan large ties", ""),
     "hierarchy": ("trunk hierarchy", ""), "tone": ("match tone", ""), "tone_sigma": ("tone scale", ""),
     "cost_weight": ("importance cost", "c"),
     "epsilon": ("weight offset", "\u03b5"), "noise": ("random weight", ""),
     "metric": ("path metric", ""), "blend_weight": ("blend weight", "a"),
     "thickness": ("thickness from", ""), "window": ("rolling window", ""),
-    "contrast": ("contrast exponent", ""), "min_width": ("min width (lattice px)", ""),
-    "max_width": ("max width (lattice px)", ""),
+    "contrast": ("contrast exponent", ""), "min_width": ("min width (lattice)", ""),
+    "max_width": ("max width (lattice)", ""),
 }
 TREE_SECTIONS = [
     ("growth", ["iterations", "trunk_endpoints", "endpoint_growth", "radius", "radius_decay",
@@ -120,7 +120,7 @@ PAREIDOLIA_LABELS = {
     "emphasis": ("emphasis (px)", ""), "tip_width": ("twig width (px)", ""),
     "increment": ("width increment", ""), "pipe": ("pipe model", ""),
     "crown": ("crown shape", ""), "crown_blur": ("crown smoothing", ""),
-    "lattice_size": ("planning lattice (0 = image)", ""), "tone": ("match tone", ""),
+    "lattice_size": ("lattice (0 = image)", ""), "tone": ("match tone", ""),
     "max_width": ("max crown width (px)", ""), "limb_length": ("limb thinning length", ""),
 }
 
