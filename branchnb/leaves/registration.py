@@ -115,13 +115,13 @@ class RegistrationParams:
                                 help="bending regulariser lambda1 (Chui: 1 for unit-square data)")
     lambda2_init: float = param(0.01, min=0.0, max=100.0, help="affine regulariser lambda2 (Chui: 0.01)")
     iterations: int = param(5, min=1, max=50, help="rounds per temperature (Chui: 5)")
-    sinkhorn_iterations: int = param(30, min=1, max=500, help="Sinkhorn normalisation rounds")
+    sinkhorn_iterations: int = param(10, min=1, max=500, help="Sinkhorn normalisation rounds")
     t_final_scale: float = param(0.1, min=0.01, max=100.0, log=True,
                                  help="T_final / mean squared nearest-neighbour distance")
     use_labels: bool = param(True, help="match outline with outline, interior with interior")
-    outline_points: int = param(100, min=10, max=400, help="outline samples of the outline stage")
+    outline_points: int = param(150, min=10, max=400, help="outline samples of the outline stage")
     n_starts: int = param(3, min=1, max=12, help="start maps tried (the best outline fit wins)")
-    refine: bool = param(True, help="refine the outline registration with all keypoints")
+    refine: bool = param(False, help="refine the outline registration with all keypoints")
     refine_t_init: float = param(16.0, min=1.0, max=1000.0, log=True,
                                  help="refinement start temperature / mean squared nearest-neighbour distance")
     refine_stiffness: float = param(10.0, min=0.01, max=1000.0, log=True,
