@@ -25,6 +25,7 @@ SUITES = (
     "branchnb.trees._bench",
     "branchnb.leaves._bench",
     "branchnb.strokes._bench",
+    "branchnb.batch._bench",
 )
 
 

@@ -11,6 +11,7 @@ Licences and credit lines are in ``data/README.md``.
 from __future__ import annotations
 
 from functools import lru_cache
+from importlib import resources
 from pathlib import Path
 
 import numpy as np
@@ -20,8 +21,24 @@ from .core.io import imread
 
 __all__ = ["names", "load", "path", "DATA_DIR"]
 
-#: Folder holding the sample files (``data/`` at the project root).
-DATA_DIR = Path(__file__).resolve().parent.parent / "data"
+
+def _data_dir() -> Path:
+    """The sample folder: ``branchnb/_data`` inside an installed wheel, else the checkout's ``data/``.
+
+    The build maps the project's top-level ``data/`` folder into the package
+    as ``branchnb/_data`` (see ``pyproject.toml``), so an installed wheel
+    carries its samples; an editable install or a plain checkout on
+    ``sys.path`` reads ``data/`` beside the package.
+    """
+    packaged = resources.files(__package__).joinpath("_data")
+    if packaged.is_dir():
+        # a wheel is always installed unpacked, so the Traversable is a real folder
+        return Path(str(packaged))
+    return Path(__file__).resolve().parent.parent / "data"
+
+
+#: Folder holding the sample files (``data/`` of the project, packaged as ``branchnb/_data``).
+DATA_DIR = _data_dir()
 
 _SKIMAGE = ("astronaut", "camera", "chelsea", "coffee", "retina", "horse")
 _SUFFIXES = (".png", ".jpg", ".jpeg")

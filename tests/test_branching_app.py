@@ -162,3 +162,36 @@ def test_render_image_button(app):
     assert app.progress.bar.value == 1.0
     assert app.image_result.timings["total"] > 0
     assert f"{app.image_result.timings['total']:.1f} s" in app.progress.text.value
+
+
+def test_render_image_failure_shows_as_a_failure(app, monkeypatch):
+    import branchnb.widgets.branching as mod
+
+    app.synthesize()
+
+    def broken(*args, progress=None, **kwargs):
+        progress(0.3, "fragments")
+        raise ValueError("image is float with values in [-1.191, 1.765]")
+
+    monkeypatch.setattr(mod, "synthesize_image", broken)
+    app.shell.click("render image")
+    assert "render image failed" in app.errors.value and "-1.191" in app.errors.last_error
+    assert app.progress.text.value.startswith("failed") and app.progress.bar.bar_style == "danger"
+    assert app.progress.text.value != "starting"
+    assert not app.buttons["synthesize"].disabled  # the busy state ended
+
+
+def test_info_line_counts_what_is_shown_after_delete(app):
+    app.synthesize()
+    app.delete_output_branch(len(app.result.structure.branches) - 1)
+    s = app.result.structure
+    assert f"{len(s.branches)} branches, {s.n_vertices} vertices" in app.info.value
+
+
+def test_parameters_panel_is_honest_and_labelled(app):
+    from branchnb.branching import ImageSynthesisParams, SynthesisParams
+
+    assert app.panel.values == SynthesisParams() and app.image_panel.values == ImageSynthesisParams()
+    assert "history length" in app.panel.rows["k"].label.value
+    assert app.panel.rows["k"].label.tooltip.startswith("history")
+    assert type(app.panel.controls["max_total_length"]).__name__ == "FloatLogSlider"

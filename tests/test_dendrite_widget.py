@@ -98,3 +98,28 @@ def dataclass_replace(obj, **kw):
     import dataclasses
 
     return dataclasses.replace(obj, **kw)
+
+
+def test_only_the_last_click_is_shown_as_the_seed(app):
+    for xy in ((5, 50), (30, 10), (50, 40)):
+        app.set_seed(xy)
+    pts = app.canvas.model.of_kind("point")
+    assert len(pts) == 1 and pts[0].points.tolist() == [[50.0, 40.0]]
+    assert np.allclose(app.comparison.second.seed, (50, 40), atol=0.5)
+
+
+def test_slider_move_shows_a_half_resolution_preview_first():
+    img = np.ones((120, 120))
+    img[30:90, 30:90] = 0.0
+    app = DendriteApp(img, params=StylizeParams(n_endpoints=120, stipple_iterations=3))
+    app.panels["stylize"].controls["max_width"].value = 6.0
+    assert app.preview is not None
+    assert app.preview.rendering.image.shape[0] < app.comparison.second.rendering.image.shape[0]
+    assert app.errors.last_error is None and app.errors.text.startswith("update: ")
+
+
+def test_tree_mode_controls_are_usable(app):
+    app.mode = "tree"
+    assert app.layers.layout.display is None
+    assert app.panels["tree"].reset_button.layout.height == "28px"
+    assert app.panels["tree"] in app._panel_box.children

@@ -117,7 +117,7 @@ def test_sliders_and_seams(app):
     app.show_seams.value = True
     ov = app.result.seams
     assert ov.any()
-    assert app.view.titles[0].value.startswith("result (seams")
+    assert app.view.title_texts[0].startswith("result (seams")
 
 
 def test_errors_are_shown_and_the_app_survives(app):
@@ -152,3 +152,40 @@ def test_background_and_target_shape():
     app.add_stroke("target", [(10, 40), (110, 40)])
     assert app.result.image.shape == (80, 120, 4)
     assert np.allclose(app.result.image[2, 2], (0.2, 0.3, 0.4, 1.0))
+
+
+def test_clear_all_removes_the_result(app):
+    app.add_stroke("source", SRC)
+    app.add_stroke("target", TGT)
+    assert app.result is not None and app.view.images
+    app.shell.click("clear all")
+    assert app.result is None and not app.view.images
+    assert all(h.comparison is None for h in app.hists) and not app.target_canvas._has_overlay
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    ({"target_shape": (-5, 10)}, "target_shape sides"),
+    ({"target_shape": ("a", 10)}, "two whole numbers"),
+    ({"target_shape": 7}, "height, width"),
+    ({"background": "red"}, "string 'red'"),
+    ({"background": (0.2, 2.0, 0.1)}, r"in \[0, 1\]"),
+    ({"background": ("a", "b", "c")}, "RGB colour"),
+])
+def test_bad_arguments_get_clear_messages(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        StrokeEditApp(striped_bar(), max_display=200, **kwargs)
+
+
+def test_slow_edits_get_a_reduced_size_preview_first():
+    import cv2
+
+    big = cv2.resize(striped_bar(), (320, 120), interpolation=cv2.INTER_NEAREST)
+    app = StrokeEditApp(big, max_display=200)
+    app.add_stroke("source", [(p[0] * 2, p[1] * 2) for p in SRC])
+    app.add_stroke("target", [(p[0] * 2, p[1] * 2) for p in TGT])
+    app.elapsed = 1.0  # as if the last full edit had been slow
+    app.panel.controls["seam_power"].value = 2.0
+    assert app.result.params.seam_power == 2.0
+    assert app.preview is not None and app.preview.params.seam_power == 2.0
+    assert app.preview.image.shape[1] < app.result.image.shape[1]  # reduced size, shown first
+    assert app.errors.last_error is None

@@ -172,4 +172,20 @@ def test_billboard_cloud_tab(app):
     assert cloud is app.cloud and cloud.n_billboards > 10
     assert len(app.cloud_view.images) == 2
     app.yaw.value = -60.0
-    assert "-60" in app.cloud_view.titles[1].value
+    assert "-60" in app.cloud_view.title_texts[1]
+
+
+def test_no_tree_checked_leaves_no_stale_result(app):
+    for cb in app.checks.values():
+        cb.value = False
+    assert app.variation is None and not app.views.images
+    app.shell.click("more like this")
+    assert "no current variation" in app.errors.last_error and app.similar == []
+
+
+def test_reference_none_is_shown_as_none_and_labels_are_whole(app):
+    app.reference.value = None
+    assert app.reference.index == 0 and app.reference.label == "none"
+    html = app.thumbnails.children[0].children[1].children[1].value
+    assert "tree_rpg_01" in html  # the whole name, not a clipped checkbox label
+    assert app.params() == type(app.params())()  # the panel's exact defaults

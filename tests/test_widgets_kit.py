@@ -19,7 +19,7 @@ def send(canvas: AnnotationCanvas, event: str, x: float, y: float):
 @pytest.fixture
 def canvas():
     img = np.random.default_rng(0).random((100, 200, 3))
-    return AnnotationCanvas(img, max_display=400)
+    return AnnotationCanvas(img, max_display=400, pixel_ratio=1)
 
 
 def test_canvas_size_and_fit(canvas):
@@ -225,6 +225,7 @@ def test_error_area_and_progress():
 
 def test_tool_options_follow_the_mode():
     c = AnnotationCanvas(np.zeros((10, 10, 3)), mode="polyline")
-    assert c._label_picker.layout.display == "none" and c._radius_slider.layout.display is None
+    # hidden by visibility, so that the options row keeps its height (the canvas does not jump)
+    assert c._label_picker.layout.visibility == "hidden" and c._radius_slider.layout.visibility == "visible"
     c.mode = "scribble"
-    assert c._label_picker.layout.display is None and c._radius_slider.layout.display == "none"
+    assert c._label_picker.layout.visibility == "visible" and c._radius_slider.layout.visibility == "hidden"

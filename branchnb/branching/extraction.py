@@ -27,6 +27,7 @@ from ..core.image import as_gray, as_points, as_rgb
 from ..core.params import check_params
 from ..core.polyline import arc_length, normals, polyline_length, resample_uniform
 from ..core.structure import Branch, Structure
+from ..core.validate import Array, Int, Point, Real, checked
 from .params import ClickParams, ExtractionParams
 
 __all__ = [
@@ -54,6 +55,12 @@ def gray_for_extraction(image, *, name: str = "image") -> np.ndarray:
 # --------------------------------------------------------------------------
 # From clicks (the paper's input)
 # --------------------------------------------------------------------------
+#: A radius search bound (pixels).
+_RADIUS = Real(0, 1e3, low_open=True)
+
+
+@checked(points=Array(ndim=2), max_radius=_RADIUS, min_radius=_RADIUS, sigma=Real(0, 100), smooth=Int(0, 1000),
+         step=Real(0.01, 100))
 def estimate_thickness(image, points, *, max_radius: float = 15.0, min_radius: float = 0.75,
                        sigma: float = 1.0, smooth: int = 2, step: float = 0.25,
                        return_offsets: bool = False):
@@ -123,6 +130,7 @@ def estimate_thickness(image, points, *, max_radius: float = 15.0, min_radius: f
     return r
 
 
+@checked(parent=Int(0), parent_vertex=Int(0), start=Point())
 def branch_from_clicks(image, points, params: ClickParams | None = None, *,
                        parent: int | None = None, parent_vertex: int | None = None,
                        start=None) -> Branch:
@@ -165,6 +173,7 @@ def branch_from_clicks(image, points, params: ClickParams | None = None, *,
     return Branch(res, r, parent, parent_vertex)
 
 
+@checked()
 def structure_from_polylines(image, polylines, params: ClickParams | None = None,
                              radii=None) -> Structure:
     """A structure from several clicked polylines (one per branch).
@@ -545,6 +554,7 @@ def _median_then_gauss(r: np.ndarray, sigma: float) -> np.ndarray:
     return ndi.gaussian_filter1d(ndi.median_filter(r, size=k, mode="nearest"), sigma, mode="nearest")
 
 
+@checked()
 def extract_structure(image, params: ExtractionParams | None = None, *, mask=None,
                       return_maps: bool = False, **overrides):
     """Find a source structure in an image automatically.

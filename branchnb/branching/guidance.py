@@ -25,10 +25,12 @@ from scipy import ndimage as ndi
 
 from ..core.image import as_points
 from ..core.polyline import resample_uniform
+from ..core.validate import Array, Int, Point, Real, Shape, checked
 
 __all__ = ["Guidance", "guidance_map"]
 
 
+@checked(shape=Shape(), path=Array(ndim=2), width=Real(0, 1e5, low_open=True), depth=Real(0, 1e3))
 def guidance_map(shape, path, width: float = 40.0, depth: float = 1.0) -> np.ndarray:
     """The guidance map ``G`` (float32, ``(H, W)``) for a path.
 
@@ -92,6 +94,7 @@ class Guidance:
             self.path = as_points(self.path, name="path", min_points=2)
 
     @classmethod
+    @checked(shape=Shape(), width=Real(0, 1e5, low_open=True), depth=Real(0, 1e3))
     def from_path(cls, shape, path, width: float = 40.0, depth: float = 1.0) -> Guidance:
         """Guidance with a valley of width ``width`` along ``path``."""
         return cls(guidance_map(shape, path, width, depth), as_points(path, name="path", min_points=2))
@@ -111,6 +114,7 @@ class Guidance:
         out[ok] = self.map[r[ok], c[ok]]
         return out
 
+    @checked(tip=Point(), directions=Array(ndim=2), length=Real(0, 1e5), n_samples=Int(1, 10_000))
     def along(self, tip, directions, length: float, n_samples: int = 16) -> np.ndarray:
         """Mean of G along rays from ``tip`` in ``directions`` ``(J, 2)`` up to ``length``."""
         t = np.linspace(length / n_samples, length, n_samples)

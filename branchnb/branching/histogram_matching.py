@@ -20,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.histogram import histograms, l2_squared_distance
+from ..core.validate import Int, checked
 
 __all__ = ["HistogramMatcher", "histogram_distances"]
 
@@ -132,6 +133,7 @@ class HistogramMatcher:
         return np.exp(np.clip(x, -50, 50))
 
 
+@checked(bins=Int(1, 100_000))
 def histogram_distances(example, structure, *, bins: int = 16,
                         metric: str = "l2sq") -> dict[str, float]:
     """Angle and thickness histogram distances of a structure to an example.

@@ -52,6 +52,7 @@ from ..core.polyline import rigid_align
 from ..core.random import as_rng
 from ..core.render import draw_polylines
 from ..core.structure import Structure
+from ..core.validate import Shape, checked
 from .displacement import backward_map, displacement_field
 from .fragments import (
     Fragment,
@@ -490,6 +491,7 @@ def _constraints(ctx: _Context, src: Fragment, tgt: Fragment, rot, trans):
 # the public entry
 
 
+@checked(shape=Shape())
 def synthesize_image(example_image, example_structure: Structure, target_structure: Structure,
                      params: ImageSynthesisParams | None = None, rng=None,
                      progress: Callable[[float, str], None] | None = None, *,

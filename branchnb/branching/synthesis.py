@@ -39,6 +39,7 @@ from ..core.params import check_params
 from ..core.polyline import tangents
 from ..core.random import as_rng
 from ..core.structure import Branch, Structure
+from ..core.validate import Array, Int, Shape, checked
 from .bending import BendingModel, branch_elements
 from .colonization import (
     DensityMap,
@@ -142,6 +143,7 @@ def _check_example(example) -> Structure:
     return example
 
 
+@checked()
 def fit_model(example: Structure, params: SynthesisParams | None = None) -> StructureModel:
     """Learn the bending, histogram and furcation models from an example.
 
@@ -819,6 +821,7 @@ def _check_guidance(guidance, shape):
     return guidance
 
 
+@checked(shape=Shape(), starts=Array(ndim=2))
 def synthesize_structure(example, params: SynthesisParams | None = None, *, rng=None,
                          guidance=None, shape=None, starts=None,
                          _scorer=None) -> SynthesisResult:
@@ -884,6 +887,7 @@ def synthesize_structure(example, params: SynthesisParams | None = None, *, rng=
     return SynthesisResult(structure=s, example=model.example, diagnostics=diag, density=dens)
 
 
+@checked(index=Int(0), n_steps=Int(1, 100_000), shape=Shape())
 def extend_branch(structure: Structure, index: int, example, params: SynthesisParams | None = None,
                   *, n_steps: int | None = None, rng=None, guidance=None,
                   shape=None) -> SynthesisResult:

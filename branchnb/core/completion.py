@@ -399,7 +399,9 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
 
 def _inpaint(canvas: np.ndarray, covered: np.ndarray) -> None:
     """Diffuse the known colours into the last holes (OpenCV Telea), in place."""
+    # Through uint16: OpenCV 5's float32 Telea path returns values far
+    # outside the input range.
     hole = (~covered).astype(np.uint8)
     for c in range(canvas.shape[2]):
-        ch = np.ascontiguousarray(canvas[..., c])
-        canvas[..., c] = cv2.inpaint(ch, hole, 3, cv2.INPAINT_TELEA)
+        ch = np.round(np.clip(canvas[..., c], 0, 1) * 65535).astype(np.uint16)
+        canvas[..., c] = cv2.inpaint(ch, hole, 3, cv2.INPAINT_TELEA).astype(np.float32) / 65535.0

@@ -25,6 +25,7 @@ import numpy as np
 from scipy import ndimage as ndi
 
 from .image import as_float_image, as_mask
+from .validate import Real, checked
 
 __all__ = [
     "gradient_magnitude",
@@ -36,6 +37,9 @@ __all__ = [
 ]
 
 _HARD = 1e9
+
+#: Exponent of the colour difference in the seam cost (finite and > 0, or the cut never ends).
+_POWER = Real(0, 16, low_open=True)
 
 
 def gradient_magnitude(img: np.ndarray) -> np.ndarray:
@@ -54,6 +58,7 @@ def gradient_magnitude(img: np.ndarray) -> np.ndarray:
     return np.sqrt((gx**2 + gy**2).sum(axis=2))
 
 
+@checked(power=_POWER)
 def pair_costs(a, b, *, power: float = 1.0, gradient_weighted: bool = True,
                eps: float = 1e-3) -> tuple[np.ndarray, np.ndarray]:
     """Cost of cutting between horizontal and vertical neighbours.
@@ -92,6 +97,7 @@ def pair_costs(a, b, *, power: float = 1.0, gradient_weighted: bool = True,
     return right.astype(np.float64), down.astype(np.float64)
 
 
+@checked(power=_POWER)
 def seam_cut(a, b, region, pin_a, pin_b, *, power: float = 1.0,
              gradient_weighted: bool = True) -> np.ndarray:
     """Minimum-cost labelling of ``region`` between images ``a`` and ``b``.
@@ -160,6 +166,7 @@ def seam_cut(a, b, region, pin_a, pin_b, *, power: float = 1.0,
     return take_b
 
 
+@checked(power=_POWER)
 def seam_cost(a, b, take_b, *, region=None, power: float = 1.0,
               gradient_weighted: bool = True) -> float:
     """Total cost of the seams of a labelling (sum over cut neighbour pairs).
@@ -204,6 +211,7 @@ class SeamComposition:
     cost: float
 
 
+@checked(power=_POWER)
 def compose_overlap(a, mask_a, b, mask_b, *, power: float = 1.0,
                     gradient_weighted: bool = True, method: str = "graphcut") -> SeamComposition:
     """Compose image ``b`` (covering ``mask_b``) onto ``a`` (covering ``mask_a``).

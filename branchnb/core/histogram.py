@@ -11,6 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .validate import Int, check_range_pair, checked, real_array
+
 __all__ = [
     "shared_bins",
     "histograms",
@@ -24,12 +26,12 @@ __all__ = [
     "METRICS",
 ]
 
+#: Number of histogram bins: at least one, and few enough to allocate.
+_BINS = Int(1, 100_000)
+
 
 def _sample(x, name: str) -> np.ndarray:
-    try:
-        a = np.asarray(x, dtype=np.float64).ravel()
-    except (TypeError, ValueError) as exc:
-        raise TypeError(f"{name} must be an array of numbers") from exc
+    a = real_array(x, name, allow_empty=True, finite=False).ravel()
     if a.size == 0:
         raise ValueError(f"{name} is empty")
     if not np.all(np.isfinite(a)):
@@ -37,6 +39,7 @@ def _sample(x, name: str) -> np.ndarray:
     return a
 
 
+@checked(bins=_BINS)
 def shared_bins(*samples, bins: int = 16, range: tuple[float, float] | None = None) -> np.ndarray:
     """Bin edges shared by all samples: ``bins`` equal bins over their joint range.
 
@@ -49,19 +52,18 @@ def shared_bins(*samples, bins: int = 16, range: tuple[float, float] | None = No
         raise ValueError(f"bins must be a positive int, got {bins!r}")
     if range is None:
         if not samples:
-            raise ValueError("give at least one sample or an explicit range")
+            raise ValueError("samples: give at least one sample or an explicit range")
         arrs = [_sample(s, f"samples[{i}]") for i, s in enumerate(samples)]
         lo = min(a.min() for a in arrs)
         hi = max(a.max() for a in arrs)
     else:
-        lo, hi = map(float, range)
-        if not (np.isfinite(lo) and np.isfinite(hi)) or hi < lo:
-            raise ValueError(f"range must be finite (lo, hi) with lo <= hi, got {range}")
+        lo, hi = check_range_pair(range, "range")
     if hi == lo:
         lo, hi = lo - 0.5, hi + 0.5
     return np.linspace(lo, hi, int(bins) + 1)
 
 
+@checked(bins=_BINS)
 def histograms(*samples, bins: int = 16, range: tuple[float, float] | None = None,
                weights=None) -> tuple[np.ndarray, np.ndarray]:
     """Normalised histograms of several samples on shared bins.
@@ -93,12 +95,16 @@ def histograms(*samples, bins: int = 16, range: tuple[float, float] | None = Non
     [[0.667, 0.333], [0.0, 1.0]]
     """
     if not samples:
-        raise ValueError("histograms needs at least one sample")
+        raise ValueError("samples: histograms needs at least one sample")
     arrs = [_sample(s, f"samples[{i}]") for i, s in enumerate(samples)]
+    if weights is not None:
+        if isinstance(weights, (str, bytes)) or not hasattr(weights, "__len__") or len(weights) != len(arrs):
+            raise TypeError(f"weights must be one array per sample ({len(arrs)}), got {type(weights).__name__}")
+        weights = [real_array(w, f"weights[{i}]", allow_empty=True, min=0).ravel() for i, w in enumerate(weights)]
     edges = shared_bins(*arrs, bins=bins, range=range)
     out = np.zeros((len(arrs), len(edges) - 1))
     for i, a in enumerate(arrs):
-        w = None if weights is None else np.asarray(weights[i], dtype=np.float64).ravel()
+        w = None if weights is None else weights[i]
         if w is not None and w.shape != a.shape:
             raise ValueError(f"weights[{i}] must match samples[{i}] in length")
         idx = np.clip(np.searchsorted(edges, a, side="right") - 1, 0, len(edges) - 2)
@@ -111,10 +117,10 @@ def histograms(*samples, bins: int = 16, range: tuple[float, float] | None = Non
 
 
 def _pair(p, q) -> tuple[np.ndarray, np.ndarray]:
-    p = np.asarray(p, dtype=np.float64)
-    q = np.asarray(q, dtype=np.float64)
-    if p.shape != q.shape or p.ndim != 1:
-        raise ValueError(f"histograms must be 1-D with equal length, got {p.shape} and {q.shape}")
+    p = real_array(p, "p", ndim=1, min=0)
+    q = real_array(q, "q", ndim=1, min=0)
+    if p.shape != q.shape:
+        raise ValueError(f"histograms p and q must have equal length, got {p.shape} and {q.shape}")
     return p, q
 
 
@@ -192,6 +198,7 @@ class HistogramComparison:
     distances: np.ndarray
 
 
+@checked(bins=_BINS)
 def compare_samples(*samples, labels=None, bins: int = 16, range=None,
                     metric: str = "l1") -> HistogramComparison:
     """Bin samples together and measure each one's distance to the first.

@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .validate import COORD_LIMIT, MAX_COUNT, as_colour, check_int, check_shape, real_array
+
 __all__ = [
     "as_float_image",
     "as_rgb",
@@ -29,11 +31,15 @@ _INT_SCALE = {np.dtype(np.uint8): 255.0, np.dtype(np.uint16): 65535.0}
 
 
 def _check_array(image, name: str) -> np.ndarray:
+    if isinstance(image, (str, bytes)) or image is None:
+        raise TypeError(f"{name} must be array-like, got {type(image).__name__}")
     if not isinstance(image, np.ndarray):
         try:
             image = np.asarray(image)
-        except Exception as exc:  # pragma: no cover - exotic inputs
+        except Exception as exc:  # ragged nested lists, ...
             raise TypeError(f"{name} must be array-like, got {type(image).__name__}") from exc
+    if np.iscomplexobj(image):
+        raise TypeError(f"{name} must be real-valued, got dtype {image.dtype}")
     if image.dtype == object or not (
         np.issubdtype(image.dtype, np.number) or image.dtype == bool
     ):
@@ -207,18 +213,20 @@ def as_points(
     >>> as_points([(0, 0), (3, 4)]).shape
     (2, 2)
     """
-    try:
-        arr = np.asarray(points, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise TypeError(f"{name} must be an (N, 2) array of numbers") from exc
+    arr = real_array(points, name, allow_empty=True, finite=False)
     if arr.ndim == 1 and arr.size == 0:
         arr = arr.reshape(0, 2)
     if arr.ndim != 2 or arr.shape[1] != 2:
         raise ValueError(f"{name} must have shape (N, 2), got {arr.shape}")
+    min_points = check_int(min_points, "min_points", 0, MAX_COUNT)
     if len(arr) < min_points:
         raise ValueError(f"{name} needs at least {min_points} point(s), got {len(arr)}")
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"{name} contains NaN or infinite coordinates")
+    if len(arr) and float(np.abs(arr).max()) > COORD_LIMIT:
+        raise ValueError(f"{name} has a coordinate beyond +-{COORD_LIMIT:g} pixels")
+    if image_shape is not None:
+        image_shape = check_shape(image_shape, "image_shape")
     if image_shape is not None and len(arr):
         h, w = image_shape[:2]
         x, y = arr[:, 0], arr[:, 1]
@@ -256,10 +264,11 @@ def composite_over(image, background=(1.0, 1.0, 1.0)) -> np.ndarray:
     background : 3-tuple or (H, W, 3) array_like
     """
     rgba = as_rgba(image)
-    bg = np.asarray(background, dtype=np.float32)
-    if bg.ndim == 1:
-        if bg.shape != (3,):
-            raise ValueError(f"background must be an RGB triple, got shape {bg.shape}")
+    if isinstance(background, (str, bytes)) or background is None:
+        raise TypeError(f"background must be an RGB triple or an image, got {type(background).__name__}")
+    bg = np.asarray(background)
+    if bg.ndim <= 1:
+        bg = as_colour(background, "background", channels=(3,))
     else:
         bg = as_rgb(bg, name="background")
         if bg.shape[:2] != rgba.shape[:2]:

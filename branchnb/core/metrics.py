@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from .image import as_mask
+from .validate import check_real, real_array
 
 __all__ = ["psnr", "iou"]
 
@@ -31,8 +32,9 @@ def psnr(a, b, mask=None, *, data_range: float = 1.0) -> float:
     >>> round(psnr(np.zeros((4, 4)), np.full((4, 4), 0.1)), 6)
     20.0
     """
-    a = np.asarray(a, np.float64)
-    b = np.asarray(b, np.float64)
+    a = real_array(a, "a", ndim=(2, 3))
+    b = real_array(b, "b", ndim=(2, 3))
+    data_range = check_real(data_range, "data_range", 0, low_open=True)
     if a.shape != b.shape:
         raise ValueError(f"a and b must have the same shape, got {a.shape} and {b.shape}")
     if mask is not None:
@@ -40,8 +42,12 @@ def psnr(a, b, mask=None, *, data_range: float = 1.0) -> float:
         if not mask.any():
             raise ValueError("mask selects no pixel")
         a, b = a[mask], b[mask]
-    mse = float(np.mean((a - b) ** 2))
-    return float("inf") if mse == 0 else float(10 * np.log10(data_range**2 / mse))
+    # Scaled so that huge values or ranges neither overflow nor underflow.
+    scale = max(float(np.abs(a).max()), float(np.abs(b).max()), 1e-300)
+    mse_scaled = float(np.mean(((a / scale) - (b / scale)) ** 2))
+    if mse_scaled == 0:
+        return float("inf")
+    return float(20 * np.log10(data_range) - 20 * np.log10(scale) - 10 * np.log10(mse_scaled))
 
 
 def iou(a, b) -> float:

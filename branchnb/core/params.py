@@ -57,45 +57,85 @@ def param_info(params) -> list[tuple[dataclasses.Field, dict]]:
     return [(f, dict(f.metadata)) for f in dataclasses.fields(params)]
 
 
+def _field_kind(f: dataclasses.Field, default) -> tuple[str | None, bool]:
+    """``(kind, allow_none)`` of a field from its annotation (or its default's type)."""
+    ann = f.type if isinstance(f.type, str) else getattr(f.type, "__name__", str(f.type))
+    parts = {p.strip() for p in ann.replace("Optional[", "").replace("]", "").split("|")}
+    allow_none = "None" in parts or default is None
+    parts.discard("None")
+    kinds = parts & {"bool", "int", "float", "str"}
+    if len(parts) == 1 and kinds:
+        return kinds.pop(), allow_none
+    for kind, t in (("bool", bool), ("int", int), ("float", float), ("str", str)):
+        if isinstance(default, t):
+            return kind, allow_none
+    return None, allow_none
+
+
 def check_params(params, *, name: str = "params"):
-    """Validate a parameter dataclass instance against its metadata.
+    """Validate a parameter dataclass instance against its types and metadata.
+
+    Every field is checked for its annotated type (``bool``, ``int``,
+    ``float``, ``str``; ``None`` only where the annotation or default
+    allows it), for NaN/inf, for ``[min, max]`` (the bounds double as size
+    guards) and for ``options``. Integral floats in int fields are
+    normalised to int.
 
     Raises
     ------
     TypeError
-        A field of the wrong type (e.g. a float for an int field).
+        A field of the wrong type (e.g. a string for a float field).
     ValueError
-        A value outside ``[min, max]`` or not among ``options``; the
-        message names the field.
+        NaN/inf, a value outside ``[min, max]`` or not among ``options``;
+        the message names the field.
 
     Returns
     -------
     params
         The same instance, for chaining.
+
+    Examples
+    --------
+    >>> from dataclasses import dataclass
+    >>> @dataclass
+    ... class P:
+    ...     k: int = param(9, min=1, max=40)
+    >>> check_params(P(k="9"))
+    Traceback (most recent call last):
+    ...
+    TypeError: params.k must be an int, got str '9'
     """
+    from .validate import check_bool, check_int, check_real
+
     if not dataclasses.is_dataclass(params) or isinstance(params, type):
         raise TypeError(f"{name} must be a parameter dataclass instance, got {type(params).__name__}")
     for f, meta in param_info(params):
         v = getattr(params, f.name)
+        fname = f"{name}.{f.name}"
         default = f.default if f.default is not dataclasses.MISSING else None
-        if isinstance(default, bool):
-            if not isinstance(v, bool):
-                raise TypeError(f"{name}.{f.name} must be a bool, got {v!r}")
-            continue
-        if isinstance(default, int) and not isinstance(default, bool):
-            if isinstance(v, bool) or not isinstance(v, int) and not (
-                isinstance(v, float) and v.is_integer()
-            ):
-                if v is not None:
-                    raise TypeError(f"{name}.{f.name} must be an int, got {v!r}")
-        if meta.get("options") is not None and v not in meta["options"]:
-            raise ValueError(f"{name}.{f.name} must be one of {list(meta['options'])}, got {v!r}")
-        if isinstance(v, (int, float)) and not isinstance(v, bool):
-            if v != v:  # NaN
-                raise ValueError(f"{name}.{f.name} is NaN")
-            lo, hi = meta.get("min"), meta.get("max")
-            if lo is not None and v < lo:
-                raise ValueError(f"{name}.{f.name} must be >= {lo}, got {v}")
-            if hi is not None and v > hi:
-                raise ValueError(f"{name}.{f.name} must be <= {hi}, got {v}")
+        kind, allow_none = _field_kind(f, default)
+        if v is None:
+            if allow_none:
+                continue
+            raise TypeError(f"{fname} must not be None")
+        lo, hi = meta.get("min"), meta.get("max")
+        if kind == "bool":
+            check_bool(v, fname)
+        elif kind == "int":
+            iv = check_int(v, fname, lo, hi)
+            if type(v) is not int:
+                object.__setattr__(params, f.name, iv)
+        elif kind == "float":
+            check_real(v, fname, lo, hi)
+        elif kind == "str" and not isinstance(v, str):
+            raise TypeError(f"{fname} must be a str, got {type(v).__name__} {v!r:.60}")
+        elif kind is None and isinstance(v, (int, float)) and not isinstance(v, bool):
+            check_real(v, fname, lo, hi)
+        if meta.get("options") is not None:
+            try:
+                ok = v in meta["options"]
+            except Exception:
+                ok = False
+            if not ok:
+                raise ValueError(f"{fname} must be one of {list(meta['options'])}, got {v!r:.60}")
     return params

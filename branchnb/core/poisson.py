@@ -19,6 +19,7 @@ import scipy.sparse as sp
 from scipy.sparse.linalg import factorized
 
 from .image import as_float_image, as_mask
+from .validate import Real, checked
 
 __all__ = ["grid_laplacian", "poisson_blend"]
 
@@ -67,6 +68,7 @@ def grid_laplacian(mask) -> tuple[sp.csr_matrix, np.ndarray]:
     return (sp.diags(deg) - adj).tocsr(), index
 
 
+@checked(anchor_weight=Real(0, 1e12))
 def poisson_blend(target, source, mask, *, anchor=None, anchor_weight: float = 0.0,
                   mixed: bool = False) -> np.ndarray:
     """Paste ``source`` into ``target`` inside ``mask`` in the gradient domain.

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .image import as_points
+from .validate import MAX_COUNT, Int, Real, checked, real_array
 
 __all__ = [
     "arc_length",
@@ -30,7 +31,7 @@ __all__ = [
 def _values(values, n: int, name: str = "values") -> np.ndarray | None:
     if values is None:
         return None
-    v = np.asarray(values, dtype=np.float64)
+    v = real_array(values, name, allow_empty=True, finite=False)
     if v.shape[:1] != (n,):
         raise ValueError(f"{name} must have one row per vertex ({n}), got shape {v.shape}")
     if not np.all(np.isfinite(v)):
@@ -38,6 +39,7 @@ def _values(values, n: int, name: str = "values") -> np.ndarray | None:
     return v
 
 
+@checked()
 def arc_length(points, *, closed: bool = False) -> np.ndarray:
     """Cumulative arc length at each vertex (starts at 0).
 
@@ -56,6 +58,7 @@ def arc_length(points, *, closed: bool = False) -> np.ndarray:
     return np.concatenate([[0.0], np.cumsum(seg)])
 
 
+@checked()
 def polyline_length(points, *, closed: bool = False) -> float:
     """Total length of a polyline."""
     return float(arc_length(points, closed=closed)[-1])
@@ -70,6 +73,7 @@ def _interp_at(s_new: np.ndarray, s: np.ndarray, data: np.ndarray) -> np.ndarray
     return np.stack([np.interp(s_new, s, data[:, j]) for j in range(data.shape[1])], axis=1)
 
 
+@checked(h=Real(0, low_open=True))
 def resample_uniform(points, h: float, *, values=None, include_end: bool = False):
     """Resample a polyline at uniform arc-length step ``h``.
 
@@ -107,6 +111,9 @@ def resample_uniform(points, h: float, *, values=None, include_end: bool = False
     total = s[-1]
     if total <= 0:
         raise ValueError("points has zero length: all vertices coincide")
+    if total / h > MAX_COUNT:
+        raise ValueError(f"h = {h:g} would make {total / h:.3g} points along a polyline of length {total:.4g} "
+                         f"(limit {MAX_COUNT})")
     s_new = np.arange(0.0, total + 1e-9 * max(1.0, total), h)
     if include_end and total - s_new[-1] > h / 2:
         s_new = np.append(s_new, total)
@@ -116,6 +123,7 @@ def resample_uniform(points, h: float, *, values=None, include_end: bool = False
     return out, _interp_at(s_new, s, v)
 
 
+@checked(n=Int(2, MAX_COUNT))
 def resample_chord(points, n: int, *, closed: bool = False, values=None):
     """Resample to exactly ``n`` points equally spaced by chord (arc) length.
 
@@ -179,6 +187,7 @@ def turning_angles(points) -> np.ndarray:
     return np.arctan2(cross, dot)
 
 
+@checked()
 def tangents(points, *, closed: bool = False) -> np.ndarray:
     """Unit tangents at each vertex (central differences, one-sided at ends).
 
@@ -200,6 +209,7 @@ def tangents(points, *, closed: bool = False) -> np.ndarray:
     return t / norm[:, None]
 
 
+@checked()
 def normals(points, *, closed: bool = False) -> np.ndarray:
     """Unit normals: tangents rotated by +90 degrees, ``(-ty, tx)``.
 
@@ -276,6 +286,7 @@ def rigid_align(source, target, *, weights=None) -> RigidTransform:
     return RigidTransform(rotation=r, translation=mq - r @ mp)
 
 
+@checked(eps=Real(0))
 def segments_intersect(a0, a1, b0, b1, *, eps: float = 1e-12) -> np.ndarray:
     """Which pairs of segments properly cross (touching end points do not count).
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["as_rng", "RngLike"]
+__all__ = ["as_rng", "as_seed", "RngLike"]
 
 RngLike = "int | numpy.random.Generator | None"
 
@@ -32,3 +32,21 @@ def as_rng(rng: int | np.random.Generator | None = None, *, name: str = "rng") -
     if rng < 0:
         raise ValueError(f"{name} seed must be non-negative, got {rng}")
     return np.random.default_rng(int(rng))
+
+
+def as_seed(rng: int | np.random.Generator | None = None, *, name: str = "rng") -> int:
+    """An int seed from ``rng``, for functions that cache their stages by seed.
+
+    An int is returned as is; a Generator gives one draw from its stream (so
+    passing the same generator twice gives two different, reproducible
+    seeds, as for :func:`as_rng`); None draws fresh OS entropy.
+
+    Examples
+    --------
+    >>> as_seed(7), as_seed(np.random.default_rng(0)) == as_seed(np.random.default_rng(0))
+    (7, True)
+    """
+    if isinstance(rng, (int, np.integer)) and not isinstance(rng, (bool, np.bool_)):
+        as_rng(rng, name=name)  # same checks and messages
+        return int(rng)
+    return int(as_rng(rng, name=name).integers(0, 2**63 - 1))

@@ -11,8 +11,16 @@ import numba
 import numpy as np
 
 from .image import as_float_image
+from .validate import COORD_LIMIT, as_colours, as_polylines, check_real, check_shape, real_array
 
 __all__ = ["draw_polylines", "coverage_polylines", "pack_polylines"]
+
+#: Widest stroke (pixels) a polyline may have: as far as coordinates may reach.
+MAX_WIDTH = COORD_LIMIT
+
+
+def _is_number(value) -> bool:
+    return isinstance(value, (int, float, np.number)) and not isinstance(value, (bool, np.bool_))
 
 
 @numba.njit(cache=True)
@@ -21,10 +29,12 @@ def _rasterise(segs, seg_color, height, width, coverage, colour_idx):
     for s in range(segs.shape[0]):
         x0, y0, r0, x1, y1, r1 = segs[s, 0], segs[s, 1], segs[s, 2], segs[s, 3], segs[s, 4], segs[s, 5]
         rmax = max(r0, r1) + 1.0
-        c0 = max(int(np.floor(min(x0, x1) - rmax)), 0)
-        c1 = min(int(np.ceil(max(x0, x1) + rmax)), width - 1)
-        q0 = max(int(np.floor(min(y0, y1) - rmax)), 0)
-        q1 = min(int(np.ceil(max(y0, y1) + rmax)), height - 1)
+        # Clamp in floating point before converting: a far-away coordinate
+        # would overflow int64 and index outside the arrays.
+        c0 = int(np.floor(min(max(min(x0, x1) - rmax, 0.0), width)))
+        c1 = int(np.ceil(max(min(max(x0, x1) + rmax, width - 1.0), -1.0)))
+        q0 = int(np.floor(min(max(min(y0, y1) - rmax, 0.0), height)))
+        q1 = int(np.ceil(max(min(max(y0, y1) + rmax, height - 1.0), -1.0)))
         dx, dy = x1 - x0, y1 - y0
         len2 = dx * dx + dy * dy
         for r in range(q0, q1 + 1):
@@ -57,32 +67,32 @@ def pack_polylines(polylines, widths=None, default_width: float = 1.0):
         Full line width (diameter) per polyline or per vertex.
     """
     if isinstance(polylines, np.ndarray) and polylines.ndim == 2:
-        polylines = [polylines]
-        if widths is not None and not isinstance(widths, (int, float, np.number)):
+        if widths is not None and not _is_number(widths):
             widths = [widths]
+    polylines = as_polylines(polylines, "polylines")
+    if widths is not None and not _is_number(widths):
+        if isinstance(widths, (str, bytes)) or not hasattr(widths, "__len__"):
+            raise TypeError(f"widths must be a number or one entry per polyline, got {type(widths).__name__}")
+        if len(widths) != len(polylines):
+            raise ValueError(f"widths must have one entry per polyline ({len(polylines)}), got {len(widths)}")
     segs, owner = [], []
-    for i, pl in enumerate(polylines):
-        p = np.asarray(pl, dtype=np.float64)
-        if p.ndim != 2 or p.shape[1] != 2:
-            raise ValueError(f"polylines[{i}] must have shape (N, 2), got {p.shape}")
-        if not np.all(np.isfinite(p)):
-            raise ValueError(f"polylines[{i}] contains NaN or infinite coordinates")
+    for i, p in enumerate(polylines):
         if len(p) == 0:
             continue
         if widths is None:
             w = np.full(len(p), default_width)
-        elif isinstance(widths, (int, float, np.number)):
-            w = np.full(len(p), float(widths))
+        elif _is_number(widths):
+            w = np.full(len(p), check_real(widths, "widths", 0, MAX_WIDTH))
         else:
             wi = widths[i]
-            if isinstance(wi, (int, float, np.number)):
-                w = np.full(len(p), float(wi))
+            if _is_number(wi):
+                w = np.full(len(p), check_real(wi, f"widths[{i}]", 0, MAX_WIDTH))
             else:
-                w = np.asarray(wi, np.float64)
+                w = real_array(wi, f"widths[{i}]", finite=False)
             if w.shape != (len(p),):
                 raise ValueError(f"widths[{i}] must be a number or have {len(p)} entries")
-        if not np.all(np.isfinite(w)) or np.any(w < 0):
-            raise ValueError(f"widths for polylines[{i}] must be finite and >= 0")
+        if not np.all(np.isfinite(w)) or np.any(w < 0) or np.any(w > MAX_WIDTH):
+            raise ValueError(f"widths for polylines[{i}] must be finite and in [0, {MAX_WIDTH:g}]")
         r = w / 2.0
         if len(p) == 1:  # a dot
             p = np.vstack([p, p])
@@ -103,9 +113,7 @@ def coverage_polylines(shape, polylines, widths=None) -> tuple[np.ndarray, np.nd
     owner : (H, W) int64
         Index of the polyline that covers each pixel most (-1 if none).
     """
-    h, w = int(shape[0]), int(shape[1])
-    if h <= 0 or w <= 0:
-        raise ValueError(f"shape must be positive, got {shape}")
+    h, w = check_shape(shape, "shape")
     segs, owner = pack_polylines(polylines, widths)
     coverage = np.zeros((h, w), np.float32)
     idx = np.full((h, w), -1, np.int64)
@@ -144,16 +152,9 @@ def draw_polylines(image, polylines, widths=None, colors=(0.0, 0.0, 0.0), *,
     True
     """
     img = as_float_image(image)
-    if not 0 <= alpha <= 1:
-        raise ValueError(f"alpha must be in [0, 1], got {alpha}")
-    n_lines = 1 if (isinstance(polylines, np.ndarray) and polylines.ndim == 2) else len(polylines)
-    col = np.asarray(colors, dtype=np.float32)
-    if col.ndim == 1:
-        col = np.broadcast_to(col, (max(n_lines, 1), col.shape[0]))
-    if col.ndim != 2 or col.shape[1] not in (1, 3, 4) or col.shape[0] != max(n_lines, 1):
-        raise ValueError("colors must be one colour or one colour per polyline")
-    if not np.all(np.isfinite(col)):
-        raise ValueError("colors contains NaN or infinite values")
+    alpha = check_real(alpha, "alpha", 0, 1)
+    n_lines = len(as_polylines(polylines, "polylines"))
+    col = as_colours(colors, n_lines, "colors")
     if col.shape[1] == 1:
         col = np.repeat(col, 3, axis=1)
     col_alpha = col[:, 3] if col.shape[1] == 4 else np.ones(len(col), np.float32)

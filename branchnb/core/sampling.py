@@ -12,10 +12,12 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from .random import as_rng
+from .validate import MAX_COUNT, MAX_ITERATIONS, Int, checked, real_array
 
 __all__ = ["stipple"]
 
 
+@checked(n_points=Int(1, MAX_COUNT), iterations=Int(0, MAX_ITERATIONS))
 def stipple(density, n_points: int, *, iterations: int = 20, rng=None) -> np.ndarray:
     """Place ``n_points`` by weighted Voronoi stippling of ``density``.
 
@@ -44,7 +46,7 @@ def stipple(density, n_points: int, *, iterations: int = 20, rng=None) -> np.nda
     >>> pts.shape
     (16, 2)
     """
-    d = np.asarray(density, dtype=np.float64)
+    d = real_array(density, "density", allow_empty=True, finite=False)
     if d.ndim != 2 or d.size == 0:
         raise ValueError(f"density must be a non-empty 2-D array, got shape {d.shape}")
     if not np.all(np.isfinite(d)) or (d < 0).any():
@@ -63,7 +65,8 @@ def stipple(density, n_points: int, *, iterations: int = 20, rng=None) -> np.nda
     pick = rng.choice(flat.size, size=n_points, replace=flat.size < n_points, p=w / w.sum())
     pts = pix[pick] + rng.uniform(-0.5, 0.5, (n_points, 2))
     for _ in range(iterations):
-        _, owner = cKDTree(pts).query(pix, workers=-1)
+        # One thread: query threads (workers=-1) could outlive a KeyboardInterrupt and crash the kernel.
+        _, owner = cKDTree(pts).query(pix)
         mass = np.bincount(owner, weights=w, minlength=n_points)
         cx = np.bincount(owner, weights=w * pix[:, 0], minlength=n_points)
         cy = np.bincount(owner, weights=w * pix[:, 1], minlength=n_points)

@@ -8,18 +8,22 @@ starts at vertex ``parent_vertex`` of branch ``parent``.
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from .image import as_float_image, as_points
 from .io import encode_png
+from .jsonio import dumps_strict, loads_strict
 from .polyline import polyline_length, resample_uniform, turning_angles
 from .render import draw_polylines
 from .svg import polylines_to_svg
+from .validate import COORD_LIMIT, check_int, check_real, check_shape, real_array
 
-__all__ = ["Branch", "Structure", "GENERATION_COLORS"]
+__all__ = ["Branch", "Structure", "GENERATION_COLORS", "STRUCTURE_JSON_VERSION"]
+
+#: Version written to (and required from) structure JSON.
+STRUCTURE_JSON_VERSION = 1
 
 #: Colours of generations 0, 1, 2, ... (the last repeats for deeper ones).
 GENERATION_COLORS = ((0.10, 0.62, 0.20), (0.15, 0.35, 0.95), (0.95, 0.60, 0.05),
@@ -50,7 +54,7 @@ class Branch:
 
     def __post_init__(self):
         self.points = as_points(self.points, name="points", min_points=1)
-        t = np.asarray(self.thickness, dtype=np.float64)
+        t = real_array(self.thickness, "thickness", finite=False)
         if t.ndim == 0:
             t = np.full(len(self.points), float(t))
         if t.shape != (len(self.points),):
@@ -60,6 +64,8 @@ class Branch:
         if not np.all(np.isfinite(t)) or np.any(t <= 0):
             raise ValueError("thickness must be finite and > 0 at every vertex")
         self.thickness = t
+        self.parent = check_int(self.parent, "parent", 0, allow_none=True)
+        self.parent_vertex = check_int(self.parent_vertex, "parent_vertex", 0, allow_none=True)
         if (self.parent is None) != (self.parent_vertex is None):
             raise ValueError("parent and parent_vertex must both be set or both be None")
 
@@ -95,10 +101,7 @@ class Structure:
             raise TypeError(f"branches must be a list of Branch, got {type(self.branches).__name__}")
         self.branches = [b if isinstance(b, Branch) else Branch(**b) for b in self.branches]
         if self.image_shape is not None:
-            shp = tuple(int(v) for v in tuple(self.image_shape)[:2])
-            if len(shp) != 2 or min(shp) <= 0:
-                raise ValueError(f"image_shape must be a positive (H, W), got {self.image_shape}")
-            self.image_shape = shp
+            self.image_shape = check_shape(self.image_shape, "image_shape")
         self.validate()
 
     # -- building -------------------------------------------------------
@@ -141,10 +144,16 @@ class Structure:
                 j = self.branches[j].parent
         return self
 
+    def _index(self, index, name: str = "index") -> int:
+        index = check_int(index, name)
+        if not 0 <= index < len(self.branches):
+            raise ValueError(f"{name} {index} out of range for {len(self.branches)} branches")
+        return index
+
     def remove_subtree(self, index: int) -> Structure:
         """A new structure without branch ``index`` and all its descendants."""
-        if not 0 <= index < len(self.branches):
-            raise ValueError(f"index {index} out of range for {len(self.branches)} branches")
+        index = self._index(index)
+        self.validate()
         drop = {index}
         changed = True
         while changed:
@@ -175,7 +184,7 @@ class Structure:
         ...
         ValueError: structure.branches[0].points[1] = (60.0, 10.0) lies outside the 50 x 40 image
         """
-        shp = shape if shape is not None else self.image_shape
+        shp = check_shape(shape, "shape") if shape is not None else self.image_shape
         if shp is None:
             return self
         h, w = int(shp[0]), int(shp[1])
@@ -185,7 +194,7 @@ class Structure:
             if bad.any():
                 j = int(np.flatnonzero(bad)[0])
                 raise ValueError(f"{name}.branches[{i}].points[{j}] = ({x[j]:.1f}, {y[j]:.1f}) lies outside "
-                                 f"the {w} x {h} image")
+                                 f"the {w} x {h} image{' given as shape' if shape is not None else ''}")
         return self
 
     def copy(self) -> Structure:
@@ -205,9 +214,10 @@ class Structure:
         >>> t.branches[0].points.tolist(), t.image_shape, float(t.branches[0].thickness[0])
         ([[1.5, 1.5], [21.5, 1.5]], (40, 60), 4.0)
         """
-        f = float(factor)
-        if not np.isfinite(f) or f <= 0:
-            raise ValueError(f"factor must be a positive number, got {factor!r}")
+        f = check_real(factor, "factor", 0, low_open=True)
+        _x0, _y0, x1, y1 = self.bounds() if self.branches else (0, 0, 0, 0)
+        if max(abs(x1), abs(y1), *(self.image_shape or ())) * f > COORD_LIMIT:
+            raise ValueError(f"factor {f:g} would move points beyond +-{COORD_LIMIT:g} pixels")
         shape = None
         if self.image_shape is not None:
             shape = (max(1, int(round(self.image_shape[0] * f))), max(1, int(round(self.image_shape[1] * f))))
@@ -225,13 +235,14 @@ class Structure:
         >>> s.with_thickness(0, 1, 5.0).branches[0].thickness.tolist()
         [2.0, 5.0]
         """
-        if not 0 <= index < len(self.branches):
-            raise ValueError(f"index {index} out of range for {len(self.branches)} branches")
+        index = self._index(index)
+        if not isinstance(vertex, slice):
+            vertex = check_int(vertex, "vertex")
         out = self.copy()
         t = out.branches[index].thickness.copy()
         try:
             t[vertex] = r
-        except IndexError as exc:
+        except (IndexError, OverflowError) as exc:
             raise ValueError(f"vertex {vertex} out of range for branch {index} "
                              f"({len(t)} vertices)") from exc
         out.branches[index] = Branch(out.branches[index].points, t, out.branches[index].parent,
@@ -249,14 +260,18 @@ class Structure:
 
     def children(self, index: int) -> list[int]:
         """Indices of the branches that start on branch ``index``."""
+        index = self._index(index)
         return [i for i, b in enumerate(self.branches) if b.parent == index]
 
     def generation(self, index: int) -> int:
         """0 for roots, 1 for their children, ..."""
-        g, j = 0, index
+        j = self._index(index)
+        g = 0
         while self.branches[j].parent is not None:
             j = self.branches[j].parent
             g += 1
+            if g > len(self.branches):  # parents changed after construction into a cycle
+                raise ValueError(f"branch {index} is part of a parent cycle")
         return g
 
     def angles(self) -> np.ndarray:
@@ -322,6 +337,8 @@ class Structure:
         polyline nearest to its old furcation point, and the child's first
         vertex snaps to it, so furcations survive any re-sampling.
         """
+        if isinstance(polylines, (str, bytes)) or not hasattr(polylines, "__len__"):
+            raise TypeError(f"polylines must be a sequence of (points, thickness), got {type(polylines).__name__}")
         if len(polylines) != len(self.branches):
             raise ValueError(f"polylines must have one entry per branch ({len(self.branches)}), "
                              f"got {len(polylines)}")
@@ -340,6 +357,7 @@ class Structure:
     # -- I/O ------------------------------------------------------------
     def to_dict(self) -> dict:
         return {
+            "version": STRUCTURE_JSON_VERSION,
             "image_shape": list(self.image_shape) if self.image_shape else None,
             "branches": [
                 {
@@ -354,32 +372,73 @@ class Structure:
 
     def to_json(self) -> str:
         """Serialise to a JSON string (round-trips through :meth:`from_json`)."""
-        return json.dumps(self.to_dict())
+        return dumps_strict(self.to_dict(), name="structure")
 
     @classmethod
-    def from_dict(cls, d: dict) -> Structure:
-        if not isinstance(d, dict) or "branches" not in d:
-            raise ValueError("a structure dict needs a 'branches' list")
+    def from_dict(cls, d: dict, *, name: str = "structure") -> Structure:
+        """Build a structure from :meth:`to_dict` output, checking every field.
+
+        Raises
+        ------
+        ValueError, TypeError
+            A missing or mistyped field, an unknown ``version``, or points
+            and thickness that are not finite numbers; the message names
+            the field (``structure['branches'][3]['thickness']``).
+        """
+        if not isinstance(d, dict):
+            raise TypeError(f"d ({name}) must be a JSON object (dict), got {type(d).__name__}")
+        version = d.get("version", STRUCTURE_JSON_VERSION)
+        if version != STRUCTURE_JSON_VERSION or isinstance(version, bool):
+            raise ValueError(f"{name}['version'] = {version!r} is not supported (expected {STRUCTURE_JSON_VERSION})")
+        branches = d.get("branches")
+        if not isinstance(branches, list):
+            raise ValueError(f"{name} needs a 'branches' list")
         shape = d.get("image_shape")
-        return cls([Branch(**b) for b in d["branches"]], tuple(shape) if shape else None)
+        if shape is not None:
+            if not isinstance(shape, (list, tuple)) or len(shape) != 2:
+                raise ValueError(f"{name}['image_shape'] must be [height, width] or null, got {shape!r:.60}")
+            shape = check_shape(shape, f"{name}['image_shape']")
+        out = []
+        for i, b in enumerate(branches):
+            where = f"{name}['branches'][{i}]"
+            if not isinstance(b, dict):
+                raise TypeError(f"{where} must be an object, got {type(b).__name__}")
+            missing = [k for k in ("points", "thickness") if k not in b]
+            if missing:
+                raise ValueError(f"{where} lacks {', '.join(map(repr, missing))}")
+            unknown = set(b) - {"points", "thickness", "parent", "parent_vertex"}
+            if unknown:
+                raise ValueError(f"{where} has unknown field(s) {sorted(unknown)}")
+            parent = check_int(b.get("parent"), f"{where}['parent']", 0, allow_none=True)
+            vertex = check_int(b.get("parent_vertex"), f"{where}['parent_vertex']", 0, allow_none=True)
+            points = as_points(b["points"], name=f"{where}['points']")
+            thickness = real_array(b["thickness"], f"{where}['thickness']", ndim=(0, 1))
+            try:
+                out.append(Branch(points, thickness, parent, vertex))
+            except ValueError as exc:
+                raise ValueError(f"{where}: {exc}") from None
+        return cls(out, shape)
 
     @classmethod
     def from_json(cls, text: str) -> Structure:
-        """Parse a structure written by :meth:`to_json`."""
-        try:
-            d = json.loads(text)
-        except (TypeError, json.JSONDecodeError) as exc:
-            raise ValueError(f"text is not valid structure JSON: {exc}") from exc
-        return cls.from_dict(d)
+        """Parse a structure written by :meth:`to_json` (strict JSON, every field checked).
+
+        Examples
+        --------
+        >>> s = Structure([Branch([(0, 0), (10, 0)], 2.0)])
+        >>> Structure.from_json(s.to_json()).n_vertices
+        2
+        """
+        return cls.from_dict(loads_strict(text, name="text"))
 
     # -- rendering ------------------------------------------------------
     def _canvas_shape(self, shape) -> tuple[int, int]:
         if shape is not None:
-            return int(shape[0]), int(shape[1])
+            return check_shape(shape, "shape")
         if self.image_shape is not None:
             return self.image_shape
         _x0, _y0, x1, y1 = self.bounds()
-        return int(np.ceil(y1)) + 2, int(np.ceil(x1)) + 2
+        return check_shape((max(np.ceil(y1), 0) + 2, max(np.ceil(x1), 0) + 2), "the structure's bounds")
 
     def render(self, shape=None, *, background=None, color=(0.0, 0.0, 0.0), by_generation: bool = False,
                alpha: float = 1.0, min_width: float = 0.0) -> np.ndarray:
@@ -400,6 +459,8 @@ class Structure:
             Draw every stroke at least this wide (pixels), e.g. to see a
             thin skeleton over a photo.
         """
+        min_width = check_real(min_width, "min_width", 0, 1e4)
+        self.validate()
         if background is None:
             h, w = self._canvas_shape(shape)
             background = np.ones((h, w, 3), np.float32)
@@ -424,4 +485,7 @@ class Structure:
     def _repr_png_(self) -> bytes | None:
         if not self.branches:
             return None
-        return encode_png(self.render())
+        try:
+            return encode_png(self.render())
+        except ValueError:  # too large to show: the text repr stands in
+            return None

@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from .render import pack_polylines
+from .validate import COORD_LIMIT, as_colour, as_colours, as_polylines, check_real
 
 __all__ = ["polylines_to_svg"]
 
@@ -42,18 +43,19 @@ def polylines_to_svg(polylines, widths=None, colors=(0.0, 0.0, 0.0), *, size,
     >>> svg.startswith("<svg")
     True
     """
-    w, h = size
-    if w <= 0 or h <= 0:
-        raise ValueError(f"size must be positive, got {size}")
+    if isinstance(size, (str, bytes)) or not hasattr(size, "__len__") or len(size) != 2:
+        raise TypeError(f"size must be a (width, height) pair, got {size!r:.60}")
+    w = check_real(size[0], "size[0]", 0, COORD_LIMIT, low_open=True)
+    h = check_real(size[1], "size[1]", 0, COORD_LIMIT, low_open=True)
+    w, h = f"{w:g}", f"{h:g}"
     if isinstance(polylines, np.ndarray) and polylines.ndim == 2:
         polylines = [polylines]
-    n = len(polylines)
-    col = np.asarray(colors, float)
-    if col.ndim == 1:
-        col = np.broadcast_to(col, (max(n, 1), col.shape[0]))
-    if col.shape[0] != max(n, 1):
-        raise ValueError("colors must be one colour or one colour per polyline")
+    n = len(as_polylines(polylines, "polylines"))
+    col = as_colours(colors, n, "colors", channels=(3, 4))
+    if background is not None:
+        background = as_colour(background, "background")
     segs, owner = pack_polylines(polylines, widths)
+    # Everything below formats validated, finite numbers: the document is valid SVG.
     parts = [
         f'<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" '
         f'viewBox="0 0 {w} {h}">'

@@ -13,6 +13,7 @@ import cv2
 import numpy as np
 
 from .image import as_float_image
+from .validate import Real, as_point, check_shape, checked, real_array
 
 __all__ = ["Patch", "transfer_patch", "remap"]
 
@@ -36,7 +37,7 @@ class Patch:
 
     def placed(self, shape) -> tuple[np.ndarray, np.ndarray]:
         """The patch pasted on an empty canvas of ``shape`` (H, W[, C]): ``(image, mask)``."""
-        h, w = shape[:2]
+        h, w = check_shape(shape, "shape")
         img = np.zeros((h, w, self.pixels.shape[2]), np.float32)
         mask = np.zeros((h, w), bool)
         x0, y0 = self.origin
@@ -50,6 +51,7 @@ class Patch:
         return img, mask
 
 
+@checked(radius=Real(0, 4096, low_open=True), scale=Real(1e-3, 1e3))
 def transfer_patch(image, src_center, src_angle: float, dst_center, dst_angle: float,
                    radius: float, *, scale: float = 1.0, circular: bool = False) -> Patch:
     """Copy the texture around ``src_center`` to a patch around ``dst_center``.
@@ -84,12 +86,8 @@ def transfer_patch(image, src_center, src_angle: float, dst_center, dst_angle: f
         raise ValueError(f"radius must be > 0, got {radius}")
     if not (np.isfinite(scale) and scale > 0):
         raise ValueError(f"scale must be > 0, got {scale}")
-    sx, sy = map(float, src_center)
-    dx, dy = map(float, dst_center)
-    for name, v in (("src_center", (sx, sy)), ("dst_center", (dx, dy)),
-                    ("angles", (src_angle, dst_angle))):
-        if not np.all(np.isfinite(v)):
-            raise ValueError(f"{name} must be finite")
+    sx, sy = as_point(src_center, "src_center")
+    dx, dy = as_point(dst_center, "dst_center")
     r = int(np.ceil(radius))
     cx, cy = int(round(dx)), int(round(dy))
     x0, y0 = cx - r, cy - r
@@ -127,8 +125,8 @@ def remap(image, map_x, map_y) -> tuple[np.ndarray, np.ndarray]:
         Where the sample location lay inside the image.
     """
     img = as_float_image(image)
-    mx = np.asarray(map_x, np.float32)
-    my = np.asarray(map_y, np.float32)
+    mx = real_array(map_x, "map_x", dtype=np.float32, finite=False)
+    my = real_array(map_y, "map_y", dtype=np.float32, finite=False)
     if mx.shape != my.shape or mx.ndim != 2:
         raise ValueError(f"map_x and map_y must be 2-D with equal shapes, got {mx.shape} and {my.shape}")
     if not (np.all(np.isfinite(mx)) and np.all(np.isfinite(my))):

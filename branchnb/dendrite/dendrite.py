@@ -20,6 +20,7 @@ import numba
 import numpy as np
 
 from ..core.io import encode_png
+from ..core.validate import MAX_ITERATIONS, Array, Colour, Int, Real, check_shape, checked, real_array
 from .planner import PlanResult
 
 __all__ = ["Dendrite", "PathStats", "build_dendrite", "path_statistics"]
@@ -142,8 +143,19 @@ class Dendrite:
     iteration: np.ndarray = field(default=None)
 
     def __post_init__(self):
+        self.nodes = real_array(self.nodes, "nodes", ndim=1, dtype=np.int64, allow_empty=True, min=0)
+        n = len(self.nodes)
+        self.parent = real_array(self.parent, "parent", ndim=1, dtype=np.int64, allow_empty=True, min=-1)
+        self.points = real_array(self.points, "points", ndim=2, allow_empty=True)
+        self.radius = real_array(self.radius, "radius", ndim=1, allow_empty=True, min=0)
+        for name in ("parent", "points", "radius"):
+            if len(getattr(self, name)) != n:
+                raise ValueError(f"{name} must have one row per node ({n}), got {len(getattr(self, name))}")
+        if self.shape is not None:
+            self.shape = check_shape(self.shape, "shape")
         if self.iteration is None:
-            self.iteration = np.zeros(len(self.nodes), np.int64)
+            self.iteration = np.zeros(n, np.int64)
+        self.iteration = real_array(self.iteration, "iteration", ndim=1, dtype=np.int64, allow_empty=True, min=0)
 
     # -- structure ------------------------------------------------------
     @property
@@ -197,6 +209,7 @@ class Dendrite:
             pos[b[first:]] = np.arange(first, len(b))
         return br, pos
 
+    @checked(radius=Array(ndim=1, min=0))
     def with_radius(self, radius) -> Dendrite:
         """A copy with a new per-node radius."""
         r = np.asarray(radius, np.float64)
@@ -206,6 +219,7 @@ class Dendrite:
                         self.branch_parent, self.tips, self.shape, self.iteration)
 
     # -- geometry -------------------------------------------------------
+    @checked(iterations=Int(0, 10_000))
     def smoothed_points(self, iterations: int = 0) -> np.ndarray:
         """Node positions after ``iterations`` passes of [1, 2, 1] / 4 averaging
         along the branches (about a Gaussian of sigma sqrt(iterations / 2)
@@ -223,6 +237,7 @@ class Dendrite:
             p[i] = 0.25 * p[prv] + 0.5 * p[i] + 0.25 * p[nx]
         return p
 
+    @checked(smooth=Int(0, 10_000))
     def polylines(self, smooth: int = 0) -> list[np.ndarray]:
         """One ``(n_b, 2)`` polyline per branch (smoothed with :meth:`smoothed_points`)."""
         p = self.smoothed_points(smooth)
@@ -247,6 +262,7 @@ class Dendrite:
         return Structure(out, self.shape)
 
     # -- output ---------------------------------------------------------
+    @checked(color=Colour(), smooth=Int(0, 10_000))
     def render(self, background=None, *, color=(0.0, 0.0, 0.0), smooth: int = 2) -> np.ndarray:
         """Draw the branches with their widths (plain metaphor) on ``background``
         (white canvas of ``shape`` by default)."""
@@ -254,6 +270,7 @@ class Dendrite:
 
         return render_plain(self, background=background, color=color, smooth=smooth).image
 
+    @checked(color=Colour(), smooth=Int(0, 10_000))
     def to_svg(self, *, color=(0.0, 0.0, 0.0), smooth: int = 2) -> str:
         """SVG document of the plain rendering."""
         from .render import render_plain
@@ -287,6 +304,7 @@ def _endpoint_nodes(plan_result: PlanResult, endpoints) -> np.ndarray:
     return e
 
 
+@checked(radius=Real(0, 1e4), iteration=Int(0, MAX_ITERATIONS))
 def build_dendrite(plan_result: PlanResult, endpoints, *, base: Dendrite | None = None,
                    positions=None, radius: float = 1.0, iteration: int = 0) -> Dendrite:
     """Trace the endpoints back to the seeds and return the dendrite.
@@ -425,6 +443,7 @@ class PathStats:
     total: np.ndarray
 
 
+@checked()
 def path_statistics(dendrite: Dendrite, plan_result: PlanResult) -> PathStats:
     """Tortuosity and costs of the seed-to-tip path of every tip of ``dendrite``.
 

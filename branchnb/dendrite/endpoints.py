@@ -26,6 +26,7 @@ import numpy as np
 from ..core.image import as_mask
 from ..core.random import as_rng
 from ..core.sampling import stipple
+from ..core.validate import MAX_COUNT, Array, Int, Real, checked
 
 __all__ = ["endpoint_density", "place_endpoints", "random_endpoints"]
 
@@ -53,6 +54,8 @@ def endpoint_density(importance, *, gamma: float = 1.0, floor: float = 0.02,
     return d
 
 
+@checked(importance=Array(ndim=2), n_endpoints=Int(1, MAX_COUNT), gamma=Real(0, 100, low_open=True),
+         floor=Real(0, 1), iterations=Int(0, 10_000))
 def place_endpoints(importance, n_endpoints: int, *, gamma: float = 1.0, floor: float = 0.02,
                     iterations: int = 10, mask=None, rng=None) -> np.ndarray:
     """Blue-noise endpoints whose density follows the importance map.
@@ -114,6 +117,7 @@ def place_endpoints(importance, n_endpoints: int, *, gamma: float = 1.0, floor: 
     return pts
 
 
+@checked(n_endpoints=Int(1, MAX_COUNT))
 def random_endpoints(mask, n_endpoints: int, *, rng=None) -> np.ndarray:
     """``n_endpoints`` uniformly random pixels of ``mask`` as (x, y) points (white noise)."""
     m = as_mask(mask)

@@ -27,6 +27,7 @@ from scipy import ndimage
 
 from ..core.image import as_gray
 from ..core.params import check_params, param
+from ..core.validate import Real, checked
 
 __all__ = ["ImportanceParams", "darkness", "gradient_strength", "importance_map"]
 
@@ -50,6 +51,7 @@ def darkness(image) -> np.ndarray:
     return (1.0 - as_gray(image)).astype(np.float32)
 
 
+@checked(sigma=Real(0, 1e3), min_edge=Real(0, 1))
 def gradient_strength(image, *, sigma: float = 1.0, min_edge: float = 0.05) -> np.ndarray:
     """``G``: Gaussian gradient magnitude scaled so strong edges reach 1 (see module doc)."""
     gray = as_gray(image).astype(np.float64)
@@ -62,6 +64,7 @@ def gradient_strength(image, *, sigma: float = 1.0, min_edge: float = 0.05) -> n
     return np.clip(g / ref, 0.0, 1.0).astype(np.float32)
 
 
+@checked()
 def importance_map(image, params: ImportanceParams | None = None) -> np.ndarray:
     """Importance ``I`` in [0, 1] of every pixel of ``image``.
 

@@ -33,6 +33,7 @@ import scipy.sparse as sp
 
 from ..core.image import as_points
 from ..core.random import as_rng
+from ..core.validate import Array, Choice, Real, checked, real_array
 
 __all__ = [
     "OFFSETS",
@@ -49,6 +50,13 @@ OFFSETS = np.array(
 _DIAGONAL = np.array([False] * 4 + [True] * 4)
 
 
+#: Direction length factors: positive and finite.
+_FACTOR = Real(0, 1e6, low_open=True)
+#: A cost map: real, NaN-free, +inf allowed (walls).
+_COST = Array(ndim=2, allow_inf=True)
+
+
+@checked(diagonal=Choice("euclidean", "unit"), down=_FACTOR, side=_FACTOR, up=_FACTOR)
 def direction_factors(*, diagonal: str = "euclidean", down: float = 1.0, side: float = 1.0,
                       up: float = 1.0) -> np.ndarray:
     """Length factors ``f_k`` of the 8 lattice directions (in :data:`OFFSETS` order).
@@ -80,10 +88,7 @@ def direction_factors(*, diagonal: str = "euclidean", down: float = 1.0, side: f
 
 
 def _check_weights(weights, name: str) -> np.ndarray:
-    try:
-        w = np.asarray(weights, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise TypeError(f"{name} must be a numeric (H, W) array") from exc
+    w = real_array(weights, name, allow_empty=True, finite=False)
     if w.ndim != 2 or w.shape[0] < 1 or w.shape[1] < 1:
         raise ValueError(f"{name} must be a non-empty 2-D (H, W) array, got shape {w.shape}")
     if np.isnan(w).any():
@@ -93,6 +98,7 @@ def _check_weights(weights, name: str) -> np.ndarray:
     return w
 
 
+@checked(cost=_COST, epsilon=Real(0, 1e6), noise=Real(0, 1e6, arrays=True))
 def node_weights(cost, *, epsilon: float = 0.01, noise: float = 0.5, rng=None) -> np.ndarray:
     """Node weights ``w = cost + epsilon + noise * U`` with ``U ~ uniform[0, 1)``.
 
@@ -160,7 +166,7 @@ class Lattice:
         self.weights = np.ascontiguousarray(_check_weights(self.weights, "weights"))
         if self.factors is None:
             self.factors = direction_factors()
-        f = np.asarray(self.factors, dtype=np.float64)
+        f = real_array(self.factors, "factors", finite=False)
         if f.shape != (8,) or not np.all(np.isfinite(f)) or (f <= 0).any():
             raise ValueError("factors must be 8 positive finite numbers (one per direction)")
         self.factors = f
@@ -184,9 +190,11 @@ class Lattice:
         row = np.clip(np.rint(pts[:, 1]).astype(np.int64), 0, h - 1)
         return row * w + col
 
+    @checked(nodes=Array(ndim=(0, 1), dtype=np.int64, allow_empty=True, min=0))
     def node_points(self, nodes) -> np.ndarray:
         """``(x, y)`` of flat node indices, as an (N, 2) float array."""
-        nodes = np.asarray(nodes, dtype=np.int64)
+        if nodes.size and nodes.max() >= self.n_nodes:
+            raise ValueError(f"nodes must be < {self.n_nodes} (the lattice's node count), got {int(nodes.max())}")
         row, col = np.divmod(nodes, self.shape[1])
         return np.column_stack([col, row]).astype(np.float64)
 
@@ -215,6 +223,7 @@ class Lattice:
         )
 
 
+@checked(cost=_COST, epsilon=Real(0, 1e6), noise=Real(0, 1e6, arrays=True), factors=Array(ndim=1))
 def make_lattice(cost, *, epsilon: float = 0.01, noise: float = 0.5, rng=None,
                  factors=None) -> Lattice:
     """Build a :class:`Lattice` from a cost map: ``w = cost + epsilon + noise * U``.

@@ -20,11 +20,13 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage
 
+from ..core.image import as_points
 from ..core.params import check_params, param
 from ..core.polyline import arc_length
 from ..core.random import as_rng
 from ..core.render import coverage_polylines, draw_polylines
 from ..core.svg import polylines_to_svg
+from ..core.validate import Colour, Int, Point, Real, Shape, checked
 from .dendrite import Dendrite, build_dendrite
 from .lattice import direction_factors, make_lattice
 from .planner import plan
@@ -136,6 +138,8 @@ def vine_curves(dendrite: Dendrite, *, smooth: int = 12, curls: float = 0.6,
     return stems, widths, leaf_pts, leaf_w
 
 
+@checked(stem_color=Colour(), leaf_color=Colour(), smooth=Int(0, 10_000), curls=Real(0, 1), curl_length=Real(0, 1e4),
+         leaf_spacing=Real(0.5, 1e4), leaf_length=Real(0, 1e4), leaf_width=Real(0, 1e4))
 def render_vines(dendrite: Dendrite, *, background=None, stem_color=(0.22, 0.3, 0.12),
                  leaf_color=(0.3, 0.55, 0.18), smooth: int = 12, curls: float = 0.6,
                  curl_length: float = 14.0, leaves: bool = True, leaf_spacing: float = 14.0,
@@ -146,6 +150,7 @@ def render_vines(dendrite: Dendrite, *, background=None, stem_color=(0.22, 0.3, 
     the stem is thin (radius <= 1.6 px). See :func:`vine_curves` for the
     geometry parameters.
     """
+    rng = as_rng(rng)  # one stream for the geometry and the leaf shades: rng=s equals default_rng(s)
     canvas = _canvas(dendrite, background)
     stems, widths, lp, lw = vine_curves(
         dendrite, smooth=smooth, curls=curls, curl_length=curl_length, leaves=leaves,
@@ -154,7 +159,7 @@ def render_vines(dendrite: Dendrite, *, background=None, stem_color=(0.22, 0.3, 
     h, w = canvas.shape[:2]
     cols = None
     if lp:
-        shade = as_rng(rng).uniform(0.8, 1.2, (len(lp), 1))
+        shade = rng.uniform(0.8, 1.2, (len(lp), 1))
         cols = np.clip(np.asarray(leaf_color)[None, :] * shade, 0, 1)
         img = draw_polylines(img, lp, widths=lw, colors=cols)
 
@@ -168,6 +173,8 @@ def render_vines(dendrite: Dendrite, *, background=None, stem_color=(0.22, 0.3, 
 
 
 # ------------------------------------------------------------------- lightning
+@checked(sky=Colour(), core_color=Colour(), glow_color=Colour(), glow_sigma=Real(0, 1e3), glow_strength=Real(0, 1e4),
+         core_scale=Real(0, 1e3), smooth=Int(0, 10_000))
 def render_lightning(dendrite: Dendrite, *, background=None, sky=(0.02, 0.02, 0.07),
                      core_color=(1.0, 1.0, 1.0), glow_color=(0.55, 0.6, 1.0),
                      glow_sigma: float = 5.0, glow_strength: float = 4.0,
@@ -243,6 +250,7 @@ class LightningParams:
     max_width: float = param(5.0, min=0.5, max=30.0, step=0.5, help="widest channel")
 
 
+@checked(shape=Shape(), start=Point(), strike=Point())
 def lightning(shape, params: LightningParams | None = None, *, start=None, strike=None,
               rng=None) -> Dendrite:
     """Grow a lightning bolt: non-scalar paths that prefer to go down.
@@ -269,9 +277,12 @@ def lightning(shape, params: LightningParams | None = None, *, start=None, strik
     (True, (80, 60))
     """
     p = check_params(params if params is not None else LightningParams())
-    h, w = int(shape[0]), int(shape[1])
+    h, w = shape
     if h < 4 or w < 4:
         raise ValueError(f"shape must be at least 4 x 4, got {shape}")
+    for name, point in (("start", start), ("strike", strike)):
+        if point is not None:
+            as_points(point[None], name=name, image_shape=(h, w))
     rng = as_rng(rng)
     f = direction_factors(down=1.0, side=p.side_cost, up=p.up_cost)
     lat = make_lattice(np.zeros((h, w)), epsilon=p.epsilon, noise=p.noise, rng=rng, factors=f)

@@ -48,6 +48,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..core.io import encode_png
+from ..core.validate import Array, Int, Real, checked
 from .lattice import OFFSETS, Lattice
 
 __all__ = ["METRICS", "PlanResult", "metric_code", "plan"]
@@ -582,6 +583,7 @@ class PlanResult:
             return np.column_stack([self.max_cost, self.total_cost])
         return self.blend_weight * self.max_cost + self.total_cost
 
+    @checked(node=Int(0))
     def path(self, node: int) -> np.ndarray:
         """Nodes from the seed set to ``node`` (inclusive), following ``parent``."""
         node = int(node)
@@ -594,11 +596,14 @@ class PlanResult:
             out.append(int(self.parent[out[-1]]))
         return np.array(out[::-1], np.int64)
 
+    @checked(values=Array(ndim=(1, 2), allow_inf=True))
     def as_image(self, values) -> np.ndarray:
         """Reshape a per-node array to the lattice ``(H, W)``."""
         if self.shape is None:
             raise ValueError("this plan is on a general graph, not a lattice")
-        return np.asarray(values).reshape(self.shape)
+        if values.size != self.n_nodes:
+            raise ValueError(f"values must have one entry per node ({self.n_nodes}), got {values.size}")
+        return values.reshape(self.shape)
 
     def _repr_png_(self) -> bytes | None:
         if self.shape is None:
@@ -682,6 +687,7 @@ def _bucket_range(graph, code: int, a: float, n_nodes: int) -> tuple[int, float]
     return int(np.clip(n_nodes // 4, 16, 1 << 16)), float(hint)
 
 
+@checked(blend_weight=Real(0, allow_inf=True))
 def plan(graph, seeds, *, metric: str = "nonscalar", blend_weight: float = 1000.0,
          stop_at=None) -> PlanResult:
     """Dijkstra from a seed set with the chosen path metric.

@@ -17,6 +17,7 @@ from ..core.image import as_float_image, as_points, as_rgb
 from ..core.io import encode_png
 from ..core.render import draw_polylines
 from ..core.svg import polylines_to_svg
+from ..core.validate import Choice, Colour, Instance, Int, Real, check_output_path, checked, real_array
 from .planner import PlanResult
 
 __all__ = [
@@ -38,7 +39,9 @@ class Rendering:
     """
 
     def __init__(self, image: np.ndarray, svg):
-        self.image = image
+        self.image = real_array(image, "image", ndim=(2, 3), dtype=np.float32)
+        if not (isinstance(svg, str) or callable(svg)):
+            raise TypeError(f"svg must be a string or a function returning one, got {type(svg).__name__}")
         self._svg = svg
 
     @property
@@ -50,7 +53,7 @@ class Rendering:
 
     def save_svg(self, path) -> Path:
         """Write the SVG document to ``path``."""
-        path = Path(path)
+        path = check_output_path(path)
         path.write_text(self.svg, encoding="utf-8")
         return path
 
@@ -106,6 +109,7 @@ def svg_document(size, layers, *, background=None, defs: str = "") -> str:
     return "\n".join(out)
 
 
+@checked(dendrite=Instance("Dendrite"), color=Colour(), smooth=Int(0, 10_000), width_scale=Real(0, 1e3))
 def render_plain(dendrite, *, background=None, color=(0.0, 0.0, 0.0), smooth: int = 2,
                  width_scale: float = 1.0) -> Rendering:
     """The plain metaphor: every branch as an anti-aliased line of varying width.
@@ -142,6 +146,7 @@ def render_plain(dendrite, *, background=None, color=(0.0, 0.0, 0.0), smooth: in
                                                      size=(w, h), background=(1, 1, 1)))
 
 
+@checked(bands=Int(1, 4096))
 def visiting_order_image(plan_result: PlanResult, *, bands: int = 16, cmap: str = "magma",
                          seeds: bool = True) -> np.ndarray:
     """The order in which Dijkstra settled the nodes, as banded contours.
@@ -179,6 +184,7 @@ def visiting_order_image(plan_result: PlanResult, *, bands: int = 16, cmap: str 
     return img
 
 
+@checked(which=Choice("total", "max"))
 def cost_image(plan_result: PlanResult, which: str = "total") -> np.ndarray:
     """The planner's ``total`` (S) or ``max`` (M) cost as an (H, W) array scaled to [0, 1]
     (unreached nodes are 1)."""
@@ -195,6 +201,7 @@ def cost_image(plan_result: PlanResult, which: str = "total") -> np.ndarray:
     return out.reshape(plan_result.shape).astype(np.float32)
 
 
+@checked(color=Colour(), radius=Real(0, 1e4))
 def draw_points(image, points, *, color=(0.85, 0.1, 0.1), radius: float = 1.5) -> np.ndarray:
     """Dots of the given radius at ``(x, y)`` points (e.g. endpoints) on a copy of ``image``."""
     img = as_float_image(image)

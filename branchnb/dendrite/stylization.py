@@ -24,6 +24,8 @@ import numpy as np
 from ..core.image import as_float_image, as_points, as_rgb
 from ..core.io import encode_png
 from ..core.params import check_params, param
+from ..core.random import as_seed
+from ..core.validate import Choice, Int, Point, checked
 from .dendrite import Dendrite, PathStats, build_dendrite, path_statistics
 from .endpoints import place_endpoints
 from .importance import ImportanceParams, importance_map
@@ -40,6 +42,9 @@ __all__ = [
     "compare_metrics",
     "stylize",
 ]
+
+#: A planner metric name.
+_METRIC = Choice(*METRICS)
 
 
 @dataclass
@@ -180,10 +185,12 @@ class Stylizer:
         h, w = self.shape
         return np.array([(w - 1) / 2.0, (h - 1) / 2.0])
 
+    @checked()
     def importance(self, p: StylizeParams) -> np.ndarray:
         return self._get(("importance", _subset(p, _IMPORTANCE)), lambda: importance_map(
             self.image, ImportanceParams(p.intensity_weight, p.gradient_weight, p.sigma)))
 
+    @checked(rng_seed=Int(0))
     def lattice(self, p: StylizeParams, rng_seed: int) -> Lattice:
         def make():
             imp = self.importance(p)
@@ -192,6 +199,7 @@ class Stylizer:
             return Lattice(w)
         return self._get(("lattice", _subset(p, _IMPORTANCE + _LATTICE), rng_seed), make)
 
+    @checked(seed=Point(), rng_seed=Int(0))
     def plan(self, p: StylizeParams, seed, rng_seed: int) -> PlanResult:
         seed = tuple(np.round(np.asarray(seed, float), 3))
         return self._get(
@@ -199,6 +207,7 @@ class Stylizer:
             lambda: plan(self.lattice(p, rng_seed), seed, metric=p.metric,
                          blend_weight=p.blend_weight))
 
+    @checked(rng_seed=Int(0))
     def endpoints(self, p: StylizeParams, rng_seed: int) -> np.ndarray:
         return self._get(
             ("endpoints", _subset(p, _IMPORTANCE + _ENDPOINTS), rng_seed),
@@ -206,6 +215,7 @@ class Stylizer:
                                     floor=p.endpoint_floor, iterations=p.stipple_iterations,
                                     rng=rng_seed + 1))
 
+    @checked(seed=Point(), rng_seed=Int(0))
     def dendrite(self, p: StylizeParams, seed, rng_seed: int) -> Dendrite:
         seed_key = tuple(np.round(np.asarray(seed, float), 3))
         key = ("dendrite", _subset(p, _IMPORTANCE + _LATTICE + _PLAN + _ENDPOINTS),
@@ -213,7 +223,8 @@ class Stylizer:
         return self._get(key, lambda: build_dendrite(self.plan(p, seed, rng_seed),
                                                      self.endpoints(p, rng_seed)))
 
-    def run(self, params: StylizeParams | None = None, *, seed=None, rng: int = 0,
+    @checked(seed=Point())
+    def run(self, params: StylizeParams | None = None, *, seed=None, rng: int | np.random.Generator = 0,
             metaphor: str | None = "plain", **render_options) -> Stylization:
         """Run (or reuse) every stage and render.
 
@@ -231,9 +242,7 @@ class Stylizer:
             Passed to the metaphor's render function.
         """
         p = check_params(params if params is not None else StylizeParams())
-        if isinstance(rng, bool) or not isinstance(rng, (int, np.integer)) or rng < 0:
-            raise TypeError(f"rng must be a non-negative int seed here, got {rng!r}")
-        rng = int(rng)
+        rng = as_seed(rng)  # stages are cached by an int seed; a Generator gives one
         if p.max_width < p.min_width:
             raise ValueError(f"params.max_width ({p.max_width}) < params.min_width ({p.min_width})")
         seed = self.default_seed() if seed is None else as_points(
@@ -259,7 +268,7 @@ class Stylizer:
                            dataclasses.replace(p), np.asarray(seed, float))
 
 
-def stylize(image, params: StylizeParams | None = None, *, seed=None, rng: int = 0,
+def stylize(image, params: StylizeParams | None = None, *, seed=None, rng: int | np.random.Generator = 0,
             metaphor: str | None = "plain", **render_options) -> Stylization:
     """Dendritic stylization of ``image`` (one-shot :class:`Stylizer`).
 
@@ -297,8 +306,9 @@ class MetricComparison:
         return encode_png(np.concatenate(imgs, axis=1))
 
 
+@checked(first=_METRIC, second=_METRIC)
 def compare_metrics(stylizer: Stylizer, params: StylizeParams | None = None, *, seed=None,
-                    rng: int = 0, first: str = "cumulative", second: str | None = None,
+                    rng: int | np.random.Generator = 0, first: str = "cumulative", second: str | None = None,
                     metaphor: str | None = "plain", **render_options) -> MetricComparison:
     """Run the stylization twice on the same endpoints: ``first`` and ``second`` metric.
 
@@ -314,6 +324,7 @@ def compare_metrics(stylizer: Stylizer, params: StylizeParams | None = None, *, 
     ('nonscalar', True)
     """
     p = check_params(params if params is not None else StylizeParams())
+    rng = as_seed(rng)  # both runs share one seed, so they share the endpoints
     if second is None:
         second = p.metric if p.metric != first else "nonscalar"
     a = stylizer.run(dataclasses.replace(p, metric=first), seed=seed, rng=rng, metaphor=metaphor,

@@ -23,6 +23,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from ..core.validate import Array, Int, Real, checked
 from .dendrite import Dendrite
 
 __all__ = ["branch_thickness", "importance_thickness", "rolling_importance"]
@@ -55,6 +56,7 @@ def _rolling(values, parent, nxt, half):
     return out
 
 
+@checked(importance=Array(ndim=2), window=Int(1, 10_000))
 def rolling_importance(dendrite: Dendrite, importance, window: int = 15) -> np.ndarray:
     """Rolling mean of ``importance`` along the branches (see the module docstring).
 
@@ -89,6 +91,8 @@ def rolling_importance(dendrite: Dendrite, importance, window: int = 15) -> np.n
     return _rolling(vals, dendrite.parent, dendrite.next_in_branch(), int(window) // 2)
 
 
+@checked(importance=Array(ndim=2), window=Int(1, 10_000), min_width=Real(0, 1e4), max_width=Real(0, 1e4),
+         contrast=Real(0, 1e3), reference=Real(0, low_open=True))
 def importance_thickness(dendrite: Dendrite, importance, *, window: int = 15,
                          min_width: float = 0.4, max_width: float = 4.0,
                          contrast: float = 1.0, reference: float | None = None) -> Dendrite:
@@ -134,6 +138,7 @@ def importance_thickness(dendrite: Dendrite, importance, *, window: int = 15,
     return dendrite.with_radius(0.5 * (min_width + (max_width - min_width) * avg ** contrast))
 
 
+@checked(min_width=Real(0, 1e4), max_width=Real(0, 1e4), exponent=Real(0, 100, low_open=True))
 def branch_thickness(dendrite: Dendrite, *, mode: str = "subtree", min_width: float = 0.6,
                      max_width: float | None = 8.0, exponent: float = 2.0) -> Dendrite:
     """Radius from the tree structure alone.

@@ -5,11 +5,19 @@ edges (:mod:`.keypoints`), non-rigid registration by TPS-RPM
 (:mod:`.registration`), texture correction of strongly warped regions
 (:mod:`.correction`). A procedural leaf family with ground truth for
 measuring (:mod:`.procedural`).
+
+Training layers scribbled on one leaf and grown by lazy snapping
+(:mod:`.layers`), layer induction on every exemplar with residuals
+(:mod:`.induction`, pipeline :func:`analyze` in :mod:`.analysis`) and
+layered synthesis of new leaves (:mod:`.synthesis`).
 """
 
+from .analysis import LayerInduction, LeafAnalysis, analyze
 from .correction import TextureCorrection, correct_texture, distorted_pixels, jacobian_singular_values
 from .exemplar import Exemplar, blade_mask, leaf_exemplar, prepare_exemplars
+from .induction import InductionParams
 from .keypoints import Keypoints, edge_keypoints, edge_strength
+from .layers import Layer, LayerSet, Scribble, SnapParams, TrainingLayers, grow_layers, simulate_scribbles
 from .procedural import KINDS, PALETTES, ProceduralLeaf, leaf_family, procedural_leaf
 from .registration import (
     Registration,
@@ -21,8 +29,12 @@ from .registration import (
     start_candidates,
     tps_rpm,
 )
+from .synthesis import GeneratedLeaf, SynthesisParams, generate, save_leaves
 
 __all__ = [
+    "Layer", "LayerSet", "Scribble", "SnapParams", "TrainingLayers", "grow_layers", "simulate_scribbles",
+    "InductionParams", "LayerInduction", "LeafAnalysis", "analyze",
+    "SynthesisParams", "GeneratedLeaf", "generate", "save_leaves",
     "KINDS",
     "PALETTES",
     "Exemplar",

@@ -37,6 +37,7 @@ import numpy as np
 from scipy import ndimage as ndi
 
 from ..core.graphcut import seam_cost, seam_cut
+from ..core.validate import Array, Choice, Int, Real, Shape, checked
 
 __all__ = ["PlacedPatch", "Composition", "compose", "labelling_cost", "seam_mask"]
 
@@ -65,6 +66,7 @@ class PlacedPatch:
     pin_core: bool = True
     keep_a: np.ndarray | None = None
 
+    @checked(shape=Shape(), margin=Int(0, 10_000))
     def window(self, shape, margin: int = 0):
         """Slices of the canvas and of the patch for the patch's box grown by ``margin``.
 
@@ -85,6 +87,7 @@ class PlacedPatch:
         inner = (slice(pr0 - r0, pr1 - r0), slice(pc0 - c0, pc1 - c0))
         return canvas, patch, inner
 
+    @checked(canvas_shape=Shape(), margin=Int(0, 10_000))
     def placed(self, canvas_shape, margin: int = 0):
         """``(box_slices, pixels, valid, keep_a)`` of the patch on its (clipped) box."""
         win = self.window(canvas_shape, margin)
@@ -125,6 +128,7 @@ class Composition:
     step_costs: np.ndarray
 
 
+@checked(shape=Shape(), method=Choice("graphcut", "overlay"), power=Real(0, 16, low_open=True))
 def compose(patches: list[PlacedPatch], shape, *, method: str = "graphcut",
             power: float = 1.0, gradient_weighted: bool = True) -> Composition:
     """Lay ``patches`` down in order on an empty canvas of ``shape`` (H, W).
@@ -180,6 +184,7 @@ def _core(valid: np.ndarray) -> np.ndarray:
     return depth > depth.max() / 2
 
 
+@checked(labels=Array(ndim=2, dtype=np.int64), alpha=Array(ndim=2), min_alpha=Real(0, 1))
 def seam_mask(labels: np.ndarray, alpha: np.ndarray | None = None,
               min_alpha: float = 0.1) -> np.ndarray:
     """Pixels next to a 4-neighbour from another patch (seams), optionally only on the object.
@@ -188,9 +193,11 @@ def seam_mask(labels: np.ndarray, alpha: np.ndarray | None = None,
     is given, at least one of them has ``alpha > min_alpha`` (seams through
     empty background are invisible).
     """
-    lab = np.asarray(labels)
+    lab = labels
     out = np.zeros(lab.shape, bool)
-    vis = np.ones(lab.shape, bool) if alpha is None else np.asarray(alpha) > min_alpha
+    if alpha is not None and alpha.shape != lab.shape:
+        raise ValueError(f"alpha must have the shape of labels {lab.shape}, got {alpha.shape}")
+    vis = np.ones(lab.shape, bool) if alpha is None else alpha > min_alpha
     for ax in (0, 1):
         a = lab.take(range(lab.shape[ax] - 1), axis=ax)
         b = lab.take(range(1, lab.shape[ax]), axis=ax)
@@ -206,6 +213,7 @@ def seam_mask(labels: np.ndarray, alpha: np.ndarray | None = None,
     return out
 
 
+@checked(labels=Array(ndim=2, dtype=np.int64), power=Real(0, 16, low_open=True))
 def labelling_cost(patches: list[PlacedPatch], labels: np.ndarray, *, power: float = 1.0,
                    gradient_weighted: bool = True) -> float:
     """Total seam cost of the final labelling (history independent).

@@ -12,6 +12,7 @@ import numpy as np
 
 from ..core.image import as_points, as_rgb, as_rgba
 from ..core.render import draw_polylines
+from ..core.validate import MAX_COUNT, Colour, Int, Real, checked
 
 __all__ = ["PAIR_COLORS", "pair_color", "pair_color_hex", "draw_strokes", "stroke_markers"]
 
@@ -22,11 +23,13 @@ PAIR_COLORS = (
 )
 
 
+@checked(i=Int())
 def pair_color(i: int) -> tuple[float, float, float]:
     """Colour of stroke pair ``i`` (RGB in [0, 1])."""
     return PAIR_COLORS[int(i) % len(PAIR_COLORS)]
 
 
+@checked(i=Int())
 def pair_color_hex(i: int) -> str:
     """Colour of stroke pair ``i`` as a CSS hex string."""
     return "#" + "".join(f"{round(c * 255):02x}" for c in pair_color(i))
@@ -64,6 +67,7 @@ def _marks(strokes, width: float, control, first: int, lines: bool):
     return out_l, out_c, out_w
 
 
+@checked(width=Real(0, 1e4), first=Int(0, MAX_COUNT), background=Colour())
 def draw_strokes(image, strokes, *, width: float = 2.0, control=None, first: int = 0,
                  background=(1.0, 1.0, 1.0)) -> np.ndarray:
     """Draw ``strokes`` on an RGB copy of ``image`` in their pair colours.
@@ -94,6 +98,7 @@ def draw_strokes(image, strokes, *, width: float = 2.0, control=None, first: int
     return draw_polylines(out, lines, widths=widths, colors=colours)
 
 
+@checked(width=Real(0, 1e4), first=Int(0, MAX_COUNT))
 def stroke_markers(canvas, strokes, *, width: float = 2.0, control=None,
                    first: int = 0) -> np.ndarray:
     """Start dots, end arrowheads and control rings of ``strokes`` over an RGBA ``canvas``.

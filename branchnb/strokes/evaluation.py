@@ -13,6 +13,7 @@ import numpy as np
 
 from ..core.histogram import HistogramComparison, compare_samples
 from ..core.image import as_mask, as_rgba
+from ..core.validate import Instance, checked
 
 __all__ = ["CHANNELS", "object_colours", "compare_colours"]
 
@@ -20,6 +21,7 @@ __all__ = ["CHANNELS", "object_colours", "compare_colours"]
 CHANNELS = ("red", "green", "blue")
 
 
+@checked()
 def object_colours(image, mask) -> np.ndarray:
     """``(N, 3)`` straight RGB colours of ``image`` under ``mask`` (pixels with alpha > 0.5).
 
@@ -34,6 +36,7 @@ def object_colours(image, mask) -> np.ndarray:
     return rgba[m][:, :3].astype(np.float64)
 
 
+@checked(result=Instance("StrokeEditResult"))
 def compare_colours(image, result, *, bins: int = 16, metric: str = "l1") -> list[HistogramComparison]:
     """Per-channel histograms of the source object region vs the result's object.
 

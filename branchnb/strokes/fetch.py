@@ -68,6 +68,7 @@ from scipy import ndimage as ndi
 
 from ..core.graphcut import gradient_magnitude  # the edge strength G of the seam energy
 from ..core.image import as_rgba
+from ..core.validate import Array, Int, Real, Shape, checked
 from ..core.warp import transfer_patch
 from .strokes import Stroke, StrokePair
 
@@ -144,10 +145,17 @@ class SourceIndex:
     def shape(self) -> tuple[int, int]:
         return self.object.shape
 
+    def _stroke(self, k: int) -> None:
+        if not 0 <= k < len(self.strokes):
+            raise ValueError(f"k = {k} is not a source stroke index (there are {len(self.strokes)})")
+
+    @checked(k=Int(0), s=Array(ndim=(0, 1)))
     def half_width(self, k: int, s) -> np.ndarray:
         """Half width ``w`` of the object at arc lengths ``s`` of source stroke ``k`` (px)."""
+        self._stroke(k)
         return np.interp(np.asarray(s, float), self.width_s[k], self.width[k])
 
+    @checked(k=Int(0), s=Array(ndim=(0, 1)), patch_size=Real(0, 1e4))
     def radius(self, k: int, s, patch_size: float = 0.0) -> np.ndarray:
         """Patch radius ``r`` at arc lengths ``s`` of source stroke ``k``.
 
@@ -157,7 +165,7 @@ class SourceIndex:
         patches, half a radius apart, cover the whole tube) for RGBA, or
         :data:`OPAQUE_RADIUS` (opaque images).
         """
-        s = np.asarray(s, float)
+        self._stroke(k)
         if patch_size > 0:
             return np.full(s.shape, patch_size / 2.0)
         if not self.has_alpha:
@@ -168,6 +176,7 @@ class SourceIndex:
         return auto_radius(np.interp(s, self.width_s[k], cover))
 
 
+@checked()
 def source_index(image, source_strokes: list[Stroke]) -> SourceIndex:
     """Prepare ``image`` for fetching along ``source_strokes``.
 
@@ -466,6 +475,7 @@ class Samples:
         return len(self.s)
 
 
+@checked(window=Real(0, 1e4))
 def sample_pair(pair: StrokePair, spacing, *, window: float) -> Samples:
     """Sample the target stroke of ``pair`` every ``spacing`` pixels (about).
 
@@ -563,15 +573,23 @@ class Fetched:
     dst_angle: float
     radius: float = 0.0
 
+    def _candidate(self, k: int) -> None:
+        if not 0 <= k < len(self.pixels):
+            raise ValueError(f"k = {k} is not a candidate index (there are {len(self.pixels)})")
+
+    @checked(k=Int(0))
     def take(self, k: int) -> Fetched:
         """The stack reduced to candidate ``k``."""
+        self._candidate(k)
         sl = slice(k, k + 1)
         return Fetched(self.pixels[sl], self.valid[sl], self.grad[sl], self.origin,
                        self.source_points[sl], self.source_s[sl], self.source_angles[sl],
                        self.dst_point, self.dst_angle, self.radius)
 
+    @checked(k=Int(0), shape=Shape())
     def source_pixels(self, k: int, shape) -> tuple[np.ndarray, np.ndarray]:
         """``(rows, cols)`` of the source pixels candidate ``k`` copies (its valid pixels)."""
+        self._candidate(k)
         sx, sy = _source_coords(self.source_points[k], self.source_angles[k], self.dst_point,
                                 self.dst_angle, self.origin, self.valid.shape[1])
         v = self.valid[k]
@@ -594,6 +612,8 @@ def _source_coords(centre, angle: float, dst_point, dst_angle: float, origin, n:
     return sx, sy
 
 
+@checked(stroke_id=Int(0), source_s=Array(ndim=(0, 1)), across=Array(ndim=(0, 1)), dst_point=Array(ndim=(1, 2)),
+         radius=Real(0, 1e4, low_open=True), window=Real(0, 1e4))
 def fetch(index: SourceIndex, stroke_id: int, source_s, across, dst_point, dst_angle: float,
           radius: float, *, window: float) -> Fetched:
     """Fetch candidate patches for one target sample.

@@ -32,6 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..core.validate import MAX_COUNT, Array, Int, Real, checked
 from .strokes import Stroke, StrokePair
 
 __all__ = ["Junction", "find_junctions", "stroke_order", "attach", "far_side"]
@@ -65,6 +66,13 @@ class Junction:
     distance: float
 
 
+def _DICT(value, name, allow_none):
+    if not isinstance(value, dict):
+        raise TypeError(f"{name} must be a dict, got {type(value).__name__}")
+    return value
+
+
+@checked(tolerance=Real(0, 1e5))
 def find_junctions(strokes: list[Stroke], tolerance: float) -> list[Junction]:
     """Junctions among ``strokes``: every stroke end within ``tolerance`` of another stroke.
 
@@ -102,6 +110,7 @@ def find_junctions(strokes: list[Stroke], tolerance: float) -> list[Junction]:
     return out
 
 
+@checked(n=Int(0, MAX_COUNT))
 def stroke_order(n: int, junctions: list[Junction]) -> list[int]:
     """Stroke indices with every parent before its children (drawing order otherwise).
 
@@ -122,6 +131,7 @@ def stroke_order(n: int, junctions: list[Junction]) -> list[int]:
     return done
 
 
+@checked(depth=_DICT)
 def attach(pair: StrokePair, junctions: list[Junction], target_strokes: list[Stroke],
            depth: dict) -> tuple[StrokePair, dict]:
     """Extend the target stroke of ``pair`` into its parents at its junction ends.
@@ -167,6 +177,7 @@ def attach(pair: StrokePair, junctions: list[Junction], target_strokes: list[Str
     return StrokePair(pair.source, target, inner, name=pair.name), added
 
 
+@checked(child_dir=Array(ndim=1), origin=Array(ndim=1), size=Int(1, 4096), window=Real(0, 1e4))
 def far_side(junction: Junction, parent: Stroke, child_dir: np.ndarray, origin, size: int,
              *, window: float) -> np.ndarray:
     """Pixels of a ``size`` x ``size`` patch at ``origin`` beyond the parent's centre line.

@@ -32,6 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..core.validate import MAX_COUNT, Array, Int, Real, checked, real_array
 from .fetch import Fetched
 
 __all__ = [
@@ -47,6 +48,7 @@ __all__ = [
 EPS = 1e-3
 
 
+@checked(window=Real(0, 1e4), step=Real(0, 1e4, low_open=True), across=Real(0, 1e4))
 def candidate_offsets(window: float, step: float, across: float = 0.0) -> np.ndarray:
     """Shifts ``(delta, epsilon)`` of the search window, the zero shift first.
 
@@ -59,6 +61,9 @@ def candidate_offsets(window: float, step: float, across: float = 0.0) -> np.nda
     >>> candidate_offsets(2, 2).tolist()
     [[0.0, 0.0], [-2.0, 0.0], [2.0, 0.0]]
     """
+    if (2 * window / step + 1) * (2 * across / step + 1) > MAX_COUNT:
+        raise ValueError(f"window {window:g} and across {across:g} at step {step:g} give more than {MAX_COUNT} "
+                         "candidate shifts: raise step")
     if step <= 0:
         raise ValueError(f"step must be > 0, got {step}")
     def axis(half):
@@ -82,6 +87,7 @@ def _overlap(a: Fetched, b: Fetched):
     return sl_a, sl_b
 
 
+@checked(power=Real(0, 16, low_open=True), stride=Int(1, 1000))
 def pair_energies(a: Fetched, b: Fetched, *, power: float = 1.0,
                   gradient_weighted: bool = True, stride: int = 1) -> np.ndarray:
     """Pairwise compositing energy of every candidate of ``a`` with every candidate of ``b``.
@@ -129,6 +135,7 @@ def pair_energies(a: Fetched, b: Fetched, *, power: float = 1.0,
     return np.where(n > 0, (d * both).sum(axis=2) / np.maximum(n, 1), 0.0)
 
 
+@checked()
 def viterbi(unaries: list[np.ndarray], pairwise: list[np.ndarray]) -> tuple[np.ndarray, float]:
     """Exact minimum of a chain energy by dynamic programming.
 
@@ -170,6 +177,7 @@ def viterbi(unaries: list[np.ndarray], pairwise: list[np.ndarray]) -> tuple[np.n
     return path, float(cost[path[-1]])
 
 
+@checked()
 def greedy(unaries: list[np.ndarray], pairwise: list[np.ndarray]) -> tuple[np.ndarray, float]:
     """Greedy baseline: each sample takes the best match for the one before it.
 
@@ -184,15 +192,29 @@ def greedy(unaries: list[np.ndarray], pairwise: list[np.ndarray]) -> tuple[np.nd
     return path, chain_energy(path, unaries, pairwise)
 
 
+@checked(path=Array(ndim=1, dtype=np.int64, allow_empty=True))
 def chain_energy(path, unaries: list[np.ndarray], pairwise: list[np.ndarray]) -> float:
     """Total energy of a choice of candidates."""
-    path = np.asarray(path, int)
+    _check_chain(unaries, pairwise)
+    if len(path) != len(unaries):
+        raise ValueError(f"path must choose one candidate per sample ({len(unaries)}), got {len(path)}")
+    if np.any(path < 0) or np.any(path >= [len(u) for u in unaries]):
+        raise ValueError("path picks a candidate index outside its sample's candidates")
     e = sum(float(u[k]) for u, k in zip(unaries, path))
     e += sum(float(pw[path[j], path[j + 1]]) for j, pw in enumerate(pairwise))
     return e
 
 
 def _check_chain(unaries, pairwise):
+    for name, seq, nd in (("unaries", unaries, 1), ("pairwise", pairwise, 2)):
+        if isinstance(seq, (str, bytes, np.ndarray)) or not hasattr(seq, "__len__"):
+            raise TypeError(f"{name} must be a list of arrays, got {type(seq).__name__}")
+        for j, a in enumerate(seq):
+            real_array(a, f"{name}[{j}]", ndim=nd, allow_inf=True)
+    for j, pw in enumerate(pairwise):
+        if j + 1 < len(unaries) and np.shape(pw) != (len(unaries[j]), len(unaries[j + 1])):
+            raise ValueError(f"pairwise[{j}] must have shape ({len(unaries[j])}, {len(unaries[j + 1])}), "
+                             f"got {np.shape(pw)}")
     if len(unaries) == 0 or len(pairwise) != len(unaries) - 1:
         raise ValueError(
             f"a chain of {len(unaries)} samples needs {max(len(unaries) - 1, 0)} pairwise tables, "

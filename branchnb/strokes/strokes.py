@@ -25,11 +25,15 @@ import numpy as np
 
 from ..core.image import as_points
 from ..core.polyline import arc_length
+from ..core.validate import Array, Real, Shape, checked, real_array
 
 __all__ = ["Stroke", "StrokePair", "make_pairs"]
 
 #: Shortest accepted stroke (pixels): shorter strokes count as zero-length.
 MIN_LENGTH = 1.0
+
+#: Arc lengths along a stroke (one or many, finite).
+_ARC = Array(ndim=(0, 1))
 
 
 @dataclass(frozen=True, eq=False)
@@ -60,7 +64,7 @@ class Stroke:
     s: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self):
-        p = as_points(self.points, name=self.name, min_points=2)
+        p = as_points(self.points, name="points" if self.name == "stroke" else self.name, min_points=2)
         keep = np.concatenate([[True], np.hypot(*np.diff(p, axis=0).T) > 1e-9])
         p = p[keep]
         s = arc_length(p) if len(p) > 1 else np.zeros(1)
@@ -79,12 +83,14 @@ class Stroke:
         """Arc length ``L`` (pixels)."""
         return float(self.s[-1])
 
+    @checked(s=_ARC)
     def point_at(self, s) -> np.ndarray:
         """Points ``(x, y)`` at arc lengths ``s`` (clamped to ``[0, L]``)."""
         s = np.clip(np.asarray(s, float), 0.0, self.length)
         return np.stack([np.interp(s, self.s, self.points[:, 0]),
                          np.interp(s, self.s, self.points[:, 1])], axis=-1)
 
+    @checked(s=_ARC, window=Real(0, 1e5))
     def angle_at(self, s, *, window: float = 0.0) -> np.ndarray:
         """Local orientation (radians from +x towards +y) at arc lengths ``s``.
 
@@ -100,11 +106,13 @@ class Stroke:
         d = self.point_at(hi) - self.point_at(lo)
         return np.arctan2(d[..., 1], d[..., 0])
 
+    @checked(s=_ARC, window=Real(0, 1e5))
     def normal_at(self, s, *, window: float = 0.0) -> np.ndarray:
         """Unit normals (right of the direction of travel on screen) at ``s``."""
         a = self.angle_at(s, window=window)
         return np.stack([-np.sin(a), np.cos(a)], axis=-1)
 
+    @checked(points=Array(ndim=2))
     def project(self, points) -> tuple[np.ndarray, np.ndarray]:
         """Arc length of the nearest stroke point to each of ``points`` and the distance.
 
@@ -130,6 +138,7 @@ class Stroke:
         """The same stroke traversed the other way."""
         return Stroke(self.points[::-1].copy(), name=self.name)
 
+    @checked(shape=Shape())
     def inside(self, shape) -> bool:
         """Whether every point lies inside an image of ``shape`` (half a pixel of tolerance)."""
         h, w = shape[:2]
@@ -169,7 +178,8 @@ class StrokePair:
         if not isinstance(self.source, Stroke) or not isinstance(self.target, Stroke):
             raise TypeError(f"{self.name}: source and target must be Stroke instances")
         ls, lt = self.source.length, self.target.length
-        c = np.zeros((0, 2)) if self.control is None else np.asarray(self.control, float)
+        c = np.zeros((0, 2)) if self.control is None else real_array(
+            self.control, f"{self.name}: control", allow_empty=True, finite=False)
         if c.ndim != 2 or c.shape[1] != 2:
             raise ValueError(f"{self.name}: control must have shape (K, 2), got {c.shape}")
         if not np.all(np.isfinite(c)):
@@ -196,6 +206,7 @@ class StrokePair:
         full.setflags(write=False)
         object.__setattr__(self, "control", full)
 
+    @checked(s_target=_ARC)
     def source_arc_length(self, s_target) -> np.ndarray:
         """Map target arc lengths to source arc lengths (piecewise linear).
 
@@ -205,6 +216,7 @@ class StrokePair:
         """
         return np.interp(np.asarray(s_target, float), self.control[:, 1], self.control[:, 0])
 
+    @checked(source_points=Array(ndim=(1, 2)), target_points=Array(ndim=(1, 2)))
     def with_control(self, source_points, target_points) -> StrokePair:
         """A copy with more control-point pairs, given as points near the strokes.
 
@@ -244,6 +256,7 @@ def _as_stroke(obj, name: str) -> Stroke:
     return Stroke(obj, name=name)
 
 
+@checked(source_shape=Shape(), target_shape=Shape())
 def make_pairs(source_strokes, target_strokes, control_points=None, *,
                source_shape=None, target_shape=None) -> list[StrokePair]:
     """Pair source and target strokes in drawing order and validate them.

@@ -73,6 +73,7 @@ from ..core.params import check_params, param
 from ..core.poisson import grid_laplacian
 from ..core.random import as_rng
 from ..core.sampling import stipple
+from ..core.validate import Real, checked
 from .exemplar import tree_rgba
 from .segmentation import Segmentation, segment_tree
 
@@ -185,6 +186,7 @@ class BillboardCloud:
         """Number of billboards per layer name."""
         return {name: int((self.layer == v).sum()) for v, name in LAYER_NAMES.items()}
 
+    @checked(yaw=Real(-1e6, 1e6))
     def render(self, yaw: float = 0.0, **kwargs) -> np.ndarray:
         """Software preview from ``yaw`` degrees; see :func:`branchnb.trees.preview.render_cloud`."""
         from .preview import render_cloud
@@ -600,6 +602,7 @@ def _trim(tex: np.ndarray, x0: float, y0: float, allowed: np.ndarray) -> np.ndar
     return out
 
 
+@checked()
 def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
                     rng=0) -> BillboardCloud:
     """Turn one RGBA tree image into a billboard cloud.

@@ -37,6 +37,7 @@ from ..core.io import encode_png
 from ..core.params import check_params, param
 from ..core.polyline import arc_length
 from ..core.render import draw_polylines
+from ..core.validate import Array, Real, checked
 from .exemplar import signed_area
 from .morph import fill_contour
 
@@ -129,6 +130,8 @@ class PinPoints:
     has_trunk: bool
 
 
+@checked(alpha=Array(ndim=2), jump=Real(0, 1e3), crown_width=Real(0, 1e3), max_trunk_width=Real(0, 1e3),
+         min_trunk_height=Real(0, 1e3), min_aspect=Real(0, 1e3), max_ground_height=Real(0, 1e3))
 def stem_trunk_mask(alpha, *, jump: float = 2.0, crown_width: float = 0.5,
                     max_trunk_width: float = 0.45, min_trunk_height: float = 0.03,
                     min_aspect: float = 0.5, max_ground_height: float = 0.2) -> np.ndarray:
@@ -495,6 +498,7 @@ class TreeContour:
         """Mean-subtracted 2N shape vector."""
         return shape_vector(self.resampled)
 
+    @checked()
     def render(self, background=None) -> np.ndarray:
         """RGB picture: ``C_r`` (green), ``C_s`` (orange), ``B``/``R``/``L`` (red/blue/magenta)."""
         h, w = self.shape
@@ -516,6 +520,7 @@ class TreeContour:
         return encode_png(self.render())
 
 
+@checked()
 def tree_contour(contour, alpha, trunk_mask=None, params: ContourParams | None = None,
                  **overrides) -> TreeContour:
     """All contour steps for one tree: pin points, ``C_r`` and ``C_s``.

@@ -32,6 +32,7 @@ from ..core.image import as_float_image, as_mask, as_rgba, composite_over
 from ..core.io import encode_png
 from ..core.params import check_params, param
 from ..core.render import draw_polylines
+from ..core.validate import MAX_PIXELS, Array, Colour, Int, Real, checked
 
 __all__ = [
     "ExemplarParams",
@@ -77,6 +78,7 @@ class ExemplarParams:
                                         ui=False)
 
 
+@checked(tol=Real(0, 2), background=Colour(channels=(3,)))
 def alpha_from_background(image, tol: float = 0.1, *, background=None,
                           connected: bool = False) -> np.ndarray:
     """Give an RGB image an alpha channel by keying out its background colour.
@@ -212,6 +214,7 @@ def _select_components(opaque: np.ndarray, mode: str, second_fraction: float):
     return labels == largest, n - 2
 
 
+@checked(alpha_threshold=Real(0, 1, low_open=True), min_pixels=Int(0, MAX_PIXELS))
 def tree_rgba(image, *, alpha_threshold: float = 0.5, min_pixels: int = 1,
               name: str = "image") -> tuple[np.ndarray, np.ndarray]:
     """Validate an RGBA tree image; return ``(rgba float32, opaque mask)``.
@@ -253,6 +256,7 @@ def tree_rgba(image, *, alpha_threshold: float = 0.5, min_pixels: int = 1,
     return img, mask
 
 
+@checked()
 def normalize_exemplar(image, params: ExemplarParams | None = None, **overrides) -> Normalized:
     """Normalise a tree image (paper: threshold, black background, crop, square, resize).
 
@@ -355,6 +359,7 @@ class ContourSet:
     tree: np.ndarray | None = None
     shape: tuple[int, int] | None = None
 
+    @checked()
     def render(self, background=None) -> np.ndarray:
         """RGB picture: exterior borders green, interior (hole) borders blue, ``C`` red.
 
@@ -382,6 +387,7 @@ class ContourSet:
         return img
 
 
+@checked(alpha=Array(ndim=2), threshold=Real(0, 1, low_open=True))
 def extract_contours(alpha, *, threshold: float = 0.5) -> ContourSet:
     """Trace and classify the borders of an opacity mask; pick the tree contour ``C``.
 

@@ -37,13 +37,14 @@ Examples
 from __future__ import annotations
 
 import base64
-import json
 from pathlib import Path
 
 import numpy as np
 from scipy import ndimage as ndi
 
 from ..core.io import encode_png, imsave
+from ..core.jsonio import dumps_strict
+from ..core.validate import Int, Real, check_finite, checked
 
 __all__ = ["texture_atlas", "quad_vertices", "export_gltf", "export_obj"]
 
@@ -163,6 +164,32 @@ def _uvs(cloud, rects, atlas_shape):
                      np.stack([u1, v1], 1), np.stack([u0, v1], 1)], axis=1)
 
 
+#: Export frame: the camera yaw (degrees) and the tree height (metres).
+_YAW = Real(-1e6, 1e6)
+_HEIGHT = Real(0, 1e6, low_open=True)
+
+
+def _out_path(path, suffix: str) -> Path:
+    if not isinstance(path, (str, Path)) or not str(path).strip():
+        raise TypeError(f"path must be a non-empty file path, got {path!r:.60}")
+    path = Path(path)
+    if path.suffix.lower() != suffix:
+        raise ValueError(f"path must end in {suffix}, got {path.name!r}")
+    if path.is_dir():
+        raise ValueError(f"path {str(path)!r} is a directory")
+    return path
+
+
+def _check_cloud(cloud):
+    from .billboard import BillboardCloud
+
+    if not isinstance(cloud, BillboardCloud):
+        raise TypeError(f"cloud must be a BillboardCloud, got {type(cloud).__name__}")
+    if cloud.n_billboards == 0:
+        raise ValueError("cloud has no billboards")
+
+
+@checked(yaw=_YAW, height=_HEIGHT)
 def export_gltf(cloud, path, *, yaw: float = 0.0, height: float = 10.0,
                 embed_texture: bool = False, crossed: bool = False) -> Path:
     """Write the cloud as a glTF 2.0 file (``.gltf`` JSON, embedded buffer).
@@ -186,13 +213,10 @@ def export_gltf(cloud, path, *, yaw: float = 0.0, height: float = 10.0,
     -------
     Path of the ``.gltf`` file.
     """
-    path = Path(path)
-    if path.suffix.lower() != ".gltf":
-        raise ValueError(f"path must end in .gltf, got {path.name!r}")
-    if cloud.n_billboards == 0:
-        raise ValueError("cloud has no billboards")
+    path = _out_path(path, ".gltf")
+    _check_cloud(cloud)
     atlas, rects = texture_atlas(cloud.textures)
-    quads = quad_vertices(cloud, yaw=yaw, height=height, crossed=crossed)
+    quads = check_finite(quad_vertices(cloud, yaw=yaw, height=height, crossed=crossed), "vertex positions")
     K = len(quads)
     owner = np.arange(K) % cloud.n_billboards
     pos = quads.reshape(-1, 3).astype(np.float32)
@@ -272,10 +296,11 @@ def export_gltf(cloud, path, *, yaw: float = 0.0, height: float = 10.0,
         "bufferViews": views,
         "accessors": accessors,
     }
-    path.write_text(json.dumps(doc))
+    path.write_text(dumps_strict(doc, name="glTF document"))
     return path
 
 
+@checked(yaw=_YAW, height=_HEIGHT, tint_levels=Int(1, 256))
 def export_obj(cloud, path, *, yaw: float = 0.0, height: float = 10.0, tint_levels: int = 16,
                crossed: bool = False) -> Path:
     """Write the cloud as Wavefront OBJ + MTL + atlas PNG.
@@ -295,17 +320,12 @@ def export_obj(cloud, path, *, yaw: float = 0.0, height: float = 10.0, tint_leve
     -------
     Path of the ``.obj`` file.
     """
-    path = Path(path)
-    if path.suffix.lower() != ".obj":
-        raise ValueError(f"path must end in .obj, got {path.name!r}")
-    if cloud.n_billboards == 0:
-        raise ValueError("cloud has no billboards")
-    if tint_levels < 1:
-        raise ValueError(f"tint_levels must be >= 1, got {tint_levels}")
+    path = _out_path(path, ".obj")
+    _check_cloud(cloud)
     atlas, rects = texture_atlas(cloud.textures)
-    quads = quad_vertices(cloud, yaw=yaw, height=height, crossed=crossed)
+    quads = check_finite(quad_vertices(cloud, yaw=yaw, height=height, crossed=crossed), "vertex positions")
     owner = np.arange(len(quads)) % cloud.n_billboards
-    uv = _uvs(cloud, rects, atlas.shape)[owner]
+    uv = check_finite(_uvs(cloud, rects, atlas.shape)[owner], "texture coordinates")
     path.parent.mkdir(parents=True, exist_ok=True)
     atlas_path = path.with_name(path.stem + "_atlas.png")
     mtl_path = path.with_suffix(".mtl")

@@ -16,6 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.image import as_rgba
+from ..core.validate import Int, Real, checked
 
 __all__ = ["opaque_pixels", "channel_mapping", "histogram_transfer"]
 
@@ -86,6 +87,7 @@ def _levels(values: np.ndarray, levels: int) -> np.ndarray:
     return np.clip(np.round(values * (levels - 1)), 0, levels - 1).astype(np.int64)
 
 
+@checked(threshold=Real(0, 1, low_open=True), strength=Real(0, 1), levels=Int(2, 65536))
 def histogram_transfer(image, reference, *, threshold: float = 0.5,
                        strength: float = 1.0, levels: int = 256) -> np.ndarray:
     """Match the per-channel colour histograms of a tree to a reference tree.

@@ -23,6 +23,7 @@ import numpy as np
 
 from ..core.image import as_points
 from ..core.random import as_rng
+from ..core.validate import MAX_COUNT, Array, Choice, Int, Real, Shape, checked
 
 __all__ = [
     "check_weights",
@@ -80,6 +81,7 @@ def check_weights(weights, n: int | None = None, *, name: str = "weights",
     return w / w.sum()
 
 
+@checked(n=Int(1, MAX_COUNT), concentration=Real(0, 1e6, low_open=True, arrays=True))
 def dirichlet_weights(n: int, concentration=1.0, *, rng=None) -> np.ndarray:
     """Random convex weights: a draw from a Dirichlet distribution.
 
@@ -110,6 +112,7 @@ def dirichlet_weights(n: int, concentration=1.0, *, rng=None) -> np.ndarray:
     return as_rng(rng).dirichlet(a)
 
 
+@checked(shapes=Array(ndim=(2, 3)), weights=Array(ndim=1))
 def combine_shapes(shapes, weights) -> np.ndarray:
     """Convex combination ``sum_i w_i s_i`` of corresponding contours or shape vectors.
 
@@ -190,6 +193,7 @@ def winding_number(polygon, shape: tuple[int, int]) -> np.ndarray:
     return np.cumsum(diff[:, :w], axis=1, dtype=np.int32)
 
 
+@checked(polygon=Array(ndim=2), shape=Shape(), rule=Choice("nonzero", "evenodd"))
 def fill_contour(polygon, shape: tuple[int, int], *, rule: str = "nonzero") -> np.ndarray:
     """Rasterise the region enclosed by a (possibly self-intersecting) contour.
 

@@ -31,6 +31,7 @@ import numpy as np
 
 from ..core.image import as_mask, as_points, as_rgba
 from ..core.random import as_rng
+from ..core.validate import Array, checked
 from .morph import check_weights
 
 __all__ = [
@@ -136,6 +137,7 @@ def _mvc_map(x: np.ndarray, v: np.ndarray, dst: np.ndarray) -> np.ndarray:
     return out
 
 
+@checked(points=Array(ndim=2), polygon=Array(ndim=2))
 def mean_value_coordinates(points, polygon) -> np.ndarray:
     """Mean value coordinates of points with respect to a closed polygon.
 
@@ -250,6 +252,13 @@ def sample_rgba(image, points) -> np.ndarray:
     return out
 
 
+def _SEQ(value, name, allow_none):
+    if isinstance(value, (str, bytes, dict)) or not hasattr(value, "__len__"):
+        raise TypeError(f"{name} must be a list (one entry per source), got {type(value).__name__}")
+    return value
+
+
+@checked(sources=_SEQ, source_cages=_SEQ, target_cage=Array(ndim=2), target_mask=Array(ndim=2))
 def transfer_colour(sources, source_cages, target_cage, target_mask, *,
                     colour_weights=None, rng=None) -> np.ndarray:
     """Colour a target shape from one or more exemplars through their simplified contours.

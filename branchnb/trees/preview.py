@@ -28,6 +28,7 @@ import cv2
 import numpy as np
 
 from ..core.image import composite_over
+from ..core.validate import Choice, Colour, Int, Real, checked
 
 __all__ = ["render_cloud", "render_views", "project"]
 
@@ -70,6 +71,7 @@ def _extent(cloud) -> tuple[float, float]:
     return float(r.max()) if len(r) else 1.0, float(cloud.image.shape[1])
 
 
+@checked(yaw=Real(-1e6, 1e6), facing=Choice("camera", "fixed"), height=Int(8, 4096))
 def render_cloud(cloud, yaw: float = 0.0, *, facing: str = "camera", crop: str = "fit",
                  background=None, height: int | None = None) -> np.ndarray:
     """Render a :class:`~branchnb.trees.billboard.BillboardCloud` from ``yaw`` degrees.
@@ -149,6 +151,7 @@ def render_cloud(cloud, yaw: float = 0.0, *, facing: str = "camera", crop: str =
     return out
 
 
+@checked(height=Int(8, 4096), gap=Int(0, 1000), background=Colour())
 def render_views(cloud, yaws=(0.0, 60.0, 120.0), *, height: int = 256, facing: str = "camera",
                  background=(1.0, 1.0, 1.0), gap: int = 4) -> np.ndarray:
     """Side-by-side RGB previews from several yaw angles (a contact strip)."""

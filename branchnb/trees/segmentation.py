@@ -67,11 +67,13 @@ import numpy as np
 from scipy import ndimage as ndi
 from skimage.color import rgb2hsv, rgb2lab
 
+from .. import data as _data
 from ..core.image import as_float_image, composite_over
 from ..core.io import encode_png
 from ..core.params import check_params, param
 from ..core.random import as_rng
 from ..core.render import coverage_polylines
+from ..core.validate import Array, checked
 from .exemplar import tree_rgba
 
 __all__ = [
@@ -99,7 +101,7 @@ BACKGROUND, CROWN, TRUNK, IGNORE = 0, 1, 2, 255
 LABEL_NAMES = {"crown": CROWN, "trunk": TRUNK}
 
 #: Folder of the hand-labelled masks (``data/trees_masks``).
-MASKS_DIR = Path(__file__).resolve().parent.parent.parent / "data" / "trees_masks"
+MASKS_DIR = _data.DATA_DIR / "trees_masks"
 
 FEATURE_NAMES = (
     "L", "a", "b",                     # CIELAB colour / 100
@@ -609,6 +611,7 @@ def _keep_stem_connected(trunk: np.ndarray, anchor: np.ndarray) -> np.ndarray:
     return np.isin(lab, keep)
 
 
+@checked()
 def segment_tree(rgba, scribbles=None, params: SegmentParams | None = None, *,
                  rng=0) -> Segmentation:
     """Segment an RGBA tree image into crown and trunk.
@@ -734,6 +737,7 @@ def segment_tree(rgba, scribbles=None, params: SegmentParams | None = None, *,
 # ---------------------------------------------------------------------------
 
 
+@checked(pred=Array(ndim=2), ref=Array(ndim=2))
 def segmentation_iou(pred, ref) -> dict[str, float]:
     """Per-class IoU of a predicted label image against a reference.
 

@@ -42,6 +42,7 @@ from ..core.io import encode_png
 from ..core.params import check_params, param
 from ..core.random import as_rng
 from ..core.render import draw_polylines
+from ..core.validate import Array, Choice, Int, Real, checked
 from .contour import ContourParams, TreeContour, simplify_contour, stem_trunk_mask, tree_contour
 from .exemplar import ContourSet, ExemplarParams, Normalized, extract_contours, normalize_exemplar
 from .histogram_transfer import histogram_transfer
@@ -69,6 +70,9 @@ __all__ = [
 #: The 14 RPG map sprites of ``branchnb.data``: one consistent drawing style
 #: (broadleaf, conifer, bare and palm trees), the default library.
 RPG_TREES = tuple(f"tree_rpg_{i:02d}" for i in range(1, 15))
+
+#: Most variations one call makes (a size guard: each is a full-resolution image).
+MAX_VARIATIONS = 10_000
 
 
 # ----------------------------------------------------------------------------- exemplars
@@ -126,6 +130,7 @@ class Exemplar:
         """Mean-subtracted 2N shape vector."""
         return self.contour.vector
 
+    @checked(m_points=Int(3, 100_000))
     def cage(self, m_points: int | None = None) -> np.ndarray:
         """Simplified contour ``C_s`` with ``M = m_points`` vertices (cached)."""
         p = self.contour.params
@@ -137,6 +142,7 @@ class Exemplar:
                                               dilation=p.dilation, n_points_crown=p.n_crown)
         return self._cages[m]
 
+    @checked()
     def with_trunk(self, trunk, source: str = "mask") -> Exemplar:
         """The same exemplar with another trunk mask (working-image pixels): new pin
         points, ``C_r`` and ``C_s``. Used to apply a corrected segmentation."""
@@ -205,6 +211,7 @@ def exemplar_trunk(image, method: str = "auto", *, rng=0) -> tuple[np.ndarray, s
     return trunk, "segmentation"
 
 
+@checked(trunk_mask=Array(ndim=2))
 def process_exemplar(image, name: str = "", *, trunk_mask=None, trunk: str = "auto",
                      exemplar_params: ExemplarParams | None = None,
                      contour_params: ContourParams | None = None, **overrides) -> Exemplar:
@@ -347,6 +354,7 @@ class Variation:
         """The tree over a white background, ``(S, S, 3)``."""
         return composite_over(self.image, (1.0, 1.0, 1.0))
 
+    @checked(digits=Int(0, 12))
     def label(self, digits: int = 2) -> str:
         """Short text: the nonzero weights, e.g. ``"0.6 tree_rpg_01 + 0.4 tree_rpg_03"``."""
         return " + ".join(f"{w:.{digits}f} {n}" for n, w in zip(self.names, self.weights) if w > 0)
@@ -356,6 +364,13 @@ class Variation:
 
 
 def _as_exemplars(library) -> list[Exemplar]:
+    out = _exemplar_list(library)
+    if not out:
+        raise ValueError("library is empty: add exemplars (TreeLibrary.add) before making variations")
+    return out
+
+
+def _exemplar_list(library) -> list[Exemplar]:
     if isinstance(library, TreeLibrary):
         return list(library.exemplars)
     if isinstance(library, Exemplar):
@@ -420,6 +435,7 @@ def _weights_from(weights, exemplars, rng, concentration, name="weights", n_mix=
     return check_weights(weights, len(exemplars), name=name)
 
 
+@checked()
 def make_variation(library, weights=None, params: VariationParams | None = None, *,
                    use=None, colour_weights=None, reference=None, rng=None,
                    **overrides) -> Variation:
@@ -567,6 +583,7 @@ def variation_weights(k: int, index: int, keep: float = 0.5, *, concentration=1.
                           rng=rng)
 
 
+@checked(n=Int(1, MAX_VARIATIONS), keep=Real(0, 1))
 def similar_variations(library, variation: Variation, n: int = 6,
                        params: VariationParams | None = None, *, keep: float = 0.6,
                        rng=None, **overrides) -> list[Variation]:
@@ -614,6 +631,7 @@ def similar_variations(library, variation: Variation, n: int = 6,
     return out
 
 
+@checked(n=Int(1, MAX_VARIATIONS))
 def tree_variations(library, target, n: int = 6, params: VariationParams | None = None, *,
                     use=None, rng=None, reference=None, **overrides) -> list[Variation]:
     """Variations of one tree ``T`` that keep it recognisable.
@@ -685,6 +703,7 @@ def tree_variations(library, target, n: int = 6, params: VariationParams | None 
     return out
 
 
+@checked(steps=Int(2, MAX_VARIATIONS), colour=Choice("shape", "random"))
 def morph_sequence(library, a, b, steps: int = 5, params: VariationParams | None = None, *,
                    colour: str = "shape", rng=None, **overrides) -> list[Variation]:
     """Morph from tree ``a`` to tree ``b``: weights ``(1 - t, t)`` for ``t`` in ``[0, 1]``.
@@ -698,6 +717,9 @@ def morph_sequence(library, a, b, steps: int = 5, params: VariationParams | None
         Number of frames (>= 2), ``t = 0 ... 1``.
     colour : {"shape", "random"}
         Colour weights follow the shape weights (a morph) or are random.
+    rng : {numpy.random.Generator, int}, optional
+        Used only with ``colour="random"``: the default morph is fully
+        determined by ``a``, ``b`` and ``steps``.
 
     Returns
     -------
@@ -737,6 +759,7 @@ class TreeLibrary:
     (2, ['tree_rpg_05', 'tree_rpg_06'])
     """
 
+    @checked(size=Int(16, 8192))
     def __init__(self, exemplars: Sequence[Exemplar] = (), *, size: int = 1024,
                  contour_params: ContourParams | None = None, trunk: str = "auto"):
         if trunk not in TRUNK_METHODS:
@@ -775,12 +798,14 @@ class TreeLibrary:
     def __getitem__(self, key) -> Exemplar:
         return _select(self.exemplars, [key])[0]
 
+    @checked()
     def index(self, name: str) -> int:
         """Position of the exemplar called ``name``."""
         if name not in self.names:
             raise ValueError(f"no exemplar named {name!r}; the library has {self.names}")
         return self.names.index(name)
 
+    @checked(trunk_mask=Array(ndim=2))
     def add(self, image, name: str | None = None, *, trunk_mask=None) -> Exemplar:
         """Process an RGBA tree image and add it (see :func:`process_exemplar`)."""
         name = f"tree_{len(self)}" if name is None else str(name)
@@ -789,6 +814,7 @@ class TreeLibrary:
                               contour_params=self.contour_params)
         return self.add_exemplar(ex)
 
+    @checked()
     def set_trunk(self, name: str, trunk, source: str = "mask") -> Exemplar:
         """Replace the trunk mask (working-image pixels) of exemplar ``name``,
         e.g. with a segmentation corrected by scribbles; pins and contours follow."""
@@ -809,30 +835,36 @@ class TreeLibrary:
         return exemplar
 
     # -- operations
+    @checked()
     def variation(self, weights=None, params: VariationParams | None = None, **kwargs) -> Variation:
         """:func:`make_variation` on this library."""
         return make_variation(self, weights, params, **kwargs)
 
+    @checked(n=Int(1, MAX_VARIATIONS))
     def variations_of(self, target, n: int = 6, params: VariationParams | None = None,
                       **kwargs) -> list[Variation]:
         """:func:`tree_variations` on this library."""
         return tree_variations(self, target, n, params, **kwargs)
 
+    @checked(n=Int(1, MAX_VARIATIONS))
     def similar(self, variation: Variation, n: int = 6, params: VariationParams | None = None,
                 **kwargs) -> list[Variation]:
         """:func:`similar_variations` on this library."""
         return similar_variations(self, variation, n, params, **kwargs)
 
+    @checked(steps=Int(2, MAX_VARIATIONS))
     def morph(self, a, b, steps: int = 5, params: VariationParams | None = None,
               **kwargs) -> list[Variation]:
         """:func:`morph_sequence` on this library."""
         return morph_sequence(self, a, b, steps, params, **kwargs)
 
+    @checked(size=Int(8, 4096))
     def thumbnails(self, size: int = 96) -> list[np.ndarray]:
         """Each exemplar over white, ``(size, size, 3)``."""
         return [cv2.resize(composite_over(e.image, (1.0, 1.0, 1.0)), (size, size),
                            interpolation=cv2.INTER_AREA) for e in self.exemplars]
 
+    @checked(size=Int(8, 4096), cols=Int(1, 1000))
     def contact_sheet(self, size: int = 96, cols: int = 7) -> np.ndarray:
         """All thumbnails in a grid."""
         return tile_images(self.thumbnails(size), cols=cols)

@@ -1,25 +1,32 @@
 """Jupyter widgets: the shared kit and one app per technique.
 
-The kit: :class:`AnnotationCanvas` (with its pure-Python
+The kit: :class:`AppShell` (the layout, busy state and status line every
+app uses; see :mod:`branchnb.widgets.shell` for how an app is built on
+it), :class:`AnnotationCanvas` (with its pure-Python
 :class:`AnnotationModel`), :class:`ParamPanel`, :class:`HistogramCompare`,
-:class:`ImageView`, :class:`ErrorArea` and :class:`ProgressBar`.
+:class:`ImageView`, :class:`StatusLine`, :class:`ErrorArea` and
+:class:`ProgressBar`.
 """
 
 from .canvas import AnnotationCanvas
-from .feedback import ErrorArea, ProgressBar
+from .feedback import Cancelled, ErrorArea, ProgressBar, StatusLine
 from .histograms import HistogramCompare
 from .imageview import ImageView
 from .model import AnnotationEvent, AnnotationModel, Shape
 from .params import ParamPanel
+from .shell import AppShell
 
 __all__ = [
     "AnnotationCanvas",
     "AnnotationEvent",
     "AnnotationModel",
+    "AppShell",
+    "Cancelled",
     "ErrorArea",
     "HistogramCompare",
     "ImageView",
     "ParamPanel",
     "ProgressBar",
     "Shape",
+    "StatusLine",
 ]

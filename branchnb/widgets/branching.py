@@ -9,12 +9,18 @@ The app wires the widget kit to :mod:`branchnb.branching`:
   "refine clicks" resamples the clicked polylines and measures their
   thickness perpendicular to the branch (the paper's input step);
 - a :class:`ParamPanel` of :class:`~branchnb.branching.SynthesisParams`
-  (m, k, c, wG, rho, d, generations, ...) and a seed; changing them
-  re-synthesizes at once;
+  (m, k, c, wG, rho, d, generations, ...) grouped by the paper's steps,
+  and a seed; changing them re-synthesizes (in the background inside a
+  kernel: the last result is marked out of date until the new one
+  arrives, a newer change supersedes a running one);
 - the synthesized structure, with "extend branch" / "delete branch" on
   the branch picked by the slider, side-by-side angle and thickness
   histograms (input vs synthesized, the paper's evaluation), and "render
-  image" (fragment-based image synthesis, with a progress bar).
+  image" (fragment-based image synthesis, with a progress bar; it runs in
+  the background and "cancel" stops it between fragments).
+
+The layout, busy state and status line are the kit's
+:class:`~branchnb.widgets.shell.AppShell`.
 
 Every action is a method (``extract``, ``refine``, ``synthesize``,
 ``extend``, ``delete_output_branch``, ``delete_selected_subbranch``,
@@ -24,6 +30,7 @@ buttons do.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 
 import ipywidgets as widgets
@@ -44,8 +51,14 @@ from ..branching import (
 from ..branching.extraction import estimate_thickness, gray_for_extraction
 from ..core.image import as_float_image, as_rgb
 from ..core.polyline import resample_uniform
+from ..core.render import draw_polylines
 from ..core.structure import Branch
-from . import AnnotationCanvas, ErrorArea, HistogramCompare, ImageView, ParamPanel, ProgressBar
+from .canvas import AnnotationCanvas
+from .feedback import ProgressBar
+from .histograms import HistogramCompare
+from .imageview import ImageView
+from .params import ParamPanel
+from .shell import AppShell
 
 __all__ = ["BranchingApp", "annotations_to_structure", "structure_to_annotations"]
 
@@ -112,6 +125,53 @@ def annotations_to_structure(shapes, image_shape=None) -> tuple[Structure, list[
 # --------------------------------------------------------------------------
 # the app
 # --------------------------------------------------------------------------
+#: Parameter groups (the paper's steps) and readable labels with the paper's symbols.
+SYNTHESIS_SECTIONS = [
+    ("input and Markov model", ["h", "m", "k", "bins", "c", "thickness_blend"]),
+    ("global statistics", ["wG"]),
+    ("furcations", ["d", "min_spacing", "mirror_children", "svm_C"]),
+    ("space colonization", ["colonization", "rho", "inv_eps", "stop_density"]),
+    ("guidance and stopping", ["guidance_width", "max_generations", "max_total_length",
+                               "max_coverage", "branch_end", "max_branch_factor"]),
+]
+SYNTHESIS_LABELS = {
+    "h": ("resampling step", "h"), "m": ("elements per step", "m"), "k": ("history length", "k"),
+    "bins": ("histogram bins", "B"), "c": ("best candidates", "c"),
+    "thickness_blend": ("blend radii at tips", ""), "wG": ("global histogram weight", "wG"),
+    "d": ("furcations per branch", "d"), "min_spacing": ("furcation spacing", ""),
+    "mirror_children": ("mirrored furcations", ""), "svm_C": ("SVM regularisation", "C"),
+    "colonization": ("space colonization", ""), "rho": ("density radius", "\u03c1"),
+    "inv_eps": ("density offset", "1/\u03b5"), "stop_density": ("stop at density", ""),
+    "guidance_width": ("guidance width", ""), "max_generations": ("max generation", ""),
+    "max_total_length": ("max total length", ""), "max_coverage": ("max coverage", ""),
+    "branch_end": ("branch end", ""), "max_branch_factor": ("max branch length", "\u00d7"),
+}
+IMAGE_SECTIONS = [
+    ("fragments", ["lam", "radius_scale", "min_radius", "max_radius", "k", "w_s", "w_c", "c",
+                   "shortlist", "source_density", "reverse"]),
+    ("deformation and composition", ["displacement", "match_thickness", "displacement_step", "seams",
+                                     "poisson", "anchors", "anchor_weight", "furcation_clear"]),
+    ("what is never copied", ["exclusion", "exclusion_margin", "avoid_unannotated", "avoid_salient",
+                              "salient_z", "branch_like", "flatten_shading", "exclude_matte"]),
+    ("gap completion", ["completion", "patch_size", "patch_overlap", "completion_tolerance",
+                        "completion_screen", "completion_rim", "min_free", "forbid_weight"]),
+]
+IMAGE_LABELS = {
+    "lam": ("fragment spacing", "\u03bb"), "radius_scale": ("fragment radius / r", "s"),
+    "min_radius": ("min fragment radius", ""), "max_radius": ("max fragment radius", ""),
+    "k": ("samples per shape vector", "k"), "w_s": ("thickness weight", "wS"),
+    "w_c": ("colour weight", "wC"), "c": ("best fragments", "c"), "shortlist": ("shortlist", ""),
+    "source_density": ("source density", ""), "reverse": ("reversed fragments", ""),
+    "displacement": ("bend onto skeleton", ""), "match_thickness": ("match width", ""),
+    "displacement_step": ("displacement grid", ""), "seams": ("seams", ""),
+    "poisson": ("Poisson correction", ""), "anchors": ("Poisson anchors", ""),
+    "anchor_weight": ("anchor weight", ""), "furcation_clear": ("furcation clearing", ""),
+}
+
+_PICK_HALO = (0.0, 0.0, 0.0)
+_PICK_CORE = (1.0, 1.0, 1.0)
+
+
 class BranchingApp(widgets.VBox):
     """Example-based synthesis of branching structures in a notebook.
 
@@ -123,7 +183,9 @@ class BranchingApp(widgets.VBox):
         A starting annotation (e.g. from ``extract_structure``).
     params : SynthesisParams, optional
     max_display : int
-        Long side of the example canvas in screen pixels.
+        Long side of the example canvas in CSS pixels.
+    display : int
+        Width of the result views in CSS pixels.
 
     Examples
     --------
@@ -137,50 +199,77 @@ class BranchingApp(widgets.VBox):
     """
 
     def __init__(self, image, structure: Structure | None = None, *, params: SynthesisParams | None = None,
-                 max_display: int = 560):
+                 max_display: int = 380, display: int = 300):
         self.image = as_float_image(image, name="image")
         self.image_shape = self.image.shape[:2]
-        self.errors = ErrorArea()
-        g = self.errors.guard
+        if isinstance(display, bool) or not isinstance(display, int) or display < 64:
+            raise ValueError(f"display must be an int >= 64 (pixels), got {display!r}")
+        self.shell = AppShell(
+            "Branching structures from an example",
+            help="draw one polyline per branch (start a child on its parent's vertex), then "
+                 "<b>synthesize</b>; sliders re-synthesize")
+        status = self.errors = self.shell.status
         self.canvas = AnnotationCanvas(as_rgb(self.image), mode="polyline", max_display=max_display,
-                                       modes=("polyline", "edit", "stroke", "pan"))
+                                       modes=("polyline", "edit", "stroke", "pan"), errors=status)
+        self.panel = ParamPanel(params if params is not None else SynthesisParams(), errors=status,
+                                sections=SYNTHESIS_SECTIONS, labels=SYNTHESIS_LABELS,
+                                closed=("furcations", "space colonization", "guidance and stopping"),
+                                log=("max_total_length",), title="structure synthesis")
         # Image synthesis only runs on "render image", so its panel needs no callback.
-        self.image_panel = ParamPanel(ImageSynthesisParams(), debounce=0)
-        self.panel = ParamPanel(params if params is not None else SynthesisParams(), debounce=0.3,
-                                continuous=False, title="synthesis parameters")
+        self.image_panel = ParamPanel(ImageSynthesisParams(), errors=status, sections=IMAGE_SECTIONS,
+                                      labels=IMAGE_LABELS, closed=[t for t, _ in IMAGE_SECTIONS],
+                                      title="image synthesis (render image)")
         self.seed = widgets.BoundedIntText(value=0, min=0, max=2**31 - 1, description="seed",
-                                           layout=widgets.Layout(width="160px"))
-        self.auto = widgets.Checkbox(value=True, description="re-synthesize on change", indent=False)
-        self.use_guidance = widgets.Checkbox(value=True, description="use guidance path (strokes)",
-                                             indent=False)
-
-        def button(label, tip, fn, icon=""):
-            b = widgets.Button(description=label, tooltip=tip, icon=icon, layout=widgets.Layout(width="auto"))
-            b.on_click(g(lambda _: fn()))
-            return b
-
+                                           tooltip="random seed of the synthesis",
+                                           style={"description_width": "32px"},
+                                           layout=widgets.Layout(width="130px"))
+        self.auto = widgets.Checkbox(value=True, description="re-synthesize on change", indent=False,
+                                     layout=widgets.Layout(width="auto"))
+        self.use_guidance = widgets.Checkbox(value=True, description="use guidance path", indent=False,
+                                             tooltip="the last freehand stroke on the example guides "
+                                             "the growth", layout=widgets.Layout(width="auto"))
+        sh = self.shell
+        sh.add_action("synthesize", self.synthesize, icon="play", primary=True,
+                      tooltip="grow a new structure from the example")
+        sh.add_action("render image", lambda: self.render_image(progress=self.shell.progress), icon="image",
+                      background=True, tooltip="synthesize the final image from fragments of the example "
+                      "(slow; cancel stops it between fragments)")
+        sh.add_action("extract", self.extract, icon="magic",
+                      tooltip="find the example's structure automatically (ridge filter + skeleton)")
+        sh.add_action("refine clicks", self.refine, tooltip="resample the polylines at step h and measure "
+                      "the thickness perpendicular to each branch")
+        sh.add_action("delete sub-branch", self.delete_selected_subbranch, icon="trash",
+                      tooltip="example: delete the branch selected with select/move and its children")
+        sh.add_action("clear guidance", self.clear_guidance, tooltip="remove the guidance strokes")
+        sh.add_tool(self.seed, self.auto, self.use_guidance)
         self.buttons = {
-            "extract": button("extract", "find the structure automatically (ridge filter + skeleton)",
-                              self.extract, "magic"),
-            "refine": button("refine clicks", "resample the polylines at step h and measure the thickness "
-                             "perpendicular to each branch", self.refine),
-            "delete": button("delete sub-branch", "edit mode: delete the selected branch and its children",
-                             self.delete_selected_subbranch, "trash"),
-            "synthesize": button("synthesize", "grow a new structure", self.synthesize, "play"),
-            "extend": button("extend branch", "grow the picked output branch further", self.extend, "plus"),
-            "delete_out": button("delete branch", "delete the picked output branch and its children",
-                                 self.delete_output_branch, "trash"),
-            "render": button("render image", "synthesize the final image from fragments of the example",
-                             self.render_image, "image"),
-            "clear_guidance": button("clear guidance", "remove the guidance strokes", self.clear_guidance),
+            "synthesize": sh.buttons["synthesize"], "render": sh.buttons["render image"],
+            "extract": sh.buttons["extract"], "refine": sh.buttons["refine clicks"],
+            "delete": sh.buttons["delete sub-branch"], "clear_guidance": sh.buttons["clear guidance"],
         }
         self.branch_pick = widgets.IntSlider(value=0, min=0, max=0, description="branch",
-                                             continuous_update=False, layout=widgets.Layout(width="320px"))
+                                             continuous_update=False, tooltip="output branch to extend "
+                                             "or delete (outlined in the view)",
+                                             style={"description_width": "44px"},
+                                             layout=widgets.Layout(width="200px"))
         self.steps = widgets.BoundedIntText(value=5, min=1, max=500, description="steps",
-                                            layout=widgets.Layout(width="150px"))
-        self.view = ImageView(width=360)
-        self.hist_angle = HistogramCompare(bins=16, metric="l2sq", title="turning angle", width=520, height=150)
-        self.hist_thick = HistogramCompare(bins=16, metric="l2sq", title="thickness", width=520, height=150)
+                                            tooltip="Markov steps added by 'extend'",
+                                            style={"description_width": "34px"},
+                                            layout=widgets.Layout(width="100px"))
+        extend = widgets.Button(description="extend", icon="plus", tooltip="grow the picked output "
+                                "branch further", layout=widgets.Layout(width="auto"))
+        extend.on_click(lambda _: sh.run("extend", self.extend))
+        delete_out = widgets.Button(description="delete", icon="trash", tooltip="delete the picked "
+                                    "output branch and its children", layout=widgets.Layout(width="auto"))
+        delete_out.on_click(lambda _: sh.run("delete branch", self.delete_output_branch))
+        self.buttons["extend"], self.buttons["delete_out"] = extend, delete_out
+        status.add_run_buttons(extend, delete_out)
+        self.display = int(display)
+        self.view = ImageView(width=self.display, max_size=2 * self.display)
+        self.hist_angle = HistogramCompare(bins=16, metric="l2sq", title="turning angle",
+                                           width=self.display, height=120)
+        self.hist_thick = HistogramCompare(bins=16, metric="l2sq", title="thickness",
+                                           width=self.display, height=120)
         self.progress = ProgressBar("image")
         self.info = widgets.HTML()
 
@@ -189,38 +278,22 @@ class BranchingApp(widgets.VBox):
         self._model = None
         self._model_key = None
 
+        g = sh.guard
         self.panel.on_change(g(self._params_changed))
         self.seed.observe(g(lambda _: self._params_changed(None)), names="value")
         self.branch_pick.observe(g(lambda _: self._show()), names="value")
-        self.canvas.model.observe(g(lambda _: self._invalidate()))
+        self.canvas.model.observe(sh.guard(lambda _: self._invalidate(), action=False))
         if structure is not None:
             self.set_structure(structure)
 
-        b = self.buttons
-        left = widgets.VBox([
-            widgets.HTML("<b>example</b>: one polyline per branch; start a child on a vertex of its parent; "
-                         "<i>edit</i> to move vertices or change radii; <i>stroke</i> paints a guidance path"),
-            self.canvas,
-            widgets.HBox([b["extract"], b["refine"], b["delete"], b["clear_guidance"]],
-                         layout=widgets.Layout(flex_flow="row wrap")),
-        ])
-        right = widgets.VBox([
-            widgets.HBox([b["synthesize"], self.seed, self.auto, self.use_guidance],
-                         layout=widgets.Layout(flex_flow="row wrap")),
-            self.view,
-            widgets.HBox([self.branch_pick, self.steps, b["extend"], b["delete_out"]],
-                         layout=widgets.Layout(flex_flow="row wrap")),
-            widgets.HBox([b["render"], self.progress]),
-            self.info,
-            self.hist_angle,
-            self.hist_thick,
-        ])
-        super().__init__([
-            widgets.HBox([left, right], layout=widgets.Layout(flex_flow="row wrap")),
-            widgets.Accordion(children=[self.panel, self.image_panel],
-                              titles=("structure synthesis parameters", "image synthesis parameters")),
-            self.errors,
-        ])
+        sh.set_body(
+            main=[self.canvas],
+            result=[self.view,
+                    widgets.HBox([self.branch_pick, self.steps, extend, delete_out],
+                                 layout=widgets.Layout(flex_flow="row wrap", align_items="center")),
+                    self.info, self.progress, self.hist_angle, self.hist_thick],
+            sidebar=[self.panel, self.image_panel])
+        super().__init__([sh])
 
     # -- the example --------------------------------------------------------
     @property
@@ -240,16 +313,15 @@ class BranchingApp(widgets.VBox):
         strokes = [s for s in self.canvas.model.shapes if s.kind == "stroke"]
         self.canvas.model.load_json(structure_to_annotations(structure, keep=strokes))
 
-    def extract(self, **overrides) -> Structure:
+    def extract(self, **overrides) -> str:
         """Run :func:`~branchnb.branching.extract_structure` and put the result on the canvas."""
         kw = {"h": self.params.h, "scale": 0.5 if max(self.image_shape) > 600 else 1.0}
         kw.update(overrides)
         s = extract_structure(self.image, **kw)
         if not s.branches:
-            raise ValueError("no branch found: try another polarity or a lower threshold")
+            raise ValueError("extract found no branch: try another polarity or a lower threshold")
         self.set_structure(s)
-        self.info.value = f"extracted {len(s.branches)} branches, {s.n_vertices} vertices"
-        return s
+        return f"extracted {len(s.branches)} branches, {s.n_vertices} vertices"
 
     def refine(self, params: ClickParams | None = None) -> Structure:
         """The paper's input step: resample each polyline at ``h`` and measure its thickness."""
@@ -257,7 +329,7 @@ class BranchingApp(widgets.VBox):
         shapes = self.canvas.model.shapes
         s, index = annotations_to_structure(shapes, self.image_shape)
         if not s.branches:
-            raise ValueError("draw at least one polyline (two clicks or more) first")
+            raise ValueError("refine: draw at least one polyline (two clicks or more) first")
         gray = gray_for_extraction(self.image)
         new = []
         for b in s.branches:
@@ -273,13 +345,14 @@ class BranchingApp(widgets.VBox):
         return st
 
     def delete_selected_subbranch(self) -> Structure:
-        """Delete the branch selected in ``edit`` mode and all its descendants."""
+        """Delete the branch selected in ``select/move`` mode and all its descendants."""
         sel = self.canvas.selected
         if sel is None:
-            raise ValueError("select a vertex of the branch first (edit mode)")
+            raise ValueError("delete sub-branch: first select a vertex of the branch "
+                             "(tool 'select/move', click the branch)")
         s, index = annotations_to_structure(self.canvas.model.shapes, self.image_shape)
         if sel[0] not in index:
-            raise ValueError("the selection is not a branch polyline")
+            raise ValueError("delete sub-branch: the selection is not a branch polyline")
         out = s.remove_subtree(index.index(sel[0]))
         self.canvas.selected = None
         self.set_structure(out)
@@ -302,6 +375,8 @@ class BranchingApp(widgets.VBox):
 
     def _fitted(self, params: SynthesisParams):
         ex = self.example_structure()
+        if not ex.branches:
+            raise ValueError("the example is empty: draw a branch (polyline tool) or press 'extract'")
         key = (ex.to_json(), params.h, params.m, params.k, params.bins, params.svm_C)
         if self._model is None or self._model_key != key:
             self._model = fit_model(ex, params)
@@ -310,7 +385,10 @@ class BranchingApp(widgets.VBox):
 
     def _params_changed(self, _values) -> None:
         if self.auto.value and self.result is not None:
-            self.synthesize()
+            self.shell.live("synthesize", self.synthesize, stale=self._mark_stale)
+
+    def _mark_stale(self) -> None:
+        self.view.set_title(0, "out of date: re-synthesizing with the new parameters ...")
 
     def synthesize(self):
         """Grow a new structure from the example with the panel's parameters and seed."""
@@ -325,7 +403,7 @@ class BranchingApp(widgets.VBox):
     def extend(self, branch: int | None = None, steps: int | None = None):
         """Grow one branch of the synthesized structure further (``steps`` Markov steps)."""
         if self.result is None:
-            raise ValueError("synthesize a structure first")
+            raise ValueError("extend: synthesize a structure first")
         b = int(self.branch_pick.value if branch is None else branch)
         n = int(self.steps.value if steps is None else steps)
         p = self.params
@@ -339,25 +417,39 @@ class BranchingApp(widgets.VBox):
     def delete_output_branch(self, branch: int | None = None):
         """Delete a branch of the synthesized structure with its children."""
         if self.result is None:
-            raise ValueError("synthesize a structure first")
+            raise ValueError("delete branch: synthesize a structure first")
         b = int(self.branch_pick.value if branch is None else branch)
         s = self.result.structure.remove_subtree(b)
-        import dataclasses
-
         self.result = dataclasses.replace(self.result, structure=s)
         self.image_result = None
         self._after_change()
         return self.result
 
-    def render_image(self):
-        """Synthesize the final image along the structure (fragment-based image synthesis)."""
+    def render_image(self, progress=None):
+        """Synthesize the final image along the structure (fragment-based image synthesis).
+
+        ``progress(fraction, text)`` is called between fragments (the
+        button passes the shell's, which stops the work on "cancel"). The
+        progress bar says "failed" or "cancelled" when the work does not
+        finish.
+        """
         if self.result is None:
-            raise ValueError("synthesize a structure first")
+            raise ValueError("render image: synthesize a structure first")
+
+        def report(fraction, text=""):
+            if progress is not None:
+                progress(fraction, text)
+            self.progress.update(fraction, text)
+
         self.progress.update(0.0, "starting")
-        out = synthesize_image(self.image, self.example_structure(), self.result.structure,
-                               params=self.image_panel.values,
-                               rng=int(self.seed.value), progress=self.progress.update,
-                               shape=self.image_shape)
+        try:
+            out = synthesize_image(self.image, self.example_structure(), self.result.structure,
+                                   params=self.image_panel.values, rng=int(self.seed.value),
+                                   progress=report, shape=self.image_shape)
+        except Exception as exc:
+            self.progress.fail("cancelled" if type(exc).__name__ == "Cancelled" else
+                               f"failed: {type(exc).__name__}")
+            raise
         self.progress.done(f"done in {out.timings.get('total', 0.0):.1f} s")
         self.image_result = out
         self._show()
@@ -365,34 +457,39 @@ class BranchingApp(widgets.VBox):
 
     # -- display ------------------------------------------------------------------
     def _after_change(self, keep_pick: int | None = None) -> None:
-        n = len(self.result.structure.branches)
+        s = self.result.structure
+        n = len(s.branches)
         self.branch_pick.max = max(n - 1, 0)
         if keep_pick is not None:
             self.branch_pick.value = min(keep_pick, max(n - 1, 0))
         self._show()
-        ex, s = self.result.example, self.result.structure
+        ex = self.result.example
         if s.branches and s.angles().size:
             ra = (float(ex.angles().min()), float(ex.angles().max()))
             rr = (float(ex.thicknesses().min()), float(ex.thicknesses().max()))
             self.hist_angle.update(ex.angles(), s.angles(), labels=["input", "synthesized"], range=ra)
             self.hist_thick.update(ex.thicknesses(), s.thicknesses(), labels=["input", "synthesized"], range=rr)
         d = self.result.diagnostics
+        # Counts from the structure shown (diagnostics describe the last synthesis step only).
         self.info.value = (
-            f"<span style='font-family:monospace'>{d['n_branches']} branches, {d['n_vertices']} vertices, "
-            f"{d['time_s'] * 1000:.0f} ms &nbsp;|&nbsp; stop: {d['stop_reason']}</span>")
+            f"<span style='font-size:12px'>{n} branches, {s.n_vertices} vertices &nbsp;|&nbsp; "
+            f"last step {d.get('time_s', 0.0) * 1000:.0f} ms, stop: {d.get('stop_reason', '-')}</span>")
 
     def _show(self) -> None:
         if self.result is None:
             return
         s = self.result.structure
         img = s.render(self.image_shape, by_generation=True, min_width=1.0)
+        title = "synthesized structure (colour = generation)"
         if s.branches:
-            b = s.branches[min(self.branch_pick.value, len(s.branches) - 1)]
-            from ..core.render import draw_polylines
-
-            img = draw_polylines(img, [b.points], widths=[np.maximum(2 * b.thickness, 3.0)],
-                                 colors=(0.9, 0.05, 0.05), alpha=0.8)
-        images, titles = [img], ["synthesized structure (picked branch red)"]
+            k = min(self.branch_pick.value, len(s.branches) - 1)
+            b = s.branches[k]
+            w = np.maximum(2 * b.thickness, 2.0)
+            # A black halo and a white core: visible whatever the generation colours.
+            img = draw_polylines(img, [b.points], widths=[w + 6.0], colors=_PICK_HALO, alpha=1.0)
+            img = draw_polylines(img, [b.points], widths=[w + 2.0], colors=_PICK_CORE, alpha=1.0)
+            title += f"; branch {k} outlined"
+        images, titles = [img], [title]
         if self.image_result is not None:
             images.append(as_rgb(self.image_result.image))
             titles.append("synthesized image")

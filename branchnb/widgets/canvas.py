@@ -23,8 +23,15 @@ Interaction
 - ``pan``: drag to pan. The mouse wheel zooms about the pointer; "fit"
   resets the view. Ctrl+Z / Ctrl+Y undo and redo.
 
-Freehand drawing is incremental: each mouse move adds one segment to the
-top layer inside a single batched message; nothing else is redrawn.
+Drawing cost does not grow with the number of shapes: each mouse move
+adds one segment to the top layer, a new vertex or shape draws only
+itself; only undo, deletion, zoom and pan redraw the annotation layer.
+
+Sharpness: the canvas buffer has ``pixel_ratio`` device pixels per CSS
+pixel. A one-pixel probe in the widget reads ``window.devicePixelRatio``
+from the browser and sets it (2 until it reports, so that HiDPI screens
+are sharp from the start). Marker sizes and the snap distance are in CSS
+pixels, the wheel zooms by a fixed factor per notch whatever the ratio.
 """
 
 from __future__ import annotations
@@ -48,7 +55,14 @@ MODES = ("polyline", "stroke", "scribble", "point", "edit", "pan")
 DEFAULT_LABELS = {"foreground": "#e53935", "background": "#1e88e5"}
 
 _KIND_COLOURS = {"polyline": "#ffb300", "stroke": "#00e676", "point": "#ff1744"}
-_SNAP_PX = 8.0  # screen pixels
+_SNAP_PX = 8.0  # CSS pixels
+_WHEEL_STEP = 1.2  # zoom factor per wheel notch
+
+#: What the tool buttons say (the values stay the short mode names).
+_MODE_LABELS = {"polyline": "polyline", "stroke": "freehand", "scribble": "scribble",
+                "point": "point", "edit": "select/move", "pan": "pan"}
+_MODE_ICONS = {"polyline": "share-alt", "stroke": "pencil", "scribble": "paint-brush",
+               "point": "dot-circle-o", "edit": "mouse-pointer", "pan": "arrows"}
 
 _MODE_HELP = {
     "polyline": "click vertices; click the last one again (or Enter) to finish",
@@ -56,8 +70,38 @@ _MODE_HELP = {
     "scribble": "drag to draw with the current label",
     "point": "click to place a point",
     "edit": "click a vertex to select, drag to move; radius slider / [ ] resize; Delete removes",
-    "pan": "drag to pan; the mouse wheel zooms",
+    "pan": "drag to pan; the mouse wheel zooms (also in the other tools)",
 }
+
+
+class _PixelRatioProbe(widgets.VBox):
+    """Reports ``window.devicePixelRatio`` of the browser showing it (via a hidden text box)."""
+
+    ratio = traitlets.Float(0.0)
+
+    def __init__(self):
+        self._box = widgets.Text(value="", continuous_update=True,
+                                 layout=widgets.Layout(display="none"))
+        tag = f"bnb-dpr-{id(self):x}"
+        self._box.add_class(tag)
+        js = ("var n=0;function f(){var e=document.querySelectorAll('.TAG input');"
+              "if(!e.length){if(n++<40)setTimeout(f,250);return;}"
+              "var r=String(window.devicePixelRatio||1);e.forEach(function(i){if(i.value!==r){i.value=r;"
+              "i.dispatchEvent(new Event('input',{bubbles:true}));"
+              "i.dispatchEvent(new Event('change',{bubbles:true}));}});}f();").replace("TAG", tag)
+        probe = widgets.HTML(f'<img src="data:," alt="" style="display:none" onerror="{js}">',
+                             layout=widgets.Layout(height="0px", overflow="hidden", margin="0"))
+        super().__init__([self._box, probe], layout=widgets.Layout(height="0px", margin="0",
+                                                                   overflow="hidden"))
+        self._box.observe(self._got, names="value")
+
+    def _got(self, change):
+        try:
+            r = float(change["new"])
+        except ValueError:
+            return
+        if np.isfinite(r) and r > 0:
+            self.ratio = r
 
 
 class AnnotationCanvas(widgets.VBox):
@@ -68,16 +112,23 @@ class AnnotationCanvas(widgets.VBox):
     image : (H, W, C) array_like
         Any layout accepted by :func:`branchnb.core.image.as_float_image`.
     mode : str
-        Initial tool: one of ``polyline``, ``stroke``, ``scribble``,
-        ``point``, ``edit``, ``pan``.
+        Initial tool: one of ``modes``.
     labels : dict, optional
         Scribble label -> CSS colour.
     max_display : int
-        Long side of the canvas in screen pixels at zoom "fit".
+        Long side of the canvas in CSS pixels at zoom "fit".
     model : AnnotationModel, optional
         Share a model between views; a new one by default.
     modes : sequence of str, optional
-        Tools offered in the toolbar (all by default).
+        Tools offered in the toolbar (all by default): a non-empty subset
+        of ``polyline``, ``stroke``, ``scribble``, ``point``, ``edit``,
+        ``pan``.
+    errors : ErrorArea or StatusLine, optional
+        Where errors of the canvas' callbacks are shown (an app's status
+        line); the canvas gets its own area by default.
+    pixel_ratio : float, optional
+        Device pixels per CSS pixel of the canvas buffer; by default the
+        browser's ``devicePixelRatio`` (2 until it is known).
 
     Examples
     --------
@@ -94,25 +145,40 @@ class AnnotationCanvas(widgets.VBox):
     label = traitlets.Unicode("")
     #: Radius (image pixels) of new polyline vertices / the selected vertex.
     radius = traitlets.Float(3.0)
-    #: Zoom: screen pixels per image pixel.
+    #: Zoom: canvas (device) pixels per image pixel.
     zoom = traitlets.Float(1.0)
+    #: Device pixels per CSS pixel of the canvas buffer.
+    pixel_ratio = traitlets.Float(2.0)
     #: Last pointer position in image pixels (x, y), or None.
     pointer = traitlets.Any(None)
 
     def __init__(self, image, *, mode: str = "polyline", labels: dict | None = None,
                  max_display: int = 640, model: AnnotationModel | None = None,
-                 modes=MODES):
-        self.errors = ErrorArea()
-        self.model = model if model is not None else AnnotationModel()
-        self.labels = dict(labels or DEFAULT_LABELS)
-        if not self.labels:
-            raise ValueError("labels must name at least one scribble label")
+                 modes=MODES, errors: ErrorArea | None = None, pixel_ratio: float | None = None):
+        if isinstance(modes, str) or not hasattr(modes, "__iter__"):
+            raise TypeError(f"modes must be a sequence of tool names, got {modes!r}")
+        modes = tuple(modes)
+        if not modes:
+            raise ValueError(f"modes must name at least one tool of {MODES}")
         for m in modes:
             if m not in MODES:
                 raise ValueError(f"modes must be a subset of {MODES}, got {m!r}")
-        if not isinstance(max_display, (int, np.integer)) or max_display < 64:
+        if mode not in modes:
+            raise ValueError(f"mode must be one of the offered modes {modes}, got {mode!r}")
+        self.errors = errors if errors is not None else ErrorArea()
+        self.model = model if model is not None else AnnotationModel()
+        if model is not None and not isinstance(model, AnnotationModel):
+            raise TypeError(f"model must be an AnnotationModel, got {type(model).__name__}")
+        self.labels = dict(DEFAULT_LABELS if labels is None else labels)
+        if not self.labels:
+            raise ValueError("labels must name at least one scribble label")
+        if isinstance(max_display, bool) or not isinstance(max_display, (int, np.integer)) \
+                or max_display < 64:
             raise ValueError(f"max_display must be an int >= 64, got {max_display!r}")
         self.max_display = int(max_display)
+        self._auto_ratio = pixel_ratio is None
+        if pixel_ratio is not None:
+            self.pixel_ratio = self._valid_ratio_value(pixel_ratio)
         self._image = as_rgba(image, name="image")
         self._image_widget = widgets.Image(format="png")
         self._overlay_widget = widgets.Image(format="png")
@@ -125,33 +191,52 @@ class AnnotationCanvas(widgets.VBox):
         self.selected: tuple[int, int] | None = None
 
         self.canvas = MultiCanvas(4)
-        self._tools = widgets.ToggleButtons(options=list(modes), value=mode if mode in modes else modes[0],
-                                            tooltips=[_MODE_HELP[m] for m in modes])
+        self._tools = widgets.ToggleButtons(options=[(_MODE_LABELS[m], m) for m in modes], value=mode,
+                                            tooltips=[_MODE_HELP[m] for m in modes],
+                                            icons=[_MODE_ICONS[m] for m in modes],
+                                            style={"button_width": "auto"})
+        self._tools.layout.display = None if len(modes) > 1 else "none"
         self._label_picker = widgets.Dropdown(options=list(self.labels), description="label",
-                                              layout=widgets.Layout(width="180px"))
+                                              style={"description_width": "36px"},
+                                              layout=widgets.Layout(width="190px"))
         self._radius_slider = widgets.FloatSlider(value=self.radius, min=0.5, max=40.0, step=0.5,
                                                   description="radius", continuous_update=False,
-                                                  layout=widgets.Layout(width="260px"))
+                                                  style={"description_width": "44px"},
+                                                  layout=widgets.Layout(width="230px"))
+        g = self.errors.guard
         buttons = []
-        for name, tip, handler in (
-            ("undo", "undo (Ctrl+Z)", lambda _: self.model.undo()),
-            ("redo", "redo (Ctrl+Y)", lambda _: self.model.redo()),
-            ("clear", "remove all annotations", lambda _: self.model.clear()),
-            ("finish", "finish the polyline (Enter)", lambda _: self.finish()),
-            ("+", "zoom in", lambda _: self.zoom_by(1.25)),
-            ("-", "zoom out", lambda _: self.zoom_by(0.8)),
-            ("fit", "fit the image", lambda _: self.fit()),
+        self.buttons: dict[str, widgets.Button] = {}
+        for name, icon, tip, handler in (
+            ("undo", "undo", "undo (Ctrl+Z)", lambda _: self.model.undo()),
+            ("redo", "repeat", "redo (Ctrl+Y)", lambda _: self.model.redo()),
+            ("clear", "trash", "remove all annotations on this canvas (undoable)",
+             lambda _: self.model.clear()),
+            ("finish", "check", "finish the polyline (Enter, or click its last vertex again)",
+             lambda _: self.finish()),
+            ("+", "search-plus", "zoom in (mouse wheel)", lambda _: self.zoom_by(_WHEEL_STEP)),
+            ("-", "search-minus", "zoom out (mouse wheel)", lambda _: self.zoom_by(1 / _WHEEL_STEP)),
+            ("fit", "expand", "fit the image into the canvas", lambda _: self.fit()),
         ):
-            b = widgets.Button(description=name, tooltip=tip, layout=widgets.Layout(width="auto"))
-            b.on_click(self.errors.guard(handler))
+            b = widgets.Button(description="", icon=icon, tooltip=tip,
+                               layout=widgets.Layout(width="34px", padding="0"))
+            b.on_click(g(handler))
             buttons.append(b)
-        self.status = widgets.HTML()
+            self.buttons[name] = b
+        self.buttons["finish"].layout.display = None if "polyline" in modes else "none"
+        self.status = widgets.HTML(layout=widgets.Layout(width="100%", overflow="hidden"))
+        # The options row keeps its height whatever the tool (no jump of the canvas).
+        self._options = widgets.HBox([self._label_picker, self._radius_slider],
+                                     layout=widgets.Layout(flex_flow="row wrap", min_height="30px",
+                                                           align_items="center"))
         toolbar = widgets.VBox([
-            self._tools,
-            widgets.HBox([self._label_picker, self._radius_slider] + buttons,
-                         layout=widgets.Layout(flex_flow="row wrap")),
-        ])
-        super().__init__([toolbar, self.canvas, self.status, self.errors])
+            widgets.HBox([self._tools] + buttons, layout=widgets.Layout(flex_flow="row wrap",
+                                                                        align_items="center")),
+            self._options])
+        self._probe = _PixelRatioProbe()
+        children = [toolbar, self.canvas, self.status, self._probe]
+        if errors is None:
+            children.append(self.errors)
+        super().__init__(children)
 
         traitlets.link((self._tools, "value"), (self, "mode"))
         traitlets.link((self._label_picker, "value"), (self, "label"))
@@ -160,15 +245,16 @@ class AnnotationCanvas(widgets.VBox):
         self.mode = self._tools.value
         self._show_tool_options()
 
-        g = self.errors.guard
+        passive = self.errors.guard(action=False)
         self.canvas.on_mouse_down(g(self.handle_mouse_down))
-        self.canvas.on_mouse_move(g(self.handle_mouse_move))
-        self.canvas.on_mouse_up(g(self.handle_mouse_up))
-        self.canvas.on_mouse_out(g(self.handle_mouse_out))
-        self.canvas.on_mouse_wheel(g(self.handle_wheel))
+        self.canvas.on_mouse_move(passive(self.handle_mouse_move))
+        self.canvas.on_mouse_up(passive(self.handle_mouse_up))
+        self.canvas.on_mouse_out(passive(self.handle_mouse_out))
+        self.canvas.on_mouse_wheel(passive(self.handle_wheel))
         self.canvas.on_key_down(g(self.handle_key))
-        self.canvas.on_client_ready(g(lambda: self.redraw()))
-        self.model.observe(g(self._on_model))
+        self.canvas.on_client_ready(passive(lambda: self.redraw()))
+        self.model.observe(passive(self._on_model))
+        self._probe.observe(passive(self._on_probe), names="ratio")
         self.set_image(self._image)
 
     # -- validation of traits ---------------------------------------------
@@ -185,6 +271,36 @@ class AnnotationCanvas(widgets.VBox):
             raise traitlets.TraitError(f"radius must be > 0, got {r}")
         return r
 
+    @traitlets.validate("zoom")
+    def _valid_zoom(self, proposal):
+        z = float(proposal["value"])
+        if not np.isfinite(z) or z <= 0:
+            raise traitlets.TraitError(f"zoom must be a finite number > 0, got {z}")
+        return z
+
+    @staticmethod
+    def _valid_ratio_value(r) -> float:
+        r = float(r)
+        if not np.isfinite(r) or not 0.5 <= r <= 4:
+            raise ValueError(f"pixel_ratio must be in [0.5, 4], got {r}")
+        return r
+
+    @traitlets.validate("pixel_ratio")
+    def _valid_ratio(self, proposal):
+        try:
+            return self._valid_ratio_value(proposal["value"])
+        except ValueError as exc:
+            raise traitlets.TraitError(str(exc)) from None
+
+    @traitlets.observe("pixel_ratio")
+    def _ratio_changed(self, change):
+        if hasattr(self, "_image_widget") and change["old"] != change["new"]:
+            self._resize()
+
+    def _on_probe(self, change) -> None:
+        if self._auto_ratio:
+            self.pixel_ratio = float(np.clip(round(change["new"] * 4) / 4, 1.0, 3.0))
+
     @traitlets.observe("mode")
     def _mode_changed(self, change):
         self._end_active()
@@ -193,8 +309,13 @@ class AnnotationCanvas(widgets.VBox):
         self._update_status()
 
     def _show_tool_options(self) -> None:
-        self._label_picker.layout.display = None if self.mode == "scribble" else "none"
-        self._radius_slider.layout.display = None if self.mode in ("polyline", "edit") else "none"
+        # visibility, not display: the row keeps its size and the canvas does not jump
+        offered = {v for _, v in self._tools.options}
+        self._label_picker.layout.visibility = "visible" if self.mode == "scribble" else "hidden"
+        self._label_picker.layout.display = None if "scribble" in offered else "none"
+        self._radius_slider.layout.visibility = "visible" if self.mode in ("polyline", "edit") else "hidden"
+        self._radius_slider.layout.display = None if {"polyline", "edit"} & offered else "none"
+        self._options.layout.display = None if {"scribble", "polyline", "edit"} & offered else "none"
 
     @traitlets.observe("radius")
     def _radius_changed(self, change):
@@ -209,23 +330,35 @@ class AnnotationCanvas(widgets.VBox):
     def image_shape(self) -> tuple[int, int]:
         return self._image.shape[:2]
 
+    @property
+    def image(self) -> np.ndarray:
+        """The background image (RGBA float32)."""
+        return self._image
+
     def set_image(self, image) -> None:
         """Replace the background image (annotations are kept) and fit the view."""
         self._image = as_rgba(image, name="image")
         self._image_widget.value = encode_png(self._image)
+        self._resize()
+
+    def _resize(self) -> None:
         h, w = self.image_shape
         s = self.max_display / max(h, w)
-        self.canvas.width = int(round(w * s))
-        self.canvas.height = int(round(h * s))
-        self.canvas.layout.width = f"{self.canvas.width}px"
+        css_w, css_h = max(1, int(round(w * s))), max(1, int(round(h * s)))
+        r = self.pixel_ratio
+        self.canvas.width = int(round(css_w * r))
+        self.canvas.height = int(round(css_h * r))
+        self.canvas.layout.width = f"{css_w}px"
         self.canvas.layout.max_width = "100%"
         # The whole widget is as wide as its canvas (toolbar rows wrap), so
         # that apps can put two canvases side by side.
-        width = max(self.canvas.width, 320)
-        self.layout.width = f"{width + 8}px"
-        n_tools = max(len(self._tools.options), 1)
-        self._tools.style.button_width = f"{int(min(80, max(52, width / n_tools - 6)))}px"
+        self.layout.width = f"{max(css_w, 300) + 8}px"
+        self.layout.max_width = "100%"
         self.fit()
+
+    def _px(self, css: float) -> float:
+        """CSS pixels -> canvas buffer pixels."""
+        return float(css) * self.pixel_ratio
 
     def set_overlay(self, overlay) -> None:
         """Show an RGBA image (same size as the image) over it, under the annotations; None hides it."""
@@ -250,17 +383,19 @@ class AnnotationCanvas(widgets.VBox):
         """Multiply the zoom by ``factor`` keeping view point ``about`` fixed (canvas centre by default)."""
         if not np.isfinite(factor) or factor <= 0:
             raise ValueError(f"factor must be > 0, got {factor}")
-        if about is None:
+        if about is None or not np.all(np.isfinite(np.asarray(about, float))):
             about = (self.canvas.width / 2, self.canvas.height / 2)
         fit = min(self.canvas.width / self.image_shape[1], self.canvas.height / self.image_shape[0])
-        new = float(np.clip(self.zoom * factor, fit / 4, 64.0))
+        new = float(np.clip(self.zoom * factor, fit / 4, 64.0 * self.pixel_ratio))
         about = np.asarray(about, float)
         self._offset = about - (about - self._offset) * (new / self.zoom)
         self.zoom = new
         self.redraw()
 
     def pan_by(self, dx: float, dy: float) -> None:
-        """Shift the view by (dx, dy) screen pixels."""
+        """Shift the view by (dx, dy) canvas pixels (non-finite shifts are ignored)."""
+        if not (np.isfinite(dx) and np.isfinite(dy)):
+            return
         self._offset = self._offset + [dx, dy]
         self.redraw()
 
@@ -286,7 +421,7 @@ class AnnotationCanvas(widgets.VBox):
                                      (1, self._has_overlay, self._overlay_widget)):
                 c = self.canvas[layer]
                 c.clear()
-                c.image_smoothing_enabled = self.zoom < 2.0
+                c.image_smoothing_enabled = self.zoom < 2.0 * self.pixel_ratio
                 if show:
                     c.draw_image(img, float(x0), float(y0), float(w * self.zoom), float(h * self.zoom))
 
@@ -295,26 +430,62 @@ class AnnotationCanvas(widgets.VBox):
             return self.labels.get(shape.label, "#ffffff")
         return shape.meta.get("color", _KIND_COLOURS.get(shape.kind, "#ffffff"))
 
+    def _line_width(self, shape) -> float:
+        return self._px(4 if shape.kind == "scribble" else 2)
+
+    def _outline(self, c, pts, width) -> None:
+        """A dark halo under a line: visible on light and dark images alike."""
+        c.stroke_style = "rgba(0,0,0,0.55)"
+        c.line_width = width + self._px(2)
+        c.stroke_lines(pts)
+
     def _draw_shape(self, c, shape) -> None:
         x, y = self.image_to_view(shape.points[:, 0], shape.points[:, 1])
         pts = np.column_stack([x, y])
         colour = self._colour(shape)
-        c.stroke_style = colour
-        c.fill_style = colour
         if shape.kind == "point":
-            c.fill_circles(x, y, 5)
+            c.fill_style = "#000000"
+            c.fill_circles(x, y, self._px(6))
+            c.fill_style = colour
+            c.fill_circles(x, y, self._px(4.5))
             return
-        c.line_width = 3 if shape.kind == "scribble" else 2
+        width = self._line_width(shape)
         if len(pts) > 1:
+            self._outline(c, pts, width)
+            c.stroke_style = colour
+            c.line_width = width
             c.stroke_lines(pts)
+        c.fill_style = colour
+        c.stroke_style = colour
         if shape.kind == "polyline":
             if shape.radii is not None:
-                c.global_alpha = 0.35
-                c.stroke_circles(x, y, np.maximum(shape.radii * self.zoom, 1.0))
+                c.global_alpha = 0.45
+                c.line_width = self._px(1)
+                c.stroke_circles(x, y, np.maximum(shape.radii * self.zoom, self._px(1)))
                 c.global_alpha = 1.0
-            c.fill_circles(x, y, 3.5 if shape.closed else 4.5)
+            c.fill_circles(x, y, self._px(3.5 if shape.closed else 4.5))
         elif len(pts) == 1:
-            c.fill_circles(x, y, 2)
+            c.fill_circles(x, y, self._px(2))
+
+    def _draw_appended(self, c, shape) -> None:
+        """Only the newest segment and vertex of a shape (the rest is on the layer already)."""
+        p = shape.points[-2:]
+        x, y = self.image_to_view(p[:, 0], p[:, 1])
+        pts = np.column_stack([x, y])
+        width = self._line_width(shape)
+        colour = self._colour(shape)
+        self._outline(c, pts, width)
+        c.stroke_style = colour
+        c.line_width = width
+        c.stroke_lines(pts)
+        c.fill_style = colour
+        if shape.radii is not None:
+            c.global_alpha = 0.45
+            c.line_width = self._px(1)
+            c.stroke_style = colour
+            c.stroke_circle(float(x[-1]), float(y[-1]), max(float(shape.radii[-1]) * self.zoom, self._px(1)))
+            c.global_alpha = 1.0
+        c.fill_circles(x, y, self._px(4.5))
 
     def _draw_shapes(self) -> None:
         c = self.canvas[2]
@@ -324,6 +495,13 @@ class AnnotationCanvas(widgets.VBox):
                 self._draw_shape(c, s)
             self._draw_selection(c)
 
+    def _ring(self, c, x: float, y: float) -> None:
+        """Black, white and yellow rings: visible on any colour."""
+        for colour, width, radius in (("#000000", 5, 8), ("#ffffff", 3, 8), ("#ffd600", 1.5, 8)):
+            c.stroke_style = colour
+            c.line_width = self._px(width)
+            c.stroke_circle(float(x), float(y), self._px(radius))
+
     def _draw_selection(self, c) -> None:
         if self.selected is None:
             return
@@ -331,10 +509,16 @@ class AnnotationCanvas(widgets.VBox):
         if i >= len(self.model) or j >= len(self.model.shapes[i].points):
             self.selected = None
             return
-        x, y = self.image_to_view(*self.model.shapes[i].points[j])
-        c.stroke_style = "#ffffff"
-        c.line_width = 2
-        c.stroke_circle(float(x), float(y), 7)
+        s = self.model.shapes[i]
+        if len(s.points) > 1:
+            x, y = self.image_to_view(s.points[:, 0], s.points[:, 1])
+            c.stroke_style = "#ffffff"
+            c.global_alpha = 0.8
+            c.line_width = self._line_width(s) + self._px(4)
+            c.stroke_lines(np.column_stack([x, y]))
+            c.global_alpha = 1.0
+            self._draw_shape(c, s)
+        self._ring(c, *self.image_to_view(*s.points[j]))
 
     def redraw(self) -> None:
         """Redraw every layer (after zoom, pan, undo, ...)."""
@@ -348,18 +532,21 @@ class AnnotationCanvas(widgets.VBox):
         if event.type == "add" and self.selected is None:
             with batched():
                 self._draw_shape(self.canvas[2], self.model.shapes[event.index])
+        elif event.type == "append" and self.selected is None:
+            with batched():
+                self._draw_appended(self.canvas[2], self.model.shapes[event.index])
         else:
             self._draw_shapes()
         self._update_status()
 
     def _update_status(self) -> None:
         p = self.pointer
-        where = f"x = {p[0]:.1f}, y = {p[1]:.1f}" if p is not None else "x, y: -"
+        where = f"x {p[0]:.0f}, y {p[1]:.0f}" if p is not None else "x, y -"
         h, w = self.image_shape
         self.status.value = (
-            f"<span style='font-family:monospace'>{where} &nbsp;|&nbsp; image {w} x {h} px"
-            f" &nbsp;|&nbsp; zoom {self.zoom * 100:.0f} % &nbsp;|&nbsp; {len(self.model)} shape(s)"
-            f" &nbsp;|&nbsp; tool: {self.mode}</span>"
+            "<div style='font-family:monospace;font-size:11px;white-space:nowrap;overflow:hidden;"
+            f"text-overflow:ellipsis;color:#444'>{where} · {w}×{h} px · "
+            f"{self.zoom / self.pixel_ratio * 100:.0f} % · {len(self.model)} shapes</div>"
         )
 
     # -- polylines ------------------------------------------------------------
@@ -370,12 +557,14 @@ class AnnotationCanvas(widgets.VBox):
             self.model.set_closed(i, True)
 
     def _snap(self, xy, exclude=None):
-        hit = self.model.nearest_vertex(xy, max_distance=_SNAP_PX / self.zoom, exclude=exclude)
+        hit = self.model.nearest_vertex(xy, max_distance=self._px(_SNAP_PX) / self.zoom, exclude=exclude)
         return hit
 
     # -- mouse & keyboard -------------------------------------------------------
     def handle_mouse_down(self, x: float, y: float) -> None:
         """Mouse pressed at canvas pixel (x, y)."""
+        if not (np.isfinite(x) and np.isfinite(y)):
+            return
         ix, iy = self.view_to_image(x, y)
         self.pointer = (ix, iy)
         if self.mode == "pan":
@@ -393,12 +582,13 @@ class AnnotationCanvas(widgets.VBox):
                 colour = self.labels.get(self.label, "#fff") if self.mode == "scribble" else _KIND_COLOURS["stroke"]
                 c.stroke_style = colour
                 c.fill_style = colour
-                c.line_width = 3 if self.mode == "scribble" else 2
-                c.fill_circle(float(x), float(y), 1.5)
+                c.line_width = self._px(4 if self.mode == "scribble" else 2)
+                c.line_cap = "round"
+                c.fill_circle(float(x), float(y), self._px(2))
         elif self.mode == "polyline":
             self._polyline_click(ix, iy)
         elif self.mode == "edit":
-            self.selected = self.model.nearest_vertex((ix, iy), max_distance=_SNAP_PX / self.zoom)
+            self.selected = self.model.nearest_vertex((ix, iy), max_distance=self._px(_SNAP_PX) / self.zoom)
             self._dragging = self.selected is not None
             if self.selected is not None:
                 s = self.model.shapes[self.selected[0]]
@@ -417,12 +607,14 @@ class AnnotationCanvas(widgets.VBox):
             self.model.add_shape("polyline", [(ix, iy)], radii=[self.radius], closed=False, meta=meta)
             return
         last = self.model.shapes[i].points[-1]
-        if np.hypot(ix - last[0], iy - last[1]) * self.zoom <= _SNAP_PX:
+        if np.hypot(ix - last[0], iy - last[1]) * self.zoom <= self._px(_SNAP_PX):
             self.model.set_closed(i, True)  # clicking the last vertex again ends the polyline
             return
         self.model.append_point(i, (ix, iy), radius=self.radius)
 
     def handle_mouse_move(self, x: float, y: float) -> None:
+        if not (np.isfinite(x) and np.isfinite(y)):
+            return
         ix, iy = self.view_to_image(x, y)
         self.pointer = (ix, iy)
         self._last_view = (x, y)
@@ -444,17 +636,20 @@ class AnnotationCanvas(widgets.VBox):
             c = self.canvas[3]
             with batched():
                 c.clear()
-                c.stroke_style = "#ffffff"
-                c.stroke_circle(float(x), float(y), 7)
+                self._ring(c, x, y)
 
     def handle_mouse_up(self, x: float, y: float) -> None:
-        ix, iy = self.view_to_image(x, y)
         self._panning = None
+        if not (np.isfinite(x) and np.isfinite(y)):
+            self._dragging = False
+            self._end_active()
+            return
+        ix, iy = self.view_to_image(x, y)
         if self._dragging and self.selected is not None:
             self._dragging = False
             i, j = self.selected
             old = self.model.shapes[i].points[j]
-            if self._inside(ix, iy) and np.hypot(ix - old[0], iy - old[1]) * self.zoom > 1.0:
+            if self._inside(ix, iy) and np.hypot(ix - old[0], iy - old[1]) * self.zoom > self._px(1.0):
                 self.model.move_vertex(i, j, (ix, iy))
             self.canvas[3].clear()
             return
@@ -475,8 +670,14 @@ class AnnotationCanvas(widgets.VBox):
         self.model.add_shape(kind, pts, label=label)
 
     def handle_wheel(self, dx: float, dy: float) -> None:
-        """Zoom about the last pointer position (wheel up = zoom in)."""
-        self.zoom_by(float(np.exp(-np.clip(dy, -500, 500) / 500.0)), about=self._last_view)
+        """Zoom about the last pointer position: one fixed step per notch (wheel up = in).
+
+        The step does not depend on ``deltaY``'s size, which differs between
+        browsers, devices and pixel ratios.
+        """
+        if not np.isfinite(dy) or dy == 0:
+            return
+        self.zoom_by(_WHEEL_STEP if dy < 0 else 1 / _WHEEL_STEP, about=self._last_view)
 
     def handle_key(self, key: str, shift: bool, ctrl: bool, meta: bool) -> None:
         mod = ctrl or meta

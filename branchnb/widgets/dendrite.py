@@ -16,8 +16,12 @@ A thin app over :mod:`branchnb.dendrite`:
 
 The stylization stages are cached (:class:`~branchnb.dendrite.Stylizer`):
 a thickness or metaphor change re-renders only, a metric change re-plans
-only, an endpoint change re-stipples. Every callback is guarded: errors are
-shown in the app's error area and the app keeps working.
+only, an endpoint change re-stipples. A slider move in ``stylize`` mode
+first shows a preview computed at half resolution (its own cached
+stylizer, sizes and endpoint count scaled), then the full update follows
+(in the background inside a kernel; a newer move supersedes it). The
+layout, busy state and status line are the kit's
+:class:`~branchnb.widgets.shell.AppShell`.
 """
 
 from __future__ import annotations
@@ -44,14 +48,70 @@ from ..dendrite.metaphors import METAPHORS
 from ..dendrite.pareidolia import PareidoliaParams, pareidolia_tree
 from ..dendrite.trees import TreeParams, grow_layers, grow_tree, iteration_metric, render_layers
 from .canvas import AnnotationCanvas
-from .feedback import ErrorArea
 from .histograms import HistogramCompare
 from .imageview import ImageView
 from .params import ParamPanel
+from .shell import AppShell
 
 __all__ = ["DendriteApp"]
 
 MODES = ("stylize", "tree", "pareidolia")
+
+#: Parameter groups and readable labels (paper symbols in the second place).
+STYLIZE_SECTIONS = [
+    ("importance map", ["intensity_weight", "gradient_weight", "sigma"]),
+    ("endpoints (stippling)", ["n_endpoints", "endpoint_gamma", "endpoint_floor", "stipple_iterations"]),
+    ("node weights and path metric", ["cost_weight", "epsilon", "noise", "metric", "blend_weight"]),
+    ("thickness", ["thickness", "window", "contrast", "min_width", "max_width"]),
+]
+STYLIZE_LABELS = {
+    "intensity_weight": ("darkness weight", "w_I"), "gradient_weight": ("gradient weight", "w_G"),
+    "sigma": ("gradient smoothing", "\u03c3"), "n_endpoints": ("endpoints", "N"),
+    "endpoint_gamma": ("density exponent", "\u03b3"), "endpoint_floor": ("density floor", ""),
+    "stipple_iterations": ("Lloyd iterations", ""), "cost_weight": ("importance cost", "c"),
+    "epsilon": ("weight offset", "\u03b5"), "noise": ("random weight", ""),
+    "metric": ("path metric", ""), "blend_weight": ("blend weight", "a"),
+    "thickness": ("thickness from", ""), "window": ("rolling window", ""),
+    "contrast": ("contrast exponent", ""), "min_width": ("min width (px)", ""),
+    "max_width": ("max width (px)", ""),
+}
+TREE_SECTIONS = [
+    ("growth", ["iterations", "trunk_endpoints", "endpoint_growth", "radius", "radius_decay",
+                "min_distance"]),
+    ("metric per iteration", ["blend_weight", "mix_power", "noise", "epsilon"]),
+    ("widths", ["tip_width", "increment", "pipe"]),
+    ("crown shape", ["fork_jitter", "trunk_share", "crown_top", "crown_bottom", "crown_width"]),
+]
+TREE_LABELS = {
+    "iterations": ("iterations", "n"), "trunk_endpoints": ("trunk endpoints", ""),
+    "endpoint_growth": ("endpoint growth", "\u00d7"), "radius": ("rejection radius", "R\u2082"),
+    "radius_decay": ("radius decay", ""), "min_distance": ("min distance / R", ""),
+    "blend_weight": ("blend weight", "a"), "mix_power": ("metric mix power", ""),
+    "noise": ("random weight", ""), "epsilon": ("weight offset", "\u03b5"),
+    "tip_width": ("twig width (px)", ""), "increment": ("width increment", ""),
+    "pipe": ("pipe model", ""), "fork_jitter": ("fork jitter", ""), "trunk_share": ("trunk share", ""),
+    "crown_top": ("crown top", ""), "crown_bottom": ("crown bottom", ""),
+    "crown_width": ("crown width", ""),
+}
+PAREIDOLIA_SECTIONS = [
+    ("endpoints", ["side", "n_endpoints", "random_ratio", "endpoint_gamma"]),
+    ("node weights", ["noise_image", "noise_random", "cost_weight", "epsilon", "intensity_weight",
+                      "gradient_weight"]),
+    ("growth", ["iterations", "trunk_endpoints", "blend_weight", "trunk_height"]),
+    ("widths", ["thickness", "window", "emphasis", "tip_width", "increment", "pipe"]),
+]
+PAREIDOLIA_LABELS = {
+    "side": ("image side", ""), "n_endpoints": ("image endpoints", "N"),
+    "random_ratio": ("random endpoints / N", ""), "endpoint_gamma": ("density exponent", "\u03b3"),
+    "noise_image": ("noise, image side", ""), "noise_random": ("noise, far side", ""),
+    "cost_weight": ("importance cost", "c"), "epsilon": ("weight offset", "\u03b5"),
+    "intensity_weight": ("darkness weight", "w_I"), "gradient_weight": ("gradient weight", "w_G"),
+    "iterations": ("iterations", "n"), "trunk_endpoints": ("main limbs", ""),
+    "blend_weight": ("blend weight", "a"), "trunk_height": ("trunk strip", ""),
+    "thickness": ("thickness from", ""), "window": ("rolling window", ""),
+    "emphasis": ("emphasis (px)", ""), "tip_width": ("twig width (px)", ""),
+    "increment": ("width increment", ""), "pipe": ("pipe model", ""),
+}
 
 
 def _fit(image, max_size: int) -> np.ndarray:
@@ -62,6 +122,13 @@ def _fit(image, max_size: int) -> np.ndarray:
         img = cv2.resize(img, (max(1, round(w * s)), max(1, round(h * s))),
                          interpolation=cv2.INTER_AREA)
     return np.clip(img, 0, 1).astype(np.float32)
+
+
+def _scaled(p: StylizeParams, s: float) -> StylizeParams:
+    """The same stylization for an image scaled by ``s``: sizes times s, endpoint count times s**2."""
+    return dataclasses.replace(
+        p, sigma=p.sigma * s, n_endpoints=max(1, int(round(p.n_endpoints * s * s))),
+        min_width=p.min_width * s, max_width=p.max_width * s)
 
 
 class DendriteApp(widgets.VBox):
@@ -77,7 +144,7 @@ class DendriteApp(widgets.VBox):
         Initial stylization parameters (paper defaults).
     mode : {"stylize", "tree", "pareidolia"}
     display : int
-        Display width of each result image (screen pixels).
+        Display width of each result image (CSS pixels).
 
     Attributes
     ----------
@@ -88,6 +155,8 @@ class DendriteApp(widgets.VBox):
     rendering : Rendering or None
         The main picture of the last update (its ``.svg`` is what
         "save SVG" writes).
+    preview : Stylization or None
+        The last half-resolution preview (stylize mode).
 
     Examples
     --------
@@ -99,69 +168,89 @@ class DendriteApp(widgets.VBox):
     """
 
     def __init__(self, image, *, max_size: int = 400, params: StylizeParams | None = None,
-                 mode: str = "stylize", display: int = 300):
+                 mode: str = "stylize", display: int = 270):
         if mode not in MODES:
             raise ValueError(f"mode must be one of {list(MODES)}, got {mode!r}")
+        if isinstance(max_size, bool) or not isinstance(max_size, (int, np.integer)) or max_size < 16:
+            raise ValueError(f"max_size must be an int >= 16 (pixels), got {max_size!r}")
+        if isinstance(display, bool) or not isinstance(display, int) or display < 64:
+            raise ValueError(f"display must be an int >= 64 (pixels), got {display!r}")
         self.image = _fit(image, int(max_size))
         self.stylizer = Stylizer(self.image)
-        self.errors = ErrorArea()
+        h, w = self.image.shape[:2]
+        self._preview_scale = 0.5 if max(h, w) >= 96 else 1.0
+        small = _fit(self.image, max(8, int(round(max(h, w) * self._preview_scale))))
+        self._preview_scale = small.shape[1] / w
+        self.preview_stylizer = Stylizer(small)
         self.comparison = None
         self.tree = None
         self.rendering = None
+        self.preview = None
         self.seed: np.ndarray | None = None
-        g = self.errors.guard
+        self.shell = AppShell("Dendritic structures by path planning",
+                              help="click to place the seed (trunk base in the tree modes); sliders "
+                                   "update at once (preview), then in full")
+        status = self.errors = self.shell.status
+        g = self.shell.guard
+        self._keeping_one_seed = False
 
         self.canvas = AnnotationCanvas(self.image, mode="point", modes=("point", "pan"),
-                                       max_display=min(480, max(200, int(max_size))))
-        self.canvas.model.observe(g(self._on_model))
+                                       max_display=min(380, max(200, int(max_size))), errors=status)
+        self.canvas.model.observe(self.shell.guard(self._on_model, action=False))
         self.mode_picker = widgets.ToggleButtons(options=list(MODES), value=mode,
-                                                 description="mode")
-        self.metaphor = widgets.Dropdown(options=list(METAPHORS), value="plain",
-                                         description="metaphor")
-        self.rng = widgets.BoundedIntText(value=0, min=0, max=2**31 - 1, description="rng seed",
-                                          layout=widgets.Layout(width="180px"))
+                                                 tooltips=["the image as a dendrite",
+                                                           "a tree grown iteratively",
+                                                           "the image hidden in a tree's crown"],
+                                                 style={"button_width": "auto"})
+        self.metaphor = widgets.Dropdown(options=list(METAPHORS), value="plain", description="metaphor",
+                                         style={"description_width": "56px"},
+                                         layout=widgets.Layout(width="170px"))
+        self.rng = widgets.BoundedIntText(value=0, min=0, max=2**31 - 1, description="seed",
+                                          tooltip="random seed", style={"description_width": "32px"},
+                                          layout=widgets.Layout(width="120px"))
         self.layers = widgets.IntSlider(value=1, min=1, max=4, description="layers",
                                         tooltip="occlusion: trees sharing one trunk (tree mode)",
-                                        continuous_update=False)
+                                        continuous_update=False, style={"description_width": "40px"},
+                                        layout=widgets.Layout(width="190px"))
         self.svg_path = widgets.Text(value="dendrite.svg", description="SVG file",
-                                     layout=widgets.Layout(width="260px"))
-        self.svg_button = widgets.Button(description="save SVG", icon="download",
-                                         layout=widgets.Layout(width="auto"))
-        self.svg_button.on_click(g(lambda _: self.save_svg(self.svg_path.value)))
-        self.status = widgets.HTML()
+                                     style={"description_width": "52px"},
+                                     layout=widgets.Layout(width="200px"))
+        self.status = widgets.HTML(layout=widgets.Layout(width="100%"))
 
         self.panels = {
-            "stylize": ParamPanel(params if params is not None else StylizeParams(),
+            "stylize": ParamPanel(params if params is not None else StylizeParams(), errors=status,
+                                  sections=STYLIZE_SECTIONS, labels=STYLIZE_LABELS,
                                   title="stylization (paper defaults)"),
-            "tree": ParamPanel(TreeParams, title="tree growth"),
-            "pareidolia": ParamPanel(PareidoliaParams, title="pareidolia tree"),
+            "tree": ParamPanel(TreeParams, errors=status, sections=TREE_SECTIONS, labels=TREE_LABELS,
+                               closed=("crown shape",), title="tree growth"),
+            "pareidolia": ParamPanel(PareidoliaParams, errors=status, sections=PAREIDOLIA_SECTIONS,
+                                     labels=PAREIDOLIA_LABELS, title="pareidolia tree"),
         }
         for panel in self.panels.values():
-            panel.on_change(g(lambda _values: self.update()))
+            panel.on_change(g(lambda _values: self._live()))
         self.mode_picker.observe(g(self._on_mode), names="value")
-        for w in (self.metaphor, self.rng, self.layers):
-            w.observe(g(lambda _change: self.update()), names="value")
+        for w_ in (self.metaphor, self.rng, self.layers):
+            w_.observe(g(lambda _change: self._live()), names="value")
 
-        self.views = ImageView(width=int(display))
+        self.shell.add_action("update", self.update, icon="refresh", primary=True,
+                              tooltip="recompute in full (cached stages are reused)")
+        self.shell.add_action("save SVG", lambda: f"wrote {self.save_svg(self.svg_path.value)}",
+                              icon="download", run=False, tooltip="write the current picture as SVG")
+        self.shell.add_tool(self.mode_picker, self.metaphor, self.rng, self.layers, self.svg_path)
+
+        self.views = ImageView(width=int(display), max_size=2 * int(display))
         self.hist_tortuosity = HistogramCompare(bins=16, metric="l1",
                                                 title="per-path tortuosity (length / straight)",
-                                                width=520, height=150)
-        self.hist_max_edge = HistogramCompare(bins=16, metric="l1",
-                                              title="per-path maximum edge cost",
-                                              width=520, height=150)
+                                                width=2 * int(display) + 8, height=120)
+        self.hist_max_edge = HistogramCompare(bins=16, metric="l1", title="per-path maximum edge cost",
+                                              width=2 * int(display) + 8, height=120)
         self.schedule = widgets.HTML()
         self._panel_box = widgets.VBox()
-        controls = widgets.VBox([
-            self.mode_picker,
-            widgets.HBox([self.metaphor, self.rng, self.layers]),
-            self._panel_box,
-            widgets.HBox([self.svg_path, self.svg_button]),
-        ], layout=widgets.Layout(width="440px", max_height="640px", overflow="auto"))
         self._stats_box = widgets.VBox([self.hist_tortuosity, self.hist_max_edge])
-        super().__init__([
-            widgets.HBox([self.canvas, controls]),
-            self.status, self.errors, self.views, self.schedule, self._stats_box,
-        ])
+        self.shell.set_body(main=[self.canvas],
+                            result=[self.views, self.status, self.schedule, self._stats_box],
+                            sidebar=[self._panel_box])
+        super().__init__([self.shell])
         g(self._on_mode)(None)
 
     # -- public API (everything the widgets do, callable from Python) ----------
@@ -186,27 +275,60 @@ class DendriteApp(widgets.VBox):
         if self.rendering is None:
             raise ValueError("nothing rendered yet")
         path = Path(path)
+        if path.is_dir():
+            raise ValueError(f"path {str(path)!r} is a folder: give a file name such as dendrite.svg")
         path.write_text(self.rendering.svg, encoding="utf-8")
-        self.status.value = f"wrote {path} ({path.stat().st_size // 1024} kB)"
         return path
 
-    def update(self) -> None:
-        """Recompute (cached stages are reused) and redraw."""
-        with self.errors.catch():
-            if self.mode == "stylize":
-                self._update_stylize()
-            elif self.mode == "tree":
-                self._update_tree()
-            else:
-                self._update_pareidolia()
+    def update(self) -> str:
+        """Recompute (cached stages are reused) and redraw; returns a summary."""
+        if self.mode == "stylize":
+            return self._update_stylize()
+        if self.mode == "tree":
+            return self._update_tree()
+        return self._update_pareidolia()
 
     # -- callbacks -------------------------------------------------------------
+    def _live(self) -> None:
+        preview = self._preview if self.mode == "stylize" else None
+        self.shell.live("update", self.update, preview=preview, stale=self._mark_stale)
+
+    def _mark_stale(self) -> None:
+        for i, t in enumerate(self.views.title_texts):
+            self.views.set_title(i, f"{t} (updating ...)")
+
+    def _preview(self) -> None:
+        s = self._preview_scale
+        p = _scaled(self.panels["stylize"].values, s)
+        seed = None if self.seed is None else self.seed * s
+        try:
+            self.preview = self.preview_stylizer.run(p, seed=seed, rng=int(self.rng.value),
+                                                     metaphor=self.metaphor.value)
+        except ValueError:
+            return  # the full update that follows reports it with the user's own values
+        if len(self.views.images) >= 2:
+            self.views.update_one(1, self.preview.rendering.image,
+                                  f"{p.metric}: preview at {s:.0%} size (full one follows)")
+        else:
+            self.views.update([self.preview.rendering.image], ["preview"])
+
     def _on_model(self, _event) -> None:
+        if self._keeping_one_seed:
+            return
         pts = self.canvas.model.of_kind("point")
+        if len(pts) > 1:  # only the last click is the seed: drop the older dots
+            self._keeping_one_seed = True
+            try:
+                last = pts[-1].to_dict()
+                self.canvas.model.load_json({"version": 1, "shapes": [
+                    s.to_dict() for s in self.canvas.model.shapes if s.kind != "point"] + [last]})
+            finally:
+                self._keeping_one_seed = False
+            pts = self.canvas.model.of_kind("point")
         new = None if not pts else pts[-1].points[-1].copy()
         if (new is None) != (self.seed is None) or (new is not None and not np.array_equal(new, self.seed)):
             self.seed = new
-            self.update()
+            self._live()
 
     def _on_mode(self, _change) -> None:
         self._panel_box.children = [self.panels[self.mode]]
@@ -214,10 +336,10 @@ class DendriteApp(widgets.VBox):
         self._stats_box.layout.display = "none" if tree_mode else None
         self.schedule.layout.display = None if tree_mode else "none"
         self.layers.layout.display = None if self.mode == "tree" else "none"
-        self.update()
+        self._live()
 
     # -- modes ----------------------------------------------------------------------
-    def _update_stylize(self) -> None:
+    def _update_stylize(self) -> str:
         p = self.panels["stylize"].values
         c = compare_metrics(self.stylizer, p, seed=self.seed, rng=int(self.rng.value),
                             metaphor=self.metaphor.value)
@@ -239,10 +361,10 @@ class DendriteApp(widgets.VBox):
         self.canvas.set_overlay(overlay)
         s = c.second.seed
         self.status.value = (
-            f"seed ({s[0]:.0f}, {s[1]:.0f}) &nbsp;|&nbsp; {len(c.second.endpoints)} endpoints "
-            f"&nbsp;|&nbsp; {d.n_nodes} nodes, {d.n_branches} branches &nbsp;|&nbsp; "
-            f"mean tortuosity {np.nanmean(t1):.2f} vs {np.nanmean(t2):.2f}")
-
+            f"<span style='font-size:12px'>seed ({s[0]:.0f}, {s[1]:.0f}) · {len(c.second.endpoints)} "
+            f"endpoints · {d.n_nodes} nodes, {d.n_branches} branches · mean tortuosity "
+            f"{np.nanmean(t1):.2f} ({labels[0]}) vs {np.nanmean(t2):.2f} ({labels[1]})</span>")
+        return f"{d.n_branches} branches"
     def _tree_render(self, dendrite):
         m = self.metaphor.value
         if m == "vines":
@@ -260,7 +382,7 @@ class DendriteApp(widgets.VBox):
             rows.append(f"{i}: {metric}" + (f" a = {a:.0f}" if metric == "blend" else "") + r)
         return "<b>metric per iteration</b>: " + " &nbsp;|&nbsp; ".join(rows)
 
-    def _update_tree(self) -> None:
+    def _update_tree(self) -> str:
         p = self.panels["tree"].values
         h, w = self.image.shape[:2]
         base = self.seed
@@ -278,10 +400,11 @@ class DendriteApp(widgets.VBox):
         self.schedule.value = self._schedule_html(p, main.radii)
         self.canvas.set_overlay(None)
         d = main.dendrite
-        self.status.value = (f"{d.n_nodes} nodes, {d.n_branches} branches, endpoints per iteration "
-                             f"{[len(e) for e in main.endpoints]}")
+        self.status.value = (f"<span style='font-size:12px'>{d.n_nodes} nodes, {d.n_branches} branches, "
+                             f"endpoints per iteration {[len(e) for e in main.endpoints]}</span>")
+        return f"{d.n_branches} branches"
 
-    def _update_pareidolia(self) -> None:
+    def _update_pareidolia(self) -> str:
         p = self.panels["pareidolia"].values
         t = pareidolia_tree(self.image, p, rng=int(self.rng.value))
         self.tree = t
@@ -291,6 +414,8 @@ class DendriteApp(widgets.VBox):
         self.schedule.value = self._schedule_html(
             dataclasses.replace(TreeParams(), iterations=p.iterations, blend_weight=p.blend_weight))
         self.canvas.set_overlay(None)
-        self.status.value = (f"{len(t.endpoints_image)} stippled + {len(t.endpoints_random)} random "
-                             f"endpoints, {t.dendrite.n_nodes} nodes (the trunk starts below the "
-                             "image; the seed click is not used in this mode)")
+        self.status.value = (f"<span style='font-size:12px'>{len(t.endpoints_image)} stippled + "
+                             f"{len(t.endpoints_random)} random endpoints, {t.dendrite.n_nodes} nodes "
+                             "(the trunk starts below the image; the seed click is not used in this "
+                             "mode)</span>")
+        return f"{t.dendrite.n_nodes} nodes"

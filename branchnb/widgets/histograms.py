@@ -73,6 +73,12 @@ class HistogramCompare(widgets.VBox):
         self.comparison = comparison
         self._draw()
 
+    def clear(self) -> None:
+        """Back to "no data yet" (e.g. after the data was removed)."""
+        self.comparison = None
+        self.caption.value = ""
+        self._draw_empty()
+
     def _draw_empty(self) -> None:
         c = self.canvas
         with batched():
@@ -124,7 +130,7 @@ class HistogramCompare(widgets.VBox):
                 c.text_align = "left"
         rows = " &nbsp; ".join(
             f"<span style='color:{PALETTE[j % len(PALETTE)]}'>&#9632;</span> {cmp.labels[j]} vs "
-            f"{cmp.labels[0]}: <b>{self.metric} = {cmp.distances[j]:.4f}</b>"
+            f"{cmp.labels[0]}: <b>{self.metric} = {cmp.distances[j]:.3g}</b>"
             for j in range(1, k)
         )
         head = f"<b>{self.title}</b> &nbsp; " if self.title else ""

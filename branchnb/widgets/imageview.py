@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+import html
+
 import cv2
 import ipywidgets as widgets
+import numpy as np
 
-from ..core.image import to_uint8
+from ..core.image import as_float_image, to_uint8
 from ..core.io import encode_png
 
 __all__ = ["ImageView"]
@@ -37,22 +40,34 @@ class ImageView(widgets.HBox):
     titles : sequence of str
     fast : bool
     width : int
-        Display width of each image in pixels.
+        Display width of each image in CSS pixels.
+    max_size : int, optional
+        Shrink images whose long side exceeds this before sending them
+        (e.g. twice ``width`` for sharp HiDPI display without sending a
+        full-size image on every slider move); None sends them as they are.
 
     Examples
     --------
     >>> import numpy as np
     >>> v = ImageView([np.zeros((4, 4, 3)), np.ones((4, 4, 3))], titles=["a", "b"])
-    >>> [t.value for t in v.titles]
+    >>> v.title_texts
     ['a', 'b']
     """
 
-    def __init__(self, images=(), titles=(), *, fast: bool = False, width: int = 320):
+    def __init__(self, images=(), titles=(), *, fast: bool = False, width: int = 320,
+                 max_size: int | None = None):
         super().__init__(layout=widgets.Layout(flex_flow="row wrap"))
+        if isinstance(width, bool) or not isinstance(width, int) or width < 16:
+            raise ValueError(f"width must be an int >= 16 (pixels), got {width!r}")
+        if max_size is not None and (isinstance(max_size, bool) or not isinstance(max_size, int)
+                                     or max_size < 16):
+            raise ValueError(f"max_size must be None or an int >= 16, got {max_size!r}")
         self.fast = bool(fast)
         self.width = int(width)
+        self.max_size = max_size
         self.images: list[widgets.Image] = []
-        self.titles: list[widgets.Label] = []
+        self.titles: list[widgets.HTML] = []
+        self._title_text: list[str] = []
         if len(images):
             self.update(images, titles)
 
@@ -60,16 +75,52 @@ class ImageView(widgets.HBox):
         """Replace the images (widgets are reused when the count is unchanged)."""
         images = list(images) if not hasattr(images, "ndim") else [images]
         if titles is None:
-            titles = [t.value for t in self.titles][: len(images)]
+            titles = self.title_texts[: len(images)]
         titles = list(titles) + [""] * (len(images) - len(titles))
         if len(self.images) != len(images):
             self.images = [widgets.Image(layout=widgets.Layout(width=f"{self.width}px",
                                                                object_fit="contain"))
                            for _ in images]
-            self.titles = [widgets.Label(style={"font_weight": "bold"}) for _ in images]
+            self.titles = [widgets.HTML(layout=widgets.Layout(width=f"{self.width}px"))
+                           for _ in images]
+            self._title_text = [""] * len(images)
             self.children = [widgets.VBox([t, im]) for t, im in zip(self.titles, self.images)]
         for i, (img, title) in enumerate(zip(images, titles)):
-            data, fmt = _encode(img, self.fast)
+            data, fmt = _encode(self._shrink(img), self.fast)
             self.images[i].format = fmt
             self.images[i].value = data
-            self.titles[i].value = str(title)
+            self.set_title(i, title)
+
+    def update_one(self, index: int, image, title: str | None = None) -> None:
+        """Replace one image (and its title) in place."""
+        if not 0 <= index < len(self.images):
+            raise ValueError(f"index {index} out of range for {len(self.images)} images")
+        data, fmt = _encode(self._shrink(image), self.fast)
+        self.images[index].format = fmt
+        self.images[index].value = data
+        if title is not None:
+            self.set_title(index, title)
+
+    def set_title(self, index: int, title: str) -> None:
+        """Change one image's title (e.g. to mark it out of date)."""
+        if not 0 <= index < len(self.titles):
+            return
+        self.titles[index].value = (f"<div class='bnb-view-title' style='font-size:12px;font-weight:600;"
+                                    f"line-height:15px'>{html.escape(str(title))}</div>")
+        self._title_text += [""] * (len(self.titles) - len(self._title_text))
+        self._title_text[index] = str(title)
+
+    @property
+    def title_texts(self) -> list[str]:
+        return list(self._title_text[: len(self.titles)])
+
+    def _shrink(self, image):
+        if self.max_size is None:
+            return image
+        a = np.asarray(image)
+        if a.ndim < 2 or max(a.shape[:2]) <= self.max_size:
+            return image
+        h, w = a.shape[:2]
+        s = self.max_size / max(h, w)
+        a = as_float_image(a, name="image")
+        return cv2.resize(a, (max(1, round(w * s)), max(1, round(h * s))), interpolation=cv2.INTER_AREA)

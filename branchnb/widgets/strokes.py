@@ -30,8 +30,10 @@ working.
 
 from __future__ import annotations
 
+import dataclasses
 import time
 
+import cv2
 import ipywidgets as widgets
 import numpy as np
 
@@ -45,15 +47,70 @@ from ..strokes import (
 )
 from ..strokes.evaluation import CHANNELS
 from .canvas import AnnotationCanvas
-from .feedback import ErrorArea
 from .histograms import HistogramCompare
 from .imageview import ImageView
 from .params import ParamPanel
+from .shell import AppShell
 
 __all__ = ["StrokeEditApp", "strokes_from_shapes", "nearest_stroke"]
 
 MODES = ("stroke", "polyline", "point", "edit", "pan")
 _UNPAIRED = "#9e9e9e"
+
+#: Parameter groups (the paper's steps) and readable labels.
+SECTIONS = [
+    ("patches and sampling", ["patch_size", "spacing", "sampling", "search_window", "search_across",
+                              "search_step", "shift_penalty"]),
+    ("composition (seams)", ["composition", "seam_power", "gradient_weighted"]),
+    ("junctions", ["junction_tolerance", "extend_branches"]),
+]
+LABELS = {
+    "patch_size": ("patch diameter", "2r"), "spacing": ("sample spacing", "h"),
+    "sampling": ("correspondences", ""), "search_window": ("search window", "W"),
+    "search_across": ("search across", ""), "search_step": ("search step", ""),
+    "shift_penalty": ("shift prior", "\u03bb"), "composition": ("stitching", ""),
+    "seam_power": ("seam exponent", "p"), "gradient_weighted": ("seams follow edges", "/G"),
+    "junction_tolerance": ("junction tolerance", ""), "extend_branches": ("extend branches", ""),
+}
+
+#: Long side (px) of the reduced-size edit shown while a slow full edit is computed.
+PREVIEW_SIZE = 200
+#: A full edit slower than this (s) gets a reduced-size preview first.
+PREVIEW_AFTER = 0.25
+
+
+def _check_target_shape(shape):
+    if shape is None:
+        return None
+    if isinstance(shape, (str, bytes)) or not hasattr(shape, "__len__") or len(shape) < 2:
+        raise ValueError(f"target_shape must be (height, width) in pixels, got {shape!r}")
+    out = []
+    for v in tuple(shape)[:2]:
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) and not (
+                isinstance(v, (float, np.floating)) and float(v).is_integer()):
+            raise ValueError(f"target_shape must be two whole numbers (height, width), got {shape!r}")
+        if not 1 <= int(v) <= 8192:
+            raise ValueError(f"target_shape sides must be in [1, 8192] pixels, got {shape!r}")
+        out.append(int(v))
+    return tuple(out)
+
+
+def _check_background(background):
+    if background is None:
+        return None
+    if isinstance(background, str):
+        raise ValueError(f"background must be None, an RGB colour (3 numbers in [0, 1]) or an image, "
+                         f"got the string {background!r}")
+    a = np.asarray(background)
+    if a.ndim == 3:
+        return as_float_image(a, name="background")
+    if a.ndim != 1 or len(a) not in (3, 4) or not np.issubdtype(a.dtype, np.number):
+        raise ValueError(f"background must be None, an RGB colour (3 numbers in [0, 1]) or an image, "
+                         f"got {background!r}")
+    a = a.astype(np.float64)
+    if not np.all(np.isfinite(a)) or a.min() < 0 or a.max() > 1:
+        raise ValueError(f"background colour values must be in [0, 1], got {background!r}")
+    return tuple(float(v) for v in a)
 
 
 def strokes_from_shapes(shapes, *, snap: float = 20.0):
@@ -154,80 +211,75 @@ class StrokeEditApp(widgets.VBox):
     """
 
     def __init__(self, image, *, target_shape=None, background=None,
-                 params: StrokeEditParams | None = None, max_display: int = 420):
+                 params: StrokeEditParams | None = None, max_display: int = 300):
         self.image = as_float_image(image, name="image")
+        target_shape = _check_target_shape(target_shape)
+        background = _check_background(background)
         self.background = background
-        if background is not None and np.asarray(background).ndim == 3:
-            bg = as_float_image(background, name="background")
+        if isinstance(background, np.ndarray) and background.ndim == 3:
+            bg = background
             target_shape = bg.shape[:2] if target_shape is None else target_shape
             target_view = as_rgba(bg)
         else:
             target_shape = self.image.shape[:2] if target_shape is None else target_shape
-            h, w = (int(v) for v in tuple(target_shape)[:2])
+            h, w = target_shape
             target_view = _checkerboard((h, w))
             if background is not None:
-                col = np.asarray(background, np.float32)[:3]
-                target_view = np.broadcast_to(col, (h, w, 3)).copy()
-        self.target_shape = tuple(int(v) for v in tuple(target_shape)[:2])
+                target_view = np.broadcast_to(np.asarray(background, np.float32)[:3], (h, w, 3)).copy()
+        self.target_shape = tuple(int(v) for v in target_shape)
         self.result = None
+        self.preview = None
         self.comparisons: list = []
         self.elapsed = 0.0
-        self.errors = ErrorArea()
-        g = self.errors.guard
+        self.shell = AppShell(
+            "Stroke-based structure editing",
+            help="draw strokes along the object on the <b>source</b>, then where each part goes on the "
+                 "<b>target</b> (same order and direction: same colour = a pair)")
+        status = self.errors = self.shell.status
+        g = self.shell.guard
 
         self.source_canvas = AnnotationCanvas(self.image, mode="stroke", modes=MODES,
-                                              max_display=max_display)
+                                              max_display=max_display, errors=status)
         self.target_canvas = AnnotationCanvas(target_view, mode="stroke", modes=MODES,
-                                              max_display=max_display)
+                                              max_display=max_display, errors=status)
         self.canvases = {"source": self.source_canvas, "target": self.target_canvas}
         for c in self.canvases.values():
             c.model.observe(g(self._on_strokes))
 
-        self.panel = ParamPanel(params if params is not None else StrokeEditParams(), debounce=0.3,
-                                continuous=False, title="stroke editing parameters")
+        self.panel = ParamPanel(params if params is not None else StrokeEditParams(), errors=status,
+                                sections=SECTIONS, labels=LABELS, title="stroke editing")
         self.panel.on_change(g(lambda _values: self._changed()))
-        self.auto = widgets.Checkbox(value=True, description="update on change", indent=False)
-        self.show_seams = widgets.Checkbox(value=False, description="show seams", indent=False)
+        self.auto = widgets.Checkbox(value=True, description="update on change", indent=False,
+                                     layout=widgets.Layout(width="auto"))
+        self.show_seams = widgets.Checkbox(value=False, description="show seams", indent=False,
+                                           layout=widgets.Layout(width="auto"))
         self.show_seams.observe(g(lambda _: self._show()), names="value")
-
-        def button(label, tip, fn, icon=""):
-            b = widgets.Button(description=label, tooltip=tip, icon=icon,
-                               layout=widgets.Layout(width="auto"))
-            b.on_click(g(lambda _: fn()))
-            return b
-
-        self.buttons = {
-            "edit": button("edit", "re-synthesize the object along the target strokes", self.edit,
-                           "play"),
-            "reverse": button("reverse last target", "flip the direction of the last target stroke",
-                              lambda: self.reverse_target(-1), "exchange"),
-            "clear": button("clear all", "remove all strokes and control points", self.clear,
-                            "trash"),
-        }
-        self.view = ImageView(width=max_display)
-        self.hists = [HistogramCompare(bins=16, metric="l1", title=f"{ch} channel", width=420,
-                                       height=130) for ch in CHANNELS]
-        self.status = widgets.HTML()
-        help_html = widgets.HTML(
-            "<b>source</b> (left): draw strokes along the object's skeleton; <b>target</b> "
-            "(right): draw where each part goes, in the same order and direction (same colour = "
-            "a pair; dot = start, arrow = end). A target stroke starting on another one makes a "
-            "branch. <i>point</i> tool: click near a source stroke and near its target stroke to "
-            "add a control-point pair.")
-        super().__init__([
-            help_html,
-            widgets.HBox([
+        sh = self.shell
+        sh.add_action("re-synthesize", self.edit, icon="play", primary=True,
+                      tooltip="re-synthesize the object along the target strokes")
+        sh.add_action("reverse last target", lambda: self.reverse_target(-1), icon="exchange",
+                      tooltip="flip the direction of the last target stroke")
+        sh.add_action("clear all", self.clear, icon="trash", run=False,
+                      tooltip="remove all strokes and control points, and the result")
+        sh.add_tool(self.auto, self.show_seams)
+        self.buttons = {"edit": sh.buttons["re-synthesize"], "reverse": sh.buttons["reverse last target"],
+                        "clear": sh.buttons["clear all"]}
+        self.view = ImageView(width=max_display, max_size=2 * max_display)
+        self.hists = [HistogramCompare(bins=16, metric="l1", title=f"{ch} channel", width=max_display,
+                                       height=110) for ch in CHANNELS]
+        self.status = widgets.HTML(layout=widgets.Layout(width="100%"))
+        sh.set_body(
+            main=[widgets.HBox([
                 widgets.VBox([widgets.HTML("<b>source image</b>"), self.source_canvas]),
-                widgets.VBox([widgets.HTML("<b>target domain</b>"), self.target_canvas]),
+                widgets.VBox([widgets.HTML("<b>target domain</b> (the result shows here)"),
+                              self.target_canvas]),
             ], layout=widgets.Layout(flex_flow="row wrap")),
-            widgets.HBox([self.buttons["edit"], self.auto, self.show_seams, self.buttons["reverse"],
-                          self.buttons["clear"]], layout=widgets.Layout(flex_flow="row wrap")),
-            self.status,
-            self.errors,
-            widgets.HBox([self.view, widgets.VBox(self.hists)],
-                         layout=widgets.Layout(flex_flow="row wrap")),
-            widgets.Accordion(children=[self.panel], titles=("parameters",)),
-        ])
+                self.status,
+                widgets.HBox([self.view, widgets.VBox(self.hists)],
+                             layout=widgets.Layout(flex_flow="row wrap"))],
+            sidebar=[self.panel])
+        self.shell.result.layout.display = "none"
+        super().__init__([sh])
         self._on_strokes(None)
 
     # -- public API (what the mouse and buttons do) ---------------------------
@@ -259,9 +311,15 @@ class StrokeEditApp(widgets.VBox):
             for k, s in enumerate(model.shapes)]})
 
     def clear(self) -> None:
-        """Remove every stroke and control point (undoable on each canvas)."""
+        """Remove every stroke and control point (undoable on each canvas) and the result."""
+        self.result = self.preview = None
+        self.comparisons = []
         for c in self.canvases.values():
             c.model.clear()
+        self.view.update([], [])
+        for h in self.hists:
+            h.clear()
+        self._target_overlay()
 
     def strokes(self):
         """``(source_strokes, target_strokes, control_points, notes)`` as drawn.
@@ -323,10 +381,52 @@ class StrokeEditApp(widgets.VBox):
 
     def _changed(self) -> None:
         if self.auto.value:
-            self.edit()
+            slow = self.elapsed > PREVIEW_AFTER
+            self.shell.live("re-synthesize", self.edit, preview=self._preview if slow else None,
+                            stale=self._mark_stale)
         else:
             src, tgt, _, notes = self.strokes()
             self.status.value = self._status_text(src, tgt, notes)
+
+    def _mark_stale(self) -> None:
+        if self.view.images:
+            self.view.set_title(0, "out of date: re-synthesizing ...")
+
+    def _preview(self) -> None:
+        """The same edit at reduced size (long side PREVIEW_SIZE px), shown until the full one arrives."""
+        src, tgt, control, _ = self.strokes()
+        if not src or len(src) != len(tgt):
+            return
+        s = min(1.0, PREVIEW_SIZE / max(self.target_shape + self.image.shape[:2]))
+        if s >= 0.95:
+            return
+        p = self.params
+        small = dataclasses.replace(
+            p, patch_size=2 * int(round(p.patch_size * s / 2)) if p.patch_size else 0,
+            spacing=p.spacing * s, search_window=int(round(p.search_window * s)),
+            search_across=int(round(p.search_across * s)), search_step=max(1, int(round(p.search_step * s))),
+            junction_tolerance=p.junction_tolerance * s)
+        if small.patch_size and small.patch_size < 8:
+            small = dataclasses.replace(small, patch_size=8)
+        h, w = self.image.shape[:2]
+        image = cv2.resize(self.image, (max(1, round(w * s)), max(1, round(h * s))),
+                           interpolation=cv2.INTER_AREA)
+        bg = self.background
+        if isinstance(bg, np.ndarray):
+            bg = cv2.resize(bg, (max(1, round(bg.shape[1] * s)), max(1, round(bg.shape[0] * s))),
+                            interpolation=cv2.INTER_AREA)
+        shape = (max(1, round(self.target_shape[0] * s)), max(1, round(self.target_shape[1] * s)))
+        if isinstance(bg, np.ndarray):
+            shape = bg.shape[:2]
+        ctrl = [None if c is None else (c[0] * s, c[1] * s) for c in control]
+        try:
+            res = edit_structure(image, [a * s for a in src], [b * s for b in tgt], small,
+                                 control_points=ctrl, target_shape=shape, background=bg)
+        except ValueError:
+            return  # the full edit that follows reports it with the strokes as drawn
+        self.preview = res
+        self.view.update([res.show(seams=self.show_seams.value)],
+                         [f"preview at {s:.0%} size (the full result follows)"])
 
     def _recolour(self) -> None:
         """Pair colours on both canvases (shape.meta["color"], which the canvas honours)."""

@@ -22,8 +22,9 @@ A thin app over :mod:`branchnb.trees`:
   the cloud of the current variation or of a library tree, seen from any
   yaw angle.
 
-Every callback is guarded: errors are shown in the app's error area and the
-app keeps working. Everything the widgets do is a method callable from
+Every callback is guarded: errors are shown in the app's status line (the
+kit's :class:`~branchnb.widgets.shell.AppShell`) and the app keeps working.
+Everything the widgets do is a method callable from
 Python (``select``, ``set_weight``, ``random_weights``, ``set_morph``,
 ``more_like_this``, ``adopt``, ``segment``, ``build_cloud``, ``set_yaw``).
 """
@@ -50,9 +51,10 @@ from ..trees.variations import (
     make_variation,
 )
 from .canvas import AnnotationCanvas
-from .feedback import ErrorArea
 from .histograms import HistogramCompare
 from .imageview import ImageView
+from .params import ParamPanel
+from .shell import AppShell
 
 __all__ = ["TreeVariationsApp", "convex_update"]
 
@@ -143,8 +145,11 @@ class TreeVariationsApp(widgets.VBox):
         for n in sel:
             if n not in names:
                 raise ValueError(f"selected: no tree named {n!r} in the library")
-        self.errors = ErrorArea()
-        g = self.errors.guard
+        self.shell = AppShell("Tree variations from a library",
+                              help="check trees to mix them; weights, M and the reference update at "
+                                   "once; <b>more like this</b> varies the current mix")
+        self.errors = self.shell.status
+        g = self.shell.guard
         self.variation: Variation | None = None
         self.source: Variation | None = None
         self.morph_result: Variation | None = None
@@ -158,46 +163,58 @@ class TreeVariationsApp(widgets.VBox):
         for ex in self.library:
             img = widgets.Image(value=encode_png(_thumb(ex.image, thumb)), format="png",
                                 layout=widgets.Layout(width=f"{thumb}px", height=f"{thumb}px"))
-            cb = widgets.Checkbox(value=ex.name in sel, description=ex.name, indent=False,
-                                  layout=widgets.Layout(width=f"{max(thumb, 90)}px"))
-            cb.style.description_width = "0px"
+            cb = widgets.Checkbox(value=ex.name in sel, description="", indent=False, tooltip=ex.name,
+                                  layout=widgets.Layout(width="20px"))
             cb.observe(g(self._on_check), names="value")
             self.checks[ex.name] = cb
-            cells.append(widgets.VBox([img, cb], layout=widgets.Layout(align_items="center")))
+            name = widgets.HTML(f"<span style='font-size:11px;line-height:12px;word-break:break-all'"
+                                f" title='{ex.name}'>{ex.name}</span>",
+                                layout=widgets.Layout(width=f"{thumb - 18}px"))
+            cells.append(widgets.VBox([img, widgets.HBox([cb, name], layout=widgets.Layout(
+                align_items="center"))], layout=widgets.Layout(align_items="center", width=f"{thumb + 6}px",
+                                                              margin="0 2px")))
         self.thumbnails = widgets.HBox(cells, layout=widgets.Layout(flex_flow="row wrap"))
 
         # -- mix controls
         self.sliders_box = widgets.VBox()
         self.sliders: dict[str, widgets.FloatSlider] = {}
-        self.m_points = widgets.IntSlider(value=VariationParams().m_points, min=6, max=60,
-                                          description="M", continuous_update=False,
-                                          tooltip="cage vertices of the colour transfer (paper: 20)")
-        self.rng = widgets.BoundedIntText(value=0, min=0, max=2**31 - 1, description="rng seed",
-                                          layout=widgets.Layout(width="180px"))
+        self.panel = ParamPanel(VariationParams, errors=self.errors, hide=("keep",), labels={
+            "m_points": ("cage vertices", "M"), "n_mix": ("trees per random mix", ""),
+            "concentration": ("shape concentration", "\u03b1"),
+            "colour_concentration": ("colour concentration", "\u03b1c")}, title="variation parameters")
+        self.m_points = self.panel.controls["m_points"]
+        self.panel.on_change(g(lambda _p: self._live_update()))
+        self.rng = widgets.BoundedIntText(value=0, min=0, max=2**31 - 1, description="seed",
+                                          tooltip="random seed", style={"description_width": "32px"},
+                                          layout=widgets.Layout(width="120px"))
         self.colour_mode = widgets.Dropdown(options=[("random (paper)", "random"),
                                                      ("= shape weights", "shape")],
                                             value="random", description="colour")
         refs = [("none", None)] + [(n, n) for n in names] + [(n, n) for n in references
                                                              if n not in names]
-        self.reference = widgets.Dropdown(options=refs, value=None, description="reference")
-        self.random_button = widgets.Button(description="random weights", icon="random",
-                                            layout=widgets.Layout(width="auto"))
-        self.random_button.on_click(g(lambda _: self.random_weights()))
-        for w in (self.m_points, self.rng, self.colour_mode, self.reference):
-            w.observe(g(lambda _c: self.update()), names="value")
-        self.views = ImageView(width=int(display))
-        self.hists = [HistogramCompare(bins=16, metric="l1", title=f"{c} channel", width=560,
-                                       height=130) for c in ("red", "green", "blue")]
+        self.reference = widgets.Dropdown(options=refs, index=0, description="reference",
+                                          tooltip="histogram transfer of the colours to this image",
+                                          style={"description_width": "60px"},
+                                          layout=widgets.Layout(width="300px"))
+        # "none" stays shown when the value is set to None from Python (index None = blank)
+        self.reference.observe(lambda c: setattr(self.reference, "index", 0) if c["new"] is None else None,
+                               names="index")
+        self.colour_mode.layout.width = "300px"
+        self.colour_mode.style.description_width = "60px"
+        self.random_button = self.shell.add_action(
+            "random weights", self.random_weights, icon="random",
+            tooltip="Dirichlet weights for the checked trees from the seed")
+        for w in (self.rng, self.colour_mode, self.reference):
+            w.observe(g(lambda _c: self._live_update()), names="value")
+        self.views = ImageView(width=int(display), max_size=2 * int(display))
+        self.hists = [HistogramCompare(bins=16, metric="l1", title=f"{c} channel",
+                                       width=3 * int(display) + 16, height=110)
+                      for c in ("red", "green", "blue")]
         self.status = widgets.HTML()
-        mix = widgets.VBox([
-            widgets.HBox([
-                widgets.VBox([widgets.HTML("<b>weights</b> (kept convex)"), self.sliders_box,
-                              self.random_button],
-                             layout=widgets.Layout(width="430px")),
-                widgets.VBox([self.m_points, self.rng, self.colour_mode, self.reference]),
-            ]),
-            self.status, self.views, *self.hists,
-        ])
+        mix = widgets.VBox([self.status, self.views, *self.hists])
+        self._mix_controls = widgets.VBox([
+            widgets.HTML("<b>weights</b> (kept convex)"), self.sliders_box,
+            self.colour_mode, self.reference, self.panel])
 
         # -- morph
         self.morph_a = widgets.Dropdown(options=names, value=names[0], description="tree a")
@@ -217,12 +234,12 @@ class TreeVariationsApp(widgets.VBox):
                                         tooltip="share of the current weights each variation keeps")
         self.n_similar = widgets.IntSlider(value=6, min=1, max=12, description="count",
                                            continuous_update=False)
-        self.more_button = widgets.Button(description="more like this", icon="th",
-                                          layout=widgets.Layout(width="auto"))
-        self.more_button.on_click(g(lambda _: self.more_like_this()))
+        self.more_button = self.shell.add_action(
+            "more like this", lambda: f"{len(self.more_like_this())} variations", icon="th", primary=True,
+            tooltip="random variations around the current mix (tab 'more like this')")
         self.grid = widgets.HBox(layout=widgets.Layout(flex_flow="row wrap"))
         self._grid_size = max(96, int(display) // 2)
-        similar = widgets.VBox([widgets.HBox([self.keep, self.n_similar, self.more_button]),
+        similar = widgets.VBox([widgets.HBox([self.keep, self.n_similar]),
                                 self.grid])
 
         # -- segmentation (scribble correction)
@@ -256,8 +273,11 @@ class TreeVariationsApp(widgets.VBox):
             self.cloud_source = widgets.Dropdown(options=["current variation"] + names,
                                                  value="current variation", description="tree")
             self.cloud_button = widgets.Button(description="build cloud", icon="cubes",
+                                               tooltip="build the billboard cloud (slow)",
                                                layout=widgets.Layout(width="auto"))
-            self.cloud_button.on_click(g(lambda _: self.build_cloud()))
+            self.cloud_button.on_click(lambda _: self.shell.run("build cloud", self.build_cloud,
+                                                                background=True))
+            self.errors.add_run_buttons(self.cloud_button)
             self.yaw = widgets.FloatSlider(value=30.0, min=-180.0, max=180.0, step=5.0,
                                            description="yaw", continuous_update=False)
             self.yaw.observe(g(lambda _c: self.set_yaw()), names="value")
@@ -271,8 +291,12 @@ class TreeVariationsApp(widgets.VBox):
         self.tabs = widgets.Tab(children=children)
         for i, title in enumerate(titles):
             self.tabs.set_title(i, title)
-        super().__init__([widgets.HTML("<b>library</b> (check the trees to mix)"),
-                          self.thumbnails, self.errors, self.tabs])
+        self.shell.add_tool(self.rng)
+        self.shell.set_body(main=[widgets.HTML("<b>library</b> (check the trees to mix)"),
+                                  self.thumbnails, self.tabs],
+                            sidebar=[self._mix_controls])
+        self.shell.result.layout.display = "none"
+        super().__init__([self.shell])
         self._rebuild_sliders()
         g(self.update)()
         g(self.set_morph)()
@@ -290,7 +314,7 @@ class TreeVariationsApp(widgets.VBox):
         return np.array([self._weights[n] for n in self.selected])
 
     def params(self) -> VariationParams:
-        return VariationParams(m_points=int(self.m_points.value))
+        return self.panel.values
 
     def select(self, names) -> None:
         """Check exactly these trees (weights reset to equal shares)."""
@@ -343,6 +367,7 @@ class TreeVariationsApp(widgets.VBox):
         with self.errors.catch():
             sel = self.selected
             if not sel:
+                self._clear_mix()
                 raise ValueError("check at least one tree of the library to mix")
             w = self.weights
             colour = "shape" if self.colour_mode.value == "shape" else None
@@ -375,7 +400,7 @@ class TreeVariationsApp(widgets.VBox):
             self.status.value = (
                 "shape: " + self.variation.label() + " &nbsp;|&nbsp; colour: "
                 + " + ".join(f"{c:.2f} {n}" for n, c in zip(self.variation.names, cw) if c > 0)
-                + f" &nbsp;|&nbsp; M = {self.m_points.value}")
+                + f" &nbsp;|&nbsp; M = {self.params().m_points}")
 
     def set_morph(self, a: str | None = None, b: str | None = None, t: float | None = None) -> None:
         """Morph tree ``a`` into tree ``b`` at ``t`` (weights ``1 - t``, ``t``)."""
@@ -493,6 +518,19 @@ class TreeVariationsApp(widgets.VBox):
                                ["front view (yaw 0)", f"yaw {y:.0f} deg"])
 
     # -- internals ----------------------------------------------------------------
+    def _live_update(self) -> None:
+        self.shell.live("mix", self.update)
+
+    def _clear_mix(self) -> None:
+        """No tree checked: nothing to show (no stale result, nothing to vary)."""
+        self.variation = self.source = None
+        self.similar = []
+        self.views.update([], [])
+        self.grid.children = []
+        for h in self.hists:
+            h.clear()
+        self.status.value = "no tree checked"
+
     def _seg_overlay(self, ex) -> np.ndarray:
         over = np.zeros(ex.image.shape[:2] + (4,), np.float32)
         crown = ex.alpha & ~ex.trunk

@@ -1,0 +1,493 @@
+"""The analysis pipeline: training layers, registration, layer induction, residuals.
+
+:func:`analyze` strings the paper's analysis steps together and keeps what
+each step made, so a change of ``eps`` or ``kappa`` re-runs the induction
+only (:meth:`LeafAnalysis.reinduce`): the training layers and the
+registrations do not depend on them.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import io
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import ndimage as ndi
+
+from ..core.image import as_mask, as_rgb
+from ..core.params import check_params
+from ..core.random import as_rng
+from .induction import (
+    ColourSpace,
+    InductionParams,
+    blade_lab_stats,
+    choose_threshold,
+    colour_similarity,
+    colour_space,
+    layer_cdfs,
+    layer_neighbourhood,
+    layer_weight,
+    liberal_layer,
+    quantise,
+    remove_layer,
+    scaled_lengths,
+    spatial_term,
+)
+from .layers import LayerSet, SnapParams, TrainingLayers, grow_layers
+
+__all__ = ["IdentityRegistration", "LayerInduction", "LeafAnalysis", "analyze", "induce",
+           "normalise_exemplars", "warp_mask"]
+
+Progress = Callable[[float, str], None]
+
+
+def warp_mask(registration, mask, *, to_training: bool, level: float = 0.5) -> np.ndarray:
+    """A bool mask carried through a registration (bilinear, then ``> level``).
+
+    A thin layer (a one-pixel vein) warped bilinearly may fall below 0.5
+    between pixel centres and break up; ``level`` below 0.5 keeps it whole.
+    """
+    m = np.asarray(mask, np.float32)
+    out = registration.to_training(m) if to_training else registration.from_training(m)
+    out = np.asarray(out)
+    if out.ndim == 3:
+        out = out[..., 0]
+    return out > level
+
+
+class IdentityRegistration:
+    """The training leaf's registration to itself (same interface as the others)."""
+
+    def __init__(self, shape):
+        h, w = shape
+        xx, yy = np.meshgrid(np.arange(w, dtype=np.float32), np.arange(h, dtype=np.float32))
+        self.shape = (h, w)
+        self.map_to_training = self.map_from_training = np.stack([xx, yy], -1)
+
+    def forward(self, points) -> np.ndarray:
+        return np.asarray(points, float).reshape(-1, 2).copy()
+
+    inverse = forward
+
+    def to_training(self, image_or_mask):
+        return np.array(image_or_mask, copy=True)
+
+    from_training = to_training
+
+
+@dataclass
+class LayerInduction:
+    """One user layer induced on every exemplar.
+
+    Attributes
+    ----------
+    name : str
+    lam : float
+        ``lambda_c = kappa |cap L~e| / |cup L~e|``.
+    liberal_overlap : float
+        ``|cap L~e| / |cup L~e|`` (``lambda / kappa``).
+    delta : float
+        The threshold of ``D`` (eq. 4).
+    training_overlap : float
+        IoU of ``{D < delta}`` with the user's layer on the training leaf.
+    masks : list of (H, W) bool ndarray
+        The induced layer in each exemplar (the user's layer on the training leaf).
+    colour : list of (H, W) float32 ndarray
+        ``S_e(x, c)`` per exemplar.
+    combined : list of (H, W) float32 ndarray
+        ``D(x, c)`` per exemplar.
+    registered : list of (H, W) bool ndarray
+        The user layer registered onto each exemplar.
+    distance : list of (H, W) float32 ndarray
+        ``||x, c||`` per exemplar.
+    eps_px : list of float
+        The scaled ``eps`` of each exemplar.
+    neighbourhood : int
+        The side ``n`` of the neighbourhood of ``S_e`` used for this layer.
+    """
+
+    name: str
+    lam: float
+    liberal_overlap: float
+    delta: float
+    training_overlap: float
+    masks: list
+    colour: list = field(repr=False)
+    combined: list = field(repr=False)
+    registered: list = field(repr=False)
+    distance: list = field(repr=False)
+    eps_px: list = field(repr=False)
+    neighbourhood: int = 1
+
+    def spatial(self, e: int) -> np.ndarray:
+        """``F(x, c)`` on exemplar ``e`` (recomputed from the stored terms)."""
+        return spatial_term(self.distance[e], self.colour[e], self.eps_px[e])
+
+    @property
+    def empty(self) -> list[int]:
+        """Exemplars on which the layer induced to nothing."""
+        return [i for i, m in enumerate(self.masks) if not m.any()]
+
+
+@dataclass
+class LeafAnalysis:
+    """Everything the analysis made; input of :func:`branchnb.leaves.synthesis.generate`.
+
+    Attributes
+    ----------
+    exemplars : list of (H, W, 4) float32 ndarray
+        The normalised exemplars (common canvas).
+    blades : list of (H, W) bool ndarray
+    training_index : int
+    training : TrainingLayers
+        The user's layers grown on the training leaf.
+    registrations : list
+        ``registrations[i]`` maps exemplar ``i`` to the training leaf
+        (identity-like for the training leaf itself).
+    params : InductionParams
+    space : ColourSpace
+    layers : list of LayerInduction
+        Top layer first.
+    residuals : list of list of (H, W, 3) float32 ndarray
+        ``residuals[k][i]``: exemplar ``i`` after removing the first ``k``
+        layers (``residuals[0]`` = the exemplars, ``residuals[-1]`` the
+        background).
+    layer_set : LayerSet or None
+        The user's layers, scribbles in canvas pixels.
+    rng_seed : int
+    offsets : list of (dx, dy)
+        Where each input exemplar's pixel (0, 0) lies on the common canvas.
+    """
+
+    exemplars: list
+    blades: list
+    training_index: int
+    training: TrainingLayers
+    registrations: list
+    params: InductionParams
+    space: ColourSpace
+    layers: list
+    residuals: list = field(repr=False)
+    layer_set: LayerSet | None = None
+    rng_seed: int = 0
+    offsets: list = field(default_factory=list)
+
+    @property
+    def lambdas(self) -> dict:
+        return {x.name: x.lam for x in self.layers}
+
+    @property
+    def deltas(self) -> dict:
+        return {x.name: x.delta for x in self.layers}
+
+    @property
+    def background(self) -> list:
+        """Each exemplar's residual after every layer was removed."""
+        return self.residuals[-1]
+
+    def layer(self, name: str) -> LayerInduction:
+        for x in self.layers:
+            if x.name == name:
+                return x
+        raise KeyError(f"no layer {name!r}; layers are {[x.name for x in self.layers]}")
+
+    def report(self) -> str:
+        """One line per layer: lambda, delta and the training overlap."""
+        return "\n".join(f"{x.name}: lambda = {x.lam:.3f} (liberal overlap {x.liberal_overlap:.3f}), "
+                         f"delta = {x.delta:.3f}, training IoU = {x.training_overlap:.3f}"
+                         for x in self.layers)
+
+    def reinduce(self, progress: Progress | None = None, **changes) -> LeafAnalysis:
+        """Re-run the induction only, with some induction parameters changed.
+
+        Examples: ``analysis.reinduce(eps=30)``, ``analysis.reinduce(kappa=2.0)``.
+        Registration and the training layers are reused.
+        """
+        params = dataclasses.replace(self.params, **changes)
+        check_params(params, name="params")
+        layers, residuals, space = induce(
+            [e[..., :3] for e in self.exemplars], self.blades, self.training_index,
+            {n: self.training.masks[n] for n in self.training.order}, self.registrations,
+            params, space=self.space if params.bins == self.space.bins else None,
+            progress=progress, rng=self.rng_seed)
+        return dataclasses.replace(self, params=params, layers=layers, residuals=residuals, space=space)
+
+    def overlay(self, e: int) -> np.ndarray:
+        """Exemplar ``e`` on white with its induced layers tinted in the layers' colours."""
+        rgb = as_rgb(self.exemplars[e])
+        out = rgb.copy()
+        colours = {}
+        if self.layer_set is not None:
+            colours = {x.name: x.colour for x in self.layer_set.layers}
+        default = ["#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e"]
+        for k, x in enumerate(self.layers):
+            hexc = colours.get(x.name, default[k % len(default)])
+            c = np.array([int(hexc[i:i + 2], 16) for i in (1, 3, 5)], np.float32) / 255
+            m = x.masks[e]
+            out[m] = 0.35 * out[m] + 0.65 * c
+        return out
+
+    def _repr_png_(self) -> bytes:
+        from PIL import Image
+        tiles = [self.overlay(e) for e in range(len(self.exemplars))]
+        img = np.concatenate(tiles, axis=1)
+        buf = io.BytesIO()
+        Image.fromarray((np.clip(img, 0, 1) * 255).astype(np.uint8)).save(buf, format="PNG")
+        return buf.getvalue()
+
+
+def _progress(progress: Progress | None, lo: float, hi: float) -> Progress:
+    def report(f: float, text: str) -> None:
+        if progress is not None:
+            progress(lo + (hi - lo) * float(np.clip(f, 0, 1)), text)
+    return report
+
+
+def induce(images, blades, training_index: int, user_masks: dict, registrations,
+           params: InductionParams, *, space: ColourSpace | None = None,
+           progress: Progress | None = None, rng=0):
+    """Induce the user layers (top first) on every exemplar, removing each before the next.
+
+    Parameters
+    ----------
+    images : list of (H, W, 3) float arrays
+    blades : list of (H, W) bool arrays
+    training_index : int
+    user_masks : dict name -> (H, W) bool
+        The user's layers on the training leaf, in order top first.
+    registrations : list
+        Exemplar ``i`` -> training leaf (``to_training`` / ``from_training``).
+    params : InductionParams
+    space : ColourSpace, optional
+        Quantisation (computed from the blades if None).
+    progress : callable(fraction, text), optional
+        Called between steps; an exception it raises stops the induction.
+
+    Returns
+    -------
+    layers : list of LayerInduction
+    residuals : list of list of (H, W, 3) ndarray
+    space : ColourSpace
+    """
+    report = _progress(progress, 0.0, 1.0)
+    rng = as_rng(rng)
+    n = len(images)
+    rgb = [as_rgb(im, name=f"images[{i}]") for i, im in enumerate(images)]
+    if space is None:
+        space = colour_space(rgb, blades, params.bins)
+    t = training_index
+    lengths = [scaled_lengths(params, b) for b in blades]
+    stats = [blade_lab_stats(im, b) for im, b in zip(rgb, blades)]
+    residual = list(rgb)
+    residuals = [list(rgb)]
+    taken = [np.zeros_like(b) for b in blades]
+    out = []
+    names = list(user_masks)
+    steps = max(len(names) * (2 * n + 1), 1)
+    step = 0
+    for name in names:
+        user = as_mask(user_masks[name], shape=blades[t].shape, name=f"user_masks[{name!r}]") & blades[t]
+        if not user.any():
+            raise ValueError(f"user_masks[{name!r}] is empty on the training leaf's blade")
+        q = [quantise(r, space, stats=stats[e], reference=stats[t]) if params.match_colours and e != t
+             else quantise(r, space) for e, r in enumerate(residual)]
+        cdf = layer_cdfs(q[t], user, space.bins)
+        n_px = layer_neighbourhood(params, blades[t], user)
+        colour, dist, reg_user, liberal_t, spat = [], [], [], [], []
+        for e in range(n):
+            report(step / steps, f"layer {name}: colour and space terms on exemplar {e + 1}/{n}")
+            step += 1
+            eps_px, _, lib_r = lengths[e]
+            ru = user if e == t else warp_mask(registrations[e], user, to_training=False, level=0.25) & blades[e]
+            d = ndi.distance_transform_edt(~ru).astype(np.float32) if ru.any() else \
+                np.full(ru.shape, 1e6, np.float32)
+            s = colour_similarity(q[e], blades[e], cdf, n_px)
+            lib = liberal_layer(s, d, params.liberal_threshold, lib_r, blades[e])
+            lib_t = lib if e == t else warp_mask(registrations[e], lib, to_training=True)
+            colour.append(s)
+            dist.append(d)
+            reg_user.append(ru)
+            liberal_t.append(lib_t & blades[t])
+            spat.append(spatial_term(d, s, eps_px))
+        lam, overlap = layer_weight(liberal_t, params.kappa)
+        combined = [(np.float32(lam) * f + s).astype(np.float32) for f, s in zip(spat, colour)]
+        delta, tr_iou = choose_threshold(combined[t], user, blades[t])
+        masks = []
+        new_residual = []
+        for e in range(n):
+            report(step / steps, f"layer {name}: residual of exemplar {e + 1}/{n}")
+            step += 1
+            m = user.copy() if e == t else (combined[e] < delta) & blades[e] & ~taken[e]
+            masks.append(m)
+            taken[e] = taken[e] | m
+            new_residual.append(remove_layer(residual[e], blades[e], m, rng=rng))
+        residual = new_residual
+        residuals.append(list(residual))
+        out.append(LayerInduction(name, lam, overlap, delta, tr_iou, masks, colour, combined,
+                                  reg_user, dist, [ln[0] for ln in lengths], n_px))
+        step += 1
+    report(1.0, "induction done")
+    return out, residuals, space
+
+
+def normalise_exemplars(exemplars) -> tuple[list, list, list]:
+    """Exemplars on one common canvas, each centred on its blade by a whole-pixel shift.
+
+    Each leaf is normalised by :func:`branchnb.leaves.exemplar.prepare_exemplars`
+    (alpha, or a plain-background model); then all are padded to one
+    canvas (the blend of inverse warps in synthesis needs one), centred on
+    their blade centroids by integer shifts, so nothing is resampled and
+    the user's scribbles on the training leaf move by the same shift.
+
+    Returns
+    -------
+    images : list of (H, W, 4) float32
+    blades : list of (H, W) bool
+    offsets : list of (dx, dy) int
+        Where each input's pixel (0, 0) lands on the canvas.
+    """
+    from .exemplar import Exemplar, prepare_exemplars
+    if isinstance(exemplars, np.ndarray) and exemplars.dtype != object and exemplars.ndim in (2, 3):
+        raise ValueError("exemplars must be a list of leaf images, got a single image; "
+                         "the method needs at least two leaves of one kind")
+    try:
+        items = list(exemplars)
+    except TypeError as exc:
+        raise TypeError(f"exemplars must be a list of leaf images, got {type(exemplars).__name__}") from exc
+    items = [e if isinstance(e, Exemplar) else getattr(e, "image", e) for e in items]
+    prepared = prepare_exemplars(items, size_policy="keep", names=[f"exemplars[{i}]" for i in range(len(items))])
+    cents = []
+    half_h = half_w = 0
+    for e in prepared:
+        ys, xs = np.nonzero(e.blade)
+        cy, cx = int(round(ys.mean())), int(round(xs.mean()))
+        cents.append((cx, cy))
+        h, w = e.shape
+        half_h = max(half_h, cy, h - cy)
+        half_w = max(half_w, cx, w - cx)
+    H, W = 2 * half_h, 2 * half_w
+    images, blades, offsets = [], [], []
+    for e, (cx, cy) in zip(prepared, cents):
+        dx, dy = half_w - cx, half_h - cy
+        h, w = e.shape
+        img = np.zeros((H, W, 4), np.float32)
+        img[dy:dy + h, dx:dx + w] = e.rgba
+        b = np.zeros((H, W), bool)
+        b[dy:dy + h, dx:dx + w] = e.blade
+        images.append(img)
+        blades.append(b)
+        offsets.append((int(dx), int(dy)))
+    return images, blades, offsets
+
+
+def _shift_mask(mask, offset, shape, name):
+    m = as_mask(mask, name=name)
+    out = np.zeros(shape, bool)
+    dx, dy = offset
+    h, w = m.shape
+    if dy + h > shape[0] or dx + w > shape[1]:
+        raise ValueError(f"{name} has shape {m.shape}, larger than the training leaf")
+    out[dy:dy + h, dx:dx + w] = m
+    return out
+
+
+def _shift_layers(layer_set: LayerSet, offset) -> LayerSet:
+    import copy
+    ls = copy.deepcopy(layer_set)
+    d = np.asarray(offset, float)
+    for layer in ls.layers:
+        for s in layer.scribbles:
+            s.points = s.points + d
+    for s in ls.background:
+        s.points = s.points + d
+    return ls
+
+
+def analyze(exemplars, training_index: int, layers, params: InductionParams | None = None,
+            progress: Progress | None = None, *, registrations=None,
+            snap_params: SnapParams | None = None, registration_params=None,
+            rng=0) -> LeafAnalysis:
+    """The whole analysis: training layers, registration, layer induction and residuals.
+
+    Parameters
+    ----------
+    exemplars : list of (H, W, 4) images
+        Leaves of one kind (at least two), RGBA with the leaf in the alpha.
+    training_index : int
+        The exemplar the user scribbled on.
+    layers : LayerSet or dict of name -> (H, W) bool
+        The user's scribbled layers (grown by lazy snapping), or finished
+        layer masks on the training leaf, top layer first.
+    params : InductionParams, optional
+        The paper's defaults if omitted.
+    progress : callable(fraction, text), optional
+        Called between steps with the fraction done; raise from it to stop.
+    registrations : list, optional
+        Precomputed registrations (exemplar ``i`` -> training leaf); skips
+        the registration step.
+    snap_params : SnapParams, optional
+        Lazy-snapping parameters.
+    registration_params : optional
+        Passed to :func:`branchnb.leaves.registration.register`.
+    rng : int
+        Seed of every random step (k-means, quilting); the analysis is reproducible.
+
+    Returns
+    -------
+    LeafAnalysis
+    """
+    params = check_params(params if params is not None else InductionParams(), name="params")
+    if isinstance(rng, np.random.Generator) or rng is None:
+        rng = int(as_rng(rng).integers(2**31 - 1))
+    images, blades, offsets = normalise_exemplars(exemplars)
+    n = len(images)
+    if n < 2:
+        raise ValueError(f"exemplars must hold at least two leaves, got {n}")
+    if isinstance(training_index, bool) or not isinstance(training_index, (int, np.integer)) \
+            or not 0 <= training_index < n:
+        raise ValueError(f"training_index must be an int in [0, {n - 1}], got {training_index!r}")
+    t = int(training_index)
+    for i, b in enumerate(blades):
+        if b.sum() < 64:
+            raise ValueError(f"exemplars[{i}] has (almost) no leaf pixels (alpha > 0.5)")
+    report = _progress(progress, 0.0, 1.0)
+    report(0.0, "training layers")
+    layer_set = None
+    if isinstance(layers, LayerSet):
+        # Scribbles are in the training image's own pixels: move them with it.
+        layer_set = _shift_layers(layers, offsets[t])
+        training = grow_layers(images[t], blades[t], layer_set, snap_params, rng=rng)
+    elif isinstance(layers, dict):
+        if not layers:
+            raise ValueError("layers is empty: give a LayerSet or at least one layer mask")
+        masks = {}
+        taken = np.zeros_like(blades[t])
+        for name, m in layers.items():
+            m = _shift_mask(m, offsets[t], blades[t].shape, f"layers[{name!r}]") & blades[t] & ~taken
+            if not m.any():
+                raise ValueError(f"layers[{name!r}] selects no pixel of the training leaf's blade")
+            masks[name] = m
+            taken |= m
+        training = TrainingLayers(masks, blades[t], blades[t] & ~taken, list(masks),
+                                  np.zeros(blades[t].shape, np.int32))
+    else:
+        raise TypeError(f"layers must be a LayerSet or a dict of masks, got {type(layers).__name__}")
+    if registrations is None:
+        from .registration import register
+        registrations = []
+        for i in range(n):
+            report(0.05 + 0.45 * i / n, f"registering exemplar {i + 1}/{n}")
+            if i == t:
+                registrations.append(IdentityRegistration(blades[t].shape))
+            else:
+                registrations.append(register(images[i], images[t], blades[i], blades[t],
+                                              params=registration_params, rng=rng))
+    elif len(registrations) != n:
+        raise ValueError(f"registrations must have one entry per exemplar ({n}), got {len(registrations)}")
+    layers_out, residuals, space = induce(
+        [im[..., :3] for im in images], blades, t, {k: training.masks[k] for k in training.order},
+        registrations, params, progress=_progress(progress, 0.5, 1.0), rng=rng)
+    return LeafAnalysis(images, blades, t, training, list(registrations), params, space, layers_out,
+                        residuals, layer_set, rng, offsets)

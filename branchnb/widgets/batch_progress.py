@@ -1,0 +1,32 @@
+"""A notebook progress bar for :func:`branchnb.batch.run_batch` (the batch code stays widget-free)."""
+
+from __future__ import annotations
+
+from .feedback import ProgressBar
+
+__all__ = ["BatchProgress"]
+
+
+class BatchProgress:
+    """Shows a :class:`ProgressBar` with done/failed counts; ``close`` prints the summary on it."""
+
+    def __init__(self, total: int, initial: int = 0, description: str = "batch"):
+        from IPython.display import display
+
+        self.total, self.done, self.failed = int(total), int(initial), 0
+        self.bar = ProgressBar(description=description)
+        display(self.bar)
+        self._show()
+
+    def _show(self) -> None:
+        extra = f", {self.failed} failed" if self.failed else ""
+        self.bar.update(self.done / max(self.total, 1), f"{self.done}/{self.total}{extra}")
+
+    def advance(self, n: int, failed: int = 0) -> None:
+        self.done += n
+        self.failed += failed
+        self._show()
+
+    def close(self, summary=None) -> None:
+        if summary is not None:
+            self.bar.update(self.done / max(self.total, 1), str(summary))

@@ -1,0 +1,348 @@
+"""LeafApp: scribble layers on a training leaf, analyse the exemplars, generate new leaves.
+
+A thin app on :class:`~branchnb.widgets.shell.AppShell`; everything it
+computes is a call into :mod:`branchnb.leaves` (``analyze``, ``reinduce``,
+``generate``) that a script can make directly.
+
+* left: the training leaf on a scribble canvas (one scribble label per
+  layer) and the layer list (name, colour, order; add, remove, up, down);
+* middle: the exemplars with their registration (keypoints and the
+  training frame's grid carried onto them) and induced layers, the colour
+  histograms of each user layer against the induced layer of each exemplar
+  with their EMD, and the generated leaves next to the exemplars;
+* right: the induction parameters (eps, kappa, neighbourhood, ...), the
+  synthesis parameters (warp magnitudes, shape blend), number of outputs
+  and seed.
+
+Changing an induction parameter re-runs the induction only
+(:meth:`branchnb.leaves.analysis.LeafAnalysis.reinduce`): the registrations
+are computed once per exemplar set and kept.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import ipywidgets as widgets
+import numpy as np
+from skimage.color import rgb2lab
+
+from ..core.render import draw_polylines
+from ..leaves.analysis import LeafAnalysis, analyze, normalise_exemplars
+from ..leaves.induction import InductionParams
+from ..leaves.layers import Layer, LayerSet
+from ..leaves.synthesis import SynthesisParams, generate
+from .canvas import AnnotationCanvas
+from .histograms import HistogramCompare
+from .imageview import ImageView
+from .params import ParamPanel
+from .shell import AppShell
+
+__all__ = ["LeafApp", "layer_set_from_shapes"]
+
+_PALETTE = ["#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2"]
+
+
+def _white(rgba: np.ndarray) -> np.ndarray:
+    a = rgba[..., 3:]
+    return (rgba[..., :3] * a + (1 - a)).astype(np.float32)
+
+
+def layer_set_from_shapes(shapes, layers: LayerSet, *, radius: float = 2.0) -> LayerSet:
+    """The app's layer list with the canvas' scribbles (label = layer name) as their scribbles.
+
+    Scribbles whose label names no layer raise a ``ValueError`` naming the label.
+    """
+    out = LayerSet([Layer(x.name, x.colour, x.order) for x in layers.layers])
+    names = {x.name for x in out.layers}
+    for i, s in enumerate(shapes):
+        if s.kind != "scribble":
+            continue
+        if s.label not in names and s.label != "blade":
+            raise ValueError(f"scribble {i} has label {s.label!r}, which is no layer "
+                             f"(layers: {sorted(names)})")
+        out.add_scribble(s.label, s.points, radius=radius)
+    return out
+
+
+class LeafApp(widgets.VBox):
+    """Leaf variations by structural layering, in a notebook.
+
+    Parameters
+    ----------
+    exemplars : list of images (RGBA cut-outs or leaves on a plain background)
+        Leaves of one kind; at least two.
+    training_index : int
+        The leaf to scribble on.
+    layers : LayerSet, optional
+        Initial layers (scribbles in the training image's pixels); by default
+        empty "veins" and "spots" layers.
+    registrations : list, optional
+        Precomputed registrations (exemplar -> training), e.g. through known
+        correspondences; computed by the first analysis otherwise.
+    max_display : int
+        Long side of the canvas in CSS pixels.
+
+    Examples
+    --------
+    >>> from branchnb.leaves import leaf_family
+    >>> app = LeafApp(leaf_family(2, size=96, rng=0))
+    >>> app.layer_names()
+    ['veins', 'spots']
+    """
+
+    def __init__(self, exemplars, *, training_index: int = 0, layers: LayerSet | None = None,
+                 registrations=None, max_display: int = 480):
+        self.shell = AppShell("Leaf variations (Assa & Cohen-Or 2012)",
+                              help="scribble each layer on the training leaf (pick the layer, drag); "
+                                   "'analyze', then 'generate'")
+        self.status = self.shell.status
+        self.images, self.blades, self.offsets = normalise_exemplars(exemplars)
+        n = len(self.images)
+        if isinstance(training_index, bool) or not isinstance(training_index, (int, np.integer)) \
+                or not 0 <= training_index < n:
+            raise ValueError(f"training_index must be an int in [0, {n - 1}], got {training_index!r}")
+        self.training_index = int(training_index)
+        if registrations is not None and len(registrations) != n:
+            raise ValueError(f"registrations must have one entry per exemplar ({n}), got {len(registrations)}")
+        self._registrations = list(registrations) if registrations is not None else None
+        self.analysis: LeafAnalysis | None = None
+        self.leaves: list = []
+        if layers is None:
+            layers = LayerSet([Layer("veins", _PALETTE[0], 0), Layer("spots", _PALETTE[1], 1)])
+        if not isinstance(layers, LayerSet):
+            raise TypeError(f"layers must be a LayerSet, got {type(layers).__name__}")
+        self.layers = LayerSet([Layer(x.name, x.colour, x.order) for x in layers.layers])
+        t = self.training_index
+        labels = {x.name: x.colour for x in self.layers.ordered()} or {"veins": _PALETTE[0]}
+        self.canvas = AnnotationCanvas(_white(self.images[t]), mode="scribble", labels=labels,
+                                       modes=("scribble", "edit", "pan"), max_display=max_display,
+                                       errors=self.status)
+        self.canvas.radius = 2.0
+        dx, dy = self.offsets[t]
+        for x in layers.layers:
+            for s in x.scribbles:
+                self.canvas.model.add_shape("scribble", s.points + [dx, dy], label=x.name)
+        # Layer list.
+        self.layer_list = widgets.Select(options=self.layer_names(), rows=4,
+                                         layout=widgets.Layout(width="150px"))
+        self.layer_list.observe(self.status.guard(self._pick_layer, action=False), names="value")
+        self.name_box = widgets.Text(placeholder="new layer", layout=widgets.Layout(width="110px"))
+        self.colour_box = widgets.ColorPicker(value=_PALETTE[len(self.layers.layers) % len(_PALETTE)],
+                                              concise=True, layout=widgets.Layout(width="36px"))
+        self.colour_box.observe(self.status.guard(self._recolour, action=False), names="value")
+        buttons = {}
+        for name, fn, tip in (("add", self.add_layer, "add a layer with this name and colour"),
+                              ("remove", lambda: self.remove_layer(self.layer_list.value),
+                               "remove the selected layer and its scribbles"),
+                              ("up", lambda: self.move_layer(self.layer_list.value, -1), "move up (drawn later)"),
+                              ("down", lambda: self.move_layer(self.layer_list.value, +1), "move down")):
+            b = widgets.Button(description=name, tooltip=tip, layout=widgets.Layout(width="auto"))
+            b.on_click(self.status.guard(lambda _b, fn=fn: fn(), action=False))
+            buttons[name] = b
+        self.layer_buttons = buttons
+        layer_box = widgets.VBox([
+            widgets.HTML("<b>layers</b> (top first)"),
+            widgets.HBox([self.layer_list, widgets.VBox([buttons["up"], buttons["down"], buttons["remove"]])]),
+            widgets.HBox([self.name_box, self.colour_box, buttons["add"]]),
+        ])
+        if self.layer_names():
+            self.layer_list.value = self.layer_names()[0]
+        # Views.
+        self.exemplar_view = ImageView(width=150, max_size=400)
+        self.histograms = HistogramCompare(bins=24, metric="emd", title="L* of the user layer vs induced",
+                                           width=460, height=150)
+        self.hist_layer = widgets.Dropdown(options=self.layer_names(), description="histogram",
+                                           layout=widgets.Layout(width="240px"))
+        self.hist_layer.observe(self.status.guard(lambda _c: self._show_histograms(), action=False),
+                                names="value")
+        self.report = widgets.HTML()
+        self.gallery = ImageView(width=120, max_size=300)
+        self._show_exemplars()
+        # Parameters.
+        self.induction_panel = ParamPanel(InductionParams, errors=self.status,
+                                          title="layer induction (Sec. 4)",
+                                          labels={"eps": ("eps", "ε"), "kappa": ("kappa", "κ"),
+                                                  "neighbourhood": ("neighbourhood", "n")})
+        self.induction_panel.on_change(self.status.guard(self._induction_changed, action=False))
+        self.synthesis_panel = ParamPanel(SynthesisParams, errors=self.status, title="synthesis (Sec. 5)")
+        self.n_outputs = widgets.BoundedIntText(8, min=1, max=64, description="outputs",
+                                                layout=widgets.Layout(width="150px"))
+        self.seed = widgets.BoundedIntText(0, min=0, max=2**31 - 1, description="seed",
+                                           layout=widgets.Layout(width="150px"))
+        self.shell.add_action("analyze", self.run_analysis, primary=True, background=True,
+                              tooltip="grow the layers, register the exemplars (once) and induce the layers")
+        self.shell.add_action("generate", self.run_generate, background=True,
+                              tooltip="new leaves from the analysis")
+        self.shell.add_action("clear scribbles", self.clear_scribbles, run=False)
+        self.shell.add_tool(self.n_outputs, self.seed)
+        self.shell.set_body(main=[self.canvas, layer_box],
+                            result=[widgets.HTML("<b>exemplars</b>: registration and induced layers"),
+                                    self.exemplar_view, self.report, self.hist_layer, self.histograms,
+                                    widgets.HTML("<b>generated leaves</b>"), self.gallery],
+                            sidebar=[self.induction_panel, self.synthesis_panel])
+        super().__init__([self.shell])
+
+    # -- layer list -----------------------------------------------------------------
+    def layer_names(self) -> list[str]:
+        return self.layers.names()
+
+    def _sync_layers(self) -> None:
+        names = self.layer_names()
+        self.layer_list.options = names
+        self.hist_layer.options = names
+        self.canvas.labels = {x.name: x.colour for x in self.layers.ordered()}
+        picker = self.canvas._label_picker  # the canvas' own label dropdown follows the layer list
+        if names:
+            keep = self.canvas.label if self.canvas.label in names else names[0]
+            picker.options = names
+            picker.value = keep
+        self.canvas.redraw()
+
+    def _pick_layer(self, change) -> None:
+        if change["new"]:
+            self.canvas.label = change["new"]
+            self.colour_box.value = self.layers.get(change["new"]).colour
+
+    def _recolour(self, change) -> None:
+        name = self.layer_list.value
+        if name:
+            colour = change["new"]
+            if not colour.startswith("#") or len(colour) != 7:
+                return  # a CSS colour name from the picker: keep the last hex
+            self.layers.get(name).colour = colour
+            self._sync_layers()
+
+    def add_layer(self, name: str | None = None, colour: str | None = None) -> None:
+        """Add a layer (at the bottom) and select it for scribbling."""
+        name = (name if name is not None else self.name_box.value).strip()
+        if not name:
+            raise ValueError("type a name for the new layer first")
+        colour = colour or self.colour_box.value
+        if not colour.startswith("#") or len(colour) != 7:
+            colour = _PALETTE[len(self.layers.layers) % len(_PALETTE)]
+        self.layers.add(name, colour)
+        self.name_box.value = ""
+        self._sync_layers()
+        self.layer_list.value = name
+
+    def remove_layer(self, name: str) -> None:
+        """Remove a layer and its scribbles."""
+        if name is None:
+            raise ValueError("select a layer to remove")
+        self.layers.remove(name)
+        keep = [s for s in self.canvas.model.shapes if s.label != name]
+        self.canvas.model.load_json(_shapes_json(keep))
+        self._sync_layers()
+
+    def move_layer(self, name: str, step: int) -> None:
+        """Move a layer up (``-1``, towards the top) or down (``+1``)."""
+        if name is None:
+            raise ValueError("select a layer to move")
+        names = self.layer_names()
+        self.layers.move(name, names.index(name) + int(step))
+        self._sync_layers()
+        self.layer_list.value = name
+
+    def clear_scribbles(self) -> None:
+        self.canvas.model.clear()
+
+    def scribbled_layers(self) -> LayerSet:
+        """The layers with the canvas' scribbles (canvas pixels: the app's exemplars are already on one canvas)."""
+        return layer_set_from_shapes(self.canvas.model.shapes, self.layers, radius=self.canvas.radius)
+
+    # -- actions ------------------------------------------------------------------------
+    def run_analysis(self) -> str:
+        """Grow the scribbled layers, register (once), induce; show the result."""
+        ls = self.scribbled_layers()
+        prm = self.induction_panel.values
+        a = analyze(self.images, self.training_index, ls, prm, progress=self.shell.progress,
+                    registrations=self._registrations)
+        self._registrations = a.registrations
+        self.analysis = a
+        self._show_analysis()
+        return ", ".join(f"{x.name}: lambda {x.lam:.2f}, delta {x.delta:.2f}" for x in a.layers)
+
+    def _induction_changed(self, params) -> None:
+        if self.analysis is None:
+            return
+        self.shell.live("re-induce", lambda: self._reinduce(params))
+
+    def _reinduce(self, params) -> str:
+        changes = {f.name: getattr(params, f.name) for f in dataclasses.fields(params)}
+        a = self.analysis.reinduce(progress=self.shell.progress, **changes)
+        self.analysis = a
+        self._show_analysis()
+        return ", ".join(f"{x.name}: lambda {x.lam:.2f}" for x in a.layers)
+
+    def run_generate(self) -> str:
+        if self.analysis is None:
+            raise ValueError("run 'analyze' first: there is nothing to generate from yet")
+        n = int(self.n_outputs.value)
+        self.leaves = generate(self.analysis, n, rng=int(self.seed.value), params=self.synthesis_panel.values,
+                               progress=self.shell.progress)
+        self.gallery.update([leaf.on_white() for leaf in self.leaves],
+                            [f"seed {leaf.seed % 100000}" for leaf in self.leaves])
+        return f"{n} leaves"
+
+    # -- views ---------------------------------------------------------------------------
+    def registration_overlay(self, e: int) -> np.ndarray:
+        """Exemplar ``e`` with its induced layers, keypoints and the training grid carried onto it."""
+        a = self.analysis
+        img = a.overlay(e) if a is not None else _white(self.images[e])
+        if a is None or e == a.training_index:
+            return img
+        reg = a.registrations[e]
+        h, w = img.shape[:2]
+        lines = []
+        step = max(8, min(h, w) // 12)
+        m = np.asarray(reg.map_to_training)
+        for y in range(step // 2, h, step):
+            lines.append(m[y, ::4])
+        for x in range(step // 2, w, step):
+            lines.append(m[::4, x])
+        img = draw_polylines(img, lines, widths=[0.6] * len(lines), colors=(0.2, 0.2, 0.2))
+        kp = getattr(reg, "exemplar_keypoints", None)
+        pts = getattr(kp, "points", None)
+        if pts is not None and len(pts):
+            r = 1.5
+            circles = [np.array([[x - r, y], [x, y - r], [x + r, y], [x, y + r], [x - r, y]]) for x, y in pts]
+            img = draw_polylines(img, circles, widths=[1.0] * len(circles), colors=(0.95, 0.9, 0.1))
+        return img
+
+    def _show_exemplars(self) -> None:
+        t = self.training_index
+        self.exemplar_view.update([self.registration_overlay(e) for e in range(len(self.images))],
+                                  [("training " if e == t else "") + f"#{e}" for e in range(len(self.images))])
+
+    def _show_analysis(self) -> None:
+        self._show_exemplars()
+        a = self.analysis
+        rows = "".join(f"<tr><td>{x.name}</td><td>{x.lam:.3f}</td><td>{x.delta:.3f}</td>"
+                       f"<td>{x.training_overlap:.2f}</td><td>{x.neighbourhood}</td></tr>" for x in a.layers)
+        self.report.value = ("<table style='font-size:12px'><tr><th>layer</th><th>λ</th><th>δ</th>"
+                             "<th>training IoU</th><th>n</th></tr>" + rows + "</table>")
+        self._show_histograms()
+
+    def _show_histograms(self) -> None:
+        a = self.analysis
+        name = self.hist_layer.value
+        if a is None or not name:
+            return
+        layer = a.layer(name)
+        samples, labels = [], []
+        t = a.training_index
+        for e in [t] + [i for i in range(len(a.exemplars)) if i != t]:
+            m = layer.masks[e]
+            if not m.any():
+                continue
+            lab = rgb2lab(a.exemplars[e][..., :3])[..., 0]
+            samples.append(lab[m])
+            labels.append("user layer" if e == t else f"#{e}")
+        if len(samples) >= 1:
+            self.histograms.update(*samples, labels=labels, range=(0.0, 100.0))
+
+
+def _shapes_json(shapes) -> str:
+    import json
+    return json.dumps({"version": 1, "shapes": [s.to_dict() for s in shapes]}, allow_nan=False)

@@ -1,0 +1,269 @@
+"""branchnb.batch on a real Dask LocalCluster: reproducible items, resume, failures, valid files."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import cv2
+import numpy as np
+import pytest
+
+distributed = pytest.importorskip("distributed")
+
+from branchnb import data  # noqa: E402
+from branchnb.batch import (  # noqa: E402
+    BatchSpec,
+    ItemOutput,
+    Job,
+    load_spec,
+    read_manifest,
+    register_job,
+    run_batch,
+    save_spec,
+    spec_from_params,
+)
+from branchnb.core.io import imread, imsave  # noqa: E402
+from branchnb.trees import VariationParams  # noqa: E402
+
+
+def _quiet_cluster(n):
+    import logging
+
+    return distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                                    dashboard_address=":0", silence_logs=logging.ERROR)
+
+
+@pytest.fixture(scope="module")
+def client2():
+    with _quiet_cluster(2) as cluster, distributed.Client(cluster) as client:
+        yield client
+
+
+@pytest.fixture(scope="module")
+def library_dir(tmp_path_factory):
+    """Three small RGBA exemplars in a folder (the 'library folder' input)."""
+    folder = tmp_path_factory.mktemp("library")
+    for name in ("tree_rpg_01", "tree_rpg_03", "tree_rpg_06"):
+        img = data.load(name)
+        h, w = img.shape[:2]
+        s = 110 / max(h, w)
+        imsave(folder / f"{name}.png", cv2.resize(img, (round(w * s), round(h * s)), interpolation=cv2.INTER_AREA))
+    return folder
+
+
+def _tree_spec(library_dir, count=20, **extra) -> BatchSpec:
+    return BatchSpec("tree_variations", count=count, seed=11,
+                     inputs={"library": str(library_dir), "size": 96, "trunk": "stem"}, **extra)
+
+
+def _digests(folder: Path, pattern: str) -> dict[str, str]:
+    return {p.name: hashlib.sha256(p.read_bytes()).hexdigest() for p in sorted(folder.glob(pattern))}
+
+
+def _valid_png(path: Path) -> None:
+    img = imread(path)
+    assert img.ndim == 3 and np.isfinite(img).all()
+
+
+@pytest.fixture(scope="module")
+def twenty(tmp_path_factory, library_dir, client2):
+    """20 tree variations on 2 workers (chunks of 3, so several tasks finish in any order)."""
+    out = tmp_path_factory.mktemp("two_workers")
+    summary = run_batch(_tree_spec(library_dir), out, client=client2, chunk=3, progress=None)
+    return out, summary
+
+
+def test_two_workers_give_the_same_files_as_one(twenty, library_dir, tmp_path):
+    out2, s2 = twenty
+    assert (s2.done, s2.failed, s2.skipped, s2.workers) == (20, 0, 0, 2)
+    s1 = run_batch(_tree_spec(library_dir), tmp_path, n_workers=1, chunk=7, progress=None)
+    assert (s1.done, s1.workers) == (20, 1)
+    d1, d2 = _digests(tmp_path, "tree_*.png"), _digests(out2, "tree_*.png")
+    assert len(d1) == 20 and d1 == d2                      # byte-identical PNGs
+    assert len(set(d1.values())) == 20                     # and 20 different trees
+    for p in list(tmp_path.glob("tree_*.png"))[:3]:
+        _valid_png(p)
+    m = read_manifest(out2)
+    assert sorted(m) == list(range(20))
+    assert {r["status"] for r in m.values()} == {"done"}
+    seeds = [m[i]["seed"] for i in range(20)]
+    expected = [int(c.generate_state(1, np.uint64)[0] >> np.uint64(1))
+                for c in np.random.SeedSequence(11).spawn(20)]
+    assert seeds == expected                               # SeedSequence.spawn of the spec seed
+    r = m[4]
+    assert r["files"][0]["name"] == "tree_00004.png" and r["params"]["variation"]["m_points"] == 20
+    assert abs(sum(r["info"]["weights"]) - 1) < 1e-5 and r["time"] > 0 and r["error"] is None
+
+
+def test_resume_recomputes_exactly_the_deleted_items(twenty, library_dir, client2):
+    out, _ = twenty
+    before = _digests(out, "tree_*.png")
+    mtimes = {p.name: p.stat().st_mtime_ns for p in out.glob("tree_*.png")}
+    deleted = ["tree_00002.png", "tree_00005.png", "tree_00011.png", "tree_00017.png", "tree_00019.png"]
+    for name in deleted:
+        (out / name).unlink()
+    seen = []
+    s = run_batch(_tree_spec(library_dir), out, client=client2, progress=lambda done, total: seen.append(done))
+    assert (s.done, s.skipped, s.failed) == (5, 15, 0)
+    assert seen == [16, 17, 18, 19, 20]
+    assert _digests(out, "tree_*.png") == before
+    changed = {p.name for p in out.glob("tree_*.png") if p.stat().st_mtime_ns != mtimes.get(p.name)}
+    assert changed == set(deleted)
+    # a damaged file is recomputed too; a changed parameter recomputes everything it touches
+    (out / "tree_00003.png").write_bytes(b"\x89PNG\r\n\x1a\nbroken")
+    s = run_batch(_tree_spec(library_dir), out, client=client2, progress=None)
+    assert (s.done, s.skipped) == (1, 19)
+    assert _digests(out, "tree_*.png") == before
+    lines = (out / "manifest.jsonl").read_text().splitlines()
+    assert len(lines) == 20                                # compacted: one record per item
+
+
+def test_invalid_item_fails_clearly_and_the_rest_finish(library_dir, client2, tmp_path):
+    spec = _tree_spec(library_dir, count=6, items={"2": {"variation.m_points": 3},
+                                                    "4": {"target": "no_such_tree"}})
+    s = run_batch(spec, tmp_path, client=client2, progress=None)
+    assert (s.done, s.failed) == (4, 2)
+    m = read_manifest(tmp_path)
+    assert m[2]["status"] == "failed" and m[2]["files"] == []
+    assert "m_points must be >= 6" in m[2]["error"] and m[2]["error"].startswith("ValueError")
+    assert m[4]["status"] == "failed" and "no_such_tree" in m[4]["error"]
+    assert sorted(p.name for p in tmp_path.glob("*.png")) == [f"tree_{i:05d}.png" for i in (0, 1, 3, 5)]
+    assert "4 done" in str(s) and "2 failed" in str(s) and "items/s" in str(s)
+
+
+def test_a_job_registered_in_a_few_lines_runs_on_the_cluster(client2, tmp_path):
+    from dataclasses import dataclass
+
+    from branchnb.core.io import encode_png
+    from branchnb.core.params import param
+
+    @dataclass
+    class NoiseParams:
+        level: float = param(0.5, min=0.0, max=1.0)
+
+    def make(shared, params, inputs, rng, stem):
+        img = np.full((8, 8, 3), params["noise"].level, np.float32) * rng.random((8, 8, 1), np.float32)
+        if params["noise"].level > 0.9:
+            raise RuntimeError("too loud")
+        return ItemOutput({f"{stem}.png": encode_png(img)}, {"mean": float(img.mean())})
+
+    register_job(Job("noise_test", sections={"noise": NoiseParams}, inputs={}, stem="noise",
+                     prepare=lambda inputs, base_dir, params: None, make=make), replace=True)
+    spec = BatchSpec("noise_test", count=9, vary={"noise.level": [0.2, 0.5, 0.95]})
+    s = run_batch(spec, tmp_path, client=client2, progress=None)
+    assert (s.done, s.failed) == (6, 3)
+    m = read_manifest(tmp_path)
+    assert [m[i]["params"]["noise"]["level"] for i in range(3)] == [0.2, 0.5, 0.95]
+    assert m[5]["error"] == "RuntimeError: too loud"
+
+
+def test_cloud_dendrite_and_branching_jobs_write_valid_files(client2, library_dir, tmp_path):
+    from branchnb.core.structure import Branch, Structure
+
+    cloud = BatchSpec("billboard_cloud", count=2, inputs={"library": str(library_dir), "from_variations": False,
+                                                          "size": 96, "trunk": "stem"},
+                      params={"billboard": {"n_segments": 32, "n_interior": 8, "max_size": 128}})
+    s = run_batch(cloud, tmp_path / "cloud", client=client2, progress=None)
+    assert s.done == 2, read_manifest(tmp_path / "cloud")
+    doc = json.loads((tmp_path / "cloud" / "cloud_00001.gltf").read_text(),
+                     parse_constant=lambda c: pytest.fail(f"non-standard JSON {c}"))
+    assert doc["asset"]["version"] == "2.0" and doc["images"][0]["uri"] == "cloud_00001_atlas.png"
+    _valid_png(tmp_path / "cloud" / "cloud_00001_atlas.png")
+
+    den = BatchSpec("dendrite_tree", count=2, inputs={"shape": [72, 64]},
+                    params={"tree": {"iterations": 2, "radius": 12}})
+    assert run_batch(den, tmp_path / "den", client=client2, progress=None).done == 2
+    root = ET.parse(tmp_path / "den" / "dendrite_00000.svg").getroot()
+    assert root.tag.endswith("svg") and len(list(root.iter())) > 10
+    _valid_png(tmp_path / "den" / "dendrite_00000.png")
+
+    t = np.linspace(0, 1, 60)
+    trunk = np.c_[10 + 140 * t, 50 + 10 * np.sin(9 * t)]
+    twig = np.c_[80 + 30 * t, trunk[34, 1] + 30 * t]
+    twig[0] = trunk[34]
+    ex = Structure([Branch(trunk, 2.5), Branch(twig, 1.5, parent=0, parent_vertex=34)], image_shape=(100, 160))
+    (tmp_path / "example.json").write_text(ex.to_json())
+    spec = BatchSpec.from_dict({"job": "branching", "count": 2, "inputs": {"example": "example.json"}},
+                               base_dir=tmp_path)
+    s = run_batch(spec, tmp_path / "br", client=client2, progress=None)
+    assert s.done == 2, read_manifest(tmp_path / "br")
+    st = Structure.from_json((tmp_path / "br" / "branching_00000.json").read_text())
+    assert st.n_vertices > 10
+    ET.parse(tmp_path / "br" / "branching_00000.svg")
+
+
+def test_specs_round_trip_and_bad_specs_name_the_problem(tmp_path, library_dir):
+    spec = spec_from_params("tree_variations", VariationParams(keep=0.7, n_mix=2), count=50, seed=3,
+                            library=str(library_dir), size=96, target="tree_rpg_03",
+                            vary={"variation.keep": [0.6, 0.8]})
+    for suffix in (".json", ".toml"):
+        path = save_spec(spec, tmp_path / f"spec{suffix}")
+        again = load_spec(path)
+        assert again.to_dict() == spec.to_dict()
+        assert again.item_params(1)["variation"].keep == 0.8
+    assert spec_from_params("tree_variations", VariationParams(keep=0.7), count=1,
+                            only_changed=True).params == {"variation": {"keep": 0.7}}
+    bad = [
+        ({"job": "nope", "count": 1}, "unknown job 'nope'"),
+        ({"job": "tree_variations", "count": 0}, "count must lie in"),
+        ({"job": "tree_variations", "count": 2, "params": {"variation": {"kep": 1}}}, "unknown field(s) ['kep']"),
+        ({"job": "tree_variations", "count": 2, "params": {"variation": {"keep": 2.0}}}, "keep must be <= 1"),
+        ({"job": "tree_variations", "count": 2, "inputs": {"libary": "x"}}, "unknown input(s) ['libary']"),
+        ({"job": "tree_variations", "count": 2, "vary": {"size": [1, 2]}}, "not an item input"),
+        ({"job": "tree_variations", "count": 2, "items": {"5": {}}}, "outside 0 .. 1"),
+        ({"job": "tree_variations"}, "needs a 'count'"),
+    ]
+    for d, message in bad:
+        with pytest.raises((ValueError, TypeError)) as exc:
+            BatchSpec.from_dict(d)
+        assert message in str(exc.value), (d, str(exc.value))
+    (tmp_path / "nan.json").write_text('{"job": "dendrite_tree", "count": 2, "params": {"tree": {"noise": NaN}}}')
+    with pytest.raises(ValueError, match="NaN is not valid JSON"):
+        load_spec(tmp_path / "nan.json")
+    (tmp_path / "broken.toml").write_text("job = \n")
+    with pytest.raises(ValueError, match="not valid TOML"):
+        load_spec(tmp_path / "broken.toml")
+
+
+def test_command_line_batch_on_a_scheduler_and_ctrl_c_keeps_the_manifest(client2, tmp_path):
+    spec = tmp_path / "spec.toml"
+    spec.write_text('job = "dendrite_tree"\ncount = 400\nseed = 5\n\n[inputs]\nshape = [40, 36]\nsvg = false\n\n'
+                    '[params.tree]\niterations = 2\nradius = 8.0\n')
+    out = tmp_path / "out"
+    cmd = [sys.executable, "-m", "branchnb.cli", "batch", str(spec), str(out), "--no-progress", "--chunk", "1",
+           "--scheduler", client2.scheduler.address]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    manifest = out / "manifest.jsonl"
+    deadline = time.time() + 60
+    while time.time() < deadline and (not manifest.is_file() or len(manifest.read_text().splitlines()) < 3):
+        time.sleep(0.1)
+    proc.send_signal(signal.SIGINT)
+    stdout, stderr = proc.communicate(timeout=60)
+    assert proc.returncode == 130, stderr
+    assert "interrupted" in stdout and "Traceback" not in stderr
+    records = read_manifest(out)
+    assert 3 <= len(records) < 400
+    for r in records.values():                             # every recorded item is intact
+        assert r["status"] == "done"
+        for f in r["files"]:
+            assert hashlib.sha256((out / f["name"]).read_bytes()).hexdigest() == f["sha256"]
+    assert not list(out.glob(".*.part"))
+    # resuming with a smaller count finishes the batch without recomputing the recorded items
+    count = len(records) + 2
+    kept = sum(1 for i in records if i < count)
+    run = subprocess.run(cmd[:-2] + ["--count", str(count), "--scheduler", client2.scheduler.address],
+                         capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    assert f"{count - kept} done, {kept} already complete, 0 failed of {count}" in run.stdout
+    bad = subprocess.run([sys.executable, "-m", "branchnb.cli", "batch", str(tmp_path / "missing.json"),
+                          str(tmp_path / "o2")], capture_output=True, text=True, timeout=60)
+    assert bad.returncode == 1 and "Traceback" not in bad.stderr and "missing.json" in bad.stderr
+    assert os.path.isdir(tmp_path / "o2")

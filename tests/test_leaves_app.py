@@ -1,0 +1,114 @@
+"""LeafApp driven from Python: scribbles on the canvas, the layer list, analysis, sliders, generation, errors."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from leaves_truth import TrueRegistration
+
+from branchnb.leaves import leaf_family, simulate_scribbles
+from branchnb.leaves.analysis import normalise_exemplars
+from branchnb.widgets.leaves import LeafApp
+
+
+def send(canvas, event: str, x: float, y: float):
+    top = canvas.canvas._canvases[-1]
+    top._handle_frontend_event(top, {"event": event, "x": x, "y": y}, [])
+
+
+def scribble(canvas, label, points):
+    """Pick the label, press, drag through ``points`` (image pixels), release."""
+    canvas.mode = "scribble"
+    canvas.label = label
+    pts = [canvas.image_to_view(*p) for p in points]
+    send(canvas, "mouse_down", *pts[0])
+    for p in pts[1:]:
+        send(canvas, "mouse_move", *p)
+    send(canvas, "mouse_up", *pts[-1])
+
+
+@pytest.fixture(scope="module")
+def family():
+    fam = leaf_family(3, size=256, rng=4)
+    _, blades, offs = normalise_exemplars(fam)
+    kps = [leaf.keypoints + np.array(o) for leaf, o in zip(fam, offs)]
+    regs = [TrueRegistration(k, kps[0], blades[0].shape) for k in kps]
+    return fam, regs, offs
+
+
+@pytest.fixture
+def app(family):
+    fam, regs, _ = family
+    a = LeafApp(fam, registrations=regs, max_display=256)
+    a.induction_panel.debounce = 0
+    return a
+
+
+def _scribble_truth(app, family):
+    fam, _, offs = family
+    dx, dy = offs[0]
+    for name, n, length in (("veins", 10, 20), ("spots", 8, 8)):
+        for s in simulate_scribbles(fam[0].layers[name], n, length=length, rng=2):
+            scribble(app.canvas, name, s.points + [dx, dy])
+
+
+def test_layer_list_editing(app):
+    assert app.layer_names() == ["veins", "spots"]
+    app.name_box.value = "holes"
+    app.layer_buttons["add"].click()
+    assert app.layer_names() == ["veins", "spots", "holes"] and app.canvas.label == "holes"
+    assert list(app.canvas._label_picker.options) == app.layer_names()
+    app.layer_list.value = "holes"
+    app.layer_buttons["up"].click()
+    assert app.layer_names() == ["veins", "holes", "spots"]
+    scribble(app.canvas, "holes", [(120, 120), (126, 124)])
+    app.layer_buttons["remove"].click()
+    assert app.layer_names() == ["veins", "spots"]
+    assert not any(s.label == "holes" for s in app.canvas.model.shapes)
+    app.name_box.value = ""
+    app.layer_buttons["add"].click()  # no name: an error in the status line, the app keeps working
+    assert "name" in app.status.last_error
+    app.name_box.value = "veins"
+    app.layer_buttons["add"].click()
+    assert "exists" in app.status.last_error
+
+
+def test_errors_show_in_the_status_line_and_the_app_keeps_working(app, family):
+    app.shell.click("analyze")  # no scribbles yet
+    assert "no scribbles" in app.status.last_error
+    app.shell.click("generate")
+    assert "analyze" in app.status.last_error
+    scribble(app.canvas, "veins", [(1, 1), (6, 1)])  # in the transparent corner
+    app.shell.click("analyze")
+    assert "outside the leaf" in app.status.last_error
+    app.shell.click("clear scribbles")
+    _scribble_truth(app, family)
+    app.shell.click("analyze")
+    assert app.status.last_error is None and app.analysis is not None
+
+
+def test_analysis_reinduction_and_generation(app, family):
+    _scribble_truth(app, family)
+    app.shell.click("analyze")
+    assert app.status.last_error is None
+    a = app.analysis
+    assert [x.name for x in a.layers] == ["veins", "spots"]
+    assert "λ" in app.report.value and "veins" in app.report.value
+    assert len(app.exemplar_view.images) == 3
+    assert app.histograms.comparison is not None and app.histograms.comparison.metric == "emd"
+    assert app.histograms.comparison.labels[0] == "user layer"
+    regs = a.registrations
+    app.induction_panel.controls["eps"].value = 20.0  # a slider move re-induces only
+    app.shell.wait_live()
+    assert app.analysis is not a and app.analysis.registrations is regs
+    assert app.analysis.params.eps == 20.0
+    app.hist_layer.value = "spots"
+    assert app.histograms.comparison.labels[0] == "user layer"
+    app.n_outputs.value = 2
+    app.seed.value = 5
+    app.shell.click("generate")
+    assert app.status.last_error is None and len(app.leaves) == 2
+    first = [leaf.image.copy() for leaf in app.leaves]
+    app.shell.click("generate")
+    assert all(np.array_equal(x, leaf.image) for x, leaf in zip(first, app.leaves))  # same seed, same leaves
+    assert len(app.gallery.images) == 2
