@@ -221,3 +221,63 @@ def test_render_image_runs_in_the_background_and_cancel_stops_it(app, monkeypatc
     assert app.shell.wait(10)
     assert "cancelled" in app.errors.text and app.errors.last_error is None
     assert app.progress.text.value == "cancelled" and not app.buttons["synthesize"].disabled
+
+
+def _map_example():
+    """A textured land with a flat sea on the right; a river drains into the sea."""
+    rng = np.random.default_rng(0)
+    h, w = 120, 200
+    img = np.empty((h, w, 3), np.float32)
+    img[:] = 0.55 + 0.1 * rng.random((h, w, 1))
+    img[:, 130:] = (0.2, 0.4, 0.8)
+    t = np.linspace(0, 1, 60)
+    trunk = np.c_[128 - 110 * t, 60 + 20 * np.sin(5 * t)]
+    s = Structure([Branch(trunk, 2.0)], image_shape=(h, w))
+    u = np.linspace(0, 1, 20)[:, None]
+    s.add_branch(trunk[20] + u * np.array([-40, -30]), 1.5, parent=0, parent_vertex=20)
+    return img, s
+
+
+def test_synthesis_grows_in_the_example_domain_not_the_sea():
+    img, s = _map_example()
+    app = BranchingApp(img, structure=s)
+    dom = app.domain()
+    assert dom[:, :125].all() and not dom[:, 135:].any()
+    for seed in (0, 1, 2):
+        app.seed.value = seed
+        res = app.synthesize()
+        assert app._model.domain is not None and np.array_equal(app._model.domain, dom)
+        pts = np.round(np.concatenate([b.points for b in res.structure.branches])).astype(int)
+        pts = np.clip(pts, 0, [img.shape[1] - 1, img.shape[0] - 1])
+        assert dom[pts[:, 1], pts[:, 0]].mean() > 0.98
+    assert "coverage" in app.info.value
+
+
+def test_annotation_conversion_lives_in_core_and_batch_needs_no_widgets(tmp_path):
+    import json
+    import subprocess
+    import sys
+
+    from branchnb.core import annotations
+
+    assert annotations_to_structure is annotations.annotations_to_structure
+    assert structure_to_annotations is annotations.structure_to_annotations
+    s = wiggle_structure()
+    doc = json.loads(structure_to_annotations(s))
+    t = annotations.structure_from_annotation_json(doc, s.image_shape)
+    assert [(b.parent, b.parent_vertex) for b in t.branches] == [(None, None), (0, 20), (0, 40)]
+    assert all(np.array_equal(a.points, b.points) for a, b in zip(s.branches, t.branches))
+    bad = {"shapes": [{"kind": "polyline", "points": [[0, 0], [float("nan"), 1]]}]}
+    with pytest.raises(ValueError, match=r"shapes\[0\]\.points"):
+        annotations.structure_from_annotation_json(bad)
+    with pytest.raises(ValueError, match="radii"):
+        annotations.annotations_to_structure([{"kind": "polyline", "points": [[0, 0], [1, 1]],
+                                               "radii": [1.0]}])
+    with pytest.raises(ValueError, match="shapes"):
+        annotations.structure_from_annotation_json('{"branches": []}')
+    path = tmp_path / "example.json"
+    path.write_text(json.dumps(doc), encoding="utf-8")
+    code = ("import sys\nfrom pathlib import Path\nfrom branchnb.batch._builtin import _read_example\n"
+            f"s = _read_example(Path({str(path)!r}), (200, 300))\n"
+            "assert len(s.branches) == 3, s\nassert 'ipywidgets' not in sys.modules\n")
+    subprocess.run([sys.executable, "-c", code], check=True, timeout=120)

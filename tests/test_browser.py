@@ -255,6 +255,17 @@ lib = TreeLibrary.from_data(["tree_rpg_01", "tree_rpg_03", "tree_rpg_06"], size=
 app = TreeVariationsApp(lib, display=200, thumb=64)
 app
 """,
+    "leaves": """
+from branchnb.leaves import LayerSet, Layer, leaf_family, simulate_scribbles
+from branchnb.widgets.leaves import LeafApp
+fam = leaf_family(3, size=224, rng=4)
+layers = LayerSet([Layer("veins", "#d62728", 0), Layer("spots", "#1f77b4", 1)])
+for name, n, length in (("veins", 10, 20), ("spots", 8, 8)):
+    for s in simulate_scribbles(fam[0].layers[name], n, length=length, rng=2):
+        layers.add_scribble(name, s.points)
+app = LeafApp(fam, layers=layers, max_display=320)
+app
+""",
 }
 
 _RECORDER = """() => {
@@ -370,7 +381,7 @@ def _press(page, lab, kernel, label: str, *, changes: bool = True) -> None:
         assert len(_rec(page)["img"]) > n_img, f"'{label}' did not change the view"
 
 
-def _move_slider(page, lab, kernel, selector: str, dx: float, app: str) -> None:
+def _move_slider(page, lab, kernel, selector: str, dx: float, app: str, *, view: bool = True) -> None:
     """Drag a slider's handle by ``dx`` px; record the latency of busy state, first image and result."""
     handle = page.locator(f"{selector} .noUi-handle").first
     handle.scroll_into_view_if_needed()
@@ -399,7 +410,7 @@ def _move_slider(page, lab, kernel, selector: str, dx: float, app: str) -> None:
                     "first_view_ms": round(first[0] - up) if first else None,
                     "done_ms": round(done[-1] - up) if done else None}
     print(f"slider latency {app}: {LATENCY[app]}")
-    assert first, f"{app}: moving {selector} did not change the view"
+    assert first or not view, f"{app}: moving {selector} did not change the view"
     _no_error(page, lab, kernel)
 
 
@@ -506,6 +517,30 @@ def test_trees_app_in_the_browser(lab, chromium, tmp_path):
         page.locator(".bnb-app .lm-TabBar-tab:has-text('more like this')").first.click()
         _press(page, lab, kernel, "more like this")
         _screenshot(page, "trees", tmp_path)
+    finally:
+        page.close()
+        _delete_kernels(lab)
+
+
+def test_leaves_app_in_the_browser(lab, chromium, tmp_path):
+    page, kernel = _open(lab, chromium, "leaves")
+    try:
+        n0 = int(_eval(lab, kernel, "print(len(app.canvas.model.of_kind('scribble')))"))
+        box = _canvas_box(page)
+        _drag(page, box, [(0.45, 0.4), (0.5, 0.5), (0.52, 0.6)])  # one more scribble on the leaf
+        time.sleep(0.5)
+        _wait_idle(lab, kernel)
+        n1 = int(_eval(lab, kernel, "print(len(app.canvas.model.of_kind('scribble')))"))
+        assert n1 == n0 + 1, "the drawn scribble did not reach the kernel"
+        _eval(lab, kernel, "app.canvas.model.undo()")  # keep the simulated user's scribbles only
+        _press(page, lab, kernel, "analyze")
+        assert _eval(lab, kernel, "print(app.analysis is not None)") == "True"
+        # on this small family the re-induced overlays can come out pixel-identical: the kernel side is checked
+        _move_slider(page, lab, kernel, ".bnb-param-eps", -70, "leaves", view=False)
+        assert _eval(lab, kernel, "print(app.analysis.params.eps != 40.0)") == "True"
+        _press(page, lab, kernel, "generate")
+        assert int(_eval(lab, kernel, "print(len(app.leaves))")) >= 1
+        _screenshot(page, "leaves", tmp_path)
     finally:
         page.close()
         _delete_kernels(lab)

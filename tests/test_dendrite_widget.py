@@ -123,3 +123,27 @@ def test_tree_mode_controls_are_usable(app):
     assert app.layers.layout.display is None
     assert app.panels["tree"].reset_button.layout.height == "28px"
     assert app.panels["tree"] in app._panel_box.children
+
+
+def test_lattice_results_are_shown_at_image_size_and_the_default_seed_is_marked():
+    """Importance and plan live on the 512 lattice; what the app draws is in image pixels."""
+    img = np.ones((100, 150))
+    img[50:85, 100:140] = 0.0  # the important region, off centre
+    app = DendriteApp(img, params=StylizeParams(n_endpoints=80, stipple_iterations=2))
+    c = app.comparison
+    assert c.second.plan.shape != img.shape  # planned on the lattice
+    import cv2
+
+    shown = [cv2.imdecode(np.frombuffer(im.value, np.uint8), cv2.IMREAD_UNCHANGED) for im in app.views.images]
+    assert [im.shape[:2] for im in shown] == [img.shape] * 3
+    seed = c.second.seed
+    assert np.allclose(seed, app.stylizer.default_seed(app.params()))
+    assert 95 <= seed[0] <= 145 and 45 <= seed[1] <= 90  # in the dark block, in image pixels
+    assert "default" in app.status.value
+    d = c.second.dendrite
+    pts = np.concatenate(d.polylines())
+    assert pts[:, 0].max() <= img.shape[1] and pts[:, 1].max() <= img.shape[0]
+    # the preview plans the same picture on a lattice half as large, from the same seed
+    app._preview()
+    assert app._preview_scale == 0.5 and app.preview.params.lattice_size == 256
+    assert np.allclose((seed + 0.5) * app._preview_scale - 0.5, app.preview.seed, atol=1.0)

@@ -106,7 +106,8 @@ def test_the_wheel_is_small_and_holds_only_the_package(wheel_venv):
     assert not any(f.startswith(("tests/", "notebooks/", "data/")) for f in files)
     size = sum((records[0].parent.parent / f).stat().st_size for f in files
                if not f.startswith("..") and (records[0].parent.parent / f).is_file())
-    assert size < 8e6, f"installed package is {size / 1e6:.1f} MB"
+    # the sample data is about 4 MB of the installed size, the code (with its docs) most of the rest
+    assert size < 10e6, f"installed package is {size / 1e6:.1f} MB"
 
 
 def test_a_checkout_reads_the_visible_data_folder():

@@ -233,12 +233,13 @@ def _read_example(path: Path, image_shape):
     except json.JSONDecodeError as exc:
         raise ValueError(f"inputs.example: {path.name} is not valid JSON: {exc}") from None
     if isinstance(d, dict) and "shapes" in d:
-        # the branching app's canvas export (AnnotationModel JSON); widgets own that format
-        from ..widgets.branching import annotations_to_structure
-        from ..widgets.model import AnnotationModel
+        # the branching app's canvas export (annotation JSON), read without importing widgets
+        from ..core.annotations import structure_from_annotation_json
 
-        structure, _ = annotations_to_structure(AnnotationModel.from_json(json.dumps(d)).shapes,
-                                                image_shape=image_shape)
+        try:
+            structure = structure_from_annotation_json(d, image_shape=image_shape)
+        except (TypeError, ValueError) as exc:
+            raise ValueError(f"inputs.example: {path.name}: {exc}") from None
     elif isinstance(d, dict) and "branches" in d:
         structure = Structure.from_dict(d)
         if structure.image_shape is None and image_shape is not None:

@@ -8,6 +8,10 @@ The app wires the widget kit to :mod:`branchnb.branching`:
 - "extract" fills the canvas with :func:`~branchnb.branching.extract_structure`,
   "refine clicks" resamples the clicked polylines and measures their
   thickness perpendicular to the branch (the paper's input step);
+- the model is fitted inside the example's domain
+  (:func:`~branchnb.branching.example_domain`: the image minus large
+  branch-free flat regions such as a map's sea), so roots start on the same
+  kind of boundary and the coverage target is measured where branches live;
 - a :class:`ParamPanel` of :class:`~branchnb.branching.SynthesisParams`
   (m, k, c, wG, rho, d, generations, ...) grouped by the paper's steps,
   and a seed; changing them re-synthesizes (in the background inside a
@@ -42,6 +46,7 @@ from ..branching import (
     ImageSynthesisParams,
     Structure,
     SynthesisParams,
+    example_domain,
     extend_branch,
     extract_structure,
     fit_model,
@@ -49,10 +54,10 @@ from ..branching import (
     synthesize_structure,
 )
 from ..branching.extraction import estimate_thickness, gray_for_extraction
+from ..core.annotations import annotations_to_structure, structure_to_annotations
 from ..core.image import as_float_image, as_rgb
 from ..core.polyline import resample_uniform
 from ..core.render import draw_polylines
-from ..core.structure import Branch
 from .canvas import AnnotationCanvas
 from .feedback import ProgressBar
 from .histograms import HistogramCompare
@@ -60,66 +65,9 @@ from .imageview import ImageView
 from .params import ParamPanel
 from .shell import AppShell
 
+# The annotation <-> structure conversion lives in core (batch workers use it without ipywidgets);
+# the two names stay importable from here.
 __all__ = ["BranchingApp", "annotations_to_structure", "structure_to_annotations"]
-
-
-# --------------------------------------------------------------------------
-# annotations <-> structure (pure functions)
-# --------------------------------------------------------------------------
-def structure_to_annotations(structure: Structure, keep=()) -> str:
-    """Annotation JSON with one polyline per branch (radii = thickness, parent in ``meta``).
-
-    ``keep`` are other shapes (e.g. the guidance strokes) appended after them.
-    """
-    shapes = []
-    for b in structure.branches:
-        meta = {} if b.parent is None else {"parent": [int(b.parent), int(b.parent_vertex)]}
-        shapes.append({"kind": "polyline", "points": b.points.tolist(), "radii": b.thickness.tolist(),
-                       "label": None, "closed": True, "meta": meta})
-    for s in keep:
-        shapes.append(s.to_dict() if hasattr(s, "to_dict") else dict(s))
-    return json.dumps({"version": 1, "shapes": shapes})
-
-
-def annotations_to_structure(shapes, image_shape=None) -> tuple[Structure, list[int]]:
-    """The structure drawn as polylines, and the shape index of each branch.
-
-    A polyline's parent is taken from ``meta["parent"] = [shape, vertex]``
-    when that vertex is where the polyline starts; otherwise (e.g. after
-    shapes were deleted) any other polyline having a vertex exactly at
-    its start is the parent. Polylines with fewer than 2 vertices are
-    skipped; missing radii default to 1 pixel.
-    """
-    poly = [i for i, s in enumerate(shapes) if s.kind == "polyline" and len(s.points) >= 2]
-    index = {si: bi for bi, si in enumerate(poly)}
-    branches = []
-    for si in poly:
-        s = shapes[si]
-        r = s.radii if s.radii is not None else np.ones(len(s.points))
-        parent = pv = None
-        meta = s.meta.get("parent") if isinstance(s.meta, dict) else None
-        if meta is not None:
-            ps, pvx = int(meta[0]), int(meta[1])
-            if ps in index and ps != si and 0 <= pvx < len(shapes[ps].points) and \
-                    np.allclose(shapes[ps].points[pvx], s.points[0]):
-                parent, pv = index[ps], pvx
-        if parent is None:
-            for pj in poly:
-                if pj == si:
-                    continue
-                d = np.hypot(*(shapes[pj].points - s.points[0]).T)
-                hit = np.flatnonzero(d < 1e-6)
-                if len(hit):
-                    parent, pv = index[pj], int(hit[0])
-                    break
-        branches.append(Branch(s.points, r, parent, pv))
-    try:
-        st = Structure(branches, image_shape=image_shape)
-    except ValueError:  # a parent cycle from inconsistent edits: drop the links that close it
-        for b in branches:
-            b.parent = b.parent_vertex = None
-        st = Structure(branches, image_shape=image_shape)
-    return st, poly
 
 
 # --------------------------------------------------------------------------
@@ -131,8 +79,9 @@ SYNTHESIS_SECTIONS = [
     ("global statistics", ["wG"]),
     ("furcations", ["d", "min_spacing", "mirror_children", "svm_C"]),
     ("space colonization", ["colonization", "rho", "inv_eps", "stop_density"]),
+    ("roots", ["roots", "n_roots"]),
     ("guidance and stopping", ["guidance_width", "max_generations", "max_total_length",
-                               "max_coverage", "branch_end", "max_branch_factor"]),
+                               "max_coverage", "fill_rounds", "branch_end", "max_branch_factor"]),
 ]
 SYNTHESIS_LABELS = {
     "h": ("resampling step", "h"), "m": ("elements per step", "m"), "k": ("history length", "k"),
@@ -143,7 +92,9 @@ SYNTHESIS_LABELS = {
     "colonization": ("space colonization", ""), "rho": ("density radius", "\u03c1"),
     "inv_eps": ("density offset", "1/\u03b5"), "stop_density": ("stop at density", ""),
     "guidance_width": ("guidance width", ""), "max_generations": ("max generation", ""),
-    "max_total_length": ("max total length", ""), "max_coverage": ("max coverage", ""),
+    "max_total_length": ("max total length", ""),
+    "max_coverage": ("max coverage (0 = example's)", ""), "fill_rounds": ("fill-in rounds", ""),
+    "roots": ("root starts", ""), "n_roots": ("roots (-1 = example's)", ""),
     "branch_end": ("branch end", ""), "max_branch_factor": ("max branch length", "\u00d7"),
 }
 IMAGE_SECTIONS = [
@@ -153,6 +104,7 @@ IMAGE_SECTIONS = [
                                      "poisson", "anchors", "anchor_weight", "furcation_clear"]),
     ("what is never copied", ["exclusion", "exclusion_margin", "avoid_unannotated", "avoid_salient",
                               "salient_z", "branch_like", "flatten_shading", "exclude_matte"]),
+    ("flat-colour examples (maps, masks)", ["keep_regions", "flat_poisson"]),
     ("gap completion", ["completion", "patch_size", "patch_overlap", "completion_tolerance",
                         "completion_screen", "completion_rim", "min_free", "forbid_weight"]),
 ]
@@ -166,6 +118,15 @@ IMAGE_LABELS = {
     "displacement_step": ("displacement grid", ""), "seams": ("seams", ""),
     "poisson": ("Poisson correction", ""), "anchors": ("Poisson anchors", ""),
     "anchor_weight": ("anchor weight", ""), "furcation_clear": ("furcation clearing", ""),
+    "exclusion": ("exclusion / r", ""), "exclusion_margin": ("exclusion margin", ""),
+    "avoid_unannotated": ("avoid unannotated", ""), "avoid_salient": ("avoid salient spots", ""),
+    "salient_z": ("salient spot z", "z"), "branch_like": ("branch-like level", ""),
+    "flatten_shading": ("flatten shading", ""), "exclude_matte": ("exclude matte", ""),
+    "keep_regions": ("keep map regions", ""), "flat_poisson": ("flat-colour Poisson", ""),
+    "completion": ("complete gaps", ""), "patch_size": ("patch size", ""),
+    "patch_overlap": ("patch overlap", ""), "completion_tolerance": ("completion tolerance", ""),
+    "completion_screen": ("completion screen", ""), "completion_rim": ("completion rim", ""),
+    "min_free": ("min free fraction", ""), "forbid_weight": ("forbid weight", ""),
 }
 
 _PICK_HALO = (0.0, 0.0, 0.0)
@@ -213,7 +174,7 @@ class BranchingApp(widgets.VBox):
                                        modes=("polyline", "edit", "stroke", "pan"), errors=status)
         self.panel = ParamPanel(params if params is not None else SynthesisParams(), errors=status,
                                 sections=SYNTHESIS_SECTIONS, labels=SYNTHESIS_LABELS,
-                                closed=("furcations", "space colonization", "guidance and stopping"),
+                                closed=("furcations", "space colonization", "roots", "guidance and stopping"),
                                 log=("max_total_length",), title="structure synthesis")
         # Image synthesis only runs on "render image", so its panel needs no callback.
         self.image_panel = ParamPanel(ImageSynthesisParams(), errors=status, sections=IMAGE_SECTIONS,
@@ -278,6 +239,8 @@ class BranchingApp(widgets.VBox):
         self.image_result = None
         self._model = None
         self._model_key = None
+        self._domain = None
+        self._domain_key = None
 
         g = sh.guard
         self.panel.on_change(g(self._params_changed))
@@ -378,11 +341,28 @@ class BranchingApp(widgets.VBox):
         ex = self.example_structure()
         if not ex.branches:
             raise ValueError("the example is empty: draw a branch (polyline tool) or press 'extract'")
-        key = (ex.to_json(), params.h, params.m, params.k, params.bins, params.svm_C)
+        text = ex.to_json()
+        key = (text, params.h, params.m, params.k, params.bins, params.svm_C)
         if self._model is None or self._model_key != key:
-            self._model = fit_model(ex, params)
+            self._model = fit_model(ex, params, domain=self.domain(ex, _text=text))
             self._model_key = key
         return self._model
+
+    def domain(self, structure: Structure | None = None, *, _text: str | None = None) -> np.ndarray:
+        """Where the example's branches live ((H, W) bool): :func:`~branchnb.branching.example_domain`.
+
+        The image minus its large branch-free flat regions (the sea around a
+        river map's land, the wide water of a delta mask); the whole frame
+        for a photo. The model learns where roots start relative to its
+        boundary, and synthesis grows inside it. ``structure`` defaults to
+        the canvas's example.
+        """
+        ex = self.example_structure() if structure is None else structure
+        text = ex.to_json() if _text is None else _text
+        if self._domain_key != text:
+            self._domain = example_domain(self.image, ex)
+            self._domain_key = text
+        return self._domain
 
     def _params_changed(self, _values) -> None:
         if self.auto.value and self.result is not None:
@@ -472,9 +452,13 @@ class BranchingApp(widgets.VBox):
             self.hist_thick.update(ex.thicknesses(), s.thicknesses(), labels=["input", "synthesized"], range=rr)
         d = self.result.diagnostics
         # Counts from the structure shown (diagnostics describe the last synthesis step only).
+        cov, target = d.get("coverage"), d.get("coverage_target")
+        coverage = "" if cov is None or target is None else \
+            f" &nbsp;|&nbsp; coverage {cov:.0%} of target {target:.0%}"
         self.info.value = (
             f"<span style='font-size:12px'>{n} branches, {s.n_vertices} vertices &nbsp;|&nbsp; "
-            f"last step {d.get('time_s', 0.0) * 1000:.0f} ms, stop: {d.get('stop_reason', '-')}</span>")
+            f"last step {d.get('time_s', 0.0) * 1000:.0f} ms, stop: {d.get('stop_reason', '-')}"
+            f"{coverage}</span>")
 
     def _show(self) -> None:
         if self.result is None:

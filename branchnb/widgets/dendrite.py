@@ -59,21 +59,27 @@ MODES = ("stylize", "tree", "pareidolia")
 
 #: Parameter groups and readable labels (paper symbols in the second place).
 STYLIZE_SECTIONS = [
-    ("importance map", ["intensity_weight", "gradient_weight", "sigma"]),
-    ("endpoints (stippling)", ["n_endpoints", "endpoint_gamma", "endpoint_floor", "stipple_iterations"]),
-    ("node weights and path metric", ["cost_weight", "epsilon", "noise", "metric", "blend_weight"]),
-    ("thickness", ["thickness", "window", "contrast", "min_width", "max_width"]),
+    ("importance map", ["lattice_size", "intensity_weight", "gradient_weight", "sigma"]),
+    ("endpoints (stippling)", ["n_endpoints", "endpoint_gamma", "endpoint_threshold", "endpoint_floor",
+                               "stipple_iterations"]),
+    ("node weights and path metric", ["cost_weight", "epsilon", "noise", "metric", "blend_weight",
+                                      "break_ties"]),
+    ("thickness", ["thickness", "window", "contrast", "hierarchy", "tone", "tone_sigma", "min_width",
+                   "max_width"]),
 ]
 STYLIZE_LABELS = {
     "intensity_weight": ("darkness weight", "w_I"), "gradient_weight": ("gradient weight", "w_G"),
     "sigma": ("gradient smoothing", "\u03c3"), "n_endpoints": ("endpoints", "N"),
     "endpoint_gamma": ("density exponent", "\u03b3"), "endpoint_floor": ("density floor", ""),
-    "stipple_iterations": ("Lloyd iterations", ""), "cost_weight": ("importance cost", "c"),
+    "stipple_iterations": ("Lloyd iterations", ""), "lattice_size": ("lattice (0 = image)", ""),
+    "endpoint_threshold": ("no endpoints below", ""), "break_ties": ("re-plan large ties", ""),
+    "hierarchy": ("trunk hierarchy", ""), "tone": ("match tone", ""), "tone_sigma": ("tone scale", ""),
+    "cost_weight": ("importance cost", "c"),
     "epsilon": ("weight offset", "\u03b5"), "noise": ("random weight", ""),
     "metric": ("path metric", ""), "blend_weight": ("blend weight", "a"),
     "thickness": ("thickness from", ""), "window": ("rolling window", ""),
-    "contrast": ("contrast exponent", ""), "min_width": ("min width (px)", ""),
-    "max_width": ("max width (px)", ""),
+    "contrast": ("contrast exponent", ""), "min_width": ("min width (lattice)", ""),
+    "max_width": ("max width (lattice)", ""),
 }
 TREE_SECTIONS = [
     ("growth", ["iterations", "trunk_endpoints", "endpoint_growth", "radius", "radius_decay",
@@ -94,11 +100,13 @@ TREE_LABELS = {
     "crown_width": ("crown width", ""),
 }
 PAREIDOLIA_SECTIONS = [
-    ("endpoints", ["side", "n_endpoints", "random_ratio", "endpoint_gamma"]),
-    ("node weights", ["noise_image", "noise_random", "cost_weight", "epsilon", "intensity_weight",
-                      "gradient_weight"]),
+    ("crown and endpoints", ["side", "crown", "crown_blur", "n_endpoints", "random_ratio",
+                             "endpoint_gamma"]),
+    ("lattice and node weights", ["lattice_size", "noise_image", "noise_random", "cost_weight", "epsilon",
+                                  "intensity_weight", "gradient_weight"]),
     ("growth", ["iterations", "trunk_endpoints", "blend_weight", "trunk_height"]),
-    ("widths", ["thickness", "window", "emphasis", "tip_width", "increment", "pipe"]),
+    ("widths", ["thickness", "window", "emphasis", "tone", "tip_width", "increment", "pipe", "max_width",
+                "limb_length"]),
 ]
 PAREIDOLIA_LABELS = {
     "side": ("image side", ""), "n_endpoints": ("image endpoints", "N"),
@@ -111,6 +119,9 @@ PAREIDOLIA_LABELS = {
     "thickness": ("thickness from", ""), "window": ("rolling window", ""),
     "emphasis": ("emphasis (px)", ""), "tip_width": ("twig width (px)", ""),
     "increment": ("width increment", ""), "pipe": ("pipe model", ""),
+    "crown": ("crown shape", ""), "crown_blur": ("crown smoothing", ""),
+    "lattice_size": ("lattice (0 = image)", ""), "tone": ("match tone", ""),
+    "max_width": ("max crown width (px)", ""), "limb_length": ("limb thinning length", ""),
 }
 
 
@@ -124,10 +135,22 @@ def _fit(image, max_size: int) -> np.ndarray:
     return np.clip(img, 0, 1).astype(np.float32)
 
 
+def _ring(center, radius: float) -> np.ndarray:
+    t = np.linspace(0, 2 * np.pi, 33)
+    return np.c_[center[0] + radius * np.cos(t), center[1] + radius * np.sin(t)]
+
+
 def _scaled(p: StylizeParams, s: float) -> StylizeParams:
-    """The same stylization for an image scaled by ``s``: sizes times s, endpoint count times s**2."""
+    """The same stylization for an image scaled by ``s``, planned on a lattice ``s`` times as large.
+
+    Lengths are in lattice pixels, so they scale with the lattice (its
+    size times ``s``, or the image's own pixels for ``lattice_size = 0``);
+    the endpoint count scales with the area, ``s**2``.
+    """
+    lattice = p.lattice_size if p.lattice_size == 0 else max(16, int(round(p.lattice_size * s)))
     return dataclasses.replace(
-        p, sigma=p.sigma * s, n_endpoints=max(1, int(round(p.n_endpoints * s * s))),
+        p, lattice_size=lattice, sigma=p.sigma * s, tone_sigma=max(1.0, p.tone_sigma * s),
+        n_endpoints=max(1, int(round(p.n_endpoints * s * s))),
         min_width=p.min_width * s, max_width=p.max_width * s)
 
 
@@ -299,8 +322,11 @@ class DendriteApp(widgets.VBox):
 
     def _preview(self) -> None:
         s = self._preview_scale
-        p = _scaled(self.panels["stylize"].values, s)
-        seed = None if self.seed is None else self.seed * s
+        full = self.panels["stylize"].values
+        p = _scaled(full, s)
+        # the full update's seed (clicked, or the stylizer's important region), in preview pixels
+        seed = self.stylizer.default_seed(full) if self.seed is None else self.seed
+        seed = (np.asarray(seed, float) + 0.5) * s - 0.5
         try:
             self.preview = self.preview_stylizer.run(p, seed=seed, rng=int(self.rng.value),
                                                      metaphor=self.metaphor.value)
@@ -345,7 +371,9 @@ class DendriteApp(widgets.VBox):
                             metaphor=self.metaphor.value)
         self.comparison = c
         self.rendering = c.second.rendering
-        order = visiting_order_image(c.second.plan)
+        # the plan lives on the planning lattice: shown at the image's size like the renderings
+        order = cv2.resize(visiting_order_image(c.second.plan), (self.image.shape[1], self.image.shape[0]),
+                           interpolation=cv2.INTER_NEAREST)
         self.views.update(
             [c.first.rendering.image, c.second.rendering.image, order],
             [f"{c.first.params.metric}", f"{c.second.params.metric}"
@@ -355,16 +383,22 @@ class DendriteApp(widgets.VBox):
         t1, t2 = c.stats_first.tortuosity, c.stats_second.tortuosity
         self.hist_tortuosity.update(t1[np.isfinite(t1)], t2[np.isfinite(t2)], labels=labels)
         self.hist_max_edge.update(c.stats_first.max_edge, c.stats_second.max_edge, labels=labels)
-        d = c.second.dendrite
+        d = c.second.dendrite  # image pixels (Stylization.scale maps them to the lattice)
         overlay = draw_polylines(np.zeros((*self.image.shape[:2], 4), np.float32), d.polylines(2),
                                  widths=d.widths(), colors=(0.9, 0.1, 0.1))
-        self.canvas.set_overlay(overlay)
         s = c.second.seed
+        if self.seed is None:  # mark the default seed (the important region) where no click is drawn
+            overlay = draw_polylines(overlay, [_ring(s, max(3.0, 0.015 * max(self.image.shape[:2])))],
+                                     widths=[2.0], colors=(0.1, 0.35, 0.95))
+        self.canvas.set_overlay(overlay)
         self.status.value = (
-            f"<span style='font-size:12px'>seed ({s[0]:.0f}, {s[1]:.0f}) · {len(c.second.endpoints)} "
+            f"<span style='font-size:12px'>seed ({s[0]:.0f}, {s[1]:.0f})"
+            f"{'' if self.seed is not None else ' (default: the important region, blue ring)'} · "
+            f"{len(c.second.endpoints)} "
             f"endpoints · {d.n_nodes} nodes, {d.n_branches} branches · mean tortuosity "
             f"{np.nanmean(t1):.2f} ({labels[0]}) vs {np.nanmean(t2):.2f} ({labels[1]})</span>")
         return f"{d.n_branches} branches"
+
     def _tree_render(self, dendrite):
         m = self.metaphor.value
         if m == "vines":

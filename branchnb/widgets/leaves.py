@@ -96,7 +96,7 @@ class LeafApp(widgets.VBox):
         self.shell = AppShell("Leaf variations (Assa & Cohen-Or 2012)",
                               help="scribble each layer on the training leaf (pick the layer, drag); "
                                    "'analyze', then 'generate'")
-        self.status = self.shell.status
+        self.status = self.errors = self.shell.status
         self.images, self.blades, self.offsets = normalise_exemplars(exemplars)
         n = len(self.images)
         if isinstance(training_index, bool) or not isinstance(training_index, (int, np.integer)) \

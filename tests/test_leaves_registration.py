@@ -1,0 +1,160 @@
+"""Registration of leaf exemplars (TPS-RPM), measured on procedural leaves with true correspondences."""
+
+import numpy as np
+import pytest
+
+from branchnb.core.metrics import iou
+from branchnb.leaves import (
+    RegistrationParams,
+    ThinPlateSpline,
+    draw_registration,
+    leaf_family,
+    register,
+    start_alignment,
+    tps_rpm,
+)
+
+
+def _pairs(kind, seed, size=192, n=3):
+    fam = leaf_family(n, size=size, kind=kind, rng=seed)
+    return fam[0], fam[1:]
+
+
+@pytest.fixture(scope="module")
+def registrations():
+    """Two exemplars registered to a training leaf, for each kind (module-wide: registration is the slow part)."""
+    out = {}
+    for kind, seed in (("lobed", 0), ("trilobed", 1), ("elliptic", 1)):
+        tr, exs = _pairs(kind, seed)
+        out[kind] = (tr, [(ex, register(ex, tr)) for ex in exs])
+    return out
+
+
+def test_registration_halves_the_keypoint_error(registrations):
+    # True corresponding keypoints (the same material point on every leaf):
+    # their mean distance after registration against after the affine start.
+    start_err, reg_err = [], []
+    for tr, pairs in registrations.values():
+        for ex, reg in pairs:
+            start = ex.keypoints @ reg.start[:, :2].T + reg.start[:, 2]
+            start_err.append(np.hypot(*(start - tr.keypoints).T).mean())
+            reg_err.append(np.hypot(*(reg.forward(ex.keypoints) - tr.keypoints).T).mean())
+    start_err, reg_err = np.array(start_err), np.array(reg_err)
+    assert reg_err.mean() <= 0.5 * start_err.mean(), (start_err, reg_err)
+    # No pair gets much worse than its start (an elliptic blade, whose
+    # outline has no corners, can slide a little along it).
+    assert (reg_err < 1.25 * start_err).all(), (start_err, reg_err)
+
+
+def test_forward_then_inverse_returns_points(registrations):
+    for tr, pairs in registrations.values():
+        for ex, reg in pairs:
+            ys, xs = np.nonzero(tr.blade)
+            pick = np.random.default_rng(0).choice(len(xs), 400, replace=False)
+            q = np.column_stack([xs[pick], ys[pick]]).astype(float)
+            back = reg.forward(reg.inverse(q))
+            assert np.median(np.hypot(*(back - q).T)) < 1.0
+            ye, xe = np.nonzero(ex.blade)
+            p = np.column_stack([xe[::50], ye[::50]]).astype(float)
+            assert np.median(np.hypot(*(reg.inverse(reg.forward(p)) - p).T)) < 1.0
+
+
+def test_dense_maps_agree_with_point_maps(registrations):
+    tr, pairs = registrations["lobed"]
+    ex, reg = pairs[0]
+    m_to, m_from = reg.map_to_training, reg.map_from_training
+    assert m_to.shape == tr.blade.shape + (2,) and m_from.shape == ex.blade.shape + (2,)
+    assert m_to.dtype == np.float32
+    ys, xs = np.nonzero(tr.blade)
+    sel = np.arange(0, len(xs), 97)
+    q = np.column_stack([xs[sel], ys[sel]]).astype(float)
+    assert np.median(np.hypot(*(m_to[ys[sel], xs[sel]] - reg.inverse(q)).T)) < 0.25
+    ye, xe = np.nonzero(ex.blade)
+    sel = np.arange(0, len(xe), 97)
+    p = np.column_stack([xe[sel], ye[sel]]).astype(float)
+    assert np.median(np.hypot(*(m_from[ye[sel], xe[sel]] - reg.forward(p)).T)) < 0.25
+
+
+def test_warped_blades_overlap(registrations):
+    for tr, pairs in registrations.values():
+        for ex, reg in pairs:
+            warped = reg.to_training(ex.blade)
+            assert warped.dtype == bool and warped.shape == tr.blade.shape
+            assert iou(warped, tr.blade) > max(reg.start_iou, 0.85)
+            back = reg.from_training(tr.blade)
+            assert back.shape == ex.blade.shape and iou(back, ex.blade) > 0.85
+            img = reg.to_training(ex.image)
+            assert img.shape == tr.image.shape and img.dtype == np.float32
+
+
+def test_overlay_picture(registrations):
+    tr, pairs = registrations["trilobed"]
+    ex, reg = pairs[0]
+    pic = draw_registration(reg, ex.on_white(), tr.on_white(), blade=tr.blade)
+    assert pic.shape == (tr.blade.shape[0], 2 * tr.blade.shape[1], 3)
+    assert 0 <= pic.min() and pic.max() <= 1
+
+
+def test_start_recovers_rotation_and_scale():
+    leaf = leaf_family(1, size=128, kind="lobed", rng=4)[0]
+    import cv2
+
+    rot = cv2.getRotationMatrix2D((64, 64), 110, 0.7)
+    moved = cv2.warpAffine(leaf.blade.astype(np.uint8), rot, (128, 128)) > 0
+    mat, score = start_alignment(moved, leaf.blade)
+    assert score > 0.9
+    # The start undoes the rotation: composed with it, close to the identity.
+    full = np.vstack([rot, [0, 0, 1]])
+    comp = np.vstack([mat, [0, 0, 1]]) @ full
+    assert np.allclose(comp[:2, :2], np.eye(2), atol=0.08)
+
+
+def test_tps_rpm_recovers_a_smooth_warp_with_outliers():
+    rng = np.random.default_rng(1)
+    x = rng.uniform(-1, 1, (80, 2))
+    v = x + 0.1 * np.sin(2.5 * x[:, ::-1])
+    # 10 outliers on each side: points with no partner.
+    v_all = np.vstack([v, rng.uniform(-1, 1, (10, 2))])
+    x_all = np.vstack([x, rng.uniform(-1, 1, (10, 2))])
+    f, m = tps_rpm(v_all, x_all)
+    err = np.hypot(*(f(v) - x).T)
+    assert np.median(err) < 0.03
+    assert m.shape == (90, 90)
+
+
+def test_thin_plate_spline_interpolates_and_regularises():
+    rng = np.random.default_rng(2)
+    src = rng.uniform(-1, 1, (30, 2))
+    dst = src + rng.normal(0, 0.05, src.shape)
+    exact = ThinPlateSpline.fit(src, dst)
+    assert np.allclose(exact(src), dst, atol=1e-8)
+    stiff = ThinPlateSpline.fit(src, dst, lambda1=1e4)
+    # A very stiff spline is (nearly) the least-squares affine map.
+    a = np.column_stack([np.ones(30), src])
+    affine = a @ np.linalg.lstsq(a, dst, rcond=None)[0]
+    assert np.abs(stiff(src) - affine).max() < 0.01
+
+
+def test_bad_inputs():
+    tr, (ex,) = _pairs("elliptic", 0, size=64, n=2)
+    with pytest.raises(ValueError, match="exemplar_blade"):
+        register(ex.image, tr.image, np.zeros((64, 64), bool), tr.blade)
+    with pytest.raises(ValueError, match="training_blade"):
+        register(ex.image, tr.image, ex.blade, np.ones((10, 10), bool))
+    with pytest.raises(ValueError, match="busy background|no clear"):
+        register(np.random.default_rng(0).random((64, 64, 3)), tr)
+    with pytest.raises(ValueError, match="params.anneal_rate"):
+        register(ex, tr, params=RegistrationParams(anneal_rate=1.5))
+    with pytest.raises(TypeError, match="params.n_keypoints"):
+        register(ex, tr, params=RegistrationParams(n_keypoints=10.5))
+    with pytest.raises(ValueError, match="source"):
+        tps_rpm(np.zeros((3, 2)), np.zeros((10, 2)))
+    with pytest.raises(ValueError, match="finite"):
+        tps_rpm(np.full((10, 2), np.nan), np.zeros((10, 2)))
+    reg = register(ex, tr, params=RegistrationParams(n_starts=1))
+    with pytest.raises(ValueError, match="points"):
+        reg.forward(np.zeros((4, 3)))
+    with pytest.raises(ValueError, match="NaN"):
+        reg.inverse([[np.nan, 1.0]])
+    with pytest.raises(ValueError, match="image_or_mask"):
+        reg.to_training(np.zeros((10, 10)))
