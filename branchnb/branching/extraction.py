@@ -810,18 +810,21 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
     return s
 
 
-def border_flat_regions(gray, radius: float, tol: float = 0.02) -> np.ndarray:
-    """Large flat-colour regions (wider than ``radius``) that touch the image border."""
+def _flat_region_labels(gray, radius: float, tol: float):
+    """Labels of the large flat-colour regions (wider than ``radius``) and which of them touch the border."""
     g = np.asarray(gray, np.float64)
     flat = (ndi.maximum_filter(g, 5) - ndi.minimum_filter(g, 5)) < tol
-    big = large_flat_regions(flat, radius, min_area=0.02)
-    lab, n = ndi.label(big)
-    if n == 0:
-        return big
+    lab, n = ndi.label(large_flat_regions(flat, radius, min_area=0.02))
     touch = np.zeros(n + 1, bool)
     for edge in (lab[0], lab[-1], lab[:, 0], lab[:, -1]):
         touch[edge] = True
     touch[0] = False
+    return lab, n, touch
+
+
+def border_flat_regions(gray, radius: float, tol: float = 0.02) -> np.ndarray:
+    """Large flat-colour regions (wider than ``radius``) that touch the image border."""
+    lab, _, touch = _flat_region_labels(gray, radius, tol)
     return touch[lab]
 
 
@@ -861,15 +864,7 @@ def flat_background(gray, branches, radius: float, tol: float = 0.02) -> np.ndar
     that hold (almost) no ``branches`` pixel and touch the image border are
     returned.
     """
-    g = np.asarray(gray, np.float64)
-    flat = (ndi.maximum_filter(g, 5) - ndi.minimum_filter(g, 5)) < tol
-    big = large_flat_regions(flat, radius, min_area=0.02)
-    lab, n = ndi.label(big)
-    if n == 0:
-        return big
-    touch = np.zeros(n + 1, bool)
-    for edge in (lab[0], lab[-1], lab[:, 0], lab[:, -1]):
-        touch[edge] = True
+    lab, n, touch = _flat_region_labels(gray, radius, tol)
     filled = np.zeros(n + 1)
     np.add.at(filled, lab[np.asarray(branches, bool)], 1)
     area = np.bincount(lab.ravel(), minlength=n + 1)
