@@ -234,3 +234,17 @@ def test_a_frame_around_the_image_is_no_branch(delta):
         assert len(s.branches) == 1 and abs(np.median(s.branches[0].points[:, 1]) - 41.5) < 2
     from branchnb.branching.extraction import is_binary
     assert not is_binary(img) and abs(np.median(s.branches[0].points[:, 1]) - 41.5) < 2
+
+
+@pytest.mark.parametrize("kw", [dict(n_children=2), dict(n_children=5, grandchildren=3, r_root=3, r_child=2)],
+                         ids=["sparse", "dense"])
+def test_default_stopping_fills_to_the_examples_density_on_trees(kw):
+    # one root, so the forest can only fill the frame by furcating into the free space
+    from branchnb.branching._image_examples import random_tree
+
+    ex = random_tree((192, 192), 4, **kw)
+    model = fit_model(ex)
+    target = coverage_fraction(model.example, (192, 192), model.rho)
+    ratios = [coverage_fraction(synthesize_structure(model, rng=s).structure, (192, 192), model.rho) / target
+              for s in range(4)]
+    assert all(0.7 <= r <= 1.3 for r in ratios), ratios

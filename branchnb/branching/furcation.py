@@ -216,12 +216,15 @@ class FurcationModel:
             out += 1.0 / (1.0 + np.exp(np.clip(A * f + B, -50, 50)))
         return out / len(self._linear)
 
-    def choose(self, points, radii, d: int, *, min_spacing: int = 0, existing=()) -> list[int]:
+    def choose(self, points, radii, d: int, *, min_spacing: int = 0, existing=(),
+               weights=None) -> list[int]:
         """Greedily pick ``d`` furcation vertices of highest probability.
 
         Vertices 0 and N-1 are excluded, and so are vertices closer than
         ``min_spacing`` (index distance) to an already chosen or
-        ``existing`` furcation.
+        ``existing`` furcation. ``weights`` (N,), optional, multiplies the
+        probabilities (vertices of weight 0 are never chosen): synthesis
+        uses it to furcate where there is room to grow.
         """
         N = len(points)
         chosen: list[int] = []
@@ -230,7 +233,9 @@ class FurcationModel:
             return chosen
         for _ in range(int(d)):
             p = self.probabilities(points, radii, furc)
-            ok = np.ones(N, bool)
+            ok = np.ones(N, bool) if weights is None else np.asarray(weights, np.float64) > 0
+            if weights is not None:
+                p = p * np.asarray(weights, np.float64)
             ok[0] = ok[-1] = False
             for f in furc:
                 lo, hi = max(f - max(min_spacing, 1) + 1, 0), min(f + max(min_spacing, 1), N)

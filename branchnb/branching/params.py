@@ -77,9 +77,11 @@ class SynthesisParams:
     max_coverage: float = param(0.0, min=0.0, max=1.0, step=0.01,
                                 help="stop: fraction of the domain within rho of a branch; 0 = auto: "
                                      "the example's own fraction (fills to the example's density)")
-    fill_rounds: int = param(3, min=0, max=20,
+    fill_rounds: int = param(10, min=0, max=50,
                              help="stop: when every branch has stopped before the coverage target is "
-                                  "reached, furcate the grown branches once more, up to this many rounds")
+                                  "reached, fill the free space: tips with room ahead grow on and branches "
+                                  "with room beside them furcate once more, up to this many rounds (ends "
+                                  "earlier when a round adds nothing)")
     stop_density: float = param(0.9, min=0.0, max=1.0, step=0.01,
                                 help="stop a branch when every candidate sees density >= this")
     branch_end: str = param("length", options=("length", "markov"),

@@ -16,7 +16,13 @@ Putting the paper's models together (see the modules of the same names):
    non-causal window, then the child is grown the same way (breadth
    first, generation by generation);
 4. synthesis stops at the maximum generation, the maximum total length,
-   or when the density covers the domain; a single branch stops when the
+   or when the density covers the domain as much as the example's
+   (the fraction within ``rho`` of a branch). When every branch has
+   stopped before that, the free space is filled round after round (at
+   most ``fill_rounds``): the distance transform of the uncovered domain
+   says where room is left; tips that ended at their drawn length with
+   room ahead grow on, and branches with room beside them furcate once
+   more at their most probable vertex there. A single branch stops when the
    Markov chain reaches the end of an input branch, when every candidate
    is blocked (crossing or too dense), when it leaves the domain, or
    when it gets longer than ``max_branch_factor`` x the longest input
@@ -475,6 +481,7 @@ class _Grower:
         self.stop_reason = ""
         self.max_branch_len = params.max_branch_factor * model.max_branch_length
         self.fill_rounds = 0
+        self._empty_dt: np.ndarray | None = None
 
     # -- bookkeeping ------------------------------------------------------
     def _inside(self, pts: np.ndarray) -> np.ndarray:
@@ -736,13 +743,18 @@ class _Grower:
         pts = np.asarray(st.points)
         rad = np.asarray(st.radii)
         length = (len(pts) - 1) * p.h
+        weights = None
         if extra:
             d = 1
             existing = [b.parent_vertex for b in self.branches if b.parent == bi]
+            weights = self._room(pts) if self._empty_dt is not None else None
+            if weights is not None and not weights.any():
+                return []
         else:
             d = p.d if p.d >= 0 else self.model.furcation.sample_d(length, self.rng)
             existing = ()
-        verts = self.model.furcation.choose(pts, rad, d, min_spacing=p.min_spacing, existing=existing)
+        verts = self.model.furcation.choose(pts, rad, d, min_spacing=p.min_spacing, existing=existing,
+                                            weights=weights)
         kids = []
         for v in verts:
             if self.global_stop():
@@ -751,6 +763,67 @@ class _Grower:
             if c is not None:
                 kids.append(c)
         return kids
+
+    # -- filling the domain -------------------------------------------------
+    def _update_room(self) -> None:
+        """Distance (pixels) from every density cell to the nearest covered cell (D > level)."""
+        from scipy import ndimage as ndi
+
+        dm = self.density
+        empty = dm.domain & (dm.grid <= dm.level)
+        self._empty_dt = ndi.distance_transform_edt(empty).astype(np.float32) * dm.cell
+
+    def _room(self, pts: np.ndarray) -> np.ndarray:
+        """Free space beside each vertex, ``(N,)`` pixels (0 = none).
+
+        A child starting at a vertex grows into the space beside its
+        parent: the room on a side is the free radius of the uncovered
+        region ``2 rho`` away along the normal (one example gap further),
+        kept only while that point is still uncovered and the region there
+        is at least ``rho / 2`` wide; the larger of the two sides counts.
+        """
+        dm, dt = self.density, self._empty_dt
+        if len(pts) < 3:
+            return np.zeros(len(pts))
+        tg = tangents(pts)
+        nrm = np.c_[-tg[:, 1], tg[:, 0]]
+        best = np.zeros(len(pts))
+        gh, gw = dt.shape
+        for side in (-1.0, 1.0):
+            q = pts + side * 2.0 * self.rho * nrm
+            c = np.floor((q[:, 0] + 0.5) / dm.cell).astype(np.int64)
+            r = np.floor((q[:, 1] + 0.5) / dm.cell).astype(np.int64)
+            ok = (c >= 0) & (c < gw) & (r >= 0) & (r < gh)
+            room = np.zeros(len(pts))
+            room[ok] = dt[r[ok], c[ok]]
+            room[dm.sample(q) > dm.level] = 0.0
+            best = np.maximum(best, room)
+        best[best < 0.5 * self.rho] = 0.0
+        return best
+
+    def _reopen_tips(self) -> list[int]:
+        """Branches that stopped at their drawn length with uncovered space ahead, reopened.
+
+        Each gets a new length target: its length plus one more draw for its
+        generation (still bounded by ``max_branch_factor``).
+        """
+        dm, dt = self.density, self._empty_dt
+        out = []
+        for bi, st in enumerate(self.branches):
+            if st.stop != "branch length" or len(st.points) < 2:
+                continue
+            tip = np.asarray(st.points[-1])
+            q = tip + 2.0 * self.rho * np.array([np.cos(st.theta), np.sin(st.theta)])
+            c, r = int(np.floor((q[0] + 0.5) / dm.cell)), int(np.floor((q[1] + 0.5) / dm.cell))
+            if not (0 <= r < dt.shape[0] and 0 <= c < dt.shape[1]) or dt[r, c] < 0.5 * self.rho:
+                continue
+            length = (len(st.points) - 1) * self.p.h
+            if length >= self.max_branch_len:
+                continue
+            st.stop = ""
+            st.target = length + self.model.sample_length(st.generation, float(st.radii[-1]), self.rng)
+            out.append(bi)
+        return out
 
     def _drain(self, queue: list[int]) -> None:
         """Grow the queued branches breadth first, queueing their children."""
@@ -781,10 +854,15 @@ class _Grower:
             if self.global_stop() or self.density is None or not self.branches:
                 break
             before = len(self.branches)
-            for bi in range(before):
-                if self.global_stop():
+            self._update_room()
+            rooms = [float(self._room(np.asarray(b.points)).max(initial=0.0)) for b in self.branches]
+            # tips that ended at their drawn length with free space ahead grow on
+            self._drain(self._reopen_tips())
+            for bi in np.argsort(rooms, kind="stable")[::-1]:
+                if self.global_stop() or rooms[bi] <= 0:
                     break
-                self._drain(self.furcate(bi, extra=True))
+                self._drain(self.furcate(int(bi), extra=True))
+            self._empty_dt = None
             if len(self.branches) == before:
                 break
             self.fill_rounds += 1
