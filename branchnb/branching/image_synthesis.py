@@ -63,7 +63,7 @@ from .fragments import (
     source_fragments,
     target_fragments,
 )
-from .regions import ExampleRegions, example_regions, flat_colour_regions, flatten_shading
+from .regions import ExampleRegions, colour_labels, example_regions, flat_colour_regions, flatten_shading, region_layout
 from .skeleton_map import PixelMap, SkeletonMap
 
 __all__ = ["ImageSynthesisParams", "ImageSynthesisResult", "FragmentMatch", "synthesize_image"]
@@ -616,13 +616,19 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     labels_ex, flat_share = flat_colour_regions(ex, pm_s.core(p.exclusion, p.exclusion_margin))
     flat = bool(flat_share >= 0.5 and labels_ex.max() >= 1)
     labels_t = None
+    src_labels = labels_ex
     if flat and p.keep_regions:
+        # a source pixel's region is its colour's (a white rim is water wherever it lies)
+        zone = pm_s.core(2.0 * p.exclusion, 2.0 * p.exclusion_margin)
+        src_labels = colour_labels(ex, labels_ex, ~zone)
         if target_regions is not None:
             labels_t = np.asarray(target_regions)
             if labels_t.shape != (H, W) or not np.issubdtype(labels_t.dtype, np.integer):
                 raise ValueError(f"target_regions must be an integer (H, W) = {(H, W)} label map")
         else:
-            labels_t = cv2.resize(labels_ex.astype(np.int32), (W, H), interpolation=cv2.INTER_NEAREST)
+            # the example's land and sea around its branches (not its channels), resized
+            layout = region_layout(src_labels, zone, pm_s.core(1.0, 0.0))
+            labels_t = cv2.resize(layout.astype(np.int32), (W, H), interpolation=cv2.INTER_NEAREST)
     use_poisson = p.poisson and (not flat or p.flat_poisson)
     regions = example_regions(ex, pm_s, exclusion=p.exclusion, margin=p.exclusion_margin,
                               threshold=p.branch_like if p.avoid_unannotated else None,
@@ -726,7 +732,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         valid = disk & inimg & (allowed | (own_body & src_ok))
         if labels_t is not None:
             # background pixels only from the target pixel's own region (land from land)
-            src_lab = labels_ex[np.clip(np.rint(my).astype(np.int64), 0, ex.shape[0] - 1),
+            src_lab = src_labels[np.clip(np.rint(my).astype(np.int64), 0, ex.shape[0] - 1),
                                 np.clip(np.rint(mx).astype(np.int64), 0, ex.shape[1] - 1)]
             valid &= (src_lab == _crop(labels_t, x0, y0, size, -1)) | own_body
         own_win = _crop(owner, x0, y0, size, -1)
@@ -782,7 +788,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
                              anchor_weight=p.anchor_weight,
                              screen=p.completion_screen if p.anchors else 0.0,
                              rng=rng, progress=sub_progress, regions=labels_t,
-                             example_regions=labels_ex if labels_t is not None else None)
+                             example_regions=src_labels if labels_t is not None else None)
         fill = comp.filled
         source[fill] = comp.source[fill]
         frag_index[fill] = -1

@@ -38,8 +38,8 @@ class SynthesisParams:
     k: int = param(12, min=0, max=64,
                    help="history: the last k + 1 (angle, thickness) pairs are matched; paper k = 3 m")
     c: int = param(2, min=1, max=20, help="choose among the c best candidates, probability ~ Q")
-    thickness_blend: bool = param(True, help="shift copied radii so they continue from the tip, the "
-                                  "shift fading over the m elements (off = the paper's exact copy)")
+    thickness_blend: bool = param(True, help="scale copied radii so they continue from the tip (the input's "
+                                  "relative change, within its range; off = the paper's exact copy)")
     # -- global histogram matching ---------------------------------------------
     wG: float = param(50.0, min=0.0, max=500.0, step=1.0,
                       help="global histogram weight wG in Q* = Q exp(wG (dA + dR) n_t / m)")

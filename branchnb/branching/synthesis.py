@@ -22,8 +22,9 @@ Putting the paper's models together (see the modules of the same names):
    most ``fill_rounds``): the distance transform of the uncovered domain
    says where room is left; tips that ended at their drawn length with
    room ahead grow on, and branches with room beside them furcate once
-   more at their most probable vertex there. A single branch stops when the
-   Markov chain reaches the end of an input branch, when every candidate
+   more at their most probable vertex there (not with guidance). A single
+   branch stops when the Markov chain reaches the end of an input branch,
+   when every candidate
    is blocked (crossing or too dense), when it leaves the domain, or
    when it gets longer than ``max_branch_factor`` x the longest input
    branch.
@@ -302,14 +303,17 @@ class CandidateScores:
     crossing: np.ndarray
 
 
-def _blend_radii(rad: np.ndarray, delta: float, m: int, r_min: float) -> np.ndarray:
-    """Shift copied radii by ``delta`` fading linearly to ``delta / m`` (thickness continuity).
+def _continue_radii(rad: np.ndarray, r_tip: float, r_src: float, r_min: float, r_max: float) -> np.ndarray:
+    """Copied radii scaled to continue from the tip (thickness continuity).
 
-    ``delta`` is the tip's radius minus the radius that precedes the copied
-    elements in the input, so the first copied radius continues the tip.
+    ``r_src`` is the input radius that precedes the copied elements: the
+    copy keeps the input's relative change (its taper) from the tip's own
+    radius, ``rad * r_tip / r_src``, within the input's range
+    ``[r_min, r_max]``. (Copying absolute radii, or fading a shift back to
+    them, makes the radius jump at every step whenever the matched input
+    piece is thicker or thinner than the tip: beads along the branch.)
     """
-    w = 1.0 - np.arange(len(rad)) / max(m, 1)
-    return np.maximum(rad + delta * w, r_min)
+    return np.clip(rad * (r_tip / max(r_src, 1e-9)), r_min, r_max)
 
 
 def _rank_key(score: np.ndarray) -> np.ndarray:
@@ -480,6 +484,8 @@ class _Grower:
         self.n_candidates = 0
         self.stop_reason = ""
         self.max_branch_len = params.max_branch_factor * model.max_branch_length
+        radii = model.example.thicknesses()
+        self.r_max = float(radii.max()) if radii.size else np.inf
         self.fill_rounds = 0
         self._empty_dt: np.ndarray | None = None
 
@@ -698,7 +704,7 @@ class _Grower:
         ang = bm.cont_angles[t, :n]
         rad = bm.cont_radii[t, :n]
         if p.thickness_blend and n:
-            rad = _blend_radii(rad, st.radii[-1] - bm.radii[t], p.m, self.model.r_min)
+            rad = _continue_radii(rad, st.radii[-1], bm.radii[t], self.model.r_min, self.r_max)
         ok = self._inside(new_pts)
         if not ok.all():
             cut = int(np.argmin(ok))
@@ -850,7 +856,8 @@ class _Grower:
         # Everything stopped before the domain is as dense as the example:
         # furcate the grown branches once more (highest furcation probability
         # away from their children), round after round.
-        for _ in range(self.p.fill_rounds):
+        # (Not in guided synthesis: the user's path, not the domain, says where to grow.)
+        for _ in range(self.p.fill_rounds if self.guidance is None else 0):
             if self.global_stop() or self.density is None or not self.branches:
                 break
             before = len(self.branches)
@@ -945,6 +952,18 @@ def _default_starts(model: StructureModel, shape, guidance, params: SynthesisPar
 MAX_ROOT_ATTEMPTS = 8
 
 
+#: A forest drawn from the root model that ends below this share of the coverage target is grown again.
+MIN_COVERAGE_SHARE = 0.7
+
+
+def _fullness(g: _Grower) -> tuple[float, int]:
+    """(share of the coverage target reached, vertices): how an attempt ranks."""
+    share = 1.0
+    if g.density is not None and 0 < g.coverage_target < 1:
+        share = min(g.density.coverage() / g.coverage_target, 1.0)
+    return share, sum(len(b.points) for b in g.branches)
+
+
 def _root_escaped(g: _Grower, min_root_length: float) -> bool:
     """True if a root left the domain before growing ``min_root_length``."""
     for st in g.branches:
@@ -965,11 +984,13 @@ def _grow_with_retries(model, p, rng, shp, guidance, starts, scorer, domain=None
     half the example's median root length (at most a quarter of the
     domain's short side), synthesis restarts with the next draws of the
     same generator, so results stay reproducible, up to
-    :data:`MAX_ROOT_ATTEMPTS` times; the attempt with the most vertices is
-    kept. With starts drawn from the root model, a result shorter than a
-    quarter of the example's total length (scaled by the domain's area)
-    is grown again the same way (new starts). Guided synthesis is never
-    restarted.
+    :data:`MAX_ROOT_ATTEMPTS` times; the attempt closest to the coverage
+    target (then the one with the most vertices) is kept. With starts drawn from the root model, a result shorter than a
+    quarter of the example's total length (scaled by the domain's area),
+    or that covers less than :data:`MIN_COVERAGE_SHARE` of the coverage
+    target (its roots walked out before the forest could fill the domain),
+    is grown again the same way (new starts); the attempt closest to the
+    target is kept. Guided synthesis is never restarted.
     """
     roots = [b.length for b in model.example.branches if b.parent is None and len(b.points) > 1]
     min_len = min(0.5 * float(np.median(roots)), 0.25 * min(shp)) if roots else 0.0
@@ -988,9 +1009,10 @@ def _grow_with_retries(model, p, rng, shp, guidance, starts, scorer, domain=None
         g = _Grower(model, p, rng, shp, guidance, scorer=scorer, domain=domain)
         g.run(starts(rng) if callable(starts) else starts)
         g.attempt = attempt
-        if best is None or sum(len(b.points) for b in g.branches) > sum(len(b.points) for b in best.branches):
+        if best is None or _fullness(g) > _fullness(best):
             best = g
-        if not _root_escaped(g, min_len) and g.total_length >= min_total:
+        if not _root_escaped(g, min_len) and g.total_length >= min_total and \
+                (not min_total or _fullness(g)[0] >= MIN_COVERAGE_SHARE):
             return g
     return best
 
