@@ -248,3 +248,30 @@ def test_default_stopping_fills_to_the_examples_density_on_trees(kw):
     ratios = [coverage_fraction(synthesize_structure(model, rng=s).structure, (192, 192), model.rho) / target
               for s in range(4)]
     assert all(0.7 <= r <= 1.3 for r in ratios), ratios
+
+
+def test_synthesized_radii_change_smoothly_along_a_branch(delta):
+    # beads came from radii jumping back to each copied input piece's absolute thickness
+    mask, _channels, _sea, ex = delta[:4]
+    model = fit_model(ex, domain=example_domain(mask))
+    for seed in range(3):
+        s = synthesize_structure(model, rng=seed).structure
+        for b in s.branches:
+            r = b.thickness
+            if len(r) > 2:
+                assert np.max(np.abs(np.diff(r)) / r[:-1]) <= 0.3
+
+
+def test_binary_channels_keep_the_target_width(delta):
+    # no water pasted beside the target channels (beads) or where the example had its channels (ghosts)
+    from scipy import ndimage as ndi
+
+    from branchnb.core.render import coverage_polylines
+
+    mask, _channels, sea, ex = delta[:4]
+    t = synthesize_structure(fit_model(ex, domain=example_domain(mask)), rng=1).structure
+    im = synthesize_image(np.dstack([mask] * 3), ex, t, rng=0).image[..., 0]
+    body, _ = coverage_polylines(mask.shape, [b.points for b in t.branches], [2 * b.thickness for b in t.branches])
+    near = ndi.distance_transform_edt(body < 0.5) <= 2.5
+    stray = (im > 0.5) & ~near & ~ndi.binary_dilation(sea, iterations=3)
+    assert stray.sum() <= 0.05 * (body >= 0.5).sum(), stray.sum()
