@@ -388,7 +388,8 @@ def region_layout(colours: np.ndarray, branches: np.ndarray, body: np.ndarray | 
     --------
     >>> lab = np.zeros((20, 20), np.int32); lab[15:] = 1; lab[:, 9:11] = 1   # a channel into the sea
     >>> zone = np.zeros((20, 20), bool); zone[:15, 8:12] = True
-    >>> out = region_layout(lab, zone)
+    >>> body = np.zeros((20, 20), bool); body[:15, 9:11] = True
+    >>> out = region_layout(lab, zone, body)
     >>> int(out[5, 10]), int(out[18, 10])
     (0, 1)
     """

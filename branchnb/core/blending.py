@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage as ndi
 
-from .graphcut import seam_cost, seam_cut
+from .graphcut import pair_costs, seam_cost, seam_cut
 from .poisson import poisson_blend
 
 __all__ = ["Composition", "compose_piece"]
@@ -141,8 +141,13 @@ def compose_piece(canvas: np.ndarray, covered: np.ndarray, piece: np.ndarray, va
     elif method == "overlay":
         take = only_b | (overlap & ~pin_a)
     else:
-        take = only_b | seam_cut(A, P, overlap, pin_a, pin_b)
-    cost = seam_cost(A, P, take, region=overlap) if overlap.any() else 0.0
+        pc = pair_costs(A, P)
+        take = only_b | seam_cut(A, P, overlap, pin_a, pin_b, costs=pc)
+    if overlap.any():
+        pc = pc if method != "overlay" else pair_costs(A, P)
+        cost = seam_cost(A, P, take, region=overlap, costs=pc)
+    else:
+        cost = 0.0
     seam = ~take & overlap & ndi.binary_dilation(take)
     if not take.any():
         return Composition(win, sub, take, seam, cost)

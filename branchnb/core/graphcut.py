@@ -20,6 +20,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import cv2
 import maxflow
 import numpy as np
 from scipy import ndimage as ndi
@@ -53,6 +54,18 @@ def gradient_magnitude(img: np.ndarray) -> np.ndarray:
     -------
     (H, W) ndarray
     """
+    img = np.asarray(img)
+    if img.ndim == 3 and img.shape[2] <= 4 and min(img.shape[:2]) >= 2:
+        # OpenCV's Sobel (replicated border) gives scipy's mode="nearest" values, several times faster
+        # (scipy's n-d sobel also smooths [1, 2, 1] across the channel axis: kept)
+        f = np.ascontiguousarray(img, np.float32)
+        out = []
+        for dx, dy in ((1, 0), (0, 1)):
+            g = cv2.Sobel(f, cv2.CV_32F, dx, dy, ksize=3, borderType=cv2.BORDER_REPLICATE)
+            g = g.reshape(img.shape).astype(np.float64)
+            gp = np.concatenate([g[..., :1], g, g[..., -1:]], axis=2)
+            out.append((gp[..., :-2] + 2 * gp[..., 1:-1] + gp[..., 2:]) / 8.0)
+        return np.sqrt((out[0] ** 2 + out[1] ** 2).sum(axis=2))
     gy = ndi.sobel(img, axis=0, mode="nearest") / 8.0
     gx = ndi.sobel(img, axis=1, mode="nearest") / 8.0
     return np.sqrt((gx**2 + gy**2).sum(axis=2))
@@ -99,7 +112,7 @@ def pair_costs(a, b, *, power: float = 1.0, gradient_weighted: bool = True,
 
 @checked(power=_POWER)
 def seam_cut(a, b, region, pin_a, pin_b, *, power: float = 1.0,
-             gradient_weighted: bool = True) -> np.ndarray:
+             gradient_weighted: bool = True, costs=None) -> np.ndarray:
     """Minimum-cost labelling of ``region`` between images ``a`` and ``b``.
 
     Parameters
@@ -112,6 +125,10 @@ def seam_cut(a, b, region, pin_a, pin_b, *, power: float = 1.0,
         overlap pixels bordering the part only ``a`` covers.
     power, gradient_weighted
         See :func:`pair_costs`.
+    costs : (right, down), optional
+        :func:`pair_costs` of ``a`` and ``b`` already computed (reused by
+        callers that also need :func:`seam_cost`); ``power`` and
+        ``gradient_weighted`` are then ignored.
 
     Returns
     -------
@@ -128,7 +145,8 @@ def seam_cut(a, b, region, pin_a, pin_b, *, power: float = 1.0,
     >>> bool(seam_cut(a, b, np.ones((4, 6), bool), pin_a, pin_b)[:, -1].all())
     True
     """
-    right, down = pair_costs(a, b, power=power, gradient_weighted=gradient_weighted)
+    right, down = costs if costs is not None else \
+        pair_costs(a, b, power=power, gradient_weighted=gradient_weighted)
     shape = right.shape[0], down.shape[1]
     region = as_mask(region, shape=shape, name="region")
     pin_a = as_mask(pin_a, shape=shape, name="pin_a") & region
@@ -168,15 +186,16 @@ def seam_cut(a, b, region, pin_a, pin_b, *, power: float = 1.0,
 
 @checked(power=_POWER)
 def seam_cost(a, b, take_b, *, region=None, power: float = 1.0,
-              gradient_weighted: bool = True) -> float:
+              gradient_weighted: bool = True, costs=None) -> float:
     """Total cost of the seams of a labelling (sum over cut neighbour pairs).
 
     Only pairs with both pixels in ``region`` count (everywhere if None),
     since the cost needs both images at both pixels. Use it to compare
     composition strategies on equal terms, e.g. a graph cut against a
-    plain overlay.
+    plain overlay. ``costs``: see :func:`seam_cut`.
     """
-    right, down = pair_costs(a, b, power=power, gradient_weighted=gradient_weighted)
+    right, down = costs if costs is not None else \
+        pair_costs(a, b, power=power, gradient_weighted=gradient_weighted)
     shape = (right.shape[0], down.shape[1])
     lab = as_mask(take_b, shape=shape, name="take_b")
     reg = np.ones(shape, bool) if region is None else as_mask(region, shape=shape, name="region")
