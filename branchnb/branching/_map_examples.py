@@ -18,7 +18,7 @@ from ..core.random import as_rng
 from ..core.render import draw_polylines
 from ..core.structure import Branch, Structure
 
-__all__ = ["LAND", "SEA", "RIVER", "delta_mask_example", "island_mask", "river_map_example"]
+__all__ = ["LAND", "SEA", "RIVER", "crack_pattern_example", "delta_mask_example", "island_mask", "river_map_example"]
 
 LAND = (0.93, 0.89, 0.76)
 SEA = (0.62, 0.80, 0.93)
@@ -204,3 +204,33 @@ def delta_mask_example(shape=(256, 256), rng=0) -> tuple[np.ndarray, list, np.nd
         inside = (c[:, 1] < sea_y - r) & (c[:, 1] >= 0)
         channels.append((c[inside], float(r)))
     return mask.astype(np.float32), channels, sea
+
+
+def crack_pattern_example(shape=(256, 256), rng=0) -> np.ndarray:
+    """Dark cracks on a flat grey ground: one crack from each image side, each with three side cracks.
+
+    Returns the (H, W, 3) float32 image (its structure comes from ``extract_structure``).
+
+    Examples
+    --------
+    >>> img = crack_pattern_example((128, 128), 0)
+    >>> img.shape, bool(img.min() < 0.3 < 0.7 < img.max())
+    ((128, 128, 3), True)
+    """
+    from ._image_examples import _walk
+
+    rng = as_rng(rng)
+    h, w = shape
+    img = np.full(tuple(shape) + (3,), 0.75, np.float32)
+    lines = []
+    starts = [((rng.uniform(0.1, 0.9) * w, 2), np.pi / 2), ((w - 3, rng.uniform(0.1, 0.9) * h), np.pi),
+              ((rng.uniform(0.1, 0.9) * w, h - 3), -np.pi / 2), ((2, rng.uniform(0.1, 0.9) * h), 0.0)]
+    for start, head in starts:
+        trunk = _walk(rng, start, head + rng.normal(0, 0.2), 0.6 * w, step=2, wiggle=0.15)
+        lines.append((trunk, 2.0))
+        for v in rng.choice(np.arange(10, len(trunk) - 5), 3, replace=False):
+            t = trunk[v + 1] - trunk[v - 1]
+            turn = rng.choice([-1, 1]) * rng.uniform(0.8, 1.3)
+            lines.append((_walk(rng, trunk[v], np.arctan2(t[1], t[0]) + turn, 0.3 * w, step=2, wiggle=0.2), 1.2))
+    pls = [np.clip(pl, 0, [w - 1, h - 1]) for pl, _ in lines]
+    return draw_polylines(img, pls, widths=[2 * r for _, r in lines], colors=(0.15, 0.12, 0.1))
