@@ -15,7 +15,14 @@ A thin app over :mod:`branchnb.strokes`:
 * a :class:`ParamPanel` of :class:`~branchnb.strokes.StrokeEditParams`
   (patch size, sample spacing, search window, seam exponent, DP/greedy,
   graph cut/overlay, ...); the result updates on every change when
-  "update on change" is ticked;
+  "update on change" is ticked. The app keeps the fetched candidate
+  patches (:class:`~branchnb.strokes.EditPatches` from
+  :func:`~branchnb.strokes.fetch_patches`), so a change of a parameter
+  the patches do not depend on (``seam_power``, seams following edges,
+  shift prior, DP/greedy, graph cut/overlay) re-runs only sampling and
+  composition (:func:`~branchnb.strokes.compose_patches`); when the edit
+  still promises to be slow (over :data:`PREVIEW_AFTER` s) the same edit
+  at reduced size is shown first;
 * the result over the target canvas (under your strokes) and in an
   :class:`ImageView`, seams optionally drawn in red; side-by-side
   histograms of the red, green and blue values of the source object region
@@ -39,9 +46,11 @@ import numpy as np
 
 from ..core.image import as_float_image, as_rgba
 from ..strokes import (
+    EditPatches,
     StrokeEditParams,
     compare_colours,
-    edit_structure,
+    compose_patches,
+    fetch_patches,
     pair_color_hex,
     stroke_markers,
 )
@@ -75,7 +84,8 @@ LABELS = {
 
 #: Long side (px) of the reduced-size edit shown while a slow full edit is computed.
 PREVIEW_SIZE = 160
-#: A full edit slower than this (s) gets a reduced-size preview first.
+#: An edit expected to take longer than this (s; from the last fetch and composition times)
+#: gets a reduced-size preview first.
 PREVIEW_AFTER = 0.25
 
 
@@ -197,6 +207,14 @@ class StrokeEditApp(widgets.VBox):
     ----------
     result : StrokeEditResult or None
         The last edit.
+    patches : EditPatches or None
+        The fetched candidate patches of the last edit (reused while the
+        strokes and the fetch parameters stay the same).
+    preview : StrokeEditResult or None
+        The last reduced-size preview.
+    preview_after : float
+        Show a reduced-size preview first when the edit is expected to
+        take longer than this (s; default :data:`PREVIEW_AFTER`).
     comparisons : list of HistogramComparison
         Red, green, blue histograms of the last edit.
 
@@ -229,8 +247,14 @@ class StrokeEditApp(widgets.VBox):
         self.target_shape = tuple(int(v) for v in target_shape)
         self.result = None
         self.preview = None
+        self.patches: EditPatches | None = None
+        self._patches_key = None
+        self._preview_patches: EditPatches | None = None
+        self._preview_key = None
+        self.preview_after = PREVIEW_AFTER
         self.comparisons: list = []
         self.elapsed = 0.0
+        self.stage_seconds = {"fetch": 0.0, "compose": 0.0}
         self.shell = AppShell(
             "Stroke-based structure editing",
             help="draw strokes along the object on the <b>source</b>, then where each part goes on the "
@@ -313,6 +337,7 @@ class StrokeEditApp(widgets.VBox):
     def clear(self) -> None:
         """Remove every stroke and control point (undoable on each canvas) and the result."""
         self.result = self.preview = None
+        self.patches = self._preview_patches = None
         self.comparisons = []
         for c in self.canvases.values():
             c.model.clear()
@@ -349,6 +374,11 @@ class StrokeEditApp(widgets.VBox):
     def edit(self):
         """Run :func:`~branchnb.strokes.edit_structure` on the strokes drawn; returns the result.
 
+        As its two stages: :func:`~branchnb.strokes.fetch_patches` only when
+        the strokes or a fetch parameter changed (else :attr:`patches` is
+        reused), then :func:`~branchnb.strokes.compose_patches` (the same
+        result as ``edit_structure``; ``stage_seconds`` has the times).
+
         Returns None (and says why in the status line) while the two
         canvases do not hold the same number of strokes.
         """
@@ -357,8 +387,17 @@ class StrokeEditApp(widgets.VBox):
             self.status.value = self._status_text(src, tgt, notes)
             return None
         t0 = time.perf_counter()
-        res = edit_structure(self.image, src, tgt, self.params, control_points=control,
-                             target_shape=self.target_shape, background=self.background)
+        p = self.params
+        key = self._inputs_key(src, tgt, control)
+        if self.patches is None or self._patches_key != key or not self.patches.reusable_for(p):
+            self.patches, self._patches_key = None, None
+            patches = fetch_patches(self.image, src, tgt, p, control_points=control,
+                                    target_shape=self.target_shape, background=self.background)
+            self.patches, self._patches_key = patches, key
+            self.stage_seconds["fetch"] = time.perf_counter() - t0
+        t1 = time.perf_counter()
+        res = compose_patches(self.patches, p)
+        self.stage_seconds["compose"] = time.perf_counter() - t1
         self.elapsed = time.perf_counter() - t0
         self.result = res
         self.comparisons = compare_colours(self.image, res)
@@ -379,9 +418,26 @@ class StrokeEditApp(widgets.VBox):
         self._markers()
         self._changed()
 
+    @staticmethod
+    def _inputs_key(src, tgt, control) -> tuple:
+        """What the fetched patches depend on besides the parameters (the strokes as drawn)."""
+        def b(a):
+            return np.ascontiguousarray(a, np.float64).tobytes()
+
+        return (tuple(b(a) for a in src), tuple(b(a) for a in tgt),
+                tuple(None if c is None else (b(c[0]), b(c[1])) for c in control))
+
+    def expected_seconds(self) -> float:
+        """How long the next edit is expected to take: composition alone if the patches are reusable."""
+        src, tgt, control, _ = self.strokes()
+        reuse = (self.patches is not None and self.patches.reusable_for(self.params)
+                 and self._patches_key == self._inputs_key(src, tgt, control))
+        c = self.stage_seconds["compose"]
+        return c if reuse else c + self.stage_seconds["fetch"]
+
     def _changed(self) -> None:
         if self.auto.value:
-            slow = self.elapsed > PREVIEW_AFTER
+            slow = self.expected_seconds() > self.preview_after
             self.shell.live("re-synthesize", self.edit, preview=self._preview if slow else None,
                             stale=self._mark_stale)
         else:
@@ -419,9 +475,16 @@ class StrokeEditApp(widgets.VBox):
         if isinstance(bg, np.ndarray):
             shape = bg.shape[:2]
         ctrl = [None if c is None else (c[0] * s, c[1] * s) for c in control]
+        key = (s, self._inputs_key(src, tgt, control))
         try:
-            res = edit_structure(image, [a * s for a in src], [b * s for b in tgt], small,
-                                 control_points=ctrl, target_shape=shape, background=bg)
+            if self._preview_patches is None or self._preview_key != key or \
+                    not self._preview_patches.reusable_for(small):
+                self._preview_patches = None
+                self._preview_patches = fetch_patches(image, [a * s for a in src], [b * s for b in tgt],
+                                                      small, control_points=ctrl, target_shape=shape,
+                                                      background=bg)
+                self._preview_key = key
+            res = compose_patches(self._preview_patches, small)
         except ValueError:
             return  # the full edit that follows reports it with the strokes as drawn
         self.preview = res
