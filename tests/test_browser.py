@@ -447,8 +447,18 @@ def test_branching_app_in_the_browser(lab, chromium, tmp_path):
         n1 = int(_eval(lab, kernel, "print(len(app.canvas.model.of_kind('polyline')))"))
         assert n1 == n0 + 1, "the clicked polyline did not reach the kernel"
         _press(page, lab, kernel, "synthesize")
+        _watch_images(page)
         _move_slider(page, lab, kernel, ".bnb-param-c", 14, "branching")
+        _first_image(page, "branching")
+        print("branching kernel-side:", _eval(lab, kernel, "print(app.result.diagnostics['time_s'])"))
         assert _eval(lab, kernel, "print(app.params.c)") != "2"
+        # the finished structure replaced the growing previews, and it is the one a script gets
+        assert _eval(lab, kernel, "print(app.partial is None and 'growing' not in app.view.title_texts[0])") \
+            == "True"
+        same = ("from branchnb.branching import synthesize_structure; p = app.params; "
+                "r = synthesize_structure(app._fitted(p), p, rng=int(app.seed.value), shape=app.image_shape); "
+                "print(r.structure.to_json() == app.result.structure.to_json())")
+        assert _eval(lab, kernel, same) == "True"
         _screenshot(page, "branching", tmp_path)
     finally:
         page.close()
@@ -492,7 +502,16 @@ def test_strokes_app_in_the_browser(lab, chromium, tmp_path):
         time.sleep(0.5)
         _wait_idle(lab, kernel)
         assert _eval(lab, kernel, "print(app.result is not None)") == "True"
+        _watch_images(page)
         _move_slider(page, lab, kernel, ".bnb-param-seam_power", 25, "strokes")
+        _first_image(page, "strokes")
+        print("strokes kernel-side:", _eval(lab, kernel, "print(app.stage_seconds, app.elapsed)"))
+        # a seam-only change re-ran sampling and composition on the kept patches: a script's result
+        same = ("from branchnb.strokes import edit_structure; s, t, c, _ = app.strokes(); "
+                "r = edit_structure(app.image, s, t, app.params, control_points=c, "
+                "target_shape=app.target_shape); import numpy as np; "
+                "print(app.params.seam_power != 1.0 and np.array_equal(r.image, app.result.image))")
+        assert _eval(lab, kernel, same) == "True"
         _press(page, lab, kernel, "reverse last target")  # the object now runs the other way
         _press(page, lab, kernel, "re-synthesize", changes=False)  # the same strokes: the same result
         _screenshot(page, "strokes", tmp_path)
@@ -544,3 +563,32 @@ def test_leaves_app_in_the_browser(lab, chromium, tmp_path):
     finally:
         page.close()
         _delete_kernels(lab)
+
+
+# -- slider-to-image latency (branching and strokes) ------------------------------------
+_IMAGE_WATCH = """() => {
+  const rec = window.__bnb;
+  rec.src = [];
+  new MutationObserver(ms => {
+    const t = performance.now();
+    for (const m of ms) if (m.target.tagName === 'IMG' && m.target.closest('.bnb-view')) rec.src.push(t);
+  }).observe(document.querySelector('.bnb-app'), {attributes: true, attributeFilter: ['src'],
+                                                   subtree: true});
+}"""
+
+
+def _watch_images(page) -> None:
+    """Record when an image (not a title) of the result view changes."""
+    page.evaluate(_IMAGE_WATCH)
+
+
+def _first_image(page, app: str) -> None:
+    """Add ``first_image_ms`` (slider release to the first new result image) to the latency record."""
+    r = _rec(page)
+    up = r["up"][-1]
+    imgs = [t for t in r["src"] if t >= up]
+    LATENCY[app]["first_image_ms"] = round(imgs[0] - up) if imgs else None
+    LATENCY[app]["last_image_ms"] = round(imgs[-1] - up) if imgs else None
+    LATENCY[app]["images"] = len(imgs)
+    print(f"slider latency {app}: {LATENCY[app]}")
+    assert imgs, f"{app}: no new image after the slider move"

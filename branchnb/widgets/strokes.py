@@ -400,10 +400,10 @@ class StrokeEditApp(widgets.VBox):
         self.stage_seconds["compose"] = time.perf_counter() - t1
         self.elapsed = time.perf_counter() - t0
         self.result = res
+        self._show()  # the picture first, then the histograms
         self.comparisons = compare_colours(self.image, res)
         for h, cmp in zip(self.hists, self.comparisons):
             h.show(cmp)
-        self._show()
         self.status.value = self._status_text(src, tgt, notes)
         return res
 
