@@ -460,6 +460,9 @@ def test_branching_app_in_the_browser(lab, chromium, tmp_path):
                 "print(r.structure.to_json() == app.result.structure.to_json())")
         assert _eval(lab, kernel, same) == "True"
         _screenshot(page, "branching", tmp_path)
+        _screenshot_while_busy(page, ".bnb-param-c", -14, "branching_growing", tmp_path)
+        _wait_idle(lab, kernel)
+        _no_error(page, lab, kernel)
     finally:
         page.close()
         _delete_kernels(lab)
@@ -592,3 +595,17 @@ def _first_image(page, app: str) -> None:
     LATENCY[app]["images"] = len(imgs)
     print(f"slider latency {app}: {LATENCY[app]}")
     assert imgs, f"{app}: no new image after the slider move"
+
+
+def _screenshot_while_busy(page, selector: str, dx: float, name: str, tmp_path: Path) -> None:
+    """Move a slider and take the screenshot 0.3 s later (the preview, before the final result)."""
+    handle = page.locator(f"{selector} .noUi-handle").first
+    box = handle.bounding_box()
+    cx, cy = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+    page.mouse.move(cx, cy)
+    page.mouse.down()
+    page.mouse.move(cx + dx, cy, steps=4)
+    page.mouse.up()
+    time.sleep(0.3)
+    out = SHOTS or tmp_path
+    page.screenshot(path=str(out / f"app_{name}.png"))

@@ -136,7 +136,7 @@ IMAGE_LABELS = {
 #: After a parameter change, the partial skeleton is first shown this many seconds into the re-synthesis,
 PREVIEW_FIRST = 0.1
 #: then again every this many seconds until the finished structure replaces it.
-PREVIEW_EVERY = 0.5
+PREVIEW_EVERY = 0.25
 
 _PICK_HALO = (0.0, 0.0, 0.0)
 _PICK_CORE = (1.0, 1.0, 1.0)
@@ -417,9 +417,10 @@ class BranchingApp(widgets.VBox):
         s = growth.structure()
         self.partial = s
         img = s.render(self.image_shape, by_generation=True, min_width=1.0)
-        self.view.update([img], [f"growing with the new parameters: {len(s.branches)} branches, "
-                                 f"~{growth.fraction:.0%} (the finished structure follows)"])
-        self.info.value = (f"<span style='font-size:12px'>growing: {len(s.branches)} branches, "
+        n = len(s.branches)
+        self.view.update([img], [f"growing with the new parameters: {n} branch{'es' * (n != 1)} so far "
+                                 "(the finished structure follows)"])
+        self.info.value = (f"<span style='font-size:12px'>growing: {n} branch{'es' * (n != 1)}, "
                            f"{s.n_vertices} vertices so far (attempt {growth.attempt})</span>")
 
     def synthesize(self, progress=None):
