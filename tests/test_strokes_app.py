@@ -181,9 +181,9 @@ def test_slow_edits_get_a_reduced_size_preview_first():
 
     big = cv2.resize(striped_bar(), (320, 120), interpolation=cv2.INTER_NEAREST)
     app = StrokeEditApp(big, max_display=200)
+    app.preview_after = 0.0  # as if every edit were slow
     app.add_stroke("source", [(p[0] * 2, p[1] * 2) for p in SRC])
     app.add_stroke("target", [(p[0] * 2, p[1] * 2) for p in TGT])
-    app.preview_after = 0.0  # as if the edit were slow
     app.panel.controls["seam_power"].value = 2.0
     assert app.result.params.seam_power == 2.0
     assert app.preview is not None and app.preview.params.seam_power == 2.0
@@ -225,9 +225,10 @@ def test_reduced_preview_is_the_new_value_at_reduced_size():
     big = cv2.resize(striped_bar(), (320, 120), interpolation=cv2.INTER_NEAREST)
     app = StrokeEditApp(big, max_display=200)
     app.panel.debounce = 0
+    app.preview_after = 0.0  # as if every edit were slow: the reduced patches are fetched after each edit
     app.add_stroke("source", [(p[0] * 2, p[1] * 2) for p in SRC])
     app.add_stroke("target", [(p[0] * 2, p[1] * 2) for p in TGT])
-    app.preview_after = 0.0
+    assert app._preview_ready()
     shown = []
     update = app.view.update
     app.view.update = lambda images, titles=None: (shown.append((images, titles)), update(images, titles))
@@ -242,3 +243,7 @@ def test_reduced_preview_is_the_new_value_at_reduced_size():
     assert pv.params.seam_power == 2.5 and np.array_equal(pv.image, ref.image)
     assert np.array_equal(first[0], pv.show())
     assert np.array_equal(last[0], app.result.show()) and app.result.params.seam_power == 2.5
+    app.preview_after = 10.0  # fast edits: a seam-only change shows the result without a preview
+    shown.clear()
+    app.panel.controls["seam_power"].value = 3.0
+    assert len(shown) == 1 and shown[0][1][0].startswith("result")

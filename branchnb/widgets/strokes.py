@@ -404,6 +404,8 @@ class StrokeEditApp(widgets.VBox):
         self.comparisons = compare_colours(self.image, res)
         for h, cmp in zip(self.hists, self.comparisons):
             h.show(cmp)
+        if self.stage_seconds["compose"] > self.preview_after and not self._preview_ready():
+            self._warm_preview()  # seam-only changes are slow here too: have their preview ready
         self.status.value = self._status_text(src, tgt, notes)
         return res
 
@@ -438,24 +440,31 @@ class StrokeEditApp(widgets.VBox):
     def _changed(self) -> None:
         if self.auto.value:
             slow = self.expected_seconds() > self.preview_after
+            if slow and self._reusable() and not self._preview_ready():
+                slow = False  # fetching the reduced patches would cost more than composing the full ones
             self.shell.live("re-synthesize", self.edit, preview=self._preview if slow else None,
                             stale=self._mark_stale)
         else:
             src, tgt, _, notes = self.strokes()
             self.status.value = self._status_text(src, tgt, notes)
 
+    def _reusable(self) -> bool:
+        src, tgt, control, _ = self.strokes()
+        return (self.patches is not None and self.patches.reusable_for(self.params)
+                and self._patches_key == self._inputs_key(src, tgt, control))
+
     def _mark_stale(self) -> None:
         if self.view.images:
             self.view.set_title(0, "out of date: re-synthesizing ...")
 
-    def _preview(self) -> None:
-        """The same edit at reduced size (long side PREVIEW_SIZE px), shown until the full one arrives."""
+    def _reduced(self) -> dict | None:
+        """The edit's inputs at reduced size (long side PREVIEW_SIZE px), or None if not worth it."""
         src, tgt, control, _ = self.strokes()
         if not src or len(src) != len(tgt):
-            return
+            return None
         s = min(1.0, PREVIEW_SIZE / max(self.target_shape + self.image.shape[:2]))
         if s >= 0.95:
-            return
+            return None
         p = self.params
         small = dataclasses.replace(
             p, patch_size=2 * int(round(p.patch_size * s / 2)) if p.patch_size else 0,
@@ -464,6 +473,19 @@ class StrokeEditApp(widgets.VBox):
             junction_tolerance=p.junction_tolerance * s)
         if small.patch_size and small.patch_size < 8:
             small = dataclasses.replace(small, patch_size=8)
+        return {"s": s, "params": small, "src": src, "tgt": tgt, "control": control,
+                "key": (s, self._inputs_key(src, tgt, control))}
+
+    def _preview_ready(self, red: dict | None = None) -> bool:
+        red = self._reduced() if red is None else red
+        return (red is not None and self._preview_patches is not None and self._preview_key == red["key"]
+                and self._preview_patches.reusable_for(red["params"]))
+
+    def _reduced_patches(self, red: dict) -> EditPatches:
+        """The candidate patches of the reduced-size edit (kept like the full ones)."""
+        if self._preview_ready(red):
+            return self._preview_patches
+        s = red["s"]
         h, w = self.image.shape[:2]
         image = cv2.resize(self.image, (max(1, round(w * s)), max(1, round(h * s))),
                            interpolation=cv2.INTER_AREA)
@@ -474,22 +496,35 @@ class StrokeEditApp(widgets.VBox):
         shape = (max(1, round(self.target_shape[0] * s)), max(1, round(self.target_shape[1] * s)))
         if isinstance(bg, np.ndarray):
             shape = bg.shape[:2]
-        ctrl = [None if c is None else (c[0] * s, c[1] * s) for c in control]
-        key = (s, self._inputs_key(src, tgt, control))
+        ctrl = [None if c is None else (c[0] * s, c[1] * s) for c in red["control"]]
+        self._preview_patches = None
+        self._preview_patches = fetch_patches(image, [a * s for a in red["src"]], [b * s for b in red["tgt"]],
+                                              red["params"], control_points=ctrl, target_shape=shape,
+                                              background=bg)
+        self._preview_key = red["key"]
+        return self._preview_patches
+
+    def _warm_preview(self) -> None:
+        """Fetch the reduced-size patches now, so that the next seam-only change can preview at once."""
+        red = self._reduced()
+        if red is not None:
+            try:
+                self._reduced_patches(red)
+            except ValueError:
+                pass  # no preview then; the full edit reports problems itself
+
+    def _preview(self) -> None:
+        """The same edit at reduced size (long side PREVIEW_SIZE px), shown until the full one arrives."""
+        red = self._reduced()
+        if red is None:
+            return
         try:
-            if self._preview_patches is None or self._preview_key != key or \
-                    not self._preview_patches.reusable_for(small):
-                self._preview_patches = None
-                self._preview_patches = fetch_patches(image, [a * s for a in src], [b * s for b in tgt],
-                                                      small, control_points=ctrl, target_shape=shape,
-                                                      background=bg)
-                self._preview_key = key
-            res = compose_patches(self._preview_patches, small)
+            res = compose_patches(self._reduced_patches(red), red["params"])
         except ValueError:
             return  # the full edit that follows reports it with the strokes as drawn
         self.preview = res
         self.view.update([res.show(seams=self.show_seams.value)],
-                         [f"preview at {s:.0%} size (the full result follows)"])
+                         [f"preview at {red['s']:.0%} size (the full result follows)"])
 
     def _recolour(self) -> None:
         """Pair colours on both canvases (shape.meta["color"], which the canvas honours)."""
