@@ -86,7 +86,7 @@ LABELS = {
 PREVIEW_SIZE = 160
 #: An edit expected to take longer than this (s; from the last fetch and composition times)
 #: gets a reduced-size preview first.
-PREVIEW_AFTER = 0.25
+PREVIEW_AFTER = 0.15
 
 
 def _check_target_shape(shape):
