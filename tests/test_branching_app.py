@@ -317,3 +317,18 @@ def test_slider_shows_the_new_skeleton_growing_then_the_result(app):
                    for a, b in zip(s.branches, old.branches)) and len(s.branches) <= len(old.branches)
 
     assert not prefix_of_old(mine[-1])  # not the old result: c changed the growth
+
+
+def test_a_newer_slider_move_supersedes_a_growing_synthesis(app):
+    from branchnb.branching import synthesize_structure
+
+    app.synthesize()
+    app.shell.background = True  # as in a kernel: re-synthesis in the background, latest wins
+    app.panel.controls["c"].value = 3
+    app.panel.controls["c"].value = 4
+    assert app.shell.wait_live(60)
+    p = app.params
+    script = synthesize_structure(app._fitted(p), p, rng=int(app.seed.value), shape=app.image_shape)
+    assert p.c == 4 and app.result.structure.to_json() == script.structure.to_json()
+    assert app.errors.last_error is None and app.partial is None
+    assert "growing" not in app.view.title_texts[0]
