@@ -830,7 +830,10 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
     if ground_full is not None and ground_full.any():
         g = ground_full if s >= 1.0 else cv2.resize(
             ground_full.astype(np.float32), (W, H), interpolation=cv2.INTER_AREA) >= 0.5
-        ground_ext = _extend(np.where(trunk_ext & g, 1, np.where(trunk_ext, 2, 0)).astype(np.int32),
+        # Labelled on the opaque pixels, then extended: the soft rim of the
+        # ground goes with the ground, or trunk strips would span it and
+        # turn about the ground's middle in side views.
+        ground_ext = _extend(np.where(trunk_w & g, 1, np.where(trunk_w, 2, 0)).astype(np.int32),
                              trunk_ext) == 1
     # A leaning trunk is cut into horizontal strips, each its own axial
     # billboard: turned sideways, one flat quad would swing its top away from
