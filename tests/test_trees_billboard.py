@@ -256,7 +256,7 @@ def test_no_trunk_and_bare_tree():
     assert _psnr_opaque(render_cloud(c, 0.0, crop="image"), c.image) >= 30.0
     bare = data.load("tree_rpg_11")
     b = billboard_cloud(bare, np.ones(bare.shape[:2], bool), SMALL, rng=0)
-    assert b.counts() == {"front": 0, "rear": 0, "interior": 0, "trunk": 1}
+    assert b.counts() == {"front": 0, "rear": 0, "interior": 0, "trunk": 1, "core": 0}
     assert _psnr_opaque(render_cloud(b, 0.0, crop="image"), b.image) >= 30.0
 
 

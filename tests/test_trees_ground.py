@@ -178,15 +178,18 @@ def _busy(rgba):
     return float((span > 0.15)[core].mean())
 
 
-@pytest.mark.parametrize("kind, seed", [("palm", 3), ("grass", 4), ("palm_outlined", 5)])
+@pytest.mark.parametrize("kind, seed", [("palm", 3), ("grass", 4), ("palm_outlined", 5),
+                                        ("palm_island", None)])
 def test_side_views_keep_crown_attached_and_flat_colour_flat(kind, seed):
-    t = synthetic_tree(kind, rng=seed, size=192)
-    c = billboard_cloud(t.image, params=BillboardParams(max_size=192), rng=0)
+    image = data.load(kind) if seed is None else synthetic_tree(kind, rng=seed, size=192).image
+    c = billboard_cloud(image, params=BillboardParams(max_size=192), rng=0)
     front = _busy(render_cloud(c, 0.0))
     for yaw in (45.0, 90.0):
         r = render_cloud(c, yaw)
         a = r[..., 3] >= 0.5
         lab, _ = ndi.label(a, structure=np.ones((3, 3)))
         assert np.bincount(lab.ravel())[1:].max() >= 0.97 * a.sum(), (kind, yaw)
-        # measured before the fix: 0.22-0.32 at 45/90 degrees for front 0.03-0.06
+        # measured before the fix: 0.22-0.32 at 45/90 degrees for front 0.03-0.06;
+        # palm_island's trunk broke in two at 90 degrees (largest piece 0.81) before the
+        # ground's soft rim left the trunk strips
         assert _busy(r) <= front + 0.12, (kind, yaw, front, _busy(r))

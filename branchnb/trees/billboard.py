@@ -42,6 +42,10 @@ camera turns around the tree. The steps follow the paper:
    any ground clutter at its foot, which is no crown to inflate, as a
    second one) on the image plane ``z = 0``, a leaning trunk cut into
    horizontal strips so that it stays under the crown in side views.
+   Not in the paper: a *core* billboard, the whole crown flat on the
+   image plane behind the front layer (hidden in the front view), so that
+   the gaps that open between billboards in side views show crown colour
+   rather than sky and the crown stays joined to the trunk top.
 
 Billboards are *axial* billboards (each quad turns about its vertical
 axis to face the camera, the usual way trees are drawn with billboards),
@@ -93,11 +97,12 @@ __all__ = [
     "REAR",
     "INTERIOR",
     "TRUNK_LAYER",
+    "CORE",
     "LAYER_NAMES",
 ]
 
-FRONT, REAR, INTERIOR, TRUNK_LAYER = 0, 1, 2, 3
-LAYER_NAMES = {FRONT: "front", REAR: "rear", INTERIOR: "interior", TRUNK_LAYER: "trunk"}
+FRONT, REAR, INTERIOR, TRUNK_LAYER, CORE = 0, 1, 2, 3, 4
+LAYER_NAMES = {FRONT: "front", REAR: "rear", INTERIOR: "interior", TRUNK_LAYER: "trunk", CORE: "core"}
 
 
 @dataclass
@@ -127,6 +132,8 @@ class BillboardParams:
     interior_darkening: float = param(0.6, min=0.0, max=1.0, step=0.05,
                                       help="colour factor lost by the deepest interior billboard "
                                            "(times the crown's shading, 0 for flat colour)")
+    core_layer: bool = param(True, help="a flat crown billboard on the image plane (not in the paper): "
+                                        "no sky through the gaps of side views, crown stays on the trunk")
     max_size: int = param(1024, min=64, max=4096, step=64,
                           help="long side of the working image (paper: 1024)")
     alpha_threshold: float = param(0.5, min=0.0, max=1.0, step=0.05,
@@ -149,7 +156,7 @@ class BillboardCloud:
     tint : (K,) float
         Colour factor (1 = as in the image; interior billboards are darker).
     layer : (K,) int
-        ``FRONT``, ``REAR``, ``INTERIOR`` or ``TRUNK_LAYER``.
+        ``FRONT``, ``REAR``, ``INTERIOR``, ``TRUNK_LAYER`` or ``CORE``.
     source : (K,) int
         Index of the front billboard a rear/interior billboard copies (its
         own index for front and trunk billboards).
@@ -676,7 +683,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
     >>> from branchnb import data
     >>> cloud = billboard_cloud(data.load("tree_rpg_05"), rng=1)
     >>> sorted(cloud.counts())
-    ['front', 'interior', 'rear', 'trunk']
+    ['core', 'front', 'interior', 'rear', 'trunk']
     """
     p = check_params(params if params is not None else BillboardParams())
     img, opaque_full = tree_rgba(rgba, alpha_threshold=p.alpha_threshold, min_pixels=16, name="rgba")
@@ -823,7 +830,27 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
             depth01 = (0.9 * zcap - z) / (1.8 * zcap)
             add(ix0, iy0, t, z, 1.0 - p.interior_darkening * shade * depth01, INTERIOR, source=bid)
 
-    # 4d. The trunk: one billboard on the image plane; ground clutter at its
+    # 4d. The core (not in the paper): the whole crown as one flat billboard
+    # on the image plane, behind the front layer (hidden in the front view).
+    # Seen from the side the front and rear billboards spread apart in depth
+    # and leave gaps; through them the sky would show as speckle in flat
+    # colour, and the crown would come loose from the trunk top, which also
+    # stays on the image plane.
+    if p.core_layer and crown.any():
+        # Without the crown's rim: a drawn outline runs along it, and it would
+        # cross the middle of every side view.
+        ys_c, xs_c = np.nonzero(crown)
+        r = max(1, int(round(0.02 * max(np.ptp(ys_c), np.ptp(xs_c)))))
+        core = cv2.erode(crown_ext.astype(np.uint8), cv2.getStructuringElement(
+            cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))) > 0
+        cut = _cut(work, core if core.any() else crown_ext)
+        if cut is not None:
+            x0, y0, tex = cut
+            tex = _trim(tex, x0, y0, allowed)
+            if tex[:, :, 3].sum() >= 1.0:
+                add(x0, y0, tex, 0.0, 1.0, CORE)
+
+    # 4e. The trunk: one billboard on the image plane; ground clutter at its
     # foot another one (in one quad, a wide island would pull the trunk off
     # the crown's axis in side views).
     ground_ext = np.zeros_like(trunk_ext)
