@@ -59,6 +59,20 @@ def test_ground_matches_the_procedural_truth(synth):
     assert sum(v > 0.7 for v in scores.values()) >= 6, scores
 
 
+def test_outlined_cartoon_leaves_at_the_foot_are_ground():
+    """Each leaf with its own outline, some leaning on the trunk, some lying apart."""
+    ious = []
+    for seed in range(4):
+        t = synthetic_tree("leaf_pile_outlined", rng=seed, size=192)
+        s = split_ground(t.image)
+        truth = t.labels == 255
+        ious.append((s.ground & truth).sum() / (s.ground | truth).sum())
+        assert not (s.ground & (t.labels == 1)).any()           # no crown cut off
+    # measured: 0.89-0.97 on seeds 0-11 (shape alone: 0 on 7 of 12, the pile is no wider than
+    # the trunk and loose leaves were taken for the bottom)
+    assert min(ious) >= 0.8, ious
+
+
 def test_neck_ignores_a_rock_beside_the_trunk():
     m = np.zeros((30, 20), bool)
     m[2:14, 2:18] = True

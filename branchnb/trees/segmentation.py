@@ -681,7 +681,7 @@ def segment_tree(rgba, scribbles=None, params: SegmentParams | None = None, *,
     rng = as_rng(rng)
     H, W = mask_full.shape
     if p.ground:
-        split = split_ground(mask_full)
+        split = split_ground(img)
         ground = split.ground
         if scribbles is not None and ground.any():
             # A scribble on the cut-off part puts it back into the tree.
