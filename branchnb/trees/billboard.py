@@ -134,6 +134,12 @@ class BillboardParams:
                                            "(times the crown's shading, 0 for flat colour)")
     core_layer: bool = param(True, help="a flat crown billboard on the image plane (not in the paper): "
                                         "no sky through the gaps of side views, crown stays on the trunk")
+    overlap: float = param(1.0, min=0.0, max=2.0, step=0.05,
+                           help="front billboards grow over neighbouring pixels of their own colour, "
+                                "up to this fraction of the mean superpixel size (not in the paper): "
+                                "flat regions stay flat in side views; the front view is unchanged")
+    overlap_tolerance: float = param(0.06, min=0.0, max=0.5, step=0.01,
+                                     help="per-channel colour difference a grown pixel may have")
     max_size: int = param(1024, min=64, max=4096, step=64,
                           help="long side of the working image (paper: 1024)")
     alpha_threshold: float = param(0.5, min=0.0, max=1.0, step=0.05,
@@ -633,6 +639,35 @@ def _recolour(tex: np.ndarray, x0: float, y0: float, image: np.ndarray) -> np.nd
     return out
 
 
+def _same_colour_overlap(image, labels, k, sl, allowed, radius, tol):
+    """Footprint of superpixel ``k`` grown by up to ``radius`` px over pixels of its own colour.
+
+    Seen from the side, neighbouring billboards at different depths part and
+    leave gaps in a flat-coloured region; grown over the neighbours' pixels
+    of the same colour (within ``tol`` of the nearest own pixel, per
+    channel), they overlap there and the region stays one colour. The
+    texture shows the image's own colours on the grown pixels, so the front
+    view is unchanged; nothing grows across a colour edge (an outline's
+    pixels stay with the outline's billboards).
+
+    Returns the grown window (slices) and its footprint mask.
+    """
+    H, W = labels.shape
+    ya, yb = max(sl[0].start - radius, 0), min(sl[0].stop + radius, H)
+    xa, xb = max(sl[1].start - radius, 0), min(sl[1].stop + radius, W)
+    win = (slice(ya, yb), slice(xa, xb))
+    own = labels[win] == k
+    dist, (iy, ix) = ndi.distance_transform_edt(~own, return_indices=True)
+    rgb = image[win][:, :, :3]
+    near = rgb[iy, ix]
+    grow = (~own & (dist <= radius) & allowed[win]
+            & (np.abs(rgb - near).max(axis=2) <= tol))
+    keep = own | grow
+    ys, xs = np.nonzero(keep)
+    tight = (slice(ya + ys.min(), ya + ys.max() + 1), slice(xa + xs.min(), xa + xs.max() + 1))
+    return tight, keep[ys.min(): ys.max() + 1, xs.min(): xs.max() + 1]
+
+
 def _shading(image: np.ndarray, labels: np.ndarray) -> float:
     """How much a crown is shaded, in [0, 1]: the median colour spread inside its superpixels.
 
@@ -775,10 +810,15 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
     zf_map = np.zeros((H, W), np.float32)
     front_tex = {}
     objs = ndi.find_objects(sp_ext)
+    same_ok = crown_ext & (alpha >= 0.99)
+    r_over = int(round(p.overlap * np.sqrt(cnt[valid].mean()))) if valid.any() else 0
     for k, sl in enumerate(objs, start=1):
         if sl is None or not valid[k]:
             continue
-        keep = sp_ext[sl] == k
+        if r_over > 0:
+            sl, keep = _same_colour_overlap(work, sp_ext, k, sl, same_ok, r_over, p.overlap_tolerance)
+        else:
+            keep = sp_ext[sl] == k
         y0, x0 = sl[0].start, sl[1].start
         tex = work[sl].copy()
         tex[:, :, 3] *= keep
