@@ -16,6 +16,11 @@ A new leaf is built in the training leaf's frame, then given a new shape:
    Each layer covers the warped induced mask (bilinear, so edges stay
    anti-aliased); where several cover a pixel their colours are mixed
    with the per-pixel weights ``delta_c - D_c`` normalised to sum 1.
+   With ``layer_colour="contrast"`` (the default) a layer brings its
+   difference from its own leaf without it (its residual) rather than its
+   colours: autumn leaves of one kind differ in overall hue (yellow,
+   orange), and copied colours turn a yellow leaf's veins into yellow
+   stripes on an orange one. ``"copy"`` pastes the colours as the paper does.
 3. **Shape**: a convex per-pixel blend of the inverse registration warps,
    ``W^-1(x) = sum_i a_i(x) W_i^-1(x)``; ``a_i`` are a few random
    coefficients per exemplar (a ``shape_grid`` x ``shape_grid`` grid drawn
@@ -68,6 +73,8 @@ class SynthesisParams:
     shape_concentration: float = param(0.5, min=0.05, max=10.0, step=0.05,
                                        help="Dirichlet concentration (small: one exemplar dominates)")
     correct: bool = param(True, help="texture correction where the shape warp stretches")
+    layer_colour: str = param("contrast", options=("contrast", "copy"),
+                              help="a layer brings its contrast to its own leaf (contrast) or its colours (copy)")
 
 
 @dataclass
@@ -330,6 +337,12 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
         warps[L.name] = amp
         c = p.source_coords(e, m, random_warp(shape, amp, corr, rng))
         col = _sample(p.stage[k][e], c)[..., :3]
+        if params.layer_colour == "contrast":
+            # The layer as its difference from the same leaf without it (the
+            # next residual): a vein of a yellow leaf darkens an orange
+            # background as it darkened its own leaf, instead of painting a
+            # yellow stripe on it.
+            col = rgb + (col - _sample(p.stage[k + 1][e], c)[..., :3])
         a_k = np.clip(_sample(p.layer_masks[k][e], c)[..., 0], 0, 1)
         wgt = (np.clip(_sample(p.layer_weights[k][e], c)[..., 0], 0, None) + 1e-6) * a_k
         cover = np.maximum(cover, a_k)
