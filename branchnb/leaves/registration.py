@@ -166,8 +166,9 @@ def _tps_kernel(r2: np.ndarray) -> np.ndarray:
 
 
 def _sqdist(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    d = a[:, None, :] - b[None, :, :]
-    return (d * d).sum(-1)
+    # |a|^2 + |b|^2 - 2 a.b: one matrix product instead of an (N, K, 2) temporary.
+    d = (a * a).sum(1)[:, None] + (b * b).sum(1)[None, :] - 2.0 * (a @ b.T)
+    return np.maximum(d, 0.0)
 
 
 @dataclass
@@ -241,6 +242,8 @@ class _SplineSystem:
         q, _ = np.linalg.qr(p, mode="complete")
         self.q2 = q[:, 3:]
         phi = _tps_kernel(_sqdist(v, v))
+        np.fill_diagonal(phi, 0.0)
+        self.phi = phi
         self.a = np.hstack([p, phi @ self.q2])
         self.bend = self.q2.T @ phi @ self.q2
 
@@ -261,6 +264,11 @@ class _SplineSystem:
         z = _solve(h, rhs)
         w = self.q2 @ z[3:] if k > 3 else np.zeros_like(self.v)
         return ThinPlateSpline(self.v, w, z[:3])
+
+
+    def at_centres(self, f: ThinPlateSpline) -> np.ndarray:
+        """``f(v)`` at the system's own centres (the kernel matrix is precomputed)."""
+        return f.d[0] + self.v @ f.d[1:] + self.phi @ f.w
 
 
 def _solve(a, b):
@@ -363,7 +371,7 @@ def _anneal(x, v, f, system, lab_x, lab_v, t, t_init, t_final, cx, prm):
     m = np.zeros((len(x), k))
     while True:
         for _ in range(prm.iterations):
-            fv = f(v)
+            fv = system.at_centres(f)
             m = _softassign(x, fv, lab_x, lab_v, t, t_init, cx, fv.mean(0), prm.sinkhorn_iterations)
             mass = m.sum(0)
             y = np.where(mass[:, None] > 1e-9, (m.T @ x) / np.maximum(mass[:, None], 1e-300), fv)
