@@ -952,10 +952,24 @@ def register(exemplar, training, exemplar_blade=None, training_blade=None, *,
                              mirror=prm.mirror, n=prm.n_starts)
     base_e = _base_point(ex.blade, _thin_parts(ex.blade), lam_e)
     base_t = _base_point(tr.blade, _thin_parts(tr.blade), lam_t)
+    # Landmarks when both leaves have a petiole: its root (the base) and the
+    # lamina outline point farthest from it (the apex). They are matched
+    # only to each other (their own labels), so an outline without corners
+    # (an elliptic blade) cannot slide along itself.
+    land_e = land_t = None
+    if base_e is not None and base_t is not None:
+        land_e, land_t = base_e[None], base_t[None]
+        lab_src = np.r_[np.zeros(len(cont_e), int), 1]
+        lab_dst = np.r_[np.zeros(len(cont_t), int), 1]
     best = None
     for mat, _ in cands:
         ce = norm(cont_e @ mat[:, :2].T + mat[:, 2])
-        f1, _ = tps_rpm(ce, norm(cont_t), params=prm)
+        if land_e is not None:
+            src = np.vstack([ce, norm(land_e @ mat[:, :2].T + mat[:, 2])])
+            f1, _ = tps_rpm(src, np.vstack([norm(cont_t), norm(land_t)]), source_labels=lab_src,
+                            target_labels=lab_dst, params=prm)
+        else:
+            f1, _ = tps_rpm(ce, norm(cont_t), params=prm)
         fit = _outline_fit(f1(norm(_contour_points(lam_e, 2000) @ mat[:, :2].T + mat[:, 2])), norm(dense_lam_t))
         if base_e is not None and base_t is not None:
             # The outline alone fits a palmate blade at another lobe's
