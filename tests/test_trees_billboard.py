@@ -120,9 +120,9 @@ def test_front_billboards_tile_the_crown(cloud):
 def test_darker_billboards_are_pushed_deeper():
     img = data.load("tree_rpg_02")
     seg = segment_tree(img, rng=0)
-    flat = billboard_cloud(img, seg, BillboardParams(max_size=320, darkness_depth=0.0, n_interior=0,
+    flat = billboard_cloud(img, seg, BillboardParams(max_size=320, darkness_depth=0.0, n_interior=0, overlap=0.0,
                                                      rear_layer=False), rng=0)
-    deep = billboard_cloud(img, seg, BillboardParams(max_size=320, darkness_depth=0.5, n_interior=0,
+    deep = billboard_cloud(img, seg, BillboardParams(max_size=320, darkness_depth=0.5, n_interior=0, overlap=0.0,
                                                      rear_layer=False), rng=0)
     f = flat.layer == FRONT
     ratio = deep.centers[f, 2] / flat.centers[f, 2]
