@@ -281,3 +281,54 @@ def test_annotation_conversion_lives_in_core_and_batch_needs_no_widgets(tmp_path
             f"s = _read_example(Path({str(path)!r}), (200, 300))\n"
             "assert len(s.branches) == 3, s\nassert 'ipywidgets' not in sys.modules\n")
     subprocess.run([sys.executable, "-c", code], check=True, timeout=120)
+
+
+def test_slider_shows_the_new_skeleton_growing_then_the_result(app):
+    from branchnb.branching import synthesize_structure
+
+    app.synthesize()
+    old = app.result.structure
+    app.preview_first = app.preview_every = 0.0  # a partial skeleton after every step
+    shown = []
+    show = app._show_partial
+
+    def spy(growth):
+        show(growth)
+        shown.append((growth.attempt, app.partial, app.view.title_texts[0]))
+
+    app._show_partial = spy
+    app.panel.controls["c"].value = 4
+    p = app.params
+    assert p.c == 4
+    script = synthesize_structure(app._fitted(p), p, rng=int(app.seed.value), shape=app.image_shape)
+    assert app.result.structure.to_json() == script.structure.to_json()  # the final result is a script's
+    assert app.partial is None and "growing" not in app.view.title_texts[0]
+    assert shown and all("growing with the new parameters" in t for _, _, t in shown)
+    final_attempt = script.diagnostics["attempts"]
+    mine = [s for a, s, _ in shown if a == final_attempt]
+    assert mine
+    for s in mine:  # each preview is the new synthesis, partly grown
+        assert s.n_vertices <= script.structure.n_vertices
+        for a, b in zip(s.branches, script.structure.branches):
+            assert np.array_equal(a.points, b.points[: len(a.points)])
+
+    def prefix_of_old(s):
+        return all(len(a.points) <= len(b.points) and np.array_equal(a.points, b.points[: len(a.points)])
+                   for a, b in zip(s.branches, old.branches)) and len(s.branches) <= len(old.branches)
+
+    assert not prefix_of_old(mine[-1])  # not the old result: c changed the growth
+
+
+def test_a_newer_slider_move_supersedes_a_growing_synthesis(app):
+    from branchnb.branching import synthesize_structure
+
+    app.synthesize()
+    app.shell.background = True  # as in a kernel: re-synthesis in the background, latest wins
+    app.panel.controls["c"].value = 3
+    app.panel.controls["c"].value = 4
+    assert app.shell.wait_live(60)
+    p = app.params
+    script = synthesize_structure(app._fitted(p), p, rng=int(app.seed.value), shape=app.image_shape)
+    assert p.c == 4 and app.result.structure.to_json() == script.structure.to_json()
+    assert app.errors.last_error is None and app.partial is None
+    assert "growing" not in app.view.title_texts[0]

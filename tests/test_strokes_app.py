@@ -181,11 +181,69 @@ def test_slow_edits_get_a_reduced_size_preview_first():
 
     big = cv2.resize(striped_bar(), (320, 120), interpolation=cv2.INTER_NEAREST)
     app = StrokeEditApp(big, max_display=200)
+    app.preview_after = 0.0  # as if every edit were slow
     app.add_stroke("source", [(p[0] * 2, p[1] * 2) for p in SRC])
     app.add_stroke("target", [(p[0] * 2, p[1] * 2) for p in TGT])
-    app.elapsed = 1.0  # as if the last full edit had been slow
     app.panel.controls["seam_power"].value = 2.0
     assert app.result.params.seam_power == 2.0
     assert app.preview is not None and app.preview.params.seam_power == 2.0
     assert app.preview.image.shape[1] < app.result.image.shape[1]  # reduced size, shown first
     assert app.errors.last_error is None
+
+
+def test_seam_only_change_reuses_the_fetched_patches_and_equals_a_script(app, monkeypatch):
+    import branchnb.widgets.strokes as mod
+    from branchnb.strokes import edit_structure
+
+    app.add_stroke("source", SRC)
+    app.add_stroke("target", TGT)
+    before, patches = app.result, app.patches
+    assert patches is not None
+    fetches = []
+    real = mod.fetch_patches
+    monkeypatch.setattr(mod, "fetch_patches", lambda *a, **k: fetches.append(1) or real(*a, **k))
+    assert app.expected_seconds() == app.stage_seconds["compose"]
+    app.panel.controls["seam_power"].value = 3.0
+    assert not fetches and app.patches is patches  # only sampling and composition ran again
+    src, tgt, control, _ = app.strokes()
+    script = edit_structure(app.image, src, tgt, app.params, control_points=control,
+                            target_shape=app.target_shape)
+    assert np.array_equal(app.result.image, script.image) and app.result.energies == script.energies
+    assert not np.array_equal(app.result.labels, before.labels)  # the new seams, not the old image
+    app.panel.controls["search_window"].value = 4  # a fetch parameter: fetched again
+    assert fetches == [1] and app.patches is not patches
+    app.add_stroke("source", SRC)
+    app.add_stroke("target", [(20, 50), (140, 50)])  # new strokes: fetched again
+    assert len(fetches) == 2 and len(app.result.pairs) == 2
+
+
+def test_reduced_preview_is_the_new_value_at_reduced_size():
+    import cv2
+
+    from branchnb.strokes import edit_structure
+
+    big = cv2.resize(striped_bar(), (320, 120), interpolation=cv2.INTER_NEAREST)
+    app = StrokeEditApp(big, max_display=200)
+    app.panel.debounce = 0
+    app.preview_after = 0.0  # as if every edit were slow: the reduced patches are fetched after each edit
+    app.add_stroke("source", [(p[0] * 2, p[1] * 2) for p in SRC])
+    app.add_stroke("target", [(p[0] * 2, p[1] * 2) for p in TGT])
+    assert app._preview_ready()
+    shown = []
+    update = app.view.update
+    app.view.update = lambda images, titles=None: (shown.append((images, titles)), update(images, titles))
+    app.panel.controls["seam_power"].value = 2.5
+    (first, t_first), (last, t_last) = shown[0], shown[-1]
+    assert "preview" in t_first[0] and t_last[0].startswith("result")
+    pv = app.preview
+    s = 0.5  # PREVIEW_SIZE 160 over the long side 320
+    src, tgt, _, _ = app.strokes()
+    ref = edit_structure(cv2.resize(big, (160, 60), interpolation=cv2.INTER_AREA), [a * s for a in src],
+                         [b * s for b in tgt], pv.params, target_shape=pv.image.shape[:2])
+    assert pv.params.seam_power == 2.5 and np.array_equal(pv.image, ref.image)
+    assert np.array_equal(first[0], pv.show())
+    assert np.array_equal(last[0], app.result.show()) and app.result.params.seam_power == 2.5
+    app.preview_after = 10.0  # fast edits: a seam-only change shows the result without a preview
+    shown.clear()
+    app.panel.controls["seam_power"].value = 3.0
+    assert len(shown) == 1 and shown[0][1][0].startswith("result")

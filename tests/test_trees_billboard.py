@@ -103,9 +103,12 @@ def test_front_billboards_tile_the_crown(cloud):
         x0 = int(round(cloud.centers[i, 0] - w / 2))
         y0 = int(round(cloud.centers[i, 1] - h / 2))
         cover[y0:y0 + h, x0:x0 + w] += t[:, :, 3] > 0
-    assert cover.max() == 1                       # no overlap
     crown = cloud.superpixels > 0
-    assert (cover[crown] == 1).all()              # every crown pixel covered
+    # Billboards overlap only where they grew over same-coloured neighbours.
+    tiling = billboard_cloud(cloud.image, np.zeros(cloud.image.shape[:2], bool),
+                             BillboardParams(max_size=320, overlap=0.0, n_interior=0, rear_layer=False), rng=0)
+    assert sum(1 for i in np.flatnonzero(tiling.layer == FRONT)) > 100
+    assert (cover[crown] >= 1).all()              # every crown pixel covered
     # Edge replacement leaves (almost) every superpixel in one piece.
     from scipy import ndimage as ndi
 
@@ -117,9 +120,9 @@ def test_front_billboards_tile_the_crown(cloud):
 def test_darker_billboards_are_pushed_deeper():
     img = data.load("tree_rpg_02")
     seg = segment_tree(img, rng=0)
-    flat = billboard_cloud(img, seg, BillboardParams(max_size=320, darkness_depth=0.0, n_interior=0,
+    flat = billboard_cloud(img, seg, BillboardParams(max_size=320, darkness_depth=0.0, n_interior=0, overlap=0.0,
                                                      rear_layer=False), rng=0)
-    deep = billboard_cloud(img, seg, BillboardParams(max_size=320, darkness_depth=0.5, n_interior=0,
+    deep = billboard_cloud(img, seg, BillboardParams(max_size=320, darkness_depth=0.5, n_interior=0, overlap=0.0,
                                                      rear_layer=False), rng=0)
     f = flat.layer == FRONT
     ratio = deep.centers[f, 2] / flat.centers[f, 2]
@@ -256,7 +259,7 @@ def test_no_trunk_and_bare_tree():
     assert _psnr_opaque(render_cloud(c, 0.0, crop="image"), c.image) >= 30.0
     bare = data.load("tree_rpg_11")
     b = billboard_cloud(bare, np.ones(bare.shape[:2], bool), SMALL, rng=0)
-    assert b.counts() == {"front": 0, "rear": 0, "interior": 0, "trunk": 1}
+    assert b.counts() == {"front": 0, "rear": 0, "interior": 0, "trunk": 1, "core": 0}
     assert _psnr_opaque(render_cloud(b, 0.0, crop="image"), b.image) >= 30.0
 
 
@@ -293,3 +296,14 @@ def test_bench_and_gallery(tmp_path):
     assert len(rows) == 1 and rows[0].seconds > 0 and rows[0].anchor_seconds == 20.0
     items = gallery_items(tmp_path)
     assert len(items) >= 3 and all((tmp_path / it.filename).is_file() for it in items)
+
+
+@pytest.mark.parametrize("name", ["tree_rpg_14", "cartoon_tree"])
+def test_flat_regions_stay_flat_in_side_views(name):
+    from branchnb.trees.quality import flat_region_speckle
+
+    c = billboard_cloud(data.load(name), params=BillboardParams(max_size=256), rng=0)
+    # measured at 256 px, 45/90 deg: tree_rpg_14 0.51/0.47 before the same-colour
+    # overlap, 0.12/0.28 after; cartoon_tree 0.18/0.28 -> 0.10/0.13
+    for yaw in (45.0, 90.0):
+        assert flat_region_speckle(c, yaw) <= 0.35, (name, yaw)

@@ -59,6 +59,20 @@ def test_ground_matches_the_procedural_truth(synth):
     assert sum(v > 0.7 for v in scores.values()) >= 6, scores
 
 
+def test_outlined_cartoon_leaves_at_the_foot_are_ground():
+    """Each leaf with its own outline, some leaning on the trunk, some lying apart."""
+    ious = []
+    for seed in range(4):
+        t = synthetic_tree("leaf_pile_outlined", rng=seed, size=192)
+        s = split_ground(t.image)
+        truth = t.labels == 255
+        ious.append((s.ground & truth).sum() / (s.ground | truth).sum())
+        assert not (s.ground & (t.labels == 1)).any()           # no crown cut off
+    # measured: 0.89-0.97 on seeds 0-11 (shape alone: 0 on 7 of 12, the pile is no wider than
+    # the trunk and loose leaves were taken for the bottom)
+    assert min(ious) >= 0.8, ious
+
+
 def test_neck_ignores_a_rock_beside_the_trunk():
     m = np.zeros((30, 20), bool)
     m[2:14, 2:18] = True
@@ -86,8 +100,22 @@ def test_pins_within_5_percent_of_hand_placed_ones():
         ex = process_exemplar(img, name, size=256)
         err = pin_errors(source_pins(ex), ref, img[..., 3])
         ok.append(max(err.values()) <= 0.05)
-    # measured at 256: 10 of 14 (misses: the hill silhouette, two branch tips, a two-lobed foot)
-    assert sum(ok) >= 10, sum(ok)
+    # measured at 256: 11 of 14 (B at the middle of a two-footed base; misses: the hill
+    # silhouette's long side branch, a branch tip outlined like the crown, rpg_01's left twigs)
+    assert sum(ok) >= 11, sum(ok)
+
+
+def test_hand_placed_pins_lie_on_the_outline():
+    """R and L are outline points by definition (B may sit inside ground clutter)."""
+    import cv2
+
+    for name, ref in load_reference_pins().items():
+        a = (data.load(name)[..., 3] >= 0.5).astype(np.uint8)
+        cs, _ = cv2.findContours(a, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
+        pts = np.vstack([c[:, 0, :] for c in cs]).astype(float)
+        height = ref["B"][1] - np.flatnonzero(a.any(axis=1))[0]
+        for k in ("R", "L"):
+            assert np.hypot(*(pts - ref[k]).T).min() <= 0.035 * height, (name, k)
 
 
 def test_pins_within_5_percent_of_procedural_truth(synth):
@@ -164,15 +192,18 @@ def _busy(rgba):
     return float((span > 0.15)[core].mean())
 
 
-@pytest.mark.parametrize("kind, seed", [("palm", 3), ("grass", 4), ("palm_outlined", 5)])
+@pytest.mark.parametrize("kind, seed", [("palm", 3), ("grass", 4), ("palm_outlined", 5),
+                                        ("palm_island", None)])
 def test_side_views_keep_crown_attached_and_flat_colour_flat(kind, seed):
-    t = synthetic_tree(kind, rng=seed, size=192)
-    c = billboard_cloud(t.image, params=BillboardParams(max_size=192), rng=0)
+    image = data.load(kind) if seed is None else synthetic_tree(kind, rng=seed, size=192).image
+    c = billboard_cloud(image, params=BillboardParams(max_size=192), rng=0)
     front = _busy(render_cloud(c, 0.0))
     for yaw in (45.0, 90.0):
         r = render_cloud(c, yaw)
         a = r[..., 3] >= 0.5
         lab, _ = ndi.label(a, structure=np.ones((3, 3)))
         assert np.bincount(lab.ravel())[1:].max() >= 0.97 * a.sum(), (kind, yaw)
-        # measured before the fix: 0.22-0.32 at 45/90 degrees for front 0.03-0.06
+        # measured before the fix: 0.22-0.32 at 45/90 degrees for front 0.03-0.06;
+        # palm_island's trunk broke in two at 90 degrees (largest piece 0.81) before the
+        # ground's soft rim left the trunk strips
         assert _busy(r) <= front + 0.12, (kind, yaw, front, _busy(r))

@@ -65,6 +65,7 @@ from .roots import RootModel, fit_roots
 
 __all__ = [
     "CandidateScores",
+    "GrowthProgress",
     "StructureModel",
     "SynthesisResult",
     "extend_branch",
@@ -448,6 +449,46 @@ class SynthesisResult:
 # Growth
 # --------------------------------------------------------------------------
 @dataclass
+class GrowthProgress:
+    """A look at a structure while it grows: what ``synthesize_structure(progress=...)`` receives.
+
+    Attributes
+    ----------
+    fraction : float
+        Estimated progress in [0, 1]: the larger of the total length
+        over ``max_total_length`` and the coverage over its target (below
+        1 while growing; exactly 1 in the last report).
+    steps : int
+        Markov steps taken so far in this attempt.
+    attempt : int
+        Growth attempt (1, 2, ...): an attempt whose root walked out of
+        the domain at once is grown again from scratch (see
+        :data:`MAX_ROOT_ATTEMPTS`), so a later report may show fewer
+        branches than an earlier one.
+    n_branches : int
+    total_length : float
+    coverage : float or None
+        Fraction of the domain within ``rho`` of a branch (None without
+        space colonization).
+    done : bool
+        True in the one report after synthesis has finished.
+    """
+
+    fraction: float
+    steps: int
+    attempt: int
+    n_branches: int
+    total_length: float
+    coverage: float | None
+    done: bool = False
+    _grower: object = field(default=None, repr=False)
+
+    def structure(self) -> Structure:
+        """The branches grown so far (a copy: growth goes on without changing it)."""
+        return self._grower.structure()
+
+
+@dataclass
 class _BranchState:
     points: list
     radii: list
@@ -488,6 +529,20 @@ class _Grower:
         self.r_max = float(radii.max()) if radii.size else np.inf
         self.fill_rounds = 0
         self._empty_dt: np.ndarray | None = None
+        self.attempt = 1
+        self.progress = None  # progress(GrowthProgress) after every Markov step
+
+    def report(self, done: bool = False) -> None:
+        if self.progress is None:
+            return
+        cov = self.density.coverage() if self.density is not None else None
+        frac = self.total_length / max(self.p.max_total_length, 1e-9)
+        if cov is not None and self.coverage_target < 1:
+            frac = max(frac, cov / max(self.coverage_target, 1e-9))
+        frac = 1.0 if done else min(frac, 0.99)
+        self.progress(GrowthProgress(fraction=float(frac), steps=self.steps, attempt=self.attempt,
+                                     n_branches=len(self.branches), total_length=self.total_length,
+                                     coverage=cov, done=done, _grower=self))
 
     # -- bookkeeping ------------------------------------------------------
     def _inside(self, pts: np.ndarray) -> np.ndarray:
@@ -739,6 +794,7 @@ class _Grower:
             if not self.step(bi):
                 return
             k += 1
+            self.report()
 
     def furcate(self, bi: int, extra: bool = False) -> list[int]:
         st, p = self.branches[bi], self.p
@@ -974,7 +1030,8 @@ def _root_escaped(g: _Grower, min_root_length: float) -> bool:
     return False
 
 
-def _grow_with_retries(model, p, rng, shp, guidance, starts, scorer, domain=None) -> _Grower:
+def _grow_with_retries(model, p, rng, shp, guidance, starts, scorer, domain=None,
+                       progress=None) -> _Grower:
     """Grow, restarting when a root walks out of the domain at once.
 
     A root starts at an example root's head with its heading; near the
@@ -1007,8 +1064,8 @@ def _grow_with_retries(model, p, rng, shp, guidance, starts, scorer, domain=None
     best = None
     for attempt in range(1, attempts + 1):
         g = _Grower(model, p, rng, shp, guidance, scorer=scorer, domain=domain)
+        g.attempt, g.progress = attempt, progress
         g.run(starts(rng) if callable(starts) else starts)
-        g.attempt = attempt
         if best is None or _fullness(g) > _fullness(best):
             best = g
         if not _root_escaped(g, min_len) and g.total_length >= min_total and \
@@ -1051,7 +1108,7 @@ def _check_guidance(guidance, shape):
 @checked(shape=Shape(), starts=Array(ndim=2))
 def synthesize_structure(example, params: SynthesisParams | None = None, *, rng=None,
                          guidance=None, shape=None, starts=None, domain=None,
-                         _scorer=None) -> SynthesisResult:
+                         progress=None, _scorer=None) -> SynthesisResult:
     """Synthesize a new branching structure that looks like ``example``.
 
     Parameters
@@ -1080,6 +1137,15 @@ def synthesize_structure(example, params: SynthesisParams | None = None, *, rng=
     domain : (H, W) bool array_like, optional
         Where branches may grow (a branch stops where it would leave it);
         default: the model's domain (resized to ``shape``) or the whole frame.
+    progress : callable, optional
+        ``progress(growth)`` with a :class:`GrowthProgress` after every
+        Markov step and once at the end (``growth.done``, whose
+        ``structure()`` is the result); ``growth.structure()`` is the
+        partial skeleton of the current attempt: the result grows on from
+        it unless a later attempt starts again (see
+        :class:`GrowthProgress`). For previews (show a partial skeleton while the
+        rest grows) and for stopping: an exception raised by ``progress``
+        ends synthesis and propagates. Reports do not change the result.
 
     Returns
     -------
@@ -1095,7 +1161,16 @@ def synthesize_structure(example, params: SynthesisParams | None = None, *, rng=
     >>> res = synthesize_structure(ex, rng=1)
     >>> res.structure.n_vertices > 20
     True
+
+    Watching it grow: every partial skeleton is a part of the final one.
+
+    >>> seen = []
+    >>> res = synthesize_structure(ex, rng=1, progress=lambda g: seen.append(g.structure().n_vertices))
+    >>> seen[-1] == res.structure.n_vertices and seen[0] < seen[-1]
+    True
     """
+    if progress is not None and not callable(progress):
+        raise TypeError(f"progress must be callable or None, got {type(progress).__name__}")
     t0 = time.perf_counter()
     model, p = _resolve(example, params)
     rng = as_rng(rng)
@@ -1118,7 +1193,8 @@ def synthesize_structure(example, params: SynthesisParams | None = None, *, rng=
         if bad.any():
             raise ValueError(f"starts[{int(np.flatnonzero(bad)[0])}] lies outside the {w} x {h} domain")
         starts = [tuple(map(float, s)) for s in st]
-    g = _grow_with_retries(model, p, rng, shp, guidance, starts, _scorer, dom)
+    g = _grow_with_retries(model, p, rng, shp, guidance, starts, _scorer, dom, progress)
+    g.report(done=True)
     s = g.structure()
     diag = g.diagnostics(t0)
     diag["attempts"] = g.attempt

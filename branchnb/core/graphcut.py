@@ -110,6 +110,17 @@ def pair_costs(a, b, *, power: float = 1.0, gradient_weighted: bool = True,
     return right.astype(np.float64), down.astype(np.float64)
 
 
+def _costs(a, b, costs, power, gradient_weighted):
+    if costs is None:
+        return pair_costs(a, b, power=power, gradient_weighted=gradient_weighted)
+    right, down = (np.asarray(c, np.float64) for c in costs)
+    h, w = np.shape(a)[:2]
+    if right.shape != (h, w - 1) or down.shape != (h - 1, w):
+        raise ValueError(f"costs must be (right, down) of shapes {(h, w - 1)} and {(h - 1, w)}, got "
+                         f"{right.shape} and {down.shape}")
+    return right, down
+
+
 @checked(power=_POWER)
 def seam_cut(a, b, region, pin_a, pin_b, *, power: float = 1.0,
              gradient_weighted: bool = True, costs=None) -> np.ndarray:
@@ -126,9 +137,8 @@ def seam_cut(a, b, region, pin_a, pin_b, *, power: float = 1.0,
     power, gradient_weighted
         See :func:`pair_costs`.
     costs : (right, down), optional
-        :func:`pair_costs` of ``a`` and ``b`` already computed (reused by
-        callers that also need :func:`seam_cost`); ``power`` and
-        ``gradient_weighted`` are then ignored.
+        ``pair_costs(a, b, power=power, gradient_weighted=gradient_weighted)``
+        when the caller has it already (it is not computed again).
 
     Returns
     -------
@@ -145,8 +155,7 @@ def seam_cut(a, b, region, pin_a, pin_b, *, power: float = 1.0,
     >>> bool(seam_cut(a, b, np.ones((4, 6), bool), pin_a, pin_b)[:, -1].all())
     True
     """
-    right, down = costs if costs is not None else \
-        pair_costs(a, b, power=power, gradient_weighted=gradient_weighted)
+    right, down = _costs(a, b, costs, power, gradient_weighted)
     shape = right.shape[0], down.shape[1]
     region = as_mask(region, shape=shape, name="region")
     pin_a = as_mask(pin_a, shape=shape, name="pin_a") & region
@@ -192,10 +201,10 @@ def seam_cost(a, b, take_b, *, region=None, power: float = 1.0,
     Only pairs with both pixels in ``region`` count (everywhere if None),
     since the cost needs both images at both pixels. Use it to compare
     composition strategies on equal terms, e.g. a graph cut against a
-    plain overlay. ``costs``: see :func:`seam_cut`.
+    plain overlay. ``costs``: ``pair_costs(a, b, ...)`` if already
+    computed (as in :func:`seam_cut`).
     """
-    right, down = costs if costs is not None else \
-        pair_costs(a, b, power=power, gradient_weighted=gradient_weighted)
+    right, down = _costs(a, b, costs, power, gradient_weighted)
     shape = (right.shape[0], down.shape[1])
     lab = as_mask(take_b, shape=shape, name="take_b")
     reg = np.ones(shape, bool) if region is None else as_mask(region, shape=shape, name="region")

@@ -28,9 +28,9 @@ from .induction import (
     colour_similarity,
     colour_space,
     layer_cdfs,
-    layer_neighbourhood,
     layer_weight,
     liberal_layer,
+    neighbourhood_candidates,
     quantise,
     remove_layer,
     scaled_lengths,
@@ -39,7 +39,7 @@ from .induction import (
 from .layers import LayerSet, SnapParams, TrainingLayers, grow_layers
 
 __all__ = ["IdentityRegistration", "LayerInduction", "LeafAnalysis", "analyze", "induce",
-           "normalise_exemplars", "warp_mask"]
+           "normalise_exemplars", "registration_tolerance", "warp_mask"]
 
 Progress = Callable[[float, str], None]
 
@@ -248,6 +248,32 @@ def _progress(progress: Progress | None, lo: float, hi: float) -> Progress:
     return report
 
 
+def registration_tolerance(registrations, training_index: int) -> float:
+    """The registration error the liberal layers must tolerate (px): the median of the exemplars' own.
+
+    The paper's liberal radius (``||x, c||^2 < 2 eps``: 8.9 px at 2 MP) is
+    about the accuracy of its registrations. Scaled to a small leaf it
+    shrinks below a pixel or two, while a registration's error does not
+    shrink with the image (keypoints are found to a pixel, outlines are
+    pixelated): a structural layer registered with 5 px of error would
+    then have no liberal overlap at all and get ``lambda = 0``. So the
+    radius is at least the registrations' measured error
+    (:attr:`~branchnb.leaves.registration.Registration.error_px`, the
+    median distance of matched keypoints after the warp), the same for
+    every exemplar (the training leaf's liberal layer included, so the
+    overlap compares like with like). Registrations without an error
+    estimate count as exact.
+    """
+    errs = []
+    for i, r in enumerate(registrations):
+        if i == training_index:
+            continue
+        err = getattr(r, "error_px", None)
+        if err is not None and np.isfinite(err):
+            errs.append(float(err))
+    return float(np.median(errs)) if errs else 0.0
+
+
 def induce(images, blades, training_index: int, user_masks: dict, registrations,
            params: InductionParams, *, space: ColourSpace | None = None,
            progress: Progress | None = None, rng=0):
@@ -282,6 +308,7 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         space = colour_space(rgb, blades, params.bins)
     t = training_index
     lengths = [scaled_lengths(params, b) for b in blades]
+    tolerance = registration_tolerance(registrations, training_index)
     stats = [blade_lab_stats(im, b) for im, b in zip(rgb, blades)]
     residual = list(rgb)
     residuals = [list(rgb)]
@@ -297,26 +324,34 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         q = [quantise(r, space, stats=stats[e], reference=stats[t]) if params.match_colours and e != t
              else quantise(r, space) for e, r in enumerate(residual)]
         cdf = layer_cdfs(q[t], user, space.bins)
-        n_px = layer_neighbourhood(params, blades[t], user)
-        colour, dist, reg_user, liberal_t, spat = [], [], [], [], []
+        # The registered user layer and its distance map do not depend on n.
+        reg_user, dist = [], []
         for e in range(n):
-            report(step / steps, f"layer {name}: colour and space terms on exemplar {e + 1}/{n}")
-            step += 1
-            eps_px, _, lib_r = lengths[e]
             ru = user if e == t else warp_mask(registrations[e], user, to_training=False, level=0.25) & blades[e]
-            d = ndi.distance_transform_edt(~ru).astype(np.float32) if ru.any() else \
-                np.full(ru.shape, 1e6, np.float32)
-            s = colour_similarity(q[e], blades[e], cdf, n_px)
-            lib = liberal_layer(s, d, params.liberal_threshold, lib_r, blades[e])
-            lib_t = lib if e == t else warp_mask(registrations[e], lib, to_training=True)
-            colour.append(s)
-            dist.append(d)
             reg_user.append(ru)
-            liberal_t.append(lib_t & blades[t])
-            spat.append(spatial_term(d, s, eps_px))
-        lam, overlap = layer_weight(liberal_t, params.kappa)
-        combined = [(np.float32(lam) * f + s).astype(np.float32) for f, s in zip(spat, colour)]
-        delta, tr_iou = choose_threshold(combined[t], user, blades[t])
+            dist.append(ndi.distance_transform_edt(~ru).astype(np.float32) if ru.any() else
+                        np.full(ru.shape, 1e6, np.float32))
+        best = None
+        candidates = neighbourhood_candidates(params, blades[t], user)
+        for n_px in candidates:
+            colour, liberal_t, spat = [], [], []
+            for e in range(n):
+                report(step / steps, f"layer {name}: colour and space terms on exemplar {e + 1}/{n}")
+                eps_px, _, lib_r = lengths[e]
+                lib_r = max(lib_r, tolerance)
+                s = colour_similarity(q[e], blades[e], cdf, n_px)
+                lib = liberal_layer(s, dist[e], params.liberal_threshold, lib_r, blades[e])
+                lib_t = lib if e == t else warp_mask(registrations[e], lib, to_training=True)
+                colour.append(s)
+                liberal_t.append(lib_t & blades[t])
+                spat.append(spatial_term(dist[e], s, eps_px))
+            lam, overlap = layer_weight(liberal_t, params.kappa)
+            combined = [(np.float32(lam) * f + s).astype(np.float32) for f, s in zip(spat, colour)]
+            delta, tr_iou = choose_threshold(combined[t], user, blades[t])
+            if best is None or tr_iou > best[0] + 1e-9:
+                best = (tr_iou, n_px, colour, lam, overlap, combined, delta)
+        step += n
+        tr_iou, n_px, colour, lam, overlap, combined, delta = best
         masks = []
         new_residual = []
         for e in range(n):

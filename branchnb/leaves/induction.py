@@ -75,6 +75,7 @@ __all__ = [
     "scaled_lengths",
     "layer_width",
     "layer_neighbourhood",
+    "neighbourhood_candidates",
     "quantise",
     "layer_cdfs",
     "colour_similarity",
@@ -107,8 +108,8 @@ class InductionParams:
                                   help="blade area (px) of a leaf at the paper's resolution")
     match_colours: bool = param(True, help="match each exemplar's blade colour statistics to the "
                                              "training leaf's before comparing colours")
-    min_neighbourhood: int = param(1, min=1, max=16, ui=False,
-                                   help="smallest scaled neighbourhood side (px)")
+    min_neighbourhood: int = param(3, min=1, max=16, ui=False,
+                                   help="a smaller scaled window is tried against this one (px)")
 
 
 @dataclass(frozen=True)
@@ -174,7 +175,7 @@ def scaled_lengths(params: InductionParams, blade) -> tuple[float, int, float]:
     """``(eps_px, n_px, liberal_radius_px)`` for a leaf with this ``blade``."""
     s = leaf_scale(blade, params.reference_area)
     eps_px = params.eps * s
-    n_px = max(params.min_neighbourhood, int(round(params.neighbourhood * s)))
+    n_px = max(1, int(round(params.neighbourhood * s)))
     liberal = eps_px * np.sqrt(2.0 / params.eps)
     return float(eps_px), int(n_px), float(liberal)
 
@@ -215,6 +216,32 @@ def layer_neighbourhood(params: InductionParams, blade, layer_mask) -> int:
     if n % 2 == 0:
         n -= 1
     return max(1, n)
+
+
+def neighbourhood_candidates(params: InductionParams, blade, layer_mask) -> list[int]:
+    """The window sides ``n`` the induction tries for one layer; the training overlap picks one.
+
+    The paper's window, scaled (:func:`layer_neighbourhood`), and, when
+    that is below ``params.min_neighbourhood`` (3), also the 3 x 3 window.
+    A one-pixel "neighbourhood" is a point mass, whose EMD to a layer's
+    colour distribution is at least that distribution's spread: for a
+    layer of crisp colour (a procedural vein) it still separates, for a
+    faint one (a 1-2 px maple vein in a ~250 px photo) ``S_e`` becomes
+    per-pixel noise that no threshold (the liberal layers' 0.1 above all)
+    can read, and a 3 x 3 window is the smallest with a histogram. Which of
+    the two holds is the data's: :func:`branchnb.leaves.analysis.induce`
+    keeps the one whose layer ``{D < delta}`` best reproduces the user's
+    layer on the training leaf, the paper's own criterion for ``delta``
+    (eq. 4). Measured: procedural veins at 640 px, training IoU 0.87 at
+    n = 1 against 0.71 at n = 3 (IoU with the truth 0.77-0.79 against
+    0.52-0.56); maple veins, 0.30 at n = 1 against 0.50 at n = 3.
+    """
+    n0 = layer_neighbourhood(params, blade, layer_mask)
+    out = [n0]
+    if n0 < params.min_neighbourhood:
+        m = int(params.min_neighbourhood)
+        out.append(m if m % 2 else m + 1)
+    return out
 
 
 def blade_lab_stats(image, blade) -> tuple[np.ndarray, np.ndarray]:

@@ -360,7 +360,11 @@ def _kmeans(samples: np.ndarray, k: int, rng: np.random.Generator) -> np.ndarray
     samples = np.asarray(samples, np.float32)
     if len(samples) > 20000:
         samples = samples[rng.choice(len(samples), 20000, replace=False)]
-    k = int(min(k, len(np.unique(samples.round(1), axis=0))))
+    # About ten samples per centre at least: with a few hundred scribbled
+    # pixels, one centre per pixel would make every stray pixel under a
+    # scribble (a brush wider than a vein also covers blade) a colour of the
+    # model, and the layer would grow into everything like it.
+    k = int(min(k, len(np.unique(samples.round(1), axis=0)), max(1, len(samples) // 10)))
     if k <= 1:
         return samples.mean(axis=0, keepdims=True)
     crit = (cv2.TERM_CRITERIA_EPS + cv2.TERM_CRITERIA_MAX_ITER, 20, 0.1)

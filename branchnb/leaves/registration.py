@@ -80,6 +80,7 @@ from dataclasses import dataclass, field, replace
 import cv2
 import numpy as np
 from scipy.interpolate import RBFInterpolator
+from scipy.ndimage import binary_fill_holes as ndi_fill_holes
 from scipy.ndimage import label as ndi_label
 from scipy.spatial import cKDTree
 from threadpoolctl import threadpool_limits
@@ -165,8 +166,9 @@ def _tps_kernel(r2: np.ndarray) -> np.ndarray:
 
 
 def _sqdist(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    d = a[:, None, :] - b[None, :, :]
-    return (d * d).sum(-1)
+    # |a|^2 + |b|^2 - 2 a.b: one matrix product instead of an (N, K, 2) temporary.
+    d = (a * a).sum(1)[:, None] + (b * b).sum(1)[None, :] - 2.0 * (a @ b.T)
+    return np.maximum(d, 0.0)
 
 
 @dataclass
@@ -240,6 +242,8 @@ class _SplineSystem:
         q, _ = np.linalg.qr(p, mode="complete")
         self.q2 = q[:, 3:]
         phi = _tps_kernel(_sqdist(v, v))
+        np.fill_diagonal(phi, 0.0)
+        self.phi = phi
         self.a = np.hstack([p, phi @ self.q2])
         self.bend = self.q2.T @ phi @ self.q2
 
@@ -260,6 +264,11 @@ class _SplineSystem:
         z = _solve(h, rhs)
         w = self.q2 @ z[3:] if k > 3 else np.zeros_like(self.v)
         return ThinPlateSpline(self.v, w, z[:3])
+
+
+    def at_centres(self, f: ThinPlateSpline) -> np.ndarray:
+        """``f(v)`` at the system's own centres (the kernel matrix is precomputed)."""
+        return f.d[0] + self.v @ f.d[1:] + self.phi @ f.w
 
 
 def _solve(a, b):
@@ -362,7 +371,7 @@ def _anneal(x, v, f, system, lab_x, lab_v, t, t_init, t_final, cx, prm):
     m = np.zeros((len(x), k))
     while True:
         for _ in range(prm.iterations):
-            fv = f(v)
+            fv = system.at_centres(f)
             m = _softassign(x, fv, lab_x, lab_v, t, t_init, cx, fv.mean(0), prm.sinkhorn_iterations)
             mass = m.sum(0)
             y = np.where(mass[:, None] > 1e-9, (m.T @ x) / np.maximum(mass[:, None], 1e-300), fv)
@@ -425,29 +434,83 @@ class _Chamfer:
         return float(np.sqrt(np.mean(d * d)))
 
 
+def _opening_radius(mask: np.ndarray) -> int:
+    return max(1, int(round(0.05 * np.sqrt(mask.sum()))))
+
+
 def _thin_parts(mask: np.ndarray) -> np.ndarray:
-    """Thin protrusions of a blade (petiole, drawn-out tips): what an opening removes."""
-    r = max(1, int(round(0.05 * np.sqrt(mask.sum()))))
+    """Thin protrusions of a blade (petiole, drawn-out tips): what an opening removes.
+
+    Holes (insect damage) are filled first: the pixels around a hole are
+    no protrusion of the outline.
+    """
+    filled = ndi_fill_holes(mask)
+    r = _opening_radius(filled)
     k = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
-    opened = cv2.morphologyEx(mask.astype(np.uint8), cv2.MORPH_OPEN, k) > 0
+    opened = cv2.morphologyEx(filled.astype(np.uint8), cv2.MORPH_OPEN, k) > 0
     thin = mask & ~opened
     return thin if thin.sum() >= max(8, 0.002 * mask.sum()) else np.zeros_like(mask)
 
 
+def _thin_roots(mask: np.ndarray, thin: np.ndarray, lamina: np.ndarray) -> np.ndarray:
+    """Where the thin parts leave the lamina (within one opening radius of it).
+
+    A petiole's length and bend vary from leaf to leaf (a long curved
+    petiole would pull a whole-shape score towards a rotation that aligns
+    petioles instead of blades), but where it joins the blade, the base of
+    the leaf, is shared by every leaf of a kind; so are the roots of the
+    lobe tips.
+    """
+    r = _opening_radius(mask)
+    near = cv2.dilate(lamina.astype(np.uint8), cv2.getStructuringElement(cv2.MORPH_ELLIPSE,
+                                                                          (4 * r + 1, 4 * r + 1))) > 0
+    roots = thin & near
+    return roots if roots.sum() >= 4 else thin
+
+
+def _base_point(mask: np.ndarray, thin: np.ndarray, lamina: np.ndarray):
+    """Where the dominant thin part (the petiole) joins the lamina, or None.
+
+    The thin part must be at least twice as large as any other (lobe tips),
+    so a leaf without a clear petiole gives no base point.
+    """
+    if not thin.any():
+        return None
+    lab, n = ndi_label(thin, structure=np.ones((3, 3)))
+    sizes = np.sort(np.bincount(lab.ravel())[1:])[::-1]
+    if n == 0 or (n > 1 and sizes[0] < 2 * sizes[1]):
+        return None
+    big = lab == int(np.argmax(np.bincount(lab.ravel())[1:]) + 1)
+    roots = _thin_roots(mask, big, lamina)
+    ys, xs = np.nonzero(roots)
+    return np.array([xs.mean(), ys.mean()])
+
+
 class _StartScore:
-    """Symmetric RMS chamfer distance of the outlines (+ of the thin parts) under an affine map."""
+    """Symmetric RMS chamfer distance of the laminae outlines (+ of the thin parts' roots) under an affine map.
+
+    When both leaves have a dominant thin part (a petiole), the distance
+    between their base points (where it joins the lamina) is added: a
+    palmate blade fits itself well at every lobe's rotation, its base
+    tells which one is right. Base distances below 0.3 blade radii are free.
+    """
 
     def __init__(self, me: np.ndarray, mt: np.ndarray):
-        self.out_e, self.out_t = _contour_points(me), _contour_points(mt)
-        self.cham_e, self.cham_t = _Chamfer(me), _Chamfer(mt)
+        le, lt = _lamina(me), _lamina(mt)
+        self.out_e, self.out_t = _contour_points(le), _contour_points(lt)
+        self.cham_e, self.cham_t = _Chamfer(le), _Chamfer(lt)
         te, tt = _thin_parts(me), _thin_parts(mt)
         self.thin = te.any() and tt.any()
         if self.thin:
+            te, tt = _thin_roots(me, te, le), _thin_roots(mt, tt, lt)
             self.thin_e = np.column_stack(np.nonzero(te)[::-1]).astype(np.float64)
             self.thin_t = np.column_stack(np.nonzero(tt)[::-1]).astype(np.float64)
             self.thin_e = self.thin_e[:: max(1, len(self.thin_e) // 300)]
             self.thin_t = self.thin_t[:: max(1, len(self.thin_t) // 300)]
             self.dt_te, self.dt_tt = _Chamfer(te, region=True), _Chamfer(tt, region=True)
+        te, tt = _thin_parts(me), _thin_parts(mt)
+        self.base_e, self.base_t = _base_point(me, te, le), _base_point(mt, tt, lt)
+        self.radius_t = float(np.sqrt(lt.sum() / np.pi))
 
     def __call__(self, mat: np.ndarray) -> float:
         lin, off = mat[:, :2], mat[:, 2]
@@ -456,6 +519,10 @@ class _StartScore:
         c = self.cham_t(self.out_e @ lin.T + off) + self.cham_e((self.out_t - off) @ inv.T) * scale
         if self.thin:
             c += self.dt_tt(self.thin_e @ lin.T + off) + self.dt_te((self.thin_t - off) @ inv.T) * scale
+        if self.base_e is not None and self.base_t is not None:
+            # Only a gross mismatch counts (another lobe's rotation moves the
+            # base by about a blade radius): the fine angle is the outlines'.
+            c += max(0.0, float(np.hypot(*(self.base_e @ lin.T + off - self.base_t))) - 0.3 * self.radius_t)
         return c
 
 
@@ -510,8 +577,9 @@ def start_candidates(exemplar_blade, training_blade, *, start: str = "similarity
         raise ValueError(f"rotation_step must be in (0, 180], got {rotation_step}")
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
         raise ValueError(f"n must be a positive int, got {n!r}")
-    mu_e, _, a_e = _moments(me)
-    mu_t, _, a_t = _moments(mt)
+    # Centroids and areas of the laminae: a long petiole would shift them.
+    mu_e, _, a_e = _moments(_lamina(me))
+    mu_t, _, a_t = _moments(_lamina(mt))
     score = _StartScore(me, mt)
     sc = np.sqrt(a_t / a_e)
 
@@ -882,11 +950,32 @@ def register(exemplar, training, exemplar_blade=None, training_blade=None, *,
     dense_lam_t = _contour_points(lam_t, 2000)
     cands = start_candidates(ex.blade, tr.blade, start=prm.start, rotation_step=prm.rotation_step,
                              mirror=prm.mirror, n=prm.n_starts)
+    base_e = _base_point(ex.blade, _thin_parts(ex.blade), lam_e)
+    base_t = _base_point(tr.blade, _thin_parts(tr.blade), lam_t)
+    # Landmarks when both leaves have a petiole: its root (the base) and the
+    # lamina outline point farthest from it (the apex). They are matched
+    # only to each other (their own labels), so an outline without corners
+    # (an elliptic blade) cannot slide along itself.
+    land_e = land_t = None
+    if base_e is not None and base_t is not None:
+        land_e, land_t = base_e[None], base_t[None]
+        lab_src = np.r_[np.zeros(len(cont_e), int), 1]
+        lab_dst = np.r_[np.zeros(len(cont_t), int), 1]
     best = None
     for mat, _ in cands:
         ce = norm(cont_e @ mat[:, :2].T + mat[:, 2])
-        f1, _ = tps_rpm(ce, norm(cont_t), params=prm)
+        if land_e is not None:
+            src = np.vstack([ce, norm(land_e @ mat[:, :2].T + mat[:, 2])])
+            f1, _ = tps_rpm(src, np.vstack([norm(cont_t), norm(land_t)]), source_labels=lab_src,
+                            target_labels=lab_dst, params=prm)
+        else:
+            f1, _ = tps_rpm(ce, norm(cont_t), params=prm)
         fit = _outline_fit(f1(norm(_contour_points(lam_e, 2000) @ mat[:, :2].T + mat[:, 2])), norm(dense_lam_t))
+        if base_e is not None and base_t is not None:
+            # The outline alone fits a palmate blade at another lobe's
+            # rotation too; the base (petiole root) must land near the base.
+            fb = f1(norm(base_e[None] @ mat[:, :2].T + mat[:, 2]))[0]
+            fit += max(0.0, float(np.hypot(*(fb - norm(base_t)))) - 0.3)
         if best is None or fit < best[0]:
             best = (fit, mat, f1)
     _, start, f1 = best

@@ -16,6 +16,11 @@ A new leaf is built in the training leaf's frame, then given a new shape:
    Each layer covers the warped induced mask (bilinear, so edges stay
    anti-aliased); where several cover a pixel their colours are mixed
    with the per-pixel weights ``delta_c - D_c`` normalised to sum 1.
+   With ``layer_colour="contrast"`` (the default) a layer brings its
+   ratio to its own leaf without it (its residual), per channel, rather
+   than its colours: autumn leaves of one kind differ in overall hue (yellow,
+   orange), and copied colours turn a yellow leaf's veins into yellow
+   stripes on an orange one. ``"copy"`` pastes the colours as the paper does.
 3. **Shape**: a convex per-pixel blend of the inverse registration warps,
    ``W^-1(x) = sum_i a_i(x) W_i^-1(x)``; ``a_i`` are a few random
    coefficients per exemplar (a ``shape_grid`` x ``shape_grid`` grid drawn
@@ -68,6 +73,8 @@ class SynthesisParams:
     shape_concentration: float = param(0.5, min=0.05, max=10.0, step=0.05,
                                        help="Dirichlet concentration (small: one exemplar dominates)")
     correct: bool = param(True, help="texture correction where the shape warp stretches")
+    layer_colour: str = param("contrast", options=("contrast", "copy"),
+                              help="a layer brings its contrast to its own leaf (contrast) or its colours (copy)")
 
 
 @dataclass
@@ -234,6 +241,20 @@ class _Prepared:
                 ws.append(ndi.grey_dilation(wgt.astype(np.float32), size=3))
             self.layer_masks.append(ms)
             self.layer_weights.append(ws)
+        # The colours each layer takes in the exemplars (0.5th-99.5th
+        # percentile per channel): a layer brought as contrast onto another
+        # leaf stays inside them (a vein never darker than any exemplar's).
+        # Within the exemplars' blade colours as well (same percentiles).
+        blade_px = np.concatenate([np.asarray(a.exemplars[e], np.float32)[..., :3][a.blades[e]]
+                                   for e in range(self.n)])
+        b_lo, b_hi = np.percentile(blade_px, 0.5, axis=0), np.percentile(blade_px, 99.5, axis=0)
+        self.layer_range = []
+        for k, L in enumerate(a.layers):
+            px = [np.asarray(a.residuals[k][e], np.float32)[..., :3][L.masks[e]] for e in range(self.n)]
+            px = np.concatenate([x for x in px if len(x)] or [np.zeros((1, 3), np.float32)])
+            lo = np.clip(np.percentile(px, 0.5, axis=0), b_lo, b_hi)
+            hi = np.clip(np.percentile(px, 99.5, axis=0), lo, b_hi)
+            self.layer_range.append((lo.astype(np.float32), hi.astype(np.float32)))
         ident = np.stack([self.xx, self.yy], -1)
         # Training frame -> exemplar e, and exemplar e's frame -> training.
         self.to_exemplar = [ident if e == t else np.asarray(a.registrations[e].map_to_training, np.float32)
@@ -330,6 +351,15 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
         warps[L.name] = amp
         c = p.source_coords(e, m, random_warp(shape, amp, corr, rng))
         col = _sample(p.stage[k][e], c)[..., :3]
+        if params.layer_colour == "contrast":
+            # The layer relative to the same leaf without it (the next
+            # residual): a vein of a yellow leaf darkens an orange
+            # background as it darkened its own leaf, instead of painting a
+            # yellow stripe on it.
+            # As a ratio (a pigment multiplies the light the leaf under it
+            # reflects), so black ink stays black whatever it lies on.
+            under = _sample(p.stage[k + 1][e], c)[..., :3]
+            col = np.clip(rgb * col / np.maximum(under, 0.02), *p.layer_range[k])
         a_k = np.clip(_sample(p.layer_masks[k][e], c)[..., 0], 0, 1)
         wgt = (np.clip(_sample(p.layer_weights[k][e], c)[..., 0], 0, None) + 1e-6) * a_k
         cover = np.maximum(cover, a_k)

@@ -17,7 +17,16 @@ overlaps stitched with graph-cut seams, branches joined at junctions.
 
 from .composition import Composition, PlacedPatch, compose, labelling_cost, seam_mask
 from .display import PAIR_COLORS, draw_strokes, pair_color, pair_color_hex, stroke_markers
-from .edit import StrokeEditParams, StrokeEditResult, StrokeSamples, edit_structure
+from .edit import (
+    FETCH_FIELDS,
+    EditPatches,
+    StrokeEditParams,
+    StrokeEditResult,
+    StrokeSamples,
+    compose_patches,
+    edit_structure,
+    fetch_patches,
+)
 from .evaluation import compare_colours, object_colours
 from .fetch import Fetched, Samples, SourceIndex, fetch, sample_pair, source_index
 from .junctions import Junction, attach, far_side, find_junctions, stroke_order
@@ -25,8 +34,10 @@ from .sampling import SamplingResult, candidate_offsets, chain_energy, greedy, p
 from .strokes import Stroke, StrokePair, make_pairs
 
 __all__ = [
+    "FETCH_FIELDS",
     "PAIR_COLORS",
     "Composition",
+    "EditPatches",
     "Fetched",
     "Junction",
     "PlacedPatch",
@@ -43,10 +54,12 @@ __all__ = [
     "chain_energy",
     "compare_colours",
     "compose",
+    "compose_patches",
     "draw_strokes",
     "edit_structure",
     "far_side",
     "fetch",
+    "fetch_patches",
     "find_junctions",
     "greedy",
     "labelling_cost",

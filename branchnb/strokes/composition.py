@@ -36,7 +36,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage as ndi
 
-from ..core.graphcut import seam_cost, seam_cut
+from ..core.graphcut import pair_costs, seam_cost, seam_cut
 from ..core.validate import Array, Choice, Int, Real, Shape, checked
 
 __all__ = ["PlacedPatch", "Composition", "compose", "labelling_cost", "seam_mask"]
@@ -166,13 +166,14 @@ def compose(patches: list[PlacedPatch], shape, *, method: str = "graphcut",
             pin_b = ndi.binary_dilation(only_b) & overlap & ~pin_a
             if not only_b.any() and patch.pin_core:
                 pin_b = _core(vb) & overlap & ~pin_a
+            pc = pair_costs(a, b, power=power, gradient_weighted=gradient_weighted)
             if method == "overlay":
                 take_b = only_b | (overlap & ~pin_a)
             else:
                 take_b = only_b | seam_cut(a, b, overlap, pin_a, pin_b, power=power,
-                                           gradient_weighted=gradient_weighted)
+                                           gradient_weighted=gradient_weighted, costs=pc)
             costs[i] = seam_cost(a, b, take_b, region=overlap, power=power,
-                                 gradient_weighted=gradient_weighted)
+                                 gradient_weighted=gradient_weighted, costs=pc)
         image[box][take_b] = b[take_b]
         labels[box][take_b] = i
         covered[box] |= vb

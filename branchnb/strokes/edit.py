@@ -40,7 +40,8 @@ from .junctions import attach, far_side, find_junctions, stroke_order
 from .sampling import candidate_offsets, choose, pair_energies
 from .strokes import StrokePair, make_pairs
 
-__all__ = ["StrokeEditParams", "StrokeEditResult", "StrokeSamples", "edit_structure"]
+__all__ = ["FETCH_FIELDS", "EditPatches", "StrokeEditParams", "StrokeEditResult", "StrokeSamples",
+           "compose_patches", "edit_structure", "fetch_patches"]
 
 
 @dataclass
@@ -268,6 +269,14 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
     -------
     StrokeEditResult
 
+    Notes
+    -----
+    ``edit_structure(...)`` is ``compose_patches(fetch_patches(...),
+    params)``: the first stage (strokes, junctions, candidate patches) is
+    what the parameters in :data:`FETCH_FIELDS` decide; keep its
+    :class:`EditPatches` to re-run only the second stage (global sampling
+    and composition) when only the others change (e.g. ``seam_power``).
+
     Raises
     ------
     ValueError
@@ -286,12 +295,114 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
     >>> res = edit_structure(img, src, src)          # identity edit
     >>> bool(np.abs(res.image - img)[res.mask].max() < 1e-5)
     True
+
+    The same in two stages (what an app keeps between slider moves):
+
+    >>> patches = fetch_patches(img, src, src)
+    >>> again = compose_patches(patches)
+    >>> bool(np.array_equal(again.image, res.image))
+    True
     """
+    params = _check_edit_params(params)
+    as_rng(rng)
+    patches = fetch_patches(image, source_strokes, target_strokes, params, control_points=control_points,
+                            target_shape=target_shape, background=background)
+    return compose_patches(patches, params)
+
+
+#: The parameters the fetched candidate patches depend on (see :class:`EditPatches`); with
+#: ``sampling == "none"`` only one candidate per sample is fetched, so whether it is "none" counts too.
+FETCH_FIELDS = ("patch_size", "spacing", "search_window", "search_across", "search_step",
+                "junction_tolerance", "extend_branches")
+
+
+def _check_edit_params(params) -> StrokeEditParams:
     params = StrokeEditParams() if params is None else params
     if not isinstance(params, StrokeEditParams):
         raise TypeError(f"params must be a StrokeEditParams, got {type(params).__name__}")
     check_params(params)
-    as_rng(rng)
+    return params
+
+
+def _fetch_key(params: StrokeEditParams) -> tuple:
+    return tuple(getattr(params, f) for f in FETCH_FIELDS) + (params.sampling == "none",)
+
+
+@dataclass
+class _StrokeCandidates:
+    """The fetched candidates of one stroke pair (in composition order)."""
+
+    index: int
+    samples: object  # fetch.Samples
+    radii: np.ndarray
+    fetched: list
+    offsets: list
+
+
+@dataclass
+class EditPatches:
+    """The first stage of :func:`edit_structure`: the strokes and every candidate patch, fetched.
+
+    Everything here follows from the image, the strokes and the
+    parameters in :data:`FETCH_FIELDS`; :func:`compose_patches` makes the
+    result from it for any values of the others (``seam_power``,
+    ``gradient_weighted``, ``shift_penalty``, ``sampling``,
+    ``composition``, ``energy_stride``) in a fraction of the time.
+
+    Attributes
+    ----------
+    params : StrokeEditParams
+        The parameters it was fetched with.
+    pairs : list of StrokePair
+        The stroke pairs as given.
+    attached : list of StrokePair
+        The pairs with target strokes extended at junctions.
+    junctions : list of Junction
+    target_shape : (int, int)
+    radius : float
+        Typical (median) patch radius along the source strokes.
+    n_candidates : int
+        Candidate patches fetched (all strokes, all samples).
+    """
+
+    params: StrokeEditParams
+    pairs: list
+    attached: list
+    junctions: list
+    target_shape: tuple
+    radius: float
+    n_candidates: int
+    _index: object = field(repr=False, default=None)
+    _strokes: list = field(repr=False, default_factory=list)
+    _extra: list = field(repr=False, default_factory=list)
+    _window: float = field(repr=False, default=0.0)
+    _scale: float = field(repr=False, default=1.0)
+    _background: object = field(repr=False, default=None)
+    _bg_img: object = field(repr=False, default=None)
+
+    def reusable_for(self, params: StrokeEditParams) -> bool:
+        """Whether :func:`compose_patches` can use these patches with ``params``."""
+        return isinstance(params, StrokeEditParams) and _fetch_key(params) == _fetch_key(self.params)
+
+
+@checked(source_strokes=Seq(), target_strokes=Seq(), control_points=Seq(), target_shape=Shape())
+def fetch_patches(image, source_strokes, target_strokes, params: StrokeEditParams | None = None,
+                  *, control_points=None, target_shape=None, background=None) -> EditPatches:
+    """Stage 1 of :func:`edit_structure`: pair the strokes, find junctions, fetch the candidate patches.
+
+    Same arguments as :func:`edit_structure` (and the same errors);
+    returns the :class:`EditPatches` that :func:`compose_patches` turns
+    into the result.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.zeros((40, 60, 4), np.float32); img[15:25, 5:55] = (0.6, 0.4, 0.2, 1.0)
+    >>> patches = fetch_patches(img, [[(8, 20), (52, 20)]], [[(30, 5), (30, 35)]])
+    >>> patches.reusable_for(StrokeEditParams(seam_power=2.0)), patches.reusable_for(StrokeEditParams(spacing=3))
+    (True, False)
+    """
+    params = _check_edit_params(params)
     src_img = as_rgba(image, name="image")
     bg_img, target_shape = _background(background, target_shape, src_img.shape)
     pairs = make_pairs(source_strokes, target_strokes, control_points,
@@ -329,24 +440,61 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
     offsets = candidate_offsets(params.search_window, params.search_step, params.search_across)
     if params.sampling == "none":
         offsets = offsets[:1]
-    scale = max(params.search_window + params.search_across, 1)
-    placed: list[PlacedPatch] = []
-    samples: list[StrokeSamples | None] = [None] * len(pairs)
-    e_total = e_pair = 0.0
-    source_region = np.zeros(index.shape, bool)
+    strokes, n_cand = [], 0
     for i in order:
         pair = attached[i]
         radius_of, step_of = _sampling_geometry(params, index, i, pair)
         smp = sample_pair(pair, step_of, window=window)
         radii = radius_of(smp.s)
-        fetched, unaries, offs = [], [], []
+        fetched, offs = [], []
         for j in range(len(smp)):
             off = offsets[:1] if smp.pinned[j] else offsets
-            f = fetch(index, i, smp.source_s[j] + off[:, 0], off[:, 1],
-                      smp.points[j], smp.angles[j], float(radii[j]), window=window)
-            fetched.append(f)
+            fetched.append(fetch(index, i, smp.source_s[j] + off[:, 0], off[:, 1],
+                                 smp.points[j], smp.angles[j], float(radii[j]), window=window))
             offs.append(off)
-            unaries.append(params.shift_penalty * np.abs(off).sum(axis=1) / scale)
+            n_cand += len(off)
+        strokes.append(_StrokeCandidates(i, smp, radii, fetched, offs))
+    return EditPatches(params=dataclasses.replace(params), pairs=pairs, attached=attached,
+                       junctions=junctions, target_shape=target_shape, radius=typical,
+                       n_candidates=n_cand, _index=index, _strokes=strokes, _extra=extra,
+                       _window=window, _scale=max(params.search_window + params.search_across, 1),
+                       _background=None if background is None else background, _bg_img=bg_img)
+
+
+def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None) -> StrokeEditResult:
+    """Stage 2 of :func:`edit_structure`: choose the correspondences and stitch the patches.
+
+    Parameters
+    ----------
+    patches : EditPatches
+        From :func:`fetch_patches`.
+    params : StrokeEditParams, optional
+        Default: the parameters ``patches`` were fetched with. Others may
+        differ only outside :data:`FETCH_FIELDS` (see
+        :meth:`EditPatches.reusable_for`).
+
+    Returns
+    -------
+    StrokeEditResult
+        The same as :func:`edit_structure` with ``params`` gives.
+    """
+    if not isinstance(patches, EditPatches):
+        raise TypeError(f"patches must be EditPatches (from fetch_patches), got {type(patches).__name__}")
+    params = patches.params if params is None else _check_edit_params(params)
+    if not patches.reusable_for(params):
+        changed = [f for f in FETCH_FIELDS if getattr(params, f) != getattr(patches.params, f)]
+        raise ValueError(f"params differ from the fetched patches' in {changed or ['sampling (none)']}: "
+                         "call fetch_patches again")
+    index, window, junctions = patches._index, patches._window, patches.junctions
+    attached, extra, target_shape = patches.attached, patches._extra, patches.target_shape
+    placed: list[PlacedPatch] = []
+    samples: list[StrokeSamples | None] = [None] * len(patches.pairs)
+    e_total = e_pair = 0.0
+    source_region = np.zeros(index.shape, bool)
+    for cand in patches._strokes:
+        i, smp, radii, fetched, offs = cand.index, cand.samples, cand.radii, cand.fetched, cand.offsets
+        pair = attached[i]
+        unaries = [params.shift_penalty * np.abs(off).sum(axis=1) / patches._scale for off in offs]
         pairwise = [pair_energies(fetched[j], fetched[j + 1], power=params.seam_power,
                                   gradient_weighted=params.gradient_weighted,
                                   stride=params.energy_stride)
@@ -403,6 +551,7 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
                                gradient_weighted=params.gradient_weighted),
         "seam_steps": float(comp.step_costs.sum()),
     }
+    background, bg_img = patches._background, patches._bg_img
     if background is None:
         out = layer.copy()
     elif bg_img is None:
@@ -415,7 +564,7 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
     return StrokeEditResult(
         image=np.clip(out, 0, 1).astype(np.float32), mask=mask, seams=seams, energies=energies,
         layer=layer, labels=comp.labels, samples=samples, pairs=attached, junctions=junctions,
-        radius=typical, source_region=source_region & index.object,
+        radius=patches.radius, source_region=source_region & index.object,
         params=dataclasses.replace(params))
 
 

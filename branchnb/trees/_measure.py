@@ -1,4 +1,4 @@
-"""Measurements for the notes (not run by the tests): ``python -m branchnb.trees._measure pins|pairs [size]``.
+"""Measurements for the notes (not run by the tests): ``python -m branchnb.trees._measure pins|pairs|masks [size]``.
 
 ``pins``: pin errors against the hand-placed references (``data/trees_pins``)
 and the procedural truths (24 trees, ``synthetic_trees(3, rng=7)``), with the
@@ -6,6 +6,8 @@ ground cut and without (``ground="keep"``).
 ``pairs``: every pair of the sample library, ``trees_ground`` and 8 procedural
 trees mixed 50/50 with colour weights (0.5, 0.5) and (1, 0): soft alpha,
 foreign colour, pieces, holes.
+``masks``: crown/trunk IoU on the masks made without the segmenter
+(:mod:`branchnb.trees.mask_reference`).
 """
 
 from __future__ import annotations
@@ -69,7 +71,17 @@ def measure_pairs(size: int = 128) -> None:
     print(f"holes larger than the exemplars': {holey}")
 
 
+def measure_masks(_size: int = 0) -> None:
+    from .mask_reference import evaluate_independent
+
+    scores = evaluate_independent()
+    for name, v in scores.items():
+        if name != "mean":
+            print(f"  {name:20s} crown {v['crown']:.3f} trunk {v['trunk']:.3f} mean {v['mean']:.3f}")
+    print(f"mean IoU on {len(scores) - 1} masks made without the segmenter: {scores['mean']:.3f}")
+
+
 if __name__ == "__main__":
     what = sys.argv[1] if len(sys.argv) > 1 else "pins"
     size = int(sys.argv[2]) if len(sys.argv) > 2 else (256 if what == "pins" else 128)
-    (measure_pins if what == "pins" else measure_pairs)(size)
+    {"pins": measure_pins, "pairs": measure_pairs, "masks": measure_masks}[what](size)

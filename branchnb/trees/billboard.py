@@ -42,6 +42,10 @@ camera turns around the tree. The steps follow the paper:
    any ground clutter at its foot, which is no crown to inflate, as a
    second one) on the image plane ``z = 0``, a leaning trunk cut into
    horizontal strips so that it stays under the crown in side views.
+   Not in the paper: a *core* billboard, the whole crown flat on the
+   image plane behind the front layer (hidden in the front view), so that
+   the gaps that open between billboards in side views show crown colour
+   rather than sky and the crown stays joined to the trunk top.
 
 Billboards are *axial* billboards (each quad turns about its vertical
 axis to face the camera, the usual way trees are drawn with billboards),
@@ -93,11 +97,12 @@ __all__ = [
     "REAR",
     "INTERIOR",
     "TRUNK_LAYER",
+    "CORE",
     "LAYER_NAMES",
 ]
 
-FRONT, REAR, INTERIOR, TRUNK_LAYER = 0, 1, 2, 3
-LAYER_NAMES = {FRONT: "front", REAR: "rear", INTERIOR: "interior", TRUNK_LAYER: "trunk"}
+FRONT, REAR, INTERIOR, TRUNK_LAYER, CORE = 0, 1, 2, 3, 4
+LAYER_NAMES = {FRONT: "front", REAR: "rear", INTERIOR: "interior", TRUNK_LAYER: "trunk", CORE: "core"}
 
 
 @dataclass
@@ -127,6 +132,14 @@ class BillboardParams:
     interior_darkening: float = param(0.6, min=0.0, max=1.0, step=0.05,
                                       help="colour factor lost by the deepest interior billboard "
                                            "(times the crown's shading, 0 for flat colour)")
+    core_layer: bool = param(True, help="a flat crown billboard on the image plane (not in the paper): "
+                                        "no sky through the gaps of side views, crown stays on the trunk")
+    overlap: float = param(1.0, min=0.0, max=2.0, step=0.05,
+                           help="front billboards grow over neighbouring pixels of their own colour, "
+                                "up to this fraction of the mean superpixel size (not in the paper): "
+                                "flat regions stay flat in side views; the front view is unchanged")
+    overlap_tolerance: float = param(0.06, min=0.0, max=0.5, step=0.01,
+                                     help="per-channel colour difference a grown pixel may have")
     max_size: int = param(1024, min=64, max=4096, step=64,
                           help="long side of the working image (paper: 1024)")
     alpha_threshold: float = param(0.5, min=0.0, max=1.0, step=0.05,
@@ -149,7 +162,7 @@ class BillboardCloud:
     tint : (K,) float
         Colour factor (1 = as in the image; interior billboards are darker).
     layer : (K,) int
-        ``FRONT``, ``REAR``, ``INTERIOR`` or ``TRUNK_LAYER``.
+        ``FRONT``, ``REAR``, ``INTERIOR``, ``TRUNK_LAYER`` or ``CORE``.
     source : (K,) int
         Index of the front billboard a rear/interior billboard copies (its
         own index for front and trunk billboards).
@@ -626,6 +639,35 @@ def _recolour(tex: np.ndarray, x0: float, y0: float, image: np.ndarray) -> np.nd
     return out
 
 
+def _same_colour_overlap(image, labels, k, sl, allowed, radius, tol):
+    """Footprint of superpixel ``k`` grown by up to ``radius`` px over pixels of its own colour.
+
+    Seen from the side, neighbouring billboards at different depths part and
+    leave gaps in a flat-coloured region; grown over the neighbours' pixels
+    of the same colour (within ``tol`` of the nearest own pixel, per
+    channel), they overlap there and the region stays one colour. The
+    texture shows the image's own colours on the grown pixels, so the front
+    view is unchanged; nothing grows across a colour edge (an outline's
+    pixels stay with the outline's billboards).
+
+    Returns the grown window (slices) and its footprint mask.
+    """
+    H, W = labels.shape
+    ya, yb = max(sl[0].start - radius, 0), min(sl[0].stop + radius, H)
+    xa, xb = max(sl[1].start - radius, 0), min(sl[1].stop + radius, W)
+    win = (slice(ya, yb), slice(xa, xb))
+    own = labels[win] == k
+    dist, (iy, ix) = ndi.distance_transform_edt(~own, return_indices=True)
+    rgb = image[win][:, :, :3]
+    near = rgb[iy, ix]
+    grow = (~own & (dist <= radius) & allowed[win]
+            & (np.abs(rgb - near).max(axis=2) <= tol))
+    keep = own | grow
+    ys, xs = np.nonzero(keep)
+    tight = (slice(ya + ys.min(), ya + ys.max() + 1), slice(xa + xs.min(), xa + xs.max() + 1))
+    return tight, keep[ys.min(): ys.max() + 1, xs.min(): xs.max() + 1]
+
+
 def _shading(image: np.ndarray, labels: np.ndarray) -> float:
     """How much a crown is shaded, in [0, 1]: the median colour spread inside its superpixels.
 
@@ -676,7 +718,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
     >>> from branchnb import data
     >>> cloud = billboard_cloud(data.load("tree_rpg_05"), rng=1)
     >>> sorted(cloud.counts())
-    ['front', 'interior', 'rear', 'trunk']
+    ['core', 'front', 'interior', 'rear', 'trunk']
     """
     p = check_params(params if params is not None else BillboardParams())
     img, opaque_full = tree_rgba(rgba, alpha_threshold=p.alpha_threshold, min_pixels=16, name="rgba")
@@ -768,10 +810,15 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
     zf_map = np.zeros((H, W), np.float32)
     front_tex = {}
     objs = ndi.find_objects(sp_ext)
+    same_ok = crown_ext & (alpha >= 0.99)
+    r_over = int(round(p.overlap * np.sqrt(cnt[valid].mean()))) if valid.any() else 0
     for k, sl in enumerate(objs, start=1):
         if sl is None or not valid[k]:
             continue
-        keep = sp_ext[sl] == k
+        if r_over > 0:
+            sl, keep = _same_colour_overlap(work, sp_ext, k, sl, same_ok, r_over, p.overlap_tolerance)
+        else:
+            keep = sp_ext[sl] == k
         y0, x0 = sl[0].start, sl[1].start
         tex = work[sl].copy()
         tex[:, :, 3] *= keep
@@ -823,14 +870,37 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
             depth01 = (0.9 * zcap - z) / (1.8 * zcap)
             add(ix0, iy0, t, z, 1.0 - p.interior_darkening * shade * depth01, INTERIOR, source=bid)
 
-    # 4d. The trunk: one billboard on the image plane; ground clutter at its
+    # 4d. The core (not in the paper): the whole crown as one flat billboard
+    # on the image plane, behind the front layer (hidden in the front view).
+    # Seen from the side the front and rear billboards spread apart in depth
+    # and leave gaps; through them the sky would show as speckle in flat
+    # colour, and the crown would come loose from the trunk top, which also
+    # stays on the image plane.
+    if p.core_layer and crown.any():
+        # Without the crown's rim: a drawn outline runs along it, and it would
+        # cross the middle of every side view.
+        ys_c, xs_c = np.nonzero(crown)
+        r = max(1, int(round(0.02 * max(np.ptp(ys_c), np.ptp(xs_c)))))
+        core = cv2.erode(crown_ext.astype(np.uint8), cv2.getStructuringElement(
+            cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))) > 0
+        cut = _cut(work, core if core.any() else crown_ext)
+        if cut is not None:
+            x0, y0, tex = cut
+            tex = _trim(tex, x0, y0, allowed)
+            if tex[:, :, 3].sum() >= 1.0:
+                add(x0, y0, tex, 0.0, 1.0, CORE)
+
+    # 4e. The trunk: one billboard on the image plane; ground clutter at its
     # foot another one (in one quad, a wide island would pull the trunk off
     # the crown's axis in side views).
     ground_ext = np.zeros_like(trunk_ext)
     if ground_full is not None and ground_full.any():
         g = ground_full if s >= 1.0 else cv2.resize(
             ground_full.astype(np.float32), (W, H), interpolation=cv2.INTER_AREA) >= 0.5
-        ground_ext = _extend(np.where(trunk_ext & g, 1, np.where(trunk_ext, 2, 0)).astype(np.int32),
+        # Labelled on the opaque pixels, then extended: the soft rim of the
+        # ground goes with the ground, or trunk strips would span it and
+        # turn about the ground's middle in side views.
+        ground_ext = _extend(np.where(trunk_w & g, 1, np.where(trunk_w, 2, 0)).astype(np.int32),
                              trunk_ext) == 1
     # A leaning trunk is cut into horizontal strips, each its own axial
     # billboard: turned sideways, one flat quad would swing its top away from

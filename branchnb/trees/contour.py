@@ -278,6 +278,31 @@ def _close_gaps(flags: np.ndarray, max_gap: int) -> np.ndarray:
     return np.roll(out, start)
 
 
+def _bottom_middle(c: np.ndarray, opaque: np.ndarray, trunk: np.ndarray) -> int:
+    """Index of ``B``: the contour point nearest the middle of the trunk's base.
+
+    The base is the bottom 5 % of the tree height. Its span is that of the
+    trunk pixels there (of the opaque pixels without a trunk); ``B`` is the
+    point of the contour within the band nearest the bottom middle of the
+    span. A base cut at a slant, or standing on two feet with an arch
+    between them, has its lowest point at a corner, not in the middle.
+    """
+    ymax = c[:, 1].max()
+    height = ymax - c[:, 1].min()
+    y_lo = ymax - max(0.5, 0.05 * height)
+    band = np.flatnonzero(c[:, 1] >= y_lo)
+    rows = slice(max(0, int(np.ceil(y_lo))), int(ymax) + 1)
+    base = (trunk & opaque)[rows]
+    if not base.any():
+        base = opaque[rows]
+    cols = np.flatnonzero(base.any(axis=0))
+    if cols.size == 0:
+        x_mid = 0.5 * (c[band, 0].min() + c[band, 0].max())
+    else:
+        x_mid = 0.5 * (cols[0] + cols[-1])
+    return int(band[np.argmin(np.hypot(c[band, 0] - x_mid, c[band, 1] - ymax))])
+
+
 def pin_points(contour, alpha, trunk_mask=None, *, radius: float = 0.015) -> PinPoints:
     """Find the pin points ``B``, ``R``, ``L`` on a tree contour.
 
@@ -303,10 +328,10 @@ def pin_points(contour, alpha, trunk_mask=None, *, radius: float = 0.015) -> Pin
 
     Notes
     -----
-    ``B`` is the bottom of the tree: of the contour points within 2 % of
-    the height of the lowest row, the low one nearest the middle of their
-    span (the paper: the lowest point; a trunk base cut at a slant would put
-    that at a corner); when that point is not trunk (clutter drawn over the
+    ``B`` is the bottom of the tree: of the contour points within 5 % of
+    the height of the lowest row, the one nearest the bottom middle of the
+    trunk's span there (the paper: the lowest point; a trunk base cut at a
+    slant, or standing on two feet, would put that at a corner); when that point is not trunk (clutter drawn over the
     trunk foot) but a trunk point lies within 5 % of the height above it,
     the lowest trunk point is ``B``. If ``B`` is not on the trunk, or the walk from ``B`` never
     reaches the crown (a bare tree that is all trunk), no trunk is visible
@@ -320,13 +345,7 @@ def pin_points(contour, alpha, trunk_mask=None, *, radius: float = 0.015) -> Pin
              else as_mask(trunk_mask, shape=opaque.shape, name="trunk_mask"))
     k = len(c)
     ymax = c[:, 1].max()
-    # The middle of the bottom: the contour points within 2 % of the height
-    # of the lowest row span the trunk's base; B is the lowest point nearest
-    # the middle of that span (a trunk base cut at a slant has its lowest
-    # point at one corner).
-    band = np.flatnonzero(c[:, 1] >= ymax - max(0.5, 0.02 * (ymax - c[:, 1].min())))
-    x_mid = 0.5 * (c[band, 0].min() + c[band, 0].max())
-    ib = int(band[np.argmin(np.abs(c[band, 0] - x_mid) + 4.0 * (ymax - c[band, 1]))])
+    ib = _bottom_middle(c, opaque, trunk)
     b = c[ib]
     none = PinPoints(b.copy(), b.copy(), b.copy(), ib, ib, ib, False)
     if not (trunk & opaque).any():

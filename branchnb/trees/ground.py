@@ -243,6 +243,84 @@ def _drop_side_clutter(tree: np.ndarray, stem: np.ndarray, top: int, foot: int,
     return tree & ~clutter
 
 
+def _profile_and_foot(small: np.ndarray, p: GroundParams):
+    """(neck widths, neck mask, foot row, trunk width, band top) of a working mask.
+
+    The profile is read on the crown's own piece: leaves or stones lying
+    apart below the foot are no bottom the trunk must reach (they are
+    ground all the same: the tree is the piece connected to the crown).
+    """
+    lab, _ = ndi.label(small, structure=np.ones((3, 3), bool))
+    ys = np.flatnonzero(small.any(axis=1))
+    main = lab == _crown_component(lab[ys[0]:], max(1, int(0.3 * (ys[-1] - ys[0] + 1))))
+    c, neck = neck_profile(main, return_mask=True)
+    foot, w_t, top = _foot_row(c, main.sum(axis=1).astype(float), p)
+    return c, neck, foot, w_t, top
+
+
+def _foreign_to_trunk(rgb: np.ndarray, small: np.ndarray, neck: np.ndarray, top: int,
+                      foot: int) -> np.ndarray | None:
+    """Pixels below the trunk's upper half whose colour is not the trunk's (with their outlines).
+
+    A pile of leaves as narrow as the trunk does not widen the neck enough
+    to be told apart by shape, but it is another colour: red, orange or
+    yellow leaves round a brown trunk, a green tray under a brown one. The
+    trunk colour is the median CIELAB colour of the neck between 30 % and
+    60 % of the way down the trunk (away from the clutter below and fronds
+    hanging beside its top), over its pixels that are not a dark outline;
+    pixels below that more than 25 units from it are clutter, and so
+    are the dark outline pixels round them (a drawn leaf has its own
+    outline). Returns ``(foreign, trunk-coloured)`` masks, or None when the
+    trunk has no colour of its own (a silhouette, a trunk that is all
+    outline) or nothing looks foreign.
+    """
+    lab = cv2.cvtColor(np.ascontiguousarray(rgb, dtype=np.float32), cv2.COLOR_RGB2LAB)
+    upper = np.zeros_like(small)
+    r0 = top + int(0.3 * (foot - top))
+    mid = top + max(1, int(0.6 * (foot - top)))
+    upper[r0:mid] = neck[r0:mid]
+    light = lab[:, :, 0] > 25.0
+    ref = upper & light
+    if ref.sum() < max(4, 0.3 * upper.sum()):
+        return None
+    colour = np.median(lab[ref], axis=0)
+    below = np.zeros_like(small)
+    below[mid:] = True
+    far = np.linalg.norm(lab - colour, axis=2) > 25.0
+    foreign = small & below & light & far
+    if foreign.sum() < 4:
+        return None
+    # The outline round a foreign patch: dark pixels within 2 px of it.
+    near = cv2.dilate(foreign.astype(np.uint8), np.ones((5, 5), np.uint8)) > 0
+    foreign = foreign | (near & small & below & ~light)
+    return foreign, small & light & ~far
+
+
+def _visible_foot(small: np.ndarray, visible: np.ndarray, neck: np.ndarray, cover: int,
+                  lowest: int) -> int:
+    """Lowest row where trunk colour still shows under the clutter.
+
+    ``cover`` is the row where the clutter starts to hide the trunk, and
+    ``lowest`` the foot read from the shape alone. Grass blades or leaves
+    drawn across the trunk hide it in places, but its colour shows between
+    them: in the trunk's column (its span in the rows above ``cover``) the
+    foot is the lowest trunk-coloured row that is connected to the trunk
+    above through the column.
+    """
+    rows = slice(max(0, cover - 3), cover + 1)
+    xs = np.flatnonzero(neck[rows].any(axis=0))
+    if xs.size == 0:
+        return cover
+    column = np.zeros_like(small)
+    column[cover:lowest + 1, xs[0]:xs[-1] + 1] = True
+    column &= small
+    lab, _ = ndi.label(column, structure=np.ones((3, 3), bool))
+    ids = np.unique(lab[cover][lab[cover] > 0])
+    shown = np.isin(lab, ids) & visible
+    ys = np.flatnonzero(shown.any(axis=1))
+    return int(ys[-1]) if ys.size else cover
+
+
 def split_ground(image, params: GroundParams | None = None, **overrides) -> GroundSplit:
     """Split the clutter at the trunk foot (leaves, grass, shadow, rocks, hill) off a tree.
 
@@ -281,23 +359,37 @@ def split_ground(image, params: GroundParams | None = None, **overrides) -> Grou
         from dataclasses import replace
         p = check_params(replace(p, **overrides))
     arr = np.asarray(image)
+    rgb = None
     if arr.ndim == 2:
         mask = as_mask(arr, name="image")
         if not mask.any():
             raise ValueError("image has no opaque pixel")
     else:
-        _, mask = tree_rgba(image, name="image")
+        img, mask = tree_rgba(image, name="image")
+        rgb = img[:, :, :3]
     h, w = mask.shape
     s = min(1.0, p.work_size / max(h, w))
+    size = (max(1, round(w * s)), max(1, round(h * s)))
     small = mask if s >= 1.0 else cv2.resize(
-        mask.astype(np.float32), (max(1, round(w * s)), max(1, round(h * s))),
-        interpolation=cv2.INTER_AREA) >= 0.5
+        mask.astype(np.float32), size, interpolation=cv2.INTER_AREA) >= 0.5
     if not small.any():
         small = mask
         s = 1.0
     empty = np.zeros_like(mask)
-    c, neck = neck_profile(small, return_mask=True)
-    foot_small, w_t, top_small = _foot_row(c, small.sum(axis=1).astype(float), p)
+    c, neck, foot_small, w_t, top_small = _profile_and_foot(small, p)
+    if foot_small is not None and rgb is not None:
+        rgb_small = rgb if s >= 1.0 else cv2.resize(rgb, (small.shape[1], small.shape[0]),
+                                                    interpolation=cv2.INTER_AREA)
+        cue = _foreign_to_trunk(rgb_small, small, neck, top_small, foot_small)
+        if cue is not None:
+            foreign, visible = cue
+            again = _profile_and_foot(small & ~foreign, p)
+            # Clutter lies at the foot: a cut high up the trunk is a wrong colour
+            # reference (a frond hanging beside a palm's trunk), not clutter.
+            if again[2] is not None and top_small + 0.6 * (foot_small - top_small) <= again[2] < foot_small:
+                foot = _visible_foot(small, visible, again[1], again[2], foot_small)
+                c, neck, _, w_t, _ = again
+                foot_small = foot
     if foot_small is None:
         return GroundSplit(mask.copy(), empty, None, 0.0, empty.copy())
     # The stem ends where the crown widens: walking up from the foot while

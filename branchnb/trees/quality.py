@@ -8,7 +8,9 @@ What a reader of the paper checks by eye, as numbers:
   whose colour is far from every colour of the exemplars that have colour
   weight (colour of a zero-weight exemplar, or black slivers);
 * :func:`pieces` and :func:`large_holes`: opaque components and interior
-  transparent holes larger than a given area.
+  transparent holes larger than a given area;
+* :func:`flat_region_speckle`: of a billboard cloud, the share of the
+  front view's large flat-coloured regions that turn busy in a side view.
 
 Examples
 --------
@@ -24,7 +26,8 @@ import numpy as np
 from scipy import ndimage as ndi
 from scipy.spatial import cKDTree
 
-__all__ = ["soft_alpha_fraction", "foreign_colour_fraction", "pieces", "large_holes", "hole_sizes"]
+__all__ = ["soft_alpha_fraction", "foreign_colour_fraction", "pieces", "large_holes", "hole_sizes",
+           "flat_region_speckle", "colour_span"]
 
 
 def soft_alpha_fraction(image, *, rim: int = 1) -> float:
@@ -93,3 +96,78 @@ def hole_sizes(alpha) -> np.ndarray:
 def large_holes(alpha, limit: int) -> int:
     """Interior holes larger than ``limit`` pixels."""
     return int(np.count_nonzero(hole_sizes(alpha) > limit))
+
+
+def colour_span(rgb, size: int = 5) -> np.ndarray:
+    """Largest per-channel colour range in each ``size`` x ``size`` window, (H, W)."""
+    rgb = np.asarray(rgb, dtype=np.float32)[..., :3]
+    win = (size, size, 1)
+    return (ndi.maximum_filter(rgb, size=win) - ndi.minimum_filter(rgb, size=win)).max(axis=2)
+
+
+def flat_region_speckle(cloud, yaw: float, *, min_area: float = 0.01, busy: float = 0.15,
+                        margin: int = 2) -> float:
+    """Share of the front view's large flat regions that are busy in the view from ``yaw``.
+
+    The flat regions are the crown pixels of the working image whose 5 x 5
+    colour span is at most ``busy``, in 4-connected pieces of at least
+    ``min_area`` times the crown's area, shrunk by ``margin`` pixels. Each
+    such pixel is carried to the side view with the front billboard that
+    shows it in the front view (axial billboards move as a whole); there
+    it counts as speckled when the side view (over white, so sky showing
+    through counts) spans more than ``busy`` in its 5 x 5 window. Pixels
+    carried out of the frame are left out. 0 at yaw 0 for a cloud that
+    reproduces its input.
+
+    Examples
+    --------
+    >>> from branchnb import data
+    >>> from branchnb.trees.billboard import BillboardParams, billboard_cloud
+    >>> c = billboard_cloud(data.load("cartoon_tree"), params=BillboardParams(max_size=128), rng=0)
+    >>> flat_region_speckle(c, 0.0) < 0.02
+    True
+    """
+    from ..core.image import composite_over
+    from .billboard import FRONT
+    from .preview import project, render_cloud
+
+    img = cloud.image
+    H, W = img.shape[:2]
+    crown = (cloud.superpixels > 0) & (img[..., 3] >= 0.99)
+    if not crown.any():
+        return 0.0
+    flat = crown & (colour_span(img) <= busy)
+    lab, n = ndi.label(flat)
+    area = np.bincount(lab.ravel(), minlength=n + 1)
+    big = np.flatnonzero(area >= min_area * crown.sum())
+    big = big[big > 0]
+    flat = np.isin(lab, big)
+    if margin > 0:
+        flat = ndi.binary_erosion(flat, iterations=margin)
+    if not flat.any():
+        return 0.0
+    # Which front billboard shows each pixel in the front view (the nearest one).
+    x0s, _ = project(cloud, 0.0)
+    xs, _ = project(cloud, yaw)
+    shift = np.full((H, W), np.nan)
+    front = np.flatnonzero(cloud.layer == FRONT)
+    for i in front[np.argsort(cloud.centers[front, 2], kind="stable")]:
+        t = cloud.textures[cloud.texture[i]]
+        h, w = t.shape[:2]
+        bx, by = int(round(x0s[i] - 0.5 * w)), int(round(cloud.centers[i, 1] - 0.5 * h))
+        on = t[..., 3] >= 0.5
+        ys, xx = np.nonzero(on)
+        ys, xx = ys + by, xx + bx
+        ok = (ys >= 0) & (ys < H) & (xx >= 0) & (xx < W)
+        dx = int(round(xs[i] - 0.5 * w)) - bx
+        shift[ys[ok], xx[ok]] = dx
+    ys, xx = np.nonzero(flat & np.isfinite(shift))
+    if len(ys) == 0:
+        return 0.0
+    xx = xx + shift[ys, xx].astype(int)
+    inside = (xx >= 0) & (xx < W)
+    ys, xx = ys[inside], xx[inside]
+    if len(ys) == 0:
+        return 0.0
+    side = composite_over(render_cloud(cloud, yaw, crop="image"), (1.0, 1.0, 1.0))
+    return float((colour_span(side)[ys, xx] > busy).mean())

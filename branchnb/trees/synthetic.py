@@ -28,7 +28,7 @@ __all__ = ["SYNTHETIC_KINDS", "SyntheticTree", "synthetic_tree", "synthetic_tree
 
 #: Kinds of :func:`synthetic_tree`.
 SYNTHETIC_KINDS = ("leaf_pile", "grass", "shadow", "rocks", "palm", "outlined", "palm_outlined",
-                   "clean")
+                   "clean", "leaf_pile_outlined")
 
 BACKGROUND, CROWN, TRUNK, GROUND = 0, 1, 2, 255
 
@@ -89,6 +89,38 @@ def _poly(mask: np.ndarray, pts) -> None:
                  shift=3)
 
 
+def _cartoon_leaves(cx: float, foot_y: float, wb: float, S: int, rng) -> list:
+    """Pointed cartoon leaves round a trunk foot: ``[(polygon, colour), ...]``.
+
+    Most lie in a heap on the ground round the foot, a few lean on the
+    trunk above it, and two or three lie apart from the heap.
+    """
+    u = rng.uniform
+    out = []
+    n = int(rng.integers(18, 30))
+    for i in range(n):
+        if i < 3:        # lying apart
+            x = cx + rng.choice([-1, 1]) * u(0.2, 0.32) * S
+            y = foot_y + u(0.0, 0.03) * S
+        elif i < 6:      # leaning on the trunk
+            x = cx + rng.choice([-1, 1]) * u(0.3, 0.9) * wb
+            y = foot_y - u(0.0, 0.05) * S
+        else:
+            x = cx + rng.normal(0, 0.09 * S)
+            y = foot_y + abs(rng.normal(0.01 * S, 0.012 * S))
+        length = S * u(0.06, 0.1)
+        width = length * u(0.4, 0.55)
+        a = u(0, np.pi) if i >= 3 else u(-0.3, 0.3)
+        t = np.linspace(0, 1, 16)
+        d = np.array([np.cos(a), np.sin(a)])
+        nrm = np.array([-d[1], d[0]])
+        spine = np.array([x, min(y, S - 4)]) - 0.5 * length * d + t[:, None] * length * d
+        half = 0.5 * width * np.sin(np.pi * t) ** 0.7
+        poly = np.vstack([spine + half[:, None] * nrm, (spine - half[:, None] * nrm)[::-1]])
+        out.append((poly, _hsv(u(0, 50), u(0.7, 0.95), u(0.55, 0.95))))
+    return out
+
+
 def synthetic_tree(kind: str = "leaf_pile", *, rng=None, size: int = 256) -> SyntheticTree:
     """Draw one procedural tree exemplar of ``kind`` with its labels and pins.
 
@@ -99,7 +131,10 @@ def synthetic_tree(kind: str = "leaf_pile", *, rng=None, size: int = 256) -> Syn
         round the trunk foot), ``"grass"``, ``"shadow"``, ``"rocks"``,
         ``"palm"`` (broad flat fronds), ``"outlined"`` (a dark outline round
         crown, trunk and a leaf pile), ``"palm_outlined"`` (palm, outline,
-        sand mound), ``"clean"`` (no clutter).
+        sand mound), ``"clean"`` (no clutter), ``"leaf_pile_outlined"``
+        (an outlined tree over a pile of cartoon leaves, each leaf with its
+        own dark outline and vein, some leaning on the trunk, a few lying
+        apart).
     rng : int or numpy.random.Generator, optional
     size : int
         Side of the square image.
@@ -179,6 +214,10 @@ def synthetic_tree(kind: str = "leaf_pile", *, rng=None, size: int = 256) -> Syn
                         float(u(0, 180)), 0, 360, 1, -1)
         cv2.ellipse(ground, (int(cx), int(foot_y + 0.02 * S)), (int(0.16 * S), int(0.025 * S)), 0, 0, 360,
                     1, -1)
+    elif kind == "leaf_pile_outlined":
+        leaves = _cartoon_leaves(cx, foot_y, wb, S, rng)
+        for poly, _ in leaves:
+            _poly(ground, poly)
     elif kind == "grass":
         gcol = _hsv(u(90, 130), u(0.6, 0.9), u(0.45, 0.75))
         base = foot_y + 0.01 * S
@@ -238,6 +277,23 @@ def synthetic_tree(kind: str = "leaf_pile", *, rng=None, size: int = 256) -> Syn
                        1, -1)
         hlb = (hl > 0) & crown_b
         img[hlb] = np.clip(np.array(crown_col) * 1.25, 0, 1)
+    if kind == "leaf_pile_outlined":
+        # The tree is outlined like the leaves; the leaves are drawn over it,
+        # each with its own outline and vein (later leaves over earlier ones).
+        width = max(2, int(round(0.01 * S)))
+        inner = cv2.erode((crown_b | trunk_b).astype(np.uint8), np.ones((2 * width + 1,) * 2, np.uint8)) > 0
+        img[(crown_b | trunk_b) & ~inner] = (0.05, 0.05, 0.05)
+        lw = max(1, int(round(0.005 * S)))
+        for poly, col in leaves:
+            m = np.zeros((S, S), np.uint8)
+            _poly(m, poly)
+            edge = (m > 0) & ~(cv2.erode(m, np.ones((2 * lw + 1,) * 2, np.uint8)) > 0)
+            img[(m > 0) & ~crown_b] = col
+            img[edge & ~crown_b] = (0.08, 0.05, 0.03)
+            a, b = poly[0], poly[len(poly) // 2]
+            vein = np.zeros((S, S), np.uint8)
+            cv2.line(vein, (int(a[0]), int(a[1])), (int(b[0]), int(b[1])), 1, max(1, lw // 2))
+            img[(vein > 0) & (m > 0) & ~crown_b] = (0.08, 0.05, 0.03)
     if kind in ("outlined", "palm_outlined"):
         opaque = labels > 0
         width = max(2, int(round(0.012 * S)))

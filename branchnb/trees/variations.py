@@ -299,7 +299,7 @@ def process_exemplar(image, name: str = "", *, trunk_mask=None, trunk: str = "au
     cut = None
     if ground == "cut":
         img, opaque = tree_rgba(image, alpha_threshold=ep.alpha_threshold)
-        split = split_ground(opaque)
+        split = split_ground(img)
         if split.has_ground:
             cut = split.ground
             image = split.cut(img)

@@ -1,7 +1,8 @@
 """Benchmarks of the apps' callbacks, timed from Python (what a slider move or a button costs).
 
 Each app row times the callback the widget runs (panel change -> preview
-and/or full update, button -> action) against the core call it wraps,
+and/or full update, button -> action) against the core call it wraps
+(or against the 200 ms preview budget),
 timed in the same run: the ratio is the app's overhead (display, PNG
 encoding, histograms) on top of the computation. Preview rows compare the
 reduced-resolution preview with the 200 ms budget of issue 15. Inputs are
@@ -38,7 +39,7 @@ def _branching(quick: bool, repeat: int) -> list[BenchRow]:
 
     from .. import data
     from ..branching import extract_structure, synthesize_structure
-    from .branching import BranchingApp
+    from .branching import PREVIEW_FIRST, BranchingApp
 
     size = 240 if quick else 360
     img = cv2.resize(data.load("retina_fundus"), (size, size), interpolation=cv2.INTER_AREA)
@@ -55,9 +56,31 @@ def _branching(quick: bool, repeat: int) -> list[BenchRow]:
     again = iter(range(3, 100))
     core = _best(lambda: synthesize_structure(model, dataclasses.replace(p, c=2 + next(again) % 4), rng=0,
                                               shape=app.image_shape), repeat)
+
+    # slider move -> the first partial skeleton of the new synthesis on screen (the growing preview)
+    shown: list[float] = []
+    show = app._show_partial
+
+    def spy(growth):
+        show(growth)
+        shown.append(time.perf_counter())
+
+    app._show_partial = spy
+    firsts = []
+    for _ in range(max(1, repeat)):
+        shown.clear()
+        t0 = time.perf_counter()
+        slider()
+        if shown:
+            firsts.append(shown[0] - t0)
+    app._show_partial = show
+    first = min(firsts) if firsts else float("nan")
     return [BenchRow(f"BranchingApp slider c -> re-synthesis, retina {size} px", ours,
                      "synthesize_structure alone (same model)", core,
-                     "no preview: the core grows ~10 ms per step; the view is marked out of date")]
+                     "growing previews (partial skeletons) are drawn meanwhile"),
+            BenchRow(f"BranchingApp slider c -> first partial skeleton shown, retina {size} px", first,
+                     "preview budget (issue 15)", PREVIEW_BUDGET,
+                     f"synthesize_structure(progress=...); first after PREVIEW_FIRST = {PREVIEW_FIRST} s")]
 
 
 def _dendrite(quick: bool, repeat: int) -> list[BenchRow]:
@@ -84,8 +107,8 @@ def _dendrite(quick: bool, repeat: int) -> list[BenchRow]:
 
 
 def _strokes(quick: bool, repeat: int) -> list[BenchRow]:
-    from ..strokes import edit_structure
-    from .strokes import StrokeEditApp
+    from ..strokes import compose_patches, edit_structure
+    from .strokes import PREVIEW_AFTER, StrokeEditApp
 
     x = np.arange(300)
     bar = np.zeros((120, 300, 4), np.float32)
@@ -97,16 +120,37 @@ def _strokes(quick: bool, repeat: int) -> list[BenchRow]:
     src, tgt = [(25, 60), (150, 60), (275, 60)], [(30, 40), (150, 100), (270, 160)]
     app.add_stroke("source", src)
     app.add_stroke("target", tgt)
-    powers = iter([1.25, 1.5, 1.75, 2.0, 2.25, 2.5] * 5)
+    powers = iter([1.25, 1.5, 1.75, 2.0, 2.25, 2.5] * 9)
     ours = _best(lambda: app.panel.type_value("seam_power", str(next(powers))), repeat)
+    # slider move -> the first picture sent (the reduced preview when the edit is expected to be slow)
+    update, stamps = app.view.update, []
+    app.view.update = lambda images, titles=None: (stamps.append(time.perf_counter()), update(images, titles))
+    firsts = []
+    for _ in range(max(1, repeat)):
+        stamps.clear()
+        t0 = time.perf_counter()
+        app.panel.type_value("seam_power", str(next(powers)))
+        firsts.append(stamps[0] - t0)
+    del app.view.update
+    first = min(firsts)
+    compose = _best(lambda: compose_patches(app.patches, dataclasses.replace(app.params,
+                                                                              seam_power=next(powers))),
+                    repeat)
     prev = _best(app._preview, repeat)
     core = _best(lambda: edit_structure(bar, [np.array(src, float)], [np.array(tgt, float)], app.params,
                                         target_shape=(200, 300)), repeat)
     return [
-        BenchRow("StrokeEditApp slider seam_power -> preview + full edit, 300 x 200 target", ours,
-                 "edit_structure alone", core, "the preview runs first when the last edit took > 0.25 s"),
-        BenchRow("StrokeEditApp reduced-size preview (long side 160 px)", prev,
-                 "preview budget (issue 15)", PREVIEW_BUDGET, "cost is per patch, not per pixel"),
+        BenchRow("StrokeEditApp slider seam_power -> result, 300 x 200 target", ours,
+                 "edit_structure alone (fetch + compose)", core,
+                 "the app keeps the fetched patches: sampling + composition only"),
+        BenchRow("StrokeEditApp slider seam_power -> first picture, 300 x 200 target", first,
+                 "preview budget (issue 15)", PREVIEW_BUDGET,
+                 f"the result, or the reduced preview when an edit takes > PREVIEW_AFTER = {PREVIEW_AFTER} s"),
+        BenchRow("compose_patches alone (seam_power changed), 300 x 200 target", compose,
+                 "edit_structure alone (fetch + compose)", core, "stage 2 of edit_structure"),
+        BenchRow("StrokeEditApp reduced-size preview (long side 160 px, patches kept)", prev,
+                 "preview budget (issue 15)", PREVIEW_BUDGET,
+                 "its patches fetched after a slow edit"),
     ]
 
 

@@ -15,8 +15,11 @@ The app wires the widget kit to :mod:`branchnb.branching`:
 - a :class:`ParamPanel` of :class:`~branchnb.branching.SynthesisParams`
   (m, k, c, wG, rho, d, generations, ...) grouped by the paper's steps,
   and a seed; changing them re-synthesizes (in the background inside a
-  kernel: the last result is marked out of date until the new one
-  arrives, a newer change supersedes a running one);
+  kernel, a newer change supersedes a running one): the view shows the
+  skeleton growing with the new values (the partial structure from
+  ``synthesize_structure(progress=...)``, first after
+  :data:`PREVIEW_FIRST` s, then every :data:`PREVIEW_EVERY` s), then the
+  finished structure replaces it;
 - the synthesized structure, with "extend branch" / "delete branch" on
   the branch picked by the slider, side-by-side angle and thickness
   histograms (input vs synthesized, the paper's evaluation), and "render
@@ -36,6 +39,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import time
 
 import ipywidgets as widgets
 import numpy as np
@@ -129,6 +133,11 @@ IMAGE_LABELS = {
     "min_free": ("min free fraction", ""), "forbid_weight": ("forbid weight", ""),
 }
 
+#: After a parameter change, the partial skeleton is first shown this many seconds into the re-synthesis,
+PREVIEW_FIRST = 0.1
+#: then again every this many seconds until the finished structure replaces it.
+PREVIEW_EVERY = 0.25
+
 _PICK_HALO = (0.0, 0.0, 0.0)
 _PICK_CORE = (1.0, 1.0, 1.0)
 
@@ -147,6 +156,17 @@ class BranchingApp(widgets.VBox):
         Long side of the example canvas in CSS pixels.
     display : int
         Width of the result views in CSS pixels.
+
+    Attributes
+    ----------
+    result : SynthesisResult or None
+        The last finished synthesis (what the view shows when idle).
+    partial : Structure or None
+        The last partial skeleton shown while a re-synthesis grew (None
+        once the finished result replaced it).
+    preview_first, preview_every : float
+        When partial skeletons are shown (seconds; default
+        :data:`PREVIEW_FIRST`, :data:`PREVIEW_EVERY`).
 
     Examples
     --------
@@ -236,6 +256,8 @@ class BranchingApp(widgets.VBox):
         self.info = widgets.HTML()
 
         self.result = None  # SynthesisResult
+        self.partial = None
+        self.preview_first, self.preview_every = PREVIEW_FIRST, PREVIEW_EVERY
         self.image_result = None
         self._model = None
         self._model_key = None
@@ -366,17 +388,53 @@ class BranchingApp(widgets.VBox):
 
     def _params_changed(self, _values) -> None:
         if self.auto.value and self.result is not None:
-            self.shell.live("synthesize", self.synthesize, stale=self._mark_stale)
+            self.shell.live("synthesize", self._resynthesize, stale=self._mark_stale)
 
     def _mark_stale(self) -> None:
         self.view.set_title(0, "out of date: re-synthesizing with the new parameters ...")
 
-    def synthesize(self):
-        """Grow a new structure from the example with the panel's parameters and seed."""
+    def _resynthesize(self):
+        """Re-synthesis after a parameter change: partial skeletons while it grows, then the result.
+
+        The shell's progress is reported between Markov steps, so a newer
+        change stops this one (before its result is shown).
+        """
+        t0 = time.perf_counter()
+        due = {"preview": t0 + self.preview_first, "status": t0}
+
+        def watch(growth):
+            now = time.perf_counter()
+            if growth.done or now >= due["status"]:
+                self.shell.progress(growth.fraction, "growing")  # raises Cancelled when superseded
+                due["status"] = now + 0.1
+            if not growth.done and now >= due["preview"]:
+                self._show_partial(growth)
+                due["preview"] = time.perf_counter() + self.preview_every
+
+        return self.synthesize(progress=watch)
+
+    def _show_partial(self, growth) -> None:
+        s = growth.structure()
+        self.partial = s
+        img = s.render(self.image_shape, by_generation=True, min_width=1.0)
+        n = len(s.branches)
+        self.view.update([img], [f"growing with the new parameters: {n} branch{'es' * (n != 1)} so far "
+                                 "(the finished structure follows)"])
+        self.info.value = (f"<span style='font-size:12px'>growing: {n} branch{'es' * (n != 1)}, "
+                           f"{s.n_vertices} vertices so far (attempt {growth.attempt})</span>")
+
+    def synthesize(self, progress=None):
+        """Grow a new structure from the example with the panel's parameters and seed.
+
+        ``progress(growth)`` is passed on to
+        :func:`~branchnb.branching.synthesize_structure` (partial
+        skeletons while it grows; raising there stops it).
+        """
         p = self.params
         model = self._fitted(p)
         self.result = synthesize_structure(model, p, rng=int(self.seed.value), guidance=self.guidance(),
-                                           shape=self.image_shape)
+                                           shape=self.image_shape, progress=progress)
+        self.partial = None
         self.image_result = None
         self._after_change()
         return self.result

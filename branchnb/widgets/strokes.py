@@ -15,7 +15,14 @@ A thin app over :mod:`branchnb.strokes`:
 * a :class:`ParamPanel` of :class:`~branchnb.strokes.StrokeEditParams`
   (patch size, sample spacing, search window, seam exponent, DP/greedy,
   graph cut/overlay, ...); the result updates on every change when
-  "update on change" is ticked;
+  "update on change" is ticked. The app keeps the fetched candidate
+  patches (:class:`~branchnb.strokes.EditPatches` from
+  :func:`~branchnb.strokes.fetch_patches`), so a change of a parameter
+  the patches do not depend on (``seam_power``, seams following edges,
+  shift prior, DP/greedy, graph cut/overlay) re-runs only sampling and
+  composition (:func:`~branchnb.strokes.compose_patches`); when the edit
+  still promises to be slow (over :data:`PREVIEW_AFTER` s) the same edit
+  at reduced size is shown first;
 * the result over the target canvas (under your strokes) and in an
   :class:`ImageView`, seams optionally drawn in red; side-by-side
   histograms of the red, green and blue values of the source object region
@@ -39,9 +46,11 @@ import numpy as np
 
 from ..core.image import as_float_image, as_rgba
 from ..strokes import (
+    EditPatches,
     StrokeEditParams,
     compare_colours,
-    edit_structure,
+    compose_patches,
+    fetch_patches,
     pair_color_hex,
     stroke_markers,
 )
@@ -75,8 +84,9 @@ LABELS = {
 
 #: Long side (px) of the reduced-size edit shown while a slow full edit is computed.
 PREVIEW_SIZE = 160
-#: A full edit slower than this (s) gets a reduced-size preview first.
-PREVIEW_AFTER = 0.25
+#: An edit expected to take longer than this (s; from the last fetch and composition times)
+#: gets a reduced-size preview first.
+PREVIEW_AFTER = 0.15
 
 
 def _check_target_shape(shape):
@@ -197,6 +207,14 @@ class StrokeEditApp(widgets.VBox):
     ----------
     result : StrokeEditResult or None
         The last edit.
+    patches : EditPatches or None
+        The fetched candidate patches of the last edit (reused while the
+        strokes and the fetch parameters stay the same).
+    preview : StrokeEditResult or None
+        The last reduced-size preview.
+    preview_after : float
+        Show a reduced-size preview first when the edit is expected to
+        take longer than this (s; default :data:`PREVIEW_AFTER`).
     comparisons : list of HistogramComparison
         Red, green, blue histograms of the last edit.
 
@@ -229,8 +247,14 @@ class StrokeEditApp(widgets.VBox):
         self.target_shape = tuple(int(v) for v in target_shape)
         self.result = None
         self.preview = None
+        self.patches: EditPatches | None = None
+        self._patches_key = None
+        self._preview_patches: EditPatches | None = None
+        self._preview_key = None
+        self.preview_after = PREVIEW_AFTER
         self.comparisons: list = []
         self.elapsed = 0.0
+        self.stage_seconds = {"fetch": 0.0, "compose": 0.0}
         self.shell = AppShell(
             "Stroke-based structure editing",
             help="draw strokes along the object on the <b>source</b>, then where each part goes on the "
@@ -313,6 +337,7 @@ class StrokeEditApp(widgets.VBox):
     def clear(self) -> None:
         """Remove every stroke and control point (undoable on each canvas) and the result."""
         self.result = self.preview = None
+        self.patches = self._preview_patches = None
         self.comparisons = []
         for c in self.canvases.values():
             c.model.clear()
@@ -349,6 +374,11 @@ class StrokeEditApp(widgets.VBox):
     def edit(self):
         """Run :func:`~branchnb.strokes.edit_structure` on the strokes drawn; returns the result.
 
+        As its two stages: :func:`~branchnb.strokes.fetch_patches` only when
+        the strokes or a fetch parameter changed (else :attr:`patches` is
+        reused), then :func:`~branchnb.strokes.compose_patches` (the same
+        result as ``edit_structure``; ``stage_seconds`` has the times).
+
         Returns None (and says why in the status line) while the two
         canvases do not hold the same number of strokes.
         """
@@ -357,14 +387,25 @@ class StrokeEditApp(widgets.VBox):
             self.status.value = self._status_text(src, tgt, notes)
             return None
         t0 = time.perf_counter()
-        res = edit_structure(self.image, src, tgt, self.params, control_points=control,
-                             target_shape=self.target_shape, background=self.background)
+        p = self.params
+        key = self._inputs_key(src, tgt, control)
+        if self.patches is None or self._patches_key != key or not self.patches.reusable_for(p):
+            self.patches, self._patches_key = None, None
+            patches = fetch_patches(self.image, src, tgt, p, control_points=control,
+                                    target_shape=self.target_shape, background=self.background)
+            self.patches, self._patches_key = patches, key
+            self.stage_seconds["fetch"] = time.perf_counter() - t0
+        t1 = time.perf_counter()
+        res = compose_patches(self.patches, p)
+        self.stage_seconds["compose"] = time.perf_counter() - t1
         self.elapsed = time.perf_counter() - t0
         self.result = res
+        self._show()  # the picture first, then the histograms
         self.comparisons = compare_colours(self.image, res)
         for h, cmp in zip(self.hists, self.comparisons):
             h.show(cmp)
-        self._show()
+        if self.stage_seconds["compose"] > self.preview_after and not self._preview_ready():
+            self._warm_preview()  # seam-only changes are slow here too: have their preview ready
         self.status.value = self._status_text(src, tgt, notes)
         return res
 
@@ -379,27 +420,51 @@ class StrokeEditApp(widgets.VBox):
         self._markers()
         self._changed()
 
+    @staticmethod
+    def _inputs_key(src, tgt, control) -> tuple:
+        """What the fetched patches depend on besides the parameters (the strokes as drawn)."""
+        def b(a):
+            return np.ascontiguousarray(a, np.float64).tobytes()
+
+        return (tuple(b(a) for a in src), tuple(b(a) for a in tgt),
+                tuple(None if c is None else (b(c[0]), b(c[1])) for c in control))
+
+    def expected_seconds(self) -> float:
+        """How long the next edit is expected to take: composition alone if the patches are reusable."""
+        src, tgt, control, _ = self.strokes()
+        reuse = (self.patches is not None and self.patches.reusable_for(self.params)
+                 and self._patches_key == self._inputs_key(src, tgt, control))
+        c = self.stage_seconds["compose"]
+        return c if reuse else c + self.stage_seconds["fetch"]
+
     def _changed(self) -> None:
         if self.auto.value:
-            slow = self.elapsed > PREVIEW_AFTER
+            slow = self.expected_seconds() > self.preview_after
+            if slow and self._reusable() and not self._preview_ready():
+                slow = False  # fetching the reduced patches would cost more than composing the full ones
             self.shell.live("re-synthesize", self.edit, preview=self._preview if slow else None,
                             stale=self._mark_stale)
         else:
             src, tgt, _, notes = self.strokes()
             self.status.value = self._status_text(src, tgt, notes)
 
+    def _reusable(self) -> bool:
+        src, tgt, control, _ = self.strokes()
+        return (self.patches is not None and self.patches.reusable_for(self.params)
+                and self._patches_key == self._inputs_key(src, tgt, control))
+
     def _mark_stale(self) -> None:
         if self.view.images:
             self.view.set_title(0, "out of date: re-synthesizing ...")
 
-    def _preview(self) -> None:
-        """The same edit at reduced size (long side PREVIEW_SIZE px), shown until the full one arrives."""
+    def _reduced(self) -> dict | None:
+        """The edit's inputs at reduced size (long side PREVIEW_SIZE px), or None if not worth it."""
         src, tgt, control, _ = self.strokes()
         if not src or len(src) != len(tgt):
-            return
+            return None
         s = min(1.0, PREVIEW_SIZE / max(self.target_shape + self.image.shape[:2]))
         if s >= 0.95:
-            return
+            return None
         p = self.params
         small = dataclasses.replace(
             p, patch_size=2 * int(round(p.patch_size * s / 2)) if p.patch_size else 0,
@@ -408,6 +473,19 @@ class StrokeEditApp(widgets.VBox):
             junction_tolerance=p.junction_tolerance * s)
         if small.patch_size and small.patch_size < 8:
             small = dataclasses.replace(small, patch_size=8)
+        return {"s": s, "params": small, "src": src, "tgt": tgt, "control": control,
+                "key": (s, self._inputs_key(src, tgt, control))}
+
+    def _preview_ready(self, red: dict | None = None) -> bool:
+        red = self._reduced() if red is None else red
+        return (red is not None and self._preview_patches is not None and self._preview_key == red["key"]
+                and self._preview_patches.reusable_for(red["params"]))
+
+    def _reduced_patches(self, red: dict) -> EditPatches:
+        """The candidate patches of the reduced-size edit (kept like the full ones)."""
+        if self._preview_ready(red):
+            return self._preview_patches
+        s = red["s"]
         h, w = self.image.shape[:2]
         image = cv2.resize(self.image, (max(1, round(w * s)), max(1, round(h * s))),
                            interpolation=cv2.INTER_AREA)
@@ -418,15 +496,35 @@ class StrokeEditApp(widgets.VBox):
         shape = (max(1, round(self.target_shape[0] * s)), max(1, round(self.target_shape[1] * s)))
         if isinstance(bg, np.ndarray):
             shape = bg.shape[:2]
-        ctrl = [None if c is None else (c[0] * s, c[1] * s) for c in control]
+        ctrl = [None if c is None else (c[0] * s, c[1] * s) for c in red["control"]]
+        self._preview_patches = None
+        self._preview_patches = fetch_patches(image, [a * s for a in red["src"]], [b * s for b in red["tgt"]],
+                                              red["params"], control_points=ctrl, target_shape=shape,
+                                              background=bg)
+        self._preview_key = red["key"]
+        return self._preview_patches
+
+    def _warm_preview(self) -> None:
+        """Fetch the reduced-size patches now, so that the next seam-only change can preview at once."""
+        red = self._reduced()
+        if red is not None:
+            try:
+                self._reduced_patches(red)
+            except ValueError:
+                pass  # no preview then; the full edit reports problems itself
+
+    def _preview(self) -> None:
+        """The same edit at reduced size (long side PREVIEW_SIZE px), shown until the full one arrives."""
+        red = self._reduced()
+        if red is None:
+            return
         try:
-            res = edit_structure(image, [a * s for a in src], [b * s for b in tgt], small,
-                                 control_points=ctrl, target_shape=shape, background=bg)
+            res = compose_patches(self._reduced_patches(red), red["params"])
         except ValueError:
             return  # the full edit that follows reports it with the strokes as drawn
         self.preview = res
         self.view.update([res.show(seams=self.show_seams.value)],
-                         [f"preview at {s:.0%} size (the full result follows)"])
+                         [f"preview at {red['s']:.0%} size (the full result follows)"])
 
     def _recolour(self) -> None:
         """Pair colours on both canvases (shape.meta["color"], which the canvas honours)."""

@@ -1,0 +1,87 @@
+"""The leaves pipeline on real images with the defaults: photographed maples, drawn leaves on white."""
+
+import cv2
+import numpy as np
+import pytest
+
+from branchnb import data
+from branchnb.core.metrics import iou
+from branchnb.leaves import LayerSet, analyze, leaf_exemplar, simulate_scribbles, start_alignment
+from branchnb.leaves.layers import Layer
+from branchnb.leaves.synthesis import colour_range_fraction, generate, leaf_distance
+
+MAPLES = ("maple_leaf_01", "maple_leaf_03", "maple_leaf_05")
+
+
+def _maple_layers() -> LayerSet:
+    return LayerSet.from_json((data.DATA_DIR / "leaves" / "maple_leaf_01_layers.json").read_text())
+
+
+def test_maple_starts_are_upright():
+    """All maple photos are upright: the start rotation (lamina outline + petiole base) is near 0.
+
+    Measured: within 8 degrees for the six leaves against maple_leaf_01 (before the petiole base
+    and the laminae moments, the starts were 19-108 degrees off: the curved petiole of the
+    training leaf pulled them, and a five-lobed outline fits itself at every lobe).
+    """
+    train = leaf_exemplar(data.load(MAPLES[0]))
+    for name in MAPLES[1:3]:
+        ex = leaf_exemplar(data.load(name))
+        mat, _ = start_alignment(ex.blade, train.blade)
+        angle = np.degrees(np.arctan2(mat[1, 0], mat[0, 0]))
+        assert abs(angle) < 15, (name, angle)
+
+
+@pytest.fixture(scope="module")
+def maple_analysis():
+    return analyze([data.load(n) for n in MAPLES], 0, _maple_layers())
+
+
+def test_maple_layers_from_real_scribbles(maple_analysis):
+    """Measured (3 maples): veins lambda 0.2-0.3, training IoU 0.5; spots lambda 0, training IoU 0.3.
+
+    (Before: lambda 0 for both and training IoU 0.12: 1-px S_e windows and a liberal radius of
+    about a pixel, far below the registration error.)
+    """
+    a = maple_analysis
+    veins, spots = a.layer("veins"), a.layer("spots")
+    assert veins.lam > 0.1 > spots.lam
+    assert veins.training_overlap > 0.4 and spots.training_overlap > 0.2
+    assert veins.neighbourhood == 3  # the faint 1-2 px veins need a histogram window
+    # Veins are induced on every leaf, along the registered training veins.
+    for e in range(1, len(MAPLES)):
+        m = veins.masks[e]
+        assert 200 < m.sum() < 0.15 * a.blades[e].sum()
+        near = veins.distance[e][m] < 2 * max(veins.eps_px)
+        assert near.mean() > 0.9
+
+
+def test_new_maples_keep_their_colours(maple_analysis):
+    new = generate(maple_analysis, 2, rng=0)
+    for leaf in new:
+        assert colour_range_fraction(leaf.image, maple_analysis.exemplars) >= 0.98
+        assert min(leaf_distance(leaf.image, ex) for ex in maple_analysis.exemplars) > 0.0
+
+
+def test_drawn_leaves_on_white_through_the_pipeline():
+    """Two drawn maple-type leaves on white (no alpha): background model, analysis, synthesis, defaults.
+
+    The ink (outline and veins, black) is the layer; the user is simulated by 12 scribbles
+    on the training leaf's dark pixels. Measured at half size (~250 px): lambda 0.37, training
+    IoU 0.90. Weak: these blades are made of brush strokes with a dashed outline, and their
+    registration is poor (22 px median error at full size), so the ink induced on the other
+    leaf matches its dark pixels with IoU 0.77 at full size but only 0.24-0.45 at half size.
+    """
+    ims = [cv2.resize(data.load(f"maple_sketch_leaf_{i}"), None, fx=0.5, fy=0.5, interpolation=cv2.INTER_AREA)
+           for i in (1, 2)]
+    ex = [leaf_exemplar(im) for im in ims]
+    assert all(e.mask_source == "background" for e in ex)
+    ink = (ex[0].rgb.max(2) < 0.25) & ex[0].blade
+    ls = LayerSet([Layer("ink", "#d62728", 0, simulate_scribbles(ink, 12, length=20, rng=0))])
+    a = analyze(ex, 0, ls)
+    layer = a.layer("ink")
+    assert layer.lam > 0.1 and layer.training_overlap > 0.7
+    dark = (a.exemplars[1][..., :3].max(2) < 0.25) & a.blades[1]
+    assert iou(layer.masks[1], dark) > 0.15
+    new = generate(a, 1, rng=0)[0]
+    assert new.image.shape == a.exemplars[0].shape and new.blade.any()
