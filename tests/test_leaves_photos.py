@@ -85,3 +85,24 @@ def test_drawn_leaves_on_white_through_the_pipeline():
     assert iou(layer.masks[1], dark) > 0.15
     new = generate(a, 1, rng=0)[0]
     assert new.image.shape == a.exemplars[0].shape and new.blade.any()
+
+
+def test_symmetric_maples_register_unmirrored_and_blend_into_leaf_shapes():
+    """A near-symmetric outline also fits its mirror image; registration must keep orientation.
+
+    Before the check, TPS-RPM turned maple_leaf_04 and _07 into reflections of the training leaf
+    from unmirrored starts, and blending those inverse warps with the others gave new "leaves"
+    that filled the canvas's width (one was a rectangle).
+    """
+    names = ("maple_leaf_01", "maple_leaf_04", "maple_leaf_07")
+    a = analyze([data.load(n) for n in names], 0, _maple_layers())
+    inside = np.argwhere(a.blades[0])[::40, ::-1].astype(float)
+    for e in (1, 2):
+        j = a.registrations[e].forward_jacobian(inside)
+        det = j[:, 0, 0] * j[:, 1, 1] - j[:, 0, 1] * j[:, 1, 0]
+        assert np.mean(det > 0) > 0.95, (names[e], np.median(det))
+    union = cv2.dilate(np.logical_or.reduce(a.blades).astype(np.uint8), np.ones((9, 9), np.uint8)) > 0
+    for leaf in generate(a, 3, rng=1):
+        blade = leaf.blade
+        assert blade.sum() > 0.5 * min(b.sum() for b in a.blades)
+        assert (blade & union).sum() >= 0.97 * blade.sum(), leaf.seed

@@ -970,7 +970,18 @@ def register(exemplar, training, exemplar_blade=None, training_blade=None, *,
                             target_labels=lab_dst, params=prm)
         else:
             f1, _ = tps_rpm(ce, norm(cont_t), params=prm)
-        fit = _outline_fit(f1(norm(_contour_points(lam_e, 2000) @ mat[:, :2].T + mat[:, 2])), norm(dense_lam_t))
+        dense_e = norm(_contour_points(lam_e, 2000) @ mat[:, :2].T + mat[:, 2])
+        fit = _outline_fit(f1(dense_e), norm(dense_lam_t))
+        if not prm.mirror:
+            # A near-symmetric outline also fits its mirror image, and the
+            # spline's affine part can turn into that reflection from an
+            # unmirrored start; a mirrored map is no registration of an
+            # unmirrored leaf (and its inverse cannot be blended with the
+            # others' in synthesis), so it loses to any orientation-keeping one.
+            jac = f1.jacobian(dense_e)
+            det = jac[:, 0, 0] * jac[:, 1, 1] - jac[:, 0, 1] * jac[:, 1, 0]
+            if np.median(det) <= 0:
+                fit += 1e3
         if base_e is not None and base_t is not None:
             # The outline alone fits a palmate blade at another lobe's
             # rotation too; the base (petiole root) must land near the base.
