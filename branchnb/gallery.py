@@ -10,7 +10,7 @@ from __future__ import annotations
 import html
 import importlib
 import importlib.util
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -22,7 +22,7 @@ from .core.io import imsave
 from .core.render import draw_polylines
 from .core.sampling import stipple
 
-__all__ = ["GalleryItem", "build", "SECTIONS"]
+__all__ = ["GalleryItem", "SectionWriter", "build", "SECTIONS"]
 
 SECTIONS = (
     "branchnb.branching._gallery",
@@ -42,6 +42,28 @@ class GalleryItem:
     filename: str
     caption: str = ""
 
+
+
+@dataclass
+class SectionWriter:
+    """Saves one section's pictures into ``outdir`` and collects their :class:`GalleryItem` s.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> w = SectionWriter("Demo", Path(tempfile.mkdtemp()))
+    >>> w.save("grey.png", np.full((4, 4, 3), 0.5, np.float32), "grey", "a flat picture")
+    >>> [(i.section, i.filename) for i in w.items]
+    [('Demo', 'grey.png')]
+    """
+
+    section: str
+    outdir: Path
+    items: list[GalleryItem] = field(default_factory=list)
+
+    def save(self, filename: str, image: np.ndarray, title: str, caption: str = "") -> None:
+        imsave(Path(self.outdir) / filename, image)
+        self.items.append(GalleryItem(self.section, title, filename, caption))
 
 def _skeleton_overlay(name: str) -> np.ndarray:
     rgb, alpha = split_alpha(data.load(name))

@@ -6,8 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core.io import imsave
-from ..gallery import GalleryItem
+from ..gallery import GalleryItem, SectionWriter
 
 SECTION = "Dendritic structures by path planning"
 
@@ -26,11 +25,8 @@ def render(outdir: Path) -> list[GalleryItem]:
     from .trees import grow_layers, grow_tree, render_layers
 
     outdir = Path(outdir)
-    items = []
-
-    def save(name, image, title, caption):
-        imsave(outdir / name, image)
-        items.append(GalleryItem(SECTION, title, name, caption))
+    writer = SectionWriter(SECTION, outdir)
+    save, items = writer.save, writer.items
 
     # the two metrics on the same random lattice and endpoints
     lat = make_lattice(np.zeros((256, 256)), noise=1.0, epsilon=1.0, rng=1)

@@ -6,8 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core.io import imsave
-from ..gallery import GalleryItem
+from ..gallery import GalleryItem, SectionWriter
 
 SECTION = "Leaf variations by structural layering"
 
@@ -25,11 +24,8 @@ def render(outdir: Path) -> list[GalleryItem]:
     from .registration import draw_registration, register
 
     outdir = Path(outdir)
-    items: list[GalleryItem] = []
-
-    def save(name, image, title, caption):
-        imsave(outdir / name, image)
-        items.append(GalleryItem(SECTION, title, name, caption))
+    writer = SectionWriter(SECTION, outdir)
+    save, items = writer.save, writer.items
 
     fam = leaf_family(4, size=256, rng=1)
     save("leaves_family.png", _row([f.on_white() for f in fam]), "A procedural leaf family",

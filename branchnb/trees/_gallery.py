@@ -5,8 +5,7 @@ from __future__ import annotations
 import importlib.util
 from pathlib import Path
 
-from ..core.io import imsave
-from ..gallery import GalleryItem
+from ..gallery import GalleryItem, SectionWriter
 
 SECTION = "Image-based tree variations"
 
@@ -17,11 +16,8 @@ def render(outdir: Path) -> list[GalleryItem]:
     from .variations import TreeLibrary, tile_images
 
     outdir = Path(outdir)
-    items: list[GalleryItem] = []
-
-    def save(name, image, title, caption):
-        imsave(outdir / name, image)
-        items.append(GalleryItem(SECTION, title, name, caption))
+    writer = SectionWriter(SECTION, outdir)
+    save, items = writer.save, writer.items
 
     lib = TreeLibrary.from_data(size=512)
     ex = lib["tree_rpg_02"]

@@ -11,8 +11,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from ..core.io import imsave
-from ..gallery import GalleryItem
+from ..gallery import GalleryItem, SectionWriter
 
 SECTION = "Image-based tree variations"
 
@@ -39,11 +38,8 @@ def gallery_items(outdir: Path) -> list[GalleryItem]:
 
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
-    items = []
-
-    def save(name, image, title, caption):
-        imsave(outdir / name, image)
-        items.append(GalleryItem(SECTION, title, name, caption))
+    writer = SectionWriter(SECTION, outdir)
+    save, items = writer.save, writer.items
 
     names = ("tree_rpg_02", "tree_rpg_13", "arbre_modern", "tree_cutout_broadleaf", "palm_silhouette")
     refs = load_reference_masks(names)
