@@ -27,7 +27,7 @@ from ..core.image import as_gray, as_points, as_rgb
 from ..core.params import check_params
 from ..core.polyline import arc_length, normals, polyline_length, resample_uniform
 from ..core.structure import Branch, Structure
-from ..core.validate import Array, Int, Point, Real, checked
+from ..core.validate import Array, Image, Int, Point, Real, checked
 from .params import ClickParams, ExtractionParams
 
 __all__ = [
@@ -873,6 +873,7 @@ def flat_background(gray, branches, radius: float, tol: float = 0.02) -> np.ndar
     return keep[lab]
 
 
+@checked(image=Image(), radius=_RADIUS)
 def example_domain(image, structure: Structure | None = None, *, radius: float = 12.0) -> np.ndarray:
     """Where an example's branches live: the image minus its large branch-free flat regions.
 
