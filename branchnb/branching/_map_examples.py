@@ -18,11 +18,13 @@ from ..core.random import as_rng
 from ..core.render import draw_polylines
 from ..core.structure import Branch, Structure
 
-__all__ = ["LAND", "SEA", "RIVER", "crack_pattern_example", "delta_mask_example", "island_mask", "river_map_example"]
+__all__ = ["LAND", "SEA", "RIVER", "FLOODPLAIN", "crack_pattern_example", "delta_mask_example", "floodplain_bands",
+           "floodplain_map_example", "island_mask", "river_map_example"]
 
 LAND = (0.93, 0.89, 0.76)
 SEA = (0.62, 0.80, 0.93)
 RIVER = (0.08, 0.33, 0.72)
+FLOODPLAIN = (0.74, 0.86, 0.58)
 
 
 def island_mask(shape, rng, *, size: float = 0.36) -> np.ndarray:
@@ -135,6 +137,48 @@ def river_map_example(shape=(256, 256), rng=0, *, n_trees: int = 14, river_color
     img = draw_polylines(img, [b.points for b in branches], widths=[2 * b.thickness for b in branches],
                          colors=river_color)
     return img, Structure(branches, image_shape=shape), land
+
+
+def floodplain_bands(structure: Structure, shape, land: np.ndarray, width: float = 10.0) -> np.ndarray:
+    """The land within ``width`` pixels of a river's centre line (the floodplain of
+    :func:`floodplain_map_example`)."""
+    from .skeleton_map import SkeletonMap
+
+    return (SkeletonMap(structure, 1.0).pixel_map(shape).dist <= width) & np.asarray(land, bool)
+
+
+def floodplain_map_example(shape=(256, 256), rng=0, *, n_trees: int = 12, width: float = 10.0
+                           ) -> tuple[np.ndarray, Structure, np.ndarray]:
+    """A map with three flat regions: sea, land, and a floodplain band along every river.
+
+    The river map of :func:`river_map_example`, with the land within
+    ``width`` pixels of a river's centre line painted in a floodplain
+    colour (see :func:`floodplain_bands`): the rivers lie in the
+    floodplain, the floodplain in the land, the land in the sea.
+
+    Returns
+    -------
+    image : (H, W, 3) float32
+    structure : Structure
+    labels : (H, W) int8
+        0 sea, 1 land, 2 floodplain (the rivers included).
+
+    Examples
+    --------
+    >>> img, s, lab = floodplain_map_example((128, 128), 0, n_trees=6)
+    >>> sorted(np.unique(lab).tolist())
+    [0, 1, 2]
+    """
+    img, s, land = river_map_example(shape, rng, n_trees=n_trees)
+    band = floodplain_bands(s, shape, land, width)
+    labels = land.astype(np.int8) + band
+    out = np.empty(tuple(shape) + (3,), np.float32)
+    out[:] = SEA
+    out[land] = LAND
+    out[band] = FLOODPLAIN
+    out = draw_polylines(out, [b.points for b in s.branches], widths=[2 * b.thickness for b in s.branches],
+                         colors=RIVER)
+    return out, s, labels
 
 
 def _curve(p0, p1, rng, bend: float, step: float = 1.0) -> np.ndarray:
