@@ -13,7 +13,13 @@ from branchnb.branching import (
     synthesize_image,
     synthesize_structure,
 )
-from branchnb.branching._map_examples import LAND, SEA, delta_mask_example, river_map_example
+from branchnb.branching._map_examples import (
+    LAND,
+    SEA,
+    delta_mask_example,
+    floodplain_map_example,
+    river_map_example,
+)
 from branchnb.branching.colonization import coverage_fraction
 from branchnb.branching.roots import fit_roots
 from branchnb.core.completion import _inpaint, complete_gaps
@@ -162,13 +168,17 @@ def test_river_map_image_keeps_land_and_sea(river):
     out = synthesize_image(img, ex, results[1], rng=0)
     im = out.image
     assert out.labels is not None and im.min() >= 0 and im.max() <= 1
-    # away from the synthesized rivers every pixel is land colour on land and sea colour on sea
+    # the target grew in the example's land: the layout laid out around its rivers finds that land
+    lab_land = int(np.bincount(out.example_labels[land]).argmax())
+    mine = out.labels == lab_land
+    assert (mine & land).sum() / (mine | land).sum() >= 0.9
+    # away from the synthesized rivers every pixel has its region's colour (land on land, sea on sea)
     from branchnb.core.render import coverage_polylines
 
     cov, _ = coverage_polylines(land.shape, [b.points for b in results[1].branches],
                                 [2 * b.thickness + 6 for b in results[1].branches])
     far = cov < 0.01
-    for mask, colour in ((land & far, LAND), (~land & far, SEA)):
+    for mask, colour in ((mine & far, LAND), (~mine & far, SEA)):
         err = np.abs(im[mask] - np.asarray(colour, np.float32)).max(axis=1)
         assert np.mean(err <= 0.05) >= 0.99
 
@@ -275,3 +285,90 @@ def test_binary_channels_keep_the_target_width(delta):
     near = ndi.distance_transform_edt(body < 0.5) <= 2.5
     stray = (im > 0.5) & ~near & ~ndi.binary_dilation(sea, iterations=3)
     assert stray.sum() <= 0.05 * (body >= 0.5).sum(), stray.sum()
+
+
+# --------------------------------------------------------------------------- region layout around target branches
+def _map_kind(name, seed, shape):
+    """(image, structure, true region per pixel) of a map kind with a known answer."""
+    if name == "river":
+        img, s, land = river_map_example(shape, seed, n_trees=10)
+        return img, s, land.astype(int)
+    if name == "floodplain":
+        img, s, lab = floodplain_map_example(shape, seed, n_trees=10)
+        return img, s, lab.astype(int)
+    m, _ch, sea = delta_mask_example(shape, seed)
+    return np.dstack([m] * 3), extract_structure(m, root="nearest_region"), sea.astype(int)
+
+
+def _example_layout(img, s):
+    from branchnb.branching.regions import colour_labels, flat_colour_regions, region_layout
+    from branchnb.branching.skeleton_map import SkeletonMap
+
+    pm = SkeletonMap(s, 1.0).pixel_map(img.shape[:2])
+    lab, _ = flat_colour_regions(img, pm.core(1.5, 2.0))
+    zone = pm.core(3.0, 4.0)
+    return region_layout(colour_labels(img, lab, ~zone), zone, pm.core(1.0, 0.0)), pm
+
+
+@pytest.mark.parametrize("kind", ["river", "floodplain", "delta"])
+def test_region_layout_follows_the_target_branches(kind):
+    # the target is another map of the same kind (other seed, other frame): its true regions are known
+    from branchnb.branching.regions import fit_region_layout, layout_regions
+    from branchnb.branching.skeleton_map import SkeletonMap
+
+    img, ex, truth_ex = _map_kind(kind, 0, (256, 256))
+    lay, pm = _example_layout(img, ex)
+    model = fit_region_layout(lay, ex, pm)
+    assert len(model.labels) == len(np.unique(truth_ex))
+    to_label = {int(k): int(np.bincount(lay[truth_ex == k]).argmax()) for k in np.unique(truth_ex)}
+    shape = (224, 320)
+    _timg, tgt, truth = _map_kind(kind, 3, shape)
+    truth = np.vectorize(to_label.get)(truth)
+    out = layout_regions(model, tgt, shape)
+    on_branch = SkeletonMap(tgt, 1.0).pixel_map(shape).dist <= 0.75
+    assert np.all(out[on_branch] == model.branch_region)
+    for k, share in zip(model.labels, model.shares):
+        assert abs(np.mean(out == k) - share) <= 0.25 * share + 0.01
+        iou = ((out == k) & (truth == k)).sum() / ((out == k) | (truth == k)).sum()
+        assert iou >= 0.78, (k, iou)
+    # the old default (the example's layout resized) misses the target's floodplain entirely
+    if kind == "floodplain":
+        import cv2
+
+        old = cv2.resize(lay.astype(np.int32), shape[::-1], interpolation=cv2.INTER_NEAREST)
+        assert np.mean(old[on_branch] == model.branch_region) < 0.8
+
+
+def test_flat_region_image_follows_the_layout_without_block_edges():
+    from branchnb.core.render import coverage_polylines
+
+    img, ex, _ = floodplain_map_example((192, 192), 0, n_trees=8)
+    shape = (160, 224)
+    _timg, tgt, _truth = floodplain_map_example(shape, 3, n_trees=8)
+    out = synthesize_image(img, ex, tgt, rng=0)
+    im = out.image
+    cov, _ = coverage_polylines(shape, [b.points for b in tgt.branches], [2 * b.thickness + 6 for b in tgt.branches])
+    far = cov < 0.01
+    colours = {k: np.median(img[out.example_labels == k], 0) for k in np.unique(out.example_labels)}
+    assert set(np.unique(out.labels)) == set(colours)
+    for k, col in colours.items():
+        sel = far & (out.labels == k)
+        assert np.mean(np.abs(im[sel] - col).max(1) <= 0.05) >= 0.99, k
+    # no black holes, no blocks: every far pixel is one of the region colours, and the boundaries of
+    # the colour classes have no long axis-parallel straight runs (patch edges would)
+    cols = np.array(list(colours.values()))
+    d = np.abs(im[:, :, None] - cols[None, None]).max(-1)
+    assert np.all(d.min(-1)[far] <= 0.05)
+    cls = np.where(far, np.argmin(d, -1), -1)
+
+    def longest_run(c):
+        best = 0
+        for a in (c, c.T):
+            e = (a[1:] != a[:-1]) & (a[1:] >= 0) & (a[:-1] >= 0)
+            for row in e:
+                dd = np.diff(np.r_[0, row.astype(np.int8), 0])
+                if dd.any():
+                    best = max(best, int((np.flatnonzero(dd == -1) - np.flatnonzero(dd == 1)).max()))
+        return best
+
+    assert longest_run(cls) <= 24

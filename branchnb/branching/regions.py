@@ -473,12 +473,13 @@ def _root_starts(structure: Structure):
 
 
 def _layout_features(structure: Structure, pm: PixelMap, sigma: float, stride: int) -> np.ndarray:
-    """Per-pixel features ``(h', w', 10)`` on every ``stride``-th pixel, from the skeleton alone.
+    """Per-pixel features ``(h', w', 8)`` on every ``stride``-th pixel, from the skeleton alone.
 
     Distance to the centre line and to the branch's edge, distance to the
-    nearest root start and the cosine between the root's heading and the
-    direction to the pixel (-1 behind a river mouth), distance to the
-    image border and to each image side (a delta's sea lies along one
+    nearest root start, the cosine between the root's heading and the
+    direction to the pixel (-1 behind a river mouth) and the offset along
+    that heading, distance to the image border and to the image side
+    nearest to that root (a delta's sea lies behind its mouths, along one
     side), and how one-sided the branches around the pixel are (the
     length of the mean offset to the skeleton pixels within ``sigma``,
     over ``sigma``: about 0 inside a branch network, about 0.8 beside it,
@@ -501,9 +502,16 @@ def _layout_features(structure: Structure, pm: PixelMap, sigma: float, stride: i
         cos = (off * heads[k]).sum(1) / np.maximum(d_root, 1e-9)
         d_root = d_root.reshape(yy.shape)
         cos = np.where(d_root > 1e-9, cos.reshape(yy.shape), 1.0)
+        along = (off * heads[k]).sum(1).reshape(yy.shape)
+        # distance to the image side nearest to the pixel's nearest root start
+        sx, sy = starts[:, 0], starts[:, 1]
+        near_side = np.argmin(np.stack([sy, h - 1 - sy, sx, w - 1 - sx], 1), 1)[k].reshape(yy.shape)
+        to_side = np.choose(near_side, [yy, h - 1 - yy, xx, w - 1 - xx])
     else:
         d_root = np.full(yy.shape, float(np.hypot(h, w)))
         cos = np.zeros(yy.shape)
+        along = np.zeros(yy.shape)
+        to_side = border
     skel = (pm.dist <= 0.75).astype(np.float64)
     gy_, gx_ = np.mgrid[0:h, 0:w].astype(np.float64)
     n = ndi.gaussian_filter(skel, sigma, mode="constant")
@@ -513,9 +521,9 @@ def _layout_features(structure: Structure, pm: PixelMap, sigma: float, stride: i
     ox = np.where(good, mx / np.maximum(n, 1e-12) - gx_, 0.0)
     oy = np.where(good, my / np.maximum(n, 1e-12) - gy_, 0.0)
     side = np.where(good, np.hypot(ox, oy) / sigma, 1.0)[np.ix_(ys, xs)]
-    sides = [yy, h - 1 - yy, xx, w - 1 - xx]
     return np.stack([np.log1p(dist), np.sign(edge) * np.log1p(np.abs(edge)), np.log1p(d_root), cos,
-                     np.log1p(border), side] + [np.log1p(v) for v in sides], axis=-1)
+                     np.sign(along) * np.log1p(np.abs(along)), np.log1p(border), np.log1p(to_side), side],
+                    axis=-1)
 
 
 @dataclass
