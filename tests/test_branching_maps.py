@@ -189,8 +189,11 @@ def test_binary_example_gives_a_binary_image(delta):
     out = synthesize_image(np.dstack([mask] * 3), s, tgt, rng=0)
     im = out.image
     assert np.mean((im <= 0.1) | (im >= 0.9)) >= 0.98
-    # no grey halo around the channels: pixels between 0.1 and 0.9 only on channel edges
-    assert im[sea].min() >= 0.9 - 1e-6 or np.mean(im[sea] >= 0.9) >= 0.99
+    # the target grew in the example's domain: its laid-out sea is the example's, and white
+    lab_sea = int(np.bincount(out.example_labels[sea]).argmax())
+    mine = out.labels == lab_sea
+    assert (mine & sea).sum() / (mine | sea).sum() >= 0.85
+    assert np.mean(im[mine] >= 0.9) >= 0.99
 
 
 def test_last_resort_fill_stays_in_range():
