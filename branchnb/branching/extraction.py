@@ -940,7 +940,11 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
                 raise ValueError(f"line_colour must be 'auto', None or an (r, g, b) colour, got {line_colour!r}")
             line_colour = thin_line_colour(image, sigma_max=p.sigma_max)
         else:
-            c = np.asarray(line_colour, np.float64).ravel()
+            try:
+                c = np.asarray(line_colour, np.float64).ravel()
+            except (TypeError, ValueError):
+                raise TypeError(f"line_colour must be 'auto', None or an (r, g, b) colour, got {line_colour!r}") \
+                    from None
             if c.shape != (3,) or not np.all(np.isfinite(c)) or c.min() < 0 or c.max() > 1:
                 raise ValueError(f"line_colour must be an (r, g, b) colour in [0, 1], got {line_colour!r}")
             line_colour = c
