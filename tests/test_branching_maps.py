@@ -291,18 +291,6 @@ def test_binary_channels_keep_the_target_width(delta):
 
 
 # --------------------------------------------------------------------------- region layout around target branches
-def _map_kind(name, seed, shape):
-    """(image, structure, true region per pixel) of a map kind with a known answer."""
-    if name == "river":
-        img, s, land = river_map_example(shape, seed, n_trees=10)
-        return img, s, land.astype(int)
-    if name == "floodplain":
-        img, s, lab = floodplain_map_example(shape, seed, n_trees=10)
-        return img, s, lab.astype(int)
-    m, _ch, sea = delta_mask_example(shape, seed)
-    return np.dstack([m] * 3), extract_structure(m, root="nearest_region"), sea.astype(int)
-
-
 def _example_layout(img, s):
     from branchnb.branching.regions import colour_labels, flat_colour_regions, region_layout
     from branchnb.branching.skeleton_map import SkeletonMap
@@ -316,6 +304,7 @@ def _example_layout(img, s):
 @pytest.mark.parametrize("kind", ["river", "floodplain", "delta"])
 def test_region_layout_follows_the_target_branches(kind):
     # the target is another map of the same kind (other seed, other frame): its true regions are known
+    from branchnb.branching._map_examples import _map_kind
     from branchnb.branching.regions import fit_region_layout, layout_regions
     from branchnb.branching.skeleton_map import SkeletonMap
 

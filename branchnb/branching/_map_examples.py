@@ -336,3 +336,85 @@ def crack_pattern_example(shape=(256, 256), rng=0) -> np.ndarray:
             lines.append((_walk(rng, trunk[v], np.arctan2(t[1], t[0]) + turn, 0.3 * w, step=2, wiggle=0.2), 1.2))
     pls = [np.clip(pl, 0, [w - 1, h - 1]) for pl, _ in lines]
     return draw_polylines(img, pls, widths=[2 * r for _, r in lines], colors=(0.15, 0.12, 0.1))
+
+
+# --------------------------------------------------------------------------- figures (python -m ...)
+def _map_kind(name: str, seed: int, shape):
+    """(image, structure, true region per pixel) of a map kind with a known answer."""
+    if name == "river":
+        img, s, land = river_map_example(shape, seed, n_trees=10)
+        return img, s, land.astype(int)
+    if name == "floodplain":
+        img, s, lab = floodplain_map_example(shape, seed, n_trees=10)
+        return img, s, lab.astype(int)
+    from .extraction import extract_structure
+
+    m, _ch, sea = delta_mask_example(shape, seed)
+    return np.dstack([m] * 3), extract_structure(m, root="nearest_region"), sea.astype(int)
+
+
+def layout_figures(seeds=(3, 5, 7), shapes=((224, 320), (288, 224), (256, 256))) -> list[str]:
+    """Region layouts laid out around other maps' branches, against their true regions."""
+    from .regions import colour_labels, fit_region_layout, flat_colour_regions, layout_regions, region_layout
+    from .skeleton_map import SkeletonMap
+
+    rows = []
+    for kind in ("river", "floodplain", "delta"):
+        img, ex, truth_ex = _map_kind(kind, 0, (256, 256))
+        pm = SkeletonMap(ex, 1.0).pixel_map(img.shape[:2])
+        lab, _ = flat_colour_regions(img, pm.core(1.5, 2.0))
+        zone = pm.core(3.0, 4.0)
+        lay = region_layout(colour_labels(img, lab, ~zone), zone, pm.core(1.0, 0.0))
+        model = fit_region_layout(lay, ex, pm)
+        to_label = {int(k): int(np.bincount(lay[truth_ex == k]).argmax()) for k in np.unique(truth_ex)}
+        for seed, shape in zip(seeds, shapes):
+            _t, tgt, truth = _map_kind(kind, seed, shape)
+            truth = np.vectorize(to_label.get)(truth)
+            out = layout_regions(model, tgt, shape)
+            on = SkeletonMap(tgt, 1.0).pixel_map(shape).dist <= 0.75
+            iou = [((out == k) & (truth == k)).sum() / max(((out == k) | (truth == k)).sum(), 1) for k in model.labels]
+            share = [np.mean(out == k) for k in model.labels]
+            rows.append(f"{kind:10s} seed {seed} {shape}: branch pixels in the branch region "
+                        f"{np.mean(out[on] == model.branch_region):.3f}; shares {np.round(share, 3)} "
+                        f"(example {np.round(model.shares, 3)}); IoU vs truth {np.round(iou, 3)}")
+    return rows
+
+
+def extraction_figures() -> list[str]:
+    """Extracted centre lines against the drawn rivers: precision, recall, tolerance IoU."""
+    from skimage.morphology import skeletonize
+
+    from ..core.image import as_rgb
+    from .extraction import extract_structure
+
+    def score(s, ref):
+        h, w = ref.shape
+        pts = np.vstack([b.points for b in s.branches])
+        ix = np.clip(np.rint(pts[:, 0]).astype(int), 0, w - 1)
+        iy = np.clip(np.rint(pts[:, 1]).astype(int), 0, h - 1)
+        p = np.mean(ndi.distance_transform_edt(~ref)[iy, ix] <= 2.0)
+        ext = np.zeros((h, w), bool)
+        ext[iy, ix] = True
+        r = np.mean(ndi.distance_transform_edt(~ext)[skeletonize(ref)] <= 2.5)
+        return p, r, p * r / max(p + r - p * r, 1e-9)
+
+    cases = []
+    for i, (relief, colour) in enumerate([("levels", ATLAS_RIVER), ("shade", ATLAS_RIVER),
+                                          ("levels", (0.1, 0.1, 0.15)), ("shade", (0.1, 0.1, 0.15))]):
+        for seed in (0, 1):
+            img, _s, riv = terrain_map_example((320, 320), 10 * i + seed, relief=relief, river_color=colour)
+            cases.append((f"terrain {relief} {'blue' if colour == ATLAS_RIVER else 'dark'} seed {seed}", img, riv))
+    from .. import data
+
+    cz = data.load("czech_rivers_map")
+    rgb = as_rgb(cz)
+    cases.append(("czech_rivers_map", cz, (rgb[..., 2] - rgb[..., 0]) >= 0.3))
+    rows = []
+    for name, img, ref in cases:
+        p, r, iou = score(extract_structure(img, root="nearest_region"), ref)
+        rows.append(f"{name:28s} precision {p:.3f} recall {r:.3f} tolerance IoU {iou:.3f}")
+    return rows
+
+
+if __name__ == "__main__":
+    print("\n".join(layout_figures() + extraction_figures()))
