@@ -27,6 +27,12 @@ every leaf, :attr:`ProceduralLeaf.keypoints`):
   arc-length position (mean, px): the along-outline shift an outline
   without corners or teeth cannot reveal.
 
+Measured (4 seeds x 2 pairs at 192 px): cut lobed 0.57, trilobed 0.58,
+elliptic 0.36; with the true outline correspondences 0.62, 0.69, 0.74.
+Elliptic margins have no corners and sub-pixel teeth, and the same
+material point lies 3.7 px (mean) from its arc-length position: the
+outline alone does not tell where it is.
+
 Induction
 ---------
 For each kind, size and seed: a family of ``n_leaves``, the training
@@ -34,6 +40,14 @@ leaf's true layers as the user's layers, :func:`analyze` with the
 registrations (``--truth``: through the true correspondences, which
 isolates induction; default: TPS-RPM), IoU of every other exemplar's
 induced layer with its true layer, lambda and delta per layer.
+
+Measured (``--truth``, 2 seeds; min / mean IoU over 6 exemplars): spots
+0.79-0.96 everywhere; veins at 192 px lobed 0.37 / 0.55, trilobed
+0.55 / 0.60, elliptic 0.32 / 0.45, at 512 px 0.66 / 0.72, 0.60 / 0.69,
+0.39 / 0.59 (the threshold reproduces the user's veins on the training
+leaf itself only to IoU ~0.73 at 512 px: 1-3 px anti-aliased veins). Vein
+lambda 0-0.12, spots 0: the secondary veins are grown anew on every leaf,
+so the liberal vein layers of the exemplars barely intersect.
 """
 
 from __future__ import annotations

@@ -29,9 +29,15 @@ A new leaf is built in the training leaf's frame, then given a new shape:
 4. **Texture correction** where the composed warp stretches or squeezes
    (:func:`branchnb.leaves.correction.correct_texture`), applied to the
    background before the layers go on (so no vein or spot is replaced by
-   plain texture), and the alpha of the training leaf's blade carried by
+   plain texture), and the alpha of the training leaf's lamina carried by
    the shape warp. All maps are composed first, so every image is
    resampled once.
+5. **Petiole**: the registration is of the laminae (a petiole bends and
+   varies in length from leaf to leaf), so instead of the training leaf's
+   petiole carried by the shape warp, a new leaf gets one exemplar's own
+   petiole (:func:`branchnb.leaves.registration.split_petiole`), placed at
+   the new leaf's base by the rotation and scale relating that exemplar's
+   frame to the new leaf's there, under the lamina.
 
 Every leaf keeps the seed that made it, the exemplars it used and the mean
 shape weights; :func:`save_leaves` writes RGBA PNGs and a strict-JSON record.
