@@ -617,6 +617,21 @@ def _cut(image: np.ndarray, keep: np.ndarray, pivot: float | None = None):
     return int(x0), int(y0), tex
 
 
+def _majority_parts(opaque, trunk, ground, size):
+    """Working-size trunk (ground included) and ground masks: each pixel goes to the part
+    (crown, trunk, ground) that covers most of it.
+
+    Thresholding one mask alone at 0.5 after the resize left rim pixels to
+    none of the parts or to two: as crown specks on a bare tree, or as trunk
+    bits along a hill's rim that the trunk strips then spanned.
+    """
+    op = opaque.astype(np.float32)
+    g = ground & trunk if ground is not None else np.zeros_like(trunk)
+    fr = [cv2.resize(op * m, size, interpolation=cv2.INTER_AREA) for m in (~trunk, trunk & ~g, g)]
+    best = np.argmax(np.stack(fr), axis=0)
+    return best >= 1, best == 2
+
+
 def _trunk_strips(trunk: np.ndarray, height: int, max_strips: int = 64):
     """Horizontal strips of a trunk mask and the ``x`` each turns about.
 
@@ -792,13 +807,12 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
         # Each working pixel goes to the part that covers more of it: thresholding
         # the trunk alone at 0.5 left rim pixels of a bare tree to the crown, as
         # specks that the crown layer then scattered in side views.
-        op_full = opaque_full.astype(np.float32)
-        t_frac = cv2.resize(op_full * trunk_full, (W, H), interpolation=cv2.INTER_AREA)
-        c_frac = cv2.resize(op_full * ~trunk_full, (W, H), interpolation=cv2.INTER_AREA)
-        trunk_w = t_frac >= c_frac
+        trunk_w, ground_w = _majority_parts(opaque_full, trunk_full, ground_full, (W, H))
     else:
         trunk_w = trunk_full
+        ground_w = ground_full if ground_full is not None else np.zeros((H, W), bool)
     trunk_w = trunk_w & opaque
+    ground_w = ground_w & trunk_w
     crown = opaque & ~trunk_w
     # Parts: 1 crown, 2 trunk, extended to the soft (0 < alpha < threshold) rim.
     part = np.where(crown, 1, np.where(trunk_w, 2, 0)).astype(np.int32)
@@ -944,9 +958,8 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
     # foot another one (in one quad, a wide island would pull the trunk off
     # the crown's axis in side views).
     ground_ext = np.zeros_like(trunk_ext)
-    if ground_full is not None and ground_full.any():
-        g = ground_full if s >= 1.0 else cv2.resize(
-            ground_full.astype(np.float32), (W, H), interpolation=cv2.INTER_AREA) >= 0.5
+    if ground_w.any():
+        g = ground_w
         # Labelled on the opaque pixels, then extended: the soft rim of the
         # ground goes with the ground, or trunk strips would span it and
         # turn about the ground's middle in side views.
