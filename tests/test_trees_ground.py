@@ -207,3 +207,17 @@ def test_side_views_keep_crown_attached_and_flat_colour_flat(kind, seed):
         # palm_island's trunk broke in two at 90 degrees (largest piece 0.81) before the
         # ground's soft rim left the trunk strips
         assert _busy(r) <= front + 0.12, (kind, yaw, front, _busy(r))
+
+
+def test_no_more_pieces_than_the_most_broken_up_exemplar():
+    # tree_branches_and_roots is 12 pieces at 128 px; warped with colour weights (1, 0)
+    # onto a bare tree its thin roots crumbled into 17 (all pairs of the library: 20
+    # variations with more pieces than their exemplars before the cap, 0 after).
+    lib = TreeLibrary(size=128)
+    for n in ("tree_branches_and_roots", "tree_rpg_11", "tree_rpg_12"):
+        lib.add(data.load(n), n)
+    own = max(pieces(e.alpha) for e in lib)
+    for other in ("tree_rpg_11", "tree_rpg_12"):
+        v = make_variation(lib, [0.5, 0.5], use=["tree_branches_and_roots", other],
+                           colour_weights=[1.0, 0.0], rng=0)
+        assert 1 <= pieces(v.image[..., 3]) <= own, other

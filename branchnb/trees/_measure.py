@@ -8,6 +8,10 @@ trees mixed 50/50 with colour weights (0.5, 0.5) and (1, 0): soft alpha,
 foreign colour, pieces, holes.
 ``masks``: crown/trunk IoU on the masks made without the segmenter
 (:mod:`branchnb.trees.mask_reference`).
+``billboards``: billboard clouds of every sample tree and one procedural
+tree of each kind seen at 0, 45 and 90 degrees: the share of the opaque
+pixels in the largest 8-connected piece (1 = the crown stays on the trunk)
+and :func:`~branchnb.trees.quality.flat_region_speckle`.
 """
 
 from __future__ import annotations
@@ -81,7 +85,37 @@ def measure_masks(_size: int = 0) -> None:
     print(f"mean IoU on {len(scores) - 1} masks made without the segmenter: {scores['mean']:.3f}")
 
 
+def billboard_figures(image, *, size: int = 256, yaws=(0.0, 45.0, 90.0), rng=0) -> dict:
+    """``{yaw: (largest piece share, flat-region speckle)}`` of one exemplar's billboard cloud."""
+    from .billboard import BillboardParams, billboard_cloud
+    from .preview import render_cloud
+    from .quality import flat_region_speckle, largest_piece_share
+
+    cloud = billboard_cloud(image, params=BillboardParams(max_size=size), rng=rng)
+    return {y: (largest_piece_share(render_cloud(cloud, y)[..., 3]), flat_region_speckle(cloud, y))
+            for y in yaws}
+
+
+def measure_billboards(size: int = 256) -> None:
+    t0 = time.perf_counter()
+    items = [(n, data.load(n)) for n in data.names("trees") + data.names("trees_ground")]
+    items += [(f"synth_{t.kind}", t.image) for t in synthetic_trees(1, rng=3, size=256)]
+    rows = []
+    print(f"{'exemplar':28s}  piece 0/45/90        speckle 45/90")
+    for name, img in items:
+        f = billboard_figures(img, size=size)
+        rows.append(f)
+        print(f"  {name:26s} {f[0.0][0]:.2f} {f[45.0][0]:.2f} {f[90.0][0]:.2f}"
+              f"       {f[45.0][1]:.2f} {f[90.0][1]:.2f}")
+    drop = [r[0.0][0] - min(r[45.0][0], r[90.0][0]) for r in rows]
+    sp = [max(r[45.0][1], r[90.0][1]) for r in rows]
+    print(f"{len(rows)} exemplars at {size} px in {time.perf_counter() - t0:.0f} s; "
+          f"largest-piece drop from yaw 0: max {max(drop):.2f}, >0.05 on {sum(d > 0.05 for d in drop)}; "
+          f"speckle: max {max(sp):.2f}, mean {np.mean(sp):.2f}, >0.25 on {sum(s > 0.25 for s in sp)}")
+
+
 if __name__ == "__main__":
     what = sys.argv[1] if len(sys.argv) > 1 else "pins"
-    size = int(sys.argv[2]) if len(sys.argv) > 2 else (256 if what == "pins" else 128)
-    {"pins": measure_pins, "pairs": measure_pairs, "masks": measure_masks}[what](size)
+    size = int(sys.argv[2]) if len(sys.argv) > 2 else (256 if what in ("pins", "billboards") else 128)
+    {"pins": measure_pins, "pairs": measure_pairs, "masks": measure_masks,
+     "billboards": measure_billboards}[what](size)

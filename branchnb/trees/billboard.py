@@ -595,15 +595,74 @@ def _extend(labels: np.ndarray, support: np.ndarray) -> np.ndarray:
     return np.where(support, out, 0).astype(labels.dtype)
 
 
-def _cut(image: np.ndarray, keep: np.ndarray):
-    """Bounding box texture of ``keep``: (x0, y0, rgba) or None."""
+def _cut(image: np.ndarray, keep: np.ndarray, pivot: float | None = None):
+    """Bounding box texture of ``keep``: (x0, y0, rgba) or None.
+
+    With ``pivot``, the box is widened with transparent columns so that its
+    centre (the axis an axial billboard turns about) is at ``x = pivot``.
+    """
     ys, xs = np.nonzero(keep)
     if len(ys) == 0:
         return None
     y0, y1, x0, x1 = ys.min(), ys.max() + 1, xs.min(), xs.max() + 1
     tex = image[y0:y1, x0:x1].copy()
     tex[:, :, 3] *= keep[y0:y1, x0:x1]
+    if pivot is not None:
+        c2 = int(round(2.0 * pivot))            # twice the wanted centre, in pixel edges
+        left = max(0, (x0 + x1) - c2)           # columns to add on the left / right
+        right = max(0, c2 - (x0 + x1))
+        if left or right:
+            tex = np.pad(tex, ((0, 0), (left, right), (0, 0)))
+            x0 -= left
     return int(x0), int(y0), tex
+
+
+def _majority_parts(opaque, trunk, ground, size):
+    """Working-size trunk (ground included) and ground masks: each pixel goes to the part
+    (crown, trunk, ground) that covers most of it.
+
+    Thresholding one mask alone at 0.5 after the resize left rim pixels to
+    none of the parts or to two: as crown specks on a bare tree, or as trunk
+    bits along a hill's rim that the trunk strips then spanned.
+    """
+    op = opaque.astype(np.float32)
+    g = ground & trunk if ground is not None else np.zeros_like(trunk)
+    fr = [cv2.resize(op * m, size, interpolation=cv2.INTER_AREA) for m in (~trunk, trunk & ~g, g)]
+    best = np.argmax(np.stack(fr), axis=0)
+    return best >= 1, best == 2
+
+
+def _trunk_strips(trunk: np.ndarray, height: int, max_strips: int = 64):
+    """Horizontal strips of a trunk mask and the ``x`` each turns about.
+
+    The pivot line runs through the trunk's middle (the per-row centre,
+    smoothed over 10 % of the trunk's height, so branches and forks do not
+    jerk it about); a new strip starts where the pivot has drifted by
+    ``step`` pixels (0.5 % of the image height, at least 1 px; more if
+    ``max_strips`` would be exceeded). Neighbouring strips then part by at
+    most ``step`` in a side view, and a branching trunk keeps its branches:
+    every strip turns about the stem, not about its own bounding box, whose
+    centre jumps from row to row with the branches it holds.
+    """
+    rows = np.flatnonzero(trunk.any(axis=1))
+    yy, xx = np.nonzero(trunk)
+    cnt = np.bincount(yy, minlength=rows[-1] + 1)[rows]
+    centre = np.bincount(yy, weights=xx, minlength=rows[-1] + 1)[rows] / cnt
+    span = rows[-1] - rows[0] + 1
+    sigma = max(1.0, 0.1 * span / 2.355)
+    wts = ndi.gaussian_filter1d(cnt.astype(np.float64), sigma, mode="nearest")
+    pivot = ndi.gaussian_filter1d(centre * cnt, sigma, mode="nearest") / np.maximum(wts, 1e-9)
+    variation = float(np.abs(np.diff(pivot)).sum())
+    step = max(1.0, 0.005 * height, variation / max_strips)
+    out, start = [], 0
+    for i in range(1, len(rows) + 1):
+        if i == len(rows) or abs(pivot[i] - pivot[start]) >= step:
+            strip = np.zeros_like(trunk)
+            a, b = rows[start], rows[i - 1] + 1
+            strip[a:b] = trunk[a:b]
+            out.append((strip, float(np.mean(pivot[start:i]))))
+            start = i
+    return out
 
 
 def _trim(tex: np.ndarray, x0: float, y0: float, allowed: np.ndarray) -> np.ndarray:
@@ -745,10 +804,15 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
     if opaque.sum() < 4:
         raise ValueError("rgba has too few opaque pixels at the working size")
     if s < 1.0:
-        trunk_w = cv2.resize(trunk_full.astype(np.float32), (W, H), interpolation=cv2.INTER_AREA) >= 0.5
+        # Each working pixel goes to the part that covers more of it: thresholding
+        # the trunk alone at 0.5 left rim pixels of a bare tree to the crown, as
+        # specks that the crown layer then scattered in side views.
+        trunk_w, ground_w = _majority_parts(opaque_full, trunk_full, ground_full, (W, H))
     else:
         trunk_w = trunk_full
+        ground_w = ground_full if ground_full is not None else np.zeros((H, W), bool)
     trunk_w = trunk_w & opaque
+    ground_w = ground_w & trunk_w
     crown = opaque & ~trunk_w
     # Parts: 1 crown, 2 trunk, extended to the soft (0 < alpha < threshold) rim.
     part = np.where(crown, 1, np.where(trunk_w, 2, 0)).astype(np.int32)
@@ -894,9 +958,8 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
     # foot another one (in one quad, a wide island would pull the trunk off
     # the crown's axis in side views).
     ground_ext = np.zeros_like(trunk_ext)
-    if ground_full is not None and ground_full.any():
-        g = ground_full if s >= 1.0 else cv2.resize(
-            ground_full.astype(np.float32), (W, H), interpolation=cv2.INTER_AREA) >= 0.5
+    if ground_w.any():
+        g = ground_w
         # Labelled on the opaque pixels, then extended: the soft rim of the
         # ground goes with the ground, or trunk strips would span it and
         # turn about the ground's middle in side views.
@@ -905,23 +968,20 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
     # A leaning trunk is cut into horizontal strips, each its own axial
     # billboard: turned sideways, one flat quad would swing its top away from
     # the crown by half the lean; strips follow the crown's axis.
+    # The ground turns about the trunk's foot, so the trunk stays standing
+    # where it stood on it (about its own middle, a wide island would slide
+    # under the trunk).
     trunk_only = trunk_ext & ~ground_ext
-    pieces = [ground_ext]
-    rows = np.flatnonzero(trunk_only.any(axis=1))
-    if rows.size and not crown.any():
-        pieces.append(trunk_only)
-    elif rows.size:
-        yy, xx = np.nonzero(trunk_only)
-        centres = np.bincount(yy, weights=xx)[rows] / np.bincount(yy)[rows]
-        lean = float(np.ptp(centres))
-        n_strips = int(np.clip(np.ceil(lean / max(2.0, 0.02 * H)), 1, 16))
-        edges = np.linspace(rows[0], rows[-1] + 1, n_strips + 1).round().astype(int)
-        for a, b in zip(edges[:-1], edges[1:]):
-            strip = np.zeros_like(trunk_only)
-            strip[a:b] = trunk_only[a:b]
-            pieces.append(strip)
-    for piece in pieces:
-        cut = _cut(work, piece)
+    pieces = []
+    if trunk_only.any() and not crown.any():
+        xs_t = np.nonzero(trunk_only)[1]
+        pieces.append((trunk_only, 0.5 * (xs_t.min() + xs_t.max() + 1)))
+    elif trunk_only.any():
+        pieces += _trunk_strips(trunk_only, H)
+    # pieces[-1] holds the trunk's foot.
+    pieces.insert(0, (ground_ext, pieces[-1][1] if pieces else None))
+    for piece, pivot in pieces:
+        cut = _cut(work, piece, pivot)
         if cut is not None:
             x0, y0, tex = cut
             add(x0, y0, tex, 0.0, 1.0, TRUNK_LAYER)

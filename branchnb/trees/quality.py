@@ -27,7 +27,7 @@ from scipy import ndimage as ndi
 from scipy.spatial import cKDTree
 
 __all__ = ["soft_alpha_fraction", "foreign_colour_fraction", "pieces", "large_holes", "hole_sizes",
-           "flat_region_speckle", "colour_span"]
+           "flat_region_speckle", "colour_span", "largest_piece_share"]
 
 
 def soft_alpha_fraction(image, *, rim: int = 1) -> float:
@@ -80,6 +80,16 @@ def pieces(alpha, *, min_area: int = 1) -> int:
     return int(np.count_nonzero(areas >= min_area))
 
 
+def largest_piece_share(alpha) -> float:
+    """Share of the opaque pixels in the largest 8-connected opaque piece (1 for one piece)."""
+    m = np.asarray(alpha) >= 0.5
+    lab, n = ndi.label(m, structure=np.ones((3, 3), bool))
+    if n == 0:
+        return 0.0
+    areas = np.bincount(lab.ravel())[1:]
+    return float(areas.max() / areas.sum())
+
+
 def hole_sizes(alpha) -> np.ndarray:
     """Areas of the interior transparent holes (not connected to the border), 4-connected."""
     m = np.asarray(alpha) >= 0.5
@@ -115,9 +125,9 @@ def flat_region_speckle(cloud, yaw: float, *, min_area: float = 0.01, busy: floa
     such pixel is carried to the side view with the front billboard that
     shows it in the front view (axial billboards move as a whole); there
     it counts as speckled when the side view (over white, so sky showing
-    through counts) spans more than ``busy`` in its 5 x 5 window. Pixels
-    carried out of the frame are left out. 0 at yaw 0 for a cloud that
-    reproduces its input.
+    through counts) spans more than ``busy`` in its 5 x 5 window. Both
+    spans are measured over white, so a cloud that reproduces its input
+    scores 0 at yaw 0. Pixels carried out of the frame are left out.
 
     Examples
     --------
@@ -136,7 +146,9 @@ def flat_region_speckle(cloud, yaw: float, *, min_area: float = 0.01, busy: floa
     crown = (cloud.superpixels > 0) & (img[..., 3] >= 0.99)
     if not crown.any():
         return 0.0
-    flat = crown & (colour_span(img) <= busy)
+    # Flat as seen over white, like the side view: a soft rim pixel whose
+    # straight colour matches its neighbours still shows as a grey edge.
+    flat = crown & (colour_span(composite_over(img, (1.0, 1.0, 1.0))) <= busy)
     lab, n = ndi.label(flat)
     area = np.bincount(lab.ravel(), minlength=n + 1)
     big = np.flatnonzero(area >= min_area * crown.sum())

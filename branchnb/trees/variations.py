@@ -591,7 +591,8 @@ def one_piece(image, exemplars: Sequence[Exemplar]) -> np.ndarray:
 
     The largest opaque component (8-connected) is kept; other components
     are kept only if some exemplar has several pieces and they are at least
-    as large as that exemplar's smallest piece. Interior transparent holes
+    as large as that exemplar's smallest piece, and never more pieces than
+    the most broken-up exemplar has (the largest ones). Interior transparent holes
     larger than the largest hole of the exemplars are filled, with the
     colour of the nearest opaque pixel.
 
@@ -620,6 +621,11 @@ def one_piece(image, exemplars: Sequence[Exemplar]) -> np.ndarray:
         multi = [p.min() for p in pieces if len(p) > 1]
         if multi:
             keep |= areas >= min(multi)
+            # Never more pieces than the most broken-up exemplar: a warp can
+            # split its thin parts into crumbs, which are no pieces of its own.
+            most = max(len(p) for p in pieces)
+            order = np.argsort(areas)[::-1]
+            keep[order[most:]] = False
         keep[0] = False
         alpha = keep[lab]
     holes, _ = _holes(alpha)
