@@ -446,16 +446,6 @@ def _allowed(ctx: _Context, mx, my, lib: FragmentLibrary, idx, tgt: Fragment) ->
     return (~excl | ok) & ~ctx.unusable[iy, ix]
 
 
-def _backward_maps(origin, size: int, rot: np.ndarray, trans: np.ndarray):
-    """:func:`~branchnb.branching.displacement.backward_map` for ``N`` rigid transforms at once."""
-    yy, xx = np.mgrid[0:size, 0:size].astype(np.float32)
-    X = (xx + origin[0])[None] - trans[:, 0, None, None]
-    Y = (yy + origin[1])[None] - trans[:, 1, None, None]
-    mx = rot[:, 0, 0, None, None] * X + rot[:, 1, 0, None, None] * Y
-    my = rot[:, 0, 1, None, None] * X + rot[:, 1, 1, None, None] * Y
-    return mx.astype(np.float32), my.astype(np.float32)
-
-
 def _colour_costs(ctx: _Context, lib: FragmentLibrary, idx, rot, trans, tgt: Fragment,
                   origin, size: int, disk, ex_win, cov_win, body_win) -> np.ndarray:
     """Colour cost ``C`` of candidates ``idx`` (rigidly placed by ``rot, trans``) on the overlap.
@@ -465,18 +455,35 @@ def _colour_costs(ctx: _Context, lib: FragmentLibrary, idx, rot, trans, tgt: Fra
     weigh as much as the background around them: a candidate whose
     branch does not continue the previous fragment's is not outscored by
     a blank one that merely matches the background.
+
+    Only the window pixels inside the disk that are already synthesised
+    can be in an overlap: the candidates are sampled there only.
     """
     n = len(idx)
-    mx, my = _backward_maps(origin, size, rot, trans)
-    pix, inimg = _sample(ctx.ex, mx.reshape(n * size, size), my.reshape(n * size, size))
-    pix = pix.reshape(n, size, size, -1)
-    inimg = inimg.reshape(n, size, size)
-    ov = disk[None] & inimg & _allowed(ctx, mx, my, lib, idx, tgt) & cov_win[None]
-    d = ((pix - ex_win[None]) ** 2).sum(-1)
+    rr, cc = np.nonzero(disk & cov_win)
+    if n == 0 or len(rr) == 0:
+        return np.zeros(n)
+    # the pixels as a thin image per candidate, padded to rows of 256 (OpenCV's maps are < 32767 wide)
+    m = len(rr)
+    width = 256 if m > 256 else m
+    pad = -m % width
+    xs = np.concatenate([cc, np.full(pad, cc[0])]).astype(np.float32) + origin[0]
+    ys = np.concatenate([rr, np.full(pad, rr[0])]).astype(np.float32) + origin[1]
+    X = xs[None] - trans[:, 0, None]
+    Y = ys[None] - trans[:, 1, None]
+    mx = (rot[:, 0, 0, None] * X + rot[:, 1, 0, None] * Y).astype(np.float32)
+    my = (rot[:, 0, 1, None] * X + rot[:, 1, 1, None] * Y).astype(np.float32)
+    pix, inimg = _sample(ctx.ex, mx.reshape(-1, width), my.reshape(-1, width))
+    pix = pix.reshape(n, m + pad, -1)[:, :m]
+    inimg = inimg.reshape(n, m + pad)[:, :m]
+    mx, my = mx[:, :m], my[:, :m]
+    ov = inimg & _allowed(ctx, mx[..., None], my[..., None], lib, idx, tgt)[..., 0]
+    d = ((pix - ex_win[rr, cc][None]) ** 2).sum(-1)
+    on_body = body_win[rr, cc][None]
     parts = []
-    for m in (ov & body_win[None], ov & ~body_win[None]):
-        cnt = m.sum((1, 2))
-        parts.append((np.where(cnt > 0, (d * m).sum((1, 2)) / np.maximum(cnt, 1), 0.0), cnt > 0))
+    for msk in (ov & on_body, ov & ~on_body):
+        cnt = msk.sum(1)
+        parts.append((np.where(cnt > 0, (d * msk).sum(1) / np.maximum(cnt, 1), 0.0), cnt > 0))
     (c_on, has_on), (c_off, has_off) = parts
     both = has_on & has_off
     return np.where(both, 0.5 * (c_on + c_off), c_on + c_off)

@@ -22,7 +22,7 @@ from scipy.sparse.linalg import splu
 from .image import as_float_image, as_mask
 from .validate import Real, checked
 
-__all__ = ["grid_laplacian", "poisson_blend"]
+__all__ = ["banded_spd_solve", "grid_laplacian", "poisson_blend"]
 
 _OFFSETS = ((0, 1), (0, -1), (1, 0), (-1, 0))
 #: Largest n * (band + 1)^2 solved by banded Cholesky (else sparse LU): the
@@ -69,6 +69,49 @@ def _banded_cholesky_solve(ab, b):
                 s -= ab[u + i - j, j] * b[j, c]
             b[i, c] = s / ab[u, i]
     return True
+
+
+def banded_spd_solve(ab: np.ndarray, b: np.ndarray) -> np.ndarray | None:
+    """Solve ``A x = b`` for a symmetric positive definite band matrix ``A``.
+
+    Parameters
+    ----------
+    ab : (u + 1, n) float64 ndarray
+        Upper band storage, ``ab[u + i - j, j] = A[i, j]`` for ``i <= j``
+        (the layout of :func:`scipy.linalg.solveh_banded`); overwritten.
+    b : (n,) or (n, k) array_like
+        Right-hand side(s).
+
+    Returns
+    -------
+    x : ndarray or None
+        The solution (shape of ``b``), or None if ``A`` is not positive
+        definite (the caller falls back to a general solver).
+
+    Notes
+    -----
+    A plain band Cholesky compiled with numba: on the many small systems of
+    fragment synthesis it is several times faster than a sparse LU and
+    uses no BLAS threads.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> ab = np.array([[0.0, -1.0, -1.0], [2.0, 2.0, 2.0]])   # tridiagonal [-1, 2, -1]
+    >>> banded_spd_solve(ab, np.array([1.0, 0.0, 1.0])).round(6).tolist()
+    [1.0, 1.0, 1.0]
+    """
+    ab = np.asarray(ab, np.float64)
+    if ab.ndim != 2 or not ab.flags.c_contiguous:
+        ab = np.ascontiguousarray(ab, np.float64).reshape(ab.shape[0], -1)
+    x = np.array(b, np.float64, copy=True)
+    one = x.ndim == 1
+    x2 = x.reshape(len(x), -1)
+    if len(x2) != ab.shape[1]:
+        raise ValueError(f"b has {len(x2)} rows, the matrix {ab.shape[1]}")
+    if not _banded_cholesky_solve(ab, x2):
+        return None
+    return x2.ravel() if one else x2
 
 
 def grid_laplacian(mask) -> tuple[sp.csr_matrix, np.ndarray]:
