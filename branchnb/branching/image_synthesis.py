@@ -40,6 +40,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import cv2
+import numba
 import numpy as np
 from scipy import ndimage as ndi
 
@@ -446,6 +447,64 @@ def _allowed(ctx: _Context, mx, my, lib: FragmentLibrary, idx, tgt: Fragment) ->
     return (~excl | ok) & ~ctx.unusable[iy, ix]
 
 
+@numba.njit(cache=True)
+def _colour_cost_kernel(ex, xs, ys, rot, trans, excluded, owner, arcmap, unusable, win_b, win_lo, win_hi,
+                        ref, on_body):
+    """Colour cost of every candidate on the overlap pixels ``(xs, ys)`` (see :func:`_colour_costs`).
+
+    Per candidate and pixel: the rigid backward map (float32, as :func:`~.displacement.backward_map`),
+    the rules of :func:`_allowed` and bilinear sampling with a replicated border (as ``cv2.remap``),
+    without building the ``(candidates, pixels)`` arrays.
+    """
+    h, w, C = ex.shape
+    n, P = rot.shape[0], xs.shape[0]
+    out = np.zeros(n)
+    for k in range(n):
+        s_on, s_off, n_on, n_off = 0.0, 0.0, 0, 0
+        for p in range(P):
+            X = np.float64(xs[p]) - trans[k, 0]
+            Y = np.float64(ys[p]) - trans[k, 1]
+            mx = np.float32(rot[k, 0, 0] * X + rot[k, 1, 0] * Y)
+            my = np.float32(rot[k, 0, 1] * X + rot[k, 1, 1] * Y)
+            if not (mx >= -0.5 and mx <= w - 0.5 and my >= -0.5 and my <= h - 0.5):
+                continue
+            ix = min(max(int(np.rint(mx)), 0), w - 1)
+            iy = min(max(int(np.rint(my)), 0), h - 1)
+            if unusable[iy, ix]:
+                continue
+            if excluded[iy, ix]:
+                ok = False
+                for t in range(win_b.shape[1]):
+                    if owner[iy, ix] == win_b[k, t] and win_lo[k, t] <= arcmap[iy, ix] <= win_hi[k, t]:
+                        ok = True
+                if not ok:
+                    continue
+            fx0, fy0 = np.floor(mx), np.floor(my)
+            x0, y0 = int(fx0), int(fy0)
+            fx, fy = mx - fx0, my - fy0
+            xa, xb = min(max(x0, 0), w - 1), min(max(x0 + 1, 0), w - 1)
+            ya, yb = min(max(y0, 0), h - 1), min(max(y0 + 1, 0), h - 1)
+            d = 0.0
+            for c in range(C):
+                v = ((1 - fy) * ((1 - fx) * ex[ya, xa, c] + fx * ex[ya, xb, c])
+                     + fy * ((1 - fx) * ex[yb, xa, c] + fx * ex[yb, xb, c]))
+                e = v - ref[p, c]
+                d += e * e
+            if on_body[p]:
+                s_on += d
+                n_on += 1
+            else:
+                s_off += d
+                n_off += 1
+        if n_on > 0 and n_off > 0:
+            out[k] = 0.5 * (s_on / n_on + s_off / n_off)
+        elif n_on > 0:
+            out[k] = s_on / n_on
+        elif n_off > 0:
+            out[k] = s_off / n_off
+    return out
+
+
 def _colour_costs(ctx: _Context, lib: FragmentLibrary, idx, rot, trans, tgt: Fragment,
                   origin, size: int, disk, ex_win, cov_win, body_win) -> np.ndarray:
     """Colour cost ``C`` of candidates ``idx`` (rigidly placed by ``rot, trans``) on the overlap.
@@ -457,36 +516,32 @@ def _colour_costs(ctx: _Context, lib: FragmentLibrary, idx, rot, trans, tgt: Fra
     a blank one that merely matches the background.
 
     Only the window pixels inside the disk that are already synthesised
-    can be in an overlap: the candidates are sampled there only.
+    can be in an overlap: the candidates are sampled there only, each
+    source pixel under the rules of :func:`_allowed`.
     """
+    idx = np.atleast_1d(idx)
     n = len(idx)
     rr, cc = np.nonzero(disk & cov_win)
     if n == 0 or len(rr) == 0:
         return np.zeros(n)
-    # the pixels as a thin image per candidate, padded to rows of 256 (OpenCV's maps are < 32767 wide)
-    m = len(rr)
-    width = 256 if m > 256 else m
-    pad = -m % width
-    xs = np.concatenate([cc, np.full(pad, cc[0])]).astype(np.float32) + origin[0]
-    ys = np.concatenate([rr, np.full(pad, rr[0])]).astype(np.float32) + origin[1]
-    X = xs[None] - trans[:, 0, None]
-    Y = ys[None] - trans[:, 1, None]
-    mx = (rot[:, 0, 0, None] * X + rot[:, 1, 0, None] * Y).astype(np.float32)
-    my = (rot[:, 0, 1, None] * X + rot[:, 1, 1, None] * Y).astype(np.float32)
-    pix, inimg = _sample(ctx.ex, mx.reshape(-1, width), my.reshape(-1, width))
-    pix = pix.reshape(n, m + pad, -1)[:, :m]
-    inimg = inimg.reshape(n, m + pad)[:, :m]
-    mx, my = mx[:, :m], my[:, :m]
-    ov = inimg & _allowed(ctx, mx[..., None], my[..., None], lib, idx, tgt)[..., 0]
-    d = ((pix - ex_win[rr, cc][None]) ** 2).sum(-1)
-    on_body = body_win[rr, cc][None]
-    parts = []
-    for msk in (ov & on_body, ov & ~on_body):
-        cnt = msk.sum(1)
-        parts.append((np.where(cnt > 0, (d * msk).sum(1) / np.maximum(cnt, 1), 0.0), cnt > 0))
-    (c_on, has_on), (c_off, has_off) = parts
-    both = has_on & has_off
-    return np.where(both, 0.5 * (c_on + c_off), c_on + c_off)
+    # the source windows of :func:`_allowed` (own branch; for a furcation also the child)
+    slack = 0.5
+    lo, hi = _target_window(ctx.sm_t, tgt.branch, tgt.arc, tgt.radius)
+    wins = [(lib.branch[idx], lib.arc[idx], lib.sign[idx], lo, hi)]
+    if tgt.kind == "furcation":
+        Lc = float(ctx.sm_t.lengths[tgt.child])
+        zero = np.zeros(n)
+        wins.append((lib.child[idx], zero, zero + 1.0, -np.inf, Lc if Lc < 1.5 * tgt.radius else np.inf))
+    win_b = np.stack([w[0] for w in wins], 1).astype(np.int64)
+    ends = [(w[1] + w[2] * w[3], w[1] + w[2] * w[4]) for w in wins]
+    win_lo = np.stack([np.minimum(a, b) - slack for a, b in ends], 1)
+    win_hi = np.stack([np.maximum(a, b) + slack for a, b in ends], 1)
+    ex = ctx.ex if ctx.ex.flags.c_contiguous else np.ascontiguousarray(ctx.ex)
+    return _colour_cost_kernel(ex, cc.astype(np.float32) + np.float32(origin[0]),
+                               rr.astype(np.float32) + np.float32(origin[1]),
+                               np.ascontiguousarray(rot, np.float64), np.ascontiguousarray(trans, np.float64),
+                               ctx.excluded, ctx.pm_s.branch, ctx.pm_s.arc, ctx.unusable, win_b, win_lo, win_hi,
+                               np.ascontiguousarray(ex_win[rr, cc], np.float32), body_win[rr, cc])
 
 
 def _constraints(ctx: _Context, src: Fragment, tgt: Fragment, rot, trans):
