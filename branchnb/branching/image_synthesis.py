@@ -49,7 +49,7 @@ from ..core.completion import complete_gaps
 from ..core.image import as_float_image, as_mask, as_points, as_rgb
 from ..core.io import encode_png
 from ..core.params import check_params, param
-from ..core.polyline import rigid_align
+from ..core.polyline import RigidTransform
 from ..core.random import as_rng
 from ..core.render import draw_polylines
 from ..core.structure import Structure
@@ -766,7 +766,8 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         j = choose_among_best(S[short] + p.w_c * costs_c, p.c, rng)
         pick = int(short[j])
         src = lib[pick]
-        T = rigid_align(bank.p[pick], q[0])
+        # the shortlist's closed-form alignment (what rigid_align gives, to rounding)
+        T = RigidTransform(rotation=rot[j], translation=trans[j])
         fld = None
         max_disp = 0.0
         if p.displacement:
