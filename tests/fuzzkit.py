@@ -499,7 +499,7 @@ ARGS = {
     "strokes": _v([_band_skeleton()]), "pair": _e("pair"), "junctions": _e("junctions"),
     "junction": lambda: example("junctions")[0],
     "graph": _e("lattice"), "seeds": _v([(12, 2)]), "endpoints": _v([(3.0, 20.0), (20.0, 21.0)]),
-    "n_points": _v(8), "n_endpoints": _v(12),
+    "n_points": _v(8), "n_endpoints": _v(12), "rho": _v(4.0),
     # ---- per function
     "core:as_rng.rng": _v(0), "core:resample_chord.n": _v(5), "core:resample_uniform.h": _v(2.0),
     "core:polylines_to_svg.size": _v((28, 24)), "core:draw_polylines.widths": _v(2.0),

@@ -71,7 +71,7 @@ def test_colours_stay_in_the_exemplars_range(analysis, leaves):
 
 def test_records_and_files(tmp_path, leaves):
     rec = leaves[0].record()
-    assert set(rec) == {"seed", "background", "layers", "shape_weights", "warps"}
+    assert set(rec) == {"seed", "background", "layers", "shape_weights", "warps", "petiole"}
     assert set(rec["layers"]) == {"veins", "spots"}
     assert rec["layers"]["spots"] != rec["background"]
     assert sum(rec["shape_weights"]) == pytest.approx(1.0, abs=1e-3)

@@ -18,11 +18,14 @@ from ..core.random import as_rng
 from ..core.render import draw_polylines
 from ..core.structure import Branch, Structure
 
-__all__ = ["LAND", "SEA", "RIVER", "crack_pattern_example", "delta_mask_example", "island_mask", "river_map_example"]
+__all__ = ["LAND", "SEA", "RIVER", "FLOODPLAIN", "ATLAS_RIVER", "crack_pattern_example", "delta_mask_example",
+           "floodplain_bands", "floodplain_map_example", "island_mask", "river_map_example", "terrain_map_example"]
 
 LAND = (0.93, 0.89, 0.76)
 SEA = (0.62, 0.80, 0.93)
 RIVER = (0.08, 0.33, 0.72)
+FLOODPLAIN = (0.74, 0.86, 0.58)
+ATLAS_RIVER = (0.0, 0.55, 0.83)
 
 
 def island_mask(shape, rng, *, size: float = 0.36) -> np.ndarray:
@@ -137,6 +140,105 @@ def river_map_example(shape=(256, 256), rng=0, *, n_trees: int = 14, river_color
     return img, Structure(branches, image_shape=shape), land
 
 
+def floodplain_bands(structure: Structure, shape, land: np.ndarray, width: float = 10.0) -> np.ndarray:
+    """The land within ``width`` pixels of a river's centre line (the floodplain of
+    :func:`floodplain_map_example`)."""
+    from .skeleton_map import SkeletonMap
+
+    return (SkeletonMap(structure, 1.0).pixel_map(shape).dist <= width) & np.asarray(land, bool)
+
+
+def floodplain_map_example(shape=(256, 256), rng=0, *, n_trees: int = 12, width: float = 10.0
+                           ) -> tuple[np.ndarray, Structure, np.ndarray]:
+    """A map with three flat regions: sea, land, and a floodplain band along every river.
+
+    The river map of :func:`river_map_example`, with the land within
+    ``width`` pixels of a river's centre line painted in a floodplain
+    colour (see :func:`floodplain_bands`): the rivers lie in the
+    floodplain, the floodplain in the land, the land in the sea.
+
+    Returns
+    -------
+    image : (H, W, 3) float32
+    structure : Structure
+    labels : (H, W) int8
+        0 sea, 1 land, 2 floodplain (the rivers included).
+
+    Examples
+    --------
+    >>> img, s, lab = floodplain_map_example((128, 128), 0, n_trees=6)
+    >>> sorted(np.unique(lab).tolist())
+    [0, 1, 2]
+    """
+    img, s, land = river_map_example(shape, rng, n_trees=n_trees)
+    band = floodplain_bands(s, shape, land, width)
+    labels = land.astype(np.int8) + band
+    out = np.empty(tuple(shape) + (3,), np.float32)
+    out[:] = SEA
+    out[land] = LAND
+    out[band] = FLOODPLAIN
+    out = draw_polylines(out, [b.points for b in s.branches], widths=[2 * b.thickness for b in s.branches],
+                         colors=RIVER)
+    return out, s, labels
+
+
+def terrain_map_example(shape=(256, 256), rng=0, *, relief: str = "levels", n_trees: int = 12,
+                        river_color=ATLAS_RIVER, r_mouth: float = 1.3, noise: float = 0.02
+                        ) -> tuple[np.ndarray, Structure, np.ndarray]:
+    """A drawn river map over terrain shading, like a printed atlas map.
+
+    The rivers of :func:`river_map_example` over a relief: ``"levels"``
+    paints the land in four flat greys (white lowlands to dark grey
+    mountains, thresholds of a smooth random height field), ``"shade"``
+    in a continuous grey hill shading plus pixel noise of ``noise``
+    (standard deviation). The default river colour is an atlas blue
+    about as light as the mid greys (luminance 0.46 against 0.59-0.85):
+    by brightness alone the rivers barely stand out of the relief. Outside the land is white, with a black
+    border line along the coast. The rivers are the structure's
+    polylines, so the right extraction is known.
+
+    Returns
+    -------
+    image : (H, W, 3) float32
+    structure : Structure
+        The drawn rivers.
+    rivers : (H, W) bool
+        The river pixels (coverage above one half).
+
+    Examples
+    --------
+    >>> img, s, riv = terrain_map_example((128, 128), 0, n_trees=6)
+    >>> img.shape, bool(riv.any())
+    ((128, 128, 3), True)
+    """
+    from ..core.render import coverage_polylines
+
+    rng_ = as_rng(rng)
+    _img, s, land = river_map_example(shape, rng_, n_trees=n_trees, r_mouth=r_mouth)
+    h, w = shape
+    height = ndi.gaussian_filter(rng_.normal(size=shape), 0.05 * min(h, w), mode="wrap")
+    height = (height - height.mean()) / (height.std() + 1e-12)
+    if relief == "levels":
+        greys = np.array([1.0, 0.85, 0.68, 0.59], np.float32)
+        lev = np.digitize(height, [0.0, 0.8, 1.4])
+        ground = greys[lev]
+    elif relief == "shade":
+        gy, gx = np.gradient(ndi.gaussian_filter(height, 2.0) * 0.08 * min(h, w))
+        shade = 0.75 + 0.18 * (gx - gy) / np.sqrt(1.0 + gx ** 2 + gy ** 2) - 0.08 * np.clip(height, 0, None)
+        ground = np.clip(shade + rng_.normal(0.0, noise, shape), 0.0, 1.0).astype(np.float32)
+    else:
+        raise ValueError(f"relief must be 'levels' or 'shade', got {relief!r}")
+    img = np.ones(tuple(shape) + (3,), np.float32)
+    img[land] = ground[land, None]
+    coast = land & ~ndi.binary_erosion(land, iterations=2)
+    img[coast] = (0.13, 0.13, 0.15)
+    pls = [b.points for b in s.branches]
+    widths = [2 * b.thickness for b in s.branches]
+    img = draw_polylines(img, pls, widths=widths, colors=river_color)
+    cov, _ = coverage_polylines(tuple(shape), pls, widths)
+    return img, s, cov > 0.5
+
+
 def _curve(p0, p1, rng, bend: float, step: float = 1.0) -> np.ndarray:
     """A smooth cubic curve from p0 to p1 with random sideways control points."""
     p0, p1 = np.asarray(p0, float), np.asarray(p1, float)
@@ -234,3 +336,85 @@ def crack_pattern_example(shape=(256, 256), rng=0) -> np.ndarray:
             lines.append((_walk(rng, trunk[v], np.arctan2(t[1], t[0]) + turn, 0.3 * w, step=2, wiggle=0.2), 1.2))
     pls = [np.clip(pl, 0, [w - 1, h - 1]) for pl, _ in lines]
     return draw_polylines(img, pls, widths=[2 * r for _, r in lines], colors=(0.15, 0.12, 0.1))
+
+
+# --------------------------------------------------------------------------- figures (python -m ...)
+def _map_kind(name: str, seed: int, shape):
+    """(image, structure, true region per pixel) of a map kind with a known answer."""
+    if name == "river":
+        img, s, land = river_map_example(shape, seed, n_trees=10)
+        return img, s, land.astype(int)
+    if name == "floodplain":
+        img, s, lab = floodplain_map_example(shape, seed, n_trees=10)
+        return img, s, lab.astype(int)
+    from .extraction import extract_structure
+
+    m, _ch, sea = delta_mask_example(shape, seed)
+    return np.dstack([m] * 3), extract_structure(m, root="nearest_region"), sea.astype(int)
+
+
+def layout_figures(seeds=(3, 5, 7), shapes=((224, 320), (288, 224), (256, 256))) -> list[str]:
+    """Region layouts laid out around other maps' branches, against their true regions."""
+    from .regions import colour_labels, fit_region_layout, flat_colour_regions, layout_regions, region_layout
+    from .skeleton_map import SkeletonMap
+
+    rows = []
+    for kind in ("river", "floodplain", "delta"):
+        img, ex, truth_ex = _map_kind(kind, 0, (256, 256))
+        pm = SkeletonMap(ex, 1.0).pixel_map(img.shape[:2])
+        lab, _ = flat_colour_regions(img, pm.core(1.5, 2.0))
+        zone = pm.core(3.0, 4.0)
+        lay = region_layout(colour_labels(img, lab, ~zone), zone, pm.core(1.0, 0.0))
+        model = fit_region_layout(lay, ex, pm)
+        to_label = {int(k): int(np.bincount(lay[truth_ex == k]).argmax()) for k in np.unique(truth_ex)}
+        for seed, shape in zip(seeds, shapes):
+            _t, tgt, truth = _map_kind(kind, seed, shape)
+            truth = np.vectorize(to_label.get)(truth)
+            out = layout_regions(model, tgt, shape)
+            on = SkeletonMap(tgt, 1.0).pixel_map(shape).dist <= 0.75
+            iou = [((out == k) & (truth == k)).sum() / max(((out == k) | (truth == k)).sum(), 1) for k in model.labels]
+            share = [np.mean(out == k) for k in model.labels]
+            rows.append(f"{kind:10s} seed {seed} {shape}: branch pixels in the branch region "
+                        f"{np.mean(out[on] == model.branch_region):.3f}; shares {np.round(share, 3)} "
+                        f"(example {np.round(model.shares, 3)}); IoU vs truth {np.round(iou, 3)}")
+    return rows
+
+
+def extraction_figures() -> list[str]:
+    """Extracted centre lines against the drawn rivers: precision, recall, tolerance IoU."""
+    from skimage.morphology import skeletonize
+
+    from ..core.image import as_rgb
+    from .extraction import extract_structure
+
+    def score(s, ref):
+        h, w = ref.shape
+        pts = np.vstack([b.points for b in s.branches])
+        ix = np.clip(np.rint(pts[:, 0]).astype(int), 0, w - 1)
+        iy = np.clip(np.rint(pts[:, 1]).astype(int), 0, h - 1)
+        p = np.mean(ndi.distance_transform_edt(~ref)[iy, ix] <= 2.0)
+        ext = np.zeros((h, w), bool)
+        ext[iy, ix] = True
+        r = np.mean(ndi.distance_transform_edt(~ext)[skeletonize(ref)] <= 2.5)
+        return p, r, p * r / max(p + r - p * r, 1e-9)
+
+    cases = []
+    for i, (relief, colour) in enumerate([("levels", ATLAS_RIVER), ("shade", ATLAS_RIVER),
+                                          ("levels", (0.1, 0.1, 0.15)), ("shade", (0.1, 0.1, 0.15))]):
+        for seed in (0, 1):
+            img, _s, riv = terrain_map_example((320, 320), 10 * i + seed, relief=relief, river_color=colour)
+            cases.append((f"terrain {relief} {'blue' if colour == ATLAS_RIVER else 'dark'} seed {seed}", img, riv))
+    from .. import data
+
+    cz = data.load("czech_rivers_map")
+    rgb = as_rgb(cz)
+    cases.append(("czech_rivers_map", cz, (rgb[..., 2] - rgb[..., 0]) >= 0.3))
+    rows = []
+    for name, img, ref in cases:
+        p, r, iou = score(extract_structure(img, root="nearest_region"), ref)
+        rows.append(f"{name:28s} precision {p:.3f} recall {r:.3f} tolerance IoU {iou:.3f}")
+    return rows
+
+
+if __name__ == "__main__":
+    print("\n".join(layout_figures() + extraction_figures()))

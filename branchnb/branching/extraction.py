@@ -27,7 +27,7 @@ from ..core.image import as_gray, as_points, as_rgb
 from ..core.params import check_params
 from ..core.polyline import arc_length, normals, polyline_length, resample_uniform
 from ..core.structure import Branch, Structure
-from ..core.validate import Array, Int, Point, Real, checked
+from ..core.validate import Array, Image, Int, Point, Real, checked
 from .params import ClickParams, ExtractionParams
 
 __all__ = [
@@ -41,6 +41,9 @@ __all__ = [
     "gray_for_extraction",
     "is_binary",
     "large_flat_regions",
+    "line_colour_map",
+    "line_colour_of",
+    "thin_line_colour",
     "ridge_mask",
     "ridge_response",
     "skeleton_to_structure",
@@ -703,6 +706,151 @@ def binary_channels(gray, polarity: str = "auto"):
     return channels, region, skel, np.maximum(radius, 0.5)
 
 
+def _local_background(rgb: np.ndarray, sigma_max: float) -> np.ndarray:
+    """Per-channel median over a window wider than any line: the colour around a line, edges kept."""
+    import cv2
+
+    k = 2 * int(np.ceil(2 * sigma_max)) + 1
+    u8 = np.clip(np.rint(rgb * 255.0), 0, 255).astype(np.uint8)
+    return cv2.medianBlur(np.ascontiguousarray(u8), min(k, 255)).astype(np.float32) / 255.0
+
+
+def thin_line_colour(image, *, sigma_max: float = 4.0, min_contrast: float = 0.12, tol: float = 0.12,
+                     min_share: float = 0.0005, max_colours: int = 6):
+    """The colour of the thin lines of a drawn image (the blue rivers of a map), or None.
+
+    A pixel is *line-like* when its colour differs by at least
+    ``min_contrast`` (largest channel) from the median colour of a window
+    wider than any line (``4 sigma_max + 1`` pixels; the median keeps the
+    edges between flat areas, so an edge is not a line). The most common
+    colours of the line-like pixels (up to ``max_colours``, quantised to
+    eighths) are candidates; a candidate colour is a *line colour* when
+
+    * at least ``min_share`` of the image has it (within ``tol``),
+    * most of its pixels are line-like (a colour that fills areas, such
+      as a grey relief level, is no line colour) and not the anti-aliased
+      rim of a line of another colour;
+
+    pixels along the outline of a large flat region touching the image
+    border (a country border, a coast line) are not counted.
+
+    The most frequent line colour wins. It is returned only when its
+    contrast to the surroundings is largely one of hue (chroma at least
+    half the brightness difference in a drawn image, at least 1 x in a
+    photograph, medians over the line): a coloured line over a relief
+    of greys is what brightness-based ridge filters miss (they follow the
+    terrain's edges instead). Grey, black or white lines, and the dark
+    branches of photographs, keep the brightness path.
+
+    Returns
+    -------
+    (3,) float32 ndarray or None
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.full((80, 80, 3), 0.7, np.float32); img[:, 40:] = 0.55     # two relief greys
+    >>> img[20:22, 5:75] = (0.0, 0.55, 0.83); img[22:60, 30:32] = (0.0, 0.55, 0.83)   # blue rivers
+    >>> [round(float(v), 2) for v in thin_line_colour(img)]
+    [0.0, 0.55, 0.83]
+    """
+    rgb = as_rgb(image)[..., :3].astype(np.float32)
+    h, w = rgb.shape[:2]
+    bg = _local_background(rgb, sigma_max)
+    line_like = np.abs(rgb - bg).max(-1) >= min_contrast
+    if line_like.sum() < max(min_share * h * w, 20):
+        return None
+    q = np.clip((rgb[line_like] * 8).astype(np.int64), 0, 7)
+    key = (q[:, 0] * 8 + q[:, 1]) * 8 + q[:, 2]
+    counts = np.bincount(key, minlength=512)
+    gray = as_gray(rgb)
+    outside = border_flat_regions(gray, 4 * sigma_max)
+    contrast = np.linalg.norm(rgb - bg, axis=-1)
+    # the anti-aliased rim of a line: a neighbour has much more contrast
+    rim = ndi.maximum_filter(contrast, 3) > contrast + 0.1
+    best, best_n = None, 0
+    for k in np.argsort(-counts)[:max_colours]:
+        if counts[k] == 0:
+            break
+        c = np.median(rgb[line_like][key == k], axis=0)
+        has = np.abs(rgb - c).max(-1) <= tol
+        # a border line drawn in the same colour (a coast) is not counted
+        has &= ~outline_pixels(has, outside, 2 * sigma_max + 2)
+        n = int(has.sum())
+        if n < min_share * h * w or np.mean(line_like[has]) < 0.5 or np.mean(rim[has]) > 0.5:
+            continue
+        if n > best_n:
+            best, best_n = c, n
+    if best is None:
+        return None
+    # hue against brightness in the line's contrast to its surroundings
+    has = (np.abs(rgb - best).max(-1) <= tol) & line_like
+    diff = best[None] - bg[has]
+    lum = np.abs(diff.mean(-1)) * np.sqrt(3.0)
+    chroma = np.linalg.norm(diff - diff.mean(-1, keepdims=True), axis=-1)
+    ratio = float(np.median(chroma / np.maximum(lum, 1e-6)))
+    flat = (ndi.maximum_filter(gray, 5) - ndi.minimum_filter(gray, 5)) < 0.03
+    return best.astype(np.float32) if ratio >= (0.5 if flat.mean() >= 0.5 else 1.0) else None
+
+
+def line_colour_of(image, structure: Structure) -> np.ndarray:
+    """The median colour on the centre lines of an annotation (pass it as ``line_colour``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.full((20, 40, 3), 0.7, np.float32); img[9:11] = (0.0, 0.55, 0.83)
+    >>> s = Structure([Branch([(2, 9.5), (37, 9.5)], 1.0)])
+    >>> [round(float(v), 2) for v in line_colour_of(img, s)]
+    [0.0, 0.55, 0.83]
+    """
+    rgb = as_rgb(image)[..., :3]
+    h, w = rgb.shape[:2]
+    if not isinstance(structure, Structure) or not structure.branches:
+        raise ValueError("structure must be a non-empty Structure")
+    pts = np.vstack([resample_uniform(b.points, 0.5, include_end=True) if len(b.points) > 1 else b.points
+                     for b in structure.branches])
+    ix = np.clip(np.floor(pts[:, 0] + 0.5).astype(int), 0, w - 1)
+    iy = np.clip(np.floor(pts[:, 1] + 0.5).astype(int), 0, h - 1)
+    return np.median(rgb[iy, ix], axis=0).astype(np.float32)
+
+
+def line_colour_map(image, colour, *, sigma_max: float = 4.0, spread: float = 0.15) -> np.ndarray:
+    """How much each pixel has the line ``colour`` rather than its surroundings' colour, in [0, 1].
+
+    With ``b`` the median colour around the pixel (see
+    :func:`thin_line_colour`) and ``c`` the line colour, a pixel ``I`` on
+    the segment from ``b`` to ``c`` (a blend: an anti-aliased line edge)
+    scores its position ``t`` along it, 1 on the line colour and 0 on the
+    surroundings; the score falls to 0 as ``I`` leaves the segment by
+    ``spread`` (RGB distance): another colour, such as a darker relief
+    grey next to a white lowland, is no line however it compares in
+    brightness. Pixels within ``spread`` of ``c`` score ``1 - |I - c| /
+    (2 spread)`` at least (inside a wide river the surroundings are the
+    line colour too). Bright lines on black, ready for the ridge filter.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.full((30, 30, 3), 0.7, np.float32); img[14:16] = (0.0, 0.55, 0.83); img[:5] = 0.5
+    >>> m = line_colour_map(img, (0.0, 0.55, 0.83))
+    >>> float(m[15, 10]), float(m[20, 10]), float(m[4, 10]) < 0.01
+    (1.0, 0.0, True)
+    """
+    rgb = as_rgb(image)[..., :3].astype(np.float32)
+    c = np.asarray(colour, np.float32).reshape(3)
+    bg = _local_background(rgb, sigma_max)
+    u = c[None, None] - bg
+    v = rgb - bg
+    n2 = np.maximum((u * u).sum(-1), 1e-6)
+    t = np.clip((v * u).sum(-1) / n2, 0.0, 1.0)
+    perp = np.linalg.norm(v - t[..., None] * u, axis=-1)
+    blend = t * np.clip(1.0 - perp / spread, 0.0, 1.0)
+    blend[n2 < spread ** 2] = 0.0
+    close = 1.0 - np.linalg.norm(rgb - c, axis=-1) / (2.0 * spread)
+    return np.clip(np.maximum(blend, close), 0.0, 1.0).astype(np.float32)
+
+
 #: Gaussian sigmas (pixels) below this are no smoothing (scipy divides by a vanishing sigma).
 _NO_BLUR = 1e-3
 
@@ -714,7 +862,7 @@ def _median_then_gauss(r: np.ndarray, sigma: float) -> np.ndarray:
 
 @checked()
 def extract_structure(image, params: ExtractionParams | None = None, *, mask=None,
-                      return_maps: bool = False, **overrides):
+                      return_maps: bool = False, line_colour="auto", **overrides):
     """Find a source structure in an image automatically.
 
     Ridge / vesselness filter -> hysteresis threshold -> skeleton ->
@@ -739,6 +887,15 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         border, a coast line) are no branches either.
     mask : (H, W) bool array_like, optional
         Only look inside this region.
+    line_colour : "auto", None or (r, g, b)
+        Trace lines of this colour (in [0, 1]) instead of brightness
+        ridges: the ridge filter runs on :func:`line_colour_map`, how much
+        each pixel has that colour rather than its surroundings'. "auto"
+        looks for a coloured thin-line colour (:func:`thin_line_colour`,
+        e.g. the blue rivers of a map over a grey relief, which
+        brightness alone confuses with the relief's edges); None never
+        does. The colour of an annotation can be read with
+        :func:`line_colour_of`.
     return_maps : bool
         Also return ``(response, ridge mask, skeleton)`` at the working scale.
 
@@ -776,7 +933,27 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
     gray = gray_for_extraction(image)
     if p.binary == "on" or (p.binary == "auto" and is_binary(gray)):
         return _extract_binary(gray, p, mask, return_maps, root_point)
-    resp, _pol = ridge_response(gray, p)
+    lines = gray
+    if line_colour is not None:
+        if isinstance(line_colour, str):
+            if line_colour != "auto":
+                raise ValueError(f"line_colour must be 'auto', None or an (r, g, b) colour, got {line_colour!r}")
+            line_colour = thin_line_colour(image, sigma_max=p.sigma_max)
+        else:
+            try:
+                c = np.asarray(line_colour, np.float64).ravel()
+            except (TypeError, ValueError):
+                raise TypeError(f"line_colour must be 'auto', None or an (r, g, b) colour, got {line_colour!r}") \
+                    from None
+            if c.shape != (3,) or not np.all(np.isfinite(c)) or c.min() < 0 or c.max() > 1:
+                raise ValueError(f"line_colour must be an (r, g, b) colour in [0, 1], got {line_colour!r}")
+            line_colour = c
+        if line_colour is not None:
+            # bright where the pixel has the line colour: the ridge filter sees only those lines
+            lines = line_colour_map(image, line_colour, sigma_max=p.sigma_max)
+            # no texture in that map: weak ridges (a 1 px river blended into a grey) still count
+            p = dataclasses.replace(p, polarity="bright", hysteresis=min(p.hysteresis, 0.25))
+    resp, _pol = ridge_response(lines, p)
     if mask is not None:
         from ..core.image import as_mask
 
@@ -794,7 +971,9 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
     outside = border_flat_regions(work, 4 * p.sigma_max)
     skel &= ~outline_pixels(skel, outside, 2 * p.sigma_max + 2)
     if p.radius == "fwhm":
-        radius = half_contrast_radius(work, skel, _pol, p.sigma_max)
+        lines_w = rescale(lines, p.scale, anti_aliasing=True) if p.scale < 1 and lines is not gray else \
+            (work if lines is gray else lines)
+        radius = half_contrast_radius(lines_w, skel, _pol, p.sigma_max)
     else:
         radius = ndi.distance_transform_edt(bw) - 0.5
     region = None
@@ -833,9 +1012,12 @@ def outline_pixels(skeleton, outside, reach: float) -> np.ndarray:
 
     A skeleton pixel within ``reach`` of ``outside`` is outline when, looking
     away from the nearest outside pixel, the other side is no outside: the
-    line separates the outside from the rest. A branch lying *in* a flat
-    region (a lightning bolt in a flat sky) has that region on both sides
-    and stays; a river mouth loses at most ``reach`` pixels.
+    line separates the outside from the rest, and the line runs along the
+    outside rather than into it (its direction, from the structure tensor
+    of the skeleton, is within 45 degrees of the outside's edge). A branch
+    lying *in* a flat region (a lightning bolt in a flat sky) has that
+    region on both sides and stays; so does a river mouth meeting the
+    coast.
     """
     sk = np.asarray(skeleton, bool)
     out = np.asarray(outside, bool)
@@ -851,8 +1033,19 @@ def outline_pixels(skeleton, outside, reach: float) -> np.ndarray:
     step = d + 3.0
     oy = np.clip(np.rint(ys - vy / n * step).astype(int), 0, sk.shape[0] - 1)
     ox = np.clip(np.rint(xs - vx / n * step).astype(int), 0, sk.shape[1] - 1)
+    # The line's direction (structure tensor of the blurred skeleton): a line heading into
+    # the outside (a river mouth at the coast) is no outline, one running along it is.
+    b = ndi.gaussian_filter(sk.astype(np.float64), 1.0)
+    gy, gx = np.gradient(b)
+    jxx = ndi.gaussian_filter(gx * gx, 2.0)[ys, xs]
+    jyy = ndi.gaussian_filter(gy * gy, 2.0)[ys, xs]
+    jxy = ndi.gaussian_filter(gx * gy, 2.0)[ys, xs]
+    # the tensor's main axis is the line's normal; the tangent is perpendicular to it
+    theta = 0.5 * np.arctan2(2 * jxy, jxx - jyy)
+    tx, ty = -np.sin(theta), np.cos(theta)
+    heads_out = np.abs(tx * vx + ty * vy) / n > 0.7
     res = np.zeros_like(sk)
-    res[ys, xs] = ~out[oy, ox]
+    res[ys, xs] = ~out[oy, ox] & ~heads_out
     return res
 
 
@@ -873,6 +1066,7 @@ def flat_background(gray, branches, radius: float, tol: float = 0.02) -> np.ndar
     return keep[lab]
 
 
+@checked(image=Image(), radius=_RADIUS)
 def example_domain(image, structure: Structure | None = None, *, radius: float = 12.0) -> np.ndarray:
     """Where an example's branches live: the image minus its large branch-free flat regions.
 

@@ -620,8 +620,9 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     target_regions : (H, W) int array_like, optional
         Region label of every output pixel (labels of
         ``ImageSynthesisResult.example_labels``), for flat-colour examples
-        with ``params.keep_regions``; default: the example's layout resized
-        to the output (the target grown in the example's domain).
+        with ``params.keep_regions``; default: the example's regions laid
+        out around the target branches as they lie around the example's
+        (:func:`~branchnb.branching.regions.target_layout`).
 
     Returns
     -------
@@ -688,9 +689,13 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
             if labels_t.shape != (H, W) or not np.issubdtype(labels_t.dtype, np.integer):
                 raise ValueError(f"target_regions must be an integer (H, W) = {(H, W)} label map")
         else:
-            # the example's land and sea around its branches (not its channels), resized
+            # the example's land and sea around its branches (not its channels), laid out
+            # around the target's branches as they lie around the example's
+            from .regions import target_layout
+
             layout = region_layout(src_labels, zone, pm_s.core(1.0, 0.0))
-            labels_t = cv2.resize(layout.astype(np.int32), (W, H), interpolation=cv2.INTER_NEAREST)
+            labels_t = target_layout(layout, example_structure, target_structure, (H, W),
+                                     pm_example=pm_s, pm_target=pm_t)
     use_poisson = p.poisson and (not flat or p.flat_poisson)
     regions = example_regions(ex, pm_s, exclusion=p.exclusion, margin=p.exclusion_margin,
                               threshold=p.branch_like if p.avoid_unannotated else None,

@@ -30,11 +30,12 @@ import numpy as np
 from scipy import ndimage as ndi
 from skimage.filters import apply_hysteresis_threshold
 
-from .skeleton_map import PixelMap
+from ..core.structure import Structure
+from .skeleton_map import PixelMap, SkeletonMap
 
 __all__ = ["ExampleRegions", "example_regions", "branch_likeness", "matte_mask", "salient_mask",
            "flatten_shading", "flat_colour_regions", "region_layout",
-           "colour_labels"]
+           "colour_labels", "RegionLayoutModel", "fit_region_layout", "layout_regions", "target_layout"]
 
 
 @dataclass
@@ -442,3 +443,271 @@ def colour_labels(image: np.ndarray, labels: np.ndarray, sample: np.ndarray | No
     out = ks[np.argmin(d, axis=-1)].astype(np.int32)
     out[d.min(-1) > tol] = -1
     return out
+
+
+# ---------------------------------------------------------------------------
+# Laying the example's regions out around other branches
+#
+# A region layout (land and sea of a map, floodplain along the rivers, the sea
+# a delta drains into) is a function of where the branches are: the rivers lie
+# in the land, their mouths on the coast, the sea beyond the mouths and away
+# from every branch. The features below describe a pixel by its relation to a
+# skeleton only, so the relation learnt on the example applies to any target.
+
+
+def _root_starts(structure: Structure):
+    """Start points ``(R, 2)`` and initial unit directions ``(R, 2)`` of the roots."""
+    pts, dirs = [], []
+    for b in structure.branches:
+        if b.parent is not None or len(b.points) < 2:
+            continue
+        p = np.asarray(b.points, np.float64)
+        arc = np.r_[0.0, np.cumsum(np.hypot(*np.diff(p, axis=0).T))]
+        k = int(np.clip(np.searchsorted(arc, 8.0), 1, len(p) - 1))
+        d = p[k] - p[0]
+        n = float(np.hypot(*d))
+        if n > 1e-9:
+            pts.append(p[0])
+            dirs.append(d / n)
+    return np.asarray(pts, np.float64).reshape(-1, 2), np.asarray(dirs, np.float64).reshape(-1, 2)
+
+
+def _layout_features(structure: Structure, pm: PixelMap, sigma: float, stride: int) -> np.ndarray:
+    """Per-pixel features ``(h', w', 8)`` on every ``stride``-th pixel, from the skeleton alone.
+
+    Distance to the centre line and to the branch's edge, distance to the
+    nearest root start, the cosine between the root's heading and the
+    direction to the pixel (-1 behind a river mouth) and the offset along
+    that heading, distance to the image border and to the image side
+    nearest to that root (a delta's sea lies behind its mouths, along one
+    side), and how one-sided the branches around the pixel are (the
+    length of the mean offset to the skeleton pixels within ``sigma``,
+    over ``sigma``: about 0 inside a branch network, about 0.8 beside it,
+    e.g. in the sea off a coast).
+    """
+    h, w = pm.dist.shape
+    ys = np.arange(0, h, stride)
+    xs = np.arange(0, w, stride)
+    dist = pm.dist[np.ix_(ys, xs)]
+    edge = dist - pm.radius[np.ix_(ys, xs)]
+    yy, xx = np.meshgrid(ys.astype(np.float64), xs.astype(np.float64), indexing="ij")
+    border = np.minimum(np.minimum(yy, h - 1 - yy), np.minimum(xx, w - 1 - xx))
+    starts, heads = _root_starts(structure)
+    if len(starts):
+        from scipy.spatial import cKDTree
+
+        q = np.column_stack([xx.ravel(), yy.ravel()])
+        d_root, k = cKDTree(starts).query(q)
+        off = q - starts[k]
+        cos = (off * heads[k]).sum(1) / np.maximum(d_root, 1e-9)
+        d_root = d_root.reshape(yy.shape)
+        cos = np.where(d_root > 1e-9, cos.reshape(yy.shape), 1.0)
+        along = (off * heads[k]).sum(1).reshape(yy.shape)
+        # distance to the image side nearest to the pixel's nearest root start
+        sx, sy = starts[:, 0], starts[:, 1]
+        near_side = np.argmin(np.stack([sy, h - 1 - sy, sx, w - 1 - sx], 1), 1)[k].reshape(yy.shape)
+        to_side = np.choose(near_side, [yy, h - 1 - yy, xx, w - 1 - xx])
+    else:
+        d_root = np.full(yy.shape, float(np.hypot(h, w)))
+        cos = np.zeros(yy.shape)
+        along = np.zeros(yy.shape)
+        to_side = border
+    skel = (pm.dist <= 0.75).astype(np.float64)
+    gy_, gx_ = np.mgrid[0:h, 0:w].astype(np.float64)
+    n = ndi.gaussian_filter(skel, sigma, mode="constant")
+    mx = ndi.gaussian_filter(skel * gx_, sigma, mode="constant")
+    my = ndi.gaussian_filter(skel * gy_, sigma, mode="constant")
+    good = n > 1e-6
+    ox = np.where(good, mx / np.maximum(n, 1e-12) - gx_, 0.0)
+    oy = np.where(good, my / np.maximum(n, 1e-12) - gy_, 0.0)
+    side = np.where(good, np.hypot(ox, oy) / sigma, 1.0)[np.ix_(ys, xs)]
+    return np.stack([np.log1p(dist), np.sign(edge) * np.log1p(np.abs(edge)), np.log1p(d_root), cos,
+                     np.sign(along) * np.log1p(np.abs(along)), np.log1p(border), np.log1p(to_side), side],
+                    axis=-1)
+
+
+@dataclass
+class RegionLayoutModel:
+    """How an example's flat regions lie around its branches (see :func:`fit_region_layout`).
+
+    Attributes
+    ----------
+    labels : (K,) int ndarray
+        The region labels.
+    shares : (K,) ndarray
+        Fraction of the example covered by each region.
+    branch_region : int
+        The region the branches lie in (the land of a river map).
+    sigma : float
+        Scale (pixels) of the one-sidedness feature.
+    min_area : (K,) ndarray
+        Smallest piece of each region in the example (pixels); smaller
+        pieces of a target layout are absorbed by their surroundings.
+    classifier : object
+        Predicts a pixel's region from its relation to the skeleton.
+    """
+
+    labels: np.ndarray
+    shares: np.ndarray
+    branch_region: int
+    sigma: float
+    min_area: np.ndarray
+    classifier: object | None = None
+
+
+def _stride(shape) -> int:
+    return max(1, int(round(np.sqrt(shape[0] * shape[1]) / 160.0)))
+
+
+def fit_region_layout(layout: np.ndarray, structure: Structure, pm: PixelMap | None = None
+                      ) -> RegionLayoutModel:
+    """Learn from an example how its regions relate to its branches.
+
+    Parameters
+    ----------
+    layout : (H, W) int ndarray
+        Region of every example pixel, branches relabelled to their
+        surroundings (:func:`region_layout`).
+    structure : Structure
+        The example's branches.
+    pm : PixelMap, optional
+        Its nearest-skeleton map on the layout's grid (computed if omitted).
+
+    The region the branches lie in is the most common layout label on the
+    centre lines. An ensemble of randomised trees learns every pixel's
+    region from its relation to the skeleton (see ``_layout_features``):
+    distance to the branches and to their edge, to the nearest root start
+    and on which side of it, to the image border, and how one-sided the
+    branches around it are.
+    """
+    from sklearn.ensemble import ExtraTreesClassifier
+
+    lay = np.asarray(layout)
+    if lay.ndim != 2 or not np.issubdtype(lay.dtype, np.integer):
+        raise ValueError(f"layout must be a 2-D integer label map, got {lay.dtype} {lay.shape}")
+    if pm is None:
+        pm = SkeletonMap(structure, 1.0).pixel_map(lay.shape)
+    labels, counts = np.unique(lay, return_counts=True)
+    shares = counts / lay.size
+    on = lay[pm.dist <= 0.75]
+    branch_region = int(np.bincount(on - labels.min()).argmax() + labels.min()) if on.size else int(labels[0])
+    inside = (pm.dist < np.inf)
+    reach = pm.dist[inside & (lay == branch_region)]
+    sigma = float(np.clip(2.0 * np.percentile(reach, 90) if reach.size else 20.0, 8.0, 0.25 * max(lay.shape)))
+    min_area = np.zeros(len(labels))
+    for i, k in enumerate(labels):
+        lab, n = ndi.label(lay == k)
+        sizes = np.bincount(lab.ravel())[1:]
+        sizes = sizes[sizes >= 16]
+        min_area[i] = float(sizes.min()) if sizes.size else 16.0
+    clf = None
+    if len(labels) >= 2:
+        st = _stride(lay.shape)
+        feats = _layout_features(structure, pm, sigma, st)
+        y = lay[::st, ::st][: feats.shape[0], : feats.shape[1]]
+        X = feats.reshape(-1, feats.shape[-1])
+        y = y.ravel()
+        step = max(1, len(y) // 30000)
+        # randomised trees: fast on one core, and their average gives soft boundaries
+        clf = ExtraTreesClassifier(n_estimators=12, max_depth=12, min_samples_leaf=10, n_jobs=1,
+                                   random_state=0)
+        clf.fit(X[::step], y[::step])
+    return RegionLayoutModel(labels, shares, branch_region, sigma, min_area, clf)
+
+
+def layout_regions(model: RegionLayoutModel, structure: Structure, shape, pm: PixelMap | None = None, *,
+                   share_tolerance: float = 0.25) -> np.ndarray:
+    """Lay the learnt regions out around ``structure`` on an ``(H, W)`` grid.
+
+    The classifier's region probabilities (on a coarse grid, interpolated)
+    get one bias per region, adjusted until every region covers the image
+    within ``share_tolerance`` (relative) of the example's share; the branches and their bodies always lie in
+    the branch region, and pieces of a region smaller than its smallest
+    piece in the example are absorbed by their surroundings. The
+    boundaries are smooth curves (iso-lines of distances), never block
+    edges.
+
+    Returns
+    -------
+    (H, W) int32 ndarray of the example's region labels.
+    """
+    import cv2
+
+    h, w = int(shape[0]), int(shape[1])
+    if pm is None:
+        pm = SkeletonMap(structure, 1.0).pixel_map((h, w))
+    K = len(model.labels)
+    br = int(np.flatnonzero(model.labels == model.branch_region)[0])
+    if K < 2 or model.classifier is None:
+        return np.full((h, w), model.labels[0], np.int32)
+    st = _stride((h, w))
+    feats = _layout_features(structure, pm, model.sigma, st)
+    proba = np.zeros(feats.shape[:2] + (K,))
+    cls = list(model.classifier.classes_)
+    pr = model.classifier.predict_proba(feats.reshape(-1, feats.shape[-1]))
+    for j, c in enumerate(cls):
+        proba[..., int(np.flatnonzero(model.labels == c)[0])] = pr[:, j].reshape(feats.shape[:2])
+    proba = proba.astype(np.float32)
+    if st > 1:
+        # coarse sample (i, j) sits on pixel (i st, j st)
+        mx, my = np.meshgrid(np.arange(w, dtype=np.float32) / st, np.arange(h, dtype=np.float32) / st)
+        proba = np.stack([cv2.remap(np.ascontiguousarray(proba[..., k]), mx, my, cv2.INTER_LINEAR,
+                                    borderMode=cv2.BORDER_REPLICATE) for k in range(K)], -1)
+    # the trees' thresholds leave a ragged edge: smooth it over a few pixels
+    proba = np.stack([cv2.GaussianBlur(proba[..., k], (0, 0), 2.0) for k in range(K)], -1)
+    logp = np.log(np.clip(proba, 1e-4, 1.0))
+    body = pm.core(1.0, 1.5)
+    logp[body] = -1e3
+    logp[body, br] = 0.0
+    # One bias per region keeps the areas near the example's shares: within
+    # ``share_tolerance`` of them the learnt relation decides (a target with
+    # longer rivers has more floodplain), beyond it the biases pull back.
+    bias = np.zeros(K, np.float32)
+    lo = np.maximum(model.shares * (1.0 - share_tolerance) - 0.005, 0.0)
+    hi = model.shares * (1.0 + share_tolerance) + 0.005
+    for _ in range(40):
+        lab = np.argmax(logp + bias, axis=-1)
+        cur = np.bincount(lab.ravel(), minlength=K) / lab.size
+        goal = np.clip(cur, lo, hi)
+        if np.all(np.abs(cur - goal) < 0.002):
+            break
+        bias += 0.7 * np.log((goal + 1e-3) / (cur + 1e-3)).astype(np.float32)
+    lab = np.argmax(logp + bias, axis=-1)
+    lab[body] = br
+    # Specks: pieces smaller than half the example's smallest piece of that
+    # region, holding no branch, join their surroundings (a short river's
+    # floodplain is small but stays).
+    for k in range(K):
+        pieces, n = ndi.label(lab == k)
+        if n <= 1:
+            continue
+        sizes = np.bincount(pieces.ravel())
+        small = (sizes < 0.5 * model.min_area[k])
+        small[0] = False
+        small[np.unique(pieces[body])] = False
+        drop = small[pieces]
+        if drop.any():
+            _, (iy, ix) = ndi.distance_transform_edt(drop, return_indices=True)
+            lab = np.where(drop, lab[iy, ix], lab)
+    return model.labels[lab].astype(np.int32)
+
+
+def target_layout(layout: np.ndarray, example_structure: Structure, target_structure: Structure, shape, *,
+                  pm_example: PixelMap | None = None, pm_target: PixelMap | None = None) -> np.ndarray:
+    """The example's region layout laid out around the target branches as in the example.
+
+    ``fit_region_layout`` on the example, then ``layout_regions`` on the
+    target (see both).
+
+    Examples
+    --------
+    >>> from branchnb.core.structure import Branch, Structure
+    >>> lay = np.zeros((96, 96), np.int32); lay[:, 80:] = 1       # land left, sea right of the mouth
+    >>> ex = Structure([Branch([(78, 48), (10, 40)], 1.5)])
+    >>> tgt = Structure([Branch([(78, 20), (10, 70)], 1.5)])
+    >>> out = target_layout(lay, ex, tgt, (96, 96))
+    >>> int(out[45, 40]), int(out[20, 92])
+    (0, 1)
+    """
+    model = fit_region_layout(layout, example_structure, pm_example)
+    return layout_regions(model, target_structure, shape, pm_target)

@@ -46,7 +46,7 @@ from ..core.params import check_params
 from ..core.polyline import tangents
 from ..core.random import as_rng
 from ..core.structure import Branch, Structure
-from ..core.validate import Array, Int, Shape, checked
+from ..core.validate import Array, Int, Real, Shape, checked
 from .bending import BendingModel, branch_elements
 from .colonization import (
     DensityMap,
@@ -144,6 +144,7 @@ class StructureModel:
         return HistogramMatcher(self.example.angles(), self.example.thicknesses(),
                                 bins=self.params.bins, wG=wG, m=self.params.m)
 
+    @checked(rho=Real(0, 1e4, low_open=True))
     def coverage_at(self, rho: float) -> float:
         """Fraction of the example's domain within ``rho`` of one of its branches."""
         if abs(rho - self._coverage_rho) > 1e-9:

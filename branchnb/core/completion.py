@@ -464,7 +464,12 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
                 progress(min(1.0, 1.0 - (~covered).sum() / n_total), f"gap completion: {n_patches} patches")
     n_inpainted = int((~covered).sum())
     if n_inpainted:
-        _inpaint(canvas, covered)
+        if outside is None:
+            _inpaint(canvas, covered)
+        else:
+            # from this region's known pixels only: the others may still be empty (black)
+            known = (covered_in | filled) & ~outside
+            _inpaint(canvas, known if known.any() else covered_in | filled, only=~covered)
         filled |= ~covered
         covered[:] = True
     if outside is not None:
@@ -504,16 +509,16 @@ def _complete_by_region(canvas, covered, example, forbidden, regions, example_re
     return CompletionResult(filled, source, seams, n_patches, cost, size, n_inp)
 
 
-def _inpaint(canvas: np.ndarray, covered: np.ndarray) -> None:
+def _inpaint(canvas: np.ndarray, covered: np.ndarray, only: np.ndarray | None = None) -> None:
     """Fill the last holes with the colour of the nearest known pixels, in place.
 
     Each hole pixel takes the mean of the known pixels at the nearest
     distance found by a normalised box average that grows until it reaches
     them. (OpenCV's Telea inpainting is not used: on float32 images it
     returns values far outside [0, 1].) The result stays within the range
-    of the known colours.
+    of the known colours. ``only`` limits the pixels written (default: every hole).
     """
-    hole = ~covered
+    hole = ~covered if only is None else (~covered & only)
     if not hole.any():
         return
     if not covered.any():

@@ -27,7 +27,7 @@ import numpy as np
 from scipy import ndimage as ndi
 
 from .image import as_float_image, as_mask
-from .validate import Real, checked
+from .validate import Real, checked, real_array
 
 __all__ = [
     "gradient_magnitude",
@@ -129,7 +129,10 @@ def pair_costs(a, b, *, power: float = 1.0, gradient_weighted: bool = True,
 def _costs(a, b, costs, power, gradient_weighted):
     if costs is None:
         return pair_costs(a, b, power=power, gradient_weighted=gradient_weighted)
-    right, down = (np.asarray(c, np.float64) for c in costs)
+    if not isinstance(costs, (tuple, list)) or len(costs) != 2:
+        raise TypeError(f"costs must be a (right, down) pair of arrays from pair_costs, got "
+                        f"{type(costs).__name__}")
+    right, down = (real_array(c, "costs", ndim=2, min=0.0, allow_empty=True) for c in costs)
     h, w = np.shape(a)[:2]
     if right.shape != (h, w - 1) or down.shape != (h - 1, w):
         raise ValueError(f"costs must be (right, down) of shapes {(h, w - 1)} and {(h - 1, w)}, got "

@@ -38,6 +38,7 @@ __all__ = [
     "Array",
     "Choice",
     "Point",
+    "Points",
     "Shape",
     "Colour",
     "Instance",
@@ -223,6 +224,18 @@ class Array:
         if value is None and allow_none:
             return None
         return real_array(value, name, **self.kw)
+
+
+class Points:
+    """Spec for :func:`checked`: finite ``(x, y)`` points, one ``(2,)`` or ``(N, 2)``."""
+
+    def __call__(self, value, name, allow_none):
+        if value is None and allow_none:
+            return None
+        arr = real_array(value, name, ndim=(1, 2), allow_empty=True)
+        if arr.shape[-1] != 2:
+            raise ValueError(f"{name} must be (x, y) points of shape (2,) or (N, 2), got {arr.shape}")
+        return arr
 
 
 class Image:

@@ -20,7 +20,7 @@ import numba
 import numpy as np
 
 from ..core.io import encode_png
-from ..core.validate import MAX_ITERATIONS, Array, Colour, Int, Real, check_shape, checked, real_array
+from ..core.validate import MAX_ITERATIONS, Array, Colour, Int, Real, Shape, check_shape, checked, real_array
 from .planner import PlanResult
 
 __all__ = ["Dendrite", "PathStats", "build_dendrite", "path_statistics"]
@@ -219,6 +219,7 @@ class Dendrite:
         return Dendrite(self.nodes, self.parent, self.points, r, self.branches,
                         self.branch_parent, self.tips, self.shape, self.iteration)
 
+    @checked(shape=Shape())
     def rescaled(self, shape) -> Dendrite:
         """The same dendrite drawn on an image of ``shape`` (H, W): points map pixel
         centre to pixel centre, radii scale by the geometric mean of the two factors.
@@ -235,9 +236,7 @@ class Dendrite:
         """
         if self.shape is None:
             raise ValueError("rescaled needs a dendrite with an image shape")
-        h, w = int(shape[0]), int(shape[1])
-        if h < 1 or w < 1:
-            raise ValueError(f"shape must be positive, got {shape}")
+        h, w = shape
         sx, sy = w / self.shape[1], h / self.shape[0]
         pts = (self.points + 0.5) * np.array([sx, sy]) - 0.5
         return Dendrite(self.nodes, self.parent, pts, self.radius * float(np.sqrt(sx * sy)),

@@ -28,7 +28,7 @@ from ..core.image import as_float_image, as_points, as_rgb
 from ..core.io import encode_png
 from ..core.params import check_params, param
 from ..core.random import as_seed
-from ..core.validate import Array, Choice, Int, Point, checked
+from ..core.validate import Choice, Int, Point, Points, checked
 from .dendrite import Dendrite, PathStats, build_dendrite, path_statistics
 from .endpoints import place_endpoints
 from .importance import ImportanceParams, darkness, importance_map
@@ -230,14 +230,14 @@ class Stylizer:
         hw, ww = self.working_image(p).shape[:2]
         return np.array([w / ww, h / hw])
 
-    @checked(points=Array(ndim=(1, 2)))
+    @checked(points=Points())
     def to_lattice(self, p: StylizeParams, points) -> np.ndarray:
         """Image ``(x, y)`` points in lattice coordinates (pixel centres map to centres)."""
         hw, ww = self.working_image(p).shape[:2]
         q = (np.asarray(points, float) + 0.5) / self.scale(p) - 0.5
         return np.clip(q, 0, [ww - 1, hw - 1])
 
-    @checked(points=Array(ndim=(1, 2)))
+    @checked(points=Points())
     def to_image(self, p: StylizeParams, points) -> np.ndarray:
         """Lattice ``(x, y)`` points in image coordinates."""
         return (np.asarray(points, float) + 0.5) * self.scale(p) - 0.5

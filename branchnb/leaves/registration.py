@@ -93,7 +93,7 @@ from .exemplar import Exemplar, leaf_exemplar
 from .keypoints import Keypoints, edge_keypoints
 
 __all__ = ["RegistrationParams", "Registration", "register", "start_alignment", "start_candidates", "tps_rpm",
-           "draw_registration", "ThinPlateSpline"]
+           "draw_registration", "ThinPlateSpline", "split_petiole"]
 
 
 @dataclass
@@ -484,6 +484,40 @@ def _base_point(mask: np.ndarray, thin: np.ndarray, lamina: np.ndarray):
     roots = _thin_roots(mask, big, lamina)
     ys, xs = np.nonzero(roots)
     return np.array([xs.mean(), ys.mean()])
+
+
+def split_petiole(blade) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """A blade's lamina, its petiole (the dominant thin protrusion) and the base where they meet.
+
+    Parameters
+    ----------
+    blade : (H, W) bool array_like
+
+    Returns
+    -------
+    lamina, petiole : (H, W) bool ndarray
+        ``petiole`` is empty (and ``lamina`` the blade without thin parts)
+        when no thin part is at least twice as large as any other.
+    base : (2,) ndarray or None
+        ``(x, y)`` where the petiole joins the lamina.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> b = np.zeros((60, 40), bool); b[5:35, 5:35] = True; b[35:58, 19:21] = True
+    >>> lam, pet, base = split_petiole(b)
+    >>> bool(pet[50, 20]), bool(lam[20, 20]), base is not None
+    (True, True, True)
+    """
+    mask = as_mask(blade, name="blade")
+    thin = _thin_parts(mask)
+    lamina = _lamina(mask)
+    base = _base_point(mask, thin, lamina)
+    if base is None:
+        return lamina, np.zeros_like(mask), None
+    lab, _ = ndi_label(thin, structure=np.ones((3, 3)))
+    pet = lab == int(np.argmax(np.bincount(lab.ravel())[1:]) + 1)
+    return lamina, pet, base
 
 
 class _StartScore:

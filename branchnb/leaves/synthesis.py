@@ -29,9 +29,15 @@ A new leaf is built in the training leaf's frame, then given a new shape:
 4. **Texture correction** where the composed warp stretches or squeezes
    (:func:`branchnb.leaves.correction.correct_texture`), applied to the
    background before the layers go on (so no vein or spot is replaced by
-   plain texture), and the alpha of the training leaf's blade carried by
+   plain texture), and the alpha of the training leaf's lamina carried by
    the shape warp. All maps are composed first, so every image is
    resampled once.
+5. **Petiole**: the registration is of the laminae (a petiole bends and
+   varies in length from leaf to leaf), so instead of the training leaf's
+   petiole carried by the shape warp, a new leaf gets one exemplar's own
+   petiole (:func:`branchnb.leaves.registration.split_petiole`), placed at
+   the new leaf's base by the rotation and scale relating that exemplar's
+   frame to the new leaf's there, under the lamina.
 
 Every leaf keeps the seed that made it, the exemplars it used and the mean
 shape weights; :func:`save_leaves` writes RGBA PNGs and a strict-JSON record.
@@ -95,6 +101,10 @@ class GeneratedLeaf:
         Mean ``a_i`` of each exemplar over the leaf.
     warps : dict of str -> float
         Maximum displacement (px) of each random warp (``"background"`` and one per layer).
+    petiole : int
+        Exemplar whose own petiole the leaf got (-1: no petiole was found
+        on the training leaf or the exemplars; the shape warp then carries
+        the training leaf's).
     """
 
     image: np.ndarray
@@ -103,6 +113,7 @@ class GeneratedLeaf:
     layers: dict
     shape_weights: list
     warps: dict = field(default_factory=dict)
+    petiole: int = -1
 
     @property
     def blade(self) -> np.ndarray:
@@ -116,7 +127,8 @@ class GeneratedLeaf:
         return {"seed": int(self.seed), "background": int(self.background),
                 "layers": {k: int(v) for k, v in self.layers.items()},
                 "shape_weights": [round(float(w), 6) for w in self.shape_weights],
-                "warps": {k: round(float(v), 4) for k, v in self.warps.items()}}
+                "warps": {k: round(float(v), 4) for k, v in self.warps.items()},
+                "petiole": int(self.petiole)}
 
     def _repr_png_(self) -> bytes:
         return encode_png(self.on_white())
@@ -262,6 +274,7 @@ class _Prepared:
         self.from_exemplar = [ident if e == t else np.asarray(a.registrations[e].map_from_training, np.float32)
                               for e in range(self.n)]
         self.alpha_t = a.exemplars[t][..., 3].astype(np.float32)
+        self._prepare_petioles()
         errs = np.array(registration_errors(a), float)
         others = errs[np.arange(self.n) != t]
         others = others[np.isfinite(others)]
@@ -269,6 +282,67 @@ class _Prepared:
         lams = np.array([L.lam for L in a.layers], float)
         top = float(lams.max()) if len(lams) and lams.max() > 0 else 1.0
         self.structural = [float(x / top) for x in lams]
+
+    def _prepare_petioles(self):
+        """Each exemplar's own petiole (RGBA, exemplar frame), its base and how its lamina meets the base.
+
+        The registration is of the laminae (a petiole bends and varies in
+        length: no shared shape), so the shape blend would carry the training
+        leaf's petiole onto every new leaf. Instead the training petiole is
+        cut from the alpha and a new leaf gets one exemplar's own petiole,
+        attached at the new leaf's base as it is attached to its own lamina.
+        """
+        from .registration import split_petiole
+
+        a = self.analysis
+        t = a.training_index
+        self.petiole_rgba, self.petiole_base, self.petiole_jac = [], [], []
+        _, pet_t, base_t = split_petiole(a.blades[t])
+        self.base_t = base_t
+        if base_t is not None:
+            rim = ndi.binary_dilation(pet_t, iterations=2) & ~ndi.binary_erosion(
+                a.blades[t] & ~pet_t, iterations=1)
+            self.alpha_t = self.alpha_t * ~rim
+        for e in range(self.n):
+            _, pet, base = split_petiole(a.blades[e])
+            if base_t is None or base is None:
+                self.petiole_rgba.append(None)
+                self.petiole_base.append(None)
+                self.petiole_jac.append(None)
+                continue
+            img = np.asarray(a.exemplars[e], np.float32).copy()
+            keep = ndi.binary_dilation(pet, iterations=2)
+            img[..., 3] *= keep
+            self.petiole_rgba.append(img)
+            self.petiole_base.append(base)
+            self.petiole_jac.append(_map_jacobian(self.from_exemplar[e], base))
+        self.petiole_exemplars = [e for e in range(self.n) if self.petiole_rgba[e] is not None]
+
+    def petiole_layer(self, e: int, m: np.ndarray):
+        """Exemplar ``e``'s petiole (RGBA) in the output frame of the shape map ``m``, or None.
+
+        The new leaf's base ``y_b`` is where ``m`` reaches the training
+        base; the petiole is moved there by the similarity (the rotation and
+        scale of the polar decomposition) of ``J_m(y_b)^-1 J_e(base_e)``:
+        how exemplar ``e``'s frame relates to the new leaf's at the base.
+        """
+        if self.base_t is None or self.petiole_rgba[e] is None:
+            return None
+        d = np.hypot(m[..., 0] - self.base_t[0], m[..., 1] - self.base_t[1])
+        yb = np.array(np.unravel_index(int(np.argmin(d)), d.shape)[::-1], np.float64)
+        if d[int(yb[1]), int(yb[0])] > 0.05 * self.size:
+            return None  # the new leaf's base is off the canvas
+        jm = _map_jacobian(m, yb)
+        lin = np.linalg.solve(jm, self.petiole_jac[e]) if abs(np.linalg.det(jm)) > 1e-9 else np.eye(2)
+        u, sv, vt = np.linalg.svd(lin)
+        rot = u @ vt
+        if np.linalg.det(rot) < 0:  # no mirrored petiole
+            u[:, -1] *= -1
+            rot = u @ vt
+        sim = rot * float(np.sqrt(sv.prod()))
+        inv = np.linalg.inv(sim)
+        q = (np.stack([self.xx, self.yy], -1) - yb) @ inv.T + self.petiole_base[e]
+        return _sample(self.petiole_rgba[e], q.astype(np.float32))
 
     def source_coords(self, e: int, m: np.ndarray, disp: np.ndarray) -> np.ndarray:
         """Exemplar ``e`` pixel for every output pixel: ``W_e^-1(m(y) + d(m(y)))`` (maps composed, one resampling)."""
@@ -285,6 +359,20 @@ def _prepared(analysis) -> _Prepared:
         p = _Prepared(analysis)
         object.__setattr__(analysis, _CACHE_KEY, p)
     return p
+
+
+def _map_jacobian(field: np.ndarray, point) -> np.ndarray:
+    """2 x 2 Jacobian of a dense coordinate map ``field`` (H, W, 2) at ``point`` (x, y), by central differences."""
+    h, w = field.shape[:2]
+    x, y = float(point[0]), float(point[1])
+    step = 3.0
+    pts = np.array([[x + step, y], [x - step, y], [x, y + step], [x, y - step]], np.float32)
+    pts[:, 0] = np.clip(pts[:, 0], 0, w - 1)
+    pts[:, 1] = np.clip(pts[:, 1], 0, h - 1)
+    v = _remap_values(field, pts[None])[0]
+    dx = (v[0] - v[1]) / max(float(pts[0, 0] - pts[1, 0]), 1e-6)
+    dy = (v[2] - v[3]) / max(float(pts[2, 1] - pts[3, 1]), 1e-6)
+    return np.column_stack([dx, dy]).astype(np.float64)
 
 
 def _remap_values(field, c):
@@ -367,10 +455,24 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
         wsum += wgt
     layer_rgb = mix / np.maximum(wsum, 1e-12)[..., None]
     rgb = rgb * (1 - cover[..., None]) + layer_rgb * cover[..., None]
-    img = np.dstack([np.clip(rgb, 0, 1) * (alpha[..., None] > 0), np.clip(alpha, 0, 1)]).astype(np.float32)
+    alpha = np.clip(alpha, 0, 1)
+    pet_from = -1
+    if p.petiole_exemplars:
+        # One exemplar's own petiole, attached at the new leaf's base,
+        # under the lamina.
+        j = int(rng.choice(p.petiole_exemplars))
+        pet = p.petiole_layer(j, m)
+        if pet is not None:
+            pet_from = j
+            ap = np.clip(pet[..., 3], 0, 1)
+            out_a = alpha + ap * (1 - alpha)
+            rgb = (rgb * alpha[..., None] + pet[..., :3] * (ap * (1 - alpha))[..., None]) / np.maximum(
+                out_a, 1e-6)[..., None]
+            alpha = out_a
+    img = np.dstack([np.clip(rgb, 0, 1) * (alpha[..., None] > 0), alpha]).astype(np.float32)
     inside = alpha > 0.5
     sw = [float(wts[i][inside].mean()) if inside.any() else float(wts[i].mean()) for i in range(n)]
-    return GeneratedLeaf(img, int(seed), bg, chosen, sw, warps)
+    return GeneratedLeaf(img, int(seed), bg, chosen, sw, warps, pet_from)
 
 
 def _correct(rgb, blade, mapping, source, source_blade, rng):
