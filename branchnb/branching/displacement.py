@@ -16,18 +16,47 @@ from functools import lru_cache
 
 import numpy as np
 import scipy.sparse as sp
-from scipy import ndimage as ndi
 from scipy.sparse.linalg import spsolve
 
-from ..core.poisson import grid_laplacian
+from ..core.poisson import banded_spd_solve, grid_laplacian
 
 __all__ = ["displacement_field", "backward_map"]
+
+
+#: Largest n * band^2 solved by banded Cholesky (else sparse LU, faster on the widest windows).
+_BANDED_MAX_WORK = 1e7
 
 
 @lru_cache(maxsize=64)
 def _bilaplacian(gh: int, gw: int) -> sp.csr_matrix:
     L, _ = grid_laplacian(np.ones((gh, gw), bool))
     return (L.T @ L).tocsr()
+
+
+@lru_cache(maxsize=64)
+def _bilaplacian_band(gh: int, gw: int) -> np.ndarray:
+    """``L^T L`` of a ``gh x gw`` node grid in upper band storage (band ``2 gw``, row-major nodes)."""
+    K = _bilaplacian(gh, gw).tocoo()
+    n = gh * gw
+    u = min(2 * gw, n - 1)
+    up = K.row <= K.col
+    ab = np.zeros((u + 1, n))
+    ab[u + K.row[up] - K.col[up], K.col[up]] = K.data[up]
+    ab.flags.writeable = False
+    return ab
+
+
+@lru_cache(maxsize=128)
+def _interpolation(n_px: int, n_nodes: int, step: int) -> np.ndarray:
+    """``(n_px, n_nodes)`` linear interpolation from nodes ``0, step, 2 step, ...`` to pixels."""
+    t = np.arange(n_px) / step
+    j0 = np.minimum(np.floor(t).astype(np.int64), n_nodes - 2)
+    f = t - j0
+    M = np.zeros((n_px, n_nodes))
+    M[np.arange(n_px), j0] = 1.0 - f
+    M[np.arange(n_px), j0 + 1] += f
+    M.flags.writeable = False
+    return M
 
 
 def displacement_field(shape, points, displacements, *, step: int = 2,
@@ -90,15 +119,28 @@ def displacement_field(shape, points, displacements, *, step: int = 2,
     rows = np.repeat(np.arange(len(pts)), 4)
     cols = np.stack([y0 * gw + x0, y0 * gw + x0 + 1, (y0 + 1) * gw + x0, (y0 + 1) * gw + x0 + 1], 1)
     vals = np.stack([(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy], 1)
-    B = sp.csr_matrix((vals.ravel(), (rows, cols.ravel())), shape=(len(pts), gh * gw))
-    A = _bilaplacian(gh, gw) + weight * (B.T @ B) + eps * sp.eye(gh * gw)
-    rhs = weight * (B.T @ d)
-    sol = spsolve(A.tocsc(), rhs)
-    sol = np.asarray(sol).reshape(gh, gw, 2)
-    yy, xx = np.mgrid[0:h, 0:w].astype(float)
-    coords = np.array([yy / step, xx / step])
-    return np.stack([ndi.map_coordinates(sol[..., c], coords, order=1, mode="nearest")
-                     for c in range(2)], axis=-1)
+    n = gh * gw
+    sol = None
+    if n * min(2 * gw, n - 1) ** 2 <= _BANDED_MAX_WORK:
+        # Banded solve of (L^T L + weight B^T B + eps I) u = weight B^T d: the
+        # constraints couple the four nodes of a cell (within the band 2 gw).
+        rhs = np.zeros((n, 2))
+        np.add.at(rhs, cols.ravel(), (weight * vals[:, :, None] * d[:, None, :]).reshape(-1, 2))
+        ab = _bilaplacian_band(gh, gw).copy()
+        u = ab.shape[0] - 1
+        ab[u] += eps
+        a, b = np.triu_indices(4)
+        ca, cb = cols[:, a], cols[:, b]   # increasing within a row: ca <= cb
+        np.add.at(ab, (u + ca - cb, cb), weight * vals[:, a] * vals[:, b])
+        sol = banded_spd_solve(ab, rhs)
+    if sol is None:  # large window (wide band) or not positive definite in floating point: sparse solve
+        B = sp.csr_matrix((vals.ravel(), (rows, cols.ravel())), shape=(len(pts), n))
+        A = _bilaplacian(gh, gw) + weight * (B.T @ B) + eps * sp.eye(n)
+        sol = np.asarray(spsolve(A.tocsc(), weight * (B.T @ d)))
+    sol = sol.reshape(gh, gw, 2)
+    # bilinear from the nodes to every pixel, separably (two small products per component)
+    Wy, Wx = _interpolation(h, gh, step), _interpolation(w, gw, step)
+    return np.stack([Wy @ sol[..., c] @ Wx.T for c in range(2)], axis=-1)
 
 
 def backward_map(origin, shape, rotation, translation, field=None) -> tuple[np.ndarray, np.ndarray]:

@@ -40,6 +40,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import cv2
+import numba
 import numpy as np
 from scipy import ndimage as ndi
 
@@ -48,7 +49,7 @@ from ..core.completion import complete_gaps
 from ..core.image import as_float_image, as_mask, as_points, as_rgb
 from ..core.io import encode_png
 from ..core.params import check_params, param
-from ..core.polyline import rigid_align
+from ..core.polyline import RigidTransform
 from ..core.random import as_rng
 from ..core.render import draw_polylines
 from ..core.structure import Structure
@@ -446,14 +447,62 @@ def _allowed(ctx: _Context, mx, my, lib: FragmentLibrary, idx, tgt: Fragment) ->
     return (~excl | ok) & ~ctx.unusable[iy, ix]
 
 
-def _backward_maps(origin, size: int, rot: np.ndarray, trans: np.ndarray):
-    """:func:`~branchnb.branching.displacement.backward_map` for ``N`` rigid transforms at once."""
-    yy, xx = np.mgrid[0:size, 0:size].astype(np.float32)
-    X = (xx + origin[0])[None] - trans[:, 0, None, None]
-    Y = (yy + origin[1])[None] - trans[:, 1, None, None]
-    mx = rot[:, 0, 0, None, None] * X + rot[:, 1, 0, None, None] * Y
-    my = rot[:, 0, 1, None, None] * X + rot[:, 1, 1, None, None] * Y
-    return mx.astype(np.float32), my.astype(np.float32)
+@numba.njit(cache=True)
+def _colour_cost_kernel(ex, xs, ys, rot, trans, excluded, owner, arcmap, unusable, win_b, win_lo, win_hi,
+                        ref, on_body):
+    """Colour cost of every candidate on the overlap pixels ``(xs, ys)`` (see :func:`_colour_costs`).
+
+    Per candidate and pixel: the rigid backward map (float32, as :func:`~.displacement.backward_map`),
+    the rules of :func:`_allowed` and bilinear sampling with a replicated border (as ``cv2.remap``),
+    without building the ``(candidates, pixels)`` arrays.
+    """
+    h, w, C = ex.shape
+    n, P = rot.shape[0], xs.shape[0]
+    out = np.zeros(n)
+    for k in range(n):
+        s_on, s_off, n_on, n_off = 0.0, 0.0, 0, 0
+        for p in range(P):
+            X = np.float64(xs[p]) - trans[k, 0]
+            Y = np.float64(ys[p]) - trans[k, 1]
+            mx = np.float32(rot[k, 0, 0] * X + rot[k, 1, 0] * Y)
+            my = np.float32(rot[k, 0, 1] * X + rot[k, 1, 1] * Y)
+            if not (mx >= -0.5 and mx <= w - 0.5 and my >= -0.5 and my <= h - 0.5):
+                continue
+            ix = min(max(int(np.rint(mx)), 0), w - 1)
+            iy = min(max(int(np.rint(my)), 0), h - 1)
+            if unusable[iy, ix]:
+                continue
+            if excluded[iy, ix]:
+                ok = False
+                for t in range(win_b.shape[1]):
+                    if owner[iy, ix] == win_b[k, t] and win_lo[k, t] <= arcmap[iy, ix] <= win_hi[k, t]:
+                        ok = True
+                if not ok:
+                    continue
+            fx0, fy0 = np.floor(mx), np.floor(my)
+            x0, y0 = int(fx0), int(fy0)
+            fx, fy = mx - fx0, my - fy0
+            xa, xb = min(max(x0, 0), w - 1), min(max(x0 + 1, 0), w - 1)
+            ya, yb = min(max(y0, 0), h - 1), min(max(y0 + 1, 0), h - 1)
+            d = 0.0
+            for c in range(C):
+                v = ((1 - fy) * ((1 - fx) * ex[ya, xa, c] + fx * ex[ya, xb, c])
+                     + fy * ((1 - fx) * ex[yb, xa, c] + fx * ex[yb, xb, c]))
+                e = v - ref[p, c]
+                d += e * e
+            if on_body[p]:
+                s_on += d
+                n_on += 1
+            else:
+                s_off += d
+                n_off += 1
+        if n_on > 0 and n_off > 0:
+            out[k] = 0.5 * (s_on / n_on + s_off / n_off)
+        elif n_on > 0:
+            out[k] = s_on / n_on
+        elif n_off > 0:
+            out[k] = s_off / n_off
+    return out
 
 
 def _colour_costs(ctx: _Context, lib: FragmentLibrary, idx, rot, trans, tgt: Fragment,
@@ -465,21 +514,34 @@ def _colour_costs(ctx: _Context, lib: FragmentLibrary, idx, rot, trans, tgt: Fra
     weigh as much as the background around them: a candidate whose
     branch does not continue the previous fragment's is not outscored by
     a blank one that merely matches the background.
+
+    Only the window pixels inside the disk that are already synthesised
+    can be in an overlap: the candidates are sampled there only, each
+    source pixel under the rules of :func:`_allowed`.
     """
+    idx = np.atleast_1d(idx)
     n = len(idx)
-    mx, my = _backward_maps(origin, size, rot, trans)
-    pix, inimg = _sample(ctx.ex, mx.reshape(n * size, size), my.reshape(n * size, size))
-    pix = pix.reshape(n, size, size, -1)
-    inimg = inimg.reshape(n, size, size)
-    ov = disk[None] & inimg & _allowed(ctx, mx, my, lib, idx, tgt) & cov_win[None]
-    d = ((pix - ex_win[None]) ** 2).sum(-1)
-    parts = []
-    for m in (ov & body_win[None], ov & ~body_win[None]):
-        cnt = m.sum((1, 2))
-        parts.append((np.where(cnt > 0, (d * m).sum((1, 2)) / np.maximum(cnt, 1), 0.0), cnt > 0))
-    (c_on, has_on), (c_off, has_off) = parts
-    both = has_on & has_off
-    return np.where(both, 0.5 * (c_on + c_off), c_on + c_off)
+    rr, cc = np.nonzero(disk & cov_win)
+    if n == 0 or len(rr) == 0:
+        return np.zeros(n)
+    # the source windows of :func:`_allowed` (own branch; for a furcation also the child)
+    slack = 0.5
+    lo, hi = _target_window(ctx.sm_t, tgt.branch, tgt.arc, tgt.radius)
+    wins = [(lib.branch[idx], lib.arc[idx], lib.sign[idx], lo, hi)]
+    if tgt.kind == "furcation":
+        Lc = float(ctx.sm_t.lengths[tgt.child])
+        zero = np.zeros(n)
+        wins.append((lib.child[idx], zero, zero + 1.0, -np.inf, Lc if Lc < 1.5 * tgt.radius else np.inf))
+    win_b = np.stack([w[0] for w in wins], 1).astype(np.int64)
+    ends = [(w[1] + w[2] * w[3], w[1] + w[2] * w[4]) for w in wins]
+    win_lo = np.stack([np.minimum(a, b) - slack for a, b in ends], 1)
+    win_hi = np.stack([np.maximum(a, b) + slack for a, b in ends], 1)
+    ex = ctx.ex if ctx.ex.flags.c_contiguous else np.ascontiguousarray(ctx.ex)
+    return _colour_cost_kernel(ex, cc.astype(np.float32) + np.float32(origin[0]),
+                               rr.astype(np.float32) + np.float32(origin[1]),
+                               np.ascontiguousarray(rot, np.float64), np.ascontiguousarray(trans, np.float64),
+                               ctx.excluded, ctx.pm_s.branch, ctx.pm_s.arc, ctx.unusable, win_b, win_lo, win_hi,
+                               np.ascontiguousarray(ex_win[rr, cc], np.float32), body_win[rr, cc])
 
 
 def _constraints(ctx: _Context, src: Fragment, tgt: Fragment, rot, trans):
@@ -709,7 +771,8 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         j = choose_among_best(S[short] + p.w_c * costs_c, p.c, rng)
         pick = int(short[j])
         src = lib[pick]
-        T = rigid_align(bank.p[pick], q[0])
+        # the shortlist's closed-form alignment (what rigid_align gives, to rounding)
+        T = RigidTransform(rotation=rot[j], translation=trans[j])
         fld = None
         max_disp = 0.0
         if p.displacement:

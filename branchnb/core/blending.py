@@ -26,11 +26,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import cv2
 import numpy as np
-from scipy import ndimage as ndi
 
 from .graphcut import pair_costs, seam_cost, seam_cut
-from .poisson import poisson_blend
+from .poisson import _poisson_solve
 
 __all__ = ["Composition", "compose_piece"]
 
@@ -58,6 +58,14 @@ class Composition:
     take: np.ndarray
     seam: np.ndarray
     cost: float
+
+
+_CROSS = cv2.getStructuringElement(cv2.MORPH_CROSS, (3, 3))
+
+
+def _dilate(mask: np.ndarray) -> np.ndarray:
+    """``scipy.ndimage.binary_dilation(mask)`` (4-neighbours, nothing from outside the window), with OpenCV."""
+    return cv2.dilate(mask.view(np.uint8), _CROSS).view(bool)
 
 
 def _clip_window(origin, size, shape):
@@ -114,6 +122,9 @@ def compose_piece(canvas: np.ndarray, covered: np.ndarray, piece: np.ndarray, va
     """
     if method not in ("graphcut", "overlay"):
         raise ValueError(f"method must be 'graphcut' or 'overlay', got {method!r}")
+    for name, w in (("anchor_weight", anchor_weight), ("screen", screen)):
+        if not (np.isfinite(w) and 0 <= w <= 1e12):
+            raise ValueError(f"{name} must be finite and in [0, 1e12], got {w}")
     clip = _clip_window(origin, valid.shape, covered.shape)
     if clip is None:
         return None
@@ -127,8 +138,8 @@ def compose_piece(canvas: np.ndarray, covered: np.ndarray, piece: np.ndarray, va
     only_b = V & ~covA
     border = np.zeros_like(V)
     border[0, :] = border[-1, :] = border[:, 0] = border[:, -1] = True
-    near_a = (ndi.binary_dilation(only_a) | border) & overlap
-    near_b = ndi.binary_dilation(only_b) & overlap & ~near_a
+    near_a = (_dilate(only_a) | border) & overlap
+    near_b = _dilate(only_b) & overlap & ~near_a
     pin_a = near_a.copy()
     if protect_canvas is not None:
         pin_a |= protect_canvas[sub] & overlap
@@ -138,17 +149,21 @@ def compose_piece(canvas: np.ndarray, covered: np.ndarray, piece: np.ndarray, va
     pin_b &= ~pin_a
     if not overlap.any():
         take = only_b.copy()
-    elif method == "overlay":
-        take = only_b | (overlap & ~pin_a)
-    else:
-        pc = pair_costs(A, P)
-        take = only_b | seam_cut(A, P, overlap, pin_a, pin_b, costs=pc)
-    if overlap.any():
-        pc = pc if method != "overlay" else pair_costs(A, P)
-        cost = seam_cost(A, P, take, region=overlap, costs=pc)
-    else:
         cost = 0.0
-    seam = ~take & overlap & ndi.binary_dilation(take)
+    else:
+        # Seam costs only where the cut can run: the overlap's bounding box plus one pixel of
+        # context for the gradients (the same costs there as on the whole window).
+        rr, cc = np.flatnonzero(overlap.any(1)), np.flatnonzero(overlap.any(0))
+        box = (slice(max(rr[0] - 1, 0), rr[-1] + 2), slice(max(cc[0] - 1, 0), cc[-1] + 2))
+        A_b, P_b = A[box], P[box]
+        pc = pair_costs(A_b, P_b)
+        if method == "overlay":
+            take = only_b | (overlap & ~pin_a)
+        else:
+            take = only_b.copy()
+            take[box] |= seam_cut(A_b, P_b, overlap[box], pin_a[box], pin_b[box], costs=pc)
+        cost = seam_cost(A_b, P_b, take[box], region=overlap[box], costs=pc)
+    seam = ~take & overlap & _dilate(take)
     if not take.any():
         return Composition(win, sub, take, seam, cost)
     new = P
@@ -160,11 +175,10 @@ def compose_piece(canvas: np.ndarray, covered: np.ndarray, piece: np.ndarray, va
         bnd = kept if neutral is None else kept & ~neutral
         target = np.where(bnd[:, :, None], A, P)
         if screen > 0:
-            new = poisson_blend(target, P, ~kept, anchor=~kept, anchor_weight=screen)
+            new = _poisson_solve(target, P, ~kept, ~kept, float(screen))
         else:
-            anchor = (~covA & ~take) if anchored else None
-            new = poisson_blend(target, P, ~kept, anchor=anchor,
-                                anchor_weight=anchor_weight if anchored else 0.0)
+            anchor = (~covA & ~take) if anchored else np.zeros_like(kept)
+            new = _poisson_solve(target, P, ~kept, anchor, float(anchor_weight) if anchored else 0.0)
     A[take] = new[take]
     covA[take] = True
     return Composition(win, sub, take, seam, cost)

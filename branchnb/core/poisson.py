@@ -22,7 +22,7 @@ from scipy.sparse.linalg import splu
 from .image import as_float_image, as_mask
 from .validate import Real, checked
 
-__all__ = ["grid_laplacian", "poisson_blend"]
+__all__ = ["banded_spd_solve", "grid_laplacian", "poisson_blend"]
 
 _OFFSETS = ((0, 1), (0, -1), (1, 0), (-1, 0))
 #: Largest n * (band + 1)^2 solved by banded Cholesky (else sparse LU): the
@@ -30,45 +30,91 @@ _OFFSETS = ((0, 1), (0, -1), (1, 0), (-1, 0))
 _BANDED_MAX_WORK = 3e6
 
 
-@numba.njit(cache=True)
-def _banded_cholesky_solve(ab, b):
-    """Solve ``A x = b`` in place for SPD ``A`` in upper band storage ``ab[u + i - j, j] = A[i, j]``.
+@numba.njit(cache=True, fastmath=True)
+def _banded_cholesky_solve(abt, bt):
+    """Solve ``A x = b`` in place for SPD ``A`` stored by rows of its lower band, ``abt[j, u + i - j] = A[i, j]``
+    (``i <= j``, the transpose of LAPACK's upper band storage), ``bt`` of shape ``(C, n)``.
 
-    Plain band Cholesky (no BLAS threads: on a shared machine those cost
-    more than the solve). Returns False if ``A`` is not positive definite.
+    Plain band Cholesky ``A = L L^T`` (no BLAS threads: on a shared machine those cost more than
+    the solve); every inner loop runs over contiguous memory. Returns False if ``A`` is not
+    positive definite.
     """
-    u = ab.shape[0] - 1
-    n = ab.shape[1]
-    # factor: A = U^T U, U stored in ab
+    n, u1 = abt.shape
+    u = u1 - 1
     for j in range(n):
         i0 = max(0, j - u)
         for i in range(i0, j + 1):
-            s = ab[u + i - j, j]
             k0 = max(i0, i - u)
+            s = 0.0
+            oi = u - i
+            oj = u - j
             for k in range(k0, i):
-                s -= ab[u + k - i, i] * ab[u + k - j, j]
+                s += abt[i, oi + k] * abt[j, oj + k]
+            v = abt[j, u + i - j] - s
             if i == j:
-                if s <= 0.0:
+                if v <= 0.0:
                     return False
-                ab[u, j] = np.sqrt(s)
+                abt[j, u] = np.sqrt(v)
             else:
-                ab[u + i - j, j] = s / ab[u, i]
-    C = b.shape[1]
-    # forward: U^T y = b
-    for j in range(n):
-        for c in range(C):
-            s = b[j, c]
+                abt[j, u + i - j] = v / abt[i, u]
+    for c in range(bt.shape[0]):
+        x = bt[c]
+        for j in range(n):  # forward: L y = b
+            s = 0.0
+            o = u - j
             for k in range(max(0, j - u), j):
-                s -= ab[u + k - j, j] * b[k, c]
-            b[j, c] = s / ab[u, j]
-    # backward: U x = y
-    for i in range(n - 1, -1, -1):
-        for c in range(C):
-            s = b[i, c]
-            for j in range(i + 1, min(n, i + u + 1)):
-                s -= ab[u + i - j, j] * b[j, c]
-            b[i, c] = s / ab[u, i]
+                s += abt[j, o + k] * x[k]
+            x[j] = (x[j] - s) / abt[j, u]
+        for i in range(n - 1, -1, -1):  # backward: L^T x = y, column by column
+            x[i] = x[i] / abt[i, u]
+            xi = x[i]
+            o = u - i
+            for k in range(max(0, i - u), i):
+                x[k] -= abt[i, o + k] * xi
     return True
+
+
+def banded_spd_solve(ab: np.ndarray, b: np.ndarray) -> np.ndarray | None:
+    """Solve ``A x = b`` for a symmetric positive definite band matrix ``A``.
+
+    Parameters
+    ----------
+    ab : (u + 1, n) float64 ndarray
+        Upper band storage, ``ab[u + i - j, j] = A[i, j]`` for ``i <= j``
+        (the layout of :func:`scipy.linalg.solveh_banded`); overwritten.
+    b : (n,) or (n, k) array_like
+        Right-hand side(s).
+
+    Returns
+    -------
+    x : ndarray or None
+        The solution (shape of ``b``), or None if ``A`` is not positive
+        definite (the caller falls back to a general solver).
+
+    Notes
+    -----
+    A plain band Cholesky compiled with numba: on the many small systems of
+    fragment synthesis it is several times faster than a sparse LU and
+    uses no BLAS threads.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> ab = np.array([[0.0, -1.0, -1.0], [2.0, 2.0, 2.0]])   # tridiagonal [-1, 2, -1]
+    >>> banded_spd_solve(ab, np.array([1.0, 0.0, 1.0])).round(6).tolist()
+    [1.0, 1.0, 1.0]
+    """
+    ab = np.asarray(ab, np.float64)
+    if ab.ndim != 2:
+        raise ValueError(f"ab must be a (u + 1, n) band array, got shape {ab.shape}")
+    b = np.asarray(b, np.float64)
+    one = b.ndim == 1
+    bt = np.array(b.reshape(len(b), -1).T, np.float64, order="C")
+    if bt.shape[1] != ab.shape[1]:
+        raise ValueError(f"b has {bt.shape[1]} rows, the matrix {ab.shape[1]}")
+    if not _banded_cholesky_solve(np.ascontiguousarray(ab.T), bt):
+        return None
+    return bt[0] if one else bt.T
 
 
 def grid_laplacian(mask) -> tuple[sp.csr_matrix, np.ndarray]:
@@ -155,9 +201,98 @@ def poisson_blend(target, source, mask, *, anchor=None, anchor_weight: float = 0
     if anchor_weight < 0 or not np.isfinite(anchor_weight):
         raise ValueError(f"anchor_weight must be finite and >= 0, got {anchor_weight}")
     anchor = np.zeros_like(mask) if anchor is None else as_mask(anchor, shape=mask.shape, name="anchor")
+    return _poisson_solve(target, source, mask, anchor, float(anchor_weight), mixed)
+
+
+@numba.njit(cache=True)
+def _mask_band(mask):
+    """Row-major index of the mask pixels and the band of their 4-neighbour system."""
+    h, w = mask.shape
+    index = np.full((h, w), -1, np.int64)
+    n = 0
+    band = 0
+    for i in range(h):
+        for j in range(w):
+            if mask[i, j]:
+                index[i, j] = n
+                n += 1
+                if j > 0 and mask[i, j - 1]:
+                    band = max(band, 1)
+                if i > 0 and index[i - 1, j] >= 0:
+                    band = max(band, n - 1 - index[i - 1, j])
+    return index, n, band
+
+
+@numba.njit(cache=True)
+def _assemble_band(index, n, band, src, tgt, anchor, anchor_weight):
+    """The system of :func:`_poisson_solve` in the lower-band storage of :func:`_banded_cholesky_solve`.
+
+    Same terms, added in the same order, as the vectorised assembly (identical values).
+    """
+    h, w = index.shape
+    C = src.shape[2]
+    abt = np.zeros((n, band + 1))
+    rhs = np.zeros((C, n))
+    has_boundary = False
+    for i in range(h):
+        for j in range(w):
+            p = index[i, j]
+            if p < 0:
+                continue
+            deg = 0.0
+            for d in range(4):
+                qi, qj = i, j
+                if d == 0:
+                    qj = j + 1
+                elif d == 1:
+                    qj = j - 1
+                elif d == 2:
+                    qi = i + 1
+                else:
+                    qi = i - 1
+                if qi < 0 or qi >= h or qj < 0 or qj >= w:
+                    continue
+                deg += 1.0
+                q = index[qi, qj]
+                for c in range(C):
+                    rhs[c, p] += src[i, j, c] - src[qi, qj, c]
+                if q >= 0:
+                    if q > p:
+                        abt[q, band + p - q] = -1.0
+                else:
+                    has_boundary = True
+                    for c in range(C):
+                        rhs[c, p] += tgt[qi, qj, c]
+            a_w = anchor_weight if anchor[i, j] else 0.0
+            for c in range(C):
+                rhs[c, p] += a_w * src[i, j, c]
+            abt[p, band] = deg + a_w
+    return abt, rhs, has_boundary
+
+
+def _poisson_solve(target: np.ndarray, source: np.ndarray, mask: np.ndarray, anchor: np.ndarray,
+                   anchor_weight: float, mixed: bool = False) -> np.ndarray:
+    """:func:`poisson_blend` on validated arrays (float (H, W, C) images, (H, W) bool masks)."""
     out = target.copy()
     if not mask.any():
         return out
+    if not mixed:
+        # the common case, assembled and solved in compiled loops (identical values)
+        mask_c = np.ascontiguousarray(mask, bool)
+        index, n, band = _mask_band(mask_c)
+        if n * (band + 1) ** 2 <= _BANDED_MAX_WORK:
+            abt, rhs, has_boundary = _assemble_band(index, n, band, np.ascontiguousarray(source, np.float64),
+                                                    np.ascontiguousarray(target, np.float64),
+                                                    np.ascontiguousarray(anchor, bool), float(anchor_weight))
+            anchored = anchor_weight > 0 and bool(anchor[mask_c].any())
+            if (has_boundary or anchored) and _banded_cholesky_solve(abt, rhs):
+                out[mask_c] = rhs.T
+                return np.clip(out, 0, 1).astype(np.float32)
+    return _poisson_solve_sparse(out, target, source, mask, anchor, anchor_weight, mixed)
+
+
+def _poisson_solve_sparse(out, target, source, mask, anchor, anchor_weight, mixed):
+    """The general path of :func:`_poisson_solve` (mixed gradients, wide masks, singular systems)."""
     h, w = mask.shape
     C = target.shape[2]
     idx = np.flatnonzero(mask)
@@ -212,10 +347,12 @@ def poisson_blend(target, source, mask, *, anchor=None, anchor_weight: float = 0
         band = int(np.max(np.abs(r - c))) if len(r) else 0
         if n * (band + 1) ** 2 <= _BANDED_MAX_WORK:
             up = r <= c
-            ab = np.zeros((band + 1, n))
-            ab[band + r[up] - c[up], c[up]] = v[up]
-            sol = np.ascontiguousarray(rhs)
-            if not _banded_cholesky_solve(ab, sol):  # a piece of the mask without boundary: singular
+            abt = np.zeros((n, band + 1))
+            abt[c[up], band + r[up] - c[up]] = v[up]
+            sol = np.ascontiguousarray(rhs.T)
+            if _banded_cholesky_solve(abt, sol):
+                sol = sol.T
+            else:  # a piece of the mask without boundary: singular
                 sol = None
     if sol is None:
         A = sp.csc_matrix((v, (r, c)), shape=(n, n))
