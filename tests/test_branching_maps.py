@@ -18,6 +18,7 @@ from branchnb.branching._map_examples import (
     SEA,
     delta_mask_example,
     floodplain_map_example,
+    line_scores,
     river_map_example,
 )
 from branchnb.branching.colonization import coverage_fraction
@@ -367,23 +368,6 @@ def test_flat_region_image_follows_the_layout_without_block_edges():
 
 
 # --------------------------------------------------------------------------- coloured lines over terrain
-def _line_scores(s, ref_mask):
-    """Precision (centre-line vertices within 2 px of a reference line pixel), recall (reference
-    skeleton pixels within 2.5 px of a vertex) and their tolerance IoU."""
-    from scipy import ndimage as ndi
-    from skimage.morphology import skeletonize
-
-    h, w = ref_mask.shape
-    pts = np.vstack([b.points for b in s.branches])
-    ix = np.clip(np.rint(pts[:, 0]).astype(int), 0, w - 1)
-    iy = np.clip(np.rint(pts[:, 1]).astype(int), 0, h - 1)
-    precision = np.mean(ndi.distance_transform_edt(~ref_mask)[iy, ix] <= 2.0)
-    ext = np.zeros((h, w), bool)
-    ext[iy, ix] = True
-    recall = np.mean(ndi.distance_transform_edt(~ext)[skeletonize(ref_mask)] <= 2.5)
-    return precision, recall, precision * recall / (precision + recall - precision * recall)
-
-
 @pytest.mark.parametrize("relief", ["levels", "shade"])
 def test_blue_rivers_over_terrain_are_extracted_not_the_relief(relief):
     from branchnb.branching._map_examples import ATLAS_RIVER, terrain_map_example
@@ -391,8 +375,8 @@ def test_blue_rivers_over_terrain_are_extracted_not_the_relief(relief):
 
     img, _s, rivers = terrain_map_example((224, 224), 0, relief=relief, n_trees=10)
     assert np.allclose(thin_line_colour(img), ATLAS_RIVER, atol=0.03)
-    p, r, iou = _line_scores(extract_structure(img, root="nearest_region"), rivers)
-    p0, r0, iou0 = _line_scores(extract_structure(img, root="nearest_region", line_colour=None), rivers)
+    p, r, iou = line_scores(extract_structure(img, root="nearest_region"), rivers)
+    p0, r0, iou0 = line_scores(extract_structure(img, root="nearest_region", line_colour=None), rivers)
     assert p >= 0.95 and iou >= 0.75, (p, r, iou)
     assert iou >= iou0 + 0.2, (iou, iou0)          # brightness alone follows the relief
 
@@ -404,7 +388,7 @@ def test_czech_map_extraction_follows_the_blue_rivers():
     img = data.load("czech_rivers_map")
     rgb = as_rgb(img)
     rivers = (rgb[..., 2] - rgb[..., 0]) >= 0.3     # the reference by hand: blue (B - R) pixels
-    p, r, iou = _line_scores(extract_structure(img, root="nearest_region"), rivers)
+    p, r, iou = line_scores(extract_structure(img, root="nearest_region"), rivers)
     assert p >= 0.95 and r >= 0.85 and iou >= 0.85, (p, r, iou)
 
 
