@@ -323,7 +323,8 @@ def test_region_layout_follows_the_target_branches(kind):
     for k, share in zip(model.labels, model.shares):
         assert abs(np.mean(out == k) - share) <= 0.25 * share + 0.01
         iou = ((out == k) & (truth == k)).sum() / ((out == k) | (truth == k)).sum()
-        assert iou >= 0.78, (k, iou)
+        # every region of the two-region kinds (land, sea, the delta's sea off its mouths) well placed
+        assert iou >= (0.9 if kind != "floodplain" else 0.78), (k, iou)
     # the old default (the example's layout resized) misses the target's floodplain entirely
     if kind == "floodplain":
         import cv2
@@ -351,7 +352,9 @@ def test_flat_region_image_follows_the_layout_without_block_edges():
     # the colour classes have no long axis-parallel straight runs (patch edges would)
     cols = np.array(list(colours.values()))
     d = np.abs(im[:, :, None] - cols[None, None]).max(-1)
-    assert np.all(d.min(-1)[far] <= 0.05)
+    # (a seam pixel where three regions meet may mix two colours a little)
+    assert np.mean(d.min(-1)[far] <= 0.05) >= 0.999
+    assert np.all(d.min(-1)[far] <= 0.1)
     cls = np.where(far, np.argmin(d, -1), -1)
 
     def longest_run(c):

@@ -472,18 +472,73 @@ def _root_starts(structure: Structure):
     return np.asarray(pts, np.float64).reshape(-1, 2), np.asarray(dirs, np.float64).reshape(-1, 2)
 
 
+def _hull_features(structure: Structure, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Where points ``q`` lie relative to the convex hull of the skeleton.
+
+    Returns the signed distance to the hull (> 0 outside); how much the
+    nearest hull edge faces the way the nearest root points out of the
+    network; and the signed distance beyond the coast line at the nearest
+    root (below). The hull's edges between river mouths follow the coast,
+    the sea lies outside them in the direction the mouths point (a cosine
+    of about 1); outside an edge that runs along a river (the land beside
+    a delta's outer arm) the cosine is about 0.
+    """
+    pts = np.vstack([np.asarray(b.points, np.float64) for b in structure.branches])
+    hull = cv2.convexHull(pts.astype(np.float32)).reshape(-1, 2).astype(np.float64)
+    n = len(q)
+    if len(hull) < 3:
+        return np.zeros(n), np.zeros(n), np.zeros(n)
+    a, b = hull, np.roll(hull, -1, axis=0)
+    ab = b - a
+    t = np.clip((((q[:, None, :] - a[None]) * ab[None]).sum(-1)) / np.maximum((ab ** 2).sum(-1), 1e-9), 0.0, 1.0)
+    d = np.hypot(*(q[:, None, :] - (a[None] + t[..., None] * ab[None])).transpose(2, 0, 1))
+    e = np.argmin(d, axis=1)
+    dist = d[np.arange(n), e]
+    # outward normals: the hull from cv2 is ordered, its centroid inside
+    nrm = np.column_stack([ab[:, 1], -ab[:, 0]]) / np.maximum(np.hypot(ab[:, 0], ab[:, 1]), 1e-9)[:, None]
+    if ((a + 0.5 * ab - hull.mean(0)) * nrm).sum(1).mean() < 0:
+        nrm = -nrm
+    inside = np.all(((q[:, None, :] - a[None]) * nrm[None]).sum(-1) <= 0.0, axis=1)
+    signed = np.where(inside, -dist, dist)
+    starts, heads = _root_starts(structure)
+    if len(starts) == 0:
+        return signed, np.zeros(n), np.zeros(n)
+    from scipy.spatial import cKDTree
+
+    _, k = cKDTree(starts).query(q)
+    facing = -(nrm[e] * heads[k]).sum(1)
+    # The coast line at each root: of the two hull edges at the hull vertex
+    # nearest to the root, the one that faces away from the skeleton's centre
+    # most (a root's own heading can run along the coast); how far a point
+    # lies beyond that line, extended past the hull (the coast goes on
+    # beyond the outermost mouth).
+    v = np.argmin(np.hypot(*(starts[:, None, :] - hull[None]).transpose(2, 0, 1)), axis=1)
+    cand = np.stack([v, (v - 1) % len(hull)], 1)
+    away = starts - pts.mean(0)
+    away /= np.maximum(np.hypot(away[:, 0], away[:, 1]), 1e-9)[:, None]
+    face = (nrm[cand] * away[:, None, :]).sum(-1)
+    coast = cand[np.arange(len(starts)), np.argmax(face, 1)]
+    beyond = ((q - starts[k]) * nrm[coast[k]]).sum(1)
+    return signed, facing, beyond
+
+
 def _layout_features(structure: Structure, pm: PixelMap, sigma: float, stride: int) -> np.ndarray:
-    """Per-pixel features ``(h', w', 8)`` on every ``stride``-th pixel, from the skeleton alone.
+    """Per-pixel features ``(h', w', 9)`` on every ``stride``-th pixel, from the skeleton alone.
 
     Distance to the centre line and to the branch's edge, distance to the
     nearest root start, the cosine between the root's heading and the
     direction to the pixel (-1 behind a river mouth) and the offset along
-    that heading, distance to the image border and to the image side
-    nearest to that root (a delta's sea lies behind its mouths, along one
-    side), and how one-sided the branches around the pixel are (the
+    that heading, how one-sided the branches around the pixel are (the
     length of the mean offset to the skeleton pixels within ``sigma``,
     over ``sigma``: about 0 inside a branch network, about 0.8 beside it,
-    e.g. in the sea off a coast).
+    e.g. in the sea off a coast), and the pixel's relation to the convex
+    hull of the skeleton (see :func:`_hull_features`: the line between a
+    delta's mouths is its coast).
+
+    Nothing refers to the image frame: an example's sea may be 40 pixels
+    deep along its bottom side, a target's 60; the trees would learn the
+    frame distance, which separates the example perfectly and says nothing
+    about a target of another size.
     """
     h, w = pm.dist.shape
     ys = np.arange(0, h, stride)
@@ -491,27 +546,21 @@ def _layout_features(structure: Structure, pm: PixelMap, sigma: float, stride: i
     dist = pm.dist[np.ix_(ys, xs)]
     edge = dist - pm.radius[np.ix_(ys, xs)]
     yy, xx = np.meshgrid(ys.astype(np.float64), xs.astype(np.float64), indexing="ij")
-    border = np.minimum(np.minimum(yy, h - 1 - yy), np.minimum(xx, w - 1 - xx))
+    q = np.column_stack([xx.ravel(), yy.ravel()])
     starts, heads = _root_starts(structure)
     if len(starts):
         from scipy.spatial import cKDTree
 
-        q = np.column_stack([xx.ravel(), yy.ravel()])
         d_root, k = cKDTree(starts).query(q)
         off = q - starts[k]
         cos = (off * heads[k]).sum(1) / np.maximum(d_root, 1e-9)
         d_root = d_root.reshape(yy.shape)
         cos = np.where(d_root > 1e-9, cos.reshape(yy.shape), 1.0)
         along = (off * heads[k]).sum(1).reshape(yy.shape)
-        # distance to the image side nearest to the pixel's nearest root start
-        sx, sy = starts[:, 0], starts[:, 1]
-        near_side = np.argmin(np.stack([sy, h - 1 - sy, sx, w - 1 - sx], 1), 1)[k].reshape(yy.shape)
-        to_side = np.choose(near_side, [yy, h - 1 - yy, xx, w - 1 - xx])
     else:
         d_root = np.full(yy.shape, float(np.hypot(h, w)))
         cos = np.zeros(yy.shape)
         along = np.zeros(yy.shape)
-        to_side = border
     skel = (pm.dist <= 0.75).astype(np.float64)
     gy_, gx_ = np.mgrid[0:h, 0:w].astype(np.float64)
     n = ndi.gaussian_filter(skel, sigma, mode="constant")
@@ -521,9 +570,13 @@ def _layout_features(structure: Structure, pm: PixelMap, sigma: float, stride: i
     ox = np.where(good, mx / np.maximum(n, 1e-12) - gx_, 0.0)
     oy = np.where(good, my / np.maximum(n, 1e-12) - gy_, 0.0)
     side = np.where(good, np.hypot(ox, oy) / sigma, 1.0)[np.ix_(ys, xs)]
-    return np.stack([np.log1p(dist), np.sign(edge) * np.log1p(np.abs(edge)), np.log1p(d_root), cos,
-                     np.sign(along) * np.log1p(np.abs(along)), np.log1p(border), np.log1p(to_side), side],
-                    axis=-1)
+    hull_d, facing, beyond = (a.reshape(yy.shape) for a in _hull_features(structure, q))
+
+    def slog(v):
+        return np.sign(v) * np.log1p(np.abs(v))
+
+    return np.stack([np.log1p(dist), slog(edge), np.log1p(d_root), cos, slog(along), side,
+                     slog(hull_d), facing, slog(beyond)], axis=-1)
 
 
 @dataclass
@@ -577,8 +630,9 @@ def fit_region_layout(layout: np.ndarray, structure: Structure, pm: PixelMap | N
     centre lines. An ensemble of randomised trees learns every pixel's
     region from its relation to the skeleton (see ``_layout_features``):
     distance to the branches and to their edge, to the nearest root start
-    and on which side of it, to the image border, and how one-sided the
-    branches around it are.
+    and on which side of it, how one-sided the branches around it are, and
+    how far outside the skeleton's convex hull (beyond the coast line
+    through the mouths) it lies; never its distance to the image frame.
     """
     from sklearn.ensemble import ExtraTreesClassifier
 
@@ -609,8 +663,10 @@ def fit_region_layout(layout: np.ndarray, structure: Structure, pm: PixelMap | N
         y = y.ravel()
         step = max(1, len(y) // 30000)
         # randomised trees: fast on one core, and their average gives soft boundaries
-        clf = ExtraTreesClassifier(n_estimators=12, max_depth=12, min_samples_leaf=10, n_jobs=1,
-                                   random_state=0)
+        # (every feature at every split: with a random third of them the trees
+        # lean on weak features as often as on the one that separates)
+        clf = ExtraTreesClassifier(n_estimators=12, max_depth=12, min_samples_leaf=10, max_features=None,
+                                   n_jobs=1, random_state=0)
         clf.fit(X[::step], y[::step])
     return RegionLayoutModel(labels, shares, branch_region, sigma, min_area, clf)
 
