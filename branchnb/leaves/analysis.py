@@ -337,12 +337,14 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
             colour, liberal_t, spat = [], [], []
             for e in range(n):
                 report(step / steps, f"layer {name}: colour and space terms on exemplar {e + 1}/{n}")
+                colour.append(colour_similarity(q[e], blades[e], cdf, n_px,
+                                                weights=space.weights if params.lab_units else None))
+            for e in range(n):
                 eps_px, _, lib_r = lengths[e]
                 lib_r = max(lib_r, tolerance)
-                s = colour_similarity(q[e], blades[e], cdf, n_px)
+                s = colour[e]
                 lib = liberal_layer(s, dist[e], params.liberal_threshold, lib_r, blades[e])
                 lib_t = lib if e == t else warp_mask(registrations[e], lib, to_training=True)
-                colour.append(s)
                 liberal_t.append(lib_t & blades[t])
                 spat.append(spatial_term(dist[e], s, eps_px))
             lam, overlap = layer_weight(liberal_t, params.kappa)

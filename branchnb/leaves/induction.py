@@ -108,6 +108,7 @@ class InductionParams:
                                   help="blade area (px) of a leaf at the paper's resolution")
     match_colours: bool = param(True, help="match each exemplar's blade colour statistics to the "
                                              "training leaf's before comparing colours")
+    lab_units: bool = param(True, help="S_e as the EMD in CIELAB units (channels weighted by their span)")
     min_neighbourhood: int = param(3, min=1, max=16, ui=False,
                                    help="a smaller scaled window is tried against this one (px)")
 
@@ -126,6 +127,12 @@ class ColourSpace:
     lo: np.ndarray
     hi: np.ndarray
     bins: int
+
+    @property
+    def weights(self) -> np.ndarray:
+        """Each channel's share of the summed span (Lab units): channel weights of ``S_e``."""
+        span = np.asarray(self.hi, np.float64) - np.asarray(self.lo, np.float64)
+        return span / span.sum()
 
 
 def _lab(image) -> np.ndarray:
@@ -279,8 +286,10 @@ def layer_cdfs(q: np.ndarray, mask, bins: int) -> np.ndarray:
     return out
 
 
-def colour_similarity(q: np.ndarray, blade, cdfs: np.ndarray, size: int) -> np.ndarray:
-    """``S_e(x, c)`` for every pixel and layer: normalised per-channel EMD, averaged over L, a, b.
+def colour_similarity(q: np.ndarray, blade, cdfs: np.ndarray, size: int, weights=None) -> np.ndarray:
+    """``S_e(x, c)`` for every pixel and layer: normalised per-channel EMD averaged over L, a, b.
+
+    The channels count equally, or by ``weights``.
 
     Parameters
     ----------
@@ -292,6 +301,10 @@ def colour_similarity(q: np.ndarray, blade, cdfs: np.ndarray, size: int) -> np.n
         Cumulative histograms of the K user layers (:func:`layer_cdfs`).
     size : int
         Neighbourhood side ``n``.
+    weights : (3,) array_like, optional
+        Weight of each channel's normalised EMD (summing to 1); equal by
+        default. :attr:`ColourSpace.weights` (each channel's span in Lab
+        units) makes ``S_e`` the EMD in Lab units over the largest possible.
 
     Returns
     -------
@@ -316,6 +329,14 @@ def colour_similarity(q: np.ndarray, blade, cdfs: np.ndarray, size: int) -> np.n
     if not isinstance(size, (int, np.integer)) or size < 1:
         raise ValueError(f"size must be a positive int, got {size!r}")
     size = int(size)
+    if weights is None:
+        w = np.full(3, 1.0 / 3.0)
+    else:
+        w = np.asarray(weights, np.float64).reshape(-1)
+        if w.shape != (3,) or not np.all(np.isfinite(w)) or np.any(w < 0) or w.sum() <= 0:
+            raise ValueError(f"weights must be 3 non-negative finite numbers, got {weights!r}")
+        w = w / w.sum()
+    wch = (w / (bins - 1)).astype(np.float32)
     bf = blade.astype(np.float32)
     ksize = (size, size)
 
@@ -332,8 +353,8 @@ def colour_similarity(q: np.ndarray, blade, cdfs: np.ndarray, size: int) -> np.n
                 below = np.concatenate([[0.0], np.cumsum(g)])  # sum_{b<k} G(b), k = 0..B-1
                 above = np.concatenate([np.cumsum((1.0 - g)[::-1])[::-1], [0.0]])  # sum_{b>=k} (1 - G(b))
                 lut = (below + above).astype(np.float32)
-                total[j] += lut[q[..., ch]]
-        s = total / np.float32(3 * (bins - 1))
+                total[j] += wch[ch] * lut[q[..., ch]]
+        s = total
         s[:, ~blade] = 1.0
         np.clip(s, 0.0, 1.0, out=s)
         return s[0] if single else s
@@ -345,8 +366,8 @@ def colour_similarity(q: np.ndarray, blade, cdfs: np.ndarray, size: int) -> np.n
         for b in range(bins - 1):  # the last cumulative bin is 1 for both
             local = box(((qc <= b) & blade).astype(np.float32)) * inv
             for j in range(k):
-                total[j] += np.abs(local - np.float32(cdfs[j, ch, b]))
-    s = total / np.float32(3 * (bins - 1))
+                total[j] += wch[ch] * np.abs(local - np.float32(cdfs[j, ch, b]))
+    s = total
     s[:, ~blade | (count < 0.5)] = 1.0
     np.clip(s, 0.0, 1.0, out=s)
     return s[0] if single else s
