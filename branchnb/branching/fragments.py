@@ -133,7 +133,8 @@ def place_along_branch(sm: SkeletonMap, branch: int, start: float, *, lam: float
     L = float(sm.lengths[branch])
 
     def rad(s):
-        return float(fragment_radius(sm.thickness(branch, s), scale, min_radius, max_radius))
+        # fragment_radius of one arc length (scalar min/max: the same value, without array overhead)
+        return float(min(max(scale * float(sm.thickness(branch, s)), min_radius), max_radius))
 
     def step_from(s, rs):
         nxt = s + lam * (rs + rs) / density

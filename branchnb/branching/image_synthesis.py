@@ -786,7 +786,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         mine = [tf.branch] if tf.kind == "branch" else [tf.branch, tf.child]
         b_win = _crop(pm_t.branch, x0, y0, size, -1)
         body_win = _crop(body, x0, y0, size, False)
-        own_body = body_win & np.isin(b_win, mine)
+        own_body = body_win & _one_of(b_win, mine)
         if tf.kind == "branch":
             lo, hi = _target_window(sm_t, tf.branch, tf.arc, R)
             a_win = _crop(pm_t.arc, x0, y0, size, 0.0)
@@ -804,8 +804,8 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
                                 np.clip(np.rint(mx).astype(np.int64), 0, ex.shape[1] - 1)]
             valid &= (src_lab == _crop(labels_t, x0, y0, size, -1)) | own_body
         own_win = _crop(owner, x0, y0, size, -1)
-        protect_piece = own_body & ~np.isin(own_win, mine) & valid
-        protect_canvas = body_win & ~np.isin(b_win, mine)
+        protect_piece = own_body & ~_one_of(own_win, mine) & valid
+        protect_canvas = body_win & ~_one_of(b_win, mine)
         if tf.kind == "furcation" and p.furcation_clear > 0:
             clear = ((xx + x0 - tf.center[0]) ** 2 + (yy + y0 - tf.center[1]) ** 2
                      <= (p.furcation_clear * R) ** 2) & valid & ~protect_canvas
@@ -872,6 +872,14 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     return ImageSynthesisResult(canvas, fragment_mask, fill, source, frag_index, seams, matches,
                                 total_seam, target_structure, regions, n_inpainted, timings, p,
                                 example_labels=labels_ex, labels=labels_t)
+
+
+def _one_of(arr: np.ndarray, values) -> np.ndarray:
+    """``np.isin(arr, values)`` for the one or two branch indices of a fragment (without its sort)."""
+    out = arr == values[0]
+    for v in values[1:]:
+        out |= arr == v
+    return out
 
 
 def _window(canvas, covered, x0, y0, size):

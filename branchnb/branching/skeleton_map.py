@@ -113,14 +113,19 @@ class SkeletonMap:
     def _global(self, branch, arc):
         b = np.asarray(branch, np.int64)
         s = np.asarray(arc, float)
-        b, s = np.broadcast_arrays(b, s)
-        s_cl = np.clip(s, 0.0, self.lengths[b])
+        if b.shape != s.shape:
+            b, s = np.broadcast_arrays(b, s)
+        # np.clip's values, without its dispatch overhead (called per fragment, many times)
+        s_cl = np.minimum(np.maximum(s, 0.0), self.lengths[b])
         return self.offsets[b] + s_cl, s_cl != s
 
     def position(self, branch, arc) -> np.ndarray:
         """Skeleton points ``(..., 2)`` at arc lengths ``arc`` (clamped to each branch)."""
         g, _ = self._global(branch, arc)
-        return np.stack([np.interp(g, self._g, self._x), np.interp(g, self._g, self._y)], axis=-1)
+        out = np.empty(g.shape + (2,))
+        out[..., 0] = np.interp(g, self._g, self._x)
+        out[..., 1] = np.interp(g, self._g, self._y)
+        return out
 
     def thickness(self, branch, arc) -> np.ndarray:
         """Thickness ``r`` at arc lengths ``arc`` (clamped)."""

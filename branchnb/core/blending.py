@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from .graphcut import pair_costs, seam_cost, seam_cut
+from .graphcut import _pair_costs, _seam_cost, _seam_cut
 from .poisson import _poisson_solve
 
 __all__ = ["Composition", "compose_piece"]
@@ -155,14 +155,14 @@ def compose_piece(canvas: np.ndarray, covered: np.ndarray, piece: np.ndarray, va
         # context for the gradients (the same costs there as on the whole window).
         rr, cc = np.flatnonzero(overlap.any(1)), np.flatnonzero(overlap.any(0))
         box = (slice(max(rr[0] - 1, 0), rr[-1] + 2), slice(max(cc[0] - 1, 0), cc[-1] + 2))
-        A_b, P_b = A[box], P[box]
-        pc = pair_costs(A_b, P_b)
+        # (the checked public graphcut functions would validate every argument of every piece again)
+        right, down = _pair_costs(np.asarray(A[box], np.float32), P[box])
         if method == "overlay":
             take = only_b | (overlap & ~pin_a)
         else:
             take = only_b.copy()
-            take[box] |= seam_cut(A_b, P_b, overlap[box], pin_a[box], pin_b[box], costs=pc)
-        cost = seam_cost(A_b, P_b, take[box], region=overlap[box], costs=pc)
+            take[box] |= _seam_cut(right, down, overlap[box], pin_a[box], pin_b[box])
+        cost = _seam_cost(right, down, take[box], overlap[box])
     seam = ~take & overlap & _dilate(take)
     if not take.any():
         return Composition(win, sub, take, seam, cost)

@@ -116,6 +116,12 @@ def pair_costs(a, b, *, power: float = 1.0, gradient_weighted: bool = True,
         raise ValueError(f"a and b must have the same shape, got {a.shape} and {b.shape}")
     if power <= 0:
         raise ValueError(f"power must be > 0, got {power}")
+    return _pair_costs(a, b, power, gradient_weighted, eps)
+
+
+def _pair_costs(a: np.ndarray, b: np.ndarray, power: float = 1.0, gradient_weighted: bool = True,
+                eps: float = 1e-3) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`pair_costs` of two float32 ``(H, W, C)`` images already checked (the per-piece inner loop)."""
     d = np.sqrt(((a - b) ** 2).sum(axis=2)) ** power
     right = d[:, :-1] + d[:, 1:]
     down = d[:-1, :] + d[1:, :]
@@ -181,6 +187,13 @@ def seam_cut(a, b, region, pin_a, pin_b, *, power: float = 1.0,
     pin_b = as_mask(pin_b, shape=shape, name="pin_b") & region
     if (pin_a & pin_b).any():
         raise ValueError("pin_a and pin_b overlap: a pixel cannot be pinned to both images")
+    return _seam_cut(right, down, region, pin_a, pin_b)
+
+
+def _seam_cut(right: np.ndarray, down: np.ndarray, region: np.ndarray, pin_a: np.ndarray,
+              pin_b: np.ndarray) -> np.ndarray:
+    """:func:`seam_cut` on checked pair costs and bool masks (``pin_a``, ``pin_b`` disjoint, inside ``region``)."""
+    shape = right.shape[0], down.shape[1]
     take_b = np.zeros(shape, bool)
     if not region.any():
         return take_b
@@ -227,6 +240,11 @@ def seam_cost(a, b, take_b, *, region=None, power: float = 1.0,
     shape = (right.shape[0], down.shape[1])
     lab = as_mask(take_b, shape=shape, name="take_b")
     reg = np.ones(shape, bool) if region is None else as_mask(region, shape=shape, name="region")
+    return _seam_cost(right, down, lab, reg)
+
+
+def _seam_cost(right: np.ndarray, down: np.ndarray, lab: np.ndarray, reg: np.ndarray) -> float:
+    """:func:`seam_cost` on checked pair costs and bool masks."""
     cut_r = (lab[:, :-1] != lab[:, 1:]) & reg[:, :-1] & reg[:, 1:]
     cut_d = (lab[:-1, :] != lab[1:, :]) & reg[:-1, :] & reg[1:, :]
     return float(right[cut_r].sum() + down[cut_d].sum())
