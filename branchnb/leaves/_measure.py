@@ -41,13 +41,14 @@ registrations (``--truth``: through the true correspondences, which
 isolates induction; default: TPS-RPM), IoU of every other exemplar's
 induced layer with its true layer, lambda and delta per layer.
 
-Measured (``--truth``, 2 seeds; min / mean IoU over 6 exemplars): spots
-0.79-0.96 everywhere; veins at 192 px lobed 0.37 / 0.55, trilobed
-0.55 / 0.60, elliptic 0.32 / 0.45, at 512 px 0.66 / 0.72, 0.60 / 0.69,
-0.39 / 0.59 (the threshold reproduces the user's veins on the training
-leaf itself only to IoU ~0.73 at 512 px: 1-3 px anti-aliased veins). Vein
-lambda 0-0.12, spots 0: the secondary veins are grown anew on every leaf,
-so the liberal vein layers of the exemplars barely intersect.
+Measured (``--truth``, 3 seeds, sizes 256 and 512; min / mean IoU over 9
+exemplars), with ``S_e`` in Lab units and veins drawn at least 1.5 px
+wide: veins lobed 0.74 / 0.82 and 0.73 / 0.81, trilobed 0.70 / 0.77 and
+0.68 / 0.76, elliptic 0.61 / 0.77 and 0.70 / 0.79; spots 0.69-0.95.
+Vein lambda 0-0.11 (0.000 on lobed 256 seed 0, a tie with the spots'
+0): the secondary veins are grown anew on every leaf, so only the
+primaries' liberal layers intersect. (Before: sub-pixel veins, equal
+channel weights: veins at 256 px min 0.31-0.55, mean 0.50-0.60.)
 """
 
 from __future__ import annotations

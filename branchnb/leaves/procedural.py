@@ -540,7 +540,13 @@ def procedural_leaf(kind: str = "lobed", *, size: int = 512, palette: str = "gre
     lines, rel_w = _vein_polylines(nodes, parent)
     max_rel = max(float(max(w.max() for w in rel_w)), 1.0) if rel_w else 1.0
     base_px = max(0.011 * shape.px, 1.2)  # main vein at the base
-    tip_px = max(0.0018 * shape.px, 0.35)
+    # Veins are drawn at least 1.5 px wide: a thinner line leaves no pixel
+    # more than half covered on diagonals, so its truth (coverage > 0.5)
+    # breaks into dots nobody could scribble (at 256 px, 80 % of the vein
+    # length was below 1 px). A photographed vein thinner than a pixel is
+    # likewise either blurred to ~1.5 px or not visible at all.
+    tip_px = max(0.0018 * shape.px, 1.5)
+    base_px = max(base_px, tip_px)
     vein_px, vein_w = [], []
     pet_w = base_px * 1.15
     petiole = shape.to_canvas(shape.petiole)
