@@ -94,9 +94,12 @@ def test_rear_layer_mirrors_positions_not_textures(cloud):
         h, w = tr.shape[:2]
         x0 = int(round(cloud.centers[r, 0] - w / 2))
         y0 = int(round(cloud.centers[r, 1] - h / 2))
-        ys, xs = np.nonzero(on)
-        under = cloud.image[np.clip(ys + y0, 0, H - 1), np.clip(xs + x0, 0, W - 1), :3]
-        assert np.allclose(tr[ys, xs, :3], under)
+        # (off the line art, which hidden billboards show filled in)
+        yy, xx = np.nonzero(on)
+        yi, xi = np.clip(yy + y0, 0, H - 1), np.clip(xx + x0, 0, W - 1)
+        off = ~cloud.lines[yi, xi]
+        under = cloud.image[yi[off], xi[off], :3]
+        assert np.allclose(tr[yy[off], xx[off], :3], under)
 
 
 def test_front_billboards_tile_the_crown(cloud):
@@ -388,3 +391,20 @@ def test_flat_speckle_is_zero_in_the_front_view():
     # grey over white: 0.11 at yaw 0 before both spans were taken over white.
     c = billboard_cloud(data.load("palm_island"), params=BillboardParams(max_size=512), rng=0)
     assert flat_region_speckle(c, 0.0) == 0.0
+
+
+def test_line_art_is_drawn_behind_fills_and_keeps_the_front_view():
+    from branchnb.trees.billboard import line_art
+    from branchnb.trees.preview import render_cloud
+    from branchnb.trees.quality import flat_region_speckle
+    from branchnb.trees.synthetic import synthetic_tree
+
+    img = synthetic_tree("palm_outlined", rng=3, size=256).image
+    on = billboard_cloud(img, params=BillboardParams(max_size=256), rng=0)
+    off = billboard_cloud(img, params=BillboardParams(max_size=256, line_art=False), rng=0)
+    assert on.lines.any() and not off.lines.any()
+    # The front view is the same with and without the line pass.
+    assert np.abs(render_cloud(on, 0.0, crop="image") - render_cloud(off, 0.0, crop="image")).max() < 1e-5
+    assert flat_region_speckle(on, 90.0) < flat_region_speckle(off, 90.0)
+    # A photograph has no line art.
+    assert line_art(data.load("tree_cutout_broadleaf")).mean() < 0.01

@@ -46,6 +46,19 @@ camera turns around the tree. The steps follow the paper:
    image plane behind the front layer (hidden in the front view), so that
    the gaps that open between billboards in side views show crown colour
    rather than sky and the crown stays joined to the trunk top.
+5. **Line art** (not in the paper, for drawn trees): the thin dark strokes
+   that outline flat colour in clip art (:func:`line_art`) mark the
+   drawing's silhouettes as seen from the front. Turned with their
+   billboards, they would pile up on the axis of a side view and cover its
+   flat regions with broken black dashes. Every billboard keeps its
+   texture, but its stroke pixels are drawn in a first pass, behind every
+   fill pixel of the cloud (the billboard version of the "inverted hull"
+   outline of toon rendering): in the front view nothing covers a stroke,
+   so it is unchanged; from the side, strokes show only where no fill is,
+   along the side view's own silhouette. Rear, interior and core
+   billboards, hidden in the front view, show the image with its strokes
+   filled in by the nearest fill colour. Photographs have no such strokes
+   (a stroke must border a flat-coloured region) and are drawn as before.
 
 Billboards are *axial* billboards (each quad turns about its vertical
 axis to face the camera, the usual way trees are drawn with billboards),
@@ -99,6 +112,7 @@ __all__ = [
     "TRUNK_LAYER",
     "CORE",
     "LAYER_NAMES",
+    "line_art",
 ]
 
 FRONT, REAR, INTERIOR, TRUNK_LAYER, CORE = 0, 1, 2, 3, 4
@@ -140,6 +154,11 @@ class BillboardParams:
                                 "flat regions stay flat in side views; the front view is unchanged")
     overlap_tolerance: float = param(0.06, min=0.0, max=0.5, step=0.01,
                                      help="per-channel colour difference a grown pixel may have")
+    line_art: bool = param(True, help="drawn outlines (thin dark strokes bordering flat colour) are drawn "
+                                      "behind every fill in side views, so they show only along the side "
+                                      "view's silhouette (not in the paper); the front view is unchanged")
+    line_width: float = param(0.04, min=0.0, max=0.2, step=0.005,
+                              help="widest stroke taken for line art, as a fraction of the tree's size")
     max_size: int = param(1024, min=64, max=4096, step=64,
                           help="long side of the working image (paper: 1024)")
     alpha_threshold: float = param(0.5, min=0.0, max=1.0, step=0.05,
@@ -181,6 +200,13 @@ class BillboardCloud:
         The silhouette pieces that replaced straight edges (for pictures).
     scale : float
         Working image size / input size.
+    lines : (H, W) bool
+        The line art of the working image (:func:`line_art`; all False
+        when ``line_art`` is off).
+    line_masks : list of (h, w) bool arrays or None
+        Per texture, its pixels that lie on the line art in the front view
+        (None: none). The preview draws them in a first pass, behind every
+        other pixel of the cloud.
     """
 
     centers: np.ndarray
@@ -196,6 +222,8 @@ class BillboardCloud:
     depth: np.ndarray = field(default=None, repr=False)
     replaced: list = field(default_factory=list, repr=False)
     scale: float = 1.0
+    lines: np.ndarray = field(default=None, repr=False)
+    line_masks: list = field(default_factory=list, repr=False)
 
     @property
     def n_billboards(self) -> int:
@@ -820,6 +848,13 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
     crown_ext = part_ext == 1
     trunk_ext = part_ext == 2
 
+    # 5. Line art, and the image with it filled in for the hidden billboards.
+    if p.line_art and p.line_width > 0:
+        lines = line_art(work, width=p.line_width, alpha_threshold=p.alpha_threshold)
+    else:
+        lines = np.zeros((H, W), bool)
+    filled = _fill_lines(work, lines, alpha > 1e-3) if lines.any() else work
+
     # 1-2. Superpixels with natural outlines.
     sp_lab = crown_superpixels(work[:, :, :3], crown, n_segments=p.n_segments, compactness=p.compactness)
     curves: list[np.ndarray] = []
@@ -900,7 +935,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
             h, w = tex.shape[:2]
             cx = 2.0 * axis - (x0 + 0.5 * w)
             rx0 = round(cx - 0.5 * w)
-            t = _recolour(_trim(tex, rx0, y0, allowed), rx0, y0, work)
+            t = _recolour(_trim(tex, rx0, y0, allowed), rx0, y0, filled)
             a = t[:, :, 3]
             if a.sum() < 1.0:
                 continue
@@ -911,7 +946,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
 
     # 4c. Interior billboards at blue-noise positions, darkened with depth.
     if p.n_interior > 0 and n_sp > 0 and hmap.max() > 0:
-        shade = _shading(work, sp_lab)
+        shade = _shading(filled, sp_lab)
         pts = stipple(hmap * crown, int(p.n_interior), iterations=10, rng=rng)
         for px, py in pts:
             xi = int(np.clip(round(px), 0, W - 1))
@@ -923,7 +958,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
             tex = textures[tid]
             h, w = tex.shape[:2]
             ix0, iy0 = round(px - 0.5 * w), round(py - 0.5 * h)
-            t = _recolour(_trim(tex, ix0, iy0, allowed), ix0, iy0, work)
+            t = _recolour(_trim(tex, ix0, iy0, allowed), ix0, iy0, filled)
             a = t[:, :, 3]
             if a.sum() < 1.0:
                 continue
@@ -947,7 +982,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
         r = max(1, int(round(0.02 * max(np.ptp(ys_c), np.ptp(xs_c)))))
         core = cv2.erode(crown_ext.astype(np.uint8), cv2.getStructuringElement(
             cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))) > 0
-        cut = _cut(work, core if core.any() else crown_ext)
+        cut = _cut(filled, core if core.any() else crown_ext)
         if cut is not None:
             x0, y0, tex = cut
             tex = _trim(tex, x0, y0, allowed)
@@ -986,6 +1021,8 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
             x0, y0, tex = cut
             add(x0, y0, tex, 0.0, 1.0, TRUNK_LAYER)
 
+    line_masks = _line_masks(lines, textures, tex_idx, centers, sizes)
+
     return BillboardCloud(
         centers=np.asarray(centers, np.float64).reshape(-1, 3),
         sizes=np.asarray(sizes, np.float64).reshape(-1, 2),
@@ -994,7 +1031,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
         layer=np.asarray(layers, np.int64),
         source=np.asarray(sources, np.int64),
         textures=textures, axis=axis, image=work, superpixels=sp_lab,
-        depth=hmap, replaced=curves, scale=s,
+        depth=hmap, replaced=curves, scale=s, lines=lines, line_masks=line_masks,
     )
 
 
@@ -1010,3 +1047,119 @@ def _front_overlay(cloud: BillboardCloud) -> np.ndarray:
 
         rgb = draw_polylines(rgb, cloud.replaced, widths=1.5, colors=(0.95, 0.2, 0.1))
     return rgb
+
+
+# ---------------------------------------------------------------------------
+# 5. Line art
+# ---------------------------------------------------------------------------
+
+
+def line_art(rgba, *, width: float = 0.04, contrast: float = 0.12, alpha_threshold: float = 0.5,
+             flat_span: float = 0.04) -> np.ndarray:
+    """The drawn outlines of a clip-art tree: thin dark strokes that border flat colour.
+
+    A pixel is on a stroke when a grey-level closing with a disc of
+    ``width`` times the tree's size (its longer side; the disc spans
+    ``width / 2`` each side of a stroke's middle) brightens its luminance
+    by more than ``contrast``: it lies on a dark feature thinner than the
+    disc, between brighter ones; the transparent surround counts as
+    white, so an outline along the silhouette is a stroke too. Only
+    strokes within one disc of a flat-coloured region count (pixels whose
+    3 x 3 colour span is at most ``flat_span``, in 4-connected pieces at
+    least as large as the disc's bounding square): a drawing's outlines
+    border its fills, while the dark gaps between the leaves of a
+    photograph border no flat colour and are left alone.
+
+    Parameters
+    ----------
+    rgba : (H, W, 4) array_like
+        Straight RGBA image in [0, 1].
+    width : float
+        Widest stroke, as a fraction of the tree's size.
+    contrast : float
+        Luminance a stroke is darker than what the closing fills it with.
+    alpha_threshold : float
+        Opaque where alpha >= this.
+    flat_span : float
+        Largest per-channel colour range of a flat pixel's 3 x 3 window.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        Stroke pixels (alpha > 0).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.zeros((60, 60, 4), np.float32)
+    >>> img[10:50, 10:50] = (0.1, 0.7, 0.2, 1.0)      # a green square
+    >>> img[10:50, 10:12, :3] = 0.0                    # outlined on its left
+    >>> lines = line_art(img)
+    >>> bool(lines[30, 10:12].all()), bool(lines[30, 20:48].any())
+    (True, False)
+    """
+    img = np.asarray(rgba, dtype=np.float32)
+    if img.ndim != 3 or img.shape[2] != 4:
+        raise ValueError(f"rgba must be an (H, W, 4) array, got shape {img.shape}")
+    for name, v in (("width", width), ("contrast", contrast), ("flat_span", flat_span)):
+        if not np.isfinite(v) or v < 0:
+            raise ValueError(f"{name} must be a finite number >= 0, got {v}")
+    a = img[:, :, 3]
+    opaque = a >= alpha_threshold
+    out = np.zeros(a.shape, bool)
+    if not opaque.any() or width <= 0:
+        return out
+    ys, xs = np.nonzero(opaque)
+    size = max(np.ptp(ys), np.ptp(xs)) + 1
+    r = max(1, int(round(0.5 * width * size)))
+    disc = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
+    lum = img[:, :, :3] @ np.array([0.2126, 0.7152, 0.0722], np.float32)
+    lum = np.where(opaque, lum, 1.0).astype(np.float32)
+    pad = 2 * r + 1
+    closed = cv2.morphologyEx(np.pad(lum, pad, constant_values=1.0), cv2.MORPH_CLOSE, disc)[pad:-pad, pad:-pad]
+    dark = (a > 1e-3) & (closed - lum > contrast)
+    if not dark.any():
+        return out
+    rgb = composite_over(img, (1.0, 1.0, 1.0))
+    span = (ndi.maximum_filter(rgb, size=(3, 3, 1)) - ndi.minimum_filter(rgb, size=(3, 3, 1))).max(axis=2)
+    flat = (a >= 0.99) & (span <= flat_span)
+    lab, _ = ndi.label(flat)
+    area = np.bincount(lab.ravel())
+    area[0] = 0
+    big = area[lab] >= (2 * r + 1) ** 2
+    near = cv2.dilate(big.astype(np.uint8), cv2.getStructuringElement(
+        cv2.MORPH_ELLIPSE, (4 * r + 3, 4 * r + 3))) > 0
+    return dark & near
+
+
+def _fill_lines(image: np.ndarray, lines: np.ndarray, support: np.ndarray) -> np.ndarray:
+    """``image`` with every line pixel given the colour of the nearest non-line pixel of ``support``."""
+    keep = support & ~lines
+    if not keep.any():
+        return image
+    _, (iy, ix) = ndi.distance_transform_edt(~keep, return_indices=True)
+    out = image.copy()
+    out[lines, :3] = image[iy[lines], ix[lines], :3]
+    return out
+
+
+def _line_masks(lines, textures, tex_idx, centers, sizes) -> list:
+    """Per texture, its pixels on ``lines`` where the front view puts it (None: none)."""
+    out = [None] * len(textures)
+    if not lines.any():
+        return out
+    H, W = lines.shape
+    for i, tid in enumerate(tex_idx):
+        if out[tid] is not None:
+            continue
+        w, h = sizes[i]
+        x0 = int(round(centers[i][0] - 0.5 * w))
+        y0 = int(round(centers[i][1] - 0.5 * h))
+        m = np.zeros((int(h), int(w)), bool)
+        ax0, ay0, ax1, ay1 = max(x0, 0), max(y0, 0), min(x0 + int(w), W), min(y0 + int(h), H)
+        if ax1 > ax0 and ay1 > ay0:
+            m[ay0 - y0: ay1 - y0, ax0 - x0: ax1 - x0] = lines[ay0:ay1, ax0:ax1]
+        m &= textures[tid][:, :, 3] > 0
+        if m.any():
+            out[tid] = m
+    return out

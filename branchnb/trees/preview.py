@@ -3,7 +3,11 @@
 An orthographic camera turns about the cloud's vertical axis by ``yaw``
 degrees (0 = the input view, 180 = from behind). Billboards are drawn
 back to front (painter's algorithm on the rotated depth) with
-premultiplied alpha compositing. Two billboard modes:
+premultiplied alpha compositing. The pixels of a cloud's line art
+(``cloud.line_masks``: the drawn outlines of clip art) are drawn in a first
+pass, behind every other pixel, so that from the side they show only along
+the silhouette (the front view is the same either way). Two billboard
+modes:
 
 * ``facing="camera"`` (default, as the paper's billboard clouds are drawn):
   axial billboards, each quad turned about its vertical axis to face the
@@ -51,12 +55,19 @@ def project(cloud, yaw: float) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _premultiplied(cloud):
+    """Per texture, ``(line part, fill part)`` premultiplied (the line part None if it has none)."""
     cache = getattr(cloud, "_premul_cache", None)
     if cache is None or len(cache) != len(cloud.textures):
         cache = []
-        for t in cloud.textures:
+        masks = getattr(cloud, "line_masks", None) or [None] * len(cloud.textures)
+        for t, m in zip(cloud.textures, masks):
             a = t[:, :, 3:4]
-            cache.append(np.concatenate([t[:, :, :3] * a, a], axis=2).astype(np.float32))
+            pre = np.concatenate([t[:, :, :3] * a, a], axis=2).astype(np.float32)
+            if m is None:
+                cache.append((None, pre))
+            else:
+                on = m[:, :, None]
+                cache.append((np.where(on, pre, 0.0).astype(np.float32), np.where(on, 0.0, pre).astype(np.float32)))
         try:
             object.__setattr__(cloud, "_premul_cache", cache)
         except Exception:  # pragma: no cover
@@ -120,8 +131,10 @@ def render_cloud(cloud, yaw: float = 0.0, *, facing: str = "camera", crop: str =
     xs, depth = project(cloud, yaw)
     c = np.cos(np.deg2rad(yaw))
     texs = _premultiplied(cloud)
-    for i in np.argsort(depth, kind="stable"):
-        tex = texs[cloud.texture[i]]
+    order = np.argsort(depth, kind="stable")
+    draws = [(i, 0) for i in order if texs[cloud.texture[i]][0] is not None] + [(i, 1) for i in order]
+    for i, part in draws:
+        tex = texs[cloud.texture[i]][part]
         h, w = tex.shape[:2]
         if facing == "fixed":
             nw = int(round(w * abs(c)))
