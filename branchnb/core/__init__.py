@@ -16,6 +16,7 @@ from .image import (
     as_rgb,
     as_rgba,
     composite_over,
+    extend_nearest,
     split_alpha,
     to_uint8,
 )
@@ -57,6 +58,7 @@ __all__ = [
     "compare_samples",
     "compose_overlap",
     "composite_over",
+    "extend_nearest",
     "coverage_polylines",
     "draw_polylines",
     "grid_laplacian",

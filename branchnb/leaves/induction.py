@@ -67,7 +67,7 @@ from scipy import ndimage as ndi
 from skimage.color import rgb2lab
 
 from ..core.completion import complete_gaps
-from ..core.image import as_mask, as_rgb
+from ..core.image import as_mask, as_rgb, extend_nearest
 from ..core.params import param
 
 __all__ = [
@@ -519,8 +519,7 @@ def remove_layer(image, blade, mask, *, grow: int = 1, thin_width: float = 6.0,
     keep = blade & ~mask
     if not keep.any():
         return out
-    _, (iy, ix) = ndi.distance_transform_edt(~keep, return_indices=True)
-    ext = rgb[iy, ix]
+    ext = extend_nearest(rgb, keep)
     # Wide parts: what survives an opening by a disk of diameter thin_width
     # (spots, a broad petiole), grown back by a pixel; the rest is thin.
     r = max(1, int(np.ceil(thin_width / 2)))

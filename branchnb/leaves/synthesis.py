@@ -52,6 +52,7 @@ import cv2
 import numpy as np
 from scipy import ndimage as ndi
 
+from ..core.image import extend_nearest
 from ..core.io import encode_png
 from ..core.jsonio import dumps_strict
 from ..core.params import check_params, param
@@ -189,10 +190,7 @@ def shape_weights(shape, n: int, grid: int, sigma_px: float, rng, concentration:
 
 def _bleed(img: np.ndarray, mask: np.ndarray) -> np.ndarray:
     """Colours of ``mask`` extended outwards (nearest mask pixel), so warps never pull in the backdrop."""
-    if mask.all() or not mask.any():
-        return img
-    _, (iy, ix) = ndi.distance_transform_edt(~mask, return_indices=True)
-    return img[iy, ix]
+    return extend_nearest(img, mask)
 
 
 def _grid(shape):

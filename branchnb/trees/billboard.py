@@ -89,7 +89,7 @@ import scipy.sparse as sp
 from scipy import ndimage as ndi
 from scipy.sparse.linalg import splu
 
-from ..core.image import composite_over
+from ..core.image import composite_over, extend_nearest
 from ..core.io import encode_png
 from ..core.params import check_params, param
 from ..core.poisson import grid_laplacian
@@ -1137,9 +1137,8 @@ def _fill_lines(image: np.ndarray, lines: np.ndarray, support: np.ndarray) -> np
     keep = support & ~lines
     if not keep.any():
         return image
-    _, (iy, ix) = ndi.distance_transform_edt(~keep, return_indices=True)
     out = image.copy()
-    out[lines, :3] = image[iy[lines], ix[lines], :3]
+    out[lines, :3] = extend_nearest(image[:, :, :3], keep)[lines]
     return out
 
 

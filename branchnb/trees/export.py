@@ -40,8 +40,8 @@ import base64
 from pathlib import Path
 
 import numpy as np
-from scipy import ndimage as ndi
 
+from ..core.image import extend_nearest
 from ..core.io import encode_png, imsave
 from ..core.jsonio import dumps_strict
 from ..core.validate import Int, Real, check_finite, checked
@@ -102,9 +102,7 @@ def texture_atlas(textures, *, padding: int = 2, bleed: bool = True) -> tuple[np
         atlas[y:y + h, x:x + w] = t
     if bleed and (atlas[:, :, 3] > 0).any():
         empty = atlas[:, :, 3] <= 0
-        _, (iy, ix) = ndi.distance_transform_edt(empty, return_indices=True)
-        rgb = atlas[:, :, :3]
-        rgb[empty] = rgb[iy[empty], ix[empty]]
+        atlas[empty, :3] = extend_nearest(atlas[:, :, :3], ~empty)[empty]
     return atlas, rects
 
 

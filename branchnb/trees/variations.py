@@ -38,7 +38,7 @@ import numpy as np
 from scipy import ndimage as ndi
 
 from .. import data as _data
-from ..core.image import as_float_image, as_mask, composite_over
+from ..core.image import as_float_image, as_mask, composite_over, extend_nearest
 from ..core.io import encode_png
 from ..core.params import check_params, param
 from ..core.random import as_rng
@@ -636,8 +636,7 @@ def one_piece(image, exemplars: Sequence[Exemplar]) -> np.ndarray:
         sizes[0] = 0
         fill = (sizes > limit)[hl] & holes
         if fill.any():
-            _, (iy, ix) = ndi.distance_transform_edt(~alpha, return_indices=True)
-            img[fill, :3] = img[iy[fill], ix[fill], :3]
+            img[fill, :3] = extend_nearest(img[:, :, :3], alpha)[fill]
             alpha = alpha | fill
     img[~alpha] = 0.0
     img[:, :, 3] = alpha
