@@ -136,6 +136,9 @@ def _kernel_eval(runtime: Path, kernel_id: str, code: str) -> str:
     client.load_connection_file()
     client.start_channels()
     try:
+        # a new iopub subscription misses messages until it is connected (ZeroMQ's slow joiner):
+        # without this handshake a print's output could be lost and an empty string returned
+        client.wait_for_ready(timeout=60)
         msg_id = client.execute(code)
         out = []
         while True:
