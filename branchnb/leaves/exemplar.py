@@ -96,6 +96,33 @@ def _border_pixels(img: np.ndarray, width: int) -> np.ndarray:
     return img[b]
 
 
+def _leaf_parts(labels: np.ndarray, lab: np.ndarray, min_part: float) -> np.ndarray:
+    """Labels of the components that make the leaf: the largest, and parts like it.
+
+    Besides the largest component, the parts of a compound leaf (pinnae
+    cut apart by a pale rachis) are kept, but not dust or shadows (too
+    small), nor other objects on the paper: a part cut by the image frame
+    (a reference card, an envelope at the edge of a crop) or one whose
+    median colour lies outside the main part's own colour spread (a red
+    scale square).
+    """
+    h, w = labels.shape
+    sizes = np.bincount(labels.ravel())[1:]
+    main = int(np.argmax(sizes)) + 1
+    big = np.flatnonzero((sizes >= min_part * sizes.max()) & (sizes >= 5e-4 * h * w)) + 1
+    frame = np.unique(np.concatenate([labels[0], labels[-1], labels[:, 0], labels[:, -1]]))
+    main_lab = lab[labels == main]
+    centre = np.median(main_lab, axis=0)
+    spread = max(float(np.percentile(np.linalg.norm(main_lab - centre, axis=1), 90)), PLAIN_BORDER_DELTA_E)
+    keep = [main]
+    for part in big:
+        if part == main or part in frame:
+            continue
+        if float(np.linalg.norm(np.median(lab[labels == part], axis=0) - centre)) <= spread:
+            keep.append(int(part))
+    return np.asarray(keep)
+
+
 @checked(max_hole=Real(0.0, 1.0), min_part=Real(0.0, 1.0))
 def blade_mask(image, *, max_hole: float = 0.01, min_part: float = 0.02, name: str = "image") -> np.ndarray:
     """The blade of a leaf on a plain background (opaque image).
@@ -108,7 +135,9 @@ def blade_mask(image, *, max_hole: float = 0.01, min_part: float = 0.02, name: s
         Holes in the blade smaller than this fraction of its area are filled.
     min_part : float
         Besides the largest component, components of at least this fraction
-        of its area are kept (the pinnae of a compound leaf).
+        of its area are kept (the pinnae of a compound leaf) when they are
+        inside the frame and of the main part's colours (a red scale square
+        or a card cut by the image edge is not leaf).
     name : str
         Argument name in error messages.
 
@@ -166,11 +195,7 @@ def blade_mask(image, *, max_hole: float = 0.01, min_part: float = 0.02, name: s
     lab_cc, n = ndi.label(fg)
     if n == 0:
         raise ValueError(f"{name}: no leaf found")
-    sizes = np.bincount(lab_cc.ravel())[1:]
-    # The largest component, and the parts of a compound leaf (pinnae
-    # cut apart by a pale rachis), but not dust or shadows.
-    keep = np.flatnonzero((sizes >= min_part * sizes.max()) & (sizes >= 5e-4 * h * w)) + 1
-    blade = np.isin(lab_cc, keep)
+    blade = np.isin(lab_cc, _leaf_parts(lab_cc, lab, min_part))
     holes = ndi.binary_fill_holes(blade) & ~blade
     if holes.any():
         hl, nh = ndi.label(holes)

@@ -22,7 +22,9 @@ A new leaf is built in the training leaf's frame, then given a new shape:
    orange), and copied colours turn a yellow leaf's veins into yellow
    stripes on an orange one. ``"copy"`` pastes the colours as the paper does.
 3. **Shape**: a convex per-pixel blend of the inverse registration warps,
-   ``W^-1(x) = sum_i a_i(x) W_i^-1(x)``; ``a_i`` are a few random
+   ``W^-1(x) = sum_i a_i(x) W_i^-1(x)``, each seen in the training leaf's
+   pose (its start map's rotation taken out, so leaves lying at different
+   angles blend into a leaf, not a swirl); ``a_i`` are a few random
    coefficients per exemplar (a ``shape_grid`` x ``shape_grid`` grid drawn
    from a symmetric Dirichlet of ``shape_concentration``), smoothed by a Gaussian of ``shape_sigma`` times
    the leaf size and normalised per pixel.
@@ -271,6 +273,7 @@ class _Prepared:
                             for e in range(self.n)]
         self.from_exemplar = [ident if e == t else np.asarray(a.registrations[e].map_from_training, np.float32)
                               for e in range(self.n)]
+        self.shape_maps = [ident if e == t else self._upright_map(e) for e in range(self.n)]
         self.alpha_t = a.exemplars[t][..., 3].astype(np.float32)
         self._prepare_petioles()
         errs = np.array(registration_errors(a), float)
@@ -280,6 +283,29 @@ class _Prepared:
         lams = np.array([L.lam for L in a.layers], float)
         top = float(lams.max()) if len(lams) and lams.max() > 0 else 1.0
         self.structural = [float(x / top) for x in lams]
+
+    def _upright_map(self, e: int) -> np.ndarray:
+        """Exemplar ``e``'s map to the training frame, seen in the training leaf's pose.
+
+        ``from_exemplar[e](P_e(y))`` with ``P_e`` the rigid part (rotation
+        about the blade centroid, from the polar decomposition of the
+        registration's start map) taking the training pose to exemplar
+        ``e``'s. Leaves photographed at different angles (a strip lying
+        across the paper, another along it) give maps that agree up to
+        their non-rigid part and their size, so their convex blend is a leaf
+        shape; blending the raw maps mixed a rotation with its opposite and
+        swirled the blade into blobs. Size differences stay (they are shape
+        variation).
+        """
+        reg = self.analysis.registrations[e]
+        start = np.asarray(getattr(reg, "start", np.eye(2, 3)), np.float64)
+        u, _, vt = np.linalg.svd(start[:, :2])
+        rot = u @ vt  # exemplar -> training rotation (a reflection, if the start mirrors)
+        ys, xs = np.nonzero(self.analysis.blades[e])
+        c_e = np.array([xs.mean(), ys.mean()])
+        c_t = start[:, :2] @ c_e + start[:, 2]
+        q = (np.stack([self.xx, self.yy], -1).astype(np.float64) - c_t) @ rot + c_e
+        return _remap_values(self.from_exemplar[e], q.astype(np.float32))
 
     def _prepare_petioles(self):
         """Each exemplar's own petiole (RGBA, exemplar frame), its base and how its lamina meets the base.
@@ -404,7 +430,7 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
                         params.shape_concentration)
     m = np.zeros(shape + (2,), np.float32)
     for i in range(n):
-        m += wts[i][..., None] * p.from_exemplar[i]
+        m += wts[i][..., None] * p.shape_maps[i]
     # Background: one exemplar's residual, a warp below the registration error.
     bg = int(rng.integers(n))
     base_amp = params.background_warp * p.registration_error
