@@ -400,6 +400,7 @@ def normalise_exemplars(exemplars) -> tuple[list, list, list]:
     prepared = prepare_exemplars(items, size_policy="keep", names=[f"exemplars[{i}]" for i in range(len(items))])
     cents = []
     half_h = half_w = 0
+    reach = 0.0
     for e in prepared:
         ys, xs = np.nonzero(e.blade)
         cy, cx = int(round(ys.mean())), int(round(xs.mean()))
@@ -407,6 +408,13 @@ def normalise_exemplars(exemplars) -> tuple[list, list, list]:
         h, w = e.shape
         half_h = max(half_h, cy, h - cy)
         half_w = max(half_w, cx, w - cx)
+        reach = max(reach, float(np.sqrt(((xs - cx) ** 2 + (ys - cy) ** 2).max())))
+    # New leaves take the training leaf's pose with the other leaves'
+    # shapes: a leaf lying at another angle must fit turned upright, so the
+    # canvas holds every blade turned about its centroid (plus a margin for
+    # the random warps), not only as photographed.
+    reach = int(np.ceil(1.03 * reach)) + 2
+    half_h, half_w = max(half_h, reach), max(half_w, reach)
     H, W = 2 * half_h, 2 * half_w
     images, blades, offsets = [], [], []
     for e, (cx, cy) in zip(prepared, cents):

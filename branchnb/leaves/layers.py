@@ -255,6 +255,11 @@ class SnapParams:
                                       help="largest fraction of the blade a layer covers (background model)")
     prior: float = param(0.3, min=0.0, max=2.0, step=0.05,
                          help="weight of the superpixel labelling in the pixel-level cut")
+    local_contrast: float = param(1.0, min=0.0, max=4.0, step=0.1,
+                                  help="weight of each pixel's colour relative to the blade around it "
+                                       "(photos: shading across the leaf)")
+    shading_scale: float = param(3.0, min=1.0, max=20.0, step=0.5,
+                                 help="radius of 'the blade around it', in superpixel sides")
 
 
 @dataclass
@@ -354,6 +359,22 @@ def _on_layer(each: list, feat: np.ndarray, blade: np.ndarray) -> np.ndarray:
         ys, xs = np.nonzero(m)
         out[ys[keep], xs[keep]] = True
     return out
+
+
+def _local_contrast(feat: np.ndarray, blade: np.ndarray, sigma: float) -> np.ndarray:
+    """Each pixel's colour minus the blade's mean colour around it (Gaussian ``sigma``, blade only).
+
+    A photographed leaf is lit unevenly: a pale vein on the dark side of
+    the blade has the colour of plain blade on the bright side, and a
+    colour model alone grows the vein layer over the bright side. What
+    stays constant is how the vein stands out from the blade next to it.
+    """
+    w = cv2.GaussianBlur(blade.astype(np.float32), (0, 0), sigma)
+    out = np.empty_like(feat)
+    for k in range(feat.shape[2]):
+        m = cv2.GaussianBlur(np.where(blade, feat[..., k], 0).astype(np.float32), (0, 0), sigma)
+        out[..., k] = feat[..., k] - m / np.maximum(w, 1e-6)
+    return np.where(blade[..., None], out, 0).astype(np.float32)
 
 
 def _kmeans(samples: np.ndarray, k: int, rng: np.random.Generator) -> np.ndarray:
@@ -459,6 +480,9 @@ def grow_layers(image, blade, layer_set: LayerSet, params: SnapParams | None = N
     lab = rgb2lab(rgb).astype(np.float32)
     # L in 0..100, a/b roughly -80..80: scale so the three weigh alike.
     feat = lab / np.float32(100.0)
+    if params.local_contrast > 0:
+        feat = np.concatenate([feat, params.local_contrast * _local_contrast(
+            feat, blade, params.shading_scale * params.superpixel_size)], axis=2)
     h, w = blade.shape
     # SLIC on the blade's bounding box without a mask (the masked variant
     # seeds by k-means and is an order of magnitude slower), cut to the blade.
@@ -475,7 +499,7 @@ def grow_layers(image, blade, layer_set: LayerSet, params: SnapParams | None = N
     n = int(sp.max())
     idx = sp[blade]
     area = np.bincount(idx, minlength=n + 1).astype(np.float64)
-    mean = np.stack([np.bincount(idx, feat[..., k][blade], minlength=n + 1) for k in range(3)], 1)
+    mean = np.stack([np.bincount(idx, feat[..., k][blade], minlength=n + 1) for k in range(feat.shape[2])], 1)
     mean /= np.maximum(area, 1)[:, None]
     edges, border = _superpixel_graph(sp, n)
     d2 = ((mean[edges[:, 0]] - mean[edges[:, 1]]) ** 2).sum(1)
@@ -503,8 +527,13 @@ def grow_layers(image, blade, layer_set: LayerSet, params: SnapParams | None = N
         tot = d_f_blade + d_b_blade + 1e-6
         e_fg = np.bincount(idx, d_f_blade / tot, minlength=n + 1)
         e_bg = np.bincount(idx, d_b_blade / tot, minlength=n + 1)
-        pin_fg = np.zeros(n + 1, bool)
-        pin_fg[np.unique(sp[fg_px])] = True
+        # A superpixel is pinned to the layer only when the scribble's layer
+        # pixels fill most of it: a 1-px vein crossing a 5-px superpixel
+        # would pin 24 px of blade, and the cut grows the layer from there
+        # over the blade (the pixel-level cut pins the layer pixels themselves).
+        marked = np.bincount(sp[fg_px], minlength=n + 1)
+        pin_fg = marked >= 0.5 * np.maximum(area, 1)
+        pin_fg[0] = False
         pin_bg = np.zeros(n + 1, bool)
         pin_bg[np.unique(sp[others])] = True
         pin_bg &= ~pin_fg
@@ -549,7 +578,7 @@ def _refine(mask, feat, blade, fg_px, bg_px, fg_c, bg_c, prior, smoothness: floa
     f = feat[r0:r1, c0:c1]
     reg = blade[r0:r1, c0:c1]
     shp = reg.shape
-    flat = f.reshape(-1, 3)
+    flat = f.reshape(-1, f.shape[2])
     d_f = _nearest(flat, fg_c).reshape(shp)
     d_b = _nearest(flat, bg_c).reshape(shp)
     tot = d_f + d_b + 1e-6
