@@ -7,8 +7,11 @@ Tang & Shum 2004), the tool the paper names for this step:
 1. the blade is over-segmented into small superpixels (SLIC in CIELAB,
    :func:`skimage.segmentation.slic` restricted to the blade);
 2. a colour model of the layer (k-means centres of the colours under its
-   scribbles, only the half of each scribble's pixels that stand out from
-   the blade around it: a brush wider than a vein also covers blade) and
+   scribbles, only those of its pixels that stand out from the blade
+   around it: a brush wider than a vein also covers blade; colours are
+   CIELAB, with ``local_contrast > 0`` also each pixel's difference from
+   the blade around it, so uneven lighting does not make bright plain
+   blade look like a pale vein) and
    one of the rest (colours under the other layers' and the blade's
    scribbles, plus the blade without the ``max_layer_fraction`` (15 %) of
    it most like the layer) give each superpixel the data
@@ -255,9 +258,9 @@ class SnapParams:
                                       help="largest fraction of the blade a layer covers (background model)")
     prior: float = param(0.3, min=0.0, max=2.0, step=0.05,
                          help="weight of the superpixel labelling in the pixel-level cut")
-    local_contrast: float = param(1.0, min=0.0, max=4.0, step=0.1,
+    local_contrast: float = param(0.0, min=0.0, max=4.0, step=0.1,
                                   help="weight of each pixel's colour relative to the blade around it "
-                                       "(photos: shading across the leaf)")
+                                       "(unevenly lit photos: 1; off by default, it lowers drawn ink layers)")
     shading_scale: float = param(3.0, min=1.0, max=20.0, step=0.5,
                                  help="radius of 'the blade around it', in superpixel sides")
 
@@ -339,8 +342,9 @@ def _on_layer(each: list, feat: np.ndarray, blade: np.ndarray) -> np.ndarray:
     """The pixels of each scribble that stand out from the blade around it.
 
     A scribble drawn with a brush wider than its layer (a 3-px stroke on a
-    1-px vein) covers plain blade as well; the half of its pixels least
-    like a ring of blade 2-5 px around it is what it marks. A scribble
+    1-px vein) covers plain blade as well; its pixels unlike a ring of
+    blade 2-5 px around it (farther from the ring's median colour than 90 %
+    of the ring's own pixels) are what it marks. A scribble
     inside a wide layer (a spot) keeps the half nearest its centre line's
     colour contrast, all of it on the layer.
     """
@@ -355,7 +359,16 @@ def _on_layer(each: list, feat: np.ndarray, blade: np.ndarray) -> np.ndarray:
             continue
         ref = np.median(feat[ring], axis=0)
         d = np.sqrt(((feat[m] - ref) ** 2).sum(1))
-        keep = d >= np.median(d)
+        # The pixels unlike the blade around (farther from its median than
+        # 90 % of the ring's own pixels): a 3-px brush on a 1-px vein marks
+        # the vein, not the two rows of blade beside it, which the half rule
+        # put into the layer's colour model. A scribble inside a layer
+        # wider than the ring (a big spot) stands out from nothing there:
+        # it keeps the half rule.
+        ring_d = np.sqrt(((feat[ring] - ref) ** 2).sum(1))
+        keep = d > np.percentile(ring_d, 90)
+        if keep.sum() < max(2, 0.1 * len(d)):
+            keep = d >= np.median(d)
         ys, xs = np.nonzero(m)
         out[ys[keep], xs[keep]] = True
     return out

@@ -23,8 +23,9 @@ A new leaf is built in the training leaf's frame, then given a new shape:
    stripes on an orange one. ``"copy"`` pastes the colours as the paper does.
 3. **Shape**: a convex per-pixel blend of the inverse registration warps,
    ``W^-1(x) = sum_i a_i(x) W_i^-1(x)``, each seen in the training leaf's
-   pose (its start map's rotation taken out, so leaves lying at different
-   angles blend into a leaf, not a swirl); ``a_i`` are a few random
+   pose (its start map's rotation taken out), the blend then turned to the
+   exemplars' mean pose (angles averaged with the mean weights): leaves
+   lying at different angles blend into a leaf, not a swirl; ``a_i`` are a few random
    coefficients per exemplar (a ``shape_grid`` x ``shape_grid`` grid drawn
    from a symmetric Dirichlet of ``shape_concentration``), smoothed by a Gaussian of ``shape_sigma`` times
    the leaf size and normalised per pixel.
@@ -273,6 +274,9 @@ class _Prepared:
                             for e in range(self.n)]
         self.from_exemplar = [ident if e == t else np.asarray(a.registrations[e].map_from_training, np.float32)
                               for e in range(self.n)]
+        self.pose_angles = [0.0] * self.n
+        ys, xs = np.nonzero(a.blades[t])
+        self.centre_t = np.array([xs.mean(), ys.mean()])
         self.shape_maps = [ident if e == t else self._upright_map(e) for e in range(self.n)]
         self.alpha_t = a.exemplars[t][..., 3].astype(np.float32)
         self._prepare_petioles()
@@ -301,11 +305,31 @@ class _Prepared:
         start = np.asarray(getattr(reg, "start", np.eye(2, 3)), np.float64)
         u, _, vt = np.linalg.svd(start[:, :2])
         rot = u @ vt  # exemplar -> training rotation (a reflection, if the start mirrors)
+        # The exemplar's pose relative to the training leaf's (radians).
+        self.pose_angles[e] = -float(np.arctan2(rot[1, 0], rot[0, 0]))
         ys, xs = np.nonzero(self.analysis.blades[e])
         c_e = np.array([xs.mean(), ys.mean()])
         c_t = start[:, :2] @ c_e + start[:, 2]
         q = (np.stack([self.xx, self.yy], -1).astype(np.float64) - c_t) @ rot + c_e
         return _remap_values(self.from_exemplar[e], q.astype(np.float32))
+
+    def posed(self, upright: np.ndarray, weights) -> np.ndarray:
+        """The blended upright map turned to the exemplars' mean pose (circular mean, ``weights``).
+
+        New leaves lie as the exemplars that made them lie, like the blend
+        of the raw maps for leaves photographed at nearly one angle; but
+        the angles are averaged as angles, so a leaf across the paper and
+        one along it give a leaf at 45 degrees, not a swirl.
+        """
+        w = np.asarray(weights, float)
+        ang = np.asarray(self.pose_angles)
+        theta = float(np.arctan2((w * np.sin(ang)).sum(), (w * np.cos(ang)).sum()))
+        if abs(theta) < 1e-6:
+            return upright
+        c, s = np.cos(theta), np.sin(theta)
+        back = np.array([[c, s], [-s, c]])  # rotation by -theta: output pose -> upright frame
+        q = (np.stack([self.xx, self.yy], -1).astype(np.float64) - self.centre_t) @ back.T + self.centre_t
+        return _remap_values(upright, q.astype(np.float32))
 
     def _prepare_petioles(self):
         """Each exemplar's own petiole (RGBA, exemplar frame), its base and how its lamina meets the base.
@@ -431,6 +455,8 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
     m = np.zeros(shape + (2,), np.float32)
     for i in range(n):
         m += wts[i][..., None] * p.shape_maps[i]
+    blade_t = a.blades[a.training_index]
+    m = p.posed(m, [float(wts[i][blade_t].mean()) for i in range(n)])
     # Background: one exemplar's residual, a warp below the registration error.
     bg = int(rng.integers(n))
     base_amp = params.background_warp * p.registration_error
