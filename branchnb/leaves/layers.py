@@ -262,7 +262,7 @@ class SnapParams:
                                   help="weight of each pixel's colour relative to the blade around it "
                                        "(unevenly lit photos: 1; off by default, it lowers drawn ink layers)")
     shading_scale: float = param(3.0, min=1.0, max=20.0, step=0.5,
-                                 help="radius of 'the blade around it', in superpixel sides")
+                                 help="radius of 'the blade around it' (median), in superpixel sides")
 
 
 @dataclass
@@ -374,20 +374,42 @@ def _on_layer(each: list, feat: np.ndarray, blade: np.ndarray) -> np.ndarray:
     return out
 
 
-def _local_contrast(feat: np.ndarray, blade: np.ndarray, sigma: float) -> np.ndarray:
-    """Each pixel's colour minus the blade's mean colour around it (Gaussian ``sigma``, blade only).
+def _local_contrast(feat: np.ndarray, blade: np.ndarray, radius: float) -> np.ndarray:
+    """Each pixel's colour minus the blade's median colour around it (``radius`` px, blade only).
 
     A photographed leaf is lit unevenly: a pale vein on the dark side of
     the blade has the colour of plain blade on the bright side, and a
     colour model alone grows the vein layer over the bright side. What
     stays constant is how the vein stands out from the blade next to it.
+    A median, not a mean: a layer covering much of a neighbourhood (dense
+    ink lines) would make its own surroundings and stand out from nothing.
+    The median is taken on a grid reduced so the window is 7 cells wide
+    (shading is smooth), over the cells that are mostly blade.
     """
-    w = cv2.GaussianBlur(blade.astype(np.float32), (0, 0), sigma)
-    out = np.empty_like(feat)
-    for k in range(feat.shape[2]):
-        m = cv2.GaussianBlur(np.where(blade, feat[..., k], 0).astype(np.float32), (0, 0), sigma)
-        out[..., k] = feat[..., k] - m / np.maximum(w, 1e-6)
-    return np.where(blade[..., None], out, 0).astype(np.float32)
+    from ..core.image import extend_nearest
+
+    h, w = blade.shape
+    f = max(1.0, float(radius) / 3.0)
+    small = (max(1, int(round(w / f))), max(1, int(round(h / f))))
+    # Cells of the reduced grid: the blade's mean colour where they are
+    # mostly blade; the rest take no part (the backdrop and the outline
+    # drawn around a blade are not "the blade around").
+    cover = cv2.resize(blade.astype(np.float32), small, interpolation=cv2.INTER_AREA)
+    lo = cv2.resize(np.where(blade[..., None], feat, 0).astype(np.float32), small, interpolation=cv2.INTER_AREA)
+    inside = cover > 0.5
+    if not inside.any():
+        return np.zeros_like(feat)
+    lo = np.where(inside[..., None], lo / np.maximum(cover, 1e-6)[..., None], np.nan)
+    win = np.lib.stride_tricks.sliding_window_view(np.pad(lo, ((3, 3), (3, 3), (0, 0)), constant_values=np.nan),
+                                                   (7, 7), axis=(0, 1))
+    with np.errstate(all="ignore"):
+        import warnings
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            med = np.nanmedian(win.reshape(win.shape[:3] + (-1,)), axis=-1)
+    med = extend_nearest(np.nan_to_num(med), np.isfinite(med).all(-1)).astype(np.float32)
+    around = cv2.resize(med, (w, h), interpolation=cv2.INTER_LINEAR)
+    return np.where(blade[..., None], feat - around, 0).astype(np.float32)
 
 
 def _kmeans(samples: np.ndarray, k: int, rng: np.random.Generator) -> np.ndarray:
