@@ -400,7 +400,6 @@ def normalise_exemplars(exemplars) -> tuple[list, list, list]:
     prepared = prepare_exemplars(items, size_policy="keep", names=[f"exemplars[{i}]" for i in range(len(items))])
     cents = []
     half_h = half_w = 0
-    reach = 0.0
     for e in prepared:
         ys, xs = np.nonzero(e.blade)
         cy, cx = int(round(ys.mean())), int(round(xs.mean()))
@@ -408,13 +407,8 @@ def normalise_exemplars(exemplars) -> tuple[list, list, list]:
         h, w = e.shape
         half_h = max(half_h, cy, h - cy)
         half_w = max(half_w, cx, w - cx)
-        reach = max(reach, float(np.sqrt(((xs - cx) ** 2 + (ys - cy) ** 2).max())))
-    # New leaves take the training leaf's pose with the other leaves'
-    # shapes: a leaf lying at another angle must fit turned upright, so the
-    # canvas holds every blade turned about its centroid (plus a margin for
-    # the random warps), not only as photographed.
-    reach = int(np.ceil(1.03 * reach)) + 2
-    half_h, half_w = max(half_h, reach), max(half_w, reach)
+    turned_h, turned_w = _turned_extents([e.blade for e in prepared], cents)
+    half_h, half_w = max(half_h, turned_h), max(half_w, turned_w)
     H, W = 2 * half_h, 2 * half_w
     images, blades, offsets = [], [], []
     for e, (cx, cy) in zip(prepared, cents):
@@ -428,6 +422,48 @@ def normalise_exemplars(exemplars) -> tuple[list, list, list]:
         blades.append(b)
         offsets.append((int(dx), int(dy)))
     return images, blades, offsets
+
+
+def _axis_angle(xs: np.ndarray, ys: np.ndarray) -> tuple[float, float]:
+    """Principal axis angle of a point set (radians) and its elongation (axis ratio >= 1)."""
+    x, y = xs - xs.mean(), ys - ys.mean()
+    mxx, myy, mxy = float((x * x).mean()), float((y * y).mean()), float((x * y).mean())
+    ev = np.linalg.eigvalsh(np.array([[mxx, mxy], [mxy, myy]]))
+    return 0.5 * float(np.arctan2(2 * mxy, mxx - myy)), float(np.sqrt(ev[1] / max(ev[0], 1e-12)))
+
+
+def _turned_extents(blades, cents) -> tuple[int, int]:
+    """Half height and width a canvas needs to hold every blade turned to the others' poses.
+
+    New leaves lie in the exemplars' mean pose (:mod:`.synthesis`): a
+    strip photographed across the paper, blended with one lying along it,
+    comes out at an angle in between. Each blade is turned about its
+    centroid through the range of principal-axis angles between the
+    elongated blades (a round blade's axis says nothing), and the canvas
+    holds it at every angle of that range, plus
+    a margin for the random warps. Leaves photographed at one angle (the
+    maples) keep a tight canvas.
+    """
+    pts = []
+    axes = []
+    for b, (cx, cy) in zip(blades, cents):
+        ys, xs = np.nonzero(b)
+        pts.append((xs - cx, ys - cy))
+        axes.append(_axis_angle(xs.astype(np.float64), ys.astype(np.float64)))
+    # A round blade's axis says nothing about its pose (and turning it
+    # changes its extents little): the elongated blades give the range.
+    angles = [a for a, ratio in axes if ratio >= 1.2]
+    diff = [abs((a - b + np.pi / 2) % np.pi - np.pi / 2) for a in angles for b in angles]
+    span = float(max(diff, default=0.0))
+    if span < np.radians(5):
+        return 0, 0
+    half_h = half_w = 0.0
+    for x, y in pts:
+        for phi in np.linspace(-span, span, 2 * int(np.ceil(np.degrees(span) / 5)) + 1):
+            c, s_ = np.cos(phi), np.sin(phi)
+            half_w = max(half_w, float(np.abs(c * x - s_ * y).max()))
+            half_h = max(half_h, float(np.abs(s_ * x + c * y).max()))
+    return int(np.ceil(1.03 * half_h)) + 2, int(np.ceil(1.03 * half_w)) + 2
 
 
 def _shift_mask(mask, offset, shape, name):

@@ -339,14 +339,17 @@ def _check_scribbles(layer_set: LayerSet, blade: np.ndarray) -> tuple[dict, dict
 
 
 def _on_layer(each: list, feat: np.ndarray, blade: np.ndarray) -> np.ndarray:
-    """The pixels of each scribble that stand out from the blade around it.
+    """The pixels of each scribble that mark its layer.
 
     A scribble drawn with a brush wider than its layer (a 3-px stroke on a
-    1-px vein) covers plain blade as well; its pixels unlike a ring of
-    blade 2-5 px around it (farther from the ring's median colour than 90 %
-    of the ring's own pixels) are what it marks. A scribble
-    inside a wide layer (a spot) keeps the half nearest its centre line's
-    colour contrast, all of it on the layer.
+    1-px vein) covers plain blade as well; when its median colour is like
+    a ring of blade 2-5 px around it, its pixels unlike the ring (farther
+    from the ring's median than 90 % of the ring's own pixels) are what it
+    marks. A scribble mostly on its layer (its median unlike the ring)
+    marks its pixels nearer its own median than the ring's, so blade or
+    paper it strays onto stays out. Scribbles too short for a ring keep
+    every pixel; too few marked pixels fall back to the half most unlike
+    the ring.
     """
     out = np.zeros(blade.shape, bool)
     for m in each:
@@ -358,15 +361,14 @@ def _on_layer(each: list, feat: np.ndarray, blade: np.ndarray) -> np.ndarray:
             out |= m
             continue
         ref = np.median(feat[ring], axis=0)
-        d = np.sqrt(((feat[m] - ref) ** 2).sum(1))
-        # The pixels unlike the blade around (farther from its median than
-        # 90 % of the ring's own pixels): a 3-px brush on a 1-px vein marks
-        # the vein, not the two rows of blade beside it, which the half rule
-        # put into the layer's colour model. A scribble inside a layer
-        # wider than the ring (a big spot) stands out from nothing there:
-        # it keeps the half rule.
-        ring_d = np.sqrt(((feat[ring] - ref) ** 2).sum(1))
-        keep = d > np.percentile(ring_d, 90)
+        px = feat[m]
+        d = np.sqrt(((px - ref) ** 2).sum(1))
+        spread = float(np.percentile(np.sqrt(((feat[ring] - ref) ** 2).sum(1)), 90))
+        own = np.median(px, axis=0)
+        if float(np.sqrt(((own - ref) ** 2).sum())) > spread:
+            keep = np.sqrt(((px - own) ** 2).sum(1)) < d
+        else:
+            keep = d > spread
         if keep.sum() < max(2, 0.1 * len(d)):
             keep = d >= np.median(d)
         ys, xs = np.nonzero(m)
@@ -497,6 +499,11 @@ def grow_layers(image, blade, layer_set: LayerSet, params: SnapParams | None = N
     """
     params = check_params(params if params is not None else SnapParams(), name="params")
     rgb = as_rgb(image, name="image")
+    if np.ndim(image) == 3 and np.shape(image)[2] == 4:
+        # The colours as they are (as the induction sees them): composited
+        # over white, a background-model exemplar's feathered rim turned its
+        # dark outline grey, and the grey joined the ink layer.
+        rgb = as_rgb(np.asarray(image)[..., :3], name="image")
     if np.shape(blade) != rgb.shape[:2]:
         raise ValueError(f"blade has shape {np.shape(blade)}, but image is {rgb.shape[:2]} (they must match)")
     blade = as_mask(blade, shape=rgb.shape[:2], name="blade")
