@@ -38,15 +38,14 @@ def maple_analysis():
 
 
 def test_maple_layers_from_real_scribbles(maple_analysis):
-    """Measured (3 maples): veins lambda 0.74, training IoU 0.64; spots lambda 0.11, training IoU 0.43.
+    """Measured (3 maples): veins lambda 0.74, training IoU 0.64; spots lambda 0.04, training IoU 0.46.
 
     (Before: lambda 0 for both and training IoU 0.12: 1-px S_e windows and a liberal radius of
-    about a pixel, far below the registration error. Spots were 0.02 before scribbles marked
-    only their pixels unlike the blade around: their liberal layers now overlap by 0.08.)
+    about a pixel, far below the registration error.)
     """
     a = maple_analysis
     veins, spots = a.layer("veins"), a.layer("spots")
-    assert veins.lam > 0.1 and spots.lam < 0.25 * veins.lam
+    assert veins.lam > 0.1 > spots.lam
     assert veins.training_overlap > 0.4 and spots.training_overlap > 0.2
     assert veins.neighbourhood == 3  # the faint 1-2 px veins need a histogram window
     # Veins are induced on every leaf, along the registered training veins.
