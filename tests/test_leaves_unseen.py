@@ -5,6 +5,8 @@ Each test rebuilds the failure in a small synthetic input.
 
 import cv2
 import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from skimage.draw import ellipse
 
 from branchnb.core.metrics import iou
@@ -167,3 +169,16 @@ def test_grow_layers_ignores_the_alpha():
     a = grow_layers(img, blade, ls).masks["ink"]
     b = grow_layers(rgba, blade, ls).masks["ink"]
     assert np.array_equal(a, b)
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(16, 60), st.integers(16, 60), st.floats(0.0, 1.0), st.integers(0, 2**16))
+def test_blade_mask_on_random_drawings_returns_a_mask_or_a_clear_error(h, w, ink, seed):
+    rng = np.random.default_rng(seed)
+    img = np.ones((h, w, 3), np.float32)
+    img[rng.random((h, w)) < 0.3 * ink] = (0.1, 0.4, 0.15)
+    try:
+        m = blade_mask(img)
+    except ValueError:
+        return
+    assert m.shape == (h, w) and m.dtype == bool and m.any()
