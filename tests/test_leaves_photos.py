@@ -130,11 +130,14 @@ def test_new_maples_carry_their_donors_petiole(maple_analysis):
     donors = {e for e, p in own.items() if p is not None}
     assert donors == {0, 2}
     got = set()
-    for leaf in generate(maple_analysis, 4, rng=0):
+    for leaf in generate(maple_analysis, 6, rng=0):  # 6: both donors drawn (1/32 chance not)
         assert leaf.petiole in donors and leaf.record()["petiole"] == leaf.petiole
         got.add(leaf.petiole)
         pet = from_base(leaf.blade)
-        dist = {e: float(np.median(cKDTree(own[e]).query(pet)[0])) for e in donors}
+        # A new leaf lies in the exemplars' mean pose, its petiole turned with it: compare
+        # shapes up to a turn about the base of at most 15 degrees.
+        turns = [np.array([[np.cos(t), -np.sin(t)], [np.sin(t), np.cos(t)]]) for t in np.radians(np.arange(-15, 16))]
+        dist = {e: min(float(np.median(cKDTree(own[e]).query(pet @ r.T)[0])) for r in turns) for e in donors}
         other = min(d for e, d in dist.items() if e != leaf.petiole)
         assert dist[leaf.petiole] < 4.0 and dist[leaf.petiole] < 0.3 * other, (leaf.seed, dist)
     assert got == donors  # the training leaf's petiole is not the only one

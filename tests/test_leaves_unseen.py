@@ -109,7 +109,7 @@ def test_leaves_lying_at_different_angles_blend_into_leaves():
     centre = (float(xs.mean()), float(ys.mean()))
     h, w = a.blades[0].shape
     for new in generate(a, 3, rng=0):
-        # The training outline, turned to the new leaf's pose (the exemplars' mean angle).
+        # The training outline, turned to the new leaf's pose (one exemplar's).
         best = max(iou(new.blade, cv2.warpAffine(a.blades[0].astype(np.float32),
                                                  cv2.getRotationMatrix2D(centre, ang, 1.0), (w, h)) > 0.5)
                    for ang in range(-90, 91, 5))
@@ -117,7 +117,7 @@ def test_leaves_lying_at_different_angles_blend_into_leaves():
 
 
 def test_canvas_holds_every_blade_turned():
-    """New leaves take a mean pose; a long leaf must fit turned (before: cut by the canvas edge)."""
+    """A long leaf must fit turned to another exemplar's pose (before: cut by the canvas edge)."""
     img = np.zeros((40, 120, 4), np.float32)
     rr, cc = ellipse(20, 60, 12, 55, shape=(40, 120))
     img[rr, cc] = (0.3, 0.5, 0.2, 1.0)

@@ -311,7 +311,7 @@ class _Prepared:
         c_e = np.array([xs.mean(), ys.mean()])
         c_t = start[:, :2] @ c_e + start[:, 2]
         q = (np.stack([self.xx, self.yy], -1).astype(np.float64) - c_t) @ rot + c_e
-        return _remap_values(self.from_exemplar[e], q.astype(np.float32))
+        return _remap_map(self.from_exemplar[e], q.astype(np.float32))
 
     def posed(self, upright: np.ndarray, weights) -> np.ndarray:
         """The blended upright map turned to the exemplars' mean pose (circular mean, ``weights``).
@@ -319,7 +319,9 @@ class _Prepared:
         New leaves lie as the exemplars that made them lie, like the blend
         of the raw maps for leaves photographed at nearly one angle; but
         the angles are averaged as angles, so a leaf across the paper and
-        one along it give a leaf at 45 degrees, not a swirl.
+        one along it give a leaf at 45 degrees, not a swirl. (The pose of
+        the exemplar weighing most instead tilted new maples by their
+        donors' few degrees and turned their petioles askew.)
         """
         w = np.asarray(weights, float)
         ang = np.asarray(self.pose_angles)
@@ -329,7 +331,7 @@ class _Prepared:
         c, s = np.cos(theta), np.sin(theta)
         back = np.array([[c, s], [-s, c]])  # rotation by -theta: output pose -> upright frame
         q = (np.stack([self.xx, self.yy], -1).astype(np.float64) - self.centre_t) @ back.T + self.centre_t
-        return _remap_values(upright, q.astype(np.float32))
+        return _remap_map(upright, q.astype(np.float32))
 
     def _prepare_petioles(self):
         """Each exemplar's own petiole (RGBA, exemplar frame), its base and how its lamina meets the base.
@@ -423,6 +425,21 @@ def _map_jacobian(field: np.ndarray, point) -> np.ndarray:
     return np.column_stack([dx, dy]).astype(np.float64)
 
 
+#: Where a turned coordinate map leaves the canvas it points here, far off
+#: every image, so nothing is sampled there (replicated edge values of a
+#: map drew straight streaks from the leaf to the canvas edge).
+_FAR = -1.0e5
+
+
+def _remap_map(field, c):
+    """A coordinate map resampled at ``c``; points off the canvas map to ``_FAR``."""
+    h, w = field.shape[:2]
+    out = _remap_values(field, c)
+    off = (c[..., 0] < -1) | (c[..., 0] > w) | (c[..., 1] < -1) | (c[..., 1] > h)
+    out[off] = _FAR
+    return out
+
+
 def _remap_values(field, c):
     """Bilinear samples of any float field (coordinates, displacements) at ``c``; edges replicated."""
     out = cv2.remap(np.ascontiguousarray(field, np.float32), np.ascontiguousarray(c[..., 0]),
@@ -510,7 +527,11 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
     if p.petiole_exemplars:
         # One exemplar's own petiole, attached at the new leaf's base,
         # under the lamina.
-        j = int(rng.choice(p.petiole_exemplars))
+        # From a stream of its own: the main one's use depends on the data
+        # (texture correction draws per replaced patch), so the donor drawn
+        # from it changed with every change to the warps; now it depends on
+        # the seed only.
+        j = int(np.random.default_rng((int(seed), 1)).choice(p.petiole_exemplars))
         pet = p.petiole_layer(j, m)
         if pet is not None:
             pet_from = j
