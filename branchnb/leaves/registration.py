@@ -90,7 +90,7 @@ from ..core.params import check_params, param
 from ..core.validate import COORD_LIMIT, Choice, Instance, Int, Real, check_finite, check_int, checked, real_array
 from ..core.warp import remap
 from .exemplar import Exemplar, leaf_exemplar
-from .keypoints import Keypoints, edge_keypoints
+from .keypoints import OUTLINE, VEIN, Keypoints, edge_keypoints, vein_keypoints
 
 __all__ = ["RegistrationParams", "Registration", "register", "start_alignment", "start_candidates", "tps_rpm",
            "draw_registration", "ThinPlateSpline", "split_petiole"]
@@ -144,6 +144,12 @@ class RegistrationParams:
     use_labels: bool = param(True, help="match outline with outline, interior with interior")
     outline_points: int = param(150, min=10, max=400, help="outline samples of the outline stage")
     n_starts: int = param(3, min=1, max=12, help="start maps tried (the best outline fit wins)")
+    veins: bool = param(True, help="refine with the main veins: outline and vein points, each matched to its own kind")
+    vein_points: int = param(60, min=8, max=400, help="points along the main veins per leaf")
+    vein_t_init: float = param(16.0, min=1.0, max=1000.0, log=True,
+                               help="vein stage start temperature / mean squared nearest-neighbour distance")
+    vein_stiffness: float = param(10.0, min=0.01, max=1000.0, log=True,
+                                  help="lambda1 of the vein stage / lambda1 of the outline stage")
     refine: bool = param(False, help="refine the outline registration with all keypoints")
     refine_t_init: float = param(16.0, min=1.0, max=1000.0, log=True,
                                  help="refinement start temperature / mean squared nearest-neighbour distance")
@@ -1026,6 +1032,11 @@ def register(exemplar, training, exemplar_blade=None, training_blade=None, *,
     _, start, f1 = best
     start_iou = _blade_iou(start, ex.blade, tr.blade)
     splines = [f1]
+    if prm.veins:
+        f2 = _vein_stage(ex, tr, lam_e, lam_t, cont_e, cont_t, start, f1, norm, prm)
+        if f2 is not None:
+            splines.append(f2)
+            f1 = _Composed(f1, f2)
     v = f1(norm(kp_e.points @ start[:, :2].T + start[:, 2]))
     x = norm(kp_t.points)
     labels = (kp_e.labels, kp_t.labels) if prm.use_labels else (None, None)
@@ -1041,6 +1052,40 @@ def register(exemplar, training, exemplar_blade=None, training_blade=None, *,
         match = _softassign(x, v, labels[1], labels[0], 1e-2, 1.0, x.mean(0), v.mean(0), prm.sinkhorn_iterations)
     return Registration(start, start_iou, splines, centre, radius, kp_e, kp_t, match,
                         ex.blade.shape, tr.blade.shape, prm.grid_step)
+
+
+class _Composed:
+    """Two splines in turn (the outline stage, then the vein stage)."""
+
+    def __init__(self, first, second):
+        self.first, self.second = first, second
+
+    def __call__(self, p):
+        return self.second(self.first(p))
+
+
+def _vein_stage(ex, tr, lam_e, lam_t, cont_e, cont_t, start, f1, norm, prm):
+    """Stage 2: refine the outline registration with outline and main-vein points, each matched to its own kind.
+
+    The margin alone cannot pin material points that slide along a
+    smooth outline; a leaf's main veins (midrib and secondaries of a
+    pinnate blade, the primaries of a palmate one) are shared by every
+    leaf of a kind and fix them. Returns None when either leaf has too
+    few vein points (a leaf without visible veins keeps its outline fit).
+    """
+    ve = vein_keypoints(ex.rgb, lam_e, prm.vein_points)
+    vt = vein_keypoints(tr.rgb, lam_t, prm.vein_points)
+    if len(ve) < 8 or len(vt) < 8:
+        return None
+    src = f1(norm(np.vstack([cont_e, ve.points]) @ start[:, :2].T + start[:, 2]))
+    dst = norm(np.vstack([cont_t, vt.points]))
+    lab_s = np.r_[np.full(len(cont_e), OUTLINE), np.full(len(ve), VEIN)]
+    lab_d = np.r_[np.full(len(cont_t), OUTLINE), np.full(len(vt), VEIN)]
+    nn = cKDTree(dst).query(dst, k=2)[0][:, 1]
+    t0 = prm.vein_t_init * float(np.mean(nn ** 2))
+    stiff = replace(prm, lambda1_init=prm.lambda1_init * prm.vein_stiffness)
+    f2, _ = tps_rpm(src, dst, source_labels=lab_s, target_labels=lab_d, params=stiff, t_init=t0)
+    return f2
 
 
 @checked(grid=Int(2, 256), registration=Instance("Registration"))
