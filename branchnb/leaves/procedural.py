@@ -14,7 +14,10 @@ How a leaf is made
    direction. ``"lobed"`` (palmate, maple-like, 5 pointed lobes) and
    ``"trilobed"`` (3 lobes) are soft maxima of pointed lobe profiles;
    ``"elliptic"`` is an ovate blade with an acuminate tip. Margins carry
-   small teeth.
+   small teeth: a regular sawtooth in the angle on the lobed kinds;
+   serrate teeth (a long convex basal flank, a steep apical one, the tip
+   pointing to the apex, about 2 % of the blade length deep) on the
+   elliptic kind, one where each secondary vein ends (see 3).
 2. **Per-leaf variation** (scaled by ``variation``): each lobe's length,
    a smooth monotone re-parametrisation of the angle
    ``a = h(a_c) = a_c + sum_m eps_m sin(m a_c)`` (lobes move sideways),
@@ -37,6 +40,28 @@ How a leaf is made
    widen towards the base; they are drawn with
    :func:`branchnb.core.render.draw_polylines`. The petiole continues the
    main vein below the blade.
+
+   The process starts from the kind's *primary* veins, present from the
+   first stage and stretched by growth like everything else: one along
+   each lobe axis of the lobed kinds; on the elliptic kind a midrib and a
+   fixed set of secondaries (8 pairs, alternate, leaving the midrib at
+   58 degrees near the base to 38 near the apex, curving towards the apex,
+   each ending at a tooth). That is *craspedodromous* pinnate venation, as
+   in beech, elm, chestnut and the Zelkova leaf in
+   ``data/leaves/zelkova_leaf.jpg``: every secondary runs nearly straight
+   from the midrib to a tooth, and the leaves of one tree have about the
+   same number at about the same places. Primaries are laid out in
+   *material* coordinates, so they move with the leaf's angle warp like
+   the lobes and teeth they end at; per leaf they are jittered a little
+   (secondaries: their origin on the midrib by 0.012, their bend by 0.008
+   leaf units). The finer veins between them grow anew on every leaf.
+   Why the elliptic kind needs them: its angle warp slides material
+   points *along* a smooth outline, and with only a midrib (at
+   ``a_c = 0, pi``, where the warp is the identity), randomly regrown
+   secondaries and sub-pixel teeth, nothing in the image showed where a
+   material point had gone: the ground truth of a registration was not
+   observable (registration cut the true keypoint error by 36 %, against
+   74 % through the true outline correspondences).
 4. **Spots**: a few irregular blobs at random material points.
 5. **Colour texture**: a palette (``"green"``, ``"autumn"``) modulated by
    multi-octave value noise, veins lighter than the blade, spots darker.

@@ -144,8 +144,11 @@ class RegistrationParams:
     use_labels: bool = param(True, help="match outline with outline, interior with interior")
     outline_points: int = param(150, min=10, max=400, help="outline samples of the outline stage")
     n_starts: int = param(3, min=1, max=12, help="start maps tried (the best outline fit wins)")
+    apex: bool = param(True, help="match the apexes too, when both leaves have a clear one")
     veins: bool = param(True, help="refine with the main veins: outline and vein points, each matched to its own kind")
     vein_points: int = param(60, min=8, max=400, help="points along the main veins per leaf")
+    vein_orientation: float = param(0.02, min=0.0, max=10.0,
+                                    help="cost of crossed vein directions (squared blade radii)")
     vein_t_init: float = param(16.0, min=1.0, max=1000.0, log=True,
                                help="vein stage start temperature / mean squared nearest-neighbour distance")
     vein_stiffness: float = param(10.0, min=0.01, max=1000.0, log=True,
@@ -287,10 +290,12 @@ def _solve(a, b):
 # ---------------------------------------------------------------------------
 # TPS-RPM
 
-def _softassign(x, fv, lab_x, lab_v, t, t0, cx, cv, sinkhorn):
+def _softassign(x, fv, lab_x, lab_v, t, t0, cx, cv, sinkhorn, pair_cost=None):
     n, k = len(x), len(fv)
     m = np.zeros((n + 1, k + 1))
     d2 = _sqdist(x, fv)
+    if pair_cost is not None:
+        d2 = d2 + pair_cost
     # Work in log space relative to the best entry so small T does not underflow.
     logm = -d2 / (2 * t) - np.log(t)
     if lab_x is not None:
@@ -310,7 +315,7 @@ def _softassign(x, fv, lab_x, lab_v, t, t0, cx, cv, sinkhorn):
 @checked(t_init=Real(0.0, 1e6, low_open=True))
 def tps_rpm(source, target, *, source_labels=None, target_labels=None,
             params: RegistrationParams | None = None,
-            t_init: float | None = None) -> tuple[ThinPlateSpline, np.ndarray]:
+            t_init: float | None = None, pair_cost=None) -> tuple[ThinPlateSpline, np.ndarray]:
     """Match two point sets and fit a thin-plate spline ``source -> target`` (Chui & Rangarajan).
 
     Parameters
@@ -326,6 +331,10 @@ def tps_rpm(source, target, *, source_labels=None, target_labels=None,
         Start temperature; default (Chui & Rangarajan) the largest squared
         distance between the two sets. A refinement of a good alignment
         starts lower.
+    pair_cost : (N, K) array_like, optional
+        Non-negative cost added to the squared distance of every
+        (target, source) pair in the softassign (e.g. an orientation
+        difference), in squared normalised units.
 
     Returns
     -------
@@ -360,6 +369,10 @@ def tps_rpm(source, target, *, source_labels=None, target_labels=None,
         lab_v, lab_x = np.asarray(source_labels), np.asarray(target_labels)
         if lab_v.shape != (len(v),) or lab_x.shape != (len(x),):
             raise ValueError("labels must have one entry per point")
+    if pair_cost is not None:
+        pair_cost = real_array(pair_cost, "pair_cost", ndim=2, min=0.0, max=1e12)
+        if pair_cost.shape != (len(x), len(v)):
+            raise ValueError(f"pair_cost must have shape {(len(x), len(v))}, got {pair_cost.shape}")
     nn = cKDTree(x).query(x, k=2)[0][:, 1]
     t_final = max(prm.t_final_scale * float(np.mean(nn ** 2)), 1e-12)
     t_init = float(_sqdist(x, v).max()) if t_init is None else max(float(t_init), t_final)
@@ -369,16 +382,16 @@ def tps_rpm(source, target, *, source_labels=None, target_labels=None,
     t = t_init
     # Hundreds of small solves: BLAS threads only add overhead (and stall on a busy machine).
     with threadpool_limits(1):
-        return _anneal(x, v, f, system, lab_x, lab_v, t, t_init, t_final, cx, prm)
+        return _anneal(x, v, f, system, lab_x, lab_v, t, t_init, t_final, cx, prm, pair_cost)
 
 
-def _anneal(x, v, f, system, lab_x, lab_v, t, t_init, t_final, cx, prm):
+def _anneal(x, v, f, system, lab_x, lab_v, t, t_init, t_final, cx, prm, pair_cost=None):
     k = len(v)
     m = np.zeros((len(x), k))
     while True:
         for _ in range(prm.iterations):
             fv = system.at_centres(f)
-            m = _softassign(x, fv, lab_x, lab_v, t, t_init, cx, fv.mean(0), prm.sinkhorn_iterations)
+            m = _softassign(x, fv, lab_x, lab_v, t, t_init, cx, fv.mean(0), prm.sinkhorn_iterations, pair_cost)
             mass = m.sum(0)
             y = np.where(mass[:, None] > 1e-9, (m.T @ x) / np.maximum(mass[:, None], 1e-300), fv)
             f = system.fit(y, weights=np.clip(mass, 1e-3, 1.0),
@@ -999,8 +1012,11 @@ def register(exemplar, training, exemplar_blade=None, training_blade=None, *,
     land_e = land_t = None
     if base_e is not None and base_t is not None:
         land_e, land_t = base_e[None], base_t[None]
-        lab_src = np.r_[np.zeros(len(cont_e), int), 1]
-        lab_dst = np.r_[np.zeros(len(cont_t), int), 1]
+        apex_e, apex_t = (_apex_point(lam, b) for lam, b in ((lam_e, base_e), (lam_t, base_t)))
+        if prm.apex and apex_e is not None and apex_t is not None:
+            land_e, land_t = np.vstack([land_e, apex_e]), np.vstack([land_t, apex_t])
+        lab_src = np.r_[np.zeros(len(cont_e), int), 1 + np.arange(len(land_e))]
+        lab_dst = np.r_[np.zeros(len(cont_t), int), 1 + np.arange(len(land_t))]
     best = None
     for mat, _ in cands:
         ce = norm(cont_e @ mat[:, :2].T + mat[:, 2])
@@ -1054,6 +1070,23 @@ def register(exemplar, training, exemplar_blade=None, training_blade=None, *,
                         ex.blade.shape, tr.blade.shape, prm.grid_step)
 
 
+def _apex_point(lamina: np.ndarray, base: np.ndarray, margin: float = 1.15):
+    """The lamina outline point farthest from the base, when it is a clear apex (else None).
+
+    Clear: at least ``margin`` times farther from the base than any outline
+    point a quarter of the outline away from it (a palmate blade whose
+    lobes reach about as far has no single apex).
+    """
+    pts = _contour_points(lamina, 720)
+    d = np.hypot(*(pts - base).T)
+    i = int(np.argmax(d))
+    k = len(pts)
+    far = np.abs(((np.arange(k) - i + k // 2) % k) - k // 2) > k // 8
+    if not far.any() or d[i] < margin * d[far].max():
+        return None
+    return pts[i]
+
+
 class _Composed:
     """Two splines in turn (the outline stage, then the vein stage)."""
 
@@ -1084,7 +1117,16 @@ def _vein_stage(ex, tr, lam_e, lam_t, cont_e, cont_t, start, f1, norm, prm):
     nn = cKDTree(dst).query(dst, k=2)[0][:, 1]
     t0 = prm.vein_t_init * float(np.mean(nn ** 2))
     stiff = replace(prm, lambda1_init=prm.lambda1_init * prm.vein_stiffness)
-    f2, _ = tps_rpm(src, dst, source_labels=lab_s, target_labels=lab_d, params=stiff, t_init=t0)
+    cost = None
+    if prm.vein_orientation > 0:
+        # A vein point matches a vein point running the same way: the fine
+        # reticulum between the main veins runs across them.
+        u = np.column_stack([np.cos(ve.orientation), np.sin(ve.orientation)]) @ start[:, :2].T
+        th_e = np.arctan2(u[:, 1], u[:, 0])
+        sin2 = np.sin(vt.orientation[:, None] - th_e[None, :]) ** 2
+        cost = np.zeros((len(dst), len(src)))
+        cost[len(cont_t):, len(cont_e):] = prm.vein_orientation * sin2
+    f2, _ = tps_rpm(src, dst, source_labels=lab_s, target_labels=lab_d, params=stiff, t_init=t0, pair_cost=cost)
     return f2
 
 
