@@ -43,16 +43,40 @@ Steps
    shared shape), once from each of the ``n_starts`` best start maps; the
    run whose registered lamina outline lies closest to the training
    leaf's wins (this settles rotations that the outline cannot: a
-   five-lobed blade looks alike every 72 degrees). An optional second
-   stage (``refine=True``) refines with all keypoints, interior edges
-   included, from a low temperature and stiffer.
+   five-lobed blade looks alike every 72 degrees). When both leaves have
+   a petiole, its root (the base) is a landmark of its own label, and so
+   is the apex (the lamina outline point farthest from the base) when
+   both have a clear one (15 % farther than any point a quarter of the
+   outline away: an elliptic blade's tip, not one of a palmate blade's
+   near-equal lobes).
 
-   **Measured defaults.** On the procedural families (lobed, trilobed,
-   elliptic; 12 pairs at 192 px) the interior edge keypoints made the
-   registration *worse* (mean true-keypoint error cut 42 % with the
-   refinement, 50-53 % without): secondary veins are not the same on two
-   leaves, and matching them adds noise. So ``refine`` is off by default
-   and the keypoints serve for display and for the optional stage.
+   **Vein stage** (``veins=True``; off by default, see below). An outline without
+   corners does not tell where a material point went along it; a leaf's
+   main veins do (a pinnate blade's midrib and secondaries, a palmate
+   blade's primaries: shared by every leaf of a kind, unlike the fine
+   reticulum between them). :func:`~branchnb.leaves.keypoints.vein_keypoints`
+   samples ``vein_points`` points along the long, nearly straight ridges
+   of each lamina; TPS-RPM then refines the outline stage's spline with
+   the outline samples and the vein points, each matched only to its own
+   kind, from ``vein_t_init`` times the mean squared nearest-neighbour
+   distance, ``vein_stiffness`` times stiffer, and with a softassign cost
+   ``vein_orientation * sin^2`` of the angle between two vein points'
+   directions (a secondary's point must not match a crossing fine vein).
+   A leaf with fewer than 8 vein points keeps its outline registration.
+   An optional further stage (``refine=True``) refines with all edge
+   keypoints, interior edges included, from a low temperature and stiffer.
+
+   **Measured defaults** (``python -m branchnb.leaves._measure
+   registration``: mean true-keypoint error cut against the affine start,
+   8 seeds x 2 pairs). The edge keypoints of the interior made the
+   registration *worse* (elliptic 0.36 with ``refine``, against 0.51
+   without): they lie on spots and fine veins that differ from leaf to
+   leaf. The vein stage without the orientation cost did not help either
+   (0.48: a fine vein's point pulled a secondary's); with it, at 192 px,
+   elliptic 0.52 -> 0.55, trilobed 0.60 -> 0.61, lobed 0.55 -> 0.55, but
+   at 384 px elliptic 0.49 -> 0.40 (two pairs locked onto the neighbouring
+   secondaries). So both ``veins`` and ``refine`` are off by default; the
+   elliptic kind's serrate teeth make its outline observable instead.
    Because the points are normalised by the blade radius (Chui's data lie
    in the unit square), the measured best ``lambda1_init`` is 10 (1 and
    30 were worse) and ``T_final`` a tenth of the mean squared
@@ -145,7 +169,7 @@ class RegistrationParams:
     outline_points: int = param(150, min=10, max=400, help="outline samples of the outline stage")
     n_starts: int = param(3, min=1, max=12, help="start maps tried (the best outline fit wins)")
     apex: bool = param(True, help="match the apexes too, when both leaves have a clear one")
-    veins: bool = param(True, help="refine with the main veins: outline and vein points, each matched to its own kind")
+    veins: bool = param(False, help="refine with the main veins: outline and vein points, each matched to its own kind")
     vein_points: int = param(60, min=8, max=400, help="points along the main veins per leaf")
     vein_orientation: float = param(0.02, min=0.0, max=10.0,
                                     help="cost of crossed vein directions (squared blade radii)")
