@@ -23,10 +23,12 @@ from scipy import ndimage as ndi
 from ..core.image import as_float_image, as_mask
 from ..core.validate import Int, Real, checked
 
-__all__ = ["Keypoints", "edge_keypoints", "edge_strength", "OUTLINE", "INTERIOR"]
+__all__ = ["Keypoints", "edge_keypoints", "edge_strength", "vein_keypoints", "vein_strength",
+           "OUTLINE", "INTERIOR", "VEIN"]
 
 OUTLINE = 0
 INTERIOR = 1
+VEIN = 2
 
 
 @dataclass
@@ -36,6 +38,7 @@ class Keypoints:
     points: np.ndarray
     labels: np.ndarray
     strength: np.ndarray
+    orientation: np.ndarray | None = None  # radians mod pi, of the vein through a VEIN point
 
     def __len__(self) -> int:
         return len(self.points)
@@ -224,3 +227,170 @@ def edge_keypoints(image, blade, n_points: int = 100, *, outline_fraction: float
     s_out = strength[np.clip(np.round(outline[:, 1]).astype(int), 0, h - 1),
                      np.clip(np.round(outline[:, 0]).astype(int), 0, w - 1)].astype(np.float64)
     return Keypoints(pts, labels, np.concatenate([s_out, s_in]))
+
+
+def _luminance(img: np.ndarray) -> np.ndarray:
+    if img.shape[2] >= 3:
+        return cv2.cvtColor(np.ascontiguousarray(img[:, :, :3]), cv2.COLOR_RGB2GRAY)
+    return np.ascontiguousarray(img[:, :, 0])
+
+
+def _line_average(r: np.ndarray, length: int, n_orientations: int = 12) -> tuple[np.ndarray, np.ndarray]:
+    """Largest mean of ``r`` along a straight segment of ``length`` px centred on each pixel, and its angle."""
+    size = max(int(length), 3) | 1
+    c = size // 2
+    best = np.zeros_like(r)
+    angle = np.zeros(r.shape, np.float32)
+    for k in range(n_orientations):
+        th = np.pi * k / n_orientations
+        ker = np.zeros((size, size), np.float32)
+        dx, dy = c * np.cos(th), c * np.sin(th)
+        cv2.line(ker, (int(round(c - dx)), int(round(c - dy))), (int(round(c + dx)), int(round(c + dy))),
+                 1.0, 1, cv2.LINE_AA)
+        ker /= ker.sum()
+        resp = cv2.filter2D(r, -1, ker, borderType=cv2.BORDER_CONSTANT)
+        better = resp > best
+        best[better] = resp[better]
+        angle[better] = th
+    return best, angle
+
+
+@checked(sigma=Real(0.0, 100.0, low_open=True), length=Real(0.0, 1e4, low_open=True))
+def vein_strength(image, blade, *, sigma: float | None = None, length: float | None = None,
+                  return_orientation: bool = False):
+    """How much each pixel lies on a long, nearly straight vein (a ridge of the luminance).
+
+    The ridge measure is the larger Hessian eigenvalue magnitude across
+    the ridge less the gradient magnitude over ``sigma`` (bright veins:
+    ``max(-lambda_2 - |grad| / sigma, 0)``; dark veins:
+    ``max(lambda_1 - |grad| / sigma, 0)``; the polarity with the stronger
+    response inside the blade wins), at scale ``sigma``: the gradient term
+    removes the ridge-like response beside a step edge (a spot's rim). Main veins (a midrib and its
+    secondaries, a palmate leaf's primaries) run long and nearly straight,
+    the fine reticulum between them in short random pieces: the geometric
+    mean of the ridge measure and its largest mean along a straight
+    segment of ``length`` pixels (12 orientations) keeps the first and
+    weakens the second. Pixels within ``2 sigma + 2`` of the outline are 0.
+
+    Parameters
+    ----------
+    image : (H, W, C) array_like
+    blade : (H, W) bool array_like
+    sigma : float, optional
+        Ridge scale in pixels; default ``max(1, 0.012 R)`` with
+        ``R = sqrt(blade area / pi)`` (main veins are about 1 % of a leaf wide).
+    length : float, optional
+        Segment length; default ``0.35 R``.
+
+    return_orientation : bool
+        Also return the angle (radians in ``[0, pi)``, image axes) of the
+        best segment at each pixel: the vein's direction.
+
+    Returns
+    -------
+    (H, W) float32 ndarray, or (strength, orientation)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.full((64, 64, 3), 0.3); blade = np.zeros((64, 64), bool); blade[4:60, 4:60] = True
+    >>> img[30:34, 8:56] = 0.8  # a long bright vein
+    >>> v = vein_strength(img, blade, sigma=1.5)
+    >>> bool(v[30:34, 32].max() > 5 * v[20, 32])
+    True
+    """
+    from skimage.feature import hessian_matrix, hessian_matrix_eigvals
+
+    img = as_float_image(image)
+    h, w = img.shape[:2]
+    m = as_mask(_same_shape(blade, (h, w), "blade"), shape=(h, w), name="blade")
+    if m.sum() < 16:
+        raise ValueError(f"blade has only {int(m.sum())} pixels: no leaf to find veins on")
+    radius = float(np.sqrt(m.sum() / np.pi))
+    s = float(sigma) if sigma is not None else max(1.0, 0.012 * radius)
+    gray = _luminance(img)
+    gray = np.where(m, gray, float(gray[m].mean())).astype(np.float32)
+    l1, l2 = hessian_matrix_eigvals(hessian_matrix(gray, sigma=s, order="rc", use_gaussian_derivatives=False))
+    inner = ndi.distance_transform_edt(m) > 2 * s + 2
+    if not inner.any():
+        z = np.zeros((h, w), np.float32)
+        return (z, z.copy()) if return_orientation else z
+    # The bright side of a step edge (a dark spot's rim) curves like a ridge
+    # too, but only a ridge is flat across its centre: at the curvature
+    # peak of a smoothed step |grad| / sigma equals the curvature, so
+    # subtracting it removes edges and keeps ridges.
+    grad = ndi.gaussian_gradient_magnitude(gray, s) / s
+    bright = np.where(inner, np.clip(-l2 - grad, 0, None), 0.0).astype(np.float32)
+    dark = np.where(inner, np.clip(l1 - grad, 0, None), 0.0).astype(np.float32)
+    # A bright ridge has weaker dark side bands (and vice versa): compare the peaks.
+    r = bright if np.percentile(bright[inner], 99) >= np.percentile(dark[inner], 99) else dark
+    seg = float(length) if length is not None else 0.35 * radius
+    mean, angle = _line_average(r, int(round(seg)))
+    out = np.sqrt(r * mean).astype(np.float32)
+    return (out, angle) if return_orientation else out
+
+
+@checked(n_points=Int(1, 10_000), quantile=Real(0.0, 1.0, high_open=True))
+def vein_keypoints(image, blade, n_points: int = 60, *, quantile: float = 0.9, **strength_kwargs) -> Keypoints:
+    """About ``n_points`` points spread along the main veins (label :data:`VEIN`).
+
+    The pixels of the blade whose :func:`vein_strength` is above its
+    ``quantile`` inside the blade are thinned to centre lines
+    (skeletonised); points are taken strongest first with a minimum
+    spacing of the centre lines' length over ``n_points``, so they cover
+    the veins evenly.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.full((64, 64, 3), 0.3); blade = np.zeros((64, 64), bool); blade[4:60, 4:60] = True
+    >>> img[30:34, 8:56] = 0.8
+    >>> kp = vein_keypoints(img, blade, 10, sigma=1.5)
+    >>> bool(np.abs(kp.points[:, 1] - 31.5).max() <= 3), set(kp.labels.tolist())
+    (True, {2})
+    """
+    from skimage.morphology import skeletonize
+
+    img = as_float_image(image)
+    h, w = img.shape[:2]
+    m = as_mask(_same_shape(blade, (h, w), "blade"), shape=(h, w), name="blade")
+    v, angle = vein_strength(img, m, return_orientation=True, **strength_kwargs)
+    inside = v[m]
+    empty = Keypoints(np.zeros((0, 2)), np.zeros(0, np.int64), np.zeros(0), np.zeros(0))
+    if not inside.size or inside.max() <= 0:
+        return empty
+    thr = max(float(np.quantile(inside, quantile)), 1e-6 * float(inside.max()))
+    skel = skeletonize(v > thr)
+    ys, xs = np.nonzero(skel)
+    if not len(xs):
+        return empty
+    order = np.argsort(-v[ys, xs], kind="stable")
+    ys, xs = ys[order], xs[order]
+    md = max(2.0, len(xs) / float(n_points))
+    chosen = _spaced(xs, ys, md, n_points, h, w)
+    pts = np.asarray(chosen, np.float64).reshape(-1, 2)
+    iy, ix = pts[:, 1].astype(int), pts[:, 0].astype(int)
+    return Keypoints(pts, np.full(len(pts), VEIN, np.int64), v[iy, ix].astype(np.float64),
+                     angle[iy, ix].astype(np.float64))
+
+
+def _spaced(xs, ys, md: float, n_max: int, h: int, w: int) -> list:
+    """Greedy selection in the given order with a minimum spacing ``md`` (coarse occupancy grid)."""
+    cell = md / np.sqrt(2.0)
+    gh, gw = int(h / cell) + 1, int(w / cell) + 1
+    grid = -np.ones((gh, gw), np.int64)
+    chosen = []
+    md2 = md * md
+    for y, x in zip(ys, xs):
+        gy, gx = int(y / cell), int(x / cell)
+        near = grid[max(gy - 2, 0):min(gy + 3, gh), max(gx - 2, 0):min(gx + 3, gw)]
+        idx = near[near >= 0]
+        if len(idx):
+            pts = np.asarray([chosen[i] for i in idx], np.float64)
+            if (((pts[:, 0] - x) ** 2 + (pts[:, 1] - y) ** 2) < md2).any():
+                continue
+        grid[gy, gx] = len(chosen)
+        chosen.append((float(x), float(y)))
+        if len(chosen) >= n_max:
+            break
+    return chosen

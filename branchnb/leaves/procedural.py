@@ -14,7 +14,10 @@ How a leaf is made
    direction. ``"lobed"`` (palmate, maple-like, 5 pointed lobes) and
    ``"trilobed"`` (3 lobes) are soft maxima of pointed lobe profiles;
    ``"elliptic"`` is an ovate blade with an acuminate tip. Margins carry
-   small teeth.
+   small teeth: a regular sawtooth in the angle on the lobed kinds;
+   serrate teeth (a long convex basal flank, a steep apical one, the tip
+   pointing to the apex, about 2 % of the blade length deep) on the
+   elliptic kind, one where each secondary vein ends (see 3).
 2. **Per-leaf variation** (scaled by ``variation``): each lobe's length,
    a smooth monotone re-parametrisation of the angle
    ``a = h(a_c) = a_c + sum_m eps_m sin(m a_c)`` (lobes move sideways),
@@ -37,6 +40,28 @@ How a leaf is made
    widen towards the base; they are drawn with
    :func:`branchnb.core.render.draw_polylines`. The petiole continues the
    main vein below the blade.
+
+   The process starts from the kind's *primary* veins, present from the
+   first stage and stretched by growth like everything else: one along
+   each lobe axis of the lobed kinds; on the elliptic kind a midrib and a
+   fixed set of secondaries (8 pairs, alternate, leaving the midrib at
+   58 degrees near the base to 38 near the apex, curving towards the apex,
+   each ending at a tooth). That is *craspedodromous* pinnate venation, as
+   in beech, elm, chestnut and the Zelkova leaf in
+   ``data/leaves/zelkova_leaf.jpg``: every secondary runs nearly straight
+   from the midrib to a tooth, and the leaves of one tree have about the
+   same number at about the same places. Primaries are laid out in
+   *material* coordinates, so they move with the leaf's angle warp like
+   the lobes and teeth they end at; per leaf they are jittered a little
+   (secondaries: their origin on the midrib by 0.012, their bend by 0.008
+   leaf units). The finer veins between them grow anew on every leaf.
+   Why the elliptic kind needs them: its angle warp slides material
+   points *along* a smooth outline, and with only a midrib (at
+   ``a_c = 0, pi``, where the warp is the identity), randomly regrown
+   secondaries and sub-pixel teeth, nothing in the image showed where a
+   material point had gone: the ground truth of a registration was not
+   observable (registration cut the true keypoint error by 36 %, against
+   74 % through the true outline correspondences).
 4. **Spots**: a few irregular blobs at random material points.
 5. **Colour texture**: a palette (``"green"``, ``"autumn"``) modulated by
    multi-octave value noise, veins lighter than the blade, spots darker.
@@ -77,8 +102,12 @@ KINDS = {
                  "width": (44.0, 44.0, 44.0), "sinus": 0.12, "centre": (0.0, 0.0),
                  "teeth": 28, "tooth_depth": 0.02, "petiole": 0.25},
     "elliptic": {"lobes": (), "width": (), "sinus": 0.0, "centre": (0.0, -0.5),
-                 "half_width": 0.24, "half_length": 0.5, "teeth": 46, "tooth_depth": 0.012,
-                 "petiole": 0.18},
+                 "half_width": 0.24, "half_length": 0.5, "teeth": 46, "tooth_depth": 0.09,
+                 "petiole": 0.18,
+                 # Pinnate, craspedodromous: pairs of secondaries from the midrib,
+                 # each ending at a tooth; (base, apex) angles to the midrib.
+                 "secondaries": {"pairs": 8, "span": (0.1, 0.82), "angle": (58.0, 38.0),
+                                 "curve": 12.0, "alternate": True, "extra_teeth": (1, 3)}},
 }
 
 #: Colours (RGB in [0, 1]) of blade, second blade tone (mottling), veins and spots.
@@ -165,11 +194,76 @@ def _canonical_radius(kind: dict, ac: np.ndarray, lobe_scale: np.ndarray, teeth_
         r *= 1.0 + 0.12 * np.clip(np.cos(ac), 0, None) ** 24
     if teeth_phase is None:
         return r
+    fade = np.clip((np.pi - np.abs(ac)) / 0.6, 0, 1)
+    if "secondaries" in kind:
+        # Serrate teeth at the kind's tooth tips (where the secondaries end),
+        # pointing to the apex: a long basal flank, a steep apical one.
+        saw = _serration(kind, ac)
+        return r - kind["tooth_depth"] * kind["half_width"] * saw * fade
     # Teeth: a sawtooth along the angle, fading near the petiole.
     n = kind["teeth"]
     saw = np.abs(((ac * n / (2 * np.pi) + teeth_phase) % 1.0) - 0.5) * 2.0  # 0 at tooth tip
-    fade = np.clip((np.pi - np.abs(ac)) / 0.6, 0, 1)
     return r * (1.0 - kind["tooth_depth"] * saw * fade)
+
+
+def _serration(kind: dict, ac: np.ndarray, steep: float = 0.3) -> np.ndarray:
+    """Tooth profile (0 at a tip, 1 in a sinus) of a pinnate kind, at canonical angles ``ac``."""
+    lay = _pinnate_layout(kind)
+    out = np.zeros(np.shape(ac))
+    for side, tips in ((1.0, lay["tips_right"]), (-1.0, lay["tips_left"])):
+        on = (np.sign(ac) == side) & (np.abs(ac) >= tips[0]) & (np.abs(ac) <= tips[-1])
+        k = np.interp(np.abs(ac[on]), tips, np.arange(len(tips), dtype=np.float64))
+        u = k - np.floor(k)  # 0 at the apical tip of a gap, 1 at the basal one
+        # The basal flank bulges (convex), the apical one drops steeply into the sinus.
+        out[on] = np.where(u < 1.0 - steep, (u / (1.0 - steep)) ** 1.6, (1.0 - u) / steep)
+    return out
+
+
+_LAYOUTS: dict = {}
+
+
+def _pinnate_layout(kind: dict) -> dict:
+    """Tooth tips and secondary veins of a pinnate kind, in the canonical leaf frame (cached per kind).
+
+    The secondaries' ends are evenly spaced by arc length along each half
+    of the canonical margin (``span``: fractions from the base to the
+    apex), alternate sides offset by half a spacing; each ends at a tooth
+    tip, and ``extra_teeth`` (basal, apical) more teeth continue the series.
+    A secondary is a quadratic Bezier from the midrib to just inside its
+    tooth, leaving the midrib ``curve`` degrees more open than its chord
+    (the chord's angle to the midrib runs from ``angle[0]`` at the base to
+    ``angle[1]`` at the apex), so it curves towards the apex.
+    """
+    key = id(kind)
+    if key in _LAYOUTS:
+        return _LAYOUTS[key]
+    sec = kind["secondaries"]
+    centre = np.asarray(kind["centre"], np.float64)
+    a = np.linspace(1e-3, np.pi - 1e-3, 4001)
+    r = _canonical_radius(kind, a, np.ones(1), None)
+    pts = centre + np.column_stack([r * np.sin(a), -r * np.cos(a)])
+    arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pts, axis=0).T))])
+    frac = 1.0 - arc / arc[-1]  # 1 at the apex (a = 0), 0 at the base (a = pi)
+    n, (s0, s1) = int(sec["pairs"]), sec["span"]
+    gap = (s1 - s0) / max(n - 1, 1)
+    ends = {1.0: s0 + gap * np.arange(n)}
+    ends[-1.0] = ends[1.0] + (0.5 * gap if sec["alternate"] else 0.0)
+    n_basal, n_apical = sec["extra_teeth"]
+    lay = {"veins": []}
+    for side, e in ends.items():
+        extra = np.concatenate([e[0] - gap * np.arange(n_basal, 0, -1), e, e[-1] + gap * np.arange(1, n_apical + 1)])
+        extra = extra[(extra > 0.03) & (extra < 0.97)]
+        tips = np.interp(extra, frac[::-1], a[::-1])
+        lay["tips_right" if side > 0 else "tips_left"] = np.sort(tips)
+        for j, s_end in enumerate(e):
+            a_end = float(np.interp(s_end, frac[::-1], a[::-1]))
+            r_end = float(np.interp(a_end, a, r))
+            end = centre + 0.96 * r_end * np.array([side * np.sin(a_end), -np.cos(a_end)])
+            theta = np.deg2rad(np.interp(j, [0, max(n - 1, 1)], sec["angle"]))
+            start_y = np.clip(end[1] + abs(end[0]) / np.tan(theta), centre[1] - 0.9 * kind["half_length"], -0.04)
+            lay["veins"].append((side, np.array([0.0, start_y]), end, np.deg2rad(sec["curve"]) + theta))
+    _LAYOUTS[key] = lay
+    return lay
 
 
 def _angle_warp(ac, eps):
@@ -275,6 +369,31 @@ class _Shape:
             lines.append(np.vstack([lower, self.material(wig, rho)]))
         return lines
 
+    def secondaries(self, rng, spacing: float):
+        """Secondary veins of a pinnate kind (leaf frame, final size), each ending at its tooth.
+
+        They are laid out in the canonical frame (:func:`_pinnate_layout`),
+        jittered a little per leaf, and carried to this leaf as material
+        points ``(a_c, rho)``, so they move with its angle warp and aspect
+        like the margin they end at.
+        """
+        if "secondaries" not in self.kind:
+            return []
+        lines = []
+        centre = np.asarray(self.kind["centre"], np.float64)
+        for side, start, end, open_angle in _pinnate_layout(self.kind)["veins"]:
+            s = start + np.array([0.0, rng.normal(0.0, 0.012)])
+            length = float(np.hypot(*(end - s)))
+            ctrl = s + 0.5 * length * np.array([side * np.sin(open_angle), -np.cos(open_angle)])
+            ctrl = ctrl + rng.normal(0.0, 0.008, 2)
+            t = np.linspace(0.0, 1.0, max(int(length / spacing), 4))[:, None]
+            p = (1 - t) ** 2 * s + 2 * t * (1 - t) * ctrl + t ** 2 * end
+            d = p - centre
+            ac = np.arctan2(d[:, 0], -d[:, 1])
+            rho = np.hypot(d[:, 0], d[:, 1]) / _canonical_radius(self.kind, ac, np.ones(1), 0.0)
+            lines.append(self.material(ac, rho))
+        return lines
+
     def outline(self, n=720):
         ac = np.linspace(-np.pi, np.pi, n, endpoint=False)
         return self.material(ac, np.ones(n))
@@ -304,6 +423,14 @@ def _grow_venation(shape: _Shape, rng: np.random.Generator, *, step: float = 0.0
         nodes = np.vstack([nodes, line * start])
         par = np.arange(first - 1, first + len(line) - 1)
         par[0] = 0
+        parent = np.concatenate([parent, par])
+    # Secondaries (pinnate kinds) branch off the nearest midrib node.
+    for line in shape.secondaries(rng, spacing=2.0 * step):
+        first = len(nodes)
+        attach = int(cKDTree(nodes).query(line[0] * start)[1])
+        nodes = np.vstack([nodes, line * start])
+        par = np.arange(first - 1, first + len(line) - 1)
+        par[0] = attach
         parent = np.concatenate([parent, par])
     sources = np.zeros((0, 2))
     outline = shape.outline(360)

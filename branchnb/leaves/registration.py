@@ -43,16 +43,40 @@ Steps
    shared shape), once from each of the ``n_starts`` best start maps; the
    run whose registered lamina outline lies closest to the training
    leaf's wins (this settles rotations that the outline cannot: a
-   five-lobed blade looks alike every 72 degrees). An optional second
-   stage (``refine=True``) refines with all keypoints, interior edges
-   included, from a low temperature and stiffer.
+   five-lobed blade looks alike every 72 degrees). When both leaves have
+   a petiole, its root (the base) is a landmark of its own label, and so
+   is the apex (the lamina outline point farthest from the base) when
+   both have a clear one (15 % farther than any point a quarter of the
+   outline away: an elliptic blade's tip, not one of a palmate blade's
+   near-equal lobes).
 
-   **Measured defaults.** On the procedural families (lobed, trilobed,
-   elliptic; 12 pairs at 192 px) the interior edge keypoints made the
-   registration *worse* (mean true-keypoint error cut 42 % with the
-   refinement, 50-53 % without): secondary veins are not the same on two
-   leaves, and matching them adds noise. So ``refine`` is off by default
-   and the keypoints serve for display and for the optional stage.
+   **Vein stage** (``veins=True``; off by default, see below). An outline without
+   corners does not tell where a material point went along it; a leaf's
+   main veins do (a pinnate blade's midrib and secondaries, a palmate
+   blade's primaries: shared by every leaf of a kind, unlike the fine
+   reticulum between them). :func:`~branchnb.leaves.keypoints.vein_keypoints`
+   samples ``vein_points`` points along the long, nearly straight ridges
+   of each lamina; TPS-RPM then refines the outline stage's spline with
+   the outline samples and the vein points, each matched only to its own
+   kind, from ``vein_t_init`` times the mean squared nearest-neighbour
+   distance, ``vein_stiffness`` times stiffer, and with a softassign cost
+   ``vein_orientation * sin^2`` of the angle between two vein points'
+   directions (a secondary's point must not match a crossing fine vein).
+   A leaf with fewer than 8 vein points keeps its outline registration.
+   An optional further stage (``refine=True``) refines with all edge
+   keypoints, interior edges included, from a low temperature and stiffer.
+
+   **Measured defaults** (``python -m branchnb.leaves._measure
+   registration``: mean true-keypoint error cut against the affine start,
+   8 seeds x 2 pairs). The edge keypoints of the interior made the
+   registration *worse* (elliptic 0.36 with ``refine``, against 0.51
+   without): they lie on spots and fine veins that differ from leaf to
+   leaf. The vein stage without the orientation cost did not help either
+   (0.48: a fine vein's point pulled a secondary's); with it, at 192 px,
+   elliptic 0.52 -> 0.55, trilobed 0.60 -> 0.61, lobed 0.55 -> 0.55, but
+   at 384 px elliptic 0.49 -> 0.40 (two pairs locked onto the neighbouring
+   secondaries). So both ``veins`` and ``refine`` are off by default; the
+   elliptic kind's serrate teeth make its outline observable instead.
    Because the points are normalised by the blade radius (Chui's data lie
    in the unit square), the measured best ``lambda1_init`` is 10 (1 and
    30 were worse) and ``T_final`` a tenth of the mean squared
@@ -90,7 +114,7 @@ from ..core.params import check_params, param
 from ..core.validate import COORD_LIMIT, Choice, Instance, Int, Real, check_finite, check_int, checked, real_array
 from ..core.warp import remap
 from .exemplar import Exemplar, leaf_exemplar
-from .keypoints import Keypoints, edge_keypoints
+from .keypoints import OUTLINE, VEIN, Keypoints, edge_keypoints, vein_keypoints
 
 __all__ = ["RegistrationParams", "Registration", "register", "start_alignment", "start_candidates", "tps_rpm",
            "draw_registration", "ThinPlateSpline", "split_petiole"]
@@ -144,6 +168,15 @@ class RegistrationParams:
     use_labels: bool = param(True, help="match outline with outline, interior with interior")
     outline_points: int = param(150, min=10, max=400, help="outline samples of the outline stage")
     n_starts: int = param(3, min=1, max=12, help="start maps tried (the best outline fit wins)")
+    apex: bool = param(True, help="match the apexes too, when both leaves have a clear one")
+    veins: bool = param(False, help="refine with the main veins: outline and vein points, each matched to its own kind")
+    vein_points: int = param(60, min=8, max=400, help="points along the main veins per leaf")
+    vein_orientation: float = param(0.02, min=0.0, max=10.0,
+                                    help="cost of crossed vein directions (squared blade radii)")
+    vein_t_init: float = param(16.0, min=1.0, max=1000.0, log=True,
+                               help="vein stage start temperature / mean squared nearest-neighbour distance")
+    vein_stiffness: float = param(10.0, min=0.01, max=1000.0, log=True,
+                                  help="lambda1 of the vein stage / lambda1 of the outline stage")
     refine: bool = param(False, help="refine the outline registration with all keypoints")
     refine_t_init: float = param(16.0, min=1.0, max=1000.0, log=True,
                                  help="refinement start temperature / mean squared nearest-neighbour distance")
@@ -281,10 +314,12 @@ def _solve(a, b):
 # ---------------------------------------------------------------------------
 # TPS-RPM
 
-def _softassign(x, fv, lab_x, lab_v, t, t0, cx, cv, sinkhorn):
+def _softassign(x, fv, lab_x, lab_v, t, t0, cx, cv, sinkhorn, pair_cost=None):
     n, k = len(x), len(fv)
     m = np.zeros((n + 1, k + 1))
     d2 = _sqdist(x, fv)
+    if pair_cost is not None:
+        d2 = d2 + pair_cost
     # Work in log space relative to the best entry so small T does not underflow.
     logm = -d2 / (2 * t) - np.log(t)
     if lab_x is not None:
@@ -304,7 +339,7 @@ def _softassign(x, fv, lab_x, lab_v, t, t0, cx, cv, sinkhorn):
 @checked(t_init=Real(0.0, 1e6, low_open=True))
 def tps_rpm(source, target, *, source_labels=None, target_labels=None,
             params: RegistrationParams | None = None,
-            t_init: float | None = None) -> tuple[ThinPlateSpline, np.ndarray]:
+            t_init: float | None = None, pair_cost=None) -> tuple[ThinPlateSpline, np.ndarray]:
     """Match two point sets and fit a thin-plate spline ``source -> target`` (Chui & Rangarajan).
 
     Parameters
@@ -320,6 +355,10 @@ def tps_rpm(source, target, *, source_labels=None, target_labels=None,
         Start temperature; default (Chui & Rangarajan) the largest squared
         distance between the two sets. A refinement of a good alignment
         starts lower.
+    pair_cost : (N, K) array_like, optional
+        Non-negative cost added to the squared distance of every
+        (target, source) pair in the softassign (e.g. an orientation
+        difference), in squared normalised units.
 
     Returns
     -------
@@ -354,6 +393,10 @@ def tps_rpm(source, target, *, source_labels=None, target_labels=None,
         lab_v, lab_x = np.asarray(source_labels), np.asarray(target_labels)
         if lab_v.shape != (len(v),) or lab_x.shape != (len(x),):
             raise ValueError("labels must have one entry per point")
+    if pair_cost is not None:
+        pair_cost = real_array(pair_cost, "pair_cost", ndim=2, min=0.0, max=1e12)
+        if pair_cost.shape != (len(x), len(v)):
+            raise ValueError(f"pair_cost must have shape {(len(x), len(v))}, got {pair_cost.shape}")
     nn = cKDTree(x).query(x, k=2)[0][:, 1]
     t_final = max(prm.t_final_scale * float(np.mean(nn ** 2)), 1e-12)
     t_init = float(_sqdist(x, v).max()) if t_init is None else max(float(t_init), t_final)
@@ -363,16 +406,16 @@ def tps_rpm(source, target, *, source_labels=None, target_labels=None,
     t = t_init
     # Hundreds of small solves: BLAS threads only add overhead (and stall on a busy machine).
     with threadpool_limits(1):
-        return _anneal(x, v, f, system, lab_x, lab_v, t, t_init, t_final, cx, prm)
+        return _anneal(x, v, f, system, lab_x, lab_v, t, t_init, t_final, cx, prm, pair_cost)
 
 
-def _anneal(x, v, f, system, lab_x, lab_v, t, t_init, t_final, cx, prm):
+def _anneal(x, v, f, system, lab_x, lab_v, t, t_init, t_final, cx, prm, pair_cost=None):
     k = len(v)
     m = np.zeros((len(x), k))
     while True:
         for _ in range(prm.iterations):
             fv = system.at_centres(f)
-            m = _softassign(x, fv, lab_x, lab_v, t, t_init, cx, fv.mean(0), prm.sinkhorn_iterations)
+            m = _softassign(x, fv, lab_x, lab_v, t, t_init, cx, fv.mean(0), prm.sinkhorn_iterations, pair_cost)
             mass = m.sum(0)
             y = np.where(mass[:, None] > 1e-9, (m.T @ x) / np.maximum(mass[:, None], 1e-300), fv)
             f = system.fit(y, weights=np.clip(mass, 1e-3, 1.0),
@@ -993,8 +1036,11 @@ def register(exemplar, training, exemplar_blade=None, training_blade=None, *,
     land_e = land_t = None
     if base_e is not None and base_t is not None:
         land_e, land_t = base_e[None], base_t[None]
-        lab_src = np.r_[np.zeros(len(cont_e), int), 1]
-        lab_dst = np.r_[np.zeros(len(cont_t), int), 1]
+        apex_e, apex_t = (_apex_point(lam, b) for lam, b in ((lam_e, base_e), (lam_t, base_t)))
+        if prm.apex and apex_e is not None and apex_t is not None:
+            land_e, land_t = np.vstack([land_e, apex_e]), np.vstack([land_t, apex_t])
+        lab_src = np.r_[np.zeros(len(cont_e), int), 1 + np.arange(len(land_e))]
+        lab_dst = np.r_[np.zeros(len(cont_t), int), 1 + np.arange(len(land_t))]
     best = None
     for mat, _ in cands:
         ce = norm(cont_e @ mat[:, :2].T + mat[:, 2])
@@ -1026,6 +1072,11 @@ def register(exemplar, training, exemplar_blade=None, training_blade=None, *,
     _, start, f1 = best
     start_iou = _blade_iou(start, ex.blade, tr.blade)
     splines = [f1]
+    if prm.veins:
+        f2 = _vein_stage(ex, tr, lam_e, lam_t, cont_e, cont_t, start, f1, norm, prm)
+        if f2 is not None:
+            splines.append(f2)
+            f1 = _Composed(f1, f2)
     v = f1(norm(kp_e.points @ start[:, :2].T + start[:, 2]))
     x = norm(kp_t.points)
     labels = (kp_e.labels, kp_t.labels) if prm.use_labels else (None, None)
@@ -1041,6 +1092,66 @@ def register(exemplar, training, exemplar_blade=None, training_blade=None, *,
         match = _softassign(x, v, labels[1], labels[0], 1e-2, 1.0, x.mean(0), v.mean(0), prm.sinkhorn_iterations)
     return Registration(start, start_iou, splines, centre, radius, kp_e, kp_t, match,
                         ex.blade.shape, tr.blade.shape, prm.grid_step)
+
+
+def _apex_point(lamina: np.ndarray, base: np.ndarray, margin: float = 1.15):
+    """The lamina outline point farthest from the base, when it is a clear apex (else None).
+
+    Clear: at least ``margin`` times farther from the base than any outline
+    point a quarter of the outline away from it (a palmate blade whose
+    lobes reach about as far has no single apex).
+    """
+    pts = _contour_points(lamina, 720)
+    d = np.hypot(*(pts - base).T)
+    i = int(np.argmax(d))
+    k = len(pts)
+    far = np.abs(((np.arange(k) - i + k // 2) % k) - k // 2) > k // 8
+    if not far.any() or d[i] < margin * d[far].max():
+        return None
+    return pts[i]
+
+
+class _Composed:
+    """Two splines in turn (the outline stage, then the vein stage)."""
+
+    def __init__(self, first, second):
+        self.first, self.second = first, second
+
+    def __call__(self, p):
+        return self.second(self.first(p))
+
+
+def _vein_stage(ex, tr, lam_e, lam_t, cont_e, cont_t, start, f1, norm, prm):
+    """Stage 2: refine the outline registration with outline and main-vein points, each matched to its own kind.
+
+    The margin alone cannot pin material points that slide along a
+    smooth outline; a leaf's main veins (midrib and secondaries of a
+    pinnate blade, the primaries of a palmate one) are shared by every
+    leaf of a kind and fix them. Returns None when either leaf has too
+    few vein points (a leaf without visible veins keeps its outline fit).
+    """
+    ve = vein_keypoints(ex.rgb, lam_e, prm.vein_points)
+    vt = vein_keypoints(tr.rgb, lam_t, prm.vein_points)
+    if len(ve) < 8 or len(vt) < 8:
+        return None
+    src = f1(norm(np.vstack([cont_e, ve.points]) @ start[:, :2].T + start[:, 2]))
+    dst = norm(np.vstack([cont_t, vt.points]))
+    lab_s = np.r_[np.full(len(cont_e), OUTLINE), np.full(len(ve), VEIN)]
+    lab_d = np.r_[np.full(len(cont_t), OUTLINE), np.full(len(vt), VEIN)]
+    nn = cKDTree(dst).query(dst, k=2)[0][:, 1]
+    t0 = prm.vein_t_init * float(np.mean(nn ** 2))
+    stiff = replace(prm, lambda1_init=prm.lambda1_init * prm.vein_stiffness)
+    cost = None
+    if prm.vein_orientation > 0:
+        # A vein point matches a vein point running the same way: the fine
+        # reticulum between the main veins runs across them.
+        u = np.column_stack([np.cos(ve.orientation), np.sin(ve.orientation)]) @ start[:, :2].T
+        th_e = np.arctan2(u[:, 1], u[:, 0])
+        sin2 = np.sin(vt.orientation[:, None] - th_e[None, :]) ** 2
+        cost = np.zeros((len(dst), len(src)))
+        cost[len(cont_t):, len(cont_e):] = prm.vein_orientation * sin2
+    f2, _ = tps_rpm(src, dst, source_labels=lab_s, target_labels=lab_d, params=stiff, t_init=t0, pair_cost=cost)
+    return f2
 
 
 @checked(grid=Int(2, 256), registration=Instance("Registration"))
