@@ -37,10 +37,10 @@ def test_registration_cuts_the_keypoint_error_against_the_affine_start(registrat
     lobe-rotated start 36 px off, inflating the cut to 96 %).
 
     Measured (``python -m branchnb.leaves._measure registration``, 4 seeds x 2 pairs at 192 px):
-    lobed 57 %, trilobed 58 %, elliptic 36 %; these six pairs: 49 %, 41 %, 51 %. Short of the
-    issue's 50 % on elliptic leaves: their margin has no corners and their teeth are below a
-    pixel, and the same material point lies 3.7 px (mean) from its arc-length position, about the
-    start error; with the TRUE outline correspondences a spline would cut 74 %.
+    lobed 57 %, trilobed 58 %, elliptic 54 % (8 seeds: 55, 60, 52 % at 192 px; 55, 58, 49 % at
+    384 px); these six pairs: 49 %, 41 %, 58 %. The elliptic kind reached only 36 % while its
+    margin had no corners and sub-pixel teeth (nothing in the image showed how far material
+    points slid along it); its serrate teeth are now material, like its secondaries.
     """
     start_err, reg_err = [], []
     for tr, pairs in registrations.values():

@@ -28,10 +28,12 @@ every leaf, :attr:`ProceduralLeaf.keypoints`):
   without corners or teeth cannot reveal.
 
 Measured (4 seeds x 2 pairs at 192 px): cut lobed 0.57, trilobed 0.58,
-elliptic 0.36; with the true outline correspondences 0.62, 0.69, 0.74.
-Elliptic margins have no corners and sub-pixel teeth, and the same
-material point lies 3.7 px (mean) from its arc-length position: the
-outline alone does not tell where it is.
+elliptic 0.54; with the true outline correspondences 0.62, 0.69, 0.76.
+8 seeds x 2 pairs: 0.55, 0.60, 0.52 at 192 px and 0.55, 0.58, 0.49 at
+384 px. (Before the elliptic kind had material serrate teeth and
+secondaries, its cut was 0.34-0.36: the same material point lay 3.7 px
+from its arc-length position on a margin without corners, and nothing in
+the image told where it was.)
 
 Induction
 ---------
