@@ -196,3 +196,34 @@ def test_paper_mixed_rim_takes_the_colours_inside():
     rim = ex.blade & ~ndi.binary_erosion(ex.blade, structure=np.ones((3, 3), bool))
     assert rim.sum() > 100
     assert np.abs(ex.rgb[rim] - np.array([0.35, 0.5, 0.25])).max() < 0.02
+
+
+def test_shape_maps_are_upright_even_when_the_start_sits_a_lobe_away():
+    """Each exemplar's inverse warp, seen in the training pose, has no rotation left.
+
+    The pose was first taken from the registration's start map; on a palmate leaf the start
+    may sit a lobe away (exemplar 2 of this family: 6.5 degrees against the map's 42), which
+    the spline turns back, so its "upright" map kept a 47-degree turn and blends grew
+    malformed lobes. The pose is now the least-squares rotation of the whole map.
+    """
+    from branchnb.leaves import leaf_family, register
+    from branchnb.leaves.analysis import IdentityRegistration
+    from branchnb.leaves.synthesis import _Prepared
+
+    fam = leaf_family(4, size=192, kind="lobed", rng=1)
+    canvas, blades, _ = normalise_exemplars(fam)
+    regs = [IdentityRegistration(blades[0].shape)]
+    regs += [register(canvas[i], canvas[0], blades[i], blades[0]) for i in range(1, 4)]
+    a = analyze(fam, 0, {"veins": fam[0].layers["veins"]}, registrations=regs)
+    prep = _Prepared(a)
+    ys, xs = np.nonzero(a.blades[0])
+    y = np.column_stack([xs, ys]).astype(float)
+    for e in range(1, 4):
+        z = prep.shape_maps[e][ys, xs].astype(float)
+        u, _, vt = np.linalg.svd((z - z.mean(0)).T @ (y - y.mean(0)))
+        rot = u @ vt
+        assert abs(np.degrees(np.arctan2(rot[1, 0], rot[0, 0]))) < 5.0, e
+        # A blend of this exemplar alone gives back its own map.
+        one = np.eye(4)[e]
+        back = prep.posed(prep.shape_maps[e], one)
+        assert np.median(np.hypot(*(back[ys, xs] - prep.from_exemplar[e][ys, xs]).T)) < 0.5

@@ -292,25 +292,34 @@ class _Prepared:
         """Exemplar ``e``'s map to the training frame, seen in the training leaf's pose.
 
         ``from_exemplar[e](P_e(y))`` with ``P_e`` the rigid part (rotation
-        about the blade centroid, from the polar decomposition of the
-        registration's start map) taking the training pose to exemplar
-        ``e``'s. Leaves photographed at different angles (a strip lying
+        about the blade centroid) taking the training pose to exemplar
+        ``e``'s: the least-squares rotation (Kabsch) of the whole map over
+        the training blade. (The start map's rotation is not that: on a
+        palmate leaf the start may sit a lobe away, about 47 degrees off
+        on a procedural family, which the spline then turns back; blending
+        such an "upright" map with the others gave malformed lobes.) Leaves photographed at different angles (a strip lying
         across the paper, another along it) give maps that agree up to
         their non-rigid part and their size, so their convex blend is a leaf
         shape; blending the raw maps mixed a rotation with its opposite and
         swirled the blade into blobs. Size differences stay (they are shape
         variation).
         """
-        reg = self.analysis.registrations[e]
-        start = np.asarray(getattr(reg, "start", np.eye(2, 3)), np.float64)
-        u, _, vt = np.linalg.svd(start[:, :2])
-        rot = u @ vt  # exemplar -> training rotation (a reflection, if the start mirrors)
+        field = self.from_exemplar[e]
+        ys, xs = np.nonzero(self.analysis.blades[self.analysis.training_index])
+        step = max(1, len(xs) // 20000)
+        y = np.column_stack([xs[::step], ys[::step]]).astype(np.float64)
+        z = field[ys[::step], xs[::step]].astype(np.float64)
+        c_t, c_e = y.mean(0), z.mean(0)
+        u, _, vt = np.linalg.svd((z - c_e).T @ (y - c_t))
+        if np.linalg.det(u @ vt) < 0:  # a rotation, never a reflection
+            u[:, -1] *= -1
+        to_exemplar = u @ vt  # rotation of the map: training pose -> exemplar pose
         # The exemplar's pose relative to the training leaf's (radians).
-        self.pose_angles[e] = -float(np.arctan2(rot[1, 0], rot[0, 0]))
-        ys, xs = np.nonzero(self.analysis.blades[e])
-        c_e = np.array([xs.mean(), ys.mean()])
-        c_t = start[:, :2] @ c_e + start[:, 2]
-        q = (np.stack([self.xx, self.yy], -1).astype(np.float64) - c_t) @ rot + c_e
+        self.pose_angles[e] = -float(np.arctan2(to_exemplar[1, 0], to_exemplar[0, 0]))
+        rot = to_exemplar
+        # About the training centroid, the centre `posed` turns about, so a
+        # blend of one exemplar gives back its own map.
+        q = (np.stack([self.xx, self.yy], -1).astype(np.float64) - self.centre_t) @ rot + self.centre_t
         return _remap_map(self.from_exemplar[e], q.astype(np.float32))
 
     def posed(self, upright: np.ndarray, weights) -> np.ndarray:
