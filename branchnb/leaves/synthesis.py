@@ -297,10 +297,10 @@ class _Prepared:
         the training blade. (The start map's rotation is not that: on a
         palmate leaf the start may sit a lobe away, about 47 degrees off
         on a procedural family, which the spline then turns back; blending
-        such an "upright" map with the others gave malformed lobes.) Leaves photographed at different angles (a strip lying
-        across the paper, another along it) give maps that agree up to
-        their non-rigid part and their size, so their convex blend is a leaf
-        shape; blending the raw maps mixed a rotation with its opposite and
+        such an "upright" map with the others gave malformed lobes.)
+        Leaves photographed at different angles (a strip lying across the
+        paper, another along it) give maps that agree up to their non-rigid
+        part and their size, so their convex blend is a leaf shape; blending the raw maps mixed a rotation with its opposite and
         swirled the blade into blobs. Size differences stay (they are shape
         variation).
         """
