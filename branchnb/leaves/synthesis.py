@@ -300,7 +300,8 @@ class _Prepared:
         such an "upright" map with the others gave malformed lobes.)
         Leaves photographed at different angles (a strip lying across the
         paper, another along it) give maps that agree up to their non-rigid
-        part and their size, so their convex blend is a leaf shape; blending the raw maps mixed a rotation with its opposite and
+        part and their size, so their convex blend is a leaf shape; blending
+        the raw maps mixed a rotation with its opposite and
         swirled the blade into blobs. Size differences stay (they are shape
         variation).
         """
