@@ -201,24 +201,7 @@ def edge_keypoints(image, blade, n_points: int = 100, *, outline_fraction: float
         ys, xs = ys[order], xs[order]
         # Greedy minimum spacing on a coarse occupancy grid (cell = md / sqrt 2,
         # so at most one point per cell and the 5 x 5 neighbourhood covers md).
-        cell = md / np.sqrt(2.0)
-        gh, gw = int(h / cell) + 1, int(w / cell) + 1
-        grid = -np.ones((gh, gw), np.int64)
-        chosen = []
-        md2 = md * md
-        for y, x in zip(ys, xs):
-            gy, gx = int(y / cell), int(x / cell)
-            y0, y1, x0, x1 = max(gy - 2, 0), min(gy + 3, gh), max(gx - 2, 0), min(gx + 3, gw)
-            near = grid[y0:y1, x0:x1]
-            idx = near[near >= 0]
-            if len(idx):
-                pts = np.asarray([chosen[i] for i in idx], np.float64)
-                if (((pts[:, 0] - x) ** 2 + (pts[:, 1] - y) ** 2) < md2).any():
-                    continue
-            grid[gy, gx] = len(chosen)
-            chosen.append((float(x), float(y)))
-            if len(chosen) >= n_in:
-                break
+        chosen = _spaced(xs, ys, md, n_in, h, w)
         if chosen:
             interior = np.asarray(chosen, np.float64)
             s_in = strength[interior[:, 1].astype(int), interior[:, 0].astype(int)].astype(np.float64)
