@@ -59,7 +59,7 @@ def test_new_leaves_differ_from_exemplars_and_each_other(analysis, leaves):
     for i in range(len(leaves)):
         for j in range(i + 1, len(leaves)):
             assert leaf_distance(leaves[i].image, leaves[j].image) > floor
-    assert leaf_distance(ex[1], ex[1]) == 0.0
+    assert leaf_distance(ex[1], ex[1]) < 1e-6  # float round-off of the identity warp (OpenCV 5: ~1e-10)
 
 
 def test_colours_stay_in_the_exemplars_range(analysis, leaves):

@@ -435,19 +435,38 @@ def _map_jacobian(field: np.ndarray, point) -> np.ndarray:
     return np.column_stack([dx, dy]).astype(np.float64)
 
 
-#: Where a turned coordinate map leaves the canvas it points here, far off
-#: every image, so nothing is sampled there (replicated edge values of a
-#: map drew straight streaks from the leaf to the canvas edge).
-_FAR = -1.0e5
+def _linear_part(field: np.ndarray) -> np.ndarray:
+    """The 2 x 2 linear part of the least-squares affine fit of a coordinate map (H, W, 2)."""
+    h, w = field.shape[:2]
+    step = max(1, int(np.sqrt(h * w / 4096)))
+    ys, xs = np.mgrid[0:h:step, 0:w:step]
+    src = np.column_stack([xs.ravel(), ys.ravel(), np.ones(xs.size)]).astype(np.float64)
+    dst = field[::step, ::step].reshape(-1, 2).astype(np.float64)
+    coef, *_ = np.linalg.lstsq(src, dst, rcond=None)
+    return coef[:2].T
 
 
 def _remap_map(field, c):
-    """A coordinate map resampled at ``c``; points off the canvas map to ``_FAR``."""
+    """A coordinate map resampled at ``c``, continued past the canvas by its affine fit.
+
+    Off the canvas the map is its edge value plus the fit's linear part
+    times the step beyond the edge, so far points keep going away (the
+    replicated edge value drew straight streaks from a leaf to the canvas
+    edge). A sentinel "off" value instead was blended into other maps with
+    a small weight, and bilinearly into its neighbours, giving finite
+    coordinates that landed on the lamina: stray fragments of leaf far
+    from the new one.
+    """
     h, w = field.shape[:2]
-    out = _remap_values(field, c)
-    off = (c[..., 0] < -1) | (c[..., 0] > w) | (c[..., 1] < -1) | (c[..., 1] > h)
-    out[off] = _FAR
-    return out
+    c = np.asarray(c, np.float32)
+    inside = np.empty_like(c)
+    inside[..., 0] = np.clip(c[..., 0], 0, w - 1)
+    inside[..., 1] = np.clip(c[..., 1], 0, h - 1)
+    out = _remap_values(field, inside)
+    beyond = c - inside
+    if np.any(beyond):
+        out = out + (beyond @ _linear_part(field).T.astype(np.float32))
+    return out.astype(np.float32)
 
 
 def _remap_values(field, c):
