@@ -145,12 +145,13 @@ def test_new_maples_carry_their_donors_petiole(maple_analysis):
 
 
 def test_new_maples_are_one_piece(maple_analysis):
-    """No stray bits of leaf off the new one (alpha > 0.05 in a single 8-connected piece).
+    """No stray bits of leaf off the new one (every pixel with alpha > 0 in one 8-connected piece).
 
-    Measured: the old off-canvas sentinel, blended into the shape maps with
-    weights of 0.001-0.02, put 1-228 px fragments beside 3 of 7 notebook
-    maples; 0 now.
+    Measured on the notebook's 7 maples: the old off-canvas sentinel,
+    blended into the shape maps with weights of 0.001-0.02, put 1-228 px
+    fragments beside 3 of 7 new leaves, and the training photo's faint
+    petiole fringe (alpha < 0.02) 21-23 specks beside each; none now.
     """
     for leaf in generate(maple_analysis, 8, rng=3):
-        _, pieces = ndi.label(leaf.image[..., 3] > 0.05, structure=np.ones((3, 3)))
+        _, pieces = ndi.label(leaf.image[..., 3] > 0, structure=np.ones((3, 3)))
         assert pieces == 1, (leaf.seed, pieces)

@@ -362,6 +362,12 @@ class _Prepared:
         if base_t is not None:
             rim = ndi.binary_dilation(pet_t, iterations=2) & ~ndi.binary_erosion(
                 a.blades[t] & ~pet_t, iterations=1)
+            # With the faint alpha off the blade whose nearest blade pixel is
+            # petiole (a photo's shadow and fringe along the stalk), which
+            # the rim misses and which traced the old petiole faintly beside
+            # the new one.
+            _, (iy, ix) = ndi.distance_transform_edt(~a.blades[t], return_indices=True)
+            rim |= pet_t[iy, ix] & ~a.blades[t]
             self.alpha_t = self.alpha_t * ~rim
         for e in range(self.n):
             _, pet, base = split_petiole(a.blades[e])
