@@ -7,7 +7,7 @@ import pytest
 from leaves_truth import TrueRegistration
 
 from branchnb.leaves import leaf_family, simulate_scribbles
-from branchnb.leaves.analysis import normalise_exemplars
+from branchnb.leaves.analysis import LeafAnalysis, normalise_exemplars
 from branchnb.widgets.leaves import LeafApp
 
 
@@ -87,7 +87,7 @@ def test_errors_show_in_the_status_line_and_the_app_keeps_working(app, family):
     assert app.status.last_error is None and app.analysis is not None
 
 
-def test_analysis_reinduction_and_generation(app, family):
+def test_analysis_reinduction_and_generation(app, family, monkeypatch):
     _scribble_truth(app, family)
     app.shell.click("analyze")
     assert app.status.last_error is None
@@ -98,7 +98,19 @@ def test_analysis_reinduction_and_generation(app, family):
     assert app.histograms.comparison is not None and app.histograms.comparison.metric == "emd"
     assert app.histograms.comparison.labels[0] == "user layer"
     regs = a.registrations
-    app.induction_panel.controls["eps"].value = 20.0  # a slider move re-induces only
+    overlay_before = app.exemplar_view.images[1].value
+    previews = []
+    retune = LeafAnalysis.retune
+    monkeypatch.setattr(LeafAnalysis, "retune", lambda self, **kw: previews.append(kw) or retune(self, **kw))
+    app.induction_panel.controls["eps"].value = 5.0  # a slider move re-induces only
+    app.shell.wait_live()
+    # First a preview on the cached colour terms, then the full re-induction.
+    assert previews == [{"eps": 5.0}]
+    assert overlay_before != app.exemplar_view.images[1].value
+    app.induction_panel.controls["neighbourhood"].value = 4  # new colour terms: no preview
+    app.shell.wait_live()
+    assert len(previews) == 1 and app.analysis.params.neighbourhood == 4
+    app.induction_panel.controls["eps"].value = 20.0
     app.shell.wait_live()
     assert app.analysis is not a and app.analysis.registrations is regs
     assert app.analysis.params.eps == 20.0

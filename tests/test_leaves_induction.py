@@ -148,6 +148,26 @@ def test_reinduce_reuses_registration_and_progress_can_stop(induced):
         a.reinduce(eps=-1.0)
 
 
+def test_retune_is_reinduce_for_the_top_layer_and_the_analysis_unchanged(induced):
+    """The slider preview: eqs. 2-4 on the stored colour terms (measured 5 ms against 220 ms at 224 px)."""
+    _, _, _, a = induced
+    same = a.retune(eps=a.params.eps)
+    for x, y in zip(a.layers, same.layers):
+        assert x.delta == y.delta and x.lam == y.lam
+        assert all(np.array_equal(m, n) for m, n in zip(x.masks, y.masks))
+    for change in ({"eps": 20.0}, {"kappa": 3.0}, {"liberal_threshold": 0.2}):
+        quick, full = a.retune(**change), a.reinduce(**change)
+        top_q, top_f = quick.layers[0], full.layers[0]
+        assert top_q.delta == pytest.approx(top_f.delta) and top_q.lam == pytest.approx(top_f.lam)
+        assert all(np.array_equal(m, n) for m, n in zip(top_q.masks, top_f.masks)), change
+        assert quick.residuals is a.residuals  # not inpainted again
+    assert a.retune(eps=20.0).layers[0].eps_px != a.layers[0].eps_px
+    with pytest.raises(ValueError, match="neighbourhood"):
+        a.retune(neighbourhood=4)
+    with pytest.raises(ValueError, match="eps"):
+        a.retune(eps=-1.0)
+
+
 def test_analyze_bad_input(induced):
     fam, regs, _, _ = induced
     masks = {"veins": fam[0].layers["veins"]}

@@ -216,6 +216,19 @@ class LeafAnalysis:
             progress=progress, rng=self.rng_seed)
         return dataclasses.replace(self, params=params, layers=layers, residuals=residuals, space=space)
 
+    def retune(self, **changes) -> LeafAnalysis:
+        """A quick re-induction (eqs. 2-4 only) for a changed ``eps``, ``kappa`` or liberal threshold.
+
+        Each layer keeps its colour term ``S_e`` and neighbourhood; the
+        residuals are not inpainted again. Exact for the top layer, and for
+        a lower layer where the layers above it did not change (its
+        ``S_e`` was measured on the residual they left). For a slider
+        preview: generate from :meth:`reinduce`, whose residuals are new.
+
+        Examples: ``analysis.retune(eps=30)``, ``analysis.retune(kappa=2.0)``.
+        """
+        return _retuned(self, changes)
+
     def overlay(self, e: int) -> np.ndarray:
         """Exemplar ``e`` on white with its induced layers tinted in the layers' colours."""
         e = check_int(e, "e", 0, len(self.exemplars) - 1)
@@ -334,22 +347,13 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         best = None
         candidates = neighbourhood_candidates(params, blades[t], user)
         for n_px in candidates:
-            colour, liberal_t, spat = [], [], []
+            colour = []
             for e in range(n):
                 report(step / steps, f"layer {name}: colour and space terms on exemplar {e + 1}/{n}")
                 colour.append(colour_similarity(q[e], blades[e], cdf, n_px,
                                                 weights=space.weights if params.lab_units else None))
-            for e in range(n):
-                eps_px, _, lib_r = lengths[e]
-                lib_r = max(lib_r, tolerance)
-                s = colour[e]
-                lib = liberal_layer(s, dist[e], params.liberal_threshold, lib_r, blades[e])
-                lib_t = lib if e == t else warp_mask(registrations[e], lib, to_training=True)
-                liberal_t.append(lib_t & blades[t])
-                spat.append(spatial_term(dist[e], s, eps_px))
-            lam, overlap = layer_weight(liberal_t, params.kappa)
-            combined = [(np.float32(lam) * f + s).astype(np.float32) for f, s in zip(spat, colour)]
-            delta, tr_iou = choose_threshold(combined[t], user, blades[t])
+            lam, overlap, combined, delta, tr_iou = _combine(colour, dist, lengths, tolerance, params, blades,
+                                                             registrations, t, user)
             if best is None or tr_iou > best[0] + 1e-9:
                 best = (tr_iou, n_px, colour, lam, overlap, combined, delta)
         step += n
@@ -370,6 +374,51 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         step += 1
     report(1.0, "induction done")
     return out, residuals, space
+
+
+def _combine(colour, dist, lengths, tolerance, params, blades, registrations, t, user):
+    """Eqs. 2-4 from the colour terms and distance maps: ``lambda``, ``D`` per exemplar, ``delta``."""
+    liberal_t, spat = [], []
+    for e in range(len(colour)):
+        eps_px, _, lib_r = lengths[e]
+        lib = liberal_layer(colour[e], dist[e], params.liberal_threshold, max(lib_r, tolerance), blades[e])
+        lib_t = lib if e == t else warp_mask(registrations[e], lib, to_training=True)
+        liberal_t.append(lib_t & blades[t])
+        spat.append(spatial_term(dist[e], colour[e], eps_px))
+    lam, overlap = layer_weight(liberal_t, params.kappa)
+    combined = [(np.float32(lam) * f + s).astype(np.float32) for f, s in zip(spat, colour)]
+    delta, tr_iou = choose_threshold(combined[t], user, blades[t])
+    return lam, overlap, combined, delta, tr_iou
+
+
+def _retuned(analysis, changes):
+    """:meth:`LeafAnalysis.retune`: ``_combine`` again on each layer's stored colour terms and distances."""
+    allowed = {"eps", "kappa", "liberal_threshold", "reference_area"}
+    extra = sorted(set(changes) - allowed)
+    if extra:
+        raise ValueError(f"retune changes only {sorted(allowed)}; {extra} change the colour terms: "
+                         "use reinduce")
+    a = analysis
+    params = dataclasses.replace(a.params, **changes)
+    check_params(params, name="changes")
+    t = a.training_index
+    lengths = [scaled_lengths(params, b) for b in a.blades]
+    tolerance = registration_tolerance(a.registrations, t)
+    taken = [np.zeros_like(b) for b in a.blades]
+    layers = []
+    for old in a.layers:
+        user = a.training.masks[old.name] & a.blades[t]
+        lam, overlap, combined, delta, tr_iou = _combine(old.colour, old.distance, lengths, tolerance, params,
+                                                         a.blades, a.registrations, t, user)
+        masks = []
+        for e in range(len(a.blades)):
+            m = user.copy() if e == t else (combined[e] < delta) & a.blades[e] & ~taken[e]
+            taken[e] |= m
+            masks.append(m)
+        layers.append(dataclasses.replace(old, lam=lam, liberal_overlap=overlap, delta=delta,
+                                          training_overlap=tr_iou, masks=masks, combined=combined,
+                                          eps_px=[ln[0] for ln in lengths]))
+    return dataclasses.replace(a, params=params, layers=layers)
 
 
 def normalise_exemplars(exemplars) -> tuple[list, list, list]:

@@ -27,7 +27,7 @@ import ipywidgets as widgets
 import numpy as np
 from skimage.color import rgb2lab
 
-from ..core.render import draw_polylines
+from ..core.render import coverage_polylines
 from ..leaves.analysis import LeafAnalysis, analyze, normalise_exemplars
 from ..leaves.induction import InductionParams
 from ..leaves.layers import Layer, LayerSet
@@ -39,6 +39,9 @@ from .params import ParamPanel
 from .shell import AppShell
 
 __all__ = ["LeafApp", "layer_set_from_shapes"]
+
+#: Induction parameters :meth:`LeafAnalysis.retune` previews without new colour terms.
+_RETUNABLE = {"eps", "kappa", "liberal_threshold"}
 
 _PALETTE = ["#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2"]
 
@@ -106,6 +109,7 @@ class LeafApp(widgets.VBox):
         if registrations is not None and len(registrations) != n:
             raise ValueError(f"registrations must have one entry per exemplar ({n}), got {len(registrations)}")
         self._registrations = list(registrations) if registrations is not None else None
+        self._marks: dict = {}  # exemplar -> (registration key, (grid, keypoint) coverage)
         self.analysis: LeafAnalysis | None = None
         self.leaves: list = []
         if layers is None:
@@ -266,7 +270,15 @@ class LeafApp(widgets.VBox):
     def _induction_changed(self, params) -> None:
         if self.analysis is None:
             return
-        self.shell.live("re-induce", lambda: self._reinduce(params))
+        shown = self.analysis.params
+        changed = {f.name: getattr(params, f.name) for f in dataclasses.fields(params)
+                   if getattr(params, f.name) != getattr(shown, f.name)}
+        preview = None
+        if changed and set(changed) <= _RETUNABLE:
+            # eps, kappa and the liberal threshold leave the colour terms as they are: a
+            # few milliseconds on the cached terms now, the full re-induction behind it.
+            preview = lambda: self._show_analysis(self.analysis.retune(**changed))  # noqa: E731
+        self.shell.live("re-induce", lambda: self._reinduce(params), preview=preview)
 
     def _reinduce(self, params) -> str:
         changes = {f.name: getattr(params, f.name) for f in dataclasses.fields(params)}
@@ -286,46 +298,56 @@ class LeafApp(widgets.VBox):
         return f"{n} leaves"
 
     # -- views ---------------------------------------------------------------------------
-    def registration_overlay(self, e: int) -> np.ndarray:
+    def registration_overlay(self, e: int, analysis: LeafAnalysis | None = None) -> np.ndarray:
         """Exemplar ``e`` with its induced layers, keypoints and the training grid carried onto it."""
-        a = self.analysis
+        a = analysis if analysis is not None else self.analysis
         img = a.overlay(e) if a is not None else _white(self.images[e])
         if a is None or e == a.training_index:
             return img
-        reg = a.registrations[e]
-        h, w = img.shape[:2]
-        lines = []
+        grid, dots = self._registration_marks(e, a.registrations[e], img.shape[:2])
+        for cov, colour in ((grid, (0.2, 0.2, 0.2)), (dots, (0.95, 0.9, 0.1))):
+            img = img * (1 - cov[..., None]) + np.asarray(colour, np.float32) * cov[..., None]
+        return img.astype(np.float32)
+
+    def _registration_marks(self, e: int, reg, shape) -> tuple[np.ndarray, np.ndarray]:
+        """Coverage of the carried grid and of the keypoint marks (drawn once per registration)."""
+        key = (id(reg), shape)
+        hit = self._marks.get(e)
+        if hit is not None and hit[0] == key:
+            return hit[1]
+        h, w = shape
         step = max(8, min(h, w) // 12)
         m = np.asarray(reg.map_to_training)
-        for y in range(step // 2, h, step):
-            lines.append(m[y, ::4])
-        for x in range(step // 2, w, step):
-            lines.append(m[::4, x])
-        img = draw_polylines(img, lines, widths=[0.6] * len(lines), colors=(0.2, 0.2, 0.2))
-        kp = getattr(reg, "exemplar_keypoints", None)
-        pts = getattr(kp, "points", None)
+        lines = [m[y, ::4] for y in range(step // 2, h, step)] + [m[::4, x] for x in range(step // 2, w, step)]
+        grid = np.clip(coverage_polylines(shape, lines, [0.6] * len(lines))[0], 0, 1)
+        pts = getattr(getattr(reg, "exemplar_keypoints", None), "points", None)
+        dots = np.zeros(shape, np.float32)
         if pts is not None and len(pts):
             r = 1.5
             circles = [np.array([[x - r, y], [x, y - r], [x + r, y], [x, y + r], [x - r, y]]) for x, y in pts]
-            img = draw_polylines(img, circles, widths=[1.0] * len(circles), colors=(0.95, 0.9, 0.1))
-        return img
+            dots = np.clip(coverage_polylines(shape, circles, [1.0] * len(circles))[0], 0, 1)
+        self._marks[e] = (key, (grid, dots))
+        return grid, dots
 
-    def _show_exemplars(self) -> None:
+    def _show_exemplars(self, analysis: LeafAnalysis | None = None) -> None:
         t = self.training_index
-        self.exemplar_view.update([self.registration_overlay(e) for e in range(len(self.images))],
+        self.exemplar_view.update([self.registration_overlay(e, analysis) for e in range(len(self.images))],
                                   [("training " if e == t else "") + f"#{e}" for e in range(len(self.images))])
 
-    def _show_analysis(self) -> None:
-        self._show_exemplars()
-        a = self.analysis
-        rows = "".join(f"<tr><td>{x.name}</td><td>{x.lam:.3f}</td><td>{x.delta:.3f}</td>"
+    def _show_analysis(self, analysis: LeafAnalysis | None = None) -> None:
+        """Overlays, the lambda/delta table and the histograms of ``analysis`` (default: the app's)."""
+        a = analysis if analysis is not None else self.analysis
+        self._show_exemplars(a)
+        # delta spans many decades (F is an exponential): three significant digits.
+        rows = "".join(f"<tr><td>{x.name}</td><td>{x.lam:.3g}</td><td>{x.delta:.3g}</td>"
                        f"<td>{x.training_overlap:.2f}</td><td>{x.neighbourhood}</td></tr>" for x in a.layers)
         self.report.value = ("<table style='font-size:12px'><tr><th>layer</th><th>λ</th><th>δ</th>"
-                             "<th>training IoU</th><th>n</th></tr>" + rows + "</table>")
-        self._show_histograms()
+                             "<th title='IoU of the induced layer with yours on the training leaf'>IoU</th>"
+                             "<th title='neighbourhood side of S_e (px)'>n</th></tr>" + rows + "</table>")
+        self._show_histograms(a)
 
-    def _show_histograms(self) -> None:
-        a = self.analysis
+    def _show_histograms(self, analysis: LeafAnalysis | None = None) -> None:
+        a = analysis if analysis is not None else self.analysis
         name = self.hist_layer.value
         if a is None or not name:
             return
