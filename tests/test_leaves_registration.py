@@ -36,11 +36,12 @@ def test_registration_cuts_the_keypoint_error_against_the_affine_start(registrat
     ``start="affine"``; not ``reg.start``, which is picked after TPS-RPM and was sometimes a
     lobe-rotated start 36 px off, inflating the cut to 96 %).
 
-    Measured (``python -m branchnb.leaves._measure registration``, 4 seeds x 2 pairs at 192 px):
-    lobed 57 %, trilobed 58 %, elliptic 54 % (8 seeds: 55, 60, 52 % at 192 px; 55, 58, 49 % at
-    384 px); these six pairs: 49 %, 41 %, 58 %. The elliptic kind reached only 36 % while its
-    margin had no corners and sub-pixel teeth (nothing in the image showed how far material
-    points slid along it); its serrate teeth are now material, like its secondaries.
+    Measured (``python -m branchnb.leaves._measure registration --sizes 192,384 --seeds 8``,
+    8 seeds x 2 pairs): lobed 59 %, trilobed 61 %, elliptic 59 % at 192 px (``lambda1_init`` 10
+    before: 55, 60, 52 %; 55, 59, 49 % at 384 px); these six pairs: 58 % overall. The elliptic
+    kind reached only 36 % while its margin had no corners and sub-pixel teeth (nothing in the
+    image showed how far material points slid along it); its serrate teeth are now material,
+    like its secondaries.
     """
     start_err, reg_err = [], []
     for tr, pairs in registrations.values():
@@ -50,7 +51,7 @@ def test_registration_cuts_the_keypoint_error_against_the_affine_start(registrat
             start_err.append(np.hypot(*(start - tr.keypoints).T).mean())
             reg_err.append(np.hypot(*(reg.forward(ex.keypoints) - tr.keypoints).T).mean())
     start_err, reg_err = np.array(start_err), np.array(reg_err)
-    assert reg_err.mean() <= 0.6 * start_err.mean(), (start_err, reg_err)
+    assert reg_err.mean() <= 0.5 * start_err.mean(), (start_err, reg_err)
     # Every pair gains (an elliptic blade, whose outline has no corners,
     # gains least).
     assert (reg_err < 0.85 * start_err).all(), (start_err, reg_err)
@@ -153,6 +154,22 @@ def test_thin_plate_spline_interpolates_and_regularises():
     a = np.column_stack([np.ones(30), src])
     affine = a @ np.linalg.lstsq(a, dst, rcond=None)[0]
     assert np.abs(stiff(src) - affine).max() < 0.01
+
+
+def test_a_folding_spline_is_refitted_stiffer():
+    """Too little bending cost folds the lamina over itself (1.3 % of it here); the stiffer refits unfold it."""
+    from branchnb.leaves.registration import _interior_samples, _lamina
+
+    fam = leaf_family(3, size=128, kind="lobed", rng=0)
+    q = _interior_samples(_lamina(fam[1].blade))
+
+    def folded(reg):
+        jac = reg.forward_jacobian(q)
+        return float(np.mean(jac[:, 0, 0] * jac[:, 1, 1] - jac[:, 0, 1] * jac[:, 1, 0] <= 0))
+
+    soft = RegistrationParams(lambda1_init=0.01, fold_retries=0)
+    assert folded(register(fam[1], fam[0], params=soft)) > 0.005
+    assert folded(register(fam[1], fam[0], params=RegistrationParams(lambda1_init=0.01))) == 0.0
 
 
 def test_bad_inputs():

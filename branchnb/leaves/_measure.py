@@ -27,13 +27,14 @@ every leaf, :attr:`ProceduralLeaf.keypoints`):
   arc-length position (mean, px): the along-outline shift an outline
   without corners or teeth cannot reveal.
 
-Measured (4 seeds x 2 pairs at 192 px): cut lobed 0.57, trilobed 0.58,
-elliptic 0.54; with the true outline correspondences 0.62, 0.69, 0.76.
-8 seeds x 2 pairs: 0.55, 0.60, 0.52 at 192 px and 0.55, 0.58, 0.49 at
-384 px. (Before the elliptic kind had material serrate teeth and
-secondaries, its cut was 0.34-0.36: the same material point lay 3.7 px
-from its arc-length position on a margin without corners, and nothing in
-the image told where it was.)
+Measured (8 seeds x 2 pairs, ``--sizes 192,384 --seeds 8``): cut lobed
+0.59, trilobed 0.61, elliptic 0.59 at 192 px and 0.60, 0.61, 0.57 at
+384 px; with the true outline correspondences 0.63, 0.71, 0.73. With
+``lambda1_init`` 10, before: 0.55, 0.60, 0.52 and 0.55, 0.58, 0.49.
+(Before the elliptic kind had material serrate teeth and secondaries,
+its cut was 0.34-0.36: the same material point lay 3.7 px from its
+arc-length position on a margin without corners, and nothing in the
+image told where it was.)
 
 Induction
 ---------
