@@ -459,11 +459,11 @@ def _move_slider(page, lab, kernel, selector: str, dx: float, app: str, *, view:
     _no_error(page, lab, kernel)
 
 
-def _screenshot(page, name: str, tmp_path: Path) -> Path:
-    """The page at 1400 x 1000 with the app at the top."""
+def _screenshot(page, name: str, tmp_path: Path, block: str = "start") -> Path:
+    """The page at 1400 x 1000 with the app's top (``block="start"``) or bottom (``"end"``) in view."""
     out = SHOTS or tmp_path
     out.mkdir(parents=True, exist_ok=True)
-    page.evaluate("document.querySelector('.bnb-app').scrollIntoView({block: 'start'})")
+    page.evaluate(f"document.querySelector('.bnb-app').scrollIntoView({{block: '{block}'}})")
     time.sleep(0.4)
     path = out / f"app_{name}.png"
     page.screenshot(path=str(path))
@@ -608,6 +608,7 @@ def test_leaves_app_in_the_browser(lab, chromium, tmp_path):
         _press(page, lab, kernel, "generate")
         assert int(_eval(lab, kernel, "print(len(app.leaves))")) >= 1
         _screenshot(page, "leaves", tmp_path)
+        _screenshot(page, "leaves_gallery", tmp_path, block="end")  # histograms and generated leaves
     finally:
         page.close()
         _delete_kernels(lab)
