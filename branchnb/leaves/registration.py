@@ -76,7 +76,9 @@ Steps
    (0.48: a fine vein's point pulled a secondary's); with it, at 192 px,
    elliptic 0.52 -> 0.55, trilobed 0.60 -> 0.61, lobed 0.55 -> 0.55, but
    at 384 px elliptic 0.49 -> 0.40 (two pairs locked onto the neighbouring
-   secondaries). So both ``veins`` and ``refine`` are off by default; the
+   secondaries; with ``lambda1_init`` 3, elliptic 0.59 -> 0.51 at 192 px
+   and 0.57 -> 0.43 at 384 px, trilobed 0.61 -> 0.64, lobed 0.59 -> 0.57).
+   So both ``veins`` and ``refine`` are off by default; the
    elliptic kind's serrate teeth make its outline observable instead.
    Because the points are normalised by the blade radius (Chui's data lie
    in the unit square), ``lambda1_init`` is measured, not Chui's: 3
