@@ -8,8 +8,8 @@ The method needs, for every exemplar, the leaf's colours and its blade
 * **Opaque** images of a leaf on a plain background (a scan or a photo
   on paper): a background model is fitted to the image border, which
   must be plain: one colour, or (paper under uneven light) a lightness
-  that is a quadratic in (x, y) with one chroma, whichever fits better. Each pixel's distance from the
-  paper's colour there (CIELAB
+  that is a quadratic in (x, y) with one chroma, whichever fits better.
+  Each pixel's distance from the paper's colour there (CIELAB
   Delta E, plus the chroma difference, so a pale-green leaf on white
   stands out) is thresholded by Otsu's method; the blade is the largest
   connected component (with parts of at least ``min_part`` of its size
@@ -49,10 +49,10 @@ from ..core.validate import Int, Real, Seq, checked
 __all__ = ["Exemplar", "leaf_exemplar", "blade_mask", "prepare_exemplars"]
 
 #: The border is "plain" when the median colour distance of border pixels
-#: from the fitted paper model (a smooth lighting gradient) stays below this (CIELAB Delta E).
+#: from the border's median colour stays below this (CIELAB Delta E) ...
 PLAIN_BORDER_DELTA_E = 12.0
 #: ... or, for paper under uneven light, from the fitted lightness gradient
-#: (:func:`_paper_model`) below this. Measured: plain paper 0.0-3.3 (seven
+#: (:func:`_paper_lightness`) below this. Measured: plain paper 0.0-3.3 (seven
 #: grass strips, zelkova, drawn maples), a mosaic of leaf close-ups 8.7
 #: (a smooth fit also absorbs part of a busy border, hence the lower bound).
 PLAIN_LIT_DELTA_E = 6.0
@@ -100,10 +100,14 @@ class Exemplar:
         return encode_png(self.on_white())
 
 
-def _border_pixels(img: np.ndarray, width: int) -> np.ndarray:
-    b = np.zeros(img.shape[:2], bool)
+def _border_mask(shape, width: int) -> np.ndarray:
+    b = np.zeros(shape, bool)
     b[:width, :] = b[-width:, :] = b[:, :width] = b[:, -width:] = True
-    return img[b]
+    return b
+
+
+def _border_pixels(img: np.ndarray, width: int) -> np.ndarray:
+    return img[_border_mask(img.shape[:2], width)]
 
 
 def _leaf_parts(labels: np.ndarray, lab: np.ndarray, min_part: float) -> np.ndarray:
@@ -169,46 +173,51 @@ def _drawn_interior(blade: np.ndarray) -> np.ndarray:
     return silhouette & ~blade
 
 
-def _paper_model(lab: np.ndarray, iterations: int = 4) -> tuple[np.ndarray, float]:
-    """The background colour at every pixel: its lightness a quadratic in (x, y), its chroma one colour.
+def _paper_lightness(lab: np.ndarray, border: np.ndarray, iterations: int = 4):
+    """The paper's lightness as a quadratic in (x, y), fitted to the ``border`` pixels; its median misfit.
 
     Plain paper photographed under uneven light darkens smoothly towards
     one side or the corners (a 35 % falloff across a phone photo is
     common); a single border colour called such paper "busy" and the
     dark side "leaf". Light changes the lightness, not the hue, so only
-    CIELAB L varies (a half-white, half-green image stays busy). The fit is robust (iteratively reweighted least
-    squares, weights ``1 / max(residual, 1)``: an L1 fit), so a petiole
-    or a card reaching the border does not bend it. Returns the model
-    (H, W, 3) and the median residual of the border pixels (Delta E),
-    which must be small for the paper to count as plain.
+    CIELAB L varies and the chroma is the border's median (a half-white,
+    half-green image stays busy). The fit is robust (iteratively
+    reweighted least squares with weights ``1 / max(residual, 1)``: an L1
+    fit), so a petiole or a card reaching the border does not bend it.
+
+    Returns
+    -------
+    lightness : callable
+        ``lightness()`` evaluates the fit on the whole (H, W) grid.
+    chroma : (2,) ndarray
+    spread : float
+        Median Delta E of the border pixels from the model.
     """
     h, w = lab.shape[:2]
-    bw = max(2, min(h, w) // 50)
-    on_border = np.zeros((h, w), bool)
-    on_border[:bw, :] = on_border[-bw:, :] = on_border[:, :bw] = on_border[:, -bw:] = True
-    ys, xs = np.nonzero(on_border)
+    ys, xs = np.nonzero(border)
     step = max(1, len(xs) // 20000)
     ys, xs = ys[::step], xs[::step]
 
-    def design(x, y):
+    def terms(x, y):
         u, v = 2.0 * x / max(w - 1, 1) - 1.0, 2.0 * y / max(h - 1, 1) - 1.0
-        return np.stack([np.ones_like(u), u, v, u * u, u * v, v * v], axis=-1)
+        return [np.ones_like(u * v), u, v, u * u, u * v, v * v]
 
-    a = design(xs.astype(np.float64), ys.astype(np.float64))
+    a = np.stack(terms(xs.astype(np.float64), ys.astype(np.float64)), axis=-1)
     z = lab[ys, xs].astype(np.float64)
     chroma = np.median(z[:, 1:], axis=0)
     wts = np.ones(len(z))
     for _ in range(iterations):
         coef, *_ = np.linalg.lstsq(a * wts[:, None], z[:, 0] * wts, rcond=None)
-        res = np.abs(z[:, 0] - a @ coef)
-        wts = 1.0 / np.sqrt(np.maximum(res, 1.0))  # squared in the normal equations: 1 / residual
+        wts = 1.0 / np.sqrt(np.maximum(np.abs(z[:, 0] - a @ coef), 1.0))  # squared in the normal equations
     fit = np.column_stack([a @ coef, np.broadcast_to(chroma, (len(z), 2))])
     spread = float(np.median(np.linalg.norm(z - fit, axis=1)))
-    yy, xx = np.mgrid[0:h, 0:w]
-    model = np.empty((h, w, 3), np.float32)
-    model[..., 0] = design(xx.astype(np.float64), yy.astype(np.float64)) @ coef
-    model[..., 1:] = chroma
-    return model, spread
+
+    def lightness() -> np.ndarray:
+        # Row and column terms broadcast: no (H, W, 6) array at a megapixel.
+        t = terms(np.arange(w, dtype=np.float64)[None, :], np.arange(h, dtype=np.float64)[:, None])
+        return sum(c * term for c, term in zip(coef, t)).astype(np.float32)
+
+    return lightness, chroma, spread
 
 
 @checked(max_hole=Real(0.0, 1.0), min_part=Real(0.0, 1.0))
@@ -255,17 +264,21 @@ def blade_mask(image, *, max_hole: float = 0.01, min_part: float = 0.02, name: s
     if min(h, w) < 16:
         raise ValueError(f"{name} is too small for a background model ({w} x {h}; need 16 x 16)")
     lab = rgb2lab(img).astype(np.float32)
-    bw = max(2, min(h, w) // 50)
-    border = _border_pixels(lab, bw)
+    on_border = _border_mask((h, w), max(2, min(h, w) // 50))
+    border = lab[on_border]
     flat = np.median(border, axis=0)
     spread = float(np.median(np.linalg.norm(border - flat, axis=1)))
-    lit, lit_spread = _paper_model(lab)
+    lightness, chroma, lit_spread = _paper_lightness(lab, on_border)
     if spread > PLAIN_BORDER_DELTA_E and lit_spread > PLAIN_LIT_DELTA_E:
         raise ValueError(
             f"{name} has no alpha and a busy background (border colours vary by Delta E {spread:.1f} "
             f"> {PLAIN_BORDER_DELTA_E}, and by {lit_spread:.1f} > {PLAIN_LIT_DELTA_E} around a smooth "
             "lighting gradient): give a cut-out (RGBA) leaf or a leaf on a plain background")
-    bg = lit if lit_spread < spread else np.broadcast_to(flat, lab.shape)
+    if lit_spread < spread:
+        bg = np.empty_like(lab)
+        bg[..., 0], bg[..., 1:] = lightness(), chroma
+    else:
+        bg = np.broadcast_to(flat, lab.shape)
     de = np.linalg.norm(lab - bg, axis=2)
     chroma = np.hypot(lab[..., 1], lab[..., 2])
     dist = de + np.abs(chroma - np.hypot(bg[..., 1], bg[..., 2]))

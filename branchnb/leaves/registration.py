@@ -735,11 +735,10 @@ def _interior_samples(mask: np.ndarray, n: int = 2000) -> np.ndarray:
     return np.column_stack([xs[::step], ys[::step]]).astype(np.float64)
 
 
-def _folded_fraction(spline, points: np.ndarray) -> float:
-    """Share of ``points`` where ``spline`` turns orientation (Jacobian determinant <= 0)."""
+def _jacobian_det(spline, points: np.ndarray) -> np.ndarray:
+    """Determinant of ``spline``'s Jacobian at ``points`` (<= 0 where it turns orientation)."""
     jac = spline.jacobian(points)
-    det = jac[:, 0, 0] * jac[:, 1, 1] - jac[:, 0, 1] * jac[:, 1, 0]
-    return float(np.mean(det <= 0))
+    return jac[:, 0, 0] * jac[:, 1, 1] - jac[:, 0, 1] * jac[:, 1, 0]
 
 
 def _outline_fit(mapped: np.ndarray, target: np.ndarray) -> float:
@@ -1087,9 +1086,7 @@ def register(exemplar, training, exemplar_blade=None, training_blade=None, *,
             # unmirrored start; a mirrored map is no registration of an
             # unmirrored leaf (and its inverse cannot be blended with the
             # others' in synthesis), so it loses to any orientation-keeping one.
-            jac = f1.jacobian(dense_e)
-            det = jac[:, 0, 0] * jac[:, 1, 1] - jac[:, 0, 1] * jac[:, 1, 0]
-            if np.median(det) <= 0:
+            if np.median(_jacobian_det(f1, dense_e)) <= 0:
                 fit += 1e3
         if base_e is not None and base_t is not None:
             # The outline alone fits a palmate blade at another lobe's
@@ -1105,7 +1102,7 @@ def register(exemplar, training, exemplar_blade=None, training_blade=None, *,
     inner = norm(_interior_samples(lam_e) @ start[:, :2].T + start[:, 2])
     stiffer = prm
     for _ in range(prm.fold_retries):
-        if _folded_fraction(f1, inner) == 0.0:
+        if (_jacobian_det(f1, inner) > 0).all():
             break
         stiffer = replace(stiffer, lambda1_init=stiffer.lambda1_init * 3.0)
         f1 = outline_spline(start, stiffer)

@@ -366,8 +366,7 @@ class _Prepared:
             # petiole (a photo's shadow and fringe along the stalk), which
             # the rim misses and which traced the old petiole faintly beside
             # the new one.
-            _, (iy, ix) = ndi.distance_transform_edt(~a.blades[t], return_indices=True)
-            rim |= pet_t[iy, ix] & ~a.blades[t]
+            rim |= extend_nearest(pet_t, a.blades[t]) & ~a.blades[t]
             self.alpha_t = self.alpha_t * ~rim
         for e in range(self.n):
             _, pet, base = split_petiole(a.blades[e])
