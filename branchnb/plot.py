@@ -1,0 +1,270 @@
+"""One plotting style for every notebook and doc page: labelled panels side by side.
+
+The notebooks teach by pictures, so they share one look: the same dpi, images
+large enough to see a dendrite or a vein (4 inches at 100 dpi = 400 px per
+panel by default), inputs and outputs side by side in one figure, histograms
+with labelled axes and a legend, and scalar maps with a labelled colour bar.
+
+This module needs matplotlib (a dependency of the package) and is never
+imported by the technique modules, which stay plain numpy.
+
+Examples
+--------
+>>> import numpy as np
+>>> from branchnb import plot
+>>> plot.use_style()
+>>> fig, axes = plot.panels(2)
+>>> _ = plot.image_panel(axes[0], np.zeros((8, 8, 3), np.float32), "input")
+>>> _ = plot.image_panel(axes[1], np.eye(8, dtype=np.float32), "output", colorbar="value")
+>>> plot.close(fig)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from .core.image import as_float_image, composite_over
+
+__all__ = [
+    "DPI",
+    "PANEL_INCHES",
+    "use_style",
+    "panels",
+    "image_panel",
+    "hist_panel",
+    "show",
+    "show_histograms",
+    "close",
+]
+
+#: Figure resolution used by every notebook (dots per inch).
+DPI = 100
+#: Default side of one panel in inches; at ``DPI`` this is 400 px.
+PANEL_INCHES = 4.0
+
+_STYLE = {
+    "figure.dpi": DPI,
+    "savefig.dpi": DPI,
+    "axes.titlesize": 10,
+    "axes.labelsize": 9,
+    "xtick.labelsize": 8,
+    "ytick.labelsize": 8,
+    "legend.fontsize": 8,
+    "figure.titlesize": 11,
+    "image.interpolation": "antialiased",
+}
+
+
+def use_style() -> None:
+    """Set the shared notebook style (dpi, font sizes) in ``matplotlib.rcParams``.
+
+    Call once at the top of a notebook. Only the keys above are changed, so a
+    user's own settings for anything else stay.
+    """
+    plt.rcParams.update(_STYLE)
+
+
+def panels(n: int, *, cols: int | None = None, size: float = PANEL_INCHES, widths: Sequence[float] | None = None,
+           height: float | None = None, suptitle: str | None = None):
+    """A figure with ``n`` panels in a grid, as ``(figure, flat array of axes)``.
+
+    Parameters
+    ----------
+    n : int
+        Number of panels (>= 1).
+    cols : int, optional
+        Panels per row; all in one row by default.
+    size : float
+        Width of one panel in inches (its height too unless ``height`` is given).
+    widths : sequence of float, optional
+        Relative panel widths for a single row (e.g. a wide result beside a narrow input).
+    height : float, optional
+        Row height in inches.
+    suptitle : str, optional
+        A title over the whole figure.
+    """
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
+        raise ValueError(f"n must be a positive integer, got {n!r}")
+    cols = int(n if cols is None else max(1, min(int(cols), n)))
+    rows = -(-int(n) // cols)
+    height = size if height is None else float(height)
+    if widths is not None:
+        widths = [float(w) for w in widths]
+        if rows != 1 or len(widths) != cols:
+            raise ValueError("widths needs one value per panel in a single row")
+        if min(widths) <= 0:
+            raise ValueError("widths must be positive")
+        fig_w = size * sum(widths) / max(widths)  # the widest panel is `size` wide
+        fig, axes = plt.subplots(1, cols, figsize=(fig_w, height), squeeze=False,
+                                 gridspec_kw={"width_ratios": widths})
+    else:
+        fig, axes = plt.subplots(rows, cols, figsize=(size * cols, height * rows), squeeze=False)
+    flat = axes.ravel()
+    for ax in flat[n:]:
+        ax.set_visible(False)
+    if suptitle:
+        fig.suptitle(suptitle)
+    return fig, flat[:n]
+
+
+def _displayable(image, background):
+    img = np.asarray(image)
+    if img.ndim == 3 and img.shape[-1] == 1:
+        img = img[..., 0]
+    if img.ndim == 2:
+        return np.asarray(img, dtype=np.float32), True
+    img = as_float_image(img)
+    if img.shape[-1] == 4:
+        if background == "checker":
+            h, w = img.shape[:2]
+            tile = max(4, min(h, w) // 32)
+            yy, xx = np.mgrid[0:h, 0:w]
+            checks = (((yy // tile) + (xx // tile)) % 2).astype(np.float32)
+            bg = (0.82 + 0.12 * checks)[..., None].repeat(3, axis=2)
+            return composite_over(img, bg), False
+        return composite_over(img, background), False
+    return np.clip(img[..., :3], 0.0, 1.0), False
+
+
+def image_panel(ax, image, title: str | None = None, *, cmap: str = "gray", vmin: float | None = None,
+                vmax: float | None = None, colorbar: str | bool | None = None, background="checker",
+                scale_bar: bool = False):
+    """Draw one image (RGB, RGBA or a scalar map) on ``ax`` without axes.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    image : array_like
+        ``(H, W)`` scalar map, or ``(H, W, 3 | 4)`` colour image in [0, 1] (uint8 is scaled).
+    title : str, optional
+    cmap, vmin, vmax :
+        For scalar maps only. ``vmin``/``vmax`` default to the map's finite range, so a
+        map in any units is visible (never clipped to [0, 1] black).
+    colorbar : str or bool, optional
+        For scalar maps: add a colour bar, labelled with the string when one is given.
+    background : 'checker' or RGB triple
+        What shows through transparent pixels of an RGBA image.
+    scale_bar : bool
+        Write the image's size in pixels under the title (useful when panels of
+        different sizes sit side by side).
+
+    Returns
+    -------
+    matplotlib.image.AxesImage
+    """
+    data, scalar = _displayable(image, background)
+    if scalar:
+        finite = data[np.isfinite(data)]
+        lo = float(finite.min()) if vmin is None and finite.size else vmin
+        hi = float(finite.max()) if vmax is None and finite.size else vmax
+        if lo is not None and hi is not None and hi <= lo:
+            hi = lo + 1.0
+        artist = ax.imshow(data, cmap=cmap, vmin=lo, vmax=hi, interpolation="nearest")
+        if colorbar:
+            cb = ax.figure.colorbar(artist, ax=ax, fraction=0.046, pad=0.02)
+            if isinstance(colorbar, str):
+                cb.set_label(colorbar)
+    else:
+        artist = ax.imshow(data, interpolation="antialiased")
+    label = title or ""
+    if scale_bar:
+        label = f"{label}\n{data.shape[1]} x {data.shape[0]} px" if label else f"{data.shape[1]} x {data.shape[0]} px"
+    if label:
+        ax.set_title(label)
+    ax.set_xticks([])
+    ax.set_yticks([])
+    for spine in ax.spines.values():
+        spine.set_visible(False)
+    return artist
+
+
+def hist_panel(ax, samples: Mapping[str, Sequence[float]], *, bins=30, xlabel: str = "value",
+               ylabel: str = "share", title: str | None = None, range: tuple[float, float] | None = None):
+    """Overlay the histograms of several named samples on one axis, with a legend.
+
+    The bins are shared (one ``range`` over all samples), and each histogram is
+    normalised to shares summing to 1 so that samples of different sizes compare.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    samples : mapping of label -> 1-D values
+        E.g. ``{"example": angles_in, "synthesized": angles_out}``.
+    bins : int or sequence of edges
+    xlabel, ylabel, title : str
+    range : (float, float), optional
+        Shared range; the finite range of all samples by default.
+    """
+    if not isinstance(samples, Mapping) or not samples:
+        raise TypeError("samples must be a non-empty mapping of label -> values")
+    arrays = {str(k): np.asarray(v, dtype=np.float64).ravel() for k, v in samples.items()}
+    arrays = {k: v[np.isfinite(v)] for k, v in arrays.items()}
+    if range is None:
+        every = np.concatenate([v for v in arrays.values()] + [np.zeros(0)])
+        range = (float(every.min()), float(every.max())) if every.size else (0.0, 1.0)
+        if range[1] <= range[0]:
+            range = (range[0] - 0.5, range[0] + 0.5)
+    edges = np.histogram_bin_edges(np.zeros(0), bins=bins, range=range) if np.ndim(bins) == 0 else np.asarray(bins)
+    for label, values in arrays.items():
+        counts, _ = np.histogram(values, bins=edges)
+        share = counts / max(counts.sum(), 1)
+        ax.stairs(share, edges, label=f"{label} (n={values.size})", linewidth=1.5)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    if title:
+        ax.set_title(title)
+    ax.legend(frameon=False)
+    return ax
+
+
+def show(images: Sequence, titles: Sequence[str] = (), *, cols: int | None = None, size: float = PANEL_INCHES,
+         widths: Sequence[float] | None = None, suptitle: str | None = None, cmap: str = "gray",
+         colorbar: str | bool | None = None, background="checker", scale_bar: bool = False) -> None:
+    """Show images side by side in one figure (the notebooks' one-liner).
+
+    Parameters
+    ----------
+    images : sequence of array_like
+        Images or scalar maps (see :func:`image_panel`).
+    titles : sequence of str
+        One per image (missing ones are blank).
+    cols, size, widths, suptitle :
+        Layout, see :func:`panels`.
+    cmap, colorbar, background, scale_bar :
+        Passed to :func:`image_panel` for every panel.
+    """
+    images = list(images)
+    titles = list(titles) + [""] * max(0, len(images) - len(titles))
+    fig, axes = panels(len(images), cols=cols, size=size, widths=widths, suptitle=suptitle)
+    for ax, img, title in zip(axes, images, titles):
+        image_panel(ax, img, title, cmap=cmap, colorbar=colorbar, background=background, scale_bar=scale_bar)
+    fig.tight_layout()
+    plt.show()
+
+
+def show_histograms(groups: Mapping[str, Mapping[str, Sequence[float]]], *, xlabels: Mapping[str, str] | None = None,
+                    bins=30, size: float = PANEL_INCHES, suptitle: str | None = None) -> None:
+    """One histogram panel per quantity, each overlaying several samples.
+
+    Parameters
+    ----------
+    groups : mapping of panel title -> (mapping of label -> values)
+        E.g. ``{"turning angle": {"example": a0, "synthesized": a1}, "radius": {...}}``.
+    xlabels : mapping of panel title -> x-axis label, optional
+    """
+    if not isinstance(groups, Mapping) or not groups:
+        raise TypeError("groups must be a non-empty mapping of title -> samples")
+    xlabels = dict(xlabels or {})
+    fig, axes = panels(len(groups), size=size, height=size * 0.7, suptitle=suptitle)
+    for ax, (title, samples) in zip(axes, groups.items()):
+        hist_panel(ax, samples, bins=bins, xlabel=xlabels.get(title, title), title=title)
+    fig.tight_layout()
+    plt.show()
+
+
+def close(fig) -> None:
+    """Close a figure made with :func:`panels` (scripts and tests that draw many)."""
+    plt.close(fig)
