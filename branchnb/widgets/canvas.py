@@ -43,6 +43,7 @@ from ipycanvas import MultiCanvas
 
 from ..core.image import as_float_image, as_rgba
 from ..core.io import encode_png
+from ._assets import PixelRatioProbe, backing_ratio
 from ._draw import batched
 from .feedback import ErrorArea
 from .model import AnnotationEvent, AnnotationModel
@@ -72,34 +73,7 @@ _MODE_HELP = {
 }
 
 
-class _PixelRatioProbe(widgets.VBox):
-    """Reports ``window.devicePixelRatio`` of the browser showing it (via a hidden text box)."""
-
-    ratio = traitlets.Float(0.0)
-
-    def __init__(self):
-        self._box = widgets.Text(value="", continuous_update=True,
-                                 layout=widgets.Layout(display="none"))
-        tag = f"bnb-dpr-{id(self):x}"
-        self._box.add_class(tag)
-        js = ("var n=0;function f(){var e=document.querySelectorAll('.TAG input');"
-              "if(!e.length){if(n++<40)setTimeout(f,250);return;}"
-              "var r=String(window.devicePixelRatio||1);e.forEach(function(i){if(i.value!==r){i.value=r;"
-              "i.dispatchEvent(new Event('input',{bubbles:true}));"
-              "i.dispatchEvent(new Event('change',{bubbles:true}));}});}f();").replace("TAG", tag)
-        probe = widgets.HTML(f'<img src="data:," alt="" style="display:none" onerror="{js}">',
-                             layout=widgets.Layout(height="0px", overflow="hidden", margin="0"))
-        super().__init__([self._box, probe], layout=widgets.Layout(height="0px", margin="0",
-                                                                   overflow="hidden"))
-        self._box.observe(self._got, names="value")
-
-    def _got(self, change):
-        try:
-            r = float(change["new"])
-        except ValueError:
-            return
-        if np.isfinite(r) and r > 0:
-            self.ratio = r
+_PixelRatioProbe = PixelRatioProbe  # the old private name
 
 
 class AnnotationCanvas(widgets.VBox):
@@ -149,6 +123,10 @@ class AnnotationCanvas(widgets.VBox):
     pixel_ratio = traitlets.Float(2.0)
     #: Last pointer position in image pixels (x, y), or None.
     pointer = traitlets.Any(None)
+    #: Whether the annotations are drawn (the "eye" button); hiding them shows the image alone.
+    show_annotations = traitlets.Bool(True)
+    #: Opacity of the drawn annotations in (0, 1].
+    annotation_opacity = traitlets.Float(0.9)
 
     def __init__(self, image, *, mode: str = "polyline", labels: dict | None = None,
                  max_display: int = 640, model: AnnotationModel | None = None,
@@ -213,6 +191,8 @@ class AnnotationCanvas(widgets.VBox):
             ("+", "search-plus", "zoom in (mouse wheel)", lambda _: self.zoom_by(_WHEEL_STEP)),
             ("-", "search-minus", "zoom out (mouse wheel)", lambda _: self.zoom_by(1 / _WHEEL_STEP)),
             ("fit", "expand", "fit the image into the canvas", lambda _: self.fit()),
+            ("show", "eye", "hide / show the annotations (to see the image under them)",
+             lambda _: setattr(self, "show_annotations", not self.show_annotations)),
         ):
             b = widgets.Button(description="", icon=icon, tooltip=tip,
                                layout=widgets.Layout(width="34px", padding="0"))
@@ -299,7 +279,21 @@ class AnnotationCanvas(widgets.VBox):
 
     def _on_probe(self, change) -> None:
         if self._auto_ratio:
-            self.pixel_ratio = float(np.clip(round(change["new"] * 4) / 4, 1.0, 3.0))
+            self.pixel_ratio = backing_ratio(change["new"])
+
+    @traitlets.validate("annotation_opacity")
+    def _valid_opacity(self, proposal):
+        a = float(proposal["value"])
+        if not np.isfinite(a) or not 0 < a <= 1:
+            raise traitlets.TraitError(f"annotation_opacity must be in (0, 1], got {a}")
+        return a
+
+    @traitlets.observe("show_annotations", "annotation_opacity")
+    def _style_changed(self, change):
+        if "show" in getattr(self, "buttons", {}):
+            self.buttons["show"].icon = "eye" if self.show_annotations else "eye-slash"
+        if hasattr(self, "canvas"):
+            self._draw_shapes()
 
     @traitlets.observe("mode")
     def _mode_changed(self, change):
@@ -431,61 +425,90 @@ class AnnotationCanvas(widgets.VBox):
         return shape.meta.get("color", _KIND_COLOURS.get(shape.kind, "#ffffff"))
 
     def _line_width(self, shape) -> float:
-        return self._px(4 if shape.kind == "scribble" else 2)
+        return self._px(3 if shape.kind == "scribble" else 1.5)
 
     def _outline(self, c, pts, width) -> None:
         """A dark halo under a line: visible on light and dark images alike."""
-        c.stroke_style = "rgba(0,0,0,0.55)"
+        c.stroke_style = "rgba(0,0,0,0.6)"
         c.line_width = width + self._px(2)
+        c.line_join = "round"
         c.stroke_lines(pts)
 
+    def _dots(self, c, x, y, colour, radius: float) -> None:
+        """Vertex dots with a dark rim (radius in CSS pixels)."""
+        c.fill_style = "rgba(0,0,0,0.6)"
+        c.fill_circles(x, y, self._px(radius + 1))
+        c.fill_style = colour
+        c.fill_circles(x, y, self._px(radius))
+
+    def _vertex_marks(self, shape, x, y):
+        """Which vertices get a dot: all while they are far apart on screen, else the two ends.
+
+        A dense, extracted polyline with a dot at every vertex would cover
+        the very structure it annotates.
+        """
+        if len(x) <= 2:
+            return x, y
+        gaps = np.hypot(np.diff(x), np.diff(y))
+        if np.median(gaps) >= self._px(14) or self._open_index(shape):
+            return x, y
+        return x[[0, -1]], y[[0, -1]]
+
+    def _open_index(self, shape) -> bool:
+        return shape.kind == "polyline" and not shape.closed
+
     def _draw_shape(self, c, shape) -> None:
+        if not self.show_annotations:
+            return
         x, y = self.image_to_view(shape.points[:, 0], shape.points[:, 1])
         pts = np.column_stack([x, y])
         colour = self._colour(shape)
-        if shape.kind == "point":
-            c.fill_style = "#000000"
-            c.fill_circles(x, y, self._px(6))
-            c.fill_style = colour
-            c.fill_circles(x, y, self._px(4.5))
-            return
-        width = self._line_width(shape)
-        if len(pts) > 1:
-            self._outline(c, pts, width)
-            c.stroke_style = colour
-            c.line_width = width
-            c.stroke_lines(pts)
-        c.fill_style = colour
+        c.global_alpha = self.annotation_opacity
+        try:
+            if shape.kind == "point":
+                self._dots(c, x, y, colour, 4.5)
+                return
+            width = self._line_width(shape)
+            if len(pts) > 1:
+                self._outline(c, pts, width)
+                c.stroke_style = colour
+                c.line_width = width
+                c.stroke_lines(pts)
+            if shape.kind == "polyline":
+                if shape.radii is not None and self._open_index(shape):
+                    self._radii(c, x, y, shape.radii, colour)
+                mx, my = self._vertex_marks(shape, x, y)
+                self._dots(c, mx, my, colour, 2.0 if shape.closed else 3.0)
+            elif len(pts) == 1:
+                self._dots(c, x, y, colour, 2.0)
+        finally:
+            c.global_alpha = 1.0
+
+    def _radii(self, c, x, y, radii, colour) -> None:
+        c.global_alpha = 0.5 * self.annotation_opacity
         c.stroke_style = colour
-        if shape.kind == "polyline":
-            if shape.radii is not None:
-                c.global_alpha = 0.45
-                c.line_width = self._px(1)
-                c.stroke_circles(x, y, np.maximum(shape.radii * self.zoom, self._px(1)))
-                c.global_alpha = 1.0
-            c.fill_circles(x, y, self._px(3.5 if shape.closed else 4.5))
-        elif len(pts) == 1:
-            c.fill_circles(x, y, self._px(2))
+        c.line_width = self._px(1)
+        c.stroke_circles(x, y, np.maximum(np.asarray(radii) * self.zoom, self._px(1)))
+        c.global_alpha = self.annotation_opacity
 
     def _draw_appended(self, c, shape) -> None:
         """Only the newest segment and vertex of a shape (the rest is on the layer already)."""
+        if not self.show_annotations:
+            return
         p = shape.points[-2:]
         x, y = self.image_to_view(p[:, 0], p[:, 1])
         pts = np.column_stack([x, y])
         width = self._line_width(shape)
         colour = self._colour(shape)
+        c.global_alpha = self.annotation_opacity
         self._outline(c, pts, width)
         c.stroke_style = colour
         c.line_width = width
         c.stroke_lines(pts)
-        c.fill_style = colour
         if shape.radii is not None:
-            c.global_alpha = 0.45
-            c.line_width = self._px(1)
-            c.stroke_style = colour
-            c.stroke_circle(float(x[-1]), float(y[-1]), max(float(shape.radii[-1]) * self.zoom, self._px(1)))
-            c.global_alpha = 1.0
-        c.fill_circles(x, y, self._px(4.5))
+            self._radii(c, x[-1:], y[-1:], shape.radii[-1:], colour)
+        self._dots(c, x, y, colour, 3.0)
+        c.global_alpha = 1.0
 
     def _draw_shapes(self) -> None:
         c = self.canvas[2]
@@ -514,10 +537,13 @@ class AnnotationCanvas(widgets.VBox):
             x, y = self.image_to_view(s.points[:, 0], s.points[:, 1])
             c.stroke_style = "#ffffff"
             c.global_alpha = 0.8
-            c.line_width = self._line_width(s) + self._px(4)
+            c.line_width = self._line_width(s) + self._px(5)
             c.stroke_lines(np.column_stack([x, y]))
             c.global_alpha = 1.0
             self._draw_shape(c, s)
+            if s.radii is not None and self.show_annotations:
+                self._radii(c, x, y, s.radii, self._colour(s))
+                c.global_alpha = 1.0
         self._ring(c, *self.image_to_view(*s.points[j]))
 
     def redraw(self) -> None:
@@ -582,7 +608,7 @@ class AnnotationCanvas(widgets.VBox):
                 colour = self.labels.get(self.label, "#fff") if self.mode == "scribble" else _KIND_COLOURS["stroke"]
                 c.stroke_style = colour
                 c.fill_style = colour
-                c.line_width = self._px(4 if self.mode == "scribble" else 2)
+                c.line_width = self._px(3 if self.mode == "scribble" else 1.5)
                 c.line_cap = "round"
                 c.fill_circle(float(x), float(y), self._px(2))
         elif self.mode == "polyline":

@@ -168,7 +168,6 @@ class StatusLine(ErrorArea):
 
     def __init__(self, *, cancel: widgets.Button | None = None, **kwargs):
         super().__init__(**kwargs)
-        self.layout.display = None
         self.layout.min_height = "24px"
         self.layout.width = "100%"
         self.text = ""
@@ -192,6 +191,8 @@ class StatusLine(ErrorArea):
         self.value = (f"<div class='bnb-status bnb-status-{kind}' style='border-left:4px solid {fg};"
                       f"background:{bg};color:#212121;padding:3px 8px;font-size:13px;"
                       f"line-height:18px'>{body}</div>")
+        # Nothing to say yet (a fresh app): no empty strip.
+        self.layout.display = "none" if kind == "ready" and not text else None
 
     def info(self, text: str) -> None:
         """Show a message (keeps a visible error: it is replaced by the next success only)."""
@@ -208,7 +209,7 @@ class StatusLine(ErrorArea):
 
     def clear(self) -> None:
         self.last_error = self.last_traceback = None
-        self._render("ok" if self.text else "ready", self.text or "ready")
+        self._render("ok" if self.text else "ready", self.text)
 
     # -- busy state -----------------------------------------------------------
     def add_run_buttons(self, *buttons: widgets.Button) -> None:
@@ -224,6 +225,7 @@ class StatusLine(ErrorArea):
         if self.cancel_button is not None and cancellable:
             self.cancel_button.disabled = False
             self.cancel_button.layout.visibility = "visible"
+            self.cancel_button.layout.display = None
 
     def progress(self, fraction: float, text: str = "") -> None:
         """Show progress of the running work (``progress(fraction, text)`` of the core)."""
@@ -237,6 +239,7 @@ class StatusLine(ErrorArea):
         if self.cancel_button is not None:
             self.cancel_button.disabled = True
             self.cancel_button.layout.visibility = "hidden"
+            self.cancel_button.layout.display = "none"  # no empty space where it was
 
     @contextmanager
     def busy(self, name: str, *, message=None):

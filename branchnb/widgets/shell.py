@@ -76,7 +76,9 @@ from collections.abc import Callable, Sequence
 
 import ipywidgets as widgets
 
+from ._assets import KitStyle
 from .feedback import Cancelled, StatusLine
+from .files import FileBar
 
 __all__ = ["AppShell", "Cancelled"]
 
@@ -127,8 +129,9 @@ class AppShell(widgets.VBox):
         self.background = background
         self.cancel_button = widgets.Button(description="cancel", icon="stop", disabled=True,
                                             button_style="warning", tooltip="stop the running work "
-                                            "at its next step", layout=widgets.Layout(width="auto",
-                                                                                     visibility="hidden"))
+                                            "at its next step", layout=widgets.Layout(
+                                                width="auto", visibility="hidden", display="none",
+                                                flex="0 0 auto"))
         self.cancel_button.on_click(lambda _: self.cancel())
         self.status = StatusLine(cancel=self.cancel_button)
         self.buttons: dict[str, widgets.Button] = {}
@@ -144,7 +147,16 @@ class AppShell(widgets.VBox):
             f"</b><span style='color:#555;font-size:12px;white-space:normal'>{help}</span></div>")
         self.toolbar = widgets.HBox(layout=widgets.Layout(flex_flow="row wrap", align_items="center"))
         self._tools = widgets.HBox(layout=widgets.Layout(flex_flow="row wrap", align_items="center"))
-        self.toolbar.children = [self._tools, self.cancel_button]
+        self._file_tools = widgets.HBox(layout=widgets.Layout(flex_flow="row wrap", align_items="center",
+                                                              display="none"))
+        self.toolbar.children = [self._tools, self._file_tools]
+        self.toolbar.add_class("bnb-toolbar")
+        # The cancel button lives in the status row and shows only while cancellable work runs:
+        # hidden, it takes no room (no empty toolbar row).
+        self.status_row = widgets.HBox([self.status, self.cancel_button],
+                                       layout=widgets.Layout(align_items="center", width="100%"))
+        self.files: FileBar | None = None
+        self._links = widgets.VBox()
         self.main = widgets.VBox(layout=widgets.Layout(flex="0 1 auto", min_width="0"))
         self.result = widgets.VBox(layout=widgets.Layout(flex="1 1 300px", min_width="260px",
                                                          overflow="hidden"))
@@ -153,7 +165,7 @@ class AppShell(widgets.VBox):
         self.body = widgets.HBox([self.main, self.result, self.sidebar],
                                  layout=widgets.Layout(align_items="flex-start",
                                                        width="100%"))
-        super().__init__([self.header, self.toolbar, self.status, self.body],
+        super().__init__([KitStyle(), self.header, self.toolbar, self.status_row, self._links, self.body],
                          layout=widgets.Layout(width="100%"))
         self.add_class("bnb-app")
 
@@ -165,6 +177,21 @@ class AppShell(widgets.VBox):
         self.result.children = list(result)
         self.sidebar.children = list(sidebar)
         self.sidebar.layout.display = None if sidebar else "none"
+
+    def add_files(self, **hooks) -> FileBar:
+        """Give the app "open image", "save" and "load annotations" (see :class:`FileBar`).
+
+        ``hooks`` are :class:`FileBar`'s keyword arguments (``open``,
+        ``outputs``, ``annotations``, ``load``, ``name``, ``multiple``, ...);
+        errors and messages go to the status line.
+        """
+        if self.files is not None:
+            raise ValueError("add_files was called already")
+        self.files = FileBar(errors=self.status, **hooks)
+        self._file_tools.children = self.files.widgets
+        self._file_tools.layout.display = None if self.files.widgets else "none"
+        self._links.children = [self.files.links]
+        return self.files
 
     def add_tool(self, *items: widgets.Widget) -> None:
         """Put non-action widgets (a seed box, a checkbox) into the toolbar."""

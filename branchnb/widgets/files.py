@@ -1,0 +1,366 @@
+"""Open, save and load annotations: the same three buttons in every app.
+
+:class:`FileBar` gives an app
+
+- **open image**: a file upload; the chosen image(s) are decoded to the
+  project's float32 RGB(A) arrays and handed to the app's ``open`` hook;
+- **save**: what the app makes (its ``outputs`` hook: file name -> PNG,
+  SVG, glTF or JSON content) plus its annotations (the ``annotations``
+  hook) are checked (a PNG must decode, JSON and glTF must parse, an SVG
+  must be well-formed XML) and written into a folder; each file also gets
+  a download link, which is how a page served by ``branchnb app`` (Voilà)
+  hands files to its user;
+- **load annotations**: a JSON file written by "save" (or by
+  :func:`canvases_json`) goes to the app's ``load`` hook.
+
+The hooks are plain callables, so each app adds only a few lines; scripts
+call :meth:`FileBar.save`, :meth:`FileBar.open_files` and
+:meth:`FileBar.load_text` directly.
+
+Examples
+--------
+>>> import numpy as np, tempfile
+>>> from branchnb.widgets.feedback import ErrorArea
+>>> bar = FileBar(errors=ErrorArea(), name="demo", outputs=lambda: {"grey.png": np.full((4, 4, 3), 0.5)},
+...               annotations=lambda: '{"shapes": []}')
+>>> bar.folder.value = tempfile.mkdtemp()
+>>> sorted(p.name for p in bar.save())
+['demo_annotations.json', 'demo_grey.png']
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import json
+import os
+import xml.etree.ElementTree as ET
+from collections.abc import Callable, Mapping
+from pathlib import Path
+
+import cv2
+import ipywidgets as widgets
+import numpy as np
+
+from ..core.image import as_float_image
+from ..core.io import encode_png
+
+__all__ = ["FileBar", "decode_image", "check_file", "canvases_json", "load_canvases"]
+
+#: Files larger than this get no download link (a data URL of that size would stall the page).
+LINK_LIMIT = 40 * 2**20
+
+_MIME = {".png": "image/png", ".svg": "image/svg+xml", ".json": "application/json",
+         ".gltf": "model/gltf+json", ".bin": "application/octet-stream", ".txt": "text/plain"}
+
+
+def decode_image(data, name: str = "image") -> np.ndarray:
+    """Decode image file bytes (PNG, JPEG, TIFF, BMP, WebP ...) to float32 RGB(A) in [0, 1].
+
+    Raises
+    ------
+    ValueError
+        The bytes are no image OpenCV can read; the message names the file.
+
+    Examples
+    --------
+    >>> decode_image(encode_png(np.ones((2, 3, 3)))).shape
+    (2, 3, 3)
+    """
+    buf = np.frombuffer(bytes(data), np.uint8)
+    raw = cv2.imdecode(buf, cv2.IMREAD_UNCHANGED) if buf.size else None
+    if raw is None:
+        raise ValueError(f"{name}: not an image file that can be read (PNG, JPEG, TIFF, BMP or WebP)")
+    if raw.ndim == 3:
+        raw = cv2.cvtColor(raw, cv2.COLOR_BGRA2RGBA if raw.shape[2] == 4 else cv2.COLOR_BGR2RGB)
+    return as_float_image(raw, name=name)
+
+
+def _strict_json(text: str, name: str):
+    def reject(token):
+        raise ValueError(f"{name}: {token} is not valid JSON")
+
+    try:
+        return json.loads(text, parse_constant=reject)
+    except json.JSONDecodeError as exc:
+        raise ValueError(f"{name}: not valid JSON ({exc})") from None
+
+
+def check_file(name: str, data: bytes, siblings: Mapping[str, bytes] | None = None) -> None:
+    """Raise ``ValueError`` unless ``data`` is a valid file of the kind its name says.
+
+    PNG: decodes. JSON: parses (no NaN or Infinity). SVG: well-formed XML
+    with an ``<svg>`` root. glTF: JSON with ``asset.version == "2.0"``,
+    whose external ``uri`` s are among ``siblings`` (the other files
+    written with it).
+
+    Examples
+    --------
+    >>> check_file("a.json", b'{"x": 1}')
+    >>> check_file("a.json", b'{"x": NaN}')
+    Traceback (most recent call last):
+    ...
+    ValueError: a.json: NaN is not valid JSON
+    """
+    ext = Path(name).suffix.lower()
+    if ext == ".png":
+        if cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED) is None:
+            raise ValueError(f"{name}: the PNG does not decode")
+    elif ext in (".json", ".gltf"):
+        d = _strict_json(data.decode("utf-8"), name)
+        if ext == ".gltf":
+            if not isinstance(d, dict) or str(d.get("asset", {}).get("version")) != "2.0":
+                raise ValueError(f"{name}: not a glTF 2.0 file (asset.version is not '2.0')")
+            for key in ("buffers", "images"):
+                for item in d.get(key, []):
+                    uri = item.get("uri", "")
+                    if uri and not uri.startswith("data:") and uri not in (siblings or {}):
+                        raise ValueError(f"{name}: {key} refers to {uri!r}, which is not written with it")
+    elif ext == ".svg":
+        try:
+            root = ET.fromstring(data)
+        except ET.ParseError as exc:
+            raise ValueError(f"{name}: not well-formed SVG ({exc})") from None
+        if not root.tag.endswith("svg"):
+            raise ValueError(f"{name}: the root element is <{root.tag}>, not <svg>")
+
+
+def _as_bytes(name: str, content) -> bytes:
+    if isinstance(content, (bytes, bytearray, memoryview)):
+        return bytes(content)
+    if isinstance(content, str):
+        return content.encode("utf-8")
+    if isinstance(content, np.ndarray) and Path(name).suffix.lower() == ".png":
+        return encode_png(content)
+    if isinstance(content, (dict, list)):
+        return json.dumps(content, allow_nan=False, indent=1).encode("utf-8")
+    raise TypeError(f"output {name!r}: give bytes, str, a dict, or an image array for a .png, "
+                    f"got {type(content).__name__}")
+
+
+def _safe_name(name: str) -> str:
+    if not isinstance(name, str) or not name or "/" in name or "\\" in name or name.startswith("."):
+        raise ValueError(f"output file name must be a plain file name, got {name!r}")
+    return name
+
+
+def canvases_json(canvases: Mapping, *, app: str = "", extra: Mapping | None = None) -> str:
+    """The annotations of several canvases (name -> AnnotationCanvas or AnnotationModel) as one JSON text.
+
+    ``extra`` holds what else the app needs to restore its work (layer
+    names and colours, weights, ...); it must be plain JSON.
+    """
+    d = {"format": "branchnb-annotations", "version": 1, "app": app,
+         "canvases": {k: getattr(c, "model", c).to_dict() for k, c in canvases.items()},
+         "extra": dict(extra or {})}
+    return json.dumps(d, allow_nan=False)
+
+
+def load_canvases(text, canvases: Mapping, *, app: str = "") -> dict:
+    """Restore what :func:`canvases_json` wrote; returns its ``extra``.
+
+    A plain :meth:`AnnotationModel.to_json` text is accepted too (it goes to
+    the first canvas). Every canvas is checked before any is changed.
+
+    Raises
+    ------
+    ValueError
+        Not annotation JSON, written by another app, or naming a canvas this app does not have.
+    """
+    if isinstance(text, (bytes, bytearray)):
+        text = bytes(text).decode("utf-8")
+    if not isinstance(text, str):
+        raise TypeError(f"text must be the JSON text, got {type(text).__name__}")
+    d = _strict_json(text, "annotations")
+    if not isinstance(d, dict):
+        raise ValueError("annotations: expected a JSON object")
+    if "canvases" not in d:
+        if "shapes" not in d:
+            raise ValueError("annotations: neither 'canvases' (a file saved by an app) nor 'shapes'")
+        d = {"canvases": {next(iter(canvases)): d}, "app": app}
+    if app and d.get("app") and d["app"] != app:
+        raise ValueError(f"annotations: these were saved by the {d['app']!r} app, not {app!r}")
+    parts = d["canvases"]
+    if not isinstance(parts, dict):
+        raise ValueError("annotations: 'canvases' must be an object")
+    unknown = set(parts) - set(canvases)
+    if unknown:
+        raise ValueError(f"annotations: no canvas named {sorted(unknown)}; this app has {list(canvases)}")
+    from .model import AnnotationModel
+
+    for v in parts.values():
+        AnnotationModel.from_json(v)  # raises before anything changes
+    for k, v in parts.items():
+        getattr(canvases[k], "model", canvases[k]).load_json(v)
+    extra = d.get("extra", {})
+    return extra if isinstance(extra, dict) else {}
+
+
+class FileBar:
+    """The open / save / load-annotations controls of one app.
+
+    Parameters
+    ----------
+    errors : ErrorArea or StatusLine
+        Where errors and "wrote ..." messages go.
+    name : str
+        Prefix of the saved files (``<name>_<output>``).
+    open : callable, optional
+        ``open(images)`` with a list of ``(file name, float32 image)``;
+        may return a message. No "open image" button without it.
+    open_label : str
+    multiple : bool
+        Whether several images can be chosen at once (exemplars).
+    outputs : callable, optional
+        ``outputs() -> {file name: content}`` (bytes, str, dict, or an
+        image array for ``.png``) of what the technique made.
+    annotations : callable, optional
+        ``annotations() -> str`` (JSON), saved as ``<name>_annotations.json``.
+    load : callable, optional
+        ``load(text)``: restore annotations. No "load annotations" button without it.
+    folder : str
+        Where "save" writes (relative to the kernel's working folder).
+    """
+
+    def __init__(self, *, errors, name: str = "branchnb", open: Callable | None = None,
+                 open_label: str = "open image", multiple: bool = False,
+                 outputs: Callable | None = None, annotations: Callable | None = None,
+                 load: Callable | None = None, folder: str = "branchnb-out"):
+        for arg, fn in (("open", open), ("outputs", outputs), ("annotations", annotations), ("load", load)):
+            if fn is not None and not callable(fn):
+                raise TypeError(f"{arg} must be callable, got {type(fn).__name__}")
+        self.errors = errors
+        self.name = _safe_name(str(name))
+        self._open, self._outputs, self._annotations, self._load = open, outputs, annotations, load
+        self.widgets: list[widgets.Widget] = []
+        self.upload = None
+        if open is not None:
+            self.upload = widgets.FileUpload(accept="image/*", multiple=bool(multiple), description=open_label,
+                                             icon="folder-open", layout=widgets.Layout(width="auto"))
+            self.upload.tooltip = ("load your own image" + ("s (choose several)" if multiple else "")
+                                   + "; PNG keeps transparency")
+            self.upload.observe(errors.guard(lambda ch: self._uploaded(ch["new"])), names="value")
+            self.widgets.append(self.upload)
+        self.save_button = None
+        self.folder = widgets.Text(value=str(folder), placeholder="folder", tooltip="folder that 'save' "
+                                   "writes into (relative to the notebook)",
+                                   layout=widgets.Layout(width="150px"))
+        if outputs is not None or annotations is not None:
+            self.save_button = widgets.Button(description="save", icon="download", layout=widgets.Layout(
+                width="auto"), tooltip="write the result and the annotations (PNG/SVG/JSON ...) into the "
+                "folder on the right; download links appear below")
+            self.save_button.on_click(errors.guard(lambda _b: self._saved()))
+            self.widgets += [self.save_button, self.folder]
+        self.annotation_upload = None
+        if load is not None:
+            self.annotation_upload = widgets.FileUpload(accept=".json,application/json", multiple=False,
+                                                        description="load annotations", icon="upload",
+                                                        layout=widgets.Layout(width="auto"))
+            self.annotation_upload.tooltip = "restore annotations saved earlier (a *_annotations.json)"
+            self.annotation_upload.observe(errors.guard(lambda ch: self._annotations_uploaded(ch["new"])),
+                                           names="value")
+            self.widgets.append(self.annotation_upload)
+        self.links = widgets.HTML(layout=widgets.Layout(display="none"))
+        self.links.add_class("bnb-links")
+        self.written: list[Path] = []
+
+    # -- opening ----------------------------------------------------------------------
+    def open_files(self, files) -> object:
+        """Decode ``files`` (a list of ``(name, bytes)``) and hand them to the app's ``open`` hook."""
+        if self._open is None:
+            raise ValueError("this app opens no images")
+        images = [(str(n), decode_image(b, str(n))) for n, b in files]
+        if not images:
+            raise ValueError("no file chosen")
+        return self._open(images)
+
+    def _uploaded(self, value) -> None:
+        if not value:
+            return
+        try:
+            out = self.open_files([(f["name"], f["content"]) for f in value])
+        finally:
+            self._reset(self.upload)
+        names = ", ".join(f["name"] for f in value)
+        self.errors.info(f"opened {names}" + (f" | {out}" if isinstance(out, str) else ""))
+
+    def load_text(self, text) -> object:
+        """Restore annotations from JSON text (what "load annotations" does with the file)."""
+        if self._load is None:
+            raise ValueError("this app loads no annotations")
+        return self._load(text)
+
+    def _annotations_uploaded(self, value) -> None:
+        if not value:
+            return
+        try:
+            f = value[0]
+            self.load_text(bytes(f["content"]).decode("utf-8"))
+        finally:
+            self._reset(self.annotation_upload)
+        self.errors.info(f"loaded annotations from {f['name']}")
+
+    @staticmethod
+    def _reset(upload) -> None:
+        # the same file chosen again must fire again
+        try:
+            upload.value = ()
+        except Exception:  # noqa: BLE001 - older ipywidgets keep it; harmless
+            pass
+
+    # -- saving ----------------------------------------------------------------------------
+    def contents(self) -> dict[str, bytes]:
+        """What "save" writes: ``{file name: bytes}``, every file checked (see :func:`check_file`)."""
+        files: dict[str, bytes] = {}
+        outs = self._outputs() if self._outputs is not None else {}
+        if not isinstance(outs, Mapping):
+            raise TypeError(f"the app's outputs hook must return a dict, got {type(outs).__name__}")
+        for n, content in outs.items():
+            files[f"{self.name}_{_safe_name(n)}"] = _as_bytes(n, content)
+        if self._annotations is not None:
+            files[f"{self.name}_annotations.json"] = _as_bytes("annotations.json", self._annotations())
+        if not files:
+            raise ValueError("nothing to save yet")
+        # a glTF names its buffers and atlas without the prefix: those files are written beside it
+        siblings = {n[len(self.name) + 1:]: b for n, b in files.items()} | files
+        for n, b in files.items():
+            check_file(n, b, siblings)
+        return files
+
+    def save(self, folder=None) -> list[Path]:
+        """Write :meth:`contents` into ``folder`` (default: the folder box); returns the paths."""
+        files = self.contents()
+        out = Path(self.folder.value if folder is None else folder).expanduser()
+        if not str(out).strip():
+            raise ValueError("folder is empty: type a folder name ('.' for the notebook's folder)")
+        if out.exists() and not out.is_dir():
+            raise ValueError(f"folder {str(out)!r} is an existing file")
+        out.mkdir(parents=True, exist_ok=True)
+        paths = []
+        for n, b in files.items():
+            p = out / n
+            tmp = out / f".{n}.part"
+            tmp.write_bytes(b)
+            os.replace(tmp, p)  # never a half-written file under the real name
+            paths.append(p)
+        self.written = paths
+        self._show_links(out, files)
+        return paths
+
+    def _saved(self) -> None:
+        paths = self.save()
+        self.errors.info(f"saved {len(paths)} file{'s' * (len(paths) != 1)} to {paths[0].parent.resolve()}")
+
+    def _show_links(self, folder: Path, files: Mapping[str, bytes]) -> None:
+        links = []
+        for n, b in files.items():
+            if len(b) > LINK_LIMIT:
+                links.append(html.escape(n))
+                continue
+            mime = _MIME.get(Path(n).suffix.lower(), "application/octet-stream")
+            href = f"data:{mime};base64,{base64.b64encode(b).decode('ascii')}"
+            links.append(f"<a download='{html.escape(n, quote=True)}' href='{href}'>{html.escape(n)}</a>")
+        self.links.value = (f"<div style='font-size:12px;line-height:18px'>saved to "
+                            f"<code>{html.escape(str(folder.resolve()))}</code>; download: "
+                            + " ".join(links) + "</div>")
+        self.links.layout.display = None
