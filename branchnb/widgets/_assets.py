@@ -78,6 +78,7 @@ _CSS = """
 .bnb-view img{cursor:zoom-in}
 .bnb-view img.bnb-big{cursor:zoom-out;image-rendering:pixelated;position:relative;z-index:5}
 .bnb-view .widget-vbox{overflow:visible}
+.bnb-stale img{opacity:0.45;filter:grayscale(0.6)}
 .bnb-app .bnb-help summary{cursor:pointer;color:#1565c0;font-size:12px}
 .bnb-app .bnb-help{font-size:12px;color:#444;line-height:16px;margin:0 0 4px 2px}
 .bnb-app .bnb-help ul{margin:2px 0 2px 14px;padding:0}

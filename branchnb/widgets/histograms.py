@@ -7,6 +7,7 @@ import numpy as np
 from ipycanvas import Canvas
 
 from ..core.histogram import METRICS, HistogramComparison, compare_samples
+from ._assets import PixelRatioProbe, backing_ratio
 from ._draw import batched
 from .feedback import ErrorArea
 
@@ -30,7 +31,10 @@ class HistogramCompare(widgets.VBox):
         ``l1``, ``l2sq``, ``chi2`` or ``emd`` (see :mod:`branchnb.core.histogram`).
     title : str
     width, height : int
-        Canvas size in pixels.
+        Canvas size in CSS pixels; the backing store has ``pixel_ratio``
+        device pixels per CSS pixel (the browser's ``devicePixelRatio``,
+        reported by a hidden probe; 2 until it is known), so the plot is
+        sharp on HiDPI screens.
 
     Examples
     --------
@@ -53,13 +57,44 @@ class HistogramCompare(widgets.VBox):
         self.metric = metric
         self.title = title
         self.comparison: HistogramComparison | None = None
-        self.canvas = Canvas(width=width, height=height)
-        self.canvas.layout.width = f"{width}px"
+        self.css_width, self.css_height = int(width), int(height)
+        self.pixel_ratio = 2.0
+        self.canvas = Canvas(width=1, height=1)
         self.canvas.layout.max_width = "100%"
         self.caption = widgets.HTML()
         self.errors = ErrorArea()
-        super().__init__([self.canvas, self.caption, self.errors])
-        self._draw_empty()
+        self._probe = PixelRatioProbe()
+        super().__init__([self.canvas, self.caption, self.errors, self._probe])
+        self.add_class("bnb-hist")
+        self._probe.observe(self.errors.guard(self._on_probe, action=False), names="ratio")
+        self._size()
+
+    def _on_probe(self, change) -> None:
+        r = backing_ratio(change["new"])
+        if r != self.pixel_ratio:
+            self.pixel_ratio = r
+            self._size()
+
+    def resize(self, width: int, height: int | None = None) -> None:
+        """Change the plot's size in CSS pixels (e.g. to fit a column) and redraw."""
+        for arg, v in (("width", width), ("height", height if height is not None else self.css_height)):
+            if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 32 <= v <= 4096:
+                raise ValueError(f"{arg} must be an int in [32, 4096] (pixels), got {v!r}")
+        self.css_width = int(width)
+        if height is not None:
+            self.css_height = int(height)
+        self._size()
+
+    def _size(self) -> None:
+        r = self.pixel_ratio
+        self.canvas.width = int(round(self.css_width * r))
+        self.canvas.height = int(round(self.css_height * r))
+        self.canvas.layout.width = f"{self.css_width}px"
+        self.canvas.layout.height = f"{self.css_height}px"
+        if self.comparison is None:
+            self._draw_empty()
+        else:
+            self._draw()
 
     def update(self, *samples, labels=None, range=None) -> None:
         """Bin ``samples`` together (the first is the reference) and redraw."""
@@ -86,15 +121,18 @@ class HistogramCompare(widgets.VBox):
         c = self.canvas
         with batched():
             c.clear()
+            c.save()
+            c.scale(self.pixel_ratio)
             c.fill_style = "#888"
             c.font = "12px sans-serif"
             c.fill_text(f"{self.title}: no data yet" if self.title else "no data yet", 10, 20)
+            c.restore()
 
     def _draw(self) -> None:
         cmp = self.comparison
         k, nb = cmp.hists.shape
         c = self.canvas
-        w, h = c.width, c.height
+        w, h = self.css_width, self.css_height
         panels = k + 1  # one per sample, plus the overlay
         pad, top, bottom = 8, 20, 18
         pw = (w - pad * (panels + 1)) / panels
@@ -103,6 +141,8 @@ class HistogramCompare(widgets.VBox):
         bw = pw / nb
         with batched():
             c.clear()
+            c.save()
+            c.scale(self.pixel_ratio)  # draw in CSS pixels; the backing store has pixel_ratio per CSS pixel
             c.font = "12px sans-serif"
             for i in range(panels):
                 x0 = pad + i * (pw + pad)
@@ -131,6 +171,7 @@ class HistogramCompare(widgets.VBox):
                 c.text_align = "right"
                 c.fill_text(f"{cmp.edges[-1]:.3g}", x0 + pw, top + ph + 13)
                 c.text_align = "left"
+            c.restore()
         rows = " &nbsp; ".join(
             f"<span style='color:{PALETTE[j % len(PALETTE)]}'>&#9632;</span> {cmp.labels[j]} vs "
             f"{cmp.labels[0]}: <b>{self.metric} = {cmp.distances[j]:.3g}</b>"

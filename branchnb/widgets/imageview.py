@@ -40,7 +40,9 @@ class ImageView(widgets.HBox):
     titles : sequence of str
     fast : bool
     width : int
-        Display width of each image in CSS pixels.
+        Display width of each image in CSS pixels; a narrower image is shown
+        at its own size, never enlarged (click an image in the browser to
+        see it at its own resolution, or twice its size when it is small).
     max_size : int, optional
         Shrink images whose long side exceeds this before sending them
         (e.g. twice ``width`` for sharp HiDPI display without sending a
@@ -69,11 +71,27 @@ class ImageView(widgets.HBox):
         self.images: list[widgets.Image] = []
         self.titles: list[widgets.HTML] = []
         self._title_text: list[str] = []
+        #: Whether :meth:`mark_stale` greyed the images (until the next :meth:`update`).
+        self.stale = False
         if len(images):
             self.update(images, titles)
 
+    def mark_stale(self, note: str = "out of date") -> None:
+        """Mark the shown images as no longer matching the input (greyed, titles prefixed with ``note``).
+
+        The next :meth:`update` clears the mark.
+        """
+        self.stale = True
+        self.add_class("bnb-stale")
+        for i, t in enumerate(self.title_texts):
+            if not t.startswith(note):
+                self.set_title(i, f"{note}: {t}" if t else note)
+
     def update(self, images, titles=None) -> None:
         """Replace the images (widgets are reused when the count is unchanged)."""
+        if self.stale:
+            self.stale = False
+            self.remove_class("bnb-stale")
         images = list(images) if not hasattr(images, "ndim") else [images]
         if titles is None:
             titles = self.title_texts[: len(images)]
@@ -90,20 +108,28 @@ class ImageView(widgets.HBox):
             self.children = [widgets.VBox([t, im], layout=widgets.Layout(max_width="100%", min_width="0"))
                              for t, im in zip(self.titles, self.images)]
         for i, (img, title) in enumerate(zip(images, titles)):
-            data, fmt = _encode(self._shrink(img), self.fast)
-            self.images[i].format = fmt
-            self.images[i].value = data
+            self._put(i, img)
             self.set_title(i, title)
 
     def update_one(self, index: int, image, title: str | None = None) -> None:
         """Replace one image (and its title) in place."""
         if not 0 <= index < len(self.images):
             raise ValueError(f"index {index} out of range for {len(self.images)} images")
-        data, fmt = _encode(self._shrink(image), self.fast)
-        self.images[index].format = fmt
-        self.images[index].value = data
+        self._put(index, image)
         if title is not None:
             self.set_title(index, title)
+
+    def _put(self, i: int, image) -> None:
+        small = self._shrink(image)
+        data, fmt = _encode(small, self.fast)
+        w = np.asarray(small).shape[1] if np.ndim(small) >= 2 else self.width
+        # Never enlarged: an image narrower than the view width is shown at its own size
+        # (a click on it enlarges it, see the kit's stylesheet).
+        width = f"{min(self.width, int(w))}px"
+        if self.images[i].layout.width != width:
+            self.images[i].layout.width = width
+        self.images[i].format = fmt
+        self.images[i].value = data
 
     def set_title(self, index: int, title: str) -> None:
         """Change one image's title (e.g. to mark it out of date)."""

@@ -27,7 +27,7 @@ from .feedback import ErrorArea
 __all__ = ["ParamPanel", "LABEL_WIDTH", "SLIDER_WIDTH", "READOUT_WIDTH"]
 
 #: Geometry shared by every control row (pixels), so that sliders line up.
-LABEL_WIDTH, SLIDER_WIDTH, READOUT_WIDTH = 128, 118, 62
+LABEL_WIDTH, SLIDER_WIDTH, READOUT_WIDTH = 150, 104, 56
 
 
 def _nice_step(span: float) -> float:
@@ -117,10 +117,15 @@ class _Row:
         w.tooltip = help_text
         self.widget = w
         sym = f" <i style='color:#555'>{html.escape(symbol)}</i>" if symbol else ""
+        self.text, self.symbol, self.help = label, symbol, help_text
+        tip = f"{label}{f' ({symbol})' if symbol else ''}: {help_text}" if help_text else label
+        # One line whatever the label's length: a long one ends in "..." (the full text is the
+        # tooltip and the section's help list).
         self.label = widgets.HTML(
-            f"<span title='{html.escape(help_text, quote=True)}' style='font-size:12px;"
-            f"line-height:14px'>{html.escape(label)}{sym}</span>",
-            layout=widgets.Layout(width=f"{LABEL_WIDTH}px", margin="0 4px 0 0"))
+            f"<div class='bnb-param-label' title='{html.escape(tip, quote=True)}' style='white-space:nowrap;"
+            f"overflow:hidden;text-overflow:ellipsis;font-size:12px;line-height:28px'>"
+            f"{html.escape(label)}{sym}</div>",
+            layout=widgets.Layout(width=f"{LABEL_WIDTH}px", margin="0 4px 0 0", overflow="hidden"))
         self.label.tooltip = help_text
         parts = [self.label, w]
         self.readout = None
@@ -315,7 +320,8 @@ class ParamPanel(widgets.VBox):
 
     def _group(self, sections, closed) -> list[widgets.Widget]:
         if not sections:
-            return [widgets.VBox([r.box for r in self.rows.values()])]
+            rows = list(self.rows.values())
+            return [widgets.VBox([self._help(rows)] + [r.box for r in rows])]
         out, used = [], set()
         groups = []
         for title, names in sections:
@@ -331,11 +337,26 @@ class ParamPanel(widgets.VBox):
         if rest:
             groups.append(("other", rest))
         for title, rows in groups:
-            acc = widgets.Accordion(children=[widgets.VBox([r.box for r in rows])], titles=(title,),
+            acc = widgets.Accordion(children=[widgets.VBox([self._help(rows)] + [r.box for r in rows])],
+                                    titles=(title,),
                                     selected_index=None if title in closed else 0)
             acc.layout.margin = "0 0 2px 0"
             out.append(acc)
         return out
+
+    @staticmethod
+    def _help(rows) -> widgets.HTML:
+        """A visible "? what these do" line per section: each field's label, symbol and help."""
+        items = "".join(
+            f"<li><b>{html.escape(r.text)}</b>{f' <i>{html.escape(r.symbol)}</i>' if r.symbol else ''}"
+            f"{': ' + html.escape(r.help) if r.help else ''}</li>" for r in rows)
+        box = widgets.HTML(
+            "<details class='bnb-help' style='font-size:12px;color:#444;line-height:16px;margin:0 0 4px 2px'>"
+            "<summary style='cursor:pointer;color:#1565c0'>? what these do</summary>"
+            f"<ul style='margin:2px 0 2px 14px;padding:0'>{items}</ul></details>",
+            layout=widgets.Layout(width="100%"))
+        box.add_class("bnb-help-box")
+        return box
 
     # -- values -------------------------------------------------------------------
     @property
