@@ -1,20 +1,77 @@
-"""Command line: ``branchnb lab``, ``branchnb gallery OUTDIR``, ``branchnb batch SPEC OUTDIR``, ``branchnb bench``."""
+"""The branchnb command line: lab, app, gallery, batch and bench."""
 
 from __future__ import annotations
 
 import argparse
 import os
+import secrets
 import signal
+import socket
 import subprocess
 import sys
 import tempfile
+import textwrap
+import time
+import urllib.parse
 from pathlib import Path
 
 TOUR = Path(__file__).resolve().parent.parent / "notebooks" / "00_tour.ipynb"
 
+DESCRIPTION = """\
+branchnb: five computer-graphics techniques for branching and natural
+structures, as a numpy library and Jupyter apps.
+
+commands:
+  lab [NOTEBOOK]         JupyterLab on the tour notebook (prints its URL)
+  app NAME [IMAGE ...]   one technique's app as a web page (Voila)
+  gallery OUTDIR         one example per technique as PNGs + index.html
+  batch SPEC OUTDIR      many variations from a JSON/TOML spec on Dask
+  bench                  speed figures, each against its anchor
+
+Run "branchnb COMMAND --help" for a command's options.
+"""
+
+
+#: ``branchnb app`` NAME -> what it is and what IMAGE means (the names of branchnb.widgets.apps.APPS).
+APP_HELP = {
+    "branching": "branching structures from an annotated example (IMAGE: the example)",
+    "dendrite": "dendritic stylization, trees and pareidolia by path planning (IMAGE: the picture)",
+    "trees": "tree variations from a library (IMAGE ...: two or more RGBA tree cut-outs)",
+    "strokes": "stroke-based editing of an object (IMAGE: the object, cut out or on plain ground)",
+    "leaves": "leaf variations by structural layering (IMAGE ...: two or more leaves of one kind)",
+}
+
 
 class CommandError(Exception):
     """A user error on the command line: printed as one line, exit status 1 (no traceback)."""
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def _option(args, *names):
+    """The value of the last ``--name=value`` / ``--name value`` among ``args`` (None if absent)."""
+    value = None
+    for i, a in enumerate(args):
+        for n in names:
+            if a.startswith(n + "="):
+                value = a.split("=", 1)[1]
+            elif a == n and i + 1 < len(args) and not args[i + 1].startswith("-"):
+                value = args[i + 1]
+    return value
+
+
+def _has_browser() -> bool:
+    import webbrowser
+
+    try:
+        webbrowser.get()
+    except webbrowser.Error:
+        return False
+    return True
 
 
 def lab_command(notebook=None, extra=()) -> list[str]:
@@ -35,7 +92,57 @@ def lab_command(notebook=None, extra=()) -> list[str]:
     return cmd + list(extra)
 
 
-def run_lab(cmd: list[str]) -> int:
+def lab_setup(notebook=None, extra=(), *, env=None) -> tuple[list[str], dict, str]:
+    """Command, environment and the one URL ``branchnb lab`` prints.
+
+    The server listens on 127.0.0.1 (unless ``--ip`` is given) on a free
+    port with a fresh token (or the ones given), its root folder is the
+    notebook's, and the URL opens the notebook itself, not the launcher,
+    in any browser (a remote or headless machine included). JupyterLab's own
+    start-up messages are turned down to warnings so that this URL is not
+    buried; a local browser, when there is one, opens it.
+    """
+    extra = list(extra)
+    env = dict(os.environ if env is None else env)
+    nb = Path(notebook) if notebook else (TOUR if TOUR.is_file() else None)
+    if nb is not None and not nb.is_file():
+        raise CommandError(f"NOTEBOOK {str(nb)!r} is not a file")
+    opts = []
+    root = _option(extra, "--ServerApp.root_dir", "--notebook-dir", "--ServerApp.notebook_dir")
+    if nb is not None and root is None:
+        root = str(nb.resolve().parent)
+        opts.append(f"--ServerApp.root_dir={root}")
+    ip = _option(extra, "--ip", "--ServerApp.ip")
+    if ip is None:
+        ip = "127.0.0.1"
+        opts.append(f"--ServerApp.ip={ip}")
+    port = _option(extra, "--port", "--ServerApp.port")
+    if port is None:
+        port = str(_free_port())
+        opts += [f"--ServerApp.port={port}", "--ServerApp.port_retries=0"]
+    token = _option(extra, "--IdentityProvider.token", "--ServerApp.token", "--NotebookApp.token", "--token")
+    if token is None:
+        token = env.get("JUPYTER_TOKEN") or secrets.token_hex(24)
+        # Through the environment, not an option that ``ps`` would show; given, not generated,
+        # JupyterLab prints no URL of its own, so the one printed here is the only one.
+        env["JUPYTER_TOKEN"] = token
+    if not any(a.startswith(("--log-level", "--ServerApp.log_level")) for a in extra):
+        opts += ["--ServerApp.log_level=WARN", "--LabApp.log_level=WARN"]
+    if "--no-browser" not in extra and not _has_browser():
+        opts.append("--no-browser")
+    path = "/lab"
+    if nb is not None:
+        try:
+            rel = nb.resolve().relative_to(Path(root).resolve())
+        except ValueError:
+            raise CommandError(f"NOTEBOOK {str(nb)!r} is not inside the root folder {root!r}") from None
+        path = "/lab/tree/" + urllib.parse.quote(rel.as_posix())
+    host = "127.0.0.1" if ip in ("", "0.0.0.0", "::", "*") else ip
+    url = f"http://{host}:{port}{path}" + (f"?token={token}" if token else "")
+    return lab_command(nb, opts + extra), env, url
+
+
+def run_lab(cmd: list[str], env: dict | None = None) -> int:
     """Run JupyterLab so that signals reach it.
 
     On POSIX the process *becomes* the server (``exec``): SIGTERM, SIGINT and
@@ -45,9 +152,10 @@ def run_lab(cmd: list[str]) -> int:
     """
     sys.stdout.flush()
     sys.stderr.flush()
+    env = dict(os.environ) if env is None else env
     if os.name == "posix":
-        os.execv(cmd[0], cmd)  # does not return
-    child = subprocess.Popen(cmd)  # pragma: no cover - not POSIX
+        os.execve(cmd[0], cmd, env)  # does not return
+    child = subprocess.Popen(cmd, env=env)  # pragma: no cover - not POSIX
 
     def forward(signum, _frame):  # pragma: no cover
         child.send_signal(signum)
@@ -80,23 +188,113 @@ def writable_dir(outdir, *, name: str = "OUTDIR") -> Path:
     return path
 
 
+def _open_browser_later(url: str, probe: str, timeout: float = 120.0) -> None:
+    """Open ``url`` in the local browser once ``probe`` answers (a detached helper process).
+
+    The server replaces this process (``exec``), so the wait cannot run here.
+    """
+    code = ("import sys, time, urllib.request, webbrowser\n"
+            "t = time.time() + float(sys.argv[3])\n"
+            "while time.time() < t:\n"
+            "    try:\n"
+            "        urllib.request.urlopen(sys.argv[2], timeout=2); break\n"
+            "    except Exception:\n"
+            "        time.sleep(0.5)\n"
+            "else:\n"
+            "    sys.exit(0)\n"
+            "webbrowser.open(sys.argv[1])\n")
+    subprocess.Popen([sys.executable, "-c", code, url, probe, str(timeout)], stdin=subprocess.DEVNULL,
+                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+
+
+def app_setup(name: str, images=(), extra=(), *, folder=None, env=None) -> tuple[list[str], dict, str]:
+    """Command, environment and URL of ``branchnb app NAME [IMAGE ...]`` (a Voila page of one app).
+
+    The page's notebook (one cell: :func:`branchnb.widgets.apps.open_app`)
+    is written into ``folder`` (a new temporary folder by default); Voila
+    runs it and shows the app alone, without code cells. The server listens
+    on 127.0.0.1 on a free port and asks for a fresh token, like ``branchnb lab``.
+    """
+    if name not in APP_HELP:
+        raise CommandError(f"NAME must be one of {', '.join(APP_HELP)}; got {name!r}")
+    from .widgets.apps import read_images
+
+    paths = [str(Path(p).resolve()) for p in images]
+    try:
+        read_images(paths)  # a bad IMAGE fails here, with its name, not in the page
+    except ValueError as exc:
+        raise CommandError(str(exc)) from None
+    import nbformat
+
+    folder = Path(tempfile.mkdtemp(prefix=f"branchnb-app-{name}-") if folder is None else folder)
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [nbformat.v4.new_code_cell(
+        f"from branchnb.widgets.apps import open_app\nopen_app({name!r}, {paths!r} or None)")]
+    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
+    path = folder / f"{name}.ipynb"
+    nbformat.write(nb, str(path))
+    extra = list(extra)
+    env = dict(os.environ if env is None else env)
+    opts = []
+    port = _option(extra, "--port", "--Voila.port")
+    if port is None:
+        port = str(_free_port())
+        opts += [f"--Voila.port={port}", "--Voila.port_retries=0"]
+    token = _option(extra, "--token", "--Voila.token")
+    if token is None:
+        token = secrets.token_hex(24)
+        opts.append(f"--token={token}")
+    opts += ["--Voila.ip=127.0.0.1", "--no-browser", "--Voila.log_level=WARN",
+             "--VoilaConfiguration.show_tracebacks=True"]
+    cmd = [sys.executable, "-m", "voila", str(path)] + opts + extra
+    url = f"http://127.0.0.1:{port}/" + (f"?token={token}" if token else "")
+    return cmd, env, url
+
+
+def _help_text(text: str) -> str:
+    return textwrap.dedent(text).strip()
+
+
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="branchnb", description=__doc__)
-    sub = parser.add_subparsers(dest="cmd", required=True)
-    p_lab = sub.add_parser("lab", help="open JupyterLab on the tour notebook (or NOTEBOOK)",
-                           description="Other options are passed on to jupyter lab.")
-    p_lab.add_argument("lab_args", nargs=argparse.REMAINDER,
-                       help="[NOTEBOOK] [jupyter lab options]; NOTEBOOK defaults to notebooks/00_tour.ipynb")
-    p_gal = sub.add_parser("gallery", help="render one example per technique to PNGs + index.html")
-    p_gal.add_argument("outdir")
+    raw = argparse.RawDescriptionHelpFormatter
+    parser = argparse.ArgumentParser(prog="branchnb", description=DESCRIPTION, formatter_class=raw)
+    sub = parser.add_subparsers(dest="cmd", required=True, metavar="COMMAND")
+    p_lab = sub.add_parser(
+        "lab", help="JupyterLab on the tour notebook (or NOTEBOOK)", formatter_class=raw,
+        usage="branchnb lab [NOTEBOOK] [jupyter lab options]",
+        description=_help_text("""
+            Start JupyterLab on the tour notebook (notebooks/00_tour.ipynb) or on NOTEBOOK, and print
+            one line with the URL that opens it (on 127.0.0.1, with a fresh token). A local browser,
+            when there is one, opens it. Other options go to jupyter lab unchanged (e.g. --port 8899,
+            --ip 0.0.0.0 to serve other machines). Ctrl-C stops the server.
+        """))
+    p_lab.add_argument("lab_args", nargs=argparse.REMAINDER, metavar="...",
+                       help="[NOTEBOOK] [jupyter lab options]")
+    p_app = sub.add_parser(
+        "app", help="one technique's app as a standalone web page (Voila)", formatter_class=raw,
+        description=_help_text("""
+            Serve one technique's app as a web page without code cells (Voila): the app alone, on
+            your own image(s) when given, on a sample otherwise. It listens on 127.0.0.1 with a
+            fresh token; the printed URL opens it. In the page, "save" offers the results as
+            downloads. A teacher can hand students the page instead of a notebook.
+
+            apps:
+        """) + "\n" + "\n".join(f"  {k:10s} {v}" for k, v in APP_HELP.items()))
+    p_app.add_argument("name", metavar="NAME", help="one of: " + ", ".join(APP_HELP))
+    p_app.add_argument("images", nargs="*", metavar="IMAGE", help="image file(s) to start with")
+    p_app.add_argument("--port", type=int, help="port (default: a free one)")
+    p_gal = sub.add_parser("gallery", help="one example per technique as PNGs + index.html",
+                           description="Render one example per technique into OUTDIR as PNGs plus "
+                                       "OUTDIR/index.html. Each picture is listed as it is written.")
+    p_gal.add_argument("outdir", metavar="OUTDIR")
     p_batch = sub.add_parser(
-        "batch", help="generate many variations from a JSON/TOML spec on Dask",
+        "batch", help="many variations from a JSON/TOML spec on Dask",
         description="Run the job of SPEC (JSON or TOML) for its count of items on a Dask cluster "
                     "(a LocalCluster with one process per core unless --scheduler is given). Files "
                     "and OUTDIR/manifest.jsonl are written as items finish; running the same "
                     "command again resumes.")
-    p_batch.add_argument("spec", help="spec file (.json or .toml)")
-    p_batch.add_argument("outdir", help="output folder (created if needed)")
+    p_batch.add_argument("spec", metavar="SPEC", help="spec file (.json or .toml)")
+    p_batch.add_argument("outdir", metavar="OUTDIR", help="output folder (created if needed)")
     p_batch.add_argument("--scheduler", metavar="ADDRESS",
                          help="address of a running Dask scheduler, e.g. tcp://10.0.0.5:8786")
     p_batch.add_argument("--workers", type=int, metavar="N",
@@ -105,9 +303,57 @@ def _parser() -> argparse.ArgumentParser:
                          help="items per Dask task (default: chosen from the count and the workers)")
     p_batch.add_argument("--count", type=int, metavar="N", help="override the spec's count")
     p_batch.add_argument("--no-progress", action="store_true", help="no progress bar")
-    p_bench = sub.add_parser("bench", help="print benchmark figures, each against its anchor")
+    p_bench = sub.add_parser("bench", help="speed figures, each against its anchor",
+                             description="Print benchmark figures; each row names its anchor and the "
+                                         "ratio measured in the same run.")
     p_bench.add_argument("--quick", action="store_true", help="smaller inputs, for a smoke run")
     return parser
+
+
+def _gallery(outdir_arg) -> int:
+    """``branchnb gallery``: a line at once, then one line per picture as it is written."""
+    import threading
+
+    outdir = writable_dir(outdir_arg)
+    t0 = time.perf_counter()
+    print(f"branchnb gallery: rendering one example per technique into {outdir} "
+          "(a few minutes; each picture is listed as it is written)", flush=True)
+    before = {p: p.stat().st_mtime_ns for p in outdir.glob("*.png")}
+    seen: set = set()
+    stop = threading.Event()
+
+    def report_new() -> None:
+        for p in sorted(outdir.glob("*.png"), key=lambda q: q.stat().st_mtime_ns):
+            try:
+                m = p.stat().st_mtime_ns
+            except OSError:
+                continue
+            if p not in seen and before.get(p) != m:
+                seen.add(p)
+                print(f"  {time.perf_counter() - t0:6.1f} s  {p.name}", flush=True)
+
+    def watch() -> None:
+        while not stop.wait(0.5):
+            report_new()
+
+    def section(name: str) -> None:
+        report_new()
+        print(f"  {time.perf_counter() - t0:6.1f} s  {name} ...", flush=True)
+
+    from .gallery import build
+
+    watcher = threading.Thread(target=watch, daemon=True)
+    watcher.start()
+    try:
+        items = build(outdir, progress=section)
+    except OSError as exc:
+        raise CommandError(f"cannot write the gallery to {str(outdir)!r}: {exc}") from None
+    finally:
+        stop.set()
+        watcher.join()
+    report_new()
+    print(f"wrote {len(items)} pictures and index.html to {outdir} in {time.perf_counter() - t0:.0f} s")
+    return 0
 
 
 def _batch(args) -> int:
@@ -143,21 +389,27 @@ def main(argv=None) -> int:
         # Everything after "lab" goes to jupyter lab untouched (argparse would reorder it).
         rest = argv[1:]
         notebook = rest.pop(0) if rest and not rest[0].startswith("-") else None
-        return run_lab(lab_command(notebook, rest))
+        try:
+            cmd, env, url = lab_setup(notebook, rest)
+        except CommandError as exc:
+            print(f"branchnb lab: error: {exc}", file=sys.stderr)
+            return 1
+        print(f"branchnb lab: {url}", flush=True)
+        return run_lab(cmd, env)
     args, extra = parser.parse_known_args(argv)
-    if extra:
+    if extra and args.cmd != "app":
         parser.error(f"unrecognized arguments: {' '.join(extra)}")
     try:
+        if args.cmd == "app":
+            if args.port is not None:
+                extra = [f"--Voila.port={args.port}"] + extra
+            cmd, env, url = app_setup(args.name, args.images, extra)
+            print(f"branchnb app: {url}", flush=True)
+            if _has_browser():
+                _open_browser_later(url, url)
+            return run_lab(cmd, env)
         if args.cmd == "gallery":
-            from .gallery import build
-
-            outdir = writable_dir(args.outdir)
-            try:
-                items = build(outdir)
-            except OSError as exc:
-                raise CommandError(f"cannot write the gallery to {str(outdir)!r}: {exc}") from None
-            print(f"wrote {len(items)} pictures and index.html to {outdir}")
-            return 0
+            return _gallery(args.outdir)
         if args.cmd == "batch":
             return _batch(args)
         if args.cmd == "bench":

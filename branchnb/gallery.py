@@ -95,19 +95,24 @@ def _samples(outdir: Path) -> list[GalleryItem]:
     return items
 
 
-def build(outdir, sections=None) -> list[GalleryItem]:
+def build(outdir, sections=None, progress=None) -> list[GalleryItem]:
     """Render the gallery into ``outdir`` (created if needed) and write ``index.html``.
 
-    ``sections`` lists the technique modules to include (:data:`SECTIONS` by default).
+    ``sections`` lists the technique modules to include (:data:`SECTIONS` by default);
+    ``progress(name)``, if given, is called as each part starts.
     """
     sections = SECTIONS if sections is None else sections
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
+    if progress is not None:
+        progress("sample data")
     items = _samples(outdir)
     for mod_name in sections:
         pkg = mod_name.rsplit(".", 1)[0]
         if importlib.util.find_spec(pkg) is None or importlib.util.find_spec(mod_name) is None:
             continue
+        if progress is not None:
+            progress(pkg.rsplit(".", 1)[-1])
         items.extend(importlib.import_module(mod_name).render(outdir))
     parts = ["<!doctype html><meta charset='utf-8'><title>branchnb gallery</title>",
              "<style>body{font-family:sans-serif;max-width:1100px;margin:auto}"
