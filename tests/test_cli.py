@@ -99,3 +99,116 @@ def test_a_signal_to_branchnb_lab_stops_the_server(tmp_path, sig):
         if proc.poll() is None:
             proc.kill()
             proc.wait()
+
+
+# -- help, lab URL, app page ----------------------------------------------------------------
+@pytest.mark.parametrize("argv", [["--help"], ["lab", "--help"], ["app", "--help"], ["gallery", "--help"],
+                                  ["batch", "--help"], ["bench", "--help"]])
+def test_help_is_plain_text(argv, capsys):
+    with pytest.raises(SystemExit) as exit_:
+        cli.main(argv)
+    out = capsys.readouterr().out
+    assert exit_.value.code == 0 and out.startswith("usage: branchnb")
+    assert "``" not in out and ":func:" not in out and ":class:" not in out  # no reStructuredText
+
+
+def test_lab_url_opens_the_tour_on_loopback_with_a_token(tmp_path):
+    cmd, env, url = cli.lab_setup(extra=["--no-browser"], env={})
+    token = env["JUPYTER_TOKEN"]
+    assert len(token) >= 32 and token not in " ".join(cmd)            # not visible in ps
+    assert url.startswith("http://127.0.0.1:") and url.endswith(f"/lab/tree/00_tour.ipynb?token={token}")
+    port = url.split(":")[2].split("/")[0]
+    assert f"--ServerApp.port={port}" in cmd and "--ServerApp.ip=127.0.0.1" in cmd
+    assert f"--ServerApp.root_dir={cli.TOUR.parent}" in cmd
+    # the user's own choices win and the URL follows them
+    nb = tmp_path / "sub" / "my notebook.ipynb"
+    nb.parent.mkdir()
+    nb.write_text("{}")
+    cmd, env, url = cli.lab_setup(nb, ["--port=9999", "--IdentityProvider.token=abc",
+                                       f"--ServerApp.root_dir={tmp_path}", "--no-browser"], env={})
+    assert url == "http://127.0.0.1:9999/lab/tree/sub/my%20notebook.ipynb?token=abc"
+    assert "JUPYTER_TOKEN" not in env
+    with pytest.raises(cli.CommandError, match="not a file"):
+        cli.lab_setup(tmp_path / "missing.ipynb", env={})
+
+
+def test_lab_prints_one_line_with_the_url(tmp_path):
+    """The first line out of ``branchnb lab`` is the URL, and that URL serves the notebook."""
+    pytest.importorskip("jupyterlab")
+    nb = tmp_path / "empty.ipynb"
+    nb.write_text('{"cells": [], "metadata": {}, "nbformat": 4, "nbformat_minor": 5}')
+    proc = subprocess.Popen([sys.executable, "-m", "branchnb.cli", "lab", str(nb), "--no-browser"],
+                            stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
+                            text=True, cwd=tmp_path)
+    try:
+        line = proc.stdout.readline().strip()
+        assert line.startswith("branchnb lab: http://127.0.0.1:") and line.endswith("?token=" + line[-48:])
+        url = line.split(" ", 2)[2]
+        deadline, status = time.time() + 90, None
+        while time.time() < deadline and status is None:
+            try:
+                with urllib.request.urlopen(url, timeout=5) as r:
+                    status = r.status
+            except OSError:
+                assert proc.poll() is None, "branchnb lab exited"
+                time.sleep(0.5)
+        assert status == 200
+        api = url.split("/lab/")[0] + "/api/contents/empty.ipynb?token=" + url.split("token=")[1]
+        with urllib.request.urlopen(api, timeout=5) as r:   # the URL's notebook is the one served
+            assert r.status == 200
+    finally:
+        proc.send_signal(signal.SIGTERM)
+        try:
+            proc.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait()
+
+
+def test_app_setup_checks_name_and_images_and_writes_the_page(tmp_path):
+    from branchnb.widgets.apps import APPS
+
+    assert tuple(cli.APP_HELP) == APPS
+    with pytest.raises(cli.CommandError, match="NAME must be one of"):
+        cli.app_setup("nope", folder=tmp_path)
+    with pytest.raises(cli.CommandError, match="is not a file"):
+        cli.app_setup("dendrite", [tmp_path / "missing.png"], folder=tmp_path)
+    (tmp_path / "bad.png").write_bytes(b"not a png")
+    with pytest.raises(cli.CommandError, match="could not read"):
+        cli.app_setup("dendrite", [tmp_path / "bad.png"], folder=tmp_path)
+    import numpy as np
+
+    from branchnb.core.io import imsave
+
+    img = imsave(tmp_path / "mine.png", np.full((20, 30, 3), 0.5, np.float32))
+    cmd, env, url = cli.app_setup("dendrite", [img], folder=tmp_path)
+    token = url.split("token=")[1]
+    assert url.startswith("http://127.0.0.1:") and len(token) >= 32
+    assert cmd[1:3] == ["-m", "voila"] and "--Voila.ip=127.0.0.1" in cmd and f"--token={token}" in cmd
+    import nbformat
+
+    nb = nbformat.read(str(tmp_path / "dendrite.ipynb"), as_version=4)
+    assert len(nb.cells) == 1 and str(img.resolve()) in nb.cells[0].source
+
+
+def test_gallery_reports_progress_from_the_first_second(tmp_path, monkeypatch, capsys):
+    import branchnb.gallery as gallery
+
+    def fake_build(outdir, progress=None):
+        progress("sample data")
+        import numpy as np
+
+        from branchnb.core.io import imsave
+
+        imsave(outdir / "one.png", np.zeros((4, 4, 3)))
+        progress("branching")
+        imsave(outdir / "two.png", np.zeros((4, 4, 3)))
+        return [1, 2]
+
+    monkeypatch.setattr(gallery, "build", fake_build)
+    assert cli.main(["gallery", str(tmp_path / "g")]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[0].startswith("branchnb gallery: rendering")
+    assert any(line.endswith("one.png") for line in out) and any(line.endswith("two.png") for line in out)
+    assert [line.split()[-2] for line in out if line.endswith("...")] == ["data", "branching"]
+    assert out[-1].startswith("wrote 2 pictures")
