@@ -64,6 +64,7 @@ from ..core.polyline import resample_uniform
 from ..core.render import draw_polylines
 from .canvas import AnnotationCanvas
 from .feedback import ProgressBar
+from .files import canvases_json, load_canvases
 from .histograms import HistogramCompare
 from .imageview import ImageView
 from .params import ParamPanel
@@ -272,11 +273,17 @@ class BranchingApp(widgets.VBox):
         if structure is not None:
             self.set_structure(structure)
 
+        # The result's controls show once there is a result to extend or delete from.
+        self.result_controls = widgets.HBox([self.branch_pick, self.steps, extend, delete_out],
+                                            layout=widgets.Layout(flex_flow="row wrap", align_items="center",
+                                                                  display="none"))
+        sh.add_files(name="branching", open=self._open_images, outputs=self._outputs,
+                     annotations=lambda: canvases_json({"example": self.canvas}, app="branching",
+                                                       extra={"seed": int(self.seed.value)}),
+                     load=self._load_annotations)
         sh.set_body(
             main=[self.canvas],
-            result=[self.view,
-                    widgets.HBox([self.branch_pick, self.steps, extend, delete_out],
-                                 layout=widgets.Layout(flex_flow="row wrap", align_items="center")),
+            result=[self.view, self.result_controls,
                     self.info, self.progress, self.hist_angle, self.hist_thick],
             sidebar=[self.panel, self.image_panel])
         super().__init__([sh])
@@ -351,6 +358,42 @@ class BranchingApp(widgets.VBox):
             return None
         return Guidance.from_path(self.image_shape, strokes[-1].points, width=self.params.guidance_width)
 
+    # -- files (the shell's open / save / load annotations) -------------------------------
+    def set_image(self, image) -> None:
+        """Use another example image: the annotations are cleared (undoable), the result goes."""
+        img = as_float_image(image, name="image")
+        self.image = img
+        self.image_shape = img.shape[:2]
+        had_result = self.result is not None
+        self.result = self.partial = self.image_result = None
+        self.canvas.set_image(as_rgb(img))
+        self.canvas.model.clear()
+        self._model = self._domain = self._domain_key = None
+        self.result_controls.layout.display = "none"
+        if had_result:
+            self.view.mark_stale("from the previous example")
+        self.info.value = ""
+
+    def _open_images(self, images) -> str:
+        name, img = images[0]
+        self.set_image(img)
+        return "draw the branches (or press extract), then synthesize"
+
+    def _outputs(self) -> dict:
+        if self.result is None:
+            return {}
+        s = self.result.structure
+        out = {"structure.json": s.to_json(), "structure.svg": s.to_svg(self.image_shape),
+               "structure.png": s.render(self.image_shape, by_generation=True, min_width=1.0)}
+        if self.image_result is not None:
+            out["image.png"] = as_rgb(self.image_result.image)
+        return out
+
+    def _load_annotations(self, text) -> None:
+        extra = load_canvases(text, {"example": self.canvas}, app="branching")
+        if isinstance(extra.get("seed"), int) and extra["seed"] >= 0:
+            self.seed.value = extra["seed"]
+
     def clear_guidance(self) -> None:
         keep = [s.to_dict() for s in self.canvas.model.shapes if s.kind != "stroke"]
         self.canvas.model.load_json(json.dumps({"version": 1, "shapes": keep}))
@@ -358,6 +401,9 @@ class BranchingApp(widgets.VBox):
     # -- synthesis ------------------------------------------------------------
     def _invalidate(self) -> None:
         self._model = None
+        if self.result is not None and not self.view.stale:
+            # the shown structure was grown from the example as it was (e.g. before "clear")
+            self.view.mark_stale("out of date (the example changed; synthesize again)")
 
     def _fitted(self, params: SynthesisParams):
         ex = self.example_structure()
@@ -496,6 +542,7 @@ class BranchingApp(widgets.VBox):
 
     # -- display ------------------------------------------------------------------
     def _after_change(self, keep_pick: int | None = None) -> None:
+        self.result_controls.layout.display = None
         s = self.result.structure
         n = len(s.branches)
         self.branch_pick.max = max(n - 1, 0)

@@ -48,6 +48,7 @@ from ..dendrite.metaphors import METAPHORS
 from ..dendrite.pareidolia import PareidoliaParams, pareidolia_tree
 from ..dendrite.trees import TreeParams, grow_layers, grow_tree, iteration_metric, render_layers
 from .canvas import AnnotationCanvas
+from .files import canvases_json, load_canvases
 from .histograms import HistogramCompare
 from .imageview import ImageView
 from .params import ParamPanel
@@ -72,11 +73,11 @@ STYLIZE_LABELS = {
     "sigma": ("gradient smoothing", "\u03c3"), "n_endpoints": ("endpoints", "N"),
     "endpoint_gamma": ("density exponent", "\u03b3"), "endpoint_floor": ("density floor", ""),
     "stipple_iterations": ("Lloyd iterations", ""), "lattice_size": ("lattice (0 = image)", ""),
-    "endpoint_threshold": ("no endpoints below", ""), "break_ties": ("re-plan large ties", ""),
+    "endpoint_threshold": ("empty-paper level", ""), "break_ties": ("re-plan large ties", ""),
     "hierarchy": ("trunk hierarchy", ""), "tone": ("match tone", ""), "tone_sigma": ("tone scale", ""),
     "cost_weight": ("importance cost", "c"),
     "epsilon": ("weight offset", "\u03b5"), "noise": ("random weight", ""),
-    "metric": ("path metric", ""), "blend_weight": ("blend weight", "a"),
+    "metric": ("path metric", ""), "blend_weight": ("max-edge weight", "a"),
     "thickness": ("thickness from", ""), "window": ("rolling window", ""),
     "contrast": ("contrast exponent", ""), "min_width": ("min width (lattice)", ""),
     "max_width": ("max width (lattice)", ""),
@@ -198,13 +199,8 @@ class DendriteApp(widgets.VBox):
             raise ValueError(f"max_size must be an int >= 16 (pixels), got {max_size!r}")
         if isinstance(display, bool) or not isinstance(display, int) or display < 64:
             raise ValueError(f"display must be an int >= 64 (pixels), got {display!r}")
-        self.image = _fit(image, int(max_size))
-        self.stylizer = Stylizer(self.image)
-        h, w = self.image.shape[:2]
-        self._preview_scale = 0.5 if max(h, w) >= 96 else 1.0
-        small = _fit(self.image, max(8, int(round(max(h, w) * self._preview_scale))))
-        self._preview_scale = small.shape[1] / w
-        self.preview_stylizer = Stylizer(small)
+        self.max_size = int(max_size)
+        self._use_image(image)
         self.comparison = None
         self.tree = None
         self.rendering = None
@@ -235,9 +231,6 @@ class DendriteApp(widgets.VBox):
                                         tooltip="occlusion: trees sharing one trunk (tree mode)",
                                         continuous_update=False, style={"description_width": "40px"},
                                         layout=widgets.Layout(width="190px"))
-        self.svg_path = widgets.Text(value="dendrite.svg", description="SVG file",
-                                     style={"description_width": "52px"},
-                                     layout=widgets.Layout(width="200px"))
         self.status = widgets.HTML(layout=widgets.Layout(width="100%"))
 
         self.panels = {
@@ -257,9 +250,11 @@ class DendriteApp(widgets.VBox):
 
         self.shell.add_action("update", self.update, icon="refresh", primary=True,
                               tooltip="recompute in full (cached stages are reused)")
-        self.shell.add_action("save SVG", lambda: f"wrote {self.save_svg(self.svg_path.value)}",
-                              icon="download", run=False, tooltip="write the current picture as SVG")
-        self.shell.add_tool(self.mode_picker, self.metaphor, self.rng, self.layers, self.svg_path)
+        self.shell.add_tool(self.mode_picker, self.metaphor, self.rng, self.layers)
+        self.shell.add_files(name="dendrite", open=self._open_images, outputs=self._outputs,
+                             annotations=lambda: canvases_json({"image": self.canvas}, app="dendrite",
+                                                               extra={"mode": self.mode}),
+                             load=self._load_annotations)
 
         self.views = ImageView(width=int(display), max_size=2 * int(display))
         self.hist_tortuosity = HistogramCompare(bins=16, metric="l1",
@@ -276,7 +271,43 @@ class DendriteApp(widgets.VBox):
         super().__init__([self.shell])
         g(self._on_mode)(None)
 
+    def _use_image(self, image) -> None:
+        self.image = _fit(image, self.max_size)
+        self.stylizer = Stylizer(self.image)
+        h, w = self.image.shape[:2]
+        self._preview_scale = 0.5 if max(h, w) >= 96 else 1.0
+        small = _fit(self.image, max(8, int(round(max(h, w) * self._preview_scale))))
+        self._preview_scale = small.shape[1] / w
+        self.preview_stylizer = Stylizer(small)
+
     # -- public API (everything the widgets do, callable from Python) ----------
+    def set_image(self, image) -> None:
+        """Stylize another image (downscaled to ``max_size``); the seed click is dropped."""
+        self._use_image(image)
+        self.comparison = self.tree = self.rendering = self.preview = None
+        self.seed = None
+        self.canvas.set_overlay(None)
+        self.canvas.set_image(self.image)
+        self._keeping_one_seed = True
+        try:
+            self.canvas.model.clear()
+        finally:
+            self._keeping_one_seed = False
+        self._live()
+
+    def _open_images(self, images) -> None:
+        self.set_image(images[0][1])
+
+    def _outputs(self) -> dict:
+        if self.rendering is None:
+            return {}
+        return {f"{self.mode}.png": self.rendering.image, f"{self.mode}.svg": self.rendering.svg}
+
+    def _load_annotations(self, text) -> None:
+        extra = load_canvases(text, {"image": self.canvas}, app="dendrite")
+        if extra.get("mode") in MODES:
+            self.mode = extra["mode"]
+
     @property
     def mode(self) -> str:
         return self.mode_picker.value
@@ -384,12 +415,15 @@ class DendriteApp(widgets.VBox):
         self.hist_tortuosity.update(t1[np.isfinite(t1)], t2[np.isfinite(t2)], labels=labels)
         self.hist_max_edge.update(c.stats_first.max_edge, c.stats_second.max_edge, labels=labels)
         d = c.second.dendrite  # image pixels (Stylization.scale maps them to the lattice)
+        # Half-transparent orange, at most 2 px wide: the image stays readable under it.
         overlay = draw_polylines(np.zeros((*self.image.shape[:2], 4), np.float32), d.polylines(2),
-                                 widths=d.widths(), colors=(0.9, 0.1, 0.1))
+                                 widths=[np.minimum(w, 2.0) for w in d.widths()], colors=(1.0, 0.45, 0.0),
+                                 alpha=0.6)
         s = c.second.seed
         if self.seed is None:  # mark the default seed (the important region) where no click is drawn
-            overlay = draw_polylines(overlay, [_ring(s, max(3.0, 0.015 * max(self.image.shape[:2])))],
-                                     widths=[2.0], colors=(0.1, 0.35, 0.95))
+            ring = [_ring(s, max(4.0, 0.02 * max(self.image.shape[:2])))]
+            overlay = draw_polylines(overlay, ring, widths=[4.0], colors=(1.0, 1.0, 1.0))
+            overlay = draw_polylines(overlay, ring, widths=[2.0], colors=(0.1, 0.35, 0.95))
         self.canvas.set_overlay(overlay)
         self.status.value = (
             f"<span style='font-size:12px'>seed ({s[0]:.0f}, {s[1]:.0f})"

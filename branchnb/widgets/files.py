@@ -206,7 +206,7 @@ class FileBar:
     name : str
         Prefix of the saved files (``<name>_<output>``).
     open : callable, optional
-        ``open(images)`` with a list of ``(file name, float32 image)``;
+        ``open(images)`` with a list of ``(file stem, float32 image)``;
         may return a message. No "open image" button without it.
     open_label : str
     multiple : bool
@@ -269,7 +269,7 @@ class FileBar:
         """Decode ``files`` (a list of ``(name, bytes)``) and hand them to the app's ``open`` hook."""
         if self._open is None:
             raise ValueError("this app opens no images")
-        images = [(str(n), decode_image(b, str(n))) for n, b in files]
+        images = [(Path(str(n)).stem or str(n), decode_image(b, str(n))) for n, b in files]
         if not images:
             raise ValueError("no file chosen")
         return self._open(images)

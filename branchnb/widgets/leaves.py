@@ -33,6 +33,7 @@ from ..leaves.induction import InductionParams
 from ..leaves.layers import Layer, LayerSet
 from ..leaves.synthesis import SynthesisParams, generate
 from .canvas import AnnotationCanvas
+from .files import canvases_json, load_canvases
 from .histograms import HistogramCompare
 from .imageview import ImageView
 from .params import ParamPanel
@@ -180,12 +181,71 @@ class LeafApp(widgets.VBox):
                               tooltip="new leaves from the analysis")
         self.shell.add_action("clear scribbles", self.clear_scribbles, run=False)
         self.shell.add_tool(self.n_outputs, self.seed)
+        self.shell.add_files(name="leaves", open=self._open_images, open_label="open leaves", multiple=True,
+                             outputs=self._outputs, annotations=self._annotations, load=self._load_annotations)
         self.shell.set_body(main=[self.canvas, layer_box],
                             result=[widgets.HTML("<b>exemplars</b>: registration and induced layers"),
                                     self.exemplar_view, self.report, self.hist_layer, self.histograms,
                                     widgets.HTML("<b>generated leaves</b>"), self.gallery],
                             sidebar=[self.induction_panel, self.synthesis_panel])
         super().__init__([self.shell])
+
+    # -- files (the shell's open / save / load annotations) -------------------------------
+    def set_exemplars(self, exemplars, training_index: int = 0) -> None:
+        """Work on other leaves (two or more of one kind): the layers stay, their scribbles go."""
+        images, blades, offsets = normalise_exemplars(exemplars)
+        if not 0 <= training_index < len(images):
+            raise ValueError(f"training_index must be in [0, {len(images) - 1}], got {training_index!r}")
+        self.images, self.blades, self.offsets = images, blades, offsets
+        self.training_index = int(training_index)
+        self._registrations, self._marks = None, {}
+        self.analysis, self.leaves = None, []
+        self.canvas.set_image(_white(self.images[self.training_index]))
+        self.canvas.model.clear()
+        self.report.value = ""
+        self.histograms.clear()
+        self.gallery.update([], [])
+        self._show_exemplars()
+
+    def _open_images(self, images) -> str:
+        if len(images) < 2:
+            raise ValueError("open leaves: choose two or more leaves of one kind at once (the first is "
+                             "the training leaf)")
+        self.set_exemplars([img for _, img in images])
+        return f"{len(images)} leaves; scribble the layers on the first, then 'analyze'"
+
+    def _outputs(self) -> dict:
+        out = {f"leaf_{i:02d}.png": leaf.image for i, leaf in enumerate(self.leaves)}
+        if self.analysis is not None:
+            out["layers.json"] = {"layers": [
+                {"name": x.name, "lambda": float(x.lam), "delta": float(x.delta),
+                 "training_iou": float(x.training_overlap)} for x in self.analysis.layers]}
+        return out
+
+    def _annotations(self) -> str:
+        return canvases_json({"training": self.canvas}, app="leaves", extra={"layers": [
+            {"name": x.name, "colour": x.colour, "order": x.order} for x in self.layers.ordered()]})
+
+    def _load_annotations(self, text) -> None:
+        import json
+
+        d = json.loads(text)
+        layers = ((d.get("extra") or {}).get("layers") if isinstance(d, dict) else None) or []
+        if not all(isinstance(x, dict) and isinstance(x.get("name"), str) for x in layers):
+            raise ValueError("annotations: 'layers' must list objects with a 'name'")
+        new = LayerSet([Layer(x["name"], str(x.get("colour", _PALETTE[i % len(_PALETTE)])), i)
+                        for i, x in enumerate(layers)]) if layers else self.layers
+        old = self.layers
+        self.layers = new
+        try:
+            self._sync_layers()
+            load_canvases(text, {"training": self.canvas}, app="leaves")
+        except Exception:
+            self.layers = old
+            self._sync_layers()
+            raise
+        if self.layer_names():
+            self.layer_list.value = self.layer_names()[0]
 
     # -- layer list -----------------------------------------------------------------
     def layer_names(self) -> list[str]:

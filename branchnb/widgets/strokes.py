@@ -56,6 +56,7 @@ from ..strokes import (
 )
 from ..strokes.evaluation import CHANNELS
 from .canvas import AnnotationCanvas
+from .files import canvases_json, load_canvases
 from .histograms import HistogramCompare
 from .imageview import ImageView
 from .params import ParamPanel
@@ -286,6 +287,9 @@ class StrokeEditApp(widgets.VBox):
         sh.add_action("clear all", self.clear, icon="trash", run=False,
                       tooltip="remove all strokes and control points, and the result")
         sh.add_tool(self.auto, self.show_seams)
+        sh.add_files(name="strokes", open=self._open_images, open_label="open source image",
+                     outputs=self._outputs, load=lambda text: load_canvases(text, self.canvases, app="strokes"),
+                     annotations=lambda: canvases_json(self.canvases, app="strokes"))
         self.buttons = {"edit": sh.buttons["re-synthesize"], "reverse": sh.buttons["reverse last target"],
                         "clear": sh.buttons["clear all"]}
         self.view = ImageView(width=max_display, max_size=2 * max_display)
@@ -333,6 +337,20 @@ class StrokeEditApp(widgets.VBox):
         model.load_json({"version": 1, "shapes": [
             dict(s.to_dict(), points=pts.tolist()) if k == index[i] else s.to_dict()
             for k, s in enumerate(model.shapes)]})
+
+    def set_image(self, image) -> None:
+        """Edit another source object: its strokes, the targets and the result are cleared."""
+        self.image = as_float_image(image, name="image")
+        self.source_canvas.set_image(self.image)
+        self._patches_key = self._preview_key = None
+        self.clear()
+
+    def _open_images(self, images) -> str:
+        self.set_image(images[0][1])
+        return "draw strokes along the object, then where its parts go on the target"
+
+    def _outputs(self) -> dict:
+        return {} if self.result is None else {"result.png": self.result.image}
 
     def clear(self) -> None:
         """Remove every stroke and control point (undoable on each canvas) and the result."""

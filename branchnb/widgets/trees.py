@@ -51,6 +51,7 @@ from ..trees.variations import (
     make_variation,
 )
 from .canvas import AnnotationCanvas
+from .files import canvases_json, load_canvases
 from .histograms import HistogramCompare
 from .imageview import ImageView
 from .params import ParamPanel
@@ -162,17 +163,8 @@ class TreeVariationsApp(widgets.VBox):
 
         # -- library thumbnails
         self.checks: dict[str, widgets.Checkbox] = {}
-        cells = []
-        for ex in self.library:
-            img = widgets.Image(value=encode_png(_thumb(ex.image, thumb)), format="png",
-                                layout=widgets.Layout(width=f"{thumb}px", height=f"{thumb}px"))
-            cb = widgets.Checkbox(value=ex.name in sel, description=ex.name, indent=False,
-                                  tooltip=f"mix {ex.name}", style={"description_width": "initial"},
-                                  layout=widgets.Layout(width="auto"))
-            cb.observe(g(self._on_check), names="value")
-            self.checks[ex.name] = cb
-            cells.append(widgets.VBox([img, cb], layout=widgets.Layout(align_items="center",
-                                                                      margin="0 4px")))
+        self._thumb = int(thumb)
+        cells = [self._library_cell(ex, ex.name in sel) for ex in self.library]
         self.thumbnails = widgets.HBox(cells, layout=widgets.Layout(flex_flow="row wrap"))
 
         # -- mix controls
@@ -293,6 +285,8 @@ class TreeVariationsApp(widgets.VBox):
         for i, title in enumerate(titles):
             self.tabs.set_title(i, title)
         self.shell.add_tool(self.rng)
+        self.shell.add_files(name="trees", open=self._open_images, open_label="add trees", multiple=True,
+                             outputs=self._outputs, annotations=self._annotations, load=self._load_annotations)
         self.shell.set_body(main=[widgets.HTML("<b>library</b> (check the trees to mix)"),
                                   self.thumbnails, self.tabs],
                             sidebar=[self._mix_controls])
@@ -517,6 +511,82 @@ class TreeVariationsApp(widgets.VBox):
         y = float(self.yaw.value)
         self.cloud_view.update([self.cloud.render(0.0), self.cloud.render(y)],
                                ["front view (yaw 0)", f"yaw {y:.0f} deg"])
+
+    # -- files (the shell's open / save / load annotations) ----------------------------
+    def _library_cell(self, ex, checked: bool) -> widgets.VBox:
+        """A library tree's thumbnail with its "mix" checkbox."""
+        t = self._thumb
+        img = widgets.Image(value=encode_png(_thumb(ex.image, t)), format="png",
+                            layout=widgets.Layout(width=f"{t}px", height=f"{t}px"))
+        cb = widgets.Checkbox(value=checked, description=ex.name, indent=False,
+                              tooltip=f"mix {ex.name}", style={"description_width": "initial"},
+                              layout=widgets.Layout(width="auto"))
+        cb.observe(self.shell.guard(self._on_check), names="value")
+        self.checks[ex.name] = cb
+        return widgets.VBox([img, cb], layout=widgets.Layout(align_items="center", margin="0 4px"))
+
+    def add_trees(self, images) -> list[str]:
+        """Add ``(name, RGBA image)`` trees to the library and mix them (they become the checked ones)."""
+        added = []
+        for name, img in images:
+            base, k = str(name), 2
+            while name in self.library.names:  # a second "tree.png" is kept as "tree_2"
+                name, k = f"{base}_{k}", k + 1
+            added.append(self.library.add(img, name).name)
+        self.thumbnails.children = list(self.thumbnails.children) + [
+            self._library_cell(self.library[n], False) for n in added]
+        names = self.library.names
+        for dd in (self.morph_a, self.morph_b, self.seg_tree):
+            dd.options = names
+        self.reference.options = [("none", None)] + [(n, n) for n in names] + [
+            (o, o) for o, v in self.reference.options[1:] if o not in names]
+        if HAS_BILLBOARD:
+            self.cloud_source.options = ["current variation"] + names
+        self.select(added if len(added) >= 2 else [*self.selected, *added])
+        return added
+
+    def _open_images(self, images) -> str:
+        added = self.add_trees(images)
+        return f"added {', '.join(added)} to the library and mixed them"
+
+    def _outputs(self) -> dict:
+        out = {}
+        if self.variation is not None:
+            out["variation.png"] = self.variation.image
+            out["mix.json"] = {"trees": self.selected, "weights": [float(w) for w in self.weights],
+                               "seed": int(self.rng.value)}
+        if self.cloud is not None:
+            import tempfile
+            from pathlib import Path
+
+            from ..trees.export import export_gltf
+
+            with tempfile.TemporaryDirectory() as tmp:
+                path = export_gltf(self.cloud, Path(tmp) / "cloud.gltf", embed_texture=True,
+                                   yaw=float(self.yaw.value))
+                out["cloud.gltf"] = path.read_bytes()
+        return out
+
+    def _annotations(self) -> str:
+        return canvases_json({"segmentation": self.seg_canvas}, app="trees", extra={
+            "tree": self.seg_tree.value, "selected": self.selected,
+            "weights": [float(w) for w in self.weights]})
+
+    def _load_annotations(self, text) -> None:
+        import json
+
+        d = json.loads(text)
+        tree = (d.get("extra") or {}).get("tree") if isinstance(d, dict) else None
+        if tree is not None and tree not in self.library.names:
+            raise ValueError(f"annotations: they are for the tree {tree!r}, which is not in the library")
+        if tree is not None:
+            self.seg_tree.value = tree
+        extra = load_canvases(text, {"segmentation": self.seg_canvas}, app="trees")
+        sel, w = extra.get("selected"), extra.get("weights")
+        if isinstance(sel, list) and sel and set(sel) <= set(self.library.names):
+            self.select(sel)
+            if isinstance(w, list) and len(w) == len(sel):
+                self.set_weights(w)
 
     # -- internals ----------------------------------------------------------------
     def _live_update(self) -> None:
