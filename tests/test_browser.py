@@ -16,6 +16,7 @@ keep the screenshots (and ``latency.json``) there.
 
 from __future__ import annotations
 
+import base64
 import json
 import os
 import secrets
@@ -480,6 +481,99 @@ def _canvas_box(page, index: int = 0):
     return box
 
 
+# -- layout at device pixel ratio 1 and 2 ------------------------------------------------
+_LAYOUT = """() => {
+  const app = document.querySelector('.bnb-app');
+  const dpr = window.devicePixelRatio || 1;
+  const shown = el => {
+    const st = getComputedStyle(el);
+    if (st.display === 'none' || st.visibility === 'hidden') return false;
+    const r = el.getBoundingClientRect();
+    return r.width > 0 && r.height > 0;
+  };
+  const name = el => (el.className && el.className.baseVal === undefined ? String(el.className) : el.tagName)
+                     .split(' ').filter(c => c.startsWith('bnb-') || c.startsWith('widget-')).slice(0, 3).join('.')
+                     || el.tagName;
+  const out = {dpr, canvases: [], toolbar: [], clipped: []};
+  // canvases: backing store = CSS size x devicePixelRatio
+  for (const c of app.querySelectorAll('canvas')) {
+    if (!shown(c)) continue;
+    const r = c.getBoundingClientRect();
+    out.canvases.push({w: c.width, h: c.height, cssw: r.width, cssh: r.height,
+                       where: name(c.closest('.bnb-canvas, .bnb-hist') || c)});
+  }
+  // toolbars: their height is that of the rows their visible controls fill (no empty row)
+  for (const tb of app.querySelectorAll('.bnb-toolbar')) {
+    const boxes = [...tb.querySelectorAll('.widget-button, .widget-toggle-buttons, .widget-inline-hbox, ' +
+                                          '.widget-checkbox, .widget-upload, .widget-text, .widget-dropdown')]
+      .filter(shown).map(e => e.getBoundingClientRect());
+    const r = tb.getBoundingClientRect();
+    const rows = new Set(boxes.map(b => Math.round(b.top / 6)));
+    const used = boxes.length ? Math.max(...boxes.map(b => b.bottom)) - Math.min(...boxes.map(b => b.top)) : 0;
+    out.toolbar.push({height: r.height, used, controls: boxes.length, rows: rows.size});
+  }
+  // every shown widget lies inside its parent widget (nothing cut off or spilling over)
+  for (const el of app.querySelectorAll('.jupyter-widgets, canvas, img')) {
+    if (!shown(el) || el.closest('.bnb-probe')) continue;
+    const parent = el.parentElement && el.parentElement.closest('.jupyter-widgets');
+    if (!parent || !app.contains(parent) || parent === el) continue;
+    const a = el.getBoundingClientRect(), b = parent.getBoundingClientRect();
+    const over = Math.max(b.left - a.left, a.right - b.right, b.top - a.top, a.bottom - b.bottom);
+    if (over > 2) out.clipped.push({el: name(el), parent: name(parent), by: Math.round(over),
+                                    box: [a.left, a.top, a.width, a.height].map(Math.round)});
+  }
+  return out;
+}"""
+
+
+def _check_layout(page, label: str) -> dict:
+    """No empty toolbar row, no widget outside its parent, canvases' backing store = CSS size x DPR."""
+    page.evaluate("document.querySelector('.bnb-app').scrollIntoView({block: 'start'})")
+    time.sleep(0.3)
+    got = page.evaluate(_LAYOUT)
+    dpr = got["dpr"]
+    blurry = [c for c in got["canvases"] if abs(c["w"] - c["cssw"] * dpr) > 2 or abs(c["h"] - c["cssh"] * dpr) > 2]
+    assert not blurry, f"{label}: canvases whose backing store is not CSS size x {dpr}: {blurry}"
+    for tb in got["toolbar"]:
+        assert tb["height"] <= tb["used"] + 8, f"{label}: a toolbar row holds no visible control: {tb}"
+    assert not got["clipped"], f"{label}: widgets outside their parent: {got['clipped'][:6]}"
+    return got
+
+
+def _set_dpr(page, dpr: float) -> None:
+    """Emulate another device pixel ratio on the open page (as a window moved to a HiDPI screen)."""
+    cdp = page.context.new_cdp_session(page)
+    vp = page.viewport_size
+    cdp.send("Emulation.setDeviceMetricsOverride", {"width": vp["width"], "height": vp["height"],
+                                                    "deviceScaleFactor": dpr, "mobile": False})
+    page.__bnb_cdp = cdp  # keep the session (and so the override) alive
+    # An emulated ratio change fires neither "resize" nor the media query's "change" (a real move to
+    # another screen or a browser zoom does): send the resize the browser would.
+    page.evaluate("window.dispatchEvent(new Event('resize'))")
+
+
+def _both_ratios(page, lab, kernel, name: str, tmp_path: Path) -> None:
+    """Layout checks and screenshots at DPR 1, then at DPR 2 once the canvases have been resized."""
+    _check_layout(page, f"{name} at DPR 1")
+    _screenshot(page, f"{name}_dpr1", tmp_path)
+    _set_dpr(page, 2.0)
+    t_end = time.time() + 30
+    while time.time() < t_end:
+        got = page.evaluate(_LAYOUT)
+        if got["dpr"] == 2 and all(abs(c["w"] - 2 * c["cssw"]) <= 2 for c in got["canvases"]):
+            break
+        time.sleep(0.25)
+    _wait_idle(lab, kernel)
+    _check_layout(page, f"{name} at DPR 2")
+    # Playwright's own screenshot stays at its context's scale: the device pixels come from CDP
+    page.evaluate("document.querySelector('.bnb-app').scrollIntoView({block: 'start'})")
+    time.sleep(0.4)
+    shot = page.__bnb_cdp.send("Page.captureScreenshot", {"format": "png"})["data"]
+    out = SHOTS or tmp_path
+    (out / f"app_{name}_dpr2.png").write_bytes(base64.b64decode(shot))
+    _no_error(page, lab, kernel)
+
+
 def test_branching_app_in_the_browser(lab, chromium, tmp_path):
     page, kernel = _open(lab, chromium, "branching")
     try:
@@ -504,7 +598,7 @@ def test_branching_app_in_the_browser(lab, chromium, tmp_path):
                 "r = synthesize_structure(app._fitted(p), p, rng=int(app.seed.value), shape=app.image_shape); "
                 "print(r.structure.to_json() == app.result.structure.to_json())")
         assert _eval(lab, kernel, same) == "True"
-        _screenshot(page, "branching", tmp_path)
+        _both_ratios(page, lab, kernel, "branching", tmp_path)
         _screenshot_while_busy(page, ".bnb-param-c", -14, "branching_growing", tmp_path)
         _wait_idle(lab, kernel)
         _no_error(page, lab, kernel)
@@ -514,9 +608,9 @@ def test_branching_app_in_the_browser(lab, chromium, tmp_path):
 
 
 def test_dendrite_app_in_the_browser_at_dpr_2(lab, chromium, tmp_path):
-    page, kernel = _open(lab, chromium, "dendrite", dpr=2.0)
+    page, kernel = _open(lab, chromium, "dendrite")
     try:
-        assert _eval(lab, kernel, "print(app.canvas.pixel_ratio)") == "2.0"
+        assert _eval(lab, kernel, "print(app.canvas.pixel_ratio)") == "1.0"
         box = _canvas_box(page)
         _click(page, box, 0.3, 0.4)
         time.sleep(0.5)
@@ -533,7 +627,11 @@ def test_dendrite_app_in_the_browser_at_dpr_2(lab, chromium, tmp_path):
         _no_error(page, lab, kernel)
         _press(page, lab, kernel, "update", changes=False)
         assert _eval(lab, kernel, "print(type(app.tree).__name__)") == "GrownTree"
-        _screenshot(page, "dendrite_dpr2", tmp_path)
+        page.locator(".bnb-app .widget-toggle-button:text-is('stylize')").first.click()
+        time.sleep(0.5)
+        _wait_idle(lab, kernel)
+        _both_ratios(page, lab, kernel, "dendrite", tmp_path)
+        assert _eval(lab, kernel, "print(app.canvas.pixel_ratio, app.hist_tortuosity.pixel_ratio)") == "2.0 2.0"
     finally:
         page.close()
         _delete_kernels(lab)
@@ -562,7 +660,7 @@ def test_strokes_app_in_the_browser(lab, chromium, tmp_path):
         assert _eval(lab, kernel, same) == "True"
         _press(page, lab, kernel, "reverse last target")  # the object now runs the other way
         _press(page, lab, kernel, "re-synthesize", changes=False)  # the same strokes: the same result
-        _screenshot(page, "strokes", tmp_path)
+        _both_ratios(page, lab, kernel, "strokes", tmp_path)
     finally:
         page.close()
         _delete_kernels(lab)
@@ -583,7 +681,9 @@ def test_trees_app_in_the_browser(lab, chromium, tmp_path):
         _move_slider(page, lab, kernel, ".bnb-weight-tree_rpg_01", 30, "trees")
         page.locator(".bnb-app .lm-TabBar-tab:has-text('more like this')").first.click()
         _press(page, lab, kernel, "more like this")
-        _screenshot(page, "trees", tmp_path)
+        page.locator(".bnb-app .lm-TabBar-tab:has-text('mix')").first.click()
+        time.sleep(0.3)
+        _both_ratios(page, lab, kernel, "trees", tmp_path)
     finally:
         page.close()
         _delete_kernels(lab)
@@ -607,7 +707,7 @@ def test_leaves_app_in_the_browser(lab, chromium, tmp_path):
         assert _eval(lab, kernel, "print(app.analysis.params.eps != 40.0)") == "True"
         _press(page, lab, kernel, "generate")
         assert int(_eval(lab, kernel, "print(len(app.leaves))")) >= 1
-        _screenshot(page, "leaves", tmp_path)
+        _both_ratios(page, lab, kernel, "leaves", tmp_path)
         _screenshot(page, "leaves_gallery", tmp_path, block="end")  # histograms and generated leaves
     finally:
         page.close()

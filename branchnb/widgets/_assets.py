@@ -47,7 +47,13 @@ class PixelRatioProbe(widgets.VBox):
               "if(!e.length){if(n++<40)setTimeout(f,250);return;}"
               "var r=String(window.devicePixelRatio||1);e.forEach(function(i){if(i.value!==r){i.value=r;"
               "i.dispatchEvent(new Event('input',{bubbles:true}));"
-              "i.dispatchEvent(new Event('change',{bubbles:true}));}});}f();").replace("TAG", tag)
+              "i.dispatchEvent(new Event('change',{bubbles:true}));}});}f();"
+              # a window moved to another screen or a zoomed page changes the ratio: report again
+              "if(!window.__bnbDpr){window.__bnbDpr=[];var all=function(){window.__bnbDpr.forEach("
+              "function(g){g();});};(function w(){matchMedia('(resolution: '+(window.devicePixelRatio||1)"
+              "+'dppx)').addEventListener('change',function(){all();w();},{once:true});})();"
+              "window.addEventListener('resize',all);}"
+              "window.__bnbDpr.push(function(){n=0;f();});").replace("TAG", tag)
         probe = widgets.HTML(f'<img src="data:," alt="" style="display:none" onerror="{js}">',
                              layout=widgets.Layout(height="0px", overflow="hidden", margin="0"))
         super().__init__([self._box, probe], layout=widgets.Layout(height="0px", margin="0",

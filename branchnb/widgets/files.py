@@ -233,10 +233,13 @@ class FileBar:
         self.name = _safe_name(str(name))
         self._open, self._outputs, self._annotations, self._load = open, outputs, annotations, load
         self.widgets: list[widgets.Widget] = []
+        # ipywidgets' upload button always says "<description> (<number of files>)"; the count
+        # means nothing here (the files are handed on at once), so the label comes from CSS.
+        tag = f"bnb-up-{id(self):x}"
+        self._labels: dict[str, str] = {}
         self.upload = None
         if open is not None:
-            self.upload = widgets.FileUpload(accept="image/*", multiple=bool(multiple), description=open_label,
-                                             icon="folder-open", layout=widgets.Layout(width="auto"))
+            self.upload = self._upload(f"{tag}-open", open_label, "image/*", "folder-open", multiple)
             self.upload.tooltip = ("load your own image" + ("s (choose several)" if multiple else "")
                                    + "; PNG keeps transparency")
             self.upload.observe(errors.guard(lambda ch: self._uploaded(ch["new"])), names="value")
@@ -253,16 +256,30 @@ class FileBar:
             self.widgets += [self.save_button, self.folder]
         self.annotation_upload = None
         if load is not None:
-            self.annotation_upload = widgets.FileUpload(accept=".json,application/json", multiple=False,
-                                                        description="load annotations", icon="upload",
-                                                        layout=widgets.Layout(width="auto"))
+            self.annotation_upload = self._upload(f"{tag}-ann", "load annotations", ".json,application/json",
+                                                  "upload", False)
             self.annotation_upload.tooltip = "restore annotations saved earlier (a *_annotations.json)"
             self.annotation_upload.observe(errors.guard(lambda ch: self._annotations_uploaded(ch["new"])),
                                            names="value")
             self.widgets.append(self.annotation_upload)
+        css = "".join(f".{c}{{font-size:0 !important}}.{c} i{{font-size:13px;margin-right:4px}}"
+                      f".{c}::after{{content:'{label}';font-size:13px}}" for c, label in self._labels.items())
+        self.style = widgets.HTML(f"<style>{css}</style>", layout=widgets.Layout(width="0px", height="0px",
+                                                                                  margin="0", overflow="hidden"))
+        self.style.add_class("bnb-probe")
+        self.widgets.append(self.style)
         self.links = widgets.HTML(layout=widgets.Layout(display="none"))
         self.links.add_class("bnb-links")
         self.written: list[Path] = []
+
+    def _upload(self, cls: str, label: str, accept: str, icon: str, multiple: bool) -> widgets.FileUpload:
+        if not isinstance(label, str) or not label.strip() or "'" in label or "\\" in label:
+            raise ValueError(f"label must be plain text, got {label!r}")
+        up = widgets.FileUpload(accept=accept, multiple=bool(multiple), description=label, icon=icon,
+                                layout=widgets.Layout(width="auto"))
+        up.add_class(cls)
+        self._labels[cls] = label
+        return up
 
     # -- opening ----------------------------------------------------------------------
     def open_files(self, files) -> object:

@@ -3,14 +3,20 @@
 ::
 
     +--------------------------------------------------------------+
-    | title                                         one-line help  |
-    | [main action] [action] [action] ...  [cancel]   (toolbar)    |
-    | status: "synthesize: 0.84 s | 120 branches"  / spinner / error|
+    | title   one-line help                                        |
+    | [main action] [action] ... [open image] [save] [load annot.] |
+    | status: "synthesize: 0.84 s | 120 branches"  [cancel]        |
     +----------------------+----------------------+----------------+
     | canvas(es)           | result views,        | parameters,    |
-    |                      | histograms           | by paper       |
-    |                      |                      | section        |
+    |                      | histograms (below    | by paper       |
+    |                      | the canvases when    | section        |
+    |                      | there is no room)    |                |
     +----------------------+----------------------+----------------+
+
+The status line appears with the first thing it has to say; "cancel"
+shows beside it only while cancellable work runs. Canvases keep their
+size (backing store = CSS size x the browser's pixel ratio, so they stay
+sharp); the results wrap below them on a narrow page.
 
 An app builds its widgets, hands them to the shell and registers its
 actions; the shell gives every action the same busy state (spinner,
@@ -157,14 +163,18 @@ class AppShell(widgets.VBox):
                                        layout=widgets.Layout(align_items="center", width="100%"))
         self.files: FileBar | None = None
         self._links = widgets.VBox()
-        self.main = widgets.VBox(layout=widgets.Layout(flex="0 1 auto", min_width="0"))
-        self.result = widgets.VBox(layout=widgets.Layout(flex="1 1 300px", min_width="260px",
-                                                         overflow="hidden"))
+        # Canvases keep their size (a squeezed canvas is blurry and its clicks land off); the results
+        # sit beside them when there is room and wrap below them when not; the parameters stay on
+        # the right.
+        self.main = widgets.VBox(layout=widgets.Layout(flex="0 0 auto", max_width="100%"))
+        self.result = widgets.VBox(layout=widgets.Layout(flex="1 1 auto", min_width="0", max_width="100%"))
         self.sidebar = widgets.VBox(layout=widgets.Layout(flex=f"0 0 {sidebar_width}px",
                                                           width=f"{sidebar_width}px"))
-        self.body = widgets.HBox([self.main, self.result, self.sidebar],
-                                 layout=widgets.Layout(align_items="flex-start",
-                                                       width="100%"))
+        self.work = widgets.HBox([self.main, self.result],
+                                 layout=widgets.Layout(flex="1 1 0", min_width="0", flex_flow="row wrap",
+                                                       align_items="flex-start"))
+        self.body = widgets.HBox([self.work, self.sidebar],
+                                 layout=widgets.Layout(align_items="flex-start", width="100%"))
         super().__init__([KitStyle(), self.header, self.toolbar, self.status_row, self._links, self.body],
                          layout=widgets.Layout(width="100%"))
         self.add_class("bnb-app")
