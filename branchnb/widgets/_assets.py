@@ -34,18 +34,27 @@ class PixelRatioProbe(widgets.VBox):
     ``ratio`` is 0 until a browser has shown the probe. Canvases size their
     backing store from it (CSS size x ratio), so that they are sharp on
     HiDPI screens and not wastefully large on ordinary ones.
+
+    ``width`` is the CSS width available to the nearest enclosing widget
+    with the class ``bnb-fit`` (the width of that widget's parent; 0 when
+    there is none or it is not shown), reported again whenever it changes:
+    a plot can then be drawn at the size it is shown at instead of being
+    squeezed by the browser (which would blur it).
     """
 
     ratio = traitlets.Float(0.0)
+    width = traitlets.Float(0.0)
 
     def __init__(self):
         self._box = widgets.Text(value="", continuous_update=True,
                                  layout=widgets.Layout(display="none"))
         tag = f"bnb-dpr-{id(self):x}"
         self._box.add_class(tag)
-        js = ("var n=0;function f(){var e=document.querySelectorAll('.TAG input');"
+        js = ("var n=0,seen=0;function f(){var e=document.querySelectorAll('.TAG input');"
               "if(!e.length){if(n++<40)setTimeout(f,250);return;}"
-              "var r=String(window.devicePixelRatio||1);e.forEach(function(i){if(i.value!==r){i.value=r;"
+              "e.forEach(function(i){var fit=i.closest('.bnb-fit'),p=fit&&fit.parentElement;"
+              "if(p&&!seen&&window.ResizeObserver){seen=1;new ResizeObserver(function(){f();}).observe(p);}"
+              "var r=String(window.devicePixelRatio||1)+' '+(p?p.clientWidth:0);if(i.value!==r){i.value=r;"
               "i.dispatchEvent(new Event('input',{bubbles:true}));"
               "i.dispatchEvent(new Event('change',{bubbles:true}));}});}f();"
               # a window moved to another screen or a zoomed page changes the ratio: report again
@@ -62,10 +71,14 @@ class PixelRatioProbe(widgets.VBox):
         self._box.observe(self._got, names="value")
 
     def _got(self, change):
+        parts = str(change["new"]).split()
         try:
-            r = float(change["new"])
-        except ValueError:
+            r = float(parts[0])
+            w = float(parts[1]) if len(parts) > 1 else 0.0
+        except (ValueError, IndexError):
             return
+        if np.isfinite(w) and w >= 0:
+            self.width = w
         if np.isfinite(r) and r > 0:
             self.ratio = r
 

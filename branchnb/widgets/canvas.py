@@ -300,6 +300,8 @@ class AnnotationCanvas(widgets.VBox):
         self._end_active()
         self.selected = None
         self._show_tool_options()
+        if "edit" in (change["old"], change["new"]) and hasattr(self, "canvas"):
+            self._draw_shapes()  # the vertex handles show in edit mode only
         self._update_status()
 
     def _show_tool_options(self) -> None:
@@ -442,15 +444,14 @@ class AnnotationCanvas(widgets.VBox):
         c.fill_circles(x, y, self._px(radius))
 
     def _vertex_marks(self, shape, x, y):
-        """Which vertices get a dot: all while they are far apart on screen, else the two ends.
+        """Which vertices get a dot: every one while it can be edited, else the two ends.
 
-        A dense, extracted polyline with a dot at every vertex would cover
-        the very structure it annotates.
+        A finished polyline (an extracted one has a vertex every few pixels)
+        with a dot at each vertex would cover the very structure it
+        annotates; in ``edit`` mode, or while it is being drawn, every
+        vertex is a handle and is shown.
         """
-        if len(x) <= 2:
-            return x, y
-        gaps = np.hypot(np.diff(x), np.diff(y))
-        if np.median(gaps) >= self._px(14) or self._open_index(shape):
+        if len(x) <= 2 or self.mode == "edit" or self._open_index(shape):
             return x, y
         return x[[0, -1]], y[[0, -1]]
 

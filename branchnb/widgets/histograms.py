@@ -31,7 +31,8 @@ class HistogramCompare(widgets.VBox):
         ``l1``, ``l2sq``, ``chi2`` or ``emd`` (see :mod:`branchnb.core.histogram`).
     title : str
     width, height : int
-        Canvas size in CSS pixels; the backing store has ``pixel_ratio``
+        Canvas size in CSS pixels (narrower where the browser shows it in a
+        narrower column: it is redrawn at the width it gets); the backing store has ``pixel_ratio``
         device pixels per CSS pixel (the browser's ``devicePixelRatio``,
         reported by a hidden probe; 2 until it is known), so the plot is
         sharp on HiDPI screens.
@@ -58,6 +59,7 @@ class HistogramCompare(widgets.VBox):
         self.title = title
         self.comparison: HistogramComparison | None = None
         self.css_width, self.css_height = int(width), int(height)
+        self._wanted_width = int(width)
         self.pixel_ratio = 2.0
         self.canvas = Canvas(width=1, height=1)
         self.canvas.layout.max_width = "100%"
@@ -66,7 +68,10 @@ class HistogramCompare(widgets.VBox):
         self._probe = PixelRatioProbe()
         super().__init__([self.canvas, self.caption, self.errors, self._probe])
         self.add_class("bnb-hist")
+        self.add_class("bnb-fit")
+        self.layout.max_width = "100%"
         self._probe.observe(self.errors.guard(self._on_probe, action=False), names="ratio")
+        self._probe.observe(self.errors.guard(self._on_width, action=False), names="width")
         self._size()
 
     def _on_probe(self, change) -> None:
@@ -75,12 +80,20 @@ class HistogramCompare(widgets.VBox):
             self.pixel_ratio = r
             self._size()
 
+    def _on_width(self, change) -> None:
+        # Narrower than asked for where it is shown: draw at that width (a squeezed canvas blurs).
+        avail = int(change["new"])
+        w = self._wanted_width if avail <= 0 else max(32, min(self._wanted_width, avail))
+        if w != self.css_width:
+            self.css_width = w
+            self._size()
+
     def resize(self, width: int, height: int | None = None) -> None:
         """Change the plot's size in CSS pixels (e.g. to fit a column) and redraw."""
         for arg, v in (("width", width), ("height", height if height is not None else self.css_height)):
             if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 32 <= v <= 4096:
                 raise ValueError(f"{arg} must be an int in [32, 4096] (pixels), got {v!r}")
-        self.css_width = int(width)
+        self.css_width = self._wanted_width = int(width)
         if height is not None:
             self.css_height = int(height)
         self._size()

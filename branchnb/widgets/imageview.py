@@ -13,6 +13,9 @@ from ..core.io import encode_png
 
 __all__ = ["ImageView"]
 
+#: Narrowest useful width (CSS px) of an image cell before the cells wrap onto another row.
+MIN_CELL = 180
+
 
 def _encode(image, fast: bool) -> tuple[bytes, str]:
     if not fast:
@@ -58,7 +61,8 @@ class ImageView(widgets.HBox):
 
     def __init__(self, images=(), titles=(), *, fast: bool = False, width: int = 320,
                  max_size: int | None = None):
-        super().__init__(layout=widgets.Layout(flex_flow="row wrap", max_width="100%"))
+        super().__init__(layout=widgets.Layout(flex_flow="row wrap", max_width="100%", width="100%",
+                                               align_items="flex-start"))
         self.add_class("bnb-view")
         if isinstance(width, bool) or not isinstance(width, int) or width < 16:
             raise ValueError(f"width must be an int >= 16 (pixels), got {width!r}")
@@ -97,16 +101,18 @@ class ImageView(widgets.HBox):
             titles = self.title_texts[: len(images)]
         titles = list(titles) + [""] * (len(images) - len(titles))
         if len(self.images) != len(images):
-            self.images = [widgets.Image(layout=widgets.Layout(width=f"{self.width}px", max_width="100%",
+            self.images = [widgets.Image(layout=widgets.Layout(width="100%", max_width=f"{self.width}px",
                                                                object_fit="contain",
                                                                border="1px solid #ddd"))
                            for _ in images]
-            self.titles = [widgets.HTML(layout=widgets.Layout(width=f"{self.width}px", max_width="100%"))
-                           for _ in images]
+            self.titles = [widgets.HTML(layout=widgets.Layout(width="100%")) for _ in images]
             self._title_text = [""] * len(images)
-            # Cells shrink with a narrow column instead of being clipped.
-            self.children = [widgets.VBox([t, im], layout=widgets.Layout(max_width="100%", min_width="0"))
-                             for t, im in zip(self.titles, self.images)]
+            # Cells share the row: as many side by side as fit at a useful size (at least
+            # MIN_CELL px), each at most ``width`` px; they wrap, and shrink in a narrow column.
+            basis = min(self.width, MIN_CELL)
+            self.children = [widgets.VBox([t, im], layout=widgets.Layout(
+                flex=f"1 1 {basis}px", max_width=f"{self.width}px", min_width="0", margin="0 6px 4px 0"))
+                for t, im in zip(self.titles, self.images)]
         for i, (img, title) in enumerate(zip(images, titles)):
             self._put(i, img)
             self.set_title(i, title)
@@ -126,8 +132,8 @@ class ImageView(widgets.HBox):
         # Never enlarged: an image narrower than the view width is shown at its own size
         # (a click on it enlarges it, see the kit's stylesheet).
         width = f"{min(self.width, int(w))}px"
-        if self.images[i].layout.width != width:
-            self.images[i].layout.width = width
+        if self.images[i].layout.max_width != width:
+            self.images[i].layout.max_width = width
         self.images[i].format = fmt
         self.images[i].value = data
 

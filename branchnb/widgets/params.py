@@ -27,7 +27,7 @@ from .feedback import ErrorArea
 __all__ = ["ParamPanel", "LABEL_WIDTH", "SLIDER_WIDTH", "READOUT_WIDTH"]
 
 #: Geometry shared by every control row (pixels), so that sliders line up.
-LABEL_WIDTH, SLIDER_WIDTH, READOUT_WIDTH = 150, 104, 56
+LABEL_WIDTH, SLIDER_WIDTH, READOUT_WIDTH = 158, 96, 54
 
 
 def _nice_step(span: float) -> float:
@@ -123,7 +123,8 @@ class _Row:
         # tooltip and the section's help list).
         self.label = widgets.HTML(
             f"<div class='bnb-param-label' title='{html.escape(tip, quote=True)}' style='white-space:nowrap;"
-            f"overflow:hidden;text-overflow:ellipsis;font-size:12px;line-height:28px'>"
+            f"overflow:hidden;text-overflow:ellipsis;font-size:12px;line-height:28px;"
+            f"max-width:{LABEL_WIDTH}px'>"
             f"{html.escape(label)}{sym}</div>",
             layout=widgets.Layout(width=f"{LABEL_WIDTH}px", margin="0 4px 0 0", overflow="hidden"))
         self.label.tooltip = help_text
