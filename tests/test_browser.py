@@ -21,6 +21,7 @@ import json
 import os
 import secrets
 import shutil
+import signal
 import socket
 import subprocess
 import sys
@@ -755,3 +756,57 @@ def _screenshot_while_busy(page, selector: str, dx: float, name: str, tmp_path: 
     time.sleep(0.3)
     out = SHOTS or tmp_path
     page.screenshot(path=str(out / f"app_{name}.png"))
+
+
+# -- one app as a page: branchnb app NAME (Voila) ---------------------------------------
+def test_app_page_from_branchnb_app(chromium, tmp_path):
+    """``branchnb app strokes`` prints one URL; the page shows the app alone, and drawing on it works."""
+    pytest.importorskip("voila")
+    cfg = tmp_path / "jupyter"
+    env = dict(os.environ, JUPYTER_CONFIG_DIR=str(cfg / "config"), JUPYTER_RUNTIME_DIR=str(cfg / "runtime"),
+               PYTHONPATH=os.pathsep.join([str(ROOT)] + [p for p in [os.environ.get("PYTHONPATH")] if p]))
+    log = open(tmp_path / "voila.log", "w")
+    proc = subprocess.Popen([sys.executable, "-m", "branchnb.cli", "app", "strokes"], stdin=subprocess.DEVNULL,
+                            stdout=subprocess.PIPE, stderr=log, text=True, env=env, cwd=tmp_path)
+    page = None
+    try:
+        line = proc.stdout.readline().strip()
+        assert line.startswith("branchnb app: http://127.0.0.1:") and "?token=" in line, line
+        url = line.split(" ", 2)[2]
+        page = chromium.new_page(viewport={"width": 1400, "height": 1000})
+        for _ in range(120):  # the server needs a moment after printing its URL
+            try:
+                page.goto(url, timeout=120_000)
+                break
+            except Exception:  # noqa: BLE001 - connection refused until it listens
+                assert proc.poll() is None, (tmp_path / "voila.log").read_text()[-2000:]
+                time.sleep(0.5)
+        page.wait_for_selector(".bnb-app .bnb-canvas canvas", timeout=180_000)
+        time.sleep(1.0)
+        # the app alone: no code, no prompts
+        assert page.locator(".jp-InputArea, .jp-InputPrompt").count() == 0
+        assert "open_app" not in page.locator("body").inner_text()
+        status = page.locator(".bnb-app .bnb-canvas").first
+        n0 = status.inner_text()
+        box = _canvas_box(page, 0)
+        _drag(page, box, [(0.2, 0.5), (0.5, 0.45), (0.8, 0.5)])
+        for _ in range(60):  # the canvas' own status line is written by the kernel
+            if "1 shapes" in status.inner_text():
+                break
+            time.sleep(0.25)
+        assert "1 shapes" in status.inner_text(), f"the stroke did not reach the kernel: {n0!r}"
+        _check_layout(page, "branchnb app strokes")
+        out = SHOTS or tmp_path
+        out.mkdir(parents=True, exist_ok=True)
+        page.screenshot(path=str(out / "app_page_strokes.png"))
+        assert page.locator(".bnb-app .bnb-status-error").count() == 0
+    finally:
+        if page is not None:
+            page.close()
+        proc.send_signal(signal.SIGTERM)
+        try:
+            proc.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait()
+        log.close()
