@@ -113,7 +113,7 @@ def open_app(name: str, images=None, **kwargs):
     if name == "strokes":
         from .strokes import StrokeEditApp
 
-        img = named[0][1] if named else data.load("rope_loop")
+        img = named[0][1] if named else _shrink(data.load("lizard"), 400)
         h, w = img.shape[:2]
         kwargs.setdefault("target_shape", (h, w))
         kwargs.setdefault("max_display", 400)

@@ -13,6 +13,9 @@ from .feedback import ErrorArea
 
 __all__ = ["HistogramCompare", "PALETTE"]
 
+#: Height (CSS px) of a histogram with no data yet.
+EMPTY_HEIGHT = 24
+
 PALETTE = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b")
 
 
@@ -100,10 +103,12 @@ class HistogramCompare(widgets.VBox):
 
     def _size(self) -> None:
         r = self.pixel_ratio
+        # Without data only the one-line "no data yet" shows: no tall empty box.
+        h = self.css_height if self.comparison is not None else EMPTY_HEIGHT
         self.canvas.width = int(round(self.css_width * r))
-        self.canvas.height = int(round(self.css_height * r))
+        self.canvas.height = int(round(h * r))
         self.canvas.layout.width = f"{self.css_width}px"
-        self.canvas.layout.height = f"{self.css_height}px"
+        self.canvas.layout.height = f"{h}px"
         if self.comparison is None:
             self._draw_empty()
         else:
@@ -121,14 +126,18 @@ class HistogramCompare(widgets.VBox):
         """Draw a precomputed :class:`~branchnb.core.histogram.HistogramComparison`."""
         if not isinstance(comparison, HistogramComparison):
             raise TypeError("comparison must be a HistogramComparison")
+        was_empty = self.comparison is None
         self.comparison = comparison
-        self._draw()
+        if was_empty:
+            self._size()  # back to full height (draws)
+        else:
+            self._draw()
 
     def clear(self) -> None:
         """Back to "no data yet" (e.g. after the data was removed)."""
         self.comparison = None
         self.caption.value = ""
-        self._draw_empty()
+        self._size()
 
     def _draw_empty(self) -> None:
         c = self.canvas
@@ -138,7 +147,7 @@ class HistogramCompare(widgets.VBox):
             c.scale(self.pixel_ratio)
             c.fill_style = "#888"
             c.font = "12px sans-serif"
-            c.fill_text(f"{self.title}: no data yet" if self.title else "no data yet", 10, 20)
+            c.fill_text(f"{self.title}: no data yet" if self.title else "no data yet", 10, 16)
             c.restore()
 
     def _draw(self) -> None:
