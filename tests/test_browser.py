@@ -1,4 +1,4 @@
-"""Real browser: JupyterLab + Debian's Chromium (Playwright): the tour and every app.
+"""Real browser: JupyterLab + Debian's Chromium (Playwright): the tour, every app, and an app page.
 
 The tour test runs the tour notebook, drags across the annotation canvas
 and checks that the kernel received the stroke in image pixels and that
@@ -6,12 +6,18 @@ the canvas changed on screen. The app tests open a small notebook per app
 (written into the server's temporary folder), draw on the canvas, press
 the app's main action, move one slider, and check that the view changed
 and that no error is shown; each measures the slider-to-preview latency
-(printed, not asserted) and saves a screenshot at 1400 x 1000 (one app at
-device pixel ratio 2). One JupyterLab server and one browser serve all
-tests. How to run it by hand is in the README. Playwright cannot download
-its own browser here, so Debian's ``/usr/bin/chromium`` is used; the tests
-are skipped only if it is missing. Set ``BRANCHNB_SCREENSHOTS=DIR`` to
-keep the screenshots (and ``latency.json``) there.
+(printed, not asserted). Every app is then checked at device pixel ratio
+1 and, on the same page, 2 (emulated): no toolbar row without a visible
+control, no widget outside its parent, and every canvas' backing store
+equal to its CSS size times the ratio; a screenshot is saved at each
+ratio (the DPR-2 one in device pixels). The last test starts
+``branchnb app strokes`` (Voila), opens the one URL it prints, checks that
+the page shows the app without code and draws a stroke that reaches the
+kernel. One JupyterLab server and one browser serve the notebook tests.
+Playwright cannot download its own browser here, so Debian's
+``/usr/bin/chromium`` is used; the tests are skipped only if it is
+missing. Set ``BRANCHNB_SCREENSHOTS=DIR`` to keep the screenshots (and
+``latency.json``) there; by default they go to pytest's temporary folder.
 """
 
 from __future__ import annotations

@@ -431,8 +431,9 @@ class TreeVariationsApp(widgets.VBox):
                                                 rng=int(self.rng.value) + 1)
             cells = []
             for i, v in enumerate(self.similar):
-                img = widgets.Image(value=encode_png(_thumb(v.image, self._grid_size)),
-                                    format="png")
+                g = self._grid_size  # sent at twice its CSS size: sharp on HiDPI screens too
+                img = widgets.Image(value=encode_png(_thumb(v.image, 2 * g)), format="png",
+                                    layout=widgets.Layout(width=f"{g}px", height=f"{g}px"))
                 btn = widgets.Button(description=f"use {i + 1}", layout=widgets.Layout(width="auto"),
                                      tooltip=v.label())
                 btn.on_click(self.errors.guard(lambda _b, i=i: self.adopt(i)))
@@ -516,7 +517,8 @@ class TreeVariationsApp(widgets.VBox):
     def _library_cell(self, ex, checked: bool) -> widgets.VBox:
         """A library tree's thumbnail with its "mix" checkbox."""
         t = self._thumb
-        img = widgets.Image(value=encode_png(_thumb(ex.image, t)), format="png",
+        # twice the pixels of its CSS size: sharp on HiDPI screens too
+        img = widgets.Image(value=encode_png(_thumb(ex.image, 2 * t)), format="png",
                             layout=widgets.Layout(width=f"{t}px", height=f"{t}px"))
         cb = widgets.Checkbox(value=checked, description=ex.name, indent=False,
                               tooltip=f"mix {ex.name}", style={"description_width": "initial"},
