@@ -310,6 +310,10 @@ def _parser() -> argparse.ArgumentParser:
     return parser
 
 
+#: ``branchnb gallery`` says it is still working after this many seconds without a new picture.
+HEARTBEAT = 15.0
+
+
 def _gallery(outdir_arg) -> int:
     """``branchnb gallery``: a line at once, then one line per picture as it is written."""
     import threading
@@ -321,6 +325,12 @@ def _gallery(outdir_arg) -> int:
     before = {p: p.stat().st_mtime_ns for p in outdir.glob("*.png")}
     seen: set = set()
     stop = threading.Event()
+    state = {"section": "", "said": t0}
+
+    def say(text: str) -> None:
+        now = time.perf_counter()
+        state["said"] = now
+        print(f"  {now - t0:6.1f} s  {text}", flush=True)
 
     def report_new() -> None:
         for p in sorted(outdir.glob("*.png"), key=lambda q: q.stat().st_mtime_ns):
@@ -330,15 +340,18 @@ def _gallery(outdir_arg) -> int:
                 continue
             if p not in seen and before.get(p) != m:
                 seen.add(p)
-                print(f"  {time.perf_counter() - t0:6.1f} s  {p.name}", flush=True)
+                say(p.name)
 
     def watch() -> None:
         while not stop.wait(0.5):
             report_new()
+            if state["section"] and time.perf_counter() - state["said"] >= HEARTBEAT:
+                say(f"{state['section']}: still working on its next picture ...")
 
     def section(name: str) -> None:
         report_new()
-        print(f"  {time.perf_counter() - t0:6.1f} s  {name} ...", flush=True)
+        state["section"] = name
+        say(f"{name} ...")
 
     from .gallery import build
 

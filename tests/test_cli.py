@@ -9,10 +9,14 @@ import subprocess
 import sys
 import time
 import urllib.request
+from pathlib import Path
 
 import pytest
 
 from branchnb import cli
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from proctools import stop  # noqa: E402
 
 
 def _gallery(capsys, outdir):
@@ -157,12 +161,7 @@ def test_lab_prints_one_line_with_the_url(tmp_path):
         with urllib.request.urlopen(api, timeout=5) as r:   # the URL's notebook is the one served
             assert r.status == 200
     finally:
-        proc.send_signal(signal.SIGTERM)
-        try:
-            proc.wait(timeout=30)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            proc.wait()
+        stop(proc)
 
 
 def test_app_setup_checks_name_and_images_and_writes_the_page(tmp_path):
@@ -202,13 +201,16 @@ def test_gallery_reports_progress_from_the_first_second(tmp_path, monkeypatch, c
 
         imsave(outdir / "one.png", np.zeros((4, 4, 3)))
         progress("branching")
+        time.sleep(1.5)  # a slow picture: the command says it is still working
         imsave(outdir / "two.png", np.zeros((4, 4, 3)))
         return [1, 2]
 
     monkeypatch.setattr(gallery, "build", fake_build)
+    monkeypatch.setattr(cli, "HEARTBEAT", 0.6)
     assert cli.main(["gallery", str(tmp_path / "g")]) == 0
     out = capsys.readouterr().out.splitlines()
     assert out[0].startswith("branchnb gallery: rendering")
     assert any(line.endswith("one.png") for line in out) and any(line.endswith("two.png") for line in out)
     assert [line.split()[-2] for line in out if line.endswith("...")] == ["data", "branching"]
     assert out[-1].startswith("wrote 2 pictures")
+    assert any("branching: still working" in line for line in out)
