@@ -549,6 +549,22 @@ def _check_layout(page, label: str) -> dict:
     return got
 
 
+def _click_to_enlarge(page) -> None:
+    """A result image is shown no larger than it is; a click enlarges it, a second click shrinks it back."""
+    img = page.locator(".bnb-app .bnb-view img").first
+    img.scroll_into_view_if_needed()
+    w0 = img.bounding_box()["width"]
+    natural = page.evaluate("document.querySelector('.bnb-app .bnb-view img').naturalWidth")
+    assert w0 <= natural + 1, f"a result image is shown enlarged ({w0} px for {natural} px)"
+    img.click()
+    time.sleep(0.2)
+    w1 = img.bounding_box()["width"]
+    assert w1 > w0 and w1 >= min(natural, 2 * w0) - 1, (w0, w1, natural)
+    img.click()
+    time.sleep(0.2)
+    assert abs(img.bounding_box()["width"] - w0) <= 1
+
+
 def _set_dpr(page, dpr: float) -> None:
     """Emulate another device pixel ratio on the open page (as a window moved to a HiDPI screen)."""
     cdp = page.context.new_cdp_session(page)
@@ -669,6 +685,7 @@ def test_strokes_app_in_the_browser(lab, chromium, tmp_path):
         assert _eval(lab, kernel, same) == "True"
         _press(page, lab, kernel, "reverse last target")  # the object now runs the other way
         _press(page, lab, kernel, "re-synthesize", changes=False)  # the same strokes: the same result
+        _click_to_enlarge(page)
         _both_ratios(page, lab, kernel, "strokes", tmp_path)
     finally:
         page.close()
