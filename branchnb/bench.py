@@ -72,14 +72,16 @@ def timeit(fn: Callable[[], object], *, repeat: int = 3, warmup: bool = True) ->
     return best
 
 
-def run(quick: bool = False, suites=SUITES) -> list[BenchRow]:
-    """Collect the rows of every available suite."""
+def run(quick: bool = False, suites=SUITES, progress: Callable[[str], None] | None = None) -> list[BenchRow]:
+    """Collect the rows of every available suite; ``progress(name)`` is called as each suite starts."""
     rows: list[BenchRow] = []
     for mod_name in suites:
         if importlib.util.find_spec(mod_name.rsplit(".", 1)[0]) is None:
             continue
         if importlib.util.find_spec(mod_name) is None:
             continue
+        if progress is not None:
+            progress(mod_name.split(".")[1])
         mod = importlib.import_module(mod_name)
         rows.extend(mod.rows(quick))
     return rows

@@ -428,7 +428,12 @@ def main(argv=None) -> int:
         if args.cmd == "bench":
             from .bench import format_table, run
 
-            print(format_table(run(quick=args.quick)))
+            t0 = time.perf_counter()
+            print("branchnb bench: measuring each suite against its anchor (progress on stderr, the "
+                  "table at the end)", file=sys.stderr, flush=True)
+            rows = run(quick=args.quick, progress=lambda name: print(
+                f"  {time.perf_counter() - t0:6.1f} s  {name} ...", file=sys.stderr, flush=True))
+            print(format_table(rows))
             return 0
     except CommandError as exc:
         print(f"branchnb {args.cmd}: error: {exc}", file=sys.stderr)

@@ -214,3 +214,19 @@ def test_gallery_reports_progress_from_the_first_second(tmp_path, monkeypatch, c
     assert [line.split()[-2] for line in out if line.endswith(" ...") and "still" not in line] == ["data", "branching"]
     assert out[-1].startswith("wrote 2 pictures")
     assert any("branching: still working" in line for line in out)
+
+
+def test_bench_reports_each_suite_as_it_starts(monkeypatch, capsys):
+    import branchnb.bench as bench
+
+    def fake_run(quick=False, suites=bench.SUITES, progress=None):
+        progress("core")
+        progress("branching")
+        return [bench.BenchRow("x", 1.0, "y", 2.0)]
+
+    monkeypatch.setattr(bench, "run", fake_run)
+    assert cli.main(["bench", "--quick"]) == 0
+    got = capsys.readouterr()
+    assert got.err.splitlines()[0].startswith("branchnb bench:")
+    assert [line.split()[-2] for line in got.err.splitlines()[1:]] == ["core", "branching"]
+    assert "0.500" in got.out                     # the table, with the ratio
