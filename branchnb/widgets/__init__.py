@@ -4,17 +4,15 @@ The kit: :class:`AppShell` (the layout, busy state and status line every
 app uses; see :mod:`branchnb.widgets.shell` for how an app is built on
 it), :class:`AnnotationCanvas` (with its pure-Python
 :class:`AnnotationModel`), :class:`ParamPanel`, :class:`HistogramCompare`,
-:class:`ImageView`, :class:`StatusLine`, :class:`ErrorArea`,
-:class:`ProgressBar` and :class:`FileBar` (open image, save, load
-annotations: every app has them). :func:`open_app` opens any technique's
-app by name on a sample or on your own images (what ``branchnb app``
-serves as a page).
+:class:`ImageView`, :class:`StatusLine`, :class:`ErrorArea` and
+:class:`ProgressBar`; :class:`~branchnb.widgets.files.FileBar` gives every
+app "open image", "save" and "load annotations", and
+:func:`branchnb.widgets.apps.open_app` opens any technique's app by name
+(what ``branchnb app`` serves as a page).
 """
 
-from .apps import open_app
 from .canvas import AnnotationCanvas
 from .feedback import Cancelled, ErrorArea, ProgressBar, StatusLine
-from .files import FileBar
 from .histograms import HistogramCompare
 from .imageview import ImageView
 from .model import AnnotationEvent, AnnotationModel, Shape
@@ -28,12 +26,10 @@ __all__ = [
     "AppShell",
     "Cancelled",
     "ErrorArea",
-    "FileBar",
     "HistogramCompare",
     "ImageView",
     "ParamPanel",
     "ProgressBar",
     "Shape",
     "StatusLine",
-    "open_app",
 ]
