@@ -77,15 +77,20 @@ def test_shell_actions_busy_error_details_and_cancel():
 
     shell.add_action("render", long_work, background=True, cancellable=True, primary=True)
     other = shell.add_action("other", lambda: None)
+    # nothing said yet: no empty status strip; no cancel button taking room
+    assert shell.status.layout.display == "none" and shell.cancel_button.layout.display == "none"
+    assert shell.cancel_button not in shell.toolbar.children        # beside the status, not a toolbar row
     shell.click("render")
     assert started.wait(5)
     assert shell.running and other.disabled and not shell.cancel_button.disabled
+    assert shell.cancel_button.layout.display is None and shell.status.layout.display is None
     shell.click("other")  # refused while the render runs, with a message
     assert "still running" in shell.status.last_error
     shell.cancel()
     assert shell.wait(10)
     assert "cancelled" in shell.status.text and len(steps) < 200
     assert not other.disabled and shell.cancel_button.disabled
+    assert shell.cancel_button.layout.display == "none"
 
     shell.add_action("boom", lambda: math.sqrt(-1))
     shell.click("boom")
@@ -283,3 +288,16 @@ def test_bad_app_arguments_name_the_argument():
                 assert arg in msg and not any(c in msg for c in cryptic), (arg, bad, msg)
             else:
                 raise AssertionError(f"{arg}={bad!r} was accepted")
+
+
+def test_add_files_puts_open_save_load_in_the_toolbar():
+    shell = AppShell("demo")
+    assert shell._file_tools.layout.display == "none"
+    files = shell.add_files(name="demo", open=lambda imgs: None, outputs=lambda: {}, load=lambda t: None)
+    assert shell.files is files and shell._file_tools.layout.display is None
+    assert {files.upload, files.save_button, files.folder, files.annotation_upload} <= set(shell._file_tools.children)
+    assert files.links in shell._links.children
+    with pytest.raises(ValueError, match="already"):
+        shell.add_files(name="again")
+    with pytest.raises(TypeError, match="open must be callable"):
+        AppShell().add_files(open=3)
