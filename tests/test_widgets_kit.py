@@ -229,3 +229,52 @@ def test_tool_options_follow_the_mode():
     assert c._label_picker.layout.visibility == "hidden" and c._radius_slider.layout.visibility == "visible"
     c.mode = "scribble"
     assert c._label_picker.layout.visibility == "visible" and c._radius_slider.layout.visibility == "hidden"
+
+
+def test_histogram_backing_store_follows_the_pixel_ratio_and_the_column_width():
+    h = HistogramCompare(bins=8, width=300, height=100)
+    assert h.canvas.layout.height == "24px"                       # no data yet: one line, no empty box
+    h.update([0, 1, 1, 2], [0, 2, 2, 2])
+    h._probe._box.value = "1 0"                                   # the browser: DPR 1, no fitting column
+    assert (h.canvas.width, h.canvas.height, h.canvas.layout.width) == (300, 100, "300px")
+    h._probe._box.value = "2 0"
+    assert (h.canvas.width, h.canvas.height) == (600, 200) and h.canvas.layout.width == "300px"
+    h._probe._box.value = "2 240"                                 # shown in a 240 px column: drawn at 240
+    assert (h.canvas.width, h.canvas.layout.width) == (480, "240px")
+    h._probe._box.value = "2 900"                                 # never wider than asked for
+    assert h.canvas.layout.width == "300px"
+    h._probe._box.value = "garbage"                               # ignored
+    assert h.pixel_ratio == 2.0
+    h.clear()
+    assert h.canvas.layout.height == "24px"
+
+
+def test_image_view_never_enlarges_and_marks_stale():
+    v = ImageView(width=200)
+    v.update([np.zeros((10, 50, 3)), np.zeros((400, 800, 3))], ["small", "big"])
+    assert v.images[0].layout.max_width == "50px" and v.images[1].layout.max_width == "200px"
+    v.mark_stale()
+    assert v.stale and v.title_texts == ["out of date: small", "out of date: big"]
+    assert "bnb-stale" in v._dom_classes
+    v.update([np.zeros((10, 50, 3))] * 2, ["a", "b"])
+    assert not v.stale and "bnb-stale" not in v._dom_classes
+
+
+def test_param_sections_have_a_visible_help_line():
+    from branchnb.branching import SynthesisParams
+
+    panel = ParamPanel(SynthesisParams, sections=[("markov", ["h", "m", "k"])], labels={"k": ("history", "k")})
+    help_box = panel.sections[0].children[0].children[0]
+    assert "what these do" in help_box.value and "<b>history</b> <i>k</i>" in help_box.value
+    assert "white-space:nowrap" in panel.rows["k"].label.value                # one line per row
+
+
+def test_eye_button_hides_and_shows_the_annotations():
+    c = AnnotationCanvas(np.zeros((20, 30, 3)), mode="point")
+    c.handle_mouse_down(*c.image_to_view(5, 5))
+    c.buttons["show"].click()
+    assert not c.show_annotations and c.buttons["show"].icon == "eye-slash"
+    c.buttons["show"].click()
+    assert c.show_annotations and c.buttons["show"].icon == "eye"
+    with pytest.raises(traitlets.TraitError):
+        c.annotation_opacity = 0.0
