@@ -229,7 +229,7 @@ def app_setup(name: str, images=(), extra=(), *, folder=None, env=None) -> tuple
     folder = Path(tempfile.mkdtemp(prefix=f"branchnb-app-{name}-") if folder is None else folder)
     nb = nbformat.v4.new_notebook()
     nb.cells = [nbformat.v4.new_code_cell(
-        f"from branchnb.widgets.apps import open_app\nopen_app({name!r}, {paths!r} or None)")]
+        f"from branchnb.widgets.apps import open_app\nopen_app({name!r}, {paths!r} or None, page=True)")]
     nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
     path = folder / f"{name}.ipynb"
     nbformat.write(nb, str(path))

@@ -822,6 +822,31 @@ def test_app_page_from_branchnb_app(chromium, tmp_path):
             time.sleep(0.25)
         assert "1 shapes" in status.inner_text(), f"the stroke did not reach the kernel: {n0!r}"
         _check_layout(page, "branchnb app strokes")
+        # "open source image": the user's own file replaces the sample
+        from branchnb.core.io import imsave
+
+        mine = np.zeros((90, 160, 4), np.float32)
+        mine[35:55, 10:150] = (0.2, 0.6, 0.3, 1.0)
+        imsave(tmp_path / "mine.png", mine)
+        with page.expect_file_chooser() as chooser:  # the upload button opens the file dialog
+            page.locator(".bnb-app .widget-upload").first.click()
+        chooser.value.set_files(str(tmp_path / "mine.png"))
+        for _ in range(60):
+            if "160×90 px" in status.inner_text():
+                break
+            time.sleep(0.25)
+        assert "160×90 px" in status.inner_text(), status.inner_text()
+        # "save": the files come as downloads in a page (no server folder shown)
+        assert page.locator(".bnb-app .widget-text input[placeholder='folder']").count() == 0 or \
+            not page.locator(".bnb-app .widget-text input[placeholder='folder']").first.is_visible()
+        page.locator(".bnb-app .widget-button:text-is('save')").first.click()
+        link = page.locator(".bnb-app .bnb-links a").first
+        link.wait_for(timeout=30_000)
+        with page.expect_download() as dl:
+            link.click()
+        got = Path(dl.value.path()).read_bytes()
+        assert dl.value.suggested_filename == "strokes_annotations.json"
+        assert json.loads(got)["app"] == "strokes"
         out = SHOTS or tmp_path
         out.mkdir(parents=True, exist_ok=True)
         page.screenshot(path=str(out / "app_page_strokes.png"))

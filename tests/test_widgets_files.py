@@ -232,3 +232,14 @@ def test_leaves_app_opens_exemplars_and_restores_layers(tmp_path):
     app.remove_layer("rim")
     app.shell.files.load_text(files["leaves_annotations.json"].read_text())
     assert app.layer_names() == ["veins", "spots", "rim"] and app.canvas.model.shapes[0].label == "rim"
+
+
+def test_page_mode_offers_downloads_only(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    status = StatusLine()
+    bar = FileBar(errors=status, name="p", outputs=lambda: {"a.png": np.zeros((3, 3, 3))})
+    bar.use_page_mode()
+    bar.save_button.click()
+    assert status.last_error is None and "ready" in status.text
+    assert bar.folder.layout.display == "none" and "download='p_a.png'" in bar.links.value
+    assert list(tmp_path.iterdir()) == []                  # nothing written on the server

@@ -65,7 +65,7 @@ def _named(images) -> list[tuple[str, np.ndarray]]:
     return out
 
 
-def open_app(name: str, images=None, **kwargs):
+def open_app(name: str, images=None, *, page: bool = False, **kwargs):
     """The app ``name`` (one of :data:`APPS`) on ``images``, or on a sample when None.
 
     Parameters
@@ -76,6 +76,9 @@ def open_app(name: str, images=None, **kwargs):
         Paths, arrays, or ``(name, array)`` pairs: the example image
         (branching), the picture (dendrite), the source object (strokes),
         or the exemplars (trees, leaves: two or more).
+    page : bool
+        The app is a web page (``branchnb app``): "save" offers downloads
+        only (see :meth:`~branchnb.widgets.files.FileBar.use_page_mode`).
     **kwargs
         Passed on to the app's constructor.
 
@@ -86,6 +89,13 @@ def open_app(name: str, images=None, **kwargs):
     """
     if name not in APPS:
         raise ValueError(f"name must be one of {list(APPS)}, got {name!r}")
+    app = _build(name, images, kwargs)
+    if page and app.shell.files is not None:
+        app.shell.files.use_page_mode()
+    return app
+
+
+def _build(name: str, images, kwargs):
     if images is not None and (isinstance(images, (str, Path, np.ndarray)) or not hasattr(images, "__iter__")):
         images = [images]
     named = _named(images) if images is not None else []

@@ -271,6 +271,17 @@ class FileBar:
         self.links = widgets.HTML(layout=widgets.Layout(display="none"))
         self.links.add_class("bnb-links")
         self.written: list[Path] = []
+        #: In a web page (``branchnb app``) "save" offers downloads only: the server's folder is
+        #: of no use to the person in front of the page. See :meth:`use_page_mode`.
+        self.page = False
+
+    def use_page_mode(self, page: bool = True) -> None:
+        """Downloads only (no folder box, nothing written on the server); for ``branchnb app`` pages."""
+        self.page = bool(page)
+        self.folder.layout.display = "none" if self.page else None
+        if self.save_button is not None:
+            self.save_button.tooltip = ("prepare the result and the annotations as downloads (links appear "
+                                        "below)" if self.page else self.save_button.tooltip)
 
     def _upload(self, cls: str, label: str, accept: str, icon: str, multiple: bool) -> widgets.FileUpload:
         if not isinstance(label, str) or not label.strip() or "'" in label or "\\" in label:
@@ -365,10 +376,15 @@ class FileBar:
         return paths
 
     def _saved(self) -> None:
+        if self.page:
+            files = self.contents()
+            self._show_links(None, files)
+            self.errors.info(f"{len(files)} file{'s' * (len(files) != 1)} ready: click to download")
+            return
         paths = self.save()
         self.errors.info(f"saved {len(paths)} file{'s' * (len(paths) != 1)} to {paths[0].parent.resolve()}")
 
-    def _show_links(self, folder: Path, files: Mapping[str, bytes]) -> None:
+    def _show_links(self, folder: Path | None, files: Mapping[str, bytes]) -> None:
         links = []
         for n, b in files.items():
             if len(b) > LINK_LIMIT:
@@ -377,7 +393,7 @@ class FileBar:
             mime = _MIME.get(Path(n).suffix.lower(), "application/octet-stream")
             href = f"data:{mime};base64,{base64.b64encode(b).decode('ascii')}"
             links.append(f"<a download='{html.escape(n, quote=True)}' href='{href}'>{html.escape(n)}</a>")
-        self.links.value = (f"<div style='font-size:12px;line-height:18px'>saved to "
-                            f"<code>{html.escape(str(folder.resolve()))}</code>; download: "
+        where = "" if folder is None else f"saved to <code>{html.escape(str(folder.resolve()))}</code>; "
+        self.links.value = (f"<div style='font-size:12px;line-height:18px'>{where}download: "
                             + " ".join(links) + "</div>")
         self.links.layout.display = None
