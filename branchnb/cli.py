@@ -419,7 +419,9 @@ def main(argv=None) -> int:
             cmd, env, url = app_setup(args.name, args.images, extra)
             print(f"branchnb app: {url}", flush=True)
             if _has_browser():
-                _open_browser_later(url, url)
+                # probed without the token: the login page answers once the server listens, and
+                # no kernel is started for the probe
+                _open_browser_later(url, url.split("?")[0])
             return run_lab(cmd, env)
         if args.cmd == "gallery":
             return _gallery(args.outdir)
