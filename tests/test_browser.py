@@ -501,7 +501,13 @@ _LAYOUT = """() => {
   const name = el => (el.className && el.className.baseVal === undefined ? String(el.className) : el.tagName)
                      .split(' ').filter(c => c.startsWith('bnb-') || c.startsWith('widget-')).slice(0, 3).join('.')
                      || el.tagName;
-  const out = {dpr, canvases: [], toolbar: [], clipped: []};
+  const out = {dpr, canvases: [], toolbar: [], clipped: [], enlarged: []};
+  // result images: never shown larger than they are (only a click enlarges them)
+  for (const im of app.querySelectorAll('.bnb-view img')) {
+    if (!shown(im) || !im.naturalWidth || im.classList.contains('bnb-big')) continue;
+    const w = im.getBoundingClientRect().width;
+    if (w > im.naturalWidth + 1) out.enlarged.push({natural: im.naturalWidth, shown: Math.round(w)});
+  }
   // canvases: backing store = CSS size x devicePixelRatio
   for (const c of app.querySelectorAll('canvas')) {
     if (!shown(c)) continue;
@@ -534,7 +540,8 @@ _LAYOUT = """() => {
 
 
 def _check_layout(page, label: str) -> dict:
-    """No empty toolbar row, no widget outside its parent, canvases' backing store = CSS size x DPR."""
+    """No empty toolbar row, no widget outside its parent, canvases' backing store = CSS size x DPR,
+    no result image shown larger than it is."""
     page.evaluate("document.querySelector('.bnb-app').scrollIntoView({block: 'start'})")
     time.sleep(0.3)
     got = page.evaluate(_LAYOUT)
@@ -544,6 +551,7 @@ def _check_layout(page, label: str) -> dict:
     for tb in got["toolbar"]:
         assert tb["height"] <= tb["used"] + 8, f"{label}: a toolbar row holds no visible control: {tb}"
     assert not got["clipped"], f"{label}: widgets outside their parent: {got['clipped'][:6]}"
+    assert not got["enlarged"], f"{label}: result images shown enlarged: {got['enlarged'][:6]}"
     return got
 
 

@@ -13,6 +13,9 @@ from .feedback import ErrorArea
 
 __all__ = ["HistogramCompare", "PALETTE"]
 
+#: Narrowest column (CSS px) a histogram shrinks to fit; a narrower report is taken for a transient layout.
+MIN_FIT = 120
+
 #: Height (CSS px) of a histogram with no data yet.
 EMPTY_HEIGHT = 24
 
@@ -86,7 +89,9 @@ class HistogramCompare(widgets.VBox):
     def _on_width(self, change) -> None:
         # Narrower than asked for where it is shown: draw at that width (a squeezed canvas blurs).
         avail = int(change["new"])
-        w = self._wanted_width if avail <= 0 else max(32, min(self._wanted_width, avail))
+        if 0 < avail < MIN_FIT:
+            return  # a column caught in the middle of a layout pass: keep the size
+        w = self._wanted_width if avail <= 0 else min(self._wanted_width, avail)
         if w != self.css_width:
             self.css_width = w
             self._size()
