@@ -149,6 +149,18 @@ def canvases_json(canvases: Mapping, *, app: str = "", extra: Mapping | None = N
 
     ``extra`` holds what else the app needs to restore its work (layer
     names and colours, weights, ...); it must be plain JSON.
+
+    Examples
+    --------
+    >>> from branchnb.widgets.model import AnnotationModel
+    >>> src, dst = AnnotationModel(), AnnotationModel()
+    >>> src.add_shape("point", [(3, 4)])  # returns its index
+    0
+    >>> text = canvases_json({"image": src}, app="demo", extra={"seed": 7})
+    >>> load_canvases(text, {"image": dst}, app="demo")
+    {'seed': 7}
+    >>> dst.shapes[0].points.tolist()
+    [[3.0, 4.0]]
     """
     d = {"format": "branchnb-annotations", "version": 1, "app": app,
          "canvases": {k: getattr(c, "model", c).to_dict() for k, c in canvases.items()},
