@@ -104,13 +104,17 @@ def _parser() -> argparse.ArgumentParser:
     p_batch.add_argument("--chunk", type=int, metavar="K",
                          help="items per Dask task (default: chosen from the count and the workers)")
     p_batch.add_argument("--count", type=int, metavar="N", help="override the spec's count")
-    p_batch.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p_batch.add_argument("--no-progress", action="store_true", help="no progress bar or status lines")
+    p_batch.add_argument("--dashboard", action="store_true",
+                         help="start the Dask dashboard of the local cluster (on 127.0.0.1 only)")
     p_bench = sub.add_parser("bench", help="print benchmark figures, each against its anchor")
     p_bench.add_argument("--quick", action="store_true", help="smaller inputs, for a smoke run")
     return parser
 
 
 def _batch(args) -> int:
+    if not args.no_progress:  # the first second: before the imports of Dask and the techniques
+        print(f"branchnb batch: reading {args.spec} ...", file=sys.stderr, flush=True)
     from .batch import load_spec, run_batch
 
     outdir = writable_dir(args.outdir)
@@ -128,7 +132,8 @@ def _batch(args) -> int:
         raise CommandError(f"--chunk must be >= 1, got {args.chunk}")
     try:
         summary = run_batch(spec, outdir, scheduler=args.scheduler, n_workers=args.workers,
-                            chunk=args.chunk, progress=None if args.no_progress else "tqdm")
+                            chunk=args.chunk, progress=None if args.no_progress else "tqdm",
+                            dashboard=args.dashboard)
     except (ValueError, TypeError) as exc:  # a bad shared input, e.g. a library folder without trees
         raise CommandError(str(exc)) from None
     print(summary)
@@ -159,7 +164,11 @@ def main(argv=None) -> int:
             print(f"wrote {len(items)} pictures and index.html to {outdir}")
             return 0
         if args.cmd == "batch":
-            return _batch(args)
+            try:
+                return _batch(args)
+            except KeyboardInterrupt:  # before the run took over Ctrl-C (imports, reading the spec)
+                print("branchnb batch: interrupted", file=sys.stderr)
+                return 130
         if args.cmd == "bench":
             from .bench import format_table, run
 
