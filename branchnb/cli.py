@@ -143,6 +143,7 @@ def _batch(args) -> int:
 
 def main(argv=None) -> int:
     parser = _parser()
+    as_program = argv is None
     argv = list(sys.argv[1:] if argv is None else argv)
     if argv[:1] == ["lab"] and not {"-h", "--help"} & set(argv[1:2]):
         # Everything after "lab" goes to jupyter lab untouched (argparse would reorder it).
@@ -169,6 +170,9 @@ def main(argv=None) -> int:
             except KeyboardInterrupt:  # before the run took over Ctrl-C (imports, reading the spec)
                 print("branchnb batch: interrupted", file=sys.stderr)
                 return 130
+            finally:
+                if as_program:  # only exiting is left: a late Ctrl-C must not tear Dask's atexit clean-up
+                    signal.signal(signal.SIGINT, signal.SIG_IGN)
         if args.cmd == "bench":
             from .bench import format_table, run
 

@@ -111,7 +111,6 @@ class Manifest:
         self.path = _manifest_path(self.outdir / MANIFEST_NAME)
         self.problems: list[str] = []
         self._n_problems = 0
-        self._damaged: set[int] = set()
         self._file = None
         self._dirty = False
         self._items, self._offsets, self._lengths = self._index()
@@ -142,9 +141,9 @@ class Manifest:
                     rec, why = _parse_line(body)
                     if rec is None:
                         m = _ITEM.search(body)
-                        if m:
-                            self._damaged.add(int(m.group(1)))
+                        if m:  # a tombstone: this item's earlier records no longer count
                             why += f"; item {int(m.group(1))} is recomputed"
+                            yield int(m.group(1)), -1, 0
                         self._problem(lineno, why)
                     else:
                         yield rec["item"], offset, len(body)
@@ -165,10 +164,8 @@ class Manifest:
         rev = items[::-1]
         uniq, first = np.unique(rev, return_index=True)
         keep = len(items) - 1 - first
-        if self._damaged:
-            ok = ~np.isin(uniq, np.fromiter(self._damaged, np.int64))
-            uniq, keep = uniq[ok], keep[ok]
-        return uniq, offsets[keep], lengths[keep]
+        keep = keep[offsets[keep] >= 0]                   # an item whose last line is damaged has no record
+        return items[keep], offsets[keep], lengths[keep]
 
     def __len__(self) -> int:
         return len(self._items)
@@ -221,7 +218,6 @@ class Manifest:
         self.close()
         if not self._dirty or not self.path.is_file():
             return
-        self._damaged.clear()
         self.problems, self._n_problems = [], 0
         items, offsets, lengths = self._index()
         tmp = self.path.with_name(self.path.name + ".tmp")
@@ -249,7 +245,7 @@ def read_manifest(path) -> dict[int, dict]:
     path = _manifest_path(path)
     m = Manifest.__new__(Manifest)
     m.outdir, m.path, m.problems, m._n_problems = path.parent, path, [], 0
-    m._damaged, m._file, m._dirty = set(), None, False
+    m._file, m._dirty = None, False
     m._items, m._offsets, m._lengths = m._index()
     return {int(i): m.get(int(i)) for i in m._items}
 

@@ -209,7 +209,7 @@ def _connect(client, scheduler, n_workers, dashboard: bool):
         warnings.simplefilter("ignore")  # e.g. "port 8787 in use": noise between the status lines
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, host="127.0.0.1",
                                dashboard_address="127.0.0.1:0", scheduler_kwargs={"dashboard": bool(dashboard)},
-                               silence_logs=logging.ERROR)
+                               preload=["branchnb.batch._worker_setup"], silence_logs=logging.ERROR)
     try:
         return Client(cluster), cluster
     except BaseException:
@@ -408,7 +408,11 @@ def _run(spec, outdir, summary, bar, interrupt, client, scheduler, n_workers, ch
             bar.note(f"starting a local Dask cluster: {n} worker process{'es' * (n != 1)} ...")
         elif scheduler is not None:
             bar.note(f"connecting to the Dask scheduler at {scheduler} ...")
-        client_, cluster = _connect(client, scheduler, n_workers, dashboard)
+        interrupt.deferred = True  # a KeyboardInterrupt inside Dask's start-up would strand half a cluster
+        try:
+            client_, cluster = _connect(client, scheduler, n_workers, dashboard)
+        finally:
+            interrupt.deferred = False
         interrupt.check()
         if dashboard and cluster is not None:
             bar.note(f"Dask dashboard (this machine only): {cluster.dashboard_link}")
@@ -416,7 +420,12 @@ def _run(spec, outdir, summary, bar, interrupt, client, scheduler, n_workers, ch
         _warm_up(client_, job)
         bar.note(f"preparing the shared inputs of {spec.job} ...")
         base = _build_params(job, spec.params, "params")
-        shared = _Shared(client_, job.prepare(spec.shared_inputs(), spec.base_dir, base))
+        prepared = job.prepare(spec.shared_inputs(), spec.base_dir, base)
+        interrupt.deferred = True
+        try:
+            shared = _Shared(client_, prepared)
+        finally:
+            interrupt.deferred = False
         interrupt.check()
         remaining = max(1, spec.count - len(manifest))
         k = chunk or max(1, min(16, remaining // (4 * summary.workers)))
@@ -427,8 +436,13 @@ def _run(spec, outdir, summary, bar, interrupt, client, scheduler, n_workers, ch
         bar.start()
         interrupt.deferred = True
         try:
-            _run_chunks(client_, job, shared, spec.shared_inputs(), items, k, 2 * summary.workers, futures, record,
-                        interrupt)
+            reruns = _run_chunks(client_, job, shared, spec.shared_inputs(), items, k, 2 * summary.workers, futures,
+                                 record, interrupt)
+            if reruns or shared.resent:
+                note = (f"{reruns} task(s) ran again after a worker was lost; the shared inputs were sent again "
+                        f"{shared.resent} time(s)")
+                summary.notes.append(note)
+                bar.note(note)
         finally:
             interrupt.deferred = False
             summary.compute_seconds = time.perf_counter() - t0
@@ -505,6 +519,8 @@ def _completed(done_iter, interrupt):
 def _run_chunks(client, job, shared, shared_inputs, items, k, in_flight, futures, record, interrupt):
     """Submit chunks of ``k`` items, at most ``in_flight`` at a time; record every result as it arrives.
 
+    Returns how many chunks ran again after a worker was lost.
+
     A chunk lost with its worker (or with the shared inputs) runs again, up
     to 4 times; a chunk that killed its workers (``KilledWorker``) is split
     into single items, so only the item that kills a worker fails.
@@ -514,6 +530,7 @@ def _run_chunks(client, job, shared, shared_inputs, items, k, in_flight, futures
 
     done_iter = as_completed()
     retry: list[tuple[list, int]] = []
+    reruns = 0
 
     def submit(chunk, attempt):
         payload = [(i, meta["seed"], params, {**shared_inputs, **inputs}, stem)
@@ -546,6 +563,7 @@ def _run_chunks(client, job, shared, shared_inputs, items, k, in_flight, futures
             results = [{"item": chunk[0][0], "files": {}, "info": {}, "time": 0.0, "error": err}]
         except Exception as exc:  # noqa: BLE001 - a lost worker fails its chunk, not the batch
             if _lost(exc) and attempt < _MAX_ATTEMPTS:
+                reruns += 1
                 retry.append((chunk, attempt + 1))
                 submit_next()
                 continue
@@ -556,3 +574,4 @@ def _run_chunks(client, job, shared, shared_inputs, items, k, in_flight, futures
             meta = by_item[r["item"]][4]
             record(r["item"], meta, r["files"], r["info"], r["time"], r["error"])
         submit_next()
+    return reruns
