@@ -142,7 +142,9 @@ class BatchSpec:
         if not 1 <= self.count <= MAX_COUNT:
             raise ValueError(f"count must lie in [1, {MAX_COUNT}], got {self.count}")
         if isinstance(self.seed, bool) or not isinstance(self.seed, (int, np.integer)) or self.seed < 0:
-            raise ValueError(f"seed must be an int >= 0, got {self.seed!r}")
+            raise ValueError(f"seed must be an int >= 0, got {self.seed!r:.40}")
+        if int(self.seed).bit_length() > 128:
+            raise ValueError(f"seed must be below 2**128, got an int of {int(self.seed).bit_length()} bits")
         for name in ("inputs", "params", "vary", "items"):
             if not isinstance(getattr(self, name), dict):
                 raise TypeError(f"{name} must be a table (dict), got {type(getattr(self, name)).__name__}")

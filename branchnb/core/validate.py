@@ -52,6 +52,7 @@ __all__ = [
     "check_bool",
     "check_choice",
     "check_rng",
+    "check_callback",
     "real_array",
     "as_colour",
     "as_colours",
@@ -125,6 +126,19 @@ def check_real(value, name: str, min: float | None = None, max: float | None = N
         raise ValueError(f"{name} must be a finite number, got {v}")
     _check_range(v, name, min, max, low_open, high_open)
     return v
+
+
+def check_callback(value, name: str = "progress"):
+    """``value`` if it is callable or None; otherwise a TypeError naming ``name``.
+
+    Examples
+    --------
+    >>> check_callback(print) is print, check_callback(None)
+    (True, None)
+    """
+    if value is not None and not callable(value):
+        raise TypeError(f"{name} must be a callable or None, got {type(value).__name__}")
+    return value
 
 
 def check_int(value, name: str, min: int | None = None, max: int | None = None, *,

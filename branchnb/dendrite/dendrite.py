@@ -480,6 +480,20 @@ def path_statistics(dendrite: Dendrite, plan_result: PlanResult) -> PathStats:
     >>> bool((st.tortuosity >= 1).all())
     True
     """
+    if not isinstance(dendrite, Dendrite):
+        raise TypeError(f"dendrite must be a Dendrite, got {type(dendrite).__name__}")
+    if not isinstance(plan_result, PlanResult):
+        raise TypeError(f"plan_result must be a PlanResult, got {type(plan_result).__name__}")
+    n_nodes = len(plan_result.max_cost)
+    if (dendrite.shape is not None and plan_result.shape is not None
+            and tuple(dendrite.shape) != tuple(plan_result.shape)) or \
+            (len(dendrite.nodes) and int(np.max(dendrite.nodes)) >= n_nodes):
+        raise ValueError(f"plan_result is not the plan this dendrite was traced in (lattice {plan_result.shape}, "
+                         f"{n_nodes} nodes; the dendrite's lattice is {dendrite.shape})")
+    roots = dendrite.nodes[np.asarray(dendrite.parent) < 0]
+    if len(roots) and not np.isin(roots, plan_result.seeds).all():
+        raise ValueError("plan_result is not the plan this dendrite was traced in: the dendrite's roots are not "
+                         "among its seeds")
     arc = dendrite.arc_depth()
     root = _root_of(dendrite.parent)
     t = dendrite.tips
