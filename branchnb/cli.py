@@ -116,6 +116,7 @@ def _batch(args) -> int:
     if not args.no_progress:  # the first second: before the imports of Dask and the techniques
         print(f"branchnb batch: reading {args.spec} ...", file=sys.stderr, flush=True)
     from .batch import load_spec, run_batch
+    from .batch.runner import ClusterLostError
 
     outdir = writable_dir(args.outdir)
     try:
@@ -134,7 +135,7 @@ def _batch(args) -> int:
         summary = run_batch(spec, outdir, scheduler=args.scheduler, n_workers=args.workers,
                             chunk=args.chunk, progress=None if args.no_progress else "tqdm",
                             dashboard=args.dashboard)
-    except (ValueError, TypeError) as exc:  # a bad shared input, e.g. a library folder without trees
+    except (ValueError, TypeError, ClusterLostError) as exc:  # a bad shared input, e.g. a library folder without trees
         raise CommandError(str(exc)) from None
     print(summary)
     print(f"manifest: {summary.outdir / 'manifest.jsonl'}")

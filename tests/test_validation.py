@@ -622,3 +622,53 @@ def test_unreadable_image_messages_say_why(tmp_path, content, why):
             imdecode(content, name="x.png")
     with pytest.raises(TypeError, match="path must be a file path"):
         imread(3)
+
+
+# ------------------------------------------------- issue 27, items 4-5: each case is in the sweep and answered
+
+#: (target, argument, kind of bad value) of every case issue 27 found: the sweep's generators make each one now.
+ISSUE_27_CASES = [
+    ("leaves:grow_layers", "layer_set", "scribble radius 1e5"),
+    ("leaves:grow_layers", "layer_set", "one stroke in two layers"),
+    ("leaves:grow_layers", "layer_set", "one stroke in a layer and the background"),
+    ("leaves:analyze", "layers", "layer named blade"),
+    ("leaves:analyze", "layers", "layer with an empty name"),
+    ("leaves:analyze", "exemplars", "two leaves in one exemplar"),
+    ("leaves:generate", "progress", "string"),
+    ("dendrite:path_statistics", "plan_result", "another lattice's plan"),
+    ("dendrite:plan", "graph", "lattice with a NaN weight"),
+    ("dendrite:make_lattice", "cost", "all inf"),
+    ("core:segments_intersect", "a0", "one shorter"),
+    ("core:Structure", "branches", "incomplete dicts"),
+    ("core:compare_samples", "labels", "int"),
+    ("core:histogram_distance", "edges", "nan edges"),
+    ("core:histograms", "samples", "+-1e308 sample"),
+    ("trees:make_variation", "**overrides", "unknown keyword"),
+    ("strokes:PlacedPatch", "pixels", "nan"),
+    ("strokes:PlacedPatch", "origin", "nan entry"),
+    ("dendrite:Stylizer.lattice", "rng_seed", "5000 digits"),
+    ("core:Structure.children", "index", "5000 digits"),
+]
+
+
+@pytest.mark.parametrize("target, arg, kind", ISSUE_27_CASES)
+def test_issue_27_cases_are_swept_and_get_a_clear_error(pool, target, arg, kind):
+    t = next(t for t in fuzzkit.discover([target.split(":")[0]]) if t.id == target)
+    cases = [c for c in fuzzkit.cases_for(t, valid=False) if c.arg == arg and c.kind == kind]
+    assert cases, f"the sweep makes no {kind!r} case for {target}({arg})"
+    o = pool.run(cases[0])
+    assert o.status == "raised", o.detail
+
+
+def test_huge_ints_and_seeds_are_refused_by_name():
+    from branchnb.batch import BatchSpec
+    from branchnb.core.random import as_rng, as_seed
+
+    big = 10**5000
+    for call, name in [(lambda: check_int(big, "n", 0, 10), "n must fit in 64 bits"),
+                       (lambda: check_real(big, "sigma"), "sigma must be a finite number"),
+                       (lambda: as_rng(big, name="seed"), "seed seed must be below 2"),
+                       (lambda: as_seed(big), "rng seed must be below 2"),
+                       (lambda: BatchSpec("dendrite_tree", count=1, seed=big), "seed must be below 2")]:
+        with pytest.raises(ValueError, match=name):
+            call()

@@ -13,6 +13,7 @@ kills workers is split to find the one item that does.
 
 from __future__ import annotations
 
+import asyncio
 import dataclasses
 import hashlib
 import json
@@ -33,7 +34,7 @@ from .manifest import Manifest, file_record, write_atomic
 from .progress import make_progress
 from .spec import BatchSpec, _build_params, _plain, load_spec
 
-__all__ = ["run_batch", "run_items", "BatchSummary", "item_stem", "spec_key"]
+__all__ = ["run_batch", "run_items", "BatchSummary", "ClusterLostError", "item_stem", "spec_key"]
 
 _PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 _NON_FINITE = re.compile(r"(?i)(?<![a-z#])(nan|inf)(?![a-z])")
@@ -411,19 +412,19 @@ def _run(spec, outdir, summary, bar, interrupt, client, scheduler, n_workers, ch
         interrupt.deferred = True  # a KeyboardInterrupt inside Dask's start-up would strand half a cluster
         try:
             client_, cluster = _connect(client, scheduler, n_workers, dashboard)
+            summary.workers = int(sum(client_.nthreads().values())) or 1
+            _warm_up(client_, job)
         finally:
             interrupt.deferred = False
         interrupt.check()
         if dashboard and cluster is not None:
             bar.note(f"Dask dashboard (this machine only): {cluster.dashboard_link}")
-        summary.workers = int(sum(client_.nthreads().values())) or 1
-        _warm_up(client_, job)
         bar.note(f"preparing the shared inputs of {spec.job} ...")
         base = _build_params(job, spec.params, "params")
         prepared = job.prepare(spec.shared_inputs(), spec.base_dir, base)
         interrupt.deferred = True
         try:
-            shared = _Shared(client_, prepared)
+            shared = _Shared(client_, prepared, interrupt)
         finally:
             interrupt.deferred = False
         interrupt.check()
@@ -475,17 +476,34 @@ def _warm_up(client, job: Job) -> None:
             pass
 
 
+class ClusterLostError(RuntimeError):
+    """The cluster has had no worker for too long (they keep dying, or the scheduler is gone)."""
+
+
 class _Shared:
     """The job's prepared inputs on the cluster: scattered once, sent again if every copy was lost."""
 
-    def __init__(self, client, value):
-        self.client, self.value = client, value
+    def __init__(self, client, value, interrupt, patience: float = 120.0):
+        self.client, self.value, self.interrupt, self.patience = client, value, interrupt, patience
         self.resent = 0
         self.future = self._scatter()
 
     def _scatter(self):
-        [future] = self.client.scatter([self.value], broadcast=True, hash=False)
-        return future
+        # right after a worker died its nanny is still starting the next one: wait for a worker, in short
+        # steps so that a Ctrl-C is not kept waiting
+        deadline = time.monotonic() + self.patience
+        while True:
+            try:
+                if not self.client.nthreads():
+                    raise TimeoutError("no worker is up")
+                [future] = self.client.scatter([self.value], broadcast=True, hash=False, timeout=30)
+                return future
+            except (TimeoutError, asyncio.TimeoutError, OSError) as exc:
+                self.interrupt.check()
+                time.sleep(0.5)
+                if time.monotonic() > deadline:
+                    raise ClusterLostError(f"the Dask cluster has had no worker to send the shared inputs to for "
+                                           f"{self.patience:.0f} s ({exc})") from None
 
     def ensure(self):
         if self.future.status != "finished":
@@ -506,14 +524,24 @@ def _lost(exc: BaseException) -> bool:
         or "lost dependencies" in str(exc)
 
 
-def _completed(done_iter, interrupt):
-    """Futures as they complete, polling so that a Ctrl-C is seen within 50 ms (and raised here, not in Dask)."""
-    while not done_iter.is_empty():
+def _completed(futures: dict, interrupt):
+    """The futures of ``futures`` as they complete (it may grow meanwhile); a Ctrl-C is raised here within
+    0.2 s, never inside Dask's code."""
+    from dask.distributed import wait
+
+    while futures:
         interrupt.check()
-        batch = done_iter.next_batch(block=False)
-        if not batch:
-            time.sleep(0.05)
-        yield from batch
+        try:
+            done, _ = wait(list(futures), timeout=0.2, return_when="FIRST_COMPLETED")
+        except (TimeoutError, asyncio.TimeoutError):
+            continue
+        except Exception:  # noqa: BLE001 - wait() raises for cancelled futures (a lost worker): they are done too
+            done = [f for f in list(futures) if f.done()]
+            if not done:
+                time.sleep(0.05)
+        for fut in done:
+            if fut in futures:
+                yield fut
 
 
 def _run_chunks(client, job, shared, shared_inputs, items, k, in_flight, futures, record, interrupt):
@@ -525,10 +553,8 @@ def _run_chunks(client, job, shared, shared_inputs, items, k, in_flight, futures
     to 4 times; a chunk that killed its workers (``KilledWorker``) is split
     into single items, so only the item that kills a worker fails.
     """
-    from dask.distributed import as_completed
     from distributed import KilledWorker
 
-    done_iter = as_completed()
     retry: list[tuple[list, int]] = []
     reruns = 0
 
@@ -537,7 +563,6 @@ def _run_chunks(client, job, shared, shared_inputs, items, k, in_flight, futures
                    for i, params, inputs, stem, meta in chunk]
         fut = client.submit(run_items, job, shared.ensure(), payload, pure=False)
         futures[fut] = (chunk, attempt)
-        done_iter.add(fut)
 
     def submit_next():
         if retry:
@@ -549,7 +574,7 @@ def _run_chunks(client, job, shared, shared_inputs, items, k, in_flight, futures
 
     for _ in range(in_flight):
         submit_next()
-    for fut in _completed(done_iter, interrupt):
+    for fut in _completed(futures, interrupt):
         chunk, attempt = futures.pop(fut)
         try:
             results = fut.result()

@@ -304,9 +304,10 @@ def scribble_mask(scribbles, shape) -> np.ndarray:
     for s in scribbles:
         s = _as_scribble(s, "scribbles")
         pts = np.round(s.points * 16).astype(np.int32)
-        thick = max(1, int(round(2 * s.radius)))
+        # OpenCV refuses strokes over 32767 px thick (a radius changed after the Scribble checked it)
+        thick = min(max(1, int(round(2 * s.radius))), 32767)
         if len(pts) == 1:
-            cv2.circle(out, tuple(int(v) for v in pts[0]), int(round(s.radius * 16)), 1, -1,
+            cv2.circle(out, tuple(int(v) for v in pts[0]), int(round(min(s.radius, 1e6) * 16)), 1, -1,
                        lineType=cv2.LINE_8, shift=4)
         else:
             cv2.polylines(out, [pts.reshape(-1, 1, 2)], False, 1, thickness=thick,
@@ -318,8 +319,8 @@ def _check_scribbles(layer_set: LayerSet, blade: np.ndarray) -> tuple[dict, dict
     """Rasterise and validate every scribble: name -> union mask, and name -> one mask per scribble."""
     shape = blade.shape
     out, each = {}, {}
-    groups = [(x.name, f"layers[{x.name!r}]", x.scribbles) for x in layer_set.layers]
-    groups.append(("blade", "layers.background", layer_set.background))
+    groups = [(x.name, f"layer_set.layers[{x.name!r}]", x.scribbles) for x in layer_set.layers]
+    groups.append(("blade", "layer_set.background", layer_set.background))
     seen: dict = {}
     for name, label, scribbles in groups:
         m = np.zeros(shape, bool)

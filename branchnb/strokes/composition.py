@@ -73,9 +73,11 @@ class PlacedPatch:
         if not np.isfinite(px).all():
             raise ValueError("pixels contain NaN or inf")
         if np.shape(self.valid) != px.shape[:2]:
-            raise ValueError(f"valid must have shape {px.shape[:2]}, got {np.shape(self.valid)}")
+            raise ValueError(f"pixels {px.shape[:2]} and valid {np.shape(self.valid)} must cover the same S x S square")
         if self.keep_a is not None and np.shape(self.keep_a) != px.shape[:2]:
             raise ValueError(f"keep_a must have shape {px.shape[:2]}, got {np.shape(self.keep_a)}")
+        if not isinstance(self.pin_core, (bool, np.bool_)):
+            raise TypeError(f"pin_core must be a bool, got {type(self.pin_core).__name__}")
         o = self.origin
         if (not isinstance(o, (tuple, list, np.ndarray)) or len(o) != 2
                 or not all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) for v in o)):

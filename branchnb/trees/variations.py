@@ -905,7 +905,9 @@ class TreeLibrary:
         self.size = int(size)
         self.contour_params = contour_params if contour_params is not None else ContourParams()
         check_params(ExemplarParams(size=self.size), name="size")
-        for e in exemplars:
+        for i, e in enumerate(exemplars):
+            if not isinstance(e, Exemplar):
+                raise TypeError(f"exemplars[{i}] must be an Exemplar (see process_exemplar), got {type(e).__name__}")
             self.add_exemplar(e)
 
     @classmethod
