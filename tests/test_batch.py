@@ -266,6 +266,7 @@ def test_command_line_batch_on_a_scheduler_and_ctrl_c_keeps_the_manifest(client2
                          capture_output=True, text=True, timeout=120)
     assert run.returncode == 0, run.stderr
     assert f"{count - kept} done, {kept} already complete, 0 failed of {count}" in run.stdout
+    assert "start-up" in run.stdout and "s per item" in run.stdout and "on 2 workers" in run.stdout
     bad = subprocess.run([sys.executable, "-m", "branchnb.cli", "batch", str(tmp_path / "missing.json"),
                           str(tmp_path / "o2")], capture_output=True, text=True, timeout=60)
     assert bad.returncode == 1 and "Traceback" not in bad.stderr and "missing.json" in bad.stderr

@@ -41,6 +41,7 @@ import numpy as np
 
 from ..core.jsonio import MAX_JSON_DEPTH, check_depth, loads_strict
 from ..core.params import check_params
+from ..core.validate import brief
 from .jobs import Job, get_job
 
 if sys.version_info >= (3, 11):
@@ -140,7 +141,7 @@ class BatchSpec:
         if isinstance(self.count, bool) or not isinstance(self.count, (int, np.integer)):
             raise TypeError(f"count must be an int, got {self.count!r}")
         if not 1 <= self.count <= MAX_COUNT:
-            raise ValueError(f"count must lie in [1, {MAX_COUNT}], got {self.count}")
+            raise ValueError(f"count must lie in [1, {MAX_COUNT}], got {brief(self.count)}")
         if isinstance(self.seed, bool) or not isinstance(self.seed, (int, np.integer)) or self.seed < 0:
             raise ValueError(f"seed must be an int >= 0, got {self.seed!r:.40}")
         if int(self.seed).bit_length() > 128:

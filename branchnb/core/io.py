@@ -193,6 +193,18 @@ def _check_path(path) -> Path:
     return path
 
 
+def _decode(read, name: str) -> np.ndarray:
+    """Run OpenCV's decoder ``read()`` (the size is already checked) and convert its result."""
+    try:
+        raw = read()
+    except cv2.error as exc:
+        raise ValueError(f"could not read an image from {name}: OpenCV refused it ({exc.err})") from None
+    if raw is None:
+        raise ValueError(f"could not read an image from {name}: the image data is damaged, truncated or in "
+                         "a variant OpenCV cannot decode")
+    return _to_float(raw, name)
+
+
 def _to_float(raw, name: str) -> np.ndarray:
     if raw.ndim == 3:
         if raw.shape[2] == 4:
@@ -236,14 +248,7 @@ def imread(path, *, max_pixels: int | None = None) -> np.ndarray:
     name = str(path)
     with path.open("rb") as f:
         _check_size(*_header_size(f, name), name, limit)
-    try:
-        raw = cv2.imread(name, cv2.IMREAD_UNCHANGED)
-    except cv2.error as exc:
-        raise ValueError(f"could not read an image from {name}: OpenCV refused it ({exc.err})") from None
-    if raw is None:
-        raise ValueError(f"could not read an image from {name}: the image data is damaged, truncated or in "
-                         "a variant OpenCV cannot decode")
-    return _to_float(raw, name)
+    return _decode(lambda: cv2.imread(name, cv2.IMREAD_UNCHANGED), name)
 
 
 def imdecode(data, *, name: str = "image", max_pixels: int | None = None) -> np.ndarray:
@@ -268,11 +273,4 @@ def imdecode(data, *, name: str = "image", max_pixels: int | None = None) -> np.
     limit = _limit(max_pixels)
     data = bytes(data)
     _check_size(*_header_size(io.BytesIO(data), name), name, limit)
-    try:
-        raw = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED)
-    except cv2.error as exc:
-        raise ValueError(f"could not read an image from {name}: OpenCV refused it ({exc.err})") from None
-    if raw is None:
-        raise ValueError(f"could not read an image from {name}: the image data is damaged, truncated or in "
-                         "a variant OpenCV cannot decode")
-    return _to_float(raw, name)
+    return _decode(lambda: cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED), name)

@@ -59,7 +59,7 @@ class Branch:
             t = np.full(len(self.points), float(t))
         if t.shape != (len(self.points),):
             raise ValueError(
-                f"thickness must have one value per vertex ({len(self.points)}), got shape {t.shape}"
+                f"thickness must have one value per vertex of points ({len(self.points)}), got shape {t.shape}"
             )
         if not np.all(np.isfinite(t)) or np.any(t <= 0):
             raise ValueError("thickness must be finite and > 0 at every vertex")

@@ -53,6 +53,7 @@ __all__ = [
     "check_choice",
     "check_rng",
     "check_callback",
+    "brief",
     "real_array",
     "as_colour",
     "as_colours",
@@ -136,6 +137,22 @@ def check_real(value, name: str, min: float | None = None, max: float | None = N
         raise ValueError(f"{name} must be a finite number, got {v}")
     _check_range(v, name, min, max, low_open, high_open)
     return v
+
+
+def brief(value, limit: int = 60) -> str:
+    """``repr(value)`` cut to ``limit`` characters, safe for any value (a 5,000-digit int cannot be printed).
+
+    Examples
+    --------
+    >>> brief(10**5000), brief("abc")
+    ('an int of 16610 bits', "'abc'")
+    """
+    if isinstance(value, (int, np.integer)) and not isinstance(value, bool) and int(value).bit_length() > 64:
+        return f"an int of {int(value).bit_length()} bits"
+    try:
+        return repr(value)[:limit]
+    except Exception:  # noqa: BLE001 - a repr that fails: the type says enough
+        return f"a {type(value).__name__}"
 
 
 def check_callback(value, name: str = "progress"):

@@ -593,7 +593,8 @@ def analyze(exemplars, training_index: int, layers, params: InductionParams | No
         raise ValueError(f"exemplars must hold at least two leaves, got {n}")
     if isinstance(training_index, bool) or not isinstance(training_index, (int, np.integer)) \
             or not 0 <= training_index < n:
-        raise ValueError(f"training_index must be an int in [0, {n - 1}], got {training_index!r}")
+        shown = training_index if not isinstance(training_index, int) or abs(training_index) < 10**12 else "a huge int"
+        raise ValueError(f"training_index must be an int in [0, {n - 1}], got {shown!r}")
     t = int(training_index)
     for i, b in enumerate(blades):
         if b.sum() < 64:
@@ -633,6 +634,8 @@ def analyze(exemplars, training_index: int, layers, params: InductionParams | No
             else:
                 registrations.append(register(images[i], images[t], blades[i], blades[t],
                                               params=registration_params, rng=rng))
+    elif isinstance(registrations, (str, bytes, dict)) or not hasattr(registrations, "__len__"):
+        raise TypeError(f"registrations must be a list (one per exemplar), got {type(registrations).__name__}")
     elif len(registrations) != n:
         raise ValueError(f"registrations must have one entry per exemplar ({n}), got {len(registrations)}")
     layers_out, residuals, space = induce(
