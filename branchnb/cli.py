@@ -302,7 +302,9 @@ def _parser() -> argparse.ArgumentParser:
     p_batch.add_argument("--chunk", type=int, metavar="K",
                          help="items per Dask task (default: chosen from the count and the workers)")
     p_batch.add_argument("--count", type=int, metavar="N", help="override the spec's count")
-    p_batch.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p_batch.add_argument("--no-progress", action="store_true", help="no progress bar or status lines")
+    p_batch.add_argument("--dashboard", action="store_true",
+                         help="start the Dask dashboard of the local cluster (on 127.0.0.1 only)")
     p_bench = sub.add_parser("bench", help="speed figures, each against its anchor",
                              description="Print benchmark figures; each row names its anchor and the "
                                          "ratio measured in the same run.")
@@ -370,7 +372,10 @@ def _gallery(outdir_arg) -> int:
 
 
 def _batch(args) -> int:
+    if not args.no_progress:  # the first second: before the imports of Dask and the techniques
+        print(f"branchnb batch: reading {args.spec} ...", file=sys.stderr, flush=True)
     from .batch import load_spec, run_batch
+    from .batch.runner import ClusterLostError
 
     outdir = writable_dir(args.outdir)
     try:
@@ -387,8 +392,9 @@ def _batch(args) -> int:
         raise CommandError(f"--chunk must be >= 1, got {args.chunk}")
     try:
         summary = run_batch(spec, outdir, scheduler=args.scheduler, n_workers=args.workers,
-                            chunk=args.chunk, progress=None if args.no_progress else "tqdm")
-    except (ValueError, TypeError) as exc:  # a bad shared input, e.g. a library folder without trees
+                            chunk=args.chunk, progress=None if args.no_progress else "tqdm",
+                            dashboard=args.dashboard)
+    except (ValueError, TypeError, ClusterLostError) as exc:  # a bad shared input, e.g. a library folder without trees
         raise CommandError(str(exc)) from None
     print(summary)
     print(f"manifest: {summary.outdir / 'manifest.jsonl'}")
@@ -397,6 +403,7 @@ def _batch(args) -> int:
 
 def main(argv=None) -> int:
     parser = _parser()
+    as_program = argv is None
     argv = list(sys.argv[1:] if argv is None else argv)
     if argv[:1] == ["lab"] and not {"-h", "--help"} & set(argv[1:2]):
         # Everything after "lab" goes to jupyter lab untouched (argparse would reorder it).
@@ -426,7 +433,14 @@ def main(argv=None) -> int:
         if args.cmd == "gallery":
             return _gallery(args.outdir)
         if args.cmd == "batch":
-            return _batch(args)
+            try:
+                return _batch(args)
+            except KeyboardInterrupt:  # before the run took over Ctrl-C (imports, reading the spec)
+                print("branchnb batch: interrupted", file=sys.stderr)
+                return 130
+            finally:
+                if as_program:  # only exiting is left: a late Ctrl-C must not tear Dask's atexit clean-up
+                    signal.signal(signal.SIGINT, signal.SIG_IGN)
         if args.cmd == "bench":
             from .bench import format_table, run
 

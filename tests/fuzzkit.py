@@ -508,6 +508,7 @@ ARGS = {
     "core:histograms.samples": _v(([0.1, 0.5, 0.9], [0.2, 0.3])),
     "core:shared_bins.samples": _v(([0.1, 0.5, 0.9], [0.2, 0.3])),
     "core:histogram_distance.p": _v(np.array([0.2, 0.3, 0.5])), "core:histogram_distance.q": _v(np.array([0.1, 0.6, 0.3])),
+    "core:histogram_distance.metric": _v("emd"),  # the metric that reads edges
     "core:compose_overlap.a": _e("image"), "core:compose_overlap.b": lambda: _img(seed=1),
     "core:compose_overlap.mask_a": lambda: np.pad(np.ones((24, 18), bool), ((0, 0), (0, 10))),
     "core:compose_overlap.mask_b": lambda: np.pad(np.ones((24, 18), bool), ((0, 0), (10, 0))),
@@ -521,8 +522,8 @@ ARGS = {
     "core:remap.map_x": lambda: np.tile(np.arange(28, dtype=np.float32), (24, 1)) * 0.9,
     "core:remap.map_y": lambda: np.tile(np.arange(24, dtype=np.float32)[:, None], (1, 28)) * 0.9,
     "core:rigid_align.source": _e("points"), "core:rigid_align.target": lambda: example("points")[:, ::-1].copy(),
-    "core:segments_intersect.a0": _v([(0.0, 0.0)]), "core:segments_intersect.a1": _v([(4.0, 4.0)]),
-    "core:segments_intersect.b0": _v([(0.0, 4.0)]), "core:segments_intersect.b1": _v([(4.0, 0.0)]),
+    "core:segments_intersect.a0": _v([(0.0, 0.0), (1.0, 0.0)]), "core:segments_intersect.a1": _v([(4.0, 4.0), (1.0, 3.0)]),
+    "core:segments_intersect.b0": _v([(0.0, 4.0), (3.0, 3.0)]), "core:segments_intersect.b1": _v([(4.0, 0.0), (4.0, 4.0)]),
     "core:transfer_patch.src_center": _v((12.0, 12.0)), "core:transfer_patch.src_angle": _v(0.3),
     "core:transfer_patch.dst_center": _v((14.0, 10.0)), "core:transfer_patch.dst_angle": _v(0.0),
     "core:transfer_patch.radius": _v(4.0),
@@ -800,8 +801,8 @@ INSTANCES = {
     "Registration": "leaf_registration", "ThinPlateSpline": "leaf_tps",
 }
 
-#: Arguments never fuzzed: progress callbacks and internal hooks.
-SKIP_ARGS = {"progress", "_scorer", "self", "cls", "name"}
+#: Arguments never fuzzed: internal hooks. (``progress`` callbacks are: a string there must give a TypeError.)
+SKIP_ARGS = {"_scorer", "self", "cls", "name"}
 #: Targets the harness leaves alone (network, big downloads, or pure re-exports of callables).
 SKIP_TARGETS = {"trees:TreeLibrary.from_data", "trees:evaluate_reference",
                 # whole batch runs (dask workers) and the global job registry: tested by their own suite
@@ -940,7 +941,12 @@ class Case:
 
     def __repr__(self):
         v = self.value
-        text = f"array{np.shape(v)} {np.asarray(v).dtype}" if isinstance(v, np.ndarray) else repr(v)[:60]
+        if isinstance(v, np.ndarray):
+            text = f"array{np.shape(v)} {np.asarray(v).dtype}"
+        elif isinstance(v, int) and v.bit_length() > 64:
+            text = f"int of {v.bit_length()} bits"
+        else:
+            text = repr(v)[:60]
         return f"Case({self.target}, {self.arg or '<valid>'}, {self.kind}: {text})"
 
 
@@ -949,6 +955,75 @@ class _Cyclic:
 
     def __repr__(self):
         return "<structure with a parent cycle>"
+
+
+@dataclasses.dataclass(frozen=True)
+class _Made:
+    """Marker resolved in the worker to ``EXTRA_MAKERS[key]()``: a bad value that needs building."""
+
+    key: str
+
+    def __repr__(self):
+        return f"<{self.key}>"
+
+
+def _other_plan():
+    from branchnb.dendrite import make_lattice, plan
+
+    return plan(make_lattice(np.zeros((12, 12)), rng=0), (6, 6))
+
+
+def _nan_lattice():
+    from branchnb.dendrite import make_lattice
+
+    lat = make_lattice(np.zeros((16, 16)), rng=0)
+    lat.weights[3, 3] = NAN  # changed after the Lattice checked it, as a caller could
+    return lat
+
+
+def _layer_set_with(change: str):
+    ls = copy.deepcopy(example("leaf_layer_set"))
+    stroke = copy.deepcopy(ls.layers[0].scribbles[0])
+    if change == "two layers":
+        ls.layers[1].scribbles.append(stroke)
+    elif change == "background":
+        ls.background.append(stroke)
+    else:
+        ls.layers[0].scribbles[0].radius = 1e5  # changed after the Scribble checked it
+    return ls
+
+
+def _two_leaves():
+    fam = example("leaf_family")
+    return [np.concatenate([fam[0].image, fam[1].image], axis=1), fam[1].image, fam[2].image]
+
+
+#: Builders of the bad values below (run in the worker, so they need not pickle).
+EXTRA_MAKERS = {
+    "another lattice's plan": _other_plan,
+    "lattice with a NaN weight": _nan_lattice,
+    "one stroke in two layers": lambda: _layer_set_with("two layers"),
+    "one stroke in a layer and the background": lambda: _layer_set_with("background"),
+    "scribble radius 1e5": lambda: _layer_set_with("radius"),
+    "two leaves in one exemplar": _two_leaves,
+    "layer named blade": lambda: {"blade": _leaf_masks()["veins"]},
+    "layer with an empty name": lambda: {"": _leaf_masks()["veins"]},
+}
+
+#: Arguments with which an infinite result is the documented answer, not garbage.
+NONFINITE_BY_CONTRACT = {
+    "dendrite:plan.stop_at": "planning stops at these nodes: the nodes not reached cost inf",
+}
+
+#: Bad values one argument's family cannot make: valid objects that do not fit together (issue 27, items 4-5).
+EXTRA_BAD = {
+    "dendrite:path_statistics.plan_result": ["another lattice's plan"],
+    "dendrite:plan.graph": ["lattice with a NaN weight"],
+    "leaves:grow_layers.layer_set": ["one stroke in two layers", "one stroke in a layer and the background",
+                                     "scribble radius 1e5"],
+    "leaves:analyze.exemplars": ["two leaves in one exemplar"],
+    "leaves:analyze.layers": ["layer named blade", "layer with an empty name"],
+}
 
 
 def array_variants(a: np.ndarray) -> list[tuple[str, object]]:
@@ -963,7 +1038,12 @@ def array_variants(a: np.ndarray) -> list[tuple[str, object]]:
         out.append(("inf", inf))
         out.append(("huge", a.astype(np.float64) * 1e300 + 1e300))
         out.append(("negative", -np.abs(a.astype(np.float64)) - 1.0))
+        out.append(("all inf", np.full(a.shape, INF)))
+        if a.size >= 2:  # a span that overflows float64 (max - min = inf)
+            out.append(("+-1e308", np.where(np.arange(a.size).reshape(a.shape) % 2 == 0, -1e308, 1e308)))
     out.append(("empty", a[:0]))
+    if a.ndim >= 1 and len(a) >= 2:  # one row fewer than its siblings (a0/a1, p/q, points/values)
+        out.append(("one shorter", a[:-1].copy()))
     if a.ndim >= 2:
         out.append(("1x1", a[:1, :1].copy()))
         out.append(("1-D", a.reshape(-1)[:5].copy()))
@@ -993,18 +1073,23 @@ def bad_values(example_value, default) -> list[tuple[str, object]]:
         return [("string", "yes"), ("int 2", 2), ("None", None), ("nan", NAN)]
     if isinstance(v, (int, np.integer)):
         return [("negative", -1), ("zero", 0), ("huge", 10**9), ("int64 overflow", 2**63), ("fraction", 1.5),
-                ("nan", NAN), ("inf", INF), ("bool", True), ("string", "3"), ("None", None)]
+                ("nan", NAN), ("inf", INF), ("bool", True), ("string", "3"), ("None", None),
+                ("5000 digits", 10**5000)]
     if isinstance(v, (float, np.floating)):
         return [("nan", NAN), ("inf", INF), ("-inf", -INF), ("huge", 1e300), ("tiny", 1e-300), ("negative", -1.0),
                 ("zero", 0.0), ("string", "1.0"), ("None", None), ("complex", 1j), ("bool", True)]
     if isinstance(v, str):
         return [("unknown string", "bogus-value"), ("empty string", ""), ("int", 3), ("None", None)]
     if isinstance(v, np.random.Generator):
-        return [("negative seed", -1), ("string", "0"), ("float", 1.5), ("RandomState", np.random.RandomState(0))]
+        return [("negative seed", -1), ("string", "0"), ("float", 1.5), ("RandomState", np.random.RandomState(0)),
+                ("5000-digit seed", 10**5000)]
     if isinstance(v, np.ndarray):
         return array_variants(v) + common[:2]
     if isinstance(v, (list, tuple)):
-        out = [("empty", type(v)()), ("None", None), ("string", "bogus")]
+        out = [("empty", type(v)()), ("None", None), ("string", "bogus"), ("int", 5)]
+        if v and all(dataclasses.is_dataclass(x) and not isinstance(x, type) for x in v):
+            first = dataclasses.fields(v[0])[0].name      # a dict of the first field only (the rest missing)
+            out.append(("incomplete dicts", [{first: copy.deepcopy(getattr(v[0], first))}]))
         try:
             a = np.asarray(v, dtype=float)
         except (TypeError, ValueError):
@@ -1016,7 +1101,8 @@ def bad_values(example_value, default) -> list[tuple[str, object]]:
                         ("zero entries", type(v)([0] * len(v))), ("too short", type(v)(v[:1])),
                         ("strings", type(v)(["a"] * len(v))), ("above one", type(v)([2.0] * len(v)))]
             else:
-                out += [(k, val) for k, val in array_variants(a) if k in ("nan", "inf", "huge", "1x1", "strings", "complex")]
+                out += [(k, val) for k, val in array_variants(a)
+                        if k in ("nan", "inf", "huge", "1x1", "strings", "complex", "one shorter")]
                 out.append(("far point", [np.array([(0.0, 5.0), (0.0, 1e20)])] + list(v[1:])))
         elif v and all(isinstance(x, (np.ndarray, list, tuple)) for x in v):
             first = np.asarray(v[0], dtype=float) if _numeric(v[0]) else None
@@ -1029,7 +1115,8 @@ def bad_values(example_value, default) -> list[tuple[str, object]]:
         return [("None", None), ("string", "bogus"), ("list", [1, 2])]
     if v is None:
         return [("nan", NAN), ("inf", INF), ("negative", -1), ("string", "bogus"), ("huge", 10**12),
-                ("complex array", np.ones((3, 2)) * 1j), ("nan array", np.full((4, 4), NAN))]
+                ("complex array", np.ones((3, 2)) * 1j), ("nan array", np.full((4, 4), NAN)), ("int", 5),
+                ("nan edges", np.array([0.0, NAN, 1.0]))]
     return [("None", None), ("string", "bogus"), ("int", 0)]
 
 
@@ -1095,12 +1182,15 @@ def cases_for(target: Target, *, valid: bool = True) -> list[Case]:
         return [Case(target.id, "", f"example failed: {type(exc).__name__}: {exc}"[:200])]
     params, _ = signature_of(target)
     for p in params:
-        if p.name in SKIP_ARGS or p.kind is p.VAR_KEYWORD:
+        if p.name in SKIP_ARGS:
+            continue
+        if p.kind is p.VAR_KEYWORD:  # a misspelt keyword must be named, not end in a dataclass TypeError
+            out.append(Case(target.id, f"**{p.name}", "unknown keyword", {"bogus_keyword": 1}))
             continue
         if p.kind is p.VAR_POSITIONAL:
             if var:
                 for kind, val in [("empty", ()), ("nan sample", ([NAN, 1.0],)), ("string sample", ("abc",)),
-                                  ("complex sample", ([1j, 2],))]:
+                                  ("complex sample", ([1j, 2],)), ("+-1e308 sample", ([-1e308, 1e308],))]:
                     out.append(Case(target.id, p.name, kind, val))
             continue
         if p.name in kwargs:
@@ -1109,6 +1199,8 @@ def cases_for(target: Target, *, valid: bool = True) -> list[Case]:
             ex = p.default
         else:
             continue
+        for kind in EXTRA_BAD.get(f"{target.id}.{p.name}", ()):
+            out.append(Case(target.id, p.name, kind, _Made(kind)))
         if dataclasses.is_dataclass(ex) and _is_params(type(ex)):
             for f in dataclasses.fields(ex):
                 for kind, val in field_bad_values(f):
@@ -1264,6 +1356,8 @@ def _prepare(case: Case):
     value = case.value
     if isinstance(value, _Cyclic):
         value = _cyclic_structure()
+    if isinstance(value, _Made):
+        value = EXTRA_MAKERS[value.key]()
     if target.kind == "params":
         field = case.arg.split(".", 1)[1] if case.arg else None
         if field is None:
@@ -1281,7 +1375,9 @@ def _prepare(case: Case):
     for k, v in kwargs.items():
         if k == "path" or str(v).startswith(tempfile.gettempdir() + "/fuzz"):
             out_dir = Path(str(v)).parent
-    if case.arg:
+    if case.arg.startswith("**"):
+        kwargs.update(value)
+    elif case.arg:
         head, _, field = case.arg.partition(".")
         if field:
             params = kwargs.get(head)
@@ -1325,6 +1421,8 @@ def run_case(case: Case, allow_nonfinite: bool = False) -> tuple[str, str]:
                 return "fail", f"valid call raised {type(exc).__name__}: {exc}"
             msg = str(exc)
             arg = case.arg.split(".")[-1] if "." in case.arg else case.arg
+            if case.arg.startswith("**"):
+                arg = "bogus_keyword"
             if not _names_argument(msg, arg):
                 return "fail", f"{type(exc).__name__} does not name {arg!r}: {msg[:200]}"
             return "raised", f"{type(exc).__name__}: {msg[:200]}"
@@ -1395,7 +1493,7 @@ class Pool:
         else:
             if case.target not in self.allow:
                 self.run(Case(case.target, "", "valid"))
-            allow = self.allow.get(case.target, False)
+            allow = self.allow.get(case.target, False) or f"{case.target}.{case.arg}" in NONFINITE_BY_CONTRACT
         if case.kind == "no example" or case.kind.startswith("example failed"):
             return Outcome(case, "fail", case.kind)
         if self.proc is None or not self.proc.is_alive():

@@ -37,8 +37,8 @@ from branchnb.trees import VariationParams  # noqa: E402
 def _quiet_cluster(n):
     import logging
 
-    return distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                                    dashboard_address=":0", silence_logs=logging.ERROR)
+    return distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=True, host="127.0.0.1",
+                                    dashboard_address="127.0.0.1:0", silence_logs=logging.ERROR)
 
 
 @pytest.fixture(scope="module")
@@ -113,7 +113,7 @@ def test_resume_recomputes_exactly_the_deleted_items(twenty, library_dir, client
     seen = []
     s = run_batch(_tree_spec(library_dir), out, client=client2, progress=lambda done, total: seen.append(done))
     assert (s.done, s.skipped, s.failed) == (5, 15, 0)
-    assert seen == [16, 17, 18, 19, 20]
+    assert len(seen) == 5 and seen == sorted(seen) and seen[-1] == 20   # computed items only, resumed counted
     assert _digests(out, "tree_*.png") == before
     changed = {p.name for p in out.glob("tree_*.png") if p.stat().st_mtime_ns != mtimes.get(p.name)}
     assert changed == set(deleted)
@@ -172,8 +172,7 @@ def test_a_job_registered_in_a_few_lines_runs_on_the_cluster(client2, tmp_path):
 def test_cloud_dendrite_and_branching_jobs_write_valid_files(client2, library_dir, tmp_path):
     from branchnb.core.structure import Branch, Structure
 
-    cloud = BatchSpec("billboard_cloud", count=2, inputs={"library": str(library_dir), "from_variations": False,
-                                                          "size": 96, "trunk": "stem"},
+    cloud = BatchSpec("billboard_cloud", count=2, inputs={"library": str(library_dir), "from_variations": False},
                       params={"billboard": {"n_segments": 32, "n_interior": 8, "max_size": 128}})
     s = run_batch(cloud, tmp_path / "cloud", client=client2, progress=None)
     assert s.done == 2, read_manifest(tmp_path / "cloud")
@@ -230,7 +229,7 @@ def test_specs_round_trip_and_bad_specs_name_the_problem(tmp_path, library_dir):
             BatchSpec.from_dict(d)
         assert message in str(exc.value), (d, str(exc.value))
     (tmp_path / "nan.json").write_text('{"job": "dendrite_tree", "count": 2, "params": {"tree": {"noise": NaN}}}')
-    with pytest.raises(ValueError, match="NaN is not valid JSON"):
+    with pytest.raises(ValueError, match="nan.json is not valid JSON: non-standard JSON number NaN"):
         load_spec(tmp_path / "nan.json")
     (tmp_path / "broken.toml").write_text("job = \n")
     with pytest.raises(ValueError, match="not valid TOML"):
@@ -267,6 +266,7 @@ def test_command_line_batch_on_a_scheduler_and_ctrl_c_keeps_the_manifest(client2
                          capture_output=True, text=True, timeout=120)
     assert run.returncode == 0, run.stderr
     assert f"{count - kept} done, {kept} already complete, 0 failed of {count}" in run.stdout
+    assert "start-up" in run.stdout and "s per item" in run.stdout and "on 2 workers" in run.stdout
     bad = subprocess.run([sys.executable, "-m", "branchnb.cli", "batch", str(tmp_path / "missing.json"),
                           str(tmp_path / "o2")], capture_output=True, text=True, timeout=60)
     assert bad.returncode == 1 and "Traceback" not in bad.stderr and "missing.json" in bad.stderr
@@ -334,3 +334,222 @@ def test_leaf_variations_job(client2, tmp_path):
     leaves = [imread(p) for p in sorted((tmp_path / "out").glob("leaf_*.png"))]
     assert all(im.shape[2] == 4 and (im[..., 3] > 0.5).mean() > 0.1 for im in leaves)
     assert len({hashlib.sha256(p.read_bytes()).hexdigest() for p in (tmp_path / "out").glob("leaf_*.png")}) == 3
+
+
+# ----------------------------------------------------------------------------- issue 27: batch edge cases
+
+ROOT = Path(__file__).resolve().parent.parent
+_SAMPLES = ["tree_rpg_01", "tree_rpg_03", "tree_rpg_06"]
+
+
+def _env():
+    return dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+
+
+def _cli(*args):
+    return [sys.executable, "-m", "branchnb.cli", "batch", *map(str, args)]
+
+
+def test_a_batch_survives_the_loss_of_its_only_worker(tmp_path):
+    import logging
+    import threading
+
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True, host="127.0.0.1",
+                                  dashboard_address="127.0.0.1:0", silence_logs=logging.CRITICAL) as cluster, \
+            distributed.Client(cluster) as client:
+        spec = BatchSpec("tree_variations", count=16, seed=3, inputs={"library": _SAMPLES, "size": 64, "trunk": "stem"})
+        result = {}
+        thread = threading.Thread(target=lambda: result.setdefault(
+            "s", run_batch(spec, tmp_path, client=client, chunk=2, progress=None)))
+        thread.start()
+        manifest = tmp_path / "manifest.jsonl"
+        deadline = time.time() + 120
+        while time.time() < deadline and (not manifest.is_file() or len(manifest.read_text().splitlines()) < 2):
+            time.sleep(0.05)
+        for pid in client.run(os.getpid).values():         # the only worker, holding the scattered library
+            os.kill(pid, signal.SIGKILL)
+        thread.join(300)
+    s = result["s"]
+    assert (s.done, s.failed) == (16, 0), read_manifest(tmp_path)
+    assert any("sent again" in n for n in s.notes)
+    assert {r["status"] for r in read_manifest(tmp_path).values()} == {"done"}
+
+
+def test_ten_million_items_start_at_once_and_ctrl_c_twice_is_clean(client2, tmp_path):
+    import psutil
+
+    spec = tmp_path / "big.json"
+    spec.write_text(json.dumps({"job": "dendrite_tree", "count": 10_000_000, "seed": 1,
+                                "inputs": {"shape": [32, 32], "svg": False},
+                                "params": {"tree": {"iterations": 1, "radius": 6}}}))
+    out = tmp_path / "out"
+    t0 = time.time()
+    proc = subprocess.Popen(_cli(spec, out, "--scheduler", client2.scheduler.address), env=_env(),
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    manifest = out / "manifest.jsonl"
+    while time.time() - t0 < 120 and not (manifest.is_file() and manifest.read_text().count("\n") >= 3):
+        time.sleep(0.05)
+    first = time.time() - t0
+    rss = psutil.Process(proc.pid).memory_info().rss / 2**20
+    proc.send_signal(signal.SIGINT)
+    time.sleep(0.3)
+    if proc.poll() is None:
+        proc.send_signal(signal.SIGINT)                    # a second Ctrl-C during the shutdown
+    stdout, stderr = proc.communicate(timeout=120)
+    assert first < 60, f"no item after {first:.0f} s"     # was: 25 s of set-up per 200k items
+    assert rss < 600, rss                                  # MB; was 540 MB per 200k items before the first
+    assert proc.returncode == 130 and "Traceback" not in stderr, stderr
+    assert "interrupted" in stdout and "of 10000000" in stdout
+    assert stderr.startswith("branchnb batch: reading")  # output from the first second
+    assert "connecting to the Dask scheduler" in stderr
+
+
+def test_ctrl_c_while_the_cluster_starts_is_clean(tmp_path):
+    spec = tmp_path / "s.json"
+    spec.write_text(json.dumps({"job": "dendrite_tree", "count": 4, "inputs": {"shape": [32, 32]}}))
+    proc = subprocess.Popen(_cli(spec, tmp_path / "out", "--workers", "1"), env=_env(), stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    line = ""
+    while "starting a local Dask cluster" not in line:
+        line = proc.stderr.readline()
+        assert line, proc.communicate()
+    proc.send_signal(signal.SIGINT)
+    time.sleep(0.2)
+    if proc.poll() is None:
+        proc.send_signal(signal.SIGINT)
+    stdout, stderr = proc.communicate(timeout=120)
+    assert proc.returncode == 130 and "Traceback" not in stderr, stderr
+    assert "interrupted" in stdout
+
+
+def test_specs_are_parsed_strictly(tmp_path):
+    (tmp_path / "dup.json").write_text('{"job": "dendrite_tree", "count": 2, "count": 999999}')
+    with pytest.raises(ValueError, match="duplicate key 'count'"):
+        load_spec(tmp_path / "dup.json")
+    (tmp_path / "dup.toml").write_text('job = "dendrite_tree"\ncount = 2\ncount = 999999\n')
+    with pytest.raises(ValueError, match="not valid TOML"):
+        load_spec(tmp_path / "dup.toml")
+    deep = '{"job": "dendrite_tree", "count": 2, "inputs": {"shape": ' + "[" * 3000 + "]" * 3000 + "}}"
+    (tmp_path / "deep.json").write_text(deep)
+    with pytest.raises(ValueError, match="nests deeper than 64"):
+        load_spec(tmp_path / "deep.json")
+    (tmp_path / "deep.toml").write_text('job = "dendrite_tree"\ncount = 2\n[inputs]\nshape = '
+                                        + "[" * 3000 + "]" * 3000 + "\n")
+    with pytest.raises(ValueError, match="deep"):
+        load_spec(tmp_path / "deep.toml")
+    nested: list = []
+    for _ in range(3000):
+        nested = [nested]
+    with pytest.raises(ValueError, match="nests deeper"):
+        BatchSpec("dendrite_tree", count=2, inputs={"shape": nested})
+    unused = [
+        ({"job": "billboard_cloud", "count": 2, "inputs": {"image": 1}}, "inputs.image is not used"),
+        ({"job": "billboard_cloud", "count": 2, "vary": {"image": [0, 1]}}, "inputs.image is not used"),
+        ({"job": "billboard_cloud", "count": 2, "inputs": {"from_variations": False, "target": "tree_rpg_01"}},
+         "inputs.target is not used"),
+        ({"job": "billboard_cloud", "count": 2, "inputs": {"from_variations": False},
+          "params": {"variation": {"keep": 0.5}}}, "params.variation is not used"),
+        ({"job": "tree_variations", "count": 2, "inputs": {"target": "tree_rpg_01", "weights": [0.5, 0.5]}},
+         "inputs.weights is not used"),
+        ({"job": "branching", "count": 2, "inputs": {"example": "x.json", "render_image": False}},
+         "inputs.render_image is not used"),
+    ]
+    for d, message in unused:
+        with pytest.raises(ValueError, match=message):
+            BatchSpec.from_dict(d)
+    BatchSpec.from_dict({"job": "billboard_cloud", "count": 2, "inputs": {"image": 1, "from_variations": False}})
+
+
+def test_manifest_problems_are_reported_and_the_folder_is_locked(client2, tmp_path):
+    from branchnb.batch._guards import OutdirBusyError, OutdirLock
+
+    spec = BatchSpec("dendrite_tree", count=4, inputs={"shape": [32, 32], "svg": False},
+                     params={"tree": {"iterations": 1, "radius": 6}})
+    (tmp_path / "a" / "manifest.jsonl").mkdir(parents=True)
+    with pytest.raises(ValueError, match="manifest.jsonl is a folder"):
+        run_batch(spec, tmp_path / "a", client=client2, progress=None)
+    run = subprocess.run(_cli(tmp_path / "none.json", tmp_path / "a"), capture_output=True, text=True, env=_env())
+    assert run.returncode == 1 and "Traceback" not in run.stderr
+    out = tmp_path / "b"
+    assert run_batch(spec, out, client=client2, progress=None).done == 4
+    lines = (out / "manifest.jsonl").read_bytes().splitlines()
+    lines[2] = lines[2].replace(b'"status"', b'"st\xffatus"')     # one byte that is not UTF-8, in item 2's line
+    (out / "manifest.jsonl").write_bytes(b"\n".join(lines) + b"\n")
+    s = run_batch(spec, out, client=client2, progress=None)
+    assert (s.done, s.skipped) == (1, 3)
+    assert any("manifest.jsonl line 3: not UTF-8" in n and "item 2 is recomputed" in n for n in s.notes)
+    assert sorted(read_manifest(out)) == [0, 1, 2, 3]
+    with OutdirLock(out):                                  # another run holds the folder
+        with pytest.raises(OutdirBusyError, match="in use by another branchnb batch .*process"):
+            run_batch(spec, out, client=client2, progress=None)
+    assert run_batch(spec, out, client=client2, progress=None).skipped == 4
+
+
+def test_a_hostile_image_fails_clearly_through_the_command_line(tmp_path):
+    from test_validation import _png_declaring
+
+    lib = tmp_path / "lib"
+    lib.mkdir()
+    imsave(lib / "a.png", data.load("tree_rpg_01"))
+    (lib / "b.png").write_bytes(_png_declaring(30000, 30000, valid=False))
+    spec = tmp_path / "s.json"
+    spec.write_text(json.dumps({"job": "tree_variations", "count": 2, "inputs": {"library": "lib", "size": 64}}))
+    run = subprocess.run(["/usr/bin/time", "-f", "%M", *_cli(spec, tmp_path / "out", "--workers", "1")],
+                         capture_output=True, text=True, env=_env(), timeout=300)
+    assert run.returncode == 1 and "Traceback" not in run.stderr, run.stderr
+    assert "b.png: it declares 30000 x 30000" in run.stderr
+    assert int(run.stderr.strip().splitlines()[-1]) < 400_000  # KB peak: no decoding (was 4.6 GB)
+
+
+def test_no_listener_of_a_local_batch_binds_a_public_address(tmp_path):
+    code = r"""
+import json, sys, threading, time, psutil
+from branchnb.batch import BatchSpec, run_batch
+if __name__ == "__main__":
+    spec = BatchSpec("dendrite_tree", count=6, inputs={"shape": [48, 48], "svg": False},
+                     params={"tree": {"iterations": 2, "radius": 8}})
+    for dashboard in (False, True):
+        seen, done = set(), []
+        t = threading.Thread(target=lambda: done.append(run_batch(spec, sys.argv[1] + str(dashboard),
+                             n_workers=2, chunk=1, progress=None, dashboard=dashboard)))
+        t.start()
+        while t.is_alive():
+            me = psutil.Process()
+            for p in [me] + me.children(recursive=True):
+                try:
+                    seen |= {c.laddr.ip for c in p.net_connections("inet") if c.status == psutil.CONN_LISTEN}
+                except psutil.Error:
+                    pass
+            time.sleep(0.1)
+        print(json.dumps([dashboard, sorted(seen), done[0].done]))
+"""
+    script = tmp_path / "listen.py"
+    script.write_text(code)
+    run = subprocess.run([sys.executable, str(script), str(tmp_path / "out")], capture_output=True, text=True,
+                         env=_env(), timeout=300)
+    assert run.returncode == 0, run.stderr
+    results = [json.loads(line) for line in run.stdout.splitlines()]
+    assert [r[0] for r in results] == [False, True]
+    for dashboard, ips, done in results:
+        assert done == 6 and ips and set(ips) <= {"127.0.0.1", "::1"}, (dashboard, ips)
+
+
+def test_the_readme_batch_example_runs_as_written(client2, tmp_path):
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    section = readme[readme.index("## At scale"):]
+    block = section[section.index("```json") + 7:]
+    (tmp_path / "trees.json").write_text(block[:block.index("```")])
+    commands = section[section.index("```bash"):]
+    assert "branchnb batch trees.json out/" in commands
+    assert all(name in data.names() for name in _SAMPLES) and "sample name" in section
+    run = subprocess.run(_cli("trees.json", "out/", "--count", "3", "--scheduler", client2.scheduler.address),
+                         capture_output=True, text=True, env=_env(), cwd=tmp_path, timeout=300)
+    assert run.returncode == 0, run.stderr
+    assert "3 done, 0 already complete, 0 failed of 3" in run.stdout
+    m = read_manifest(tmp_path / "out")
+    assert [m[i]["params"]["variation"]["keep"] for i in range(3)] == [0.4, 0.6, 0.8]
+    assert all(imread(tmp_path / "out" / f"tree_{i:05d}.png").shape[2] == 4 for i in range(3))
+    again = subprocess.run(_cli("trees.json", "out/", "--count", "3", "--scheduler", client2.scheduler.address),
+                           capture_output=True, text=True, env=_env(), cwd=tmp_path, timeout=300)
+    assert "0 done, 3 already complete" in again.stdout and "nothing computed" in again.stdout
+    assert "workers" not in again.stdout and again.stderr.count("%|") == 0   # no bar when nothing is computed

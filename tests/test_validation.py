@@ -531,3 +531,144 @@ def test_coordinate_limit_is_far_beyond_any_image_and_enforced():
     assert COORD_LIMIT >= 1e6
     with pytest.raises(ValueError, match="polylines"):
         coverage_polylines((4, 4), [[(0, 0), (COORD_LIMIT * 2, 0)]])
+
+
+# ----------------------------------------------------------------------------- issue 27: hostile image files
+
+
+def _png_declaring(w: int, h: int, *, valid: bool = True) -> bytes:
+    """A grey PNG of ``w x h`` zero pixels: a few hundred KB that decode to ``w * h`` bytes (or more)."""
+    import struct
+    import zlib
+
+    def chunk(tag, body):
+        return struct.pack(">I", len(body)) + tag + body + struct.pack(">I", zlib.crc32(tag + body) & 0xFFFFFFFF)
+
+    comp = zlib.compressobj(9)
+    row = bytes(w + 1)
+    idat = b"".join(comp.compress(row) for _ in range(h)) + comp.flush() if valid else b"\x78\x9c"
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 0, 0, 0, 0))
+            + chunk(b"IDAT", idat) + chunk(b"IEND", b""))
+
+
+def _jpeg_declaring(w: int, h: int) -> bytes:
+    import struct
+
+    import cv2
+
+    ok, buf = cv2.imencode(".jpg", np.zeros((16, 16, 3), np.uint8))
+    b = bytearray(buf.tobytes())
+    i = b.index(b"\xff\xc0")
+    b[i + 5:i + 9] = struct.pack(">HH", h, w)
+    return bytes(b)
+
+
+def test_image_readers_refuse_oversized_files_before_decoding(tmp_path):
+    from branchnb.core.io import MAX_IMAGE_PIXELS, image_size, imdecode, imread
+
+    png = tmp_path / "bomb.png"
+    png.write_bytes(_png_declaring(12000, 12000))         # 144 MP of zeros in ~150 KB
+    jpg = tmp_path / "bomb.jpg"
+    jpg.write_bytes(_jpeg_declaring(60000, 50000))
+    assert image_size(png) == (12000, 12000) and image_size(jpg) == (60000, 50000)
+    assert 12000 * 12000 > MAX_IMAGE_PIXELS
+    for path, size in ((png, "12000 x 12000"), (jpg, "60000 x 50000")):
+        with pytest.raises(ValueError, match=f"refusing to decode .*{path.name}.*{size}"):
+            imread(path)
+        with pytest.raises(ValueError, match=f"upload.png: it declares {size}"):
+            imdecode(path.read_bytes(), name="upload.png")
+    # the limit is configurable per call, and a small image passes
+    with pytest.raises(ValueError, match="above the limit of 100"):
+        imread(png, max_pixels=100)
+    ok = tmp_path / "ok.png"
+    ok.write_bytes(_png_declaring(40, 30))
+    assert imread(ok).shape == (30, 40, 1)
+    with pytest.raises(ValueError, match="max_pixels must be an int"):
+        imread(ok, max_pixels=0)
+    # peak memory stays bounded for a refused file (measured in a fresh process)
+    code = ("import resource; from branchnb.core.io import imread\n"
+            "before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss\n"
+            f"try:\n    imread({str(png)!r})\nexcept ValueError:\n    pass\n"
+            "print((resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before) / 1024)")
+    run = _python(code)
+    assert run.returncode == 0, run.stderr
+    assert float(run.stdout) < 50                          # MB on top of the imports (decoding: > 140 MB)
+    # the environment variable sets the default, in workers too
+    code = f"from branchnb.core.io import imread; print(imread({str(ok)!r}).shape)"
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60, cwd=str(ROOT),
+                         env=dict(os.environ, PYTHONPATH=str(ROOT), BRANCHNB_MAX_IMAGE_PIXELS="1000"))
+    assert "refusing to decode" in run.stderr and "1,200 pixels" in run.stderr
+
+
+@pytest.mark.parametrize("content, why", [
+    (None, "No such file"), (b"", "the file is empty"), (b"hello world", "not an image format"),
+    (b"\x89PNG\r\n\x1a\n\x00\x00", "without its IHDR"), ("folder", "it is a folder"),
+    ("truncated", "damaged, truncated"),
+])
+def test_unreadable_image_messages_say_why(tmp_path, content, why):
+    from branchnb.core.io import imdecode, imread
+
+    path = tmp_path / "x.png"
+    if content == "folder":
+        path.mkdir()
+    elif content == "truncated":
+        path.write_bytes(_png_declaring(64, 64, valid=False))
+    elif content is not None:
+        path.write_bytes(content)
+    with pytest.raises(ValueError, match=f"could not read an image from .*x.png: .*{why}"):
+        imread(path)
+    if isinstance(content, bytes):
+        with pytest.raises(ValueError, match=why):
+            imdecode(content, name="x.png")
+    with pytest.raises(TypeError, match="path must be a file path"):
+        imread(3)
+
+
+# ------------------------------------------------- issue 27, items 4-5: each case is in the sweep and answered
+
+#: (target, argument, kind of bad value) of every case issue 27 found: the sweep's generators make each one now.
+ISSUE_27_CASES = [
+    ("leaves:grow_layers", "layer_set", "scribble radius 1e5"),
+    ("leaves:grow_layers", "layer_set", "one stroke in two layers"),
+    ("leaves:grow_layers", "layer_set", "one stroke in a layer and the background"),
+    ("leaves:analyze", "layers", "layer named blade"),
+    ("leaves:analyze", "layers", "layer with an empty name"),
+    ("leaves:analyze", "exemplars", "two leaves in one exemplar"),
+    ("leaves:generate", "progress", "string"),
+    ("dendrite:path_statistics", "plan_result", "another lattice's plan"),
+    ("dendrite:plan", "graph", "lattice with a NaN weight"),
+    ("dendrite:make_lattice", "cost", "all inf"),
+    ("core:segments_intersect", "a0", "one shorter"),
+    ("core:Structure", "branches", "incomplete dicts"),
+    ("core:compare_samples", "labels", "int"),
+    ("core:histogram_distance", "edges", "nan edges"),
+    ("core:histograms", "samples", "+-1e308 sample"),
+    ("trees:make_variation", "**overrides", "unknown keyword"),
+    ("strokes:PlacedPatch", "pixels", "nan"),
+    ("strokes:PlacedPatch", "origin", "nan entry"),
+    ("dendrite:Stylizer.lattice", "rng_seed", "5000 digits"),
+    ("core:Structure.children", "index", "5000 digits"),
+]
+
+
+@pytest.mark.parametrize("target, arg, kind", ISSUE_27_CASES)
+def test_issue_27_cases_are_swept_and_get_a_clear_error(pool, target, arg, kind):
+    t = next(t for t in fuzzkit.discover([target.split(":")[0]]) if t.id == target)
+    cases = [c for c in fuzzkit.cases_for(t, valid=False) if c.arg == arg and c.kind == kind]
+    assert cases, f"the sweep makes no {kind!r} case for {target}({arg})"
+    o = pool.run(cases[0])
+    assert o.status == "raised", o.detail
+
+
+def test_huge_ints_and_seeds_are_refused_by_name():
+    from branchnb.batch import BatchSpec
+    from branchnb.core.random import as_rng, as_seed
+
+    big = 10**5000
+    for call, name in [(lambda: check_int(big, "n", 0, 10), "n must fit in 64 bits"),
+                       (lambda: check_real(big, "sigma"), "sigma must be a finite number"),
+                       (lambda: as_rng(big, name="seed"), "seed seed must be below 2"),
+                       (lambda: as_seed(big), "rng seed must be below 2"),
+                       (lambda: BatchSpec("dendrite_tree", count=1, seed=big), "seed must be below 2")]:
+        with pytest.raises(ValueError, match=name):
+            call()

@@ -115,9 +115,15 @@ _TREE_INPUTS = {"library": None, "size": 512, "trunk": "auto", "target": None, "
                 "use": None, "reference": None}
 _TREE_ITEM_INPUTS = ("target", "weights", "use", "reference")
 
+def _unused_tree(given: dict, sections: set) -> dict:
+    if given.get("target") is not None and given.get("weights") is not None:
+        return {"weights": "a 'target' is given, and variations of a target draw their own weights"}
+    return {}
+
+
 register_job(Job(
     "tree_variations", sections={"variation": VariationParams}, inputs=_TREE_INPUTS,
-    item_inputs=_TREE_ITEM_INPUTS, prepare=_library, make=_make_tree, stem="tree",
+    item_inputs=_TREE_ITEM_INPUTS, prepare=_library, make=_make_tree, stem="tree", unused=_unused_tree,
     description="new RGBA tree billboards from a library of RGBA exemplars (random mixes, fixed weights, "
                 "or variations of one target tree keeping its share 'keep')"))
 
@@ -164,12 +170,24 @@ def _make_cloud(shared, params, inputs, rng, stem) -> ItemOutput:
     return ItemOutput(files, info)
 
 
+def _unused_cloud(given: dict, sections: set) -> dict:
+    if given.get("from_variations", True):
+        out = {} if given.get("image") is None else {
+            "image": "it picks one of the library images, which happens only with from_variations = false"}
+        return out or _unused_tree(given, sections)
+    why = "billboard clouds are made of the library images themselves (from_variations = false)"
+    out = {k: why for k in ("size", "trunk", *_TREE_ITEM_INPUTS) if given.get(k) is not None}
+    if "variation" in sections:
+        out["variation"] = why
+    return out
+
+
 register_job(Job(
     "billboard_cloud", sections={"billboard": BillboardParams, "variation": VariationParams},
     inputs={**_TREE_INPUTS, "from_variations": True, "image": None, "height": 10.0, "yaw": 0.0,
             "embed_texture": False, "preview": False},
     item_inputs=(*_TREE_ITEM_INPUTS, "image", "height", "yaw"), prepare=_prepare_clouds, make=_make_cloud,
-    stem="cloud",
+    stem="cloud", unused=_unused_cloud,
     description="billboard clouds as glTF 2.0 (+ atlas PNG): of new tree variations (from_variations) "
                 "or of the library images themselves"))
 
@@ -291,11 +309,21 @@ def _make_branching(shared, params, inputs, rng, stem) -> ItemOutput:
     return ItemOutput(files, info)
 
 
+def _unused_branching(given: dict, sections: set) -> dict:
+    if given.get("image") is not None:
+        return {}
+    why = "no example 'image' is given, so no image is synthesised"
+    out = {"render_image": why} if "render_image" in given else {}
+    if "image" in sections:
+        out["image"] = why
+    return out
+
+
 register_job(Job(
     "branching", sections={"synthesis": SynthesisParams, "image": ImageSynthesisParams},
     inputs={"example": None, "image": None, "shape": None, "render_image": True},
     item_inputs=("shape", "render_image"), prepare=_prepare_branching, make=_make_branching,
-    stem="branching",
+    stem="branching", unused=_unused_branching,
     description="branching structures (JSON, PNG, SVG) learnt from an annotated example's JSON, and "
                 "their images synthesised from the example image when one is given"))
 

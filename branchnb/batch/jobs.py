@@ -71,6 +71,11 @@ class Job:
     item_inputs : tuple of str
         Inputs a spec may change per item (``vary``/``items``).
     description : str
+    unused : callable(given, sections) -> dict, optional
+        Which of the inputs a spec gives (``given``: name -> value, from
+        ``inputs``, ``vary`` and ``items``) and parameter sections it sets
+        (``sections``) this job would ignore, as ``{key: why}``; the spec is
+        refused naming them, so nothing is recorded as used that was not.
     """
 
     name: str
@@ -81,6 +86,7 @@ class Job:
     stem: str
     item_inputs: tuple[str, ...] = ()
     description: str = ""
+    unused: Callable[[dict, set], dict] | None = None
 
     def __post_init__(self):
         if not self.name or not isinstance(self.name, str):
@@ -90,6 +96,8 @@ class Job:
             raise ValueError(f"Job {self.name!r}: item_inputs {missing} are not among its inputs")
         if not callable(self.prepare) or not callable(self.make):
             raise TypeError(f"Job {self.name!r}: prepare and make must be callable")
+        if self.unused is not None and not callable(self.unused):
+            raise TypeError(f"Job {self.name!r}: unused must be callable or None")
 
 
 #: Registered jobs by name (:func:`register_job` adds to it).

@@ -4,31 +4,37 @@ The client does the bookkeeping (which items are complete, the manifest,
 writing files); workers only compute. Outputs travel back as bytes, so a
 remote cluster (``scheduler="tcp://..."``) needs no shared file system,
 only the installed package on its workers.
+
+Items are generated lazily (a spec of ten million items starts at once, in
+little memory); the shared inputs are sent again when the worker holding
+them is lost; a chunk whose worker died is computed again, and a chunk that
+kills workers is split to find the one item that does.
 """
 
 from __future__ import annotations
 
+import asyncio
 import dataclasses
 import hashlib
 import json
 import logging
 import os
 import re
-import signal
-import threading
 import time
+import warnings
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from ._guards import Interrupt, OutdirLock
 from .jobs import ItemOutput, Job
 from .manifest import Manifest, file_record, write_atomic
 from .progress import make_progress
 from .spec import BatchSpec, _build_params, _plain, load_spec
 
-__all__ = ["run_batch", "run_items", "BatchSummary", "item_stem", "spec_key"]
+__all__ = ["run_batch", "run_items", "BatchSummary", "ClusterLostError", "item_stem", "spec_key"]
 
 _PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 _NON_FINITE = re.compile(r"(?i)(?<![a-z#])(nan|inf)(?![a-z])")
@@ -56,6 +62,13 @@ class BatchSummary:
     outdir : Path
     workers : int
         Dask worker threads used (0 if nothing had to be computed).
+    startup_seconds : float
+        From the call to the first submitted item: reading the manifest,
+        starting the cluster, preparing and sending the shared inputs.
+    compute_seconds : float
+        From the first submitted item to the last recorded one.
+    notes : list of str
+        What the run reported on the way (unreadable manifest lines, ...).
     """
 
     job: str
@@ -67,12 +80,24 @@ class BatchSummary:
     interrupted: bool
     outdir: Path
     workers: int = 0
+    startup_seconds: float = 0.0
+    compute_seconds: float = 0.0
+    notes: list = dataclasses.field(default_factory=list)
+
+    @property
+    def computed(self) -> int:
+        """Items computed in this run (done or failed)."""
+        return self.done + self.failed
 
     @property
     def items_per_second(self) -> float:
-        """Items computed (done or failed) per second of this run."""
-        n = self.done + self.failed
-        return n / self.seconds if self.seconds > 0 else 0.0
+        """Items computed per second once computing started (start-up excluded)."""
+        return self.computed / self.compute_seconds if self.compute_seconds > 0 else 0.0
+
+    @property
+    def seconds_per_item(self) -> float:
+        """Seconds per computed item once computing started (start-up excluded); 0 if none was computed."""
+        return self.compute_seconds / self.computed if self.computed else 0.0
 
     def __str__(self) -> str:
         state = "interrupted" if self.interrupted else "finished"
@@ -80,8 +105,12 @@ class BatchSummary:
         parts = [f"{self.done} done", f"{self.skipped} already complete", f"{self.failed} failed"]
         if left:
             parts.append(f"{left} not run")
-        return (f"batch {self.job} {state}: " + ", ".join(parts) + f" of {self.total} in "
-                f"{self.seconds:.1f} s ({self.items_per_second:.2f} items/s on {self.workers} workers)")
+        if self.computed:
+            rate = (f"start-up {self.startup_seconds:.1f} s, then {self.seconds_per_item:.3g} s per item = "
+                    f"{self.items_per_second:.2f} items/s on {self.workers} worker{'s' * (self.workers != 1)}")
+        else:
+            rate = "nothing computed"
+        return f"batch {self.job} {state}: " + ", ".join(parts) + f" of {self.total} in {self.seconds:.1f} s ({rate})"
 
 
 def item_stem(job: Job, index: int, count: int) -> str:
@@ -156,32 +185,6 @@ def run_items(job: Job, shared, items: list) -> list[dict]:
     return results
 
 
-class _Interrupt:
-    """SIGINT handling: Ctrl-C raises KeyboardInterrupt, but never while an item is being recorded."""
-
-    def __init__(self):
-        self.requested = False
-        self.critical = False
-        self._old = None
-
-    def __enter__(self):
-        if threading.current_thread() is threading.main_thread():
-            self._old = signal.signal(signal.SIGINT, self._handler)
-        return self
-
-    def __exit__(self, *exc):
-        if self._old is not None:
-            signal.signal(signal.SIGINT, self._old)
-
-    def _handler(self, signum, frame):
-        self.requested = True
-        if not self.critical:
-            raise KeyboardInterrupt
-
-    def check(self):
-        if self.requested:
-            raise KeyboardInterrupt
-
 
 def _default_workers() -> int:
     try:
@@ -190,8 +193,12 @@ def _default_workers() -> int:
         return max(1, os.cpu_count() or 1)
 
 
-def _connect(client, scheduler, n_workers):
-    """``(client, cluster_we_own_or_None)``."""
+def _connect(client, scheduler, n_workers, dashboard: bool):
+    """``(client, cluster_we_own_or_None)``.
+
+    A local cluster listens on 127.0.0.1 only (scheduler, workers, nannies
+    and the HTTP server); its dashboard is off unless asked for.
+    """
     if client is not None:
         return client, None
     from dask.distributed import Client, LocalCluster
@@ -199,15 +206,84 @@ def _connect(client, scheduler, n_workers):
     if scheduler is not None:
         return Client(scheduler, timeout="30s"), None
     n = _default_workers() if n_workers is None else int(n_workers)
-    if n < 1:
-        raise ValueError(f"n_workers must be >= 1, got {n_workers!r}")
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
-                           silence_logs=logging.ERROR)
-    return Client(cluster), cluster
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # e.g. "port 8787 in use": noise between the status lines
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, host="127.0.0.1",
+                               dashboard_address="127.0.0.1:0", scheduler_kwargs={"dashboard": bool(dashboard)},
+                               preload=["branchnb.batch._worker_setup"], silence_logs=logging.ERROR)
+    try:
+        return Client(cluster), cluster
+    except BaseException:
+        cluster.close(timeout=10)
+        raise
+
+
+def _check_run_args(chunk, n_workers, client, scheduler, dashboard) -> None:
+    if chunk is not None and (isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1):
+        raise ValueError(f"chunk must be an int >= 1, got {chunk!r}")
+    if n_workers is not None and (isinstance(n_workers, bool) or not isinstance(n_workers, int) or n_workers < 1):
+        raise ValueError(f"n_workers must be an int >= 1, got {n_workers!r}")
+    if scheduler is not None and (not isinstance(scheduler, str) or not scheduler):
+        raise TypeError(f"scheduler must be an address like 'tcp://host:8786', got {scheduler!r}")
+    if client is not None and scheduler is not None:
+        raise ValueError("give either client or scheduler, not both")
+    if not isinstance(dashboard, bool):
+        raise TypeError(f"dashboard must be a bool, got {dashboard!r}")
+
+
+class _Items:
+    """The spec's items, generated one at a time: ``next_todo()`` records invalid ones and skips complete ones."""
+
+    def __init__(self, spec: BatchSpec, manifest: Manifest, key: str, summary, bar, record):
+        self.spec, self.job, self.manifest, self.key = spec, spec.job_info, manifest, key
+        self.summary, self.bar, self.record = summary, bar, record
+        self.next_index = 0
+        self._peeked = None
+
+    def _meta(self, i: int, params_plain, inputs) -> dict:
+        return {"seed": self.spec.item_seeds([i])[0], "params": params_plain, "inputs": inputs, "key": self.key}
+
+    def next_todo(self):
+        """The next item to compute as ``(index, params, inputs, stem, meta)``, or None at the end."""
+        if self._peeked is not None:
+            item, self._peeked = self._peeked, None
+            return item
+        spec, job = self.spec, self.job
+        while self.next_index < spec.count:
+            i = self.next_index
+            self.next_index += 1
+            raw, inputs = spec.item_raw(i)
+            try:
+                params = _build_params(job, raw, f"item {i} params")
+            except (TypeError, ValueError) as exc:
+                self.record(i, self._meta(i, raw, inputs), {}, {}, 0.0, f"{type(exc).__name__}: {exc}")
+                continue
+            full = {s: dataclasses.asdict(p) for s, p in params.items()}
+            meta = self._meta(i, _plain(full, "params"), inputs)
+            if self.manifest.is_complete(i, meta):
+                self.summary.skipped += 1
+                self.bar.skip(1)
+                continue
+            return i, params, inputs, item_stem(job, i, spec.count), meta
+        return None
+
+    def peek(self):
+        if self._peeked is None:
+            self._peeked = self.next_todo()
+        return self._peeked
+
+    def take(self, k: int) -> list:
+        out = []
+        while len(out) < k:
+            item = self.next_todo()
+            if item is None:
+                break
+            out.append(item)
+        return out
 
 
 def run_batch(spec, outdir, *, client=None, scheduler: str | None = None, n_workers: int | None = None,
-              chunk: int | None = None, progress="auto") -> BatchSummary:
+              chunk: int | None = None, progress="auto", dashboard: bool = False) -> BatchSummary:
     """Run every incomplete item of ``spec`` on Dask and record it in ``OUTDIR/manifest.jsonl``.
 
     Parameters
@@ -216,19 +292,27 @@ def run_batch(spec, outdir, *, client=None, scheduler: str | None = None, n_work
     outdir : str or Path
         Output folder (created if needed). Items already complete there
         (see :mod:`branchnb.batch.manifest`) are skipped: running the same
-        spec again resumes.
+        spec again resumes. One run at a time may use a folder (a lock).
     client : dask.distributed.Client, optional
         Use this client (and its cluster).
     scheduler : str, optional
         Address of a running scheduler (``"tcp://host:8786"``); its workers
-        need only the installed package.
+        need only the installed package. The scheduler and workers run
+        whatever the client sends (pickled functions and data): connect
+        only to a cluster you trust, over TLS when it is not on your machine
+        (see the README's "At scale").
     n_workers : int, optional
         Worker processes of the default ``LocalCluster`` (one per core).
     chunk : int, optional
         Items per Dask task (default: up to 16, so that every worker gets
         several tasks); cheap items in bigger chunks cost less overhead.
     progress : {"auto", "tqdm", "widget", None} or callable(done, total)
-        ``"auto"``: an ipywidgets bar in a notebook, tqdm elsewhere.
+        ``"auto"``: an ipywidgets bar in a notebook, tqdm elsewhere (which
+        also prints what the run is doing before the first item: starting
+        the cluster, preparing the inputs).
+    dashboard : bool
+        Start the Dask dashboard of the local cluster (on 127.0.0.1 only,
+        its address is printed); off by default.
 
     Returns
     -------
@@ -238,16 +322,23 @@ def run_batch(spec, outdir, *, client=None, scheduler: str | None = None, n_work
     ------
     ValueError, TypeError
         An invalid spec or shared input (e.g. a library folder without
-        trees). A single item's invalid parameters or failure is recorded in
-        the manifest instead, and the batch goes on.
+        trees), an unusable manifest (``manifest.jsonl`` is a folder), or
+        the folder is in use by another run. A single item's invalid
+        parameters or failure is recorded in the manifest instead, and the
+        batch goes on.
 
     Notes
     -----
     Item ``i`` gets ``numpy.random.default_rng(seed_i)`` with ``seed_i`` from
     ``SeedSequence(spec.seed).spawn(count)[i]``, so its files are identical
-    whatever the number of workers and the order of completion. Ctrl-C (or
-    interrupting the kernel) stops the run after recording the items that
-    have finished; the summary says ``interrupted``.
+    whatever the number of workers and the order of completion. Items are
+    generated as the workers need them, so the first item starts within
+    seconds whatever the count. Ctrl-C (or interrupting the kernel) at any
+    moment stops the run after recording the items that have finished; the
+    summary says ``interrupted``; further Ctrl-Cs during the shutdown are
+    ignored. The loss of a worker costs only the items it was computing:
+    they run again, and the shared inputs are sent again if no worker holds
+    them any more.
 
     Examples
     --------
@@ -258,35 +349,37 @@ def run_batch(spec, outdir, *, client=None, scheduler: str | None = None, n_work
     >>> run_batch(spec, out, n_workers=1, progress=None).done       # doctest: +SKIP
     2
     """
-    spec = spec if isinstance(spec, BatchSpec) else load_spec(spec)
-    if chunk is not None and (isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1):
-        raise ValueError(f"chunk must be an int >= 1, got {chunk!r}")
     t_start = time.perf_counter()
+    spec = spec if isinstance(spec, BatchSpec) else load_spec(spec)
+    _check_run_args(chunk, n_workers, client, scheduler, dashboard)
     outdir = Path(outdir)
+    if outdir.exists() and not outdir.is_dir():
+        raise ValueError(f"outdir {str(outdir)!r} is a file, not a folder")
     outdir.mkdir(parents=True, exist_ok=True)
+    summary = BatchSummary(spec.job, spec.count, 0, 0, 0, 0.0, False, outdir)
+    bar = make_progress(progress, spec.count, 0, description=spec.job)
+    interrupt = Interrupt()
+    with interrupt:
+        try:
+            with OutdirLock(outdir):
+                _run(spec, outdir, summary, bar, interrupt, client, scheduler, n_workers, chunk, dashboard,
+                     t_start)
+        except KeyboardInterrupt:
+            summary.interrupted = True
+        summary.interrupted = summary.interrupted or interrupt.requested
+        summary.seconds = time.perf_counter() - t_start
+        interrupt.closing = True
+        bar.close(summary)
+    return summary
+
+
+def _run(spec, outdir, summary, bar, interrupt, client, scheduler, n_workers, chunk, dashboard, t_start):
     job = spec.job_info
     key = spec_key(spec)
     manifest = Manifest(outdir)
-    seeds = spec.item_seeds()
-    summary = BatchSummary(spec.job, spec.count, 0, 0, 0, 0.0, False, outdir)
-    todo, invalid = [], []
-    for i in range(spec.count):
-        raw, inputs = spec.item_raw(i)
-        stem = item_stem(job, i, spec.count)
-        try:
-            params = _build_params(job, raw, f"item {i} params")
-        except (TypeError, ValueError) as exc:
-            invalid.append((i, raw, inputs, f"{type(exc).__name__}: {exc}"))
-            continue
-        full = {s: dataclasses.asdict(p) for s, p in params.items()}
-        meta = {"seed": seeds[i], "params": _plain(full, "params"), "inputs": inputs, "key": key}
-        if manifest.is_complete(i, meta):
-            summary.skipped += 1
-        else:
-            todo.append((i, params, inputs, stem, meta))
-
-    bar = make_progress(progress, spec.count, summary.skipped, description=spec.job)
-    interrupt = _Interrupt()
+    for problem in manifest.problems:
+        summary.notes.append(problem)
+        bar.note(problem)
 
     def record(index, meta, files, info, seconds, error):
         interrupt.critical = True
@@ -305,61 +398,200 @@ def run_batch(spec, outdir, *, client=None, scheduler: str | None = None, n_work
             interrupt.critical = False
         interrupt.check()
 
+    items = _Items(spec, manifest, key, summary, bar, record)
     client_, cluster = None, None
     futures = {}
-    with interrupt:
+    try:
+        if items.peek() is None:
+            return
+        if client is None and scheduler is None:
+            n = _default_workers() if n_workers is None else n_workers
+            bar.note(f"starting a local Dask cluster: {n} worker process{'es' * (n != 1)} ...")
+        elif scheduler is not None:
+            bar.note(f"connecting to the Dask scheduler at {scheduler} ...")
+        interrupt.deferred = True  # a KeyboardInterrupt inside Dask's start-up would strand half a cluster
         try:
-            for i, raw, inputs, err in invalid:
-                record(i, {"seed": seeds[i], "params": raw, "inputs": inputs, "key": key}, {}, {}, 0.0, err)
-            if todo:
-                client_, cluster = _connect(client, scheduler, n_workers)
-                summary.workers = int(sum(client_.nthreads().values())) or 1
-                base = _build_params(job, spec.params, "params")
-                shared = job.prepare(spec.shared_inputs(), spec.base_dir, base)
-                [shared_future] = client_.scatter([shared], broadcast=True, hash=False)
-                k = chunk or max(1, min(16, len(todo) // (4 * summary.workers)))
-                chunks = [todo[j:j + k] for j in range(0, len(todo), k)]
-                _run_chunks(client_, job, shared_future, spec.shared_inputs(), chunks, 2 * summary.workers,
-                            futures, record)
-        except KeyboardInterrupt:
-            summary.interrupted = True
+            client_, cluster = _connect(client, scheduler, n_workers, dashboard)
+            summary.workers = int(sum(client_.nthreads().values())) or 1
+            _warm_up(client_, job)
         finally:
-            if futures and client_ is not None:
+            interrupt.deferred = False
+        interrupt.check()
+        if dashboard and cluster is not None:
+            bar.note(f"Dask dashboard (this machine only): {cluster.dashboard_link}")
+        bar.note(f"preparing the shared inputs of {spec.job} ...")
+        base = _build_params(job, spec.params, "params")
+        prepared = job.prepare(spec.shared_inputs(), spec.base_dir, base)
+        interrupt.deferred = True
+        try:
+            shared = _Shared(client_, prepared, interrupt)
+        finally:
+            interrupt.deferred = False
+        interrupt.check()
+        remaining = max(1, spec.count - len(manifest))
+        k = chunk or max(1, min(16, remaining // (4 * summary.workers)))
+        t0 = time.perf_counter()
+        summary.startup_seconds = t0 - t_start
+        bar.note(f"computing on {summary.workers} worker{'s' * (summary.workers != 1)} "
+                 f"(start-up took {summary.startup_seconds:.1f} s)")
+        bar.start()
+        interrupt.deferred = True
+        try:
+            reruns = _run_chunks(client_, job, shared, spec.shared_inputs(), items, k, 2 * summary.workers, futures,
+                                 record, interrupt)
+            if reruns or shared.resent:
+                note = (f"{reruns} task(s) ran again after a worker was lost; the shared inputs were sent again "
+                        f"{shared.resent} time(s)")
+                summary.notes.append(note)
+                bar.note(note)
+        finally:
+            interrupt.deferred = False
+            summary.compute_seconds = time.perf_counter() - t0
+    finally:
+        interrupt.closing = True  # from here on Ctrl-C is only noted: nothing may tear the shutdown
+        if futures and client_ is not None:
+            try:
                 client_.cancel(list(futures))
-            manifest.compact()
-            if client is None and client_ is not None:
-                client_.close()
-            if cluster is not None:
-                cluster.close()
-    summary.seconds = time.perf_counter() - t_start
-    bar.close(summary)
-    return summary
+            except Exception:  # noqa: BLE001 - a dead scheduler: nothing left to cancel
+                pass
+        manifest.compact()
+        if client is None and client_ is not None:
+            client_.close(timeout=10)
+        if cluster is not None:
+            cluster.close(timeout=20)
 
 
-def _run_chunks(client, job, shared_future, shared_inputs, chunks, in_flight, futures, record):
-    """Submit chunks with at most ``in_flight`` tasks queued; record every result as it arrives."""
-    from dask.distributed import as_completed
+def _import(module: str) -> None:
+    import importlib
 
-    pending = iter(chunks)
-    done_iter = as_completed()
+    importlib.import_module(module)
+
+
+def _warm_up(client, job: Job) -> None:
+    """Import the job's module on every worker now, so start-up is not billed to the first items."""
+    if job.make.__module__.startswith("branchnb."):
+        try:
+            client.run(_import, job.make.__module__)
+        except Exception:  # noqa: BLE001 - only an optimisation: the items import it anyway
+            pass
+
+
+class ClusterLostError(RuntimeError):
+    """The cluster has had no worker for too long (they keep dying, or the scheduler is gone)."""
+
+
+class _Shared:
+    """The job's prepared inputs on the cluster: scattered once, sent again if every copy was lost."""
+
+    def __init__(self, client, value, interrupt, patience: float = 120.0):
+        self.client, self.value, self.interrupt, self.patience = client, value, interrupt, patience
+        self.resent = 0
+        self.future = self._scatter()
+
+    def _scatter(self):
+        # right after a worker died its nanny is still starting the next one: wait for a worker, in short
+        # steps so that a Ctrl-C is not kept waiting
+        deadline = time.monotonic() + self.patience
+        while True:
+            try:
+                if not self.client.nthreads():
+                    raise TimeoutError("no worker is up")
+                [future] = self.client.scatter([self.value], broadcast=True, hash=False, timeout=30)
+                return future
+            except (TimeoutError, asyncio.TimeoutError, OSError) as exc:
+                self.interrupt.check()
+                time.sleep(0.5)
+                if time.monotonic() > deadline:
+                    raise ClusterLostError(f"the Dask cluster has had no worker to send the shared inputs to for "
+                                           f"{self.patience:.0f} s ({exc})") from None
+
+    def ensure(self):
+        if self.future.status != "finished":
+            self.resent += 1
+            self.future = self._scatter()
+        return self.future
+
+
+_MAX_ATTEMPTS = 4
+
+
+def _lost(exc: BaseException) -> bool:
+    """Whether a task failed because its worker or its inputs were lost (not because of the item)."""
+    from concurrent.futures import CancelledError
+
+    name = type(exc).__name__
+    return isinstance(exc, CancelledError) or name in ("FutureCancelledError", "CancelledError", "CommClosedError") \
+        or "lost dependencies" in str(exc)
+
+
+def _completed(futures: dict, interrupt):
+    """The futures of ``futures`` as they complete (it may grow meanwhile); a Ctrl-C is raised here within
+    0.2 s, never inside Dask's code."""
+    from dask.distributed import wait
+
+    while futures:
+        interrupt.check()
+        try:
+            done, _ = wait(list(futures), timeout=0.2, return_when="FIRST_COMPLETED")
+        except (TimeoutError, asyncio.TimeoutError):
+            continue
+        except Exception:  # noqa: BLE001 - wait() raises for cancelled futures (a lost worker): they are done too
+            done = [f for f in list(futures) if f.done()]
+            if not done:
+                time.sleep(0.05)
+        for fut in done:
+            if fut in futures:
+                yield fut
+
+
+def _run_chunks(client, job, shared, shared_inputs, items, k, in_flight, futures, record, interrupt):
+    """Submit chunks of ``k`` items, at most ``in_flight`` at a time; record every result as it arrives.
+
+    Returns how many chunks ran again after a worker was lost.
+
+    A chunk lost with its worker (or with the shared inputs) runs again, up
+    to 4 times; a chunk that killed its workers (``KilledWorker``) is split
+    into single items, so only the item that kills a worker fails.
+    """
+    from distributed import KilledWorker
+
+    retry: list[tuple[list, int]] = []
+    reruns = 0
+
+    def submit(chunk, attempt):
+        payload = [(i, meta["seed"], params, {**shared_inputs, **inputs}, stem)
+                   for i, params, inputs, stem, meta in chunk]
+        fut = client.submit(run_items, job, shared.ensure(), payload, pure=False)
+        futures[fut] = (chunk, attempt)
 
     def submit_next():
-        c = next(pending, None)
-        if c is None:
+        if retry:
+            submit(*retry.pop(0))
             return
-        payload = [(i, meta["seed"], params, {**shared_inputs, **inputs}, stem)
-                   for i, params, inputs, stem, meta in c]
-        fut = client.submit(run_items, job, shared_future, payload, pure=False)
-        futures[fut] = c
-        done_iter.add(fut)
+        chunk = items.take(k)
+        if chunk:
+            submit(chunk, 1)
 
-    for _ in range(min(in_flight, len(chunks))):
+    for _ in range(in_flight):
         submit_next()
-    for fut in done_iter:
-        chunk = futures.pop(fut)
+    for fut in _completed(futures, interrupt):
+        chunk, attempt = futures.pop(fut)
         try:
             results = fut.result()
+        except KilledWorker as exc:
+            if len(chunk) > 1:
+                retry.extend(([c], attempt) for c in chunk)
+                submit_next()
+                continue
+            err = (f"KilledWorker: the worker process died each time it computed this item (out of memory, or a "
+                   f"crash in native code): {exc}")
+            results = [{"item": chunk[0][0], "files": {}, "info": {}, "time": 0.0, "error": err}]
         except Exception as exc:  # noqa: BLE001 - a lost worker fails its chunk, not the batch
+            if _lost(exc) and attempt < _MAX_ATTEMPTS:
+                reruns += 1
+                retry.append((chunk, attempt + 1))
+                submit_next()
+                continue
             err = f"{type(exc).__name__}: {exc}"
             results = [{"item": i, "files": {}, "info": {}, "time": 0.0, "error": err} for i, *_ in chunk]
         by_item = {c[0]: c for c in chunk}
@@ -367,3 +599,4 @@ def _run_chunks(client, job, shared_future, shared_inputs, chunks, in_flight, fu
             meta = by_item[r["item"]][4]
             record(r["item"], meta, r["files"], r["info"], r["time"], r["error"])
         submit_next()
+    return reruns

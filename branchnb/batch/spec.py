@@ -39,7 +39,9 @@ from typing import Any
 
 import numpy as np
 
+from ..core.jsonio import MAX_JSON_DEPTH, check_depth, loads_strict
 from ..core.params import check_params
+from ..core.validate import brief
 from .jobs import Job, get_job
 
 if sys.version_info >= (3, 11):
@@ -139,12 +141,15 @@ class BatchSpec:
         if isinstance(self.count, bool) or not isinstance(self.count, (int, np.integer)):
             raise TypeError(f"count must be an int, got {self.count!r}")
         if not 1 <= self.count <= MAX_COUNT:
-            raise ValueError(f"count must lie in [1, {MAX_COUNT}], got {self.count}")
+            raise ValueError(f"count must lie in [1, {MAX_COUNT}], got {brief(self.count)}")
         if isinstance(self.seed, bool) or not isinstance(self.seed, (int, np.integer)) or self.seed < 0:
-            raise ValueError(f"seed must be an int >= 0, got {self.seed!r}")
+            raise ValueError(f"seed must be an int >= 0, got {self.seed!r:.40}")
+        if int(self.seed).bit_length() > 128:
+            raise ValueError(f"seed must be below 2**128, got an int of {int(self.seed).bit_length()} bits")
         for name in ("inputs", "params", "vary", "items"):
             if not isinstance(getattr(self, name), dict):
                 raise TypeError(f"{name} must be a table (dict), got {type(getattr(self, name)).__name__}")
+            check_depth(getattr(self, name), name=name, limit=MAX_JSON_DEPTH - 1)
         object.__setattr__(self, "count", int(self.count))
         object.__setattr__(self, "seed", int(self.seed))
         object.__setattr__(self, "inputs", _plain(self.inputs, "inputs"))
@@ -181,6 +186,22 @@ class BatchSpec:
         for i, over in self.items.items():
             for key in over:
                 self._check_key(job, key, f"items[{i}]")
+        if job.unused is not None:
+            given = dict(self.inputs)
+            for key, values in self.vary.items():
+                if "." not in key:
+                    given.setdefault(key, values[0])
+            for over in self.items.values():
+                for key, v in over.items():
+                    if "." not in key:
+                        given.setdefault(key, v)
+            sections = set(self.params) | {k.split(".", 1)[0] for k in self.vary if "." in k}
+            sections |= {k.split(".", 1)[0] for over in self.items.values() for k in over if "." in k}
+            unused = job.unused(given, sections)
+            if unused:
+                key, why = sorted(unused.items())[0]
+                where = f"params.{key}" if key in job.sections else f"inputs.{key}"
+                raise ValueError(f"{where} is not used by job {job.name!r}: {why}")
 
     @staticmethod
     def _check_key(job: Job, key: str, where: str) -> None:
@@ -259,6 +280,7 @@ class BatchSpec:
         """A spec from plain data (a parsed JSON or TOML document)."""
         if not isinstance(d, dict):
             raise TypeError(f"a spec must be a table (dict), got {type(d).__name__}")
+        check_depth(d, name="the spec", limit=MAX_JSON_DEPTH)
         unknown = sorted(set(d) - set(_KEYS))
         if unknown:
             raise ValueError(f"unknown spec key(s) {unknown}; a spec has {list(_KEYS)}")
@@ -268,10 +290,6 @@ class BatchSpec:
         return cls(job=d["job"], count=d["count"], seed=d.get("seed", 0), inputs=d.get("inputs", {}),
                    params=d.get("params", {}), vary=d.get("vary", {}), items=d.get("items", {}),
                    base_dir=base_dir)
-
-
-def _reject_constant(name):
-    raise ValueError(f"{name} is not valid JSON (use finite numbers)")
 
 
 def load_spec(path) -> BatchSpec:
@@ -293,10 +311,14 @@ def load_spec(path) -> BatchSpec:
     except (OSError, UnicodeDecodeError) as exc:
         raise ValueError(f"path: cannot read the spec {str(path)!r}: {getattr(exc, 'strerror', None) or exc}") from None
     try:
-        data = (json.loads(text, parse_constant=_reject_constant) if suffix == ".json"
-                else tomllib.loads(text))
-    except (json.JSONDecodeError, tomllib.TOMLDecodeError) as exc:
-        raise ValueError(f"{path.name} is not valid {suffix[1:].upper()}: {exc}") from None
+        if suffix == ".json":
+            data = loads_strict(text, name=path.name)   # duplicate keys, NaN, depth refused
+        else:
+            data = tomllib.loads(text)                  # TOML refuses duplicate keys itself
+    except tomllib.TOMLDecodeError as exc:
+        raise ValueError(f"{path.name} is not valid TOML: {exc}") from None
+    except RecursionError:
+        raise ValueError(f"{path.name} is not valid TOML: it nests deeper than {MAX_JSON_DEPTH} levels") from None
     return BatchSpec.from_dict(data, base_dir=path.resolve().parent)
 
 

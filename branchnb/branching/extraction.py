@@ -204,6 +204,8 @@ def structure_from_polylines(image, polylines, params: ClickParams | None = None
     """
     p = check_params(params if params is not None else ClickParams())
     gray = gray_for_extraction(image)
+    if isinstance(polylines, (str, bytes, dict)) or not hasattr(polylines, "__len__"):
+        raise TypeError(f"polylines must be a list of (N, 2) point lists, got {type(polylines).__name__}")
     if polylines is None or len(polylines) == 0:
         raise ValueError("polylines is empty: click at least one branch")
     if radii is not None and (isinstance(radii, (str, bytes)) or not hasattr(radii, "__len__")):

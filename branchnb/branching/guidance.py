@@ -127,6 +127,9 @@ class Guidance:
         """Mean of G along rays from ``tip`` in ``directions`` ``(J, 2)`` up to ``length``."""
         t = np.linspace(length / n_samples, length, n_samples)
         tip = np.asarray(tip, np.float64)
+        d = np.asarray(directions, np.float64)
+        if d.shape[1:] != (2,) or np.abs(d).max(initial=0.0) > 1e6:
+            raise ValueError(f"directions must be (J, 2) direction vectors of moderate length, got shape {d.shape}")
         pts = tip[None, None, :] + t[None, :, None] * np.asarray(directions, np.float64)[:, None, :]
         return self.sample(pts).astype(np.float64).mean(axis=1)
 

@@ -38,6 +38,7 @@ from scipy import ndimage as ndi
 
 from .blending import compose_piece
 from .random import as_rng
+from .validate import check_callback
 
 __all__ = ["CompletionResult", "admissible_windows", "complete_gaps"]
 
@@ -368,6 +369,7 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
     eh, ew = example.shape[:2]
     if forbidden.shape != (eh, ew):
         raise ValueError(f"forbidden must have the example's shape {(eh, ew)}, got {forbidden.shape}")
+    check_callback(progress, "progress")
     if regions is not None and example_regions is not None:
         regions = np.asarray(regions)
         example_regions = np.asarray(example_regions)

@@ -58,6 +58,12 @@ def shared_bins(*samples, bins: int = 16, range: tuple[float, float] | None = No
         hi = max(a.max() for a in arrs)
     else:
         lo, hi = check_range_pair(range, "range")
+    with np.errstate(over="ignore"):
+        span = np.float64(hi) - np.float64(lo)
+    if not np.isfinite(span):
+        what = "range" if range is not None else "samples"
+        raise ValueError(f"{what} spans {lo:.3g} .. {hi:.3g}: the width overflows float64, so no equal bins "
+                         "exist; rescale the data")
     if hi == lo:
         lo, hi = lo - 0.5, hi + 0.5
     return np.linspace(lo, hi, int(bins) + 1)
@@ -154,10 +160,21 @@ def emd_1d(p, q, edges=None) -> float:
     p, q = _pair(p, q)
     p = p / p.sum() if p.sum() > 0 else p
     q = q / q.sum() if q.sum() > 0 else q
-    width = np.ones(len(p)) if edges is None else np.diff(np.asarray(edges, float))
-    if len(width) != len(p):
-        raise ValueError("edges must have one more entry than the histograms")
-    return float(np.sum(np.abs(np.cumsum(p - q)) * width))
+    if edges is None:
+        width = np.ones(len(p))
+    else:
+        edges = real_array(edges, "edges", ndim=1)
+        if len(edges) != len(p) + 1:
+            raise ValueError(f"edges must have one more entry than the histograms ({len(p) + 1}), got {len(edges)}")
+        with np.errstate(over="ignore"):
+            width = np.diff(edges)
+        if not np.all(np.isfinite(width)) or np.any(width <= 0):
+            raise ValueError("edges must increase strictly, with finite bin widths")
+    with np.errstate(over="ignore"):
+        d = float(np.sum(np.abs(np.cumsum(p - q)) * width))
+    if not np.isfinite(d):
+        raise ValueError("edges: bins this wide make the distance overflow float64; rescale the data")
+    return d
 
 
 METRICS = {
@@ -209,6 +226,8 @@ def compare_samples(*samples, labels=None, bins: int = 16, range=None,
     >>> c.distances.tolist()
     [0.0, 0.0]
     """
+    if labels is not None and (isinstance(labels, (str, bytes, dict)) or not isinstance(labels, (list, tuple))):
+        raise TypeError(f"labels must be a list of {len(samples)} names, got {type(labels).__name__}")
     hists, edges = histograms(*samples, bins=bins, range=range)
     if labels is None:
         labels = [f"sample {i}" for i in np.arange(len(samples))]

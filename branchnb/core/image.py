@@ -182,6 +182,8 @@ def as_mask(mask, *, shape: tuple[int, int] | None = None, name: str = "mask",
     like : str, optional
         Name of the argument ``shape`` comes from, for the error message.
     """
+    if shape is not None and (isinstance(shape, (str, bytes)) or not hasattr(shape, "__len__") or len(shape) != 2):
+        raise TypeError(f"shape must be (H, W) or None, got {type(shape).__name__}")
     mask = _check_array(mask, name)
     if mask.ndim != 2:
         raise ValueError(f"{name} must be 2-D (H, W), got shape {mask.shape}")

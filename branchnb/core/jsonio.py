@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-__all__ = ["dumps_strict", "loads_strict", "MAX_JSON_DEPTH"]
+__all__ = ["dumps_strict", "loads_strict", "check_depth", "MAX_JSON_DEPTH"]
 
 #: Deepest nesting :func:`loads_strict` accepts (structures nest 3 levels).
 MAX_JSON_DEPTH = 64
@@ -60,6 +60,27 @@ def dumps_strict(obj, *, name: str = "data", **kwargs) -> str:
     return json.dumps(_plain(obj, name), allow_nan=False, **kwargs)
 
 
+def check_depth(obj, *, name: str = "data", limit: int = MAX_JSON_DEPTH) -> None:
+    """Refuse nested lists/dicts deeper than ``limit`` (without recursing, so any depth is safe).
+
+    Examples
+    --------
+    >>> check_depth({"a": [[1]]}, limit=3)
+    >>> check_depth([[[[]]]], limit=3)
+    Traceback (most recent call last):
+    ...
+    ValueError: data nests deeper than 3 levels
+    """
+    stack = [(obj, 1)]
+    while stack:
+        value, level = stack.pop()
+        if isinstance(value, (dict, list, tuple)):
+            if level > limit:
+                raise ValueError(f"{name} nests deeper than {limit} levels")
+            children = value.values() if isinstance(value, dict) else value
+            stack.extend((v, level + 1) for v in children if isinstance(v, (dict, list, tuple)))
+
+
 def _reject_constant(token):
     raise ValueError(f"non-standard JSON number {token}")
 
@@ -71,8 +92,17 @@ def _finite_float(text):
     return v
 
 
+def _unique_keys(pairs):
+    out = {}
+    for k, v in pairs:
+        if k in out:
+            raise ValueError(f"duplicate key {k!r} (a later value would silently replace {out[k]!r:.40})")
+        out[k] = v
+    return out
+
+
 def loads_strict(text, *, name: str = "text"):
-    """Parse standard JSON: no NaN/Infinity tokens, no overflowing numbers, bounded nesting.
+    """Parse standard JSON: no NaN/Infinity tokens, no overflowing numbers, no duplicate keys, bounded nesting.
 
     Raises
     ------
@@ -89,6 +119,10 @@ def loads_strict(text, *, name: str = "text"):
     Traceback (most recent call last):
     ...
     ValueError: text is not valid JSON: number 1e400 is out of the floating-point range
+    >>> loads_strict('{"count": 2, "count": 9}')
+    Traceback (most recent call last):
+    ...
+    ValueError: text is not valid JSON: duplicate key 'count' (a later value would silently replace 2)
     """
     if not isinstance(text, (str, bytes, bytearray)):
         raise TypeError(f"{name} must be a JSON string, got {type(text).__name__}")
@@ -115,6 +149,7 @@ def loads_strict(text, *, name: str = "text"):
         elif ch in "]}":
             level -= 1
     try:
-        return json.loads(raw, parse_constant=_reject_constant, parse_float=_finite_float)
+        return json.loads(raw, parse_constant=_reject_constant, parse_float=_finite_float,
+                          object_pairs_hook=_unique_keys)
     except (json.JSONDecodeError, ValueError, RecursionError) as exc:
         raise ValueError(f"{name} is not valid JSON: {exc}") from None

@@ -310,6 +310,10 @@ def segments_intersect(a0, a1, b0, b1, *, eps: float = 1e-12) -> np.ndarray:
     """
     a0, a1 = as_points(a0, name="a0"), as_points(a1, name="a1")
     b0, b1 = as_points(b0, name="b0"), as_points(b1, name="b1")
+    if len(a0) != len(a1):
+        raise ValueError(f"a0 and a1 must hold the same number of end points, got {len(a0)} and {len(a1)}")
+    if len(b0) != len(b1):
+        raise ValueError(f"b0 and b1 must hold the same number of end points, got {len(b0)} and {len(b1)}")
 
     def orient(p, q, r):
         return (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (q[..., 1] - p[..., 1]) * (

@@ -30,7 +30,10 @@ def as_rng(rng: int | np.random.Generator | None = None, *, name: str = "rng") -
     if isinstance(rng, (bool, np.bool_)) or not isinstance(rng, (int, np.integer)):
         raise TypeError(f"{name} must be an int seed or a numpy.random.Generator, got {type(rng).__name__}")
     if rng < 0:
-        raise ValueError(f"{name} seed must be non-negative, got {rng}")
+        raise ValueError(f"{name} seed must be non-negative, got {rng if rng > -10**12 else 'a huge negative int'}")
+    if int(rng).bit_length() > 128:
+        # a 5,000-digit seed would reach Python's int-to-text limit in some message or file far from here
+        raise ValueError(f"{name} seed must be below 2**128, got an int of {int(rng).bit_length()} bits")
     return np.random.default_rng(int(rng))
 
 

@@ -8,7 +8,7 @@ starts at vertex ``parent_vertex`` of branch ``parent``.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 
 import numpy as np
 
@@ -59,7 +59,7 @@ class Branch:
             t = np.full(len(self.points), float(t))
         if t.shape != (len(self.points),):
             raise ValueError(
-                f"thickness must have one value per vertex ({len(self.points)}), got shape {t.shape}"
+                f"thickness must have one value per vertex of points ({len(self.points)}), got shape {t.shape}"
             )
         if not np.all(np.isfinite(t)) or np.any(t <= 0):
             raise ValueError("thickness must be finite and > 0 at every vertex")
@@ -77,6 +77,20 @@ class Branch:
     def angles(self) -> np.ndarray:
         """Turning angles alpha at the interior vertices (N - 2 values, radians)."""
         return turning_angles(self.points) if len(self.points) > 2 else np.zeros(0)
+
+
+def _as_branch(b, i: int) -> Branch:
+    """A Branch from a Branch or a dict of its fields (``Structure.from_dict`` layout)."""
+    if isinstance(b, Branch):
+        return b
+    if not isinstance(b, dict):
+        raise TypeError(f"branches[{i}] must be a Branch or a dict of its fields, got {type(b).__name__}")
+    names = {f.name for f in fields(Branch)}
+    unknown, missing = sorted(set(b) - names), sorted(n for n in ("points", "thickness") if n not in b)
+    if unknown or missing:
+        raise ValueError(f"branches[{i}]: a branch dict needs 'points' and 'thickness' (optional 'parent', "
+                         f"'parent_vertex'); missing {missing}, unknown {unknown}")
+    return Branch(**b)
 
 
 @dataclass
@@ -99,7 +113,7 @@ class Structure:
     def __post_init__(self):
         if not isinstance(self.branches, (list, tuple)):
             raise TypeError(f"branches must be a list of Branch, got {type(self.branches).__name__}")
-        self.branches = [b if isinstance(b, Branch) else Branch(**b) for b in self.branches]
+        self.branches = [_as_branch(b, i) for i, b in enumerate(self.branches)]
         if self.image_shape is not None:
             self.image_shape = check_shape(self.image_shape, "image_shape")
         self.validate()

@@ -52,6 +52,8 @@ __all__ = [
     "check_bool",
     "check_choice",
     "check_rng",
+    "check_callback",
+    "brief",
     "real_array",
     "as_colour",
     "as_colours",
@@ -83,11 +85,18 @@ def _is_real_scalar(value) -> bool:
     return isinstance(value, numbers.Real)
 
 
+def _fmt(v) -> str:
+    """A number for a message; an int too big for float (or for Python's int-to-text limit) by its size."""
+    if isinstance(v, int) and v.bit_length() > 64:
+        return f"an int of {v.bit_length()} bits"
+    return f"{v:g}"
+
+
 def _check_range(v, name, lo, hi, low_open=False, high_open=False):
     if lo is not None and (v < lo or (low_open and v == lo)):
-        raise ValueError(f"{name} must be {'>' if low_open else '>='} {lo}, got {v:g}")
+        raise ValueError(f"{name} must be {'>' if low_open else '>='} {lo}, got {_fmt(v)}")
     if hi is not None and (v > hi or (high_open and v == hi)):
-        raise ValueError(f"{name} must be {'<' if high_open else '<='} {hi}, got {v:g}")
+        raise ValueError(f"{name} must be {'<' if high_open else '<='} {hi}, got {_fmt(v)}")
 
 
 def check_real(value, name: str, min: float | None = None, max: float | None = None, *,
@@ -120,11 +129,43 @@ def check_real(value, name: str, min: float | None = None, max: float | None = N
         return None
     if not _is_real_scalar(value):
         raise TypeError(f"{name} must be a real number, got {type(value).__name__} {value!r:.60}")
-    v = float(value)
+    try:
+        v = float(value)
+    except OverflowError:  # an int beyond float's range
+        raise ValueError(f"{name} must be a finite number, got {_fmt(int(value))}") from None
     if v != v or (not allow_inf and not np.isfinite(v)):
         raise ValueError(f"{name} must be a finite number, got {v}")
     _check_range(v, name, min, max, low_open, high_open)
     return v
+
+
+def brief(value, limit: int = 60) -> str:
+    """``repr(value)`` cut to ``limit`` characters, safe for any value (a 5,000-digit int cannot be printed).
+
+    Examples
+    --------
+    >>> brief(10**5000), brief("abc")
+    ('an int of 16610 bits', "'abc'")
+    """
+    if isinstance(value, (int, np.integer)) and not isinstance(value, bool) and int(value).bit_length() > 64:
+        return f"an int of {int(value).bit_length()} bits"
+    try:
+        return repr(value)[:limit]
+    except Exception:  # noqa: BLE001 - a repr that fails: the type says enough
+        return f"a {type(value).__name__}"
+
+
+def check_callback(value, name: str = "progress"):
+    """``value`` if it is callable or None; otherwise a TypeError naming ``name``.
+
+    Examples
+    --------
+    >>> check_callback(print) is print, check_callback(None)
+    (True, None)
+    """
+    if value is not None and not callable(value):
+        raise TypeError(f"{name} must be a callable or None, got {type(value).__name__}")
+    return value
 
 
 def check_int(value, name: str, min: int | None = None, max: int | None = None, *,
@@ -151,6 +192,8 @@ def check_int(value, name: str, min: int | None = None, max: int | None = None, 
         if not np.isfinite(f) or not f.is_integer():
             raise TypeError(f"{name} must be an int, got {f}") from None
         v = int(f)
+    if int(v).bit_length() > 64:  # no count, index or size is this big; and such ints break messages and C code
+        raise ValueError(f"{name} must fit in 64 bits, got {_fmt(int(v))}")
     _check_range(v, name, min, max)
     return int(v)
 
@@ -184,7 +227,9 @@ def check_rng(rng, name: str = "rng"):
     if isinstance(rng, (bool, np.bool_)) or not isinstance(rng, (numbers.Integral, np.integer)):
         raise TypeError(f"{name} must be an int seed or a numpy.random.Generator, got {type(rng).__name__}")
     if rng < 0:
-        raise ValueError(f"{name} seed must be non-negative, got {rng}")
+        raise ValueError(f"{name} seed must be non-negative, got {_fmt(int(rng))}")
+    if int(rng).bit_length() > 128:
+        raise ValueError(f"{name} seed must be below 2**128, got {_fmt(int(rng))}")
     return rng
 
 

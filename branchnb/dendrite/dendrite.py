@@ -480,6 +480,19 @@ def path_statistics(dendrite: Dendrite, plan_result: PlanResult) -> PathStats:
     >>> bool((st.tortuosity >= 1).all())
     True
     """
+    if not isinstance(dendrite, Dendrite):
+        raise TypeError(f"dendrite must be a Dendrite, got {type(dendrite).__name__}")
+    if not isinstance(plan_result, PlanResult):
+        raise TypeError(f"plan_result must be a PlanResult, got {type(plan_result).__name__}")
+    n_nodes = len(plan_result.max_cost)
+    # (the shapes may differ: a stylization's dendrite lives in image pixels, its plan on a coarser lattice)
+    if len(dendrite.nodes) and int(np.max(dendrite.nodes)) >= n_nodes:
+        raise ValueError(f"plan_result is not the plan this dendrite was traced in: it has {n_nodes} nodes, the "
+                         f"dendrite uses node {int(np.max(dendrite.nodes))}")
+    roots = dendrite.nodes[np.asarray(dendrite.parent) < 0]
+    if len(roots) and not np.isin(roots, plan_result.seeds).all():
+        raise ValueError("plan_result is not the plan this dendrite was traced in: the dendrite's roots are not "
+                         "among its seeds")
     arc = dendrite.arc_depth()
     root = _root_of(dendrite.parent)
     t = dendrite.tips

@@ -125,6 +125,8 @@ def node_weights(cost, *, epsilon: float = 0.01, noise: float = 0.5, rng=None) -
     (0.1, 0.1)
     """
     c = _check_weights(cost, "cost")
+    if c.size and not np.isfinite(c).any():
+        raise ValueError("cost is +inf everywhere: every pixel is a wall, so no path exists")
     if not np.isfinite(epsilon) or epsilon < 0:
         raise ValueError(f"epsilon must be finite and >= 0, got {epsilon}")
     amp = np.asarray(noise, dtype=np.float64)

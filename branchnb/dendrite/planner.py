@@ -734,6 +734,12 @@ def plan(graph, seeds, *, metric: str = "nonscalar", blend_weight: float = 1000.
         raise ValueError(f"blend_weight must be finite and >= 0, got {blend_weight}")
     if isinstance(graph, Lattice):
         n_nodes = graph.n_nodes
+        # a Lattice is checked when built, but its arrays can be changed afterwards
+        if np.isnan(graph.weights).any() or (graph.weights < 0).any():
+            raise ValueError("graph weights contain NaN or negative values (changed after the Lattice was built?)")
+        f = np.asarray(graph.factors, np.float64)
+        if f.shape != (8,) or not np.isfinite(f).all() or (f <= 0).any():
+            raise ValueError("graph factors must be 8 positive finite numbers")
     elif sp.issparse(graph):
         graph = _check_sparse(graph)
         n_nodes = graph.shape[0]

@@ -101,7 +101,10 @@ def rolling_importance(dendrite: Dendrite, importance, window: int = 15) -> np.n
         raise ValueError("importance must be an (H, W) map or one value per tree node")
     if not np.all(np.isfinite(vals)):
         raise ValueError("importance contains NaN or infinite values")
-    return _rolling(vals, dendrite.parent, dendrite.next_in_branch(), int(window) // 2)
+    # sums of values near the float64 limit overflow: average them in units of the largest
+    scale = float(np.max(np.abs(vals))) if vals.size else 1.0
+    scale = scale if scale > 1e150 else 1.0
+    return _rolling(vals / scale, dendrite.parent, dendrite.next_in_branch(), int(window) // 2) * scale
 
 
 @checked(importance=Array(ndim=2), window=Int(1, 10_000), min_width=Real(0, 1e4), max_width=Real(0, 1e4),

@@ -19,7 +19,7 @@ from scipy import ndimage as ndi
 from ..core.image import as_mask, as_rgb
 from ..core.params import check_params
 from ..core.random import as_rng
-from ..core.validate import check_int
+from ..core.validate import check_callback, check_int
 from .induction import (
     ColourSpace,
     InductionParams,
@@ -255,6 +255,8 @@ class LeafAnalysis:
 
 
 def _progress(progress: Progress | None, lo: float, hi: float) -> Progress:
+    check_callback(progress, "progress")
+
     def report(f: float, text: str) -> None:
         if progress is not None:
             progress(lo + (hi - lo) * float(np.clip(f, 0, 1)), text)
@@ -421,6 +423,22 @@ def _retuned(analysis, changes):
     return dataclasses.replace(a, params=params, layers=layers)
 
 
+def _check_one_leaf(blade: np.ndarray, name: str) -> None:
+    """Refuse an exemplar whose blade falls into two or more big pieces: several leaves, not one.
+
+    A piece of at least a fifth of the largest (and 64 px) counts as a
+    leaf; crumbs (a torn tip, a speck of background) do not.
+    """
+    labels, n = ndi.label(blade)
+    if n < 2:
+        return
+    sizes = np.sort(np.bincount(labels.ravel())[1:])[::-1]
+    big = sizes[sizes >= max(64, 0.2 * sizes[0])]
+    if len(big) > 1:
+        raise ValueError(f"{name} holds {len(big)} separate leaves (blade pieces of {', '.join(map(str, big[:4]))} "
+                         "px): give one leaf per image")
+
+
 def normalise_exemplars(exemplars) -> tuple[list, list, list]:
     """Exemplars on one common canvas, each centred on its blade by a whole-pixel shift.
 
@@ -447,6 +465,8 @@ def normalise_exemplars(exemplars) -> tuple[list, list, list]:
         raise TypeError(f"exemplars must be a list of leaf images, got {type(exemplars).__name__}") from exc
     items = [e if isinstance(e, Exemplar) else getattr(e, "image", e) for e in items]
     prepared = prepare_exemplars(items, size_policy="keep", names=[f"exemplars[{i}]" for i in range(len(items))])
+    for i, e in enumerate(prepared):
+        _check_one_leaf(e.blade, f"exemplars[{i}]")
     cents = []
     half_h = half_w = 0
     for e in prepared:
@@ -573,7 +593,8 @@ def analyze(exemplars, training_index: int, layers, params: InductionParams | No
         raise ValueError(f"exemplars must hold at least two leaves, got {n}")
     if isinstance(training_index, bool) or not isinstance(training_index, (int, np.integer)) \
             or not 0 <= training_index < n:
-        raise ValueError(f"training_index must be an int in [0, {n - 1}], got {training_index!r}")
+        shown = training_index if not isinstance(training_index, int) or abs(training_index) < 10**12 else "a huge int"
+        raise ValueError(f"training_index must be an int in [0, {n - 1}], got {shown!r}")
     t = int(training_index)
     for i, b in enumerate(blades):
         if b.sum() < 64:
@@ -591,6 +612,9 @@ def analyze(exemplars, training_index: int, layers, params: InductionParams | No
         masks = {}
         taken = np.zeros_like(blades[t])
         for name, m in layers.items():
+            if not isinstance(name, str) or not name.strip() or name == "blade":
+                raise ValueError(f"layers: {name!r} is not a layer name (a non-empty str; 'blade' is the "
+                                 "background's)")
             m = _shift_mask(m, offsets[t], blades[t].shape, f"layers[{name!r}]") & blades[t] & ~taken
             if not m.any():
                 raise ValueError(f"layers[{name!r}] selects no pixel of the training leaf's blade")
@@ -610,6 +634,8 @@ def analyze(exemplars, training_index: int, layers, params: InductionParams | No
             else:
                 registrations.append(register(images[i], images[t], blades[i], blades[t],
                                               params=registration_params, rng=rng))
+    elif isinstance(registrations, (str, bytes, dict)) or not hasattr(registrations, "__len__"):
+        raise TypeError(f"registrations must be a list (one per exemplar), got {type(registrations).__name__}")
     elif len(registrations) != n:
         raise ValueError(f"registrations must have one entry per exemplar ({n}), got {len(registrations)}")
     layers_out, residuals, space = induce(

@@ -132,7 +132,7 @@ def distorted_pixels(warp_map, *, band=(0.5, 2.0), mask=None) -> tuple[np.ndarra
     lo, hi = _check_band(band)
     sv = jacobian_singular_values(warp_map)
     h, w = sv.shape[:2]
-    region = np.ones((h, w), bool) if mask is None else as_mask(mask, shape=(h, w), name="mask")
+    region = np.ones((h, w), bool) if mask is None else as_mask(mask, shape=(h, w), name="mask", like="warp_map")
     if not region.any():
         return np.zeros((h, w), bool), 1.0
     geo = np.sqrt(sv[..., 0] * sv[..., 1])

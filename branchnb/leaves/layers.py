@@ -64,7 +64,8 @@ class Scribble:
 
     def __post_init__(self):
         self.points = as_points(self.points, name="points", min_points=1)
-        self.radius = check_real(self.radius, "radius", 0.0, 1e6, low_open=True)
+        # OpenCV draws strokes at most 32767 px thick: 10,000 px covers any image this package reads
+        self.radius = check_real(self.radius, "radius", 0.0, 1e4, low_open=True)
 
     def to_dict(self) -> dict:
         return {"points": self.points.tolist(), "radius": self.radius}
@@ -303,9 +304,10 @@ def scribble_mask(scribbles, shape) -> np.ndarray:
     for s in scribbles:
         s = _as_scribble(s, "scribbles")
         pts = np.round(s.points * 16).astype(np.int32)
-        thick = max(1, int(round(2 * s.radius)))
+        # OpenCV refuses strokes over 32767 px thick (a radius changed after the Scribble checked it)
+        thick = min(max(1, int(round(2 * s.radius))), 32767)
         if len(pts) == 1:
-            cv2.circle(out, tuple(int(v) for v in pts[0]), int(round(s.radius * 16)), 1, -1,
+            cv2.circle(out, tuple(int(v) for v in pts[0]), int(round(min(s.radius, 1e6) * 16)), 1, -1,
                        lineType=cv2.LINE_8, shift=4)
         else:
             cv2.polylines(out, [pts.reshape(-1, 1, 2)], False, 1, thickness=thick,
@@ -317,13 +319,19 @@ def _check_scribbles(layer_set: LayerSet, blade: np.ndarray) -> tuple[dict, dict
     """Rasterise and validate every scribble: name -> union mask, and name -> one mask per scribble."""
     shape = blade.shape
     out, each = {}, {}
-    groups = [(x.name, f"layers[{x.name!r}]", x.scribbles) for x in layer_set.layers]
-    groups.append(("blade", "layers.background", layer_set.background))
+    groups = [(x.name, f"layer_set.layers[{x.name!r}]", x.scribbles) for x in layer_set.layers]
+    groups.append(("blade", "layer_set.background", layer_set.background))
+    seen: dict = {}
     for name, label, scribbles in groups:
         m = np.zeros(shape, bool)
         each[name] = []
         for i, s in enumerate(scribbles):
             p = s.points
+            key = (np.round(p, 3).tobytes(), round(float(s.radius), 3))
+            if key in seen and seen[key][0] != name:
+                raise ValueError(f"{label}.scribbles[{i}] is the same stroke as {seen[key][1]}: one stroke cannot "
+                                 "mark two layers (or a layer and the background)")
+            seen.setdefault(key, (name, f"{label}.scribbles[{i}]"))
             if (p[:, 0] < -0.5).any() or (p[:, 0] > shape[1] - 0.5).any() or \
                     (p[:, 1] < -0.5).any() or (p[:, 1] > shape[0] - 0.5).any():
                 raise ValueError(f"{label}.scribbles[{i}] leaves the image ({shape[1]} x {shape[0]} px)")

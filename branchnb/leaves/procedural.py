@@ -88,7 +88,7 @@ from scipy.spatial import cKDTree
 from ..core.image import to_uint8
 from ..core.random import as_rng
 from ..core.render import coverage_polylines
-from ..core.validate import Int, Real, Seq, check_int, checked, real_array
+from ..core.validate import Int, Real, Seq, brief, check_int, checked, real_array
 
 __all__ = ["ProceduralLeaf", "procedural_leaf", "leaf_family", "KINDS", "PALETTES"]
 
@@ -572,7 +572,7 @@ def _check_args(kind, size, palette, variation, rotation, scale, n_keypoints):
     if palette not in PALETTES:
         raise ValueError(f"palette must be one of {sorted(PALETTES)}, got {palette!r}")
     if isinstance(size, bool) or not isinstance(size, (int, np.integer)) or not 32 <= size <= 4096:
-        raise ValueError(f"size must be an int in [32, 4096], got {size!r}")
+        raise ValueError(f"size must be an int in [32, 4096], got {brief(size)}")
     if not (np.isfinite(variation) and 0.0 <= variation <= 3.0):
         raise ValueError(f"variation must be in [0, 3], got {variation!r}")
     if not (np.isfinite(rotation) and 0.0 <= rotation <= 180.0):

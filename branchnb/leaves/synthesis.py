@@ -60,6 +60,7 @@ from ..core.io import encode_png
 from ..core.jsonio import dumps_strict
 from ..core.params import check_params, param
 from ..core.random import as_rng
+from ..core.validate import check_callback
 from ..core.warp import remap
 
 __all__ = ["SynthesisParams", "GeneratedLeaf", "generate", "generate_leaf", "save_leaves",
@@ -619,6 +620,7 @@ def generate(analysis, n: int = 8, *, rng=None, params: SynthesisParams | None =
         raise TypeError(f"params must be a branchnb.leaves.SynthesisParams, got {type(params).__module__}."
                         f"{type(params).__name__}")
     params = check_params(params if params is not None else SynthesisParams(), name="params")
+    check_callback(progress, "progress")
     gen = as_rng(rng)
     seeds = gen.integers(0, 2**31 - 1, size=int(n))
     out = []

@@ -66,6 +66,25 @@ class PlacedPatch:
     pin_core: bool = True
     keep_a: np.ndarray | None = None
 
+    def __post_init__(self):
+        px = np.asarray(self.pixels)
+        if px.ndim != 3 or px.shape[2] != 4 or px.shape[0] != px.shape[1] or px.dtype.kind not in "fiub":
+            raise ValueError(f"pixels must be a real (S, S, 4) array, got {px.dtype} {px.shape}")
+        if not np.isfinite(px).all():
+            raise ValueError("pixels contain NaN or inf")
+        if np.shape(self.valid) != px.shape[:2]:
+            raise ValueError(f"pixels {px.shape[:2]} and valid {np.shape(self.valid)} must cover the same S x S square")
+        if self.keep_a is not None and np.shape(self.keep_a) != px.shape[:2]:
+            raise ValueError(f"keep_a must have shape {px.shape[:2]}, got {np.shape(self.keep_a)}")
+        if not isinstance(self.pin_core, (bool, np.bool_)):
+            raise TypeError(f"pin_core must be a bool, got {type(self.pin_core).__name__}")
+        o = self.origin
+        if (not isinstance(o, (tuple, list, np.ndarray)) or len(o) != 2
+                or not all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) for v in o)):
+            raise ValueError(f"origin must be two ints (x, y), got {o!r}")
+        if max(abs(int(v)) for v in o) > 10**7:
+            raise ValueError(f"origin lies too far away: {o!r}")
+
     @checked(shape=Shape(), margin=Int(0, 10_000))
     def window(self, shape, margin: int = 0):
         """Slices of the canvas and of the patch for the patch's box grown by ``margin``.

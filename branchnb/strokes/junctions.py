@@ -186,6 +186,9 @@ def far_side(junction: Junction, parent: Stroke, child_dir: np.ndarray, origin, 
     away from the child's direction ``child_dir`` (a unit vector pointing
     from the junction into the child).
     """
+    child_dir = np.asarray(child_dir, dtype=np.float64) if not isinstance(child_dir, (str, bytes)) else None
+    if child_dir is None or child_dir.shape != (2,) or not np.isfinite(child_dir).all():
+        raise ValueError("child_dir must be a finite 2-vector (x, y)")
     t = parent.angle_at(junction.parent_s, window=window)
     nrm = np.array([-np.sin(float(t)), np.cos(float(t))])
     side = np.sign(nrm @ child_dir) or 1.0

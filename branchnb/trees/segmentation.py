@@ -877,6 +877,8 @@ def load_reference_masks(names=None) -> dict[str, np.ndarray]:
         names = available
     elif isinstance(names, str):
         names = [names]
+    elif not isinstance(names, (list, tuple)):
+        raise TypeError(f"names must be a sample name or a list of them, got {type(names).__name__}")
     out = {}
     for n in names:
         if n not in available:

@@ -31,7 +31,7 @@ Examples
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field, fields, replace
 
 import cv2
 import numpy as np
@@ -477,6 +477,15 @@ def _weights_from(weights, exemplars, rng, concentration, name="weights", n_mix=
     return check_weights(weights, len(exemplars), name=name)
 
 
+def _check_overrides(overrides: dict) -> None:
+    """``**overrides`` must name VariationParams fields (a typo must not end in a dataclass TypeError)."""
+    known = {f.name for f in fields(VariationParams)}
+    unknown = sorted(set(overrides) - known)
+    if unknown:
+        raise TypeError(f"unknown keyword argument(s) {unknown}: overrides must be VariationParams fields "
+                        f"({sorted(known)})")
+
+
 @checked(use=Seq())
 def make_variation(library, weights=None, params: VariationParams | None = None, *,
                    use=None, colour_weights=None, reference=None, rng=None,
@@ -531,6 +540,7 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     """
     p = params if params is not None else VariationParams()
     if overrides:
+        _check_overrides(overrides)
         p = replace(p, **overrides)
     check_params(p)
     rng = as_rng(rng)
@@ -726,6 +736,7 @@ def similar_variations(library, variation: Variation, n: int = 6,
     """
     p = params if params is not None else VariationParams()
     if overrides:
+        _check_overrides(overrides)
         p = replace(p, **overrides)
     check_params(p)
     if not isinstance(variation, Variation):
@@ -786,6 +797,7 @@ def tree_variations(library, target, n: int = 6, params: VariationParams | None 
     """
     p = params if params is not None else VariationParams()
     if overrides:
+        _check_overrides(overrides)
         p = replace(p, **overrides)
     check_params(p)
     if not isinstance(n, (int, np.integer)) or n < 1:
@@ -893,7 +905,9 @@ class TreeLibrary:
         self.size = int(size)
         self.contour_params = contour_params if contour_params is not None else ContourParams()
         check_params(ExemplarParams(size=self.size), name="size")
-        for e in exemplars:
+        for i, e in enumerate(exemplars):
+            if not isinstance(e, Exemplar):
+                raise TypeError(f"exemplars[{i}] must be an Exemplar (see process_exemplar), got {type(e).__name__}")
             self.add_exemplar(e)
 
     @classmethod

@@ -35,6 +35,8 @@ def _number(value, name: str, *, positive: bool = False, allow_inf: bool = False
 def _int(value, name: str) -> int:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
         raise TypeError(f"{name} must be an int, got {type(value).__name__}")
+    if int(value).bit_length() > 64:  # nor can such an int be shown in a message
+        raise ValueError(f"{name} must fit in 64 bits, got an int of {int(value).bit_length()} bits")
     return int(value)
 
 
@@ -191,8 +193,7 @@ class AnnotationModel:
         self._redo.clear()
 
     def _index(self, index: int) -> int:
-        if isinstance(index, bool) or not isinstance(index, (int, np.integer)):
-            raise TypeError(f"index must be an int, got {type(index).__name__}")
+        index = _int(index, "index")
         if not -len(self._shapes) <= index < len(self._shapes):
             raise ValueError(f"shape index {index!r} out of range for {len(self._shapes)} shapes")
         return int(index) % len(self._shapes)
