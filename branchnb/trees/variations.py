@@ -77,11 +77,19 @@ __all__ = [
     "tile_images",
     "one_piece",
     "exemplar_largest_hole",
+    "resolve_colour_mode",
+    "flat_share",
+    "FLAT_ART_SHARE",
 ]
 
 #: The 14 RPG map sprites of ``branchnb.data``: one consistent drawing style
 #: (broadleaf, conifer, bare and palm trees), the default library.
 RPG_TREES = tuple(f"tree_rpg_{i:02d}" for i in range(1, 15))
+
+#: ``colour_mode="auto"`` chooses instead of blending when the mixed exemplars
+#: have on average at least this share of their opaque pixels in flat colour
+#: areas (drawn trees: 0.3-0.9 at 256 px; photographs: below 0.05).
+FLAT_ART_SHARE = 0.2
 
 #: Most variations one call makes (a size guard: each is a full-resolution image).
 MAX_VARIATIONS = 10_000
@@ -341,6 +349,21 @@ class VariationParams:
         branches) from ghosting; raise it for smoother mixes.
     keep : float
         Variations of one tree ``T``: share of the weights ``T`` keeps.
+    colour_mode : {"auto", "blend", "choose"}
+        How the exemplars' colours combine (:func:`~branchnb.trees.mvc.transfer_colour`):
+        ``"blend"`` is the paper's convex combination per pixel, right for
+        photographs; ``"choose"`` (beyond the paper) gives every region the
+        colour of one exemplar, with graph-cut seams along the outlines, so
+        drawn trees keep flat colours instead of cross-fading into
+        half-transparent overlays; ``"auto"`` chooses when the mixed
+        exemplars are drawn: when on average at least :data:`FLAT_ART_SHARE`
+        of their opaque pixels lie in flat colour areas
+        (:func:`~branchnb.trees.quality.flat_pixels`; drawn trees measure
+        0.3-0.9, photographs below 0.05).
+    region_scale : float
+        ``"choose"``: size of the colour regions as a share of the tree.
+    seam : float
+        ``"choose"``: weight of the seam cost (0: regions as drawn, no cut).
     """
 
     m_points: int = param(20, min=6, max=100, step=1, help="M, cage vertices (paper: 20)")
@@ -352,6 +375,13 @@ class VariationParams:
                                         help="Dirichlet concentration of random colour weights")
     keep: float = param(0.5, min=0.0, max=1.0, step=0.05,
                         help="variations of T: minimum weight of T")
+    colour_mode: str = param("auto", options=("auto", "blend", "choose"),
+                             help="blend colours (paper, photographs) or choose one exemplar "
+                                  "per region (drawn trees); auto: by flatness")
+    region_scale: float = param(0.15, min=0.02, max=1.0, step=0.01,
+                                help="choose: size of the colour regions (share of the tree)")
+    seam: float = param(1.0, min=0.0, max=20.0, step=0.1,
+                        help="choose: weight of the seam cost between regions")
 
 
 @dataclass(eq=False)
@@ -558,15 +588,37 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     cparams = exemplars[0].contour.params
     cage = simplify_contour(cr, m_points=p.m_points, dilation=cparams.dilation,
                             n_points_crown=cparams.n_crown)
+    mode = resolve_colour_mode(p.colour_mode, [exemplars[i] for i in used])
     image = transfer_colour([exemplars[i].image for i in used],
                             [exemplars[i].cage(p.m_points) for i in used],
-                            cage, mask, colour_weights=cw[used] / cw[used].sum())
+                            cage, mask, colour_weights=cw[used] / cw[used].sum(), mode=mode,
+                            region_scale=p.region_scale, seam=p.seam, rng=rng)
     image = one_piece(image, [exemplars[i] for i in used])
     ref_name = None
     if reference is not None:
         ref_img, ref_name = _reference_image(reference, library)
         image = histogram_transfer(image, ref_img)
     return Variation(image, tuple(e.name for e in exemplars), w, cw, cr, cage, mask, ref_name)
+
+
+def flat_share(exemplar: Exemplar) -> float:
+    """Share of an exemplar's opaque pixels in flat colour areas (cached on the exemplar)."""
+    if "flat_share" not in exemplar._cages:
+        from .quality import flat_pixels
+
+        n = max(int(exemplar.alpha.sum()), 1)
+        exemplar._cages["flat_share"] = float(flat_pixels(exemplar.image).sum() / n)
+    return exemplar._cages["flat_share"]
+
+
+def resolve_colour_mode(mode: str, exemplars: Sequence[Exemplar]) -> str:
+    """``"blend"`` or ``"choose"`` for ``mode`` (``"auto"``: by the exemplars' :func:`flat_share`)."""
+    if mode not in ("auto", "blend", "choose"):
+        raise ValueError(f"colour_mode must be 'auto', 'blend' or 'choose', got {mode!r}")
+    if mode != "auto":
+        return mode
+    share = float(np.mean([flat_share(e) for e in exemplars])) if exemplars else 0.0
+    return "choose" if share >= FLAT_ART_SHARE else "blend"
 
 
 def _holes(alpha: np.ndarray) -> tuple[np.ndarray, int]:
