@@ -27,7 +27,7 @@ import cv2
 import numpy as np
 
 from ..core.random import as_rng
-from ..core.validate import Choice, Int, checked
+from ..core.validate import Choice, Int, Seq, checked
 
 __all__ = ["DRAWN_KINDS", "drawn_tree", "drawn_trees"]
 
@@ -135,7 +135,7 @@ def drawn_tree(kind: str = "broadleaf", *, pile: bool = False, rng=None, size: i
 
     Examples
     --------
-    >>> drawn_tree("palm", pile=True, rng=1, size=96)[..., 3].max()
+    >>> float(drawn_tree("palm", pile=True, rng=1, size=96)[..., 3].max())
     1.0
     """
     rng = as_rng(rng)
@@ -206,7 +206,7 @@ def drawn_tree(kind: str = "broadleaf", *, pile: bool = False, rng=None, size: i
     return cv.image()
 
 
-@checked(kinds=None)
+@checked(pile=Seq(), kinds=Seq(), n=Int(1, 1000), size=Int(48, 4096))
 def drawn_trees(pile=(False, True), *, kinds=DRAWN_KINDS, n: int = 1, rng=0,
                 size: int = 256) -> list[tuple[str, np.ndarray]]:
     """``n`` trees of every kind, with and without a leaf pile: ``[(label, image), ...]``.
