@@ -260,6 +260,10 @@ def _SEQ(value, name, allow_none):
     return value
 
 
+#: Regulariser of the seam cost's gradient normalisation in ``"choose"``: small,
+#: so a seam across a flat fill costs far more than one along an outline.
+SEAM_EPS = 0.01
+
 #: How :func:`transfer_colour` combines the exemplars' colours.
 COLOUR_MODES = ("blend", "choose")
 
@@ -303,7 +307,7 @@ def smooth_gumbel(shape: tuple[int, int], k: int, scale: float, *, rng=None) -> 
          mode=Choice(*COLOUR_MODES), region_scale=Real(0.0, 1.0, low_open=True), seam=Real(0, 1e6))
 def transfer_colour(sources, source_cages, target_cage, target_mask, *,
                     colour_weights=None, rng=None, mode: str = "blend",
-                    region_scale: float = 0.15, seam: float = 1.0) -> np.ndarray:
+                    region_scale: float = 0.15, seam: float = 20.0) -> np.ndarray:
     """Colour a target shape from one or more exemplars through their simplified contours.
 
     Parameters
@@ -436,6 +440,6 @@ def _choose(cols, on, opaque, c, ys, xs, shape, region_scale, seam, gen) -> np.n
     region[yy[opaque], xx[opaque]] = True
     li = np.argmax(score, axis=0)
     if seam > 0:
-        lab = multilabel_seams(imgs, unary, region=region, smoothness=seam, eps=0.05)[yy, xx]
+        lab = multilabel_seams(imgs, unary, region=region, smoothness=seam, eps=SEAM_EPS)[yy, xx]
         li = np.where(lab >= 0, lab, li)
     return cols[li, np.arange(len(li))]

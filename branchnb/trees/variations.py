@@ -380,7 +380,7 @@ class VariationParams:
                                   "per region (drawn trees); auto: by flatness")
     region_scale: float = param(0.15, min=0.02, max=1.0, step=0.01,
                                 help="choose: size of the colour regions (share of the tree)")
-    seam: float = param(1.0, min=0.0, max=20.0, step=0.1,
+    seam: float = param(20.0, min=0.0, max=1000.0, step=0.1, log=True,
                         help="choose: weight of the seam cost between regions")
 
 
