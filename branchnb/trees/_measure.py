@@ -167,9 +167,36 @@ def measure_crossfade(size: int = 256) -> None:
                   f"{max(f['rim']):.4f} | {time.perf_counter() - t0:.0f} s")
 
 
+def measure_variety(size: int = 256) -> None:
+    """"More like this": mean pairwise contour distance of the results over the mean distance
+    between the exemplars mixed (target: >= 0.5)."""
+    from .drawn import drawn_trees
+    from .variations import mean_pairwise_distance
+
+    libs = {"drawn": TreeLibrary(size=size), "rpg": TreeLibrary.from_data(size=size)}
+    for name, img in drawn_trees(rng=0, size=size):
+        libs["drawn"].add(img, name)
+    for name, lib in libs.items():
+        for keep in (0.35,):
+            gen = np.random.default_rng(0)
+            r_lib, r_mix = [], []
+            between = mean_pairwise_distance([e.resampled for e in lib])
+            for _ in range(6):
+                centre = make_variation(lib, rng=gen)
+                mixed = [lib[n].resampled for n, w in zip(centre.names, centre.weights) if w > 0]
+                more = lib.similar(centre, 6, keep=keep, rng=gen)
+                d = mean_pairwise_distance([v.resampled for v in more])
+                r_lib.append(d / between)
+                r_mix.append(d / max(mean_pairwise_distance(mixed), 1e-9))
+            print(f"{name:6s} keep {keep}: more like this / between all exemplars: min {min(r_lib):.2f} "
+                  f"mean {np.mean(r_lib):.2f}; / between the exemplars mixed: min {min(r_mix):.2f} "
+                  f"mean {np.mean(r_mix):.2f}")
+
+
 if __name__ == "__main__":
     what = sys.argv[1] if len(sys.argv) > 1 else "pins"
     size = int(sys.argv[2]) if len(sys.argv) > 2 else (
-        256 if what in ("pins", "billboards", "crossfade") else 128)
+        256 if what in ("pins", "billboards", "crossfade", "variety") else 128)
     {"pins": measure_pins, "pairs": measure_pairs, "masks": measure_masks,
-     "billboards": measure_billboards, "crossfade": measure_crossfade}[what](size)
+     "billboards": measure_billboards, "crossfade": measure_crossfade,
+     "variety": measure_variety}[what](size)

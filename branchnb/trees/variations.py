@@ -72,6 +72,8 @@ __all__ = [
     "variation_weights",
     "nearby_weights",
     "similar_variations",
+    "contour_distance",
+    "mean_pairwise_distance",
     "tree_variations",
     "morph_sequence",
     "tile_images",
@@ -752,9 +754,51 @@ def variation_weights(k: int, index: int, keep: float = 0.5, *, concentration=1.
                           rng=rng)
 
 
+def contour_distance(a, b) -> float:
+    """Mean distance (pixels) between corresponding points of two resampled contours ``C_r``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> contour_distance(np.zeros((4, 2)), np.full((4, 2), 3.0)).round(3)
+    np.float64(4.243)
+    """
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    if a.shape != b.shape or a.ndim != 2 or a.shape[1] != 2:
+        raise ValueError(f"contours must be (N, 2) arrays of the same shape, got {a.shape} and {b.shape}")
+    return float(np.linalg.norm(a - b, axis=1).mean())
+
+
+def mean_pairwise_distance(contours) -> float:
+    """Mean :func:`contour_distance` over all pairs of a list of ``C_r`` (0 for fewer than two)."""
+    c = [np.asarray(x, float) for x in contours]
+    d = [contour_distance(c[i], c[j]) for i in range(len(c)) for j in range(i + 1, len(c))]
+    return float(np.mean(d)) if d else 0.0
+
+
+def _spread(candidates: np.ndarray, shapes: np.ndarray, n: int, rng) -> np.ndarray:
+    """Indices of ``n`` candidate weight vectors whose contours lie far apart (farthest-point
+    sampling, from a random start, on the combined contours ``candidates @ shapes``)."""
+    vec = candidates @ shapes                      # (c, 2N)
+    n_pts = shapes.shape[1] // 2
+    first = int(as_rng(rng).integers(len(candidates)))
+    chosen = [first]
+    d = np.linalg.norm((vec - vec[first]).reshape(len(vec), n_pts, 2), axis=2).mean(axis=1)
+    while len(chosen) < min(n, len(candidates)):
+        nxt = int(np.argmax(d))
+        chosen.append(nxt)
+        d = np.minimum(d, np.linalg.norm((vec - vec[nxt]).reshape(len(vec), n_pts, 2),
+                                         axis=2).mean(axis=1))
+    return np.asarray(chosen)
+
+
+#: "More like this" draws this many candidate mixes per result and keeps the most different.
+SPREAD_CANDIDATES = 8
+
+
 @checked(n=Int(1, MAX_VARIATIONS), keep=Real(0, 1))
 def similar_variations(library, variation: Variation, n: int = 6,
-                       params: VariationParams | None = None, *, keep: float = 0.6,
+                       params: VariationParams | None = None, *, keep: float = 0.35,
                        rng=None, **overrides) -> list[Variation]:
     """"More like this": random variations around an existing variation's weights.
 
@@ -775,6 +819,19 @@ def similar_variations(library, variation: Variation, n: int = 6,
     Returns
     -------
     list of Variation
+
+    Notes
+    -----
+    Beyond the paper: independent draws around one centre often land
+    close together, so six results look alike. ``SPREAD_CANDIDATES``
+    times ``n`` candidate shape weights are drawn and ``n`` of them kept by
+    farthest-point sampling on their combined contours (cheap: a contour is
+    the weights times the exemplars' ``C_r``), so the results differ as
+    much as ``keep`` allows. With the default ``keep`` = 0.35 the mean
+    pairwise contour distance of six results is on average 0.58 (drawn
+    test trees) and 0.57 (RPG sprites) of the mean distance between the
+    library's exemplars (worst of six centres: 0.47 and 0.54;
+    ``python -m branchnb.trees._measure variety``).
     """
     p = params if params is not None else VariationParams()
     if overrides:
@@ -790,13 +847,15 @@ def similar_variations(library, variation: Variation, n: int = 6,
     if ref == "image":
         raise ValueError("the variation's reference was an array; give similar variations "
                          "a named reference")
+    cands = np.stack([nearby_weights(variation.weights, keep, concentration=p.concentration,
+                                     n_mix=p.n_mix, rng=rng)
+                      for _ in range(SPREAD_CANDIDATES * int(n))])
+    shapes = np.stack([e.resampled.ravel() for e in chosen])
     out = []
-    for _ in range(int(n)):
-        w = nearby_weights(variation.weights, keep, concentration=p.concentration,
-                           n_mix=p.n_mix, rng=rng)
+    for i in _spread(cands, shapes, int(n), rng):
         cw = nearby_weights(variation.colour_weights, keep, concentration=p.colour_concentration,
                             n_mix=p.n_mix, rng=rng)
-        out.append(make_variation(chosen, w, p, colour_weights=cw, reference=ref, rng=rng))
+        out.append(make_variation(chosen, cands[i], p, colour_weights=cw, reference=ref, rng=rng))
     return out
 
 
