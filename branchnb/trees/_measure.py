@@ -177,7 +177,7 @@ def measure_variety(size: int = 256) -> None:
     for name, img in drawn_trees(rng=0, size=size):
         libs["drawn"].add(img, name)
     for name, lib in libs.items():
-        for keep in (0.35,):
+        for keep in (0.3,):
             gen = np.random.default_rng(0)
             r_lib, r_mix = [], []
             between = mean_pairwise_distance([e.resampled for e in lib])

@@ -90,8 +90,11 @@ RPG_TREES = tuple(f"tree_rpg_{i:02d}" for i in range(1, 15))
 
 #: ``colour_mode="auto"`` chooses instead of blending when the mixed exemplars
 #: have on average at least this share of their opaque pixels in flat colour
-#: areas (drawn trees: 0.3-0.9 at 256 px; photographs: below 0.05).
-FLAT_ART_SHARE = 0.2
+#: areas (:func:`~branchnb.trees.quality.flat_pixels`). Drawn trees measure
+#: 0.45-0.83 at 128-256 px (a thin outlined palm at 128 px: 0.047, its
+#: outlines take most pixels); the photographed ``tree_cutout_broadleaf``
+#: 0.006-0.014: photographs have texture in every 3 x 3 window.
+FLAT_ART_SHARE = 0.04
 
 #: Most variations one call makes (a size guard: each is a full-resolution image).
 MAX_VARIATIONS = 10_000
@@ -361,7 +364,7 @@ class VariationParams:
         exemplars are drawn: when on average at least :data:`FLAT_ART_SHARE`
         of their opaque pixels lie in flat colour areas
         (:func:`~branchnb.trees.quality.flat_pixels`; drawn trees measure
-        0.3-0.9, photographs below 0.05).
+        0.05-0.9, photographs about 0.01).
     region_scale : float
         ``"choose"``: size of the colour regions as a share of the tree.
     seam : float
@@ -776,12 +779,14 @@ def mean_pairwise_distance(contours) -> float:
     return float(np.mean(d)) if d else 0.0
 
 
-def _spread(candidates: np.ndarray, shapes: np.ndarray, n: int, rng) -> np.ndarray:
+def _spread(candidates: np.ndarray, shapes: np.ndarray, n: int, centre: np.ndarray) -> np.ndarray:
     """Indices of ``n`` candidate weight vectors whose contours lie far apart (farthest-point
-    sampling, from a random start, on the combined contours ``candidates @ shapes``)."""
+    sampling on the combined contours ``candidates @ shapes``, starting with the one
+    farthest from the centre's contour)."""
     vec = candidates @ shapes                      # (c, 2N)
     n_pts = shapes.shape[1] // 2
-    first = int(as_rng(rng).integers(len(candidates)))
+    d = np.linalg.norm((vec - centre @ shapes).reshape(len(vec), n_pts, 2), axis=2).mean(axis=1)
+    first = int(np.argmax(d))
     chosen = [first]
     d = np.linalg.norm((vec - vec[first]).reshape(len(vec), n_pts, 2), axis=2).mean(axis=1)
     while len(chosen) < min(n, len(candidates)):
@@ -793,12 +798,12 @@ def _spread(candidates: np.ndarray, shapes: np.ndarray, n: int, rng) -> np.ndarr
 
 
 #: "More like this" draws this many candidate mixes per result and keeps the most different.
-SPREAD_CANDIDATES = 8
+SPREAD_CANDIDATES = 16
 
 
 @checked(n=Int(1, MAX_VARIATIONS), keep=Real(0, 1))
 def similar_variations(library, variation: Variation, n: int = 6,
-                       params: VariationParams | None = None, *, keep: float = 0.35,
+                       params: VariationParams | None = None, *, keep: float = 0.3,
                        rng=None, **overrides) -> list[Variation]:
     """"More like this": random variations around an existing variation's weights.
 
@@ -827,10 +832,11 @@ def similar_variations(library, variation: Variation, n: int = 6,
     times ``n`` candidate shape weights are drawn and ``n`` of them kept by
     farthest-point sampling on their combined contours (cheap: a contour is
     the weights times the exemplars' ``C_r``), so the results differ as
-    much as ``keep`` allows. With the default ``keep`` = 0.35 the mean
-    pairwise contour distance of six results is on average 0.58 (drawn
-    test trees) and 0.57 (RPG sprites) of the mean distance between the
-    library's exemplars (worst of six centres: 0.47 and 0.54;
+    much as ``keep`` allows. With the default ``keep`` = 0.3 the mean
+    pairwise contour distance of six results is on average 0.63 (8 drawn
+    test trees) and 0.70 (14 RPG sprites) of the mean distance between the
+    library's exemplars (worst of six centres: 0.57 and 0.62); a library
+    of only four trees gives 0.48-0.54 (fewer corners to spread to;
     ``python -m branchnb.trees._measure variety``).
     """
     p = params if params is not None else VariationParams()
@@ -852,7 +858,7 @@ def similar_variations(library, variation: Variation, n: int = 6,
                       for _ in range(SPREAD_CANDIDATES * int(n))])
     shapes = np.stack([e.resampled.ravel() for e in chosen])
     out = []
-    for i in _spread(cands, shapes, int(n), rng):
+    for i in _spread(cands, shapes, int(n), np.asarray(variation.weights, float)):
         cw = nearby_weights(variation.colour_weights, keep, concentration=p.colour_concentration,
                             n_mix=p.n_mix, rng=rng)
         out.append(make_variation(chosen, cands[i], p, colour_weights=cw, reference=ref, rng=rng))

@@ -229,7 +229,7 @@ class TreeVariationsApp(widgets.VBox):
                               self.morph_view])
 
         # -- more like this
-        self.keep = widgets.FloatSlider(value=0.35, min=0.0, max=1.0, step=0.05, description="keep",
+        self.keep = widgets.FloatSlider(value=0.3, min=0.0, max=1.0, step=0.05, description="keep",
                                         continuous_update=False,
                                         tooltip="share of the current weights each variation keeps")
         self.n_similar = widgets.IntSlider(value=6, min=1, max=12, description="count",
