@@ -414,6 +414,9 @@ class Variation:
         The filled combined contour.
     reference : str or None
         Name of the histogram-transfer reference, if any.
+    colour_mode : str
+        How the colours were combined: ``"blend"`` or ``"choose"``
+        (``VariationParams.colour_mode`` resolved).
     """
 
     image: np.ndarray
@@ -424,6 +427,7 @@ class Variation:
     cage: np.ndarray
     mask: np.ndarray
     reference: str | None = None
+    colour_mode: str = "blend"
 
     @property
     def rgb(self) -> np.ndarray:
@@ -603,7 +607,7 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     if reference is not None:
         ref_img, ref_name = _reference_image(reference, library)
         image = histogram_transfer(image, ref_img)
-    return Variation(image, tuple(e.name for e in exemplars), w, cw, cr, cage, mask, ref_name)
+    return Variation(image, tuple(e.name for e in exemplars), w, cw, cr, cage, mask, ref_name, mode)
 
 
 def flat_share(exemplar: Exemplar) -> float:
