@@ -26,6 +26,8 @@ import numpy as np
 from scipy import ndimage as ndi
 from scipy.spatial import cKDTree
 
+from ..core.image import as_rgba
+
 __all__ = ["soft_alpha_fraction", "flat_pixels", "dominant_palette", "crossfade_fraction",
            "foreign_colour_fraction", "dark_rim_fraction", "pieces", "large_holes", "hole_sizes",
            "flat_region_speckle", "colour_span", "largest_piece_share"]
@@ -50,7 +52,7 @@ def flat_pixels(image, *, span: float = 0.06, alpha: float = 0.99) -> np.ndarray
     Parameters
     ----------
     image : (H, W, 4) array_like
-        Straight RGBA.
+        Straight RGBA (RGB or grey: opaque).
     span : float
         Largest per-channel range in the 3 x 3 window.
     alpha : float
@@ -60,9 +62,7 @@ def flat_pixels(image, *, span: float = 0.06, alpha: float = 0.99) -> np.ndarray
     -------
     (H, W) bool ndarray
     """
-    img = np.asarray(image, dtype=np.float32)
-    if img.ndim != 3 or img.shape[2] != 4:
-        raise ValueError(f"image must be (H, W, 4) RGBA, got shape {img.shape}")
+    img = as_rgba(image, name="image")
     opaque = ndi.minimum_filter(img[..., 3], size=3, mode="constant") >= alpha
     return opaque & (colour_span(img[..., :3], size=3) < span)
 
@@ -83,10 +83,10 @@ def dominant_palette(sources, *, tol: float = 0.12, span: float = 0.06, quant: f
     (P, 3) float32 ndarray
     """
     cols = []
+    if isinstance(sources, np.ndarray) and sources.ndim == 3:
+        sources = [sources]
     for i, s in enumerate(sources):
-        s = np.asarray(s, dtype=np.float32)
-        if s.ndim != 3 or s.shape[2] != 4:
-            raise ValueError(f"sources[{i}] must be (H, W, 4) RGBA, got shape {s.shape}")
+        s = as_rgba(s, name=f"sources[{i}]")
         cols.append(s[flat_pixels(s, span=span)][:, :3])
     c = np.vstack(cols) if cols else np.zeros((0, 3), np.float32)
     if len(c) == 0:
@@ -146,7 +146,7 @@ def crossfade_fraction(image, sources, *, tol: float = 0.12, span: float = 0.06,
     >>> crossfade_fraction(a, [a, b]), crossfade_fraction(mix, [a, b])
     (0.0, 1.0)
     """
-    img = np.asarray(image, dtype=np.float32)
+    img = as_rgba(image, name="image")
     flat = flat_pixels(img, span=span)
     if not flat.any():
         return 0.0
