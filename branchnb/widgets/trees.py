@@ -240,7 +240,7 @@ class TreeVariationsApp(widgets.VBox):
         self._display = disp
         self.views = ImageView(width=disp, max_size=2 * disp)
         self.hists = [HistogramCompare(bins=24, metric="l1", title=f"{c} channel",
-                                       width=3 * int(display) + 16, height=110)
+                                       width=max(3 * disp + 16, 400), height=110)
                       for c in ("red", "green", "blue")]
         self.status = widgets.HTML()
         mix = widgets.VBox([self.status, self.views, *self.hists])
@@ -321,11 +321,11 @@ class TreeVariationsApp(widgets.VBox):
                 self.cloud_status, self.cloud_view]))
             titles.append("billboard cloud")
 
-        # One fixed width for every tab: the sidebar beside the tabs must not jump
-        # sideways when a narrower or wider tab is selected.
-        tab_w = f"{3 * int(display) + 48}px"
+        # The tabs take the width the column gives them, whatever the selected tab holds
+        # (min_width 0: a wide tab scrolls inside instead of widening the column), so the
+        # sidebar beside them does not jump sideways when tabs switch.
         self.tabs = widgets.Tab(children=children,
-                                layout=widgets.Layout(width=tab_w, min_width=tab_w, overflow="auto"))
+                                layout=widgets.Layout(width="100%", min_width="0", overflow="auto"))
         for i, title in enumerate(titles):
             self.tabs.set_title(i, title)
         self.shell.add_tool(self.rng)
@@ -333,6 +333,7 @@ class TreeVariationsApp(widgets.VBox):
                                   self.thumbnails, self.tabs],
                             sidebar=[self._mix_controls])
         self.shell.result.layout.display = "none"
+        self.shell.sidebar.add_class("bnb-trees-sidebar")
         super().__init__([self.shell])
         self._rebuild_sliders()
         g(self.update)()
