@@ -605,6 +605,8 @@ ARGS = {
         "branchnb.trees").BillboardParams(n_segments=24, n_interior=8, max_size=96),
     "trees:export_gltf.path": lambda: str(Path(tempfile.mkdtemp(prefix="fuzz")) / "cloud.gltf"),
     "trees:export_obj.path": lambda: str(Path(tempfile.mkdtemp(prefix="fuzz")) / "cloud.obj"),
+    "trees:export_lod_gltf.path": lambda: str(Path(tempfile.mkdtemp(prefix="fuzz")) / "lod.gltf"),
+    "trees:crossfade_fraction.sources": lambda: [_tree_rgba()] * 2,
     "trees:render_views.height": _v(48), "trees:render_cloud.height": _v(48),
     "trees:evaluate_reference.names": _v(["tree_rpg_02"]), "trees:load_reference_masks.names": _v(["tree_rpg_02"]),
     "trees:load_reference_scribbles.name": _v("tree_rpg_02"), "trees:reference_from_scribbles.name": _v("tree_rpg_02"),

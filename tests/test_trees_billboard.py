@@ -126,12 +126,14 @@ def test_front_billboards_tile_the_crown(cloud):
 
 
 def test_darker_billboards_are_pushed_deeper():
+    # The paper's rule on the paper's superpixels (with drawn regions the rank is the fill's
+    # luminance, without the outline each shape carries, which this texture mean includes).
     img = data.load("tree_rpg_02")
     seg = segment_tree(img, rng=0)
     flat = billboard_cloud(img, seg, BillboardParams(max_size=320, darkness_depth=0.0, n_interior=0, overlap=0.0,
-                                                     rear_layer=False), rng=0)
+                                                     rear_layer=False, drawn_regions=False), rng=0)
     deep = billboard_cloud(img, seg, BillboardParams(max_size=320, darkness_depth=0.5, n_interior=0, overlap=0.0,
-                                                     rear_layer=False), rng=0)
+                                                     rear_layer=False, drawn_regions=False), rng=0)
     f = flat.layer == FRONT
     ratio = deep.centers[f, 2] / flat.centers[f, 2]
     lum = np.array([(t[..., :3] @ [0.2126, 0.7152, 0.0722])[t[..., 3] > 0.5].mean()
@@ -408,3 +410,45 @@ def test_line_art_is_drawn_behind_fills_and_keeps_the_front_view():
     assert flat_region_speckle(on, 90.0) < flat_region_speckle(off, 90.0)
     # A photograph has no line art.
     assert line_art(data.load("tree_cutout_broadleaf")).mean() < 0.01
+
+
+def test_drawn_trees_keep_their_shapes_and_inner_outlines_on_billboards():
+    # Issue 24, Found 5: side views of drawn trees lost every inner outline (SLIC cut across the
+    # drawn shapes and the outlines were pushed behind the fills). Each drawn shape is now one
+    # billboard (or a few, when larger than a superpixel) carrying its inner outline.
+    from branchnb.trees.billboard import _outer_lines
+
+    img = np.zeros((200, 200, 4), np.float32)
+    cv2.circle(img, (100, 80), 70, (0.2, 0.6, 0.2, 1.0), -1)
+    cv2.circle(img, (100, 80), 70, (0.05, 0.05, 0.05, 1.0), 4)
+    img[140:195, 92:108] = (0.45, 0.3, 0.15, 1.0)
+    fruits = [(70, 60), (130, 70), (95, 110)]
+    for x, y in fruits:
+        cv2.circle(img, (x, y), 11, (0.9, 0.2, 0.1, 1.0), -1)
+        cv2.circle(img, (x, y), 11, (0.05, 0.05, 0.05, 1.0), 3)
+    trunk = np.zeros((200, 200), bool)
+    trunk[151:195, 92:108] = True
+    cloud = billboard_cloud(img, trunk, BillboardParams(n_segments=32, n_interior=8), rng=0)
+    sp = cloud.superpixels
+    for x, y in fruits:
+        yy, xx = np.ogrid[:200, :200]
+        red = (xx - x) ** 2 + (yy - y) ** 2 <= 36
+        assert len(np.unique(sp[red])) == 1, (x, y, np.unique(sp[red]))
+    # Inner outlines (round the fruits) travel with their billboards; only the silhouette's
+    # outline is drawn behind the fills.
+    behind = np.zeros((200, 200), bool)
+    for i, m in enumerate(cloud.line_masks):
+        if m is None:
+            continue
+        b = np.flatnonzero(cloud.texture == i)[0]
+        w, h = cloud.sizes[b].astype(int)
+        x0 = int(round(cloud.centers[b, 0] - 0.5 * w))
+        y0 = int(round(cloud.centers[b, 1] - 0.5 * h))
+        if cloud.layer[b] == 0:
+            behind[y0:y0 + h, x0:x0 + w] |= m
+    for x, y in fruits:
+        yy, xx = np.ogrid[:200, :200]
+        ring = np.abs(np.sqrt((xx - x) ** 2 + (yy - y) ** 2) - 11) <= 1
+        assert not (behind & ring).any()
+    outer = _outer_lines(cloud.lines, img[..., 3] > 0.5)
+    assert outer[80, 31] and not outer[60, 81]          # the crown's rim, not a fruit's ring

@@ -357,7 +357,7 @@ def test_colour_transfer_follows_cage():
     assert out[5, 5, 3] == 0
 
 
-def test_several_exemplars_alpha_max_colour_convex():
+def test_several_exemplars_alpha_by_weight_vote_colour_convex():
     a = np.zeros((20, 20, 4), np.float32)
     b = np.zeros((20, 20, 4), np.float32)
     a[2:18, 2:10] = (1, 0, 0, 1)
@@ -365,10 +365,38 @@ def test_several_exemplars_alpha_max_colour_convex():
     cage = np.array([(0, 0), (19, 0), (19, 19), (0, 19)], float)
     mask = np.ones((20, 20), bool)
     out = transfer_colour([a, b], [cage, cage], cage, mask, colour_weights=[0.25, 0.75])
-    np.testing.assert_allclose(out[..., 3], np.maximum(a[..., 3], b[..., 3]), atol=1e-5)
-    np.testing.assert_allclose(out[5, 3, :3], (1, 0, 0), atol=1e-5)        # only a is opaque
+    # Opaque where the opaque exemplars hold half the weight: a alone (0.25) is not enough.
+    np.testing.assert_allclose(out[..., 3], b[..., 3], atol=1e-5)
     np.testing.assert_allclose(out[5, 8, :3], (0.25, 0, 0.75), atol=1e-5)  # both: convex mix
     np.testing.assert_allclose(out[5, 15, :3], (0, 0, 1), atol=1e-5)
+    even = transfer_colour([a, b], [cage, cage], cage, mask, colour_weights=[0.5, 0.5])
+    np.testing.assert_allclose(even[..., 3], np.maximum(a[..., 3], b[..., 3]), atol=1e-5)
+    np.testing.assert_allclose(even[5, 3, :3], (1, 0, 0), atol=1e-5)        # only a is opaque
+
+
+def test_choose_mode_takes_one_source_per_pixel_in_weight_proportion():
+    rng = np.random.default_rng(0)
+    a = np.zeros((64, 64, 4), np.float32)
+    b = np.zeros((64, 64, 4), np.float32)
+    a[4:60, 4:60] = (0.1, 0.6, 0.1, 1)
+    b[4:60, 4:60] = (0.5, 0.3, 0.1, 1)
+    cage = np.array([(0, 0), (63, 0), (63, 63), (0, 63)], float)
+    mask = a[..., 3] > 0
+    shares = []
+    for _ in range(12):
+        out = transfer_colour([a, b], [cage, cage], cage, mask, colour_weights=[0.7, 0.3],
+                              mode="choose", seam=0.0, region_scale=0.1, rng=rng)
+        op = out[..., 3] > 0
+        from_a = np.all(np.isclose(out[op, :3], a[4, 4, :3], atol=1e-5), axis=1)
+        from_b = np.all(np.isclose(out[op, :3], b[4, 4, :3], atol=1e-5), axis=1)
+        assert np.all(from_a | from_b)                      # no blended pixel
+        shares.append(from_a.mean())
+    # Gumbel-max regions: a owns its colour weight's share of the pixels on average.
+    assert abs(np.mean(shares) - 0.7) < 0.1
+    # A partner whose weight tends to 0 paints (almost) nothing.
+    out = transfer_colour([a, b], [cage, cage], cage, mask, colour_weights=[1 - 1e-4, 1e-4],
+                          mode="choose", rng=1)
+    assert np.mean(np.isclose(out[mask, 0], 0.5)) < 0.01
 
 
 # ------------------------------------------------------------------ histogram transfer

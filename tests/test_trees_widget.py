@@ -189,3 +189,53 @@ def test_reference_none_is_shown_as_none_and_labels_are_whole(app):
     cb = app.thumbnails.children[0].children[1]
     assert cb.description == "tree_rpg_01" and cb.style.description_width == "initial"  # not clipped
     assert app.params() == type(app.params())()  # the panel's exact defaults
+
+
+# ------------------------------------------------------------------ issue 24, app items
+def test_small_trees_are_not_shown_enlarged(lib):
+    # Found 6: 128 px trees were shown at 256 px, pixelated.
+    app = TreeVariationsApp(lib, display=256, thumb=48)
+    assert app.views.width == 128 and app.morph_view.width == 128
+    assert app._grid_size <= 128
+
+
+def test_tabs_keep_one_width_so_the_sidebar_does_not_jump(app):
+    # The width comes from the column, never from the selected tab's content (checked in a
+    # real browser too: the sidebar's x stays the same for every tab).
+    assert app.tabs.layout.width == "100%" and app.tabs.layout.min_width == "0"
+    for i in range(len(app.tabs.children)):
+        app.tabs.selected_index = i
+        assert app.tabs.layout.width == "100%"
+
+
+def test_blue_histogram_spreads_over_the_blue_values(app):
+    # Found 6: the blue of green trees lies in [0, 0.05]; on [0, 1] every bar fell into one bin.
+    from branchnb.widgets.trees import channel_range
+
+    cmp = app.hists[2].comparison
+    assert cmp is not None
+    # The RPG sprites' blue is exactly 0: one bar, in the middle of the plot, not on its border.
+    filled = np.flatnonzero(cmp.hists[0] > 0.01)
+    assert filled.size and filled.min() > 0 and filled.max() < cmp.hists.shape[1] - 1
+    assert cmp.edges[-1] - cmp.edges[0] < 0.5
+    lo, hi = channel_range([np.random.default_rng(0).uniform(0.2, 0.7, (50, 3))], 0)
+    assert 0.15 < lo < 0.25 and 0.65 < hi < 0.75
+
+
+def test_mixed_drawn_crowns_show_no_cross_faded_outline_bands(app, lib):
+    # Found 6: dark contour bands inside mixed crowns came from blending outlines.
+    from branchnb.trees.quality import crossfade_fraction
+
+    app.set_weights({"tree_rpg_01": 0.5, "tree_rpg_03": 0.5})
+    v = app.variation
+    assert v.colour_mode == "choose" and "chosen per region" in app.status.value
+    assert crossfade_fraction(v.image, [lib[n].image for n in NAMES[:2]]) <= 0.03
+
+
+def test_more_like_this_results_differ(app, lib):
+    from branchnb.trees.variations import mean_pairwise_distance
+
+    app.checks["tree_rpg_06"].value = True
+    more = app.more_like_this(6)
+    between = mean_pairwise_distance([e.resampled for e in lib])
+    assert mean_pairwise_distance([v.resampled for v in more]) >= 0.4 * between

@@ -161,9 +161,19 @@ def _make_cloud(shared, params, inputs, rng, stem) -> ItemOutput:
         info = {"image": label}
     cloud = billboard_cloud(image, params=params["billboard"], rng=rng)
     info["billboards"] = cloud.counts()
+    lod = inputs["lod"]
+    if lod not in (None, "msft_lod", "files"):
+        raise ValueError(f"inputs.lod must be null, 'msft_lod' or 'files', got {lod!r}")
     with tempfile.TemporaryDirectory() as tmp:
-        gltf = export_gltf(cloud, Path(tmp) / f"{stem}.gltf", height=float(inputs["height"]),
-                           yaw=float(inputs["yaw"]), embed_texture=bool(inputs["embed_texture"]))
+        if lod is None:
+            gltf = export_gltf(cloud, Path(tmp) / f"{stem}.gltf", height=float(inputs["height"]),
+                               yaw=float(inputs["yaw"]), embed_texture=bool(inputs["embed_texture"]))
+        else:
+            from ..trees.lod import export_lod_gltf, lod_chain
+
+            gltf = export_lod_gltf(cloud, Path(tmp) / f"{stem}.gltf", mode=lod,
+                                   height=float(inputs["height"]), yaw=float(inputs["yaw"]))[0]
+            info["lod_triangles"] = {lv.name: lv.triangles for lv in lod_chain(cloud)}
         files = {f.name: f.read_bytes() for f in sorted(gltf.parent.iterdir())}
     if inputs["preview"]:
         files[f"{stem}_preview.png"] = encode_png(render_views(cloud, (0.0, 60.0, 120.0), height=256))
@@ -185,11 +195,12 @@ def _unused_cloud(given: dict, sections: set) -> dict:
 register_job(Job(
     "billboard_cloud", sections={"billboard": BillboardParams, "variation": VariationParams},
     inputs={**_TREE_INPUTS, "from_variations": True, "image": None, "height": 10.0, "yaw": 0.0,
-            "embed_texture": False, "preview": False},
+            "embed_texture": False, "preview": False, "lod": None},
     item_inputs=(*_TREE_ITEM_INPUTS, "image", "height", "yaw"), prepare=_prepare_clouds, make=_make_cloud,
     stem="cloud", unused=_unused_cloud,
     description="billboard clouds as glTF 2.0 (+ atlas PNG): of new tree variations (from_variations) "
-                "or of the library images themselves"))
+                "or of the library images themselves; lod: 'msft_lod' (one self-contained file, "
+                "MSFT_lod chain full/reduced/crossed/single) or 'files' (one file per level)"))
 
 
 # ----------------------------------------------------------------------------- dendrite trees

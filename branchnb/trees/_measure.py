@@ -8,6 +8,10 @@ trees mixed 50/50 with colour weights (0.5, 0.5) and (1, 0): soft alpha,
 foreign colour, pieces, holes.
 ``masks``: crown/trunk IoU on the masks made without the segmenter
 (:mod:`branchnb.trees.mask_reference`).
+``crossfade``: cross-fade shares (dominant-palette measure) of random mixes
+and ``variations_of`` on drawn procedural trees (two draws of 8), the
+clip-art samples and the RPG sprites, with the paper's blend and with the
+default ``colour_mode="auto"``; and the dark-rim share.
 ``billboards``: billboard clouds of every sample tree and one procedural
 tree of each kind seen at 0, 45 and 90 degrees: the share of the opaque
 pixels in the largest 8-connected piece (1 = the crown stays on the trunk)
@@ -114,8 +118,85 @@ def measure_billboards(size: int = 256) -> None:
           f"speckle: max {max(sp):.2f}, mean {np.mean(sp):.2f}, >0.25 on {sum(s > 0.25 for s in sp)}")
 
 
+#: The drawn clip-art samples of mixed styles (``data/trees``, not the RPG sprites).
+CLIPART = ("arbre_modern", "cartoon_tree", "evergreen", "palm_silhouette", "plain_tree",
+           "tree_with_fruits", "poplar_tree_with_branches")
+
+
+def _sources(lib, v):
+    return [lib[n].image for n, w, c in zip(v.names, v.weights, v.colour_weights) if w > 0 or c > 0]
+
+
+def crossfade_figures(lib, *, n_random: int = 20, per_target: int = 2, rng=0, **params) -> dict:
+    """Cross-fade shares (:func:`~branchnb.trees.quality.crossfade_fraction`) of random mixes
+    and of ``variations_of`` every exemplar, plus the dark-rim share, on one library."""
+    from .quality import crossfade_fraction, dark_rim_fraction
+
+    gen = np.random.default_rng(rng)
+    out = {"random": [], "variations_of": [], "rim": []}
+    for _ in range(n_random):
+        v = make_variation(lib, rng=gen, **params)
+        out["random"].append(crossfade_fraction(v.image, _sources(lib, v)))
+        out["rim"].append(dark_rim_fraction(v.image, v.mask))
+    for t in lib.names:
+        for v in lib.variations_of(t, per_target, rng=gen, **params):
+            out["variations_of"].append(crossfade_fraction(v.image, _sources(lib, v)))
+            out["rim"].append(dark_rim_fraction(v.image, v.mask))
+    return out
+
+
+def measure_crossfade(size: int = 256) -> None:
+    from .drawn import drawn_trees
+
+    libs = {}
+    libs["drawn"] = TreeLibrary(size=size)
+    for name, img in drawn_trees(rng=0, size=size):
+        libs["drawn"].add(img, name)
+    libs["drawn_b"] = TreeLibrary(size=size)
+    for name, img in drawn_trees(rng=11, size=size):
+        libs["drawn_b"].add(img, name)
+    libs["clipart"] = TreeLibrary.from_data(CLIPART, size=size)
+    libs["rpg"] = TreeLibrary.from_data(size=size)
+    for mode in ("blend", "auto"):
+        for name, lib in libs.items():
+            t0 = time.perf_counter()
+            f = crossfade_figures(lib, colour_mode=mode)
+            r, w = np.array(f["random"]), np.array(f["variations_of"])
+            print(f"{mode:6s} {name:8s} random mixes: mean {r.mean():.3f} max {r.max():.3f} | "
+                  f"variations_of: mean {w.mean():.3f} max {w.max():.3f} | dark rim max "
+                  f"{max(f['rim']):.4f} | {time.perf_counter() - t0:.0f} s")
+
+
+def measure_variety(size: int = 256) -> None:
+    """"More like this": mean pairwise contour distance of the results over the mean distance
+    between the exemplars mixed (target: >= 0.5)."""
+    from .drawn import drawn_trees
+    from .variations import mean_pairwise_distance
+
+    libs = {"drawn": TreeLibrary(size=size), "rpg": TreeLibrary.from_data(size=size)}
+    for name, img in drawn_trees(rng=0, size=size):
+        libs["drawn"].add(img, name)
+    for name, lib in libs.items():
+        for keep in (0.3,):
+            gen = np.random.default_rng(0)
+            r_lib, r_mix = [], []
+            between = mean_pairwise_distance([e.resampled for e in lib])
+            for _ in range(6):
+                centre = make_variation(lib, rng=gen)
+                mixed = [lib[n].resampled for n, w in zip(centre.names, centre.weights) if w > 0]
+                more = lib.similar(centre, 6, keep=keep, rng=gen)
+                d = mean_pairwise_distance([v.resampled for v in more])
+                r_lib.append(d / between)
+                r_mix.append(d / max(mean_pairwise_distance(mixed), 1e-9))
+            print(f"{name:6s} keep {keep}: more like this / between all exemplars: min {min(r_lib):.2f} "
+                  f"mean {np.mean(r_lib):.2f}; / between the exemplars mixed: min {min(r_mix):.2f} "
+                  f"mean {np.mean(r_mix):.2f}")
+
+
 if __name__ == "__main__":
     what = sys.argv[1] if len(sys.argv) > 1 else "pins"
-    size = int(sys.argv[2]) if len(sys.argv) > 2 else (256 if what in ("pins", "billboards") else 128)
+    size = int(sys.argv[2]) if len(sys.argv) > 2 else (
+        256 if what in ("pins", "billboards", "crossfade", "variety") else 128)
     {"pins": measure_pins, "pairs": measure_pairs, "masks": measure_masks,
-     "billboards": measure_billboards}[what](size)
+     "billboards": measure_billboards, "crossfade": measure_crossfade,
+     "variety": measure_variety}[what](size)

@@ -113,6 +113,7 @@ __all__ = [
     "CORE",
     "LAYER_NAMES",
     "line_art",
+    "drawn_regions",
 ]
 
 FRONT, REAR, INTERIOR, TRUNK_LAYER, CORE = 0, 1, 2, 3, 4
@@ -157,6 +158,10 @@ class BillboardParams:
     line_art: bool = param(True, help="drawn outlines (thin dark strokes bordering flat colour) are drawn "
                                       "behind every fill in side views, so they show only along the side "
                                       "view's silhouette (not in the paper); the front view is unchanged")
+    drawn_regions: bool = param(True, help="on drawn trees (line art found), the billboards follow the drawn "
+                                           "shapes: each fill region bounded by outlines (split only when "
+                                           "larger than a superpixel) with its share of the outline, so side "
+                                           "views keep the inner outlines (not in the paper)")
     line_width: float = param(0.04, min=0.0, max=0.2, step=0.005,
                               help="widest stroke taken for line art, as a fraction of the tree's size")
     max_size: int = param(1024, min=64, max=4096, step=64,
@@ -294,6 +299,79 @@ def crown_superpixels(rgb: np.ndarray, crown: np.ndarray, *, n_segments: int = 2
     if miss.any() and k:
         _, (iy, ix) = ndi.distance_transform_edt(out == 0, return_indices=True)
         out[miss] = out[iy[miss], ix[miss]]
+    return out
+
+
+def _outer_lines(lines: np.ndarray, opaque: np.ndarray) -> np.ndarray:
+    """The line pixels of the outline along the silhouette (within about one stroke of the outside).
+
+    They stay behind the fills in side views, where they would otherwise
+    cross the crown as the rim billboards carrying them swing inwards.
+    """
+    if not lines.any():
+        return lines
+    half = float(np.percentile(ndi.distance_transform_edt(lines)[lines], 90))
+    inside = ndi.distance_transform_edt(np.pad(opaque, 1))[1:-1, 1:-1]
+    return lines & (inside <= 2.0 * half + 1.5)
+
+
+def drawn_regions(rgb: np.ndarray, crown: np.ndarray, lines: np.ndarray, *, n_segments: int = 256,
+                  compactness: float = 0.35, min_area: int = 6) -> np.ndarray:
+    """Superpixels of a drawn crown that follow its drawn shapes (beyond the paper).
+
+    SLIC cuts across the shapes of clip art, so a side view scatters pieces
+    of every outline and fruit. Here each fill region bounded by the line
+    art (4-connected crown pixels off the lines) is one superpixel, split by
+    SLIC only when it is larger than the ``n_segments`` superpixels of the
+    crown would be on average (a large flat background still gets depth
+    variation); regions smaller than ``min_area`` join a neighbour. Line
+    pixels are left to the caller (the billboard cloud extends the labels
+    over them, so every shape carries the half of its outline nearest to it).
+
+    Returns
+    -------
+    labels : (H, W) int32
+        1..K on the crown off the lines, 0 elsewhere.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> crown = np.zeros((40, 40), bool); crown[5:35, 5:35] = True
+    >>> lines = np.zeros_like(crown); lines[5:35, 19:21] = True
+    >>> rgb = np.zeros((40, 40, 3), np.float32)
+    >>> int(drawn_regions(rgb, crown, lines, n_segments=2).max())
+    2
+    """
+    from skimage.segmentation import slic
+
+    crown = np.asarray(crown, bool)
+    free = crown & ~np.asarray(lines, bool)
+    lab, n = ndi.label(free)
+    out = np.zeros(crown.shape, np.int32)
+    if n == 0:
+        return out
+    areas = np.bincount(lab.ravel(), minlength=n + 1)
+    target = max(float(crown.sum()) / max(int(n_segments), 1), 1.0)
+    k = 0
+    for i, sl in enumerate(ndi.find_objects(lab), start=1):
+        if sl is None or areas[i] < min_area:
+            continue
+        m = lab[sl] == i
+        pieces = int(round(areas[i] / target))
+        if pieces >= 2:
+            sub = slic(np.asarray(rgb[sl], np.float64), n_segments=pieces, compactness=100.0 * compactness,
+                       mask=m, start_label=1, enforce_connectivity=True, channel_axis=-1)
+            sub = np.where(m, sub, 0)
+            ids = np.unique(sub[sub > 0])
+            for j in ids:
+                k += 1
+                out[sl][sub == j] = k
+            rest = m & (sub == 0)
+            if rest.any():
+                out[sl][rest] = k
+        else:
+            k += 1
+            out[sl][m] = k
     return out
 
 
@@ -855,8 +933,13 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
         lines = np.zeros((H, W), bool)
     filled = _fill_lines(work, lines, alpha > 1e-3) if lines.any() else work
 
-    # 1-2. Superpixels with natural outlines.
-    sp_lab = crown_superpixels(work[:, :, :3], crown, n_segments=p.n_segments, compactness=p.compactness)
+    # 1-2. Superpixels with natural outlines; on drawn trees the drawn shapes.
+    regions = p.drawn_regions and lines.any()
+    if regions:
+        sp_lab = drawn_regions(work[:, :, :3], crown, lines & crown, n_segments=p.n_segments,
+                               compactness=p.compactness)
+    else:
+        sp_lab = crown_superpixels(work[:, :, :3], crown, n_segments=p.n_segments, compactness=p.compactness)
     curves: list[np.ndarray] = []
     if p.replace_edges and sp_lab.max() > 1:
         sp_lab, curves = replace_straight_edges(sp_lab, opaque, straightness=p.straightness,
@@ -1021,7 +1104,10 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
             x0, y0, tex = cut
             add(x0, y0, tex, 0.0, 1.0, TRUNK_LAYER)
 
-    line_masks = _line_masks(lines, textures, tex_idx, centers, sizes)
+    # With drawn regions the crown's outlines travel on their shapes' billboards; only the
+    # trunk's outlines are still drawn behind the fills.
+    behind = lines & (~crown_ext | _outer_lines(lines, opaque)) if regions else lines
+    line_masks = _line_masks(behind, textures, tex_idx, centers, sizes)
 
     return BillboardCloud(
         centers=np.asarray(centers, np.float64).reshape(-1, 3),

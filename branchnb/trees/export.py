@@ -187,6 +187,56 @@ def _check_cloud(cloud):
         raise ValueError("cloud has no billboards")
 
 
+def _level_arrays(cloud, *, yaw: float, height: float, crossed: bool):
+    """Atlas and float32/uint32 vertex arrays (positions, uvs, colours, indices) of one cloud."""
+    atlas, rects = texture_atlas(cloud.textures)
+    # Power-of-two sides: mipmapped sampling (the sampler's minFilter) needs them in WebGL 1
+    # and the Khronos validator notes other sizes.
+    h, w = atlas.shape[:2]
+    pot = np.zeros((1 << int(np.ceil(np.log2(h))), 1 << int(np.ceil(np.log2(w))), 4), np.float32)
+    pot[:h, :w] = atlas
+    pot[h:, :w, :3] = atlas[-1:, :, :3]
+    pot[:, w:, :3] = pot[:, w - 1:w, :3]
+    atlas = pot
+    quads = check_finite(quad_vertices(cloud, yaw=yaw, height=height, crossed=crossed), "vertex positions")
+    K = len(quads)
+    owner = np.arange(K) % cloud.n_billboards
+    pos = quads.reshape(-1, 3).astype(np.float32)
+    uv = _uvs(cloud, rects, atlas.shape)[owner].reshape(-1, 2).astype(np.float32)
+    col = np.repeat(np.clip(cloud.tint[owner], 0, 1)[:, None], 3, axis=1)
+    col = np.repeat(col, 4, axis=0).astype(np.float32)
+    base = (np.arange(K, dtype=np.uint32) * 4)[:, None]
+    idx = (base + np.array([0, 3, 2, 0, 2, 1], np.uint32)[None, :]).reshape(-1).astype(np.uint32)
+    return atlas, pos, uv, col, idx
+
+
+def _pack(blobs, targets, data: bytearray | None = None, buffer: int = 0):
+    """Buffer views of ``blobs`` appended to ``data`` (4-byte aligned) and the data."""
+    data = bytearray() if data is None else data
+    views = []
+    for b, tgt in zip(blobs, targets):
+        data.extend(b"\0" * ((-len(data)) % 4))
+        view = {"buffer": buffer, "byteOffset": len(data), "byteLength": len(b)}
+        if tgt is not None:
+            view["target"] = tgt
+        views.append(view)
+        data.extend(b)
+    return views, data
+
+
+def _accessors(first_view: int, pos, uv, col, idx) -> list:
+    """Accessors of one level's positions, uvs, colours and indices (views ``first_view`` ...)."""
+    v = first_view
+    return [
+        {"bufferView": v, "componentType": 5126, "count": int(len(pos)), "type": "VEC3",
+         "min": pos.min(axis=0).tolist(), "max": pos.max(axis=0).tolist()},
+        {"bufferView": v + 1, "componentType": 5126, "count": int(len(uv)), "type": "VEC2"},
+        {"bufferView": v + 2, "componentType": 5126, "count": int(len(col)), "type": "VEC3"},
+        {"bufferView": v + 3, "componentType": 5125, "count": int(len(idx)), "type": "SCALAR",
+         "min": [int(idx.min())], "max": [int(idx.max())]},
+    ]
+
+
 @checked(yaw=_YAW, height=_HEIGHT)
 def export_gltf(cloud, path, *, yaw: float = 0.0, height: float = 10.0,
                 embed_texture: bool = False, crossed: bool = False) -> Path:
@@ -213,40 +263,13 @@ def export_gltf(cloud, path, *, yaw: float = 0.0, height: float = 10.0,
     """
     path = _out_path(path, ".gltf")
     _check_cloud(cloud)
-    atlas, rects = texture_atlas(cloud.textures)
-    quads = check_finite(quad_vertices(cloud, yaw=yaw, height=height, crossed=crossed), "vertex positions")
-    K = len(quads)
-    owner = np.arange(K) % cloud.n_billboards
-    pos = quads.reshape(-1, 3).astype(np.float32)
-    uv = _uvs(cloud, rects, atlas.shape)[owner].reshape(-1, 2).astype(np.float32)
-    col = np.repeat(np.clip(cloud.tint[owner], 0, 1)[:, None], 3, axis=1)
-    col = np.repeat(col, 4, axis=0).astype(np.float32)
-    base = (np.arange(K, dtype=np.uint32) * 4)[:, None]
-    idx = (base + np.array([0, 3, 2, 0, 2, 1], np.uint32)[None, :]).reshape(-1).astype(np.uint32)
-
+    atlas, pos, uv, col, idx = _level_arrays(cloud, yaw=yaw, height=height, crossed=crossed)
     blobs = [pos.tobytes(), uv.tobytes(), col.tobytes(), idx.tobytes()]
     png = encode_png(atlas) if embed_texture else None
     if png is not None:
         blobs.append(png)
-    views, offset, data = [], 0, bytearray()
-    targets = [34962, 34962, 34962, 34963, None]
-    for b, tgt in zip(blobs, targets):
-        pad = (-len(data)) % 4
-        data.extend(b"\0" * pad)
-        offset = len(data)
-        view = {"buffer": 0, "byteOffset": offset, "byteLength": len(b)}
-        if tgt is not None:
-            view["target"] = tgt
-        views.append(view)
-        data.extend(b)
-    accessors = [
-        {"bufferView": 0, "componentType": 5126, "count": int(len(pos)), "type": "VEC3",
-         "min": pos.min(axis=0).tolist(), "max": pos.max(axis=0).tolist()},
-        {"bufferView": 1, "componentType": 5126, "count": int(len(uv)), "type": "VEC2"},
-        {"bufferView": 2, "componentType": 5126, "count": int(len(col)), "type": "VEC3"},
-        {"bufferView": 3, "componentType": 5125, "count": int(len(idx)), "type": "SCALAR",
-         "min": [int(idx.min())], "max": [int(idx.max())]},
-    ]
+    views, data = _pack(blobs, [34962, 34962, 34962, 34963, None])
+    accessors = _accessors(0, pos, uv, col, idx)
     k, ax, bottom = _frame(cloud, height)
     centres = np.stack([(cloud.centers[:, 0] - ax) * k, (bottom - cloud.centers[:, 1]) * k,
                         cloud.centers[:, 2] * k], axis=1)

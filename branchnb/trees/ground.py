@@ -243,6 +243,42 @@ def _drop_side_clutter(tree: np.ndarray, stem: np.ndarray, top: int, foot: int,
     return tree & ~clutter
 
 
+def _drop_foot_leaves(tree: np.ndarray, stem: np.ndarray, foreign_small: np.ndarray, y_f: int,
+                      trunk_width: float) -> np.ndarray:
+    """Cut leaves of the pile that overlap the lowest rows of the trunk.
+
+    The cut at the foot row leaves the pile's pieces drawn over the trunk
+    just above it (a red leaf leaning on the foot). In the last 1.5 trunk
+    widths above the foot, the clutter-coloured pixels (with their
+    outlines, :func:`_foreign_to_trunk`) outside the trunk's column (its
+    span in the narrowest row above, plus 2 px) go, and the tree is again the piece
+    connected to the crown.
+    """
+    h, w = tree.shape
+    k = max(2, int(round(1.5 * trunk_width)))
+    # The trunk's column: the narrowest tree row of the two trunk widths above the band.
+    r0, r1 = max(0, y_f - 3 * k), max(1, y_f - k)
+    widths = tree[r0:r1].sum(axis=1)
+    if not (widths > 0).any():
+        return tree
+    r = r0 + int(np.argmin(np.where(widths > 0, widths, np.iinfo(np.int64).max)))
+    xs = np.flatnonzero(tree[r])
+    if xs[-1] - xs[0] + 1 > 2.5 * trunk_width:
+        return tree
+    foreign = cv2.resize(foreign_small.astype(np.uint8), (w, h), interpolation=cv2.INTER_NEAREST) > 0
+    foreign = cv2.dilate(foreign.astype(np.uint8), np.ones((3, 3), np.uint8)) > 0
+    col = np.zeros_like(tree)
+    col[:, max(0, xs[0] - 2):xs[-1] + 3] = True
+    band = np.zeros_like(tree)
+    band[max(0, y_f - k):y_f + 1] = True
+    out = tree & ~(foreign & band & ~col)
+    lab, n = ndi.label(out, structure=np.ones((3, 3), bool))
+    if n > 1:
+        ys = np.flatnonzero(out.any(axis=1))
+        out = lab == _crown_component(lab[ys[0]:], max(1, int(0.3 * (ys[-1] - ys[0] + 1))))
+    return out
+
+
 def _profile_and_foot(small: np.ndarray, p: GroundParams):
     """(neck widths, neck mask, foot row, trunk width, band top) of a working mask.
 
@@ -377,6 +413,7 @@ def split_ground(image, params: GroundParams | None = None, **overrides) -> Grou
         s = 1.0
     empty = np.zeros_like(mask)
     c, neck, foot_small, w_t, top_small = _profile_and_foot(small, p)
+    foreign_small = None
     if foot_small is not None and rgb is not None:
         rgb_small = rgb if s >= 1.0 else cv2.resize(rgb, (small.shape[1], small.shape[0]),
                                                     interpolation=cv2.INTER_AREA)
@@ -390,6 +427,7 @@ def split_ground(image, params: GroundParams | None = None, **overrides) -> Grou
                 foot = _visible_foot(small, visible, again[1], again[2], foot_small)
                 c, neck, _, w_t, _ = again
                 foot_small = foot
+                foreign_small = foreign
     if foot_small is None:
         return GroundSplit(mask.copy(), empty, None, 0.0, empty.copy())
     # The stem ends where the crown widens: walking up from the foot while
@@ -419,6 +457,8 @@ def split_ground(image, params: GroundParams | None = None, **overrides) -> Grou
         crown = _crown_component(lab[ys[0]:], top_rows)
         tree = lab == crown
         tree = _drop_side_clutter(tree, stem, int(np.floor(stem_top / s)), y_f, w_t / s)
+        if foreign_small is not None:
+            tree = _drop_foot_leaves(tree, stem, foreign_small, y_f, w_t / s)
         ground = mask & ~tree
     xs = np.flatnonzero(tree[y_f])
     foot = (float(np.median(xs)), float(y_f)) if xs.size else None

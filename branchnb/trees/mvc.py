@@ -31,7 +31,7 @@ import numpy as np
 
 from ..core.image import as_mask, as_points, as_rgba
 from ..core.random import as_rng
-from ..core.validate import Array, checked
+from ..core.validate import Array, Choice, Real, checked
 from .morph import check_weights
 
 __all__ = [
@@ -39,6 +39,8 @@ __all__ = [
     "mvc_map",
     "sample_rgba",
     "transfer_colour",
+    "smooth_gumbel",
+    "COLOUR_MODES",
 ]
 
 @numba.njit(cache=True)
@@ -258,9 +260,54 @@ def _SEQ(value, name, allow_none):
     return value
 
 
-@checked(sources=_SEQ, source_cages=_SEQ, target_cage=Array(ndim=2), target_mask=Array(ndim=2))
+#: Regulariser of the seam cost's gradient normalisation in ``"choose"``: small,
+#: so a seam across a flat fill costs far more than one along an outline.
+SEAM_EPS = 0.01
+
+#: How :func:`transfer_colour` combines the exemplars' colours.
+COLOUR_MODES = ("blend", "choose")
+
+
+def smooth_gumbel(shape: tuple[int, int], k: int, scale: float, *, rng=None) -> np.ndarray:
+    """``k`` spatially smooth random fields whose value at every pixel is standard-Gumbel distributed.
+
+    White noise blurred with a Gaussian of ``scale`` pixels, rescaled to
+    unit variance, pushed through the normal CDF (uniform marginals) and
+    then through ``-log(-log u)``. With these fields the Gumbel-max rule
+    ``argmax_i log c_i + g_i(p)`` picks source ``i`` at every pixel with
+    probability exactly ``c_i``, and neighbouring pixels pick alike, so the
+    picks form regions about ``scale`` pixels across.
+
+    Returns
+    -------
+    (k, H, W) float64 ndarray
+    """
+    from scipy.special import ndtr
+
+    gen = as_rng(rng)
+    h, w = int(shape[0]), int(shape[1])
+    # The blur is done on a grid about scale / 4 coarser (the fields are smooth anyway).
+    f = max(1, int(scale // 4))
+    hs, ws = -(-h // f) + 2, -(-w // f) + 2
+    sig = max(scale / f, 0.5)
+    out = np.empty((k, h, w))
+    for i in range(k):
+        n = cv2.GaussianBlur(gen.standard_normal((hs, ws)), (0, 0), sig, borderType=cv2.BORDER_REFLECT)
+        # The variance of blurred unit white noise is 1 / (4 pi sigma^2) in the continuum; the
+        # empirical std is used so the marginals are standard normal on small grids too.
+        n = n / max(float(n.std()), 1e-12)
+        big = cv2.resize(n, ((ws - 2) * f, (hs - 2) * f), interpolation=cv2.INTER_LINEAR)[:h, :w] \
+            if f > 1 else n[1:h + 1, 1:w + 1]
+        u = np.clip(ndtr(big), 1e-12, 1 - 1e-12)
+        out[i] = -np.log(-np.log(u))
+    return out
+
+
+@checked(sources=_SEQ, source_cages=_SEQ, target_cage=Array(ndim=2), target_mask=Array(ndim=2),
+         mode=Choice(*COLOUR_MODES), region_scale=Real(0.0, 1.0, low_open=True), seam=Real(0, 1e6))
 def transfer_colour(sources, source_cages, target_cage, target_mask, *,
-                    colour_weights=None, rng=None) -> np.ndarray:
+                    colour_weights=None, rng=None, mode: str = "blend",
+                    region_scale: float = 0.15, seam: float = 20.0) -> np.ndarray:
     """Colour a target shape from one or more exemplars through their simplified contours.
 
     Parameters
@@ -276,20 +323,41 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
     target_mask : (H, W) array_like
         Pixels to colour (the filled target contour).
     colour_weights : (k,) array_like, optional
-        Convex weights of the exemplars' colours; None draws them from a
-        flat Dirichlet distribution (the paper's random convex combination).
-        Exemplars with weight 0 are not sampled.
+        Convex weights ``c_i`` of the exemplars' colours; None draws them
+        from a flat Dirichlet distribution (the paper's random convex
+        combination). Exemplars with weight 0 are not sampled.
     rng : int or numpy.random.Generator, optional
-        For the random colour weights.
+        For the random colour weights and the regions of ``"choose"``.
+    mode : {"blend", "choose"}
+        ``"blend"`` (the paper): every pixel's colour is the convex
+        combination ``sum_i c_i [a_i] rgb_i / sum_i c_i [a_i]`` of the
+        exemplars opaque there, right for photographs, whose colours vary
+        from pixel to pixel anyway. ``"choose"`` (beyond the paper, for
+        drawn trees): every pixel takes the colour of *one* exemplar, so
+        flat colours, outlines and fruits stay whole instead of showing
+        through each other as half-transparent overlays. The regions are
+        drawn with the Gumbel-max rule on smooth random fields
+        (:func:`smooth_gumbel`: exemplar ``i`` owns a share ``c_i`` of the
+        pixels on average, in regions about ``region_scale`` times the tree
+        size across), then a multi-label graph cut
+        (:func:`~branchnb.core.graphcut.multilabel_seams`) moves the seams
+        between regions to where the exemplars agree or where they have
+        edges, i.e. along their outlines.
+    region_scale : float
+        ``"choose"``: size of the regions, as a share of the image side.
+    seam : float
+        ``"choose"``: weight of the seam cost against the regions' data
+        term (0: the regions as drawn).
 
     Returns
     -------
     (H, W, 4) float32 ndarray
-        Straight (not premultiplied) RGBA with binary alpha: 1 where at
-        least one exemplar with colour weight > 0 is opaque (sampled alpha
-        >= 0.5) inside ``target_mask``; colour is
-        ``sum_i c_i [a_i >= 0.5] rgb_i / sum_i c_i [a_i >= 0.5]`` (only
-        exemplars opaque at the mapped point blend); black where alpha is 0.
+        Straight (not premultiplied) RGBA with binary alpha: 1 inside
+        ``target_mask`` where the exemplars opaque at the mapped point hold
+        at least half the colour weight, ``sum_i c_i [a_i >= 0.5] >= 1/2``,
+        so an exemplar whose weight tends to 0 adds no pixel (the paper
+        takes the union, which lets a barely weighted exemplar paint its
+        rim); black where alpha is 0.
 
     Examples
     --------
@@ -315,8 +383,9 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
             raise ValueError(f"source_cages[{i}] has {len(c)} vertices, target_cage {len(tcage)}: "
                              "simplified contours must correspond vertex by vertex")
     mask = as_mask(target_mask, name="target_mask")
+    gen = as_rng(rng)
     if colour_weights is None:
-        cw = as_rng(rng).dirichlet(np.ones(len(srcs))) if len(srcs) > 1 else np.ones(1)
+        cw = gen.dirichlet(np.ones(len(srcs))) if len(srcs) > 1 else np.ones(1)
     else:
         cw = check_weights(colour_weights, len(srcs), name="colour_weights")
     used = np.flatnonzero(cw > 0)
@@ -326,19 +395,51 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
     # A source takes part at a pixel only where it is opaque there (sampled
     # alpha >= 0.5): where it is transparent its colour is not blended in as
     # a half-transparent layer, and the result is a clean cut-out.
-    opaque = np.zeros(len(pts), bool)
-    num = np.zeros((len(pts), 3), np.float64)
-    den = np.zeros(len(pts), np.float64)
+    on = np.zeros((len(used), len(pts)), bool)
+    cols = np.zeros((len(used), len(pts), 3), np.float32)
     for k, i in enumerate(used):
         smp = sample_rgba(srcs[i], mapped[k])
-        a = smp[:, 3]
-        on = a >= 0.5
-        opaque |= on
-        straight = smp[:, :3] / np.maximum(a, 1e-6)[:, None]
-        num += (cw[i] * on)[:, None] * straight
-        den += cw[i] * on
-    rgb = np.where(den[:, None] > 1e-12, num / np.maximum(den, 1e-12)[:, None], 0.0)
+        on[k] = smp[:, 3] >= 0.5
+        cols[k] = smp[:, :3] / np.maximum(smp[:, 3], 1e-6)[:, None]
+    c = cw[used]
+    vote = (c[:, None] * on).sum(axis=0)
+    opaque = vote >= 0.5 - 1e-9
+    if mode == "blend" or len(used) == 1:
+        den = (c[:, None] * on).sum(axis=0)
+        num = ((c[:, None] * on)[..., None] * cols).sum(axis=0)
+        rgb = np.where(den[:, None] > 1e-12, num / np.maximum(den, 1e-12)[:, None], 0.0)
+    else:
+        rgb = _choose(cols, on, opaque, c, ys, xs, mask.shape, region_scale, seam, gen)
     out = np.zeros(mask.shape + (4,), np.float32)
     out[ys, xs, :3] = np.clip(rgb, 0.0, 1.0) * opaque[:, None]
     out[ys, xs, 3] = opaque
     return out
+
+
+def _choose(cols, on, opaque, c, ys, xs, shape, region_scale, seam, gen) -> np.ndarray:
+    """Colour of the ``"choose"`` mode: one source per pixel (Gumbel-max regions, then seams)."""
+    from ..core.graphcut import multilabel_seams
+
+    k = len(c)
+    r0, r1, c0, c1 = ys.min(), ys.max() + 1, xs.min(), xs.max() + 1
+    h, w = r1 - r0, c1 - c0
+    g = smooth_gumbel((h, w), k, max(2.0, region_scale * max(shape)), rng=gen)
+    yy, xx = ys - r0, xs - c0
+    score = np.log(c)[:, None] + g[:, yy, xx]               # (k, P)
+    score = np.where(on, score, -np.inf)
+    best = score.max(axis=0)
+    imgs = np.zeros((k, h, w, 3), np.float32)
+    imgs[:, yy, xx] = cols
+    unary = np.full((h, w, k), np.inf)
+    # Data term: how far below the pixel's best Gumbel-max score a source
+    # is (0 for the drawn region's owner), forbidden where it is transparent.
+    with np.errstate(invalid="ignore"):
+        gap = np.where(on, best[None] - score, np.inf)
+    unary[yy, xx] = np.where(np.isfinite(gap), np.minimum(gap, 8.0), np.inf).T
+    region = np.zeros((h, w), bool)
+    region[yy[opaque], xx[opaque]] = True
+    li = np.argmax(score, axis=0)
+    if seam > 0:
+        lab = multilabel_seams(imgs, unary, region=region, smoothness=seam, eps=SEAM_EPS)[yy, xx]
+        li = np.where(lab >= 0, lab, li)
+    return cols[li, np.arange(len(li))]

@@ -4,9 +4,9 @@ What a reader of the paper checks by eye, as numbers:
 
 * :func:`soft_alpha_fraction`: share of opaque-ish pixels with alpha between
   0.1 and 0.9 away from the silhouette rim (a clean cut-out has none);
-* :func:`foreign_colour_fraction`: share of a variation's opaque pixels
-  whose colour is far from every colour of the exemplars that have colour
-  weight (colour of a zero-weight exemplar, or black slivers);
+* :func:`crossfade_fraction`: share of a variation's flat pixels whose
+  colour is far from every dominant colour of the exemplars (cross-fade
+  ghosting of drawn trees);
 * :func:`pieces` and :func:`large_holes`: opaque components and interior
   transparent holes larger than a given area;
 * :func:`flat_region_speckle`: of a billboard cloud, the share of the
@@ -26,7 +26,10 @@ import numpy as np
 from scipy import ndimage as ndi
 from scipy.spatial import cKDTree
 
-__all__ = ["soft_alpha_fraction", "foreign_colour_fraction", "pieces", "large_holes", "hole_sizes",
+from ..core.image import as_rgba
+
+__all__ = ["soft_alpha_fraction", "flat_pixels", "dominant_palette", "crossfade_fraction",
+           "foreign_colour_fraction", "dark_rim_fraction", "pieces", "large_holes", "hole_sizes",
            "flat_region_speckle", "colour_span", "largest_piece_share"]
 
 
@@ -40,34 +43,144 @@ def soft_alpha_fraction(image, *, rim: int = 1) -> float:
     return float(np.count_nonzero(soft & core) / n)
 
 
-def foreign_colour_fraction(image, sources, *, tol: float = 0.12, max_colours: int = 20000,
-                            rng=0) -> float:
-    """Share of opaque pixels whose RGB is farther than ``tol`` from every source colour.
+def flat_pixels(image, *, span: float = 0.06, alpha: float = 0.99) -> np.ndarray:
+    """Pixels inside flat colour areas: opaque 3 x 3 neighbourhoods varying by less than ``span``.
+
+    Anti-aliased edges, outlines' rims and photographic texture are left
+    out, so what remains is where a drawn tree has one flat fill colour.
+
+    Parameters
+    ----------
+    image : (H, W, 4) array_like
+        Straight RGBA (RGB or grey: opaque).
+    span : float
+        Largest per-channel range in the 3 x 3 window.
+    alpha : float
+        Every pixel of the window must be at least this opaque.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+    """
+    img = as_rgba(image, name="image")
+    opaque = ndi.minimum_filter(img[..., 3], size=3, mode="constant") >= alpha
+    return opaque & (colour_span(img[..., :3], size=3) < span)
+
+
+def dominant_palette(sources, *, tol: float = 0.12, span: float = 0.06, quant: float = 1 / 64,
+                     max_colours: int = 512) -> np.ndarray:
+    """The dominant flat colours of some drawn images, enough to cover all their flat pixels.
+
+    The flat pixels (:func:`flat_pixels`) of every source are quantised to
+    ``quant`` and covered greedily: the most frequent colour not yet within
+    ``tol`` of the palette joins it, until every flat colour is covered (or
+    ``max_colours`` is reached). So each source scores 0 against itself in
+    :func:`crossfade_fraction`, while a palette entry is never a blend of
+    two others unless the sources themselves contain that colour.
+
+    Returns
+    -------
+    (P, 3) float32 ndarray
+    """
+    cols = []
+    if isinstance(sources, np.ndarray) and sources.ndim == 3:
+        sources = [sources]
+    for i, s in enumerate(sources):
+        s = as_rgba(s, name=f"sources[{i}]")
+        cols.append(s[flat_pixels(s, span=span)][:, :3])
+    c = np.vstack(cols) if cols else np.zeros((0, 3), np.float32)
+    if len(c) == 0:
+        return np.zeros((0, 3), np.float32)
+    q, counts = np.unique(np.round(c / quant).astype(np.int32), axis=0, return_counts=True)
+    q = q.astype(np.float32) * quant
+    order = np.argsort(counts, kind="stable")[::-1]
+    q = q[order]
+    covered = np.zeros(len(q), bool)
+    palette = []
+    tree = cKDTree(q)
+    for i in range(len(q)):
+        if covered[i]:
+            continue
+        palette.append(q[i])
+        covered[tree.query_ball_point(q[i], tol - 0.5 * np.sqrt(3) * quant)] = True
+        if len(palette) >= max_colours:
+            break
+    return np.asarray(palette, np.float32)
+
+
+def crossfade_fraction(image, sources, *, tol: float = 0.12, span: float = 0.06,
+                       palette=None) -> float:
+    """Share of a variation's flat pixels whose colour is a cross-fade of the sources' palettes.
+
+    A flat pixel (opaque 3 x 3 neighbourhood varying by less than ``span``,
+    :func:`flat_pixels`) counts as a cross-fade when its RGB is farther than
+    ``tol`` from every dominant colour of the sources
+    (:func:`dominant_palette`). Each source scores 0 against itself; half
+    green and half brown (an olive veil) or a half-transparent fruit
+    scores 1. This replaces the old foreign-colour share, which compared
+    with *every* source pixel colour and so matched blended colours
+    against the soft edge pixels of the sources.
 
     Parameters
     ----------
     image : (H, W, 4) array_like
         The variation (straight RGBA).
     sources : sequence of (H, W, 4) array_like
-        The exemplars with colour weight > 0 (straight or black-background
-        RGBA; only their opaque pixels count).
+        The exemplars mixed.
     tol : float
         Euclidean RGB distance.
+    palette : (P, 3) array_like, optional
+        A precomputed :func:`dominant_palette` of ``sources``.
+
+    Returns
+    -------
+    float
+        0 when the image has no flat pixel.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> a = np.zeros((8, 8, 4), np.float32); a[...] = (0.1, 0.6, 0.1, 1)
+    >>> b = a.copy(); b[..., :3] = (0.5, 0.3, 0.1)
+    >>> mix = a.copy(); mix[..., :3] = 0.5 * a[..., :3] + 0.5 * b[..., :3]
+    >>> crossfade_fraction(a, [a, b]), crossfade_fraction(mix, [a, b])
+    (0.0, 1.0)
+    """
+    img = as_rgba(image, name="image")
+    flat = flat_pixels(img, span=span)
+    if not flat.any():
+        return 0.0
+    pal = dominant_palette(sources, tol=tol, span=span) if palette is None \
+        else np.asarray(palette, np.float32).reshape(-1, 3)
+    if len(pal) == 0:
+        return 1.0
+    d, _ = cKDTree(pal).query(img[flat][:, :3], k=1)
+    return float(np.mean(d > tol))
+
+
+def foreign_colour_fraction(image, sources, *, tol: float = 0.12, **kwargs) -> float:
+    """Deprecated name of :func:`crossfade_fraction` (the dominant-palette measure)."""
+    return crossfade_fraction(image, sources, tol=tol, **kwargs)
+
+
+def dark_rim_fraction(image, mask, *, darkest=None) -> float:
+    """Share of opaque pixels outside the (dilated by one pixel) ``mask`` darker than ``darkest``.
+
+    Clean rims: no pixel darker than the outline may stick out of the mixed
+    contour. ``darkest`` defaults to 0.9 times the luminance of the darkest
+    tenth of a percent of the image inside ``mask``.
     """
     img = np.asarray(image, dtype=np.float32)
+    m = np.asarray(mask, bool)
+    lum = img[..., :3] @ np.array([0.299, 0.587, 0.114], np.float32)
     op = img[..., 3] >= 0.5
-    if not op.any():
+    outside = op & ~ndi.binary_dilation(m, iterations=1)
+    if not outside.any():
         return 0.0
-    gen = np.random.default_rng(rng)
-    cols = []
-    for s in sources:
-        s = np.asarray(s, dtype=np.float32)
-        cols.append(s[s[..., 3] >= 0.5][:, :3])
-    palette = np.unique(np.round(np.vstack(cols), 3), axis=0)
-    if len(palette) > max_colours:
-        palette = palette[gen.choice(len(palette), max_colours, replace=False)]
-    d, _ = cKDTree(palette).query(img[op][:, :3], k=1)
-    return float(np.mean(d > tol))
+    if darkest is None:
+        inside = lum[op & m]
+        darkest = 0.9 * float(np.quantile(inside, 0.001)) if inside.size else 0.0
+    return float(np.count_nonzero(outside & (lum < darkest)) / max(int(op.sum()), 1))
 
 
 def pieces(alpha, *, min_area: int = 1) -> int:

@@ -57,7 +57,7 @@ from .imageview import ImageView
 from .params import ParamPanel
 from .shell import AppShell
 
-__all__ = ["TreeVariationsApp", "convex_update"]
+__all__ = ["TreeVariationsApp", "convex_update", "channel_range"]
 
 #: Scribble labels of the segmentation canvas and their colours.
 SEG_LABELS = {"trunk": "#c62828", "crown": "#2e7d32"}
@@ -92,6 +92,32 @@ def convex_update(weights, index: int, value: float) -> np.ndarray:
     w = w * ((1.0 - v) / rest) if rest > 1e-12 else np.full(k, (1.0 - v) / (k - 1))
     w[index] = v
     return w
+
+
+def channel_range(samples, channel: int, *, min_width: float = 0.1) -> tuple[float, float]:
+    """Histogram range of one colour channel over several ``(P, 3)`` samples.
+
+    The data's own span rather than [0, 1], and centred on the data when
+    the span is narrower than ``min_width``: the blue of drawn green trees
+    is often exactly 0, so on [0, 1] its one bar sat on the left border and
+    the histogram looked empty.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> channel_range([np.array([[0.1, 0.5, 0.0], [0.2, 0.6, 0.0]])], 2)
+    (-0.05, 0.05)
+    """
+    vals = [np.asarray(p)[:, channel] for p in samples if len(p)]
+    if not vals:
+        return 0.0, 1.0
+    v = np.concatenate(vals)
+    lo, hi = float(np.quantile(v, 0.001)), float(np.quantile(v, 0.999))
+    if hi - lo < min_width:
+        mid = 0.5 * (lo + hi)
+        return round(mid - 0.5 * min_width, 6), round(mid + 0.5 * min_width, 6)
+    pad = 0.02 * (hi - lo)
+    return max(0.0, lo - pad), min(1.0, hi + pad)
 
 
 def _thumb(image, size: int) -> np.ndarray:
@@ -173,7 +199,9 @@ class TreeVariationsApp(widgets.VBox):
         self.panel = ParamPanel(VariationParams, errors=self.errors, hide=("keep",), labels={
             "m_points": ("cage vertices", "M"), "n_mix": ("trees per random mix", ""),
             "concentration": ("shape concentration", "\u03b1"),
-            "colour_concentration": ("colour concentration", "\u03b1c")}, title="variation parameters")
+            "colour_concentration": ("colour concentration", "\u03b1c"),
+            "colour_mode": ("colour mixing", ""), "region_scale": ("colour region size", ""),
+            "seam": ("seam weight", "")}, title="variation parameters")
         self.m_points = self.panel.controls["m_points"]
         self.panel.on_change(g(lambda _p: self._live_update()))
         self.rng = widgets.BoundedIntText(value=0, min=0, max=2**31 - 1, description="seed",
@@ -198,9 +226,13 @@ class TreeVariationsApp(widgets.VBox):
             tooltip="Dirichlet weights for the checked trees from the seed")
         for w in (self.rng, self.colour_mode, self.reference):
             w.observe(g(lambda _c: self._live_update()), names="value")
-        self.views = ImageView(width=int(display), max_size=2 * int(display))
-        self.hists = [HistogramCompare(bins=16, metric="l1", title=f"{c} channel",
-                                       width=3 * int(display) + 16, height=110)
+        # Never wider than the trees themselves: a 128 px tree shown at 256 px is a
+        # blurred, pixelated enlargement.
+        disp = int(min(int(display), self.library.size))
+        self._display = disp
+        self.views = ImageView(width=disp, max_size=2 * disp)
+        self.hists = [HistogramCompare(bins=24, metric="l1", title=f"{c} channel",
+                                       width=max(3 * disp + 16, 400), height=110)
                       for c in ("red", "green", "blue")]
         self.status = widgets.HTML()
         mix = widgets.VBox([self.status, self.views, *self.hists])
@@ -216,12 +248,12 @@ class TreeVariationsApp(widgets.VBox):
                                            description="t", continuous_update=False)
         for w in (self.morph_a, self.morph_b, self.morph_t):
             w.observe(g(self._on_morph_widget), names="value")
-        self.morph_view = ImageView(width=int(display))
+        self.morph_view = ImageView(width=disp)
         morph = widgets.VBox([widgets.HBox([self.morph_a, self.morph_b, self.morph_t]),
                               self.morph_view])
 
         # -- more like this
-        self.keep = widgets.FloatSlider(value=0.6, min=0.0, max=1.0, step=0.05, description="keep",
+        self.keep = widgets.FloatSlider(value=0.3, min=0.0, max=1.0, step=0.05, description="keep",
                                         continuous_update=False,
                                         tooltip="share of the current weights each variation keeps")
         self.n_similar = widgets.IntSlider(value=6, min=1, max=12, description="count",
@@ -231,7 +263,7 @@ class TreeVariationsApp(widgets.VBox):
             tooltip="random variations around the current mix (tab 'more like this')")
         self.grid = widgets.HBox(layout=widgets.Layout(flex_flow="row wrap"))
         self.grid.add_class("bnb-view")
-        self._grid_size = max(96, int(display) // 2)
+        self._grid_size = min(max(96, int(display) // 2), self.library.size)
         similar = widgets.VBox([widgets.HBox([self.keep, self.n_similar]),
                                 self.grid])
 
@@ -250,7 +282,7 @@ class TreeVariationsApp(widgets.VBox):
                                         layout=widgets.Layout(width="auto"))
         self.seg_reset.on_click(g(lambda _: self.seg_canvas.model.clear()))
         self.seg_status = widgets.HTML()
-        self.seg_view = ImageView(width=int(display))
+        self.seg_view = ImageView(width=disp)
         seg_tab = widgets.VBox([
             widgets.HBox([self.seg_tree, self.seg_reset]),
             widgets.HTML("scribble <b>trunk</b> (red) or <b>crown</b> (green) where the "
@@ -274,14 +306,18 @@ class TreeVariationsApp(widgets.VBox):
             self.yaw = widgets.FloatSlider(value=30.0, min=-180.0, max=180.0, step=5.0,
                                            description="yaw", continuous_update=False)
             self.yaw.observe(g(lambda _c: self.set_yaw()), names="value")
-            self.cloud_view = ImageView(width=int(display))
+            self.cloud_view = ImageView(width=disp)
             self.cloud_status = widgets.HTML()
             children.append(widgets.VBox([
                 widgets.HBox([self.cloud_source, self.cloud_button, self.yaw]),
                 self.cloud_status, self.cloud_view]))
             titles.append("billboard cloud")
 
-        self.tabs = widgets.Tab(children=children)
+        # The tabs take the width the column gives them, whatever the selected tab holds
+        # (min_width 0: a wide tab scrolls inside instead of widening the column), so the
+        # sidebar beside them does not jump sideways when tabs switch.
+        self.tabs = widgets.Tab(children=children,
+                                layout=widgets.Layout(width="100%", min_width="0", overflow="auto"))
         for i, title in enumerate(titles):
             self.tabs.set_title(i, title)
         self.shell.add_tool(self.rng)
@@ -291,6 +327,7 @@ class TreeVariationsApp(widgets.VBox):
                                   self.thumbnails, self.tabs],
                             sidebar=[self._mix_controls])
         self.shell.result.layout.display = "none"
+        self.shell.sidebar.add_class("bnb-trees-sidebar")
         super().__init__([self.shell])
         self._rebuild_sliders()
         g(self.update)()
@@ -390,12 +427,13 @@ class TreeVariationsApp(widgets.VBox):
             self.views.update(images, titles)
             px = [opaque_pixels(s) for s in samples]
             for c, h in enumerate(self.hists):
-                h.update(*[p[:, c] for p in px], labels=labels, range=(0.0, 1.0))
+                h.update(*[p[:, c] for p in px], labels=labels, range=channel_range(px, c))
             cw = self.variation.colour_weights
             self.status.value = (
                 "shape: " + self.variation.label() + " &nbsp;|&nbsp; colour: "
                 + " + ".join(f"{c:.2f} {n}" for n, c in zip(self.variation.names, cw) if c > 0)
-                + f" &nbsp;|&nbsp; M = {self.params().m_points}")
+                + f" &nbsp;|&nbsp; M = {self.params().m_points} &nbsp;|&nbsp; colours "
+                + ("chosen per region" if self.variation.colour_mode == "choose" else "blended"))
 
     def set_morph(self, a: str | None = None, b: str | None = None, t: float | None = None) -> None:
         """Morph tree ``a`` into tree ``b`` at ``t`` (weights ``1 - t``, ``t``)."""

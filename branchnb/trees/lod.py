@@ -1,0 +1,390 @@
+"""Levels of detail of one billboard cloud, exported as glTF (beyond the paper).
+
+Game engines (SpeedTree, ez-tree) draw a tree with a chain of ever cheaper
+representations as it moves away from the camera. From one
+:class:`~branchnb.trees.billboard.BillboardCloud` this module derives
+
+0. ``full``: the whole cloud (two triangles per billboard);
+1. ``reduced``: the front view as one billboard at the back, before it
+   the billboards that carry most of the picture (front and trunk first,
+   by opaque area), ``reduced_share`` of them;
+2. ``crossed``: the front view of the tree on two perpendicular quads
+   (four triangles);
+3. ``single``: the front view on one quad (two triangles), an impostor.
+
+:func:`export_lod_gltf` writes them as one self-contained glTF 2.0 file
+with the ``MSFT_lod`` extension (the first node holds the full cloud and
+lists the coarser nodes; ``extras.MSFT_screencoverage`` gives the screen
+coverage below which each level hands over to the next), or one file per
+level (``mode="files"``). Every level uses the same units, axes and origin
+as :func:`~branchnb.trees.export.export_gltf`.
+
+Examples
+--------
+>>> import tempfile, pathlib, json
+>>> from branchnb import data
+>>> from branchnb.trees.billboard import BillboardParams, billboard_cloud
+>>> cloud = billboard_cloud(data.load("tree_rpg_03"), params=BillboardParams(max_size=128), rng=0)
+>>> chain = lod_chain(cloud)
+>>> [lv.name for lv in chain], [lv.triangles for lv in chain][2:]
+(['full', 'reduced', 'crossed', 'single'], [4, 2])
+>>> out = export_lod_gltf(cloud, pathlib.Path(tempfile.mkdtemp()) / "tree.gltf")
+>>> json.loads(out[0].read_text())["nodes"][0]["extensions"]["MSFT_lod"]["ids"]
+[1, 2, 3]
+"""
+
+from __future__ import annotations
+
+import base64
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..core.io import encode_png
+from ..core.jsonio import dumps_strict
+from ..core.validate import Choice, Real, checked
+from .export import _HEIGHT, _YAW, _accessors, _check_cloud, _level_arrays, _out_path, _pack
+
+__all__ = ["LOD_LEVELS", "LodLevel", "reduce_cloud", "impostor_cloud", "lod_chain", "export_lod_gltf",
+           "validate_gltf"]
+
+#: The levels of :func:`lod_chain`, finest first.
+LOD_LEVELS = ("full", "reduced", "crossed", "single")
+
+#: Default screen coverage (share of the screen height) below which a level hands over to the next.
+SCREEN_COVERAGE = (0.5, 0.2, 0.05, 0.0)
+
+
+@dataclass(eq=False)
+class LodLevel:
+    """One level of detail.
+
+    Attributes
+    ----------
+    name : str
+        ``"full"``, ``"reduced"``, ``"crossed"`` or ``"single"``.
+    cloud : BillboardCloud
+        The billboards of this level.
+    crossed : bool
+        Two perpendicular quads per billboard.
+    """
+
+    name: str
+    cloud: object
+    crossed: bool = False
+
+    @property
+    def quads(self) -> int:
+        return self.cloud.n_billboards * (2 if self.crossed else 1)
+
+    @property
+    def triangles(self) -> int:
+        """Triangles drawn (two per quad)."""
+        return 2 * self.quads
+
+
+def _subset(cloud, keep: np.ndarray):
+    from .billboard import BillboardCloud
+
+    keep = np.asarray(keep, int)
+    used = np.unique(cloud.texture[keep])
+    remap = np.full(len(cloud.textures), -1)
+    remap[used] = np.arange(len(used))
+    lines = [cloud.line_masks[i] for i in used] if len(cloud.line_masks) == len(cloud.textures) else []
+    return BillboardCloud(cloud.centers[keep], cloud.sizes[keep], remap[cloud.texture[keep]],
+                          cloud.tint[keep], cloud.layer[keep], keep.copy(),
+                          [cloud.textures[i] for i in used], cloud.axis, cloud.image,
+                          cloud.superpixels, cloud.depth, cloud.replaced, cloud.scale, cloud.lines, lines)
+
+
+@checked(share=Real(0, 1, low_open=True))
+def reduce_cloud(cloud, share: float = 0.3):
+    """A cheaper cloud: the front view as one billboard at the back plus ``ceil(share K)`` billboards.
+
+    Of the ``K`` billboards, front and trunk ones come first (they carry
+    the silhouette and the drawing), each group ordered by opaque texel
+    count. Behind them all stands the impostor (:func:`impostor_cloud`),
+    so the gaps left by the dropped billboards show the tree's own front
+    view instead of sky: from the front the level looks like the full
+    cloud, from the side the kept billboards still give depth.
+
+    Returns
+    -------
+    BillboardCloud
+        ``ceil(share K) + 1`` billboards.
+    """
+    from .billboard import FRONT, TRUNK_LAYER, BillboardCloud
+
+    _check_cloud(cloud)
+    k = cloud.n_billboards
+    n = max(1, int(np.ceil(share * k)))
+    area = np.array([float((cloud.textures[t][..., 3] >= 0.5).sum()) for t in cloud.texture])
+    first = np.isin(cloud.layer, (FRONT, TRUNK_LAYER))
+    order = np.lexsort((-area, ~first))            # front/trunk first, then by area
+    order = order[cloud.centers[order, 2] >= 0]    # those behind the axis would be hidden
+    if order.size == 0:
+        order = np.lexsort((-area, ~first))
+    sub = _subset(cloud, np.sort(order[:n]))
+    imp = impostor_cloud(cloud)
+    # On the vertical axis (z = 0): seen from the side it stays centred behind the
+    # front billboards it backs.
+    back = imp.centers.copy()
+    t0 = len(sub.textures)
+    return BillboardCloud(np.vstack([back, sub.centers]), np.vstack([imp.sizes, sub.sizes]),
+                          np.concatenate([[t0], sub.texture]), np.concatenate([[1.0], sub.tint]),
+                          np.concatenate([[FRONT], sub.layer]), np.concatenate([[-1], sub.source]),
+                          sub.textures + imp.textures, cloud.axis, cloud.image, cloud.superpixels,
+                          cloud.depth, cloud.replaced, cloud.scale, cloud.lines,
+                          sub.line_masks + [None] if sub.line_masks else [])
+
+
+def impostor_cloud(cloud):
+    """The cloud's front view as one billboard (its working image, cropped to the tree)."""
+    from .billboard import FRONT, BillboardCloud
+
+    _check_cloud(cloud)
+    img = cloud.image
+    a = img[..., 3] >= 0.5
+    ys, xs = np.nonzero(a)
+    y0, y1, x0, x1 = ys.min(), ys.max() + 1, xs.min(), xs.max() + 1
+    tex = np.ascontiguousarray(img[y0:y1, x0:x1])
+    centre = np.array([[0.5 * (x0 + x1), 0.5 * (y0 + y1), 0.0]])
+    return BillboardCloud(centre, np.array([[x1 - x0, y1 - y0]], float), np.zeros(1, int),
+                          np.ones(1), np.array([FRONT]), np.zeros(1, int), [tex], cloud.axis, img,
+                          cloud.superpixels, cloud.depth, [], cloud.scale, cloud.lines, [])
+
+
+@checked(reduced_share=Real(0, 1, low_open=True))
+def lod_chain(cloud, *, reduced_share: float = 0.3) -> list[LodLevel]:
+    """The four levels of detail of one cloud (:data:`LOD_LEVELS`), finest first.
+
+    Parameters
+    ----------
+    cloud : BillboardCloud
+    reduced_share : float
+        Share of the billboards the ``reduced`` level keeps (:func:`reduce_cloud`).
+
+    Returns
+    -------
+    list of LodLevel
+    """
+    _check_cloud(cloud)
+    single = impostor_cloud(cloud)
+    return [LodLevel("full", cloud), LodLevel("reduced", reduce_cloud(cloud, reduced_share)),
+            LodLevel("crossed", single, crossed=True), LodLevel("single", single)]
+
+
+def _material(name: str, texture: int) -> dict:
+    return {"name": name,
+            "pbrMetallicRoughness": {"baseColorTexture": {"index": texture}, "metallicFactor": 0.0,
+                                     "roughnessFactor": 1.0},
+            "alphaMode": "MASK", "alphaCutoff": 0.5, "doubleSided": True,
+            "extensions": {"KHR_materials_unlit": {}}}
+
+
+def _document(levels: list[LodLevel], *, yaw: float, height: float, lod: bool,
+              coverage=SCREEN_COVERAGE) -> dict:
+    """A self-contained glTF document (embedded buffer and textures) of some levels."""
+    data = bytearray()
+    views, accessors, meshes, materials, textures, images, nodes = [], [], [], [], [], [], []
+    atlases: dict[int, int] = {}                     # id(cloud) -> image index
+    for i, lv in enumerate(levels):
+        atlas, pos, uv, col, idx = _level_arrays(lv.cloud, yaw=yaw, height=height, crossed=lv.crossed)
+        first = len(views)
+        v, data = _pack([pos.tobytes(), uv.tobytes(), col.tobytes(), idx.tobytes()],
+                        [34962, 34962, 34962, 34963], data)
+        views += v
+        acc0 = len(accessors)
+        accessors += _accessors(first, pos, uv, col, idx)
+        key = id(lv.cloud)
+        if key not in atlases:
+            v, data = _pack([encode_png(atlas)], [None], data)
+            images.append({"bufferView": len(views), "mimeType": "image/png"})
+            views += v
+            textures.append({"source": len(images) - 1, "sampler": 0})
+            materials.append(_material(f"{lv.name}_atlas", len(textures) - 1))
+            atlases[key] = len(materials) - 1
+        meshes.append({"name": lv.name, "primitives": [{
+            "attributes": {"POSITION": acc0, "TEXCOORD_0": acc0 + 1, "COLOR_0": acc0 + 2},
+            "indices": acc0 + 3, "material": atlases[key], "mode": 4}],
+            "extras": {"triangles": lv.triangles, "crossed": lv.crossed}})
+        nodes.append({"mesh": i, "name": f"tree_lod{i}_{lv.name}"})
+    ext = ["KHR_materials_unlit"]
+    if lod and len(levels) > 1:
+        nodes[0]["extensions"] = {"MSFT_lod": {"ids": list(range(1, len(levels)))}}
+        nodes[0]["extras"] = {"MSFT_screencoverage": [float(c) for c in coverage[:len(levels)]]}
+        ext = ["KHR_materials_unlit", "MSFT_lod"]
+    doc = {
+        "asset": {"version": "2.0", "generator": "branchnb.trees level-of-detail chain"},
+        "extensionsUsed": ext,
+        "scene": 0,
+        "scenes": [{"nodes": [0] if lod else list(range(len(levels)))}],
+        "nodes": nodes, "meshes": meshes, "materials": materials, "textures": textures,
+        "samplers": [{"magFilter": 9729, "minFilter": 9987, "wrapS": 33071, "wrapT": 33071}],
+        "images": images,
+        "buffers": [{"byteLength": len(data),
+                     "uri": "data:application/octet-stream;base64," + base64.b64encode(bytes(data)).decode()}],
+        "bufferViews": views, "accessors": accessors,
+    }
+    return doc
+
+
+@checked(yaw=_YAW, height=_HEIGHT, mode=Choice("msft_lod", "files"),
+         reduced_share=Real(0, 1, low_open=True))
+def export_lod_gltf(cloud, path, *, mode: str = "msft_lod", yaw: float = 0.0, height: float = 10.0,
+                    reduced_share: float = 0.3) -> list[Path]:
+    """Write the level-of-detail chain of a cloud as glTF 2.0 (self-contained ``.gltf`` files).
+
+    Parameters
+    ----------
+    cloud : BillboardCloud
+    path : str or Path
+        Output ``.gltf`` file. ``mode="files"`` writes ``<stem>_lod0.gltf``
+        ... ``<stem>_lod3.gltf`` beside it instead.
+    mode : {"msft_lod", "files"}
+        One file whose first node carries the ``MSFT_lod`` extension (its
+        ``ids`` are the coarser levels' nodes; ``extras.MSFT_screencoverage``
+        the hand-over coverages 0.5, 0.2, 0.05), or one file per level.
+    yaw, height
+        As in :func:`~branchnb.trees.export.export_gltf`.
+    reduced_share : float
+        Share of the billboards the ``reduced`` level keeps.
+
+    Returns
+    -------
+    list of Path
+        The file(s) written.
+
+    Notes
+    -----
+    Triangles per level: ``2 K`` (full, ``K`` billboards),
+    ``2 ceil(0.3 K) + 2`` (reduced), 4 (crossed), 2 (single). Every file passes the Khronos glTF
+    validator with no error or warning (checked with ``npx gltf-validator``;
+    :func:`validate_gltf` checks the structure without it).
+    """
+    path = _out_path(path, ".gltf")
+    _check_cloud(cloud)
+    levels = lod_chain(cloud, reduced_share=reduced_share)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    if mode == "msft_lod":
+        path.write_text(dumps_strict(_document(levels, yaw=yaw, height=height, lod=True),
+                                     name="glTF document"))
+        return [path]
+    out = []
+    for i, lv in enumerate(levels):
+        p = path.with_name(f"{path.stem}_lod{i}.gltf")
+        p.write_text(dumps_strict(_document([lv], yaw=yaw, height=height, lod=False),
+                                  name="glTF document"))
+        out.append(p)
+    return out
+
+
+_COMPONENTS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4}
+_SIZES = {5126: 4, 5125: 4, 5123: 2, 5121: 1}
+
+
+def validate_gltf(path) -> list[str]:
+    """Structural checks of a self-contained ``.gltf`` file (the validator's main rules).
+
+    Checks the asset version, that every index (scene, node, mesh,
+    material, texture, image, accessor, buffer view) points at an existing
+    object, that buffer views lie inside the decoded buffer and accessors
+    inside their views, that 4-byte components are 4-byte aligned, that
+    ``POSITION`` has its ``min``/``max`` equal to the data's, that indices
+    address existing vertices, that ``MSFT_lod`` ids are nodes outside the
+    scene and that the extension is declared, and that embedded images are
+    PNG.
+
+    Returns
+    -------
+    list of str
+        The problems found (empty: valid).
+    """
+    import json
+
+    doc = json.loads(Path(path).read_text())
+    errs = []
+    if doc.get("asset", {}).get("version") != "2.0":
+        errs.append("asset.version is not 2.0")
+    bufs = []
+    for b in doc.get("buffers", []):
+        uri = b.get("uri", "")
+        if not uri.startswith("data:"):
+            errs.append("buffer is not embedded")
+            bufs.append(b"")
+            continue
+        raw = base64.b64decode(uri.split(",", 1)[1])
+        if len(raw) != b["byteLength"]:
+            errs.append(f"buffer byteLength {b['byteLength']} != data {len(raw)}")
+        bufs.append(raw)
+    views = doc.get("bufferViews", [])
+    for i, v in enumerate(views):
+        if not 0 <= v["buffer"] < len(bufs) or v["byteOffset"] + v["byteLength"] > len(bufs[v["buffer"]]):
+            errs.append(f"bufferView {i} out of its buffer")
+    n = {k: len(doc.get(k, [])) for k in ("nodes", "meshes", "materials", "textures", "images",
+                                          "accessors", "samplers")}
+    data = {}
+    for i, a in enumerate(doc.get("accessors", [])):
+        if not 0 <= a["bufferView"] < len(views):
+            errs.append(f"accessor {i}: no bufferView {a['bufferView']}")
+            continue
+        v = views[a["bufferView"]]
+        size = _SIZES[a["componentType"]]
+        length = a["count"] * _COMPONENTS[a["type"]] * size
+        if length > v["byteLength"]:
+            errs.append(f"accessor {i} longer than its bufferView")
+            continue
+        if (v["byteOffset"] + a.get("byteOffset", 0)) % size:
+            errs.append(f"accessor {i} misaligned")
+        dt = {5126: "<f4", 5125: "<u4", 5123: "<u2", 5121: "u1"}[a["componentType"]]
+        raw = bufs[v["buffer"]][v["byteOffset"]:v["byteOffset"] + length]
+        data[i] = np.frombuffer(raw, dtype=dt).reshape(a["count"], _COMPONENTS[a["type"]])
+        if not np.all(np.isfinite(data[i])):
+            errs.append(f"accessor {i} has non-finite values")
+    for mi, m in enumerate(doc.get("meshes", [])):
+        for prim in m["primitives"]:
+            att = prim["attributes"]
+            for k, ai in list(att.items()) + [("indices", prim.get("indices", 0))]:
+                if not 0 <= ai < n["accessors"]:
+                    errs.append(f"mesh {mi}: {k} accessor {ai} missing")
+            pos = data.get(att.get("POSITION"))
+            acc = doc["accessors"][att["POSITION"]] if att.get("POSITION", -1) < n["accessors"] else {}
+            if pos is not None and (not np.allclose(acc.get("min"), pos.min(0))
+                                    or not np.allclose(acc.get("max"), pos.max(0))):
+                errs.append(f"mesh {mi}: POSITION min/max do not match the data")
+            idx = data.get(prim.get("indices"))
+            if idx is not None and pos is not None and idx.size and idx.max() >= len(pos):
+                errs.append(f"mesh {mi}: index beyond the vertices")
+            if idx is not None and idx.size % 3:
+                errs.append(f"mesh {mi}: indices not a whole number of triangles")
+            if not 0 <= prim.get("material", 0) < n["materials"]:
+                errs.append(f"mesh {mi}: material missing")
+    for ti, t in enumerate(doc.get("textures", [])):
+        if not 0 <= t["source"] < n["images"] or not 0 <= t.get("sampler", 0) < n["samplers"]:
+            errs.append(f"texture {ti}: image or sampler missing")
+    for ii, im in enumerate(doc.get("images", [])):
+        if "uri" in im:
+            if not (Path(path).parent / im["uri"]).is_file():
+                errs.append(f"image {ii}: file {im['uri']} missing")
+            continue
+        v = views[im["bufferView"]] if im.get("bufferView", -1) < len(views) else None
+        if v is None or bufs[v["buffer"]][v["byteOffset"]:v["byteOffset"] + 8] != b"\x89PNG\r\n\x1a\n":
+            errs.append(f"image {ii} is not an embedded PNG")
+    in_scene = set()
+    for s in doc.get("scenes", []):
+        for ni in s["nodes"]:
+            if not 0 <= ni < n["nodes"]:
+                errs.append(f"scene node {ni} missing")
+            in_scene.add(ni)
+    for ni, node in enumerate(doc.get("nodes", [])):
+        if not 0 <= node.get("mesh", 0) < n["meshes"]:
+            errs.append(f"node {ni}: mesh missing")
+        lod = node.get("extensions", {}).get("MSFT_lod")
+        if lod is not None:
+            if "MSFT_lod" not in doc.get("extensionsUsed", []):
+                errs.append("MSFT_lod used but not declared")
+            for j in lod["ids"]:
+                if not 0 <= j < n["nodes"] or j in in_scene:
+                    errs.append(f"MSFT_lod id {j} is not a node outside the scene")
+    return errs

@@ -1,0 +1,155 @@
+"""Tree variations that choose instead of blending (issue 24): drawn trees, honest measures, variety."""
+
+import numpy as np
+import pytest
+
+from branchnb import data
+from branchnb.core.graphcut import multilabel_seams
+from branchnb.trees.drawn import drawn_tree
+from branchnb.trees.ground import split_ground
+from branchnb.trees.quality import crossfade_fraction, dark_rim_fraction, dominant_palette, flat_pixels
+from branchnb.trees.variations import (
+    FLAT_ART_SHARE,
+    TreeLibrary,
+    make_variation,
+    mean_pairwise_distance,
+    resolve_colour_mode,
+)
+
+S = 128
+
+
+@pytest.fixture(scope="module")
+def drawn_lib():
+    lib = TreeLibrary(size=S)
+    for i, (kind, pile) in enumerate([("broadleaf", False), ("palm", True), ("conifer", False),
+                                      ("fruit", True)]):
+        lib.add(drawn_tree(kind, pile=pile, rng=10 + i, size=2 * S), f"{kind}{'_pile' * pile}")
+    return lib
+
+
+def _sources(lib, v):
+    return [lib[n].image for n, w, c in zip(v.names, v.weights, v.colour_weights) if w > 0 or c > 0]
+
+
+def test_flat_pixels_and_palette_score_sources_zero_against_themselves(drawn_lib):
+    for e in drawn_lib:
+        assert flat_pixels(e.image).sum() > FLAT_ART_SHARE * e.alpha.sum()
+        assert crossfade_fraction(e.image, [e.image]) == 0.0
+    pal = dominant_palette([e.image for e in drawn_lib])
+    assert 3 <= len(pal) <= 512
+
+
+def test_crossfade_measure_sees_blending_that_choosing_avoids(drawn_lib):
+    # Found 1/2: the paper's convex combination ghosts drawn trees; the measure must see it,
+    # and choosing must avoid it on the same mixes.
+    pairs = [("broadleaf", "palm_pile"), ("palm_pile", "conifer"), ("broadleaf", "fruit_pile")]
+    share = {}
+    for mode in ("blend", "choose"):
+        share[mode] = [crossfade_fraction(v.image, _sources(drawn_lib, v)) for v in (
+            make_variation(drawn_lib, [0.5, 0.5], use=list(p), colour_weights=[0.5, 0.5],
+                           colour_mode=mode, rng=0) for p in pairs)]
+    assert max(share["blend"]) > 0.035
+    assert max(share["choose"]) <= 0.01
+
+
+def test_auto_mode_chooses_on_drawn_trees_and_blends_photographs(drawn_lib):
+    assert resolve_colour_mode("auto", list(drawn_lib)) == "choose"
+    photo = TreeLibrary.from_data(["tree_cutout_broadleaf"], size=S)
+    assert resolve_colour_mode("auto", list(photo)) == "blend"
+
+
+def test_random_mixes_and_variations_of_drawn_trees_do_not_cross_fade(drawn_lib):
+    # Found 1: <= 3 % cross-fade pixels over flat pixels, random mixes and variations_of.
+    gen = np.random.default_rng(3)
+    shares = [crossfade_fraction(v.image, _sources(drawn_lib, v))
+              for v in [make_variation(drawn_lib, rng=gen) for _ in range(3)]
+              + drawn_lib.variations_of("palm_pile", 2, rng=gen)]
+    assert max(shares) <= 0.03, shares
+
+
+def test_a_weight_tending_to_zero_paints_no_pixel(drawn_lib):
+    # Found 3: colour weight 1e-4 must add (almost) nothing, colour or alpha.
+    for mode in ("blend", "choose"):
+        alone = make_variation(drawn_lib, [0.5, 0.5], use=["broadleaf", "palm_pile"],
+                               colour_weights=[1.0, 0.0], colour_mode=mode, rng=1)
+        tiny = make_variation(drawn_lib, [0.5, 0.5], use=["broadleaf", "palm_pile"],
+                              colour_weights=[1 - 1e-4, 1e-4], colour_mode=mode, rng=1)
+        op_a, op_t = alone.image[..., 3] > 0, tiny.image[..., 3] > 0
+        assert np.count_nonzero(op_a != op_t) <= 0.001 * op_a.sum()
+        diff = np.abs(alone.image[..., :3] - tiny.image[..., :3]).max(axis=2) > 0.05
+        assert np.count_nonzero(diff & op_a & op_t) <= 0.001 * op_a.sum()
+
+
+def test_no_dark_pixels_outside_the_mixed_contour(drawn_lib):
+    # Found 4: black slivers outside the outline.
+    gen = np.random.default_rng(5)
+    for _ in range(3):
+        v = make_variation(drawn_lib, rng=gen)
+        assert dark_rim_fraction(v.image, v.mask) == 0.0
+
+
+def test_palm_broadleaf_mix_keeps_its_trunk_whole(drawn_lib):
+    # Found 4: no holes in the trunk of a palm/broadleaf mix.
+    from branchnb.trees.quality import hole_sizes
+
+    for cw in ([1.0, 0.0], [2 / 3, 1 / 3], [1 / 3, 2 / 3]):
+        v = make_variation(drawn_lib, [0.5, 0.5], use=["palm_pile", "broadleaf"], colour_weights=cw, rng=0)
+        holes = hole_sizes(v.image[..., 3])
+        own = max(hole_sizes(drawn_lib[n].alpha).max(initial=0) for n in ("palm_pile", "broadleaf"))
+        assert (holes > max(own, 4)).sum() == 0, holes
+
+
+def test_ground_cut_leaves_no_pile_leaf_at_the_foot():
+    # Found 4: leaves of the pile drawn over the trunk foot must go with the pile.
+    img = drawn_tree("broadleaf", pile=True, rng=np.random.default_rng(5), size=256)
+    split = split_ground(img)
+    assert split.has_ground
+    tree = split.tree
+    y_f = int(split.foot[1])
+    rows = tree[y_f - 20:y_f + 1]
+    width = rows.sum(axis=1).max()
+    assert width <= 1.6 * split.trunk_width + 4, (width, split.trunk_width)
+
+
+def test_more_like_this_differs_by_half_the_exemplar_distance(drawn_lib):
+    # Found 6 / variety: mean pairwise contour distance >= half that between the exemplars.
+    between = mean_pairwise_distance([e.resampled for e in drawn_lib])
+    centre = make_variation(drawn_lib, [0.5, 0.5, 0.0, 0.0], colour_weights=[0.5, 0.5, 0, 0], rng=0)
+    spread = [mean_pairwise_distance([v.resampled for v in drawn_lib.similar(centre, 6, rng=r,
+                                                                             colour_mode="blend")])
+              for r in (0, 1)]
+    assert np.mean(spread) >= 0.5 * between
+
+
+def test_multilabel_seams_follows_the_edges_between_regions():
+    # Two images that agree except in a square: the seam goes round the square.
+    a = np.zeros((24, 24, 3))
+    b = np.zeros((24, 24, 3))
+    b[6:18, 6:18] = 1.0
+    u = np.zeros((24, 24, 2))
+    u[:, :12, 1] = 0.5       # weak preference: a on the left, b on the right
+    u[:, 12:, 0] = 0.5
+    lab = multilabel_seams(np.stack([a, b]), u, smoothness=5.0)
+    # Cutting through the square costs more than giving its left half to b.
+    assert np.all(lab[6:18, 6:18] == lab[12, 12])
+    free = multilabel_seams(np.stack([a, b]), u, smoothness=0.0)
+    assert np.array_equal(free[:, :12], np.zeros((24, 12), int))
+
+
+def test_multilabel_seams_rejects_bad_input():
+    with pytest.raises(ValueError, match="unary"):
+        multilabel_seams(np.zeros((2, 4, 4, 3)), np.zeros((4, 4, 3)))
+    with pytest.raises(ValueError, match="NaN"):
+        multilabel_seams(np.zeros((2, 4, 4, 3)), np.full((4, 4, 2), np.nan))
+    u = np.full((4, 4, 2), np.inf)
+    assert (multilabel_seams(np.zeros((2, 4, 4, 3)), u) == -1).all()
+
+
+def test_clipart_and_rpg_mixes_do_not_cross_fade():
+    lib = TreeLibrary.from_data(["tree_with_fruits", "cartoon_tree", "tree_rpg_13"], size=S)
+    gen = np.random.default_rng(0)
+    for _ in range(2):
+        v = make_variation(lib, rng=gen)
+        assert crossfade_fraction(v.image, _sources(lib, v)) <= 0.03
+    assert data is not None
