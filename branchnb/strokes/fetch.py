@@ -61,15 +61,16 @@ RGBA image; for an opaque image it is the union of the copied patches.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
+import cv2
 import numpy as np
 from scipy import ndimage as ndi
 
 from ..core.graphcut import gradient_magnitude  # the edge strength G of the seam energy
 from ..core.image import as_rgba
 from ..core.validate import COORD_LIMIT, MAX_COUNT, Array, Int, Real, Shape, check_real, checked
-from ..core.warp import transfer_patch
+from .parts import add_bases, find_parts
 from .strokes import Stroke, StrokePair
 
 __all__ = ["SourceIndex", "Samples", "Fetched", "source_index", "sample_pair", "fetch",
@@ -136,6 +137,14 @@ class SourceIndex:
         sampled at arc lengths ``width_s`` (smoothed; 0 for opaque images).
     cut_ends : list of (bool, bool)
         Per stroke: whether the object is cut straight at its start / end.
+    parts : list of Part
+        The parts of the object nobody stroked (:mod:`~branchnb.strokes.parts`),
+        each with the stroke it hangs from.
+    depth : (H, W) float32 ndarray
+        Distance of every object pixel to the background (px; 0 for
+        opaque images): where the source's outline is.
+    part_mask : (H, W) bool ndarray
+        The pixels of all unstroked parts.
     """
 
     premult: np.ndarray
@@ -149,6 +158,9 @@ class SourceIndex:
     width_s: list
     width: list
     cut_ends: list
+    parts: list = field(default_factory=list)
+    depth: np.ndarray | None = None
+    part_mask: np.ndarray | None = None
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -237,40 +249,93 @@ def source_index(image, source_strokes: list[Stroke]) -> SourceIndex:
     widths = [_smooth_width(raw[k][1], raw[k][2], cuts[k]) if has_alpha else raw[k][1]
               for k in range(len(source_strokes))]
     width_s = [raw[k][0] for k in range(len(source_strokes))]
+    # Pass 1, per distinct stroke (and cut ends): the tube proper -- the
+    # object pixels within the half width (no margin), up to the cut lines,
+    # and a free tip's cap -- and the weights of the cut ends.
+    tubes: dict = {}
+    for k, st in enumerate(source_strokes):
+        key = (keys[k], cuts[k])
+        if key in tubes:
+            continue
+        d, s_map = uniq[keys[k]]
+        ws, wv = width_s[k], widths[k]
+        endw = np.ones((h, w), np.float32)
+        for end, is_cut in enumerate(cuts[k]):
+            if is_cut:
+                endw *= _beyond_weight(st, end, s_map, xx, yy)
+                if has_alpha:
+                    # The cut line itself: only across the tube.
+                    w_end = float(np.interp(0.0 if end == 0 else st.length, ws, wv))
+                    endw *= _end_tube(st, end, s_map, xx, yy, w_end, inked)
+        tube = interior = core = None
+        if has_alpha:
+            tube = np.interp(s_map, ws, wv).astype(np.float32)
+            interior = (s_map > 1.0) & (s_map < st.length - 1.0)
+            # beyond a free end the object may go on for a tip's length (see _is_cut)
+            cap = np.maximum(2.0 * tube, 8.0) + 2.0
+            core = inked & (endw > 0.5) & (d <= np.where(interior, tube + 0.5, cap))
+        tubes[key] = (d, s_map, tube, interior, endw, core)
+    tube_keys = list(tubes)
+    parts, part_mask = [], None
+    if has_alpha:
+        # Object pixels no stroke's tube holds: the parts nobody stroked.
+        claimed = np.zeros((h, w), bool)
+        for key in tube_keys:
+            claimed |= tubes[key][5]
+        parts, part_mask = find_parts(alpha, inked, claimed, [tubes[key][5] for key in tube_keys],
+                                      [tubes[key][1] for key in tube_keys],
+                                      [tubes[key][0] for key in tube_keys])
+        for part in parts:  # tube index -> the first stroke with that tube
+            part.stroke = [(keys[k], cuts[k]) for k in range(len(source_strokes))].index(
+                tube_keys[part.stroke])
+
+    # Pass 2: the pixels each stroke may copy and their weights.
     s_maps, allowed, weights = [], [], []
     done: dict = {}
-    for k, st in enumerate(source_strokes):
-        d, s_map = uniq[keys[k]]
-        ws, wv, cut = width_s[k], widths[k], cuts[k]
-        key = (keys[k], cut)
+    for k in range(len(source_strokes)):
+        key = (keys[k], cuts[k])
+        d, s_map, tube, interior, endw, _ = tubes[key]
         if key not in done:
-            own = np.ones((h, w), bool) if d_min is None else d <= d_min + _SHARE
-            weight = np.ones((h, w), np.float32)
+            others = [tubes[o][5] for o in tube_keys if o[0] != keys[k]] if has_alpha else []
+            if d_min is None:
+                own = np.ones((h, w), bool)
+            else:
+                # Pixels in one stroke's tube only are that stroke's; where
+                # tubes overlap (junctions, crossings) the nearest stroke's,
+                # within _SHARE px (so a part lying near another stroke is not
+                # cut along the line half-way between the two strokes).
+                own = d <= d_min + _SHARE
+                if others:
+                    held = np.zeros((h, w), bool)
+                    for o in others:
+                        held |= o
+                    own |= ~held
+            weight = endw.copy()
             if has_alpha:
                 # The tube of the object's half width around the stroke, plus
-                # a margin of background (only background: opaque pixels in
-                # the margin belong to something else -- a side branch, the
-                # trunk a branch was drawn from), with a one-pixel ramp so
-                # that cut-off parts get an anti-aliased edge. The object
-                # beyond the stroke ends is handled below.
-                tube = np.interp(s_map, ws, wv)
-                margin = np.where(inked, _OPAQUE_MARGIN, _tube_margin(tube))
-                interior = (s_map > 1.0) & (s_map < st.length - 1.0)
+                # a margin: of background (where the seams can run around the
+                # silhouette), and of object pixels that nothing else holds
+                # (the stroke's own anti-aliased rim) -- not of another
+                # stroke's tube or of an unstroked part, so that no stump of
+                # a side branch is copied with the stroke. A one-pixel ramp
+                # gives cut-off parts an anti-aliased edge. The object beyond
+                # the stroke ends is handled by the end weights.
+                held = part_mask.copy()
+                for o in others:
+                    held |= o
+                margin = np.where(inked, np.where(held, 0.0, _OPAQUE_MARGIN), _tube_margin(tube))
                 ramp = np.clip(tube + margin - d + 0.5, 0.0, 1.0)
-                weight = np.where(interior, ramp, 1.0).astype(np.float32)
-            for end, is_cut in enumerate(cut):
-                if is_cut:
-                    weight *= _beyond_weight(st, end, s_map, xx, yy)
-                    if has_alpha:
-                        # The cut line itself: only across the tube.
-                        w_end = float(np.interp(0.0 if end == 0 else st.length, ws, wv))
-                        weight *= _end_tube(st, end, s_map, xx, yy, w_end, inked)
+                weight *= np.where(interior, ramp, 1.0).astype(np.float32)
             done[key] = (own & (weight > 0), weight)
         s_maps.append(s_map)
         allowed.append(done[key][0])
         weights.append(done[key][1])
-    return SourceIndex(premult, grad, obj, has_alpha, list(source_strokes), s_maps, allowed,
-                       weights, width_s, widths, cuts)
+    depth = edt.astype(np.float32) if has_alpha else np.zeros((h, w), np.float32)
+    index = SourceIndex(premult, grad, obj, has_alpha, list(source_strokes), s_maps, allowed,
+                        weights, width_s, widths, cuts, parts=parts, depth=depth,
+                        part_mask=part_mask if part_mask is not None else np.zeros((h, w), bool))
+    add_bases(parts, index, window=3.0)
+    return index
 
 
 def _tube_margin(half_width):
@@ -385,17 +450,25 @@ def _joined_ends(strokes, raw, keys) -> list[tuple[bool, bool]]:
 
 
 def _local_max(edt: np.ndarray, p: np.ndarray) -> np.ndarray:
-    """Largest ``edt`` within ``edt(p) + 2`` px of each point ``p``."""
+    """Largest ``edt`` within ``edt(p) + 2`` px of each point ``p``.
+
+    Evaluated every few points (a quarter of the typical half width) and
+    interpolated in between: the widths are smoothed over several half
+    widths afterwards anyway.
+    """
     h, w = edt.shape
-    e0 = edt[np.clip(np.round(p[:, 1]).astype(int), 0, h - 1),
-             np.clip(np.round(p[:, 0]).astype(int), 0, w - 1)]
+    e_all = edt[np.clip(np.round(p[:, 1]).astype(int), 0, h - 1),
+                np.clip(np.round(p[:, 0]).astype(int), 0, w - 1)]
+    step = max(1, int(np.median(e_all) // 4))
+    pick = np.unique(np.r_[np.arange(0, len(p), step), len(p) - 1])
+    e0 = e_all[pick]
     rho = int(np.ceil(min(float(e0.max()), _MAX_WIDTH))) + 2
     oy, ox = np.mgrid[-rho:rho + 1, -rho:rho + 1]
     off = np.column_stack([ox.ravel(), oy.ravel()]).astype(float)
-    out = np.zeros(len(p))
+    out = np.zeros(len(pick))
     chunk = max(1, 1_000_000 // len(off))  # bounded memory
-    for lo in range(0, len(p), chunk):
-        pts = np.round(p[lo:lo + chunk])
+    for lo in range(0, len(pick), chunk):
+        pts = np.round(p[pick[lo:lo + chunk]])
         q = pts[:, None, :] + off[None]
         c = q[..., 0].astype(np.int64)
         r = q[..., 1].astype(np.int64)
@@ -404,7 +477,7 @@ def _local_max(edt: np.ndarray, p: np.ndarray) -> np.ndarray:
         val = np.zeros(q.shape[:2])
         val[ok] = edt[r[ok], c[ok]]
         out[lo:lo + chunk] = val.max(axis=1)
-    return out
+    return np.interp(np.arange(len(p)), pick, out)
 
 
 def _end_direction(stroke: Stroke, end: int, window: float) -> tuple[np.ndarray, np.ndarray]:
@@ -656,28 +729,28 @@ def fetch(index: SourceIndex, stroke_id: int, source_s, across, dst_point, dst_a
     angles = stroke.angle_at(s, window=window)
     h, w = index.shape
     s_map, allowed = index.s_map[stroke_id], index.allowed[stroke_id]
-    weight = index.weight[stroke_id]
-    half = int(np.ceil(radius)) + 2
-    pix, valid, grad = [], [], []
-    origin = None
-    for c, a, sk in zip(centres, angles, s):
-        # Crop the source around p' (the disk of radius r maps inside it).
-        x0 = int(np.clip(np.floor(c[0]) - half, 0, w - 1))
-        y0 = int(np.clip(np.floor(c[1]) - half, 0, h - 1))
-        x1 = int(np.clip(np.ceil(c[0]) + half + 1, x0 + 1, w))
-        y1 = int(np.clip(np.ceil(c[1]) + half + 1, y0 + 1, h))
-        patch = transfer_patch(index.premult[y0:y1, x0:x1], (c[0] - x0, c[1] - y0), a,
-                               dst_point, dst_angle, radius, circular=True)
-        wt = transfer_patch(weight[y0:y1, x0:x1, None], (c[0] - x0, c[1] - y0), a,
-                            dst_point, dst_angle, radius).pixels[:, :, 0]
-        origin = patch.origin
-        sx, sy = _source_coords(c, a, dst_point, dst_angle, origin, patch.valid.shape[0])
-        col = np.clip(np.rint(sx).astype(np.int64), 0, w - 1)
-        row = np.clip(np.rint(sy).astype(np.int64), 0, h - 1)
-        ok = patch.valid & allowed[row, col] & (np.abs(s_map[row, col] - sk) <= _REACH * radius)
-        pix.append(patch.pixels * wt[:, :, None])
-        valid.append(ok)
-        grad.append(index.grad[row, col])
-    return Fetched(np.stack(pix), np.stack(valid), np.stack(grad).astype(np.float32),
-                   origin, centres, s, np.asarray(angles, float),
+    # All candidates at once: target pixel q -> source p = R(a_k - dst_angle) (q - p_dst) + c_k
+    # (the rotation of core.warp.transfer_patch), bilinear, one remap for the whole stack.
+    r = int(np.ceil(radius))
+    dx, dy = float(dst_point[0]), float(dst_point[1])
+    x0, y0 = int(round(dx)) - r, int(round(dy)) - r
+    size = 2 * r + 1
+    uu, vv = np.meshgrid(np.arange(size) + x0 - dx, np.arange(size) + y0 - dy)
+    th = np.asarray(angles, float) - float(dst_angle)
+    cos, sin = np.cos(th)[:, None, None], np.sin(th)[:, None, None]
+    sx = cos * uu - sin * vv + centres[:, 0, None, None]
+    sy = sin * uu + cos * vv + centres[:, 1, None, None]
+    k = len(s)
+    mx = sx.reshape(k * size, size).astype(np.float32)
+    my = sy.reshape(k * size, size).astype(np.float32)
+    pix = cv2.remap(index.premult, mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+    wt = cv2.remap(index.weight[stroke_id], mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+    pix = pix.reshape(k, size, size, 4) * wt.reshape(k, size, size, 1)
+    col = np.clip(np.rint(sx).astype(np.int64), 0, w - 1)
+    row = np.clip(np.rint(sy).astype(np.int64), 0, h - 1)
+    ok = ((uu**2 + vv**2 <= radius**2)[None] & (sx >= -0.5) & (sx <= w - 0.5) & (sy >= -0.5)
+          & (sy <= h - 0.5) & allowed[row, col]
+          & (np.abs(s_map[row, col] - s[:, None, None]) <= _REACH * radius))
+    return Fetched(np.ascontiguousarray(pix, np.float32), ok, index.grad[row, col].astype(np.float32),
+                   (x0, y0), centres, s, np.asarray(angles, float),
                    np.asarray(dst_point, float), float(dst_angle), float(radius))
