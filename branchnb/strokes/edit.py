@@ -36,7 +36,9 @@ from ..core.validate import Seq, Shape, checked
 from .composition import PlacedPatch, compose, labelling_cost, seam_mask
 from .display import draw_strokes
 from .fetch import fetch, sample_pair, source_index
-from .junctions import attach, far_side, find_junctions, stroke_order
+from .junctions import attach, exit_length, far_side, find_junctions, stroke_order
+from .outline import close_cuts, drop_flecks, outline_style, source_depth
+from .parts import place_part, rigid_frame
 from .sampling import candidate_offsets, choose, pair_energies
 from .strokes import StrokePair, make_pairs
 
@@ -48,9 +50,16 @@ __all__ = ["FETCH_FIELDS", "EditPatches", "StrokeEditParams", "StrokeEditResult"
 class StrokeEditParams:
     """Parameters of :func:`edit_structure`.
 
-    The extended abstract gives no numbers; the defaults below are the
-    values that work on the sample objects (``lizard``, ``rope_loop``,
-    the bare RPG trees). Sizes are in pixels of the source image.
+    The paper gives no numbers; the defaults below are the values that
+    work on the sample objects (``lizard``, ``rope_loop``, the bare RPG
+    trees) and on procedural multi-part objects
+    (:mod:`~branchnb.strokes.procedural`). Sizes are in pixels of the
+    source image; ``0`` means "automatic" for ``patch_size``, ``spacing``
+    and ``junction_tolerance`` (the values used are in
+    :attr:`StrokeEditResult.auto`). ``unstroked`` and ``close_cuts`` go
+    beyond the paper (:mod:`~branchnb.strokes.parts`,
+    :mod:`~branchnb.strokes.outline`); ``unstroked="drop",
+    close_cuts=False`` is the paper's method.
     """
 
     patch_size: int = param(
@@ -92,6 +101,12 @@ class StrokeEditParams:
     energy_stride: int = param(
         2, min=1, max=4, step=1, ui=False,
         help="evaluate the pairwise energies on every n-th pixel (speed)")
+    unstroked: str = param(
+        "follow", options=("follow", "drop"),
+        help="parts of the object nobody stroked: follow the stroked part they hang from (rigidly), "
+             "or drop them (the paper's output: the strokes only)")
+    close_cuts: bool = param(
+        True, help="draw the object's outline over faces the strokes cut (stroke ends, dropped parts)")
 
 
 @dataclass
@@ -313,7 +328,7 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
 #: The parameters the fetched candidate patches depend on (see :class:`EditPatches`); with
 #: ``sampling == "none"`` only one candidate per sample is fetched, so whether it is "none" counts too.
 FETCH_FIELDS = ("patch_size", "spacing", "search_window", "search_across", "search_step",
-                "junction_tolerance", "extend_branches")
+                "junction_tolerance", "extend_branches", "unstroked")
 
 
 def _check_edit_params(params) -> StrokeEditParams:
@@ -379,6 +394,8 @@ class EditPatches:
     _scale: float = field(repr=False, default=1.0)
     _background: object = field(repr=False, default=None)
     _bg_img: object = field(repr=False, default=None)
+    _carried: list = field(repr=False, default_factory=list)
+    _style: object = field(repr=False, default=None)
 
     def reusable_for(self, params: StrokeEditParams) -> bool:
         """Whether :func:`compose_patches` can use these patches with ``params``."""
@@ -436,6 +453,14 @@ def fetch_patches(image, source_strokes, target_strokes, params: StrokeEditParam
                 depth[jn.end] = min(w, typical)
         attached[i], extra[i] = attach(pair, mine, [p.target for p in pairs], depth)
     order = stroke_order(len(pairs), junctions)
+    if index.has_alpha:
+        _align_exits(index, pairs, attached, junctions)
+    carried = _carried_parts(index, pairs, attached) if params.unstroked == "follow" else []
+    for i in range(len(pairs)):
+        pins = sorted({(index.parts[pi].s, s_t) for j, pi, s_t in carried
+                       if j == i and index.parts[pi].contact})
+        if pins:
+            attached[i] = _with_pins(attached[i], pins)
 
     offsets = candidate_offsets(params.search_window, params.search_step, params.search_across)
     if params.sampling == "none":
@@ -458,7 +483,76 @@ def fetch_patches(image, source_strokes, target_strokes, params: StrokeEditParam
                        junctions=junctions, target_shape=target_shape, radius=typical,
                        n_candidates=n_cand, _index=index, _strokes=strokes, _extra=extra,
                        _window=window, _scale=max(params.search_window + params.search_across, 1),
-                       _background=None if background is None else background, _bg_img=bg_img)
+                       _background=None if background is None else background, _bg_img=bg_img,
+                       _carried=carried,
+                       _style=outline_style(index.premult, index.depth) if index.has_alpha else None)
+
+
+def _align_exits(index, pairs, attached, junctions) -> None:
+    """Make branches drawn from their parent's centre line leave the new parent's silhouette.
+
+    Such a branch copies nothing of its source parent (see
+    :func:`~branchnb.strokes.fetch.source_index`): its texture starts where
+    its source stroke leaves the source parent's tube. A control pair maps
+    that point to where its target stroke leaves the target parent's
+    silhouette (the parent as re-synthesized: its source silhouette's width
+    at the corresponding place), so the branch starts at the parent's
+    edge, wherever it is moved to and however thick the parent is there.
+    """
+    for jn in junctions:
+        i = jn.child
+        src_parent = index.joined[i][jn.end] if index.joined else -1
+        if src_parent < 0:
+            continue
+        ppair = attached[jn.parent]
+        a = exit_length(pairs[i].source, index.strokes[src_parent],
+                        lambda s, k=src_parent: index.half_width(k, s), jn.end)
+        b = exit_length(attached[i].target, ppair.target,
+                        lambda s, k=jn.parent, pp=ppair: index.edge_width(k, pp.source_arc_length(s)),
+                        jn.end)
+        if a is None or b is None:
+            continue
+        pair = attached[i]
+        ls, lt = pair.source.length, pair.target.length
+        row = (a, b) if jn.end == 0 else (ls - a, lt - b)
+        attached[i] = _with_pins(pair, [row])
+
+
+def _carried_parts(index, pairs, attached) -> list[tuple[int, int, float]]:
+    """``(pair, part, s_target)``: every pair carries the parts hanging from its source stroke."""
+    keys = [p.source.points.tobytes() for p in pairs]
+    out = []
+    for pi, part in enumerate(index.parts):
+        for i in range(len(pairs)):
+            if keys[i] == keys[part.stroke]:
+                ctl = attached[i].control
+                out.append((i, pi, float(np.interp(part.s, ctl[:, 0], ctl[:, 1]))))
+    return out
+
+
+def _with_pins(pair: StrokePair, pins) -> StrokePair:
+    """``pair`` with extra control points at ``(s_source, s_target)`` on its own mapping.
+
+    They do not change the mapping; they put a sample exactly where a part
+    is attached and pin it there (no shift by global sampling), so the
+    parent's texture at the joint is the one the part was cut from.
+    """
+    ctl = pair.control
+    rows = [tuple(r) for r in ctl[1:-1]]
+    ls, lt = ctl[-1]
+    for a, b in pins:
+        if not (1.0 < a < ls - 1.0 and 1.0 < b < lt - 1.0):
+            continue
+        if any(abs(a - r[0]) < 1.0 or abs(b - r[1]) < 1.0 for r in rows):
+            continue
+        rows.append((a, b))
+    rows.sort(key=lambda r: r[1])
+    if len(rows) == len(ctl) - 2:
+        return pair
+    try:
+        return StrokePair(pair.source, pair.target, np.array(rows, float).reshape(-1, 2), name=pair.name)
+    except ValueError:
+        return pair  # pins out of order (a folded mapping): sample as drawn
 
 
 def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None) -> StrokeEditResult:
@@ -521,7 +615,8 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
                     fs = far_side(jn, attached[jn.parent].target, into / nrm, f.origin,
                                   f.valid.shape[1], window=window)
                     keep = fs if keep is None else keep | fs
-            placed.append(PlacedPatch(f.pixels[k], f.valid[k], f.origin, pin_core, keep))
+            placed.append(PlacedPatch(f.pixels[k], f.valid[k], f.origin, pin_core, keep,
+                                      _patch_map(f, k), grow=not pin_core))
             rows, cols = f.source_pixels(k, index.shape)
             source_region[rows, cols] = True
         samples[i] = StrokeSamples(
@@ -531,6 +626,22 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
             shift=np.array([offs[j][k] for j, k in enumerate(res.choice)]),
             radius=radii, pinned=smp.pinned, energy=res.energy, pairwise=res.pairwise)
 
+    # The parts nobody stroked, each carried rigidly by its stroke (after all strokes).
+    for i, pi, s_t in patches._carried:
+        part, pair = index.parts[pi], attached[i]
+        got = place_part(part, index.premult, rigid_frame(pair.source, pair.target, part.s, s_t,
+                                                          window=window), target_shape)
+        if got is None:
+            continue
+        pix, valid, _, origin, inverse = got
+        keep = None
+        if part.contact:
+            # not over the far side of the parent's centre line
+            p, n = pair.target.point_at(s_t), pair.target.normal_at(s_t, window=window)
+            yy, xx = np.mgrid[0:valid.shape[0], 0:valid.shape[1]]
+            keep = ((xx + origin[0] - p[0]) * n[0] + (yy + origin[1] - p[1]) * n[1]) * part.side < -0.5
+        placed.append(PlacedPatch(pix, valid, origin, True, keep, inverse, grow=True))
+        source_region[part.box] |= part.mask
     comp = compose(placed, target_shape, method=params.composition, power=params.seam_power,
                    gradient_weighted=params.gradient_weighted)
     # For an opaque source the alpha is 1 on every copied pixel (less on the
@@ -542,6 +653,12 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
     nz = alpha > 1e-6
     layer[nz, :3] = np.clip(premult[nz, :3] / alpha[nz, None], 0.0, 1.0)
     layer[:, :, 3] = alpha
+    if index.has_alpha:
+        if params.close_cuts and patches._style is not None:
+            depth = source_depth(comp.labels, [pp.source_map for pp in placed], index.depth)
+            layer = close_cuts(layer, depth, patches._style)
+        layer = drop_flecks(layer, index.premult[:, :, 3])
+        alpha = layer[:, :, 3]
     mask = alpha > 0.5
     seams = seam_mask(comp.labels, alpha, min_alpha=0.1)
     energies = {
@@ -566,6 +683,14 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
         layer=layer, labels=comp.labels, samples=samples, pairs=attached, junctions=junctions,
         radius=patches.radius, source_region=source_region & index.object,
         params=dataclasses.replace(params))
+
+
+def _patch_map(f, k: int) -> np.ndarray:
+    """Target ``(x, y)`` -> source ``(x, y)`` of candidate ``k`` of ``f`` (a rotation about the sample)."""
+    th = float(f.source_angles[k]) - float(f.dst_angle)
+    c, s = np.cos(th), np.sin(th)
+    (cx, cy), (dx, dy) = f.source_points[k], f.dst_point
+    return np.array([[c, -s, cx - c * dx + s * dy], [s, c, cy - s * dx - c * dy]])
 
 
 def _over(layer: np.ndarray, bg: np.ndarray) -> np.ndarray:

@@ -145,6 +145,13 @@ class SourceIndex:
         opaque images): where the source's outline is.
     part_mask : (H, W) bool ndarray
         The pixels of all unstroked parts.
+    joined : list of (int, int)
+        Per stroke: the stroke its start / end lies on (a branch drawn from
+        its parent's centre line), or -1.
+    edge : list of (n,) ndarray
+        Per stroke: the half width of the silhouette itself along the
+        stroke (at ``width_s``; median filtered, without the running
+        maximum of ``width``).
     """
 
     premult: np.ndarray
@@ -161,6 +168,8 @@ class SourceIndex:
     parts: list = field(default_factory=list)
     depth: np.ndarray | None = None
     part_mask: np.ndarray | None = None
+    joined: list = field(default_factory=list)
+    edge: list = field(default_factory=list)
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -175,6 +184,12 @@ class SourceIndex:
         """Half width ``w`` of the object at arc lengths ``s`` of source stroke ``k`` (px)."""
         self._stroke(k)
         return np.interp(np.asarray(s, float), self.width_s[k], self.width[k])
+
+    @checked(k=Int(0), s=Array(ndim=(0, 1)))
+    def edge_width(self, k: int, s) -> np.ndarray:
+        """Half width of the silhouette at arc lengths ``s`` of source stroke ``k`` (px)."""
+        self._stroke(k)
+        return np.interp(np.asarray(s, float), self.width_s[k], self.edge[k])
 
     @checked(k=Int(0), s=Array(ndim=(0, 1)), patch_size=Real(0, 1e4))
     def radius(self, k: int, s, patch_size: float = 0.0) -> np.ndarray:
@@ -244,11 +259,14 @@ def source_index(image, source_strokes: list[Stroke]) -> SourceIndex:
     raw = [_raw_width(st, obj, edt) if has_alpha else
            (np.array([0.0, st.length]), np.zeros(2), 0.0) for st in source_strokes]
     joined = _joined_ends(source_strokes, raw, keys)
-    cuts = [tuple(joined[k][end] or _is_cut(st, obj, raw[k][2], end) for end in (0, 1))
+    cuts = [tuple(joined[k][end] >= 0 or _is_cut(st, obj, raw[k][2], end) for end in (0, 1))
             for k, st in enumerate(source_strokes)]
     widths = [_smooth_width(raw[k][1], raw[k][2], cuts[k]) if has_alpha else raw[k][1]
               for k in range(len(source_strokes))]
     width_s = [raw[k][0] for k in range(len(source_strokes))]
+    # The silhouette's own half width (median over a few widths, no running maximum).
+    edge = [ndi.median_filter(raw[k][1], size=4 * int(raw[k][2]) + 1, mode="nearest") if has_alpha
+            else raw[k][1] for k in range(len(source_strokes))]
     # Pass 1, per distinct stroke (and cut ends): the tube proper -- the
     # object pixels within the half width (no margin), up to the cut lines,
     # and a free tip's cap -- and the weights of the cut ends.
@@ -276,6 +294,25 @@ def source_index(image, source_strokes: list[Stroke]) -> SourceIndex:
             core = inked & (endw > 0.5) & (d <= np.where(interior, tube + 0.5, cap))
         tubes[key] = (d, s_map, tube, interior, endw, core)
     tube_keys = list(tubes)
+    near_parent = {}
+    if has_alpha:
+        for k, st in enumerate(source_strokes):
+            for end, parent in enumerate(joined[k]):
+                if parent < 0:
+                    continue
+                # A branch drawn from its parent's centre line starts at the
+                # parent's silhouette: the parent's tube is the parent's.
+                pkey = (keys[parent], cuts[parent])
+                s_map = tubes[(keys[k], cuts[k])][1]
+                reach = 2.5 * float(tubes[pkey][2].max()) + 4.0
+                near = (s_map <= reach) if end == 0 else (s_map >= st.length - reach)
+                cut = near & tubes[pkey][5]
+                near_parent[k] = near_parent[k] | cut if k in near_parent else cut
+        for k, cut in near_parent.items():
+            tubes[(keys[k], cuts[k])][5][cut] = False
+            # the branch's patches still copy the two pixels of the parent's tube next to
+            # the branch, so that the two overlap at the joint (no holes along the seam)
+            near_parent[k] = cut & ~ndi.binary_dilation(tubes[(keys[k], cuts[k])][5], iterations=2)
     parts, part_mask = [], None
     if has_alpha:
         # Object pixels no stroke's tube holds: the parts nobody stroked.
@@ -310,6 +347,8 @@ def source_index(image, source_strokes: list[Stroke]) -> SourceIndex:
                     for o in others:
                         held |= o
                     own |= ~held
+            if k in near_parent:
+                own &= ~near_parent[k]
             weight = endw.copy()
             if has_alpha:
                 # The tube of the object's half width around the stroke, plus
@@ -324,7 +363,7 @@ def source_index(image, source_strokes: list[Stroke]) -> SourceIndex:
                 for o in others:
                     held |= o
                 margin = np.where(inked, np.where(held, 0.0, _OPAQUE_MARGIN), _tube_margin(tube))
-                ramp = np.clip(tube + margin - d + 0.5, 0.0, 1.0)
+                ramp = np.where(tubes[key][5], 1.0, np.clip(tube + margin - d + 0.5, 0.0, 1.0))
                 weight *= np.where(interior, ramp, 1.0).astype(np.float32)
             done[key] = (own & (weight > 0), weight)
         s_maps.append(s_map)
@@ -332,7 +371,7 @@ def source_index(image, source_strokes: list[Stroke]) -> SourceIndex:
         weights.append(done[key][1])
     depth = edt.astype(np.float32) if has_alpha else np.zeros((h, w), np.float32)
     index = SourceIndex(premult, grad, obj, has_alpha, list(source_strokes), s_maps, allowed,
-                        weights, width_s, widths, cuts, parts=parts, depth=depth,
+                        weights, width_s, widths, cuts, parts=parts, depth=depth, joined=joined, edge=edge,
                         part_mask=part_mask if part_mask is not None else np.zeros((h, w), bool))
     add_bases(parts, index, window=3.0)
     return index
@@ -430,20 +469,21 @@ def _smooth_width(wv: np.ndarray, typical: float, cut) -> np.ndarray:
     return ndi.gaussian_filter1d(wv, sigma=typical / 2.0, mode="nearest").astype(float)
 
 
-def _joined_ends(strokes, raw, keys) -> list[tuple[bool, bool]]:
-    """Ends lying on another (different) stroke, within half its local width + 3 px."""
+def _joined_ends(strokes, raw, keys) -> list[tuple[int, int]]:
+    """Per stroke and end: the (different) stroke the end lies on, within half its local width + 3 px, or -1."""
     out = []
     for k, st in enumerate(strokes):
         flags = []
         for end in (0, 1):
             q = st.points[0 if end == 0 else -1][None]
-            hit = False
+            hit, best = -1, np.inf
             for j, other in enumerate(strokes):
                 if j == k or keys[j] == keys[k]:
                     continue
                 s, d = other.project(q)
                 tol = 0.5 * float(np.interp(s[0], raw[j][0], raw[j][1])) + 3.0
-                hit |= bool(d[0] <= tol) and 1.0 < s[0] < other.length - 1.0
+                if d[0] <= tol and 1.0 < s[0] < other.length - 1.0 and d[0] < best:
+                    hit, best = j, float(d[0])
             flags.append(hit)
         out.append(tuple(flags))
     return out
