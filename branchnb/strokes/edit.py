@@ -424,7 +424,7 @@ def fetch_patches(image, source_strokes, target_strokes, params: StrokeEditParam
     bg_img, target_shape = _background(background, target_shape, src_img.shape)
     pairs = make_pairs(source_strokes, target_strokes, control_points,
                        source_shape=src_img.shape, target_shape=target_shape)
-    index = source_index(src_img, [p.source for p in pairs])
+    index = source_index(src_img, [p.source for p in pairs], patch_size=params.patch_size)
     typical = float(np.median(np.concatenate([
         index.radius(k, np.linspace(0, p.source.length, 32), params.patch_size)
         for k, p in enumerate(pairs)])))
@@ -635,7 +635,7 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
             continue
         pix, valid, _, origin, inverse = got
         keep = None
-        if part.contact:
+        if part.contact and not part.at_end:
             # not over the far side of the parent's centre line
             p, n = pair.target.point_at(s_t), pair.target.normal_at(s_t, window=window)
             yy, xx = np.mgrid[0:valid.shape[0], 0:valid.shape[1]]

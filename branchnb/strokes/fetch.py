@@ -212,8 +212,8 @@ class SourceIndex:
         return auto_radius(np.interp(s, self.width_s[k], cover))
 
 
-@checked()
-def source_index(image, source_strokes: list[Stroke]) -> SourceIndex:
+@checked(patch_size=Real(0, 1e4))
+def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0) -> SourceIndex:
     """Prepare ``image`` for fetching along ``source_strokes``.
 
     Parameters
@@ -222,6 +222,9 @@ def source_index(image, source_strokes: list[Stroke]) -> SourceIndex:
         The source image (RGBA objects on a transparent background, or opaque).
     source_strokes : list of Stroke
         Inside the image (see :func:`~branchnb.strokes.strokes.make_pairs`).
+    patch_size : float
+        The patch diameter ``2 r`` the strokes are fetched with (0: automatic):
+        what a stroke's patches reach beyond a free end.
 
     Examples
     --------
@@ -289,8 +292,10 @@ def source_index(image, source_strokes: list[Stroke]) -> SourceIndex:
         if has_alpha:
             tube = np.interp(s_map, ws, wv).astype(np.float32)
             interior = (s_map > 1.0) & (s_map < st.length - 1.0)
-            # beyond a free end the object may go on for a tip's length (see _is_cut)
-            cap = np.maximum(2.0 * tube, 8.0) + 2.0
+            # beyond a free end the object may go on for a tip's length (see _is_cut), as far
+            # as the patch at the end reaches (the rest is a part)
+            reach = patch_size / 2.0 if patch_size > 0 else auto_radius(tube)
+            cap = np.minimum(np.maximum(2.0 * tube, 8.0) + 2.0, reach - 2.0)
             core = inked & (endw > 0.5) & (d <= np.where(interior, tube + 0.5, cap))
         tubes[key] = (d, s_map, tube, interior, endw, core)
     tube_keys = list(tubes)

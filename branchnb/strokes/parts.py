@@ -68,6 +68,8 @@ class Part:
         +1 or -1: which side of the stroke (along its normal) the part lies on.
     area : int
         Its opaque pixels.
+    at_end : bool
+        Attached at an end of the stroke (beyond it, not on one side).
     """
 
     box: tuple
@@ -78,6 +80,7 @@ class Part:
     contact: int
     side: float
     area: int
+    at_end: bool = False
 
 
 def find_parts(alpha: np.ndarray, inked: np.ndarray, claimed: np.ndarray, cores: list,
@@ -153,6 +156,7 @@ def add_bases(parts: list[Part], index, window: float) -> None:
         comp = np.zeros((R1 - R0, C1 - C0), bool)
         comp[r0 - R0:r0 - R0 + part.mask.shape[0], c0 - C0:c0 - C0 + part.mask.shape[1]] = part.mask
         base = np.zeros_like(comp)
+        part.at_end = not 1.0 < part.s < st.length - 1.0
         if part.contact:
             near = ndi.distance_transform_edt(~comp) <= reach
             # only the parent's pixels on the part's side, away from its centre line
@@ -160,7 +164,7 @@ def add_bases(parts: list[Part], index, window: float) -> None:
             yy, xx = np.mgrid[R0:R1, C0:C1]
             off = np.hypot(xx - foot[..., 0], yy - foot[..., 1])
             base = near & index.allowed[part.stroke][big] & (index.weight[part.stroke][big] > 0.5) \
-                & (index.premult[big][..., 3] > 0.02) & ~comp & (off > 0.35 * half)
+                & (index.premult[big][..., 3] > 0.02) & ~comp & ((off > 0.35 * half) | part.at_end)
         part.box, part.mask, part.base = big, comp, base
         ys, xs = np.nonzero(comp)
         p = st.point_at(part.s)
