@@ -455,7 +455,7 @@ def fetch_patches(image, source_strokes, target_strokes, params: StrokeEditParam
     order = stroke_order(len(pairs), junctions)
     if index.has_alpha:
         _align_exits(index, pairs, attached, junctions)
-    carried = _carried_parts(index, pairs, attached) if params.unstroked == "follow" else []
+    carried = _carried_parts(index, pairs, attached, window) if params.unstroked == "follow" else []
     for i in range(len(pairs)):
         pins = sorted({(index.parts[pi].s, s_t) for j, pi, s_t in carried
                        if j == i and index.parts[pi].contact})
@@ -518,16 +518,38 @@ def _align_exits(index, pairs, attached, junctions) -> None:
         attached[i] = _with_pins(pair, [row])
 
 
-def _carried_parts(index, pairs, attached) -> list[tuple[int, int, float]]:
-    """``(pair, part, s_target)``: every pair carries the parts hanging from its source stroke."""
+def _carried_parts(index, pairs, attached, window: float) -> list[tuple[int, int, float]]:
+    """``(pair, part, s_target)``: every pair carries the parts hanging from its source stroke.
+
+    A part touching several places goes only where they all move alike.
+    """
     keys = [p.source.points.tobytes() for p in pairs]
     out = []
     for pi, part in enumerate(index.parts):
+        (rs, cs) = part.box
+        corners = np.array([[cs.start, rs.start, 1.0], [cs.stop, rs.stop, 1.0],
+                            [cs.start, rs.stop, 1.0], [cs.stop, rs.start, 1.0]])
         for i in range(len(pairs)):
-            if keys[i] == keys[part.stroke]:
-                ctl = attached[i].control
-                out.append((i, pi, float(np.interp(part.s, ctl[:, 0], ctl[:, 1]))))
+            if keys[i] != keys[part.stroke]:
+                continue
+            s_t = _mapped(attached[i], part.s)
+            moved = corners @ rigid_frame(attached[i].source, attached[i].target, part.s, s_t,
+                                          window=window).T
+            alike = True
+            for j, s_a in part.anchors:
+                # the pair moving anchor j: this one if it shares the stroke, else the first
+                jj = i if keys[j] == keys[i] else keys.index(keys[j])
+                other = corners @ rigid_frame(attached[jj].source, attached[jj].target, s_a,
+                                              _mapped(attached[jj], s_a), window=window).T
+                alike &= float(np.abs(other - moved).max()) <= 2.0
+            if alike:
+                out.append((i, pi, s_t))
     return out
+
+
+def _mapped(pair: StrokePair, s_source: float) -> float:
+    """Target arc length of source arc length ``s_source`` (the pair's control mapping)."""
+    return float(np.interp(s_source, pair.control[:, 0], pair.control[:, 1]))
 
 
 def _with_pins(pair: StrokePair, pins) -> StrokePair:

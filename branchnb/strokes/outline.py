@@ -99,7 +99,6 @@ def source_depth(labels: np.ndarray, source_maps: list, depth: np.ndarray) -> np
     order = np.argsort(lab, kind="stable")
     counts = np.bincount(lab[lab >= 0], minlength=len(source_maps))
     start = int(np.searchsorted(lab[order], 0))
-    sh, sw = depth.shape
     for i, m in enumerate(source_maps):
         n = int(counts[i]) if i < len(counts) else 0
         if n == 0:
@@ -111,9 +110,8 @@ def source_depth(labels: np.ndarray, source_maps: list, depth: np.ndarray) -> np
         ys, xs = np.divmod(idx, w)
         sx = m[0, 0] * xs + m[0, 1] * ys + m[0, 2]
         sy = m[1, 0] * xs + m[1, 1] * ys + m[1, 2]
-        c = np.clip(np.rint(sx).astype(np.int64), 0, sw - 1)
-        r = np.clip(np.rint(sy).astype(np.int64), 0, sh - 1)
-        out.ravel()[idx] = depth[r, c]
+        # bilinear: a rotated copy's pixels fall between the source's
+        out.ravel()[idx] = ndi.map_coordinates(depth, [sy, sx], order=1, mode="nearest")
     return out
 
 
@@ -131,7 +129,7 @@ def close_cuts(layer: np.ndarray, src_depth: np.ndarray, style: OutlineStyle) ->
     alpha = layer[..., 3]
     obj = alpha > 0.5
     e = ndi.distance_transform_edt(obj)
-    band = (alpha > 0.02) & (e <= style.width + 0.5) & (src_depth > style.width + 1.0)
+    band = (alpha > 0.02) & (e <= style.width + 0.5) & (src_depth > style.width + 0.75)
     if not band.any():
         return layer
     cover = np.where(obj, np.clip(style.width + 1.0 - e, 0.0, 1.0), 1.0)[band]

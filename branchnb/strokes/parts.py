@@ -14,7 +14,10 @@ paper) those parts stay, so an edit changes only what the user touched:
 2. **Attachment.** A part hangs from the stroke whose tube it touches
    along most pixels, at the arc length ``s'`` where it touches (the
    median over the contact); a part touching nothing hangs from the
-   nearest stroke.
+   nearest stroke. A part touching two places (a loop of rope between
+   the two cut ends of the stroked piece, a limb between two stroked
+   branches) follows only where the two places move alike (within 2 px);
+   otherwise it cannot follow rigidly and is left out.
 3. **Following.** Every target stroke paired with that source stroke
    carries the part rigidly: the frame of the source stroke at ``s'``
    (point and direction) goes to the frame of the target stroke at the
@@ -30,7 +33,7 @@ see :mod:`~branchnb.strokes.outline`).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import cv2
 import numpy as np
@@ -42,6 +45,10 @@ __all__ = ["Part", "find_parts", "place_part", "rigid_frame"]
 _SLIVER = 0.4
 #: Pieces with fewer opaque pixels than this are crumbs, not parts.
 _MIN_AREA = 4
+#: A second place a part touches counts if it holds this share of the contact.
+_ANCHOR = 0.15
+#: Contact pixels further apart than this along a stroke (px) touch it at two places.
+_GAP = 10.0
 
 
 @dataclass
@@ -70,6 +77,10 @@ class Part:
         Its opaque pixels.
     at_end : bool
         Attached at an end of the stroke (beyond it, not on one side).
+    anchors : list of (int, float)
+        Every place it touches a tube: ``(stroke, s)``; a part touching
+        two places (a loop of rope between the two cut ends of a stroke)
+        follows only if they move alike.
     """
 
     box: tuple
@@ -81,6 +92,7 @@ class Part:
     side: float
     area: int
     at_end: bool = False
+    anchors: list = field(default_factory=list)
 
 
 def find_parts(alpha: np.ndarray, inked: np.ndarray, claimed: np.ndarray, cores: list,
@@ -129,17 +141,29 @@ def find_parts(alpha: np.ndarray, inked: np.ndarray, claimed: np.ndarray, cores:
         k = int(np.argmax(contacts))
         if contacts[k] and (touch & ndi.binary_dilation(cores[k][sub])).sum() >= _SLIVER * comp.sum():
             continue  # a sliver along the tube's rim
+        anchors = []
         if contacts[k]:
             at = ring & cores[k][sub]
             s = float(np.median(s_maps[k][sub][at]))
+            least = max(3, _ANCHOR * sum(contacts))
+            for j, c in enumerate(contacts):
+                if c >= least:
+                    anchors += [(j, a) for a in _clusters(s_maps[j][sub][ring & cores[j][sub]], least)]
         else:
             dist = [float(d[sub][comp].min()) for d in d_maps]
             k = int(np.argmin(dist))
             s = float(s_maps[k][sub][comp][np.argmin(d_maps[k][sub][comp])])
         mask[sub] |= comp
         parts.append(Part(box=sub, mask=comp, base=np.zeros_like(comp), stroke=k, s=s,
-                          contact=contacts[k], side=0.0, area=area))
+                          contact=contacts[k], side=0.0, area=area, anchors=anchors))
     return parts, mask
+
+
+def _clusters(s: np.ndarray, least: float) -> list[float]:
+    """Median arc length of each run of contact (gaps over :data:`_GAP` px split runs) with ``least`` pixels."""
+    s = np.sort(np.asarray(s, float))
+    cuts = np.flatnonzero(np.diff(s) > _GAP) + 1
+    return [float(np.median(run)) for run in np.split(s, cuts) if len(run) >= least]
 
 
 def add_bases(parts: list[Part], index, window: float) -> None:
