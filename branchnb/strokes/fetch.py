@@ -780,22 +780,24 @@ def fetch(index: SourceIndex, stroke_id: int, source_s, across, dst_point, dst_a
     dx, dy = float(dst_point[0]), float(dst_point[1])
     x0, y0 = int(round(dx)) - r, int(round(dy)) - r
     size = 2 * r + 1
-    uu, vv = np.meshgrid(np.arange(size) + x0 - dx, np.arange(size) + y0 - dy)
+    uu, vv = np.meshgrid(np.arange(size, dtype=np.float32) + np.float32(x0 - dx),
+                         np.arange(size, dtype=np.float32) + np.float32(y0 - dy))
+    disk = uu**2 + vv**2 <= radius**2
     th = np.asarray(angles, float) - float(dst_angle)
-    cos, sin = np.cos(th)[:, None, None], np.sin(th)[:, None, None]
-    sx = cos * uu - sin * vv + centres[:, 0, None, None]
-    sy = sin * uu + cos * vv + centres[:, 1, None, None]
+    cos = np.cos(th).astype(np.float32)[:, None, None]
+    sin = np.sin(th).astype(np.float32)[:, None, None]
     k = len(s)
-    mx = sx.reshape(k * size, size).astype(np.float32)
-    my = sy.reshape(k * size, size).astype(np.float32)
+    mx = (cos * uu - sin * vv + centres[:, 0, None, None].astype(np.float32)).reshape(k * size, size)
+    my = (sin * uu + cos * vv + centres[:, 1, None, None].astype(np.float32)).reshape(k * size, size)
     pix = cv2.remap(index.premult, mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
     wt = cv2.remap(index.weight[stroke_id], mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
-    pix = pix.reshape(k, size, size, 4) * wt.reshape(k, size, size, 1)
-    col = np.clip(np.rint(sx).astype(np.int64), 0, w - 1)
-    row = np.clip(np.rint(sy).astype(np.int64), 0, h - 1)
-    ok = ((uu**2 + vv**2 <= radius**2)[None] & (sx >= -0.5) & (sx <= w - 0.5) & (sy >= -0.5)
-          & (sy <= h - 0.5) & allowed[row, col]
-          & (np.abs(s_map[row, col] - s[:, None, None]) <= _REACH * radius))
-    return Fetched(np.ascontiguousarray(pix, np.float32), ok, index.grad[row, col].astype(np.float32),
+    pix = pix.reshape(k, size, size, 4)
+    pix *= wt.reshape(k, size, size, 1)
+    inside = (mx >= -0.5) & (mx <= w - 0.5) & (my >= -0.5) & (my <= h - 0.5)
+    flat = (np.clip(np.rint(my), 0, h - 1).astype(np.intp) * w
+            + np.clip(np.rint(mx), 0, w - 1).astype(np.intp)).reshape(k, size, size)
+    ok = disk[None] & inside.reshape(k, size, size) & allowed.ravel().take(flat)
+    ok &= np.abs(s_map.ravel().take(flat) - s[:, None, None].astype(np.float32)) <= _REACH * radius
+    return Fetched(pix, ok, index.grad.ravel().take(flat),
                    (x0, y0), centres, s, np.asarray(angles, float),
                    np.asarray(dst_point, float), float(dst_angle), float(radius))

@@ -39,7 +39,7 @@ import cv2
 import numpy as np
 from scipy import ndimage as ndi
 
-__all__ = ["Part", "find_parts", "place_part", "rigid_frame"]
+__all__ = ["Part", "find_parts", "place_part", "rigid_frame", "carry_stroke"]
 
 #: A piece touching a tube along at least this share of its pixels is a sliver of the tube's rim.
 _SLIVER = 0.4
@@ -214,6 +214,43 @@ def rigid_frame(source, target, s_source: float, s_target: float, *, window: flo
     c, s = np.cos(th), np.sin(th)
     rot = np.array([[c, -s], [s, c]])
     return np.hstack([rot, (pt - rot @ ps)[:, None]])
+
+
+def carry_stroke(child, parent_source, parent_target, *, window: float = 5.0) -> np.ndarray:
+    """Where a child's stroke goes when its parent's stroke is edited (moved rigidly with it).
+
+    The child's first point is projected on the parent's source stroke;
+    the parent maps by arc-length fraction (as a stroke pair without
+    control points), and the child follows the parent's frame there
+    (:func:`rigid_frame`). Use it to draw target strokes for the parts
+    you want to stroke along with their parent.
+
+    Parameters
+    ----------
+    child : (N, 2) array_like
+        The child's source stroke (starting on or near the parent).
+    parent_source, parent_target : (M, 2) array_like
+        The parent's source and target strokes.
+    window : float
+        Chord half-length for the parent's directions (px).
+
+    Examples
+    --------
+    >>> twig = [(0, 0), (100, 0)]
+    >>> bent = [(0, 0), (0, 100)]                     # the twig turned by 90 degrees
+    >>> carry_stroke([(50, 0), (50, -20)], twig, bent).round(6).tolist()
+    [[0.0, 50.0], [20.0, 50.0]]
+    """
+    from .strokes import Stroke
+
+    pts = np.asarray(child, float)
+    src = parent_source if isinstance(parent_source, Stroke) else Stroke(parent_source, name="parent_source")
+    tgt = parent_target if isinstance(parent_target, Stroke) else Stroke(parent_target, name="parent_target")
+    if pts.ndim != 2 or pts.shape[1] != 2 or len(pts) < 1 or not np.all(np.isfinite(pts)):
+        raise ValueError(f"child must be an (N, 2) array of finite points, got shape {pts.shape}")
+    s, _ = src.project(pts[:1])
+    m = rigid_frame(src, tgt, float(s[0]), float(s[0]) / src.length * tgt.length, window=window)
+    return pts @ m[:, :2].T + m[:, 2]
 
 
 def place_part(part: Part, premult: np.ndarray, forward: np.ndarray, shape) -> tuple | None:
