@@ -179,6 +179,10 @@ class StrokeEditResult:
         object region the result is made of; compare their colours with
         the result's, e.g. :func:`branchnb.core.histogram.compare_samples`).
     params : StrokeEditParams
+    auto : dict
+        The values used for the parameters left at 0 ("automatic"):
+        ``"patch_size"`` (typical ``2 r``), ``"spacing"`` (typical ``h``),
+        ``"junction_tolerance"`` (px).
     """
 
     image: np.ndarray
@@ -193,6 +197,7 @@ class StrokeEditResult:
     radius: float = 0.0
     source_region: np.ndarray | None = None
     params: StrokeEditParams | None = None
+    auto: dict = field(default_factory=dict)
 
     def show(self, *, seams: bool = False, strokes: bool = False, background=(1.0, 1.0, 1.0),
              seam_color=(1.0, 0.0, 0.0)) -> np.ndarray:
@@ -396,6 +401,7 @@ class EditPatches:
     _bg_img: object = field(repr=False, default=None)
     _carried: list = field(repr=False, default_factory=list)
     _style: object = field(repr=False, default=None)
+    _auto: dict = field(repr=False, default_factory=dict)
 
     def reusable_for(self, params: StrokeEditParams) -> bool:
         """Whether :func:`compose_patches` can use these patches with ``params``."""
@@ -484,8 +490,20 @@ def fetch_patches(image, source_strokes, target_strokes, params: StrokeEditParam
                        n_candidates=n_cand, _index=index, _strokes=strokes, _extra=extra,
                        _window=window, _scale=max(params.search_window + params.search_across, 1),
                        _background=None if background is None else background, _bg_img=bg_img,
-                       _carried=carried,
+                       _carried=carried, _auto=_auto_values(params, typical, tol),
                        _style=outline_style(index.premult, index.depth) if index.has_alpha else None)
+
+
+def _auto_values(params: StrokeEditParams, typical: float, tol: float) -> dict:
+    """The values used for the parameters left at 0 (automatic)."""
+    out = {}
+    if params.patch_size == 0:
+        out["patch_size"] = round(2.0 * typical, 1)
+    if params.spacing == 0:
+        out["spacing"] = round(max(typical / 2.0, 1.0), 1)
+    if params.junction_tolerance == 0:
+        out["junction_tolerance"] = round(tol, 1)
+    return out
 
 
 def _align_exits(index, pairs, attached, junctions) -> None:
@@ -704,7 +722,7 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
         image=np.clip(out, 0, 1).astype(np.float32), mask=mask, seams=seams, energies=energies,
         layer=layer, labels=comp.labels, samples=samples, pairs=attached, junctions=junctions,
         radius=patches.radius, source_region=source_region & index.object,
-        params=dataclasses.replace(params))
+        params=dataclasses.replace(params), auto=dict(patches._auto))
 
 
 def _patch_map(f, k: int) -> np.ndarray:
