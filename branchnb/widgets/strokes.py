@@ -77,12 +77,12 @@ SECTIONS = [
     ("parts nobody stroked (beyond the paper)", ["unstroked", "close_cuts"]),
 ]
 LABELS = {
-    "patch_size": ("patch diameter (0: auto)", "2r"), "spacing": ("sample spacing (0: auto)", "h"),
+    "patch_size": ("patch size (0: auto)", "2r"), "spacing": ("spacing (0: auto)", "h"),
     "sampling": ("correspondences", ""), "search_window": ("search window", "W"),
     "search_across": ("search across", ""), "search_step": ("search step", ""),
     "shift_penalty": ("shift prior", "\u03bb"), "composition": ("stitching", ""),
     "seam_power": ("seam exponent", "p"), "gradient_weighted": ("seams follow edges", "/G"),
-    "junction_tolerance": ("junction tolerance (0: auto)", ""), "extend_branches": ("extend branches", ""),
+    "junction_tolerance": ("joint reach (0: auto)", ""), "extend_branches": ("extend branches", ""),
     "unstroked": ("unstroked parts", ""), "close_cuts": ("outline cut faces", ""),
 }
 
