@@ -168,7 +168,7 @@ def test_identity_edit_reproduces_the_object(band):
     # the object region comes back whole (IoU of the masks)
     iou = (res.mask & obj).sum() / (res.mask | obj).sum()
     assert iou > 0.98
-    assert res.energies["sampling_pairwise"] == pytest.approx(0.0, abs=1e-9)
+    assert res.energies["sampling_pairwise"] == pytest.approx(0.0, abs=1e-5)  # float32 sample coordinates
 
 
 def test_identity_edit_on_the_lizard_tail():

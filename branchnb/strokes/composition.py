@@ -173,6 +173,8 @@ def compose(patches: list[PlacedPatch], shape, *, method: str = "graphcut",
             pin_a = (ndi.binary_dilation(only_a) & overlap) | (keep & overlap)
             pin_b = ndi.binary_dilation(only_b) & overlap & ~pin_a
             if patch.grow:
+                # a joint is the union of the two: opaque wins over transparent either way
+                pin_a |= overlap & (a[..., 3] > 0.5) & (b[..., 3] < 0.02) & ~pin_b
                 pin_b |= overlap & (b[..., 3] > 0.5) & (a[..., 3] < 0.5) & ~pin_a
             if not only_b.any() and patch.pin_core:
                 pin_b = _core(vb) & overlap & ~pin_a

@@ -37,7 +37,7 @@ from .composition import PlacedPatch, compose, labelling_cost, seam_mask
 from .display import draw_strokes
 from .fetch import fetch, sample_pair, source_index
 from .junctions import attach, exit_length, far_side, find_junctions, stroke_order
-from .outline import close_cuts, drop_flecks, outline_style, source_depth
+from .outline import close_cuts, drop_flecks, fill_joints, outline_style, source_depth
 from .parts import place_part, rigid_frame
 from .sampling import candidate_offsets, choose, pair_energies
 from .strokes import StrokePair, make_pairs
@@ -215,6 +215,12 @@ class StrokeEditResult:
 
     def _repr_png_(self) -> bytes:
         return encode_png(self.show())
+
+    def __repr__(self) -> str:
+        h, w = self.image.shape[:2]
+        e = ", ".join(f"{k} {v:.3g}" for k, v in self.energies.items())
+        return (f"StrokeEditResult({w} x {h}, {len(self.pairs)} stroke pair(s), {len(self.junctions)} "
+                f"junction(s), patch radius ~{self.radius:.0f} px, energies: {e})")
 
 
 def _sampling_geometry(params: StrokeEditParams, index, k: int, pair: StrokePair):
@@ -666,6 +672,9 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
             shift=np.array([offs[j][k] for j, k in enumerate(res.choice)]),
             radius=radii, pinned=smp.pinned, energy=res.energy, pairwise=res.pairwise)
 
+    # Joints (closed after composition): junctions and the attachments of carried parts.
+    joints = [(jn.point, 1.5 * float(index.half_width(jn.parent, attached[jn.parent].source_arc_length(
+        jn.parent_s))) + 4.0) for jn in junctions]
     # The parts nobody stroked, each carried rigidly by its stroke (after all strokes).
     for i, pi, s_t in patches._carried:
         part, pair = index.parts[pi], attached[i]
@@ -682,6 +691,9 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
             keep = ((xx + origin[0] - p[0]) * n[0] + (yy + origin[1] - p[1]) * n[1]) * part.side < -0.5
         placed.append(PlacedPatch(pix, valid, origin, True, keep, inverse, grow=True))
         source_region[part.box] |= part.mask
+        if part.contact:
+            joints.append((pair.target.point_at(s_t),
+                           1.5 * float(index.half_width(part.stroke, part.s)) + 4.0))
     comp = compose(placed, target_shape, method=params.composition, power=params.seam_power,
                    gradient_weighted=params.gradient_weighted)
     # For an opaque source the alpha is 1 on every copied pixel (less on the
@@ -697,6 +709,8 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
         if params.close_cuts and patches._style is not None:
             depth = source_depth(comp.labels, [pp.source_map for pp in placed], index.depth)
             layer = close_cuts(layer, depth, patches._style)
+        if joints:
+            layer = fill_joints(layer, [j[0] for j in joints], [j[1] for j in joints])
         layer = drop_flecks(layer, index.premult[:, :, 3])
         alpha = layer[:, :, 3]
     mask = alpha > 0.5
