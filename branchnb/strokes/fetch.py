@@ -234,6 +234,11 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
     (5.5, (False, True))
     """
     rgba = as_rgba(image)
+    source_strokes = list(source_strokes)
+    if not source_strokes:
+        raise ValueError("source_strokes is empty: give at least one stroke along the object")
+    if not all(isinstance(st, Stroke) for st in source_strokes):
+        raise TypeError("source_strokes must be Stroke instances (see make_pairs)")
     h, w = rgba.shape[:2]
     alpha = rgba[:, :, 3]
     has_alpha = bool((alpha < 0.999).any())
