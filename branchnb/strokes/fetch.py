@@ -253,19 +253,24 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
     # Distance to the background (the image border counts as background).
     edt = ndi.distance_transform_edt(np.pad(obj, 1))[1:-1, 1:-1] if has_alpha else None
 
-    # Per distinct stroke: distance and arc length of the nearest stroke point.
+    # Widths along every stroke (first: they bound how far from a stroke anything is needed).
+    raw = [_raw_width(st, obj, edt) if has_alpha else
+           (np.array([0.0, st.length]), np.zeros(2), 0.0) for st in source_strokes]
+
+    # Per distinct stroke: distance and arc length of the nearest stroke point, within
+    # what its patches can reach (a patch's radius, a candidate's offset across, the tube).
     keys, uniq = [], {}
-    for st in source_strokes:
+    for k, st in enumerate(source_strokes):
         key = st.points.tobytes()
         keys.append(key)
         if key not in uniq:
-            uniq[key] = _distance_map(st, (h, w))
+            wmax = float(raw[k][1].max()) if has_alpha else 0.0
+            r = patch_size / 2.0 if patch_size > 0 else (float(auto_radius(wmax)) if has_alpha else OPAQUE_RADIUS)
+            uniq[key] = _distance_map(st, (h, w), reach=max(r, 2.0 * wmax) + 24.0)
     d_min = np.min(np.stack([d for d, _ in uniq.values()]), axis=0) if len(uniq) > 1 else None
     yy, xx = np.mgrid[0:h, 0:w].astype(np.float32)
 
-    # Widths along every stroke, ends joined to another stroke, cut ends.
-    raw = [_raw_width(st, obj, edt) if has_alpha else
-           (np.array([0.0, st.length]), np.zeros(2), 0.0) for st in source_strokes]
+    # Ends joined to another stroke, cut ends.
     joined = _joined_ends(source_strokes, raw, keys)
     cuts = [tuple(joined[k][end] >= 0 or _is_cut(st, obj, raw[k][2], end) for end in (0, 1))
             for k, st in enumerate(source_strokes)]
@@ -392,18 +397,32 @@ def _tube_margin(half_width):
     return 0.15 * half_width + 3.0
 
 
-def _distance_map(stroke: Stroke, shape) -> tuple[np.ndarray, np.ndarray]:
+def _distance_map(stroke: Stroke, shape, reach: float = np.inf) -> tuple[np.ndarray, np.ndarray]:
+    """Distance to ``stroke`` and arc length of its nearest point, for every pixel.
+
+    Computed within ``reach`` px of the stroke's bounding box only (farther
+    pixels get the distance ``1e6`` and the arc length 0: nothing of the stroke reaches them).
+    """
     h, w = shape
-    seeds = np.ones((h, w), bool)
-    seed_s = np.zeros((h, w), np.float32)
     s = np.linspace(0.0, stroke.length, max(2, int(np.ceil(stroke.length * 2)) + 1))
     p = stroke.point_at(s)
     c = np.clip(np.round(p[:, 0]).astype(int), 0, w - 1)
     r = np.clip(np.round(p[:, 1]).astype(int), 0, h - 1)
-    seeds[r, c] = False
-    seed_s[r, c] = s
-    d, (ir, ic) = ndi.distance_transform_edt(seeds, return_indices=True)
-    return d.astype(np.float32), seed_s[ir, ic]
+    pad = int(min(np.ceil(reach), max(h, w))) + 1
+    r0, r1 = max(int(r.min()) - pad, 0), min(int(r.max()) + pad + 1, h)
+    c0, c1 = max(int(c.min()) - pad, 0), min(int(c.max()) + pad + 1, w)
+    seeds = np.ones((r1 - r0, c1 - c0), bool)
+    seed_s = np.zeros((r1 - r0, c1 - c0), np.float32)
+    seeds[r - r0, c - c0] = False
+    seed_s[r - r0, c - c0] = s
+    d_in, (ir, ic) = ndi.distance_transform_edt(seeds, return_indices=True)
+    if (r0, r1, c0, c1) == (0, h, 0, w):
+        return d_in.astype(np.float32), seed_s[ir, ic]
+    d = np.full((h, w), 1e6, np.float32)
+    s_map = np.zeros((h, w), np.float32)
+    d[r0:r1, c0:c1] = d_in
+    s_map[r0:r1, c0:c1] = seed_s[ir, ic]
+    return d, s_map
 
 
 def _lookup(mask: np.ndarray, pts: np.ndarray) -> np.ndarray:
