@@ -238,3 +238,25 @@ def test_outline_style_is_found_on_outlined_objects_only(twig_obj):
     flat[..., :3] = np.where(flat[..., 3:] > 0, 0.5, 0.0)
     idx = source_index(flat, [Stroke(obj.strokes[0])])
     assert outline_style(idx.premult, idx.depth) is None
+
+
+@pytest.mark.parametrize("size", [300, 500])
+def test_stumps_of_dropped_limbs_get_the_outline(size):
+    """The paper's output on a bare tree whose trunk alone is stroked: the limbs' stumps are outlined."""
+    obj = bare_tree(size, rng=1)
+    trunk = obj.strokes[0]
+    bent = trunk + np.c_[np.linspace(0, 0.08 * size, len(trunk)), np.zeros(len(trunk))]
+    src_st, tgt_st = Stroke(trunk), Stroke(bent)
+    stumps = np.array([tgt_st.point_at(src_st.project(obj.strokes[k][:1])[0][0] / src_st.length * tgt_st.length)
+                       for k in (1, 2, 3)])
+
+    def darkness(res):
+        m = res.image[..., 3] > 0.5
+        yy, xx = np.nonzero(m & ~ndi.binary_erosion(m))
+        near = np.min(np.hypot(xx[:, None] - stumps[:, 0], yy[:, None] - stumps[:, 1]), axis=1) < 1.6 * obj.widths[0]
+        return float((res.image[..., :3].mean(axis=2)[yy[near], xx[near]] < 0.2).mean())
+
+    closed = edit_structure(obj.image, [trunk], [bent], StrokeEditParams(unstroked="drop"))
+    raw = edit_structure(obj.image, [trunk], [bent], StrokeEditParams(unstroked="drop", close_cuts=False))
+    assert darkness(closed) >= 0.95 and darkness(raw) <= darkness(closed) - 0.08
+    assert pieces(closed.image, 0.02) == 1
