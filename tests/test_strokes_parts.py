@@ -260,3 +260,33 @@ def test_stumps_of_dropped_limbs_get_the_outline(size):
     raw = edit_structure(obj.image, [trunk], [bent], StrokeEditParams(unstroked="drop", close_cuts=False))
     assert darkness(closed) >= 0.95 and darkness(raw) <= darkness(closed) - 0.08
     assert pieces(closed.image, 0.02) == 1
+
+
+@pytest.mark.parametrize("how", ["from the edge", "jittered"])
+def test_joints_hold_with_strokes_drawn_by_hand(how):
+    """Child strokes started at the twig's edge (not its centre line), or shaky by 1.5 px."""
+    from branchnb.strokes.parts import carry_stroke
+
+    rng = np.random.default_rng(0)
+    obj = twig(420, rng=3)
+    sp, tgt_sp = obj.strokes[0], bent_twig(obj)
+    src, tgt = [sp], [tgt_sp]
+    for k in range(1, 5):
+        st = np.asarray(obj.strokes[k], float)
+        if how == "from the edge":
+            d = (st[1] - st[0]) / np.hypot(*(st[1] - st[0]))
+            st = np.vstack([st[0] + d * (0.8 * obj.widths[0] + 1), st[1:]])
+        else:
+            st = st + rng.normal(0, 1.5, st.shape)
+        src.append(st)
+        t = carry_stroke(st, sp, tgt_sp)
+        tgt.append(t if how == "from the edge" else t + rng.normal(0, 1.5, t.shape))
+    res = edit_structure(obj.image, src, tgt)
+    assert pieces(res.image) == 1 and pieces(res.image, 0.02) == 1
+    red, green = colour_counts(obj.image)
+    got_red, got_green = colour_counts(res.image)
+    assert abs(got_red - red) <= 0.03 * red and abs(got_green - green) <= 0.03 * green
+    for k, t_child in enumerate(tgt[1:4], start=1):  # the stems long enough to measure
+        stem = (4.5 if k in (1, 2) else 3.5) * 0.42
+        got = min(cross_width(res.image, t_child, obj.widths[0] + dt, stem + 4) for dt in (3.0, 6.0, 9.0))
+        assert got >= 2 * stem - 1.0, (k, got)
