@@ -121,7 +121,7 @@ def test_drop_keeps_the_papers_output(twig_obj):
     assert pieces(drop.image, 0.02) == 1  # no stumps left floating
 
 
-@pytest.mark.parametrize("size", [420, 800])
+@pytest.mark.parametrize("size", [420, 560])
 def test_cut_faces_get_the_outline(size):
     """A piece of the twig, cut at both ends: its cut faces are outlined like the rest."""
     obj = twig(size, rng=3)
@@ -240,7 +240,7 @@ def test_outline_style_is_found_on_outlined_objects_only(twig_obj):
     assert outline_style(idx.premult, idx.depth) is None
 
 
-@pytest.mark.parametrize("size", [300, 500])
+@pytest.mark.parametrize("size", [300, 400])
 def test_stumps_of_dropped_limbs_get_the_outline(size):
     """The paper's output on a bare tree whose trunk alone is stroked: the limbs' stumps are outlined."""
     obj = bare_tree(size, rng=1)
