@@ -682,6 +682,7 @@ ARGS = {
     "dendrite:place_endpoints.mask": _v(None),
     "strokes:Fetched.take.k": _v(0), "strokes:Fetched.source_pixels.k": _v(0), "strokes:Fetched.source_pixels.shape": _v((48, 96)),
     "strokes:SourceIndex.half_width.k": _v(0), "strokes:SourceIndex.radius.k": _v(0), "strokes:SourceIndex.radius.s": _v([1.0, 5.0]),
+    "strokes:SourceIndex.edge_width.k": _v(0), "strokes:SourceIndex.edge_width.s": _v([1.0, 5.0]),
     "strokes:PlacedPatch.placed.canvas_shape": _v((24, 28)),
     "strokes:StrokePair.source_arc_length.s_target": _v([0.0, 5.0]),
     "strokes:StrokePair.with_control.source_points": _v([(30.0, 24.0)]),

@@ -168,7 +168,7 @@ def test_identity_edit_reproduces_the_object(band):
     # the object region comes back whole (IoU of the masks)
     iou = (res.mask & obj).sum() / (res.mask | obj).sum()
     assert iou > 0.98
-    assert res.energies["sampling_pairwise"] == pytest.approx(0.0, abs=1e-9)
+    assert res.energies["sampling_pairwise"] == pytest.approx(0.0, abs=1e-5)  # float32 sample coordinates
 
 
 def test_identity_edit_on_the_lizard_tail():
@@ -220,13 +220,17 @@ def test_cut_ends_and_tips(band):
     st = Stroke(skel[40:120])
     index = source_index(img, [st])
     assert index.cut_ends[0] == (True, True)
-    res = edit_structure(img, [skel[40:120]], [skel[40:120]])
+    res = edit_structure(img, [skel[40:120]], [skel[40:120]], StrokeEditParams(unstroked="drop"))
     # nothing copied beyond the cut: the end patch stops at the line through the end point
     p, u = st.points[-1], st.points[-1] - st.points[-2]
     u = u / np.hypot(*u)
     rows, cols = np.nonzero(res.mask)
     ahead = (cols - p[0]) * u[0] + (rows - p[1]) * u[1]
     assert ahead.max() <= 1.5
+    # by default the unstroked rest of the band follows (here: stays where it is)
+    whole = edit_structure(img, [skel[40:120]], [skel[40:120]])
+    obj = img[..., 3] > 0.5
+    assert (whole.mask & obj).sum() / (whole.mask | obj).sum() > 0.97
 
 
 def test_repeated_source_stroke_feeds_two_targets(band):
@@ -234,7 +238,8 @@ def test_repeated_source_stroke_feeds_two_targets(band):
     part = skel[30:90]
     t1 = part - (0, 25)
     t2 = part + (0, 25)
-    res = edit_structure(img, [part, part], [t1, t2], target_shape=(140, 200))
+    res = edit_structure(img, [part, part], [t1, t2], StrokeEditParams(unstroked="drop"),
+                         target_shape=(140, 200))
     top, bottom = res.mask[:70].sum(), res.mask[70:].sum()
     assert top > 500 and abs(top - bottom) < 0.1 * top
 
@@ -311,8 +316,9 @@ def test_a_branch_grows_out_of_its_parent(band):
     start = trunk[25]
     branch = np.c_[np.linspace(start[0], start[0] + 60, 30), np.linspace(100, 30, 30)]
     shape = (150, 200)
-    alone = edit_structure(img, [part], [trunk], target_shape=shape)
-    res = edit_structure(img, [part, part], [trunk, branch], target_shape=shape)
+    drop = StrokeEditParams(unstroked="drop")  # the strokes alone, as in the paper
+    alone = edit_structure(img, [part], [trunk], drop, target_shape=shape)
+    res = edit_structure(img, [part, part], [trunk, branch], drop, target_shape=shape)
     assert len(res.junctions) == 1 and res.junctions[0].parent == 0
     lab, n = ndi.label(res.mask)
     assert n == 1  # one connected object
@@ -421,8 +427,8 @@ def test_cut_end_inside_a_wider_body_stays_within_the_tube():
     img[45:55, 60:190, 1] = np.linspace(0.2, 0.7, 130)
     tail = [(40, 50), (180, 50)]
     assert source_index(img, [Stroke(tail)]).cut_ends[0] == (True, False)
-    res = edit_structure(img, [tail], [[(100, 10), (100, 150)]], StrokeEditParams(patch_size=60),
-                         target_shape=(160, 200))
+    res = edit_structure(img, [tail], [[(100, 10), (100, 150)]],
+                         StrokeEditParams(patch_size=60, unstroked="drop"), target_shape=(160, 200))
     rows, cols = np.nonzero(res.image[..., 3] > 0.01)
     assert rows.min() >= 9  # nothing beyond the cut
     assert np.abs(cols - 100).max() <= 5 + 2 + 2  # half width + opaque margin + ramp

@@ -117,15 +117,21 @@ def test_sliders_and_seams(app):
     app.show_seams.value = True
     ov = app.result.seams
     assert ov.any()
-    assert app.view.title_texts[0].startswith("result (seams")
+    # the view shows what the target canvas does not: where the result came from, and its seams
+    assert app.view.title_texts == ["copied from the source (the rest dimmed)", "seams between the patches (red)"]
+    copied = app._copied(app.result)
+    inside, obj = app.result.source_region, app.image[..., 3] > 0.5
+    assert copied.shape[:2] == app.image.shape[:2] and inside.any() and (obj & ~inside).any()
+    # the copied pixels as they are, the others faded towards white
+    assert np.allclose(copied[inside & obj], app.image[inside & obj][:, :3], atol=1e-6)
+    assert copied[obj & ~inside].mean() > app.image[obj & ~inside][:, :3].mean() + 0.2
 
 
 def test_errors_are_shown_and_the_app_survives(app):
-    app.add_stroke("source", [(50, 30), (50.2, 30)])  # zero length
-    app.add_stroke("target", TGT)
-    assert "zero length" in app.errors.last_error
-    app.source_canvas.model.undo()
+    app.add_stroke("target", [(50, 30), (50.2, 30)])  # a stroke of 0.2 px: a click
+    assert "a click is not a stroke" in app.errors.last_error and len(app.target_canvas.model) == 0
     app.add_stroke("source", SRC)
+    app.add_stroke("target", TGT)
     assert app.errors.last_error is None and app.result is not None
     with pytest.raises(ValueError, match="side"):
         app.add_stroke("middle", SRC)
@@ -234,7 +240,7 @@ def test_reduced_preview_is_the_new_value_at_reduced_size():
     app.view.update = lambda images, titles=None: (shown.append((images, titles)), update(images, titles))
     app.panel.controls["seam_power"].value = 2.5
     (first, t_first), (last, t_last) = shown[0], shown[-1]
-    assert "preview" in t_first[0] and t_last[0].startswith("result")
+    assert "preview" in t_first[0] and t_last[0].startswith("copied")
     pv = app.preview
     s = 0.5  # PREVIEW_SIZE 160 over the long side 320
     src, tgt, _, _ = app.strokes()
@@ -242,8 +248,32 @@ def test_reduced_preview_is_the_new_value_at_reduced_size():
                          [b * s for b in tgt], pv.params, target_shape=pv.image.shape[:2])
     assert pv.params.seam_power == 2.5 and np.array_equal(pv.image, ref.image)
     assert np.array_equal(first[0], pv.show())
-    assert np.array_equal(last[0], app.result.show()) and app.result.params.seam_power == 2.5
+    assert np.array_equal(last[1], app.result.show(seams=True)) and app.result.params.seam_power == 2.5
     app.preview_after = 10.0  # fast edits: a seam-only change shows the result without a preview
     shown.clear()
     app.panel.controls["seam_power"].value = 3.0
-    assert len(shown) == 1 and shown[0][1][0].startswith("result")
+    assert len(shown) == 1 and shown[0][1][0].startswith("copied")
+
+
+def test_a_single_click_is_not_a_stroke(app):
+    drag(app.source_canvas, SRC)
+    click(app.target_canvas, 50, 30, mode="stroke")  # press and release on the spot
+    assert len(app.target_canvas.model) == 0  # not kept as an invisible stroke
+    assert "a click is not a stroke" in app.shell.status.last_error
+    assert "0.00 s" not in app.shell.status.value and app.result is None
+    # pressing re-synthesize says what is missing, next to the action
+    app.shell.click("re-synthesize")
+    assert "draw 1 more target stroke" in app.shell.status.last_error
+    drag(app.target_canvas, TGT)
+    assert app.shell.status.last_error is None and app.result is not None
+
+
+def test_automatic_parameters_say_so(app):
+    app.add_stroke("source", SRC)
+    app.add_stroke("target", TGT)
+    for name in ("patch_size", "spacing", "junction_tolerance"):
+        assert getattr(app.params, name) == 0 and "0: auto" in app.panel.rows[name].label.value
+    assert set(app.result.auto) == {"patch_size", "spacing", "junction_tolerance"}
+    assert f"2r = {app.result.auto['patch_size']:g} px" in app.status.value
+    app.panel.controls["patch_size"].value = 24
+    assert "patch_size" not in app.result.auto and "2r =" not in app.status.value

@@ -72,7 +72,10 @@ def test_fetch_parameters_need_a_new_fetch(staged):
     _, _, patches = staged
     for f in FETCH_FIELDS:
         v = getattr(StrokeEditParams(), f)
-        new = (not v) if isinstance(v, bool) else v + 2
+        if isinstance(v, str):
+            new = next(o for o in StrokeEditParams.__dataclass_fields__[f].metadata["options"] if o != v)
+        else:
+            new = (not v) if isinstance(v, bool) else v + 2
         p = dataclasses.replace(StrokeEditParams(), **{f: new})
         assert not patches.reusable_for(p), f
         with pytest.raises(ValueError, match=f):

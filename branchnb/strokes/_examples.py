@@ -11,7 +11,7 @@ import numpy as np
 
 from .. import data
 
-__all__ = ["LIZARD_TAIL", "rope_bend", "lizard_straighten", "tree_add_branch", "EXAMPLES"]
+__all__ = ["LIZARD_TAIL", "rope_bend", "lizard_straighten", "tree_add_branch", "twig_five_parts", "EXAMPLES"]
 
 #: The lizard's tail, from the hips to the tip (``lizard`` image pixels).
 LIZARD_TAIL = np.array([
@@ -30,7 +30,11 @@ TREE_MIDDLE = np.array([(325, 160), (300, 140), (265, 115), (245, 80), (215, 15)
 
 
 def rope_bend():
-    """Bend the straight part of the rope along a quarter circle (512 x 512 output)."""
+    """Bend the straight part of the rope along a quarter circle (512 x 512 output).
+
+    The rest of the loop touches the piece at both ends, so it cannot follow
+    a bend rigidly: the piece comes alone (as in the paper).
+    """
     img = data.load("rope_loop")
     src = np.array([(215, 515), (215, 815)], float)
     a = np.linspace(0, np.pi / 2, 40)
@@ -55,8 +59,28 @@ def tree_add_branch():
     return img, src, tgt, {}
 
 
+def bent_spine(spine: np.ndarray, height: int, sag: float = 0.12) -> np.ndarray:
+    """The twig's stroke bent into an arc sagging by ``sag`` of the image height."""
+    x0, x1 = spine[0, 0], spine[-1, 0]
+    return np.c_[spine[:, 0], 0.45 * height + sag * height * np.sin((spine[:, 0] - x0) / (x1 - x0) * np.pi)]
+
+
+def twig_five_parts(size: int = 1000):
+    """Bend a procedural twig and carry its two leaves and two fruits along with strokes (5 pairs)."""
+    from .parts import carry_stroke
+    from .procedural import twig
+
+    obj = twig(size, rng=0)
+    spine = obj.strokes[0]
+    bent = bent_spine(spine, obj.image.shape[0])
+    src = [spine] + [obj.strokes[k] for k in range(1, 5)]
+    tgt = [bent] + [carry_stroke(obj.strokes[k], spine, bent) for k in range(1, 5)]
+    return obj.image, src, tgt, {}
+
+
 EXAMPLES = {
     "rope_bend": rope_bend,
     "lizard_straighten": lizard_straighten,
     "tree_add_branch": tree_add_branch,
+    "twig_five_parts": twig_five_parts,
 }

@@ -10,7 +10,7 @@ import numpy as np
 
 from ..core.io import imsave
 from ..gallery import GalleryItem
-from ._examples import lizard_straighten, rope_bend, tree_add_branch
+from ._examples import bent_spine, lizard_straighten, rope_bend, tree_add_branch
 from .display import draw_strokes
 from .edit import StrokeEditParams, edit_structure
 
@@ -55,9 +55,10 @@ def render(outdir: Path) -> list[GalleryItem]:
     # Straighten a bent object: the lizard's tail; DP vs greedy, graph cut vs overlay.
     img, src, tgt, kw = lizard_straighten()
     pics, caps = [], []
-    for label, p in (("DP + graph cut", StrokeEditParams()),
-                     ("greedy + graph cut", StrokeEditParams(sampling="greedy")),
-                     ("DP + overlay", StrokeEditParams(composition="overlay"))):
+    tail = StrokeEditParams(unstroked="drop")  # the tail alone, not the body hanging from its root
+    for label, p in (("DP + graph cut", tail),
+                     ("greedy + graph cut", dataclasses.replace(tail, sampling="greedy")),
+                     ("DP + overlay", dataclasses.replace(tail, composition="overlay"))):
         r = edit_structure(img, src, tgt, p, **kw)
         pics.append(r.show(seams=False))
         caps.append(f"{label}: sampling energy {r.energies['sampling']:.2f}, "
@@ -80,8 +81,23 @@ def render(outdir: Path) -> list[GalleryItem]:
                              height=320))
     items.append(GalleryItem(SECTION, "add a branch (tree_rpg_12)", fn,
                              "source strokes (left; the middle branch is the source of two target "
-                             f"strokes), result with target strokes, seams; {len(res.junctions)} "
-                             "junctions"))
+                             f"strokes), result with target strokes (the branches nobody stroked follow "
+                             f"the trunk), seams; {len(res.junctions)} junctions"))
+
+    # Many parts: a procedural twig bent with one stroke, its leaves and fruits follow.
+    from .procedural import twig
+
+    obj = twig(700, rng=0)
+    spine = obj.strokes[0]
+    bent = bent_spine(spine, obj.image.shape[0])
+    drop = edit_structure(obj.image, [spine], [bent], StrokeEditParams(unstroked="drop", close_cuts=False))
+    follow = edit_structure(obj.image, [spine], [bent])
+    fn = "strokes_twig_parts.png"
+    imsave(outdir / fn, _row(_source(obj.image, [spine]), drop.show(strokes=True), follow.show(strokes=True),
+                             height=300))
+    items.append(GalleryItem(SECTION, "bend a twig: the parts nobody stroked follow", fn,
+                             "source stroke (left), the paper's output (the stroked twig alone, middle), "
+                             "leaves and fruits carried rigidly by the twig (right, the default)"))
 
     # Seam exponent.
     img, src, tgt, kw = rope_bend()

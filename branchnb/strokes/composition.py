@@ -58,6 +58,12 @@ class PlacedPatch:
         Pin the central disk to the patch when nothing else pins it.
     keep_a : (S, S) bool ndarray or None
         Pixels that must keep what the canvas has there (if covered).
+    source_map : (2, 3) ndarray or None
+        Where the patch came from: target ``(x, y)`` -> source ``(x, y)``.
+    grow : bool
+        The patch's object pixels win over the canvas's transparent ones
+        (a branch or a carried part joins its parent: it adds to the
+        silhouette, the seam may not cut it short at the parent's margin).
     """
 
     pixels: np.ndarray
@@ -65,6 +71,8 @@ class PlacedPatch:
     origin: tuple[int, int]
     pin_core: bool = True
     keep_a: np.ndarray | None = None
+    source_map: np.ndarray | None = None
+    grow: bool = False
 
     def __post_init__(self):
         px = np.asarray(self.pixels)
@@ -183,6 +191,10 @@ def compose(patches: list[PlacedPatch], shape, *, method: str = "graphcut",
         else:
             pin_a = (ndi.binary_dilation(only_a) & overlap) | (keep & overlap)
             pin_b = ndi.binary_dilation(only_b) & overlap & ~pin_a
+            if patch.grow:
+                # a joint is the union of the two: opaque wins over transparent either way
+                pin_a |= overlap & (a[..., 3] > 0.5) & (b[..., 3] < 0.02) & ~pin_b
+                pin_b |= overlap & (b[..., 3] > 0.5) & (a[..., 3] < 0.5) & ~pin_a
             if not only_b.any() and patch.pin_core:
                 pin_b = _core(vb) & overlap & ~pin_a
             pc = pair_costs(a, b, power=power, gradient_weighted=gradient_weighted)

@@ -36,7 +36,9 @@ from ..core.validate import Seq, Shape, checked
 from .composition import PlacedPatch, compose, labelling_cost, seam_mask
 from .display import draw_strokes
 from .fetch import fetch, sample_pair, source_index
-from .junctions import attach, far_side, find_junctions, stroke_order
+from .junctions import attach, exit_length, far_side, find_junctions, stroke_order
+from .outline import close_cuts, drop_flecks, fill_joints, outline_style, source_depth
+from .parts import place_part, rigid_frame
 from .sampling import candidate_offsets, choose, pair_energies
 from .strokes import StrokePair, make_pairs
 
@@ -48,9 +50,16 @@ __all__ = ["FETCH_FIELDS", "EditPatches", "StrokeEditParams", "StrokeEditResult"
 class StrokeEditParams:
     """Parameters of :func:`edit_structure`.
 
-    The extended abstract gives no numbers; the defaults below are the
-    values that work on the sample objects (``lizard``, ``rope_loop``,
-    the bare RPG trees). Sizes are in pixels of the source image.
+    The paper gives no numbers; the defaults below are the values that
+    work on the sample objects (``lizard``, ``rope_loop``, the bare RPG
+    trees) and on procedural multi-part objects
+    (:mod:`~branchnb.strokes.procedural`). Sizes are in pixels of the
+    source image; ``0`` means "automatic" for ``patch_size``, ``spacing``
+    and ``junction_tolerance`` (the values used are in
+    :attr:`StrokeEditResult.auto`). ``unstroked`` and ``close_cuts`` go
+    beyond the paper (:mod:`~branchnb.strokes.parts`,
+    :mod:`~branchnb.strokes.outline`); ``unstroked="drop",
+    close_cuts=False`` is the paper's method.
     """
 
     patch_size: int = param(
@@ -92,6 +101,12 @@ class StrokeEditParams:
     energy_stride: int = param(
         2, min=1, max=4, step=1, ui=False,
         help="evaluate the pairwise energies on every n-th pixel (speed)")
+    unstroked: str = param(
+        "follow", options=("follow", "drop"),
+        help="parts of the object nobody stroked: follow the stroked part they hang from (rigidly), "
+             "or drop them (the paper's output: the strokes only)")
+    close_cuts: bool = param(
+        True, help="draw the object's outline over faces the strokes cut (stroke ends, dropped parts)")
 
 
 @dataclass
@@ -164,6 +179,10 @@ class StrokeEditResult:
         object region the result is made of; compare their colours with
         the result's, e.g. :func:`branchnb.core.histogram.compare_samples`).
     params : StrokeEditParams
+    auto : dict
+        The values used for the parameters left at 0 ("automatic"):
+        ``"patch_size"`` (typical ``2 r``), ``"spacing"`` (typical ``h``),
+        ``"junction_tolerance"`` (px).
     """
 
     image: np.ndarray
@@ -178,6 +197,7 @@ class StrokeEditResult:
     radius: float = 0.0
     source_region: np.ndarray | None = None
     params: StrokeEditParams | None = None
+    auto: dict = field(default_factory=dict)
 
     def show(self, *, seams: bool = False, strokes: bool = False, background=(1.0, 1.0, 1.0),
              seam_color=(1.0, 0.0, 0.0)) -> np.ndarray:
@@ -195,6 +215,12 @@ class StrokeEditResult:
 
     def _repr_png_(self) -> bytes:
         return encode_png(self.show())
+
+    def __repr__(self) -> str:
+        h, w = self.image.shape[:2]
+        e = ", ".join(f"{k} {v:.3g}" for k, v in self.energies.items())
+        return (f"StrokeEditResult({w} x {h}, {len(self.pairs)} stroke pair(s), {len(self.junctions)} "
+                f"junction(s), patch radius ~{self.radius:.0f} px, energies: {e})")
 
 
 def _sampling_geometry(params: StrokeEditParams, index, k: int, pair: StrokePair):
@@ -313,7 +339,7 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
 #: The parameters the fetched candidate patches depend on (see :class:`EditPatches`); with
 #: ``sampling == "none"`` only one candidate per sample is fetched, so whether it is "none" counts too.
 FETCH_FIELDS = ("patch_size", "spacing", "search_window", "search_across", "search_step",
-                "junction_tolerance", "extend_branches")
+                "junction_tolerance", "extend_branches", "unstroked")
 
 
 def _check_edit_params(params) -> StrokeEditParams:
@@ -379,6 +405,9 @@ class EditPatches:
     _scale: float = field(repr=False, default=1.0)
     _background: object = field(repr=False, default=None)
     _bg_img: object = field(repr=False, default=None)
+    _carried: list = field(repr=False, default_factory=list)
+    _style: object = field(repr=False, default=None)
+    _auto: dict = field(repr=False, default_factory=dict)
 
     def reusable_for(self, params: StrokeEditParams) -> bool:
         """Whether :func:`compose_patches` can use these patches with ``params``."""
@@ -407,7 +436,7 @@ def fetch_patches(image, source_strokes, target_strokes, params: StrokeEditParam
     bg_img, target_shape = _background(background, target_shape, src_img.shape)
     pairs = make_pairs(source_strokes, target_strokes, control_points,
                        source_shape=src_img.shape, target_shape=target_shape)
-    index = source_index(src_img, [p.source for p in pairs])
+    index = source_index(src_img, [p.source for p in pairs], patch_size=params.patch_size)
     typical = float(np.median(np.concatenate([
         index.radius(k, np.linspace(0, p.source.length, 32), params.patch_size)
         for k, p in enumerate(pairs)])))
@@ -436,6 +465,14 @@ def fetch_patches(image, source_strokes, target_strokes, params: StrokeEditParam
                 depth[jn.end] = min(w, typical)
         attached[i], extra[i] = attach(pair, mine, [p.target for p in pairs], depth)
     order = stroke_order(len(pairs), junctions)
+    if index.has_alpha:
+        _align_exits(index, pairs, attached, junctions)
+    carried = _carried_parts(index, pairs, attached, window) if params.unstroked == "follow" else []
+    for i in range(len(pairs)):
+        pins = sorted({(index.parts[pi].s, s_t) for j, pi, s_t in carried
+                       if j == i and index.parts[pi].contact})
+        if pins:
+            attached[i] = _with_pins(attached[i], pins)
 
     offsets = candidate_offsets(params.search_window, params.search_step, params.search_across)
     if params.sampling == "none":
@@ -458,7 +495,110 @@ def fetch_patches(image, source_strokes, target_strokes, params: StrokeEditParam
                        junctions=junctions, target_shape=target_shape, radius=typical,
                        n_candidates=n_cand, _index=index, _strokes=strokes, _extra=extra,
                        _window=window, _scale=max(params.search_window + params.search_across, 1),
-                       _background=None if background is None else background, _bg_img=bg_img)
+                       _background=None if background is None else background, _bg_img=bg_img,
+                       _carried=carried, _auto=_auto_values(params, typical, tol),
+                       _style=outline_style(index.premult, index.depth) if index.has_alpha else None)
+
+
+def _auto_values(params: StrokeEditParams, typical: float, tol: float) -> dict:
+    """The values used for the parameters left at 0 (automatic)."""
+    out = {}
+    if params.patch_size == 0:
+        out["patch_size"] = round(2.0 * typical, 1)
+    if params.spacing == 0:
+        out["spacing"] = round(max(typical / 2.0, 1.0), 1)
+    if params.junction_tolerance == 0:
+        out["junction_tolerance"] = round(tol, 1)
+    return out
+
+
+def _align_exits(index, pairs, attached, junctions) -> None:
+    """Make branches drawn from their parent's centre line leave the new parent's silhouette.
+
+    Such a branch copies nothing of its source parent (see
+    :func:`~branchnb.strokes.fetch.source_index`): its texture starts where
+    its source stroke leaves the source parent's tube. A control pair maps
+    that point to where its target stroke leaves the target parent's
+    silhouette (the parent as re-synthesized: its source silhouette's width
+    at the corresponding place), so the branch starts at the parent's
+    edge, wherever it is moved to and however thick the parent is there.
+    """
+    for jn in junctions:
+        i = jn.child
+        src_parent = index.joined[i][jn.end] if index.joined else -1
+        if src_parent < 0:
+            continue
+        ppair = attached[jn.parent]
+        a = exit_length(pairs[i].source, index.strokes[src_parent],
+                        lambda s, k=src_parent: index.half_width(k, s), jn.end)
+        b = exit_length(attached[i].target, ppair.target,
+                        lambda s, k=jn.parent, pp=ppair: index.edge_width(k, pp.source_arc_length(s)),
+                        jn.end)
+        if a is None or b is None:
+            continue
+        pair = attached[i]
+        ls, lt = pair.source.length, pair.target.length
+        row = (a, b) if jn.end == 0 else (ls - a, lt - b)
+        attached[i] = _with_pins(pair, [row])
+
+
+def _carried_parts(index, pairs, attached, window: float) -> list[tuple[int, int, float]]:
+    """``(pair, part, s_target)``: every pair carries the parts hanging from its source stroke.
+
+    A part touching several places goes only where they all move alike.
+    """
+    keys = [p.source.points.tobytes() for p in pairs]
+    out = []
+    for pi, part in enumerate(index.parts):
+        (rs, cs) = part.box
+        corners = np.array([[cs.start, rs.start, 1.0], [cs.stop, rs.stop, 1.0],
+                            [cs.start, rs.stop, 1.0], [cs.stop, rs.start, 1.0]])
+        for i in range(len(pairs)):
+            if keys[i] != keys[part.stroke]:
+                continue
+            s_t = _mapped(attached[i], part.s)
+            moved = corners @ rigid_frame(attached[i].source, attached[i].target, part.s, s_t,
+                                          window=window).T
+            alike = True
+            for j, s_a in part.anchors:
+                # the pair moving anchor j: this one if it shares the stroke, else the first
+                jj = i if keys[j] == keys[i] else keys.index(keys[j])
+                other = corners @ rigid_frame(attached[jj].source, attached[jj].target, s_a,
+                                              _mapped(attached[jj], s_a), window=window).T
+                alike &= float(np.abs(other - moved).max()) <= 2.0
+            if alike:
+                out.append((i, pi, s_t))
+    return out
+
+
+def _mapped(pair: StrokePair, s_source: float) -> float:
+    """Target arc length of source arc length ``s_source`` (the pair's control mapping)."""
+    return float(np.interp(s_source, pair.control[:, 0], pair.control[:, 1]))
+
+
+def _with_pins(pair: StrokePair, pins) -> StrokePair:
+    """``pair`` with extra control points at ``(s_source, s_target)`` on its own mapping.
+
+    They do not change the mapping; they put a sample exactly where a part
+    is attached and pin it there (no shift by global sampling), so the
+    parent's texture at the joint is the one the part was cut from.
+    """
+    ctl = pair.control
+    rows = [tuple(r) for r in ctl[1:-1]]
+    ls, lt = ctl[-1]
+    for a, b in pins:
+        if not (1.0 < a < ls - 1.0 and 1.0 < b < lt - 1.0):
+            continue
+        if any(abs(a - r[0]) < 1.0 or abs(b - r[1]) < 1.0 for r in rows):
+            continue
+        rows.append((a, b))
+    rows.sort(key=lambda r: r[1])
+    if len(rows) == len(ctl) - 2:
+        return pair
+    try:
+        return StrokePair(pair.source, pair.target, np.array(rows, float).reshape(-1, 2), name=pair.name)
+    except ValueError:
+        return pair  # pins out of order (a folded mapping): sample as drawn
 
 
 def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None) -> StrokeEditResult:
@@ -521,7 +661,8 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
                     fs = far_side(jn, attached[jn.parent].target, into / nrm, f.origin,
                                   f.valid.shape[1], window=window)
                     keep = fs if keep is None else keep | fs
-            placed.append(PlacedPatch(f.pixels[k], f.valid[k], f.origin, pin_core, keep))
+            placed.append(PlacedPatch(f.pixels[k], f.valid[k], f.origin, pin_core, keep,
+                                      _patch_map(f, k), grow=not pin_core))
             rows, cols = f.source_pixels(k, index.shape)
             source_region[rows, cols] = True
         samples[i] = StrokeSamples(
@@ -531,6 +672,28 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
             shift=np.array([offs[j][k] for j, k in enumerate(res.choice)]),
             radius=radii, pinned=smp.pinned, energy=res.energy, pairwise=res.pairwise)
 
+    # Joints (closed after composition): junctions and the attachments of carried parts.
+    joints = [(jn.point, 1.5 * float(index.half_width(jn.parent, attached[jn.parent].source_arc_length(
+        jn.parent_s))) + 4.0) for jn in junctions]
+    # The parts nobody stroked, each carried rigidly by its stroke (after all strokes).
+    for i, pi, s_t in patches._carried:
+        part, pair = index.parts[pi], attached[i]
+        got = place_part(part, index.premult, rigid_frame(pair.source, pair.target, part.s, s_t,
+                                                          window=window), target_shape)
+        if got is None:
+            continue
+        pix, valid, _, origin, inverse = got
+        keep = None
+        if part.contact and not part.at_end:
+            # not over the far side of the parent's centre line
+            p, n = pair.target.point_at(s_t), pair.target.normal_at(s_t, window=window)
+            yy, xx = np.mgrid[0:valid.shape[0], 0:valid.shape[1]]
+            keep = ((xx + origin[0] - p[0]) * n[0] + (yy + origin[1] - p[1]) * n[1]) * part.side < -0.5
+        placed.append(PlacedPatch(pix, valid, origin, True, keep, inverse, grow=True))
+        source_region[part.box] |= part.mask
+        if part.contact:
+            joints.append((pair.target.point_at(s_t),
+                           1.5 * float(index.half_width(part.stroke, part.s)) + 4.0))
     comp = compose(placed, target_shape, method=params.composition, power=params.seam_power,
                    gradient_weighted=params.gradient_weighted)
     # For an opaque source the alpha is 1 on every copied pixel (less on the
@@ -542,6 +705,14 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
     nz = alpha > 1e-6
     layer[nz, :3] = np.clip(premult[nz, :3] / alpha[nz, None], 0.0, 1.0)
     layer[:, :, 3] = alpha
+    if index.has_alpha:
+        if params.close_cuts and patches._style is not None:
+            depth = source_depth(comp.labels, [pp.source_map for pp in placed], index.depth)
+            layer = close_cuts(layer, depth, patches._style)
+        if joints:
+            layer = fill_joints(layer, [j[0] for j in joints], [j[1] for j in joints])
+        layer = drop_flecks(layer, index.premult[:, :, 3])
+        alpha = layer[:, :, 3]
     mask = alpha > 0.5
     seams = seam_mask(comp.labels, alpha, min_alpha=0.1)
     energies = {
@@ -565,7 +736,15 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
         image=np.clip(out, 0, 1).astype(np.float32), mask=mask, seams=seams, energies=energies,
         layer=layer, labels=comp.labels, samples=samples, pairs=attached, junctions=junctions,
         radius=patches.radius, source_region=source_region & index.object,
-        params=dataclasses.replace(params))
+        params=dataclasses.replace(params), auto=dict(patches._auto))
+
+
+def _patch_map(f, k: int) -> np.ndarray:
+    """Target ``(x, y)`` -> source ``(x, y)`` of candidate ``k`` of ``f`` (a rotation about the sample)."""
+    th = float(f.source_angles[k]) - float(f.dst_angle)
+    c, s = np.cos(th), np.sin(th)
+    (cx, cy), (dx, dy) = f.source_points[k], f.dst_point
+    return np.array([[c, -s, cx - c * dx + s * dy], [s, c, cy - s * dx - c * dy]])
 
 
 def _over(layer: np.ndarray, bg: np.ndarray) -> np.ndarray:

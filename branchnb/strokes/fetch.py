@@ -61,15 +61,16 @@ RGBA image; for an opaque image it is the union of the copied patches.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
+import cv2
 import numpy as np
 from scipy import ndimage as ndi
 
 from ..core.graphcut import gradient_magnitude  # the edge strength G of the seam energy
 from ..core.image import as_rgba
 from ..core.validate import COORD_LIMIT, MAX_COUNT, Array, Int, Real, Shape, check_real, checked
-from ..core.warp import transfer_patch
+from .parts import add_bases, find_parts
 from .strokes import Stroke, StrokePair
 
 __all__ = ["SourceIndex", "Samples", "Fetched", "source_index", "sample_pair", "fetch",
@@ -136,6 +137,21 @@ class SourceIndex:
         sampled at arc lengths ``width_s`` (smoothed; 0 for opaque images).
     cut_ends : list of (bool, bool)
         Per stroke: whether the object is cut straight at its start / end.
+    parts : list of Part
+        The parts of the object nobody stroked (:mod:`~branchnb.strokes.parts`),
+        each with the stroke it hangs from.
+    depth : (H, W) float32 ndarray
+        Distance of every object pixel to the background (px; 0 for
+        opaque images): where the source's outline is.
+    part_mask : (H, W) bool ndarray
+        The pixels of all unstroked parts.
+    joined : list of (int, int)
+        Per stroke: the stroke its start / end lies on (a branch drawn from
+        its parent's centre line), or -1.
+    edge : list of (n,) ndarray
+        Per stroke: the half width of the silhouette itself along the
+        stroke (at ``width_s``; median filtered, without the running
+        maximum of ``width``).
     """
 
     premult: np.ndarray
@@ -149,6 +165,11 @@ class SourceIndex:
     width_s: list
     width: list
     cut_ends: list
+    parts: list = field(default_factory=list)
+    depth: np.ndarray | None = None
+    part_mask: np.ndarray | None = None
+    joined: list = field(default_factory=list)
+    edge: list = field(default_factory=list)
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -163,6 +184,12 @@ class SourceIndex:
         """Half width ``w`` of the object at arc lengths ``s`` of source stroke ``k`` (px)."""
         self._stroke(k)
         return np.interp(np.asarray(s, float), self.width_s[k], self.width[k])
+
+    @checked(k=Int(0), s=Array(ndim=(0, 1)))
+    def edge_width(self, k: int, s) -> np.ndarray:
+        """Half width of the silhouette at arc lengths ``s`` of source stroke ``k`` (px)."""
+        self._stroke(k)
+        return np.interp(np.asarray(s, float), self.width_s[k], self.edge[k])
 
     @checked(k=Int(0), s=Array(ndim=(0, 1)), patch_size=Real(0, 1e4))
     def radius(self, k: int, s, patch_size: float = 0.0) -> np.ndarray:
@@ -185,8 +212,8 @@ class SourceIndex:
         return auto_radius(np.interp(s, self.width_s[k], cover))
 
 
-@checked()
-def source_index(image, source_strokes: list[Stroke]) -> SourceIndex:
+@checked(patch_size=Real(0, 1e4))
+def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0) -> SourceIndex:
     """Prepare ``image`` for fetching along ``source_strokes``.
 
     Parameters
@@ -195,6 +222,9 @@ def source_index(image, source_strokes: list[Stroke]) -> SourceIndex:
         The source image (RGBA objects on a transparent background, or opaque).
     source_strokes : list of Stroke
         Inside the image (see :func:`~branchnb.strokes.strokes.make_pairs`).
+    patch_size : float
+        The patch diameter ``2 r`` the strokes are fetched with (0: automatic):
+        what a stroke's patches reach beyond a free end.
 
     Examples
     --------
@@ -204,6 +234,11 @@ def source_index(image, source_strokes: list[Stroke]) -> SourceIndex:
     (5.5, (False, True))
     """
     rgba = as_rgba(image)
+    source_strokes = list(source_strokes)
+    if not source_strokes:
+        raise ValueError("source_strokes is empty: give at least one stroke along the object")
+    if not all(isinstance(st, Stroke) for st in source_strokes):
+        raise TypeError("source_strokes must be Stroke instances (see make_pairs)")
     h, w = rgba.shape[:2]
     alpha = rgba[:, :, 3]
     has_alpha = bool((alpha < 0.999).any())
@@ -218,59 +253,143 @@ def source_index(image, source_strokes: list[Stroke]) -> SourceIndex:
     # Distance to the background (the image border counts as background).
     edt = ndi.distance_transform_edt(np.pad(obj, 1))[1:-1, 1:-1] if has_alpha else None
 
-    # Per distinct stroke: distance and arc length of the nearest stroke point.
+    # Widths along every stroke (first: they bound how far from a stroke anything is needed).
+    raw = [_raw_width(st, obj, edt) if has_alpha else
+           (np.array([0.0, st.length]), np.zeros(2), 0.0) for st in source_strokes]
+
+    # Per distinct stroke: distance and arc length of the nearest stroke point, within
+    # what its patches can reach (a patch's radius, a candidate's offset across, the tube).
     keys, uniq = [], {}
-    for st in source_strokes:
+    for k, st in enumerate(source_strokes):
         key = st.points.tobytes()
         keys.append(key)
         if key not in uniq:
-            uniq[key] = _distance_map(st, (h, w))
+            wmax = float(raw[k][1].max()) if has_alpha else 0.0
+            r = patch_size / 2.0 if patch_size > 0 else (float(auto_radius(wmax)) if has_alpha else OPAQUE_RADIUS)
+            uniq[key] = _distance_map(st, (h, w), reach=max(r, 2.0 * wmax) + 24.0)
     d_min = np.min(np.stack([d for d, _ in uniq.values()]), axis=0) if len(uniq) > 1 else None
     yy, xx = np.mgrid[0:h, 0:w].astype(np.float32)
 
-    # Widths along every stroke, ends joined to another stroke, cut ends.
-    raw = [_raw_width(st, obj, edt) if has_alpha else
-           (np.array([0.0, st.length]), np.zeros(2), 0.0) for st in source_strokes]
+    # Ends joined to another stroke, cut ends.
     joined = _joined_ends(source_strokes, raw, keys)
-    cuts = [tuple(joined[k][end] or _is_cut(st, obj, raw[k][2], end) for end in (0, 1))
+    cuts = [tuple(joined[k][end] >= 0 or _is_cut(st, obj, raw[k][2], end) for end in (0, 1))
             for k, st in enumerate(source_strokes)]
     widths = [_smooth_width(raw[k][1], raw[k][2], cuts[k]) if has_alpha else raw[k][1]
               for k in range(len(source_strokes))]
     width_s = [raw[k][0] for k in range(len(source_strokes))]
+    # The silhouette's own half width (median over a few widths, no running maximum).
+    edge = [ndi.median_filter(raw[k][1], size=4 * int(raw[k][2]) + 1, mode="nearest") if has_alpha
+            else raw[k][1] for k in range(len(source_strokes))]
+    # Pass 1, per distinct stroke (and cut ends): the tube proper -- the
+    # object pixels within the half width (no margin), up to the cut lines,
+    # and a free tip's cap -- and the weights of the cut ends.
+    tubes: dict = {}
+    for k, st in enumerate(source_strokes):
+        key = (keys[k], cuts[k])
+        if key in tubes:
+            continue
+        d, s_map = uniq[keys[k]]
+        ws, wv = width_s[k], widths[k]
+        endw = np.ones((h, w), np.float32)
+        for end, is_cut in enumerate(cuts[k]):
+            if is_cut:
+                endw *= _beyond_weight(st, end, s_map, xx, yy)
+                if has_alpha:
+                    # The cut line itself: only across the tube.
+                    w_end = float(np.interp(0.0 if end == 0 else st.length, ws, wv))
+                    endw *= _end_tube(st, end, s_map, xx, yy, w_end, inked)
+        tube = interior = core = None
+        if has_alpha:
+            tube = np.interp(s_map, ws, wv).astype(np.float32)
+            interior = (s_map > 1.0) & (s_map < st.length - 1.0)
+            # beyond a free end the object may go on for a tip's length (see _is_cut), as far
+            # as the patch at the end reaches (the rest is a part)
+            reach = patch_size / 2.0 if patch_size > 0 else auto_radius(tube)
+            cap = np.minimum(np.maximum(2.0 * tube, 8.0) + 2.0, reach - 2.0)
+            core = inked & (endw > 0.5) & (d <= np.where(interior, tube + 0.5, cap))
+        tubes[key] = (d, s_map, tube, interior, endw, core)
+    tube_keys = list(tubes)
+    near_parent = {}
+    if has_alpha:
+        for k, st in enumerate(source_strokes):
+            for end, parent in enumerate(joined[k]):
+                if parent < 0:
+                    continue
+                # A branch drawn from its parent's centre line starts at the
+                # parent's silhouette: the parent's tube is the parent's.
+                pkey = (keys[parent], cuts[parent])
+                s_map = tubes[(keys[k], cuts[k])][1]
+                reach = 2.5 * float(tubes[pkey][2].max()) + 4.0
+                near = (s_map <= reach) if end == 0 else (s_map >= st.length - reach)
+                cut = near & tubes[pkey][5]
+                near_parent[k] = near_parent[k] | cut if k in near_parent else cut
+        for k, cut in near_parent.items():
+            tubes[(keys[k], cuts[k])][5][cut] = False
+            # the branch's patches still copy the two pixels of the parent's tube next to
+            # the branch, so that the two overlap at the joint (no holes along the seam)
+            near_parent[k] = cut & ~ndi.binary_dilation(tubes[(keys[k], cuts[k])][5], iterations=2)
+    parts, part_mask = [], None
+    if has_alpha:
+        # Object pixels no stroke's tube holds: the parts nobody stroked.
+        claimed = np.zeros((h, w), bool)
+        for key in tube_keys:
+            claimed |= tubes[key][5]
+        parts, part_mask = find_parts(alpha, inked, claimed, [tubes[key][5] for key in tube_keys],
+                                      [tubes[key][1] for key in tube_keys],
+                                      [tubes[key][0] for key in tube_keys])
+        for part in parts:  # tube index -> the first stroke with that tube
+            part.stroke = [(keys[k], cuts[k]) for k in range(len(source_strokes))].index(
+                tube_keys[part.stroke])
+
+    # Pass 2: the pixels each stroke may copy and their weights.
     s_maps, allowed, weights = [], [], []
     done: dict = {}
-    for k, st in enumerate(source_strokes):
-        d, s_map = uniq[keys[k]]
-        ws, wv, cut = width_s[k], widths[k], cuts[k]
-        key = (keys[k], cut)
+    for k in range(len(source_strokes)):
+        key = (keys[k], cuts[k])
+        d, s_map, tube, interior, endw, _ = tubes[key]
         if key not in done:
-            own = np.ones((h, w), bool) if d_min is None else d <= d_min + _SHARE
-            weight = np.ones((h, w), np.float32)
+            others = [tubes[o][5] for o in tube_keys if o[0] != keys[k]] if has_alpha else []
+            if d_min is None:
+                own = np.ones((h, w), bool)
+            else:
+                # Pixels in one stroke's tube only are that stroke's; where
+                # tubes overlap (junctions, crossings) the nearest stroke's,
+                # within _SHARE px (so a part lying near another stroke is not
+                # cut along the line half-way between the two strokes).
+                own = d <= d_min + _SHARE
+                if others:
+                    held = np.zeros((h, w), bool)
+                    for o in others:
+                        held |= o
+                    own |= ~held
+            if k in near_parent:
+                own &= ~near_parent[k]
+            weight = endw.copy()
             if has_alpha:
                 # The tube of the object's half width around the stroke, plus
-                # a margin of background (only background: opaque pixels in
-                # the margin belong to something else -- a side branch, the
-                # trunk a branch was drawn from), with a one-pixel ramp so
-                # that cut-off parts get an anti-aliased edge. The object
-                # beyond the stroke ends is handled below.
-                tube = np.interp(s_map, ws, wv)
-                margin = np.where(inked, _OPAQUE_MARGIN, _tube_margin(tube))
-                interior = (s_map > 1.0) & (s_map < st.length - 1.0)
-                ramp = np.clip(tube + margin - d + 0.5, 0.0, 1.0)
-                weight = np.where(interior, ramp, 1.0).astype(np.float32)
-            for end, is_cut in enumerate(cut):
-                if is_cut:
-                    weight *= _beyond_weight(st, end, s_map, xx, yy)
-                    if has_alpha:
-                        # The cut line itself: only across the tube.
-                        w_end = float(np.interp(0.0 if end == 0 else st.length, ws, wv))
-                        weight *= _end_tube(st, end, s_map, xx, yy, w_end, inked)
+                # a margin: of background (where the seams can run around the
+                # silhouette), and of object pixels that nothing else holds
+                # (the stroke's own anti-aliased rim) -- not of another
+                # stroke's tube or of an unstroked part, so that no stump of
+                # a side branch is copied with the stroke. A one-pixel ramp
+                # gives cut-off parts an anti-aliased edge. The object beyond
+                # the stroke ends is handled by the end weights.
+                held = part_mask.copy()
+                for o in others:
+                    held |= o
+                margin = np.where(inked, np.where(held, 0.0, _OPAQUE_MARGIN), _tube_margin(tube))
+                ramp = np.where(tubes[key][5], 1.0, np.clip(tube + margin - d + 0.5, 0.0, 1.0))
+                weight *= np.where(interior, ramp, 1.0).astype(np.float32)
             done[key] = (own & (weight > 0), weight)
         s_maps.append(s_map)
         allowed.append(done[key][0])
         weights.append(done[key][1])
-    return SourceIndex(premult, grad, obj, has_alpha, list(source_strokes), s_maps, allowed,
-                       weights, width_s, widths, cuts)
+    depth = edt.astype(np.float32) if has_alpha else np.zeros((h, w), np.float32)
+    index = SourceIndex(premult, grad, obj, has_alpha, list(source_strokes), s_maps, allowed,
+                        weights, width_s, widths, cuts, parts=parts, depth=depth, joined=joined, edge=edge,
+                        part_mask=part_mask if part_mask is not None else np.zeros((h, w), bool))
+    add_bases(parts, index, window=3.0)
+    return index
 
 
 def _tube_margin(half_width):
@@ -278,18 +397,32 @@ def _tube_margin(half_width):
     return 0.15 * half_width + 3.0
 
 
-def _distance_map(stroke: Stroke, shape) -> tuple[np.ndarray, np.ndarray]:
+def _distance_map(stroke: Stroke, shape, reach: float = np.inf) -> tuple[np.ndarray, np.ndarray]:
+    """Distance to ``stroke`` and arc length of its nearest point, for every pixel.
+
+    Computed within ``reach`` px of the stroke's bounding box only (farther
+    pixels get the distance ``1e6`` and the arc length 0: nothing of the stroke reaches them).
+    """
     h, w = shape
-    seeds = np.ones((h, w), bool)
-    seed_s = np.zeros((h, w), np.float32)
     s = np.linspace(0.0, stroke.length, max(2, int(np.ceil(stroke.length * 2)) + 1))
     p = stroke.point_at(s)
     c = np.clip(np.round(p[:, 0]).astype(int), 0, w - 1)
     r = np.clip(np.round(p[:, 1]).astype(int), 0, h - 1)
-    seeds[r, c] = False
-    seed_s[r, c] = s
-    d, (ir, ic) = ndi.distance_transform_edt(seeds, return_indices=True)
-    return d.astype(np.float32), seed_s[ir, ic]
+    pad = int(min(np.ceil(reach), max(h, w))) + 1
+    r0, r1 = max(int(r.min()) - pad, 0), min(int(r.max()) + pad + 1, h)
+    c0, c1 = max(int(c.min()) - pad, 0), min(int(c.max()) + pad + 1, w)
+    seeds = np.ones((r1 - r0, c1 - c0), bool)
+    seed_s = np.zeros((r1 - r0, c1 - c0), np.float32)
+    seeds[r - r0, c - c0] = False
+    seed_s[r - r0, c - c0] = s
+    d_in, (ir, ic) = ndi.distance_transform_edt(seeds, return_indices=True)
+    if (r0, r1, c0, c1) == (0, h, 0, w):
+        return d_in.astype(np.float32), seed_s[ir, ic]
+    d = np.full((h, w), 1e6, np.float32)
+    s_map = np.zeros((h, w), np.float32)
+    d[r0:r1, c0:c1] = d_in
+    s_map[r0:r1, c0:c1] = seed_s[ir, ic]
+    return d, s_map
 
 
 def _lookup(mask: np.ndarray, pts: np.ndarray) -> np.ndarray:
@@ -365,37 +498,46 @@ def _smooth_width(wv: np.ndarray, typical: float, cut) -> np.ndarray:
     return ndi.gaussian_filter1d(wv, sigma=typical / 2.0, mode="nearest").astype(float)
 
 
-def _joined_ends(strokes, raw, keys) -> list[tuple[bool, bool]]:
-    """Ends lying on another (different) stroke, within half its local width + 3 px."""
+def _joined_ends(strokes, raw, keys) -> list[tuple[int, int]]:
+    """Per stroke and end: the (different) stroke the end lies on, within half its local width + 3 px, or -1."""
     out = []
     for k, st in enumerate(strokes):
         flags = []
         for end in (0, 1):
             q = st.points[0 if end == 0 else -1][None]
-            hit = False
+            hit, best = -1, np.inf
             for j, other in enumerate(strokes):
                 if j == k or keys[j] == keys[k]:
                     continue
                 s, d = other.project(q)
                 tol = 0.5 * float(np.interp(s[0], raw[j][0], raw[j][1])) + 3.0
-                hit |= bool(d[0] <= tol) and 1.0 < s[0] < other.length - 1.0
+                if d[0] <= tol and 1.0 < s[0] < other.length - 1.0 and d[0] < best:
+                    hit, best = j, float(d[0])
             flags.append(hit)
         out.append(tuple(flags))
     return out
 
 
 def _local_max(edt: np.ndarray, p: np.ndarray) -> np.ndarray:
-    """Largest ``edt`` within ``edt(p) + 2`` px of each point ``p``."""
+    """Largest ``edt`` within ``edt(p) + 2`` px of each point ``p``.
+
+    Evaluated every few points (a quarter of the typical half width) and
+    interpolated in between: the widths are smoothed over several half
+    widths afterwards anyway.
+    """
     h, w = edt.shape
-    e0 = edt[np.clip(np.round(p[:, 1]).astype(int), 0, h - 1),
-             np.clip(np.round(p[:, 0]).astype(int), 0, w - 1)]
+    e_all = edt[np.clip(np.round(p[:, 1]).astype(int), 0, h - 1),
+                np.clip(np.round(p[:, 0]).astype(int), 0, w - 1)]
+    step = max(1, int(np.median(e_all) // 4))
+    pick = np.unique(np.r_[np.arange(0, len(p), step), len(p) - 1])
+    e0 = e_all[pick]
     rho = int(np.ceil(min(float(e0.max()), _MAX_WIDTH))) + 2
     oy, ox = np.mgrid[-rho:rho + 1, -rho:rho + 1]
     off = np.column_stack([ox.ravel(), oy.ravel()]).astype(float)
-    out = np.zeros(len(p))
+    out = np.zeros(len(pick))
     chunk = max(1, 1_000_000 // len(off))  # bounded memory
-    for lo in range(0, len(p), chunk):
-        pts = np.round(p[lo:lo + chunk])
+    for lo in range(0, len(pick), chunk):
+        pts = np.round(p[pick[lo:lo + chunk]])
         q = pts[:, None, :] + off[None]
         c = q[..., 0].astype(np.int64)
         r = q[..., 1].astype(np.int64)
@@ -404,7 +546,7 @@ def _local_max(edt: np.ndarray, p: np.ndarray) -> np.ndarray:
         val = np.zeros(q.shape[:2])
         val[ok] = edt[r[ok], c[ok]]
         out[lo:lo + chunk] = val.max(axis=1)
-    return out
+    return np.interp(np.arange(len(p)), pick, out)
 
 
 def _end_direction(stroke: Stroke, end: int, window: float) -> tuple[np.ndarray, np.ndarray]:
@@ -656,28 +798,30 @@ def fetch(index: SourceIndex, stroke_id: int, source_s, across, dst_point, dst_a
     angles = stroke.angle_at(s, window=window)
     h, w = index.shape
     s_map, allowed = index.s_map[stroke_id], index.allowed[stroke_id]
-    weight = index.weight[stroke_id]
-    half = int(np.ceil(radius)) + 2
-    pix, valid, grad = [], [], []
-    origin = None
-    for c, a, sk in zip(centres, angles, s):
-        # Crop the source around p' (the disk of radius r maps inside it).
-        x0 = int(np.clip(np.floor(c[0]) - half, 0, w - 1))
-        y0 = int(np.clip(np.floor(c[1]) - half, 0, h - 1))
-        x1 = int(np.clip(np.ceil(c[0]) + half + 1, x0 + 1, w))
-        y1 = int(np.clip(np.ceil(c[1]) + half + 1, y0 + 1, h))
-        patch = transfer_patch(index.premult[y0:y1, x0:x1], (c[0] - x0, c[1] - y0), a,
-                               dst_point, dst_angle, radius, circular=True)
-        wt = transfer_patch(weight[y0:y1, x0:x1, None], (c[0] - x0, c[1] - y0), a,
-                            dst_point, dst_angle, radius).pixels[:, :, 0]
-        origin = patch.origin
-        sx, sy = _source_coords(c, a, dst_point, dst_angle, origin, patch.valid.shape[0])
-        col = np.clip(np.rint(sx).astype(np.int64), 0, w - 1)
-        row = np.clip(np.rint(sy).astype(np.int64), 0, h - 1)
-        ok = patch.valid & allowed[row, col] & (np.abs(s_map[row, col] - sk) <= _REACH * radius)
-        pix.append(patch.pixels * wt[:, :, None])
-        valid.append(ok)
-        grad.append(index.grad[row, col])
-    return Fetched(np.stack(pix), np.stack(valid), np.stack(grad).astype(np.float32),
-                   origin, centres, s, np.asarray(angles, float),
+    # All candidates at once: target pixel q -> source p = R(a_k - dst_angle) (q - p_dst) + c_k
+    # (the rotation of core.warp.transfer_patch), bilinear, one remap for the whole stack.
+    r = int(np.ceil(radius))
+    dx, dy = float(dst_point[0]), float(dst_point[1])
+    x0, y0 = int(round(dx)) - r, int(round(dy)) - r
+    size = 2 * r + 1
+    uu, vv = np.meshgrid(np.arange(size, dtype=np.float32) + np.float32(x0 - dx),
+                         np.arange(size, dtype=np.float32) + np.float32(y0 - dy))
+    disk = uu**2 + vv**2 <= radius**2
+    th = np.asarray(angles, float) - float(dst_angle)
+    cos = np.cos(th).astype(np.float32)[:, None, None]
+    sin = np.sin(th).astype(np.float32)[:, None, None]
+    k = len(s)
+    mx = (cos * uu - sin * vv + centres[:, 0, None, None].astype(np.float32)).reshape(k * size, size)
+    my = (sin * uu + cos * vv + centres[:, 1, None, None].astype(np.float32)).reshape(k * size, size)
+    pix = cv2.remap(index.premult, mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+    wt = cv2.remap(index.weight[stroke_id], mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+    pix = pix.reshape(k, size, size, 4)
+    pix *= wt.reshape(k, size, size, 1)
+    inside = (mx >= -0.5) & (mx <= w - 0.5) & (my >= -0.5) & (my <= h - 0.5)
+    flat = (np.clip(np.rint(my), 0, h - 1).astype(np.intp) * w
+            + np.clip(np.rint(mx), 0, w - 1).astype(np.intp)).reshape(k, size, size)
+    ok = disk[None] & inside.reshape(k, size, size) & allowed.ravel().take(flat)
+    ok &= np.abs(s_map.ravel().take(flat) - s[:, None, None].astype(np.float32)) <= _REACH * radius
+    return Fetched(pix, ok, index.grad.ravel().take(flat),
+                   (x0, y0), centres, s, np.asarray(angles, float),
                    np.asarray(dst_point, float), float(dst_angle), float(radius))

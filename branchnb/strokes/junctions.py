@@ -35,7 +35,7 @@ import numpy as np
 from ..core.validate import MAX_COUNT, Array, Int, Point, Real, checked
 from .strokes import Stroke, StrokePair
 
-__all__ = ["Junction", "find_junctions", "stroke_order", "attach", "far_side"]
+__all__ = ["Junction", "find_junctions", "stroke_order", "attach", "far_side", "exit_length"]
 
 
 @dataclass(frozen=True)
@@ -196,3 +196,26 @@ def far_side(junction: Junction, parent: Stroke, child_dir: np.ndarray, origin, 
     yy, xx = np.mgrid[0:size, 0:size]
     rel = np.stack([xx + x0 - junction.point[0], yy + y0 - junction.point[1]], axis=-1)
     return (rel @ nrm) * side < -0.5
+
+
+def exit_length(child: Stroke, parent: Stroke, half_width, end: int) -> float | None:
+    """How far along ``child`` from its ``end`` it leaves ``parent``'s silhouette (px), or None.
+
+    ``half_width(s)`` is the parent's half width at its arc lengths ``s``;
+    the child leaves the silhouette at the first point farther from the
+    parent's centre line than that.
+
+    Examples
+    --------
+    >>> trunk = Stroke([(0, 0), (0, 100)])
+    >>> branch = Stroke([(0, 50), (40, 50)])
+    >>> exit_length(branch, trunk, lambda s: np.full(np.shape(s), 8.0), 0)
+    8.5
+    """
+    t = np.arange(0.0, child.length + 0.25, 0.5)
+    s_child = t if end == 0 else child.length - t
+    s_par, d = parent.project(child.point_at(s_child))
+    out = np.flatnonzero(d > np.asarray(half_width(s_par), float))
+    if not len(out) or out[0] == 0:
+        return None
+    return float(t[out[0]])

@@ -64,7 +64,9 @@ from .shell import AppShell
 
 __all__ = ["StrokeEditApp", "strokes_from_shapes", "nearest_stroke"]
 
-MODES = ("stroke", "polyline", "point", "edit", "pan")
+#: The canvases' tools (no vertex editing: freehand strokes have too many vertices to move one by one,
+#: and four tools keep the toolbar on two rows beside the other canvas).
+MODES = ("stroke", "polyline", "point", "pan")
 _UNPAIRED = "#9e9e9e"
 
 #: Parameter groups (the paper's steps) and readable labels.
@@ -73,15 +75,20 @@ SECTIONS = [
                               "search_step", "shift_penalty"]),
     ("composition (seams)", ["composition", "seam_power", "gradient_weighted"]),
     ("junctions", ["junction_tolerance", "extend_branches"]),
+    ("parts nobody stroked (beyond the paper)", ["unstroked", "close_cuts"]),
 ]
 LABELS = {
-    "patch_size": ("patch diameter", "2r"), "spacing": ("sample spacing", "h"),
+    "patch_size": ("patch size (0: auto)", "2r"), "spacing": ("spacing (0: auto)", "h"),
     "sampling": ("correspondences", ""), "search_window": ("search window", "W"),
     "search_across": ("search across", ""), "search_step": ("search step", ""),
     "shift_penalty": ("shift prior", "\u03bb"), "composition": ("stitching", ""),
     "seam_power": ("seam exponent", "p"), "gradient_weighted": ("seams follow edges", "/G"),
-    "junction_tolerance": ("junction tolerance", ""), "extend_branches": ("extend branches", ""),
+    "junction_tolerance": ("joint reach (0: auto)", ""), "extend_branches": ("extend branches", ""),
+    "unstroked": ("unstroked parts", ""), "close_cuts": ("outline cut faces", ""),
 }
+
+#: Strokes shorter than this (px, image pixels) are clicks, not strokes.
+MIN_STROKE = 2.0
 
 #: Long side (px) of the reduced-size edit shown while a slow full edit is computed.
 PREVIEW_SIZE = 160
@@ -256,6 +263,7 @@ class StrokeEditApp(widgets.VBox):
         self.comparisons: list = []
         self.elapsed = 0.0
         self.stage_seconds = {"fetch": 0.0, "compose": 0.0}
+        self._dropping = False
         self.shell = AppShell(
             "Stroke-based structure editing",
             help="draw strokes along the object on the <b>source</b>, then where each part goes on the "
@@ -292,7 +300,7 @@ class StrokeEditApp(widgets.VBox):
                      annotations=lambda: canvases_json(self.canvases, app="strokes"))
         self.buttons = {"edit": sh.buttons["re-synthesize"], "reverse": sh.buttons["reverse last target"],
                         "clear": sh.buttons["clear all"]}
-        self.view = ImageView(width=max_display, max_size=2 * max_display)
+        self.view = ImageView(width=int(0.6 * max_display), max_size=2 * max_display)
         self.hists = [HistogramCompare(bins=16, metric="l1", title=f"{ch} channel", width=max_display,
                                        height=110) for ch in CHANNELS]
         self.status = widgets.HTML(layout=widgets.Layout(width="100%"))
@@ -397,13 +405,14 @@ class StrokeEditApp(widgets.VBox):
         reused), then :func:`~branchnb.strokes.compose_patches` (the same
         result as ``edit_structure``; ``stage_seconds`` has the times).
 
-        Returns None (and says why in the status line) while the two
-        canvases do not hold the same number of strokes.
+        Raises ``ValueError`` saying what is missing while the two canvases
+        do not hold the same number of strokes (the re-synthesize button
+        shows it next to the action).
         """
         src, tgt, control, notes = self.strokes()
         if not src or len(src) != len(tgt):
             self.status.value = self._status_text(src, tgt, notes)
-            return None
+            raise ValueError(notes[0] if notes else "draw a stroke on the source image and its target first")
         t0 = time.perf_counter()
         p = self.params
         key = self._inputs_key(src, tgt, control)
@@ -434,9 +443,34 @@ class StrokeEditApp(widgets.VBox):
         return self.canvases[side]
 
     def _on_strokes(self, _event) -> None:
+        if self._dropping:
+            return
+        self._drop_clicks()
         self._recolour()
         self._markers()
         self._changed()
+
+    def _drop_clicks(self) -> None:
+        """Remove finished strokes shorter than :data:`MIN_STROKE` (a click) and say so."""
+        dropped = []
+        for side, c in self.canvases.items():
+            for i in range(len(c.model.shapes) - 1, -1, -1):
+                sh = c.model.shapes[i]
+                if sh.kind not in ("stroke", "polyline") or not sh.closed:
+                    continue
+                pts = np.asarray(sh.points, float)
+                if len(pts) >= 2 and np.hypot(*np.diff(pts, axis=0).T).sum() >= MIN_STROKE:
+                    continue
+                self._dropping = True
+                try:
+                    c.model.remove_shape(i)
+                finally:
+                    self._dropping = False
+                dropped.append(side)
+        if dropped:
+            self.shell.status.show(ValueError(
+                f"a click is not a stroke: press, drag and release to draw one (the click on the "
+                f"{' and '.join(sorted(set(dropped)))} canvas was removed)"))
 
     @staticmethod
     def _inputs_key(src, tgt, control) -> tuple:
@@ -456,6 +490,13 @@ class StrokeEditApp(widgets.VBox):
         return c if reuse else c + self.stage_seconds["fetch"]
 
     def _changed(self) -> None:
+        src, tgt, _, notes = self.strokes()
+        if not src or len(src) != len(tgt):
+            # nothing to re-synthesize yet: say what is missing (not a green "0.00 s")
+            self.status.value = self._status_text(src, tgt, notes)
+            if self.shell.status.last_error is None:
+                self.shell.status.info(notes[0] if notes else "draw a stroke on the source image")
+            return
         if self.auto.value:
             slow = self.expected_seconds() > self.preview_after
             if slow and self._reusable() and not self._preview_ready():
@@ -463,7 +504,6 @@ class StrokeEditApp(widgets.VBox):
             self.shell.live("re-synthesize", self.edit, preview=self._preview if slow else None,
                             stale=self._mark_stale)
         else:
-            src, tgt, _, notes = self.strokes()
             self.status.value = self._status_text(src, tgt, notes)
 
     def _reusable(self) -> bool:
@@ -585,12 +625,24 @@ class StrokeEditApp(widgets.VBox):
                                        else None)
 
     def _show(self) -> None:
+        """The target canvas shows the result; the view shows what it is made of."""
         if self.result is None:
             return
         r = self.result
-        self.view.update([r.show(seams=self.show_seams.value)],
-                         [f"result ({'seams in red' if self.show_seams.value else 'no seams shown'})"])
+        self.view.update([self._copied(r), r.show(seams=True)],
+                         ["copied from the source (the rest dimmed)", "seams between the patches (red)"])
         self._target_overlay()
+
+    def _copied(self, res) -> np.ndarray:
+        """The source with the pixels the result copies at full strength, the rest dimmed."""
+        rgb = _checkerboard(self.image.shape[:2]) if self.image.shape[2] == 4 else np.ones_like(self.image[..., :3])
+        if self.image.shape[2] == 4:
+            a = self.image[..., 3:4]
+            rgb = self.image[..., :3] * a + rgb * (1 - a)
+        else:
+            rgb = self.image[..., :3].copy()
+        region = res.source_region if res.source_region is not None else np.ones(rgb.shape[:2], bool)
+        return np.where(region[..., None], rgb, 0.35 * rgb + 0.65).astype(np.float32)
 
     def _status_text(self, src, tgt, notes) -> str:
         parts = [f"{len(src)} source / {len(tgt)} target stroke(s)"]
@@ -599,5 +651,8 @@ class StrokeEditApp(widgets.VBox):
             parts.append(f"{len(self.result.junctions)} junction(s), patch radius ~"
                          f"{self.result.radius:.0f} px, sampling energy {e['sampling']:.3g}, "
                          f"seam cost {e['seam']:.3g}, {self.elapsed:.2f} s")
+            if self.result.auto:
+                names = {"patch_size": "2r", "spacing": "h", "junction_tolerance": "junction tolerance"}
+                parts.append("auto: " + ", ".join(f"{names[k]} = {v:g} px" for k, v in self.result.auto.items()))
         parts += notes
         return " &nbsp;|&nbsp; ".join(parts)

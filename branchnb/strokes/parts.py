@@ -1,0 +1,290 @@
+"""Parts nobody stroked: found in the source, carried along by the stroke they hang from.
+
+The paper re-synthesizes the object along the target strokes only: every
+part of the object without a stroke (a leaf on a stroked twig, the
+branches of a tree when one branch is added) disappears, and where it
+left its parent a stump with a straight cut remains. Here (beyond the
+paper) those parts stay, so an edit changes only what the user touched:
+
+1. **Finding the parts.** Each source stroke holds a *tube*: the object
+   pixels within its half width (and a free tip's cap, up to its cut
+   lines). The object pixels no tube holds fall into connected pieces;
+   thin slivers lying along a tube (its silhouette's rim where the
+   measured width is a little short) are not parts.
+2. **Attachment.** A part hangs from the stroke whose tube it touches
+   along most pixels, at the arc length ``s'`` where it touches (the
+   median over the contact); a part touching nothing hangs from the
+   nearest stroke. A part touching two places (a loop of rope between
+   the two cut ends of the stroked piece, a limb between two stroked
+   branches) follows only where the two places move alike (within 2 px);
+   otherwise it cannot follow rigidly and is left out.
+3. **Following.** Every target stroke paired with that source stroke
+   carries the part rigidly: the frame of the source stroke at ``s'``
+   (point and direction) goes to the frame of the target stroke at the
+   corresponding arc length. The part brings a *base* along, the parent's
+   object pixels near the contact, so that the graph cut stitches it into
+   the parent like any patch. A part hanging between two stroked parts
+   follows the one it touches more (rigidly; it is not bent).
+
+``StrokeEditParams.unstroked = "drop"`` keeps the paper's output: parts
+nobody stroked are left out (their cut faces get the object's outline,
+see :mod:`~branchnb.strokes.outline`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import cv2
+import numpy as np
+from scipy import ndimage as ndi
+
+__all__ = ["Part", "find_parts", "place_part", "rigid_frame", "carry_stroke"]
+
+#: A piece touching a tube along at least this share of its pixels is a sliver of the tube's rim.
+_SLIVER = 0.4
+#: Pieces with fewer opaque pixels than this are crumbs, not parts.
+_MIN_AREA = 4
+#: A second place a part touches counts if it holds this share of the contact.
+_ANCHOR = 0.15
+#: Contact pixels further apart than this along a stroke (px) touch it at two places.
+_GAP = 10.0
+
+
+@dataclass
+class Part:
+    """An unstroked part of the source object.
+
+    Attributes
+    ----------
+    box : (slice, slice)
+        Its bounding box in the source image (rows, columns), grown to
+        hold its base.
+    mask : (h, w) bool ndarray
+        Its pixels within ``box``.
+    base : (h, w) bool ndarray
+        The parent's object pixels near the contact, within ``box``: the
+        overlap the graph cut stitches the part in.
+    stroke : int
+        The source stroke it hangs from.
+    s : float
+        Arc length of the attachment on that stroke.
+    contact : int
+        Pixels touching the stroke's tube (0: the part is loose).
+    side : float
+        +1 or -1: which side of the stroke (along its normal) the part lies on.
+    area : int
+        Its opaque pixels.
+    at_end : bool
+        Attached at an end of the stroke (beyond it, not on one side).
+    anchors : list of (int, float)
+        Every place it touches a tube: ``(stroke, s)``; a part touching
+        two places (a loop of rope between the two cut ends of a stroke)
+        follows only if they move alike.
+    """
+
+    box: tuple
+    mask: np.ndarray
+    base: np.ndarray
+    stroke: int
+    s: float
+    contact: int
+    side: float
+    area: int
+    at_end: bool = False
+    anchors: list = field(default_factory=list)
+
+
+def find_parts(alpha: np.ndarray, inked: np.ndarray, claimed: np.ndarray, cores: list,
+               s_maps: list, d_maps: list) -> tuple[list[Part], np.ndarray]:
+    """The unstroked parts of an RGBA object.
+
+    Parameters
+    ----------
+    alpha : (H, W) ndarray
+    inked : (H, W) bool ndarray
+        Pixels with any coverage.
+    claimed : (H, W) bool ndarray
+        The union of the strokes' tubes.
+    cores : list of (H, W) bool ndarray
+        Each stroke's tube (one per distinct stroke).
+    s_maps, d_maps : list of (H, W) ndarray
+        Arc length of, and distance to, the nearest point of each stroke.
+
+    Returns
+    -------
+    parts : list of Part
+        ``Part.stroke`` indexes ``cores``.
+    mask : (H, W) bool ndarray
+        All parts' pixels.
+    """
+    h, w = alpha.shape
+    rest = inked & ~claimed
+    labels, n = ndi.label(rest, structure=np.ones((3, 3)))
+    mask = np.zeros((h, w), bool)
+    parts: list[Part] = []
+    if n == 0:
+        return parts, mask
+    boxes = ndi.find_objects(labels)
+    for lab, box in enumerate(boxes, start=1):
+        grow = 3
+        r0, r1 = max(box[0].start - grow, 0), min(box[0].stop + grow, h)
+        c0, c1 = max(box[1].start - grow, 0), min(box[1].stop + grow, w)
+        sub = (slice(r0, r1), slice(c0, c1))
+        comp = labels[sub] == lab
+        area = int((comp & (alpha[sub] > 0.5)).sum())
+        if area < _MIN_AREA:
+            continue
+        ring = ndi.binary_dilation(comp) & ~comp
+        touch = ndi.binary_dilation(ring) & comp  # the part's pixels next to its ring
+        contacts = [int((ring & core[sub]).sum()) for core in cores]
+        k = int(np.argmax(contacts))
+        if contacts[k] and (touch & ndi.binary_dilation(cores[k][sub])).sum() >= _SLIVER * comp.sum():
+            continue  # a sliver along the tube's rim
+        anchors = []
+        if contacts[k]:
+            at = ring & cores[k][sub]
+            s = float(np.median(s_maps[k][sub][at]))
+            least = max(3, _ANCHOR * sum(contacts))
+            for j, c in enumerate(contacts):
+                if c >= least:
+                    anchors += [(j, a) for a in _clusters(s_maps[j][sub][ring & cores[j][sub]], least)]
+        else:
+            dist = [float(d[sub][comp].min()) for d in d_maps]
+            k = int(np.argmin(dist))
+            s = float(s_maps[k][sub][comp][np.argmin(d_maps[k][sub][comp])])
+        mask[sub] |= comp
+        parts.append(Part(box=sub, mask=comp, base=np.zeros_like(comp), stroke=k, s=s,
+                          contact=contacts[k], side=0.0, area=area, anchors=anchors))
+    return parts, mask
+
+
+def _clusters(s: np.ndarray, least: float) -> list[float]:
+    """Median arc length of each run of contact (gaps over :data:`_GAP` px split runs) with ``least`` pixels."""
+    s = np.sort(np.asarray(s, float))
+    cuts = np.flatnonzero(np.diff(s) > _GAP) + 1
+    return [float(np.median(run)) for run in np.split(s, cuts) if len(run) >= least]
+
+
+def add_bases(parts: list[Part], index, window: float) -> None:
+    """Give every attached part its base (the parent's pixels near the contact) and its side."""
+    h, w = index.shape
+    for part in parts:
+        st = index.strokes[part.stroke]
+        half = float(index.half_width(part.stroke, part.s))
+        reach = int(np.ceil(max(2.0, 0.6 * half))) + 1
+        r0, c0 = part.box[0].start, part.box[1].start
+        R0, R1 = max(r0 - reach, 0), min(part.box[0].stop + reach, h)
+        C0, C1 = max(c0 - reach, 0), min(part.box[1].stop + reach, w)
+        big = (slice(R0, R1), slice(C0, C1))
+        comp = np.zeros((R1 - R0, C1 - C0), bool)
+        comp[r0 - R0:r0 - R0 + part.mask.shape[0], c0 - C0:c0 - C0 + part.mask.shape[1]] = part.mask
+        base = np.zeros_like(comp)
+        part.at_end = not 1.0 < part.s < st.length - 1.0
+        if part.contact:
+            near = ndi.distance_transform_edt(~comp) <= reach
+            # only the parent's pixels on the part's side, away from its centre line
+            foot = st.point_at(index.s_map[part.stroke][big].ravel()).reshape(*comp.shape, 2)
+            yy, xx = np.mgrid[R0:R1, C0:C1]
+            off = np.hypot(xx - foot[..., 0], yy - foot[..., 1])
+            base = near & index.allowed[part.stroke][big] & (index.weight[part.stroke][big] > 0.5) \
+                & (index.premult[big][..., 3] > 0.02) & ~comp & ((off > 0.35 * half) | part.at_end)
+        part.box, part.mask, part.base = big, comp, base
+        ys, xs = np.nonzero(comp)
+        p = st.point_at(part.s)
+        n = st.normal_at(part.s, window=window)
+        part.side = 1.0 if float(np.mean((xs + C0 - p[0]) * n[0] + (ys + R0 - p[1]) * n[1])) >= 0 else -1.0
+
+
+def rigid_frame(source, target, s_source: float, s_target: float, *, window: float) -> np.ndarray:
+    """The 2 x 3 rigid map taking the source stroke's frame at ``s_source`` to the target's at ``s_target``.
+
+    ``x_t = P_t + R(theta_t - theta_s) (x_s - P_s)`` with ``P`` the stroke
+    points and ``theta`` the stroke directions there.
+
+    Examples
+    --------
+    >>> from branchnb.strokes.strokes import Stroke
+    >>> m = rigid_frame(Stroke([(0, 0), (10, 0)]), Stroke([(5, 5), (5, 15)]), 4.0, 4.0, window=1.0)
+    >>> np.round(m @ [4.0, 1.0, 1.0], 6).tolist()
+    [4.0, 9.0]
+    """
+    ps, pt = source.point_at(s_source), target.point_at(s_target)
+    th = float(target.angle_at(s_target, window=window)) - float(source.angle_at(s_source, window=window))
+    c, s = np.cos(th), np.sin(th)
+    rot = np.array([[c, -s], [s, c]])
+    return np.hstack([rot, (pt - rot @ ps)[:, None]])
+
+
+def carry_stroke(child, parent_source, parent_target, *, window: float = 5.0) -> np.ndarray:
+    """Where a child's stroke goes when its parent's stroke is edited (moved rigidly with it).
+
+    The child's first point is projected on the parent's source stroke;
+    the parent maps by arc-length fraction (as a stroke pair without
+    control points), and the child follows the parent's frame there
+    (:func:`rigid_frame`). Use it to draw target strokes for the parts
+    you want to stroke along with their parent.
+
+    Parameters
+    ----------
+    child : (N, 2) array_like
+        The child's source stroke (starting on or near the parent).
+    parent_source, parent_target : (M, 2) array_like
+        The parent's source and target strokes.
+    window : float
+        Chord half-length for the parent's directions (px).
+
+    Examples
+    --------
+    >>> twig = [(0, 0), (100, 0)]
+    >>> bent = [(0, 0), (0, 100)]                     # the twig turned by 90 degrees
+    >>> carry_stroke([(50, 0), (50, -20)], twig, bent).round(6).tolist()
+    [[0.0, 50.0], [20.0, 50.0]]
+    """
+    from .strokes import Stroke
+
+    pts = np.asarray(child, float)
+    src = parent_source if isinstance(parent_source, Stroke) else Stroke(parent_source, name="parent_source")
+    tgt = parent_target if isinstance(parent_target, Stroke) else Stroke(parent_target, name="parent_target")
+    if pts.ndim != 2 or pts.shape[1] != 2 or len(pts) < 1 or not np.all(np.isfinite(pts)):
+        raise ValueError(f"child must be an (N, 2) array of finite points, got shape {pts.shape}")
+    s, _ = src.project(pts[:1])
+    m = rigid_frame(src, tgt, float(s[0]), float(s[0]) / src.length * tgt.length, window=window)
+    return pts @ m[:, :2].T + m[:, 2]
+
+
+def place_part(part: Part, premult: np.ndarray, forward: np.ndarray, shape) -> tuple | None:
+    """The part (and its base) moved by the rigid map ``forward`` (source -> target).
+
+    Returns ``(pixels, valid, base, origin, inverse)`` on a square box in
+    the target (``pixels`` premultiplied RGBA; ``inverse`` maps target
+    ``(x, y)`` to source ``(x, y)``), or None when it lands outside ``shape``.
+    """
+    (rs, cs) = part.box
+    crop = premult[rs, cs]
+    region = (part.mask | part.base).astype(np.float32)
+    hh, ww = region.shape
+    corners = np.array([[cs.start, rs.start], [cs.stop, rs.start], [cs.start, rs.stop],
+                        [cs.stop, rs.stop]], float)
+    moved = corners @ forward[:, :2].T + forward[:, 2]
+    x0, y0 = np.floor(moved.min(axis=0)).astype(int) - 1
+    x1, y1 = np.ceil(moved.max(axis=0)).astype(int) + 1
+    H, W = shape[:2]
+    if x1 <= 0 or y1 <= 0 or x0 >= W or y0 >= H:
+        return None
+    size = int(max(x1 - x0, y1 - y0))
+    # target pixel (x0 + u, y0 + v) -> source (crop coordinates)
+    rot = forward[:, :2]
+    inv_rot = rot.T
+    inv_t = -inv_rot @ forward[:, 2]
+    inverse = np.hstack([inv_rot, inv_t[:, None]])
+    m = inverse.copy()
+    m[:, 2] = inverse[:, 2] + inv_rot @ np.array([x0, y0], float) - np.array([cs.start, rs.start], float)
+    flags = cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP
+    pix = cv2.warpAffine(crop, m, (size, size), flags=flags, borderMode=cv2.BORDER_CONSTANT, borderValue=0)
+    stack = np.dstack([part.mask, part.base]).astype(np.float32)
+    lab = cv2.warpAffine(stack, m, (size, size), flags=flags, borderMode=cv2.BORDER_CONSTANT, borderValue=0)
+    valid = (lab[..., 0] + lab[..., 1]) > 0.5
+    base = valid & (lab[..., 1] > lab[..., 0])
+    del hh, ww
+    return pix.astype(np.float32), valid, base, (int(x0), int(y0)), inverse

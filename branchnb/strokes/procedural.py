@@ -1,0 +1,367 @@
+"""Procedural multi-part objects with known parts and skeleton strokes.
+
+Test objects for stroke editing whose right answer is known: every pixel
+carries the index of the part it belongs to, every part has its skeleton
+stroke (starting on its parent's skeleton) and its parent. They are drawn
+like clip art (flat colours with some texture, a dark outline around the
+silhouette, none across the joints), at any size:
+
+* :func:`twig`: a twig with leaves (petiole + blade with a midrib) and
+  round fruits on stems, one fruit close enough to lie within the twig's
+  patch band;
+* :func:`bare_tree`: a trunk with limbs and twigs on the limbs;
+* :func:`figure`: a body with a head, two arms and two legs.
+
+>>> obj = twig(400, rng=0)
+>>> obj.image.shape, obj.names[:3]
+((240, 400, 4), ['twig', 'leaf 1', 'leaf 2'])
+>>> obj.parents[:3]
+[-1, 0, 0]
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..core.random import as_rng
+from ..core.validate import Int, checked
+
+__all__ = ["PartObject", "twig", "bare_tree", "figure"]
+
+#: Outline colour of the procedural objects.
+OUTLINE = (0.12, 0.09, 0.06)
+
+
+@dataclass
+class PartObject:
+    """An RGBA object made of known parts.
+
+    Attributes
+    ----------
+    image : (H, W, 4) float32 ndarray
+        The object on a transparent background (straight alpha).
+    labels : (H, W) int ndarray
+        Part index of every pixel with alpha > 0.5 (-1 elsewhere); the
+        outline belongs to the part it surrounds.
+    strokes : list of (N, 2) ndarray
+        One skeleton stroke per part, ``(x, y)`` pixels; a child's stroke
+        starts on its parent's stroke.
+    parents : list of int
+        Parent part of every part (-1 for the root).
+    names : list of str
+    widths : list of float
+        Typical half width of every part (px).
+    outline : float
+        Outline width (px).
+    """
+
+    image: np.ndarray
+    labels: np.ndarray
+    strokes: list
+    parents: list
+    names: list
+    widths: list
+    outline: float
+
+    def _repr_png_(self) -> bytes:
+        from ..core.image import composite_over
+        from ..core.io import encode_png
+
+        return encode_png(composite_over(self.image))
+
+
+def _seg_distance(px, py, pts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Distance of pixel centres to a polyline and the arc length of the nearest point."""
+    best = np.full(px.shape, np.inf)
+    best_s = np.zeros(px.shape)
+    s0 = 0.0
+    for a, b in zip(pts[:-1], pts[1:]):
+        ab = b - a
+        n2 = float(ab @ ab)
+        if n2 < 1e-12:
+            continue
+        t = np.clip(((px - a[0]) * ab[0] + (py - a[1]) * ab[1]) / n2, 0.0, 1.0)
+        d = np.hypot(px - a[0] - t * ab[0], py - a[1] - t * ab[1])
+        closer = d < best
+        best = np.where(closer, d, best)
+        best_s = np.where(closer, s0 + t * np.sqrt(n2), best_s)
+        s0 += np.sqrt(n2)
+    return best, best_s
+
+
+class _Canvas:
+    """Parts as signed distance fields, composed into one clip-art object."""
+
+    def __init__(self, h: int, w: int, outline: float, rng: np.random.Generator):
+        self.h, self.w = h, w
+        self.yy, self.xx = np.mgrid[0:h, 0:w].astype(np.float64)
+        self.outline = outline
+        self.rng = rng
+        self.sdf = []     # per part: signed distance (negative inside)
+        self.colour = []  # per part: (H, W, 3)
+        self.order = []   # per part: drawing priority (higher on top)
+
+    def add(self, sdf: np.ndarray, colour: np.ndarray, order: int) -> int:
+        self.sdf.append(sdf)
+        self.colour.append(colour)
+        self.order.append(order)
+        return len(self.sdf) - 1
+
+    def capsule(self, pts, half_width, *, taper: float = 1.0):
+        """SDF of a tapered capsule along ``pts`` and the arc length map."""
+        d, s = _seg_distance(self.xx, self.yy, np.asarray(pts, float))
+        length = float(np.hypot(*np.diff(np.asarray(pts, float), axis=0).T).sum())
+        hw = half_width * (1.0 - (1.0 - taper) * np.clip(s / max(length, 1e-9), 0, 1))
+        return d - hw, s
+
+    def render(self) -> tuple[np.ndarray, np.ndarray]:
+        sdf = np.stack(self.sdf)
+        union = sdf.min(axis=0)
+        alpha = np.clip(0.5 - union, 0.0, 1.0)
+        # Which part shows at each pixel: the highest drawing order among the
+        # parts covering it (or the nearest part outside all of them).
+        inside = sdf <= 0.0
+        order = np.asarray(self.order, float)[:, None, None]
+        score = np.where(inside, order, -1e9) - 1e-3 * sdf
+        top = np.argmax(score, axis=0)
+        rgb = np.take_along_axis(np.stack(self.colour), top[None, :, :, None], axis=0)[0]
+        # A dark outline along the silhouette of the union only (none across joints).
+        rim = np.clip(union + self.outline + 0.5, 0.0, 1.0)
+        rgb = rgb * (1 - rim[..., None]) + np.asarray(OUTLINE)[None, None] * rim[..., None]
+        img = np.dstack([np.clip(rgb, 0, 1), alpha]).astype(np.float32)
+        img[alpha == 0, :3] = 0.0
+        labels = np.where(alpha > 0.5, top, -1)
+        return img, labels
+
+    def noise(self, scale: float, amount: float) -> np.ndarray:
+        """Smooth value noise in [-amount, amount] (bilinear upsampling of a coarse grid)."""
+        import cv2
+
+        gh, gw = max(2, int(self.h / scale) + 2), max(2, int(self.w / scale) + 2)
+        g = self.rng.uniform(-amount, amount, (gh, gw)).astype(np.float32)
+        return cv2.resize(g, (self.w, self.h), interpolation=cv2.INTER_CUBIC).astype(np.float64)
+
+
+def _bark(c: _Canvas, s: np.ndarray, d_signed: np.ndarray, base, period: float) -> np.ndarray:
+    """Bark: stripes along the arc length with noise, a shading across."""
+    stripe = 0.5 + 0.5 * np.sin(2 * np.pi * s / period + 3 * c.noise(period * 2, 1.0))
+    shade = 1.0 - 0.25 * np.clip(d_signed, -1, 1)
+    rgb = np.asarray(base)[None, None] * (0.8 + 0.3 * stripe)[..., None] * shade[..., None]
+    return rgb + c.noise(period / 2, 0.04)[..., None]
+
+
+def _side(c: _Canvas, pts: np.ndarray, s: np.ndarray, d: np.ndarray, half_width) -> np.ndarray:
+    """Signed offset across a polyline, in half widths (-1 .. 1)."""
+    pts = np.asarray(pts, float)
+    seg = np.clip(np.searchsorted(np.concatenate([[0], np.cumsum(np.hypot(*np.diff(pts, axis=0).T))]),
+                                  s) - 1, 0, len(pts) - 2)
+    t = pts[seg + 1] - pts[seg]
+    cross = t[..., 0] * (c.yy - pts[seg, 1]) - t[..., 1] * (c.xx - pts[seg, 0])
+    return np.sign(cross) * d / np.maximum(half_width, 1e-6)
+
+
+def _leaf(c: _Canvas, base, tip, half_width, petiole_start, petiole_hw, order, colour=(0.25, 0.55, 0.18)):
+    """A leaf: a lens-shaped blade from ``base`` to ``tip`` and a petiole from the twig."""
+    base, tip = np.asarray(base, float), np.asarray(tip, float)
+    axis = tip - base
+    length = float(np.hypot(*axis))
+    u = axis / length
+    rel_x = (c.xx - base[0]) * u[0] + (c.yy - base[1]) * u[1]
+    rel_y = -(c.xx - base[0]) * u[1] + (c.yy - base[1]) * u[0]
+    t = np.clip(rel_x / length, 0, 1)
+    profile = half_width * np.sin(np.pi * t) ** 0.8
+    blade = np.maximum(np.abs(rel_y) - profile, np.maximum(-rel_x, rel_x - length))
+    pet, ps = c.capsule([petiole_start, base + 0.15 * axis], petiole_hw)
+    sdf = np.minimum(blade, pet)
+    vein = np.abs(rel_y) < max(0.6, 0.05 * half_width)
+    side_veins = np.abs(np.sin(2 * np.pi * (rel_x - 0.7 * np.abs(rel_y)) / (0.18 * length))) < 0.12
+    rgb = np.asarray(colour)[None, None] * (1.0 + 0.25 * rel_y / max(half_width, 1))[..., None]
+    rgb = rgb + c.noise(half_width, 0.03)[..., None]
+    light = np.asarray(colour) * 1.5 + 0.1
+    rgb = np.where((vein | side_veins & (np.abs(rel_y) < 0.8 * profile))[..., None], light, rgb)
+    rgb = np.where((pet < blade)[..., None], np.asarray(colour) * 0.8, rgb)
+    return c.add(sdf, rgb, order), [np.asarray(petiole_start, float), base, base + 0.5 * axis,
+                                    base + 0.92 * axis]
+
+
+def _fruit(c: _Canvas, attach, centre, radius, stem_hw, order, colour=(0.78, 0.12, 0.10)):
+    """A round fruit on a stem from ``attach``."""
+    centre = np.asarray(centre, float)
+    attach = np.asarray(attach, float)
+    d = np.hypot(c.xx - centre[0], c.yy - centre[1])
+    body = d - radius
+    u = (centre - attach) / np.hypot(*(centre - attach))
+    stem, _ = c.capsule([attach, centre - 0.8 * radius * u], stem_hw)
+    sdf = np.minimum(body, stem)
+    hx, hy = centre - 0.4 * radius * np.array([-u[1], u[0]]) - 0.35 * radius * u
+    glow = np.exp(-((c.xx - hx) ** 2 + (c.yy - hy) ** 2) / (2 * (0.3 * radius) ** 2))
+    rgb = np.asarray(colour)[None, None] * (0.75 + 0.25 * (1 - d / radius))[..., None]
+    rgb = rgb + 0.6 * glow[..., None] + c.noise(radius / 2, 0.03)[..., None]
+    rgb = np.where((stem < body)[..., None], np.array([0.35, 0.42, 0.15]), rgb)
+    return c.add(sdf, rgb, order), [attach, centre, centre + 0.85 * radius * u]
+
+
+@checked(size=Int(64, 8192))
+def twig(size: int = 1000, *, rng=None) -> PartObject:
+    """A twig with two leaves above and two fruits below it (``0.6 size x size``).
+
+    Parts: ``twig``, ``leaf 1``, ``leaf 2``, ``fruit 1`` (on a long stem),
+    ``fruit 2`` (on a short stem: within the twig's patch band).
+
+    Parameters
+    ----------
+    size : int
+        Width in pixels (64 .. 8192).
+    rng : int or numpy.random.Generator, optional
+        Texture noise.
+
+    Examples
+    --------
+    >>> obj = twig(300, rng=1)
+    >>> int(obj.labels.max()), len(obj.strokes)
+    (4, 5)
+    """
+    rng = as_rng(rng)
+    w, h = int(size), int(round(0.6 * size))
+    k = size / 1000.0
+    c = _Canvas(h, w, outline=max(1.0, 2.5 * k), rng=rng)
+    x = np.linspace(0.06 * w, 0.94 * w, 40)
+    spine = np.c_[x, 0.5 * h + 0.03 * h * np.sin((x - x[0]) / w * 2 * np.pi)]
+    tw_hw = 16 * k
+    sdf, s = c.capsule(spine, tw_hw, taper=0.55)
+    d = sdf + tw_hw
+    rgb = _bark(c, s, _side(c, spine, s, d, tw_hw), (0.45, 0.30, 0.17), 40 * k)
+    c.add(sdf, rgb, 3)
+
+    def on_spine(frac):
+        i = frac * (len(spine) - 1)
+        j = int(i)
+        return spine[j] + (i - j) * (spine[min(j + 1, len(spine) - 1)] - spine[j])
+
+    strokes, names, widths = [spine], ["twig"], [tw_hw]
+    for n, (frac, ang) in enumerate(((0.28, -2.2), (0.62, -1.0))):
+        a = on_spine(frac)
+        u = np.array([np.cos(ang), np.sin(ang)])
+        base = a + 70 * k * u
+        _, st = _leaf(c, base, base + 230 * k * u, 55 * k, a, 4.5 * k, 1)
+        strokes.append(np.array(st))
+        names.append(f"leaf {n + 1}")
+        widths.append(55 * k)
+    for n, (frac, stem_len, rad) in enumerate(((0.44, 95, 42), (0.78, 22, 38))):
+        a = on_spine(frac)
+        centre = a + np.array([8 * k, (stem_len + rad) * k])
+        _, st = _fruit(c, a, centre, rad * k, 3.5 * k, 2)
+        strokes.append(np.array(st))
+        names.append(f"fruit {n + 1}")
+        widths.append(rad * k)
+    img, labels = c.render()
+    return PartObject(img, labels, strokes, [-1, 0, 0, 0, 0], names, widths, c.outline)
+
+
+@checked(size=Int(64, 8192))
+def bare_tree(size: int = 800, *, rng=None) -> PartObject:
+    """A bare tree (``size x size``): a trunk, three limbs and a twig on each limb.
+
+    Parts: ``trunk``, ``limb 1..3`` (children of the trunk), ``twig 1..3``
+    (twig ``i`` on limb ``i``).
+
+    Examples
+    --------
+    >>> obj = bare_tree(200, rng=0)
+    >>> obj.parents
+    [-1, 0, 0, 0, 1, 2, 3]
+    """
+    rng = as_rng(rng)
+    n = int(size)
+    k = n / 800.0
+    c = _Canvas(n, n, outline=max(1.0, 2.0 * k), rng=rng)
+    trunk = np.array([(0.5 * n, 0.95 * n), (0.49 * n, 0.7 * n), (0.51 * n, 0.45 * n), (0.5 * n, 0.2 * n)])
+    bark = (0.40, 0.28, 0.18)
+    parts = [(trunk, 26 * k, 0.45, -1)]
+    limbs = [(0.62, -2.5, 0.30), (0.45, -0.55, 0.33), (0.30, -2.0, 0.22)]
+
+    def point_at(pts, frac):
+        seg = np.hypot(*np.diff(pts, axis=0).T)
+        s = np.concatenate([[0], np.cumsum(seg)])
+        t = frac * s[-1]
+        return np.array([np.interp(t, s, pts[:, 0]), np.interp(t, s, pts[:, 1])])
+
+    for frac, ang, length in limbs:
+        a = point_at(trunk, frac)
+        u = np.array([np.cos(ang), np.sin(ang)])
+        v = np.array([-u[1], u[0]])
+        pts = np.array([a, a + 0.5 * length * n * u + 0.03 * n * v, a + length * n * u])
+        parts.append((pts, 11 * k, 0.5, 0))
+    for i, (_, ang, _) in enumerate(limbs):
+        limb = parts[1 + i][0]
+        a = point_at(limb, 0.6)
+        ang2 = ang + (0.7 if i % 2 == 0 else -0.7)
+        u = np.array([np.cos(ang2), np.sin(ang2)])
+        parts.append((np.array([a, a + 0.12 * n * u]), 5 * k, 0.5, 1 + i))
+    strokes, names, parents, widths = [], [], [], []
+    for i, (pts, hw, taper, parent) in enumerate(parts):
+        sdf, s = c.capsule(pts, hw, taper=taper)
+        d = sdf + hw
+        c.add(sdf, _bark(c, s, _side(c, pts, s, d, hw), bark, 30 * k), 3 - (i > 0) - (i > 3))
+        strokes.append(pts)
+        names.append("trunk" if i == 0 else f"limb {i}" if i <= 3 else f"twig {i - 3}")
+        parents.append(parent)
+        widths.append(hw)
+    img, labels = c.render()
+    return PartObject(img, labels, strokes, parents, names, widths, c.outline)
+
+
+@checked(size=Int(64, 8192))
+def figure(size: int = 600, *, rng=None) -> PartObject:
+    """A figure (``size x size``): a body with a head, two arms and two legs.
+
+    Parts: ``body``, ``head``, ``left arm``, ``right arm``, ``left leg``,
+    ``right leg``; all children of the body, their strokes starting on the
+    body's centre line.
+
+    Examples
+    --------
+    >>> figure(200, rng=0).names[1]
+    'head'
+    """
+    rng = as_rng(rng)
+    n = int(size)
+    k = n / 600.0
+    c = _Canvas(n, n, outline=max(1.0, 2.0 * k), rng=rng)
+    body = np.array([(0.5 * n, 0.62 * n), (0.5 * n, 0.32 * n)])
+    cloth = (0.20, 0.35, 0.70)
+    skin = (0.90, 0.70, 0.55)
+    sdf, s = c.capsule(body, 55 * k)
+    stripes = 0.5 + 0.5 * np.sin(2 * np.pi * s / (25 * k))
+    c.add(sdf, np.asarray(cloth)[None, None] * (0.8 + 0.3 * stripes)[..., None] + c.noise(20 * k, 0.03)[..., None], 3)
+    strokes, names, parents, widths = [body], ["body"], [-1], [55 * k]
+    head_c = np.array([0.5 * n, 0.17 * n])
+    dh = np.hypot(c.xx - head_c[0], c.yy - head_c[1])
+    face = np.asarray(skin)[None, None] * (1 - 0.15 * dh / (60 * k))[..., None]
+    eyes = (np.hypot(np.abs(c.xx - head_c[0]) - 20 * k, c.yy - head_c[1] + 8 * k) < 6 * k)
+    face = np.where(eyes[..., None], 0.1, face)
+    neck, _ = c.capsule([body[1], head_c], 14 * k)
+    c.add(np.minimum(dh - 60 * k, neck), face, 2)
+    strokes.append(np.array([body[1] + (0, 20 * k), head_c, head_c - (0, 50 * k)]))
+    names.append("head")
+    parents.append(0)
+    widths.append(60 * k)
+    limbs = [("left arm", body[1] + (0, 30 * k), (-0.25, 0.17), 16 * k, skin),
+             ("right arm", body[1] + (0, 30 * k), (0.25, 0.10), 16 * k, skin),
+             ("left leg", body[0] - (0, 10 * k), (-0.12, 0.32), 22 * k, cloth),
+             ("right leg", body[0] - (0, 10 * k), (0.12, 0.32), 22 * k, cloth)]
+    for name, start, (dx, dy), hw, col in limbs:
+        end = start + np.array([dx * n, dy * n])
+        mid = 0.5 * (start + end) + np.array([0.04 * n * np.sign(dx), 0])
+        pts = np.array([start, mid, end])
+        sdf, s = c.capsule(pts, hw, taper=0.8)
+        d = sdf + hw
+        c.add(sdf, _bark(c, s, _side(c, pts, s, d, hw), col, 30 * k) * 1.1, 1)
+        strokes.append(pts)
+        names.append(name)
+        parents.append(0)
+        widths.append(hw)
+    img, labels = c.render()
+    return PartObject(img, labels, strokes, parents, names, widths, c.outline)

@@ -1,0 +1,292 @@
+"""Multi-part edits: unstroked parts follow, junctions stay attached, clean cut faces, no flecks.
+
+The objects are procedural (:mod:`branchnb.strokes.procedural`): every
+part, its stroke and its parent are known, so each figure is measured
+against the truth (part colours, one connected piece, stem widths at the
+joints, the outline along the silhouette).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy import ndimage as ndi
+
+from branchnb.strokes import Stroke, StrokeEditParams, edit_structure, source_index
+from branchnb.strokes.outline import outline_style
+from branchnb.strokes.procedural import bare_tree, figure, twig
+
+EIGHT = np.ones((3, 3))
+
+
+def frame(points, s):
+    st = Stroke(points)
+    return st.point_at(s), float(st.angle_at(s, window=5.0))
+
+
+def carry(child, parent_src, parent_tgt):
+    """A child stroke moved rigidly with its parent (the parent mapped by arc-length fraction)."""
+    child = np.asarray(child, float)
+    src, tgt = Stroke(parent_src), Stroke(parent_tgt)
+    s, _ = src.project(child[:1])
+    (p0, a0), (p1, a1) = frame(parent_src, s[0]), frame(parent_tgt, s[0] / src.length * tgt.length)
+    rot = np.array([[np.cos(a1 - a0), -np.sin(a1 - a0)], [np.sin(a1 - a0), np.cos(a1 - a0)]])
+    return (child - p0) @ rot.T + p1
+
+
+def bent_twig(obj, sag=0.12, stretch=1.0):
+    """The twig's stroke bent into an arc (and stretched)."""
+    sp = obj.strokes[0]
+    h = obj.image.shape[0]
+    x0 = sp[0, 0]
+    x = x0 + (sp[:, 0] - x0) * stretch
+    return np.c_[x, 0.45 * h + sag * h * np.sin((sp[:, 0] - x0) / (sp[-1, 0] - x0) * np.pi)]
+
+
+def colour_counts(img):
+    """(red, green) pixels: the fruits and the leaves."""
+    r, g, b, a = np.moveaxis(img, -1, 0)
+    m = a > 0.5
+    return int((m & (r > 0.45) & (g < 0.35) & (r > 1.8 * g)).sum()), int((m & (g > r + 0.08) & (g > b)).sum())
+
+
+def pieces(img, level=0.5):
+    return ndi.label(img[..., 3] > level, structure=EIGHT)[1]
+
+
+def silhouette_darkness(img):
+    m = img[..., 3] > 0.5
+    edge = m & ~ndi.binary_erosion(m)
+    return float((img[..., :3].mean(axis=2)[edge] < 0.2).mean())
+
+
+def cross_width(img, stroke, at, half):
+    """Object pixels across ``stroke`` at arc length ``at`` (a line of +-``half`` px)."""
+    st = Stroke(stroke)
+    p, n = st.point_at(at), st.normal_at(at, window=3.0)
+    t = np.linspace(-half, half, int(8 * half) + 1)
+    q = p + t[:, None] * n
+    a = ndi.map_coordinates(img[..., 3], [q[:, 1], q[:, 0]], order=1)
+    return float((a > 0.5).sum() * (t[1] - t[0]))
+
+
+@pytest.fixture(scope="module", params=[260, 420])
+def twig_obj(request):
+    return twig(request.param, rng=3)
+
+
+def test_parts_and_their_attachments_are_found(twig_obj):
+    obj = twig_obj
+    index = source_index(obj.image, [Stroke(obj.strokes[0])])
+    assert len(index.parts) == 4 and all(p.stroke == 0 and p.contact > 0 for p in index.parts)
+    twig_stroke = Stroke(obj.strokes[0])
+    truth = sorted(float(twig_stroke.project(np.asarray(st)[:1])[0][0]) for st in obj.strokes[1:])
+    found = sorted(p.s for p in index.parts)
+    assert np.allclose(found, truth, atol=2.0 + 0.02 * obj.image.shape[1])  # a petiole's slant
+    # each found part is one true part (its pixels carry one label)
+    for p in index.parts:
+        labels = obj.labels[p.box][p.mask & (obj.image[p.box][..., 3] > 0.5)]
+        assert np.bincount(labels[labels >= 0]).max() > 0.97 * len(labels)
+
+
+def test_unstroked_parts_follow_the_bent_twig(twig_obj):
+    obj = twig_obj
+    tgt = bent_twig(obj)
+    res = edit_structure(obj.image, [obj.strokes[0]], [tgt])
+    red, green = colour_counts(obj.image)
+    got_red, got_green = colour_counts(res.image)
+    assert abs(got_red - red) <= 0.03 * red and abs(got_green - green) <= 0.03 * green
+    assert pieces(res.image) == 1 and pieces(res.image, 0.02) == 1  # attached, no flecks
+    # every fruit sits where its stem carries it (centroid of its red pixels)
+    r, g, _, a = np.moveaxis(res.image, -1, 0)
+    red_mask = ndi.binary_fill_holes((a > 0.5) & (r > g + 0.25))
+    lab, n = ndi.label(red_mask, structure=EIGHT)
+    assert n == 2
+    got = np.array(ndi.center_of_mass(red_mask, lab, [1, 2]))[:, ::-1]
+    want = []
+    for k in (3, 4):
+        centre = carry(obj.strokes[k], obj.strokes[0], tgt)[1]
+        want.append(centre)
+    want = np.array(sorted(want, key=lambda p: (p[1], p[0])))
+    got = np.array(sorted(got, key=lambda p: (p[1], p[0])))
+    assert np.abs(np.sort(got, axis=0) - np.sort(want, axis=0)).max() < 0.03 * obj.image.shape[1]
+
+
+def test_drop_keeps_the_papers_output(twig_obj):
+    obj = twig_obj
+    tgt = bent_twig(obj)
+    drop = edit_structure(obj.image, [obj.strokes[0]], [tgt], StrokeEditParams(unstroked="drop"))
+    red, green = colour_counts(drop.image)
+    assert red == 0 and green < 0.01 * colour_counts(obj.image)[1]
+    assert pieces(drop.image, 0.02) == 1  # no stumps left floating
+
+
+@pytest.mark.parametrize("size", [420, 560])
+def test_cut_faces_get_the_outline(size):
+    """A piece of the twig, cut at both ends: its cut faces are outlined like the rest."""
+    obj = twig(size, rng=3)
+    piece, tgt = obj.strokes[0][8:30], bent_twig(obj)[8:30]
+
+    def darkness_at_the_ends(res):
+        m = res.image[..., 3] > 0.5
+        yy, xx = np.nonzero(m & ~ndi.binary_erosion(m))
+        ends = tgt[[0, -1]]
+        near = np.min(np.hypot(xx[:, None] - ends[:, 0], yy[:, None] - ends[:, 1]), axis=1) < 0.8 * obj.widths[0]
+        return float((res.image[..., :3].mean(axis=2)[yy[near], xx[near]] < 0.2).mean())
+
+    closed = edit_structure(obj.image, [piece], [tgt], StrokeEditParams(unstroked="drop"))
+    raw = edit_structure(obj.image, [piece], [tgt], StrokeEditParams(unstroked="drop", close_cuts=False))
+    assert darkness_at_the_ends(closed) >= 0.85 and darkness_at_the_ends(raw) <= 0.5
+
+
+def test_stroked_children_stay_attached_where_they_are_moved(twig_obj):
+    """Bend the twig, carry its two leaves and two fruits with strokes, add a leaf elsewhere."""
+    obj = twig_obj
+    sp, tgt_sp = obj.strokes[0], bent_twig(obj)
+    src, tgt = [sp], [tgt_sp]
+    for k in range(1, 5):
+        src.append(obj.strokes[k])
+        tgt.append(carry(obj.strokes[k], sp, tgt_sp))
+    leaf = carry(obj.strokes[2], sp, tgt_sp)
+    p, _ = frame(tgt_sp, 0.85 * Stroke(tgt_sp).length)
+    new_leaf = p + (leaf - leaf[0]) * [1, -1]  # moved along the twig, hanging down
+    src.append(obj.strokes[2])
+    tgt.append(new_leaf)
+    res = edit_structure(obj.image, src, tgt)
+    assert pieces(res.image) == 1 and pieces(res.image, 0.02) == 1
+    red, green = colour_counts(obj.image)
+    got_red, got_green = colour_counts(res.image)
+    assert abs(got_red - red) <= 0.03 * red  # no fruit cut by the twig's patch band
+    assert abs(got_green - 1.5 * green) <= 0.05 * green  # three leaves
+    # at every joint the stem is whole just outside the twig (no gap, no notch)
+    twig_hw = obj.widths[0]
+    for k, t_child in enumerate(tgt[1:], start=1):
+        stem = (4.5 if k in (1, 2, 5) else 3.5) * obj.image.shape[1] / 1000  # petiole, fruit stem
+        got = [cross_width(res.image, t_child, twig_hw + dt, stem + 4) for dt in (3.0, 6.0, 9.0)]
+        assert min(got) >= 2 * stem - 1.0, (k, got, 2 * stem)
+
+
+def test_lengthening_leaves_no_flecks():
+    obj = twig(300, rng=5)
+    tgt = bent_twig(obj, sag=0.05, stretch=1.1)
+    res = edit_structure(obj.image, [obj.strokes[0]], [tgt])
+    assert pieces(res.image, 0.02) == 1
+
+
+@pytest.mark.parametrize("size", [240, 400])
+def test_a_bare_tree_given_a_new_branch_keeps_every_other_branch(size):
+    obj = bare_tree(size, rng=1)
+    trunk, limb = obj.strokes[0], obj.strokes[2]
+    a = Stroke(trunk).point_at(0.72 * Stroke(trunk).length)
+    new = np.array([a, a + (0.1 * size, -0.08 * size), a + (0.22 * size, -0.2 * size)])
+    res = edit_structure(obj.image, [trunk, limb, limb], [trunk, limb, new])
+    assert pieces(res.image) == 1 and pieces(res.image, 0.02) == 1
+    # everything nobody touched is still there, pixel for pixel where nothing was added
+    src_mask = obj.image[..., 3] > 0.5
+    new_zone = ndi.binary_dilation(np.zeros_like(src_mask), iterations=1)
+    st = Stroke(new)
+    yy, xx = np.nonzero(src_mask | res.mask)
+    _, d = st.project(np.c_[xx, yy])
+    new_zone[yy, xx] = d < 0.15 * size
+    kept = src_mask & ~new_zone
+    assert res.mask[kept].mean() > 0.98
+    # the new branch is there, with the twig its source limb carries
+    assert (res.mask & new_zone & ~src_mask).sum() > 0.5 * (obj.labels == 2).sum()
+
+
+def test_a_figure_raises_an_arm_and_keeps_head_and_legs():
+    obj = figure(300, rng=2)
+    body, arm = obj.strokes[0], obj.strokes[3]
+    p0 = arm[0]
+    up = np.array([p0, p0 + (24, -24), p0 + (36, -60)])
+    res = edit_structure(obj.image, [body, arm], [body, up])
+    assert pieces(res.image) == 1
+    for part in (1, 2, 4, 5):  # head, left arm, legs: where they were
+        m = obj.labels == part
+        core = ndi.binary_erosion(m, iterations=2)
+        assert res.mask[core].mean() > 0.97, obj.names[part]
+    drop = edit_structure(obj.image, [body, arm], [body, up], StrokeEditParams(unstroked="drop"))
+    assert drop.mask[ndi.binary_erosion(obj.labels == 1, iterations=4)].mean() < 0.05  # no head
+
+
+def test_a_part_between_two_places_that_move_apart_is_left_out():
+    # a ring stroked along its lower half: the upper half touches both cut ends
+    h = w = 120
+    yy, xx = np.mgrid[0:h, 0:w]
+    r = np.hypot(xx - 60, yy - 60)
+    img = np.zeros((h, w, 4), np.float32)
+    img[..., 3] = np.clip(6.5 - np.abs(r - 40), 0, 1)
+    img[..., 0] = 0.8
+    img[..., 1] = 0.3 + 0.3 * (np.arctan2(yy - 60, xx - 60) > 0)
+    a = np.linspace(0.15 * np.pi, 0.85 * np.pi, 30)
+    lower = np.c_[60 + 40 * np.cos(a), 60 + 40 * np.sin(a)]
+    same = edit_structure(img, [lower], [lower])
+    assert (same.mask & (yy < 40)).sum() > 0.9 * ((img[..., 3] > 0.5) & (yy < 40)).sum()
+    straight = np.c_[np.linspace(20, 20 + Stroke(lower).length, 30), np.full(30, 60.0)]
+    moved = edit_structure(img, [lower], [straight], target_shape=(120, 200))
+    assert pieces(moved.image, 0.02) == 1
+    assert moved.mask[:45].sum() == 0  # the upper half did not come along
+
+
+def test_outline_style_is_found_on_outlined_objects_only(twig_obj):
+    obj = twig_obj
+    idx = source_index(obj.image, [Stroke(obj.strokes[0])])
+    style = outline_style(idx.premult, idx.depth)
+    assert style is not None and abs(style.width - obj.outline) <= 1.0
+    assert max(style.colour) < 0.25
+    flat = obj.image.copy()
+    flat[..., :3] = np.where(flat[..., 3:] > 0, 0.5, 0.0)
+    idx = source_index(flat, [Stroke(obj.strokes[0])])
+    assert outline_style(idx.premult, idx.depth) is None
+
+
+@pytest.mark.parametrize("size", [300, 400])
+def test_stumps_of_dropped_limbs_get_the_outline(size):
+    """The paper's output on a bare tree whose trunk alone is stroked: the limbs' stumps are outlined."""
+    obj = bare_tree(size, rng=1)
+    trunk = obj.strokes[0]
+    bent = trunk + np.c_[np.linspace(0, 0.08 * size, len(trunk)), np.zeros(len(trunk))]
+    src_st, tgt_st = Stroke(trunk), Stroke(bent)
+    stumps = np.array([tgt_st.point_at(src_st.project(obj.strokes[k][:1])[0][0] / src_st.length * tgt_st.length)
+                       for k in (1, 2, 3)])
+
+    def darkness(res):
+        m = res.image[..., 3] > 0.5
+        yy, xx = np.nonzero(m & ~ndi.binary_erosion(m))
+        near = np.min(np.hypot(xx[:, None] - stumps[:, 0], yy[:, None] - stumps[:, 1]), axis=1) < 1.6 * obj.widths[0]
+        return float((res.image[..., :3].mean(axis=2)[yy[near], xx[near]] < 0.2).mean())
+
+    closed = edit_structure(obj.image, [trunk], [bent], StrokeEditParams(unstroked="drop"))
+    raw = edit_structure(obj.image, [trunk], [bent], StrokeEditParams(unstroked="drop", close_cuts=False))
+    assert darkness(closed) >= 0.95 and darkness(raw) <= darkness(closed) - 0.08
+    assert pieces(closed.image, 0.02) == 1
+
+
+@pytest.mark.parametrize("how", ["from the edge", "jittered"])
+def test_joints_hold_with_strokes_drawn_by_hand(how):
+    """Child strokes started at the twig's edge (not its centre line), or shaky by 1.5 px."""
+    from branchnb.strokes.parts import carry_stroke
+
+    rng = np.random.default_rng(0)
+    obj = twig(420, rng=3)
+    sp, tgt_sp = obj.strokes[0], bent_twig(obj)
+    src, tgt = [sp], [tgt_sp]
+    for k in range(1, 5):
+        st = np.asarray(obj.strokes[k], float)
+        if how == "from the edge":
+            d = (st[1] - st[0]) / np.hypot(*(st[1] - st[0]))
+            st = np.vstack([st[0] + d * (0.8 * obj.widths[0] + 1), st[1:]])
+        else:
+            st = st + rng.normal(0, 1.5, st.shape)
+        src.append(st)
+        t = carry_stroke(st, sp, tgt_sp)
+        tgt.append(t if how == "from the edge" else t + rng.normal(0, 1.5, t.shape))
+    res = edit_structure(obj.image, src, tgt)
+    assert pieces(res.image) == 1 and pieces(res.image, 0.02) == 1
+    red, green = colour_counts(obj.image)
+    got_red, got_green = colour_counts(res.image)
+    assert abs(got_red - red) <= 0.03 * red and abs(got_green - green) <= 0.03 * green
+    for k, t_child in enumerate(tgt[1:4], start=1):  # the stems long enough to measure
+        stem = (4.5 if k in (1, 2) else 3.5) * 0.42
+        got = min(cross_width(res.image, t_child, obj.widths[0] + dt, stem + 4) for dt in (3.0, 6.0, 9.0))
+        assert got >= 2 * stem - 1.0, (k, got)
