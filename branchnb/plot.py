@@ -5,6 +5,20 @@ large enough to see a dendrite or a vein (4 inches at 100 dpi = 400 px per
 panel by default), inputs and outputs side by side in one figure, histograms
 with labelled axes and a legend, and scalar maps with a labelled colour bar.
 
+The conventions every notebook follows (the docs' "Notebook style" page says
+the same):
+
+* call :func:`use_style` once at the top; never set a dpi or define a
+  notebook's own ``show()``;
+* one figure per step, input and output side by side (:func:`show`, or
+  :func:`panels` + :func:`image_panel` for a custom layout);
+* scalar maps keep their own range and get a labelled colour bar
+  (``colorbar="cost"``), never clipped to [0, 1] black;
+* histograms on shared bins with labelled axes and a legend
+  (:func:`hist_panel`, :func:`show_histograms`);
+* colours that code a category (generation, layer, stroke pair) get a legend
+  (:func:`legend_patches`).
+
 This module needs matplotlib (a dependency of the package) and is never
 imported by the technique modules, which stay plain numpy.
 
@@ -37,6 +51,7 @@ __all__ = [
     "hist_panel",
     "show",
     "show_histograms",
+    "legend_patches",
     "close",
 ]
 
@@ -263,6 +278,56 @@ def show_histograms(groups: Mapping[str, Mapping[str, Sequence[float]]], *, xlab
         hist_panel(ax, samples, bins=bins, xlabel=xlabels.get(title, title), title=title)
     fig.tight_layout()
     plt.show()
+
+
+def legend_patches(ax, colors: Mapping[str, Sequence[float] | str], *, title: str | None = None,
+                   loc: str = "upper right", outside: bool = False):
+    """A legend of coloured squares for colours that code a category.
+
+    For pictures whose colours mean something (branch generation, leaf layer,
+    stroke pair) but carry no plotted artist to label.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    colors : mapping of label -> colour
+        A colour is an RGB(A) triple in [0, 1] or any matplotlib colour string.
+    title : str, optional
+        Legend title, e.g. ``"generation"``.
+    loc : str
+        Legend position (matplotlib's ``loc``).
+    outside : bool
+        Put the legend to the right of the axes, so it hides no pixel of the image.
+
+    Returns
+    -------
+    matplotlib.legend.Legend
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from branchnb import plot
+    >>> fig, axes = plot.panels(1)
+    >>> _ = plot.image_panel(axes[0], np.zeros((8, 8, 3), np.float32), "structure")
+    >>> leg = plot.legend_patches(axes[0], {"root": (0.1, 0.6, 0.2), "children": "tab:blue"}, title="generation")
+    >>> [t.get_text() for t in leg.get_texts()]
+    ['root', 'children']
+    >>> plot.close(fig)
+    """
+    from matplotlib.colors import to_rgba
+    from matplotlib.patches import Patch
+
+    if not isinstance(colors, Mapping) or not colors:
+        raise TypeError("colors must be a non-empty mapping of label -> colour")
+    handles = []
+    for label, colour in colors.items():
+        try:
+            rgba = to_rgba(tuple(np.asarray(colour, float).tolist()) if not isinstance(colour, str) else colour)
+        except (TypeError, ValueError):
+            raise ValueError(f"colors[{label!r}] is not a colour: {colour!r}") from None
+        handles.append(Patch(facecolor=rgba, edgecolor="none", label=str(label)))
+    kwargs = {"bbox_to_anchor": (1.02, 1.0), "loc": "upper left", "borderaxespad": 0.0} if outside else {"loc": loc}
+    return ax.legend(handles=handles, title=title, frameon=not outside, **kwargs)
 
 
 def close(fig) -> None:
