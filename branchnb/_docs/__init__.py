@@ -348,7 +348,8 @@ def write_gallery(src: Path, notebooks: Path | None, gallery_dir: Path | None = 
     ``gallery_dir`` is a folder written by ``branchnb gallery`` (its
     ``index.html`` gives titles and captions).
     """
-    img_dir = src / "_gallery"
+    # raw HTML images are not collected by Sphinx: they go with the static files
+    img_dir = src / "_static" / "gallery"
     img_dir.mkdir(parents=True, exist_ok=True)
     lines = [_underline("Gallery", "="), "",
              "Every figure of the notebooks, as they are committed, under the heading of the section that made it;",
@@ -361,7 +362,7 @@ def write_gallery(src: Path, notebooks: Path | None, gallery_dir: Path | None = 
             fname = f"{nb.stem}_{k:02d}.png"
             (img_dir / fname).write_bytes(raw)
             link = f"notebooks/{nb.stem}.html#{_anchor(heading)}"
-            cards.append(f"<figure><a href='{html.escape(link)}'><img src='_gallery/{fname}' loading='lazy' "
+            cards.append(f"<figure><a href='{html.escape(link)}'><img src='_static/gallery/{fname}' loading='lazy' "
                          f"alt='{html.escape(heading)}'></a><figcaption>{html.escape(heading)}</figcaption></figure>")
         if not cards:
             continue
@@ -403,7 +404,7 @@ def _command_gallery(folder: Path, img_dir: Path) -> list[str]:
             continue
         dst = f"cmd_{Path(name).name}"
         shutil.copy2(folder / name, img_dir / dst)
-        cards.append(f"<figure><a href='_gallery/{html.escape(dst)}'><img src='_gallery/{html.escape(dst)}' "
+        cards.append(f"<figure><a href='_static/gallery/{html.escape(dst)}'><img src='_static/gallery/{html.escape(dst)}' "
                      f"loading='lazy'></a><figcaption><b>{m.group('title')}</b><br>{m.group('caption')}"
                      f"</figcaption></figure>")
     flush()
