@@ -404,7 +404,8 @@ def _command_gallery(folder: Path, img_dir: Path) -> list[str]:
             continue
         dst = f"cmd_{Path(name).name}"
         shutil.copy2(folder / name, img_dir / dst)
-        cards.append(f"<figure><a href='_static/gallery/{html.escape(dst)}'><img src='_static/gallery/{html.escape(dst)}' "
+        src_attr = f"_static/gallery/{html.escape(dst)}"
+        cards.append(f"<figure><a href='{src_attr}'><img src='{src_attr}' "
                      f"loading='lazy'></a><figcaption><b>{m.group('title')}</b><br>{m.group('caption')}"
                      f"</figcaption></figure>")
     flush()
