@@ -12,15 +12,21 @@ pytest.importorskip("sphinx")
 pytest.importorskip("myst_nb")
 pytest.importorskip("numpydoc")
 
-from branchnb import cli  # noqa: E402
+from branchnb import cli, gallery  # noqa: E402
 from branchnb._docs import NOTEBOOKS_DIR, build, public_api  # noqa: E402
+from branchnb.bench import BenchRow  # noqa: E402
+
+ROWS = [BenchRow("plan 256 x 256 | nonscalar", 0.0123, "skimage.graph.MCP_Geometric", 0.0246, "same run"),
+        BenchRow("a *starred* name", 2.0, "paper figure `x`", 1.0, "")]
 
 
 @pytest.fixture(scope="module")
 def site(tmp_path_factory):
     out = tmp_path_factory.mktemp("docs")
+    pictures = out / "gallery"
+    gallery.build(pictures, sections=())        # the sample pictures only: seconds, not minutes
     t0 = time.perf_counter()
-    index = build(out, strict=True, log=None)
+    index = build(out, strict=True, log=None, gallery_dir=pictures, bench_rows=ROWS)
     return index.parent, time.perf_counter() - t0
 
 
@@ -63,6 +69,16 @@ def test_notebooks_are_rendered_from_their_stored_outputs(site):
     assert "<img" in text                       # the stored figures
     gallery = (html / "gallery.html").read_text(encoding="utf-8")
     assert gallery.count("<figure>") >= 10 and "notebooks/00_tour.html#" in gallery
+
+
+def test_gallery_and_bench_pages_show_what_was_measured(site):
+    html, _ = site
+    gallery_page = (html / "gallery.html").read_text(encoding="utf-8")
+    assert "branchnb gallery" in gallery_page and "samples_lizard.png" in gallery_page
+    assert (html / "_static" / "gallery" / "cmd_samples_lizard.png").is_file()
+    bench = (html / "bench.html").read_text(encoding="utf-8")
+    assert "skimage.graph.MCP_Geometric" in bench and "0.500" in bench and "2.000" in bench   # the ratios
+    assert "a *starred* name" in bench                                                    # escaped, verbatim
 
 
 def test_build_reports_a_broken_reference(tmp_path, monkeypatch):

@@ -445,7 +445,7 @@ def _cell(text: str) -> str:
 # --- the build -------------------------------------------------------------------------------
 
 def build(outdir=None, *, notebooks=NOTEBOOKS_DIR, gallery_dir=None, run_gallery: bool = False,
-          bench: bool = False, quick_bench: bool = False, strict: bool = True,
+          bench: bool = False, quick_bench: bool = False, bench_rows=None, strict: bool = True,
           log: Callable[[str], None] | None = print) -> Path:
     """Build the HTML site into ``outdir/html`` and return the path of its ``index.html``.
 
@@ -464,6 +464,8 @@ def build(outdir=None, *, notebooks=NOTEBOOKS_DIR, gallery_dir=None, run_gallery
         Run ``branchnb bench`` and put its table on the bench page (several minutes).
     quick_bench : bool
         With ``bench``: the smaller inputs of ``branchnb bench --quick``.
+    bench_rows : list of branchnb.bench.BenchRow, optional
+        Rows measured earlier (``branchnb.bench.run()``), shown instead of running the benchmarks.
     strict : bool
         Treat every Sphinx warning as an error (the test suite builds this way).
     log : callable or None
@@ -510,8 +512,8 @@ def build(outdir=None, *, notebooks=NOTEBOOKS_DIR, gallery_dir=None, run_gallery
         say(f"docs: running branchnb gallery into {gallery_dir} (about two minutes)")
         gallery.build(gallery_dir)
     write_gallery(src, notebooks, gallery_dir)
-    rows = None
-    if bench:
+    rows = list(bench_rows) if bench_rows is not None else None
+    if bench and rows is None:
         from .. import bench as bench_mod
 
         say("docs: running the benchmarks (several minutes)")
