@@ -76,8 +76,16 @@ _STYLE = {
 def use_style() -> None:
     """Set the shared notebook style (dpi, font sizes) in ``matplotlib.rcParams``.
 
-    Call once at the top of a notebook. Only the keys above are changed, so a
-    user's own settings for anything else stay.
+    Call once at the top of a notebook. Only the style's own keys (dpi, font
+    sizes, image interpolation) are changed, so a user's other settings stay.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> from branchnb import plot
+    >>> plot.use_style()
+    >>> plt.rcParams["figure.dpi"] == plot.DPI
+    True
     """
     plt.rcParams.update(_STYLE)
 
@@ -100,6 +108,25 @@ def panels(n: int, *, cols: int | None = None, size: float = PANEL_INCHES, width
         Row height in inches.
     suptitle : str, optional
         A title over the whole figure.
+
+    Returns
+    -------
+    figure : matplotlib.figure.Figure
+    axes : numpy.ndarray of matplotlib.axes.Axes
+        The ``n`` axes in reading order (spare grid cells are hidden).
+
+    Raises
+    ------
+    ValueError
+        ``n`` is not a positive integer, or ``widths`` does not fit one row of ``n`` panels.
+
+    Examples
+    --------
+    >>> from branchnb import plot
+    >>> fig, axes = plot.panels(3, cols=2)
+    >>> len(axes), [round(v) for v in fig.get_size_inches()]
+    (3, [8, 8])
+    >>> plot.close(fig)
     """
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
         raise ValueError(f"n must be a positive integer, got {n!r}")
@@ -169,6 +196,17 @@ def image_panel(ax, image, title: str | None = None, *, cmap: str = "gray", vmin
     Returns
     -------
     matplotlib.image.AxesImage
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from branchnb import plot
+    >>> fig, axes = plot.panels(1)
+    >>> cost = np.linspace(0, 50, 64).reshape(8, 8)
+    >>> artist = plot.image_panel(axes[0], cost, "lattice cost", colorbar="cost")
+    >>> artist.get_clim()            # the map's own range, not [0, 1]
+    (0.0, 50.0)
+    >>> plot.close(fig)
     """
     data, scalar = _displayable(image, background)
     if scalar:
@@ -210,8 +248,29 @@ def hist_panel(ax, samples: Mapping[str, Sequence[float]], *, bins=30, xlabel: s
         E.g. ``{"example": angles_in, "synthesized": angles_out}``.
     bins : int or sequence of edges
     xlabel, ylabel, title : str
+        Axis labels and panel title.
     range : (float, float), optional
         Shared range; the finite range of all samples by default.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        ``ax``.
+
+    Raises
+    ------
+    TypeError
+        ``samples`` is not a non-empty mapping.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from branchnb import plot
+    >>> fig, axes = plot.panels(1)
+    >>> ax = plot.hist_panel(axes[0], {"example": np.zeros(10), "result": np.ones(30)}, bins=4, xlabel="angle (rad)")
+    >>> ax.get_xlabel(), [t.get_text() for t in ax.get_legend().get_texts()]
+    ('angle (rad)', ['example (n=10)', 'result (n=30)'])
+    >>> plot.close(fig)
     """
     if not isinstance(samples, Mapping) or not samples:
         raise TypeError("samples must be a non-empty mapping of label -> values")
@@ -250,6 +309,13 @@ def show(images: Sequence, titles: Sequence[str] = (), *, cols: int | None = Non
         Layout, see :func:`panels`.
     cmap, colorbar, background, scale_bar :
         Passed to :func:`image_panel` for every panel.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from branchnb import plot
+    >>> plot.show([np.zeros((8, 8, 3)), np.eye(8)], ["input", "output"], colorbar="value")
+    >>> plot.close("all")
     """
     images = list(images)
     titles = list(titles) + [""] * max(0, len(images) - len(titles))
@@ -269,6 +335,27 @@ def show_histograms(groups: Mapping[str, Mapping[str, Sequence[float]]], *, xlab
     groups : mapping of panel title -> (mapping of label -> values)
         E.g. ``{"turning angle": {"example": a0, "synthesized": a1}, "radius": {...}}``.
     xlabels : mapping of panel title -> x-axis label, optional
+        The quantity's name is the label by default.
+    bins : int or sequence of edges
+        Shared by the samples of one panel (see :func:`hist_panel`).
+    size : float
+        Width of one panel in inches.
+    suptitle : str, optional
+        A title over the whole figure.
+
+    Raises
+    ------
+    TypeError
+        ``groups`` is not a non-empty mapping.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from branchnb import plot
+    >>> rng = np.random.default_rng(0)
+    >>> plot.show_histograms({"turning angle": {"example": rng.normal(0, 0.1, 200), "result": rng.normal(0, 0.2, 200)}},
+    ...                      xlabels={"turning angle": "angle (rad)"})
+    >>> plot.close("all")
     """
     if not isinstance(groups, Mapping) or not groups:
         raise TypeError("groups must be a non-empty mapping of title -> samples")
@@ -331,5 +418,17 @@ def legend_patches(ax, colors: Mapping[str, Sequence[float] | str], *, title: st
 
 
 def close(fig) -> None:
-    """Close a figure made with :func:`panels` (scripts and tests that draw many)."""
+    """Close a figure made with :func:`panels` (scripts and tests that draw many).
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure or "all"
+        The figure, or ``"all"`` for every open figure.
+
+    Examples
+    --------
+    >>> from branchnb import plot
+    >>> fig, _ = plot.panels(1)
+    >>> plot.close(fig)
+    """
     plt.close(fig)
