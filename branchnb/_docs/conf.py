@@ -37,7 +37,6 @@ numpydoc_validation_checks = set()
 autodoc_member_order = "bysource"
 autodoc_typehints = "signature"
 autodoc_default_options = {"show-inheritance": False}
-autodoc_preserve_defaults = True
 add_module_names = False
 
 # Every :class:/:func:/:mod: reference inside branchnb must resolve. Names of other
