@@ -12,5 +12,6 @@ from setuptools import find_packages, setup
 setup(
     packages=find_packages(include=["branchnb", "branchnb.*"]) + ["branchnb._data"],
     package_dir={"branchnb._data": "data"},
-    package_data={"branchnb._data": ["*.md", "*/*.png", "*/*.jpg", "*/*.json", "*/*.txt"]},
+    package_data={"branchnb._data": ["*.md", "*/*.png", "*/*.jpg", "*/*.json", "*/*.txt"],
+                  "branchnb._docs": ["pages/*.md", "pages/*.rst", "pages/*/*.md", "static/*.css"]},
 )

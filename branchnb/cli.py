@@ -309,6 +309,17 @@ def _parser() -> argparse.ArgumentParser:
                              description="Print benchmark figures; each row names its anchor and the "
                                          "ratio measured in the same run.")
     p_bench.add_argument("--quick", action="store_true", help="smaller inputs, for a smoke run")
+    p_docs = sub.add_parser(
+        "docs", help="build the documentation site and open it",
+        description="Build the HTML documentation (install, techniques, notebooks from their stored outputs, "
+                    "API reference, gallery, batch guide) with Sphinx and open it in a browser.")
+    p_docs.add_argument("--out", metavar="DIR", help="build folder (default: build/docs of the checkout)")
+    p_docs.add_argument("--no-open", action="store_true", help="only print the path of the site")
+    p_docs.add_argument("--gallery", action="store_true", help="run `branchnb gallery` too (about two minutes)")
+    p_docs.add_argument("--gallery-dir", metavar="DIR", help="add the pictures of an earlier `branchnb gallery DIR`")
+    p_docs.add_argument("--bench", action="store_true", help="run the benchmarks for the bench page (minutes)")
+    p_docs.add_argument("--quick", action="store_true", help="with --bench: the smaller inputs")
+    p_docs.add_argument("--no-strict", action="store_true", help="build even when Sphinx warns")
     return parser
 
 
@@ -368,6 +379,32 @@ def _gallery(outdir_arg) -> int:
         watcher.join()
     report_new()
     print(f"wrote {len(items)} pictures and index.html to {outdir} in {time.perf_counter() - t0:.0f} s")
+    return 0
+
+
+def _docs(args) -> int:
+    try:
+        from ._docs import DEFAULT_OUTDIR, build
+    except ImportError as exc:  # sphinx & co. come with the `dev` extra
+        raise CommandError(f"{exc.name or exc} is missing; install the docs tools with "
+                           "`python -m pip install -e \".[dev]\"`") from None
+    outdir = writable_dir(args.out if args.out is not None else DEFAULT_OUTDIR, name="--out")
+    gallery_dir = None
+    if args.gallery_dir is not None:
+        gallery_dir = Path(args.gallery_dir)
+        if not (gallery_dir / "index.html").is_file():
+            raise CommandError(f"--gallery-dir {str(gallery_dir)!r} holds no index.html of `branchnb gallery`")
+    try:
+        index = build(outdir, gallery_dir=gallery_dir, run_gallery=args.gallery, bench=args.bench,
+                      quick_bench=args.quick, strict=not args.no_strict)
+    except RuntimeError as exc:
+        raise CommandError(str(exc)) from None
+    print(f"site: {index}")
+    if not args.no_open:
+        import webbrowser
+
+        if not webbrowser.open(index.as_uri()):
+            print("no web browser found: open the file above in one")
     return 0
 
 
@@ -451,6 +488,8 @@ def main(argv=None) -> int:
                 f"  {time.perf_counter() - t0:6.1f} s  {name} ...", file=sys.stderr, flush=True))
             print(format_table(rows))
             return 0
+        if args.cmd == "docs":
+            return _docs(args)
     except CommandError as exc:
         print(f"branchnb {args.cmd}: error: {exc}", file=sys.stderr)
         return 1

@@ -5,6 +5,20 @@ large enough to see a dendrite or a vein (4 inches at 100 dpi = 400 px per
 panel by default), inputs and outputs side by side in one figure, histograms
 with labelled axes and a legend, and scalar maps with a labelled colour bar.
 
+The conventions every notebook follows (the docs' "Notebook style" page says
+the same):
+
+* call :func:`use_style` once at the top; never set a dpi or define a
+  notebook's own ``show()``;
+* one figure per step, input and output side by side (:func:`show`, or
+  :func:`panels` + :func:`image_panel` for a custom layout);
+* scalar maps keep their own range and get a labelled colour bar
+  (``colorbar="cost"``), never clipped to [0, 1] black;
+* histograms on shared bins with labelled axes and a legend
+  (:func:`hist_panel`, :func:`show_histograms`);
+* colours that code a category (generation, layer, stroke pair) get a legend
+  (:func:`legend_patches`).
+
 This module needs matplotlib (a dependency of the package) and is never
 imported by the technique modules, which stay plain numpy.
 
@@ -37,6 +51,7 @@ __all__ = [
     "hist_panel",
     "show",
     "show_histograms",
+    "legend_patches",
     "close",
 ]
 
@@ -61,8 +76,16 @@ _STYLE = {
 def use_style() -> None:
     """Set the shared notebook style (dpi, font sizes) in ``matplotlib.rcParams``.
 
-    Call once at the top of a notebook. Only the keys above are changed, so a
-    user's own settings for anything else stay.
+    Call once at the top of a notebook. Only the style's own keys (dpi, font
+    sizes, image interpolation) are changed, so a user's other settings stay.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> from branchnb import plot
+    >>> plot.use_style()
+    >>> plt.rcParams["figure.dpi"] == plot.DPI
+    True
     """
     plt.rcParams.update(_STYLE)
 
@@ -85,6 +108,25 @@ def panels(n: int, *, cols: int | None = None, size: float = PANEL_INCHES, width
         Row height in inches.
     suptitle : str, optional
         A title over the whole figure.
+
+    Returns
+    -------
+    figure : matplotlib.figure.Figure
+    axes : numpy.ndarray of matplotlib.axes.Axes
+        The ``n`` axes in reading order (spare grid cells are hidden).
+
+    Raises
+    ------
+    ValueError
+        ``n`` is not a positive integer, or ``widths`` does not fit one row of ``n`` panels.
+
+    Examples
+    --------
+    >>> from branchnb import plot
+    >>> fig, axes = plot.panels(3, cols=2)
+    >>> len(axes), [round(v) for v in fig.get_size_inches()]
+    (3, [8, 8])
+    >>> plot.close(fig)
     """
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
         raise ValueError(f"n must be a positive integer, got {n!r}")
@@ -154,6 +196,17 @@ def image_panel(ax, image, title: str | None = None, *, cmap: str = "gray", vmin
     Returns
     -------
     matplotlib.image.AxesImage
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from branchnb import plot
+    >>> fig, axes = plot.panels(1)
+    >>> cost = np.linspace(0, 50, 64).reshape(8, 8)
+    >>> artist = plot.image_panel(axes[0], cost, "lattice cost", colorbar="cost")
+    >>> artist.get_clim()            # the map's own range, not [0, 1]
+    (0.0, 50.0)
+    >>> plot.close(fig)
     """
     data, scalar = _displayable(image, background)
     if scalar:
@@ -195,8 +248,29 @@ def hist_panel(ax, samples: Mapping[str, Sequence[float]], *, bins=30, xlabel: s
         E.g. ``{"example": angles_in, "synthesized": angles_out}``.
     bins : int or sequence of edges
     xlabel, ylabel, title : str
+        Axis labels and panel title.
     range : (float, float), optional
         Shared range; the finite range of all samples by default.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        ``ax``.
+
+    Raises
+    ------
+    TypeError
+        ``samples`` is not a non-empty mapping.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from branchnb import plot
+    >>> fig, axes = plot.panels(1)
+    >>> ax = plot.hist_panel(axes[0], {"example": np.zeros(10), "result": np.ones(30)}, bins=4, xlabel="angle (rad)")
+    >>> ax.get_xlabel(), [t.get_text() for t in ax.get_legend().get_texts()]
+    ('angle (rad)', ['example (n=10)', 'result (n=30)'])
+    >>> plot.close(fig)
     """
     if not isinstance(samples, Mapping) or not samples:
         raise TypeError("samples must be a non-empty mapping of label -> values")
@@ -235,6 +309,13 @@ def show(images: Sequence, titles: Sequence[str] = (), *, cols: int | None = Non
         Layout, see :func:`panels`.
     cmap, colorbar, background, scale_bar :
         Passed to :func:`image_panel` for every panel.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from branchnb import plot
+    >>> plot.show([np.zeros((8, 8, 3)), np.eye(8)], ["input", "output"], colorbar="value")
+    >>> plot.close("all")
     """
     images = list(images)
     titles = list(titles) + [""] * max(0, len(images) - len(titles))
@@ -254,6 +335,27 @@ def show_histograms(groups: Mapping[str, Mapping[str, Sequence[float]]], *, xlab
     groups : mapping of panel title -> (mapping of label -> values)
         E.g. ``{"turning angle": {"example": a0, "synthesized": a1}, "radius": {...}}``.
     xlabels : mapping of panel title -> x-axis label, optional
+        The quantity's name is the label by default.
+    bins : int or sequence of edges
+        Shared by the samples of one panel (see :func:`hist_panel`).
+    size : float
+        Width of one panel in inches.
+    suptitle : str, optional
+        A title over the whole figure.
+
+    Raises
+    ------
+    TypeError
+        ``groups`` is not a non-empty mapping.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from branchnb import plot
+    >>> rng = np.random.default_rng(0)
+    >>> plot.show_histograms({"turning angle": {"example": rng.normal(0, 0.1, 200), "result": rng.normal(0, 0.2, 200)}},
+    ...                      xlabels={"turning angle": "angle (rad)"})
+    >>> plot.close("all")
     """
     if not isinstance(groups, Mapping) or not groups:
         raise TypeError("groups must be a non-empty mapping of title -> samples")
@@ -265,6 +367,68 @@ def show_histograms(groups: Mapping[str, Mapping[str, Sequence[float]]], *, xlab
     plt.show()
 
 
+def legend_patches(ax, colors: Mapping[str, Sequence[float] | str], *, title: str | None = None,
+                   loc: str = "upper right", outside: bool = False):
+    """A legend of coloured squares for colours that code a category.
+
+    For pictures whose colours mean something (branch generation, leaf layer,
+    stroke pair) but carry no plotted artist to label.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    colors : mapping of label -> colour
+        A colour is an RGB(A) triple in [0, 1] or any matplotlib colour string.
+    title : str, optional
+        Legend title, e.g. ``"generation"``.
+    loc : str
+        Legend position (matplotlib's ``loc``).
+    outside : bool
+        Put the legend to the right of the axes, so it hides no pixel of the image.
+
+    Returns
+    -------
+    matplotlib.legend.Legend
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from branchnb import plot
+    >>> fig, axes = plot.panels(1)
+    >>> _ = plot.image_panel(axes[0], np.zeros((8, 8, 3), np.float32), "structure")
+    >>> leg = plot.legend_patches(axes[0], {"root": (0.1, 0.6, 0.2), "children": "tab:blue"}, title="generation")
+    >>> [t.get_text() for t in leg.get_texts()]
+    ['root', 'children']
+    >>> plot.close(fig)
+    """
+    from matplotlib.colors import to_rgba
+    from matplotlib.patches import Patch
+
+    if not isinstance(colors, Mapping) or not colors:
+        raise TypeError("colors must be a non-empty mapping of label -> colour")
+    handles = []
+    for label, colour in colors.items():
+        try:
+            rgba = to_rgba(tuple(np.asarray(colour, float).tolist()) if not isinstance(colour, str) else colour)
+        except (TypeError, ValueError):
+            raise ValueError(f"colors[{label!r}] is not a colour: {colour!r}") from None
+        handles.append(Patch(facecolor=rgba, edgecolor="none", label=str(label)))
+    kwargs = {"bbox_to_anchor": (1.02, 1.0), "loc": "upper left", "borderaxespad": 0.0} if outside else {"loc": loc}
+    return ax.legend(handles=handles, title=title, frameon=not outside, **kwargs)
+
+
 def close(fig) -> None:
-    """Close a figure made with :func:`panels` (scripts and tests that draw many)."""
+    """Close a figure made with :func:`panels` (scripts and tests that draw many).
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure or "all"
+        The figure, or ``"all"`` for every open figure.
+
+    Examples
+    --------
+    >>> from branchnb import plot
+    >>> fig, _ = plot.panels(1)
+    >>> plot.close(fig)
+    """
     plt.close(fig)

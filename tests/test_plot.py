@@ -53,3 +53,21 @@ def test_panel_size_is_400_px_by_default():
     w, h = fig.get_size_inches() * fig.dpi
     assert (w, h) == (800, 400)
     plot.close(fig)
+
+
+def test_legend_patches_label_category_colours():
+    fig, axes = plot.panels(1)
+    leg = plot.legend_patches(axes[0], {"root": (0.1, 0.6, 0.2), "child": "tab:blue"}, title="generation")
+    assert [t.get_text() for t in leg.get_texts()] == ["root", "child"]
+    assert leg.get_title().get_text() == "generation"
+    face = leg.legend_handles[0].get_facecolor()
+    assert face[:3] == pytest.approx((0.1, 0.6, 0.2))
+    plot.close(fig)
+
+
+@pytest.mark.parametrize("bad", [{}, None, {"a": "not-a-colour"}, {"a": (1, 2)}])
+def test_legend_patches_rejects_bad_colours(bad):
+    fig, axes = plot.panels(1)
+    with pytest.raises((TypeError, ValueError), match="colo"):
+        plot.legend_patches(axes[0], bad)
+    plot.close(fig)

@@ -187,7 +187,7 @@ def fit_model(example: Structure, params: SynthesisParams | None = None, *,
         Uses ``h``, ``m``, ``k``, ``bins``, ``svm_C``.
     domain : (H, W) bool array_like, optional
         Where the example's branches live (e.g. the land of a river map,
-        see :func:`~branchnb.branching.regions.example_domain`); default
+        see :func:`~branchnb.branching.example_domain`); default
         the whole ``image_shape``. The root model (:mod:`.roots`) learns
         where roots start relative to its boundary, and the coverage
         target is measured inside it.

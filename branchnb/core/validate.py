@@ -65,7 +65,7 @@ __all__ = [
     "check_output_path",
 ]
 
-#: Largest |coordinate| (pixels) a point may have. Far beyond any image, small
+#: Largest absolute coordinate (pixels) a point may have. Far beyond any image, small
 #: enough that rasterisers can turn coordinates into int indices safely.
 COORD_LIMIT = 1e7
 #: Largest image (H * W) a function may allocate: 16k x 16k.

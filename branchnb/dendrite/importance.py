@@ -1,7 +1,7 @@
 """The importance map of an input image (paper, section 4).
 
 Importance says where the dendrite should show detail: dark regions and
-edges. With the image's luminance ``L`` (float in [0, 1]),
+edges. With the image's luminance ``L`` (float in [0, 1])::
 
     D = 1 - L                                   (darkness)
     G = min(|grad(G_sigma * L)| / g_ref, 1)     (gradient magnitude)

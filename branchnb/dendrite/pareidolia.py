@@ -1,6 +1,6 @@
 """Pareidolia trees: an image hidden in the branches of a tree (paper, section 9).
 
-The tree grows as in :mod:`.trees`, but its crown is the picture:
+The tree grows as in :mod:`branchnb.dendrite.trees`, but its crown is the picture:
 
 * **Canvas and crown.** The canvas is the image with a blank strip of
   ``trunk_height`` below it. The crown is the image's content: where the

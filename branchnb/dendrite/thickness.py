@@ -127,7 +127,7 @@ def importance_thickness(dendrite: Dendrite, importance, *, window: int = 15,
         strokes further).
     reference : float, optional
         The importance that gets the full width: 1 by default (importance in
-        [0, 1]). :class:`~branchnb.dendrite.stylize.Stylizer` passes the
+        [0, 1]). :class:`~branchnb.dendrite.stylization.Stylizer` passes the
         image's 99th percentile so strong features always reach ``max_width``.
         A constant importance gives a constant width, except the tapering tips.
 

@@ -401,7 +401,7 @@ class StrokeEditApp(widgets.VBox):
         """Run :func:`~branchnb.strokes.edit_structure` on the strokes drawn; returns the result.
 
         As its two stages: :func:`~branchnb.strokes.fetch_patches` only when
-        the strokes or a fetch parameter changed (else :attr:`patches` is
+        the strokes or a fetch parameter changed (else ``patches`` is
         reused), then :func:`~branchnb.strokes.compose_patches` (the same
         result as ``edit_structure``; ``stage_seconds`` has the times).
 
