@@ -209,8 +209,11 @@ class Dendrite:
     def next_in_branch(self) -> np.ndarray:
         """The next node along each node's own branch (-1 at a tip)."""
         nxt = np.full(self.n_nodes, -1, np.int64)
-        for b in self.branches:
-            nxt[b[:-1]] = b[1:]
+        for i, b in enumerate(self.branches):
+            # a side branch's first node is its junction on the parent branch: that
+            # node continues along the parent branch, not into the side branch
+            k = 1 if self.branch_parent[i] >= 0 else 0
+            nxt[b[k:-1]] = b[k + 1:]
         return nxt
 
     def owner(self) -> tuple[np.ndarray, np.ndarray]:

@@ -11,6 +11,11 @@
    rescaled so the local ink follows the image's darkness (``tone``);
 7. rendering with a metaphor (plain lines, vines or lightning).
 
+Before the stages run, the parameters are adapted to the image's size
+(:func:`effective_params`: no stroke thinner than a pixel, fewer endpoints
+on small images) and to the metaphor (:func:`metaphor_params`: vines and
+lightning set their own endpoint counts and widths).
+
 :class:`Stylizer` caches every stage keyed by the parameters it depends
 on, so changing only rendering or thickness parameters does not re-plan
 and changing the metric does not re-stipple: sliders stay live.
@@ -75,7 +80,13 @@ class StylizeParams:
     scale-free (on a bigger random lattice a larger share of the nodes ties
     at the percolation bottleneck and the branches straighten into a radial
     burst), which is why the lattice, not only the lengths, keeps one size.
-    ``lattice_size=0`` plans on the image's own pixels.
+    ``lattice_size=0`` plans on the image's own pixels. Drawn back on a small
+    image, lattice widths would shrink below a pixel: ``output_width`` keeps
+    every stroke at least that many image pixels wide, and a smaller image
+    gets proportionally fewer endpoints (:func:`effective_params`), so the
+    same object at 250 and at 750 px carries the same ink. The vine and
+    lightning metaphors choose their own endpoint counts
+    (:func:`metaphor_params`).
     """
 
     # importance (section 4)
@@ -211,12 +222,12 @@ def metaphor_params(p: StylizeParams, metaphor: str, shape, object_share: float,
       stems' layout carry the picture).
     * **lightning**: one tip per ``(LIGHTNING_SPACING x diagonal)**2``,
       stippled on importance squared (``endpoint_gamma = 2``: the bolts run
-      along the strongest edges), and the pipe model as the hierarchy
-      (``hierarchy = 0.5``, width growing with the square root of the tips a
-      channel carries) from 1 image pixel to 6 px at 512 x 512, without
-      the tone match: a few bright main channels that fork into thin, dim
-      branches (:func:`~branchnb.dendrite.metaphors.render_lightning` dims a
-      stroke with its width).
+      along the strongest edges), and widths from the pipe model alone
+      (``thickness = "subtree"``: growing with the square root of the tips a
+      channel carries) from 1 image pixel to 6 px at 512 x 512 (at least 3
+      px): a few bright main channels that fork into thin, dim branches
+      (:func:`~branchnb.dendrite.metaphors.render_lightning` dims a stroke
+      with its width).
 
     ``scale`` is image pixels per lattice pixel; the widths are returned in
     lattice pixels like every length of :class:`StylizeParams`.
@@ -242,7 +253,7 @@ def metaphor_params(p: StylizeParams, metaphor: str, shape, object_share: float,
     else:
         spacing = LIGHTNING_SPACING * float(np.hypot(h, w))
         hi = max(3.0, 6.0 * length_scale((h, w))) / scale
-        changes = dict(tone=0.0, edges=0.0, hierarchy=0.5, endpoint_gamma=2.0)
+        changes = dict(tone=0.0, edges=0.0, thickness="subtree", endpoint_gamma=2.0)
     n = int(round(float(np.clip(object_share, 0.0, 1.0)) * h * w / spacing ** 2))
     return _within_range(p, n_endpoints=int(np.clip(n, min(8, p.n_endpoints), p.n_endpoints)),
                          min_width=min(lo, 10.0), max_width=max(lo, hi), **changes)
