@@ -192,11 +192,28 @@ class Dendrite:
         steps[has] = np.hypot(d[:, 0], d[:, 1])
         return _depth_down(self.parent, steps)
 
+    def tip_distance(self) -> np.ndarray:
+        """Path length (pixels) from each node to the end of the branch it belongs to
+        (:meth:`owner`): 0 at a tip, growing toward the root; used to taper twigs."""
+        out = np.zeros(self.n_nodes)
+        first = self.branch_parent >= 0  # a side branch's first node is its parent's junction
+        for i, b in enumerate(self.branches):
+            if len(b) < 2:
+                continue
+            seg = np.hypot(*np.diff(self.points[b], axis=0).T)
+            rest = np.concatenate([np.cumsum(seg[::-1])[::-1], [0.0]])
+            k = 1 if first[i] else 0
+            out[b[k:]] = rest[k:]
+        return out
+
     def next_in_branch(self) -> np.ndarray:
         """The next node along each node's own branch (-1 at a tip)."""
         nxt = np.full(self.n_nodes, -1, np.int64)
-        for b in self.branches:
-            nxt[b[:-1]] = b[1:]
+        for i, b in enumerate(self.branches):
+            # a side branch's first node is its junction on the parent branch: that
+            # node continues along the parent branch, not into the side branch
+            k = 1 if self.branch_parent[i] >= 0 else 0
+            nxt[b[k:-1]] = b[k + 1:]
         return nxt
 
     def owner(self) -> tuple[np.ndarray, np.ndarray]:

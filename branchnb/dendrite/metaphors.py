@@ -44,6 +44,7 @@ __all__ = [
     "render_lightning",
     "render_vines",
     "vine_curves",
+    "vine_length",
 ]
 
 METAPHORS = ("plain", "vines", "lightning")
@@ -95,9 +96,14 @@ def _leaf(base, direction, length, width, side):
 VINE_LENGTHS = {"curl_length": 14.0, "leaf_spacing": 14.0, "leaf_length": 7.0,
                 "leaf_width": 4.0, "max_leaf_radius": 1.6}
 
+#: Vine lengths never fall below these (pixels at the image's own size): on a
+#: 250-px image leaves of 7 px x 0.5 would be ~3 px specks, green noise.
+VINE_MIN_PIXELS = {"curl_length": 10.0, "leaf_spacing": 11.0, "leaf_length": 6.5,
+                   "leaf_width": 3.6, "max_leaf_radius": 0.8}
+
 
 #: Metaphor lengths never shrink below this share of their 512 x 512 values, so a
-#: thumbnail (diagonal under ~180 px) still shows leaves, curls and a glow.
+#: thumbnail (diagonal under ~180 px) still shows a glow.
 MIN_SCALE = 0.25
 
 
@@ -107,6 +113,24 @@ def _unit(shape) -> float:
 
 def _len(value, shape, default: float) -> float:
     return float(value) if value is not None else float(default) * _unit(shape)
+
+
+def vine_length(name: str, shape) -> float:
+    """The vine length ``name`` (a key of :data:`VINE_LENGTHS`) in pixels for an image of ``shape``:
+    its 512 x 512 value scaled to the diagonal, never below :data:`VINE_MIN_PIXELS`.
+
+    Examples
+    --------
+    >>> vine_length("leaf_length", (1024, 1024)), vine_length("leaf_length", (200, 200))
+    (14.0, 6.5)
+    """
+    if name not in VINE_LENGTHS:
+        raise ValueError(f"name must be one of {sorted(VINE_LENGTHS)}, got {name!r}")
+    return max(VINE_LENGTHS[name] * length_scale(shape), VINE_MIN_PIXELS[name])
+
+
+def _vine_len(value, shape, name: str) -> float:
+    return float(value) if value is not None else vine_length(name, shape)
 
 
 def _vine_smooth(smooth, shape) -> int:
@@ -124,8 +148,8 @@ def vine_curves(dendrite: Dendrite, *, smooth: int | None = None, curls: float =
     """Geometry of the vine metaphor.
 
     Lengths left at None are :data:`VINE_LENGTHS` scaled to the dendrite's
-    image diagonal (never below :data:`MIN_SCALE` of them); ``smooth``
-    (passes along the branches) scales with its square.
+    image diagonal, never below :data:`VINE_MIN_PIXELS` (:func:`vine_length`);
+    ``smooth`` (passes along the branches) scales with the diagonal's square.
 
     Returns
     -------
@@ -134,11 +158,11 @@ def vine_curves(dendrite: Dendrite, *, smooth: int | None = None, curls: float =
     """
     shape = dendrite.shape if dendrite.shape is not None else (512, 512)
     smooth = _vine_smooth(smooth, dendrite.shape)
-    curl_length = _len(curl_length, shape, VINE_LENGTHS["curl_length"])
-    leaf_spacing = _len(leaf_spacing, shape, VINE_LENGTHS["leaf_spacing"])
-    leaf_length = _len(leaf_length, shape, VINE_LENGTHS["leaf_length"])
-    leaf_width = _len(leaf_width, shape, VINE_LENGTHS["leaf_width"])
-    max_leaf_radius = _len(max_leaf_radius, shape, VINE_LENGTHS["max_leaf_radius"])
+    curl_length = _vine_len(curl_length, shape, "curl_length")
+    leaf_spacing = _vine_len(leaf_spacing, shape, "leaf_spacing")
+    leaf_length = _vine_len(leaf_length, shape, "leaf_length")
+    leaf_width = _vine_len(leaf_width, shape, "leaf_width")
+    max_leaf_radius = _vine_len(max_leaf_radius, shape, "max_leaf_radius")
     unit = _unit(shape)
     if smooth < 0 or not 0 <= curls <= 1 or leaf_spacing <= 0:
         raise ValueError("smooth must be >= 0, curls in [0, 1], leaf_spacing > 0")
@@ -259,7 +283,14 @@ def render_lightning(dendrite: Dendrite, *, background=None, sky=(0.02, 0.02, 0.
     a = (1.0 - np.exp(-glow_strength * glow / ref * 0.15))[:, :, None]
     img = canvas * (1 - a) + np.asarray(glow_color, np.float32) * a
     core_w = [x * core_scale for x in widths]
-    img = draw_polylines(np.clip(img, 0, 1), lines, widths=core_w, colors=core_color)
+    # a channel's brightness follows its width (the charge it carries): the main
+    # channels burn white, thin side branches fade into the glow
+    w_ref = max(max((float(x.max()) for x in widths if len(x)), default=1.0), 1e-6)
+    glow_rgb = np.asarray(glow_color, float)
+    core_rgb = np.asarray(core_color, float)
+    cols = [np.clip(glow_rgb + (core_rgb - glow_rgb) * min(1.0, 0.35 + 0.65 * np.sqrt(
+        float(x.mean()) / w_ref) * 1.6), 0, 1) if len(x) else core_rgb for x in widths]
+    img = draw_polylines(np.clip(img, 0, 1), lines, widths=core_w, colors=cols)
 
     def svg():
         defs = (f'<filter id="glow" x="-20%" y="-20%" width="140%" height="140%">'
@@ -267,7 +298,7 @@ def render_lightning(dendrite: Dendrite, *, background=None, sky=(0.02, 0.02, 0.
         layers = [
             (polylines_to_svg(lines, widths=glow_w, colors=glow_color,
                               size=(w, h)), 'filter="url(#glow)" opacity="0.9"'),
-            (polylines_to_svg(lines, widths=core_w, colors=core_color, size=(w, h)), ""),
+            (polylines_to_svg(lines, widths=core_w, colors=cols, size=(w, h)), ""),
         ]
         return svg_document((w, h), layers, background=sky, defs=defs)
 

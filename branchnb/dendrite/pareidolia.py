@@ -59,7 +59,7 @@ from .thickness import rolling_importance, tone_thickness
 from .trees import TreeParams, crown_mask, iteration_metric, render_tree
 
 __all__ = ["PareidoliaParams", "PareidoliaTree", "content_crown", "pareidolia_tree",
-           "side_ramp"]
+           "side_ramp", "tree_crown"]
 
 
 @dataclass
@@ -103,10 +103,12 @@ class PareidoliaParams:
                              help="width added per later iteration: older branches are thicker (px)")
     max_width: float = param(5.0, min=0.5, max=30.0, step=0.5,
                              help="widest stroke in the crown, away from the trunk (px)")
-    limb_length: float = param(60.0, min=1.0, max=500.0, step=5.0,
+    limb_length: float = param(100.0, min=1.0, max=500.0, step=5.0,
                                help="path length over which the limbs thin to max_width (px)")
     pipe: float = param(0.4, min=0.0, max=5.0, step=0.05,
                         help="pipe model: width = tip_width + pipe * sqrt(tips carried)")
+    taper: float = param(6.0, min=0.0, max=50.0, step=0.5,
+                         help="twigs taper to a point over this path length at their ends (px)")
     trunk_height: float = param(0.4, min=0.1, max=2.0, step=0.05,
                                 help="blank strip below the image for the trunk (x image height)")
     lattice_size: int = param(512, min=0, max=4096, step=64,
@@ -156,14 +158,50 @@ def side_ramp(shape, side: str = "left") -> np.ndarray:
     return np.broadcast_to(t, (h, w)).copy()
 
 
-def content_crown(importance, *, blur: float = 10.0, threshold: float = 0.05) -> np.ndarray:
+def tree_crown(shape, *, lobes: int = 9, roughness: float = 0.1, rng=None) -> np.ndarray:
+    """A tree-crown silhouette filling an (H, W) frame: an egg-shaped ellipse with a
+    scalloped, lobed outline (cumulus-like clumps of foliage).
+
+    The outline's radius (relative to the inscribed ellipse) is ``1 -
+    roughness + roughness * |sin(lobes theta / 2 + phi)|`` plus a slow random
+    wobble, and the crown is a little wider above its centre than below, as a
+    broadleaf crown is.
+
+    Examples
+    --------
+    >>> c = tree_crown((100, 80), rng=0)
+    >>> bool(c[50, 40]), bool(c[0, 0]), bool(c[99, 79]), bool(0.55 < c.mean() < 0.8)
+    (True, False, False, True)
+    """
+    h, w = int(shape[0]), int(shape[1])
+    if h < 2 or w < 2:
+        raise ValueError(f"shape must be at least 2 x 2, got {shape}")
+    if not 0 <= roughness < 0.5:
+        raise ValueError(f"roughness must be in [0, 0.5), got {roughness}")
+    r = as_rng(rng)
+    yy, xx = np.mgrid[0:h, 0:w]
+    u = (xx - (w - 1) / 2) / (w / 2)
+    v = (yy - (h - 1) / 2) / (h / 2)
+    v = v * np.where(v < 0, 0.95, 1.1)  # egg shape: fuller above, narrower toward the trunk
+    theta = np.arctan2(v, u)
+    phase = r.uniform(0, 2 * np.pi, 3)
+    wobble = 0.35 * np.sin(2 * theta + phase[1]) + 0.25 * np.sin(3 * theta + phase[2])
+    edge = 1.0 - roughness + roughness * np.abs(np.sin(lobes * theta / 2 + phase[0])) ** 0.7 \
+        + roughness * 0.3 * wobble
+    return np.hypot(u, v) <= np.minimum(edge, 1.0)
+
+
+def content_crown(importance, *, blur: float = 10.0, threshold: float = 0.05,
+                  outline: np.ndarray | None = None) -> np.ndarray:
     """The crown of a picture: where it has something to draw, filled and smoothed.
 
     Pixels whose importance reaches ``threshold`` are blurred over ``blur``
     pixels; the crown is where that fraction exceeds 0.25, with holes filled,
-    specks (below 2 % of the largest part) dropped, and clipped to a rounded
-    box (superellipse of exponent 3) of the image so that a picture filling
-    its frame still gets a crown-like outline.
+    specks (below 2 % of the largest part) dropped. Content that fills the
+    frame (covering over a fifth of its border: a portrait, a landscape) is clipped to ``outline`` (a
+    tree-crown silhouette of the frame, :func:`tree_crown`, by default) so the
+    picture reads as a tree's crown, not as the image's rectangle; an object on
+    a blank ground keeps its own outline.
 
     Examples
     --------
@@ -175,18 +213,24 @@ def content_crown(importance, *, blur: float = 10.0, threshold: float = 0.05) ->
     imp = np.asarray(importance, dtype=np.float64)
     if imp.ndim != 2 or min(imp.shape) < 2:
         raise ValueError(f"importance must be an (H, W) array, got shape {imp.shape}")
-    h, w = imp.shape
+    box = tree_crown(imp.shape, rng=0) if outline is None else np.asarray(outline, bool)
+    if box.shape != imp.shape:
+        raise ValueError(f"outline has shape {box.shape}, expected {imp.shape}")
     frac = ndimage.gaussian_filter((imp >= threshold).astype(np.float64), blur)
     mask = ndimage.binary_fill_holes(frac > 0.25)
     lab, n = ndimage.label(mask)
     if n > 1:
         sizes = np.bincount(lab.ravel())[1:]
         mask = np.isin(lab, 1 + np.flatnonzero(sizes >= 0.02 * sizes.max()))
-    yy, xx = np.mgrid[0:h, 0:w]
-    box = (np.abs((xx - (w - 1) / 2) / (w / 2)) ** 3
-           + np.abs((yy - (h - 1) / 2) / (h / 2)) ** 3) <= 1.0
-    mask &= box
-    if not mask.any():  # nothing to draw: the rounded box itself
+    h, w = imp.shape
+    band = max(1, round(0.02 * min(h, w)))
+    frame = np.zeros_like(mask)
+    frame[:band], frame[-band:], frame[:, :band], frame[:, -band:] = True, True, True, True
+    if (mask & frame).sum() > 0.2 * frame.sum():
+        # the content fills the frame (not an object touching it at one spot):
+        # cut it to a crown's outline
+        mask &= box
+    if not mask.any():  # nothing to draw: the crown outline itself
         mask = box
     return mask
 
@@ -250,7 +294,7 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
                     blend_weight=p.blend_weight)
     crown = np.zeros((h, w), bool)
     if p.crown == "content":
-        crown[:hi] = content_crown(imp[:hi], blur=p.crown_blur)
+        crown[:hi] = content_crown(imp[:hi], blur=p.crown_blur, outline=tree_crown((hi, w), rng=rng))
     else:
         crown = crown_mask((h, w), tp)
     if p.side == "full":
@@ -340,9 +384,14 @@ def _thickness(d: Dendrite, p: PareidoliaParams, imp, dark, crown, n_trunk: int)
     arc = d.arc_depth()
     fork_arc = arc[n_trunk - 1] if n_trunk > 0 else 0.0
     from_fork = np.maximum(arc - fork_arc, 0.0)
+    if p.taper > 0:
+        # round caps on tone-thickened twig ends read as dots: taper the last `taper`
+        # px of every branch to a third of its width (before the tone match, which
+        # then puts the ink back along the twigs instead of losing it)
+        width = width * (0.35 + 0.65 * np.sqrt(np.clip(d.tip_distance() / p.taper, 0.0, 1.0)))
     cap = np.maximum(p.max_width, width * np.exp(-from_fork / p.limb_length))
     floor = np.minimum(width * np.exp(-from_fork / p.limb_length), cap)
-    toned = tone_thickness(d.with_radius(width / 2), dark, sigma=8.0, min_width=p.tip_width * 0.4,
+    toned = tone_thickness(d.with_radius(width / 2), dark, sigma=5.0, min_width=p.tip_width * 0.4,
                            max_width=float(cap.max()), strength=p.tone)
     w_tone = np.clip(2.0 * toned.radius, floor, cap)
     # a slight flare at the foot of the trunk

@@ -11,6 +11,11 @@
    rescaled so the local ink follows the image's darkness (``tone``);
 7. rendering with a metaphor (plain lines, vines or lightning).
 
+Before the stages run, the parameters are adapted to the image's size
+(:func:`effective_params`: no stroke thinner than a pixel, fewer endpoints
+on small images) and to the metaphor (:func:`metaphor_params`: vines and
+lightning set their own endpoint counts and widths).
+
 :class:`Stylizer` caches every stage keyed by the parameters it depends
 on, so changing only rendering or thickness parameters does not re-plan
 and changing the metric does not re-stipple: sliders stay live.
@@ -31,16 +36,18 @@ from ..core.random import as_seed
 from ..core.validate import Choice, Int, Point, Points, checked
 from .dendrite import Dendrite, PathStats, build_dendrite, path_statistics
 from .endpoints import place_endpoints
-from .importance import ImportanceParams, darkness, importance_map
+from .importance import ImportanceParams, darkness, gradient_strength, importance_map
 from .lattice import Lattice, node_weights
 from .planner import METRICS, PlanResult, plan
 from .render import Rendering
-from .scale import resample_to_lattice
-from .thickness import branch_thickness, importance_thickness, tone_thickness
+from .scale import length_scale, resample_to_lattice
+from .thickness import branch_thickness, importance_thickness, rolling_importance, tone_thickness
 from .ties import refine_ties
 
 __all__ = [
     "MetricComparison",
+    "effective_params",
+    "metaphor_params",
     "Stylization",
     "StylizeParams",
     "Stylizer",
@@ -73,7 +80,13 @@ class StylizeParams:
     scale-free (on a bigger random lattice a larger share of the nodes ties
     at the percolation bottleneck and the branches straighten into a radial
     burst), which is why the lattice, not only the lengths, keeps one size.
-    ``lattice_size=0`` plans on the image's own pixels.
+    ``lattice_size=0`` plans on the image's own pixels. Drawn back on a small
+    image, lattice widths would shrink below a pixel: ``output_width`` keeps
+    every stroke at least that many image pixels wide, and a smaller image
+    gets proportionally fewer endpoints (:func:`effective_params`), so the
+    same object at 250 and at 750 px carries the same ink. The vine and
+    lightning metaphors choose their own endpoint counts
+    (:func:`metaphor_params`).
     """
 
     # importance (section 4)
@@ -121,12 +134,129 @@ class StylizeParams:
                               help="scale over which ink is matched to darkness (lattice px)")
     hierarchy: float = param(0.25, min=0.0, max=1.0, step=0.05,
                              help="width x (tips carried) ** hierarchy: trunks thicker than twigs")
+    edges: float = param(1.0, min=0.0, max=4.0, step=0.05,
+                         help="extra width on the image's edges after the tone match (outline, veins)")
     min_width: float = param(0.2, min=0.0, max=10.0, step=0.1,
                              help="narrowest stroke (lattice px)")
     max_width: float = param(4.0, min=0.0, max=30.0, step=0.1,
                              help="widest stroke (lattice px)")
     lattice_size: int = param(512, min=0, max=4096, step=64,
                               help="plan on a lattice with the diagonal of this square (0 = image)")
+    output_width: float = param(1.0, min=0.0, max=5.0, step=0.1,
+                                help="narrowest stroke at the image's own size (px); smaller images "
+                                     "get fewer endpoints (0 = off)")
+
+
+def _within_range(p: StylizeParams, **values) -> StylizeParams:
+    """``dataclasses.replace(p, **values)`` with each value clipped to its field's range
+    (so a derived parameter set still validates, e.g. on a tiny image)."""
+    meta = {f.name: f.metadata for f in dataclasses.fields(p)}
+    for k, v in values.items():
+        lo, hi = meta[k].get("min"), meta[k].get("max")
+        v = v if hi is None else min(v, hi)
+        values[k] = type(getattr(p, k))(v if lo is None else max(v, lo))
+    return dataclasses.replace(p, **values)
+
+
+def effective_params(p: StylizeParams, scale: float) -> StylizeParams:
+    """The parameters a stylization drawn at ``scale`` image px per lattice px really uses.
+
+    Lattice widths below ``p.output_width / scale`` would be drawn thinner than
+    ``output_width`` image pixels, as pale grey hairlines: ``min_width`` is raised
+    to that and ``max_width`` to at least twice it. On an image smaller than the
+    lattice (``scale < 1``) the branches would then no longer fit between one
+    another, so the endpoint count falls to ``n_endpoints * scale`` and the
+    lattice lengths that depend on the branch spacing grow as it does, by
+    ``1 / sqrt(scale)`` (``max_width``, ``tone_sigma``): a 250-px image gets
+    half the branches of a 512-px one, 1.4x as far apart in image pixels,
+    with the same share of ink, so the same mean ink and solid strokes instead
+    of a grey haze of sub-pixel lines. (Falling with the area, ``scale**2``,
+    keeps the 512-px spacing in image pixels but loses the tone of small
+    inputs: ~9 px between branches on a 200-px image is too coarse for its
+    shading.) This goes beyond the paper, whose
+    examples are all drawn at about the lattice's size.
+
+    Examples
+    --------
+    >>> q = effective_params(StylizeParams(), 0.5)
+    >>> q.n_endpoints, q.min_width, round(q.max_width, 2)
+    (1500, 2.0, 5.66)
+    >>> effective_params(StylizeParams(output_width=0.0), 0.5) == StylizeParams(output_width=0.0)
+    True
+    """
+    if p.output_width <= 0 or not np.isfinite(scale) or scale <= 0:
+        return p
+    lo = min(max(p.min_width, p.output_width / scale), 10.0)
+    if scale >= 1.0:
+        return _within_range(p, min_width=lo, max_width=max(p.max_width, 2.0 * lo))
+    grow = 1.0 / np.sqrt(scale)  # the branch spacing, in lattice px, grows by this
+    return _within_range(
+        p, min_width=lo, max_width=max(p.max_width * grow, lo), tone_sigma=p.tone_sigma * grow,
+        n_endpoints=max(1, int(round(p.n_endpoints * scale))))
+
+
+#: Vine stems are this many leaf lengths apart on average (:func:`metaphor_params`).
+VINE_SPACING = 2.5
+
+#: Lightning branches are this share of the image diagonal apart on average.
+LIGHTNING_SPACING = 0.045
+
+
+def metaphor_params(p: StylizeParams, metaphor: str, shape, object_share: float,
+                    scale: float) -> StylizeParams:
+    """The parameters of a stylization drawn with ``metaphor`` (plain: ``p`` itself).
+
+    The paper's ~3,000 endpoints fill a picture with ink. Drawn as vines,
+    every tip carries a curl and leaves along its stem, and 3,000 of them
+    make an overgrown mass that hides the object; drawn as lightning, they
+    make a glowing scribble. Both metaphors therefore set their own endpoint
+    count from the area with something to draw (``object_share`` of the
+    image, ``shape``) and a spacing between branches, never more than
+    ``p.n_endpoints``:
+
+    * **vines**: one tip per ``(VINE_SPACING x leaf length)**2``, the leaf
+      length following the image's diagonal
+      (:func:`~branchnb.dendrite.metaphors.vine_length`); stems from 1 image
+      pixel to 2 px at 512 x 512 (scaled with the diagonal, at least 1.8 px)
+      wide by their importance alone (no tone match: the leaves and the
+      stems' layout carry the picture).
+    * **lightning**: one tip per ``(LIGHTNING_SPACING x diagonal)**2``,
+      stippled on importance squared (``endpoint_gamma = 2``: the bolts run
+      along the strongest edges), and widths from the pipe model alone
+      (``thickness = "subtree"``: growing with the square root of the tips a
+      channel carries) from 1 image pixel to 6 px at 512 x 512 (at least 3
+      px): a few bright main channels that fork into thin, dim branches
+      (:func:`~branchnb.dendrite.metaphors.render_lightning` dims a stroke
+      with its width).
+
+    ``scale`` is image pixels per lattice pixel; the widths are returned in
+    lattice pixels like every length of :class:`StylizeParams`.
+
+    Examples
+    --------
+    >>> q = metaphor_params(StylizeParams(), "vines", (1000, 1000), 0.5, 1000 / 512)
+    >>> q.n_endpoints, q.tone
+    (428, 0.0)
+    >>> metaphor_params(StylizeParams(), "lightning", (512, 512), 1.0, 1.0).n_endpoints
+    247
+    """
+    if metaphor not in ("vines", "lightning"):
+        return p
+    h, w = int(shape[0]), int(shape[1])
+    lo = max(p.min_width, 1.0 / scale)
+    if metaphor == "vines":
+        from .metaphors import vine_length
+
+        spacing = VINE_SPACING * vine_length("leaf_length", (h, w))
+        hi = max(1.8, 2.0 * length_scale((h, w))) / scale
+        changes = dict(tone=0.0, edges=0.0)
+    else:
+        spacing = LIGHTNING_SPACING * float(np.hypot(h, w))
+        hi = max(3.0, 6.0 * length_scale((h, w))) / scale
+        changes = dict(tone=0.0, edges=0.0, thickness="subtree", endpoint_gamma=2.0)
+    n = int(round(float(np.clip(object_share, 0.0, 1.0)) * h * w / spacing ** 2))
+    return _within_range(p, n_endpoints=int(np.clip(n, min(8, p.n_endpoints), p.n_endpoints)),
+                         min_width=min(lo, 10.0), max_width=max(lo, hi), **changes)
 
 
 @dataclass
@@ -147,6 +277,8 @@ class Stylization:
     dendrite : Dendrite (with thickness), image coordinates
     rendering : Rendering or None
     params : StylizeParams
+        The parameters used: the ones given, adapted to the image's size by
+        :func:`effective_params`.
     seed : (2,) float64 (x, y), image
     scale : (2,) float64
         Image pixels per lattice pixel in x and y.
@@ -192,7 +324,9 @@ class Stylizer:
     --------
     >>> img = np.ones((48, 48)); img[12:36, 12:36] = 0.0
     >>> st = Stylizer(img)
-    >>> out = st.run(StylizeParams(n_endpoints=40), rng=0)
+    >>> out = st.run(StylizeParams(n_endpoints=400), rng=0)
+    >>> out.params.n_endpoints  # a 48-px image: fewer endpoints (effective_params)
+    38
     >>> out.dendrite.is_tree(), len(out.dendrite.tips) > 20
     (True, True)
     """
@@ -279,6 +413,12 @@ class Stylizer:
                                                     p.sigma)))
 
     @checked()
+    def edge_map(self, p: StylizeParams) -> np.ndarray:
+        """The gradient strength ``G`` in [0, 1] on the lattice (the edge part of the importance)."""
+        return self._get(("edges", p.lattice_size, p.sigma), lambda: gradient_strength(
+            self.working_image(p), sigma=p.sigma))
+
+    @checked()
     def darkness(self, p: StylizeParams) -> np.ndarray:
         """The tone target ``1 - luminance`` on the lattice."""
         return self._get(("darkness", p.lattice_size), lambda: darkness(self.working_image(p)))
@@ -348,6 +488,11 @@ class Stylizer:
         rng = as_seed(rng)  # stages are cached by an int seed; a Generator gives one
         if p.max_width < p.min_width:
             raise ValueError(f"params.max_width ({p.max_width}) < params.min_width ({p.min_width})")
+        k = float(np.sqrt(np.prod(self.scale(p))))
+        p = effective_params(p, k)
+        if metaphor in ("vines", "lightning"):
+            share = float((self.importance(p) >= p.endpoint_threshold).mean())
+            p = metaphor_params(p, metaphor, self.shape, share, k)
         seed = self.default_seed(p) if seed is None else as_points(
             np.reshape(np.asarray(seed, float), (1, 2)), name="seed", image_shape=self.shape)[0]
         seed_lat = self.to_lattice(p, seed)
@@ -367,6 +512,11 @@ class Stylizer:
             if p.tone > 0:
                 d = tone_thickness(d, self.darkness(p), sigma=p.tone_sigma, min_width=lo,
                                    max_width=hi, strength=p.tone)
+            if p.edges > 0:
+                # the tone match spreads ink evenly over a region; the outline and the
+                # veins of a drawing should still read as its strongest lines
+                e = np.clip(rolling_importance(d, self.edge_map(p), p.window), 0.0, 1.0)
+                d = d.with_radius(np.clip(d.radius * (1.0 + p.edges * e ** 2), lo / 2, hi / 2))
         else:
             d = branch_thickness(d, mode=p.thickness, min_width=lo, max_width=hi)
         scale = self.scale(p)

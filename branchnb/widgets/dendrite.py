@@ -65,8 +65,8 @@ STYLIZE_SECTIONS = [
                                "stipple_iterations"]),
     ("node weights and path metric", ["cost_weight", "epsilon", "noise", "metric", "blend_weight",
                                       "break_ties"]),
-    ("thickness", ["thickness", "window", "contrast", "hierarchy", "tone", "tone_sigma", "min_width",
-                   "max_width"]),
+    ("thickness", ["thickness", "window", "contrast", "hierarchy", "tone", "tone_sigma", "edges",
+                   "min_width", "max_width", "output_width"]),
 ]
 STYLIZE_LABELS = {
     "intensity_weight": ("darkness weight", "w_I"), "gradient_weight": ("gradient weight", "w_G"),
@@ -80,7 +80,8 @@ STYLIZE_LABELS = {
     "metric": ("path metric", ""), "blend_weight": ("max-edge weight", "a"),
     "thickness": ("thickness from", ""), "window": ("rolling window", ""),
     "contrast": ("contrast exponent", ""), "min_width": ("min width (lattice)", ""),
-    "max_width": ("max width (lattice)", ""),
+    "max_width": ("max width (lattice)", ""), "edges": ("edge emphasis", ""),
+    "output_width": ("min width (image px)", ""),
 }
 TREE_SECTIONS = [
     ("growth", ["iterations", "trunk_endpoints", "endpoint_growth", "radius", "radius_decay",
@@ -107,7 +108,7 @@ PAREIDOLIA_SECTIONS = [
                                   "intensity_weight", "gradient_weight"]),
     ("growth", ["iterations", "trunk_endpoints", "blend_weight", "trunk_height"]),
     ("widths", ["thickness", "window", "emphasis", "tone", "tip_width", "increment", "pipe", "max_width",
-                "limb_length"]),
+                "limb_length", "taper"]),
 ]
 PAREIDOLIA_LABELS = {
     "side": ("image side", ""), "n_endpoints": ("image endpoints", "N"),
@@ -123,6 +124,7 @@ PAREIDOLIA_LABELS = {
     "crown": ("crown shape", ""), "crown_blur": ("crown smoothing", ""),
     "lattice_size": ("lattice (0 = image)", ""), "tone": ("match tone", ""),
     "max_width": ("max crown width (px)", ""), "limb_length": ("limb thinning length", ""),
+    "taper": ("twig taper length", ""),
 }
 
 

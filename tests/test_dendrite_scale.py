@@ -1,0 +1,269 @@
+"""Dendrites on inputs of any size (issue 25, items 1-4): the same ink and solid strokes
+at 250 and 750 px, vines that stay readable from small to large inputs, lightning that
+reads as lightning on an image, and pareidolia that reads as a tree and as the picture.
+
+The objects are procedural, with a known mask: a green leaf with light veins on white,
+and a drawn fish (black outline, grey body, faint scale circles) on white.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy import ndimage
+from skimage import draw
+from skimage.transform import resize
+
+from branchnb import data
+from branchnb.core.image import as_gray, as_rgb
+from branchnb.dendrite import StylizeParams, Stylizer, stylize
+from branchnb.dendrite.importance import gradient_strength
+from branchnb.dendrite.metaphors import vine_curves, vine_length
+from branchnb.dendrite.pareidolia import pareidolia_tree, tree_crown
+from branchnb.dendrite.stylization import effective_params, metaphor_params
+
+
+def _leaf(n):
+    """An elliptic green leaf with a light midrib and side veins, and a stem."""
+    h, w = n, int(0.75 * n)
+    yy, xx = np.mgrid[0:h, 0:w] / n
+    cx, top, bot = 0.375, 0.08, 0.78
+    t = (yy - top) / (bot - top)
+    blade = (t >= 0) & (t <= 1) & (np.abs(xx - cx) < 0.28 * np.sin(np.pi * np.clip(t, 0, 1)) ** 0.8)
+    img = np.ones((h, w, 3), np.float32)
+    img[blade] = np.array([0.25, 0.5, 0.18]) * (0.9 + 0.2 * (1 - t[blade, None]))
+    img[(np.abs(xx - cx) < 0.006) & (yy > top) & (yy < bot)] = (0.85, 0.9, 0.6)
+    stem = (np.abs(xx - cx) < 0.008) & (yy >= bot) & (yy < 0.95)
+    img[stem] = (0.3, 0.35, 0.15)
+    for k in range(7):
+        y0 = top + (k + 1) / 8 * (bot - top) * 0.95
+        for side in (-1, 1):
+            d = side * (xx - cx)
+            img[(d > 0) & (np.abs((yy - y0) + 0.6 * d) < 0.0035) & blade] = (0.8, 0.88, 0.55)
+    img = ndimage.gaussian_filter(img, (0.6 * n / 500, 0.6 * n / 500, 0))
+    return np.clip(img, 0, 1), blade | stem
+
+
+def _fish(n):
+    """A drawn fish on white: black outline, grey body, faint scale circles, an eye, a fin."""
+    img = np.ones((n, n), np.float32)
+
+    def ell(cy, cx, ry, rx, val):
+        rr, cc = draw.ellipse(int(cy * n), int(cx * n), int(ry * n), int(rx * n), shape=(n, n))
+        img[rr, cc] = val
+
+    ell(0.5, 0.45, 0.22, 0.33, 0.0)
+    ell(0.5, 0.45, 0.2, 0.31, 0.85)
+    rr, cc = draw.polygon([0.5 * n, 0.3 * n, 0.7 * n], [0.74 * n, 0.95 * n, 0.95 * n], shape=(n, n))
+    img[rr, cc] = 0.3
+    for i in range(5):
+        for j in range(3):
+            rr, cc = draw.circle_perimeter(int((0.4 + 0.1 * j) * n), int((0.35 + 0.08 * i) * n),
+                                           int(0.04 * n), shape=(n, n))
+            img[rr, cc] = 0.2
+    ell(0.45, 0.22, 0.035, 0.035, 0.0)
+    img = ndimage.gaussian_filter(img, n / 700)
+    return np.dstack([img] * 3).astype(np.float32), ndimage.binary_fill_holes(img < 0.95)
+
+
+_OBJECTS = {"leaf": _leaf, "fish": _fish}
+
+
+def _ink(rendering, mask):
+    ink = 1.0 - as_gray(rendering)[mask]
+    return float(ink.mean()), float((ink > 0.5).mean())
+
+
+@pytest.mark.parametrize("name", list(_OBJECTS))
+def test_same_ink_and_solid_strokes_at_250_and_750_px(name):
+    out = {}
+    for n in (250, 750):
+        img, mask = _OBJECTS[name](n)
+        s = stylize(img, rng=0)
+        out[n] = _ink(s.rendering.image, mask), s
+    (ink_s, solid_s), small = out[250]
+    (ink_l, solid_l), _ = out[750]
+    assert abs(ink_s - ink_l) <= 0.2 * ink_l
+    assert solid_s >= 0.6 * solid_l
+    # no stroke thinner than ~1 px at the output size (no pale grey hairlines)
+    assert 2.0 * small.dendrite.radius.min() >= 0.99
+    # a small image gets fewer endpoints (its strokes must fit between one another)
+    assert len(small.endpoints) < StylizeParams().n_endpoints
+
+
+def test_outline_weighted_after_the_tone_match():
+    img, mask = _fish(400)
+    st = Stylizer(img)
+    plain = st.run(StylizeParams(edges=0.0), rng=0, metaphor=None).dendrite
+    weighted = st.run(StylizeParams(), rng=0, metaphor=None).dendrite
+    assert weighted is not plain
+    # nodes on the fish's black outline (strong edges) get wider, flat regions stay
+    g = gradient_strength(img)
+    at = np.rint(weighted.points).astype(int)
+    edge = g[at[:, 1], at[:, 0]] > 0.6
+    flat = g[at[:, 1], at[:, 0]] < 0.05
+    assert edge.sum() > 50 and flat.sum() > 50
+    gain = weighted.radius / plain.radius
+    assert np.median(gain[edge]) > 1.3
+    assert np.median(gain[flat]) < 1.05
+
+
+def test_effective_params_keep_every_field_in_range():
+    for scale in (0.01, 0.1, 0.5, 1.0, 3.0):
+        q = effective_params(StylizeParams(), scale)
+        assert q.min_width <= q.max_width <= 30.0 and q.min_width <= 10.0
+        assert 1 <= q.n_endpoints <= StylizeParams().n_endpoints
+    assert effective_params(StylizeParams(output_width=0.0), 0.3) == StylizeParams(output_width=0.0)
+
+
+# ------------------------------------------------------------------- vines
+def _green(rendering):
+    r = rendering
+    return (r[..., 1] > r[..., 0] + 0.1) & (r[..., 1] > r[..., 2] + 0.1)
+
+
+@pytest.mark.parametrize("n", [250, 1000])
+def test_vines_readable_at_any_size(n):
+    img, mask = _fish(n)
+    s = stylize(img, rng=0, metaphor="vines")
+    # the endpoint count follows the object's area and the leaf size, not the paper's 3,000
+    leaf = vine_length("leaf_length", img.shape[:2])
+    expect = mask.mean() * n * n / (2.5 * leaf) ** 2
+    assert 0.5 * expect < len(s.endpoints) < 2.0 * expect
+    # no overgrown mass: most of the object stays paper
+    ink = 1.0 - as_gray(s.rendering.image)
+    assert (ink[mask] > 0.2).mean() < 0.35
+    # no green noise: leaves at least 6 px long, and there are leaves
+    _, _, leaves, _ = vine_curves(s.dendrite, rng=0)
+    lengths = [np.hypot(*(lf[-1] - lf[0])) for lf in leaves]
+    assert len(leaves) > 10 and np.median(lengths) >= 6.0
+    assert _green(s.rendering.image).mean() > 0.01
+
+
+def test_vine_endpoints_follow_area_and_size():
+    p = StylizeParams()
+    small = metaphor_params(p, "vines", (250, 250), 0.5, 250 / 512)
+    large = metaphor_params(p, "vines", (1000, 1000), 0.5, 1000 / 512)
+    half = metaphor_params(p, "vines", (1000, 1000), 0.25, 1000 / 512)
+    assert small.n_endpoints < large.n_endpoints < p.n_endpoints
+    assert half.n_endpoints == pytest.approx(large.n_endpoints / 2, abs=1)
+    assert metaphor_params(p, "plain", (1000, 1000), 0.5, 2.0) is p
+
+
+# --------------------------------------------------------------- lightning
+def test_lightning_on_an_image_reads_as_bolts_along_its_edges():
+    img = as_rgb(data.load("camera"))
+    img = resize(img, (256, 256), anti_aliasing=True).astype(np.float32)
+    s = stylize(img, rng=0, metaphor="lightning")
+    d = s.dendrite
+    # a few hundred branches at most, not the paper's 3,000 (a glowing scribble)
+    assert len(s.endpoints) < 400
+    # a hierarchy of channels: the main ones several times wider than the twigs
+    w = 2 * d.radius
+    assert np.percentile(w, 99) >= 2.5 * np.median(w)
+    # the sky stays dark: the bright core covers a small share of the picture
+    lum = as_gray(s.rendering.image)
+    assert (lum > 0.8).mean() < 0.12 and np.median(lum) < 0.25
+    # the bolts run along the picture's edges
+    g = gradient_strength(img, sigma=1.5)
+    core = lum > 0.8
+    assert g[core].mean() > 1.8 * g.mean()
+    # thin branches are dimmer than the main channels
+    thin = np.flatnonzero(w <= w.min() * 1.01)
+    wide = np.flatnonzero(w >= w.max() * 0.99)
+    assert len(thin) > 100 and len(wide) > 20
+
+    def brightness(idx):
+        at = np.rint(d.points[idx]).astype(int)
+        return float(lum[at[:, 1], at[:, 0]].mean())
+
+    assert brightness(wide) > brightness(thin) + 0.05
+
+
+# -------------------------------------------------------------- pareidolia
+def _tone_r(a, b, mask, sigma=4.0):
+    x = ndimage.gaussian_filter(1.0 - as_gray(a).astype(np.float64), sigma)[mask]
+    y = ndimage.gaussian_filter(1.0 - as_gray(b).astype(np.float64), sigma)[mask]
+    return float(np.corrcoef(x, y)[0, 1])
+
+
+@pytest.fixture(scope="module")
+def portrait_tree():
+    img = resize(as_rgb(data.load("astronaut")), (320, 320), anti_aliasing=True).astype(np.float32)
+    return pareidolia_tree(img, rng=0)
+
+
+def test_pareidolia_portrait_tone_in_the_crown(portrait_tree):
+    t = portrait_tree
+    assert _tone_r(t.image, t.render().image, t.crown_on_canvas()) >= 0.7
+
+
+def test_pareidolia_crown_is_a_crown_not_the_frame(portrait_tree):
+    t = portrait_tree
+    crown = t.crown
+    rows = np.flatnonzero(crown.any(axis=1))
+    top = crown[rows[0]:rows[0] + 3].sum()
+    middle = crown[rows[len(rows) // 2]].sum()
+    assert middle > 2 * top / 3 * 1.5  # rounded at the top, not a flat edge
+    # the corners of the picture are outside the crown
+    n = rows[-1] + 1
+    assert not crown[0, 0] and not crown[0, -1] and not crown[n - 1, 0] and not crown[n - 1, -1]
+    # a lobed outline: the crown's boundary radius varies around a smooth ellipse
+    c = tree_crown((200, 160), rng=3)
+    assert 0.6 < c.mean() < 0.8
+
+
+def test_pareidolia_limbs_grow_from_the_trunk_and_twigs_taper(portrait_tree):
+    t = portrait_tree
+    d = t.dendrite
+    crown = t.crown_on_canvas()
+    at = np.rint(d.points).astype(int)
+    inside = crown[np.clip(at[:, 1], 0, crown.shape[0] - 1), np.clip(at[:, 0], 0, crown.shape[1] - 1)]
+    # limbs: the first iteration's branches inside the crown are much wider than the twigs
+    limbs = (d.iteration == 1) & inside
+    assert limbs.sum() > 50
+    assert np.percentile(d.radius[limbs], 75) > 2 * np.median(d.radius[inside & (d.iteration > 1)])
+    # the limbs fan out: they reach well above the fork point, left and right of the trunk
+    fork_y = d.points[d.iteration == 1][:, 1][~inside[d.iteration == 1]].min()
+    ly = d.points[limbs]
+    assert (ly[:, 1] < fork_y - 0.25 * crown.shape[0]).any()
+    assert np.ptp(ly[:, 0]) > 0.4 * crown.shape[1]
+    # twig ends taper: at a tip the width is well below the width a few px back
+    dist = d.tip_distance()
+    tips = d.tips[inside[d.tips]]
+    back = np.array([_ancestor(d, i, dist, 6.0) for i in tips])
+    ok = back >= 0
+    assert ok.mean() > 0.5
+    assert np.median(d.radius[tips[ok]] / d.radius[back[ok]]) < 0.6
+
+
+def _ancestor(d, i, dist, how_far):
+    """The first ancestor of tree node ``i`` at least ``how_far`` px from its tip (or -1)."""
+    j = i
+    while j >= 0 and dist[j] < how_far:
+        j = int(d.parent[j])
+    return j
+
+
+def test_next_in_branch_stays_on_the_junctions_own_branch():
+    from branchnb.dendrite import build_dendrite, make_lattice, plan
+
+    res = plan(make_lattice(np.zeros((40, 40)), rng=0), (20, 39))
+    d = build_dendrite(res, [(3, 3), (36, 5), (20, 2)])
+    nxt = d.next_in_branch()
+    own, _ = d.owner()
+    for i, b in enumerate(d.branches):
+        if d.branch_parent[i] < 0:
+            continue
+        junction = b[0]
+        # the junction continues its parent branch, never into the side branch
+        assert own[junction] != i and nxt[junction] != b[1]
+        if nxt[junction] >= 0:
+            assert own[nxt[junction]] == own[junction]
+    # a rolling window along a branch is then smooth through the junctions
+    from branchnb.dendrite import rolling_importance
+
+    ramp = np.tile(np.linspace(0, 1, 40), (40, 1))
+    r = rolling_importance(d, ramp, 9)
+    main = max(d.branches, key=len)
+    assert np.abs(np.diff(r[main][4:-4])).max() < 0.05
