@@ -260,7 +260,7 @@ def snap_layer(evidence, blade, chains, widths, tolerance: float, *, min_evidenc
     >>> ev = np.zeros((40, 60), np.float32); ev[22, 5:55] = 1.0    # the exemplar's vein
     >>> chain = np.column_stack([np.arange(5, 55), np.full(50, 19)])  # carried over 3 px off
     >>> m, kept = snap_layer(ev, np.ones((40, 60), bool), [chain], [1.0], 5.0)
-    >>> bool(m[22, 10:50].all()), int(m[19].sum()), kept
+    >>> bool(m[22, 10:50].all()), int(m[19, 10:50].sum()), kept
     (True, 0, 1.0)
     """
     from skimage.graph import MCP_Geometric

@@ -632,6 +632,15 @@ def generate(analysis, n: int = 8, *, rng=None, params: SynthesisParams | None =
     Returns
     -------
     list of GeneratedLeaf
+
+    Examples
+    --------
+    >>> from branchnb.leaves import analyze, leaf_family
+    >>> leaves = leaf_family(2, size=128, rng=0)
+    >>> a = analyze(leaves, 0, {"veins": leaves[0].layers["veins"]})  # finished layer masks
+    >>> new = generate(a, 3, rng=1)
+    >>> len(new), new[0].image.dtype, bool(0.5 < new[0].blade.sum() / a.blades[0].sum() < 2)
+    (3, dtype('float32'), True)
     """
     from .analysis import LeafAnalysis
     if not isinstance(analysis, LeafAnalysis):
