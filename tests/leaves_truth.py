@@ -57,3 +57,10 @@ def true_registrations(leaves, training_index):
     t = leaves[training_index].keypoints
     shape = leaves[0].image.shape[:2]
     return [TrueRegistration(leaf.keypoints, t, shape) for leaf in leaves]
+
+
+
+def perturbed(registration, amplitude, rng):
+    """``registration`` with its maps moved by a smooth random field of at most ``amplitude`` px."""
+    from branchnb.leaves._measure import _Perturbed
+    return _Perturbed(registration, amplitude, rng)

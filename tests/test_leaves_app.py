@@ -57,7 +57,7 @@ def test_layer_list_editing(app):
     app.name_box.value = "holes"
     app.layer_buttons["add"].click()
     assert app.layer_names() == ["veins", "spots", "holes"] and app.canvas.label == "holes"
-    assert list(app.canvas._label_picker.options) == app.layer_names()
+    assert list(app.canvas._label_picker.options) == app.layer_names() + ["blade"]
     app.layer_list.value = "holes"
     app.layer_buttons["up"].click()
     assert app.layer_names() == ["veins", "holes", "spots"]
@@ -124,3 +124,34 @@ def test_analysis_reinduction_and_generation(app, family, monkeypatch):
     app.shell.click("generate")
     assert all(np.array_equal(x, leaf.image) for x, leaf in zip(first, app.leaves))  # same seed, same leaves
     assert len(app.gallery.images) == 2
+    # The first leaf is open at its full size below the gallery.
+    assert app.open_leaf.value == 0 and len(app.full_view.images) == 1
+    assert "leaf #0" in app.full_view.title_texts[0]
+    app.open_leaf.value = 1
+    assert "leaf #1" in app.full_view.title_texts[0]
+
+
+def test_layer_json_round_trips_through_the_app():
+    """Blade scribbles and each scribble's radius come back exactly (the stored maple layers)."""
+    from branchnb import data
+    from branchnb.leaves import LayerSet
+    text = (data.DATA_DIR / "leaves" / "maple_leaf_01_layers.json").read_text()
+    ls = LayerSet.from_json(text)
+    assert ls.background and {s.radius for x in ls.layers for s in x.scribbles} != {2.0}
+    app = LeafApp([data.load("maple_leaf_01"), data.load("maple_leaf_02")], layers=ls, max_display=256)
+    assert app.layer_set().to_json() == ls.to_json()
+    assert "blade" in app.canvas.labels
+    # The analysis gets the same radii (canvas pixels: shifted by the leaf's offset only).
+    canvas_ls = app.scribbled_layers()
+    assert [s.radius for s in canvas_ls.background] == [s.radius for s in ls.background]
+
+
+def test_warnings_name_a_thin_layer_that_came_out_non_structural(app, family):
+    from types import SimpleNamespace
+
+    from branchnb.widgets.leaves import layer_warnings
+    fake = SimpleNamespace(layers=[SimpleNamespace(name="veins", lam=0.0, snapped=[None, None, None],
+                                                   masks=[1, 1, 1], empty=[2])])
+    w = layer_warnings(fake)
+    assert len(w) == 2 and "non-structural" in w[0] and "#2" in w[1]
+    assert "e+" not in app.report.value

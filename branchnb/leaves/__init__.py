@@ -8,23 +8,27 @@ measuring (:mod:`.procedural`).
 
 Training layers scribbled on one leaf and grown by lazy snapping
 (:mod:`.layers`), layer induction on every exemplar with residuals
-(:mod:`.induction`, pipeline :func:`analyze` in :mod:`.analysis`) and
-layered synthesis of new leaves (:mod:`.synthesis`).
+(:mod:`.induction`, pipeline :func:`analyze` in :mod:`.analysis`), thin
+layers snapped to each exemplar's own ridges (:mod:`.snapping`, beyond the
+paper) and layered synthesis of new leaves (:mod:`.synthesis`). Hand-traced
+veins of the sample maples for measuring (:mod:`.reference`).
 """
 
-from .analysis import LayerInduction, LeafAnalysis, analyze
+from .analysis import IdentityRegistration, LayerInduction, LeafAnalysis, analyze, normalise_exemplars, warp_mask
 from .correction import TextureCorrection, correct_texture, distorted_pixels, jacobian_singular_values
 from .exemplar import Exemplar, blade_mask, leaf_exemplar, prepare_exemplars
 from .induction import InductionParams
 from .keypoints import Keypoints, edge_keypoints, edge_strength
 from .layers import Layer, LayerSet, Scribble, SnapParams, TrainingLayers, grow_layers, simulate_scribbles
 from .procedural import KINDS, PALETTES, ProceduralLeaf, leaf_family, procedural_leaf
+from .reference import reference_vein_names, reference_veins
 from .registration import (
     Registration,
     RegistrationParams,
     ThinPlateSpline,
     draw_registration,
     register,
+    split_petiole,
     start_alignment,
     start_candidates,
     tps_rpm,
@@ -33,7 +37,8 @@ from .synthesis import GeneratedLeaf, SynthesisParams, generate, save_leaves
 
 __all__ = [
     "Layer", "LayerSet", "Scribble", "SnapParams", "TrainingLayers", "grow_layers", "simulate_scribbles",
-    "InductionParams", "LayerInduction", "LeafAnalysis", "analyze",
+    "InductionParams", "LayerInduction", "LeafAnalysis", "analyze", "IdentityRegistration",
+    "normalise_exemplars", "warp_mask", "reference_veins", "reference_vein_names", "split_petiole",
     "SynthesisParams", "GeneratedLeaf", "generate", "save_leaves",
     "KINDS",
     "PALETTES",

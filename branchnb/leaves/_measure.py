@@ -243,15 +243,127 @@ def _print_induction(rows, truth):
         print(f"{key[0]:<9} {key[1]:>4} {key[2]:<6} min {v.min():.2f} mean {v.mean():.2f}  mean lambda {lam:.3f}")
 
 
+class _Perturbed:
+    """A registration moved by a smooth random displacement of at most ``amplitude`` px (exemplar frame)."""
+
+    def __init__(self, reg, amplitude, rng):
+        from .synthesis import random_warp
+        mt = np.asarray(reg.map_to_training, np.float32)
+        d = random_warp(mt.shape[:2], amplitude, 0.25 * np.sqrt(mt.shape[0] * mt.shape[1]), rng)
+        self.map_to_training = (mt + d).astype(np.float32)
+        mf = np.asarray(reg.map_from_training, np.float32)
+        # The inverse map, to first order: undo the displacement where each exemplar pixel lands.
+        import cv2
+        back = cv2.remap(d, mf[..., 0], mf[..., 1], cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+        self.map_from_training = (mf - back).astype(np.float32)
+        self.error_px = float(amplitude)
+
+    def to_training(self, img):
+        return _apply_map(img, self.map_to_training)
+
+    def from_training(self, img):
+        return _apply_map(img, self.map_from_training)
+
+
+def _apply_map(img, mp):
+    from ..core.warp import remap
+    a = np.asarray(img)
+    out = remap(a.astype(np.float32), mp[..., 0], mp[..., 1])[0]
+    return out[..., 0] > 0.5 if a.dtype == bool else out
+
+
+def main_vein_width(mask) -> float:
+    """Width of a vein layer's main veins: the 90th percentile of ``2 EDT - 1`` on its skeleton."""
+    from scipy import ndimage as ndi
+    from skimage.morphology import skeletonize
+    sk = skeletonize(mask)
+    return float(np.percentile(2 * ndi.distance_transform_edt(mask)[sk] - 1, 90))
+
+
+def snapping_rows(kinds=KINDS_ALL, sizes=(192, 384), seeds=range(1), n_leaves: int = 4, factor: float = 2.0,
+                  snap: bool = True):
+    """Every leaf of a family as the training leaf in turn, true registrations perturbed by
+    ``factor`` main-vein widths: vein IoU of every other leaf's induced layer with its truth."""
+    from ..core.metrics import iou
+    from .analysis import analyze
+    from .induction import InductionParams
+
+    out = []
+    for kind in kinds:
+        for size in sizes:
+            for seed in seeds:
+                fam, gt, kps, shape = _family_on_canvas(kind, size, n_leaves, seed)
+                width = float(np.median([main_vein_width(g["veins"]) for g in gt]))
+                amp = factor * width
+                for t in range(n_leaves):
+                    rng = np.random.default_rng((int(seed), t))
+                    regs = [_TrueRegistration(k, kps[t], shape) for k in kps]
+                    regs = [r if e == t else _Perturbed(r, amp, rng) for e, r in enumerate(regs)]
+                    a = analyze(fam, t, {"veins": fam[t].layers["veins"]}, registrations=regs,
+                                params=InductionParams(snap=snap))
+                    layer = a.layer("veins")
+                    for e in range(n_leaves):
+                        if e != t:
+                            out.append(dict(kind=kind, size=size, seed=int(seed), training=t, exemplar=e,
+                                            iou=iou(layer.masks[e], gt[e]["veins"]), shift=amp))
+    return out
+
+
+def maple_rows(snap: bool = True):
+    """Each sample maple as the training leaf (its hand-traced veins as the user's layer), TPS-RPM
+    registrations: vein IoU of every other maple's induced layer with its hand-traced veins."""
+    from .. import data
+    from ..core.metrics import iou
+    from .analysis import analyze, normalise_exemplars
+    from .induction import InductionParams
+    from .reference import reference_vein_names, reference_veins
+
+    names = reference_vein_names()
+    leaves = [data.load(n) for n in names]
+    truth = [reference_veins(n) for n in names]
+    _, blades, offs = normalise_exemplars(leaves)
+    out = []
+    for t in range(len(names)):
+        a = analyze(leaves, t, {"veins": truth[t]}, params=InductionParams(snap=snap))
+        for e in range(len(names)):
+            if e == t:
+                continue
+            g = np.zeros(blades[0].shape, bool)
+            dx, dy = offs[e]
+            h, w = truth[e].shape
+            g[dy:dy + h, dx:dx + w] = truth[e]
+            out.append(dict(training=names[t], exemplar=names[e], iou=iou(a.layer("veins").masks[e], g)))
+    return out
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="python -m branchnb.leaves._measure", description=__doc__.split("\n")[0])
-    ap.add_argument("what", choices=("registration", "induction"))
+    ap.add_argument("what", choices=("registration", "induction", "snapping", "maples"))
+    ap.add_argument("--no-snap", action="store_true", help="the paper's induction (no ridge snapping)")
     ap.add_argument("--kinds", default=",".join(KINDS_ALL))
     ap.add_argument("--seeds", type=int, default=None, help="number of seeds (0, 1, ...)")
     ap.add_argument("--sizes", default=None, help="comma-separated canvas sizes")
     ap.add_argument("--truth", action="store_true", help="induction through the true correspondences")
     args = ap.parse_args(argv)
     kinds = tuple(args.kinds.split(","))
+    if args.what == "snapping":
+        sizes = tuple(int(s) for s in (args.sizes or "192,384").split(","))
+        rows = snapping_rows(kinds, sizes, range(args.seeds or 1), snap=not args.no_snap)
+        print("vein IoU, every leaf as training leaf, true registration perturbed by 2 main-vein widths")
+        for key in dict.fromkeys((r["kind"], r["size"]) for r in rows):
+            v = np.array([r["iou"] for r in rows if (r["kind"], r["size"]) == key])
+            shift = rows[[(r["kind"], r["size"]) for r in rows].index(key)]["shift"]
+            print(f"{key[0]:<9} {key[1]:>4}  shift {shift:4.1f} px  min {v.min():.2f}  mean {v.mean():.2f}")
+        return
+    if args.what == "maples":
+        rows = maple_rows(snap=not args.no_snap)
+        for name in dict.fromkeys(r["training"] for r in rows):
+            v = [r["iou"] for r in rows if r["training"] == name]
+            scores = " ".join(f"{x:.2f}" for x in v)
+            print(f"{name} as training: {scores}  min {min(v):.2f} mean {np.mean(v):.2f}")
+        v = [r["iou"] for r in rows]
+        print(f"all: min {min(v):.2f} mean {np.mean(v):.2f}")
+        return
     if args.what == "registration":
         sizes = [int(s) for s in (args.sizes or "192").split(",")]
         for size in sizes:

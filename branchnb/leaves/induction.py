@@ -115,6 +115,11 @@ class InductionParams:
     lab_units: bool = param(True, help="S_e as the EMD in CIELAB units (channels weighted by their span)")
     min_neighbourhood: int = param(3, min=1, max=16, ui=False,
                                    help="a smaller scaled window is tried against this one (px)")
+    snap: bool = param(True, help="thin layers (veins) follow each exemplar's own ridges "
+                                  "(beyond the paper: the registered layer is a prior)")
+    snap_radius: float = param(3.0, min=0.5, max=20.0, step=0.5,
+                               help="search tube around a registered thin layer, in layer widths "
+                                    "(at least 1.5x the registration error)")
 
 
 @dataclass(frozen=True)

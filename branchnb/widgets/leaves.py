@@ -22,6 +22,7 @@ are computed once per exemplar set and kept.
 from __future__ import annotations
 
 import dataclasses
+import html
 
 import ipywidgets as widgets
 import numpy as np
@@ -39,7 +40,7 @@ from .imageview import ImageView
 from .params import ParamPanel
 from .shell import AppShell
 
-__all__ = ["LeafApp", "layer_set_from_shapes"]
+__all__ = ["LeafApp", "layer_set_from_shapes", "layer_warnings", "BLADE"]
 
 #: Induction parameters :meth:`LeafAnalysis.retune` previews without new colour terms.
 _RETUNABLE = {"eps", "kappa", "liberal_threshold"}
@@ -52,20 +53,31 @@ def _white(rgba: np.ndarray) -> np.ndarray:
     return (rgba[..., :3] * a + (1 - a)).astype(np.float32)
 
 
-def layer_set_from_shapes(shapes, layers: LayerSet, *, radius: float = 2.0) -> LayerSet:
+#: Label (and colour) of scribbles on the plain blade, the background layer.
+BLADE = "blade"
+_BLADE_COLOUR = "#7f7f7f"
+
+
+def layer_set_from_shapes(shapes, layers: LayerSet, *, radius: float = 2.0, offset=(0.0, 0.0)) -> LayerSet:
     """The app's layer list with the canvas' scribbles (label = layer name) as their scribbles.
 
-    Scribbles whose label names no layer raise a ``ValueError`` naming the label.
+    A scribble keeps the brush radius it was loaded or drawn with
+    (``meta["radius"]``), else ``radius``; ``"blade"`` scribbles go to the
+    background. ``offset`` is subtracted from the points (canvas -> leaf
+    pixels). Scribbles whose label names no layer raise a ``ValueError``
+    naming the label.
     """
     out = LayerSet([Layer(x.name, x.colour, x.order) for x in layers.layers])
     names = {x.name for x in out.layers}
+    d = np.asarray(offset, float)
     for i, s in enumerate(shapes):
         if s.kind != "scribble":
             continue
-        if s.label not in names and s.label != "blade":
+        if s.label not in names and s.label != BLADE:
             raise ValueError(f"scribble {i} has label {s.label!r}, which is no layer "
                              f"(layers: {sorted(names)})")
-        out.add_scribble(s.label, s.points, radius=radius)
+        r = s.meta.get("radius", radius)
+        out.add_scribble(s.label, s.points - d, radius=float(r))
     return out
 
 
@@ -120,14 +132,21 @@ class LeafApp(widgets.VBox):
         self.layers = LayerSet([Layer(x.name, x.colour, x.order) for x in layers.layers])
         t = self.training_index
         labels = {x.name: x.colour for x in self.layers.ordered()} or {"veins": _PALETTE[0]}
+        labels[BLADE] = _BLADE_COLOUR
         self.canvas = AnnotationCanvas(_white(self.images[t]), mode="scribble", labels=labels,
                                        modes=("scribble", "edit", "pan"), max_display=max_display,
                                        errors=self.status)
         self.canvas.radius = 2.0
         dx, dy = self.offsets[t]
+        # Each scribble keeps its own brush radius (the paper's users draw
+        # one-pixel vein strokes and wide blade dabs in one session).
         for x in layers.layers:
             for s in x.scribbles:
-                self.canvas.model.add_shape("scribble", s.points + [dx, dy], label=x.name)
+                self.canvas.model.add_shape("scribble", s.points + [dx, dy], label=x.name,
+                                            meta={"radius": float(s.radius)})
+        for s in layers.background:
+            self.canvas.model.add_shape("scribble", s.points + [dx, dy], label=BLADE,
+                                        meta={"radius": float(s.radius)})
         # Layer list.
         self.layer_list = widgets.Select(options=self.layer_names(), rows=4,
                                          layout=widgets.Layout(width="150px"))
@@ -163,6 +182,11 @@ class LeafApp(widgets.VBox):
                                 names="value")
         self.report = widgets.HTML()
         self.gallery = ImageView(width=120, max_size=300)
+        # One generated leaf at its full size (the gallery's thumbnails hide veins and spots).
+        self.open_leaf = widgets.Dropdown(options=[], description="full size", layout=widgets.Layout(width="200px"))
+        self.full_view = ImageView(width=480)
+        self.open_leaf.observe(self.status.guard(lambda _c: self.show_leaf(self.open_leaf.value), action=False),
+                               names="value")
         self._show_exemplars()
         # Parameters.
         self.induction_panel = ParamPanel(InductionParams, errors=self.status,
@@ -175,9 +199,9 @@ class LeafApp(widgets.VBox):
                                                 layout=widgets.Layout(width="150px"))
         self.seed = widgets.BoundedIntText(0, min=0, max=2**31 - 1, description="seed",
                                            layout=widgets.Layout(width="150px"))
-        self.shell.add_action("analyze", self.run_analysis, primary=True, background=True,
+        self.shell.add_action("analyze", self.run_analysis, primary=True, background=True, cancellable=True,
                               tooltip="grow the layers, register the exemplars (once) and induce the layers")
-        self.shell.add_action("generate", self.run_generate, background=True,
+        self.shell.add_action("generate", self.run_generate, background=True, cancellable=True,
                               tooltip="new leaves from the analysis")
         self.shell.add_action("clear scribbles", self.clear_scribbles, run=False)
         self.shell.add_tool(self.n_outputs, self.seed)
@@ -186,7 +210,8 @@ class LeafApp(widgets.VBox):
         self.shell.set_body(main=[self.canvas, layer_box],
                             result=[widgets.HTML("<b>exemplars</b>: registration and induced layers"),
                                     self.exemplar_view, self.report, self.hist_layer, self.histograms,
-                                    widgets.HTML("<b>generated leaves</b>"), self.gallery],
+                                    widgets.HTML("<b>generated leaves</b>"), self.gallery,
+                                    self.open_leaf, self.full_view],
                             sidebar=[self.induction_panel, self.synthesis_panel])
         super().__init__([self.shell])
 
@@ -255,11 +280,11 @@ class LeafApp(widgets.VBox):
         names = self.layer_names()
         self.layer_list.options = names
         self.hist_layer.options = names
-        self.canvas.labels = {x.name: x.colour for x in self.layers.ordered()}
+        self.canvas.labels = {**{x.name: x.colour for x in self.layers.ordered()}, BLADE: _BLADE_COLOUR}
         picker = self.canvas._label_picker  # the canvas' own label dropdown follows the layer list
         if names:
-            keep = self.canvas.label if self.canvas.label in names else names[0]
-            picker.options = names
+            keep = self.canvas.label if self.canvas.label in names + [BLADE] else names[0]
+            picker.options = names + [BLADE]
             picker.value = keep
         self.canvas.redraw()
 
@@ -315,6 +340,15 @@ class LeafApp(widgets.VBox):
         """The layers with the canvas' scribbles (canvas pixels: the app's exemplars are already on one canvas)."""
         return layer_set_from_shapes(self.canvas.model.shapes, self.layers, radius=self.canvas.radius)
 
+    def layer_set(self) -> LayerSet:
+        """The layers with their scribbles in the training leaf's own pixels (as given to the app).
+
+        ``LayerSet.to_json`` of it gives back the JSON the app was started
+        from, blade scribbles and each scribble's radius included.
+        """
+        return layer_set_from_shapes(self.canvas.model.shapes, self.layers, radius=self.canvas.radius,
+                                     offset=self.offsets[self.training_index])
+
     # -- actions ------------------------------------------------------------------------
     def run_analysis(self) -> str:
         """Grow the scribbled layers, register (once), induce; show the result."""
@@ -354,8 +388,23 @@ class LeafApp(widgets.VBox):
         self.leaves = generate(self.analysis, n, rng=int(self.seed.value), params=self.synthesis_panel.values,
                                progress=self.shell.progress)
         self.gallery.update([leaf.on_white() for leaf in self.leaves],
-                            [f"seed {leaf.seed % 100000}" for leaf in self.leaves])
+                            [f"#{i}: seed {leaf.seed % 100000}" for i, leaf in enumerate(self.leaves)])
+        self.open_leaf.options = [(f"leaf #{i}", i) for i in range(len(self.leaves))]
+        self.open_leaf.value = 0
+        self.show_leaf(0)
         return f"{n} leaves"
+
+    def show_leaf(self, i) -> None:
+        """Show generated leaf ``i`` at its full size (cropped to the leaf) below the gallery."""
+        if i is None or not self.leaves:
+            return
+        leaf = self.leaves[int(i)]
+        ys, xs = np.nonzero(leaf.image[..., 3] > 0.02)
+        img = leaf.on_white()
+        if len(ys):
+            img = img[max(ys.min() - 4, 0):ys.max() + 5, max(xs.min() - 4, 0):xs.max() + 5]
+        self.full_view.width = max(16, min(960, img.shape[1]))
+        self.full_view.update([img], [f"leaf #{int(i)} ({img.shape[1]} x {img.shape[0]} px), seed {leaf.seed}"])
 
     # -- views ---------------------------------------------------------------------------
     def registration_overlay(self, e: int, analysis: LeafAnalysis | None = None) -> np.ndarray:
@@ -398,12 +447,16 @@ class LeafApp(widgets.VBox):
         """Overlays, the lambda/delta table and the histograms of ``analysis`` (default: the app's)."""
         a = analysis if analysis is not None else self.analysis
         self._show_exemplars(a)
-        # delta spans many decades (F is an exponential): three significant digits.
-        rows = "".join(f"<tr><td>{x.name}</td><td>{x.lam:.3g}</td><td>{x.delta:.3g}</td>"
-                       f"<td>{x.training_overlap:.2f}</td><td>{x.neighbourhood}</td></tr>" for x in a.layers)
+        rows = "".join(f"<tr><td>{html.escape(x.name)}</td><td>{x.lam:.3f}</td><td>{_delta_text(x.delta)}</td>"
+                       f"<td>{x.training_overlap:.2f}</td><td>{x.neighbourhood}</td><td>{_kind_text(x)}</td>"
+                       f"<td>{len(x.masks) - len(x.empty)}/{len(x.masks)}</td></tr>" for x in a.layers)
+        warn = "".join(f"<div style='color:#b35900'>⚠ {html.escape(w)}</div>" for w in layer_warnings(a))
         self.report.value = ("<table style='font-size:12px'><tr><th>layer</th><th>λ</th><th>δ</th>"
                              "<th title='IoU of the induced layer with yours on the training leaf'>IoU</th>"
-                             "<th title='neighbourhood side of S_e (px)'>n</th></tr>" + rows + "</table>")
+                             "<th title='neighbourhood side of S_e (px)'>n</th>"
+                             "<th title='structural: leans on space (λ > 0.05); colour: leans on colour'>kind</th>"
+                             "<th title='exemplars on which the layer was found'>found</th></tr>"
+                             + rows + "</table>" + warn)
         self._show_histograms(a)
 
     def _show_histograms(self, analysis: LeafAnalysis | None = None) -> None:
@@ -423,6 +476,37 @@ class LeafApp(widgets.VBox):
             labels.append("user layer" if e == t else f"#{e}")
         if len(samples) >= 1:
             self.histograms.update(*samples, labels=labels, range=(0.0, 100.0))
+
+
+def _delta_text(delta: float) -> str:
+    """``delta`` for a table: F is an exponential, so past 10 it only says "any distance"."""
+    return f"{delta:.3f}" if delta < 10 else "> 10 (any distance)"
+
+
+def _kind_text(layer) -> str:
+    kind = "structural" if layer.lam > 0.05 else "colour"
+    return kind + (", snapped" if layer.snapped is not None else "")
+
+
+def layer_warnings(analysis) -> list[str]:
+    """Plain-language warnings about an analysis: a thin layer that came out non-structural, a layer not found.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> layer_warnings(NS(layers=[NS(name="veins", lam=0.0, snapped=[None, None], masks=[1, 1], empty=[])]))[0][:33]
+    "'veins' was scribbled as thin lin"
+    """
+    out = []
+    for x in analysis.layers:
+        if x.snapped is not None and x.lam < 0.01:
+            out.append(f"'{x.name}' was scribbled as thin lines (a structure) but came out non-structural "
+                       f"(λ = {x.lam:.3f}): its exemplars' copies do not overlap after registration, so it "
+                       "was induced from each leaf's own ridges and colours. Check the registration overlays.")
+        if x.empty:
+            out.append(f"'{x.name}' was not found on exemplar(s) {', '.join('#' + str(e) for e in x.empty)}; "
+                       "new leaves take it from the others.")
+    return out
 
 
 def _shapes_json(shapes) -> str:
