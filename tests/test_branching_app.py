@@ -332,3 +332,56 @@ def test_a_newer_slider_move_supersedes_a_growing_synthesis(app):
     assert p.c == 4 and app.result.structure.to_json() == script.structure.to_json()
     assert app.errors.last_error is None and app.partial is None
     assert "growing" not in app.view.title_texts[0]
+
+
+def _slowed(mod, monkeypatch, pause: float):
+    """synthesize_structure with a pause at every Markov step (a big example, on a slow machine)."""
+    import threading
+
+    real = mod.synthesize_structure
+
+    def slow(*args, progress=None, **kwargs):
+        def watch(growth):
+            threading.Event().wait(pause)
+            if progress is not None:
+                progress(growth)
+        return real(*args, progress=watch, **kwargs)
+
+    monkeypatch.setattr(mod, "synthesize_structure", slow)
+
+
+def test_synthesize_button_grows_in_the_background_with_previews(app, monkeypatch):
+    import branchnb.widgets.branching as mod
+
+    _slowed(mod, monkeypatch, 0.01)
+    shown = []
+    orig = app._show_partial
+    monkeypatch.setattr(app, "_show_partial", lambda g: (shown.append(g.n_branches), orig(g)))
+    app.preview_first, app.preview_every = 0.05, 0.05
+    app.shell.background = True
+    app.shell.click("synthesize")
+    assert app.buttons["synthesize"].disabled  # busy while it grows
+    assert app.shell.wait(60)
+    assert app.errors.last_error is None and app.result is not None
+    assert len(shown) >= 2 and app.partial is None  # previews while growing, then the result
+    assert "synthesize" in app.errors.text and not app.buttons["synthesize"].disabled
+
+
+def test_synthesize_button_cancel_stops_the_growth(app, monkeypatch):
+    import threading
+
+    import branchnb.widgets.branching as mod
+
+    _slowed(mod, monkeypatch, 0.05)
+    grew = threading.Event()
+    orig = app._show_partial
+    monkeypatch.setattr(app, "_show_partial", lambda g: (grew.set(), orig(g)))
+    app.preview_first = 0.0
+    app.shell.background = True
+    app.shell.click("synthesize")
+    assert grew.wait(30)
+    assert app.shell.cancel_button.layout.visibility == "visible"
+    app.shell.cancel()
+    assert app.shell.wait(30)
+    assert "cancelled" in app.errors.text and app.errors.last_error is None
+    assert app.result is None and not app.buttons["synthesize"].disabled

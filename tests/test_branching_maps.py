@@ -186,8 +186,8 @@ def test_river_map_image_keeps_land_and_sea(river):
 
 def test_binary_example_gives_a_binary_image(delta):
     mask, _channels, sea, s = delta
-    tgt = synthesize_structure(fit_model(s, domain=~sea), rng=1).structure
-    out = synthesize_image(np.dstack([mask] * 3), s, tgt, rng=0)
+    res = synthesize_structure(fit_model(s, domain=~sea), rng=1)
+    out = synthesize_image(np.dstack([mask] * 3), s, res, rng=0)   # the result carries its domain
     im = out.image
     assert np.mean((im <= 0.1) | (im >= 0.9)) >= 0.98
     # the target grew in the example's domain: its laid-out sea is the example's, and white
@@ -283,8 +283,9 @@ def test_binary_channels_keep_the_target_width(delta):
     from branchnb.core.render import coverage_polylines
 
     mask, _channels, sea, ex = delta[:4]
-    t = synthesize_structure(fit_model(ex, domain=example_domain(mask)), rng=1).structure
-    im = synthesize_image(np.dstack([mask] * 3), ex, t, rng=0).image[..., 0]
+    res = synthesize_structure(fit_model(ex, domain=example_domain(mask)), rng=1)
+    t = res.structure
+    im = synthesize_image(np.dstack([mask] * 3), ex, res, rng=0).image[..., 0]
     body, _ = coverage_polylines(mask.shape, [b.points for b in t.branches], [2 * b.thickness for b in t.branches])
     near = ndi.distance_transform_edt(body < 0.5) <= 2.5
     stray = (im > 0.5) & ~near & ~ndi.binary_dilation(sea, iterations=3)
@@ -342,7 +343,11 @@ def test_flat_region_image_follows_the_layout_without_block_edges():
     out = synthesize_image(img, ex, tgt, rng=0)
     im = out.image
     cov, _ = coverage_polylines(shape, [b.points for b in tgt.branches], [2 * b.thickness + 6 for b in tgt.branches])
-    far = cov < 0.01
+    # (a river mouth a few pixels short of the coast is drawn on to it, as in the example)
+    mouths = np.array([b.points[0] for b in tgt.branches if b.parent is None])
+    yy, xx = np.mgrid[0:shape[0], 0:shape[1]]
+    near_mouth = np.min(np.hypot(xx[..., None] - mouths[:, 0], yy[..., None] - mouths[:, 1]), -1) <= 12
+    far = (cov < 0.01) & ~near_mouth
     colours = {k: np.median(img[out.example_labels == k], 0) for k in np.unique(out.example_labels)}
     assert set(np.unique(out.labels)) == set(colours)
     for k, col in colours.items():

@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from ..bench import BenchRow, timeit
-from .synthesis import CandidateScores
+from .synthesis import _DIRECTION_BINS, CandidateScores
 
 __all__ = ["rows", "naive_score_candidates", "example_structure"]
 
@@ -88,7 +88,11 @@ def naive_score_candidates(model, hist_a, hist_r, tip, theta, *, params, matcher
         for j in range(J):
             if nn[j] == 0:
                 continue
-            d = growth_directions(tip, np.array([pts_all[j]]), np.array([nn[j]]))
+            d = growth_directions(tip, np.array([pts_all[j]]), np.array([nn[j]]))[0]
+            # the profile is taken along the nearest of _DIRECTION_BINS directions
+            a = (round(math.atan2(d[1], d[0]) * _DIRECTION_BINS / (2 * math.pi)) % _DIRECTION_BINS) \
+                * 2 * math.pi / _DIRECTION_BINS
+            d = np.array([[math.cos(a), math.sin(a)]])
             dc, cr, _ = profile_density(density, tip, d, length, n_samples=n_s)
             dcs[j], crs[j] = float(dc[0]), bool(cr[0])
         free = [dcs[j] for j in range(J) if nn[j] > 0 and not crs[j]]

@@ -1,4 +1,4 @@
-"""Benchmark rows of fragment-based image synthesis (issue 3, items 9-10).
+"""Benchmark rows of image synthesis (issue 3, items 9-10) and of the drawn-map workflow (issue 23).
 
 ``bench_rows(quick)`` is meant to be called from :mod:`branchnb.branching._bench`.
 The anchor is the paper's own figure: 8.6 to 72.8 s per synthesized image
@@ -84,8 +84,35 @@ def _retina_row() -> list[BenchRow]:
         sec, "paper, fastest reported image", PAPER_FASTEST, _note(REPEAT))]
 
 
+def _map_rows() -> list[BenchRow]:
+    """A drawn 1024 px country map through the default workflow (issue 23: structure < 3 s per
+    seed, image < 10 s); anchored on the map's extraction, measured in the same run."""
+    from ._map_examples import country_map_example
+    from .extraction import example_domain, extract_structure
+    from .synthesis import fit_model, synthesize_structure
+
+    img, _s, _land = country_map_example((1024, 1024), 11, layout="coast")
+    t0 = time.perf_counter()
+    example = extract_structure(img)
+    t_extract = time.perf_counter() - t0
+    model = fit_model(example, domain=example_domain(img, example))
+    seeds = iter(range(100))
+    last = {}
+
+    def grow():
+        last["s"] = synthesize_structure(model, rng=next(seeds))
+
+    sec_s = _median_time(grow)
+    sec_i = _median_time(lambda: synthesize_image(img, example, last["s"], rng=0))
+    anchor = "extract_structure of the same map"
+    return [BenchRow(f"structure synthesis, 1024 x 1024 drawn map ({len(last['s'].structure.branches)} branches, "
+                     "one seed each run)", sec_s, anchor, t_extract, f"median of {REPEAT} seeds; target < 3 s"),
+            BenchRow("image synthesis, 1024 x 1024 drawn map (drawn in the example's style)", sec_i, anchor,
+                     t_extract, f"median of {REPEAT} runs; target < 10 s")]
+
+
 def bench_rows(quick: bool = False) -> list[BenchRow]:
     """Image synthesis time for a 512 x 512 output (256 x 256 with ``quick``, timed once)."""
     if quick:
         return [_river_row(256, repeat=1)]
-    return [_river_row(512)] + _retina_row()
+    return [_river_row(512)] + _retina_row() + _map_rows()

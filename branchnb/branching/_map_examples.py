@@ -14,11 +14,13 @@ from __future__ import annotations
 import numpy as np
 from scipy import ndimage as ndi
 
+from ..core.polyline import resample_uniform
 from ..core.random import as_rng
 from ..core.render import draw_polylines
 from ..core.structure import Branch, Structure
 
-__all__ = ["LAND", "SEA", "RIVER", "FLOODPLAIN", "ATLAS_RIVER", "crack_pattern_example", "delta_mask_example",
+__all__ = ["LAND", "SEA", "RIVER", "FLOODPLAIN", "ATLAS_RIVER", "INK", "coast_mask", "country_map_example",
+           "crack_pattern_example", "delta_mask_example",
            "floodplain_bands", "floodplain_map_example", "island_mask", "line_scores", "river_map_example",
            "terrain_map_example"]
 
@@ -27,6 +29,7 @@ SEA = (0.62, 0.80, 0.93)
 RIVER = (0.08, 0.33, 0.72)
 FLOODPLAIN = (0.74, 0.86, 0.58)
 ATLAS_RIVER = (0.0, 0.55, 0.83)
+INK = (0.0, 0.0, 0.0)
 
 
 def island_mask(shape, rng, *, size: float = 0.36) -> np.ndarray:
@@ -41,6 +44,28 @@ def island_mask(shape, rng, *, size: float = 0.36) -> np.ndarray:
     for k in (2, 3, 5):
         edge += rng.uniform(0.015, 0.035) * np.cos(k * ang + rng.uniform(0, 2 * np.pi))
     return rad < edge
+
+
+def coast_mask(shape, rng, layout: str = "island") -> np.ndarray:
+    """Land (True) of a drawn map: ``"island"`` (sea on every side), ``"coast"`` (land on top, a
+    wavy coast, sea below) or ``"bay"`` (land on three sides around a bay opening to the bottom)."""
+    rng = as_rng(rng)
+    h, w = shape
+    if layout == "island":
+        return island_mask(shape, rng)
+    yy, xx = np.mgrid[0:h, 0:w]
+    if layout == "coast":
+        t = xx / w
+        y0 = 0.72 + sum(rng.uniform(0.02, 0.05) * np.sin(2 * np.pi * k * t + rng.uniform(0, 2 * np.pi))
+                        for k in (1, 2, 3))
+        return yy < y0 * h
+    if layout == "bay":
+        cx = w * (0.5 + rng.normal(0, 0.04))
+        ang = np.arctan2(yy - h, xx - cx)
+        rad = np.hypot((xx - cx) / w, (yy - h) / h)
+        edge = 0.38 + sum(rng.uniform(0.01, 0.03) * np.cos(k * ang + rng.uniform(0, 2 * np.pi)) for k in (3, 5))
+        return rad > edge
+    raise ValueError(f"layout must be 'island', 'coast' or 'bay', got {layout!r}")
 
 
 def _grow_river(rng, start, heading, length, inland, occupied, step=2.0, wiggle=0.12, pull=0.25):
@@ -93,10 +118,18 @@ def river_map_example(shape=(256, 256), rng=0, *, n_trees: int = 14, river_color
     True
     """
     rng = as_rng(rng)
-    h, w = shape
     land = island_mask(shape, rng)
+    return _rivers_on(land, rng, n_trees, r_mouth, river_color)
+
+
+def _rivers_on(land, rng, n_trees, r_mouth, river_color=RIVER):
+    """Grow river trees from the coast of ``land`` inland; draw them on flat land and sea."""
+    shape = land.shape
+    h, w = shape
     inland = ndi.distance_transform_edt(land)
-    coast = land & ~ndi.binary_erosion(land)
+    coast = land & ndi.binary_dilation(~land)   # land next to sea, not next to the frame
+    coast[:4] = coast[-4:] = False
+    coast[:, :4] = coast[:, -4:] = False
     cy, cx = np.nonzero(coast)
     order = np.argsort(np.arctan2(cy - cy.mean(), cx - cx.mean()))
     cy, cx = cy[order], cx[order]
@@ -139,6 +172,82 @@ def river_map_example(shape=(256, 256), rng=0, *, n_trees: int = 14, river_color
     img = draw_polylines(img, [b.points for b in branches], widths=[2 * b.thickness for b in branches],
                          colors=river_color)
     return img, Structure(branches, image_shape=shape), land
+
+
+def country_map_example(shape=(512, 512), rng=0, *, layout: str = "island", n_trees: int | None = None,
+                        line_width: float | None = None) -> tuple[np.ndarray, Structure, np.ndarray]:
+    """A drawn country map: flat land and sea colours, black rivers and a black coastline.
+
+    Every river is drawn at one width (``line_width``, default about 2 px
+    per 500 px of map), as on a printed outline map, so the river's
+    thickness says nothing about where it drains; the true roots are the
+    river mouths on the coast. The coast is a black line of the same width
+    along the land's boundary (not along the frame).
+
+    Parameters
+    ----------
+    shape : (H, W)
+    rng : int or Generator
+    layout : {"island", "coast", "bay"}
+        Where the sea is (see :func:`coast_mask`).
+    n_trees : int, optional
+        Rivers to try; default scales with the map's size.
+    line_width : float, optional
+
+    Returns
+    -------
+    image : (H, W, 3) float32
+    structure : Structure
+        The drawn rivers (one root per river, its first vertex at the mouth).
+    land : (H, W) bool
+
+    Examples
+    --------
+    >>> img, s, land = country_map_example((200, 200), 0, layout="coast")
+    >>> bool(img[land].min() < 0.1), bool(land[:20].all())
+    (True, True)
+    """
+    rng = as_rng(rng)
+    h, w = shape
+    size = min(h, w)
+    lw = float(line_width) if line_width is not None else max(1.5, 2.0 * size / 500)
+    n = int(n_trees) if n_trees is not None else int(np.clip(size / 40, 8, 30))
+    land = coast_mask(shape, rng, layout)
+    land = ndi.binary_opening(land, iterations=2)
+    _img, s, _ = _rivers_on(land, rng, n, lw / 2)
+    # drawn as straight pieces between hand-placed vertices (every ~3 % of the map), one width
+    step = max(4, int(0.03 * size / 2))
+    flat: list[Branch] = []
+    for b in s.branches:
+        keep = np.unique(np.r_[np.arange(0, len(b.points), step), len(b.points) - 1])
+        pts = resample_uniform(b.points[keep], 1.0, include_end=True)
+        pv = b.parent_vertex
+        if b.parent is not None:
+            ppts = flat[b.parent].points
+            pv = int(np.argmin(np.hypot(*(ppts - b.points[0]).T)))
+            pts = np.vstack([ppts[pv], pts[1:]])
+        flat.append(Branch(pts, np.full(len(pts), lw / 2), b.parent, pv))
+    s = Structure(flat, image_shape=tuple(shape))
+    img = np.empty(tuple(shape) + (3,), np.float32)
+    img[:] = SEA
+    img[land] = LAND
+    from skimage import measure
+
+    from ..core.render import coverage_polylines
+
+    coast = []
+    for c in measure.find_contours(land.astype(np.float32), 0.5):
+        pts = c[:, ::-1]
+        on_frame = (pts[:, 0] <= 0.5) | (pts[:, 1] <= 0.5) | (pts[:, 0] >= w - 1.5) | (pts[:, 1] >= h - 1.5)
+        # split at the frame: a coast is drawn only where land meets sea
+        cut = np.flatnonzero(np.diff(on_frame.astype(int)))
+        for piece in np.split(np.arange(len(pts)), cut + 1):
+            if len(piece) > 2 and not on_frame[piece].all():
+                coast.append(pts[piece])
+    pls = [b.points for b in s.branches] + coast
+    cov, _ = coverage_polylines(tuple(shape), pls, [np.full(len(p), lw) for p in pls])
+    img = img * (1 - cov[..., None]) + np.asarray(INK, np.float32) * cov[..., None]
+    return img.astype(np.float32), s, land
 
 
 def floodplain_bands(structure: Structure, shape, land: np.ndarray, width: float = 10.0) -> np.ndarray:

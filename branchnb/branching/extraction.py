@@ -367,6 +367,22 @@ def _skeleton_graph(skel: np.ndarray):
     return (g + g.T).tocsr(), ys, xs
 
 
+def _end_radius(pts: np.ndarray, r: np.ndarray, ends: np.ndarray, members: np.ndarray) -> np.ndarray:
+    """How thick the line is at each end: the largest radius within ``3 r_med + 4`` pixels of it.
+
+    The radius right at a skeleton end is small (the medial axis ends where
+    the channel's rounded tip or the frame closes in), so a wide channel
+    leaving the frame would lose against a spur of a narrower one.
+    """
+    reach = 3.0 * float(np.median(r[members])) + 4.0
+    out = np.empty(len(ends))
+    for i in range(0, len(ends), 64):
+        e = ends[i:i + 64]
+        d2 = ((pts[e, None, :] - pts[None, members, :]) ** 2).sum(-1)
+        out[i:i + 64] = np.where(d2 <= reach * reach, r[members][None, :], 0.0).max(1)
+    return np.maximum(out, r[ends])
+
+
 def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length: float = 12.0,
                           min_component_length: float = 60.0, root="thickest",
                           scale: float = 1.0, smooth: float = 4.0,
@@ -390,8 +406,13 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
         Resampling step of the result.
     min_branch_length, min_component_length : float
         Pruning thresholds in pixels of the *output* (full-size) image.
-    root : {"thickest", "top", "bottom", "left", "right", "border", "nearest_region"} or (x, y)
-        Root end point per piece: the thickest, the top-most ..., the one
+    root : {"auto", "thickest", "top", "bottom", "left", "right", "border", "nearest_region"} or (x, y)
+        Root end point per piece: ``"auto"`` takes the end nearest to
+        ``region`` when there is one and the piece's lines all have about one
+        width (its 75th radius percentile under 1.5 x the 25th: a drawn map's
+        rivers drain where they meet the sea), else the thickest end (a
+        vessel tree's trunk, a delta's inland channel; the radius near an end,
+        not at it, which the frame or a rounded tip pinches); or the thickest, the top-most ..., the one
         nearest to the image border, the one nearest to ``region`` (e.g.
         the sea a river flows into; the border if there is none), or the
         one nearest to a given point (full-size pixels).
@@ -435,20 +456,26 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
     yy_, xx_ = np.mgrid[0:hh, 0:ww]
     border_dist = np.minimum(np.minimum(yy_, hh - 1 - yy_), np.minimum(xx_, ww - 1 - xx_)).astype(np.float64)
     region_dist = border_dist
-    if isinstance(root, str) and root == "nearest_region" and region is not None:
+    has_region = False
+    if isinstance(root, str) and root in ("nearest_region", "auto") and region is not None:
         reg = np.asarray(region, bool)
         if reg.shape != sk.shape:
             raise ValueError(f"region must have the skeleton's shape {sk.shape}, got {reg.shape}")
         if reg.any():
             region_dist = ndi.distance_transform_edt(~reg)
+            has_region = True
     roots = []
     for c in np.flatnonzero(comp_len >= min_component_length):
         members = np.flatnonzero(comp == c)
         ends = members[deg[members] == 1]
         cand = ends if len(ends) else members
         if isinstance(root, str):
-            if root == "thickest":
-                key = -r_full[cand]
+            if root == "auto":
+                lo, hi = np.percentile(r_full[members], [25, 75])
+                key = -_end_radius(pts_full, r_full, cand, members) if hi >= 1.5 * lo or not has_region \
+                    else region_dist[ys[cand], xs[cand]]
+            elif root == "thickest":
+                key = -_end_radius(pts_full, r_full, cand, members)
             elif root == "top":
                 key = pts_full[cand, 1]
             elif root == "bottom":
@@ -461,7 +488,7 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
                 key = region_dist[ys[cand], xs[cand]] if root == "nearest_region" else \
                     border_dist[ys[cand], xs[cand]]
             else:
-                raise ValueError("root must be thickest/top/bottom/left/right/border/nearest_region "
+                raise ValueError("root must be auto/thickest/top/bottom/left/right/border/nearest_region "
                                  f"or (x, y), got {root!r}")
         else:
             q = np.asarray(root, np.float64).reshape(2)
@@ -971,7 +998,7 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
     skel = skeletonize(bw)
     work = rescale(gray, p.scale, anti_aliasing=True) if p.scale < 1 else gray
     outside = border_flat_regions(work, 4 * p.sigma_max)
-    skel &= ~outline_pixels(skel, outside, 2 * p.sigma_max + 2)
+    skel &= ~outline_pixels(skel, outside, 2 * p.sigma_max + 2, gray=ndi.median_filter(work, 3))
     if p.radius == "fwhm":
         lines_w = rescale(lines, p.scale, anti_aliasing=True) if p.scale < 1 and lines is not gray else \
             (work if lines is gray else lines)
@@ -979,11 +1006,12 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
     else:
         radius = ndi.distance_transform_edt(bw) - 0.5
     region = None
-    if p.root == "nearest_region":
+    root = p.root
+    if root in ("nearest_region", "auto"):
         region = flat_background(work, bw, 4 * p.sigma_max)
     s = skeleton_to_structure(skel, radius, h=p.h, min_branch_length=p.min_branch_length,
                               min_component_length=p.min_component_length,
-                              root=p.root if root_point is None else root_point,
+                              root=root if root_point is None else root_point,
                               scale=p.scale, smooth=p.smooth_path, smooth_radius=p.smooth_radius,
                               image_shape=gray.shape[:2], region=region)
     if return_maps:
@@ -1009,7 +1037,7 @@ def border_flat_regions(gray, radius: float, tol: float = 0.02) -> np.ndarray:
     return touch[lab]
 
 
-def outline_pixels(skeleton, outside, reach: float) -> np.ndarray:
+def outline_pixels(skeleton, outside, reach: float, gray=None, tol: float = 0.04) -> np.ndarray:
     """Skeleton pixels that trace the outline of the ``outside`` regions (a map's country border, a coast line).
 
     A skeleton pixel within ``reach`` of ``outside`` is outline when, looking
@@ -1020,6 +1048,13 @@ def outline_pixels(skeleton, outside, reach: float) -> np.ndarray:
     lying *in* a flat region (a lightning bolt in a flat sky) has that
     region on both sides and stays; so does a river mouth meeting the
     coast.
+
+    With ``gray`` (the image the regions were found in), the other side
+    counts by its colour: the line is outline when the two sides differ by
+    more than ``tol`` (land on one side, sea on the other), whether or not
+    the other side is a large flat region itself; rivers close together
+    have land on both sides, though the strip between them is too narrow
+    to be a region, and stay branches.
     """
     sk = np.asarray(skeleton, bool)
     out = np.asarray(outside, bool)
@@ -1047,7 +1082,12 @@ def outline_pixels(skeleton, outside, reach: float) -> np.ndarray:
     tx, ty = -np.sin(theta), np.cos(theta)
     heads_out = np.abs(tx * vx + ty * vy) / n > 0.7
     res = np.zeros_like(sk)
-    res[ys, xs] = ~out[oy, ox] & ~heads_out
+    if gray is not None:
+        g = np.asarray(gray, np.float64)
+        other = np.abs(g[oy, ox] - g[iy[ys, xs], ix[ys, xs]]) > tol
+    else:
+        other = ~out[oy, ox]
+    res[ys, xs] = other & ~heads_out
     return res
 
 
@@ -1058,12 +1098,26 @@ def flat_background(gray, branches, radius: float, tol: float = 0.02) -> np.ndar
     regions; those wider than ``radius`` (see :func:`large_flat_regions`)
     that hold (almost) no ``branches`` pixel and touch the image border are
     returned.
+
+    A branch lies *in* a region when the region's closing (a disk of
+    ``radius``) covers it: a drawn river is a thin non-flat line with the
+    land on both sides, so the land's closing bridges it, while a coast
+    line has land on one side only and belongs to neither. A region holds
+    no branches when less than 2 % of the branch pixels lie in it (the
+    river mouths touching the coast).
     """
+    import cv2
+
     lab, n, touch = _flat_region_labels(gray, radius, tol)
-    filled = np.zeros(n + 1)
-    np.add.at(filled, lab[np.asarray(branches, bool)], 1)
-    area = np.bincount(lab.ravel(), minlength=n + 1)
-    keep = touch & (filled <= 0.001 * np.maximum(area, 1))
+    br = np.asarray(branches, bool)
+    keep = np.zeros(n + 1, bool)
+    n_br = int(br.sum())
+    r = max(int(round(radius)), 1)
+    disk = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
+    for k in np.flatnonzero(touch):
+        closed = cv2.morphologyEx((lab == k).astype(np.uint8), cv2.MORPH_CLOSE, disk,
+                                  borderType=cv2.BORDER_REPLICATE) > 0
+        keep[k] = np.count_nonzero(closed & br) <= 0.02 * n_br
     keep[0] = False
     return keep[lab]
 
@@ -1127,9 +1181,30 @@ def _extract_binary(gray, p: ExtractionParams, mask, return_maps: bool, root_poi
                               min_component_length=p.min_component_length, root=root,
                               scale=p.scale, smooth=p.smooth_path, smooth_radius=p.smooth_radius,
                               image_shape=gray.shape[:2], region=region)
+    s = _unpinch_frame_ends(s, gray.shape[:2])
     if return_maps:
         return s, (channels.astype(np.float32), channels, skel)
     return s
+
+
+def _unpinch_frame_ends(s: Structure, shape) -> Structure:
+    """A channel cut by the frame: its medial axis bends into a corner of the cut, where the distance
+    transform is small, so the branch would start several times thinner than it is. Its radius
+    there is the one two radii inward (a delta's trunk entering from inland keeps its width)."""
+    h, w = shape
+    out = []
+    for b in s.branches:
+        x, y = b.points[0]
+        if min(x, y, w - 1 - x, h - 1 - y) > 6.0 or len(b.points) < 3:
+            out.append(b)
+            continue
+        arc = arc_length(b.points)
+        r = b.thickness.copy()
+        k = int(np.clip(np.searchsorted(arc, 2.0 * r.max() if len(r) < 4 else 2.0 * np.median(r[:8])),
+                        1, len(r) - 1))
+        r[:k] = np.maximum(r[:k], r[k])
+        out.append(Branch(b.points, r, b.parent, b.parent_vertex))
+    return Structure(out, image_shape=s.image_shape)
 
 
 def _rso_has_max_size() -> bool:

@@ -147,6 +147,11 @@ class ImageSynthesisParams:
                                         "example's size, e.g. 0.05 (0 = copy as is, the paper)")
     exclude_matte: bool = param(True, help="never copy a flat black/white matte connected to the "
                                            "example's border (e.g. around a fundus photo)")
+    flat_drawing: bool = param(True, help="flat-colour examples (drawn maps, masks): draw the output the way "
+                                          "the example is drawn (its region colours, its boundary line "
+                                          "along the output's region boundary, branches as connected "
+                                          "strokes of its line colour and measured width) instead of "
+                                          "copying fragments (off: the paper's fragments)")
     keep_regions: bool = param(True, help="flat-colour examples (maps, masks): segment the example into "
                                           "its flat regions (land, sea), lay them out in the output as in "
                                           "the example, and fill every output pixel only from example "
@@ -589,11 +594,11 @@ def _constraints(ctx: _Context, src: Fragment, tgt: Fragment, rot, trans):
 
 
 @checked(shape=Shape())
-def synthesize_image(example_image, example_structure: Structure, target_structure: Structure,
+def synthesize_image(example_image, example_structure: Structure, target_structure,
                      params: ImageSynthesisParams | None = None, rng=None,
                      progress: Callable[[float, str], None] | None = None, *,
                      shape: tuple[int, int] | None = None,
-                     example_mask=None, target_regions=None) -> ImageSynthesisResult:
+                     example_mask=None, target_regions=None, target_domain=None) -> ImageSynthesisResult:
     """Synthesise the image of ``target_structure`` with the texture of an example.
 
     Parameters
@@ -604,9 +609,11 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         examples give transparent results).
     example_structure : Structure
         The example's branches (every vertex inside the example image).
-    target_structure : Structure
+    target_structure : Structure or SynthesisResult
         The branches to synthesise. Parts outside the output are cropped;
-        at least one vertex must lie inside.
+        at least one vertex must lie inside. A
+        :class:`~branchnb.branching.SynthesisResult` also gives the domain
+        its structure grew in (``target_domain``).
     params : ImageSynthesisParams, optional
     rng : int or numpy.random.Generator, optional
         Seed for the random choices (same seed, same image).
@@ -623,6 +630,11 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         with ``params.keep_regions``; default: the example's regions laid
         out around the target branches as they lie around the example's
         (:func:`~branchnb.branching.regions.target_layout`).
+    target_domain : (H, W) bool array_like, optional
+        Where the target structure grew (``SynthesisResult.domain``): for
+        flat-colour examples the output's branch region (the land) is
+        exactly this domain and every other pixel takes the region that
+        lies outside the example's branch region (the sea).
 
     Returns
     -------
@@ -650,6 +662,12 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     rng = as_rng(rng)
     if progress is not None and not callable(progress):
         raise TypeError("progress must be a callable(fraction, text) or None")
+    from .synthesis import SynthesisResult
+
+    if isinstance(target_structure, SynthesisResult):
+        if target_domain is None:
+            target_domain = target_structure.domain
+        target_structure = target_structure.structure
     ex = as_float_image(example_image, name="example_image")
     _check_structure(example_structure, "example_structure", ex.shape[:2])
     _check_structure(target_structure, "target_structure")
@@ -680,22 +698,30 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     flat = bool(flat_share >= 0.5 and labels_ex.max() >= 1)
     labels_t = None
     src_labels = labels_ex
-    if flat and p.keep_regions:
+    layout = labels_ex
+    if target_domain is not None:
+        target_domain = as_mask(target_domain, shape=(H, W), name="target_domain")
+    if flat and (p.keep_regions or p.flat_drawing):
         # a source pixel's region is its colour's (a white rim is water wherever it lies)
         zone = pm_s.core(2.0 * p.exclusion, 2.0 * p.exclusion_margin)
         src_labels = colour_labels(ex, labels_ex, ~zone)
+        # the example's land and sea around its branches (not its channels)
+        layout = region_layout(src_labels, zone, pm_s.core(1.0, 0.0))
         if target_regions is not None:
             labels_t = np.asarray(target_regions)
             if labels_t.shape != (H, W) or not np.issubdtype(labels_t.dtype, np.integer):
                 raise ValueError(f"target_regions must be an integer (H, W) = {(H, W)} label map")
+        elif target_domain is not None:
+            labels_t = _domain_labels(layout, pm_s, target_domain)
         else:
-            # the example's land and sea around its branches (not its channels), laid out
-            # around the target's branches as they lie around the example's
+            # laid out around the target's branches as they lie around the example's
             from .regions import target_layout
 
-            layout = region_layout(src_labels, zone, pm_s.core(1.0, 0.0))
             labels_t = target_layout(layout, example_structure, target_structure, (H, W),
                                      pm_example=pm_s, pm_target=pm_t)
+    if flat and p.flat_drawing:
+        return _draw_flat(ex, example_structure, target_structure, layout, labels_t, target_domain,
+                          pm_s, labels_ex, p, t_start, report, (H, W))
     use_poisson = p.poisson and (not flat or p.flat_poisson)
     regions = example_regions(ex, pm_s, exclusion=p.exclusion, margin=p.exclusion_margin,
                               threshold=p.branch_like if p.avoid_unannotated else None,
@@ -871,6 +897,38 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     report(1.0, "done")
     return ImageSynthesisResult(canvas, fragment_mask, fill, source, frag_index, seams, matches,
                                 total_seam, target_structure, regions, n_inpainted, timings, p,
+                                example_labels=labels_ex, labels=labels_t)
+
+
+def _domain_labels(layout: np.ndarray, pm_s: PixelMap, domain: np.ndarray) -> np.ndarray:
+    """Output regions from the domain the target grew in: the example's branch region inside it,
+    the region most of the example's other pixels have outside it."""
+    lay = np.asarray(layout)
+    k = int(lay.max()) + 1
+    inner = int(np.bincount(lay[pm_s.dist <= 0.5], minlength=k).argmax())
+    rest = lay[lay != inner]
+    outer = int(np.bincount(rest, minlength=k).argmax()) if rest.size else inner
+    return np.where(domain, inner, outer).astype(np.int32)
+
+
+def _draw_flat(ex, example_structure, target_structure, layout, labels_t, target_domain, pm_s, labels_ex,
+               p: ImageSynthesisParams, t_start: float, report, shape) -> ImageSynthesisResult:
+    """``synthesize_image`` for flat-colour examples: draw the target in the example's style."""
+    from .drawing import draw_in_style, drawing_style
+
+    report(0.1, "measuring the example's drawing style")
+    style = drawing_style(ex, example_structure, layout, pm_s)
+    H, W = shape
+    if labels_t is None:
+        labels_t = _domain_labels(layout, pm_s, target_domain) if target_domain is not None else \
+            np.full((H, W), style.branch_region, np.int32)
+    report(0.5, "drawing")
+    img = draw_in_style(style, target_structure, labels_t)
+    report(1.0, "done")
+    z = np.zeros((H, W), bool)
+    return ImageSynthesisResult(img, z, z.copy(), np.full((H, W, 2), np.nan), np.full((H, W), -1, np.int64),
+                                z.copy(), [], 0.0, target_structure, None, 0,
+                                {"total": time.perf_counter() - t_start}, p,
                                 example_labels=labels_ex, labels=labels_t)
 
 

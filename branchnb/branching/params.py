@@ -135,11 +135,14 @@ class ExtractionParams:
                                  help="smooth the radius along each branch over this arc length")
     scale: float = param(1.0, min=0.1, max=1.0, step=0.05,
                          help="process a downscaled copy (faster); results are in full-size pixels")
-    root: str = param("thickest", options=("thickest", "top", "bottom", "left", "right", "border",
-                                           "nearest_region"),
-                      help="which end point of each connected piece becomes the root: the thickest, "
+    root: str = param("auto", options=("auto", "thickest", "top", "bottom", "left", "right", "border",
+                                       "nearest_region"),
+                      help="which end point of each connected piece becomes the root: auto = the thickest "
+                           "end where widths vary (vessels, a delta's inland trunk), the outlet where the "
+                           "network meets a large branch-free flat region (a map's sea; else the border) "
+                           "where every line has one width; or the thickest, "
                            "the top-most ..., the one nearest to the image border, or the one nearest "
-                           "to a large flat region (the sea a river drains into; else the border)")
+                           "to a large flat region (else the border)")
     binary: str = param("auto", options=("auto", "on", "off"),
                         help="binary (or near-binary) input such as a water mask: centre lines by the "
                              "medial axis with the distance-transform radius instead of the ridge "

@@ -32,6 +32,8 @@ from ..core.structure import Structure
 __all__ = ["RootModel", "boundary_frame", "fit_roots"]
 
 _SIDES = ("top", "bottom", "left", "right", "region", "inside")
+#: Start places considered per root (a random subset of the band on big domains).
+_MAX_CANDIDATES = 4000
 
 
 def boundary_frame(domain: np.ndarray):
@@ -123,10 +125,17 @@ class RootModel:
             ys, xs = np.nonzero(band)
             if len(ys) == 0:
                 ys, xs = np.nonzero(dom)
+            if len(ys) > _MAX_CANDIDATES:
+                # a random subset is as good a choice and keeps the spacing test cheap on big maps
+                keep = rng.choice(len(ys), _MAX_CANDIDATES, replace=False)
+                ys, xs = ys[keep], xs[keep]
             # Prefer places near the example root (relative position), more
             # spread the more roots share that kind; keep the spacing.
             same = max(int(np.sum(self.sides == kind)), 1)
             sig = 0.3 * diag / np.sqrt(same) if kind != 5 else 0.2 * diag / np.sqrt(same)
+            if same == 1 and self.n_roots == 1:
+                # one tree (a delta's trunk, a vessel tree): it enters about where the example's does
+                sig = 0.1 * diag
             px, py = self.positions[j] * (w, h)
             wgt = np.exp(-((xs - px) ** 2 + (ys - py) ** 2) / (2 * sig ** 2)) + 1e-9
             if starts:
@@ -172,7 +181,9 @@ def fit_roots(structure: Structure, domain: np.ndarray | None = None, shape=None
         Default: ``structure.image_shape`` or its bounds.
     boundary_distance : float, optional
         A root starting closer than this to the boundary is a boundary
-        root (default: ``max(8, 4 r0)`` pixels, ``r0`` its first radius).
+        root (default: ``max(12, 4 r0, 1.5 %`` of the diagonal``)`` pixels,
+        ``r0`` its first radius: a drawn map's rivers end a few pixels short
+        of the coast line).
 
     Examples
     --------
@@ -203,7 +214,9 @@ def fit_roots(structure: Structure, domain: np.ndarray | None = None, shape=None
         k = int(np.clip(np.searchsorted(arc, 12.0), 1, len(b.points) - 1))
         d = b.points[k] - b.points[0]
         ang = float(np.arctan2(d[1], d[0]))
-        lim = boundary_distance if boundary_distance is not None else max(8.0, 4.0 * float(b.thickness[0]))
+        # a drawn map's rivers stop short of the coast line (its ink, the extraction's margin)
+        lim = boundary_distance if boundary_distance is not None else \
+            max(12.0, 4.0 * float(b.thickness[0]), 0.015 * float(np.hypot(h, w)))
         on_boundary = dist[iy, ix] <= lim
         sides.append(int(side[iy, ix]) if on_boundary else 5)
         inward = float(np.arctan2(ny[iy, ix], nx[iy, ix]))

@@ -75,6 +75,8 @@ __all__ = [
 ]
 
 _FIT_FIELDS = ("h", "m", "k", "bins", "svm_C")
+#: Directions a density profile is computed for per step (candidates share the nearest).
+_DIRECTION_BINS = 512
 
 
 # --------------------------------------------------------------------------
@@ -125,6 +127,9 @@ class StructureModel:
     roots: RootModel | None = None
     #: Fraction of the example's domain within ``rho`` of a branch.
     coverage: float = 0.0
+    #: The example drains: its roots start far inland and its branches end at the region outside the
+    #: domain (a delta's trunk enters from inland, its distributaries reach the sea).
+    drains: bool = False
     _coverage_rho: float = field(repr=False, default=-1.0)
 
     def sample_length(self, generation: int, r_start: float, rng, bandwidth: float = 0.5) -> float:
@@ -265,10 +270,67 @@ def fit_model(example: Structure, params: SynthesisParams | None = None, *,
                           max_branch_length=max(b.length for b in ex.branches),
                           r_min=float(ex.thicknesses().min()),
                           rho=rho, domain=dom, coverage=cover, _coverage_rho=p.rho if p.rho > 0 else rho,
-                          roots=fit_roots(ex, dom, shape=frame),
+                          roots=fit_roots(ex, dom, shape=frame), drains=_drains(ex, dom),
                           branch_generation=np.array([ex.generation(i) for i in range(nb)]),
                           branch_length=np.array([b.length for b in ex.branches]),
                           branch_r0=np.array([np.mean(b.thickness[:3]) for b in ex.branches]))
+
+
+def _drains(ex: Structure, domain: np.ndarray | None) -> bool:
+    """True when the example's roots lie far inland (over 30 % of the deepest distance to the
+    region outside the domain) and at least a third of its tips end at that region (within 10 %;
+    braided channels cut into a tree have other tips where the cycles were cut)."""
+    if domain is None or domain.all() or not domain.any():
+        return False
+    from scipy import ndimage as ndi
+
+    depth = ndi.distance_transform_edt(domain)
+    deepest = float(depth.max())
+    h, w = domain.shape
+
+    def at(p):
+        x, y = np.clip(np.rint(p).astype(int), 0, [w - 1, h - 1])
+        return depth[y, x]
+
+    kids = {b.parent for b in ex.branches}
+    roots = [at(b.points[0]) for b in ex.branches if b.parent is None]
+    tips = [at(b.points[-1]) for i, b in enumerate(ex.branches) if i not in kids]
+    return bool(roots and tips and np.median(roots) > 0.3 * deepest
+                and np.mean(np.asarray(tips) < 0.1 * deepest) >= 1 / 3)
+
+
+#: Strength of the pull toward the sea of an example that drains (``exp(kappa cos)``).
+DRAIN_KAPPA = 2.0
+
+
+class _Drain:
+    """Downstream pull for examples that drain (a delta, see ``StructureModel.drains``).
+
+    A candidate heading at angle ``phi`` to the way down to the region
+    outside the domain (the steepest descent of the distance to it) gets
+    its score times ``exp(kappa cos phi)``: heading to the sea is
+    ``e^(2 kappa)`` ~ 55 x likelier than heading back inland, sideways
+    ``e^kappa`` less than straight down. Going beyond the paper, whose
+    Markov chain alone has no notion of downstream: without it a delta's
+    trunk wanders and rarely reaches the sea.
+    """
+
+    def __init__(self, domain: np.ndarray, kappa: float = DRAIN_KAPPA):
+        from scipy import ndimage as ndi
+
+        depth = ndi.gaussian_filter(ndi.distance_transform_edt(np.asarray(domain, bool)), 4.0)
+        gy, gx = np.gradient(-depth)
+        n = np.hypot(gx, gy) + 1e-12
+        self.down = np.stack([gx / n, gy / n], -1).astype(np.float32)
+        self.kappa = float(kappa)
+
+    def factor(self, tip, points: np.ndarray, n_new: np.ndarray) -> np.ndarray:
+        h, w = self.down.shape[:2]
+        x, y = np.clip(np.rint(np.asarray(tip, np.float64)).astype(int), 0, [w - 1, h - 1])
+        d = self.down[y, x]
+        last = points[np.arange(len(points)), np.maximum(n_new, 1) - 1] - np.asarray(tip, np.float64)
+        cos = (last @ d) / np.maximum(np.hypot(last[:, 0], last[:, 1]), 1e-9)
+        return np.exp(self.kappa * cos)
 
 
 # --------------------------------------------------------------------------
@@ -397,7 +459,16 @@ def score_candidates(model: StructureModel, hist_a, hist_r, tip, theta: float, *
     if density is not None:
         live = ~term
         if live.any():
-            dc, cross, _ = profile_density(density, tip, b.dirs[live], 3.0 * params.m * params.h)
+            # Many candidates head the same way: profile each direction (to 0.7 degrees, well
+            # under a pixel over the ray) once.
+            d = b.dirs[live]
+            q = np.rint(np.arctan2(d[:, 1], d[:, 0]) * (_DIRECTION_BINS / (2 * np.pi))).astype(np.int64)
+            q %= _DIRECTION_BINS
+            uq, inv = np.unique(q, return_inverse=True)
+            ang = uq * (2 * np.pi / _DIRECTION_BINS)
+            dc, cross, _ = profile_density(density, tip, np.c_[np.cos(ang), np.sin(ang)],
+                                           3.0 * params.m * params.h)
+            dc, cross = dc[inv], cross[inv]
             D_c[live] = dc
             crossing[live] = cross
             ok = live.copy()
@@ -427,12 +498,24 @@ class SynthesisResult:
         thickness, sum), ``furcation_probability``.
     density : (H, W) ndarray or None
         Final density map (space colonization on).
+    sources : list of (N_i,) int ndarray
+        Per branch and vertex, the input element it was copied from (an
+        index into ``StructureModel.bending``'s ``branch`` / ``local``
+        arrays; -1 for a branch's first piece, taken from an input branch
+        head, and for given branches). Consecutive indices are a stretch
+        of the input copied verbatim (the paper's Fig. 3).
+    domain : (H, W) bool ndarray or None
+        Where the structure was allowed to grow (None: the whole frame).
+        Pass the result itself to :func:`~branchnb.branching.synthesize_image`
+        and a flat-colour example's regions follow this domain.
     """
 
     structure: Structure
     example: Structure
     diagnostics: dict
     density: np.ndarray | None = None
+    domain: np.ndarray | None = field(default=None, repr=False)
+    sources: list | None = field(default=None, repr=False)
 
     def histogram_distances(self, bins: int = 16, metric: str = "l2sq") -> dict:
         return histogram_distances(self.example, self.structure, bins=bins, metric=metric)
@@ -501,6 +584,8 @@ class _BranchState:
     generation: int
     stop: str = ""
     target: float = np.inf
+    #: input element each vertex appended by a Markov step was copied from (the last ones)
+    src: list = field(default_factory=list)
 
 
 class _Grower:
@@ -510,6 +595,8 @@ class _Grower:
         scorer = scorer or score_candidates
         self.shape = (int(shape[0]), int(shape[1]))
         self.guidance = guidance
+        self.drain = _Drain(domain) if guidance is None and model.drains and domain is not None \
+            and not domain.all() else None
         self.scorer = scorer
         self.matcher = model.matcher(params.wG)
         self.rho = params.rho if params.rho > 0 else model.rho
@@ -743,6 +830,8 @@ class _Grower:
             return np.vstack([tip, pts[j, : max(n_arr[j], 0)]])
 
         score = cs.score
+        if self.drain is not None:
+            score = score * self.drain.factor(tip, pts, n_arr)
         if p.branch_end == "length":
             score = np.where(n_arr > 0, score, 0.0)
         if self.density is not None:
@@ -768,6 +857,7 @@ class _Grower:
             st.stop = "left the domain"
         if len(new_pts):
             self._register(np.vstack([tip, new_pts]), ang, rad)
+            st.src.extend(range(t + 1, t + 1 + len(new_pts)))
             st.points.extend(new_pts)
             st.radii.extend(rad.tolist())
             st.elem_a.extend(ang.tolist())
@@ -939,6 +1029,13 @@ class _Grower:
             pts = np.asarray(st.points, np.float64)
             out.append(Branch(pts, np.asarray(st.radii, np.float64), st.parent, st.parent_vertex))
         return Structure(out, image_shape=self.shape)
+
+    def sources(self) -> list[np.ndarray]:
+        out = []
+        for st in self.branches:
+            src = np.asarray(st.src, np.int64)
+            out.append(np.r_[np.full(len(st.points) - len(src), -1, np.int64), src])
+        return out
 
     def diagnostics(self, t0: float) -> dict:
         stops: dict[str, int] = {}
@@ -1202,7 +1299,8 @@ def synthesize_structure(example, params: SynthesisParams | None = None, *, rng=
     if s.branches and s.angles().size:
         diag["hist_distance"] = histogram_distances(model.example, s, bins=p.bins)
     dens = g.density.image() if g.density is not None else None
-    return SynthesisResult(structure=s, example=model.example, diagnostics=diag, density=dens)
+    return SynthesisResult(structure=s, example=model.example, diagnostics=diag, density=dens, domain=g.domain,
+                           sources=g.sources())
 
 
 @checked(index=Int(0), n_steps=Int(1, 100_000), shape=Shape())
@@ -1269,7 +1367,8 @@ def extend_branch(structure: Structure, index: int, example, params: SynthesisPa
     diag = g.diagnostics(t0)
     diag["added_vertices"] = len(s.branches[index].points) - len(b.points)
     dens = g.density.image() if g.density is not None else None
-    return SynthesisResult(structure=s, example=model.example, diagnostics=diag, density=dens)
+    return SynthesisResult(structure=s, example=model.example, diagnostics=diag, density=dens, domain=g.domain,
+                           sources=g.sources())
 
 
 def replace_params(params: SynthesisParams, **changes) -> SynthesisParams:

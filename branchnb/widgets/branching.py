@@ -19,7 +19,9 @@ The app wires the widget kit to :mod:`branchnb.branching`:
   skeleton growing with the new values (the partial structure from
   ``synthesize_structure(progress=...)``, first after
   :data:`PREVIEW_FIRST` s, then every :data:`PREVIEW_EVERY` s), then the
-  finished structure replaces it;
+  finished structure replaces it; the "synthesize" button grows the same
+  way in the background, with the progress in the status line and
+  "cancel";
 - the synthesized structure, with "extend branch" / "delete branch" on
   the branch picked by the slider, side-by-side angle and thickness
   histograms (input vs synthesized, the paper's evaluation), and "render
@@ -134,7 +136,8 @@ IMAGE_LABELS = {
     "min_free": ("min free fraction", ""), "forbid_weight": ("forbid weight", ""),
 }
 
-#: After a parameter change, the partial skeleton is first shown this many seconds into the re-synthesis,
+#: After "synthesize" or a parameter change, the partial skeleton is first shown this many seconds into the
+#: synthesis,
 PREVIEW_FIRST = 0.1
 #: then again every this many seconds until the finished structure replaces it.
 PREVIEW_EVERY = 0.25
@@ -211,8 +214,10 @@ class BranchingApp(widgets.VBox):
                                              tooltip="the last freehand stroke on the example guides "
                                              "the growth", layout=widgets.Layout(width="auto"))
         sh = self.shell
-        sh.add_action("synthesize", self.synthesize, icon="play", primary=True,
-                      tooltip="grow a new structure from the example")
+        sh.add_action("synthesize", lambda: self._resynthesize(fresh=True), icon="play", primary=True,
+                      background=True, cancellable=True,
+                      tooltip="grow a new structure from the example (the growing skeleton shows "
+                      "while it grows; cancel stops it)")
         sh.add_action("render image", lambda: self.render_image(progress=self.shell.progress), icon="image",
                       background=True, cancellable=True,
                       tooltip="synthesize the final image from fragments of the example "
@@ -259,6 +264,7 @@ class BranchingApp(widgets.VBox):
         self.result = None  # SynthesisResult
         self.partial = None
         self.preview_first, self.preview_every = PREVIEW_FIRST, PREVIEW_EVERY
+        self._growing = "growing with the new parameters"  # what a partial skeleton's title says
         self.image_result = None
         self._model = None
         self._model_key = None
@@ -439,14 +445,16 @@ class BranchingApp(widgets.VBox):
     def _mark_stale(self) -> None:
         self.view.set_title(0, "out of date: re-synthesizing with the new parameters ...")
 
-    def _resynthesize(self):
-        """Re-synthesis after a parameter change: partial skeletons while it grows, then the result.
+    def _resynthesize(self, fresh: bool = False):
+        """Synthesis with partial skeletons while it grows, then the result (the "synthesize"
+        button, ``fresh``, and every parameter change).
 
-        The shell's progress is reported between Markov steps, so a newer
-        change stops this one (before its result is shown).
+        The shell's progress is reported between Markov steps, so "cancel"
+        or a newer change stops this one (before its result is shown).
         """
         t0 = time.perf_counter()
         due = {"preview": t0 + self.preview_first, "status": t0}
+        self._growing = "growing" if fresh else "growing with the new parameters"
 
         def watch(growth):
             now = time.perf_counter()
@@ -460,11 +468,12 @@ class BranchingApp(widgets.VBox):
         return self.synthesize(progress=watch)
 
     def _show_partial(self, growth) -> None:
+        what = self._growing
         s = growth.structure()
         self.partial = s
         img = s.render(self.image_shape, by_generation=True, min_width=1.0)
         n = len(s.branches)
-        self.view.update([img], [f"growing with the new parameters: {n} branch{'es' * (n != 1)} so far "
+        self.view.update([img], [f"{what}: {n} branch{'es' * (n != 1)} so far "
                                  "(the finished structure follows)"])
         self.info.value = (f"<span style='font-size:12px'>growing: {n} branch{'es' * (n != 1)}, "
                            f"{s.n_vertices} vertices so far (attempt {growth.attempt})</span>")
@@ -528,7 +537,7 @@ class BranchingApp(widgets.VBox):
 
         self.progress.update(0.0, "starting")
         try:
-            out = synthesize_image(self.image, self.example_structure(), self.result.structure,
+            out = synthesize_image(self.image, self.example_structure(), self.result,
                                    params=self.image_panel.values, rng=int(self.seed.value),
                                    progress=report, shape=self.image_shape)
         except Exception as exc:

@@ -1,0 +1,240 @@
+"""Flat-colour examples (drawn maps, binary masks): draw the output the way the example is drawn.
+
+The paper paints a new image with disk fragments of a photographed
+example (vessels, lightning, cracks). A drawn map or a water mask is not a
+photograph: it is flat regions (land, sea), maybe a boundary line between
+them (a coast), and lines of one colour whose width follows the branch's
+thickness. Copying fragments of such an image breaks one-pixel-accurate
+lines into pieces, leaves specks, drags pieces of the frame along and
+cannot draw a coast that is not in any fragment. Going beyond the paper,
+for these examples the style is measured from the example
+(:func:`drawing_style`: each region's colour, the line colour, how wide
+the lines are drawn for a given radius, whether and how the region
+boundary is drawn) and the target is drawn in that style
+(:func:`draw_in_style`): regions in their colours, the boundary line along
+the output's own region boundary, every branch as one connected
+anti-aliased stroke joined to its parent.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import ndimage as ndi
+
+from ..core.render import coverage_polylines
+from ..core.structure import Branch, Structure
+from .skeleton_map import PixelMap
+
+__all__ = ["DrawingStyle", "draw_in_style", "drawing_style"]
+
+
+@dataclass
+class DrawingStyle:
+    """How a flat-colour example is drawn (see :func:`drawing_style`).
+
+    Attributes
+    ----------
+    region_colours : (K, C) ndarray
+        Colour of every region label.
+    branch_region : int
+        The region the branches lie in (the land of a map).
+    line_colour : (C,) ndarray
+        Colour of the branch lines.
+    width_scale : float
+        Drawn line width over ``2 r`` (the structure's radius).
+    boundary_colour : (C,) ndarray or None
+        Colour of the line drawn along the branch region's boundary (a
+        coast), None when the example draws none.
+    boundary_width : float
+        Its width in pixels.
+    outlet_reach : float
+        How far (pixels) the example's roots start from the region boundary
+        at most: roots that close reach it in the drawing (a river's mouth
+        meets the coast line). 0 when the roots do not start at the boundary.
+    """
+
+    region_colours: np.ndarray
+    branch_region: int
+    line_colour: np.ndarray
+    width_scale: float
+    boundary_colour: np.ndarray | None
+    boundary_width: float
+    outlet_reach: float = 0.0
+
+
+def _median_colour(img: np.ndarray, mask: np.ndarray, fallback) -> np.ndarray:
+    return np.median(img[mask], axis=0) if np.count_nonzero(mask) else np.asarray(fallback, np.float32)
+
+
+def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, pm: PixelMap,
+                  *, tol: float = 0.2) -> DrawingStyle:
+    """Measure how a flat-colour example is drawn.
+
+    Parameters
+    ----------
+    image : (H, W, C) float32
+        The example.
+    structure : Structure
+        Its branches.
+    layout : (H, W) int ndarray
+        Its regions without the branches (:func:`~branchnb.branching.regions.region_layout`).
+    pm : PixelMap
+        The structure's pixel map on the example.
+    tol : float
+        A pixel is drawn in a colour when it lies within ``tol`` of it
+        (Euclidean, in [0, 1] units), and not within ``tol`` of its region.
+
+    Notes
+    -----
+    - Region colours: the median of each region's pixels away from the
+      branches.
+    - Line colour: the median of the pixels under the centre lines; the
+      drawn width is the area drawn in that colour near the branches over
+      their length, against the structure's mean ``2 r``.
+    - Boundary line: the pixels where the branch region meets another,
+      away from the branches; when most of them are drawn in a colour
+      unlike both regions', that colour, with the width measured like the
+      lines'.
+    """
+    img = np.asarray(image, np.float32)
+    lay = np.asarray(layout)
+    k = int(lay.max()) + 1
+    far = pm.dist > pm.radius + 3
+    cols = np.stack([_median_colour(img, (lay == i) & far, img.reshape(-1, img.shape[2]).mean(0))
+                     for i in range(k)])
+    centre = pm.dist <= 0.5
+    branch_region = int(np.bincount(lay[centre], minlength=k).argmax()) if centre.any() else 0
+    line = _median_colour(img, centre, cols[branch_region])
+    region_col = cols[lay]
+    off_region = np.linalg.norm(img - region_col, axis=-1)
+    unlike_region = off_region > tol
+
+    def cover(colour):
+        # how much of each pixel the line covers: anti-aliased edges count in part
+        span = np.linalg.norm(np.asarray(colour, np.float32) - region_col, axis=-1)
+        return np.clip(off_region / np.maximum(span, 1e-6), 0.0, 1.0) * (span > tol)
+
+    lengths = [b.length for b in structure.branches]
+    total = max(float(np.sum(lengths)), 1.0)
+    mean_r = float(np.sum([b.length * np.mean(b.thickness) for b in structure.branches])) / total
+    zone = pm.dist <= 3 * max(mean_r, 1.0) + 3
+    drawn = float(cover(line)[zone].sum())
+    width = drawn / total
+    scale = float(np.clip(width / max(2 * mean_r, 1e-6), 0.25, 4.0)) if drawn else 1.0
+    # the boundary of the branch region, away from the branches and the frame
+    inside = lay == branch_region
+    edge = inside & ndi.binary_dilation(~inside) | ~inside & ndi.binary_dilation(inside)
+    edge[:2] = edge[-2:] = False
+    edge[:, :2] = edge[:, -2:] = False
+    edge &= pm.dist > 3 * max(mean_r, 1.0) + 6
+    b_col, b_width = None, 0.0
+    if np.count_nonzero(edge) >= 20:
+        band = ndi.binary_dilation(edge, iterations=4)
+        ink = band & unlike_region
+        hit = ndi.binary_dilation(ink, iterations=1)[edge]
+        if hit.mean() >= 0.5 and ink.any():
+            # the line's own colour: its most saturated pixels, not the anti-aliased rim
+            strong = ink & (off_region >= np.percentile(off_region[ink], 67))
+            b_col = _median_colour(img, strong, line)
+            length = max(np.count_nonzero(edge) / 2.0, 1.0)  # both sides of the boundary are marked
+            b_width = float(np.clip(cover(b_col)[band & ~zone].sum() / length, 1.0, 16.0))
+    # roots that start near the region boundary are outlets: the drawing joins them to it
+    reach = 0.0
+    outside = ~inside
+    if outside.any() and not outside.all():
+        d_out = ndi.distance_transform_edt(inside)
+        h, w = lay.shape
+        depths = []
+        for b in structure.branches:
+            if b.parent is None:
+                x, y = np.clip(np.rint(b.points[0]).astype(int), 0, [w - 1, h - 1])
+                depths.append(d_out[y, x])
+        lim = max(12.0, 0.015 * float(np.hypot(h, w)))
+        if depths and np.median(depths) <= lim:
+            reach = float(min(np.max(np.asarray(depths)[np.asarray(depths) <= lim]) * 1.5 + 2, 3 * lim))
+    return DrawingStyle(cols.astype(np.float32), branch_region, line.astype(np.float32), scale,
+                        None if b_col is None else b_col.astype(np.float32), b_width, reach)
+
+
+def _to_outlets(structure: Structure, inside: np.ndarray, reach: float) -> Structure:
+    """Lengthen every root that starts within ``reach`` of the region boundary back to it."""
+    if reach <= 0:
+        return structure
+    h, w = inside.shape
+    d_out = ndi.distance_transform_edt(inside)
+    out = []
+    for b in structure.branches:
+        if b.parent is not None or len(b.points) < 2:
+            out.append(b)
+            continue
+        x, y = np.clip(np.rint(b.points[0]).astype(int), 0, [w - 1, h - 1])
+        if d_out[y, x] > reach or not inside[y, x]:
+            out.append(b)
+            continue
+        k = min(3, len(b.points) - 1)
+        back = b.points[0] - b.points[k]
+        back /= max(np.hypot(*back), 1e-9)
+        steps = np.arange(1, int(np.ceil(reach * 2)) + 1)[:, None]
+        ray = b.points[0] + steps * back
+        ix = np.clip(np.rint(ray[:, 0]).astype(int), 0, w - 1)
+        iy = np.clip(np.rint(ray[:, 1]).astype(int), 0, h - 1)
+        leave = np.flatnonzero(~inside[iy, ix])
+        if not len(leave):
+            out.append(b)
+            continue
+        tip = ray[leave[0]]
+        pts = np.vstack([tip, b.points])
+        r = np.r_[b.thickness[0], b.thickness]
+        out.append(Branch(pts, r, None, None))
+    # children's parent vertices move by one where their parent got a new first vertex
+    moved = {i for i, (a, b) in enumerate(zip(out, structure.branches)) if a is not b}
+    fixed = []
+    for b in out:
+        if b.parent is not None and b.parent in moved:
+            b = Branch(b.points, b.thickness, b.parent, b.parent_vertex + 1)
+        fixed.append(b)
+    return Structure(fixed, image_shape=structure.image_shape)
+
+
+def draw_in_style(style: DrawingStyle, structure: Structure, labels: np.ndarray) -> np.ndarray:
+    """Draw ``structure`` over the region map ``labels`` in ``style``; (H, W, C) float32.
+
+    Regions are filled with their colours, the boundary of the branch
+    region (not the frame) is drawn with the style's boundary line, then
+    every branch with the line colour at ``width_scale * 2 r`` (at least one
+    pixel, so no branch breaks into dots).
+    """
+    lab = np.asarray(labels)
+    h, w = lab.shape
+    cols = style.region_colours
+    img = cols[np.clip(lab, 0, len(cols) - 1)].astype(np.float32)
+    inside = lab == style.branch_region
+
+    def paint(cov, colour):
+        np.multiply(img, 1 - cov[..., None], out=img)
+        img[...] += cov[..., None] * np.asarray(colour, np.float32)
+
+    if style.boundary_colour is not None and inside.any() and not inside.all():
+        from skimage import measure
+
+        lines = []
+        pad = np.pad(inside.astype(np.float32), 1, mode="edge")
+        for c in measure.find_contours(pad, 0.5):
+            pts = c[:, ::-1] - 1.0
+            on_frame = (pts[:, 0] <= 0) | (pts[:, 1] <= 0) | (pts[:, 0] >= w - 1) | (pts[:, 1] >= h - 1)
+            cut = np.flatnonzero(np.diff(on_frame.astype(int)))
+            for piece in np.split(np.arange(len(pts)), cut + 1):
+                if len(piece) >= 2 and not on_frame[piece].all():
+                    lines.append(pts[piece])
+        if lines:
+            cov, _ = coverage_polylines((h, w), lines, [np.full(len(p), style.boundary_width) for p in lines])
+            paint(cov, style.boundary_colour)
+    s = _to_outlets(structure, inside, style.outlet_reach)
+    pls = [b.points for b in s.branches if len(b.points) >= 2]
+    wid = [np.maximum(style.width_scale * 2 * b.thickness, 1.0) for b in s.branches if len(b.points) >= 2]
+    if pls:
+        cov, _ = coverage_polylines((h, w), pls, wid)
+        paint(cov, style.line_colour)
+    return np.clip(img, 0.0, 1.0)

@@ -1,0 +1,210 @@
+"""Measures of a synthesized structure or image against its example (numbers, not looks).
+
+- :func:`far_share`: share of the domain far (> 5 % of its diameter) from
+  every branch (coverage; compare with the example's);
+- :func:`root_boundary_distance`: where roots start relative to the
+  domain's boundary (outlets at a coast have depth ~0);
+- :func:`thick_end_share`: branches ending more than 2 x thicker than
+  they start (radii should change smoothly);
+- :func:`straight_runs`: turning angles and straight-run lengths (a drawn
+  polyline map has long straight runs);
+- :func:`line_pieces`: 8-connected line pieces per tree and specks in a
+  synthesized image (one piece per tree = connected);
+- :func:`boundary_drawn_share`: how much of a region boundary carries the
+  drawn boundary line (a coast).
+
+``python -m branchnb.branching.measures`` runs the default workflow
+(``extract_structure``, ``example_domain``, ``fit_model``,
+``synthesize_structure``, ``synthesize_image``) on drawn maps of three
+layouts and two sizes and on binary delta masks (:mod:`.examples`), and
+prints these figures per seed (the issue-23 report).
+
+Examples
+--------
+>>> from branchnb.core.structure import Branch, Structure
+>>> import numpy as np
+>>> s = Structure([Branch([(0, 50), (99, 50)], 1.0)])
+>>> dom = np.ones((100, 100), bool)
+>>> round(far_share(s, dom), 2)     # beyond 7 px of the line: all but a 15 px band
+0.85
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+from scipy import ndimage as ndi
+
+from ..core.render import coverage_polylines
+from ..core.structure import Structure
+
+__all__ = ["far_share", "line_pieces", "root_boundary_distance", "straight_runs", "thick_end_share",
+           "boundary_drawn_share", "run_kind"]
+
+
+def far_share(structure: Structure, domain: np.ndarray) -> float:
+    """Share of ``domain`` farther than 5 % of its diameter from every branch."""
+    dom = np.asarray(domain, bool)
+    ys, xs = np.nonzero(dom)
+    diam = float(np.hypot(np.ptp(xs), np.ptp(ys)))
+    cov, _ = coverage_polylines(dom.shape, [b.points for b in structure.branches],
+                                [np.full(len(b.points), 1.0) for b in structure.branches])
+    d = ndi.distance_transform_edt(cov < 0.25)
+    return float(np.mean(d[dom] > 0.05 * diam))
+
+
+def root_boundary_distance(structure: Structure, domain: np.ndarray) -> np.ndarray:
+    """Distance (pixels) of each root's first vertex to the outside of ``domain``."""
+    dom = np.asarray(domain, bool)
+    d = ndi.distance_transform_edt(dom)
+    h, w = dom.shape
+    out = []
+    for b in structure.branches:
+        if b.parent is None:
+            x, y = np.clip(np.rint(b.points[0]).astype(int), 0, [w - 1, h - 1])
+            out.append(d[y, x])
+    return np.asarray(out)
+
+
+def thick_end_share(structure: Structure) -> float:
+    """Share of branches whose last radius is more than 2 x their first."""
+    bs = [b for b in structure.branches if len(b.points) > 1]
+    return float(np.mean([b.thickness[-1] > 2 * b.thickness[0] for b in bs])) if bs else 0.0
+
+
+def straight_runs(structure: Structure, h: float = 4.0, tol_deg: float = 6.0) -> tuple[float, float]:
+    """(median |turning angle| in degrees, mean straight-run length in pixels) at step ``h``."""
+    from ..core.polyline import resample_uniform, turning_angles
+
+    angles, runs = [], []
+    for b in structure.branches:
+        if b.length < 3 * h:
+            continue
+        p = resample_uniform(b.points, h, include_end=True)
+        a = np.abs(np.degrees(turning_angles(p)))
+        angles.append(a)
+        straight = np.r_[False, a < tol_deg, False]
+        edges = np.flatnonzero(np.diff(straight.astype(int)))
+        runs.extend((edges[1::2] - edges[::2] + 1) * h)
+    a = np.concatenate(angles) if angles else np.zeros(1)
+    return float(np.median(a)), float(np.mean(runs)) if runs else 0.0
+
+
+def _ink(image, colour, ground, share: float = 0.4) -> np.ndarray:
+    """Pixels at least ``share`` of the way from the ``ground`` colour to the line ``colour``."""
+    img = np.asarray(image, np.float32)[..., :3]
+    c, g = np.asarray(colour, np.float32)[:3], np.asarray(ground, np.float32)[:3]
+    v = c - g
+    return ((img - g) @ v) / max(float(v @ v), 1e-9) >= share
+
+
+def line_pieces(image: np.ndarray, structure: Structure, colour, ground) -> dict:
+    """Line pixels (at least 40 % of the way from ``ground`` to ``colour``) near the structure:
+    8-connected pieces per tree, specks (pieces under 10 px)."""
+    ink = _ink(image, colour, ground)
+    trees = {}
+    for i, b in enumerate(structure.branches):
+        r = i
+        while structure.branches[r].parent is not None:
+            r = structure.branches[r].parent
+        trees.setdefault(r, []).append(b)
+    lab, n = ndi.label(ink, structure=np.ones((3, 3)))
+    sizes = np.bincount(lab.ravel(), minlength=n + 1)
+    pieces = []
+    for bs in trees.values():
+        cov, _ = coverage_polylines(ink.shape, [b.points for b in bs], [np.full(len(b.points), 1.0) for b in bs])
+        near = ndi.binary_dilation(cov > 0.3, iterations=2)
+        ids = np.unique(lab[near & ink])
+        pieces.append(len(ids[ids > 0]))
+    specks = int(np.sum((sizes[1:] > 0) & (sizes[1:] < 10)))
+    return {"trees": len(trees), "pieces_per_tree": float(np.mean(pieces)) if pieces else 0.0,
+            "max_pieces": int(max(pieces)) if pieces else 0, "specks": specks}
+
+
+def boundary_drawn_share(image: np.ndarray, region: np.ndarray, colour, ground) -> float:
+    """Share of the boundary of ``region`` (not on the frame) with a line of ``colour`` within 2 px."""
+    reg = np.asarray(region, bool)
+    edge = reg & ndi.binary_dilation(~reg)
+    edge[0] = edge[-1] = False
+    edge[:, 0] = edge[:, -1] = False
+    ink = _ink(image, colour, ground)
+    near = ndi.binary_dilation(ink, iterations=2)
+    return float(np.mean(near[edge])) if edge.any() else 1.0
+
+
+def _kinds(sizes=(512, 1000)):
+    from ._map_examples import country_map_example, delta_mask_example
+
+    for lay in ("island", "coast", "bay"):
+        for sz in sizes:
+            img, s, land = country_map_example((sz, sz), sz + len(lay), layout=lay)
+            yield f"map {lay} {sz}", img, land
+    for sz in (512, 1000):
+        m, _ch, sea = delta_mask_example((sz, sz), 3)
+        yield f"delta {sz}", np.dstack([m] * 3), ~sea
+
+
+def run_kind(name: str, img: np.ndarray, truth_domain=None, seeds=(0, 1, 2), image: bool = True) -> list[str]:
+    """Measure one example through the default workflow; one text row per seed."""
+    from . import example_domain, extract_structure, fit_model, synthesize_image, synthesize_structure
+
+    ex = extract_structure(img)
+    dom = example_domain(img, ex)
+    rows = []
+    if truth_domain is not None:
+        iou = (dom & truth_domain).sum() / max((dom | truth_domain).sum(), 1)
+        rows.append(f"{name}: example domain IoU {iou:.3f}")
+    model = fit_model(ex, domain=dom)
+    f_ex = far_share(model.example, dom)
+    rb_ex = np.median(root_boundary_distance(ex, dom))
+    a_ex, run_ex = straight_runs(ex)
+    te_ex = thick_end_share(ex)
+    rows.append(f"{name}: example far {f_ex:.3f}, root depth median {rb_ex:.1f} px, |angle| median "
+                f"{a_ex:.1f} deg, straight run {run_ex:.1f} px, thick ends {te_ex:.3f}, "
+                f"{sum(b.parent is None for b in ex.branches)} roots")
+    for seed in seeds:
+        t0 = time.perf_counter()
+        res = synthesize_structure(model, rng=seed)
+        ts = time.perf_counter() - t0
+        s = res.structure
+        a, run = straight_runs(s)
+        row = (f"  seed {seed}: structure {ts:.2f} s, far {far_share(s, dom):.3f} "
+               f"({far_share(s, dom) / max(f_ex, 1e-3):.2f}x), root depth median "
+               f"{np.median(root_boundary_distance(s, dom)):.1f} px, |angle| {a:.1f} deg, run {run:.1f} px, "
+               f"thick ends {thick_end_share(s):.3f}, {sum(b.parent is None for b in s.branches)} roots")
+        if image:
+            t0 = time.perf_counter()
+            out = synthesize_image(img, ex, res, rng=seed)
+            ti = time.perf_counter() - t0
+            lc, ground = _line_colour(img, ex, dom)
+            lp = line_pieces(out.image, s, lc, ground)
+            extra = ""
+            if out.labels is not None and res.domain is not None:
+                land = out.labels == np.bincount(out.labels[res.domain]).argmax()
+                iou = (land & res.domain).sum() / max((land | res.domain).sum(), 1)
+                extra = (f", region IoU {iou:.3f}, boundary drawn "
+                         f"{boundary_drawn_share(out.image, res.domain, lc, ground):.3f} "
+                         f"(example {boundary_drawn_share(img, dom, lc, ground):.3f})")
+            row += (f"; image {ti:.1f} s, pieces/tree {lp['pieces_per_tree']:.2f} (max {lp['max_pieces']}), "
+                    f"specks {lp['specks']}" + extra)
+        rows.append(row)
+    return rows
+
+
+def _line_colour(img, ex, dom) -> tuple[np.ndarray, np.ndarray]:
+    """(line colour, ground colour) of an example: medians on the centre lines and far from them."""
+    from .skeleton_map import SkeletonMap
+
+    pm = SkeletonMap(ex, 1.0).pixel_map(img.shape[:2])
+    rgb = np.asarray(img, np.float32)[..., :3]
+    return np.median(rgb[pm.dist <= 0.5], axis=0), np.median(rgb[(pm.dist > 8) & dom], axis=0)
+
+
+if __name__ == "__main__":
+    import sys
+
+    image = "--no-image" not in sys.argv
+    for name, img, dom in _kinds():
+        for r in run_kind(name, img, dom, image=image):
+            print(r, flush=True)
