@@ -67,10 +67,11 @@ class Target:
 
 
 def packages() -> list[str]:
-    """Every subpackage of branchnb that declares ``__all__`` (new ones are picked up automatically)."""
+    """Every public subpackage of branchnb that declares ``__all__`` (new ones are picked up automatically;
+    private ones such as ``branchnb._docs``, the documentation build, are not public API)."""
     out = []
     for info in pkgutil.iter_modules(branchnb.__path__):
-        if not info.ispkg:
+        if not info.ispkg or info.name.startswith("_"):
             continue
         mod = importlib.import_module(f"branchnb.{info.name}")
         if getattr(mod, "__all__", None):

@@ -49,6 +49,7 @@ nitpick_ignore_regex = [
                r"|sklearn|tqdm|numba|maxflow|PIL|argparse|threading|asyncio|contextlib|functools|tempfile|t)(\..*)?"),
     # a stringified annotation that Sphinx splits at its comma
     (r"py:.*", r"(tuple|list|dict|set|type)\[.*"),
+    (r"py:.*", r"[\w.]+ \| (tuple|list|dict|set|type)\[.*"),
     (r"py:.*", r"(int|float|str|bool|bytes|dict|list|tuple|set|frozenset|object|type|None|NoneType|callable"
                r"|Callable|Any|Path|Sequence|Mapping|Iterable|Iterator|Generator|Literal|Optional|Union|ndarray"
                r"|array_like|array-like|optional|Self|TypeVar|ClassVar|Exception|ValueError|TypeError|RuntimeError"

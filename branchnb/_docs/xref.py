@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import importlib
 import inspect
-from functools import lru_cache
+from functools import cache
 
 _CANON: dict | None = None
 _FIELD = object()  # stands for a dataclass field without a class-level default
@@ -34,7 +34,7 @@ def _canonical_names() -> dict:
     return _CANON
 
 
-@lru_cache(maxsize=None)  # the same names come up thousands of times; a failed import is slow
+@cache  # the same names come up thousands of times; a failed import is slow
 def _lookup(path: str):
     """``(object, owner)`` for a dotted path (``owner`` is the class holding an attribute), or None."""
     parts = path.split(".")

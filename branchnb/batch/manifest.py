@@ -14,7 +14,7 @@ listed file exists with the recorded size and SHA-256. At the end of a run
 the file is rewritten with one line per item, in item order.
 
 A line that cannot be read (torn by a crash, not UTF-8, not a JSON record)
-is reported in :attr:`Manifest.problems` by file and line; the item it
+is reported in ``Manifest.problems`` by file and line; the item it
 names (when it can be told) is recomputed.
 
 The client keeps no record in memory: it indexes the file (item, offset and

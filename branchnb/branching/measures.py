@@ -74,7 +74,7 @@ def thick_end_share(structure: Structure) -> float:
 
 
 def straight_runs(structure: Structure, h: float = 4.0, tol_deg: float = 6.0) -> tuple[float, float]:
-    """(median |turning angle| in degrees, mean straight-run length in pixels) at step ``h``."""
+    """(median absolute turning angle in degrees, mean straight-run length in pixels) at step ``h``."""
     from ..core.polyline import resample_uniform, turning_angles
 
     angles, runs = [], []

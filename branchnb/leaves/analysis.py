@@ -19,7 +19,7 @@ from scipy import ndimage as ndi
 from ..core.image import as_mask, as_rgb
 from ..core.params import check_params
 from ..core.random import as_rng
-from ..core.validate import check_callback, check_int
+from ..core.validate import check_callback, check_int, check_shape
 from .induction import (
     ColourSpace,
     InductionParams,
@@ -63,7 +63,7 @@ class IdentityRegistration:
     """The training leaf's registration to itself (same interface as the others)."""
 
     def __init__(self, shape):
-        h, w = shape
+        h, w = check_shape(shape, "shape")
         xx, yy = np.meshgrid(np.arange(w, dtype=np.float32), np.arange(h, dtype=np.float32))
         self.shape = (h, w)
         self.map_to_training = self.map_from_training = np.stack([xx, yy], -1)

@@ -84,8 +84,13 @@ class PlacedPatch:
             raise ValueError(f"pixels {px.shape[:2]} and valid {np.shape(self.valid)} must cover the same S x S square")
         if self.keep_a is not None and np.shape(self.keep_a) != px.shape[:2]:
             raise ValueError(f"keep_a must have shape {px.shape[:2]}, got {np.shape(self.keep_a)}")
-        if not isinstance(self.pin_core, (bool, np.bool_)):
-            raise TypeError(f"pin_core must be a bool, got {type(self.pin_core).__name__}")
+        for flag in ("pin_core", "grow"):
+            if not isinstance(getattr(self, flag), (bool, np.bool_)):
+                raise TypeError(f"{flag} must be a bool, got {type(getattr(self, flag)).__name__}")
+        if self.source_map is not None:
+            sm = np.asarray(self.source_map)
+            if sm.shape != (2, 3) or sm.dtype.kind not in "fiu" or not np.isfinite(sm).all():
+                raise ValueError(f"source_map must be a finite (2, 3) affine map or None, got {sm.dtype} {sm.shape}")
         o = self.origin
         if (not isinstance(o, (tuple, list, np.ndarray)) or len(o) != 2
                 or not all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) for v in o)):

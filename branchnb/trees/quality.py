@@ -27,6 +27,7 @@ from scipy import ndimage as ndi
 from scipy.spatial import cKDTree
 
 from ..core.image import as_rgba
+from ..core.validate import check_real
 
 __all__ = ["soft_alpha_fraction", "flat_pixels", "dominant_palette", "crossfade_fraction",
            "foreign_colour_fraction", "dark_rim_fraction", "pieces", "large_holes", "hole_sizes",
@@ -63,6 +64,8 @@ def flat_pixels(image, *, span: float = 0.06, alpha: float = 0.99) -> np.ndarray
     (H, W) bool ndarray
     """
     img = as_rgba(image, name="image")
+    span = check_real(span, "span", min=0.0)
+    alpha = check_real(alpha, "alpha", min=0.0, max=1.0)
     opaque = ndi.minimum_filter(img[..., 3], size=3, mode="constant") >= alpha
     return opaque & (colour_span(img[..., :3], size=3) < span)
 
@@ -147,6 +150,8 @@ def crossfade_fraction(image, sources, *, tol: float = 0.12, span: float = 0.06,
     (0.0, 1.0)
     """
     img = as_rgba(image, name="image")
+    tol = check_real(tol, "tol", min=0.0)
+    span = check_real(span, "span", min=0.0)
     flat = flat_pixels(img, span=span)
     if not flat.any():
         return 0.0

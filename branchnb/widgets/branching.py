@@ -111,7 +111,7 @@ IMAGE_SECTIONS = [
                                      "poisson", "anchors", "anchor_weight", "furcation_clear"]),
     ("what is never copied", ["exclusion", "exclusion_margin", "avoid_unannotated", "avoid_salient",
                               "salient_z", "branch_like", "flatten_shading", "exclude_matte"]),
-    ("flat-colour examples (maps, masks)", ["keep_regions", "flat_poisson"]),
+    ("flat-colour examples (maps, masks)", ["flat_drawing", "keep_regions", "flat_poisson"]),
     ("gap completion", ["completion", "patch_size", "patch_overlap", "completion_tolerance",
                         "completion_screen", "completion_rim", "min_free", "forbid_weight"]),
 ]
@@ -129,6 +129,7 @@ IMAGE_LABELS = {
     "avoid_unannotated": ("avoid unannotated", ""), "avoid_salient": ("avoid salient spots", ""),
     "salient_z": ("salient spot z", "z"), "branch_like": ("branch-like level", ""),
     "flatten_shading": ("flatten shading", ""), "exclude_matte": ("exclude matte", ""),
+    "flat_drawing": ("draw like the example", ""),
     "keep_regions": ("keep map regions", ""), "flat_poisson": ("flat-colour Poisson", ""),
     "completion": ("complete gaps", ""), "patch_size": ("patch size", ""),
     "patch_overlap": ("patch overlap", ""), "completion_tolerance": ("completion tolerance", ""),
