@@ -30,6 +30,7 @@ import socket
 import subprocess
 import sys
 import time
+import urllib.error
 import urllib.request
 from pathlib import Path
 
@@ -54,9 +55,16 @@ def _free_port() -> int:
         return s.getsockname()[1]
 
 
-def _get(url: str):
-    with urllib.request.urlopen(url, timeout=5) as r:
-        return json.loads(r.read())
+def _get(url: str, attempts: int = 4):
+    """GET a JupyterLab REST URL; a server busy starting a kernel on a loaded machine may answer late."""
+    for i in range(attempts):
+        try:
+            with urllib.request.urlopen(url, timeout=10) as r:
+                return json.loads(r.read())
+        except (urllib.error.URLError, TimeoutError, ConnectionError):
+            if i == attempts - 1:
+                raise
+            time.sleep(1.0 + i)
 
 
 def _clear_outputs(folder: Path) -> None:
@@ -197,6 +205,19 @@ def _run_all(page, lab, shown: str, timeout: float = 300.0) -> None:
                          f"dialogs {dialogs}; outputs:\n{outputs}\nserver log:\n{log}")
 
 
+def _last_assigned_name(path: Path) -> str:
+    """A name the notebook's last code cell assigns at top level (so run-all has finished when it exists)."""
+    import ast
+
+    nb = json.loads(path.read_text(encoding="utf-8"))
+    source = "".join([c for c in nb["cells"] if c["cell_type"] == "code"][-1]["source"])
+    tree = ast.parse("\n".join(line for line in source.splitlines() if not line.lstrip().startswith(("%", "!"))))
+    names = [t.id for node in tree.body if isinstance(node, ast.Assign) for t in node.targets
+             if isinstance(t, ast.Name)]
+    assert names, "the tour's last code cell assigns no name to wait for"
+    return names[-1]
+
+
 def test_tour_canvas_drag_reaches_kernel(lab, chromium, tmp_path):
     base, token = lab["base"], lab["token"]
     page = chromium.new_page(viewport={"width": 1400, "height": 1000})
@@ -216,11 +237,14 @@ def test_tour_canvas_drag_reaches_kernel(lab, chromium, tmp_path):
         canvas_sel = ".jp-OutputArea-output .jupyter-widgets canvas"
         _run_all(page, lab, canvas_sel)
         # Wait for run-all to finish: the last code cell's output appears.
+        last = _last_assigned_name(ROOT / "notebooks" / "00_tour.ipynb")
         for _ in range(240):
-            probe = "print('style' in globals())"  # defined by one of the last cells
+            probe = f"print({last!r} in globals())"
             if _kernel_eval(lab["runtime"], kernel["id"], probe).strip() == "True":
                 break
             time.sleep(0.5)
+        else:
+            raise AssertionError(f"run-all did not reach the last cell (no {last!r} in the kernel)")
         canvas = page.locator(canvas_sel).first
         canvas.scroll_into_view_if_needed()
         time.sleep(1.0)
