@@ -188,7 +188,8 @@ def test_discovery_picks_up_every_package_and_name():
     import branchnb
 
     expected = {m.name for m in pkgutil.iter_modules(branchnb.__path__)
-                if m.ispkg and not m.name.startswith("_") and getattr(importlib.import_module(f"branchnb.{m.name}"), "__all__", None)}
+                if m.ispkg and not m.name.startswith("_")
+                and getattr(importlib.import_module(f"branchnb.{m.name}"), "__all__", None)}
     assert set(PACKAGES) == expected
     targets = {t.id for t in fuzzkit.discover()}
     for pkg in PACKAGES:
