@@ -19,7 +19,7 @@ from scipy import ndimage as ndi
 from ..core.image import as_mask, as_rgb
 from ..core.params import check_params
 from ..core.random import as_rng
-from ..core.validate import check_callback, check_int, check_shape
+from ..core.validate import check_bool, check_callback, check_int, check_real, check_shape
 from .induction import (
     ColourSpace,
     InductionParams,
@@ -51,7 +51,13 @@ def warp_mask(registration, mask, *, to_training: bool, level: float = 0.5) -> n
     A thin layer (a one-pixel vein) warped bilinearly may fall below 0.5
     between pixel centres and break up; ``level`` below 0.5 keeps it whole.
     """
-    m = np.asarray(mask, np.float32)
+    if not (callable(getattr(registration, "to_training", None))
+            and callable(getattr(registration, "from_training", None))):
+        raise TypeError("registration must be a leaf registration (with to_training and from_training), "
+                        f"got {type(registration).__name__}")
+    m = as_mask(mask, name="mask").astype(np.float32)
+    to_training = check_bool(to_training, "to_training")
+    level = check_real(level, "level", min=0.0, max=1.0)
     out = registration.to_training(m) if to_training else registration.from_training(m)
     out = np.asarray(out)
     if out.ndim == 3:
@@ -511,6 +517,9 @@ def normalise_exemplars(exemplars) -> tuple[list, list, list]:
         items = list(exemplars)
     except TypeError as exc:
         raise TypeError(f"exemplars must be a list of leaf images, got {type(exemplars).__name__}") from exc
+    if len(items) < 2:
+        raise ValueError(f"exemplars holds {len(items)} leaf image(s); the method needs at least 2 leaves "
+                         "of one kind (the first is the training leaf)")
     items = [e if isinstance(e, Exemplar) else getattr(e, "image", e) for e in items]
     prepared = prepare_exemplars(items, size_policy="keep", names=[f"exemplars[{i}]" for i in range(len(items))])
     for i, e in enumerate(prepared):
