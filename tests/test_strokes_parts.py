@@ -290,3 +290,25 @@ def test_joints_hold_with_strokes_drawn_by_hand(how):
         stem = (4.5 if k in (1, 2) else 3.5) * 0.42
         got = min(cross_width(res.image, t_child, obj.widths[0] + dt, stem + 4) for dt in (3.0, 6.0, 9.0))
         assert got >= 2 * stem - 1.0, (k, got)
+
+
+@pytest.mark.parametrize("size", [200, 300])
+def test_a_figure_spreads_its_legs_and_keeps_a_whole_body(size):
+    """Legs starting inside the body, next to its end: the body is their parent, not
+    their child (else the pixels round the meeting point were nobody's: a hole)."""
+    obj = figure(size, rng=0)
+    body = obj.strokes[0]
+    src, tgt = [body], [body]
+    for k, ang in ((2, 0.9), (3, -1.0), (4, 0.3), (5, -0.3)):
+        st = obj.strokes[k]
+        c, s = np.cos(ang), np.sin(ang)
+        src.append(st)
+        tgt.append((st - st[0]) @ np.array([[c, -s], [s, c]]).T + st[0])
+    idx = source_index(obj.image, [Stroke(s) for s in src])
+    assert idx.joined[0] == (-1, -1) and all(j == (0, -1) for j in idx.joined[1:])
+    res = edit_structure(obj.image, src, tgt)
+    assert pieces(res.image) == 1
+    holes = ndi.binary_fill_holes(res.mask) & ~res.mask
+    assert holes.sum() == 0
+    body_px = ndi.binary_erosion(obj.labels == 0, iterations=2)
+    assert res.mask[body_px].mean() > 0.99

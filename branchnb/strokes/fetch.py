@@ -512,6 +512,12 @@ def _joined_ends(strokes, raw, keys) -> list[tuple[int, int]]:
                 s, d = other.project(q)
                 tol = 0.5 * float(np.interp(s[0], raw[j][0], raw[j][1])) + 3.0
                 if d[0] <= tol and 1.0 < s[0] < other.length - 1.0 and d[0] < best:
+                    if j > k and min(s[0], other.length - s[0]) <= tol:
+                        # two ends meeting (a body's end where two legs start): the
+                        # later-drawn stroke is the child, as in find_junctions --
+                        # else each would be the other's child and the pixels round
+                        # the meeting point nobody's (a hole in the body)
+                        continue
                     hit, best = j, float(d[0])
             flags.append(hit)
         out.append(tuple(flags))
