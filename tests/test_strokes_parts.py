@@ -312,3 +312,36 @@ def test_a_figure_spreads_its_legs_and_keeps_a_whole_body(size):
     assert holes.sum() == 0
     body_px = ndi.binary_erosion(obj.labels == 0, iterations=2)
     assert res.mask[body_px].mean() > 0.99
+
+
+def _swayed_tree(size):
+    """A bare tree whose trunk sways, its limbs and two twigs carried along by strokes."""
+    from branchnb.strokes.parts import carry_stroke
+
+    obj = bare_tree(size, rng=0)
+    tr = obj.strokes[0]
+    sway = tr + np.c_[0.12 * size * ((tr[0, 1] - tr[:, 1]) / (tr[0, 1] - tr[-1, 1])) ** 2, np.zeros(len(tr))]
+    src, tgt = [tr], [sway]
+    for k in (1, 2, 3, 4, 5):
+        p = obj.parents[k]
+        src.append(obj.strokes[k])
+        tgt.append(carry_stroke(obj.strokes[k], obj.strokes[p], tgt[p]))
+    return obj, src, tgt
+
+
+@pytest.mark.parametrize("size", [300, 500])
+def test_a_limb_leaving_at_a_narrow_angle_leaves_no_pixel_unheld(size):
+    """A limb that runs along the trunk's side for a while: the trunk's pixels next to it
+    stay the trunk's (no orphaned pixels, hence no hole at the joint)."""
+    obj, src, tgt = _swayed_tree(size)
+    idx = source_index(obj.image, [Stroke(s) for s in src])
+    held = idx.part_mask.copy()
+    for i in range(len(src)):
+        held |= idx.allowed[i] & (idx.weight[i] > 0.5)
+    orphan = (obj.image[..., 3] > 0.5) & ~held
+    lab, n = ndi.label(orphan)
+    assert n == 0 or np.bincount(lab.ravel())[1:].max() <= 0.05 * obj.widths[0] ** 2
+    res = edit_structure(obj.image, src, tgt)
+    assert pieces(res.image) == 1 and pieces(res.image, 0.02) == 1
+    holes = ndi.binary_fill_holes(res.mask) & ~res.mask
+    assert holes.sum() <= 0.05 * obj.widths[0] ** 2

@@ -319,7 +319,9 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
                 # parent's silhouette: the parent's tube is the parent's.
                 pkey = (keys[parent], cuts[parent])
                 s_map = tubes[(keys[k], cuts[k])][1]
-                reach = 2.5 * float(tubes[pkey][2].max()) + 4.0
+                reach = max(2.5 * float(tubes[pkey][2].max()) + 4.0,
+                            _clear_of(st, end, source_strokes[parent], width_s[parent], widths[parent],
+                                      raw[k][2]) + 4.0)
                 near = (s_map <= reach) if end == 0 else (s_map >= st.length - reach)
                 cut = near & tubes[pkey][5]
                 near_parent[k] = near_parent[k] | cut if k in near_parent else cut
@@ -472,6 +474,16 @@ def _raw_width(stroke: Stroke, obj: np.ndarray, edt: np.ndarray):
             wv[i] = max(abs(t[cols.start]), abs(t[cols.stop - 1])) + 0.5
     wv = np.minimum(wv, 2.0 * _local_max(edt, p) + 2.0)
     return s, wv, float(max(1, int(np.ceil(np.median(wv)))))
+
+
+def _clear_of(child: Stroke, end: int, parent: Stroke, ws, wv, half_width: float) -> float:
+    """How far along ``child`` from its ``end`` its silhouette (``half_width``) is clear of
+    the parent's (``wv`` at ``ws``): a branch leaving at a narrow angle runs along its
+    parent's side for several parent widths."""
+    t = np.arange(0.0, child.length + 0.5, 1.0)
+    s_par, d = parent.project(child.point_at(t if end == 0 else child.length - t))
+    out = np.flatnonzero(d > np.interp(s_par, ws, wv) + half_width)
+    return float(t[out[0]]) if len(out) else 0.0
 
 
 def _smooth_width(wv: np.ndarray, typical: float, cut) -> np.ndarray:
