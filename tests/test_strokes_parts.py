@@ -345,3 +345,25 @@ def test_a_limb_leaving_at_a_narrow_angle_leaves_no_pixel_unheld(size):
     assert pieces(res.image) == 1 and pieces(res.image, 0.02) == 1
     holes = ndi.binary_fill_holes(res.mask) & ~res.mask
     assert holes.sum() <= 0.05 * obj.widths[0] ** 2
+
+
+@pytest.mark.parametrize("size", [300, 400])
+def test_limbs_turned_far_leave_no_wedge_at_the_body(size):
+    """Arms raised by ~55 degrees, legs spread: the child's tube next to the body is filled
+    (no wedge between a turned cut face and the body's side)."""
+    obj = figure(size, rng=0)
+    body = obj.strokes[0]
+    src, tgt = [body], [body]
+    for k, ang in ((2, 0.9), (3, -1.0), (4, 0.3), (5, -0.3)):
+        st = obj.strokes[k]
+        c, s = np.cos(ang), np.sin(ang)
+        src.append(st)
+        tgt.append((st - st[0]) @ np.array([[c, -s], [s, c]]).T + st[0])
+    res = edit_structure(obj.image, src, tgt)
+    yy, xx = np.mgrid[0:size, 0:size]
+    for j, k in enumerate((2, 3, 4, 5), start=1):
+        s, d = Stroke(tgt[j]).project(np.c_[xx.ravel(), yy.ravel()])
+        hw = obj.widths[k]
+        zone = ((d <= 0.8 * hw - 1) & (s <= obj.widths[0] + 2 * hw)).reshape(size, size)
+        assert (zone & ~res.mask).sum() <= 0.02 * zone.sum(), obj.names[k]
+    assert res.mask.sum() <= 1.02 * (obj.image[..., 3] > 0.5).sum()  # closings stay small
