@@ -511,7 +511,12 @@ def _smooth_width(wv: np.ndarray, typical: float, cut) -> np.ndarray:
 
 
 def _joined_ends(strokes, raw, keys) -> list[tuple[int, int]]:
-    """Per stroke and end: the (different) stroke the end lies on, within half its local width + 3 px, or -1."""
+    """Per stroke and end: the (different) stroke the end lies on, within half its local width + 3 px, or -1.
+
+    Two ends meeting (each on the other near its end) join as in
+    :func:`~branchnb.strokes.junctions.find_junctions`: the later-drawn stroke
+    is the child.
+    """
     out = []
     for k, st in enumerate(strokes):
         flags = []
