@@ -651,6 +651,11 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
                 end_s = 0.0 if jn.end == 0 else pair.target.length
                 near = abs(smp.s[j] - end_s) <= extra[i][jn.end] + f.radius
                 if not near:
+                    # farther along (a child leaving its parent at a slant), the patch
+                    # still may not lay the child's pixels over its parent's interior
+                    inside = _inside_parent(index, attached, jn, f.origin, f.valid.shape[1])
+                    if inside.any():
+                        keep = inside if keep is None else keep | inside
                     continue
                 pin_core = False
                 step = f.radius if jn.end == 0 else -f.radius
@@ -660,6 +665,7 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
                 if nrm > 1e-9:
                     fs = far_side(jn, attached[jn.parent].target, into / nrm, f.origin,
                                   f.valid.shape[1], window=window)
+                    fs = fs | _inside_parent(index, attached, jn, f.origin, f.valid.shape[1])
                     keep = fs if keep is None else keep | fs
             placed.append(PlacedPatch(f.pixels[k], f.valid[k], f.origin, pin_core, keep,
                                       _patch_map(f, k), grow=not pin_core))
@@ -759,6 +765,17 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
 
 #: Source depth given to pixels filled at joints (deep enough to be outlined as a cut face).
 _FILLED_DEPTH = 100.0
+
+
+def _inside_parent(index, attached, jn, origin, size: int) -> np.ndarray:
+    """Pixels of a ``size`` x ``size`` patch at ``origin`` inside the parent's silhouette
+    (1.5 px in from its edge, the silhouette's half width at the junction): they keep
+    the parent's texture, a child turned far does not lay its cut face over its parent."""
+    parent = attached[jn.parent]
+    hw = float(index.edge_width(jn.parent, np.array([parent.source_arc_length(jn.parent_s)]))[0])
+    yy, xx = np.mgrid[0:size, 0:size]
+    _, d = parent.target.project(np.c_[xx.ravel() + origin[0], yy.ravel() + origin[1]])
+    return (d <= hw - 1.5).reshape(size, size)
 
 
 def _along_children(wide, attached, shape) -> np.ndarray:
