@@ -773,9 +773,25 @@ def _inside_parent(index, attached, jn, origin, size: int) -> np.ndarray:
     the parent's texture, a child turned far does not lay its cut face over its parent."""
     parent = attached[jn.parent]
     hw = float(index.edge_width(jn.parent, np.array([parent.source_arc_length(jn.parent_s)]))[0])
+    pts = parent.target.points
+    a, b = pts[:-1], pts[1:]
+    centre = np.array([origin[0] + 0.5 * size, origin[1] + 0.5 * size])
+    near = _segment_distance(centre[None], a, b)[0] <= hw + 0.75 * size
+    if not near.any():
+        return np.zeros((size, size), bool)  # the patch's square is nowhere near the parent
     yy, xx = np.mgrid[0:size, 0:size]
-    _, d = parent.target.project(np.c_[xx.ravel() + origin[0], yy.ravel() + origin[1]])
+    q = np.c_[xx.ravel() + origin[0], yy.ravel() + origin[1]].astype(float)
+    d = _segment_distance(q, a[near], b[near]).min(axis=1)
     return (d <= hw - 1.5).reshape(size, size)
+
+
+def _segment_distance(q: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """(N, M) distances of points ``q`` (N, 2) to segments ``a``-``b`` (M, 2)."""
+    ab = b - a
+    len2 = np.maximum((ab ** 2).sum(axis=1), 1e-12)
+    t = np.clip(((q[:, None, :] - a[None]) * ab[None]).sum(axis=2) / len2, 0.0, 1.0)
+    p = a[None] + t[..., None] * ab[None]
+    return np.hypot(q[:, None, 0] - p[..., 0], q[:, None, 1] - p[..., 1])
 
 
 def _along_children(wide, attached, shape) -> np.ndarray:
