@@ -290,3 +290,86 @@ def test_joints_hold_with_strokes_drawn_by_hand(how):
         stem = (4.5 if k in (1, 2) else 3.5) * 0.42
         got = min(cross_width(res.image, t_child, obj.widths[0] + dt, stem + 4) for dt in (3.0, 6.0, 9.0))
         assert got >= 2 * stem - 1.0, (k, got)
+
+
+@pytest.mark.parametrize("size", [200, 300])
+def test_a_figure_spreads_its_legs_and_keeps_a_whole_body(size):
+    """Legs starting inside the body, next to its end: the body is their parent, not
+    their child (else the pixels round the meeting point were nobody's: a hole)."""
+    obj = figure(size, rng=0)
+    body = obj.strokes[0]
+    src, tgt = [body], [body]
+    for k, ang in ((2, 0.9), (3, -1.0), (4, 0.3), (5, -0.3)):
+        st = obj.strokes[k]
+        c, s = np.cos(ang), np.sin(ang)
+        src.append(st)
+        tgt.append((st - st[0]) @ np.array([[c, -s], [s, c]]).T + st[0])
+    idx = source_index(obj.image, [Stroke(s) for s in src])
+    assert idx.joined[0] == (-1, -1) and all(j == (0, -1) for j in idx.joined[1:])
+    res = edit_structure(obj.image, src, tgt)
+    assert pieces(res.image) == 1
+    holes = ndi.binary_fill_holes(res.mask) & ~res.mask
+    assert holes.sum() == 0
+    body_px = ndi.binary_erosion(obj.labels == 0, iterations=2)
+    assert res.mask[body_px].mean() > 0.99
+
+
+def _swayed_tree(size):
+    """A bare tree whose trunk sways, its limbs and two twigs carried along by strokes."""
+    from branchnb.strokes.parts import carry_stroke
+
+    obj = bare_tree(size, rng=0)
+    tr = obj.strokes[0]
+    sway = tr + np.c_[0.12 * size * ((tr[0, 1] - tr[:, 1]) / (tr[0, 1] - tr[-1, 1])) ** 2, np.zeros(len(tr))]
+    src, tgt = [tr], [sway]
+    for k in (1, 2, 3, 4, 5):
+        p = obj.parents[k]
+        src.append(obj.strokes[k])
+        tgt.append(carry_stroke(obj.strokes[k], obj.strokes[p], tgt[p]))
+    return obj, src, tgt
+
+
+@pytest.mark.parametrize("size", [300, 500])
+def test_a_limb_leaving_at_a_narrow_angle_leaves_no_pixel_unheld(size):
+    """A limb that runs along the trunk's side for a while: the trunk's pixels next to it
+    stay the trunk's (no orphaned pixels, hence no hole at the joint)."""
+    obj, src, tgt = _swayed_tree(size)
+    idx = source_index(obj.image, [Stroke(s) for s in src])
+    held = idx.part_mask.copy()
+    for i in range(len(src)):
+        held |= idx.allowed[i] & (idx.weight[i] > 0.5)
+    orphan = (obj.image[..., 3] > 0.5) & ~held
+    lab, n = ndi.label(orphan)
+    assert n == 0 or np.bincount(lab.ravel())[1:].max() <= 0.05 * obj.widths[0] ** 2
+    res = edit_structure(obj.image, src, tgt)
+    assert pieces(res.image) == 1 and pieces(res.image, 0.02) == 1
+    holes = ndi.binary_fill_holes(res.mask) & ~res.mask
+    assert holes.sum() <= 0.05 * obj.widths[0] ** 2
+
+
+@pytest.mark.parametrize("size", [300, 400])
+def test_limbs_turned_far_leave_no_wedge_at_the_body(size):
+    """Arms raised by ~55 degrees, legs spread: the child's tube next to the body is filled
+    (no wedge between a turned cut face and the body's side)."""
+    obj = figure(size, rng=0)
+    body = obj.strokes[0]
+    src, tgt = [body], [body]
+    for k, ang in ((2, 0.9), (3, -1.0), (4, 0.3), (5, -0.3)):
+        st = obj.strokes[k]
+        c, s = np.cos(ang), np.sin(ang)
+        src.append(st)
+        tgt.append((st - st[0]) @ np.array([[c, -s], [s, c]]).T + st[0])
+    res = edit_structure(obj.image, src, tgt)
+    yy, xx = np.mgrid[0:size, 0:size]
+    for j, k in enumerate((2, 3, 4, 5), start=1):
+        s, d = Stroke(tgt[j]).project(np.c_[xx.ravel(), yy.ravel()])
+        hw = obj.widths[k]
+        zone = ((d <= 0.8 * hw - 1) & (s <= obj.widths[0] + 2 * hw)).reshape(size, size)
+        assert (zone & ~res.mask).sum() <= 0.02 * zone.sum(), obj.names[k]
+    assert res.mask.sum() <= 1.02 * (obj.image[..., 3] > 0.5).sum()  # closings stay small
+    # the arms' cut faces stay out of the body's interior (the body's texture is kept there)
+    _, d = Stroke(body).project(np.c_[xx.ravel(), yy.ravel()])
+    interior = (d.reshape(size, size) <= obj.widths[0] - 2) & (yy > 0.275 * size)
+    im = res.image
+    skin = (im[..., 0] > im[..., 2] + 0.2) & res.mask
+    assert (interior & skin).sum() <= 0.002 * interior.sum()

@@ -37,7 +37,7 @@ from .composition import PlacedPatch, compose, labelling_cost, seam_mask
 from .display import draw_strokes
 from .fetch import fetch, sample_pair, source_index
 from .junctions import attach, exit_length, far_side, find_junctions, stroke_order
-from .outline import close_cuts, drop_flecks, fill_joints, outline_style, source_depth
+from .outline import _POCKET, close_cuts, drop_flecks, fill_joints, outline_style, source_depth
 from .parts import place_part, rigid_frame
 from .sampling import candidate_offsets, choose, pair_energies
 from .strokes import StrokePair, make_pairs
@@ -651,6 +651,11 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
                 end_s = 0.0 if jn.end == 0 else pair.target.length
                 near = abs(smp.s[j] - end_s) <= extra[i][jn.end] + f.radius
                 if not near:
+                    # farther along (a child leaving its parent at a slant), the patch
+                    # still may not lay the child's pixels over its parent's interior
+                    inside = _inside_parent(index, attached, jn, f.origin, f.valid.shape[1])
+                    if inside.any():
+                        keep = inside if keep is None else keep | inside
                     continue
                 pin_core = False
                 step = f.radius if jn.end == 0 else -f.radius
@@ -660,6 +665,7 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
                 if nrm > 1e-9:
                     fs = far_side(jn, attached[jn.parent].target, into / nrm, f.origin,
                                   f.valid.shape[1], window=window)
+                    fs = fs | _inside_parent(index, attached, jn, f.origin, f.valid.shape[1])
                     keep = fs if keep is None else keep | fs
             placed.append(PlacedPatch(f.pixels[k], f.valid[k], f.origin, pin_core, keep,
                                       _patch_map(f, k), grow=not pin_core))
@@ -674,7 +680,7 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
 
     # Joints (closed after composition): junctions and the attachments of carried parts.
     joints = [(jn.point, 1.5 * float(index.half_width(jn.parent, attached[jn.parent].source_arc_length(
-        jn.parent_s))) + 4.0) for jn in junctions]
+        jn.parent_s))) + 4.0, _pocket(index, jn), jn) for jn in junctions]
     # The parts nobody stroked, each carried rigidly by its stroke (after all strokes).
     for i, pi, s_t in patches._carried:
         part, pair = index.parts[pi], attached[i]
@@ -693,7 +699,7 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
         source_region[part.box] |= part.mask
         if part.contact:
             joints.append((pair.target.point_at(s_t),
-                           1.5 * float(index.half_width(part.stroke, part.s)) + 4.0))
+                           1.5 * float(index.half_width(part.stroke, part.s)) + 4.0, None, None))
     comp = compose(placed, target_shape, method=params.composition, power=params.seam_power,
                    gradient_weighted=params.gradient_weighted)
     # For an opaque source the alpha is 1 on every copied pixel (less on the
@@ -706,9 +712,27 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
     layer[nz, :3] = np.clip(premult[nz, :3] / alpha[nz, None], 0.0, 1.0)
     layer[:, :, 3] = alpha
     if index.has_alpha:
-        if params.close_cuts and patches._style is not None:
+        style = patches._style if params.close_cuts else None
+        wide = [j for j in joints if j[2] is not None]
+        filled = None
+        if wide:
+            # wide joints first, their pockets filled with the parts' inner colours (not
+            # the outline's); the new silhouette is then outlined like a cut face
+            before = layer[:, :, 3] > 0.5
+            old = layer
+            layer = fill_joints(layer, [j[0] for j in wide], [j[1] for j in wide],
+                                pockets=[j[2] for j in wide],
+                                inner=0 if style is None else int(np.ceil(style.width)) + 1)
+            if layer is not old:
+                # only the wedges along the children (no bridge to a neighbouring part)
+                away = (layer[:, :, 3] != old[:, :, 3]) & ~_along_children(wide, attached, old.shape[:2])
+                layer[away] = old[away]
+            filled = (layer[:, :, 3] > 0.5) & ~before
+        if style is not None:
             depth = source_depth(comp.labels, [pp.source_map for pp in placed], index.depth)
-            layer = close_cuts(layer, depth, patches._style)
+            if filled is not None and filled.any():
+                depth = np.where(filled, np.float32(_FILLED_DEPTH), depth)
+            layer = close_cuts(layer, depth, style)
         if joints:
             layer = fill_joints(layer, [j[0] for j in joints], [j[1] for j in joints])
         layer = drop_flecks(layer, index.premult[:, :, 3])
@@ -737,6 +761,80 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
         layer=layer, labels=comp.labels, samples=samples, pairs=attached, junctions=junctions,
         radius=patches.radius, source_region=source_region & index.object,
         params=dataclasses.replace(params), auto=dict(patches._auto))
+
+
+#: Source depth given to pixels filled at joints (deep enough to be outlined as a cut face).
+_FILLED_DEPTH = 100.0
+
+
+def _inside_parent(index, attached, jn, origin, size: int) -> np.ndarray:
+    """Pixels of a ``size`` x ``size`` patch at ``origin`` inside the parent's silhouette
+    (1.5 px in from its edge, the silhouette's half width at the junction): they keep
+    the parent's texture, a child turned far does not lay its cut face over its parent."""
+    parent = attached[jn.parent]
+    hw = float(index.edge_width(jn.parent, np.array([parent.source_arc_length(jn.parent_s)]))[0])
+    pts = parent.target.points
+    a, b = pts[:-1], pts[1:]
+    centre = np.array([origin[0] + 0.5 * size, origin[1] + 0.5 * size])
+    near = _segment_distance(centre[None], a, b)[0] <= hw + 0.75 * size
+    if not near.any():
+        return np.zeros((size, size), bool)  # the patch's square is nowhere near the parent
+    yy, xx = np.mgrid[0:size, 0:size]
+    q = np.c_[xx.ravel() + origin[0], yy.ravel() + origin[1]].astype(float)
+    d = _segment_distance(q, a[near], b[near]).min(axis=1)
+    return (d <= hw - 1.5).reshape(size, size)
+
+
+def _segment_distance(q: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """(N, M) distances of points ``q`` (N, 2) to segments ``a``-``b`` (M, 2)."""
+    ab = b - a
+    len2 = np.maximum((ab ** 2).sum(axis=1), 1e-12)
+    t = np.clip(((q[:, None, :] - a[None]) * ab[None]).sum(axis=2) / len2, 0.0, 1.0)
+    p = a[None] + t[..., None] * ab[None]
+    return np.hypot(q[:, None, 0] - p[..., 0], q[:, None, 1] - p[..., 1])
+
+
+def _along_children(wide, attached, shape) -> np.ndarray:
+    """Pixels within ``3 r`` (r: the joint's closing radius, half the child's half width,
+    so 1.5 child widths) of a wide joint's child target stroke, near the joint."""
+    h, w = shape
+    out = np.zeros((h, w), bool)
+    for point, reach, r, jn in wide:
+        x, y = point
+        m = int(np.ceil(2 * reach)) + 2 + int(np.ceil(r))
+        r0, r1, c0, c1 = max(int(y) - m, 0), min(int(y) + m + 1, h), max(int(x) - m, 0), min(int(x) + m + 1, w)
+        if r0 >= r1 or c0 >= c1:
+            continue
+        yy, xx = np.mgrid[r0:r1, c0:c1]
+        _, d = attached[jn.child].target.project(np.c_[xx.ravel(), yy.ravel()])
+        out[r0:r1, c0:c1] |= d.reshape(yy.shape) <= 3.0 * r
+    return out
+
+
+def _pocket(index, jn) -> float | None:
+    """Radius of the closing at junction ``jn``: half the child's half width where
+    it leaves its parent's silhouette (None: the usual small closing).
+
+    A child turned far from its source direction (an arm raised by 50
+    degrees) has its cut face turned with it, which leaves a wedge between
+    the face and the parent's side; a 2-px closing fills only the wedge's
+    tip, a closing of half the child's half width rounds the joint like a
+    branch collar. (Beyond the paper, whose junctions keep the source angle.)
+    """
+    child, parent = index.strokes[jn.child], index.strokes[jn.parent]
+    t = np.arange(0.0, child.length, 1.0)
+    pts = child.point_at(t if jn.end == 0 else child.length - t)
+    s_par, d = parent.project(pts)
+    out = np.flatnonzero(d > index.edge_width(jn.parent, s_par) + 2.0)
+    if not len(out):
+        return None
+    q = np.rint(pts[out[0]:out[0] + 6]).astype(int)
+    h, w = index.shape
+    q = q[(q[:, 0] >= 0) & (q[:, 0] < w) & (q[:, 1] >= 0) & (q[:, 1] < h)]
+    if not len(q):
+        return None
+    r = float(index.depth[q[:, 1], q[:, 0]].min()) / 2.0
+    return r if r > _POCKET else None
 
 
 def _patch_map(f, k: int) -> np.ndarray:

@@ -319,7 +319,9 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
                 # parent's silhouette: the parent's tube is the parent's.
                 pkey = (keys[parent], cuts[parent])
                 s_map = tubes[(keys[k], cuts[k])][1]
-                reach = 2.5 * float(tubes[pkey][2].max()) + 4.0
+                reach = max(2.5 * float(tubes[pkey][2].max()) + 4.0,
+                            _clear_of(st, end, source_strokes[parent], width_s[parent], widths[parent],
+                                      raw[k][2]) + 4.0)
                 near = (s_map <= reach) if end == 0 else (s_map >= st.length - reach)
                 cut = near & tubes[pkey][5]
                 near_parent[k] = near_parent[k] | cut if k in near_parent else cut
@@ -474,6 +476,16 @@ def _raw_width(stroke: Stroke, obj: np.ndarray, edt: np.ndarray):
     return s, wv, float(max(1, int(np.ceil(np.median(wv)))))
 
 
+def _clear_of(child: Stroke, end: int, parent: Stroke, ws, wv, half_width: float) -> float:
+    """How far along ``child`` from its ``end`` its silhouette (``half_width``) is clear of
+    the parent's (``wv`` at ``ws``): a branch leaving at a narrow angle runs along its
+    parent's side for several parent widths."""
+    t = np.arange(0.0, child.length + 0.5, 1.0)
+    s_par, d = parent.project(child.point_at(t if end == 0 else child.length - t))
+    out = np.flatnonzero(d > np.interp(s_par, ws, wv) + half_width)
+    return float(t[out[0]]) if len(out) else 0.0
+
+
 def _smooth_width(wv: np.ndarray, typical: float, cut) -> np.ndarray:
     """The width profile used for the tube and the patch radius.
 
@@ -499,7 +511,12 @@ def _smooth_width(wv: np.ndarray, typical: float, cut) -> np.ndarray:
 
 
 def _joined_ends(strokes, raw, keys) -> list[tuple[int, int]]:
-    """Per stroke and end: the (different) stroke the end lies on, within half its local width + 3 px, or -1."""
+    """Per stroke and end: the (different) stroke the end lies on, within half its local width + 3 px, or -1.
+
+    Two ends meeting (each on the other near its end) join as in
+    :func:`~branchnb.strokes.junctions.find_junctions`: the later-drawn stroke
+    is the child.
+    """
     out = []
     for k, st in enumerate(strokes):
         flags = []
@@ -512,6 +529,12 @@ def _joined_ends(strokes, raw, keys) -> list[tuple[int, int]]:
                 s, d = other.project(q)
                 tol = 0.5 * float(np.interp(s[0], raw[j][0], raw[j][1])) + 3.0
                 if d[0] <= tol and 1.0 < s[0] < other.length - 1.0 and d[0] < best:
+                    if j > k and min(s[0], other.length - s[0]) <= tol:
+                        # two ends meeting (a body's end where two legs start): the
+                        # later-drawn stroke is the child, as in find_junctions --
+                        # else each would be the other's child and the pixels round
+                        # the meeting point nobody's (a hole in the body)
+                        continue
                     hit, best = j, float(d[0])
             flags.append(hit)
         out.append(tuple(flags))

@@ -172,7 +172,7 @@ def drop_flecks(layer: np.ndarray, source_alpha: np.ndarray) -> np.ndarray:
     return out
 
 
-def fill_joints(layer: np.ndarray, joints, radii) -> np.ndarray:
+def fill_joints(layer: np.ndarray, joints, radii, *, pockets=None, inner: int = 0) -> np.ndarray:
     """``layer`` with the pockets at the ``joints`` closed (a new array, or ``layer``).
 
     Parameters
@@ -185,6 +185,12 @@ def fill_joints(layer: np.ndarray, joints, radii) -> np.ndarray:
         Reach of each joint (px): pockets within it are closed (with a
         disk of :data:`_POCKET` px, so a sharp corner of the source is
         rounded by no more than that).
+    pockets : sequence of float or None, optional
+        Per joint, the radius of that closing instead (None: :data:`_POCKET`).
+    inner : int, optional
+        At the joints with a ``pockets`` value, take the new pixels' colours
+        from at least this deep inside the layer's silhouette (an outlined
+        object: not the outline's colour).
 
     Examples
     --------
@@ -197,10 +203,14 @@ def fill_joints(layer: np.ndarray, joints, radii) -> np.ndarray:
     joints = np.asarray(joints, float).reshape(-1, 2)
     radii = np.broadcast_to(np.asarray(radii, float), (len(joints),))
     h, w = layer.shape[:2]
+    pockets = [None] * len(joints) if pockets is None else list(pockets)
+    if len(pockets) != len(joints):
+        raise ValueError(f"pockets has {len(pockets)} values for {len(joints)} joints")
+    from_depth = int(inner)
     out = None
-    for (x, y), r in zip(joints, radii):
-        reach = int(np.ceil(2 * r)) + 2
-        k = _POCKET
+    for (x, y), r, pk in zip(joints, radii, pockets):
+        k = _POCKET if pk is None else max(1, int(round(float(pk))))
+        reach = int(np.ceil(2 * r)) + 2 + k
         r0, r1 = max(int(y) - reach, 0), min(int(y) + reach + 1, h)
         c0, c1 = max(int(x) - reach, 0), min(int(x) + reach + 1, w)
         if r0 >= r1 or c0 >= c1:
@@ -220,7 +230,10 @@ def fill_joints(layer: np.ndarray, joints, radii) -> np.ndarray:
             continue
         if out is None:
             out = layer.copy()
-        _, (ir, ic) = ndi.distance_transform_edt(~m, return_indices=True)
+        deep = ndi.binary_erosion(m, iterations=from_depth) if from_depth > 0 and pk is not None else m
+        if not deep.any():
+            deep = m
+        _, (ir, ic) = ndi.distance_transform_edt(~deep, return_indices=True)
         win = out[r0:r1, c0:c1]
         win[new, :3] = win[ir[new], ic[new], :3]
         # inside the closed shape nothing stays half transparent (the old pocket's rim)
