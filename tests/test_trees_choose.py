@@ -153,3 +153,28 @@ def test_clipart_and_rpg_mixes_do_not_cross_fade():
         v = make_variation(lib, rng=gen)
         assert crossfade_fraction(v.image, _sources(lib, v)) <= 0.03
     assert data is not None
+
+
+def test_mixes_of_outlined_trees_keep_an_outlined_silhouette(drawn_lib):
+    # The mixed contour cuts the exemplars' outlines off along the new silhouette: ink it again.
+    from branchnb.trees.outline import rim_ink_share
+    from branchnb.trees.variations import exemplar_outline
+
+    assert all(exemplar_outline(e).outlined for e in drawn_lib)
+    gen = np.random.default_rng(2)
+    for _ in range(3):
+        seed = int(gen.integers(1 << 30))
+        bare = make_variation(drawn_lib, rng=seed, outline=False)
+        v = make_variation(drawn_lib, rng=seed)
+        ink = exemplar_outline(drawn_lib[v.names[int(np.argmax(v.colour_weights))]]).ink
+        assert rim_ink_share(v.image, ink) >= 0.85
+        assert rim_ink_share(v.image, ink) >= rim_ink_share(bare.image, ink)
+        assert np.array_equal(v.image[..., 3], bare.image[..., 3])       # alpha untouched
+        assert dark_rim_fraction(v.image, v.mask) == 0.0
+
+
+def test_silhouettes_and_photographs_are_not_outlined():
+    from branchnb.trees.variations import exemplar_outline
+
+    lib = TreeLibrary.from_data(["palm_silhouette", "tree_cutout_broadleaf", "tree_with_fruits"], size=S)
+    assert [exemplar_outline(e).outlined for e in lib] == [False, False, True]
