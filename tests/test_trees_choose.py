@@ -178,3 +178,19 @@ def test_silhouettes_and_photographs_are_not_outlined():
 
     lib = TreeLibrary.from_data(["palm_silhouette", "tree_cutout_broadleaf", "tree_with_fruits"], size=S)
     assert [exemplar_outline(e).outlined for e in lib] == [False, False, True]
+
+
+def test_choose_on_a_coarse_grid_picks_sources_without_blending(drawn_lib, monkeypatch):
+    # Large trees cut their seams on a grid f times coarser (speed); here f = 4 at 128 px.
+    import branchnb.trees.mvc as mvc
+
+    full = make_variation(drawn_lib, [0.5, 0.5, 0, 0], colour_weights=[0.5, 0.5, 0, 0],
+                          colour_mode="choose", rng=4)
+    monkeypatch.setattr(mvc, "CHOOSE_CUT_SIDE", 32)
+    v = make_variation(drawn_lib, [0.5, 0.5, 0, 0], colour_weights=[0.5, 0.5, 0, 0],
+                       colour_mode="choose", rng=4)
+    assert np.array_equal(v.image[..., 3], full.image[..., 3])
+    assert crossfade_fraction(v.image, _sources(drawn_lib, v)) <= 0.01
+    # The seams move a little, the regions stay (most pixels keep their source).
+    differ = np.abs(v.image - full.image).max(axis=2) > 0.05
+    assert 0 < differ.sum() < 0.5 * (v.image[..., 3] > 0).sum()
