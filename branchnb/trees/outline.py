@@ -147,7 +147,7 @@ def rim_ink_share(image, ink) -> float:
     return float(np.mean(d <= 0.15))
 
 
-def ink_silhouette(image, ink, width: int) -> np.ndarray:
+def ink_silhouette(image, ink, width: int, *, holes: bool = True) -> np.ndarray:
     """Draw an outline ``width`` pixels wide along the silhouette where it is missing.
 
     Pixels within ``width`` (chessboard distance) of a transparent pixel
@@ -164,6 +164,9 @@ def ink_silhouette(image, ink, width: int) -> np.ndarray:
         Outline colour (:attr:`SilhouetteOutline.ink`).
     width : int
         Stroke width in pixels (>= 1).
+    holes : bool
+        Also outline interior transparent holes (False: the outer
+        silhouette only).
 
     Returns
     -------
@@ -176,7 +179,7 @@ def ink_silhouette(image, ink, width: int) -> np.ndarray:
     alpha = img[..., 3] >= 0.5
     if not alpha.any():
         return img
-    depth = _depth(alpha)
+    depth = _depth(alpha if holes else ndi.binary_fill_holes(alpha))
     band = alpha & (depth <= width)
     ink_lum = float(ink @ _LUM)
     lum = img[..., :3] @ _LUM
