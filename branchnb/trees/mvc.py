@@ -464,9 +464,14 @@ def _blocks(a: np.ndarray, f: int) -> np.ndarray:
     """Means over ``f`` x ``f`` blocks of the first two axes of ``a`` (zero-padded to a multiple of ``f``)."""
     h, w = a.shape[:2]
     hs, ws = -(-h // f), -(-w // f)
-    pad = np.zeros((hs * f, ws * f) + a.shape[2:], np.float64)
+    pad = np.zeros((hs * f, ws * f) + a.shape[2:], np.float32)
     pad[:h, :w] = a
-    return pad.reshape((hs, f, ws, f) + a.shape[2:]).mean(axis=(1, 3))
+    flat = pad.reshape(hs * f, ws * f, -1)
+    # INTER_AREA with a whole factor is the block mean (several times faster than numpy's).
+    out = np.concatenate([cv2.resize(np.ascontiguousarray(flat[:, :, i:i + 4]), (ws, hs),
+                                     interpolation=cv2.INTER_AREA).reshape(hs, ws, -1)
+                          for i in range(0, flat.shape[2], 4)], axis=2)
+    return out.reshape((hs, ws) + a.shape[2:]).astype(np.float64)
 
 
 def _coarse_cut(imgs, unary, region, on, yy, xx, li, f, seam) -> np.ndarray:
