@@ -351,7 +351,7 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
         (:func:`~branchnb.core.graphcut.multilabel_seams`) moves the seams
         between regions to where the exemplars agree or where they have
         edges, i.e. along their outlines. Trees larger than
-        :data:`CHOOSE_CUT_SIDE` pixels run the cut on a coarser grid
+        ``CHOOSE_CUT_SIDE`` pixels run the cut on a coarser grid
         (about ten times faster at 512 px; the seams move by up to half a
         block, and the rare seam across a flat fill is a few pixels
         longer).

@@ -161,7 +161,7 @@ def ink_silhouette(image, ink, width: int, *, holes: bool = True) -> np.ndarray:
     image : (H, W, 4) array_like
         Straight RGBA with binary alpha.
     ink : (3,) array_like
-        Outline colour (:attr:`SilhouetteOutline.ink`).
+        Outline colour (``SilhouetteOutline.ink``).
     width : int
         Stroke width in pixels (>= 1).
     holes : bool
