@@ -194,3 +194,19 @@ def test_choose_on_a_coarse_grid_picks_sources_without_blending(drawn_lib, monke
     # The seams move a little, the regions stay (most pixels keep their source).
     differ = np.abs(v.image - full.image).max(axis=2) > 0.05
     assert 0 < differ.sum() < 0.5 * (v.image[..., 3] > 0).sum()
+
+
+def test_outline_functions_reject_bad_input():
+    from branchnb.trees.outline import ink_silhouette, rim_ink_share, silhouette_outline
+
+    img = np.zeros((8, 8, 4), np.float32)
+    img[2:6, 2:6] = (0.2, 0.6, 0.2, 1.0)
+    with pytest.raises(ValueError, match="ink"):
+        ink_silhouette(img, (0.0, 0.0), 1)
+    with pytest.raises(ValueError, match="width"):
+        ink_silhouette(img, (0.0, 0.0, 0.0), 0)
+    with pytest.raises(ValueError, match="ink"):
+        rim_ink_share(img, (np.nan, 0.0, 0.0))
+    with pytest.raises((ValueError, TypeError), match="max_width"):
+        silhouette_outline(img, max_width=0)
+    assert silhouette_outline(np.zeros((8, 8, 4), np.float32)).outlined is False

@@ -143,7 +143,10 @@ def rim_ink_share(image, ink) -> float:
     rim = _depth(alpha) == 1
     if not rim.any():
         return 0.0
-    d = np.linalg.norm(img[rim][:, :3] - np.asarray(ink, np.float32)[None], axis=1)
+    ink = np.asarray(ink, np.float64)
+    if ink.shape != (3,) or not np.all(np.isfinite(ink)):
+        raise ValueError(f"ink must be 3 finite RGB values, got shape {ink.shape}")
+    d = np.linalg.norm(img[rim][:, :3] - ink[None], axis=1)
     return float(np.mean(d <= 0.15))
 
 
@@ -175,7 +178,10 @@ def ink_silhouette(image, ink, width: int, *, holes: bool = True) -> np.ndarray:
     """
     img = np.array(as_rgba(image, name="image"), dtype=np.float32, copy=True)
     width = check_int(width, "width", min=1, max=64)
-    ink = np.asarray(ink, np.float32).reshape(3)
+    ink = np.asarray(ink, np.float64)
+    if ink.shape != (3,) or not np.all(np.isfinite(ink)):
+        raise ValueError(f"ink must be 3 finite RGB values, got shape {ink.shape}")
+    ink = ink.astype(np.float32)
     alpha = img[..., 3] >= 0.5
     if not alpha.any():
         return img
