@@ -441,6 +441,10 @@ def split_ground(image, params: GroundParams | None = None, **overrides) -> Grou
                 c, neck, _, w_t, _ = again
                 foot_small = foot
                 foreign_small = foreign
+            elif again[2] is not None and again[2] >= foot_small:
+                # The shape found the foot already: the clutter's leaves drawn over
+                # the trunk's lowest rows still go.
+                foreign_small = foreign
     if foot_small is None:
         return GroundSplit(mask.copy(), empty, None, 0.0, empty.copy())
     # The stem ends where the crown widens: walking up from the foot while
