@@ -29,6 +29,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import cv2
 import numpy as np
 from scipy import ndimage as ndi
 
@@ -153,9 +154,11 @@ def rim_ink_share(image, ink) -> float:
 def ink_silhouette(image, ink, width: int, *, holes: bool = True) -> np.ndarray:
     """Draw an outline ``width`` pixels wide along the silhouette where it is missing.
 
-    Pixels within ``width`` (chessboard distance) of a transparent pixel
-    that are lighter than the ink take the ``ink`` colour; pixels already
-    dark (the exemplars' own outlines and strokes) are kept. The image's
+    Where a rim pixel (next to a transparent one) is lighter than the ink,
+    the outline is missing: the light pixels within ``width`` (chessboard
+    distance) of the silhouette and of that rim pixel take the ``ink``
+    colour. Pixels already dark (the exemplars' own outlines and strokes)
+    and stretches where the outline is intact are kept as drawn. The image's
     border does not count as transparent (a trunk cut by the frame stays
     open). Alpha is not changed, so the silhouette stays where it was.
 
@@ -189,6 +192,13 @@ def ink_silhouette(image, ink, width: int, *, holes: bool = True) -> np.ndarray:
     band = alpha & (depth <= width)
     ink_lum = float(ink @ _LUM)
     lum = img[..., :3] @ _LUM
-    paint = band & (lum > ink_lum + 0.5 * (np.median(lum[alpha]) - ink_lum))
+    light = lum > ink_lum + 0.5 * (np.median(lum[alpha]) - ink_lum)
+    # Only where the outline is missing: within ``width`` of a rim pixel that is not ink
+    # (an intact outline, and the shading beside it, stay as drawn).
+    bare = (depth == 1) & light
+    if not bare.any():
+        return img
+    near = cv2.dilate(bare.astype(np.uint8), np.ones((2 * width + 1, 2 * width + 1), np.uint8)) > 0
+    paint = band & light & near
     img[paint, :3] = ink
     return img

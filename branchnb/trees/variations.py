@@ -623,7 +623,7 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
                             cage, mask, colour_weights=cw[used] / cw[used].sum(), mode=mode,
                             region_scale=p.region_scale, seam=p.seam, rng=rng)
     image = one_piece(image, [exemplars[i] for i in used])
-    if p.outline:
+    if p.outline and len(used) > 1:      # one exemplar: its own shape, its outline intact
         image = _ink_outline(image, [exemplars[i] for i in used], cw[used])
     ref_name = None
     if reference is not None:
