@@ -452,3 +452,22 @@ def test_drawn_trees_keep_their_shapes_and_inner_outlines_on_billboards():
         assert not (behind & ring).any()
     outer = _outer_lines(cloud.lines, img[..., 3] > 0.5)
     assert outer[80, 31] and not outer[60, 81]          # the crown's rim, not a fruit's ring
+
+
+def test_side_views_of_drawn_trees_keep_an_outlined_silhouette():
+    # The silhouette's strokes stay on the front billboards: from the side the crown's rim
+    # is fill, and the view inks it again (the front view is left as it is).
+    from branchnb.trees.billboard import BillboardParams, billboard_cloud
+    from branchnb.trees.drawn import drawn_tree
+    from branchnb.trees.outline import rim_ink_share, silhouette_outline
+    from branchnb.trees.preview import render_cloud
+
+    img = drawn_tree("broadleaf", rng=0, size=128)
+    cloud = billboard_cloud(img, params=BillboardParams(max_size=128), rng=0)
+    ink = silhouette_outline(cloud.image).ink
+    assert np.array_equal(render_cloud(cloud, 0.0), render_cloud(cloud, 0.0, outline=False))
+    for yaw in (45.0, 90.0):
+        bare = render_cloud(cloud, yaw, outline=False)
+        view = render_cloud(cloud, yaw)
+        assert rim_ink_share(view, ink) >= 0.9 > rim_ink_share(bare, ink)
+        assert np.array_equal(view[..., 3], bare[..., 3])

@@ -153,3 +153,60 @@ def test_clipart_and_rpg_mixes_do_not_cross_fade():
         v = make_variation(lib, rng=gen)
         assert crossfade_fraction(v.image, _sources(lib, v)) <= 0.03
     assert data is not None
+
+
+def test_mixes_of_outlined_trees_keep_an_outlined_silhouette(drawn_lib):
+    # The mixed contour cuts the exemplars' outlines off along the new silhouette: ink it again.
+    from branchnb.trees.outline import rim_ink_share
+    from branchnb.trees.variations import exemplar_outline
+
+    assert all(exemplar_outline(e).outlined for e in drawn_lib)
+    gen = np.random.default_rng(2)
+    for _ in range(3):
+        seed = int(gen.integers(1 << 30))
+        bare = make_variation(drawn_lib, rng=seed, outline=False)
+        v = make_variation(drawn_lib, rng=seed)
+        ink = exemplar_outline(drawn_lib[v.names[int(np.argmax(v.colour_weights))]]).ink
+        assert rim_ink_share(v.image, ink) >= 0.85
+        assert rim_ink_share(v.image, ink) >= rim_ink_share(bare.image, ink)
+        assert np.array_equal(v.image[..., 3], bare.image[..., 3])       # alpha untouched
+        assert dark_rim_fraction(v.image, v.mask) == 0.0
+
+
+def test_silhouettes_and_photographs_are_not_outlined():
+    from branchnb.trees.variations import exemplar_outline
+
+    lib = TreeLibrary.from_data(["palm_silhouette", "tree_cutout_broadleaf", "tree_with_fruits"], size=S)
+    assert [exemplar_outline(e).outlined for e in lib] == [False, False, True]
+
+
+def test_choose_on_a_coarse_grid_picks_sources_without_blending(drawn_lib, monkeypatch):
+    # Large trees cut their seams on a grid f times coarser (speed); here f = 4 at 128 px.
+    import branchnb.trees.mvc as mvc
+
+    full = make_variation(drawn_lib, [0.5, 0.5, 0, 0], colour_weights=[0.5, 0.5, 0, 0],
+                          colour_mode="choose", rng=4)
+    monkeypatch.setattr(mvc, "CHOOSE_CUT_SIDE", 32)
+    v = make_variation(drawn_lib, [0.5, 0.5, 0, 0], colour_weights=[0.5, 0.5, 0, 0],
+                       colour_mode="choose", rng=4)
+    assert np.array_equal(v.image[..., 3], full.image[..., 3])
+    assert crossfade_fraction(v.image, _sources(drawn_lib, v)) <= 0.01
+    # The seams move a little, the regions stay (most pixels keep their source).
+    differ = np.abs(v.image - full.image).max(axis=2) > 0.05
+    assert 0 < differ.sum() < 0.5 * (v.image[..., 3] > 0).sum()
+
+
+def test_outline_functions_reject_bad_input():
+    from branchnb.trees.outline import ink_silhouette, rim_ink_share, silhouette_outline
+
+    img = np.zeros((8, 8, 4), np.float32)
+    img[2:6, 2:6] = (0.2, 0.6, 0.2, 1.0)
+    with pytest.raises(ValueError, match="ink"):
+        ink_silhouette(img, (0.0, 0.0), 1)
+    with pytest.raises(ValueError, match="width"):
+        ink_silhouette(img, (0.0, 0.0, 0.0), 0)
+    with pytest.raises(ValueError, match="ink"):
+        rim_ink_share(img, (np.nan, 0.0, 0.0))
+    with pytest.raises((ValueError, TypeError), match="max_width"):
+        silhouette_outline(img, max_width=0)
+    assert silhouette_outline(np.zeros((8, 8, 4), np.float32)).outlined is False

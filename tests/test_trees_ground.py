@@ -221,3 +221,20 @@ def test_no_more_pieces_than_the_most_broken_up_exemplar():
         v = make_variation(lib, [0.5, 0.5], use=["tree_branches_and_roots", other],
                            colour_weights=[1.0, 0.0], rng=0)
         assert 1 <= pieces(v.image[..., 3]) <= own, other
+
+
+@pytest.mark.parametrize("kind,seed", [("broadleaf", 1), ("fruit", 3), ("broadleaf", 6)])
+def test_leaf_pile_narrower_than_the_crown_is_ground(kind, seed):
+    # A pile narrower than the crown's 45 % is one band with the trunk; its tapering
+    # tail (narrower than the trunk) is no trunk: the foot ends the trunk's narrow run.
+    from branchnb.trees.drawn import drawn_tree
+
+    img = drawn_tree(kind, pile=True, rng=seed, size=192)
+    split = split_ground(img)
+    assert split.has_ground
+    y_f = int(split.foot[1])
+    assert not split.tree[y_f + 2:].any()
+    width = split.tree[y_f - 10:y_f + 1].sum(axis=1).max()
+    assert width <= 1.6 * split.trunk_width + 4
+    cut = split.cut(img)
+    assert cut[y_f + 3:, :, 3].max() == 0.0        # no faint rim of the pile either

@@ -1,4 +1,4 @@
-"""Measurements for the notes (not run by the tests): ``python -m branchnb.trees._measure pins|pairs|masks [size]``.
+"""Measurements for the notes (not run by the tests): ``python -m branchnb.trees._measure WHAT [size]``.
 
 ``pins``: pin errors against the hand-placed references (``data/trees_pins``)
 and the procedural truths (24 trees, ``synthetic_trees(3, rng=7)``), with the
@@ -12,6 +12,16 @@ foreign colour, pieces, holes.
 and ``variations_of`` on drawn procedural trees (two draws of 8), the
 clip-art samples and the RPG sprites, with the paper's blend and with the
 default ``colour_mode="auto"``; and the dark-rim share.
+``outline``: rim ink share (:func:`~branchnb.trees.outline.rim_ink_share`) of
+random mixes of drawn procedural trees (two draws), the RPG sprites and
+drawn trees mixed with outlined clip art, with ``outline=False`` and the
+default; and of billboard-cloud side views (45 and 90 degrees) of drawn
+trees with ``render_cloud(..., outline=False)`` and the default.
+``ground``: leaf-pile remnants after the ground cut of 32 drawn trees with
+a pile (no ground found, rows wider than 1.6 trunk widths + 4 px in the 20
+rows above the foot, tree pixels below it).
+``speed``: seconds per ``"choose"`` variation of drawn trees at 512 px
+(median of 8), with the seam cut on the full grid and on the coarse grid.
 ``billboards``: billboard clouds of every sample tree and one procedural
 tree of each kind seen at 0, 45 and 90 degrees: the share of the opaque
 pixels in the largest 8-connected piece (1 = the crown stays on the trunk)
@@ -193,10 +203,92 @@ def measure_variety(size: int = 256) -> None:
                   f"mean {np.mean(r_mix):.2f}")
 
 
+def measure_outline(size: int = 192) -> None:
+    from .billboard import BillboardParams, billboard_cloud
+    from .drawn import drawn_trees
+    from .outline import rim_ink_share
+    from .preview import render_cloud
+    from .variations import exemplar_outline
+
+    libs = {}
+    for seed in (0, 11):
+        libs[f"drawn{seed}"] = TreeLibrary(size=size)
+        for name, img in drawn_trees(rng=seed, size=2 * size):
+            libs[f"drawn{seed}"].add(img, name)
+    libs["rpg"] = TreeLibrary.from_data([f"tree_rpg_{i:02d}" for i in range(1, 11)], size=size)
+    libs["drawn+clip"] = TreeLibrary.from_data(["tree_with_fruits", "arbre_modern"], size=size)
+    for name, img in drawn_trees(kinds=("broadleaf", "fruit"), rng=5, size=2 * size):
+        libs["drawn+clip"].add(img, name)
+    for name, lib in libs.items():
+        row = []
+        for outline in (False, True):
+            gen = np.random.default_rng(2)
+            share = []
+            for _ in range(10):
+                v = make_variation(lib, rng=gen, outline=outline)
+                ink = exemplar_outline(lib[v.names[int(np.argmax(v.colour_weights))]]).ink
+                share.append(rim_ink_share(v.image, ink))
+            row.append(f"min {min(share):.2f} mean {np.mean(share):.2f}")
+        print(f"{name:10s} mixes' rim ink share: outline=False {row[0]} | default {row[1]}")
+    for yaw in (45.0, 90.0):
+        row = {False: [], True: []}
+        for name, img in drawn_trees((False,), rng=0, size=256) + drawn_trees((False,), rng=11, size=256):
+            cloud = billboard_cloud(img, params=BillboardParams(max_size=256), rng=0)
+            ink = exemplar_outline(process_exemplar(cloud.image, name, size=256)).ink
+            for outline in (False, True):
+                row[outline].append(rim_ink_share(render_cloud(cloud, yaw, outline=outline), ink))
+        print(f"side view {yaw:.0f} deg, 8 drawn trees, rim ink share: outline=False mean "
+              f"{np.mean(row[False]):.2f} | default mean {np.mean(row[True]):.2f} min {min(row[True]):.2f}")
+
+
+def measure_ground(size: int = 192) -> None:
+    from .drawn import drawn_tree
+    from .ground import split_ground
+
+    bad = []
+    for seed in range(8):
+        for kind in ("broadleaf", "palm", "conifer", "fruit"):
+            img = drawn_tree(kind, pile=True, rng=seed, size=2 * size)
+            sp = split_ground(img)
+            if not sp.has_ground:
+                bad.append((kind, seed, "no ground"))
+                continue
+            y_f = int(sp.foot[1])
+            width = int(sp.tree[max(0, y_f - 20):y_f + 1].sum(axis=1).max())
+            below = int(sp.tree[y_f + 2:].sum())
+            if width > 1.6 * sp.trunk_width + 4 or below > 0:
+                bad.append((kind, seed, width, round(float(sp.trunk_width), 1), below))
+    print(f"drawn trees with a pile, remnants after the ground cut: {len(bad)}/32 {bad}")
+
+
+def measure_speed(size: int = 512) -> None:
+    from . import mvc
+    from .drawn import drawn_trees
+
+    lib = TreeLibrary(size=size)
+    for name, img in drawn_trees(rng=0, size=size):
+        lib.add(img, name)
+    make_variation(lib, rng=0, colour_mode="choose")
+    side = mvc.CHOOSE_CUT_SIDE
+    try:
+        for label, s in (("full grid", 10 ** 9), (f"coarse grid ({side} px)", side)):
+            mvc.CHOOSE_CUT_SIDE = s
+            ts = []
+            for r in range(8):
+                t0 = time.perf_counter()
+                make_variation(lib, rng=r, colour_mode="choose")
+                ts.append(time.perf_counter() - t0)
+            print(f"choose, {size} px, {label}: median {np.median(ts):.3f} s, min {min(ts):.3f} s")
+    finally:
+        mvc.CHOOSE_CUT_SIDE = side
+
+
 if __name__ == "__main__":
     what = sys.argv[1] if len(sys.argv) > 1 else "pins"
     size = int(sys.argv[2]) if len(sys.argv) > 2 else (
-        256 if what in ("pins", "billboards", "crossfade", "variety") else 128)
+        256 if what in ("pins", "billboards", "crossfade", "variety") else
+        512 if what == "speed" else 192 if what in ("outline", "ground") else 128)
     {"pins": measure_pins, "pairs": measure_pairs, "masks": measure_masks,
      "billboards": measure_billboards, "crossfade": measure_crossfade,
-     "variety": measure_variety}[what](size)
+     "variety": measure_variety, "outline": measure_outline, "ground": measure_ground,
+     "speed": measure_speed}[what](size)

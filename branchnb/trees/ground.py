@@ -109,9 +109,17 @@ class GroundSplit:
         return bool(self.ground.any())
 
     def cut(self, image) -> np.ndarray:
-        """``image`` (RGBA) with the ground made transparent (and black)."""
+        """``image`` (RGBA) with the ground made transparent (and black).
+
+        The ground's anti-aliased rim (alpha below 0.5, within 2 px of the
+        ground) goes too, so no faint outline of a cut leaf pile stays.
+        """
         img = np.array(image, dtype=np.float32, copy=True)
-        img[self.ground] = 0.0
+        gone = self.ground
+        if gone.any() and img.ndim == 3 and img.shape[2] == 4:
+            near = cv2.dilate(gone.astype(np.uint8), np.ones((5, 5), np.uint8)) > 0
+            gone = gone | (near & (img[:, :, 3] < 0.5) & ~self.tree)
+        img[gone] = 0.0
         return img
 
 
@@ -210,7 +218,12 @@ def _foot_row(c: np.ndarray, widths: np.ndarray, p: GroundParams) -> tuple[int |
     if best is None:
         return None, 0.0, y1
     w_t, top, bottom = best
-    foot = top + int(np.flatnonzero(c[top:bottom + 1] <= 1.5 * w_t)[-1])
+    # The foot ends the trunk's run of narrow rows, across short interruptions
+    # (a grass blade or a stroke across the trunk): a leaf pile narrower than the
+    # crown is one long interruption, and the tapering tail below it no trunk.
+    slim = np.flatnonzero(c[top:bottom + 1] <= 1.5 * w_t)
+    gaps = np.flatnonzero(np.diff(slim) > max(2.0, 0.25 * w_t) + 1)
+    foot = top + int(slim[gaps[0]] if gaps.size else slim[-1])
     # Walk down while the trunk widens smoothly (a leaning or flared trunk):
     # at most 25 % (or 2 px) per row and ``jump`` times its width overall;
     # ground starts where the width jumps.
@@ -427,6 +440,10 @@ def split_ground(image, params: GroundParams | None = None, **overrides) -> Grou
                 foot = _visible_foot(small, visible, again[1], again[2], foot_small)
                 c, neck, _, w_t, _ = again
                 foot_small = foot
+                foreign_small = foreign
+            elif again[2] is not None and again[2] >= foot_small:
+                # The shape found the foot already: the clutter's leaves drawn over
+                # the trunk's lowest rows still go.
                 foreign_small = foreign
     if foot_small is None:
         return GroundSplit(mask.copy(), empty, None, 0.0, empty.copy())

@@ -86,9 +86,32 @@ def _extent(cloud) -> tuple[float, float]:
 _CLOUD = Instance("BillboardCloud")
 
 
+def _side_view_outline(cloud):
+    """``(ink, width)`` of a drawn cloud's silhouette outline, or None (no line art, not outlined)."""
+    from .outline import silhouette_outline
+
+    lines = getattr(cloud, "lines", None)
+    if lines is None or not np.any(lines):
+        return None
+    o = silhouette_outline(cloud.image)
+    return (o.ink, o.width) if o.outlined else None
+
+
+def _ink_view(out: np.ndarray, ink, width: int) -> np.ndarray:
+    """Ink a rendered view's outer silhouette (gaps between billboards are no drawn holes);
+    its soft rim (0 < alpha < 0.5) takes the ink colour too."""
+    from .outline import ink_silhouette
+
+    out = ink_silhouette(out, ink, width, holes=False)
+    a = out[:, :, 3]
+    soft = (a > 0) & (a < 0.5)
+    out[soft, :3] = ink
+    return out
+
+
 @checked(cloud=_CLOUD, yaw=Real(-1e6, 1e6), facing=Choice("camera", "fixed"), height=Int(8, 4096))
 def render_cloud(cloud, yaw: float = 0.0, *, facing: str = "camera", crop: str = "fit",
-                 background=None, height: int | None = None) -> np.ndarray:
+                 background=None, height: int | None = None, outline: bool = True) -> np.ndarray:
     """Render a :class:`~branchnb.trees.billboard.BillboardCloud` from ``yaw`` degrees.
 
     Parameters
@@ -107,6 +130,14 @@ def render_cloud(cloud, yaw: float = 0.0, *, facing: str = "camera", crop: str =
         Composite over this colour and return RGB; RGBA if None.
     height : int, optional
         Resize the result to this height.
+    outline : bool
+        Beyond the paper, for drawn trees (line art found and an outlined
+        silhouette, :func:`~branchnb.trees.outline.silhouette_outline`):
+        ink the silhouette of views other than the front view, in the
+        drawing's ink colour and stroke width. The strokes that outline
+        the drawing's silhouette stay on the front billboards; from the
+        side, the crown's new rim is made of fills and would show no
+        outline. The front view (yaw a multiple of 360) is left as it is.
 
     Returns
     -------
@@ -160,6 +191,10 @@ def render_cloud(cloud, yaw: float = 0.0, *, facing: str = "camera", crop: str =
     a = canvas[:, :, 3:4]
     rgb = np.where(a > 1e-6, canvas[:, :, :3] / np.maximum(a, 1e-6), 0.0)
     out = np.concatenate([rgb, a], axis=2).clip(0, 1).astype(np.float32)
+    if outline and yaw % 360.0 != 0.0:
+        drawn = _side_view_outline(cloud)
+        if drawn is not None:
+            out = _ink_view(out, *drawn)
     if background is not None:
         out = composite_over(out, background).astype(np.float32)
     if height is not None and height != out.shape[0]:

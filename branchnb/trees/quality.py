@@ -245,7 +245,9 @@ def flat_region_speckle(cloud, yaw: float, *, min_area: float = 0.01, busy: floa
     it counts as speckled when the side view (over white, so sky showing
     through counts) spans more than ``busy`` in its 5 x 5 window. Both
     spans are measured over white, so a cloud that reproduces its input
-    scores 0 at yaw 0. Pixels carried out of the frame are left out.
+    scores 0 at yaw 0. Pixels carried out of the frame are left out. The
+    side view is rendered without the silhouette ink of drawn trees
+    (``render_cloud(..., outline=False)``): an outline is no speckle.
 
     Examples
     --------
@@ -299,5 +301,5 @@ def flat_region_speckle(cloud, yaw: float, *, min_area: float = 0.01, busy: floa
     ys, xx = ys[inside], xx[inside]
     if len(ys) == 0:
         return 0.0
-    side = composite_over(render_cloud(cloud, yaw, crop="image"), (1.0, 1.0, 1.0))
+    side = composite_over(render_cloud(cloud, yaw, crop="image", outline=False), (1.0, 1.0, 1.0))
     return float((colour_span(side)[ys, xx] > busy).mean())

@@ -369,6 +369,14 @@ class VariationParams:
         ``"choose"``: size of the colour regions as a share of the tree.
     seam : float
         ``"choose"``: weight of the seam cost (0: regions as drawn, no cut).
+    outline : bool
+        Beyond the paper: when the exemplars holding at least half the
+        colour weight have an outlined silhouette
+        (:func:`~branchnb.trees.outline.silhouette_outline`, drawn trees),
+        ink the variation's silhouette where the mix cut the outline off
+        (:func:`~branchnb.trees.outline.ink_silhouette`), in the ink colour
+        and stroke width of the outlined exemplar with the most colour
+        weight. Photographs and unoutlined art are left as they are.
     """
 
     m_points: int = param(20, min=6, max=100, step=1, help="M, cage vertices (paper: 20)")
@@ -387,6 +395,8 @@ class VariationParams:
                                 help="choose: size of the colour regions (share of the tree)")
     seam: float = param(20.0, min=0.0, max=1000.0, step=0.1, log=True,
                         help="choose: weight of the seam cost between regions")
+    outline: bool = param(True, help="ink the silhouette of outlined (drawn) trees where the mix "
+                                     "cut their outline off")
 
 
 @dataclass(eq=False)
@@ -613,11 +623,34 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
                             cage, mask, colour_weights=cw[used] / cw[used].sum(), mode=mode,
                             region_scale=p.region_scale, seam=p.seam, rng=rng)
     image = one_piece(image, [exemplars[i] for i in used])
+    if p.outline and len(used) > 1:      # one exemplar: its own shape, its outline intact
+        image = _ink_outline(image, [exemplars[i] for i in used], cw[used])
     ref_name = None
     if reference is not None:
         ref_img, ref_name = _reference_image(reference, library)
         image = histogram_transfer(image, ref_img)
     return Variation(image, tuple(e.name for e in exemplars), w, cw, cr, cage, mask, ref_name, mode)
+
+
+def exemplar_outline(exemplar: Exemplar):
+    """:func:`~branchnb.trees.outline.silhouette_outline` of an exemplar (cached on it)."""
+    if "outline" not in exemplar._cages:
+        from .outline import silhouette_outline
+
+        exemplar._cages["outline"] = silhouette_outline(exemplar.image)
+    return exemplar._cages["outline"]
+
+
+def _ink_outline(image: np.ndarray, exemplars: Sequence[Exemplar], cw: np.ndarray) -> np.ndarray:
+    """Ink the silhouette when outlined exemplars hold at least half the colour weight."""
+    from .outline import ink_silhouette
+
+    outl = [exemplar_outline(e) for e in exemplars]
+    on = np.array([o.outlined for o in outl])
+    if cw[on].sum() < 0.5 * cw.sum() - 1e-9:
+        return image
+    best = outl[int(np.argmax(np.where(on, cw, -1.0)))]
+    return ink_silhouette(image, best.ink, best.width)
 
 
 def flat_share(exemplar: Exemplar) -> float:
