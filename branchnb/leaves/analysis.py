@@ -380,7 +380,8 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
             m = user.copy() if e == t else _induced(combined[e], delta, tr_iou, snapped, e, blades[e], taken[e])
             masks.append(m)
             taken[e] = taken[e] | m
-            new_residual.append(remove_layer(residual[e], blades[e], m, rng=rng))
+            gone = m if snapped is None or e == t else _ridge_extension(residual, blades, t, e, user, m, stats, params)
+            new_residual.append(remove_layer(residual[e], blades[e], gone, rng=rng))
         residual = new_residual
         residuals.append(list(residual))
         out.append(LayerInduction(name, lam, overlap, delta, tr_iou, masks, colour, combined,
@@ -413,6 +414,35 @@ def _induced(combined, delta, training_overlap, snapped, e, blade, taken):
     if snapped is None or snapped[e] is None:
         return m
     return m if training_overlap >= COLOUR_RELIABLE else snapped[e] & ~taken
+
+
+def _ridge_extension(residual, blades, t, e, user, m, stats, params, *, level: float = 0.25,
+                     reach: float = 0.04):
+    """A thin layer's induced mask on exemplar ``e``, grown along the layer's ridges, for its removal.
+
+    The colour term misses the faint ends of fine veins; left in the
+    residual they show as short dashes of a second vein system on every new
+    leaf that takes this exemplar as background. Grown (beyond the paper)
+    into pixels connected to the mask whose ridge evidence along the
+    layer's contrast direction is at least ``level``, within ``reach`` of
+    the leaf size. Measured on procedural families (3 kinds, 192 and 320 px,
+    true registrations, 3 leaves each): ridge response of the residual at
+    the true vein pixels over that on plain blade, mean 0.94 -> 0.71, at
+    most 1 on 17 of 18 exemplars (before 10), worst 1.41 -> 1.32 (an
+    elliptic leaf whose own veins stand out only 1.75x).
+    """
+    from .induction import layer_width
+    from .snapping import contrast_direction, ridge_evidence
+
+    def lab_of(k):
+        lab = _lab(residual[k])
+        if params.match_colours and k != t:
+            lab = (lab - stats[k][0]) / stats[k][1] * stats[t][1] + stats[t][0]
+        return lab
+    direction = contrast_direction(lab_of(t), user, blades[t])
+    ev = ridge_evidence(lab_of(e), blades[e], direction, max(1.0, layer_width(user)))
+    steps = max(1, int(round(reach * np.sqrt(float(blades[e].sum())))))
+    return ndi.binary_dilation(m, iterations=steps, mask=(ev >= level) & blades[e]) | m
 
 
 def _snapped(residual, blades, t, user, registrations, stats, tolerance, params):
