@@ -43,6 +43,17 @@ def test_domain_of_a_drawn_map_is_its_land(drawn):
     assert (dom & land).sum() / (dom | land).sum() >= 0.93
 
 
+def test_map_examples_keep_the_frame_as_drawn():
+    # an island's sea reaches the frame (no ring of land, no coast drawn along the frame);
+    # a coast map's land runs off the frame up to its corners
+    img, _s, land = country_map_example((200, 200), 3, layout="island")
+    frame = np.r_[land[0], land[-1], land[:, 0], land[:, -1]]
+    assert not frame.any()
+    assert np.abs(img[:3] - img[0, 100]).max() < 1e-6          # the top rows are plain sea
+    _img, _s, land = country_map_example((200, 200), 3, layout="coast")
+    assert land[0, 0] and land[0, -1] and land[:10].all()
+
+
 @pytest.mark.parametrize("layout, size", [("island", 384), ("coast", 700), ("bay", 700)])
 def test_rivers_are_found_not_the_coast(layout, size):
     # (on maps of 320-512 px, 1.5 px lines, recall is still only 0.59-0.77: see the report)
