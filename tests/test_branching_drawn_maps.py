@@ -83,6 +83,18 @@ def test_coverage_like_the_example_in_every_seed(drawn):
         assert far_share(s, dom) <= 1.5 * target + 0.01, (seed, far_share(s, dom), target)
 
 
+def test_no_empty_coast_lobes_on_a_densely_drawn_island():
+    # the coverage target (share within rho) was met with branches crowded in the middle and empty
+    # lobes along the coast: 2-4x the example's far share before the hole filling (issue 23)
+    img, _truth, _land = country_map_example((600, 600), 1, layout="island", n_trees=30)
+    ex = extract_structure(img)
+    dom = example_domain(img, ex)
+    model = fit_model(ex, domain=dom)
+    target = far_share(model.example, dom)
+    s = synthesize_structure(model, rng=1).structure
+    assert far_share(s, dom) <= 1.5 * target, (far_share(s, dom), target)
+
+
 def test_drawn_map_image_connected_rivers_coast_and_land(drawn):
     img, _truth, land_ex, ex, dom, model = drawn
     res = synthesize_structure(model, rng=0)
