@@ -95,6 +95,30 @@ def test_no_empty_coast_lobes_on_a_densely_drawn_island():
     assert far_share(s, dom) <= 1.5 * target, (far_share(s, dom), target)
 
 
+def test_branches_start_no_thinner_than_they_run_on_wide_lines():
+    # lines of 4 px: extracted heads read thin at junctions and at the coast; copied into the
+    # output they made 18-40 % of the branches end more than 2 x thicker than they start (issue 23)
+    img, _truth, _land = country_map_example((448, 448), 2, layout="coast", line_width=4.0)
+    ex = extract_structure(img)
+    model = fit_model(ex, domain=example_domain(img, ex))
+    for seed in (0, 1):
+        assert thick_end_share(synthesize_structure(model, rng=seed).structure) <= thick_end_share(ex) + 0.05
+
+
+def test_lifted_heads_keep_thick_heads_and_shapes():
+    from branchnb.branching.synthesis import _lift_child_heads
+    from branchnb.core.structure import Branch, Structure
+
+    root = Branch(np.c_[np.arange(0, 60, 4.0), np.zeros(15)], np.r_[0.6, 0.9, np.full(13, 2.0)])
+    kid = Branch(np.c_[np.full(10, 20.0), np.arange(0, 40, 4.0)], np.r_[0.5, 0.8, 1.2, np.full(7, 1.5)], 0, 5)
+    fat = Branch(np.c_[np.full(10, 40.0), np.arange(0, 40, 4.0)], np.r_[3.0, np.full(9, 1.0)], 0, 10)
+    out = _lift_child_heads(Structure([root, kid, fat]))
+    assert np.allclose(out.branches[0].thickness[:2], 2.0)          # the root's body
+    assert np.allclose(out.branches[1].thickness[:3], 1.5)          # min(its body, its parent)
+    np.testing.assert_array_equal(out.branches[2].thickness, fat.thickness)   # thick heads stay
+    np.testing.assert_array_equal(out.branches[1].points, kid.points)
+
+
 def test_drawn_map_image_connected_rivers_coast_and_land(drawn):
     img, _truth, land_ex, ex, dom, model = drawn
     res = synthesize_structure(model, rng=0)

@@ -1206,6 +1206,42 @@ def _default_starts(model: StructureModel, shape, guidance, params: SynthesisPar
     return out
 
 
+def _lift_child_heads(s: Structure) -> Structure:
+    """Branches start no thinner than they run on (beyond the paper).
+
+    An extracted child's first radii are measured where it leaves its parent,
+    where the distance transform reads short (a drawn map's rivers of one
+    width start at half their width and end 2 x thicker); copied heads carry
+    that dip into every synthesized child. The first vertices of a child (up
+    to a third of it, at most 5) are raised to the smaller of the radius it
+    runs on next (median of the following as many vertices) and its
+    parent's radius at the junction. A root's head is raised the same way
+    (a river traced to a coast line, a channel cut by the frame, ends
+    thin); thicker heads are kept.
+    """
+    out = []
+    changed = False
+    for b in s.branches:
+        r = b.thickness
+        n = len(r)
+        if n < 3:
+            out.append(b)
+            continue
+        k = min(5, max(1, n // 3))
+        floor = float(np.median(r[k:2 * k + 1]))
+        if b.parent is not None:
+            pr = s.branches[b.parent].thickness
+            floor = min(floor, float(pr[int(np.clip(b.parent_vertex or 0, 0, len(pr) - 1))]))
+        if np.all(r[:k] >= floor):
+            out.append(b)
+            continue
+        r = r.copy()
+        r[:k] = np.maximum(r[:k], floor)
+        changed = True
+        out.append(Branch(b.points, r, b.parent, b.parent_vertex))
+    return Structure(out, image_shape=s.image_shape) if changed else s
+
+
 #: Attempts at growing the roots before the largest result is kept.
 MAX_ROOT_ATTEMPTS = 8
 
@@ -1399,7 +1435,7 @@ def synthesize_structure(example, params: SynthesisParams | None = None, *, rng=
         starts = [tuple(map(float, s)) for s in st]
     g = _grow_with_retries(model, p, rng, shp, guidance, starts, _scorer, dom, progress)
     g.report(done=True)
-    s = g.structure()
+    s = _lift_child_heads(g.structure())
     diag = g.diagnostics(t0)
     diag["attempts"] = g.attempt
     if s.branches and s.angles().size:
