@@ -204,7 +204,7 @@ def country_map_example(shape=(512, 512), rng=0, *, layout: str = "island", n_tr
     Examples
     --------
     >>> img, s, land = country_map_example((200, 200), 0, layout="coast")
-    >>> bool(img[land].min() < 0.1), bool(land[:20].mean() > 0.99)
+    >>> bool(img[land].min() < 0.1), bool(land[:20].all())
     (True, True)
     """
     rng = as_rng(rng)
@@ -213,7 +213,9 @@ def country_map_example(shape=(512, 512), rng=0, *, layout: str = "island", n_tr
     lw = float(line_width) if line_width is not None else max(1.5, 2.0 * size / 500)
     n = int(n_trees) if n_trees is not None else int(np.clip(size / 40, 8, 30))
     land = coast_mask(shape, rng, layout)
-    land = ndi.binary_opening(land, iterations=2)
+    # opened on an edge-padded copy: land running off the frame stays land (a zero border would
+    # nibble the corners) and sea at the frame stays sea (a border of ones would grow a ring of land)
+    land = ndi.binary_opening(np.pad(land, 4, mode="edge"), iterations=2)[4:-4, 4:-4]
     _img, s, _ = _rivers_on(land, rng, n, lw / 2)
     # drawn as straight pieces between hand-placed vertices (every ~3 % of the map), one width
     step = max(4, int(0.03 * size / 2))

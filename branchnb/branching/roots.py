@@ -183,7 +183,8 @@ def fit_roots(structure: Structure, domain: np.ndarray | None = None, shape=None
         A root starting closer than this to the boundary is a boundary
         root (default: ``max(12, 4 r0, 1.5 %`` of the diagonal``)`` pixels,
         ``r0`` its first radius: a drawn map's rivers end a few pixels short
-        of the coast line).
+        of the coast line; by default a root up to 1.5 x that far counts too
+        when it is within 15 % of the domain's deepest point's depth).
 
     Examples
     --------
@@ -217,7 +218,10 @@ def fit_roots(structure: Structure, domain: np.ndarray | None = None, shape=None
         # a drawn map's rivers stop short of the coast line (its ink, the extraction's margin)
         lim = boundary_distance if boundary_distance is not None else \
             max(12.0, 4.0 * float(b.thickness[0]), 0.015 * float(np.hypot(h, w)))
-        on_boundary = dist[iy, ix] <= lim
+        # a mouth a little past that limit is still a mouth when it is shallow for the domain
+        # (its deepest point far inland): 12.4 px short of a bay's coast is no inside root
+        on_boundary = dist[iy, ix] <= lim or (boundary_distance is None and
+                                              dist[iy, ix] <= min(1.5 * lim, 0.15 * float(dist.max())))
         sides.append(int(side[iy, ix]) if on_boundary else 5)
         inward = float(np.arctan2(ny[iy, ix], nx[iy, ix]))
         offs.append(float(np.angle(np.exp(1j * (ang - inward)))))

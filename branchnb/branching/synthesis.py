@@ -22,7 +22,10 @@ Putting the paper's models together (see the modules of the same names):
    most ``fill_rounds``): the distance transform of the uncovered domain
    says where room is left; tips that ended at their drawn length with
    room ahead grow on, and branches with room beside them furcate once
-   more at their most probable vertex there (not with guidance). A single
+   more at their most probable vertex there (not with guidance). Beyond
+   the paper, holes the example does not have (domain farther than 5 % of
+   its diameter from every branch, such as the lobes of a coast) are
+   filled last, past the coverage target (``_Grower._fill_holes``). A single
    branch stops when the Markov chain reaches the end of an input branch,
    when every candidate
    is blocked (crossing or too dense), when it leaves the domain, or
@@ -588,6 +591,39 @@ class _BranchState:
     src: list = field(default_factory=list)
 
 
+#: A hole is domain farther than this share of the domain's diameter from every branch (issue 23).
+HOLE_DISTANCE = 0.05
+
+
+def _hole_map(polylines, domain: np.ndarray, cell: float) -> tuple[float, np.ndarray, float]:
+    """(share of ``domain`` in holes, distance to the nearest branch per grid cell, hole distance).
+
+    Computed on a grid of ``cell`` pixels: the cells holding a branch vertex
+    are the branches; a hole is a domain cell farther than
+    :data:`HOLE_DISTANCE` x the domain's diameter from all of them.
+    """
+    from scipy import ndimage as ndi
+
+    dom = np.asarray(domain, bool)
+    k = max(int(cell), 1)
+    grid = dom[::k, ::k]
+    gh, gw = grid.shape
+    occ = np.zeros((gh, gw), bool)
+    for pts in polylines:
+        pts = np.asarray(pts, np.float64)
+        if len(pts):
+            c = np.clip(np.floor((pts[:, 0] + 0.5) / k).astype(np.int64), 0, gw - 1)
+            r = np.clip(np.floor((pts[:, 1] + 0.5) / k).astype(np.int64), 0, gh - 1)
+            occ[r, c] = True
+    ys, xs = np.nonzero(dom)
+    diam = float(np.hypot(np.ptp(xs), np.ptp(ys))) if len(ys) else 0.0
+    gap = HOLE_DISTANCE * diam
+    if not occ.any() or not grid.any():
+        return 1.0, np.full((gh, gw), np.inf), gap
+    dist = ndi.distance_transform_edt(~occ) * k
+    return float(np.mean(dist[grid] > gap)), dist, gap
+
+
 class _Grower:
     def __init__(self, model: StructureModel, params: SynthesisParams, rng, shape,
                  guidance: Guidance | None, scorer=None, domain: np.ndarray | None = None):
@@ -991,6 +1027,74 @@ class _Grower:
                 return
             queue.extend(self.furcate(bi))
 
+    def _holes(self) -> tuple[float, np.ndarray, float]:
+        dom = self.domain if self.domain is not None else np.ones(self.shape, bool)
+        return _hole_map([st.points for st in self.branches], dom, self.density.cell)
+
+    def _example_holes(self) -> float:
+        m = self.model
+        dom = m.domain if m.domain is not None else np.ones(_frame(m.source), bool)
+        return _hole_map([b.points for b in m.example.branches], dom, self.density.cell)[0]
+
+    def _fill_holes(self) -> None:
+        """Grow into holes the example does not have (beyond the paper).
+
+        The coverage target counts the domain within ``rho`` of a branch, not
+        where the rest lies: a forest can reach it with branches crowded in
+        the middle and wide empty lobes along a coast. When the share of
+        the domain farther than :data:`HOLE_DISTANCE` x its diameter from
+        every branch exceeds the example's, branches beside the holes
+        furcate once more toward them (one child each, grown without
+        further furcations) and tips ending before a hole grow on, past the
+        coverage target, until the share is the example's or no branch can
+        reach a hole (at most ``fill_rounds`` rounds; coverage at most
+        1.25 x the target). Only in a domain of the user's (a map's land, a
+        mask's region; a free image frame has no coast to reach), not with a
+        ``max_coverage`` of the user's, guidance, or ``fill_rounds = 0``.
+        """
+        if self.guidance is not None or self.density is None or not self.branches or \
+                self.domain is None or self.domain.all() or \
+                self.p.fill_rounds == 0 or self.p.max_coverage > 0 or \
+                self.stop_reason not in ("", "density (coverage)", "no branch can grow"):
+            return
+        share, dist, gap = self._holes()
+        target = self._example_holes() + 1e-3
+        if share <= target:
+            return
+        saved, reason = self.coverage_target, self.stop_reason
+        # past the target, within bounds: 25 % more coverage at most
+        self.coverage_target, self.stop_reason = min(1.0, 1.25 * saved), ""
+        dm = self.density
+        for _ in range(self.p.fill_rounds):
+            before = len(self.branches)
+            self._update_room()
+            # room counts only in and around the holes
+            gd = dm.grid
+            k = max(int(dm.cell), 1)
+            # the hole grid (step k) and the density grid (step cell) differ: sample by position
+            ry = np.minimum((np.arange(gd.shape[0]) * dm.cell / k).astype(np.int64), dist.shape[0] - 1)
+            rx = np.minimum((np.arange(gd.shape[1]) * dm.cell / k).astype(np.int64), dist.shape[1] - 1)
+            near = dist[np.ix_(ry, rx)] > 0.5 * gap
+            self._empty_dt = np.where(near, self._empty_dt, 0.0).astype(np.float32)
+            for bi in self._reopen_tips():
+                self.grow(bi)
+            rooms = [float(self._room(np.asarray(b.points)).max(initial=0.0)) for b in self.branches]
+            for bi in np.argsort(rooms, kind="stable")[::-1]:
+                if rooms[bi] <= 0 or self.stop_reason:
+                    break
+                for c in self.furcate(int(bi), extra=True):
+                    self.grow(c)
+                share, dist, gap = self._holes()
+                if share <= target:
+                    break
+            self._empty_dt = None
+            share, dist, gap = self._holes()
+            if share <= target or len(self.branches) == before or self.stop_reason:
+                break
+        self.coverage_target = saved
+        if not self.stop_reason or self.stop_reason == "density (coverage)":
+            self.stop_reason = reason
+
     def run(self, starts) -> None:
         queue = []
         for (x, y, th) in starts:
@@ -1102,6 +1206,42 @@ def _default_starts(model: StructureModel, shape, guidance, params: SynthesisPar
     return out
 
 
+def _lift_child_heads(s: Structure) -> Structure:
+    """Branches start no thinner than they run on (beyond the paper).
+
+    An extracted child's first radii are measured where it leaves its parent,
+    where the distance transform reads short (a drawn map's rivers of one
+    width start at half their width and end 2 x thicker); copied heads carry
+    that dip into every synthesized child. The first vertices of a child (up
+    to a third of it, at most 5) are raised to the smaller of the radius it
+    runs on next (median of the following as many vertices) and its
+    parent's radius at the junction. A root's head is raised the same way
+    (a river traced to a coast line, a channel cut by the frame, ends
+    thin); thicker heads are kept.
+    """
+    out = []
+    changed = False
+    for b in s.branches:
+        r = b.thickness
+        n = len(r)
+        if n < 3:
+            out.append(b)
+            continue
+        k = min(5, max(1, n // 3))
+        floor = float(np.median(r[k:2 * k + 1]))
+        if b.parent is not None:
+            pr = s.branches[b.parent].thickness
+            floor = min(floor, float(pr[int(np.clip(b.parent_vertex or 0, 0, len(pr) - 1))]))
+        if np.all(r[:k] >= floor):
+            out.append(b)
+            continue
+        r = r.copy()
+        r[:k] = np.maximum(r[:k], floor)
+        changed = True
+        out.append(Branch(b.points, r, b.parent, b.parent_vertex))
+    return Structure(out, image_shape=s.image_shape) if changed else s
+
+
 #: Attempts at growing the roots before the largest result is kept.
 MAX_ROOT_ATTEMPTS = 8
 
@@ -1145,9 +1285,12 @@ def _grow_with_retries(model, p, rng, shp, guidance, starts, scorer, domain=None
     or that covers less than :data:`MIN_COVERAGE_SHARE` of the coverage
     target (its roots walked out before the forest could fill the domain),
     is grown again the same way (new starts); the attempt closest to the
-    target is kept. Guided synthesis is never restarted.
+    target is kept. A forest of 3 or more trees that reached the coverage
+    target keeps a root that walked out (a short river at a coast). Guided
+    synthesis is never restarted.
     """
     roots = [b.length for b in model.example.branches if b.parent is None and len(b.points) > 1]
+    n_roots = len(starts) if isinstance(starts, (list, tuple)) else len(roots)
     min_len = min(0.5 * float(np.median(roots)), 0.25 * min(shp)) if roots else 0.0
     # A forest that died young (its roots blocked or ended at once) is grown again too.
     frame = _frame(model.source)
@@ -1166,9 +1309,14 @@ def _grow_with_retries(model, p, rng, shp, guidance, starts, scorer, domain=None
         g.run(starts(rng) if callable(starts) else starts)
         if best is None or _fullness(g) > _fullness(best):
             best = g
-        if not _root_escaped(g, min_len) and g.total_length >= min_total and \
+        # a forest of many trees that reached the coverage target keeps a root that walked out
+        # (a short river at the coast); growing all of it again cost 4-8 x the time on 1000 px maps
+        escaped = _root_escaped(g, min_len) and not (n_roots >= 3 and _fullness(g)[0] >= 1.0)
+        if not escaped and g.total_length >= min_total and \
                 (not min_total or _fullness(g)[0] >= MIN_COVERAGE_SHARE):
-            return g
+            best = g
+            break
+    best._fill_holes()   # on the kept attempt only
     return best
 
 
@@ -1293,7 +1441,7 @@ def synthesize_structure(example, params: SynthesisParams | None = None, *, rng=
         starts = [tuple(map(float, s)) for s in st]
     g = _grow_with_retries(model, p, rng, shp, guidance, starts, _scorer, dom, progress)
     g.report(done=True)
-    s = g.structure()
+    s = _lift_child_heads(g.structure())
     diag = g.diagnostics(t0)
     diag["attempts"] = g.attempt
     if s.branches and s.angles().size:
