@@ -317,48 +317,108 @@ def _lattice_scalar(w, height, width, drow, dcol, factor, seeds, a,
     return count
 
 
+# -- non-scalar: a level heap in front of the frontier heap. Helpers of the
+# two single-key indexed heaps; a slot i of the level heap is stored in pos
+# as -3 - i (-1 = never offered, -2 = settled, >= 0 = frontier heap slot).
+@numba.njit(cache=True)
+def _sift_up(hk, hn, pos, i, k, v, neg):
+    while i > 0:
+        p = (i - 1) >> 2
+        if k < hk[p]:
+            x = hn[p]
+            hk[i] = hk[p]
+            hn[i] = x
+            pos[x] = -3 - i if neg else i
+            i = p
+        else:
+            break
+    hk[i] = k
+    hn[i] = v
+    pos[v] = -3 - i if neg else i
+
+
+@numba.njit(cache=True)
+def _sift_down(hk, hn, pos, i, n, k, v, neg):
+    while True:
+        c0 = _ARITY * i + 1
+        if c0 >= n:
+            break
+        c = c0
+        b = hk[c0]
+        for j in range(c0 + 1, min(c0 + _ARITY, n)):
+            if hk[j] < b:
+                c = j
+                b = hk[j]
+        if b < k:
+            x = hn[c]
+            hk[i] = b
+            hn[i] = x
+            pos[x] = -3 - i if neg else i
+            i = c
+        else:
+            break
+    hk[i] = k
+    hn[i] = v
+    pos[v] = -3 - i if neg else i
+
+
+@numba.njit(cache=True)
+def _remove(hk, hn, pos, i, n, neg):
+    """Remove slot ``i`` of a heap of size ``n``; return the new size."""
+    n -= 1
+    if i < n:
+        k = hk[n]
+        v = hn[n]
+        if i > 0 and k < hk[(i - 1) >> 2]:
+            _sift_up(hk, hn, pos, i, k, v, neg)
+        else:
+            _sift_down(hk, hn, pos, i, n, k, v, neg)
+    return n
+
+
 @numba.njit(cache=True)
 def _lattice_pair(w, height, width, drow, dcol, factor, seeds,
                   mmax, total, parent, order, stop_at):
-    # heap operations written out, as in _lattice_scalar
-    hk, hn, pos, _, n = _start(height * width, seeds, 1, mmax, total, parent)
+    # The non-scalar key (M, S): nodes whose M equals the current level (the
+    # M of the node last settled: the flood of one basin) wait in a level
+    # heap keyed by S alone; the others in a frontier heap keyed by M alone.
+    # Frontier nodes that tie the new level move to the level heap when it
+    # is opened, so pops follow (M, S) exactly, while most pops and pushes
+    # touch only the small level heap.
+    n_nodes = height * width
+    bk = np.empty(n_nodes)
+    bn = np.empty(n_nodes, np.int32)
+    lk = np.empty(n_nodes)
+    ln = np.empty(n_nodes, np.int32)
+    pos = np.full(n_nodes, -1, np.int32)
+    nb = 0
+    nl = 0
+    level = 0.0
+    for s in seeds:
+        if pos[s] == -1:
+            mmax[s] = 0.0
+            total[s] = 0.0
+            parent[s] = -1
+            _sift_up(lk, ln, pos, nl, 0.0, s, True)
+            nl += 1
     remaining = _count_stops(stop_at)
     count = 0
-    while n > 0:
-        u = hn[0]
+    while True:
+        if nl == 0:
+            if nb == 0:
+                break
+            level = bk[0]
+            while nb > 0 and bk[0] == level:
+                v = bn[0]
+                nb = _remove(bk, bn, pos, 0, nb, False)
+                _sift_up(lk, ln, pos, nl, total[v], v, True)
+                nl += 1
+        u = ln[0]
+        su = lk[0]
         pos[u] = -2
-        n -= 1
-        if n > 0:
-            l1 = hk[2 * n]
-            l2 = hk[2 * n + 1]
-            ln = hn[n]
-            i = 0
-            while True:
-                c0 = _ARITY * i + 1
-                if c0 >= n:
-                    break
-                c = c0
-                b1 = hk[2 * c0]
-                b2 = hk[2 * c0 + 1]
-                for j in range(c0 + 1, min(c0 + _ARITY, n)):
-                    x1 = hk[2 * j]
-                    if x1 < b1 or (x1 == b1 and hk[2 * j + 1] < b2):
-                        c = j
-                        b1 = x1
-                        b2 = hk[2 * j + 1]
-                if b1 < l1 or (b1 == l1 and b2 < l2):
-                    x = hn[c]
-                    hk[2 * i] = b1
-                    hk[2 * i + 1] = b2
-                    hn[i] = x
-                    pos[x] = i
-                    i = c
-                else:
-                    break
-            hk[2 * i] = l1
-            hk[2 * i + 1] = l2
-            hn[i] = ln
-            pos[ln] = i
+        nl -= 1
+        if nl > 0:
+            _sift_down(lk, ln, pos, 0, nl, lk[nl], ln[nl], True)
         order[count] = u
         count += 1
         if stop_at[u]:
@@ -368,8 +428,6 @@ def _lattice_pair(w, height, width, drow, dcol, factor, seeds,
         r = u // width
         c = u - r * width
         wu = w[u]
-        mu = mmax[u]
-        su = total[u]
         for k in range(8):
             rr = r + drow[k]
             cc = c + dcol[k]
@@ -383,34 +441,32 @@ def _lattice_pair(w, height, width, drow, dcol, factor, seeds,
             if not wv < np.inf:
                 continue
             e = 0.5 * (wu + wv) * factor[k]
-            m = max(mu, e)
             s = su + e
-            om = mmax[v]
-            if m < om or (m == om and s < total[v]):
-                mmax[v] = m
+            om = mmax[v]  # >= level for every unsettled node
+            if e <= level:  # label (level, s)
+                if level < om:
+                    if pv >= 0:
+                        nb = _remove(bk, bn, pos, pv, nb, False)
+                    mmax[v] = level
+                    total[v] = s
+                    parent[v] = u
+                    _sift_up(lk, ln, pos, nl, s, v, True)
+                    nl += 1
+                elif s < total[v]:
+                    total[v] = s
+                    parent[v] = u
+                    _sift_up(lk, ln, pos, -3 - pv, s, v, True)
+            elif e < om:  # label (e, s), v new or on the frontier
+                mmax[v] = e
                 total[v] = s
                 parent[v] = u
-                if pv < 0:
-                    i = n
-                    n += 1
-                else:
-                    i = pv
-                while i > 0:
-                    p = (i - 1) >> 2
-                    p1 = hk[2 * p]
-                    if m < p1 or (m == p1 and s < hk[2 * p + 1]):
-                        x = hn[p]
-                        hk[2 * i] = p1
-                        hk[2 * i + 1] = hk[2 * p + 1]
-                        hn[i] = x
-                        pos[x] = i
-                        i = p
-                    else:
-                        break
-                hk[2 * i] = m
-                hk[2 * i + 1] = s
-                hn[i] = v
-                pos[v] = i
+                if pv == -1:
+                    pv = nb
+                    nb += 1
+                _sift_up(bk, bn, pos, pv, e, v, False)
+            elif e == om and s < total[v]:  # same frontier key, shorter path
+                total[v] = s
+                parent[v] = u
     return count
 
 
