@@ -539,3 +539,20 @@ def test_bench_rows_quick():
     assert all(isinstance(r, BenchRow) and r.seconds > 0 and r.anchor_seconds > 0 for r in out)
     assert out[0].anchor_seconds == 5.5 and "1024x1024 variation" in out[0].name
     assert any("mean value coordinates" in r.name for r in out)
+
+
+def test_tree_variations_differ_visibly_but_resemble_target(lib):
+    # Issue 24: variations_of must not collapse onto T. With the defaults (keep 0.5)
+    # the results' mean contour distance to T lies within 0.3-0.8 of the mean
+    # distance between the exemplars, and the results differ from each other.
+    from branchnb.trees.variations import contour_distance, mean_pairwise_distance
+
+    between = mean_pairwise_distance([e.resampled for e in lib])
+    for t, seed in (("tree_rpg_01", 2), ("tree_rpg_10", 5)):
+        vs = lib.variations_of(t, 4, rng=seed)
+        assert all(abs(v.weights[lib.index(t)] - 0.5) < 1e-9 for v in vs)
+        to_t = np.array([contour_distance(v.resampled, lib[t].resampled) for v in vs]) / between
+        assert 0.3 <= to_t.mean() <= 0.8, (t, to_t)
+        assert to_t.min() >= 0.15, (t, to_t)          # no near copy of T (was 0.03)
+        # Results differ from each other too (was 0.13 and 0.21 on these 4 trees).
+        assert mean_pairwise_distance([v.resampled for v in vs]) / between >= 0.2

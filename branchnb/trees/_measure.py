@@ -22,6 +22,10 @@ a pile (no ground found, rows wider than 1.6 trunk widths + 4 px in the 20
 rows above the foot, tree pixels below it).
 ``speed``: seconds per ``"choose"`` variation of drawn trees at 512 px
 (median of 8), with the seam cut on the full grid and on the coarse grid.
+``targets``: ``variations_of`` every exemplar of the RPG sprites, the
+clip-art samples and two draws of 8 drawn trees (seeds 2 and 5): mean
+contour distance of the 5 results to ``T`` and between them, over the mean
+distance between the exemplars.
 ``billboards``: billboard clouds of every sample tree and one procedural
 tree of each kind seen at 0, 45 and 90 degrees: the share of the opaque
 pixels in the largest 8-connected piece (1 = the crown stays on the trunk)
@@ -203,6 +207,30 @@ def measure_variety(size: int = 256) -> None:
                   f"mean {np.mean(r_mix):.2f}")
 
 
+def measure_targets(size: int = 256) -> None:
+    """``variations_of``: mean contour distance of the results to ``T`` and between the
+    results, over the mean distance between the exemplars (target: 0.3-0.8 to ``T``)."""
+    from .drawn import drawn_trees
+    from .variations import contour_distance, mean_pairwise_distance
+
+    libs = {"rpg": TreeLibrary.from_data(size=size), "clipart": TreeLibrary.from_data(CLIPART, size=size)}
+    for seed in (0, 11):
+        libs[f"drawn{seed}"] = TreeLibrary(size=size)
+        for name, img in drawn_trees(rng=seed, size=size):
+            libs[f"drawn{seed}"].add(img, name)
+    for name, lib in libs.items():
+        between = mean_pairwise_distance([e.resampled for e in lib])
+        to_t, among = [], []
+        for t in lib.names:
+            for seed in (2, 5):
+                vs = lib.variations_of(t, 5, rng=seed)
+                to_t.append(np.mean([contour_distance(v.resampled, lib[t].resampled) for v in vs]))
+                among.append(mean_pairwise_distance([v.resampled for v in vs]))
+        to_t, among = np.array(to_t) / between, np.array(among) / between
+        print(f"{name:8s} to T / between exemplars: min {to_t.min():.2f} mean {to_t.mean():.2f} "
+              f"max {to_t.max():.2f} | among results: min {among.min():.2f} mean {among.mean():.2f}")
+
+
 def measure_outline(size: int = 192) -> None:
     from .billboard import BillboardParams, billboard_cloud
     from .drawn import drawn_trees
@@ -286,9 +314,9 @@ def measure_speed(size: int = 512) -> None:
 if __name__ == "__main__":
     what = sys.argv[1] if len(sys.argv) > 1 else "pins"
     size = int(sys.argv[2]) if len(sys.argv) > 2 else (
-        256 if what in ("pins", "billboards", "crossfade", "variety") else
+        256 if what in ("pins", "billboards", "crossfade", "variety", "targets") else
         512 if what == "speed" else 192 if what in ("outline", "ground") else 128)
     {"pins": measure_pins, "pairs": measure_pairs, "masks": measure_masks,
      "billboards": measure_billboards, "crossfade": measure_crossfade,
-     "variety": measure_variety, "outline": measure_outline, "ground": measure_ground,
+     "variety": measure_variety, "targets": measure_targets, "outline": measure_outline, "ground": measure_ground,
      "speed": measure_speed}[what](size)
