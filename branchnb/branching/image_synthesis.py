@@ -554,36 +554,48 @@ def _constraints(ctx: _Context, src: Fragment, tgt: Fragment, rot, trans):
     sm_s, sm_t = ctx.sm_s, ctx.sm_t
     R = tgt.radius
     step = max(1.0, float(ctx.p.displacement_step))
+    o = np.arange(-R, R + 1e-9, step)
+    o = o[~sm_t.clamped(np.full(len(o), tgt.branch), tgt.arc + o)]
+    parts = [(tgt.branch, tgt.arc, src.branch, src.arc, src.sign, o)]
+    if tgt.kind == "furcation":
+        oc = np.arange(step, R + 1e-9, step)
+        oc = oc[~sm_t.clamped(np.full(len(oc), tgt.child), oc)]
+        parts.append((tgt.child, 0.0, src.child, 0.0, 1.0, oc))
+    parts = [pt for pt in parts if len(pt[5])]
+    if not parts:
+        return np.zeros((0, 2)), np.zeros((0, 2))
+    # All queries of both structures in one batch per map (the skeleton
+    # queries are elementwise: same values as one call per part, far
+    # fewer calls per fragment).
+    bt = np.concatenate([np.full(len(pt[5]), pt[0], np.int64) for pt in parts])
+    at = np.concatenate([pt[1] + pt[5] for pt in parts])
+    bs = np.concatenate([np.full(len(pt[5]), pt[2], np.int64) for pt in parts])
+    sg = np.concatenate([np.full(len(pt[5]), float(pt[4])) for pt in parts])
+    as_ = np.concatenate([pt[3] + pt[4] * pt[5] for pt in parts])
+    q_all = sm_t.position(bt, at)
+    p_all = sm_s.position(bs, as_)
+    if ctx.p.match_thickness:
+        rt_all = sm_t.thickness(bt, at)
+        rs_all = sm_s.thickness(bs, as_)
+        tt_all = sm_t.tangent(bt, at, 1.0)
+        ts_all = sm_s.tangent(bs, as_, sg)
     qs, ds = [], []
-
-    def add(bt, st, bs, ss, sign, offsets):
-        if len(offsets) == 0:
-            return
-        q = sm_t.position(bt, st + offsets)
-        p = sm_s.position(bs, ss + sign * offsets)
-        tp = p @ rot.T + trans
+    i0 = 0
+    for pt in parts:
+        sl = slice(i0, i0 + len(pt[5]))
+        i0 += len(pt[5])
+        q, pp = q_all[sl], p_all[sl]
         qs.append(q)
-        ds.append(q - tp)
+        ds.append(q - (pp @ rot.T + trans))
         if ctx.p.match_thickness:
-            rt = sm_t.thickness(bt, st + offsets)
-            rs = sm_s.thickness(bs, ss + sign * offsets)
-            tt = sm_t.tangent(bt, st + offsets, 1.0)
-            ts = sm_s.tangent(bs, ss + sign * offsets, sign)
+            rt, rs, tt, ts = rt_all[sl], rs_all[sl], tt_all[sl], ts_all[sl]
             nt = np.stack([-tt[:, 1], tt[:, 0]], 1)
             ns = np.stack([-ts[:, 1], ts[:, 0]], 1)
             for side in (1.0, -1.0):
                 qe = q + side * rt[:, None] * nt
-                pe = p + side * rs[:, None] * ns
+                pe = pp + side * rs[:, None] * ns
                 qs.append(qe)
                 ds.append(qe - (pe @ rot.T + trans))
-
-    o = np.arange(-R, R + 1e-9, step)
-    o = o[~sm_t.clamped(np.full(len(o), tgt.branch), tgt.arc + o)]
-    add(tgt.branch, tgt.arc, src.branch, src.arc, src.sign, o)
-    if tgt.kind == "furcation":
-        oc = np.arange(step, R + 1e-9, step)
-        oc = oc[~sm_t.clamped(np.full(len(oc), tgt.child), oc)]
-        add(tgt.child, 0.0, src.child, 0.0, 1.0, oc)
     if not qs:
         return np.zeros((0, 2)), np.zeros((0, 2))
     return np.vstack(qs), np.vstack(ds)

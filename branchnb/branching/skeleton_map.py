@@ -113,7 +113,8 @@ class SkeletonMap:
     def _global(self, branch, arc):
         b = np.asarray(branch, np.int64)
         s = np.asarray(arc, float)
-        if b.shape != s.shape:
+        if b.shape != s.shape and b.ndim:
+            # (one branch for many arcs, the common call, broadcasts as a scalar without copies)
             b, s = np.broadcast_arrays(b, s)
         # np.clip's values, without its dispatch overhead (called per fragment, many times)
         s_cl = np.minimum(np.maximum(s, 0.0), self.lengths[b])
