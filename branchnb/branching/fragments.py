@@ -134,7 +134,7 @@ def place_along_branch(sm: SkeletonMap, branch: int, start: float, *, lam: float
 
     def rad(s):
         # fragment_radius of one arc length (scalar min/max: the same value, without array overhead)
-        return float(min(max(scale * float(sm.thickness(branch, s)), min_radius), max_radius))
+        return float(min(max(scale * sm.thickness_at(branch, s), min_radius), max_radius))
 
     def step_from(s, rs):
         nxt = s + lam * (rs + rs) / density

@@ -133,6 +133,12 @@ class SkeletonMap:
         g, _ = self._global(branch, arc)
         return np.interp(g, self._g, self._r)
 
+    def thickness_at(self, branch: int, arc: float) -> float:
+        """:meth:`thickness` of one ``(branch, arc)`` as a float (the same value, without the
+        array set-up: for loops that step along a branch one query at a time)."""
+        L = self.lengths[branch]
+        return float(np.interp(self.offsets[branch] + min(max(float(arc), 0.0), L), self._g, self._r))
+
     def clamped(self, branch, arc) -> np.ndarray:
         """True where ``arc`` lies outside ``[0, length]`` of its branch."""
         return self._global(branch, arc)[1]
