@@ -773,6 +773,18 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     # Shape vectors of the source library depend on the target radius only
     # through the sampling offsets: cache them per radius.
     vec_cache: dict = {}
+    # The targets' own shape vectors, one batched query per (kind, radius)
+    # (elementwise skeleton queries: the values of one call per fragment).
+    tgt_vec: list = [None] * len(targets)
+    groups: dict = {}
+    for i, tf in enumerate(targets):
+        groups.setdefault((tf.kind, tf.radius), []).append(i)
+    for (kind, R), ids in groups.items():
+        tq, tnu = shape_vectors(sm_t, [targets[i].branch for i in ids], [targets[i].arc for i in ids],
+                                np.ones(len(ids)), R, p.k,
+                                [targets[i].child for i in ids] if kind == "furcation" else None)
+        for j, i in enumerate(ids):
+            tgt_vec[i] = (tq[j], tnu[j])
     for i, tf in enumerate(targets):
         if i % 8 == 0:
             report(frag_share * i / max(len(targets), 1), f"fragment {i + 1} / {len(targets)}")
@@ -784,20 +796,19 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         if x0 + size <= 0 or y0 + size <= 0 or x0 >= W or y0 >= H:
             continue
         lib: FragmentLibrary = lib_f if tf.kind == "furcation" else lib_b
-        child = [tf.child] if tf.kind == "furcation" else None
-        q, nu = shape_vectors(sm_t, [tf.branch], [tf.arc], [1.0], R, p.k, child)
+        q0, nu0 = tgt_vec[i]
         key = (tf.kind, round(R, 2))
         if key not in vec_cache:
             vec_cache[key] = ShapeBank(*shape_vectors(sm_s, lib.branch, lib.arc, lib.sign, R, p.k,
                                                       lib.child if tf.kind == "furcation" else None))
         bank = vec_cache[key]
-        S = bank.costs(q[0], nu[0], p.w_s)
+        S = bank.costs(q0, nu0, p.w_s)
         if tf.kind == "branch":
             S = S + _tip_penalty(sm_t, tf, lib_b, sm_s.lengths, free_start, free_end, free_t)
         n_short = min(p.shortlist, len(S))
         short = np.argpartition(S, n_short - 1)[:n_short] if n_short < len(S) else np.arange(len(S))
         short = short[np.argsort(S[short], kind="stable")]
-        rot, trans = bank.fit(short, q[0])
+        rot, trans = bank.fit(short, q0)
         yy, xx = np.mgrid[0:size, 0:size]
         disk = (xx + x0 - tf.center[0]) ** 2 + (yy + y0 - tf.center[1]) ** 2 <= R * R
         # Existing canvas under the window (zero outside the image).
