@@ -134,7 +134,7 @@ def place_along_branch(sm: SkeletonMap, branch: int, start: float, *, lam: float
 
     def rad(s):
         # fragment_radius of one arc length (scalar min/max: the same value, without array overhead)
-        return float(min(max(scale * float(sm.thickness(branch, s)), min_radius), max_radius))
+        return float(min(max(scale * sm.thickness_at(branch, s), min_radius), max_radius))
 
     def step_from(s, rs):
         nxt = s + lam * (rs + rs) / density
@@ -183,10 +183,11 @@ def target_fragments(sm: SkeletonMap, *, lam: float = 0.75, scale: float = 3.0,
             R = float(fragment_radius(r, scale, min_radius, max_radius))
             out.append(Fragment("furcation", parent, s_p, sm.position(parent, s_p), R, 1, b))
             prev = R
-        for s in place_along_branch(sm, b, 0.0, lam=lam, scale=scale, min_radius=min_radius,
-                                    max_radius=max_radius, prev_radius=prev):
-            R = float(fragment_radius(sm.thickness(b, s), scale, min_radius, max_radius))
-            out.append(Fragment("branch", b, float(s), sm.position(b, s), R))
+        arcs = place_along_branch(sm, b, 0.0, lam=lam, scale=scale, min_radius=min_radius,
+                                  max_radius=max_radius, prev_radius=prev)
+        radii = fragment_radius(sm.thickness(b, arcs), scale, min_radius, max_radius)
+        for s, R, c in zip(arcs, radii, sm.position(b, arcs)):
+            out.append(Fragment("branch", b, float(s), c.copy(), float(R)))
     return out
 
 
@@ -227,10 +228,12 @@ def source_fragments(sm: SkeletonMap, *, lam: float = 0.75, scale: float = 3.0,
                                       max_radius=max_radius, density=density)
             arcs = np.concatenate([arcs, more[np.min(np.abs(more[:, None] - arcs[None]), axis=1) > 0.25]])
             arcs.sort()
-        for s in arcs:
-            R = float(fragment_radius(sm.thickness(b, s), scale, min_radius, max_radius))
+        # (one query per branch for all its centres: the values of one query per centre)
+        radii = fragment_radius(sm.thickness(b, arcs), scale, min_radius, max_radius)
+        centres = sm.position(b, arcs)
+        for s, R, c in zip(arcs, radii, centres):
             for sg in signs:
-                branch.append(Fragment("branch", b, float(s), sm.position(b, s), R, sg))
+                branch.append(Fragment("branch", b, float(s), c.copy(), float(R), sg))
         if parent is not None and sm.lengths[parent] > 0:
             s_p = sm.parent_arc(b)
             r = max(float(sm.thickness(parent, s_p)), float(sm.thickness(b, 0.0)))

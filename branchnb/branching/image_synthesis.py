@@ -554,36 +554,48 @@ def _constraints(ctx: _Context, src: Fragment, tgt: Fragment, rot, trans):
     sm_s, sm_t = ctx.sm_s, ctx.sm_t
     R = tgt.radius
     step = max(1.0, float(ctx.p.displacement_step))
+    o = np.arange(-R, R + 1e-9, step)
+    o = o[~sm_t.clamped(np.full(len(o), tgt.branch), tgt.arc + o)]
+    parts = [(tgt.branch, tgt.arc, src.branch, src.arc, src.sign, o)]
+    if tgt.kind == "furcation":
+        oc = np.arange(step, R + 1e-9, step)
+        oc = oc[~sm_t.clamped(np.full(len(oc), tgt.child), oc)]
+        parts.append((tgt.child, 0.0, src.child, 0.0, 1.0, oc))
+    parts = [pt for pt in parts if len(pt[5])]
+    if not parts:
+        return np.zeros((0, 2)), np.zeros((0, 2))
+    # All queries of both structures in one batch per map (the skeleton
+    # queries are elementwise: same values as one call per part, far
+    # fewer calls per fragment).
+    bt = np.concatenate([np.full(len(pt[5]), pt[0], np.int64) for pt in parts])
+    at = np.concatenate([pt[1] + pt[5] for pt in parts])
+    bs = np.concatenate([np.full(len(pt[5]), pt[2], np.int64) for pt in parts])
+    sg = np.concatenate([np.full(len(pt[5]), float(pt[4])) for pt in parts])
+    as_ = np.concatenate([pt[3] + pt[4] * pt[5] for pt in parts])
+    q_all = sm_t.position(bt, at)
+    p_all = sm_s.position(bs, as_)
+    if ctx.p.match_thickness:
+        rt_all = sm_t.thickness(bt, at)
+        rs_all = sm_s.thickness(bs, as_)
+        tt_all = sm_t.tangent(bt, at, 1.0)
+        ts_all = sm_s.tangent(bs, as_, sg)
     qs, ds = [], []
-
-    def add(bt, st, bs, ss, sign, offsets):
-        if len(offsets) == 0:
-            return
-        q = sm_t.position(bt, st + offsets)
-        p = sm_s.position(bs, ss + sign * offsets)
-        tp = p @ rot.T + trans
+    i0 = 0
+    for pt in parts:
+        sl = slice(i0, i0 + len(pt[5]))
+        i0 += len(pt[5])
+        q, pp = q_all[sl], p_all[sl]
         qs.append(q)
-        ds.append(q - tp)
+        ds.append(q - (pp @ rot.T + trans))
         if ctx.p.match_thickness:
-            rt = sm_t.thickness(bt, st + offsets)
-            rs = sm_s.thickness(bs, ss + sign * offsets)
-            tt = sm_t.tangent(bt, st + offsets, 1.0)
-            ts = sm_s.tangent(bs, ss + sign * offsets, sign)
+            rt, rs, tt, ts = rt_all[sl], rs_all[sl], tt_all[sl], ts_all[sl]
             nt = np.stack([-tt[:, 1], tt[:, 0]], 1)
             ns = np.stack([-ts[:, 1], ts[:, 0]], 1)
             for side in (1.0, -1.0):
                 qe = q + side * rt[:, None] * nt
-                pe = p + side * rs[:, None] * ns
+                pe = pp + side * rs[:, None] * ns
                 qs.append(qe)
                 ds.append(qe - (pe @ rot.T + trans))
-
-    o = np.arange(-R, R + 1e-9, step)
-    o = o[~sm_t.clamped(np.full(len(o), tgt.branch), tgt.arc + o)]
-    add(tgt.branch, tgt.arc, src.branch, src.arc, src.sign, o)
-    if tgt.kind == "furcation":
-        oc = np.arange(step, R + 1e-9, step)
-        oc = oc[~sm_t.clamped(np.full(len(oc), tgt.child), oc)]
-        add(tgt.child, 0.0, src.child, 0.0, 1.0, oc)
     if not qs:
         return np.zeros((0, 2)), np.zeros((0, 2))
     return np.vstack(qs), np.vstack(ds)
@@ -761,6 +773,18 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     # Shape vectors of the source library depend on the target radius only
     # through the sampling offsets: cache them per radius.
     vec_cache: dict = {}
+    # The targets' own shape vectors, one batched query per (kind, radius)
+    # (elementwise skeleton queries: the values of one call per fragment).
+    tgt_vec: list = [None] * len(targets)
+    groups: dict = {}
+    for i, tf in enumerate(targets):
+        groups.setdefault((tf.kind, tf.radius), []).append(i)
+    for (kind, R), ids in groups.items():
+        tq, tnu = shape_vectors(sm_t, [targets[i].branch for i in ids], [targets[i].arc for i in ids],
+                                np.ones(len(ids)), R, p.k,
+                                [targets[i].child for i in ids] if kind == "furcation" else None)
+        for j, i in enumerate(ids):
+            tgt_vec[i] = (tq[j], tnu[j])
     for i, tf in enumerate(targets):
         if i % 8 == 0:
             report(frag_share * i / max(len(targets), 1), f"fragment {i + 1} / {len(targets)}")
@@ -772,20 +796,19 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         if x0 + size <= 0 or y0 + size <= 0 or x0 >= W or y0 >= H:
             continue
         lib: FragmentLibrary = lib_f if tf.kind == "furcation" else lib_b
-        child = [tf.child] if tf.kind == "furcation" else None
-        q, nu = shape_vectors(sm_t, [tf.branch], [tf.arc], [1.0], R, p.k, child)
+        q0, nu0 = tgt_vec[i]
         key = (tf.kind, round(R, 2))
         if key not in vec_cache:
             vec_cache[key] = ShapeBank(*shape_vectors(sm_s, lib.branch, lib.arc, lib.sign, R, p.k,
                                                       lib.child if tf.kind == "furcation" else None))
         bank = vec_cache[key]
-        S = bank.costs(q[0], nu[0], p.w_s)
+        S = bank.costs(q0, nu0, p.w_s)
         if tf.kind == "branch":
             S = S + _tip_penalty(sm_t, tf, lib_b, sm_s.lengths, free_start, free_end, free_t)
         n_short = min(p.shortlist, len(S))
         short = np.argpartition(S, n_short - 1)[:n_short] if n_short < len(S) else np.arange(len(S))
         short = short[np.argsort(S[short], kind="stable")]
-        rot, trans = bank.fit(short, q[0])
+        rot, trans = bank.fit(short, q0)
         yy, xx = np.mgrid[0:size, 0:size]
         disk = (xx + x0 - tf.center[0]) ** 2 + (yy + y0 - tf.center[1]) ** 2 <= R * R
         # Existing canvas under the window (zero outside the image).

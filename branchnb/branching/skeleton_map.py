@@ -113,7 +113,8 @@ class SkeletonMap:
     def _global(self, branch, arc):
         b = np.asarray(branch, np.int64)
         s = np.asarray(arc, float)
-        if b.shape != s.shape:
+        if b.shape != s.shape and b.ndim:
+            # (one branch for many arcs, the common call, broadcasts as a scalar without copies)
             b, s = np.broadcast_arrays(b, s)
         # np.clip's values, without its dispatch overhead (called per fragment, many times)
         s_cl = np.minimum(np.maximum(s, 0.0), self.lengths[b])
@@ -131,6 +132,12 @@ class SkeletonMap:
         """Thickness ``r`` at arc lengths ``arc`` (clamped)."""
         g, _ = self._global(branch, arc)
         return np.interp(g, self._g, self._r)
+
+    def thickness_at(self, branch: int, arc: float) -> float:
+        """:meth:`thickness` of one ``(branch, arc)`` as a float (the same value, without the
+        array set-up: for loops that step along a branch one query at a time)."""
+        L = self.lengths[branch]
+        return float(np.interp(self.offsets[branch] + min(max(float(arc), 0.0), L), self._g, self._r))
 
     def clamped(self, branch, arc) -> np.ndarray:
         """True where ``arc`` lies outside ``[0, length]`` of its branch."""
