@@ -148,10 +148,10 @@ def test_binary_mask_sea_and_frame_are_no_branches(delta):
     deep = ndi.distance_transform_edt(sea) > 3
     pts = np.vstack([b.points for b in s.branches])
     assert not deep[np.rint(pts[:, 1]).astype(int), np.rint(pts[:, 0]).astype(int)].any()
-    # braided channels come back as a tree (Structure validates the parent links); the roots
-    # are the channel ends nearest to the sea
+    # braided channels come back as a tree (Structure validates the parent links); a delta reaches
+    # the sea at several mouths, so its root is its wide inland channel (at the top), not a mouth
     for b in _roots(s):
-        assert b.points[0, 1] >= 0.7 * sea.shape[0]
+        assert b.points[0, 1] <= 0.1 * sea.shape[0] and b.thickness[0] >= 0.8 * b.thickness.max()
     dom = example_domain(_mask)
     assert dom[5, 5] and not dom[-3, 5]
 
