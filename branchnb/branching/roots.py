@@ -210,10 +210,9 @@ def fit_roots(structure: Structure, domain: np.ndarray | None = None, shape=None
     for b in roots:
         x, y = b.points[0]
         ix, iy = int(np.clip(round(x), 0, w - 1)), int(np.clip(round(y), 0, h - 1))
-        # initial direction over the first ~12 px, or 4 radii of a wide root: a skeleton's end
-        # bends toward a corner of the channel's end where the frame cuts a wide channel
+        # initial direction over the first ~12 px
         arc = np.r_[0.0, np.cumsum(np.hypot(*np.diff(b.points, axis=0).T))]
-        k = int(np.clip(np.searchsorted(arc, max(12.0, 4.0 * float(b.thickness[0]))), 1, len(b.points) - 1))
+        k = int(np.clip(np.searchsorted(arc, 12.0), 1, len(b.points) - 1))
         d = b.points[k] - b.points[0]
         ang = float(np.arctan2(d[1], d[0]))
         # a drawn map's rivers stop short of the coast line (its ink, the extraction's margin)
