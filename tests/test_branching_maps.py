@@ -148,10 +148,10 @@ def test_binary_mask_sea_and_frame_are_no_branches(delta):
     deep = ndi.distance_transform_edt(sea) > 3
     pts = np.vstack([b.points for b in s.branches])
     assert not deep[np.rint(pts[:, 1]).astype(int), np.rint(pts[:, 0]).astype(int)].any()
-    # braided channels come back as a tree (Structure validates the parent links); the roots
-    # are the channel ends nearest to the sea
+    # braided channels come back as a tree (Structure validates the parent links); a delta reaches
+    # the sea at several mouths, so its root is its wide inland channel (at the top), not a mouth
     for b in _roots(s):
-        assert b.points[0, 1] >= 0.7 * sea.shape[0]
+        assert b.points[0, 1] <= 0.1 * sea.shape[0] and b.thickness[0] >= 0.8 * b.thickness.max()
     dom = example_domain(_mask)
     assert dom[5, 5] and not dom[-3, 5]
 
@@ -414,3 +414,29 @@ def test_line_colour_is_not_guessed_on_photos_and_grey_drawings():
     for bad in ("blue", (2.0, 0.0, 0.0), (0.1, 0.2)):
         with pytest.raises(ValueError, match="line_colour"):
             extract_structure(img, line_colour=bad)
+
+
+@pytest.mark.parametrize("seed", [0, 3])
+def test_delta_mask_defaults_grow_one_inland_trunk_and_keep_the_sea(seed):
+    # notebook 01's delta with the defaults: one tree from the inland channel at the top that drains
+    # to the sea, and the output's sea is the example's flat band (not a slanted classifier guess)
+    from scipy import ndimage as ndi
+
+    mask, _channels, sea = delta_mask_example((160, 160), seed)
+    ex = extract_structure(mask, root="nearest_region")
+    dom = example_domain(mask)
+    t = synthesize_structure(fit_model(ex, domain=dom), rng=1).structure
+    roots = [b for b in t.branches if b.parent is None]
+    assert len(roots) == 1
+    assert roots[0].points[0, 1] <= 0.1 * 160 and roots[0].thickness[0] >= 0.8 * max(b.thickness.max()
+                                                                                      for b in t.branches)
+    depth = ndi.distance_transform_edt(dom)
+    tips = np.array([b.points[-1] for b in t.branches])
+    assert depth[np.clip(np.rint(tips[:, 1]).astype(int), 0, 159),
+                 np.clip(np.rint(tips[:, 0]).astype(int), 0, 159)].min() <= 0.1 * depth.max()
+    im = synthesize_image(np.dstack([mask] * 3), ex, t, rng=0).image[..., 0] > 0.5
+    assert im[sea].mean() >= 0.97                                  # the sea stays water ...
+    rows = np.flatnonzero(sea.all(1))
+    assert im[rows[2:]].mean(1).min() >= 0.9                       # ... a full band, not slanted
+    # (the coast's first two rows are ragged where the channels' fragments meet it)
+    assert im[: rows.min() - 12].mean() <= 0.25                    # and the land stays land

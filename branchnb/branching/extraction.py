@@ -383,6 +383,33 @@ def _end_radius(pts: np.ndarray, r: np.ndarray, ends: np.ndarray, members: np.nd
     return np.maximum(out, r[ends])
 
 
+def _delta_source_key(key: np.ndarray, pts: np.ndarray, r: np.ndarray, ends: np.ndarray,
+                      members: np.ndarray, scale: float) -> np.ndarray:
+    """Root key of a piece that reaches the region at several mouths: a delta roots at its source.
+
+    A river drains to the sea at one mouth; a delta reaches it at several
+    (its distributaries) and comes from one wide channel inland. When two
+    or more ends of the piece lie at the region (within ``3 + 2 r`` pixels
+    of it) and the thickest end away from it is at least 1.5 x thicker than
+    every mouth, that end becomes the root (key -1); else ``key`` is kept.
+    Going beyond the paper, whose roots are clicked: rooted at a mouth, a
+    delta's tree runs upstream and the synthesis grows its trunk from the sea.
+    """
+    if len(ends) < 3:
+        return key
+    er = _end_radius(pts, r, ends, members)
+    near = key * 1.0 / scale <= 3.0 + 2.0 * er
+    if near.sum() < 2 or near.all():
+        return key
+    far = np.flatnonzero(~near)
+    best = far[np.argmax(er[far])]
+    if er[best] < 1.5 * er[near].max():
+        return key
+    out = np.asarray(key, np.float64).copy()
+    out[best] = -1.0
+    return out
+
+
 def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length: float = 12.0,
                           min_component_length: float = 60.0, root="thickest",
                           scale: float = 1.0, smooth: float = 4.0,
@@ -414,8 +441,10 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
         vessel tree's trunk, a delta's inland channel; the radius near an end,
         not at it, which the frame or a rounded tip pinches); or the thickest, the top-most ..., the one
         nearest to the image border, the one nearest to ``region`` (e.g.
-        the sea a river flows into; the border if there is none), or the
-        one nearest to a given point (full-size pixels).
+        the sea a river flows into; the border if there is none; a piece
+        that meets the region at several mouths and has a much thicker end
+        away from it, a delta, roots at that end, see ``_delta_source_key``),
+        or the one nearest to a given point (full-size pixels).
     scale : float
         The skeleton is a ``scale`` x downscaled copy; coordinates and
         radii are divided by it.
@@ -487,6 +516,8 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
             elif root in ("border", "nearest_region"):
                 key = region_dist[ys[cand], xs[cand]] if root == "nearest_region" else \
                     border_dist[ys[cand], xs[cand]]
+                if root == "nearest_region" and has_region:
+                    key = _delta_source_key(key, pts_full, r_full, cand, members, scale)
             else:
                 raise ValueError("root must be auto/thickest/top/bottom/left/right/border/nearest_region "
                                  f"or (x, y), got {root!r}")

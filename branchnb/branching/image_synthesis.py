@@ -725,6 +725,8 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
                 raise ValueError(f"target_regions must be an integer (H, W) = {(H, W)} label map")
         elif target_domain is not None:
             labels_t = _domain_labels(layout, pm_s, target_domain)
+        elif _grew_in_example_layout(layout, pm_s, pm_t):
+            labels_t = _example_layout_for(layout, pm_s, pm_t)
         else:
             # laid out around the target's branches as they lie around the example's
             from .regions import target_layout
@@ -921,6 +923,36 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     return ImageSynthesisResult(canvas, fragment_mask, fill, source, frag_index, seams, matches,
                                 total_seam, target_structure, regions, n_inpainted, timings, p,
                                 example_labels=labels_ex, labels=labels_t)
+
+
+def _grew_in_example_layout(layout: np.ndarray, pm_s: PixelMap, pm_t: PixelMap,
+                            share: float = 0.98) -> bool:
+    """True when the output has the example's size and the target's centre lines lie (``share`` of
+    them) in the example's branch region, which is not (almost) all of it: it grew in the
+    example's domain (``fit_model(..., domain=example_domain(...))``), like a delta's
+    distributaries that stop at the example's sea."""
+    lay = np.asarray(layout)
+    if lay.shape != pm_t.dist.shape:
+        return False
+    on_s = lay[pm_s.dist <= 0.5]
+    on_t = pm_t.dist <= 0.5
+    if on_s.size == 0 or not on_t.any():
+        return False
+    inner = int(np.bincount(on_s - lay.min()).argmax() + lay.min())
+    if np.mean(lay == inner) > 0.9:   # (almost) no other region: nothing to keep
+        return False
+    return bool(np.mean(lay[on_t] == inner) >= share)
+
+
+def _example_layout_for(layout: np.ndarray, pm_s: PixelMap, pm_t: PixelMap) -> np.ndarray:
+    """The example's own layout for a target that grew in its domain; the target's bodies lie in the
+    branch region (going beyond the paper: a classifier of the skeleton's surroundings cannot tell
+    a delta's sea from its land when the trunk comes from inland, and slants the coast)."""
+    lay = np.asarray(layout).astype(np.int32).copy()
+    on_s = lay[pm_s.dist <= 0.5]
+    inner = int(np.bincount(on_s - lay.min()).argmax() + lay.min())
+    lay[pm_t.core(1.0, 1.5)] = inner
+    return lay
 
 
 def _domain_labels(layout: np.ndarray, pm_s: PixelMap, domain: np.ndarray) -> np.ndarray:

@@ -455,11 +455,67 @@ def colour_labels(image: np.ndarray, labels: np.ndarray, sample: np.ndarray | No
 # skeleton only, so the relation learnt on the example applies to any target.
 
 
-def _root_starts(structure: Structure):
-    """Start points ``(R, 2)`` and initial unit directions ``(R, 2)`` of the roots."""
-    pts, dirs = [], []
-    for b in structure.branches:
+def _tree_of(structure: Structure) -> np.ndarray:
+    """Index of every branch's root branch."""
+    out = np.arange(len(structure.branches))
+    for i in range(len(out)):
+        j = i
+        while structure.branches[j].parent is not None:
+            j = structure.branches[j].parent
+        out[i] = j
+    return out
+
+
+def _source_rooted(structure: Structure) -> set:
+    """Roots of the trees that flow from their root (a delta's inland channel, thicker than 2 x
+    the median of its tips): their outlets are their tips, not their root."""
+    kids = {b.parent for b in structure.branches}
+    tree = _tree_of(structure)
+    out = set()
+    for i, b in enumerate(structure.branches):
         if b.parent is not None or len(b.points) < 2:
+            continue
+        tips = [float(c.thickness[-min(len(c.thickness), 4):].max()) for j, c in enumerate(structure.branches)
+                if j not in kids and tree[j] == i and j != i]
+        if len(tips) >= 2 and float(np.max(b.thickness[:4])) >= 2.0 * float(np.median(tips)):
+            out.add(i)
+    return out
+
+
+def _root_starts(structure: Structure):
+    """Start points ``(R, 2)`` and unit directions ``(R, 2)`` into the network of the outlets.
+
+    An outlet is a root (a river's mouth) or, for a tree that flows from its
+    root (a delta rooted at its inland channel), the tip farthest from that
+    root (one of its mouths; going beyond the paper)."""
+    pts, dirs = [], []
+    src = _source_rooted(structure)
+    kids = {b.parent for b in structure.branches}
+    tree = _tree_of(structure)
+    # one outlet per such tree, as a river has one mouth: its tip farthest from the source
+    outlet, best = {}, {}
+    for i, b in enumerate(structure.branches):
+        t = int(tree[i])
+        if t in src and i not in kids and i != t and len(b.points) >= 2:
+            r = float(np.hypot(*(np.asarray(b.points[-1]) - structure.branches[t].points[0])))
+            if r > best.get(t, -1.0):
+                outlet[t], best[t] = i, r
+    for i, b in enumerate(structure.branches):
+        if len(b.points) < 2:
+            continue
+        if b.parent is None and i in src and i in outlet:
+            continue
+        if b.parent is not None:
+            if outlet.get(int(tree[i])) != i:
+                continue
+            p = np.asarray(b.points, np.float64)[::-1]   # from the tip, heading into the network
+            arc = np.r_[0.0, np.cumsum(np.hypot(*np.diff(p, axis=0).T))]
+            k = int(np.clip(np.searchsorted(arc, 8.0), 1, len(p) - 1))
+            d = p[k] - p[0]
+            n = float(np.hypot(*d))
+            if n > 1e-9:
+                pts.append(p[0])
+                dirs.append(d / n)
             continue
         p = np.asarray(b.points, np.float64)
         arc = np.r_[0.0, np.cumsum(np.hypot(*np.diff(p, axis=0).T))]
