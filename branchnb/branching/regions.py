@@ -482,6 +482,17 @@ def _source_rooted(structure: Structure) -> set:
     return out
 
 
+
+def _add_heading(p: np.ndarray, pts: list, dirs: list, along: float = 8.0) -> None:
+    """Append ``p``'s first point and its unit heading over the first ``along`` pixels (if it has one)."""
+    arc = np.r_[0.0, np.cumsum(np.hypot(*np.diff(p, axis=0).T))]
+    k = int(np.clip(np.searchsorted(arc, along), 1, len(p) - 1))
+    d = p[k] - p[0]
+    n = float(np.hypot(*d))
+    if n > 1e-9:
+        pts.append(p[0])
+        dirs.append(d / n)
+
 def _root_starts(structure: Structure):
     """Start points ``(R, 2)`` and unit directions ``(R, 2)`` into the network of the outlets.
 
@@ -508,23 +519,10 @@ def _root_starts(structure: Structure):
         if b.parent is not None:
             if outlet.get(int(tree[i])) != i:
                 continue
-            p = np.asarray(b.points, np.float64)[::-1]   # from the tip, heading into the network
-            arc = np.r_[0.0, np.cumsum(np.hypot(*np.diff(p, axis=0).T))]
-            k = int(np.clip(np.searchsorted(arc, 8.0), 1, len(p) - 1))
-            d = p[k] - p[0]
-            n = float(np.hypot(*d))
-            if n > 1e-9:
-                pts.append(p[0])
-                dirs.append(d / n)
+            # from the tip, heading into the network
+            _add_heading(np.asarray(b.points, np.float64)[::-1], pts, dirs)
             continue
-        p = np.asarray(b.points, np.float64)
-        arc = np.r_[0.0, np.cumsum(np.hypot(*np.diff(p, axis=0).T))]
-        k = int(np.clip(np.searchsorted(arc, 8.0), 1, len(p) - 1))
-        d = p[k] - p[0]
-        n = float(np.hypot(*d))
-        if n > 1e-9:
-            pts.append(p[0])
-            dirs.append(d / n)
+        _add_heading(np.asarray(b.points, np.float64), pts, dirs)
     return np.asarray(pts, np.float64).reshape(-1, 2), np.asarray(dirs, np.float64).reshape(-1, 2)
 
 
