@@ -41,17 +41,20 @@ def test_thin_layers_and_branches():
         assert np.abs(np.diff(c, axis=0)).max() <= 1
 
 
+def _on_canvas(mask, offset, shape):
+    """``mask`` placed on the common exemplar canvas at ``offset`` (x, y), as normalise_exemplars places leaves."""
+    out = np.zeros(shape, bool)
+    out[offset[1]:offset[1] + mask.shape[0], offset[0]:offset[0] + mask.shape[1]] = mask
+    return out
+
+
 @pytest.fixture(scope="module")
 def family():
     fam = leaf_family(3, size=256, kind="trilobed", rng=0)
     _, blades, offs = normalise_exemplars(fam)
     shape = blades[0].shape
 
-    def on_canvas(m, o):
-        out = np.zeros(shape, bool)
-        out[o[1]:o[1] + m.shape[0], o[0]:o[0] + m.shape[1]] = m
-        return out
-    truth = [on_canvas(leaf.layers["veins"], o) for leaf, o in zip(fam, offs)]
+    truth = [_on_canvas(leaf.layers["veins"], o, shape) for leaf, o in zip(fam, offs)]
     kps = [leaf.keypoints + np.array(o) for leaf, o in zip(fam, offs)]
     return fam, truth, kps, shape
 
@@ -167,16 +170,12 @@ def test_residual_keeps_no_second_vein_system(kind):
     _, blades, offs = normalise_exemplars(fam)
     shape = blades[0].shape
 
-    def on_canvas(m, o):
-        out = np.zeros(shape, bool)
-        out[o[1]:o[1] + m.shape[0], o[0]:o[0] + m.shape[1]] = m
-        return out
     kps = [leaf.keypoints + np.array(o) for leaf, o in zip(fam, offs)]
     regs = [TrueRegistration(k, kps[0], shape) for k in kps]
     a = analyze(fam, 0, {"veins": fam[0].layers["veins"], "spots": fam[0].layers["spots"]}, registrations=regs)
     for e in (1, 2):
-        veins = on_canvas(fam[e].layers["veins"], offs[e])
-        spots = on_canvas(fam[e].layers["spots"], offs[e])
+        veins = _on_canvas(fam[e].layers["veins"], offs[e], shape)
+        spots = _on_canvas(fam[e].layers["spots"], offs[e], shape)
         b = ndi.binary_erosion(a.blades[e], iterations=3)
         g = a.residuals[-1][e][..., :3].mean(-1)
         r = np.maximum(sato(g, sigmas=[1, 2], black_ridges=True), sato(g, sigmas=[1, 2], black_ridges=False))

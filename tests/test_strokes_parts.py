@@ -292,10 +292,8 @@ def test_joints_hold_with_strokes_drawn_by_hand(how):
         assert got >= 2 * stem - 1.0, (k, got)
 
 
-@pytest.mark.parametrize("size", [200, 300])
-def test_a_figure_spreads_its_legs_and_keeps_a_whole_body(size):
-    """Legs starting inside the body, next to its end: the body is their parent, not
-    their child (else the pixels round the meeting point were nobody's: a hole)."""
+def _figure_with_limbs_turned(size):
+    """A procedural figure, its source strokes and targets: body kept, arms and legs turned about their roots."""
     obj = figure(size, rng=0)
     body = obj.strokes[0]
     src, tgt = [body], [body]
@@ -304,6 +302,14 @@ def test_a_figure_spreads_its_legs_and_keeps_a_whole_body(size):
         c, s = np.cos(ang), np.sin(ang)
         src.append(st)
         tgt.append((st - st[0]) @ np.array([[c, -s], [s, c]]).T + st[0])
+    return obj, src, tgt
+
+
+@pytest.mark.parametrize("size", [200, 300])
+def test_a_figure_spreads_its_legs_and_keeps_a_whole_body(size):
+    """Legs starting inside the body, next to its end: the body is their parent, not
+    their child (else the pixels round the meeting point were nobody's: a hole)."""
+    obj, src, tgt = _figure_with_limbs_turned(size)
     idx = source_index(obj.image, [Stroke(s) for s in src])
     assert idx.joined[0] == (-1, -1) and all(j == (0, -1) for j in idx.joined[1:])
     res = edit_structure(obj.image, src, tgt)
@@ -351,14 +357,7 @@ def test_a_limb_leaving_at_a_narrow_angle_leaves_no_pixel_unheld(size):
 def test_limbs_turned_far_leave_no_wedge_at_the_body(size):
     """Arms raised by ~55 degrees, legs spread: the child's tube next to the body is filled
     (no wedge between a turned cut face and the body's side)."""
-    obj = figure(size, rng=0)
-    body = obj.strokes[0]
-    src, tgt = [body], [body]
-    for k, ang in ((2, 0.9), (3, -1.0), (4, 0.3), (5, -0.3)):
-        st = obj.strokes[k]
-        c, s = np.cos(ang), np.sin(ang)
-        src.append(st)
-        tgt.append((st - st[0]) @ np.array([[c, -s], [s, c]]).T + st[0])
+    obj, src, tgt = _figure_with_limbs_turned(size)
     res = edit_structure(obj.image, src, tgt)
     yy, xx = np.mgrid[0:size, 0:size]
     for j, k in enumerate((2, 3, 4, 5), start=1):
@@ -368,7 +367,7 @@ def test_limbs_turned_far_leave_no_wedge_at_the_body(size):
         assert (zone & ~res.mask).sum() <= 0.02 * zone.sum(), obj.names[k]
     assert res.mask.sum() <= 1.02 * (obj.image[..., 3] > 0.5).sum()  # closings stay small
     # the arms' cut faces stay out of the body's interior (the body's texture is kept there)
-    _, d = Stroke(body).project(np.c_[xx.ravel(), yy.ravel()])
+    _, d = Stroke(src[0]).project(np.c_[xx.ravel(), yy.ravel()])
     interior = (d.reshape(size, size) <= obj.widths[0] - 2) & (yy > 0.275 * size)
     im = res.image
     skin = (im[..., 0] > im[..., 2] + 0.2) & res.mask
