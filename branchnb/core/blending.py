@@ -39,7 +39,7 @@ __all__ = ["Composition", "compose_piece"]
 class Composition:
     """What :func:`compose_piece` did inside its window.
 
-    Attributes
+    Parameters
     ----------
     window : (slice, slice)
         Rows and columns of the canvas the piece touched.

@@ -47,14 +47,16 @@ __all__ = ["CompletionResult", "admissible_windows", "complete_gaps"]
 class CompletionResult:
     """Result of :func:`complete_gaps`.
 
-    Attributes
+    Parameters
     ----------
     filled : (H, W) bool ndarray
         Pixels filled by completion patches.
     source : (H, W, 2) float ndarray
         Example pixel (x, y) each filled pixel was copied from (NaN elsewhere).
     seams : (H, W) bool ndarray
+        Pixels along the graph-cut seams between patches and their surroundings.
     n_patches : int
+        Number of patches pasted.
     seam_cost : float
         Sum of the seam costs of all patches.
     patch_size : int

@@ -234,8 +234,36 @@ def seam_cost(a, b, take_b, *, region=None, power: float = 1.0,
     Only pairs with both pixels in ``region`` count (everywhere if None),
     since the cost needs both images at both pixels. Use it to compare
     composition strategies on equal terms, e.g. a graph cut against a
-    plain overlay. ``costs``: ``pair_costs(a, b, ...)`` if already
-    computed (as in :func:`seam_cut`).
+    plain overlay.
+
+    Parameters
+    ----------
+    a, b : (H, W, C) array_like
+        The two overlapping images (same shape).
+    take_b : (H, W) bool array_like
+        The labelling: True where the pixel comes from ``b`` (e.g. the
+        result of :func:`seam_cut`).
+    region : (H, W) bool array_like, optional
+        Pixels where both images are defined; only neighbour pairs with both
+        pixels inside count. Default: the whole image.
+    power, gradient_weighted
+        See :func:`pair_costs`.
+    costs : (right, down), optional
+        ``pair_costs(a, b, power=power, gradient_weighted=gradient_weighted)``
+        if already computed (as in :func:`seam_cut`); not computed again.
+
+    Returns
+    -------
+    float
+        Sum of the pair costs of the neighbour pairs the labelling separates
+        (0 for a labelling without a seam).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> a, b = np.zeros((4, 4, 3)), np.zeros((4, 4, 3))
+    >>> seam_cost(a, b, np.eye(4, dtype=bool))      # identical images: every cut is free
+    0.0
     """
     right, down = _costs(a, b, costs, power, gradient_weighted)
     shape = (right.shape[0], down.shape[1])
@@ -255,7 +283,7 @@ def _seam_cost(right: np.ndarray, down: np.ndarray, lab: np.ndarray, reg: np.nda
 class SeamComposition:
     """Result of :func:`compose_overlap`.
 
-    Attributes
+    Parameters
     ----------
     image : (H, W, C) float32 ndarray
         The composed image.
@@ -287,6 +315,35 @@ def compose_overlap(a, mask_a, b, mask_b, *, power: float = 1.0,
     bordering the part only ``b`` covers are pinned to ``b``, and a graph
     cut labels the rest. With ``method="overlay"`` ``b`` simply covers
     the whole overlap (the baseline the cut is compared with).
+
+    Parameters
+    ----------
+    a : (H, W, C) array_like
+        The image already in place.
+    mask_a : (H, W) bool array_like
+        Pixels ``a`` covers.
+    b : (H, W, C) array_like
+        The image composed onto ``a`` (same shape as ``a``).
+    mask_b : (H, W) bool array_like
+        Pixels ``b`` covers. When ``b`` lies wholly inside ``a``, an inner
+        core of ``mask_b`` is pinned to ``b`` so the new piece is not lost.
+    power, gradient_weighted
+        See :func:`pair_costs`.
+    method : {"graphcut", "overlay"}
+        ``"graphcut"`` labels the overlap by a minimum cut; ``"overlay"``
+        lets ``b`` cover it (all but the ring pinned to ``a``).
+
+    Returns
+    -------
+    SeamComposition
+        The composed image (0 outside both masks), union mask, labelling,
+        seam pixels and seam cost.
+
+    Raises
+    ------
+    ValueError
+        If ``a`` and ``b`` differ in shape, a mask has another shape, or
+        ``method`` is unknown.
 
     Examples
     --------
@@ -442,6 +499,8 @@ def multilabel_seams(images, unary, *, region=None, smoothness: float = 1.0,
         Divide by the edge strength so seams follow edges.
     max_cycles : int
         Most expansion cycles over all labels.
+    eps : float
+        Regulariser of the division by the gradients (the ``eps`` of ``V_pq``).
     labels : (H, W) int array_like, optional
         Initial labelling (default: the cheapest label per pixel).
 

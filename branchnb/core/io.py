@@ -54,7 +54,25 @@ def _opencv_u8(image) -> np.ndarray:
 
 
 def encode_png(image) -> bytes:
-    """Encode an image (any layout accepted by ``as_float_image``) as PNG bytes (lossless)."""
+    """Encode an image (any layout accepted by ``as_float_image``) as PNG bytes (lossless).
+
+    Parameters
+    ----------
+    image : array_like
+        Gray, RGB or RGBA; uint8/uint16/bool or float in [0, 1]. Written as
+        8 bits per channel (alpha kept).
+
+    Returns
+    -------
+    bytes
+        The PNG file's content.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> encode_png(np.zeros((2, 2, 3)))[:4]
+    b'\\x89PNG'
+    """
     ok, buf = cv2.imencode(".png", _opencv_u8(image))
     if not ok:  # pragma: no cover - OpenCV failure
         raise RuntimeError("PNG encoding failed")
@@ -62,7 +80,33 @@ def encode_png(image) -> bytes:
 
 
 def imsave(path, image) -> Path:
-    """Save an image to ``path`` (format from the suffix; PNG keeps alpha)."""
+    """Save an image to ``path`` (format from the suffix; PNG keeps alpha).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Destination file; its suffix (``.png``, ``.jpg``, ``.tif``, ...)
+        chooses the format. An existing file is overwritten.
+    image : array_like
+        Gray, RGB or RGBA; uint8/uint16/bool or float in [0, 1]. Saved as
+        8 bits per channel.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+
+    Raises
+    ------
+    ValueError
+        If OpenCV cannot write the file (unknown suffix, missing folder).
+
+    Examples
+    --------
+    >>> import numpy as np, tempfile, os
+    >>> imsave(os.path.join(tempfile.mkdtemp(), "a.png"), np.zeros((2, 2))).name
+    'a.png'
+    """
     path = Path(path)
     if not cv2.imwrite(str(path), _opencv_u8(image)):
         raise ValueError(f"could not write image to {path}")

@@ -51,7 +51,34 @@ def param(default: Any, *, min: float | None = None, max: float | None = None,
 
 
 def param_info(params) -> list[tuple[dataclasses.Field, dict]]:
-    """``(field, metadata)`` of each field of a parameter dataclass (instance or type)."""
+    """``(field, metadata)`` of each field of a parameter dataclass (instance or type).
+
+    Parameters
+    ----------
+    params : dataclass instance or type
+        A parameter dataclass whose fields were made with :func:`param`
+        (plain fields give an empty metadata dict).
+
+    Returns
+    -------
+    list of (dataclasses.Field, dict)
+        In field order; the dict has the keys of :func:`param` (``min``,
+        ``max``, ``step``, ``help``, ``label``, ``options``, ``log``, ``ui``).
+
+    Raises
+    ------
+    TypeError
+        If ``params`` is not a dataclass.
+
+    Examples
+    --------
+    >>> from dataclasses import dataclass
+    >>> @dataclass
+    ... class P:
+    ...     k: int = param(9, min=1, max=40)
+    >>> [(f.name, meta["max"]) for f, meta in param_info(P)]
+    [('k', 40)]
+    """
     if not dataclasses.is_dataclass(params):
         raise TypeError(f"params must be a dataclass, got {type(params).__name__}")
     return [(f, dict(f.metadata)) for f in dataclasses.fields(params)]
@@ -80,6 +107,14 @@ def check_params(params, *, name: str = "params"):
     allows it), for NaN/inf, for ``[min, max]`` (the bounds double as size
     guards) and for ``options``. Integral floats in int fields are
     normalised to int.
+
+    Parameters
+    ----------
+    params : dataclass instance
+        A parameter dataclass (fields made with :func:`param`); int fields
+        holding integral floats are rewritten in place.
+    name : str, optional
+        How messages name the instance (``"params.k must be ..."``).
 
     Raises
     ------
