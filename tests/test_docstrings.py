@@ -4,7 +4,8 @@ Pure introspection, no Sphinx: for each public module of the packages in
 :data:`PACKAGES` (no dotted part starting with ``_``), each public function,
 class and public method *defined there* that takes parameters besides
 ``self``/``cls`` must have a "Parameters" section whose names are the
-signature's names (``*args``/``**kwargs`` written with or without stars).
+signature's names, in order (``*args``/``**kwargs`` written with or without
+stars; arguments starting with ``_`` are internal and left out).
 A class documents its constructor (a dataclass: its init fields).
 To cover another package, add its dotted name to :data:`PACKAGES`.
 """
@@ -55,7 +56,8 @@ def signature_names(obj) -> list[str]:
         params = inspect.signature(obj).parameters
     except (TypeError, ValueError):  # builtins without a signature
         return []
-    return [n for n in params if n not in ("self", "cls")]
+    # a leading underscore marks an internal argument (a test hook): not part of the documented API
+    return [n for n in params if n not in ("self", "cls") and not n.startswith("_")]
 
 
 def documented_names(doc: str | None) -> list[str] | None:

@@ -33,7 +33,23 @@ BRANCHING_MAX = 512
 
 
 def read_images(paths: Sequence) -> list[tuple[str, np.ndarray]]:
-    """Read image files as ``(name, float32 image)``; a clear ``ValueError`` names a bad path."""
+    """Read image files as ``(name, float32 image)``; a clear ``ValueError`` names a bad path.
+
+    Parameters
+    ----------
+    paths : sequence of str or os.PathLike
+        Image files (PNG, JPEG, TIFF, ...).
+
+    Returns
+    -------
+    list of (str, ndarray)
+        Each file's stem and its image, float32 in [0, 1], ``(H, W, C)``.
+
+    Raises
+    ------
+    ValueError
+        If a path is not a file or cannot be decoded.
+    """
     from ..core.io import imread
 
     out = []
