@@ -22,7 +22,8 @@ import pytest
 docscrape = pytest.importorskip("numpydoc.docscrape")
 
 #: Packages (or single modules) whose public callables must document their parameters.
-PACKAGES = ("branchnb.core", "branchnb.plot", "branchnb.gallery", "branchnb.data", "branchnb.bench")
+PACKAGES = ("branchnb.core", "branchnb.widgets", "branchnb.plot", "branchnb.gallery", "branchnb.data",
+            "branchnb.bench")
 
 
 def public_modules(package: str) -> list[str]:
