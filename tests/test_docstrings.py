@@ -6,7 +6,8 @@ class and public method *defined there* that takes parameters besides
 ``self``/``cls`` must have a "Parameters" section whose names are the
 signature's names, in order (``*args``/``**kwargs`` written with or without
 stars; arguments starting with ``_`` are internal and left out).
-A class documents its constructor (a dataclass: its init fields).
+Every entry says what the parameter means (a description under it). A
+class documents its constructor (a dataclass: its init fields).
 To cover another package, add its dotted name to :data:`PACKAGES`.
 """
 
@@ -61,19 +62,29 @@ def signature_names(obj) -> list[str]:
     return [n for n in params if n not in ("self", "cls") and not n.startswith("_")]
 
 
-def documented_names(doc: str | None) -> list[str] | None:
-    """Names listed in the docstring's Parameters section (None when it has none)."""
+def _parameters(doc: str | None) -> list | None:
     if not doc:
         return None
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # numpydoc warns about sections it does not know
         parsed = docscrape.NumpyDocString(inspect.cleandoc(doc))
-    if not parsed["Parameters"]:
+    return parsed["Parameters"] or None
+
+
+def documented_names(doc: str | None) -> list[str] | None:
+    """Names listed in the docstring's Parameters section (None when it has none)."""
+    params = _parameters(doc)
+    if params is None:
         return None
     names = []
-    for param in parsed["Parameters"]:
+    for param in params:
         names += [n.strip().lstrip("*") for n in param.name.split(",") if n.strip()]
     return names
+
+
+def undescribed_names(doc: str | None) -> list[str]:
+    """Entries of the Parameters section with no description under them."""
+    return [p.name for p in _parameters(doc) or () if not "".join(p.desc).strip()]
 
 
 def parameter_problems(packages=PACKAGES) -> tuple[int, list[str]]:
@@ -91,6 +102,8 @@ def parameter_problems(packages=PACKAGES) -> tuple[int, list[str]]:
                     problems.append(f"{dotted}: no Parameters section (signature: {', '.join(wanted)})")
                 elif got != wanted:
                     problems.append(f"{dotted}: documents {got}, signature has {wanted}")
+                elif undescribed_names(doc):
+                    problems.append(f"{dotted}: no description for {undescribed_names(doc)}")
     return checked, problems
 
 
@@ -101,7 +114,7 @@ def test_every_public_callable_documents_exactly_its_parameters(package):
     assert not problems, f"{len(problems)} of {checked}:\n" + "\n".join(problems)
 
 
-def test_the_checker_catches_a_missing_an_extra_and_a_misordered_name():
+def test_the_checker_catches_a_missing_an_extra_a_misordered_and_an_undescribed_name():
     assert documented_names("Summary.") is None
     assert documented_names("S.\n\nParameters\n----------\na, b : int\n    Two.\n**kw\n    More.\n") == ["a", "b", "kw"]
 
@@ -119,3 +132,6 @@ def test_the_checker_catches_a_missing_an_extra_and_a_misordered_name():
         """
     assert signature_names(f) == ["a", "args", "b", "kw"]
     assert documented_names(f.__doc__) == ["a", "args", "b"] != signature_names(f)
+    assert documented_names("S.\n\nParameters\n----------\nb\n    B.\na\n    A.\n") == ["b", "a"] != ["a", "b"]
+    assert undescribed_names("S.\n\nParameters\n----------\na : int\nb : int\n    B.\n") == ["a"]
+    assert undescribed_names(f.__doc__) == []

@@ -97,6 +97,8 @@ def compose_piece(canvas: np.ndarray, covered: np.ndarray, piece: np.ndarray, va
     valid : (h, w) bool ndarray
         Pixels the piece may cover.
     origin : (x0, y0)
+        Canvas pixel (column, row) of the piece's top-left pixel; the window
+        is clipped to the canvas.
     protect_canvas, protect_piece : (h, w) bool ndarray, optional
         Overlap pixels pinned to the old image / to the piece. Protected
         canvas pixels do not constrain the photometric correction.

@@ -336,8 +336,12 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
     search_size : int
         The example is searched at a scale where its long side is at most
         this many pixels; the choice is refined at full resolution.
-    method, poisson, anchored, anchor_weight, screen
-        Composition of each patch, see :func:`branchnb.core.blending.compose_piece`
+    method : {"graphcut", "overlay"}
+        Seam of each patch, as for :func:`branchnb.core.blending.compose_piece`.
+    poisson, anchored : bool
+        Photometric correction of each patch, as for ``compose_piece``.
+    anchor_weight, screen : float
+        Correction strengths, as for ``compose_piece``
         (with ``screen > 0`` the anchors are replaced by a screened correction
         that stays near the seams).
     min_free : float
@@ -349,7 +353,11 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
     max_passes : int
         Passes over the remaining holes before the last-resort inpainting.
     rng : int or numpy.random.Generator, optional
+        Seed or generator: each patch window is drawn among those whose
+        matching cost is within the tolerance of the best.
     progress : callable(fraction, text), optional
+        Called with the filled fraction of the holes in [0, 1] and a short
+        message as patches are placed.
     regions, example_regions : (H, W) and (h, w) int ndarray, optional
         Region labels of the canvas and of the example (e.g. land and sea
         of a map, from a flat-colour segmentation). Given both, each

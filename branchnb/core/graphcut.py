@@ -70,10 +70,18 @@ def gradient_magnitude(img: np.ndarray) -> np.ndarray:
     Parameters
     ----------
     img : (H, W, C) float ndarray
+        An image (any channel count; OpenCV is used for up to 4 channels).
 
     Returns
     -------
     (H, W) ndarray
+        Sobel magnitude (divided by 8, replicated borders).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> float(gradient_magnitude(np.zeros((4, 4, 3))).max())
+    0.0
     """
     img = np.asarray(img)
     if img.ndim == 3 and img.shape[2] <= 4 and min(img.shape[:2]) >= 2:
@@ -155,13 +163,16 @@ def seam_cut(a, b, region, pin_a, pin_b, *, power: float = 1.0,
     Parameters
     ----------
     a, b : (H, W, C) array_like
+        The two overlapping images (same shape).
     region : (H, W) bool array_like
         Pixels to label (typically the overlap of the two images).
     pin_a, pin_b : (H, W) bool array_like
         Pixels of ``region`` that must take ``a`` (resp. ``b``), e.g. the
         overlap pixels bordering the part only ``a`` covers.
-    power, gradient_weighted
-        See :func:`pair_costs`.
+    power : float
+        Exponent on the colour difference (see :func:`pair_costs`).
+    gradient_weighted : bool
+        Divide by the edge strength so seams follow edges (see :func:`pair_costs`).
     costs : (right, down), optional
         ``pair_costs(a, b, power=power, gradient_weighted=gradient_weighted)``
         when the caller has it already (it is not computed again).
@@ -246,8 +257,10 @@ def seam_cost(a, b, take_b, *, region=None, power: float = 1.0,
     region : (H, W) bool array_like, optional
         Pixels where both images are defined; only neighbour pairs with both
         pixels inside count. Default: the whole image.
-    power, gradient_weighted
-        See :func:`pair_costs`.
+    power : float
+        Exponent on the colour difference (see :func:`pair_costs`).
+    gradient_weighted : bool
+        Divide by the edge strength so seams follow edges (see :func:`pair_costs`).
     costs : (right, down), optional
         ``pair_costs(a, b, power=power, gradient_weighted=gradient_weighted)``
         if already computed (as in :func:`seam_cut`); not computed again.
@@ -327,8 +340,10 @@ def compose_overlap(a, mask_a, b, mask_b, *, power: float = 1.0,
     mask_b : (H, W) bool array_like
         Pixels ``b`` covers. When ``b`` lies wholly inside ``a``, an inner
         core of ``mask_b`` is pinned to ``b`` so the new piece is not lost.
-    power, gradient_weighted
-        See :func:`pair_costs`.
+    power : float
+        Exponent on the colour difference (see :func:`pair_costs`).
+    gradient_weighted : bool
+        Divide by the edge strength so seams follow edges (see :func:`pair_costs`).
     method : {"graphcut", "overlay"}
         ``"graphcut"`` labels the overlap by a minimum cut; ``"overlay"``
         lets ``b`` cover it (all but the ring pinned to ``a``).

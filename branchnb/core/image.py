@@ -267,6 +267,8 @@ def as_points(
     Parameters
     ----------
     points : array_like, (N, 2)
+        Points (x, y) in pixels, finite and within ``COORD_LIMIT``; an
+        empty list gives a ``(0, 2)`` array.
     name : str
         Argument name used in error messages.
     min_points : int
@@ -366,7 +368,20 @@ def composite_over(image, background=(1.0, 1.0, 1.0)) -> np.ndarray:
     Parameters
     ----------
     image : (H, W, 4) array_like
+        The image with alpha (gray or RGB counts as opaque).
     background : 3-tuple or (H, W, 3) array_like
+        An RGB colour in [0, 1], or an image of the same height and width.
+
+    Returns
+    -------
+    (H, W, 3) float32 ndarray
+        ``rgb * alpha + background * (1 - alpha)``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> composite_over(np.zeros((1, 1, 4)), (1, 0, 0))[0, 0].tolist()
+    [1.0, 0.0, 0.0]
     """
     rgba = as_rgba(image)
     if isinstance(background, (str, bytes)) or background is None:

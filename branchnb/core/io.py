@@ -264,6 +264,7 @@ def imread(path, *, max_pixels: int | None = None) -> np.ndarray:
     Parameters
     ----------
     path : str or Path
+        Image file (PNG, JPEG, TIFF, BMP, WebP, ...).
     max_pixels : int, optional
         Refuse files declaring more pixels than this (default
         :data:`MAX_IMAGE_PIXELS`); checked on the header, before decoding.

@@ -16,6 +16,7 @@ def psnr(a, b, mask=None, *, data_range: float = 1.0) -> float:
     Parameters
     ----------
     a, b : array_like, same shape (H, W) or (H, W, C)
+        The image tested and the reference, in the units of ``data_range``.
     mask : (H, W) bool array_like, optional
         Pixels to compare (all by default).
     data_range : float

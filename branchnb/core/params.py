@@ -116,6 +116,11 @@ def check_params(params, *, name: str = "params"):
     name : str, optional
         How messages name the instance (``"params.k must be ..."``).
 
+    Returns
+    -------
+    params
+        The same instance, for chaining.
+
     Raises
     ------
     TypeError
@@ -123,11 +128,6 @@ def check_params(params, *, name: str = "params"):
     ValueError
         NaN/inf, a value outside ``[min, max]`` or not among ``options``;
         the message names the field.
-
-    Returns
-    -------
-    params
-        The same instance, for chaining.
 
     Examples
     --------

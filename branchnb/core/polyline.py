@@ -160,6 +160,7 @@ def resample_chord(points, n: int, *, closed: bool = False, values=None):
     Parameters
     ----------
     points : (N, 2) array_like
+        Vertices (x, y) in pixels.
     n : int
         Number of output points, >= 2 (>= 3 if closed).
     closed : bool

@@ -577,6 +577,7 @@ class Structure:
 
     # -- I/O ------------------------------------------------------------
     def to_dict(self) -> dict:
+        """Plain JSON-ready dict: ``version``, ``image_shape`` and per branch its fields as lists."""
         return {
             "version": STRUCTURE_JSON_VERSION,
             "image_shape": list(self.image_shape) if self.image_shape else None,
@@ -700,6 +701,7 @@ class Structure:
         background : (H, W, C) array_like, optional
             Image to draw on (white if None).
         color : RGB triple, or one per branch
+            Stroke colour(s) in [0, 1]; ignored with ``by_generation``.
         by_generation : bool
             Colour each branch by its generation (:data:`GENERATION_COLORS`).
         alpha : float

@@ -467,8 +467,10 @@ class Points:
 
 
 class Image:
-    """Spec for :func:`checked`: an image :func:`~branchnb.core.image.as_float_image` accepts
-    (checked, passed on unchanged)."""
+    """Spec for :func:`checked`: an image :func:`~branchnb.core.image.as_float_image` accepts.
+
+    The image is checked and passed on unchanged.
+    """
 
     def __call__(self, value, name, allow_none):
         if value is None and allow_none:

@@ -157,6 +157,7 @@ class BranchingApp(widgets.VBox):
     structure : Structure, optional
         A starting annotation (e.g. from ``extract_structure``).
     params : SynthesisParams, optional
+        Initial values of the parameter panel (the paper's defaults if None).
     max_display : int
         Long side of the example canvas in CSS pixels.
     display : int
@@ -459,6 +460,7 @@ class BranchingApp(widgets.VBox):
             self.seed.value = extra["seed"]
 
     def clear_guidance(self) -> None:
+        """Remove the guidance strokes from the canvas (one undo step); the polylines stay."""
         keep = [s.to_dict() for s in self.canvas.model.shapes if s.kind != "stroke"]
         self.canvas.model.load_json(json.dumps({"version": 1, "shapes": keep}))
 

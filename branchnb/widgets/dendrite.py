@@ -169,6 +169,8 @@ class DendriteApp(widgets.VBox):
     params : StylizeParams, optional
         Initial stylization parameters (paper defaults).
     mode : {"stylize", "tree", "pareidolia"}
+        Initial mode: the image as a dendrite, a grown tree, or the image
+        hidden in a tree's crown (switchable in the app).
     display : int
         Display width of each result image (CSS pixels).
 

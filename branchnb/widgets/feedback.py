@@ -166,6 +166,12 @@ class ErrorArea(widgets.HTML):
         action : bool
             Whether a block that succeeds (nothing inside showed an error)
             clears the shown error.
+
+        Yields
+        ------
+        None
+            The block runs inside; an exception it raises is shown, not
+            propagated.
         """
         with self._lock:
             self._depth += 1
@@ -272,6 +278,7 @@ class StatusLine(ErrorArea):
         self.layout.display = None
 
     def clear(self) -> None:
+        """Forget the error and show the last message again (or nothing)."""
         self.last_error = self.last_traceback = None
         self._render("ok" if self.text else "ready", self.text)
 
@@ -319,6 +326,7 @@ class StatusLine(ErrorArea):
         self._render("busy", f"{text} {pct}".strip() if text else f"computing ... {pct}")
 
     def set_idle(self) -> None:
+        """Leave the busy state: run buttons enabled, the cancel button hidden."""
         self.busy_now = False
         for b in self._run_buttons:
             b.disabled = False
@@ -339,6 +347,12 @@ class StatusLine(ErrorArea):
         message : str or callable, optional
             What the line adds on success besides the time; a callable is
             called after the block (so it can report the result).
+
+        Yields
+        ------
+        None
+            The block runs inside; an exception it raises is shown, not
+            propagated.
         """
         self.set_busy(name)
         t0 = time.perf_counter()
@@ -427,6 +441,7 @@ class ProgressBar(widgets.HBox):
         self.text.value = str(text)
 
     def reset(self) -> None:
+        """Empty the bar, clear its message and hide it."""
         self.bar.value = 0.0
         self.bar.bar_style = ""
         self.text.value = ""

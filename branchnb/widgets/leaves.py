@@ -313,6 +313,7 @@ class LeafApp(widgets.VBox):
 
     # -- layer list -----------------------------------------------------------------
     def layer_names(self) -> list[str]:
+        """The layers' names, in stacking order (top first)."""
         return self.layers.names()
 
     def _sync_layers(self) -> None:
@@ -412,6 +413,7 @@ class LeafApp(widgets.VBox):
         self.layer_list.value = name
 
     def clear_scribbles(self) -> None:
+        """Remove every scribble from the canvas (undoable); the layers stay."""
         self.canvas.model.clear()
 
     def scribbled_layers(self) -> LayerSet:
@@ -460,6 +462,13 @@ class LeafApp(widgets.VBox):
         return ", ".join(f"{x.name}: lambda {x.lam:.2f}" for x in a.layers)
 
     def run_generate(self) -> str:
+        """Generate new leaves from the last analysis (the "generate" button); returns a summary.
+
+        Raises
+        ------
+        ValueError
+            If nothing was analysed yet.
+        """
         if self.analysis is None:
             raise ValueError("run 'analyze' first: there is nothing to generate from yet")
         n = int(self.n_outputs.value)

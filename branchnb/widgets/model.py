@@ -124,6 +124,7 @@ class Shape:
         self.meta = _json_meta(self.meta)
 
     def to_dict(self) -> dict:
+        """The shape's fields as plain JSON-ready values (points and radii as lists)."""
         return {
             "kind": self.kind,
             "points": self.points.tolist(),
@@ -499,6 +500,7 @@ class AnnotationModel:
 
     # -- serialisation ----------------------------------------------------
     def to_dict(self) -> dict:
+        """``{"version": 1, "shapes": [...]}``, each shape as :meth:`Shape.to_dict` gives it."""
         return {"version": 1, "shapes": [s.to_dict() for s in self._shapes]}
 
     def to_json(self) -> str:

@@ -232,6 +232,7 @@ class StrokeEditApp(widgets.VBox):
     background : None, RGB colour or image, optional
         What the result is composed over (None: transparent).
     params : StrokeEditParams, optional
+        Initial values of the parameter panel (the paper's defaults if None).
     max_display : int
         Long side of each canvas in screen pixels.
 

@@ -377,6 +377,7 @@ class TreeVariationsApp(widgets.VBox):
         return np.array([self._weights[n] for n in self.selected])
 
     def params(self) -> VariationParams:
+        """The variation parameters of the panel (validated)."""
         return self.panel.values
 
     def select(self, names) -> None:
