@@ -277,6 +277,19 @@ def as_points(
         If given, every point must lie inside ``[0, W-1] x [0, H-1]``
         (with half a pixel of tolerance).
 
+    Returns
+    -------
+    (N, 2) float64 ndarray
+        A new array.
+
+    Raises
+    ------
+    TypeError
+        If ``points`` is not numbers.
+    ValueError
+        Wrong shape, fewer than ``min_points`` points, NaN/inf, or a point
+        outside ``image_shape`` (the message names the first).
+
     Examples
     --------
     >>> as_points([(0, 0), (3, 4)]).shape

@@ -202,6 +202,11 @@ def image_size(source, *, name: str | None = None) -> tuple[int, int]:
     name : str, optional
         What error messages call the image (default: the path, or ``"image"``).
 
+    Returns
+    -------
+    (int, int)
+        ``(width, height)`` in pixels.
+
     Raises
     ------
     ValueError
@@ -307,6 +312,18 @@ def imdecode(data, *, name: str = "image", max_pixels: int | None = None) -> np.
         What error messages call it (e.g. the uploaded file's name).
     max_pixels : int, optional
         As in :func:`imread`.
+
+    Returns
+    -------
+    (H, W, C) float32 ndarray
+        In [0, 1], RGB(A) order, C in {1, 3, 4}.
+
+    Raises
+    ------
+    TypeError
+        If ``data`` is not bytes.
+    ValueError
+        Not an image, or more pixels than ``max_pixels``.
 
     Examples
     --------

@@ -42,6 +42,21 @@ def param(default: Any, *, min: float | None = None, max: float | None = None,
         Use a logarithmic slider.
     ui : bool
         False hides the field from ``ParamPanel``.
+
+    Returns
+    -------
+    dataclasses.Field
+        A field with this metadata (a list/dict/set default becomes a
+        ``default_factory`` copying it).
+
+    Examples
+    --------
+    >>> from dataclasses import dataclass, fields
+    >>> @dataclass
+    ... class P:
+    ...     k: int = param(9, min=1, max=40, help="bending memory k")
+    >>> P().k, fields(P)[0].metadata["max"]
+    (9, 40)
     """
     meta = {"min": min, "max": max, "step": step, "help": help, "label": label,
             "options": tuple(options) if options is not None else None, "log": log, "ui": ui}

@@ -169,6 +169,19 @@ def resample_chord(points, n: int, *, closed: bool = False, values=None):
     values : (N,) or (N, K) array_like, optional
         Per-vertex attributes to interpolate.
 
+    Returns
+    -------
+    points : (n, 2) float ndarray
+        The resampled points.
+    values : ndarray
+        The attributes interpolated linearly at them; only returned when
+        ``values`` is given.
+
+    Raises
+    ------
+    TypeError, ValueError
+        If ``n`` is not an int large enough, or all vertices coincide.
+
     Examples
     --------
     >>> resample_chord([(0, 0), (4, 0)], 3).tolist()
@@ -344,7 +357,17 @@ def rigid_align(source, target, *, weights=None) -> RigidTransform:
     source, target : (N, 2) array_like
         Corresponding points ``p_i`` and ``q_i``.
     weights : (N,) array_like, optional
-        Non-negative weights.
+        Non-negative weights (equal by default), with a positive sum.
+
+    Returns
+    -------
+    RigidTransform
+        Maps ``source`` onto ``target``.
+
+    Raises
+    ------
+    ValueError
+        If the point sets differ in shape or the weights are invalid.
 
     Examples
     --------

@@ -93,7 +93,14 @@ class Branch:
         return polyline_length(self.points) if len(self.points) > 1 else 0.0
 
     def angles(self) -> np.ndarray:
-        """Turning angles alpha at the interior vertices (N - 2 values, radians)."""
+        """Turning angles alpha at the interior vertices (N - 2 values, radians).
+
+        Returns
+        -------
+        (N - 2,) float ndarray
+            See :func:`branchnb.core.polyline.turning_angles`; empty for
+            fewer than 3 vertices.
+        """
         return turning_angles(self.points) if len(self.points) > 2 else np.zeros(0)
 
 
@@ -195,6 +202,17 @@ class Structure:
         Vertices outside ``image_shape`` are allowed here (a synthesized
         structure may be cropped by its output); :meth:`check_inside`
         rejects them where an image is involved.
+
+        Returns
+        -------
+        Structure
+            ``self``, for chaining.
+
+        Raises
+        ------
+        TypeError, ValueError
+            Naming the first bad branch: not a Branch, non-finite points or
+            thickness, a parent or vertex out of range, or a parent cycle.
         """
         n = len(self.branches)
         for i, b in enumerate(self.branches):
@@ -313,7 +331,13 @@ class Structure:
         return self
 
     def copy(self) -> Structure:
-        """A deep copy."""
+        """A deep copy.
+
+        Returns
+        -------
+        Structure
+            New arrays; editing the copy never changes ``self``.
+        """
         return Structure([Branch(b.points.copy(), b.thickness.copy(), b.parent, b.parent_vertex)
                           for b in self.branches], self.image_shape)
 
@@ -459,17 +483,37 @@ class Structure:
         return g
 
     def angles(self) -> np.ndarray:
-        """All turning angles of all branches, concatenated."""
+        """All turning angles of all branches, concatenated.
+
+        Returns
+        -------
+        float ndarray
+            Radians, branch after branch (see :meth:`Branch.angles`).
+        """
         parts = [b.angles() for b in self.branches]
         return np.concatenate(parts) if parts else np.zeros(0)
 
     def thicknesses(self) -> np.ndarray:
-        """All vertex thicknesses, concatenated."""
+        """All vertex thicknesses, concatenated.
+
+        Returns
+        -------
+        float ndarray
+            Radii ``r`` in pixels, branch after branch.
+        """
         parts = [b.thickness for b in self.branches]
         return np.concatenate(parts) if parts else np.zeros(0)
 
     def segments(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """All edges as ``(p0 (E, 2), p1 (E, 2), branch index (E,))``."""
+        """All edges as ``(p0 (E, 2), p1 (E, 2), branch index (E,))``.
+
+        Returns
+        -------
+        p0, p1 : (E, 2) float ndarray
+            Start and end (x, y) of each edge.
+        owner : (E,) int ndarray
+            The branch each edge belongs to.
+        """
         p0, p1, owner = [], [], []
         for i, b in enumerate(self.branches):
             if len(b.points) > 1:
@@ -481,7 +525,18 @@ class Structure:
         return np.vstack(p0), np.vstack(p1), np.concatenate(owner)
 
     def bounds(self) -> tuple[float, float, float, float]:
-        """``(xmin, ymin, xmax, ymax)`` including thickness."""
+        """``(xmin, ymin, xmax, ymax)`` including thickness.
+
+        Returns
+        -------
+        (float, float, float, float)
+            Pixels; each vertex counts as a disk of its radius.
+
+        Raises
+        ------
+        ValueError
+            If the structure is empty.
+        """
         if not self.branches:
             raise ValueError("structure is empty")
         pts = np.vstack([b.points for b in self.branches])
@@ -577,7 +632,13 @@ class Structure:
 
     # -- I/O ------------------------------------------------------------
     def to_dict(self) -> dict:
-        """Plain JSON-ready dict: ``version``, ``image_shape`` and per branch its fields as lists."""
+        """Plain JSON-ready dict: ``version``, ``image_shape`` and per branch its fields as lists.
+
+        Returns
+        -------
+        dict
+            Read back by :meth:`from_dict`.
+        """
         return {
             "version": STRUCTURE_JSON_VERSION,
             "image_shape": list(self.image_shape) if self.image_shape else None,
@@ -593,7 +654,17 @@ class Structure:
         }
 
     def to_json(self) -> str:
-        """Serialise to a JSON string (round-trips through :meth:`from_json`)."""
+        """Serialise to a JSON string (round-trips through :meth:`from_json`).
+
+        Returns
+        -------
+        str
+
+        Raises
+        ------
+        ValueError
+            If a value is NaN or infinite (edited after construction).
+        """
         return dumps_strict(self.to_dict(), name="structure")
 
     @classmethod
@@ -709,6 +780,17 @@ class Structure:
         min_width : float
             Draw every stroke at least this wide (pixels), e.g. to see a
             thin skeleton over a photo.
+
+        Returns
+        -------
+        (H, W, C) float32 ndarray
+            A new image (C of the background; RGB on the default white).
+
+        Examples
+        --------
+        >>> img = Structure([Branch([(2, 5), (17, 5)], 2.0)]).render((10, 20))
+        >>> img.shape, float(img[5, 10].max()), float(img[0, 0].min())
+        ((10, 20, 3), 0.0, 1.0)
         """
         min_width = check_real(min_width, "min_width", 0, 1e4)
         self.validate()

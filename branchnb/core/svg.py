@@ -38,6 +38,11 @@ def polylines_to_svg(polylines, widths=None, colors=(0.0, 0.0, 0.0), *, size,
     background : colour, optional
         Fill colour of a background rectangle; transparent if None.
 
+    Returns
+    -------
+    str
+        A standalone SVG document (``<svg ...>...</svg>``) in pixel units.
+
     Examples
     --------
     >>> svg = polylines_to_svg([[(0, 0), (10, 5)]], widths=2, size=(20, 10))

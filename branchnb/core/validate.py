@@ -691,6 +691,12 @@ def checked(**specs):
         ``rng`` gets :func:`check_rng`. The checked (normalised) values are
         what the function receives.
 
+    Returns
+    -------
+    callable
+        The decorator; the decorated function keeps its name, docstring
+        and signature.
+
     Examples
     --------
     >>> @checked(n=Int(1, 10))

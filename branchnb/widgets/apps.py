@@ -98,6 +98,11 @@ def open_app(name: str, images=None, *, page: bool = False, **kwargs):
     **kwargs
         Passed on to the app's constructor.
 
+    Returns
+    -------
+    BranchingApp, DendriteApp, TreeVariationsApp, StrokeEditApp or LeafApp
+        The app; display it as the last expression of a notebook cell.
+
     Raises
     ------
     ValueError

@@ -643,6 +643,12 @@ class BranchingApp(widgets.VBox):
         progress : callable, optional
             ``progress(fraction, text)``, fraction in [0, 1].
 
+        Returns
+        -------
+        ImageSynthesisResult
+            The synthesized image with its fragments and timings (kept as
+            ``image_result`` and shown).
+
         Raises
         ------
         ValueError
