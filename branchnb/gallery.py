@@ -159,6 +159,12 @@ def build(outdir, sections=None, progress=None) -> list[GalleryItem]:
     -------
     list of GalleryItem
         Every picture written, in page order.
+
+    Examples
+    --------
+    >>> items = build("build/gallery", sections=())       # doctest: +SKIP
+    >>> [i.filename for i in items][:2]                   # doctest: +SKIP
+    ['samples_lizard.png', 'samples_tree_rpg_11.png']
     """
     sections = SECTIONS if sections is None else sections
     outdir = Path(outdir)

@@ -64,6 +64,15 @@ class CompletionResult:
     n_inpainted : int
         Pixels no patch could fill (all its candidate pixels were forbidden),
         filled with the colour of the nearest known pixels as a last resort.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> example = np.full((32, 32, 3), 0.5, np.float32)
+    >>> canvas, covered = np.zeros((16, 16, 3), np.float32), np.zeros((16, 16), bool)
+    >>> r = complete_gaps(canvas, covered, example, np.zeros((32, 32), bool), patch_size=8, rng=0)
+    >>> int(r.filled.sum()), r.n_inpainted, float(canvas.min())
+    (256, 0, 0.5)
     """
 
     filled: np.ndarray
@@ -373,6 +382,16 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
     Returns
     -------
     CompletionResult
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> example = np.random.default_rng(0).random((40, 40, 3)).astype(np.float32)
+    >>> canvas = np.zeros((24, 24, 3), np.float32); canvas[:, :12] = example[:24, :12]
+    >>> covered = np.zeros((24, 24), bool); covered[:, :12] = True     # the right half is a gap
+    >>> r = complete_gaps(canvas, covered, example, np.zeros((40, 40), bool), patch_size=8, rng=0)
+    >>> bool(covered.all()), r.patch_size, int(r.filled.sum()) > 0
+    (True, 8, True)
     """
     rng = as_rng(rng)
     H, W = covered.shape

@@ -118,6 +118,13 @@ def pair_costs(a, b, *, power: float = 1.0, gradient_weighted: bool = True,
         Cost of separating ``(r, c)`` from ``(r, c + 1)``.
     down : (H - 1, W) ndarray
         Cost of separating ``(r, c)`` from ``(r + 1, c)``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> right, down = pair_costs(np.zeros((4, 5, 3)), np.ones((4, 5, 3)), gradient_weighted=False)
+    >>> right.shape, down.shape, round(float(right[0, 0]), 4)          # d = sqrt(3) at both pixels
+    ((4, 4), (3, 5), 3.4641)
     """
     a = as_float_image(a, name="a")
     b = as_float_image(b, name="b")
@@ -309,6 +316,14 @@ class SeamComposition:
         (for drawing the seam).
     cost : float
         Seam cost of the chosen labelling.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> ma = np.zeros((6, 6), bool); ma[:, :4] = True
+    >>> r = compose_overlap(np.zeros((6, 6, 3)), ma, np.zeros((6, 6, 3)), ~ma)
+    >>> bool(r.mask.all()), r.cost                  # no overlap: nothing to cut
+    (True, 0.0)
     """
 
     image: np.ndarray

@@ -331,6 +331,12 @@ class HistogramComparison:
         Name of the distance (a key of :data:`METRICS`).
     distances : (K,) ndarray
         Distance of each histogram to ``hists[0]`` (so ``distances[0] == 0``).
+
+    Examples
+    --------
+    >>> c = compare_samples([0, 0, 1], [1, 1, 1], bins=2, labels=["input", "output"])
+    >>> c.labels, c.hists.round(3).tolist(), c.distances.round(3).tolist()
+    (['input', 'output'], [[0.667, 0.333], [0.0, 1.0]], [0.0, 1.333])
     """
 
     hists: np.ndarray

@@ -32,6 +32,13 @@ class Patch:
     origin : (int, int)
         Target ``(x, y)`` of ``pixels[0, 0]``, in pixels (may be negative:
         the patch may stick out of the target image).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> p = transfer_patch(np.zeros((20, 20, 3)), (10, 10), 0.0, (2, 2), 0.0, radius=3)
+    >>> p.pixels.shape, p.origin
+    ((7, 7, 3), (-1, -1))
     """
 
     pixels: np.ndarray

@@ -49,6 +49,12 @@ def read_images(paths: Sequence) -> list[tuple[str, np.ndarray]]:
     ------
     ValueError
         If a path is not a file or cannot be decoded.
+
+    Examples
+    --------
+    >>> from branchnb import data
+    >>> [(name, image.shape) for name, image in read_images([data.path("tree_rpg_01")])]
+    [('tree_rpg_01', (503, 411, 4))]
     """
     from ..core.io import imread
 
@@ -107,6 +113,11 @@ def open_app(name: str, images=None, *, page: bool = False, **kwargs):
     ------
     ValueError
         An unknown ``name``, an unreadable image, or too few exemplars.
+
+    Examples
+    --------
+    >>> app = open_app("dendrite")                         # doctest: +SKIP
+    >>> app = open_app("leaves", ["leaf1.png", "leaf2.png"])  # doctest: +SKIP
     """
     if name not in APPS:
         raise ValueError(f"name must be one of {list(APPS)}, got {name!r}")

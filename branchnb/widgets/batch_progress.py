@@ -20,6 +20,12 @@ class BatchProgress:
         Items already done (a resumed batch).
     description : str
         Label left of the bar.
+
+    Examples
+    --------
+    >>> bar = BatchProgress(10, description="trees")       # doctest: +SKIP
+    >>> bar.advance(3, failed=1)                           # doctest: +SKIP
+    >>> bar.close("10 made, 1 failed")                     # doctest: +SKIP
     """
 
     def __init__(self, total: int, initial: int = 0, description: str = "batch"):

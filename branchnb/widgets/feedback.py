@@ -37,6 +37,11 @@ class Cancelled(Exception):
     ------
     TypeError
         If ``message`` is not a str.
+
+    Examples
+    --------
+    >>> str(Cancelled("synthesis cancelled"))
+    'synthesis cancelled'
     """
 
     def __init__(self, message: str = "cancelled"):

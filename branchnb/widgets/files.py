@@ -245,6 +245,15 @@ def load_canvases(text, canvases: Mapping, *, app: str = "") -> dict:
         If ``text`` is not text.
     ValueError
         Not annotation JSON, written by another app, or naming a canvas this app does not have.
+
+    Examples
+    --------
+    >>> from branchnb.widgets.model import AnnotationModel
+    >>> m = AnnotationModel()
+    >>> load_canvases('{"canvases": {"image": {"shapes": []}}, "app": "trees"}', {"image": m}, app="leaves")
+    Traceback (most recent call last):
+    ...
+    ValueError: annotations: these were saved by the 'trees' app, not 'leaves'
     """
     if isinstance(text, (bytes, bytearray)):
         text = bytes(text).decode("utf-8")
@@ -300,6 +309,13 @@ class FileBar:
         ``load(text)``: restore annotations. No "load annotations" button without it.
     folder : str
         Where "save" writes (relative to the kernel's working folder).
+
+    Examples
+    --------
+    >>> from branchnb.widgets.feedback import ErrorArea
+    >>> bar = FileBar(errors=ErrorArea(), name="demo", outputs=lambda: {"notes.json": {"k": 9}})
+    >>> list(bar.contents())
+    ['demo_notes.json']
     """
 
     def __init__(self, *, errors, name: str = "branchnb", open: Callable | None = None,

@@ -89,6 +89,14 @@ def layer_set_from_shapes(shapes, layers: LayerSet, *, radius: float = 2.0, offs
     ------
     ValueError
         If a scribble's label names no layer.
+
+    Examples
+    --------
+    >>> from branchnb.widgets.model import Shape
+    >>> layers = LayerSet(); _ = layers.add("veins", "#aa0000")
+    >>> out = layer_set_from_shapes([Shape("scribble", [(5, 5), (9, 9)], label="veins")], layers, offset=(1, 1))
+    >>> out.layers[0].scribbles[0].points.tolist(), out.layers[0].scribbles[0].radius
+    ([[4.0, 4.0], [8.0, 8.0]], 2.0)
     """
     out = LayerSet([Layer(x.name, x.colour, x.order) for x in layers.layers])
     names = {x.name for x in out.layers}

@@ -147,6 +147,16 @@ class AnnotationEvent:
     index : int or None
         The affected shape (its index before a removal); None when the
         change concerns all shapes.
+
+    Examples
+    --------
+    >>> m, events = AnnotationModel(), []
+    >>> m.observe(events.append)
+    >>> m.add_shape("point", [(1, 2)]); m.undo()
+    0
+    True
+    >>> events
+    [AnnotationEvent(type='add', index=0), AnnotationEvent(type='undo', index=None)]
     """
 
     type: str

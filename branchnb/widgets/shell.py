@@ -121,6 +121,13 @@ class AppShell(widgets.VBox):
         kit's widgets so their errors appear there too.
     buttons : dict
         Action name -> button.
+
+    Examples
+    --------
+    >>> shell = AppShell("blur", help="move the slider")
+    >>> _ = shell.add_action("run", lambda: "3 px", primary=True)
+    >>> shell.click("run"); shell.status.text.endswith("| 3 px")
+    True
     """
 
     def __init__(self, title: str = "", *, help: str = "", background: bool | None = None,

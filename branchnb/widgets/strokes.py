@@ -152,6 +152,14 @@ def strokes_from_shapes(shapes, *, snap: float = 20.0):
         Per stroke, the control points clicked near it, in clicking order.
     stray : int
         Points near no stroke.
+
+    Examples
+    --------
+    >>> from branchnb.widgets.model import Shape
+    >>> shapes = [Shape("stroke", [(0, 0), (10, 0)]), Shape("point", [(5, 2)]), Shape("point", [(50, 50)])]
+    >>> strokes, index, points, stray = strokes_from_shapes(shapes)
+    >>> index, [p.tolist() for p in points[0]], stray
+    ([0], [[5.0, 2.0]], 1)
     """
     strokes, index = [], []
     for i, s in enumerate(shapes):
