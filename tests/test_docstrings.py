@@ -8,7 +8,8 @@ signature's names, in order (``*args``/``**kwargs`` written with or without
 stars; arguments starting with ``_`` are internal and left out).
 Every entry says what the parameter means (a description under it). A
 class documents its constructor (a dataclass: its init fields).
-To cover another package, add its dotted name to :data:`PACKAGES`.
+To cover another package, add its dotted name to :data:`PACKAGES`;
+``python tests/test_docstrings.py branchnb.trees ...`` lists what it still lacks.
 """
 
 from __future__ import annotations
@@ -36,6 +37,17 @@ def public_modules(package: str) -> list[str]:
     return names
 
 
+def _methods(cls, prefix: str):
+    """(dotted name, callable, docstring) of the public methods defined in ``cls`` itself."""
+    for meth_name, raw in vars(cls).items():
+        func = raw.__func__ if isinstance(raw, (staticmethod, classmethod)) else raw
+        handler = not inspect.isfunction(func) and inspect.isfunction(getattr(func, "func", None))
+        func = func.func if handler else func  # a public traitlets observer wraps its function
+        if meth_name.startswith("_") or not inspect.isfunction(func):
+            continue
+        yield f"{prefix}.{meth_name}", func if handler else getattr(cls, meth_name), func.__doc__
+
+
 def _own_callables(mod_name: str):
     """(dotted name, callable, docstring) of the public functions, classes and methods defined in the module."""
     mod = importlib.import_module(mod_name)
@@ -46,11 +58,7 @@ def _own_callables(mod_name: str):
             continue
         yield f"{mod_name}.{name}", obj, obj.__doc__
         if inspect.isclass(obj):
-            for meth_name, raw in vars(obj).items():
-                func = raw.__func__ if isinstance(raw, (staticmethod, classmethod)) else raw
-                if meth_name.startswith("_") or not inspect.isfunction(func):
-                    continue
-                yield f"{mod_name}.{name}.{meth_name}", getattr(obj, meth_name), func.__doc__
+            yield from _methods(obj, f"{mod_name}.{name}")
 
 
 def signature_names(obj) -> list[str]:
@@ -114,6 +122,20 @@ def test_every_public_callable_documents_exactly_its_parameters(package):
     assert not problems, f"{len(problems)} of {checked}:\n" + "\n".join(problems)
 
 
+def test_the_checker_sees_public_trait_observers():
+    traitlets = pytest.importorskip("traitlets")
+
+    class Probe(traitlets.HasTraits):
+        value = traitlets.Int(0)
+
+        @traitlets.observe("value")
+        def value_changed(self, change):
+            """React to a new value (no Parameters section)."""
+
+    found = {d: obj for d, obj, _doc in _methods(Probe, "Probe")}
+    assert signature_names(found["Probe.value_changed"]) == ["change"]
+
+
 def test_the_checker_catches_a_missing_an_extra_a_misordered_and_an_undescribed_name():
     assert documented_names("Summary.") is None
     assert documented_names("S.\n\nParameters\n----------\na, b : int\n    Two.\n**kw\n    More.\n") == ["a", "b", "kw"]
@@ -135,3 +157,12 @@ def test_the_checker_catches_a_missing_an_extra_a_misordered_and_an_undescribed_
     assert documented_names("S.\n\nParameters\n----------\nb\n    B.\na\n    A.\n") == ["b", "a"] != ["a", "b"]
     assert undescribed_names("S.\n\nParameters\n----------\na : int\nb : int\n    B.\n") == ["a"]
     assert undescribed_names(f.__doc__) == []
+
+
+if __name__ == "__main__":  # pragma: no cover - a maintenance command
+    import sys
+
+    for pkg in sys.argv[1:] or PACKAGES:
+        n, found = parameter_problems((pkg,))
+        print(f"{pkg}: {len(found)} of {n} callables lack a correct Parameters section")
+        print("".join(f"  {p}\n" for p in found), end="")
