@@ -325,7 +325,7 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
     covered : (H, W) bool ndarray
         Pixels already synthesised (modified; all True on return).
     example : (h, w, C) float32 ndarray
-        The example image.
+        The example image the texture is copied from (channels as ``canvas``).
     forbidden : (h, w) bool ndarray
         Example pixels that must never be copied (branches with a margin, matte).
     patch_size : int

@@ -179,7 +179,8 @@ def draw_polylines(image, polylines, widths=None, colors=(0.0, 0.0, 0.0), *,
     colors : colour or sequence of colours
         One RGB(A) triple for all, or one per polyline.
     alpha : float
-        Global opacity.
+        Opacity of all strokes in [0, 1], multiplied with each colour's own
+        alpha.
 
     Returns
     -------

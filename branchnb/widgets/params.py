@@ -218,7 +218,8 @@ class ParamPanel(widgets.VBox):
     params : dataclass instance or type
         Initial values (a type means its defaults).
     on_change : callable, optional
-        ``callback(values)``.
+        ``callback(values)``, called with the validated dataclass after each
+        (debounced) change; more can be added with :meth:`on_change`.
     debounce : float
         Seconds to wait after the last change (0: call at once).
     continuous : bool

@@ -168,7 +168,7 @@ class TreeVariationsApp(widgets.VBox):
     display : int
         Display width of each result image (screen pixels).
     thumb : int
-        Thumbnail size.
+        Side of the library thumbnails in CSS pixels (>= 16).
     references : sequence of str
         Sample names offered as histogram-transfer references besides the
         library trees.
