@@ -34,7 +34,7 @@ SUITES = (
 class BenchRow:
     """One benchmark figure.
 
-    Attributes
+    Parameters
     ----------
     name : str
         What was measured (with the input size).
@@ -46,6 +46,11 @@ class BenchRow:
         The anchor's time, measured in the same run or quoted from the paper.
     note : str
         Anything the reader needs (e.g. "paper figure, other machine").
+
+    Examples
+    --------
+    >>> BenchRow("plan 256 x 256", 0.5, "skimage.graph.MCP", 1.0).ratio
+    0.5
     """
 
     name: str
@@ -61,7 +66,27 @@ class BenchRow:
 
 
 def timeit(fn: Callable[[], object], *, repeat: int = 3, warmup: bool = True) -> float:
-    """Best wall time of ``repeat`` calls of ``fn`` (after one warm-up call, e.g. for JIT)."""
+    """Best wall time of ``repeat`` calls of ``fn`` (after one warm-up call, e.g. for JIT).
+
+    Parameters
+    ----------
+    fn : callable
+        Called without arguments; its result is ignored.
+    repeat : int
+        Number of timed calls (at least 1 is made).
+    warmup : bool
+        Make one untimed call first (JIT compilation, caches).
+
+    Returns
+    -------
+    float
+        The fastest call, in seconds (``time.perf_counter``).
+
+    Examples
+    --------
+    >>> timeit(lambda: sum(range(10)), repeat=2) >= 0
+    True
+    """
     if warmup:
         fn()
     best = float("inf")
@@ -73,7 +98,30 @@ def timeit(fn: Callable[[], object], *, repeat: int = 3, warmup: bool = True) ->
 
 
 def run(quick: bool = False, suites=SUITES, progress: Callable[[str], None] | None = None) -> list[BenchRow]:
-    """Collect the rows of every available suite; ``progress(name)`` is called as each suite starts."""
+    """Collect the rows of every available suite; ``progress(name)`` is called as each suite starts.
+
+    Parameters
+    ----------
+    quick : bool
+        Passed to each suite's ``rows(quick)``: smaller inputs and fewer
+        repeats (seconds instead of minutes).
+    suites : sequence of str
+        Dotted names of modules with a ``rows(quick)`` function; those not
+        installed are skipped. Default :data:`SUITES`.
+    progress : callable, optional
+        Called with the technique name (``"core"``, ``"branching"``, ...)
+        before each suite runs.
+
+    Returns
+    -------
+    list of BenchRow
+        All suites' rows, in suite order.
+
+    Examples
+    --------
+    >>> run(suites=("branchnb.nothing._bench",))
+    []
+    """
     rows: list[BenchRow] = []
     for mod_name in suites:
         if importlib.util.find_spec(mod_name.rsplit(".", 1)[0]) is None:
@@ -88,7 +136,27 @@ def run(quick: bool = False, suites=SUITES, progress: Callable[[str], None] | No
 
 
 def format_table(rows: list[BenchRow]) -> str:
-    """Plain-text table of rows."""
+    """Plain-text table of rows.
+
+    Parameters
+    ----------
+    rows : list of BenchRow
+        The rows, shown in this order.
+
+    Returns
+    -------
+    str
+        A header, a rule and one left-aligned line per row: name, our
+        seconds, anchor, anchor seconds, ratio (ours / anchor) and note.
+
+    Examples
+    --------
+    >>> for line in format_table([BenchRow("f", 1.0, "g", 2.0)]).splitlines():
+    ...     print(line.rstrip())
+    benchmark  ours [s]  anchor  anchor [s]  ratio  note
+    ---------  --------  ------  ----------  -----  ----
+    f          1.0000    g       2.0000      0.500
+    """
     header = ("benchmark", "ours [s]", "anchor", "anchor [s]", "ratio", "note")
     body = [
         (r.name, f"{r.seconds:.4f}", r.anchor, f"{r.anchor_seconds:.4f}", f"{r.ratio:.3f}", r.note)

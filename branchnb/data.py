@@ -63,6 +63,20 @@ def names(category: str | None = None) -> list[str]:
     category : str, optional
         A folder of ``data/`` (``branching``, ``trees``, ``skeleton_objects``,
         ``leaves``) or ``skimage``; all names if None.
+
+    Returns
+    -------
+    list of str
+
+    Raises
+    ------
+    ValueError
+        If ``category`` is not a folder of ``data/`` nor ``"skimage"``.
+
+    Examples
+    --------
+    >>> names("skimage")[:2]
+    ['astronaut', 'camera']
     """
     files = _files()
     if category is None:
@@ -77,7 +91,28 @@ def names(category: str | None = None) -> list[str]:
 
 
 def path(name: str) -> Path:
-    """File path of a sample stored in ``data/``."""
+    """File path of a sample stored in ``data/``.
+
+    Parameters
+    ----------
+    name : str
+        A sample name from :func:`names` (the file's stem, e.g.
+        ``"tree_rpg_01"``); scikit-image's bundled images have no file here.
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    ValueError
+        If no file of that name is in ``data/``.
+
+    Examples
+    --------
+    >>> path("tree_rpg_01").suffix
+    '.png'
+    """
     files = _files()
     if name not in files:
         raise ValueError(f"unknown sample name {name!r}; see branchnb.data.names()")
@@ -90,8 +125,21 @@ def load(name: str) -> np.ndarray:
     RGBA files keep their alpha (C = 4), photos are RGB (C = 3), grey
     files and masks have C = 1.
 
+    Parameters
+    ----------
+    name : str
+        A name from :func:`names`: a file of ``data/`` or one of
+        scikit-image's samples (``"camera"``, ``"retina"``, ...).
+
+    Returns
+    -------
+    (H, W, C) float32 ndarray
+        A new array in [0, 1].
+
     Raises
     ------
+    TypeError
+        If ``name`` is not a str.
     ValueError
         Unknown name (the message lists where to look).
 

@@ -35,7 +35,25 @@ SECTIONS = (
 
 @dataclass
 class GalleryItem:
-    """One picture of the gallery: ``filename`` inside the output folder."""
+    """One picture of the gallery: ``filename`` inside the output folder.
+
+    Parameters
+    ----------
+    section : str
+        Heading the picture is listed under (the technique, or
+        ``"Sample data"``); consecutive items of one section share it.
+    title : str
+        Bold caption line.
+    filename : str
+        The PNG's name, relative to the gallery folder.
+    caption : str
+        What to look at in the picture (plain text, escaped in the HTML).
+
+    Examples
+    --------
+    >>> GalleryItem("Sample data", "camera", "samples_camera.png").caption
+    ''
+    """
 
     section: str
     title: str
@@ -47,6 +65,15 @@ class GalleryItem:
 @dataclass
 class SectionWriter:
     """Saves one section's pictures into ``outdir`` and collects their :class:`GalleryItem` s.
+
+    Parameters
+    ----------
+    section : str
+        The section heading given to every item saved.
+    outdir : pathlib.Path
+        Existing folder the PNGs are written to.
+    items : list of GalleryItem
+        Items collected so far (empty by default); :meth:`save` appends.
 
     Examples
     --------
@@ -62,6 +89,20 @@ class SectionWriter:
     items: list[GalleryItem] = field(default_factory=list)
 
     def save(self, filename: str, image: np.ndarray, title: str, caption: str = "") -> None:
+        """Write ``image`` as ``outdir / filename`` and append its :class:`GalleryItem`.
+
+        Parameters
+        ----------
+        filename : str
+            File name inside ``outdir`` (its suffix picks the format; use
+            ``.png``). An existing file is overwritten.
+        image : ndarray
+            Gray, RGB or RGBA; uint8/uint16/bool or float in [0, 1].
+        title : str
+            Bold caption line.
+        caption : str
+            What to look at in the picture.
+        """
         imsave(Path(self.outdir) / filename, image)
         self.items.append(GalleryItem(self.section, title, filename, caption))
 
@@ -98,8 +139,32 @@ def _samples(outdir: Path) -> list[GalleryItem]:
 def build(outdir, sections=None, progress=None) -> list[GalleryItem]:
     """Render the gallery into ``outdir`` (created if needed) and write ``index.html``.
 
-    ``sections`` lists the technique modules to include (:data:`SECTIONS` by default);
-    ``progress(name)``, if given, is called as each part starts.
+    The sample pictures (skeletons of alpha masks, stipples) always come
+    first; then each section's ``render(outdir)`` adds its own.
+
+    Parameters
+    ----------
+    outdir : str or os.PathLike
+        Output folder, created with its parents if needed; existing files of
+        the same names are overwritten.
+    sections : sequence of str, optional
+        Dotted names of the technique modules with a ``render(outdir)``
+        function to include (:data:`SECTIONS` by default; ``()`` gives only
+        the sample pictures, in seconds). Modules not installed are skipped.
+    progress : callable, optional
+        Called with a short name (``"sample data"``, ``"branching"``, ...)
+        as each part starts.
+
+    Returns
+    -------
+    list of GalleryItem
+        Every picture written, in page order.
+
+    Examples
+    --------
+    >>> items = build("build/gallery", sections=())       # doctest: +SKIP
+    >>> [i.filename for i in items][:2]                   # doctest: +SKIP
+    ['samples_lizard.png', 'samples_tree_rpg_11.png']
     """
     sections = SECTIONS if sections is None else sections
     outdir = Path(outdir)

@@ -179,11 +179,15 @@ def image_panel(ax, image, title: str | None = None, *, cmap: str = "gray", vmin
     Parameters
     ----------
     ax : matplotlib.axes.Axes
+        The panel to draw on (e.g. one of :func:`panels`); its axes are hidden.
     image : array_like
         ``(H, W)`` scalar map, or ``(H, W, 3 | 4)`` colour image in [0, 1] (uint8 is scaled).
     title : str, optional
-    cmap, vmin, vmax :
-        For scalar maps only. ``vmin``/``vmax`` default to the map's finite range, so a
+        Panel title.
+    cmap : str
+        Matplotlib colormap name, for scalar maps only.
+    vmin, vmax : float, optional
+        Colour range of a scalar map; default the map's finite range, so a
         map in any units is visible (never clipped to [0, 1] black).
     colorbar : str or bool, optional
         For scalar maps: add a colour bar, labelled with the string when one is given.
@@ -244,9 +248,11 @@ def hist_panel(ax, samples: Mapping[str, Sequence[float]], *, bins=30, xlabel: s
     Parameters
     ----------
     ax : matplotlib.axes.Axes
+        The panel to draw on.
     samples : mapping of label -> 1-D values
         E.g. ``{"example": angles_in, "synthesized": angles_out}``.
     bins : int or sequence of edges
+        Number of shared bins over ``range``, or the edges themselves.
     xlabel, ylabel, title : str
         Axis labels and panel title.
     range : (float, float), optional
@@ -305,10 +311,22 @@ def show(images: Sequence, titles: Sequence[str] = (), *, cols: int | None = Non
         Images or scalar maps (see :func:`image_panel`).
     titles : sequence of str
         One per image (missing ones are blank).
-    cols, size, widths, suptitle :
-        Layout, see :func:`panels`.
-    cmap, colorbar, background, scale_bar :
-        Passed to :func:`image_panel` for every panel.
+    cols : int, optional
+        Panels per row (see :func:`panels`).
+    size : float
+        Width of one panel in inches (see :func:`panels`).
+    widths : sequence of float, optional
+        Relative panel widths for a single row (see :func:`panels`).
+    suptitle : str, optional
+        Figure title.
+    cmap : str
+        Colormap of scalar maps (see :func:`image_panel`).
+    colorbar : str or bool, optional
+        Colour bars on scalar maps (see :func:`image_panel`).
+    background : 'checker' or RGB triple
+        What shows through transparent pixels (see :func:`image_panel`).
+    scale_bar : bool
+        Write each image's size under its title (see :func:`image_panel`).
 
     Examples
     --------
@@ -377,6 +395,7 @@ def legend_patches(ax, colors: Mapping[str, Sequence[float] | str], *, title: st
     Parameters
     ----------
     ax : matplotlib.axes.Axes
+        The panel the legend goes on.
     colors : mapping of label -> colour
         A colour is an RGB(A) triple in [0, 1] or any matplotlib colour string.
     title : str, optional

@@ -23,8 +23,24 @@ __all__ = ["annotations_to_structure", "structure_from_annotation_json", "struct
 def structure_to_annotations(structure: Structure, keep=()) -> str:
     """Annotation JSON with one polyline per branch (radii = thickness, parent in ``meta``).
 
-    ``keep`` are other shapes (objects with ``to_dict()`` or dicts, e.g. the
-    guidance strokes) appended after them.
+    Parameters
+    ----------
+    structure : Structure
+        The structure to export; branch ``k`` becomes shape ``k``.
+    keep : iterable, optional
+        Other shapes (objects with ``to_dict()`` or dicts, e.g. the guidance
+        strokes) appended after the branches, unchanged. Default: none.
+
+    Returns
+    -------
+    str
+        The document ``{"version": 1, "shapes": [...]}`` as JSON text, read
+        back by :func:`structure_from_annotation_json`.
+
+    Raises
+    ------
+    TypeError
+        If ``structure`` is not a :class:`Structure`.
 
     Examples
     --------
@@ -100,6 +116,32 @@ def annotations_to_structure(shapes, image_shape=None) -> tuple[Structure, list[
     polyline starts; otherwise (e.g. after shapes were deleted) any other
     polyline having a vertex exactly at its start is the parent. Polylines
     with fewer than 2 vertices are skipped; missing radii default to 1 pixel.
+    Links that would close a parent cycle (inconsistent edits) are dropped:
+    every branch then becomes a root.
+
+    Parameters
+    ----------
+    shapes : sequence of shapes or dicts
+        The canvas's shapes, or the ``"shapes"`` list of its JSON export;
+        points are (x, y) pixels, radii the thickness per vertex (> 0).
+    image_shape : (int, int), optional
+        ``(H, W)`` of the annotated image, stored on the structure (None:
+        unknown).
+
+    Returns
+    -------
+    structure : Structure
+        One branch per polyline with at least 2 vertices.
+    index : list of int
+        ``index[b]`` is the position in ``shapes`` of branch ``b``.
+
+    Raises
+    ------
+    TypeError
+        If ``shapes`` is not a sequence, or a shape's kind, radii or meta has
+        the wrong type.
+    ValueError
+        If a polyline's radii do not match its points or are not > 0.
 
     Examples
     --------
@@ -147,6 +189,25 @@ def annotations_to_structure(shapes, image_shape=None) -> tuple[Structure, list[
 
 def structure_from_annotation_json(doc, image_shape=None) -> Structure:
     """The structure in an annotation JSON document (text or the parsed dict with ``"shapes"``).
+
+    Parameters
+    ----------
+    doc : str, bytes or dict
+        JSON text, or the parsed document: a dict whose ``"shapes"`` is a
+        list of shape dicts (see :func:`annotations_to_structure`).
+    image_shape : (int, int), optional
+        ``(H, W)`` of the annotated image (None: unknown).
+
+    Returns
+    -------
+    Structure
+
+    Raises
+    ------
+    ValueError
+        If ``doc`` is not valid JSON or has no ``"shapes"``.
+    TypeError
+        If ``"shapes"`` is not a list of dicts.
 
     Examples
     --------

@@ -39,7 +39,7 @@ __all__ = ["Composition", "compose_piece"]
 class Composition:
     """What :func:`compose_piece` did inside its window.
 
-    Attributes
+    Parameters
     ----------
     window : (slice, slice)
         Rows and columns of the canvas the piece touched.
@@ -51,6 +51,14 @@ class Composition:
         Kept pixels adjacent to taken ones inside the overlap.
     cost : float
         Seam cost (:func:`branchnb.core.graphcut.seam_cost`) of the labelling.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> canvas, covered = np.zeros((8, 8, 3), np.float32), np.zeros((8, 8), bool)
+    >>> c = compose_piece(canvas, covered, np.ones((4, 4, 3), np.float32), np.ones((4, 4), bool), (2, 2))
+    >>> c.window, int(c.take.sum()), c.cost         # an empty canvas: the whole piece, no seam
+    ((slice(2, 6, None), slice(2, 6, None)), 16, 0.0)
     """
 
     window: tuple
@@ -97,6 +105,8 @@ def compose_piece(canvas: np.ndarray, covered: np.ndarray, piece: np.ndarray, va
     valid : (h, w) bool ndarray
         Pixels the piece may cover.
     origin : (x0, y0)
+        Canvas pixel (column, row) of the piece's top-left pixel; the window
+        is clipped to the canvas.
     protect_canvas, protect_piece : (h, w) bool ndarray, optional
         Overlap pixels pinned to the old image / to the piece. Protected
         canvas pixels do not constrain the photometric correction.
@@ -119,6 +129,16 @@ def compose_piece(canvas: np.ndarray, covered: np.ndarray, piece: np.ndarray, va
     -------
     Composition or None
         None if the window lies outside the canvas.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> canvas = np.zeros((16, 16, 3), np.float32)
+    >>> covered = np.zeros((16, 16), bool); covered[:, :8] = True      # left half done
+    >>> piece, valid = np.ones((16, 12, 3), np.float32), np.ones((16, 12), bool)
+    >>> c = compose_piece(canvas, covered, piece, valid, (4, 0), poisson=False)
+    >>> c.window[1], bool(covered.all()), float(canvas[0, 0, 0]), float(canvas[0, 15, 0])
+    (slice(4, 16, None), True, 0.0, 1.0)
     """
     if method not in ("graphcut", "overlay"):
         raise ValueError(f"method must be 'graphcut' or 'overlay', got {method!r}")

@@ -47,14 +47,16 @@ __all__ = ["CompletionResult", "admissible_windows", "complete_gaps"]
 class CompletionResult:
     """Result of :func:`complete_gaps`.
 
-    Attributes
+    Parameters
     ----------
     filled : (H, W) bool ndarray
         Pixels filled by completion patches.
     source : (H, W, 2) float ndarray
         Example pixel (x, y) each filled pixel was copied from (NaN elsewhere).
     seams : (H, W) bool ndarray
+        Pixels along the graph-cut seams between patches and their surroundings.
     n_patches : int
+        Number of patches pasted.
     seam_cost : float
         Sum of the seam costs of all patches.
     patch_size : int
@@ -62,6 +64,15 @@ class CompletionResult:
     n_inpainted : int
         Pixels no patch could fill (all its candidate pixels were forbidden),
         filled with the colour of the nearest known pixels as a last resort.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> example = np.full((32, 32, 3), 0.5, np.float32)
+    >>> canvas, covered = np.zeros((16, 16, 3), np.float32), np.zeros((16, 16), bool)
+    >>> r = complete_gaps(canvas, covered, example, np.zeros((32, 32), bool), patch_size=8, rng=0)
+    >>> int(r.filled.sum()), r.n_inpainted, float(canvas.min())
+    (256, 0, 0.5)
     """
 
     filled: np.ndarray
@@ -314,7 +325,7 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
     covered : (H, W) bool ndarray
         Pixels already synthesised (modified; all True on return).
     example : (h, w, C) float32 ndarray
-        The example image.
+        The example image the texture is copied from (channels as ``canvas``).
     forbidden : (h, w) bool ndarray
         Example pixels that must never be copied (branches with a margin, matte).
     patch_size : int
@@ -334,8 +345,12 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
     search_size : int
         The example is searched at a scale where its long side is at most
         this many pixels; the choice is refined at full resolution.
-    method, poisson, anchored, anchor_weight, screen
-        Composition of each patch, see :func:`branchnb.core.blending.compose_piece`
+    method : {"graphcut", "overlay"}
+        Seam of each patch, as for :func:`branchnb.core.blending.compose_piece`.
+    poisson, anchored : bool
+        Photometric correction of each patch, as for ``compose_piece``.
+    anchor_weight, screen : float
+        Correction strengths, as for ``compose_piece``
         (with ``screen > 0`` the anchors are replaced by a screened correction
         that stays near the seams).
     min_free : float
@@ -347,7 +362,11 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
     max_passes : int
         Passes over the remaining holes before the last-resort inpainting.
     rng : int or numpy.random.Generator, optional
+        Seed or generator: each patch window is drawn among those whose
+        matching cost is within the tolerance of the best.
     progress : callable(fraction, text), optional
+        Called with the filled fraction of the holes in [0, 1] and a short
+        message as patches are placed.
     regions, example_regions : (H, W) and (h, w) int ndarray, optional
         Region labels of the canvas and of the example (e.g. land and sea
         of a map, from a flat-colour segmentation). Given both, each
@@ -363,6 +382,16 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
     Returns
     -------
     CompletionResult
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> example = np.random.default_rng(0).random((40, 40, 3)).astype(np.float32)
+    >>> canvas = np.zeros((24, 24, 3), np.float32); canvas[:, :12] = example[:24, :12]
+    >>> covered = np.zeros((24, 24), bool); covered[:, :12] = True     # the right half is a gap
+    >>> r = complete_gaps(canvas, covered, example, np.zeros((40, 40), bool), patch_size=8, rng=0)
+    >>> bool(covered.all()), r.patch_size, int(r.filled.sum()) > 0
+    (True, 8, True)
     """
     rng = as_rng(rng)
     H, W = covered.shape

@@ -70,10 +70,18 @@ def gradient_magnitude(img: np.ndarray) -> np.ndarray:
     Parameters
     ----------
     img : (H, W, C) float ndarray
+        An image (any channel count; OpenCV is used for up to 4 channels).
 
     Returns
     -------
     (H, W) ndarray
+        Sobel magnitude (divided by 8, replicated borders).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> float(gradient_magnitude(np.zeros((4, 4, 3))).max())
+    0.0
     """
     img = np.asarray(img)
     if img.ndim == 3 and img.shape[2] <= 4 and min(img.shape[:2]) >= 2:
@@ -110,6 +118,13 @@ def pair_costs(a, b, *, power: float = 1.0, gradient_weighted: bool = True,
         Cost of separating ``(r, c)`` from ``(r, c + 1)``.
     down : (H - 1, W) ndarray
         Cost of separating ``(r, c)`` from ``(r + 1, c)``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> right, down = pair_costs(np.zeros((4, 5, 3)), np.ones((4, 5, 3)), gradient_weighted=False)
+    >>> right.shape, down.shape, round(float(right[0, 0]), 4)          # d = sqrt(3) at both pixels
+    ((4, 4), (3, 5), 3.4641)
     """
     a = as_float_image(a, name="a")
     b = as_float_image(b, name="b")
@@ -155,13 +170,16 @@ def seam_cut(a, b, region, pin_a, pin_b, *, power: float = 1.0,
     Parameters
     ----------
     a, b : (H, W, C) array_like
+        The two overlapping images (same shape).
     region : (H, W) bool array_like
         Pixels to label (typically the overlap of the two images).
     pin_a, pin_b : (H, W) bool array_like
         Pixels of ``region`` that must take ``a`` (resp. ``b``), e.g. the
         overlap pixels bordering the part only ``a`` covers.
-    power, gradient_weighted
-        See :func:`pair_costs`.
+    power : float
+        Exponent on the colour difference (see :func:`pair_costs`).
+    gradient_weighted : bool
+        Divide by the edge strength so seams follow edges (see :func:`pair_costs`).
     costs : (right, down), optional
         ``pair_costs(a, b, power=power, gradient_weighted=gradient_weighted)``
         when the caller has it already (it is not computed again).
@@ -234,8 +252,38 @@ def seam_cost(a, b, take_b, *, region=None, power: float = 1.0,
     Only pairs with both pixels in ``region`` count (everywhere if None),
     since the cost needs both images at both pixels. Use it to compare
     composition strategies on equal terms, e.g. a graph cut against a
-    plain overlay. ``costs``: ``pair_costs(a, b, ...)`` if already
-    computed (as in :func:`seam_cut`).
+    plain overlay.
+
+    Parameters
+    ----------
+    a, b : (H, W, C) array_like
+        The two overlapping images (same shape).
+    take_b : (H, W) bool array_like
+        The labelling: True where the pixel comes from ``b`` (e.g. the
+        result of :func:`seam_cut`).
+    region : (H, W) bool array_like, optional
+        Pixels where both images are defined; only neighbour pairs with both
+        pixels inside count. Default: the whole image.
+    power : float
+        Exponent on the colour difference (see :func:`pair_costs`).
+    gradient_weighted : bool
+        Divide by the edge strength so seams follow edges (see :func:`pair_costs`).
+    costs : (right, down), optional
+        ``pair_costs(a, b, power=power, gradient_weighted=gradient_weighted)``
+        if already computed (as in :func:`seam_cut`); not computed again.
+
+    Returns
+    -------
+    float
+        Sum of the pair costs of the neighbour pairs the labelling separates
+        (0 for a labelling without a seam).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> a, b = np.zeros((4, 4, 3)), np.zeros((4, 4, 3))
+    >>> seam_cost(a, b, np.eye(4, dtype=bool))      # identical images: every cut is free
+    0.0
     """
     right, down = _costs(a, b, costs, power, gradient_weighted)
     shape = (right.shape[0], down.shape[1])
@@ -255,7 +303,7 @@ def _seam_cost(right: np.ndarray, down: np.ndarray, lab: np.ndarray, reg: np.nda
 class SeamComposition:
     """Result of :func:`compose_overlap`.
 
-    Attributes
+    Parameters
     ----------
     image : (H, W, C) float32 ndarray
         The composed image.
@@ -268,6 +316,14 @@ class SeamComposition:
         (for drawing the seam).
     cost : float
         Seam cost of the chosen labelling.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> ma = np.zeros((6, 6), bool); ma[:, :4] = True
+    >>> r = compose_overlap(np.zeros((6, 6, 3)), ma, np.zeros((6, 6, 3)), ~ma)
+    >>> bool(r.mask.all()), r.cost                  # no overlap: nothing to cut
+    (True, 0.0)
     """
 
     image: np.ndarray
@@ -287,6 +343,37 @@ def compose_overlap(a, mask_a, b, mask_b, *, power: float = 1.0,
     bordering the part only ``b`` covers are pinned to ``b``, and a graph
     cut labels the rest. With ``method="overlay"`` ``b`` simply covers
     the whole overlap (the baseline the cut is compared with).
+
+    Parameters
+    ----------
+    a : (H, W, C) array_like
+        The image already in place.
+    mask_a : (H, W) bool array_like
+        Pixels ``a`` covers.
+    b : (H, W, C) array_like
+        The image composed onto ``a`` (same shape as ``a``).
+    mask_b : (H, W) bool array_like
+        Pixels ``b`` covers. When ``b`` lies wholly inside ``a``, an inner
+        core of ``mask_b`` is pinned to ``b`` so the new piece is not lost.
+    power : float
+        Exponent on the colour difference (see :func:`pair_costs`).
+    gradient_weighted : bool
+        Divide by the edge strength so seams follow edges (see :func:`pair_costs`).
+    method : {"graphcut", "overlay"}
+        ``"graphcut"`` labels the overlap by a minimum cut; ``"overlay"``
+        lets ``b`` cover it (all but the ring pinned to ``a``).
+
+    Returns
+    -------
+    SeamComposition
+        The composed image (0 outside both masks), union mask, labelling,
+        seam pixels and seam cost.
+
+    Raises
+    ------
+    ValueError
+        If ``a`` and ``b`` differ in shape, a mask has another shape, or
+        ``method`` is unknown.
 
     Examples
     --------
@@ -442,6 +529,8 @@ def multilabel_seams(images, unary, *, region=None, smoothness: float = 1.0,
         Divide by the edge strength so seams follow edges.
     max_cycles : int
         Most expansion cycles over all labels.
+    eps : float
+        Regulariser of the division by the gradients (the ``eps`` of ``V_pq``).
     labels : (H, W) int array_like, optional
         Initial labelling (default: the cheapest label per pixel).
 

@@ -43,6 +43,28 @@ def _sample(x, name: str) -> np.ndarray:
 def shared_bins(*samples, bins: int = 16, range: tuple[float, float] | None = None) -> np.ndarray:
     """Bin edges shared by all samples: ``bins`` equal bins over their joint range.
 
+    Parameters
+    ----------
+    *samples : array_like
+        Samples of any shape (flattened), finite values; may be omitted when
+        ``range`` is given.
+    bins : int
+        Number of equal bins (>= 1).
+    range : (float, float), optional
+        ``(low, high)`` of the bins; the joint min..max of the samples by
+        default. A zero-width range is widened to ``low - 0.5 .. high + 0.5``.
+
+    Returns
+    -------
+    (bins + 1,) float ndarray
+        Increasing bin edges.
+
+    Raises
+    ------
+    ValueError
+        If a sample is empty or not finite, there is neither a sample nor a
+        range, or the range is too wide for float64.
+
     Examples
     --------
     >>> shared_bins([0, 1], [3], bins=3).tolist()
@@ -131,19 +153,66 @@ def _pair(p, q) -> tuple[np.ndarray, np.ndarray]:
 
 
 def l1_distance(p, q) -> float:
-    """L1 distance ``sum |p - q|`` (0..2 for normalised histograms)."""
+    """L1 distance ``sum |p - q|`` (0..2 for normalised histograms).
+
+    Parameters
+    ----------
+    p, q : (B,) array_like
+        Two histograms on the same bins (values >= 0, equal length).
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> l1_distance([1, 0], [0, 1])
+    2.0
+    """
     p, q = _pair(p, q)
     return float(np.abs(p - q).sum())
 
 
 def l2_squared_distance(p, q) -> float:
-    """Mean squared difference ``(1/B) sum (p - q)^2`` (the branching paper's measure)."""
+    """Mean squared difference ``(1/B) sum (p - q)^2`` (the branching paper's measure).
+
+    Parameters
+    ----------
+    p, q : (B,) array_like
+        Two histograms on the same bins (values >= 0, equal length).
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> l2_squared_distance([1, 0], [0, 1])
+    1.0
+    """
     p, q = _pair(p, q)
     return float(np.mean((p - q) ** 2))
 
 
 def chi_square_distance(p, q) -> float:
-    """Symmetric chi-square distance ``1/2 sum (p - q)^2 / (p + q)`` (0..1)."""
+    """Symmetric chi-square distance ``1/2 sum (p - q)^2 / (p + q)`` (0..1).
+
+    Bins empty in both histograms are left out of the sum.
+
+    Parameters
+    ----------
+    p, q : (B,) array_like
+        Two normalised histograms on the same bins (values >= 0, equal length).
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> chi_square_distance([1, 0], [0, 1])
+    1.0
+    """
     p, q = _pair(p, q)
     s = p + q
     nz = s > 0
@@ -156,6 +225,32 @@ def emd_1d(p, q, edges=None) -> float:
     In 1-D it is the L1 distance between the cumulative distributions,
     times the bin width (in units of the data if ``edges`` is given, of
     bins otherwise).
+
+    Parameters
+    ----------
+    p, q : (B,) array_like
+        Two histograms on the same bins (values >= 0, equal length); each is
+        normalised to sum 1 first (unless it is all zero).
+    edges : (B + 1,) array_like, optional
+        Strictly increasing bin edges; None measures in bins.
+
+    Returns
+    -------
+    float
+        The work to move ``p`` onto ``q``.
+
+    Raises
+    ------
+    ValueError
+        If the histograms differ in length, ``edges`` has the wrong length or
+        does not increase, or the distance overflows.
+
+    Examples
+    --------
+    >>> emd_1d([1, 0, 0], [0, 0, 1])                 # all mass moves two bins
+    2.0
+    >>> emd_1d([1, 0, 0], [0, 0, 1], edges=[0, 10, 20, 30])
+    20.0
     """
     p, q = _pair(p, q)
     p = p / p.sum() if p.sum() > 0 else p
@@ -186,7 +281,33 @@ METRICS = {
 
 
 def histogram_distance(p, q, metric: str = "l1", edges=None) -> float:
-    """Distance between two histograms by name: ``l1``, ``l2sq``, ``chi2`` or ``emd``."""
+    """Distance between two histograms by name: ``l1``, ``l2sq``, ``chi2`` or ``emd``.
+
+    Parameters
+    ----------
+    p, q : (B,) array_like
+        Two histograms on the same bins (values >= 0, equal length).
+    metric : {"l1", "l2sq", "chi2", "emd"}
+        Key of :data:`METRICS`: :func:`l1_distance`,
+        :func:`l2_squared_distance`, :func:`chi_square_distance` or
+        :func:`emd_1d`.
+    edges : (B + 1,) array_like, optional
+        Bin edges, used only by ``"emd"`` (distance in data units).
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    ValueError
+        If ``metric`` is unknown.
+
+    Examples
+    --------
+    >>> histogram_distance([1, 0], [0, 1], "chi2")
+    1.0
+    """
     if metric not in METRICS:
         raise ValueError(f"metric must be one of {sorted(METRICS)}, got {metric!r}")
     if metric == "emd":
@@ -198,14 +319,24 @@ def histogram_distance(p, q, metric: str = "l1", edges=None) -> float:
 class HistogramComparison:
     """Histograms of several samples on shared bins, with distances to the first.
 
-    Attributes
+    Parameters
     ----------
     hists : (K, B) ndarray
+        One normalised histogram per sample (rows sum to 1).
     edges : (B + 1,) ndarray
+        The shared bin edges.
     labels : list of str
+        One name per sample.
     metric : str
+        Name of the distance (a key of :data:`METRICS`).
     distances : (K,) ndarray
         Distance of each histogram to ``hists[0]`` (so ``distances[0] == 0``).
+
+    Examples
+    --------
+    >>> c = compare_samples([0, 0, 1], [1, 1, 1], bins=2, labels=["input", "output"])
+    >>> c.labels, c.hists.round(3).tolist(), c.distances.round(3).tolist()
+    (['input', 'output'], [[0.667, 0.333], [0.0, 1.0]], [0.0, 1.333])
     """
 
     hists: np.ndarray
@@ -219,6 +350,30 @@ class HistogramComparison:
 def compare_samples(*samples, labels=None, bins: int = 16, range=None,
                     metric: str = "l1") -> HistogramComparison:
     """Bin samples together and measure each one's distance to the first.
+
+    Parameters
+    ----------
+    *samples : array_like
+        Two or more samples (flattened, finite); the first is the reference.
+    labels : list of str, optional
+        One name per sample; ``"sample 0"``, ``"sample 1"``, ... by default.
+    bins : int
+        Number of shared bins.
+    range : (float, float), optional
+        Histogram range; the joint min..max by default (see :func:`histograms`).
+    metric : {"l1", "l2sq", "chi2", "emd"}
+        Distance used (see :func:`histogram_distance`).
+
+    Returns
+    -------
+    HistogramComparison
+
+    Raises
+    ------
+    TypeError
+        If ``labels`` is not a list or tuple.
+    ValueError
+        If ``labels`` has the wrong length, or as :func:`histograms`.
 
     Examples
     --------

@@ -119,6 +119,22 @@ def as_rgb(image, *, background=(1.0, 1.0, 1.0), name: str = "image") -> np.ndar
     Grayscale is replicated over the three channels; RGBA is composited
     over ``background`` (white by default).
 
+    Parameters
+    ----------
+    image : array_like
+        Any image :func:`as_float_image` accepts (gray, RGB or RGBA;
+        uint8/uint16/bool or float in [0, 1]).
+    background : 3-tuple of float or (H, W, 3) array_like
+        What transparent pixels of an RGBA image show: an RGB colour in
+        [0, 1] or an image of the same size. Ignored without alpha.
+    name : str, optional
+        Argument name used in error messages.
+
+    Returns
+    -------
+    (H, W, 3) float32 ndarray
+        A new array.
+
     Examples
     --------
     >>> import numpy as np
@@ -136,6 +152,17 @@ def as_rgb(image, *, background=(1.0, 1.0, 1.0), name: str = "image") -> np.ndar
 
 def as_rgba(image, *, name: str = "image") -> np.ndarray:
     """Convert to an (H, W, 4) float32 RGBA image (opaque alpha if absent).
+
+    Parameters
+    ----------
+    image : array_like
+        Any image :func:`as_float_image` accepts; gray is replicated to RGB.
+    name : str, optional
+        Argument name used in error messages.
+
+    Returns
+    -------
+    (H, W, 4) float32 ndarray
 
     Examples
     --------
@@ -157,6 +184,19 @@ def as_gray(image, *, name: str = "image") -> np.ndarray:
 
     Alpha, if present, is ignored.
 
+    Parameters
+    ----------
+    image : array_like
+        Any image :func:`as_float_image` accepts.
+    name : str, optional
+        Argument name used in error messages.
+
+    Returns
+    -------
+    (H, W) float32 ndarray
+        ``0.2126 R + 0.7152 G + 0.0722 B`` in [0, 1] (a single-channel
+        image is returned as is).
+
     Examples
     --------
     >>> import numpy as np
@@ -177,10 +217,30 @@ def as_mask(mask, *, shape: tuple[int, int] | None = None, name: str = "mask",
     Parameters
     ----------
     mask : array_like, (H, W)
+        Any real or bool dtype; nonzero is True (NaN/inf are refused).
     shape : (int, int), optional
-        Required ``(H, W)``.
+        Required ``(H, W)``; any shape if None.
+    name : str, optional
+        Argument name used in error messages.
     like : str, optional
         Name of the argument ``shape`` comes from, for the error message.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        A new array.
+
+    Raises
+    ------
+    TypeError
+        If ``shape`` is not a pair or ``mask`` is not numeric.
+    ValueError
+        If ``mask`` is not 2-D, has another shape than ``shape``, or holds NaN/inf.
+
+    Examples
+    --------
+    >>> as_mask([[0, 2], [1, 0]]).tolist()
+    [[False, True], [True, False]]
     """
     if shape is not None and (isinstance(shape, (str, bytes)) or not hasattr(shape, "__len__") or len(shape) != 2):
         raise TypeError(f"shape must be (H, W) or None, got {type(shape).__name__}")
@@ -207,6 +267,8 @@ def as_points(
     Parameters
     ----------
     points : array_like, (N, 2)
+        Points (x, y) in pixels, finite and within ``COORD_LIMIT``; an
+        empty list gives a ``(0, 2)`` array.
     name : str
         Argument name used in error messages.
     min_points : int
@@ -214,6 +276,19 @@ def as_points(
     image_shape : tuple, optional
         If given, every point must lie inside ``[0, W-1] x [0, H-1]``
         (with half a pixel of tolerance).
+
+    Returns
+    -------
+    (N, 2) float64 ndarray
+        A new array.
+
+    Raises
+    ------
+    TypeError
+        If ``points`` is not numbers.
+    ValueError
+        Wrong shape, fewer than ``min_points`` points, NaN/inf, or a point
+        outside ``image_shape`` (the message names the first).
 
     Examples
     --------
@@ -250,6 +325,22 @@ def to_uint8(image) -> np.ndarray:
     """Convert a [0, 1] float image to uint8 (rounding), keeping its shape.
 
     A trailing single channel is dropped so the result can be saved directly.
+
+    Parameters
+    ----------
+    image : array_like
+        Any image :func:`as_float_image` accepts.
+
+    Returns
+    -------
+    (H, W) or (H, W, C) uint8 ndarray
+        ``round(255 * image)``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> to_uint8(np.full((1, 2), 0.5)).tolist()
+    [[128, 128]]
     """
     image = as_float_image(image)
     out = np.round(image * 255.0).astype(np.uint8)
@@ -257,7 +348,29 @@ def to_uint8(image) -> np.ndarray:
 
 
 def split_alpha(image, *, name: str = "image") -> tuple[np.ndarray, np.ndarray]:
-    """Return ``(rgb, alpha)`` of an image; alpha is all ones if absent."""
+    """Return ``(rgb, alpha)`` of an image; alpha is all ones if absent.
+
+    Parameters
+    ----------
+    image : array_like
+        Any image :func:`as_float_image` accepts (gray is replicated to RGB).
+    name : str, optional
+        Argument name used in error messages.
+
+    Returns
+    -------
+    rgb : (H, W, 3) float32 ndarray
+        Colour, not premultiplied.
+    alpha : (H, W) float32 ndarray
+        Opacity in [0, 1].
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> rgb, alpha = split_alpha(np.zeros((2, 3)))
+    >>> rgb.shape, float(alpha.min())
+    ((2, 3, 3), 1.0)
+    """
     rgba = as_rgba(image, name=name)
     return rgba[:, :, :3], rgba[:, :, 3]
 
@@ -268,7 +381,20 @@ def composite_over(image, background=(1.0, 1.0, 1.0)) -> np.ndarray:
     Parameters
     ----------
     image : (H, W, 4) array_like
+        The image with alpha (gray or RGB counts as opaque).
     background : 3-tuple or (H, W, 3) array_like
+        An RGB colour in [0, 1], or an image of the same height and width.
+
+    Returns
+    -------
+    (H, W, 3) float32 ndarray
+        ``rgb * alpha + background * (1 - alpha)``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> composite_over(np.zeros((1, 1, 4)), (1, 0, 0))[0, 0].tolist()
+    [1.0, 0.0, 0.0]
     """
     rgba = as_rgba(image)
     if isinstance(background, (str, bytes)) or background is None:

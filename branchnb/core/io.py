@@ -54,7 +54,25 @@ def _opencv_u8(image) -> np.ndarray:
 
 
 def encode_png(image) -> bytes:
-    """Encode an image (any layout accepted by ``as_float_image``) as PNG bytes (lossless)."""
+    """Encode an image (any layout accepted by ``as_float_image``) as PNG bytes (lossless).
+
+    Parameters
+    ----------
+    image : array_like
+        Gray, RGB or RGBA; uint8/uint16/bool or float in [0, 1]. Written as
+        8 bits per channel (alpha kept).
+
+    Returns
+    -------
+    bytes
+        The PNG file's content.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> encode_png(np.zeros((2, 2, 3)))[:4]
+    b'\\x89PNG'
+    """
     ok, buf = cv2.imencode(".png", _opencv_u8(image))
     if not ok:  # pragma: no cover - OpenCV failure
         raise RuntimeError("PNG encoding failed")
@@ -62,7 +80,33 @@ def encode_png(image) -> bytes:
 
 
 def imsave(path, image) -> Path:
-    """Save an image to ``path`` (format from the suffix; PNG keeps alpha)."""
+    """Save an image to ``path`` (format from the suffix; PNG keeps alpha).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Destination file; its suffix (``.png``, ``.jpg``, ``.tif``, ...)
+        chooses the format. An existing file is overwritten.
+    image : array_like
+        Gray, RGB or RGBA; uint8/uint16/bool or float in [0, 1]. Saved as
+        8 bits per channel.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+
+    Raises
+    ------
+    ValueError
+        If OpenCV cannot write the file (unknown suffix, missing folder).
+
+    Examples
+    --------
+    >>> import numpy as np, tempfile, os
+    >>> imsave(os.path.join(tempfile.mkdtemp(), "a.png"), np.zeros((2, 2))).name
+    'a.png'
+    """
     path = Path(path)
     if not cv2.imwrite(str(path), _opencv_u8(image)):
         raise ValueError(f"could not write image to {path}")
@@ -158,6 +202,11 @@ def image_size(source, *, name: str | None = None) -> tuple[int, int]:
     name : str, optional
         What error messages call the image (default: the path, or ``"image"``).
 
+    Returns
+    -------
+    (int, int)
+        ``(width, height)`` in pixels.
+
     Raises
     ------
     ValueError
@@ -220,6 +269,7 @@ def imread(path, *, max_pixels: int | None = None) -> np.ndarray:
     Parameters
     ----------
     path : str or Path
+        Image file (PNG, JPEG, TIFF, BMP, WebP, ...).
     max_pixels : int, optional
         Refuse files declaring more pixels than this (default
         :data:`MAX_IMAGE_PIXELS`); checked on the header, before decoding.
@@ -262,6 +312,18 @@ def imdecode(data, *, name: str = "image", max_pixels: int | None = None) -> np.
         What error messages call it (e.g. the uploaded file's name).
     max_pixels : int, optional
         As in :func:`imread`.
+
+    Returns
+    -------
+    (H, W, C) float32 ndarray
+        In [0, 1], RGB(A) order, C in {1, 3, 4}.
+
+    Raises
+    ------
+    TypeError
+        If ``data`` is not bytes.
+    ValueError
+        Not an image, or more pixels than ``max_pixels``.
 
     Examples
     --------

@@ -48,6 +48,25 @@ def _plain(obj, path: str):
 def dumps_strict(obj, *, name: str = "data", **kwargs) -> str:
     """``json.dumps`` that refuses NaN/inf (naming where it is) and converts numpy values.
 
+    Parameters
+    ----------
+    obj : object
+        Dicts, lists, tuples, str, bool, None, numbers, numpy scalars and
+        arrays (turned into lists).
+    name : str, optional
+        How the message names ``obj`` (the path inside is appended).
+    **kwargs
+        Passed to :func:`json.dumps` (``indent``, ``sort_keys``, ...).
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    ValueError
+        If a number is NaN or infinite.
+
     Examples
     --------
     >>> dumps_strict({"a": np.float32(0.5)})
@@ -62,6 +81,21 @@ def dumps_strict(obj, *, name: str = "data", **kwargs) -> str:
 
 def check_depth(obj, *, name: str = "data", limit: int = MAX_JSON_DEPTH) -> None:
     """Refuse nested lists/dicts deeper than ``limit`` (without recursing, so any depth is safe).
+
+    Parameters
+    ----------
+    obj : object
+        A parsed JSON value (dicts, lists, tuples and scalars).
+    name : str, optional
+        How the message names ``obj``.
+    limit : int, optional
+        Deepest nesting allowed; a list or dict at top level is level 1.
+        Default ``MAX_JSON_DEPTH`` (64).
+
+    Raises
+    ------
+    ValueError
+        If ``obj`` nests deeper than ``limit``.
 
     Examples
     --------
@@ -103,6 +137,18 @@ def _unique_keys(pairs):
 
 def loads_strict(text, *, name: str = "text"):
     """Parse standard JSON: no NaN/Infinity tokens, no overflowing numbers, no duplicate keys, bounded nesting.
+
+    Parameters
+    ----------
+    text : str, bytes or bytearray
+        The JSON text (bytes are decoded as UTF-8).
+    name : str, optional
+        How error messages name ``text``.
+
+    Returns
+    -------
+    object
+        The parsed value, as :func:`json.loads` gives it.
 
     Raises
     ------

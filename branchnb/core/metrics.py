@@ -16,6 +16,7 @@ def psnr(a, b, mask=None, *, data_range: float = 1.0) -> float:
     Parameters
     ----------
     a, b : array_like, same shape (H, W) or (H, W, C)
+        The image tested and the reference, in the units of ``data_range``.
     mask : (H, W) bool array_like, optional
         Pixels to compare (all by default).
     data_range : float
@@ -52,6 +53,21 @@ def psnr(a, b, mask=None, *, data_range: float = 1.0) -> float:
 
 def iou(a, b) -> float:
     """Intersection over union of two boolean masks (1 for two empty masks).
+
+    Parameters
+    ----------
+    a, b : (H, W) array_like
+        Masks of the same shape (nonzero is True).
+
+    Returns
+    -------
+    float
+        ``|a & b| / |a | b|`` in [0, 1].
+
+    Raises
+    ------
+    ValueError
+        If the masks are not 2-D or differ in shape.
 
     Examples
     --------

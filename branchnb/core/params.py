@@ -42,6 +42,21 @@ def param(default: Any, *, min: float | None = None, max: float | None = None,
         Use a logarithmic slider.
     ui : bool
         False hides the field from ``ParamPanel``.
+
+    Returns
+    -------
+    dataclasses.Field
+        A field with this metadata (a list/dict/set default becomes a
+        ``default_factory`` copying it).
+
+    Examples
+    --------
+    >>> from dataclasses import dataclass, fields
+    >>> @dataclass
+    ... class P:
+    ...     k: int = param(9, min=1, max=40, help="bending memory k")
+    >>> P().k, fields(P)[0].metadata["max"]
+    (9, 40)
     """
     meta = {"min": min, "max": max, "step": step, "help": help, "label": label,
             "options": tuple(options) if options is not None else None, "log": log, "ui": ui}
@@ -51,7 +66,34 @@ def param(default: Any, *, min: float | None = None, max: float | None = None,
 
 
 def param_info(params) -> list[tuple[dataclasses.Field, dict]]:
-    """``(field, metadata)`` of each field of a parameter dataclass (instance or type)."""
+    """``(field, metadata)`` of each field of a parameter dataclass (instance or type).
+
+    Parameters
+    ----------
+    params : dataclass instance or type
+        A parameter dataclass whose fields were made with :func:`param`
+        (plain fields give an empty metadata dict).
+
+    Returns
+    -------
+    list of (dataclasses.Field, dict)
+        In field order; the dict has the keys of :func:`param` (``min``,
+        ``max``, ``step``, ``help``, ``label``, ``options``, ``log``, ``ui``).
+
+    Raises
+    ------
+    TypeError
+        If ``params`` is not a dataclass.
+
+    Examples
+    --------
+    >>> from dataclasses import dataclass
+    >>> @dataclass
+    ... class P:
+    ...     k: int = param(9, min=1, max=40)
+    >>> [(f.name, meta["max"]) for f, meta in param_info(P)]
+    [('k', 40)]
+    """
     if not dataclasses.is_dataclass(params):
         raise TypeError(f"params must be a dataclass, got {type(params).__name__}")
     return [(f, dict(f.metadata)) for f in dataclasses.fields(params)]
@@ -81,6 +123,19 @@ def check_params(params, *, name: str = "params"):
     guards) and for ``options``. Integral floats in int fields are
     normalised to int.
 
+    Parameters
+    ----------
+    params : dataclass instance
+        A parameter dataclass (fields made with :func:`param`); int fields
+        holding integral floats are rewritten in place.
+    name : str, optional
+        How messages name the instance (``"params.k must be ..."``).
+
+    Returns
+    -------
+    params
+        The same instance, for chaining.
+
     Raises
     ------
     TypeError
@@ -88,11 +143,6 @@ def check_params(params, *, name: str = "params"):
     ValueError
         NaN/inf, a value outside ``[min, max]`` or not among ``options``;
         the message names the field.
-
-    Returns
-    -------
-    params
-        The same instance, for chaining.
 
     Examples
     --------

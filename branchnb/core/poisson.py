@@ -123,6 +123,7 @@ def grid_laplacian(mask) -> tuple[sp.csr_matrix, np.ndarray]:
     Parameters
     ----------
     mask : (H, W) bool array_like
+        The pixels that are unknowns (N = number of True pixels).
 
     Returns
     -------

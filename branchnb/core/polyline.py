@@ -46,6 +46,18 @@ def arc_length(points, *, closed: bool = False) -> np.ndarray:
     With ``closed=True`` one more entry is appended: the total length
     including the closing edge back to the first vertex.
 
+    Parameters
+    ----------
+    points : (N, 2) array_like
+        Vertices (x, y) in pixels, N >= 1.
+    closed : bool
+        Count the edge from the last vertex back to the first.
+
+    Returns
+    -------
+    (N,) or (N + 1,) float ndarray
+        Distance along the polyline from ``points[0]`` (pixels).
+
     Examples
     --------
     >>> arc_length([(0, 0), (3, 4), (3, 5)]).tolist()
@@ -60,7 +72,25 @@ def arc_length(points, *, closed: bool = False) -> np.ndarray:
 
 @checked()
 def polyline_length(points, *, closed: bool = False) -> float:
-    """Total length of a polyline."""
+    """Total length of a polyline.
+
+    Parameters
+    ----------
+    points : (N, 2) array_like
+        Vertices (x, y) in pixels, N >= 1 (a single vertex has length 0).
+    closed : bool
+        Add the edge from the last vertex back to the first.
+
+    Returns
+    -------
+    float
+        Length in pixels.
+
+    Examples
+    --------
+    >>> polyline_length([(0, 0), (3, 4)]), polyline_length([(0, 0), (3, 4)], closed=True)
+    (5.0, 10.0)
+    """
     return float(arc_length(points, closed=closed)[-1])
 
 
@@ -130,6 +160,7 @@ def resample_chord(points, n: int, *, closed: bool = False, values=None):
     Parameters
     ----------
     points : (N, 2) array_like
+        Vertices (x, y) in pixels.
     n : int
         Number of output points, >= 2 (>= 3 if closed).
     closed : bool
@@ -137,6 +168,19 @@ def resample_chord(points, n: int, *, closed: bool = False, values=None):
         over the whole loop and the last one does not repeat the first.
     values : (N,) or (N, K) array_like, optional
         Per-vertex attributes to interpolate.
+
+    Returns
+    -------
+    points : (n, 2) float ndarray
+        The resampled points.
+    values : ndarray
+        The attributes interpolated linearly at them; only returned when
+        ``values`` is given.
+
+    Raises
+    ------
+    TypeError, ValueError
+        If ``n`` is not an int large enough, or all vertices coincide.
 
     Examples
     --------
@@ -173,6 +217,17 @@ def turning_angles(points) -> np.ndarray:
     usual y-up frame is negative) because y points down in image
     coordinates. Returns ``N - 2`` values.
 
+    Parameters
+    ----------
+    points : (N, 2) array_like
+        Vertices (x, y), N >= 2 (two vertices give an empty array).
+        A repeated vertex gives angle 0 there.
+
+    Returns
+    -------
+    (N - 2,) float ndarray
+        The angle between edge ``i`` and edge ``i + 1`` at vertex ``i + 1``.
+
     Examples
     --------
     >>> import numpy as np
@@ -190,6 +245,19 @@ def turning_angles(points) -> np.ndarray:
 @checked()
 def tangents(points, *, closed: bool = False) -> np.ndarray:
     """Unit tangents at each vertex (central differences, one-sided at ends).
+
+    Parameters
+    ----------
+    points : (N, 2) array_like
+        Vertices (x, y), N >= 2.
+    closed : bool
+        Treat the polyline as a loop: the ends use central differences
+        across the closing edge too.
+
+    Returns
+    -------
+    (N, 2) float ndarray
+        Unit vectors (x, y); zero where two neighbours coincide.
 
     Examples
     --------
@@ -215,6 +283,23 @@ def normals(points, *, closed: bool = False) -> np.ndarray:
 
     On screen (y down) the normal points to the right of the direction of
     travel.
+
+    Parameters
+    ----------
+    points : (N, 2) array_like
+        Vertices (x, y), N >= 2.
+    closed : bool
+        Treat the polyline as a loop (see :func:`tangents`).
+
+    Returns
+    -------
+    (N, 2) float ndarray
+        Unit normals (x, y).
+
+    Examples
+    --------
+    >>> normals([(0, 0), (2, 0)]).tolist()
+    [[-0.0, 1.0], [-0.0, 1.0]]
     """
     t = tangents(points, closed=closed)
     return np.stack([-t[:, 1], t[:, 0]], axis=1)
@@ -224,10 +309,22 @@ def normals(points, *, closed: bool = False) -> np.ndarray:
 class RigidTransform:
     """A 2-D rigid transform ``x -> R @ x + t``.
 
-    Attributes
+    Calling it maps ``(N, 2)`` points (x, y) and returns the moved points.
+
+    Parameters
     ----------
     rotation : (2, 2) ndarray
+        The rotation matrix ``R`` (orthonormal, determinant +1), acting on
+        column vectors (x, y).
     translation : (2,) ndarray
+        The shift ``t`` (pixels), applied after the rotation.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> T = RigidTransform(np.array([[0.0, -1.0], [1.0, 0.0]]), np.array([10.0, 0.0]))
+    >>> T([(1, 0)]).tolist(), round(np.degrees(T.angle))
+    ([[10.0, 1.0]], 90)
     """
 
     rotation: np.ndarray
@@ -260,7 +357,17 @@ def rigid_align(source, target, *, weights=None) -> RigidTransform:
     source, target : (N, 2) array_like
         Corresponding points ``p_i`` and ``q_i``.
     weights : (N,) array_like, optional
-        Non-negative weights.
+        Non-negative weights (equal by default), with a positive sum.
+
+    Returns
+    -------
+    RigidTransform
+        Maps ``source`` onto ``target``.
+
+    Raises
+    ------
+    ValueError
+        If the point sets differ in shape or the weights are invalid.
 
     Examples
     --------
@@ -296,6 +403,10 @@ def segments_intersect(a0, a1, b0, b1, *, eps: float = 1e-12) -> np.ndarray:
         End points of the first N segments.
     b0, b1 : (M, 2) array_like
         End points of the other M segments.
+    eps : float
+        Tolerance on the orientation tests: crossings within ``eps`` of
+        collinear (a touching end point, overlapping collinear segments)
+        do not count.
 
     Returns
     -------

@@ -17,6 +17,19 @@ def as_rng(rng: int | np.random.Generator | None = None, *, name: str = "rng") -
     rng : {numpy.random.Generator, int, None}
         A generator is used as is (shared state); an int seeds a new one;
         None draws fresh OS entropy (not reproducible).
+    name : str, optional
+        How error messages name the argument.
+
+    Returns
+    -------
+    numpy.random.Generator
+
+    Raises
+    ------
+    TypeError
+        If ``rng`` is neither None, an int nor a Generator (bool included).
+    ValueError
+        If the seed is negative or 2**128 or more.
 
     Examples
     --------
@@ -43,6 +56,23 @@ def as_seed(rng: int | np.random.Generator | None = None, *, name: str = "rng") 
     An int is returned as is; a Generator gives one draw from its stream (so
     passing the same generator twice gives two different, reproducible
     seeds, as for :func:`as_rng`); None draws fresh OS entropy.
+
+    Parameters
+    ----------
+    rng : {numpy.random.Generator, int, None}
+        As for :func:`as_rng`.
+    name : str, optional
+        How error messages name the argument.
+
+    Returns
+    -------
+    int
+        A seed in ``[0, 2**63 - 1)`` for a Generator or None, else ``rng``.
+
+    Raises
+    ------
+    TypeError, ValueError
+        As :func:`as_rng`.
 
     Examples
     --------

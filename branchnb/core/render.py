@@ -63,8 +63,32 @@ def pack_polylines(polylines, widths=None, default_width: float = 1.0):
     Parameters
     ----------
     polylines : sequence of (N_i, 2) array_like
+        Vertices (x, y) in pixels; a single ``(N, 2)`` array is one
+        polyline. Empty polylines are skipped; a one-vertex polyline is a dot.
     widths : None, float, or sequence of float / (N_i,) array_like
-        Full line width (diameter) per polyline or per vertex.
+        Full line width (diameter, pixels, 0..``MAX_WIDTH``) for all, per
+        polyline or per vertex.
+    default_width : float
+        Width used when ``widths`` is None.
+
+    Returns
+    -------
+    segments : (S, 6) float ndarray
+        One row ``(x0, y0, r0, x1, y1, r1)`` per segment, radii = half widths.
+    index : (S,) int ndarray
+        The polyline each segment belongs to.
+
+    Raises
+    ------
+    TypeError, ValueError
+        If a polyline is not ``(N, 2)`` real coordinates, or ``widths`` has
+        the wrong length or a width is negative or non-finite.
+
+    Examples
+    --------
+    >>> segs, index = pack_polylines([[(0, 0), (4, 0), (4, 3)]], widths=2.0)
+    >>> segs.tolist(), index.tolist()
+    ([[0.0, 0.0, 1.0, 4.0, 0.0, 1.0], [4.0, 0.0, 1.0, 4.0, 3.0, 1.0]], [0, 0])
     """
     if isinstance(polylines, np.ndarray) and polylines.ndim == 2:
         if widths is not None and not _is_number(widths):
@@ -107,11 +131,28 @@ def pack_polylines(polylines, widths=None, default_width: float = 1.0):
 def coverage_polylines(shape, polylines, widths=None) -> tuple[np.ndarray, np.ndarray]:
     """Anti-aliased coverage of polylines on an ``(H, W)`` grid.
 
+    Parameters
+    ----------
+    shape : (int, int)
+        ``(H, W)`` of the grid (extra entries, e.g. channels, are ignored).
+    polylines : sequence of (N_i, 2) array_like
+        Vertices (x, y) in pixels.
+    widths : None, float, or sequence of float / (N_i,) array_like
+        Full line width (pixels) for all, per polyline or per vertex;
+        1 pixel by default (see :func:`pack_polylines`).
+
     Returns
     -------
     coverage : (H, W) float32 in [0, 1]
+        Fraction of each pixel covered by the thick lines.
     owner : (H, W) int64
         Index of the polyline that covers each pixel most (-1 if none).
+
+    Examples
+    --------
+    >>> cov, owner = coverage_polylines((5, 9), [[(1, 2), (7, 2)]], widths=3)
+    >>> float(cov[2, 4]), int(owner[2, 4]), int(owner[0, 0])
+    (1.0, 0, -1)
     """
     h, w = check_shape(shape, "shape")
     segs, owner = pack_polylines(polylines, widths)
@@ -138,7 +179,8 @@ def draw_polylines(image, polylines, widths=None, colors=(0.0, 0.0, 0.0), *,
     colors : colour or sequence of colours
         One RGB(A) triple for all, or one per polyline.
     alpha : float
-        Global opacity.
+        Opacity of all strokes in [0, 1], multiplied with each colour's own
+        alpha.
 
     Returns
     -------

@@ -30,6 +30,7 @@ def stipple(density, n_points: int, *, iterations: int = 20, rng=None) -> np.nda
     iterations : int
         Lloyd iterations (0 returns the initial density-proportional draw).
     rng : {numpy.random.Generator, int}, optional
+        Seed or generator for the initial draw (None: not reproducible).
 
     Returns
     -------

@@ -34,17 +34,35 @@ GENERATION_COLORS = ((0.10, 0.62, 0.20), (0.15, 0.35, 0.95), (0.95, 0.60, 0.05),
 class Branch:
     """One branch.
 
-    Attributes
+    The fields are checked and converted on construction (points to float64
+    ``(N, 2)``, a scalar thickness repeated per vertex).
+
+    Parameters
     ----------
     points : (N, 2) float ndarray
         Vertices (x, y) in pixels. For a child branch, ``points[0]`` is the
         furcation point on the parent.
-    thickness : (N,) float ndarray
+    thickness : (N,) float ndarray or float
         Radius ``r`` at each vertex (pixels, > 0): half the visible width.
+        A single number applies to every vertex.
     parent : int or None
         Index of the parent branch, None for a root.
     parent_vertex : int or None
-        Vertex of the parent the branch starts at.
+        Vertex of the parent the branch starts at (set exactly when
+        ``parent`` is).
+
+    Raises
+    ------
+    ValueError
+        If the points are not ``(N, 2)`` finite, the thickness does not
+        match them or is not > 0, or only one of ``parent`` and
+        ``parent_vertex`` is set.
+
+    Examples
+    --------
+    >>> b = Branch([(0, 0), (3, 4)], 1.5)
+    >>> b.thickness.tolist(), b.length
+    ([1.5, 1.5], 5.0)
     """
 
     points: np.ndarray
@@ -75,7 +93,14 @@ class Branch:
         return polyline_length(self.points) if len(self.points) > 1 else 0.0
 
     def angles(self) -> np.ndarray:
-        """Turning angles alpha at the interior vertices (N - 2 values, radians)."""
+        """Turning angles alpha at the interior vertices (N - 2 values, radians).
+
+        Returns
+        -------
+        (N - 2,) float ndarray
+            See :func:`branchnb.core.polyline.turning_angles`; empty for
+            fewer than 3 vertices.
+        """
         return turning_angles(self.points) if len(self.points) > 2 else np.zeros(0)
 
 
@@ -96,6 +121,22 @@ def _as_branch(b, i: int) -> Branch:
 @dataclass
 class Structure:
     """A branching structure: a list of :class:`Branch` forming a forest.
+
+    Parameters
+    ----------
+    branches : list of Branch or dict
+        The branches; a dict holds a branch's fields (``points``,
+        ``thickness``, optional ``parent``, ``parent_vertex``). A child's
+        ``parent`` is an index into this list. Empty by default.
+    image_shape : (int, int), optional
+        ``(H, W)`` of the image the structure lives on (None: unknown; the
+        renderers then use the bounds).
+
+    Raises
+    ------
+    TypeError, ValueError
+        If a branch is malformed or the parent links are not a forest (see
+        :meth:`validate`).
 
     Examples
     --------
@@ -121,7 +162,31 @@ class Structure:
     # -- building -------------------------------------------------------
     def add_branch(self, points, thickness, parent: int | None = None,
                    parent_vertex: int | None = None) -> int:
-        """Append a branch and return its index."""
+        """Append a branch and return its index.
+
+        Parameters
+        ----------
+        points : (N, 2) array_like
+            Vertices (x, y) in pixels; for a child, ``points[0]`` should be
+            the parent's vertex ``parent_vertex``.
+        thickness : float or (N,) array_like
+            Radius per vertex (pixels, > 0).
+        parent : int, optional
+            Index of an existing branch; None adds a root.
+        parent_vertex : int, optional
+            Vertex of ``parent`` the branch starts at.
+
+        Returns
+        -------
+        int
+            The new branch's index.
+
+        Raises
+        ------
+        ValueError
+            If the branch or its link is invalid; the structure is left
+            unchanged.
+        """
         b = Branch(points, thickness, parent, parent_vertex)
         self.branches.append(b)
         try:
@@ -137,6 +202,17 @@ class Structure:
         Vertices outside ``image_shape`` are allowed here (a synthesized
         structure may be cropped by its output); :meth:`check_inside`
         rejects them where an image is involved.
+
+        Returns
+        -------
+        Structure
+            ``self``, for chaining.
+
+        Raises
+        ------
+        TypeError, ValueError
+            Naming the first bad branch: not a Branch, non-finite points or
+            thickness, a parent or vertex out of range, or a parent cycle.
         """
         n = len(self.branches)
         for i, b in enumerate(self.branches):
@@ -172,7 +248,25 @@ class Structure:
         return index
 
     def remove_subtree(self, index: int) -> Structure:
-        """A new structure without branch ``index`` and all its descendants."""
+        """A new structure without branch ``index`` and all its descendants.
+
+        Parameters
+        ----------
+        index : int
+            Branch to remove, ``0 <= index < len(branches)``.
+
+        Returns
+        -------
+        Structure
+            A copy; the remaining branches keep their order and their parent
+            indices are renumbered.
+
+        Examples
+        --------
+        >>> s = Structure([Branch([(0, 0), (10, 0)], 2.0), Branch([(10, 0), (10, 9)], 1.0, 0, 1)])
+        >>> len(s.remove_subtree(1).branches), len(s.remove_subtree(0).branches)
+        (1, 0)
+        """
         index = self._index(index)
         self.validate()
         drop = {index}
@@ -196,7 +290,25 @@ class Structure:
     def check_inside(self, shape=None, *, name: str = "structure") -> Structure:
         """Raise ValueError if a vertex lies outside ``shape`` (default ``image_shape``).
 
-        Half a pixel of tolerance, as for pixel centres. Returns ``self``.
+        Half a pixel of tolerance, as for pixel centres.
+
+        Parameters
+        ----------
+        shape : (int, int), optional
+            ``(H, W)`` to check against; ``image_shape`` by default (no check
+            when both are None).
+        name : str, optional
+            How the message names the structure.
+
+        Returns
+        -------
+        Structure
+            ``self``, for chaining.
+
+        Raises
+        ------
+        ValueError
+            Naming the first vertex outside.
 
         Examples
         --------
@@ -219,7 +331,13 @@ class Structure:
         return self
 
     def copy(self) -> Structure:
-        """A deep copy."""
+        """A deep copy.
+
+        Returns
+        -------
+        Structure
+            New arrays; editing the copy never changes ``self``.
+        """
         return Structure([Branch(b.points.copy(), b.thickness.copy(), b.parent, b.parent_vertex)
                           for b in self.branches], self.image_shape)
 
@@ -227,6 +345,23 @@ class Structure:
         """The structure at another image resolution: points, thickness and image shape times ``factor``.
 
         Pixel centres map to pixel centres (``x' = (x + 0.5) f - 0.5``).
+
+        Parameters
+        ----------
+        factor : float
+            Scale ``f`` (> 0), e.g. 0.5 for an image half as large; the image
+            shape is rounded to whole pixels (at least 1).
+
+        Returns
+        -------
+        Structure
+            A new structure.
+
+        Raises
+        ------
+        ValueError
+            If ``factor`` is not > 0 or would move points beyond the
+            coordinate limit.
 
         Examples
         --------
@@ -249,6 +384,25 @@ class Structure:
         """A copy with the thickness of ``branches[index]`` at ``vertex`` set to ``r`` (> 0).
 
         The paper's thickness stays user-editable: this is the edit.
+
+        Parameters
+        ----------
+        index : int
+            Branch to edit.
+        vertex : int or slice
+            Vertex (negative counts from the end) or a slice of vertices.
+        r : float or array_like
+            New radius in pixels (> 0), or one per vertex of the slice.
+
+        Returns
+        -------
+        Structure
+            A copy; ``self`` is unchanged.
+
+        Raises
+        ------
+        ValueError
+            If ``index`` or ``vertex`` is out of range or ``r`` is not > 0.
 
         Examples
         --------
@@ -280,12 +434,45 @@ class Structure:
         return float(sum(b.length for b in self.branches))
 
     def children(self, index: int) -> list[int]:
-        """Indices of the branches that start on branch ``index``."""
+        """Indices of the branches that start on branch ``index``.
+
+        Parameters
+        ----------
+        index : int
+            A branch index.
+
+        Returns
+        -------
+        list of int
+            Its direct children, in branch order.
+        """
         index = self._index(index)
         return [i for i, b in enumerate(self.branches) if b.parent == index]
 
     def generation(self, index: int) -> int:
-        """0 for roots, 1 for their children, ..."""
+        """0 for roots, 1 for their children, ...
+
+        Parameters
+        ----------
+        index : int
+            A branch index.
+
+        Returns
+        -------
+        int
+            Number of parent links from the branch up to its root.
+
+        Raises
+        ------
+        ValueError
+            If ``index`` is out of range or the parents were edited into a cycle.
+
+        Examples
+        --------
+        >>> s = Structure([Branch([(0, 0), (10, 0)], 2.0), Branch([(10, 0), (10, 9)], 1.0, 0, 1)])
+        >>> s.generation(0), s.generation(1)
+        (0, 1)
+        """
         j = self._index(index)
         g = 0
         while self.branches[j].parent is not None:
@@ -296,17 +483,37 @@ class Structure:
         return g
 
     def angles(self) -> np.ndarray:
-        """All turning angles of all branches, concatenated."""
+        """All turning angles of all branches, concatenated.
+
+        Returns
+        -------
+        float ndarray
+            Radians, branch after branch (see :meth:`Branch.angles`).
+        """
         parts = [b.angles() for b in self.branches]
         return np.concatenate(parts) if parts else np.zeros(0)
 
     def thicknesses(self) -> np.ndarray:
-        """All vertex thicknesses, concatenated."""
+        """All vertex thicknesses, concatenated.
+
+        Returns
+        -------
+        float ndarray
+            Radii ``r`` in pixels, branch after branch.
+        """
         parts = [b.thickness for b in self.branches]
         return np.concatenate(parts) if parts else np.zeros(0)
 
     def segments(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """All edges as ``(p0 (E, 2), p1 (E, 2), branch index (E,))``."""
+        """All edges as ``(p0 (E, 2), p1 (E, 2), branch index (E,))``.
+
+        Returns
+        -------
+        p0, p1 : (E, 2) float ndarray
+            Start and end (x, y) of each edge.
+        owner : (E,) int ndarray
+            The branch each edge belongs to.
+        """
         p0, p1, owner = [], [], []
         for i, b in enumerate(self.branches):
             if len(b.points) > 1:
@@ -318,7 +525,18 @@ class Structure:
         return np.vstack(p0), np.vstack(p1), np.concatenate(owner)
 
     def bounds(self) -> tuple[float, float, float, float]:
-        """``(xmin, ymin, xmax, ymax)`` including thickness."""
+        """``(xmin, ymin, xmax, ymax)`` including thickness.
+
+        Returns
+        -------
+        (float, float, float, float)
+            Pixels; each vertex counts as a disk of its radius.
+
+        Raises
+        ------
+        ValueError
+            If the structure is empty.
+        """
         if not self.branches:
             raise ValueError("structure is empty")
         pts = np.vstack([b.points for b in self.branches])
@@ -333,6 +551,29 @@ class Structure:
         Child branches keep their furcation point: ``parent_vertex`` is
         moved to the nearest resampled vertex of the parent and the child's
         first vertex snaps to it.
+
+        Parameters
+        ----------
+        h : float
+            Step along each branch in pixels (> 0); each branch keeps its end
+            vertex, and thickness is interpolated linearly. Branches of a
+            single vertex or zero length are kept as they are.
+
+        Returns
+        -------
+        Structure
+            A new structure.
+
+        Raises
+        ------
+        ValueError
+            If the structure is empty or ``h`` is not > 0.
+
+        Examples
+        --------
+        >>> s = Structure([Branch([(0, 0), (10, 0)], 2.0)])
+        >>> s.resampled(2.5).branches[0].points[:, 0].tolist()
+        [0.0, 2.5, 5.0, 7.5, 10.0]
         """
         if not self.branches:
             raise ValueError("structure is empty")
@@ -354,6 +595,20 @@ class Structure:
             One new polyline per branch, in branch order (e.g. resampled or
             refined versions of the current ones).
 
+        Returns
+        -------
+        Structure
+            A new structure with the same parents and ``image_shape``.
+
+        Raises
+        ------
+        TypeError
+            If ``polylines`` is not a sequence.
+        ValueError
+            If it does not hold one entry per branch.
+
+        Notes
+        -----
         Each child's ``parent_vertex`` moves to the vertex of the parent's new
         polyline nearest to its old furcation point, and the child's first
         vertex snaps to it, so furcations survive any re-sampling.
@@ -377,6 +632,13 @@ class Structure:
 
     # -- I/O ------------------------------------------------------------
     def to_dict(self) -> dict:
+        """Plain JSON-ready dict: ``version``, ``image_shape`` and per branch its fields as lists.
+
+        Returns
+        -------
+        dict
+            Read back by :meth:`from_dict`.
+        """
         return {
             "version": STRUCTURE_JSON_VERSION,
             "image_shape": list(self.image_shape) if self.image_shape else None,
@@ -392,12 +654,35 @@ class Structure:
         }
 
     def to_json(self) -> str:
-        """Serialise to a JSON string (round-trips through :meth:`from_json`)."""
+        """Serialise to a JSON string (round-trips through :meth:`from_json`).
+
+        Returns
+        -------
+        str
+
+        Raises
+        ------
+        ValueError
+            If a value is NaN or infinite (edited after construction).
+        """
         return dumps_strict(self.to_dict(), name="structure")
 
     @classmethod
     def from_dict(cls, d: dict, *, name: str = "structure") -> Structure:
         """Build a structure from :meth:`to_dict` output, checking every field.
+
+        Parameters
+        ----------
+        d : dict
+            ``{"version": 1, "image_shape": [H, W] or None, "branches":
+            [{"points", "thickness", "parent", "parent_vertex"}, ...]}``
+            (``version`` and ``image_shape`` may be absent).
+        name : str, optional
+            How messages name the document.
+
+        Returns
+        -------
+        Structure
 
         Raises
         ------
@@ -444,6 +729,21 @@ class Structure:
     def from_json(cls, text: str) -> Structure:
         """Parse a structure written by :meth:`to_json` (strict JSON, every field checked).
 
+        Parameters
+        ----------
+        text : str or bytes
+            JSON text in the layout of :meth:`to_dict`.
+
+        Returns
+        -------
+        Structure
+
+        Raises
+        ------
+        TypeError, ValueError
+            Invalid JSON (NaN, duplicate keys, ...) or a malformed field (see
+            :meth:`from_dict`).
+
         Examples
         --------
         >>> s = Structure([Branch([(0, 0), (10, 0)], 2.0)])
@@ -472,6 +772,7 @@ class Structure:
         background : (H, W, C) array_like, optional
             Image to draw on (white if None).
         color : RGB triple, or one per branch
+            Stroke colour(s) in [0, 1]; ignored with ``by_generation``.
         by_generation : bool
             Colour each branch by its generation (:data:`GENERATION_COLORS`).
         alpha : float
@@ -479,6 +780,17 @@ class Structure:
         min_width : float
             Draw every stroke at least this wide (pixels), e.g. to see a
             thin skeleton over a photo.
+
+        Returns
+        -------
+        (H, W, C) float32 ndarray
+            A new image (C of the background; RGB on the default white).
+
+        Examples
+        --------
+        >>> img = Structure([Branch([(2, 5), (17, 5)], 2.0)]).render((10, 20))
+        >>> img.shape, float(img[5, 10].max()), float(img[0, 0].min())
+        ((10, 20, 3), 0.0, 1.0)
         """
         min_width = check_real(min_width, "min_width", 0, 1e4)
         self.validate()
@@ -497,7 +809,27 @@ class Structure:
                               colors=color, alpha=alpha)
 
     def to_svg(self, shape=None, *, color=(0.0, 0.0, 0.0)) -> str:
-        """SVG document of the skeleton with thickness."""
+        """SVG document of the skeleton with thickness.
+
+        Parameters
+        ----------
+        shape : (H, W), optional
+            Canvas size in pixels; ``image_shape`` or the bounds by default.
+        color : RGB triple, or one per branch
+            Stroke colour(s) in [0, 1].
+
+        Returns
+        -------
+        str
+            A standalone SVG document on a white background, one path per
+            branch with width ``2 r``.
+
+        Examples
+        --------
+        >>> svg = Structure([Branch([(0, 0), (10, 0)], 2.0)], image_shape=(8, 12)).to_svg()
+        >>> svg.startswith("<svg") or svg.startswith("<?xml")
+        True
+        """
         h, w = self._canvas_shape(shape)
         return polylines_to_svg([b.points for b in self.branches],
                                 widths=[2 * b.thickness for b in self.branches],

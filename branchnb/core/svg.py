@@ -32,10 +32,16 @@ def polylines_to_svg(polylines, widths=None, colors=(0.0, 0.0, 0.0), *, size,
     widths : float or sequence, optional
         As in :func:`branchnb.core.render.draw_polylines`.
     colors : colour or sequence of colours
+        One RGB(A) colour in [0, 1] for all polylines, or one per polyline.
     size : (width, height)
         Canvas size in pixels.
     background : colour, optional
         Fill colour of a background rectangle; transparent if None.
+
+    Returns
+    -------
+    str
+        A standalone SVG document (``<svg ...>...</svg>``) in pixel units.
 
     Examples
     --------

@@ -107,14 +107,30 @@ def check_real(value, name: str, min: float | None = None, max: float | None = N
     Parameters
     ----------
     value : object
+        Any real scalar (Python or numpy int/float; not bool-like strings).
     name : str
         Argument name used in error messages.
     min, max : float, optional
-        Bounds (inclusive unless ``low_open`` / ``high_open``).
+        Bounds (inclusive unless ``low_open`` / ``high_open``); None: unbounded.
+    low_open : bool
+        Exclude ``min`` itself (``value > min``).
+    high_open : bool
+        Exclude ``max`` itself (``value < max``).
     allow_none : bool
         Let None through (returned as None).
     allow_inf : bool
         Let +-inf through (bounds still apply).
+
+    Returns
+    -------
+    float or None
+
+    Raises
+    ------
+    TypeError
+        If ``value`` is not a real number.
+    ValueError
+        If it is NaN, infinite (unless allowed) or out of bounds.
 
     Examples
     --------
@@ -142,6 +158,19 @@ def check_real(value, name: str, min: float | None = None, max: float | None = N
 def brief(value, limit: int = 60) -> str:
     """``repr(value)`` cut to ``limit`` characters, safe for any value (a 5,000-digit int cannot be printed).
 
+    Parameters
+    ----------
+    value : object
+        What to show in an error message.
+    limit : int
+        Most characters returned.
+
+    Returns
+    -------
+    str
+        The cut repr; ``"an int of N bits"`` for ints beyond 64 bits, and
+        ``"a <type>"`` when ``repr`` itself fails.
+
     Examples
     --------
     >>> brief(10**5000), brief("abc")
@@ -158,6 +187,23 @@ def brief(value, limit: int = 60) -> str:
 def check_callback(value, name: str = "progress"):
     """``value`` if it is callable or None; otherwise a TypeError naming ``name``.
 
+    Parameters
+    ----------
+    value : callable or None
+        A progress or event callback.
+    name : str
+        Argument name used in the error message.
+
+    Returns
+    -------
+    callable or None
+        ``value`` unchanged.
+
+    Raises
+    ------
+    TypeError
+        If ``value`` is neither callable nor None.
+
     Examples
     --------
     >>> check_callback(print) is print, check_callback(None)
@@ -171,6 +217,29 @@ def check_callback(value, name: str = "progress"):
 def check_int(value, name: str, min: int | None = None, max: int | None = None, *,
               allow_none: bool = False) -> int | None:
     """An integer (an integral float is accepted) within ``[min, max]``, as a Python int.
+
+    Parameters
+    ----------
+    value : object
+        A Python or numpy int, or a float with an integral value; bools are
+        refused.
+    name : str
+        Argument name used in error messages.
+    min, max : int, optional
+        Inclusive bounds; None: unbounded.
+    allow_none : bool
+        Let None through (returned as None).
+
+    Returns
+    -------
+    int or None
+
+    Raises
+    ------
+    TypeError
+        If ``value`` is not an integer (or integral float).
+    ValueError
+        If it is out of bounds or does not fit in 64 bits.
 
     Examples
     --------
@@ -199,14 +268,62 @@ def check_int(value, name: str, min: int | None = None, max: int | None = None, 
 
 
 def check_bool(value, name: str) -> bool:
-    """A bool (numpy bools accepted)."""
+    """A bool (numpy bools accepted).
+
+    Parameters
+    ----------
+    value : object
+        ``True``/``False`` or a numpy bool; 0/1 and strings are refused.
+    name : str
+        Argument name used in the error message.
+
+    Returns
+    -------
+    bool
+
+    Raises
+    ------
+    TypeError
+        If ``value`` is not a bool.
+
+    Examples
+    --------
+    >>> check_bool(np.True_, "closed")
+    True
+    """
     if not isinstance(value, (bool, np.bool_)):
         raise TypeError(f"{name} must be a bool, got {type(value).__name__} {value!r:.60}")
     return bool(value)
 
 
 def check_choice(value, name: str, options) -> object:
-    """One of ``options`` (compared with ``==``; strings stay case-sensitive)."""
+    """One of ``options`` (compared with ``==``; strings stay case-sensitive).
+
+    Parameters
+    ----------
+    value : object
+        The value given.
+    name : str
+        Argument name used in the error message.
+    options : iterable
+        The allowed values; the type must match too (``1`` is not ``1.0``
+        or ``True``).
+
+    Returns
+    -------
+    object
+        ``value`` unchanged.
+
+    Raises
+    ------
+    ValueError
+        If ``value`` is not among ``options``.
+
+    Examples
+    --------
+    >>> check_choice("emd", "metric", ("l1", "emd"))
+    'emd'
+    """
     options = tuple(options)
     try:
         ok = any(value == o and type(value) is type(o) for o in options)
@@ -221,6 +338,30 @@ def check_rng(rng, name: str = "rng"):
     """Check that ``rng`` is None, a non-negative int seed or a Generator; return it unchanged.
 
     Use :func:`branchnb.core.random.as_rng` to turn it into a Generator.
+
+    Parameters
+    ----------
+    rng : {numpy.random.Generator, int, None}
+        The ``rng`` argument of a random function.
+    name : str
+        Argument name used in error messages.
+
+    Returns
+    -------
+    numpy.random.Generator, int or None
+        ``rng`` unchanged.
+
+    Raises
+    ------
+    TypeError
+        If ``rng`` is of another type (bools included).
+    ValueError
+        If the seed is negative or 2**128 or more.
+
+    Examples
+    --------
+    >>> check_rng(3)
+    3
     """
     if rng is None or isinstance(rng, np.random.Generator):
         return rng
@@ -234,7 +375,25 @@ def check_rng(rng, name: str = "rng"):
 
 
 class Real:
-    """Spec for :func:`checked`: a real number in a range (``arrays=True``: or an array of them)."""
+    """Spec for :func:`checked`: a real number in a range (``arrays=True``: or an array of them).
+
+    Parameters
+    ----------
+    min, max : float, optional
+        Bounds, as for :func:`check_real`.
+    low_open, high_open : bool
+        Exclude the bound itself, as for :func:`check_real`.
+    allow_inf : bool
+        Let +-inf through.
+    arrays : bool
+        Also accept a numpy array (of at least one dimension) whose values
+        all satisfy the bounds; it is passed on as a float64 array.
+
+    Examples
+    --------
+    >>> Real(0, 1)(0.5, "alpha", False)
+    0.5
+    """
 
     def __init__(self, min=None, max=None, *, low_open=False, high_open=False, allow_inf=False, arrays=False):
         self.kw = dict(min=min, max=max, low_open=low_open, high_open=high_open, allow_inf=allow_inf)
@@ -250,7 +409,18 @@ class Real:
 
 
 class Int:
-    """Spec for :func:`checked`: an int in a range."""
+    """Spec for :func:`checked`: an int in a range.
+
+    Parameters
+    ----------
+    min, max : int, optional
+        Inclusive bounds (see :func:`check_int`).
+
+    Examples
+    --------
+    >>> Int(1)(2.0, "n", False)
+    2
+    """
 
     def __init__(self, min=None, max=None):
         self.min, self.max = min, max
@@ -260,7 +430,20 @@ class Int:
 
 
 class Array:
-    """Spec for :func:`checked`: a real array (see :func:`real_array` for the options)."""
+    """Spec for :func:`checked`: a real array (see :func:`real_array` for the options).
+
+    Parameters
+    ----------
+    **kwargs
+        Keyword arguments of :func:`real_array` (``ndim``, ``dtype``,
+        ``finite``, ``allow_empty``, ``min``, ``max``, ``allow_inf``); the
+        converted array is passed on.
+
+    Examples
+    --------
+    >>> Array(ndim=1, min=0)([1, 2], "weights", False).tolist()
+    [1.0, 2.0]
+    """
 
     def __init__(self, **kwargs):
         self.kw = kwargs
@@ -272,7 +455,13 @@ class Array:
 
 
 class Points:
-    """Spec for :func:`checked`: finite ``(x, y)`` points, one ``(2,)`` or ``(N, 2)``."""
+    """Spec for :func:`checked`: finite ``(x, y)`` points, one ``(2,)`` or ``(N, 2)``.
+
+    Examples
+    --------
+    >>> Points()([(0, 0), (1, 2)], "points", False).shape
+    (2, 2)
+    """
 
     def __call__(self, value, name, allow_none):
         if value is None and allow_none:
@@ -284,8 +473,15 @@ class Points:
 
 
 class Image:
-    """Spec for :func:`checked`: an image :func:`~branchnb.core.image.as_float_image` accepts
-    (checked, passed on unchanged)."""
+    """Spec for :func:`checked`: an image :func:`~branchnb.core.image.as_float_image` accepts.
+
+    The image is checked and passed on unchanged.
+
+    Examples
+    --------
+    >>> Image()(np.zeros((2, 2)), "image", False).shape
+    (2, 2)
+    """
 
     def __call__(self, value, name, allow_none):
         if value is None and allow_none:
@@ -297,7 +493,15 @@ class Image:
 
 
 class Seq:
-    """Spec for :func:`checked`: a list or tuple (e.g. one entry per stroke), not a string or a number."""
+    """Spec for :func:`checked`: a list or tuple (e.g. one entry per stroke), not a string or a number.
+
+    Examples
+    --------
+    >>> Seq()("abc", "strokes", False)
+    Traceback (most recent call last):
+    ...
+    TypeError: strokes must be a sequence (list or tuple), got str
+    """
 
     def __call__(self, value, name, allow_none):
         if value is None and allow_none:
@@ -309,7 +513,13 @@ class Seq:
 
 
 class Colormap:
-    """Spec for :func:`checked`: the name of a matplotlib colormap."""
+    """Spec for :func:`checked`: the name of a matplotlib colormap.
+
+    Examples
+    --------
+    >>> Colormap()("magma", "cmap", False)
+    'magma'
+    """
 
     def __call__(self, value, name, allow_none):
         import matplotlib
@@ -320,7 +530,18 @@ class Colormap:
 
 
 class Choice:
-    """Spec for :func:`checked`: one of a few values (strings are matched exactly)."""
+    """Spec for :func:`checked`: one of a few values (strings are matched exactly).
+
+    Parameters
+    ----------
+    *options : object
+        The allowed values (see :func:`check_choice`).
+
+    Examples
+    --------
+    >>> Choice("l1", "emd")("l1", "metric", False)
+    'l1'
+    """
 
     def __init__(self, *options):
         self.options = options
@@ -332,7 +553,13 @@ class Choice:
 
 
 class Point:
-    """Spec for :func:`checked`: one finite (x, y) point."""
+    """Spec for :func:`checked`: one finite (x, y) point.
+
+    Examples
+    --------
+    >>> Point()((3, 4), "seed", False).tolist()
+    [3.0, 4.0]
+    """
 
     def __call__(self, value, name, allow_none):
         if value is None and allow_none:
@@ -341,7 +568,13 @@ class Point:
 
 
 class Shape:
-    """Spec for :func:`checked`: a positive (H, W) within :data:`MAX_PIXELS`."""
+    """Spec for :func:`checked`: a positive (H, W) within :data:`MAX_PIXELS`.
+
+    Examples
+    --------
+    >>> Shape()((48, 64, 3), "shape", False)
+    (48, 64)
+    """
 
     def __call__(self, value, name, allow_none):
         if value is None and allow_none:
@@ -350,7 +583,19 @@ class Shape:
 
 
 class Colour:
-    """Spec for :func:`checked`: one colour in [0, 1]."""
+    """Spec for :func:`checked`: one colour in [0, 1].
+
+    Parameters
+    ----------
+    channels : tuple of int
+        Allowed numbers of components (RGB or RGBA by default); the colour
+        is passed on as a float32 array (see :func:`as_colour`).
+
+    Examples
+    --------
+    >>> Colour()((1, 0, 0), "color", False).tolist()
+    [1.0, 0.0, 0.0]
+    """
 
     def __init__(self, channels=(3, 4)):
         self.channels = channels
@@ -362,7 +607,19 @@ class Colour:
 
 
 class Instance:
-    """Spec for :func:`checked`: an instance of a class named here (by name, so no import is needed)."""
+    """Spec for :func:`checked`: an instance of a class named here (by name, so no import is needed).
+
+    Parameters
+    ----------
+    *class_names : str
+        Names of accepted classes; an instance of a subclass of any of them
+        passes (matched by ``__name__`` along the MRO).
+
+    Examples
+    --------
+    >>> Instance("Structure")(None, "structure", True) is None
+    True
+    """
 
     def __init__(self, *class_names):
         self.names = set(class_names)
@@ -376,7 +633,18 @@ class Instance:
 
 
 class ListOf:
-    """Spec for :func:`checked`: a list or tuple whose items are instances of the named classes."""
+    """Spec for :func:`checked`: a list or tuple whose items are instances of the named classes.
+
+    Parameters
+    ----------
+    *class_names : str
+        Names of accepted item classes (see :class:`Instance`).
+
+    Examples
+    --------
+    >>> ListOf("int")([1, 2], "counts", False)
+    [1, 2]
+    """
 
     def __init__(self, *class_names):
         self.item = Instance(*class_names)
@@ -460,6 +728,12 @@ def checked(**specs):
         ``rng`` gets :func:`check_rng`. The checked (normalised) values are
         what the function receives.
 
+    Returns
+    -------
+    callable
+        The decorator; the decorated function keeps its name, docstring
+        and signature.
+
     Examples
     --------
     >>> @checked(n=Int(1, 10))
@@ -525,17 +799,35 @@ def real_array(values, name: str, *, ndim: int | tuple[int, ...] | None = None, 
     Parameters
     ----------
     values : array_like
+        Numbers of any shape (bool allowed; strings, objects and complex
+        numbers are refused).
     name : str
+        Argument name used in error messages.
     ndim : int or tuple of int, optional
-        Allowed numbers of dimensions.
+        Allowed numbers of dimensions (any by default).
+    dtype : numpy dtype
+        Result dtype (float64 by default). An integer dtype requires
+        integral, finite values within its range.
     finite : bool
         Reject NaN and inf.
-    allow_inf : bool
-        With ``finite``, reject only NaN (inf may mean "wall" or "unreached").
     allow_empty : bool
         Accept zero-size arrays.
     min, max : float, optional
-        Inclusive value bounds.
+        Inclusive value bounds (NaN ignored).
+    allow_inf : bool
+        With ``finite``, reject only NaN (inf may mean "wall" or "unreached").
+
+    Returns
+    -------
+    ndarray
+        A new array of ``dtype`` (the input is never modified).
+
+    Raises
+    ------
+    TypeError
+        Not numbers, complex, or non-integral values for an integer dtype.
+    ValueError
+        Wrong dimensions, empty, NaN/inf, or out of bounds.
 
     Examples
     --------
@@ -582,6 +874,26 @@ def real_array(values, name: str, *, ndim: int | tuple[int, ...] | None = None, 
 def as_colour(colour, name: str = "color", *, channels=(3, 4)) -> np.ndarray:
     """One colour: a float32 vector of 1, 3 or 4 components in [0, 1].
 
+    Parameters
+    ----------
+    colour : array_like
+        The components, in [0, 1].
+    name : str
+        Argument name used in error messages.
+    channels : tuple of int
+        Allowed numbers of components (RGB or RGBA by default).
+
+    Returns
+    -------
+    (C,) float32 ndarray
+
+    Raises
+    ------
+    TypeError
+        If ``colour`` is not numbers.
+    ValueError
+        Wrong number of components, NaN/inf, or a component outside [0, 1].
+
     Examples
     --------
     >>> as_colour((1, 0.5, 0)).tolist()
@@ -602,7 +914,33 @@ def as_colour(colour, name: str = "color", *, channels=(3, 4)) -> np.ndarray:
 
 
 def as_colours(colours, n: int, name: str = "colors", *, channels=(1, 3, 4)) -> np.ndarray:
-    """One colour for all, or one per item: an ``(n, C)`` float32 array in [0, 1]."""
+    """One colour for all, or one per item: an ``(n, C)`` float32 array in [0, 1].
+
+    Parameters
+    ----------
+    colours : array_like
+        One colour ``(C,)`` (repeated ``n`` times) or ``(n, C)``, in [0, 1].
+    n : int
+        Number of items (0 is treated as 1).
+    name : str
+        Argument name used in error messages.
+    channels : tuple of int
+        Allowed numbers of components ``C`` (gray, RGB or RGBA by default).
+
+    Returns
+    -------
+    (max(n, 1), C) float32 ndarray
+
+    Raises
+    ------
+    ValueError
+        Wrong shape, NaN/inf, or a component outside [0, 1].
+
+    Examples
+    --------
+    >>> as_colours((1, 0, 0), 2).tolist()
+    [[1.0, 0.0, 0.0], [1.0, 0.0, 0.0]]
+    """
     c = real_array(colours, name, ndim=(1, 2), dtype=np.float32, finite=False)
     if c.ndim == 1:
         c = np.broadcast_to(c, (max(n, 1), c.shape[0]))
@@ -617,6 +955,26 @@ def as_colours(colours, n: int, name: str = "colors", *, channels=(1, 3, 4)) -> 
 
 def check_shape(shape, name: str = "shape", *, max_pixels: int = MAX_PIXELS) -> tuple[int, int]:
     """A positive ``(H, W)`` (extra trailing entries ignored) no larger than ``max_pixels``.
+
+    Parameters
+    ----------
+    shape : sequence of int
+        ``(H, W)`` or an array shape ``(H, W, C)``; integral floats accepted.
+    name : str
+        Argument name used in error messages.
+    max_pixels : int
+        Largest ``H * W`` allowed (:data:`MAX_PIXELS` by default).
+
+    Returns
+    -------
+    (int, int)
+
+    Raises
+    ------
+    TypeError
+        If ``shape`` is not a sequence of at least two integers.
+    ValueError
+        If a side is < 1 or the area exceeds ``max_pixels``.
 
     Examples
     --------
@@ -636,6 +994,33 @@ def as_polylines(polylines, name: str = "polylines", *, min_points: int = 0) -> 
     """A list of ``(N_i, 2)`` float64 arrays with finite coordinates within :data:`COORD_LIMIT`.
 
     A single ``(N, 2)`` array counts as one polyline.
+
+    Parameters
+    ----------
+    polylines : sequence of (N_i, 2) array_like
+        Vertices (x, y) in pixels; an empty entry becomes a ``(0, 2)`` array.
+    name : str
+        Argument name used in error messages (``polylines[3]``).
+    min_points : int
+        Fewest vertices each polyline must have.
+
+    Returns
+    -------
+    list of (N_i, 2) float64 ndarray
+        New arrays.
+
+    Raises
+    ------
+    TypeError
+        If ``polylines`` is not a sequence or a polyline is not numbers.
+    ValueError
+        Wrong shape, too few points, or coordinates that are NaN/inf or
+        beyond :data:`COORD_LIMIT`.
+
+    Examples
+    --------
+    >>> [p.shape for p in as_polylines([[(0, 0), (1, 1)], []])]
+    [(2, 2), (0, 2)]
     """
     if isinstance(polylines, (str, bytes)) or not hasattr(polylines, "__len__"):
         raise TypeError(f"{name} must be a sequence of (N, 2) point arrays, got {type(polylines).__name__}")
@@ -659,6 +1044,32 @@ def check_finite(values, name: str, *, limit: float | None = None) -> np.ndarray
     """Raise unless every value is finite (and ``|value| <= limit``); return the array.
 
     Writers call this on what they are about to write so no file holds NaN.
+
+    Parameters
+    ----------
+    values : array_like
+        Numbers of any shape.
+    name : str
+        Argument name used in error messages.
+    limit : float, optional
+        Largest magnitude allowed; None: any finite value.
+
+    Returns
+    -------
+    ndarray
+        ``np.asarray(values)`` (not copied).
+
+    Raises
+    ------
+    TypeError
+        If ``values`` is complex.
+    ValueError
+        If a value is NaN/inf or beyond ``limit``.
+
+    Examples
+    --------
+    >>> check_finite([1.0, 2.0], "x", limit=10).tolist()
+    [1.0, 2.0]
     """
     arr = np.asarray(values)
     if np.iscomplexobj(arr):
@@ -671,7 +1082,29 @@ def check_finite(values, name: str, *, limit: float | None = None) -> np.ndarray
 
 
 def as_point(point, name: str = "point") -> np.ndarray:
-    """One finite ``(x, y)`` point within :data:`COORD_LIMIT`, as a float64 array of 2."""
+    """One finite ``(x, y)`` point within :data:`COORD_LIMIT`, as a float64 array of 2.
+
+    Parameters
+    ----------
+    point : array_like
+        ``(x, y)`` in pixels.
+    name : str
+        Argument name used in error messages.
+
+    Returns
+    -------
+    (2,) float64 ndarray
+
+    Raises
+    ------
+    TypeError, ValueError
+        If ``point`` is not two finite real numbers within the limit.
+
+    Examples
+    --------
+    >>> as_point((3, 4)).tolist()
+    [3.0, 4.0]
+    """
     p = real_array(point, name, ndim=1)
     if p.shape != (2,):
         raise ValueError(f"{name} must be an (x, y) pair, got {p.shape[0]} value(s)")
@@ -679,7 +1112,35 @@ def as_point(point, name: str = "point") -> np.ndarray:
 
 
 def check_range_pair(value, name: str = "range", *, allow_none: bool = True, allow_equal: bool = True):
-    """A finite ``(lo, hi)`` with ``lo <= hi`` (or ``lo < hi``) as two floats, or None."""
+    """A finite ``(lo, hi)`` with ``lo <= hi`` (or ``lo < hi``) as two floats, or None.
+
+    Parameters
+    ----------
+    value : (float, float) or None
+        The pair given.
+    name : str
+        Argument name used in error messages.
+    allow_none : bool
+        Let None through (returned as None).
+    allow_equal : bool
+        Accept ``lo == hi``; False requires ``lo < hi``.
+
+    Returns
+    -------
+    (float, float) or None
+
+    Raises
+    ------
+    TypeError
+        If ``value`` is not a pair of real numbers.
+    ValueError
+        If a bound is NaN/inf or ``hi < lo`` (or equal, when not allowed).
+
+    Examples
+    --------
+    >>> check_range_pair((0, 1))
+    (0.0, 1.0)
+    """
     if value is None and allow_none:
         return None
     if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != 2:
@@ -694,7 +1155,33 @@ def check_range_pair(value, name: str = "range", *, allow_none: bool = True, all
 def check_output_path(path, name: str = "path", *, suffixes: tuple[str, ...] | None = None):
     """A path a file can be written to: not empty, not a directory, in an existing folder.
 
-    Returns a :class:`pathlib.Path`. With ``suffixes``, the file name must end with one of them.
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file to write (it may exist; it is not touched here).
+    name : str
+        Argument name used in error messages.
+    suffixes : tuple of str, optional
+        Allowed lower-case suffixes with the dot (``(".png", ".jpg")``);
+        the file name's suffix is compared case-insensitively. Any by default.
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    TypeError
+        If ``path`` is not a non-empty str or Path.
+    ValueError
+        If it is a directory, its folder does not exist, or the suffix is
+        not allowed.
+
+    Examples
+    --------
+    >>> import tempfile, os
+    >>> check_output_path(os.path.join(tempfile.mkdtemp(), "a.PNG"), suffixes=(".png",)).name
+    'a.PNG'
     """
     from pathlib import Path
 

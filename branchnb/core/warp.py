@@ -20,15 +20,25 @@ __all__ = ["Patch", "transfer_patch", "remap"]
 
 @dataclass
 class Patch:
-    """Texture copied into a target frame.
+    """Texture copied into a target frame (what :func:`transfer_patch` returns).
 
-    Attributes
+    Parameters
     ----------
     pixels : (h, w, C) float32 ndarray
+        The copied texture, in [0, 1].
     valid : (h, w) bool ndarray
-        Pixels whose source location lay inside the source image.
+        Pixels whose source location lay inside the source image (and, for
+        a circular patch, inside the disk).
     origin : (int, int)
-        Target ``(x, y)`` of ``pixels[0, 0]``.
+        Target ``(x, y)`` of ``pixels[0, 0]``, in pixels (may be negative:
+        the patch may stick out of the target image).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> p = transfer_patch(np.zeros((20, 20, 3)), (10, 10), 0.0, (2, 2), 0.0, radius=3)
+    >>> p.pixels.shape, p.origin
+    ((7, 7, 3), (-1, -1))
     """
 
     pixels: np.ndarray
@@ -36,7 +46,28 @@ class Patch:
     origin: tuple[int, int]
 
     def placed(self, shape) -> tuple[np.ndarray, np.ndarray]:
-        """The patch pasted on an empty canvas of ``shape`` (H, W[, C]): ``(image, mask)``."""
+        """The patch pasted on an empty canvas of ``shape`` (H, W[, C]): ``(image, mask)``.
+
+        Parameters
+        ----------
+        shape : sequence of int
+            ``(H, W)`` of the target canvas (a trailing channel count is
+            ignored; the patch keeps its own channels).
+
+        Returns
+        -------
+        image : (H, W, C) float32 ndarray
+            Zeros, with the patch at ``origin`` (clipped to the canvas).
+        mask : (H, W) bool ndarray
+            The patch's ``valid`` pixels that land on the canvas.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> p = Patch(np.ones((2, 2, 3), np.float32), np.ones((2, 2), bool), (-1, 0))
+        >>> int(p.placed((3, 3))[1].sum())
+        2
+        """
         h, w = check_shape(shape, "shape")
         img = np.zeros((h, w, self.pixels.shape[2]), np.float32)
         mask = np.zeros((h, w), bool)
@@ -64,14 +95,28 @@ def transfer_patch(image, src_center, src_angle: float, dst_center, dst_angle: f
     Parameters
     ----------
     image : (H, W, C) array_like
-    src_center, dst_center : (x, y)
-    src_angle, dst_angle : float
+        The source texture (any layout :func:`as_float_image` accepts).
+    src_center : (x, y)
+        Centre of the copied texture in ``image`` (pixels).
+    src_angle : float
+        Direction at the source (radians) that is turned onto ``dst_angle``.
+    dst_center : (x, y)
+        Centre of the patch in the target frame; rounded to whole pixels.
+    dst_angle : float
+        Direction at the target (radians).
     radius : float
-        Half size of the target patch (pixels).
+        Half size of the target patch (pixels, in (0, 4096]); the patch is
+        ``2 ceil(radius) + 1`` pixels square.
     scale : float
-        Target size / source size.
+        Target size / source size (1e-3 .. 1e3); 2 magnifies the texture.
     circular : bool
         Mark only the disk of ``radius`` as valid.
+
+    Returns
+    -------
+    Patch
+        Source locations outside ``image`` sample its nearest border pixel
+        and are marked invalid.
 
     Examples
     --------
@@ -118,11 +163,32 @@ def transfer_patch(image, src_center, src_angle: float, dst_center, dst_angle: f
 def remap(image, map_x, map_y) -> tuple[np.ndarray, np.ndarray]:
     """Sample ``image`` at ``(map_x, map_y)`` (bilinear): ``out[r, c] = image(map_x[r, c], map_y[r, c])``.
 
+    Parameters
+    ----------
+    image : (H, W, C) array_like
+        The image to sample (any layout :func:`as_float_image` accepts).
+    map_x, map_y : (H', W') array_like
+        Source x (column) and y (row) of every output pixel, in pixels of
+        ``image``; finite. Locations outside repeat the border pixel.
+
     Returns
     -------
     out : (H', W', C) float32 ndarray
     valid : (H', W') bool ndarray
         Where the sample location lay inside the image.
+
+    Raises
+    ------
+    ValueError
+        If the maps are not 2-D of equal shape or hold NaN/inf.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.arange(4, dtype=float).reshape(2, 2) / 3
+    >>> out, valid = remap(img, np.array([[0.5, 5.0]]), np.array([[0.0, 0.0]]))
+    >>> [round(float(v), 3) for v in out[0, :, 0]], valid.tolist()
+    ([0.167, 0.333], [[True, False]])
     """
     img = as_float_image(image)
     mx = real_array(map_x, "map_x", dtype=np.float32, finite=False)

@@ -33,7 +33,29 @@ BRANCHING_MAX = 512
 
 
 def read_images(paths: Sequence) -> list[tuple[str, np.ndarray]]:
-    """Read image files as ``(name, float32 image)``; a clear ``ValueError`` names a bad path."""
+    """Read image files as ``(name, float32 image)``; a clear ``ValueError`` names a bad path.
+
+    Parameters
+    ----------
+    paths : sequence of str or os.PathLike
+        Image files (PNG, JPEG, TIFF, ...).
+
+    Returns
+    -------
+    list of (str, ndarray)
+        Each file's stem and its image, float32 in [0, 1], ``(H, W, C)``.
+
+    Raises
+    ------
+    ValueError
+        If a path is not a file or cannot be decoded.
+
+    Examples
+    --------
+    >>> from branchnb import data
+    >>> [(name, image.shape) for name, image in read_images([data.path("tree_rpg_01")])]
+    [('tree_rpg_01', (503, 411, 4))]
+    """
     from ..core.io import imread
 
     out = []
@@ -82,10 +104,20 @@ def open_app(name: str, images=None, *, page: bool = False, **kwargs):
     **kwargs
         Passed on to the app's constructor.
 
+    Returns
+    -------
+    BranchingApp, DendriteApp, TreeVariationsApp, StrokeEditApp or LeafApp
+        The app; display it as the last expression of a notebook cell.
+
     Raises
     ------
     ValueError
         An unknown ``name``, an unreadable image, or too few exemplars.
+
+    Examples
+    --------
+    >>> app = open_app("dendrite")                         # doctest: +SKIP
+    >>> app = open_app("leaves", ["leaf1.png", "leaf2.png"])  # doctest: +SKIP
     """
     if name not in APPS:
         raise ValueError(f"name must be one of {list(APPS)}, got {name!r}")

@@ -157,6 +157,7 @@ class BranchingApp(widgets.VBox):
     structure : Structure, optional
         A starting annotation (e.g. from ``extract_structure``).
     params : SynthesisParams, optional
+        Initial values of the parameter panel (the paper's defaults if None).
     max_display : int
         Long side of the example canvas in CSS pixels.
     display : int
@@ -306,7 +307,20 @@ class BranchingApp(widgets.VBox):
         return s
 
     def set_structure(self, structure: Structure) -> None:
-        """Show ``structure`` on the canvas (replaces the polylines, keeps the guidance strokes; undoable)."""
+        """Show ``structure`` on the canvas (replaces the polylines, keeps the guidance strokes; undoable).
+
+        Parameters
+        ----------
+        structure : Structure
+            The example structure, in pixels of the current image.
+
+        Raises
+        ------
+        TypeError
+            If ``structure`` is not a :class:`~branchnb.core.Structure`.
+        ValueError
+            If a vertex lies outside the image.
+        """
         if not isinstance(structure, Structure):
             raise TypeError(f"structure must be a Structure, got {type(structure).__name__}")
         structure.check_inside(self.image_shape)
@@ -314,7 +328,25 @@ class BranchingApp(widgets.VBox):
         self.canvas.model.load_json(structure_to_annotations(structure, keep=strokes))
 
     def extract(self, **overrides) -> str:
-        """Run :func:`~branchnb.branching.extract_structure` and put the result on the canvas."""
+        """Run :func:`~branchnb.branching.extract_structure` and put the result on the canvas.
+
+        Parameters
+        ----------
+        **overrides
+            Keyword arguments of :func:`~branchnb.branching.extract_structure`
+            (``line_colour``, ``mask``, fields of its parameters); by default
+            the panel's ``h`` and, for images over 600 pixels, ``scale=0.5``.
+
+        Returns
+        -------
+        str
+            A summary for the status line (branches and vertices found).
+
+        Raises
+        ------
+        ValueError
+            If no branch was found.
+        """
         kw = {"h": self.params.h, "scale": 0.5 if max(self.image_shape) > 600 else 1.0}
         kw.update(overrides)
         s = extract_structure(self.image, **kw)
@@ -324,7 +356,27 @@ class BranchingApp(widgets.VBox):
         return f"extracted {len(s.branches)} branches, {s.n_vertices} vertices"
 
     def refine(self, params: ClickParams | None = None) -> Structure:
-        """The paper's input step: resample each polyline at ``h`` and measure its thickness."""
+        """The paper's input step: resample each polyline at ``h`` and measure its thickness.
+
+        The clicked polylines are turned into a structure, each resampled at
+        step ``h`` and given the thickness measured perpendicular to it in
+        the image; the result replaces them on the canvas.
+
+        Parameters
+        ----------
+        params : ClickParams, optional
+            Resampling step and thickness search; the defaults with the
+            panel's ``h`` if None.
+
+        Returns
+        -------
+        Structure
+
+        Raises
+        ------
+        ValueError
+            If no polyline of two or more clicks is drawn.
+        """
         p = params if params is not None else ClickParams(h=self.params.h)
         shapes = self.canvas.model.shapes
         s, index = annotations_to_structure(shapes, self.image_shape)
@@ -367,7 +419,13 @@ class BranchingApp(widgets.VBox):
 
     # -- files (the shell's open / save / load annotations) -------------------------------
     def set_image(self, image) -> None:
-        """Use another example image: the annotations are cleared (undoable), the result goes."""
+        """Use another example image: the annotations are cleared (undoable), the result goes.
+
+        Parameters
+        ----------
+        image : (H, W, C) array_like
+            Any layout :func:`branchnb.core.image.as_float_image` accepts.
+        """
         img = as_float_image(image, name="image")
         self.image = img
         self.image_shape = img.shape[:2]
@@ -402,6 +460,7 @@ class BranchingApp(widgets.VBox):
             self.seed.value = extra["seed"]
 
     def clear_guidance(self) -> None:
+        """Remove the guidance strokes from the canvas (one undo step); the polylines stay."""
         keep = [s.to_dict() for s in self.canvas.model.shapes if s.kind != "stroke"]
         self.canvas.model.load_json(json.dumps({"version": 1, "shapes": keep}))
 
@@ -429,8 +488,16 @@ class BranchingApp(widgets.VBox):
         The image minus its large branch-free flat regions (the sea around a
         river map's land, the wide water of a delta mask); the whole frame
         for a photo. The model learns where roots start relative to its
-        boundary, and synthesis grows inside it. ``structure`` defaults to
-        the canvas's example.
+        boundary, and synthesis grows inside it. Cached per structure.
+
+        Parameters
+        ----------
+        structure : Structure, optional
+            The example structure; the canvas's by default.
+
+        Returns
+        -------
+        (H, W) bool ndarray
         """
         ex = self.example_structure() if structure is None else structure
         text = ex.to_json() if _text is None else _text
@@ -482,9 +549,17 @@ class BranchingApp(widgets.VBox):
     def synthesize(self, progress=None):
         """Grow a new structure from the example with the panel's parameters and seed.
 
-        ``progress(growth)`` is passed on to
-        :func:`~branchnb.branching.synthesize_structure` (partial
-        skeletons while it grows; raising there stops it).
+        Parameters
+        ----------
+        progress : callable, optional
+            ``progress(growth)``, passed on to
+            :func:`~branchnb.branching.synthesize_structure` (partial
+            skeletons while it grows; raising there stops it).
+
+        Returns
+        -------
+        SynthesisResult
+            Also kept as ``result`` and drawn.
         """
         p = self.params
         model = self._fitted(p)
@@ -496,7 +571,26 @@ class BranchingApp(widgets.VBox):
         return self.result
 
     def extend(self, branch: int | None = None, steps: int | None = None):
-        """Grow one branch of the synthesized structure further (``steps`` Markov steps)."""
+        """Grow one branch of the synthesized structure further (``steps`` Markov steps).
+
+        Parameters
+        ----------
+        branch : int, optional
+            Branch of the result to extend; the branch picker's value by default.
+        steps : int, optional
+            Number of Markov steps (of length ``h``); the steps box's value by
+            default.
+
+        Returns
+        -------
+        SynthesisResult
+            The new result (kept as ``result``).
+
+        Raises
+        ------
+        ValueError
+            If nothing was synthesized yet.
+        """
         if self.result is None:
             raise ValueError("extend: synthesize a structure first")
         b = int(self.branch_pick.value if branch is None else branch)
@@ -510,7 +604,23 @@ class BranchingApp(widgets.VBox):
         return res
 
     def delete_output_branch(self, branch: int | None = None):
-        """Delete a branch of the synthesized structure with its children."""
+        """Delete a branch of the synthesized structure with its children.
+
+        Parameters
+        ----------
+        branch : int, optional
+            Branch of the result; the branch picker's value by default.
+
+        Returns
+        -------
+        SynthesisResult
+            The new result (kept as ``result``).
+
+        Raises
+        ------
+        ValueError
+            If nothing was synthesized yet, or the index is out of range.
+        """
         if self.result is None:
             raise ValueError("delete branch: synthesize a structure first")
         b = int(self.branch_pick.value if branch is None else branch)
@@ -527,6 +637,22 @@ class BranchingApp(widgets.VBox):
         button passes the shell's, which stops the work on "cancel"). The
         progress bar says "failed" or "cancelled" when the work does not
         finish.
+
+        Parameters
+        ----------
+        progress : callable, optional
+            ``progress(fraction, text)``, fraction in [0, 1].
+
+        Returns
+        -------
+        ImageSynthesisResult
+            The synthesized image with its fragments and timings (kept as
+            ``image_result`` and shown).
+
+        Raises
+        ------
+        ValueError
+            If nothing was synthesized yet.
         """
         if self.result is None:
             raise ValueError("render image: synthesize a structure first")

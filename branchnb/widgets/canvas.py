@@ -332,7 +332,14 @@ class AnnotationCanvas(widgets.VBox):
         return self._image
 
     def set_image(self, image) -> None:
-        """Replace the background image (annotations are kept) and fit the view."""
+        """Replace the background image (annotations are kept) and fit the view.
+
+        Parameters
+        ----------
+        image : (H, W, C) array_like
+            Any layout :func:`branchnb.core.image.as_float_image` accepts;
+            stored as RGBA. The canvas is resized to its aspect ratio.
+        """
         self._image = as_rgba(image, name="image")
         self._image_widget.value = encode_png(self._image)
         self._resize()
@@ -357,7 +364,19 @@ class AnnotationCanvas(widgets.VBox):
         return float(css) * self.pixel_ratio
 
     def set_overlay(self, overlay) -> None:
-        """Show an RGBA image (same size as the image) over it, under the annotations; None hides it."""
+        """Show an RGBA image (same size as the image) over it, under the annotations; None hides it.
+
+        Parameters
+        ----------
+        overlay : (H, W, C) array_like or None
+            Same height and width as the image; its alpha lets the image show
+            through (gray or RGB overlays are opaque).
+
+        Raises
+        ------
+        ValueError
+            If the overlay's size differs from the image's.
+        """
         if overlay is None:
             self._has_overlay = False
         else:
@@ -376,7 +395,23 @@ class AnnotationCanvas(widgets.VBox):
         self.redraw()
 
     def zoom_by(self, factor: float, about=None) -> None:
-        """Multiply the zoom by ``factor`` keeping view point ``about`` fixed (canvas centre by default)."""
+        """Multiply the zoom by ``factor`` keeping view point ``about`` fixed (canvas centre by default).
+
+        The zoom stays between a quarter of "fit" and 64 CSS pixels per image pixel.
+
+        Parameters
+        ----------
+        factor : float
+            Zoom multiplier (> 0; 2 zooms in twice).
+        about : (x, y), optional
+            Canvas (device) pixel that stays in place; the canvas centre if
+            None or not finite.
+
+        Raises
+        ------
+        ValueError
+            If ``factor`` is not a finite number > 0.
+        """
         if not np.isfinite(factor) or factor <= 0:
             raise ValueError(f"factor must be > 0, got {factor}")
         if about is None or not np.all(np.isfinite(np.asarray(about, float))):
@@ -389,18 +424,47 @@ class AnnotationCanvas(widgets.VBox):
         self.redraw()
 
     def pan_by(self, dx: float, dy: float) -> None:
-        """Shift the view by (dx, dy) canvas pixels (non-finite shifts are ignored)."""
+        """Shift the view by (dx, dy) canvas pixels (non-finite shifts are ignored).
+
+        Parameters
+        ----------
+        dx, dy : float
+            Shift in canvas (device) pixels; positive moves the image right
+            and down.
+        """
         if not (np.isfinite(dx) and np.isfinite(dy)):
             return
         self._offset = self._offset + [dx, dy]
         self.redraw()
 
     def view_to_image(self, x: float, y: float) -> tuple[float, float]:
-        """Canvas pixel -> image pixel (pixel centres at integers)."""
+        """Canvas pixel -> image pixel (pixel centres at integers).
+
+        Parameters
+        ----------
+        x, y : float
+            Position in canvas (device) pixels, as mouse events give it.
+
+        Returns
+        -------
+        (float, float)
+            Image ``(x, y)`` in pixels, with the current zoom and pan.
+        """
         return ((x - self._offset[0]) / self.zoom - 0.5, (y - self._offset[1]) / self.zoom - 0.5)
 
     def image_to_view(self, x, y):
-        """Image pixel -> canvas pixel (arrays allowed)."""
+        """Image pixel -> canvas pixel (arrays allowed); the inverse of :meth:`view_to_image`.
+
+        Parameters
+        ----------
+        x, y : float or array_like
+            Image coordinates in pixels (pixel centres at integers).
+
+        Returns
+        -------
+        (x, y)
+            Canvas (device) pixels, floats or arrays like the input.
+        """
         return ((np.asarray(x) + 0.5) * self.zoom + self._offset[0],
                 (np.asarray(y) + 0.5) * self.zoom + self._offset[1])
 
@@ -589,7 +653,18 @@ class AnnotationCanvas(widgets.VBox):
 
     # -- mouse & keyboard -------------------------------------------------------
     def handle_mouse_down(self, x: float, y: float) -> None:
-        """Mouse pressed at canvas pixel (x, y)."""
+        """Mouse pressed at canvas pixel (x, y): the current tool acts there.
+
+        ``point`` adds a point, ``stroke``/``scribble`` start a freehand
+        line, ``polyline`` adds a vertex (or starts a polyline, snapping to
+        a nearby vertex as its parent), ``edit`` selects the nearest vertex,
+        ``pan`` starts dragging the view. Clicks outside the image are ignored.
+
+        Parameters
+        ----------
+        x, y : float
+            Canvas (device) pixels; non-finite values are ignored.
+        """
         if not (np.isfinite(x) and np.isfinite(y)):
             return
         ix, iy = self.view_to_image(x, y)
@@ -640,6 +715,16 @@ class AnnotationCanvas(widgets.VBox):
         self.model.append_point(i, (ix, iy), radius=self.radius)
 
     def handle_mouse_move(self, x: float, y: float) -> None:
+        """Mouse moved to canvas pixel (x, y): pan, extend a freehand line, or show a dragged vertex.
+
+        Cheap by design (browsers do not throttle move events): the
+        annotations are not redrawn, only the top layer.
+
+        Parameters
+        ----------
+        x, y : float
+            Canvas (device) pixels; non-finite values are ignored.
+        """
         if not (np.isfinite(x) and np.isfinite(y)):
             return
         ix, iy = self.view_to_image(x, y)
@@ -666,6 +751,14 @@ class AnnotationCanvas(widgets.VBox):
                 self._ring(c, x, y)
 
     def handle_mouse_up(self, x: float, y: float) -> None:
+        """Mouse released at canvas pixel (x, y): drop a dragged vertex there, or finish a freehand line.
+
+        Parameters
+        ----------
+        x, y : float
+            Canvas (device) pixels; a vertex moves only if released inside
+            the image more than one pixel away.
+        """
         self._panning = None
         if not (np.isfinite(x) and np.isfinite(y)):
             self._dragging = False
@@ -683,6 +776,13 @@ class AnnotationCanvas(widgets.VBox):
         self._end_active()
 
     def handle_mouse_out(self, x: float, y: float) -> None:
+        """Pointer left the canvas: stop panning and dragging, finish a freehand line.
+
+        Parameters
+        ----------
+        x, y : float
+            Canvas pixels of the event (not used).
+        """
         self._panning = None
         self._dragging = False
         self._end_active()
@@ -701,12 +801,36 @@ class AnnotationCanvas(widgets.VBox):
 
         The step does not depend on ``deltaY``'s size, which differs between
         browsers, devices and pixel ratios.
+
+        Parameters
+        ----------
+        dx, dy : float
+            The wheel event's deltas; only the sign of ``dy`` counts
+            (negative zooms in, 0 or non-finite does nothing).
         """
         if not np.isfinite(dy) or dy == 0:
             return
         self.zoom_by(_WHEEL_STEP if dy < 0 else 1 / _WHEEL_STEP, about=self._last_view)
 
     def handle_key(self, key: str, shift: bool, ctrl: bool, meta: bool) -> None:
+        """A key pressed over the canvas.
+
+        Ctrl/Cmd+Z undoes, Ctrl/Cmd+Y redoes, Enter finishes the polyline,
+        Escape drops the line being drawn and finishes, ``[``/``]`` shrink or
+        grow the selected vertex's radius by 20/25 %, Delete/Backspace
+        removes the selected shape.
+
+        Parameters
+        ----------
+        key : str
+            The browser's ``KeyboardEvent.key`` (``"z"``, ``"Enter"``, ...).
+        shift : bool
+            Shift held (not used).
+        ctrl : bool
+            Ctrl held.
+        meta : bool
+            Cmd/Windows key held (same as Ctrl).
+        """
         mod = ctrl or meta
         if mod and key.lower() == "z":
             self.model.undo()

@@ -169,6 +169,8 @@ class DendriteApp(widgets.VBox):
     params : StylizeParams, optional
         Initial stylization parameters (paper defaults).
     mode : {"stylize", "tree", "pareidolia"}
+        Initial mode: the image as a dendrite, a grown tree, or the image
+        hidden in a tree's crown (switchable in the app).
     display : int
         Display width of each result image (CSS pixels).
 
@@ -284,7 +286,13 @@ class DendriteApp(widgets.VBox):
 
     # -- public API (everything the widgets do, callable from Python) ----------
     def set_image(self, image) -> None:
-        """Stylize another image (downscaled to ``max_size``); the seed click is dropped."""
+        """Stylize another image (downscaled to ``max_size``); the seed click is dropped.
+
+        Parameters
+        ----------
+        image : (H, W, C) array_like
+            Any layout :func:`branchnb.core.image.as_float_image` accepts.
+        """
         self._use_image(image)
         self.comparison = self.tree = self.rendering = self.preview = None
         self.seed = None
@@ -323,11 +331,33 @@ class DendriteApp(widgets.VBox):
         return self.panels[self.mode].values
 
     def set_seed(self, xy) -> None:
-        """Place the seed (trunk base in the tree modes) at image pixel ``(x, y)``."""
+        """Place the seed (trunk base in the tree modes) at image pixel ``(x, y)``.
+
+        Parameters
+        ----------
+        xy : (x, y)
+            Image pixels of the (downscaled) image shown; the click replaces
+            the previous seed.
+        """
         self.canvas.model.add_shape("point", [tuple(map(float, xy))])
 
     def save_svg(self, path) -> Path:
-        """Write the current picture's SVG."""
+        """Write the current picture's SVG.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            File to write (UTF-8; overwritten if it exists).
+
+        Returns
+        -------
+        pathlib.Path
+
+        Raises
+        ------
+        ValueError
+            If nothing was rendered yet or ``path`` is a folder.
+        """
         if self.rendering is None:
             raise ValueError("nothing rendered yet")
         path = Path(path)

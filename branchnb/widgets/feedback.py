@@ -26,7 +26,23 @@ __all__ = ["Cancelled", "ErrorArea", "ProgressBar", "StatusLine"]
 
 
 class Cancelled(Exception):
-    """Raised inside long work (by its progress callback) when the user pressed "cancel"."""
+    """Raised inside long work (by its progress callback) when the user pressed "cancel".
+
+    Parameters
+    ----------
+    message : str
+        What the status line shows.
+
+    Raises
+    ------
+    TypeError
+        If ``message`` is not a str.
+
+    Examples
+    --------
+    >>> str(Cancelled("synthesis cancelled"))
+    'synthesis cancelled'
+    """
 
     def __init__(self, message: str = "cancelled"):
         if not isinstance(message, str):
@@ -59,6 +75,11 @@ class ErrorArea(widgets.HTML):
     until a guarded *action* succeeds; passive callbacks (mouse moves,
     redraws: ``guard(fn, action=False)``) never clear it.
 
+    Parameters
+    ----------
+    **kwargs
+        Passed to :class:`ipywidgets.HTML` (e.g. ``layout``).
+
     Examples
     --------
     >>> errors = ErrorArea()
@@ -84,7 +105,14 @@ class ErrorArea(widgets.HTML):
         self.layout.display = "none"
 
     def show(self, exc: BaseException) -> None:
-        """Display an exception."""
+        """Display an exception.
+
+        Parameters
+        ----------
+        exc : BaseException
+            Shown as ``"Type: message"`` (in ``last_error``) with its
+            traceback under a "details" disclosure.
+        """
         self._n_shown += 1
         self.last_error = _message(exc)
         self.last_traceback = _traceback(exc)
@@ -109,6 +137,19 @@ class ErrorArea(widgets.HTML):
         outermost guarded call succeeds, the previous error is cleared.
         ``action=False`` (mouse moves, hover, redraws) leaves it alone.
         Usable as ``@guard`` or ``guard(fn, action=False)``.
+
+        Parameters
+        ----------
+        fn : callable, optional
+            The callback; None returns a decorator taking it.
+        action : bool
+            Whether a success of ``fn`` clears the shown error.
+
+        Returns
+        -------
+        callable
+            A wrapper with ``fn``'s signature that returns ``fn``'s result, or
+            None after showing an exception.
         """
         if fn is None:
             return functools.partial(self.guard, action=action)
@@ -123,7 +164,20 @@ class ErrorArea(widgets.HTML):
 
     @contextmanager
     def catch(self, *, action: bool = True):
-        """Context manager form of :meth:`guard`."""
+        """Context manager form of :meth:`guard`.
+
+        Parameters
+        ----------
+        action : bool
+            Whether a block that succeeds (nothing inside showed an error)
+            clears the shown error.
+
+        Yields
+        ------
+        None
+            The block runs inside; an exception it raises is shown, not
+            propagated.
+        """
         with self._lock:
             self._depth += 1
             outermost = self._depth == 1
@@ -152,6 +206,14 @@ class StatusLine(ErrorArea):
     synthesis ...", disables the registered run buttons, and afterwards
     prints "synthesis: 1.23 s" (or the error). Register buttons with
     :meth:`add_run_buttons`; give the cancel button with ``cancel``.
+
+    Parameters
+    ----------
+    cancel : ipywidgets.Button, optional
+        The app's cancel button: shown and enabled only while cancellable
+        work runs (see :meth:`set_busy`).
+    **kwargs
+        Passed to :class:`ipywidgets.HTML`.
 
     Examples
     --------
@@ -195,12 +257,25 @@ class StatusLine(ErrorArea):
         self.layout.display = "none" if kind == "ready" and not text else None
 
     def info(self, text: str) -> None:
-        """Show a message (keeps a visible error: it is replaced by the next success only)."""
+        """Show a message (keeps a visible error: it is replaced by the next success only).
+
+        Parameters
+        ----------
+        text : str
+            The message (converted with ``str``); kept in ``text``.
+        """
         self.text = str(text)
         if self.last_error is None and not self.busy_now:
             self._render("ok", self.text)
 
     def show(self, exc: BaseException) -> None:
+        """Show an exception on the line, its traceback under "details".
+
+        Parameters
+        ----------
+        exc : BaseException
+            The error; kept as ``last_error`` until the next success.
+        """
         self._n_shown += 1
         self.last_error = _message(exc)
         self.last_traceback = _traceback(exc)
@@ -208,16 +283,31 @@ class StatusLine(ErrorArea):
         self.layout.display = None
 
     def clear(self) -> None:
+        """Forget the error and show the last message again (or nothing)."""
         self.last_error = self.last_traceback = None
         self._render("ok" if self.text else "ready", self.text)
 
     # -- busy state -----------------------------------------------------------
     def add_run_buttons(self, *buttons: widgets.Button) -> None:
-        """Buttons disabled while a callback runs."""
+        """Buttons disabled while a callback runs.
+
+        Parameters
+        ----------
+        *buttons : ipywidgets.Button
+            Added to those already registered; re-enabled by :meth:`set_idle`.
+        """
         self._run_buttons.extend(buttons)
 
     def set_busy(self, name: str, *, cancellable: bool = False) -> None:
-        """Spinner, "computing <name> ...", run buttons disabled, cancel offered if ``cancellable``."""
+        """Spinner, "computing <name> ...", run buttons disabled, cancel offered if ``cancellable``.
+
+        Parameters
+        ----------
+        name : str
+            What is computing (e.g. ``"synthesis"``).
+        cancellable : bool
+            Show and enable the cancel button given to the constructor.
+        """
         self.busy_now = True
         self._render("busy", f"computing {name} ...")
         for b in self._run_buttons:
@@ -228,11 +318,20 @@ class StatusLine(ErrorArea):
             self.cancel_button.layout.display = None
 
     def progress(self, fraction: float, text: str = "") -> None:
-        """Show progress of the running work (``progress(fraction, text)`` of the core)."""
+        """Show progress of the running work (``progress(fraction, text)`` of the core).
+
+        Parameters
+        ----------
+        fraction : float
+            Done part of the work, clipped to [0, 1]; shown as a percentage.
+        text : str
+            What is being done; "computing ..." if empty.
+        """
         pct = f"{100 * min(max(float(fraction), 0.0), 1.0):.0f} %"
         self._render("busy", f"{text} {pct}".strip() if text else f"computing ... {pct}")
 
     def set_idle(self) -> None:
+        """Leave the busy state: run buttons enabled, the cancel button hidden."""
         self.busy_now = False
         for b in self._run_buttons:
             b.disabled = False
@@ -245,8 +344,20 @@ class StatusLine(ErrorArea):
     def busy(self, name: str, *, message=None):
         """Run the block in the busy state; afterwards show its time or its error.
 
-        ``message`` (a callable returning a string, or a string) is what
-        the line says on success besides the time.
+        Parameters
+        ----------
+        name : str
+            What runs; the line says ``"<name>: 1.23 s"`` afterwards, or
+            ``"<name> failed after ..."`` with the error.
+        message : str or callable, optional
+            What the line adds on success besides the time; a callable is
+            called after the block (so it can report the result).
+
+        Yields
+        ------
+        None
+            The block runs inside; an exception it raises is shown, not
+            propagated.
         """
         self.set_busy(name)
         t0 = time.perf_counter()
@@ -274,6 +385,19 @@ class ProgressBar(widgets.HBox):
     Pass :meth:`update` as the ``progress`` callback of a core function
     (``progress(fraction, text)``), or iterate with :meth:`track`. Call
     :meth:`fail` when the work raised: the bar turns red and says so.
+
+    Parameters
+    ----------
+    description : str
+        Label left of the bar.
+    **kwargs
+        Passed to :class:`ipywidgets.HBox`.
+
+    Examples
+    --------
+    >>> bar = ProgressBar("synthesis")
+    >>> bar.update(0.25, "fragment 3"); bar.bar.value, bar.text.value
+    (0.25, 'fragment 3')
     """
 
     def __init__(self, description: str = "", **kwargs):
@@ -283,30 +407,69 @@ class ProgressBar(widgets.HBox):
         self.layout.display = "none"
 
     def update(self, fraction: float, text: str = "") -> None:
-        """Set progress to ``fraction`` in [0, 1] with an optional message."""
+        """Set progress to ``fraction`` in [0, 1] with an optional message.
+
+        Parameters
+        ----------
+        fraction : float
+            Done part of the work (clipped to [0, 1]).
+        text : str
+            Message right of the bar (replaces the previous one).
+        """
         self.layout.display = None
         self.bar.bar_style = ""
         self.bar.value = min(max(float(fraction), 0.0), 1.0)
         self.text.value = str(text)
 
     def done(self, text: str = "done") -> None:
+        """Fill the bar and turn it green.
+
+        Parameters
+        ----------
+        text : str
+            Message right of the bar.
+        """
         self.update(1.0, text)
         self.bar.bar_style = "success"
 
     def fail(self, text: str = "failed") -> None:
-        """Show that the work did not finish."""
+        """Show that the work did not finish.
+
+        Parameters
+        ----------
+        text : str
+            Message right of the bar (e.g. the error); the bar turns red and
+            keeps its value.
+        """
         self.layout.display = None
         self.bar.bar_style = "danger"
         self.text.value = str(text)
 
     def reset(self) -> None:
+        """Empty the bar, clear its message and hide it."""
         self.bar.value = 0.0
         self.bar.bar_style = ""
         self.text.value = ""
         self.layout.display = "none"
 
     def track(self, iterable, total: int | None = None, text: str = ""):
-        """Yield from ``iterable`` while advancing the bar."""
+        """Yield from ``iterable`` while advancing the bar.
+
+        Parameters
+        ----------
+        iterable : iterable
+            The items to go through.
+        total : int, optional
+            Number of items, for the fraction; ``len(iterable)`` by default.
+        text : str
+            Prefix of the ``"i/total"`` message.
+
+        Yields
+        ------
+        object
+            The items of ``iterable``; the bar is filled (:meth:`done`) after
+            the last.
+        """
         if total is None:
             total = len(iterable)
         for i, item in enumerate(iterable):

@@ -57,6 +57,19 @@ _MIME = {".png": "image/png", ".svg": "image/svg+xml", ".json": "application/jso
 def decode_image(data, name: str = "image") -> np.ndarray:
     """Decode image file bytes (PNG, JPEG, TIFF, BMP, WebP ...) to float32 RGB(A) in [0, 1].
 
+    Parameters
+    ----------
+    data : bytes-like
+        The file's content (as an upload widget gives it).
+    name : str
+        The file name, for error messages.
+
+    Returns
+    -------
+    (H, W, C) float32 ndarray
+        C = 1 for gray files, 3 for colour, 4 with alpha; 8- and 16-bit
+        files are scaled to [0, 1].
+
     Raises
     ------
     ValueError
@@ -92,7 +105,22 @@ def check_file(name: str, data: bytes, siblings: Mapping[str, bytes] | None = No
     PNG: decodes. JSON: parses (no NaN or Infinity). SVG: well-formed XML
     with an ``<svg>`` root. glTF: JSON with ``asset.version == "2.0"``,
     whose external ``uri`` s are among ``siblings`` (the other files
-    written with it).
+    written with it). Other suffixes are not checked.
+
+    Parameters
+    ----------
+    name : str
+        File name; its suffix (case-insensitive) says what ``data`` must be.
+    data : bytes
+        The content about to be written.
+    siblings : mapping of str to bytes, optional
+        Files written together with it, by name (for a glTF's buffers and
+        images).
+
+    Raises
+    ------
+    ValueError
+        Naming the file and what is wrong with it.
 
     Examples
     --------
@@ -150,6 +178,27 @@ def canvases_json(canvases: Mapping, *, app: str = "", extra: Mapping | None = N
     ``extra`` holds what else the app needs to restore its work (layer
     names and colours, weights, ...); it must be plain JSON.
 
+    Parameters
+    ----------
+    canvases : mapping
+        Canvas name -> :class:`~branchnb.widgets.canvas.AnnotationCanvas`
+        or :class:`~branchnb.widgets.model.AnnotationModel`.
+    app : str
+        Name of the app that writes it; :func:`load_canvases` refuses files
+        of another app.
+    extra : mapping, optional
+        Other state, plain JSON with finite numbers.
+
+    Returns
+    -------
+    str
+        ``{"format": "branchnb-annotations", "version": 1, "app", "canvases", "extra"}``.
+
+    Raises
+    ------
+    ValueError, TypeError
+        If ``extra`` holds NaN/inf or objects JSON cannot hold.
+
     Examples
     --------
     >>> from branchnb.widgets.model import AnnotationModel
@@ -174,10 +223,37 @@ def load_canvases(text, canvases: Mapping, *, app: str = "") -> dict:
     A plain :meth:`AnnotationModel.to_json` text is accepted too (it goes to
     the first canvas). Every canvas is checked before any is changed.
 
+    Parameters
+    ----------
+    text : str or bytes
+        The JSON text (bytes are decoded as UTF-8).
+    canvases : mapping
+        Canvas name -> canvas or model, as given to :func:`canvases_json`;
+        each named in ``text`` is replaced (undoably), the others are kept.
+    app : str
+        This app's name; a file saved by another app is refused (a file
+        without an app name is accepted).
+
+    Returns
+    -------
+    dict
+        The ``extra`` saved with the annotations (empty if none).
+
     Raises
     ------
+    TypeError
+        If ``text`` is not text.
     ValueError
         Not annotation JSON, written by another app, or naming a canvas this app does not have.
+
+    Examples
+    --------
+    >>> from branchnb.widgets.model import AnnotationModel
+    >>> m = AnnotationModel()
+    >>> load_canvases('{"canvases": {"image": {"shapes": []}}, "app": "trees"}', {"image": m}, app="leaves")
+    Traceback (most recent call last):
+    ...
+    ValueError: annotations: these were saved by the 'trees' app, not 'leaves'
     """
     if isinstance(text, (bytes, bytearray)):
         text = bytes(text).decode("utf-8")
@@ -221,6 +297,7 @@ class FileBar:
         ``open(images)`` with a list of ``(file stem, float32 image)``;
         may return a message. No "open image" button without it.
     open_label : str
+        Label of the open button (plain text).
     multiple : bool
         Whether several images can be chosen at once (exemplars).
     outputs : callable, optional
@@ -232,6 +309,13 @@ class FileBar:
         ``load(text)``: restore annotations. No "load annotations" button without it.
     folder : str
         Where "save" writes (relative to the kernel's working folder).
+
+    Examples
+    --------
+    >>> from branchnb.widgets.feedback import ErrorArea
+    >>> bar = FileBar(errors=ErrorArea(), name="demo", outputs=lambda: {"notes.json": {"k": 9}})
+    >>> list(bar.contents())
+    ['demo_notes.json']
     """
 
     def __init__(self, *, errors, name: str = "branchnb", open: Callable | None = None,
@@ -288,7 +372,13 @@ class FileBar:
         self.page = False
 
     def use_page_mode(self, page: bool = True) -> None:
-        """Downloads only (no folder box, nothing written on the server); for ``branchnb app`` pages."""
+        """Downloads only (no folder box, nothing written on the server); for ``branchnb app`` pages.
+
+        Parameters
+        ----------
+        page : bool
+            True switches to downloads only; False brings the folder box back.
+        """
         self.page = bool(page)
         self.folder.layout.display = "none" if self.page else None
         if self.save_button is not None:
@@ -306,7 +396,24 @@ class FileBar:
 
     # -- opening ----------------------------------------------------------------------
     def open_files(self, files) -> object:
-        """Decode ``files`` (a list of ``(name, bytes)``) and hand them to the app's ``open`` hook."""
+        """Decode ``files`` (a list of ``(name, bytes)``) and hand them to the app's ``open`` hook.
+
+        Parameters
+        ----------
+        files : sequence of (str, bytes)
+            File names and contents; the hook gets ``(file stem, image)``
+            pairs (see :func:`decode_image`).
+
+        Returns
+        -------
+        object
+            What the hook returns (a message, or None).
+
+        Raises
+        ------
+        ValueError
+            If the app opens no images, ``files`` is empty or a file is no image.
+        """
         if self._open is None:
             raise ValueError("this app opens no images")
         images = [(Path(str(n)).stem or str(n), decode_image(b, str(n))) for n, b in files]
@@ -325,7 +432,23 @@ class FileBar:
         self.errors.info(f"opened {names}" + (f" | {out}" if isinstance(out, str) else ""))
 
     def load_text(self, text) -> object:
-        """Restore annotations from JSON text (what "load annotations" does with the file)."""
+        """Restore annotations from JSON text (what "load annotations" does with the file).
+
+        Parameters
+        ----------
+        text : str
+            Annotation JSON, as written by "save" (``<name>_annotations.json``).
+
+        Returns
+        -------
+        object
+            What the app's ``load`` hook returns.
+
+        Raises
+        ------
+        ValueError
+            If the app loads no annotations, or as the hook raises.
+        """
         if self._load is None:
             raise ValueError("this app loads no annotations")
         return self._load(text)
@@ -368,7 +491,28 @@ class FileBar:
         return files
 
     def save(self, folder=None) -> list[Path]:
-        """Write :meth:`contents` into ``folder`` (default: the folder box); returns the paths."""
+        """Write :meth:`contents` into ``folder`` (default: the folder box); returns the paths.
+
+        Each file is written under a temporary name and renamed, so no
+        half-written file ever has the real name. Download links are shown.
+
+        Parameters
+        ----------
+        folder : str or os.PathLike, optional
+            Output folder (``~`` expanded, created if needed); the folder
+            box's value by default.
+
+        Returns
+        -------
+        list of pathlib.Path
+            The files written, ``<name>_<output>`` and ``<name>_annotations.json``.
+
+        Raises
+        ------
+        ValueError
+            Nothing to save, a file that fails :func:`check_file`, or a folder
+            that is empty or an existing file.
+        """
         files = self.contents()
         out = Path(self.folder.value if folder is None else folder).expanduser()
         if not str(out).strip():

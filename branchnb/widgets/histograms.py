@@ -36,6 +36,7 @@ class HistogramCompare(widgets.VBox):
     metric : str
         ``l1``, ``l2sq``, ``chi2`` or ``emd`` (see :mod:`branchnb.core.histogram`).
     title : str
+        Heading drawn above the plots (none if empty).
     width, height : int
         Canvas size in CSS pixels (narrower where the browser shows it in a
         narrower column: it is redrawn at the width it gets); the backing store has ``pixel_ratio``
@@ -97,7 +98,20 @@ class HistogramCompare(widgets.VBox):
             self._size()
 
     def resize(self, width: int, height: int | None = None) -> None:
-        """Change the plot's size in CSS pixels (e.g. to fit a column) and redraw."""
+        """Change the plot's size in CSS pixels (e.g. to fit a column) and redraw.
+
+        Parameters
+        ----------
+        width : int
+            New width in CSS pixels, 32 .. 4096.
+        height : int, optional
+            New height in CSS pixels, 32 .. 4096; unchanged if None.
+
+        Raises
+        ------
+        ValueError
+            If a size is not an int in range.
+        """
         for arg, v in (("width", width), ("height", height if height is not None else self.css_height)):
             if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 32 <= v <= 4096:
                 raise ValueError(f"{arg} must be an int in [32, 4096] (pixels), got {v!r}")
@@ -120,7 +134,21 @@ class HistogramCompare(widgets.VBox):
             self._draw()
 
     def update(self, *samples, labels=None, range=None) -> None:
-        """Bin ``samples`` together (the first is the reference) and redraw."""
+        """Bin ``samples`` together (the first is the reference) and redraw.
+
+        Errors (an empty sample, NaN, ...) are shown in the widget's error
+        area instead of being raised.
+
+        Parameters
+        ----------
+        *samples : array_like
+            One or more 1-D samples (e.g. turning angles of the input and of
+            the result).
+        labels : list of str, optional
+            One legend name per sample.
+        range : (float, float), optional
+            Histogram range; the joint min..max by default.
+        """
         with self.errors.catch():
             if len(samples) < 1:
                 raise ValueError("update needs at least one sample")
@@ -128,7 +156,19 @@ class HistogramCompare(widgets.VBox):
                                       range=range, metric=self.metric))
 
     def show(self, comparison: HistogramComparison) -> None:
-        """Draw a precomputed :class:`~branchnb.core.histogram.HistogramComparison`."""
+        """Draw a precomputed :class:`~branchnb.core.histogram.HistogramComparison`.
+
+        Parameters
+        ----------
+        comparison : HistogramComparison
+            E.g. from :func:`branchnb.core.histogram.compare_samples`; its
+            bins and metric are shown as they are.
+
+        Raises
+        ------
+        TypeError
+            If ``comparison`` is not a HistogramComparison.
+        """
         if not isinstance(comparison, HistogramComparison):
             raise TypeError("comparison must be a HistogramComparison")
         was_empty = self.comparison is None

@@ -40,8 +40,12 @@ class ImageView(widgets.HBox):
     Parameters
     ----------
     images : sequence of (H, W, C) array_like
+        The images, any layout :func:`branchnb.core.image.as_float_image`
+        accepts (a single array is one image).
     titles : sequence of str
+        One title per image (missing ones are empty).
     fast : bool
+        Send JPEG (quality 90) instead of lossless PNG.
     width : int
         Display width of each image in CSS pixels; a narrower image is shown
         at its own size, never enlarged (click an image in the browser to
@@ -84,6 +88,12 @@ class ImageView(widgets.HBox):
         """Mark the shown images as no longer matching the input (greyed, titles prefixed with ``note``).
 
         The next :meth:`update` clears the mark.
+
+        Parameters
+        ----------
+        note : str
+            Prefix of every title (``"out of date: result"``); titles that
+            already start with it are left as they are.
         """
         self.stale = True
         self.add_class("bnb-stale")
@@ -92,7 +102,18 @@ class ImageView(widgets.HBox):
                 self.set_title(i, f"{note}: {t}" if t else note)
 
     def update(self, images, titles=None) -> None:
-        """Replace the images (widgets are reused when the count is unchanged)."""
+        """Replace the images (widgets are reused when the count is unchanged).
+
+        Clears a :meth:`mark_stale` mark.
+
+        Parameters
+        ----------
+        images : sequence of (H, W, C) array_like or array
+            The new images (a single array is one image).
+        titles : sequence of str, optional
+            New titles; the current ones are kept if None (empty for new
+            images).
+        """
         if self.stale:
             self.stale = False
             self.remove_class("bnb-stale")
@@ -118,7 +139,22 @@ class ImageView(widgets.HBox):
             self.set_title(i, title)
 
     def update_one(self, index: int, image, title: str | None = None) -> None:
-        """Replace one image (and its title) in place."""
+        """Replace one image (and its title) in place.
+
+        Parameters
+        ----------
+        index : int
+            Position of the image, ``0 <= index < len(images)``.
+        image : (H, W, C) array_like
+            The new image.
+        title : str, optional
+            New title; unchanged if None.
+
+        Raises
+        ------
+        ValueError
+            If ``index`` is out of range.
+        """
         if not 0 <= index < len(self.images):
             raise ValueError(f"index {index} out of range for {len(self.images)} images")
         self._put(index, image)
@@ -138,7 +174,15 @@ class ImageView(widgets.HBox):
         self.images[i].value = data
 
     def set_title(self, index: int, title: str) -> None:
-        """Change one image's title (e.g. to mark it out of date)."""
+        """Change one image's title (e.g. to mark it out of date).
+
+        Parameters
+        ----------
+        index : int
+            Position of the image; an index out of range is ignored.
+        title : str
+            The new title (plain text, escaped).
+        """
         if not 0 <= index < len(self.titles):
             return
         self.titles[index].value = (f"<div class='bnb-view-title' style='font-size:12px;font-weight:600;"

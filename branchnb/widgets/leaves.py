@@ -66,6 +66,37 @@ def layer_set_from_shapes(shapes, layers: LayerSet, *, radius: float = 2.0, offs
     background. ``offset`` is subtracted from the points (canvas -> leaf
     pixels). Scribbles whose label names no layer raise a ``ValueError``
     naming the label.
+
+    Parameters
+    ----------
+    shapes : sequence of Shape
+        The canvas' shapes; only scribbles count (their ``label`` is a layer
+        name or ``"blade"``).
+    layers : LayerSet
+        The app's layers (names, colours, order); copied without their
+        scribbles.
+    radius : float
+        Brush radius in pixels for scribbles without ``meta["radius"]``.
+    offset : (dx, dy)
+        Shift subtracted from every point (canvas -> leaf pixels).
+
+    Returns
+    -------
+    LayerSet
+        A new layer set holding the scribbles.
+
+    Raises
+    ------
+    ValueError
+        If a scribble's label names no layer.
+
+    Examples
+    --------
+    >>> from branchnb.widgets.model import Shape
+    >>> layers = LayerSet(); _ = layers.add("veins", "#aa0000")
+    >>> out = layer_set_from_shapes([Shape("scribble", [(5, 5), (9, 9)], label="veins")], layers, offset=(1, 1))
+    >>> out.layers[0].scribbles[0].points.tolist(), out.layers[0].scribbles[0].radius
+    ([[4.0, 4.0], [8.0, 8.0]], 2.0)
     """
     out = LayerSet([Layer(x.name, x.colour, x.order) for x in layers.layers])
     names = {x.name for x in out.layers}
@@ -217,7 +248,23 @@ class LeafApp(widgets.VBox):
 
     # -- files (the shell's open / save / load annotations) -------------------------------
     def set_exemplars(self, exemplars, training_index: int = 0) -> None:
-        """Work on other leaves (two or more of one kind): the layers stay, their scribbles go."""
+        """Work on other leaves (two or more of one kind): the layers stay, their scribbles go.
+
+        Parameters
+        ----------
+        exemplars : list of images
+            RGBA cut-outs or leaves on a plain background, two or more; they
+            are centred on one common canvas (see
+            :func:`branchnb.leaves.analysis.normalise_exemplars`).
+        training_index : int
+            The leaf shown on the canvas, whose scribbles define the layers.
+
+        Raises
+        ------
+        ValueError
+            If fewer than two leaves are given or ``training_index`` is out
+            of range.
+        """
         images, blades, offsets = normalise_exemplars(exemplars)
         if not 0 <= training_index < len(images):
             raise ValueError(f"training_index must be in [0, {len(images) - 1}], got {training_index!r}")
@@ -274,6 +321,7 @@ class LeafApp(widgets.VBox):
 
     # -- layer list -----------------------------------------------------------------
     def layer_names(self) -> list[str]:
+        """The layers' names, in stacking order (top first)."""
         return self.layers.names()
 
     def _sync_layers(self) -> None:
@@ -303,7 +351,21 @@ class LeafApp(widgets.VBox):
             self._sync_layers()
 
     def add_layer(self, name: str | None = None, colour: str | None = None) -> None:
-        """Add a layer (at the bottom) and select it for scribbling."""
+        """Add a layer (at the bottom) and select it for scribbling.
+
+        Parameters
+        ----------
+        name : str, optional
+            Layer name; the name box's text if None.
+        colour : str, optional
+            CSS colour ``"#rrggbb"`` of its scribbles; the colour box's value
+            if None, the next palette colour if that is not of this form.
+
+        Raises
+        ------
+        ValueError
+            If the name is empty or taken.
+        """
         name = (name if name is not None else self.name_box.value).strip()
         if not name:
             raise ValueError("type a name for the new layer first")
@@ -316,7 +378,18 @@ class LeafApp(widgets.VBox):
         self.layer_list.value = name
 
     def remove_layer(self, name: str) -> None:
-        """Remove a layer and its scribbles."""
+        """Remove a layer and its scribbles.
+
+        Parameters
+        ----------
+        name : str
+            The layer's name (the selected layer in the app).
+
+        Raises
+        ------
+        ValueError
+            If ``name`` is None or names no layer.
+        """
         if name is None:
             raise ValueError("select a layer to remove")
         self.layers.remove(name)
@@ -325,7 +398,21 @@ class LeafApp(widgets.VBox):
         self._sync_layers()
 
     def move_layer(self, name: str, step: int) -> None:
-        """Move a layer up (``-1``, towards the top) or down (``+1``)."""
+        """Move a layer up (``-1``, towards the top) or down (``+1``).
+
+        Parameters
+        ----------
+        name : str
+            The layer's name.
+        step : int
+            Positions to move; negative moves towards the top of the
+            stacking order.
+
+        Raises
+        ------
+        ValueError
+            If ``name`` is None or names no layer.
+        """
         if name is None:
             raise ValueError("select a layer to move")
         names = self.layer_names()
@@ -334,6 +421,7 @@ class LeafApp(widgets.VBox):
         self.layer_list.value = name
 
     def clear_scribbles(self) -> None:
+        """Remove every scribble from the canvas (undoable); the layers stay."""
         self.canvas.model.clear()
 
     def scribbled_layers(self) -> LayerSet:
@@ -382,6 +470,13 @@ class LeafApp(widgets.VBox):
         return ", ".join(f"{x.name}: lambda {x.lam:.2f}" for x in a.layers)
 
     def run_generate(self) -> str:
+        """Generate new leaves from the last analysis (the "generate" button); returns a summary.
+
+        Raises
+        ------
+        ValueError
+            If nothing was analysed yet.
+        """
         if self.analysis is None:
             raise ValueError("run 'analyze' first: there is nothing to generate from yet")
         n = int(self.n_outputs.value)
@@ -395,7 +490,13 @@ class LeafApp(widgets.VBox):
         return f"{n} leaves"
 
     def show_leaf(self, i) -> None:
-        """Show generated leaf ``i`` at its full size (cropped to the leaf) below the gallery."""
+        """Show generated leaf ``i`` at its full size (cropped to the leaf) below the gallery.
+
+        Parameters
+        ----------
+        i : int or None
+            Index into the generated leaves; None (nothing picked) does nothing.
+        """
         if i is None or not self.leaves:
             return
         leaf = self.leaves[int(i)]
@@ -408,7 +509,21 @@ class LeafApp(widgets.VBox):
 
     # -- views ---------------------------------------------------------------------------
     def registration_overlay(self, e: int, analysis: LeafAnalysis | None = None) -> np.ndarray:
-        """Exemplar ``e`` with its induced layers, keypoints and the training grid carried onto it."""
+        """Exemplar ``e`` with its induced layers, keypoints and the training grid carried onto it.
+
+        Parameters
+        ----------
+        e : int
+            Exemplar index.
+        analysis : LeafAnalysis, optional
+            The analysis to show; the app's last one by default. Without
+            one, the plain exemplar on white is returned.
+
+        Returns
+        -------
+        (H, W, 3) float32 ndarray
+            The training leaf shows only its layers (no grid).
+        """
         a = analysis if analysis is not None else self.analysis
         img = a.overlay(e) if a is not None else _white(self.images[e])
         if a is None or e == a.training_index:
@@ -490,6 +605,17 @@ def _kind_text(layer) -> str:
 
 def layer_warnings(analysis) -> list[str]:
     """Plain-language warnings about an analysis: a thin layer that came out non-structural, a layer not found.
+
+    Parameters
+    ----------
+    analysis : LeafAnalysis
+        The result of the app's "analyze" step (its ``layers`` with their
+        ``lam``, ``snapped`` and ``empty`` fields).
+
+    Returns
+    -------
+    list of str
+        One sentence per problem; empty when all is well.
 
     Examples
     --------

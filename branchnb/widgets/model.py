@@ -65,14 +65,17 @@ KINDS = ("polyline", "stroke", "scribble", "point")
 class Shape:
     """One annotation.
 
-    Attributes
+    The fields are checked on construction (points become a float64
+    ``(N, 2)`` array, radii float64).
+
+    Parameters
     ----------
     kind : str
         One of :data:`KINDS`.
     points : (N, 2) float ndarray
-        Vertices in image pixels.
+        Vertices (x, y) in image pixels, N >= 1.
     radii : (N,) float ndarray or None
-        Per-vertex radius (polylines), None otherwise.
+        Per-vertex radius in pixels (> 0; polylines), None otherwise.
     label : str or None
         Class label (scribbles, points) or any tag the app wants.
     closed : bool
@@ -80,6 +83,18 @@ class Shape:
     meta : dict
         JSON-serialisable extras, e.g. ``{"parent": [shape, vertex]}`` for
         a polyline that starts on another one.
+
+    Raises
+    ------
+    TypeError, ValueError
+        An unknown kind, malformed points, radii not one positive value per
+        point, a non-str label, a non-bool ``closed`` or a ``meta`` that is
+        not JSON with finite numbers.
+
+    Examples
+    --------
+    >>> Shape("polyline", [(0, 0), (5, 0)], radii=[2, 1]).radii.tolist()
+    [2.0, 1.0]
     """
 
     kind: str
@@ -109,6 +124,7 @@ class Shape:
         self.meta = _json_meta(self.meta)
 
     def to_dict(self) -> dict:
+        """The shape's fields as plain JSON-ready values (points and radii as lists)."""
         return {
             "kind": self.kind,
             "points": self.points.tolist(),
@@ -121,8 +137,27 @@ class Shape:
 
 @dataclass(frozen=True)
 class AnnotationEvent:
-    """What changed: ``type`` in {"add", "append", "update", "remove", "clear",
-    "load", "undo", "redo"}; ``index`` is the affected shape (or None)."""
+    """What changed in an :class:`AnnotationModel` (passed to its observers).
+
+    Parameters
+    ----------
+    type : str
+        One of ``"add"``, ``"append"``, ``"update"``, ``"remove"``,
+        ``"clear"``, ``"load"``, ``"undo"``, ``"redo"``.
+    index : int or None
+        The affected shape (its index before a removal); None when the
+        change concerns all shapes.
+
+    Examples
+    --------
+    >>> m, events = AnnotationModel(), []
+    >>> m.observe(events.append)
+    >>> m.add_shape("point", [(1, 2)]); m.undo()
+    0
+    True
+    >>> events
+    [AnnotationEvent(type='add', index=0), AnnotationEvent(type='undo', index=None)]
+    """
 
     type: str
     index: int | None = None
@@ -134,6 +169,14 @@ class AnnotationModel:
     Every edit is one undo step (a polyline vertex, a whole freehand
     stroke, a radius change, a clear). Observers are called after each
     change with an :class:`AnnotationEvent`.
+
+    Parameters
+    ----------
+    shapes : sequence of Shape or dict
+        Initial shapes (dicts hold a :class:`Shape`'s fields); none by
+        default. Not an undo step.
+    max_undo : int
+        Most undo steps kept (0 .. 100000); the oldest are dropped.
 
     Examples
     --------
@@ -172,12 +215,30 @@ class AnnotationModel:
 
     # -- observation ----------------------------------------------------
     def observe(self, callback: Callable[[AnnotationEvent], None]) -> None:
-        """Call ``callback(event)`` after every change."""
+        """Call ``callback(event)`` after every change.
+
+        Parameters
+        ----------
+        callback : callable
+            Called with one :class:`AnnotationEvent`, in registration order.
+        """
         if not callable(callback):
             raise TypeError("callback must be callable")
         self._observers.append(callback)
 
     def unobserve(self, callback) -> None:
+        """Stop calling ``callback``.
+
+        Parameters
+        ----------
+        callback : callable
+            A callback registered with :meth:`observe`.
+
+        Raises
+        ------
+        ValueError
+            If it is not observing this model.
+        """
         if callback not in self._observers:
             raise ValueError("callback is not observing this model")
         self._observers.remove(callback)
@@ -208,7 +269,18 @@ class AnnotationModel:
         return len(self._shapes)
 
     def of_kind(self, kind: str) -> list[Shape]:
-        """Shapes of one kind, in drawing order."""
+        """Shapes of one kind, in drawing order.
+
+        Parameters
+        ----------
+        kind : str
+            One of :data:`KINDS`.
+
+        Returns
+        -------
+        list of Shape
+            The shapes themselves (not copies).
+        """
         if not isinstance(kind, str) or kind not in KINDS:
             raise ValueError(f"kind must be one of {KINDS}, got {kind!r}")
         return [s for s in self._shapes if s.kind == kind]
@@ -223,7 +295,30 @@ class AnnotationModel:
 
     def nearest_vertex(self, xy, *, kinds=("polyline",), max_distance: float = np.inf,
                        exclude: int | None = None) -> tuple[int, int] | None:
-        """``(shape, vertex)`` of the vertex nearest to ``xy`` within ``max_distance``."""
+        """``(shape, vertex)`` of the vertex nearest to ``xy`` within ``max_distance``.
+
+        Parameters
+        ----------
+        xy : (x, y)
+            Query point in image pixels.
+        kinds : str or sequence of str
+            Kinds of shapes searched (polylines by default).
+        max_distance : float
+            Largest distance in pixels (>= 0; unlimited by default).
+        exclude : int, optional
+            A shape index to skip (e.g. the polyline being drawn).
+
+        Returns
+        -------
+        (int, int) or None
+            Shape index and vertex index, or None if no vertex is close enough.
+
+        Examples
+        --------
+        >>> m = AnnotationModel([Shape("polyline", [(0, 0), (10, 0)], radii=[1, 1])])
+        >>> m.nearest_vertex((9, 1)), m.nearest_vertex((9, 1), max_distance=1)
+        ((0, 1), None)
+        """
         p = as_points([xy], name="xy")[0]
         max_distance = _number(max_distance, "max_distance", allow_inf=True)
         if isinstance(kinds, str):
@@ -245,7 +340,28 @@ class AnnotationModel:
     # -- edits ------------------------------------------------------------
     def add_shape(self, kind: str, points, *, radii=None, label: str | None = None,
                   closed: bool = True, meta: dict | None = None) -> int:
-        """Add a shape; returns its index."""
+        """Add a shape; returns its index.
+
+        Parameters
+        ----------
+        kind : str
+            One of :data:`KINDS`.
+        points : (N, 2) array_like
+            Vertices (x, y) in image pixels, N >= 1.
+        radii : (N,) array_like, optional
+            Radius per vertex (pixels, > 0), for polylines.
+        label : str, optional
+            Class label (scribbles, points) or a tag.
+        closed : bool
+            False for a polyline still being drawn (see :meth:`append_point`).
+        meta : dict, optional
+            JSON-serialisable extras (copied).
+
+        Returns
+        -------
+        int
+            The new shape's index (the last).
+        """
         if meta is not None and not isinstance(meta, dict):
             raise TypeError(f"meta must be a dict or None, got {type(meta).__name__}")
         shape = Shape(kind, points, radii, label, closed, dict(meta or {}))
@@ -255,7 +371,18 @@ class AnnotationModel:
         return len(self._shapes) - 1
 
     def append_point(self, index: int, xy, radius: float | None = None) -> None:
-        """Append a vertex to an open polyline (or any shape)."""
+        """Append a vertex to an open polyline (or any shape).
+
+        Parameters
+        ----------
+        index : int
+            Shape index (negative counts from the end).
+        xy : (x, y)
+            The new vertex in image pixels.
+        radius : float, optional
+            Its radius (> 0) if the shape has radii; the last vertex's radius
+            by default.
+        """
         i = self._index(index)
         s = self._shapes[i]
         p = as_points([xy], name="xy")
@@ -270,7 +397,15 @@ class AnnotationModel:
         self._notify(AnnotationEvent("append", i))
 
     def set_closed(self, index: int, closed: bool = True) -> None:
-        """Finish (or reopen) a polyline."""
+        """Finish (or reopen) a polyline.
+
+        Parameters
+        ----------
+        index : int
+            Shape index (negative counts from the end).
+        closed : bool
+            True finishes the polyline, False reopens it for more vertices.
+        """
         i = self._index(index)
         closed = _bool(closed, "closed")
         self._checkpoint()
@@ -278,7 +413,17 @@ class AnnotationModel:
         self._notify(AnnotationEvent("update", i))
 
     def set_radius(self, index: int, vertex: int, radius: float) -> None:
-        """Set the radius of one vertex of a polyline."""
+        """Set the radius of one vertex of a polyline.
+
+        Parameters
+        ----------
+        index : int
+            Shape index (negative counts from the end); the shape must have radii.
+        vertex : int
+            Vertex index (negative counts from the end).
+        radius : float
+            New radius in pixels (> 0).
+        """
         i = self._index(index)
         s = self._shapes[i]
         if s.radii is None:
@@ -293,7 +438,17 @@ class AnnotationModel:
         self._notify(AnnotationEvent("update", i))
 
     def move_vertex(self, index: int, vertex: int, xy) -> None:
-        """Move one vertex."""
+        """Move one vertex.
+
+        Parameters
+        ----------
+        index : int
+            Shape index (negative counts from the end).
+        vertex : int
+            Vertex index (negative counts from the end).
+        xy : (x, y)
+            New position in image pixels.
+        """
         i = self._index(index)
         s = self._shapes[i]
         vertex = _int(vertex, "vertex")
@@ -306,6 +461,13 @@ class AnnotationModel:
         self._notify(AnnotationEvent("update", i))
 
     def remove_shape(self, index: int) -> None:
+        """Delete one shape (undoable); later shapes move down by one index.
+
+        Parameters
+        ----------
+        index : int
+            Shape index (negative counts from the end).
+        """
         i = self._index(index)
         self._checkpoint()
         del self._shapes[i]
@@ -348,6 +510,7 @@ class AnnotationModel:
 
     # -- serialisation ----------------------------------------------------
     def to_dict(self) -> dict:
+        """``{"version": 1, "shapes": [...]}``, each shape as :meth:`Shape.to_dict` gives it."""
         return {"version": 1, "shapes": [s.to_dict() for s in self._shapes]}
 
     def to_json(self) -> str:
@@ -378,7 +541,20 @@ class AnnotationModel:
         return out
 
     def load_json(self, text) -> None:
-        """Replace all shapes by those in ``text`` (undoable)."""
+        """Replace all shapes by those in ``text`` (undoable).
+
+        Parameters
+        ----------
+        text : str, bytes or dict
+            Annotation JSON written by :meth:`to_json` (version 1), or its
+            parsed dict.
+
+        Raises
+        ------
+        TypeError, ValueError
+            If ``text`` is not annotation JSON or a shape is malformed; the
+            model is then unchanged.
+        """
         shapes = self._parse(text)
         self._checkpoint()
         self._shapes = shapes
@@ -386,5 +562,16 @@ class AnnotationModel:
 
     @classmethod
     def from_json(cls, text) -> AnnotationModel:
-        """A new model holding the shapes in ``text``."""
+        """A new model holding the shapes in ``text``.
+
+        Parameters
+        ----------
+        text : str, bytes or dict
+            Annotation JSON written by :meth:`to_json`, or its parsed dict.
+
+        Returns
+        -------
+        AnnotationModel
+            With an empty undo history.
+        """
         return cls(cls._parse(text))

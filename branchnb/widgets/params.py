@@ -218,12 +218,14 @@ class ParamPanel(widgets.VBox):
     params : dataclass instance or type
         Initial values (a type means its defaults).
     on_change : callable, optional
-        ``callback(values)``.
+        ``callback(values)``, called with the validated dataclass after each
+        (debounced) change; more can be added with :meth:`on_change`.
     debounce : float
         Seconds to wait after the last change (0: call at once).
     continuous : bool
         Update while a slider is dragged (True) or on release.
     title : str, optional
+        Heading above the controls.
     sections : sequence of (title, field names), optional
         Groups, e.g. the paper's sections; fields not listed go into a
         last group "other". Each group is a collapsible box.
@@ -368,7 +370,20 @@ class ParamPanel(widgets.VBox):
         return check_params(self._type(**kw))
 
     def set_values(self, params) -> None:
-        """Show ``params`` exactly (one callback afterwards, not one per field)."""
+        """Show ``params`` exactly (one callback afterwards, not one per field).
+
+        Parameters
+        ----------
+        params : dataclass instance
+            Of the panel's dataclass type; checked with
+            :func:`branchnb.core.params.check_params`. Hidden fields take
+            its values too.
+
+        Raises
+        ------
+        TypeError, ValueError
+            If ``params`` is of another type or a field is invalid.
+        """
         if not isinstance(params, self._type):
             raise TypeError(f"params must be a {self._type.__name__}, got {type(params).__name__}")
         check_params(params)
@@ -388,7 +403,29 @@ class ParamPanel(widgets.VBox):
         self.set_values(self._defaults)
 
     def type_value(self, name: str, text: str) -> bool:
-        """Type ``text`` into a field's readout; False (and a message) if it is refused."""
+        """Type ``text`` into a field's readout; False (and a message) if it is refused.
+
+        What a user does in the browser, for scripts and tests: values
+        beyond the slider's range but within the field's bounds are kept
+        exactly.
+
+        Parameters
+        ----------
+        name : str
+            Field name.
+        text : str
+            What is typed (e.g. ``"0.25"``).
+
+        Returns
+        -------
+        bool
+            True if the value was accepted.
+
+        Raises
+        ------
+        ValueError
+            If there is no such field or it has no readout (checkbox, dropdown).
+        """
         if name not in self.rows:
             raise ValueError(f"no control named {name!r}")
         r = self.rows[name]
@@ -398,7 +435,22 @@ class ParamPanel(widgets.VBox):
         return r.message.layout.display == "none"
 
     def on_change(self, callback: Callable, remove: bool = False) -> None:
-        """Register ``callback(values)`` (or remove it)."""
+        """Register ``callback(values)`` (or remove it).
+
+        Parameters
+        ----------
+        callback : callable
+            Called with the validated dataclass after each (debounced) change.
+        remove : bool
+            Unregister ``callback`` instead.
+
+        Raises
+        ------
+        TypeError
+            If ``callback`` is not callable.
+        ValueError
+            If removing a callback that was not registered.
+        """
         if remove:
             self._callbacks.remove(callback)
         else:

@@ -121,6 +121,13 @@ class AppShell(widgets.VBox):
         kit's widgets so their errors appear there too.
     buttons : dict
         Action name -> button.
+
+    Examples
+    --------
+    >>> shell = AppShell("blur", help="move the slider")
+    >>> _ = shell.add_action("run", lambda: "3 px", primary=True)
+    >>> shell.click("run"); shell.status.text.endswith("| 3 px")
+    True
     """
 
     def __init__(self, title: str = "", *, help: str = "", background: bool | None = None,
@@ -182,7 +189,18 @@ class AppShell(widgets.VBox):
     # -- building -----------------------------------------------------------------
     def set_body(self, *, main: Sequence[widgets.Widget] = (), result: Sequence[widgets.Widget] = (),
                  sidebar: Sequence[widgets.Widget] = ()) -> None:
-        """Put the canvases (``main``), result views and parameter panels in their columns."""
+        """Put the canvases (``main``), result views and parameter panels in their columns.
+
+        Parameters
+        ----------
+        main : sequence of ipywidgets.Widget
+            Left column: the canvases (kept at their size).
+        result : sequence of ipywidgets.Widget
+            Middle column: result views, histograms (wraps below the
+            canvases on a narrow page).
+        sidebar : sequence of ipywidgets.Widget
+            Right column: parameter panels; hidden when empty.
+        """
         self.main.children = list(main)
         self.result.children = list(result)
         self.sidebar.children = list(sidebar)
@@ -191,9 +209,22 @@ class AppShell(widgets.VBox):
     def add_files(self, **hooks) -> FileBar:
         """Give the app "open image", "save" and "load annotations" (see :class:`FileBar`).
 
-        ``hooks`` are :class:`FileBar`'s keyword arguments (``open``,
-        ``outputs``, ``annotations``, ``load``, ``name``, ``multiple``, ...);
-        errors and messages go to the status line.
+        Parameters
+        ----------
+        **hooks
+            :class:`FileBar`'s keyword arguments (``open``, ``outputs``,
+            ``annotations``, ``load``, ``name``, ``multiple``, ...) except
+            ``errors``: errors and messages go to the status line.
+
+        Returns
+        -------
+        FileBar
+            Also kept as ``files``.
+
+        Raises
+        ------
+        ValueError
+            If the files were added already.
         """
         if self.files is not None:
             raise ValueError("add_files was called already")
@@ -204,7 +235,13 @@ class AppShell(widgets.VBox):
         return self.files
 
     def add_tool(self, *items: widgets.Widget) -> None:
-        """Put non-action widgets (a seed box, a checkbox) into the toolbar."""
+        """Put non-action widgets (a seed box, a checkbox) into the toolbar.
+
+        Parameters
+        ----------
+        *items : ipywidgets.Widget
+            Appended after the existing buttons and tools.
+        """
         self._tools.children = list(self._tools.children) + list(items)
 
     def add_action(self, name: str, fn: Callable[[], object], *, tooltip: str = "", icon: str = "",
@@ -218,6 +255,40 @@ class AppShell(widgets.VBox):
         steps, so that "cancel" can stop it (the button is offered only then). ``run=False`` for quick
         buttons that are not disabled while something computes (e.g.
         "clear"). ``primary`` styles the app's main action.
+
+        Parameters
+        ----------
+        name : str
+            The action's name: its key in ``buttons``, the name shown in the
+            status line, and the button's label unless ``label`` is given.
+        fn : callable
+            ``fn()``; may return a str for the status line.
+        tooltip : str
+            Hover text (``name`` if empty).
+        icon : str
+            Font Awesome icon name (none if empty).
+        primary : bool
+            Style as the app's main action.
+        background : bool
+            Run in a thread inside a kernel (long work).
+        cancellable : bool
+            ``fn`` calls :meth:`progress` between its steps, so "cancel" can
+            stop it.
+        label : str, optional
+            Button text, if other than ``name``.
+        run : bool
+            Disable the button while any action computes.
+
+        Returns
+        -------
+        ipywidgets.Button
+
+        Raises
+        ------
+        TypeError
+            If ``fn`` is not callable.
+        ValueError
+            If an action of that name exists.
         """
         if not callable(fn):
             raise TypeError(f"fn of action {name!r} must be callable")
@@ -238,18 +309,54 @@ class AppShell(widgets.VBox):
         return b
 
     def click(self, name: str) -> None:
-        """Press an action's button from Python (what a user's click does)."""
+        """Press an action's button from Python (what a user's click does).
+
+        Parameters
+        ----------
+        name : str
+            The action's name given to :meth:`add_action`.
+
+        Raises
+        ------
+        ValueError
+            If there is no such action.
+        """
         if name not in self._actions:
             raise ValueError(f"no action named {name!r}; have {list(self._actions)}")
         self._actions[name]()
 
     # -- running ----------------------------------------------------------------------
     def guard(self, fn=None, *, action: bool = True):
-        """Route a callback's errors to the status line (see :meth:`StatusLine.guard`)."""
+        """Route a callback's errors to the status line (see :meth:`StatusLine.guard`).
+
+        Parameters
+        ----------
+        fn : callable, optional
+            The callback; None returns a decorator.
+        action : bool
+            Whether a success clears the shown error (False for mouse moves
+            and redraws).
+
+        Returns
+        -------
+        callable
+        """
         return self.status.guard(fn, action=action)
 
     def busy(self, name: str, *, message=None):
-        """``with shell.busy("preview"):`` - the busy state around a block (synchronous)."""
+        """``with shell.busy("preview"):`` - the busy state around a block (synchronous).
+
+        Parameters
+        ----------
+        name : str
+            What runs, shown as "computing <name> ..." and then with its time.
+        message : str or callable, optional
+            Added to the status line on success (see :meth:`StatusLine.busy`).
+
+        Returns
+        -------
+        contextlib.AbstractContextManager
+        """
         return self.status.busy(name, message=message)
 
     @property
@@ -268,7 +375,23 @@ class AppShell(widgets.VBox):
 
     def run(self, name: str, fn: Callable[[], object], *, background: bool = False,
             cancellable: bool = False) -> None:
-        """Run ``fn`` in the busy state; its string result (if any) goes to the status line."""
+        """Run ``fn`` in the busy state; its string result (if any) goes to the status line.
+
+        While background work runs, another ``run`` shows an error instead
+        of starting.
+
+        Parameters
+        ----------
+        name : str
+            What runs (status line text).
+        fn : callable
+            ``fn()``; errors are shown, not raised.
+        background : bool
+            Run in a thread when inside a kernel (see the ``background``
+            argument of the shell); otherwise at once.
+        cancellable : bool
+            Offer "cancel" (``fn`` must call :meth:`progress`).
+        """
         if self._job is not None:
             self.status.show(RuntimeError(f"{self._job.name} is still running: wait or press cancel"))
             return
@@ -310,6 +433,18 @@ class AppShell(widgets.VBox):
 
         Live updates (:meth:`live`) are cancelled the same way when a newer
         change arrives.
+
+        Parameters
+        ----------
+        fraction : float
+            Done part of the work in [0, 1].
+        text : str
+            What is being done.
+
+        Raises
+        ------
+        Cancelled
+            In the worker thread, after "cancel" (or a newer live request).
         """
         for job in (self._job, self._live_job):
             if job is not None and job.cancelled.is_set() and threading.current_thread() is job.thread:
@@ -327,6 +462,18 @@ class AppShell(widgets.VBox):
         kernel, latest request wins: a newer change cancels the running one
         at its next :meth:`progress` and its result is dropped. Outside a
         kernel both run at once, in order.
+
+        Parameters
+        ----------
+        name : str
+            What is updated (status line text).
+        full : callable
+            ``full()`` computes the full result; may return a str for the
+            status line.
+        preview : callable, optional
+            ``preview()``, run at once.
+        stale : callable, optional
+            ``stale()``, run at once when there is no preview.
         """
         if preview is not None:
             with self.status.busy(f"{name} preview"):
@@ -383,7 +530,17 @@ class AppShell(widgets.VBox):
             self.status.set_idle()
 
     def wait_live(self, timeout: float = 60.0) -> bool:
-        """Wait until the live updates are done; True if none is running."""
+        """Wait until the live updates are done; True if none is running.
+
+        Parameters
+        ----------
+        timeout : float
+            Most seconds to wait.
+
+        Returns
+        -------
+        bool
+        """
         t_end = time.perf_counter() + timeout
         while self._live_thread is not None and time.perf_counter() < t_end:
             time.sleep(0.01)
@@ -397,7 +554,17 @@ class AppShell(widgets.VBox):
             self.status._render("busy", f"cancelling {job.name} (at its next step) ...")
 
     def wait(self, timeout: float | None = None) -> bool:
-        """Wait for background work to finish; True if nothing is running any more."""
+        """Wait for background work to finish; True if nothing is running any more.
+
+        Parameters
+        ----------
+        timeout : float, optional
+            Most seconds to wait; None waits until it ends.
+
+        Returns
+        -------
+        bool
+        """
         job = self._job
         if job is not None and job.thread is not None:
             job.thread.join(timeout)

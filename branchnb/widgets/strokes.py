@@ -152,6 +152,14 @@ def strokes_from_shapes(shapes, *, snap: float = 20.0):
         Per stroke, the control points clicked near it, in clicking order.
     stray : int
         Points near no stroke.
+
+    Examples
+    --------
+    >>> from branchnb.widgets.model import Shape
+    >>> shapes = [Shape("stroke", [(0, 0), (10, 0)]), Shape("point", [(5, 2)]), Shape("point", [(50, 50)])]
+    >>> strokes, index, points, stray = strokes_from_shapes(shapes)
+    >>> index, [p.tolist() for p in points[0]], stray
+    ([0], [[5.0, 2.0]], 1)
     """
     strokes, index = [], []
     for i, s in enumerate(shapes):
@@ -173,7 +181,31 @@ def strokes_from_shapes(shapes, *, snap: float = 20.0):
 
 
 def nearest_stroke(strokes, point, *, snap: float = 20.0) -> int | None:
-    """Index of the stroke nearest to ``point`` if within ``snap`` px, else None."""
+    """Index of the stroke nearest to ``point`` if within ``snap`` px, else None.
+
+    Distances are measured to the strokes' segments, not only their vertices.
+
+    Parameters
+    ----------
+    strokes : sequence of (N_i, 2) ndarray
+        Polylines (x, y) in image pixels, each with at least 2 vertices.
+    point : (x, y)
+        The click, in the same pixels.
+    snap : float
+        Largest distance in pixels that still picks a stroke.
+
+    Returns
+    -------
+    int or None
+        The nearest stroke's index (the later one on a tie).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> strokes = [np.array([[0, 0], [10, 0]]), np.array([[0, 30], [10, 30]])]
+    >>> nearest_stroke(strokes, (5, 26)), nearest_stroke(strokes, (5, 15), snap=10)
+    (1, None)
+    """
     p = np.asarray(point, float)
     best, best_d = None, snap
     for k, st in enumerate(strokes):
@@ -208,6 +240,7 @@ class StrokeEditApp(widgets.VBox):
     background : None, RGB colour or image, optional
         What the result is composed over (None: transparent).
     params : StrokeEditParams, optional
+        Initial values of the parameter panel (the paper's defaults if None).
     max_display : int
         Long side of each canvas in screen pixels.
 
@@ -324,16 +357,45 @@ class StrokeEditApp(widgets.VBox):
         return self.panel.values
 
     def add_stroke(self, side: str, points) -> None:
-        """Add a stroke on the ``"source"`` or ``"target"`` canvas (image pixels)."""
+        """Add a stroke on the ``"source"`` or ``"target"`` canvas (image pixels).
+
+        Parameters
+        ----------
+        side : {"source", "target"}
+            Which canvas: along the object, or where its part should go.
+        points : (N, 2) array_like
+            The stroke's vertices (x, y) in that canvas' image pixels, in
+            drawing order (the direction matters for matching).
+        """
         self._canvas(side).model.add_shape("stroke", points)
 
     def add_control_pair(self, source_xy, target_xy) -> None:
-        """Click a control point near a source stroke and one near its target stroke."""
+        """Click a control point near a source stroke and one near its target stroke.
+
+        Parameters
+        ----------
+        source_xy : (x, y)
+            Point on (or near) a source stroke, source image pixels.
+        target_xy : (x, y)
+            The corresponding point near its target stroke, target pixels.
+        """
         self.source_canvas.model.add_shape("point", [tuple(map(float, source_xy))])
         self.target_canvas.model.add_shape("point", [tuple(map(float, target_xy))])
 
     def reverse_target(self, i: int = -1) -> None:
-        """Flip the direction of target stroke ``i`` (one undo step)."""
+        """Flip the direction of target stroke ``i`` (one undo step).
+
+        Parameters
+        ----------
+        i : int
+            Index among the target strokes (negative counts from the end;
+            the last drawn by default).
+
+        Raises
+        ------
+        ValueError
+            If there is no such target stroke.
+        """
         _, index, _, _ = strokes_from_shapes(self.target_canvas.model.shapes)
         if not index:
             raise ValueError("there is no target stroke to reverse")
@@ -347,7 +409,14 @@ class StrokeEditApp(widgets.VBox):
             for k, s in enumerate(model.shapes)]})
 
     def set_image(self, image) -> None:
-        """Edit another source object: its strokes, the targets and the result are cleared."""
+        """Edit another source object: its strokes, the targets and the result are cleared.
+
+        Parameters
+        ----------
+        image : (H, W, C) array_like
+            Any layout :func:`branchnb.core.image.as_float_image` accepts
+            (RGBA keeps the object's cut-out).
+        """
         self.image = as_float_image(image, name="image")
         self.source_canvas.set_image(self.image)
         self._patches_key = self._preview_key = None

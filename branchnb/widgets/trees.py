@@ -75,6 +75,20 @@ def convex_update(weights, index: int, value: float) -> np.ndarray:
     The others keep their proportions; if they are all zero they share
     ``1 - value`` equally.
 
+    Parameters
+    ----------
+    weights : (K,) array_like
+        Convex weights (>= 0, summing to 1), one per mixed tree.
+    index : int
+        The weight that is set (the slider moved).
+    value : float
+        Its new value, clipped to [0, 1]. With one tree the result is ``[1]``.
+
+    Returns
+    -------
+    (K,) float ndarray
+        A new array summing to 1.
+
     Examples
     --------
     >>> convex_update([0.5, 0.3, 0.2], 0, 0.8).round(3).tolist()
@@ -101,6 +115,23 @@ def channel_range(samples, channel: int, *, min_width: float = 0.1) -> tuple[flo
     the span is narrower than ``min_width``: the blue of drawn green trees
     is often exactly 0, so on [0, 1] its one bar sat on the left border and
     the histogram looked empty.
+
+    Parameters
+    ----------
+    samples : sequence of (P, 3) array_like
+        RGB pixel samples in [0, 1] (e.g. of the input trees and the
+        variation); empty ones are skipped.
+    channel : int
+        0, 1 or 2 for red, green, blue.
+    min_width : float
+        Narrowest range returned.
+
+    Returns
+    -------
+    (float, float)
+        The 0.1 % .. 99.9 % quantiles padded by 2 % and clipped to [0, 1],
+        or a ``min_width`` range centred on the data (which may reach below
+        0 or above 1); ``(0, 1)`` without data.
 
     Examples
     --------
@@ -137,7 +168,7 @@ class TreeVariationsApp(widgets.VBox):
     display : int
         Display width of each result image (screen pixels).
     thumb : int
-        Thumbnail size.
+        Side of the library thumbnails in CSS pixels (>= 16).
     references : sequence of str
         Sample names offered as histogram-transfer references besides the
         library trees.
@@ -346,10 +377,22 @@ class TreeVariationsApp(widgets.VBox):
         return np.array([self._weights[n] for n in self.selected])
 
     def params(self) -> VariationParams:
+        """The variation parameters of the panel (validated)."""
         return self.panel.values
 
     def select(self, names) -> None:
-        """Check exactly these trees (weights reset to equal shares)."""
+        """Check exactly these trees (weights reset to equal shares).
+
+        Parameters
+        ----------
+        names : iterable of str
+            Library tree names; all others are unchecked.
+
+        Raises
+        ------
+        ValueError
+            If a name is not in the library.
+        """
         names = list(names)
         for n in names:
             if n not in self.checks:
@@ -364,7 +407,19 @@ class TreeVariationsApp(widgets.VBox):
         self.update()
 
     def set_weights(self, weights) -> None:
-        """Set all weights of the checked trees (dict or sequence; validated as convex)."""
+        """Set all weights of the checked trees (dict or sequence; validated as convex).
+
+        Parameters
+        ----------
+        weights : dict or sequence of float
+            Tree name -> weight (missing checked trees get 0), or one weight
+            per checked tree in their order; >= 0 and summing to 1.
+
+        Raises
+        ------
+        ValueError
+            If the weights are not convex or of the wrong length.
+        """
         from ..trees.morph import check_weights
 
         sel = self.selected
@@ -376,7 +431,20 @@ class TreeVariationsApp(widgets.VBox):
         self.update()
 
     def set_weight(self, name: str, value: float) -> None:
-        """Move one slider; the others are rescaled to keep the weights convex."""
+        """Move one slider; the others are rescaled to keep the weights convex.
+
+        Parameters
+        ----------
+        name : str
+            A checked tree.
+        value : float
+            Its new weight in [0, 1] (see :func:`convex_update`).
+
+        Raises
+        ------
+        ValueError
+            If the tree is not checked.
+        """
         sel = self.selected
         if name not in sel:
             raise ValueError(f"{name!r} is not checked; check it first")
@@ -436,7 +504,18 @@ class TreeVariationsApp(widgets.VBox):
                 + ("chosen per region" if self.variation.colour_mode == "choose" else "blended"))
 
     def set_morph(self, a: str | None = None, b: str | None = None, t: float | None = None) -> None:
-        """Morph tree ``a`` into tree ``b`` at ``t`` (weights ``1 - t``, ``t``)."""
+        """Morph tree ``a`` into tree ``b`` at ``t`` (weights ``1 - t``, ``t``).
+
+        Shape is mixed by the weights; the colours follow the shape weights.
+        Errors are shown in the app's status line.
+
+        Parameters
+        ----------
+        a, b : str, optional
+            Library tree names; the dropdowns' current values if None.
+        t : float, optional
+            Morph parameter in [0, 1] (0 shows ``a``); the slider's value if None.
+        """
         self._syncing = True
         try:
             if a is not None:
@@ -459,7 +538,19 @@ class TreeVariationsApp(widgets.VBox):
                                    [f"a: {a}", f"t = {t:.2f}", f"b: {b}"])
 
     def more_like_this(self, n: int | None = None) -> list[Variation]:
-        """Random variations around the current mix, shown in the grid."""
+        """Random variations around the current mix, shown in the grid.
+
+        Parameters
+        ----------
+        n : int, optional
+            Number of variations; the "how many" box's value if None.
+
+        Returns
+        -------
+        list of Variation
+            Also kept as ``similar``; empty (and an error shown) before the
+            first mix.
+        """
         with self.errors.catch():
             if self.variation is None:
                 raise ValueError("no current variation to vary")
@@ -480,7 +571,18 @@ class TreeVariationsApp(widgets.VBox):
         return self.similar
 
     def adopt(self, index: int) -> None:
-        """Make grid variation ``index`` the current mix (its shape weights)."""
+        """Make grid variation ``index`` the current mix (its shape weights).
+
+        Parameters
+        ----------
+        index : int
+            Position in the grid of :meth:`more_like_this`, from 0.
+
+        Raises
+        ------
+        ValueError
+            If ``index`` is out of range.
+        """
         if not 0 <= index < len(self.similar):
             raise ValueError(f"index {index} out of range for {len(self.similar)} variations")
         v = self.similar[index]
@@ -495,8 +597,18 @@ class TreeVariationsApp(widgets.VBox):
         self.update()
 
     def segment(self, name: str | None = None, scribbles=None) -> None:
-        """Segment library tree ``name`` (default: the one shown) with optional
-        scribbles and give the library the new trunk (pins follow)."""
+        """Segment library tree ``name`` with optional scribbles and give the library the new trunk (pins follow).
+
+        Without scribbles the library's automatic trunk is restored.
+
+        Parameters
+        ----------
+        name : str, optional
+            Library tree; the one shown on the segmentation canvas if None.
+        scribbles : sequence of Shape, optional
+            Labelled scribbles (``"trunk"``/``"crown"``/...); the canvas'
+            scribbles if None (none for another tree than the one shown).
+        """
         name = self.seg_tree.value if name is None else name
         ex = self.library[name]
         shapes = self.seg_canvas.model.of_kind("scribble") if scribbles is None else scribbles
@@ -516,7 +628,26 @@ class TreeVariationsApp(widgets.VBox):
             self.set_morph()
 
     def build_cloud(self, source: str | None = None, yaw: float | None = None):
-        """Build the billboard cloud of the current variation or a library tree."""
+        """Build the billboard cloud of the current variation or a library tree.
+
+        Parameters
+        ----------
+        source : str, optional
+            ``"current variation"`` or a library tree name; the dropdown's
+            value if None.
+        yaw : float, optional
+            View angle in degrees for the second view (see :meth:`set_yaw`).
+
+        Returns
+        -------
+        BillboardCloud or None
+            Also kept as ``cloud``.
+
+        Raises
+        ------
+        RuntimeError
+            If :mod:`branchnb.trees.billboard` is not available.
+        """
         if not HAS_BILLBOARD:
             raise RuntimeError("branchnb.trees.billboard is not available")
         from ..trees.billboard import billboard_cloud
@@ -538,7 +669,14 @@ class TreeVariationsApp(widgets.VBox):
         return self.cloud
 
     def set_yaw(self, yaw: float | None = None) -> None:
-        """Render the billboard cloud from ``yaw`` degrees (0: the input view)."""
+        """Render the billboard cloud from ``yaw`` degrees (0: the input view).
+
+        Parameters
+        ----------
+        yaw : float, optional
+            Rotation about the vertical axis in degrees; the slider's value
+            if None. Nothing is drawn before a cloud was built.
+        """
         if yaw is not None:
             self._syncing = True
             try:
@@ -566,7 +704,20 @@ class TreeVariationsApp(widgets.VBox):
         return widgets.VBox([img, cb], layout=widgets.Layout(align_items="center", margin="0 4px"))
 
     def add_trees(self, images) -> list[str]:
-        """Add ``(name, RGBA image)`` trees to the library and mix them (they become the checked ones)."""
+        """Add ``(name, RGBA image)`` trees to the library and mix them (they become the checked ones).
+
+        Parameters
+        ----------
+        images : iterable of (str, ndarray)
+            Names and RGBA cut-outs (float in [0, 1]); a name already in the
+            library gets a suffix ``_2``, ``_3``, ...
+
+        Returns
+        -------
+        list of str
+            The names the trees were added under. Two or more are mixed
+            alone; a single one joins the checked trees.
+        """
         added = []
         for name, img in images:
             base, k = str(name), 2
