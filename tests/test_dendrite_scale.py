@@ -91,6 +91,28 @@ def test_same_ink_and_solid_strokes_at_250_and_750_px(name):
     assert len(small.endpoints) < StylizeParams().n_endpoints
 
 
+def test_same_ink_from_200_to_1000_px_on_a_photo():
+    # a maple-leaf photo (258 px) resized: before, 1.44x the ink at 200 px as at 1000 px
+    leaf = as_rgb(data.load("maple_leaf_03"))
+    out = []
+    for n in (200, 1000):
+        f = n / max(leaf.shape[:2])
+        img = resize(leaf, (round(leaf.shape[0] * f), round(leaf.shape[1] * f), 3),
+                     anti_aliasing=True).astype(np.float32)
+        mask = ndimage.binary_fill_holes(as_gray(img) < 0.9)
+        out.append(_ink(stylize(img, rng=0).rendering.image, mask))
+    (ink_s, solid_s), (ink_l, solid_l) = out
+    assert abs(ink_s - ink_l) <= 0.2 * ink_l
+    assert solid_s >= 0.6 * solid_l
+
+
+def test_images_larger_than_the_lattice_keep_its_widths():
+    # a 1000-px and a 2000-px input are drawn as the 512-px picture scaled up
+    p = StylizeParams()
+    assert effective_params(p, 2.0) == effective_params(p, 4.0) == effective_params(p, 1.0)
+    assert effective_params(p, 4.0).min_width == p.output_width
+
+
 def test_outline_weighted_after_the_tone_match():
     img, mask = _fish(400)
     st = Stylizer(img)
