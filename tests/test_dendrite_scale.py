@@ -19,7 +19,7 @@ from branchnb.core.image import as_gray, as_rgb
 from branchnb.dendrite import StylizeParams, Stylizer, stylize
 from branchnb.dendrite.importance import gradient_strength
 from branchnb.dendrite.metaphors import vine_curves, vine_length
-from branchnb.dendrite.pareidolia import pareidolia_tree, tree_crown
+from branchnb.dendrite.pareidolia import PareidoliaParams, pareidolia_tree, tree_crown
 from branchnb.dendrite.stylization import effective_params, metaphor_params
 
 
@@ -257,6 +257,17 @@ def test_pareidolia_limbs_grow_from_the_trunk_and_twigs_taper(portrait_tree):
     ok = back >= 0
     assert ok.mean() > 0.5
     assert np.median(d.radius[tips[ok]] / d.radius[back[ok]]) < 0.6
+
+
+def test_pareidolia_on_a_larger_image_gets_more_endpoints():
+    # drawn back at 2x, the lattice's tree would have its branches twice as far apart
+    img = np.ones((128, 128))
+    img[30:90, 40:100] = 0.2
+    p = PareidoliaParams(n_endpoints=100, iterations=2, lattice_size=64)
+    small = pareidolia_tree(img[::2, ::2], p, rng=0)
+    large = pareidolia_tree(img, p, rng=0)
+    assert len(small.endpoints_image) == 100
+    assert len(large.endpoints_image) == 200
 
 
 def _ancestor(d, i, dist, how_far):
