@@ -234,8 +234,9 @@ def metaphor_params(p: StylizeParams, metaphor: str, shape, object_share: float,
       stippled on importance squared (``endpoint_gamma = 2``: the bolts run
       along the strongest edges), and widths from the pipe model alone
       (``thickness = "subtree"``: growing with the square root of the tips a
-      channel carries) from 1 image pixel to 6 px at 512 x 512 (at least 3
-      px): a few bright main channels that fork into thin, dim branches
+      channel carries) from 1 px to 6 px at 512 x 512 (both scaled with the
+      diagonal, at least 1 and 3 px): a few bright main channels that fork
+      into thin, dim branches, the same look from 200 to 2000 px
       (:func:`~branchnb.dendrite.metaphors.render_lightning` dims a stroke
       with its width).
 
@@ -263,6 +264,9 @@ def metaphor_params(p: StylizeParams, metaphor: str, shape, object_share: float,
     else:
         spacing = LIGHTNING_SPACING * float(np.hypot(h, w))
         hi = max(3.0, 6.0 * length_scale((h, w))) / scale
+        # the thinnest branch too follows the diagonal above 512 px: with 1-px twigs the
+        # pipe model never reached the widest channel on a 2000-px image (all dim)
+        lo = max(lo, max(1.0, length_scale((h, w))) / scale)
         changes = dict(tone=0.0, edges=0.0, thickness="subtree", endpoint_gamma=2.0)
     n = int(round(float(np.clip(object_share, 0.0, 1.0)) * h * w / spacing ** 2))
     return _within_range(p, n_endpoints=int(np.clip(n, min(8, p.n_endpoints), p.n_endpoints)),
