@@ -310,7 +310,7 @@ def test_stylize_is_reproducible():
 
 @pytest.mark.parametrize("value", [0.0, 1.0])
 def test_constant_image_is_handled(value):
-    out = stylize(np.full((40, 40), value), StylizeParams(n_endpoints=30, stipple_iterations=5),
+    out = stylize(np.full((40, 40), value), StylizeParams(n_endpoints=100, stipple_iterations=5),
                   rng=0)
     d = out.dendrite
     assert d.is_tree() and len(d.tips) == len(np.unique(d.nodes[d.tips]))

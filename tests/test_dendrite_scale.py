@@ -19,7 +19,7 @@ from branchnb.core.image import as_gray, as_rgb
 from branchnb.dendrite import StylizeParams, Stylizer, stylize
 from branchnb.dendrite.importance import gradient_strength
 from branchnb.dendrite.metaphors import vine_curves, vine_length
-from branchnb.dendrite.pareidolia import pareidolia_tree, tree_crown
+from branchnb.dendrite.pareidolia import PareidoliaParams, pareidolia_tree, tree_crown
 from branchnb.dendrite.stylization import effective_params, metaphor_params
 
 
@@ -89,6 +89,28 @@ def test_same_ink_and_solid_strokes_at_250_and_750_px(name):
     assert 2.0 * small.dendrite.radius.min() >= 0.99
     # a small image gets fewer endpoints (its strokes must fit between one another)
     assert len(small.endpoints) < StylizeParams().n_endpoints
+
+
+def test_same_ink_from_200_to_1000_px_on_a_photo():
+    # a maple-leaf photo (258 px) resized: before, 1.44x the ink at 200 px as at 1000 px
+    leaf = as_rgb(data.load("maple_leaf_03"))
+    out = []
+    for n in (200, 1000):
+        f = n / max(leaf.shape[:2])
+        img = resize(leaf, (round(leaf.shape[0] * f), round(leaf.shape[1] * f), 3),
+                     anti_aliasing=True).astype(np.float32)
+        mask = ndimage.binary_fill_holes(as_gray(img) < 0.9)
+        out.append(_ink(stylize(img, rng=0).rendering.image, mask))
+    (ink_s, solid_s), (ink_l, solid_l) = out
+    assert abs(ink_s - ink_l) <= 0.2 * ink_l
+    assert solid_s >= 0.6 * solid_l
+
+
+def test_images_larger_than_the_lattice_keep_its_widths():
+    # a 1000-px and a 2000-px input are drawn as the 512-px picture scaled up
+    p = StylizeParams()
+    assert effective_params(p, 2.0) == effective_params(p, 4.0) == effective_params(p, 1.0)
+    assert effective_params(p, 4.0).min_width == p.output_width
 
 
 def test_outline_weighted_after_the_tone_match():
@@ -180,6 +202,15 @@ def test_lightning_on_an_image_reads_as_bolts_along_its_edges():
     assert brightness(wide) > brightness(thin) + 0.05
 
 
+def test_lightning_widths_follow_the_diagonal_above_the_lattice():
+    # before, 1-px twigs on a 2000-px image: the pipe model never reached the widest
+    # channel and the whole picture was dim (bright core 0.8 % of the image vs 2.8 % at 500 px)
+    p = StylizeParams()
+    q = [metaphor_params(p, "lightning", (n, n), 1.0, n / 512) for n in (512, 1024, 2048)]
+    assert q[0].min_width == pytest.approx(q[1].min_width) == pytest.approx(q[2].min_width)
+    assert q[0].max_width == pytest.approx(q[1].max_width) == pytest.approx(q[2].max_width)
+
+
 # -------------------------------------------------------------- pareidolia
 def _tone_r(a, b, mask, sigma=4.0):
     x = ndimage.gaussian_filter(1.0 - as_gray(a).astype(np.float64), sigma)[mask]
@@ -235,6 +266,17 @@ def test_pareidolia_limbs_grow_from_the_trunk_and_twigs_taper(portrait_tree):
     ok = back >= 0
     assert ok.mean() > 0.5
     assert np.median(d.radius[tips[ok]] / d.radius[back[ok]]) < 0.6
+
+
+def test_pareidolia_on_a_larger_image_gets_more_endpoints():
+    # drawn back at 2x, the lattice's tree would have its branches twice as far apart
+    img = np.ones((128, 128))
+    img[30:90, 40:100] = 0.2
+    p = PareidoliaParams(n_endpoints=100, iterations=2, lattice_size=64)
+    small = pareidolia_tree(img[::2, ::2], p, rng=0)
+    large = pareidolia_tree(img, p, rng=0)
+    assert len(small.endpoints_image) == 100
+    assert len(large.endpoints_image) == 200
 
 
 def _ancestor(d, i, dist, how_far):

@@ -37,7 +37,7 @@ from .composition import PlacedPatch, compose, labelling_cost, seam_mask
 from .display import draw_strokes
 from .fetch import fetch, sample_pair, source_index
 from .junctions import attach, exit_length, far_side, find_junctions, stroke_order
-from .outline import _POCKET, close_cuts, drop_flecks, fill_joints, outline_style, source_depth
+from .outline import _POCKET, clear_stale_outline, close_cuts, drop_flecks, fill_joints, outline_style, source_depth
 from .parts import place_part, rigid_frame
 from .sampling import candidate_offsets, choose, pair_energies
 from .strokes import StrokePair, make_pairs
@@ -733,6 +733,7 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
             if filled is not None and filled.any():
                 depth = np.where(filled, np.float32(_FILLED_DEPTH), depth)
             layer = close_cuts(layer, depth, style)
+            layer = clear_stale_outline(layer, depth, style)
         if joints:
             layer = fill_joints(layer, [j[0] for j in joints], [j[1] for j in joints])
         layer = drop_flecks(layer, index.premult[:, :, 3])

@@ -123,16 +123,22 @@ def pair_energies(a: Fetched, b: Fetched, *, power: float = 1.0,
     va, vb = va[:, keep], vb[:, keep]
     pa = a.pixels[sa][st].reshape(ka, -1, 4)[:, keep]
     pb = b.pixels[sb][st].reshape(kb, -1, 4)[:, keep]
-    d = np.sqrt(((pa[:, None] - pb[None]) ** 2).sum(axis=3))
+    # channel by channel into one (Ka, Kb, N) array (no (Ka, Kb, N, 4) temporaries)
+    d = np.zeros((ka, kb, pa.shape[1]), np.result_type(pa, pb, np.float32))
+    for c in range(pa.shape[2]):
+        diff = pa[:, None, :, c] - pb[None, :, :, c]
+        d += diff * diff
+    np.sqrt(d, out=d)
     if power != 1.0:
         d = d**power
     if gradient_weighted:
         ga = a.grad[sa][st].reshape(ka, -1)[:, keep]
         gb = b.grad[sb][st].reshape(kb, -1)[:, keep]
-        d = d / (ga[:, None] + gb[None] + EPS)
+        d /= ga[:, None] + gb[None] + EPS
     both = va[:, None] & vb[None]
     n = both.sum(axis=2)
-    return np.where(n > 0, (d * both).sum(axis=2) / np.maximum(n, 1), 0.0)
+    d[~both] = 0.0
+    return np.where(n > 0, d.sum(axis=2) / np.maximum(n, 1), 0.0)
 
 
 @checked()
