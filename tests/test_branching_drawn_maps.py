@@ -22,6 +22,7 @@ from branchnb.branching.measures import (
     thick_end_share,
 )
 from branchnb.core.render import coverage_polylines
+from branchnb.core.structure import Structure
 
 LAYOUTS = [("island", 384), ("coast", 320), ("bay", 352)]
 
@@ -172,3 +173,38 @@ def test_delta_image_keeps_the_sea_and_no_frame_edges(delta):
     assert stray.sum() <= 0.01 * (body > 0.5).sum()               # water only along the channels
     lp = line_pieces(np.dstack([out] * 3), res.structure, np.ones(3), np.zeros(3))
     assert lp["max_pieces"] == 1
+
+
+def _frame_share(structure, shape, sea_side, skip=12.0, margin=8.0):
+    """Share of the branches' length within ``margin`` px of a frame side that is not the sea's
+    (a root's first ``skip`` px, where it enters through the frame, not counted)."""
+    h, w = shape
+    near = total = 0.0
+    for b in structure.branches:
+        p = b.points
+        seg = np.hypot(*np.diff(p, axis=0).T)
+        mid = 0.5 * (p[1:] + p[:-1])
+        d = {"top": mid[:, 1], "bottom": h - 1 - mid[:, 1], "left": mid[:, 0], "right": w - 1 - mid[:, 0]}
+        fd = np.min([v for k, v in d.items() if k != sea_side], axis=0)
+        arc = np.cumsum(seg)
+        keep = arc > skip if b.parent is None else np.ones(len(seg), bool)
+        near += seg[keep & (fd < margin)].sum()
+        total += seg.sum()
+    return near / total
+
+
+@pytest.mark.parametrize("sea_side, seed", [("bottom", 1), ("right", 1), ("bottom", 4)])
+def test_delta_trunk_enters_inland_and_keeps_off_the_frame(sea_side, seed):
+    # a wide channel cut by the frame: its medial axis bends into a corner of the cut, and the
+    # synthesized trunk copied that bend and ran along the frame (before: 27-88 % of the trunk
+    # within 8 px of a side that is not the sea, on these three; 15 % of 48 runs over 20 %)
+    mask, _ch, sea = delta_mask_example((512, 512), seed)
+    if sea_side == "right":
+        mask, sea = np.ascontiguousarray(mask.T), np.ascontiguousarray(sea.T)
+    ex = extract_structure(mask, root="nearest_region")
+    model = fit_model(ex, domain=example_domain(mask))
+    assert abs(float(model.roots.offsets[0])) < 0.5          # the trunk enters along its channel
+    s = synthesize_structure(model, rng=1).structure
+    trunk = Structure([b for b in s.branches if b.parent is None][:1], image_shape=s.image_shape)
+    assert _frame_share(trunk, mask.shape, sea_side) <= 0.02
+    assert _frame_share(s, mask.shape, sea_side) <= 0.05

@@ -1218,23 +1218,68 @@ def _extract_binary(gray, p: ExtractionParams, mask, return_maps: bool, root_poi
     return s
 
 
+def _straight_frame_end(pts: np.ndarray, k: int, shape) -> np.ndarray:
+    """``pts[:k]`` (the end at the frame) replaced by the straight continuation of the branch behind
+    ``pts[k]`` back to the frame, with as many points (the branch's vertex indices stay valid)."""
+    h, w = shape
+    arc = arc_length(pts)
+    k2 = int(np.clip(np.searchsorted(arc, arc[k] + max(arc[k], 6.0)), k + 1, len(pts) - 1))
+    d = pts[k] - pts[k2]
+    n = float(np.hypot(*d))
+    if n < 1e-9:
+        return pts
+    d = d / n
+    # distance from pts[k] along d to the frame (the nearest side crossed), at most twice the old end
+    ts = [((0.0 if d[i] < 0 else (w - 1.0, h - 1.0)[i]) - pts[k, i]) / d[i] for i in (0, 1) if abs(d[i]) > 1e-9]
+    t = min(min(v for v in ts if v >= 0.0) if any(v >= 0.0 for v in ts) else 0.0, 2.0 * arc[k])
+    f = np.linspace(1.0, 0.0, k + 1)[:-1, None]
+    out = pts.copy()
+    out[:k] = pts[k] + f * t * d
+    out[:k, 0] = np.clip(out[:k, 0], 0.0, w - 1.0)
+    out[:k, 1] = np.clip(out[:k, 1], 0.0, h - 1.0)
+    return out
+
+
 def _unpinch_frame_ends(s: Structure, shape) -> Structure:
     """A channel cut by the frame: its medial axis bends into a corner of the cut, where the distance
     transform is small, so the branch would start several times thinner than it is. Its radius
-    there is the one two radii inward (a delta's trunk entering from inland keeps its width)."""
+    there is the one two radii inward (a delta's trunk entering from inland keeps its width).
+
+    The bent end also sets the branch's heading: a root would leave the frame at up to 60 degrees
+    off the channel (the synthesized trunk then runs along the frame). A root's end at the frame is
+    therefore the straight continuation of the channel from two radii inward; likewise a tip that
+    ends at the frame when no child starts on that stretch."""
     h, w = shape
     out = []
+    kids: dict[int, list[int]] = {}
     for b in s.branches:
-        x, y = b.points[0]
-        if min(x, y, w - 1 - x, h - 1 - y) > 6.0 or len(b.points) < 3:
+        if b.parent is not None:
+            kids.setdefault(int(b.parent), []).append(int(b.parent_vertex))
+
+    def end_k(pts, r):
+        arc = arc_length(pts)
+        return int(np.clip(np.searchsorted(arc, 2.0 * r.max() if len(r) < 4 else 2.0 * np.median(r[:8])),
+                           1, len(r) - 1))
+
+    def at_frame(p):
+        return min(p[0], p[1], w - 1 - p[0], h - 1 - p[1]) <= 6.0
+
+    for i, b in enumerate(s.branches):
+        if len(b.points) < 3:
             out.append(b)
             continue
-        arc = arc_length(b.points)
-        r = b.thickness.copy()
-        k = int(np.clip(np.searchsorted(arc, 2.0 * r.max() if len(r) < 4 else 2.0 * np.median(r[:8])),
-                        1, len(r) - 1))
-        r[:k] = np.maximum(r[:k], r[k])
-        out.append(Branch(b.points, r, b.parent, b.parent_vertex))
+        pts, r = b.points.copy(), b.thickness.copy()
+        if at_frame(pts[0]):
+            k = end_k(pts, r)
+            r[:k] = np.maximum(r[:k], r[k])
+            if b.parent is None and k < len(pts) - 1 and all(v > k for v in kids.get(i, [])):
+                pts = _straight_frame_end(pts, k, shape)
+        if at_frame(pts[-1]) and len(pts) >= 4:
+            k = end_k(pts[::-1], r[::-1])
+            n = len(pts)
+            if k < n - 1 and all(v < n - 1 - k for v in kids.get(i, [])):
+                pts = _straight_frame_end(pts[::-1], k, shape)[::-1].copy()
+        out.append(Branch(pts, r, b.parent, b.parent_vertex))
     return Structure(out, image_shape=s.image_shape)
 
 
