@@ -432,7 +432,10 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
     h : float
         Resampling step of the result.
     min_branch_length, min_component_length : float
-        Pruning thresholds in pixels of the *output* (full-size) image.
+        Pruning thresholds in pixels of the *output* (full-size) image. A
+        piece that reaches the image frame (within 4 px) is kept from half
+        ``min_component_length``: the frame cut it (a crop's rivers that
+        enter from its frame), beyond the paper.
     root : {"auto", "thickest", "top", "bottom", "left", "right", "border", "nearest_region"} or (x, y)
         Root end point per piece: ``"auto"`` takes the end nearest to
         ``region`` when there is one and the piece's lines all have about one
@@ -493,8 +496,13 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
         if reg.any():
             region_dist = ndi.distance_transform_edt(~reg)
             has_region = True
+    # a piece cut by the frame (it reaches within 4 px of it) is kept from half the length: the rest
+    # of the line is outside the image (a crop's rivers entering from its frame)
+    comp_frame = np.full(n_comp, np.inf)
+    np.minimum.at(comp_frame, comp, border_dist[ys, xs])
+    min_len = np.where(comp_frame <= 4.0 * scale, 0.5 * min_component_length, min_component_length)
     roots = []
-    for c in np.flatnonzero(comp_len >= min_component_length):
+    for c in np.flatnonzero(comp_len >= min_len):
         members = np.flatnonzero(comp == c)
         ends = members[deg[members] == 1]
         cand = ends if len(ends) else members
@@ -1028,7 +1036,7 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         remove_small_objects(bw, min_size=min_area)
     skel = skeletonize(bw)
     work = rescale(gray, p.scale, anti_aliasing=True) if p.scale < 1 else gray
-    outside = border_flat_regions(work, 4 * p.sigma_max)
+    outside = border_flat_regions(work, 4 * p.sigma_max, branches=bw)
     skel &= ~outline_pixels(skel, outside, 2 * p.sigma_max + 2, gray=ndi.median_filter(work, 3))
     if p.radius == "fwhm":
         lines_w = rescale(lines, p.scale, anti_aliasing=True) if p.scale < 1 and lines is not gray else \
@@ -1062,9 +1070,39 @@ def _flat_region_labels(gray, radius: float, tol: float):
     return lab, n, touch
 
 
-def border_flat_regions(gray, radius: float, tol: float = 0.02) -> np.ndarray:
-    """Large flat-colour regions (wider than ``radius``) that touch the image border."""
-    lab, _, touch = _flat_region_labels(gray, radius, tol)
+def _ground_regions(gray, branches, lab, n: int, tol: float) -> np.ndarray:
+    """Per label of ``lab`` (0..n): True when the region has the colour the ``branches`` lie in: the
+    median grey of the pixels 3-8 px beside them, when at least half of those pixels are within
+    ``2 tol`` of it (a flat ground, not a relief of greys), and the region's median is too."""
+    import cv2
+
+    br = np.asarray(branches, bool)
+    out = np.zeros(n + 1, bool)
+    if not br.any() or n == 0:
+        return out
+    b8 = br.astype(np.uint8)
+    near = cv2.dilate(b8, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (17, 17))) > 0
+    ring = near & ~(cv2.dilate(b8, np.ones((7, 7), np.uint8)) > 0)
+    if not ring.any():
+        return out
+    g = np.asarray(gray, np.float64)
+    ground = float(np.median(g[ring]))
+    if np.mean(np.abs(g[ring] - ground) <= 2 * tol) < 0.5:
+        return out
+    med = ndi.median(g, lab, np.arange(1, n + 1))
+    out[1:] = np.abs(np.asarray(med, np.float64) - ground) <= 2 * tol
+    return out
+
+
+def border_flat_regions(gray, radius: float, tol: float = 0.02, branches=None) -> np.ndarray:
+    """Large flat-colour regions (wider than ``radius``) that touch the image border.
+
+    With ``branches`` ((H, W) bool), regions of the colour the branches lie in are left out: on a
+    crop whose land runs off the frame, the land is no outside region (its rivers' junctions would
+    otherwise count as the outline of the land pieces between them and be cut)."""
+    lab, n, touch = _flat_region_labels(gray, radius, tol)
+    if branches is not None:
+        touch = touch & ~_ground_regions(gray, branches, lab, n, tol)
     return touch[lab]
 
 
@@ -1136,6 +1174,12 @@ def flat_background(gray, branches, radius: float, tol: float = 0.02) -> np.ndar
     line has land on one side only and belongs to neither. A region holds
     no branches when less than 2 % of the branch pixels lie in it (the
     river mouths touching the coast).
+
+    Beyond that rule, a region of the colour the branches lie in (the
+    median of the flat pixels 3-8 px beside them) is never background:
+    on a crop whose land runs off the frame, rivers running from frame to
+    frame cut the land into pieces that each touch the frame and hold no
+    river (each river lies between two pieces), yet they are land.
     """
     import cv2
 
@@ -1145,8 +1189,12 @@ def flat_background(gray, branches, radius: float, tol: float = 0.02) -> np.ndar
     n_br = int(br.sum())
     r = max(int(round(radius)), 1)
     disk = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
+    ground = _ground_regions(gray, br, lab, n, tol)
     for k in np.flatnonzero(touch):
-        closed = cv2.morphologyEx((lab == k).astype(np.uint8), cv2.MORPH_CLOSE, disk,
+        region = lab == k
+        if ground[k]:
+            continue  # the branches' own ground
+        closed = cv2.morphologyEx(region.astype(np.uint8), cv2.MORPH_CLOSE, disk,
                                   borderType=cv2.BORDER_REPLICATE) > 0
         keep[k] = np.count_nonzero(closed & br) <= 0.02 * n_br
     keep[0] = False
