@@ -248,3 +248,18 @@ def test_crop_whose_land_runs_off_the_frame_keeps_its_rivers_and_land(layout, y0
     assert np.mean(dom[land[win]]) >= 0.99
     if np.mean(~land[win]) >= 0.2:
         assert np.mean(dom[~land[win]]) <= 0.2      # a wide sea stays outside
+
+
+@pytest.mark.parametrize("seed", [0, 4])
+def test_delta_with_the_sea_on_the_left_enters_mid_side_and_flows_through_the_middle(seed):
+    # the example's trunk enters at the middle of the inland (right) side; a new one came in 60 px
+    # from it, near the bottom corner, and its branches ran along the bottom edge to the sea
+    mask, _ch, _sea = delta_mask_example((256, 256), seed)
+    mask = np.ascontiguousarray(mask.T[:, ::-1])                   # sea on the left
+    ex = extract_structure(mask, root="nearest_region")
+    model = fit_model(ex, domain=example_domain(mask))
+    s = synthesize_structure(model, rng=1).structure
+    root = next(b for b in s.branches if b.parent is None)
+    ex_root = next(b for b in ex.branches if b.parent is None)
+    assert root.points[0, 0] >= 250 and abs(root.points[0, 1] - ex_root.points[0, 1]) <= 0.15 * 256
+    assert _frame_share(s, mask.shape, "left") <= 0.03

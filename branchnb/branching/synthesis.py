@@ -321,9 +321,9 @@ class _Drain:
     side of the frame but the sea's) is no place for a channel: a
     candidate that ends within ``margin`` pixels of such a side
     (``max(8, 6 %`` of the image's smaller side``)``) gets its score times
-    ``exp(-6 (1 - d / margin))`` (``d`` the distance of its end), so of two
+    ``exp(-10 (1 - d / margin))`` (``d`` the distance of its end), so of two
     candidates the one farther from the frame wins, and none that touches
-    it (any new point within 2 px) is kept. New roots are exempt (they
+    it (any new point within 3 px) is kept. New roots are exempt (they
     start at the frame and head inward).
     Without it the sea's pull drags branches along or into the frame where
     it runs downstream (a delta whose sea is on the left: branches along
@@ -366,8 +366,8 @@ class _Drain:
         valid = np.arange(points.shape[1])[None, :] < n[:, None]
         closest = np.where(valid, fd, np.inf).min(1)
         end = fd[np.arange(len(points)), n - 1]
-        f = np.exp(-6.0 * np.clip(1.0 - end / self.margin, 0.0, 1.0))
-        return np.where(closest < 2.0, 0.0, f)
+        f = np.exp(-10.0 * np.clip(1.0 - end / self.margin, 0.0, 1.0))
+        return np.where(closest < 3.0, 0.0, f)
 
     def factor(self, tip, points: np.ndarray, n_new: np.ndarray) -> np.ndarray:
         h, w = self.down.shape[:2]
