@@ -432,7 +432,10 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
     h : float
         Resampling step of the result.
     min_branch_length, min_component_length : float
-        Pruning thresholds in pixels of the *output* (full-size) image.
+        Pruning thresholds in pixels of the *output* (full-size) image. A
+        piece that reaches the image frame (within 4 px) is kept from half
+        ``min_component_length``: the frame cut it (a crop's rivers that
+        enter from its frame), beyond the paper.
     root : {"auto", "thickest", "top", "bottom", "left", "right", "border", "nearest_region"} or (x, y)
         Root end point per piece: ``"auto"`` takes the end nearest to
         ``region`` when there is one and the piece's lines all have about one
@@ -493,8 +496,13 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
         if reg.any():
             region_dist = ndi.distance_transform_edt(~reg)
             has_region = True
+    # a piece cut by the frame (it reaches within 4 px of it) is kept from half the length: the rest
+    # of the line is outside the image (a crop's rivers entering from its frame)
+    comp_frame = np.full(n_comp, np.inf)
+    np.minimum.at(comp_frame, comp, border_dist[ys, xs])
+    min_len = np.where(comp_frame <= 4.0 * scale, 0.5 * min_component_length, min_component_length)
     roots = []
-    for c in np.flatnonzero(comp_len >= min_component_length):
+    for c in np.flatnonzero(comp_len >= min_len):
         members = np.flatnonzero(comp == c)
         ends = members[deg[members] == 1]
         cand = ends if len(ends) else members
@@ -1028,7 +1036,7 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         remove_small_objects(bw, min_size=min_area)
     skel = skeletonize(bw)
     work = rescale(gray, p.scale, anti_aliasing=True) if p.scale < 1 else gray
-    outside = border_flat_regions(work, 4 * p.sigma_max)
+    outside = border_flat_regions(work, 4 * p.sigma_max, branches=bw)
     skel &= ~outline_pixels(skel, outside, 2 * p.sigma_max + 2, gray=ndi.median_filter(work, 3))
     if p.radius == "fwhm":
         lines_w = rescale(lines, p.scale, anti_aliasing=True) if p.scale < 1 and lines is not gray else \
@@ -1062,9 +1070,39 @@ def _flat_region_labels(gray, radius: float, tol: float):
     return lab, n, touch
 
 
-def border_flat_regions(gray, radius: float, tol: float = 0.02) -> np.ndarray:
-    """Large flat-colour regions (wider than ``radius``) that touch the image border."""
-    lab, _, touch = _flat_region_labels(gray, radius, tol)
+def _ground_regions(gray, branches, lab, n: int, tol: float) -> np.ndarray:
+    """Per label of ``lab`` (0..n): True when the region has the colour the ``branches`` lie in: the
+    median grey of the pixels 3-8 px beside them, when at least half of those pixels are within
+    ``2 tol`` of it (a flat ground, not a relief of greys), and the region's median is too."""
+    import cv2
+
+    br = np.asarray(branches, bool)
+    out = np.zeros(n + 1, bool)
+    if not br.any() or n == 0:
+        return out
+    b8 = br.astype(np.uint8)
+    near = cv2.dilate(b8, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (17, 17))) > 0
+    ring = near & ~(cv2.dilate(b8, np.ones((7, 7), np.uint8)) > 0)
+    if not ring.any():
+        return out
+    g = np.asarray(gray, np.float64)
+    ground = float(np.median(g[ring]))
+    if np.mean(np.abs(g[ring] - ground) <= 2 * tol) < 0.5:
+        return out
+    med = ndi.median(g, lab, np.arange(1, n + 1))
+    out[1:] = np.abs(np.asarray(med, np.float64) - ground) <= 2 * tol
+    return out
+
+
+def border_flat_regions(gray, radius: float, tol: float = 0.02, branches=None) -> np.ndarray:
+    """Large flat-colour regions (wider than ``radius``) that touch the image border.
+
+    With ``branches`` ((H, W) bool), regions of the colour the branches lie in are left out: on a
+    crop whose land runs off the frame, the land is no outside region (its rivers' junctions would
+    otherwise count as the outline of the land pieces between them and be cut)."""
+    lab, n, touch = _flat_region_labels(gray, radius, tol)
+    if branches is not None:
+        touch = touch & ~_ground_regions(gray, branches, lab, n, tol)
     return touch[lab]
 
 
@@ -1136,6 +1174,12 @@ def flat_background(gray, branches, radius: float, tol: float = 0.02) -> np.ndar
     line has land on one side only and belongs to neither. A region holds
     no branches when less than 2 % of the branch pixels lie in it (the
     river mouths touching the coast).
+
+    Beyond that rule, a region of the colour the branches lie in (the
+    median of the flat pixels 3-8 px beside them) is never background:
+    on a crop whose land runs off the frame, rivers running from frame to
+    frame cut the land into pieces that each touch the frame and hold no
+    river (each river lies between two pieces), yet they are land.
     """
     import cv2
 
@@ -1145,8 +1189,12 @@ def flat_background(gray, branches, radius: float, tol: float = 0.02) -> np.ndar
     n_br = int(br.sum())
     r = max(int(round(radius)), 1)
     disk = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
+    ground = _ground_regions(gray, br, lab, n, tol)
     for k in np.flatnonzero(touch):
-        closed = cv2.morphologyEx((lab == k).astype(np.uint8), cv2.MORPH_CLOSE, disk,
+        region = lab == k
+        if ground[k]:
+            continue  # the branches' own ground
+        closed = cv2.morphologyEx(region.astype(np.uint8), cv2.MORPH_CLOSE, disk,
                                   borderType=cv2.BORDER_REPLICATE) > 0
         keep[k] = np.count_nonzero(closed & br) <= 0.02 * n_br
     keep[0] = False
@@ -1218,23 +1266,68 @@ def _extract_binary(gray, p: ExtractionParams, mask, return_maps: bool, root_poi
     return s
 
 
+def _straight_frame_end(pts: np.ndarray, k: int, shape) -> np.ndarray:
+    """``pts[:k]`` (the end at the frame) replaced by the straight continuation of the branch behind
+    ``pts[k]`` back to the frame, with as many points (the branch's vertex indices stay valid)."""
+    h, w = shape
+    arc = arc_length(pts)
+    k2 = int(np.clip(np.searchsorted(arc, arc[k] + max(arc[k], 6.0)), k + 1, len(pts) - 1))
+    d = pts[k] - pts[k2]
+    n = float(np.hypot(*d))
+    if n < 1e-9:
+        return pts
+    d = d / n
+    # distance from pts[k] along d to the frame (the nearest side crossed), at most twice the old end
+    ts = [((0.0 if d[i] < 0 else (w - 1.0, h - 1.0)[i]) - pts[k, i]) / d[i] for i in (0, 1) if abs(d[i]) > 1e-9]
+    t = min(min(v for v in ts if v >= 0.0) if any(v >= 0.0 for v in ts) else 0.0, 2.0 * arc[k])
+    f = np.linspace(1.0, 0.0, k + 1)[:-1, None]
+    out = pts.copy()
+    out[:k] = pts[k] + f * t * d
+    out[:k, 0] = np.clip(out[:k, 0], 0.0, w - 1.0)
+    out[:k, 1] = np.clip(out[:k, 1], 0.0, h - 1.0)
+    return out
+
+
 def _unpinch_frame_ends(s: Structure, shape) -> Structure:
     """A channel cut by the frame: its medial axis bends into a corner of the cut, where the distance
     transform is small, so the branch would start several times thinner than it is. Its radius
-    there is the one two radii inward (a delta's trunk entering from inland keeps its width)."""
+    there is the one two radii inward (a delta's trunk entering from inland keeps its width).
+
+    The bent end also sets the branch's heading: a root would leave the frame at up to 60 degrees
+    off the channel (the synthesized trunk then runs along the frame). A root's end at the frame is
+    therefore the straight continuation of the channel from two radii inward; likewise a tip that
+    ends at the frame when no child starts on that stretch."""
     h, w = shape
     out = []
+    kids: dict[int, list[int]] = {}
     for b in s.branches:
-        x, y = b.points[0]
-        if min(x, y, w - 1 - x, h - 1 - y) > 6.0 or len(b.points) < 3:
+        if b.parent is not None:
+            kids.setdefault(int(b.parent), []).append(int(b.parent_vertex))
+
+    def end_k(pts, r):
+        arc = arc_length(pts)
+        return int(np.clip(np.searchsorted(arc, 2.0 * r.max() if len(r) < 4 else 2.0 * np.median(r[:8])),
+                           1, len(r) - 1))
+
+    def at_frame(p):
+        return min(p[0], p[1], w - 1 - p[0], h - 1 - p[1]) <= 6.0
+
+    for i, b in enumerate(s.branches):
+        if len(b.points) < 3:
             out.append(b)
             continue
-        arc = arc_length(b.points)
-        r = b.thickness.copy()
-        k = int(np.clip(np.searchsorted(arc, 2.0 * r.max() if len(r) < 4 else 2.0 * np.median(r[:8])),
-                        1, len(r) - 1))
-        r[:k] = np.maximum(r[:k], r[k])
-        out.append(Branch(b.points, r, b.parent, b.parent_vertex))
+        pts, r = b.points.copy(), b.thickness.copy()
+        if at_frame(pts[0]):
+            k = end_k(pts, r)
+            r[:k] = np.maximum(r[:k], r[k])
+            if b.parent is None and k < len(pts) - 1 and all(v > k for v in kids.get(i, [])):
+                pts = _straight_frame_end(pts, k, shape)
+        if at_frame(pts[-1]) and len(pts) >= 4:
+            k = end_k(pts[::-1], r[::-1])
+            n = len(pts)
+            if k < n - 1 and all(v < n - 1 - k for v in kids.get(i, [])):
+                pts = _straight_frame_end(pts[::-1], k, shape)[::-1].copy()
+        out.append(Branch(pts, r, b.parent, b.parent_vertex))
     return Structure(out, image_shape=s.image_shape)
 
 

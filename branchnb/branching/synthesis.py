@@ -316,16 +316,58 @@ class _Drain:
     ``e^kappa`` less than straight down. Going beyond the paper, whose
     Markov chain alone has no notion of downstream: without it a delta's
     trunk wanders and rarely reaches the sea.
+
+    Also beyond the paper, the image frame where it cuts the land (every
+    side of the frame but the sea's) is no place for a channel: a
+    candidate that ends within ``margin`` pixels of such a side
+    (``max(8, 6 %`` of the image's smaller side``)``) gets its score times
+    ``exp(-10 (1 - d / margin))`` (``d`` the distance of its end), so of two
+    candidates the one farther from the frame wins, and none that touches
+    it (any new point within 3 px) is kept. New roots are exempt (they
+    start at the frame and head inward).
+    Without it the sea's pull drags branches along or into the frame where
+    it runs downstream (a delta whose sea is on the left: branches along
+    the bottom edge); the example's channels only leave through it where
+    they enter (the trunk), and a root heading inward moves away from it.
     """
 
     def __init__(self, domain: np.ndarray, kappa: float = DRAIN_KAPPA):
         from scipy import ndimage as ndi
 
-        depth = ndi.gaussian_filter(ndi.distance_transform_edt(np.asarray(domain, bool)), 4.0)
+        dom = np.asarray(domain, bool)
+        depth = ndi.gaussian_filter(ndi.distance_transform_edt(dom), 4.0)
         gy, gx = np.gradient(-depth)
         n = np.hypot(gx, gy) + 1e-12
         self.down = np.stack([gx / n, gy / n], -1).astype(np.float32)
         self.kappa = float(kappa)
+        h, w = dom.shape
+        self.shape = (h, w)
+        self.margin = max(8.0, 0.06 * min(h, w))
+        # the sides of the frame that cut the land (most of the side in the domain), not the sea's
+        sides = (dom[0], dom[-1], dom[:, 0], dom[:, -1])
+        self.cut = tuple(bool(side.mean() >= 0.5) for side in sides)
+
+    def frame_distance(self, pts: np.ndarray) -> np.ndarray:
+        """Distance of ``pts`` ((..., 2) x, y) to the nearest side of the frame that cuts the land."""
+        h, w = self.shape
+        x, y = pts[..., 0], pts[..., 1]
+        d = np.full(x.shape, np.inf)
+        for cut, v in zip(self.cut, (y, h - 1 - y, x, w - 1 - x)):
+            if cut:
+                d = np.minimum(d, v)
+        return d
+
+    def frame_factor(self, tip, points: np.ndarray, n_new: np.ndarray) -> np.ndarray:
+        """Score factor of candidates ``points`` ((C, M, 2), the first ``n_new`` new) from ``tip``."""
+        if not any(self.cut):
+            return np.ones(len(points))
+        fd = self.frame_distance(points)
+        n = np.maximum(n_new, 1)
+        valid = np.arange(points.shape[1])[None, :] < n[:, None]
+        closest = np.where(valid, fd, np.inf).min(1)
+        end = fd[np.arange(len(points)), n - 1]
+        f = np.exp(-10.0 * np.clip(1.0 - end / self.margin, 0.0, 1.0))
+        return np.where(closest < 3.0, 0.0, f)
 
     def factor(self, tip, points: np.ndarray, n_new: np.ndarray) -> np.ndarray:
         h, w = self.down.shape[:2]
@@ -333,7 +375,7 @@ class _Drain:
         d = self.down[y, x]
         last = points[np.arange(len(points)), np.maximum(n_new, 1) - 1] - np.asarray(tip, np.float64)
         cos = (last @ d) / np.maximum(np.hypot(last[:, 0], last[:, 1]), 1e-9)
-        return np.exp(self.kappa * cos)
+        return np.exp(self.kappa * cos) * self.frame_factor(tip, points, n_new)
 
 
 # --------------------------------------------------------------------------
@@ -777,6 +819,8 @@ class _Grower:
             score = np.where(cross, 0.0, score / (dc + p.eps))
         inside = self._inside(new[:, 0])
         score = np.where(inside, score, 0.0)
+        if self.drain is not None and parent is not None:  # no channel along or into the land's frame
+            score = score * self.drain.frame_factor(x0, new, n + 1)
         j = self._pick(score, poly)
         if j is None:
             return None
