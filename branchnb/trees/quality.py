@@ -31,7 +31,7 @@ from ..core.validate import check_real
 
 __all__ = ["soft_alpha_fraction", "flat_pixels", "dominant_palette", "crossfade_fraction",
            "foreign_colour_fraction", "dark_rim_fraction", "pieces", "large_holes", "hole_sizes",
-           "flat_region_speckle", "colour_span", "largest_piece_share"]
+           "flat_region_speckle", "colour_span", "largest_piece_share", "side_view_figures"]
 
 
 def soft_alpha_fraction(image, *, rim: int = 1) -> float:
@@ -303,3 +303,80 @@ def flat_region_speckle(cloud, yaw: float, *, min_area: float = 0.01, busy: floa
         return 0.0
     side = composite_over(render_cloud(cloud, yaw, crop="image", outline=False), (1.0, 1.0, 1.0))
     return float((colour_span(side)[ys, xx] > busy).mean())
+
+
+def side_view_figures(cloud, yaw: float, *, small: float = 0.003) -> dict:
+    """How well a drawn tree's billboard cloud keeps its drawing in the view from ``yaw``.
+
+    Measured on the default rendering (:func:`~branchnb.trees.preview.render_cloud`,
+    silhouette ink included), against the same numbers in the front view:
+
+    * ``flecks``: share of the opaque non-ink pixels that lie in small
+      colour pieces: each pixel takes its nearest dominant colour of the
+      front view (:func:`dominant_palette`; pixels farther than 0.12 from
+      all of them, anti-aliased edges, are left out), and an 8-connected
+      piece of one colour smaller than ``small`` times the tree's opaque
+      area is a fleck (a fruit scattered into crumbs, a sliver of another
+      shape's fill);
+    * ``fragments``: share of the ink pixels (luminance at most the drawing's
+      ink threshold) in 8-connected ink pieces smaller than ``small`` times
+      the opaque area: loose stroke bits;
+    * ``inner_ink``: ink pixels deeper than ``2 w + 1`` from the view's
+      outer silhouette (``w`` the outline width), over the same count in the
+      front view: the inner outlines kept (1: as many as drawn; smeared or
+      lost outlines lower it, stroke bits piled up raise it).
+
+    Returns
+    -------
+    dict
+        ``{"flecks", "fragments", "inner_ink"}`` at ``yaw`` and
+        ``{"flecks0", "fragments0"}`` of the front view.
+
+    Examples
+    --------
+    >>> from branchnb.trees.billboard import BillboardParams, billboard_cloud
+    >>> from branchnb.trees.drawn import drawn_tree
+    >>> c = billboard_cloud(drawn_tree("fruit", rng=0, size=128), params=BillboardParams(max_size=128))
+    >>> f = side_view_figures(c, 0.0)
+    >>> f["inner_ink"], f["flecks"] == f["flecks0"]
+    (1.0, True)
+    """
+    from .outline import _depth, _ink_threshold, _is_ink, silhouette_outline
+    from .preview import render_cloud
+
+    img = cloud.image
+    opaque0 = img[..., 3] >= 0.5
+    thr = _ink_threshold(img[..., :3], opaque0)
+    width = silhouette_outline(img).width
+    palette = dominant_palette([img])
+
+    def figures(view):
+        op = view[..., 3] >= 0.5
+        n_op = max(int(op.sum()), 1)
+        ink = op & _is_ink(view[..., :3], thr)
+        lim = small * n_op
+        eight = np.ones((3, 3), bool)
+        lab, n = ndi.label(ink, structure=eight)
+        area = np.bincount(lab.ravel(), minlength=n + 1)
+        area[0] = 0
+        frag = float(area[area < lim].sum() / max(area.sum(), 1))
+        fill = op & ~ink
+        flecks = 0.0
+        if len(palette) and fill.any():
+            d, idx = cKDTree(palette).query(view[fill][:, :3])
+            col = np.full(op.shape, -1)
+            col[fill] = np.where(d <= 0.12, idx, -1)
+            small_px = 0
+            for c in np.unique(col[col >= 0]):
+                lab, n = ndi.label(col == c, structure=eight)
+                a = np.bincount(lab.ravel(), minlength=n + 1)
+                a[0] = 0
+                small_px += int(a[(a > 0) & (a < lim)].sum())
+            flecks = small_px / max(int(fill.sum()), 1)
+        deep = _depth(ndi.binary_fill_holes(op)) > 2 * width + 1
+        return flecks, frag, int((ink & deep).sum())
+
+    f0 = figures(render_cloud(cloud, 0.0, crop="fit"))
+    f = f0 if float(yaw) % 360.0 == 0.0 else figures(render_cloud(cloud, yaw, crop="fit"))
+    return {"flecks": f[0], "fragments": f[1], "inner_ink": f[2] / max(f0[2], 1),
+            "flecks0": f0[0], "fragments0": f0[1]}
