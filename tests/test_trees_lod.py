@@ -139,3 +139,22 @@ def test_crossed_level_shows_the_side_view_with_its_outline():
     assert np.allclose(q[0, :, 2], 0.0)
     chain = lod_chain(cloud)
     assert chain[2].name == "crossed" and chain[2].triangles == 4
+
+
+def test_single_level_is_an_impostor_atlas_of_inked_views(tmp_path):
+    from branchnb.trees.drawn import drawn_tree
+    from branchnb.trees.outline import rim_ink_share, silhouette_outline
+
+    cloud = billboard_cloud(drawn_tree("conifer", rng=2, size=128), params=BillboardParams(max_size=128), rng=0)
+    single = lod_chain(cloud)[3]
+    assert single.triangles == 2 and len(single.yaws) == 8 and len(single.cloud.textures) == 8
+    shapes = {t.shape for t in single.cloud.textures}
+    assert len(shapes) == 1                                       # the frames line up on one quad
+    ink = silhouette_outline(cloud.image).ink
+    for yaw, t in zip(single.yaws, single.cloud.textures):         # the front view as drawn
+        assert rim_ink_share(t, ink) >= (0.9 if yaw else rim_ink_share(cloud.image, ink) - 0.02), yaw
+    f = export_lod_gltf(cloud, tmp_path / "tree.gltf")[0]
+    assert validate_gltf(f) == []
+    frames = json.loads(f.read_text())["meshes"][3]["extras"]["impostor"]["frames"]
+    assert [fr["yaw"] for fr in frames] == list(single.yaws)
+    assert all(0 <= u <= 1 for fr in frames for u in fr["uv"])

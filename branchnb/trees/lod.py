@@ -12,7 +12,13 @@ representations as it moves away from the camera. From one
    on one and the side view from 90 degrees on the other
    (:func:`crossed_impostor`), rendered as the in-memory side views are:
    a drawn tree's side view keeps its inked silhouette outline;
-3. ``single``: the front view on one quad (two triangles), an impostor.
+3. ``single``: one quad (two triangles), an impostor whose texture holds
+   the views from 8 yaws (:func:`impostor_frames`, every 45 degrees,
+   rendered as the in-memory side views are, with a drawn tree's inked
+   silhouette outline); the quad shows the front view, and
+   ``extras.impostor`` lists each frame's yaw and texture rectangle, so
+   that an engine's impostor shader can show the frame nearest to the
+   camera's direction.
 
 :func:`export_lod_gltf` writes them as one self-contained glTF 2.0 file
 with the ``MSFT_lod`` extension (the first node holds the full cloud and
@@ -46,10 +52,10 @@ import numpy as np
 from ..core.io import encode_png
 from ..core.jsonio import dumps_strict
 from ..core.validate import Choice, Real, checked
-from .export import _HEIGHT, _YAW, _accessors, _check_cloud, _level_arrays, _out_path, _pack
+from .export import _HEIGHT, _YAW, _accessors, _check_cloud, _level_arrays, _out_path, _pack, texture_atlas
 
 __all__ = ["LOD_LEVELS", "LodLevel", "reduce_cloud", "impostor_cloud", "crossed_impostor",
-           "engine_view", "lod_chain", "export_lod_gltf", "validate_gltf"]
+           "impostor_frames", "engine_view", "lod_chain", "export_lod_gltf", "validate_gltf"]
 
 #: The levels of :func:`lod_chain`, finest first.
 LOD_LEVELS = ("full", "reduced", "crossed", "single")
@@ -73,12 +79,16 @@ class LodLevel:
     turn : (K,) float array or None
         Per billboard, degrees its quad is turned by (the crossed impostor's
         side view: 90).
+    yaws : tuple of float or None
+        Impostor frames: the yaw of each texture of ``cloud`` (the quad shows
+        the first).
     """
 
     name: str
     cloud: object
     crossed: bool = False
     turn: object = None
+    yaws: object = None
 
     @property
     def quads(self) -> int:
@@ -161,6 +171,41 @@ def impostor_cloud(cloud):
                           cloud.superpixels, cloud.depth, [], cloud.scale, cloud.lines, [])
 
 
+def impostor_frames(cloud, yaws=tuple(range(0, 360, 45))):
+    """One quad whose textures are the cloud seen from several yaws (an impostor atlas).
+
+    Every frame is :func:`~branchnb.trees.preview.render_cloud` from one yaw
+    (with a drawn tree's silhouette ink beyond the front view), all cropped
+    to the same rectangle of the ``crop="fit"`` frame (centred on the
+    vertical axis), so the frames line up on one quad. The quad's texture is
+    the first frame.
+
+    Returns
+    -------
+    cloud : BillboardCloud
+        One billboard, ``len(yaws)`` textures.
+    yaws : tuple of float
+    """
+    from .billboard import FRONT, BillboardCloud
+    from .preview import _extent, render_cloud
+
+    yaws = tuple(float(y) for y in yaws)
+    if not yaws:
+        raise ValueError("yaws must not be empty")
+    views = [render_cloud(cloud, y, crop="fit") for y in yaws]
+    a = np.any([v[..., 3] >= 0.5 for v in views], axis=0)
+    ys, xs = np.nonzero(a)
+    y0, y1, x0, x1 = ys.min(), ys.max() + 1, xs.min(), xs.max() + 1
+    frames = [np.ascontiguousarray(v[y0:y1, x0:x1]) for v in views]
+    r, _ = _extent(cloud)
+    ox = int(np.ceil(max(cloud.axis, r))) + 1 - int(round(cloud.axis))   # canvas x - world x
+    centre = np.array([[0.5 * (x0 + x1) - ox, 0.5 * (y0 + y1), 0.0]])
+    out = BillboardCloud(centre, np.array([[x1 - x0, y1 - y0]], float), np.zeros(1, int), np.ones(1),
+                         np.array([FRONT]), np.zeros(1, int), frames, cloud.axis, cloud.image,
+                         cloud.superpixels, cloud.depth, [], cloud.scale, cloud.lines, [])
+    return out, yaws
+
+
 def engine_view(cloud, yaw: float, **kwargs) -> np.ndarray:
     """What an engine shows of an exported cloud from ``yaw``: axial quads in depth order, the
     line art drawn in place (no pass behind the fills) and no silhouette ink added.
@@ -237,10 +282,10 @@ def lod_chain(cloud, *, reduced_share: float = 0.3) -> list[LodLevel]:
     list of LodLevel
     """
     _check_cloud(cloud)
-    single = impostor_cloud(cloud)
+    single, yaws = impostor_frames(cloud)
     crossed, turn = crossed_impostor(cloud)
     return [LodLevel("full", cloud), LodLevel("reduced", reduce_cloud(cloud, reduced_share)),
-            LodLevel("crossed", crossed, turn=turn), LodLevel("single", single)]
+            LodLevel("crossed", crossed, turn=turn), LodLevel("single", single, yaws=yaws)]
 
 
 def _material(name: str, texture: int) -> dict:
@@ -274,11 +319,21 @@ def _document(levels: list[LodLevel], *, yaw: float, height: float, lod: bool,
             textures.append({"source": len(images) - 1, "sampler": 0})
             materials.append(_material(f"{lv.name}_atlas", len(textures) - 1))
             atlases[key] = len(materials) - 1
+        extras = {"triangles": lv.triangles, "crossed": lv.crossed}
+        if lv.turn is not None:
+            extras["turn_degrees"] = [float(t) for t in lv.turn]
+        if lv.yaws is not None:
+            _, rects = texture_atlas(lv.cloud.textures)
+            Ha, Wa = atlas.shape[:2]
+            extras["impostor"] = {
+                "frames": [{"yaw": float(y), "uv": [float(x / Wa), float(yy / Ha), float((x + w) / Wa),
+                                                    float((yy + h) / Ha)]}
+                           for y, (x, yy, w, h) in zip(lv.yaws, rects.tolist())],
+                "note": "the quad shows frame 0; show the frame whose yaw is nearest to the camera's"}
         meshes.append({"name": lv.name, "primitives": [{
             "attributes": {"POSITION": acc0, "TEXCOORD_0": acc0 + 1, "COLOR_0": acc0 + 2},
             "indices": acc0 + 3, "material": atlases[key], "mode": 4}],
-            "extras": {"triangles": lv.triangles, "crossed": lv.crossed,
-                       **({"turn_degrees": [float(t) for t in lv.turn]} if lv.turn is not None else {})}})
+            "extras": extras})
         nodes.append({"mesh": i, "name": f"tree_lod{i}_{lv.name}"})
     ext = ["KHR_materials_unlit"]
     if lod and len(levels) > 1:
