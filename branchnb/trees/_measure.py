@@ -31,6 +31,11 @@ without a leaf pile, 256 px; another draw at 384 px), three RPG sprites
 and three outlined clip-art samples at 45 and 90 degrees:
 :func:`~branchnb.trees.quality.side_view_figures` (flecks, stroke
 fragments, inner outline ink kept) against the front view's.
+``seams``: :func:`~branchnb.trees.quality.bare_seam_share` (share of the
+``"choose"`` seams that cross a fill without ink) of 12 random mixes and 4
+``variations_of`` per library (two draws of drawn trees, the clip-art
+samples, the RPG sprites), with ``outline=False`` (seams as cut) and the
+default (seams across fills inked).
 ``billboards``: billboard clouds of every sample tree and one procedural
 tree of each kind seen at 0, 45 and 90 degrees: the share of the opaque
 pixels in the largest 8-connected piece (1 = the crown stays on the trunk)
@@ -216,6 +221,30 @@ def measure_sideviews(size: int = 256) -> None:
     print(f"{len(rows)} clouds in {time.perf_counter() - t0:.0f} s")
 
 
+def measure_seams(size: int = 192) -> None:
+    from .drawn import drawn_trees
+    from .quality import bare_seam_share
+
+    libs = {}
+    for seed in (0, 11):
+        libs[f"drawn{seed}"] = TreeLibrary(size=size)
+        for name, img in drawn_trees(rng=seed, size=2 * size):
+            libs[f"drawn{seed}"].add(img, name)
+    libs["clipart"] = TreeLibrary.from_data(CLIPART, size=size)
+    libs["rpg"] = TreeLibrary.from_data(size=size)
+    for name, lib in libs.items():
+        out = {}
+        for outline in (False, True):
+            g = np.random.default_rng(3)
+            mixes = [make_variation(lib, rng=g, colour_mode="choose", outline=outline) for _ in range(12)]
+            t = lib.names[int(g.integers(len(lib.names)))]
+            mixes += lib.variations_of(t, 4, rng=g, colour_mode="choose", outline=outline)
+            out[outline] = [bare_seam_share(v.image, v.sources) for v in mixes]
+        print(f"{name:8s} seams across fills, share of seam length (16 choose mixes): outline=False mean "
+              f"{np.mean(out[False]):.3f} max {max(out[False]):.3f} | default mean {np.mean(out[True]):.3f} "
+              f"max {max(out[True]):.3f}")
+
+
 def measure_variety(size: int = 256) -> None:
     """"More like this": mean pairwise contour distance of the results over the mean distance
     between the exemplars mixed (target: >= 0.5)."""
@@ -350,9 +379,9 @@ if __name__ == "__main__":
     what = sys.argv[1] if len(sys.argv) > 1 else "pins"
     size = int(sys.argv[2]) if len(sys.argv) > 2 else (
         256 if what in ("pins", "billboards", "sideviews", "crossfade", "variety", "targets") else
-        512 if what == "speed" else 192 if what in ("outline", "ground") else 128)
+        512 if what == "speed" else 192 if what in ("outline", "ground", "seams") else 128)
     {"pins": measure_pins, "pairs": measure_pairs, "masks": measure_masks,
      "billboards": measure_billboards, "crossfade": measure_crossfade,
-     "variety": measure_variety, "sideviews": measure_sideviews,
+     "variety": measure_variety, "sideviews": measure_sideviews, "seams": measure_seams,
      "targets": measure_targets, "outline": measure_outline, "ground": measure_ground,
      "speed": measure_speed}[what](size)

@@ -31,7 +31,8 @@ from ..core.validate import check_real
 
 __all__ = ["soft_alpha_fraction", "flat_pixels", "dominant_palette", "crossfade_fraction",
            "foreign_colour_fraction", "dark_rim_fraction", "pieces", "large_holes", "hole_sizes",
-           "flat_region_speckle", "colour_span", "largest_piece_share", "side_view_figures"]
+           "flat_region_speckle", "colour_span", "largest_piece_share", "side_view_figures",
+           "bare_seam_share"]
 
 
 def soft_alpha_fraction(image, *, rim: int = 1) -> float:
@@ -380,3 +381,68 @@ def side_view_figures(cloud, yaw: float, *, small: float = 0.003) -> dict:
     f = f0 if float(yaw) % 360.0 == 0.0 else figures(render_cloud(cloud, yaw, crop="fit"))
     return {"flecks": f[0], "fragments": f[1], "inner_ink": f[2] / max(f0[2], 1),
             "flecks0": f0[0], "fragments0": f0[1]}
+
+
+def bare_seam_share(image, sources=None, *, edge: float = 0.12, reach: int | None = None) -> float:
+    """Share of a ``"choose"`` mix's seams that cross a fill without an outline.
+
+    The ``"choose"`` colour mode cuts the sources along graph-cut seams
+    (``sources``: each pixel's exemplar, :attr:`Variation.sources`). A seam
+    pixel (4-adjacent to a pixel of another source, opaque, not on the
+    silhouette's rim) crosses a fill bare when the colour jumps there (its
+    3 x 3 colour span above ``edge``: a seam between matching colours is
+    invisible) and no ink pixel (luminance at most the image's ink
+    threshold, as in :func:`~branchnb.trees.outline.silhouette_outline`,
+    and at most 0.25) lies within ``reach`` pixels (default: the outline
+    width + 1): two fills meet with a hard edge that no drawing has. Without
+    ``sources`` every inner colour edge counts as a seam (0 for a drawing
+    whose fills are all outlined).
+
+    Returns
+    -------
+    float
+        Bare seam pixels over all seam pixels (0 without seams).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.zeros((30, 30, 4), np.float32); img[5:25, 5:25] = (0.2, 0.6, 0.2, 1)
+    >>> img[5:25, 15:25, :3] = (0.6, 0.8, 0.3)            # a second fill, no outline
+    >>> src = np.where(img[..., 3] > 0, 0, -1); src[5:25, 15:25] = 1
+    >>> round(bare_seam_share(img, src), 2)
+    1.0
+    >>> img[5:25, 14:16, :3] = 0.05                       # outlined
+    >>> bare_seam_share(img, src)
+    0.0
+    """
+    from .outline import _depth, _ink_threshold, _is_ink, silhouette_outline
+
+    img = as_rgba(image, name="image")
+    op = img[..., 3] >= 0.5
+    if op.sum() < 9:
+        return 0.0
+    rgb = img[..., :3]
+    ink = op & _is_ink(rgb, min(_ink_threshold(rgb, op), 0.25))
+    if reach is None:
+        reach = silhouette_outline(img).width + 1
+    near_ink = ndi.binary_dilation(ink, iterations=int(reach)) if ink.any() else np.zeros_like(ink)
+    inner = (_depth(op) > 2) & (ndi.minimum_filter(op, size=3) > 0)
+    span = colour_span(np.where(op[..., None], rgb, 0.0), size=3)
+    if sources is None:
+        seam = inner & ~ink & (span > edge)
+        bare = seam
+    else:
+        src = np.asarray(sources)
+        if src.shape != op.shape:
+            raise ValueError(f"sources must be an (H, W) array of shape {op.shape}, got {src.shape}")
+        seam = np.zeros(op.shape, bool)
+        for dy, dx in ((0, 1), (1, 0)):
+            a, b = src[: src.shape[0] - dy, : src.shape[1] - dx], src[dy:, dx:]
+            d = (a != b) & (a >= 0) & (b >= 0)
+            seam[: src.shape[0] - dy, : src.shape[1] - dx] |= d
+            seam[dy:, dx:] |= d
+        seam &= inner
+        bare = seam & (span > edge)
+    if not seam.any():
+        return 0.0
+    return float((bare & ~near_ink).sum() / seam.sum())
