@@ -78,8 +78,9 @@ camera turns around the tree. The steps follow the paper:
    3.2 %); the hidden layers of 5 drawn fruit trees held 4-14 times as many
    fruit-coloured texels as the fruits have pixels, now none. Palm fronds
    that merge into one region in the line art are still cut into pieces
-   (their midribs then break up from the side), and the two halves of a
-   frond split by its midrib can part in depth, opening slivers.
+   (their midribs then break up from the side). Cards of one fill colour
+   that meet across a stroke (a frond's halves either side of its midrib)
+   share one depth, so they do not part.
 
 Billboards are *axial* billboards (each quad turns about its vertical
 axis to face the camera, the usual way trees are drawn with billboards),
@@ -486,6 +487,56 @@ def _fit_cards(z, labels, cards, crown, hmap, axis: float, outline: float = 0.0)
         e = float(np.percentile(np.maximum(left, right), 90))
         depth = float(hmap[sl[0]].max())
         z[k] = min(z[k], depth * np.sqrt(max(0.0, 1.0 - min(1.0, e) ** 2)))
+    return z
+
+
+def _join_cards(z, labels, cards, rgb, reach: float, tol: float = 0.06) -> np.ndarray:
+    """One depth for the cards of one fill colour that meet across a stroke.
+
+    A stroke drawn inside a shape (a frond's midrib) cuts it into two cards;
+    at different depths they part in side views and open a sliver. Cards of
+    the same fill colour (mean colours within ``tol``) within ``reach + 1``
+    pixels of each other form a group that takes its least depth (cards of
+    different colours, a conifer's alternating tiers, keep theirs).
+    """
+    ks = np.flatnonzero(cards)
+    ks = ks[ks < len(z)]
+    if len(ks) < 2:
+        return z
+    z = z.copy()
+    n = len(z)
+    idx = labels.ravel()
+    cnt = np.maximum(np.bincount(idx, minlength=n), 1).astype(np.float64)
+    mean = np.stack([np.bincount(idx, weights=rgb[..., c].ravel(), minlength=n) / cnt for c in range(3)], 1)
+    parent = {int(k): int(k) for k in ks}
+
+    def find(k):
+        while parent[k] != k:
+            parent[k] = parent[parent[k]]
+            k = parent[k]
+        return k
+
+    r = int(np.ceil(reach)) + 1
+    H, W = labels.shape
+    objs = ndi.find_objects(labels)
+    for k in ks:
+        sl = objs[k - 1] if k - 1 < len(objs) else None
+        if sl is None:
+            continue
+        win = (slice(max(sl[0].start - r, 0), min(sl[0].stop + r, H)),
+               slice(max(sl[1].start - r, 0), min(sl[1].stop + r, W)))
+        lab = labels[win]
+        near = np.unique(lab[ndi.distance_transform_edt(lab != k) <= reach + 1])
+        for j in near:
+            j = int(j)
+            if j != k and j in parent and np.abs(mean[j] - mean[k]).max() <= tol:
+                parent[find(j)] = find(int(k))
+    groups = {}
+    for k in ks:
+        groups.setdefault(find(int(k)), []).append(int(k))
+    for g in groups.values():
+        if len(g) > 1:
+            z[g] = z[g].min()
     return z
 
 
@@ -1224,6 +1275,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
     z_front = mean_h * (1.0 - p.darkness_depth * (1.0 - rank))
     if regions:
         z_front = _fit_cards(z_front, sp_lab, card, crown, hmap, axis, 2.0 * half + 1.5)
+        z_front = _join_cards(z_front, sp_lab, card, work[:, :, :3], 2.0 * half + 1.5)
         z_front = _lift_decorations(z_front, sp_lab, deco, background, mean_h, 2.0 * half + 1.5)
     zf_map = np.zeros((H, W), np.float32)
     front_tex = {}
