@@ -471,3 +471,43 @@ def test_side_views_of_drawn_trees_keep_an_outlined_silhouette():
         view = render_cloud(cloud, yaw)
         assert rim_ink_share(view, ink) >= 0.9 > rim_ink_share(bare, ink)
         assert np.array_equal(view[..., 3], bare[..., 3])
+
+
+def _fruit_mask(rgb):
+    """Pixels of a drawn fruit tree's fruits (bright, saturated, red channel largest)."""
+    hi, lo = rgb.max(axis=2), rgb.min(axis=2)
+    return (hi >= 0.75) & ((hi - lo) >= 0.7 * hi) & (rgb[..., 0] >= hi - 1e-6)
+
+
+def test_drawn_shapes_travel_whole_and_hidden_layers_show_no_fruit():
+    # Issue 24: side views of a drawn fruit tree scattered red flecks. Every fruit is one
+    # billboard (with its outline), and the hidden layers show the crown's fill under it.
+    from scipy import ndimage as ndi
+
+    from branchnb.trees.billboard import CORE, INTERIOR, REAR, BillboardParams, billboard_cloud
+    from branchnb.trees.drawn import drawn_tree
+
+    cloud = billboard_cloud(drawn_tree("fruit", rng=1, size=128), params=BillboardParams(max_size=128), rng=0)
+    fruit = _fruit_mask(cloud.image[..., :3]) & (cloud.image[..., 3] > 0.99) & (cloud.superpixels > 0)
+    lab, n = ndi.label(fruit)
+    assert n >= 4
+    for i in range(1, n + 1):
+        assert len(np.unique(cloud.superpixels[lab == i])) == 1
+    for b in np.flatnonzero(np.isin(cloud.layer, (REAR, INTERIOR, CORE))):
+        t = cloud.textures[cloud.texture[b]]
+        assert not (_fruit_mask(t[..., :3]) & (t[..., 3] >= 0.5)).any(), b
+
+
+@pytest.mark.parametrize("kind", ["conifer", "fruit"])
+def test_side_views_of_drawn_trees_keep_inner_outlines(kind):
+    from branchnb.trees.billboard import BillboardParams, billboard_cloud
+    from branchnb.trees.drawn import drawn_tree
+    from branchnb.trees.quality import side_view_figures
+
+    cloud = billboard_cloud(drawn_tree(kind, rng=1, size=128), params=BillboardParams(max_size=128), rng=0)
+    for yaw in (45.0, 90.0):
+        f = side_view_figures(cloud, yaw)
+        assert f["fragments"] <= f["fragments0"] + 0.03, (yaw, f)
+        assert f["flecks"] <= f["flecks0"] + 0.02, (yaw, f)
+        if kind == "conifer":                 # stacked tiers: every tier's outline stays in view
+            assert f["inner_ink"] >= 0.9, (yaw, f)

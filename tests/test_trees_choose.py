@@ -210,3 +210,20 @@ def test_outline_functions_reject_bad_input():
     with pytest.raises((ValueError, TypeError), match="max_width"):
         silhouette_outline(img, max_width=0)
     assert silhouette_outline(np.zeros((8, 8, 4), np.float32)).outlined is False
+
+
+def test_choose_seams_across_fills_are_outlined(drawn_lib):
+    # Issue 24: a "choose" seam across a flat fill showed two sources' fills meeting with a
+    # hard edge and no ink; the default outline draws the exemplars' stroke along it.
+    from branchnb.trees.quality import bare_seam_share
+
+    bare, inked = [], []
+    for r in range(4):
+        for outline, out in ((False, bare), (True, inked)):
+            v = make_variation(drawn_lib, [0.5, 0.5], use=["broadleaf", "conifer"], colour_weights=[0.5, 0.5],
+                               colour_mode="choose", outline=outline, rng=r)
+            assert v.sources.shape == v.image.shape[:2]
+            assert set(np.unique(v.sources[v.image[..., 3] >= 0.5])) <= {0, 1, -1}
+            out.append(bare_seam_share(v.image, v.sources))
+    assert min(bare) > 0.3, bare                 # the cut alone leaves bare seams
+    assert max(inked) <= 0.05, inked

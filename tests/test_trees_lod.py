@@ -116,3 +116,45 @@ def test_batch_billboard_job_writes_the_lod_chain(tmp_path):
     assert validate_gltf(p) == []
     with pytest.raises(ValueError, match="lod"):
         job.make(shared, params, {**inputs, "lod": "yes"}, np.random.default_rng(0), "c")
+
+
+def test_crossed_level_shows_the_side_view_with_its_outline():
+    # Issue 24: the exported crossed quads repeated the front view on the turned quad; it now
+    # carries the side view from 90 degrees as the in-memory side views draw it (inked rim).
+    from branchnb.trees.drawn import drawn_tree
+    from branchnb.trees.export import quad_vertices
+    from branchnb.trees.lod import crossed_impostor
+    from branchnb.trees.outline import rim_ink_share, silhouette_outline
+
+    cloud = billboard_cloud(drawn_tree("fruit", rng=1, size=128), params=BillboardParams(max_size=128), rng=0)
+    crossed, turn = crossed_impostor(cloud)
+    assert crossed.n_billboards == 2 and turn.tolist() == [0.0, 90.0]
+    side = render_cloud(cloud, 90.0)
+    a = side[..., 3] >= 0.5
+    ys, xs = np.nonzero(a)
+    assert np.array_equal(crossed.textures[1], side[ys.min():ys.max() + 1, xs.min():xs.max() + 1])
+    assert rim_ink_share(crossed.textures[1], silhouette_outline(cloud.image).ink) >= 0.95
+    q = quad_vertices(crossed, turn=turn)
+    assert np.allclose(q[1, :, 0], q[1, 0, 0]) and np.ptp(q[1, :, 2]) > 0     # the turned quad spans z
+    assert np.allclose(q[0, :, 2], 0.0)
+    chain = lod_chain(cloud)
+    assert chain[2].name == "crossed" and chain[2].triangles == 4
+
+
+def test_single_level_is_an_impostor_atlas_of_inked_views(tmp_path):
+    from branchnb.trees.drawn import drawn_tree
+    from branchnb.trees.outline import rim_ink_share, silhouette_outline
+
+    cloud = billboard_cloud(drawn_tree("conifer", rng=2, size=128), params=BillboardParams(max_size=128), rng=0)
+    single = lod_chain(cloud)[3]
+    assert single.triangles == 2 and len(single.yaws) == 8 and len(single.cloud.textures) == 8
+    shapes = {t.shape for t in single.cloud.textures}
+    assert len(shapes) == 1                                       # the frames line up on one quad
+    ink = silhouette_outline(cloud.image).ink
+    for yaw, t in zip(single.yaws, single.cloud.textures):         # the front view as drawn
+        assert rim_ink_share(t, ink) >= (0.9 if yaw else rim_ink_share(cloud.image, ink) - 0.02), yaw
+    f = export_lod_gltf(cloud, tmp_path / "tree.gltf")[0]
+    assert validate_gltf(f) == []
+    frames = json.loads(f.read_text())["meshes"][3]["extras"]["impostor"]["frames"]
+    assert [fr["yaw"] for fr in frames] == list(single.yaws)
+    assert all(0 <= u <= 1 for fr in frames for u in fr["uv"])

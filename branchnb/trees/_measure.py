@@ -26,6 +26,16 @@ rows above the foot, tree pixels below it).
 clip-art samples and two draws of 8 drawn trees (seeds 2 and 5): mean
 contour distance of the 5 results to ``T`` and between them, over the mean
 distance between the exemplars.
+``sideviews``: billboard clouds of drawn trees of every kind (with and
+without a leaf pile, 256 px; another draw at 384 px), three RPG sprites
+and three outlined clip-art samples at 45 and 90 degrees:
+:func:`~branchnb.trees.quality.side_view_figures` (flecks, stroke
+fragments, inner outline ink kept) against the front view's.
+``seams``: :func:`~branchnb.trees.quality.bare_seam_share` (share of the
+``"choose"`` seams that cross a fill without ink) of 12 random mixes and 4
+``variations_of`` per library (two draws of drawn trees, the clip-art
+samples, the RPG sprites), with ``outline=False`` (seams as cut) and the
+default (seams across fills inked).
 ``billboards``: billboard clouds of every sample tree and one procedural
 tree of each kind seen at 0, 45 and 90 degrees: the share of the opaque
 pixels in the largest 8-connected piece (1 = the crown stays on the trunk)
@@ -181,6 +191,60 @@ def measure_crossfade(size: int = 256) -> None:
                   f"{max(f['rim']):.4f} | {time.perf_counter() - t0:.0f} s")
 
 
+def measure_sideviews(size: int = 256) -> None:
+    from .billboard import BillboardParams, billboard_cloud
+    from .drawn import drawn_trees
+    from .quality import side_view_figures
+
+    items = [(n, img, size) for n, img in drawn_trees(rng=0, size=size)]
+    items += [(n + "@384", img, 384) for n, img in drawn_trees((False,), rng=11, size=384)]
+    items += [(n, data.load(n), size) for n in ("tree_rpg_02", "tree_rpg_05", "tree_rpg_07",
+                                                "tree_with_fruits", "cartoon_tree", "arbre_modern")]
+    t0 = time.perf_counter()
+    rows = []
+    print(f"{'tree':22s} flecks 0/45/90     fragments 0/45/90   inner ink 45/90")
+    for name, img, s in items:
+        cloud = billboard_cloud(img, params=BillboardParams(max_size=s), rng=0)
+        f = {y: side_view_figures(cloud, y) for y in (45.0, 90.0)}
+        rows.append((name, f))
+        print(f"  {name:20s} {f[45.0]['flecks0']:.3f} {f[45.0]['flecks']:.3f} {f[90.0]['flecks']:.3f}"
+              f"    {f[45.0]['fragments0']:.3f} {f[45.0]['fragments']:.3f} {f[90.0]['fragments']:.3f}"
+              f"    {f[45.0]['inner_ink']:.2f} {f[90.0]['inner_ink']:.2f}")
+    for label, sel in (("drawn", [r for r in rows if not r[0].startswith(("tree_", "cartoon", "arbre"))]),
+                       ("samples", [r for r in rows if r[0].startswith(("tree_", "cartoon", "arbre"))])):
+        fl = [max(f[y]["flecks"] - f[y]["flecks0"] for y in f) for _, f in sel]
+        fr = [max(f[y]["fragments"] - f[y]["fragments0"] for y in f) for _, f in sel]
+        ii = [min(f[y]["inner_ink"] for y in f) for _, f in sel]
+        print(f"{label:8s} ({len(sel)}): flecks over the front view's: mean {np.mean(fl):.3f} max {max(fl):.3f} | "
+              f"fragments over the front view's: mean {np.mean(fr):.3f} max {max(fr):.3f} | "
+              f"inner ink kept: mean {np.mean(ii):.2f} min {min(ii):.2f}")
+    print(f"{len(rows)} clouds in {time.perf_counter() - t0:.0f} s")
+
+
+def measure_seams(size: int = 192) -> None:
+    from .drawn import drawn_trees
+    from .quality import bare_seam_share
+
+    libs = {}
+    for seed in (0, 11):
+        libs[f"drawn{seed}"] = TreeLibrary(size=size)
+        for name, img in drawn_trees(rng=seed, size=2 * size):
+            libs[f"drawn{seed}"].add(img, name)
+    libs["clipart"] = TreeLibrary.from_data(CLIPART, size=size)
+    libs["rpg"] = TreeLibrary.from_data(size=size)
+    for name, lib in libs.items():
+        out = {}
+        for outline in (False, True):
+            g = np.random.default_rng(3)
+            mixes = [make_variation(lib, rng=g, colour_mode="choose", outline=outline) for _ in range(12)]
+            t = lib.names[int(g.integers(len(lib.names)))]
+            mixes += lib.variations_of(t, 4, rng=g, colour_mode="choose", outline=outline)
+            out[outline] = [bare_seam_share(v.image, v.sources) for v in mixes]
+        print(f"{name:8s} seams across fills, share of seam length (16 choose mixes): outline=False mean "
+              f"{np.mean(out[False]):.3f} max {max(out[False]):.3f} | default mean {np.mean(out[True]):.3f} "
+              f"max {max(out[True]):.3f}")
+
+
 def measure_variety(size: int = 256) -> None:
     """"More like this": mean pairwise contour distance of the results over the mean distance
     between the exemplars mixed (target: >= 0.5)."""
@@ -314,9 +378,10 @@ def measure_speed(size: int = 512) -> None:
 if __name__ == "__main__":
     what = sys.argv[1] if len(sys.argv) > 1 else "pins"
     size = int(sys.argv[2]) if len(sys.argv) > 2 else (
-        256 if what in ("pins", "billboards", "crossfade", "variety", "targets") else
-        512 if what == "speed" else 192 if what in ("outline", "ground") else 128)
+        256 if what in ("pins", "billboards", "sideviews", "crossfade", "variety", "targets") else
+        512 if what == "speed" else 192 if what in ("outline", "ground", "seams") else 128)
     {"pins": measure_pins, "pairs": measure_pairs, "masks": measure_masks,
      "billboards": measure_billboards, "crossfade": measure_crossfade,
-     "variety": measure_variety, "targets": measure_targets, "outline": measure_outline, "ground": measure_ground,
+     "variety": measure_variety, "sideviews": measure_sideviews, "seams": measure_seams,
+     "targets": measure_targets, "outline": measure_outline, "ground": measure_ground,
      "speed": measure_speed}[what](size)

@@ -117,7 +117,8 @@ def _frame(cloud, height: float):
     return k, float(cloud.axis), bottom
 
 
-def quad_vertices(cloud, *, yaw: float = 0.0, height: float = 10.0, crossed: bool = False) -> np.ndarray:
+def quad_vertices(cloud, *, yaw: float = 0.0, height: float = 10.0, crossed: bool = False,
+                  turn=None) -> np.ndarray:
     """Corners of every billboard quad in metres, facing the camera at ``yaw`` degrees.
 
     Parameters
@@ -127,6 +128,10 @@ def quad_vertices(cloud, *, yaw: float = 0.0, height: float = 10.0, crossed: boo
         vertical axis (a "cross" billboard: generic viewers then show some
         volume from the side too; edge-on, it is invisible in the ``yaw``
         view).
+    turn : (K,) array_like, optional
+        Per billboard, degrees its quad is turned by beyond ``yaw`` (a
+        crossed impostor: the front view on one quad, a side view on a
+        quad turned by 90 degrees).
 
     Returns
     -------
@@ -137,8 +142,8 @@ def quad_vertices(cloud, *, yaw: float = 0.0, height: float = 10.0, crossed: boo
     k, ax, bottom = _frame(cloud, height)
     c = cloud.centers
     centre = np.stack([(c[:, 0] - ax) * k, (bottom - c[:, 1]) * k, c[:, 2] * k], axis=1)
-    t = np.deg2rad(float(yaw))
-    right = np.array([np.cos(t), 0.0, np.sin(t)])
+    t = np.deg2rad(float(yaw) + (np.zeros(len(c)) if turn is None else np.asarray(turn, float)))[:, None]
+    right = np.concatenate([np.cos(t), np.zeros_like(t), np.sin(t)], axis=1)
     up = np.array([0.0, 1.0, 0.0])
     hw = 0.5 * cloud.sizes[:, 0:1] * k
     hh = 0.5 * cloud.sizes[:, 1:2] * k
@@ -148,7 +153,7 @@ def quad_vertices(cloud, *, yaw: float = 0.0, height: float = 10.0, crossed: boo
     bl = centre - hw * right - hh * up
     quads = np.stack([tl, tr, br, bl], axis=1)
     if crossed:
-        return np.concatenate([quads, quad_vertices(cloud, yaw=float(yaw) + 90.0, height=height)])
+        return np.concatenate([quads, quad_vertices(cloud, yaw=float(yaw) + 90.0, height=height, turn=turn)])
     return quads
 
 
@@ -187,7 +192,7 @@ def _check_cloud(cloud):
         raise ValueError("cloud has no billboards")
 
 
-def _level_arrays(cloud, *, yaw: float, height: float, crossed: bool):
+def _level_arrays(cloud, *, yaw: float, height: float, crossed: bool, turn=None):
     """Atlas and float32/uint32 vertex arrays (positions, uvs, colours, indices) of one cloud."""
     atlas, rects = texture_atlas(cloud.textures)
     # Power-of-two sides: mipmapped sampling (the sampler's minFilter) needs them in WebGL 1
@@ -198,7 +203,8 @@ def _level_arrays(cloud, *, yaw: float, height: float, crossed: bool):
     pot[h:, :w, :3] = atlas[-1:, :, :3]
     pot[:, w:, :3] = pot[:, w - 1:w, :3]
     atlas = pot
-    quads = check_finite(quad_vertices(cloud, yaw=yaw, height=height, crossed=crossed), "vertex positions")
+    quads = check_finite(quad_vertices(cloud, yaw=yaw, height=height, crossed=crossed, turn=turn),
+                         "vertex positions")
     K = len(quads)
     owner = np.arange(K) % cloud.n_billboards
     pos = quads.reshape(-1, 3).astype(np.float32)

@@ -8,9 +8,17 @@ representations as it moves away from the camera. From one
 1. ``reduced``: the front view as one billboard at the back, before it
    the billboards that carry most of the picture (front and trunk first,
    by opaque area), ``reduced_share`` of them;
-2. ``crossed``: the front view of the tree on two perpendicular quads
-   (four triangles);
-3. ``single``: the front view on one quad (two triangles), an impostor.
+2. ``crossed``: two perpendicular quads (four triangles), the front view
+   on one and the side view from 90 degrees on the other
+   (:func:`crossed_impostor`), rendered as the in-memory side views are:
+   a drawn tree's side view keeps its inked silhouette outline;
+3. ``single``: one quad (two triangles), an impostor whose texture holds
+   the views from 8 yaws (:func:`impostor_frames`, every 45 degrees,
+   rendered as the in-memory side views are, with a drawn tree's inked
+   silhouette outline); the quad shows the front view, and
+   ``extras.impostor`` lists each frame's yaw and texture rectangle, so
+   that an engine's impostor shader can show the frame nearest to the
+   camera's direction.
 
 :func:`export_lod_gltf` writes them as one self-contained glTF 2.0 file
 with the ``MSFT_lod`` extension (the first node holds the full cloud and
@@ -44,10 +52,10 @@ import numpy as np
 from ..core.io import encode_png
 from ..core.jsonio import dumps_strict
 from ..core.validate import Choice, Real, checked
-from .export import _HEIGHT, _YAW, _accessors, _check_cloud, _level_arrays, _out_path, _pack
+from .export import _HEIGHT, _YAW, _accessors, _check_cloud, _level_arrays, _out_path, _pack, texture_atlas
 
-__all__ = ["LOD_LEVELS", "LodLevel", "reduce_cloud", "impostor_cloud", "lod_chain", "export_lod_gltf",
-           "validate_gltf"]
+__all__ = ["LOD_LEVELS", "LodLevel", "reduce_cloud", "impostor_cloud", "crossed_impostor",
+           "impostor_frames", "engine_view", "lod_chain", "export_lod_gltf", "validate_gltf"]
 
 #: The levels of :func:`lod_chain`, finest first.
 LOD_LEVELS = ("full", "reduced", "crossed", "single")
@@ -68,11 +76,19 @@ class LodLevel:
         The billboards of this level.
     crossed : bool
         Two perpendicular quads per billboard.
+    turn : (K,) float array or None
+        Per billboard, degrees its quad is turned by (the crossed impostor's
+        side view: 90).
+    yaws : tuple of float or None
+        Impostor frames: the yaw of each texture of ``cloud`` (the quad shows
+        the first).
     """
 
     name: str
     cloud: object
     crossed: bool = False
+    turn: object = None
+    yaws: object = None
 
     @property
     def quads(self) -> int:
@@ -155,6 +171,102 @@ def impostor_cloud(cloud):
                           cloud.superpixels, cloud.depth, [], cloud.scale, cloud.lines, [])
 
 
+def impostor_frames(cloud, yaws=tuple(range(0, 360, 45))):
+    """One quad whose textures are the cloud seen from several yaws (an impostor atlas).
+
+    Every frame is :func:`~branchnb.trees.preview.render_cloud` from one yaw
+    (with a drawn tree's silhouette ink beyond the front view), all cropped
+    to the same rectangle of the ``crop="fit"`` frame (centred on the
+    vertical axis), so the frames line up on one quad. The quad's texture is
+    the first frame.
+
+    Returns
+    -------
+    cloud : BillboardCloud
+        One billboard, ``len(yaws)`` textures.
+    yaws : tuple of float
+    """
+    from .billboard import FRONT, BillboardCloud
+    from .preview import _extent, render_cloud
+
+    yaws = tuple(float(y) for y in yaws)
+    if not yaws:
+        raise ValueError("yaws must not be empty")
+    views = [render_cloud(cloud, y, crop="fit") for y in yaws]
+    a = np.any([v[..., 3] >= 0.5 for v in views], axis=0)
+    ys, xs = np.nonzero(a)
+    y0, y1, x0, x1 = ys.min(), ys.max() + 1, xs.min(), xs.max() + 1
+    frames = [np.ascontiguousarray(v[y0:y1, x0:x1]) for v in views]
+    r, _ = _extent(cloud)
+    ox = int(np.ceil(max(cloud.axis, r))) + 1 - int(round(cloud.axis))   # canvas x - world x
+    centre = np.array([[0.5 * (x0 + x1) - ox, 0.5 * (y0 + y1), 0.0]])
+    out = BillboardCloud(centre, np.array([[x1 - x0, y1 - y0]], float), np.zeros(1, int), np.ones(1),
+                         np.array([FRONT]), np.zeros(1, int), frames, cloud.axis, cloud.image,
+                         cloud.superpixels, cloud.depth, [], cloud.scale, cloud.lines, [])
+    return out, yaws
+
+
+def engine_view(cloud, yaw: float, **kwargs) -> np.ndarray:
+    """What an engine shows of an exported cloud from ``yaw``: axial quads in depth order, the
+    line art drawn in place (no pass behind the fills) and no silhouette ink added.
+
+    :func:`~branchnb.trees.preview.render_cloud` draws a drawn tree's
+    silhouette strokes behind every fill and inks each side view's
+    silhouette afterwards; a depth-buffered engine does neither. Compare the
+    two to see what the exported full and reduced levels lack from the side.
+    """
+    from .preview import render_cloud
+
+    bare = _subset(cloud, np.arange(cloud.n_billboards))
+    bare.line_masks = [None] * len(bare.textures)
+    return render_cloud(bare, yaw, outline=False, **kwargs)
+
+
+def crossed_impostor(cloud, *, side_yaw: float = 90.0):
+    """Front view and side view of a cloud on two perpendicular quads: ``(cloud, turn)``.
+
+    The first billboard is :func:`impostor_cloud`'s front view; the second
+    the cloud rendered from ``side_yaw`` degrees
+    (:func:`~branchnb.trees.preview.render_cloud`, with the silhouette ink
+    of drawn trees), cropped to the tree, centred on the vertical axis and
+    turned by ``side_yaw`` degrees, so that seen from that side it shows
+    what the full cloud shows there. Generic engines draw crossed quads
+    fixed (not turned to the camera), so each view is seen from its own
+    side (the other from its edge).
+
+    Returns
+    -------
+    cloud : BillboardCloud
+        Two billboards.
+    turn : (2,) float array
+        ``[0, side_yaw]``.
+    """
+    from .billboard import FRONT, BillboardCloud
+    from .preview import _extent, render_cloud
+
+    front = impostor_cloud(cloud)
+    view = render_cloud(cloud, side_yaw, crop="fit")
+    a = view[..., 3] >= 0.5
+    if not a.any():
+        return front, np.zeros(1)
+    ys, xs = np.nonzero(a)
+    y0, y1, x0, x1 = ys.min(), ys.max() + 1, xs.min(), xs.max() + 1
+    tex = np.ascontiguousarray(view[y0:y1, x0:x1])
+    # Where render_cloud(crop="fit") puts the axis: the screen x of depth 0.
+    r, _ = _extent(cloud)
+    left = int(np.ceil(max(cloud.axis, r))) + 1
+    z_c = 0.5 * (x0 + x1) - left
+    t = np.deg2rad(side_yaw)
+    # The turned quad's centre lies on the camera's right axis (cos t, sin t) at z_c.
+    centre = [[cloud.axis + z_c * np.cos(t), 0.5 * (y0 + y1), z_c * np.sin(t)]]
+    out = BillboardCloud(np.vstack([front.centers, centre]),
+                         np.vstack([front.sizes, [[x1 - x0, y1 - y0]]]), np.array([0, 1]),
+                         np.ones(2), np.array([FRONT, FRONT]), np.array([0, 0]),
+                         front.textures + [tex], cloud.axis, cloud.image, cloud.superpixels,
+                         cloud.depth, [], cloud.scale, cloud.lines, [])
+    return out, np.array([0.0, float(side_yaw)])
+
+
 @checked(reduced_share=Real(0, 1, low_open=True))
 def lod_chain(cloud, *, reduced_share: float = 0.3) -> list[LodLevel]:
     """The four levels of detail of one cloud (:data:`LOD_LEVELS`), finest first.
@@ -170,9 +282,10 @@ def lod_chain(cloud, *, reduced_share: float = 0.3) -> list[LodLevel]:
     list of LodLevel
     """
     _check_cloud(cloud)
-    single = impostor_cloud(cloud)
+    single, yaws = impostor_frames(cloud)
+    crossed, turn = crossed_impostor(cloud)
     return [LodLevel("full", cloud), LodLevel("reduced", reduce_cloud(cloud, reduced_share)),
-            LodLevel("crossed", single, crossed=True), LodLevel("single", single)]
+            LodLevel("crossed", crossed, turn=turn), LodLevel("single", single, yaws=yaws)]
 
 
 def _material(name: str, texture: int) -> dict:
@@ -190,7 +303,8 @@ def _document(levels: list[LodLevel], *, yaw: float, height: float, lod: bool,
     views, accessors, meshes, materials, textures, images, nodes = [], [], [], [], [], [], []
     atlases: dict[int, int] = {}                     # id(cloud) -> image index
     for i, lv in enumerate(levels):
-        atlas, pos, uv, col, idx = _level_arrays(lv.cloud, yaw=yaw, height=height, crossed=lv.crossed)
+        atlas, pos, uv, col, idx = _level_arrays(lv.cloud, yaw=yaw, height=height, crossed=lv.crossed,
+                                                 turn=lv.turn)
         first = len(views)
         v, data = _pack([pos.tobytes(), uv.tobytes(), col.tobytes(), idx.tobytes()],
                         [34962, 34962, 34962, 34963], data)
@@ -205,10 +319,21 @@ def _document(levels: list[LodLevel], *, yaw: float, height: float, lod: bool,
             textures.append({"source": len(images) - 1, "sampler": 0})
             materials.append(_material(f"{lv.name}_atlas", len(textures) - 1))
             atlases[key] = len(materials) - 1
+        extras = {"triangles": lv.triangles, "crossed": lv.crossed}
+        if lv.turn is not None:
+            extras["turn_degrees"] = [float(t) for t in lv.turn]
+        if lv.yaws is not None:
+            _, rects = texture_atlas(lv.cloud.textures)
+            Ha, Wa = atlas.shape[:2]
+            extras["impostor"] = {
+                "frames": [{"yaw": float(y), "uv": [float(x / Wa), float(yy / Ha), float((x + w) / Wa),
+                                                    float((yy + h) / Ha)]}
+                           for y, (x, yy, w, h) in zip(lv.yaws, rects.tolist())],
+                "note": "the quad shows frame 0; show the frame whose yaw is nearest to the camera's"}
         meshes.append({"name": lv.name, "primitives": [{
             "attributes": {"POSITION": acc0, "TEXCOORD_0": acc0 + 1, "COLOR_0": acc0 + 2},
             "indices": acc0 + 3, "material": atlases[key], "mode": 4}],
-            "extras": {"triangles": lv.triangles, "crossed": lv.crossed}})
+            "extras": extras})
         nodes.append({"mesh": i, "name": f"tree_lod{i}_{lv.name}"})
     ext = ["KHR_materials_unlit"]
     if lod and len(levels) > 1:

@@ -315,7 +315,7 @@ def smooth_gumbel(shape: tuple[int, int], k: int, scale: float, *, rng=None) -> 
          mode=Choice(*COLOUR_MODES), region_scale=Real(0.0, 1.0, low_open=True), seam=Real(0, 1e6))
 def transfer_colour(sources, source_cages, target_cage, target_mask, *,
                     colour_weights=None, rng=None, mode: str = "blend",
-                    region_scale: float = 0.15, seam: float = 20.0) -> np.ndarray:
+                    region_scale: float = 0.15, seam: float = 20.0, return_sources: bool = False):
     """Colour a target shape from one or more exemplars through their simplified contours.
 
     Parameters
@@ -360,6 +360,8 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
     seam : float
         ``"choose"``: weight of the seam cost against the regions' data
         term (0: the regions as drawn).
+    return_sources : bool
+        Also return which source each pixel's colour comes from.
 
     Returns
     -------
@@ -370,6 +372,11 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
         so an exemplar whose weight tends to 0 adds no pixel (the paper
         takes the union, which lets a barely weighted exemplar paint its
         rim); black where alpha is 0.
+    sources : (H, W) int ndarray
+        With ``return_sources``: index into ``sources`` of the exemplar
+        whose colour a pixel takes in ``"choose"`` mode (the one with the
+        most colour weight among those opaque there in ``"blend"`` mode), -1
+        where alpha is 0.
 
     Examples
     --------
@@ -420,16 +427,22 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
         den = (c[:, None] * on).sum(axis=0)
         num = ((c[:, None] * on)[..., None] * cols).sum(axis=0)
         rgb = np.where(den[:, None] > 1e-12, num / np.maximum(den, 1e-12)[:, None], 0.0)
+        li = np.argmax(np.where(on, c[:, None], -1.0), axis=0)
     else:
-        rgb = _choose(cols, on, opaque, c, ys, xs, mask.shape, region_scale, seam, gen)
+        rgb, li = _choose(cols, on, opaque, c, ys, xs, mask.shape, region_scale, seam, gen)
     out = np.zeros(mask.shape + (4,), np.float32)
     out[ys, xs, :3] = np.clip(rgb, 0.0, 1.0) * opaque[:, None]
     out[ys, xs, 3] = opaque
-    return out
+    if not return_sources:
+        return out
+    src = np.full(mask.shape, -1, np.int64)
+    src[ys[opaque], xs[opaque]] = used[li[opaque]]
+    return out, src
 
 
 def _choose(cols, on, opaque, c, ys, xs, shape, region_scale, seam, gen) -> np.ndarray:
-    """Colour of the ``"choose"`` mode: one source per pixel (Gumbel-max regions, then seams)."""
+    """Colour of the ``"choose"`` mode: one source per pixel (Gumbel-max regions, then seams),
+    and each pixel's source (index into ``c``)."""
     from ..core.graphcut import multilabel_seams
 
     k = len(c)
@@ -457,7 +470,7 @@ def _choose(cols, on, opaque, c, ys, xs, shape, region_scale, seam, gen) -> np.n
         li = np.where(lab >= 0, lab, li)
     elif seam > 0:
         li = _coarse_cut(imgs, unary, region, on, yy, xx, li, f, seam)
-    return cols[li, np.arange(len(li))]
+    return cols[li, np.arange(len(li))], li
 
 
 def _blocks(a: np.ndarray, f: int) -> np.ndarray:

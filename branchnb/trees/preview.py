@@ -99,13 +99,20 @@ def _side_view_outline(cloud):
 
 def _ink_view(out: np.ndarray, ink, width: int) -> np.ndarray:
     """Ink a rendered view's outer silhouette (gaps between billboards are no drawn holes);
-    its soft rim (0 < alpha < 0.5) takes the ink colour too."""
-    from .outline import ink_silhouette
+    its soft rim (0 < alpha < 0.5) and its outermost opaque ring take the ink colour too."""
+    from scipy import ndimage as ndi
+
+    from .outline import _depth, ink_silhouette
 
     out = ink_silhouette(out, ink, width, holes=False)
     a = out[:, :, 3]
     soft = (a > 0) & (a < 0.5)
     out[soft, :3] = ink
+    # The outermost ring in ink throughout: the drawn shapes' own anti-aliased outlines
+    # reach the silhouette of a side view too, and their half-tone rim pixels would break it.
+    op = a >= 0.5
+    if op.any():
+        out[op & (_depth(ndi.binary_fill_holes(op)) == 1), :3] = ink
     return out
 
 

@@ -31,7 +31,8 @@ from ..core.validate import check_real
 
 __all__ = ["soft_alpha_fraction", "flat_pixels", "dominant_palette", "crossfade_fraction",
            "foreign_colour_fraction", "dark_rim_fraction", "pieces", "large_holes", "hole_sizes",
-           "flat_region_speckle", "colour_span", "largest_piece_share"]
+           "flat_region_speckle", "colour_span", "largest_piece_share", "side_view_figures",
+           "bare_seam_share"]
 
 
 def soft_alpha_fraction(image, *, rim: int = 1) -> float:
@@ -303,3 +304,145 @@ def flat_region_speckle(cloud, yaw: float, *, min_area: float = 0.01, busy: floa
         return 0.0
     side = composite_over(render_cloud(cloud, yaw, crop="image", outline=False), (1.0, 1.0, 1.0))
     return float((colour_span(side)[ys, xx] > busy).mean())
+
+
+def side_view_figures(cloud, yaw: float, *, small: float = 0.003) -> dict:
+    """How well a drawn tree's billboard cloud keeps its drawing in the view from ``yaw``.
+
+    Measured on the default rendering (:func:`~branchnb.trees.preview.render_cloud`,
+    silhouette ink included), against the same numbers in the front view:
+
+    * ``flecks``: share of the opaque non-ink pixels that lie in small
+      colour pieces: each pixel takes its nearest dominant colour of the
+      front view (:func:`dominant_palette`; pixels farther than 0.12 from
+      all of them, anti-aliased edges, are left out), and an 8-connected
+      piece of one colour smaller than ``small`` times the tree's opaque
+      area is a fleck (a fruit scattered into crumbs, a sliver of another
+      shape's fill);
+    * ``fragments``: share of the ink pixels (luminance at most the drawing's
+      ink threshold) in 8-connected ink pieces smaller than ``small`` times
+      the opaque area: loose stroke bits;
+    * ``inner_ink``: ink pixels deeper than ``2 w + 1`` from the view's
+      outer silhouette (``w`` the outline width), over the same count in the
+      front view: the inner outlines kept (1: as many as drawn; smeared or
+      lost outlines lower it, stroke bits piled up raise it).
+
+    Returns
+    -------
+    dict
+        ``{"flecks", "fragments", "inner_ink"}`` at ``yaw`` and
+        ``{"flecks0", "fragments0"}`` of the front view.
+
+    Examples
+    --------
+    >>> from branchnb.trees.billboard import BillboardParams, billboard_cloud
+    >>> from branchnb.trees.drawn import drawn_tree
+    >>> c = billboard_cloud(drawn_tree("fruit", rng=0, size=128), params=BillboardParams(max_size=128))
+    >>> f = side_view_figures(c, 0.0)
+    >>> f["inner_ink"], f["flecks"] == f["flecks0"]
+    (1.0, True)
+    """
+    from .outline import _depth, _ink_threshold, _is_ink, silhouette_outline
+    from .preview import render_cloud
+
+    img = cloud.image
+    opaque0 = img[..., 3] >= 0.5
+    thr = _ink_threshold(img[..., :3], opaque0)
+    width = silhouette_outline(img).width
+    palette = dominant_palette([img])
+
+    def figures(view):
+        op = view[..., 3] >= 0.5
+        n_op = max(int(op.sum()), 1)
+        ink = op & _is_ink(view[..., :3], thr)
+        lim = small * n_op
+        eight = np.ones((3, 3), bool)
+        lab, n = ndi.label(ink, structure=eight)
+        area = np.bincount(lab.ravel(), minlength=n + 1)
+        area[0] = 0
+        frag = float(area[area < lim].sum() / max(area.sum(), 1))
+        fill = op & ~ink
+        flecks = 0.0
+        if len(palette) and fill.any():
+            d, idx = cKDTree(palette).query(view[fill][:, :3])
+            col = np.full(op.shape, -1)
+            col[fill] = np.where(d <= 0.12, idx, -1)
+            small_px = 0
+            for c in np.unique(col[col >= 0]):
+                lab, n = ndi.label(col == c, structure=eight)
+                a = np.bincount(lab.ravel(), minlength=n + 1)
+                a[0] = 0
+                small_px += int(a[(a > 0) & (a < lim)].sum())
+            flecks = small_px / max(int(fill.sum()), 1)
+        deep = _depth(ndi.binary_fill_holes(op)) > 2 * width + 1
+        return flecks, frag, int((ink & deep).sum())
+
+    f0 = figures(render_cloud(cloud, 0.0, crop="fit"))
+    f = f0 if float(yaw) % 360.0 == 0.0 else figures(render_cloud(cloud, yaw, crop="fit"))
+    return {"flecks": f[0], "fragments": f[1], "inner_ink": f[2] / max(f0[2], 1),
+            "flecks0": f0[0], "fragments0": f0[1]}
+
+
+def bare_seam_share(image, sources=None, *, edge: float = 0.12, reach: int | None = None) -> float:
+    """Share of a ``"choose"`` mix's seams that cross a fill without an outline.
+
+    The ``"choose"`` colour mode cuts the sources along graph-cut seams
+    (``sources``: each pixel's exemplar, :attr:`Variation.sources`). A seam
+    pixel (4-adjacent to a pixel of another source, opaque, not on the
+    silhouette's rim) crosses a fill bare when the colour jumps there (its
+    3 x 3 colour span above ``edge``: a seam between matching colours is
+    invisible) and no ink pixel (luminance at most the image's ink
+    threshold, as in :func:`~branchnb.trees.outline.silhouette_outline`,
+    and at most 0.25) lies within ``reach`` pixels (default: the outline
+    width + 1): two fills meet with a hard edge that no drawing has. Without
+    ``sources`` every inner colour edge counts as a seam (0 for a drawing
+    whose fills are all outlined).
+
+    Returns
+    -------
+    float
+        Bare seam pixels over all seam pixels (0 without seams).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.zeros((30, 30, 4), np.float32); img[5:25, 5:25] = (0.2, 0.6, 0.2, 1)
+    >>> img[5:25, 15:25, :3] = (0.6, 0.8, 0.3)            # a second fill, no outline
+    >>> src = np.where(img[..., 3] > 0, 0, -1); src[5:25, 15:25] = 1
+    >>> round(bare_seam_share(img, src), 2)
+    1.0
+    >>> img[5:25, 14:16, :3] = 0.05                       # outlined
+    >>> bare_seam_share(img, src)
+    0.0
+    """
+    from .outline import _depth, _ink_threshold, _is_ink, silhouette_outline
+
+    img = as_rgba(image, name="image")
+    op = img[..., 3] >= 0.5
+    if op.sum() < 9:
+        return 0.0
+    rgb = img[..., :3]
+    ink = op & _is_ink(rgb, min(_ink_threshold(rgb, op), 0.25))
+    if reach is None:
+        reach = silhouette_outline(img).width + 1
+    near_ink = ndi.binary_dilation(ink, iterations=int(reach)) if ink.any() else np.zeros_like(ink)
+    inner = (_depth(op) > 2) & (ndi.minimum_filter(op, size=3) > 0)
+    span = colour_span(np.where(op[..., None], rgb, 0.0), size=3)
+    if sources is None:
+        seam = inner & ~ink & (span > edge)
+        bare = seam
+    else:
+        src = np.asarray(sources)
+        if src.shape != op.shape:
+            raise ValueError(f"sources must be an (H, W) array of shape {op.shape}, got {src.shape}")
+        seam = np.zeros(op.shape, bool)
+        for dy, dx in ((0, 1), (1, 0)):
+            a, b = src[: src.shape[0] - dy, : src.shape[1] - dx], src[dy:, dx:]
+            d = (a != b) & (a >= 0) & (b >= 0)
+            seam[: src.shape[0] - dy, : src.shape[1] - dx] |= d
+            seam[dy:, dx:] |= d
+        seam &= inner
+        bare = seam & (span > edge)
+    if not seam.any():
+        return 0.0
+    return float((bare & ~near_ink).sum() / seam.sum())

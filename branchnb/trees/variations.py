@@ -427,6 +427,10 @@ class Variation:
     colour_mode : str
         How the colours were combined: ``"blend"`` or ``"choose"``
         (``VariationParams.colour_mode`` resolved).
+    sources : (S, S) int ndarray or None
+        Index into ``names`` of the exemplar each pixel's colour comes from
+        (``"choose"``; in ``"blend"`` the one with the most colour weight
+        there), -1 where transparent.
     """
 
     image: np.ndarray
@@ -438,6 +442,7 @@ class Variation:
     mask: np.ndarray
     reference: str | None = None
     colour_mode: str = "blend"
+    sources: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def rgb(self) -> np.ndarray:
@@ -618,18 +623,21 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     cage = simplify_contour(cr, m_points=p.m_points, dilation=cparams.dilation,
                             n_points_crown=cparams.n_crown)
     mode = resolve_colour_mode(p.colour_mode, [exemplars[i] for i in used])
-    image = transfer_colour([exemplars[i].image for i in used],
-                            [exemplars[i].cage(p.m_points) for i in used],
-                            cage, mask, colour_weights=cw[used] / cw[used].sum(), mode=mode,
-                            region_scale=p.region_scale, seam=p.seam, rng=rng)
+    image, sources = transfer_colour([exemplars[i].image for i in used],
+                                     [exemplars[i].cage(p.m_points) for i in used],
+                                     cage, mask, colour_weights=cw[used] / cw[used].sum(), mode=mode,
+                                     region_scale=p.region_scale, seam=p.seam, rng=rng, return_sources=True)
     image = one_piece(image, [exemplars[i] for i in used])
     if p.outline and len(used) > 1:      # one exemplar: its own shape, its outline intact
-        image = _ink_outline(image, [exemplars[i] for i in used], cw[used])
+        image = _ink_outline(image, [exemplars[i] for i in used], cw[used],
+                             np.where(image[..., 3] >= 0.5, sources, -1) if mode == "choose" else None)
+    sources = used[np.maximum(sources, 0)] * (sources >= 0) - (sources < 0)
     ref_name = None
     if reference is not None:
         ref_img, ref_name = _reference_image(reference, library)
         image = histogram_transfer(image, ref_img)
-    return Variation(image, tuple(e.name for e in exemplars), w, cw, cr, cage, mask, ref_name, mode)
+    sources = np.where(image[..., 3] >= 0.5, sources, -1)
+    return Variation(image, tuple(e.name for e in exemplars), w, cw, cr, cage, mask, ref_name, mode, sources)
 
 
 def exemplar_outline(exemplar: Exemplar):
@@ -641,15 +649,19 @@ def exemplar_outline(exemplar: Exemplar):
     return exemplar._cages["outline"]
 
 
-def _ink_outline(image: np.ndarray, exemplars: Sequence[Exemplar], cw: np.ndarray) -> np.ndarray:
-    """Ink the silhouette when outlined exemplars hold at least half the colour weight."""
-    from .outline import ink_silhouette
+def _ink_outline(image: np.ndarray, exemplars: Sequence[Exemplar], cw: np.ndarray,
+                 sources: np.ndarray | None = None) -> np.ndarray:
+    """Ink the silhouette when outlined exemplars hold at least half the colour weight, and
+    (``sources``: the ``"choose"`` mode's source per pixel) the seams that cross a fill."""
+    from .outline import ink_seams, ink_silhouette
 
     outl = [exemplar_outline(e) for e in exemplars]
     on = np.array([o.outlined for o in outl])
     if cw[on].sum() < 0.5 * cw.sum() - 1e-9:
         return image
     best = outl[int(np.argmax(np.where(on, cw, -1.0)))]
+    if sources is not None:
+        image = ink_seams(image, sources, best.ink, best.width)
     return ink_silhouette(image, best.ink, best.width)
 
 
