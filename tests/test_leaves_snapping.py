@@ -181,3 +181,37 @@ def test_residual_keeps_no_second_vein_system(kind):
         r = np.maximum(sato(g, sigmas=[1, 2], black_ridges=True), sato(g, sigmas=[1, 2], black_ridges=False))
         plain = b & ~ndi.binary_dilation(veins | spots, iterations=4)
         assert r[veins & b].mean() <= 0.9 * r[plain].mean()
+
+
+def test_oriented_response_scores_a_ridge_along_its_own_direction_only():
+    """A vein crossing the texture: scored along the vein, not across it; a round spot scores low."""
+    from branchnb.leaves.snapping import oriented_response, ridge_hessian
+    lab = np.zeros((60, 60, 3), np.float32)
+    lab[:, 29:32, 0] = 10.0                        # a vertical vein, 3 px
+    yy, xx = np.mgrid[:60, :60]
+    lab[..., 0] += 10.0 * ((xx - 12) ** 2 + (yy - 45) ** 2 <= 9)   # a spot
+    hess = ridge_hessian(lab, np.ones((60, 60), bool), np.array([1.0, 0, 0]), 3.0)
+    along = oriented_response(hess, np.array([30]), np.array([20]), np.array([[0.0, 1.0]]))[0]
+    across = oriented_response(hess, np.array([30]), np.array([20]), np.array([[1.0, 0.0]]))[0]
+    spot = max(oriented_response(hess, np.array([12]), np.array([45]), np.array([t]))[0]
+               for t in ([1.0, 0.0], [0.0, 1.0], [0.7071, 0.7071]))
+    assert along > 0.8 and across == 0.0 and spot < 0.3 * along
+
+
+def test_fit_branches_puts_two_branches_on_two_veins():
+    """Two laterals carried near the stronger of two veins from one junction: each takes its own vein
+    (without the overlap rule both landed on the stronger one, -90 and -90 degrees)."""
+    from branchnb.leaves.snapping import fit_branches
+    piv = np.array([45.0, 80.0])
+
+    def ray(deg):
+        a, r = np.radians(deg), np.arange(60)
+        return piv + np.column_stack([np.cos(a) * r, np.sin(a) * r])
+    ev = np.zeros((90, 90), np.float32)
+    for deg, val in ((-90, 1.0), (-72, 0.6)):
+        q = np.round(ray(deg)).astype(int)
+        ev[q[:, 1], q[:, 0]] = val
+    ev = cv2.GaussianBlur(ev, (0, 0), 0.8)
+    out = fit_branches([ray(-93), ray(-84)], ev / ev.max(), np.ones((90, 90), bool), reach=12.0)
+    ang = sorted(np.degrees(np.arctan2(c[-1, 1] - c[0, 1], c[-1, 0] - c[0, 0])) for c in out)
+    assert abs(ang[0] + 90) < 2 and abs(ang[1] + 72) < 2, ang
