@@ -215,3 +215,30 @@ def test_fit_branches_puts_two_branches_on_two_veins():
     out = fit_branches([ray(-93), ray(-84)], ev / ev.max(), np.ones((90, 90), bool), reach=12.0)
     ang = sorted(np.degrees(np.arctan2(c[-1, 1] - c[0, 1], c[-1, 0] - c[0, 0])) for c in out)
     assert abs(ang[0] + 90) < 2 and abs(ang[1] + 72) < 2, ang
+
+
+def test_snapped_veins_keep_their_drawn_width_when_diagonal():
+    """A 3 px diagonal lateral next to a 3 px vertical midrib: both snapped 3 px wide (by 2 EDT - 1 the
+    diagonal read 1.8 px and was drawn one pixel wide: 40 of its 121 px, IoU 0.76; now 121, 1.00)."""
+    from skimage.color import rgb2lab
+
+    from branchnb.leaves.snapping import snap_to_exemplars
+    img = np.full((120, 120, 3), (0.3, 0.6, 0.2), np.float32)
+    line = np.zeros((120, 120), bool)
+    line[15:105, 60] = True                                    # midrib, longer than the lateral
+    line[90 - np.arange(50), 60 + np.arange(50)] = True        # diagonal lateral from a junction
+    veins = ndi.binary_dilation(line)                          # 3 px, as a hand-traced reference
+    img[veins] = (0.6, 0.8, 0.4)
+    blade = np.zeros((120, 120), bool)
+    blade[10:110, 10:118] = True
+    lab = rgb2lab(img)
+    masks, kept = snap_to_exemplars([lab, lab], [blade, blade], 0, veins & blade,
+                                    [None, TrueRegistration(np.array([[0, 0], [119, 0], [0, 119], [119, 119.]]),
+                                                            np.array([[0, 0], [119, 0], [0, 119], [119, 119.]]),
+                                                            (120, 120))], tolerance=0.0)
+    diag = np.zeros_like(veins)
+    diag[25:90, 70:115] = True
+    got = masks[1] & diag
+    assert kept[1] > 0.9
+    assert got.sum() >= 0.8 * (veins & diag).sum(), (got.sum(), (veins & diag).sum())
+    assert iou(masks[1], veins & blade) > 0.9

@@ -55,15 +55,16 @@ per kind and size (0.69-0.75 / 0.79-0.83 before the oriented scores and
 the overlap rule; 0.67-0.75 / 0.78-0.83 before the template fit). The
 sample maples against their hand-traced veins
 (:func:`branchnb.leaves.reference.reference_veins`, ``_measure maples``),
-each maple as training leaf: mean IoU 0.39, min 0.18 (0.37 / 0.09 before
-the oriented scores, the overlap rule and the fine path; 0.34 before the
-template fit). The issue's target, 0.6, is not met: with maple 01 or 05
-as training leaf the mean is 0.45-0.48 (best pairs 0.65), with 02, 04 or
-06 0.32-0.35: the star of primaries lands within 2 px of the exemplar's
-on 50-75 % of its length, and 1-2 px beside a 3 px vein halves the IoU;
-a faint midrib on a mottled blade (03, 04, 07) is still lost to the
-texture, and the traced references differ in how far each vein was
-followed (04's laterals stop half way).
+each maple as training leaf: mean IoU 0.45, min 0.16 (0.39 / 0.18 with
+widths by ``2 EDT - 1``, which drew diagonal laterals one pixel wide;
+0.37 / 0.09 before the oriented scores, the overlap rule and the fine
+path; 0.34 before the template fit). The issue's target, 0.6, is not met:
+with maple 01 or 05 as training leaf the mean is 0.51-0.55 (best pairs
+0.73-0.80), with 02 or 04 0.33-0.39: a narrow leaf's steep laterals (02)
+land on the wrong ridges of a wide one, a faint midrib on a mottled
+blade (03, 04, 07) is still lost to the texture, and the traced
+references differ in how far each vein was followed (04's laterals stop
+half way).
 """
 
 from __future__ import annotations
@@ -347,6 +348,19 @@ def snap_layer(evidence, blade, chains, widths, tolerance: float, *, min_evidenc
     return out & blade, (kept_len / total if total > 0 else 0.0)
 
 
+def _area_widths(mask, chains) -> list:
+    """Each branch's width as the area of the layer pixels nearest it over its pixel count."""
+    if not chains:
+        return []
+    lab = np.zeros(mask.shape, np.int32)
+    for k, c in enumerate(chains, start=1):
+        lab[c[:, 1], c[:, 0]] = k
+    _, (iy, ix) = ndi.distance_transform_edt(lab == 0, return_indices=True)
+    owner = lab[iy, ix][mask]
+    area = np.bincount(owner, minlength=len(chains) + 1)[1:].astype(float)
+    return [float(max(1.0, a / max(len(c), 1))) for a, c in zip(area, chains)]
+
+
 def _grow_to_width(path, width: float) -> np.ndarray:
     """A one-pixel path grown until its area per path pixel is nearest ``width``.
 
@@ -442,16 +456,16 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
     kept : list of float
         Fraction of the layer's length found on each exemplar (1 on the training leaf).
     """
-    from skimage.morphology import skeletonize
     t = training_index
     chains, widths = layer_branches(user)
     width = float(np.median(np.repeat(widths, [len(c) for c in chains]))) if chains else 1.0
+    area_w = {id(c): a for c, a in zip(chains, _area_widths(user, chains))}
     chains, widths = main_branches(chains, widths, np.sqrt(float(blades[t].sum())))
-    # Drawn widths as area per skeleton pixel (what a vein covers), each
-    # branch in proportion to its own ``2 EDT - 1``.
-    n_skel = int(skeletonize(user).sum())
-    area_width = float(user.sum()) / max(n_skel, 1)
-    widths = [wd / max(width, 1e-6) * area_width for wd in widths]
+    # Drawn widths as each branch's area per skeleton pixel (what the vein
+    # covers; :func:`_grow_to_width` draws by the same measure). ``2 EDT - 1``
+    # reads a diagonal 3 px vein as 1.8 px: the laterals of a maple were
+    # drawn one pixel wide.
+    widths = [area_w[id(c)] for c in chains]
     direction = contrast_direction(labs[t], user, blades[t])
     radius = max(3.0, 1.5 * float(tolerance), float(radius_widths) * width)
     masks, kept = [], []
