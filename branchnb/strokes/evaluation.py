@@ -25,6 +25,19 @@ CHANNELS = ("red", "green", "blue")
 def object_colours(image, mask) -> np.ndarray:
     """``(N, 3)`` straight RGB colours of ``image`` under ``mask`` (pixels with alpha > 0.5).
 
+    Parameters
+    ----------
+    image : (H, W, C) array_like
+        Grey, RGB or RGBA image in [0, 1]; RGBA colours are un-premultiplied
+        straight colours.
+    mask : (H, W) bool array_like
+        Region to read (e.g. the source object region or the result's mask).
+
+    Returns
+    -------
+    (N, 3) float64 ndarray
+        One row per pixel of ``mask`` whose alpha exceeds 0.5.
+
     Examples
     --------
     >>> img = np.zeros((2, 2, 4)); img[0, 0] = (1, 0.5, 0, 1)
@@ -45,7 +58,9 @@ def compare_colours(image, result, *, bins: int = 16, metric: str = "l1") -> lis
     image : (H, W, C) array_like
         The source image given to :func:`~branchnb.strokes.edit_structure`.
     result : StrokeEditResult
+        The edit of ``image``; its ``source_region`` and ``mask`` are compared.
     bins : int
+        Number of histogram bins on [0, 1]; 16.
     metric : str
         See :func:`branchnb.core.histogram.histogram_distance`.
 
