@@ -100,7 +100,24 @@ def _SPACING(value, name, allow_none):
 
 
 def auto_radius(half_width):
-    """Patch radius ``r = 1.2 w + 4`` for the object's half width ``w`` (px)."""
+    """Patch radius ``r = 1.2 w + 4`` for the object's half width ``w`` (px).
+
+    Parameters
+    ----------
+    half_width : float or array_like
+        Half width ``w`` of the object (pixels) at the sample.
+
+    Returns
+    -------
+    float64 ndarray
+        ``r`` in pixels, of the shape of ``half_width``: the patch reaches 20 %
+        past the silhouette plus 4 px of background.
+
+    Examples
+    --------
+    >>> float(auto_radius(10.0))
+    16.0
+    """
     return 1.2 * np.asarray(half_width, float) + 4.0
 
 
