@@ -592,6 +592,12 @@ class PathStats:
         Largest edge cost on the path (the non-scalar ``M``).
     total : (E,) float64 ndarray
         Cumulative cost of the path (``S``).
+
+    Examples
+    --------
+    >>> st = PathStats(np.array([12.0]), np.array([10.0]), np.array([1.2]), np.array([0.5]), np.array([6.0]))
+    >>> float(st.tortuosity[0])
+    1.2
     """
 
     length: np.ndarray

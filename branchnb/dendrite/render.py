@@ -123,6 +123,18 @@ def svg_document(size, layers, *, background=None, defs: str = "") -> str:
         Fill colour of a background rectangle.
     defs : str
         Extra ``<defs>`` content (e.g. a blur filter).
+
+    Returns
+    -------
+    str
+        The SVG document.
+
+    Examples
+    --------
+    >>> doc = svg_document((4, 3), [('<svg><line x1="0" y1="0" x2="4" y2="3"/></svg>', 'opacity="0.5"')],
+    ...                    background=(1, 1, 1))
+    >>> doc.splitlines()[1:3]
+    ['<rect width="4" height="3" fill="#ffffff"/>', '<g opacity="0.5"><line x1="0" y1="0" x2="4" y2="3"/></g>']
     """
     w, h = size
     out = [(f'<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" '

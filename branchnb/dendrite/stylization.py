@@ -407,6 +407,13 @@ class Stylization:
         Start ``(x, y)`` of the dendrite in image pixels.
     scale : (2,) float64
         Image pixels per lattice pixel in x and y.
+
+    Examples
+    --------
+    >>> img = np.ones((40, 40)); img[10:30, 10:30] = 0.0
+    >>> out = stylize(img, StylizeParams(n_endpoints=30, lattice_size=20), rng=0)
+    >>> out.importance.shape, out.dendrite.shape, out.scale.tolist()
+    ((20, 20), (40, 40), [2.0, 2.0])
     """
 
     image: np.ndarray

@@ -87,6 +87,14 @@ def rolling_importance(dendrite: Dendrite, importance, window: int = 15) -> np.n
     Returns
     -------
     (M,) float64
+
+    Examples
+    --------
+    >>> from branchnb.dendrite import plan, make_lattice, build_dendrite
+    >>> d = build_dendrite(plan(make_lattice(np.zeros((1, 20)), noise=0.0), (0, 0)), [(19, 0)])
+    >>> r = rolling_importance(d, np.ones((1, 20)), window=5)
+    >>> float(r[0]), float(r[10]), float(r[-1])  # the root keeps its width, the tip tapers
+    (1.0, 1.0, 0.6)
     """
     if not isinstance(dendrite, Dendrite):
         raise TypeError("dendrite must be a Dendrite")

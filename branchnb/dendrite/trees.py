@@ -298,6 +298,15 @@ def rejection_endpoints(structure_mask, n_endpoints: int, radius: float, *,
     Returns
     -------
     (E, 2) float64 (x, y), E <= n_endpoints (fewer only if the band is tiny)
+
+    Examples
+    --------
+    >>> m = np.zeros((50, 50), bool); m[25, 5:45] = True
+    >>> pts = rejection_endpoints(m, 20, 6.0, min_distance=2.0, rng=0)
+    >>> from scipy import ndimage
+    >>> d = ndimage.distance_transform_edt(~m)[pts[:, 1].astype(int), pts[:, 0].astype(int)]
+    >>> len(pts), bool(d.max() <= 6), bool(d.min() >= 2)
+    (20, True, True)
     """
     m = as_mask(structure_mask, name="structure_mask")
     if not m.any():
@@ -538,6 +547,12 @@ def render_layers(trees, *, background=None, near=(0.2, 0.13, 0.07), far=(0.72, 
     ------
     ValueError
         If ``trees`` is empty.
+
+    Examples
+    --------
+    >>> ts = grow_layers((60, 50), TreeParams(iterations=2, radius=12), layers=2, rng=0)
+    >>> render_layers(ts).image.shape
+    (60, 50, 3)
     """
     trees = [t.dendrite if isinstance(t, GrownTree) else t for t in trees]
     if not trees:

@@ -906,6 +906,20 @@ def fetch(index: SourceIndex, stroke_id: int, source_s, across, dst_point, dst_a
         Patch radius ``r``.
     window : float
         Chord half-length used for the source orientation.
+
+    Returns
+    -------
+    Fetched
+        ``K`` candidates stacked on one ``(2 ceil(r) + 1)``-pixel square
+        centred on ``p``.
+
+    Examples
+    --------
+    >>> img = np.zeros((30, 60, 4), np.float32); img[10:20, 5:55] = (0.6, 0.4, 0.2, 1.0)
+    >>> idx = source_index(img, [Stroke([(5, 15), (54, 15)])])
+    >>> f = fetch(idx, 0, [20.0, 24.0], [0.0, 0.0], np.array([30.0, 30.0]), np.pi / 2, 8.0, window=4.0)
+    >>> f.pixels.shape, f.origin
+    ((2, 17, 17, 4), (22, 22))
     """
     index._stroke(stroke_id, "stroke_id")
     if dst_point.shape != (2,):

@@ -188,6 +188,15 @@ def attach(pair: StrokePair, junctions: list[Junction], target_strokes: list[Str
         position on the stroke.
     shift : dict
         ``{end: extra length}`` added at each end.
+
+    Examples
+    --------
+    >>> from branchnb.strokes.strokes import Stroke, StrokePair
+    >>> trunk, branch = Stroke([(0, 0), (0, 100)]), Stroke([(0, 50), (40, 50)])
+    >>> pair = StrokePair(Stroke([(0, 0), (40, 0)]), branch)
+    >>> new, added = attach(pair, find_junctions([trunk, branch], 2), [trunk, branch], {0: 5.0})
+    >>> new.target.points[0].tolist(), added
+    ([-5.0, 50.0], {0: 5.0, 1: 0.0})
     """
     pts = pair.target.points.copy()
     added = {0: 0.0, 1: 0.0}

@@ -128,6 +128,18 @@ def pair_energies(a: Fetched, b: Fetched, *, power: float = 1.0,
     (Ka, Kb) ndarray
         Mean seam cost density over the pixels both patches cover; 0 for
         pairs that do not overlap.
+
+    Examples
+    --------
+    >>> from branchnb.strokes.fetch import source_index, fetch
+    >>> from branchnb.strokes.strokes import Stroke
+    >>> img = np.zeros((30, 60, 4), np.float32); img[10:20, 5:55] = (0.6, 0.4, 0.2, 1.0)
+    >>> idx = source_index(img, [Stroke([(5, 15), (54, 15)])])
+    >>> a = fetch(idx, 0, [20.0], [0.0], np.array([20.0, 15.0]), 0.0, 8.0, window=4.0)
+    >>> b = fetch(idx, 0, [26.0, 40.0], [0.0, 0.0], np.array([26.0, 15.0]), 0.0, 8.0, window=4.0)
+    >>> e = pair_energies(a, b)
+    >>> e.shape, float(e[0, 0])  # the same texture where they overlap: no seam cost
+    ((1, 2), 0.0)
     """
     ov = _overlap(a, b)
     ka, kb = len(a.pixels), len(b.pixels)
