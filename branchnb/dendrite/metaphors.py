@@ -536,6 +536,12 @@ def lightning(shape, params: LightningParams | None = None, *, start=None, strik
     Dendrite
         With the pipe-model thickness; the channel to ``strike`` is thickest.
 
+    Raises
+    ------
+    ValueError
+        If ``shape`` is smaller than 4 x 4 or ``start``/``strike`` lie
+        outside it.
+
     Examples
     --------
     >>> bolt = lightning((80, 60), LightningParams(n_branches=10), rng=0)

@@ -457,6 +457,12 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
     -------
     PareidoliaTree
 
+    Raises
+    ------
+    ValueError
+        If ``image`` is smaller than 16 x 16 pixels or a parameter is out of
+        its range.
+
     Examples
     --------
     >>> img = np.ones((96, 96)); img[20:50, 10:40] = 0.0

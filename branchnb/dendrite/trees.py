@@ -299,6 +299,12 @@ def rejection_endpoints(structure_mask, n_endpoints: int, radius: float, *,
     -------
     (E, 2) float64 (x, y), E <= n_endpoints (fewer only if the band is tiny)
 
+    Raises
+    ------
+    ValueError
+        If ``structure_mask`` is empty, ``n_endpoints < 1`` or not
+        ``0 <= min_distance <= radius``.
+
     Examples
     --------
     >>> m = np.zeros((50, 50), bool); m[25, 5:45] = True
@@ -365,6 +371,13 @@ def grow_tree(shape, params: TreeParams | None = None, *, base=None, weights=Non
     Returns
     -------
     GrownTree
+
+    Raises
+    ------
+    ValueError
+        If ``shape`` is smaller than 8 x 8, ``base`` lies outside it,
+        ``start_iteration`` does not fit ``base``, or ``weights`` returns
+        another shape.
 
     Examples
     --------

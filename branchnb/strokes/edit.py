@@ -550,6 +550,12 @@ def fetch_patches(image, source_strokes, target_strokes, params: StrokeEditParam
     -------
     EditPatches
 
+    Raises
+    ------
+    ValueError
+        As :func:`edit_structure` (mismatched or degenerate strokes, control
+        points out of order, strokes outside the images, bad parameters).
+
     Examples
     --------
     >>> import numpy as np
