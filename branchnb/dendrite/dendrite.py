@@ -107,7 +107,7 @@ def _depth_down(parent, steps):
 class Dendrite:
     """A tree of lattice (or graph) nodes with per-node radius.
 
-    Attributes
+    Parameters
     ----------
     nodes : (M,) int64
         Graph node of each tree node.
@@ -130,6 +130,14 @@ class Dendrite:
         Lattice / image shape.
     iteration : (M,) int64
         Growth iteration that added each node (trees; 0 otherwise).
+
+    Examples
+    --------
+    >>> from branchnb.dendrite.lattice import make_lattice
+    >>> from branchnb.dendrite.planner import plan
+    >>> d = build_dendrite(plan(make_lattice(np.zeros((20, 20)), rng=0), (10, 19)), [(2, 2), (17, 3)])
+    >>> d.is_tree(), d.n_branches, d.shape
+    (True, 2, (20, 20))
     """
 
     nodes: np.ndarray
@@ -229,7 +237,24 @@ class Dendrite:
 
     @checked(radius=Array(ndim=1, min=0))
     def with_radius(self, radius) -> Dendrite:
-        """A copy with a new per-node radius."""
+        """A copy with a new per-node radius.
+
+        Parameters
+        ----------
+        radius : (M,) array_like
+            New radius (half the drawn width, pixels, finite and >= 0) of every
+            node, in node order.
+
+        Returns
+        -------
+        Dendrite
+            A new dendrite sharing the structure arrays; ``self`` is unchanged.
+
+        Raises
+        ------
+        ValueError
+            If ``radius`` does not have one finite value >= 0 per node.
+        """
         r = np.asarray(radius, np.float64)
         if r.shape != (self.n_nodes,) or not np.all(np.isfinite(r)) or (r < 0).any():
             raise ValueError(f"radius must be {self.n_nodes} finite values >= 0")
@@ -241,6 +266,21 @@ class Dendrite:
         """The same dendrite drawn on an image of ``shape`` (H, W): points map pixel
         centre to pixel centre, radii scale by the geometric mean of the two factors.
         ``nodes`` keep indexing the original lattice.
+
+        Parameters
+        ----------
+        shape : (int, int)
+            ``(H, W)`` of the target image. The dendrite must have a ``shape``.
+
+        Returns
+        -------
+        Dendrite
+            The rescaled copy (``shape`` set to the new one).
+
+        Raises
+        ------
+        ValueError
+            If the dendrite has no ``shape`` to scale from.
 
         Examples
         --------
@@ -265,7 +305,27 @@ class Dendrite:
         """Node positions after ``iterations`` passes of [1, 2, 1] / 4 averaging
         along the branches (about a Gaussian of sigma sqrt(iterations / 2)
         nodes). Roots and tips stay fixed; junctions move with their own branch,
-        so side branches stay attached."""
+        so side branches stay attached.
+
+        Parameters
+        ----------
+        iterations : int
+            Number of averaging passes (>= 0); 0 returns a copy of ``points``.
+
+        Returns
+        -------
+        (M, 2) float64 ndarray
+            Smoothed ``(x, y)`` of every node.
+
+        Examples
+        --------
+        >>> from branchnb.dendrite.lattice import make_lattice
+        >>> from branchnb.dendrite.planner import plan
+        >>> d = build_dendrite(plan(make_lattice(np.zeros((20, 20)), rng=0), (10, 19)), [(2, 2)])
+        >>> p = d.smoothed_points(4)
+        >>> p.shape == d.points.shape, bool((p[0] == d.points[0]).all())
+        (True, True)
+        """
         if iterations < 0:
             raise ValueError(f"iterations must be >= 0, got {iterations}")
         p = self.points.copy()
@@ -280,7 +340,19 @@ class Dendrite:
 
     @checked(smooth=Int(0, 10_000))
     def polylines(self, smooth: int = 0) -> list[np.ndarray]:
-        """One ``(n_b, 2)`` polyline per branch (smoothed with :meth:`smoothed_points`)."""
+        """One ``(n_b, 2)`` polyline per branch (smoothed with :meth:`smoothed_points`).
+
+        Parameters
+        ----------
+        smooth : int
+            Passes of [1, 2, 1] / 4 averaging applied first (0: the raw lattice
+            positions, a staircase of pixel centres).
+
+        Returns
+        -------
+        list of (n_b, 2) float64 ndarray
+            One polyline per branch, in :attr:`branches` order, root side first.
+        """
         p = self.smoothed_points(smooth)
         return [p[b] for b in self.branches]
 
@@ -306,14 +378,54 @@ class Dendrite:
     @checked(color=Colour(), smooth=Int(0, 10_000))
     def render(self, background=None, *, color=(0.0, 0.0, 0.0), smooth: int = 2) -> np.ndarray:
         """Draw the branches with their widths (plain metaphor) on ``background``
-        (white canvas of ``shape`` by default)."""
+        (white canvas of ``shape`` by default).
+
+        Parameters
+        ----------
+        background : (H, W, C) array_like, optional
+            Image to draw on; a white ``shape`` canvas by default (then the
+            dendrite must have a ``shape``).
+        color : RGB triple
+            Stroke colour in [0, 1]; black by default.
+        smooth : int
+            Averaging passes along the branches before drawing (see
+            :meth:`smoothed_points`); 2 softens the lattice staircase.
+
+        Returns
+        -------
+        (H, W, 3) float32 ndarray
+            The drawing, each node drawn with width ``2 * radius``.
+
+        Examples
+        --------
+        >>> from branchnb.dendrite.lattice import make_lattice
+        >>> from branchnb.dendrite.planner import plan
+        >>> d = build_dendrite(plan(make_lattice(np.zeros((20, 20)), rng=0), (10, 19)), [(2, 2)])
+        >>> img = d.render()
+        >>> img.shape, bool(img.min() < 0.5)
+        ((20, 20, 3), True)
+        """
         from .render import render_plain
 
         return render_plain(self, background=background, color=color, smooth=smooth).image
 
     @checked(color=Colour(), smooth=Int(0, 10_000))
     def to_svg(self, *, color=(0.0, 0.0, 0.0), smooth: int = 2) -> str:
-        """SVG document of the plain rendering."""
+        """SVG document of the plain rendering.
+
+        Parameters
+        ----------
+        color : RGB triple
+            Stroke colour in [0, 1]; black by default.
+        smooth : int
+            Averaging passes along the branches before writing (see
+            :meth:`smoothed_points`).
+
+        Returns
+        -------
+        str
+            An SVG document of ``shape`` size, one stroke per segment on white.
+        """
         from .render import render_plain
 
         return render_plain(self, color=color, smooth=smooth).svg
@@ -468,13 +580,24 @@ def build_dendrite(plan_result: PlanResult, endpoints, *, base: Dendrite | None 
 class PathStats:
     """Per-endpoint statistics of the full path from the seed set.
 
-    Attributes
+    Parameters
     ----------
-    length : (E,) path length in pixels.
-    straight : (E,) straight-line distance from the path's seed to the endpoint.
-    tortuosity : (E,) ``length / straight`` (>= 1; 1 for an endpoint on a seed, a path of length 0).
-    max_edge : (E,) largest edge cost on the path (the non-scalar ``M``).
-    total : (E,) cumulative cost of the path.
+    length : (E,) float64 ndarray
+        Path length in pixels, along the dendrite from the root to the tip.
+    straight : (E,) float64 ndarray
+        Straight-line distance (pixels) from the path's seed to the tip.
+    tortuosity : (E,) float64 ndarray
+        ``length / straight`` (>= 1; 1 for a tip on a seed, a path of length 0).
+    max_edge : (E,) float64 ndarray
+        Largest edge cost on the path (the non-scalar ``M``).
+    total : (E,) float64 ndarray
+        Cumulative cost of the path (``S``).
+
+    Examples
+    --------
+    >>> st = PathStats(np.array([12.0]), np.array([10.0]), np.array([1.2]), np.array([0.5]), np.array([6.0]))
+    >>> float(st.tortuosity[0])
+    1.2
     """
 
     length: np.ndarray
@@ -487,6 +610,28 @@ class PathStats:
 @checked()
 def path_statistics(dendrite: Dendrite, plan_result: PlanResult) -> PathStats:
     """Tortuosity and costs of the seed-to-tip path of every tip of ``dendrite``.
+
+    Parameters
+    ----------
+    dendrite : Dendrite
+        A dendrite traced in ``plan_result`` (:func:`build_dendrite`); its
+        roots must be seeds of the plan.
+    plan_result : PlanResult
+        The plan the dendrite was traced in; gives each tip's path costs
+        ``M`` and ``S``.
+
+    Returns
+    -------
+    PathStats
+        One entry per tip of ``dendrite`` (in :attr:`Dendrite.tips` order).
+
+    Raises
+    ------
+    TypeError
+        If the arguments are not a Dendrite and a PlanResult.
+    ValueError
+        If the dendrite was not traced in ``plan_result`` (node indices or
+        roots do not match).
 
     Examples
     --------

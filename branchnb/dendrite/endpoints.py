@@ -47,7 +47,42 @@ def _check_importance(importance) -> np.ndarray:
 def endpoint_density(importance, *, gamma: float = 1.0, floor: float = 0.02,
                      threshold: float = 0.0, mask=None) -> np.ndarray:
     """The stippling density ``importance ** gamma`` (0 below ``threshold``) ``+ floor``,
-    0 outside ``mask``."""
+    0 outside ``mask``.
+
+    Parameters
+    ----------
+    importance : (H, W) array_like
+        Finite, non-negative importance (usually in [0, 1],
+        :func:`~branchnb.dendrite.importance.importance_map`).
+    gamma : float
+        Contrast exponent (> 0): above 1 concentrates endpoints on the most
+        important pixels, below 1 spreads them out. 1 by default.
+    floor : float
+        Density (>= 0) added to every pixel inside ``mask``, including those
+        below ``threshold``; 0.02 by default.
+    threshold : float
+        Importance (>= 0) below which a pixel's ``importance ** gamma`` term
+        is 0; 0 (every pixel counts) by default.
+    mask : (H, W) bool array_like, optional
+        The density is 0 where False; everywhere allowed by default.
+
+    Returns
+    -------
+    (H, W) float64 ndarray
+        The unnormalised density (>= 0).
+
+    Raises
+    ------
+    ValueError
+        If ``importance`` is not a finite non-negative 2-D array, or ``gamma``,
+        ``floor`` or ``threshold`` are out of range.
+
+    Examples
+    --------
+    >>> imp = np.array([[0.0, 0.5], [1.0, 0.1]])
+    >>> endpoint_density(imp, threshold=0.2, floor=0.0).tolist()
+    [[0.0, 0.5], [1.0, 0.0]]
+    """
     imp = _check_importance(importance)
     if not np.isfinite(gamma) or gamma <= 0:
         raise ValueError(f"gamma must be > 0, got {gamma}")
@@ -85,6 +120,8 @@ def place_endpoints(importance, n_endpoints: int, *, gamma: float = 1.0, floor: 
     mask : (H, W) bool array_like, optional
         Endpoints only where True (e.g. reachable, non-wall pixels).
     rng : {numpy.random.Generator, int}, optional
+        Random generator or seed of the initial points; the same seed gives
+        the same endpoints.
 
     Returns
     -------
@@ -130,7 +167,35 @@ def place_endpoints(importance, n_endpoints: int, *, gamma: float = 1.0, floor: 
 
 @checked(n_endpoints=Int(1, MAX_COUNT))
 def random_endpoints(mask, n_endpoints: int, *, rng=None) -> np.ndarray:
-    """``n_endpoints`` uniformly random pixels of ``mask`` as (x, y) points (white noise)."""
+    """``n_endpoints`` uniformly random pixels of ``mask`` as (x, y) points (white noise).
+
+    Parameters
+    ----------
+    mask : (H, W) bool array_like
+        Pixels that may hold an endpoint; must have at least one True pixel.
+    n_endpoints : int
+        Number of endpoints (>= 1). Pixels repeat only when ``mask`` has fewer
+        pixels than that.
+    rng : {numpy.random.Generator, int}, optional
+        Random generator or seed; None draws a fresh seed.
+
+    Returns
+    -------
+    (n_endpoints, 2) float64 ndarray
+        Integer-valued ``(x, y)`` pixel positions.
+
+    Raises
+    ------
+    ValueError
+        If ``mask`` is empty or ``n_endpoints < 1``.
+
+    Examples
+    --------
+    >>> m = np.zeros((10, 10), bool); m[2:4, 5:8] = True
+    >>> pts = random_endpoints(m, 4, rng=0)
+    >>> pts.shape, bool(m[pts[:, 1].astype(int), pts[:, 0].astype(int)].all())
+    ((4, 2), True)
+    """
     m = as_mask(mask)
     if isinstance(n_endpoints, bool) or not isinstance(n_endpoints, (int, np.integer)):
         raise TypeError(f"n_endpoints must be an int, got {n_endpoints!r}")

@@ -113,6 +113,7 @@ def node_weights(cost, *, epsilon: float = 0.01, noise: float = 0.5, rng=None) -
         array for a spatially varying amount (pareidolia trees raise it
         toward one side).
     rng : {numpy.random.Generator, int}, optional
+        Random generator or seed for ``U``; None draws a fresh seed.
 
     Returns
     -------
@@ -144,15 +145,24 @@ def node_weights(cost, *, epsilon: float = 0.01, noise: float = 0.5, rng=None) -
 class Lattice:
     """An 8-connected pixel lattice with node weights.
 
-    Attributes
-    ----------
-    weights : (H, W) float64 ndarray
-        Node weights ``w`` (``+inf`` = wall).
-    factors : (8,) float64 ndarray
-        Per-direction edge length factors ``f_k`` (:func:`direction_factors`).
-
     Node ``i`` is pixel ``(row, col) = divmod(i, W)``, i.e. point
     ``(x, y) = (col, row)``.
+
+    Parameters
+    ----------
+    weights : (H, W) array_like
+        Node weights ``w`` (>= 0, no NaN; ``+inf`` = wall), usually from
+        :func:`node_weights`.
+    factors : (8,) array_like, optional
+        Per-direction edge length factors ``f_k`` (positive, finite) in
+        :data:`OFFSETS` order; Euclidean diagonals
+        (:func:`direction_factors`) by default.
+
+    Raises
+    ------
+    ValueError
+        If ``weights`` is not a non-empty 2-D array of values >= 0 (or
+        +inf), or ``factors`` is not 8 positive finite numbers.
 
     Examples
     --------
@@ -185,6 +195,18 @@ class Lattice:
         """Flat node index of each ``(x, y)`` point (rounded to the nearest pixel).
 
         Raises ValueError if a point lies outside the lattice.
+
+        Parameters
+        ----------
+        points : (N, 2) array_like
+            ``(x, y)`` positions inside the lattice (pixel units).
+        name : str
+            Argument name used in error messages.
+
+        Returns
+        -------
+        (N,) int64 ndarray
+            ``row * W + col`` of the nearest pixel of each point.
         """
         h, w = self.shape
         pts = as_points(points, name=name, min_points=1, image_shape=(h, w))
@@ -194,7 +216,23 @@ class Lattice:
 
     @checked(nodes=Array(ndim=(0, 1), dtype=np.int64, allow_empty=True, min=0))
     def node_points(self, nodes) -> np.ndarray:
-        """``(x, y)`` of flat node indices, as an (N, 2) float array."""
+        """``(x, y)`` of flat node indices, as an (N, 2) float array.
+
+        Parameters
+        ----------
+        nodes : int or (N,) array_like of int
+            Flat node indices in ``[0, n_nodes)``.
+
+        Returns
+        -------
+        (N, 2) float64 ndarray
+            ``(x, y) = (col, row)`` of each node.
+
+        Examples
+        --------
+        >>> Lattice(np.ones((3, 4))).node_points([0, 11]).tolist()
+        [[0.0, 0.0], [3.0, 2.0]]
+        """
         if nodes.size and nodes.max() >= self.n_nodes:
             raise ValueError(f"nodes must be < {self.n_nodes} (the lattice's node count), got {int(nodes.max())}")
         row, col = np.divmod(nodes, self.shape[1])
@@ -233,6 +271,27 @@ def make_lattice(cost, *, epsilon: float = 0.01, noise: float = 0.5, rng=None,
     See :func:`node_weights` for the parameters; ``factors`` are the
     direction factors (:func:`direction_factors`, Euclidean diagonals by
     default).
+
+    Parameters
+    ----------
+    cost : (H, W) array_like
+        Non-negative cost of each pixel (e.g. ``1 - importance``); ``+inf``
+        marks walls.
+    epsilon : float
+        Constant added to every weight so that no edge is free; 0.01 by
+        default.
+    noise : float or (H, W) array_like
+        Amplitude of the uniform random term that makes paths wander; 0.5 by
+        default. An array varies it per pixel.
+    rng : {numpy.random.Generator, int}, optional
+        Random generator or seed for the noise.
+    factors : (8,) array_like, optional
+        Per-direction edge length factors ``f_k``; Euclidean diagonals
+        (:func:`direction_factors`) by default.
+
+    Returns
+    -------
+    Lattice
 
     Examples
     --------

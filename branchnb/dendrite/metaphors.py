@@ -51,7 +51,34 @@ METAPHORS = ("plain", "vines", "lightning")
 
 
 def render(dendrite: Dendrite, metaphor: str = "plain", **options) -> Rendering:
-    """Render ``dendrite`` with a metaphor by name (options go to its function)."""
+    """Render ``dendrite`` with a metaphor by name (options go to its function).
+
+    Parameters
+    ----------
+    dendrite : Dendrite
+        The dendrite to draw, with its widths (``2 * radius``).
+    metaphor : {"plain", "vines", "lightning"}
+        Which rendering: :func:`~branchnb.dendrite.render.render_plain`,
+        :func:`render_vines` or :func:`render_lightning`.
+    **options
+        Keyword arguments of that function (e.g. ``background``, ``smooth``).
+
+    Returns
+    -------
+    Rendering
+        Raster image and SVG of the same strokes.
+
+    Raises
+    ------
+    ValueError
+        If ``metaphor`` is not one of :data:`METAPHORS`.
+
+    Examples
+    --------
+    >>> bolt = lightning((60, 40), LightningParams(n_branches=5), rng=0)
+    >>> render(bolt, "lightning").image.shape
+    (60, 40, 3)
+    """
     if metaphor == "plain":
         return render_plain(dendrite, **options)
     if metaphor == "vines":
@@ -119,6 +146,24 @@ def vine_length(name: str, shape) -> float:
     """The vine length ``name`` (a key of :data:`VINE_LENGTHS`) in pixels for an image of ``shape``:
     its 512 x 512 value scaled to the diagonal, never below :data:`VINE_MIN_PIXELS`.
 
+    Parameters
+    ----------
+    name : str
+        One of ``"curl_length"``, ``"leaf_spacing"``, ``"leaf_length"``,
+        ``"leaf_width"``, ``"max_leaf_radius"``.
+    shape : (int, int, ...)
+        Image shape ``(H, W, ...)``.
+
+    Returns
+    -------
+    float
+        The length in pixels of that image.
+
+    Raises
+    ------
+    ValueError
+        If ``name`` is not a key of :data:`VINE_LENGTHS`.
+
     Examples
     --------
     >>> vine_length("leaf_length", (1024, 1024)), vine_length("leaf_length", (200, 200))
@@ -151,10 +196,49 @@ def vine_curves(dendrite: Dendrite, *, smooth: int | None = None, curls: float =
     image diagonal, never below :data:`VINE_MIN_PIXELS` (:func:`vine_length`);
     ``smooth`` (passes along the branches) scales with the diagonal's square.
 
+    Parameters
+    ----------
+    dendrite : Dendrite
+        The dendrite; its widths become the stem widths.
+    smooth : int, optional
+        Averaging passes along the branches
+        (:meth:`~branchnb.dendrite.dendrite.Dendrite.smoothed_points`); vines
+        want soft curves, so 12 at 512 x 512 by default.
+    curls : float
+        Probability in [0, 1] that a branch (of >= 3 nodes) ends in a tendril
+        curl; 0.6 by default.
+    curl_length : float, optional
+        Mean curl length in pixels (14 px at 512 x 512 by default); each curl
+        is 0.6 to 1.2 times that.
+    leaves : bool
+        Add leaves along the stems.
+    leaf_spacing : float, optional
+        Mean arc-length distance (pixels, > 0) between leaves, alternating
+        sides (14 px at 512 x 512).
+    leaf_length, leaf_width : float, optional
+        Leaf size in pixels (7 and 4 px at 512 x 512), varied by +-25 %.
+    max_leaf_radius : float, optional
+        Leaves grow only where the stem radius is at most this (1.6 px at
+        512 x 512): twigs carry leaves, the trunk does not.
+    rng : {numpy.random.Generator, int}, optional
+        Random generator or seed for curls and leaf placement.
+
     Returns
     -------
     stems : list of (n, 2) arrays, stem_widths : list of (n,) arrays,
     leaves : list of (9, 2) arrays, leaf_widths : list of (9,) arrays
+
+    Raises
+    ------
+    ValueError
+        If ``smooth < 0``, ``curls`` is outside [0, 1] or ``leaf_spacing <= 0``.
+
+    Examples
+    --------
+    >>> bolt = lightning((60, 40), LightningParams(n_branches=5), rng=0)
+    >>> stems, widths, leaves, leaf_widths = vine_curves(bolt, rng=0)
+    >>> len(stems) == bolt.n_branches, all(len(p) == 9 for p in leaves)
+    (True, True)
     """
     shape = dendrite.shape if dendrite.shape is not None else (512, 512)
     smooth = _vine_smooth(smooth, dendrite.shape)
@@ -216,6 +300,45 @@ def render_vines(dendrite: Dendrite, *, background=None, stem_color=(0.22, 0.3, 
     Leaf colours vary slightly around ``leaf_color``; leaves grow only where
     the stem is thin (radius <= 1.6 px at 512 x 512). See :func:`vine_curves`
     for the geometry parameters; None means "scaled to the image diagonal".
+
+    Parameters
+    ----------
+    dendrite : Dendrite
+        The dendrite; its widths become the stem widths.
+    background : (H, W, C) array_like, optional
+        Image to draw on; white by default.
+    stem_color : RGB triple
+        Colour of the stems and curls in [0, 1] (dark green).
+    leaf_color : RGB triple
+        Mean leaf colour in [0, 1]; each leaf's shade is scaled by 0.8-1.2.
+    smooth : int, optional
+        See :func:`vine_curves`.
+    curls : float
+        See :func:`vine_curves`.
+    curl_length : float, optional
+        See :func:`vine_curves`.
+    leaves : bool
+        Draw leaves.
+    leaf_spacing : float, optional
+        See :func:`vine_curves`.
+    leaf_length : float, optional
+        See :func:`vine_curves`.
+    leaf_width : float, optional
+        See :func:`vine_curves`.
+    rng : {numpy.random.Generator, int}, optional
+        Random generator or seed of the geometry and the leaf shades; 0 by
+        default, so the same dendrite always gives the same vines.
+
+    Returns
+    -------
+    Rendering
+
+    Examples
+    --------
+    >>> bolt = lightning((60, 40), LightningParams(n_branches=5), rng=0)
+    >>> r = render_vines(bolt)
+    >>> r.image.shape, bool(r.image[..., 1].min() < 0.9)
+    ((60, 40, 3), True)
     """
     rng = as_rng(rng)  # one stream for the geometry and the leaf shades: rng=s equals default_rng(s)
     canvas = _canvas(dendrite, background)
@@ -248,10 +371,21 @@ def render_lightning(dendrite: Dendrite, *, background=None, sky=(0.02, 0.02, 0.
                      core_scale: float = 0.6, smooth: int = 0) -> Rendering:
     """The lightning metaphor: a blurred glow under a bright core.
 
+    The SVG uses an ``feGaussianBlur`` filter for the glow.
+
     Parameters
     ----------
+    dendrite : Dendrite
+        The bolt (or any dendrite); wider branches glow more and burn whiter.
     background : (H, W, C) array_like, optional
         Image to draw on; a plain ``sky`` colour by default.
+    sky : RGB triple
+        Canvas colour when there is no ``background`` (night blue).
+    core_color : RGB triple
+        Colour of the widest channels' cores; thin branches fade toward
+        ``glow_color``.
+    glow_color : RGB triple
+        Colour of the glow (pale blue).
     glow_sigma : float, optional
         Blur of the glow (pixels); 5 px at 512 x 512 scaled to the image
         diagonal by default.
@@ -262,7 +396,21 @@ def render_lightning(dendrite: Dendrite, *, background=None, sky=(0.02, 0.02, 0.
     smooth : int
         Smoothing passes (0 keeps the jagged lattice look, fitting for lightning).
 
-    The SVG uses an ``feGaussianBlur`` filter for the glow.
+    Returns
+    -------
+    Rendering
+
+    Raises
+    ------
+    ValueError
+        If ``glow_sigma`` or ``core_scale`` is not > 0.
+
+    Examples
+    --------
+    >>> bolt = lightning((60, 40), LightningParams(n_branches=5), rng=0)
+    >>> img = render_lightning(bolt).image
+    >>> bool(img.max() > 0.5), bool(np.median(img) < 0.2)  # a bright bolt on a dark sky
+    (True, True)
     """
     canvas = _canvas(dendrite, background, fill=sky)
     glow_sigma = _len(glow_sigma, canvas.shape[:2], 5.0)
@@ -307,7 +455,42 @@ def render_lightning(dendrite: Dendrite, *, background=None, sky=(0.02, 0.02, 0.
 
 @dataclass
 class LightningParams:
-    """A lightning bolt grown on a direction-weighted lattice."""
+    """A lightning bolt grown on a direction-weighted lattice.
+
+    Parameters
+    ----------
+    noise : float
+        Amplitude of the random node weight (the lattice's ``noise``); 1.
+    epsilon : float
+        Constant node weight ``epsilon``; 0.3.
+    up_cost : float
+        Length factor ``f_k`` of edges stepping up (>= 1); 6, so branches grow
+        downward.
+    side_cost : float
+        Length factor of sideways edges (>= 1); 1.6.
+    metric : {"cumulative", "nonscalar", "blend"}
+        Path metric of the planner; the non-scalar one gives jagged forks.
+    n_branches : int
+        Number of side-branch endpoints (>= 0); 60.
+    spread : float
+        Half-width of the cone the side-branch endpoints are drawn in, at the
+        bottom of the image, as a fraction of W; 0.45.
+    main_weight : float
+        The ground strike counts as this many tips in the pipe model, so the
+        main channel is the thickest; 40.
+    min_width : float
+        Width of the finest branches (pixels at 512 x 512); 0.6.
+    max_width : float
+        Width of the widest channel (pixels at 512 x 512); 5.
+    scale_lengths : bool
+        Scale both widths with the image diagonal (:func:`~branchnb.dendrite.scale.length_scale`);
+        False takes them as pixels.
+
+    Examples
+    --------
+    >>> LightningParams().up_cost > LightningParams().side_cost > 1
+    True
+    """
 
     noise: float = param(1.0, min=0.0, max=5.0, step=0.05, help="random node weight amplitude")
     epsilon: float = param(0.3, min=0.0, max=5.0, step=0.05, help="constant node weight")
@@ -337,17 +520,27 @@ def lightning(shape, params: LightningParams | None = None, *, start=None, strik
     Parameters
     ----------
     shape : (H, W)
+        Image size in pixels (at least 4 x 4); the lattice has one node per pixel.
     params : LightningParams, optional
+        Defaults (``LightningParams()``) if None.
     start : (x, y), optional
         Where the bolt leaves the cloud (top centre by default).
     strike : (x, y), optional
         Where it hits the ground (random near the bottom by default).
     rng : {numpy.random.Generator, int}, optional
+        Random generator or seed of the lattice noise, strike and branch
+        endpoints.
 
     Returns
     -------
     Dendrite
         With the pipe-model thickness; the channel to ``strike`` is thickest.
+
+    Raises
+    ------
+    ValueError
+        If ``shape`` is smaller than 4 x 4 or ``start``/``strike`` lie
+        outside it.
 
     Examples
     --------

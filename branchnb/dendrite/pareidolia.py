@@ -71,7 +71,85 @@ __all__ = ["PareidoliaParams", "PareidoliaTree", "content_crown", "pareidolia_tr
 
 @dataclass
 class PareidoliaParams:
-    """Image-guided tree. Lengths are in lattice pixels (a 512 x 512 image)."""
+    """Image-guided tree. Lengths are in lattice pixels (a 512 x 512 image).
+
+    Parameters
+    ----------
+    side : {"full", "left", "right"}
+        Where the picture shows: the whole crown ("full", default) or one
+        side, the other dissolving into random twigs.
+    crown : {"content", "ellipse"}
+        Crown shape: the picture's content (:func:`content_crown`, default)
+        or a fixed ellipse (:func:`~branchnb.dendrite.trees.crown_mask`).
+    crown_blur : float
+        Gaussian blur (lattice px) smoothing the content crown; 10.
+    n_endpoints : int
+        Stippled endpoints on the picture; 2400. Multiplied by image px per
+        lattice px on images larger than the lattice (at most 20,000).
+    random_ratio : float
+        Uniform random endpoints per stippled one (twigs in the light parts);
+        0.15.
+    noise_image : float
+        Random weight amplitude (the lattice's ``noise``) on the picture side;
+        0.25, low so branches follow the picture.
+    noise_random : float
+        Random weight amplitude on the far side when ``side`` is not
+        ``"full"`` (a linear ramp across the crown); 1.5.
+    cost_weight : float
+        ``c`` in ``w = c (1 - I) + epsilon + noise U``; 2.
+    epsilon : float
+        Constant node weight ``epsilon``; 0.3.
+    intensity_weight : float
+        ``w_I`` of the importance map (:class:`~branchnb.dendrite.importance.ImportanceParams`); 1.
+    gradient_weight : float
+        ``w_G`` of the importance map; 3 (paper: 3 ``w_I``).
+    endpoint_gamma : float
+        Stippling density ``I ** gamma``; 1.
+    iterations : int
+        Growth iterations including the trunk (2-8); 4. Endpoints are added
+        in batches that double from one iteration to the next.
+    trunk_endpoints : int
+        Main limbs grown in iteration 1 toward the upper crown; 9.
+    blend_weight : float
+        ``a`` of the blend metric of the last iteration (paper: 1000).
+    thickness : {"importance", "branch"}
+        "importance" (default): pipe model + importance emphasis, tone-matched
+        inside the crown; "branch": pipe model only.
+    window : int
+        Rolling importance window (nodes) of the emphasis; 15.
+    emphasis : float
+        Width (px) added at full importance; 2.
+    tone : float
+        Inside the crown, 0 keeps the tree widths, 1 makes the ink match the
+        picture's darkness (:func:`~branchnb.dendrite.thickness.tone_thickness`); 0.8.
+    tip_width : float
+        Width (px) of new twigs; 0.5.
+    increment : float
+        Width (px) added to a branch per later iteration (older branches are
+        thicker); 0.2.
+    max_width : float
+        Widest stroke in the crown away from the trunk (px); 5.
+    limb_length : float
+        Path length (px) from the fork over which the cap on the limbs' width
+        falls from the trunk's width to ``max_width``; 100.
+    pipe : float
+        Pipe model gain: width ``= tip_width + pipe * sqrt(tips carried - 1)``; 0.4.
+    taper : float
+        Twigs taper to about a third of their width over this path length (px)
+        at their ends (0: no taper); 6.
+    trunk_height : float
+        Height of the blank strip below the picture for the trunk, as a share
+        of the picture's height; 0.4.
+    lattice_size : int
+        Plan on a lattice with the diagonal of this square (0: the picture's
+        own size); 512. The tree is drawn back at the picture's size.
+
+    Examples
+    --------
+    >>> p = PareidoliaParams(side="left")
+    >>> p.noise_image < p.noise_random
+    True
+    """
 
     side: str = param("full", options=("full", "left", "right"),
                       help="where the image shows: the whole crown or one side")
@@ -127,7 +205,34 @@ class PareidoliaParams:
 class PareidoliaTree:
     """The result: ``dendrite`` (with thickness) on the canvas (image + trunk strip),
     the canvas image, the importance and crown on the planning lattice, and the
-    endpoints used (canvas pixels)."""
+    endpoints used (canvas pixels).
+
+    Parameters
+    ----------
+    image : (H, W, 3) float32 ndarray
+        The canvas: the picture with the blank trunk strip below it, at the
+        picture's own resolution.
+    importance : (h, w) float32 ndarray
+        Importance on the planning lattice (0 in the trunk strip).
+    dendrite : Dendrite
+        The tree with its widths, in canvas pixels.
+    endpoints_image : (E, 2) float64 ndarray
+        Stippled endpoints ``(x, y)`` in canvas pixels.
+    endpoints_random : (R, 2) float64 ndarray
+        Uniform random endpoints in canvas pixels.
+    params : PareidoliaParams
+        A copy of the parameters used.
+    crown : (h, w) bool ndarray, optional
+        The crown mask on the planning lattice (:meth:`crown_on_canvas` for
+        the canvas size).
+
+    Examples
+    --------
+    >>> img = np.ones((64, 64)); img[16:40, 16:40] = 0.0
+    >>> t = pareidolia_tree(img, PareidoliaParams(n_endpoints=40, iterations=2, lattice_size=0), rng=0)
+    >>> t.image.shape[:2] == t.dendrite.shape, t.crown_on_canvas().shape == t.image.shape[:2]
+    (True, True)
+    """
 
     image: np.ndarray
     importance: np.ndarray
@@ -138,7 +243,18 @@ class PareidoliaTree:
     crown: np.ndarray | None = None
 
     def render(self, **options) -> Rendering:
-        """:func:`~branchnb.dendrite.trees.render_tree` of the tree."""
+        """:func:`~branchnb.dendrite.trees.render_tree` of the tree.
+
+        Parameters
+        ----------
+        **options
+            Keyword arguments of :func:`~branchnb.dendrite.trees.render_tree`
+            (``background``, ``color``); ``smooth`` defaults to 3.
+
+        Returns
+        -------
+        Rendering
+        """
         options.setdefault("smooth", 3)
         return render_tree(self.dendrite, **options)
 
@@ -156,7 +272,30 @@ class PareidoliaTree:
 
 
 def side_ramp(shape, side: str = "left") -> np.ndarray:
-    """0 on the image side edge, 1 on the opposite edge, linear in x: an (H, W) array."""
+    """0 on the image side edge, 1 on the opposite edge, linear in x: an (H, W) array.
+
+    Parameters
+    ----------
+    shape : (int, int, ...)
+        ``(H, W)`` of the ramp.
+    side : {"left", "right"}
+        The image side, where the ramp is 0.
+
+    Returns
+    -------
+    (H, W) float64 ndarray
+        Values in [0, 1], constant along y.
+
+    Raises
+    ------
+    ValueError
+        If ``side`` is neither "left" nor "right".
+
+    Examples
+    --------
+    >>> side_ramp((2, 3), "right").tolist()
+    [[1.0, 0.5, 0.0], [1.0, 0.5, 0.0]]
+    """
     h, w = int(shape[0]), int(shape[1])
     t = np.linspace(0.0, 1.0, w)
     if side == "right":
@@ -174,6 +313,27 @@ def tree_crown(shape, *, lobes: int = 9, roughness: float = 0.1, rng=None) -> np
     roughness + roughness * |sin(lobes theta / 2 + phi)|`` plus a slow random
     wobble, and the crown is a little wider above its centre than below, as a
     broadleaf crown is.
+
+    Parameters
+    ----------
+    shape : (int, int)
+        ``(H, W)`` of the frame (at least 2 x 2); the crown touches its sides.
+    lobes : int
+        Number of scallops around the outline; 9.
+    roughness : float
+        Depth of the scallops as a share of the radius, in [0, 0.5); 0.1.
+    rng : {numpy.random.Generator, int}, optional
+        Random generator or seed of the lobes' phase and the wobble.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        True inside the crown.
+
+    Raises
+    ------
+    ValueError
+        If ``shape`` is smaller than 2 x 2 or ``roughness`` out of range.
 
     Examples
     --------
@@ -210,6 +370,28 @@ def content_crown(importance, *, blur: float = 10.0, threshold: float = 0.05,
     tree-crown silhouette of the frame, :func:`tree_crown`, by default) so the
     picture reads as a tree's crown, not as the image's rectangle; an object on
     a blank ground keeps its own outline.
+
+    Parameters
+    ----------
+    importance : (H, W) array_like
+        Importance map of the picture (at least 2 x 2).
+    blur : float
+        Gaussian sigma (px) smoothing the content; 10.
+    threshold : float
+        Importance from which a pixel counts as content; 0.05.
+    outline : (H, W) bool array_like, optional
+        Silhouette that frame-filling content is clipped to; :func:`tree_crown`
+        of the frame (``rng=0``) by default.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        The crown; ``outline`` itself when the picture has no content.
+
+    Raises
+    ------
+    ValueError
+        If ``importance`` is not 2-D or ``outline`` has another shape.
 
     Examples
     --------
@@ -265,11 +447,21 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
     image : array_like
         The picture to hide (grey or colour); the canvas has its width.
     params : PareidoliaParams, optional
+        Defaults (``PareidoliaParams()``) if None.
     rng : {numpy.random.Generator, int}, optional
+        Random generator or seed of every random step (lattice noise,
+        crown outline, limb and twig endpoints); the same seed gives the
+        same tree.
 
     Returns
     -------
     PareidoliaTree
+
+    Raises
+    ------
+    ValueError
+        If ``image`` is smaller than 16 x 16 pixels or a parameter is out of
+        its range.
 
     Examples
     --------

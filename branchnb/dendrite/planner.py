@@ -61,7 +61,28 @@ _DCOL = np.ascontiguousarray(OFFSETS[:, 1])
 
 
 def metric_code(metric: str) -> int:
-    """Validate a metric name; return its integer code."""
+    """Validate a metric name; return its integer code.
+
+    Parameters
+    ----------
+    metric : str
+        One of :data:`METRICS`: ``"cumulative"``, ``"nonscalar"``, ``"blend"``.
+
+    Returns
+    -------
+    int
+        0, 1 or 2 (the index in :data:`METRICS`).
+
+    Raises
+    ------
+    ValueError
+        If ``metric`` is not a known name.
+
+    Examples
+    --------
+    >>> metric_code("nonscalar")
+    1
+    """
     if metric not in METRICS:
         raise ValueError(f"metric must be one of {list(METRICS)}, got {metric!r}")
     return METRICS.index(metric)
@@ -555,7 +576,7 @@ def _csr_pair(indptr, indices, data, seeds, mmax, total, parent, order, stop_at)
 class PlanResult:
     """What the planner returns; every array has one entry per graph node.
 
-    Attributes
+    Parameters
     ----------
     metric : str
         ``"cumulative"``, ``"nonscalar"`` or ``"blend"``.
@@ -573,6 +594,13 @@ class PlanResult:
         The seed nodes.
     shape : (H, W) or None
         The lattice shape (None for a general graph).
+
+    Examples
+    --------
+    >>> from branchnb.dendrite.lattice import make_lattice
+    >>> res = plan(make_lattice(np.zeros((5, 5)), rng=0), (0, 0))
+    >>> res.metric, len(res.order), int(res.parent[0])
+    ('nonscalar', 25, -1)
     """
 
     metric: str
@@ -613,7 +641,23 @@ class PlanResult:
 
     @checked(node=Int(0))
     def path(self, node: int) -> np.ndarray:
-        """Nodes from the seed set to ``node`` (inclusive), following ``parent``."""
+        """Nodes from the seed set to ``node`` (inclusive), following ``parent``.
+
+        Parameters
+        ----------
+        node : int
+            A reached node index in ``[0, n_nodes)``.
+
+        Returns
+        -------
+        (L,) int64 ndarray
+            Node indices, a seed first and ``node`` last.
+
+        Raises
+        ------
+        ValueError
+            If ``node`` is outside the graph or was not reached.
+        """
         node = int(node)
         if not 0 <= node < self.n_nodes:
             raise ValueError(f"node {node} is outside the graph of {self.n_nodes} nodes")
@@ -626,7 +670,22 @@ class PlanResult:
 
     @checked(values=Array(ndim=(1, 2), allow_inf=True))
     def as_image(self, values) -> np.ndarray:
-        """Reshape a per-node array to the lattice ``(H, W)``."""
+        """Reshape a per-node array to the lattice ``(H, W)``.
+
+        Parameters
+        ----------
+        values : (N,) or (H, W) array_like
+            One value per node (e.g. :attr:`total_cost`).
+
+        Returns
+        -------
+        (H, W) ndarray
+
+        Raises
+        ------
+        ValueError
+            If the plan is on a general graph or ``values`` has the wrong size.
+        """
         if self.shape is None:
             raise ValueError("this plan is on a general graph, not a lattice")
         if values.size != self.n_nodes:

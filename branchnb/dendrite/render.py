@@ -36,6 +36,27 @@ class Rendering:
     The SVG may be given as a string or as a function returning it; it is
     then built on first access (writing one element per stroke segment is
     slower than rasterising, and interactive use rarely needs it).
+
+    Parameters
+    ----------
+    image : (H, W) or (H, W, C) array_like
+        The raster rendering, float in [0, 1] (stored as float32).
+    svg : str or callable
+        The SVG document, or a function of no arguments returning it (built
+        and cached on first access of :attr:`svg`).
+
+    Raises
+    ------
+    TypeError
+        If ``svg`` is neither a string nor callable.
+
+    Examples
+    --------
+    >>> r = Rendering(np.ones((4, 6, 3)), lambda: "<svg/>")
+    >>> r
+    Rendering(image 6 x 4, svg lazy)
+    >>> r.svg
+    '<svg/>'
     """
 
     def __init__(self, image: np.ndarray, svg):
@@ -52,7 +73,18 @@ class Rendering:
         return self._svg
 
     def save_svg(self, path) -> Path:
-        """Write the SVG document to ``path``."""
+        """Write the SVG document to ``path``.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            Output file (UTF-8 text); its folder must exist.
+
+        Returns
+        -------
+        pathlib.Path
+            The path written.
+        """
         path = check_output_path(path)
         path.write_text(self.svg, encoding="utf-8")
         return path
@@ -83,6 +115,7 @@ def svg_document(size, layers, *, background=None, defs: str = "") -> str:
     Parameters
     ----------
     size : (width, height)
+        Document size in pixels (also the ``viewBox``).
     layers : sequence of (svg_text, attributes)
         Each ``svg_text`` is a document from :func:`branchnb.core.svg.polylines_to_svg`
         whose content is wrapped in ``<g attributes>``.
@@ -90,6 +123,18 @@ def svg_document(size, layers, *, background=None, defs: str = "") -> str:
         Fill colour of a background rectangle.
     defs : str
         Extra ``<defs>`` content (e.g. a blur filter).
+
+    Returns
+    -------
+    str
+        The SVG document.
+
+    Examples
+    --------
+    >>> doc = svg_document((4, 3), [('<svg><line x1="0" y1="0" x2="4" y2="3"/></svg>', 'opacity="0.5"')],
+    ...                    background=(1, 1, 1))
+    >>> doc.splitlines()[1:3]
+    ['<rect width="4" height="3" fill="#ffffff"/>', '<g opacity="0.5"><line x1="0" y1="0" x2="4" y2="3"/></g>']
     """
     w, h = size
     out = [(f'<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" '
@@ -117,10 +162,12 @@ def render_plain(dendrite, *, background=None, color=(0.0, 0.0, 0.0), smooth: in
     Parameters
     ----------
     dendrite : Dendrite
+        The dendrite; each node is drawn with width ``2 * radius``.
     background : (H, W, C) array_like, optional
         Image to draw on (white by default). The SVG always has a white
         background and only the strokes.
     color : RGB triple
+        Stroke colour in [0, 1]; black by default.
     smooth : int
         Passes of [1, 2, 1] / 4 averaging along the branches
         (:meth:`Dendrite.smoothed_points`) to soften the lattice staircase.
@@ -158,9 +205,32 @@ def visiting_order_image(plan_result: PlanResult, *, bands: int = 16, cmap: str 
     floods cheap regions first and gives ragged, fractal fronts.
     Unreached nodes are grey.
 
+    Parameters
+    ----------
+    plan_result : PlanResult
+        A lattice plan (``shape`` set).
+    bands : int
+        Number of equal-count contour bands (>= 1); 16 by default.
+    cmap : str
+        Matplotlib colormap name the visiting rank is coloured with.
+    seeds : bool
+        Mark the seeds with green dots (when there are at most 64 of them).
+
     Returns
     -------
     (H, W, 3) float32
+
+    Raises
+    ------
+    ValueError
+        If the plan is on a general graph or ``bands < 1``.
+
+    Examples
+    --------
+    >>> from branchnb.dendrite.lattice import make_lattice
+    >>> from branchnb.dendrite.planner import plan
+    >>> visiting_order_image(plan(make_lattice(np.zeros((12, 12)), rng=0), (6, 6))).shape
+    (12, 12, 3)
     """
     if plan_result.shape is None:
         raise ValueError("visiting_order_image needs a lattice plan")
@@ -187,7 +257,34 @@ def visiting_order_image(plan_result: PlanResult, *, bands: int = 16, cmap: str 
 @checked(which=Choice("total", "max"))
 def cost_image(plan_result: PlanResult, which: str = "total") -> np.ndarray:
     """The planner's ``total`` (S) or ``max`` (M) cost as an (H, W) array scaled to [0, 1]
-    (unreached nodes are 1)."""
+    (unreached nodes are 1).
+
+    Parameters
+    ----------
+    plan_result : PlanResult
+        A lattice plan (``shape`` set).
+    which : {"total", "max"}
+        ``"total"`` for the cumulative cost ``S``, ``"max"`` for the largest
+        edge ``M``.
+
+    Returns
+    -------
+    (H, W) float32 ndarray
+        Min-max scaled to [0, 1] over the reached nodes (0 where constant).
+
+    Raises
+    ------
+    ValueError
+        If the plan is on a general graph or ``which`` is unknown.
+
+    Examples
+    --------
+    >>> from branchnb.dendrite.lattice import make_lattice
+    >>> from branchnb.dendrite.planner import plan
+    >>> c = cost_image(plan(make_lattice(np.zeros((9, 9)), noise=0.0), (0, 0)))
+    >>> float(c[0, 0]), float(c[8, 8])
+    (0.0, 1.0)
+    """
     if plan_result.shape is None:
         raise ValueError("cost_image needs a lattice plan")
     if which not in ("total", "max"):
@@ -203,7 +300,30 @@ def cost_image(plan_result: PlanResult, which: str = "total") -> np.ndarray:
 
 @checked(color=Colour(), radius=Real(0, 1e4))
 def draw_points(image, points, *, color=(0.85, 0.1, 0.1), radius: float = 1.5) -> np.ndarray:
-    """Dots of the given radius at ``(x, y)`` points (e.g. endpoints) on a copy of ``image``."""
+    """Dots of the given radius at ``(x, y)`` points (e.g. endpoints) on a copy of ``image``.
+
+    Parameters
+    ----------
+    image : array_like
+        Grey or colour image in [0, 1]; not modified.
+    points : (N, 2) array_like
+        ``(x, y)`` dot centres in pixels; may be empty.
+    color : RGB triple
+        Dot colour in [0, 1]; red by default.
+    radius : float
+        Dot radius in pixels (>= 0).
+
+    Returns
+    -------
+    ndarray
+        A float32 copy of ``image`` with the dots.
+
+    Examples
+    --------
+    >>> img = draw_points(np.ones((9, 9, 3)), [(4, 4)], color=(0, 0, 0), radius=2)
+    >>> float(img[4, 4, 0]), float(img[0, 0, 0])
+    (0.0, 1.0)
+    """
     img = as_float_image(image)
     pts = as_points(points, name="points", min_points=0)
     if not len(pts):

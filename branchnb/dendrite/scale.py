@@ -23,6 +23,16 @@ REFERENCE_DIAGONAL = math.hypot(512.0, 512.0)
 def length_scale(shape) -> float:
     """``diagonal(shape) / diagonal(512 x 512)``.
 
+    Parameters
+    ----------
+    shape : (int, int, ...)
+        Image shape; only ``(H, W)`` is used.
+
+    Returns
+    -------
+    float
+        Factor to multiply a length given for 512 x 512 pixels by.
+
     Examples
     --------
     >>> length_scale((512, 512)), length_scale((1024, 1024))
@@ -33,7 +43,27 @@ def length_scale(shape) -> float:
 
 
 def scaled(value, shape, default: float) -> float:
-    """``value`` if given (pixels), else ``default`` (pixels at 512 x 512) scaled to ``shape``."""
+    """``value`` if given (pixels), else ``default`` (pixels at 512 x 512) scaled to ``shape``.
+
+    Parameters
+    ----------
+    value : float or None
+        A length the user gave in pixels of the actual image; used as is.
+    shape : (int, int, ...)
+        Image shape ``(H, W, ...)`` the default is scaled to.
+    default : float
+        The length in pixels at 512 x 512, used when ``value`` is None.
+
+    Returns
+    -------
+    float
+        The length in pixels.
+
+    Examples
+    --------
+    >>> scaled(None, (1024, 1024), 3.0), scaled(5, (1024, 1024), 3.0)
+    (6.0, 5.0)
+    """
     if value is not None:
         return float(value)
     return float(default) * length_scale(shape)
@@ -41,6 +71,19 @@ def scaled(value, shape, default: float) -> float:
 
 def lattice_shape(shape, lattice_size: int) -> tuple[int, int]:
     """``shape`` resized so its diagonal is that of a ``lattice_size`` square (0: as is).
+
+    Parameters
+    ----------
+    shape : (int, int, ...)
+        Image shape; only ``(H, W)`` is used.
+    lattice_size : int
+        Side (px) of the square whose diagonal the result gets; 0 keeps
+        ``shape``. The aspect ratio is kept and each side is at least 2.
+
+    Returns
+    -------
+    (int, int)
+        ``(H', W')`` of the lattice.
 
     Examples
     --------
@@ -56,7 +99,25 @@ def lattice_shape(shape, lattice_size: int) -> tuple[int, int]:
 
 def resample_to_lattice(image: np.ndarray, lattice_size: int) -> np.ndarray:
     """An (H, W, C) image resampled to :func:`lattice_shape` (bilinear, anti-aliased
-    when shrinking)."""
+    when shrinking).
+
+    Parameters
+    ----------
+    image : (H, W, C) ndarray
+        Float image.
+    lattice_size : int
+        See :func:`lattice_shape`; 0 returns ``image`` itself.
+
+    Returns
+    -------
+    (H', W', C) float32 ndarray
+        ``image`` unchanged (same object) when the shape already fits.
+
+    Examples
+    --------
+    >>> resample_to_lattice(np.zeros((64, 64, 3), np.float32), 32).shape
+    (32, 32, 3)
+    """
     shape = lattice_shape(image.shape[:2], lattice_size)
     if shape == tuple(image.shape[:2]):
         return image

@@ -88,6 +88,76 @@ class StylizeParams:
     carries the same ink. The vine and
     lightning metaphors choose their own endpoint counts
     (:func:`metaphor_params`).
+
+    Parameters
+    ----------
+    intensity_weight : float
+        ``w_I``, weight of darkness in the importance map; 1.
+    gradient_weight : float
+        ``w_G``, weight of the gradient; 3 (paper: 3 ``w_I``).
+    sigma : float
+        Gaussian smoothing before the gradient (lattice px); 1.5.
+    cost_weight : float
+        ``c`` in the node weight ``w = c (1 - I) + epsilon + noise U``; 1.
+    epsilon : float
+        Constant ``epsilon`` added to every node weight; 0.5.
+    noise : float
+        Amplitude of the uniform random node weight ``U``; 1.
+    metric : {"cumulative", "nonscalar", "blend"}
+        Path metric of the planner; the paper's non-scalar one by default.
+    blend_weight : float
+        ``a`` in ``a M + S`` (``metric="blend"`` only); 1000.
+    break_ties : bool
+        Re-plan the large ties of the non-scalar metric
+        (:func:`~branchnb.dendrite.ties.refine_ties`; beyond the paper), else
+        they fill with smooth radial paths. True.
+    n_endpoints : int
+        Stippled endpoints (paper: 2,000 - 3,800); 3000. Fewer on images
+        smaller than the lattice (:func:`effective_params`).
+    endpoint_gamma : float
+        Endpoint density ``I ** gamma``; 1.
+    endpoint_threshold : float
+        Importance below which a pixel is empty paper with no endpoints; 0.05.
+    endpoint_floor : float
+        Density added everywhere (endpoints in empty regions too); 0.
+    stipple_iterations : int
+        Lloyd iterations of the weighted Voronoi stippling; 10.
+    thickness : {"importance", "subtree", "distance"}
+        "importance" (default): rolling importance, hierarchy, tone and edges;
+        otherwise :func:`~branchnb.dendrite.thickness.branch_thickness` with
+        that mode.
+    window : int
+        Rolling-average window along the branches (nodes); 15.
+    contrast : float
+        Exponent on the normalised rolling importance; 1.5.
+    tone : float
+        0 = importance emphasis only, 1 = ink matches the image's darkness
+        (:func:`~branchnb.dendrite.thickness.tone_thickness`); 0.5.
+    tone_sigma : float
+        Scale (lattice px) over which ink is matched to darkness; 8.
+    hierarchy : float
+        Widths times ``(tips carried) ** hierarchy``: trunks thicker than
+        twigs; 0.25.
+    edges : float
+        Extra width on the image's edges after the tone match (outlines,
+        veins): ``r (1 + edges G**2)``; 1.
+    min_width : float
+        Narrowest stroke (lattice px); 0.2, raised on small images.
+    max_width : float
+        Widest stroke (lattice px); 4.
+    lattice_size : int
+        Plan on a lattice with the diagonal of this square; 512 (0: the
+        image's own pixels).
+    output_width : float
+        Narrowest stroke at the image's own size (px; lattice px on images
+        larger than the lattice); 1. Smaller images also get fewer endpoints;
+        0 turns the adaptation off.
+
+    Examples
+    --------
+    >>> p = StylizeParams(metric="cumulative")
+    >>> p.n_endpoints, p.gradient_weight / p.intensity_weight
+    (3000, 3.0)
     """
 
     # importance (section 4)
@@ -184,6 +254,20 @@ def effective_params(p: StylizeParams, scale: float) -> StylizeParams:
     within 19 %. This goes beyond the paper, whose examples are all drawn at
     about the lattice's size.
 
+    Parameters
+    ----------
+    p : StylizeParams
+        The parameters as given (not modified).
+    scale : float
+        Image pixels per lattice pixel (geometric mean of x and y); a
+        non-positive or non-finite value returns ``p``.
+
+    Returns
+    -------
+    StylizeParams
+        ``p`` itself when ``p.output_width`` is 0, else an adapted copy whose
+        values stay within each field's range.
+
     Examples
     --------
     >>> q = effective_params(StylizeParams(), 0.5)
@@ -243,6 +327,25 @@ def metaphor_params(p: StylizeParams, metaphor: str, shape, object_share: float,
     ``scale`` is image pixels per lattice pixel; the widths are returned in
     lattice pixels like every length of :class:`StylizeParams`.
 
+    Parameters
+    ----------
+    p : StylizeParams
+        The parameters as given (after :func:`effective_params`, or not).
+    metaphor : str
+        "vines" or "lightning"; any other name returns ``p``.
+    shape : (int, int)
+        ``(H, W)`` of the image (pixels).
+    object_share : float
+        Share of the image with something to draw (importance at or above the
+        threshold), in [0, 1].
+    scale : float
+        Image pixels per lattice pixel.
+
+    Returns
+    -------
+    StylizeParams
+        A copy with the metaphor's endpoint count, widths and thickness mode.
+
     Examples
     --------
     >>> q = metaphor_params(StylizeParams(), "vines", (1000, 1000), 0.5, 1000 / 512)
@@ -281,21 +384,36 @@ class Stylization:
     ``endpoints``, ``seed``, ``dendrite`` and ``rendering`` are in image
     pixels (``dendrite.nodes`` still index the lattice).
 
-    Attributes
+    Parameters
     ----------
-    image : (H, W, 3) float32 input (RGB)
-    importance : (h, w) float32, on the lattice
+    image : (H, W, 3) float32 ndarray
+        The input image (RGB, at its own size).
+    importance : (h, w) float32 ndarray
+        Importance ``I`` on the planning lattice.
     lattice : Lattice
+        The weighted lattice ``w = c (1 - I) + epsilon + noise U``.
     plan : PlanResult
-    endpoints : (E, 2) float64, image (x, y)
-    dendrite : Dendrite (with thickness), image coordinates
+        The planner's result from the seed.
+    endpoints : (E, 2) float64 ndarray
+        Stippled endpoints ``(x, y)`` in image pixels.
+    dendrite : Dendrite
+        The traced dendrite with its widths, in image coordinates.
     rendering : Rendering or None
+        The metaphor's drawing (None when ``metaphor=None``).
     params : StylizeParams
         The parameters used: the ones given, adapted to the image's size by
         :func:`effective_params`.
-    seed : (2,) float64 (x, y), image
+    seed : (2,) float64 ndarray
+        Start ``(x, y)`` of the dendrite in image pixels.
     scale : (2,) float64
         Image pixels per lattice pixel in x and y.
+
+    Examples
+    --------
+    >>> img = np.ones((40, 40)); img[10:30, 10:30] = 0.0
+    >>> out = stylize(img, StylizeParams(n_endpoints=30, lattice_size=20), rng=0)
+    >>> out.importance.shape, out.dendrite.shape, out.scale.tolist()
+    ((20, 20), (40, 40), [2.0, 2.0])
     """
 
     image: np.ndarray
@@ -332,7 +450,8 @@ class Stylizer:
     Parameters
     ----------
     image : array_like
-        Grey or colour image.
+        Grey or colour image in [0, 1] (alpha ignored); stored as RGB
+        float32.
 
     Examples
     --------
@@ -368,26 +487,80 @@ class Stylizer:
 
     @checked()
     def working_image(self, p: StylizeParams) -> np.ndarray:
-        """The image resampled to the planning lattice (``p.lattice_size``)."""
+        """The image resampled to the planning lattice (``p.lattice_size``).
+
+        Parameters
+        ----------
+        p : StylizeParams
+            Only ``lattice_size`` is used.
+
+        Returns
+        -------
+        (h, w, 3) float32 ndarray
+            Cached; the input itself when the sizes agree.
+        """
         return self._get(("work", p.lattice_size), lambda: resample_to_lattice(self.image, p.lattice_size))
 
     @checked()
     def scale(self, p: StylizeParams) -> np.ndarray:
-        """Image pixels per lattice pixel, ``(sx, sy)``."""
+        """Image pixels per lattice pixel, ``(sx, sy)``.
+
+        Parameters
+        ----------
+        p : StylizeParams
+            Only ``lattice_size`` is used.
+
+        Returns
+        -------
+        (2,) float64 ndarray
+            1 on a lattice of the image's own size, 2 for a 1024-px image on the
+            512 lattice.
+
+        Examples
+        --------
+        >>> Stylizer(np.ones((64, 64))).scale(StylizeParams(lattice_size=32)).tolist()
+        [2.0, 2.0]
+        """
         h, w = self.shape
         hw, ww = self.working_image(p).shape[:2]
         return np.array([w / ww, h / hw])
 
     @checked(points=Points())
     def to_lattice(self, p: StylizeParams, points) -> np.ndarray:
-        """Image ``(x, y)`` points in lattice coordinates (pixel centres map to centres)."""
+        """Image ``(x, y)`` points in lattice coordinates (pixel centres map to centres).
+
+        Parameters
+        ----------
+        p : StylizeParams
+            Only ``lattice_size`` is used.
+        points : (N, 2) array_like
+            ``(x, y)`` in image pixels.
+
+        Returns
+        -------
+        (N, 2) float64 ndarray
+            Lattice ``(x, y)``, clipped to the lattice.
+        """
         hw, ww = self.working_image(p).shape[:2]
         q = (np.asarray(points, float) + 0.5) / self.scale(p) - 0.5
         return np.clip(q, 0, [ww - 1, hw - 1])
 
     @checked(points=Points())
     def to_image(self, p: StylizeParams, points) -> np.ndarray:
-        """Lattice ``(x, y)`` points in image coordinates."""
+        """Lattice ``(x, y)`` points in image coordinates.
+
+        Parameters
+        ----------
+        p : StylizeParams
+            Only ``lattice_size`` is used.
+        points : (N, 2) array_like
+            ``(x, y)`` in lattice pixels.
+
+        Returns
+        -------
+        (N, 2) float64 ndarray
+            Image ``(x, y)`` (not clipped).
+        """
         return (np.asarray(points, float) + 0.5) * self.scale(p) - 0.5
 
     @checked()
@@ -402,6 +575,24 @@ class Stylizer:
         nearly straight cumulative paths, a radial burst; starting in the
         darkest, most detailed region keeps the branches wandering where the
         ink is.
+
+        Parameters
+        ----------
+        params : StylizeParams, optional
+            Parameters of the importance map and the endpoint threshold; None
+            gives the image centre.
+
+        Returns
+        -------
+        (2,) float64 ndarray
+            ``(x, y)`` in image pixels.
+
+        Examples
+        --------
+        >>> img = np.ones((40, 60)); img[5:15, 40:55] = 0.0
+        >>> st = Stylizer(img)
+        >>> st.default_seed().tolist(), bool(st.default_seed(StylizeParams(lattice_size=0))[0] > 30)
+        ([29.5, 19.5], True)
         """
         h, w = self.shape
         if params is None:
@@ -421,24 +612,69 @@ class Stylizer:
 
     @checked()
     def importance(self, p: StylizeParams) -> np.ndarray:
-        """Importance map on the lattice."""
+        """Importance map on the lattice.
+
+        Parameters
+        ----------
+        p : StylizeParams
+            Uses ``lattice_size``, ``intensity_weight``, ``gradient_weight`` and
+            ``sigma``.
+
+        Returns
+        -------
+        (h, w) float32 ndarray
+            ``I`` in [0, 1] (:func:`~branchnb.dendrite.importance.importance_map`), cached.
+        """
         return self._get(("importance", _subset(p, _IMPORTANCE)), lambda: importance_map(
             self.working_image(p), ImportanceParams(p.intensity_weight, p.gradient_weight,
                                                     p.sigma)))
 
     @checked()
     def edge_map(self, p: StylizeParams) -> np.ndarray:
-        """The gradient strength ``G`` in [0, 1] on the lattice (the edge part of the importance)."""
+        """The gradient strength ``G`` in [0, 1] on the lattice (the edge part of the importance).
+
+        Parameters
+        ----------
+        p : StylizeParams
+            Uses ``lattice_size`` and ``sigma``.
+
+        Returns
+        -------
+        (h, w) float32 ndarray
+        """
         return self._get(("edges", p.lattice_size, p.sigma), lambda: gradient_strength(
             self.working_image(p), sigma=p.sigma))
 
     @checked()
     def darkness(self, p: StylizeParams) -> np.ndarray:
-        """The tone target ``1 - luminance`` on the lattice."""
+        """The tone target ``1 - luminance`` on the lattice.
+
+        Parameters
+        ----------
+        p : StylizeParams
+            Uses ``lattice_size``.
+
+        Returns
+        -------
+        (h, w) float32 ndarray
+        """
         return self._get(("darkness", p.lattice_size), lambda: darkness(self.working_image(p)))
 
     @checked(rng_seed=Int(0))
     def lattice(self, p: StylizeParams, rng_seed: int) -> Lattice:
+        """The weighted lattice ``w = c (1 - I) + epsilon + noise U`` (cached).
+
+        Parameters
+        ----------
+        p : StylizeParams
+            Uses the importance fields, ``cost_weight``, ``epsilon`` and ``noise``.
+        rng_seed : int
+            Seed (>= 0) of the noise ``U``.
+
+        Returns
+        -------
+        Lattice
+        """
         def make():
             imp = self.importance(p)
             w = node_weights(p.cost_weight * (1.0 - imp.astype(np.float64)),
@@ -448,6 +684,22 @@ class Stylizer:
 
     @checked(seed=Point(), rng_seed=Int(0))
     def plan(self, p: StylizeParams, seed, rng_seed: int) -> PlanResult:
+        """Dijkstra from ``seed`` on :meth:`lattice` with ``p.metric`` (cached).
+
+        Parameters
+        ----------
+        p : StylizeParams
+            Uses the lattice fields, ``metric``, ``blend_weight`` and
+            ``break_ties`` (large non-scalar ties re-planned).
+        seed : (x, y)
+            Start point in *lattice* pixels (:meth:`to_lattice`).
+        rng_seed : int
+            Seed (>= 0) of the lattice noise.
+
+        Returns
+        -------
+        PlanResult
+        """
         seed = tuple(np.round(np.asarray(seed, float), 3))
         return self._get(
             ("plan", _subset(p, _IMPORTANCE + _LATTICE + _PLAN), seed, rng_seed),
@@ -462,6 +714,24 @@ class Stylizer:
 
     @checked(rng_seed=Int(0))
     def endpoints(self, p: StylizeParams, rng_seed: int) -> np.ndarray:
+        """Endpoints stippled on the importance (cached).
+
+        A blank image (nothing at or above the threshold) gets evenly spread
+        endpoints instead.
+
+        Parameters
+        ----------
+        p : StylizeParams
+            Uses the importance fields, ``n_endpoints``, ``endpoint_gamma``,
+            ``endpoint_threshold``, ``endpoint_floor`` and ``stipple_iterations``.
+        rng_seed : int
+            Seed (>= 0); the stippling uses ``rng_seed + 1``.
+
+        Returns
+        -------
+        (n_endpoints, 2) float64 ndarray
+            ``(x, y)`` in lattice pixels.
+        """
         def make():
             imp = self.importance(p)
             floor, threshold = p.endpoint_floor, p.endpoint_threshold
@@ -474,6 +744,22 @@ class Stylizer:
 
     @checked(seed=Point(), rng_seed=Int(0))
     def dendrite(self, p: StylizeParams, seed, rng_seed: int) -> Dendrite:
+        """The endpoints traced back into one dendrite, before thickness (cached).
+
+        Parameters
+        ----------
+        p : StylizeParams
+            Parameters of every stage up to the endpoints.
+        seed : (x, y)
+            Start point in lattice pixels.
+        rng_seed : int
+            Seed (>= 0) of the lattice noise and the stippling.
+
+        Returns
+        -------
+        Dendrite
+            On the lattice, every radius 1.
+        """
         seed_key = tuple(np.round(np.asarray(seed, float), 3))
         key = ("dendrite", _subset(p, _IMPORTANCE + _LATTICE + _PLAN + _ENDPOINTS),
                seed_key, rng_seed)
@@ -488,8 +774,12 @@ class Stylizer:
         Parameters
         ----------
         params : StylizeParams, optional
+            Paper defaults if None. They are adapted to the image's size
+            (:func:`effective_params`) and, for vines and lightning, to the
+            metaphor (:func:`metaphor_params`).
         seed : (x, y), optional
-            Where the dendrite starts (image centre by default).
+            Where the dendrite starts, in image pixels; the centre of the
+            most important region by default (:meth:`default_seed`).
         rng : int
             Seed of the lattice noise and the stippling (an int, so stages
             can be cached).
@@ -497,6 +787,17 @@ class Stylizer:
             Rendering; None skips it.
         **render_options
             Passed to the metaphor's render function.
+
+        Returns
+        -------
+        Stylization
+            Every stage's result; ``params`` holds the parameters really used.
+
+        Raises
+        ------
+        ValueError
+            If ``params.max_width < params.min_width`` or ``seed`` lies outside
+            the image.
         """
         p = check_params(params if params is not None else StylizeParams())
         rng = as_seed(rng)  # stages are cached by an int seed; a Generator gives one
@@ -554,6 +855,28 @@ def stylize(image, params: StylizeParams | None = None, *, seed=None, rng: int |
             metaphor: str | None = "plain", **render_options) -> Stylization:
     """Dendritic stylization of ``image`` (one-shot :class:`Stylizer`).
 
+    Parameters
+    ----------
+    image : array_like
+        Grey or colour image in [0, 1] (alpha ignored).
+    params : StylizeParams, optional
+        Paper defaults (``StylizeParams()``) if None; adapted to the image's
+        size and the metaphor, see :meth:`Stylizer.run`.
+    seed : (x, y), optional
+        Where the dendrite starts, in image pixels; the centre of the most
+        important region by default (:meth:`Stylizer.default_seed`).
+    rng : int or numpy.random.Generator
+        Seed of the lattice noise and the stippling; 0 by default, so a call
+        is reproducible.
+    metaphor : {"plain", "vines", "lightning", None}
+        Rendering metaphor; None skips rendering.
+    **render_options
+        Passed to the metaphor's render function (e.g. ``background``).
+
+    Returns
+    -------
+    Stylization
+
     Examples
     --------
     >>> img = np.ones((40, 40)); img[10:30, 10:30] = 0.0
@@ -568,12 +891,13 @@ def stylize(image, params: StylizeParams | None = None, *, seed=None, rng: int |
 class MetricComparison:
     """The same image, seed, lattice and endpoints planned with two metrics.
 
-    Attributes
+    Parameters
     ----------
     first, second : Stylization
-        Usually the cumulative and the non-scalar result.
+        The two runs, usually the cumulative and the non-scalar result.
     stats_first, stats_second : PathStats
-        Per-endpoint tortuosity and maximum edge cost of each.
+        Per-endpoint tortuosity and maximum edge cost of each, one entry per
+        endpoint in the same order.
     """
 
     first: Stylization
@@ -597,6 +921,31 @@ def compare_metrics(stylizer: Stylizer, params: StylizeParams | None = None, *, 
     ``second`` defaults to ``params.metric`` (or ``"nonscalar"`` when that is
     the same as ``first``). Both runs share the cached importance, lattice
     and endpoints of ``stylizer``.
+
+    Parameters
+    ----------
+    stylizer : Stylizer
+        The image's pipeline; its caches are shared by both runs.
+    params : StylizeParams, optional
+        Common parameters (defaults if None); only the metric differs.
+    seed : (x, y), optional
+        Start of both dendrites (image pixels); see :meth:`Stylizer.run`.
+    rng : int or numpy.random.Generator
+        Seed of the lattice noise and the stippling, shared by both runs; 0.
+    first : {"cumulative", "nonscalar", "blend"}
+        Metric of the first run; "cumulative".
+    second : {"cumulative", "nonscalar", "blend"}, optional
+        Metric of the second run (see above).
+    metaphor : {"plain", "vines", "lightning", None}
+        Rendering metaphor of both runs.
+    **render_options
+        Passed to the metaphor's render function.
+
+    Returns
+    -------
+    MetricComparison
+        Both stylizations and per-endpoint path statistics of every endpoint,
+        in the same order for both.
 
     Examples
     --------

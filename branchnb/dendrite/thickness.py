@@ -76,6 +76,8 @@ def rolling_importance(dendrite: Dendrite, importance, window: int = 15) -> np.n
     Parameters
     ----------
     dendrite : Dendrite
+        The tree whose branches the window runs along (through junctions
+        toward the root, past the tips into zeros).
     importance : (H, W) array_like or (M,) per-node values
         Importance map on the dendrite's lattice (sampled at the nodes), or
         one value per tree node.
@@ -85,6 +87,14 @@ def rolling_importance(dendrite: Dendrite, importance, window: int = 15) -> np.n
     Returns
     -------
     (M,) float64
+
+    Examples
+    --------
+    >>> from branchnb.dendrite import plan, make_lattice, build_dendrite
+    >>> d = build_dendrite(plan(make_lattice(np.zeros((1, 20)), noise=0.0), (0, 0)), [(19, 0)])
+    >>> r = rolling_importance(d, np.ones((1, 20)), window=5)
+    >>> float(r[0]), float(r[10]), float(r[-1])  # the root keeps its width, the tip tapers
+    (1.0, 1.0, 0.6)
     """
     if not isinstance(dendrite, Dendrite):
         raise TypeError("dendrite must be a Dendrite")
@@ -118,8 +128,14 @@ def importance_thickness(dendrite: Dendrite, importance, *, window: int = 15,
 
     Parameters
     ----------
+    dendrite : Dendrite
+        The tree to thicken; not modified.
+    importance : (H, W) array_like or (M,) per-node values
+        Importance on the dendrite's lattice (sampled at the nodes) or one
+        value per node, see :func:`rolling_importance`.
     window : int
-        Rolling-average window (nodes).
+        Rolling-average window (nodes); 15 by default. The last
+        ``window / 2`` nodes of each branch taper toward the tip.
     min_width, max_width : float
         Stroke widths (pixels) for ``A = 0`` and ``A >= reference``.
     contrast : float
@@ -237,10 +253,18 @@ def branch_thickness(dendrite: Dendrite, *, mode: str = "subtree", min_width: fl
 
     Parameters
     ----------
+    dendrite : Dendrite
+        The tree to thicken; not modified.
     mode : {"subtree", "distance"}
         ``"subtree"``: pipe model ``width = min_width * n_tips ** (1 / exponent)``,
         clipped at ``max_width``. ``"distance"``: linear from ``max_width``
         at the root to ``min_width`` at the farthest tip.
+    min_width : float
+        Width (pixels) of a tip (``"subtree"``) or of the farthest tip
+        (``"distance"``); 0.6 by default.
+    max_width : float or None
+        Largest width (pixels); 8 by default. None leaves the pipe model
+        unclipped (``"distance"`` needs a value).
     exponent : float
         Pipe-model exponent (2: da Vinci's rule; ~2.5-3 for Murray's law).
 
@@ -248,6 +272,20 @@ def branch_thickness(dendrite: Dendrite, *, mode: str = "subtree", min_width: fl
     -------
     Dendrite
         A copy with the new radius.
+
+    Raises
+    ------
+    ValueError
+        An unknown ``mode``, ``max_width < min_width``, or ``"distance"``
+        without ``max_width``.
+
+    Examples
+    --------
+    >>> from branchnb.dendrite import plan, make_lattice, build_dendrite
+    >>> res = plan(make_lattice(np.zeros((30, 30)), rng=0), (15, 29))
+    >>> d = branch_thickness(build_dendrite(res, [(2, 2), (27, 2), (15, 3), (5, 20)]))
+    >>> float(d.radius[d.tips].min()), bool(d.radius[0] > d.radius[d.tips].max())
+    (0.3, True)
     """
     _check_widths(min_width, max_width if max_width is not None else min_width)
     if mode == "subtree":

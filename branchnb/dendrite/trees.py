@@ -63,7 +63,62 @@ __all__ = [
 
 @dataclass
 class TreeParams:
-    """Iterative tree growth. Defaults: the paper's where it gives them, else ours."""
+    """Iterative tree growth. Defaults: the paper's where it gives them, else ours.
+
+    Parameters
+    ----------
+    iterations : int
+        Growth iterations ``n`` (1-8); 4. Iteration 1 grows trunk and main
+        branches.
+    trunk_endpoints : int
+        Endpoints of iteration 1 (the main branches); 7.
+    endpoint_growth : float
+        Iteration ``i`` has ``trunk_endpoints * endpoint_growth ** (i - 1)``
+        endpoints; 4.
+    radius : float
+        ``R_2``, the rejection radius of iteration 2 (px of brushfire
+        distance to the structure); 70.
+    radius_decay : float
+        ``R_(i+1) = R_i * radius_decay``: twigs get shorter; 0.55.
+    min_distance : float
+        Endpoints closer to the structure than this fraction of ``R_i`` are
+        rejected too; 0.3.
+    blend_weight : float
+        ``a`` of the last iteration's blend metric ``a M + S`` (paper: 1000).
+    mix_power : float
+        ``a_i = a ((i - 1) / (n - 1)) ** mix_power`` (0: full blend from
+        iteration 2 on); 2.
+    noise : float
+        Amplitude of the random node weight; 1.
+    epsilon : float
+        Constant node weight ``epsilon``; 0.5.
+    tip_width : float
+        Width (px) of new twigs; 0.8.
+    increment : float
+        Width (px) added to every existing node after each later iteration, so
+        the oldest parts are thickest; 1.
+    pipe : float
+        Extra width ``pipe * sqrt(tips carried - 1)`` (pipe model; 0 = widths
+        from the iterations only); 0.5.
+    fork_jitter : float
+        Standard deviation of the fork point's horizontal offset, as a
+        fraction of W; 0.08.
+    trunk_share : float
+        Upper share of the trunk the main branches may leave from; 0.35.
+    crown_top : float
+        Top of the elliptic crown (fraction of the height); 0.04.
+    crown_bottom : float
+        Bottom of the crown and height of the fork point (fraction of the
+        height); 0.62.
+    crown_width : float
+        Crown width (fraction of the image width); 0.9.
+
+    Examples
+    --------
+    >>> p = TreeParams()
+    >>> p.radius * p.radius_decay  # R_3 in pixels
+    38.5
+    """
 
     iterations: int = param(4, min=1, max=8, help="growth iterations")
     trunk_endpoints: int = param(7, min=1, max=100,
@@ -103,7 +158,7 @@ class TreeParams:
 class GrownTree:
     """A grown tree: the dendrite and what each iteration did.
 
-    Attributes
+    Parameters
     ----------
     dendrite : Dendrite
         All branches; ``dendrite.iteration`` tells which iteration added a node.
@@ -114,6 +169,13 @@ class GrownTree:
     radii : list of float
         Rejection radius of each iteration (nan for iteration 1).
     params : TreeParams
+        A copy of the parameters used.
+
+    Examples
+    --------
+    >>> t = grow_tree((80, 60), TreeParams(iterations=2, radius=15), rng=0)
+    >>> len(t.endpoints), t.metrics[0], bool(np.isnan(t.radii[0]))
+    (2, ('cumulative', 0.0), True)
     """
 
     dendrite: Dendrite
@@ -123,7 +185,18 @@ class GrownTree:
     params: TreeParams
 
     def render(self, **options) -> Rendering:
-        """:func:`render_tree` of this tree."""
+        """:func:`render_tree` of this tree.
+
+        Parameters
+        ----------
+        **options
+            Keyword arguments of :func:`render_tree` (``background``, ``color``,
+            ``smooth``).
+
+        Returns
+        -------
+        Rendering
+        """
         return render_tree(self.dendrite, **options)
 
     def _repr_png_(self) -> bytes:
@@ -133,7 +206,26 @@ class GrownTree:
 def iteration_metric(i: int, params: TreeParams) -> tuple[str, float]:
     """``(metric, a)`` of iteration ``i`` (1-based): cumulative first, then the blend
     ``a_i * M + S`` with ``a_i = blend_weight * ((i - 1) / (n - 1)) ** mix_power``
-    (``mix_power = 0``: the full blend from iteration 2 on; 1: linear; 2: quadratic)."""
+    (``mix_power = 0``: the full blend from iteration 2 on; 1: linear; 2: quadratic).
+
+    Parameters
+    ----------
+    i : int
+        Iteration number, 1-based.
+    params : TreeParams
+        Gives ``iterations``, ``blend_weight`` and ``mix_power``.
+
+    Returns
+    -------
+    (str, float)
+        ``("cumulative", 0.0)`` for iteration 1 (or ``blend_weight = 0``),
+        else ``("blend", a_i)``.
+
+    Examples
+    --------
+    >>> iteration_metric(1, TreeParams()), iteration_metric(4, TreeParams())
+    (('cumulative', 0.0), ('blend', 1000.0))
+    """
     if i <= 1 or params.blend_weight == 0:
         return "cumulative", 0.0
     n = max(params.iterations, 2)
@@ -142,7 +234,31 @@ def iteration_metric(i: int, params: TreeParams) -> tuple[str, float]:
 
 
 def crown_mask(shape, params: TreeParams) -> np.ndarray:
-    """The crown region: an ellipse spanning ``crown_top..crown_bottom`` of the height."""
+    """The crown region: an ellipse spanning ``crown_top..crown_bottom`` of the height.
+
+    Parameters
+    ----------
+    shape : (int, int)
+        ``(H, W)`` of the canvas.
+    params : TreeParams
+        ``crown_top``, ``crown_bottom`` (fractions of H) and ``crown_width``
+        (fraction of W); the ellipse is centred horizontally.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+
+    Raises
+    ------
+    ValueError
+        If ``crown_bottom`` is not below ``crown_top``.
+
+    Examples
+    --------
+    >>> m = crown_mask((100, 80), TreeParams())
+    >>> bool(m[33, 40]), bool(m[90, 40])
+    (True, False)
+    """
     h, w = int(shape[0]), int(shape[1])
     top, bot = params.crown_top * h, params.crown_bottom * h
     if bot <= top:
@@ -167,18 +283,36 @@ def rejection_endpoints(structure_mask, n_endpoints: int, radius: float, *,
     structure_mask : (H, W) bool array_like
         Pixels of the structure grown so far (non-empty).
     n_endpoints : int
+        Number of endpoints wanted (>= 1).
     radius : float
         ``R_i`` in pixels.
     min_distance : float
         Lower bound of the accepted distance (pixels).
     region : (H, W) bool array_like, optional
         Where endpoints may go.
+    rng : {numpy.random.Generator, int}, optional
+        Random generator or seed of the candidate draws.
     max_tries : int
         Rounds of candidate draws before giving up with what was found.
 
     Returns
     -------
     (E, 2) float64 (x, y), E <= n_endpoints (fewer only if the band is tiny)
+
+    Raises
+    ------
+    ValueError
+        If ``structure_mask`` is empty, ``n_endpoints < 1`` or not
+        ``0 <= min_distance <= radius``.
+
+    Examples
+    --------
+    >>> m = np.zeros((50, 50), bool); m[25, 5:45] = True
+    >>> pts = rejection_endpoints(m, 20, 6.0, min_distance=2.0, rng=0)
+    >>> from scipy import ndimage
+    >>> d = ndimage.distance_transform_edt(~m)[pts[:, 1].astype(int), pts[:, 0].astype(int)]
+    >>> len(pts), bool(d.max() <= 6), bool(d.min() >= 2)
+    (20, True, True)
     """
     m = as_mask(structure_mask, name="structure_mask")
     if not m.any():
@@ -221,6 +355,7 @@ def grow_tree(shape, params: TreeParams | None = None, *, base=None, weights=Non
     shape : (H, W)
         Canvas size; the trunk starts at the bottom centre.
     params : TreeParams, optional
+        Defaults (``TreeParams()``) if None.
     base : (x, y) or GrownTree, optional
         The trunk base point (bottom centre by default), or a tree whose
         structure continues to grow (with ``start_iteration`` > 1; used for
@@ -229,12 +364,20 @@ def grow_tree(shape, params: TreeParams | None = None, *, base=None, weights=Non
         ``weights(i, rng) -> (H, W)`` node weights of iteration ``i``
         (random ``epsilon + noise * U`` by default); pareidolia trees use it.
     rng : {numpy.random.Generator, int}, optional
+        Random generator or seed of the weights, fork point and endpoints.
     start_iteration : int
         First iteration to run.
 
     Returns
     -------
     GrownTree
+
+    Raises
+    ------
+    ValueError
+        If ``shape`` is smaller than 8 x 8, ``base`` lies outside it,
+        ``start_iteration`` does not fit ``base``, or ``weights`` returns
+        another shape.
 
     Examples
     --------
@@ -317,7 +460,29 @@ def grow_tree(shape, params: TreeParams | None = None, *, base=None, weights=Non
 
 def render_tree(dendrite: Dendrite, *, background=None, color=(0.24, 0.16, 0.09),
                 smooth: int = 4) -> Rendering:
-    """Draw a tree: brown branches, smoothed a little (see :func:`render_plain`)."""
+    """Draw a tree: brown branches, smoothed a little (see :func:`render_plain`).
+
+    Parameters
+    ----------
+    dendrite : Dendrite
+        The tree, drawn with widths ``2 * radius``.
+    background : (H, W, C) array_like, optional
+        Image to draw on; white by default.
+    color : RGB triple
+        Bark colour in [0, 1] (dark brown).
+    smooth : int
+        Averaging passes along the branches; 4.
+
+    Returns
+    -------
+    Rendering
+
+    Examples
+    --------
+    >>> t = grow_tree((60, 50), TreeParams(iterations=1), rng=0)
+    >>> render_tree(t.dendrite).image.shape
+    (60, 50, 3)
+    """
     from .render import render_plain
 
     return render_plain(dendrite, background=background, color=color, smooth=smooth)
@@ -326,7 +491,37 @@ def render_tree(dendrite: Dendrite, *, background=None, color=(0.24, 0.16, 0.09)
 def grow_layers(shape, params: TreeParams | None = None, *, layers: int = 3, rng=None,
                 base=None) -> list[GrownTree]:
     """Occlusion: ``layers`` trees sharing one trunk (iteration 1), each grown further
-    with its own noise. Draw them with :func:`render_layers` (first = farthest)."""
+    with its own noise. Draw them with :func:`render_layers` (first = farthest).
+
+    Parameters
+    ----------
+    shape : (int, int)
+        ``(H, W)`` of the canvas.
+    params : TreeParams, optional
+        Growth parameters of every layer (defaults if None).
+    layers : int
+        Number of trees (>= 1); 3.
+    rng : {numpy.random.Generator, int}, optional
+        Random generator or seed; each layer gets its own stream drawn from it.
+    base : (x, y), optional
+        Trunk base point; bottom centre by default.
+
+    Returns
+    -------
+    list of GrownTree
+        ``layers`` trees, all containing the same iteration-1 trunk.
+
+    Raises
+    ------
+    ValueError
+        If ``layers < 1``.
+
+    Examples
+    --------
+    >>> ts = grow_layers((60, 50), TreeParams(iterations=2, radius=12), layers=2, rng=0)
+    >>> len(ts), bool((ts[0].dendrite.nodes[:5] == ts[1].dendrite.nodes[:5]).all())
+    (2, True)
+    """
     p = check_params(params if params is not None else TreeParams())
     if layers < 1:
         raise ValueError(f"layers must be >= 1, got {layers}")
@@ -342,7 +537,36 @@ def grow_layers(shape, params: TreeParams | None = None, *, layers: int = 3, rng
 
 def render_layers(trees, *, background=None, near=(0.2, 0.13, 0.07), far=(0.72, 0.68, 0.62),
                   smooth: int = 4) -> Rendering:
-    """Draw trees back to front, from the ``far`` colour to the ``near`` colour."""
+    """Draw trees back to front, from the ``far`` colour to the ``near`` colour.
+
+    Parameters
+    ----------
+    trees : sequence of GrownTree or Dendrite
+        Back (far) to front (near); all of one shape.
+    background : (H, W, 3) array_like, optional
+        Image to draw on; white by default.
+    near : RGB triple
+        Colour of the last (front) tree.
+    far : RGB triple
+        Colour of the first (back) tree; the ones between are interpolated.
+    smooth : int
+        Averaging passes along the branches; 4.
+
+    Returns
+    -------
+    Rendering
+
+    Raises
+    ------
+    ValueError
+        If ``trees`` is empty.
+
+    Examples
+    --------
+    >>> ts = grow_layers((60, 50), TreeParams(iterations=2, radius=12), layers=2, rng=0)
+    >>> render_layers(ts).image.shape
+    (60, 50, 3)
+    """
     trees = [t.dendrite if isinstance(t, GrownTree) else t for t in trees]
     if not trees:
         raise ValueError("trees is empty")

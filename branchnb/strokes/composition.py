@@ -46,7 +46,7 @@ __all__ = ["PlacedPatch", "Composition", "compose", "labelling_cost", "seam_mask
 class PlacedPatch:
     """One copied texture in the target frame.
 
-    Attributes
+    Parameters
     ----------
     pixels : (S, S, 4) float32 ndarray
         Premultiplied RGBA.
@@ -64,6 +64,13 @@ class PlacedPatch:
         The patch's object pixels win over the canvas's transparent ones
         (a branch or a carried part joins its parent: it adds to the
         silhouette, the seam may not cut it short at the parent's margin).
+
+    Examples
+    --------
+    >>> p = PlacedPatch(np.ones((4, 4, 4), np.float32), np.ones((4, 4), bool), (-2, 1))
+    >>> canvas, pix, val, keep = p.placed((10, 10))
+    >>> canvas, pix.shape, int(val.sum())
+    ((slice(1, 5, None), slice(0, 2, None)), (4, 2, 4), 8)
     """
 
     pixels: np.ndarray
@@ -104,6 +111,20 @@ class PlacedPatch:
 
         Returns ``(canvas_slices, patch_slices, box_shape, offset)`` where
         the patch pixels land at ``offset`` inside the box.
+
+        Parameters
+        ----------
+        shape : tuple of int
+            Canvas shape ``(H, W, ...)``.
+        margin : int
+            Pixels (>= 0) to grow the box by on each side (clipped to the canvas).
+
+        Returns
+        -------
+        tuple or None
+            ``(canvas_slices, patch_slices, inner_slices)``: where the box lies on
+            the canvas, which part of the patch lands on the canvas, and where
+            that part lies inside the box; None when the patch misses the canvas.
         """
         h, w = shape[:2]
         x0, y0 = self.origin
@@ -121,7 +142,22 @@ class PlacedPatch:
 
     @checked(canvas_shape=Shape(), margin=Int(0, 10_000))
     def placed(self, canvas_shape, margin: int = 0):
-        """``(box_slices, pixels, valid, keep_a)`` of the patch on its (clipped) box."""
+        """``(box_slices, pixels, valid, keep_a)`` of the patch on its (clipped) box.
+
+        Parameters
+        ----------
+        canvas_shape : tuple of int
+            Canvas shape ``(H, W, ...)``.
+        margin : int
+            Pixels (>= 0) the box extends beyond the patch (for the graph cut's
+            neighbourhood); empty there.
+
+        Returns
+        -------
+        tuple or None
+            ``(box_slices, pixels (h, w, 4) float32, valid (h, w) bool, keep_a
+            (h, w) bool)``; None when the patch misses the canvas.
+        """
         win = self.window(canvas_shape, margin)
         if win is None:
             return None
@@ -142,7 +178,7 @@ class PlacedPatch:
 class Composition:
     """The composed canvas.
 
-    Attributes
+    Parameters
     ----------
     image : (H, W, 4) float32 ndarray
         Premultiplied RGBA.
@@ -152,6 +188,13 @@ class Composition:
         Index of the patch each pixel comes from (-1 where none).
     step_costs : (P,) ndarray
         Seam cost of each patch's cut against the canvas when it was laid.
+
+    Examples
+    --------
+    >>> a = PlacedPatch(np.ones((3, 3, 4), np.float32), np.ones((3, 3), bool), (0, 0))
+    >>> c = compose([a], (4, 4))
+    >>> int(c.covered.sum()), int(c.labels[3, 3]), c.step_costs.tolist()
+    (9, -1, [0.0])
     """
 
     image: np.ndarray
@@ -164,6 +207,26 @@ class Composition:
 def compose(patches: list[PlacedPatch], shape, *, method: str = "graphcut",
             power: float = 1.0, gradient_weighted: bool = True) -> Composition:
     """Lay ``patches`` down in order on an empty canvas of ``shape`` (H, W).
+
+    Parameters
+    ----------
+    patches : list of PlacedPatch
+        In laying order (parents before their branches, samples along each
+        stroke); patch ``i`` gets label ``i``.
+    shape : tuple of int
+        Canvas ``(H, W, ...)``; parts of patches outside it are dropped.
+    method : {"graphcut", "overlay"}
+        "graphcut" (the paper's composition): a minimum seam through each
+        overlap; "overlay": the new patch covers the unpinned overlap.
+    power : float
+        Exponent on the colour difference ``d = ||a - b|| ** power`` (> 0); 1.
+    gradient_weighted : bool
+        Divide the seam cost by the edge strength ``G`` (seams follow edges).
+
+    Returns
+    -------
+    Composition
+        ``step_costs[i]`` is 0 for a patch without overlap.
 
     Examples
     --------
@@ -229,6 +292,27 @@ def seam_mask(labels: np.ndarray, alpha: np.ndarray | None = None,
     A pair of neighbours counts if both are covered and, when ``alpha``
     is given, at least one of them has ``alpha > min_alpha`` (seams through
     empty background are invisible).
+
+    Parameters
+    ----------
+    labels : (H, W) int ndarray
+        Patch index per pixel, -1 where uncovered (:attr:`Composition.labels`).
+    alpha : (H, W) ndarray, optional
+        Object opacity; with it, seams with both sides below ``min_alpha``
+        are dropped.
+    min_alpha : float
+        Opacity in [0, 1] from which a pixel counts as object; 0.1.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        Both pixels of every cut neighbour pair are True.
+
+    Examples
+    --------
+    >>> lab = np.array([[0, 0, 1], [0, 0, 1]])
+    >>> seam_mask(lab).astype(int).tolist()
+    [[0, 1, 1], [0, 1, 1]]
     """
     lab = labels
     out = np.zeros(lab.shape, bool)
@@ -260,6 +344,35 @@ def labelling_cost(patches: list[PlacedPatch], labels: np.ndarray, *, power: flo
     :func:`branchnb.core.graphcut.seam_cost` between the two patches,
     counted on the neighbour pairs both patches cover. This is the
     measure graph-cut and overlay composition are compared with.
+
+    Parameters
+    ----------
+    patches : list of PlacedPatch
+        The patches ``labels`` refers to (non-empty).
+    labels : (H, W) int ndarray
+        Patch index per pixel, -1 where uncovered.
+    power : float
+        Exponent on the colour difference (> 0); 1.
+    gradient_weighted : bool
+        Divide by the edge strength, as in :func:`compose`.
+
+    Returns
+    -------
+    float
+        Sum over touching patch pairs; 0 for a single patch.
+
+    Raises
+    ------
+    ValueError
+        If ``patches`` is empty or ``labels`` names a patch that is not there.
+
+    Examples
+    --------
+    >>> a = PlacedPatch(np.zeros((5, 5, 4), np.float32), np.ones((5, 5), bool), (0, 0))
+    >>> b = PlacedPatch(np.ones((5, 5, 4), np.float32), np.ones((5, 5), bool), (3, 0))
+    >>> c = compose([a, b], (5, 8))
+    >>> bool(labelling_cost([a, b], c.labels) > 0), labelling_cost([a, a], c.labels)
+    (True, 0.0)
     """
     lab = np.asarray(labels)
     h, w = lab.shape

@@ -25,13 +25,44 @@ PAIR_COLORS = (
 
 @checked(i=Int())
 def pair_color(i: int) -> tuple[float, float, float]:
-    """Colour of stroke pair ``i`` (RGB in [0, 1])."""
+    """Colour of stroke pair ``i`` (RGB in [0, 1]).
+
+    Parameters
+    ----------
+    i : int
+        Pair index; colours cycle through :data:`PAIR_COLORS`.
+
+    Returns
+    -------
+    (float, float, float)
+
+    Examples
+    --------
+    >>> pair_color(0) == pair_color(len(PAIR_COLORS))
+    True
+    """
     return PAIR_COLORS[int(i) % len(PAIR_COLORS)]
 
 
 @checked(i=Int())
 def pair_color_hex(i: int) -> str:
-    """Colour of stroke pair ``i`` as a CSS hex string."""
+    """Colour of stroke pair ``i`` as a CSS hex string.
+
+    Parameters
+    ----------
+    i : int
+        Pair index; colours cycle through :data:`PAIR_COLORS`.
+
+    Returns
+    -------
+    str
+        ``"#rrggbb"``.
+
+    Examples
+    --------
+    >>> pair_color_hex(0)
+    '#2966e6'
+    """
     return "#" + "".join(f"{round(c * 255):02x}" for c in pair_color(i))
 
 
@@ -84,6 +115,12 @@ def draw_strokes(image, strokes, *, width: float = 2.0, control=None, first: int
         Per stroke, None or a ``(K, 2)`` array of control points to ring.
     first : int
         Colour index of the first stroke.
+    background : RGB triple
+        Colour an RGBA ``image`` is composited over; white by default.
+
+    Returns
+    -------
+    (H, W, 3) float32 ndarray
 
     Examples
     --------
@@ -106,6 +143,29 @@ def stroke_markers(canvas, strokes, *, width: float = 2.0, control=None,
     ``canvas`` is an RGBA image (e.g. a transparent ``np.zeros((H, W, 4))``
     or an edit result); the stroke lines themselves are not drawn (an
     annotation canvas draws them).
+
+    Parameters
+    ----------
+    canvas : (H, W, C) array_like
+        Image to draw on, converted to RGBA; not modified.
+    strokes : sequence of (N, 2) array_like
+        Stroke ``i`` gets colour :func:`pair_color` ``(first + i)``.
+    width : float
+        Line width (px) the markers are sized from; 2.
+    control : sequence, optional
+        Per stroke, None or a ``(K, 2)`` array of control points to ring.
+    first : int
+        Colour index of the first stroke.
+
+    Returns
+    -------
+    (H, W, 4) float32 ndarray
+
+    Examples
+    --------
+    >>> m = stroke_markers(np.zeros((20, 40, 4)), [[(5, 10), (35, 10)]])
+    >>> bool(m[10, 5, 3] > 0.9), bool(m[10, 20, 3] == 0)
+    (True, True)
     """
     out = as_rgba(canvas, name="canvas")
     lines, colours, widths = _marks(strokes, width, control, first, lines=False)

@@ -60,6 +60,62 @@ class StrokeEditParams:
     beyond the paper (:mod:`~branchnb.strokes.parts`,
     :mod:`~branchnb.strokes.outline`); ``unstroked="drop",
     close_cuts=False`` is the paper's method.
+
+    Parameters
+    ----------
+    patch_size : int
+        Patch diameter ``2 r`` (px); 0 (default) = automatic: ``r = 1.2 w + 4``
+        follows the object's half width ``w`` along the source strokes
+        (:func:`~branchnb.strokes.fetch.auto_radius`; 24 px radius for opaque
+        images).
+    spacing : float
+        Sample spacing ``h`` along the target strokes (px), at most the local
+        patch radius; 0 (default) = ``r / 2``.
+    search_window : int
+        Global sampling window ``W``: ``p'`` moves up to +-W px along the
+        source stroke (``delta``); 8.
+    search_across : int
+        ``p'`` also moves up to +- this many px across the source stroke
+        (``epsilon``); 0.
+    search_step : int
+        Step (px) of the search window; 2.
+    seam_power : float
+        Exponent on the colour difference ``d(x)`` in the seam cost
+        ``d ** power / G``; 1.
+    gradient_weighted : bool
+        Divide the seam cost by the edge strength ``G(x, y)`` so seams follow
+        edges; True.
+    sampling : {"dp", "greedy", "none"}
+        Choice of the sample correspondences: the paper's global sampling by
+        dynamic programming (default), greedy, or the plain arc-length mapping.
+    composition : {"graphcut", "overlay"}
+        Stitch overlapping patches along graph-cut seams (the paper's) or
+        paint each over the last.
+    shift_penalty : float
+        ``lambda``: prior pulling ``p'`` towards the arc-length mapping (a
+        tie-breaker); 0.01.
+    junction_tolerance : float
+        A target stroke end this close (px) to another target stroke makes a
+        branch; 0 (default) = ``r / 3``.
+    extend_branches : bool
+        Extend branches whose source end is free into their parent so the end
+        cap is hidden; True.
+    energy_stride : int
+        Evaluate the pairwise energies on every n-th pixel of the overlaps
+        (speed); 2.
+    unstroked : {"follow", "drop"}
+        Parts of the object nobody stroked follow the stroked part they hang
+        from rigidly (default, beyond the paper) or are dropped (the paper's
+        output).
+    close_cuts : bool
+        Draw the object's outline over faces the strokes cut (stroke ends,
+        dropped parts); True, beyond the paper.
+
+    Examples
+    --------
+    >>> p = StrokeEditParams(sampling="greedy")
+    >>> p.sampling, p.search_window
+    ('greedy', 8)
     """
 
     patch_size: int = param(
@@ -113,7 +169,7 @@ class StrokeEditParams:
 class StrokeSamples:
     """What happened along one stroke pair.
 
-    Attributes
+    Parameters
     ----------
     target : (M, 2) ndarray
         Sample positions ``p`` on the target stroke.
@@ -147,7 +203,7 @@ class StrokeSamples:
 class StrokeEditResult:
     """Result of :func:`edit_structure`.
 
-    Attributes
+    Parameters
     ----------
     image : (H, W, 4) float32 ndarray
         The synthesized object over the background (transparent if none
@@ -171,6 +227,7 @@ class StrokeEditResult:
     pairs : list of StrokePair
         The stroke pairs used (target strokes extended at junctions).
     junctions : list of Junction
+        Where a target stroke starts or ends on another one (branches).
     radius : float
         Typical (median) patch radius ``r`` along the source strokes; the
         radius of every sample is in ``samples[i].radius``.
@@ -179,10 +236,20 @@ class StrokeEditResult:
         object region the result is made of; compare their colours with
         the result's, e.g. :func:`branchnb.core.histogram.compare_samples`).
     params : StrokeEditParams
+        The parameters used.
     auto : dict
         The values used for the parameters left at 0 ("automatic"):
         ``"patch_size"`` (typical ``2 r``), ``"spacing"`` (typical ``h``),
         ``"junction_tolerance"`` (px).
+
+    Examples
+    --------
+    >>> img = np.zeros((30, 50, 4), np.float32); img[10:20, 5:45] = (0.6, 0.4, 0.2, 1.0)
+    >>> res = edit_structure(img, [[(8, 15), (42, 15)]], [[(25, 2), (25, 28)]])  # turned upright
+    >>> res.image.shape, bool(res.mask[15, 25]), bool(res.mask[15, 8])
+    ((30, 50, 4), True, False)
+    >>> sorted(res.auto)
+    ['junction_tolerance', 'patch_size', 'spacing']
     """
 
     image: np.ndarray
@@ -205,6 +272,29 @@ class StrokeEditResult:
 
         Target strokes are drawn in their pair colours
         (:func:`~branchnb.strokes.display.draw_strokes`).
+
+        Parameters
+        ----------
+        seams : bool
+            Paint the seam pixels (:attr:`seams`) in ``seam_color``.
+        strokes : bool
+            Draw the target strokes (extended at junctions) over the result.
+        background : RGB triple
+            Colour the RGBA result is composited over; white.
+        seam_color : RGB triple
+            Colour of the seams; red.
+
+        Returns
+        -------
+        (H, W, 3) float32 ndarray
+
+        Examples
+        --------
+        >>> img = np.zeros((30, 50, 4), np.float32); img[10:20, 5:45] = (0.6, 0.4, 0.2, 1.0)
+        >>> res = edit_structure(img, [[(8, 15), (42, 15)]], [[(8, 15), (42, 15)]])
+        >>> pic = res.show(strokes=True)
+        >>> pic.shape, pic[2, 2].tolist()
+        ((30, 50, 3), [1.0, 1.0, 1.0])
         """
         rgb = composite_over(self.image, background)
         if seams:
@@ -280,6 +370,8 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
         where the object's parts go. A target stroke starting or ending on
         another target stroke makes a branch.
     params : StrokeEditParams, optional
+        Defaults (``StrokeEditParams()``) if None: automatic patch size,
+        spacing and junction tolerance, global sampling, graph cut.
     control_points : list, optional
         Per pair, None or ``(source_points, target_points)``: extra
         control-point pairs, points clicked near the two strokes.
@@ -375,7 +467,7 @@ class EditPatches:
     ``gradient_weighted``, ``shift_penalty``, ``sampling``,
     ``composition``, ``energy_stride``) in a fraction of the time.
 
-    Attributes
+    Parameters
     ----------
     params : StrokeEditParams
         The parameters it was fetched with.
@@ -384,7 +476,9 @@ class EditPatches:
     attached : list of StrokePair
         The pairs with target strokes extended at junctions.
     junctions : list of Junction
+        The branches among the target strokes.
     target_shape : (int, int)
+        ``(H, W)`` of the output domain.
     radius : float
         Typical (median) patch radius along the source strokes.
     n_candidates : int
@@ -410,7 +504,19 @@ class EditPatches:
     _auto: dict = field(repr=False, default_factory=dict)
 
     def reusable_for(self, params: StrokeEditParams) -> bool:
-        """Whether :func:`compose_patches` can use these patches with ``params``."""
+        """Whether :func:`compose_patches` can use these patches with ``params``.
+
+        Parameters
+        ----------
+        params : StrokeEditParams
+            The parameters of the next composition.
+
+        Returns
+        -------
+        bool
+            True when every field of :data:`FETCH_FIELDS` (and whether
+            ``sampling`` is "none") equals the one the patches were fetched with.
+        """
         return isinstance(params, StrokeEditParams) and _fetch_key(params) == _fetch_key(self.params)
 
 
@@ -422,6 +528,33 @@ def fetch_patches(image, source_strokes, target_strokes, params: StrokeEditParam
     Same arguments as :func:`edit_structure` (and the same errors);
     returns the :class:`EditPatches` that :func:`compose_patches` turns
     into the result.
+
+    Parameters
+    ----------
+    image : (H, W, C) array_like
+        Source image (see :func:`edit_structure`).
+    source_strokes : list of (N, 2) array_like or Stroke
+        Strokes along the object's skeleton, on ``image``.
+    target_strokes : list of (N, 2) array_like or Stroke
+        One per source stroke, in the output domain.
+    params : StrokeEditParams, optional
+        Defaults if None; only the fields in :data:`FETCH_FIELDS` matter here.
+    control_points : list, optional
+        Per pair, None or ``(source_points, target_points)``.
+    target_shape : (H, W), optional
+        Size of the output domain.
+    background : None, RGB(A) colour or (H, W, C) image, optional
+        What lies behind the object (kept for :func:`compose_patches`).
+
+    Returns
+    -------
+    EditPatches
+
+    Raises
+    ------
+    ValueError
+        As :func:`edit_structure` (mismatched or degenerate strokes, control
+        points out of order, strokes outside the images, bad parameters).
 
     Examples
     --------

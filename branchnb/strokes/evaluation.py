@@ -25,6 +25,19 @@ CHANNELS = ("red", "green", "blue")
 def object_colours(image, mask) -> np.ndarray:
     """``(N, 3)`` straight RGB colours of ``image`` under ``mask`` (pixels with alpha > 0.5).
 
+    Parameters
+    ----------
+    image : (H, W, C) array_like
+        Grey, RGB or RGBA image in [0, 1]; RGBA colours are un-premultiplied
+        straight colours.
+    mask : (H, W) bool array_like
+        Region to read (e.g. the source object region or the result's mask).
+
+    Returns
+    -------
+    (N, 3) float64 ndarray
+        One row per pixel of ``mask`` whose alpha exceeds 0.5.
+
     Examples
     --------
     >>> img = np.zeros((2, 2, 4)); img[0, 0] = (1, 0.5, 0, 1)
@@ -45,7 +58,9 @@ def compare_colours(image, result, *, bins: int = 16, metric: str = "l1") -> lis
     image : (H, W, C) array_like
         The source image given to :func:`~branchnb.strokes.edit_structure`.
     result : StrokeEditResult
+        The edit of ``image``; its ``source_region`` and ``mask`` are compared.
     bins : int
+        Number of histogram bins on [0, 1]; 16.
     metric : str
         See :func:`branchnb.core.histogram.histogram_distance`.
 
@@ -54,6 +69,20 @@ def compare_colours(image, result, *, bins: int = 16, metric: str = "l1") -> lis
     list of HistogramComparison
         One per channel of :data:`CHANNELS`, labels ``["source object",
         "result"]``, on the range [0, 1].
+
+    Raises
+    ------
+    ValueError
+        If ``result`` has no ``source_region`` or either region is empty.
+
+    Examples
+    --------
+    >>> from branchnb.strokes import edit_structure
+    >>> img = np.zeros((30, 50, 4), np.float32); img[10:20, 5:45] = (0.6, 0.4, 0.2, 1.0)
+    >>> res = edit_structure(img, [[(8, 15), (42, 15)]], [[(8, 15), (42, 15)]])
+    >>> cmp = compare_colours(img, res)  # an identity edit: the same colours
+    >>> [c.labels for c in cmp][0], [round(float(c.distances[-1]), 3) for c in cmp]
+    (['source object', 'result'], [0.0, 0.0, 0.0])
     """
     if result.source_region is None:
         raise ValueError("result has no source_region (not made by edit_structure)")

@@ -100,7 +100,24 @@ def _SPACING(value, name, allow_none):
 
 
 def auto_radius(half_width):
-    """Patch radius ``r = 1.2 w + 4`` for the object's half width ``w`` (px)."""
+    """Patch radius ``r = 1.2 w + 4`` for the object's half width ``w`` (px).
+
+    Parameters
+    ----------
+    half_width : float or array_like
+        Half width ``w`` of the object (pixels) at the sample.
+
+    Returns
+    -------
+    float64 ndarray
+        ``r`` in pixels, of the shape of ``half_width``: the patch reaches 20 %
+        past the silhouette plus 4 px of background.
+
+    Examples
+    --------
+    >>> float(auto_radius(10.0))
+    16.0
+    """
     return 1.2 * np.asarray(half_width, float) + 4.0
 
 
@@ -108,7 +125,7 @@ def auto_radius(half_width):
 class SourceIndex:
     """The source image prepared for fetching.
 
-    Attributes
+    Parameters
     ----------
     premult : (H, W, 4) float32 ndarray
         Premultiplied RGBA (so that interpolation and colour differences
@@ -181,13 +198,44 @@ class SourceIndex:
 
     @checked(k=Int(0), s=Array(ndim=(0, 1)))
     def half_width(self, k: int, s) -> np.ndarray:
-        """Half width ``w`` of the object at arc lengths ``s`` of source stroke ``k`` (px)."""
+        """Half width ``w`` of the object at arc lengths ``s`` of source stroke ``k`` (px).
+
+        Parameters
+        ----------
+        k : int
+            Source stroke index (into ``strokes``).
+        s : float or (M,) array_like
+            Arc lengths (pixels) along that stroke.
+
+        Returns
+        -------
+        float64 ndarray
+            ``w`` in pixels, of the shape of ``s``; 0 for opaque images.
+
+        Raises
+        ------
+        ValueError
+            If ``k`` is not a stroke index.
+        """
         self._stroke(k)
         return np.interp(np.asarray(s, float), self.width_s[k], self.width[k])
 
     @checked(k=Int(0), s=Array(ndim=(0, 1)))
     def edge_width(self, k: int, s) -> np.ndarray:
-        """Half width of the silhouette at arc lengths ``s`` of source stroke ``k`` (px)."""
+        """Half width of the silhouette at arc lengths ``s`` of source stroke ``k`` (px).
+
+        Parameters
+        ----------
+        k : int
+            Source stroke index.
+        s : float or (M,) array_like
+            Arc lengths (pixels) along that stroke.
+
+        Returns
+        -------
+        float64 ndarray
+            Of the shape of ``s``.
+        """
         self._stroke(k)
         return np.interp(np.asarray(s, float), self.width_s[k], self.edge[k])
 
@@ -200,6 +248,27 @@ class SourceIndex:
         half a patch radius along the stroke (so that neighbouring
         patches, half a radius apart, cover the whole tube) for RGBA, or
         :data:`OPAQUE_RADIUS` (opaque images).
+
+        Parameters
+        ----------
+        k : int
+            Source stroke index.
+        s : (M,) array_like
+            Arc lengths (pixels) along that stroke.
+        patch_size : float
+            Fixed patch diameter (pixels, ``StrokeEditParams.patch_size``); 0 for
+            the automatic radius.
+
+        Returns
+        -------
+        (M,) float64 ndarray
+
+        Examples
+        --------
+        >>> img = np.zeros((30, 60, 4), np.float32); img[10:20, 5:55] = 1.0
+        >>> idx = source_index(img, [Stroke([(5, 15), (50, 15)])])
+        >>> idx.radius(0, np.array([20.0])).tolist(), idx.radius(0, np.array([20.0]), 10).tolist()
+        ([10.6], [5.0])
         """
         self._stroke(k)
         if patch_size > 0:
@@ -624,7 +693,7 @@ def _end_tube(stroke: Stroke, end: int, s_map: np.ndarray, xx: np.ndarray, yy: n
 class Samples:
     """Samples along one target stroke.
 
-    Attributes
+    Parameters
     ----------
     s : (M,) ndarray
         Target arc lengths.
@@ -660,6 +729,8 @@ def sample_pair(pair: StrokePair, spacing, *, window: float) -> Samples:
     Parameters
     ----------
     pair : StrokePair
+        The pair whose target stroke is sampled; its control points are
+        samples.
     spacing : float or callable
         The step ``h`` (px), or a function of the target arc length
         giving the local step (e.g. half the local patch radius): the
@@ -711,7 +782,7 @@ def sample_pair(pair: StrokePair, spacing, *, window: float) -> Samples:
 class Fetched:
     """Candidate patches for one target sample, stacked.
 
-    Attributes
+    Parameters
     ----------
     pixels : (K, S, S, 4) float32 ndarray
         Premultiplied RGBA, in the target frame.
@@ -753,7 +824,18 @@ class Fetched:
 
     @checked(k=Int(0))
     def take(self, k: int) -> Fetched:
-        """The stack reduced to candidate ``k``."""
+        """The stack reduced to candidate ``k``.
+
+        Parameters
+        ----------
+        k : int
+            Candidate index in ``[0, K)``.
+
+        Returns
+        -------
+        Fetched
+            A stack of one (views into this one's arrays).
+        """
         self._candidate(k)
         sl = slice(k, k + 1)
         return Fetched(self.pixels[sl], self.valid[sl], self.grad[sl], self.origin,
@@ -762,7 +844,20 @@ class Fetched:
 
     @checked(k=Int(0), shape=Shape())
     def source_pixels(self, k: int, shape) -> tuple[np.ndarray, np.ndarray]:
-        """``(rows, cols)`` of the source pixels candidate ``k`` copies (its valid pixels)."""
+        """``(rows, cols)`` of the source pixels candidate ``k`` copies (its valid pixels).
+
+        Parameters
+        ----------
+        k : int
+            Candidate index in ``[0, K)``.
+        shape : tuple of int
+            Source image shape ``(H, W, ...)``; indices are clipped to it.
+
+        Returns
+        -------
+        rows, cols : (N,) int64 ndarray
+            Nearest source pixel of each valid patch pixel.
+        """
         self._candidate(k)
         sx, sy = _source_coords(self.source_points[k], self.source_angles[k], self.dst_point,
                                 self.dst_angle, self.origin, self.valid.shape[1])
@@ -796,6 +891,7 @@ def fetch(index: SourceIndex, stroke_id: int, source_s, across, dst_point, dst_a
     Parameters
     ----------
     index : SourceIndex
+        The prepared source image (:func:`source_index`).
     stroke_id : int
         Which source stroke (index into ``index.strokes``).
     source_s : (K,) array_like
@@ -810,6 +906,20 @@ def fetch(index: SourceIndex, stroke_id: int, source_s, across, dst_point, dst_a
         Patch radius ``r``.
     window : float
         Chord half-length used for the source orientation.
+
+    Returns
+    -------
+    Fetched
+        ``K`` candidates stacked on one ``(2 ceil(r) + 1)``-pixel square
+        centred on ``p``.
+
+    Examples
+    --------
+    >>> img = np.zeros((30, 60, 4), np.float32); img[10:20, 5:55] = (0.6, 0.4, 0.2, 1.0)
+    >>> idx = source_index(img, [Stroke([(5, 15), (54, 15)])])
+    >>> f = fetch(idx, 0, [20.0, 24.0], [0.0, 0.0], np.array([30.0, 30.0]), np.pi / 2, 8.0, window=4.0)
+    >>> f.pixels.shape, f.origin
+    ((2, 17, 17, 4), (22, 22))
     """
     index._stroke(stroke_id, "stroke_id")
     if dst_point.shape != (2,):

@@ -42,7 +42,7 @@ __all__ = ["Junction", "find_junctions", "stroke_order", "attach", "far_side", "
 class Junction:
     """A stroke end lying on another stroke.
 
-    Attributes
+    Parameters
     ----------
     child : int
         Index of the stroke touching with an end.
@@ -56,6 +56,13 @@ class Junction:
         The junction point on the parent.
     distance : float
         Gap between the child's end point and the parent.
+
+    Examples
+    --------
+    >>> from branchnb.strokes.strokes import Stroke
+    >>> j = find_junctions([Stroke([(0, 0), (0, 100)]), Stroke([(1, 50), (40, 20)])], 3)[0]
+    >>> j.point.tolist(), j.distance
+    ([0.0, 50.0], 1.0)
     """
 
     child: int
@@ -80,6 +87,19 @@ def find_junctions(strokes: list[Stroke], tolerance: float) -> list[Junction]:
     touching the *end* of another stroke also counts (the strokes then
     continue each other), except that of two ends touching each other only
     the later stroke is the child.
+
+    Parameters
+    ----------
+    strokes : list of Stroke
+        The target strokes, in drawing order.
+    tolerance : float
+        Largest gap (pixels, >= 0) between a stroke end and another stroke
+        that still counts as touching (``StrokeEditParams.junction_tolerance``).
+
+    Returns
+    -------
+    list of Junction
+        At most two per stroke (one per end), in stroke order.
 
     Examples
     --------
@@ -114,6 +134,19 @@ def find_junctions(strokes: list[Stroke], tolerance: float) -> list[Junction]:
 def stroke_order(n: int, junctions: list[Junction]) -> list[int]:
     """Stroke indices with every parent before its children (drawing order otherwise).
 
+    Parameters
+    ----------
+    n : int
+        Number of strokes (>= 0).
+    junctions : list of Junction
+        The junctions among them (:func:`find_junctions`).
+
+    Returns
+    -------
+    list of int
+        A permutation of ``range(n)``; a cycle is broken at the earliest
+        drawn stroke.
+
     Examples
     --------
     >>> j = Junction(0, 0, 1, 5.0, np.zeros(2), 0.0)
@@ -139,6 +172,7 @@ def attach(pair: StrokePair, junctions: list[Junction], target_strokes: list[Str
     Parameters
     ----------
     pair : StrokePair
+        The pair whose target stroke is the child; not modified.
     junctions : list of Junction
         The junctions where this pair's target stroke is the child.
     target_strokes : list of Stroke
@@ -154,6 +188,15 @@ def attach(pair: StrokePair, junctions: list[Junction], target_strokes: list[Str
         position on the stroke.
     shift : dict
         ``{end: extra length}`` added at each end.
+
+    Examples
+    --------
+    >>> from branchnb.strokes.strokes import Stroke, StrokePair
+    >>> trunk, branch = Stroke([(0, 0), (0, 100)]), Stroke([(0, 50), (40, 50)])
+    >>> pair = StrokePair(Stroke([(0, 0), (40, 0)]), branch)
+    >>> new, added = attach(pair, find_junctions([trunk, branch], 2), [trunk, branch], {0: 5.0})
+    >>> new.target.points[0].tolist(), added
+    ([-5.0, 50.0], {0: 5.0, 1: 0.0})
     """
     pts = pair.target.points.copy()
     added = {0: 0.0, 1: 0.0}
@@ -185,6 +228,42 @@ def far_side(junction: Junction, parent: Stroke, child_dir: np.ndarray, origin, 
     "Beyond" is the side of the parent's tangent line at the junction
     away from the child's direction ``child_dir`` (a unit vector pointing
     from the junction into the child).
+
+    Parameters
+    ----------
+    junction : Junction
+        The junction, with its point and arc length on the parent.
+    parent : Stroke
+        The parent's target stroke.
+    child_dir : (2,) array_like
+        Unit vector from the junction into the child.
+    origin : (int, int)
+        Target ``(x, y)`` of the patch's top-left pixel.
+    size : int
+        Side of the square patch (pixels).
+    window : float
+        Half-length (pixels) of the chord the parent's tangent is taken from
+        (:meth:`Stroke.angle_at`).
+
+    Returns
+    -------
+    (size, size) bool ndarray
+        True more than half a pixel beyond the line, on the side away from the
+        child.
+
+    Raises
+    ------
+    ValueError
+        If ``child_dir`` is not a finite 2-vector.
+
+    Examples
+    --------
+    >>> from branchnb.strokes.strokes import Stroke
+    >>> trunk, branch = Stroke([(10, 0), (10, 40)]), Stroke([(10, 20), (30, 20)])
+    >>> j = find_junctions([trunk, branch], 2)[0]
+    >>> m = far_side(j, trunk, np.array([1.0, 0.0]), (0, 15), 20, window=4.0)
+    >>> bool(m[5, 2]), bool(m[5, 15])
+    (True, False)
     """
     child_dir = np.asarray(child_dir, dtype=np.float64) if not isinstance(child_dir, (str, bytes)) else None
     if child_dir is None or child_dir.shape != (2,) or not np.isfinite(child_dir).all():
@@ -204,6 +283,24 @@ def exit_length(child: Stroke, parent: Stroke, half_width, end: int) -> float | 
     ``half_width(s)`` is the parent's half width at its arc lengths ``s``;
     the child leaves the silhouette at the first point farther from the
     parent's centre line than that.
+
+    Parameters
+    ----------
+    child : Stroke
+        The branch's stroke.
+    parent : Stroke
+        The stroke whose silhouette the child starts in.
+    half_width : callable
+        ``half_width(s) -> ndarray``: the parent's half width (pixels) at its
+        arc lengths ``s``.
+    end : int
+        0 to walk from the child's first point, 1 from its last.
+
+    Returns
+    -------
+    float or None
+        Arc length (pixels, in steps of 0.5) from ``end``; None if the child
+        never leaves the silhouette or does not start inside it.
 
     Examples
     --------

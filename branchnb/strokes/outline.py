@@ -49,7 +49,20 @@ _POCKET = 2
 
 @dataclass(frozen=True)
 class OutlineStyle:
-    """The outline of a source object: its colour (RGB) and width (px)."""
+    """The outline of a source object: its colour (RGB) and width (px).
+
+    Parameters
+    ----------
+    colour : tuple of float
+        Straight RGB in [0, 1] of the outline (the median rim colour).
+    width : float
+        Outline width in pixels (1 to 8).
+
+    Examples
+    --------
+    >>> OutlineStyle((0.0, 0.0, 0.0), 2.0).width
+    2.0
+    """
 
     colour: tuple
     width: float
@@ -104,6 +117,28 @@ def source_depth(labels: np.ndarray, source_maps: list, depth: np.ndarray) -> np
 
     ``source_maps[i]`` is the 2 x 3 map of patch ``i`` from target ``(x, y)``
     to source ``(x, y)`` (None: unknown, depth 0).
+
+    Parameters
+    ----------
+    labels : (H, W) int ndarray
+        Patch index of each result pixel, -1 where none
+        (:attr:`~branchnb.strokes.composition.Composition.labels`).
+    source_maps : list of (2, 3) ndarray or None
+        One affine map per patch (:attr:`~branchnb.strokes.composition.PlacedPatch.source_map`).
+    depth : (Hs, Ws) ndarray
+        Distance (px) of each source object pixel to the background.
+
+    Returns
+    -------
+    (H, W) float32 ndarray
+        Bilinearly sampled source depth; 0 where no patch or no map.
+
+    Examples
+    --------
+    >>> lab = np.array([[0, -1]])
+    >>> m = np.array([[1.0, 0, 1], [0, 1.0, 0]])  # target x -> source x + 1
+    >>> source_depth(lab, [m], np.array([[0.0, 3.0, 5.0]])).tolist()
+    [[3.0, 0.0]]
     """
     h, w = labels.shape
     out = np.zeros((h, w), np.float32)
@@ -129,6 +164,20 @@ def source_depth(labels: np.ndarray, source_maps: list, depth: np.ndarray) -> np
 
 def close_cuts(layer: np.ndarray, src_depth: np.ndarray, style: OutlineStyle) -> np.ndarray:
     """``layer`` (straight RGBA) with the outline painted over its cut faces (a new array).
+
+    Parameters
+    ----------
+    layer : (H, W, 4) ndarray
+        The result, straight (not premultiplied) RGBA.
+    src_depth : (H, W) ndarray
+        Source depth of every pixel (:func:`source_depth`).
+    style : OutlineStyle
+        The source's outline (:func:`outline_style`).
+
+    Returns
+    -------
+    (H, W, 4) ndarray
+        ``layer`` itself when no cut face was found.
 
     Examples
     --------
@@ -162,6 +211,20 @@ def clear_stale_outline(layer: np.ndarray, src_depth: np.ndarray, style: Outline
     It takes the colour of the nearest pixel from the source's interior
     (within ``3 width + 3`` px). Beyond the paper.
 
+    Parameters
+    ----------
+    layer : (H, W, 4) ndarray
+        The result, straight RGBA.
+    src_depth : (H, W) ndarray
+        Source depth of every pixel (:func:`source_depth`).
+    style : OutlineStyle
+        The source's outline; its width decides what is rim and what is
+        "inside".
+
+    Returns
+    -------
+    (H, W, 4) ndarray
+
     Examples
     --------
     >>> layer = np.zeros((20, 20, 4), np.float32); layer[2:18, 2:18] = (0.2, 0.8, 0.2, 1.0)
@@ -190,6 +253,19 @@ def clear_stale_outline(layer: np.ndarray, src_depth: np.ndarray, style: Outline
 
 def drop_flecks(layer: np.ndarray, source_alpha: np.ndarray) -> np.ndarray:
     """``layer`` without the small pieces no source piece is as small as (a new array, or ``layer``).
+
+    Parameters
+    ----------
+    layer : (H, W, 4) ndarray
+        The result, straight RGBA; pieces are 8-connected regions of alpha
+        > 0.02.
+    source_alpha : (Hs, Ws) ndarray
+        Alpha of the source image (its pieces give the size scale).
+
+    Returns
+    -------
+    (H, W, 4) ndarray
+        The flecks' pixels set to 0 (all four channels).
 
     Examples
     --------

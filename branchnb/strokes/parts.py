@@ -55,7 +55,7 @@ _GAP = 10.0
 class Part:
     """An unstroked part of the source object.
 
-    Attributes
+    Parameters
     ----------
     box : (slice, slice)
         Its bounding box in the source image (rows, columns), grown to
@@ -102,6 +102,8 @@ def find_parts(alpha: np.ndarray, inked: np.ndarray, claimed: np.ndarray, cores:
     Parameters
     ----------
     alpha : (H, W) ndarray
+        Opacity of the source object in [0, 1]; pieces with fewer than 4
+        pixels of alpha > 0.5 are crumbs, not parts.
     inked : (H, W) bool ndarray
         Pixels with any coverage.
     claimed : (H, W) bool ndarray
@@ -167,7 +169,23 @@ def _clusters(s: np.ndarray, least: float) -> list[float]:
 
 
 def add_bases(parts: list[Part], index, window: float) -> None:
-    """Give every attached part its base (the parent's pixels near the contact) and its side."""
+    """Give every attached part its base (the parent's pixels near the contact) and its side.
+
+    Parameters
+    ----------
+    parts : list of Part
+        From :func:`find_parts`; modified in place (``box``, ``mask``,
+        ``base``, ``at_end`` and ``side`` are set).
+    index : SourceIndex
+        The source index the parts were found in (strokes, half widths, arc
+        length maps, premultiplied image).
+    window : float
+        Half-length (pixels) of the chord the stroke's normal is taken from.
+
+    Returns
+    -------
+    None
+    """
     h, w = index.shape
     for part in parts:
         st = index.strokes[part.stroke]
@@ -201,6 +219,25 @@ def rigid_frame(source, target, s_source: float, s_target: float, *, window: flo
 
     ``x_t = P_t + R(theta_t - theta_s) (x_s - P_s)`` with ``P`` the stroke
     points and ``theta`` the stroke directions there.
+
+    Parameters
+    ----------
+    source : Stroke
+        The source stroke.
+    target : Stroke
+        The target stroke.
+    s_source : float
+        Arc length (pixels) of the frame on ``source``.
+    s_target : float
+        Arc length (pixels) of the frame on ``target``.
+    window : float
+        Half-length (pixels) of the chords the directions ``theta`` are taken
+        from (:meth:`~branchnb.strokes.strokes.Stroke.angle_at`).
+
+    Returns
+    -------
+    (2, 3) float64 ndarray
+        Affine map: ``x_t = M[:, :2] @ x_s + M[:, 2]``.
 
     Examples
     --------
@@ -259,6 +296,23 @@ def place_part(part: Part, premult: np.ndarray, forward: np.ndarray, shape) -> t
     Returns ``(pixels, valid, base, origin, inverse)`` on a square box in
     the target (``pixels`` premultiplied RGBA; ``inverse`` maps target
     ``(x, y)`` to source ``(x, y)``), or None when it lands outside ``shape``.
+
+    Parameters
+    ----------
+    part : Part
+        The part with its base (:func:`add_bases`).
+    premult : (H, W, 4) ndarray
+        Premultiplied RGBA source image.
+    forward : (2, 3) ndarray
+        Rigid map from source to target (:func:`rigid_frame`).
+    shape : tuple of int
+        Target shape ``(H, W, ...)``.
+
+    Returns
+    -------
+    tuple or None
+        ``(pixels (S, S, 4) float32, valid (S, S) bool, base (S, S) bool,
+        origin (x, y), inverse (2, 3))``, bilinearly resampled.
     """
     (rs, cs) = part.box
     crop = premult[rs, cs]

@@ -56,6 +56,26 @@ def candidate_offsets(window: float, step: float, across: float = 0.0) -> np.nda
     ``epsilon`` over ``-across .. across`` across it, both every ``step``
     pixels.
 
+    Parameters
+    ----------
+    window : float
+        Half-length (pixels, >= 0) of the search along the source stroke.
+    step : float
+        Spacing of the candidates (pixels, > 0).
+    across : float
+        Half-width (pixels, >= 0) of the search across the stroke; 0 (along
+        the stroke only) by default.
+
+    Returns
+    -------
+    (K, 2) float64 ndarray
+        Ordered by ``|delta| + |epsilon|``, so candidate 0 is ``(0, 0)``.
+
+    Raises
+    ------
+    ValueError
+        If the window holds more than ``MAX_COUNT`` candidates.
+
     Examples
     --------
     >>> candidate_offsets(2, 2).tolist()
@@ -108,6 +128,18 @@ def pair_energies(a: Fetched, b: Fetched, *, power: float = 1.0,
     (Ka, Kb) ndarray
         Mean seam cost density over the pixels both patches cover; 0 for
         pairs that do not overlap.
+
+    Examples
+    --------
+    >>> from branchnb.strokes.fetch import source_index, fetch
+    >>> from branchnb.strokes.strokes import Stroke
+    >>> img = np.zeros((30, 60, 4), np.float32); img[10:20, 5:55] = (0.6, 0.4, 0.2, 1.0)
+    >>> idx = source_index(img, [Stroke([(5, 15), (54, 15)])])
+    >>> a = fetch(idx, 0, [20.0], [0.0], np.array([20.0, 15.0]), 0.0, 8.0, window=4.0)
+    >>> b = fetch(idx, 0, [26.0, 40.0], [0.0, 0.0], np.array([26.0, 15.0]), 0.0, 8.0, window=4.0)
+    >>> e = pair_energies(a, b)
+    >>> e.shape, float(e[0, 0])  # the same texture where they overlap: no seam cost
+    ((1, 2), 0.0)
     """
     ov = _overlap(a, b)
     ka, kb = len(a.pixels), len(b.pixels)
@@ -189,6 +221,28 @@ def greedy(unaries: list[np.ndarray], pairwise: list[np.ndarray]) -> tuple[np.nd
 
     The first sample takes its cheapest candidate; sample ``j + 1`` then
     minimises ``pairwise[j][k_j, k] + unaries[j + 1][k]``.
+
+    Parameters
+    ----------
+    unaries : list of (K_j,) arrays
+        Cost of each candidate of sample ``j`` (e.g. the shift prior).
+    pairwise : list of (K_j, K_j+1) arrays
+        ``E_pair`` of each candidate combination of neighbours ``j``, ``j + 1``.
+
+    Returns
+    -------
+    path : (M,) int ndarray
+        The chosen candidate of each sample.
+    energy : float
+        Its total chain energy (>= the :func:`viterbi` minimum).
+
+    Examples
+    --------
+    >>> u = [np.zeros(2), np.array([0.0, 5.0]), np.zeros(2)]
+    >>> p = [np.array([[0.0, 1.0], [1.0, 0.0]]), np.array([[3.0, 0.0], [0.0, 3.0]])]
+    >>> path, e = greedy(u, p)
+    >>> path.tolist(), e
+    ([0, 0, 1], 0.0)
     """
     _check_chain(unaries, pairwise)
     path = np.empty(len(unaries), int)
@@ -200,7 +254,33 @@ def greedy(unaries: list[np.ndarray], pairwise: list[np.ndarray]) -> tuple[np.nd
 
 @checked(path=Array(ndim=1, dtype=np.int64, allow_empty=True))
 def chain_energy(path, unaries: list[np.ndarray], pairwise: list[np.ndarray]) -> float:
-    """Total energy of a choice of candidates."""
+    """Total energy of a choice of candidates.
+
+    Parameters
+    ----------
+    path : (M,) array_like of int
+        One candidate index per sample.
+    unaries : list of (K_j,) arrays
+        Cost of each candidate of sample ``j``.
+    pairwise : list of (K_j, K_j+1) arrays
+        Cost of each candidate combination of neighbours ``j``, ``j + 1``.
+
+    Returns
+    -------
+    float
+        ``sum_j unaries[j][path[j]] + sum_j pairwise[j][path[j], path[j + 1]]``.
+
+    Raises
+    ------
+    ValueError
+        If ``path`` does not pick one valid candidate per sample, or the tables
+        do not form a chain.
+
+    Examples
+    --------
+    >>> chain_energy(np.array([1, 0]), [np.array([0.0, 2.0]), np.zeros(1)], [np.array([[1.0], [4.0]])])
+    6.0
+    """
     _check_chain(unaries, pairwise)
     if len(path) != len(unaries):
         raise ValueError(f"path must choose one candidate per sample ({len(unaries)}), got {len(path)}")
@@ -236,7 +316,7 @@ def _check_chain(unaries, pairwise):
 class SamplingResult:
     """Chosen candidates along one stroke.
 
-    Attributes
+    Parameters
     ----------
     choice : (M,) int ndarray
         Candidate index per sample.
@@ -246,6 +326,12 @@ class SamplingResult:
         The pairwise compositing energies alone, summed.
     edge_energies : (M - 1,) ndarray
         ``E_pair`` of each pair of neighbours as chosen.
+
+    Examples
+    --------
+    >>> r = choose([np.zeros(2), np.zeros(2)], [np.array([[1.0, 0.0], [2.0, 3.0]])], "dp")
+    >>> r.choice.tolist(), r.energy, r.edge_energies.tolist()
+    ([0, 1], 0.0, [0.0])
     """
 
     choice: np.ndarray
@@ -255,7 +341,36 @@ class SamplingResult:
 
 
 def choose(unaries: list[np.ndarray], pairwise: list[np.ndarray], method: str) -> SamplingResult:
-    """Pick the candidates with ``method`` in {"dp", "greedy", "none"} ("none" = zero shift)."""
+    """Pick the candidates with ``method`` in {"dp", "greedy", "none"} ("none" = zero shift).
+
+    Parameters
+    ----------
+    unaries : list of (K_j,) arrays
+        Cost of each candidate of sample ``j`` (the shift prior; 0 for the
+        zero shift, which every sample has as candidate 0).
+    pairwise : list of (K_j, K_j+1) arrays
+        ``E_pair`` of neighbouring candidates (:func:`pair_energies`).
+    method : {"dp", "greedy", "none"}
+        "dp": the paper's global sampling, exact by :func:`viterbi`;
+        "greedy": :func:`greedy`; "none": candidate 0 everywhere (the plain
+        arc-length mapping).
+
+    Returns
+    -------
+    SamplingResult
+
+    Raises
+    ------
+    ValueError
+        If ``method`` is not one of the three.
+
+    Examples
+    --------
+    >>> u = [np.zeros(2), np.zeros(2)]
+    >>> p = [np.array([[5.0, 1.0], [0.0, 9.0]])]
+    >>> choose(u, p, "dp").energy, choose(u, p, "none").energy
+    (0.0, 5.0)
+    """
     if method == "dp":
         path, e = viterbi(unaries, pairwise)
     elif method == "greedy":

@@ -86,7 +86,18 @@ class Stroke:
 
     @checked(s=_ARC)
     def point_at(self, s) -> np.ndarray:
-        """Points ``(x, y)`` at arc lengths ``s`` (clamped to ``[0, L]``)."""
+        """Points ``(x, y)`` at arc lengths ``s`` (clamped to ``[0, L]``).
+
+        Parameters
+        ----------
+        s : float or (M,) array_like
+            Arc lengths in pixels from the first point; clamped to ``[0, L]``.
+
+        Returns
+        -------
+        (2,) or (M, 2) float64 ndarray
+            Linearly interpolated ``(x, y)``.
+        """
         s = np.clip(np.asarray(s, float), 0.0, self.length)
         return np.stack([np.interp(s, self.s, self.points[:, 0]),
                          np.interp(s, self.s, self.points[:, 1])], axis=-1)
@@ -99,6 +110,19 @@ class Stroke:
         (clamped to the stroke), which smooths the jitter of hand-drawn
         strokes; ``window = 0`` gives the direction of the edge under
         ``s``.
+
+        Parameters
+        ----------
+        s : float or (M,) array_like
+            Arc lengths in pixels; clamped to ``[0, L]``.
+        window : float
+            Half-length (pixels, >= 0) of the chord; 0 by default.
+
+        Returns
+        -------
+        float64 ndarray
+            Angles in radians, of the shape of ``s`` (y points down, so positive
+            angles turn clockwise on screen).
         """
         s = np.clip(np.asarray(s, float), 0.0, self.length)
         w = max(float(window), 1e-3)
@@ -109,7 +133,26 @@ class Stroke:
 
     @checked(s=_ARC, window=Real(0, 1e5))
     def normal_at(self, s, *, window: float = 0.0) -> np.ndarray:
-        """Unit normals (right of the direction of travel on screen) at ``s``."""
+        """Unit normals (right of the direction of travel on screen) at ``s``.
+
+        Parameters
+        ----------
+        s : float or (M,) array_like
+            Arc lengths in pixels; clamped to ``[0, L]``.
+        window : float
+            Half-length of the chord the direction is taken from (see
+            :meth:`angle_at`).
+
+        Returns
+        -------
+        (2,) or (M, 2) float64 ndarray
+            Unit ``(x, y)`` vectors, the direction turned by +90 degrees.
+
+        Examples
+        --------
+        >>> Stroke([(0, 0), (10, 0)]).normal_at(5.0).round(6).tolist()
+        [-0.0, 1.0]
+        """
         a = self.angle_at(s, window=window)
         return np.stack([-np.sin(a), np.cos(a)], axis=-1)
 
@@ -117,10 +160,21 @@ class Stroke:
     def project(self, points) -> tuple[np.ndarray, np.ndarray]:
         """Arc length of the nearest stroke point to each of ``points`` and the distance.
 
+        Parameters
+        ----------
+        points : (M, 2) array_like
+            ``(x, y)`` points in pixels.
+
         Returns
         -------
         s : (M,) ndarray
         dist : (M,) ndarray
+
+        Examples
+        --------
+        >>> s, d = Stroke([(0, 0), (10, 0)]).project([(4, 3)])
+        >>> s.tolist(), d.tolist()
+        ([4.0], [3.0])
         """
         q = as_points(points, name="points")
         a, b = self.points[:-1], self.points[1:]
@@ -141,7 +195,22 @@ class Stroke:
 
     @checked(shape=Shape())
     def inside(self, shape) -> bool:
-        """Whether every point lies inside an image of ``shape`` (half a pixel of tolerance)."""
+        """Whether every point lies inside an image of ``shape`` (half a pixel of tolerance).
+
+        Parameters
+        ----------
+        shape : tuple of int
+            Image shape ``(H, W, ...)``.
+
+        Returns
+        -------
+        bool
+
+        Examples
+        --------
+        >>> Stroke([(0, 0), (10, 0)]).inside((5, 10)), Stroke([(0, 0), (10, 0)]).inside((5, 11))
+        (False, True)
+        """
         h, w = shape[:2]
         x, y = self.points[:, 0], self.points[:, 1]
         return bool(np.all((x >= -0.5) & (x <= w - 0.5) & (y >= -0.5) & (y <= h - 0.5)))
@@ -154,11 +223,15 @@ class StrokePair:
     Parameters
     ----------
     source, target : Stroke
+        The stroke on the example image and the stroke in the output
+        domain its texture is re-synthesized along.
     control : (K, 2) array_like, optional
         Control-point pairs as arc lengths ``(s_source, s_target)``. The
         end-point pairs ``(0, 0)`` and ``(L_source, L_target)`` are added
         if missing. Both columns must increase strictly: control points
         out of order raise ``ValueError``.
+    name : str
+        Used in error messages (``make_pairs`` passes ``"pair i"``).
 
     Examples
     --------
@@ -214,6 +287,17 @@ class StrokePair:
         A point ``p`` between target control points ``c_i`` and ``c_i+1``
         at fraction ``f`` of that stretch maps to the point at fraction
         ``f`` between the corresponding source control points.
+
+        Parameters
+        ----------
+        s_target : float or (M,) array_like
+            Arc lengths (pixels) along the target stroke.
+
+        Returns
+        -------
+        float64 ndarray
+            Corresponding arc lengths along the source stroke, of the shape of
+            ``s_target`` (clamped to the ends).
         """
         return np.interp(np.asarray(s_target, float), self.control[:, 1], self.control[:, 0])
 
@@ -223,6 +307,24 @@ class StrokePair:
 
         Each point is projected on its stroke (nearest point). The new
         pairs must keep the order along both strokes.
+
+        Parameters
+        ----------
+        source_points : (K, 2) array_like
+            ``(x, y)`` points near the source stroke, one per new pair.
+        target_points : (K, 2) array_like
+            ``(x, y)`` points near the target stroke, in the same order.
+
+        Returns
+        -------
+        StrokePair
+            ``self`` when no points are given.
+
+        Raises
+        ------
+        ValueError
+            If the two lists differ in length or the new pairs cross the existing
+            ones (out of order along a stroke).
         """
         sp = as_points(source_points, name="source_points")
         tp = as_points(target_points, name="target_points")
