@@ -957,13 +957,27 @@ def _example_layout_for(layout: np.ndarray, pm_s: PixelMap, pm_t: PixelMap) -> n
 
 def _domain_labels(layout: np.ndarray, pm_s: PixelMap, domain: np.ndarray) -> np.ndarray:
     """Output regions from the domain the target grew in: the example's branch region inside it,
-    the region most of the example's other pixels have outside it."""
+    the region most of the example's other pixels have outside it (going beyond the paper: small
+    pieces outside the domain that lie on the example's branch region, e.g. a land corner between
+    rivers at the frame that the domain left out, stay in the branch region: no lake or inlet the
+    example does not have)."""
     lay = np.asarray(layout)
     k = int(lay.max()) + 1
     inner = int(np.bincount(lay[pm_s.dist <= 0.5], minlength=k).argmax())
     rest = lay[lay != inner]
     outer = int(np.bincount(rest, minlength=k).argmax()) if rest.size else inner
-    return np.where(domain, inner, outer).astype(np.int32)
+    dom = np.asarray(domain, bool)
+    if dom.shape == lay.shape and dom.any() and not dom.all():
+        # small pieces outside the domain lying (almost) wholly on the example's branch region are
+        # no sea of the example (a flat land corner between rivers at the frame): they stay land
+        pieces, n = ndi.label(~dom)
+        if n:
+            area = np.bincount(pieces.ravel(), minlength=n + 1)
+            on_inner = np.bincount(pieces.ravel(), weights=(lay == inner).ravel(), minlength=n + 1)
+            fill = (area < 0.05 * dom.size) & (on_inner >= 0.9 * area)
+            fill[0] = False
+            dom = dom | fill[pieces]
+    return np.where(dom, inner, outer).astype(np.int32)
 
 
 def _draw_flat(ex, example_structure, target_structure, layout, labels_t, target_domain, pm_s, labels_ex,
