@@ -170,7 +170,9 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
                                                                                  x0:ix + int(rad) + 2])
             if (win & others[y0:iy + int(rad) + 2, x0:ix + int(rad) + 2]).any():
                 continue
-            ends.append(d_out[iy, ix])
+            # at the boundary, not merely near it all along (a river in a narrow floodplain band)
+            body = np.median([d_out[_pixel(q, w, h)] for q in b.points])
+            ends.append(d_out[iy, ix] if d_out[iy, ix] <= 0.5 * body else np.inf)
         tip_reach = _boundary_reach(ends, lim, share=0.5)
     return DrawingStyle(cols.astype(np.float32), branch_region, line.astype(np.float32), scale,
                         None if b_col is None else b_col.astype(np.float32), b_width, reach, tip_reach)
