@@ -939,7 +939,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
 
 def _relight_setup(ex: np.ndarray, canvas: np.ndarray, covered: np.ndarray, regions: ExampleRegions,
                    body: np.ndarray, patch_size: int, dist: np.ndarray, dist_t: np.ndarray,
-                   max_corr: float = 1.0, prior: float = 0.25):
+                   prior: float = 0.25):
     """Shading-free example and canvas for gap completion (going beyond the paper).
 
     The paper fills the gaps by hand. Copied automatically, square patches
@@ -955,11 +955,12 @@ def _relight_setup(ex: np.ndarray, canvas: np.ndarray, covered: np.ndarray, regi
     while pixels no patch touched come back exactly. (Additive, not a gain:
     a gain would amplify the noise of dark corners.)
 
-    When the light is the subject (a lit sky glowing around lightning), the
-    shading follows the branches: its correlation with the log distance to
-    the nearest branch is at least ``max_corr`` in size (about -0.6 on
-    ``lightning_noaa``, -0.2 on ``retina_fundus``, -0.1 on ``cracked_mud``) and
-    nothing is changed. Returns ``(example, canvas, offset)`` or None.
+    Away from the fragments the output's light tends (with weight ``prior``
+    against the fragments' local coverage) to the example's light at the
+    same distance from its branches: flat under vignetting, a glow that
+    fades away from the bolts on a lit sky (``lightning_noaa``), so the light
+    that is the subject is kept. Returns ``(example, canvas, offset)`` or
+    None when there is no background to measure the light on.
     """
     n = min(ex.shape[2], 3)   # colour channels only (alpha is copied as is)
     bg_ex = ~(regions.forbidden | ndi.binary_dilation(regions.body | regions.branch_like, iterations=3))
@@ -970,10 +971,7 @@ def _relight_setup(ex: np.ndarray, canvas: np.ndarray, covered: np.ndarray, regi
     from .regions import _normalized_blur
 
     shade_ex = _normalized_blur(ex[..., :n].astype(np.float64), bg_ex.astype(np.float64), sigma)
-    lum = shade_ex.mean(-1)[bg_ex]
     logd = np.log1p(dist[bg_ex])
-    if lum.std() > 1e-6 and logd.std() > 1e-6 and abs(np.corrcoef(lum, logd)[0, 1]) >= max_corr:
-        return None
     mean = ex[..., :n][bg_ex].mean(axis=0)
     # the example's light as a function of the distance to its branches (a glow around lightning;
     # flat under vignetting): what the output's light tends to away from its fragments
