@@ -10,6 +10,7 @@ from scipy import ndimage as ndi
 from branchnb.branching import example_domain, extract_structure, fit_model, synthesize_image, synthesize_structure
 from branchnb.branching._map_examples import country_map_example, delta_mask_example
 from branchnb.branching.drawing import DrawingStyle, _to_outlets, draw_in_style
+from branchnb.core.render import coverage_polylines
 from branchnb.core.structure import Branch, Structure
 
 
@@ -39,6 +40,13 @@ def test_delta_distributaries_reach_the_sea(seed):
     assert max(_end_gap(img, sea & (img > 0.5), e) for e in ends) < 2.0
     lab, n = ndi.label(img > 0.5, np.ones((3, 3)))
     assert n == 1                                                    # channels and sea: one water body
+    # the example's sea edge is one straight row: so is the output's, away from its own channels
+    # (no bump of sea nor dent of land where the example's channels opened into it)
+    top = np.argmax(sea, axis=0).astype(float)
+    cov, _ = coverage_polylines(mask.shape, [b.points for b in res.structure.branches],
+                                [2 * b.thickness + 12 for b in res.structure.branches])
+    clear = ~(cov[:, :] > 0.01).any(axis=0)
+    assert np.abs(top[clear] - np.median(top[clear])).max() <= 1
 
 
 def test_tips_extend_to_the_boundary_and_sources_keep_clear():

@@ -728,7 +728,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
             if labels_t.shape != (H, W) or not np.issubdtype(labels_t.dtype, np.integer):
                 raise ValueError(f"target_regions must be an integer (H, W) = {(H, W)} label map")
         elif target_domain is not None:
-            labels_t = _domain_labels(layout, pm_s, target_domain)
+            labels_t = _domain_labels(layout, pm_s, target_domain, src_labels)
         elif _grew_in_example_layout(layout, pm_s, pm_t):
             labels_t = _example_layout_for(layout, pm_s, pm_t)
         else:
@@ -1030,12 +1030,16 @@ def _example_layout_for(layout: np.ndarray, pm_s: PixelMap, pm_t: PixelMap) -> n
     return lay
 
 
-def _domain_labels(layout: np.ndarray, pm_s: PixelMap, domain: np.ndarray) -> np.ndarray:
+def _domain_labels(layout: np.ndarray, pm_s: PixelMap, domain: np.ndarray,
+                   colours: np.ndarray | None = None) -> np.ndarray:
     """Output regions from the domain the target grew in: the example's branch region inside it,
     the region most of the example's other pixels have outside it (going beyond the paper: small
     pieces outside the domain that lie on the example's branch region, e.g. a land corner between
     rivers at the frame that the domain left out, stay in the branch region: no lake or inlet the
-    example does not have)."""
+    example does not have). ``colours``: the example's colour labels; when its branches have the
+    outer region's colour (a delta's water channels), a domain taken from the example
+    (:func:`~branchnb.branching.extraction.example_domain`) has a notch of sea at every example
+    mouth: the coast is drawn straight across it."""
     lay = np.asarray(layout)
     k = int(lay.max()) + 1
     inner = int(np.bincount(lay[pm_s.dist <= 0.5], minlength=k).argmax())
@@ -1043,6 +1047,11 @@ def _domain_labels(layout: np.ndarray, pm_s: PixelMap, domain: np.ndarray) -> np
     outer = int(np.bincount(rest, minlength=k).argmax()) if rest.size else inner
     dom = np.asarray(domain, bool)
     if dom.shape == lay.shape and dom.any() and not dom.all():
+        if colours is not None:
+            c = np.asarray(colours)[pm_s.dist <= 0.5]
+            c = c[c >= 0]
+            if c.size and int(np.bincount(c).argmax()) == outer:
+                dom = _across_example_mouths(dom, pm_s)
         # small pieces outside the domain lying (almost) wholly on the example's branch region are
         # no sea of the example (a flat land corner between rivers at the frame): they stay land
         pieces, n = ndi.label(~dom)
@@ -1053,6 +1062,26 @@ def _domain_labels(layout: np.ndarray, pm_s: PixelMap, domain: np.ndarray) -> np
             fill[0] = False
             dom = dom | fill[pieces]
     return np.where(dom, inner, outer).astype(np.int32)
+
+
+def _across_example_mouths(domain: np.ndarray, pm_s: PixelMap) -> np.ndarray:
+    """``domain`` with the outer region's edge carried straight across the example's channels.
+
+    The outer region is taken without the example's channel bodies (a tube
+    of ``1.5 r + 4`` pixels) and closed with a disk wider than the tube, so it
+    grows back into the tubes only as far as its edge on both sides reaches;
+    the rest of the tubes (the notch each mouth cut into the coast) is
+    inside the domain."""
+    zone = pm_s.dist <= 1.5 * pm_s.radius + 4.0
+    out = ~domain
+    if not (out & zone).any():
+        return domain
+    R = 3 * int(np.ceil(1.5 * float(np.max(pm_s.radius[zone & out])) + 6.0))   # (a wide disk dips little)
+    yy, xx = np.mgrid[-R:R + 1, -R:R + 1]
+    disk = xx ** 2 + yy ** 2 <= R * R
+    pad = R + 1
+    closed = ndi.binary_closing(np.pad(out & ~zone, pad, mode="edge"), disk)[pad:-pad, pad:-pad]
+    return domain | (out & zone & ~closed)
 
 
 def _draw_flat(ex, example_structure, target_structure, layout, labels_t, target_domain, pm_s, labels_ex,
