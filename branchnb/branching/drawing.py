@@ -53,6 +53,11 @@ class DrawingStyle:
         How far (pixels) the example's roots start from the region boundary
         at most: roots that close reach it in the drawing (a river's mouth
         meets the coast line). 0 when the roots do not start at the boundary.
+    tip_reach : float
+        The same for the branch ends: how far (pixels) the example's free
+        branch ends lie from the region boundary at most when they end at
+        it (a delta's distributaries run into the sea); 0 when they end
+        inland (a river's sources).
     """
 
     region_colours: np.ndarray
@@ -62,6 +67,7 @@ class DrawingStyle:
     boundary_colour: np.ndarray | None
     boundary_width: float
     outlet_reach: float = 0.0
+    tip_reach: float = 0.0
 
 
 def _median_colour(img: np.ndarray, mask: np.ndarray, fallback) -> np.ndarray:
@@ -141,55 +147,119 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
             length = max(np.count_nonzero(edge) / 2.0, 1.0)  # both sides of the boundary are marked
             b_width = float(np.clip(cover(b_col)[band & ~zone].sum() / length, 1.0, 16.0))
     # roots that start near the region boundary are outlets: the drawing joins them to it
-    reach = 0.0
+    reach, tip_reach = 0.0, 0.0
     outside = ~inside
     if outside.any() and not outside.all():
         d_out = ndi.distance_transform_edt(inside)
         h, w = lay.shape
-        depths = []
-        for b in structure.branches:
-            if b.parent is None:
-                x, y = np.clip(np.rint(b.points[0]).astype(int), 0, [w - 1, h - 1])
-                depths.append(d_out[y, x])
         lim = max(12.0, 0.015 * float(np.hypot(h, w)))
-        if depths and np.median(depths) <= lim:
-            reach = float(min(np.max(np.asarray(depths)[np.asarray(depths) <= lim]) * 1.5 + 2, 3 * lim))
+        reach = _boundary_reach([d_out[_pixel(b.points[0], w, h)] for b in structure.branches
+                                 if b.parent is None], lim)
+        # free branch ends (not running into another branch, not at the frame) that end at the
+        # boundary: a delta's distributaries
+        ends = []
+        for i, b in enumerate(structure.branches):
+            x, y = b.points[-1]
+            if min(x, y, w - 1 - x, h - 1 - y) < 2:
+                continue
+            others = pm.branch != i
+            rad = 2.0 * float(b.thickness[-1]) + 2.0
+            iy, ix = _pixel(b.points[-1], w, h)
+            y0, x0 = max(iy - int(rad) - 1, 0), max(ix - int(rad) - 1, 0)
+            win = (pm.dist[y0:iy + int(rad) + 2, x0:ix + int(rad) + 2] <= pm.radius[y0:iy + int(rad) + 2,
+                                                                                 x0:ix + int(rad) + 2])
+            if (win & others[y0:iy + int(rad) + 2, x0:ix + int(rad) + 2]).any():
+                continue
+            # at the boundary, not merely near it all along (a river in a narrow floodplain band)
+            body = np.median([d_out[_pixel(q, w, h)] for q in b.points])
+            ends.append(d_out[iy, ix] if d_out[iy, ix] <= 0.5 * body else np.inf)
+        tip_reach = _boundary_reach(ends, lim, share=0.5)
     return DrawingStyle(cols.astype(np.float32), branch_region, line.astype(np.float32), scale,
-                        None if b_col is None else b_col.astype(np.float32), b_width, reach)
+                        None if b_col is None else b_col.astype(np.float32), b_width, reach, tip_reach)
 
 
-def _to_outlets(structure: Structure, inside: np.ndarray, reach: float) -> Structure:
-    """Lengthen every root that starts within ``reach`` of the region boundary back to it."""
-    if reach <= 0:
-        return structure
+def _pixel(p, w: int, h: int) -> tuple[int, int]:
+    """(row, column) of point ``p`` = (x, y), clipped to the image."""
+    x, y = np.clip(np.rint(np.asarray(p, np.float64)).astype(int), 0, [w - 1, h - 1])
+    return int(y), int(x)
+
+
+def _boundary_reach(depths, lim: float, share: float = 0.5) -> float:
+    """How far ends lying at the region boundary may start from it: 0 unless at least ``share`` of
+    the ``depths`` (distance of each end to the boundary) are within ``lim``; else 1.5 x the largest
+    such depth + 2, at least ``lim`` (a synthesized end stops up to one growth step short of its
+    domain's edge, whatever the example's), at most ``3 lim``."""
+    d = np.asarray(depths, np.float64)
+    if d.size == 0 or np.mean(d <= lim) < share:
+        return 0.0
+    return float(min(max(np.max(d[d <= lim]) * 1.5 + 2, lim), 3 * lim))
+
+
+def _extend_to(points: np.ndarray, inside: np.ndarray, d_out: np.ndarray, reach: float):
+    """Point where the ray back from ``points[0]`` (away from ``points[1:]``) leaves ``inside``,
+    when ``points[0]`` lies inside within ``reach`` of its boundary; else None."""
     h, w = inside.shape
+    iy, ix = _pixel(points[0], w, h)
+    if d_out[iy, ix] > reach or not inside[iy, ix] or len(points) < 2:
+        return None
+    k = min(3, len(points) - 1)
+    back = points[0] - points[k]
+    n = float(np.hypot(*back))
+    if n < 1e-9:
+        return None
+    back = back / n
+    steps = np.arange(1, int(np.ceil(reach * 2)) + 1)[:, None] * 0.5
+    ray = points[0] + steps * back
+    ix = np.clip(np.rint(ray[:, 0]).astype(int), 0, w - 1)
+    iy = np.clip(np.rint(ray[:, 1]).astype(int), 0, h - 1)
+    leave = np.flatnonzero(~inside[iy, ix])
+    return ray[leave[0]] if len(leave) else None
+
+
+def _trim_tail(points: np.ndarray, r: np.ndarray, d_out: np.ndarray, clear: float, keep: int):
+    """Drop the last points of a branch while they lie within ``clear`` of the region boundary
+    (never index ``keep`` or before, never more than half the branch)."""
+    h, w = d_out.shape
+    ix = np.clip(np.rint(points[:, 0]).astype(int), 0, w - 1)
+    iy = np.clip(np.rint(points[:, 1]).astype(int), 0, h - 1)
+    near = d_out[iy, ix] < clear
+    n = len(points)
+    end = n
+    while end - 1 > max(keep, n // 2, 1) and near[end - 1]:
+        end -= 1
+    return (points[:end], r[:end]) if end < n else (points, r)
+
+
+def _to_outlets(structure: Structure, inside: np.ndarray, reach: float, tip_reach: float = 0.0,
+                clear: float = 0.0) -> Structure:
+    """Lengthen every root that starts within ``reach`` of the region boundary back to it, and every
+    branch that ends within ``tip_reach`` of it on to it (straight on along its last heading).
+    Without ``tip_reach``, branch ends that stop within ``clear`` of the boundary are cut back to
+    ``clear`` (a river's source a pixel from the coast line would read as a broken mouth)."""
+    if reach <= 0 and tip_reach <= 0 and clear <= 0:
+        return structure
     d_out = ndi.distance_transform_edt(inside)
-    out = []
+    last_child = {}
     for b in structure.branches:
-        if b.parent is not None or len(b.points) < 2:
-            out.append(b)
-            continue
-        x, y = np.clip(np.rint(b.points[0]).astype(int), 0, [w - 1, h - 1])
-        if d_out[y, x] > reach or not inside[y, x]:
-            out.append(b)
-            continue
-        k = min(3, len(b.points) - 1)
-        back = b.points[0] - b.points[k]
-        back /= max(np.hypot(*back), 1e-9)
-        steps = np.arange(1, int(np.ceil(reach * 2)) + 1)[:, None]
-        ray = b.points[0] + steps * back
-        ix = np.clip(np.rint(ray[:, 0]).astype(int), 0, w - 1)
-        iy = np.clip(np.rint(ray[:, 1]).astype(int), 0, h - 1)
-        leave = np.flatnonzero(~inside[iy, ix])
-        if not len(leave):
-            out.append(b)
-            continue
-        tip = ray[leave[0]]
-        pts = np.vstack([tip, b.points])
-        r = np.r_[b.thickness[0], b.thickness]
-        out.append(Branch(pts, r, None, None))
+        if b.parent is not None:
+            last_child[b.parent] = max(last_child.get(b.parent, 0), int(b.parent_vertex or 0))
+    out = []
+    for i, b in enumerate(structure.branches):
+        pts, r, pv = b.points, b.thickness, b.parent_vertex
+        if tip_reach <= 0 < clear and len(pts) > 2:
+            pts, r = _trim_tail(pts, r, d_out, clear, last_child.get(i, 0))
+        if reach > 0 and b.parent is None:
+            tip = _extend_to(pts, inside, d_out, reach)
+            if tip is not None:
+                pts, r = np.vstack([tip, pts]), np.r_[r[0], r]
+        if tip_reach > 0:
+            tip = _extend_to(pts[::-1], inside, d_out, tip_reach)
+            if tip is not None:
+                pts, r = np.vstack([pts, tip]), np.r_[r, r[-1]]
+        out.append(b if pts is b.points else Branch(pts, r, b.parent, pv))
     # children's parent vertices move by one where their parent got a new first vertex
-    moved = {i for i, (a, b) in enumerate(zip(out, structure.branches)) if a is not b}
+    moved = {i for i, (a, b) in enumerate(zip(out, structure.branches))
+             if len(a.points) and len(b.points) and not np.array_equal(a.points[0], b.points[0])}
     fixed = []
     for b in out:
         if b.parent is not None and b.parent in moved:
@@ -231,7 +301,8 @@ def draw_in_style(style: DrawingStyle, structure: Structure, labels: np.ndarray)
         if lines:
             cov, _ = coverage_polylines((h, w), lines, [np.full(len(p), style.boundary_width) for p in lines])
             paint(cov, style.boundary_colour)
-    s = _to_outlets(structure, inside, style.outlet_reach)
+    clear = 2.0 * style.boundary_width + 2.0 if style.boundary_colour is not None else 0.0
+    s = _to_outlets(structure, inside, style.outlet_reach, style.tip_reach, clear)
     pls = [b.points for b in s.branches if len(b.points) >= 2]
     wid = [np.maximum(style.width_scale * 2 * b.thickness, 1.0) for b in s.branches if len(b.points) >= 2]
     if pls:

@@ -159,6 +159,10 @@ class ImageSynthesisParams:
     flat_poisson: bool = param(False, help="also run the Poisson correction on flat-colour examples (off: "
                                            "it would blur their flat colours into halos)")
     completion: bool = param(True, help="fill the gaps between branches automatically")
+    relight_completion: bool = param(True, help="gap completion copies the example's texture with its "
+                                                "large-scale shading taken out and lights it like the "
+                                                "fragments around it (a vignetted photo gives no square "
+                                                "patches of another brightness; off: copy as is)")
     patch_size: int = param(32, min=8, max=128, step=2,
                             help="gap completion: patch side (pixels)")
     patch_overlap: float = param(0.25, min=0.1, max=0.5, step=0.05,
@@ -724,7 +728,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
             if labels_t.shape != (H, W) or not np.issubdtype(labels_t.dtype, np.integer):
                 raise ValueError(f"target_regions must be an integer (H, W) = {(H, W)} label map")
         elif target_domain is not None:
-            labels_t = _domain_labels(layout, pm_s, target_domain)
+            labels_t = _domain_labels(layout, pm_s, target_domain, src_labels)
         elif _grew_in_example_layout(layout, pm_s, pm_t):
             labels_t = _example_layout_for(layout, pm_s, pm_t)
         else:
@@ -899,7 +903,13 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         # disks' edges), never into the branches.
         rim = int(p.completion_rim)
         inner = ndi.binary_erosion(covered, iterations=rim, border_value=1) if rim > 0 else covered
-        comp = complete_gaps(canvas, covered, ex, regions.forbidden, patch_size=p.patch_size,
+        relit = None
+        if p.relight_completion and not flat:
+            relit = _relight_setup(ex, canvas, covered, regions, body, p.patch_size, pm_s.dist, pm_t.dist)
+            if relit is not None:
+                ex_fill, canvas, offset_t = relit
+        comp = complete_gaps(canvas, covered, ex if relit is None else ex_fill, regions.forbidden,
+                             patch_size=p.patch_size,
                              overlap=p.patch_overlap, protect=(body & covered) | inner,
                              tolerance=p.completion_tolerance, forbid_weight=p.forbid_weight,
                              min_free=p.min_free,
@@ -908,6 +918,8 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
                              screen=p.completion_screen if p.anchors else 0.0,
                              rng=rng, progress=sub_progress, regions=labels_t,
                              example_regions=src_labels if labels_t is not None else None)
+        if relit is not None:
+            canvas += offset_t      # back to the output's own light (fragments: exactly as before)
         fill = comp.filled
         source[fill] = comp.source[fill]
         frag_index[fill] = -1
@@ -923,6 +935,69 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     return ImageSynthesisResult(canvas, fragment_mask, fill, source, frag_index, seams, matches,
                                 total_seam, target_structure, regions, n_inpainted, timings, p,
                                 example_labels=labels_ex, labels=labels_t)
+
+
+def _relight_setup(ex: np.ndarray, canvas: np.ndarray, covered: np.ndarray, regions: ExampleRegions,
+                   body: np.ndarray, patch_size: int, dist: np.ndarray, dist_t: np.ndarray,
+                   prior: float = 0.25):
+    """Shading-free example and canvas for gap completion (going beyond the paper).
+
+    The paper fills the gaps by hand. Copied automatically, square patches
+    of a vignetted or unevenly lit photo (a fundus image) carry the light of
+    the place they come from: bright and dark squares side by side that no
+    seam hides. Here the example's background is shifted by its own
+    large-scale shading (Gaussian, ``sigma = 2 * patch_size``: larger than a
+    patch, so the texture inside a patch is kept) to its mean level, and the
+    canvas by the shading of the fragments already in place (their
+    background, averaged at the same scale; far from every fragment, their
+    mean). The patches are chosen and blended on these level images; adding
+    the canvas shading back lights every patch like the fragments around it,
+    while pixels no patch touched come back exactly. (Additive, not a gain:
+    a gain would amplify the noise of dark corners.)
+
+    Away from the fragments the output's light tends (with weight ``prior``
+    against the fragments' local coverage) to the example's light at the
+    same distance from its branches: flat under vignetting, a glow that
+    fades away from the bolts on a lit sky (``lightning_noaa``), so the light
+    that is the subject is kept. Returns ``(example, canvas, offset)`` or
+    None when there is no background to measure the light on.
+    """
+    n = min(ex.shape[2], 3)   # colour channels only (alpha is copied as is)
+    bg_ex = ~(regions.forbidden | ndi.binary_dilation(regions.body | regions.branch_like, iterations=3))
+    bg_t = covered & ~ndi.binary_dilation(body, iterations=3)
+    if np.count_nonzero(bg_ex) < 64 or np.count_nonzero(bg_t) < 64:
+        return None
+    sigma = 2.0 * float(patch_size)
+    from .regions import _normalized_blur
+
+    shade_ex = _normalized_blur(ex[..., :n].astype(np.float64), bg_ex.astype(np.float64), sigma)
+    logd = np.log1p(dist[bg_ex])
+    mean = ex[..., :n][bg_ex].mean(axis=0)
+    # the example's light as a function of the distance to its branches (a glow around lightning;
+    # flat under vignetting): what the output's light tends to away from its fragments
+    edges = np.linspace(0.0, float(logd.max()) + 1e-6, 17)
+    k = np.clip(np.digitize(logd, edges) - 1, 0, 15)
+    cnt = np.bincount(k, minlength=16)
+    prof = np.stack([np.bincount(k, weights=shade_ex[..., c][bg_ex], minlength=16) for c in range(n)], 1)
+    ok = cnt > 0
+    prof = prof[ok] / cnt[ok, None]
+    mid = 0.5 * (edges[:-1] + edges[1:])[ok]
+    lt = np.log1p(dist_t)
+    g = np.stack([np.interp(lt, mid, prof[:, c]) for c in range(n)], -1)
+    # the fragments' light where they are (their background averaged at sigma), weighted by how
+    # much of it lies around (coarse grid: smooth at that scale anyway)
+    blur_t = _normalized_blur(canvas[..., :n].astype(np.float64), bg_t.astype(np.float64), sigma)
+    H, W = bg_t.shape
+    f = max(int(sigma // 6), 1)
+    small = cv2.resize(bg_t.astype(np.float32), (max(W // f, 1), max(H // f, 1)), interpolation=cv2.INTER_AREA)
+    den = cv2.resize(ndi.gaussian_filter(small, sigma / f, mode="nearest"), (W, H),
+                     interpolation=cv2.INTER_LINEAR).astype(np.float64)[..., None]
+    shade_t = (blur_t * den + prior * g) / (den + prior)
+    ex_flat = ex.copy()
+    ex_flat[..., :n] = ex[..., :n] + (mean - shade_ex)
+    offset = np.zeros(canvas.shape, np.float32)
+    offset[..., :n] = (shade_t - mean).astype(np.float32)
+    return ex_flat.astype(np.float32), (canvas - offset).astype(np.float32), offset
 
 
 def _grew_in_example_layout(layout: np.ndarray, pm_s: PixelMap, pm_t: PixelMap,
@@ -955,15 +1030,58 @@ def _example_layout_for(layout: np.ndarray, pm_s: PixelMap, pm_t: PixelMap) -> n
     return lay
 
 
-def _domain_labels(layout: np.ndarray, pm_s: PixelMap, domain: np.ndarray) -> np.ndarray:
+def _domain_labels(layout: np.ndarray, pm_s: PixelMap, domain: np.ndarray,
+                   colours: np.ndarray | None = None) -> np.ndarray:
     """Output regions from the domain the target grew in: the example's branch region inside it,
-    the region most of the example's other pixels have outside it."""
+    the region most of the example's other pixels have outside it (going beyond the paper: small
+    pieces outside the domain that lie on the example's branch region, e.g. a land corner between
+    rivers at the frame that the domain left out, stay in the branch region: no lake or inlet the
+    example does not have). ``colours``: the example's colour labels; when its branches have the
+    outer region's colour (a delta's water channels), a domain taken from the example
+    (:func:`~branchnb.branching.extraction.example_domain`) has a notch of sea at every example
+    mouth: the coast is drawn straight across it."""
     lay = np.asarray(layout)
     k = int(lay.max()) + 1
     inner = int(np.bincount(lay[pm_s.dist <= 0.5], minlength=k).argmax())
     rest = lay[lay != inner]
     outer = int(np.bincount(rest, minlength=k).argmax()) if rest.size else inner
-    return np.where(domain, inner, outer).astype(np.int32)
+    dom = np.asarray(domain, bool)
+    if dom.shape == lay.shape and dom.any() and not dom.all():
+        if colours is not None:
+            c = np.asarray(colours)[pm_s.dist <= 0.5]
+            c = c[c >= 0]
+            if c.size and int(np.bincount(c).argmax()) == outer:
+                dom = _across_example_mouths(dom, pm_s)
+        # small pieces outside the domain lying (almost) wholly on the example's branch region are
+        # no sea of the example (a flat land corner between rivers at the frame): they stay land
+        pieces, n = ndi.label(~dom)
+        if n:
+            area = np.bincount(pieces.ravel(), minlength=n + 1)
+            on_inner = np.bincount(pieces.ravel(), weights=(lay == inner).ravel(), minlength=n + 1)
+            fill = (area < 0.05 * dom.size) & (on_inner >= 0.9 * area)
+            fill[0] = False
+            dom = dom | fill[pieces]
+    return np.where(dom, inner, outer).astype(np.int32)
+
+
+def _across_example_mouths(domain: np.ndarray, pm_s: PixelMap) -> np.ndarray:
+    """``domain`` with the outer region's edge carried straight across the example's channels.
+
+    The outer region is taken without the example's channel bodies (a tube
+    of ``1.5 r + 4`` pixels) and closed with a disk wider than the tube, so it
+    grows back into the tubes only as far as its edge on both sides reaches;
+    the rest of the tubes (the notch each mouth cut into the coast) is
+    inside the domain."""
+    zone = pm_s.dist <= 1.5 * pm_s.radius + 4.0
+    out = ~domain
+    if not (out & zone).any():
+        return domain
+    R = 3 * int(np.ceil(1.5 * float(np.max(pm_s.radius[zone & out])) + 6.0))   # (a wide disk dips little)
+    yy, xx = np.mgrid[-R:R + 1, -R:R + 1]
+    disk = xx ** 2 + yy ** 2 <= R * R
+    pad = R + 1
+    closed = ndi.binary_closing(np.pad(out & ~zone, pad, mode="edge"), disk)[pad:-pad, pad:-pad]
+    return domain | (out & zone & ~closed)
 
 
 def _draw_flat(ex, example_structure, target_structure, layout, labels_t, target_domain, pm_s, labels_ex,

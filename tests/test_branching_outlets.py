@@ -1,0 +1,95 @@
+"""Issue 23, item 1: flat-colour drawings join every outlet to the region it drains into (a delta's
+distributaries reach the sea, a map's mouths the coast line) and keep no lake the example lacks."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy import ndimage as ndi
+
+from branchnb.branching import example_domain, extract_structure, fit_model, synthesize_image, synthesize_structure
+from branchnb.branching._map_examples import country_map_example, delta_mask_example
+from branchnb.branching.drawing import DrawingStyle, _to_outlets, draw_in_style
+from branchnb.core.render import coverage_polylines
+from branchnb.core.structure import Branch, Structure
+
+
+def _end_gap(img: np.ndarray, water: np.ndarray, end) -> float:
+    """Pixels between the drawn channel around ``end`` and the sea (``water`` outside the land)."""
+    x, y = np.rint(end).astype(int)
+    win = img[y - 15:y + 16, x - 15:x + 16] > 0.5
+    lab, _ = ndi.label(win, np.ones((3, 3)))
+    own = lab == lab[15, 15]
+    sea = water[y - 15:y + 16, x - 15:x + 16]
+    return 0.0 if (own & sea).any() else float(ndi.distance_transform_edt(~sea)[own].min())
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_delta_distributaries_reach_the_sea(seed):
+    mask, _ch, _sea = delta_mask_example((192, 192), seed)
+    ex = extract_structure(mask, root="nearest_region")
+    res = synthesize_structure(fit_model(ex, domain=example_domain(mask)), rng=1)
+    out = synthesize_image(np.dstack([mask] * 3), ex, res, rng=0)
+    sea = out.labels != np.bincount(out.labels[res.domain]).argmax()
+    depth = ndi.distance_transform_edt(~sea)
+    img = out.image[..., 0]
+    ends = [b.points[-1] for b in res.structure.branches
+            if 16 <= b.points[-1][0] < 176 and 16 <= b.points[-1][1] < 176
+            and depth[int(round(b.points[-1][1])), int(round(b.points[-1][0]))] <= 8]
+    assert ends                                                      # some channels run to the sea
+    assert max(_end_gap(img, sea & (img > 0.5), e) for e in ends) < 2.0
+    lab, n = ndi.label(img > 0.5, np.ones((3, 3)))
+    assert n == 1                                                    # channels and sea: one water body
+    # the example's sea edge is one straight row: so is the output's, away from its own channels
+    # (no bump of sea nor dent of land where the example's channels opened into it)
+    top = np.argmax(sea, axis=0).astype(float)
+    cov, _ = coverage_polylines(mask.shape, [b.points for b in res.structure.branches],
+                                [2 * b.thickness + 12 for b in res.structure.branches])
+    clear = ~(cov[:, :] > 0.01).any(axis=0)
+    assert np.abs(top[clear] - np.median(top[clear])).max() <= 1
+
+
+def test_tips_extend_to_the_boundary_and_sources_keep_clear():
+    inside = np.zeros((60, 60), bool)
+    inside[:40] = True
+    s = Structure([Branch([(30, 5), (30, 20), (30, 36)], 1.0)], image_shape=(60, 60))
+    ext = _to_outlets(s, inside, 0.0, tip_reach=12.0)
+    assert ext.branches[0].points[-1][1] >= 39.5 and len(ext.branches[0].points) == 4
+    cut = _to_outlets(s, inside, 0.0, tip_reach=0.0, clear=6.0)
+    assert cut.branches[0].points[-1][1] <= 34 and cut.branches[0].points[0][1] == 5
+
+
+def test_style_reads_tip_outlets_from_the_example():
+    mask, _ch, _sea = delta_mask_example((160, 160), 0)
+    ex = extract_structure(mask, root="nearest_region")
+    res = synthesize_structure(fit_model(ex, domain=example_domain(mask)), rng=0)
+    out = synthesize_image(np.dstack([mask] * 3), ex, res, rng=0)
+    from branchnb.branching.drawing import drawing_style
+    from branchnb.branching.regions import colour_labels, region_layout
+    from branchnb.branching.skeleton_map import SkeletonMap
+
+    pm = SkeletonMap(ex, 1.0).pixel_map(mask.shape)
+    img = np.dstack([mask] * 3).astype(np.float32)
+    zone = pm.core(3.0, 4.0)
+    lay = region_layout(colour_labels(img, out.example_labels, ~zone), zone, pm.core(1.0, 0.0))
+    assert drawing_style(img, ex, lay, pm).tip_reach > 0                # a delta's ends meet the sea
+    map_img, _truth, _land = country_map_example((192, 192), 0, layout="coast")
+    mex = extract_structure(map_img, root="nearest_region")
+    mpm = SkeletonMap(mex, 1.0).pixel_map(map_img.shape[:2])
+    lab = (~_land).astype(np.int32)
+    st = drawing_style(map_img, mex, lab, mpm)
+    assert st.tip_reach == 0 and st.outlet_reach > 0                    # a map's sources lie inland
+    assert isinstance(st, DrawingStyle)
+    drawn = draw_in_style(st, mex, lab)
+    assert drawn.shape == map_img.shape
+
+
+def test_no_sea_in_the_land_where_the_example_has_none():
+    img, _truth, land = country_map_example((224, 224), 2, layout="bay")
+    ex = extract_structure(img, root="nearest_region")
+    dom = example_domain(img, ex)
+    dom[:30, :30] = False                                            # a land corner the domain left out
+    res = synthesize_structure(fit_model(ex, domain=dom), rng=1)
+    out = synthesize_image(img, ex, res, rng=0)
+    sea_out = out.labels != np.bincount(out.labels[dom]).argmax()
+    assert not sea_out[:30, :30][land[:30, :30]].any()
