@@ -46,7 +46,8 @@ def test_delta_distributaries_reach_the_sea(seed):
     cov, _ = coverage_polylines(mask.shape, [b.points for b in res.structure.branches],
                                 [2 * b.thickness + 12 for b in res.structure.branches])
     clear = ~(cov[:, :] > 0.01).any(axis=0)
-    assert np.abs(top[clear] - np.median(top[clear])).max() <= 1
+    # within 2 px: the bumps this guards against were 4-8 px (a notch per example mouth)
+    assert np.abs(top[clear] - np.median(top[clear])).max() <= 2
 
 
 def test_tips_extend_to_the_boundary_and_sources_keep_clear():
