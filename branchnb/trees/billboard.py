@@ -198,7 +198,7 @@ class BillboardParams:
 class BillboardCloud:
     """Billboards of one tree.
 
-    Attributes
+    Parameters
     ----------
     centers : (K, 3) float64
         Quad centres ``(x, y, z)`` in working pixels (``y`` down, ``z``

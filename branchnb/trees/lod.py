@@ -68,7 +68,7 @@ SCREEN_COVERAGE = (0.5, 0.2, 0.05, 0.0)
 class LodLevel:
     """One level of detail.
 
-    Attributes
+    Parameters
     ----------
     name : str
         ``"full"``, ``"reduced"``, ``"crossed"`` or ``"single"``.

@@ -52,7 +52,7 @@ OUTLINED_SHARE = 0.8
 class SilhouetteOutline:
     """An exemplar's silhouette outline.
 
-    Attributes
+    Parameters
     ----------
     share : float
         Share of the rim pixels (opaque, 8-adjacent to a transparent pixel)

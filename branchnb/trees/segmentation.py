@@ -156,7 +156,7 @@ class SegmentParams:
 class Segmentation:
     """Crown/trunk labels of a tree image.
 
-    Attributes
+    Parameters
     ----------
     crown, trunk : (H, W) bool ndarray
         Disjoint masks covering the opaque pixels.

@@ -37,7 +37,7 @@ BACKGROUND, CROWN, TRUNK, GROUND = 0, 1, 2, 255
 class SyntheticTree:
     """A procedural exemplar and its true answers.
 
-    Attributes
+    Parameters
     ----------
     image : (S, S, 4) float32 ndarray
         RGBA, binary alpha.

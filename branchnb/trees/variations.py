@@ -107,7 +107,7 @@ MAX_VARIATIONS = 10_000
 class Exemplar:
     """A processed library tree.
 
-    Attributes
+    Parameters
     ----------
     name : str
     image : (S, S, 4) float32 ndarray
@@ -333,7 +333,7 @@ def process_exemplar(image, name: str = "", *, trunk_mask=None, trunk: str = "au
 class VariationParams:
     """Parameters of variation synthesis (defaults: the paper's).
 
-    Attributes
+    Parameters
     ----------
     m_points : int
         ``M``, vertices of the simplified contours (cages) used by the
@@ -403,7 +403,7 @@ class VariationParams:
 class Variation:
     """A synthesised tree.
 
-    Attributes
+    Parameters
     ----------
     image : (S, S, 4) float32 ndarray
         Straight RGBA with binary alpha (opaque where an exemplar with
