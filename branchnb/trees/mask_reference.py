@@ -115,8 +115,8 @@ def evaluate_independent(names=None, *, rng=0, **segment_kwargs) -> dict[str, di
         Seed of the segmenter's random forest training samples (default 0,
         so the figures repeat).
     **segment_kwargs
-        Passed to :func:`~branchnb.trees.segmentation.segment_tree` (fields
-        of its ``SegmentParams``).
+        Passed to :func:`~branchnb.trees.segmentation.segment_tree`, e.g.
+        ``params=SegmentParams(work_size=256)``.
 
     Returns
     -------
@@ -127,7 +127,8 @@ def evaluate_independent(names=None, *, rng=0, **segment_kwargs) -> dict[str, di
 
     Examples
     --------
-    >>> r = evaluate_independent(["plain_tree"], work_size=128)  # doctest: +SKIP
+    >>> from branchnb.trees.segmentation import SegmentParams
+    >>> r = evaluate_independent(["plain_tree"], params=SegmentParams(work_size=128))  # doctest: +SKIP
     >>> sorted(r["plain_tree"])  # doctest: +SKIP
     ['crown', 'mean', 'trunk']
     """
