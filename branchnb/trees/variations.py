@@ -1455,7 +1455,7 @@ class TreeLibrary:
         Returns
         -------
         int
-            Its index in :attr:`exemplars` (and in weight vectors).
+            Its index in the library's ``exemplars`` list (and in weight vectors).
 
         Raises
         ------
