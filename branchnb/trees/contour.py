@@ -76,6 +76,12 @@ class ContourParams:
         whether a contour point is trunk (majority of opaque pixels in the
         window are trunk); it makes the pin points robust to outlines or
         stray labels in the trunk mask.
+
+    Examples
+    --------
+    >>> p = ContourParams(m_points=30)
+    >>> p.n_points, p.n_crown, p.m_points
+    (2000, 1600, 30)
     """
 
     n_points: int = param(2000, min=40, max=8000, step=10, help="N, resampled contour points")
@@ -356,6 +362,16 @@ def pin_points(contour, alpha, trunk_mask=None, *, radius: float = 0.015) -> Pin
     the lowest trunk point is ``B``. If ``B`` is not on the trunk, or the walk from ``B`` never
     reaches the crown (a bare tree that is all trunk), no trunk is visible
     and ``L = R = B``.
+
+    Examples
+    --------
+    >>> from branchnb.trees.exemplar import extract_contours
+    >>> from branchnb.trees.synthetic import synthetic_tree
+    >>> t = synthetic_tree("clean", rng=0, size=64)   # true pins in t.pins
+    >>> alpha = t.image[..., 3] >= 0.5
+    >>> pins = pin_points(extract_contours(alpha).tree, alpha, t.labels == 2)
+    >>> pins.has_trunk, pins.b.tolist(), t.pins["B"]
+    (True, [33.0, 62.0], (33.0, 62.0))
     """
     c = as_points(contour, name="contour", min_points=3)
     opaque = as_mask(alpha, name="alpha")

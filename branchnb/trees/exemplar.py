@@ -66,6 +66,11 @@ class ExemplarParams:
         dropped).
     second_tree_fraction : float
         Area ratio above which a second region counts as a second tree.
+
+    Examples
+    --------
+    >>> ExemplarParams(size=256).components
+    'largest'
     """
 
     size: int = param(1024, min=64, max=4096, step=64, help="working size S (paper: 1024)")
@@ -156,6 +161,14 @@ class Normalized:
         ``(H, W)`` of the source image.
     dropped_components : int
         Opaque regions removed (``components="largest"``/``"error"``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.zeros((40, 20, 4), np.float32); img[5:35, 5:15] = (0.2, 0.6, 0.2, 1)
+    >>> n = normalize_exemplar(img, size=64)
+    >>> n.image.shape, n.box, n.scale
+    ((64, 64, 4), (5, 5, 15, 35), 2.1)
     """
 
     image: np.ndarray

@@ -27,7 +27,13 @@ POLYGONS_FILE = _data.DATA_DIR / "trees_masks_independent" / "polygons.json"
 
 
 def load_polygons() -> dict[str, dict]:
-    """name -> {"trunk": (K, 2) float array, "ignore": list of (K, 2) arrays}."""
+    """name -> {"trunk": (K, 2) float array, "ignore": list of (K, 2) arrays}.
+
+    Examples
+    --------
+    >>> sorted(load_polygons()["plain_tree"])
+    ['ignore', 'trunk']
+    """
     table = json.loads(POLYGONS_FILE.read_text())["masks"]
     return {n: {"trunk": np.asarray(d["trunk"], float),
                 "ignore": [np.asarray(p, float) for p in d.get("ignore", [])]}

@@ -120,6 +120,15 @@ def silhouette_outline(image, *, max_width: int = 12) -> SilhouetteOutline:
     -------
     SilhouetteOutline
         ``share`` 0 for an image without opaque pixels.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.zeros((12, 12, 4), np.float32); img[2:10, 2:10] = (0, 0, 0, 1)
+    >>> img[3:9, 3:9] = (0.0, 0.6, 0.0, 1)        # a green fill with a 1 px black outline
+    >>> o = silhouette_outline(img)
+    >>> o.share, o.width, o.outlined
+    (1.0, 1, True)
     """
     img = as_rgba(image, name="image")
     max_width = check_int(max_width, "max_width", min=1)
@@ -212,6 +221,14 @@ def ink_silhouette(image, ink, width: int, *, holes: bool = True) -> np.ndarray:
     -------
     (H, W, 4) float32 ndarray
         A copy.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.zeros((12, 12, 4), np.float32); img[2:10, 2:10] = (0, 0, 0, 1)
+    >>> img[3:9, 3:9] = (0.0, 0.6, 0.0, 1); img[2:10, 9] = (0.0, 0.6, 0.0, 1)  # right side cut off
+    >>> round(rim_ink_share(img, (0, 0, 0)), 2), rim_ink_share(ink_silhouette(img, (0, 0, 0), 1), (0, 0, 0))
+    (0.71, 1.0)
     """
     img = np.array(as_rgba(image, name="image"), dtype=np.float32, copy=True)
     width = check_int(width, "width", min=1, max=64)

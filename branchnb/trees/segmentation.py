@@ -478,6 +478,13 @@ def automatic_seeds(cues: dict) -> np.ndarray:
     -------
     seeds : (H, W) uint8
         0 unknown, 1 crown, 2 trunk.
+
+    Examples
+    --------
+    >>> from branchnb.trees.synthetic import synthetic_tree
+    >>> seeds = automatic_seeds(tree_features(synthetic_tree("clean", rng=0, size=64).image))
+    >>> sorted(set(seeds.ravel().tolist()))
+    [0, 1, 2]
     """
     mask, foliage, stem, D = cues["mask"], cues["foliage"], cues["stem"], cues["D"]
     dt, d_green = cues["dt"], cues["d_green"]
@@ -1019,6 +1026,11 @@ def load_reference_scribbles(name: str, *, ignore: bool = False) -> list[dict]:
         ``{"label": "crown" | "trunk", "points": (N, 2) array, "radii":
         (N,) array or None}``, accepted by ``segment_tree(..., scribbles=)``.
         Empty when the automatic result needed no correction.
+
+    Examples
+    --------
+    >>> load_reference_scribbles("tree_rpg_01")   # its automatic result needed no correction
+    []
     """
     table = _scribble_table()
     if name not in table:

@@ -271,6 +271,15 @@ def exemplar_trunk(image, method: str = "auto", *, rng=0) -> tuple[np.ndarray, s
     trunk : (S, S) bool ndarray
     source : str
         ``"segmentation"`` or ``"stem"``.
+
+    Examples
+    --------
+    >>> from branchnb.trees.exemplar import normalize_exemplar
+    >>> from branchnb.trees.synthetic import synthetic_tree
+    >>> norm = normalize_exemplar(synthetic_tree("clean", rng=0, size=64).image, size=64)
+    >>> trunk, source = exemplar_trunk(norm.image, "stem")
+    >>> bool(trunk[60].any()), source
+    (True, 'stem')
     """
     if method not in TRUNK_METHODS:
         raise ValueError(f"trunk must be one of {list(TRUNK_METHODS)}, got {method!r}")
@@ -418,6 +427,12 @@ class VariationParams:
         (:func:`~branchnb.trees.outline.ink_silhouette`), in the ink colour
         and stroke width of the outlined exemplar with the most colour
         weight. Photographs and unoutlined art are left as they are.
+
+    Examples
+    --------
+    >>> p = VariationParams(n_mix=2)
+    >>> p.m_points, p.colour_mode, p.colour_concentration
+    (20, 'auto', 0.3)
     """
 
     m_points: int = param(20, min=6, max=100, step=1, help="M, cage vertices (paper: 20)")
@@ -472,6 +487,14 @@ class Variation:
         Index into ``names`` of the exemplar each pixel's colour comes from
         (``"choose"``; in ``"blend"`` the one with the most colour weight
         there), -1 where transparent.
+
+    Examples
+    --------
+    >>> from branchnb.trees import TreeLibrary
+    >>> lib = TreeLibrary.from_data(["tree_rpg_05", "tree_rpg_06"], size=128)
+    >>> v = make_variation(lib, [0.7, 0.3], rng=0)
+    >>> v.image.shape, v.label(1), v.colour_mode
+    ((128, 128, 4), '0.7 tree_rpg_05 + 0.3 tree_rpg_06', 'choose')
     """
 
     image: np.ndarray
@@ -860,6 +883,15 @@ def one_piece(image, exemplars: Sequence[Exemplar]) -> np.ndarray:
     Returns
     -------
     (S, S, 4) float32 ndarray
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from branchnb.trees.synthetic import synthetic_tree
+    >>> ex = process_exemplar(synthetic_tree("clean", rng=0, size=64).image, size=64, trunk="stem")
+    >>> img = ex.image.copy(); img[0, 0] = (0.0, 0.6, 0.0, 1.0)     # a stray speck
+    >>> float(one_piece(img, [ex])[0, 0, 3])
+    0.0
     """
     img = np.array(image, dtype=np.float32, copy=True)
     alpha = img[:, :, 3] >= 0.5
