@@ -334,7 +334,15 @@ class BillboardCloud:
         return int(len(self.centers))
 
     def counts(self) -> dict[str, int]:
-        """Number of billboards per layer name."""
+        """Number of billboards per layer name.
+
+        Examples
+        --------
+        >>> from branchnb.trees.synthetic import synthetic_tree
+        >>> cloud = billboard_cloud(synthetic_tree("clean", rng=0, size=64).image, rng=0)
+        >>> sum(cloud.counts().values()) == cloud.n_billboards
+        True
+        """
         return {name: int((self.layer == v).sum()) for v, name in LAYER_NAMES.items()}
 
     @checked(yaw=Real(-1e6, 1e6))
@@ -869,6 +877,16 @@ def replace_straight_edges(labels: np.ndarray, silhouette: np.ndarray, *, straig
         moved to the other superpixel (still a partition of the same pixels).
     curves : list of (M, 2) float arrays
         The new curves, in pixel coordinates.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> yy, xx = np.mgrid[:80, :80]
+    >>> disc = (xx - 40) ** 2 + (yy - 40) ** 2 < 35 ** 2
+    >>> halves = np.where(disc, 1 + (xx >= 40), 0)        # cut by a straight vertical edge
+    >>> new, curves = replace_straight_edges(halves, disc, rng=0)
+    >>> len(curves), bool(((new > 0) == disc).all()), sorted(np.unique(new).tolist())
+    (1, True, [0, 1, 2])
     """
     rng = as_rng(rng)
     lab = np.array(labels, dtype=np.int32, copy=True)
