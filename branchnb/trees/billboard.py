@@ -145,7 +145,75 @@ LAYER_NAMES = {FRONT: "front", REAR: "rear", INTERIOR: "interior", TRUNK_LAYER: 
 
 @dataclass
 class BillboardParams:
-    """Parameters of :func:`billboard_cloud` (defaults: the paper's values where it gives them)."""
+    """Parameters of :func:`billboard_cloud` (defaults: the paper's values where it gives them).
+
+    Parameters
+    ----------
+    n_segments : int
+        Approximate number of SLIC superpixels on the crown, one front
+        billboard each (paper: 256).
+    compactness : float
+        SLIC compactness on colours scaled to [0, 1] (paper: 0.35);
+        scikit-image receives ``100 * compactness`` (CIELAB scale).
+    replace_edges : bool
+        Replace near-straight superpixel edges by pieces of the silhouette
+        (paper, step 2), so billboards have natural outlines from the side.
+    straightness : float
+        An edge is near-straight when it deviates from its chord by less
+        than this fraction of its length (or 1.5 px).
+    min_edge_length : float
+        Shorter edges are kept as they are (working pixels).
+    chord_tolerance : float
+        Relative mismatch of chord lengths allowed between an edge and the
+        silhouette piece that replaces it.
+    depth_scale : float
+        Maximum of the inflation height ``h`` over half the crown's width
+        (1: the crown is as deep as it is wide; 0: a flat cloud).
+    darkness_depth : float
+        ``δ``: a front billboard sits at ``z = h̄ (1 - δ (1 - ℓ))``, so the
+        darkest (``ℓ = 0``) sits at ``(1 - δ)`` of its mean height ``h̄``.
+    rear_layer : bool
+        Add the rear layer: front positions mirrored about the crown's axis
+        at ``z < 0`` (paper).
+    n_interior : int
+        Extra billboards at blue-noise positions inside the volume (paper);
+        0 adds none.
+    interior_darkening : float
+        Colour factor lost by the deepest interior billboard, times the
+        crown's own shading (flat-coloured clip art is not darkened).
+    core_layer : bool
+        Beyond the paper: the whole crown as one flat billboard on the image
+        plane behind the front layer, so side views show crown colour in
+        the gaps instead of sky and the crown stays on the trunk.
+    overlap : float
+        Beyond the paper: front billboards grow over neighbouring pixels of
+        their own colour, up to this fraction of the mean superpixel size,
+        so flat regions stay flat in side views; the front view is
+        unchanged. 0 turns it off.
+    overlap_tolerance : float
+        Largest per-channel colour difference of a pixel a billboard grows
+        over.
+    line_art : bool
+        Beyond the paper: drawn outlines (:func:`line_art`) are drawn behind
+        every fill, so from the side they show only along the silhouette.
+    drawn_regions : bool
+        Beyond the paper: on drawn trees (line art found) each fill region
+        bounded by outlines is one billboard with its whole outline
+        (:func:`drawn_regions`); only the crown's base fill is split.
+    line_width : float
+        Widest stroke taken for line art, as a fraction of the tree's size
+        (0 disables line art).
+    max_size : int
+        Long side of the working image in pixels (paper: 1024); larger
+        inputs are downsampled, ``BillboardCloud.scale`` records by how much.
+    alpha_threshold : float
+        Pixels with alpha >= this are opaque (paper: 0.5).
+
+    Examples
+    --------
+    >>> BillboardParams(n_segments=64).compactness
+    0.35
+    """
 
     n_segments: int = param(256, min=8, max=2048, log=True,
                             help="SLIC superpixels on the crown (paper: 256)")
@@ -198,7 +266,7 @@ class BillboardParams:
 class BillboardCloud:
     """Billboards of one tree.
 
-    Attributes
+    Parameters
     ----------
     centers : (K, 3) float64
         Quad centres ``(x, y, z)`` in working pixels (``y`` down, ``z``
@@ -236,6 +304,13 @@ class BillboardCloud:
         Per texture, its pixels that lie on the line art in the front view
         (None: none). The preview draws them in a first pass, behind every
         other pixel of the cloud.
+
+    Examples
+    --------
+    >>> from branchnb.trees.synthetic import synthetic_tree
+    >>> cloud = billboard_cloud(synthetic_tree("clean", rng=0, size=64).image, rng=0)
+    >>> cloud.counts()["trunk"] >= 1, cloud.render(90.0).shape[0]
+    (True, 64)
     """
 
     centers: np.ndarray
@@ -259,12 +334,35 @@ class BillboardCloud:
         return int(len(self.centers))
 
     def counts(self) -> dict[str, int]:
-        """Number of billboards per layer name."""
+        """Number of billboards per layer name.
+
+        Examples
+        --------
+        >>> from branchnb.trees.synthetic import synthetic_tree
+        >>> cloud = billboard_cloud(synthetic_tree("clean", rng=0, size=64).image, rng=0)
+        >>> sum(cloud.counts().values()) == cloud.n_billboards
+        True
+        """
         return {name: int((self.layer == v).sum()) for v, name in LAYER_NAMES.items()}
 
     @checked(yaw=Real(-1e6, 1e6))
     def render(self, yaw: float = 0.0, **kwargs) -> np.ndarray:
-        """Software preview from ``yaw`` degrees; see :func:`branchnb.trees.preview.render_cloud`."""
+        """Software preview from ``yaw`` degrees; see :func:`branchnb.trees.preview.render_cloud`.
+
+        Parameters
+        ----------
+        yaw : float
+            Camera angle about the vertical axis, degrees (0 = the input
+            view, 180 = from behind).
+        **kwargs
+            Further arguments of :func:`~branchnb.trees.preview.render_cloud`
+            (``facing``, ``crop``, ``background``, ``height``, ``outline``).
+
+        Returns
+        -------
+        ndarray
+            RGBA (RGB with ``background``) float32 image in [0, 1].
+        """
         from .preview import render_cloud
 
         return render_cloud(self, yaw, **kwargs)
@@ -287,7 +385,10 @@ def crown_superpixels(rgb: np.ndarray, crown: np.ndarray, *, n_segments: int = 2
     Parameters
     ----------
     rgb : (H, W, 3) float array
+        Colours in [0, 1] (straight, not premultiplied).
     crown : (H, W) bool array
+        The pixels to segment; the rest gets label 0. An empty crown gives
+        all zeros.
     n_segments : int
         Approximate number of superpixels (paper: 256).
     compactness : float
@@ -298,6 +399,14 @@ def crown_superpixels(rgb: np.ndarray, crown: np.ndarray, *, n_segments: int = 2
     -------
     labels : (H, W) int32
         1..K on the crown (each label one 4-connected piece), 0 elsewhere.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> rgb = np.zeros((32, 32, 3)); rgb[:, 16:] = (0.1, 0.6, 0.1)
+    >>> lab = crown_superpixels(rgb, np.ones((32, 32), bool), n_segments=4)
+    >>> int(lab.min()) >= 1, len(np.unique(lab)) >= 2
+    (True, True)
     """
     from skimage.segmentation import slic
 
@@ -355,6 +464,27 @@ def drawn_regions(rgb: np.ndarray, crown: np.ndarray, lines: np.ndarray, *, n_se
     still gets depth variation. Regions smaller than ``min_area`` join a
     neighbour. Line pixels are left to the caller (the billboard cloud
     gives each shape its whole outline).
+
+    Parameters
+    ----------
+    rgb : (H, W, 3) float array
+        Colours in [0, 1].
+    crown : (H, W) bool array
+        The crown pixels.
+    lines : (H, W) bool array
+        The line art (:func:`line_art`); its pixels get label 0 and split
+        the crown into regions.
+    n_segments : int
+        Superpixels the whole crown would get (sets the size of the
+        background's pieces: crown area / ``n_segments``).
+    compactness : float
+        SLIC compactness for the background split, on [0, 1] colours.
+    min_area : int
+        Regions smaller than this (pixels) are dropped (label 0; the
+        caller joins them to a neighbour).
+    background_share : float
+        Smallest share of the crown the largest region must cover to count
+        as the background and be split.
 
     Returns
     -------
@@ -747,6 +877,16 @@ def replace_straight_edges(labels: np.ndarray, silhouette: np.ndarray, *, straig
         moved to the other superpixel (still a partition of the same pixels).
     curves : list of (M, 2) float arrays
         The new curves, in pixel coordinates.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> yy, xx = np.mgrid[:80, :80]
+    >>> disc = (xx - 40) ** 2 + (yy - 40) ** 2 < 35 ** 2
+    >>> halves = np.where(disc, 1 + (xx >= 40), 0)        # cut by a straight vertical edge
+    >>> new, curves = replace_straight_edges(halves, disc, rng=0)
+    >>> len(curves), bool(((new > 0) == disc).all()), sorted(np.unique(new).tolist())
+    (1, True, [0, 1, 2])
     """
     rng = as_rng(rng)
     lab = np.array(labels, dtype=np.int32, copy=True)
@@ -839,6 +979,14 @@ def inflate_silhouette(mask: np.ndarray, *, max_solve: int = 192) -> np.ndarray:
     plus the Dirichlet neighbours outside the mask) and one sparse LU
     factorisation, on a grid of at most ``max_solve`` pixels (``h`` is
     smooth), then resized.
+
+    Parameters
+    ----------
+    mask : (H, W) bool array
+        The silhouette to inflate (the crown); may have several pieces.
+    max_solve : int
+        Longest side in pixels of the grid the equations are solved on
+        (a coarser grid for larger masks, then resized to (H, W)).
 
     Returns
     -------
@@ -1102,12 +1250,16 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
         Trunk pixels (one billboard). ``None`` runs :func:`segment_tree`;
         an all-False mask means "no trunk" (every opaque pixel is crown).
     params : BillboardParams, optional
+        Superpixels, edge replacement, volume, layers and the drawn-tree
+        options; None uses the defaults (the paper's where it has them).
     rng : int or numpy.random.Generator
         Edge pieces, interior positions and depths.
 
     Returns
     -------
     BillboardCloud
+        The billboards (front, rear, interior, trunk, core layers) in
+        working-image pixels, with the working image and its superpixels.
 
     Raises
     ------

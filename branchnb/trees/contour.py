@@ -59,7 +59,7 @@ __all__ = [
 class ContourParams:
     """Contour resampling parameters (defaults: the paper's).
 
-    Attributes
+    Parameters
     ----------
     n_points : int
         ``N``, points of the resampled contour ``C_r`` (paper: 2000).
@@ -76,6 +76,12 @@ class ContourParams:
         whether a contour point is trunk (majority of opaque pixels in the
         window are trunk); it makes the pin points robust to outlines or
         stray labels in the trunk mask.
+
+    Examples
+    --------
+    >>> p = ContourParams(m_points=30)
+    >>> p.n_points, p.n_crown, p.m_points
+    (2000, 1600, 30)
     """
 
     n_points: int = param(2000, min=40, max=8000, step=10, help="N, resampled contour points")
@@ -102,6 +108,26 @@ def segment_counts(n: int, n_crown: int) -> tuple[int, int, int]:
 
     For the simplified contour use the crown share of the full one:
     ``segment_counts(20, round(20 * 1600 / 2000))`` is ``(2, 16, 2)``.
+
+    Parameters
+    ----------
+    n : int
+        Total number of contour points (``N`` for ``C_r``, ``M`` for ``C_s``).
+    n_crown : int
+        Points on the crown segment ``R -> L``; the rest is split evenly
+        between the two trunk sides (an odd remainder goes to the crown).
+
+    Returns
+    -------
+    (int, int, int)
+        Points on ``B -> R``, ``R -> L`` and ``L -> B``; they add up to ``n``.
+
+    Examples
+    --------
+    >>> segment_counts(2000, 1600)
+    (200, 1600, 200)
+    >>> segment_counts(20, 15)
+    (2, 16, 2)
     """
     t = (n - n_crown) // 2
     return t, n - 2 * t, t
@@ -111,7 +137,7 @@ def segment_counts(n: int, n_crown: int) -> tuple[int, int, int]:
 class PinPoints:
     """The three pin points of a tree contour.
 
-    Attributes
+    Parameters
     ----------
     b, r, l : (2,) float ndarray
         Tree bottom ``B``, trunk top right ``R``, trunk top left ``L`` (x, y).
@@ -336,6 +362,16 @@ def pin_points(contour, alpha, trunk_mask=None, *, radius: float = 0.015) -> Pin
     the lowest trunk point is ``B``. If ``B`` is not on the trunk, or the walk from ``B`` never
     reaches the crown (a bare tree that is all trunk), no trunk is visible
     and ``L = R = B``.
+
+    Examples
+    --------
+    >>> from branchnb.trees.exemplar import extract_contours
+    >>> from branchnb.trees.synthetic import synthetic_tree
+    >>> t = synthetic_tree("clean", rng=0, size=64)   # true pins in t.pins
+    >>> alpha = t.image[..., 3] >= 0.5
+    >>> pins = pin_points(extract_contours(alpha).tree, alpha, t.labels == 2)
+    >>> pins.has_trunk, pins.b.tolist(), t.pins["B"]
+    (True, [33.0, 62.0], (33.0, 62.0))
     """
     c = as_points(contour, name="contour", min_points=3)
     opaque = as_mask(alpha, name="alpha")
@@ -396,6 +432,9 @@ def resample_pinned(contour, pins: PinPoints, n_points: int = 2000,
     contour : (K, 2) array_like
         The contour the ``pins`` indices refer to.
     pins : PinPoints
+        ``B``, ``R``, ``L`` and their indices into ``contour`` (from
+        :func:`pin_points`); ``has_trunk=False`` collapses both trunk sides
+        onto ``B``.
     n_points, n_crown : int
         ``N`` and the crown's share (paper: 2000 and 1600).
 
@@ -441,6 +480,22 @@ def resample_pinned(contour, pins: PinPoints, n_points: int = 2000,
 def shape_vector(resampled) -> np.ndarray:
     """Mean-subtracted ``2N`` shape vector ``(x_0, y_0, x_1, y_1, ...)`` of ``C_r``.
 
+    Parameters
+    ----------
+    resampled : (N, 2) array_like
+        ``C_r``, points (x, y) in pixels; any number of points >= 1.
+
+    Returns
+    -------
+    (2N,) float64 ndarray
+        The points minus their centroid, interleaved x, y. Vectors of trees
+        resampled with the same pin layout can be compared or mixed.
+
+    Raises
+    ------
+    ValueError
+        If ``resampled`` is not a list of 2-D points.
+
     Examples
     --------
     >>> shape_vector([(0, 0), (2, 0), (2, 2), (0, 2)]).tolist()
@@ -465,6 +520,9 @@ def simplify_contour(resampled, n_crown_fraction: float = 0.8, *, m_points: int 
         ``M`` (paper: 20).
     dilation : int
         3 x 3 dilation iterations (paper: 8).
+    n_points_crown : int, optional
+        Number of crown points of ``C_r`` itself; when given it overrides
+        ``n_crown_fraction`` (exact for ``N``, no rounding).
 
     Returns
     -------
@@ -473,6 +531,19 @@ def simplify_contour(resampled, n_crown_fraction: float = 0.8, *, m_points: int 
         ``B``; the points nearest ``R`` and ``L`` sit at the same fixed
         indices as in ``C_r``'s proportions (2 and 18 for M = 20), so the
         simplified contours of different trees correspond too.
+
+    Raises
+    ------
+    ValueError
+        If ``m_points < 6`` or ``resampled`` has fewer than 6 points.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.linspace(0, 2 * np.pi, 100, endpoint=False)
+    >>> circle = np.stack([50 + 30 * np.cos(t), 50 + 30 * np.sin(t)], axis=1)
+    >>> simplify_contour(circle, m_points=10, dilation=2).shape
+    (10, 2)
     """
     cr = as_points(resampled, name="resampled", min_points=6)
     n = len(cr)
@@ -522,7 +593,7 @@ def simplify_contour(resampled, n_crown_fraction: float = 0.8, *, m_points: int 
 class TreeContour:
     """The contour data of one tree: ``C``, pin points, ``C_r``, shape vector and ``C_s``.
 
-    Attributes
+    Parameters
     ----------
     contour : (K, 2) ndarray
         ``C`` (border pixel centres, counter-clockwise on screen).
@@ -533,8 +604,19 @@ class TreeContour:
     simplified : (M, 2) ndarray
         ``C_s``.
     params : ContourParams
+        The parameters ``C_r`` and ``C_s`` were made with (``N``, the crown
+        share and ``M`` give the fixed pin indices).
     shape : (H, W)
         Size of the image the contour lives in.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from branchnb.trees.exemplar import extract_contours
+    >>> alpha = np.zeros((64, 64), bool); alpha[10:50, 12:52] = True; alpha[50:60, 28:36] = True
+    >>> tc = tree_contour(extract_contours(alpha).tree, alpha)
+    >>> tc.resampled.shape, tc.simplified.shape, tc.pin_indices
+    ((2000, 2), (20, 2), (0, 200, 1800))
     """
 
     contour: np.ndarray
@@ -562,7 +644,19 @@ class TreeContour:
 
     @checked(background=Image())
     def render(self, background=None) -> np.ndarray:
-        """RGB picture: ``C_r`` (green), ``C_s`` (orange), ``B``/``R``/``L`` (red/blue/magenta)."""
+        """RGB picture: ``C_r`` (green), ``C_s`` (orange), ``B``/``R``/``L`` (red/blue/magenta).
+
+        Parameters
+        ----------
+        background : (H, W[, C]) array_like, optional
+            Image drawn faded (half-way to white) under the curves; None
+            draws on white.
+
+        Returns
+        -------
+        (H, W, 3) float32 ndarray
+            The picture, in [0, 1], of the contour's image size.
+        """
         h, w = self.shape
         bg = np.ones((h, w, 3), np.float32) if background is None else composite_over(
             background, (1.0, 1.0, 1.0)) * 0.5 + 0.5
@@ -596,12 +690,30 @@ def tree_contour(contour, alpha, trunk_mask=None, params: ContourParams | None =
     trunk_mask : (H, W) array_like, optional
         Trunk pixels; None uses :func:`stem_trunk_mask`.
     params : ContourParams, optional
+        ``N``, crown share, ``M``, dilation and trunk window; None uses the
+        paper's defaults (2000 / 1600 / 20 / 8).
     **overrides
         Fields of ``params`` to override (e.g. ``m_points=30``).
 
     Returns
     -------
     TreeContour
+        ``C`` (made counter-clockwise on screen), the pins, ``C_r`` and ``C_s``.
+
+    Raises
+    ------
+    ValueError
+        If ``n_crown >= n_points`` or their difference is odd, or the
+        contour has fewer than 3 points.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from branchnb.trees.exemplar import extract_contours
+    >>> alpha = np.zeros((64, 64), bool); alpha[10:50, 12:52] = True; alpha[50:60, 28:36] = True
+    >>> tc = tree_contour(extract_contours(alpha).tree, alpha, m_points=12)
+    >>> tc.pins.has_trunk, tc.simplified.shape
+    (True, (12, 2))
     """
     p = params if params is not None else ContourParams()
     if overrides:

@@ -125,6 +125,8 @@ def drawn_tree(kind: str = "broadleaf", *, pile: bool = False, rng=None, size: i
     pile : bool
         A pile of outlined fallen leaves round the trunk foot.
     rng : int or numpy.random.Generator, optional
+        Source of the random shapes, hues and placements (seed or
+        Generator); None draws a fresh seed, so pass one to repeat a tree.
     size : int
         Side of the square image (>= 48).
 
@@ -210,6 +212,28 @@ def drawn_tree(kind: str = "broadleaf", *, pile: bool = False, rng=None, size: i
 def drawn_trees(pile=(False, True), *, kinds=DRAWN_KINDS, n: int = 1, rng=0,
                 size: int = 256) -> list[tuple[str, np.ndarray]]:
     """``n`` trees of every kind, with and without a leaf pile: ``[(label, image), ...]``.
+
+    Parameters
+    ----------
+    pile : sequence of bool
+        Leaf-pile settings to draw, outermost loop (default: both, without
+        first).
+    kinds : sequence of str
+        Kinds to draw (see :func:`drawn_tree`), in this order; default all
+        four.
+    n : int
+        Trees per kind and pile setting (1 to 1000).
+    rng : int or numpy.random.Generator
+        One generator shared by all trees, so the list is reproducible for
+        a fixed seed (default 0).
+    size : int
+        Side of each square image (>= 48).
+
+    Returns
+    -------
+    list of (str, (size, size, 4) float32 ndarray)
+        Label ``"<kind>[_pile]_<i>"`` and the straight RGBA image, in the
+        order pile -> kind -> i.
 
     Examples
     --------

@@ -50,7 +50,7 @@ __all__ = [
 class ExemplarParams:
     """Parameters of exemplar normalisation (defaults: the paper's).
 
-    Attributes
+    Parameters
     ----------
     size : int
         Working size ``S``: the normalised image is ``S x S`` (paper: 1024).
@@ -66,6 +66,11 @@ class ExemplarParams:
         dropped).
     second_tree_fraction : float
         Area ratio above which a second region counts as a second tree.
+
+    Examples
+    --------
+    >>> ExemplarParams(size=256).components
+    'largest'
     """
 
     size: int = param(1024, min=64, max=4096, step=64, help="working size S (paper: 1024)")
@@ -142,7 +147,7 @@ def alpha_from_background(image, tol: float = 0.1, *, background=None,
 class Normalized:
     """A normalised exemplar and the transform that produced it.
 
-    Attributes
+    Parameters
     ----------
     image : (S, S, 4) float32 ndarray
         RGBA with binary alpha and black transparent pixels.
@@ -156,6 +161,14 @@ class Normalized:
         ``(H, W)`` of the source image.
     dropped_components : int
         Opaque regions removed (``components="largest"``/``"error"``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.zeros((40, 20, 4), np.float32); img[5:35, 5:15] = (0.2, 0.6, 0.2, 1)
+    >>> n = normalize_exemplar(img, size=64)
+    >>> n.image.shape, n.box, n.scale
+    ((64, 64, 4), (5, 5, 15, 35), 2.1)
     """
 
     image: np.ndarray
@@ -171,7 +184,25 @@ class Normalized:
         return self.image[:, :, 3] >= 0.5
 
     def to_working(self, points) -> np.ndarray:
-        """Map source-image points ``(x, y)`` to the working image."""
+        """Map source-image points ``(x, y)`` to the working image.
+
+        Parameters
+        ----------
+        points : (..., 2) array_like
+            Points (x, y) in source-image pixels (pixel centres at integers).
+
+        Returns
+        -------
+        (..., 2) float64 ndarray
+            The same points in working-image pixels (crop, scale, offset).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> n = Normalized(np.zeros((8, 8, 4)), (2, 2, 6, 6), 2.0, (0.0, 0.0), (10, 10))
+        >>> n.to_working([(2, 2), (5, 5)]).tolist()
+        [[0.5, 0.5], [6.5, 6.5]]
+        """
         p = np.asarray(points, dtype=np.float64)
         x0, y0 = self.box[:2]
         # pixel centres: source centre c maps to (c - x0 + 0.5) * s - 0.5 + offset
@@ -179,7 +210,24 @@ class Normalized:
 
     def warp_mask(self, mask) -> np.ndarray:
         """Bring a mask aligned with the source image (e.g. a hand-labelled
-        trunk mask) into the working image (nearest neighbour)."""
+        trunk mask) into the working image (nearest neighbour).
+
+        Parameters
+        ----------
+        mask : (H, W) array_like
+            Mask of the source image's shape (``source_shape``); non-zero
+            is True.
+
+        Returns
+        -------
+        (S, S) bool ndarray
+            The mask cropped, scaled and placed like the exemplar.
+
+        Raises
+        ------
+        ValueError
+            If ``mask`` does not have the source image's shape.
+        """
         m = as_mask(mask, shape=self.source_shape, name="mask")
         x0, y0, x1, y1 = self.box
         s = self.image.shape[0]
@@ -221,6 +269,25 @@ def tree_rgba(image, *, alpha_threshold: float = 0.5, min_pixels: int = 1,
 
     The door every tree function walks its input through (normalisation,
     segmentation, billboard clouds).
+
+    Parameters
+    ----------
+    image : (H, W, 4) array_like
+        Straight RGBA tree image, floats in [0, 1] or uint8/uint16 (scaled
+        to [0, 1]).
+    alpha_threshold : float
+        Pixels with alpha >= this are opaque (paper: 0.5), in [0, 1].
+    min_pixels : int
+        Fewest opaque pixels accepted (at least 1).
+    name : str
+        Argument name used in error messages.
+
+    Returns
+    -------
+    rgba : (H, W, 4) float32 ndarray
+        The image as float32 in [0, 1].
+    opaque : (H, W) bool ndarray
+        ``alpha >= alpha_threshold``.
 
     Raises
     ------
@@ -334,6 +401,22 @@ def signed_area(polygon) -> float:
 
     Negative for a contour that runs counter-clockwise *on screen*
     (bottom -> right -> top -> left).
+
+    Parameters
+    ----------
+    polygon : (K, 2) array_like
+        Vertices (x, y) in order; the closing edge back to the first vertex
+        is implied.
+
+    Returns
+    -------
+    float
+        Signed area in square pixels (0 for fewer than 3 distinct vertices).
+
+    Examples
+    --------
+    >>> signed_area([(0, 0), (0, 2), (2, 2), (2, 0)])  # down, right, up: counter-clockwise on screen
+    -4.0
     """
     p = np.asarray(polygon, dtype=np.float64)
     x, y = p[:, 0], p[:, 1]
@@ -344,7 +427,7 @@ def signed_area(polygon) -> float:
 class ContourSet:
     """Borders of an opaque region, classified by the border-following algorithm.
 
-    Attributes
+    Parameters
     ----------
     exterior : list of (K, 2) float ndarray
         Outer boundaries (one per connected region), pixel centres (x, y).
@@ -352,7 +435,19 @@ class ContourSet:
         Hole boundaries.
     tree : (K, 2) float ndarray
         The tree contour ``C``: the longest exterior border, oriented
-        counter-clockwise on screen (bottom -> right -> top -> left).
+        counter-clockwise on screen (bottom -> right -> top -> left);
+        None when there is no opaque region.
+    shape : (H, W), optional
+        Size of the mask the borders were traced in (sets the size of
+        :meth:`render`'s picture).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> alpha = np.zeros((20, 20), bool); alpha[4:16, 4:16] = True; alpha[8:12, 8:12] = False
+    >>> cs = extract_contours(alpha)
+    >>> len(cs.exterior), len(cs.interior), cs.shape
+    (1, 1, (20, 20))
     """
 
     exterior: list = field(default_factory=list)

@@ -55,6 +55,7 @@ def texture_atlas(textures, *, padding: int = 2, bleed: bool = True) -> tuple[np
     Parameters
     ----------
     textures : sequence of (h, w, 4) float arrays
+        RGBA textures (straight alpha, in [0, 1]); at least one.
     padding : int
         Transparent texels between neighbours.
     bleed : bool
@@ -66,6 +67,11 @@ def texture_atlas(textures, *, padding: int = 2, bleed: bool = True) -> tuple[np
         Width a power of two.
     rects : (N, 4) int64
         ``(x, y, w, h)`` of each texture in the atlas.
+
+    Raises
+    ------
+    ValueError
+        If ``textures`` is empty or one is not ``(h, w, 4)``.
 
     Examples
     --------
@@ -123,6 +129,14 @@ def quad_vertices(cloud, *, yaw: float = 0.0, height: float = 10.0, crossed: boo
 
     Parameters
     ----------
+    cloud : BillboardCloud
+        The cloud; its ``centers``/``sizes`` are in working pixels.
+    yaw : float
+        Camera angle in degrees the quads face (0 = the input view).
+    height : float
+        Tree height in metres: the opaque rows of ``cloud.image`` span
+        ``[0, height]`` in ``y``, the tree's foot at ``y = 0`` and its axis at
+        ``x = 0``.
     crossed : bool
         Append a second quad per billboard turned by 90 degrees about its
         vertical axis (a "cross" billboard: generic viewers then show some
@@ -138,6 +152,20 @@ def quad_vertices(cloud, *, yaw: float = 0.0, height: float = 10.0, crossed: boo
     (K, 4, 3) or (2K, 4, 3) float64
         Top-left, top-right, bottom-right, bottom-left (as seen from the
         camera), ``y`` up; with ``crossed`` the K turned quads follow.
+
+    Raises
+    ------
+    ValueError
+        If ``height`` is not a positive number.
+
+    Examples
+    --------
+    >>> from branchnb.trees.billboard import billboard_cloud
+    >>> from branchnb.trees.synthetic import synthetic_tree
+    >>> cloud = billboard_cloud(synthetic_tree("clean", rng=0, size=64).image, rng=0)
+    >>> q = quad_vertices(cloud, height=10.0)
+    >>> q.shape == (cloud.n_billboards, 4, 3), round(float(q[..., 1].min()), 3)
+    (True, 0.0)
     """
     k, ax, bottom = _frame(cloud, height)
     c = cloud.centers
@@ -251,6 +279,8 @@ def export_gltf(cloud, path, *, yaw: float = 0.0, height: float = 10.0,
     Parameters
     ----------
     cloud : BillboardCloud
+        The cloud to write: one textured quad per billboard, tinted by
+        vertex colour, with the layer names and centres in ``extras``.
     path : str or Path
         Output ``.gltf`` file; the atlas goes to ``<stem>_atlas.png`` beside it
         unless ``embed_texture``.
@@ -265,7 +295,23 @@ def export_gltf(cloud, path, *, yaw: float = 0.0, height: float = 10.0,
 
     Returns
     -------
-    Path of the ``.gltf`` file.
+    Path
+        The ``.gltf`` file written (parent folders are created).
+
+    Raises
+    ------
+    ValueError
+        If ``height`` is not positive or the cloud has non-finite values.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> from branchnb.trees.billboard import billboard_cloud
+    >>> from branchnb.trees.synthetic import synthetic_tree
+    >>> cloud = billboard_cloud(synthetic_tree("clean", rng=0, size=64).image, rng=0)
+    >>> out = tempfile.mkdtemp()
+    >>> export_gltf(cloud, os.path.join(out, "tree.gltf")).name, sorted(os.listdir(out))
+    ('tree.gltf', ['tree.gltf', 'tree_atlas.png'])
     """
     path = _out_path(path, ".gltf")
     _check_cloud(cloud)
@@ -335,17 +381,38 @@ def export_obj(cloud, path, *, yaw: float = 0.0, height: float = 10.0, tint_leve
     Parameters
     ----------
     cloud : BillboardCloud
+        The cloud to write.
     path : str or Path
         Output ``.obj``; ``<stem>.mtl`` and ``<stem>_atlas.png`` go beside it.
-    yaw, height, crossed :
-        As in :func:`export_gltf`.
+    yaw : float
+        The quads face the camera at this yaw (degrees).
+    height : float
+        Tree height in metres.
     tint_levels : int
         Darkening is quantised into this many materials (``Kd`` multiplies
-        the texture).
+        the texture); 1 writes a single untinted material.
+    crossed : bool
+        Two perpendicular quads per billboard (see :func:`quad_vertices`).
 
     Returns
     -------
-    Path of the ``.obj`` file.
+    Path
+        The ``.obj`` file written (parent folders are created).
+
+    Raises
+    ------
+    ValueError
+        If ``height`` is not positive or the cloud has non-finite values.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> from branchnb.trees.billboard import billboard_cloud
+    >>> from branchnb.trees.synthetic import synthetic_tree
+    >>> cloud = billboard_cloud(synthetic_tree("clean", rng=0, size=64).image, rng=0)
+    >>> out = tempfile.mkdtemp()
+    >>> export_obj(cloud, os.path.join(out, "tree.obj")).name, sorted(os.listdir(out))
+    ('tree.obj', ['tree.mtl', 'tree.obj', 'tree_atlas.png'])
     """
     path = _out_path(path, ".obj")
     _check_cloud(cloud)

@@ -48,7 +48,7 @@ __all__ = ["GroundParams", "GroundSplit", "neck_profile", "split_ground", "groun
 class GroundParams:
     """Parameters of :func:`split_ground` (not in the paper: its exemplars have no ground).
 
-    Attributes
+    Parameters
     ----------
     stem_width : float
         A row is trunk while its neck width is below this fraction of the
@@ -64,6 +64,11 @@ class GroundParams:
         ground but the tree itself (bushes, conifers).
     work_size : int
         Long side of the image the profile is computed on.
+
+    Examples
+    --------
+    >>> GroundParams(jump=3.0).stem_width
+    0.45
     """
 
     stem_width: float = param(0.45, min=0.05, max=0.95, step=0.05,
@@ -81,7 +86,7 @@ class GroundParams:
 class GroundSplit:
     """A tree image split into the tree and the clutter at its foot.
 
-    Attributes
+    Parameters
     ----------
     tree : (H, W) bool ndarray
         Opaque pixels of the tree (crown and trunk down to the foot).
@@ -96,6 +101,16 @@ class GroundSplit:
         The trunk as the geometry sees it: the neck pixels from the foot up
         to where the crown widens (empty without a visible trunk). Colour
         cannot find a green palm trunk or a trunk a few pixels wide; this can.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.zeros((60, 40, 4), np.float32)
+    >>> img[5:30, 5:35] = (0.1, 0.6, 0.1, 1); img[30:50, 18:22] = (0.4, 0.25, 0.1, 1)
+    >>> img[50:56, 2:38] = (0.7, 0.4, 0.1, 1)
+    >>> s = split_ground(img)
+    >>> int(s.ground.sum()) > 0, float(s.cut(img)[53, 5, 3])
+    (True, 0.0)
     """
 
     tree: np.ndarray
@@ -113,6 +128,18 @@ class GroundSplit:
 
         The ground's anti-aliased rim (alpha below 0.5, within 2 px of the
         ground) goes too, so no faint outline of a cut leaf pile stays.
+
+        Parameters
+        ----------
+        image : (H, W, C) array_like
+            The image the split was made from (same H, W); for RGBA the rim
+            rule applies, other images just get the ground pixels zeroed.
+
+        Returns
+        -------
+        (H, W, C) float32 ndarray
+            A copy with ground pixels set to 0 in every channel; the input
+            is not modified.
         """
         img = np.array(image, dtype=np.float32, copy=True)
         gone = self.ground
@@ -378,6 +405,7 @@ def split_ground(image, params: GroundParams | None = None, **overrides) -> Grou
     image : (H, W, 4) array_like or (H, W) bool array_like
         RGBA tree on a transparent background, or its opacity mask.
     params : GroundParams, optional
+        Trunk width / jump / heights rules; None uses the defaults.
     **overrides
         Fields of ``params``.
 
@@ -488,5 +516,34 @@ def split_ground(image, params: GroundParams | None = None, **overrides) -> Grou
 
 
 def ground_mask(image, params: GroundParams | None = None, **overrides) -> np.ndarray:
-    """Just the ground of :func:`split_ground` (an ``(H, W)`` bool mask)."""
+    """Just the ground of :func:`split_ground` (an ``(H, W)`` bool mask).
+
+    Parameters
+    ----------
+    image : (H, W, 4) array_like or (H, W) bool array_like
+        RGBA tree on a transparent background, or its opacity mask.
+    params : GroundParams, optional
+        As for :func:`split_ground`; None uses the defaults.
+    **overrides
+        Fields of ``params`` to override.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        Opaque pixels at the trunk foot that are not the tree (all False
+        when there is no ground).
+
+    Raises
+    ------
+    ValueError
+        No alpha channel, fully transparent or fully opaque image.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.zeros((60, 40, 4), np.float32)
+    >>> img[5:30, 5:35] = (0.1, 0.6, 0.1, 1); img[30:50, 18:22] = (0.4, 0.25, 0.1, 1)
+    >>> bool(ground_mask(img).any())
+    False
+    """
     return split_ground(image, params, **overrides).ground

@@ -24,6 +24,21 @@ __all__ = ["opaque_pixels", "channel_mapping", "histogram_transfer"]
 def opaque_pixels(image, *, threshold: float = 0.5, name: str = "image") -> np.ndarray:
     """RGB values ``(P, 3)`` of the pixels whose alpha is at least ``threshold``.
 
+    Parameters
+    ----------
+    image : (H, W, C) array_like
+        Any image :func:`branchnb.core.image.as_rgba` accepts; without an
+        alpha channel every pixel is opaque.
+    threshold : float
+        Smallest alpha of a pixel that counts (default 0.5).
+    name : str
+        Argument name used in error messages.
+
+    Returns
+    -------
+    (P, 3) float32 ndarray
+        Row-major RGB of the opaque pixels, in [0, 1].
+
     Examples
     --------
     >>> import numpy as np

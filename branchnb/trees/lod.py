@@ -68,7 +68,7 @@ SCREEN_COVERAGE = (0.5, 0.2, 0.05, 0.0)
 class LodLevel:
     """One level of detail.
 
-    Attributes
+    Parameters
     ----------
     name : str
         ``"full"``, ``"reduced"``, ``"crossed"`` or ``"single"``.
@@ -82,6 +82,14 @@ class LodLevel:
     yaws : tuple of float or None
         Impostor frames: the yaw of each texture of ``cloud`` (the quad shows
         the first).
+
+    Examples
+    --------
+    >>> from branchnb.trees.billboard import billboard_cloud
+    >>> from branchnb.trees.synthetic import synthetic_tree
+    >>> cloud = billboard_cloud(synthetic_tree("clean", rng=0, size=64).image, rng=0)
+    >>> LodLevel("full", cloud).triangles == 2 * cloud.n_billboards
+    True
     """
 
     name: str
@@ -125,10 +133,34 @@ def reduce_cloud(cloud, share: float = 0.3):
     view instead of sky: from the front the level looks like the full
     cloud, from the side the kept billboards still give depth.
 
+    Parameters
+    ----------
+    cloud : BillboardCloud
+        The full cloud (``K`` billboards); not modified.
+    share : float
+        Share of the billboards kept, in (0, 1] (default 0.3; at least one
+        is kept). Billboards behind the axis (``z < 0``) are dropped first,
+        as the impostor would hide them.
+
     Returns
     -------
     BillboardCloud
-        ``ceil(share K) + 1`` billboards.
+        ``ceil(share K) + 1`` billboards, the impostor first.
+
+    Raises
+    ------
+    ValueError
+        If ``share`` is outside (0, 1] or ``cloud`` has no billboards.
+    TypeError
+        If ``cloud`` is not a ``BillboardCloud``.
+
+    Examples
+    --------
+    >>> from branchnb.trees.billboard import billboard_cloud
+    >>> from branchnb.trees.synthetic import synthetic_tree
+    >>> cloud = billboard_cloud(synthetic_tree("clean", rng=0, size=64).image, rng=0)
+    >>> cloud.n_billboards, reduce_cloud(cloud, 0.3).n_billboards
+    (642, 194)
     """
     from .billboard import FRONT, TRUNK_LAYER, BillboardCloud
 
@@ -156,7 +188,27 @@ def reduce_cloud(cloud, share: float = 0.3):
 
 
 def impostor_cloud(cloud):
-    """The cloud's front view as one billboard (its working image, cropped to the tree)."""
+    """The cloud's front view as one billboard (its working image, cropped to the tree).
+
+    Parameters
+    ----------
+    cloud : BillboardCloud
+        The cloud whose ``image`` (the working RGBA) becomes the texture.
+
+    Returns
+    -------
+    BillboardCloud
+        One billboard on the vertical axis (``z = 0``), sized to the
+        opaque bounding box, untinted.
+
+    Examples
+    --------
+    >>> from branchnb.trees.billboard import billboard_cloud
+    >>> from branchnb.trees.synthetic import synthetic_tree
+    >>> cloud = billboard_cloud(synthetic_tree("clean", rng=0, size=64).image, rng=0)
+    >>> impostor_cloud(cloud).n_billboards
+    1
+    """
     from .billboard import FRONT, BillboardCloud
 
     _check_cloud(cloud)
@@ -180,11 +232,34 @@ def impostor_frames(cloud, yaws=tuple(range(0, 360, 45))):
     vertical axis), so the frames line up on one quad. The quad's texture is
     the first frame.
 
+    Parameters
+    ----------
+    cloud : BillboardCloud
+        The cloud to render.
+    yaws : sequence of float
+        Camera angles in degrees, one frame each (default every 45 degrees,
+        8 frames); not empty.
+
     Returns
     -------
     cloud : BillboardCloud
         One billboard, ``len(yaws)`` textures.
     yaws : tuple of float
+        The frames' yaws, in texture order.
+
+    Raises
+    ------
+    ValueError
+        If ``yaws`` is empty.
+
+    Examples
+    --------
+    >>> from branchnb.trees.billboard import billboard_cloud
+    >>> from branchnb.trees.synthetic import synthetic_tree
+    >>> cloud = billboard_cloud(synthetic_tree("clean", rng=0, size=64).image, rng=0)
+    >>> frames, yaws = impostor_frames(cloud, (0, 90))
+    >>> len(frames.textures), yaws
+    (2, (0.0, 90.0))
     """
     from .billboard import FRONT, BillboardCloud
     from .preview import _extent, render_cloud
@@ -214,6 +289,30 @@ def engine_view(cloud, yaw: float, **kwargs) -> np.ndarray:
     silhouette strokes behind every fill and inks each side view's
     silhouette afterwards; a depth-buffered engine does neither. Compare the
     two to see what the exported full and reduced levels lack from the side.
+
+    Parameters
+    ----------
+    cloud : BillboardCloud
+        The cloud as exported; not modified (its line masks are dropped on
+        a copy).
+    yaw : float
+        Camera angle about the vertical axis, degrees.
+    **kwargs
+        Passed to :func:`~branchnb.trees.preview.render_cloud` (``facing``,
+        ``crop``, ``background``, ``height``).
+
+    Returns
+    -------
+    ndarray
+        The view, RGBA (RGB with ``background``), float32 in [0, 1].
+
+    Examples
+    --------
+    >>> from branchnb.trees.billboard import billboard_cloud
+    >>> from branchnb.trees.synthetic import synthetic_tree
+    >>> cloud = billboard_cloud(synthetic_tree("clean", rng=0, size=64).image, rng=0)
+    >>> engine_view(cloud, 90.0).shape
+    (64, 67, 4)
     """
     from .preview import render_cloud
 
@@ -234,12 +333,29 @@ def crossed_impostor(cloud, *, side_yaw: float = 90.0):
     fixed (not turned to the camera), so each view is seen from its own
     side (the other from its edge).
 
+    Parameters
+    ----------
+    cloud : BillboardCloud
+        The cloud to render.
+    side_yaw : float
+        Yaw of the side view in degrees (default 90).
+
     Returns
     -------
     cloud : BillboardCloud
         Two billboards.
     turn : (2,) float array
-        ``[0, side_yaw]``.
+        ``[0, side_yaw]`` (``[0]`` and only the front quad when nothing is
+        visible from the side).
+
+    Examples
+    --------
+    >>> from branchnb.trees.billboard import billboard_cloud
+    >>> from branchnb.trees.synthetic import synthetic_tree
+    >>> cloud = billboard_cloud(synthetic_tree("clean", rng=0, size=64).image, rng=0)
+    >>> crossed, turn = crossed_impostor(cloud)
+    >>> crossed.n_billboards, turn.tolist()
+    (2, [0.0, 90.0])
     """
     from .billboard import FRONT, BillboardCloud
     from .preview import _extent, render_cloud
@@ -274,12 +390,24 @@ def lod_chain(cloud, *, reduced_share: float = 0.3) -> list[LodLevel]:
     Parameters
     ----------
     cloud : BillboardCloud
+        The full cloud (the ``full`` level itself).
     reduced_share : float
         Share of the billboards the ``reduced`` level keeps (:func:`reduce_cloud`).
 
     Returns
     -------
     list of LodLevel
+        ``full`` (the cloud), ``reduced``, ``crossed``
+        (:func:`crossed_impostor`) and ``single`` (:func:`impostor_frames`,
+        8 frames).
+
+    Examples
+    --------
+    >>> from branchnb.trees.billboard import billboard_cloud
+    >>> from branchnb.trees.synthetic import synthetic_tree
+    >>> cloud = billboard_cloud(synthetic_tree("clean", rng=0, size=64).image, rng=0)
+    >>> [(lv.name, lv.triangles) for lv in lod_chain(cloud)]
+    [('full', 1284), ('reduced', 388), ('crossed', 4), ('single', 2)]
     """
     _check_cloud(cloud)
     single, yaws = impostor_frames(cloud)
@@ -364,6 +492,7 @@ def export_lod_gltf(cloud, path, *, mode: str = "msft_lod", yaw: float = 0.0, he
     Parameters
     ----------
     cloud : BillboardCloud
+        The full cloud; the chain is :func:`lod_chain` of it.
     path : str or Path
         Output ``.gltf`` file. ``mode="files"`` writes ``<stem>_lod0.gltf``
         ... ``<stem>_lod3.gltf`` beside it instead.
@@ -387,6 +516,16 @@ def export_lod_gltf(cloud, path, *, mode: str = "msft_lod", yaw: float = 0.0, he
     ``2 ceil(0.3 K) + 2`` (reduced), 4 (crossed), 2 (single). Every file passes the Khronos glTF
     validator with no error or warning (checked with ``npx gltf-validator``;
     :func:`validate_gltf` checks the structure without it).
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> from branchnb.trees.billboard import billboard_cloud
+    >>> from branchnb.trees.synthetic import synthetic_tree
+    >>> cloud = billboard_cloud(synthetic_tree("clean", rng=0, size=64).image, rng=0)
+    >>> out = tempfile.mkdtemp()
+    >>> [p.name for p in export_lod_gltf(cloud, os.path.join(out, "t.gltf"), mode="files")]
+    ['t_lod0.gltf', 't_lod1.gltf', 't_lod2.gltf', 't_lod3.gltf']
     """
     path = _out_path(path, ".gltf")
     _check_cloud(cloud)
@@ -421,10 +560,26 @@ def validate_gltf(path) -> list[str]:
     scene and that the extension is declared, and that embedded images are
     PNG.
 
+    Parameters
+    ----------
+    path : str or Path
+        A ``.gltf`` JSON file with its buffers embedded as ``data:`` URIs
+        (as :func:`export_lod_gltf` writes them).
+
     Returns
     -------
     list of str
         The problems found (empty: valid).
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> from branchnb.trees.billboard import billboard_cloud
+    >>> from branchnb.trees.synthetic import synthetic_tree
+    >>> cloud = billboard_cloud(synthetic_tree("clean", rng=0, size=64).image, rng=0)
+    >>> (path,) = export_lod_gltf(cloud, os.path.join(tempfile.mkdtemp(), "t.gltf"))
+    >>> validate_gltf(path)
+    []
     """
     import json
 

@@ -27,7 +27,13 @@ POLYGONS_FILE = _data.DATA_DIR / "trees_masks_independent" / "polygons.json"
 
 
 def load_polygons() -> dict[str, dict]:
-    """name -> {"trunk": (K, 2) float array, "ignore": list of (K, 2) arrays}."""
+    """name -> {"trunk": (K, 2) float array, "ignore": list of (K, 2) arrays}.
+
+    Examples
+    --------
+    >>> sorted(load_polygons()["plain_tree"])
+    ['ignore', 'trunk']
+    """
     table = json.loads(POLYGONS_FILE.read_text())["masks"]
     return {n: {"trunk": np.asarray(d["trunk"], float),
                 "ignore": [np.asarray(p, float) for p in d.get("ignore", [])]}
@@ -42,6 +48,21 @@ def _fill(polygon: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
 
 def independent_reference(alpha, polygons: dict) -> np.ndarray:
     """Label image (0 / 1 crown / 2 trunk / 255 ignore) from a silhouette and its polygons.
+
+    Parameters
+    ----------
+    alpha : (H, W) array_like
+        Opacity of the source image, in [0, 1]; pixels >= 0.5 are the tree.
+    polygons : dict
+        ``{"trunk": (K, 2) array, "ignore": list of (K, 2) arrays}`` in
+        source pixels (x, y), as :func:`load_polygons` gives them. Opaque
+        pixels inside ``trunk`` become 2 (trunk wins over ignore), inside an
+        ``ignore`` polygon 255, other opaque pixels 1.
+
+    Returns
+    -------
+    (H, W) uint8 ndarray
+        0 background, 1 crown, 2 trunk, 255 ignored (left out of the IoU).
 
     Examples
     --------
@@ -60,7 +81,30 @@ def independent_reference(alpha, polygons: dict) -> np.ndarray:
 
 
 def load_independent_masks(names=None) -> dict[str, np.ndarray]:
-    """name -> reference label image of :func:`independent_reference`."""
+    """name -> reference label image of :func:`independent_reference`.
+
+    Parameters
+    ----------
+    names : iterable of str, optional
+        Sample names (keys of :func:`load_polygons`, loaded with
+        :func:`branchnb.data.load`); None takes every image in the file.
+
+    Returns
+    -------
+    dict of str to (H, W) uint8 ndarray
+        Label images at the samples' source resolution.
+
+    Raises
+    ------
+    KeyError
+        If a name has no polygons.
+
+    Examples
+    --------
+    >>> lab = load_independent_masks(["tree_rpg_05"])["tree_rpg_05"]
+    >>> lab.shape, sorted(set(lab.ravel().tolist()))
+    ((511, 256), [0, 1, 2])
+    """
     polys = load_polygons()
     names = list(polys) if names is None else list(names)
     return {n: independent_reference(_data.load(n)[..., 3], polys[n]) for n in names}
@@ -69,8 +113,30 @@ def load_independent_masks(names=None) -> dict[str, np.ndarray]:
 def evaluate_independent(names=None, *, rng=0, **segment_kwargs) -> dict[str, dict[str, float]]:
     """Per-image IoU of :func:`~branchnb.trees.segmentation.segment_tree` on these masks.
 
-    Returns ``name -> {"crown", "trunk", "mean"}`` plus ``"mean"`` (the
-    mean over images of the per-image mean IoU).
+    Parameters
+    ----------
+    names : iterable of str, optional
+        Sample names to evaluate (default: all images with polygons).
+    rng : int or numpy.random.Generator
+        Seed of the segmenter's random forest training samples (default 0,
+        so the figures repeat).
+    **segment_kwargs
+        Passed to :func:`~branchnb.trees.segmentation.segment_tree`, e.g.
+        ``params=SegmentParams(work_size=256)``.
+
+    Returns
+    -------
+    dict
+        ``name -> {"crown", "trunk", "mean"}`` IoU in [0, 1] per image,
+        plus ``"mean"``: the mean over images of the per-image mean IoU.
+        Ignored pixels (255) do not count.
+
+    Examples
+    --------
+    >>> from branchnb.trees.segmentation import SegmentParams
+    >>> r = evaluate_independent(["plain_tree"], params=SegmentParams(work_size=128))  # doctest: +SKIP
+    >>> sorted(r["plain_tree"])  # doctest: +SKIP
+    ['crown', 'mean', 'trunk']
     """
     from .segmentation import segment_tree, segmentation_iou
 

@@ -41,8 +41,11 @@ def check_weights(weights, n: int | None = None, *, name: str = "weights",
     Parameters
     ----------
     weights : (k,) array_like
+        Candidate weights ``w_i``, one per exemplar.
     n : int, optional
         Required number of weights (one per exemplar).
+    name : str
+        Argument name used in error messages.
     atol : float
         Tolerance on the sum and on negative values (rounding noise).
 
@@ -92,6 +95,17 @@ def dirichlet_weights(n: int, concentration=1.0, *, rng=None) -> np.ndarray:
         near the corners (one exemplar dominates); a larger entry favours
         that exemplar.
     rng : int or numpy.random.Generator, optional
+        Seed or Generator of the draw; None draws a fresh seed.
+
+    Returns
+    -------
+    (n,) float64 ndarray
+        Weights ``w_i >= 0`` summing to 1 (``[1.0]`` for ``n = 1``).
+
+    Raises
+    ------
+    ValueError
+        If ``n`` is not a positive int or a concentration is not > 0.
 
     Examples
     --------
@@ -149,6 +163,8 @@ def winding_number(polygon, shape: tuple[int, int]) -> np.ndarray:
     polygon : (K, 2) array_like
         Vertices (x, y); the closing edge back to the first vertex is implied.
     shape : (H, W)
+        Size of the pixel grid; pixel ``(row, col)`` has its centre at
+        ``(x, y) = (col, row)``.
 
     Returns
     -------
@@ -164,6 +180,12 @@ def winding_number(polygon, shape: tuple[int, int]) -> np.ndarray:
     its direction (+1 downwards, -1 upwards) to every pixel right of the
     crossing; a cumulative sum along the rows turns these into winding
     numbers. Cost: O(perimeter in rows + H W).
+
+    Examples
+    --------
+    >>> w = winding_number([(1, 1), (1, 4), (4, 4), (4, 1)], (6, 6))  # down, right, up
+    >>> int(w[2, 2]), int(w[0, 0])
+    (1, 0)
     """
     p = as_points(polygon, name="polygon", min_points=3)
     h, w = int(shape[0]), int(shape[1])

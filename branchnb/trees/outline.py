@@ -52,7 +52,7 @@ OUTLINED_SHARE = 0.8
 class SilhouetteOutline:
     """An exemplar's silhouette outline.
 
-    Attributes
+    Parameters
     ----------
     share : float
         Share of the rim pixels (opaque, 8-adjacent to a transparent pixel)
@@ -65,6 +65,13 @@ class SilhouetteOutline:
     inner_ink : float
         Share of ink among the pixels deeper than ``2 * width + 1`` (1 when
         there are none): a silhouette drawn all in ink has no outline.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> o = SilhouetteOutline(0.9, np.zeros(3), 2, 0.0)
+    >>> o.outlined
+    True
     """
 
     share: float
@@ -113,6 +120,15 @@ def silhouette_outline(image, *, max_width: int = 12) -> SilhouetteOutline:
     -------
     SilhouetteOutline
         ``share`` 0 for an image without opaque pixels.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.zeros((12, 12, 4), np.float32); img[2:10, 2:10] = (0, 0, 0, 1)
+    >>> img[3:9, 3:9] = (0.0, 0.6, 0.0, 1)        # a green fill with a 1 px black outline
+    >>> o = silhouette_outline(img)
+    >>> o.share, o.width, o.outlined
+    (1.0, 1, True)
     """
     img = as_rgba(image, name="image")
     max_width = check_int(max_width, "max_width", min=1)
@@ -138,7 +154,34 @@ def silhouette_outline(image, *, max_width: int = 12) -> SilhouetteOutline:
 
 
 def rim_ink_share(image, ink) -> float:
-    """Share of a tree's rim pixels within 0.15 (RGB distance) of the ``ink`` colour (0 without rim)."""
+    """Share of a tree's rim pixels within 0.15 (RGB distance) of the ``ink`` colour (0 without rim).
+
+    Parameters
+    ----------
+    image : (H, W, 4) array_like
+        Straight RGBA tree; alpha >= 0.5 is opaque. Rim pixels are opaque
+        pixels 8-adjacent to a transparent one (the image border does not
+        count as transparent).
+    ink : (3,) array_like
+        Outline colour, RGB in [0, 1] (e.g. ``SilhouetteOutline.ink``).
+
+    Returns
+    -------
+    float
+        Share in [0, 1] of rim pixels within 0.15 (Euclidean RGB) of ``ink``.
+
+    Raises
+    ------
+    ValueError
+        If ``ink`` is not 3 finite values.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.zeros((9, 9, 4)); img[2:7, 2:7] = (0, 0.6, 0, 1); img[2:7, 2, :3] = 0
+    >>> rim_ink_share(img, (0, 0, 0))  # 5 of the 16 rim pixels are black
+    0.3125
+    """
     img = as_rgba(image, name="image")
     alpha = img[..., 3] >= 0.5
     rim = _depth(alpha) == 1
@@ -178,6 +221,14 @@ def ink_silhouette(image, ink, width: int, *, holes: bool = True) -> np.ndarray:
     -------
     (H, W, 4) float32 ndarray
         A copy.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.zeros((12, 12, 4), np.float32); img[2:10, 2:10] = (0, 0, 0, 1)
+    >>> img[3:9, 3:9] = (0.0, 0.6, 0.0, 1); img[2:10, 9] = (0.0, 0.6, 0.0, 1)  # right side cut off
+    >>> round(rim_ink_share(img, (0, 0, 0)), 2), rim_ink_share(ink_silhouette(img, (0, 0, 0), 1), (0, 0, 0))
+    (0.71, 1.0)
     """
     img = np.array(as_rgba(image, name="image"), dtype=np.float32, copy=True)
     width = check_int(width, "width", min=1, max=64)

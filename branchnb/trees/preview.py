@@ -40,11 +40,30 @@ __all__ = ["render_cloud", "render_views", "project"]
 def project(cloud, yaw: float) -> tuple[np.ndarray, np.ndarray]:
     """Screen ``x`` and depth of the billboard centres for ``yaw`` degrees.
 
+    Parameters
+    ----------
+    cloud : BillboardCloud
+        The cloud; its ``centers`` (x, y, z) in working pixels turn about the
+        vertical line ``x = cloud.axis``.
+    yaw : float
+        Camera angle about the vertical axis, degrees (0 = the input view,
+        180 = from behind).
+
     Returns
     -------
     x, depth : (K,) float arrays
         ``x`` in working pixels (the axis stays at ``cloud.axis``); larger
-        depth is nearer the camera.
+        depth is nearer the camera. ``y`` does not change with the yaw.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from branchnb.trees.billboard import billboard_cloud
+    >>> from branchnb.trees.synthetic import synthetic_tree
+    >>> cloud = billboard_cloud(synthetic_tree("clean", rng=0, size=64).image, rng=0)
+    >>> x, depth = project(cloud, 180.0)  # from behind: mirrored about the axis
+    >>> bool(np.allclose(x - cloud.axis, cloud.axis - cloud.centers[:, 0]))
+    True
     """
     t = np.deg2rad(float(yaw))
     X = cloud.centers[:, 0] - cloud.axis
@@ -124,6 +143,7 @@ def render_cloud(cloud, yaw: float = 0.0, *, facing: str = "camera", crop: str =
     Parameters
     ----------
     cloud : BillboardCloud
+        The cloud to draw (from :func:`~branchnb.trees.billboard.billboard_cloud`).
     yaw : float
         Camera angle about the vertical axis, degrees (0 = input view).
     facing : {"camera", "fixed"}
@@ -149,6 +169,22 @@ def render_cloud(cloud, yaw: float = 0.0, *, facing: str = "camera", crop: str =
     Returns
     -------
     (H, W', 4) or (H, W', 3) float32 ndarray
+        Straight RGBA (or RGB over ``background``) in [0, 1]; ``H`` is the
+        working image's height (or ``height``), ``W'`` its width for
+        ``crop="image"``.
+
+    Raises
+    ------
+    ValueError
+        Unknown ``facing`` or ``crop``, or a yaw that is not finite.
+
+    Examples
+    --------
+    >>> from branchnb.trees.billboard import billboard_cloud
+    >>> from branchnb.trees.synthetic import synthetic_tree
+    >>> cloud = billboard_cloud(synthetic_tree("clean", rng=0, size=64).image, rng=0)
+    >>> render_cloud(cloud, 0.0, crop="image").shape, render_cloud(cloud, 90.0, background=(1, 1, 1)).shape[2]
+    ((64, 64, 4), 3)
     """
     if facing not in ("camera", "fixed"):
         raise ValueError(f"facing must be 'camera' or 'fixed', got {facing!r}")
@@ -214,7 +250,37 @@ def render_cloud(cloud, yaw: float = 0.0, *, facing: str = "camera", crop: str =
          background=Colour())
 def render_views(cloud, yaws=(0.0, 60.0, 120.0), *, height: int = 256, facing: str = "camera",
                  background=(1.0, 1.0, 1.0), gap: int = 4) -> np.ndarray:
-    """Side-by-side RGB previews from several yaw angles (a contact strip)."""
+    """Side-by-side RGB previews from several yaw angles (a contact strip).
+
+    Parameters
+    ----------
+    cloud : BillboardCloud
+        The cloud to draw.
+    yaws : (V,) array_like
+        Camera angles in degrees, one view each, left to right.
+    height : int
+        Height of every view in pixels (widths keep the aspect ratio).
+    facing : {"camera", "fixed"}
+        Billboard mode, as in :func:`render_cloud`.
+    background : RGB tuple
+        Colour the views are composited over and the gaps are filled with.
+    gap : int
+        Pixels between neighbouring views.
+
+    Returns
+    -------
+    (height, W, 3) float32 ndarray
+        The views side by side, each a ``crop="fit"`` render (the same
+        width for every yaw).
+
+    Examples
+    --------
+    >>> from branchnb.trees.billboard import billboard_cloud
+    >>> from branchnb.trees.synthetic import synthetic_tree
+    >>> cloud = billboard_cloud(synthetic_tree("clean", rng=0, size=64).image, rng=0)
+    >>> render_views(cloud, (0, 90), height=32, gap=2).shape
+    (32, 70, 3)
+    """
     views = [render_cloud(cloud, y, facing=facing, background=background, height=height) for y in yaws]
     bg = np.asarray(background, np.float32)
     strip = [views[0]]

@@ -36,7 +36,29 @@ __all__ = ["soft_alpha_fraction", "flat_pixels", "dominant_palette", "crossfade_
 
 
 def soft_alpha_fraction(image, *, rim: int = 1) -> float:
-    """Share of pixels with 0.1 < alpha < 0.9 more than ``rim`` pixels inside the silhouette."""
+    """Share of pixels with 0.1 < alpha < 0.9 more than ``rim`` pixels inside the silhouette.
+
+    Parameters
+    ----------
+    image : (H, W, 4) array_like
+        Straight RGBA with alpha in [0, 1]; the silhouette is alpha >= 0.5.
+    rim : int
+        Erosion (3 x 3 cross, in pixels) of the silhouette before counting,
+        so the anti-aliased edge is left out; 0 counts every pixel.
+
+    Returns
+    -------
+    float
+        Soft pixels in the eroded silhouette over all silhouette pixels
+        (0 for a clean binary cut-out).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> a = np.zeros((9, 9, 4), np.float32); a[1:8, 1:8, 3] = 1.0; a[4, 4, 3] = 0.5
+    >>> round(soft_alpha_fraction(a), 3)  # 1 soft pixel of 49
+    0.02
+    """
     a = np.asarray(image, dtype=np.float32)[..., 3]
     inside = a >= 0.5
     core = ndi.binary_erosion(inside, iterations=rim) if rim > 0 else inside
@@ -63,6 +85,14 @@ def flat_pixels(image, *, span: float = 0.06, alpha: float = 0.99) -> np.ndarray
     Returns
     -------
     (H, W) bool ndarray
+        True at the centre of every flat, fully opaque 3 x 3 window.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.ones((6, 6, 4), np.float32); img[:, 3:, :3] = 0.0
+    >>> flat_pixels(img)[2].tolist()  # the columns next to the colour edge are not flat
+    [False, True, False, False, True, False]
     """
     img = as_rgba(image, name="image")
     span = check_real(span, "span", min=0.0)
@@ -82,9 +112,32 @@ def dominant_palette(sources, *, tol: float = 0.12, span: float = 0.06, quant: f
     :func:`crossfade_fraction`, while a palette entry is never a blend of
     two others unless the sources themselves contain that colour.
 
+    Parameters
+    ----------
+    sources : (H, W, C) array_like or sequence of them
+        The drawn images (straight RGBA; RGB counts as opaque).
+    tol : float
+        RGB distance within which a flat colour is covered by a palette
+        entry (the same ``tol`` as in :func:`crossfade_fraction`).
+    span : float
+        Flatness of a pixel's 3 x 3 window (:func:`flat_pixels`).
+    quant : float
+        Quantisation step of the colours before counting (default 1/64).
+    max_colours : int
+        Largest palette size.
+
     Returns
     -------
     (P, 3) float32 ndarray
+        Quantised RGB, the most frequent colour first; empty when no
+        source has a flat pixel.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.ones((8, 12, 4), np.float32); img[:, 8:, :3] = (0.0, 0.5, 0.0)
+    >>> dominant_palette(img).tolist()  # white covers more flat pixels
+    [[1.0, 1.0, 1.0], [0.0, 0.5, 0.0]]
     """
     cols = []
     if isinstance(sources, np.ndarray) and sources.ndim == 3:
@@ -133,6 +186,8 @@ def crossfade_fraction(image, sources, *, tol: float = 0.12, span: float = 0.06,
         The exemplars mixed.
     tol : float
         Euclidean RGB distance.
+    span : float
+        Flatness of a pixel's 3 x 3 window (:func:`flat_pixels`).
     palette : (P, 3) array_like, optional
         A precomputed :func:`dominant_palette` of ``sources``.
 
@@ -165,7 +220,25 @@ def crossfade_fraction(image, sources, *, tol: float = 0.12, span: float = 0.06,
 
 
 def foreign_colour_fraction(image, sources, *, tol: float = 0.12, **kwargs) -> float:
-    """Deprecated name of :func:`crossfade_fraction` (the dominant-palette measure)."""
+    """Deprecated name of :func:`crossfade_fraction` (the dominant-palette measure).
+
+    Parameters
+    ----------
+    image : (H, W, 4) array_like
+        The variation (straight RGBA).
+    sources : sequence of (H, W, 4) array_like
+        The exemplars mixed.
+    tol : float
+        Euclidean RGB distance.
+    **kwargs
+        Further arguments of :func:`crossfade_fraction` (``span``,
+        ``palette``).
+
+    Returns
+    -------
+    float
+        :func:`crossfade_fraction` of the same arguments.
+    """
     return crossfade_fraction(image, sources, tol=tol, **kwargs)
 
 
@@ -175,6 +248,33 @@ def dark_rim_fraction(image, mask, *, darkest=None) -> float:
     Clean rims: no pixel darker than the outline may stick out of the mixed
     contour. ``darkest`` defaults to 0.9 times the luminance of the darkest
     tenth of a percent of the image inside ``mask``.
+
+    Parameters
+    ----------
+    image : (H, W, 4) array_like
+        The variation (straight RGBA; alpha >= 0.5 is opaque).
+    mask : (H, W) array_like
+        The mixed contour's interior (non-zero is inside), e.g.
+        ``Variation.mask``.
+    darkest : float, optional
+        Luminance (Rec. 601 weights) below which an outside pixel counts;
+        None derives it from the image as above.
+
+    Returns
+    -------
+    float
+        Dark opaque pixels outside the dilated mask over all opaque pixels
+        (0 when nothing opaque lies outside).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.zeros((10, 10, 4), np.float32); img[2:8, 2:8] = (0.2, 0.6, 0.2, 1)
+    >>> img[2:8, 2] = (0.1, 0.1, 0.1, 1)  # outline, inside the mask: darkest = 0.09
+    >>> mask = np.zeros((10, 10), bool); mask[2:8, 2:8] = True
+    >>> img[9, 9] = (0.0, 0.0, 0.0, 1)    # a dark pixel sticking out
+    >>> round(dark_rim_fraction(img, mask), 3)  # 1 of 37 opaque pixels
+    0.027
     """
     img = np.asarray(image, dtype=np.float32)
     m = np.asarray(mask, bool)
@@ -190,7 +290,27 @@ def dark_rim_fraction(image, mask, *, darkest=None) -> float:
 
 
 def pieces(alpha, *, min_area: int = 1) -> int:
-    """Opaque 8-connected components of at least ``min_area`` pixels."""
+    """Opaque 8-connected components of at least ``min_area`` pixels.
+
+    Parameters
+    ----------
+    alpha : (H, W) array_like
+        Opacity; pixels >= 0.5 are opaque.
+    min_area : int
+        Smallest component counted, in pixels (default 1: every one).
+
+    Returns
+    -------
+    int
+        Number of components (0 for a transparent image).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> a = np.zeros((8, 8)); a[1:3, 1:3] = 1; a[5:8, 5:8] = 1
+    >>> pieces(a), pieces(a, min_area=5)
+    (2, 1)
+    """
     m = np.asarray(alpha) >= 0.5
     lab, n = ndi.label(m, structure=np.ones((3, 3), bool))
     if n == 0:
@@ -200,7 +320,25 @@ def pieces(alpha, *, min_area: int = 1) -> int:
 
 
 def largest_piece_share(alpha) -> float:
-    """Share of the opaque pixels in the largest 8-connected opaque piece (1 for one piece)."""
+    """Share of the opaque pixels in the largest 8-connected opaque piece (1 for one piece).
+
+    Parameters
+    ----------
+    alpha : (H, W) array_like
+        Opacity; pixels >= 0.5 are opaque.
+
+    Returns
+    -------
+    float
+        In [0, 1]; 0 for a transparent image.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> a = np.zeros((8, 8)); a[0:1, 0:4] = 1; a[4:8, 4:7] = 1
+    >>> largest_piece_share(a)
+    0.75
+    """
     m = np.asarray(alpha) >= 0.5
     lab, n = ndi.label(m, structure=np.ones((3, 3), bool))
     if n == 0:
@@ -210,7 +348,25 @@ def largest_piece_share(alpha) -> float:
 
 
 def hole_sizes(alpha) -> np.ndarray:
-    """Areas of the interior transparent holes (not connected to the border), 4-connected."""
+    """Areas of the interior transparent holes (not connected to the border), 4-connected.
+
+    Parameters
+    ----------
+    alpha : (H, W) array_like
+        Opacity; pixels below 0.5 are transparent.
+
+    Returns
+    -------
+    (n,) int ndarray
+        Area in pixels of each hole, in label order (empty without holes).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> a = np.ones((9, 9)); a[0] = 0; a[2:4, 2:4] = 0; a[6, 6] = 0
+    >>> hole_sizes(a).tolist()
+    [4, 1]
+    """
     m = np.asarray(alpha) >= 0.5
     lab, n = ndi.label(~m)
     if n == 0:
@@ -223,12 +379,54 @@ def hole_sizes(alpha) -> np.ndarray:
 
 
 def large_holes(alpha, limit: int) -> int:
-    """Interior holes larger than ``limit`` pixels."""
+    """Interior holes larger than ``limit`` pixels.
+
+    Parameters
+    ----------
+    alpha : (H, W) array_like
+        Opacity; pixels below 0.5 are transparent.
+    limit : int
+        Area in pixels a hole must exceed to count (see :func:`hole_sizes`).
+
+    Returns
+    -------
+    int
+        Number of interior holes with area > ``limit``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> a = np.ones((9, 9)); a[2:4, 2:4] = 0; a[6, 6] = 0
+    >>> large_holes(a, 0), large_holes(a, 2)
+    (2, 1)
+    """
     return int(np.count_nonzero(hole_sizes(alpha) > limit))
 
 
 def colour_span(rgb, size: int = 5) -> np.ndarray:
-    """Largest per-channel colour range in each ``size`` x ``size`` window, (H, W)."""
+    """Largest per-channel colour range in each ``size`` x ``size`` window, (H, W).
+
+    Parameters
+    ----------
+    rgb : (H, W, C) array_like
+        Colours; only the first three channels are used.
+    size : int
+        Side of the square window in pixels (default 5); borders are
+        reflected.
+
+    Returns
+    -------
+    (H, W) float32 ndarray
+        ``max - min`` of each channel in the window, the largest over the
+        channels.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> rgb = np.zeros((5, 8, 3), np.float32); rgb[:, 4:, 1] = 0.5
+    >>> colour_span(rgb, size=3)[2].tolist()
+    [0.0, 0.0, 0.0, 0.5, 0.5, 0.0, 0.0, 0.0]
+    """
     rgb = np.asarray(rgb, dtype=np.float32)[..., :3]
     win = (size, size, 1)
     return (ndi.maximum_filter(rgb, size=win) - ndi.minimum_filter(rgb, size=win)).max(axis=2)
@@ -249,6 +447,25 @@ def flat_region_speckle(cloud, yaw: float, *, min_area: float = 0.01, busy: floa
     scores 0 at yaw 0. Pixels carried out of the frame are left out. The
     side view is rendered without the silhouette ink of drawn trees
     (``render_cloud(..., outline=False)``): an outline is no speckle.
+
+    Parameters
+    ----------
+    cloud : BillboardCloud
+        The cloud (its ``image``, ``superpixels`` and front billboards).
+    yaw : float
+        Camera angle of the side view, degrees.
+    min_area : float
+        Smallest flat region kept, as a fraction of the crown's area.
+    busy : float
+        Largest 5 x 5 colour span of a flat pixel; a side-view pixel above
+        it is speckled.
+    margin : int
+        Erosion of the flat regions in pixels (their edges are left out).
+
+    Returns
+    -------
+    float
+        Speckled share in [0, 1] (0 when there is no large flat region).
 
     Examples
     --------
@@ -327,6 +544,18 @@ def side_view_figures(cloud, yaw: float, *, small: float = 0.003) -> dict:
       front view: the inner outlines kept (1: as many as drawn; smeared or
       lost outlines lower it, stroke bits piled up raise it).
 
+    Parameters
+    ----------
+    cloud : BillboardCloud
+        The cloud of a drawn tree (its ``image`` gives the ink threshold,
+        the outline width and the palette).
+    yaw : float
+        Camera angle of the view measured, degrees (a multiple of 360 is
+        the front view).
+    small : float
+        Pieces smaller than this fraction of the view's opaque area are
+        flecks or fragments (default 0.003).
+
     Returns
     -------
     dict
@@ -398,10 +627,29 @@ def bare_seam_share(image, sources=None, *, edge: float = 0.12, reach: int | Non
     ``sources`` every inner colour edge counts as a seam (0 for a drawing
     whose fills are all outlined).
 
+    Parameters
+    ----------
+    image : (H, W, 4) array_like
+        The mix (straight RGBA).
+    sources : (H, W) int array_like, optional
+        Each pixel's exemplar index (-1 where transparent), as in
+        :attr:`Variation.sources`; None treats every inner colour edge as a
+        seam.
+    edge : float
+        Smallest 3 x 3 colour span (per channel) of a visible seam.
+    reach : int, optional
+        Distance in pixels within which an ink pixel covers a seam; None
+        uses the outline width + 1.
+
     Returns
     -------
     float
         Bare seam pixels over all seam pixels (0 without seams).
+
+    Raises
+    ------
+    ValueError
+        If ``sources`` does not have the image's (H, W) shape.
 
     Examples
     --------

@@ -130,6 +130,49 @@ class SegmentParams:
 
     The paper's segmenter is a network; these are the knobs of its
     classical replacement (defaults measured on the sample trees).
+
+    Parameters
+    ----------
+    work_size : int
+        Long side of the working image in pixels: larger inputs are
+        downsampled (premultiplied) to it, labels are brought back to the
+        input resolution. Smaller inputs are used as they are.
+    alpha_threshold : float
+        Pixels with alpha >= this are opaque (paper: 0.5).
+    stem_width : float
+        A row belongs to the stem band while the silhouette there is
+        narrower than this fraction of its widest row (the trunk seeds).
+    smoothness : float
+        ``lambda``, weight of the contrast-sensitive Potts term of the
+        graph cut against the unaries ``-log p``; 0 takes the classifier's
+        labels as they are.
+    scribble_weight : float
+        Training weight of a scribbled pixel relative to an automatic seed
+        (before class balancing).
+    scribble_width : float
+        Brush diameter in input pixels of polyline scribbles given without
+        radii.
+    n_train : int
+        Largest number of training pixels drawn per class (seeds and
+        scribbles each), sampled with ``rng``.
+    n_trees : int
+        Trees of the random forest.
+    connected_trunk : bool
+        Give trunk pieces that do not reach the stem (or a trunk scribble)
+        to the crown.
+    ground : bool
+        First cut ground clutter at the trunk foot off with
+        :func:`~branchnb.trees.ground.split_ground`; it is labelled 255,
+        neither crown nor trunk.
+    neck_trunk : bool
+        Beyond the paper: add the silhouette's narrow neck above the foot
+        to the trunk where colour missed it (a green palm trunk, a trunk a
+        few pixels wide).
+
+    Examples
+    --------
+    >>> SegmentParams(work_size=256).smoothness
+    2.0
     """
 
     work_size: int = param(384, min=64, max=2048, step=32,
@@ -156,7 +199,7 @@ class SegmentParams:
 class Segmentation:
     """Crown/trunk labels of a tree image.
 
-    Attributes
+    Parameters
     ----------
     crown, trunk : (H, W) bool ndarray
         Disjoint masks covering the opaque pixels.
@@ -170,6 +213,14 @@ class Segmentation:
         Opaque pixels cut off as ground clutter at the trunk foot (leaves,
         grass, shadow, rocks, a stand: :func:`~branchnb.trees.ground.split_ground`),
         neither crown nor trunk; None when nothing was cut.
+
+    Examples
+    --------
+    >>> from branchnb.trees.synthetic import synthetic_tree
+    >>> tree = synthetic_tree("clean", rng=0, size=64)
+    >>> seg = segment_tree(tree.image, params=SegmentParams(n_trees=5))
+    >>> seg.has_trunk, sorted(set(seg.labels.ravel().tolist())), seg.overlay().shape
+    (True, [0, 1, 2], (64, 64, 3))
     """
 
     crown: np.ndarray
@@ -194,7 +245,19 @@ class Segmentation:
         return bool(self.trunk.any())
 
     def overlay(self, *, seeds: bool = False) -> np.ndarray:
-        """RGB picture: image tinted green (crown) / red (trunk) over white."""
+        """RGB picture: image tinted green (crown) / red (trunk) over white.
+
+        Parameters
+        ----------
+        seeds : bool
+            Also draw the training seeds (automatic and scribbled) as
+            saturated dots, to see what the classifier learnt from.
+
+        Returns
+        -------
+        (H, W, 3) float32 ndarray
+            :func:`overlay_labels` of the image and :attr:`labels`.
+        """
         return overlay_labels(self.image, self.labels, seeds=self.seeds if seeds else None)
 
     def _repr_png_(self) -> bytes:
@@ -329,6 +392,7 @@ def tree_features(rgba, *, stem_width: float = 0.45, alpha_threshold: float = 0.
     stem_width : float
         Stem rows are narrower than this fraction of the widest row.
     alpha_threshold : float
+        Pixels with alpha >= this are opaque (at least 16 are needed).
 
     Returns
     -------
@@ -336,6 +400,19 @@ def tree_features(rgba, *, stem_width: float = 0.45, alpha_threshold: float = 0.
         ``features`` (H, W, F) float32 (names in ``FEATURE_NAMES``), ``mask``
         (opaque pixels), ``foliage`` and ``woody`` colour masks, ``stem``
         (band rows, axis, colour) and ``D`` (tree size in pixels).
+
+    Raises
+    ------
+    ValueError
+        No alpha channel, fewer than 16 opaque pixels or no transparent one.
+
+    Examples
+    --------
+    >>> from branchnb.trees.synthetic import synthetic_tree
+    >>> tree = synthetic_tree("clean", rng=0, size=64)
+    >>> cues = tree_features(tree.image)
+    >>> cues["features"].shape == (64, 64, len(FEATURE_NAMES))
+    True
     """
     img, mask = tree_rgba(rgba, alpha_threshold=alpha_threshold, min_pixels=16, name="rgba")
     rgb = img[:, :, :3]
@@ -401,6 +478,13 @@ def automatic_seeds(cues: dict) -> np.ndarray:
     -------
     seeds : (H, W) uint8
         0 unknown, 1 crown, 2 trunk.
+
+    Examples
+    --------
+    >>> from branchnb.trees.synthetic import synthetic_tree
+    >>> seeds = automatic_seeds(tree_features(synthetic_tree("clean", rng=0, size=64).image))
+    >>> sorted(set(seeds.ravel().tolist()))
+    [0, 1, 2]
     """
     mask, foliage, stem, D = cues["mask"], cues["foliage"], cues["stem"], cues["D"]
     dt, d_green = cues["dt"], cues["d_green"]
@@ -660,12 +744,16 @@ def segment_tree(rgba, scribbles=None, params: SegmentParams | None = None, *,
         points)`` / dicts / canvas shapes (see :func:`rasterize_scribbles`).
         Scribbled pixels are labelled as drawn and retrain the classifier.
     params : SegmentParams, optional
+        Working size, stem width, graph-cut ``lambda``, forest size and the
+        ground / neck options; None uses the defaults.
     rng : int or numpy.random.Generator
         Seeds the training subsample and the random forest.
 
     Returns
     -------
     Segmentation
+        Crown and trunk masks at the input resolution, ``p(trunk)``, the
+        seeds and the cut-off ground.
 
     Raises
     ------
@@ -823,7 +911,33 @@ def segmentation_iou(pred, ref) -> dict[str, float]:
 
 
 def mean_iou(preds, refs) -> float:
-    """Mean over images of the per-image mean class IoU (:func:`segmentation_iou`)."""
+    """Mean over images of the per-image mean class IoU (:func:`segmentation_iou`).
+
+    Parameters
+    ----------
+    preds : iterable of (H, W) int array_like
+        Predicted label images (0 background, 1 crown, 2 trunk).
+    refs : iterable of (H, W) int array_like
+        The references, paired with ``preds`` in order (255 ignored).
+
+    Returns
+    -------
+    float
+        Mean of the per-image means; images where neither class occurs
+        (NaN) are left out.
+
+    Raises
+    ------
+    ValueError
+        If no image has a scored class, or a pair's shapes differ.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> ref = np.array([[1, 2]])
+    >>> mean_iou([ref, np.array([[1, 1]])], [ref, ref])  # (1 + (0.5 + 0) / 2) / 2
+    0.625
+    """
     scores = [segmentation_iou(p, r)["mean"] for p, r in zip(preds, refs)]
     scores = [x for x in scores if x == x]
     if not scores:
@@ -912,6 +1026,11 @@ def load_reference_scribbles(name: str, *, ignore: bool = False) -> list[dict]:
         ``{"label": "crown" | "trunk", "points": (N, 2) array, "radii":
         (N,) array or None}``, accepted by ``segment_tree(..., scribbles=)``.
         Empty when the automatic result needed no correction.
+
+    Examples
+    --------
+    >>> load_reference_scribbles("tree_rpg_01")   # its automatic result needed no correction
+    []
     """
     table = _scribble_table()
     if name not in table:
@@ -933,6 +1052,29 @@ def reference_from_scribbles(name: str, image=None) -> np.ndarray:
     ground cut, which came later) and ``rng=0``, then the ``"ignore"`` polygons set to 255 on opaque pixels.
     This is how ``data/trees_masks/*_mask.png`` were written; a later change
     of the segmenter can move a few pixels, the stored PNGs are the labels.
+
+    Parameters
+    ----------
+    name : str
+        A sample tree with stored scribbles (``data/trees_masks/scribbles.json``).
+    image : (H, W, 4) array_like, optional
+        The image to segment; None loads the sample ``name``.
+
+    Returns
+    -------
+    (H, W) uint8 ndarray
+        0 background, 1 crown, 2 trunk, 255 ignored.
+
+    Raises
+    ------
+    ValueError
+        If ``name`` has no stored scribbles.
+
+    Examples
+    --------
+    >>> labels = reference_from_scribbles("tree_rpg_01")
+    >>> labels.shape
+    (503, 411)
     """
     from .. import data
 
@@ -955,11 +1097,31 @@ def evaluate_reference(names=None, params: SegmentParams | None = None, *,
                        rng=0) -> dict[str, dict[str, float]]:
     """Per-image IoU of the automatic segmenter (no scribbles) on the reference masks.
 
+    The references were made by correcting this segmenter's output, so the
+    figure is optimistic; :func:`branchnb.trees.mask_reference.evaluate_independent`
+    gives the honest one.
+
+    Parameters
+    ----------
+    names : str or sequence of str, optional
+        Sample names with a reference mask (:func:`load_reference_masks`);
+        None evaluates all of them (slow: about a second per image).
+    params : SegmentParams, optional
+        Segmenter parameters; None uses the defaults.
+    rng : int or numpy.random.Generator
+        Seed of the training subsample and the forest (default 0).
+
     Returns
     -------
     dict
         name -> :func:`segmentation_iou` result, plus ``"mIoU"`` -> the mean
         over images under the key ``"mean"``.
+
+    Examples
+    --------
+    >>> r = evaluate_reference(["tree_rpg_01"], SegmentParams(work_size=128, n_trees=5))
+    >>> r["mIoU"]["mean"] > 0.9
+    True
     """
     from .. import data
 
@@ -979,11 +1141,30 @@ def overlay_labels(image, labels, *, seeds=None, strength: float = 0.55) -> np.n
     Parameters
     ----------
     image : (H, W, 4) array_like
+        The tree image (RGBA, composited over white; RGB is taken as opaque).
     labels : (H, W) int array_like
+        0 background (left as it is), 1 crown, 2 trunk, 255 ignored.
     seeds : (H, W) int array_like, optional
         Drawn as saturated dots (every third pixel) on top.
     strength : float
         Tint opacity.
+
+    Returns
+    -------
+    (H, W, 3) float32 ndarray
+        Labelled pixels: their grey value blended with the label colour.
+
+    Raises
+    ------
+    ValueError
+        If ``labels`` does not match the image's (H, W).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.ones((2, 2, 4), np.float32)
+    >>> overlay_labels(img, np.array([[0, 1], [2, 255]]), strength=1.0)[0, 1].tolist()
+    [0.10000000149011612, 0.75, 0.10000000149011612]
     """
     img = as_float_image(image, name="image")
     labels = np.asarray(labels)

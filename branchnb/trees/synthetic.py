@@ -37,7 +37,7 @@ BACKGROUND, CROWN, TRUNK, GROUND = 0, 1, 2, 255
 class SyntheticTree:
     """A procedural exemplar and its true answers.
 
-    Attributes
+    Parameters
     ----------
     image : (S, S, 4) float32 ndarray
         RGBA, binary alpha.
@@ -46,6 +46,13 @@ class SyntheticTree:
     pins : dict
         ``{"B": (x, y), "R": (x, y), "L": (x, y)}`` in pixels.
     kind : str
+        Which of :data:`SYNTHETIC_KINDS` drew it (the clutter at the foot).
+
+    Examples
+    --------
+    >>> t = synthetic_tree("clean", rng=0, size=64)
+    >>> t.image.shape, sorted(set(t.labels.ravel().tolist())), t.pins["B"]
+    ((64, 64, 4), [0, 1, 2], (33.0, 62.0))
     """
 
     image: np.ndarray
@@ -136,12 +143,26 @@ def synthetic_tree(kind: str = "leaf_pile", *, rng=None, size: int = 256) -> Syn
         own dark outline and vein, some leaning on the trunk, a few lying
         apart).
     rng : int or numpy.random.Generator, optional
+        Seed or Generator of the random shape, colours and clutter; None
+        draws a fresh seed.
     size : int
-        Side of the square image.
+        Side of the square image (>= 48).
 
     Returns
     -------
     SyntheticTree
+        The RGBA image with its true labels and pins.
+
+    Raises
+    ------
+    ValueError
+        Unknown ``kind`` or ``size`` below 48.
+
+    Examples
+    --------
+    >>> t = synthetic_tree("leaf_pile", rng=1, size=64)
+    >>> bool((t.labels == 255).any())  # the pile is labelled ground
+    True
     """
     if kind not in SYNTHETIC_KINDS:
         raise ValueError(f"kind must be one of {list(SYNTHETIC_KINDS)}, got {kind!r}")
@@ -310,6 +331,29 @@ def synthetic_tree(kind: str = "leaf_pile", *, rng=None, size: int = 256) -> Syn
 
 def synthetic_trees(n_per_kind: int = 2, *, kinds=SYNTHETIC_KINDS, rng=0,
                     size: int = 256) -> list[SyntheticTree]:
-    """``n_per_kind`` trees of every kind (reproducible from ``rng``)."""
+    """``n_per_kind`` trees of every kind (reproducible from ``rng``).
+
+    Parameters
+    ----------
+    n_per_kind : int
+        Trees drawn of each kind.
+    kinds : sequence of str
+        Kinds to draw (see :func:`synthetic_tree`), in this order; default
+        all of :data:`SYNTHETIC_KINDS`.
+    rng : int or numpy.random.Generator
+        One generator shared by all trees (default seed 0).
+    size : int
+        Side of each square image (>= 48).
+
+    Returns
+    -------
+    list of SyntheticTree
+        Grouped by kind: ``n_per_kind`` of the first kind, then the next.
+
+    Examples
+    --------
+    >>> [t.kind for t in synthetic_trees(1, kinds=("grass", "palm"), size=64)]
+    ['grass', 'palm']
+    """
     rng = as_rng(rng)
     return [synthetic_tree(k, rng=rng, size=size) for k in kinds for _ in range(int(n_per_kind))]
