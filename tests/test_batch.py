@@ -490,15 +490,59 @@ def test_a_hostile_image_fails_clearly_through_the_command_line(tmp_path):
 
     lib = tmp_path / "lib"
     lib.mkdir()
-    imsave(lib / "a.png", data.load("tree_rpg_01"))
+    imsave(lib / "a.png", data.load("tree_rpg_01"))       # decoded first if the headers were not checked first
     (lib / "b.png").write_bytes(_png_declaring(30000, 30000, valid=False))
     spec = tmp_path / "s.json"
-    spec.write_text(json.dumps({"job": "tree_variations", "count": 2, "inputs": {"library": "lib", "size": 64}}))
+    spec.write_text(json.dumps({"job": "tree_variations", "count": 5, "inputs": {"library": "lib", "size": 64}}))
     run = subprocess.run(["/usr/bin/time", "-f", "%M", *_cli(spec, tmp_path / "out", "--workers", "1")],
                          capture_output=True, text=True, env=_env(), timeout=300)
     assert run.returncode == 1 and "Traceback" not in run.stderr, run.stderr
-    assert "b.png: it declares 30000 x 30000" in run.stderr
-    assert int(run.stderr.strip().splitlines()[-1]) < 400_000  # KB peak: no decoding (was 4.6 GB)
+    assert "b.png: it declares 30000 x 30000" in run.stderr and "no item was run" in run.stderr
+    assert "starting a local Dask cluster" not in run.stderr       # refused before any cluster starts
+    # the manifest says why, once for the run (not 5 identical failed items), and holds no item
+    [line] = (tmp_path / "out" / "manifest.jsonl").read_text().splitlines()
+    rec = json.loads(line)
+    assert rec["run"] == "failed" and rec["items_not_run"] == 5 and "b.png: it declares 30000 x 30000" in rec["error"]
+    assert read_manifest(tmp_path / "out") == {}
+    # whole command: imports (~170 MB: numba, scikit-image, ...) and the refusal; decoding was 4.6 GB
+    assert int(run.stderr.strip().splitlines()[-1]) < 250_000
+
+
+def test_a_hostile_library_image_costs_little_memory_and_the_next_run_forgets_it(client2, tmp_path):
+    from test_validation import _png_declaring
+
+    from branchnb.batch.manifest import Manifest
+
+    lib = tmp_path / "lib"
+    lib.mkdir()
+    imsave(lib / "a.png", cv2.resize(data.load("tree_rpg_01"), (60, 73), interpolation=cv2.INTER_AREA))
+    imsave(lib / "c.png", cv2.resize(data.load("tree_rpg_03"), (60, 73), interpolation=cv2.INTER_AREA))
+    (lib / "b.png").write_bytes(_png_declaring(50000, 50000, valid=False))   # OpenCV alone raised cv2.error
+    code = f"""
+import resource
+from branchnb.batch import BatchSpec, run_batch
+spec = BatchSpec("tree_variations", count=3, inputs={{"library": {str(lib)!r}, "size": 64}})
+before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+try:
+    run_batch(spec, {str(tmp_path / "m")!r}, n_workers=1, progress=None)
+except ValueError as exc:
+    print(exc)
+print((resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before) / 1024)
+"""
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=_env(), timeout=300)
+    assert run.returncode == 0 and "Traceback" not in run.stderr, run.stderr
+    message, peak = run.stdout.strip().splitlines()
+    assert "b.png: it declares 50000 x 50000 = 2,500,000,000 pixels" in message
+    assert float(peak) < 200, peak                         # MB for the refusal, on top of the imports
+    spec = BatchSpec("tree_variations", count=3, inputs={"library": str(lib), "size": 64, "trunk": "stem"})
+    with pytest.raises(ValueError, match=r"inputs.library: refusing to decode .*b.png.*no item was run"):
+        run_batch(spec, tmp_path / "out", client=client2, progress=None)
+    assert "b.png" in Manifest(tmp_path / "out").run_failure["error"]
+    (lib / "b.png").unlink()                               # fixed: the next run makes every item
+    s = run_batch(spec, tmp_path / "out", client=client2, progress=None)
+    assert (s.done, s.failed) == (3, 0)
+    lines = [json.loads(x) for x in (tmp_path / "out" / "manifest.jsonl").read_text().splitlines()]
+    assert [r.get("item") for r in lines] == [0, 1, 2] and Manifest(tmp_path / "out").run_failure is None
 
 
 def test_no_listener_of_a_local_batch_binds_a_public_address(tmp_path):

@@ -322,10 +322,17 @@ def run_batch(spec, outdir, *, client=None, scheduler: str | None = None, n_work
     ------
     ValueError, TypeError
         An invalid spec or shared input (e.g. a library folder without
-        trees), an unusable manifest (``manifest.jsonl`` is a folder), or
-        the folder is in use by another run. A single item's invalid
-        parameters or failure is recorded in the manifest instead, and the
-        batch goes on.
+        trees, or a library image above the pixel limit), an unusable
+        manifest (``manifest.jsonl`` is a folder), or the folder is in use
+        by another run. A single item's invalid parameters or failure is
+        recorded in the manifest instead, and the batch goes on.
+
+        Shared inputs are prepared before the cluster starts, so a run no
+        item can succeed in stops within seconds, in little memory, with
+        the message naming the file (and, for an image, its declared size);
+        as every item would fail with that message, the manifest records it
+        once, as a run record (see :mod:`branchnb.batch.manifest`), rather
+        than once per item.
 
     Notes
     -----
@@ -401,9 +408,22 @@ def _run(spec, outdir, summary, bar, interrupt, client, scheduler, n_workers, ch
     items = _Items(spec, manifest, key, summary, bar, record)
     client_, cluster = None, None
     futures = {}
+    failure = None
     try:
         if items.peek() is None:
             return
+        # the shared inputs first, before any cluster: a library no item can run without (a missing or
+        # hostile image, ...) stops the run at once, in little memory, and the manifest says why
+        bar.note(f"preparing the shared inputs of {spec.job} ...")
+        try:
+            base = _build_params(job, spec.params, "params")
+            prepared = job.prepare(spec.shared_inputs(), spec.base_dir, base)
+        except (ValueError, TypeError) as exc:
+            failure = f"{type(exc).__name__}: {exc}"
+            if type(exc) not in (ValueError, TypeError):
+                raise
+            raise type(exc)(f"{exc} (no item was run: the reason is recorded in {manifest.path})") from None
+        interrupt.check()
         if client is None and scheduler is None:
             n = _default_workers() if n_workers is None else n_workers
             bar.note(f"starting a local Dask cluster: {n} worker process{'es' * (n != 1)} ...")
@@ -419,9 +439,6 @@ def _run(spec, outdir, summary, bar, interrupt, client, scheduler, n_workers, ch
         interrupt.check()
         if dashboard and cluster is not None:
             bar.note(f"Dask dashboard (this machine only): {cluster.dashboard_link}")
-        bar.note(f"preparing the shared inputs of {spec.job} ...")
-        base = _build_params(job, spec.params, "params")
-        prepared = job.prepare(spec.shared_inputs(), spec.base_dir, base)
         interrupt.deferred = True
         try:
             shared = _Shared(client_, prepared, interrupt)
@@ -455,6 +472,8 @@ def _run(spec, outdir, summary, bar, interrupt, client, scheduler, n_workers, ch
             except Exception:  # noqa: BLE001 - a dead scheduler: nothing left to cancel
                 pass
         manifest.compact()
+        if failure is not None:
+            manifest.record_run_failure(failure, key, spec.count - summary.skipped - summary.done - summary.failed)
         if client is None and client_ is not None:
             client_.close(timeout=10)
         if cluster is not None:
