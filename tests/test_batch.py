@@ -607,3 +607,23 @@ def test_the_readme_batch_example_runs_as_written(client2, tmp_path):
                            capture_output=True, text=True, env=_env(), cwd=tmp_path, timeout=300)
     assert "0 done, 3 already complete" in again.stdout and "nothing computed" in again.stdout
     assert "workers" not in again.stdout and again.stderr.count("%|") == 0   # no bar when nothing is computed
+
+
+def test_chunks_adapt_to_the_item_time_and_shrink_at_the_end():
+    from branchnb.batch.runner import _ChunkSizer
+
+    left = [1000]
+    sizer = _ChunkSizer(None, 2, lambda: left[0])
+    assert sizer() == 1                                    # nothing measured yet: one item per task
+    for _ in range(4):
+        sizer.observe(0.05)
+    assert sizer() == 4                                    # ~0.2 s of work per task
+    sizer.observe(1e-6)
+    for _ in range(100):
+        sizer.observe(0.0)
+    assert sizer() == 16                                   # cheap items: at most 16 per task
+    left[0] = 40
+    assert sizer() == 5                                    # 4 chunks per worker left at most
+    left[0] = 7
+    assert sizer() == 1                                    # the tail: one item per task, no idle worker
+    assert _ChunkSizer(3, 2, lambda: 0)() == 3             # a given chunk is kept
