@@ -397,7 +397,7 @@ def _run(spec, outdir, summary, bar, interrupt, client, scheduler, n_workers, ch
                 write_atomic(outdir / name, bytes(content))
             manifest.append({"item": index, **meta, "status": "failed" if error else "done",
                              "files": [file_record(n, bytes(c)) for n, c in files.items()],
-                             "info": info, "time": round(float(seconds), 4), "error": error})
+                             "info": info, "time": round(float(seconds), 4), "error": error}, sync=False)
             if error:
                 summary.failed += 1
             else:
@@ -456,7 +456,7 @@ def _run(spec, outdir, summary, bar, interrupt, client, scheduler, n_workers, ch
         try:
             sizer = _ChunkSizer(chunk, summary.workers, lambda: spec.count - items.next_index)
             reruns = _run_chunks(client_, job, shared, spec.shared_inputs(), items, sizer, 2 * summary.workers,
-                                 futures, record, interrupt)
+                                 futures, record, interrupt, manifest.sync)
             if reruns or shared.resent:
                 note = (f"{reruns} task(s) ran again after a worker was lost; the shared inputs were sent again "
                         f"{shared.resent} time(s)")
@@ -598,7 +598,8 @@ class _ChunkSizer:
         return max(1, min(cap, round(self.TASK_SECONDS / mean)))
 
 
-def _run_chunks(client, job, shared, shared_inputs, items, sizer, in_flight, futures, record, interrupt):
+def _run_chunks(client, job, shared, shared_inputs, items, sizer, in_flight, futures, record, interrupt,
+                sync=lambda: None):
     """Submit chunks of ``sizer()`` items, at most ``in_flight`` at a time; record every result as it arrives.
 
     Returns how many chunks ran again after a worker was lost.
@@ -654,4 +655,5 @@ def _run_chunks(client, job, shared, shared_inputs, items, sizer, in_flight, fut
             meta = by_item[r["item"]][4]
             record(r["item"], meta, r["files"], r["info"], r["time"], r["error"])
         submit_next()
+        sync()  # one fsync per finished task, after the next one is on its way
     return reruns
