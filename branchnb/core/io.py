@@ -191,6 +191,11 @@ def check_image_file(path, *, max_pixels: int | None = None) -> tuple[int, int]:
     max_pixels : int, optional
         As in :func:`imread`.
 
+    Returns
+    -------
+    (int, int)
+        ``(width, height)`` the header declares.
+
     Raises
     ------
     ValueError
