@@ -300,7 +300,7 @@ def _parser() -> argparse.ArgumentParser:
     p_batch.add_argument("--workers", type=int, metavar="N",
                          help="LocalCluster worker processes (default: one per core)")
     p_batch.add_argument("--chunk", type=int, metavar="K",
-                         help="items per Dask task (default: chosen from the count and the workers)")
+                         help="items per Dask task (default: adapted to the measured item time, 1 near the end)")
     p_batch.add_argument("--count", type=int, metavar="N", help="override the spec's count")
     p_batch.add_argument("--no-progress", action="store_true", help="no progress bar or status lines")
     p_batch.add_argument("--dashboard", action="store_true",

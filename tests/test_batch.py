@@ -375,16 +375,18 @@ def test_a_batch_survives_the_loss_of_its_only_worker(tmp_path):
     assert {r["status"] for r in read_manifest(tmp_path).values()} == {"done"}
 
 
-def test_ten_million_items_start_at_once_and_ctrl_c_twice_is_clean(client2, tmp_path):
+def _first_item_then_ctrl_c_twice(count: int, scheduler: str, tmp_path: Path):
+    """Run a ``count``-item spec of a trivial job; at its first recorded item: seconds, client RSS (MB); then
+    Ctrl-C, and a second one during the shutdown. Returns ``(seconds, rss, returncode, stdout, stderr)``."""
     import psutil
 
-    spec = tmp_path / "big.json"
-    spec.write_text(json.dumps({"job": "dendrite_tree", "count": 10_000_000, "seed": 1,
+    spec = tmp_path / f"big{count}.json"
+    spec.write_text(json.dumps({"job": "dendrite_tree", "count": count, "seed": 1,
                                 "inputs": {"shape": [32, 32], "svg": False},
                                 "params": {"tree": {"iterations": 1, "radius": 6}}}))
-    out = tmp_path / "out"
+    out = tmp_path / f"out{count}"
     t0 = time.time()
-    proc = subprocess.Popen(_cli(spec, out, "--scheduler", client2.scheduler.address), env=_env(),
+    proc = subprocess.Popen(_cli(spec, out, "--scheduler", scheduler), env=_env(),
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     manifest = out / "manifest.jsonl"
     while time.time() - t0 < 120 and not (manifest.is_file() and manifest.read_text().count("\n") >= 3):
@@ -396,12 +398,20 @@ def test_ten_million_items_start_at_once_and_ctrl_c_twice_is_clean(client2, tmp_
     if proc.poll() is None:
         proc.send_signal(signal.SIGINT)                    # a second Ctrl-C during the shutdown
     stdout, stderr = proc.communicate(timeout=120)
-    assert first < 60, f"no item after {first:.0f} s"     # was: 25 s of set-up per 200k items
-    assert rss < 600, rss                                  # MB; was 540 MB per 200k items before the first
-    assert proc.returncode == 130 and "Traceback" not in stderr, stderr
-    assert "interrupted" in stdout and "of 10000000" in stdout
-    assert stderr.startswith("branchnb batch: reading")  # output from the first second
-    assert "connecting to the Dask scheduler" in stderr
+    return first, rss, proc.returncode, stdout, stderr
+
+
+def test_ten_million_items_start_at_once_and_ctrl_c_twice_is_clean(client2, tmp_path):
+    results = {n: _first_item_then_ctrl_c_twice(n, client2.scheduler.address, tmp_path) for n in (1000, 10_000_000)}
+    for n, (first, _rss, code, stdout, stderr) in results.items():
+        assert first < 60, f"{n} items: no item after {first:.0f} s"   # was: 25 s of set-up per 200k items
+        assert code == 130 and "Traceback" not in stderr, stderr
+        assert "interrupted" in stdout and f"of {n}" in stdout
+        assert stderr.startswith("branchnb batch: reading")  # output from the first second
+        assert "connecting to the Dask scheduler" in stderr
+    # bounded client memory: 10^7 items cost what 10^3 cost (measured 193 MB both; before: 540 MB per 200k items)
+    assert results[10_000_000][1] - results[1000][1] < 60, {n: r[1] for n, r in results.items()}
+    assert results[10_000_000][1] < 600
 
 
 def test_ctrl_c_while_the_cluster_starts_is_clean(tmp_path):
@@ -490,15 +500,59 @@ def test_a_hostile_image_fails_clearly_through_the_command_line(tmp_path):
 
     lib = tmp_path / "lib"
     lib.mkdir()
-    imsave(lib / "a.png", data.load("tree_rpg_01"))
+    imsave(lib / "a.png", data.load("tree_rpg_01"))       # decoded first if the headers were not checked first
     (lib / "b.png").write_bytes(_png_declaring(30000, 30000, valid=False))
     spec = tmp_path / "s.json"
-    spec.write_text(json.dumps({"job": "tree_variations", "count": 2, "inputs": {"library": "lib", "size": 64}}))
+    spec.write_text(json.dumps({"job": "tree_variations", "count": 5, "inputs": {"library": "lib", "size": 64}}))
     run = subprocess.run(["/usr/bin/time", "-f", "%M", *_cli(spec, tmp_path / "out", "--workers", "1")],
                          capture_output=True, text=True, env=_env(), timeout=300)
     assert run.returncode == 1 and "Traceback" not in run.stderr, run.stderr
-    assert "b.png: it declares 30000 x 30000" in run.stderr
-    assert int(run.stderr.strip().splitlines()[-1]) < 400_000  # KB peak: no decoding (was 4.6 GB)
+    assert "b.png: it declares 30000 x 30000" in run.stderr and "no item was run" in run.stderr
+    assert "starting a local Dask cluster" not in run.stderr       # refused before any cluster starts
+    # the manifest says why, once for the run (not 5 identical failed items), and holds no item
+    [line] = (tmp_path / "out" / "manifest.jsonl").read_text().splitlines()
+    rec = json.loads(line)
+    assert rec["run"] == "failed" and rec["items_not_run"] == 5 and "b.png: it declares 30000 x 30000" in rec["error"]
+    assert read_manifest(tmp_path / "out") == {}
+    # whole command: imports (~170 MB: numba, scikit-image, ...) and the refusal; decoding was 4.6 GB
+    assert int(run.stderr.strip().splitlines()[-1]) < 250_000
+
+
+def test_a_hostile_library_image_costs_little_memory_and_the_next_run_forgets_it(client2, tmp_path):
+    from test_validation import _png_declaring
+
+    from branchnb.batch.manifest import Manifest
+
+    lib = tmp_path / "lib"
+    lib.mkdir()
+    imsave(lib / "a.png", cv2.resize(data.load("tree_rpg_01"), (60, 73), interpolation=cv2.INTER_AREA))
+    imsave(lib / "c.png", cv2.resize(data.load("tree_rpg_03"), (60, 73), interpolation=cv2.INTER_AREA))
+    (lib / "b.png").write_bytes(_png_declaring(50000, 50000, valid=False))   # OpenCV alone raised cv2.error
+    code = f"""
+import resource
+from branchnb.batch import BatchSpec, run_batch
+spec = BatchSpec("tree_variations", count=3, inputs={{"library": {str(lib)!r}, "size": 64}})
+before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+try:
+    run_batch(spec, {str(tmp_path / "m")!r}, n_workers=1, progress=None)
+except ValueError as exc:
+    print(exc)
+print((resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before) / 1024)
+"""
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=_env(), timeout=300)
+    assert run.returncode == 0 and "Traceback" not in run.stderr, run.stderr
+    message, peak = run.stdout.strip().splitlines()
+    assert "b.png: it declares 50000 x 50000 = 2,500,000,000 pixels" in message
+    assert float(peak) < 200, peak                         # MB for the refusal, on top of the imports
+    spec = BatchSpec("tree_variations", count=3, inputs={"library": str(lib), "size": 64, "trunk": "stem"})
+    with pytest.raises(ValueError, match=r"inputs.library: refusing to decode .*b.png.*no item was run"):
+        run_batch(spec, tmp_path / "out", client=client2, progress=None)
+    assert "b.png" in Manifest(tmp_path / "out").run_failure["error"]
+    (lib / "b.png").unlink()                               # fixed: the next run makes every item
+    s = run_batch(spec, tmp_path / "out", client=client2, progress=None)
+    assert (s.done, s.failed) == (3, 0)
+    lines = [json.loads(x) for x in (tmp_path / "out" / "manifest.jsonl").read_text().splitlines()]
+    assert [r.get("item") for r in lines] == [0, 1, 2] and Manifest(tmp_path / "out").run_failure is None
 
 
 def test_no_listener_of_a_local_batch_binds_a_public_address(tmp_path):
@@ -553,3 +607,23 @@ def test_the_readme_batch_example_runs_as_written(client2, tmp_path):
                            capture_output=True, text=True, env=_env(), cwd=tmp_path, timeout=300)
     assert "0 done, 3 already complete" in again.stdout and "nothing computed" in again.stdout
     assert "workers" not in again.stdout and again.stderr.count("%|") == 0   # no bar when nothing is computed
+
+
+def test_chunks_adapt_to_the_item_time_and_shrink_at_the_end():
+    from branchnb.batch.runner import _ChunkSizer
+
+    left = [1000]
+    sizer = _ChunkSizer(None, 2, lambda: left[0])
+    assert sizer() == 1                                    # nothing measured yet: one item per task
+    for _ in range(4):
+        sizer.observe(0.05)
+    assert sizer() == 4                                    # ~0.2 s of work per task
+    sizer.observe(1e-6)
+    for _ in range(100):
+        sizer.observe(0.0)
+    assert sizer() == 16                                   # cheap items: at most 16 per task
+    left[0] = 40
+    assert sizer() == 5                                    # 4 chunks per worker left at most
+    left[0] = 7
+    assert sizer() == 1                                    # the tail: one item per task, no idle worker
+    assert _ChunkSizer(3, 2, lambda: 0)() == 3             # a given chunk is kept

@@ -61,6 +61,14 @@ def _image_sources(value, base_dir, *, name: str, default) -> list[tuple[str, Pa
     dup = sorted({lab for lab in labels if labels.count(lab) > 1})
     if dup:
         raise ValueError(f"inputs.{name}: several images are called {dup}; rename them")
+    from ..core.io import check_image_file
+
+    for _, src in out:  # every header before any pixel: a hostile file is refused before the others decode
+        if not isinstance(src, str):
+            try:
+                check_image_file(src)
+            except ValueError as exc:
+                raise ValueError(f"inputs.{name}: {exc}") from None
     return out
 
 

@@ -17,6 +17,15 @@ A line that cannot be read (torn by a crash, not UTF-8, not a JSON record)
 is reported in ``Manifest.problems`` by file and line; the item it
 names (when it can be told) is recomputed.
 
+A run that could not start any item (its shared inputs failed, e.g. a
+library image above the pixel limit) appends one *run* record instead of
+failing every item one by one::
+
+    {"run": "failed", "error": "ValueError: inputs.library: ...", "key": "...", "items_not_run": 200}
+
+It is not an item (:func:`read_manifest` skips it; ``Manifest.run_failure``
+holds the latest one) and the next run that gets going drops it.
+
 The client keeps no record in memory: it indexes the file (item, offset and
 length of each line, 20 bytes an item) and reads a record when it is asked
 for, so resuming or running a batch of millions of items needs little
@@ -78,6 +87,8 @@ def _parse_line(raw: bytes):
         rec = json.loads(text, parse_constant=_reject_constant)
     except (ValueError, RecursionError) as exc:
         return None, f"not a JSON record ({exc})"[:200]
+    if isinstance(rec, dict) and "item" not in rec and rec.get("run") == "failed":
+        return rec, None
     if not isinstance(rec, dict) or isinstance(rec.get("item"), bool) or not isinstance(rec.get("item"), int):
         return None, "a JSON value without an integer 'item'"
     if rec["item"] < 0:
@@ -104,12 +115,15 @@ class Manifest:
     problems : list of str
         Lines that could not be read, as ``"<file> line <n>: <reason>"``
         (at most 20, then a count).
+    run_failure : dict or None
+        The latest run record (a run that could not start any item), if any.
     """
 
     def __init__(self, outdir):
         self.outdir = Path(outdir)
         self.path = _manifest_path(self.outdir / MANIFEST_NAME)
         self.problems: list[str] = []
+        self.run_failure: dict | None = None
         self._n_problems = 0
         self._file = None
         self._dirty = False
@@ -145,6 +159,9 @@ class Manifest:
                             why += f"; item {int(m.group(1))} is recomputed"
                             yield int(m.group(1)), -1, 0
                         self._problem(lineno, why)
+                    elif "item" not in rec:      # a run record: not an item; dropped by the next compaction
+                        self.run_failure = rec
+                        self._dirty = True
                     else:
                         yield rec["item"], offset, len(body)
                 offset += n
@@ -196,8 +213,13 @@ class Manifest:
                 and all(_file_matches(self.outdir, f) for f in files))
 
     # -- writing ---------------------------------------------------------------
-    def append(self, record: dict) -> None:
-        """Write one record as one line and flush it to disk (the record is not kept in memory)."""
+    def append(self, record: dict, *, sync: bool = True) -> None:
+        """Write one record as one line and flush it (the record is not kept in memory).
+
+        The line reaches the operating system at once (it survives the
+        process being killed); ``sync=True`` also waits until it is on the
+        disk (``fsync``, ~10 ms), else :meth:`sync` does it for several lines.
+        """
         line = json.dumps(record, allow_nan=False, separators=(",", ":")) + "\n"
         if self._file is None:
             try:
@@ -206,8 +228,19 @@ class Manifest:
                 raise ManifestError(f"cannot write {self.path}: {exc.strerror or exc}") from None
         self._file.write(line)
         self._file.flush()
-        os.fsync(self._file.fileno())
+        if sync:
+            os.fsync(self._file.fileno())
         self._dirty = True
+
+    def sync(self) -> None:
+        """Wait until every appended line is on the disk."""
+        if self._file is not None:
+            os.fsync(self._file.fileno())
+
+    def record_run_failure(self, error: str, key: str, items_not_run: int) -> None:
+        """Append a run record: this run could not start any item, because of ``error``."""
+        self.append({"run": "failed", "error": error, "key": key, "items_not_run": int(items_not_run)})
+        self.close()
 
     def compact(self) -> None:
         """Rewrite the file with the latest readable record per item, in item order (atomic replace).
@@ -240,11 +273,11 @@ class Manifest:
 def read_manifest(path) -> dict[int, dict]:
     """The latest record of each item in a manifest file or output folder (``{}`` if there is none).
 
-    Unreadable lines are skipped (see :class:`Manifest` for how a run reports them).
+    Unreadable lines and run records are skipped (see :class:`Manifest` for how a run reports them).
     """
     path = _manifest_path(path)
     m = Manifest.__new__(Manifest)
-    m.outdir, m.path, m.problems, m._n_problems = path.parent, path, [], 0
+    m.outdir, m.path, m.problems, m._n_problems, m.run_failure = path.parent, path, [], 0, None
     m._file, m._dirty = None, False
     m._items, m._offsets, m._lengths = m._index()
     return {int(i): m.get(int(i)) for i in m._items}

@@ -304,8 +304,10 @@ def run_batch(spec, outdir, *, client=None, scheduler: str | None = None, n_work
     n_workers : int, optional
         Worker processes of the default ``LocalCluster`` (one per core).
     chunk : int, optional
-        Items per Dask task (default: up to 16, so that every worker gets
-        several tasks); cheap items in bigger chunks cost less overhead.
+        Items per Dask task. Default: adapted as the batch goes, one item
+        per task at first, then about 0.2 s of work per task (at most 16
+        items), shrinking to one item near the end so that no worker idles
+        while another finishes a long chunk.
     progress : {"auto", "tqdm", "widget", None} or callable(done, total)
         ``"auto"``: an ipywidgets bar in a notebook, tqdm elsewhere (which
         also prints what the run is doing before the first item: starting
@@ -322,10 +324,17 @@ def run_batch(spec, outdir, *, client=None, scheduler: str | None = None, n_work
     ------
     ValueError, TypeError
         An invalid spec or shared input (e.g. a library folder without
-        trees), an unusable manifest (``manifest.jsonl`` is a folder), or
-        the folder is in use by another run. A single item's invalid
-        parameters or failure is recorded in the manifest instead, and the
-        batch goes on.
+        trees, or a library image above the pixel limit), an unusable
+        manifest (``manifest.jsonl`` is a folder), or the folder is in use
+        by another run. A single item's invalid parameters or failure is
+        recorded in the manifest instead, and the batch goes on.
+
+        Shared inputs are prepared before the cluster starts, so a run no
+        item can succeed in stops within seconds, in little memory, with
+        the message naming the file (and, for an image, its declared size);
+        as every item would fail with that message, the manifest records it
+        once, as a run record (see :mod:`branchnb.batch.manifest`), rather
+        than once per item.
 
     Notes
     -----
@@ -388,7 +397,7 @@ def _run(spec, outdir, summary, bar, interrupt, client, scheduler, n_workers, ch
                 write_atomic(outdir / name, bytes(content))
             manifest.append({"item": index, **meta, "status": "failed" if error else "done",
                              "files": [file_record(n, bytes(c)) for n, c in files.items()],
-                             "info": info, "time": round(float(seconds), 4), "error": error})
+                             "info": info, "time": round(float(seconds), 4), "error": error}, sync=False)
             if error:
                 summary.failed += 1
             else:
@@ -401,9 +410,22 @@ def _run(spec, outdir, summary, bar, interrupt, client, scheduler, n_workers, ch
     items = _Items(spec, manifest, key, summary, bar, record)
     client_, cluster = None, None
     futures = {}
+    failure = None
     try:
         if items.peek() is None:
             return
+        # the shared inputs first, before any cluster: a library no item can run without (a missing or
+        # hostile image, ...) stops the run at once, in little memory, and the manifest says why
+        bar.note(f"preparing the shared inputs of {spec.job} ...")
+        try:
+            base = _build_params(job, spec.params, "params")
+            prepared = job.prepare(spec.shared_inputs(), spec.base_dir, base)
+        except (ValueError, TypeError) as exc:
+            failure = f"{type(exc).__name__}: {exc}"
+            if type(exc) not in (ValueError, TypeError):
+                raise
+            raise type(exc)(f"{exc} (no item was run: the reason is recorded in {manifest.path})") from None
+        interrupt.check()
         if client is None and scheduler is None:
             n = _default_workers() if n_workers is None else n_workers
             bar.note(f"starting a local Dask cluster: {n} worker process{'es' * (n != 1)} ...")
@@ -419,17 +441,12 @@ def _run(spec, outdir, summary, bar, interrupt, client, scheduler, n_workers, ch
         interrupt.check()
         if dashboard and cluster is not None:
             bar.note(f"Dask dashboard (this machine only): {cluster.dashboard_link}")
-        bar.note(f"preparing the shared inputs of {spec.job} ...")
-        base = _build_params(job, spec.params, "params")
-        prepared = job.prepare(spec.shared_inputs(), spec.base_dir, base)
         interrupt.deferred = True
         try:
             shared = _Shared(client_, prepared, interrupt)
         finally:
             interrupt.deferred = False
         interrupt.check()
-        remaining = max(1, spec.count - len(manifest))
-        k = chunk or max(1, min(16, remaining // (4 * summary.workers)))
         t0 = time.perf_counter()
         summary.startup_seconds = t0 - t_start
         bar.note(f"computing on {summary.workers} worker{'s' * (summary.workers != 1)} "
@@ -437,8 +454,9 @@ def _run(spec, outdir, summary, bar, interrupt, client, scheduler, n_workers, ch
         bar.start()
         interrupt.deferred = True
         try:
-            reruns = _run_chunks(client_, job, shared, spec.shared_inputs(), items, k, 2 * summary.workers, futures,
-                                 record, interrupt)
+            sizer = _ChunkSizer(chunk, summary.workers, lambda: spec.count - items.next_index)
+            reruns = _run_chunks(client_, job, shared, spec.shared_inputs(), items, sizer, 2 * summary.workers,
+                                 futures, record, interrupt, manifest.sync)
             if reruns or shared.resent:
                 note = (f"{reruns} task(s) ran again after a worker was lost; the shared inputs were sent again "
                         f"{shared.resent} time(s)")
@@ -455,6 +473,8 @@ def _run(spec, outdir, summary, bar, interrupt, client, scheduler, n_workers, ch
             except Exception:  # noqa: BLE001 - a dead scheduler: nothing left to cancel
                 pass
         manifest.compact()
+        if failure is not None:
+            manifest.record_run_failure(failure, key, spec.count - summary.skipped - summary.done - summary.failed)
         if client is None and client_ is not None:
             client_.close(timeout=10)
         if cluster is not None:
@@ -544,8 +564,43 @@ def _completed(futures: dict, interrupt):
                 yield fut
 
 
-def _run_chunks(client, job, shared, shared_inputs, items, k, in_flight, futures, record, interrupt):
-    """Submit chunks of ``k`` items, at most ``in_flight`` at a time; record every result as it arrives.
+class _ChunkSizer:
+    """How many items the next task gets: ``chunk`` if given, else adapted to the items' measured time.
+
+    A task costs the client and the scheduler a few ms of CPU (on the same
+    cores as the workers, on a local cluster), so cheap items go in chunks
+    of up to 16, about :data:`TASK_SECONDS` of work each; but a chunk is
+    also the grain of the load balance at the end of a batch (one worker
+    finishing a long chunk while the other idles), so the first tasks hold
+    one item each (their time is not known yet) and chunks shrink as the
+    items left to submit fall below 4 chunks per worker.
+    """
+
+    TASK_SECONDS = 0.2
+    MAX = 16
+
+    def __init__(self, chunk, workers: int, left):
+        self.fixed, self.workers, self.left = chunk, max(1, int(workers)), left
+        self.seconds, self.n = 0.0, 0
+
+    def observe(self, seconds: float) -> None:
+        """One item took ``seconds`` on a worker."""
+        self.seconds += max(0.0, float(seconds))
+        self.n += 1
+
+    def __call__(self) -> int:
+        if self.fixed:
+            return self.fixed
+        if not self.n:
+            return 1
+        mean = max(self.seconds / self.n, 1e-4)
+        cap = max(1, min(self.MAX, self.left() // (4 * self.workers)))
+        return max(1, min(cap, round(self.TASK_SECONDS / mean)))
+
+
+def _run_chunks(client, job, shared, shared_inputs, items, sizer, in_flight, futures, record, interrupt,
+                sync=lambda: None):
+    """Submit chunks of ``sizer()`` items, at most ``in_flight`` at a time; record every result as it arrives.
 
     Returns how many chunks ran again after a worker was lost.
 
@@ -568,7 +623,7 @@ def _run_chunks(client, job, shared, shared_inputs, items, k, in_flight, futures
         if retry:
             submit(*retry.pop(0))
             return
-        chunk = items.take(k)
+        chunk = items.take(sizer())
         if chunk:
             submit(chunk, 1)
 
@@ -596,7 +651,9 @@ def _run_chunks(client, job, shared, shared_inputs, items, k, in_flight, futures
             results = [{"item": i, "files": {}, "info": {}, "time": 0.0, "error": err} for i, *_ in chunk]
         by_item = {c[0]: c for c in chunk}
         for r in results:
+            sizer.observe(r["time"])
             meta = by_item[r["item"]][4]
             record(r["item"], meta, r["files"], r["info"], r["time"], r["error"])
         submit_next()
+        sync()  # one fsync per finished task, after the next one is on its way
     return reruns

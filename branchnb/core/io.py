@@ -22,7 +22,7 @@ import numpy as np
 
 from .image import as_float_image, to_uint8
 
-__all__ = ["imread", "imdecode", "imsave", "encode_png", "image_size", "MAX_IMAGE_PIXELS"]
+__all__ = ["imread", "imdecode", "imsave", "encode_png", "image_size", "check_image_file", "MAX_IMAGE_PIXELS"]
 
 
 def _env_limit() -> int:
@@ -225,6 +225,50 @@ def image_size(source, *, name: str | None = None) -> tuple[int, int]:
             w, h, fmt = _header_size(f, name or str(path))
     if fmt == "?":
         raise ValueError(f"{name or source}: declares {w:,} pixels, too many to report a size")
+    return w, h
+
+
+def check_image_file(path, *, max_pixels: int | None = None) -> tuple[int, int]:
+    """Make every check :func:`imread` makes before decoding, without decoding: ``(width, height)``.
+
+    Lets a caller that will read many files (a library folder) refuse a bad
+    one before it has decoded any of the others.
+
+    Parameters
+    ----------
+    path : str or Path
+    max_pixels : int, optional
+        As in :func:`imread`.
+
+    Returns
+    -------
+    (int, int)
+        ``(width, height)`` the header declares.
+
+    Raises
+    ------
+    ValueError
+        As :func:`imread` for a missing, empty, unrecognised or damaged
+        header, or a file declaring more than ``max_pixels`` pixels.
+
+    Examples
+    --------
+    >>> import tempfile, os
+    >>> p = os.path.join(tempfile.mkdtemp(), "a.png")
+    >>> _ = imsave(p, np.ones((4, 6, 3), np.float32))
+    >>> check_image_file(p)
+    (6, 4)
+    >>> check_image_file(p, max_pixels=10)
+    Traceback (most recent call last):
+    ...
+    ValueError: refusing to decode ...a.png: it declares 6 x 4 = 24 pixels, above the limit of 10 ...
+    """
+    limit = _limit(max_pixels)
+    path = _check_path(path)
+    name = str(path)
+    with path.open("rb") as f:
+        w, h, fmt = _header_size(f, name)
+    _check_size(w, h, fmt, name, limit)
     return w, h
 
 
