@@ -81,8 +81,11 @@ class SynthesisParams:
     shape_grid: int = param(3, min=1, max=8, help="random shape coefficients per side and exemplar")
     shape_sigma: float = param(0.15, min=0.02, max=2.0, step=0.01,
                                help="Gaussian blur of the shape coefficients (fraction of the leaf size)")
-    shape_concentration: float = param(0.5, min=0.05, max=10.0, step=0.05,
-                                       help="Dirichlet concentration (small: one exemplar dominates)")
+    shape_concentration: float = param(0.3, min=0.05, max=10.0, step=0.05,
+                                       help="per-leaf Dirichlet concentration (small: one exemplar dominates)")
+    shape_spread: float = param(0.5, min=0.0, max=2.0, step=0.05,
+                                help="variation of the shape weights over the leaf (0: one blend everywhere)")
+    own_size: bool = param(True, help="each new leaf is as large as one exemplar drawn at random")
     correct: bool = param(True, help="texture correction where the shape warp stretches")
     layer_colour: str = param("contrast", options=("contrast", "copy"),
                               help="a layer brings its contrast to its own leaf (contrast) or its colours (copy)")
@@ -167,8 +170,45 @@ def random_warp(shape, amplitude: float, correlation: float, rng) -> np.ndarray:
     return (d * np.float32(amplitude / m)).astype(np.float32)
 
 
-def shape_weights(shape, n: int, grid: int, sigma_px: float, rng, concentration: float = 0.5) -> np.ndarray:
+def shape_weights(shape, n: int, grid: int, sigma_px: float, rng, concentration: float = 0.3,
+                  spread: float = 0.5) -> np.ndarray:
     """Per-pixel convex weights ``a_i(x)`` (n, H, W): random coefficients, blurred, normalised.
+
+    One draw per leaf decides which exemplars its shape comes from: global
+    weights ``g ~ Dirichlet(concentration)`` (small concentration: one or
+    two exemplars dominate). Each of the ``grid`` x ``grid`` cells then
+    multiplies them by its own Gamma noise of mean 1 and coefficient of
+    variation ``spread`` (so the weights vary smoothly over the leaf), and
+    the coefficients are blurred by a Gaussian of ``sigma_px`` and
+    normalised per pixel.
+
+    Going beyond the paper: a Dirichlet drawn independently per cell (as a
+    literal reading of "random convex weights per pixel" suggests), once
+    blurred, averages nearly evenly over all exemplars at every pixel, so
+    every new leaf came out close to the mean shape (median pairwise
+    blade IoU 0.86 among new maples against the exemplars' 0.63).
+
+    Parameters
+    ----------
+    shape : (int, int)
+        ``(H, W)`` of the fields.
+    n : int
+        Number of exemplars.
+    grid : int
+        Random coefficients per side.
+    sigma_px : float
+        Blur of the coefficients (px).
+    rng : {numpy.random.Generator, int}
+    concentration : float
+        Symmetric Dirichlet concentration of the per-leaf weights.
+    spread : float
+        Coefficient of variation of the per-cell factors (0: the same
+        weights everywhere).
+
+    Returns
+    -------
+    (n, H, W) float32 ndarray
+        Non-negative, summing to 1 at every pixel.
 
     Examples
     --------
@@ -178,7 +218,22 @@ def shape_weights(shape, n: int, grid: int, sigma_px: float, rng, concentration:
     """
     rng = as_rng(rng)
     h, w = int(shape[0]), int(shape[1])
-    coeff = rng.dirichlet(np.full(n, float(concentration)), size=(grid, grid)).astype(np.float32)  # (g, g, n)
+    if not (np.isfinite(concentration) and concentration > 0):
+        raise ValueError(f"concentration must be > 0, got {concentration}")
+    if not (np.isfinite(spread) and spread >= 0):
+        raise ValueError(f"spread must be >= 0, got {spread}")
+    g = rng.dirichlet(np.full(n, float(concentration)))
+    g = np.maximum(np.nan_to_num(g, nan=0.0), 0.0)
+    if g.sum() <= 0:  # a degenerate draw (all alphas tiny): one exemplar
+        g = np.eye(n)[int(rng.integers(n))]
+    g = g / g.sum()
+    if spread > 0:
+        k = 1.0 / float(spread) ** 2
+        noise = rng.gamma(k, 1.0 / k, size=(grid, grid, n))
+    else:
+        noise = np.ones((grid, grid, n))
+    coeff = (g * noise).astype(np.float32)  # (g, g, n)
+    coeff /= np.maximum(coeff.sum(-1, keepdims=True), 1e-12)
     # The fields are smooth: blur on a reduced grid, then interpolate up.
     f = max(1, int(sigma_px // 4))
     hs, ws = max(2, int(np.ceil(h / f))), max(2, int(np.ceil(w / f)))
@@ -358,6 +413,8 @@ class _Prepared:
         a = self.analysis
         t = a.training_index
         self.petiole_rgba, self.petiole_base, self.petiole_jac = [], [], []
+        # Each exemplar's size: the square root of its lamina's area.
+        self.lamina_size = [float(np.sqrt(split_petiole(b)[0].sum())) for b in a.blades]
         _, pet_t, base_t = split_petiole(a.blades[t])
         self.base_t = base_t
         if base_t is not None:
@@ -519,10 +576,25 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
     eps_px = float(np.median(a.layers[0].eps_px)) if a.layers else 0.0
     # The shape first: a convex blend of the inverse registration warps.
     wts = shape_weights(shape, n, params.shape_grid, params.shape_sigma * p.size, rng,
-                        params.shape_concentration)
+                        params.shape_concentration, params.shape_spread)
     m = np.zeros(shape + (2,), np.float32)
     for i in range(n):
         m += wts[i][..., None] * p.shape_maps[i]
+    if params.own_size and n > 1:
+        # Going beyond the paper: a convex blend of warps averages the
+        # exemplars' sizes, so new leaves came out nearly one size (size is
+        # most of the variation among photographed maples: pairwise blade
+        # IoU 0.78 among new leaves against the exemplars' 0.63). The blend
+        # gives the shape; the size is one exemplar's, drawn from a stream
+        # of its own, independently of the shape.
+        j = int(np.random.default_rng((int(seed), 3)).integers(n))
+        lam = _sample(p.alpha_t, m)[..., 0]
+        area = float(lam.sum())
+        if area > 0 and p.lamina_size[j] > 0:
+            k = p.lamina_size[j] / np.sqrt(area)
+            ctr = np.array([(lam * p.xx).sum(), (lam * p.yy).sum()], np.float32) / np.float32(area)
+            q = (np.stack([p.xx, p.yy], -1) - ctr) / np.float32(k) + ctr
+            m = _remap_map(m, q.astype(np.float32))
     blade_t = a.blades[a.training_index]
     mean_w = np.array([float(wts[i][blade_t].mean()) for i in range(n)])
     # The pose of one exemplar, drawn by its share of the shape: new leaves
