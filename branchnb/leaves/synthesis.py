@@ -83,7 +83,7 @@ class SynthesisParams:
                                help="Gaussian blur of the shape coefficients (fraction of the leaf size)")
     shape_concentration: float = param(0.3, min=0.05, max=10.0, step=0.05,
                                        help="per-leaf Dirichlet concentration (small: one exemplar dominates)")
-    shape_spread: float = param(0.5, min=0.0, max=2.0, step=0.05,
+    shape_spread: float = param(0.75, min=0.0, max=2.0, step=0.05,
                                 help="variation of the shape weights over the leaf (0: one blend everywhere)")
     own_size: bool = param(True, help="each new leaf is as large as one exemplar drawn at random")
     correct: bool = param(True, help="texture correction where the shape warp stretches")
@@ -171,7 +171,7 @@ def random_warp(shape, amplitude: float, correlation: float, rng) -> np.ndarray:
 
 
 def shape_weights(shape, n: int, grid: int, sigma_px: float, rng, concentration: float = 0.3,
-                  spread: float = 0.5) -> np.ndarray:
+                  spread: float = 0.75) -> np.ndarray:
     """Per-pixel convex weights ``a_i(x)`` (n, H, W): random coefficients, blurred, normalised.
 
     One draw per leaf decides which exemplars its shape comes from: global
@@ -559,6 +559,61 @@ def _sample_sharp(img, c):
     return np.clip(out, 0.0, 1.0)
 
 
+def _border_alpha(alpha: np.ndarray) -> float:
+    """Opacity on the canvas border (0: nothing is cut by the canvas edge)."""
+    return float(alpha[0].sum() + alpha[-1].sum() + alpha[:, 0].sum() + alpha[:, -1].sum())
+
+
+def _fit_size(p, m, seed: int, own_size: bool, shrink: float = 1.0) -> np.ndarray:
+    """The shape map ``m`` scaled (to one exemplar's size) and moved so the lamina stays on the canvas.
+
+    Going beyond the paper: a convex blend of warps averages the
+    exemplars' sizes, so new leaves came out nearly one size (size is most
+    of the variation among photographed maples: pairwise blade IoU 0.78
+    among new leaves against the exemplars' 0.63). With ``own_size`` the
+    blend gives the shape and the size (square root of the lamina's area)
+    is that of one exemplar drawn from a stream of its own, independently
+    of the shape. A leaf that would then cross the canvas edge (a large
+    exemplar's size on the training leaf's place) is moved inwards, and
+    shrunk only if it cannot fit; ``shrink`` scales it further (room for a
+    petiole).
+    """
+    # The lamina on a coarse grid reaching half a canvas past each edge
+    # (the map continues past the canvas), so a leaf the canvas already
+    # cuts is measured whole.
+    h, w = p.shape
+    st = max(1.0, p.size / 100.0)
+    gx = np.arange(-0.5 * w, 1.5 * w, st, dtype=np.float32)
+    gy = np.arange(-0.5 * h, 1.5 * h, st, dtype=np.float32)
+    gxx, gyy = np.meshgrid(gx, gy)
+    mc = _remap_map(m, np.stack([gxx, gyy], -1))
+    lam = _remap_values(p.alpha_t, mc)
+    lam = np.where((mc[..., 0] >= 0) & (mc[..., 0] <= w - 1) & (mc[..., 1] >= 0) & (mc[..., 1] <= h - 1), lam, 0.0)
+    inside = lam > 0.5
+    if not inside.any():
+        return m
+    area = float(lam.sum()) * st * st
+    k = 1.0
+    if own_size and p.n > 1:
+        j = int(np.random.default_rng((int(seed), 3)).integers(p.n))
+        if p.lamina_size[j] > 0:
+            k = p.lamina_size[j] / np.sqrt(area)
+    ctr = np.array([(lam * gxx).sum(), (lam * gyy).sum()]) / float(lam.sum())
+    lo = np.array([gxx[inside].min(), gyy[inside].min()], float)
+    hi = np.array([gxx[inside].max(), gyy[inside].max()], float)
+    margin = 2.0 + 0.02 * p.size
+    room = np.array([w - 1.0, h - 1.0]) - 2 * margin
+    ext = np.maximum(hi - lo, 1.0)
+    k = float(min(k, *(room / ext))) if np.all(room > 0) else k
+    k *= float(shrink)
+    lo_k, hi_k = ctr + (lo - ctr) * k, ctr + (hi - ctr) * k
+    shift = np.maximum(margin - lo_k, 0.0) - np.maximum(hi_k - (np.array([w - 1.0, h - 1.0]) - margin), 0.0)
+    if abs(k - 1.0) < 1e-6 and not np.any(shift):
+        return m
+    q = (np.stack([p.xx, p.yy], -1) - (ctr + shift).astype(np.float32)) / np.float32(k) + ctr.astype(np.float32)
+    return _remap_map(m, q.astype(np.float32))
+
+
 def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) -> GeneratedLeaf:
     """One new leaf from ``analysis``, fully determined by ``seed``.
 
@@ -580,21 +635,6 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
     m = np.zeros(shape + (2,), np.float32)
     for i in range(n):
         m += wts[i][..., None] * p.shape_maps[i]
-    if params.own_size and n > 1:
-        # Going beyond the paper: a convex blend of warps averages the
-        # exemplars' sizes, so new leaves came out nearly one size (size is
-        # most of the variation among photographed maples: pairwise blade
-        # IoU 0.78 among new leaves against the exemplars' 0.63). The blend
-        # gives the shape; the size is one exemplar's, drawn from a stream
-        # of its own, independently of the shape.
-        j = int(np.random.default_rng((int(seed), 3)).integers(n))
-        lam = _sample(p.alpha_t, m)[..., 0]
-        area = float(lam.sum())
-        if area > 0 and p.lamina_size[j] > 0:
-            k = p.lamina_size[j] / np.sqrt(area)
-            ctr = np.array([(lam * p.xx).sum(), (lam * p.yy).sum()], np.float32) / np.float32(area)
-            q = (np.stack([p.xx, p.yy], -1) - ctr) / np.float32(k) + ctr
-            m = _remap_map(m, q.astype(np.float32))
     blade_t = a.blades[a.training_index]
     mean_w = np.array([float(wts[i][blade_t].mean()) for i in range(n)])
     # The pose of one exemplar, drawn by its share of the shape: new leaves
@@ -604,6 +644,27 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
     # its own, so the other draws do not depend on it.
     pose_from = int(np.random.default_rng((int(seed), 2)).choice(n, p=mean_w / mean_w.sum()))
     m = p.posed(m, np.eye(n)[pose_from])
+    # One exemplar's own petiole, drawn from a stream of its own (the main
+    # one's use depends on the data: texture correction draws per replaced
+    # patch). A petiole the canvas would cut is exchanged for the next
+    # donor's (seeded order) that stays inside; if every one is cut, the
+    # leaf is made a little smaller (at most three times).
+    order = [int(e) for e in np.random.default_rng((int(seed), 1)).permutation(p.petiole_exemplars)]
+    m0, pet, pet_j = m, None, -1
+    for attempt in range(4):
+        m = _fit_size(p, m0, int(seed), params.own_size, 0.9 ** attempt)
+        pet, pet_j, best = None, -1, np.inf
+        for cand in order:
+            layer = p.petiole_layer(cand, m)
+            if layer is None:
+                continue
+            cut = _border_alpha(layer[..., 3])
+            if cut < best:
+                pet, pet_j, best = layer, cand, cut
+            if cut == 0:
+                break
+        if pet is None or best == 0:
+            break
     # Background: one exemplar's residual, a warp below the registration error.
     bg = int(rng.integers(n))
     base_amp = params.background_warp * p.registration_error
@@ -654,22 +715,14 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
     rgb = rgb * (1 - cover[..., None]) + layer_rgb * cover[..., None]
     alpha = np.clip(alpha, 0, 1)
     pet_from = -1
-    if p.petiole_exemplars:
-        # One exemplar's own petiole, attached at the new leaf's base,
-        # under the lamina.
-        # From a stream of its own: the main one's use depends on the data
-        # (texture correction draws per replaced patch), so the donor drawn
-        # from it changed with every change to the warps; now it depends on
-        # the seed only.
-        j = int(np.random.default_rng((int(seed), 1)).choice(p.petiole_exemplars))
-        pet = p.petiole_layer(j, m)
-        if pet is not None:
-            pet_from = j
-            ap = np.clip(pet[..., 3], 0, 1)
-            out_a = alpha + ap * (1 - alpha)
-            rgb = (rgb * alpha[..., None] + pet[..., :3] * (ap * (1 - alpha))[..., None]) / np.maximum(
-                out_a, 1e-6)[..., None]
-            alpha = out_a
+    if pet is not None:
+        # Attached at the new leaf's base, under the lamina.
+        pet_from = pet_j
+        ap = np.clip(pet[..., 3], 0, 1)
+        out_a = alpha + ap * (1 - alpha)
+        rgb = (rgb * alpha[..., None] + pet[..., :3] * (ap * (1 - alpha))[..., None]) / np.maximum(
+            out_a, 1e-6)[..., None]
+        alpha = out_a
     img = np.dstack([np.clip(rgb, 0, 1) * (alpha[..., None] > 0), alpha]).astype(np.float32)
     inside = alpha > 0.5
     sw = [float(wts[i][inside].mean()) if inside.any() else float(wts[i].mean()) for i in range(n)]
