@@ -24,11 +24,21 @@ A new leaf is built in the training leaf's frame, then given a new shape:
 3. **Shape**: a convex per-pixel blend of the inverse registration warps,
    ``W^-1(x) = sum_i a_i(x) W_i^-1(x)``, each seen in the training leaf's
    pose (its start map's rotation taken out), the blend then turned to the
-   exemplars' mean pose (angles averaged with the mean weights): leaves
-   lying at different angles blend into a leaf, not a swirl; ``a_i`` are a few random
-   coefficients per exemplar (a ``shape_grid`` x ``shape_grid`` grid drawn
-   from a symmetric Dirichlet of ``shape_concentration``), smoothed by a Gaussian of ``shape_sigma`` times
-   the leaf size and normalised per pixel.
+   pose of one exemplar drawn at random (leaves lying at different angles
+   blend into a leaf, not a swirl). ``a_i`` (:func:`shape_weights`): per
+   leaf one draw from a symmetric Dirichlet of ``shape_concentration`` (a
+   few exemplars dominate each leaf), times a ``shape_grid`` x
+   ``shape_grid`` grid of random factors (``shape_spread``), smoothed by a
+   Gaussian of ``shape_sigma`` times the leaf size and normalised per
+   pixel. Going beyond the paper: independent random weights per pixel
+   average every leaf to the mean shape, and a convex blend averages the
+   sizes, so with ``own_size`` each leaf takes the size of one exemplar
+   drawn at random (that exemplar also gives the background, seen at its
+   own scale) and is kept whole on the canvas. Measured with
+   ``generate(a, 16)`` on 5-leaf families (lobed, trilobed, elliptic,
+   256 px) and 5 photographed maples: median pairwise blade IoU of new
+   leaves 0.50-0.56 against the exemplars' 0.51-0.54 (maples 0.64-0.72
+   against 0.63; 0.86 with per-cell weights).
 4. **Texture correction** where the composed warp stretches or squeezes
    (:func:`branchnb.leaves.correction.correct_texture`), applied to the
    background before the layers go on (so no vein or spot is replaced by
