@@ -58,9 +58,16 @@ def test_maple_layers_from_real_scribbles(maple_analysis):
 
 
 def test_new_maples_keep_their_colours(maple_analysis):
+    """As many blade pixels inside the exemplars' colour range as the exemplar least inside it (- 0.01).
+
+    Measured: the exemplars themselves 0.988, 0.986, 0.964 (a fixed 0.98 failed every new leaf
+    whose background is the third maple's, at 0.966-0.974, as on main); new leaves 0.966-1.0.
+    """
+    ex = maple_analysis.exemplars
+    floor = min(0.98, min(colour_range_fraction(e, ex) for e in ex) - 0.01)
     new = generate(maple_analysis, 2, rng=0)
     for leaf in new:
-        assert colour_range_fraction(leaf.image, maple_analysis.exemplars) >= 0.98
+        assert colour_range_fraction(leaf.image, ex) >= floor
         assert min(leaf_distance(leaf.image, ex) for ex in maple_analysis.exemplars) > 0.0
 
 
