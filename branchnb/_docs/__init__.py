@@ -307,10 +307,11 @@ def _plain(md: str) -> str:
 
 
 def notebook_figures(path: Path, *, min_width: int = 240):
-    """The PNG figures stored in a notebook, with the heading they sit under.
+    """The PNG and JPEG figures stored in a notebook, with the heading they sit under.
 
-    Yields ``(heading, png_bytes, width, height)``; figures narrower than
-    ``min_width`` pixels (icons, tiny plots) are left out.
+    Yields ``(heading, image_bytes, width, height)``; figures narrower than
+    ``min_width`` pixels (icons, tiny plots) are left out. Notebooks with many
+    photographs store JPEG figures to stay within their size budget.
     """
     cells = json.loads(Path(path).read_text(encoding="utf-8")).get("cells", [])
     heading = _title_of(cells)
@@ -320,19 +321,31 @@ def notebook_figures(path: Path, *, min_width: int = 240):
                 heading = _plain(m.group(2))
             continue
         for out in cell.get("outputs", []):
-            png = out.get("data", {}).get("image/png")
-            if not png:
+            data = out.get("data", {})
+            encoded = data.get("image/png") or data.get("image/jpeg")
+            if not encoded:
                 continue
-            raw = base64.b64decode(_text(png))
-            w, h = _png_size(raw)
+            raw = base64.b64decode(_text(encoded))
+            w, h = _image_size(raw)
             if w >= min_width:
                 yield heading, raw, w, h
 
 
-def _png_size(raw: bytes) -> tuple[int, int]:
-    if raw[:8] != b"\x89PNG\r\n\x1a\n" or len(raw) < 24:
+def _image_size(raw: bytes) -> tuple[int, int]:
+    """``(width, height)`` of PNG or JPEG bytes; ``(0, 0)`` for anything else."""
+    import io
+
+    from PIL import Image, UnidentifiedImageError
+
+    try:
+        with Image.open(io.BytesIO(raw)) as im:
+            return im.size if im.format in ("PNG", "JPEG") else (0, 0)
+    except (UnidentifiedImageError, OSError):
         return 0, 0
-    return int.from_bytes(raw[16:20], "big"), int.from_bytes(raw[20:24], "big")
+
+
+def _extension(raw: bytes) -> str:
+    return "jpg" if raw[:3] == b"\xff\xd8\xff" else "png"
 
 
 def _anchor(heading: str) -> str:
@@ -359,7 +372,7 @@ def write_gallery(src: Path, notebooks: Path | None, gallery_dir: Path | None = 
         cells = json.loads(nb.read_text(encoding="utf-8")).get("cells", [])
         cards = []
         for k, (heading, raw, _w, _h) in enumerate(notebook_figures(nb)):
-            fname = f"{nb.stem}_{k:02d}.png"
+            fname = f"{nb.stem}_{k:02d}.{_extension(raw)}"
             (img_dir / fname).write_bytes(raw)
             link = f"notebooks/{nb.stem}.html#{_anchor(heading)}"
             cards.append(f"<figure><a href='{html.escape(link)}'><img src='_static/gallery/{fname}' loading='lazy' "

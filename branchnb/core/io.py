@@ -237,6 +237,7 @@ def check_image_file(path, *, max_pixels: int | None = None) -> tuple[int, int]:
     Parameters
     ----------
     path : str or Path
+        The image file to check; only its header is read.
     max_pixels : int, optional
         As in :func:`imread`.
 

@@ -113,7 +113,8 @@ IMAGE_SECTIONS = [
                               "salient_z", "branch_like", "flatten_shading", "exclude_matte"]),
     ("flat-colour examples (maps, masks)", ["flat_drawing", "keep_regions", "flat_poisson"]),
     ("gap completion", ["completion", "patch_size", "patch_overlap", "completion_tolerance",
-                        "completion_screen", "completion_rim", "min_free", "forbid_weight"]),
+                        "completion_screen", "completion_rim", "min_free", "forbid_weight",
+                        "relight_completion"]),
 ]
 IMAGE_LABELS = {
     "lam": ("fragment spacing", "\u03bb"), "radius_scale": ("fragment radius / r", "s"),
@@ -131,7 +132,8 @@ IMAGE_LABELS = {
     "flatten_shading": ("flatten shading", ""), "exclude_matte": ("exclude matte", ""),
     "flat_drawing": ("draw like the example", ""),
     "keep_regions": ("keep map regions", ""), "flat_poisson": ("flat-colour Poisson", ""),
-    "completion": ("complete gaps", ""), "patch_size": ("patch size", ""),
+    "completion": ("complete gaps", ""), "relight_completion": ("relight gap patches", ""),
+    "patch_size": ("patch size", ""),
     "patch_overlap": ("patch overlap", ""), "completion_tolerance": ("completion tolerance", ""),
     "completion_screen": ("completion screen", ""), "completion_rim": ("completion rim", ""),
     "min_free": ("min free fraction", ""), "forbid_weight": ("forbid weight", ""),
