@@ -255,6 +255,18 @@ def ink_silhouette(image, ink, width: int, *, holes: bool = True) -> np.ndarray:
     return img
 
 
+def _source_seams(sources: np.ndarray) -> np.ndarray:
+    """Pixels on a seam: a 4-neighbour comes from another exemplar (both labels >= 0; -1 = none)."""
+    src = np.asarray(sources)
+    seam = np.zeros(src.shape, bool)
+    for dy, dx in ((0, 1), (1, 0)):
+        a, b = src[: src.shape[0] - dy, : src.shape[1] - dx], src[dy:, dx:]
+        d = (a != b) & (a >= 0) & (b >= 0)
+        seam[: src.shape[0] - dy, : src.shape[1] - dx] |= d
+        seam[dy:, dx:] |= d
+    return seam
+
+
 def ink_seams(image, sources, ink, width: int, *, edge: float = 0.12) -> np.ndarray:
     """Outline the seams of a ``"choose"`` mix where they cross a fill (beyond the paper).
 
@@ -306,13 +318,7 @@ def ink_seams(image, sources, ink, width: int, *, edge: float = 0.12) -> np.ndar
     op = img[..., 3] >= 0.5
     if not op.any():
         return img
-    # Seam crossings between 4-neighbours, as a mask on both pixels.
-    seam = np.zeros(op.shape, bool)
-    for dy, dx in ((0, 1), (1, 0)):
-        a, b = src[: src.shape[0] - dy, : src.shape[1] - dx], src[dy:, dx:]
-        d = (a != b) & (a >= 0) & (b >= 0)
-        seam[: src.shape[0] - dy, : src.shape[1] - dx] |= d
-        seam[dy:, dx:] |= d
+    seam = _source_seams(src)
     if not seam.any():
         return img
     rgb = img[..., :3]

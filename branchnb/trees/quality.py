@@ -663,7 +663,7 @@ def bare_seam_share(image, sources=None, *, edge: float = 0.12, reach: int | Non
     >>> bare_seam_share(img, src)
     0.0
     """
-    from .outline import _depth, _ink_threshold, _is_ink, silhouette_outline
+    from .outline import _depth, _ink_threshold, _is_ink, _source_seams, silhouette_outline
 
     img = as_rgba(image, name="image")
     op = img[..., 3] >= 0.5
@@ -683,13 +683,7 @@ def bare_seam_share(image, sources=None, *, edge: float = 0.12, reach: int | Non
         src = np.asarray(sources)
         if src.shape != op.shape:
             raise ValueError(f"sources must be an (H, W) array of shape {op.shape}, got {src.shape}")
-        seam = np.zeros(op.shape, bool)
-        for dy, dx in ((0, 1), (1, 0)):
-            a, b = src[: src.shape[0] - dy, : src.shape[1] - dx], src[dy:, dx:]
-            d = (a != b) & (a >= 0) & (b >= 0)
-            seam[: src.shape[0] - dy, : src.shape[1] - dx] |= d
-            seam[dy:, dx:] |= d
-        seam &= inner
+        seam = _source_seams(src) & inner
         bare = seam & (span > edge)
     if not seam.any():
         return 0.0
