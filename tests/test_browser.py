@@ -248,7 +248,15 @@ def test_tour_canvas_drag_reaches_kernel(lab, chromium, tmp_path):
         canvas = page.locator(canvas_sel).first
         canvas.scroll_into_view_if_needed()
         time.sleep(1.0)
+        # under load the canvas can still be laid out at its backing-store size (2x at DPR 2) before its
+        # CSS size applies: wait until its box holds still
         box = canvas.bounding_box()
+        for _ in range(40):
+            time.sleep(0.25)
+            again = canvas.bounding_box()
+            if box and again == box and box["width"] > 100:
+                break
+            box = again
         assert box and box["width"] > 100
         before = np.frombuffer(page.screenshot(clip=box), np.uint8)
 
