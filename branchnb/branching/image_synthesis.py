@@ -79,6 +79,118 @@ class ImageSynthesisParams:
     did by hand) are this implementation's choices, tuned on the sample
     images.
 
+    Parameters
+    ----------
+    lam : float, default 0.75
+        ``lambda``: fragment centres are ``lambda * (s_i + s_{i+1})`` apart (paper:
+        0.75).
+    radius_scale : float, default 3.0
+        Fragment radius ``s = radius_scale * r``, r the local thickness (paper: 3).
+    min_radius : float, default 6.0
+        Smallest fragment radius in pixels (for hairline branches).
+    max_radius : float, default 64.0
+        Largest fragment radius in pixels.
+    k : int, default 9
+        ``k``: skeleton samples per shape vector.
+    w_s : float, default 2.0
+        ``wS``: weight of the thickness difference ``|mu - nu|^2`` in S (paper: 2).
+    w_c : float, default 1000.0
+        ``wC``: weight of the colour cost C (mean squared colour difference on the
+        overlap, branch and background pixels weighted equally) against S (squared
+        pixels).
+    c : int, default 2
+        ``c``: choose at random among the c best source fragments (1 = greedy).
+    shortlist : int, default 64
+        Source fragments of lowest S whose colour cost C is evaluated.
+    source_density : float, default 2.0
+        Source fragment centres per paper spacing (1 = the paper's tiling; more =
+        more candidates).
+    reverse : bool, default True
+        Also use source fragments read tip-to-root.
+    displacement : bool, default True
+        Bend fragments onto the target skeleton with the bi-Laplacian displacement
+        field.
+    match_thickness : bool, default True
+        Also constrain the branch edges (r along the normal) so the displacement
+        fixes the width too.
+    displacement_step : int, default 2
+        Grid step of the displacement solve (pixels).
+    seams : {'graphcut', 'overlay'}, default 'graphcut'
+        Graph-cut seams through overlaps, or plain overlay (baseline).
+    poisson : bool, default True
+        Gradient-domain (Poisson) photometric correction.
+    anchors : bool, default True
+        Extra boundary constraints of the Poisson correction (tie uncovered pixels
+        to the fragment's colours: no drift).
+    anchor_weight : float, default 10.0
+        Weight of the Poisson anchor constraints.
+    furcation_clear : float, default 0.6
+        Fraction of a furcation fragment's radius cleared of the parent's fragments
+        before the child is synthesised.
+    exclusion : float, default 1.5
+        Source pixels within exclusion * r + margin of a branch count as that branch
+        (never copied for another branch or a gap).
+    exclusion_margin : float, default 2.0
+        Margin (pixels) added to the branch body.
+    avoid_unannotated : bool, default True
+        Also treat unannotated branch-like example pixels (faint branches the
+        structure misses) as branches.
+    avoid_salient : bool, default True
+        Never copy salient spots (blobs much darker or brighter than their
+        surroundings, e.g. a retina's optic disc and fovea) into gaps or for another
+        branch: repeated, they would stand out.
+    salient_z : float, default 6.0
+        Robust z-score above which a spot counts as salient.
+    branch_like : float, default 0.1
+        Branch-likeness threshold: fraction of the way from the local background
+        colour to the branch colour.
+    flatten_shading : float, default 0.0
+        Divide out the example's large-scale shading (vignetting, uneven light)
+        before copying, so pieces from bright and dark parts match; Gaussian scale
+        as a fraction of the example's size, e.g. 0.05 (0 = copy as is, the paper).
+    exclude_matte : bool, default True
+        Never copy a flat black/white matte connected to the example's border (e.g.
+        around a fundus photo).
+    flat_drawing : bool, default True
+        Flat-colour examples (drawn maps, masks): draw the output the way the
+        example is drawn (its region colours, its boundary line along the output's
+        region boundary, branches as connected strokes of its line colour and
+        measured width) instead of copying fragments (off: the paper's fragments).
+    keep_regions : bool, default True
+        Flat-colour examples (maps, masks): segment the example into its flat
+        regions (land, sea), lay them out in the output as in the example, and fill
+        every output pixel only from example pixels of its own region (seams follow
+        region boundaries).
+    flat_poisson : bool, default False
+        Also run the Poisson correction on flat-colour examples (off: it would blur
+        their flat colours into halos).
+    completion : bool, default True
+        Fill the gaps between branches automatically.
+    relight_completion : bool, default True
+        Gap completion copies the example's texture with its large-scale shading
+        taken out and lights it like the fragments around it (a vignetted photo
+        gives no square patches of another brightness; off: copy as is).
+    patch_size : int, default 32
+        Gap completion: patch side (pixels).
+    patch_overlap : float, default 0.25
+        Gap completion: overlap of neighbouring patches, as a fraction of the patch
+        side.
+    completion_tolerance : float, default 0.1
+        Gap completion: windows within (1 + tol) of the best match are equally
+        likely.
+    completion_screen : float, default 0.05
+        Gap completion: screening weight of the Poisson correction (corrections fade
+        within ~1/sqrt(w) px of a seam; 0 = anchors only).
+    completion_rim : int, default 3
+        Gap completion: width (pixels) of the fragments' outer rim a patch's seam
+        may cut into.
+    min_free : float, default 0.0
+        Gap completion: shrink patches until this fraction of the example's windows
+        is wholly branch-free.
+    forbid_weight : float, default 5.0
+        Gap completion: penalty (in typical match costs) for windows whose branch
+        pixels (never copied) would leave holes.
+
     Examples
     --------
     >>> ImageSynthesisParams(c=1, completion=False).lam
@@ -189,9 +301,11 @@ class ImageSynthesisParams:
 class FragmentMatch:
     """One synthesised target fragment and the source fragment chosen for it.
 
-    Attributes
+    Parameters
     ----------
     target, source : Fragment
+        The target fragment (on the synthesised skeleton) and the source
+        fragment (on the example's) copied into it.
     shape_cost : float
         ``S`` of the chosen candidate.
     colour_cost : float
@@ -217,7 +331,7 @@ class FragmentMatch:
 class ImageSynthesisResult:
     """Result of :func:`synthesize_image`.
 
-    Attributes
+    Parameters
     ----------
     image : (H, W, C) float32 ndarray
         The synthesised image (same channels as the example).
@@ -234,20 +348,22 @@ class ImageSynthesisResult:
     seams : (H, W) bool ndarray
         Seam pixels of all compositions (fragments and patches).
     fragments : list of FragmentMatch
+        The source chosen for every target fragment, in synthesis order.
     seam_cost : float
         Sum of the seam costs of every composition.
     target : Structure
         The target structure (as given).
     example_regions : ExampleRegions
         Branch body, branch-like and unusable masks of the example.
-    example_labels, labels : (H, W) int ndarray or None
-        Flat-colour regions of the example and of the output
-        (``params.keep_regions``).
     n_inpainted : int
         Output pixels no patch could fill (diffusion-inpainted; normally 0).
     timings : dict
         Seconds spent per stage.
     params : ImageSynthesisParams
+        The parameters used.
+    example_labels, labels : (H, W) int ndarray or None
+        Flat-colour regions of the example and of the output
+        (``params.keep_regions``).
     """
 
     image: np.ndarray
@@ -269,7 +385,20 @@ class ImageSynthesisResult:
     labels: np.ndarray | None = None
 
     def overlay(self, *, skeleton: bool = True, seams: bool = True) -> np.ndarray:
-        """The image with the target skeleton (red) and the seams (yellow) drawn over it."""
+        """The image with the target skeleton (red) and the seams (yellow) drawn over it.
+
+        Parameters
+        ----------
+        skeleton : bool, default True
+            Draw the target skeleton in red.
+        seams : bool, default True
+            Draw the seams in yellow.
+
+        Returns
+        -------
+        (H, W, 3) ndarray
+            An RGB copy of the image with the overlays.
+        """
         img = as_rgb(self.image) if self.image.shape[2] != 3 else self.image
         img = img.copy()
         if seams:
@@ -631,6 +760,8 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         :class:`~branchnb.branching.SynthesisResult` also gives the domain
         its structure grew in (``target_domain``).
     params : ImageSynthesisParams, optional
+        Fragment, seam, correction and gap-completion settings; None = the
+        defaults (the paper's ``lambda``, ``s = 3 r``, ``wS``).
     rng : int or numpy.random.Generator, optional
         Seed for the random choices (same seed, same image).
     progress : callable(fraction: float, text: str), optional
