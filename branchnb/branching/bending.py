@@ -74,7 +74,7 @@ def branch_elements(points: np.ndarray, radii: np.ndarray) -> tuple[np.ndarray, 
     -------
     angles : (N-2,) ndarray
         Turning angle alpha_i at each inner vertex (radians in (-pi, pi],
-        counter-clockwise positive in (x, y)).
+        positive when turning from +x towards +y).
     radii : (N-2,) ndarray
         Thickness r_{i+1} of the vertex following each turn.
 
@@ -113,7 +113,7 @@ class BendingModel:
         Resampling step h of the example (pixels).
     angles, radii : (T,) ndarray
         All elements of all branches, concatenated: turning angles alpha
-        (radians, counter-clockwise positive in (x, y)) and thicknesses r
+        (radians, positive when turning from +x towards +y) and thicknesses r
         (pixels).
     branch, local : (T,) int ndarray
         Branch of each element and its index inside the branch sequence.

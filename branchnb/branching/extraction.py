@@ -61,7 +61,7 @@ def gray_for_extraction(image, *, name: str = "image") -> np.ndarray:
     Parameters
     ----------
     image : (H, W) or (H, W, C) array_like
-        The image, float in [0, 1]; grey, RGB or RGBA.
+        The image: grey, RGB or RGBA (composited over white), float in [0, 1] or integer.
     name : str, default "image"
         Argument name used in error messages.
 
@@ -221,7 +221,7 @@ def structure_from_polylines(image, polylines, params: ClickParams | None = None
     Parameters
     ----------
     image : (H, W) or (H, W, C) array_like
-        The example, float in [0, 1]; grey, RGB or RGBA.
+        The example: grey, RGB or RGBA (composited over white), float in [0, 1] or integer.
     polylines : sequence of (N_i, 2) array_like
         Clicked vertices (x, y) in pixels, one polyline per branch.
     params : ClickParams, optional
@@ -1017,7 +1017,7 @@ def line_colour_of(image, structure: Structure) -> np.ndarray:
     Parameters
     ----------
     image : (H, W) or (H, W, C) array_like
-        The example, float in [0, 1]; grey, RGB or RGBA.
+        The example: grey, RGB or RGBA (composited over white), float in [0, 1] or integer.
     structure : Structure
         Its annotated branches (pixels of ``image``).
 
@@ -1063,7 +1063,7 @@ def line_colour_map(image, colour, *, sigma_max: float = 4.0, spread: float = 0.
     Parameters
     ----------
     image : (H, W) or (H, W, C) array_like
-        The image, float in [0, 1]; grey, RGB or RGBA.
+        The image: grey, RGB or RGBA (composited over white), float in [0, 1] or integer.
     colour : (3,) array_like
         The line colour (RGB in [0, 1]).
     sigma_max : float, default 4.0
@@ -1452,7 +1452,7 @@ def example_domain(image, structure: Structure | None = None, *, radius: float =
     Parameters
     ----------
     image : (H, W) or (H, W, C) array_like
-        The example, float in [0, 1]; grey, RGB or RGBA.
+        The example: grey, RGB or RGBA (composited over white), float in [0, 1] or integer.
     structure : Structure, optional
         Its branches; None = judge regions by the image alone.
     radius : float, default 12.0

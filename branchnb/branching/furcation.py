@@ -49,8 +49,8 @@ def vertex_angles(points) -> np.ndarray:
     Returns
     -------
     (N,) ndarray
-        Turning angle at each vertex (radians, counter-clockwise positive in
-        (x, y)); 0 at both ends.
+        Turning angle at each vertex (radians, positive when turning from +x
+        towards +y); 0 at both ends.
 
     Examples
     --------

@@ -686,7 +686,8 @@ class SynthesisResult:
     sources: list | None = field(default=None, repr=False)
 
     def histogram_distances(self, bins: int = 16, metric: str = "l2sq") -> dict:
-        """Angle and thickness histogram distances of the result to its example (:func:`histogram_distances`).
+        """Angle and thickness histogram distances of the result to its example (see
+        :func:`~branchnb.branching.histogram_matching.histogram_distances`).
 
         Parameters
         ----------
@@ -1665,7 +1666,8 @@ def extend_branch(structure: Structure, index: int, example, params: SynthesisPa
     example : Structure or StructureModel
         What to learn from.
     params : SynthesisParams, optional
-        Synthesis parameters; None = the model's (or the defaults).
+        Synthesis parameters; None = the defaults. A model fitted with
+        another ``h``, ``m``, ``k``, ``bins`` or ``svm_C`` is fitted again.
     n_steps : int, optional
         Number of Markov steps (``m`` vertices each); until the branch
         stops by default.
