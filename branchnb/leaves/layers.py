@@ -368,7 +368,7 @@ class LayerSet:
 
 @dataclass
 class SnapParams:
-    """Lazy-snapping parameters (Li, Sun, Tang & Shum 2004; values of lazy snapping where it gives them).
+    """Lazy-snapping parameters (Li, Sun, Tang & Shum 2004): this package's defaults, lazy snapping's noted.
 
     Parameters
     ----------
