@@ -133,7 +133,7 @@ class RegistrationParams:
     """Parameters of :func:`register`; defaults are the papers' values.
 
     Where a default is measured rather than a paper's, the entry says so
-    (the module docstring has the figures).
+    (:mod:`branchnb.leaves.registration` has the figures).
 
     Parameters
     ----------

@@ -80,7 +80,7 @@ __all__ = ["SynthesisParams", "GeneratedLeaf", "generate", "generate_leaf", "sav
 
 @dataclass
 class SynthesisParams:
-    """Layered-synthesis parameters (Assa & Cohen-Or 2012, section 5; see the module docstring).
+    """Layered-synthesis parameters (Assa & Cohen-Or 2012, section 5; see :mod:`branchnb.leaves.synthesis`).
 
     Parameters
     ----------
