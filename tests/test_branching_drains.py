@@ -44,3 +44,37 @@ def test_every_delta_channel_drains_toward_the_sea(side, size, seed):
     for rng in (0, 1):
         s = synthesize_structure(model, rng=rng).structure
         assert _away_share(s, side) == 0.0
+
+
+def _coast_share(structure, land, tol=6.0, skip=10.0):
+    """Share of the river length within ``tol`` px of the coast (a root's first ``skip`` px, where
+    it leaves the coast, not counted)."""
+    from scipy import ndimage as ndi
+
+    from branchnb.core.polyline import resample_uniform
+
+    edge = land & ~ndi.binary_erosion(land, border_value=1)
+    dist = ndi.distance_transform_edt(~edge)
+    h, w = land.shape
+    near = total = 0
+    for b in structure.branches:
+        p = resample_uniform(b.points, 1.0, include_end=True)
+        keep = np.arange(len(p)) > skip if b.parent is None else np.ones(len(p), bool)
+        x, y = np.clip(np.rint(p).astype(int), 0, [w - 1, h - 1]).T
+        near += int(np.sum(keep & (dist[y, x] <= tol)))
+        total += len(p)
+    return near / max(total, 1)
+
+
+@pytest.mark.parametrize("layout, size, seed", [("island", 256, 2), ("island", 256, 1)])
+def test_map_rivers_keep_off_the_coast(layout, size, seed):
+    # before: a river that met the coast turned and ran along it (12 % / 7 % and 20 % of the river
+    # length within 6 px of the coast on these, against 1.4-1.5 % in the examples)
+    from branchnb.branching._map_examples import country_map_example
+
+    img, _truth, land = country_map_example((size, size), seed, layout=layout)
+    ex = extract_structure(img)
+    model = fit_model(ex, domain=example_domain(img, ex))
+    for rng in (0, 1):
+        s = synthesize_structure(model, rng=rng).structure
+        assert _coast_share(s, land) <= _coast_share(ex, land) + 0.02
