@@ -78,3 +78,40 @@ def test_map_rivers_keep_off_the_coast(layout, size, seed):
     for rng in (0, 1):
         s = synthesize_structure(model, rng=rng).structure
         assert _coast_share(s, land) <= _coast_share(ex, land) + 0.02
+
+
+def _bends_per_100px(structure, h=4.0, tol=6.0):
+    from branchnb.core.polyline import resample_uniform, turning_angles
+
+    n = length = 0.0
+    for b in structure.branches:
+        if b.length < 3 * h:
+            continue
+        a = np.abs(np.degrees(turning_angles(resample_uniform(b.points, h, include_end=True))))
+        n += float((a >= tol).sum())
+        length += b.length
+    return 100.0 * n / max(length, 1e-9)
+
+
+@pytest.mark.parametrize("kind", ["delta", "island"])
+def test_thickness_and_bending_style_follow_the_example(kind):
+    # measured on drawn maps and deltas (256-384 px, several seeds): no branch ends > 2x thicker
+    # than it starts (example 0-20 %), median turning angle within 1.3 degrees of the example's,
+    # bends (>= 6 degrees at 4 px) 1.0-1.8x the example's per length (the sea's pull and the
+    # paper's colonization add some)
+    from branchnb.branching._map_examples import country_map_example
+    from branchnb.branching.measures import straight_runs, thick_end_share
+
+    if kind == "delta":
+        img = _orient(delta_mask_example((256, 256), 0)[0], "left")
+        ex = extract_structure(img)
+        model = fit_model(ex, domain=example_domain(img))
+    else:
+        img = country_map_example((256, 256), 2, layout="island")[0]
+        ex = extract_structure(img)
+        model = fit_model(ex, domain=example_domain(img, ex))
+    for rng in (0, 1):
+        s = synthesize_structure(model, rng=rng).structure
+        assert thick_end_share(s) <= thick_end_share(ex) + 0.05
+        assert abs(straight_runs(s)[0] - straight_runs(ex)[0]) <= 1.5
+        assert _bends_per_100px(s) <= 2.0 * _bends_per_100px(ex)
