@@ -409,8 +409,9 @@ def _shore_margin(model: StructureModel) -> float:
     """Distance the example's branches keep from its domain's edge (0: none to keep).
 
     Used on examples whose roots start at the domain's edge (rivers from a
-    coast); 0 when the example has no domain, drains, or its branches run
-    along the edge themselves (the margin is under 3 px).
+    coast); 0 when the example has no domain, drains, its roots lie inland
+    (median depth over 15 % of the deepest), or its branches run along the
+    edge themselves (the margin is under 3 px).
     """
     dom = model.domain
     if dom is None or dom.all() or not dom.any() or model.drains:
@@ -419,6 +420,10 @@ def _shore_margin(model: StructureModel) -> float:
 
     depth = ndi.distance_transform_edt(dom)
     h, w = dom.shape
+    roots = [b.points[0] for b in model.example.branches if b.parent is None]
+    x, y = np.clip(np.rint(np.asarray(roots)).astype(int), 0, [w - 1, h - 1]).T
+    if np.median(depth[y, x]) > 0.15 * depth.max():     # roots inland (vessels from a disc): no coast
+        return 0.0
     vals = []
     for b in model.example.branches:
         p = b.points
