@@ -416,11 +416,22 @@ def _shore_margin(model: StructureModel) -> float:
     dom = model.domain
     if dom is None or dom.all() or not dom.any() or model.drains:
         return 0.0
+    cached = model.__dict__.get("_shore_margin")
+    if cached is not None and cached[0] is dom:
+        return cached[1]
+    margin = _shore_margin_of(model, dom)
+    model.__dict__["_shore_margin"] = (dom, margin)
+    return margin
+
+
+def _shore_margin_of(model: StructureModel, dom: np.ndarray) -> float:
     from scipy import ndimage as ndi
 
     depth = ndi.distance_transform_edt(dom)
     h, w = dom.shape
     roots = [b.points[0] for b in model.example.branches if b.parent is None]
+    if not roots:
+        return 0.0
     x, y = np.clip(np.rint(np.asarray(roots)).astype(int), 0, [w - 1, h - 1]).T
     if np.median(depth[y, x]) > 0.15 * depth.max():     # roots inland (vessels from a disc): no coast
         return 0.0
