@@ -738,6 +738,21 @@ def _constraints(ctx: _Context, src: Fragment, tgt: Fragment, rot, trans):
 # the public entry
 
 
+#: The example side of the last call (its skeleton and pixel maps, regions, fragment library and
+#: shape vectors) is kept for the next call with the same example, structure, mask and parameters:
+#: a second render of one example (the app, the bench's repeats, several targets) skips it.
+_EXAMPLE_CACHE: dict = {}
+
+
+def _example_key(ex: np.ndarray, example_structure: Structure, example_mask, p) -> tuple:
+    import hashlib
+
+    h = hashlib.blake2b(np.ascontiguousarray(ex).view(np.uint8).ravel(), digest_size=16)
+    if example_mask is not None:
+        h.update(np.ascontiguousarray(example_mask).view(np.uint8).ravel())
+    return (ex.shape, str(ex.dtype), example_mask is not None, h.hexdigest(), example_structure.to_json(), repr(p))
+
+
 @checked(shape=Shape())
 def synthesize_image(example_image, example_structure: Structure, target_structure,
                      params: ImageSynthesisParams | None = None, rng=None,
@@ -836,12 +851,19 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
 
     report(0.0, "preparing fragments")
     timings = {}
-    sm_s = SkeletonMap(example_structure, 1.0)
+    key = _example_key(ex, example_structure, example_mask, p)
+    cached = _EXAMPLE_CACHE.get(key)
+    if cached is None:
+        _EXAMPLE_CACHE.clear()
+        sm_s = SkeletonMap(example_structure, 1.0)
+        pm_s = sm_s.pixel_map(ex.shape[:2])
+        # Flat-colour examples (maps, masks): their regions, and no matte / Poisson.
+        labels_ex, flat_share = flat_colour_regions(ex, pm_s.core(p.exclusion, p.exclusion_margin))
+        cached = _EXAMPLE_CACHE[key] = {"sm_s": sm_s, "pm_s": pm_s, "labels_ex": labels_ex,
+                                        "flat_share": flat_share}
+    sm_s, pm_s, labels_ex, flat_share = (cached[k] for k in ("sm_s", "pm_s", "labels_ex", "flat_share"))
     sm_t = SkeletonMap(target_structure, 1.0)
-    pm_s = sm_s.pixel_map(ex.shape[:2])
     pm_t = sm_t.pixel_map((H, W))
-    # Flat-colour examples (maps, masks): their regions, and no matte / Poisson.
-    labels_ex, flat_share = flat_colour_regions(ex, pm_s.core(p.exclusion, p.exclusion_margin))
     flat = bool(flat_share >= 0.5 and labels_ex.max() >= 1)
     labels_t = None
     src_labels = labels_ex
@@ -872,22 +894,27 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         return _draw_flat(ex, example_structure, target_structure, layout, labels_t, target_domain,
                           pm_s, labels_ex, p, t_start, report, (H, W))
     use_poisson = p.poisson and (not flat or p.flat_poisson)
-    regions = example_regions(ex, pm_s, exclusion=p.exclusion, margin=p.exclusion_margin,
-                              threshold=p.branch_like if p.avoid_unannotated else None,
-                              matte=p.exclude_matte and not flat, example_mask=example_mask,
-                              salient=p.salient_z if p.avoid_salient else None)
-    if p.flatten_shading > 0:
-        bg = ~(regions.forbidden | ndi.binary_dilation(regions.body | regions.branch_like, iterations=3))
-        ex = flatten_shading(ex, bg, p.flatten_shading * max(ex.shape[:2]))
-    excluded = regions.body | regions.branch_like
-    if regions.salient is not None:
-        excluded = excluded | regions.salient
-    ctx = _Context(ex, sm_s, sm_t, pm_s, excluded, regions.unusable, p)
     geo = dict(lam=p.lam, scale=p.radius_scale, min_radius=p.min_radius, max_radius=p.max_radius)
-    lib_b, lib_f = source_fragments(sm_s, density=p.source_density, reverse=p.reverse, **geo)
-    free_start, free_end = _free_ends(sm_s, pm_s)
-    if labels_ex.max() >= 1:
-        _joined_at_region_edge(sm_s, labels_ex, free_start, free_end)
+    if "regions" not in cached:
+        regions = example_regions(ex, pm_s, exclusion=p.exclusion, margin=p.exclusion_margin,
+                                  threshold=p.branch_like if p.avoid_unannotated else None,
+                                  matte=p.exclude_matte and not flat, example_mask=example_mask,
+                                  salient=p.salient_z if p.avoid_salient else None)
+        if p.flatten_shading > 0:
+            bg = ~(regions.forbidden | ndi.binary_dilation(regions.body | regions.branch_like, iterations=3))
+            ex = flatten_shading(ex, bg, p.flatten_shading * max(ex.shape[:2]))
+        excluded = regions.body | regions.branch_like
+        if regions.salient is not None:
+            excluded = excluded | regions.salient
+        lib_b, lib_f = source_fragments(sm_s, density=p.source_density, reverse=p.reverse, **geo)
+        free_start, free_end = _free_ends(sm_s, pm_s)
+        if labels_ex.max() >= 1:
+            _joined_at_region_edge(sm_s, labels_ex, free_start, free_end)
+        cached.update(regions=regions, ex=ex, excluded=excluded, lib_b=lib_b, lib_f=lib_f,
+                      free_start=free_start, free_end=free_end, vec_cache={})
+    regions, ex, excluded, lib_b, lib_f = (cached[k] for k in ("regions", "ex", "excluded", "lib_b", "lib_f"))
+    free_start, free_end = cached["free_start"].copy(), cached["free_end"].copy()
+    ctx = _Context(ex, sm_s, sm_t, pm_s, excluded, regions.unusable, p)
     free_t = _free_ends(sm_t, pm_t)
     if len(lib_b) == 0:
         raise ValueError("example_structure yields no source fragment (all branches have zero length)")
@@ -910,6 +937,9 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     # Shape vectors of the source library depend on the target radius only
     # through the sampling offsets: cache them per radius.
     vec_cache: dict = {}
+    banks: dict = cached["vec_cache"]  # across calls, by exact radius (a call's first radius per key)
+    if len(banks) > 512:
+        banks.clear()
     # The targets' own shape vectors, one batched query per (kind, radius)
     # (elementwise skeleton queries: the values of one call per fragment).
     tgt_vec: list = [None] * len(targets)
@@ -936,8 +966,11 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         q0, nu0 = tgt_vec[i]
         key = (tf.kind, round(R, 2))
         if key not in vec_cache:
-            vec_cache[key] = ShapeBank(*shape_vectors(sm_s, lib.branch, lib.arc, lib.sign, R, p.k,
-                                                      lib.child if tf.kind == "furcation" else None))
+            exact = (tf.kind, float(R))
+            if exact not in banks:
+                banks[exact] = ShapeBank(*shape_vectors(sm_s, lib.branch, lib.arc, lib.sign, R, p.k,
+                                                        lib.child if tf.kind == "furcation" else None))
+            vec_cache[key] = banks[exact]
         bank = vec_cache[key]
         S = bank.costs(q0, nu0, p.w_s)
         if tf.kind == "branch":

@@ -397,6 +397,8 @@ def _drains(ex: Structure, domain: np.ndarray | None) -> bool:
 
 #: Strength of the pull toward the sea of an example that drains (``exp(kappa cos)``).
 DRAIN_KAPPA = 2.0
+#: An example that drains: a step heading back inland (cosine to the way down below this) is forbidden.
+UPSTREAM_COS = -0.25
 
 
 class _Drain:
@@ -408,7 +410,11 @@ class _Drain:
     ``e^(2 kappa)`` ~ 55 x likelier than heading back inland, sideways
     ``e^kappa`` less than straight down. Going beyond the paper, whose
     Markov chain alone has no notion of downstream: without it a delta's
-    trunk wanders and rarely reaches the sea.
+    trunk wanders and rarely reaches the sea. The pull alone still let
+    side channels head back inland (a delta with its sea on the left or
+    top: 5-26 % of the branch length in some seeds), so a step heading
+    back inland (cosine below ``UPSTREAM_COS``) or bringing a branch's tip
+    upstream of its start is forbidden, children's first steps included.
 
     Also beyond the paper, the image frame where it cuts the land (every
     side of the frame but the sea's) is no place for a channel: a
@@ -462,13 +468,120 @@ class _Drain:
         f = np.exp(-10.0 * np.clip(1.0 - end / self.margin, 0.0, 1.0))
         return np.where(closest < 3.0, 0.0, f)
 
-    def factor(self, tip, points: np.ndarray, n_new: np.ndarray) -> np.ndarray:
+    def _cos(self, at, vec: np.ndarray) -> np.ndarray:
         h, w = self.down.shape[:2]
-        x, y = np.clip(np.rint(np.asarray(tip, np.float64)).astype(int), 0, [w - 1, h - 1])
-        d = self.down[y, x]
-        last = points[np.arange(len(points)), np.maximum(n_new, 1) - 1] - np.asarray(tip, np.float64)
-        cos = (last @ d) / np.maximum(np.hypot(last[:, 0], last[:, 1]), 1e-9)
-        return np.exp(self.kappa * cos) * self.frame_factor(tip, points, n_new)
+        x, y = np.clip(np.rint(np.asarray(at, np.float64)).astype(int), 0, [w - 1, h - 1])
+        return (vec @ self.down[y, x]) / np.maximum(np.hypot(vec[:, 0], vec[:, 1]), 1e-9)
+
+    def factor(self, tip, points: np.ndarray, n_new: np.ndarray, start=None) -> np.ndarray:
+        """Score factor of candidates ``points`` ((C, M, 2), the first ``n_new`` new) from ``tip``.
+
+        ``start`` (the branch's first point): a candidate that heads back
+        inland (over ``UPSTREAM_COS`` off the way down) or brings the
+        branch's tip back upstream of its start is forbidden (0).
+        """
+        tip = np.asarray(tip, np.float64)
+        end = points[np.arange(len(points)), np.maximum(n_new, 1) - 1]
+        cos = self._cos(tip, end - tip)
+        f = np.exp(self.kappa * cos) * self.frame_factor(tip, points, n_new)
+        f = np.where(cos < UPSTREAM_COS, 0.0, f)
+        if start is not None:
+            net = end - np.asarray(start, np.float64)
+            far = np.hypot(net[:, 0], net[:, 1]) > 4.0
+            f = np.where(far & (self._cos(start, net) < 0.0), 0.0, f)
+        return f
+
+
+#: A map's rivers keep off the coast: the margin is this quantile of the depths (distance to the region
+#: outside the domain) of the example's vertices past the first ``SHORE_SKIP`` px of its roots.
+SHORE_QUANTILE = 0.05
+SHORE_SKIP = 12.0
+
+
+def _shore_margin(model: StructureModel) -> float:
+    """Distance the example's branches keep from its domain's edge (0: none to keep).
+
+    Used on examples whose roots start at the domain's edge (rivers from a
+    coast); 0 when the example has no domain, drains, its roots lie inland
+    (median depth over 15 % of the deepest), or its branches run along the
+    edge themselves (the margin is under 3 px).
+    """
+    dom = model.domain
+    if dom is None or dom.all() or not dom.any() or model.drains:
+        return 0.0
+    cached = model.__dict__.get("_shore_margin")
+    if cached is not None and cached[0] is dom:
+        return cached[1]
+    margin = _shore_margin_of(model, dom)
+    model.__dict__["_shore_margin"] = (dom, margin)
+    return margin
+
+
+def _shore_margin_of(model: StructureModel, dom: np.ndarray) -> float:
+    from scipy import ndimage as ndi
+
+    depth = ndi.distance_transform_edt(dom)
+    h, w = dom.shape
+    roots = [b.points[0] for b in model.example.branches if b.parent is None]
+    if not roots:
+        return 0.0
+    x, y = np.clip(np.rint(np.asarray(roots)).astype(int), 0, [w - 1, h - 1]).T
+    if np.median(depth[y, x]) > 0.15 * depth.max():     # roots inland (vessels from a disc): no coast
+        return 0.0
+    vals = []
+    for b in model.example.branches:
+        p = b.points
+        if b.parent is None:
+            arc = np.r_[0.0, np.cumsum(np.hypot(*np.diff(p, axis=0).T))]
+            p = p[arc > SHORE_SKIP]
+        if len(p):
+            x, y = np.clip(np.rint(p).astype(int), 0, [w - 1, h - 1]).T
+            vals.append(depth[y, x])
+    if not vals:
+        return 0.0
+    margin = float(np.quantile(np.concatenate(vals), SHORE_QUANTILE))
+    return min(margin, 0.08 * min(h, w)) if margin >= 3.0 else 0.0
+
+
+class _Shore:
+    """Rivers of a map keep off its coast (beyond the paper).
+
+    A candidate that comes closer to the edge of the domain (the coast)
+    or runs along it, and ends within ``margin`` px of it (see
+    :func:`_shore_margin`, the distance the example's rivers keep) gets
+    its score times ``exp(-8 (1 - d / margin))``, and is forbidden when one
+    of its new points comes within ``margin / 2``: such a river ends
+    there. Heading inland
+    (a root leaving the coast) is free. Without it a river that met the coast turned and ran
+    along it (islands of 256 px: 5-20 % of the river length within 6 px
+    of the coast against 1-1.5 % in the example).
+    """
+
+    def __init__(self, domain: np.ndarray, margin: float):
+        from scipy import ndimage as ndi
+
+        self.depth = ndi.distance_transform_edt(np.asarray(domain, bool)).astype(np.float32)
+        self.margin = float(margin)
+
+    def _at(self, pts: np.ndarray) -> np.ndarray:
+        h, w = self.depth.shape
+        ix = np.clip(np.rint(pts[..., 0]).astype(np.int64), 0, w - 1)
+        iy = np.clip(np.rint(pts[..., 1]).astype(np.int64), 0, h - 1)
+        return self.depth[iy, ix]
+
+    def factor(self, tip, points: np.ndarray, n_new: np.ndarray) -> np.ndarray:
+        """Score factor of candidates ``points`` ((C, M, 2), the first ``n_new`` new) from ``tip``."""
+        n = np.maximum(n_new, 1)
+        d = self._at(points)
+        valid = np.arange(points.shape[1])[None, :] < n[:, None]
+        closest = np.where(valid, d, np.inf).min(1)
+        end = d[np.arange(len(points)), n - 1]
+        tip = np.asarray(tip, np.float64)
+        d_tip = float(self._at(tip))
+        chord = np.hypot(*(points[np.arange(len(points)), n - 1] - tip).T)
+        leaving = end - d_tip >= 0.5 * chord      # heading inland (within 60 degrees of straight)
+        f = np.where(leaving, 1.0, np.exp(-8.0 * np.clip(1.0 - end / self.margin, 0.0, 1.0)))
+        return np.where(~leaving & (closest < 0.5 * self.margin), 0.0, f)
 
 
 # --------------------------------------------------------------------------
@@ -827,6 +940,9 @@ class _Grower:
         self.guidance = guidance
         self.drain = _Drain(domain) if guidance is None and model.drains and domain is not None \
             and not domain.all() else None
+        margin = _shore_margin(model) if guidance is None and domain is not None \
+            and not domain.all() and self.drain is None else 0.0
+        self.shore = _Shore(domain, margin) if margin > 0 else None
         self.scorer = scorer
         self.matcher = model.matcher(params.wG)
         self.rho = params.rho if params.rho > 0 else model.rho
@@ -971,8 +1087,10 @@ class _Grower:
             score = np.where(cross, 0.0, score / (dc + p.eps))
         inside = self._inside(new[:, 0])
         score = np.where(inside, score, 0.0)
-        if self.drain is not None and parent is not None:  # no channel along or into the land's frame
-            score = score * self.drain.frame_factor(x0, new, n + 1)
+        if self.drain is not None and parent is not None:  # downstream, not along or into the land's frame
+            score = score * self.drain.factor(x0, new, n + 1, start=x0)
+        if self.shore is not None:
+            score = score * self.shore.factor(x0, new, n + 1)
         j = self._pick(score, poly)
         if j is None:
             return None
@@ -1063,7 +1181,9 @@ class _Grower:
 
         score = cs.score
         if self.drain is not None:
-            score = score * self.drain.factor(tip, pts, n_arr)
+            score = score * self.drain.factor(tip, pts, n_arr, start=st.points[0])
+        if self.shore is not None:
+            score = score * self.shore.factor(tip, pts, n_arr)
         if p.branch_end == "length":
             score = np.where(n_arr > 0, score, 0.0)
         if self.density is not None:
