@@ -173,6 +173,9 @@ def test_billboard_cloud_tab(app):
     assert len(app.cloud_view.images) == 2
     app.yaw.value = -60.0
     assert "-60" in app.cloud_view.title_texts[1]
+    import json
+    doc = json.loads(app._outputs()["cloud.gltf"])               # saved with the side outline baked
+    assert doc["asset"]["version"] == "2.0" and doc["images"]
 
 
 def test_no_tree_checked_leaves_no_stale_result(app):

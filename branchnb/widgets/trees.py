@@ -775,9 +775,11 @@ class TreeVariationsApp(widgets.VBox):
             from pathlib import Path
 
             from ..trees.export import export_gltf
+            from ..trees.lod import bake_side_outline
 
             with tempfile.TemporaryDirectory() as tmp:
-                path = export_gltf(self.cloud, Path(tmp) / "cloud.gltf", embed_texture=True,
+                # With a drawn tree's side-view outline in the textures, as the LOD levels.
+                path = export_gltf(bake_side_outline(self.cloud), Path(tmp) / "cloud.gltf", embed_texture=True,
                                    yaw=float(self.yaw.value))
                 out["cloud.gltf"] = path.read_bytes()
         return out
