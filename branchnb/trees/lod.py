@@ -327,11 +327,12 @@ def engine_view(cloud, yaw: float, **kwargs) -> np.ndarray:
     return render_cloud(bare, yaw, outline=False, **kwargs)
 
 
-def _view_ids(cloud, yaw: float):
+def _view_ids(cloud, yaw: float, texels=None):
     """Which billboard texel an axial, depth-buffered engine shows at each pixel from ``yaw``.
 
     The frame and placement are :func:`~branchnb.trees.preview.render_cloud`'s (``crop="fit"``);
     texels with alpha >= 0.5 are opaque (the exported material's ``alphaCutoff``).
+    ``texels`` (from :func:`_opaque_texels`) saves finding them again for every view.
 
     Returns ``(ids, texel)``: (H, W') billboard index per pixel (-1: none) and the flat index of
     the texel shown into the concatenation of ``cloud.textures`` (``_texel_offsets``).
@@ -343,23 +344,36 @@ def _view_ids(cloud, yaw: float):
     left = int(np.ceil(max(cloud.axis, r))) + 1
     right = int(np.ceil(max(W - cloud.axis, r))) + 1
     ox, Wc = left - int(round(cloud.axis)), left + right
-    ids = np.full((H, Wc), -1, np.int64)
-    texel = np.zeros((H, Wc), np.int64)
-    offsets = _texel_offsets(cloud)
+    ids = np.full(H * Wc, -1, np.int64)
+    texel = np.zeros(H * Wc, np.int64)
+    texels = _opaque_texels(cloud) if texels is None else texels
     xs, depth = project(cloud, yaw)
     for i in np.argsort(depth, kind="stable"):
         t = int(cloud.texture[i])
-        tex = cloud.textures[t]
-        h, w = tex.shape[:2]
+        h, w = cloud.textures[t].shape[:2]
+        vv, uu, flat = texels[t]
         x0 = int(round(xs[i] - 0.5 * w)) + ox
         y0 = int(round(cloud.centers[i, 1] - 0.5 * h))
-        ax0, ay0, ax1, ay1 = max(x0, 0), max(y0, 0), min(x0 + w, Wc), min(y0 + h, H)
-        if ax1 <= ax0 or ay1 <= ay0:
-            continue
-        vv, uu = np.nonzero(tex[ay0 - y0:ay1 - y0, ax0 - x0:ax1 - x0, 3] >= 0.5)
-        ids[ay0 + vv, ax0 + uu] = i
-        texel[ay0 + vv, ax0 + uu] = offsets[t] + (vv + ay0 - y0) * w + (uu + ax0 - x0)
-    return ids, texel
+        py, px = vv + y0, uu + x0
+        if x0 < 0 or y0 < 0 or x0 + w > Wc or y0 + h > H:
+            ok = (py >= 0) & (py < H) & (px >= 0) & (px < Wc)
+            py, px, f = py[ok], px[ok], flat[ok]
+        else:
+            f = flat
+        at = py * Wc + px
+        ids[at] = i
+        texel[at] = f
+    return ids.reshape(H, Wc), texel.reshape(H, Wc)
+
+
+def _opaque_texels(cloud) -> list:
+    """Per texture, the rows, columns and flat indices (``_texel_offsets``) of its opaque texels."""
+    offsets = _texel_offsets(cloud)
+    out = []
+    for t, tex in enumerate(cloud.textures):
+        vv, uu = np.nonzero(tex[:, :, 3] >= 0.5)
+        out.append((vv, uu, offsets[t] + vv * tex.shape[1] + uu))
+    return out
 
 
 def _texel_offsets(cloud) -> np.ndarray:
@@ -389,9 +403,10 @@ def bake_side_outline(cloud, *, yaws=tuple(range(15, 360, 15)), ink=None, width=
     silhouette is made of front billboards whose edge texels show in the
     front view (and the rear layer's edges show inside the back view).
     On 12 drawn trees of every kind (``python -m branchnb.trees._measure
-    engine``) the rim ink share of the engine's view at 90 degrees went
-    from 0.70 (min 0.38) to 0.79 (min 0.50); the in-memory render's is
-    0.96. Clouds without line art or an outlined silhouette
+    engine``) the rim ink share of the engine's view of the full level at
+    90 degrees went from 0.74 (min 0.38) to 0.83 (min 0.60), at 45 degrees
+    from 0.74 to 0.80 (the reduced level: 0.95 to 0.96, min 0.80 to 0.88);
+    the in-memory render's is 0.98. A 1024 px cloud takes about 5 s. Clouds without line art or an outlined silhouette
     (:func:`~branchnb.trees.outline.silhouette_outline`) are returned
     unchanged.
 
@@ -442,12 +457,13 @@ def bake_side_outline(cloud, *, yaws=tuple(range(15, 360, 15)), ink=None, width=
     offsets = _texel_offsets(cloud)
     want = np.zeros(int(offsets[-1]), bool)
     bad = np.zeros(int(offsets[-1]), bool)
-    ids, texel = _view_ids(cloud, 0.0)
+    texels = _opaque_texels(cloud)
+    ids, texel = _view_ids(cloud, 0.0, texels)
     bad[texel[ids >= 0]] = True
     for yaw in yaws:
         if float(yaw) % 360.0 == 0.0:
             continue
-        ids, texel = _view_ids(cloud, float(yaw))
+        ids, texel = _view_ids(cloud, float(yaw), texels)
         op = ids >= 0
         if not op.any():
             continue
