@@ -143,6 +143,15 @@ class PareidoliaParams:
     lattice_size : int
         Plan on a lattice with the diagonal of this square (0: the picture's
         own size); 512. The tree is drawn back at the picture's size.
+    max_upscale : float
+        Largest number of image px per lattice px; 2. A larger picture is
+        planned on a larger lattice (its diagonal the picture's divided by
+        ``max_upscale``), so the twigs stay as close together in image px
+        as on a 1000-px picture (beyond the paper, see Notes).
+    tone_sigma : float
+        Blur (lattice px) over which the ink is matched to the picture's
+        tone; 5 (a few times the twigs' spacing, so the strokes' widths fill
+        the gaps between them).
 
     Examples
     --------
@@ -199,6 +208,10 @@ class PareidoliaParams:
                                 help="blank strip below the image for the trunk (x image height)")
     lattice_size: int = param(512, min=0, max=4096, step=64,
                               help="plan on a lattice with the diagonal of this square (0 = image)")
+    max_upscale: float = param(2.0, min=1.0, max=16.0, step=0.5,
+                               help="largest image px per lattice px: larger images get a finer lattice")
+    tone_sigma: float = param(5.0, min=0.5, max=20.0, step=0.5,
+                              help="blur (lattice px) over which the ink is matched to the picture")
 
 
 @dataclass
@@ -425,6 +438,37 @@ def content_crown(importance, *, blur: float = 10.0, threshold: float = 0.05,
     return mask
 
 
+_MAX_ENDPOINTS = 60000
+
+
+def _shrink(a: np.ndarray, f: int) -> np.ndarray:
+    """Mean over ``f x f`` blocks (the last partial blocks dropped)."""
+    if f == 1:
+        return a
+    h, w = (a.shape[0] // f) * f, (a.shape[1] // f) * f
+    return a[:h, :w].reshape(h // f, f, w // f, f).mean(axis=(1, 3))
+
+
+def _coarse_points(place, mask: np.ndarray, f: int, rng) -> np.ndarray:
+    """``place(f)`` gives points on the ``f``-times coarser grid; spread them over their
+    ``f x f`` cells and snap those that miss ``mask`` to its nearest pixel."""
+    pts = np.asarray(place(f), np.float64)
+    if f == 1 or len(pts) == 0:
+        return pts
+    h, w = mask.shape
+    pts = (pts + 0.5) * f - 0.5 + rng.uniform(-0.5 * f, 0.5 * f, pts.shape)
+    pts = np.rint(np.clip(pts, 0, [w - 1, h - 1]))
+    col, row = pts[:, 0].astype(int), pts[:, 1].astype(int)
+    bad = ~mask[row, col]
+    if bad.any():
+        from scipy.spatial import cKDTree
+
+        ys, xs = np.nonzero(mask)
+        _, j = cKDTree(np.column_stack([xs, ys])).query(pts[bad])
+        pts[bad] = np.column_stack([xs[j], ys[j]])
+    return pts
+
+
 def _fork_point(crown: np.ndarray) -> np.ndarray:
     """Where the trunk enters the crown: below the crown's centre of mass, a little
     inside its lower edge."""
@@ -477,11 +521,18 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
         raise ValueError(f"image must be at least 16 x 16 pixels, got {full.shape[1]} x "
                          f"{full.shape[0]}")
     rng = as_rng(rng)
-    img0 = resample_to_lattice(full, p.lattice_size)
+    side_px = float(np.hypot(*full.shape[:2]) / np.sqrt(2.0))  # side of the square of that diagonal
+    lattice = p.lattice_size
+    if lattice > 0 and side_px > lattice * p.max_upscale:
+        lattice = int(round(side_px / p.max_upscale))  # a finer lattice for a large picture
+    img0 = resample_to_lattice(full, lattice)
     hi, w = img0.shape[:2]
     # larger images: more endpoints, so the branches stay about as far apart in image px
+    # (x image px per lattice px), and as dense per lattice px on a grown lattice
     up = float(np.hypot(*full.shape[:2]) / np.hypot(hi, w))
-    n_img = int(min(round(p.n_endpoints * max(up, 1.0)), 20000))
+    grow = (lattice / p.lattice_size) ** 2 if p.lattice_size > 0 else 1.0
+    n_img = int(min(round(p.n_endpoints * max(up, 1.0) * grow), _MAX_ENDPOINTS))
+    coarse = max(1, int(np.floor(lattice / p.lattice_size))) if p.lattice_size > 0 else 1
     h = hi + round(p.trunk_height * hi)
     img = np.ones((h, w, 3), np.float32)
     img[:hi] = img0
@@ -520,16 +571,23 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
     seeds[trunk.nodes[k - 1:]] = True
     top = np.flatnonzero(crown.any(axis=1))
     upper = crown & (np.arange(h)[:, None] < top.min() + 0.8 * (top.max() - top.min() + 1))
-    limb_ends = stipple(upper.astype(float), p.trunk_endpoints, iterations=15, rng=rng)
+    limb_ends = _coarse_points(lambda f: stipple(_shrink(upper.astype(float), f),
+                                                 p.trunk_endpoints, iterations=15, rng=rng),
+                               upper, coarse, rng)
     lat = Lattice(node_weights(cost, epsilon=p.epsilon, noise=noise, rng=rng))
     d = build_dendrite(plan(lat, seeds.reshape(h, w), metric="cumulative"), limb_ends,
                        base=trunk, radius=p.tip_width / 2, iteration=1)
 
     # endpoints: stippled on the importance in the crown, a few random ones
-    e_img = place_endpoints(imp, n_img, gamma=p.endpoint_gamma, floor=0.0,
-                            threshold=0.05, mask=img_side & crown, rng=rng) \
-        if (imp[img_side & crown] >= 0.05).any() else random_endpoints(
-            img_side & crown, n_img, rng=rng)
+    region = img_side & crown
+    if (imp[region] >= 0.05).any():
+        # on a grown lattice the stippling runs on the nominal one (its cost grows with
+        # the pixels), and the points are spread over the finer cells
+        e_img = _coarse_points(lambda f: place_endpoints(
+            _shrink(imp, f), n_img, gamma=p.endpoint_gamma, floor=0.0, threshold=0.05,
+            mask=_shrink(region.astype(float), f) > 0.5, rng=rng), region, coarse, rng)
+    else:
+        e_img = random_endpoints(region, n_img, rng=rng)
     n_rand = round(p.random_ratio * n_img)
     rand_region = crown & ~img_side if p.side != "full" else crown
     e_rand = (random_endpoints(rand_region, n_rand, rng=rng) if n_rand > 0 and rand_region.any()
@@ -568,37 +626,78 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
                           dataclasses.replace(p), crown)
 
 
+def _taper_profile(dist: np.ndarray, taper: float) -> np.ndarray:
+    """Width factor along a twig's last ``taper`` px: ``_TIP`` at the tip, 1 from ``taper`` on."""
+    return _TIP + (1.0 - _TIP) * np.sqrt(np.clip(dist / taper, 0.0, 1.0))
+
+
+_TONE_ROUNDS = 3
+_TIP = 0.3  # a twig's width at its very end, as a share of its width `taper` px back
+
+
+def _taper_ends(d: Dendrite, width: np.ndarray, dist: np.ndarray, taper: float) -> np.ndarray:
+    """Twig ends that taper whatever widths they were given: within ``taper`` px of a
+    branch's end, the width is at most the width ``taper`` px back times
+    :func:`_taper_profile` (a tone match that thickens a dark region's twigs widens their
+    ends too, and round caps then read as dots)."""
+    near = np.flatnonzero(dist < taper)
+    if taper <= 0 or near.size == 0:
+        return width
+    body = near.copy()  # walk up to the first node at least `taper` px from the end
+    for _ in range(int(np.ceil(taper)) + 2):
+        up = d.parent[body]
+        move = (dist[body] < taper) & (up >= 0)
+        if not move.any():
+            break
+        body[move] = up[move]
+    out = width.copy()
+    out[near] = np.minimum(width[near], width[body] * _taper_profile(dist[near], taper))
+    return out
+
+
 def _thickness(d: Dendrite, p: PareidoliaParams, imp, dark, crown, n_trunk: int) -> Dendrite:
-    """Pipe model + importance emphasis; tone-matched under a limb cap inside the crown."""
+    """Pipe model + importance emphasis; tone-matched under a limb cap inside the crown;
+    tapered twig ends."""
     leaf = np.zeros(d.n_nodes)
     leaf[d.tips] = 1.0
     tips = np.maximum(_accumulate_up(d.parent, leaf), 1.0)
     width = p.tip_width + p.pipe * np.sqrt(tips - 1.0) + p.increment * (p.iterations - d.iteration)
+    dist = d.tip_distance()
     if p.thickness == "branch":
-        return d.with_radius(width / 2)
+        return d.with_radius(_taper_ends(d, width, dist, p.taper) / 2)
     emph = rolling_importance(d, imp, p.window)
     ref = max(float(np.percentile(imp, 99.0)), 1e-3)
     width = width + p.emphasis * np.clip(emph / ref, 0, 1) ** 1.5
     inside = crown.ravel()[d.nodes]
     inside[:n_trunk] = False  # the trunk keeps its pipe width up to the fork
     if p.tone <= 0 or not inside.any():
-        return d.with_radius(width / 2)
+        return d.with_radius(_taper_ends(d, width, dist, p.taper) / 2)
     # limb cap: the fork's pipe width, thinning to max_width along the path from the fork
     arc = d.arc_depth()
     fork_arc = arc[n_trunk - 1] if n_trunk > 0 else 0.0
     from_fork = np.maximum(arc - fork_arc, 0.0)
     if p.taper > 0:
-        # round caps on tone-thickened twig ends read as dots: taper the last `taper`
-        # px of every branch to a third of its width (before the tone match, which
-        # then puts the ink back along the twigs instead of losing it)
-        width = width * (0.35 + 0.65 * np.sqrt(np.clip(d.tip_distance() / p.taper, 0.0, 1.0)))
+        # taper before the tone match too, which then puts the ink back along the
+        # twigs instead of losing it
+        width = width * _taper_profile(dist, p.taper)
     cap = np.maximum(p.max_width, width * np.exp(-from_fork / p.limb_length))
     floor = np.minimum(width * np.exp(-from_fork / p.limb_length), cap)
-    toned = tone_thickness(d.with_radius(width / 2), dark, sigma=5.0, min_width=p.tip_width * 0.4,
-                           max_width=float(cap.max()), strength=p.tone)
-    w_tone = np.clip(2.0 * toned.radius, floor, cap)
+    w_tone = width
+    for _ in range(_TONE_ROUNDS if p.taper > 0 else 1):
+        # the tone match thickens a dark region's twig ends as much as their bodies (more:
+        # less ink around an end): taper them again and match again, so the ink taken
+        # from the ends goes back into the bodies
+        toned = tone_thickness(d.with_radius(w_tone / 2), dark, sigma=p.tone_sigma,
+                               min_width=p.tip_width * 0.4, max_width=float(cap.max()),
+                               strength=p.tone)
+        w_tone = np.clip(2.0 * toned.radius, floor, cap)
+        if p.taper > 0:
+            w_tone = _taper_ends(d, w_tone, dist, p.taper)
     # a slight flare at the foot of the trunk
     height = d.points[:, 1].max() - d.points[:, 1]
     flare = 1.0 + 0.35 * np.clip(1.0 - height / (0.12 * d.shape[0]), 0.0, 1.0) ** 2
     flare[n_trunk:] = 1.0
-    return d.with_radius(np.where(inside, w_tone, width * flare) / 2)
+    out = np.where(inside, w_tone, width * flare)
+    if p.taper > 0:
+        out = _taper_ends(d, out, dist, p.taper)
+    return d.with_radius(out / 2)
