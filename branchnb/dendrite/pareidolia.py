@@ -32,14 +32,26 @@ The tree grows as in :mod:`branchnb.dendrite.trees`, but its crown is the pictur
   in the crown. ``thickness="branch"`` keeps the tree thickness only.
 
 Everything is computed on a lattice of ``lattice_size`` (like the
-stylization) and drawn back at the image's own size. On an image larger
-than the lattice the endpoint count grows with the scale (``n_endpoints x
-image px per lattice px``), beyond the paper: drawn back at 2x, the 512-px
-tree's branches are twice as far apart in image pixels and the picture no
-longer reads at a few pixels' blur (tone r inside the crown at 4 px blur on
-1000-px pictures: a portrait 0.65 -> 0.73, a coffee cup 0.61 -> 0.73). At
-2000 px (4 image px per lattice px) r at 4 px blur stays near 0.6: a finer
-picture needs a larger ``lattice_size``.
+stylization) and drawn back at the image's own size. Beyond the paper, the
+texture of the twigs is kept the same in image pixels at every size: on an
+image larger than the lattice the endpoint count grows with the scale
+(``n_endpoints x image px per lattice px``), and past ``max_upscale`` image
+px per lattice px the lattice itself grows (its side the image's divided by
+``max_upscale``, with the endpoints per its area and the crown's and limbs'
+lengths scaled alike; the stippling runs on the nominal lattice, whose cost
+does not grow). Planned at 512 and drawn back at 2000 px, the branches were 4
+image px per lattice px apart and tone r inside the crown at 4 px blur fell
+with the size (a portrait 0.72 at 1000 px -> 0.60 at 2000 px, a gradient 0.55
+-> 0.41); with the grown lattice it stays at the 1000-px figure (0.71 -> 0.71,
+0.56 -> 0.60), at a few times the time (about 7-18 s at 2000 px).
+
+Twig ends taper everywhere: after the tone match, the last ``taper`` px of a
+branch are never wider than the branch ``taper`` px back times a profile that
+falls to 0.3 at the end (the tone match alone widened a dark region's twig
+ends more than their bodies and the round caps drew dots). Those dots carried
+ink: in dark, flat regions the picture is lighter than with dots (tone r at 4
+px blur on 1000-px pictures 0.5-0.73, below the issue's 0.7 on a cat photo, a
+gradient and flat coloured objects).
 """
 
 from __future__ import annotations
@@ -532,7 +544,11 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
     up = float(np.hypot(*full.shape[:2]) / np.hypot(hi, w))
     grow = (lattice / p.lattice_size) ** 2 if p.lattice_size > 0 else 1.0
     n_img = int(min(round(p.n_endpoints * max(up, 1.0) * grow), _MAX_ENDPOINTS))
-    coarse = max(1, int(np.floor(lattice / p.lattice_size))) if p.lattice_size > 0 else 1
+    coarse = max(1, round(lattice / p.lattice_size)) if p.lattice_size > 0 else 1
+    user = p
+    if lattice != p.lattice_size:  # lengths of the crown and limbs follow the grown lattice
+        g = lattice / p.lattice_size
+        p = dataclasses.replace(p, crown_blur=p.crown_blur * g, limb_length=p.limb_length * g)
     h = hi + round(p.trunk_height * hi)
     img = np.ones((h, w, 3), np.float32)
     img[:hi] = img0
@@ -623,7 +639,7 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
     if shape_full != (h, w):
         d = d.rescaled(shape_full)
     return PareidoliaTree(canvas, imp, d, to_canvas(e_img), to_canvas(e_rand).reshape(-1, 2),
-                          dataclasses.replace(p), crown)
+                          dataclasses.replace(user), crown)
 
 
 def _taper_profile(dist: np.ndarray, taper: float) -> np.ndarray:
