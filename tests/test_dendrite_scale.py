@@ -272,7 +272,7 @@ def test_pareidolia_on_a_larger_image_gets_more_endpoints():
     # drawn back at 2x, the lattice's tree would have its branches twice as far apart
     img = np.ones((128, 128))
     img[30:90, 40:100] = 0.2
-    p = PareidoliaParams(n_endpoints=100, iterations=2, lattice_size=64)
+    p = PareidoliaParams(n_endpoints=100, iterations=2, lattice_size=64, max_upscale=2.0)
     small = pareidolia_tree(img[::2, ::2], p, rng=0)
     large = pareidolia_tree(img, p, rng=0)
     assert len(small.endpoints_image) == 100
@@ -337,7 +337,7 @@ def test_pareidolia_lattice_grows_on_large_pictures():
     # apart, and tone r at 4 px blur fell from 0.72 (1000 px) to 0.60 (a portrait)
     img = np.ones((256, 256))
     img[60:200, 70:190] = 0.3
-    p = PareidoliaParams(n_endpoints=40, iterations=2, lattice_size=64)
+    p = PareidoliaParams(n_endpoints=40, iterations=2, lattice_size=64, max_upscale=2.0)
     t = pareidolia_tree(img, p, rng=0)
     assert t.importance.shape[1] == 128  # the picture's side / max_upscale
     assert len(t.endpoints_image) == 40 * 2 * 4  # x image px per lattice px x lattice area
@@ -345,3 +345,7 @@ def test_pareidolia_lattice_grows_on_large_pictures():
     q = pareidolia_tree(img, PareidoliaParams(n_endpoints=40, iterations=2, lattice_size=64,
                                               max_upscale=4.0), rng=0)
     assert q.importance.shape[1] == 64 and len(q.endpoints_image) == 160
+    # the default: the lattice follows the picture up to max_lattice
+    r = pareidolia_tree(img, PareidoliaParams(n_endpoints=40, iterations=2, lattice_size=64,
+                                              max_lattice=192), rng=0)
+    assert r.importance.shape[1] == 192 and len(r.endpoints_image) == round(40 * 256 / 192 * 9)

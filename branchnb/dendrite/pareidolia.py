@@ -33,17 +33,19 @@ The tree grows as in :mod:`branchnb.dendrite.trees`, but its crown is the pictur
 
 Everything is computed on a lattice of ``lattice_size`` (like the
 stylization) and drawn back at the image's own size. Beyond the paper, the
-texture of the twigs is kept the same in image pixels at every size: on an
-image larger than the lattice the endpoint count grows with the scale
+texture of the twigs stays fine in image pixels at every size: on an image
+larger than the lattice the endpoint count grows with the scale
 (``n_endpoints x image px per lattice px``), and past ``max_upscale`` image
-px per lattice px the lattice itself grows (its side the image's divided by
-``max_upscale``, with the endpoints per its area and the crown's and limbs'
-lengths scaled alike; the stippling runs on the nominal lattice, whose cost
+px per lattice px the lattice itself grows (to the image's size, at most
+``max_lattice``), with the endpoints per its area and the crown's and limbs'
+lengths scaled alike (the stippling runs on the nominal lattice, whose cost
 does not grow). Planned at 512 and drawn back at 2000 px, the branches were 4
 image px per lattice px apart and tone r inside the crown at 4 px blur fell
-with the size (a portrait 0.72 at 1000 px -> 0.60 at 2000 px, a gradient 0.55
--> 0.41); with the grown lattice it stays at the 1000-px figure (0.71 -> 0.71,
-0.56 -> 0.60), at a few times the time (about 7-18 s at 2000 px).
+with the size; measured on a portrait, a cat photo, a coffee cup, a drawn
+face, a grey ramp and flat coloured objects at 1000 / 2000 px, r went from
+0.72 0.49 0.71 0.71 0.55 0.56 / 0.60 0.34 0.55 0.57 0.41 0.42 to
+0.79 0.55 0.75 0.83 0.69 0.74 / 0.73 0.46 0.70 0.76 0.56 0.59, at about twice
+the time (7-11 s at 1000 px, 10-15 s at 2000 px on a shared 2-core machine).
 
 Twig ends taper everywhere: after the tone match, the last ``taper`` px of a
 branch are never wider than the branch ``taper`` px back times a profile that
@@ -154,12 +156,17 @@ class PareidoliaParams:
         of the picture's height; 0.4.
     lattice_size : int
         Plan on a lattice with the diagonal of this square (0: the picture's
-        own size); 512. The tree is drawn back at the picture's size.
+        own size); 512. The tree is drawn back at the picture's size. A
+        larger picture gets a larger lattice (``max_upscale``).
     max_upscale : float
-        Largest number of image px per lattice px; 2. A larger picture is
-        planned on a larger lattice (its diagonal the picture's divided by
-        ``max_upscale``), so the twigs stay as close together in image px
-        as on a 1000-px picture (beyond the paper, see Notes).
+        Largest number of image px per lattice px; 1. A picture larger than
+        ``lattice_size x max_upscale`` is planned on a larger lattice (its
+        diagonal the picture's divided by ``max_upscale``, at most
+        ``max_lattice``), so the twigs stay fine in image px (beyond the
+        paper, see the module docstring).
+    max_lattice : int
+        Side of the largest grown lattice; 1024 (the time grows with its
+        area: about 3 s at 512, 7-18 s at 1024 on a 2-core machine).
     tone_sigma : float
         Blur (lattice px) over which the ink is matched to the picture's
         tone; 5 (a few times the twigs' spacing, so the strokes' widths fill
@@ -220,8 +227,10 @@ class PareidoliaParams:
                                 help="blank strip below the image for the trunk (x image height)")
     lattice_size: int = param(512, min=0, max=4096, step=64,
                               help="plan on a lattice with the diagonal of this square (0 = image)")
-    max_upscale: float = param(2.0, min=1.0, max=16.0, step=0.5,
+    max_upscale: float = param(1.0, min=1.0, max=16.0, step=0.5,
                                help="largest image px per lattice px: larger images get a finer lattice")
+    max_lattice: int = param(1024, min=64, max=4096, step=64,
+                             help="largest grown lattice (the time grows with its area)")
     tone_sigma: float = param(5.0, min=0.5, max=20.0, step=0.5,
                               help="blur (lattice px) over which the ink is matched to the picture")
 
@@ -536,7 +545,8 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
     side_px = float(np.hypot(*full.shape[:2]) / np.sqrt(2.0))  # side of the square of that diagonal
     lattice = p.lattice_size
     if lattice > 0 and side_px > lattice * p.max_upscale:
-        lattice = int(round(side_px / p.max_upscale))  # a finer lattice for a large picture
+        # a finer lattice for a large picture, up to max_lattice
+        lattice = max(lattice, min(int(round(side_px / p.max_upscale)), p.max_lattice))
     img0 = resample_to_lattice(full, lattice)
     hi, w = img0.shape[:2]
     # larger images: more endpoints, so the branches stay about as far apart in image px

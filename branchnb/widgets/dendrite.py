@@ -104,7 +104,7 @@ TREE_LABELS = {
 PAREIDOLIA_SECTIONS = [
     ("crown and endpoints", ["side", "crown", "crown_blur", "n_endpoints", "random_ratio",
                              "endpoint_gamma"]),
-    ("lattice and node weights", ["lattice_size", "max_upscale", "noise_image", "noise_random",
+    ("lattice and node weights", ["lattice_size", "max_upscale", "max_lattice", "noise_image", "noise_random",
                                   "cost_weight", "epsilon", "intensity_weight", "gradient_weight"]),
     ("growth", ["iterations", "trunk_endpoints", "blend_weight", "trunk_height"]),
     ("widths", ["thickness", "window", "emphasis", "tone", "tip_width", "increment", "pipe", "max_width",
@@ -125,7 +125,7 @@ PAREIDOLIA_LABELS = {
     "lattice_size": ("lattice (0 = image)", ""), "tone": ("match tone", ""),
     "max_width": ("max crown width (px)", ""), "limb_length": ("limb thinning length", ""),
     "taper": ("twig taper length", ""), "tone_sigma": ("tone scale", ""),
-    "max_upscale": ("max image px / lattice px", ""),
+    "max_upscale": ("max image px / lattice px", ""), "max_lattice": ("largest lattice", ""),
 }
 
 
