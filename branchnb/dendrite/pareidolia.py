@@ -41,11 +41,15 @@ px per lattice px the lattice itself grows (to the image's size, at most
 lengths scaled alike (the stippling runs on the nominal lattice, whose cost
 does not grow). Planned at 512 and drawn back at 2000 px, the branches were 4
 image px per lattice px apart and tone r inside the crown at 4 px blur fell
-with the size; measured on a portrait, a cat photo, a coffee cup, a drawn
-face, a grey ramp and flat coloured objects at 1000 / 2000 px, r went from
+with the size. Measured on a portrait, a cat photo, a coffee cup, a drawn
+face, a grey ramp and flat coloured objects at 1000 / 2000 px (with
+``n_endpoints`` 3600 instead of 2400, too), r went from
 0.72 0.49 0.71 0.71 0.55 0.56 / 0.60 0.34 0.55 0.57 0.41 0.42 to
-0.79 0.55 0.75 0.83 0.69 0.74 / 0.73 0.46 0.70 0.76 0.56 0.59, at about twice
-the time (7-11 s at 1000 px, 10-15 s at 2000 px on a shared 2-core machine).
+0.83 0.61 0.83 0.84 0.74 0.73 / 0.76 0.50 0.78 0.76 0.58 0.61, at about twice
+the time (5-11 s at 1000 px, 10-17 s at 2000 px on a shared 2-core machine).
+Past ``max_lattice`` x ``max_upscale`` px the lattice stops growing (for
+the time) and r falls again with the size; a low-contrast picture (the cat,
+mid-grey fur upscaled from 451 px) stays below 0.7.
 
 Twig ends taper everywhere: after the tone match, the last ``taper`` px of a
 branch are never wider than the branch ``taper`` px back times a profile that
