@@ -272,7 +272,7 @@ def test_pareidolia_on_a_larger_image_gets_more_endpoints():
     # drawn back at 2x, the lattice's tree would have its branches twice as far apart
     img = np.ones((128, 128))
     img[30:90, 40:100] = 0.2
-    p = PareidoliaParams(n_endpoints=100, iterations=2, lattice_size=64)
+    p = PareidoliaParams(n_endpoints=100, iterations=2, lattice_size=64, max_upscale=2.0)
     small = pareidolia_tree(img[::2, ::2], p, rng=0)
     large = pareidolia_tree(img, p, rng=0)
     assert len(small.endpoints_image) == 100
@@ -309,3 +309,43 @@ def test_next_in_branch_stays_on_the_junctions_own_branch():
     r = rolling_importance(d, ramp, 9)
     main = max(d.branches, key=len)
     assert np.abs(np.diff(r[main][4:-4])).max() < 0.05
+
+
+def test_pareidolia_twig_ends_taper_in_dark_regions_too():
+    # before, the tone match widened the ends of a dark region's twigs as much as their
+    # bodies (more: less ink around an end), and round caps drew them as dots
+    img = np.ones((96, 96))
+    img[20:76, 16:80] = 0.05
+    t = pareidolia_tree(img, PareidoliaParams(n_endpoints=120, iterations=3, lattice_size=0), rng=0)
+    d = t.dendrite
+    dist = d.tip_distance()
+    at = np.rint(d.points[d.tips]).astype(int)
+    tips = d.tips[img[np.clip(at[:, 1], 0, 95), np.clip(at[:, 0], 0, 95)] < 0.5]
+    back = np.array([_ancestor(d, i, dist, 6.0) for i in tips])
+    ok = back >= 0
+    assert ok.sum() > 20
+    ratio = d.radius[tips[ok]] / d.radius[back[ok]]
+    assert ratio.max() <= 0.3 + 1e-9  # every end, not only the median
+    # no node within the last 6 px is wider than the branch 6 px back
+    near = np.flatnonzero(dist < 6.0)
+    body = np.array([_ancestor(d, i, dist, 6.0) for i in near])
+    assert (d.radius[near[body >= 0]] <= d.radius[body[body >= 0]] + 1e-9).all()
+
+
+def test_pareidolia_lattice_grows_on_large_pictures():
+    # a 2000-px picture planned on a 512 lattice had its twigs 4 image px per lattice px
+    # apart, and tone r at 4 px blur fell from 0.72 (1000 px) to 0.60 (a portrait)
+    img = np.ones((256, 256))
+    img[60:200, 70:190] = 0.3
+    p = PareidoliaParams(n_endpoints=40, iterations=2, lattice_size=64, max_upscale=2.0)
+    t = pareidolia_tree(img, p, rng=0)
+    assert t.importance.shape[1] == 128  # the picture's side / max_upscale
+    assert len(t.endpoints_image) == 40 * 2 * 4  # x image px per lattice px x lattice area
+    assert t.dendrite.shape == t.image.shape[:2]
+    q = pareidolia_tree(img, PareidoliaParams(n_endpoints=40, iterations=2, lattice_size=64,
+                                              max_upscale=4.0), rng=0)
+    assert q.importance.shape[1] == 64 and len(q.endpoints_image) == 160
+    # the default: the lattice follows the picture up to max_lattice
+    r = pareidolia_tree(img, PareidoliaParams(n_endpoints=40, iterations=2, lattice_size=64,
+                                              max_lattice=192), rng=0)
+    assert r.importance.shape[1] == 192 and len(r.endpoints_image) == round(40 * 256 / 192 * 9)

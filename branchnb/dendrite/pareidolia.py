@@ -32,14 +32,32 @@ The tree grows as in :mod:`branchnb.dendrite.trees`, but its crown is the pictur
   in the crown. ``thickness="branch"`` keeps the tree thickness only.
 
 Everything is computed on a lattice of ``lattice_size`` (like the
-stylization) and drawn back at the image's own size. On an image larger
-than the lattice the endpoint count grows with the scale (``n_endpoints x
-image px per lattice px``), beyond the paper: drawn back at 2x, the 512-px
-tree's branches are twice as far apart in image pixels and the picture no
-longer reads at a few pixels' blur (tone r inside the crown at 4 px blur on
-1000-px pictures: a portrait 0.65 -> 0.73, a coffee cup 0.61 -> 0.73). At
-2000 px (4 image px per lattice px) r at 4 px blur stays near 0.6: a finer
-picture needs a larger ``lattice_size``.
+stylization) and drawn back at the image's own size. Beyond the paper, the
+texture of the twigs stays fine in image pixels at every size: on an image
+larger than the lattice the endpoint count grows with the scale
+(``n_endpoints x image px per lattice px``), and past ``max_upscale`` image
+px per lattice px the lattice itself grows (to the image's size, at most
+``max_lattice``), with the endpoints per its area and the crown's and limbs'
+lengths scaled alike (the stippling runs on the nominal lattice, whose cost
+does not grow). Planned at 512 and drawn back at 2000 px, the branches were 4
+image px per lattice px apart and tone r inside the crown at 4 px blur fell
+with the size. Measured on a portrait, a cat photo, a coffee cup, a drawn
+face, a grey ramp and flat coloured objects at 1000 / 2000 px (with
+``n_endpoints`` 3600 instead of 2400, too), r went from
+0.72 0.49 0.71 0.71 0.55 0.56 / 0.60 0.34 0.55 0.57 0.41 0.42 to
+0.83 0.61 0.83 0.84 0.74 0.73 / 0.76 0.50 0.78 0.76 0.58 0.61, at about twice
+the time (5-11 s at 1000 px, 10-17 s at 2000 px on a shared 2-core machine).
+Past ``max_lattice`` x ``max_upscale`` px the lattice stops growing (for
+the time) and r falls again with the size; a low-contrast picture (the cat,
+mid-grey fur upscaled from 451 px) stays below 0.7.
+
+Twig ends taper everywhere: after the tone match, the last ``taper`` px of a
+branch are never wider than the branch ``taper`` px back times a profile that
+falls to 0.3 at the end (the tone match alone widened a dark region's twig
+ends more than their bodies and the round caps drew dots). Those dots carried
+ink: in dark, flat regions the picture is lighter than with dots (tone r at 4
+px blur on 1000-px pictures 0.5-0.73, below the issue's 0.7 on a cat photo, a
+gradient and flat coloured objects).
 """
 
 from __future__ import annotations
@@ -84,8 +102,11 @@ class PareidoliaParams:
     crown_blur : float
         Gaussian blur (lattice px) smoothing the content crown; 10.
     n_endpoints : int
-        Stippled endpoints on the picture; 2400. Multiplied by image px per
-        lattice px on images larger than the lattice (at most 20,000).
+        Stippled endpoints on the picture; 3600 (the top of the paper's 2,000 -
+        3,800: tone r at 4 px blur on 600-px pictures 0.59-0.83 -> 0.65-0.84).
+        Multiplied by image px per lattice px on images larger than the
+        lattice, and by the lattice's area over ``lattice_size`` squared on a
+        grown lattice (at most 60,000).
     random_ratio : float
         Uniform random endpoints per stippled one (twigs in the light parts);
         0.15.
@@ -142,7 +163,21 @@ class PareidoliaParams:
         of the picture's height; 0.4.
     lattice_size : int
         Plan on a lattice with the diagonal of this square (0: the picture's
-        own size); 512. The tree is drawn back at the picture's size.
+        own size); 512. The tree is drawn back at the picture's size. A
+        larger picture gets a larger lattice (``max_upscale``).
+    max_upscale : float
+        Largest number of image px per lattice px; 1. A picture larger than
+        ``lattice_size x max_upscale`` is planned on a larger lattice (its
+        diagonal the picture's divided by ``max_upscale``, at most
+        ``max_lattice``), so the twigs stay fine in image px (beyond the
+        paper, see the module docstring).
+    max_lattice : int
+        Side of the largest grown lattice; 1024 (the time grows with its
+        area: about 3 s at 512, 7-18 s at 1024 on a 2-core machine).
+    tone_sigma : float
+        Blur (lattice px) over which the ink is matched to the picture's
+        tone; 5 (a few times the twigs' spacing, so the strokes' widths fill
+        the gaps between them).
 
     Examples
     --------
@@ -157,7 +192,7 @@ class PareidoliaParams:
                        help="crown shape: the image's content, or a fixed ellipse")
     crown_blur: float = param(10.0, min=1.0, max=60.0, step=1.0,
                               help="smoothing of the content crown (lattice px)")
-    n_endpoints: int = param(2400, min=10, max=20000, step=50,
+    n_endpoints: int = param(3600, min=10, max=20000, step=50,
                              help="stippled endpoints on the image (x image px per lattice px "
                                   "on images larger than the lattice)")
     random_ratio: float = param(0.15, min=0.0, max=2.0, step=0.05,
@@ -199,6 +234,12 @@ class PareidoliaParams:
                                 help="blank strip below the image for the trunk (x image height)")
     lattice_size: int = param(512, min=0, max=4096, step=64,
                               help="plan on a lattice with the diagonal of this square (0 = image)")
+    max_upscale: float = param(1.0, min=1.0, max=16.0, step=0.5,
+                               help="largest image px per lattice px: larger images get a finer lattice")
+    max_lattice: int = param(1024, min=64, max=4096, step=64,
+                             help="largest grown lattice (the time grows with its area)")
+    tone_sigma: float = param(5.0, min=0.5, max=20.0, step=0.5,
+                              help="blur (lattice px) over which the ink is matched to the picture")
 
 
 @dataclass
@@ -425,6 +466,37 @@ def content_crown(importance, *, blur: float = 10.0, threshold: float = 0.05,
     return mask
 
 
+_MAX_ENDPOINTS = 60000
+
+
+def _shrink(a: np.ndarray, f: int) -> np.ndarray:
+    """Mean over ``f x f`` blocks (the last partial blocks dropped)."""
+    if f == 1:
+        return a
+    h, w = (a.shape[0] // f) * f, (a.shape[1] // f) * f
+    return a[:h, :w].reshape(h // f, f, w // f, f).mean(axis=(1, 3))
+
+
+def _coarse_points(place, mask: np.ndarray, f: int, rng) -> np.ndarray:
+    """``place(f)`` gives points on the ``f``-times coarser grid; spread them over their
+    ``f x f`` cells and snap those that miss ``mask`` to its nearest pixel."""
+    pts = np.asarray(place(f), np.float64)
+    if f == 1 or len(pts) == 0:
+        return pts
+    h, w = mask.shape
+    pts = (pts + 0.5) * f - 0.5 + rng.uniform(-0.5 * f, 0.5 * f, pts.shape)
+    pts = np.rint(np.clip(pts, 0, [w - 1, h - 1]))
+    col, row = pts[:, 0].astype(int), pts[:, 1].astype(int)
+    bad = ~mask[row, col]
+    if bad.any():
+        from scipy.spatial import cKDTree
+
+        ys, xs = np.nonzero(mask)
+        _, j = cKDTree(np.column_stack([xs, ys])).query(pts[bad])
+        pts[bad] = np.column_stack([xs[j], ys[j]])
+    return pts
+
+
 def _fork_point(crown: np.ndarray) -> np.ndarray:
     """Where the trunk enters the crown: below the crown's centre of mass, a little
     inside its lower edge."""
@@ -477,11 +549,23 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
         raise ValueError(f"image must be at least 16 x 16 pixels, got {full.shape[1]} x "
                          f"{full.shape[0]}")
     rng = as_rng(rng)
-    img0 = resample_to_lattice(full, p.lattice_size)
+    side_px = float(np.hypot(*full.shape[:2]) / np.sqrt(2.0))  # side of the square of that diagonal
+    lattice = p.lattice_size
+    if lattice > 0 and side_px > lattice * p.max_upscale:
+        # a finer lattice for a large picture, up to max_lattice
+        lattice = max(lattice, min(int(round(side_px / p.max_upscale)), p.max_lattice))
+    img0 = resample_to_lattice(full, lattice)
     hi, w = img0.shape[:2]
     # larger images: more endpoints, so the branches stay about as far apart in image px
+    # (x image px per lattice px), and as dense per lattice px on a grown lattice
     up = float(np.hypot(*full.shape[:2]) / np.hypot(hi, w))
-    n_img = int(min(round(p.n_endpoints * max(up, 1.0)), 20000))
+    grow = (lattice / p.lattice_size) ** 2 if p.lattice_size > 0 else 1.0
+    n_img = int(min(round(p.n_endpoints * max(up, 1.0) * grow), _MAX_ENDPOINTS))
+    coarse = max(1, round(lattice / p.lattice_size)) if p.lattice_size > 0 else 1
+    user = p
+    if lattice != p.lattice_size:  # lengths of the crown and limbs follow the grown lattice
+        g = lattice / p.lattice_size
+        p = dataclasses.replace(p, crown_blur=p.crown_blur * g, limb_length=p.limb_length * g)
     h = hi + round(p.trunk_height * hi)
     img = np.ones((h, w, 3), np.float32)
     img[:hi] = img0
@@ -520,16 +604,23 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
     seeds[trunk.nodes[k - 1:]] = True
     top = np.flatnonzero(crown.any(axis=1))
     upper = crown & (np.arange(h)[:, None] < top.min() + 0.8 * (top.max() - top.min() + 1))
-    limb_ends = stipple(upper.astype(float), p.trunk_endpoints, iterations=15, rng=rng)
+    limb_ends = _coarse_points(lambda f: stipple(_shrink(upper.astype(float), f),
+                                                 p.trunk_endpoints, iterations=15, rng=rng),
+                               upper, coarse, rng)
     lat = Lattice(node_weights(cost, epsilon=p.epsilon, noise=noise, rng=rng))
     d = build_dendrite(plan(lat, seeds.reshape(h, w), metric="cumulative"), limb_ends,
                        base=trunk, radius=p.tip_width / 2, iteration=1)
 
     # endpoints: stippled on the importance in the crown, a few random ones
-    e_img = place_endpoints(imp, n_img, gamma=p.endpoint_gamma, floor=0.0,
-                            threshold=0.05, mask=img_side & crown, rng=rng) \
-        if (imp[img_side & crown] >= 0.05).any() else random_endpoints(
-            img_side & crown, n_img, rng=rng)
+    region = img_side & crown
+    if (imp[region] >= 0.05).any():
+        # on a grown lattice the stippling runs on the nominal one (its cost grows with
+        # the pixels), and the points are spread over the finer cells
+        e_img = _coarse_points(lambda f: place_endpoints(
+            _shrink(imp, f), n_img, gamma=p.endpoint_gamma, floor=0.0, threshold=0.05,
+            mask=_shrink(region.astype(float), f) > 0.5, rng=rng), region, coarse, rng)
+    else:
+        e_img = random_endpoints(region, n_img, rng=rng)
     n_rand = round(p.random_ratio * n_img)
     rand_region = crown & ~img_side if p.side != "full" else crown
     e_rand = (random_endpoints(rand_region, n_rand, rng=rng) if n_rand > 0 and rand_region.any()
@@ -565,40 +656,81 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
     if shape_full != (h, w):
         d = d.rescaled(shape_full)
     return PareidoliaTree(canvas, imp, d, to_canvas(e_img), to_canvas(e_rand).reshape(-1, 2),
-                          dataclasses.replace(p), crown)
+                          dataclasses.replace(user), crown)
+
+
+def _taper_profile(dist: np.ndarray, taper: float) -> np.ndarray:
+    """Width factor along a twig's last ``taper`` px: ``_TIP`` at the tip, 1 from ``taper`` on."""
+    return _TIP + (1.0 - _TIP) * np.sqrt(np.clip(dist / taper, 0.0, 1.0))
+
+
+_TONE_ROUNDS = 3
+_TIP = 0.3  # a twig's width at its very end, as a share of its width `taper` px back
+
+
+def _taper_ends(d: Dendrite, width: np.ndarray, dist: np.ndarray, taper: float) -> np.ndarray:
+    """Twig ends that taper whatever widths they were given: within ``taper`` px of a
+    branch's end, the width is at most the width ``taper`` px back times
+    :func:`_taper_profile` (a tone match that thickens a dark region's twigs widens their
+    ends too, and round caps then read as dots)."""
+    near = np.flatnonzero(dist < taper)
+    if taper <= 0 or near.size == 0:
+        return width
+    body = near.copy()  # walk up to the first node at least `taper` px from the end
+    for _ in range(int(np.ceil(taper)) + 2):
+        up = d.parent[body]
+        move = (dist[body] < taper) & (up >= 0)
+        if not move.any():
+            break
+        body[move] = up[move]
+    out = width.copy()
+    out[near] = np.minimum(width[near], width[body] * _taper_profile(dist[near], taper))
+    return out
 
 
 def _thickness(d: Dendrite, p: PareidoliaParams, imp, dark, crown, n_trunk: int) -> Dendrite:
-    """Pipe model + importance emphasis; tone-matched under a limb cap inside the crown."""
+    """Pipe model + importance emphasis; tone-matched under a limb cap inside the crown;
+    tapered twig ends."""
     leaf = np.zeros(d.n_nodes)
     leaf[d.tips] = 1.0
     tips = np.maximum(_accumulate_up(d.parent, leaf), 1.0)
     width = p.tip_width + p.pipe * np.sqrt(tips - 1.0) + p.increment * (p.iterations - d.iteration)
+    dist = d.tip_distance()
     if p.thickness == "branch":
-        return d.with_radius(width / 2)
+        return d.with_radius(_taper_ends(d, width, dist, p.taper) / 2)
     emph = rolling_importance(d, imp, p.window)
     ref = max(float(np.percentile(imp, 99.0)), 1e-3)
     width = width + p.emphasis * np.clip(emph / ref, 0, 1) ** 1.5
     inside = crown.ravel()[d.nodes]
     inside[:n_trunk] = False  # the trunk keeps its pipe width up to the fork
     if p.tone <= 0 or not inside.any():
-        return d.with_radius(width / 2)
+        return d.with_radius(_taper_ends(d, width, dist, p.taper) / 2)
     # limb cap: the fork's pipe width, thinning to max_width along the path from the fork
     arc = d.arc_depth()
     fork_arc = arc[n_trunk - 1] if n_trunk > 0 else 0.0
     from_fork = np.maximum(arc - fork_arc, 0.0)
     if p.taper > 0:
-        # round caps on tone-thickened twig ends read as dots: taper the last `taper`
-        # px of every branch to a third of its width (before the tone match, which
-        # then puts the ink back along the twigs instead of losing it)
-        width = width * (0.35 + 0.65 * np.sqrt(np.clip(d.tip_distance() / p.taper, 0.0, 1.0)))
+        # taper before the tone match too, which then puts the ink back along the
+        # twigs instead of losing it
+        width = width * _taper_profile(dist, p.taper)
     cap = np.maximum(p.max_width, width * np.exp(-from_fork / p.limb_length))
     floor = np.minimum(width * np.exp(-from_fork / p.limb_length), cap)
-    toned = tone_thickness(d.with_radius(width / 2), dark, sigma=5.0, min_width=p.tip_width * 0.4,
-                           max_width=float(cap.max()), strength=p.tone)
-    w_tone = np.clip(2.0 * toned.radius, floor, cap)
+    w_tone = width
+    for _ in range(_TONE_ROUNDS if p.taper > 0 else 1):
+        # the tone match thickens a dark region's twig ends as much as their bodies (more:
+        # less ink around an end): taper them again and match again, so the ink taken
+        # from the ends goes back into the bodies
+        toned = tone_thickness(d.with_radius(w_tone / 2), dark, sigma=p.tone_sigma,
+                               min_width=p.tip_width * 0.4, max_width=float(cap.max()),
+                               strength=p.tone)
+        w_tone = np.clip(2.0 * toned.radius, floor, cap)
+        if p.taper > 0:
+            w_tone = _taper_ends(d, w_tone, dist, p.taper)
     # a slight flare at the foot of the trunk
     height = d.points[:, 1].max() - d.points[:, 1]
     flare = 1.0 + 0.35 * np.clip(1.0 - height / (0.12 * d.shape[0]), 0.0, 1.0) ** 2
     flare[n_trunk:] = 1.0
-    return d.with_radius(np.where(inside, w_tone, width * flare) / 2)
+    out = np.where(inside, w_tone, width * flare)
+    if p.taper > 0:
+        out = _taper_ends(d, out, dist, p.taper)
+    return d.with_radius(out / 2)

@@ -104,11 +104,11 @@ TREE_LABELS = {
 PAREIDOLIA_SECTIONS = [
     ("crown and endpoints", ["side", "crown", "crown_blur", "n_endpoints", "random_ratio",
                              "endpoint_gamma"]),
-    ("lattice and node weights", ["lattice_size", "noise_image", "noise_random", "cost_weight", "epsilon",
-                                  "intensity_weight", "gradient_weight"]),
+    ("lattice and node weights", ["lattice_size", "max_upscale", "max_lattice", "noise_image", "noise_random",
+                                  "cost_weight", "epsilon", "intensity_weight", "gradient_weight"]),
     ("growth", ["iterations", "trunk_endpoints", "blend_weight", "trunk_height"]),
     ("widths", ["thickness", "window", "emphasis", "tone", "tip_width", "increment", "pipe", "max_width",
-                "limb_length", "taper"]),
+                "limb_length", "taper", "tone_sigma"]),
 ]
 PAREIDOLIA_LABELS = {
     "side": ("image side", ""), "n_endpoints": ("image endpoints", "N"),
@@ -124,7 +124,8 @@ PAREIDOLIA_LABELS = {
     "crown": ("crown shape", ""), "crown_blur": ("crown smoothing", ""),
     "lattice_size": ("lattice (0 = image)", ""), "tone": ("match tone", ""),
     "max_width": ("max crown width (px)", ""), "limb_length": ("limb thinning length", ""),
-    "taper": ("twig taper length", ""),
+    "taper": ("twig taper length", ""), "tone_sigma": ("tone scale", ""),
+    "max_upscale": ("max image px / lattice px", ""), "max_lattice": ("largest lattice", ""),
 }
 
 
