@@ -1,0 +1,176 @@
+"""Drawn leaves (flat fill, ink outline and veins): what synthesis does differently on them.
+
+Going beyond the paper, which works on photographs: on clip art the
+outline is ink drawn along the blade's boundary, not texture. Carried in
+the warped background it came out as a dotted rim with gaps inside the new
+blade and a soft halo of fill outside it; the background's own ink veins
+stayed beside the donor's (two vein systems), and resampled one-pixel ink
+turned grey and blurred. :func:`flat_art` decides from the exemplars'
+colour statistics whether they are drawn (an ink rim around most of every
+blade, ink much darker than the fill, a fill of few colours) and measures
+the outline (width, colour) and the palette; synthesis then removes all ink
+from the background, pastes whole ink strokes of the donor's layers, snaps
+colours to the palette and draws a new outline along the new blade's
+boundary.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import ndimage as ndi
+
+from ..core.image import extend_nearest
+
+__all__ = ["FlatArt", "flat_art"]
+
+#: Ink: brightest channel below this fraction of the fill's (and below INK_MAX).
+INK_RATIO = 0.6
+INK_MAX = 0.45
+#: Share of the blade's outermost pixels that must be ink (dashed outlines reach 0.7-0.8).
+MIN_RIM_INK = 0.6
+#: Share of the non-ink blade pixels that the fill's few colours (bins of 1/8 per channel) must hold.
+MIN_FLAT = 0.85
+
+
+@dataclass
+class FlatArt:
+    """What :func:`flat_art` found on drawn exemplars.
+
+    Attributes
+    ----------
+    outline_colour : (3,) float32 ndarray
+        Median colour of the exemplars' outline ink.
+    outline_width : float
+        Median outline width (px) over the exemplars.
+    ink : list of (H, W) bool ndarray
+        Each exemplar's ink pixels (outline and strokes) in its blade.
+    outline : list of (H, W) bool ndarray
+        Each exemplar's outline ink (the ink within the outline width of its boundary).
+    palette : (K, 3) float32 ndarray
+        The exemplars' few colours (fill and ink).
+    hard : bool
+        The exemplars are drawn without anti-aliasing (almost every blade
+        pixel is a palette colour): new leaves are snapped to the palette.
+    rim_ink, flatness : float
+        The measures the decision used (smallest over the exemplars).
+    """
+
+    outline_colour: np.ndarray
+    outline_width: float
+    ink: list
+    outline: list
+    palette: np.ndarray
+    hard: bool
+    rim_ink: float
+    flatness: float
+
+    def clean(self, img: np.ndarray, blade: np.ndarray, remove: np.ndarray) -> np.ndarray:
+        """``img`` with ``remove`` (grown by one pixel: anti-aliased rims) given the nearest other blade colour."""
+        gone = ndi.binary_dilation(remove) & blade
+        keep = blade & ~gone
+        if not gone.any() or not keep.any():
+            return img
+        out = img.copy()
+        out[gone] = extend_nearest(img, keep)[gone]
+        return out
+
+
+def _layers_from_rim(blade: np.ndarray, n: int) -> np.ndarray:
+    """Integer depth of every blade pixel counted in 3 x 3 erosions (1 = outermost), capped at ``n + 1``."""
+    depth = np.zeros(blade.shape, np.int16)
+    cur = blade.copy()
+    for j in range(1, n + 1):
+        nxt = ndi.binary_erosion(cur, structure=np.ones((3, 3), bool))
+        depth[cur & ~nxt] = j
+        cur = nxt
+        if not cur.any():
+            break
+    depth[cur] = n + 1
+    return depth
+
+
+def flat_art(exemplars, blades) -> FlatArt | None:
+    """Decide whether exemplars are drawn (flat fill, ink outline) and measure their outline; None if not.
+
+    Parameters
+    ----------
+    exemplars : list of (H, W, 3 or 4) float ndarray
+    blades : list of (H, W) bool ndarray
+
+    Returns
+    -------
+    FlatArt or None
+        None for photographs (or any exemplar without an ink rim around
+        most of its blade, or with a fill of many colours).
+
+    Notes
+    -----
+    Not in the paper. Measured: drawn procedural families (lobed,
+    trilobed, elliptic; 1-3 px outlines) rim ink 1.0, flatness 1.0; the two
+    sketched maples (dashed brush outline) rim ink 0.8; photographed maples
+    and the photo-like procedural families rim ink below 0.1.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.ones((40, 40, 3), np.float32); blade = np.zeros((40, 40), bool)
+    >>> blade[8:32, 8:32] = True; img[blade] = (0.4, 0.7, 0.3)
+    >>> img[blade & ~np.pad(np.ones((20, 20), bool), 10)] = 0.05  # a 2 px outline
+    >>> fa = flat_art([img], [blade])
+    >>> fa.outline_width, fa.hard
+    (2.0, True)
+    >>> flat_art([np.full((40, 40, 3), 0.5, np.float32)], [blade]) is None  # no ink rim
+    True
+    """
+    inks, outlines, widths, cols, rims, flats, px = [], [], [], [], [], [], []
+    for img, blade in zip(exemplars, blades):
+        rgb = np.asarray(img, np.float32)[..., :3]
+        blade = np.asarray(blade, bool)
+        if blade.sum() < 64:
+            return None
+        v = rgb.max(2)
+        fill_v = float(np.median(v[blade]))
+        ink = blade & (v < INK_RATIO * fill_v) & (v < INK_MAX)
+        depth = _layers_from_rim(blade, 12)
+        rim = depth == 1
+        rim_ink = float(ink[rim].mean())
+        # The width from the ink's share at each (Euclidean) depth, as the
+        # outline is drawn (3 x 3 erosions read a 3 px outline as 1.9 px).
+        dist = np.floor(ndi.distance_transform_edt(blade)).astype(np.int16)
+        base = float(ink[depth > 12].mean()) if (depth > 12).any() else 0.0
+        frac = np.array([ink[dist == j].mean() if (dist == j).any() else 0.0 for j in range(1, 13)])
+        width = 0.0
+        for f in frac:
+            if f - base < 0.3 * (frac[0] - base):
+                break
+            width += float(np.clip((f - base) / max(frac[0] - base, 1e-6), 0, 1))
+        width = max(width, 1.0)
+        outline = ink & (dist <= int(np.ceil(width)))
+        rest = blade & ~ndi.binary_dilation(ink) & (depth > 1)
+        if rest.sum() < 16:
+            return None
+        q = np.minimum((rgb[rest] * 8).astype(np.int16), 7)
+        code = q[:, 0] * 64 + q[:, 1] * 8 + q[:, 2]
+        counts = np.bincount(code, minlength=512)
+        flat = float(np.sort(counts)[::-1][:2].sum() / max(counts.sum(), 1))
+        inks.append(ink)
+        outlines.append(outline)
+        widths.append(width)
+        cols.append(np.median(rgb[outline], 0) if outline.any() else np.zeros(3))
+        rims.append(rim_ink)
+        flats.append(flat)
+        px.append(rgb[blade])
+    if min(rims) < MIN_RIM_INK or min(flats) < MIN_FLAT:
+        return None
+    allpx = np.concatenate(px)
+    q = np.minimum((allpx * 8).astype(np.int16), 7)
+    code = q[:, 0] * 64 + q[:, 1] * 8 + q[:, 2]
+    counts = np.bincount(code, minlength=512)
+    big = np.flatnonzero(counts >= 0.01 * len(allpx))
+    palette = np.array([allpx[code == b].mean(0) for b in big], np.float32)
+    near = np.min(np.abs(allpx[:, None, :] - palette[None]).max(-1), 1) if len(palette) else np.ones(len(allpx))
+    hard = bool(np.mean(near < 0.04) > 0.97)
+    return FlatArt(np.median(np.array(cols), 0).astype(np.float32), float(np.median(widths)), inks, outlines,
+                   palette, hard, float(min(rims)), float(min(flats)))
