@@ -138,12 +138,12 @@ def flat_art(exemplars, blades) -> FlatArt | None:
         rim_ink = float(ink[rim].mean())
         # The width from the ink's share at each (Euclidean) depth, as the
         # outline is drawn (3 x 3 erosions read a 3 px outline as 1.9 px).
-        dist = np.floor(ndi.distance_transform_edt(blade)).astype(np.int16)
+        dist = np.floor(ndi.distance_transform_edt(blade) + 0.5).astype(np.int16)  # bins [j - 0.5, j + 0.5)
         base = float(ink[depth > 12].mean()) if (depth > 12).any() else 0.0
         frac = np.array([ink[dist == j].mean() if (dist == j).any() else 0.0 for j in range(1, 13)])
         width = 0.0
         for f in frac:
-            if f - base < 0.3 * (frac[0] - base):
+            if f - base < 0.5 * (frac[0] - base):
                 break
             width += float(np.clip((f - base) / max(frac[0] - base, 1e-6), 0, 1))
         width = max(width, 1.0)

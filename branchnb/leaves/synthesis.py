@@ -809,6 +809,8 @@ def _ink_outline(rgb: np.ndarray, alpha: np.ndarray, fa):
         rgb[blade] = pal[idx]
     d_in = ndi.distance_transform_edt(blade)
     o = np.clip(fa.outline_width + 1.0 - d_in, 0.0, 1.0).astype(np.float32)  # edt: 1 on the outermost pixels
+    if fa.hard:
+        o = np.round(o)
     o[(alpha > 0) & ~blade] = 1.0
     alpha = blade.astype(np.float32)
     return rgb * (1 - o[..., None]) + fa.outline_colour[None, None, :] * o[..., None], alpha
