@@ -49,7 +49,9 @@ class FlatArt:
     outline : list of (H, W) bool ndarray
         Each exemplar's outline ink (the ink within the outline width of its boundary).
     palette : (K, 3) float32 ndarray
-        The exemplars' few colours (fill and ink).
+        The exemplars' few colours (fill, ink, paper between strokes): the
+        mean colour of each bin (1/8 per channel) holding >= 1 % of their
+        blade pixels, at most 8.
     hard : bool
         The exemplars are drawn without anti-aliasing (almost every blade
         pixel is a palette colour): new leaves are snapped to the palette.
@@ -168,7 +170,7 @@ def flat_art(exemplars, blades) -> FlatArt | None:
     q = np.minimum((allpx * 8).astype(np.int16), 7)
     code = q[:, 0] * 64 + q[:, 1] * 8 + q[:, 2]
     counts = np.bincount(code, minlength=512)
-    big = np.flatnonzero(counts >= 0.01 * len(allpx))
+    big = [b for b in np.argsort(counts)[::-1][:8] if counts[b] >= 0.01 * len(allpx)]  # at most 8 colours
     palette = np.array([allpx[code == b].mean(0) for b in big], np.float32)
     near = np.min(np.abs(allpx[:, None, :] - palette[None]).max(-1), 1) if len(palette) else np.ones(len(allpx))
     hard = bool(np.mean(near < 0.04) > 0.97)

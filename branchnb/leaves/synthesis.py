@@ -799,14 +799,9 @@ def _ink_outline(rgb: np.ndarray, alpha: np.ndarray, fa):
     blade = alpha > 0.5
     if not blade.any():
         return rgb, alpha
-    if fa.hard and len(fa.palette):
-        # Resampled one-pixel ink turned into grey two-pixel lines: every
-        # blade pixel takes its nearest palette colour, as in the exemplars.
-        pal = fa.palette
-        px = rgb[blade]
-        idx = np.argmin(((px[:, None, :] - pal[None]) ** 2).sum(-1), 1)
+    if len(fa.palette):
         rgb = rgb.copy()
-        rgb[blade] = pal[idx]
+        rgb[blade] = _to_palette(rgb[blade], fa.palette, fa.hard)
     d_in = ndi.distance_transform_edt(blade)
     o = np.clip(fa.outline_width + 1.0 - d_in, 0.0, 1.0).astype(np.float32)  # edt: 1 on the outermost pixels
     if fa.hard:
@@ -814,6 +809,38 @@ def _ink_outline(rgb: np.ndarray, alpha: np.ndarray, fa):
     o[(alpha > 0) & ~blade] = 1.0
     alpha = blade.astype(np.float32)
     return rgb * (1 - o[..., None]) + fa.outline_colour[None, None, :] * o[..., None], alpha
+
+
+def _to_palette(px: np.ndarray, pal: np.ndarray, hard: bool) -> np.ndarray:
+    """Colours ``px`` (N, 3) moved onto the drawing's palette.
+
+    Hard-edged art: the nearest palette colour (resampled one-pixel ink
+    turned into grey two-pixel lines). Anti-aliased art: the nearest
+    mixture of two palette colours (a point on a segment between them),
+    which keeps the anti-aliasing but removes the tints the resampling's
+    overshoot made between colours (cyan specks between dark green and
+    paper on the sketched maples).
+    """
+    px = np.asarray(px, np.float32)
+    if hard or len(pal) < 2:
+        idx = np.argmin(((px[:, None, :] - pal[None]) ** 2).sum(-1), 1)
+        return pal[idx]
+    out = np.empty_like(px)
+    pairs = [(i, j) for i in range(len(pal)) for j in range(i + 1, len(pal))]
+    for s0 in range(0, len(px), 65536):
+        c = px[s0:s0 + 65536]
+        best = np.full(len(c), np.inf, np.float32)
+        res = c.copy()
+        for i, j in pairs:
+            a, d = pal[i], pal[j] - pal[i]
+            t = np.clip(((c - a) @ d) / max(float(d @ d), 1e-9), 0.0, 1.0)
+            q = a + t[:, None] * d
+            dist = ((c - q) ** 2).sum(1)
+            better = dist < best
+            best[better] = dist[better]
+            res[better] = q[better]
+        out[s0:s0 + 65536] = res
+    return out
 
 
 def _correct(rgb, blade, mapping, source, source_blade, rng):
