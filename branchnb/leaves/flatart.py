@@ -149,7 +149,10 @@ def flat_art(exemplars, blades) -> FlatArt | None:
                 break
             width += float(np.clip((f - base) / max(frac[0] - base, 1e-6), 0, 1))
         width = max(width, 1.0)
-        outline = ink & (dist <= int(np.ceil(width)))
+        # The ink joined to the rim within one pixel past the width (a
+        # donor's outline on a diagonal reached past it and was pasted as
+        # a vein along the new leaf's margin).
+        outline = ndi.binary_propagation(ink & rim, mask=ink & (dist <= int(np.ceil(width)) + 1))
         rest = blade & ~ndi.binary_dilation(ink) & (depth > 1)
         if rest.sum() < 16:
             return None
