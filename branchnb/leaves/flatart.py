@@ -79,20 +79,6 @@ class FlatArt:
         return out
 
 
-def _layers_from_rim(blade: np.ndarray, n: int) -> np.ndarray:
-    """Integer depth of every blade pixel counted in 3 x 3 erosions (1 = outermost), capped at ``n + 1``."""
-    depth = np.zeros(blade.shape, np.int16)
-    cur = blade.copy()
-    for j in range(1, n + 1):
-        nxt = ndi.binary_erosion(cur, structure=np.ones((3, 3), bool))
-        depth[cur & ~nxt] = j
-        cur = nxt
-        if not cur.any():
-            break
-    depth[cur] = n + 1
-    return depth
-
-
 def flat_art(exemplars, blades) -> FlatArt | None:
     """Decide whether exemplars are drawn (flat fill, ink outline) and measure their outline; None if not.
 
@@ -135,13 +121,12 @@ def flat_art(exemplars, blades) -> FlatArt | None:
         v = rgb.max(2)
         fill_v = float(np.median(v[blade]))
         ink = blade & (v < INK_RATIO * fill_v) & (v < INK_MAX)
-        depth = _layers_from_rim(blade, 12)
-        rim = depth == 1
+        rim = blade & ~ndi.binary_erosion(blade, structure=np.ones((3, 3), bool))
         rim_ink = float(ink[rim].mean())
         # The width from the ink's share at each (Euclidean) depth, as the
         # outline is drawn (3 x 3 erosions read a 3 px outline as 1.9 px).
         dist = np.floor(ndi.distance_transform_edt(blade) + 0.5).astype(np.int16)  # bins [j - 0.5, j + 0.5)
-        base = float(ink[depth > 12].mean()) if (depth > 12).any() else 0.0
+        base = float(ink[dist > 12].mean()) if (dist > 12).any() else 0.0
         frac = np.array([ink[dist == j].mean() if (dist == j).any() else 0.0 for j in range(1, 13)])
         width = 0.0
         for f in frac:
@@ -153,7 +138,7 @@ def flat_art(exemplars, blades) -> FlatArt | None:
         # donor's outline on a diagonal reached past it and was pasted as
         # a vein along the new leaf's margin).
         outline = ndi.binary_propagation(ink & rim, mask=ink & (dist <= int(np.ceil(width)) + 1))
-        rest = blade & ~ndi.binary_dilation(ink) & (depth > 1)
+        rest = blade & ~ndi.binary_dilation(ink) & ~rim
         if rest.sum() < 16:
             return None
         q = np.minimum((rgb[rest] * 8).astype(np.int16), 7)

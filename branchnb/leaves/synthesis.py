@@ -327,8 +327,8 @@ class _Prepared:
         # any ink on drawn leaves (a stroke the induction missed is still in
         # the next stage, so its ratio was 1 and the pasted vein had gaps).
         self.under = [[_bleed(fa.clean(np.asarray(a.residuals[k][e], np.float32), a.blades[e], fa.ink[e]),
-                              a.blades[e]) for e in range(self.n)] if fa is not None else self.stage[k]
-                      for k in range(len(a.residuals))]
+                              a.blades[e]) for e in range(self.n)] if fa is not None and 0 < k < last
+                      else self.stage[k] for k in range(len(a.residuals))]
         # Layer masks grown by the pixel the residual also removed: the
         # exemplar's own anti-aliased rim comes back with the layer.
         self.layer_masks, self.layer_weights = [], []
