@@ -96,9 +96,14 @@ def flat_art(exemplars, blades) -> FlatArt | None:
     Notes
     -----
     Not in the paper. Measured: drawn procedural families (lobed,
-    trilobed, elliptic; 1-3 px outlines) rim ink 1.0, flatness 1.0; the two
-    sketched maples (dashed brush outline) rim ink 0.8; photographed maples
-    and the photo-like procedural families rim ink below 0.1.
+    trilobed, elliptic; 256-512 px; 1-3 px outlines) rim ink 0.74-1.0,
+    flatness 1.0; the two sketched maples (dashed brush outline, half
+    size) rim ink 0.75, flatness 0.93; photographed maples rim ink 0.06,
+    flatness 0.75, and a photo-like procedural family 0.0 and 0.62.
+    The width is the ink's share summed over whole-pixel Euclidean depths
+    (a 4-connected 2 px outline reads 1.6 px: it is thinner on
+    diagonals); new leaves read back within 0.2 px of their exemplars.
+    A dashed outline is drawn continuous on new leaves.
 
     Examples
     --------
