@@ -822,7 +822,7 @@ def _ink_outline(rgb: np.ndarray, alpha: np.ndarray, fa):
     if len(fa.palette):
         rgb = rgb.copy()
         rgb[blade] = _to_palette(rgb[blade], fa.palette, fa.hard)
-    d_in = ndi.distance_transform_edt(blade)
+    d_in = cv2.distanceTransform(blade.astype(np.uint8), cv2.DIST_L2, cv2.DIST_MASK_PRECISE)
     o = np.clip(fa.outline_width + 1.0 - d_in, 0.0, 1.0).astype(np.float32)  # edt: 1 on the outermost pixels
     if fa.hard:
         o = np.round(o)
@@ -835,31 +835,37 @@ def _to_palette(px: np.ndarray, pal: np.ndarray, hard: bool) -> np.ndarray:
     """Colours ``px`` (N, 3) moved onto the drawing's palette.
 
     Hard-edged art: the nearest palette colour (resampled one-pixel ink
-    turned into grey two-pixel lines). Anti-aliased art: the nearest
-    mixture of two palette colours (a point on a segment between them),
-    which keeps the anti-aliasing but removes the tints the resampling's
-    overshoot made between colours (cyan specks between dark green and
-    paper on the sketched maples).
+    turned into grey two-pixel lines). Anti-aliased art: a colour off the
+    palette (more than 0.04 from every colour) goes to the nearest mixture
+    of two palette colours (a point on a segment between them), which keeps
+    the anti-aliasing but removes the tints the resampling's overshoot made
+    between colours (cyan specks between dark green and paper on the
+    sketched maples).
     """
     px = np.asarray(px, np.float32)
-    if hard or len(pal) < 2:
-        idx = np.argmin(((px[:, None, :] - pal[None]) ** 2).sum(-1), 1)
-        return pal[idx]
-    out = np.empty_like(px)
-    pairs = [(i, j) for i in range(len(pal)) for j in range(i + 1, len(pal))]
+    pal = np.asarray(pal, np.float32)
+    pn = (pal ** 2).sum(1)
+    out = px.copy()
+    pairs = np.array([(i, j) for i in range(len(pal)) for j in range(i + 1, len(pal))], int).reshape(-1, 2)
+    a = pal[pairs[:, 0]] if len(pairs) else pal[:0]
+    d = pal[pairs[:, 1]] - a if len(pairs) else pal[:0]
+    dn = np.maximum((d ** 2).sum(1), 1e-9)
+    ad = (a * d).sum(1)
     for s0 in range(0, len(px), 65536):
         c = px[s0:s0 + 65536]
-        best = np.full(len(c), np.inf, np.float32)
-        res = c.copy()
-        for i, j in pairs:
-            a, d = pal[i], pal[j] - pal[i]
-            t = np.clip(((c - a) @ d) / max(float(d @ d), 1e-9), 0.0, 1.0)
-            q = a + t[:, None] * d
-            dist = ((c - q) ** 2).sum(1)
-            better = dist < best
-            best[better] = dist[better]
-            res[better] = q[better]
-        out[s0:s0 + 65536] = res
+        d2 = (c ** 2).sum(1)[:, None] - 2 * c @ pal.T + pn[None]
+        near = np.argmin(d2, 1)
+        if hard or not len(pairs):
+            out[s0:s0 + 65536] = pal[near]
+            continue
+        off = np.flatnonzero(d2[np.arange(len(c)), near] > 0.04 ** 2)
+        if not len(off):
+            continue
+        co = c[off]
+        t = np.clip((co @ d.T - ad[None]) / dn[None], 0.0, 1.0)  # (M, P)
+        q = a[None] + t[..., None] * d[None]  # (M, P, 3)
+        k = np.argmin(((co[:, None, :] - q) ** 2).sum(-1), 1)
+        out[s0 + off] = q[np.arange(len(off)), k]
     return out
 
 
