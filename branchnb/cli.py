@@ -80,6 +80,19 @@ def lab_command(notebook=None, extra=()) -> list[str]:
     JupyterLab refuses to start as root without ``--allow-root``; containers
     often run as root, so the flag is added exactly then. An installed wheel
     has no ``notebooks/`` folder: then JupyterLab opens on its launcher.
+
+    Parameters
+    ----------
+    notebook : str or Path, optional
+        The notebook to open; None: the tour (``notebooks/00_tour.ipynb``)
+        when it exists, else the launcher.
+    extra : sequence of str
+        Further ``jupyter lab`` options, appended as given.
+
+    Returns
+    -------
+    list of str
+        The argument vector, starting with the current Python.
     """
     if notebook:
         cmd = [sys.executable, "-m", "jupyterlab", str(Path(notebook))]
@@ -101,6 +114,30 @@ def lab_setup(notebook=None, extra=(), *, env=None) -> tuple[list[str], dict, st
     in any browser (a remote or headless machine included). JupyterLab's own
     start-up messages are turned down to warnings so that this URL is not
     buried; a local browser, when there is one, opens it.
+
+    Parameters
+    ----------
+    notebook : str or Path, optional
+        The notebook to open; None: the tour when it exists, else the launcher.
+    extra : sequence of str
+        ``jupyter lab`` options; a given ``--ip``, ``--port``, token,
+        root folder, log level or ``--no-browser`` replaces the default.
+    env : dict, optional
+        Base environment (default: ``os.environ``); copied, not modified.
+
+    Returns
+    -------
+    cmd : list of str
+        The command line (:func:`lab_command`).
+    env : dict
+        The environment to run it in (``JUPYTER_TOKEN`` set).
+    url : str
+        The notebook's URL with its token.
+
+    Raises
+    ------
+    CommandError
+        ``notebook`` is not a file, or not inside the root folder given.
     """
     extra = list(extra)
     env = dict(os.environ if env is None else env)
@@ -149,6 +186,18 @@ def run_lab(cmd: list[str], env: dict | None = None) -> int:
     a terminal's Ctrl-C go to Jupyter itself, which shuts down its kernels;
     nothing is left running behind a dead parent. Elsewhere the server runs
     as a child and SIGTERM/SIGINT are forwarded to it.
+
+    Parameters
+    ----------
+    cmd : list of str
+        The command line, e.g. from :func:`lab_setup` or :func:`app_setup`.
+    env : dict, optional
+        Its environment; None: ``os.environ``.
+
+    Returns
+    -------
+    int
+        The server's exit status (on POSIX this call does not return).
     """
     sys.stdout.flush()
     sys.stderr.flush()
@@ -167,6 +216,17 @@ def run_lab(cmd: list[str], env: dict | None = None) -> int:
 
 def writable_dir(outdir, *, name: str = "OUTDIR") -> Path:
     """``outdir`` as a folder that exists (created if needed) and can be written to.
+
+    Parameters
+    ----------
+    outdir : str or Path
+        The folder (parents created as needed).
+    name : str
+        What the command line calls it, for the messages (default ``"OUTDIR"``).
+
+    Returns
+    -------
+    Path
 
     Raises
     ------
@@ -214,6 +274,36 @@ def app_setup(name: str, images=(), extra=(), *, folder=None, env=None) -> tuple
     is written into ``folder`` (a new temporary folder by default); Voila
     runs it and shows the app alone, without code cells. The server listens
     on 127.0.0.1 on a free port and asks for a fresh token, like ``branchnb lab``.
+
+    Parameters
+    ----------
+    name : str
+        The app: one of :data:`APP_HELP` (``"branching"``, ``"dendrite"``,
+        ``"trees"``, ``"strokes"``, ``"leaves"``).
+    images : sequence of str or Path
+        Images the app opens with (read here, so a bad one fails at once);
+        empty: the app's own sample.
+    extra : sequence of str
+        Further ``voila`` options; a given ``--port`` or ``--token`` replaces
+        the default.
+    folder : str or Path, optional
+        Where the page's notebook is written; None: a new temporary folder.
+    env : dict, optional
+        Base environment (default: ``os.environ``); copied, not modified.
+
+    Returns
+    -------
+    cmd : list of str
+        The ``voila`` command line.
+    env : dict
+        The environment to run it in.
+    url : str
+        The page's URL with its token.
+
+    Raises
+    ------
+    CommandError
+        An unknown ``name`` or an unreadable image (naming it).
     """
     if name not in APP_HELP:
         raise CommandError(f"NAME must be one of {', '.join(APP_HELP)}; got {name!r}")
@@ -439,6 +529,21 @@ def _batch(args) -> int:
 
 
 def main(argv=None) -> int:
+    """Run one ``branchnb`` command (the console script's entry point).
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments after the program name; None: ``sys.argv[1:]`` (and
+        the process is about to exit).
+
+    Returns
+    -------
+    int
+        Exit status: 0 on success, 1 for a user error (printed as one line)
+        or a batch with failed items, 130 for an interrupted batch; ``lab``
+        and ``app`` do not return on POSIX (the server replaces the process).
+    """
     parser = _parser()
     as_program = argv is None
     argv = list(sys.argv[1:] if argv is None else argv)

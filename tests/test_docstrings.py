@@ -25,7 +25,8 @@ docscrape = pytest.importorskip("numpydoc.docscrape")
 
 #: Packages (or single modules) whose public callables must document their parameters.
 PACKAGES = ("branchnb.core", "branchnb.widgets", "branchnb.plot", "branchnb.gallery", "branchnb.data",
-            "branchnb.bench", "branchnb.dendrite", "branchnb.strokes", "branchnb.trees")
+            "branchnb.bench", "branchnb.dendrite", "branchnb.strokes", "branchnb.trees",
+            "branchnb.branching", "branchnb.batch", "branchnb.cli", "branchnb.leaves")
 
 
 def public_modules(package: str) -> list[str]:

@@ -511,3 +511,34 @@ def test_side_views_of_drawn_trees_keep_inner_outlines(kind):
         assert f["flecks"] <= f["flecks0"] + 0.02, (yaw, f)
         if kind == "conifer":                 # stacked tiers: every tier's outline stays in view
             assert f["inner_ink"] >= 0.9, (yaw, f)
+
+
+def test_merged_palm_fronds_are_lobes_not_a_background():
+    from branchnb.trees.billboard import _merged_lobes
+
+    yy, xx = np.mgrid[:61, :61] - 30.0
+    star = np.zeros((61, 61), bool)
+    for a in np.deg2rad([10, 80, 150, 220, 290]):        # five fronds meeting at a hub
+        u, v = xx * np.cos(a) + yy * np.sin(a), -xx * np.sin(a) + yy * np.cos(a)
+        star |= ((u - 17) / 12) ** 2 + (v / 4.5) ** 2 <= 1    # tips reach into the hub
+    star |= xx ** 2 + yy ** 2 <= 6 ** 2
+    lobes = _merged_lobes(star, star)
+    assert lobes is not None and lobes.max() == 5 and np.array_equal(lobes > 0, star)
+    # A crown's base fill round clumps that reach the rim: crown all round it, left alone.
+    crown = xx ** 2 / 28 ** 2 + yy ** 2 / 22 ** 2 <= 1
+    base = crown & ((xx - 8) ** 2 + yy ** 2 > 14 ** 2) & ((xx + 12) ** 2 + (yy + 10) ** 2 > 10 ** 2)
+    assert _merged_lobes(base, crown) is None
+
+
+def test_palm_with_merged_fronds_keeps_its_strokes_from_the_side(monkeypatch):
+    from branchnb.trees import billboard as bb
+    from branchnb.trees.drawn import drawn_tree
+    from branchnb.trees.quality import side_view_figures
+
+    img = drawn_tree("palm", rng=1, size=128)                # fronds merge at the hub in the line art
+    params = BillboardParams(max_size=128)
+    now = side_view_figures(billboard_cloud(img, params=params, rng=0), 90.0)
+    monkeypatch.setattr(bb, "_SKY_HULL", -1.0)               # the merged fronds split as a background
+    split = side_view_figures(billboard_cloud(img, params=params, rng=0), 90.0)
+    assert now["fragments"] <= 0.03 < split["fragments"], (now, split)
+    assert now["inner_ink"] <= 1.5 < split["inner_ink"], (now, split)   # no piled-up comb strokes

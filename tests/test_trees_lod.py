@@ -158,3 +158,32 @@ def test_single_level_is_an_impostor_atlas_of_inked_views(tmp_path):
     frames = json.loads(f.read_text())["meshes"][3]["extras"]["impostor"]["frames"]
     assert [fr["yaw"] for fr in frames] == list(single.yaws)
     assert all(0 <= u <= 1 for fr in frames for u in fr["uv"])
+
+
+@pytest.fixture(scope="module")
+def drawn_cloud():
+    from branchnb.trees.drawn import drawn_tree
+
+    return billboard_cloud(drawn_tree("broadleaf", rng=3, size=128), params=BillboardParams(max_size=128), rng=0)
+
+
+def test_exported_levels_keep_the_side_outline_of_drawn_trees(drawn_cloud):
+    from branchnb.trees.lod import bake_side_outline, engine_view
+    from branchnb.trees.outline import rim_ink_share, silhouette_outline
+
+    ink = silhouette_outline(drawn_cloud.image).ink
+    chain = lod_chain(drawn_cloud)
+    for lv, bare in ((chain[0], drawn_cloud), (chain[1], reduce_cloud(drawn_cloud))):
+        assert lv.cloud.n_billboards == bare.n_billboards
+        # The front view is exactly as drawn; the side views gain ink on their rim.
+        assert np.abs(engine_view(lv.cloud, 0.0) - engine_view(bare, 0.0)).max() < 1e-3
+        for yaw in (45.0, 90.0):
+            assert rim_ink_share(engine_view(lv.cloud, yaw), ink) >= rim_ink_share(engine_view(bare, yaw), ink)
+    gain = rim_ink_share(engine_view(chain[0].cloud, 90.0), ink) - rim_ink_share(engine_view(drawn_cloud, 90.0), ink)
+    assert gain > 0.1, gain
+    # A cloud without an outlined silhouette is left as it is.
+    from branchnb.trees.synthetic import synthetic_tree
+
+    plain = billboard_cloud(synthetic_tree("clean", rng=0, size=64).image, rng=0)
+    same = bake_side_outline(plain)
+    assert all(a is b or np.array_equal(a, b) for a, b in zip(same.textures, plain.textures))

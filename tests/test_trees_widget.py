@@ -173,6 +173,9 @@ def test_billboard_cloud_tab(app):
     assert len(app.cloud_view.images) == 2
     app.yaw.value = -60.0
     assert "-60" in app.cloud_view.title_texts[1]
+    import json
+    doc = json.loads(app._outputs()["cloud.gltf"])               # saved with the side outline baked
+    assert doc["asset"]["version"] == "2.0" and doc["images"]
 
 
 def test_no_tree_checked_leaves_no_stale_result(app):
@@ -197,6 +200,8 @@ def test_small_trees_are_not_shown_enlarged(lib):
     app = TreeVariationsApp(lib, display=256, thumb=48)
     assert app.views.width == 128 and app.morph_view.width == 128
     assert app._grid_size <= 128
+    # The scribble canvas too: at 384 px a 128 px tree was drawn unsmoothed, 6 device px per px.
+    assert app.seg_canvas.canvas.layout.width == "128px" and app.seg_canvas.zoom < 2 * app.seg_canvas.pixel_ratio
 
 
 def test_tabs_keep_one_width_so_the_sidebar_does_not_jump(app):
@@ -239,3 +244,24 @@ def test_more_like_this_results_differ(app, lib):
     more = app.more_like_this(6)
     between = mean_pairwise_distance([e.resampled for e in lib])
     assert mean_pairwise_distance([v.resampled for v in more]) >= 0.4 * between
+
+
+def test_more_like_this_of_two_checked_trees_reaches_the_library(app, lib):
+    # Two checked trees: variations drawn from them alone lie on the line between the two
+    # (a third of their distance apart); the random part now draws from the whole library.
+    from branchnb.trees.variations import mean_pairwise_distance
+
+    assert app.selected == NAMES[:2] and app.similar_library.value
+    between = mean_pairwise_distance([e.resampled for e in lib])
+    more = app.more_like_this(6)
+    app.similar_library.value = False
+    only = app.more_like_this(6)
+    assert all(set(n for n, w in zip(v.names, v.weights) if w > 0) <= set(NAMES[:2]) for v in only)
+    d_more, d_only = (mean_pairwise_distance([v.resampled for v in vs]) for vs in (more, only))
+    # (a three-tree library has few corners to spread to: 0.5 is reached on larger ones)
+    assert d_more >= 0.4 * between and d_more >= 1.2 * d_only, (d_more, d_only, between)
+    app.similar_library.value = True
+    more = app.more_like_this(6)
+    i = next(i for i, v in enumerate(more) if v.weights[list(v.names).index("tree_rpg_06")] > 0)
+    app.adopt(i)                                      # brings in the unchecked tree it mixed
+    assert "tree_rpg_06" in app.selected and app.weights.sum() == pytest.approx(1.0)

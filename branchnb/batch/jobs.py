@@ -34,7 +34,7 @@ __all__ = ["Job", "ItemOutput", "JOBS", "register_job", "get_job", "resolve_path
 class ItemOutput:
     """What one item produced.
 
-    Attributes
+    Parameters
     ----------
     files : dict
         ``{file name: bytes}``; names start with the item's ``stem``.
@@ -50,7 +50,7 @@ class ItemOutput:
 class Job:
     """A batch job.
 
-    Attributes
+    Parameters
     ----------
     name : str
         What specs call it.
@@ -69,8 +69,10 @@ class Job:
     stem : str
         File names are ``<stem>_<index>...``.
     item_inputs : tuple of str
-        Inputs a spec may change per item (``vary``/``items``).
+        Inputs a spec may change per item (``vary``/``items``); ``()`` (the
+        default): every input is shared by all items.
     description : str
+        A one-line human description of what an item makes (informational).
     unused : callable(given, sections) -> dict, optional
         Which of the inputs a spec gives (``given``: name -> value, from
         ``inputs``, ``vary`` and ``items``) and parameter sections it sets
@@ -105,7 +107,28 @@ JOBS: dict[str, Job] = {}
 
 
 def register_job(job: Job, *, replace: bool = False) -> Job:
-    """Add ``job`` to :data:`JOBS` (``replace=True`` to redefine a name)."""
+    """Add ``job`` to :data:`JOBS` (``replace=True`` to redefine a name).
+
+    Parameters
+    ----------
+    job : Job
+        The job to register under ``job.name``.
+    replace : bool
+        Redefine an already registered name instead of raising ValueError
+        (default False).
+
+    Returns
+    -------
+    Job
+        ``job`` itself, so ``register_job`` can wrap a definition.
+
+    Raises
+    ------
+    TypeError
+        ``job`` is not a :class:`Job`.
+    ValueError
+        A job of that name is registered and ``replace`` is False.
+    """
     if not isinstance(job, Job):
         raise TypeError(f"job must be a Job, got {type(job).__name__}")
     if job.name in JOBS and not replace:
@@ -115,7 +138,27 @@ def register_job(job: Job, *, replace: bool = False) -> Job:
 
 
 def get_job(name: str) -> Job:
-    """The registered job called ``name``."""
+    """The registered job called ``name``.
+
+    Importing this module registers nothing; the first call imports the
+    built-in technique jobs.
+
+    Parameters
+    ----------
+    name : str
+        The job's name, as a spec's ``job`` gives it.
+
+    Returns
+    -------
+    Job
+
+    Raises
+    ------
+    TypeError
+        ``name`` is not a str.
+    ValueError
+        No job of that name is registered (the message lists the ones that are).
+    """
     from . import _builtin  # noqa: F401  (registers the technique jobs)
 
     if not isinstance(name, str):
@@ -126,7 +169,28 @@ def get_job(name: str) -> Job:
 
 
 def resolve_path(value, base_dir: Path | None, *, name: str) -> Path:
-    """``value`` as a path; a relative one starts at ``base_dir`` (the spec file's folder)."""
+    """``value`` as a path; a relative one starts at ``base_dir`` (the spec file's folder).
+
+    Parameters
+    ----------
+    value : str or Path
+        A path from a spec's inputs; ``~`` is expanded.
+    base_dir : Path or None
+        The folder a relative ``value`` is relative to (the spec file's);
+        None leaves a relative path relative to the working directory.
+    name : str
+        The input's name, used in the error message (``inputs.<name>``).
+
+    Returns
+    -------
+    Path
+        Not checked for existence.
+
+    Raises
+    ------
+    ValueError
+        ``value`` is not a str or Path, or is empty.
+    """
     if not isinstance(value, (str, Path)) or str(value) == "":
         raise ValueError(f"inputs.{name} must be a path, got {value!r}")
     p = Path(value).expanduser()

@@ -55,7 +55,25 @@ class ManifestError(ValueError):
 
 
 def file_record(name: str, content: bytes) -> dict:
-    """``{"name", "bytes", "sha256"}`` of one output file."""
+    """``{"name", "bytes", "sha256"}`` of one output file.
+
+    Parameters
+    ----------
+    name : str
+        File name inside the output folder.
+    content : bytes
+        The file's content.
+
+    Returns
+    -------
+    dict
+
+    Examples
+    --------
+    >>> rec = file_record("tree_00000.png", b"abc")
+    >>> rec["bytes"], rec["sha256"][:8]
+    (3, 'ba7816bf')
+    """
     return {"name": name, "bytes": len(content), "sha256": hashlib.sha256(content).hexdigest()}
 
 
@@ -109,9 +127,21 @@ def _manifest_path(path) -> Path:
 class Manifest:
     """The manifest of one output folder: index, check, append, compact.
 
+    Parameters
+    ----------
+    outdir : str or Path
+        The output folder; its ``manifest.jsonl`` is indexed at once (a
+        missing file is an empty manifest).
+
+    Raises
+    ------
+    ManifestError
+        ``manifest.jsonl`` is a folder or cannot be read.
+
     Attributes
     ----------
     path : Path
+        ``outdir / "manifest.jsonl"``.
     problems : list of str
         Lines that could not be read, as ``"<file> line <n>: <reason>"``
         (at most 20, then a count).
@@ -192,7 +222,17 @@ class Manifest:
         return self._items.copy()
 
     def get(self, item: int) -> dict | None:
-        """The latest readable record of ``item`` (None if there is none)."""
+        """The latest readable record of ``item`` (None if there is none).
+
+        Parameters
+        ----------
+        item : int
+            Item index.
+
+        Returns
+        -------
+        dict or None
+        """
         k = int(np.searchsorted(self._items, item))
         if k >= len(self._items) or self._items[k] != item:
             return None
@@ -202,7 +242,22 @@ class Manifest:
         return rec
 
     def is_complete(self, item: int, expected: dict) -> bool:
-        """Whether ``item`` is done with the ``expected`` seed/params/inputs/key and intact files."""
+        """Whether ``item`` is done with the ``expected`` seed/params/inputs/key and intact files.
+
+        Parameters
+        ----------
+        item : int
+            Item index.
+        expected : dict
+            ``{record key: value}`` the latest record must hold (compared as
+            canonical JSON), e.g. ``seed``, ``params``, ``inputs``, ``key``.
+
+        Returns
+        -------
+        bool
+            True when the record is ``done``, matches ``expected`` and lists
+            at least one file, each present with its size and SHA-256.
+        """
         rec = self.get(item)
         if rec is None or rec.get("status") != "done":
             return False
@@ -219,6 +274,18 @@ class Manifest:
         The line reaches the operating system at once (it survives the
         process being killed); ``sync=True`` also waits until it is on the
         disk (``fsync``, ~10 ms), else :meth:`sync` does it for several lines.
+
+        Parameters
+        ----------
+        record : dict
+            Strict JSON data (no NaN/inf), an item record or a run record.
+        sync : bool
+            Wait for the disk (default True).
+
+        Raises
+        ------
+        ManifestError
+            The file cannot be opened for writing.
         """
         line = json.dumps(record, allow_nan=False, separators=(",", ":")) + "\n"
         if self._file is None:
@@ -238,7 +305,17 @@ class Manifest:
             os.fsync(self._file.fileno())
 
     def record_run_failure(self, error: str, key: str, items_not_run: int) -> None:
-        """Append a run record: this run could not start any item, because of ``error``."""
+        """Append a run record: this run could not start any item, because of ``error``.
+
+        Parameters
+        ----------
+        error : str
+            ``"Type: message"`` of what stopped the run.
+        key : str
+            The spec key (:func:`~branchnb.batch.runner.spec_key`) of the run.
+        items_not_run : int
+            Items that were left to compute.
+        """
         self.append({"run": "failed", "error": error, "key": key, "items_not_run": int(items_not_run)})
         self.close()
 
@@ -274,6 +351,21 @@ def read_manifest(path) -> dict[int, dict]:
     """The latest record of each item in a manifest file or output folder (``{}`` if there is none).
 
     Unreadable lines and run records are skipped (see :class:`Manifest` for how a run reports them).
+
+    Parameters
+    ----------
+    path : str or Path
+        An output folder or its ``manifest.jsonl``.
+
+    Returns
+    -------
+    dict
+        ``{item: record}``.
+
+    Raises
+    ------
+    ManifestError
+        ``manifest.jsonl`` is a folder or cannot be read.
     """
     path = _manifest_path(path)
     m = Manifest.__new__(Manifest)
@@ -288,7 +380,16 @@ def _canonical(value):
 
 
 def write_atomic(path: Path, content: bytes) -> None:
-    """Write ``content`` to ``path`` through a temporary file, so no torn file is ever left."""
+    """Write ``content`` to ``path`` through a temporary file, so no torn file is ever left.
+
+    Parameters
+    ----------
+    path : Path
+        Destination (replaced if it exists); the temporary file
+        ``.<name>.part`` lies in the same folder.
+    content : bytes
+        What to write.
+    """
     tmp = path.with_name(f".{path.name}.part")
     with tmp.open("wb") as f:
         f.write(content)

@@ -139,6 +139,15 @@ def make_progress(kind, total: int, initial: int = 0, description: str = ""):
         a callable is called as ``kind(done, total)``; None is silent.
     total, initial : int
         Items in the batch, and those already complete (resumed).
+    description : str
+        Label in front of the bar (tqdm's ``desc``, the widget's title);
+        ``""`` (default): none. A callable ``kind`` does not get it.
+
+    Returns
+    -------
+    object
+        A reporter with ``note(text)``, ``start()``, ``skip(n)``,
+        ``advance(n, failed=0)`` and ``close(summary=None)``.
     """
     if kind is None or kind is False:
         return _Silent()

@@ -44,9 +44,10 @@ _NON_FINITE = re.compile(r"(?i)(?<![a-z#])(nan|inf)(?![a-z])")
 class BatchSummary:
     """What a run did.
 
-    Attributes
+    Parameters
     ----------
     job : str
+        The job's name.
     total : int
         Items in the spec.
     done : int
@@ -60,6 +61,7 @@ class BatchSummary:
     interrupted : bool
         The run was stopped (Ctrl-C / kernel interrupt); the manifest holds every finished item.
     outdir : Path
+        The output folder (holds ``manifest.jsonl`` and the files).
     workers : int
         Dask worker threads used (0 if nothing had to be computed).
     startup_seconds : float
@@ -114,12 +116,47 @@ class BatchSummary:
 
 
 def item_stem(job: Job, index: int, count: int) -> str:
-    """File-name stem of item ``index``: ``<job stem>_<index, zero-padded to >= 5 digits>``."""
+    """File-name stem of item ``index``: ``<job stem>_<index, zero-padded to >= 5 digits>``.
+
+    Parameters
+    ----------
+    job : Job
+        Gives the stem's prefix (``job.stem``).
+    index : int
+        The item's index in the spec (0-based).
+    count : int
+        Items in the spec: the padding is wide enough for ``count - 1``, so
+        the names of one batch sort in item order.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> item_stem(SimpleNamespace(stem="tree"), 17, 200)
+    'tree_00017'
+    >>> item_stem(SimpleNamespace(stem="tree"), 17, 1_000_000)
+    'tree_000017'
+    """
     return f"{job.stem}_{index:0{max(5, len(str(count - 1)))}d}"
 
 
 def spec_key(spec: BatchSpec) -> str:
-    """Fingerprint of what all items share (the job and its shared inputs)."""
+    """Fingerprint of what all items share (the job and its shared inputs).
+
+    Parameters
+    ----------
+    spec : BatchSpec
+        The spec; its job, shared inputs and ``base_dir`` are hashed (not
+        ``count``, ``seed`` or the parameters, which are checked per item).
+
+    Returns
+    -------
+    str
+        16 hex digits; a manifest record with another key is recomputed.
+    """
     text = json.dumps({"job": spec.job, "inputs": spec.shared_inputs(),
                        "base_dir": str(spec.base_dir) if spec.base_dir else None}, sort_keys=True)
     return hashlib.sha256(text.encode("utf-8")).hexdigest()[:16]
@@ -171,6 +208,22 @@ def run_items(job: Job, shared, items: list) -> list[dict]:
     dict with ``item``, ``files`` (name -> bytes), ``info``, ``time`` and
     ``error`` (``"Type: message"`` or None). An item's exception is recorded,
     never raised, so the rest of the chunk and of the batch go on.
+
+    Parameters
+    ----------
+    job : Job
+        Its ``make`` computes each item.
+    shared : object
+        What ``job.prepare`` returned (scattered once to every worker).
+    items : list of tuple
+        ``(index, seed, params, inputs, stem)`` per item: ``seed`` (int)
+        seeds the item's ``numpy.random.Generator``, ``params`` maps
+        sections to parameter dataclasses.
+
+    Returns
+    -------
+    list of dict
+        One result per item, in the order of ``items``.
     """
     results = []
     for index, seed, params, inputs, stem in items:
@@ -289,6 +342,8 @@ def run_batch(spec, outdir, *, client=None, scheduler: str | None = None, n_work
     Parameters
     ----------
     spec : BatchSpec, or path of a .json/.toml spec
+        What to run: the job, the item count, the base seed, the inputs and
+        parameters (a path is read with :func:`~branchnb.batch.spec.load_spec`).
     outdir : str or Path
         Output folder (created if needed). Items already complete there
         (see :mod:`branchnb.batch.manifest`) are skipped: running the same

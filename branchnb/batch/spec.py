@@ -79,7 +79,32 @@ def _plain(value, where: str):
 
 
 def params_to_dict(params) -> dict:
-    """The fields of a parameter dataclass instance as plain (JSON) values."""
+    """The fields of a parameter dataclass instance as plain (JSON) values.
+
+    Parameters
+    ----------
+    params : dataclass instance
+        E.g. a :class:`~branchnb.trees.VariationParams`; arrays become lists,
+        paths strings.
+
+    Returns
+    -------
+    dict
+        ``{field: value}``, strict JSON data.
+
+    Raises
+    ------
+    TypeError
+        ``params`` is not a dataclass instance, or a field holds no JSON data.
+    ValueError
+        A float field is not finite.
+
+    Examples
+    --------
+    >>> from branchnb.trees import VariationParams
+    >>> params_to_dict(VariationParams(keep=0.7))["keep"]
+    0.7
+    """
     if not dataclasses.is_dataclass(params) or isinstance(params, type):
         raise TypeError(f"params must be a parameter dataclass instance, got {type(params).__name__}")
     return _plain(dataclasses.asdict(params), type(params).__name__)
@@ -103,14 +128,14 @@ def _build_params(job: Job, values: dict[str, dict], where: str) -> dict[str, An
 class BatchSpec:
     """A validated batch spec (see the module docstring for the format).
 
-    Attributes
+    Parameters
     ----------
     job : str
         Name of a registered job (:data:`branchnb.batch.JOBS`).
     count : int
-        Number of items.
+        Number of items, 1 to :data:`MAX_COUNT`.
     seed : int
-        Root of the item seeds.
+        Root of the item seeds, ``>= 0`` (default 0); see :meth:`item_seeds`.
     inputs : dict
         The job's inputs (library folder, example file, output size, ...).
     params : dict
@@ -120,7 +145,14 @@ class BatchSpec:
     items : dict
         ``{index: {key: value}}`` overrides of single items.
     base_dir : Path or None
-        Folder that relative paths in ``inputs`` start from.
+        Folder that relative paths in ``inputs`` start from; None (default):
+        the working directory.
+
+    Raises
+    ------
+    ValueError, TypeError
+        An unknown job, input, section, field or key, a count or seed out of
+        range, or invalid base parameters (naming the offending key).
     """
 
     job: str
@@ -224,13 +256,35 @@ class BatchSpec:
         return get_job(self.job)
 
     def with_count(self, count: int) -> BatchSpec:
-        """The same spec with another ``count`` (item seeds do not change)."""
+        """The same spec with another ``count`` (item seeds do not change).
+
+        Parameters
+        ----------
+        count : int
+            The new number of items; ``items`` overrides past it are dropped.
+
+        Returns
+        -------
+        BatchSpec
+        """
         return dataclasses.replace(self, count=count,
                                    items={i: v for i, v in self.items.items() if i < count})
 
     def item_seeds(self, indices=None) -> list[int]:
         """Seeds of items ``indices`` (all by default): ``SeedSequence(seed).spawn(count)``,
-        each child reduced to one 63-bit int (the ``rng`` the job gets, and the manifest's ``seed``)."""
+        each child reduced to one 63-bit int (the ``rng`` the job gets, and the manifest's ``seed``).
+
+        Parameters
+        ----------
+        indices : iterable of int, optional
+            Item indices; None (default): ``range(count)``.
+
+        Returns
+        -------
+        list of int
+            One seed per index; item ``i``'s seed depends only on ``seed``
+            and ``i`` (not on ``count``).
+        """
         idx = range(self.count) if indices is None else indices
         # child i of SeedSequence(seed).spawn(count) is SeedSequence(seed, spawn_key=(i,)): built
         # directly, so a million-item spec does not hold a million children
@@ -243,7 +297,22 @@ class BatchSpec:
         return values
 
     def item_raw(self, index: int) -> tuple[dict, dict]:
-        """Parameters ``{section: {field: value}}`` and item inputs of item ``index``, unvalidated."""
+        """Parameters ``{section: {field: value}}`` and item inputs of item ``index``, unvalidated.
+
+        Parameters
+        ----------
+        index : int
+            The item (0-based): ``vary`` entry ``index % len`` and any
+            ``items[index]`` override apply.
+
+        Returns
+        -------
+        params : dict
+            ``{section: {field: value}}``, the base ``params`` with the
+            item's changes (defaults not filled in).
+        inputs : dict
+            The job's item inputs with the item's values.
+        """
         job = self.job_info
         params = {s: dict(self.params.get(s, {})) for s in job.sections}
         inputs = {k: self.inputs.get(k, job.inputs[k]) for k in job.item_inputs}
@@ -256,7 +325,18 @@ class BatchSpec:
         return params, inputs
 
     def item_params(self, index: int) -> dict[str, Any]:
-        """The validated parameter dataclasses of item ``index`` (raises ValueError/TypeError)."""
+        """The validated parameter dataclasses of item ``index`` (raises ValueError/TypeError).
+
+        Parameters
+        ----------
+        index : int
+            The item (0-based).
+
+        Returns
+        -------
+        dict
+            ``{section: dataclass instance}``, missing fields at their defaults.
+        """
         params, _ = self.item_raw(index)
         return _build_params(self.job_info, params, f"item {index} params")
 
@@ -277,7 +357,26 @@ class BatchSpec:
 
     @classmethod
     def from_dict(cls, d: dict, base_dir=None) -> BatchSpec:
-        """A spec from plain data (a parsed JSON or TOML document)."""
+        """A spec from plain data (a parsed JSON or TOML document).
+
+        Parameters
+        ----------
+        d : dict
+            The document: ``job`` and ``count`` are required, ``seed``,
+            ``inputs``, ``params``, ``vary`` and ``items`` optional.
+        base_dir : str or Path, optional
+            Folder relative input paths start from (the spec file's); None:
+            the working directory.
+
+        Returns
+        -------
+        BatchSpec
+
+        Raises
+        ------
+        ValueError, TypeError
+            An unknown or missing key, or an invalid spec.
+        """
         if not isinstance(d, dict):
             raise TypeError(f"a spec must be a table (dict), got {type(d).__name__}")
         check_depth(d, name="the spec", limit=MAX_JSON_DEPTH)
@@ -294,6 +393,16 @@ class BatchSpec:
 
 def load_spec(path) -> BatchSpec:
     """Read a spec from a ``.json`` or ``.toml`` file (relative input paths start at its folder).
+
+    Parameters
+    ----------
+    path : str or Path
+        The spec file; its suffix (``.json`` or ``.toml``) picks the parser.
+
+    Returns
+    -------
+    BatchSpec
+        With ``base_dir`` the file's folder.
 
     Raises
     ------
@@ -358,7 +467,28 @@ def _toml(d: dict) -> str:
 
 
 def save_spec(spec: BatchSpec, path) -> Path:
-    """Write ``spec`` as JSON (strict) or TOML, chosen by the suffix of ``path``."""
+    """Write ``spec`` as JSON (strict) or TOML, chosen by the suffix of ``path``.
+
+    Parameters
+    ----------
+    spec : BatchSpec
+        The spec to write (``base_dir`` is not written: relative paths stay
+        relative to the file's folder when it is read back).
+    path : str or Path
+        Destination ending in ``.json`` or ``.toml`` (overwritten).
+
+    Returns
+    -------
+    Path
+        ``path``.
+
+    Raises
+    ------
+    TypeError
+        ``spec`` is not a BatchSpec.
+    ValueError
+        Another suffix, or a None value inside a list (TOML has no null).
+    """
     if not isinstance(spec, BatchSpec):
         raise TypeError(f"spec must be a BatchSpec, got {type(spec).__name__}")
     path = Path(path)
@@ -386,6 +516,8 @@ def spec_from_params(job: str, *params, count: int, seed: int = 0, only_changed:
         Each goes to the job's section of its type (e.g. a ``VariationParams``
         to ``variation``).
     count, seed : int
+        Number of items, and the root of their seeds (default 0); see
+        :class:`BatchSpec`.
     only_changed : bool
         Store only the fields that differ from the defaults (a shorter spec
         that follows future default changes); all fields by default.

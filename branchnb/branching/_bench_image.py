@@ -14,7 +14,7 @@ import numpy as np
 
 from ..bench import BenchRow
 from ._image_examples import random_tree, river_example
-from .image_synthesis import ImageSynthesisParams, synthesize_image
+from .image_synthesis import _EXAMPLE_CACHE, ImageSynthesisParams, synthesize_image
 
 __all__ = ["bench_rows"]
 
@@ -77,11 +77,21 @@ def _retina_row() -> list[BenchRow]:
     def run():
         last["r"] = synthesize_image(img, example, target, params, rng=0)
 
-    sec = _median_time(run)
-    return [BenchRow(
-        f"image synthesis 512 x 512, retina (extracted example, synthesized target, "
-        f"{len(last['r'].fragments)} fragments + gap completion)",
-        sec, "paper, fastest reported image", PAPER_FASTEST, _note(REPEAT))]
+    # synthesize_image keeps the example side (maps, regions, fragment library) for the next call
+    # with the same example: the first run is a new example, the later ones a new target for it.
+    _EXAMPLE_CACHE.clear()
+    times = []
+    for _ in range(REPEAT):
+        t0 = time.perf_counter()
+        run()
+        times.append(time.perf_counter() - t0)
+    what = (f"image synthesis 512 x 512, retina (extracted example, synthesized target, "
+            f"{len(last['r'].fragments)} fragments + gap completion")
+    return [BenchRow(what + ", new example)", times[0], "paper, fastest reported image", PAPER_FASTEST,
+                     "one run, example prepared in it; " + NOTE),
+            BenchRow(what + ", example prepared by an earlier call)", float(np.median(times[1:])),
+                     "paper, fastest reported image", PAPER_FASTEST,
+                     f"median of {REPEAT - 1} runs after the first; " + NOTE)]
 
 
 def _map_rows() -> list[BenchRow]:

@@ -35,6 +35,20 @@ __all__ = ["BendingModel", "branch_elements", "markov_dist"]
 def markov_dist(x, y, axis: int = -1) -> np.ndarray:
     """The paper's similarity ``dist(X, Y) = 1 / (||X - Y|| + 1) + 1`` (in (1, 2]).
 
+    Parameters
+    ----------
+    x, y : array_like
+        Two element sequences X and Y (broadcast against each other), e.g.
+        windows of turning angles (radians) or of thicknesses (pixels).
+    axis : int, default -1
+        Axis along which the Euclidean norm ``||X - Y||`` is taken.
+
+    Returns
+    -------
+    ndarray
+        ``dist(X, Y)`` with ``axis`` reduced: 2 for equal sequences, tending
+        to 1 as they move apart.
+
     Examples
     --------
     >>> float(markov_dist([0.0, 0.0], [3.0, 4.0]))
@@ -48,6 +62,27 @@ def branch_elements(points: np.ndarray, radii: np.ndarray) -> tuple[np.ndarray, 
     """Elements ``(alpha_i, r_{i+1})``, i = 1 .. N-2, of one resampled branch.
 
     Returns ``(angles (N-2,), radii (N-2,))``; empty for N < 3.
+
+    Parameters
+    ----------
+    points : (N, 2) array_like
+        Vertices (x, y) of one branch resampled at step h (pixels).
+    radii : (N,) array_like
+        Thickness r of each vertex (pixels).
+
+    Returns
+    -------
+    angles : (N-2,) ndarray
+        Turning angle alpha_i at each inner vertex (radians in (-pi, pi],
+        positive when turning from +x towards +y).
+    radii : (N-2,) ndarray
+        Thickness r_{i+1} of the vertex following each turn.
+
+    Examples
+    --------
+    >>> a, r = branch_elements([[0, 0], [1, 0], [1, 1]], [3.0, 2.0, 1.0])
+    >>> round(float(a[0]), 4), r.tolist()
+    (1.5708, [1.0])
     """
     p = np.asarray(points, np.float64)
     r = np.asarray(radii, np.float64)
@@ -70,21 +105,30 @@ class BendingModel:
 
     Build it with :meth:`fit` from a structure already resampled at ``h``.
 
-    Attributes
+    Parameters
     ----------
     m, k : int
         Elements appended per step, history length ``k + 1``.
+    h : float
+        Resampling step h of the example (pixels).
     angles, radii : (T,) ndarray
-        All elements of all branches, concatenated.
+        All elements of all branches, concatenated: turning angles alpha
+        (radians, positive when turning from +x towards +y) and thicknesses r
+        (pixels).
     branch, local : (T,) int ndarray
         Branch of each element and its index inside the branch sequence.
     cont_angles, cont_radii : (T, m) ndarray
         The (up to) ``m`` elements following each element (0 beyond).
     cont_len : (T,) int ndarray
         How many followers exist (< m near the end of a branch).
+    starts : (n_branches,) int ndarray
+        Index of each branch's first element in ``angles``.
     heads : list of dict
         Per input branch: first radii ``r0``, ``r1``, branching angle
         ``beta`` (children), number of elements.
+    local_points : (T, m, 2) ndarray, optional
+        The vertices each element's followers would append, in the frame of
+        a tip at the origin heading along +x (pixels); set by :meth:`fit`.
     """
 
     m: int
@@ -104,7 +148,24 @@ class BendingModel:
 
     @classmethod
     def fit(cls, structure: Structure, m: int, k: int, h: float) -> BendingModel:
-        """Collect the elements of every branch of a structure resampled at ``h``."""
+        """Collect the elements of every branch of a structure resampled at ``h``.
+
+        Parameters
+        ----------
+        structure : Structure
+            The example, every branch resampled at step ``h``.
+        m : int
+            Elements appended per synthesis step (m = s / h).
+        k : int
+            History length: candidates are windows of up to ``k + 1`` elements.
+        h : float
+            The resampling step h (pixels) of ``structure``.
+
+        Returns
+        -------
+        BendingModel
+            All elements, their followers and per-branch heads.
+        """
         angs, rads, br, loc, starts, heads = [], [], [], [], [], []
         total = 0
         for i, b in enumerate(structure.branches):
@@ -160,6 +221,20 @@ class BendingModel:
 
         Returns ``(t, WA, WR)``: the index ``t`` of the last element of each
         window and the ``(J, L)`` windows of angles and radii.
+
+        Parameters
+        ----------
+        L : int
+            History length (number of elements per window), >= 1.
+
+        Returns
+        -------
+        t : (J,) int ndarray
+            Index of the last element of each window (windows never straddle two
+            branches).
+        WA, WR : (J, L) ndarray
+            The windows of turning angles (radians) and of thicknesses (pixels),
+            oldest element first.
         """
         if L in self._windows:
             return self._windows[L]
@@ -204,6 +279,20 @@ class BendingModel:
         """Vertices each candidate would append: ``(J, m, 2)``.
 
         Positions beyond a candidate's ``cont_len`` repeat its last vertex.
+
+        Parameters
+        ----------
+        t : (J,) int ndarray
+            Candidate windows (index of their last element), as from :meth:`quality`.
+        tip : (2,) array_like
+            Position (x, y) of the growing branch's tip (pixels).
+        theta : float
+            Heading of the tip (radians, the angle of its last segment from +x).
+
+        Returns
+        -------
+        (J, m, 2) ndarray
+            The ``m`` vertices (x, y) each candidate appends, ``h`` apart.
         """
         rel = self.local_points[t]
         c, s = np.cos(theta), np.sin(theta)

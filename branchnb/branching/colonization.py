@@ -79,6 +79,19 @@ def auto_rho(structure, h: float = 4.0) -> float:
     its local maxima half-way between neighbouring branches; their median
     is the typical half-gap. Clipped to ``[h, 50 h]``.
 
+    Parameters
+    ----------
+    structure : Structure
+        The example (vertices in pixels).
+    h : float, default 4.0
+        Resampling step h (pixels): the result is clipped to ``[h, 50 h]``
+        and is ``4 h`` when no gap between branches is found.
+
+    Returns
+    -------
+    float
+        The density radius rho (pixels).
+
     Examples
     --------
     >>> from branchnb.core.structure import Branch, Structure
@@ -111,13 +124,20 @@ class DensityMap:
 
     Parameters
     ----------
-    shape : (H, W)
+    shape : (H, W) tuple of int
         Domain in pixels.
     rho : float
-        Density radius (pixels).
+        Density radius rho (pixels), > 0.
     cell : float, optional
-        Grid spacing in pixels (default ``rho / 3`` clipped to [0.5, 1],
-        coarser for domains above ~4 M pixels).
+        Grid spacing in pixels. None (default): ``rho / 6`` but at least
+        1 pixel, at most ``rho / 3`` and never below 0.5, coarser for
+        domains above ~4 M pixels.
+    domain : (H, W) bool array_like, optional
+        Pixels that belong to the domain (they count in :meth:`coverage`);
+        None = the whole frame.
+    level : float, default 0.5
+        Density above which a domain cell counts as covered by
+        :meth:`coverage` (kept up to date incrementally).
 
     Examples
     --------
@@ -160,7 +180,13 @@ class DensityMap:
         self._n_above = 0
 
     def add_segments(self, p0, p1) -> None:
-        """Raise the density around new segments (local update within ``3 rho``)."""
+        """Raise the density around new segments (local update within ``3 rho``).
+
+        Parameters
+        ----------
+        p0, p1 : (n, 2) array_like
+            Start and end points (x, y) of the new segments (pixels).
+        """
         p0 = np.asarray(p0, np.float64).reshape(-1, 2)
         p1 = np.asarray(p1, np.float64).reshape(-1, 2)
         if len(p0) == 0:
@@ -169,7 +195,19 @@ class DensityMap:
         self.n_updates += 1
 
     def sample(self, points) -> np.ndarray:
-        """Density at points ``(..., 2)`` (x, y); 0 outside the domain."""
+        """Density at points ``(..., 2)`` (x, y); 0 outside the domain.
+
+        Parameters
+        ----------
+        points : (..., 2) array_like
+            Positions (x, y) in pixels.
+
+        Returns
+        -------
+        (...) float32 ndarray
+            D at each point, in [0, 1] (nearest cell on fine grids, bilinear on
+            grids coarser than 1 pixel).
+        """
         p = np.asarray(points, np.float64)
         gh, gw = self.grid.shape
         if self.cell <= 1.0:
@@ -197,6 +235,17 @@ class DensityMap:
 
         With ``level = exp(-1)`` this is the fraction of the domain within
         ``rho`` of a branch (``D = exp(-d^2 / rho^2)``).
+
+        Parameters
+        ----------
+        level : float, optional
+            Density threshold in [0, 1]; None = the map's ``level`` (counted
+            incrementally, no pass over the grid).
+
+        Returns
+        -------
+        float
+            Covered fraction of the domain's cells, in [0, 1].
         """
         if level is None or level == self.level:
             return self._n_above / self._n_domain
@@ -213,6 +262,29 @@ def coverage_fraction(structure, shape, rho: float, domain=None) -> float:
     """Fraction of the domain (default: the whole ``(H, W)`` frame) within ``rho`` pixels of a branch.
 
     The measure the automatic stopping rule aims at (pixel-exact here).
+
+    Parameters
+    ----------
+    structure : Structure
+        The branches B (vertices in pixels; their thickness is ignored).
+    shape : (H, W) tuple of int
+        Size of the frame in pixels.
+    rho : float
+        Distance to the nearest centre line (pixels) within which a pixel
+        counts as covered.
+    domain : (H, W) bool array_like, optional
+        The pixels that count; None = the whole frame.
+
+    Returns
+    -------
+    float
+        Covered fraction of the domain in [0, 1]; 0 for an empty structure or
+        domain.
+
+    Raises
+    ------
+    ValueError
+        If ``domain`` does not have the shape ``shape``.
 
     Examples
     --------
@@ -244,7 +316,9 @@ def growth_directions(tip, new_points: np.ndarray, n_valid: np.ndarray) -> np.nd
     Parameters
     ----------
     tip : (2,) array_like
+        Position (x, y) of the branch tip the candidates grow from (pixels).
     new_points : (J, m, 2) ndarray
+        The vertices each of the J candidates would append.
     n_valid : (J,) int ndarray
         Number of real vertices per candidate (the rest repeat the last one).
 
@@ -279,6 +353,7 @@ def profile_density(dmap: DensityMap, tip, directions: np.ndarray, length: float
     Parameters
     ----------
     dmap : DensityMap
+        Density D of the branches grown so far.
     tip : (2,) array_like
         Start of every ray (the branch tip or furcation vertex).
     directions : (J, 2) ndarray
@@ -297,6 +372,7 @@ def profile_density(dmap: DensityMap, tip, directions: np.ndarray, length: float
     crossing : (J,) bool ndarray
         The profile decreases, increases and decreases again.
     profiles : (J, n) ndarray
+        The sampled densities, from the tip outwards.
     """
     if n_samples is None:
         n_samples = int(np.clip(np.ceil(length / (dmap.rho / 2.0)), 8, 48))
@@ -317,7 +393,21 @@ def profile_density(dmap: DensityMap, tip, directions: np.ndarray, length: float
 
 
 class SegmentStore:
-    """All segments grown so far, in a growing buffer, for exact crossing tests."""
+    """All segments grown so far, in a growing buffer, for exact crossing tests.
+
+    Parameters
+    ----------
+    capacity : int, default 1024
+        Initial number of segments the buffer holds (it doubles when full).
+
+    Examples
+    --------
+    >>> store = SegmentStore(capacity=2)
+    >>> store.add_polyline([(0, 0), (10, 0), (10, 10)])
+    >>> store.add([(0, 20)], [(5, 20)])
+    >>> store.n
+    3
+    """
 
     def __init__(self, capacity: int = 1024):
         self.p0 = np.zeros((capacity, 2))
@@ -325,6 +415,13 @@ class SegmentStore:
         self.n = 0
 
     def add(self, p0, p1) -> None:
+        """Append segments ``p0[i] -> p1[i]``, growing the buffer as needed.
+
+        Parameters
+        ----------
+        p0, p1 : (n, 2) array_like
+            Start and end points (x, y) of the segments to store (pixels).
+        """
         p0 = np.asarray(p0, np.float64).reshape(-1, 2)
         p1 = np.asarray(p1, np.float64).reshape(-1, 2)
         k = len(p0)
@@ -336,6 +433,14 @@ class SegmentStore:
         self.n += k
 
     def add_polyline(self, points) -> None:
+        """Append the segments of a polyline.
+
+        Parameters
+        ----------
+        points : (N, 2) array_like
+            Vertices (x, y) of a polyline; its N - 1 segments are stored (none
+            when N < 2).
+        """
         p = np.asarray(points, np.float64)
         if len(p) > 1:
             self.add(p[:-1], p[1:])
@@ -352,6 +457,30 @@ def crosses_existing(store: SegmentStore, polyline: np.ndarray, eps: float = 1e-
     Same predicate as :func:`branchnb.core.polyline.segments_intersect`
     (touching end points do not count), inlined without input validation
     because it runs inside the synthesis loop.
+
+    Parameters
+    ----------
+    store : SegmentStore
+        The segments grown so far.
+    polyline : (N, 2) array_like
+        Vertices (x, y) of the candidate extension (pixels); zero-length
+        segments are ignored.
+    eps : float, default 1e-9
+        Tolerance of the orientation products: a crossing must be proper by
+        more than this (collinear or touching segments do not count).
+
+    Returns
+    -------
+    bool
+        True if a segment of ``polyline`` properly crosses a stored segment
+        or another of its own segments.
+
+    Examples
+    --------
+    >>> store = SegmentStore()
+    >>> store.add_polyline([(0, 5), (10, 5)])
+    >>> crosses_existing(store, [(5, 0), (5, 10)]), crosses_existing(store, [(5, 5), (5, 10)])
+    (True, False)
     """
     p = np.asarray(polyline, np.float64)
     if len(p) < 2:

@@ -79,8 +79,14 @@ def displacement_field(shape, points, displacements, *, step: int = 2,
         those outside are ignored.
     displacements : (M, 2) array_like
         Required displacement ``d_j`` at each point.
-    step : int
-        Node spacing ``g`` of the solve grid (1 = every pixel).
+    step : int, default 2
+        Node spacing ``g`` of the solve grid in pixels (1 = every pixel).
+    weight : float, default 1e3
+        Weight of the constraints against the bi-Laplacian energy (large =
+        practically hard constraints).
+    eps : float, default 1e-6
+        Small Tikhonov term that fixes the field where no constraint
+        reaches (it pulls the field towards 0 there).
 
     Returns
     -------
@@ -155,14 +161,24 @@ def backward_map(origin, shape, rotation, translation, field=None) -> tuple[np.n
     origin : (x0, y0)
         Target pixel of the window's top-left corner.
     shape : (h, w)
+        Size of the target window in pixels.
     rotation : (2, 2) array_like
+        Rotation R of the fragment's rigid transform (source to target).
     translation : (2,) array_like
+        Translation t (x, y) of the rigid transform (pixels).
     field : (h, w, 2) ndarray, optional
         Displacement ``u`` over the window.
 
     Returns
     -------
     map_x, map_y : (h, w) float32 ndarrays
+        Source x and y of every window pixel (as for ``cv2.remap``).
+
+    Examples
+    --------
+    >>> mx, my = backward_map((10, 20), (2, 3), [[1, 0], [0, 1]], (4, 5))
+    >>> float(mx[0, 0]), float(my[0, 0])
+    (6.0, 15.0)
     """
     h, w = int(shape[0]), int(shape[1])
     R = np.asarray(rotation, float)

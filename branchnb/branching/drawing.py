@@ -34,7 +34,7 @@ __all__ = ["DrawingStyle", "draw_in_style", "drawing_style"]
 class DrawingStyle:
     """How a flat-colour example is drawn (see :func:`drawing_style`).
 
-    Attributes
+    Parameters
     ----------
     region_colours : (K, C) ndarray
         Colour of every region label.
@@ -275,6 +275,30 @@ def draw_in_style(style: DrawingStyle, structure: Structure, labels: np.ndarray)
     region (not the frame) is drawn with the style's boundary line, then
     every branch with the line colour at ``width_scale * 2 r`` (at least one
     pixel, so no branch breaks into dots).
+
+    Parameters
+    ----------
+    style : DrawingStyle
+        How the example is drawn (:func:`drawing_style`).
+    structure : Structure
+        The branches to draw (vertices and radii r in pixels of ``labels``).
+    labels : (H, W) int ndarray
+        Region label of every pixel, indexing ``style.region_colours``
+        (out-of-range labels are clipped).
+
+    Returns
+    -------
+    (H, W, C) float32 ndarray
+        The drawing, in [0, 1].
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from branchnb.core.structure import Branch, Structure
+    >>> style = DrawingStyle(np.array([[1.0, 1, 1]]), 0, np.array([0.0, 0, 1]), 1.0, None, 0.0)
+    >>> img = draw_in_style(style, Structure([Branch([(2, 10), (18, 10)], 1.5)]), np.zeros((20, 20), int))
+    >>> img[10, 10].tolist(), img[2, 2].tolist()
+    ([0.0, 0.0, 1.0], [1.0, 1.0, 1.0])
     """
     lab = np.asarray(labels)
     h, w = lab.shape

@@ -57,6 +57,30 @@ def gray_for_extraction(image, *, name: str = "image") -> np.ndarray:
     Grayscale images are used as they are, RGB through Rec. 709 luminance,
     and RGBA images are first composited over white (transparent pixels
     count as background, like paper behind a drawing).
+
+    Parameters
+    ----------
+    image : (H, W) or (H, W, C) array_like
+        The image: grey, RGB or RGBA (composited over white), float in [0, 1] or integer.
+    name : str, default "image"
+        Argument name used in error messages.
+
+    Returns
+    -------
+    (H, W) ndarray
+        Luminance in [0, 1].
+
+    Raises
+    ------
+    ValueError
+        If the input is not an image (named ``name`` in the message).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> rgba = np.zeros((2, 2, 4)); rgba[0, 0] = (0, 0, 0, 1)   # one opaque black pixel, the rest clear
+    >>> gray_for_extraction(rgba).round(3).tolist()
+    [[0.0, 1.0], [1.0, 1.0]]
     """
     return as_gray(as_rgb(image, name=name), name=name)
 
@@ -194,6 +218,23 @@ def structure_from_polylines(image, polylines, params: ClickParams | None = None
     user-edited values (one array per polyline, used after resampling by
     linear interpolation; ``None`` entries are estimated).
 
+    Parameters
+    ----------
+    image : (H, W) or (H, W, C) array_like
+        The example: grey, RGB or RGBA (composited over white), float in [0, 1] or integer.
+    polylines : sequence of (N_i, 2) array_like
+        Clicked vertices (x, y) in pixels, one polyline per branch.
+    params : ClickParams, optional
+        Resampling step ``h``, thickness search and ``snap`` distance; None =
+        the defaults.
+    radii : sequence of (array_like or None), optional
+        User-edited radii (pixels) per polyline, or None to estimate them.
+
+    Returns
+    -------
+    Structure
+        Resampled at ``params.h``, with ``image_shape`` set.
+
     Examples
     --------
     >>> import numpy as np
@@ -330,7 +371,35 @@ def ridge_response(image, params: ExtractionParams | None = None) -> tuple[np.nd
 
 
 def ridge_mask(response: np.ndarray, threshold: float = 0.0, hysteresis: float = 0.5) -> np.ndarray:
-    """Hysteresis threshold of a ridge response (``threshold = 0``: Otsu)."""
+    """Hysteresis threshold of a ridge response (``threshold = 0``: Otsu).
+
+    Parameters
+    ----------
+    response : (H, W) array_like
+        Ridge / vesselness filter response.
+    threshold : float, default 0.0
+        High threshold on the response; 0 = Otsu's threshold.
+    hysteresis : float, default 0.5
+        Low threshold = ``hysteresis * threshold``: weaker pixels connected
+        to strong ones are kept.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        The ridge mask (empty for a constant response).
+
+    Raises
+    ------
+    ValueError
+        If ``response`` is not 2-D.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> r = np.zeros((5, 7)); r[2, 1:6] = [0.5, 0.6, 1.0, 0.6, 0.2]
+    >>> ridge_mask(r, threshold=0.8)[2].astype(int).tolist()
+    [0, 1, 1, 1, 1, 0, 0]
+    """
     from skimage.filters import apply_hysteresis_threshold, threshold_otsu
 
     r = np.asarray(response, np.float64)
@@ -427,11 +496,12 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
     Parameters
     ----------
     skeleton : (H, W) bool array_like
+        One-pixel-wide centre lines (8-connected), at the working scale.
     radius : (H, W) array_like
         Branch radius at each pixel (e.g. the distance transform).
-    h : float
-        Resampling step of the result.
-    min_branch_length, min_component_length : float
+    h : float, default 4.0
+        Resampling step h of the result (full-size pixels).
+    min_branch_length, min_component_length : float, default 12.0, 60.0
         Pruning thresholds in pixels of the *output* (full-size) image. A
         piece that reaches the image frame (within 4 px) is kept from half
         ``min_component_length``: the frame cut it (a crop's rivers that
@@ -447,15 +517,16 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
         the sea a river flows into; the border if there is none; a piece
         that meets the region at several mouths and has a much thicker end
         away from it, a delta, roots at that end, see ``_delta_source_key``),
-        or the one nearest to a given point (full-size pixels).
-    scale : float
+        or the one nearest to a given point (full-size pixels). Default
+        ``"thickest"``.
+    scale : float, default 1.0
         The skeleton is a ``scale`` x downscaled copy; coordinates and
         radii are divided by it.
-    smooth : float
+    smooth : float, default 4.0
         Gaussian smoothing (full-size pixels of arc length) of each pixel
         path before resampling; removes the staircase of the pixel grid,
         whose noise would otherwise dominate the turning angles.
-    smooth_radius : float
+    smooth_radius : float, default 8.0
         Gaussian smoothing of the radius along each branch (full-size
         pixels of arc length): the distance transform bumps at every
         junction and blob, which the synthesis would otherwise copy.
@@ -463,7 +534,7 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
         Stored on the result (full-size).
     region : (H, W) bool array_like, optional
         At the skeleton's scale: the region ``root="nearest_region"`` looks for.
-    spur_factor : float
+    spur_factor : float, default 2.0
         A side subtree is also pruned when it is shorter than this times the
         radius where it leaves its parent (the skeleton's spurs at the bends of
         wide channels are about one radius long).
@@ -628,10 +699,19 @@ def half_contrast_radius(gray, skeleton, polarity: str, sigma_max: float) -> np.
     Parameters
     ----------
     gray : (H, W) array_like
+        Luminance in [0, 1] (:func:`gray_for_extraction`).
     skeleton : (H, W) bool array_like
+        Centre lines of the branches.
     polarity : {"dark", "bright"}
+        Branches darker or brighter than the background.
     sigma_max : float
-        Largest filter scale; sets the top-hat disk (radius 2 sigma_max + 1).
+        Largest filter scale (pixels); sets the top-hat disk (radius
+        2 sigma_max + 1).
+
+    Returns
+    -------
+    (H, W) float ndarray
+        Radius (pixels) of the half-contrast mask at every pixel.
     """
     import cv2
 
@@ -658,6 +738,20 @@ def frame_lines(mask, band: int = 4, share: float = 0.5) -> np.ndarray:
     Along each side, the band of ``band`` pixels is a frame line when
     ``mask`` covers at least ``share`` of that side's length there; a
     branch that merely enters the image through a side covers a few pixels.
+
+    Parameters
+    ----------
+    mask : (H, W) bool array_like
+        Line pixels (e.g. a thresholded ridge mask).
+    band : int, default 4
+        Width of the strip along each side (pixels).
+    share : float, default 0.5
+        Fraction of a side's length the strip must cover.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        The frame-line pixels (all False when none).
     """
     m = np.asarray(mask, bool)
     out = np.zeros_like(m)
@@ -687,6 +781,21 @@ def is_binary(gray, *, tol: float = 0.1, share: float = 0.97) -> bool:
     """True if at least ``share`` of the pixels lie within ``tol`` (of the range) of the darkest
     or the brightest level, and the two levels differ by at least 0.25 (a mask, maybe anti-aliased).
 
+    Parameters
+    ----------
+    gray : (H, W) array_like
+        Luminance in [0, 1].
+    tol : float, default 0.1
+        Distance to the 1st / 99th percentile level, as a fraction of their
+        difference.
+    share : float, default 0.97
+        Fraction of the pixels that must lie near one of the two levels.
+
+    Returns
+    -------
+    bool
+        Whether the image is a (near-)binary mask.
+
     Examples
     --------
     >>> import numpy as np
@@ -708,6 +817,20 @@ def large_flat_regions(mask, radius: float, min_area: float = 0.01) -> np.ndarra
     The opening of ``mask`` with a disk of ``radius`` keeps what a disk of
     that radius fits into; its connected pieces of at least ``min_area`` of
     the image are returned, grown by one pixel.
+
+    Parameters
+    ----------
+    mask : (H, W) bool array_like
+        Candidate pixels (e.g. a mask's foreground).
+    radius : float
+        Radius (pixels) of the opening disk: wider than any branch.
+    min_area : float, default 0.01
+        Smallest piece kept, as a fraction of the image.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        The large regions (within ``mask``).
     """
     import cv2
 
@@ -734,9 +857,18 @@ def binary_channels(gray, polarity: str = "auto"):
     median radius and 1 % of the image, e.g. the sea a delta drains into)
     are no branches: they are returned as ``region``.
 
+    Parameters
+    ----------
+    gray : (H, W) array_like
+        The mask's luminance (two levels, maybe anti-aliased).
+    polarity : {"auto", "bright", "dark"}, default "auto"
+        Which class is foreground.
+
     Returns
     -------
     channels : (H, W) bool
+        Foreground without the large flat regions (and without a line
+        along the image frame).
     region : (H, W) bool
         The large flat foreground regions.
     skeleton : (H, W) bool
@@ -810,9 +942,27 @@ def thin_line_colour(image, *, sigma_max: float = 4.0, min_contrast: float = 0.1
     terrain's edges instead). Grey, black or white lines, and the dark
     branches of photographs, keep the brightness path.
 
+    Parameters
+    ----------
+    image : (H, W) or (H, W, C) array_like
+        The example, float in [0, 1] (RGBA composited over white).
+    sigma_max : float, default 4.0
+        Largest line scale (pixels), as ``ExtractionParams.sigma_max``.
+    min_contrast : float, default 0.12
+        Smallest colour difference of a line-like pixel to its
+        surroundings (largest channel).
+    tol : float, default 0.12
+        Colour tolerance (largest channel) of a line colour's pixels.
+    min_share : float, default 0.0005
+        Smallest fraction of the image in a line colour.
+    max_colours : int, default 6
+        Candidate colours examined.
+
     Returns
     -------
     (3,) float32 ndarray or None
+        The RGB line colour in [0, 1]; None when there is no coloured line
+        (then extraction follows brightness ridges).
 
     Examples
     --------
@@ -864,6 +1014,19 @@ def thin_line_colour(image, *, sigma_max: float = 4.0, min_contrast: float = 0.1
 def line_colour_of(image, structure: Structure) -> np.ndarray:
     """The median colour on the centre lines of an annotation (pass it as ``line_colour``).
 
+    Parameters
+    ----------
+    image : (H, W) or (H, W, C) array_like
+        The example: grey, RGB or RGBA (composited over white), float in [0, 1] or integer.
+    structure : Structure
+        Its annotated branches (pixels of ``image``).
+
+    Returns
+    -------
+    (3,) ndarray
+        RGB median in [0, 1] of the pixels under the centre lines (sampled
+        every half pixel of arc length).
+
     Examples
     --------
     >>> import numpy as np
@@ -896,6 +1059,23 @@ def line_colour_map(image, colour, *, sigma_max: float = 4.0, spread: float = 0.
     brightness. Pixels within ``spread`` of ``c`` score ``1 - |I - c| /
     (2 spread)`` at least (inside a wide river the surroundings are the
     line colour too). Bright lines on black, ready for the ridge filter.
+
+    Parameters
+    ----------
+    image : (H, W) or (H, W, C) array_like
+        The image: grey, RGB or RGBA (composited over white), float in [0, 1] or integer.
+    colour : (3,) array_like
+        The line colour (RGB in [0, 1]).
+    sigma_max : float, default 4.0
+        Largest line scale (pixels): sets the median window of the
+        surroundings.
+    spread : float, default 0.15
+        RGB distance from the blend segment at which the score reaches 0.
+
+    Returns
+    -------
+    (H, W) float32 ndarray
+        The score in [0, 1].
 
     Examples
     --------
@@ -955,7 +1135,9 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         border, a coast line) are no branches either.
     mask : (H, W) bool array_like, optional
         Only look inside this region.
-    line_colour : "auto", None or (r, g, b)
+    return_maps : bool, default False
+        Also return ``(response, ridge mask, skeleton)`` at the working scale.
+    line_colour : "auto", None or (r, g, b), default "auto"
         Trace lines of this colour (in [0, 1]) instead of brightness
         ridges: the ridge filter runs on :func:`line_colour_map`, how much
         each pixel has that colour rather than its surroundings'. "auto"
@@ -964,13 +1146,16 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         brightness alone confuses with the relief's edges); None never
         does. The colour of an annotation can be read with
         :func:`line_colour_of`.
-    return_maps : bool
-        Also return ``(response, ridge mask, skeleton)`` at the working scale.
+    **overrides
+        Fields of :class:`ExtractionParams` replacing those of ``params``
+        (e.g. ``min_component_length=20``, ``root=(x, y)``).
 
     Returns
     -------
     Structure
-        With ``image_shape`` set to the image's ``(H, W)``.
+        With ``image_shape`` set to the image's ``(H, W)``; with
+        ``return_maps`` the pair ``(structure, (response, ridge mask,
+        skeleton))``.
 
     Examples
     --------
@@ -1099,7 +1284,24 @@ def border_flat_regions(gray, radius: float, tol: float = 0.02, branches=None) -
 
     With ``branches`` ((H, W) bool), regions of the colour the branches lie in are left out: on a
     crop whose land runs off the frame, the land is no outside region (its rivers' junctions would
-    otherwise count as the outline of the land pieces between them and be cut)."""
+    otherwise count as the outline of the land pieces between them and be cut).
+
+    Parameters
+    ----------
+    gray : (H, W) array_like
+        Luminance in [0, 1].
+    radius : float
+        Regions must be wider than a disk of this radius (pixels).
+    tol : float, default 0.02
+        Largest range of a flat 5 x 5 neighbourhood.
+    branches : (H, W) bool array_like, optional
+        Branch pixels; None = no such exclusion.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        The regions' pixels.
+    """
     lab, n, touch = _flat_region_labels(gray, radius, tol)
     if branches is not None:
         touch = touch & ~_ground_regions(gray, branches, lab, n, tol)
@@ -1124,6 +1326,25 @@ def outline_pixels(skeleton, outside, reach: float, gray=None, tol: float = 0.04
     the other side is a large flat region itself; rivers close together
     have land on both sides, though the strip between them is too narrow
     to be a region, and stay branches.
+
+    Parameters
+    ----------
+    skeleton : (H, W) bool array_like
+        Centre-line pixels.
+    outside : (H, W) bool array_like
+        The outside regions (e.g. :func:`border_flat_regions`).
+    reach : float
+        Largest distance (pixels) of an outline pixel to ``outside``.
+    gray : (H, W) array_like, optional
+        Luminance the regions were found in; None = judge the other side by
+        ``outside`` alone.
+    tol : float, default 0.04
+        Smallest luminance difference between the two sides of an outline.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        The outline pixels of ``skeleton``.
     """
     sk = np.asarray(skeleton, bool)
     out = np.asarray(outside, bool)
@@ -1180,6 +1401,22 @@ def flat_background(gray, branches, radius: float, tol: float = 0.02) -> np.ndar
     on a crop whose land runs off the frame, rivers running from frame to
     frame cut the land into pieces that each touch the frame and hold no
     river (each river lies between two pieces), yet they are land.
+
+    Parameters
+    ----------
+    gray : (H, W) array_like
+        Luminance in [0, 1].
+    branches : (H, W) bool array_like
+        Branch pixels (e.g. the rendered annotation).
+    radius : float
+        Regions must be wider than a disk of this radius (pixels).
+    tol : float, default 0.02
+        Largest range of a flat 5 x 5 neighbourhood.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        The background regions' pixels.
     """
     import cv2
 
@@ -1211,6 +1448,20 @@ def example_domain(image, structure: Structure | None = None, *, radius: float =
     hold no branch (the sea around a river map's land, see
     :func:`flat_background`; the branches are ``structure`` if given).
     Pass the result to :func:`~branchnb.branching.fit_model` as ``domain``.
+
+    Parameters
+    ----------
+    image : (H, W) or (H, W, C) array_like
+        The example: grey, RGB or RGBA (composited over white), float in [0, 1] or integer.
+    structure : Structure, optional
+        Its branches; None = judge regions by the image alone.
+    radius : float, default 12.0
+        Flat regions must be wider than a disk of this radius (pixels).
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        True where the branches may grow.
 
     Examples
     --------

@@ -51,13 +51,15 @@ __all__ = [
 class Fragment:
     """One fragment: a disk on the skeleton.
 
-    Attributes
+    Parameters
     ----------
     kind : {"branch", "furcation"}
+        A disk along one branch, or the disk at a furcation covering the
+        parent around the child's start and the child's first stretch.
     branch : int
         Branch the centre lies on (the parent, for a furcation).
     arc : float
-        Arc length of the centre along ``branch``.
+        Arc length of the centre along ``branch`` (pixels).
     center : (2,) ndarray
         Centre (x, y).
     radius : float
@@ -80,7 +82,32 @@ class Fragment:
 
 @dataclass
 class FragmentLibrary:
-    """All source fragments of one kind as parallel arrays (for vectorised scoring)."""
+    """All source fragments of one kind as parallel arrays (for vectorised scoring).
+
+    Parameters
+    ----------
+    kind : {"branch", "furcation"}
+        The kind of all its fragments.
+    branch : (n,) int ndarray
+        Branch of each centre (the parent, for a furcation).
+    arc : (n,) ndarray
+        Arc length of each centre along its branch (pixels).
+    sign : (n,) ndarray
+        Direction of travel, +1 root to tip or -1.
+    child : (n,) int ndarray
+        Child branch of each furcation fragment, -1 for none.
+    center : (n, 2) ndarray
+        Centres (x, y).
+    radius : (n,) ndarray
+        Disk radii ``s`` (pixels).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> lib = FragmentLibrary.from_list("branch", [Fragment("branch", 0, 5.0, np.array([5.0, 0.0]), 6.0)])
+    >>> len(lib), lib[0].arc, lib[0].child
+    (1, 5.0, None)
+    """
 
     kind: str
     branch: np.ndarray
@@ -100,6 +127,20 @@ class FragmentLibrary:
 
     @classmethod
     def from_list(cls, kind: str, frags: list[Fragment]) -> FragmentLibrary:
+        """Stack a list of fragments into parallel arrays.
+
+        Parameters
+        ----------
+        kind : {"branch", "furcation"}
+            The kind of the library.
+        frags : list of Fragment
+            The fragments (may be empty).
+
+        Returns
+        -------
+        FragmentLibrary
+            One array entry per fragment, in list order.
+        """
         n = len(frags)
         return cls(
             kind,
@@ -114,7 +155,29 @@ class FragmentLibrary:
 
 def fragment_radius(r, scale: float = 3.0, min_radius: float = 4.0,
                     max_radius: float = 64.0) -> np.ndarray:
-    """Fragment radius ``s = scale * r``, clipped to ``[min_radius, max_radius]``."""
+    """Fragment radius ``s = scale * r``, clipped to ``[min_radius, max_radius]``.
+
+    Parameters
+    ----------
+    r : float or array_like
+        Local thickness r (pixels).
+    scale : float, default 3.0
+        Paper: ``s = 3 r``.
+    min_radius : float, default 4.0
+        Smallest radius (pixels), for hairline branches.
+    max_radius : float, default 64.0
+        Largest radius (pixels).
+
+    Returns
+    -------
+    ndarray
+        ``s`` (pixels), shaped like ``r``.
+
+    Examples
+    --------
+    >>> fragment_radius([0.5, 3.0, 40.0]).tolist()
+    [4.0, 9.0, 64.0]
+    """
     return np.clip(scale * np.asarray(r, float), min_radius, max_radius)
 
 
@@ -129,6 +192,41 @@ def place_along_branch(sm: SkeletonMap, branch: int, start: float, *, lam: float
     radius of a fragment already at ``start``, e.g. a furcation) is given.
     The tip is covered: a last centre is added at the end of the branch if
     the previous disk stops short of it.
+
+    Parameters
+    ----------
+    sm : SkeletonMap
+        The skeleton.
+    branch : int
+        The branch to tile.
+    start : float
+        Arc length (pixels) where the tiling starts.
+    lam : float, default 0.75
+        ``lambda``: consecutive centres are ``lambda * (s_i + s_{i+1})``
+        apart (paper: 0.75).
+    scale : float, default 3.0
+        Fragment radius ``s = scale * r`` (paper: 3).
+    min_radius, max_radius : float, default 4.0, 64.0
+        Clip of the fragment radius (pixels).
+    prev_radius : float, optional
+        Radius of a fragment already centred at ``start``; None = none (the
+        first centre is at ``start``).
+    density : float, default 1.0
+        Divides the spacing (1 = the paper's tiling, 2 = twice as many
+        centres).
+
+    Returns
+    -------
+    ndarray
+        Increasing arc lengths (pixels) of the centres.
+
+    Examples
+    --------
+    >>> from branchnb.core.structure import Branch, Structure
+    >>> from branchnb.branching.skeleton_map import SkeletonMap
+    >>> sm = SkeletonMap(Structure([Branch([(0, 0), (40, 0)], 2.0)]))
+    >>> place_along_branch(sm, 0, 0.0).tolist()   # s = 6: centres 0.75 * 12 = 9 px apart
+    [0.0, 9.0, 18.0, 27.0, 36.0, 40.0]
     """
     L = float(sm.lengths[branch])
 
@@ -172,6 +270,26 @@ def target_fragments(sm: SkeletonMap, *, lam: float = 0.75, scale: float = 3.0,
     its start to its tip. A child branch begins with the furcation
     fragment centred at its start on the parent (with ``furcations=False``,
     e.g. when the example has no furcation, with an ordinary fragment).
+
+    Parameters
+    ----------
+    sm : SkeletonMap
+        The target skeleton (the synthesized structure).
+    lam : float, default 0.75
+        ``lambda``: consecutive centres are ``lambda * (s_i + s_{i+1})``
+        apart (paper: 0.75).
+    scale : float, default 3.0
+        Fragment radius ``s = scale * r`` (paper: 3).
+    min_radius, max_radius : float, default 4.0, 64.0
+        Clip of the fragment radius (pixels).
+    furcations : bool, default True
+        Start every child with a furcation fragment (False: an ordinary
+        fragment at its start, e.g. when the example has no furcation).
+
+    Returns
+    -------
+    list of Fragment
+        In synthesis order.
     """
     out: list[Fragment] = []
     for b in _branch_order(sm):
@@ -198,11 +316,27 @@ def source_fragments(sm: SkeletonMap, *, lam: float = 0.75, scale: float = 3.0,
 
     Parameters
     ----------
-    density : float
+    sm : SkeletonMap
+        The source skeleton (the example's structure).
+    lam : float, default 0.75
+        ``lambda``: consecutive centres are ``lambda * (s_i + s_{i+1})``
+        apart (paper: 0.75).
+    scale : float, default 3.0
+        Fragment radius ``s = scale * r`` (paper: 3).
+    min_radius, max_radius : float, default 4.0, 64.0
+        Clip of the fragment radius (pixels).
+    density : float, default 1.0
         Candidate centres per paper spacing ``lambda (s_i + s_{i+1})``
         (1 = the paper's tiling; more adds candidates between its centres).
-    reverse : bool
+    reverse : bool, default True
         Also offer every fragment read tip-to-root (``sign = -1``).
+
+    Returns
+    -------
+    branch_library, furcation_library : FragmentLibrary
+        Fragments along the branches (at the paper's tiling, at the
+        positions a child's target tiling uses, and the denser ones), and
+        one per furcation (per reading direction each).
     """
     signs = (1, -1) if reverse else (1,)
     branch, furc = [], []
@@ -255,17 +389,25 @@ def shape_vectors(sm: SkeletonMap, branch, arc, sign, radius: float, k: int,
 
     Parameters
     ----------
+    sm : SkeletonMap
+        The skeleton the fragments lie on.
     branch, arc, sign : (N,) array_like
+        Each fragment's branch, centre arc length (pixels) and direction
+        of travel (+1 root to tip, -1 reversed).
     radius : float
         The *target* fragment radius ``s``: source and target vectors are
         sampled at the same offsets so that they correspond point by point.
+    k : int
+        Samples per shape vector (per part, for a furcation).
     child : (N,) array_like, optional
         Child branches (furcations only).
 
     Returns
     -------
     p : (N, k or 2k, 2) ndarray
+        Skeleton positions (x, y).
     mu : (N, k or 2k) ndarray
+        Thickness r at those positions (pixels).
     """
     b = np.atleast_1d(np.asarray(branch, np.int64))[:, None]
     s = np.atleast_1d(np.asarray(arc, float))[:, None]
@@ -296,7 +438,9 @@ def rigid_fit_batch(p: np.ndarray, q: np.ndarray):
     residual : (N,) ndarray
         ``min_{R, t} sum_j ||R p_j + t - q_j||^2``.
     rotation : (N, 2, 2) ndarray
+        Rotation R of each candidate.
     translation : (N, 2) ndarray
+        Translation t of each candidate.
 
     Notes
     -----
@@ -335,8 +479,11 @@ def shape_cost(p: np.ndarray, mu: np.ndarray, q: np.ndarray, nu: np.ndarray,
     Returns
     -------
     S : (N,) ndarray
+        Shape cost of each candidate.
     rotation : (N, 2, 2) ndarray
+        Rotation R of its rigid alignment.
     translation : (N, 2) ndarray
+        Translation t of its rigid alignment.
     """
     res, rot, trans = rigid_fit_batch(p, q)
     return res + w_s * ((mu - nu[None, :]) ** 2).sum(axis=1), rot, trans
@@ -372,7 +519,22 @@ class ShapeBank:
         return len(self.p)
 
     def costs(self, q: np.ndarray, nu: np.ndarray, w_s: float = 2.0) -> np.ndarray:
-        """``S`` of every source against target ``(q, nu)`` (same values as :func:`shape_cost`)."""
+        """``S`` of every source against target ``(q, nu)`` (same values as :func:`shape_cost`).
+
+        Parameters
+        ----------
+        q : (K, 2) ndarray
+            Target skeleton positions.
+        nu : (K,) ndarray
+            Target thicknesses (pixels).
+        w_s : float, default 2.0
+            Weight ``wS`` of the thickness term (paper: 2).
+
+        Returns
+        -------
+        (N,) ndarray
+            Shape cost ``S`` of every source.
+        """
         qc = (q - q.mean(axis=0)).ravel()
         a = self.flat @ qc                   # sum p . q
         b = self.flat_perp @ qc              # sum p x q
@@ -381,13 +543,54 @@ class ShapeBank:
         return res + w_s * np.maximum(thick, 0.0)
 
     def fit(self, idx, q: np.ndarray):
-        """Rotations and translations aligning sources ``idx`` onto ``q``."""
+        """Rotations and translations aligning sources ``idx`` onto ``q``.
+
+        Parameters
+        ----------
+        idx : int or array_like of int
+            Indices of the sources to align.
+        q : (K, 2) ndarray
+            Target skeleton positions.
+
+        Returns
+        -------
+        rotation : (n, 2, 2) ndarray
+            Rotation R of each selected source.
+        translation : (n, 2) ndarray
+            Translation t of each selected source.
+        """
         _, rot, trans = rigid_fit_batch(self.p[np.atleast_1d(idx)], q)
         return rot, trans
 
 
 def choose_among_best(total: np.ndarray, c: int, rng: np.random.Generator) -> int:
-    """Index of one of the ``c`` lowest costs, drawn uniformly (the paper's greedy choice)."""
+    """Index of one of the ``c`` lowest costs, drawn uniformly (the paper's greedy choice).
+
+    Parameters
+    ----------
+    total : (N,) array_like
+        Cost of every candidate (``S + wC C``), lower is better.
+    c : int
+        How many of the best to draw from (clipped to ``[1, N]``).
+    rng : numpy.random.Generator
+        Random generator.
+
+    Returns
+    -------
+    int
+        Index into ``total``.
+
+    Raises
+    ------
+    ValueError
+        If ``total`` is empty.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> choose_among_best([5.0, 1.0, 3.0], 1, np.random.default_rng(0))
+    1
+    """
     total = np.asarray(total, float)
     if total.size == 0:
         raise ValueError("no candidates to choose from")

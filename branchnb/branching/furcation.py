@@ -39,7 +39,24 @@ __all__ = ["FurcationModel", "furcation_features", "vertex_angles", "window_feat
 
 
 def vertex_angles(points) -> np.ndarray:
-    """Turning angle at every vertex (0 at the two ends), ``(N,)``."""
+    """Turning angle at every vertex (0 at the two ends), ``(N,)``.
+
+    Parameters
+    ----------
+    points : (N, 2) array_like
+        Vertices (x, y) of one branch (pixels).
+
+    Returns
+    -------
+    (N,) ndarray
+        Turning angle at each vertex (radians, positive when turning from +x
+        towards +y); 0 at both ends.
+
+    Examples
+    --------
+    >>> vertex_angles([(0, 0), (1, 0), (1, 1)]).round(4).tolist()
+    [0.0, 1.5708, 0.0]
+    """
     p = np.asarray(points, np.float64)
     out = np.zeros(len(p))
     if len(p) >= 3:
@@ -51,6 +68,21 @@ def window_features(av: np.ndarray, rv: np.ndarray, k: int) -> tuple[np.ndarray,
     """Non-causal windows of ``2k + 1`` angles and thicknesses centred on each vertex.
 
     Angles are padded with 0 (straight) and thicknesses with the end value.
+
+    Parameters
+    ----------
+    av : (N,) array_like
+        Turning angle of every vertex (radians), as :func:`vertex_angles`.
+    rv : (N,) array_like
+        Thickness r of every vertex (pixels).
+    k : int
+        Half window: each window holds ``2k + 1`` vertices.
+
+    Returns
+    -------
+    wa, wr : (N, 2k + 1) ndarray
+        Windows of angles and thicknesses, vertex ``i`` in the middle
+        column.
     """
     av = np.asarray(av, np.float64)
     rv = np.asarray(rv, np.float64)
@@ -74,7 +106,32 @@ def _gaps(n: int, furcations) -> tuple[np.ndarray, np.ndarray]:
 
 
 def furcation_features(av, rv, furcations, k: int) -> np.ndarray:
-    """Feature matrix ``(N, 2 (2k + 1) + 2)``: windows, then ``n-`` and ``n+``."""
+    """Feature matrix ``(N, 2 (2k + 1) + 2)``: windows, then ``n-`` and ``n+``.
+
+    Parameters
+    ----------
+    av : (N,) array_like
+        Turning angle of every vertex (radians).
+    rv : (N,) array_like
+        Thickness r of every vertex (pixels).
+    furcations : iterable of int
+        Vertex indices where children start (for ``n-`` and ``n+``).
+    k : int
+        Half window of the angle/thickness windows.
+
+    Returns
+    -------
+    (N, 2 (2k + 1) + 2) ndarray
+        Per vertex: the angle window, the thickness window, ``n-`` and
+        ``n+`` (index distances to the previous / next other furcation, or
+        to the branch's start / end).
+
+    Examples
+    --------
+    >>> F = furcation_features([0.0] * 5, [2.0] * 5, [2], k=1)
+    >>> F.shape, F[:, -2:].tolist()
+    ((5, 8), [[0.0, 2.0], [1.0, 1.0], [2.0, 2.0], [1.0, 1.0], [2.0, 0.0]])
+    """
     wa, wr = window_features(av, rv, k)
     nm, npl = _gaps(len(av), furcations)
     return np.hstack([wa, wr, nm[:, None], npl[:, None]])
@@ -105,19 +162,24 @@ def _unroll(clf, method: str) -> list:
 class FurcationModel:
     """The furcation SVM and the input's furcation examples.
 
-    Attributes
+    Parameters
     ----------
     k : int
         Half window.
     classifier : sklearn estimator or None
         None if the input has no furcation (synthesis then never branches).
     probability_method : {"calibrated", "sigmoid", "none"}
+        How decision values become probabilities: Platt scaling
+        (cross-validated), the plain logistic, or no classifier.
     parent_windows_a, parent_windows_r : (F, 2k + 1) ndarray
         Non-causal windows of the parent at each input furcation.
     child_index : (F,) int ndarray
         The input child branch of each furcation.
     children_per_branch, branch_lengths : ndarray
-        For drawing ``d``.
+        For drawing ``d``: children count and length (pixels) of every
+        input branch.
+    n_positive, n_negative : int
+        Training vertices that are furcations (+1) and that are not (-1).
     """
 
     k: int
@@ -136,7 +198,23 @@ class FurcationModel:
 
     @classmethod
     def fit(cls, structure: Structure, k: int, C: float = 1.0) -> FurcationModel:
-        """Train on a structure resampled at the synthesis step ``h``."""
+        """Train on a structure resampled at the synthesis step ``h``.
+
+        Parameters
+        ----------
+        structure : Structure
+            The example, resampled at the synthesis step h.
+        k : int
+            Half window: windows of ``2k + 1`` vertices.
+        C : float, default 1.0
+            Regularisation C of the linear SVM (``SynthesisParams.svm_C``).
+
+        Returns
+        -------
+        FurcationModel
+            With ``classifier = None`` when the example has no furcation or no
+            other vertex (then synthesis never branches).
+        """
         from sklearn.pipeline import make_pipeline
         from sklearn.preprocessing import StandardScaler
         from sklearn.svm import LinearSVC
@@ -200,7 +278,23 @@ class FurcationModel:
         return self.classifier is not None and len(self.child_index) > 0
 
     def probabilities(self, points, radii, furcations=()) -> np.ndarray:
-        """Furcation probability of every vertex of a branch, ``(N,)``."""
+        """Furcation probability of every vertex of a branch, ``(N,)``.
+
+        Parameters
+        ----------
+        points : (N, 2) array_like
+            Vertices (x, y) of the branch, resampled at step h (pixels).
+        radii : (N,) array_like
+            Thickness r of every vertex (pixels).
+        furcations : iterable of int, default ()
+            Vertices that already carry a child (they set ``n-`` / ``n+``).
+
+        Returns
+        -------
+        (N,) ndarray
+            Probabilities in [0, 1]; all 0 when the model cannot branch or
+            N < 3.
+        """
         N = len(points)
         if not self.can_branch or N < 3:
             return np.zeros(N)
@@ -225,6 +319,28 @@ class FurcationModel:
         ``existing`` furcation. ``weights`` (N,), optional, multiplies the
         probabilities (vertices of weight 0 are never chosen): synthesis
         uses it to furcate where there is room to grow.
+
+        Parameters
+        ----------
+        points : (N, 2) array_like
+            Vertices (x, y) of the branch (pixels).
+        radii : (N,) array_like
+            Thickness r of every vertex (pixels).
+        d : int
+            Number of furcations to pick (fewer when no vertex is left).
+        min_spacing : int, default 0
+            Minimum index distance between furcations (0 and 1: only distinct
+            vertices).
+        existing : iterable of int, default ()
+            Vertices that already carry a child.
+        weights : (N,) array_like, optional
+            Multiplies the probabilities; vertices of weight 0 are never chosen.
+            None = all 1.
+
+        Returns
+        -------
+        list of int
+            The chosen vertex indices, sorted.
         """
         N = len(points)
         chosen: list[int] = []
@@ -251,6 +367,22 @@ class FurcationModel:
         """Draw ``d`` from the children counts of input branches of similar length.
 
         Input branches are weighted by ``exp(-log(L / L_b)^2 / (2 bw^2))``.
+
+        Parameters
+        ----------
+        length : float
+            Length of the synthesized branch (pixels).
+        rng : numpy.random.Generator
+            Random generator.
+        bandwidth : float, default 0.5
+            Width ``bw`` of the length kernel, in log units (0.5: a branch twice
+            as long weighs ``exp(-0.96) ~ 0.38``).
+
+        Returns
+        -------
+        int
+            ``d``, the number of furcations (0 for a model without input
+            branches or ``length <= 0``).
         """
         if len(self.children_per_branch) == 0 or length <= 0:
             return 0
@@ -262,7 +394,22 @@ class FurcationModel:
         return int(self.children_per_branch[j])
 
     def child_quality(self, window_a, window_r) -> np.ndarray:
-        """Q of every input furcation for a synthesized parent window, ``(F,)``."""
+        """Q of every input furcation for a synthesized parent window, ``(F,)``.
+
+        Parameters
+        ----------
+        window_a : (2k + 1,) array_like
+            The synthesized parent's non-causal window of turning angles
+            (radians) at the new furcation.
+        window_r : (2k + 1,) array_like
+            Its window of thicknesses (pixels).
+
+        Returns
+        -------
+        (F,) ndarray
+            ``Q = dist(alpha) * dist(r)`` against the parent window of every
+            input furcation; empty when the input has none.
+        """
         if len(self.child_index) == 0:
             return np.zeros(0)
         return markov_dist(self.parent_windows_a, window_a) * markov_dist(self.parent_windows_r, window_r)

@@ -41,12 +41,24 @@ def guidance_map(shape, path, width: float = 40.0, depth: float = 1.0) -> np.nda
     Parameters
     ----------
     shape : (H, W)
+        Size of the synthesis domain in pixels.
     path : (N, 2) array_like
         User-drawn path (x, y), N >= 2.
-    width : float
-        Valley width ``w`` (pixels).
-    depth : float
+    width : float, default 40.0
+        Valley width ``w`` (pixels), as ``SynthesisParams.guidance_width``.
+    depth : float, default 1.0
         Valley depth in (0, 1]; G = 1 - depth on the path.
+
+    Returns
+    -------
+    (H, W) float32 ndarray
+        G in [1 - depth, 1].
+
+    Raises
+    ------
+    ValueError
+        If ``shape`` is not positive, ``width`` not > 0, ``depth`` not in
+        (0, 1], or ``path`` has zero length or lies outside the domain.
 
     Examples
     --------
@@ -84,6 +96,27 @@ class Guidance:
     :func:`~branchnb.branching.synthesis.synthesize_structure`. If the
     synthesis has no explicit start, the root starts at the path's first
     point heading along it.
+
+    Parameters
+    ----------
+    map : (H, W) array_like
+        The guidance map G (finite, >= 0; 1 = no preference, lower = a
+        valley that attracts branches), e.g. from :func:`guidance_map`.
+    path : (N, 2) array_like, optional
+        The path (x, y) the map was made from, N >= 2; None when the map was
+        painted some other way (then the root start is not taken from it).
+
+    Raises
+    ------
+    ValueError
+        If ``map`` is not a non-empty 2-D array of finite values >= 0, or
+        ``path`` has fewer than 2 points.
+
+    Examples
+    --------
+    >>> g = Guidance.from_path((40, 60), [(5, 20), (55, 20)], width=5)
+    >>> g.shape, g.start()
+    ((40, 60), (5.0, 20.0, 0.0))
     """
 
     map: np.ndarray
@@ -102,7 +135,24 @@ class Guidance:
     @classmethod
     @checked(shape=Shape(), path=_PATH, width=Real(1e-3, 1e5), depth=Real(0, 1e3))
     def from_path(cls, shape, path, width: float = 40.0, depth: float = 1.0) -> Guidance:
-        """Guidance with a valley of width ``width`` along ``path``."""
+        """Guidance with a valley of width ``width`` along ``path``.
+
+        Parameters
+        ----------
+        shape : (H, W)
+            Size of the synthesis domain in pixels.
+        path : (N, 2) array_like
+            User-drawn path (x, y), N >= 2.
+        width : float, default 40.0
+            Valley width ``w`` (pixels).
+        depth : float, default 1.0
+            Valley depth in (0, 1]; G = 1 - depth on the path.
+
+        Returns
+        -------
+        Guidance
+            The map of :func:`guidance_map` and the path.
+        """
         return cls(guidance_map(shape, path, width, depth), as_points(path, name="path", min_points=2))
 
     @property
@@ -110,7 +160,18 @@ class Guidance:
         return self.map.shape
 
     def sample(self, points) -> np.ndarray:
-        """G at points ``(..., 2)``; 1 outside the map."""
+        """G at points ``(..., 2)``; 1 outside the map.
+
+        Parameters
+        ----------
+        points : (..., 2) array_like
+            Positions (x, y) in pixels (rounded to the nearest pixel).
+
+        Returns
+        -------
+        (...) float32 ndarray
+            G at each point.
+        """
         p = real_array(points, "points")
         if p.ndim < 1 or p.shape[-1] != 2:
             raise ValueError(f"points must have shape (..., 2), got {p.shape}")
@@ -124,7 +185,32 @@ class Guidance:
 
     @checked(tip=Point(), directions=Array(ndim=2), length=Real(0, 1e5), n_samples=Int(1, 10_000))
     def along(self, tip, directions, length: float, n_samples: int = 16) -> np.ndarray:
-        """Mean of G along rays from ``tip`` in ``directions`` ``(J, 2)`` up to ``length``."""
+        """Mean of G along rays from ``tip`` in ``directions`` ``(J, 2)`` up to ``length``.
+
+        Parameters
+        ----------
+        tip : (2,) array_like
+            Start (x, y) of every ray: the branch tip (pixels).
+        directions : (J, 2) array_like
+            Unit growth direction of each candidate.
+        length : float
+            Ray length in pixels (three extension lengths in synthesis).
+        n_samples : int, default 16
+            Samples per ray, evenly spaced up to ``length`` (the tip itself is
+            not sampled).
+
+        Returns
+        -------
+        (J,) float64 ndarray
+            ``G_c``: the mean of G along each ray.
+
+        Examples
+        --------
+        >>> g = Guidance.from_path((40, 60), [(5, 20), (55, 20)], width=5)
+        >>> G_c = g.along((5, 20), [(1.0, 0.0), (0.0, 1.0)], 15)
+        >>> bool(G_c[0] < 0.01 < 0.5 < G_c[1])
+        True
+        """
         t = np.linspace(length / n_samples, length, n_samples)
         tip = np.asarray(tip, np.float64)
         d = np.asarray(directions, np.float64)

@@ -67,13 +67,46 @@ class HistogramMatcher:
 
     # -- bookkeeping -------------------------------------------------------
     def bin_angles(self, a) -> np.ndarray:
+        """Histogram bin of each turning angle (values outside the input's range go to the end bins).
+
+        Parameters
+        ----------
+        a : array_like
+            Turning angles alpha (radians).
+
+        Returns
+        -------
+        int ndarray
+            Bin index in ``0 .. B - 1`` of each angle, same shape as ``a``.
+        """
         return _bin_index(np.asarray(a, np.float64), self.edges_a)
 
     def bin_radii(self, r) -> np.ndarray:
+        """Histogram bin of each thickness (values outside the input's range go to the end bins).
+
+        Parameters
+        ----------
+        r : array_like
+            Thicknesses r (pixels).
+
+        Returns
+        -------
+        int ndarray
+            Bin index in ``0 .. B - 1`` of each thickness, same shape as ``r``.
+        """
         return _bin_index(np.asarray(r, np.float64), self.edges_r)
 
     def add(self, angles=(), radii=()) -> None:
-        """Count synthesized angles and vertex thicknesses (one node per radius)."""
+        """Count synthesized angles and vertex thicknesses (one node per radius).
+
+        Parameters
+        ----------
+        angles : array_like, default ()
+            Turning angles alpha (radians) of the newly synthesized elements.
+        radii : array_like, default ()
+            Thicknesses r (pixels) of the new vertices; each one counts as a node
+            in ``n_t`` (``n_nodes``).
+        """
         a = np.asarray(angles, np.float64).ravel()
         r = np.asarray(radii, np.float64).ravel()
         if a.size:
@@ -143,10 +176,35 @@ def histogram_distances(example, structure, *, bins: int = 16,
     paper's ``(1/B) sum (p - q)^2``) or another metric of
     :func:`branchnb.core.histogram.histogram_distance` (``l1``, ``chi2``, ``emd``).
 
+    Parameters
+    ----------
+    example : Structure
+        The input structure; its min..max sets the bins.
+    structure : Structure
+        The synthesized structure to compare.
+    bins : int, default 16
+        Number of bins B (16 in the paper).
+    metric : str, default "l2sq"
+        Histogram distance: ``"l2sq"`` (the paper's), ``"l1"``, ``"chi2"`` or
+        ``"emd"``.
+
     Returns
     -------
     dict
         ``{"angle": dA, "thickness": dR, "sum": dA + dR}``.
+
+    Raises
+    ------
+    ValueError
+        If the example or the structure has no turning angle (no branch of
+        >= 3 vertices).
+
+    Examples
+    --------
+    >>> from branchnb.core.structure import Branch, Structure
+    >>> s = Structure([Branch([(0, 0), (4, 1), (8, 0), (12, 1)], [3.0, 2.5, 2.0, 1.5])])
+    >>> histogram_distances(s, s)["sum"]
+    0.0
     """
     from ..core.histogram import histogram_distance
 

@@ -79,6 +79,118 @@ class ImageSynthesisParams:
     did by hand) are this implementation's choices, tuned on the sample
     images.
 
+    Parameters
+    ----------
+    lam : float, default 0.75
+        ``lambda``: fragment centres are ``lambda * (s_i + s_{i+1})`` apart (paper:
+        0.75).
+    radius_scale : float, default 3.0
+        Fragment radius ``s = radius_scale * r``, r the local thickness (paper: 3).
+    min_radius : float, default 6.0
+        Smallest fragment radius in pixels (for hairline branches).
+    max_radius : float, default 64.0
+        Largest fragment radius in pixels.
+    k : int, default 9
+        ``k``: skeleton samples per shape vector.
+    w_s : float, default 2.0
+        ``wS``: weight of the thickness difference ``|mu - nu|^2`` in S (paper: 2).
+    w_c : float, default 1000.0
+        ``wC``: weight of the colour cost C (mean squared colour difference on the
+        overlap, branch and background pixels weighted equally) against S (squared
+        pixels).
+    c : int, default 2
+        ``c``: choose at random among the c best source fragments (1 = greedy).
+    shortlist : int, default 64
+        Source fragments of lowest S whose colour cost C is evaluated.
+    source_density : float, default 2.0
+        Source fragment centres per paper spacing (1 = the paper's tiling; more =
+        more candidates).
+    reverse : bool, default True
+        Also use source fragments read tip-to-root.
+    displacement : bool, default True
+        Bend fragments onto the target skeleton with the bi-Laplacian displacement
+        field.
+    match_thickness : bool, default True
+        Also constrain the branch edges (r along the normal) so the displacement
+        fixes the width too.
+    displacement_step : int, default 2
+        Grid step of the displacement solve (pixels).
+    seams : {'graphcut', 'overlay'}, default 'graphcut'
+        Graph-cut seams through overlaps, or plain overlay (baseline).
+    poisson : bool, default True
+        Gradient-domain (Poisson) photometric correction.
+    anchors : bool, default True
+        Extra boundary constraints of the Poisson correction (tie uncovered pixels
+        to the fragment's colours: no drift).
+    anchor_weight : float, default 10.0
+        Weight of the Poisson anchor constraints.
+    furcation_clear : float, default 0.6
+        Fraction of a furcation fragment's radius cleared of the parent's fragments
+        before the child is synthesised.
+    exclusion : float, default 1.5
+        Source pixels within exclusion * r + margin of a branch count as that branch
+        (never copied for another branch or a gap).
+    exclusion_margin : float, default 2.0
+        Margin (pixels) added to the branch body.
+    avoid_unannotated : bool, default True
+        Also treat unannotated branch-like example pixels (faint branches the
+        structure misses) as branches.
+    avoid_salient : bool, default True
+        Never copy salient spots (blobs much darker or brighter than their
+        surroundings, e.g. a retina's optic disc and fovea) into gaps or for another
+        branch: repeated, they would stand out.
+    salient_z : float, default 6.0
+        Robust z-score above which a spot counts as salient.
+    branch_like : float, default 0.1
+        Branch-likeness threshold: fraction of the way from the local background
+        colour to the branch colour.
+    flatten_shading : float, default 0.0
+        Divide out the example's large-scale shading (vignetting, uneven light)
+        before copying, so pieces from bright and dark parts match; Gaussian scale
+        as a fraction of the example's size, e.g. 0.05 (0 = copy as is, the paper).
+    exclude_matte : bool, default True
+        Never copy a flat black/white matte connected to the example's border (e.g.
+        around a fundus photo).
+    flat_drawing : bool, default True
+        Flat-colour examples (drawn maps, masks): draw the output the way the
+        example is drawn (its region colours, its boundary line along the output's
+        region boundary, branches as connected strokes of its line colour and
+        measured width) instead of copying fragments (off: the paper's fragments).
+    keep_regions : bool, default True
+        Flat-colour examples (maps, masks): segment the example into its flat
+        regions (land, sea), lay them out in the output as in the example, and fill
+        every output pixel only from example pixels of its own region (seams follow
+        region boundaries).
+    flat_poisson : bool, default False
+        Also run the Poisson correction on flat-colour examples (off: it would blur
+        their flat colours into halos).
+    completion : bool, default True
+        Fill the gaps between branches automatically.
+    relight_completion : bool, default True
+        Gap completion copies the example's texture with its large-scale shading
+        taken out and lights it like the fragments around it (a vignetted photo
+        gives no square patches of another brightness; off: copy as is).
+    patch_size : int, default 32
+        Gap completion: patch side (pixels).
+    patch_overlap : float, default 0.25
+        Gap completion: overlap of neighbouring patches, as a fraction of the patch
+        side.
+    completion_tolerance : float, default 0.1
+        Gap completion: windows within (1 + tol) of the best match are equally
+        likely.
+    completion_screen : float, default 0.05
+        Gap completion: screening weight of the Poisson correction (corrections fade
+        within ~1/sqrt(w) px of a seam; 0 = anchors only).
+    completion_rim : int, default 3
+        Gap completion: width (pixels) of the fragments' outer rim a patch's seam
+        may cut into.
+    min_free : float, default 0.0
+        Gap completion: shrink patches until this fraction of the example's windows
+        is wholly branch-free.
+    forbid_weight : float, default 5.0
+        Gap completion: penalty (in typical match costs) for windows whose branch
+        pixels (never copied) would leave holes.
+
     Examples
     --------
     >>> ImageSynthesisParams(c=1, completion=False).lam
@@ -189,9 +301,11 @@ class ImageSynthesisParams:
 class FragmentMatch:
     """One synthesised target fragment and the source fragment chosen for it.
 
-    Attributes
+    Parameters
     ----------
     target, source : Fragment
+        The target fragment (on the synthesised skeleton) and the source
+        fragment (on the example's) copied into it.
     shape_cost : float
         ``S`` of the chosen candidate.
     colour_cost : float
@@ -217,7 +331,7 @@ class FragmentMatch:
 class ImageSynthesisResult:
     """Result of :func:`synthesize_image`.
 
-    Attributes
+    Parameters
     ----------
     image : (H, W, C) float32 ndarray
         The synthesised image (same channels as the example).
@@ -234,20 +348,22 @@ class ImageSynthesisResult:
     seams : (H, W) bool ndarray
         Seam pixels of all compositions (fragments and patches).
     fragments : list of FragmentMatch
+        The source chosen for every target fragment, in synthesis order.
     seam_cost : float
         Sum of the seam costs of every composition.
     target : Structure
         The target structure (as given).
     example_regions : ExampleRegions
         Branch body, branch-like and unusable masks of the example.
-    example_labels, labels : (H, W) int ndarray or None
-        Flat-colour regions of the example and of the output
-        (``params.keep_regions``).
     n_inpainted : int
         Output pixels no patch could fill (diffusion-inpainted; normally 0).
     timings : dict
         Seconds spent per stage.
     params : ImageSynthesisParams
+        The parameters used.
+    example_labels, labels : (H, W) int ndarray or None
+        Flat-colour regions of the example and of the output
+        (``params.keep_regions``).
     """
 
     image: np.ndarray
@@ -269,7 +385,20 @@ class ImageSynthesisResult:
     labels: np.ndarray | None = None
 
     def overlay(self, *, skeleton: bool = True, seams: bool = True) -> np.ndarray:
-        """The image with the target skeleton (red) and the seams (yellow) drawn over it."""
+        """The image with the target skeleton (red) and the seams (yellow) drawn over it.
+
+        Parameters
+        ----------
+        skeleton : bool, default True
+            Draw the target skeleton in red.
+        seams : bool, default True
+            Draw the seams in yellow.
+
+        Returns
+        -------
+        (H, W, 3) ndarray
+            An RGB copy of the image with the overlays.
+        """
         img = as_rgb(self.image) if self.image.shape[2] != 3 else self.image
         img = img.copy()
         if seams:
@@ -609,6 +738,21 @@ def _constraints(ctx: _Context, src: Fragment, tgt: Fragment, rot, trans):
 # the public entry
 
 
+#: The example side of the last call (its skeleton and pixel maps, regions, fragment library and
+#: shape vectors) is kept for the next call with the same example, structure, mask and parameters:
+#: a second render of one example (the app, the bench's repeats, several targets) skips it.
+_EXAMPLE_CACHE: dict = {}
+
+
+def _example_key(ex: np.ndarray, example_structure: Structure, example_mask, p) -> tuple:
+    import hashlib
+
+    h = hashlib.blake2b(np.ascontiguousarray(ex).view(np.uint8).ravel(), digest_size=16)
+    if example_mask is not None:
+        h.update(np.ascontiguousarray(example_mask).view(np.uint8).ravel())
+    return (ex.shape, str(ex.dtype), example_mask is not None, h.hexdigest(), example_structure.to_json(), repr(p))
+
+
 @checked(shape=Shape())
 def synthesize_image(example_image, example_structure: Structure, target_structure,
                      params: ImageSynthesisParams | None = None, rng=None,
@@ -631,6 +775,8 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         :class:`~branchnb.branching.SynthesisResult` also gives the domain
         its structure grew in (``target_domain``).
     params : ImageSynthesisParams, optional
+        Fragment, seam, correction and gap-completion settings; None = the
+        defaults (the paper's ``lambda``, ``s = 3 r``, ``wS``).
     rng : int or numpy.random.Generator, optional
         Seed for the random choices (same seed, same image).
     progress : callable(fraction: float, text: str), optional
@@ -705,12 +851,19 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
 
     report(0.0, "preparing fragments")
     timings = {}
-    sm_s = SkeletonMap(example_structure, 1.0)
+    key = _example_key(ex, example_structure, example_mask, p)
+    cached = _EXAMPLE_CACHE.get(key)
+    if cached is None:
+        _EXAMPLE_CACHE.clear()
+        sm_s = SkeletonMap(example_structure, 1.0)
+        pm_s = sm_s.pixel_map(ex.shape[:2])
+        # Flat-colour examples (maps, masks): their regions, and no matte / Poisson.
+        labels_ex, flat_share = flat_colour_regions(ex, pm_s.core(p.exclusion, p.exclusion_margin))
+        cached = _EXAMPLE_CACHE[key] = {"sm_s": sm_s, "pm_s": pm_s, "labels_ex": labels_ex,
+                                        "flat_share": flat_share}
+    sm_s, pm_s, labels_ex, flat_share = (cached[k] for k in ("sm_s", "pm_s", "labels_ex", "flat_share"))
     sm_t = SkeletonMap(target_structure, 1.0)
-    pm_s = sm_s.pixel_map(ex.shape[:2])
     pm_t = sm_t.pixel_map((H, W))
-    # Flat-colour examples (maps, masks): their regions, and no matte / Poisson.
-    labels_ex, flat_share = flat_colour_regions(ex, pm_s.core(p.exclusion, p.exclusion_margin))
     flat = bool(flat_share >= 0.5 and labels_ex.max() >= 1)
     labels_t = None
     src_labels = labels_ex
@@ -741,22 +894,27 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         return _draw_flat(ex, example_structure, target_structure, layout, labels_t, target_domain,
                           pm_s, labels_ex, p, t_start, report, (H, W))
     use_poisson = p.poisson and (not flat or p.flat_poisson)
-    regions = example_regions(ex, pm_s, exclusion=p.exclusion, margin=p.exclusion_margin,
-                              threshold=p.branch_like if p.avoid_unannotated else None,
-                              matte=p.exclude_matte and not flat, example_mask=example_mask,
-                              salient=p.salient_z if p.avoid_salient else None)
-    if p.flatten_shading > 0:
-        bg = ~(regions.forbidden | ndi.binary_dilation(regions.body | regions.branch_like, iterations=3))
-        ex = flatten_shading(ex, bg, p.flatten_shading * max(ex.shape[:2]))
-    excluded = regions.body | regions.branch_like
-    if regions.salient is not None:
-        excluded = excluded | regions.salient
-    ctx = _Context(ex, sm_s, sm_t, pm_s, excluded, regions.unusable, p)
     geo = dict(lam=p.lam, scale=p.radius_scale, min_radius=p.min_radius, max_radius=p.max_radius)
-    lib_b, lib_f = source_fragments(sm_s, density=p.source_density, reverse=p.reverse, **geo)
-    free_start, free_end = _free_ends(sm_s, pm_s)
-    if labels_ex.max() >= 1:
-        _joined_at_region_edge(sm_s, labels_ex, free_start, free_end)
+    if "regions" not in cached:
+        regions = example_regions(ex, pm_s, exclusion=p.exclusion, margin=p.exclusion_margin,
+                                  threshold=p.branch_like if p.avoid_unannotated else None,
+                                  matte=p.exclude_matte and not flat, example_mask=example_mask,
+                                  salient=p.salient_z if p.avoid_salient else None)
+        if p.flatten_shading > 0:
+            bg = ~(regions.forbidden | ndi.binary_dilation(regions.body | regions.branch_like, iterations=3))
+            ex = flatten_shading(ex, bg, p.flatten_shading * max(ex.shape[:2]))
+        excluded = regions.body | regions.branch_like
+        if regions.salient is not None:
+            excluded = excluded | regions.salient
+        lib_b, lib_f = source_fragments(sm_s, density=p.source_density, reverse=p.reverse, **geo)
+        free_start, free_end = _free_ends(sm_s, pm_s)
+        if labels_ex.max() >= 1:
+            _joined_at_region_edge(sm_s, labels_ex, free_start, free_end)
+        cached.update(regions=regions, ex=ex, excluded=excluded, lib_b=lib_b, lib_f=lib_f,
+                      free_start=free_start, free_end=free_end, vec_cache={})
+    regions, ex, excluded, lib_b, lib_f = (cached[k] for k in ("regions", "ex", "excluded", "lib_b", "lib_f"))
+    free_start, free_end = cached["free_start"].copy(), cached["free_end"].copy()
+    ctx = _Context(ex, sm_s, sm_t, pm_s, excluded, regions.unusable, p)
     free_t = _free_ends(sm_t, pm_t)
     if len(lib_b) == 0:
         raise ValueError("example_structure yields no source fragment (all branches have zero length)")
@@ -779,6 +937,9 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     # Shape vectors of the source library depend on the target radius only
     # through the sampling offsets: cache them per radius.
     vec_cache: dict = {}
+    banks: dict = cached["vec_cache"]  # across calls, by exact radius (a call's first radius per key)
+    if len(banks) > 512:
+        banks.clear()
     # The targets' own shape vectors, one batched query per (kind, radius)
     # (elementwise skeleton queries: the values of one call per fragment).
     tgt_vec: list = [None] * len(targets)
@@ -805,8 +966,11 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         q0, nu0 = tgt_vec[i]
         key = (tf.kind, round(R, 2))
         if key not in vec_cache:
-            vec_cache[key] = ShapeBank(*shape_vectors(sm_s, lib.branch, lib.arc, lib.sign, R, p.k,
-                                                      lib.child if tf.kind == "furcation" else None))
+            exact = (tf.kind, float(R))
+            if exact not in banks:
+                banks[exact] = ShapeBank(*shape_vectors(sm_s, lib.branch, lib.arc, lib.sign, R, p.k,
+                                                        lib.child if tf.kind == "furcation" else None))
+            vec_cache[key] = banks[exact]
         bank = vec_cache[key]
         S = bank.costs(q0, nu0, p.w_s)
         if tf.kind == "branch":

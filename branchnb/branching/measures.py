@@ -44,7 +44,21 @@ __all__ = ["far_share", "line_pieces", "root_boundary_distance", "straight_runs"
 
 
 def far_share(structure: Structure, domain: np.ndarray) -> float:
-    """Share of ``domain`` farther than 5 % of its diameter from every branch."""
+    """Share of ``domain`` farther than 5 % of its diameter from every branch.
+
+    Parameters
+    ----------
+    structure : Structure
+        The branches (vertices in pixels of ``domain``).
+    domain : (H, W) bool array_like
+        The synthesis domain (True inside).
+
+    Returns
+    -------
+    float
+        Fraction of the domain's pixels, in [0, 1] (compare with the
+        example's own value on its domain).
+    """
     dom = np.asarray(domain, bool)
     ys, xs = np.nonzero(dom)
     diam = float(np.hypot(np.ptp(xs), np.ptp(ys)))
@@ -55,7 +69,21 @@ def far_share(structure: Structure, domain: np.ndarray) -> float:
 
 
 def root_boundary_distance(structure: Structure, domain: np.ndarray) -> np.ndarray:
-    """Distance (pixels) of each root's first vertex to the outside of ``domain``."""
+    """Distance (pixels) of each root's first vertex to the outside of ``domain``.
+
+    Parameters
+    ----------
+    structure : Structure
+        The branches (vertices in pixels of ``domain``).
+    domain : (H, W) bool array_like
+        The synthesis domain (True inside).
+
+    Returns
+    -------
+    (n_roots,) ndarray
+        Euclidean distance (pixels) from each root's start to the nearest
+        pixel outside the domain (0 for a start outside).
+    """
     dom = np.asarray(domain, bool)
     d = ndi.distance_transform_edt(dom)
     h, w = dom.shape
@@ -68,13 +96,44 @@ def root_boundary_distance(structure: Structure, domain: np.ndarray) -> np.ndarr
 
 
 def thick_end_share(structure: Structure) -> float:
-    """Share of branches whose last radius is more than 2 x their first."""
+    """Share of branches whose last radius is more than 2 x their first.
+
+    Parameters
+    ----------
+    structure : Structure
+        The branches (radii in pixels).
+
+    Returns
+    -------
+    float
+        Fraction of branches with >= 2 vertices, in [0, 1]; 0 when there are
+        none.
+    """
     bs = [b for b in structure.branches if len(b.points) > 1]
     return float(np.mean([b.thickness[-1] > 2 * b.thickness[0] for b in bs])) if bs else 0.0
 
 
 def straight_runs(structure: Structure, h: float = 4.0, tol_deg: float = 6.0) -> tuple[float, float]:
-    """(median absolute turning angle in degrees, mean straight-run length in pixels) at step ``h``."""
+    """(median absolute turning angle in degrees, mean straight-run length in pixels) at step ``h``.
+
+    Parameters
+    ----------
+    structure : Structure
+        The branches (vertices in pixels); branches shorter than ``3 h`` are
+        skipped.
+    h : float, default 4.0
+        Resampling step h (pixels).
+    tol_deg : float, default 6.0
+        A vertex turning by less than this (degrees) continues a straight
+        run.
+
+    Returns
+    -------
+    median_angle : float
+        Median absolute turning angle (degrees); 0 without any branch.
+    mean_run : float
+        Mean length of the straight runs (pixels); 0 without any.
+    """
     from ..core.polyline import resample_uniform, turning_angles
 
     angles, runs = [], []
@@ -101,7 +160,26 @@ def _ink(image, colour, ground, share: float = 0.4) -> np.ndarray:
 
 def line_pieces(image: np.ndarray, structure: Structure, colour, ground) -> dict:
     """Line pixels (at least 40 % of the way from ``ground`` to ``colour``) near the structure:
-    8-connected pieces per tree, specks (pieces under 10 px)."""
+    8-connected pieces per tree, specks (pieces under 10 px).
+
+    Parameters
+    ----------
+    image : (H, W, C) array_like
+        Synthesized image, float in [0, 1] (the first 3 channels are used).
+    structure : Structure
+        The synthesized structure drawn in ``image``.
+    colour : (3,) array_like
+        Colour of the drawn lines.
+    ground : (3,) array_like
+        Colour of the ground the lines are drawn on.
+
+    Returns
+    -------
+    dict
+        ``trees`` (number of roots), ``pieces_per_tree`` (mean),
+        ``max_pieces`` and ``specks`` (pieces under 10 pixels in the whole
+        image).
+    """
     ink = _ink(image, colour, ground)
     trees = {}
     for i, b in enumerate(structure.branches):
@@ -123,7 +201,25 @@ def line_pieces(image: np.ndarray, structure: Structure, colour, ground) -> dict
 
 
 def boundary_drawn_share(image: np.ndarray, region: np.ndarray, colour, ground) -> float:
-    """Share of the boundary of ``region`` (not on the frame) with a line of ``colour`` within 2 px."""
+    """Share of the boundary of ``region`` (not on the frame) with a line of ``colour`` within 2 px.
+
+    Parameters
+    ----------
+    image : (H, W, C) array_like
+        Image, float in [0, 1] (the first 3 channels are used).
+    region : (H, W) bool array_like
+        The region whose boundary is checked (e.g. the land of a map).
+    colour : (3,) array_like
+        Colour of the drawn boundary line.
+    ground : (3,) array_like
+        Colour of the ground the line is drawn on.
+
+    Returns
+    -------
+    float
+        Fraction of the boundary pixels in [0, 1]; 1 when the region has no
+        boundary inside the frame.
+    """
     reg = np.asarray(region, bool)
     edge = reg & ndi.binary_dilation(~reg)
     edge[0] = edge[-1] = False
@@ -146,7 +242,28 @@ def _kinds(sizes=(512, 1000)):
 
 
 def run_kind(name: str, img: np.ndarray, truth_domain=None, seeds=(0, 1, 2), image: bool = True) -> list[str]:
-    """Measure one example through the default workflow; one text row per seed."""
+    """Measure one example through the default workflow; one text row per seed.
+
+    Parameters
+    ----------
+    name : str
+        Label of the example in the rows.
+    img : (H, W, C) array_like
+        The example image, float in [0, 1].
+    truth_domain : (H, W) bool array_like, optional
+        The known domain, to report the IoU of :func:`example_domain`'s
+        estimate; None = no such row.
+    seeds : sequence of int, default (0, 1, 2)
+        Seeds ``rng`` of the synthesis runs, one row each.
+    image : bool, default True
+        Also synthesize and measure the image (slower); False = structures
+        only.
+
+    Returns
+    -------
+    list of str
+        Text rows: the example's figures, then one per seed.
+    """
     from . import example_domain, extract_structure, fit_model, synthesize_image, synthesize_structure
 
     ex = extract_structure(img)

@@ -24,6 +24,72 @@ class SynthesisParams:
     """Structure synthesis (paper sections: bending model, global histogram
     matching, furcation model, space colonization, guided synthesis, stopping).
 
+    Parameters
+    ----------
+    h : float, default 4.0
+        Resampling step h (pixels) between successive vertices.
+    m : int, default 4
+        Elements appended per step, m = s / h (feature size s).
+    k : int, default 12
+        History length: the last k + 1 (turning angle, thickness) elements are
+        matched (paper: k = 3 m).
+    c : int, default 2
+        Choose among the c best candidates, probability ~ Q.
+    thickness_blend : bool, default True
+        Scale copied radii so they continue from the tip (the input's relative
+        change, within its range); False = the paper's exact copy (goes beyond the
+        paper).
+    wG : float, default 50.0
+        Global histogram weight wG in Q* = Q exp(wG (dA + dR) n_t / m);
+        0 switches histogram matching off.
+    bins : int, default 16
+        Histogram bins B over the input's min..max.
+    d : int, default -1
+        Furcations per branch d; -1 draws d from the input's children-per-branch.
+    min_spacing : int, default 4
+        Minimum distance between furcations on a branch, in vertices (h pixels
+        each).
+    mirror_children : bool, default True
+        Also offer each input furcation mirrored (angles negated) when choosing a
+        child's first segment.
+    svm_C : float, default 1.0
+        Regularisation C of the linear SVM of the furcation model.
+    colonization : bool, default True
+        Space colonization: Q** = Q* / (D + eps), no crossings.
+    rho : float, default 0.0
+        Density radius rho in D(p) = exp(-d(p, B)^2 / rho^2) (pixels); 0 = auto: the
+        example's median half-gap between branches.
+    inv_eps : float, default 1000.0
+        1 / eps in Q* / (D + eps).
+    guidance_width : float, default 40.0
+        Width of the guidance valley along the user path (pixels).
+    roots : {'learned', 'example'}, default 'learned'
+        Where roots start: drawn from the learnt root model (on the same boundary as
+        the example's roots, heading into the domain, spaced like them), or exactly
+        at the example's root starts.
+    n_roots : int, default -1
+        Roots (separate trees) to grow; -1 = as many as the example has.
+    max_generations : int, default 4
+        Stop: maximum branch generation (0 = roots only).
+    max_total_length : float, default 20000.0
+        Stop: maximum total length of all branches (pixels).
+    max_coverage : float, default 0.0
+        Stop: fraction of the domain within rho of a branch; 0 = auto: the example's
+        own fraction (fills to the example's density), in [0, 1].
+    fill_rounds : int, default 10
+        Stop: when every branch has stopped before the coverage target is reached,
+        fill the free space: tips with room ahead grow on and branches with room
+        beside them furcate once more, up to this many rounds (ends earlier when a
+        round adds nothing).
+    stop_density : float, default 0.9
+        Stop a branch when every candidate sees density D >= this (D in [0, 1]).
+    branch_end : {'length', 'markov'}, default 'length'
+        A branch ends at a length drawn from input branches of its generation and
+        similar thickness ('length'), or where the chain reaches the end of an input
+        branch ('markov').
+    max_branch_factor : float, default 1.5
+        A branch grows at most this times the longest input branch.
+
     Examples
     --------
     >>> p = SynthesisParams.from_feature_size(24, h=4)
@@ -94,7 +160,35 @@ class SynthesisParams:
     @classmethod
     @checked(s=Real(0, 1e5, low_open=True), h=Real(0, 1e3, low_open=True))
     def from_feature_size(cls, s: float, h: float = 4.0, **overrides) -> SynthesisParams:
-        """The paper's rules ``m = s / h`` (rounded, >= 1) and ``k = 3 m``."""
+        """The paper's rules ``m = s / h`` (rounded, >= 1) and ``k = 3 m``.
+
+        Parameters
+        ----------
+        s : float
+            Feature size s of the example (pixels), > 0.
+        h : float, default 4.0
+            Resampling step h (pixels), > 0.
+        **overrides
+            Any other field of :class:`SynthesisParams` (also ``m`` or ``k`` to
+            overrule the rules).
+
+        Returns
+        -------
+        SynthesisParams
+            The paper's defaults with ``h``, ``m = max(1, round(s / h))``,
+            ``k = 3 m`` and the overrides, checked against the fields' ranges.
+
+        Raises
+        ------
+        ValueError
+            If ``s`` or ``h`` is not > 0, or an override is out of its range.
+
+        Examples
+        --------
+        >>> p = SynthesisParams.from_feature_size(16, h=4, c=3)
+        >>> (p.m, p.k, p.c)
+        (4, 12, 3)
+        """
         if not s > 0 or not h > 0:
             raise ValueError(f"feature size s and step h must be > 0, got s={s}, h={h}")
         m = max(1, round(s / h))
@@ -109,7 +203,50 @@ class SynthesisParams:
 
 @dataclass
 class ExtractionParams:
-    """Automatic extraction of a source structure (``extract_structure``)."""
+    """Automatic extraction of a source structure (``extract_structure``).
+
+    Parameters
+    ----------
+    filter : {'sato', 'frangi', 'meijering'}, default 'sato'
+        Ridge / vesselness filter (scikit-image).
+    polarity : {'auto', 'dark', 'bright'}, default 'auto'
+        Branches darker or brighter than the background.
+    sigma_min : float, default 1.0
+        Smallest filter scale (pixels).
+    sigma_max : float, default 4.0
+        Largest filter scale (pixels).
+    threshold : float, default 0.0
+        Ridge threshold on the normalised response; 0 = Otsu.
+    hysteresis : float, default 0.5
+        Low threshold = hysteresis x high threshold.
+    min_branch_length : float, default 12.0
+        Drop skeleton end branches (spurs) shorter than this (pixels).
+    min_component_length : float, default 60.0
+        Drop connected pieces shorter than this in total (pixels).
+    h : float, default 4.0
+        Resampling step h of the result (pixels).
+    radius : {'fwhm', 'ridge'}, default 'fwhm'
+        Thickness: distance transform of the half-contrast (FWHM) mask, or of the
+        thresholded ridge mask.
+    smooth_path : float, default 4.0
+        Smooth each skeleton path over this arc length (pixels; removes the pixel
+        staircase); 0 = off.
+    smooth_radius : float, default 8.0
+        Smooth the radius along each branch over this arc length (pixels); 0 = off.
+    scale : float, default 1.0
+        Process a downscaled copy (faster); results are in full-size pixels.
+    root : {'auto', 'thickest', 'top', 'bottom', 'left', 'right', 'border', 'nearest_region'}, default 'auto'
+        Which end point of each connected piece becomes the root: auto = the
+        thickest end where widths vary (vessels, a delta's inland trunk), the outlet
+        where the network meets a large branch-free flat region (a map's sea; else
+        the border) where every line has one width; or the thickest, the top-most
+        ..., the one nearest to the image border, or the one nearest to a large flat
+        region (else the border).
+    binary : {'auto', 'on', 'off'}, default 'auto'
+        Binary (or near-binary) input such as a water mask: centre lines by the
+        medial axis with the distance-transform radius instead of the ridge filter;
+        auto = detect it.
+    """
 
     filter: str = param("sato", options=("sato", "frangi", "meijering"),
                         help="ridge / vesselness filter (scikit-image)")
@@ -151,7 +288,24 @@ class ExtractionParams:
 
 @dataclass
 class ClickParams:
-    """Input extraction from user clicks: resampling + perpendicular thickness search."""
+    """Input extraction from user clicks: resampling + perpendicular thickness search.
+
+    Parameters
+    ----------
+    h : float, default 4.0
+        Resampling step h (pixels).
+    max_radius : float, default 15.0
+        Thickness search range perpendicular to the branch (pixels).
+    min_radius : float, default 0.75
+        Smallest thickness r (pixels).
+    smooth : int, default 2
+        Median-smooth the thickness over 2 smooth + 1 vertices (0 = off).
+    sigma : float, default 1.0
+        Gaussian scale of the gradient (pixels).
+    snap : float, default 12.0
+        A polyline starting this close (pixels) to a branch becomes its child; 0 =
+        never.
+    """
 
     h: float = param(4.0, min=1.0, max=32.0, step=0.5, help="resampling step h (pixels)")
     max_radius: float = param(15.0, min=1.0, max=200.0, step=1.0,

@@ -42,14 +42,19 @@ __all__ = ["ExampleRegions", "example_regions", "branch_likeness", "matte_mask",
 class ExampleRegions:
     """Masks over the example image, all ``(H, W)`` bool.
 
-    Attributes
+    Parameters
     ----------
-    body : annotated branches (skeleton within ``exclusion * r + margin``).
-    branch_like : unannotated pixels that look like a branch (dilated by the margin).
-    unusable : matte and pixels outside ``example_mask``: never copied.
+    body : (H, W) bool ndarray
+        Annotated branches (skeleton within ``exclusion * r + margin``).
+    branch_like : (H, W) bool ndarray
+        Unannotated pixels that look like a branch (dilated by the margin).
+    unusable : (H, W) bool ndarray
+        Matte and pixels outside ``example_mask``: never copied.
     likeness : (H, W) float ndarray
         The branch-likeness score (0 = local background colour, 1 = branch colour).
-    salient : salient spots (not copied into gaps, nor by another branch's fragments).
+    salient : (H, W) bool ndarray, optional
+        Salient spots (not copied into gaps, nor by another branch's fragments);
+        None when not detected.
     """
 
     body: np.ndarray
@@ -109,10 +114,17 @@ def flatten_shading(image: np.ndarray, background: np.ndarray, sigma: float) -> 
     Parameters
     ----------
     image : (H, W, C) float ndarray
+        The example, float in [0, 1].
     background : (H, W) bool ndarray
         Pixels that show the background texture.
     sigma : float
         Scale of the shading (pixels); well above the texture's own scale.
+
+    Returns
+    -------
+    (H, W, C) float32 ndarray
+        The flattened image, clipped to [0, 1] (the image unchanged when
+        ``background`` is empty).
     """
     if not background.any():
         return image.astype(np.float32)
@@ -132,6 +144,22 @@ def branch_likeness(image: np.ndarray, pm: PixelMap, usable: np.ndarray | None =
     ``(I(x) - bg(x)) . u / |u|^2`` with ``u`` the median of ``I - bg`` over
     the centre lines: 0 on the background, about 1 on an annotated branch. All zero when branches and
     background have about the same colour (nothing to detect).
+
+    Parameters
+    ----------
+    image : (H, W, C) float ndarray
+        The example, float in [0, 1].
+    pm : PixelMap
+        Nearest-skeleton map of the annotated structure on the image grid.
+    usable : (H, W) bool ndarray, optional
+        Pixels that may serve as centre-line or background samples (e.g. not
+        the matte); None = all.
+
+    Returns
+    -------
+    (H, W) float64 ndarray
+        The score (not clipped: beyond 1 for pixels more contrasted than the
+        median centre line, negative on the other side of the background).
     """
     img = image.astype(np.float64)
     h, w = img.shape[:2]
@@ -159,14 +187,20 @@ def matte_mask(image: np.ndarray, *, tol: float = 0.04, min_fraction: float = 0.
     Parameters
     ----------
     image : (H, W, C) float ndarray
-    tol : float
+        The example, float in [0, 1].
+    tol : float, default 0.04
         Pixels darker than ``tol`` or brighter than ``1 - tol`` in every channel.
-    min_fraction, max_fraction : float
+    min_fraction, max_fraction : float, default 0.01, 0.5
         Ignore a matte smaller than ``min_fraction`` of the image, or larger
         than ``max_fraction``: then the flat colour is the example's
         background itself (a drawing on white, a diagram), not a matte.
-    dilate : int
+    dilate : int, default 3
         Grow the matte by this many pixels (its edge is blurred in photos).
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        The matte (all False when there is none).
     """
     rgb = image[..., :3] if image.shape[2] >= 3 else image[..., :1]
     mask = np.zeros(image.shape[:2], bool)
@@ -200,6 +234,30 @@ def salient_mask(image: np.ndarray, background: np.ndarray, *, z: float = 6.0,
     needed: a texture full of spots has no outliers),
     connected spots smaller than ``min_area`` pixels are dropped and the
     rest grown by ``grow`` pixels.
+
+    Parameters
+    ----------
+    image : (H, W, C) float ndarray
+        The example, float in [0, 1].
+    background : (H, W) bool ndarray
+        Pixels that show the background texture (statistics come from them).
+    z : float, default 6.0
+        Robust z-score above which a pixel starts a spot.
+    sigma : float, default 3.0
+        Smoothing of the image before the comparison (pixels).
+    scale : float, default 0.08
+        Scale of the background average, as a fraction of ``max(H, W)``.
+    max_fraction : float, default 0.05
+        Largest fraction of the background allowed above ``z``.
+    min_area : int, default 30
+        Smallest spot kept (pixels).
+    grow : int, default 4
+        Dilation of the kept spots (pixels).
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        The salient spots.
     """
     h, w = image.shape[:2]
     if background.sum() < 64:
@@ -242,23 +300,35 @@ def example_regions(image: np.ndarray, pm: PixelMap, *, exclusion: float = 1.5,
     Parameters
     ----------
     image : (H, W, C) float ndarray
+        The example, float in [0, 1].
     pm : PixelMap
         Nearest-skeleton map of the example structure on the image grid.
-    exclusion, margin : float
-        Body = pixels within ``exclusion * r + margin`` of the skeleton.
-    threshold : float or None
+    exclusion, margin : float, default 1.5, 2.0
+        Body = pixels within ``exclusion * r + margin`` of the skeleton
+        (margin in pixels).
+    threshold : float or None, default 0.1
         Branch-likeness above which an unannotated pixel counts as a
         branch (None: only the annotated body counts). It is raised to
         the median + 3 MADs of the likeness over the background if that is
         higher, and connected groups of fewer than 12 pixels, or wider
         than 1.5 times the thickest annotated branch, are ignored.
-    matte : bool
+    matte : bool, default True
         Exclude a flat black/white matte connected to the border.
     example_mask : (H, W) bool ndarray, optional
         Pixels that may be copied at all (True = usable).
     salient : float or None
         z-score above which a spot counts as salient (see :func:`salient_mask`);
         None: no salient spots.
+
+    Returns
+    -------
+    ExampleRegions
+        The masks and the likeness score.
+
+    Raises
+    ------
+    ValueError
+        If ``example_mask`` and the matte leave no usable pixel.
     """
     h, w = image.shape[:2]
     unusable = np.zeros((h, w), bool)
@@ -311,6 +381,18 @@ def flat_colour_regions(image: np.ndarray, exclude: np.ndarray | None = None, *,
     of the image is a region. Every other pixel (texture, branches, the
     ``exclude`` mask, e.g. the annotated branch bodies) takes the label of
     the nearest region pixel, so a branch lies in the region around it.
+
+    Parameters
+    ----------
+    image : (H, W, C) float ndarray
+        The example, float in [0, 1] (the first 3 channels are used).
+    exclude : (H, W) bool ndarray, optional
+        Pixels never taken as flat (e.g. the annotated branch bodies); None =
+        none.
+    tol : float, default 0.03
+        Largest range of a flat 5 x 5 neighbourhood, per channel.
+    min_fraction : float, default 0.02
+        Smallest share of the image a region covers.
 
     Returns
     -------
@@ -385,6 +467,26 @@ def region_layout(colours: np.ndarray, branches: np.ndarray, body: np.ndarray | 
     target laid out on it carries no ghosts of the example's channels.
     ``body`` (default ``branches``) is where the branch colour is read.
 
+    Parameters
+    ----------
+    colours : (H, W) int ndarray
+        Colour labels per pixel, -1 = no region's colour.
+    branches : (H, W) bool ndarray
+        The example's branch neighbourhood.
+    body : (H, W) bool ndarray, optional
+        Where the branch colour is read; None = ``branches``.
+
+    Returns
+    -------
+    (H, W) int ndarray
+        The layout: every pixel a region label >= 0 (unless no pixel had
+        one).
+
+    Raises
+    ------
+    ValueError
+        If ``branches`` does not have the shape of ``colours``.
+
     Examples
     --------
     >>> lab = np.zeros((20, 20), np.int32); lab[15:] = 1; lab[:, 9:11] = 1   # a channel into the sea
@@ -420,6 +522,24 @@ def colour_labels(image: np.ndarray, labels: np.ndarray, sample: np.ndarray | No
     means over ``sample`` (default: every pixel) of each label; a pixel
     farther than ``tol`` (in its most different channel) from every
     region colour gets -1 (a river's own colour, a blend at an edge).
+
+    Parameters
+    ----------
+    image : (H, W, C) or (H, W) float ndarray
+        The example, float in [0, 1] (the first 3 channels are used).
+    labels : (H, W) int ndarray
+        Region labels, e.g. from :func:`flat_colour_regions`.
+    sample : (H, W) bool ndarray, optional
+        Pixels whose colours define the region colours (their median); None =
+        all.
+    tol : float, default 0.1
+        Largest per-channel difference to a region colour.
+
+    Returns
+    -------
+    (H, W) int32 ndarray
+        The label of the nearest region colour, -1 where none is within
+        ``tol``.
 
     Examples
     --------
@@ -637,7 +757,7 @@ def _layout_features(structure: Structure, pm: PixelMap, sigma: float, stride: i
 class RegionLayoutModel:
     """How an example's flat regions lie around its branches (see :func:`fit_region_layout`).
 
-    Attributes
+    Parameters
     ----------
     labels : (K,) int ndarray
         The region labels.
@@ -650,8 +770,9 @@ class RegionLayoutModel:
     min_area : (K,) ndarray
         Smallest piece of each region in the example (pixels); smaller
         pieces of a target layout are absorbed by their surroundings.
-    classifier : object
-        Predicts a pixel's region from its relation to the skeleton.
+    classifier : object, optional
+        Predicts a pixel's region from its relation to the skeleton (None
+        when the example has a single region).
     """
 
     labels: np.ndarray
@@ -680,6 +801,19 @@ def fit_region_layout(layout: np.ndarray, structure: Structure, pm: PixelMap | N
     pm : PixelMap, optional
         Its nearest-skeleton map on the layout's grid (computed if omitted).
 
+    Returns
+    -------
+    RegionLayoutModel
+        The learnt relation (without a classifier when the layout has a
+        single region).
+
+    Raises
+    ------
+    ValueError
+        If ``layout`` is not a 2-D integer label map.
+
+    Notes
+    -----
     The region the branches lie in is the most common layout label on the
     centre lines. An ensemble of randomised trees learns every pixel's
     region from its relation to the skeleton (see ``_layout_features``):
@@ -737,9 +871,24 @@ def layout_regions(model: RegionLayoutModel, structure: Structure, shape, pm: Pi
     boundaries are smooth curves (iso-lines of distances), never block
     edges.
 
+    Parameters
+    ----------
+    model : RegionLayoutModel
+        From :func:`fit_region_layout`.
+    structure : Structure
+        The target branches (pixels of the new grid).
+    shape : (H, W)
+        Size of the target grid.
+    pm : PixelMap, optional
+        The structure's nearest-skeleton map on that grid (computed if
+        omitted).
+    share_tolerance : float, default 0.25
+        Relative deviation from the example's share allowed to each region.
+
     Returns
     -------
-    (H, W) int32 ndarray of the example's region labels.
+    (H, W) int32 ndarray
+        The example's region label of every pixel.
     """
     import cv2
 
@@ -808,6 +957,25 @@ def target_layout(layout: np.ndarray, example_structure: Structure, target_struc
 
     ``fit_region_layout`` on the example, then ``layout_regions`` on the
     target (see both).
+
+    Parameters
+    ----------
+    layout : (H, W) int ndarray
+        The example's layout (:func:`region_layout`).
+    example_structure : Structure
+        The example's branches.
+    target_structure : Structure
+        The target branches.
+    shape : (H2, W2)
+        Size of the target grid.
+    pm_example, pm_target : PixelMap, optional
+        Nearest-skeleton maps of the two structures on their grids (computed
+        if omitted).
+
+    Returns
+    -------
+    (H2, W2) int32 ndarray
+        Region label of every target pixel.
 
     Examples
     --------

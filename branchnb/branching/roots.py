@@ -43,6 +43,28 @@ def boundary_frame(domain: np.ndarray):
     ``domain``. Returns ``(dist, normal_x, normal_y, side)`` with ``side``
     an index into ``("top", "bottom", "left", "right", "region")``: which
     boundary is nearest.
+
+    Parameters
+    ----------
+    domain : (H, W) bool array_like
+        The synthesis domain (True inside).
+
+    Returns
+    -------
+    dist : (H, W) ndarray
+        Euclidean distance (pixels) of each pixel to the nearest boundary
+        pixel (0 outside the domain).
+    normal_x, normal_y : (H, W) ndarray
+        Unit inward normal: the gradient of the smoothed distance.
+    side : (H, W) int8 ndarray
+        Nearest boundary: 0 top, 1 bottom, 2 left, 3 right, 4 region edge.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> dist, nx, ny, side = boundary_frame(np.ones((20, 30), bool))
+    >>> float(dist[0, 15]), int(side[0, 15]), int(side[10, 29])
+    (1.0, 0, 3)
     """
     d = np.asarray(domain, bool)
     h, w = d.shape
@@ -64,7 +86,7 @@ def boundary_frame(domain: np.ndarray):
 class RootModel:
     """The learnt roots of an example (see the module docstring).
 
-    Attributes
+    Parameters
     ----------
     n_roots : int
         Number of roots (trees) in the example.
@@ -101,7 +123,25 @@ class RootModel:
 
     def sample(self, domain: np.ndarray, rng=None, n: int | None = None,
                min_depth: float = 2.0) -> list[tuple[float, float, float]]:
-        """Draw ``n`` (default ``n_roots``) starts ``(x, y, angle)`` in ``domain`` ((H, W) bool)."""
+        """Draw ``n`` (default ``n_roots``) starts ``(x, y, angle)`` in ``domain`` ((H, W) bool).
+
+        Parameters
+        ----------
+        domain : (H, W) bool array_like
+            Where the new structure grows (True inside).
+        rng : {numpy.random.Generator, int}, optional
+            Random generator or seed.
+        n : int, optional
+            Number of starts; None = ``n_roots`` (the example's count).
+        min_depth : float, default 2.0
+            Smallest distance (pixels) of a start from the boundary.
+
+        Returns
+        -------
+        list of (x, y, angle)
+            Start position (pixels) and initial heading (radians) of each root;
+            empty when ``n <= 0`` or the domain is empty.
+        """
         rng = as_rng(rng)
         dom = np.asarray(domain, bool)
         h, w = dom.shape
@@ -177,6 +217,8 @@ def fit_roots(structure: Structure, domain: np.ndarray | None = None, shape=None
     Parameters
     ----------
     structure : Structure
+        The example (vertices in pixels); its branches without a parent
+        are the roots.
     domain : (H, W) bool ndarray, optional
         Where the branches may grow (default: the whole image).
     shape : (H, W), optional

@@ -25,7 +25,7 @@ __all__ = ["SkeletonMap", "PixelMap"]
 class PixelMap:
     """Nearest skeleton sample of every pixel of an ``(H, W)`` grid.
 
-    Attributes
+    Parameters
     ----------
     branch : (H, W) int ndarray
         Branch of the nearest sample.
@@ -43,7 +43,20 @@ class PixelMap:
     radius: np.ndarray
 
     def core(self, scale: float = 1.0, margin: float = 0.0) -> np.ndarray:
-        """Pixels within ``scale * r + margin`` of the skeleton (the branch's body)."""
+        """Pixels within ``scale * r + margin`` of the skeleton (the branch's body).
+
+        Parameters
+        ----------
+        scale : float, default 1.0
+            Multiple of the thickness r (1 = the branch's body as drawn).
+        margin : float, default 0.0
+            Extra distance in pixels (negative shrinks the body).
+
+        Returns
+        -------
+        (H, W) bool ndarray
+            True within ``scale * r + margin`` of the nearest skeleton sample.
+        """
         return self.dist <= scale * self.radius + margin
 
 
@@ -103,10 +116,33 @@ class SkeletonMap:
         return len(self.points)
 
     def parent(self, i: int) -> int | None:
+        """Index of the parent of branch ``i`` (None for a root).
+
+        Parameters
+        ----------
+        i : int
+            Branch index.
+
+        Returns
+        -------
+        int or None
+            The parent branch's index.
+        """
         return self.structure.branches[i].parent
 
     def parent_arc(self, i: int) -> float:
-        """Arc length on the parent where branch ``i`` starts."""
+        """Arc length on the parent where branch ``i`` starts.
+
+        Parameters
+        ----------
+        i : int
+            Index of a child branch (one with a parent).
+
+        Returns
+        -------
+        float
+            Arc length (pixels) of its parent vertex along the parent.
+        """
         b = self.structure.branches[i]
         return float(self.arcs[b.parent][b.parent_vertex])
 
@@ -121,7 +157,21 @@ class SkeletonMap:
         return self.offsets[b] + s_cl, s_cl != s
 
     def position(self, branch, arc) -> np.ndarray:
-        """Skeleton points ``(..., 2)`` at arc lengths ``arc`` (clamped to each branch)."""
+        """Skeleton points ``(..., 2)`` at arc lengths ``arc`` (clamped to each branch).
+
+        Parameters
+        ----------
+        branch : int or array_like of int
+            Branch index (one for all arcs, or one per arc; broadcast with
+            ``arc``).
+        arc : float or array_like
+            Arc length along the branch from its first vertex (pixels). Clamped to ``[0, length]``.
+
+        Returns
+        -------
+        (..., 2) ndarray
+            Skeleton points (x, y), linearly interpolated between vertices.
+        """
         g, _ = self._global(branch, arc)
         out = np.empty(g.shape + (2,))
         out[..., 0] = np.interp(g, self._g, self._x)
@@ -129,22 +179,82 @@ class SkeletonMap:
         return out
 
     def thickness(self, branch, arc) -> np.ndarray:
-        """Thickness ``r`` at arc lengths ``arc`` (clamped)."""
+        """Thickness ``r`` at arc lengths ``arc`` (clamped).
+
+        Parameters
+        ----------
+        branch : int or array_like of int
+            Branch index (one for all arcs, or one per arc; broadcast with
+            ``arc``).
+        arc : float or array_like
+            Arc length along the branch from its first vertex (pixels). Clamped to ``[0, length]``.
+
+        Returns
+        -------
+        ndarray
+            Thickness r (pixels), linearly interpolated, shaped like the
+            broadcast of ``branch`` and ``arc``.
+        """
         g, _ = self._global(branch, arc)
         return np.interp(g, self._g, self._r)
 
     def thickness_at(self, branch: int, arc: float) -> float:
         """:meth:`thickness` of one ``(branch, arc)`` as a float (the same value, without the
-        array set-up: for loops that step along a branch one query at a time)."""
+        array set-up: for loops that step along a branch one query at a time).
+
+        Parameters
+        ----------
+        branch : int
+            Branch index.
+        arc : float
+            Arc length along it (pixels), clamped to ``[0, length]``.
+
+        Returns
+        -------
+        float
+            Thickness r (pixels).
+        """
         L = self.lengths[branch]
         return float(np.interp(self.offsets[branch] + min(max(float(arc), 0.0), L), self._g, self._r))
 
     def clamped(self, branch, arc) -> np.ndarray:
-        """True where ``arc`` lies outside ``[0, length]`` of its branch."""
+        """True where ``arc`` lies outside ``[0, length]`` of its branch.
+
+        Parameters
+        ----------
+        branch : int or array_like of int
+            Branch index (one for all arcs, or one per arc; broadcast with
+            ``arc``).
+        arc : float or array_like
+            Arc length along the branch from its first vertex (pixels).
+
+        Returns
+        -------
+        bool ndarray
+            True where the arc length was clamped.
+        """
         return self._global(branch, arc)[1]
 
     def tangent(self, branch, arc, sign=1.0, step: float = 1.5) -> np.ndarray:
-        """Unit tangent ``(..., 2)`` in the direction of travel ``sign`` (+1 = root to tip)."""
+        """Unit tangent ``(..., 2)`` in the direction of travel ``sign`` (+1 = root to tip).
+
+        Parameters
+        ----------
+        branch : int or array_like of int
+            Branch index (one for all arcs, or one per arc; broadcast with
+            ``arc``).
+        arc : float or array_like
+            Arc length along the branch from its first vertex (pixels).
+        sign : float or array_like, default 1.0
+            Direction of travel: +1 from root to tip, -1 back.
+        step : float, default 1.5
+            Half-width (pixels) of the central difference.
+
+        Returns
+        -------
+        (..., 2) ndarray
+            Unit tangents (one-sided at a clamped end).
+        """
         sign = np.asarray(sign, float)
         s = np.asarray(arc, float)
         d = self.position(branch, s + sign * step) - self.position(branch, s - sign * step)
@@ -163,6 +273,24 @@ class SkeletonMap:
 
         A child's first vertex lies on its parent and is attributed to the
         parent. Samples outside the grid are ignored.
+
+        Parameters
+        ----------
+        shape : (H, W)
+            Size of the pixel grid.
+
+        Returns
+        -------
+        PixelMap
+            Per pixel: nearest branch, arc length, distance and thickness (all
+            ``-1`` / ``inf`` distance when no sample lies on the grid).
+
+        Examples
+        --------
+        >>> from branchnb.core.structure import Structure, Branch
+        >>> pm = SkeletonMap(Structure([Branch([(2, 5), (12, 5)], 2.0)])).pixel_map((10, 15))
+        >>> int(pm.branch[8, 6]), float(pm.arc[8, 6]), float(pm.dist[8, 6]), int(pm.core()[8, 6])
+        (0, 4.0, 3.0, 0)
         """
         h, w = int(shape[0]), int(shape[1])
         ids = np.full((h, w), -1, np.int64)

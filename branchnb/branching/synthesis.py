@@ -89,16 +89,56 @@ _DIRECTION_BINS = 512
 class StructureModel:
     """Everything learnt from an example structure.
 
-    Attributes
+    Parameters
     ----------
     source : Structure
         The example as given.
     example : Structure
         The example resampled at ``params.h`` (what the models see).
     bending : BendingModel
+        The Markov chain over (turning angle, thickness) elements.
     furcation : FurcationModel
+        Where branches split and how children start.
     params : SynthesisParams
         The parameters the model was fitted with.
+    cum_a, cum_r : (T + 1, B) ndarray
+        Cumulative one-hot histogram bins of the elements' angles and
+        thicknesses (row ``i`` counts elements ``0 .. i-1``).
+    cand_counts_a, cand_counts_r : (T, B) ndarray
+        Bin counts of the followers each candidate would append.
+    cand_sq_a, cand_sq_r : (T,) ndarray
+        Their squared row norms (for the histogram factor).
+    local_dirs : (T, 2) ndarray
+        Growth direction (PCA) of each candidate in the frame of a tip
+        heading along +x.
+    head_start : (n_branches,) int ndarray
+        Index of each input branch's first element.
+    edges_a, edges_r : (B + 1,) ndarray
+        Bin edges of the angle (radians) and thickness (pixels)
+        histograms.
+    first_a, first_r : (n_branches, m) ndarray
+        The first ``m`` elements of every input branch (a new branch's
+        first piece), 0-padded.
+    first_len : (n_branches,) int ndarray
+        How many of them exist.
+    max_branch_length : float, default 0.0
+        Length of the longest input branch (pixels).
+    rho : float, default 8.0
+        The automatic density radius (pixels; used when ``params.rho == 0``).
+    r_min : float, default 0.5
+        Smallest thickness of the input (pixels).
+    branch_generation, branch_length, branch_r0 : (n_branches,) ndarray
+        Generation, length (pixels) and starting thickness (mean of the
+        first 3 radii) of every input branch, for drawing branch lengths.
+    domain : (H, W) bool ndarray, optional
+        Where the example's branches may grow; None = its whole frame.
+    roots : RootModel, optional
+        Where and how the example's roots start.
+    coverage : float, default 0.0
+        Fraction of the example's domain within ``rho`` of a branch.
+    drains : bool, default False
+        The example drains: its roots start far inland and its branches
+        end at the region outside the domain (a delta).
     """
 
     source: Structure
@@ -138,7 +178,24 @@ class StructureModel:
     def sample_length(self, generation: int, r_start: float, rng, bandwidth: float = 0.5) -> float:
         """Target length of a new branch: the length of an input branch of the same
         generation (the deepest available if deeper), chosen with weights
-        ``exp(-log(r / r_b)^2 / (2 bw^2))`` on the starting thickness."""
+        ``exp(-log(r / r_b)^2 / (2 bw^2))`` on the starting thickness.
+
+        Parameters
+        ----------
+        generation : int
+            Generation of the new branch (0 = root).
+        r_start : float
+            Its starting thickness (pixels).
+        rng : numpy.random.Generator
+            Random generator.
+        bandwidth : float, default 0.5
+            Width ``bw`` of the thickness kernel in log units.
+
+        Returns
+        -------
+        float
+            The target length (pixels).
+        """
         g = min(int(generation), int(self.branch_generation.max()))
         idx = np.flatnonzero(self.branch_generation == g)
         if len(idx) == 0:
@@ -149,18 +206,54 @@ class StructureModel:
         return float(self.branch_length[j])
 
     def matcher(self, wG: float) -> HistogramMatcher:
+        """A fresh global histogram matcher over the example's angles and thicknesses.
+
+        Parameters
+        ----------
+        wG : float
+            Global histogram weight ``wG`` (0 switches matching off).
+
+        Returns
+        -------
+        HistogramMatcher
+            With the model's ``bins`` and ``m`` and no synthesized counts yet.
+        """
         return HistogramMatcher(self.example.angles(), self.example.thicknesses(),
                                 bins=self.params.bins, wG=wG, m=self.params.m)
 
     @checked(rho=Real(0, 1e4, low_open=True))
     def coverage_at(self, rho: float) -> float:
-        """Fraction of the example's domain within ``rho`` of one of its branches."""
+        """Fraction of the example's domain within ``rho`` of one of its branches.
+
+        Parameters
+        ----------
+        rho : float
+            Distance (pixels), > 0.
+
+        Returns
+        -------
+        float
+            The covered fraction in [0, 1] (cached for the last ``rho``).
+        """
         if abs(rho - self._coverage_rho) > 1e-9:
             self.coverage = coverage_fraction(self.example, _frame(self.source), rho, self.domain)
             self._coverage_rho = float(rho)
         return self.coverage
 
     def compatible(self, params: SynthesisParams) -> bool:
+        """Whether ``params`` could have been fitted by this model (same ``h``, ``m``, ``k``, ``bins``, ``svm_C``).
+
+        Parameters
+        ----------
+        params : SynthesisParams
+            The parameters a synthesis wants to use.
+
+        Returns
+        -------
+        bool
+            True when the fitted fields agree (the other fields only steer
+            synthesis).
+        """
         return all(getattr(params, f) == getattr(self.params, f) for f in _FIT_FIELDS)
 
 
@@ -304,6 +397,8 @@ def _drains(ex: Structure, domain: np.ndarray | None) -> bool:
 
 #: Strength of the pull toward the sea of an example that drains (``exp(kappa cos)``).
 DRAIN_KAPPA = 2.0
+#: An example that drains: a step heading back inland (cosine to the way down below this) is forbidden.
+UPSTREAM_COS = -0.25
 
 
 class _Drain:
@@ -315,7 +410,11 @@ class _Drain:
     ``e^(2 kappa)`` ~ 55 x likelier than heading back inland, sideways
     ``e^kappa`` less than straight down. Going beyond the paper, whose
     Markov chain alone has no notion of downstream: without it a delta's
-    trunk wanders and rarely reaches the sea.
+    trunk wanders and rarely reaches the sea. The pull alone still let
+    side channels head back inland (a delta with its sea on the left or
+    top: 5-26 % of the branch length in some seeds), so a step heading
+    back inland (cosine below ``UPSTREAM_COS``) or bringing a branch's tip
+    upstream of its start is forbidden, children's first steps included.
 
     Also beyond the paper, the image frame where it cuts the land (every
     side of the frame but the sea's) is no place for a channel: a
@@ -369,13 +468,120 @@ class _Drain:
         f = np.exp(-10.0 * np.clip(1.0 - end / self.margin, 0.0, 1.0))
         return np.where(closest < 3.0, 0.0, f)
 
-    def factor(self, tip, points: np.ndarray, n_new: np.ndarray) -> np.ndarray:
+    def _cos(self, at, vec: np.ndarray) -> np.ndarray:
         h, w = self.down.shape[:2]
-        x, y = np.clip(np.rint(np.asarray(tip, np.float64)).astype(int), 0, [w - 1, h - 1])
-        d = self.down[y, x]
-        last = points[np.arange(len(points)), np.maximum(n_new, 1) - 1] - np.asarray(tip, np.float64)
-        cos = (last @ d) / np.maximum(np.hypot(last[:, 0], last[:, 1]), 1e-9)
-        return np.exp(self.kappa * cos) * self.frame_factor(tip, points, n_new)
+        x, y = np.clip(np.rint(np.asarray(at, np.float64)).astype(int), 0, [w - 1, h - 1])
+        return (vec @ self.down[y, x]) / np.maximum(np.hypot(vec[:, 0], vec[:, 1]), 1e-9)
+
+    def factor(self, tip, points: np.ndarray, n_new: np.ndarray, start=None) -> np.ndarray:
+        """Score factor of candidates ``points`` ((C, M, 2), the first ``n_new`` new) from ``tip``.
+
+        ``start`` (the branch's first point): a candidate that heads back
+        inland (over ``UPSTREAM_COS`` off the way down) or brings the
+        branch's tip back upstream of its start is forbidden (0).
+        """
+        tip = np.asarray(tip, np.float64)
+        end = points[np.arange(len(points)), np.maximum(n_new, 1) - 1]
+        cos = self._cos(tip, end - tip)
+        f = np.exp(self.kappa * cos) * self.frame_factor(tip, points, n_new)
+        f = np.where(cos < UPSTREAM_COS, 0.0, f)
+        if start is not None:
+            net = end - np.asarray(start, np.float64)
+            far = np.hypot(net[:, 0], net[:, 1]) > 4.0
+            f = np.where(far & (self._cos(start, net) < 0.0), 0.0, f)
+        return f
+
+
+#: A map's rivers keep off the coast: the margin is this quantile of the depths (distance to the region
+#: outside the domain) of the example's vertices past the first ``SHORE_SKIP`` px of its roots.
+SHORE_QUANTILE = 0.05
+SHORE_SKIP = 12.0
+
+
+def _shore_margin(model: StructureModel) -> float:
+    """Distance the example's branches keep from its domain's edge (0: none to keep).
+
+    Used on examples whose roots start at the domain's edge (rivers from a
+    coast); 0 when the example has no domain, drains, its roots lie inland
+    (median depth over 15 % of the deepest), or its branches run along the
+    edge themselves (the margin is under 3 px).
+    """
+    dom = model.domain
+    if dom is None or dom.all() or not dom.any() or model.drains:
+        return 0.0
+    cached = model.__dict__.get("_shore_margin")
+    if cached is not None and cached[0] is dom:
+        return cached[1]
+    margin = _shore_margin_of(model, dom)
+    model.__dict__["_shore_margin"] = (dom, margin)
+    return margin
+
+
+def _shore_margin_of(model: StructureModel, dom: np.ndarray) -> float:
+    from scipy import ndimage as ndi
+
+    depth = ndi.distance_transform_edt(dom)
+    h, w = dom.shape
+    roots = [b.points[0] for b in model.example.branches if b.parent is None]
+    if not roots:
+        return 0.0
+    x, y = np.clip(np.rint(np.asarray(roots)).astype(int), 0, [w - 1, h - 1]).T
+    if np.median(depth[y, x]) > 0.15 * depth.max():     # roots inland (vessels from a disc): no coast
+        return 0.0
+    vals = []
+    for b in model.example.branches:
+        p = b.points
+        if b.parent is None:
+            arc = np.r_[0.0, np.cumsum(np.hypot(*np.diff(p, axis=0).T))]
+            p = p[arc > SHORE_SKIP]
+        if len(p):
+            x, y = np.clip(np.rint(p).astype(int), 0, [w - 1, h - 1]).T
+            vals.append(depth[y, x])
+    if not vals:
+        return 0.0
+    margin = float(np.quantile(np.concatenate(vals), SHORE_QUANTILE))
+    return min(margin, 0.08 * min(h, w)) if margin >= 3.0 else 0.0
+
+
+class _Shore:
+    """Rivers of a map keep off its coast (beyond the paper).
+
+    A candidate that comes closer to the edge of the domain (the coast)
+    or runs along it, and ends within ``margin`` px of it (see
+    :func:`_shore_margin`, the distance the example's rivers keep) gets
+    its score times ``exp(-8 (1 - d / margin))``, and is forbidden when one
+    of its new points comes within ``margin / 2``: such a river ends
+    there. Heading inland
+    (a root leaving the coast) is free. Without it a river that met the coast turned and ran
+    along it (islands of 256 px: 5-20 % of the river length within 6 px
+    of the coast against 1-1.5 % in the example).
+    """
+
+    def __init__(self, domain: np.ndarray, margin: float):
+        from scipy import ndimage as ndi
+
+        self.depth = ndi.distance_transform_edt(np.asarray(domain, bool)).astype(np.float32)
+        self.margin = float(margin)
+
+    def _at(self, pts: np.ndarray) -> np.ndarray:
+        h, w = self.depth.shape
+        ix = np.clip(np.rint(pts[..., 0]).astype(np.int64), 0, w - 1)
+        iy = np.clip(np.rint(pts[..., 1]).astype(np.int64), 0, h - 1)
+        return self.depth[iy, ix]
+
+    def factor(self, tip, points: np.ndarray, n_new: np.ndarray) -> np.ndarray:
+        """Score factor of candidates ``points`` ((C, M, 2), the first ``n_new`` new) from ``tip``."""
+        n = np.maximum(n_new, 1)
+        d = self._at(points)
+        valid = np.arange(points.shape[1])[None, :] < n[:, None]
+        closest = np.where(valid, d, np.inf).min(1)
+        end = d[np.arange(len(points)), n - 1]
+        tip = np.asarray(tip, np.float64)
+        d_tip = float(self._at(tip))
+        chord = np.hypot(*(points[np.arange(len(points)), n - 1] - tip).T)
+        leaving = end - d_tip >= 0.5 * chord      # heading inland (within 60 degrees of straight)
+        f = np.where(leaving, 1.0, np.exp(-8.0 * np.clip(1.0 - end / self.margin, 0.0, 1.0)))
+        return np.where(~leaving & (closest < 0.5 * self.margin), 0.0, f)
 
 
 # --------------------------------------------------------------------------
@@ -385,7 +591,7 @@ class _Drain:
 class CandidateScores:
     """Scores of all candidates of one step.
 
-    Attributes
+    Parameters
     ----------
     t : (J,) int ndarray
         Candidate windows (index of their last input element).
@@ -398,7 +604,11 @@ class CandidateScores:
     n_new : (J,) int ndarray
         Real number of appended vertices.
     hist_factor, D_c, G_c : (J,) ndarray
+        Global histogram factor ``exp(wG (dA + dR) n_t / m)``, density
+        ``D_c`` ahead (0 without colonization) and guidance ``G_c`` ahead
+        (1 without guidance).
     crossing : (J,) bool ndarray
+        The density profile shows a crossing of another branch.
     """
 
     t: np.ndarray
@@ -494,6 +704,31 @@ def score_candidates(model: StructureModel, hist_a, hist_r, tip, theta: float, *
     ``(J, n_samples)`` array operations over all ``J`` candidates; the
     candidates' vertices, PCA directions and histogram counts are
     precomputed in the tip's frame by :func:`fit_model`.
+
+    Parameters
+    ----------
+    model : StructureModel
+        The fitted example.
+    hist_a, hist_r : (L0,) array_like
+        The growing branch's elements so far: turning angles (radians) and
+        thicknesses (pixels).
+    tip : (2,) array_like
+        Position (x, y) of the branch tip (pixels).
+    theta : float
+        Heading of the tip (radians).
+    params : SynthesisParams
+        ``m``, ``h``, ``eps`` and the other synthesis parameters.
+    matcher : HistogramMatcher, optional
+        Running histograms of the synthesis; None = no histogram factor.
+    density : DensityMap, optional
+        Density of the branches so far; None = no colonization factor.
+    guidance : Guidance, optional
+        Guidance map; None = no guidance factor.
+
+    Returns
+    -------
+    CandidateScores
+        Every candidate's factors and final score.
     """
     b = _base_scores(model, hist_a, hist_r, tip, theta, params, matcher, guidance)
     J = len(b.t)
@@ -531,9 +766,10 @@ def score_candidates(model: StructureModel, hist_a, hist_r, tip, theta: float, *
 class SynthesisResult:
     """A synthesized structure with its diagnostics.
 
-    Attributes
+    Parameters
     ----------
     structure : Structure
+        The synthesized branches.
     example : Structure
         The example resampled at ``h`` (what the result is compared with).
     diagnostics : dict
@@ -543,16 +779,16 @@ class SynthesisResult:
         thickness, sum), ``furcation_probability``.
     density : (H, W) ndarray or None
         Final density map (space colonization on).
+    domain : (H, W) bool ndarray or None
+        Where the structure was allowed to grow (None: the whole frame).
+        Pass the result itself to :func:`~branchnb.branching.synthesize_image`
+        and a flat-colour example's regions follow this domain.
     sources : list of (N_i,) int ndarray
         Per branch and vertex, the input element it was copied from (an
         index into ``StructureModel.bending``'s ``branch`` / ``local``
         arrays; -1 for a branch's first piece, taken from an input branch
         head, and for given branches). Consecutive indices are a stretch
         of the input copied verbatim (the paper's Fig. 3).
-    domain : (H, W) bool ndarray or None
-        Where the structure was allowed to grow (None: the whole frame).
-        Pass the result itself to :func:`~branchnb.branching.synthesize_image`
-        and a flat-colour example's regions follow this domain.
     """
 
     structure: Structure
@@ -563,9 +799,36 @@ class SynthesisResult:
     sources: list | None = field(default=None, repr=False)
 
     def histogram_distances(self, bins: int = 16, metric: str = "l2sq") -> dict:
+        """Angle and thickness histogram distances of the result to its example (see
+        :func:`~branchnb.branching.histogram_matching.histogram_distances`).
+
+        Parameters
+        ----------
+        bins : int, default 16
+            Number of bins B (16 in the paper).
+        metric : str, default "l2sq"
+            ``"l2sq"`` (the paper's), ``"l1"``, ``"chi2"`` or ``"emd"``.
+
+        Returns
+        -------
+        dict
+            ``{"angle": dA, "thickness": dR, "sum": dA + dR}``.
+        """
         return histogram_distances(self.example, self.structure, bins=bins, metric=metric)
 
     def render(self, **kw) -> np.ndarray:
+        """Draw the synthesized structure (``Structure.render``).
+
+        Parameters
+        ----------
+        **kw
+            Keyword arguments of ``Structure.render``.
+
+        Returns
+        -------
+        ndarray
+            The rendered image.
+        """
         return self.structure.render(**kw)
 
     def _repr_png_(self) -> bytes | None:
@@ -581,7 +844,7 @@ class SynthesisResult:
 class GrowthProgress:
     """A look at a structure while it grows: what ``synthesize_structure(progress=...)`` receives.
 
-    Attributes
+    Parameters
     ----------
     fraction : float
         Estimated progress in [0, 1]: the larger of the total length
@@ -595,7 +858,9 @@ class GrowthProgress:
         :data:`MAX_ROOT_ATTEMPTS`), so a later report may show fewer
         branches than an earlier one.
     n_branches : int
+        Branches grown so far.
     total_length : float
+        Their total length (pixels).
     coverage : float or None
         Fraction of the domain within ``rho`` of a branch (None without
         space colonization).
@@ -675,6 +940,9 @@ class _Grower:
         self.guidance = guidance
         self.drain = _Drain(domain) if guidance is None and model.drains and domain is not None \
             and not domain.all() else None
+        margin = _shore_margin(model) if guidance is None and domain is not None \
+            and not domain.all() and self.drain is None else 0.0
+        self.shore = _Shore(domain, margin) if margin > 0 else None
         self.scorer = scorer
         self.matcher = model.matcher(params.wG)
         self.rho = params.rho if params.rho > 0 else model.rho
@@ -819,8 +1087,10 @@ class _Grower:
             score = np.where(cross, 0.0, score / (dc + p.eps))
         inside = self._inside(new[:, 0])
         score = np.where(inside, score, 0.0)
-        if self.drain is not None and parent is not None:  # no channel along or into the land's frame
-            score = score * self.drain.frame_factor(x0, new, n + 1)
+        if self.drain is not None and parent is not None:  # downstream, not along or into the land's frame
+            score = score * self.drain.factor(x0, new, n + 1, start=x0)
+        if self.shore is not None:
+            score = score * self.shore.factor(x0, new, n + 1)
         j = self._pick(score, poly)
         if j is None:
             return None
@@ -911,7 +1181,9 @@ class _Grower:
 
         score = cs.score
         if self.drain is not None:
-            score = score * self.drain.factor(tip, pts, n_arr)
+            score = score * self.drain.factor(tip, pts, n_arr, start=st.points[0])
+        if self.shore is not None:
+            score = score * self.shore.factor(tip, pts, n_arr)
         if p.branch_end == "length":
             score = np.where(n_arr > 0, score, 0.0)
         if self.density is not None:
@@ -1513,13 +1785,31 @@ def extend_branch(structure: Structure, index: int, example, params: SynthesisPa
         The branch to extend; it needs at least 3 vertices.
     example : Structure or StructureModel
         What to learn from.
+    params : SynthesisParams, optional
+        Synthesis parameters; None = the defaults. A model fitted with
+        another ``h``, ``m``, ``k``, ``bins`` or ``svm_C`` is fitted again.
     n_steps : int, optional
         Number of Markov steps (``m`` vertices each); until the branch
         stops by default.
+    rng : int or numpy.random.Generator, optional
+        Seed: the same seed gives the same extension.
+    guidance : Guidance or (H, W) array_like, optional
+        Guidance map ``G`` (see :mod:`~branchnb.branching.guidance`).
+    shape : (H, W), optional
+        Domain size (default: ``structure.image_shape``, else the
+        example's).
 
     Returns
     -------
     SynthesisResult
+        The whole structure with the branch extended;
+        ``diagnostics["added_vertices"]`` counts the new vertices.
+
+    Raises
+    ------
+    ValueError
+        If ``structure`` is empty, ``index`` is out of range, the branch
+        has fewer than 3 vertices or ``n_steps`` is not a positive int.
     """
     t0 = time.perf_counter()
     if not isinstance(structure, Structure):
@@ -1564,5 +1854,28 @@ def extend_branch(structure: Structure, index: int, example, params: SynthesisPa
 
 
 def replace_params(params: SynthesisParams, **changes) -> SynthesisParams:
-    """``dataclasses.replace`` plus validation."""
+    """``dataclasses.replace`` plus validation.
+
+    Parameters
+    ----------
+    params : SynthesisParams
+        The parameters to start from (unchanged).
+    **changes
+        Fields to replace.
+
+    Returns
+    -------
+    SynthesisParams
+        A checked copy with the changes.
+
+    Raises
+    ------
+    ValueError
+        If a changed value is out of its field's range.
+
+    Examples
+    --------
+    >>> replace_params(SynthesisParams(), c=3).c
+    3
+    """
     return check_params(dataclasses.replace(params, **changes))

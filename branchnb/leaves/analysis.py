@@ -50,6 +50,23 @@ def warp_mask(registration, mask, *, to_training: bool, level: float = 0.5) -> n
 
     A thin layer (a one-pixel vein) warped bilinearly may fall below 0.5
     between pixel centres and break up; ``level`` below 0.5 keeps it whole.
+
+    Parameters
+    ----------
+    registration : Registration or IdentityRegistration
+        Exemplar -> training leaf (anything with ``to_training`` and
+        ``from_training``).
+    mask : (H, W) bool array_like
+        The mask, on the exemplar (``to_training=True``) or on the training
+        leaf (``to_training=False``).
+    to_training : bool
+        Direction: exemplar -> training leaf, or training leaf -> exemplar.
+    level : float
+        Threshold of the warped coverage, in [0, 1] (default 0.5).
+
+    Returns
+    -------
+    (H, W) bool ndarray
     """
     if not (callable(getattr(registration, "to_training", None))
             and callable(getattr(registration, "from_training", None))):
@@ -66,7 +83,19 @@ def warp_mask(registration, mask, *, to_training: bool, level: float = 0.5) -> n
 
 
 class IdentityRegistration:
-    """The training leaf's registration to itself (same interface as the others)."""
+    """The training leaf's registration to itself (same interface as the others).
+
+    Parameters
+    ----------
+    shape : (int, int)
+        ``(H, W)`` of the common canvas.
+
+    Examples
+    --------
+    >>> r = IdentityRegistration((4, 5))
+    >>> r.forward([(1.0, 2.0)]).tolist(), r.map_to_training.shape
+    ([[1.0, 2.0]], (4, 5, 2))
+    """
 
     def __init__(self, shape):
         h, w = check_shape(shape, "shape")
@@ -75,11 +104,35 @@ class IdentityRegistration:
         self.map_to_training = self.map_from_training = np.stack([xx, yy], -1)
 
     def forward(self, points) -> np.ndarray:
+        """Points unchanged (``inverse`` is the same).
+
+        Parameters
+        ----------
+        points : (N, 2) array_like
+            ``(x, y)`` in pixels.
+
+        Returns
+        -------
+        (N, 2) float ndarray
+            A copy.
+        """
         return np.asarray(points, float).reshape(-1, 2).copy()
 
     inverse = forward
 
     def to_training(self, image_or_mask):
+        """The image or mask unchanged (``from_training`` is the same).
+
+        Parameters
+        ----------
+        image_or_mask : (H, W[, C]) array_like
+            On the common canvas.
+
+        Returns
+        -------
+        ndarray
+            A copy.
+        """
         return np.array(image_or_mask, copy=True)
 
     from_training = to_training
@@ -89,9 +142,10 @@ class IdentityRegistration:
 class LayerInduction:
     """One user layer induced on every exemplar.
 
-    Attributes
+    Parameters
     ----------
     name : str
+        The user layer's name.
     lam : float
         ``lambda_c = kappa |cap L~e| / |cup L~e|``.
     liberal_overlap : float
@@ -114,6 +168,11 @@ class LayerInduction:
         The scaled ``eps`` of each exemplar.
     neighbourhood : int
         The side ``n`` of the neighbourhood of ``S_e`` used for this layer.
+    snapped : list of (H, W) bool ndarray or None, optional
+        A thin layer's main structure snapped onto each exemplar's own
+        ridges (None on the training leaf), or None when the layer is not
+        thin or snapping is off (beyond the paper; see
+        :mod:`branchnb.leaves.snapping`).
     """
 
     name: str
@@ -131,7 +190,17 @@ class LayerInduction:
     snapped: list | None = field(default=None, repr=False)
 
     def spatial(self, e: int) -> np.ndarray:
-        """``F(x, c)`` on exemplar ``e`` (recomputed from the stored terms)."""
+        """``F(x, c)`` on exemplar ``e`` (recomputed from the stored terms).
+
+        Parameters
+        ----------
+        e : int
+            Exemplar index.
+
+        Returns
+        -------
+        (H, W) float32 ndarray
+        """
         e = check_int(e, "e", 0, len(self.distance) - 1)
         return spatial_term(self.distance[e], self.colour[e], self.eps_px[e])
 
@@ -145,19 +214,23 @@ class LayerInduction:
 class LeafAnalysis:
     """Everything the analysis made; input of :func:`branchnb.leaves.synthesis.generate`.
 
-    Attributes
+    Parameters
     ----------
     exemplars : list of (H, W, 4) float32 ndarray
         The normalised exemplars (common canvas).
     blades : list of (H, W) bool ndarray
+        Each exemplar's blade on the canvas.
     training_index : int
+        The exemplar the user scribbled on (the training leaf).
     training : TrainingLayers
         The user's layers grown on the training leaf.
     registrations : list
         ``registrations[i]`` maps exemplar ``i`` to the training leaf
         (identity-like for the training leaf itself).
     params : InductionParams
+        The induction parameters used (``eps``, ``kappa``, ...).
     space : ColourSpace
+        The colour quantisation shared by all exemplars.
     layers : list of LayerInduction
         Top layer first.
     residuals : list of list of (H, W, 3) float32 ndarray
@@ -165,8 +238,10 @@ class LeafAnalysis:
         layers (``residuals[0]`` = the exemplars, ``residuals[-1]`` the
         background).
     layer_set : LayerSet or None
-        The user's layers, scribbles in canvas pixels.
+        The user's layers, scribbles in canvas pixels (None when finished
+        masks were given).
     rng_seed : int
+        Seed of the analysis's random steps; :meth:`reinduce` reuses it.
     offsets : list of (dx, dy)
         Where each input exemplar's pixel (0, 0) lies on the common canvas.
     """
@@ -198,6 +273,17 @@ class LeafAnalysis:
         return self.residuals[-1]
 
     def layer(self, name: str) -> LayerInduction:
+        """The induction of layer ``name`` (KeyError if there is none).
+
+        Parameters
+        ----------
+        name : str
+            A user layer's name.
+
+        Returns
+        -------
+        LayerInduction
+        """
         for x in self.layers:
             if x.name == name:
                 return x
@@ -214,6 +300,18 @@ class LeafAnalysis:
 
         Examples: ``analysis.reinduce(eps=30)``, ``analysis.reinduce(kappa=2.0)``.
         Registration and the training layers are reused.
+
+        Parameters
+        ----------
+        progress : callable(fraction, text), optional
+            Called between steps; raise from it to stop.
+        **changes
+            :class:`~branchnb.leaves.induction.InductionParams` fields to change.
+
+        Returns
+        -------
+        LeafAnalysis
+            A new analysis (this one is not modified).
         """
         params = dataclasses.replace(self.params, **changes)
         check_params(params, name="params")
@@ -234,11 +332,32 @@ class LeafAnalysis:
         preview: generate from :meth:`reinduce`, whose residuals are new.
 
         Examples: ``analysis.retune(eps=30)``, ``analysis.retune(kappa=2.0)``.
+
+        Parameters
+        ----------
+        **changes
+            :class:`~branchnb.leaves.induction.InductionParams` fields to
+            change (``eps``, ``kappa``, ``liberal_threshold``).
+
+        Returns
+        -------
+        LeafAnalysis
+            A new analysis (this one is not modified).
         """
         return _retuned(self, changes)
 
     def overlay(self, e: int) -> np.ndarray:
-        """Exemplar ``e`` on white with its induced layers tinted in the layers' colours."""
+        """Exemplar ``e`` on white with its induced layers tinted in the layers' colours.
+
+        Parameters
+        ----------
+        e : int
+            Exemplar index.
+
+        Returns
+        -------
+        (H, W, 3) float32 ndarray
+        """
         e = check_int(e, "e", 0, len(self.exemplars) - 1)
         rgb = as_rgb(self.exemplars[e])
         out = rgb.copy()
@@ -285,7 +404,19 @@ def registration_tolerance(registrations, training_index: int) -> float:
     median distance of matched keypoints after the warp), the same for
     every exemplar (the training leaf's liberal layer included, so the
     overlap compares like with like). Registrations without an error
-    estimate count as exact.
+    estimate count as exact. Going beyond the paper.
+
+    Parameters
+    ----------
+    registrations : list
+        Exemplar ``i`` -> training leaf; their ``error_px`` is read.
+    training_index : int
+        The training leaf, left out.
+
+    Returns
+    -------
+    float
+        Median ``error_px`` in pixels; 0 when none is known.
     """
     errs = []
     for i, r in enumerate(registrations):
@@ -305,17 +436,23 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
     Parameters
     ----------
     images : list of (H, W, 3) float arrays
+        The exemplars' RGB on the common canvas, in [0, 1].
     blades : list of (H, W) bool arrays
+        Their blades.
     training_index : int
+        The exemplar the user's layers are on.
     user_masks : dict name -> (H, W) bool
         The user's layers on the training leaf, in order top first.
     registrations : list
         Exemplar ``i`` -> training leaf (``to_training`` / ``from_training``).
     params : InductionParams
+        ``eps``, ``kappa``, bins, ... (the paper's defaults in ``InductionParams()``).
     space : ColourSpace, optional
         Quantisation (computed from the blades if None).
     progress : callable(fraction, text), optional
         Called between steps; an exception it raises stops the induction.
+    rng : {numpy.random.Generator, int}
+        Seeds the removal of each layer (patch quilting of wide parts); default 0.
 
     Returns
     -------
@@ -531,6 +668,13 @@ def normalise_exemplars(exemplars) -> tuple[list, list, list]:
     canvas (the blend of inverse warps in synthesis needs one), centred on
     their blade centroids by integer shifts, so nothing is resampled and
     the user's scribbles on the training leaf move by the same shift.
+
+    Parameters
+    ----------
+    exemplars : list of images or Exemplar
+        At least two leaves of one kind: RGBA (the leaf in the alpha), RGB
+        on a plain background, :class:`~branchnb.leaves.exemplar.Exemplar`
+        or objects with an ``image`` (e.g. procedural leaves).
 
     Returns
     -------

@@ -109,8 +109,12 @@ def distorted_pixels(warp_map, *, band=(0.5, 2.0), mask=None) -> tuple[np.ndarra
     Parameters
     ----------
     warp_map : (H, W, 2) array_like
+        Source ``(x, y)`` of every output pixel (as for
+        :func:`branchnb.core.warp.remap`).
     band : (float, float)
-        Allowed range of the singular values relative to the median scale.
+        Allowed range of the singular values relative to the median scale,
+        ``0 < low < 1 < high`` (default ``(0.5, 2.0)``: this package's
+        choice, the paper gives none).
     mask : (H, W) bool array_like, optional
         Region considered (e.g. the warped blade); the median scale is taken there.
 
@@ -148,7 +152,7 @@ def distorted_pixels(warp_map, *, band=(0.5, 2.0), mask=None) -> tuple[np.ndarra
 class TextureCorrection:
     """Result of :func:`correct_texture`.
 
-    Attributes
+    Parameters
     ----------
     image : (H, W, C) float32 ndarray
         The corrected image (alpha, if any, unchanged).
@@ -159,6 +163,8 @@ class TextureCorrection:
     scale : float
         Median warp scale (source pixels per output pixel).
     completion : CompletionResult or None
+        The patch quilting's record (:func:`branchnb.core.completion.complete_gaps`);
+        None when no pixel was distorted.
     """
 
     image: np.ndarray
@@ -192,6 +198,7 @@ def correct_texture(warped, warp_map, source_image, *, band=(0.5, 2.0), mask=Non
     patch_size : int, optional
         Patch side; default ``max(8, min(H, W) // 24)``.
     rng : {numpy.random.Generator, int}, optional
+        Seeds the patch quilting's choice among well-matching patches.
     **completion_kwargs
         Passed to :func:`branchnb.core.completion.complete_gaps`.
 

@@ -65,9 +65,10 @@ MIN_SEPARABILITY = 0.6
 class Exemplar:
     """A normalised leaf exemplar.
 
-    Attributes
+    Parameters
     ----------
     rgb : (H, W, 3) float32 ndarray
+        The leaf's colours in [0, 1].
     alpha : (H, W) float32 ndarray
         The matte: the input's alpha, or the feathered blade mask.
     blade : (H, W) bool ndarray
@@ -75,6 +76,7 @@ class Exemplar:
     mask_source : str
         ``"alpha"`` or ``"background"`` (the background model).
     name : str
+        What messages call it (e.g. ``"images[2]"`` or a file name).
     """
 
     rgb: np.ndarray
@@ -404,6 +406,8 @@ def prepare_exemplars(images, *, size_policy: str = "keep", names=None, min_coun
         width, each centred on its blade. ``"resize"``: scale each so its
         blade area equals the training leaf's, then pad to a common size.
     names : sequence of str, optional
+        One name per image, for the exemplars and the error messages;
+        default ``"images[i]"``.
     min_count : int
         The method mixes several exemplars; two is the least that makes sense.
     max_hole : float

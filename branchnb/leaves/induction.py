@@ -97,7 +97,46 @@ _MAX_EXPONENT = 60.0
 
 @dataclass
 class InductionParams:
-    """Layer-induction parameters; defaults are the paper's."""
+    """Layer-induction parameters; defaults are the paper's.
+
+    Lengths are in pixels of the paper's ~2 MP photographs and are scaled
+    with each leaf (:func:`scaled_lengths`).
+
+    Parameters
+    ----------
+    eps : float
+        ``eps``, the spatial tolerance of ``F`` (paper: 40 px at ~2 MP).
+    kappa : float
+        ``kappa`` of ``lambda_c = kappa |cap L~e| / |cup L~e|`` (paper: 1.5).
+    neighbourhood : int
+        ``n``, side of the neighbourhood whose colour histogram ``S_e``
+        compares with the layer's (paper: 8 px at ~2 MP).
+    liberal_threshold : float
+        ``S_e`` bound of the liberal layers ``L~e`` (paper: 0.1).
+    bins : int
+        Histogram bins per CIELAB channel (default 32; the paper gives none).
+    reference_area : float
+        Blade area in pixels of a leaf at the paper's resolution (6e5): the
+        leaf scale is ``sqrt(blade area / reference_area)``.
+    match_colours : bool
+        Move each exemplar's blade colour statistics onto the training
+        leaf's before comparing colours (default True; not in the paper:
+        leaves of one kind differ in overall hue).
+    lab_units : bool
+        ``S_e`` as the EMD in CIELAB units, channels weighted by their span
+        (default True; False: the three channels weigh alike).
+    min_neighbourhood : int
+        When the scaled window is smaller, this window is tried as well and
+        the training overlap picks (default 3 px; see
+        :func:`neighbourhood_candidates`). Not in the paper.
+    snap : bool
+        Thin layers (veins) follow each exemplar's own ridges, the
+        registered layer being a prior (default True; beyond the paper,
+        see :mod:`branchnb.leaves.snapping`).
+    snap_radius : float
+        Search tube around a registered thin layer, in layer widths
+        (default 3; at least 1.5 times the registration error).
+    """
 
     eps: float = param(40.0, min=1.0, max=200.0, step=1.0,
                        help="eps: spatial tolerance (px at the paper's ~2 MP; scaled with the leaf)")
@@ -126,11 +165,12 @@ class InductionParams:
 class ColourSpace:
     """CIELAB quantisation shared by all exemplars.
 
-    Attributes
+    Parameters
     ----------
     lo, hi : (3,) ndarray
         Per-channel range (1st / 99th percentile of the exemplars' blades).
     bins : int
+        Bins per channel.
     """
 
     lo: np.ndarray
@@ -150,6 +190,20 @@ def _lab(image) -> np.ndarray:
 
 def colour_space(images, blades, bins: int = 32) -> ColourSpace:
     """The CIELAB range of the blades of ``images`` (robust: 1st to 99th percentile).
+
+    Parameters
+    ----------
+    images : sequence of (H, W, 3|4) array_like
+        The exemplars, RGB(A) in [0, 1].
+    blades : sequence of (H, W) bool array_like
+        Their blades; only blade pixels count.
+    bins : int
+        Bins per channel, ``>= 2`` (default 32).
+
+    Returns
+    -------
+    ColourSpace
+        A channel without spread still gets a range of 2 Lab units.
 
     Examples
     --------
@@ -180,7 +234,25 @@ def colour_space(images, blades, bins: int = 32) -> ColourSpace:
 
 
 def leaf_scale(blade, reference_area: float = 6.0e5) -> float:
-    """``s = sqrt(blade area / reference_area)``: the leaf's size against the paper's."""
+    """``s = sqrt(blade area / reference_area)``: the leaf's size against the paper's.
+
+    Parameters
+    ----------
+    blade : (H, W) bool array_like
+        The leaf's blade (not empty).
+    reference_area : float
+        Blade area in pixels of a leaf at the paper's ~2 MP (default 6e5).
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> round(leaf_scale(np.ones((300, 200), bool)), 4)
+    0.3162
+    """
     area = float(np.count_nonzero(blade))
     if area <= 0:
         raise ValueError("blade is empty")
@@ -188,7 +260,24 @@ def leaf_scale(blade, reference_area: float = 6.0e5) -> float:
 
 
 def scaled_lengths(params: InductionParams, blade) -> tuple[float, int, float]:
-    """``(eps_px, n_px, liberal_radius_px)`` for a leaf with this ``blade``."""
+    """``(eps_px, n_px, liberal_radius_px)`` for a leaf with this ``blade``.
+
+    Parameters
+    ----------
+    params : InductionParams
+        Gives ``eps``, ``neighbourhood`` and ``reference_area``.
+    blade : (H, W) bool array_like
+        The leaf's blade, whose area sets the scale ``s``.
+
+    Returns
+    -------
+    eps_px : float
+        ``eps s``.
+    n_px : int
+        ``max(1, round(n s))``.
+    liberal_radius_px : float
+        ``eps_px sqrt(2 / eps)``, the liberal layers' ``||x, c||`` bound.
+    """
     s = leaf_scale(blade, params.reference_area)
     eps_px = params.eps * s
     n_px = max(1, int(round(params.neighbourhood * s)))
@@ -198,6 +287,16 @@ def scaled_lengths(params: InductionParams, blade) -> tuple[float, int, float]:
 
 def layer_width(mask) -> float:
     """Typical width of a layer in pixels: the median of ``2 EDT - 1`` on its skeleton.
+
+    Parameters
+    ----------
+    mask : (H, W) bool array_like
+        The layer (not empty).
+
+    Returns
+    -------
+    float
+        At least 1.
 
     Examples
     --------
@@ -225,6 +324,20 @@ def layer_neighbourhood(params: InductionParams, blade, layer_mask) -> int:
     the layer's colour: so ``n`` is also capped by the layer's typical width
     (:func:`layer_width`), and rounded to an odd size so the window is
     centred on ``x``.
+
+    Parameters
+    ----------
+    params : InductionParams
+        Gives ``neighbourhood`` (``n``) and the scale.
+    blade : (H, W) bool array_like
+        The leaf's blade.
+    layer_mask : (H, W) bool array_like
+        The layer (on the training leaf).
+
+    Returns
+    -------
+    int
+        Odd, at least 1.
     """
     _, n_scaled, _ = scaled_lengths(params, blade)
     n = min(float(n_scaled), layer_width(layer_mask))
@@ -251,6 +364,20 @@ def neighbourhood_candidates(params: InductionParams, blade, layer_mask) -> list
     (eq. 4). Measured: procedural veins at 640 px, training IoU 0.87 at
     n = 1 against 0.71 at n = 3 (IoU with the truth 0.77-0.79 against
     0.52-0.56); maple veins, 0.30 at n = 1 against 0.50 at n = 3.
+
+    Parameters
+    ----------
+    params : InductionParams
+        Gives ``neighbourhood`` and ``min_neighbourhood``.
+    blade : (H, W) bool array_like
+        The training leaf's blade.
+    layer_mask : (H, W) bool array_like
+        The user's layer on it.
+
+    Returns
+    -------
+    list of int
+        One or two odd window sides, the scaled paper window first.
     """
     n0 = layer_neighbourhood(params, blade, layer_mask)
     out = [n0]
@@ -261,7 +388,20 @@ def neighbourhood_candidates(params: InductionParams, blade, layer_mask) -> list
 
 
 def blade_lab_stats(image, blade) -> tuple[np.ndarray, np.ndarray]:
-    """Mean and standard deviation of the CIELAB channels over a blade."""
+    """Mean and standard deviation of the CIELAB channels over a blade.
+
+    Parameters
+    ----------
+    image : (H, W, 3|4) array_like
+        The leaf, RGB(A) in [0, 1].
+    blade : (H, W) bool array_like
+        Its blade.
+
+    Returns
+    -------
+    mean, std : (3,) float32 ndarray
+        ``std`` at least 1e-3.
+    """
     px = _lab(image)[as_mask(blade, name="blade")]
     return px.mean(0), np.maximum(px.std(0), 1e-3)
 
@@ -274,6 +414,21 @@ def quantise(image, space: ColourSpace, *, stats=None, reference=None) -> np.nda
     affinely onto the reference's, so leaves of one kind whose overall
     colour differs (autumn leaves: yellow, orange, brown) compare by their
     pattern rather than their hue.
+
+    Parameters
+    ----------
+    image : (H, W, 3|4) array_like
+        The leaf, RGB(A) in [0, 1].
+    space : ColourSpace
+        The shared range and bin count.
+    stats : (mean, std), optional
+        This leaf's blade statistics; None: no colour matching.
+    reference : (mean, std), optional
+        The training leaf's; used only together with ``stats``.
+
+    Returns
+    -------
+    (H, W, 3) uint8 ndarray
     """
     lab = _lab(image)
     if stats is not None and reference is not None:
@@ -284,7 +439,22 @@ def quantise(image, space: ColourSpace, *, stats=None, reference=None) -> np.nda
 
 
 def layer_cdfs(q: np.ndarray, mask, bins: int) -> np.ndarray:
-    """Cumulative histograms (3, bins) of the quantised colours under ``mask``."""
+    """Cumulative histograms (3, bins) of the quantised colours under ``mask``.
+
+    Parameters
+    ----------
+    q : (H, W, 3) uint8 ndarray
+        Quantised colours (:func:`quantise`).
+    mask : (H, W) bool array_like
+        The layer's pixels (not empty).
+    bins : int
+        Bins per channel (``space.bins``).
+
+    Returns
+    -------
+    (3, bins) float ndarray
+        Per channel, rising to 1.
+    """
     mask = as_mask(mask, shape=q.shape[:2], name="mask")
     if not mask.any():
         raise ValueError("mask selects no pixel: the layer is empty")
@@ -381,7 +551,29 @@ def colour_similarity(q: np.ndarray, blade, cdfs: np.ndarray, size: int, weights
 
 
 def spatial_term(dist, s_e, eps_px: float) -> np.ndarray:
-    """``F = exp(||x, c||^2 / (eps^2 (1 - S)))``, exponent clipped at 60."""
+    """``F = exp(||x, c||^2 / (eps^2 (1 - S)))``, exponent clipped at 60.
+
+    Parameters
+    ----------
+    dist : (H, W) array_like
+        ``||x, c||``, distance in pixels to the registered user layer.
+    s_e : (H, W) array_like
+        ``S_e(x, c)``, the colour term in [0, 1] (clipped below 1).
+    eps_px : float
+        ``eps`` scaled to the leaf, in pixels.
+
+    Returns
+    -------
+    (H, W) float32 ndarray
+        1 on the layer, growing with the distance; at most ``e^60``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> f = spatial_term(np.array([0.0, 10.0]), np.zeros(2), 10.0)
+    >>> [round(float(v), 4) for v in f]
+    [1.0, 2.7183]
+    """
     d = np.asarray(dist, np.float32)
     s = np.clip(np.asarray(s_e, np.float32), 0.0, 1.0 - 1e-3)
     expo = np.minimum(d * d / (np.float32(eps_px) ** 2 * (1.0 - s)), _MAX_EXPONENT)
@@ -389,7 +581,21 @@ def spatial_term(dist, s_e, eps_px: float) -> np.ndarray:
 
 
 def combined_term(lam: float, f, s_e) -> np.ndarray:
-    """``D = lambda F + S_e``."""
+    """``D = lambda F + S_e``.
+
+    Parameters
+    ----------
+    lam : float
+        ``lambda_c``, the layer's weight of space against colour.
+    f : (H, W) array_like
+        ``F(x, c)`` (:func:`spatial_term`).
+    s_e : (H, W) array_like
+        ``S_e(x, c)`` (:func:`colour_similarity`).
+
+    Returns
+    -------
+    (H, W) float32 ndarray
+    """
     return (np.float32(lam) * np.asarray(f, np.float32) + np.asarray(s_e, np.float32)).astype(np.float32)
 
 
@@ -398,6 +604,15 @@ def choose_threshold(d, target, blade) -> tuple[float, float]:
 
     Exact: every distinct value of ``D`` on the blade is a candidate, all
     evaluated at once from one sort and cumulative sums.
+
+    Parameters
+    ----------
+    d : (H, W) array_like
+        ``D(x, c)`` on the training leaf.
+    target : (H, W) bool array_like
+        The user's layer (at least one blade pixel).
+    blade : (H, W) bool array_like
+        The training leaf's blade; only its pixels count.
 
     Returns
     -------
@@ -434,7 +649,26 @@ def choose_threshold(d, target, blade) -> tuple[float, float]:
 
 
 def liberal_layer(s_e, dist, threshold: float, radius_px: float, blade) -> np.ndarray:
-    """``L~e = {x : S_e < threshold and ||x, c|| < radius}`` inside the blade."""
+    """``L~e = {x : S_e < threshold and ||x, c|| < radius}`` inside the blade.
+
+    Parameters
+    ----------
+    s_e : (H, W) array_like
+        ``S_e(x, c)``.
+    dist : (H, W) array_like
+        ``||x, c||`` in pixels.
+    threshold : float
+        ``S_e`` bound (the paper's 0.1, ``liberal_threshold``).
+    radius_px : float
+        Distance bound in pixels (the paper's ``||x, c||^2 < 2 eps``, scaled:
+        :func:`scaled_lengths`).
+    blade : (H, W) bool array_like
+        The exemplar's blade.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+    """
     return (np.asarray(s_e) < threshold) & (np.asarray(dist) < radius_px) & np.asarray(blade, bool)
 
 
@@ -442,6 +676,20 @@ def layer_weight(liberal_in_training, kappa: float) -> tuple[float, float]:
     """``lambda = kappa |cap L~e| / |cup L~e|`` from liberal layers in one frame.
 
     Returns ``(lambda, overlap)``; ``overlap = 0`` when every liberal layer is empty.
+
+    Parameters
+    ----------
+    liberal_in_training : sequence of (H, W) bool array_like
+        The liberal layers ``L~e`` of all exemplars, brought into the
+        training frame (at least one).
+    kappa : float
+        The paper's ``kappa`` (1.5).
+
+    Returns
+    -------
+    lambda : float
+    overlap : float
+        ``|cap L~e| / |cup L~e|``.
 
     Examples
     --------
@@ -465,6 +713,19 @@ def telea(image: np.ndarray, hole: np.ndarray, radius: float = 3.0) -> np.ndarra
 
     (OpenCV 5's float32 path returns values far outside the input range, so
     the channels go through uint16.)
+
+    Parameters
+    ----------
+    image : (H, W, C) float ndarray
+        Values in [0, 1] (clipped).
+    hole : (H, W) bool or uint8 ndarray
+        Pixels to fill (non-zero).
+    radius : float
+        Telea's neighbourhood radius in pixels (default 3).
+
+    Returns
+    -------
+    (H, W, C) float32 ndarray
     """
     h8 = np.asarray(hole, np.uint8)
     out = np.empty(image.shape, np.float32)
@@ -491,7 +752,9 @@ def remove_layer(image, blade, mask, *, grow: int = 1, thin_width: float = 6.0,
     Parameters
     ----------
     image : (H, W, 3|4) array_like
+        The exemplar (or its residual so far), RGB(A) in [0, 1].
     blade : (H, W) bool
+        Its blade; fills come from the blade outside ``mask``.
     mask : (H, W) bool
         The layer's pixels.
     grow : int
@@ -503,6 +766,7 @@ def remove_layer(image, blade, mask, *, grow: int = 1, thin_width: float = 6.0,
         Quilting patch side; by default 5 % of the leaf's size
         (``sqrt(blade area)``), between 8 and 48 px.
     rng : int or Generator
+        Seeds the patch quilting of wide parts.
 
     Returns
     -------

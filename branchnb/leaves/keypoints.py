@@ -33,7 +33,22 @@ VEIN = 2
 
 @dataclass
 class Keypoints:
-    """Points ``(x, y)`` with a label each (:data:`OUTLINE` or :data:`INTERIOR`)."""
+    """Points ``(x, y)`` with a label each (:data:`OUTLINE` or :data:`INTERIOR`).
+
+    Parameters
+    ----------
+    points : (K, 2) float ndarray
+        Keypoint positions ``(x, y)`` in image pixels.
+    labels : (K,) int64 ndarray
+        :data:`OUTLINE` (0), :data:`INTERIOR` (1) or :data:`VEIN` (2) per
+        point; registration matches points of one label with each other.
+    strength : (K,) float ndarray
+        The edge (:func:`edge_strength`) or vein (:func:`vein_strength`)
+        strength at each point.
+    orientation : (K,) float ndarray, optional
+        Radians mod pi (image axes) of the vein through each :data:`VEIN`
+        point; None for edge keypoints.
+    """
 
     points: np.ndarray
     labels: np.ndarray
@@ -59,6 +74,7 @@ def edge_strength(image, mask=None, *, diameter: int | None = None, sigma_color:
     Parameters
     ----------
     image : (H, W, C) array_like
+        The leaf, float in [0, 1] (or uint8); reduced to its luminance.
     mask : (H, W) bool array_like, optional
         Outside the mask the image is replaced by the mean colour inside it
         first, so the background does not create edges of its own.
@@ -136,6 +152,7 @@ def edge_keypoints(image, blade, n_points: int = 100, *, outline_fraction: float
     Parameters
     ----------
     image : (H, W, C) array_like
+        The leaf, float in [0, 1] (or uint8).
     blade : (H, W) bool array_like
         The leaf's mask; points lie on its outline or inside it.
     n_points : int
@@ -258,7 +275,9 @@ def vein_strength(image, blade, *, sigma: float | None = None, length: float | N
     Parameters
     ----------
     image : (H, W, C) array_like
+        The leaf, float in [0, 1] (or uint8); reduced to its luminance.
     blade : (H, W) bool array_like
+        The leaf's mask (at least 16 pixels); the response is 0 outside it.
     sigma : float, optional
         Ridge scale in pixels; default ``max(1, 0.012 R)`` with
         ``R = sqrt(blade area / pi)`` (main veins are about 1 % of a leaf wide).
@@ -321,7 +340,28 @@ def vein_keypoints(image, blade, n_points: int = 60, *, quantile: float = 0.9, *
     ``quantile`` inside the blade are thinned to centre lines
     (skeletonised); points are taken strongest first with a minimum
     spacing of the centre lines' length over ``n_points``, so they cover
-    the veins evenly.
+    the veins evenly. Not in the paper, which places its points on edges
+    only (:func:`edge_keypoints`).
+
+    Parameters
+    ----------
+    image : (H, W, C) array_like
+        The leaf, float in [0, 1] (or uint8).
+    blade : (H, W) bool array_like
+        The leaf's mask (at least 16 pixels).
+    n_points : int
+        Target number of points (default 60); fewer come back on short veins.
+    quantile : float
+        Pixels above this quantile of the vein strength inside the blade
+        count as vein (default 0.9: the strongest 10 %).
+    **strength_kwargs
+        Passed to :func:`vein_strength` (``sigma``, ``length``).
+
+    Returns
+    -------
+    Keypoints
+        Label :data:`VEIN`, with ``orientation``; empty when the blade has no
+        vein response.
 
     Examples
     --------

@@ -57,7 +57,21 @@ MAX_SCRIBBLES = 10_000
 
 @dataclass
 class Scribble:
-    """One freehand stroke: a polyline in image pixels ``(x, y)`` and a brush radius."""
+    """One freehand stroke: a polyline in image pixels ``(x, y)`` and a brush radius.
+
+    Parameters
+    ----------
+    points : (N, 2) array_like
+        The stroke's polyline ``(x, y)`` in image pixels; one point is a dab.
+    radius : float
+        Brush radius in pixels, in ``(0, 1e4]`` (default 2): the stroke
+        covers every pixel within ``radius`` of the polyline.
+
+    Examples
+    --------
+    >>> Scribble([(0, 0), (4, 3)], 1.5).points.shape
+    (2, 2)
+    """
 
     points: np.ndarray
     radius: float = 2.0
@@ -72,6 +86,17 @@ class Scribble:
 
     @classmethod
     def from_dict(cls, d: dict) -> Scribble:
+        """A scribble from :meth:`to_dict`'s plain data.
+
+        Parameters
+        ----------
+        d : dict
+            ``{"points": [[x, y], ...], "radius": r}``; ``radius`` defaults to 2.
+
+        Returns
+        -------
+        Scribble
+        """
         _check_dict(d, "d", "points")
         return cls(d["points"], d.get("radius", 2.0))
 
@@ -104,7 +129,7 @@ def _as_scribble(s, name: str) -> Scribble:
 class Layer:
     """A user layer of the training leaf.
 
-    Attributes
+    Parameters
     ----------
     name : str
         Unique name ("veins", "spots", ...).
@@ -113,6 +138,8 @@ class Layer:
     order : int
         Stacking order, 0 = top: induced (and removed) first, drawn last.
     scribbles : list of Scribble
+        The user's strokes on this layer (an ``(N, 2)`` array of points is
+        taken as a Scribble of radius 2); empty by default.
     """
 
     name: str
@@ -139,6 +166,18 @@ class Layer:
 
     @classmethod
     def from_dict(cls, d: dict) -> Layer:
+        """A layer from :meth:`to_dict`'s plain data.
+
+        Parameters
+        ----------
+        d : dict
+            ``{"name", "colour", "order", "scribbles"}``; only ``name`` is
+            required (colour ``#d62728``, order 0, no scribbles by default).
+
+        Returns
+        -------
+        Layer
+        """
         _check_dict(d, "d", "name")
         return cls(d["name"], d.get("colour", "#d62728"), check_int(d.get("order", 0), "order"),
                    [Scribble.from_dict(s) for s in _check_list(d.get("scribbles", []), "scribbles")])
@@ -147,6 +186,15 @@ class Layer:
 @dataclass
 class LayerSet:
     """The user's layers of one training leaf, plus optional blade scribbles.
+
+    Parameters
+    ----------
+    layers : list of Layer
+        The user layers, unique names (empty by default).
+    background : list of Scribble
+        Optional scribbles on the plain blade (the background layer
+        ``"blade"``); they sharpen the background colour model but are not
+        required.
 
     Examples
     --------
@@ -181,12 +229,39 @@ class LayerSet:
         return sorted(self.layers, key=lambda layer: layer.order)
 
     def get(self, name: str) -> Layer:
+        """The layer called ``name`` (KeyError if there is none).
+
+        Parameters
+        ----------
+        name : str
+            A layer's name.
+
+        Returns
+        -------
+        Layer
+        """
         for layer in self.layers:
             if layer.name == name:
                 return layer
         raise KeyError(f"no layer named {name!r}; layers are {[x.name for x in self.layers]}")
 
     def add(self, name: str, colour: str = "#d62728", order: int | None = None) -> Layer:
+        """Add an empty layer (no scribbles yet).
+
+        Parameters
+        ----------
+        name : str
+            Its name, new in the set and not ``"blade"``.
+        colour : str
+            Display colour ``#rrggbb``.
+        order : int, optional
+            Stacking order (0 = top); None: below every layer so far.
+
+        Returns
+        -------
+        Layer
+            The new layer (scribble on it with :meth:`add_scribble`).
+        """
         if any(x.name == name for x in self.layers):
             raise ValueError(f"a layer named {name!r} exists already")
         order = len(self.layers) if order is None else order
@@ -195,11 +270,26 @@ class LayerSet:
         return layer
 
     def remove(self, name: str) -> None:
+        """Remove layer ``name`` and renumber the others' order 0, 1, ...
+
+        Parameters
+        ----------
+        name : str
+            A layer's name (KeyError if there is none).
+        """
         self.layers.remove(self.get(name))
         self._renumber()
 
     def move(self, name: str, new_index: int) -> None:
-        """Put layer ``name`` at position ``new_index`` of the top-to-bottom order."""
+        """Put layer ``name`` at position ``new_index`` of the top-to-bottom order.
+
+        Parameters
+        ----------
+        name : str
+            A layer's name (KeyError if there is none).
+        new_index : int
+            Its new position, 0 = top; clipped to the number of layers.
+        """
         order = self.ordered()
         layer = self.get(name)
         order.remove(layer)
@@ -213,7 +303,17 @@ class LayerSet:
             x.order = i
 
     def add_scribble(self, name: str, points, radius: float = 2.0) -> None:
-        """Add a scribble to layer ``name`` (``"blade"`` for the background)."""
+        """Add a scribble to layer ``name`` (``"blade"`` for the background).
+
+        Parameters
+        ----------
+        name : str
+            A layer's name, or ``"blade"`` for a background scribble.
+        points : (N, 2) array_like
+            The stroke ``(x, y)`` in image pixels.
+        radius : float
+            Brush radius in pixels (default 2).
+        """
         s = Scribble(points, radius)
         if name == "blade":
             self.background.append(s)
@@ -234,6 +334,17 @@ class LayerSet:
 
     @classmethod
     def from_dict(cls, d: dict) -> LayerSet:
+        """A layer set from :meth:`to_dict`'s plain data.
+
+        Parameters
+        ----------
+        d : dict
+            ``{"layers": [...], "background": [...]}`` (``background`` optional).
+
+        Returns
+        -------
+        LayerSet
+        """
         if not isinstance(d, dict) or "layers" not in d:
             raise ValueError("d (a layer set) must be a dict with a 'layers' list")
         return cls([Layer.from_dict(x) for x in _check_list(d["layers"], "layers")],
@@ -241,12 +352,54 @@ class LayerSet:
 
     @classmethod
     def from_json(cls, text: str) -> LayerSet:
+        """A layer set from :meth:`to_json`'s text.
+
+        Parameters
+        ----------
+        text : str
+            Strict JSON (duplicate keys and NaN refused).
+
+        Returns
+        -------
+        LayerSet
+        """
         return cls.from_dict(loads_strict(text, name="text"))
 
 
 @dataclass
 class SnapParams:
-    """Lazy-snapping parameters."""
+    """Lazy-snapping parameters (Li, Sun, Tang & Shum 2004): this package's defaults, lazy snapping's noted.
+
+    Parameters
+    ----------
+    superpixel_size : float
+        Mean SLIC superpixel side in pixels (default 5); keep it below the
+        thinnest layer's width.
+    compactness : float
+        SLIC compactness in CIELAB units (default 4; low: superpixels
+        follow colour edges).
+    clusters : int
+        k-means colour centres per colour model (default 32; lazy snapping
+        uses 64).
+    smoothness : float
+        Weight of the boundary term ``E2`` against the data term ``E1``
+        (lazy snapping's ``lambda``, default 1).
+    refine : bool
+        Run the pixel-level graph cut after the superpixel one (default True).
+    max_layer_fraction : float
+        Largest fraction of the blade a layer covers (default 0.15): the
+        background colour model leaves out this share of the blade most
+        like the layer.
+    prior : float
+        Weight of the superpixel labelling in the pixel-level cut (default 0.3).
+    local_contrast : float
+        Weight of each pixel's colour relative to the blade around it
+        (default 0: off, it lowers drawn ink layers; unevenly lit photos: 1).
+        Not in the paper.
+    shading_scale : float
+        Radius of "the blade around it" (a median) for ``local_contrast``,
+        in superpixel sides (default 3).
+    """
 
     superpixel_size: float = param(5.0, min=2.0, max=40.0, step=0.5,
                                    help="mean superpixel side (px); smaller than the thinnest layer")
@@ -270,11 +423,12 @@ class SnapParams:
 class TrainingLayers:
     """Result of :func:`grow_layers`.
 
-    Attributes
+    Parameters
     ----------
     masks : dict of str -> (H, W) bool ndarray
         The grown layer masks (disjoint, inside the blade).
     blade : (H, W) bool ndarray
+        The leaf's blade mask it was grown in.
     background : (H, W) bool ndarray
         The blade minus every layer.
     order : list of str
@@ -292,6 +446,18 @@ class TrainingLayers:
 
 def scribble_mask(scribbles, shape) -> np.ndarray:
     """Rasterise scribbles (capsules of their brush radius) into an (H, W) bool mask.
+
+    Parameters
+    ----------
+    scribbles : iterable of Scribble or (N, 2) array_like
+        The strokes (an array is a Scribble of radius 2).
+    shape : (int, int)
+        ``(H, W)`` of the mask.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        True under some stroke; parts outside the image are clipped.
 
     Examples
     --------
@@ -476,6 +642,7 @@ def grow_layers(image, blade, layer_set: LayerSet, params: SnapParams | None = N
     layer_set : LayerSet
         The user's layers; every layer needs at least one scribble.
     params : SnapParams, optional
+        Lazy-snapping parameters; None: ``SnapParams()`` (the defaults).
     rng : int or Generator
         Seeds the k-means colour models.
 
@@ -674,6 +841,12 @@ def simulate_scribbles(mask, n: int = 12, *, length: float = 20.0, radius: float
     radius : float, optional
         Brush radius; by default half the local width, clipped to [0.5, 3].
     rng : int or Generator
+        Picks each scribble's start pixel on the skeleton.
+
+    Returns
+    -------
+    list of Scribble
+        ``n`` scribbles on ``mask``.
 
     Examples
     --------

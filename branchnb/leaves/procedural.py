@@ -123,7 +123,7 @@ PALETTES = {
 class ProceduralLeaf:
     """One generated leaf and its ground truth.
 
-    Attributes
+    Parameters
     ----------
     image : (H, W, 4) float32 ndarray
         RGBA, transparent background (soft anti-aliased alpha).
@@ -137,6 +137,8 @@ class ProceduralLeaf:
     seed : int
         ``procedural_leaf(..., rng=seed)`` with the same arguments gives this leaf again.
     kind, palette : str
+        The family (a key of :data:`KINDS`) and colours (a key of
+        :data:`PALETTES`) it was made with.
     shape : dict
         The leaf's drawn shape parameters (lobe lengths, angular warp,
         aspect, bend, rotation in degrees, pixels per leaf unit).
@@ -588,6 +590,19 @@ def _check_args(kind, size, palette, variation, rotation, scale, n_keypoints):
 def material_keypoints(n: int) -> tuple[np.ndarray, np.ndarray]:
     """The canonical material points ``(a_c, rho)`` behind ``keypoints``: a golden-angle spiral.
 
+    Parameters
+    ----------
+    n : int
+        Number of points (``n_keypoints`` of :func:`procedural_leaf`).
+
+    Returns
+    -------
+    a_c : (n,) float ndarray
+        Canonical angle from the tip direction, radians in ``[-pi, pi)``.
+    rho : (n,) float ndarray
+        Relative radius in ``(0.08, 0.94)`` (0: the outline's centre, 1: the
+        outline), growing with the point's index.
+
     Examples
     --------
     >>> ac, rho = material_keypoints(5)
@@ -615,6 +630,7 @@ def procedural_leaf(kind: str = "lobed", *, size: int = 512, palette: str = "gre
     size : int
         Canvas side in pixels (1000 gives a 1-megapixel leaf).
     palette : {"green", "autumn"}
+        Colours of blade, mottling, veins and spots (see :data:`PALETTES`).
     variation : float
         Scales the per-leaf shape variation (0: every leaf has the
         canonical outline, only rotation/scale/venation/spots differ).
@@ -746,6 +762,36 @@ def leaf_family(n: int, *, size: int = 512, kind: str = "lobed", palette: str = 
     Every leaf gets its own seed drawn from ``rng``; see
     :func:`procedural_leaf` for the parameters. Keypoint ``k`` is the same
     material point on every leaf of the family.
+
+    Parameters
+    ----------
+    n : int
+        Number of leaves, 1 to 10000.
+    size : int
+        Canvas side in pixels, 32 to 4096 (default 512).
+    kind : {"lobed", "trilobed", "elliptic"}
+        The family (see :data:`KINDS`); one kind for all leaves.
+    palette : {"green", "autumn"}
+        Colours (see :data:`PALETTES`).
+    variation : float
+        Scale of the per-leaf shape variation, 0 to 3 (default 1; 0: the
+        canonical outline on every leaf).
+    rotation : float
+        Each leaf is rotated by a uniform angle in ``[-rotation, rotation]``
+        degrees (default 30).
+    scale : (float, float)
+        Range of the leaf's larger extent, as a fraction of ``size``
+        (default ``(0.72, 0.9)``).
+    n_spots : (int, int)
+        Inclusive range of spots per leaf (default ``(2, 5)``).
+    n_keypoints : int
+        True corresponding points per leaf (default 64).
+    rng : {numpy.random.Generator, int}, optional
+        Draws the ``n`` distinct leaf seeds.
+
+    Returns
+    -------
+    list of ProceduralLeaf
 
     Examples
     --------

@@ -132,39 +132,80 @@ __all__ = ["RegistrationParams", "Registration", "register", "start_alignment", 
 class RegistrationParams:
     """Parameters of :func:`register`; defaults are the papers' values.
 
-    Attributes
+    Where a default is measured rather than a paper's, the entry says so
+    (:mod:`branchnb.leaves.registration` has the figures).
+
+    Parameters
     ----------
     n_keypoints : int
         Keypoints per leaf (Assa & Cohen-Or: about 100).
     outline_fraction : float
-        Fraction of them on the blade outline.
+        Fraction of them on the blade outline (default 0.35).
     anneal_rate : float
         Chui & Rangarajan's ``r`` (0.93).
     lambda1_init, lambda2_init : float
         Initial bending / affine regularisation (Chui & Rangarajan: 1 and
         0.01), multiplied by the number of points and the temperature.
+        ``lambda1_init`` defaults to 3, measured for points normalised by
+        the blade radius (Chui's data lie in the unit square).
     iterations : int
         Softassign / spline rounds per temperature (Chui & Rangarajan: 5).
     sinkhorn_iterations : int
-        Row/column normalisation rounds per softassign.
+        Row/column normalisation rounds per softassign (default 10).
     t_final_scale : float
         ``T_final`` = this times the mean squared nearest-neighbour
-        distance of the training keypoints (Chui & Rangarajan: 1).
+        distance of the training keypoints (Chui & Rangarajan: 1; default
+        0.1, measured: with 1 the final matches stay too soft and the
+        outlines shrink inwards).
     use_labels : bool
         Match outline points only with outline points and interior points
-        with interior points.
-    start : {"best", "similarity", "affine"}
-        Family of start maps (``"best"`` tries both).
-    rotation_step : float
-        Degrees between the start rotations tried.
-    mirror : bool
-        Also try mirrored starts (leaves photographed from the back).
-    grid_step : int
-        Spacing (pixels) of the grid the dense maps are evaluated on.
+        with interior points (default True).
+    outline_points : int
+        Lamina outline samples per leaf in the outline stage (default 150).
+    n_starts : int
+        Start maps tried by the outline stage; the best registered outline
+        fit wins (default 3).
     fold_retries : int
         How many times an outline spline that folds the lamina (Jacobian
         determinant <= 0 somewhere on it) is refitted with ``lambda1``
-        three times larger.
+        three times larger (default 3).
+    apex : bool
+        Also match the apexes as landmarks when both leaves have a clear
+        one (default True).
+    veins : bool
+        Run the vein stage: refine with outline and main-vein points, each
+        matched to its own kind (default False: it did not help on the
+        measured families).
+    vein_points : int
+        Points along the main veins per leaf (default 60).
+    vein_orientation : float
+        Softassign cost of crossed vein directions, ``vein_orientation *
+        sin^2`` of the angle, in squared blade radii (default 0.02).
+    vein_t_init : float
+        Vein stage start temperature over the mean squared
+        nearest-neighbour distance (default 16).
+    vein_stiffness : float
+        ``lambda1`` of the vein stage over that of the outline stage
+        (default 10).
+    refine : bool
+        Refine with all edge keypoints, interior ones included (default
+        False: interior edge keypoints made registration worse).
+    refine_t_init : float
+        Refinement start temperature over the mean squared
+        nearest-neighbour distance (default 16).
+    refine_stiffness : float
+        ``lambda1`` of the refinement over that of the outline stage
+        (default 10).
+    start : {"similarity", "affine"}
+        Family of start maps (default ``"similarity"``; ``"affine"``
+        refines each by trimmed ICP on the outlines).
+    rotation_step : float
+        Degrees between the start rotations tried (default 5).
+    mirror : bool
+        Also try mirrored starts (leaves photographed from the back).
+    grid_step : int
+        Spacing (pixels) of the grid the dense maps are evaluated on
+        (default 8).
     """
 
     n_keypoints: int = param(100, min=10, max=400, help="keypoints per leaf (paper: about 100)")
@@ -221,9 +262,12 @@ def _sqdist(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 class ThinPlateSpline:
     """``f(p) = d^T [1, p] + sum_j w_j U(|p - c_j|)`` in 2-D.
 
-    Attributes
+    ``U(r) = r^2 log r``; call the spline on ``(N, 2)`` points to map them.
+
+    Parameters
     ----------
     centres : (K, 2) ndarray
+        The kernel centres ``c_j`` (the source points of a fit).
     w : (K, 2) ndarray
         Non-affine coefficients (``P^T w = 0``).
     d : (3, 2) ndarray
@@ -236,6 +280,17 @@ class ThinPlateSpline:
 
     @classmethod
     def identity(cls, centres) -> ThinPlateSpline:
+        """The identity map on these centres (``w = 0``, ``d`` the identity).
+
+        Parameters
+        ----------
+        centres : (K, 2) array_like
+            Kernel centres.
+
+        Returns
+        -------
+        ThinPlateSpline
+        """
         c = _points(centres, "centres", limit=COORD_LIMIT)
         return cls(c, np.zeros_like(c), np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]))
 
@@ -243,6 +298,37 @@ class ThinPlateSpline:
     @checked(lambda1=Real(0.0, 1e12), lambda2=Real(0.0, 1e12))
     def fit(cls, source, target, *, weights=None, lambda1: float = 0.0,
             lambda2: float = 0.0) -> ThinPlateSpline:
+        """The spline ``source -> target`` minimising TPS-RPM's regularised energy.
+
+        Minimises ``sum_i c_i |target_i - f(source_i)|^2 + lambda1 tr(w^T Phi w)
+        + lambda2 |D - I|^2`` (``D``: the linear part of ``d``; the
+        translation is free).
+
+        Parameters
+        ----------
+        source : (K, 2) array_like
+            Source points, which become the centres.
+        target : (K, 2) array_like
+            Where each source point should go.
+        weights : (K,) array_like, optional
+            Non-negative weight ``c_i`` of each pair; None: all 1.
+        lambda1 : float
+            Bending regularisation (0: interpolate exactly).
+        lambda2 : float
+            Pull of the linear part towards the identity (0: free).
+
+        Returns
+        -------
+        ThinPlateSpline
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> src = np.array([[0, 0], [1, 0], [0, 1], [1, 1], [0.5, 0.5]])
+        >>> f = ThinPlateSpline.fit(src, src + (2, 3))
+        >>> bool(np.allclose(f(src), src + (2, 3)))
+        True
+        """
         source = _points(source, "source", limit=COORD_LIMIT)
         target = _points(target, "target", limit=COORD_LIMIT)
         if target.shape != source.shape:
@@ -262,7 +348,17 @@ class ThinPlateSpline:
         return out
 
     def jacobian(self, points) -> np.ndarray:
-        """(N, 2, 2) ``J[n, i, j] = d f_i / d p_j``."""
+        """(N, 2, 2) ``J[n, i, j] = d f_i / d p_j``.
+
+        Parameters
+        ----------
+        points : (N, 2) array_like
+            Where to evaluate the Jacobian.
+
+        Returns
+        -------
+        (N, 2, 2) float ndarray
+        """
         p = _points(points, "points", limit=COORD_LIMIT)
         out = np.empty((len(p), 2, 2))
         for s in range(0, len(p), 8192):
@@ -364,6 +460,8 @@ def tps_rpm(source, target, *, source_labels=None, target_labels=None,
     source_labels, target_labels : (K,), (N,) int array_like, optional
         Points are only matched to points with the same label.
     params : RegistrationParams, optional
+        Annealing and regularisation (``anneal_rate``, ``lambda1_init``,
+        ...); None: ``RegistrationParams()``.
     t_init : float, optional
         Start temperature; default (Chui & Rangarajan) the largest squared
         distance between the two sets. A refinement of a good alignment
@@ -548,6 +646,7 @@ def split_petiole(blade) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
     Parameters
     ----------
     blade : (H, W) bool array_like
+        The leaf's silhouette (lamina and petiole).
 
     Returns
     -------
@@ -655,6 +754,27 @@ def start_candidates(exemplar_blade, training_blade, *, start: str = "similarity
     degrees apart are refined in steps of a tenth of ``rotation_step``;
     with ``start="affine"`` each is then refined to an affine map by
     trimmed symmetric ICP on the outlines.
+
+    Parameters
+    ----------
+    exemplar_blade : (H_e, W_e) bool array_like
+        The moving leaf's blade (at least 16 pixels).
+    training_blade : (H_t, W_t) bool array_like
+        The training leaf's blade (at least 16 pixels).
+    start : {"similarity", "affine"}
+        Family of start maps (default ``"similarity"``).
+    rotation_step : float
+        Degrees between the rotations tried, 0.5 to 90 (default 5).
+    mirror : bool
+        Also try mirrored maps (a leaf photographed from the back).
+    n : int
+        Number of candidates returned, at most (default 3).
+
+    Returns
+    -------
+    list of ((2, 3) ndarray, float)
+        Start maps and their chamfer scores (training pixels, lower is
+        better), best first.
     """
     me = as_mask(exemplar_blade, name="exemplar_blade")
     mt = as_mask(training_blade, name="training_blade")
@@ -759,6 +879,25 @@ def start_alignment(exemplar_blade, training_blade, *, start: str = "similarity"
 
     See :func:`start_candidates` for how it is found.
 
+    Parameters
+    ----------
+    exemplar_blade : (H_e, W_e) bool array_like
+        The moving leaf's blade.
+    training_blade : (H_t, W_t) bool array_like
+        The training leaf's blade.
+    start : {"similarity", "affine"}
+        Family of start maps (default ``"similarity"``).
+    rotation_step : float
+        Degrees between the rotations tried (default 5).
+    mirror : bool
+        Also try mirrored maps.
+
+    Returns
+    -------
+    matrix : (2, 3) ndarray
+    iou : float
+        Blade overlap after the map.
+
     Examples
     --------
     >>> import numpy as np
@@ -812,7 +951,9 @@ def _coarse_grid(shape, step):
 class Registration:
     """An exemplar registered to the training leaf.
 
-    Attributes
+    Made by :func:`register`.
+
+    Parameters
     ----------
     start : (2, 3) ndarray
         Affine start map, exemplar pixels -> training pixels.
@@ -823,12 +964,18 @@ class Registration:
         (``(p - centre) / radius``): the outline stage, then the refinement
         with all keypoints.
     centre : (2,) ndarray
+        Training blade centroid ``(x, y)``: the origin of normalised coordinates.
     radius : float
+        Training blade radius ``sqrt(area / pi)`` in pixels: the unit of
+        normalised coordinates.
     exemplar_keypoints, training_keypoints : Keypoints
+        The points matched (pixels of each leaf).
     match : (N, K) ndarray
         Soft correspondences (rows: training keypoints, columns: exemplar keypoints).
     exemplar_shape, training_shape : (int, int)
+        ``(H, W)`` of the two leaves' images.
     grid_step : int
+        Grid spacing (pixels) of the dense maps (default 8).
     """
 
     start: np.ndarray
@@ -854,7 +1001,17 @@ class Registration:
         return p @ self.start[:, :2].T + self.start[:, 2]
 
     def forward(self, points) -> np.ndarray:
-        """Exemplar pixels (x, y) -> training pixels."""
+        """Exemplar pixels (x, y) -> training pixels.
+
+        Parameters
+        ----------
+        points : (N, 2) array_like
+            ``(x, y)`` on the exemplar.
+
+        Returns
+        -------
+        (N, 2) float ndarray
+        """
         p = _points(points, "points")
         q = self._normalise(self._start_map(p))
         for f in self.splines:
@@ -862,7 +1019,18 @@ class Registration:
         return q * self.radius + self.centre
 
     def forward_jacobian(self, points) -> np.ndarray:
-        """(N, 2, 2) Jacobian of :meth:`forward`."""
+        """(N, 2, 2) Jacobian of :meth:`forward`.
+
+        Parameters
+        ----------
+        points : (N, 2) array_like
+            ``(x, y)`` on the exemplar.
+
+        Returns
+        -------
+        (N, 2, 2) float ndarray
+            ``J[n, i, j] = d forward_i / d p_j`` (training px per exemplar px).
+        """
         p = _points(points, "points")
         q = self._normalise(self._start_map(p))
         j = np.broadcast_to(self.start[:, :2], (len(p), 2, 2)).copy()
@@ -872,7 +1040,20 @@ class Registration:
         return j
 
     def inverse(self, points, *, newton_steps: int = 6) -> np.ndarray:
-        """Training pixels (x, y) -> exemplar pixels (Newton-refined inverse of :meth:`forward`)."""
+        """Training pixels (x, y) -> exemplar pixels (Newton-refined inverse of :meth:`forward`).
+
+        Parameters
+        ----------
+        points : (N, 2) array_like
+            ``(x, y)`` on the training leaf.
+        newton_steps : int
+            Newton steps on the exact forward map after the fitted inverse,
+            0 to 100 (default 6).
+
+        Returns
+        -------
+        (N, 2) float ndarray
+        """
         newton_steps = check_int(newton_steps, "newton_steps", 0, 100)
         y = _points(points, "points")
         if self._inverse_init is None:
@@ -924,11 +1105,32 @@ class Registration:
 
         Bool masks come back as bool (False outside the exemplar); images as
         float32 ``(H_t, W_t, C)`` (border colours replicated outside the exemplar).
+
+        Parameters
+        ----------
+        image_or_mask : (H_e, W_e[, C]) array_like
+            On the exemplar.
+
+        Returns
+        -------
+        ndarray
+            Training-sized.
         """
         return _apply(image_or_mask, self.map_to_training, self.exemplar_shape, "image_or_mask")
 
     def from_training(self, image_or_mask) -> np.ndarray:
-        """A training-frame image (or mask) resampled into the exemplar frame."""
+        """A training-frame image (or mask) resampled into the exemplar frame.
+
+        Parameters
+        ----------
+        image_or_mask : (H_t, W_t[, C]) array_like
+            On the training leaf (bool masks come back as bool).
+
+        Returns
+        -------
+        ndarray
+            Exemplar-sized.
+        """
         return _apply(image_or_mask, self.map_from_training, self.training_shape, "image_or_mask")
 
     @property
@@ -1008,6 +1210,7 @@ def register(exemplar, training, exemplar_blade=None, training_blade=None, *,
     exemplar_blade, training_blade : (H, W) bool array_like, optional
         The leaves' blade masks, when known (they override the alpha).
     params : RegistrationParams, optional
+        None: ``RegistrationParams()`` (the papers' and measured defaults).
     rng : optional
         Accepted for a uniform signature; registration is deterministic.
     exemplar_keypoints, training_keypoints : Keypoints, optional
@@ -1204,6 +1407,7 @@ def draw_registration(registration: Registration, exemplar_image, training_image
     Parameters
     ----------
     registration : Registration
+        The registration to show.
     exemplar_image, training_image : array_like
         RGB(A) images of the two leaves (RGBA is shown over white).
     grid : int

@@ -86,6 +86,19 @@ def is_thin_layer(mask, *, max_width: float = 6.0) -> bool:
     long. Thin: curves hold most (60 %) of the layer's area and their
     median skeleton width (``2 EDT - 1``) is at most ``max_width`` px.
 
+    Parameters
+    ----------
+    mask : (H, W) bool array_like
+        The layer on the training leaf.
+    max_width : float
+        Widest median curve width in pixels that still counts as thin
+        (default 6).
+
+    Returns
+    -------
+    bool
+        False for a layer of fewer than 8 pixels.
+
     Examples
     --------
     >>> import numpy as np
@@ -117,6 +130,21 @@ def contrast_direction(lab, layer, blade) -> np.ndarray:
     The layer's mean colour minus the mean of the blade pixels within a
     few layer widths of it (not the whole blade: shading and mottling far
     away say nothing about the contrast a vein makes with its own blade).
+
+    Parameters
+    ----------
+    lab : (H, W, 3) float ndarray
+        The training leaf's CIELAB colours.
+    layer : (H, W) bool array_like
+        The user's layer on it.
+    blade : (H, W) bool array_like
+        Its blade.
+
+    Returns
+    -------
+    (3,) float ndarray
+        Unit vector; ``(-1, 0, 0)`` (darker) when the layer or the blade
+        around it is empty or they do not differ.
     """
     layer = as_mask(layer, name="layer")
     blade = as_mask(blade, name="blade")
@@ -138,10 +166,15 @@ def ridge_evidence(lab, blade, direction, width: float, line_length: float = 0.0
     lab : (H, W, 3) float ndarray
         CIELAB colours (already moved onto the training leaf's statistics).
     blade : (H, W) bool ndarray
+        The exemplar's blade.
     direction : (3,) ndarray
         :func:`contrast_direction`.
     width : float
         The layer's typical width in pixels.
+    line_length : float
+        When at least 3: geometric mean with the best straight-segment mean
+        over this many pixels, so long veins keep their response and short
+        texture ridges weaken; 0 (default): off.
 
     Returns
     -------
@@ -174,6 +207,11 @@ def layer_branches(mask) -> tuple[list, list]:
 
     Each branch keeps the junction pixels it touches at its ends, so
     branches meeting at a junction share the end point.
+
+    Parameters
+    ----------
+    mask : (H, W) bool array_like
+        The thin layer.
 
     Returns
     -------
@@ -224,6 +262,23 @@ def main_branches(chains, widths, size: float, *, min_length: float = 0.12):
     onto whatever ridge is near; they are left to the colour term. Wide:
     at least the 75th percentile of the branches' widths (length-weighted)
     and wider than the thinnest.
+
+    Parameters
+    ----------
+    chains : list of (N, 2) ndarray
+        Branches from :func:`layer_branches`.
+    widths : list of float
+        Their widths.
+    size : float
+        The leaf's size in pixels (``sqrt(blade area)``).
+    min_length : float
+        Shortest main branch, as a fraction of ``size`` (default 0.12).
+
+    Returns
+    -------
+    chains : list of (N, 2) ndarray
+    widths : list of float
+        The kept branches and their widths, in the input order.
     """
     if not chains:
         return [], []
@@ -269,6 +324,7 @@ def snap_layer(evidence, blade, chains, widths, tolerance: float, *, min_evidenc
     evidence : (H, W) float ndarray
         :func:`ridge_evidence` of the exemplar.
     blade : (H, W) bool ndarray
+        The exemplar's blade; paths stay inside it.
     chains : list of (N, 2) float ndarray
         The training layer's branches carried into the exemplar (x, y).
     widths : list of float
@@ -418,6 +474,18 @@ def carry_points(registration, points) -> np.ndarray:
 
     Uses the dense ``map_to_training`` (bilinear) when the registration has
     one, else its ``inverse`` point map.
+
+    Parameters
+    ----------
+    registration : Registration or IdentityRegistration
+        Exemplar -> training leaf.
+    points : (N, 2) array_like
+        ``(x, y)`` on the training leaf.
+
+    Returns
+    -------
+    (N, 2) float64 ndarray
+        ``(x, y)`` on the exemplar.
     """
     pts = np.asarray(points, np.float64).reshape(-1, 2)
     mp = getattr(registration, "map_to_training", None)
@@ -440,7 +508,9 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
     labs : list of (H, W, 3) ndarray
         Each exemplar's CIELAB colours, moved onto the training leaf's blade statistics.
     blades : list of (H, W) bool ndarray
+        The exemplars' blades.
     training_index : int
+        The training leaf, the one ``user`` is on.
     user : (H, W) bool ndarray
         The user's (thin) layer on the training leaf.
     registrations : list
@@ -448,6 +518,26 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
     tolerance : float
         The registration error to tolerate (px); the tube radius is the
         larger of ``1.5 tolerance`` and ``radius_widths`` layer widths (3 px at least).
+    radius_widths : float
+        Tube radius in layer widths (default 3; ``InductionParams.snap_radius``).
+    min_evidence : float
+        A path with a lower mean ridge evidence is dropped (default 0.2).
+    refine : bool
+        Without ``fit``: move the carried-over branches onto the ridges by
+        one smooth displacement field first (:func:`refine_carried`).
+    line_frac : float
+        Straight-segment length of the ridge evidence, as a fraction of the
+        leaf size (default 0.08; see :func:`ridge_evidence`).
+    fit : bool
+        Place the branches by the template fit (:func:`fit_branches`, two
+        starts) before the path search (default True); the path tube is then
+        1.5 layer widths.
+    fit_reach : float
+        Largest shift of the template fit, as a fraction of the leaf size
+        (default 0.2).
+    oriented : bool
+        Score poses half by the oriented ridge response
+        (:func:`ridge_hessian`), default True.
 
     Returns
     -------
@@ -520,6 +610,25 @@ def refine_carried(chains, evidence, blade, *, reach: float, nodes: int = 5, ite
     clipped to ``reach`` px.
 
     Returns the moved chains (same order and lengths).
+
+    Parameters
+    ----------
+    chains : list of (N, 2) array_like
+        Carried-over branches ``(x, y)`` on the exemplar.
+    evidence : (H, W) float ndarray
+        :func:`ridge_evidence` of the exemplar.
+    blade : (H, W) bool ndarray
+        The exemplar's blade (not used by the field itself).
+    reach : float
+        Largest displacement in pixels; 0: the chains are returned as they are.
+    nodes : int
+        Grid nodes per side of the displacement field (default 5).
+    iterations : int
+        Gradient steps per blur scale (default 40).
+
+    Returns
+    -------
+    list of (N, 2) float64 ndarray
     """
     import cv2
     ev = np.asarray(evidence, np.float32)
@@ -591,6 +700,17 @@ def ridge_hessian(lab, blade, direction, width: float) -> np.ndarray:
     blade (secondary veins, spots, hole rims) crosses a primary vein's
     direction and no longer counts for it.
 
+    Parameters
+    ----------
+    lab : (H, W, 3) float ndarray
+        CIELAB colours of the exemplar.
+    blade : (H, W) bool array_like
+        Its blade; 0 outside (and two pixels inside) its outline.
+    direction : (3,) ndarray
+        :func:`contrast_direction`.
+    width : float
+        The layer's typical width in pixels.
+
     Returns
     -------
     (3, H, W) float32 ndarray
@@ -616,6 +736,20 @@ def oriented_response(hess, ix, iy, tangent) -> np.ndarray:
 
     The curvature across the ridge, ``-n^T H n``, less the curvature along
     it (a blob curves both ways, a vein one way only), clipped to ``[0, 1]``.
+
+    Parameters
+    ----------
+    hess : (3, H, W) ndarray
+        :func:`ridge_hessian`.
+    ix, iy : int ndarray
+        Pixel columns and rows (same shape).
+    tangent : (..., 2) ndarray
+        Unit direction ``(x, y)`` of the ridge at each pixel.
+
+    Returns
+    -------
+    ndarray
+        The shape of ``ix``.
     """
     hxx, hxy, hyy = (hh[iy, ix] for hh in hess)
     tx, ty = tangent[..., 0], tangent[..., 1]
@@ -730,6 +864,35 @@ def fit_branches(chains, evidence, blade, *, reach: float, max_angle: float = 25
     8 px only follow the template.
     ``return_score=True`` also returns the template's score (its mean
     evidence less the shift penalty).
+
+    Parameters
+    ----------
+    chains : list of (N, 2) array_like
+        Carried-over branches ``(x, y)`` on the exemplar.
+    evidence : (H, W) float ndarray
+        :func:`ridge_evidence` of the exemplar.
+    blade : (H, W) bool array_like
+        Its blade; evidence outside it is 0.
+    reach : float
+        Largest template shift in pixels; 0: nothing moves.
+    max_angle : float
+        Largest template rotation in degrees (default 25).
+    penalty : float
+        Score lost per ``reach`` of shift (default 0.1).
+    return_score : bool
+        Also return the template's score.
+    branch_angle : float
+        Largest rotation of a single branch about its junction, degrees
+        (default 10).
+    overlap : float
+        Largest fraction of a branch's pose on an already placed branch
+        (default 0.3).
+    hessian : (3, H, W) ndarray, optional
+        :func:`ridge_hessian`, for oriented pose scores; None: evidence only.
+
+    Returns
+    -------
+    list of (N, 2) float64 ndarray, or (chains, score)
 
     Examples
     --------

@@ -101,7 +101,43 @@ __all__ = ["SynthesisParams", "GeneratedLeaf", "generate", "generate_leaf", "sav
 
 @dataclass
 class SynthesisParams:
-    """Layered-synthesis parameters."""
+    """Layered-synthesis parameters (Assa & Cohen-Or 2012, section 5; see :mod:`branchnb.leaves.synthesis`).
+
+    Parameters
+    ----------
+    background_warp : float
+        Largest displacement of the background's random warp, as a fraction
+        of the median registration error (default 0.5; kept below 1 so the
+        warp stays within what the registration cannot tell from noise).
+    layer_warp : float
+        Extra warp of a layer, in units of its ``eps`` (the spatial
+        tolerance), scaled by ``1 - lambda_c / max lambda`` (default 0.5):
+        structural layers (large ``lambda``) move least.
+    warp_scale : float
+        Correlation length of the random warps, as a fraction of the leaf
+        size (default 0.25).
+    shape_grid : int
+        Random shape coefficients per side and exemplar (default 3; 1: one
+        blend over the whole leaf).
+    shape_sigma : float
+        Gaussian blur of the shape coefficients, as a fraction of the leaf
+        size (default 0.15).
+    shape_concentration : float
+        Symmetric Dirichlet concentration of each leaf's exemplar weights
+        (default 0.3; small: one or two exemplars dominate). Not in the paper.
+    shape_spread : float
+        Coefficient of variation of the per-cell shape factors (default
+        0.75; 0: one blend everywhere). Not in the paper.
+    own_size : bool
+        Each new leaf takes the size of one exemplar drawn at random
+        (default True; False: the convex blend's averaged size). Not in the paper.
+    correct : bool
+        Texture correction where the shape warp stretches or squeezes
+        (default True).
+    layer_colour : {"contrast", "copy"}
+        A layer brings its ratio to its own residual leaf (``"contrast"``,
+        default; not in the paper) or pastes its colours (``"copy"``, the paper).
+    """
 
     background_warp: float = param(0.5, min=0.0, max=1.0, step=0.05,
                                    help="background warp, as a fraction of the registration error (< 1)")
@@ -126,7 +162,7 @@ class SynthesisParams:
 class GeneratedLeaf:
     """One synthesised leaf.
 
-    Attributes
+    Parameters
     ----------
     image : (H, W, 4) float32 ndarray
         RGBA.
@@ -179,6 +215,23 @@ def random_warp(shape, amplitude: float, correlation: float, rng) -> np.ndarray:
     Random vectors on a grid of spacing ``correlation`` px, interpolated
     bicubically.
 
+    Parameters
+    ----------
+    shape : (int, int)
+        ``(H, W)`` of the field.
+    amplitude : float
+        Largest displacement length in pixels, ``>= 0`` (0: no warp).
+    correlation : float
+        Grid spacing of the random vectors in pixels, ``> 0``: the length
+        over which displacements are alike.
+    rng : {numpy.random.Generator, int}
+        Draws the random vectors.
+
+    Returns
+    -------
+    (H, W, 2) float32 ndarray
+        Displacement ``(dx, dy)`` per pixel.
+
     Examples
     --------
     >>> d = random_warp((40, 50), 2.0, 20.0, 0)
@@ -230,6 +283,7 @@ def shape_weights(shape, n: int, grid: int, sigma_px: float, rng, concentration:
     sigma_px : float
         Blur of the coefficients (px).
     rng : {numpy.random.Generator, int}
+        Draws the per-leaf weights and the per-cell factors.
     concentration : float
         Symmetric Dirichlet concentration of the per-leaf weights.
     spread : float
@@ -297,6 +351,17 @@ def registration_errors(analysis) -> list[float]:
     """Per exemplar: mean distance (px) between the training blade's outline and the registered exemplar's.
 
     A registration-independent measure (it only uses ``to_training``); 0 for the training leaf.
+
+    Parameters
+    ----------
+    analysis : LeafAnalysis
+        Gives the blades, the training index and the registrations.
+
+    Returns
+    -------
+    list of float
+        One symmetric mean outline distance per exemplar, in training-leaf
+        pixels; NaN where the warped blade is empty.
     """
     from .analysis import warp_mask
     t = analysis.training_index
@@ -674,6 +739,21 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
 
     Every image is resampled once: the shape blend, the random warps and
     the registration are composed as coordinate maps first.
+
+    Parameters
+    ----------
+    analysis : LeafAnalysis
+        The exemplars, their registrations to the training leaf and the
+        induced layers (:func:`branchnb.leaves.analyze`).
+    seed : int
+        Non-negative; the same seed and analysis give the same leaf.
+    params : SynthesisParams, optional
+        None: ``SynthesisParams()`` (the defaults).
+
+    Returns
+    -------
+    GeneratedLeaf
+        The leaf, with its seed, the exemplars it used and the warp sizes.
     """
     params = check_params(params if params is not None else SynthesisParams(), name="params")
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
@@ -889,11 +969,17 @@ def generate(analysis, n: int = 8, *, rng=None, params: SynthesisParams | None =
     Parameters
     ----------
     analysis : LeafAnalysis
+        The exemplars, registrations and induced layers
+        (:func:`branchnb.leaves.analyze`).
     n : int
+        Number of new leaves, 1 to 100000 (default 8).
     rng : int or Generator
         Each leaf's seed is drawn from it (kept on the leaf).
     params : SynthesisParams, optional
+        None: ``SynthesisParams()`` (the defaults).
     progress : callable(fraction, text), optional
+        Called before each leaf with the fraction done and a label, and
+        with ``(1.0, "done")`` at the end.
 
     Returns
     -------
@@ -934,6 +1020,20 @@ def save_leaves(leaves, outdir, *, prefix: str = "leaf") -> list[str]:
     """Write each leaf as an RGBA PNG plus ``leaves.json``, a strict-JSON record of what made each.
 
     Returns the paths written (PNGs, then the JSON).
+
+    Parameters
+    ----------
+    leaves : list of GeneratedLeaf
+        The leaves, e.g. from :func:`generate`.
+    outdir : str or path-like
+        Output folder (created if needed; existing files are overwritten).
+    prefix : str
+        File names are ``<prefix>_0000.png``, ... and ``<prefix>s.json``
+        (default ``"leaf"``: ``leaves.json``).
+
+    Returns
+    -------
+    list of str
     """
     if isinstance(leaves, (str, bytes, dict)) or not isinstance(leaves, (list, tuple)):
         raise TypeError(f"leaves must be a list of GeneratedLeaf, got {type(leaves).__name__}")
@@ -982,6 +1082,18 @@ def leaf_distance(a, b) -> float:
     ``a``'s by centroid, principal axes and area (the better of the two
     axis signs and of mirroring).
 
+    Parameters
+    ----------
+    a : (H, W, 4) array_like
+        RGBA leaf, float in [0, 1]; its blade is ``alpha > 0.5``.
+    b : (h, w, 4) array_like
+        RGBA leaf moved onto ``a``'s frame.
+
+    Returns
+    -------
+    float
+        0 for identical leaves; up to 1.
+
     Examples
     --------
     >>> import numpy as np
@@ -1028,6 +1140,22 @@ def colour_range_fraction(leaf_image, exemplars, blades=None, *, percentiles=(0.
     """Fraction of a leaf's blade pixels whose RGB lies inside the exemplars' range on every channel.
 
     The range per channel is the ``percentiles`` of all exemplar blade pixels.
+
+    Parameters
+    ----------
+    leaf_image : (H, W, 4) array_like
+        RGBA leaf, float in [0, 1] (e.g. a :class:`GeneratedLeaf`'s image).
+    exemplars : sequence of (h, w, 4) array_like
+        RGBA exemplar leaves.
+    blades : sequence of (h, w) bool array_like, optional
+        The exemplars' blades; None: each exemplar's ``alpha > 0.5``.
+    percentiles : (float, float)
+        Low and high percentile of the range (default ``(0.5, 99.5)``).
+
+    Returns
+    -------
+    float
+        In [0, 1]; 1: every blade pixel has exemplar colours.
     """
     img = np.asarray(leaf_image, np.float32)
     inside = img[..., 3] > 0.5

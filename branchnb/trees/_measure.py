@@ -36,6 +36,16 @@ fragments, inner outline ink kept) against the front view's.
 ``variations_of`` per library (two draws of drawn trees, the clip-art
 samples, the RPG sprites), with ``outline=False`` (seams as cut) and the
 default (seams across fills inked).
+``engine``: rim ink share (:func:`~branchnb.trees.outline.rim_ink_share`)
+at 45 and 90 degrees of the 12 drawn trees of ``sideviews`` as an engine
+draws the exported full and reduced levels
+(:func:`~branchnb.trees.lod.engine_view`), without and with
+:func:`~branchnb.trees.lod.bake_side_outline`, beside the in-memory
+render's; and the largest change of the front view the bake makes.
+``palms``: side views (45, 90 degrees) of 10 drawn palms (8 at 256 px,
+half with a leaf pile, 2 at 384 px) with merged fronds split as a
+background (the former rule) and as lobes (the default): loose stroke
+bits, flecks and inner ink kept (:func:`~branchnb.trees.quality.side_view_figures`).
 ``billboards``: billboard clouds of every sample tree and one procedural
 tree of each kind seen at 0, 45 and 90 degrees: the share of the opaque
 pixels in the largest 8-connected piece (1 = the crown stays on the trunk)
@@ -221,6 +231,58 @@ def measure_sideviews(size: int = 256) -> None:
     print(f"{len(rows)} clouds in {time.perf_counter() - t0:.0f} s")
 
 
+def measure_engine(size: int = 256) -> None:
+    from .billboard import BillboardParams, billboard_cloud
+    from .drawn import drawn_trees
+    from .lod import bake_side_outline, engine_view, reduce_cloud
+    from .outline import rim_ink_share, silhouette_outline
+    from .preview import render_cloud
+
+    items = drawn_trees(rng=0, size=size) + drawn_trees((False,), rng=11, size=384)
+    res: dict = {}
+    front = 0.0
+    for _, img in items:
+        cloud = billboard_cloud(img, params=BillboardParams(max_size=img.shape[0]), rng=0)
+        ink = silhouette_outline(cloud.image).ink
+        red = reduce_cloud(cloud)
+        levels = {"in-memory": None, "full": cloud, "full baked": bake_side_outline(cloud),
+                  "reduced": red, "reduced baked": bake_side_outline(red)}
+        for label, c in levels.items():
+            for y in (45.0, 90.0):
+                view = render_cloud(cloud, y) if c is None else engine_view(c, y)
+                res.setdefault((label, y), []).append(rim_ink_share(view, ink))
+        for a, b in ((cloud, levels["full baked"]), (red, levels["reduced baked"])):
+            front = max(front, float(np.abs(engine_view(a, 0.0) - engine_view(b, 0.0)).max()))
+    for (label, y), v in res.items():
+        print(f"{label:14s} {y:3.0f} deg: rim ink share mean {np.mean(v):.2f} min {min(v):.2f}")
+    print(f"{len(items)} drawn trees; largest change of the front view by the bake: {front:.4f}")
+
+
+def measure_palms(size: int = 256) -> None:
+    from . import billboard as bb
+    from .drawn import drawn_tree
+    from .quality import side_view_figures
+
+    items = [(s, size, s % 2 == 1) for s in range(8)] + [(s, 384, False) for s in (20, 21)]
+    sky = bb._SKY_HULL
+    try:
+        for label, value in (("split as a background", -1.0), ("lobes (default)", sky)):
+            bb._SKY_HULL = value
+            fr, fl, ii = [], [], []
+            for seed, s, pile in items:
+                cloud = bb.billboard_cloud(drawn_tree("palm", pile=pile, rng=seed, size=s),
+                                           params=bb.BillboardParams(max_size=s), rng=0)
+                f = {y: side_view_figures(cloud, y) for y in (45.0, 90.0)}
+                fr.append(max(f[y]["fragments"] - f[y]["fragments0"] for y in f))
+                fl.append(max(f[y]["flecks"] - f[y]["flecks0"] for y in f))
+                ii.append(min(f[y]["inner_ink"] for y in f))
+            print(f"{label:22s} {len(items)} palms: stroke bits over the front view's mean {np.mean(fr):.3f} "
+                  f"max {max(fr):.3f} | flecks mean {np.mean(fl):.3f} max {max(fl):.3f} | inner ink kept "
+                  f"mean {np.mean(ii):.2f} min {min(ii):.2f}")
+    finally:
+        bb._SKY_HULL = sky
+
+
 def measure_seams(size: int = 192) -> None:
     from .drawn import drawn_trees
     from .quality import bare_seam_share
@@ -378,10 +440,10 @@ def measure_speed(size: int = 512) -> None:
 if __name__ == "__main__":
     what = sys.argv[1] if len(sys.argv) > 1 else "pins"
     size = int(sys.argv[2]) if len(sys.argv) > 2 else (
-        256 if what in ("pins", "billboards", "sideviews", "crossfade", "variety", "targets") else
+        256 if what in ("pins", "billboards", "sideviews", "crossfade", "variety", "targets", "engine", "palms") else
         512 if what == "speed" else 192 if what in ("outline", "ground", "seams") else 128)
     {"pins": measure_pins, "pairs": measure_pairs, "masks": measure_masks,
      "billboards": measure_billboards, "crossfade": measure_crossfade,
      "variety": measure_variety, "sideviews": measure_sideviews, "seams": measure_seams,
      "targets": measure_targets, "outline": measure_outline, "ground": measure_ground,
-     "speed": measure_speed}[what](size)
+     "speed": measure_speed, "engine": measure_engine, "palms": measure_palms}[what](size)

@@ -8,6 +8,10 @@ representations as it moves away from the camera. From one
 1. ``reduced``: the front view as one billboard at the back, before it
    the billboards that carry most of the picture (front and trunk first,
    by opaque area), ``reduced_share`` of them;
+
+   on drawn trees both carry the side views' outline baked into their
+   textures (:func:`bake_side_outline`): an engine draws no silhouette
+   ink of its own;
 2. ``crossed``: two perpendicular quads (four triangles), the front view
    on one and the side view from 90 degrees on the other
    (:func:`crossed_impostor`), rendered as the in-memory side views are:
@@ -48,6 +52,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from scipy import ndimage as ndi
 
 from ..core.io import encode_png
 from ..core.jsonio import dumps_strict
@@ -55,7 +60,8 @@ from ..core.validate import Choice, Real, checked
 from .export import _HEIGHT, _YAW, _accessors, _check_cloud, _level_arrays, _out_path, _pack, texture_atlas
 
 __all__ = ["LOD_LEVELS", "LodLevel", "reduce_cloud", "impostor_cloud", "crossed_impostor",
-           "impostor_frames", "engine_view", "lod_chain", "export_lod_gltf", "validate_gltf"]
+           "impostor_frames", "engine_view", "bake_side_outline", "lod_chain", "export_lod_gltf",
+           "validate_gltf"]
 
 #: The levels of :func:`lod_chain`, finest first.
 LOD_LEVELS = ("full", "reduced", "crossed", "single")
@@ -321,6 +327,161 @@ def engine_view(cloud, yaw: float, **kwargs) -> np.ndarray:
     return render_cloud(bare, yaw, outline=False, **kwargs)
 
 
+def _view_ids(cloud, yaw: float, texels=None):
+    """Which billboard texel an axial, depth-buffered engine shows at each pixel from ``yaw``.
+
+    The frame and placement are :func:`~branchnb.trees.preview.render_cloud`'s (``crop="fit"``);
+    texels with alpha >= 0.5 are opaque (the exported material's ``alphaCutoff``).
+    ``texels`` (from :func:`_opaque_texels`) saves finding them again for every view.
+
+    Returns ``(ids, texel)``: (H, W') billboard index per pixel (-1: none) and the flat index of
+    the texel shown into the concatenation of ``cloud.textures`` (``_texel_offsets``).
+    """
+    from .preview import _extent, project
+
+    H, W = cloud.image.shape[:2]
+    r, _ = _extent(cloud)
+    left = int(np.ceil(max(cloud.axis, r))) + 1
+    right = int(np.ceil(max(W - cloud.axis, r))) + 1
+    ox, Wc = left - int(round(cloud.axis)), left + right
+    ids = np.full(H * Wc, -1, np.int64)
+    texel = np.zeros(H * Wc, np.int64)
+    texels = _opaque_texels(cloud) if texels is None else texels
+    xs, depth = project(cloud, yaw)
+    for i in np.argsort(depth, kind="stable"):
+        t = int(cloud.texture[i])
+        h, w = cloud.textures[t].shape[:2]
+        vv, uu, flat = texels[t]
+        x0 = int(round(xs[i] - 0.5 * w)) + ox
+        y0 = int(round(cloud.centers[i, 1] - 0.5 * h))
+        py, px = vv + y0, uu + x0
+        if x0 < 0 or y0 < 0 or x0 + w > Wc or y0 + h > H:
+            ok = (py >= 0) & (py < H) & (px >= 0) & (px < Wc)
+            py, px, f = py[ok], px[ok], flat[ok]
+        else:
+            f = flat
+        at = py * Wc + px
+        ids[at] = i
+        texel[at] = f
+    return ids.reshape(H, Wc), texel.reshape(H, Wc)
+
+
+def _opaque_texels(cloud) -> list:
+    """Per texture, the rows, columns and flat indices (``_texel_offsets``) of its opaque texels."""
+    offsets = _texel_offsets(cloud)
+    out = []
+    for t, tex in enumerate(cloud.textures):
+        vv, uu = np.nonzero(tex[:, :, 3] >= 0.5)
+        out.append((vv, uu, offsets[t] + vv * tex.shape[1] + uu))
+    return out
+
+
+def _texel_offsets(cloud) -> np.ndarray:
+    """Start of each texture in the concatenation of all the cloud's texels."""
+    n = [t.shape[0] * t.shape[1] for t in cloud.textures]
+    return np.concatenate([[0], np.cumsum(n)]).astype(np.int64)
+
+
+def bake_side_outline(cloud, *, yaws=tuple(range(15, 360, 15)), ink=None, width=None):
+    """Bake a drawn tree's side-view outline into the textures an engine shows (beyond the paper).
+
+    :func:`~branchnb.trees.preview.render_cloud` inks the silhouette of
+    every side view after drawing it; an engine draws the exported quads as
+    they are, so the crown's side silhouette, made of fills cut by the
+    superpixels, shows no outline (:func:`engine_view`). From every yaw of
+    ``yaws`` this finds the texels an axial, depth-buffered engine shows in
+    the view's outermost ring (``width`` pixels from its silhouette, holes
+    filled) and paints them in the ink colour, but only texels that
+
+    * are hidden in the front view (behind another billboard's opaque
+      texel), so the front view stays exactly as drawn, and
+    * show nowhere deeper than ``2 width + 1`` inside any view of
+      ``yaws``, so no ink line appears inside a crown, and no stroke
+      floats: the ink is painted on texels already on the silhouette.
+
+    Not every ring pixel can be inked so: from a side, half of the
+    silhouette is made of front billboards whose edge texels show in the
+    front view (and the rear layer's edges show inside the back view).
+    On 12 drawn trees of every kind (``python -m branchnb.trees._measure
+    engine``) the rim ink share of the engine's view of the full level at
+    90 degrees went from 0.74 (min 0.38) to 0.83 (min 0.60), at 45 degrees
+    from 0.74 to 0.80 (the reduced level: 0.95 to 0.96, min 0.80 to 0.88);
+    the in-memory render's is 0.98. A 1024 px cloud takes about 5 s. Clouds without line art or an outlined silhouette
+    (:func:`~branchnb.trees.outline.silhouette_outline`) are returned
+    unchanged.
+
+    Parameters
+    ----------
+    cloud : BillboardCloud
+        The cloud; not modified.
+    yaws : sequence of float
+        Views whose silhouettes are inked and checked (default every 15
+        degrees but the front view).
+    ink : (3,) array_like, optional
+        Outline colour (default: the drawing's, ``silhouette_outline``).
+    width : int, optional
+        Stroke width in pixels (default: the drawing's).
+
+    Returns
+    -------
+    BillboardCloud
+        A copy with new textures (the same billboards; line masks kept).
+
+    Examples
+    --------
+    >>> from branchnb.trees.billboard import BillboardParams, billboard_cloud
+    >>> from branchnb.trees.drawn import drawn_tree
+    >>> from branchnb.trees.outline import rim_ink_share, silhouette_outline
+    >>> cloud = billboard_cloud(drawn_tree("fruit", rng=0, size=128), params=BillboardParams(max_size=128), rng=0)
+    >>> baked = bake_side_outline(cloud)
+    >>> ink = silhouette_outline(cloud.image).ink
+    >>> float(abs(engine_view(baked, 0.0) - engine_view(cloud, 0.0)).max()) < 1e-3   # front view as drawn
+    True
+    >>> rim_ink_share(engine_view(baked, 90.0), ink) > rim_ink_share(engine_view(cloud, 90.0), ink)
+    True
+    """
+    from .outline import _depth
+    from .preview import _side_view_outline
+
+    _check_cloud(cloud)
+    out = _subset(cloud, np.arange(cloud.n_billboards))
+    drawn = _side_view_outline(cloud)
+    if drawn is None and (ink is None or width is None):
+        return out
+    ink = np.asarray(drawn[0] if ink is None else ink, np.float32)
+    width = int(drawn[1] if width is None else width)
+    if ink.shape != (3,) or not np.all(np.isfinite(ink)):
+        raise ValueError(f"ink must be 3 finite RGB values, got shape {ink.shape}")
+    if width < 1:
+        raise ValueError(f"width must be >= 1, got {width}")
+    offsets = _texel_offsets(cloud)
+    want = np.zeros(int(offsets[-1]), bool)
+    bad = np.zeros(int(offsets[-1]), bool)
+    texels = _opaque_texels(cloud)
+    ids, texel = _view_ids(cloud, 0.0, texels)
+    bad[texel[ids >= 0]] = True
+    for yaw in yaws:
+        if float(yaw) % 360.0 == 0.0:
+            continue
+        ids, texel = _view_ids(cloud, float(yaw), texels)
+        op = ids >= 0
+        if not op.any():
+            continue
+        d = _depth(ndi.binary_fill_holes(op))
+        want[texel[op & (d <= width)]] = True
+        bad[texel[op & (d > 2 * width + 1)]] = True
+    paint = want & ~bad
+    texs = []
+    for t, tex in enumerate(out.textures):
+        p = paint[offsets[t]:offsets[t + 1]].reshape(tex.shape[:2])
+        if p.any():
+            tex = tex.copy()
+            tex[p, :3] = ink
+        texs.append(tex)
+    out.textures = texs
+    return out
+
+
 def crossed_impostor(cloud, *, side_yaw: float = 90.0):
     """Front view and side view of a cloud on two perpendicular quads: ``(cloud, turn)``.
 
@@ -390,14 +551,16 @@ def lod_chain(cloud, *, reduced_share: float = 0.3) -> list[LodLevel]:
     Parameters
     ----------
     cloud : BillboardCloud
-        The full cloud (the ``full`` level itself).
+        The full cloud (the ``full`` level: its billboards, with the side
+        outline of a drawn tree baked in by :func:`bake_side_outline`).
     reduced_share : float
         Share of the billboards the ``reduced`` level keeps (:func:`reduce_cloud`).
 
     Returns
     -------
     list of LodLevel
-        ``full`` (the cloud), ``reduced``, ``crossed``
+        ``full`` (the cloud), ``reduced`` (both baked with
+        :func:`bake_side_outline`), ``crossed``
         (:func:`crossed_impostor`) and ``single`` (:func:`impostor_frames`,
         8 frames).
 
@@ -412,7 +575,8 @@ def lod_chain(cloud, *, reduced_share: float = 0.3) -> list[LodLevel]:
     _check_cloud(cloud)
     single, yaws = impostor_frames(cloud)
     crossed, turn = crossed_impostor(cloud)
-    return [LodLevel("full", cloud), LodLevel("reduced", reduce_cloud(cloud, reduced_share)),
+    return [LodLevel("full", bake_side_outline(cloud)),
+            LodLevel("reduced", bake_side_outline(reduce_cloud(cloud, reduced_share))),
             LodLevel("crossed", crossed, turn=turn), LodLevel("single", single, yaws=yaws)]
 
 

@@ -14,7 +14,9 @@ A thin app over :mod:`branchnb.trees`:
   distances to the reference;
 * **morph**: two trees and a slider ``t`` (weights ``1 - t``, ``t``);
 * **more like this**: a grid of random variations around the current mix
-  (each keeps ``keep`` of its weights); "use" adopts one as the new mix;
+  (each keeps ``keep`` of its weights, the rest a random mix of trees drawn
+  from the whole library, or of the checked trees only); "use" adopts one
+  as the new mix;
 * **segmentation**: the crown/trunk segmentation of a library tree on an
   annotation canvas; crown/trunk scribbles re-run the segmenter and the
   corrected trunk moves the tree's pin points (and so every mix using it);
@@ -292,10 +294,15 @@ class TreeVariationsApp(widgets.VBox):
         self.more_button = self.shell.add_action(
             "more like this", lambda: f"{len(self.more_like_this())} variations", icon="th", primary=True,
             tooltip="random variations around the current mix (tab 'more like this')")
+        self.similar_library = widgets.Checkbox(
+            value=True, description="draw from the whole library", indent=False,
+            layout=widgets.Layout(width="auto"),
+            tooltip="the random part of each variation may mix any library tree (off: only the "
+                    "checked trees; two checked trees then give results on one line between them)")
         self.grid = widgets.HBox(layout=widgets.Layout(flex_flow="row wrap"))
         self.grid.add_class("bnb-view")
         self._grid_size = min(max(96, int(display) // 2), self.library.size)
-        similar = widgets.VBox([widgets.HBox([self.keep, self.n_similar]),
+        similar = widgets.VBox([widgets.HBox([self.keep, self.n_similar, self.similar_library]),
                                 self.grid])
 
         # -- segmentation (scribble correction)
@@ -304,9 +311,12 @@ class TreeVariationsApp(widgets.VBox):
         self._loading_scribbles = False
         self.seg_tree = widgets.Dropdown(options=names, value=names[0], description="tree")
         self.seg_tree.observe(g(lambda _c: self._on_seg_tree()), names="value")
+        # At most the trees' own size, like the views: a 128 px tree on a 384 px canvas was
+        # drawn 6 device pixels per pixel, without smoothing (pixelated); the canvas zooms.
         self.seg_canvas = AnnotationCanvas(self.library[names[0]].image, mode="scribble",
                                            modes=("scribble", "pan"), labels=SEG_LABELS,
-                                           max_display=int(max(256, 1.5 * display)))
+                                           max_display=max(64, min(int(max(256, 1.5 * display)),
+                                                                   self.library.size)))
         self.seg_canvas.model.observe(g(self._on_scribble))
         self.seg_reset = widgets.Button(description="automatic", icon="undo",
                                         tooltip="drop the scribbles of this tree",
@@ -555,7 +565,18 @@ class TreeVariationsApp(widgets.VBox):
             if self.variation is None:
                 raise ValueError("no current variation to vary")
             count = int(self.n_similar.value if n is None else n)
-            self.similar = self.library.similar(self.variation, count, self.params(),
+            centre = self.variation
+            if self.similar_library.value and len(centre.names) < len(self.library):
+                # Every library tree in the centre (weight 0 for the unchecked ones), so the
+                # random part can reach them: mixes of two checked trees otherwise all lie on
+                # the line between the two (six results differ by a third of their distance).
+                names = tuple(self.library.names)
+                at = {n: i for i, n in enumerate(names)}
+                w, cw = np.zeros(len(names)), np.zeros(len(names))
+                for n, a, b in zip(centre.names, centre.weights, centre.colour_weights):
+                    w[at[n]], cw[at[n]] = a, b
+                centre = dataclasses.replace(centre, names=names, weights=w, colour_weights=cw)
+            self.similar = self.library.similar(centre, count, self.params(),
                                                 keep=float(self.keep.value),
                                                 rng=int(self.rng.value) + 1)
             cells = []
@@ -586,13 +607,16 @@ class TreeVariationsApp(widgets.VBox):
         if not 0 <= index < len(self.similar):
             raise ValueError(f"index {index} out of range for {len(self.similar)} variations")
         v = self.similar[index]
+        used = {n: w for n, w, c in zip(v.names, v.weights, v.colour_weights) if w > 0 or c > 0}
         self._syncing = True
         try:
             for n, cb in self.checks.items():
-                cb.value = n in v.names
+                cb.value = n in used
         finally:
             self._syncing = False
-        self._weights = dict(zip(v.names, v.weights))
+        total = sum(used.values())
+        self._weights = {n: w / total for n, w in used.items()} if total > 0 else {
+            n: 1.0 / len(used) for n in used}
         self._rebuild_sliders(keep_weights=True)
         self.update()
 
@@ -751,9 +775,11 @@ class TreeVariationsApp(widgets.VBox):
             from pathlib import Path
 
             from ..trees.export import export_gltf
+            from ..trees.lod import bake_side_outline
 
             with tempfile.TemporaryDirectory() as tmp:
-                path = export_gltf(self.cloud, Path(tmp) / "cloud.gltf", embed_texture=True,
+                # With a drawn tree's side-view outline in the textures, as the LOD levels.
+                path = export_gltf(bake_side_outline(self.cloud), Path(tmp) / "cloud.gltf", embed_texture=True,
                                    yaw=float(self.yaw.value))
                 out["cloud.gltf"] = path.read_bytes()
         return out
