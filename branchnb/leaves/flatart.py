@@ -40,7 +40,7 @@ FLAT_TOL = 0.05
 class FlatArt:
     """What :func:`flat_art` found on drawn exemplars.
 
-    Attributes
+    Parameters
     ----------
     outline_colour : (3,) float32 ndarray
         Median colour of the exemplars' outline ink.
@@ -71,7 +71,21 @@ class FlatArt:
     flatness: float
 
     def clean(self, img: np.ndarray, blade: np.ndarray, remove: np.ndarray) -> np.ndarray:
-        """``img`` with ``remove`` (grown by one pixel: anti-aliased rims) given the nearest other blade colour."""
+        """``img`` with ``remove`` (grown by one pixel: anti-aliased rims) given the nearest other blade colour.
+
+        Parameters
+        ----------
+        img : (H, W, C) float32 ndarray
+            An exemplar's image (not modified).
+        blade : (H, W) bool ndarray
+            Its blade: the colours come from blade pixels outside ``remove``.
+        remove : (H, W) bool ndarray
+            The pixels to replace (ink).
+
+        Returns
+        -------
+        (H, W, C) float32 ndarray
+        """
         gone = ndi.binary_dilation(remove) & blade
         keep = blade & ~gone
         if not gone.any() or not keep.any():
@@ -98,7 +112,9 @@ def flat_art(exemplars, blades) -> FlatArt | None:
     Parameters
     ----------
     exemplars : list of (H, W, 3 or 4) float ndarray
+        The exemplars' images (colours in [0, 1]; an alpha channel is ignored).
     blades : list of (H, W) bool ndarray
+        Their blades (leaf pixels).
 
     Returns
     -------
