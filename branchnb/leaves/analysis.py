@@ -237,11 +237,14 @@ class LeafAnalysis:
         """
         return _retuned(self, changes)
 
-    def overlay(self, e: int) -> np.ndarray:
-        """Exemplar ``e`` on white with its induced layers tinted in the layers' colours."""
+    def overlay(self, e: int, *, base: np.ndarray | None = None) -> np.ndarray:
+        """Exemplar ``e`` on white with its induced layers tinted in the layers' colours.
+
+        ``base``, if given, is that exemplar on white already (an app keeps
+        it between slider moves); it is not modified.
+        """
         e = check_int(e, "e", 0, len(self.exemplars) - 1)
-        rgb = as_rgb(self.exemplars[e])
-        out = rgb.copy()
+        out = as_rgb(self.exemplars[e]) if base is None else np.array(base, np.float32)
         colours = {}
         if self.layer_set is not None:
             colours = {x.name: x.colour for x in self.layer_set.layers}
