@@ -629,7 +629,7 @@ class LeafApp(widgets.VBox):
                              "<th title='neighbourhood side of S_e (px)'>n</th>"
                              "<th title='how far from the registered layer it can be induced, in ε: "
                              "sqrt(ln(δ / λ)) (the δ criterion)'>reach</th>"
-                             f"<th title='structural: λ > {MIN_STRUCTURAL_LAMBDA} and reach ≤ "
+                             f"<th title='structural: λ &gt; {MIN_STRUCTURAL_LAMBDA} and reach ≤ "
                              f"{MAX_STRUCTURAL_REACH} ε; colour: leans on colour alone; non-structural ⚠: "
                              "scribbled as a structure but induced by colour'>kind</th>"
                              "<th title='exemplars on which the layer was found'>found</th></tr>"
