@@ -350,6 +350,7 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         q = [quantise(r, space, stats=stats[e], reference=stats[t]) if params.match_colours and e != t
              else quantise(r, space) for e, r in enumerate(residual)]
         cdf = layer_cdfs(q[t], user, space.bins)
+        report(step / steps, f"layer {name}: snapping to each exemplar's ridges")  # "cancel" stops here too
         snapped = _snapped(residual, blades, t, user, registrations, stats, tolerance, params)
         # The registered user layer and its distance map do not depend on n.
         reg_user, dist = [], []

@@ -13,7 +13,9 @@ The method needs, for every exemplar, the leaf's colours and its blade
   Delta E, plus the chroma difference, so a pale-green leaf on white
   stands out) is thresholded by Otsu's method; the blade is the largest
   connected component (with parts of at least ``min_part`` of its size
-  that are inside the frame and of its colours), the paper inside a
+  that are inside the frame and of its colours), without a grey drop or
+  cast shadow on one side of it (:func:`_cast_shadow`, beyond the
+  paper), the paper inside a
   broken (dashed) drawn outline added, its small holes filled (specular highlights,
   pale veins), large holes kept (real holes in the leaf). The alpha is
   then the blade mask, feathered by one pixel, and the blade's one-pixel
@@ -319,6 +321,17 @@ def blade_mask(image, *, max_hole: float = 0.01, min_part: float = 0.02, name: s
     ValueError
         A busy (non-plain) border, no clear leaf/background split, or a
         blade touching most of the border.
+
+    Notes
+    -----
+    Beyond the paper, a grey drop shadow (clip art) or a soft cast shadow
+    (a photo) on one side of the leaf is not blade (:func:`_cast_shadow`).
+    Measured on 324 procedural leaves (3 kinds, 128-400 px, green, dark
+    green, red, yellow, brown and grey-brown, white and cream paper, drop
+    shadows offset 4-10 px, soft shadows): blade IoU of brown leaves with a
+    drop shadow 0.970 -> 0.993 (worst 0.885 -> 0.984), dark green 0.983
+    -> 0.993. A leaf as grey as its shadow (a dry grey-brown leaf on cream
+    paper) keeps its shadow: nothing tells them apart by colour.
 
     Examples
     --------
