@@ -95,6 +95,12 @@ def test_analysis_reinduction_and_generation(app, family, monkeypatch):
     assert [x.name for x in a.layers] == ["veins", "spots"]
     assert "λ" in app.report.value and "veins" in app.report.value
     assert len(app.exemplar_view.images) == 3
+    # A thumbnail is drawn at its own size (megapixel exemplars: every step-th pixel), layers and grid on it.
+    h, w = a.blades[1].shape
+    small, full = app.registration_overlay(1, step=2), app.registration_overlay(1)
+    assert small.shape == (-(-h // 2), -(-w // 2), 3) and full.shape == (h, w, 3)
+    import cv2
+    assert np.abs(small - cv2.resize(full, small.shape[1::-1], interpolation=cv2.INTER_AREA)).mean() < 0.02
     assert app.histograms.comparison is not None and app.histograms.comparison.metric == "emd"
     assert app.histograms.comparison.labels[0] == "user layer"
     regs = a.registrations

@@ -237,14 +237,16 @@ class LeafAnalysis:
         """
         return _retuned(self, changes)
 
-    def overlay(self, e: int, *, base: np.ndarray | None = None) -> np.ndarray:
+    def overlay(self, e: int, *, base: np.ndarray | None = None, step: int = 1) -> np.ndarray:
         """Exemplar ``e`` on white with its induced layers tinted in the layers' colours.
 
         ``base``, if given, is that exemplar on white already (an app keeps
-        it between slider moves); it is not modified.
+        it between slider moves; every ``step``-th pixel when ``step`` > 1,
+        for a thumbnail); it is not modified.
         """
         e = check_int(e, "e", 0, len(self.exemplars) - 1)
-        out = as_rgb(self.exemplars[e]) if base is None else np.array(base, np.float32)
+        step = check_int(step, "step", 1, 10_000)
+        out = as_rgb(self.exemplars[e])[::step, ::step] if base is None else np.array(base, np.float32)
         colours = {}
         if self.layer_set is not None:
             colours = {x.name: x.colour for x in self.layer_set.layers}
@@ -252,7 +254,7 @@ class LeafAnalysis:
         for k, x in enumerate(self.layers):
             hexc = colours.get(x.name, default[k % len(default)])
             c = np.array([int(hexc[i:i + 2], 16) for i in (1, 3, 5)], np.float32) / 255
-            m = x.masks[e]
+            m = x.masks[e][::step, ::step]
             out[m] = 0.35 * out[m] + 0.65 * c
         return out
 

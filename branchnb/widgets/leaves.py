@@ -24,6 +24,7 @@ from __future__ import annotations
 import dataclasses
 import html
 
+import cv2
 import ipywidgets as widgets
 import numpy as np
 from skimage.color import rgb2lab
@@ -554,7 +555,7 @@ class LeafApp(widgets.VBox):
         self.full_view.update([img], [f"leaf #{int(i)} ({img.shape[1]} x {img.shape[0]} px), seed {leaf.seed}"])
 
     # -- views ---------------------------------------------------------------------------
-    def registration_overlay(self, e: int, analysis: LeafAnalysis | None = None) -> np.ndarray:
+    def registration_overlay(self, e: int, analysis: LeafAnalysis | None = None, *, step: int = 1) -> np.ndarray:
         """Exemplar ``e`` with its induced layers, keypoints and the training grid carried onto it.
 
         Parameters
@@ -564,56 +565,81 @@ class LeafApp(widgets.VBox):
         analysis : LeafAnalysis, optional
             The analysis to show; the app's last one by default. Without
             one, the plain exemplar on white is returned.
+        step : int
+            Every ``step``-th pixel (the thumbnails of megapixel exemplars:
+            a slider preview draws no more than is shown).
 
         Returns
         -------
-        (H, W, 3) float32 ndarray
+        (ceil(H / step), ceil(W / step), 3) float32 ndarray
             The training leaf shows only its layers (no grid).
         """
         a = analysis if analysis is not None else self.analysis
-        img = a.overlay(e, base=self._on_white(a, e)) if a is not None else _white(self.images[e])
-        if a is None or e == a.training_index:
+        if a is None:
+            return _white(self.images[e])[::step, ::step]
+        img = a.overlay(e, base=self._on_white(a, e, step), step=step)
+        if e == a.training_index:
             return img
-        grid, dots = self._registration_marks(e, a.registrations[e], img.shape[:2])
+        grid, dots = self._registration_marks(e, a.registrations[e], img.shape[:2], step)
         for cov, colour in ((grid, (0.2, 0.2, 0.2)), (dots, (0.95, 0.9, 0.1))):
             on = cov > 0  # the marks cover a few percent of the image: blend there only
             c = cov[on][:, None]
             img[on] = img[on] * (1 - c) + np.asarray(colour, np.float32) * c
         return img.astype(np.float32)
 
-    def _on_white(self, a: LeafAnalysis, e: int) -> np.ndarray:
-        """Exemplar ``e`` of ``a`` on white, and its CIELAB L*, kept between slider moves."""
+    def _on_white(self, a: LeafAnalysis, e: int, step: int = 1) -> np.ndarray:
+        """Exemplar ``e`` of ``a`` on white (every ``step``-th pixel, area-averaged), kept between slider moves.
+
+        Its CIELAB L* (full size, for the histograms) is kept with it.
+        """
         img = a.exemplars[e]
         hit = self._white.get(e)
         if hit is None or hit[0] is not img:
             rgb = _white(img) if img.shape[-1] == 4 else np.asarray(img[..., :3], np.float32)
-            hit = self._white[e] = (img, rgb, rgb2lab(img[..., :3])[..., 0])
-        return hit[1]
+            hit = self._white[e] = (img, rgb, rgb2lab(img[..., :3])[..., 0], {})
+        if step == 1:
+            return hit[1]
+        small = hit[3].get(step)
+        if small is None:
+            h, w = hit[1].shape[:2]
+            small = hit[3][step] = cv2.resize(hit[1], (-(-w // step), -(-h // step)), interpolation=cv2.INTER_AREA)
+        return small
 
-    def _registration_marks(self, e: int, reg, shape) -> tuple[np.ndarray, np.ndarray]:
-        """Coverage of the carried grid and of the keypoint marks (drawn once per registration)."""
-        key = (id(reg), shape)
+    def _view_step(self, shape) -> int:
+        """Pixel step that brings an exemplar down to the exemplar view's size (1 for small leaves)."""
+        limit = self.exemplar_view.max_size
+        return 1 if limit is None else max(1, -(-max(shape[:2]) // limit))
+
+    def _registration_marks(self, e: int, reg, shape, step: int = 1) -> tuple[np.ndarray, np.ndarray]:
+        """Coverage of the carried grid and of the keypoint marks (drawn once per registration).
+
+        ``shape`` is the drawing's, every ``step``-th pixel of the exemplar's.
+        """
+        key = (id(reg), shape, step)
         hit = self._marks.get(e)
         if hit is not None and hit[0] == key:
             return hit[1]
-        h, w = shape
-        step = max(8, min(h, w) // 12)
         m = np.asarray(reg.map_to_training)
-        lines = [m[y, ::4] for y in range(step // 2, h, step)] + [m[::4, x] for x in range(step // 2, w, step)]
-        grid = np.clip(coverage_polylines(shape, lines, [0.6] * len(lines))[0], 0, 1)
+        h, w = m.shape[:2]
+        gap = max(8, min(h, w) // 12)
+        lines = ([m[y, ::4] / step for y in range(gap // 2, h, gap)]
+                 + [m[::4, x] / step for x in range(gap // 2, w, gap)])
+        grid = np.clip(coverage_polylines(shape, lines, [0.6 / step] * len(lines))[0], 0, 1)  # as full size, shrunk
         pts = getattr(getattr(reg, "exemplar_keypoints", None), "points", None)
         dots = np.zeros(shape, np.float32)
         if pts is not None and len(pts):
             r = 1.5
-            circles = [np.array([[x - r, y], [x, y - r], [x + r, y], [x, y + r], [x - r, y]]) for x, y in pts]
+            circles = [np.array([[x - r, y], [x, y - r], [x + r, y], [x, y + r], [x - r, y]]) / step for x, y in pts]
             dots = np.clip(coverage_polylines(shape, circles, [1.0] * len(circles))[0], 0, 1)
         self._marks[e] = (key, (grid, dots))
         return grid, dots
 
     def _show_exemplars(self, analysis: LeafAnalysis | None = None) -> None:
         t = self.training_index
-        self.exemplar_view.update([self.registration_overlay(e, analysis) for e in range(len(self.images))],
-                                  [("training " if e == t else "") + f"#{e}" for e in range(len(self.images))])
+        n = len(self.images)
+        # Drawn at the view's size: a megapixel exemplar is shown (and previewed) as a 400 px thumbnail.
+        tiles = [self.registration_overlay(e, analysis, step=self._view_step(self.images[e].shape)) for e in range(n)]
+        self.exemplar_view.update(tiles, [("training " if e == t else "") + f"#{e}" for e in range(n)])
 
     def _show_analysis(self, analysis: LeafAnalysis | None = None) -> None:
         """Overlays, the lambda/delta table and the histograms of ``analysis`` (default: the app's)."""
