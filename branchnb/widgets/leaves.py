@@ -771,7 +771,8 @@ def layer_warnings(analysis) -> list[str]:
     for x in analysis.layers:
         if x.snapped is not None and not is_structural(x):
             out.append(f"'{x.name}' was scribbled as thin lines (a structure) but came out non-structural "
-                       f"(λ = {x.lam:.3f}, δ = {_delta_text(x.delta)}: reach {_reach_text(x)}): its exemplars' "
+                       f"(λ = {x.lam:.3f}, δ {'= ' if x.delta < 10 else ''}{_delta_text(x.delta)}: reach "
+                       f"{_reach_text(x)}): its exemplars' "
                        "copies do not overlap after registration, so it was induced from each leaf's own "
                        "ridges and colours. Check the registration overlays.")
         if x.empty:
