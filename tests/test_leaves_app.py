@@ -95,6 +95,12 @@ def test_analysis_reinduction_and_generation(app, family, monkeypatch):
     assert [x.name for x in a.layers] == ["veins", "spots"]
     assert "λ" in app.report.value and "veins" in app.report.value
     assert len(app.exemplar_view.images) == 3
+    # A thumbnail is drawn at its own size (megapixel exemplars: every step-th pixel), layers and grid on it.
+    h, w = a.blades[1].shape
+    small, full = app.registration_overlay(1, step=2), app.registration_overlay(1)
+    assert small.shape == (-(-h // 2), -(-w // 2), 3) and full.shape == (h, w, 3)
+    import cv2
+    assert np.abs(small - cv2.resize(full, small.shape[1::-1], interpolation=cv2.INTER_AREA)).mean() < 0.02
     assert app.histograms.comparison is not None and app.histograms.comparison.metric == "emd"
     assert app.histograms.comparison.labels[0] == "user layer"
     regs = a.registrations
@@ -102,10 +108,14 @@ def test_analysis_reinduction_and_generation(app, family, monkeypatch):
     previews = []
     retune = LeafAnalysis.retune
     monkeypatch.setattr(LeafAnalysis, "retune", lambda self, **kw: previews.append(kw) or retune(self, **kw))
+    import branchnb.widgets.leaves as mod
+    conversions, lab = [], mod.rgb2lab
+    monkeypatch.setattr(mod, "rgb2lab", lambda img: conversions.append(1) or lab(img))
     app.induction_panel.controls["eps"].value = 5.0  # a slider move re-induces only
     app.shell.wait_live()
     # First a preview on the cached colour terms, then the full re-induction.
     assert previews == [{"eps": 5.0}]
+    assert conversions == []  # the exemplars on white and their L* are kept between slider moves
     assert overlay_before != app.exemplar_view.images[1].value
     app.induction_panel.controls["neighbourhood"].value = 4  # new colour terms: no preview
     app.shell.wait_live()
@@ -114,6 +124,8 @@ def test_analysis_reinduction_and_generation(app, family, monkeypatch):
     app.shell.wait_live()
     assert app.analysis is not a and app.analysis.registrations is regs
     assert app.analysis.params.eps == 20.0
+    # Saved with the results: the scribbles as the API reads them back (LayerSet.from_json).
+    assert app._outputs()["layer_scribbles.json"] == app.layer_set().to_json()
     app.hist_layer.value = "spots"
     assert app.histograms.comparison.labels[0] == "user layer"
     app.n_outputs.value = 2
@@ -150,8 +162,73 @@ def test_warnings_name_a_thin_layer_that_came_out_non_structural(app, family):
     from types import SimpleNamespace
 
     from branchnb.widgets.leaves import layer_warnings
-    fake = SimpleNamespace(layers=[SimpleNamespace(name="veins", lam=0.0, snapped=[None, None, None],
+    fake = SimpleNamespace(layers=[SimpleNamespace(name="veins", lam=0.0, delta=1.0, snapped=[None, None, None],
                                                    masks=[1, 1, 1], empty=[2])])
     w = layer_warnings(fake)
     assert len(w) == 2 and "non-structural" in w[0] and "#2" in w[1]
     assert "e+" not in app.report.value
+
+
+def test_stored_layer_file_loads_through_the_load_button_and_saves_back():
+    """The app's "load" takes a stored layer JSON; the saved outputs give the same file back."""
+    import json
+
+    from branchnb import data
+    text = (data.DATA_DIR / "leaves" / "maple_leaf_01_layers.json").read_text()
+    app = LeafApp([data.load("maple_leaf_01"), data.load("maple_leaf_02")], max_display=256)
+    app._load_annotations(text)
+    assert app.layer_set().to_json() == text
+    radii = sorted({s.meta["radius"] for s in app.canvas.model.shapes})
+    assert 1.0 in radii and any(s.label == "blade" for s in app.canvas.model.shapes)
+    # The app's own annotation file round-trips too.
+    other = LeafApp([data.load("maple_leaf_01"), data.load("maple_leaf_02")], max_display=256)
+    other._load_annotations(app._annotations())
+    assert json.loads(other.layer_set().to_json()) == json.loads(text)
+    with pytest.raises(TypeError, match="layers"):
+        app.load_layers(3)
+
+
+def test_analyze_can_be_cancelled(app, family, monkeypatch):
+    import threading
+
+    import branchnb.widgets.leaves as mod
+
+    _scribble_truth(app, family)
+    started, calls = threading.Event(), []
+    real = mod.analyze
+
+    def watched(*args, progress=None, **kwargs):
+        def report(f, text=""):
+            calls.append(f)
+            started.set()
+            threading.Event().wait(0.05)
+            progress(f, text)
+        return real(*args, progress=report, **kwargs)
+
+    monkeypatch.setattr(mod, "analyze", watched)
+    app.shell.background = True
+    app.shell.click("analyze")
+    assert started.wait(30)
+    assert app.shell.cancel_button.layout.visibility == "visible"
+    n = len(calls)
+    app.shell.cancel()
+    assert app.shell.wait(30)
+    assert "cancelled" in app.status.text and app.status.last_error is None
+    assert app.analysis is None and len(calls) <= n + 2  # stopped at its next step
+
+
+def test_table_and_warning_say_when_a_scribbled_structure_came_out_non_structural():
+    from types import SimpleNamespace as NS
+
+    from branchnb.widgets.leaves import _kind_text, is_structural, layer_warnings, spatial_reach
+    # The delta criterion: a perfect colour match joins within eps sqrt(ln(delta / lambda)).
+    assert spatial_reach(0.5, 0.5 * np.e) == pytest.approx(1.0)
+    assert spatial_reach(0.0, 1.0) == np.inf and spatial_reach(1e-3, 5.93e6) > 3
+    thin = NS(name="veins", lam=0.3, delta=5.93e6, snapped=[None], masks=[1], empty=[])
+    assert not is_structural(thin) and "non-structural" in _kind_text(thin)
+    assert "non-structural" in layer_warnings(NS(layers=[thin]))[0]
+    placed = NS(name="veins", lam=0.3, delta=0.9, snapped=[None], masks=[1], empty=[])
+    assert is_structural(placed) and _kind_text(placed).startswith("structural")
+    assert layer_warnings(NS(layers=[placed])) == []
+    spots = NS(name="spots", lam=0.0, delta=0.9, snapped=None, masks=[1], empty=[])
+    assert _kind_text(spots) == "colour" and layer_warnings(NS(layers=[spots])) == []

@@ -177,3 +177,51 @@ def test_texture_correction_restores_the_grain():
     assert abs(stripe_period(res.image) - 6) < 1.5
     with pytest.raises(ValueError, match="warp_map"):
         correct_texture(warped, np.zeros((10, 10, 2)), src)
+
+
+def _on_paper_with_shadow(kind, hue, shadow, *, size=128, paper=(1.0, 1.0, 1.0), rng=0):
+    """A procedural leaf recoloured to ``hue`` on ``paper`` with a grey drop or soft cast shadow."""
+    import cv2
+    leaf = procedural_leaf(kind, size=size, rng=rng)
+    a = leaf.image[..., 3]
+    y = leaf.image[..., :3] @ np.array([0.3, 0.59, 0.11], np.float32)
+    col = np.clip((y / y[leaf.blade].mean())[..., None] * np.asarray(hue, np.float32), 0, 1)
+    d = 8 * size / 256 if shadow == "drop" else 10 * size / 256  # 4-10 px on a 128-256 px leaf
+    sh = cv2.warpAffine(a, np.float32([[1, 0, d], [0, 1, 0.6 * d]]), (size, size))
+    sh = cv2.GaussianBlur(sh, (0, 0), 0.7 if shadow == "drop" else 4 * size / 256)
+    canvas = np.asarray(paper, np.float32) * (1 - 0.45 * sh)[..., None]
+    img = col * a[..., None] + canvas * (1 - a[..., None])
+    noise = np.random.default_rng(rng).normal(0, 0.01, img.shape)  # a photo's sensor noise
+    return np.clip(img + noise, 0, 1).astype(np.float32), leaf.blade
+
+
+@pytest.mark.parametrize("kind,hue,shadow,paper", [
+    ("lobed", (0.2, 0.5, 0.15), "drop", (1.0, 1.0, 1.0)),        # green clip art
+    ("trilobed", (0.72, 0.14, 0.1), "cast", (0.93, 0.9, 0.82)),  # red, photo on cream paper
+    ("elliptic", (0.45, 0.29, 0.16), "drop", (1.0, 1.0, 1.0)),   # brown
+    ("elliptic", (0.45, 0.29, 0.16), "cast", (0.93, 0.9, 0.82)),  # brown (3.7 % shadow kept before)
+    ("lobed", (0.48, 0.44, 0.39), "drop", (1.0, 1.0, 1.0)),      # dry grey-brown (10.7 % before)
+])
+def test_blade_excludes_drop_and_cast_shadows(kind, hue, shadow, paper):
+    img, truth = _on_paper_with_shadow(kind, hue, shadow, paper=paper, rng=3)
+    blade = blade_mask(img)
+    assert iou(blade, truth) > 0.96
+    assert (blade & ~truth).sum() < 0.025 * truth.sum()  # shadow taken as leaf
+    assert (truth & ~blade).sum() < 0.015 * truth.sum()  # no leaf lost with the shadow
+
+
+def test_grey_leaf_and_ink_outline_are_no_shadow():
+    # A grey-brown leaf on cream paper is as grey as a shadow: kept whole.
+    img, truth = _on_paper_with_shadow("elliptic", (0.5, 0.47, 0.42), "drop", paper=(0.93, 0.9, 0.82), rng=1)
+    assert (truth & ~blade_mask(img)).sum() < 0.01 * truth.sum()
+    # A leaf drawn with a grey outline all around (no shadow): the outline stays leaf.
+    leaf = procedural_leaf("lobed", size=128, rng=2)
+    import cv2
+    ring = cv2.dilate(leaf.blade.astype(np.uint8), np.ones((7, 7), np.uint8)).astype(bool) & ~leaf.blade
+    img = np.ones((128, 128, 3), np.float32)
+    img[leaf.blade] = (0.2, 0.5, 0.15)
+    img[ring] = 0.55
+    assert iou(blade_mask(img), leaf.blade | ring) > 0.97
+    # The drawn sample maples (black ink, anti-aliased) lose nothing.
+    for name, n in (("maple_sketch_leaf_1", 119866), ("maple_sketch_leaf_2", 97335)):
+        assert abs(int(blade_mask(data.load(name)[..., :3]).sum()) - n) < 0.005 * n

@@ -110,3 +110,17 @@ def test_warps_and_weights():
     a = shape_weights((40, 40), 4, 3, 8.0, 2)
     assert np.allclose(a.sum(0), 1, atol=1e-5) and a.min() >= 0
     assert isinstance(generate.__doc__, str) and GeneratedLeaf.__doc__
+
+
+def test_sharp_samples_at_a_footprint_equal_the_dense_ones():
+    import cv2
+
+    from branchnb.leaves.synthesis import _sample_sharp_at
+    rng = np.random.default_rng(0)
+    img = rng.random((60, 70, 3)).astype(np.float32)
+    c = (rng.random((200, 190, 2)) * [72, 62] - 1).astype(np.float32)  # 38000 pixels, some off the image
+    dense = np.clip(cv2.remap(img, c[..., 0], c[..., 1], cv2.INTER_LANCZOS4, borderMode=cv2.BORDER_REPLICATE), 0, 1)
+    where = rng.random((200, 190)) < 0.3
+    got = _sample_sharp_at(img, c, where)
+    assert np.array_equal(got[where], dense[where]) and not got[~where].any()
+    assert np.array_equal(_sample_sharp_at(img, c, np.ones((200, 190), bool)), dense)

@@ -346,21 +346,27 @@ class LeafAnalysis:
         """
         return _retuned(self, changes)
 
-    def overlay(self, e: int) -> np.ndarray:
+    def overlay(self, e: int, *, base: np.ndarray | None = None, step: int = 1) -> np.ndarray:
         """Exemplar ``e`` on white with its induced layers tinted in the layers' colours.
 
         Parameters
         ----------
         e : int
             Exemplar index.
+        base : (H, W, 3) ndarray, optional
+            That exemplar on white already (an app keeps it between slider
+            moves; every ``step``-th pixel when ``step`` > 1, for a
+            thumbnail); it is not modified.
+        step : int, optional
+            Take every ``step``-th pixel (1: full size).
 
         Returns
         -------
         (H, W, 3) float32 ndarray
         """
         e = check_int(e, "e", 0, len(self.exemplars) - 1)
-        rgb = as_rgb(self.exemplars[e])
-        out = rgb.copy()
+        step = check_int(step, "step", 1, 10_000)
+        out = as_rgb(self.exemplars[e])[::step, ::step] if base is None else np.array(base, np.float32)
         colours = {}
         if self.layer_set is not None:
             colours = {x.name: x.colour for x in self.layer_set.layers}
@@ -368,7 +374,7 @@ class LeafAnalysis:
         for k, x in enumerate(self.layers):
             hexc = colours.get(x.name, default[k % len(default)])
             c = np.array([int(hexc[i:i + 2], 16) for i in (1, 3, 5)], np.float32) / 255
-            m = x.masks[e]
+            m = x.masks[e][::step, ::step]
             out[m] = 0.35 * out[m] + 0.65 * c
         return out
 
@@ -484,6 +490,7 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         q = [quantise(r, space, stats=stats[e], reference=stats[t]) if params.match_colours and e != t
              else quantise(r, space) for e, r in enumerate(residual)]
         cdf = layer_cdfs(q[t], user, space.bins)
+        report(step / steps, f"layer {name}: snapping to each exemplar's ridges")  # "cancel" stops here too
         snapped = _snapped(residual, blades, t, user, registrations, stats, tolerance, params)
         # The registered user layer and its distance map do not depend on n.
         reg_user, dist = [], []

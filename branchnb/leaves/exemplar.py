@@ -13,7 +13,9 @@ The method needs, for every exemplar, the leaf's colours and its blade
   Delta E, plus the chroma difference, so a pale-green leaf on white
   stands out) is thresholded by Otsu's method; the blade is the largest
   connected component (with parts of at least ``min_part`` of its size
-  that are inside the frame and of its colours), the paper inside a
+  that are inside the frame and of its colours), without a grey drop or
+  cast shadow on one side of it (:func:`_cast_shadow`, beyond the
+  paper), the paper inside a
   broken (dashed) drawn outline added, its small holes filled (specular highlights,
   pale veins), large holes kept (real holes in the leaf). The alpha is
   then the blade mask, feathered by one pixel, and the blade's one-pixel
@@ -222,6 +224,78 @@ def _paper_lightness(lab: np.ndarray, border: np.ndarray, iterations: int = 4):
     return lightness, chroma, spread
 
 
+#: Shadow pixels are darker than the paper there by at least this (CIELAB L) ...
+SHADOW_DARKENING = 3.0
+#: ... but not darker than this fraction of the paper's L (ink, not a shadow) ...
+SHADOW_MIN_LIGHTNESS = 0.3
+#: ... and keep the paper's chroma: their (a, b) lie within this of the
+#: paper's (a, b) scaled by their relative lightness (a shadow darkens the
+#: paper's own colour). A green, red, yellow or brown leaf is 15-80 away.
+SHADOW_CHROMA = 4.0
+#: A shadow lies on one side of the leaf: the mean unit vector from the
+#: nearest leaf pixel to each shadow pixel is at least this long. A grey
+#: outline drawn all around a leaf (about 0) is kept.
+SHADOW_ONE_SIDED = 0.3
+
+
+def _cast_shadow(fg: np.ndarray, lab: np.ndarray, bg: np.ndarray) -> np.ndarray:
+    """The drop or cast shadow that Otsu's split took as leaf, or an empty mask.
+
+    Beyond the paper (which starts from segmented leaves). A grey drop
+    shadow in clip art, or a leaf's soft shadow on the paper of a photo, is
+    far from the paper in lightness, so the split keeps it with the blade
+    (7 % of a drawn maple's blade, shown as grey rims on every new leaf).
+    Shadow pixels are the paper's colour darkened (``SHADOW_DARKENING``,
+    ``SHADOW_MIN_LIGHTNESS``, ``SHADOW_CHROMA``, after a 3 x 3 median), outside the leaf's coloured part
+    and its holes, reaching 2 pixels or more away from it (the grey rim of
+    anti-aliased ink is 1 pixel wide), and on one side of it
+    (``SHADOW_ONE_SIDED``). When such grey pixels make half the
+    foreground or more, the leaf itself is grey (a dry grey-brown leaf, a
+    pencil drawing) and nothing is removed: a shadow under a grey leaf is
+    then kept with it.
+    """
+    empty = np.zeros_like(fg)
+    # Sensor noise scatters a grey's chroma; a median keeps the leaf's colour out of a thin shadow band.
+    smooth = cv2.medianBlur(np.ascontiguousarray(lab, np.float32), 3)
+    light = smooth[..., 0]
+    paper = bg[..., 0]
+    rel = np.clip(light / np.maximum(paper, 1.0), 0.0, 1.0)
+    dab = np.hypot(smooth[..., 1] - bg[..., 1] * rel, smooth[..., 2] - bg[..., 2] * rel)
+    grey = fg & (light < paper - SHADOW_DARKENING) & (light > SHADOW_MIN_LIGHTNESS * paper) & (dab < SHADOW_CHROMA)
+    core = fg & ~grey
+    n_fg = int(fg.sum())
+    if not grey.any() or core.sum() < 0.5 * n_fg:
+        return empty
+    inside = ndi.binary_fill_holes(core)
+    cand = grey & ~inside
+    if not cand.any():
+        return empty
+    # Nearest core pixel of every candidate, within the candidates' bounding box (plus margin).
+    ys, xs = np.nonzero(cand)
+    m = 2 + int(max(np.ptp(ys), np.ptp(xs)))
+    y0, x0 = max(0, ys.min() - m), max(0, xs.min() - m)
+    y1, x1 = min(fg.shape[0], ys.max() + m + 1), min(fg.shape[1], xs.max() + m + 1)
+    sub = core[y0:y1, x0:x1]
+    if not sub.any():
+        return empty
+    dist, (iy, ix) = ndi.distance_transform_edt(~sub, return_indices=True)
+    # The grey rim of anti-aliased ink (1 pixel) is no shadow: seeds lie 2 pixels out or more.
+    far = dist[ys - y0, xs - x0] >= 2.0
+    if far.sum() < 0.002 * n_fg:
+        return empty
+    ys, xs = ys[far], xs[far]
+    vy = (ys - y0) - iy[ys - y0, xs - x0]
+    vx = (xs - x0) - ix[ys - y0, xs - x0]
+    norm = np.hypot(vx, vy)
+    if float(np.hypot((vx / norm).mean(), (vy / norm).mean())) < SHADOW_ONE_SIDED:
+        return empty
+    seeds = np.zeros_like(fg)
+    seeds[ys, xs] = True
+    parts, _ = ndi.label(grey, structure=np.ones((3, 3), bool))
+    hit = np.unique(parts[seeds])
+    return np.isin(parts, hit[hit > 0]) & ~inside
+
+
 @checked(max_hole=Real(0.0, 1.0), min_part=Real(0.0, 1.0))
 def blade_mask(image, *, max_hole: float = 0.01, min_part: float = 0.02, name: str = "image") -> np.ndarray:
     """The blade of a leaf on a plain background (opaque image).
@@ -249,6 +323,17 @@ def blade_mask(image, *, max_hole: float = 0.01, min_part: float = 0.02, name: s
     ValueError
         A busy (non-plain) border, no clear leaf/background split, or a
         blade touching most of the border.
+
+    Notes
+    -----
+    Beyond the paper, a grey drop shadow (clip art) or a soft cast shadow
+    (a photo) on one side of the leaf is not blade (:func:`_cast_shadow`).
+    Measured on 324 procedural leaves (3 kinds, 128-400 px, green, dark
+    green, red, yellow, brown and grey-brown, white and cream paper, drop
+    shadows offset 4-10 px, soft shadows): blade IoU of brown leaves with a
+    drop shadow 0.970 -> 0.993 (worst 0.885 -> 0.984), dark green 0.983
+    -> 0.993. A leaf as grey as its shadow (a dry grey-brown leaf on cream
+    paper) keeps its shadow: nothing tells them apart by colour.
 
     Examples
     --------
@@ -298,6 +383,7 @@ def blade_mask(image, *, max_hole: float = 0.01, min_part: float = 0.02, name: s
         raise ValueError(
             f"{name} has no clear leaf/background split (Otsu separability {separability:.2f} < "
             f"{MIN_SEPARABILITY}): give a cut-out (RGBA) leaf or a leaf on a plain background")
+    fg &= ~_cast_shadow(fg, lab, bg)
     lab_cc, n = ndi.label(fg)
     if n == 0:
         raise ValueError(f"{name}: no leaf found")

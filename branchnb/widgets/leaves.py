@@ -24,6 +24,7 @@ from __future__ import annotations
 import dataclasses
 import html
 
+import cv2
 import ipywidgets as widgets
 import numpy as np
 from skimage.color import rgb2lab
@@ -40,7 +41,7 @@ from .imageview import ImageView
 from .params import ParamPanel
 from .shell import AppShell
 
-__all__ = ["LeafApp", "layer_set_from_shapes", "layer_warnings", "BLADE"]
+__all__ = ["LeafApp", "layer_set_from_shapes", "layer_warnings", "spatial_reach", "is_structural", "BLADE"]
 
 #: Induction parameters :meth:`LeafAnalysis.retune` previews without new colour terms.
 _RETUNABLE = {"eps", "kappa", "liberal_threshold"}
@@ -154,6 +155,7 @@ class LeafApp(widgets.VBox):
             raise ValueError(f"registrations must have one entry per exemplar ({n}), got {len(registrations)}")
         self._registrations = list(registrations) if registrations is not None else None
         self._marks: dict = {}  # exemplar -> (registration key, (grid, keypoint) coverage)
+        self._white: dict = {}  # exemplar -> (its image, on white, L*): kept between slider moves
         self.analysis: LeafAnalysis | None = None
         self.leaves: list = []
         if layers is None:
@@ -168,16 +170,8 @@ class LeafApp(widgets.VBox):
                                        modes=("scribble", "edit", "pan"), max_display=max_display,
                                        errors=self.status)
         self.canvas.radius = 2.0
-        dx, dy = self.offsets[t]
-        # Each scribble keeps its own brush radius (the paper's users draw
-        # one-pixel vein strokes and wide blade dabs in one session).
-        for x in layers.layers:
-            for s in x.scribbles:
-                self.canvas.model.add_shape("scribble", s.points + [dx, dy], label=x.name,
-                                            meta={"radius": float(s.radius)})
-        for s in layers.background:
-            self.canvas.model.add_shape("scribble", s.points + [dx, dy], label=BLADE,
-                                        meta={"radius": float(s.radius)})
+        for shape in self._layer_shapes(layers):
+            self.canvas.model.add_shape("scribble", shape.points, label=shape.label, meta=shape.meta)
         # Layer list.
         self.layer_list = widgets.Select(options=self.layer_names(), rows=4,
                                          layout=widgets.Layout(width="150px"))
@@ -270,7 +264,7 @@ class LeafApp(widgets.VBox):
             raise ValueError(f"training_index must be in [0, {len(images) - 1}], got {training_index!r}")
         self.images, self.blades, self.offsets = images, blades, offsets
         self.training_index = int(training_index)
-        self._registrations, self._marks = None, {}
+        self._registrations, self._marks, self._white = None, {}, {}
         self.analysis, self.leaves = None, []
         self.canvas.set_image(_white(self.images[self.training_index]))
         self.canvas.model.clear()
@@ -286,9 +280,56 @@ class LeafApp(widgets.VBox):
         self.set_exemplars([img for _, img in images])
         return f"{len(images)} leaves; scribble the layers on the first, then 'analyze'"
 
+    def _layer_shapes(self, layers: LayerSet) -> list:
+        """Canvas scribbles of ``layers`` (training-leaf pixels), each with its own brush radius.
+
+        The paper's users draw one-pixel vein strokes and wide blade dabs
+        in one session: ``meta["radius"]`` carries each one's radius.
+        """
+        from .model import Shape
+
+        d = np.asarray(self.offsets[self.training_index], float)
+        out = [Shape("scribble", s.points + d, label=x.name, meta={"radius": float(s.radius)})
+               for x in layers.layers for s in x.scribbles]
+        return out + [Shape("scribble", s.points + d, label=BLADE, meta={"radius": float(s.radius)})
+                      for s in layers.background]
+
+    def load_layers(self, layers) -> None:
+        """Replace the layers and their scribbles (undoable on the canvas).
+
+        Parameters
+        ----------
+        layers : LayerSet or str
+            Scribbles in the training leaf's own pixels, or their JSON
+            (:meth:`LayerSet.to_json`, e.g. ``data/leaves/maple_leaf_01_layers.json``).
+            Blade scribbles and each scribble's radius are kept:
+            :meth:`layer_set` gives the same JSON back.
+
+        Raises
+        ------
+        TypeError
+            If ``layers`` is neither a LayerSet nor text.
+        ValueError
+            If the JSON is not a layer set.
+        """
+        if isinstance(layers, (bytes, bytearray)):
+            layers = bytes(layers).decode("utf-8")
+        if isinstance(layers, str):
+            layers = LayerSet.from_json(layers)
+        if not isinstance(layers, LayerSet):
+            raise TypeError(f"layers must be a LayerSet or its JSON text, got {type(layers).__name__}")
+        shapes = self._layer_shapes(layers)
+        self.layers = LayerSet([Layer(x.name, x.colour, x.order) for x in layers.layers])
+        self.canvas.model.load_json(_shapes_json(shapes))
+        self._sync_layers()
+        if self.layer_names():
+            self.layer_list.value = self.layer_names()[0]
+
     def _outputs(self) -> dict:
         out = {f"leaf_{i:02d}.png": leaf.image for i, leaf in enumerate(self.leaves)}
         if self.analysis is not None:
+            # The scribbles as the API takes them (LayerSet.from_json), radii and blade included.
+            out["layer_scribbles.json"] = self.layer_set().to_json()
             out["layers.json"] = {"layers": [
                 {"name": x.name, "lambda": float(x.lam), "delta": float(x.delta),
                  "training_iou": float(x.training_overlap)} for x in self.analysis.layers]}
@@ -301,7 +342,13 @@ class LeafApp(widgets.VBox):
     def _load_annotations(self, text) -> None:
         import json
 
+        if isinstance(text, (bytes, bytearray)):
+            text = bytes(text).decode("utf-8")
         d = json.loads(text)
+        if isinstance(d, dict) and "canvases" not in d and "shapes" not in d and any(
+                isinstance(x, dict) and "scribbles" in x for x in d.get("layers") or []):
+            self.load_layers(text)  # a stored layer set (LayerSet.to_json), not the app's own file
+            return
         layers = ((d.get("extra") or {}).get("layers") if isinstance(d, dict) else None) or []
         if not all(isinstance(x, dict) and isinstance(x.get("name"), str) for x in layers):
             raise ValueError("annotations: 'layers' must list objects with a 'name'")
@@ -508,7 +555,7 @@ class LeafApp(widgets.VBox):
         self.full_view.update([img], [f"leaf #{int(i)} ({img.shape[1]} x {img.shape[0]} px), seed {leaf.seed}"])
 
     # -- views ---------------------------------------------------------------------------
-    def registration_overlay(self, e: int, analysis: LeafAnalysis | None = None) -> np.ndarray:
+    def registration_overlay(self, e: int, analysis: LeafAnalysis | None = None, *, step: int = 1) -> np.ndarray:
         """Exemplar ``e`` with its induced layers, keypoints and the training grid carried onto it.
 
         Parameters
@@ -518,58 +565,99 @@ class LeafApp(widgets.VBox):
         analysis : LeafAnalysis, optional
             The analysis to show; the app's last one by default. Without
             one, the plain exemplar on white is returned.
+        step : int
+            Every ``step``-th pixel (the thumbnails of megapixel exemplars:
+            a slider preview draws no more than is shown).
 
         Returns
         -------
-        (H, W, 3) float32 ndarray
+        (ceil(H / step), ceil(W / step), 3) float32 ndarray
             The training leaf shows only its layers (no grid).
         """
         a = analysis if analysis is not None else self.analysis
-        img = a.overlay(e) if a is not None else _white(self.images[e])
-        if a is None or e == a.training_index:
+        if a is None:
+            return _white(self.images[e])[::step, ::step]
+        img = a.overlay(e, base=self._on_white(a, e, step), step=step)
+        if e == a.training_index:
             return img
-        grid, dots = self._registration_marks(e, a.registrations[e], img.shape[:2])
+        grid, dots = self._registration_marks(e, a.registrations[e], img.shape[:2], step)
         for cov, colour in ((grid, (0.2, 0.2, 0.2)), (dots, (0.95, 0.9, 0.1))):
-            img = img * (1 - cov[..., None]) + np.asarray(colour, np.float32) * cov[..., None]
+            on = cov > 0  # the marks cover a few percent of the image: blend there only
+            c = cov[on][:, None]
+            img[on] = img[on] * (1 - c) + np.asarray(colour, np.float32) * c
         return img.astype(np.float32)
 
-    def _registration_marks(self, e: int, reg, shape) -> tuple[np.ndarray, np.ndarray]:
-        """Coverage of the carried grid and of the keypoint marks (drawn once per registration)."""
-        key = (id(reg), shape)
+    def _on_white(self, a: LeafAnalysis, e: int, step: int = 1) -> np.ndarray:
+        """Exemplar ``e`` of ``a`` on white (every ``step``-th pixel, area-averaged), kept between slider moves.
+
+        Its CIELAB L* (full size, for the histograms) is kept with it.
+        """
+        img = a.exemplars[e]
+        hit = self._white.get(e)
+        if hit is None or hit[0] is not img:
+            rgb = _white(img) if img.shape[-1] == 4 else np.asarray(img[..., :3], np.float32)
+            hit = self._white[e] = (img, rgb, rgb2lab(img[..., :3])[..., 0], {})
+        if step == 1:
+            return hit[1]
+        small = hit[3].get(step)
+        if small is None:
+            h, w = hit[1].shape[:2]
+            small = hit[3][step] = cv2.resize(hit[1], (-(-w // step), -(-h // step)), interpolation=cv2.INTER_AREA)
+        return small
+
+    def _view_step(self, shape) -> int:
+        """Pixel step that brings an exemplar down to the exemplar view's size (1 for small leaves)."""
+        limit = self.exemplar_view.max_size
+        return 1 if limit is None else max(1, -(-max(shape[:2]) // limit))
+
+    def _registration_marks(self, e: int, reg, shape, step: int = 1) -> tuple[np.ndarray, np.ndarray]:
+        """Coverage of the carried grid and of the keypoint marks (drawn once per registration).
+
+        ``shape`` is the drawing's, every ``step``-th pixel of the exemplar's.
+        """
+        key = (id(reg), shape, step)
         hit = self._marks.get(e)
         if hit is not None and hit[0] == key:
             return hit[1]
-        h, w = shape
-        step = max(8, min(h, w) // 12)
         m = np.asarray(reg.map_to_training)
-        lines = [m[y, ::4] for y in range(step // 2, h, step)] + [m[::4, x] for x in range(step // 2, w, step)]
-        grid = np.clip(coverage_polylines(shape, lines, [0.6] * len(lines))[0], 0, 1)
+        h, w = m.shape[:2]
+        gap = max(8, min(h, w) // 12)
+        lines = ([m[y, ::4] / step for y in range(gap // 2, h, gap)]
+                 + [m[::4, x] / step for x in range(gap // 2, w, gap)])
+        grid = np.clip(coverage_polylines(shape, lines, [0.6 / step] * len(lines))[0], 0, 1)  # as full size, shrunk
         pts = getattr(getattr(reg, "exemplar_keypoints", None), "points", None)
         dots = np.zeros(shape, np.float32)
         if pts is not None and len(pts):
             r = 1.5
-            circles = [np.array([[x - r, y], [x, y - r], [x + r, y], [x, y + r], [x - r, y]]) for x, y in pts]
+            circles = [np.array([[x - r, y], [x, y - r], [x + r, y], [x, y + r], [x - r, y]]) / step for x, y in pts]
             dots = np.clip(coverage_polylines(shape, circles, [1.0] * len(circles))[0], 0, 1)
         self._marks[e] = (key, (grid, dots))
         return grid, dots
 
     def _show_exemplars(self, analysis: LeafAnalysis | None = None) -> None:
         t = self.training_index
-        self.exemplar_view.update([self.registration_overlay(e, analysis) for e in range(len(self.images))],
-                                  [("training " if e == t else "") + f"#{e}" for e in range(len(self.images))])
+        n = len(self.images)
+        # Drawn at the view's size: a megapixel exemplar is shown (and previewed) as a 400 px thumbnail.
+        tiles = [self.registration_overlay(e, analysis, step=self._view_step(self.images[e].shape)) for e in range(n)]
+        self.exemplar_view.update(tiles, [("training " if e == t else "") + f"#{e}" for e in range(n)])
 
     def _show_analysis(self, analysis: LeafAnalysis | None = None) -> None:
         """Overlays, the lambda/delta table and the histograms of ``analysis`` (default: the app's)."""
         a = analysis if analysis is not None else self.analysis
         self._show_exemplars(a)
         rows = "".join(f"<tr><td>{html.escape(x.name)}</td><td>{x.lam:.3f}</td><td>{_delta_text(x.delta)}</td>"
-                       f"<td>{x.training_overlap:.2f}</td><td>{x.neighbourhood}</td><td>{_kind_text(x)}</td>"
+                       f"<td>{x.training_overlap:.2f}</td><td>{x.neighbourhood}</td><td>{_reach_text(x)}</td>"
+                       f"<td>{_kind_text(x)}</td>"
                        f"<td>{len(x.masks) - len(x.empty)}/{len(x.masks)}</td></tr>" for x in a.layers)
         warn = "".join(f"<div style='color:#b35900'>⚠ {html.escape(w)}</div>" for w in layer_warnings(a))
         self.report.value = ("<table style='font-size:12px'><tr><th>layer</th><th>λ</th><th>δ</th>"
                              "<th title='IoU of the induced layer with yours on the training leaf'>IoU</th>"
                              "<th title='neighbourhood side of S_e (px)'>n</th>"
-                             "<th title='structural: leans on space (λ > 0.05); colour: leans on colour'>kind</th>"
+                             "<th title='how far from the registered layer it can be induced, in ε: "
+                             "sqrt(ln(δ / λ)) (the δ criterion)'>reach</th>"
+                             f"<th title='structural: λ &gt; {MIN_STRUCTURAL_LAMBDA} and reach ≤ "
+                             f"{MAX_STRUCTURAL_REACH} ε; colour: leans on colour alone; non-structural ⚠: "
+                             "scribbled as a structure but induced by colour'>kind</th>"
                              "<th title='exemplars on which the layer was found'>found</th></tr>"
                              + rows + "</table>" + warn)
         self._show_histograms(a)
@@ -586,8 +674,8 @@ class LeafApp(widgets.VBox):
             m = layer.masks[e]
             if not m.any():
                 continue
-            lab = rgb2lab(a.exemplars[e][..., :3])[..., 0]
-            samples.append(lab[m])
+            self._on_white(a, e)
+            samples.append(self._white[e][2][m])
             labels.append("user layer" if e == t else f"#{e}")
         if len(samples) >= 1:
             self.histograms.update(*samples, labels=labels, range=(0.0, 100.0))
@@ -598,9 +686,64 @@ def _delta_text(delta: float) -> str:
     return f"{delta:.3f}" if delta < 10 else "> 10 (any distance)"
 
 
+#: A layer is structural when its place on the leaf decides where it is
+#: induced: a pixel of the layer's exact colour joins it only within this
+#: many ``eps`` of the registered layer (:func:`spatial_reach`) ...
+MAX_STRUCTURAL_REACH = 3.0
+#: ... and its weight ``lambda`` is above this.
+MIN_STRUCTURAL_LAMBDA = 0.05
+
+
+def spatial_reach(lam: float, delta: float) -> float:
+    """How far from the registered layer, in units of ``eps``, the layer can be induced (the delta criterion).
+
+    A pixel joins the layer where ``D = lambda F + S_e < delta`` with
+    ``F = exp(d^2 / (eps^2 (1 - S_e)))``; for a perfect colour match
+    (``S_e = 0``) that is ``d < eps sqrt(ln(delta / lambda))``. ``inf``
+    when ``lambda`` is 0 or ``F`` (clipped at ``exp(60)``) never reaches
+    ``delta / lambda``: the layer's place does not matter, it is
+    induced by colour alone (non-structural).
+
+    Parameters
+    ----------
+    lam, delta : float
+        The layer's ``lambda`` and ``delta`` (eqs. 3-4).
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> round(spatial_reach(0.5, 1.0), 3), spatial_reach(0.0, 1.0), round(spatial_reach(1e-9, 5.93e6), 2)
+    (0.833, inf, 6.03)
+    """
+    if not lam > 0 or not np.isfinite(delta):
+        return float("inf")
+    if delta <= lam:
+        return 0.0
+    ratio = np.log(delta / lam)
+    return float("inf") if ratio >= 60.0 else float(np.sqrt(ratio))
+
+
+def is_structural(layer) -> bool:
+    """Whether an induced layer leans on its place on the leaf (``lambda`` and :func:`spatial_reach`)."""
+    return layer.lam > MIN_STRUCTURAL_LAMBDA and spatial_reach(layer.lam, layer.delta) <= MAX_STRUCTURAL_REACH
+
+
 def _kind_text(layer) -> str:
-    kind = "structural" if layer.lam > 0.05 else "colour"
+    if is_structural(layer):
+        kind = "structural"
+    elif layer.snapped is not None:
+        kind = "<b style='color:#b35900'>non-structural ⚠</b>"  # scribbled as a structure
+    else:
+        kind = "colour"
     return kind + (", snapped" if layer.snapped is not None else "")
+
+
+def _reach_text(layer) -> str:
+    r = spatial_reach(layer.lam, layer.delta)
+    return "anywhere" if not np.isfinite(r) else f"{r:.1f} ε"
 
 
 def layer_warnings(analysis) -> list[str]:
@@ -620,15 +763,18 @@ def layer_warnings(analysis) -> list[str]:
     Examples
     --------
     >>> from types import SimpleNamespace as NS
-    >>> layer_warnings(NS(layers=[NS(name="veins", lam=0.0, snapped=[None, None], masks=[1, 1], empty=[])]))[0][:33]
+    >>> layer_warnings(NS(layers=[NS(name="veins", lam=0.0, delta=1.0, snapped=[None, None], masks=[1, 1],
+    ...                              empty=[])]))[0][:33]
     "'veins' was scribbled as thin lin"
     """
     out = []
     for x in analysis.layers:
-        if x.snapped is not None and x.lam < 0.01:
+        if x.snapped is not None and not is_structural(x):
             out.append(f"'{x.name}' was scribbled as thin lines (a structure) but came out non-structural "
-                       f"(λ = {x.lam:.3f}): its exemplars' copies do not overlap after registration, so it "
-                       "was induced from each leaf's own ridges and colours. Check the registration overlays.")
+                       f"(λ = {x.lam:.3f}, δ {'= ' if x.delta < 10 else ''}{_delta_text(x.delta)}: reach "
+                       f"{_reach_text(x)}): its exemplars' "
+                       "copies do not overlap after registration, so it was induced from each leaf's own "
+                       "ridges and colours. Check the registration overlays.")
         if x.empty:
             out.append(f"'{x.name}' was not found on exemplar(s) {', '.join('#' + str(e) for e in x.empty)}; "
                        "new leaves take it from the others.")
