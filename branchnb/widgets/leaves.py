@@ -727,7 +727,19 @@ def spatial_reach(lam: float, delta: float) -> float:
 
 
 def is_structural(layer) -> bool:
-    """Whether an induced layer leans on its place on the leaf (``lambda`` and :func:`spatial_reach`)."""
+    """Whether an induced layer leans on its place on the leaf (``lambda`` and :func:`spatial_reach`).
+
+    Parameters
+    ----------
+    layer : LayerInduction
+        One induced layer of a :class:`~branchnb.leaves.LeafAnalysis` (its ``lam`` and ``delta``).
+
+    Returns
+    -------
+    bool
+        True when ``lambda`` exceeds ``MIN_STRUCTURAL_LAMBDA`` and the reach is at most
+        ``MAX_STRUCTURAL_REACH`` (in units of eps).
+    """
     return layer.lam > MIN_STRUCTURAL_LAMBDA and spatial_reach(layer.lam, layer.delta) <= MAX_STRUCTURAL_REACH
 
 
