@@ -432,7 +432,8 @@ def carry_points(registration, points) -> np.ndarray:
 
 def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *, tolerance: float,
                       radius_widths: float = 3.0, min_evidence: float = 0.2, refine: bool = True,
-                      line_frac: float = 0.08, fit: bool = True, fit_reach: float = 0.2, oriented: bool = True):
+                      line_frac: float = 0.08, fit: bool = True, fit_reach: float = 0.2, oriented: bool = True,
+                      trace: bool = True, trace_kw=None, lightness_share: float = 0.3):
     """The training layer ``user`` snapped onto every exemplar's own ridges.
 
     Parameters
@@ -467,6 +468,9 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
     # drawn one pixel wide.
     widths = [area_w[id(c)] for c in chains]
     direction = contrast_direction(labs[t], user, blades[t])
+    if lightness_share > 0 and abs(direction[0]) >= lightness_share:
+        # The layer stands out in lightness: project on lightness alone.
+        direction = np.array([np.sign(direction[0]), 0.0, 0.0])
     radius = max(3.0, 1.5 * float(tolerance), float(radius_widths) * width)
     masks, kept = [], []
     size_t = np.sqrt(float(blades[t].sum()))
@@ -493,6 +497,10 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
                     best = (got, score)
             carried = best[0]
             tube = max(2.0, 1.5 * width)
+            if trace and hess is not None:
+                import cv2
+                evb = cv2.GaussianBlur(np.where(b, ev, 0.0).astype(np.float32), (0, 0), 0.7)
+                carried = trace_branches(carried, _oriented_maps(evb, hess), b, **(trace_kw or {}))
         elif refine:
             carried = refine_carried(carried, ev, b, reach=reach)
         # A branch's width scales with the leaf.
@@ -838,4 +846,155 @@ def _branch_poses(p, pivot, ev, reach, max_angle, penalty, keep: int = 12, tang=
             out.append(r)
         if len(out) >= keep:
             break
+    return out
+
+
+def _pivot_ends(chains):
+    """For each chain: (pivot, far end), the pivot being the end nearest another chain's end (a junction)."""
+    ends = np.array([[c[0], c[-1]] for c in chains]).reshape(-1, 2)
+    out = []
+    for i, c in enumerate(chains):
+        if len(ends) <= 2:
+            out.append((c[0], c[-1]))
+            continue
+        others = np.delete(ends, [2 * i, 2 * i + 1], axis=0)
+        d0 = np.hypot(*(others - c[0]).T).min()
+        d1 = np.hypot(*(others - c[-1]).T).min()
+        out.append((c[0], c[-1]) if d0 <= d1 else (c[-1], c[0]))
+    return out
+
+
+def trace_branches(chains, maps, blade, *, max_angle: float = 30.0, step_deg: float = 1.0, r0: float = 3.0,
+                   slope: float = 0.5, prior: float = 0.15, overlap_px: float = 3.0, extend: float = 1.5,
+                   keep_level: float = 0.5):
+    """Each branch re-traced from its junction along the exemplar's ridge (beyond the paper).
+
+    A primary vein runs from its junction (the petiole junction of a maple's
+    star, or the midrib for a pinnate leaf's laterals) outwards, nearly
+    straight. A template pose (:func:`fit_branches`) keeps the training
+    leaf's angles between the branches, but a narrow maple's steep laterals
+    open 15-30 degrees wider on a broad one. So each branch is traced
+    anew in polar coordinates about its junction: at every radius
+    ``r`` (1 px steps, out to the branch's carried length) an angle within
+    ``max_angle`` degrees of the carried direction, by dynamic programming
+    maximising the summed oriented ridge score along the radial direction
+    (``maps``, :func:`_oriented_maps`), the angle changing by at most
+    ``slope`` px sideways per px outwards (so a path bends as a vein bends
+    but cannot zig-zag along texture), minus ``prior`` times the final
+    angle's deviation over ``max_angle``. Branches are traced longest
+    first; pixels within ``overlap_px`` of a traced branch (beyond 6 px
+    from its junction) score -0.5 for the next: two branches never take one
+    vein.
+
+    Parameters
+    ----------
+    chains : list of (N, 2) ndarray
+        Branches already posed on the exemplar (x, y).
+    maps : (K, H, W) ndarray
+        Ridge score per tangent direction ``pi k / K`` (:func:`_oriented_maps`).
+    blade : (H, W) bool ndarray
+
+    Returns
+    -------
+    list of (M, 2) float ndarray
+        The traced branches, each from its junction outwards (a branch
+        without a junction, or shorter than 8 px, is returned unchanged).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> maps = np.zeros((16, 80, 80), np.float32)
+    >>> r = np.arange(60); a = np.radians(-70)                     # a vein at -70 degrees
+    >>> maps[:, np.round(75 + r * np.sin(a)).astype(int), np.round(40 + r * np.cos(a)).astype(int)] = 1.0
+    >>> c1 = np.column_stack([40 + r * np.cos(np.radians(-95)), 75 + r * np.sin(np.radians(-95))])
+    >>> c2 = np.column_stack([40 - r[:20], np.full(20, 75.0)])      # a second branch from the junction
+    >>> out = trace_branches([c1, c2, c2[::-1] * [1, 1] + [0, 0]], maps, np.ones((80, 80), bool))
+    >>> tip = out[0][-1]; round(float(np.degrees(np.arctan2(tip[1] - 75, tip[0] - 40))))
+    -70
+    """
+    maps = np.asarray(maps, np.float32)
+    k_dirs, h, w = maps.shape
+    blade = as_mask(blade, shape=(h, w), name="blade")
+    cs = [np.asarray(c, np.float64) for c in chains]
+    if len(cs) < 2:
+        return cs
+    pe = _pivot_ends(cs)
+    lengths = [float(np.hypot(*np.diff(c, axis=0).T).sum()) if len(c) > 1 else 0.0 for c in cs]
+    out = list(cs)
+    placed = np.zeros((h, w), bool)
+    inner = ndi.binary_erosion(blade)
+    da = np.radians(step_deg)
+    offs = np.arange(-max_angle, max_angle + 1e-9, step_deg)
+    for i in np.argsort(lengths)[::-1]:
+        pivot, far = pe[i]
+        radius = float(np.hypot(*(far - pivot)))
+        if lengths[i] < 8 or radius < 8:
+            continue
+        # The branch's carried extent along its chord (a curved vein's chord is shorter than its length).
+        n_r = int(np.ceil(extend * radius))
+        rs = np.arange(r0, n_r + 1e-9, 1.0)
+        phi0 = np.arctan2(far[1] - pivot[1], far[0] - pivot[0])
+        ang = phi0 + np.radians(offs)
+        px = pivot[0] + rs[:, None] * np.cos(ang)[None]
+        py = pivot[1] + rs[:, None] * np.sin(ang)[None]
+        ix, iy = np.round(px).astype(int), np.round(py).astype(int)
+        ok = (ix >= 0) & (ix < w) & (iy >= 0) & (iy < h)
+        ix, iy = np.clip(ix, 0, w - 1), np.clip(iy, 0, h - 1)
+        kk = (np.round(np.mod(ang, np.pi) / (np.pi / k_dirs)).astype(int) % k_dirs)[None].repeat(len(rs), 0)
+        s = np.where(ok & inner[iy, ix], maps[kk, iy, ix], 0.0)
+        near = ok & placed[iy, ix] & (rs[:, None] > 6.0)
+        s = np.where(near, -0.5, s)
+        # DP over radius: the angle index may change by m(r) steps per radial step.
+        n_a = len(offs)
+        v = s[0].copy()
+        back = np.zeros((len(rs), n_a), np.int32)
+        idx = np.arange(n_a)
+        for j in range(1, len(rs)):
+            m = int(np.clip(np.floor(slope / (rs[j] * da)), 1, 6))
+            best = np.full(n_a, -np.inf)
+            arg = idx.copy()
+            for d in range(-m, m + 1):
+                src = idx + d
+                valid = (src >= 0) & (src < n_a)
+                cand = np.where(valid, v[np.clip(src, 0, n_a - 1)], -np.inf)
+                better = cand > best
+                best = np.where(better, cand, best)
+                arg = np.where(better, src, arg)
+            v = best + s[j]
+            back[j] = arg
+        final = v / len(rs) - prior * np.abs(offs) / max(max_angle, 1e-9)
+        a = int(np.argmax(final))
+        path = np.empty(len(rs), np.int32)
+        for j in range(len(rs) - 1, -1, -1):
+            path[j] = a
+            a = back[j, a]
+        jj = np.arange(len(rs))
+        # Where the vein ends: the length (at least half the carried one)
+        # that maximises the summed score less keep_level times the score's
+        # mean over the carried length (a vein fades out; texture beyond it
+        # scores below half a vein).
+        sp = s[jj, path]
+        inner_n = max(1, int(np.searchsorted(rs, radius)))
+        tau = keep_level * max(float(sp[:inner_n].mean()), 1e-3)
+        gain = np.cumsum(sp - tau)
+        lo = int(np.searchsorted(rs, 0.5 * radius))
+        end = lo + int(np.argmax(gain[lo:])) + 1 if lo < len(rs) else len(rs)
+        jj = jj[:end]
+        path = path[:end]
+        tr = np.column_stack([px[jj, path], py[jj, path]])
+        tr = np.vstack([pivot, tr])
+        # Stop where the trace leaves the blade (a junction in the blade's
+        # notch may start just outside it).
+        tx = np.clip(np.round(tr[:, 0]).astype(int), 0, w - 1)
+        ty = np.clip(np.round(tr[:, 1]).astype(int), 0, h - 1)
+        inside = blade[ty, tx]
+        first = int(np.argmax(inside)) if inside.any() else len(tr)
+        after = ~inside[first:]
+        stop = first + int(np.argmax(after)) if after.any() else len(tr)
+        tr = tr[:max(stop, 2)]
+        out[i] = tr if np.allclose(cs[i][0], pivot) else tr[::-1]
+        stamp = np.zeros((h, w), bool)
+        d, _ = _densify(tr)
+        stamp[np.clip(np.round(d[:, 1]).astype(int), 0, h - 1), np.clip(np.round(d[:, 0]).astype(int), 0, w - 1)] = True
+        placed |= ndi.binary_dilation(stamp, iterations=int(round(overlap_px)))
     return out
