@@ -903,12 +903,12 @@ def trace_branches(chains, maps, blade, *, max_angle: float = 30.0, step_deg: fl
     Examples
     --------
     >>> import numpy as np
+    >>> def ray(deg, n):                                 # n px from the junction (40, 75)
+    ...     r = np.arange(n)[:, None]
+    ...     return np.array([40.0, 75.0]) + r * [np.cos(np.radians(deg)), np.sin(np.radians(deg))]
     >>> maps = np.zeros((16, 80, 80), np.float32)
-    >>> r = np.arange(60); a = np.radians(-70)                     # a vein at -70 degrees
-    >>> maps[:, np.round(75 + r * np.sin(a)).astype(int), np.round(40 + r * np.cos(a)).astype(int)] = 1.0
-    >>> c1 = np.column_stack([40 + r * np.cos(np.radians(-95)), 75 + r * np.sin(np.radians(-95))])
-    >>> c2 = np.column_stack([40 - r[:20], np.full(20, 75.0)])      # a second branch from the junction
-    >>> out = trace_branches([c1, c2, c2[::-1] * [1, 1] + [0, 0]], maps, np.ones((80, 80), bool))
+    >>> v = np.round(ray(-70, 60)).astype(int); maps[:, v[:, 1], v[:, 0]] = 1.0   # the exemplar's vein
+    >>> out = trace_branches([ray(-95, 60), ray(180, 20), ray(0, 20)], maps, np.ones((80, 80), bool))
     >>> tip = out[0][-1]; round(float(np.degrees(np.arctan2(tip[1] - 75, tip[0] - 40))))
     -70
     """
