@@ -344,8 +344,9 @@ def vein_system_rows(kinds=KINDS_ALL, sizes=(192, 320), seeds=range(2), n_leaves
     donor's are carried into the new leaf by the same coordinate maps the
     synthesis samples with. ``bg`` is the mean ridge response (scikit-image
     ``sato``, both polarities, sigmas 1 and 2, of the grey level) at the
-    background's vein pixels farther than 3 px from the donor's veins and
-    spots over that on plain blade (4 px from any vein or spot); ``donor``
+    background's vein pixels farther than 4 px from the donor's veins and
+    from any spot (a removed spot's rim is the spots' business) over that
+    on plain blade (4 px from any vein or spot); ``donor``
     the same at the donor's veins (the vein system the leaf should show).
     """
     from skimage.filters import sato
@@ -381,14 +382,17 @@ def vein_system_rows(kinds=KINDS_ALL, sizes=(192, 320), seeds=range(2), n_leaves
                         return _apply_coords(mask, c)
                     bg_v, bg_s = carried(gt[bg]["veins"], cbg), carried(gt[bg]["spots"], cbg)
                     d_v = carried(gt[e_v]["veins"], cv) if cv is not None else np.zeros(shape, bool)
+                    e_s = leaf.layers.get("spots", -1)
+                    cs = next((c for e, c in calls[1:] if e == e_s), None)
+                    d_s = carried(gt[e_s]["spots"], cs) if cs is not None else np.zeros(shape, bool)
                     from scipy import ndimage as ndi
                     blade = ndi.binary_erosion(leaf.image[..., 3] > 0.5, iterations=3)
                     g = leaf.image[..., :3].mean(-1)
                     r = np.maximum(sato(g, sigmas=[1, 2], black_ridges=True),
                                    sato(g, sigmas=[1, 2], black_ridges=False))
-                    donor_any = ndi.binary_dilation(d_v, iterations=4)
-                    at_bg = blade & bg_v & ~donor_any
-                    plain = blade & ~ndi.binary_dilation(bg_v | bg_s | d_v, iterations=4)
+                    others = ndi.binary_dilation(d_v | d_s | bg_s, iterations=4)
+                    at_bg = blade & bg_v & ~others
+                    plain = blade & ~ndi.binary_dilation(bg_v | bg_s | d_v | d_s, iterations=4)
                     base = float(r[plain].mean()) if plain.any() else np.nan
                     out.append(dict(kind=kind, size=size, seed=int(seed), leaf=k, background=bg, donor=e_v,
                                     bg=float(r[at_bg].mean()) / base if at_bg.any() else np.nan,
