@@ -68,14 +68,15 @@ and the polar trace; 0.69-0.75 / 0.79-0.83 before the oriented scores and
 the overlap rule; 0.67-0.75 / 0.78-0.83 before the template fit). The
 sample maples against their hand-traced veins
 (:func:`branchnb.leaves.reference.reference_veins`, ``_measure maples``),
-each maple as training leaf: mean IoU 0.57 (per training maple 0.54-0.64),
-min 0.30 with the lightness projection and the polar trace (0.44 / 0.16
+each maple as training leaf: mean IoU 0.62 (per training maple 0.58-0.69),
+min 0.29 with the lightness projection and the polar trace (0.44 / 0.16
 with the trace alone, 0.54 / 0.14 with the lightness projection alone);
 before both: mean 0.45, min 0.16 (0.39 / 0.18 with
 widths by ``2 EDT - 1``, which drew diagonal laterals one pixel wide;
 0.37 / 0.09 before the oriented scores, the overlap rule and the fine
 path; 0.34 before the template fit). The issue's target, 0.6 for every
-training maple, is met with 03 as training leaf only: maple 07 as an
+training maple, is met in the mean with 01, 02, 03 and 05 as training
+leaf (0.62-0.69) and missed with 04, 06 and 07 (0.58-0.59); maple 07 as an
 exemplar scores 0.30-0.46 (a damaged right lobe: its traced lateral
 stops, ours runs on or turns into the hole's rim), the basal veins of
 the broad maples (01, 05) curve back towards the petiole beyond the
