@@ -92,7 +92,8 @@ from scipy import ndimage as ndi
 from ..core.image import as_mask, extend_nearest
 
 __all__ = ["is_thin_layer", "contrast_direction", "ridge_evidence", "layer_branches", "snap_layer",
-           "carry_points", "snap_to_exemplars", "refine_carried", "main_branches", "fit_branches"]
+           "carry_points", "snap_to_exemplars", "refine_carried", "main_branches", "fit_branches",
+           "trace_branches"]
 
 
 def is_thin_layer(mask, *, max_width: float = 6.0) -> bool:
@@ -458,7 +459,9 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
     labs : list of (H, W, 3) ndarray
         Each exemplar's CIELAB colours, moved onto the training leaf's blade statistics.
     blades : list of (H, W) bool ndarray
+        Each exemplar's blade.
     training_index : int
+        The exemplar the user's layer is on.
     user : (H, W) bool ndarray
         The user's (thin) layer on the training leaf.
     registrations : list
@@ -466,9 +469,25 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
     tolerance : float
         The registration error to tolerate (px); the tube radius is the
         larger of ``1.5 tolerance`` and ``radius_widths`` layer widths (3 px at least).
+    radius_widths : float
+        Tube radius in layer widths (without the template fit).
+    min_evidence : float
+        A path whose mean evidence is below this is dropped (:func:`snap_layer`).
+    refine : bool
+        Without the template fit: move the branches by :func:`refine_carried` first.
+    line_frac : float
+        Length (fraction of the leaf size) of the straight segments the evidence is averaged along.
+    fit : bool
+        Place the branches by :func:`fit_branches` (two starts, the better wins).
+    fit_reach : float
+        How far (fraction of the leaf size) the template may move.
+    oriented : bool
+        Score poses by the oriented ridge response too (:func:`ridge_hessian`).
     trace : bool
-        Trace each fitted branch from its junction (:func:`trace_branches`,
-        with ``trace_kw``) before the path search.
+        Trace each fitted branch from its junction (:func:`trace_branches`)
+        before the path search.
+    trace_kw : dict, optional
+        Keyword arguments of :func:`trace_branches`.
     lightness_share : float
         Project on lightness alone when the contrast direction's lightness
         component is at least this (0 keeps the full direction).
@@ -925,6 +944,23 @@ def trace_branches(chains, maps, blade, *, max_angle: float = 30.0, step_deg: fl
     maps : (K, H, W) ndarray
         Ridge score per tangent direction ``pi k / K`` (:func:`_oriented_maps`).
     blade : (H, W) bool ndarray
+        The exemplar's blade; a trace ends where it leaves it.
+    max_angle : float
+        Largest turn (degrees) of a branch about its junction.
+    step_deg : float
+        Angular step (degrees) of the polar grid.
+    r0 : float
+        First radius (px) scored: the junction's own blob is skipped.
+    slope : float
+        Largest sideways move (px) per px outwards.
+    prior : float
+        Penalty of the final angle's deviation (over ``max_angle``) against the mean score.
+    overlap_px : float
+        Radius (px) around a traced branch the next ones avoid.
+    extend : float
+        How far out (times the carried chord) a branch may be followed.
+    keep_level : float
+        The trace ends where its score stays below this fraction of its mean.
 
     Returns
     -------
