@@ -52,6 +52,28 @@ Vein lambda 0-0.11 (0.000 on lobed 256 seed 0, a tie with the spots'
 0): the secondary veins are grown anew on every leaf, so only the
 primaries' liberal layers intersect. (Before: sub-pixel veins, equal
 channel weights: veins at 256 px min 0.31-0.55, mean 0.50-0.60.)
+
+Vein systems
+------------
+``python -m branchnb.leaves._measure veinsystems`` (:func:`vein_system_rows`):
+new leaves of 3-leaf families (true registrations), ridge response at
+the background exemplar's own true veins over plain blade. Measured (2
+seeds x 4 new leaves per kind and size, 192 / 320 px): mean 0.91 / 0.81
+lobed, 0.87 / 0.91 trilobed, 1.00 / 1.11 elliptic; single leaves up to
+1.52; at the donor's veins 2.5-6.3. The background's residual itself,
+carried the same way before any layer is pasted, scored 0.9-1.65 at
+those pixels (5 leaves, only the donor's veins left out) and shows no vein by eye (its inpainted strips are smoother
+or a shade off the blade around them), so what is left above 1 comes
+from the removal, not from pasting; the spots' removal leaves visible
+brown rims (not counted here).
+
+Maples
+------
+``python -m branchnb.leaves._measure maples``: each hand-traced sample
+maple as training leaf, TPS-RPM registrations: induced-vein IoU mean
+0.62, per training maple 0.58-0.69, min 0.29 (before the lightness
+projection and the polar trace of :mod:`branchnb.leaves.snapping`: mean
+0.45, per training maple 0.33-0.55, min 0.16).
 """
 
 from __future__ import annotations
@@ -336,9 +358,81 @@ def maple_rows(snap: bool = True):
     return out
 
 
+def vein_system_rows(kinds=KINDS_ALL, sizes=(192, 320), seeds=range(2), n_leaves: int = 3, n_new: int = 4):
+    """One vein system per new leaf: ridge response of each new leaf at its background's true veins.
+
+    True registrations, the training leaf's true veins and spots; every
+    new leaf's background exemplar's true veins (and spots) and its vein
+    donor's are carried into the new leaf by the same coordinate maps the
+    synthesis samples with. ``bg`` is the mean ridge response (scikit-image
+    ``sato``, both polarities, sigmas 1 and 2, of the grey level) at the
+    background's vein pixels farther than 4 px from the donor's veins and
+    from any spot (a removed spot's rim is the spots' business) over that
+    on plain blade (4 px from any vein or spot); ``donor``
+    the same at the donor's veins (the vein system the leaf should show).
+    """
+    from skimage.filters import sato
+
+    from .analysis import analyze
+    from .synthesis import _prepared, generate_leaf
+
+    out = []
+    for kind in kinds:
+        for size in sizes:
+            for seed in seeds:
+                fam, gt, kps, shape = _family_on_canvas(kind, size, n_leaves, seed)
+                regs = [_TrueRegistration(k, kps[0], shape) for k in kps]
+                a = analyze(fam, 0, {"veins": fam[0].layers["veins"], "spots": fam[0].layers["spots"]},
+                            registrations=regs)
+                p = _prepared(a)
+                calls = []
+                orig = p.source_coords
+
+                def spy(e, m, disp, _orig=orig, _calls=calls):
+                    c = _orig(e, m, disp)
+                    _calls.append((e, c))
+                    return c
+                p.source_coords = spy
+                for k in range(n_new):
+                    calls.clear()
+                    leaf = generate_leaf(a, 100 * int(seed) + k)
+                    bg, cbg = calls[0]
+                    e_v = leaf.layers.get("veins", -1)
+                    cv = next((c for e, c in calls[1:] if e == e_v), None)
+
+                    def carried(mask, c):
+                        return _apply_coords(mask, c)
+                    bg_v, bg_s = carried(gt[bg]["veins"], cbg), carried(gt[bg]["spots"], cbg)
+                    d_v = carried(gt[e_v]["veins"], cv) if cv is not None else np.zeros(shape, bool)
+                    e_s = leaf.layers.get("spots", -1)
+                    cs = next((c for e, c in calls[1:] if e == e_s), None)
+                    d_s = carried(gt[e_s]["spots"], cs) if cs is not None else np.zeros(shape, bool)
+                    from scipy import ndimage as ndi
+                    blade = ndi.binary_erosion(leaf.image[..., 3] > 0.5, iterations=3)
+                    g = leaf.image[..., :3].mean(-1)
+                    r = np.maximum(sato(g, sigmas=[1, 2], black_ridges=True),
+                                   sato(g, sigmas=[1, 2], black_ridges=False))
+                    others = ndi.binary_dilation(d_v | d_s | bg_s, iterations=4)
+                    at_bg = blade & bg_v & ~others
+                    plain = blade & ~ndi.binary_dilation(bg_v | bg_s | d_v | d_s, iterations=4)
+                    base = float(r[plain].mean()) if plain.any() else np.nan
+                    out.append(dict(kind=kind, size=size, seed=int(seed), leaf=k, background=bg, donor=e_v,
+                                    bg=float(r[at_bg].mean()) / base if at_bg.any() else np.nan,
+                                    donor_ratio=float(r[blade & d_v].mean()) / base if (blade & d_v).any() else np.nan))
+                p.source_coords = orig
+    return out
+
+
+def _apply_coords(mask, c):
+    import cv2
+    m = np.asarray(mask, np.float32)
+    c = np.asarray(c, np.float32)
+    return cv2.remap(m, c[..., 0], c[..., 1], cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT) > 0.5
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="python -m branchnb.leaves._measure", description=__doc__.split("\n")[0])
-    ap.add_argument("what", choices=("registration", "induction", "snapping", "maples"))
+    ap.add_argument("what", choices=("registration", "induction", "snapping", "maples", "veinsystems"))
     ap.add_argument("--no-snap", action="store_true", help="the paper's induction (no ridge snapping)")
     ap.add_argument("--kinds", default=",".join(KINDS_ALL))
     ap.add_argument("--seeds", type=int, default=None, help="number of seeds (0, 1, ...)")
@@ -354,6 +448,18 @@ def main(argv=None):
             v = np.array([r["iou"] for r in rows if (r["kind"], r["size"]) == key])
             shift = rows[[(r["kind"], r["size"]) for r in rows].index(key)]["shift"]
             print(f"{key[0]:<9} {key[1]:>4}  shift {shift:4.1f} px  min {v.min():.2f}  mean {v.mean():.2f}")
+        return
+    if args.what == "veinsystems":
+        sizes = tuple(int(s) for s in (args.sizes or "192,320").split(","))
+        rows = vein_system_rows(kinds, sizes, range(args.seeds or 2))
+        print("ridge response over plain blade in new leaves: at the background's own veins (bg, target <= 1) "
+              "and at the donor's (donor)")
+        for key in dict.fromkeys((r["kind"], r["size"]) for r in rows):
+            rs = [r for r in rows if (r["kind"], r["size"]) == key]
+            bgs = np.array([r["bg"] for r in rs])
+            print(f"{key[0]:<9} {key[1]:>4}  bg " + " ".join(f"{x:.2f}" for x in bgs)
+                  + f"  mean {np.nanmean(bgs):.2f} max {np.nanmax(bgs):.2f}"
+                  + f"  donor mean {np.nanmean([r['donor_ratio'] for r in rs]):.2f}")
         return
     if args.what == "maples":
         rows = maple_rows(snap=not args.no_snap)
