@@ -311,8 +311,9 @@ def _outlet_ends(structure: Structure, dist: np.ndarray, side: np.ndarray, bound
     Such a tree is an outlet: rooted inland, it would teach synthesis to grow rivers that
     float inland and never reach the coast. A tree rooted inland or at the image frame with
     exactly one branch end at the region boundary is taken as that kind; one with several ends
-    there (a delta's trunk, whose distributaries end at the sea) or none (a lake's river) is
-    left as it is."""
+    there drains at the one nearest the boundary when at least two thirds of the trees drain at
+    the boundary (two rivers joined at a source), and is left as it is otherwise (a delta's
+    trunk, whose distributaries end at the sea); one with none (a lake's river) is left as it is."""
     h, w = dist.shape
 
     def px(p):
@@ -333,13 +334,20 @@ def _outlet_ends(structure: Structure, dist: np.ndarray, side: np.ndarray, bound
         while br[j].parent is not None and seen <= len(br):
             j, seen = br[j].parent, seen + 1
         tree.setdefault(j, []).append(i)
-    out = {}
+    out, several = {}, {}
     for i in inland:
         ends = [np.asarray(br[m].points, float) for m in tree.get(i, []) if len(br[m].points) >= 2]
         ends = [pts for pts, m in zip(ends, tree.get(i, []))
                 if at_edge(pts[-1], float(br[m].thickness[-1]))]
         if len(ends) == 1:
             out[id(br[i])] = ends[0][::-1]
+        elif ends:
+            several[id(br[i])] = min(ends, key=lambda q: float(dist[px(q[-1])]))[::-1]
+    # several ends at the edge: two rivers the tracer joined at a source, when (almost) every other
+    # tree of the example drains at the edge (in a delta, where the trunk comes from inland, not)
+    n_roots = sum(b.parent is None and len(b.points) >= 2 for b in br)
+    if several and n_roots - len(inland) + len(out) >= 2 / 3 * n_roots:
+        out.update(several)
     return out
 
 
