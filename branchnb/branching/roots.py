@@ -230,6 +230,16 @@ def fit_roots(structure: Structure, domain: np.ndarray | None = None, shape=None
         of the coast line; by default a root up to 1.5 x that far counts too
         when it is within 15 % of the domain's deepest point's depth).
 
+    Notes
+    -----
+    Going beyond the paper, which roots every tree where its root branch
+    starts: with a ``domain`` that has an edge inside the image (a map's
+    coast), a tree rooted inland or at the frame whose branches reach that
+    edge at one end is learnt as rooted at that end, heading back along its
+    branch (see :func:`outlet_starts`): a tracer that split a drawn river
+    network at its junctions roots some rivers at a source, and learnt as
+    such they grew rivers floating inland that never met the coast.
+
     Examples
     --------
     >>> from branchnb.core.structure import Branch, Structure
