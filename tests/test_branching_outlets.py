@@ -94,3 +94,54 @@ def test_no_sea_in_the_land_where_the_example_has_none():
     out = synthesize_image(img, ex, res, rng=0)
     sea_out = out.labels != np.bincount(out.labels[dom]).argmax()
     assert not sea_out[:30, :30][land[:30, :30]].any()
+
+
+def test_a_river_traced_from_its_source_is_an_outlet():
+    # land above y = 50; tree 0 rooted at its source with a child reaching the coast, tree 1 at the
+    # coast already, tree 2 a delta-like trunk with two ends at the coast (left as it is)
+    from branchnb.branching.roots import fit_roots, outlet_starts
+
+    dom = np.zeros((100, 100), bool)
+    dom[:50] = True
+    s = Structure([Branch([(20, 10), (20, 25), (20, 30)], 1.0),
+                   Branch([(20, 25), (12, 36), (10, 48)], 1.0, parent=0, parent_vertex=1),
+                   Branch([(50, 49), (50, 20)], 1.0),
+                   Branch([(80, 20), (80, 30)], 1.0),
+                   Branch([(80, 30), (72, 48)], 1.0, parent=3, parent_vertex=1),
+                   Branch([(80, 30), (88, 48)], 1.0, parent=3, parent_vertex=1)], image_shape=(100, 100))
+    starts = outlet_starts(s, dom)
+    assert starts[0].tolist() == [10.0, 48.0] and starts[1].tolist() == [50.0, 49.0]
+    # two of three trees drain at the coast: the third, with two ends there, is two joined rivers
+    assert starts[2].tolist() in ([72.0, 48.0], [88.0, 48.0])
+    rm = fit_roots(s, dom)
+    assert rm.sides.tolist() == [4, 4, 4]
+    assert rm.depth[0] <= 2.0 and rm.directions[0] < 0   # heads up, into the land
+    # alone, that tree is a delta: its trunk comes from inland and stays its root
+    delta = Structure(s.branches[3:4] + [Branch(b.points, b.thickness, 0, 1) for b in s.branches[4:]],
+                      image_shape=(100, 100))
+    assert outlet_starts(delta, dom)[0].tolist() == [80.0, 20.0]
+    assert fit_roots(delta, dom).sides.tolist() == [5]
+
+
+@pytest.mark.parametrize("layout,size,seed", [("island", 256, 3), ("coast", 256, 1), ("island", 320, 1)])
+def test_synthesized_map_rivers_reach_the_coast(layout, size, seed):
+    img, _s, _land = country_map_example((size, size), seed, layout=layout)
+    ex = extract_structure(img)
+    res = synthesize_structure(fit_model(ex, domain=example_domain(img, ex)), rng=0)
+    out = synthesize_image(img, ex, res, rng=0)
+    land = out.labels == np.bincount(out.labels[res.domain]).argmax()
+    dark = out.image.max(-1) < 0.35
+    coast = dark & ndi.binary_dilation(land & ndi.binary_dilation(~land), iterations=3)
+    coast[:2] = coast[-2:] = False
+    coast[:, :2] = coast[:, -2:] = False
+    lab, _n = ndi.label(dark, np.ones((3, 3)))
+    on_coast = set(np.unique(lab[coast]).tolist()) - {0}
+    s = res.structure
+    for i, b in enumerate(s.branches):
+        if b.parent is not None:
+            continue
+        x, y = np.clip(np.rint(b.points[0]).astype(int), 0, size - 1)
+        if min(x, y, size - 1 - x, size - 1 - y) < 4:
+            continue                              # a river coming in from beyond the frame
+        # the drawn river around its root is one piece with the coast line
+        assert lab[y, x] in on_coast, (i, x, y)

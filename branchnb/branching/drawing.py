@@ -25,6 +25,7 @@ from scipy import ndimage as ndi
 
 from ..core.render import coverage_polylines
 from ..core.structure import Branch, Structure
+from .roots import outlet_starts
 from .skeleton_map import PixelMap
 
 __all__ = ["DrawingStyle", "draw_in_style", "drawing_style"]
@@ -153,14 +154,17 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
         d_out = ndi.distance_transform_edt(inside)
         h, w = lay.shape
         lim = max(12.0, 0.015 * float(np.hypot(h, w)))
-        reach = _boundary_reach([d_out[_pixel(b.points[0], w, h)] for b in structure.branches
-                                 if b.parent is None], lim)
+        # a tree the tracer rooted at a source drains where its one branch end at the boundary is
+        # (see roots.outlet_starts): that end is its mouth, no free end running into the sea
+        mouths = outlet_starts(structure, inside)
+        reach = _boundary_reach([d_out[_pixel(q, w, h)] for q in mouths], lim)
+        mouth_px = {_pixel(q, w, h) for q in mouths}
         # free branch ends (not running into another branch, not at the frame) that end at the
         # boundary: a delta's distributaries
         ends = []
         for i, b in enumerate(structure.branches):
             x, y = b.points[-1]
-            if min(x, y, w - 1 - x, h - 1 - y) < 2:
+            if min(x, y, w - 1 - x, h - 1 - y) < 2 or _pixel(b.points[-1], w, h) in mouth_px:
                 continue
             others = pm.branch != i
             rad = 2.0 * float(b.thickness[-1]) + 2.0
@@ -195,9 +199,15 @@ def _boundary_reach(depths, lim: float, share: float = 0.5) -> float:
     return float(min(max(np.max(d[d <= lim]) * 1.5 + 2, lim), 3 * lim))
 
 
-def _extend_to(points: np.ndarray, inside: np.ndarray, d_out: np.ndarray, reach: float):
+def _extend_to(points: np.ndarray, inside: np.ndarray, d_out: np.ndarray, reach: float, nearest=None):
     """Point where the ray back from ``points[0]`` (away from ``points[1:]``) leaves ``inside``,
-    when ``points[0]`` lies inside within ``reach`` of its boundary; else None."""
+    when ``points[0]`` lies inside within ``reach`` of its boundary; else None.
+
+    ``nearest``: (2, H, W) row and column of the nearest pixel outside ``inside`` (the indices of
+    its distance transform). Going beyond a straight continuation: when the ray runs along the
+    boundary instead (a river whose first steps follow the coast), the end is joined to that
+    nearest outside pixel, no farther than ``reach`` (a mouth that never met its coast line
+    would float inland)."""
     h, w = inside.shape
     iy, ix = _pixel(points[0], w, h)
     if d_out[iy, ix] > reach or not inside[iy, ix] or len(points) < 2:
@@ -213,7 +223,12 @@ def _extend_to(points: np.ndarray, inside: np.ndarray, d_out: np.ndarray, reach:
     ix = np.clip(np.rint(ray[:, 0]).astype(int), 0, w - 1)
     iy = np.clip(np.rint(ray[:, 1]).astype(int), 0, h - 1)
     leave = np.flatnonzero(~inside[iy, ix])
-    return ray[leave[0]] if len(leave) else None
+    if len(leave):
+        return ray[leave[0]]
+    if nearest is None:
+        return None
+    y0, x0 = _pixel(points[0], w, h)
+    return np.array([nearest[1][y0, x0], nearest[0][y0, x0]], np.float64)
 
 
 def _trim_tail(points: np.ndarray, r: np.ndarray, d_out: np.ndarray, clear: float, keep: int):
@@ -238,7 +253,7 @@ def _to_outlets(structure: Structure, inside: np.ndarray, reach: float, tip_reac
     ``clear`` (a river's source a pixel from the coast line would read as a broken mouth)."""
     if reach <= 0 and tip_reach <= 0 and clear <= 0:
         return structure
-    d_out = ndi.distance_transform_edt(inside)
+    d_out, nearest = ndi.distance_transform_edt(inside, return_indices=True)
     last_child = {}
     for b in structure.branches:
         if b.parent is not None:
@@ -249,7 +264,7 @@ def _to_outlets(structure: Structure, inside: np.ndarray, reach: float, tip_reac
         if tip_reach <= 0 < clear and len(pts) > 2:
             pts, r = _trim_tail(pts, r, d_out, clear, last_child.get(i, 0))
         if reach > 0 and b.parent is None:
-            tip = _extend_to(pts, inside, d_out, reach)
+            tip = _extend_to(pts, inside, d_out, reach, nearest)
             if tip is not None:
                 pts, r = np.vstack([tip, pts]), np.r_[r[0], r]
         if tip_reach > 0:

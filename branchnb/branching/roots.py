@@ -29,7 +29,7 @@ from scipy import ndimage as ndi
 from ..core.random import as_rng
 from ..core.structure import Structure
 
-__all__ = ["RootModel", "boundary_frame", "fit_roots"]
+__all__ = ["RootModel", "boundary_frame", "fit_roots", "outlet_starts"]
 
 _SIDES = ("top", "bottom", "left", "right", "region", "inside")
 #: Start places considered per root (a random subset of the band on big domains).
@@ -230,6 +230,16 @@ def fit_roots(structure: Structure, domain: np.ndarray | None = None, shape=None
         of the coast line; by default a root up to 1.5 x that far counts too
         when it is within 15 % of the domain's deepest point's depth).
 
+    Notes
+    -----
+    Going beyond the paper, which roots every tree where its root branch
+    starts: with a ``domain`` that has an edge inside the image (a map's
+    coast), a tree rooted inland or at the frame whose branches reach that
+    edge at one end is learnt as rooted at that end, heading back along its
+    branch (see :func:`outlet_starts`): a tracer that split a drawn river
+    network at its junctions roots some rivers at a source, and learnt as
+    such they grew rivers floating inland that never met the coast.
+
     Examples
     --------
     >>> from branchnb.core.structure import Branch, Structure
@@ -250,22 +260,23 @@ def fit_roots(structure: Structure, domain: np.ndarray | None = None, shape=None
     h, w = dom.shape
     dist, nx, ny, side = boundary_frame(dom)
     roots = [b for b in structure.branches if b.parent is None and len(b.points) >= 2]
+    region = domain is not None and dom.any() and not dom.all()
+    outlets = _outlet_ends(structure, dist, side, boundary_distance) if region else {}
     sides, offs, dirs, pos, depth = [], [], [], [], []
     for b in roots:
-        x, y = b.points[0]
+        if id(b) in outlets:
+            # the tree's mouth is the end of one of its branches, not its root (see _outlet_ends)
+            pts = outlets[id(b)]
+        else:
+            pts = b.points
+        x, y = pts[0]
         ix, iy = int(np.clip(round(x), 0, w - 1)), int(np.clip(round(y), 0, h - 1))
         # initial direction over the first ~12 px
-        arc = np.r_[0.0, np.cumsum(np.hypot(*np.diff(b.points, axis=0).T))]
-        k = int(np.clip(np.searchsorted(arc, 12.0), 1, len(b.points) - 1))
-        d = b.points[k] - b.points[0]
+        arc = np.r_[0.0, np.cumsum(np.hypot(*np.diff(pts, axis=0).T))]
+        k = int(np.clip(np.searchsorted(arc, 12.0), 1, len(pts) - 1))
+        d = pts[k] - pts[0]
         ang = float(np.arctan2(d[1], d[0]))
-        # a drawn map's rivers stop short of the coast line (its ink, the extraction's margin)
-        lim = boundary_distance if boundary_distance is not None else \
-            max(12.0, 4.0 * float(b.thickness[0]), 0.015 * float(np.hypot(h, w)))
-        # a mouth a little past that limit is still a mouth when it is shallow for the domain
-        # (its deepest point far inland): 12.4 px short of a bay's coast is no inside root
-        on_boundary = dist[iy, ix] <= lim or (boundary_distance is None and
-                                              dist[iy, ix] <= min(1.5 * lim, 0.15 * float(dist.max())))
+        on_boundary = _on_boundary(float(dist[iy, ix]), float(b.thickness[0]), dist, boundary_distance)
         sides.append(int(side[iy, ix]) if on_boundary else 5)
         inward = float(np.arctan2(ny[iy, ix], nx[iy, ix]))
         offs.append(float(np.angle(np.exp(1j * (ang - inward)))))
@@ -284,3 +295,89 @@ def fit_roots(structure: Structure, domain: np.ndarray | None = None, shape=None
     offs_a = np.clip(np.array(offs, float), -1.4, 1.4)
     return RootModel(len(roots), np.array(sides, np.int64), offs_a, np.array(dirs, float), pos_a,
                      np.array(depth, float), spacing, np.array([b.length for b in roots], float))
+
+
+def _limit(r0: float, shape, boundary_distance) -> float:
+    """How close to the boundary a root starts when it is a boundary root (see :func:`fit_roots`)."""
+    h, w = shape
+    return boundary_distance if boundary_distance is not None else \
+        max(12.0, 4.0 * r0, 0.015 * float(np.hypot(h, w)))
+
+
+def _on_boundary(d: float, r0: float, dist: np.ndarray, boundary_distance) -> bool:
+    # a drawn map's rivers stop short of the coast line (its ink, the extraction's margin)
+    lim = _limit(r0, dist.shape, boundary_distance)
+    # a mouth a little past that limit is still a mouth when it is shallow for the domain
+    # (its deepest point far inland): 12.4 px short of a bay's coast is no inside root
+    return d <= lim or (boundary_distance is None and d <= min(1.5 * lim, 0.15 * float(dist.max())))
+
+
+def _outlet_ends(structure: Structure, dist: np.ndarray, side: np.ndarray, boundary_distance) -> dict:
+    """Trees rooted inland whose mouth is the end of one of their branches: ``{id(root): points}``,
+    the points of that branch from its end back (the way the river flows out, reversed).
+
+    Going beyond the paper: a tracer that splits a drawn river network at its junctions
+    may root a tree at a source and reach the coast with a child (or the root's own far end).
+    Such a tree is an outlet: rooted inland, it would teach synthesis to grow rivers that
+    float inland and never reach the coast. A tree rooted inland or at the image frame with
+    exactly one branch end at the region boundary is taken as that kind; one with several ends
+    there drains at the one nearest the boundary when at least two thirds of the trees drain at
+    the boundary (two rivers joined at a source), and is left as it is otherwise (a delta's
+    trunk, whose distributaries end at the sea); one with none (a lake's river) is left as it is."""
+    h, w = dist.shape
+
+    def px(p):
+        x, y = np.clip(np.rint(np.asarray(p, float)).astype(int), 0, [w - 1, h - 1])
+        return y, x
+
+    def at_edge(p, r):   # within reach of the region's edge (side 4), not of the frame
+        return side[px(p)] == 4 and _on_boundary(float(dist[px(p)]), r, dist, boundary_distance)
+
+    br = structure.branches
+    inland = [i for i, b in enumerate(br) if b.parent is None and len(b.points) >= 2
+              and not at_edge(b.points[0], float(b.thickness[0]))]
+    if not inland:
+        return {}
+    tree = {}
+    for i in range(len(br)):
+        j, seen = i, 0
+        while br[j].parent is not None and seen <= len(br):
+            j, seen = br[j].parent, seen + 1
+        tree.setdefault(j, []).append(i)
+    out, several = {}, {}
+    for i in inland:
+        ends = [np.asarray(br[m].points, float) for m in tree.get(i, []) if len(br[m].points) >= 2]
+        ends = [pts for pts, m in zip(ends, tree.get(i, []))
+                if at_edge(pts[-1], float(br[m].thickness[-1]))]
+        if len(ends) == 1:
+            out[id(br[i])] = ends[0][::-1]
+        elif ends:
+            several[id(br[i])] = min(ends, key=lambda q: float(dist[px(q[-1])]))[::-1]
+    # several ends at the edge: two rivers the tracer joined at a source, when (almost) every other
+    # tree of the example drains at the edge (in a delta, where the trunk comes from inland, not)
+    n_roots = sum(b.parent is None and len(b.points) >= 2 for b in br)
+    if several and n_roots - len(inland) + len(out) >= 2 / 3 * n_roots:
+        out.update(several)
+    return out
+
+
+def outlet_starts(structure: Structure, domain: np.ndarray) -> list[np.ndarray]:
+    """Where every tree of ``structure`` drains: its root's first point, or for a tree rooted
+    inland with exactly one branch end at the boundary of ``domain`` ((H, W) bool), that end
+    (see :func:`fit_roots`); one (x, y) point per root, in the order of the roots.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from branchnb.core.structure import Branch, Structure
+    >>> dom = np.zeros((60, 60), bool); dom[:50] = True       # sea below y = 50
+    >>> s = Structure([Branch([(30, 10), (30, 48)], 1.0)], image_shape=(60, 60))
+    >>> [p.tolist() for p in outlet_starts(s, dom)]           # rooted at its source: the mouth
+    [[30.0, 48.0]]
+    """
+    dom = np.asarray(domain, bool)
+    dist, _nx, _ny, side = boundary_frame(dom)
+    region = dom.any() and not dom.all()
+    outlets = _outlet_ends(structure, dist, side, None) if region else {}
+    return [np.asarray(outlets[id(b)][0] if id(b) in outlets else b.points[0], float)
+            for b in structure.branches if b.parent is None]

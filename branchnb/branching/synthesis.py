@@ -64,7 +64,7 @@ from .furcation import FurcationModel, vertex_angles, window_features
 from .guidance import Guidance
 from .histogram_matching import HistogramMatcher, histogram_distances
 from .params import SynthesisParams
-from .roots import RootModel, fit_roots
+from .roots import RootModel, fit_roots, outlet_starts
 
 __all__ = [
     "CandidateScores",
@@ -389,8 +389,13 @@ def _drains(ex: Structure, domain: np.ndarray | None) -> bool:
         return depth[y, x]
 
     kids = {b.parent for b in ex.branches}
-    roots = [at(b.points[0]) for b in ex.branches if b.parent is None]
-    tips = [at(b.points[-1]) for i, b in enumerate(ex.branches) if i not in kids]
+    # a tree rooted at a source whose one end at the coast is its mouth drains there (a river map
+    # traced the wrong way round, see roots.outlet_starts), its mouth is no tip
+    mouths = outlet_starts(ex, domain)
+    roots = [at(q) for q in mouths]
+    mouth_px = {tuple(np.rint(q).astype(int)) for q in mouths}
+    tips = [at(b.points[-1]) for i, b in enumerate(ex.branches)
+            if i not in kids and tuple(np.rint(b.points[-1]).astype(int)) not in mouth_px]
     return bool(roots and tips and np.median(roots) > 0.3 * deepest
                 and np.mean(np.asarray(tips) < 0.1 * deepest) >= 1 / 3)
 
