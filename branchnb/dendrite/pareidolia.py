@@ -178,6 +178,13 @@ class PareidoliaParams:
         Blur (lattice px) over which the ink is matched to the picture's
         tone; 5 (a few times the twigs' spacing, so the strokes' widths fill
         the gaps between them).
+    contrast : float
+        Beyond the paper: the picture's darkness inside the crown is
+        stretched so its 1st-99th percentiles span black to white (gain at
+        most 5) before the tone match; 1 (0 keeps the picture's own tone).
+        The branches' texture adds the same noise to every picture, so a
+        low-contrast one (mid-grey fur) drowned in it: tone r at 4 px blur
+        on 1000-px pictures 0.61-0.84 -> 0.76-0.84.
 
     Examples
     --------
@@ -240,6 +247,9 @@ class PareidoliaParams:
                              help="largest grown lattice (the time grows with its area)")
     tone_sigma: float = param(5.0, min=0.5, max=20.0, step=0.5,
                               help="blur (lattice px) over which the ink is matched to the picture")
+    contrast: float = param(1.0, min=0.0, max=1.0, step=0.05,
+                            help="stretch the picture's tone in the crown to the full range (1) "
+                                 "or keep it (0)")
 
 
 @dataclass
@@ -584,6 +594,7 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
         crown[:hi] = content_crown(imp[:hi], blur=p.crown_blur, outline=tree_crown((hi, w), rng=rng))
     else:
         crown = crown_mask((h, w), tp)
+    dark = _stretch(dark, crown, p.contrast)
     if p.side == "full":
         noise = np.full((h, w), p.noise_image)
         img_side = np.ones((h, w), bool)
@@ -688,6 +699,47 @@ def _taper_ends(d: Dendrite, width: np.ndarray, dist: np.ndarray, taper: float) 
     return out
 
 
+def _tone_matcher(d: Dendrite, dark: np.ndarray, sigma: float, strength: float,
+                  black: float = 0.7):
+    """:func:`~branchnb.dendrite.thickness.tone_thickness` for repeated use on one tree:
+    the target is blurred once, and the blurs run on a grid ``f = sigma // 2.5`` times
+    coarser (block sums; a Gaussian of ``sigma / f``), 4-8x faster on a grown lattice
+    for the same widths within a few per cent. Returns ``match(width, lo, hi, iterations)``."""
+    h, w = d.shape
+    f = max(1, int(sigma // 2.5))
+    hs, ws = -(-h // f), -(-w // f)
+    ys, xs = np.divmod(d.nodes, w)
+    cell = (ys // f) * ws + xs // f
+    pad = np.pad(np.clip(dark, 0.0, 1.0), ((0, hs * f - h), (0, ws * f - w)), mode="edge")
+    target = ndimage.gaussian_filter(_shrink(pad, f), sigma / f)
+    need = -np.log1p(-np.clip(black * target, 0.0, 0.95)).ravel()[cell]
+    has = d.parent >= 0
+    seg = np.zeros(d.n_nodes)
+    step = d.points[has] - d.points[d.parent[has]]
+    seg[has] = np.hypot(step[:, 0], step[:, 1])
+    tiny = 1e-4
+
+    def match(width, lo, hi, iterations=4):
+        width = np.asarray(width, np.float64)
+        for _ in range(iterations):
+            ink = np.bincount(cell, weights=width * seg, minlength=hs * ws).reshape(hs, ws)
+            have = ndimage.gaussian_filter(ink / (f * f), sigma / f).ravel()[cell]
+            width = np.clip(width * ((need + tiny) / (have + tiny)) ** strength, lo, hi)
+        return width
+
+    return match
+
+
+def _stretch(dark: np.ndarray, crown: np.ndarray, contrast: float) -> np.ndarray:
+    """The darkness stretched so its 1st-99th percentiles in the crown span [0, 1]
+    (gain at most 5), blended with the original by ``contrast``."""
+    if contrast <= 0 or not crown.any():
+        return dark
+    lo, hi = np.percentile(dark[crown], [1.0, 99.0])
+    full = np.clip((dark - lo) / max(hi - lo, 0.2), 0.0, 1.0)
+    return ((1.0 - contrast) * dark + contrast * full).astype(np.float32)
+
+
 def _thickness(d: Dendrite, p: PareidoliaParams, imp, dark, crown, n_trunk: int) -> Dendrite:
     """Pipe model + importance emphasis; tone-matched under a limb cap inside the crown;
     tapered twig ends."""
@@ -716,14 +768,12 @@ def _thickness(d: Dendrite, p: PareidoliaParams, imp, dark, crown, n_trunk: int)
     cap = np.maximum(p.max_width, width * np.exp(-from_fork / p.limb_length))
     floor = np.minimum(width * np.exp(-from_fork / p.limb_length), cap)
     w_tone = width
+    match = _tone_matcher(d, dark, p.tone_sigma, p.tone)
     for _ in range(_TONE_ROUNDS if p.taper > 0 else 1):
         # the tone match thickens a dark region's twig ends as much as their bodies (more:
         # less ink around an end): taper them again and match again, so the ink taken
         # from the ends goes back into the bodies
-        toned = tone_thickness(d.with_radius(w_tone / 2), dark, sigma=p.tone_sigma,
-                               min_width=p.tip_width * 0.4, max_width=float(cap.max()),
-                               strength=p.tone)
-        w_tone = np.clip(2.0 * toned.radius, floor, cap)
+        w_tone = np.clip(match(w_tone, p.tip_width * 0.4, float(cap.max())), floor, cap)
         if p.taper > 0:
             w_tone = _taper_ends(d, w_tone, dist, p.taper)
     # a slight flare at the foot of the trunk
