@@ -624,7 +624,7 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
     upper = crown & (np.arange(h)[:, None] < top.min() + 0.8 * (top.max() - top.min() + 1))
     limb_ends = _coarse_points(lambda f: stipple(_shrink(upper.astype(float), f),
                                                  p.trunk_endpoints, iterations=15, rng=rng),
-                               upper, coarse, rng)
+                               upper, 2 * coarse, rng)  # 9 points: a coarse grid will do
     lat = Lattice(node_weights(cost, epsilon=p.epsilon, noise=noise, rng=rng))
     d = build_dendrite(plan(lat, seeds.reshape(h, w), metric="cumulative"), limb_ends,
                        base=trunk, radius=p.tip_width / 2, iteration=1)
@@ -730,7 +730,7 @@ def _refine_tone(d: Dendrite, dark: np.ndarray, bounds: dict, s: float,
     2000-px picture planned at 1024, and cannot see that round caps, overlaps and the
     smoothing put ink elsewhere than its model; this pass can.
     """
-    from ..core.render import coverage_polylines
+    from ..core.render import _rasterise
 
     inside = bounds["inside"]
     if not inside.any():
@@ -746,20 +746,28 @@ def _refine_tone(d: Dendrite, dark: np.ndarray, bounds: dict, s: float,
     cap = np.maximum(bounds["cap"] * s, width)
     smooth = 3  # render()'s default
     h, w = d.shape
-    pts = np.rint(d.smoothed_points(smooth)).astype(int)
-    row, col = np.clip(pts[:, 1], 0, h - 1), np.clip(pts[:, 0], 0, w - 1)
+    at = np.rint(d.smoothed_points(smooth)).astype(int)
+    row, col = np.clip(at[:, 1], 0, h - 1), np.clip(at[:, 0], 0, w - 1)
     target = ndimage.gaussian_filter(np.asarray(dark, np.float64), _REFINE_SIGMA)[row, col]
-    lines = d.polylines(smooth)
+    pts = d.smoothed_points(smooth)
+    has = np.flatnonzero(d.parent >= 0)
+    par = d.parent[has]
     gain = None
     for _ in range(p.refine):
-        cov, _ = coverage_polylines((h, w), lines, [width[b] for b in d.branches])
+        # the segments render() draws (each branch's consecutive nodes = every node and
+        # its parent), packed directly: checking ~50,000 polylines one by one took longer
+        # than drawing them
+        r = 0.5 * width
+        segs = np.column_stack([pts[par], r[par], pts[has], r[has]])
+        cov = np.zeros((h, w), np.float32)
+        _rasterise(segs, np.zeros(len(segs), np.int64), h, w, cov, np.full((h, w), -1, np.int64))
         have = ndimage.gaussian_filter(cov.astype(np.float64), _REFINE_SIGMA)[row, col]
         if gain is None:  # keep the crown's ink: only where it goes changes
             gain = have[inside].mean() / max(target[inside].mean(), 1e-6)
         ratio = np.clip((gain * target + 1e-3) / (have + 1e-3), 0.5, 2.0) ** _REFINE_GAIN
         width = np.where(inside, np.clip(width * ratio, np.maximum(lo, floor), cap), width)
     if p.taper > 0:
-        width = _taper_ends(d, width, d.tip_distance(), p.taper * s)
+        width = _taper_ends(d, width, bounds["dist"] * s, p.taper * s)
     return d.with_radius(width / 2)
 
 
@@ -849,5 +857,5 @@ def _thickness(d: Dendrite, p: PareidoliaParams, imp, dark, crown, n_trunk: int,
     if p.taper > 0:
         out = _taper_ends(d, out, dist, p.taper)
     if bounds is not None:  # what the output-resolution pass may change, and how far
-        bounds.update(inside=inside, floor=floor, cap=cap)
+        bounds.update(inside=inside, floor=floor, cap=cap, dist=dist)
     return d.with_radius(out / 2)
