@@ -48,8 +48,15 @@ face, a grey ramp and flat coloured objects at 1000 / 2000 px (with
 0.83 0.61 0.83 0.84 0.74 0.73 / 0.76 0.50 0.78 0.76 0.58 0.61, at about twice
 the time (5-11 s at 1000 px, 10-17 s at 2000 px on a shared 2-core machine).
 Past ``max_lattice`` x ``max_upscale`` px the lattice stops growing (for
-the time) and r falls again with the size; a low-contrast picture (the cat,
-mid-grey fur upscaled from 451 px) stays below 0.7.
+the time), so two steps beyond the paper keep the tone at any size:
+``contrast`` stretches the picture's tone in the crown (the branches' texture
+drowned a low-contrast picture, the cat's mid-grey fur), and ``refine``
+matches the tone again on the drawing itself at the output's resolution (the
+strokes' real coverage, blurred over 3 output px, within the lattice pass's
+limits, limbs untouched). On the same six pictures r at 4 px blur went to
+0.84 0.81 0.85 0.91 0.88 0.90 (1000 px) and 0.81 0.70 0.80 0.85 0.81 0.75
+(2000 px), with the tone match's blurs on a coarser grid and the refine pass
+drawn without per-branch checks: 2-5 s of CPU at 1000 px, 5-6 s at 2000 px.
 
 Twig ends taper everywhere: after the tone match, the last ``taper`` px of a
 branch are never wider than the branch ``taper`` px back times a profile that
@@ -724,8 +731,8 @@ def _refine_tone(d: Dendrite, dark: np.ndarray, bounds: dict, s: float,
     (smoothed, anti-aliased, overlapping), blur it and the picture's darkness over
     ``_REFINE_SIGMA`` output px, and scale the width of every crown node by the ratio
     (damped, at most 2x either way), within the lattice pass's floor and cap
-    (``s`` output px per lattice px; limbs thin to half their floor at most) so limbs
-    stay limbs; the crown's mean ink stays.
+    (``s`` output px per lattice px; the limbs keep their floor) so limbs stay limbs;
+    the crown's mean ink stays.
     The lattice pass matches tone over ``tone_sigma`` lattice px, 10 output px on a
     2000-px picture planned at 1024, and cannot see that round caps, overlaps and the
     smoothing put ink elsewhere than its model; this pass can.
@@ -737,12 +744,13 @@ def _refine_tone(d: Dendrite, dark: np.ndarray, bounds: dict, s: float,
         return d
     width = 2.0 * d.radius
     lo = np.minimum(p.tip_width * 0.4 * s, width)
-    # limbs (a floor of at least 0.3 x the trunk's width at the fork) may thin to half the
-    # lattice pass's floor; twigs to the tip width (the lattice floor kept the twigs near
-    # the fork at their pipe + emphasis width: tone r at 4 px blur 0.68 instead of 0.79 on
-    # flat coloured objects at 2000 px)
+    # limbs (a floor of at least 0.3 x the trunk's width at the fork) keep the lattice
+    # pass's floor; twigs may thin to the tip width (the lattice floor kept the twigs near
+    # the fork at their pipe + emphasis width: tone r at 4 px blur 0.68 instead of 0.75 on
+    # flat coloured objects at 2000 px; half the floor on the limbs too gave 0.79, but the
+    # limbs faded into the crown)
     f = bounds["floor"]
-    floor = np.minimum(np.where(f >= 0.3 * bounds["cap"].max(), 0.5 * f, 0.0) * s, width)
+    floor = np.minimum(np.where(f >= 0.3 * bounds["cap"].max(), f, 0.0) * s, width)
     cap = np.maximum(bounds["cap"] * s, width)
     smooth = 3  # render()'s default
     h, w = d.shape
