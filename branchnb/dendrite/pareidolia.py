@@ -54,9 +54,10 @@ drowned a low-contrast picture, the cat's mid-grey fur), and ``refine``
 matches the tone again on the drawing itself at the output's resolution (the
 strokes' real coverage, blurred over 3 output px, within the lattice pass's
 limits, limbs untouched). On the same six pictures r at 4 px blur went to
-0.84 0.81 0.85 0.91 0.88 0.90 (1000 px) and 0.81 0.70 0.80 0.85 0.81 0.75
+0.84 0.76 0.84 0.87 0.87 0.84 (1000 px) and 0.79 0.70 0.79 0.81 0.81 0.75
 (2000 px), with the tone match's blurs on a coarser grid and the refine pass
-drawn without per-branch checks: 2-5 s of CPU at 1000 px, 5-6 s at 2000 px.
+drawn without per-branch checks: 2-4 s of CPU at 1000 px, 4.5-7 s at 2000 px.
+The cat at 2000 px (upscaled 4.4x from 451 px) is just at 0.7.
 
 Twig ends taper everywhere: after the tone match, the last ``taper`` px of a
 branch are never wider than the branch ``taper`` px back times a profile that
