@@ -8,6 +8,8 @@ and a drawn fish (black outline, grey body, faint scale circles) on white.
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 from scipy import ndimage
@@ -349,3 +351,44 @@ def test_pareidolia_lattice_grows_on_large_pictures():
     r = pareidolia_tree(img, PareidoliaParams(n_endpoints=40, iterations=2, lattice_size=64,
                                               max_lattice=192), rng=0)
     assert r.importance.shape[1] == 192 and len(r.endpoints_image) == round(40 * 256 / 192 * 9)
+
+
+def test_pareidolia_low_contrast_picture_is_stretched():
+    # mid-grey fur (darkness 0.4-0.6) drowned in the branches' texture: tone r at 4 px
+    # blur 0.61 on a 1000-px cat photo; stretched to the full range it reads (0.76)
+    yy, xx = np.mgrid[0:96, 0:96]
+    img = 0.45 + 0.15 * (xx > 48) + 0.05 * ((yy - 48) ** 2 + (xx - 30) ** 2 < 150)
+    p = PareidoliaParams(n_endpoints=300, iterations=3, lattice_size=0, refine=0)
+    ink = {}
+    for c in (0.0, 1.0):
+        t = pareidolia_tree(img, dataclasses.replace(p, contrast=c), rng=0)
+        out = 1.0 - as_gray(t.render().image)[:96]
+        ink[c] = out[:, 56:90].mean() / out[:, 6:40].mean()  # light half over dark half
+    assert ink[1.0] < 0.75 * ink[0.0]
+    from branchnb.dendrite.pareidolia import _stretch
+
+    dark = 1.0 - img.astype(np.float32)
+    s = _stretch(dark, np.ones_like(dark, bool), 1.0)
+    assert s.min() == 0.0 and s.max() > 0.7  # 0.2 of range stretched to 0.75 (gain 5 at most)
+    flat = _stretch(np.full((8, 8), 0.5, np.float32) + 0.01 * np.eye(8, dtype=np.float32),
+                    np.ones((8, 8), bool), 1.0)
+    assert np.ptp(flat) <= 5 * 0.01 + 1e-6  # a nearly flat picture: gain at most 5
+
+
+def test_pareidolia_refine_matches_tone_at_the_output_size():
+    # planned on a lattice 3x coarser than the picture, the lattice tone match works over
+    # 15 output px; the pass on the drawing itself follows the picture at the output's scale
+    yy, xx = np.mgrid[0:192, 0:192]
+    img = np.ones((192, 192))
+    img[((yy - 80) ** 2 + (xx - 96) ** 2) < 70 ** 2] = 0.35
+    img[40:70, 50:150] = 0.05
+    img[100:150, 60:90] = 0.8
+    p = PareidoliaParams(n_endpoints=400, iterations=3, lattice_size=64, max_upscale=3.0)
+    r = {}
+    for k in (0, 2):
+        t = pareidolia_tree(img, dataclasses.replace(p, refine=k), rng=0)
+        assert t.importance.shape[1] == 64
+        r[k] = _tone_r(t.image, t.render().image, t.crown_on_canvas(), 3.0)
+        d = t.dendrite
+        assert d.is_tree() and d.shape == t.image.shape[:2]
+    assert r[2] > r[0] + 0.03
