@@ -31,8 +31,7 @@ from ..core.image import as_rgba
 from ..core.validate import Choice, Int, Real, checked
 
 __all__ = ["opaque_pixels", "channel_mapping", "histogram_transfer", "palette_transfer",
-           "part_palette", "is_flat_art", "tree_parts",
-           "palette_coverage", "TRANSFER_MODES"]
+           "part_palette", "is_flat_art", "tree_parts", "TRANSFER_MODES"]
 
 #: Modes of :func:`histogram_transfer`.
 TRANSFER_MODES = ("auto", "channels", "parts")
@@ -403,42 +402,14 @@ def palette_transfer(image, reference, *, labels=None, reference_labels=None,
     return out
 
 
-def palette_coverage(image, *, n_colours: int = 12, tol: float = 0.06, threshold: float = 0.5) -> float:
-    """Share of the opaque pixels within ``tol`` (RGB) of the image's ``n_colours`` most frequent colours.
-
-    Colours are counted after quantisation to 1/32. Drawn trees measure
-    0.89-0.99 at 96-256 px, outlined palms too, whose thin fills leave
-    almost no flat 3 x 3 window; the photographed samples 0.44
-    (``tree_cutout_broadleaf``) and 0.77 (``christmas_tree_root_flare``).
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> a = np.zeros((8, 8, 4), np.float32); a[:, :, 3] = 1; a[:, 4:, 1] = 0.5
-    >>> palette_coverage(a)
-    1.0
-    """
-    img = as_rgba(image, name="image")
-    px = img[img[..., 3] >= threshold][:, :3].astype(np.float64)
-    if len(px) == 0:
-        return 0.0
-    u, c = np.unique(np.round(px * 32).astype(np.int32), axis=0, return_counts=True)
-    top = u[np.argsort(c, kind="stable")[::-1][:n_colours]] / 32.0
-    d = np.min(((px[:, None, :] - top[None]) ** 2).sum(-1), axis=1)
-    return float(np.mean(d <= tol * tol))
-
-
-#: :func:`palette_coverage` from which a tree counts as flat art.
-FLAT_COVERAGE = 0.85
-
-
 def is_flat_art(image, *, threshold: float = 0.5) -> bool:
     """True for drawn trees: flat fills (:func:`~branchnb.trees.quality.flat_pixels`) or few colours.
 
     Flat art when at least :data:`~branchnb.trees.variations.FLAT_ART_SHARE`
     of the opaque pixels are flat, or (beyond the flat-pixel rule, which
     misses outlined palms at 96-128 px: 0.01-0.03 flat) when
-    :func:`palette_coverage` reaches :data:`FLAT_COVERAGE`.
+    :func:`~branchnb.trees.quality.palette_coverage` reaches
+    :data:`~branchnb.trees.quality.FLAT_COVERAGE`.
 
     Examples
     --------
@@ -446,7 +417,7 @@ def is_flat_art(image, *, threshold: float = 0.5) -> bool:
     >>> is_flat_art(drawn_tree("palm", rng=3, size=96))
     True
     """
-    from .quality import flat_pixels
+    from .quality import FLAT_COVERAGE, flat_pixels, palette_coverage
     from .variations import FLAT_ART_SHARE
 
     img = as_rgba(image, name="image")
