@@ -322,8 +322,15 @@ def measure_variety(size: int = 256) -> None:
     libs = {"drawn": TreeLibrary(size=size), "rpg": TreeLibrary.from_data(size=size)}
     for name, img in drawn_trees(rng=0, size=size):
         libs["drawn"].add(img, name)
+    # small libraries: three trees of different kinds / three sprites
+    for i, (seed, kinds) in enumerate(((3, ("broadleaf", "palm", "conifer")), (4, ("fruit", "palm", "broadleaf")),
+                                       (5, ("conifer", "fruit", "broadleaf")))):
+        libs[f"drawn3-{i}"] = TreeLibrary(size=size)
+        for name, img in drawn_trees((i % 2 == 1,), kinds=kinds, rng=seed, size=size):
+            libs[f"drawn3-{i}"].add(img, name)
+    libs["rpg3"] = TreeLibrary.from_data(["tree_rpg_02", "tree_rpg_07", "tree_rpg_11"], size=size)
     for name, lib in libs.items():
-        for keep in (0.3,):
+        for keep in (None,):
             gen = np.random.default_rng(0)
             r_lib, r_mix = [], []
             between = mean_pairwise_distance([e.resampled for e in lib])
@@ -334,7 +341,7 @@ def measure_variety(size: int = 256) -> None:
                 d = mean_pairwise_distance([v.resampled for v in more])
                 r_lib.append(d / between)
                 r_mix.append(d / max(mean_pairwise_distance(mixed), 1e-9))
-            print(f"{name:6s} keep {keep}: more like this / between all exemplars: min {min(r_lib):.2f} "
+            print(f"{name:8s} keep {keep}: more like this / between all exemplars: min {min(r_lib):.2f} "
                   f"mean {np.mean(r_lib):.2f}; / between the exemplars mixed: min {min(r_mix):.2f} "
                   f"mean {np.mean(r_mix):.2f}")
 
