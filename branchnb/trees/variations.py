@@ -10,7 +10,8 @@ This module strings the paper's steps together:
    exemplars with convex weights (user weights or a Dirichlet draw), fills
    the combined contour for the new alpha mask, simplifies it to the target
    cage, and colours it from the exemplars through mean value coordinates;
-   an optional reference tree recolours the result by histogram transfer;
+   an optional reference tree recolours the result by histogram transfer
+   (on flat art part to part, crown to crown and trunk to trunk);
 3. **variations of one tree** ``T`` (:func:`tree_variations`) keep ``T``
    recognisable by giving it a guaranteed share ``keep`` of both the shape
    and the colour weights, the rest going to random other exemplars.
@@ -641,7 +642,10 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
         convex combination (the paper), ``"shape"`` reuses ``weights``
         (a morph).
     reference : str, Exemplar or (H, W, 4) array_like, optional
-        Recolour the result by histogram transfer to this tree.
+        Recolour the result by histogram transfer to this tree
+        (:func:`~branchnb.trees.histogram_transfer.histogram_transfer`,
+        default ``mode="auto"``: part to part on flat art, per channel on
+        photographs).
     rng : int or numpy.random.Generator, optional
         Random weights, the colour regions of ``"choose"`` and its seam
         noise; None draws a fresh seed.
@@ -1198,10 +1202,12 @@ def similar_variations(library, variation: Variation, n: int = 6,
     about 0.47 of the exemplars' mean distance (without duplicates), so
     small libraries get a smaller ``keep`` by default
     (:func:`small_library_keep`). Mean pairwise contour distance of six
-    results over that of the exemplars mixed, 40 random libraries of 3
-    (4) trees drawn from 12 drawn trees and 6 RPG sprites: mean 0.56
-    (0.60), worst 0.52 (0.50), formerly 0.41 (0.43) (``python -m
-    branchnb.trees._measure variety``).
+    results over the mean distance between the library's exemplars, six
+    centres each (``python -m branchnb.trees._measure variety 128``):
+    four libraries of three trees (three drawn, three RPG sprites) 0.54-0.59,
+    worst centre 0.54 (formerly 0.39-0.41, worst 0.36); 8 drawn trees 0.72;
+    14 RPG sprites 0.86. The app passes its ``keep`` slider (0.3) as it is,
+    so it gets the corner candidates but not the smaller ``keep``.
 
     Examples
     --------
