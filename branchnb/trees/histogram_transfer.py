@@ -18,7 +18,13 @@ the palette *per part* there (:func:`palette_transfer`): crown to crown,
 trunk to trunk, each main colour of a part to the reference part's colour
 of the same lightness rank, outlines kept as outlines. ``mode="auto"``
 (default) picks it when both trees are flat art (:func:`is_flat_art`) and keeps the paper's
-per-channel transfer for photographs.
+per-channel transfer for photographs. On 12 drawn trees (4 kinds, 128 and
+256 px) recoloured like 8 flat-art references (4 drawn trees turned to
+autumn hues, 4 clip-art samples), the share of the result's flat trunk
+pixels within 0.12 RGB of a main colour of the reference's trunk is 0.99
+(worst pair 0.59) against 0.11 with the per-channel rule; crown 0.99
+(worst 0.93) against 0.68 (``python -m branchnb.trees._measure transfer``;
+parts from :func:`tree_parts`, so the figure trusts the segmenter).
 """
 
 from __future__ import annotations
