@@ -109,9 +109,10 @@ def palette_coverage(image, *, n_colours: int = 16, tol: float = 0.06, threshold
     (:func:`~branchnb.trees.drawn.drawn_tree`, 8 of each kind at 96 and
     128 px) measure at least 0.92 (broadleaf, conifer, fruit) and 0.86
     (outlined palms, whose thin fills leave almost no flat 3 x 3 window);
-    the photographed samples 0.45 (``tree_cutout_broadleaf``) and 0.81
-    (``christmas_tree_root_flare``), so :data:`FLAT_COVERAGE` sits in a
-    narrow gap.
+    the photographed ``tree_cutout_broadleaf`` 0.45; clip art shaded with
+    gradients 0.81 (``christmas_tree_root_flare``, flat art anyway by its
+    flat pixels: 0.62), so :data:`FLAT_COVERAGE` calls smooth gradients
+    "not flat" while thin outlined fills still count.
 
     Examples
     --------
