@@ -227,3 +227,19 @@ def test_choose_seams_across_fills_are_outlined(drawn_lib):
             out.append(bare_seam_share(v.image, v.sources))
     assert min(bare) > 0.3, bare                 # the cut alone leaves bare seams
     assert max(inked) <= 0.05, inked
+
+
+def test_more_like_this_with_three_trees_differs_by_half_the_exemplar_distance(drawn_lib):
+    # Issue 24 (b): a library of only three trees; results reach the simplex's corners and
+    # the default keep shrinks (small_library_keep), so the spread stays >= 0.5.
+    from branchnb.trees.variations import similar_variations, small_library_keep
+
+    three = [drawn_lib[i] for i in range(3)]
+    between = mean_pairwise_distance([e.resampled for e in three])
+    assert small_library_keep(3) < small_library_keep(5) == 0.3
+    spread = []
+    for r in (0, 1):
+        centre = make_variation(three, rng=r, colour_mode="blend")
+        spread.append(mean_pairwise_distance(
+            [v.resampled for v in similar_variations(three, centre, 6, rng=r, colour_mode="blend")]))
+    assert min(spread) >= 0.5 * between, (spread, between)

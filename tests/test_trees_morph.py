@@ -404,7 +404,7 @@ def test_histogram_transfer_matches_reference_ignoring_background(lib):
     src, ref = lib["tree_rpg_06"].image, lib["tree_rpg_01"].image.copy()
     ref[:, :, :3] = ref[:, :, :3] * (1.0, 0.5, 0.2) + (0.5, 0.2, 0.0)   # "autumn" reference
     ref[:, :, :3] = np.clip(ref[:, :, :3], 0, 1) * (ref[:, :, 3:] > 0)
-    out = histogram_transfer(src, ref)
+    out = histogram_transfer(src, ref, mode="channels")     # the paper's rule
     for c in range(3):
         before = compare_samples(opaque_pixels(src)[:, c], opaque_pixels(ref)[:, c],
                                  bins=16, range=(0, 1)).distances[1]
@@ -414,7 +414,36 @@ def test_histogram_transfer_matches_reference_ignoring_background(lib):
     np.testing.assert_array_equal(out[:, :, 3], src[:, :, 3])
     assert np.all(out[src[:, :, 3] == 0, :3] == 0)
     # matching to itself changes nothing
-    np.testing.assert_allclose(histogram_transfer(src, src), src, atol=1 / 255 + 1e-6)
+    np.testing.assert_allclose(histogram_transfer(src, src, mode="channels"), src, atol=1 / 255 + 1e-6)
+    np.testing.assert_allclose(histogram_transfer(src, src), src, atol=1e-5)    # flat art: by parts
+
+
+@pytest.mark.parametrize("kind, size", [("broadleaf", 96), ("palm", 128), ("conifer", 96), ("fruit", 128)])
+def test_histogram_transfer_flat_art_maps_parts_to_parts(kind, size):
+    """Drawn trees: trunk colours come from the reference's trunk, crown colours from its crown."""
+    from scipy.spatial import cKDTree
+
+    from branchnb.trees._measure import autumn
+    from branchnb.trees.drawn import drawn_tree
+    from branchnb.trees.histogram_transfer import part_palette, tree_parts
+    from branchnb.trees.quality import flat_pixels
+
+    src = drawn_tree(kind, rng=3, size=size)
+    ref = autumn(drawn_tree("broadleaf", rng=8, size=96))
+    lab, rlab = tree_parts(src), tree_parts(ref)
+    assert (rlab == 1).sum() > 5 * (rlab == 2).sum() > 0    # an autumn crown is not all trunk
+    flat = flat_pixels(src) & flat_pixels(histogram_transfer(src, ref, labels=lab, reference_labels=rlab))
+    for mode, want in (("channels", None), ("auto", 0.9)):
+        out = histogram_transfer(src, ref, mode=mode, labels=lab, reference_labels=rlab)
+        np.testing.assert_array_equal(out[..., 3], src[..., 3])
+        for part in (1, 2):
+            pal = part_palette(ref[(ref[..., 3] >= 0.5) & (rlab == part)][:, :3])[0]
+            d, _ = cKDTree(pal).query(out[flat & (lab == part)][:, :3])
+            share = float(np.mean(d <= 0.12))
+            if want is not None:
+                assert share >= want, (mode, part, share)
+            elif part == 2:
+                assert share < 0.5                        # the paper's rule: the trunk leaves its palette
 
 
 def test_channel_mapping_flat_and_continuous():

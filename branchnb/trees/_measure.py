@@ -46,6 +46,12 @@ render's; and the largest change of the front view the bake makes.
 half with a leaf pile, 2 at 384 px) with merged fronds split as a
 background (the former rule) and as lobes (the default): loose stroke
 bits, flecks and inner ink kept (:func:`~branchnb.trees.quality.side_view_figures`).
+``transfer``: histogram transfer of 12 drawn trees (4 kinds, 256 px with
+and without a leaf pile, and 128 px) onto 8 flat-art references (4 drawn
+trees recoloured to autumn hues, 4 clip-art samples), with the paper's
+per-channel rule (``mode="channels"``) and the default: share of the
+result's flat trunk (crown) pixels within 0.12 RGB of a main colour of the
+reference's trunk (crown), parts from :func:`~branchnb.trees.histogram_transfer.tree_parts`.
 ``billboards``: billboard clouds of every sample tree and one procedural
 tree of each kind seen at 0, 45 and 90 degrees: the share of the opaque
 pixels in the largest 8-connected piece (1 = the crown stays on the trunk)
@@ -316,8 +322,15 @@ def measure_variety(size: int = 256) -> None:
     libs = {"drawn": TreeLibrary(size=size), "rpg": TreeLibrary.from_data(size=size)}
     for name, img in drawn_trees(rng=0, size=size):
         libs["drawn"].add(img, name)
+    # small libraries: three trees of different kinds / three sprites
+    for i, (seed, kinds) in enumerate(((3, ("broadleaf", "palm", "conifer")), (4, ("fruit", "palm", "broadleaf")),
+                                       (5, ("conifer", "fruit", "broadleaf")))):
+        libs[f"drawn3-{i}"] = TreeLibrary(size=size)
+        for name, img in drawn_trees((i % 2 == 1,), kinds=kinds, rng=seed, size=size):
+            libs[f"drawn3-{i}"].add(img, name)
+    libs["rpg3"] = TreeLibrary.from_data(["tree_rpg_02", "tree_rpg_07", "tree_rpg_11"], size=size)
     for name, lib in libs.items():
-        for keep in (0.3,):
+        for keep in (None,):
             gen = np.random.default_rng(0)
             r_lib, r_mix = [], []
             between = mean_pairwise_distance([e.resampled for e in lib])
@@ -328,7 +341,7 @@ def measure_variety(size: int = 256) -> None:
                 d = mean_pairwise_distance([v.resampled for v in more])
                 r_lib.append(d / between)
                 r_mix.append(d / max(mean_pairwise_distance(mixed), 1e-9))
-            print(f"{name:6s} keep {keep}: more like this / between all exemplars: min {min(r_lib):.2f} "
+            print(f"{name:8s} keep {keep}: more like this / between all exemplars: min {min(r_lib):.2f} "
                   f"mean {np.mean(r_lib):.2f}; / between the exemplars mixed: min {min(r_mix):.2f} "
                   f"mean {np.mean(r_mix):.2f}")
 
@@ -437,13 +450,65 @@ def measure_speed(size: int = 512) -> None:
         mvc.CHOOSE_CUT_SIDE = side
 
 
+def autumn(image, shift: float = -80.0) -> np.ndarray:
+    """Test reference: the green hues of a drawn tree turned towards orange/brown."""
+    import cv2
+
+    hsv = cv2.cvtColor(np.ascontiguousarray(image[..., :3]), cv2.COLOR_RGB2HSV)
+    g = (hsv[..., 0] > 60) & (hsv[..., 0] < 180) & (hsv[..., 1] > 0.3)
+    hsv[..., 0] = np.where(g, (hsv[..., 0] + shift) % 360, hsv[..., 0])
+    out = image.copy()
+    out[..., :3] = cv2.cvtColor(hsv, cv2.COLOR_HSV2RGB)
+    return out
+
+
+def transfer_figures(out, labels, ref, ref_labels, *, tol: float = 0.12) -> dict:
+    """Share of the flat pixels of each part of ``out`` near a main colour of the reference's part."""
+    from scipy.spatial import cKDTree
+
+    from .histogram_transfer import part_palette
+    from .quality import flat_pixels
+
+    flat = flat_pixels(out)
+    res = {}
+    for part, name in ((1, "crown"), (2, "trunk")):
+        sel = flat & (labels == part)
+        rpx = ref[(ref[..., 3] >= 0.5) & (ref_labels == part)][:, :3]
+        if sel.sum() < 10 or len(rpx) < 20:
+            continue
+        d, _ = cKDTree(part_palette(rpx)[0]).query(out[sel][:, :3])
+        res[name] = float(np.mean(d <= tol))
+    return res
+
+
+def measure_transfer(size: int = 256) -> None:
+    from .drawn import drawn_trees
+    from .histogram_transfer import histogram_transfer, tree_parts
+
+    srcs = drawn_trees(rng=0, size=size) + drawn_trees((False,), rng=11, size=size // 2)
+    refs = [(f"autumn {n}", autumn(i)) for n, i in drawn_trees((False,), rng=5, size=size)]
+    refs += [(n, data.load(n)) for n in ("cartoon_tree", "tree_with_fruits", "arbre_modern", "tree_rpg_05")]
+    lab = {id(i): tree_parts(i) for _, i in srcs + refs}
+    for mode in ("channels", "auto"):
+        figs: dict = {"crown": [], "trunk": []}
+        for _, s in srcs:
+            for _, r in refs:
+                out = histogram_transfer(s, r, mode=mode, labels=lab[id(s)], reference_labels=lab[id(r)])
+                for k, v in transfer_figures(out, lab[id(s)], r, lab[id(r)]).items():
+                    figs[k].append(v)
+        print(f"{mode:8s} {len(srcs)} x {len(refs)}: flat pixels within the reference part's palette: "
+              + " | ".join(f"{k} mean {np.mean(v):.2f} min {min(v):.2f} (n={len(v)})" for k, v in figs.items()))
+
+
 if __name__ == "__main__":
     what = sys.argv[1] if len(sys.argv) > 1 else "pins"
     size = int(sys.argv[2]) if len(sys.argv) > 2 else (
-        256 if what in ("pins", "billboards", "sideviews", "crossfade", "variety", "targets", "engine", "palms") else
+        256 if what in ("pins", "billboards", "sideviews", "crossfade", "variety", "targets", "engine", "palms",
+                   "transfer") else
         512 if what == "speed" else 192 if what in ("outline", "ground", "seams") else 128)
     {"pins": measure_pins, "pairs": measure_pairs, "masks": measure_masks,
      "billboards": measure_billboards, "crossfade": measure_crossfade,
      "variety": measure_variety, "sideviews": measure_sideviews, "seams": measure_seams,
      "targets": measure_targets, "outline": measure_outline, "ground": measure_ground,
-     "speed": measure_speed, "engine": measure_engine, "palms": measure_palms}[what](size)
+     "speed": measure_speed, "engine": measure_engine, "palms": measure_palms,
+     "transfer": measure_transfer}[what](size)

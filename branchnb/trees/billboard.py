@@ -128,6 +128,7 @@ from ..core.sampling import stipple
 from ..core.validate import Real, checked
 from .exemplar import tree_rgba
 from .outline import silhouette_outline
+from .quality import FLAT_COVERAGE, palette_coverage, palette_pixels
 from .segmentation import Segmentation, segment_tree
 
 __all__ = [
@@ -1748,6 +1749,14 @@ def line_art(rgba, *, width: float = 0.04, contrast: float = 0.12, alpha_thresho
     area = np.bincount(lab.ravel())
     area[0] = 0
     big = area[lab] >= (2 * r + 1) ** 2
+    if big.sum() < 0.05 * opaque.sum() and palette_coverage(img) >= FLAT_COVERAGE:
+        # Beyond the rule above: fills too thin for flat 3 x 3 windows (outlined
+        # palms at 128 px) are found by colour, the few main colours of flat art.
+        fill = palette_pixels(img) & ~dark
+        lab, _ = ndi.label(fill)
+        area = np.bincount(lab.ravel())
+        area[0] = 0
+        big |= area[lab] >= (2 * r + 1) ** 2
     near = cv2.dilate(big.astype(np.uint8), cv2.getStructuringElement(
         cv2.MORPH_ELLIPSE, (4 * r + 3, 4 * r + 3))) > 0
     return dark & near

@@ -9,16 +9,38 @@ histogram and the inverse of the reference's (histogram specification, as
 ``skimage.exposure.match_histograms`` does, but with the histograms of the
 opaque pixels only; the mapping is then applied to every pixel that is not
 fully transparent, so soft edges follow).
+
+Beyond the paper: on flat art (drawn trees, clip art) the per-channel rule
+mixes the parts' colours (a crown's green spreads into the trunk, which
+turns red or green; fruits lose their colour), because one channel
+histogram serves the whole tree. :func:`histogram_transfer` therefore maps
+the palette *per part* there (:func:`palette_transfer`): crown to crown,
+trunk to trunk, each main colour of a part to the reference part's colour
+of the same lightness rank, outlines kept as outlines. ``mode="auto"``
+(default) picks it when both trees are flat art (:func:`is_flat_art`) and keeps the paper's
+per-channel transfer for photographs. On 12 drawn trees (4 kinds, 128 and
+256 px) recoloured like 8 flat-art references (4 drawn trees turned to
+autumn hues, 4 clip-art samples), the share of the result's flat trunk
+pixels within 0.12 RGB of a main colour of the reference's trunk is 0.99
+(worst pair 0.59) against 0.11 with the per-channel rule; crown 0.99
+(worst 0.93) against 0.68 (``python -m branchnb.trees._measure transfer``;
+parts from :func:`tree_parts`, so the figure trusts the segmenter).
 """
 
 from __future__ import annotations
 
+import hashlib
+
 import numpy as np
 
 from ..core.image import as_rgba
-from ..core.validate import Int, Real, checked
+from ..core.validate import Choice, Int, Real, checked
 
-__all__ = ["opaque_pixels", "channel_mapping", "histogram_transfer"]
+__all__ = ["opaque_pixels", "channel_mapping", "histogram_transfer", "palette_transfer",
+           "part_palette", "is_flat_art", "tree_parts", "TRANSFER_MODES"]
+
+#: Modes of :func:`histogram_transfer`.
+TRANSFER_MODES = ("auto", "channels", "parts")
 
 
 def opaque_pixels(image, *, threshold: float = 0.5, name: str = "image") -> np.ndarray:
@@ -102,9 +124,320 @@ def _levels(values: np.ndarray, levels: int) -> np.ndarray:
     return np.clip(np.round(values * (levels - 1)), 0, levels - 1).astype(np.int64)
 
 
-@checked(threshold=Real(0, 1, low_open=True), strength=Real(0, 1), levels=Int(2, 65536))
+#: CIELAB lightness below which a palette colour is ink (an outline): ink is
+#: matched only to the reference's ink, so outlines stay outlines.
+INK_LIGHTNESS = 18.0
+
+
+def _lightness(rgb: np.ndarray) -> np.ndarray:
+    import cv2
+
+    rgb = np.clip(np.asarray(rgb, np.float32).reshape(-1, 1, 3), 0, 1)
+    return cv2.cvtColor(rgb, cv2.COLOR_RGB2LAB)[:, 0, 0].astype(np.float64)
+
+
+def part_palette(pixels, *, tol: float = 0.12, min_share: float = 0.01, quant: float = 1 / 32,
+                 max_colours: int = 16) -> tuple[np.ndarray, np.ndarray]:
+    """Main colours of a set of pixels and the share of the pixels nearest to each.
+
+    The colours are quantised to ``quant`` and covered greedily, the most
+    frequent first (a colour within ``tol`` of a chosen one is covered);
+    every pixel then goes to its nearest chosen colour and colours holding
+    less than ``min_share`` of the pixels are dropped (anti-aliased edges,
+    texture), the rest re-counted.
+
+    Parameters
+    ----------
+    pixels : (P, 3) array_like
+        RGB in [0, 1], at least one row.
+    tol : float
+        RGB distance within which a colour joins a chosen one.
+    min_share : float
+        Smallest share of the pixels a colour of the palette keeps.
+    quant : float
+        Quantisation step before counting.
+    max_colours : int
+        Largest palette size.
+
+    Returns
+    -------
+    colours : (K, 3) float64 ndarray
+        Mean RGB of the pixels nearest to each palette colour.
+    shares : (K,) float64 ndarray
+        Their shares of the pixels (sum 1), most frequent first.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> px = np.array([[0.0, 0.5, 0.0]] * 6 + [[0.5, 0.3, 0.1]] * 2)
+    >>> cols, w = part_palette(px)
+    >>> cols.round(2).tolist(), w.tolist()
+    ([[0.0, 0.5, 0.0], [0.5, 0.3, 0.1]], [0.75, 0.25])
+    """
+    px = np.asarray(pixels, np.float64).reshape(-1, 3)
+    if len(px) == 0:
+        raise ValueError("pixels needs at least one row")
+    q, counts = np.unique(np.round(px / quant).astype(np.int32), axis=0, return_counts=True)
+    q = q.astype(np.float64) * quant
+    order = np.argsort(counts, kind="stable")[::-1]
+    q = q[order]
+    chosen: list[np.ndarray] = []
+    covered = np.zeros(len(q), bool)
+    for i in range(len(q)):
+        if covered[i]:
+            continue
+        chosen.append(q[i])
+        covered |= np.linalg.norm(q - q[i], axis=1) <= tol
+        if len(chosen) >= max_colours:
+            break
+    cols = np.asarray(chosen)
+    for _ in range(2):
+        near = np.argmin(((px[:, None, :] - cols[None]) ** 2).sum(-1), axis=1)
+        n = np.bincount(near, minlength=len(cols))
+        keep = n >= max(min_share * len(px), 1)
+        if not keep.any():
+            keep = n == n.max()
+        cols = cols[keep]
+    near = np.argmin(((px[:, None, :] - cols[None]) ** 2).sum(-1), axis=1)
+    n = np.bincount(near, minlength=len(cols)).astype(np.float64)
+    cols = np.stack([px[near == k].mean(0) if n[k] else cols[k] for k in range(len(cols))])
+    order = np.argsort(n, kind="stable")[::-1]
+    return cols[order], n[order] / n.sum()
+
+
+def _roles(cols: np.ndarray, w: np.ndarray) -> np.ndarray:
+    """0 main colours, 1 ink, 2 accents (fruits, flowers: a small share, saturated,
+    hue far from the part's main colour)."""
+    import cv2
+
+    hsv = cv2.cvtColor(np.clip(cols, 0, 1).astype(np.float32).reshape(-1, 1, 3),
+                       cv2.COLOR_RGB2HSV)[:, 0]
+    ink = _lightness(cols) < INK_LIGHTNESS
+    role = np.where(ink, 1, 0)
+    if (~ink).any():
+        main = np.flatnonzero(~ink)[np.argmax(w[~ink])]
+        dh = np.abs((hsv[:, 0] - hsv[main, 0] + 180.0) % 360.0 - 180.0)
+        role[~ink & (w < 0.2) & (hsv[:, 1] > 0.35) & (dh > 50.0)] = 2
+    return role
+
+
+def _rank_targets(src_cols, src_w, ref_cols, ref_w) -> np.ndarray:
+    """Reference colour for every source palette colour: same lightness rank within
+    the same role (main colours, ink, accents)."""
+    ls, lr = _lightness(src_cols), _lightness(ref_cols)
+    rs, rr = _roles(src_cols, src_w), _roles(ref_cols, ref_w)
+    out = src_cols.copy()
+    for role in (0, 1, 2):
+        s_sel = np.flatnonzero(rs == role)
+        r_sel = np.flatnonzero(rr == role)
+        if role == 0 and len(r_sel) == 0:
+            r_sel = np.arange(len(ref_cols))   # a part drawn in ink only (a black trunk)
+        if len(s_sel) == 0 or len(r_sel) == 0:
+            continue                      # no counterpart: kept (e.g. fruits on a fruitless reference)
+        s_sel = s_sel[np.argsort(ls[s_sel], kind="stable")]
+        r_sel = r_sel[np.argsort(lr[r_sel], kind="stable")]
+        cs = np.cumsum(src_w[s_sel]) / src_w[s_sel].sum()
+        mid = cs - 0.5 * src_w[s_sel] / src_w[s_sel].sum()
+        cr = np.cumsum(ref_w[r_sel]) / ref_w[r_sel].sum()
+        out[s_sel] = ref_cols[r_sel[np.minimum(np.searchsorted(cr, mid), len(r_sel) - 1)]]
+    return out
+
+
+def _map_palette(rgb: np.ndarray, src_cols: np.ndarray, dst_cols: np.ndarray) -> np.ndarray:
+    """Move pixels with their palette: a blend of the two nearest source colours
+    becomes the same blend of their targets, plus the pixel's residual."""
+    rgb = rgb.astype(np.float64)
+    if len(src_cols) == 1:
+        return rgb + (dst_cols[0] - src_cols[0])
+    d = ((rgb[:, None, :] - src_cols[None]) ** 2).sum(-1)
+    nn = np.argsort(d, axis=1)[:, :2]
+    p1, p2 = src_cols[nn[:, 0]], src_cols[nn[:, 1]]
+    q1, q2 = dst_cols[nn[:, 0]], dst_cols[nn[:, 1]]
+    e = p2 - p1
+    t = np.clip(((rgb - p1) * e).sum(1) / np.maximum((e * e).sum(1), 1e-12), 0.0, 1.0)[:, None]
+    res = rgb - (p1 + t * e)
+    return q1 + t * (q2 - q1) + res
+
+
+def _part_labels(labels: np.ndarray, visible: np.ndarray) -> np.ndarray:
+    """1 crown (ground clutter too), 2 trunk for every visible pixel (nearest labelled one)."""
+    lab = np.where(labels == 2, 2, np.where((labels == 1) | (labels == 255), 1, 0)).astype(np.uint8)
+    if (lab[visible] == 0).any() and (lab > 0).any():
+        from scipy import ndimage as ndi
+
+        idx = ndi.distance_transform_edt(lab == 0, return_distances=False, return_indices=True)
+        lab = lab[idx[0], idx[1]]
+    return np.where(visible, lab, 0)
+
+
+#: Last labels of :func:`tree_parts` by image content (the app recolours one
+#: variation after another against the same reference).
+_PARTS_CACHE: dict = {}
+
+
+def tree_parts(image, *, threshold: float = 0.5, rng=0) -> np.ndarray:
+    """Crown/trunk labels for :func:`palette_transfer`: the segmentation, or the stem on an all-wood result.
+
+    :func:`~branchnb.trees.segmentation.segment_tree` calls a tree whose
+    pixels are mostly brown all trunk, which is right for a bare tree but
+    not for an autumn crown; as in
+    :func:`~branchnb.trees.variations.exemplar_trunk`, when the crown holds
+    under 2 % of the opaque pixels the trunk is the geometric stem estimate
+    (:func:`~branchnb.trees.contour.stem_trunk_mask`) and the rest is crown.
+
+    Parameters
+    ----------
+    image : (H, W, 4) array_like
+        RGBA tree.
+    threshold : float
+        Opaque from this alpha on.
+    rng : int or numpy.random.Generator
+        Seed of the segmenter.
+
+    Returns
+    -------
+    (H, W) uint8 ndarray
+        0 background, 1 crown, 2 trunk, 255 ground clutter.
+
+    Examples
+    --------
+    >>> from branchnb.trees.drawn import drawn_tree
+    >>> lab = tree_parts(drawn_tree("broadleaf", rng=0, size=96))
+    >>> bool((lab == 1).any() and (lab == 2).any())
+    True
+    """
+    from .contour import stem_trunk_mask
+    from .segmentation import segment_tree
+
+    img = as_rgba(image, name="image")
+    key = None
+    if isinstance(rng, (int, np.integer)):
+        key = (img.shape, float(threshold), int(rng), hashlib.sha1(img.tobytes()).hexdigest())
+        if key in _PARTS_CACHE:
+            return _PARTS_CACHE[key].copy()
+    lab = segment_tree(img, rng=rng).labels
+    alpha = img[..., 3] >= threshold
+    tree = alpha & (lab != 255)
+    if (lab[tree] == 1).sum() < 0.02 * max(int(tree.sum()), 1):
+        trunk = stem_trunk_mask(tree) & tree
+        lab = np.where(tree, np.where(trunk, 2, 1), lab).astype(np.uint8)
+    if key is not None:
+        if len(_PARTS_CACHE) >= 8:
+            _PARTS_CACHE.pop(next(iter(_PARTS_CACHE)))
+        _PARTS_CACHE[key] = lab.copy()
+    return lab
+
+
+def _check_labels(labels, shape, name: str) -> np.ndarray:
+    lab = np.asarray(labels)
+    if lab.shape != tuple(shape[:2]):
+        raise ValueError(f"{name} must have shape {tuple(shape[:2])}, got {lab.shape}")
+    return lab.astype(np.int64)
+
+
+def palette_transfer(image, reference, *, labels=None, reference_labels=None,
+                     threshold: float = 0.5, min_pixels: int = 20) -> np.ndarray:
+    """Recolour a flat-art tree like a reference, part by part (beyond the paper).
+
+    Each part (crown, trunk) of ``image`` takes its colours from the same
+    part of ``reference``: the main colours of both parts
+    (:func:`part_palette`) are put in lightness order and each source colour
+    goes to the reference colour at the same rank of the cumulative pixel
+    share (a histogram transfer on the palette, so a light fill stays light
+    and a shadow stays dark), within three roles: ink (CIELAB L <
+    :data:`INK_LIGHTNESS`) goes only to the reference's ink, accents (a
+    saturated colour under 20 % of the part whose hue is over 50 degrees
+    from the part's main colour: fruits, flowers) only to the reference's
+    accents, the rest to the rest; a role the reference lacks keeps its
+    colours, except the main colours, which go to the reference's ink when
+    its part is drawn in ink only (a black trunk). Pixels move with their palette colours
+    (anti-aliased blends of two colours stay blends of their targets).
+    Ground clutter at the foot follows the crown. A part the reference lacks
+    keeps its colours (the crown then uses the whole reference).
+
+    Parameters
+    ----------
+    image : (H, W, 4) array_like
+        RGBA tree to recolour.
+    reference : (H', W', 4) array_like
+        RGBA reference tree.
+    labels, reference_labels : (H, W) / (H', W') array_like, optional
+        Part labels as :attr:`~branchnb.trees.segmentation.Segmentation.labels`
+        (1 crown, 2 trunk, 255 ground); None runs :func:`tree_parts`.
+    threshold : float
+        Alpha from which a pixel counts in the palettes.
+    min_pixels : int
+        A part with fewer opaque pixels counts as absent.
+
+    Returns
+    -------
+    (H, W, 4) float32 ndarray
+        ``image`` with new colours wherever alpha > 0; alpha unchanged.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> a = np.zeros((16, 16, 4), np.float32); a[:8] = (0.1, 0.6, 0.1, 1)
+    >>> a[8:, 6:10] = (0.4, 0.25, 0.1, 1)                     # green crown, brown trunk
+    >>> b = a.copy(); b[:8, :, :3] = (0.9, 0.5, 0.1); b[8:, 6:10, :3] = 0.3   # orange, grey
+    >>> lab = np.zeros((16, 16), np.uint8); lab[:8] = 1; lab[8:, 6:10] = 2
+    >>> out = palette_transfer(a, b, labels=lab, reference_labels=lab)
+    >>> [round(float(c), 2) for c in out[2, 2, :3]], [round(float(c), 2) for c in out[12, 7, :3]]
+    ([0.9, 0.5, 0.1], [0.3, 0.3, 0.3])
+    """
+    img = as_rgba(image, name="image")
+    ref = as_rgba(reference, name="reference")
+    lab = tree_parts(img, threshold=threshold) if labels is None else _check_labels(labels, img.shape, "labels")
+    rlab = (tree_parts(ref, threshold=threshold) if reference_labels is None
+            else _check_labels(reference_labels, ref.shape, "reference_labels"))
+    visible = img[..., 3] > 0
+    parts = _part_labels(lab, visible)
+    r_opaque = ref[..., 3] >= threshold
+    out = img.copy()
+    for part in (1, 2):
+        sel = parts == part
+        src_px = img[sel & (img[..., 3] >= threshold)][:, :3]
+        ref_px = ref[r_opaque & (rlab == part)][:, :3]
+        if part == 1 and len(ref_px) < min_pixels:
+            ref_px = ref[r_opaque][:, :3]
+        if len(src_px) < min_pixels or len(ref_px) < min_pixels:
+            continue
+        sc, sw = part_palette(src_px)
+        rc, rw = part_palette(ref_px)
+        out[sel, :3] = np.clip(_map_palette(img[sel][:, :3], sc, _rank_targets(sc, sw, rc, rw)), 0, 1)
+    return out
+
+
+def is_flat_art(image, *, threshold: float = 0.5) -> bool:
+    """True for drawn trees: flat fills (:func:`~branchnb.trees.quality.flat_pixels`) or few colours.
+
+    Flat art when at least :data:`~branchnb.trees.variations.FLAT_ART_SHARE`
+    of the opaque pixels are flat, or (beyond the flat-pixel rule, which
+    misses outlined palms at 96-128 px: 0.01-0.03 flat) when
+    :func:`~branchnb.trees.quality.palette_coverage` reaches
+    :data:`~branchnb.trees.quality.FLAT_COVERAGE`.
+
+    Examples
+    --------
+    >>> from branchnb.trees.drawn import drawn_tree
+    >>> is_flat_art(drawn_tree("palm", rng=3, size=96))
+    True
+    """
+    from .quality import FLAT_COVERAGE, flat_pixels, palette_coverage
+    from .variations import FLAT_ART_SHARE
+
+    img = as_rgba(image, name="image")
+    n = max(int((img[..., 3] >= threshold).sum()), 1)
+    if flat_pixels(img).sum() / n >= FLAT_ART_SHARE:
+        return True
+    return palette_coverage(img, threshold=threshold) >= FLAT_COVERAGE
+
+
+@checked(threshold=Real(0, 1, low_open=True), strength=Real(0, 1), levels=Int(2, 65536),
+         mode=Choice(*TRANSFER_MODES))
 def histogram_transfer(image, reference, *, threshold: float = 0.5,
-                       strength: float = 1.0, levels: int = 256) -> np.ndarray:
+                       strength: float = 1.0, levels: int = 256, mode: str = "auto",
+                       labels=None, reference_labels=None) -> np.ndarray:
     """Match the per-channel colour histograms of a tree to a reference tree.
 
     Parameters
@@ -120,6 +453,16 @@ def histogram_transfer(image, reference, *, threshold: float = 0.5,
         Blend between the input colours (0) and the matched ones (1).
     levels : int
         Quantisation of the channel values (see :func:`channel_mapping`).
+    mode : {"auto", "channels", "parts"}
+        ``"channels"``: the paper's per-channel histogram specification;
+        ``"parts"``: :func:`palette_transfer`, crown to crown and trunk to
+        trunk (beyond the paper: on flat art the per-channel rule paints
+        trunks red or green and crowns navy); ``"auto"`` (default):
+        ``"parts"`` when both trees are flat art (:func:`is_flat_art`),
+        else ``"channels"``.
+    labels, reference_labels : (H, W) array_like, optional
+        Crown/trunk labels for ``"parts"`` (see :func:`palette_transfer`);
+        None segments the trees.
 
     Returns
     -------
@@ -131,14 +474,15 @@ def histogram_transfer(image, reference, *, threshold: float = 0.5,
     Raises
     ------
     ValueError
-        An image without alpha, or without any opaque pixel.
+        An image without alpha, or without any opaque pixel; an unknown
+        ``mode``.
 
     Examples
     --------
     >>> import numpy as np
     >>> a = np.zeros((4, 4, 4), np.float32); a[1:3, 1:3] = (0.2, 0.6, 0.1, 1)
     >>> b = np.zeros((4, 4, 4), np.float32); b[:2] = (0.8, 0.4, 0.1, 1)
-    >>> [round(float(c), 2) for c in histogram_transfer(a, b)[1, 1]]
+    >>> [round(float(c), 2) for c in histogram_transfer(a, b, mode="channels")[1, 1]]
     [0.8, 0.4, 0.1, 1.0]
     """
     img = as_rgba(image, name="image")
@@ -153,6 +497,16 @@ def histogram_transfer(image, reference, *, threshold: float = 0.5,
     ref_px = opaque_pixels(ref, threshold=threshold, name="reference")
     if len(ref_px) == 0:
         raise ValueError(f"reference has no opaque pixel (alpha >= {threshold})")
+    if mode == "auto":
+        mode = "parts" if is_flat_art(img, threshold=threshold) and is_flat_art(ref, threshold=threshold) \
+            else "channels"
+    if mode == "parts":
+        matched_img = palette_transfer(img, ref, labels=labels, reference_labels=reference_labels,
+                                       threshold=threshold)
+        out = img.copy()
+        s = float(strength)
+        out[..., :3] = np.clip((1.0 - s) * img[..., :3] + s * matched_img[..., :3], 0.0, 1.0)
+        return out
     src_px = img[opaque][:, :3]
     visible = img[:, :, 3] > 0
     vis_px = img[visible][:, :3]

@@ -10,7 +10,8 @@ This module strings the paper's steps together:
    exemplars with convex weights (user weights or a Dirichlet draw), fills
    the combined contour for the new alpha mask, simplifies it to the target
    cage, and colours it from the exemplars through mean value coordinates;
-   an optional reference tree recolours the result by histogram transfer;
+   an optional reference tree recolours the result by histogram transfer
+   (on flat art part to part, crown to crown and trunk to trunk);
 3. **variations of one tree** ``T`` (:func:`tree_variations`) keep ``T``
    recognisable by giving it a guaranteed share ``keep`` of both the shape
    and the colour weights, the rest going to random other exemplars.
@@ -30,6 +31,7 @@ Examples
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Sequence
 from dataclasses import dataclass, field, fields, replace
 
@@ -640,7 +642,10 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
         convex combination (the paper), ``"shape"`` reuses ``weights``
         (a morph).
     reference : str, Exemplar or (H, W, 4) array_like, optional
-        Recolour the result by histogram transfer to this tree.
+        Recolour the result by histogram transfer to this tree
+        (:func:`~branchnb.trees.histogram_transfer.histogram_transfer`,
+        default ``mode="auto"``: part to part on flat art, per channel on
+        photographs).
     rng : int or numpy.random.Generator, optional
         Random weights, the colour regions of ``"choose"`` and its seam
         noise; None draws a fresh seed.
@@ -1115,9 +1120,35 @@ def _spread(candidates: np.ndarray, shapes: np.ndarray, n: int, centre: np.ndarr
 SPREAD_CANDIDATES = 16
 
 
+def small_library_keep(k: int, keep: float = 0.3) -> float:
+    """Default ``keep`` of :func:`similar_variations` for ``k`` exemplars: ``keep min(1, (k - 1) / 4)``.
+
+    With few exemplars the results can only spread over ``1 - keep`` of
+    the exemplars' simplex, so the centre's share shrinks: 0.15 for three
+    trees, 0.225 for four, ``keep`` from five on.
+
+    Examples
+    --------
+    >>> small_library_keep(3), small_library_keep(8)
+    (0.15, 0.3)
+    """
+    return float(keep) * min(1.0, (int(k) - 1) / 4.0)
+
+
+def _extreme_candidates(centre: np.ndarray, keep: float, n_mix: int) -> np.ndarray:
+    """``keep c + (1 - keep) v`` for ``v`` the corners of the simplex and (up to 16
+    exemplars) its edge midpoints: the farthest a nearby mix can go."""
+    k = len(centre)
+    eye = np.eye(k)
+    verts = list(eye)
+    if k <= 16 and (n_mix <= 0 or n_mix >= 2):
+        verts += [(eye[i] + eye[j]) / 2 for i, j in itertools.combinations(range(k), 2)]
+    return np.stack([keep * centre + (1.0 - keep) * v for v in verts])
+
+
 @checked(n=Int(1, MAX_VARIATIONS), keep=Real(0, 1))
 def similar_variations(library, variation: Variation, n: int = 6,
-                       params: VariationParams | None = None, *, keep: float = 0.3,
+                       params: VariationParams | None = None, *, keep: float | None = None,
                        rng=None, **overrides) -> list[Variation]:
     """"More like this": random variations around an existing variation's weights.
 
@@ -1133,10 +1164,11 @@ def similar_variations(library, variation: Variation, n: int = 6,
     params : VariationParams, optional
         ``n_mix`` and the concentrations of the random part; None uses the
         defaults.
-    keep : float
+    keep : float, optional
         Share of the centre's weights every new variation keeps
         (:func:`nearby_weights`); the rest is a random Dirichlet mix of
-        ``params.n_mix`` exemplars of the same set.
+        ``params.n_mix`` exemplars of the same set. None (default): 0.3,
+        less for fewer than five exemplars (:func:`small_library_keep`).
     rng : int or numpy.random.Generator, optional
         Seed or Generator of the candidate weights and the colour transfer.
     **overrides
@@ -1162,12 +1194,20 @@ def similar_variations(library, variation: Variation, n: int = 6,
     times ``n`` candidate shape weights are drawn and ``n`` of them kept by
     farthest-point sampling on their combined contours (cheap: a contour is
     the weights times the exemplars' ``C_r``), so the results differ as
-    much as ``keep`` allows. With the default ``keep`` = 0.3 the mean
-    pairwise contour distance of six results is on average 0.63 (8 drawn
-    test trees) and 0.70 (14 RPG sprites) of the mean distance between the
-    library's exemplars (worst of six centres: 0.57 and 0.62); a library
-    of only four trees gives 0.48-0.54 (fewer corners to spread to;
-    ``python -m branchnb.trees._measure variety``).
+    much as ``keep`` allows. The candidates also include the farthest
+    mixes ``keep`` allows (``keep c + (1 - keep) v`` for every corner and
+    edge midpoint ``v`` of the simplex), which random Dirichlet draws
+    rarely reach. Still, six results can spread over only ``1 - keep`` of
+    the exemplars' simplex: with three trees and ``keep`` = 0.3 at most
+    about 0.47 of the exemplars' mean distance (without duplicates), so
+    small libraries get a smaller ``keep`` by default
+    (:func:`small_library_keep`). Mean pairwise contour distance of six
+    results over the mean distance between the library's exemplars, six
+    centres each (``python -m branchnb.trees._measure variety 128``):
+    four libraries of three trees (three drawn, three RPG sprites) 0.54-0.59,
+    worst centre 0.54 (formerly 0.39-0.41, worst 0.36); 8 drawn trees 0.72;
+    14 RPG sprites 0.86. The app passes its ``keep`` slider (0.3) as it is,
+    so it gets the corner candidates but not the smaller ``keep``.
 
     Examples
     --------
@@ -1192,9 +1232,13 @@ def similar_variations(library, variation: Variation, n: int = 6,
     if ref == "image":
         raise ValueError("the variation's reference was an array; give similar variations "
                          "a named reference")
+    if keep is None:
+        keep = small_library_keep(len(chosen))
+    centre = np.asarray(variation.weights, float)
     cands = np.stack([nearby_weights(variation.weights, keep, concentration=p.concentration,
                                      n_mix=p.n_mix, rng=rng)
                       for _ in range(SPREAD_CANDIDATES * int(n))])
+    cands = np.vstack([cands, _extreme_candidates(centre / centre.sum(), keep, p.n_mix)])
     shapes = np.stack([e.resampled.ravel() for e in chosen])
     out = []
     for i in _spread(cands, shapes, int(n), np.asarray(variation.weights, float)):
