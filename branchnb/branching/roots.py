@@ -366,6 +366,18 @@ def outlet_starts(structure: Structure, domain: np.ndarray) -> list[np.ndarray]:
     inland with exactly one branch end at the boundary of ``domain`` ((H, W) bool), that end
     (see :func:`fit_roots`); one (x, y) point per root, in the order of the roots.
 
+    Parameters
+    ----------
+    structure : Structure
+        The extracted or synthesized structure.
+    domain : (H, W) bool ndarray
+        The land (the region the rivers grow in); outside it is sea.
+
+    Returns
+    -------
+    list of (2,) float ndarray
+        The outlet (x, y) of each root tree, in the order of the roots.
+
     Examples
     --------
     >>> import numpy as np

@@ -417,6 +417,17 @@ def is_flat_art(image, *, threshold: float = 0.5) -> bool:
     :func:`~branchnb.trees.quality.palette_coverage` reaches
     :data:`~branchnb.trees.quality.FLAT_COVERAGE`.
 
+    Parameters
+    ----------
+    image : (H, W, 4) array_like
+        An RGBA tree billboard.
+    threshold : float, optional
+        Alpha at or above which a pixel counts as opaque (default 0.5).
+
+    Returns
+    -------
+    bool
+
     Examples
     --------
     >>> from branchnb.trees.drawn import drawn_tree

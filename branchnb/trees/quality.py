@@ -114,6 +114,22 @@ def palette_coverage(image, *, n_colours: int = 16, tol: float = 0.06, threshold
     flat pixels: 0.62), so :data:`FLAT_COVERAGE` calls smooth gradients
     "not flat" while thin outlined fills still count.
 
+    Parameters
+    ----------
+    image : (H, W, 4) array_like
+        An RGBA tree billboard.
+    n_colours : int, optional
+        How many of the most frequent (quantised) colours make the palette (default 16).
+    tol : float, optional
+        RGB distance within which a pixel matches a palette colour (default 0.06).
+    threshold : float, optional
+        Alpha at or above which a pixel counts as opaque (default 0.5).
+
+    Returns
+    -------
+    float
+        The share in [0, 1]; 0 for an image with no opaque pixel.
+
     Examples
     --------
     >>> import numpy as np
@@ -134,6 +150,17 @@ def palette_pixels(image, *, n_colours: int = 16, tol: float = 0.06, threshold: 
     The pixels :func:`palette_coverage` counts; on flat art with fills too
     thin for a flat 3 x 3 window (outlined palms at 128 px) they are the
     fills.
+
+    Parameters
+    ----------
+    image : (H, W, 4) array_like
+        An RGBA tree billboard.
+    n_colours : int, optional
+        How many of the most frequent (quantised) colours make the palette (default 16).
+    tol : float, optional
+        RGB distance within which a pixel matches a palette colour (default 0.06).
+    threshold : float, optional
+        Alpha at or above which a pixel counts as opaque (default 0.5).
 
     Returns
     -------

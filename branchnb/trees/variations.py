@@ -1127,6 +1127,17 @@ def small_library_keep(k: int, keep: float = 0.3) -> float:
     the exemplars' simplex, so the centre's share shrinks: 0.15 for three
     trees, 0.225 for four, ``keep`` from five on.
 
+    Parameters
+    ----------
+    k : int
+        Number of exemplars in the library.
+    keep : float, optional
+        The centre's share for five exemplars or more (default 0.3).
+
+    Returns
+    -------
+    float
+
     Examples
     --------
     >>> small_library_keep(3), small_library_keep(8)
