@@ -152,14 +152,19 @@ def place_endpoints(importance, n_endpoints: int, *, gamma: float = 1.0, floor: 
     pts[:, 0] = np.clip(pts[:, 0], 0, w - 1)
     pts[:, 1] = np.clip(pts[:, 1], 0, h - 1)
     # a centroid may fall into an empty gap of a non-convex region: snap it back
-    m = d > 0
+    return _snap_into(pts, d > 0)
+
+
+def _snap_into(pts: np.ndarray, mask: np.ndarray) -> np.ndarray:
+    """Move the points ``(x, y)`` (inside the frame) whose rounded pixel misses ``mask`` to its
+    nearest pixel, in place; ``mask`` must not be empty. Returns ``pts``."""
     col = np.rint(pts[:, 0]).astype(int)
     row = np.rint(pts[:, 1]).astype(int)
-    bad = ~m[row, col]
+    bad = ~mask[row, col]
     if bad.any():
         from scipy.spatial import cKDTree
 
-        ys, xs = np.nonzero(m)
+        ys, xs = np.nonzero(mask)
         _, j = cKDTree(np.column_stack([xs, ys])).query(pts[bad])
         pts[bad] = np.column_stack([xs[j], ys[j]])
     return pts

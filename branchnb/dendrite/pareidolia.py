@@ -83,7 +83,7 @@ from ..core.params import check_params, param
 from ..core.random import as_rng
 from ..core.sampling import stipple
 from .dendrite import Dendrite, _accumulate_up, build_dendrite
-from .endpoints import place_endpoints, random_endpoints
+from .endpoints import _snap_into, place_endpoints, random_endpoints
 from .importance import ImportanceParams, darkness, importance_map
 from .lattice import Lattice, node_weights
 from .planner import plan
@@ -510,16 +510,7 @@ def _coarse_points(place, mask: np.ndarray, f: int, rng) -> np.ndarray:
         return pts
     h, w = mask.shape
     pts = (pts + 0.5) * f - 0.5 + rng.uniform(-0.5 * f, 0.5 * f, pts.shape)
-    pts = np.rint(np.clip(pts, 0, [w - 1, h - 1]))
-    col, row = pts[:, 0].astype(int), pts[:, 1].astype(int)
-    bad = ~mask[row, col]
-    if bad.any():
-        from scipy.spatial import cKDTree
-
-        ys, xs = np.nonzero(mask)
-        _, j = cKDTree(np.column_stack([xs, ys])).query(pts[bad])
-        pts[bad] = np.column_stack([xs[j], ys[j]])
-    return pts
+    return _snap_into(np.rint(np.clip(pts, 0, [w - 1, h - 1])), mask)
 
 
 def _fork_point(crown: np.ndarray) -> np.ndarray:
