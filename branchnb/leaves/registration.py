@@ -110,6 +110,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 
 import cv2
+import numba
 import numpy as np
 from scipy.interpolate import RBFInterpolator
 from scipy.ndimage import binary_fill_holes as ndi_fill_holes
@@ -517,7 +518,26 @@ def tps_rpm(source, target, *, source_labels=None, target_labels=None,
     t = t_init
     # Hundreds of small solves: BLAS threads only add overhead (and stall on a busy machine).
     with threadpool_limits(1):
-        return _anneal(x, v, f, system, lab_x, lab_v, t, t_init, t_final, cx, prm, pair_cost)
+        try:
+            return _anneal_compiled(x, v, system, lab_x, lab_v, t, t_init, t_final, prm, pair_cost)
+        except (np.linalg.LinAlgError, ZeroDivisionError, ValueError):  # a singular system: the numpy loop copes
+            return _anneal(x, v, f, system, lab_x, lab_v, t, t_init, t_final, cx, prm, pair_cost)
+
+
+def _anneal_compiled(x, v, system, lab_x, lab_v, t, t_init, t_final, prm, pair_cost=None):
+    use_lab = lab_x is not None
+    lx, lv = np.zeros(len(x), np.int64), np.zeros(len(v), np.int64)
+    if use_lab:  # any labels that compare equal -> integer codes
+        codes = np.unique(np.concatenate([lab_x, lab_v]), return_inverse=True)[1].ravel()
+        lx, lv = codes[:len(x)].astype(np.int64), codes[len(x):].astype(np.int64)
+    cost = np.ascontiguousarray(pair_cost if pair_cost is not None else np.zeros((1, 1)), np.float64)
+    d, w, m = _anneal_nb(np.ascontiguousarray(x, np.float64), np.ascontiguousarray(v, np.float64), lx, lv,
+                         use_lab, cost, pair_cost is not None, system.phi, np.ascontiguousarray(system.a),
+                         np.ascontiguousarray(system.bend), np.ascontiguousarray(system.q2), float(t),
+                         float(t_init), float(t_final), float(prm.anneal_rate), int(prm.iterations),
+                         int(prm.sinkhorn_iterations), float(prm.lambda1_init), float(prm.lambda2_init),
+                         _SINK_TOL, _MOVE_TOL * np.sqrt(t_final), _COUNTS)
+    return ThinPlateSpline(system.v, w, d), m
 
 
 def _anneal(x, v, f, system, lab_x, lab_v, t, t_init, t_final, cx, prm, pair_cost=None):
@@ -535,6 +555,133 @@ def _anneal(x, v, f, system, lab_x, lab_v, t, t_init, t_final, cx, prm, pair_cos
             break
         t = max(t * prm.anneal_rate, t_final)
     return f, m
+
+
+# ---------------------------------------------------------------------------
+# compiled annealing loop (the same arithmetic as _softassign and _SplineSystem.fit)
+
+_SINK_TOL = 1e-3
+_MOVE_TOL = 1e-3
+_COUNTS = np.zeros(2, np.int64)
+
+
+@numba.njit(cache=True)
+def _softassign_nb(x, fv, lab_x, lab_v, use_lab, cost, use_cost, t, t0, cx, cv, sinkhorn, tol):  # pragma: no cover
+    n, k = x.shape[0], fv.shape[0]
+    m = np.zeros((n + 1, k + 1))
+    logt, logt0 = np.log(t), np.log(t0)
+    top = -np.inf
+    for a in range(n):
+        for i in range(k):
+            if use_lab and lab_x[a] != lab_v[i]:
+                m[a, i] = -np.inf
+                continue
+            dx, dy = x[a, 0] - fv[i, 0], x[a, 1] - fv[i, 1]
+            d2 = max(dx * dx + dy * dy, 0.0)
+            if use_cost:
+                d2 += cost[a, i]
+            v = -d2 / (2 * t) - logt
+            m[a, i] = v
+            if v > top:
+                top = v
+    for a in range(n):
+        dx, dy = x[a, 0] - cv[0], x[a, 1] - cv[1]
+        v = -(dx * dx + dy * dy) / (2 * t0) - logt0
+        m[a, k] = v
+        top = max(top, v)
+    for i in range(k):
+        dx, dy = fv[i, 0] - cx[0], fv[i, 1] - cx[1]
+        v = -(dx * dx + dy * dy) / (2 * t0) - logt0
+        m[n, i] = v
+        top = max(top, v)
+    m[n, k] = -np.inf
+    for a in range(n + 1):
+        for i in range(k + 1):
+            m[a, i] = np.exp(m[a, i] - top)
+    colsum = np.empty(k)
+    rowsum = np.empty(n)
+    for it in range(sinkhorn):
+        err = 0.0
+        for a in range(n):
+            s = 0.0
+            for i in range(k + 1):
+                s += m[a, i]
+            rowsum[a] = s
+            err = max(err, abs(s - 1.0))
+        if it > 0 and err < tol:  # the rows already sum to 1: converged
+            break
+        for a in range(n):
+            r = 1.0 / max(rowsum[a], 1e-300)
+            for i in range(k + 1):
+                m[a, i] *= r
+        colsum[:] = 0.0
+        for a in range(n + 1):
+            for i in range(k):
+                colsum[i] += m[a, i]
+        for i in range(k):
+            colsum[i] = 1.0 / max(colsum[i], 1e-300)
+        for a in range(n + 1):
+            for i in range(k):
+                m[a, i] *= colsum[i]
+    return m[:n, :k].copy()
+
+
+@numba.njit(cache=True)
+def _anneal_nb(x, v, lab_x, lab_v, use_lab, cost, use_cost, phi, amat, bend, q2, t, t_init, t_final,
+               rate, iterations, sinkhorn, lam1, lam2, sink_tol, move_tol, counts):  # pragma: no cover
+    n, k = x.shape[0], v.shape[0]
+    d = np.zeros((3, 2))
+    d[1, 0] = 1.0
+    d[2, 1] = 1.0
+    w = np.zeros((k, 2))
+    m = np.zeros((n, k))
+    cx = np.empty(2)
+    cx[0], cx[1] = x[:, 0].mean(), x[:, 1].mean()
+    cv = np.empty(2)
+    y = np.empty((k, 2))
+    ca = np.empty_like(amat)
+    fv = v.copy()
+    while True:
+        for _ in range(iterations):
+            cv[0], cv[1] = fv[:, 0].mean(), fv[:, 1].mean()
+            m = _softassign_nb(x, fv, lab_x, lab_v, use_lab, cost, use_cost, t, t_init, cx, cv, sinkhorn,
+                               sink_tol)
+            counts[0] += 1
+            mx = np.dot(m.T, x)
+            c = np.empty(k)
+            for i in range(k):
+                s = 0.0
+                for a in range(n):
+                    s += m[a, i]
+                if s > 1e-9:
+                    y[i, 0], y[i, 1] = mx[i, 0] / s, mx[i, 1] / s
+                else:
+                    y[i, 0], y[i, 1] = fv[i, 0], fv[i, 1]
+                c[i] = min(max(s, 1e-3), 1.0)
+            for i in range(k):
+                ca[i] = c[i] * amat[i]
+            h = np.dot(amat.T, ca)
+            rhs = np.dot(ca.T, y)
+            l1, l2 = lam1 * k * t, lam2 * k * t
+            h[1, 1] += l2
+            h[2, 2] += l2
+            rhs[1, 0] += l2
+            rhs[2, 1] += l2
+            h[3:, 3:] += l1 * bend
+            z = np.linalg.solve(h, rhs)
+            w = np.dot(q2, np.ascontiguousarray(z[3:]))
+            d = z[:3].copy()
+            fv_new = np.dot(v, d[1:]) + np.dot(phi, w)
+            fv_new[:, 0] += d[0, 0]
+            fv_new[:, 1] += d[0, 1]
+            move = np.abs(fv_new - fv).max()
+            fv = fv_new
+            if move < move_tol:  # the spline stopped moving: the next round would repeat this one
+                break
+        if t <= t_final:
+            break
+        t = max(t * rate, t_final)
+    return d, w, m
 
 
 # ---------------------------------------------------------------------------
