@@ -514,14 +514,46 @@ def tps_rpm(source, target, *, source_labels=None, target_labels=None,
     t_init = float(_sqdist(x, v).max()) if t_init is None else max(float(t_init), t_final)
     cx = x.mean(0)
     f = ThinPlateSpline.identity(v)
-    system = _SplineSystem(v)
     t = t_init
     # Hundreds of small solves: BLAS threads only add overhead (and stall on a busy machine).
     with threadpool_limits(1):
+        system = _SplineSystem(v)
         try:
             return _anneal_compiled(x, v, system, lab_x, lab_v, t, t_init, t_final, prm, pair_cost)
         except (np.linalg.LinAlgError, ZeroDivisionError, ValueError):  # a singular system: the numpy loop copes
             return _anneal(x, v, f, system, lab_x, lab_v, t, t_init, t_final, cx, prm, pair_cost)
+
+
+def _subsample_levels(x, v, lab_x, lab_v, t_init):
+    """Point subsets for the high temperatures: ``(stride, t_end)``, coarsest first.
+
+    At temperature ``T`` the softassign blurs over ``sqrt(T)``; points
+    closer than that add little, so every ``stride``-th point
+    (of each label, in the given order, e.g. along an outline) stands in
+    for them while ``T >= (stride * spacing)^2`` (measured: the registered
+    maps moved by a few thousandths of a pixel).
+    """
+    if _SUB_MARGIN <= 0:
+        return []
+    nn = cKDTree(x).query(x, k=2)[0][:, 1]
+    nn2 = float(np.mean(nn ** 2))
+    out = []
+    for stride in (8, 4, 2):
+        t_end = _SUB_MARGIN ** 2 * stride ** 2 * nn2
+        if t_init >= t_end and min(len(x), len(v)) >= 8 * stride:
+            out.append((stride, t_end))
+    return out
+
+
+def _every(n, labels, stride):
+    """Every ``stride``-th index of each label (all of a label with fewer than 4 * stride points)."""
+    if labels is None:
+        return np.arange(0, n, stride)
+    keep = np.zeros(n, bool)
+    for lab in np.unique(labels):
+        idx = np.flatnonzero(labels == lab)
+        keep[idx if len(idx) < 4 * stride else idx[::stride]] = True
+    return np.flatnonzero(keep)
 
 
 def _anneal_compiled(x, v, system, lab_x, lab_v, t, t_init, t_final, prm, pair_cost=None):
@@ -530,14 +562,41 @@ def _anneal_compiled(x, v, system, lab_x, lab_v, t, t_init, t_final, prm, pair_c
     if use_lab:  # any labels that compare equal -> integer codes
         codes = np.unique(np.concatenate([lab_x, lab_v]), return_inverse=True)[1].ravel()
         lx, lv = codes[:len(x)].astype(np.int64), codes[len(x):].astype(np.int64)
+    x = np.ascontiguousarray(x, np.float64)
+    v = np.ascontiguousarray(v, np.float64)
     cost = np.ascontiguousarray(pair_cost if pair_cost is not None else np.zeros((1, 1)), np.float64)
-    d, w, m = _anneal_nb(np.ascontiguousarray(x, np.float64), np.ascontiguousarray(v, np.float64), lx, lv,
-                         use_lab, cost, pair_cost is not None, system.phi, np.ascontiguousarray(system.a),
-                         np.ascontiguousarray(system.bend), np.ascontiguousarray(system.q2), float(t),
-                         float(t_init), float(t_final), float(prm.anneal_rate), int(prm.iterations),
-                         int(prm.sinkhorn_iterations), float(prm.lambda1_init), float(prm.lambda2_init),
-                         _SINK_TOL, _MOVE_TOL * np.sqrt(t_final), _COUNTS)
-    return ThinPlateSpline(system.v, w, d), m
+    cx = x.mean(0)
+    fv = v.copy()
+    levels = _subsample_levels(x, v, lab_x, lab_v, t)
+    for stride, t_end in levels + [(1, 0.0)]:
+        if stride == 1:
+            xs, vs, lxs, lvs, cs, sys_ = x, v, lx, lv, cost, system
+        else:
+            ix, iv = _every(len(x), lab_x, stride), _every(len(v), lab_v, stride)
+            xs, vs, lxs, lvs = x[ix], v[iv], lx[ix], lv[iv]
+            cs = np.ascontiguousarray(cost[np.ix_(ix, iv)]) if pair_cost is not None else cost
+            sys_ = _SplineSystem(vs)
+        fvs = np.ascontiguousarray(fv if stride == 1 else fv[_every(len(v), lab_v, stride)])
+        d, w, m, t, done = _anneal_nb(xs, vs, lxs, lvs, use_lab, cs, pair_cost is not None, sys_.phi,
+                                      np.ascontiguousarray(sys_.a), np.ascontiguousarray(sys_.bend),
+                                      np.ascontiguousarray(sys_.q2), float(t), float(t_init), float(t_final),
+                                      float(prm.anneal_rate), int(prm.iterations), int(prm.sinkhorn_iterations),
+                                      float(prm.lambda1_init), float(prm.lambda2_init), _SINK_TOL,
+                                      _MOVE_TOL * np.sqrt(t_final), _COUNTS, fvs, cx, float(t_end))
+        f = ThinPlateSpline(sys_.v, w, d)
+        if done:
+            break
+        fv = f(v)  # the coarse spline at every point: where the denser stage starts
+    if not done or stride != 1:  # t_final reached on a subset: finish on all points
+        d, w, m, t, done = _anneal_nb(x, v, lx, lv, use_lab, cost, pair_cost is not None, system.phi,
+                                      np.ascontiguousarray(system.a), np.ascontiguousarray(system.bend),
+                                      np.ascontiguousarray(system.q2), float(t_final), float(t_init),
+                                      float(t_final), float(prm.anneal_rate), int(prm.iterations),
+                                      int(prm.sinkhorn_iterations), float(prm.lambda1_init),
+                                      float(prm.lambda2_init), _SINK_TOL, _MOVE_TOL * np.sqrt(t_final),
+                                      _COUNTS, np.ascontiguousarray(f(v)), cx, 0.0)
+        f = ThinPlateSpline(system.v, w, d)
+    return f, m
 
 
 def _anneal(x, v, f, system, lab_x, lab_v, t, t_init, t_final, cx, prm, pair_cost=None):
@@ -563,9 +622,10 @@ def _anneal(x, v, f, system, lab_x, lab_v, t, t_init, t_final, cx, prm, pair_cos
 _SINK_TOL = 1e-3
 _MOVE_TOL = 1e-3
 _COUNTS = np.zeros(2, np.int64)
+_SUB_MARGIN = 1.0
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, fastmath={"reassoc", "contract", "arcp", "nsz"})
 def _softassign_nb(x, fv, lab_x, lab_v, use_lab, cost, use_cost, t, t0, cx, cv, sinkhorn, tol):  # pragma: no cover
     n, k = x.shape[0], fv.shape[0]
     m = np.zeros((n + 1, k + 1))
@@ -628,19 +688,19 @@ def _softassign_nb(x, fv, lab_x, lab_v, use_lab, cost, use_cost, t, t0, cx, cv, 
 
 @numba.njit(cache=True)
 def _anneal_nb(x, v, lab_x, lab_v, use_lab, cost, use_cost, phi, amat, bend, q2, t, t_init, t_final,
-               rate, iterations, sinkhorn, lam1, lam2, sink_tol, move_tol, counts):  # pragma: no cover
+               rate, iterations, sinkhorn, lam1, lam2, sink_tol, move_tol, counts, fv0, cx_in,
+               t_end):  # pragma: no cover
     n, k = x.shape[0], v.shape[0]
     d = np.zeros((3, 2))
     d[1, 0] = 1.0
     d[2, 1] = 1.0
     w = np.zeros((k, 2))
     m = np.zeros((n, k))
-    cx = np.empty(2)
-    cx[0], cx[1] = x[:, 0].mean(), x[:, 1].mean()
+    cx = cx_in.copy()
     cv = np.empty(2)
     y = np.empty((k, 2))
     ca = np.empty_like(amat)
-    fv = v.copy()
+    fv = fv0.copy()
     while True:
         for _ in range(iterations):
             cv[0], cv[1] = fv[:, 0].mean(), fv[:, 1].mean()
@@ -679,9 +739,10 @@ def _anneal_nb(x, v, lab_x, lab_v, use_lab, cost, use_cost, phi, amat, bend, q2,
             if move < move_tol:  # the spline stopped moving: the next round would repeat this one
                 break
         if t <= t_final:
-            break
+            return d, w, m, t, True
         t = max(t * rate, t_final)
-    return d, w, m
+        if t < t_end:  # the next temperature belongs to the next (denser) point set
+            return d, w, m, t, False
 
 
 # ---------------------------------------------------------------------------
