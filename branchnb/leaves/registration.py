@@ -530,7 +530,7 @@ def _subsample_levels(x, v, lab_x, lab_v, t_init):
     At temperature ``T`` the softassign blurs over ``sqrt(T)``; points
     closer than that add little, so every ``stride``-th point
     (of each label, in the given order, e.g. along an outline) stands in
-    for them while ``T >= (stride * spacing)^2`` (measured: the registered
+    for them while ``T >= (0.7 * stride * spacing)^2`` (measured: the registered
     maps moved by a few thousandths of a pixel).
     """
     if _SUB_MARGIN <= 0:
@@ -619,10 +619,10 @@ def _anneal(x, v, f, system, lab_x, lab_v, t, t_init, t_final, cx, prm, pair_cos
 # ---------------------------------------------------------------------------
 # compiled annealing loop (the same arithmetic as _softassign and _SplineSystem.fit)
 
-_SINK_TOL = 1e-3
-_MOVE_TOL = 1e-3
+_SINK_TOL = 1e-2
+_MOVE_TOL = 1e-2
 _COUNTS = np.zeros(2, np.int64)
-_SUB_MARGIN = 1.0
+_SUB_MARGIN = 0.7
 
 
 @numba.njit(cache=True, fastmath={"reassoc", "contract", "arcp", "nsz"})
