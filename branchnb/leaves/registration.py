@@ -91,6 +91,19 @@ Steps
    inwards). A spline that still folds the lamina is refitted stiffer
    (``fold_retries``).
 
+   **Speed** (beyond the paper; issue 22). The annealing loop is compiled
+   (numba; the numpy loop ``_anneal`` stays as the fallback and the
+   reference). While ``T >= (0.7 * stride * spacing)^2`` it runs on every
+   ``stride``-th point (8, 4, 2) of each label: the softassign blurs over
+   ``sqrt(T)``, so closer points add nothing but cost. Sinkhorn stops
+   when the rows sum to 1 within 1 %, and a temperature ends early once
+   the spline moves less than ``0.01 sqrt(T_final)``. Measured (``python
+   -m branchnb.leaves._measure registration``: identical summary; 6
+   procedural and 12 maple pairs: maps within 0.03 px mean, 0.1 px at most,
+   of the plain loop's, blade IoU unchanged to 3 decimals): 3.5 -> 0.7 s
+   CPU per pair at ~250-370 px. The first call compiles for ~14 s CPU
+   (cached on disk afterwards).
+
 3. **Dense maps**. ``forward`` (exemplar -> training) is the start map
    followed by the splines. ``inverse`` is a thin-plate spline fitted
    to forward-mapped samples of the exemplar, refined by Newton steps on
