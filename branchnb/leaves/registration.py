@@ -272,6 +272,38 @@ def _sqdist(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.maximum(d, 0.0)
 
 
+
+@numba.njit(cache=True)
+def _tps_eval_nb(p, c, w, d, jac):  # pragma: no cover
+    """``f(p)`` and (if ``jac``) its Jacobian, one point at a time (no (N, K) temporaries at a megapixel)."""
+    n, k = p.shape[0], c.shape[0]
+    out = np.empty((n, 2))
+    j = np.empty((n if jac else 0, 2, 2))
+    for i in range(n):
+        x, y = p[i, 0], p[i, 1]
+        fx = d[0, 0] + x * d[1, 0] + y * d[2, 0]
+        fy = d[0, 1] + x * d[1, 1] + y * d[2, 1]
+        j00, j01, j10, j11 = d[1, 0], d[2, 0], d[1, 1], d[2, 1]
+        for a in range(k):
+            dx, dy = x - c[a, 0], y - c[a, 1]
+            r2 = dx * dx + dy * dy
+            if r2 > 0:
+                lg = np.log(r2)
+                u = 0.5 * r2 * lg  # U = r^2 log r
+                fx += u * w[a, 0]
+                fy += u * w[a, 1]
+                if jac:
+                    g = lg + 1.0  # dU/dp = (log r2 + 1) (p - c)
+                    j00 += g * dx * w[a, 0]
+                    j01 += g * dy * w[a, 0]
+                    j10 += g * dx * w[a, 1]
+                    j11 += g * dy * w[a, 1]
+        out[i, 0], out[i, 1] = fx, fy
+        if jac:
+            j[i, 0, 0], j[i, 0, 1], j[i, 1, 0], j[i, 1, 1] = j00, j01, j10, j11
+    return out, j
+
+
 @dataclass
 class ThinPlateSpline:
     """``f(p) = d^T [1, p] + sum_j w_j U(|p - c_j|)`` in 2-D.
@@ -354,12 +386,10 @@ class ThinPlateSpline:
         return _SplineSystem(source).fit(target, weights=weights, lambda1=lambda1, lambda2=lambda2)
 
     def __call__(self, points) -> np.ndarray:
-        p = np.asarray(points, np.float64).reshape(-1, 2)
-        out = np.empty_like(p)
-        for s in range(0, len(p), 8192):  # bounded memory at a megapixel
-            q = p[s:s + 8192]
-            out[s:s + 8192] = self.d[0] + q @ self.d[1:] + _tps_kernel(_sqdist(q, self.centres)) @ self.w
-        return out
+        p = np.ascontiguousarray(np.asarray(points, np.float64).reshape(-1, 2))
+        return _tps_eval_nb(p, np.ascontiguousarray(self.centres, np.float64),
+                            np.ascontiguousarray(self.w, np.float64), np.ascontiguousarray(self.d, np.float64),
+                            False)[0]
 
     def jacobian(self, points) -> np.ndarray:
         """(N, 2, 2) ``J[n, i, j] = d f_i / d p_j``.
@@ -373,16 +403,10 @@ class ThinPlateSpline:
         -------
         (N, 2, 2) float ndarray
         """
-        p = _points(points, "points", limit=COORD_LIMIT)
-        out = np.empty((len(p), 2, 2))
-        for s in range(0, len(p), 8192):
-            q = p[s:s + 8192]
-            diff = q[:, None, :] - self.centres[None]
-            r2 = (diff * diff).sum(-1)
-            with np.errstate(divide="ignore", invalid="ignore"):
-                g = np.where(r2 > 0, np.log(r2) + 1.0, 0.0)  # dU/dp = (log r2 + 1) (p - c)
-            out[s:s + 8192] = self.d[1:].T[None] + np.einsum("nk,nkj,ki->nij", g, diff, self.w)
-        return out
+        p = np.ascontiguousarray(_points(points, "points", limit=COORD_LIMIT), np.float64)
+        return _tps_eval_nb(p, np.ascontiguousarray(self.centres, np.float64),
+                            np.ascontiguousarray(self.w, np.float64), np.ascontiguousarray(self.d, np.float64),
+                            True)[1]
 
 
 class _SplineSystem:
