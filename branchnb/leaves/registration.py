@@ -120,6 +120,7 @@ registration", Computer Vision and Image Understanding 89 (2003) 114-141.
 
 from __future__ import annotations
 
+import hashlib
 from dataclasses import dataclass, field, replace
 
 import cv2
@@ -837,7 +838,21 @@ def _opening_radius(mask: np.ndarray) -> int:
     return max(1, int(round(0.05 * np.sqrt(mask.sum()))))
 
 
+_THIN_CACHE: dict = {}
+
+
 def _thin_parts(mask: np.ndarray) -> np.ndarray:
+    """:func:`_thin_parts_of`, remembered for the last few masks (a registration asks ~12 times per leaf)."""
+    m = np.ascontiguousarray(mask, bool)
+    key = (m.shape, hashlib.blake2b(np.packbits(m).tobytes(), digest_size=16).digest())
+    if key not in _THIN_CACHE:
+        if len(_THIN_CACHE) >= 8:
+            _THIN_CACHE.pop(next(iter(_THIN_CACHE)))
+        _THIN_CACHE[key] = _thin_parts_of(m)
+    return _THIN_CACHE[key].copy()
+
+
+def _thin_parts_of(mask: np.ndarray) -> np.ndarray:
     """Thin protrusions of a blade (petiole, drawn-out tips): what an opening removes.
 
     Holes (insect damage) are filled first: the pixels around a hole are
