@@ -168,7 +168,8 @@ class RegistrationParams:
     iterations : int
         Softassign / spline rounds per temperature (Chui & Rangarajan: 5).
     sinkhorn_iterations : int
-        Row/column normalisation rounds per softassign (default 10).
+        Row/column normalisation rounds per softassign (default 10; fewer
+        once the rows sum to 1 within 1 %).
     t_final_scale : float
         ``T_final`` = this times the mean squared nearest-neighbour
         distance of the training keypoints (Chui & Rangarajan: 1; default
