@@ -91,6 +91,21 @@ Steps
    inwards). A spline that still folds the lamina is refitted stiffer
    (``fold_retries``).
 
+   **Speed** (beyond the paper; issue 22). The annealing loop is compiled
+   (numba; the numpy loop ``_anneal`` stays as the fallback and the
+   reference). While ``T >= (0.7 * stride * spacing)^2`` it runs on every
+   ``stride``-th point (8, 4, 2) of each label: the softassign blurs over
+   ``sqrt(T)``, so closer points add nothing but cost. Sinkhorn stops
+   when the rows sum to 1 within 1 %, and a temperature ends early once
+   the spline moves less than ``0.01 sqrt(T_final)``. Measured (``python
+   -m branchnb.leaves._measure registration``: identical summary; 6
+   procedural and 12 maple pairs: maps within 0.03 px mean, 0.1 px at most,
+   of the plain loop's, blade IoU unchanged to 3 decimals): 3.5 -> 0.7 s
+   CPU per pair at ~250-370 px. The splines' values and Jacobians (the
+   dense maps' Newton inverse) are compiled too: two registrations with
+   the dense map to the training frame at 1000 px, 13.0 -> 4.2 s CPU.
+   The first call compiles for ~15 s CPU (cached on disk afterwards).
+
 3. **Dense maps**. ``forward`` (exemplar -> training) is the start map
    followed by the splines. ``inverse`` is a thin-plate spline fitted
    to forward-mapped samples of the exemplar, refined by Newton steps on
@@ -107,9 +122,11 @@ registration", Computer Vision and Image Understanding 89 (2003) 114-141.
 
 from __future__ import annotations
 
+import hashlib
 from dataclasses import dataclass, field, replace
 
 import cv2
+import numba
 import numpy as np
 from scipy.interpolate import RBFInterpolator
 from scipy.ndimage import binary_fill_holes as ndi_fill_holes
@@ -151,7 +168,8 @@ class RegistrationParams:
     iterations : int
         Softassign / spline rounds per temperature (Chui & Rangarajan: 5).
     sinkhorn_iterations : int
-        Row/column normalisation rounds per softassign (default 10).
+        Row/column normalisation rounds per softassign (default 10; fewer
+        once the rows sum to 1 within 1 %).
     t_final_scale : float
         ``T_final`` = this times the mean squared nearest-neighbour
         distance of the training keypoints (Chui & Rangarajan: 1; default
@@ -258,6 +276,38 @@ def _sqdist(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.maximum(d, 0.0)
 
 
+
+@numba.njit(cache=True)
+def _tps_eval_nb(p, c, w, d, jac):  # pragma: no cover
+    """``f(p)`` and (if ``jac``) its Jacobian, one point at a time (no (N, K) temporaries at a megapixel)."""
+    n, k = p.shape[0], c.shape[0]
+    out = np.empty((n, 2))
+    j = np.empty((n if jac else 0, 2, 2))
+    for i in range(n):
+        x, y = p[i, 0], p[i, 1]
+        fx = d[0, 0] + x * d[1, 0] + y * d[2, 0]
+        fy = d[0, 1] + x * d[1, 1] + y * d[2, 1]
+        j00, j01, j10, j11 = d[1, 0], d[2, 0], d[1, 1], d[2, 1]
+        for a in range(k):
+            dx, dy = x - c[a, 0], y - c[a, 1]
+            r2 = dx * dx + dy * dy
+            if r2 > 0:
+                lg = np.log(r2)
+                u = 0.5 * r2 * lg  # U = r^2 log r
+                fx += u * w[a, 0]
+                fy += u * w[a, 1]
+                if jac:
+                    g = lg + 1.0  # dU/dp = (log r2 + 1) (p - c)
+                    j00 += g * dx * w[a, 0]
+                    j01 += g * dy * w[a, 0]
+                    j10 += g * dx * w[a, 1]
+                    j11 += g * dy * w[a, 1]
+        out[i, 0], out[i, 1] = fx, fy
+        if jac:
+            j[i, 0, 0], j[i, 0, 1], j[i, 1, 0], j[i, 1, 1] = j00, j01, j10, j11
+    return out, j
+
+
 @dataclass
 class ThinPlateSpline:
     """``f(p) = d^T [1, p] + sum_j w_j U(|p - c_j|)`` in 2-D.
@@ -340,12 +390,10 @@ class ThinPlateSpline:
         return _SplineSystem(source).fit(target, weights=weights, lambda1=lambda1, lambda2=lambda2)
 
     def __call__(self, points) -> np.ndarray:
-        p = np.asarray(points, np.float64).reshape(-1, 2)
-        out = np.empty_like(p)
-        for s in range(0, len(p), 8192):  # bounded memory at a megapixel
-            q = p[s:s + 8192]
-            out[s:s + 8192] = self.d[0] + q @ self.d[1:] + _tps_kernel(_sqdist(q, self.centres)) @ self.w
-        return out
+        p = np.ascontiguousarray(np.asarray(points, np.float64).reshape(-1, 2))
+        return _tps_eval_nb(p, np.ascontiguousarray(self.centres, np.float64),
+                            np.ascontiguousarray(self.w, np.float64), np.ascontiguousarray(self.d, np.float64),
+                            False)[0]
 
     def jacobian(self, points) -> np.ndarray:
         """(N, 2, 2) ``J[n, i, j] = d f_i / d p_j``.
@@ -359,16 +407,10 @@ class ThinPlateSpline:
         -------
         (N, 2, 2) float ndarray
         """
-        p = _points(points, "points", limit=COORD_LIMIT)
-        out = np.empty((len(p), 2, 2))
-        for s in range(0, len(p), 8192):
-            q = p[s:s + 8192]
-            diff = q[:, None, :] - self.centres[None]
-            r2 = (diff * diff).sum(-1)
-            with np.errstate(divide="ignore", invalid="ignore"):
-                g = np.where(r2 > 0, np.log(r2) + 1.0, 0.0)  # dU/dp = (log r2 + 1) (p - c)
-            out[s:s + 8192] = self.d[1:].T[None] + np.einsum("nk,nkj,ki->nij", g, diff, self.w)
-        return out
+        p = np.ascontiguousarray(_points(points, "points", limit=COORD_LIMIT), np.float64)
+        return _tps_eval_nb(p, np.ascontiguousarray(self.centres, np.float64),
+                            np.ascontiguousarray(self.w, np.float64), np.ascontiguousarray(self.d, np.float64),
+                            True)[1]
 
 
 class _SplineSystem:
@@ -513,11 +555,89 @@ def tps_rpm(source, target, *, source_labels=None, target_labels=None,
     t_init = float(_sqdist(x, v).max()) if t_init is None else max(float(t_init), t_final)
     cx = x.mean(0)
     f = ThinPlateSpline.identity(v)
-    system = _SplineSystem(v)
     t = t_init
     # Hundreds of small solves: BLAS threads only add overhead (and stall on a busy machine).
     with threadpool_limits(1):
-        return _anneal(x, v, f, system, lab_x, lab_v, t, t_init, t_final, cx, prm, pair_cost)
+        system = _SplineSystem(v)
+        try:
+            return _anneal_compiled(x, v, system, lab_x, lab_v, t, t_init, t_final, prm, pair_cost)
+        except (np.linalg.LinAlgError, ZeroDivisionError, ValueError):  # a singular system: the numpy loop copes
+            return _anneal(x, v, f, system, lab_x, lab_v, t, t_init, t_final, cx, prm, pair_cost)
+
+
+def _subsample_levels(x, v, lab_x, lab_v, t_init):
+    """Point subsets for the high temperatures: ``(stride, t_end)``, coarsest first.
+
+    At temperature ``T`` the softassign blurs over ``sqrt(T)``; points
+    closer than that add little, so every ``stride``-th point
+    (of each label, in the given order, e.g. along an outline) stands in
+    for them while ``T >= (0.7 * stride * spacing)^2`` (measured: the registered
+    maps moved by a few thousandths of a pixel).
+    """
+    if _SUB_MARGIN <= 0:
+        return []
+    nn = cKDTree(x).query(x, k=2)[0][:, 1]
+    nn2 = float(np.mean(nn ** 2))
+    out = []
+    for stride in (8, 4, 2):
+        t_end = _SUB_MARGIN ** 2 * stride ** 2 * nn2
+        if t_init >= t_end and min(len(x), len(v)) >= 8 * stride:
+            out.append((stride, t_end))
+    return out
+
+
+def _every(n, labels, stride):
+    """Every ``stride``-th index of each label (all of a label with fewer than 4 * stride points)."""
+    if labels is None:
+        return np.arange(0, n, stride)
+    keep = np.zeros(n, bool)
+    for lab in np.unique(labels):
+        idx = np.flatnonzero(labels == lab)
+        keep[idx if len(idx) < 4 * stride else idx[::stride]] = True
+    return np.flatnonzero(keep)
+
+
+def _anneal_compiled(x, v, system, lab_x, lab_v, t, t_init, t_final, prm, pair_cost=None):
+    use_lab = lab_x is not None
+    lx, lv = np.zeros(len(x), np.int64), np.zeros(len(v), np.int64)
+    if use_lab:  # any labels that compare equal -> integer codes
+        codes = np.unique(np.concatenate([lab_x, lab_v]), return_inverse=True)[1].ravel()
+        lx, lv = codes[:len(x)].astype(np.int64), codes[len(x):].astype(np.int64)
+    x = np.ascontiguousarray(x, np.float64)
+    v = np.ascontiguousarray(v, np.float64)
+    cost = np.ascontiguousarray(pair_cost if pair_cost is not None else np.zeros((1, 1)), np.float64)
+    cx = x.mean(0)
+    fv = v.copy()
+    levels = _subsample_levels(x, v, lab_x, lab_v, t)
+    for stride, t_end in levels + [(1, 0.0)]:
+        if stride == 1:
+            xs, vs, lxs, lvs, cs, sys_ = x, v, lx, lv, cost, system
+        else:
+            ix, iv = _every(len(x), lab_x, stride), _every(len(v), lab_v, stride)
+            xs, vs, lxs, lvs = x[ix], v[iv], lx[ix], lv[iv]
+            cs = np.ascontiguousarray(cost[np.ix_(ix, iv)]) if pair_cost is not None else cost
+            sys_ = _SplineSystem(vs)
+        fvs = np.ascontiguousarray(fv if stride == 1 else fv[_every(len(v), lab_v, stride)])
+        d, w, m, t, done = _anneal_nb(xs, vs, lxs, lvs, use_lab, cs, pair_cost is not None, sys_.phi,
+                                      np.ascontiguousarray(sys_.a), np.ascontiguousarray(sys_.bend),
+                                      np.ascontiguousarray(sys_.q2), float(t), float(t_init), float(t_final),
+                                      float(prm.anneal_rate), int(prm.iterations), int(prm.sinkhorn_iterations),
+                                      float(prm.lambda1_init), float(prm.lambda2_init), _SINK_TOL,
+                                      _MOVE_TOL * np.sqrt(t_final), _COUNTS, fvs, cx, float(t_end))
+        f = ThinPlateSpline(sys_.v, w, d)
+        if done:
+            break
+        fv = f(v)  # the coarse spline at every point: where the denser stage starts
+    if not done or stride != 1:  # t_final reached on a subset: finish on all points
+        d, w, m, t, done = _anneal_nb(x, v, lx, lv, use_lab, cost, pair_cost is not None, system.phi,
+                                      np.ascontiguousarray(system.a), np.ascontiguousarray(system.bend),
+                                      np.ascontiguousarray(system.q2), float(t_final), float(t_init),
+                                      float(t_final), float(prm.anneal_rate), int(prm.iterations),
+                                      int(prm.sinkhorn_iterations), float(prm.lambda1_init),
+                                      float(prm.lambda2_init), _SINK_TOL, _MOVE_TOL * np.sqrt(t_final),
+                                      _COUNTS, np.ascontiguousarray(f(v)), cx, 0.0)
+        f = ThinPlateSpline(system.v, w, d)
+    return f, m
 
 
 def _anneal(x, v, f, system, lab_x, lab_v, t, t_init, t_final, cx, prm, pair_cost=None):
@@ -535,6 +655,135 @@ def _anneal(x, v, f, system, lab_x, lab_v, t, t_init, t_final, cx, prm, pair_cos
             break
         t = max(t * prm.anneal_rate, t_final)
     return f, m
+
+
+# ---------------------------------------------------------------------------
+# compiled annealing loop (the same arithmetic as _softassign and _SplineSystem.fit)
+
+_SINK_TOL = 1e-2
+_MOVE_TOL = 1e-2
+_COUNTS = np.zeros(2, np.int64)
+_SUB_MARGIN = 0.7
+
+
+@numba.njit(cache=True, fastmath={"reassoc", "contract", "arcp", "nsz"})
+def _softassign_nb(x, fv, lab_x, lab_v, use_lab, cost, use_cost, t, t0, cx, cv, sinkhorn, tol):  # pragma: no cover
+    n, k = x.shape[0], fv.shape[0]
+    m = np.zeros((n + 1, k + 1))
+    logt, logt0 = np.log(t), np.log(t0)
+    top = -np.inf
+    for a in range(n):
+        for i in range(k):
+            if use_lab and lab_x[a] != lab_v[i]:
+                m[a, i] = -np.inf
+                continue
+            dx, dy = x[a, 0] - fv[i, 0], x[a, 1] - fv[i, 1]
+            d2 = max(dx * dx + dy * dy, 0.0)
+            if use_cost:
+                d2 += cost[a, i]
+            v = -d2 / (2 * t) - logt
+            m[a, i] = v
+            if v > top:
+                top = v
+    for a in range(n):
+        dx, dy = x[a, 0] - cv[0], x[a, 1] - cv[1]
+        v = -(dx * dx + dy * dy) / (2 * t0) - logt0
+        m[a, k] = v
+        top = max(top, v)
+    for i in range(k):
+        dx, dy = fv[i, 0] - cx[0], fv[i, 1] - cx[1]
+        v = -(dx * dx + dy * dy) / (2 * t0) - logt0
+        m[n, i] = v
+        top = max(top, v)
+    m[n, k] = -np.inf
+    for a in range(n + 1):
+        for i in range(k + 1):
+            m[a, i] = np.exp(m[a, i] - top)
+    colsum = np.empty(k)
+    rowsum = np.empty(n)
+    for it in range(sinkhorn):
+        err = 0.0
+        for a in range(n):
+            s = 0.0
+            for i in range(k + 1):
+                s += m[a, i]
+            rowsum[a] = s
+            err = max(err, abs(s - 1.0))
+        if it > 0 and err < tol:  # the rows already sum to 1: converged
+            break
+        for a in range(n):
+            r = 1.0 / max(rowsum[a], 1e-300)
+            for i in range(k + 1):
+                m[a, i] *= r
+        colsum[:] = 0.0
+        for a in range(n + 1):
+            for i in range(k):
+                colsum[i] += m[a, i]
+        for i in range(k):
+            colsum[i] = 1.0 / max(colsum[i], 1e-300)
+        for a in range(n + 1):
+            for i in range(k):
+                m[a, i] *= colsum[i]
+    return m[:n, :k].copy()
+
+
+@numba.njit(cache=True)
+def _anneal_nb(x, v, lab_x, lab_v, use_lab, cost, use_cost, phi, amat, bend, q2, t, t_init, t_final,
+               rate, iterations, sinkhorn, lam1, lam2, sink_tol, move_tol, counts, fv0, cx_in,
+               t_end):  # pragma: no cover
+    n, k = x.shape[0], v.shape[0]
+    d = np.zeros((3, 2))
+    d[1, 0] = 1.0
+    d[2, 1] = 1.0
+    w = np.zeros((k, 2))
+    m = np.zeros((n, k))
+    cx = cx_in.copy()
+    cv = np.empty(2)
+    y = np.empty((k, 2))
+    ca = np.empty_like(amat)
+    fv = fv0.copy()
+    while True:
+        for _ in range(iterations):
+            cv[0], cv[1] = fv[:, 0].mean(), fv[:, 1].mean()
+            m = _softassign_nb(x, fv, lab_x, lab_v, use_lab, cost, use_cost, t, t_init, cx, cv, sinkhorn,
+                               sink_tol)
+            counts[0] += 1
+            mx = np.dot(m.T, x)
+            c = np.empty(k)
+            for i in range(k):
+                s = 0.0
+                for a in range(n):
+                    s += m[a, i]
+                if s > 1e-9:
+                    y[i, 0], y[i, 1] = mx[i, 0] / s, mx[i, 1] / s
+                else:
+                    y[i, 0], y[i, 1] = fv[i, 0], fv[i, 1]
+                c[i] = min(max(s, 1e-3), 1.0)
+            for i in range(k):
+                ca[i] = c[i] * amat[i]
+            h = np.dot(amat.T, ca)
+            rhs = np.dot(ca.T, y)
+            l1, l2 = lam1 * k * t, lam2 * k * t
+            h[1, 1] += l2
+            h[2, 2] += l2
+            rhs[1, 0] += l2
+            rhs[2, 1] += l2
+            h[3:, 3:] += l1 * bend
+            z = np.linalg.solve(h, rhs)
+            w = np.dot(q2, np.ascontiguousarray(z[3:]))
+            d = z[:3].copy()
+            fv_new = np.dot(v, d[1:]) + np.dot(phi, w)
+            fv_new[:, 0] += d[0, 0]
+            fv_new[:, 1] += d[0, 1]
+            move = np.abs(fv_new - fv).max()
+            fv = fv_new
+            if move < move_tol:  # the spline stopped moving: the next round would repeat this one
+                break
+        if t <= t_final:
+            return d, w, m, t, True
+        t = max(t * rate, t_final)
+        if t < t_end:  # the next temperature belongs to the next (denser) point set
+            return d, w, m, t, False
 
 
 # ---------------------------------------------------------------------------
@@ -592,7 +841,21 @@ def _opening_radius(mask: np.ndarray) -> int:
     return max(1, int(round(0.05 * np.sqrt(mask.sum()))))
 
 
+_THIN_CACHE: dict = {}
+
+
 def _thin_parts(mask: np.ndarray) -> np.ndarray:
+    """:func:`_thin_parts_of`, remembered for the last few masks (a registration asks ~12 times per leaf)."""
+    m = np.ascontiguousarray(mask, bool)
+    key = (m.shape, hashlib.blake2b(np.packbits(m).tobytes(), digest_size=16).digest())
+    if key not in _THIN_CACHE:
+        if len(_THIN_CACHE) >= 8:
+            _THIN_CACHE.pop(next(iter(_THIN_CACHE)))
+        _THIN_CACHE[key] = _thin_parts_of(m)
+    return _THIN_CACHE[key].copy()
+
+
+def _thin_parts_of(mask: np.ndarray) -> np.ndarray:
     """Thin protrusions of a blade (petiole, drawn-out tips): what an opening removes.
 
     Holes (insect damage) are filled first: the pixels around a hole are
