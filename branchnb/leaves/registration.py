@@ -123,6 +123,7 @@ registration", Computer Vision and Image Understanding 89 (2003) 114-141.
 from __future__ import annotations
 
 import hashlib
+import threading
 from dataclasses import dataclass, field, replace
 
 import cv2
@@ -842,17 +843,22 @@ def _opening_radius(mask: np.ndarray) -> int:
 
 
 _THIN_CACHE: dict = {}
+_THIN_LOCK = threading.Lock()  # batch runs register leaves on several threads
 
 
 def _thin_parts(mask: np.ndarray) -> np.ndarray:
     """:func:`_thin_parts_of`, remembered for the last few masks (a registration asks ~12 times per leaf)."""
     m = np.ascontiguousarray(mask, bool)
     key = (m.shape, hashlib.blake2b(np.packbits(m).tobytes(), digest_size=16).digest())
-    if key not in _THIN_CACHE:
-        if len(_THIN_CACHE) >= 8:
-            _THIN_CACHE.pop(next(iter(_THIN_CACHE)))
-        _THIN_CACHE[key] = _thin_parts_of(m)
-    return _THIN_CACHE[key].copy()
+    with _THIN_LOCK:
+        hit = _THIN_CACHE.get(key)
+    if hit is None:
+        hit = _thin_parts_of(m)
+        with _THIN_LOCK:
+            while len(_THIN_CACHE) >= 8:
+                _THIN_CACHE.pop(next(iter(_THIN_CACHE)))
+            _THIN_CACHE[key] = hit
+    return hit.copy()
 
 
 def _thin_parts_of(mask: np.ndarray) -> np.ndarray:
