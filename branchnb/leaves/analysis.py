@@ -366,7 +366,14 @@ class LeafAnalysis:
         """
         e = check_int(e, "e", 0, len(self.exemplars) - 1)
         step = check_int(step, "step", 1, 10_000)
-        out = as_rgb(self.exemplars[e])[::step, ::step] if base is None else np.array(base, np.float32)
+        if base is None:
+            out = as_rgb(self.exemplars[e])[::step, ::step]
+        else:
+            out = as_rgb(base, name="base").copy()
+            want = self.blades[e][::step, ::step].shape
+            if out.shape[:2] != want:
+                raise ValueError(f"base must be exemplar {e} on white at step {step}, of shape {want}, "
+                                 f"got {out.shape[:2]}")
         colours = {}
         if self.layer_set is not None:
             colours = {x.name: x.colour for x in self.layer_set.layers}

@@ -39,7 +39,14 @@ spots) the carried-over layer is only a prior:
    confident first, and a branch whose pose would lie mostly (30 %) on one
    already placed takes its next best pose: two laterals carried near one
    vein no longer both land on it.
-4. **Path search.** Each fitted branch is replaced by the least-cost path
+4. **Polar trace** (:func:`trace_branches`):
+   each fitted branch is traced anew from its junction outwards by dynamic
+   programming over (radius, angle) on the oriented ridge scores, within
+   30 degrees of its fitted direction and out to 1.5 times its carried
+   length, then cut where its score falls below a quarter of its mean: a narrow
+   maple's steep laterals open onto a broad maple's own, and a vein traced
+   short on the training leaf is followed as far as it shows.
+5. **Path search.** Each fitted branch is replaced by the least-cost path
    (``skimage.graph.MCP_Geometric``, cost ``1 / (0.05 + E_e)``, ``E_e`` here
    at one-pixel scale without line averaging: the vein's centre, not its
    blurred halo) between its ends, inside a tube of 1.5 layer widths (2 px
@@ -47,14 +54,7 @@ spots) the carried-over layer is only a prior:
    The path follows the exemplar's own vein wherever one runs within the
    tube; a branch whose path finds no ridge (mean
    evidence below ``min_evidence``) is dropped: that vein is not there.
-4b. **Polar trace** (before the path search, :func:`trace_branches`):
-   each fitted branch is traced anew from its junction outwards by dynamic
-   programming over (radius, angle) on the oriented ridge scores, within
-   30 degrees of its fitted direction and out to 1.5 times its carried
-   length, then cut where its score falls below a quarter of its mean: a narrow
-   maple's steep laterals open onto a broad maple's own, and a vein traced
-   short on the training leaf is followed as far as it shows.
-5. The kept paths, grown to each branch's width on the training leaf
+6. The kept paths, grown to each branch's width on the training leaf
    (area per skeleton pixel, so diagonal veins keep their width),
    are the snapped layer. :func:`branchnb.leaves.analysis.induce` uses it
    in place of the carried-over layer for the paper's ``||x, c||`` (eqs.
