@@ -105,6 +105,13 @@ def test_morph_slider(app, lib):
     assert app.morph_result.names == ("tree_rpg_01",)
 
 
+def test_default_keep_follows_the_library_size(app, lib):
+    """Like the API's keep=None: a small library keeps less of the centre so its variations spread."""
+    from branchnb.trees.variations import small_library_keep
+
+    assert abs(app.keep.value - small_library_keep(len(lib.names))) <= 0.025 + 1e-9
+
+
 def test_more_like_this_and_adopt(app):
     app.set_weights([0.8, 0.2])
     app.keep.value = 0.7

@@ -51,6 +51,7 @@ from ..trees.variations import (
     VariationParams,
     exemplar_trunk,
     make_variation,
+    small_library_keep,
 )
 from .canvas import AnnotationCanvas
 from .files import canvases_json, load_canvases
@@ -286,7 +287,9 @@ class TreeVariationsApp(widgets.VBox):
                               self.morph_view])
 
         # -- more like this
-        self.keep = widgets.FloatSlider(value=0.3, min=0.0, max=1.0, step=0.05, description="keep",
+        # A small library gets a smaller default keep, so its six variations can spread (as the API's keep=None).
+        keep0 = round(small_library_keep(len(self.library.names)) / 0.05) * 0.05
+        self.keep = widgets.FloatSlider(value=keep0, min=0.0, max=1.0, step=0.05, description="keep",
                                         continuous_update=False,
                                         tooltip="share of the current weights each variation keeps")
         self.n_similar = widgets.IntSlider(value=6, min=1, max=12, description="count",
