@@ -199,14 +199,14 @@ def ridge_evidence(lab, blade, direction, width: float, line_length: float = 0.0
     (H, W) float32 ndarray
         0 outside the blade and on its outline pixel.
     """
-    from skimage.filters import sato
+    from ._snapkernels import sato_bright  # skimage.filters.sato without its imports, fewer zero taps
     blade = as_mask(blade, shape=lab.shape[:2], name="blade")
     p = (np.asarray(lab, np.float32) @ np.asarray(direction, np.float32)).astype(np.float32)
     # Outside the blade the projection continues the nearest blade pixel:
     # the outline is no ridge.
     p = extend_nearest(p, blade)
     s = max(0.7, 0.5 * float(width))
-    r = sato(p, sigmas=[s, max(s, float(width))], black_ridges=False, mode="reflect").astype(np.float32)
+    r = sato_bright(p, [s, max(s, float(width))]).astype(np.float32)
     inner = ndi.binary_erosion(blade)
     r = np.where(inner, r, 0.0).astype(np.float32)
     if line_length and line_length >= 3:
@@ -816,18 +816,16 @@ def _oriented_maps(ev, hess, n: int = N_ORIENTATIONS) -> np.ndarray:
 
 def _sample(ev, maps, q, shifts, tangent):
     """Mean score of points ``q`` moved by each shift: evidence, or the oriented maps along ``tangent``."""
-    h, w = ev.shape
-    ix = np.round(q[None, :, 0] + shifts[:, None, 0]).astype(np.int32)
-    iy = np.round(q[None, :, 1] + shifts[:, None, 1]).astype(np.int32)
-    inside = (ix >= 0) & (ix < w) & (iy >= 0) & (iy < h)
-    ix, iy = np.clip(ix, 0, w - 1), np.clip(iy, 0, h - 1)
+    from ._snapkernels import sample_scores  # compiled: the same sums, ~10x faster
+    q = np.ascontiguousarray(q, np.float64)
+    shifts = np.ascontiguousarray(shifts, np.float64).reshape(-1, 2)
     if maps is None:
-        v = ev[iy, ix]
+        src, k = np.asarray(ev, np.float32)[None], np.zeros(len(q), np.int32)
     else:
         n = len(maps)
+        src = np.asarray(maps, np.float32)
         k = np.round(np.mod(np.arctan2(tangent[:, 1], tangent[:, 0]), np.pi) / (np.pi / n)).astype(np.int32) % n
-        v = maps[k[None, :], iy, ix]
-    return np.where(inside, v, 0.0).mean(1)
+    return sample_scores(src, k, q, shifts)
 
 
 #: Weight of the oriented ridge response (:func:`oriented_response`) against
@@ -1127,6 +1125,7 @@ def trace_branches(chains, maps, blade, *, max_angle: float = 30.0, step_deg: fl
     >>> tip = out[0][-1]; round(float(np.degrees(np.arctan2(tip[1] - 75, tip[0] - 40))))
     -70
     """
+    from ._snapkernels import polar_dp  # compiled DP over radius
     maps = np.asarray(maps, np.float32)
     k_dirs, h, w = maps.shape
     blade = as_mask(blade, shape=(h, w), name="blade")
@@ -1160,23 +1159,8 @@ def trace_branches(chains, maps, blade, *, max_angle: float = 30.0, step_deg: fl
         near = ok & placed[iy, ix] & (rs[:, None] > 6.0)
         s = np.where(near, -0.5, s)
         # DP over radius: the angle index may change by m(r) steps per radial step.
-        n_a = len(offs)
-        v = s[0].copy()
-        back = np.zeros((len(rs), n_a), np.int32)
-        idx = np.arange(n_a)
-        for j in range(1, len(rs)):
-            m = int(np.clip(np.floor(slope / (rs[j] * da)), 1, 6))
-            best = np.full(n_a, -np.inf)
-            arg = idx.copy()
-            for d in range(-m, m + 1):
-                src = idx + d
-                valid = (src >= 0) & (src < n_a)
-                cand = np.where(valid, v[np.clip(src, 0, n_a - 1)], -np.inf)
-                better = cand > best
-                best = np.where(better, cand, best)
-                arg = np.where(better, src, arg)
-            v = best + s[j]
-            back[j] = arg
+        v, back = polar_dp(np.ascontiguousarray(s, np.float32), np.ascontiguousarray(rs, np.float64),
+                           float(da), float(slope))
         final = v / len(rs) - prior * np.abs(offs) / max(max_angle, 1e-9)
         a = int(np.argmax(final))
         path = np.empty(len(rs), np.int32)
