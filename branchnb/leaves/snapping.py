@@ -627,6 +627,7 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
         m, k = snap_layer(pev, b, carried, [wd * scale for wd in widths], tube, min_evidence=min_evidence)
         masks.append(m)
         kept.append(k)
+    _MAPS_CACHE.clear()
     return masks, kept
 
 
@@ -785,7 +786,11 @@ def oriented_response(hess, ix, iy, tangent) -> np.ndarray:
     ndarray
         The shape of ``ix``.
     """
-    hxx, hxy, hyy = (hh[iy, ix] for hh in hess)
+    return _oriented(*(hh[iy, ix] for hh in hess), tangent)
+
+
+def _oriented(hxx, hxy, hyy, tangent):
+    """:func:`oriented_response` from the Hessian's entries at the pixels."""
     tx, ty = tangent[..., 0], tangent[..., 1]
     across = ty * ty * hxx - 2.0 * tx * ty * hxy + tx * tx * hyy
     along = tx * tx * hxx + 2.0 * tx * ty * hxy + ty * ty * hyy
@@ -804,14 +809,48 @@ N_ORIENTATIONS = 16
 
 
 def _oriented_maps(ev, hess, n: int = N_ORIENTATIONS) -> np.ndarray:
-    """Pose scores per tangent direction ``pi k / n``: the weighted oriented response and evidence, (n, H, W)."""
+    """Pose scores per tangent direction ``pi k / n``: the weighted oriented response and evidence, (n, H, W).
+
+    The last result is kept (keyed by a digest of ``ev`` and ``hess``):
+    :func:`snap_to_exemplars` asks for the same maps three times per
+    exemplar (two template starts and the trace); it drops the cache when done.
+    """
+    import hashlib
+    ev = np.ascontiguousarray(ev)
+    hess = np.ascontiguousarray(hess)
+    key = (hashlib.blake2b(ev.tobytes(), digest_size=16).hexdigest(),
+           hashlib.blake2b(hess.tobytes(), digest_size=16).hexdigest(), ev.shape, hess.shape, ev.dtype.str,
+           hess.dtype.str, int(n))
+    if _MAPS_CACHE.get("key") == key:
+        return _MAPS_CACHE["maps"]
     h, w = ev.shape
-    iy, ix = np.mgrid[:h, :w]
     out = np.empty((n, h, w), np.float32)
+    rest = (1.0 - ORIENTED_WEIGHT) * ev
     for k in range(n):
         t = np.array([np.cos(np.pi * k / n), np.sin(np.pi * k / n)])
-        out[k] = ORIENTED_WEIGHT * oriented_response(hess, ix, iy, t) + (1.0 - ORIENTED_WEIGHT) * ev
+        out[k] = ORIENTED_WEIGHT * _oriented(hess[0], hess[1], hess[2], t) + rest
+    out.setflags(write=False)
+    _MAPS_CACHE.clear()
+    _MAPS_CACHE.update(key=key, maps=out)
     return out
+
+
+def _stamp(placed, iy, ix, iterations: int) -> None:
+    """``placed |= binary_dilation(pixels (iy, ix), iterations)``, dilated in their bounding box only."""
+    h, w = placed.shape
+    if iterations < 1 or not len(iy):
+        stamp = np.zeros((h, w), bool)
+        stamp[iy, ix] = True
+        placed |= ndi.binary_dilation(stamp, iterations=iterations)
+        return
+    y0, y1 = max(int(iy.min()) - iterations, 0), min(int(iy.max()) + iterations + 1, h)
+    x0, x1 = max(int(ix.min()) - iterations, 0), min(int(ix.max()) + iterations + 1, w)
+    stamp = np.zeros((y1 - y0, x1 - x0), bool)
+    stamp[iy - y0, ix - x0] = True
+    placed[y0:y1, x0:x1] |= ndi.binary_dilation(stamp, iterations=iterations)
+
+
+_MAPS_CACHE: dict = {}
 
 
 def _sample(ev, maps, q, shifts, tangent):
@@ -1002,9 +1041,7 @@ def fit_branches(chains, evidence, blade, *, reach: float, max_angle: float = 25
             continue
         a2, s2, d2, ix, iy = chosen
         out[i] = _apply_pose(cs[i], pivot, a2, s2, d2)
-        stamp = np.zeros(ev.shape, bool)
-        stamp[iy, ix] = True
-        placed |= ndi.binary_dilation(stamp, iterations=3)
+        _stamp(placed, iy, ix, 3)
     return (out, score) if return_score else out
 
 
@@ -1192,8 +1229,7 @@ def trace_branches(chains, maps, blade, *, max_angle: float = 30.0, step_deg: fl
         stop = first + int(np.argmax(after)) if after.any() else len(tr)
         tr = tr[:max(stop, 2)]
         out[i] = tr if np.allclose(cs[i][0], pivot) else tr[::-1]
-        stamp = np.zeros((h, w), bool)
         d, _ = _densify(tr)
-        stamp[np.clip(np.round(d[:, 1]).astype(int), 0, h - 1), np.clip(np.round(d[:, 0]).astype(int), 0, w - 1)] = True
-        placed |= ndi.binary_dilation(stamp, iterations=int(round(overlap_px)))
+        _stamp(placed, np.clip(np.round(d[:, 1]).astype(int), 0, h - 1),
+               np.clip(np.round(d[:, 0]).astype(int), 0, w - 1), int(round(overlap_px)))
     return out
