@@ -123,3 +123,36 @@ def polar_dp(s, rs, da, slope):  # pragma: no cover - compiled
         for a in range(n_a):
             v[a] = nv[a]
     return v, back
+
+
+@numba.njit(cache=True)
+def oriented_maps(hess, ev, tx, ty, weight):  # pragma: no cover - compiled
+    """``weight * oriented_response(hess, t_k) + (1 - weight) * ev`` for every direction ``t_k = (tx[k], ty[k])``.
+
+    Per pixel in float64, in the order NumPy evaluates
+    :func:`branchnb.leaves.snapping.oriented_response` (no fused
+    multiply-adds), cast to float32: the same (K, H, W) maps in one pass.
+    """
+    n = tx.shape[0]
+    _, h, w = hess.shape
+    out = np.empty((n, h, w), np.float32)
+    rest_w = np.float32(1.0 - weight)
+    for k in range(n):
+        axx = ty[k] * ty[k]
+        axy = 2.0 * tx[k] * ty[k]
+        ayy = tx[k] * tx[k]
+        for i in range(h):
+            for j in range(w):
+                hxx = np.float64(hess[0, i, j])
+                hxy = np.float64(hess[1, i, j])
+                hyy = np.float64(hess[2, i, j])
+                across = axx * hxx - axy * hxy + ayy * hyy
+                along = ayy * hxx + axy * hxy + axx * hyy
+                r = -across - abs(along)
+                if r < 0.0:
+                    r = 0.0
+                elif r > 1.0:
+                    r = 1.0
+                rest = rest_w * ev[i, j]
+                out[k, i, j] = np.float32(weight * r + np.float64(rest))
+    return out

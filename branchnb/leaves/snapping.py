@@ -627,7 +627,6 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
         m, k = snap_layer(pev, b, carried, [wd * scale for wd in widths], tube, min_evidence=min_evidence)
         masks.append(m)
         kept.append(k)
-    _MAPS_CACHE.clear()
     return masks, kept
 
 
@@ -786,11 +785,7 @@ def oriented_response(hess, ix, iy, tangent) -> np.ndarray:
     ndarray
         The shape of ``ix``.
     """
-    return _oriented(*(hh[iy, ix] for hh in hess), tangent)
-
-
-def _oriented(hxx, hxy, hyy, tangent):
-    """:func:`oriented_response` from the Hessian's entries at the pixels."""
+    hxx, hxy, hyy = (hh[iy, ix] for hh in hess)
     tx, ty = tangent[..., 0], tangent[..., 1]
     across = ty * ty * hxx - 2.0 * tx * ty * hxy + tx * tx * hyy
     along = tx * tx * hxx + 2.0 * tx * ty * hxy + ty * ty * hyy
@@ -809,30 +804,12 @@ N_ORIENTATIONS = 16
 
 
 def _oriented_maps(ev, hess, n: int = N_ORIENTATIONS) -> np.ndarray:
-    """Pose scores per tangent direction ``pi k / n``: the weighted oriented response and evidence, (n, H, W).
-
-    The last result is kept (keyed by a digest of ``ev`` and ``hess``):
-    :func:`snap_to_exemplars` asks for the same maps three times per
-    exemplar (two template starts and the trace); it drops the cache when done.
-    """
-    import hashlib
-    ev = np.ascontiguousarray(ev)
-    hess = np.ascontiguousarray(hess)
-    key = (hashlib.blake2b(ev.tobytes(), digest_size=16).hexdigest(),
-           hashlib.blake2b(hess.tobytes(), digest_size=16).hexdigest(), ev.shape, hess.shape, ev.dtype.str,
-           hess.dtype.str, int(n))
-    if _MAPS_CACHE.get("key") == key:
-        return _MAPS_CACHE["maps"]
-    h, w = ev.shape
-    out = np.empty((n, h, w), np.float32)
-    rest = (1.0 - ORIENTED_WEIGHT) * ev
-    for k in range(n):
-        t = np.array([np.cos(np.pi * k / n), np.sin(np.pi * k / n)])
-        out[k] = ORIENTED_WEIGHT * _oriented(hess[0], hess[1], hess[2], t) + rest
-    out.setflags(write=False)
-    _MAPS_CACHE.clear()
-    _MAPS_CACHE.update(key=key, maps=out)
-    return out
+    """Pose scores per tangent direction ``pi k / n``: the weighted oriented response and evidence, (n, H, W)."""
+    from ._snapkernels import oriented_maps  # compiled: the same float64 sums, one pass
+    tx = np.array([np.cos(np.pi * k / n) for k in range(n)])
+    ty = np.array([np.sin(np.pi * k / n) for k in range(n)])
+    return oriented_maps(np.ascontiguousarray(hess, np.float32), np.ascontiguousarray(ev, np.float32), tx, ty,
+                         float(ORIENTED_WEIGHT))
 
 
 def _stamp(placed, iy, ix, iterations: int) -> None:
@@ -848,9 +825,6 @@ def _stamp(placed, iy, ix, iterations: int) -> None:
     stamp = np.zeros((y1 - y0, x1 - x0), bool)
     stamp[iy - y0, ix - x0] = True
     placed[y0:y1, x0:x1] |= ndi.binary_dilation(stamp, iterations=iterations)
-
-
-_MAPS_CACHE: dict = {}
 
 
 def _sample(ev, maps, q, shifts, tangent):
