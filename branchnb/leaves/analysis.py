@@ -24,6 +24,7 @@ from .induction import (
     ColourSpace,
     InductionParams,
     _lab,
+    _quantise_lab,
     blade_lab_stats,
     choose_threshold,
     colour_similarity,
@@ -32,7 +33,6 @@ from .induction import (
     layer_weight,
     liberal_layer,
     neighbourhood_candidates,
-    quantise,
     remove_layer,
     scaled_lengths,
     spatial_term,
@@ -494,11 +494,13 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         user = as_mask(user_masks[name], shape=blades[t].shape, name=f"user_masks[{name!r}]") & blades[t]
         if not user.any():
             raise ValueError(f"user_masks[{name!r}] is empty on the training leaf's blade")
-        q = [quantise(r, space, stats=stats[e], reference=stats[t]) if params.match_colours and e != t
-             else quantise(r, space) for e, r in enumerate(residual)]
+        # Each residual's CIELAB (moved onto the training leaf's statistics),
+        # converted once for the colour term, the snapping and the ridge extension.
+        labs = [_matched_lab(r, stats, e, t, params) for e, r in enumerate(residual)]
+        q = [_quantise_lab(lab, space) for lab in labs]
         cdf = layer_cdfs(q[t], user, space.bins)
         report(step / steps, f"layer {name}: snapping to each exemplar's ridges")  # "cancel" stops here too
-        snapped = _snapped(residual, blades, t, user, registrations, stats, tolerance, params)
+        snapped = _snapped(residual, blades, t, user, registrations, stats, tolerance, params, labs=labs)
         # The registered user layer and its distance map do not depend on n.
         reg_user, dist = [], []
         for e in range(n):
@@ -531,7 +533,8 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
             m = user.copy() if e == t else _induced(combined[e], delta, tr_iou, snapped, e, blades[e], taken[e])
             masks.append(m)
             taken[e] = taken[e] | m
-            gone = m if snapped is None or e == t else _ridge_extension(residual, blades, t, e, user, m, stats, params)
+            gone = m if snapped is None or e == t else _ridge_extension(residual, blades, t, e, user, m, stats, params,
+                                                                        labs=labs)
             new_residual.append(remove_layer(residual[e], blades[e], gone, rng=rng))
         residual = new_residual
         residuals.append(list(residual))
@@ -567,8 +570,16 @@ def _induced(combined, delta, training_overlap, snapped, e, blade, taken):
     return m if training_overlap >= COLOUR_RELIABLE else snapped[e] & ~taken
 
 
+def _matched_lab(image, stats, e, t, params):
+    """CIELAB of exemplar ``e``'s ``image``, moved onto the training leaf's blade statistics (colour matching on)."""
+    lab = _lab(image)
+    if params.match_colours and e != t:
+        lab = (lab - stats[e][0]) / stats[e][1] * stats[t][1] + stats[t][0]
+    return lab
+
+
 def _ridge_extension(residual, blades, t, e, user, m, stats, params, *, level: float = 0.25,
-                     reach: float = 0.04):
+                     reach: float = 0.04, labs=None):
     """A thin layer's induced mask on exemplar ``e``, grown along the layer's ridges, for its removal.
 
     The colour term misses the faint ends of fine veins; left in the
@@ -586,27 +597,20 @@ def _ridge_extension(residual, blades, t, e, user, m, stats, params, *, level: f
     from .snapping import contrast_direction, ridge_evidence
 
     def lab_of(k):
-        lab = _lab(residual[k])
-        if params.match_colours and k != t:
-            lab = (lab - stats[k][0]) / stats[k][1] * stats[t][1] + stats[t][0]
-        return lab
+        return labs[k] if labs is not None else _matched_lab(residual[k], stats, k, t, params)
     direction = contrast_direction(lab_of(t), user, blades[t])
     ev = ridge_evidence(lab_of(e), blades[e], direction, max(1.0, layer_width(user)))
     steps = max(1, int(round(reach * np.sqrt(float(blades[e].sum())))))
     return ndi.binary_dilation(m, iterations=steps, mask=(ev >= level) & blades[e]) | m
 
 
-def _snapped(residual, blades, t, user, registrations, stats, tolerance, params):
+def _snapped(residual, blades, t, user, registrations, stats, tolerance, params, *, labs=None):
     """The thin layer ``user`` snapped onto each exemplar's own ridges, or None (not thin / off)."""
     from .snapping import is_thin_layer, snap_to_exemplars
     if not params.snap or not is_thin_layer(user):
         return None
-    labs = []
-    for e, r in enumerate(residual):
-        lab = _lab(r)
-        if params.match_colours and e != t:
-            lab = (lab - stats[e][0]) / stats[e][1] * stats[t][1] + stats[t][0]
-        labs.append(lab)
+    if labs is None:
+        labs = [_matched_lab(r, stats, e, t, params) for e, r in enumerate(residual)]
     masks, _ = snap_to_exemplars(labs, blades, t, user, registrations, tolerance=tolerance,
                                  radius_widths=params.snap_radius)
     return masks

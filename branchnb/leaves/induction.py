@@ -433,6 +433,33 @@ def quantise(image, space: ColourSpace, *, stats=None, reference=None) -> np.nda
     lab = _lab(image)
     if stats is not None and reference is not None:
         lab = (lab - stats[0]) / stats[1] * reference[1] + reference[0]
+    return _quantise_lab(lab, space)
+
+
+def _quantise_lab(lab, space: ColourSpace) -> np.ndarray:
+    """:func:`quantise` of colours already in CIELAB (and already colour-matched, if wanted).
+
+    Parameters
+    ----------
+    lab : (H, W, 3) array_like
+        CIELAB colours.
+    space : ColourSpace
+        The shared range and bin count.
+
+    Returns
+    -------
+    (H, W, 3) uint8 ndarray
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> cs = ColourSpace(np.zeros(3), np.full(3, 100.0), 4)
+    >>> _quantise_lab(np.full((1, 2, 3), 60.0), cs)[0, 0].tolist()
+    [2, 2, 2]
+    """
+    lab = np.asarray(lab)
+    if lab.ndim != 3 or lab.shape[2] != 3:
+        raise ValueError(f"lab must be an (H, W, 3) array, got shape {lab.shape}")
     t = (lab - space.lo) / (space.hi - space.lo)
     q = np.floor(np.clip(t, 0.0, 1.0 - 1e-6) * space.bins)
     return q.astype(np.uint8)
