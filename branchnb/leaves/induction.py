@@ -565,12 +565,18 @@ def colour_similarity(q: np.ndarray, blade, cdfs: np.ndarray, size: int, weights
     count = box(bf)
     inv = np.where(count > 0.5, 1.0 / np.maximum(count, 1e-6), 0.0).astype(np.float32)
     total = np.zeros((k,) + q.shape[:2], np.float32)
+    tmp = np.empty(q.shape[:2], np.float32)
     for ch in range(3):
         qc = q[..., ch]
         for b in range(bins - 1):  # the last cumulative bin is 1 for both
-            local = box(((qc <= b) & blade).astype(np.float32)) * inv
+            # Counts of 0/1 pixels are exact in float32 from a uint8 box as from a float one.
+            local = cv2.boxFilter(((qc <= b) & blade).view(np.uint8), cv2.CV_32F, ksize, normalize=False,
+                                  borderType=cv2.BORDER_CONSTANT) * inv
             for j in range(k):
-                total[j] += wch[ch] * np.abs(local - np.float32(cdfs[j, ch, b]))
+                np.subtract(local, np.float32(cdfs[j, ch, b]), out=tmp)
+                np.abs(tmp, out=tmp)
+                tmp *= wch[ch]
+                total[j] += tmp
     s = total
     s[:, ~blade | (count < 0.5)] = 1.0
     np.clip(s, 0.0, 1.0, out=s)
