@@ -622,13 +622,40 @@ def _combine(colour, dist, lengths, tolerance, params, blades, registrations, t,
     for e in range(len(colour)):
         eps_px, _, lib_r = lengths[e]
         lib = liberal_layer(colour[e], dist[e], params.liberal_threshold, max(lib_r, tolerance), blades[e])
-        lib_t = lib if e == t else warp_mask(registrations[e], lib, to_training=True)
+        lib_t = lib if e == t else _liberal_to_training(registrations[e], lib)
         liberal_t.append(lib_t & blades[t])
         spat.append(spatial_term(dist[e], colour[e], eps_px))
     lam, overlap = layer_weight(liberal_t, params.kappa)
     combined = [(np.float32(lam) * f + s).astype(np.float32) for f, s in zip(spat, colour)]
     delta, tr_iou = choose_threshold(combined[t], user, blades[t])
     return lam, overlap, combined, delta, tr_iou
+
+
+#: Liberal layers carried into the training frame, by registration and mask
+#: digest: a slider move (kappa always, eps while the registration error
+#: bounds the liberal radius) leaves most of them as they were, and their
+#: warp was half of a 1 MP preview.
+_LIBERAL_CACHE: dict = {}
+
+
+def _liberal_to_training(registration, lib):
+    """``warp_mask(registration, lib, to_training=True)``, reusing the last results for the same mask."""
+    import hashlib
+    import weakref
+    lib = np.ascontiguousarray(lib, bool)
+    key = (id(registration), lib.shape, hashlib.blake2b(np.packbits(lib).tobytes(), digest_size=16).digest())
+    hit = _LIBERAL_CACHE.get(key)
+    if hit is not None and hit[0]() is registration:
+        return hit[1].copy()
+    out = warp_mask(registration, lib, to_training=True)
+    try:
+        ref = weakref.ref(registration)  # the cache does not keep a registration alive
+    except TypeError:
+        return out
+    if len(_LIBERAL_CACHE) >= 32:
+        _LIBERAL_CACHE.pop(next(iter(_LIBERAL_CACHE)))
+    _LIBERAL_CACHE[key] = (ref, out.copy())
+    return out
 
 
 def _retuned(analysis, changes):
