@@ -34,7 +34,7 @@ exemplar and a user layer ``c``:
 ``delta_c``
     the threshold whose layer ``{D < delta}`` on the training leaf best
     reproduces the user's layer: the maximum of the overlap (IoU, the
-    paper's eq. 4), found exactly over all thresholds by one sort.
+    paper's eq. 4), found exactly over all thresholds (:func:`choose_threshold`).
 ``lambda_c = kappa |cap_e L~e| / |cup_e L~e|``
     with the liberal layers ``L~e = {x : S_e < 0.1 and ||x, c||^2 < 2 eps}``
     brought into the training frame: a structural layer (veins) sits at
