@@ -1081,7 +1081,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
                              anchor_weight=p.anchor_weight,
                              screen=p.completion_screen if p.anchors else 0.0,
                              rng=rng, progress=sub_progress, regions=labels_t,
-                             example_regions=src_labels if labels_t is not None else None)
+                             example_regions=src_labels if labels_t is not None else None, fast=True)
         if relit is not None:
             canvas += offset_t      # back to the output's own light (fragments: exactly as before)
         fill = comp.filled

@@ -144,6 +144,28 @@ def _with_squares(img: np.ndarray):
     return img, sq
 
 
+def _channel_planes(img: np.ndarray) -> list[np.ndarray]:
+    """``img`` (as :func:`_cv` gives it) as single-channel planes plus the sum of their squares
+    (the last plane), for :func:`_masked_ssd_planes`."""
+    chans = img if img.ndim == 3 else img[:, :, None]
+    sq = (chans.astype(np.float64) ** 2).sum(axis=2).astype(np.float32)
+    return [np.ascontiguousarray(chans[:, :, c], np.float32) for c in range(chans.shape[2])] + [sq]
+
+
+def _masked_ssd_planes(planes, tpl: np.ndarray, mask: np.ndarray) -> np.ndarray:
+    """:func:`_masked_ssd` with one single-channel correlation per plane (``planes`` from
+    :func:`_channel_planes`, possibly cropped): OpenCV correlates a multi-channel image several
+    times slower than its channels one by one. Same values up to float32 rounding."""
+    t = tpl if tpl.ndim == 3 else tpl[:, :, None]
+    m = np.ascontiguousarray(mask, np.float32)
+    mt = m[:, :, None] * t
+    const = float((mt.astype(np.float64) * t).sum())
+    res = cv2.matchTemplate(planes[-1], m, cv2.TM_CCORR)
+    for c in range(t.shape[2]):
+        res -= 2.0 * cv2.matchTemplate(planes[c], np.ascontiguousarray(mt[:, :, c]), cv2.TM_CCORR)
+    return np.maximum(res + np.float32(const), 0.0)
+
+
 def _masked_ssd(pre, tpl: np.ndarray, mask: np.ndarray) -> np.ndarray:
     """``cv2.matchTemplate(img, tpl, TM_SQDIFF, mask=mask)`` for a 0/1 mask, by plain correlations.
 
@@ -200,7 +222,7 @@ class _Matcher:
     """Masked-SSD window search in the example, coarse then fine."""
 
     def __init__(self, example: np.ndarray, forbidden: np.ndarray, size: int, margin: int,
-                 search_size: int, forbid_weight: float, reuse_weight: float = 1.0):
+                 search_size: int, forbid_weight: float, reuse_weight: float = 1.0, fast: bool = False):
         eh, ew = example.shape[:2]
         self.size, self.margin = size, margin
         self.ex = _cv(example)
@@ -213,8 +235,11 @@ class _Matcher:
         else:
             self.small, self.forbid_small = self.ex, self.forbid
         self.tsz = max(size // s, 2)
-        self.small_sq = _with_squares(self.small)
-        self.ex_sq = _with_squares(self.ex) if s > 1 else self.small_sq
+        self.fast = fast
+        prep = _channel_planes if fast else _with_squares
+        self.small_sq = prep(self.small)
+        self.ex_sq = prep(self.ex) if s > 1 else self.small_sq
+        self._ssd = _masked_ssd_planes if fast else _masked_ssd
         # Windows that stay inside the example with their anchor band and
         # are not entirely forbidden.
         cnt = _box_count(forbidden, size)
@@ -261,7 +286,7 @@ class _Matcher:
             cand = np.argwhere(self.usable)
             return tuple(int(v) for v in cand[rng.integers(len(cand))])
         if m_s.sum() >= 1:
-            ssd = _masked_ssd(self.small_sq, t_s, m_s) / (float(m_s.sum()) * self.channels)
+            ssd = self._ssd(self.small_sq, t_s, m_s) / (float(m_s.sum()) * self.channels)
             ssd = np.where(np.isfinite(ssd), ssd, np.inf)
             typical = max(float(np.median(ssd[usable & np.isfinite(ssd)])) if np.isfinite(ssd[usable]).any()
                           else 1e-3, 1e-5)
@@ -292,12 +317,14 @@ class _Matcher:
         # Refine at full resolution around the coarse choice.
         y0, y1 = max(cy - s, 0), min(cy + s, self.usable.shape[0] - 1)
         x0, x1 = max(cx - s, 0), min(cx + s, self.usable.shape[1] - 1)
-        region = self.ex_sq[y0:y1 + size, x0:x1 + size] if not isinstance(self.ex_sq, tuple) else \
-            tuple(a[y0:y1 + size, x0:x1 + size] for a in self.ex_sq)
+        if isinstance(self.ex_sq, (tuple, list)):
+            region = type(self.ex_sq)(a[y0:y1 + size, x0:x1 + size] for a in self.ex_sq)
+        else:
+            region = self.ex_sq[y0:y1 + size, x0:x1 + size]
         fr = self.forbid[y0:y1 + size, x0:x1 + size]
         res = cv2.matchTemplate(fr, unknown, cv2.TM_CCORR) * (typical * self.forbid_weight / n_unknown)
         if n_known >= 1:
-            res = res + _masked_ssd(region, t_cv, m) / (n_known * self.channels)
+            res = res + self._ssd(region, t_cv, m) / (n_known * self.channels)
         ok = self.usable[y0:y0 + res.shape[0], x0:x0 + res.shape[1]]
         res = np.where(ok, res, np.inf)
         if not np.isfinite(res).any():
@@ -315,7 +342,7 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
                   max_passes: int = 4, rng=None,
                   progress: Callable[[float, str], None] | None = None,
                   regions: np.ndarray | None = None, example_regions: np.ndarray | None = None,
-                  outside: np.ndarray | None = None) -> CompletionResult:
+                  outside: np.ndarray | None = None, fast: bool = False) -> CompletionResult:
     """Fill every uncovered pixel of ``canvas`` **in place** with branch-free texture.
 
     Parameters
@@ -378,6 +405,11 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
         Canvas pixels this call neither fills nor matches against (used for
         the per-region passes; also available to callers that complete one
         part of an image).
+    fast : bool
+        Match each channel with its own correlation (OpenCV correlates
+        multi-channel images several times slower): the same matching costs
+        up to float32 rounding, so a near tie between windows may be drawn
+        differently; off (default), the results of earlier releases exactly.
 
     Returns
     -------
@@ -399,6 +431,8 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
     if forbidden.shape != (eh, ew):
         raise ValueError(f"forbidden must have the example's shape {(eh, ew)}, got {forbidden.shape}")
     check_callback(progress, "progress")
+    if not isinstance(fast, (bool, np.bool_)):
+        raise TypeError(f"fast must be a bool, got {type(fast).__name__}")
     if regions is not None and example_regions is not None:
         regions = np.asarray(regions)
         example_regions = np.asarray(example_regions)
@@ -414,7 +448,7 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
                                             search_size=search_size, method=method, poisson=poisson,
                                             anchored=anchored, anchor_weight=anchor_weight, screen=screen,
                                             min_free=min_free, reuse_weight=reuse_weight,
-                                            max_passes=max_passes))
+                                            max_passes=max_passes, fast=fast))
     if outside is not None:
         outside = np.asarray(outside, bool)
         covered_in = covered.copy()
@@ -430,7 +464,7 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
         size = max(8, int(round(size * 0.75)))
     full = size + 2 * margin
     step = max(1, int(round(size * (1.0 - overlap))))
-    matcher = _Matcher(example, forbidden, size, margin, search_size, forbid_weight, reuse_weight)
+    matcher = _Matcher(example, forbidden, size, margin, search_size, forbid_weight, reuse_weight, fast)
     filled = np.zeros((H, W), bool)
     source = np.full((H, W, 2), np.nan)
     seams = np.zeros((H, W), bool)
