@@ -705,13 +705,13 @@ def _constraints(ctx: _Context, src: Fragment, tgt: Fragment, rot, trans):
     bs = np.concatenate([np.full(len(pt[5]), pt[2], np.int64) for pt in parts])
     sg = np.concatenate([np.full(len(pt[5]), float(pt[4])) for pt in parts])
     as_ = np.concatenate([pt[3] + pt[4] * pt[5] for pt in parts])
-    q_all = sm_t.position(bt, at)
-    p_all = sm_s.position(bs, as_)
     if ctx.p.match_thickness:
-        rt_all = sm_t.thickness(bt, at)
-        rs_all = sm_s.thickness(bs, as_)
-        tt_all = sm_t.tangent(bt, at, 1.0)
-        ts_all = sm_s.tangent(bs, as_, sg)
+        # positions, thicknesses and tangents in one batch per map (the same values)
+        q_all, rt_all, tt_all = sm_t._frame(bt, at, 1.0)
+        p_all, rs_all, ts_all = sm_s._frame(bs, as_, sg)
+    else:
+        q_all = sm_t.position(bt, at)
+        p_all = sm_s.position(bs, as_)
     qs, ds = [], []
     i0 = 0
     for pt in parts:
@@ -979,7 +979,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         short = np.argpartition(S, n_short - 1)[:n_short] if n_short < len(S) else np.arange(len(S))
         short = short[np.argsort(S[short], kind="stable")]
         rot, trans = bank.fit(short, q0)
-        yy, xx = np.mgrid[0:size, 0:size]
+        yy, xx = np.arange(size)[:, None], np.arange(size)[None, :]   # (broadcast: no full grids)
         disk = (xx + x0 - tf.center[0]) ** 2 + (yy + y0 - tf.center[1]) ** 2 <= R * R
         # Existing canvas under the window (zero outside the image).
         ex_win, cov_win = _window(canvas, covered, x0, y0, size)
