@@ -33,6 +33,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import cv2
+import numba
 import numpy as np
 from scipy import ndimage as ndi
 
@@ -218,6 +219,42 @@ def _hole_cells(uncovered: np.ndarray, size: int) -> list[tuple[int, int]]:
     return list(dict.fromkeys(cells))
 
 
+@numba.njit(cache=True)
+def _window_choice(ssd, has_ssd, f, used, usable, forbid_weight, reuse_weight, tolerance):
+    """Coarse window costs of :meth:`_Matcher.choose` (``fast``): the typical (median) match,
+    and the flat indices (row-major) of the usable windows within the tolerance of the best."""
+    H, W = f.shape
+    typical = 1e-3
+    if has_ssd:
+        buf = np.empty(H * W, np.float32)
+        n = 0
+        for i in range(H):
+            for j in range(W):
+                v = ssd[i, j]
+                if usable[i, j] and np.isfinite(v):
+                    buf[n] = v
+                    n += 1
+        if n > 0:
+            typical = float(np.median(buf[:n]))
+        typical = max(typical, 1e-5)
+    c = np.empty(H * W)
+    best = np.inf
+    for i in range(H):
+        for j in range(W):
+            v = np.inf
+            if usable[i, j]:
+                sv = np.float64(ssd[i, j])
+                if np.isfinite(sv):
+                    v = sv + typical * (forbid_weight * np.float64(f[i, j]) + reuse_weight * np.float64(used[i, j]))
+            c[i * W + j] = v
+            if v < best:
+                best = v
+    if not np.isfinite(best):
+        return typical, np.empty(0, np.int64)
+    thr = best + tolerance * abs(best) + 1e-12
+    return typical, np.flatnonzero(c <= thr)
+
+
 class _Matcher:
     """Masked-SSD window search in the example, coarse then fine."""
 
@@ -257,11 +294,12 @@ class _Matcher:
         # How often each (reduced) example pixel was copied already.
         self.used = np.zeros(self.small.shape[:2], np.float32)
         self.channels = example.shape[2]
+        self._usable_cache: dict = {}
 
     def choose(self, tpl: np.ndarray, known: np.ndarray, tolerance: float,
                rng: np.random.Generator) -> tuple[int, int]:
         """Top-left (y, x) in the example of the window used for one cell."""
-        size, s = self.size, self.scale
+        s = self.scale
         unknown = (~known).astype(np.float32)
         n_unknown = max(float(unknown.sum()), 1.0)
         n_known = float(known.sum())
@@ -280,11 +318,42 @@ class _Matcher:
         hh, ww = self.usable_small.shape
         f = cv2.matchTemplate(self.forbid_small, u_s, cv2.TM_CCORR) / max(float(u_s.sum()), 1.0)
         hh, ww = min(hh, f.shape[0]), min(ww, f.shape[1])
-        usable = np.zeros(f.shape, bool)
-        usable[:hh, :ww] = self.usable_small[:hh, :ww]
+        usable = self._usable_cache.get(f.shape)
+        if usable is None:
+            usable = np.zeros(f.shape, bool)
+            usable[:hh, :ww] = self.usable_small[:hh, :ww]
+            self._usable_cache[f.shape] = usable
         if not usable.any():
             cand = np.argwhere(self.usable)
             return tuple(int(v) for v in cand[rng.integers(len(cand))])
+        if self.fast:
+            # the same costs and draw, in one compiled pass (no full-size temporaries)
+            box = cv2.boxFilter(self.used, -1, (self.tsz, self.tsz), anchor=(0, 0),
+                                normalize=True, borderType=cv2.BORDER_CONSTANT)
+            used = np.zeros(f.shape, np.float32)
+            used[:hh, :ww] = box[:hh, :ww]
+            has = bool(m_s.sum() >= 1)
+            ssd = (self._ssd(self.small_sq, t_s, m_s) / np.float32(float(m_s.sum()) * self.channels) if has
+                   else np.zeros(f.shape, np.float32))
+            typical, good = _window_choice(ssd, has, f, used, usable, float(self.forbid_weight),
+                                           float(self.reuse_weight), float(tolerance))
+            if len(good) == 0:
+                cand = np.argwhere(self.usable)
+                return tuple(int(v) for v in cand[rng.integers(len(cand))])
+            gy, gx = divmod(int(good[rng.integers(len(good))]), f.shape[1])
+        else:
+            typical, gy, gx = self._coarse_choice(f, usable, hh, ww, t_s, m_s, tolerance, rng)
+            if gy < 0:
+                cand = np.argwhere(self.usable)
+                return tuple(int(v) for v in cand[rng.integers(len(cand))])
+        self.used[gy:gy + self.tsz, gx:gx + self.tsz] += 1.0
+        cy, cx = gy * s, gx * s
+        if s == 1:
+            return cy, cx
+        return self._refine(cy, cx, typical, t_cv, m, unknown, n_known, n_unknown)
+
+    def _coarse_choice(self, f, usable, hh, ww, t_s, m_s, tolerance, rng):
+        """The coarse window of :meth:`choose` (the exact path): ``(typical, gy, gx)``, gy < 0 if none."""
         if m_s.sum() >= 1:
             ssd = self._ssd(self.small_sq, t_s, m_s) / (float(m_s.sum()) * self.channels)
             ssd = np.where(np.isfinite(ssd), ssd, np.inf)
@@ -306,15 +375,14 @@ class _Matcher:
         c = np.where(usable, c, np.inf)
         best = float(c.min())
         if not np.isfinite(best):
-            cand = np.argwhere(self.usable)
-            return tuple(int(v) for v in cand[rng.integers(len(cand))])
+            return typical, -1, -1
         good = np.argwhere(c <= best + tolerance * abs(best) + 1e-12)
         gy, gx = (int(v) for v in good[rng.integers(len(good))])
-        self.used[gy:gy + self.tsz, gx:gx + self.tsz] += 1.0
-        cy, cx = gy * s, gx * s
-        if s == 1:
-            return cy, cx
-        # Refine at full resolution around the coarse choice.
+        return typical, gy, gx
+
+    def _refine(self, cy, cx, typical, t_cv, m, unknown, n_known, n_unknown):
+        """Refine the coarse choice ``(cy, cx)`` at full resolution around it."""
+        size, s = self.size, self.scale
         y0, y1 = max(cy - s, 0), min(cy + s, self.usable.shape[0] - 1)
         x0, x1 = max(cx - s, 0), min(cx + s, self.usable.shape[1] - 1)
         if isinstance(self.ex_sq, (tuple, list)):
