@@ -750,7 +750,15 @@ def _example_key(ex: np.ndarray, example_structure: Structure, example_mask, p) 
     h = hashlib.blake2b(np.ascontiguousarray(ex).view(np.uint8).ravel(), digest_size=16)
     if example_mask is not None:
         h.update(np.ascontiguousarray(example_mask).view(np.uint8).ravel())
-    return (ex.shape, str(ex.dtype), example_mask is not None, h.hexdigest(), example_structure.to_json(), repr(p))
+    # the structure by its arrays (what the cached maps and fragments depend on; no JSON text)
+    for b in example_structure.branches:
+        pts = np.ascontiguousarray(b.points, np.float64)
+        h.update(repr((pts.shape, b.parent, b.parent_vertex)).encode())
+        h.update(pts.view(np.uint8).ravel())
+        h.update(np.ascontiguousarray(np.broadcast_to(np.asarray(b.thickness, np.float64), pts.shape[:1])
+                                      ).view(np.uint8).ravel())
+    return (ex.shape, str(ex.dtype), example_mask is not None, h.hexdigest(),
+            len(example_structure.branches), repr(example_structure.image_shape), repr(p))
 
 
 @checked(shape=Shape())

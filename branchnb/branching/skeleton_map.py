@@ -10,6 +10,7 @@ centre line. :class:`SkeletonMap` answers both.
 
 from __future__ import annotations
 
+from bisect import bisect_right
 from dataclasses import dataclass
 
 import numpy as np
@@ -58,6 +59,18 @@ class PixelMap:
             True within ``scale * r + margin`` of the nearest skeleton sample.
         """
         return self.dist <= scale * self.radius + margin
+
+
+def _interp1(x: float, xp: list, fp: list) -> float:
+    """``np.interp(x, xp, fp)`` of one float on strictly increasing ``xp`` (Python lists): numpy's
+    arithmetic step for step (identical values) without its array set-up, for scalar loops."""
+    j = bisect_right(xp, x) - 1
+    if j < 0:
+        return fp[0]
+    if j >= len(xp) - 1 or xp[j] == x:
+        return fp[j]
+    slope = (fp[j + 1] - fp[j]) / (xp[j + 1] - xp[j])
+    return slope * (x - xp[j]) + fp[j]
 
 
 class SkeletonMap:
@@ -214,8 +227,15 @@ class SkeletonMap:
         float
             Thickness r (pixels).
         """
-        L = self.lengths[branch]
-        return float(np.interp(self.offsets[branch] + min(max(float(arc), 0.0), L), self._g, self._r))
+        x = float(self.offsets[branch]) + min(max(float(arc), 0.0), float(self.lengths[branch]))
+        return _interp1(x, *self._lists())
+
+    def _lists(self):
+        """``_g`` and ``_r`` as Python lists (for :func:`_interp1`), made once."""
+        lists = self.__dict__.get("_g_r_lists")
+        if lists is None:
+            lists = self._g_r_lists = (self._g.tolist(), self._r.tolist())
+        return lists
 
     def clamped(self, branch, arc) -> np.ndarray:
         """True where ``arc`` lies outside ``[0, length]`` of its branch.
