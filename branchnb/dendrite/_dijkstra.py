@@ -13,6 +13,37 @@ from __future__ import annotations
 
 import numba
 import numpy as np
+from llvmlite import ir
+from numba.core import cgutils, types
+from numba.extending import intrinsic
+
+
+@intrinsic
+def _prefetch(typingctx, arr, idx):
+    """Ask the CPU to start loading ``arr[idx]`` into the cache (no effect on results).
+
+    The searches that jump across the lattice (non-scalar, blend: the next
+    node to settle can be anywhere on a long frontier) spend much of their
+    time waiting for the neighbourhood of that node; it is known a little
+    before it is needed (the heap root), so its loads can overlap the heap
+    work in between.
+    """
+    sig = types.void(arr, idx)
+
+    def codegen(context, builder, signature, args):
+        aryty = signature.args[0]
+        ary = context.make_array(aryty)(context, builder, args[0])
+        ptr = cgutils.get_item_pointer(context, builder, aryty, ary, [args[1]], wraparound=False)
+        i8p = ir.IntType(8).as_pointer()
+        i32 = ir.IntType(32)
+        fn = cgutils.get_or_insert_function(
+            builder.module, ir.FunctionType(ir.VoidType(), [i8p, i32, i32, i32]), "llvm.prefetch.p0")
+        # read access, high temporal locality, data cache
+        builder.call(fn, [builder.bitcast(ptr, i8p), i32(0), i32(3), i32(1)])
+        return context.get_dummy_value()
+
+    return sig, codegen
+
 
 # ------------------------------------------------------------------ queue
 # An indexed 4-ary min-heap with decrease-key: every unsettled node that has
@@ -214,6 +245,17 @@ def _lattice_scalar(w, height, width, drow, dcol, factor, seeds, a,
             hk[i] = lk
             hn[i] = ln
             pos[ln] = i
+        if n > 0:  # the next node to settle, most likely
+            r0 = hn[0] // width
+            c0 = hn[0] - r0 * width
+            for dr in range(-1, 2):
+                if 0 <= r0 + dr < height:
+                    q = (r0 + dr) * width + max(c0 - 1, 0)
+                    _prefetch(pos, q)
+                    _prefetch(w, q)
+                    _prefetch(mmax, q)
+                    _prefetch(total, q)
+                    _prefetch(key, q)
         order[count] = u
         count += 1
         if stop_at[u]:
@@ -304,6 +346,16 @@ def _lattice_pair(w, height, width, drow, dcol, factor, seeds,
                 break
             # open the next level: every frontier node whose M ties the
             # smallest moves to the level heap
+            # the neighbourhood of the node that opens the level
+            r0 = bn[0] // width
+            c0 = bn[0] - r0 * width
+            for dr in range(-1, 2):
+                if 0 <= r0 + dr < height:
+                    q = (r0 + dr) * width + max(c0 - 1, 0)
+                    _prefetch(pos, q)
+                    _prefetch(w, q)
+                    _prefetch(mmax, q)
+                    _prefetch(total, q)
             level = bk[0]
             while nb > 0 and bk[0] == level:
                 v = bn[0]
@@ -351,6 +403,16 @@ def _lattice_pair(w, height, width, drow, dcol, factor, seeds,
                 lk[i] = k
                 ln[i] = v
                 pos[v] = -3 - i
+            if nb > 0:  # the node that will most likely open the next level
+                r0 = bn[0] // width
+                c0 = bn[0] - r0 * width
+                for dr in range(-1, 2):
+                    if 0 <= r0 + dr < height:
+                        q = (r0 + dr) * width + max(c0 - 1, 0)
+                        _prefetch(pos, q)
+                        _prefetch(w, q)
+                        _prefetch(mmax, q)
+                        _prefetch(total, q)
         # pop the level root
         u = ln[0]
         su = lk[0]
