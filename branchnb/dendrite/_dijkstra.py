@@ -251,14 +251,17 @@ def _lattice_scalar(w, height, width, drow, dcol, factor, seeds, a,
             for dr in range(-1, 2):
                 if 0 <= r0 + dr < height:
                     q = (r0 + dr) * width + max(c0 - 1, 0)
+                    q2 = min(q + 2, height * width - 1)  # the row's 3 nodes may span two lines
                     _prefetch(pos, q)
                     _prefetch(w, q)
-                    _prefetch(mmax, q)
-                    _prefetch(total, q)
+                    _prefetch(w, q2)
                     _prefetch(key, q)
+                    _prefetch(key, q2)
+            _prefetch(mmax, hn[0])  # read for the node itself only
+            _prefetch(total, hn[0])
         order[count] = u
         count += 1
-        if stop_at[u]:
+        if remaining > 0 and stop_at[u]:  # no lookup (a cache miss) without targets
             remaining -= 1
             if remaining == 0:
                 break
@@ -352,10 +355,14 @@ def _lattice_pair(w, height, width, drow, dcol, factor, seeds,
             for dr in range(-1, 2):
                 if 0 <= r0 + dr < height:
                     q = (r0 + dr) * width + max(c0 - 1, 0)
+                    q2 = min(q + 2, height * width - 1)  # the row's 3 nodes may span two lines
                     _prefetch(pos, q)
                     _prefetch(w, q)
+                    _prefetch(w, q2)
                     _prefetch(mmax, q)
+                    _prefetch(mmax, q2)
                     _prefetch(total, q)
+                    _prefetch(total, q2)
             level = bk[0]
             while nb > 0 and bk[0] == level:
                 v = bn[0]
@@ -409,10 +416,14 @@ def _lattice_pair(w, height, width, drow, dcol, factor, seeds,
                 for dr in range(-1, 2):
                     if 0 <= r0 + dr < height:
                         q = (r0 + dr) * width + max(c0 - 1, 0)
+                        q2 = min(q + 2, height * width - 1)  # the row's 3 nodes may span two lines
                         _prefetch(pos, q)
                         _prefetch(w, q)
+                        _prefetch(w, q2)
                         _prefetch(mmax, q)
+                        _prefetch(mmax, q2)
                         _prefetch(total, q)
+                        _prefetch(total, q2)
         # pop the level root
         u = ln[0]
         su = lk[0]
@@ -445,7 +456,7 @@ def _lattice_pair(w, height, width, drow, dcol, factor, seeds,
             pos[x] = -3 - i
         order[count] = u
         count += 1
-        if stop_at[u]:
+        if remaining > 0 and stop_at[u]:  # no lookup (a cache miss) without targets
             remaining -= 1
             if remaining == 0:
                 break
@@ -570,7 +581,7 @@ def _csr_scalar(indptr, indices, data, seeds, a, mmax, total, parent, order, sto
         n = _pop1(hk, hn, pos, n)
         order[count] = u
         count += 1
-        if stop_at[u]:
+        if remaining > 0 and stop_at[u]:  # no lookup (a cache miss) without targets
             remaining -= 1
             if remaining == 0:
                 break
@@ -609,7 +620,7 @@ def _csr_pair(indptr, indices, data, seeds, mmax, total, parent, order, stop_at)
         n = _pop2(hk, hn, pos, n)
         order[count] = u
         count += 1
-        if stop_at[u]:
+        if remaining > 0 and stop_at[u]:  # no lookup (a cache miss) without targets
             remaining -= 1
             if remaining == 0:
                 break
