@@ -454,6 +454,18 @@ def _lattice_pair(w, height, width, drow, dcol, factor, seeds,
             lk[i] = k
             ln[i] = x
             pos[x] = -3 - i
+        if nl > 0:  # the next node of this level
+            r0 = ln[0] // width
+            c0 = ln[0] - r0 * width
+            for dr in range(-1, 2):
+                if 0 <= r0 + dr < height:
+                    q = (r0 + dr) * width + max(c0 - 1, 0)
+                    q2 = min(q + 2, height * width - 1)
+                    _prefetch(pos, q)
+                    _prefetch(w, q)
+                    _prefetch(w, q2)
+                    _prefetch(mmax, q)
+                    _prefetch(mmax, q2)
         order[count] = u
         count += 1
         if remaining > 0 and stop_at[u]:  # no lookup (a cache miss) without targets
