@@ -58,119 +58,11 @@ def _prefetch(typingctx, arr, idx):
 # once per call (the frontier can never hold more than every node). On a
 # 512 x 512 lattice this is 1.6 to 3 times as fast as the former bucket
 # queue with lazy deletion (issue 25) and settles the nodes in the same
-# order.
+# order. Bucket queues (node-linked lists over quantised keys; a near heap
+# in front of an unsorted far list) and a radix heap on the key bits were
+# tried again for the non-scalar frontier and were no faster: its time goes
+# into waiting for memory, and prefetching is what helped (issue 25).
 _ARITY = 4
-
-
-@numba.njit(cache=True, inline="always")
-def _up1(hk, hn, pos, i, k, v):
-    """Place (k, v) at slot ``i`` or above (sift up)."""
-    while i > 0:
-        p = (i - 1) >> 2
-        if k < hk[p]:
-            x = hn[p]
-            hk[i] = hk[p]
-            hn[i] = x
-            pos[x] = i
-            i = p
-        else:
-            break
-    hk[i] = k
-    hn[i] = v
-    pos[v] = i
-
-
-@numba.njit(cache=True, inline="always")
-def _pop1(hk, hn, pos, n):
-    """Remove the root (already read by the caller); return the new size."""
-    pos[hn[0]] = -2
-    n -= 1
-    if n > 0:
-        lk = hk[n]
-        ln = hn[n]
-        i = 0
-        while True:
-            c0 = _ARITY * i + 1
-            if c0 >= n:
-                break
-            c = c0
-            b = hk[c0]
-            for j in range(c0 + 1, min(c0 + _ARITY, n)):
-                if hk[j] < b:
-                    c = j
-                    b = hk[j]
-            if b < lk:
-                x = hn[c]
-                hk[i] = b
-                hn[i] = x
-                pos[x] = i
-                i = c
-            else:
-                break
-        hk[i] = lk
-        hn[i] = ln
-        pos[ln] = i
-    return n
-
-
-@numba.njit(cache=True, inline="always")
-def _up2(hk, hn, pos, i, k1, k2, v):
-    """Two-key (lexicographic) version of :func:`_up1`."""
-    while i > 0:
-        p = (i - 1) >> 2
-        p1 = hk[2 * p]
-        if k1 < p1 or (k1 == p1 and k2 < hk[2 * p + 1]):
-            x = hn[p]
-            hk[2 * i] = p1
-            hk[2 * i + 1] = hk[2 * p + 1]
-            hn[i] = x
-            pos[x] = i
-            i = p
-        else:
-            break
-    hk[2 * i] = k1
-    hk[2 * i + 1] = k2
-    hn[i] = v
-    pos[v] = i
-
-
-@numba.njit(cache=True, inline="always")
-def _pop2(hk, hn, pos, n):
-    """Two-key (lexicographic) version of :func:`_pop1`."""
-    pos[hn[0]] = -2
-    n -= 1
-    if n > 0:
-        l1 = hk[2 * n]
-        l2 = hk[2 * n + 1]
-        ln = hn[n]
-        i = 0
-        while True:
-            c0 = _ARITY * i + 1
-            if c0 >= n:
-                break
-            c = c0
-            b1 = hk[2 * c0]
-            b2 = hk[2 * c0 + 1]
-            for j in range(c0 + 1, min(c0 + _ARITY, n)):
-                x1 = hk[2 * j]
-                if x1 < b1 or (x1 == b1 and hk[2 * j + 1] < b2):
-                    c = j
-                    b1 = x1
-                    b2 = hk[2 * j + 1]
-            if b1 < l1 or (b1 == l1 and b2 < l2):
-                x = hn[c]
-                hk[2 * i] = b1
-                hk[2 * i + 1] = b2
-                hn[i] = x
-                pos[x] = i
-                i = c
-            else:
-                break
-        hk[2 * i] = l1
-        hk[2 * i + 1] = l2
-        hn[i] = ln
-        pos[ln] = i
-    return n
 
 
 @numba.njit(cache=True)
@@ -187,10 +79,13 @@ def _start(n_nodes, seeds, metric, mmax, total, parent):
             total[s] = 0.0
             parent[s] = -1
             if metric == 1:
-                _up2(hk, hn, pos, n, 0.0, 0.0, s)
+                hk[2 * n] = 0.0
+                hk[2 * n + 1] = 0.0
             else:
                 key[s] = 0.0
-                _up1(hk, hn, pos, n, 0.0, s)
+                hk[n] = 0.0
+            hn[n] = s  # every seed key is 0: any order is a heap
+            pos[s] = n
             n += 1
     return hk, hn, pos, key, n
 
@@ -590,7 +485,33 @@ def _csr_scalar(indptr, indices, data, seeds, a, mmax, total, parent, order, sto
     count = 0
     while n > 0:
         u = hn[0]
-        n = _pop1(hk, hn, pos, n)
+        pos[u] = -2
+        n -= 1
+        if n > 0:
+            lk = hk[n]
+            ln = hn[n]
+            i = 0
+            while True:
+                c0 = _ARITY * i + 1
+                if c0 >= n:
+                    break
+                c = c0
+                b = hk[c0]
+                for j in range(c0 + 1, min(c0 + _ARITY, n)):
+                    if hk[j] < b:
+                        c = j
+                        b = hk[j]
+                if b < lk:
+                    x = hn[c]
+                    hk[i] = b
+                    hn[i] = x
+                    pos[x] = i
+                    i = c
+                else:
+                    break
+            hk[i] = lk
+            hn[i] = ln
+            pos[ln] = i
         order[count] = u
         count += 1
         if remaining > 0 and stop_at[u]:  # no lookup (a cache miss) without targets
@@ -616,9 +537,23 @@ def _csr_scalar(indptr, indices, data, seeds, a, mmax, total, parent, order, sto
                 parent[v] = u
                 key[v] = nk
                 if pv < 0:
-                    pv = n
+                    i = n
                     n += 1
-                _up1(hk, hn, pos, pv, nk, v)
+                else:
+                    i = pv
+                while i > 0:
+                    p = (i - 1) >> 2
+                    if nk < hk[p]:
+                        x = hn[p]
+                        hk[i] = hk[p]
+                        hn[i] = x
+                        pos[x] = i
+                        i = p
+                    else:
+                        break
+                hk[i] = nk
+                hn[i] = v
+                pos[v] = i
     return count
 
 
@@ -629,7 +564,39 @@ def _csr_pair(indptr, indices, data, seeds, mmax, total, parent, order, stop_at)
     count = 0
     while n > 0:
         u = hn[0]
-        n = _pop2(hk, hn, pos, n)
+        pos[u] = -2
+        n -= 1
+        if n > 0:
+            l1 = hk[2 * n]
+            l2 = hk[2 * n + 1]
+            ln = hn[n]
+            i = 0
+            while True:
+                c0 = _ARITY * i + 1
+                if c0 >= n:
+                    break
+                c = c0
+                b1 = hk[2 * c0]
+                b2 = hk[2 * c0 + 1]
+                for j in range(c0 + 1, min(c0 + _ARITY, n)):
+                    x1 = hk[2 * j]
+                    if x1 < b1 or (x1 == b1 and hk[2 * j + 1] < b2):
+                        c = j
+                        b1 = x1
+                        b2 = hk[2 * j + 1]
+                if b1 < l1 or (b1 == l1 and b2 < l2):
+                    x = hn[c]
+                    hk[2 * i] = b1
+                    hk[2 * i + 1] = b2
+                    hn[i] = x
+                    pos[x] = i
+                    i = c
+                else:
+                    break
+            hk[2 * i] = l1
+            hk[2 * i + 1] = l2
+            hn[i] = ln
+            pos[ln] = i
         order[count] = u
         count += 1
         if remaining > 0 and stop_at[u]:  # no lookup (a cache miss) without targets
@@ -654,7 +621,24 @@ def _csr_pair(indptr, indices, data, seeds, mmax, total, parent, order, stop_at)
                 total[v] = s
                 parent[v] = u
                 if pv < 0:
-                    pv = n
+                    i = n
                     n += 1
-                _up2(hk, hn, pos, pv, m, s, v)
+                else:
+                    i = pv
+                while i > 0:
+                    p = (i - 1) >> 2
+                    p1 = hk[2 * p]
+                    if m < p1 or (m == p1 and s < hk[2 * p + 1]):
+                        x = hn[p]
+                        hk[2 * i] = p1
+                        hk[2 * i + 1] = hk[2 * p + 1]
+                        hn[i] = x
+                        pos[x] = i
+                        i = p
+                    else:
+                        break
+                hk[2 * i] = m
+                hk[2 * i + 1] = s
+                hn[i] = v
+                pos[v] = i
     return count

@@ -33,11 +33,14 @@ isotone, so their results do not depend on how exact key ties are broken;
 the blend key ``a * M + S`` does not determine ``(M, S)`` and is not
 isotone, so with exact key ties (e.g. small integer weights) its tree
 depends on which tied path is settled first. With real-valued random
-weights such ties practically never occur. The hot loop is a numba-compiled
-indexed 4-ary heap (decrease-key, one entry per frontier node) over flat
-arrays with precomputed neighbour offsets; the lattice version computes
-edge costs on the fly (:mod:`.lattice`), the sparse version walks a CSR
-matrix.
+weights such ties practically never occur. The hot loops
+(:mod:`._dijkstra`) are numba-compiled indexed 4-ary heaps (decrease-key,
+one entry per frontier node) over flat arrays; the lattice version computes
+edge costs on the fly (:mod:`.lattice`) and prefetches the neighbourhood of
+the next node to settle, the sparse version walks a CSR matrix. On a
+512 x 512 lattice the three searches take about 0.3x (cumulative) and 0.5x
+(non-scalar, blend) the CPU time of ``skimage.graph.MCP_Geometric``'s
+cumulative search (:mod:`._bench`).
 """
 
 from __future__ import annotations
