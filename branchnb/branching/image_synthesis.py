@@ -163,7 +163,11 @@ class ImageSynthesisParams:
         region boundaries).
     flat_poisson : bool, default False
         Also run the Poisson correction on flat-colour examples (off: it would blur
-        their flat colours into halos).
+        their flat colours into halos). Line art on one plain background (an
+        ornament, a traced lightning bolt: at least half the pixels off the
+        branches are one flat colour) counts as flat here, though its fragments
+        are still copied (beyond the paper: the paper's Poisson step spread the
+        strokes' ink into grey smudges around junctions and gap patches).
     completion : bool, default True
         Fill the gaps between branches automatically.
     relight_completion : bool, default True
@@ -901,7 +905,9 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     if flat and p.flat_drawing:
         return _draw_flat(ex, example_structure, target_structure, layout, labels_t, target_domain,
                           pm_s, labels_ex, p, t_start, report, (H, W))
-    use_poisson = p.poisson and (not flat or p.flat_poisson)
+    # Line art on one plain background has a single flat region (so it is not
+    # drawn in style like a map) but Poisson blending still smudges its ink.
+    use_poisson = p.poisson and (flat_share < 0.5 or p.flat_poisson)
     geo = dict(lam=p.lam, scale=p.radius_scale, min_radius=p.min_radius, max_radius=p.max_radius)
     if "regions" not in cached:
         regions = example_regions(ex, pm_s, exclusion=p.exclusion, margin=p.exclusion_margin,
