@@ -297,6 +297,21 @@ def test_compose_pins_the_overlap_boundary():
         assert (c.labels[:, 8] == 1).all()
 
 
+def test_compose_gives_pixels_laid_under_keep_to_a_later_patch():
+    """A branch's patch keeps its parent's pixels (keep_a) but fills them where the
+    canvas is empty; a later patch (the parent's carried part) takes them back."""
+    keep = np.zeros((9, 9), bool)
+    keep[:, :4] = True
+    branch = PlacedPatch(np.full((9, 9, 4), 0.8, np.float32), np.ones((9, 9), bool), (0, 0), keep_a=keep)
+    part = PlacedPatch(np.full((9, 9, 4), 0.2, np.float32), np.ones((9, 9), bool), (-5, 0))
+    for method in ("graphcut", "overlay"):
+        c = compose([branch, part], (9, 12), method=method)
+        assert (c.labels[:, :4] == 1).all()  # the kept pixels go to the part
+        assert (c.labels[:, 5:9] == 0).all()
+        alone = compose([branch], (9, 12), method=method)
+        assert (alone.labels[:, :9] == 0).all()  # nothing else came: no hole
+
+
 # --------------------------------------------------------------------------
 # branching
 # --------------------------------------------------------------------------
