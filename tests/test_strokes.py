@@ -447,3 +447,21 @@ def test_cut_end_inside_a_wider_body_stays_within_the_tube():
     rows, cols = np.nonzero(res.image[..., 3] > 0.01)
     assert rows.min() >= 9  # nothing beyond the cut
     assert np.abs(cols - 100).max() <= 5 + 2 + 2  # half width + opaque margin + ramp
+
+
+def test_disk_closing_matches_the_morphological_closing():
+    """fill_joints' closing from distance transforms: the same pixels as a dilation and
+    an erosion by the disk (which cost grows with its area: 0.7 s of a 1000-px figure edit)."""
+    from scipy import ndimage as ndi
+
+    from branchnb.strokes.outline import _disk_closing
+
+    rng = np.random.default_rng(1)
+    for _ in range(12):
+        h, w = rng.integers(8, 60, 2)
+        k = int(rng.integers(1, 9))
+        m = ndi.gaussian_filter(rng.random((h, w)), 3.0) > 0.5
+        yy, xx = np.mgrid[-k:k + 1, -k:k + 1]
+        disk = xx**2 + yy**2 <= k * k
+        ref = ndi.binary_erosion(ndi.binary_dilation(np.pad(m, k + 1), disk), disk)[k + 1:-k - 1, k + 1:-k - 1]
+        assert np.array_equal(_disk_closing(m, k), ref)
