@@ -152,12 +152,19 @@ def side_outline_cards(cloud, *, sides=(90.0, 270.0), ink=None, width=None, offs
     from .preview import _side_view_outline, project
 
     _check_cloud(cloud)
-    sides = np.asarray(sides, float).reshape(-1)
+    try:
+        sides = np.asarray(sides, float).reshape(-1)
+        offset = float(offset)
+    except (TypeError, ValueError) as exc:
+        raise TypeError("sides and offset must be numbers (degrees, pixels)") from exc
     if not np.all(np.isfinite(sides)):
         raise ValueError("sides must be finite yaws in degrees")
     if not np.isfinite(offset) or offset <= 0:
         raise ValueError(f"offset must be > 0, got {offset}")
-    baked = cloud if baked is None else baked
+    if baked is None:
+        baked = cloud
+    elif type(baked) is not type(cloud):
+        raise TypeError(f"baked must be a BillboardCloud, got {type(baked).__name__}")
     if len(baked.textures) != len(cloud.textures):
         raise ValueError("baked must have the cloud's textures (bake_side_outline of it)")
     drawn = _side_view_outline(cloud)

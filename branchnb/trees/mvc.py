@@ -474,12 +474,17 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
     out[ys, xs, 3] = opaque
     extra = ()
     if layers is not None:
+        if isinstance(layers, (str, bytes)) or not hasattr(layers, "__len__"):
+            raise TypeError(f"layers must be a sequence of (H, W) arrays, got {type(layers).__name__}")
         if len(layers) != len(srcs):
             raise ValueError(f"layers: need one map per source: {len(srcs)} sources, {len(layers)} maps")
         lay = np.zeros(mask.shape, np.float32)
         val = np.zeros(len(pts), np.float32)
         for k, i in enumerate(used):
-            m = np.asarray(layers[i], np.float32)
+            try:
+                m = np.asarray(layers[i], np.float32)
+            except (TypeError, ValueError) as exc:
+                raise TypeError(f"layers[{i}] must be a numeric (H, W) array") from exc
             if m.shape != srcs[i].shape[:2]:
                 raise ValueError(f"layers[{i}] has shape {m.shape}, its source {srcs[i].shape[:2]}")
             px = np.clip(np.rint(mapped[k][:, 0]), 0, m.shape[1] - 1).astype(np.int64)
