@@ -46,7 +46,8 @@ render's; the ink the cards add inside the crown, the largest change of the
 front view, and the cards' triangles.
 ``palms``: side views (45, 90 degrees) of 10 drawn palms (8 at 256 px,
 half with a leaf pile, 2 at 384 px) with merged fronds split as a
-background (the former rule) and as lobes (the default): loose stroke
+background (the former rule), as lobes, as lobes at one depth, and with
+the hub's strokes taken off the trunk (the default): loose stroke
 bits, flecks and inner ink kept (:func:`~branchnb.trees.quality.side_view_figures`).
 ``transfer``: histogram transfer of 12 drawn trees (4 kinds, 256 px with
 and without a leaf pile, and 128 px) onto 8 flat-art references (4 drawn
@@ -295,9 +296,11 @@ def measure_palms(size: int = 256) -> None:
 
     items = [(s, size, s % 2 == 1) for s in range(8)] + [(s, 384, False) for s in (20, 21)]
     sky = bb._SKY_HULL
+    rules = [("split as a background", -1.0, False, False), ("lobes", sky, False, False),
+             ("lobes, one depth", sky, True, False), ("+ hub strokes (default)", sky, True, True)]
     try:
-        for label, value in (("split as a background", -1.0), ("lobes (default)", sky)):
-            bb._SKY_HULL = value
+        for label, value, join, hub in rules:
+            bb._SKY_HULL, bb._JOIN_STARS, bb._HUB_STROKES = value, join, hub
             fr, fl, ii = [], [], []
             for seed, s, pile in items:
                 cloud = bb.billboard_cloud(drawn_tree("palm", pile=pile, rng=seed, size=s),
@@ -306,11 +309,11 @@ def measure_palms(size: int = 256) -> None:
                 fr.append(max(f[y]["fragments"] - f[y]["fragments0"] for y in f))
                 fl.append(max(f[y]["flecks"] - f[y]["flecks0"] for y in f))
                 ii.append(min(f[y]["inner_ink"] for y in f))
-            print(f"{label:22s} {len(items)} palms: stroke bits over the front view's mean {np.mean(fr):.3f} "
+            print(f"{label:24s} {len(items)} palms: stroke bits over the front view's mean {np.mean(fr):.3f} "
                   f"max {max(fr):.3f} | flecks mean {np.mean(fl):.3f} max {max(fl):.3f} | inner ink kept "
                   f"mean {np.mean(ii):.2f} min {min(ii):.2f}")
     finally:
-        bb._SKY_HULL = sky
+        bb._SKY_HULL, bb._JOIN_STARS, bb._HUB_STROKES = sky, True, True
 
 
 def measure_seams(size: int = 192) -> None:
