@@ -429,7 +429,10 @@ def bake_side_outline(cloud, *, yaws=tuple(range(15, 360, 15)), ink=None, width=
     engine``) the rim ink share of the engine's view of the full level at
     90 degrees went from 0.74 (min 0.38) to 0.83 (min 0.60), at 45 degrees
     from 0.74 to 0.80 (the reduced level: 0.95 to 0.96, min 0.80 to 0.88);
-    the in-memory render's is 0.98. A 1024 px cloud takes about 5 s. Clouds without line art or an outlined silhouette
+    the in-memory render's is 0.98; the side cards of
+    :func:`~branchnb.trees.lod_cards.side_outline_cards` (quads edge-on to
+    the front view) carry the rest at 90 and 270 degrees (0.98, 0.97). A
+    1024 px cloud takes about 5 s. Clouds without line art or an outlined silhouette
     (:func:`~branchnb.trees.outline.silhouette_outline`) are returned
     unchanged.
 
