@@ -88,7 +88,8 @@ def _refine_tone(d: Dendrite, dark: np.ndarray, bounds: dict, s: float,
     # flat coloured objects at 2000 px; half the floor on the limbs too gave 0.79, but the
     # limbs faded into the crown)
     f = bounds["floor"]
-    floor = np.minimum(np.where(f >= 0.3 * bounds["cap"].max(), f, 0.0) * s, width)
+    floor = np.where(f >= 0.3 * bounds["cap"].max(), f, 0.0)
+    floor = np.minimum(np.maximum(floor, bounds.get("limb", 0.0)) * s, width)
     cap = np.maximum(bounds["cap"] * s, width)
     smooth = 3  # render()'s default
     h, w = d.shape
@@ -158,10 +159,58 @@ def _stretch(dark: np.ndarray, crown: np.ndarray, contrast: float) -> np.ndarray
     return ((1.0 - contrast) * dark + contrast * full).astype(np.float32)
 
 
+_LIMB_BODY = 0.8  # share of a limb's length at which it reaches w_end
+
+
+def _limb_widths(d: Dendrite, first_seed: int, w0: float, w_end: float,
+                 w_tip: float) -> np.ndarray:
+    """Widths of the trunk and main limbs (the nodes of iteration 1) by the pipe model
+    over their ends (beyond the paper's pipe model over all twigs, whose widths fall
+    soon after the fork because the twigs hang mostly from the limbs' lower parts).
+
+    Each end ``e`` of the iteration-1 tree (a limb's end, or the trunk's own top) owns a
+    pipe of cross-section ``a_e`` that falls linearly along its path from ``w0 ** 2 / E``
+    at the first limb's departure (node ``first_seed``) to ``w_end ** 2`` at
+    ``_LIMB_BODY`` of its length, then to ``w_tip ** 2`` at the end; a
+    node's width is ``sqrt`` of the sum over the ends it carries. A parent's width squared
+    is the sum of its children's (Leonardo's rule) at every junction, the trunk tapers
+    above each departure, its top (where no limb continues) ends at ``w_end`` instead of
+    a round cap of the trunk's width (a knob), and every limb stays at least ``w_end``
+    wide over most of its length. 0 off iteration 1.
+    """
+    n = d.n_nodes
+    out = np.zeros(n)
+    is1 = d.iteration == 1
+    if not is1.any():
+        return out
+    par = d.parent
+    child1 = np.zeros(n, bool)
+    child1[par[is1 & (par >= 0)]] = True
+    ends = np.flatnonzero(is1 & ~child1)
+    arc = d.arc_depth()
+    arc0 = arc[min(max(first_seed, 0), n - 1)]
+    a0 = w0 ** 2 / len(ends)
+    a1 = min(w_end ** 2, a0)
+    for e in ends:
+        path = [e]
+        while par[path[-1]] >= 0:
+            path.append(par[path[-1]])
+        path = np.asarray(path)
+        t = np.clip((arc[path] - arc0) / max(arc[e] - arc0, 1e-6), 0.0, 1.0)
+        # linear from a0 to a1 over the first _LIMB_BODY of the path, then to a twig's
+        # width at the end (a limb that tapers, not a blunt stub)
+        body = np.minimum(t / _LIMB_BODY, 1.0)
+        end = np.clip((t - _LIMB_BODY) / (1.0 - _LIMB_BODY), 0.0, 1.0)
+        out[path] += (a0 + (a1 - a0) * body) * (1.0 - end) + w_tip ** 2 * end
+    out = np.sqrt(out)
+    out[~is1] = 0.0
+    return out
+
+
 def _thickness(d: Dendrite, p: PareidoliaParams, imp, dark, crown, n_trunk: int,
-               bounds: dict | None = None) -> Dendrite:
-    """Pipe model + importance emphasis; tone-matched under a limb cap inside the crown;
-    tapered twig ends."""
+               bounds: dict | None = None, first_seed: int | None = None) -> Dendrite:
+    """Pipe model + importance emphasis; tone-matched under a limb cap inside the crown,
+    the trunk and main limbs at least their :func:`_limb_widths`; tapered twig ends."""
     leaf = np.zeros(d.n_nodes)
     leaf[d.tips] = 1.0
     tips = np.maximum(_accumulate_up(d.parent, leaf), 1.0)
@@ -173,10 +222,16 @@ def _thickness(d: Dendrite, p: PareidoliaParams, imp, dark, crown, n_trunk: int,
     ref = max(float(np.percentile(imp, 99.0)), 1e-3)
     width = width + p.emphasis * np.clip(emph / ref, 0, 1) ** 1.5
     inside = crown.ravel()[d.nodes]
-    inside[:n_trunk] = False  # the trunk keeps its pipe width up to the fork
     if p.tone <= 0 or not inside.any():
+        inside[:n_trunk] = False
         return d.with_radius(_taper_ends(d, width, dist, p.taper) / 2)
-    # limb cap: the fork's pipe width, thinning to max_width along the path from the fork
+    if first_seed is None:
+        first_seed = max(1, round(n_trunk * 0.75)) - 1
+    limb = _limb_widths(d, first_seed, float(width[first_seed]), p.limb_width, p.tip_width)
+    is1 = d.iteration == 1
+    # inside the crown, the trunk's top (above the limbs' departures) narrows with its
+    # limb widths instead of ending in a round cap of the trunk's width (a knob)
+    # twigs' cap: the fork's pipe width, thinning to max_width along the path from the fork
     arc = d.arc_depth()
     fork_arc = arc[n_trunk - 1] if n_trunk > 0 else 0.0
     from_fork = np.maximum(arc - fork_arc, 0.0)
@@ -186,6 +241,8 @@ def _thickness(d: Dendrite, p: PareidoliaParams, imp, dark, crown, n_trunk: int,
         width = width * _taper_profile(dist, p.taper)
     cap = np.maximum(p.max_width, width * np.exp(-from_fork / p.limb_length))
     floor = np.minimum(width * np.exp(-from_fork / p.limb_length), cap)
+    cap = np.where(is1, np.maximum(p.max_width, limb), cap)
+    floor = np.where(is1, limb, floor)
     w_tone = width
     match = _tone_matcher(d, dark, p.tone_sigma, p.tone)
     for _ in range(_TONE_ROUNDS if p.taper > 0 else 1):
@@ -203,5 +260,5 @@ def _thickness(d: Dendrite, p: PareidoliaParams, imp, dark, crown, n_trunk: int,
     if p.taper > 0:
         out = _taper_ends(d, out, dist, p.taper)
     if bounds is not None:  # what the output-resolution pass may change, and how far
-        bounds.update(inside=inside, floor=floor, cap=cap, dist=dist)
+        bounds.update(inside=inside, floor=floor, cap=cap, dist=dist, limb=limb)
     return d.with_radius(out / 2)
