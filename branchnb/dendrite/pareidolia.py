@@ -167,7 +167,7 @@ class PareidoliaParams:
         Beyond the paper: the trunk and the main limbs (iteration 1) are at
         least as wide as a pipe model over the limbs' ends, each end's pipe
         narrowing along its path from its share of the trunk to
-        ``limb_width`` (px) at 80 % of its length, then to ``tip_width``; 3.
+        ``limb_width`` (px) at 80 % of its length, then to ``tip_width``; 4.
         The pipe model over all twigs made the limbs thin out soon after the
         fork (twigs hang mostly from their lower parts), and the trunk's top
         ended in a round cap as wide as the trunk (a knob). See the module
@@ -256,7 +256,7 @@ class PareidoliaParams:
                              help="widest stroke in the crown, away from the trunk (px)")
     limb_length: float = param(100.0, min=1.0, max=500.0, step=5.0,
                                help="path length over which the limbs thin to max_width (px)")
-    limb_width: float = param(3.0, min=0.0, max=30.0, step=0.5,
+    limb_width: float = param(4.0, min=0.0, max=30.0, step=0.5,
                               help="width the trunk's main limbs keep up to their ends (px)")
     pipe: float = param(0.4, min=0.0, max=5.0, step=0.05,
                         help="pipe model: width = tip_width + pipe * sqrt(tips carried)")
@@ -629,10 +629,12 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
     # the limbs end in the picture's dark parts (stippled on its blurred darkness), where
     # their ink is part of the picture: placed uniformly, a limb that followed a dark
     # outline cut across a light region to its end as a thick spoke (a drawn face)
-    shade = ndimage.gaussian_filter(dark.astype(np.float64), p.crown_blur)
-    shade = upper * (0.1 + shade / max(float(shade[upper].max()), 1e-6))
-    limb_ends = _coarse_points(lambda f: stipple(_shrink(shade, f),
-                                                 p.trunk_endpoints, iterations=15, rng=rng),
+    def shade(f):  # on the coarse grid the stippling runs on
+        u = _shrink(upper.astype(float), f)
+        g = ndimage.gaussian_filter(_shrink(dark.astype(np.float64), f), p.crown_blur / f)
+        return u * (0.1 + g / max(float(g[u > 0].max(initial=0.0)), 1e-6))
+
+    limb_ends = _coarse_points(lambda f: stipple(shade(f), p.trunk_endpoints, iterations=15, rng=rng),
                                upper, 2 * coarse, rng)  # 9 points: a coarse grid will do
     lat = Lattice(node_weights(cost, epsilon=p.epsilon, noise=noise, rng=rng))
     d = build_dendrite(plan(lat, seeds.reshape(h, w), metric="cumulative"), limb_ends,

@@ -89,7 +89,11 @@ def _refine_tone(d: Dendrite, dark: np.ndarray, bounds: dict, s: float,
     # limbs faded into the crown)
     f = bounds["floor"]
     floor = np.where(f >= 0.3 * bounds["cap"].max(), f, 0.0)
-    floor = np.minimum(np.maximum(floor, bounds.get("limb", 0.0)) * s, width)
+    # the limbs' pipe widths scale with the drawing, their limb_width (2x a twig, which
+    # stays about as fine in output px at every size) does not
+    limb = np.asarray(bounds.get("limb", np.zeros_like(f)))
+    base = np.minimum(limb, p.limb_width)
+    floor = np.minimum(np.maximum(floor * s, base * min(s, 1.0) + (limb - base) * s), width)
     cap = np.maximum(bounds["cap"] * s, width)
     smooth = 3  # render()'s default
     h, w = d.shape
@@ -159,7 +163,20 @@ def _stretch(dark: np.ndarray, crown: np.ndarray, contrast: float) -> np.ndarray
     return ((1.0 - contrast) * dark + contrast * full).astype(np.float32)
 
 
+def _blurred_at(d: Dendrite, a: np.ndarray, sigma: float) -> np.ndarray:
+    """``a`` blurred over ``sigma`` px at each node of ``d``, on a grid ``sigma // 2.5``
+    times coarser (block means, a Gaussian of ``sigma / f``)."""
+    h, w = a.shape
+    f = max(1, int(sigma // 2.5))
+    pad = np.pad(np.asarray(a, np.float64), ((0, -h % f), (0, -w % f)), mode="edge")
+    g = ndimage.gaussian_filter(_shrink(pad, f), sigma / f)
+    ys, xs = np.divmod(d.nodes, w)
+    return g[ys // f, xs // f]
+
+
 _LIMB_BODY = 0.8  # share of a limb's length at which it reaches w_end
+_LIMB_LIGHT = 0.3  # a limb's width in the crown's white parts, as a share of its pipe width
+_LIMB_DARK = 1.0  # darkness from which a limb in the crown has its full pipe width
 
 
 def _limb_widths(d: Dendrite, first_seed: int, w0: float, w_end: float,
@@ -229,6 +246,12 @@ def _thickness(d: Dendrite, p: PareidoliaParams, imp, dark, crown, n_trunk: int,
         first_seed = max(1, round(n_trunk * 0.75)) - 1
     limb = _limb_widths(d, first_seed, float(width[first_seed]), p.limb_width, p.tip_width)
     is1 = d.iteration == 1
+    # in the crown's light parts the limbs narrow (their width beyond limb_width to
+    # _LIMB_LIGHT at no darkness): at full width they crossed a light chin as dark bands
+    shade = _blurred_at(d, dark, 2.0 * p.tone_sigma)
+    light = _LIMB_LIGHT + (1.0 - _LIMB_LIGHT) * np.clip(shade / _LIMB_DARK, 0.0, 1.0)
+    thin = np.minimum(limb, p.limb_width)  # the limbs keep limb_width, the rest narrows
+    limb = np.where(inside, thin + (limb - thin) * light, limb)
     # inside the crown, the trunk's top (above the limbs' departures) narrows with its
     # limb widths instead of ending in a round cap of the trunk's width (a knob)
     # twigs' cap: the fork's pipe width, thinning to max_width along the path from the fork
