@@ -66,6 +66,22 @@ ends more than their bodies and the round caps drew dots). Those dots carried
 ink: in dark, flat regions the picture is lighter than with dots (tone r at 4
 px blur on 1000-px pictures 0.5-0.73, below the issue's 0.7 on a cat photo, a
 gradient and flat coloured objects).
+
+Limbs that reach into the crown (beyond the paper). With the pipe model over all
+twigs the limbs thinned soon after the fork: the twigs hang mostly from their
+lower parts, and the cap falling over ``limb_length`` did the rest, so the
+picture sat on a bare pole; the trunk's top ended in a round cap as wide as the
+trunk (a knob on flat objects). Now the trunk and the main limbs (iteration 1)
+are at least as wide as a pipe model over the limbs' ends (each end's pipe
+narrowing from its share of the trunk to ``limb_width`` at 80 % of its length,
+then to a twig; Leonardo's rule holds at every junction), narrower in the
+crown's light parts (down to ``limb_width``, not below), and the limbs end in
+the picture's dark parts. Measured with the defaults on a portrait, a cup photo,
+flat coloured objects, a drawn face, a grey ramp and a landscape at 500 / 1000
+px, the height reached by branches wider than twice a twig went from 0.00-0.27
+/ 0.03-0.57 of the crown's height to 0.35-0.87 / 0.38-0.90; tone r at 4 px blur
+from 0.84-0.97 / 0.84-0.96 to 0.83-0.95 / 0.81-0.94 (a cat photo at 2000 px:
+0.70 -> 0.69, flat objects 0.82 -> 0.80), at the same CPU time.
 """
 
 from __future__ import annotations

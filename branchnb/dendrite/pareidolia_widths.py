@@ -250,14 +250,23 @@ def _thickness(d: Dendrite, p: PareidoliaParams, imp, dark, crown, n_trunk: int,
     # _LIMB_LIGHT at no darkness): at full width they crossed a light chin as dark bands
     shade = _blurred_at(d, dark, 2.0 * p.tone_sigma)
     light = _LIMB_LIGHT + (1.0 - _LIMB_LIGHT) * np.clip(shade / _LIMB_DARK, 0.0, 1.0)
-    thin = np.minimum(limb, p.limb_width)  # the limbs keep limb_width, the rest narrows
-    limb = np.where(inside, thin + (limb - thin) * light, limb)
-    # inside the crown, the trunk's top (above the limbs' departures) narrows with its
-    # limb widths instead of ending in a round cap of the trunk's width (a knob)
-    # twigs' cap: the fork's pipe width, thinning to max_width along the path from the fork
     arc = d.arc_depth()
     fork_arc = arc[n_trunk - 1] if n_trunk > 0 else 0.0
     from_fork = np.maximum(arc - fork_arc, 0.0)
+    # ... gradually over a quarter of limb_length from the fork (so the limbs' bases stay
+    # as wide as the pipe model says), and outside the crown too (a limb crossing the
+    # blank between two objects had its full pipe width, then stepped down at the crown)
+    ramp = np.clip(from_fork / (0.25 * p.limb_length), 0.0, 1.0)
+    if inside[:n_trunk].any():  # the trunk's top narrows likewise from where it enters the crown
+        entry = arc[int(np.argmax(inside[:n_trunk]))]
+        ramp[:n_trunk] = np.clip((arc[:n_trunk] - entry) / (0.25 * p.limb_length), 0.0, 1.0)
+    light = 1.0 - (1.0 - light) * ramp
+    thin = np.minimum(limb, p.limb_width)  # the limbs keep limb_width, the rest narrows
+    limb = thin + (limb - thin) * light
+    structural = is1 & (np.arange(d.n_nodes) >= first_seed)
+    # inside the crown, the trunk's top (above the limbs' departures) narrows with its
+    # limb widths instead of ending in a round cap of the trunk's width (a knob)
+    # twigs' cap: the fork's pipe width, thinning to max_width along the path from the fork
     if p.taper > 0:
         # taper before the tone match too, which then puts the ink back along the
         # twigs instead of losing it
@@ -279,7 +288,9 @@ def _thickness(d: Dendrite, p: PareidoliaParams, imp, dark, crown, n_trunk: int,
     height = d.points[:, 1].max() - d.points[:, 1]
     flare = 1.0 + 0.35 * np.clip(1.0 - height / (0.12 * d.shape[0]), 0.0, 1.0) ** 2
     flare[n_trunk:] = 1.0
-    out = np.where(inside, w_tone, width * flare)
+    # outside the crown, the trunk above the limbs' departures and the limbs have their
+    # limb widths (the pipe over all twigs made a step where they entered the crown)
+    out = np.where(inside, w_tone, np.where(structural, limb, width * flare))
     if p.taper > 0:
         out = _taper_ends(d, out, dist, p.taper)
     if bounds is not None:  # what the output-resolution pass may change, and how far
