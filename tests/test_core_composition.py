@@ -114,3 +114,59 @@ def test_stipple_density_and_spacing():
     assert np.array_equal(pts, stipple(density, 200, rng=0))
     with pytest.raises(ValueError, match="zero everywhere"):
         stipple(np.zeros((4, 4)), 3)
+
+
+# --------------------------------------------------------------------------- gap completion, fast matcher
+
+
+def _gap_case(kind: str, size: int, channels: int, seed: int):
+    """An example (stripes, noise or a smooth ramp) with a forbidden bar, and a canvas whose left third
+    and a small island are copied from it: the rest is the gap."""
+    rng = np.random.default_rng(seed)
+    h, w = size + 16, size + 20
+    yy, xx = np.mgrid[0:h, 0:w]
+    if kind == "stripes":
+        base = 0.5 + 0.4 * np.sin(xx / 3.0)[..., None] * np.ones(channels)
+    elif kind == "noise":
+        base = rng.random((h, w, channels))
+    else:
+        base = (xx / w)[..., None] * np.linspace(0.3, 1.0, channels)
+    ex = np.clip(base + 0.02 * rng.standard_normal((h, w, channels)), 0, 1).astype(np.float32)
+    forbidden = np.zeros((h, w), bool)
+    forbidden[:, w // 2:w // 2 + 3] = True
+    ex[forbidden] = 0.0                     # a dark "branch" that must never be copied
+    canvas = np.zeros((size, size, channels), np.float32)
+    covered = np.zeros((size, size), bool)
+    canvas[:, :size // 3] = ex[:size, :size // 3]
+    covered[:, :size // 3] = True
+    covered[size // 2:size // 2 + 4, size // 2:size // 2 + 6] = True
+    return ex, forbidden, canvas, covered
+
+
+@pytest.mark.parametrize("kind,size,channels", [("stripes", 40, 3), ("noise", 48, 1), ("ramp", 56, 4),
+                                                ("noise", 64, 3)])
+def test_fast_matcher_fills_like_the_exact_one(kind, size, channels):
+    from branchnb.core.completion import complete_gaps
+
+    ex, forbidden, canvas, covered = _gap_case(kind, size, channels, 3)
+    out = {}
+    for fast in (False, True):
+        c, cov = canvas.copy(), covered.copy()
+        r = complete_gaps(c, cov, ex, forbidden, patch_size=12, rng=5, fast=fast)
+        assert cov.all() and r.n_inpainted == 0
+        src = r.source[r.filled]
+        assert not forbidden[src[:, 1].astype(int), src[:, 0].astype(int)].any()   # no branch pixel copied
+        out[fast] = (c, r)
+    (c0, r0), (c1, r1) = out[False], out[True]
+    # the same costs up to float32 rounding: the same patches but for a rare near tie
+    assert r1.n_patches == r0.n_patches
+    assert abs(float(c1.mean()) - float(c0.mean())) < 0.02
+    assert np.mean(np.abs(c1 - c0)) < 0.05
+
+
+def test_fast_must_be_a_bool():
+    from branchnb.core.completion import complete_gaps
+
+    ex, forbidden, canvas, covered = _gap_case("noise", 24, 3, 0)
+    with pytest.raises(TypeError, match="fast"):
+        complete_gaps(canvas, covered, ex, forbidden, patch_size=8, fast="yes")

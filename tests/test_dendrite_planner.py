@@ -243,3 +243,17 @@ def test_labels_equal_reference_with_many_exact_ties(metric):
     np.testing.assert_array_equal(key, ref_key)
     if metric == "nonscalar":
         np.testing.assert_array_equal(res.max_cost, ref_m)
+
+
+def test_bench_rows_report_the_round_with_the_median_ratio(monkeypatch):
+    """The planner bench rows pair each of our runs with an anchor run just before it
+    and report the round whose ratio is the median, so one slow round cannot move them."""
+    from branchnb.dendrite import _bench
+
+    # (anchor, ours) CPU times of three rounds: ratios 0.5, 1.0, 0.25
+    times = iter([2.0, 1.0, 1.0, 1.0, 4.0, 1.0])
+    monkeypatch.setattr(_bench, "_cpu", lambda fn: next(times))
+    calls = []
+    ours, anchor = _bench._paired_median(lambda: calls.append("ours"), lambda: calls.append("anchor"), 3)
+    assert (ours, anchor) == (1.0, 2.0)
+    assert calls == ["ours", "anchor"]  # one warm-up call each, outside the timed rounds

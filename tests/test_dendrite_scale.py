@@ -392,3 +392,71 @@ def test_pareidolia_refine_matches_tone_at_the_output_size():
         d = t.dendrite
         assert d.is_tree() and d.shape == t.image.shape[:2]
     assert r[2] > r[0] + 0.03
+
+
+def _limb_reach(t):
+    """Share of the crown's height (above the fork) reached by branches wider than twice
+    the twig width along their whole path from the root."""
+    d = t.dendrite
+    crown = t.crown_on_canvas()
+    at = np.rint(d.points).astype(int)
+    inside = crown[np.clip(at[:, 1], 0, crown.shape[0] - 1), np.clip(at[:, 0], 0, crown.shape[1] - 1)]
+    w = 2 * d.radius
+    twig = inside & (d.iteration == d.iteration.max()) & (w >= 0.5)
+    thick = w > 2 * max(float(np.median(w[twig])), 1.0)
+    for i in range(d.n_nodes):  # parent[i] < i: thick all the way from the root
+        if d.parent[i] >= 0 and not thick[d.parent[i]]:
+            thick[i] = False
+    rows = np.flatnonzero(crown.any(axis=1))
+    n_trunk = int(np.flatnonzero(np.r_[d.parent[1:] != np.arange(d.n_nodes - 1), True])[0]) + 1
+    fork_y = d.points[n_trunk - 1, 1]
+    return (fork_y - d.points[thick & inside, 1].min()) / (rows[-1] - rows[0])
+
+
+def test_pareidolia_limbs_stay_thick_into_the_crown(portrait_tree):
+    # the pipe model over all twigs thinned the limbs soon after the fork (twigs hang
+    # mostly from their lower parts): limbs wider than 2 twigs reached 0.17 of the crown's
+    # height on this portrait (0.0-0.28 on six 500/1000-px pictures); a pipe model over the
+    # limbs' ends carries them into the crown
+    assert _limb_reach(portrait_tree) > 0.4
+    t = portrait_tree
+    assert _tone_r(t.image, t.render().image, t.crown_on_canvas()) >= 0.8  # 0.88 before
+
+
+def test_limb_widths_follow_the_pipe_model_and_the_trunk_top_has_no_knob():
+    from branchnb.dendrite import build_dendrite, make_lattice, plan
+    from branchnb.dendrite.pareidolia_widths import _limb_widths
+
+    lat = make_lattice(np.zeros((120, 100)), rng=0)
+    trunk = build_dendrite(plan(lat, (50, 119)), [(50, 60)], iteration=1)
+    k = round(0.75 * trunk.n_nodes) - 1
+    seeds = np.zeros((120, 100), bool)
+    ys, xs = np.divmod(trunk.nodes[k:], 100)
+    seeds[ys, xs] = True
+    d = build_dendrite(plan(make_lattice(np.zeros((120, 100)), rng=1), seeds),
+                       [(10, 10), (30, 5), (70, 5), (90, 12), (50, 2)], base=trunk, iteration=1)
+    w = _limb_widths(d, k, 12.0, 4.0, 0.5)
+    assert w[k] == pytest.approx(12.0)  # every end's pipe at its departure: the trunk's width
+    assert w[0] == pytest.approx(12.0)
+    # Leonardo's rule at every junction: width^2 of the parent = sum over the children
+    kids = {}
+    for i in np.flatnonzero(d.parent >= 0):
+        kids.setdefault(int(d.parent[i]), []).append(i)
+    junctions = [j for j, c in kids.items() if len(c) > 1]
+    assert junctions
+    for j in junctions:
+        assert w[j] ** 2 == pytest.approx(sum(w[c] ** 2 for c in kids[j]), rel=0.1)
+    # the limbs keep at least limb_width over most of their length, and end at a twig
+    arc = d.arc_depth()
+    for e in d.tips[d.tips >= trunk.n_nodes]:
+        path = [e]
+        while d.parent[path[-1]] >= 0:
+            path.append(int(d.parent[path[-1]]))
+        t = (arc[path] - arc[k]) / (arc[e] - arc[k])
+        assert (w[path][t <= 0.8] >= 4.0 - 1e-9).all()
+        assert w[e] == pytest.approx(0.5)
+    # the trunk's own top (no limb continues from it) narrows instead of ending as wide
+    # as the trunk (a knob): before, it kept its pipe width up to its round cap
+    top = trunk.n_nodes - 1
+    if not any(d.iteration[c] == 1 for c in kids.get(top, [])):
+        assert w[top] < 0.2 * w[k]

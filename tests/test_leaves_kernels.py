@@ -36,19 +36,29 @@ def test_sample_scores_is_the_numpy_mean():
     np.testing.assert_allclose(sample_scores(maps, k, q, shifts), want, rtol=1e-6)
 
 
-def test_polar_dp_is_the_numpy_recursion():
+@pytest.mark.parametrize("r0, slope", [(3.0, 0.5), (3.0, 0.3), (150.0, 0.3), (300.0, 0.01)])
+def test_polar_dp_is_the_numpy_recursion(r0, slope):
     rng = np.random.default_rng(2)
-    s = rng.random((20, 15)).astype(np.float32)
-    rs = np.arange(3.0, 23.0)
-    da, slope = np.radians(1.0), 0.5
-    v, back = polar_dp(s, rs, da, slope)
-    # The loop it replaces (trace_branches before).
+    s = rng.random((40, 15)).astype(np.float32)
+    rs = np.arange(r0, r0 + 40.0)
+    da = np.radians(1.0)
+    v, back, single = polar_dp(s, rs, da, slope)
+    if single:
+        v = v.astype(np.float32)
+    # The loop it replaces (trace_branches before): a sideways budget of slope px per px.
     n_a = s.shape[1]
     vw = s[0].copy()
     bw = np.zeros(s.shape, np.int32)
     idx = np.arange(n_a)
+    budget = 0.0
     for j in range(1, len(rs)):
-        m = int(np.clip(np.floor(slope / (rs[j] * da)), 1, 6))
+        budget += slope
+        m = int(min(np.floor(budget / (rs[j] * da)), 6))
+        if m == 0:
+            vw = vw + s[j]
+            bw[j] = idx
+            continue
+        budget = 0.0
         best, arg = np.full(n_a, -np.inf), idx.copy()
         for d in range(-m, m + 1):
             src = idx + d
@@ -56,7 +66,7 @@ def test_polar_dp_is_the_numpy_recursion():
             better = cand > best
             best, arg = np.where(better, cand, best), np.where(better, src, arg)
         vw, bw[j] = best + s[j], arg
-    assert np.array_equal(v, vw) and np.array_equal(back, bw)
+    assert v.dtype == vw.dtype and np.array_equal(v, vw) and np.array_equal(back, bw)
 
 
 def test_oriented_maps_are_the_oriented_response():

@@ -286,3 +286,24 @@ def test_induction_follows_every_training_leaf_under_perturbed_registration():
     rows = snapping_rows(("lobed",), (192,), range(1), n_leaves=3)
     assert len(rows) == 6
     assert min(r["iou"] for r in rows) >= 0.7, [round(r["iou"], 2) for r in rows]
+
+
+def test_trace_keeps_its_sideways_budget_across_parallel_veins():
+    """A trace over a grass blade's parallel veins may not climb from vein to vein far from its junction."""
+    from branchnb.leaves.snapping import trace_branches
+
+    h, w = 120, 260
+    maps = np.zeros((16, h, w), np.float32)
+    maps[:, 4::6, :] = 1.0                                   # parallel ridges every 6 px
+    pivot = np.array([10.0, 60.0])
+    ang = np.radians(12.0)                                   # the carried branch crosses them at 12 deg
+    r = np.arange(0, 200)[:, None]
+    branch = pivot + r * [np.cos(ang), np.sin(ang)]
+    stub = pivot + np.arange(0, 12)[:, None] * [-1.0, 0.0]
+    out = trace_branches([branch, stub], maps, np.ones((h, w), bool), slope=0.1)[0]
+    d = out - pivot
+    rr, phi = np.hypot(*d.T), np.arctan2(d[:, 1], d[:, 0])
+    sideways = float(np.sum(rr[1:] * np.abs(np.diff(phi))))
+    # Budget: 0.1 px per px outwards, plus two angular steps of slack at the
+    # rim (it was ~78 px, one 1-degree step per radius, before the budget).
+    assert sideways <= 0.1 * rr.max() + 2 * rr.max() * np.radians(1.0)

@@ -366,12 +366,14 @@ def test_limbs_turned_far_leave_no_wedge_at_the_body(size):
         zone = ((d <= 0.8 * hw - 1) & (s <= obj.widths[0] + 2 * hw)).reshape(size, size)
         assert (zone & ~res.mask).sum() <= 0.02 * zone.sum(), obj.names[k]
     assert res.mask.sum() <= 1.02 * (obj.image[..., 3] > 0.5).sum()  # closings stay small
-    # the arms' cut faces stay out of the body's interior (the body's texture is kept there)
+    # the arms' cut faces stay out of the body's interior (the body's texture is kept there,
+    # also where the body's top is a carried part laid after the arms: 4 and 5 skin px
+    # poked into the body at 300 and 400 px before compose let later patches take them)
     _, d = Stroke(src[0]).project(np.c_[xx.ravel(), yy.ravel()])
     interior = (d.reshape(size, size) <= obj.widths[0] - 2) & (yy > 0.275 * size)
     im = res.image
     skin = (im[..., 0] > im[..., 2] + 0.2) & res.mask
-    assert (interior & skin).sum() <= 0.002 * interior.sum()
+    assert (interior & skin).sum() <= 0.0005 * interior.sum()
 
 
 def _dark_inside(img, mask, depth=4.0):

@@ -565,3 +565,29 @@ def test_thin_palms_at_128px_keep_line_art_and_lose_the_comb(seed):
         assert f["fragments"] <= f["fragments0"] + 0.05, (yaw, f)
     photo = data.load("tree_cutout_broadleaf")[::4, ::4]
     assert palette_coverage(photo) < FLAT_COVERAGE <= palette_coverage(img)
+
+
+def test_hub_strokes_leave_the_trunk_and_bark_ticks_stay():
+    # Issue 24: the segmenter calls a palm's midribs, radiating from the hub, trunk; cut into
+    # one-row trunk strips they showed from the side as ink whiskers across the hub.
+    from branchnb.trees.billboard import _stray_trunk_strokes
+
+    H = W = 80
+    trunk = np.zeros((H, W), bool)
+    trunk[30:80, 36:44] = True                          # the stem, 8 px wide
+    crown = np.zeros((H, W), bool)
+    crown[5:30, 10:70] = True
+    lines = np.zeros((H, W), bool)
+    lines[30:80, 36:38] = lines[30:80, 42:44] = True    # the stem's outline
+    arm = np.zeros((H, W), bool)
+    for t in range(0, 22):                              # two midribs into the crown
+        arm[30 - t, 40 - t:42 - t] = arm[30 - t, 40 + t:42 + t] = True
+    tick = np.zeros((H, W), bool)
+    tick[55:57, 44:50] = True                           # a bark tick, off the crown
+    trunk |= arm | tick
+    lines |= arm | tick
+    crown &= ~trunk
+    stray = _stray_trunk_strokes(trunk, crown, lines)
+    far = arm & (np.abs(np.arange(W)[None, :] - 40.5) > 8)
+    assert stray[far].all() and not stray[tick].any()
+    assert not stray[55:80].any() and stray.sum() <= arm.sum()

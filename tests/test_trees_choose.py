@@ -243,3 +243,35 @@ def test_more_like_this_with_three_trees_differs_by_half_the_exemplar_distance(d
         spread.append(mean_pairwise_distance(
             [v.resampled for v in similar_variations(three, centre, 6, rng=r, colour_mode="blend")]))
     assert min(spread) >= 0.5 * between, (spread, between)
+
+
+def test_recolouring_a_variation_reuses_the_stored_parts(drawn_lib, monkeypatch):
+    # Issue 24: recolouring a drawn tree segmented the result and the reference again (+2-3 s
+    # at 1024 px); the variation carries its exemplars' parts through the warp and library
+    # trees leave theirs, so histogram_transfer needs no segmentation.
+    import importlib
+
+    from branchnb.trees import segmentation
+    from branchnb.trees.histogram_transfer import histogram_transfer, tree_parts
+    from branchnb.trees.variations import exemplar_parts
+
+    ht = importlib.import_module("branchnb.trees.histogram_transfer")
+    v = make_variation(drawn_lib, [0.5, 0.3, 0.2, 0.0], rng=1)
+    op = v.image[..., 3] >= 0.5
+    assert v.parts is not None and set(np.unique(v.parts[op]).tolist()) == {1, 2}
+    assert not v.parts[~op].any()
+    segmented = tree_parts(v.image, rng=1)      # another seed: not from the store
+    both = op & (segmented != 255)              # the segmenter calls a bent trunk's foot ground
+    assert (segmented[both] == v.parts[both]).mean() > 0.95
+    for n in drawn_lib.names:                   # the store may have dropped them
+        ht._remember_parts(drawn_lib[n].image, exemplar_parts(drawn_lib[n]))
+    ht._remember_parts(v.image, v.parts)
+
+    def no_segmenter(*a, **k):
+        raise AssertionError("segment_tree ran")
+
+    monkeypatch.setattr(segmentation, "segment_tree", no_segmenter)
+    out = histogram_transfer(v.image, drawn_lib["fruit_pile"].image)
+    assert out.shape == v.image.shape and np.abs(out - v.image).max() > 0.1
+    r = make_variation(drawn_lib, [0.5, 0.3, 0.2, 0.0], rng=1, reference="conifer")
+    assert r.reference == "conifer" and np.array_equal(r.parts, v.parts)

@@ -24,8 +24,9 @@ def test_chain_levels_and_triangle_counts(cloud):
     chain = lod_chain(cloud)
     k = cloud.n_billboards
     assert [lv.name for lv in chain] == ["full", "reduced", "crossed", "single"]
-    assert chain[0].triangles == 2 * k
-    assert chain[1].triangles <= 2 * int(np.ceil(0.3 * k)) + 2
+    cards = [0 if lv.cards is None else lv.cards.n for lv in chain]
+    assert chain[0].triangles == 2 * k + 2 * cards[0]
+    assert chain[1].triangles <= 2 * int(np.ceil(0.3 * k)) + 2 + 2 * cards[1]
     assert [lv.triangles for lv in chain[2:]] == [4, 2]
     assert chain[0].triangles > chain[1].triangles > chain[2].triangles > chain[3].triangles
 
@@ -50,7 +51,7 @@ def test_lod_gltf_files_are_valid(cloud, tmp_path, mode):
         doc = json.loads(files[0].read_text())
         assert doc["nodes"][0]["extensions"]["MSFT_lod"]["ids"] == [1, 2, 3]
         assert "MSFT_lod" in doc["extensionsUsed"] and doc["scenes"][0]["nodes"] == [0]
-        tris = [doc["accessors"][m["primitives"][0]["indices"]]["count"] // 3 for m in doc["meshes"]]
+        tris = [sum(doc["accessors"][p["indices"]]["count"] // 3 for p in m["primitives"]) for m in doc["meshes"]]
         assert tris == [lv.triangles for lv in lod_chain(cloud)]
 
 
@@ -187,3 +188,43 @@ def test_exported_levels_keep_the_side_outline_of_drawn_trees(drawn_cloud):
     plain = billboard_cloud(synthetic_tree("clean", rng=0, size=64).image, rng=0)
     same = bake_side_outline(plain)
     assert all(a is b or np.array_equal(a, b) for a, b in zip(same.textures, plain.textures))
+
+
+def test_side_cards_ink_the_side_rim_and_leave_the_front_view(drawn_cloud, tmp_path):
+    # Issue 24: baking alone reached 0.83 rim ink at 90 degrees on the full level (the front
+    # billboards' edge texels show in the front view); fixed quads edge-on to the front view
+    # carry the rest of the ink.
+    from scipy import ndimage as ndi
+
+    from branchnb.trees.lod import engine_view
+    from branchnb.trees.lod_cards import side_outline_cards
+    from branchnb.trees.outline import _depth, rim_ink_share, silhouette_outline
+
+    o = silhouette_outline(drawn_cloud.image)
+    full = lod_chain(drawn_cloud)[0]
+    assert full.cards is not None and full.cards.n > 0
+    assert set(full.cards.turn.tolist()) <= {90.0, 270.0}
+    front = engine_view(full.cloud, 0.0)
+    assert np.abs(engine_view(full.cloud, 0.0, cards=full.cards) - front).max() == 0.0
+    for yaw in (90.0, 270.0):
+        baked = rim_ink_share(engine_view(full.cloud, yaw), o.ink)
+        carded = rim_ink_share(engine_view(full.cloud, yaw, cards=full.cards), o.ink)
+        assert carded >= 0.95 and carded > baked, (yaw, baked, carded)
+    # Seen obliquely the cards add little ink inside the crown.
+    for yaw in (45.0, 135.0):
+        a, b = engine_view(full.cloud, yaw), engine_view(full.cloud, yaw, cards=full.cards)
+        op = b[..., 3] >= 0.5
+        deep = _depth(ndi.binary_fill_holes(op)) > 2 * o.width + 1
+        new = (np.abs(a - b).max(axis=2) > 0) & deep
+        assert new.sum() <= 0.01 * op.sum(), (yaw, new.sum(), op.sum())
+    # Exported as a second primitive with a single-sided material.
+    f = export_lod_gltf(drawn_cloud, tmp_path / "t.gltf")[0]
+    assert validate_gltf(f) == []
+    doc = json.loads(f.read_text())
+    prims = doc["meshes"][0]["primitives"]
+    assert len(prims) == 2 and doc["materials"][prims[1]["material"]]["doubleSided"] is False
+    assert doc["meshes"][0]["extras"]["side_cards"]["quads"] == full.cards.n
+    with pytest.raises(TypeError, match="cards"):
+        engine_view(full.cloud, 90.0, cards="yes")
+    with pytest.raises(ValueError, match="offset"):
+        side_outline_cards(drawn_cloud, offset=0.0)

@@ -601,3 +601,41 @@ def test_tree_variations_differ_visibly_but_resemble_target(lib):
         assert to_t.min() >= 0.15, (t, to_t)          # no near copy of T (was 0.03)
         # Results differ from each other too (was 0.13 and 0.21 on these 4 trees).
         assert mean_pairwise_distance([v.resampled for v in vs]) / between >= 0.2
+
+
+def _accent_tree(main, acc1, acc2=None, size=48):
+    img = np.zeros((size, size, 4), np.float32)
+    img[4:30, 6:42] = (*main, 1)
+    img[30:46, 20:28] = (0.45, 0.3, 0.15, 1)
+    for y, x in ((8, 10), (8, 30), (20, 12)):
+        img[y:y + 4, x:x + 4] = (*acc1, 1)
+    if acc2 is not None:
+        for y, x in ((14, 22), (22, 30)):
+            img[y:y + 4, x:x + 4] = (*acc2, 1)
+    lab = np.zeros((size, size), np.uint8)
+    lab[4:30, 6:42] = 1
+    lab[30:46, 20:28] = 2
+    return img, lab
+
+
+def test_palette_transfer_pairs_accents_by_hue():
+    # Issue 24: accents (fruits, flowers) were paired by lightness rank, so light red apples
+    # took a reference's light violet flowers and dark blue flowers its orange fruits.
+    from branchnb.trees.histogram_transfer import palette_transfer
+
+    src, ls = _accent_tree((0.2, 0.6, 0.2), (1.0, 0.45, 0.45), (0.1, 0.15, 0.6))
+    ref, lr = _accent_tree((0.1, 0.4, 0.15), (0.75, 0.35, 0.0), (0.8, 0.6, 1.0))
+    out = palette_transfer(src, ref, labels=ls, reference_labels=lr)
+    assert np.abs(out[9, 11, :3] - (0.75, 0.35, 0.0)).max() < 0.02      # apple -> orange fruit
+    assert np.abs(out[15, 23, :3] - (0.8, 0.6, 1.0)).max() < 0.02       # blue -> violet flower
+    # One reference accent: the nearer source accent takes it, the other keeps its colour;
+    # without any, both keep theirs.
+    ref1, lr1 = _accent_tree((0.1, 0.4, 0.15), (0.75, 0.35, 0.0))
+    out = palette_transfer(src, ref1, labels=ls, reference_labels=lr1)
+    assert np.abs(out[9, 11, :3] - (0.75, 0.35, 0.0)).max() < 0.02
+    assert np.abs(out[15, 23, :3] - (0.1, 0.15, 0.6)).max() < 0.02
+    ref0 = ref1.copy()
+    ref0[lr1 == 1] = (0.1, 0.4, 0.15, 1)
+    out = palette_transfer(src, ref0, labels=ls, reference_labels=lr1)
+    assert np.abs(out[9, 11, :3] - (1.0, 0.45, 0.45)).max() < 0.02
+    assert np.abs(out[15, 23, :3] - (0.1, 0.15, 0.6)).max() < 0.02

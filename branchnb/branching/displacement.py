@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from functools import lru_cache
 
+import numba
 import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import spsolve
@@ -57,6 +58,27 @@ def _interpolation(n_px: int, n_nodes: int, step: int) -> np.ndarray:
     M[np.arange(n_px), j0 + 1] += f
     M.flags.writeable = False
     return M
+
+
+@numba.njit(cache=True)
+def _add_constraints(ab, rhs, cols, vals, d, weight):
+    """``weight B^T d`` into ``rhs`` and ``weight B^T B`` into the band ``ab``, in place.
+
+    The sums of ``np.add.at`` over the constraints' four nodes and their pairs ``a <= b``,
+    added in the same order (identical values), without its per-call overhead.
+    """
+    u = ab.shape[0] - 1
+    M = cols.shape[0]
+    for m in range(M):
+        for k in range(4):
+            wv = weight * vals[m, k]
+            for c in range(2):
+                rhs[cols[m, k], c] += wv * d[m, c]
+    for m in range(M):
+        for a in range(4):
+            wa = weight * vals[m, a]
+            for b in range(a, 4):
+                ab[u + cols[m, a] - cols[m, b], cols[m, b]] += wa * vals[m, b]
 
 
 def displacement_field(shape, points, displacements, *, step: int = 2,
@@ -131,13 +153,11 @@ def displacement_field(shape, points, displacements, *, step: int = 2,
         # Banded solve of (L^T L + weight B^T B + eps I) u = weight B^T d: the
         # constraints couple the four nodes of a cell (within the band 2 gw).
         rhs = np.zeros((n, 2))
-        np.add.at(rhs, cols.ravel(), (weight * vals[:, :, None] * d[:, None, :]).reshape(-1, 2))
         ab = _bilaplacian_band(gh, gw).copy()
         u = ab.shape[0] - 1
         ab[u] += eps
-        a, b = np.triu_indices(4)
-        ca, cb = cols[:, a], cols[:, b]   # increasing within a row: ca <= cb
-        np.add.at(ab, (u + ca - cb, cb), weight * vals[:, a] * vals[:, b])
+        # (cols increase within a row, so the pairs a <= b are in the upper band)
+        _add_constraints(ab, rhs, cols, vals, d, float(weight))
         sol = banded_spd_solve(ab, rhs)
     if sol is None:  # large window (wide band) or not positive definite in floating point: sparse solve
         B = sp.csr_matrix((vals.ravel(), (rows, cols.ravel())), shape=(len(pts), n))
@@ -183,12 +203,14 @@ def backward_map(origin, shape, rotation, translation, field=None) -> tuple[np.n
     h, w = int(shape[0]), int(shape[1])
     R = np.asarray(rotation, float)
     t = np.asarray(translation, float)
-    yy, xx = np.mgrid[0:h, 0:w].astype(float)
-    X = xx + origin[0] - t[0]
-    Y = yy + origin[1] - t[1]
+    # (a row and a column broadcast: the values of the full pixel grids, without building them)
+    X = np.arange(w, dtype=float)[None, :] + origin[0] - t[0]
+    Y = np.arange(h, dtype=float)[:, None] + origin[1] - t[1]
     if field is not None:
         X = X - field[..., 0]
         Y = Y - field[..., 1]
+    else:
+        X, Y = np.broadcast_arrays(X, Y)
     # R^T (X, Y)
     mx = R[0, 0] * X + R[1, 0] * Y
     my = R[0, 1] * X + R[1, 1] * Y

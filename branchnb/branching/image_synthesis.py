@@ -163,7 +163,11 @@ class ImageSynthesisParams:
         region boundaries).
     flat_poisson : bool, default False
         Also run the Poisson correction on flat-colour examples (off: it would blur
-        their flat colours into halos).
+        their flat colours into halos). Line art on one plain background (an
+        ornament, a traced lightning bolt: at least half the pixels off the
+        branches are one flat colour) counts as flat here, though its fragments
+        are still copied (beyond the paper: the paper's Poisson step spread the
+        strokes' ink into grey smudges around junctions and gap patches).
     completion : bool, default True
         Fill the gaps between branches automatically.
     relight_completion : bool, default True
@@ -705,13 +709,13 @@ def _constraints(ctx: _Context, src: Fragment, tgt: Fragment, rot, trans):
     bs = np.concatenate([np.full(len(pt[5]), pt[2], np.int64) for pt in parts])
     sg = np.concatenate([np.full(len(pt[5]), float(pt[4])) for pt in parts])
     as_ = np.concatenate([pt[3] + pt[4] * pt[5] for pt in parts])
-    q_all = sm_t.position(bt, at)
-    p_all = sm_s.position(bs, as_)
     if ctx.p.match_thickness:
-        rt_all = sm_t.thickness(bt, at)
-        rs_all = sm_s.thickness(bs, as_)
-        tt_all = sm_t.tangent(bt, at, 1.0)
-        ts_all = sm_s.tangent(bs, as_, sg)
+        # positions, thicknesses and tangents in one batch per map (the same values)
+        q_all, rt_all, tt_all = sm_t._frame(bt, at, 1.0)
+        p_all, rs_all, ts_all = sm_s._frame(bs, as_, sg)
+    else:
+        q_all = sm_t.position(bt, at)
+        p_all = sm_s.position(bs, as_)
     qs, ds = [], []
     i0 = 0
     for pt in parts:
@@ -750,7 +754,15 @@ def _example_key(ex: np.ndarray, example_structure: Structure, example_mask, p) 
     h = hashlib.blake2b(np.ascontiguousarray(ex).view(np.uint8).ravel(), digest_size=16)
     if example_mask is not None:
         h.update(np.ascontiguousarray(example_mask).view(np.uint8).ravel())
-    return (ex.shape, str(ex.dtype), example_mask is not None, h.hexdigest(), example_structure.to_json(), repr(p))
+    # the structure by its arrays (what the cached maps and fragments depend on; no JSON text)
+    for b in example_structure.branches:
+        pts = np.ascontiguousarray(b.points, np.float64)
+        h.update(repr((pts.shape, b.parent, b.parent_vertex)).encode())
+        h.update(pts.view(np.uint8).ravel())
+        h.update(np.ascontiguousarray(np.broadcast_to(np.asarray(b.thickness, np.float64), pts.shape[:1])
+                                      ).view(np.uint8).ravel())
+    return (ex.shape, str(ex.dtype), example_mask is not None, h.hexdigest(),
+            len(example_structure.branches), repr(example_structure.image_shape), repr(p))
 
 
 @checked(shape=Shape())
@@ -893,7 +905,9 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     if flat and p.flat_drawing:
         return _draw_flat(ex, example_structure, target_structure, layout, labels_t, target_domain,
                           pm_s, labels_ex, p, t_start, report, (H, W))
-    use_poisson = p.poisson and (not flat or p.flat_poisson)
+    # Line art on one plain background has a single flat region (so it is not
+    # drawn in style like a map) but Poisson blending still smudges its ink.
+    use_poisson = p.poisson and (flat_share < 0.5 or p.flat_poisson)
     geo = dict(lam=p.lam, scale=p.radius_scale, min_radius=p.min_radius, max_radius=p.max_radius)
     if "regions" not in cached:
         regions = example_regions(ex, pm_s, exclusion=p.exclusion, margin=p.exclusion_margin,
@@ -979,7 +993,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         short = np.argpartition(S, n_short - 1)[:n_short] if n_short < len(S) else np.arange(len(S))
         short = short[np.argsort(S[short], kind="stable")]
         rot, trans = bank.fit(short, q0)
-        yy, xx = np.mgrid[0:size, 0:size]
+        yy, xx = np.arange(size)[:, None], np.arange(size)[None, :]   # (broadcast: no full grids)
         disk = (xx + x0 - tf.center[0]) ** 2 + (yy + y0 - tf.center[1]) ** 2 <= R * R
         # Existing canvas under the window (zero outside the image).
         ex_win, cov_win = _window(canvas, covered, x0, y0, size)
@@ -1081,7 +1095,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
                              anchor_weight=p.anchor_weight,
                              screen=p.completion_screen if p.anchors else 0.0,
                              rng=rng, progress=sub_progress, regions=labels_t,
-                             example_regions=src_labels if labels_t is not None else None)
+                             example_regions=src_labels if labels_t is not None else None, fast=True)
         if relit is not None:
             canvas += offset_t      # back to the output's own light (fragments: exactly as before)
         fill = comp.filled

@@ -10,6 +10,7 @@ centre line. :class:`SkeletonMap` answers both.
 
 from __future__ import annotations
 
+from bisect import bisect_right
 from dataclasses import dataclass
 
 import numpy as np
@@ -58,6 +59,18 @@ class PixelMap:
             True within ``scale * r + margin`` of the nearest skeleton sample.
         """
         return self.dist <= scale * self.radius + margin
+
+
+def _interp1(x: float, xp: list, fp: list) -> float:
+    """``np.interp(x, xp, fp)`` of one float on strictly increasing ``xp`` (Python lists): numpy's
+    arithmetic step for step (identical values) without its array set-up, for scalar loops."""
+    j = bisect_right(xp, x) - 1
+    if j < 0:
+        return fp[0]
+    if j >= len(xp) - 1 or xp[j] == x:
+        return fp[j]
+    slope = (fp[j + 1] - fp[j]) / (xp[j + 1] - xp[j])
+    return slope * (x - xp[j]) + fp[j]
 
 
 class SkeletonMap:
@@ -214,8 +227,15 @@ class SkeletonMap:
         float
             Thickness r (pixels).
         """
-        L = self.lengths[branch]
-        return float(np.interp(self.offsets[branch] + min(max(float(arc), 0.0), L), self._g, self._r))
+        x = float(self.offsets[branch]) + min(max(float(arc), 0.0), float(self.lengths[branch]))
+        return _interp1(x, *self._lists())
+
+    def _lists(self):
+        """``_g`` and ``_r`` as Python lists (for :func:`_interp1`), made once."""
+        lists = self.__dict__.get("_g_r_lists")
+        if lists is None:
+            lists = self._g_r_lists = (self._g.tolist(), self._r.tolist())
+        return lists
 
     def clamped(self, branch, arc) -> np.ndarray:
         """True where ``arc`` lies outside ``[0, length]`` of its branch.
@@ -267,6 +287,28 @@ class SkeletonMap:
             n = np.hypot(d[..., 0], d[..., 1])
         n = np.where(n < 1e-9, 1.0, n)
         return d / n[..., None]
+
+    def _frame(self, branch, arc, sign, step: float = 1.5):
+        """``(position, thickness, tangent(sign, step))`` of 1-D queries in one batch of interpolations
+        (the values of the three methods, elementwise; for the per-fragment inner loop)."""
+        b = np.asarray(branch, np.int64)
+        s = np.asarray(arc, float)
+        sg = np.broadcast_to(np.asarray(sign, float), s.shape)
+        n = len(s)
+        g, _ = self._global(np.concatenate([b, b, b]), np.concatenate([s, s + sg * step, s - sg * step]))
+        x = np.interp(g, self._g, self._x)
+        y = np.interp(g, self._g, self._y)
+        pos = np.stack([x[:n], y[:n]], 1)
+        r = np.interp(g[:n], self._g, self._r)
+        d = np.stack([x[n:2 * n] - x[2 * n:], y[n:2 * n] - y[2 * n:]], 1)
+        nrm = np.hypot(d[:, 0], d[:, 1])
+        bad = nrm < 1e-9
+        if np.any(bad):
+            d2 = pos - self.position(b, s - sg * 2 * step)
+            d = np.where(bad[:, None], d2, d)
+            nrm = np.hypot(d[:, 0], d[:, 1])
+        nrm = np.where(nrm < 1e-9, 1.0, nrm)
+        return pos, r, d / nrm[:, None]
 
     def pixel_map(self, shape) -> PixelMap:
         """Nearest skeleton sample of every pixel of ``shape`` (H, W).

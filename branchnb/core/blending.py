@@ -156,9 +156,9 @@ def compose_piece(canvas: np.ndarray, covered: np.ndarray, piece: np.ndarray, va
     overlap = covA & V
     only_a = covA & ~V
     only_b = V & ~covA
-    border = np.zeros_like(V)
-    border[0, :] = border[-1, :] = border[:, 0] = border[:, -1] = True
-    near_a = (_dilate(only_a) | border) & overlap
+    grown_a = _dilate(only_a)   # a new array: the window's border pixels join it in place
+    grown_a[0, :] = grown_a[-1, :] = grown_a[:, 0] = grown_a[:, -1] = True
+    near_a = grown_a & overlap
     near_b = _dilate(only_b) & overlap & ~near_a
     pin_a = near_a.copy()
     if protect_canvas is not None:
@@ -173,8 +173,8 @@ def compose_piece(canvas: np.ndarray, covered: np.ndarray, piece: np.ndarray, va
     else:
         # Seam costs only where the cut can run: the overlap's bounding box plus one pixel of
         # context for the gradients (the same costs there as on the whole window).
-        rr, cc = np.flatnonzero(overlap.any(1)), np.flatnonzero(overlap.any(0))
-        box = (slice(max(rr[0] - 1, 0), rr[-1] + 2), slice(max(cc[0] - 1, 0), cc[-1] + 2))
+        bx, by, bw, bh = cv2.boundingRect(overlap.view(np.uint8))   # the overlap's bounding box
+        box = (slice(max(by - 1, 0), by + bh + 1), slice(max(bx - 1, 0), bx + bw + 1))
         # (the checked public graphcut functions would validate every argument of every piece again)
         right, down = _pair_costs(np.asarray(A[box], np.float32), P[box])
         if method == "overlay":

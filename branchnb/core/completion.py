@@ -33,6 +33,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import cv2
+import numba
 import numpy as np
 from scipy import ndimage as ndi
 
@@ -144,6 +145,28 @@ def _with_squares(img: np.ndarray):
     return img, sq
 
 
+def _channel_planes(img: np.ndarray) -> list[np.ndarray]:
+    """``img`` (as :func:`_cv` gives it) as single-channel planes plus the sum of their squares
+    (the last plane), for :func:`_masked_ssd_planes`."""
+    chans = img if img.ndim == 3 else img[:, :, None]
+    sq = (chans.astype(np.float64) ** 2).sum(axis=2).astype(np.float32)
+    return [np.ascontiguousarray(chans[:, :, c], np.float32) for c in range(chans.shape[2])] + [sq]
+
+
+def _masked_ssd_planes(planes, tpl: np.ndarray, mask: np.ndarray) -> np.ndarray:
+    """:func:`_masked_ssd` with one single-channel correlation per plane (``planes`` from
+    :func:`_channel_planes`, possibly cropped): OpenCV correlates a multi-channel image several
+    times slower than its channels one by one. Same values up to float32 rounding."""
+    t = tpl if tpl.ndim == 3 else tpl[:, :, None]
+    m = np.ascontiguousarray(mask, np.float32)
+    mt = m[:, :, None] * t
+    const = float((mt.astype(np.float64) * t).sum())
+    res = cv2.matchTemplate(planes[-1], m, cv2.TM_CCORR)
+    for c in range(t.shape[2]):
+        res -= 2.0 * cv2.matchTemplate(planes[c], np.ascontiguousarray(mt[:, :, c]), cv2.TM_CCORR)
+    return np.maximum(res + np.float32(const), 0.0)
+
+
 def _masked_ssd(pre, tpl: np.ndarray, mask: np.ndarray) -> np.ndarray:
     """``cv2.matchTemplate(img, tpl, TM_SQDIFF, mask=mask)`` for a 0/1 mask, by plain correlations.
 
@@ -196,11 +219,47 @@ def _hole_cells(uncovered: np.ndarray, size: int) -> list[tuple[int, int]]:
     return list(dict.fromkeys(cells))
 
 
+@numba.njit(cache=True)
+def _window_choice(ssd, has_ssd, f, used, usable, forbid_weight, reuse_weight, tolerance):
+    """Coarse window costs of :meth:`_Matcher.choose` (``fast``): the typical (median) match,
+    and the flat indices (row-major) of the usable windows within the tolerance of the best."""
+    H, W = f.shape
+    typical = 1e-3
+    if has_ssd:
+        buf = np.empty(H * W, np.float32)
+        n = 0
+        for i in range(H):
+            for j in range(W):
+                v = ssd[i, j]
+                if usable[i, j] and np.isfinite(v):
+                    buf[n] = v
+                    n += 1
+        if n > 0:
+            typical = float(np.median(buf[:n]))
+        typical = max(typical, 1e-5)
+    c = np.empty(H * W)
+    best = np.inf
+    for i in range(H):
+        for j in range(W):
+            v = np.inf
+            if usable[i, j]:
+                sv = np.float64(ssd[i, j])
+                if np.isfinite(sv):
+                    v = sv + typical * (forbid_weight * np.float64(f[i, j]) + reuse_weight * np.float64(used[i, j]))
+            c[i * W + j] = v
+            if v < best:
+                best = v
+    if not np.isfinite(best):
+        return typical, np.empty(0, np.int64)
+    thr = best + tolerance * abs(best) + 1e-12
+    return typical, np.flatnonzero(c <= thr)
+
+
 class _Matcher:
     """Masked-SSD window search in the example, coarse then fine."""
 
     def __init__(self, example: np.ndarray, forbidden: np.ndarray, size: int, margin: int,
-                 search_size: int, forbid_weight: float, reuse_weight: float = 1.0):
+                 search_size: int, forbid_weight: float, reuse_weight: float = 1.0, fast: bool = False):
         eh, ew = example.shape[:2]
         self.size, self.margin = size, margin
         self.ex = _cv(example)
@@ -213,8 +272,11 @@ class _Matcher:
         else:
             self.small, self.forbid_small = self.ex, self.forbid
         self.tsz = max(size // s, 2)
-        self.small_sq = _with_squares(self.small)
-        self.ex_sq = _with_squares(self.ex) if s > 1 else self.small_sq
+        self.fast = fast
+        prep = _channel_planes if fast else _with_squares
+        self.small_sq = prep(self.small)
+        self.ex_sq = prep(self.ex) if s > 1 else self.small_sq
+        self._ssd = _masked_ssd_planes if fast else _masked_ssd
         # Windows that stay inside the example with their anchor band and
         # are not entirely forbidden.
         cnt = _box_count(forbidden, size)
@@ -232,11 +294,12 @@ class _Matcher:
         # How often each (reduced) example pixel was copied already.
         self.used = np.zeros(self.small.shape[:2], np.float32)
         self.channels = example.shape[2]
+        self._usable_cache: dict = {}
 
     def choose(self, tpl: np.ndarray, known: np.ndarray, tolerance: float,
                rng: np.random.Generator) -> tuple[int, int]:
         """Top-left (y, x) in the example of the window used for one cell."""
-        size, s = self.size, self.scale
+        s = self.scale
         unknown = (~known).astype(np.float32)
         n_unknown = max(float(unknown.sum()), 1.0)
         n_known = float(known.sum())
@@ -255,13 +318,44 @@ class _Matcher:
         hh, ww = self.usable_small.shape
         f = cv2.matchTemplate(self.forbid_small, u_s, cv2.TM_CCORR) / max(float(u_s.sum()), 1.0)
         hh, ww = min(hh, f.shape[0]), min(ww, f.shape[1])
-        usable = np.zeros(f.shape, bool)
-        usable[:hh, :ww] = self.usable_small[:hh, :ww]
+        usable = self._usable_cache.get(f.shape)
+        if usable is None:
+            usable = np.zeros(f.shape, bool)
+            usable[:hh, :ww] = self.usable_small[:hh, :ww]
+            self._usable_cache[f.shape] = usable
         if not usable.any():
             cand = np.argwhere(self.usable)
             return tuple(int(v) for v in cand[rng.integers(len(cand))])
+        if self.fast:
+            # the same costs and draw, in one compiled pass (no full-size temporaries)
+            box = cv2.boxFilter(self.used, -1, (self.tsz, self.tsz), anchor=(0, 0),
+                                normalize=True, borderType=cv2.BORDER_CONSTANT)
+            used = np.zeros(f.shape, np.float32)
+            used[:hh, :ww] = box[:hh, :ww]
+            has = bool(m_s.sum() >= 1)
+            ssd = (self._ssd(self.small_sq, t_s, m_s) / np.float32(float(m_s.sum()) * self.channels) if has
+                   else np.zeros(f.shape, np.float32))
+            typical, good = _window_choice(ssd, has, f, used, usable, float(self.forbid_weight),
+                                           float(self.reuse_weight), float(tolerance))
+            if len(good) == 0:
+                cand = np.argwhere(self.usable)
+                return tuple(int(v) for v in cand[rng.integers(len(cand))])
+            gy, gx = divmod(int(good[rng.integers(len(good))]), f.shape[1])
+        else:
+            typical, gy, gx = self._coarse_choice(f, usable, hh, ww, t_s, m_s, tolerance, rng)
+            if gy < 0:
+                cand = np.argwhere(self.usable)
+                return tuple(int(v) for v in cand[rng.integers(len(cand))])
+        self.used[gy:gy + self.tsz, gx:gx + self.tsz] += 1.0
+        cy, cx = gy * s, gx * s
+        if s == 1:
+            return cy, cx
+        return self._refine(cy, cx, typical, t_cv, m, unknown, n_known, n_unknown)
+
+    def _coarse_choice(self, f, usable, hh, ww, t_s, m_s, tolerance, rng):
+        """The coarse window of :meth:`choose` (the exact path): ``(typical, gy, gx)``, gy < 0 if none."""
         if m_s.sum() >= 1:
-            ssd = _masked_ssd(self.small_sq, t_s, m_s) / (float(m_s.sum()) * self.channels)
+            ssd = self._ssd(self.small_sq, t_s, m_s) / (float(m_s.sum()) * self.channels)
             ssd = np.where(np.isfinite(ssd), ssd, np.inf)
             typical = max(float(np.median(ssd[usable & np.isfinite(ssd)])) if np.isfinite(ssd[usable]).any()
                           else 1e-3, 1e-5)
@@ -281,23 +375,24 @@ class _Matcher:
         c = np.where(usable, c, np.inf)
         best = float(c.min())
         if not np.isfinite(best):
-            cand = np.argwhere(self.usable)
-            return tuple(int(v) for v in cand[rng.integers(len(cand))])
+            return typical, -1, -1
         good = np.argwhere(c <= best + tolerance * abs(best) + 1e-12)
         gy, gx = (int(v) for v in good[rng.integers(len(good))])
-        self.used[gy:gy + self.tsz, gx:gx + self.tsz] += 1.0
-        cy, cx = gy * s, gx * s
-        if s == 1:
-            return cy, cx
-        # Refine at full resolution around the coarse choice.
+        return typical, gy, gx
+
+    def _refine(self, cy, cx, typical, t_cv, m, unknown, n_known, n_unknown):
+        """Refine the coarse choice ``(cy, cx)`` at full resolution around it."""
+        size, s = self.size, self.scale
         y0, y1 = max(cy - s, 0), min(cy + s, self.usable.shape[0] - 1)
         x0, x1 = max(cx - s, 0), min(cx + s, self.usable.shape[1] - 1)
-        region = self.ex_sq[y0:y1 + size, x0:x1 + size] if not isinstance(self.ex_sq, tuple) else \
-            tuple(a[y0:y1 + size, x0:x1 + size] for a in self.ex_sq)
+        if isinstance(self.ex_sq, (tuple, list)):
+            region = type(self.ex_sq)(a[y0:y1 + size, x0:x1 + size] for a in self.ex_sq)
+        else:
+            region = self.ex_sq[y0:y1 + size, x0:x1 + size]
         fr = self.forbid[y0:y1 + size, x0:x1 + size]
         res = cv2.matchTemplate(fr, unknown, cv2.TM_CCORR) * (typical * self.forbid_weight / n_unknown)
         if n_known >= 1:
-            res = res + _masked_ssd(region, t_cv, m) / (n_known * self.channels)
+            res = res + self._ssd(region, t_cv, m) / (n_known * self.channels)
         ok = self.usable[y0:y0 + res.shape[0], x0:x0 + res.shape[1]]
         res = np.where(ok, res, np.inf)
         if not np.isfinite(res).any():
@@ -315,7 +410,7 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
                   max_passes: int = 4, rng=None,
                   progress: Callable[[float, str], None] | None = None,
                   regions: np.ndarray | None = None, example_regions: np.ndarray | None = None,
-                  outside: np.ndarray | None = None) -> CompletionResult:
+                  outside: np.ndarray | None = None, fast: bool = False) -> CompletionResult:
     """Fill every uncovered pixel of ``canvas`` **in place** with branch-free texture.
 
     Parameters
@@ -378,6 +473,11 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
         Canvas pixels this call neither fills nor matches against (used for
         the per-region passes; also available to callers that complete one
         part of an image).
+    fast : bool
+        Match each channel with its own correlation (OpenCV correlates
+        multi-channel images several times slower): the same matching costs
+        up to float32 rounding, so a near tie between windows may be drawn
+        differently; off (default), the results of earlier releases exactly.
 
     Returns
     -------
@@ -399,6 +499,8 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
     if forbidden.shape != (eh, ew):
         raise ValueError(f"forbidden must have the example's shape {(eh, ew)}, got {forbidden.shape}")
     check_callback(progress, "progress")
+    if not isinstance(fast, (bool, np.bool_)):
+        raise TypeError(f"fast must be a bool, got {type(fast).__name__}")
     if regions is not None and example_regions is not None:
         regions = np.asarray(regions)
         example_regions = np.asarray(example_regions)
@@ -414,7 +516,7 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
                                             search_size=search_size, method=method, poisson=poisson,
                                             anchored=anchored, anchor_weight=anchor_weight, screen=screen,
                                             min_free=min_free, reuse_weight=reuse_weight,
-                                            max_passes=max_passes))
+                                            max_passes=max_passes, fast=fast))
     if outside is not None:
         outside = np.asarray(outside, bool)
         covered_in = covered.copy()
@@ -430,7 +532,7 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
         size = max(8, int(round(size * 0.75)))
     full = size + 2 * margin
     step = max(1, int(round(size * (1.0 - overlap))))
-    matcher = _Matcher(example, forbidden, size, margin, search_size, forbid_weight, reuse_weight)
+    matcher = _Matcher(example, forbidden, size, margin, search_size, forbid_weight, reuse_weight, fast)
     filled = np.zeros((H, W), bool)
     source = np.full((H, W, 2), np.nan)
     seams = np.zeros((H, W), bool)

@@ -5,7 +5,9 @@
   uses exactly our edge costs, ``(w_p + w_q) / 2 * length`` with sqrt(2)
   diagonals) on the same weights, timed in the same run. MCP only has the
   cumulative metric; the non-scalar and blend rows compare our richer
-  search (pair labels) with the same anchor.
+  search (pair labels) with the same anchor. Each row is the median of
+  paired rounds (ours right after the anchor, CPU time), so machine load
+  hits both sides of a ratio alike.
 * The full stylization of a 512 x 512 image with about 3,000 endpoints
   (importance, lattice, planning, stippling, tracing, thickness, raster
   rendering) against the 237 - 546 s the paper reports for 2,000 - 3,800
@@ -24,16 +26,27 @@ from ..bench import BenchRow
 __all__ = ["rows"]
 
 
-def _cpu_best(fn, repeat: int) -> float:
-    """Best CPU time of ``repeat`` calls after a warm-up (CPU time is steadier than wall
-    time on a shared machine; both implementations are single-threaded)."""
+def _cpu(fn) -> float:
+    """CPU time of one call (steadier than wall time on a shared machine; both
+    implementations are single-threaded)."""
+    t0 = time.process_time()
     fn()
-    best = float("inf")
-    for _ in range(repeat):
-        t0 = time.process_time()
-        fn()
-        best = min(best, time.process_time() - t0)
-    return best
+    return time.process_time() - t0
+
+
+def _paired_median(ours, anchor, rounds: int) -> tuple[float, float]:
+    """Time ``ours`` right after ``anchor`` in each of ``rounds`` rounds (after a
+    warm-up) and return the pair ``(ours, anchor)`` of the round whose ratio is
+    the median: load on a shared machine slows the two calls of a round alike,
+    and a single slow round cannot move the median."""
+    ours()
+    anchor()
+    pairs = []
+    for _ in range(rounds):
+        a = _cpu(anchor)
+        pairs.append((_cpu(ours), a))
+    pairs.sort(key=lambda p: p[0] / p[1])
+    return pairs[len(pairs) // 2]
 
 
 def rows(quick: bool = False) -> list[BenchRow]:
@@ -45,20 +58,19 @@ def rows(quick: bool = False) -> list[BenchRow]:
     n = 512
     lat = make_lattice(np.zeros((n, n)), noise=1.0, epsilon=0.5, rng=0)
     seed = (n // 2, n // 2)
-    repeat = 3 if quick else 7
+    rounds = 5 if quick else 9  # odd: the median is one measured round
 
     def anchor():
         MCP_Geometric(lat.weights, fully_connected=True).find_costs([seed[::-1]])
 
     out = []
-    # interleave ours and the anchor so machine load affects both alike
     for metric in ("cumulative", "nonscalar", "blend"):
-        ours = _cpu_best(lambda m=metric: plan(lat, seed, metric=m), repeat)
-        anchor_t = _cpu_best(anchor, repeat)
+        ours, anchor_t = _paired_median(lambda m=metric: plan(lat, seed, metric=m), anchor, rounds)
         note = ("same metric and edge costs (results equal)" if metric == "cumulative"
                 else "MCP has no non-scalar metric: anchor is its cumulative search")
         out.append(BenchRow(f"dendrite planner {n}x{n} 8-conn, {metric}", ours,
-                            "skimage.graph.MCP_Geometric.find_costs", anchor_t, note))
+                            "skimage.graph.MCP_Geometric.find_costs", anchor_t,
+                            f"{note}; CPU time, median ratio of {rounds} paired rounds"))
 
     img = data.load("astronaut")
     n_end = 3000

@@ -89,27 +89,39 @@ def sample_scores(src, k, q, shifts):  # pragma: no cover - compiled
 
 @numba.njit(cache=True)
 def polar_dp(s, rs, da, slope):  # pragma: no cover - compiled
-    """The polar trace's dynamic programme: summed score per final angle and back pointers.
+    """The polar trace's dynamic programme: summed score per final angle, back pointers, float32 flag.
 
-    ``s`` (R, A) scores per radius and angle; the angle index may change by
-    ``m = clip(floor(slope / (rs[j] da)), 1, 6)`` steps per radial step
-    (the first best source wins a tie, as in the NumPy loop).
+    ``s`` (R, A) scores per radius and angle. A sideways budget grows by
+    ``slope`` px per radial step; the angle index may change by
+    ``m = min(floor(budget / (rs[j] da)), 6)`` steps, and when ``m >= 1``
+    the budget is spent (``m = 0``: the angle stays). The first best source
+    wins a tie, as in the NumPy loop. Until the first step the NumPy loop
+    summed in float32; the flag says the sums never left float32.
     """
     n_r, n_a = s.shape
     v = np.empty(n_a, np.float64)
     for a in range(n_a):
         v[a] = s[0, a]
     back = np.zeros((n_r, n_a), np.int32)
-    for a in range(n_a):
-        back[0, a] = 0
     nv = np.empty(n_a, np.float64)
+    single = True
+    budget = 0.0
     for j in range(1, n_r):
-        mf = np.floor(slope / (rs[j] * da))
-        if mf < 1.0:
-            mf = 1.0
+        budget += slope
+        mf = np.floor(budget / (rs[j] * da))
         if mf > 6.0:
             mf = 6.0
         m = int(mf)
+        if m == 0:
+            for a in range(n_a):
+                if single:
+                    v[a] = np.float32(np.float32(v[a]) + s[j, a])
+                else:
+                    v[a] = v[a] + s[j, a]
+                back[j, a] = a
+            continue
+        budget = 0.0
+        single = False
         for a in range(n_a):
             best = -np.inf
             arg = a
@@ -122,7 +134,7 @@ def polar_dp(s, rs, da, slope):  # pragma: no cover - compiled
             back[j, a] = arg
         for a in range(n_a):
             v[a] = nv[a]
-    return v, back
+    return v, back, single
 
 
 @numba.njit(cache=True)

@@ -243,7 +243,11 @@ class LeafAnalysis:
     rng_seed : int
         Seed of the analysis's random steps; :meth:`reinduce` reuses it.
     offsets : list of (dx, dy)
-        Where each input exemplar's pixel (0, 0) lies on the common canvas.
+        Where each input exemplar's pixel (0, 0) lies on the common canvas
+        (before a mirrored exemplar was turned over).
+    mirrored : list of bool
+        Which exemplars were turned over (left-right) to face like the
+        training leaf (``analyze(mirror=True)``).
     """
 
     exemplars: list
@@ -258,6 +262,7 @@ class LeafAnalysis:
     layer_set: LayerSet | None = None
     rng_seed: int = 0
     offsets: list = field(default_factory=list)
+    mirrored: list = field(default_factory=list)
 
     @property
     def lambdas(self) -> dict:
@@ -828,7 +833,7 @@ def _shift_layers(layer_set: LayerSet, offset) -> LayerSet:
 def analyze(exemplars, training_index: int, layers, params: InductionParams | None = None,
             progress: Progress | None = None, *, registrations=None,
             snap_params: SnapParams | None = None, registration_params=None,
-            rng=0) -> LeafAnalysis:
+            rng=0, mirror: bool = True) -> LeafAnalysis:
     """The whole analysis: training layers, registration, layer induction and residuals.
 
     Parameters
@@ -853,6 +858,13 @@ def analyze(exemplars, training_index: int, layers, params: InductionParams | No
         Passed to :func:`branchnb.leaves.registration.register`.
     rng : int
         Seed of every random step (k-means, quilting); the analysis is reproducible.
+    mirror : bool
+        Turn over (left-right) every exemplar that is a mirror image of the
+        training leaf before registering it (default True; beyond the paper,
+        :func:`~branchnb.leaves.orientation.mirrored_exemplars`): leaves of
+        one kind face either way, and the paper's registration keeps
+        orientation. Skipped when ``registrations`` are given. The turned
+        exemplars are listed in ``LeafAnalysis.mirrored``.
 
     Returns
     -------
@@ -891,6 +903,15 @@ def analyze(exemplars, training_index: int, layers, params: InductionParams | No
     for i, b in enumerate(blades):
         if b.sum() < 64:
             raise ValueError(f"exemplars[{i}] has (almost) no leaf pixels (alpha > 0.5)")
+    if not isinstance(mirror, (bool, np.bool_)):
+        raise TypeError(f"mirror must be a bool, got {type(mirror).__name__}")
+    mirrored = [False] * n
+    if mirror and registrations is None:
+        from .orientation import mirrored_exemplars
+        mirrored = mirrored_exemplars(blades, t)
+        # The canvas is centred on each blade: turning it over keeps the blade centred.
+        images = [im[:, ::-1].copy() if m else im for im, m in zip(images, mirrored)]
+        blades = [b[:, ::-1].copy() if m else b for b, m in zip(blades, mirrored)]
     report = _progress(progress, 0.0, 1.0)
     report(0.0, "training layers")
     layer_set = None
@@ -934,4 +955,4 @@ def analyze(exemplars, training_index: int, layers, params: InductionParams | No
         [im[..., :3] for im in images], blades, t, {k: training.masks[k] for k in training.order},
         registrations, params, progress=_progress(progress, 0.5, 1.0), rng=rng)
     return LeafAnalysis(images, blades, t, training, list(registrations), params, space, layers_out,
-                        residuals, layer_set, rng, offsets)
+                        residuals, layer_set, rng, offsets, mirrored)

@@ -11,7 +11,8 @@ import numpy as np
 
 from .. import data
 
-__all__ = ["LIZARD_TAIL", "rope_bend", "lizard_straighten", "tree_add_branch", "twig_five_parts", "EXAMPLES"]
+__all__ = ["LIZARD_TAIL", "rope_bend", "lizard_straighten", "tree_add_branch", "twig_five_parts",
+           "figure_limbs_turned", "EXAMPLES"]
 
 #: The lizard's tail, from the hips to the tip (``lizard`` image pixels).
 LIZARD_TAIL = np.array([
@@ -78,9 +79,29 @@ def twig_five_parts(size: int = 1000):
     return obj.image, src, tgt, {}
 
 
+def figure_limbs_turned(size: int = 1000):
+    """Turn a procedural figure's arms and legs about their roots, the body kept (5 pairs).
+
+    The arms are raised by ~50-57 degrees, the legs spread by 17 degrees; the
+    head (not stroked) follows the body.
+    """
+    from .procedural import figure
+
+    obj = figure(size, rng=0)
+    body = obj.strokes[0]
+    src, tgt = [body], [body]
+    for k, ang in ((2, 0.9), (3, -1.0), (4, 0.3), (5, -0.3)):
+        st = obj.strokes[k]
+        c, s = np.cos(ang), np.sin(ang)
+        src.append(st)
+        tgt.append((st - st[0]) @ np.array([[c, -s], [s, c]]).T + st[0])
+    return obj.image, src, tgt, {}
+
+
 EXAMPLES = {
     "rope_bend": rope_bend,
     "lizard_straighten": lizard_straighten,
     "tree_add_branch": tree_add_branch,
     "twig_five_parts": twig_five_parts,
+    "figure_limbs_turned": figure_limbs_turned,
 }

@@ -57,7 +57,9 @@ class PlacedPatch:
     pin_core : bool
         Pin the central disk to the patch when nothing else pins it.
     keep_a : (S, S) bool ndarray or None
-        Pixels that must keep what the canvas has there (if covered).
+        Pixels that must keep what the canvas has there (if covered). Where
+        the canvas is still empty the patch fills them, but only until a
+        later patch without ``keep_a`` there covers them (see :func:`compose`).
     source_map : (2, 3) ndarray or None
         Where the patch came from: target ``(x, y)`` -> source ``(x, y)``.
     grow : bool
@@ -228,6 +230,14 @@ def compose(patches: list[PlacedPatch], shape, *, method: str = "graphcut",
     Composition
         ``step_costs[i]`` is 0 for a patch without overlap.
 
+    Notes
+    -----
+    Beyond the paper: pixels a patch laid under its ``keep_a`` (the
+    canvas was empty there) are given up to the next patch that covers
+    them without ``keep_a`` -- a branch's turned cut face fills its
+    parent's interior only where none of the parent's own pixels (e.g. a
+    carried part's, laid later) come.
+
     Examples
     --------
     >>> import numpy as np
@@ -243,6 +253,7 @@ def compose(patches: list[PlacedPatch], shape, *, method: str = "graphcut",
     image = np.zeros((h, w, 4), np.float32)
     covered = np.zeros((h, w), bool)
     labels = np.full((h, w), -1, np.int64)
+    weak = np.zeros((h, w), bool)  # laid under keep_a on an empty canvas: later patches take them
     costs = np.zeros(len(patches))
     for i, patch in enumerate(patches):
         pl = patch.placed((h, w), margin=1)
@@ -257,8 +268,9 @@ def compose(patches: list[PlacedPatch], shape, *, method: str = "graphcut",
         if not overlap.any():
             take_b = only_b
         else:
-            pin_a = (ndi.binary_dilation(only_a) & overlap) | (keep & overlap)
-            pin_b = ndi.binary_dilation(only_b) & overlap & ~pin_a
+            yield_ = overlap & weak[box] & ~keep
+            pin_a = ((ndi.binary_dilation(only_a) & overlap) | (keep & overlap)) & ~yield_
+            pin_b = (ndi.binary_dilation(only_b) & overlap & ~pin_a) | yield_
             if patch.grow:
                 # a joint is the union of the two: opaque wins over transparent either way
                 pin_a |= overlap & (a[..., 3] > 0.5) & (b[..., 3] < 0.02) & ~pin_b
@@ -275,6 +287,7 @@ def compose(patches: list[PlacedPatch], shape, *, method: str = "graphcut",
                                  gradient_weighted=gradient_weighted, costs=pc)
         image[box][take_b] = b[take_b]
         labels[box][take_b] = i
+        weak[box][take_b] = keep[take_b]
         covered[box] |= vb
     return Composition(image, covered, labels, costs)
 

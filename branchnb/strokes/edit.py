@@ -858,7 +858,8 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
                                 inner=0 if style is None else int(np.ceil(style.width)) + 1)
             if layer is not old:
                 # only the wedges along the children (no bridge to a neighbouring part)
-                away = (layer[:, :, 3] != old[:, :, 3]) & ~_along_children(wide, attached, old.shape[:2])
+                changed = layer[:, :, 3] != old[:, :, 3]
+                away = changed & ~_along_children(wide, attached, old.shape[:2], changed)
                 layer[away] = old[away]
             filled = (layer[:, :, 3] > 0.5) & ~before
         if style is not None:
@@ -928,9 +929,10 @@ def _segment_distance(q: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray
     return np.hypot(q[:, None, 0] - p[..., 0], q[:, None, 1] - p[..., 1])
 
 
-def _along_children(wide, attached, shape) -> np.ndarray:
+def _along_children(wide, attached, shape, where: np.ndarray | None = None) -> np.ndarray:
     """Pixels within ``3 r`` (r: the joint's closing radius, half the child's half width,
-    so 1.5 child widths) of a wide joint's child target stroke, near the joint."""
+    so 1.5 child widths) of a wide joint's child target stroke, near the joint (only
+    among the pixels ``where``, if given: the others are False)."""
     h, w = shape
     out = np.zeros((h, w), bool)
     for point, reach, r, jn in wide:
@@ -939,9 +941,15 @@ def _along_children(wide, attached, shape) -> np.ndarray:
         r0, r1, c0, c1 = max(int(y) - m, 0), min(int(y) + m + 1, h), max(int(x) - m, 0), min(int(x) + m + 1, w)
         if r0 >= r1 or c0 >= c1:
             continue
-        yy, xx = np.mgrid[r0:r1, c0:c1]
+        if where is None:
+            yy, xx = np.mgrid[r0:r1, c0:c1]
+        else:
+            yy, xx = np.nonzero(where[r0:r1, c0:c1])
+            yy, xx = yy + r0, xx + c0
+        if not yy.size:
+            continue
         _, d = attached[jn.child].target.project(np.c_[xx.ravel(), yy.ravel()])
-        out[r0:r1, c0:c1] |= d.reshape(yy.shape) <= 3.0 * r
+        out[yy, xx] |= d.reshape(yy.shape) <= 3.0 * r
     return out
 
 

@@ -37,14 +37,17 @@ fragments, inner outline ink kept) against the front view's.
 samples, the RPG sprites), with ``outline=False`` (seams as cut) and the
 default (seams across fills inked).
 ``engine``: rim ink share (:func:`~branchnb.trees.outline.rim_ink_share`)
-at 45 and 90 degrees of the 12 drawn trees of ``sideviews`` as an engine
+at 45, 90, 135 and 270 degrees of the 12 drawn trees of ``sideviews`` as an engine
 draws the exported full and reduced levels
 (:func:`~branchnb.trees.lod.engine_view`), without and with
-:func:`~branchnb.trees.lod.bake_side_outline`, beside the in-memory
-render's; and the largest change of the front view the bake makes.
+:func:`~branchnb.trees.lod.bake_side_outline` and the side cards
+(:func:`~branchnb.trees.lod_cards.side_outline_cards`), beside the in-memory
+render's; the ink the cards add inside the crown, the largest change of the
+front view, and the cards' triangles.
 ``palms``: side views (45, 90 degrees) of 10 drawn palms (8 at 256 px,
 half with a leaf pile, 2 at 384 px) with merged fronds split as a
-background (the former rule) and as lobes (the default): loose stroke
+background (the former rule), as lobes, as lobes at one depth, and with
+the hub's strokes taken off the trunk (the default): loose stroke
 bits, flecks and inner ink kept (:func:`~branchnb.trees.quality.side_view_figures`).
 ``transfer``: histogram transfer of 12 drawn trees (4 kinds, 256 px with
 and without a leaf pile, and 128 px) onto 8 flat-art references (4 drawn
@@ -238,30 +241,52 @@ def measure_sideviews(size: int = 256) -> None:
 
 
 def measure_engine(size: int = 256) -> None:
+    from scipy import ndimage as ndi
+
     from .billboard import BillboardParams, billboard_cloud
     from .drawn import drawn_trees
     from .lod import bake_side_outline, engine_view, reduce_cloud
-    from .outline import rim_ink_share, silhouette_outline
+    from .lod_cards import side_outline_cards
+    from .outline import _depth, rim_ink_share, silhouette_outline
     from .preview import render_cloud
 
     items = drawn_trees(rng=0, size=size) + drawn_trees((False,), rng=11, size=384)
     res: dict = {}
+    stray: dict = {}
     front = 0.0
+    tris = []
     for _, img in items:
         cloud = billboard_cloud(img, params=BillboardParams(max_size=img.shape[0]), rng=0)
-        ink = silhouette_outline(cloud.image).ink
+        o = silhouette_outline(cloud.image)
         red = reduce_cloud(cloud)
-        levels = {"in-memory": None, "full": cloud, "full baked": bake_side_outline(cloud),
-                  "reduced": red, "reduced baked": bake_side_outline(red)}
+        fb, rb = bake_side_outline(cloud), bake_side_outline(red)
+        fc, rc = side_outline_cards(cloud, baked=fb), side_outline_cards(red, baked=rb)
+        tris.append((2 * cloud.n_billboards, 2 * fc.n, 2 * red.n_billboards, 2 * rc.n))
+        levels = {"in-memory": None, "full": (cloud, None), "full baked": (fb, None),
+                  "full + cards": (fb, fc), "reduced": (red, None), "reduced baked": (rb, None),
+                  "reduced + cards": (rb, rc)}
         for label, c in levels.items():
-            for y in (45.0, 90.0):
-                view = render_cloud(cloud, y) if c is None else engine_view(c, y)
-                res.setdefault((label, y), []).append(rim_ink_share(view, ink))
-        for a, b in ((cloud, levels["full baked"]), (red, levels["reduced baked"])):
-            front = max(front, float(np.abs(engine_view(a, 0.0) - engine_view(b, 0.0)).max()))
-    for (label, y), v in res.items():
-        print(f"{label:14s} {y:3.0f} deg: rim ink share mean {np.mean(v):.2f} min {min(v):.2f}")
-    print(f"{len(items)} drawn trees; largest change of the front view by the bake: {front:.4f}")
+            for y in (45.0, 90.0, 135.0, 270.0):
+                view = render_cloud(cloud, y) if c is None else engine_view(c[0], y, cards=c[1])
+                res.setdefault((label, y), []).append(rim_ink_share(view, o.ink))
+                if c is not None and c[1] is not None:
+                    # Ink the cards add deeper than 2 w + 1 inside the silhouette, per opaque pixel.
+                    bare = engine_view(c[0], y)
+                    op = view[..., 3] >= 0.5
+                    deep = _depth(ndi.binary_fill_holes(op)) > 2 * o.width + 1
+                    new = (np.abs(view - bare).max(axis=2) > 0) & deep
+                    stray.setdefault((label, y), []).append(new.sum() / max(op.sum(), 1))
+        for a, b in ((cloud, (fb, fc)), (red, (rb, rc))):
+            front = max(front, float(np.abs(engine_view(a, 0.0) - engine_view(b[0], 0.0, cards=b[1])).max()))
+    for (label, y), v in sorted(res.items(), key=lambda kv: (kv[0][1], kv[0][0])):
+        extra = ""
+        if (label, y) in stray:
+            extra = f" | ink added inside the crown: mean {np.mean(stray[label, y]):.4f} max {max(stray[label, y]):.4f}"
+        print(f"{label:16s} {y:3.0f} deg: rim ink share mean {np.mean(v):.2f} min {min(v):.2f}{extra}")
+    t = np.array(tris, float)
+    print(f"{len(items)} drawn trees; largest change of the front view by bake and cards: {front:.4f}")
+    print(f"side cards' triangles over the level's billboards': full {t[:, 1].sum() / t[:, 0].sum():.2f} "
+          f"(per tree max {np.max(t[:, 1] / t[:, 0]):.2f}), reduced {t[:, 3].sum() / t[:, 2].sum():.2f}")
 
 
 def measure_palms(size: int = 256) -> None:
@@ -271,9 +296,11 @@ def measure_palms(size: int = 256) -> None:
 
     items = [(s, size, s % 2 == 1) for s in range(8)] + [(s, 384, False) for s in (20, 21)]
     sky = bb._SKY_HULL
+    rules = [("split as a background", -1.0, False, False), ("lobes", sky, False, False),
+             ("lobes, one depth", sky, True, False), ("+ hub strokes (default)", sky, True, True)]
     try:
-        for label, value in (("split as a background", -1.0), ("lobes (default)", sky)):
-            bb._SKY_HULL = value
+        for label, value, join, hub in rules:
+            bb._SKY_HULL, bb._JOIN_STARS, bb._HUB_STROKES = value, join, hub
             fr, fl, ii = [], [], []
             for seed, s, pile in items:
                 cloud = bb.billboard_cloud(drawn_tree("palm", pile=pile, rng=seed, size=s),
@@ -282,11 +309,11 @@ def measure_palms(size: int = 256) -> None:
                 fr.append(max(f[y]["fragments"] - f[y]["fragments0"] for y in f))
                 fl.append(max(f[y]["flecks"] - f[y]["flecks0"] for y in f))
                 ii.append(min(f[y]["inner_ink"] for y in f))
-            print(f"{label:22s} {len(items)} palms: stroke bits over the front view's mean {np.mean(fr):.3f} "
+            print(f"{label:24s} {len(items)} palms: stroke bits over the front view's mean {np.mean(fr):.3f} "
                   f"max {max(fr):.3f} | flecks mean {np.mean(fl):.3f} max {max(fl):.3f} | inner ink kept "
                   f"mean {np.mean(ii):.2f} min {min(ii):.2f}")
     finally:
-        bb._SKY_HULL = sky
+        bb._SKY_HULL, bb._JOIN_STARS, bb._HUB_STROKES = sky, True, True
 
 
 def measure_seams(size: int = 192) -> None:

@@ -10,8 +10,11 @@ representations as it moves away from the camera. From one
    by opaque area), ``reduced_share`` of them;
 
    on drawn trees both carry the side views' outline baked into their
-   textures (:func:`bake_side_outline`): an engine draws no silhouette
-   ink of its own;
+   textures (:func:`bake_side_outline`) where the front view hides the
+   texels, and the rest of it from 90 and 270 degrees on side cards,
+   quads edge-on to the front view
+   (:func:`~branchnb.trees.lod_cards.side_outline_cards`): an engine draws
+   no silhouette ink of its own;
 2. ``crossed``: two perpendicular quads (four triangles), the front view
    on one and the side view from 90 degrees on the other
    (:func:`crossed_impostor`), rendered as the in-memory side views are:
@@ -88,6 +91,10 @@ class LodLevel:
     yaws : tuple of float or None
         Impostor frames: the yaw of each texture of ``cloud`` (the quad shows
         the first).
+    cards : SideCards or None
+        Fixed, single-sided quads drawn with the level
+        (:func:`~branchnb.trees.lod_cards.side_outline_cards`: the side
+        views' rim ink of a drawn tree), or None.
 
     Examples
     --------
@@ -103,10 +110,12 @@ class LodLevel:
     crossed: bool = False
     turn: object = None
     yaws: object = None
+    cards: object = None
 
     @property
     def quads(self) -> int:
-        return self.cloud.n_billboards * (2 if self.crossed else 1)
+        n = 0 if self.cards is None else self.cards.n
+        return self.cloud.n_billboards * (2 if self.crossed else 1) + n
 
     @property
     def triangles(self) -> int:
@@ -287,7 +296,7 @@ def impostor_frames(cloud, yaws=tuple(range(0, 360, 45))):
     return out, yaws
 
 
-def engine_view(cloud, yaw: float, **kwargs) -> np.ndarray:
+def engine_view(cloud, yaw: float, *, cards=None, **kwargs) -> np.ndarray:
     """What an engine shows of an exported cloud from ``yaw``: axial quads in depth order, the
     line art drawn in place (no pass behind the fills) and no silhouette ink added.
 
@@ -303,6 +312,11 @@ def engine_view(cloud, yaw: float, **kwargs) -> np.ndarray:
         a copy).
     yaw : float
         Camera angle about the vertical axis, degrees.
+    cards : SideCards, optional
+        Fixed, single-sided quads exported with the cloud
+        (:attr:`LodLevel.cards`), drawn depth-tested
+        (:func:`~branchnb.trees.lod_cards.cards_view`); only with the
+        default ``crop="fit"``, no ``height`` and no ``background``.
     **kwargs
         Passed to :func:`~branchnb.trees.preview.render_cloud` (``facing``,
         ``crop``, ``background``, ``height``).
@@ -320,11 +334,20 @@ def engine_view(cloud, yaw: float, **kwargs) -> np.ndarray:
     >>> engine_view(cloud, 90.0).shape
     (64, 67, 4)
     """
+    from .lod_cards import SideCards, cards_view
     from .preview import render_cloud
 
+    if cards is not None:
+        if not isinstance(cards, SideCards):
+            raise TypeError(f"cards must be SideCards or None, got {type(cards).__name__}")
+        if set(kwargs) - {"facing"} or kwargs.get("facing", "camera") != "camera":
+            raise ValueError("cards: only with axial billboards, crop='fit', no height or background")
     bare = _subset(cloud, np.arange(cloud.n_billboards))
     bare.line_masks = [None] * len(bare.textures)
-    return render_cloud(bare, yaw, outline=False, **kwargs)
+    view = render_cloud(bare, yaw, outline=False, **kwargs)
+    if cards is not None and cards.n:
+        view = cards_view(view, cloud, cards, yaw)
+    return view
 
 
 def _view_ids(cloud, yaw: float, texels=None):
@@ -406,7 +429,10 @@ def bake_side_outline(cloud, *, yaws=tuple(range(15, 360, 15)), ink=None, width=
     engine``) the rim ink share of the engine's view of the full level at
     90 degrees went from 0.74 (min 0.38) to 0.83 (min 0.60), at 45 degrees
     from 0.74 to 0.80 (the reduced level: 0.95 to 0.96, min 0.80 to 0.88);
-    the in-memory render's is 0.98. A 1024 px cloud takes about 5 s. Clouds without line art or an outlined silhouette
+    the in-memory render's is 0.98; the side cards of
+    :func:`~branchnb.trees.lod_cards.side_outline_cards` (quads edge-on to
+    the front view) carry the rest at 90 and 270 degrees (0.98, 0.97). A
+    1024 px cloud takes about 5 s. Clouds without line art or an outlined silhouette
     (:func:`~branchnb.trees.outline.silhouette_outline`) are returned
     unchanged.
 
@@ -552,7 +578,9 @@ def lod_chain(cloud, *, reduced_share: float = 0.3) -> list[LodLevel]:
     ----------
     cloud : BillboardCloud
         The full cloud (the ``full`` level: its billboards, with the side
-        outline of a drawn tree baked in by :func:`bake_side_outline`).
+        outline of a drawn tree baked in by :func:`bake_side_outline` and
+        the rest of it on side cards,
+        :func:`~branchnb.trees.lod_cards.side_outline_cards`).
     reduced_share : float
         Share of the billboards the ``reduced`` level keeps (:func:`reduce_cloud`).
 
@@ -560,7 +588,8 @@ def lod_chain(cloud, *, reduced_share: float = 0.3) -> list[LodLevel]:
     -------
     list of LodLevel
         ``full`` (the cloud), ``reduced`` (both baked with
-        :func:`bake_side_outline`), ``crossed``
+        :func:`bake_side_outline`, and with side cards for drawn trees,
+        :attr:`LodLevel.cards`), ``crossed``
         (:func:`crossed_impostor`) and ``single`` (:func:`impostor_frames`,
         8 frames).
 
@@ -572,20 +601,34 @@ def lod_chain(cloud, *, reduced_share: float = 0.3) -> list[LodLevel]:
     >>> [(lv.name, lv.triangles) for lv in lod_chain(cloud)]
     [('full', 1284), ('reduced', 388), ('crossed', 4), ('single', 2)]
     """
+    from .lod_cards import side_outline_cards
+
     _check_cloud(cloud)
     single, yaws = impostor_frames(cloud)
     crossed, turn = crossed_impostor(cloud)
-    return [LodLevel("full", bake_side_outline(cloud)),
-            LodLevel("reduced", bake_side_outline(reduce_cloud(cloud, reduced_share))),
-            LodLevel("crossed", crossed, turn=turn), LodLevel("single", single, yaws=yaws)]
+    out = []
+    for name, c in (("full", cloud), ("reduced", reduce_cloud(cloud, reduced_share))):
+        baked = bake_side_outline(c)
+        out.append(LodLevel(name, baked, cards=side_outline_cards(c, baked=baked)))
+    return out + [LodLevel("crossed", crossed, turn=turn), LodLevel("single", single, yaws=yaws)]
 
 
-def _material(name: str, texture: int) -> dict:
+def _material(name: str, texture: int, double_sided: bool = True) -> dict:
     return {"name": name,
             "pbrMetallicRoughness": {"baseColorTexture": {"index": texture}, "metallicFactor": 0.0,
                                      "roughnessFactor": 1.0},
-            "alphaMode": "MASK", "alphaCutoff": 0.5, "doubleSided": True,
+            "alphaMode": "MASK", "alphaCutoff": 0.5, "doubleSided": bool(double_sided),
             "extensions": {"KHR_materials_unlit": {}}}
+
+
+def _cards_cloud(cards, cloud):
+    """Side cards as a BillboardCloud (for the exported arrays)."""
+    from .billboard import FRONT, BillboardCloud
+
+    n = cards.n
+    return BillboardCloud(np.asarray(cards.centers, float), np.asarray(cards.sizes, float), np.arange(n),
+                          np.ones(n), np.full(n, FRONT), np.full(n, -1), list(cards.textures), cloud.axis,
+                          cloud.image, cloud.superpixels, cloud.depth, [], cloud.scale, cloud.lines, [])
 
 
 def _document(levels: list[LodLevel], *, yaw: float, height: float, lod: bool,
@@ -622,10 +665,31 @@ def _document(levels: list[LodLevel], *, yaw: float, height: float, lod: bool,
                                                     float((yy + h) / Ha)]}
                            for y, (x, yy, w, h) in zip(lv.yaws, rects.tolist())],
                 "note": "the quad shows frame 0; show the frame whose yaw is nearest to the camera's"}
-        meshes.append({"name": lv.name, "primitives": [{
-            "attributes": {"POSITION": acc0, "TEXCOORD_0": acc0 + 1, "COLOR_0": acc0 + 2},
-            "indices": acc0 + 3, "material": atlases[key], "mode": 4}],
-            "extras": extras})
+        prims = [{"attributes": {"POSITION": acc0, "TEXCOORD_0": acc0 + 1, "COLOR_0": acc0 + 2},
+                  "indices": acc0 + 3, "material": atlases[key], "mode": 4}]
+        if lv.cards is not None and lv.cards.n:
+            # Side cards: fixed quads facing their side's camera, single sided (culled from behind).
+            cc = _cards_cloud(lv.cards, lv.cloud)
+            atlas, pos, uv, col, idx = _level_arrays(cc, yaw=yaw, height=height, crossed=False,
+                                                     turn=np.asarray(lv.cards.turn) - yaw)
+            first = len(views)
+            v, data = _pack([pos.tobytes(), uv.tobytes(), col.tobytes(), idx.tobytes()],
+                            [34962, 34962, 34962, 34963], data)
+            views += v
+            acc1 = len(accessors)
+            accessors += _accessors(first, pos, uv, col, idx)
+            v, data = _pack([encode_png(atlas)], [None], data)
+            images.append({"bufferView": len(views), "mimeType": "image/png"})
+            views += v
+            textures.append({"source": len(images) - 1, "sampler": 0})
+            materials.append(_material(f"{lv.name}_side_cards", len(textures) - 1, double_sided=False))
+            prims.append({"attributes": {"POSITION": acc1, "TEXCOORD_0": acc1 + 1, "COLOR_0": acc1 + 2},
+                          "indices": acc1 + 3, "material": len(materials) - 1, "mode": 4})
+            extras["side_cards"] = {
+                "primitive": 1, "quads": lv.cards.n, "turn_degrees": [float(t) for t in lv.cards.turn],
+                "note": "fixed quads (not turned to the camera), single sided: the side views' outline, "
+                        "edge-on from the front"}
+        meshes.append({"name": lv.name, "primitives": prims, "extras": extras})
         nodes.append({"mesh": i, "name": f"tree_lod{i}_{lv.name}"})
     ext = ["KHR_materials_unlit"]
     if lod and len(levels) > 1:
@@ -677,7 +741,11 @@ def export_lod_gltf(cloud, path, *, mode: str = "msft_lod", yaw: float = 0.0, he
     Notes
     -----
     Triangles per level: ``2 K`` (full, ``K`` billboards),
-    ``2 ceil(0.3 K) + 2`` (reduced), 4 (crossed), 2 (single). Every file passes the Khronos glTF
+    ``2 ceil(0.3 K) + 2`` (reduced), 4 (crossed), 2 (single); a drawn
+    tree's full and reduced levels add 2 per side card (a second
+    primitive with a single-sided material; on 12 drawn trees 0 to 80
+    cards, 0-12 % more triangles, ``extras.side_cards``), which
+    ``extras.triangles`` counts. Every file passes the Khronos glTF
     validator with no error or warning (checked with ``npx gltf-validator``;
     :func:`validate_gltf` checks the structure without it).
 

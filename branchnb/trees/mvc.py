@@ -346,7 +346,8 @@ def smooth_gumbel(shape: tuple[int, int], k: int, scale: float, *, rng=None) -> 
          mode=Choice(*COLOUR_MODES), region_scale=Real(0.0, 1.0, low_open=True), seam=Real(0, 1e6))
 def transfer_colour(sources, source_cages, target_cage, target_mask, *,
                     colour_weights=None, rng=None, mode: str = "blend",
-                    region_scale: float = 0.15, seam: float = 20.0, return_sources: bool = False):
+                    region_scale: float = 0.15, seam: float = 20.0, return_sources: bool = False,
+                    layers=None):
     """Colour a target shape from one or more exemplars through their simplified contours.
 
     Parameters
@@ -393,6 +394,11 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
         term (0: the regions as drawn).
     return_sources : bool
         Also return which source each pixel's colour comes from.
+    layers : sequence of (H, W) array_like, optional
+        One map per source (e.g. its trunk mask), carried along: each
+        opaque result pixel takes the nearest value of the map of the
+        source its colour comes from (see ``sources`` below), so a result's
+        parts need no new segmentation (beyond the paper).
 
     Returns
     -------
@@ -408,6 +414,8 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
         whose colour a pixel takes in ``"choose"`` mode (the one with the
         most colour weight among those opaque there in ``"blend"`` mode), -1
         where alpha is 0.
+    layer : (H, W) float32 ndarray
+        With ``layers`` (last): the carried map, 0 where alpha is 0.
 
     Examples
     --------
@@ -464,11 +472,32 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
     out = np.zeros(mask.shape + (4,), np.float32)
     out[ys, xs, :3] = np.clip(rgb, 0.0, 1.0) * opaque[:, None]
     out[ys, xs, 3] = opaque
+    extra = ()
+    if layers is not None:
+        if isinstance(layers, (str, bytes)) or not hasattr(layers, "__len__"):
+            raise TypeError(f"layers must be a sequence of (H, W) arrays, got {type(layers).__name__}")
+        if len(layers) != len(srcs):
+            raise ValueError(f"layers: need one map per source: {len(srcs)} sources, {len(layers)} maps")
+        lay = np.zeros(mask.shape, np.float32)
+        val = np.zeros(len(pts), np.float32)
+        for k, i in enumerate(used):
+            try:
+                m = np.asarray(layers[i], np.float32)
+            except (TypeError, ValueError) as exc:
+                raise TypeError(f"layers[{i}] must be a numeric (H, W) array") from exc
+            if m.shape != srcs[i].shape[:2]:
+                raise ValueError(f"layers[{i}] has shape {m.shape}, its source {srcs[i].shape[:2]}")
+            px = np.clip(np.rint(mapped[k][:, 0]), 0, m.shape[1] - 1).astype(np.int64)
+            py = np.clip(np.rint(mapped[k][:, 1]), 0, m.shape[0] - 1).astype(np.int64)
+            pick = li == k
+            val[pick] = m[py[pick], px[pick]]
+        lay[ys[opaque], xs[opaque]] = val[opaque]
+        extra = (lay,)
     if not return_sources:
-        return out
+        return (out,) + extra if extra else out
     src = np.full(mask.shape, -1, np.int64)
     src[ys[opaque], xs[opaque]] = used[li[opaque]]
-    return out, src
+    return (out, src) + extra
 
 
 def _choose(cols, on, opaque, c, ys, xs, shape, region_scale, seam, gen) -> np.ndarray:

@@ -56,7 +56,7 @@ from .exemplar import (
     tree_rgba,
 )
 from .ground import split_ground
-from .histogram_transfer import histogram_transfer
+from .histogram_transfer import _remember_parts, histogram_transfer
 from .morph import check_weights, combine_shapes, dirichlet_weights, fill_contour
 from .mvc import transfer_colour
 
@@ -65,6 +65,7 @@ __all__ = [
     "Exemplar",
     "process_exemplar",
     "exemplar_trunk",
+    "exemplar_parts",
     "TRUNK_METHODS",
     "GROUND_METHODS",
     "VariationParams",
@@ -489,6 +490,11 @@ class Variation:
         Index into ``names`` of the exemplar each pixel's colour comes from
         (``"choose"``; in ``"blend"`` the one with the most colour weight
         there), -1 where transparent.
+    parts : (S, S) uint8 ndarray or None
+        0 background, 1 crown, 2 trunk: each pixel's part in the exemplar
+        its colour comes from (the exemplars' trunk masks carried through
+        the warp), so recolouring (:func:`~branchnb.trees.histogram_transfer.histogram_transfer`)
+        needs no new segmentation.
 
     Examples
     --------
@@ -509,6 +515,7 @@ class Variation:
     reference: str | None = None
     colour_mode: str = "blend"
     sources: np.ndarray | None = field(default=None, repr=False)
+    parts: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def rgb(self) -> np.ndarray:
@@ -707,21 +714,28 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     cage = simplify_contour(cr, m_points=p.m_points, dilation=cparams.dilation,
                             n_points_crown=cparams.n_crown)
     mode = resolve_colour_mode(p.colour_mode, [exemplars[i] for i in used])
-    image, sources = transfer_colour([exemplars[i].image for i in used],
-                                     [exemplars[i].cage(p.m_points) for i in used],
-                                     cage, mask, colour_weights=cw[used] / cw[used].sum(), mode=mode,
-                                     region_scale=p.region_scale, seam=p.seam, rng=rng, return_sources=True)
+    image, sources, trunk = transfer_colour([exemplars[i].image for i in used],
+                                            [exemplars[i].cage(p.m_points) for i in used],
+                                            cage, mask, colour_weights=cw[used] / cw[used].sum(), mode=mode,
+                                            region_scale=p.region_scale, seam=p.seam, rng=rng,
+                                            return_sources=True, layers=[exemplars[i].trunk for i in used])
     image = one_piece(image, [exemplars[i] for i in used])
     if p.outline and len(used) > 1:      # one exemplar: its own shape, its outline intact
         image = _ink_outline(image, [exemplars[i] for i in used], cw[used],
                              np.where(image[..., 3] >= 0.5, sources, -1) if mode == "choose" else None)
     sources = used[np.maximum(sources, 0)] * (sources >= 0) - (sources < 0)
+    opaque = image[..., 3] >= 0.5
+    parts = np.where(opaque, np.where(trunk >= 0.5, 2, 1), 0).astype(np.uint8)
     ref_name = None
     if reference is not None:
         ref_img, ref_name = _reference_image(reference, library)
-        image = histogram_transfer(image, ref_img)
+        ref_ex = _reference_exemplar(reference, library)
+        image = histogram_transfer(image, ref_img, labels=parts,
+                                   reference_labels=None if ref_ex is None else exemplar_parts(ref_ex))
     sources = np.where(image[..., 3] >= 0.5, sources, -1)
-    return Variation(image, tuple(e.name for e in exemplars), w, cw, cr, cage, mask, ref_name, mode, sources)
+    _remember_parts(image, parts)
+    return Variation(image, tuple(e.name for e in exemplars), w, cw, cr, cage, mask, ref_name, mode, sources,
+                     parts)
 
 
 def exemplar_outline(exemplar: Exemplar):
@@ -932,6 +946,42 @@ def one_piece(image, exemplars: Sequence[Exemplar]) -> np.ndarray:
     img[~alpha] = 0.0
     img[:, :, 3] = alpha
     return img
+
+
+def exemplar_parts(exemplar: Exemplar) -> np.ndarray:
+    """An exemplar's parts as :func:`~branchnb.trees.histogram_transfer.tree_parts` labels its image.
+
+    Parameters
+    ----------
+    exemplar : Exemplar
+        A processed exemplar; its stored trunk mask splits the opaque pixels.
+
+    Returns
+    -------
+    (S, S) uint8 ndarray
+        0 background, 1 crown, 2 trunk.
+
+    Examples
+    --------
+    >>> from branchnb.trees.synthetic import synthetic_tree
+    >>> img = synthetic_tree("clean", rng=0, size=64).image
+    >>> ex = process_exemplar(img, "t", exemplar_params=ExemplarParams(size=64))
+    >>> sorted(np.unique(exemplar_parts(ex)).tolist())
+    [0, 1, 2]
+    """
+    if not isinstance(exemplar, Exemplar):
+        raise TypeError(f"exemplar must be an Exemplar, got {type(exemplar).__name__}")
+    opaque = exemplar.image[..., 3] >= 0.5
+    return np.where(opaque, np.where(exemplar.trunk & opaque, 2, 1), 0).astype(np.uint8)
+
+
+def _reference_exemplar(reference, library):
+    """The library exemplar a reference names (or is), else None."""
+    if isinstance(reference, Exemplar):
+        return reference
+    if isinstance(reference, str) and isinstance(library, TreeLibrary) and reference in library.names:
+        return library[reference]
+    return None
 
 
 def _reference_image(reference, library) -> tuple[np.ndarray, str]:
@@ -1640,6 +1690,8 @@ class TreeLibrary:
             self.exemplars[self.index(exemplar.name)] = exemplar
         else:
             self.exemplars.append(exemplar)
+        # Recolouring against (or of) this tree reuses its stored parts instead of segmenting it.
+        _remember_parts(exemplar.image, exemplar_parts(exemplar))
         return exemplar
 
     # -- operations

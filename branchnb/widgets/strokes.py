@@ -92,6 +92,9 @@ MIN_STROKE = 2.0
 
 #: Long side (px) of the reduced-size edit shown while a slow full edit is computed.
 PREVIEW_SIZE = 160
+#: Sample spacing of the reduced-size preview when the edit's is automatic: above every
+#: patch radius there, so h = r (the edit itself uses r / 2).
+PREVIEW_SPACING = 128.0
 #: An edit expected to take longer than this (s; from the last fetch and composition times)
 #: gets a reduced-size preview first.
 PREVIEW_AFTER = 0.15
@@ -593,9 +596,12 @@ class StrokeEditApp(widgets.VBox):
         if s >= 0.95:
             return None
         p = self.params
+        # the preview samples one patch per radius (h = r, the largest spacing the method
+        # allows; auto is r / 2): half the patches, about 0.1 s CPU for a 5-part edit
+        spacing = p.spacing * s if p.spacing else PREVIEW_SPACING
         small = dataclasses.replace(
             p, patch_size=2 * int(round(p.patch_size * s / 2)) if p.patch_size else 0,
-            spacing=p.spacing * s, search_window=int(round(p.search_window * s)),
+            spacing=spacing, search_window=int(round(p.search_window * s)),
             search_across=int(round(p.search_across * s)), search_step=max(1, int(round(p.search_step * s))),
             junction_tolerance=p.junction_tolerance * s)
         if small.patch_size and small.patch_size < 8:

@@ -1,0 +1,298 @@
+"""Pareidolia trees, widths (paper, section 9, "thickness"; beyond it, the tone passes).
+
+The pipe model with the importance emphasis, then inside the crown a tone match of
+the widths to the picture (on the lattice, then on the drawing at the output's size),
+with tapered twig ends. Split from :mod:`branchnb.dendrite.pareidolia`, which grows the
+tree; see its docstring for the measurements behind each step.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+from scipy import ndimage
+
+from .dendrite import Dendrite, _accumulate_up
+from .thickness import rolling_importance
+
+if TYPE_CHECKING:
+    from .pareidolia import PareidoliaParams
+
+def _shrink(a: np.ndarray, f: int) -> np.ndarray:
+    """Mean over ``f x f`` blocks (the last partial blocks dropped)."""
+    if f == 1:
+        return a
+    h, w = (a.shape[0] // f) * f, (a.shape[1] // f) * f
+    return a[:h, :w].reshape(h // f, f, w // f, f).mean(axis=(1, 3))
+
+
+
+def _taper_profile(dist: np.ndarray, taper: float) -> np.ndarray:
+    """Width factor along a twig's last ``taper`` px: ``_TIP`` at the tip, 1 from ``taper`` on."""
+    return _TIP + (1.0 - _TIP) * np.sqrt(np.clip(dist / taper, 0.0, 1.0))
+
+
+_TONE_ROUNDS = 3
+_TIP = 0.3  # a twig's width at its very end, as a share of its width `taper` px back
+
+
+def _taper_ends(d: Dendrite, width: np.ndarray, dist: np.ndarray, taper: float) -> np.ndarray:
+    """Twig ends that taper whatever widths they were given: within ``taper`` px of a
+    branch's end, the width is at most the width ``taper`` px back times
+    :func:`_taper_profile` (a tone match that thickens a dark region's twigs widens their
+    ends too, and round caps then read as dots)."""
+    near = np.flatnonzero(dist < taper)
+    if taper <= 0 or near.size == 0:
+        return width
+    body = near.copy()  # walk up to the first node at least `taper` px from the end
+    for _ in range(4 * int(np.ceil(taper)) + 8):  # the nearest tip may switch on the way
+        up = d.parent[body]
+        move = (dist[body] < taper) & (up >= 0)
+        if not move.any():
+            break
+        body[move] = up[move]
+    out = width.copy()
+    out[near] = np.minimum(width[near], width[body] * _taper_profile(dist[near], taper))
+    return out
+
+
+_REFINE_SIGMA = 3.0  # px of the output: a little finer than the 4 px at which tone is judged
+_REFINE_GAIN = 0.7  # exponent on the correction (damped: neighbours share the blur)
+
+
+def _refine_tone(d: Dendrite, dark: np.ndarray, bounds: dict, s: float,
+                 p: PareidoliaParams) -> Dendrite:
+    """Tone match on the drawing itself, at the output's resolution (beyond the paper).
+
+    ``p.refine`` times: draw the coverage of the strokes as they will be rendered
+    (smoothed, anti-aliased, overlapping), blur it and the picture's darkness over
+    ``_REFINE_SIGMA`` output px, and scale the width of every crown node by the ratio
+    (damped, at most 2x either way), within the lattice pass's floor and cap
+    (``s`` output px per lattice px; the limbs keep their floor) so limbs stay limbs;
+    the crown's mean ink stays.
+    The lattice pass matches tone over ``tone_sigma`` lattice px, 10 output px on a
+    2000-px picture planned at 1024, and cannot see that round caps, overlaps and the
+    smoothing put ink elsewhere than its model; this pass can.
+    """
+    from ..core.render import _rasterise
+
+    inside = bounds["inside"]
+    if not inside.any():
+        return d
+    width = 2.0 * d.radius
+    lo = np.minimum(p.tip_width * 0.4 * s, width)
+    # limbs (a floor of at least 0.3 x the trunk's width at the fork) keep the lattice
+    # pass's floor; twigs may thin to the tip width (the lattice floor kept the twigs near
+    # the fork at their pipe + emphasis width: tone r at 4 px blur 0.68 instead of 0.75 on
+    # flat coloured objects at 2000 px; half the floor on the limbs too gave 0.79, but the
+    # limbs faded into the crown)
+    f = bounds["floor"]
+    floor = np.where(f >= 0.3 * bounds["cap"].max(), f, 0.0)
+    # the limbs' pipe widths scale with the drawing, their limb_width (2x a twig, which
+    # stays about as fine in output px at every size) does not
+    limb = np.asarray(bounds.get("limb", np.zeros_like(f)))
+    base = np.minimum(limb, p.limb_width)
+    floor = np.minimum(np.maximum(floor * s, base * min(s, 1.0) + (limb - base) * s), width)
+    cap = np.maximum(bounds["cap"] * s, width)
+    smooth = 3  # render()'s default
+    h, w = d.shape
+    at = np.rint(d.smoothed_points(smooth)).astype(int)
+    row, col = np.clip(at[:, 1], 0, h - 1), np.clip(at[:, 0], 0, w - 1)
+    target = ndimage.gaussian_filter(np.asarray(dark, np.float64), _REFINE_SIGMA)[row, col]
+    pts = d.smoothed_points(smooth)
+    has = np.flatnonzero(d.parent >= 0)
+    par = d.parent[has]
+    gain = None
+    for _ in range(p.refine):
+        # the segments render() draws (each branch's consecutive nodes = every node and
+        # its parent), packed directly: checking ~50,000 polylines one by one took longer
+        # than drawing them
+        r = 0.5 * width
+        segs = np.column_stack([pts[par], r[par], pts[has], r[has]])
+        cov = np.zeros((h, w), np.float32)
+        _rasterise(segs, np.zeros(len(segs), np.int64), h, w, cov, np.full((h, w), -1, np.int64))
+        have = ndimage.gaussian_filter(cov.astype(np.float64), _REFINE_SIGMA)[row, col]
+        if gain is None:  # keep the crown's ink: only where it goes changes
+            gain = have[inside].mean() / max(target[inside].mean(), 1e-6)
+        ratio = np.clip((gain * target + 1e-3) / (have + 1e-3), 0.5, 2.0) ** _REFINE_GAIN
+        width = np.where(inside, np.clip(width * ratio, np.maximum(lo, floor), cap), width)
+    if p.taper > 0:
+        width = _taper_ends(d, width, bounds["dist"] * s, p.taper * s)
+    return d.with_radius(width / 2)
+
+
+def _tone_matcher(d: Dendrite, dark: np.ndarray, sigma: float, strength: float,
+                  black: float = 0.7):
+    """:func:`~branchnb.dendrite.thickness.tone_thickness` for repeated use on one tree:
+    the target is blurred once, and the blurs run on a grid ``f = sigma // 2.5`` times
+    coarser (block sums; a Gaussian of ``sigma / f``), 4-8x faster on a grown lattice
+    for the same widths within a few per cent. Returns ``match(width, lo, hi, iterations)``."""
+    h, w = d.shape
+    f = max(1, int(sigma // 2.5))
+    hs, ws = -(-h // f), -(-w // f)
+    ys, xs = np.divmod(d.nodes, w)
+    cell = (ys // f) * ws + xs // f
+    pad = np.pad(np.clip(dark, 0.0, 1.0), ((0, hs * f - h), (0, ws * f - w)), mode="edge")
+    target = ndimage.gaussian_filter(_shrink(pad, f), sigma / f)
+    need = -np.log1p(-np.clip(black * target, 0.0, 0.95)).ravel()[cell]
+    has = d.parent >= 0
+    seg = np.zeros(d.n_nodes)
+    step = d.points[has] - d.points[d.parent[has]]
+    seg[has] = np.hypot(step[:, 0], step[:, 1])
+    tiny = 1e-4
+
+    def match(width, lo, hi, iterations=4):
+        width = np.asarray(width, np.float64)
+        for _ in range(iterations):
+            ink = np.bincount(cell, weights=width * seg, minlength=hs * ws).reshape(hs, ws)
+            have = ndimage.gaussian_filter(ink / (f * f), sigma / f).ravel()[cell]
+            width = np.clip(width * ((need + tiny) / (have + tiny)) ** strength, lo, hi)
+        return width
+
+    return match
+
+
+def _stretch(dark: np.ndarray, crown: np.ndarray, contrast: float) -> np.ndarray:
+    """The darkness stretched so its 1st-99th percentiles in the crown span [0, 1]
+    (gain at most 5), blended with the original by ``contrast``."""
+    if contrast <= 0 or not crown.any():
+        return dark
+    lo, hi = np.percentile(dark[crown], [1.0, 99.0])
+    full = np.clip((dark - lo) / max(hi - lo, 0.2), 0.0, 1.0)
+    return ((1.0 - contrast) * dark + contrast * full).astype(np.float32)
+
+
+def _blurred_at(d: Dendrite, a: np.ndarray, sigma: float) -> np.ndarray:
+    """``a`` blurred over ``sigma`` px at each node of ``d``, on a grid ``sigma // 2.5``
+    times coarser (block means, a Gaussian of ``sigma / f``)."""
+    h, w = a.shape
+    f = max(1, int(sigma // 2.5))
+    pad = np.pad(np.asarray(a, np.float64), ((0, -h % f), (0, -w % f)), mode="edge")
+    g = ndimage.gaussian_filter(_shrink(pad, f), sigma / f)
+    ys, xs = np.divmod(d.nodes, w)
+    return g[ys // f, xs // f]
+
+
+_LIMB_BODY = 0.8  # share of a limb's length at which it reaches w_end
+_LIMB_LIGHT = 0.3  # a limb's width in the crown's white parts, as a share of its pipe width
+_LIMB_DARK = 1.0  # darkness from which a limb in the crown has its full pipe width
+
+
+def _limb_widths(d: Dendrite, first_seed: int, w0: float, w_end: float,
+                 w_tip: float) -> np.ndarray:
+    """Widths of the trunk and main limbs (the nodes of iteration 1) by the pipe model
+    over their ends (beyond the paper's pipe model over all twigs, whose widths fall
+    soon after the fork because the twigs hang mostly from the limbs' lower parts).
+
+    Each end ``e`` of the iteration-1 tree (a limb's end, or the trunk's own top) owns a
+    pipe of cross-section ``a_e`` that falls linearly along its path from ``w0 ** 2 / E``
+    at the first limb's departure (node ``first_seed``) to ``w_end ** 2`` at
+    ``_LIMB_BODY`` of its length, then to ``w_tip ** 2`` at the end; a
+    node's width is ``sqrt`` of the sum over the ends it carries. A parent's width squared
+    is the sum of its children's (Leonardo's rule) at every junction, the trunk tapers
+    above each departure, its top (where no limb continues) ends at ``w_end`` instead of
+    a round cap of the trunk's width (a knob), and every limb stays at least ``w_end``
+    wide over most of its length. 0 off iteration 1.
+    """
+    n = d.n_nodes
+    out = np.zeros(n)
+    is1 = d.iteration == 1
+    if not is1.any():
+        return out
+    par = d.parent
+    child1 = np.zeros(n, bool)
+    child1[par[is1 & (par >= 0)]] = True
+    ends = np.flatnonzero(is1 & ~child1)
+    arc = d.arc_depth()
+    arc0 = arc[min(max(first_seed, 0), n - 1)]
+    a0 = w0 ** 2 / len(ends)
+    a1 = min(w_end ** 2, a0)
+    for e in ends:
+        path = [e]
+        while par[path[-1]] >= 0:
+            path.append(par[path[-1]])
+        path = np.asarray(path)
+        t = np.clip((arc[path] - arc0) / max(arc[e] - arc0, 1e-6), 0.0, 1.0)
+        # linear from a0 to a1 over the first _LIMB_BODY of the path, then to a twig's
+        # width at the end (a limb that tapers, not a blunt stub)
+        body = np.minimum(t / _LIMB_BODY, 1.0)
+        end = np.clip((t - _LIMB_BODY) / (1.0 - _LIMB_BODY), 0.0, 1.0)
+        out[path] += (a0 + (a1 - a0) * body) * (1.0 - end) + w_tip ** 2 * end
+    out = np.sqrt(out)
+    out[~is1] = 0.0
+    return out
+
+
+def _thickness(d: Dendrite, p: PareidoliaParams, imp, dark, crown, n_trunk: int,
+               bounds: dict | None = None, first_seed: int | None = None) -> Dendrite:
+    """Pipe model + importance emphasis; tone-matched under a limb cap inside the crown,
+    the trunk and main limbs at least their :func:`_limb_widths`; tapered twig ends."""
+    leaf = np.zeros(d.n_nodes)
+    leaf[d.tips] = 1.0
+    tips = np.maximum(_accumulate_up(d.parent, leaf), 1.0)
+    width = p.tip_width + p.pipe * np.sqrt(tips - 1.0) + p.increment * (p.iterations - d.iteration)
+    dist = d.tip_distance()
+    if p.thickness == "branch":
+        return d.with_radius(_taper_ends(d, width, dist, p.taper) / 2)
+    emph = rolling_importance(d, imp, p.window)
+    ref = max(float(np.percentile(imp, 99.0)), 1e-3)
+    width = width + p.emphasis * np.clip(emph / ref, 0, 1) ** 1.5
+    inside = crown.ravel()[d.nodes]
+    if p.tone <= 0 or not inside.any():
+        inside[:n_trunk] = False
+        return d.with_radius(_taper_ends(d, width, dist, p.taper) / 2)
+    if first_seed is None:
+        first_seed = max(1, round(n_trunk * 0.75)) - 1
+    limb = _limb_widths(d, first_seed, float(width[first_seed]), p.limb_width, p.tip_width)
+    is1 = d.iteration == 1
+    # in the crown's light parts the limbs narrow (their width beyond limb_width to
+    # _LIMB_LIGHT at no darkness): at full width they crossed a light chin as dark bands
+    shade = _blurred_at(d, dark, 2.0 * p.tone_sigma)
+    light = _LIMB_LIGHT + (1.0 - _LIMB_LIGHT) * np.clip(shade / _LIMB_DARK, 0.0, 1.0)
+    arc = d.arc_depth()
+    fork_arc = arc[n_trunk - 1] if n_trunk > 0 else 0.0
+    from_fork = np.maximum(arc - fork_arc, 0.0)
+    # ... gradually over a quarter of limb_length from the fork (so the limbs' bases stay
+    # as wide as the pipe model says), and outside the crown too (a limb crossing the
+    # blank between two objects had its full pipe width, then stepped down at the crown)
+    ramp = np.clip(from_fork / (0.25 * p.limb_length), 0.0, 1.0)
+    if inside[:n_trunk].any():  # the trunk's top narrows likewise from where it enters the crown
+        entry = arc[int(np.argmax(inside[:n_trunk]))]
+        ramp[:n_trunk] = np.clip((arc[:n_trunk] - entry) / (0.25 * p.limb_length), 0.0, 1.0)
+    light = 1.0 - (1.0 - light) * ramp
+    thin = np.minimum(limb, p.limb_width)  # the limbs keep limb_width, the rest narrows
+    limb = thin + (limb - thin) * light
+    structural = is1 & (np.arange(d.n_nodes) >= first_seed)
+    # inside the crown, the trunk's top (above the limbs' departures) narrows with its
+    # limb widths instead of ending in a round cap of the trunk's width (a knob)
+    # twigs' cap: the fork's pipe width, thinning to max_width along the path from the fork
+    if p.taper > 0:
+        # taper before the tone match too, which then puts the ink back along the
+        # twigs instead of losing it
+        width = width * _taper_profile(dist, p.taper)
+    cap = np.maximum(p.max_width, width * np.exp(-from_fork / p.limb_length))
+    floor = np.minimum(width * np.exp(-from_fork / p.limb_length), cap)
+    cap = np.where(is1, np.maximum(p.max_width, limb), cap)
+    floor = np.where(is1, limb, floor)
+    w_tone = width
+    match = _tone_matcher(d, dark, p.tone_sigma, p.tone)
+    for _ in range(_TONE_ROUNDS if p.taper > 0 else 1):
+        # the tone match thickens a dark region's twig ends as much as their bodies (more:
+        # less ink around an end): taper them again and match again, so the ink taken
+        # from the ends goes back into the bodies
+        w_tone = np.clip(match(w_tone, p.tip_width * 0.4, float(cap.max())), floor, cap)
+        if p.taper > 0:
+            w_tone = _taper_ends(d, w_tone, dist, p.taper)
+    # a slight flare at the foot of the trunk
+    height = d.points[:, 1].max() - d.points[:, 1]
+    flare = 1.0 + 0.35 * np.clip(1.0 - height / (0.12 * d.shape[0]), 0.0, 1.0) ** 2
+    flare[n_trunk:] = 1.0
+    # outside the crown, the trunk above the limbs' departures and the limbs have their
+    # limb widths (the pipe over all twigs made a step where they entered the crown)
+    out = np.where(inside, w_tone, np.where(structural, limb, width * flare))
+    if p.taper > 0:
+        out = _taper_ends(d, out, dist, p.taper)
+    if bounds is not None:  # what the output-resolution pass may change, and how far
+        bounds.update(inside=inside, floor=floor, cap=cap, dist=dist, limb=limb)
+    return d.with_radius(out / 2)
