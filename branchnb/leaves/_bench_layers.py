@@ -66,15 +66,15 @@ def rows(quick: bool = False) -> list[BenchRow]:
     out.append(BenchRow(f"leaves analysis: {small_n} exemplars {mp:.2f} MP each, 2 layers", t,
                         "one cv2.xphoto shift-map inpainting of one vein layer", _shiftmap(a),
                         "target < 10 s for 8 exemplars of ~250 px (CPU, loaded 2 cores: 12.6 s before the "
-                        "compiled snapping, 8.1 s after)"))
+                        "compiled snapping, 8-9 s after)"))
     size = 384 if quick else 1000
     a, t_analysis = _analysis(4, size)
     mp = a.exemplars[0].shape[0] * a.exemplars[0].shape[1] / 1e6
     out.append(BenchRow(f"leaves analysis: 4 exemplars {mp:.2f} MP, 2 layers (lazy snapping, TPS-RPM, "
                         "induction, residuals)", t_analysis,
                         "one cv2.xphoto shift-map inpainting of one vein layer", _shiftmap(a),
-                        "target < 20 s at ~1 MP (CPU, loaded 2 cores: 38 s before the compiled snapping, "
-                        "25-28 s after; registration and lazy snapping ~11 s of it); the paper: several minutes"))
+                        "target < 20 s at ~1 MP (CPU, loaded 2 cores: 38-39 s before the compiled snapping, "
+                        "25-27 s after; registration and lazy snapping ~11 s of it); the paper: several minutes"))
     generate(a, 1, rng=0)  # the per-analysis preparation, paid once
     t_gen = timeit(lambda: generate(a, 1, rng=1), repeat=2, warmup=False)
     tracemalloc.start()
