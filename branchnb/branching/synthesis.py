@@ -65,6 +65,7 @@ from .guidance import Guidance
 from .histogram_matching import HistogramMatcher, histogram_distances
 from .params import SynthesisParams
 from .roots import RootModel, fit_roots, outlet_starts
+from .straightness import BendHistogram
 
 __all__ = [
     "CandidateScores",
@@ -950,6 +951,10 @@ class _Grower:
         self.shore = _Shore(domain, margin) if margin > 0 else None
         self.scorer = scorer
         self.matcher = model.matcher(params.wG)
+        # beyond the paper: the sizes of the turns follow the example's too (see .straightness)
+        bm = model.bending
+        self.bends = BendHistogram(bm.angles, wG=params.wG, m=params.m)
+        self.bend_counts = self.bends.candidate_counts(bm.cont_angles, bm.cont_len) if params.wG > 0 else None
         self.rho = params.rho if params.rho > 0 else model.rho
         self.domain = domain
         # coverage = fraction of the domain within rho of a branch (D > exp(-1))
@@ -1001,6 +1006,7 @@ class _Grower:
                 self.density.add_segments(poly[:-1], poly[1:])
             self.total_length += float(np.hypot(*np.diff(poly, axis=0).T).sum())
         self.matcher.add(angles, radii)
+        self.bends.add(angles)
 
     def add_existing(self, structure: Structure) -> None:
         for b in structure.branches:
@@ -1185,6 +1191,8 @@ class _Grower:
             return np.vstack([tip, pts[j, : max(n_arr[j], 0)]])
 
         score = cs.score
+        if self.bend_counts is not None:
+            score = score * self.bends.factors(self.bend_counts[t_arr])
         if self.drain is not None:
             score = score * self.drain.factor(tip, pts, n_arr, start=st.points[0])
         if self.shore is not None:
