@@ -48,6 +48,10 @@ BEND_EDGES_DEG = (0.0, 1.5, 3.0, 6.0, 10.0, 15.0, 25.0, 40.0, 70.0, 180.0001)
 #: 0.96-1.25 but coverage gaps up to 1.35 x the example's (1.14 x at 8).
 BEND_GAIN = 8.0
 
+#: The factor stays within ``exp(+-BEND_CAP)``: it outweighs colonization's preference for turns
+#: but not the rules that keep a delta's channels off the image frame (``exp(-10)``).
+BEND_CAP = 4.0
+
 
 class BendHistogram:
     """Histogram of the example's turn sizes and running counts of the synthesized ones.
@@ -146,4 +150,4 @@ class BendHistogram:
         if self.wG == 0 or n == 0:
             return np.ones(len(cc))
         d = HistogramMatcher._improvement(self.p, self.counts, cc)
-        return np.exp(np.clip(self.wG * d * n / self.m, -50, 50))
+        return np.exp(np.clip(self.wG * d * n / self.m, -BEND_CAP, BEND_CAP))

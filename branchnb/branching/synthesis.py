@@ -502,6 +502,12 @@ class _Drain:
 #: outside the domain) of the example's vertices past the first ``SHORE_SKIP`` px of its roots.
 SHORE_QUANTILE = 0.05
 SHORE_SKIP = 12.0
+#: No hooks at a mouth (beyond the paper): over the first ``MOUTH_SHARE`` of a coast root's
+#: length its heading may span at most ``MOUTH_TURN`` radians (a candidate that would turn it
+#: further is taken only when nothing else is left). Without it 2 of 3 rivers of a 1000 px coast
+#: map curled back by > 120 degrees just before their mouth.
+MOUTH_SHARE = 0.12
+MOUTH_TURN = float(np.radians(105.0))
 
 
 def _shore_margin(model: StructureModel) -> float:
@@ -902,6 +908,8 @@ class _BranchState:
     target: float = np.inf
     #: input element each vertex appended by a Markov step was copied from (the last ones)
     src: list = field(default_factory=list)
+    #: a coast root near its mouth: (lowest, highest) heading so far (radians); None = no limit
+    mouth: tuple | None = None
 
 
 #: A hole is domain farther than this share of the domain's diameter from every branch (issue 23).
@@ -1102,6 +1110,10 @@ class _Grower:
             score = score * self.drain.factor(x0, new, n + 1, start=x0)
         if self.shore is not None:
             score = score * self.shore.factor(x0, new, n + 1)
+        mouth = self.shore is not None and parent is None
+        if mouth:
+            span = np.where(valid, th, th[:, :1])
+            score = np.where(np.ptp(span, axis=1) > MOUTH_TURN, score * 1e-9, score)
         j = self._pick(score, poly)
         if j is None:
             return None
@@ -1126,6 +1138,9 @@ class _Grower:
                           parent_vertex=parent_vertex, generation=generation)
         if p.branch_end == "length":
             st.target = model.sample_length(generation, float(np.mean(radii[:3])), self.rng)
+        if mouth:
+            hs = th[j, : max(cut - 1, 1)]
+            st.mouth = (float(hs.min()), float(hs.max()))
         if cut < len(full):
             st.stop = "left the domain"
         elif n[j] < p.m and p.branch_end == "markov":
@@ -1199,6 +1214,14 @@ class _Grower:
             score = score * self.shore.factor(tip, pts, n_arr)
         if p.branch_end == "length":
             score = np.where(n_arr > 0, score, 0.0)
+        heads = None
+        if st.mouth is not None:
+            if (len(st.points) - 1) * p.h < MOUTH_SHARE * min(st.target, self.max_branch_len):
+                heads = st.theta + np.cumsum(self.model.bending.cont_angles[t_arr], axis=1)
+                span = np.maximum(heads.max(1), st.mouth[1]) - np.minimum(heads.min(1), st.mouth[0])
+                score = np.where(span > MOUTH_TURN, score * 1e-9, score)
+            else:
+                st.mouth = None
         if self.density is not None:
             free = (~cs.crossing) & (n_arr > 0)
             if not free.any() or cs.D_c[free].min() >= p.stop_density:
@@ -1209,6 +1232,8 @@ class _Grower:
             st.stop = "blocked"
             return False
         t, n = int(t_arr[j]), int(n_arr[j])
+        if heads is not None and n:
+            st.mouth = (min(st.mouth[0], float(heads[j, :n].min())), max(st.mouth[1], float(heads[j, :n].max())))
         bm = self.model.bending
         new_pts = pts[j, :n]
         ang = bm.cont_angles[t, :n]
