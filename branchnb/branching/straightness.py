@@ -15,10 +15,11 @@ favours the candidates that bring it closer to the example's with the
 paper's own rule, ``exp(g wG dB n_t / m)``, ``dB`` the improvement of
 ``(1/B) sum (p - q)^2``, at ``g = 8`` times the paper's weight
 (:data:`BEND_GAIN`; colonization's ``1 / (D + eps)`` spans three orders of
-magnitude and outweighs the paper's). Bends per length of the synthesized
-branches over the example's, 3 seeds each: drawn maps 256-512 px 0.95-1.11
-(before 0.86-1.26), deltas 1.06-1.25 (1.02-1.84), river maps 1.09-1.12
-(1.06-1.24), cracks 0.99-1.04, vessel trees 1.02-1.07.
+magnitude and outweighs the paper's), within ``exp(+-1)`` (:data:`BEND_CAP`).
+Bends per length of the synthesized branches over the example's (see the
+final figures in the report of issue 23): drawn maps 256-512 px about
+0.95-1.15 (before 0.86-1.26), deltas 0.98-1.17 (1.02-1.84), river maps
+1.00-1.08 (1.06-1.24), cracks and vessel trees about 1.0-1.2.
 
 Examples
 --------
@@ -43,14 +44,17 @@ __all__ = ["BEND_EDGES_DEG", "BendHistogram"]
 BEND_EDGES_DEG = (0.0, 1.5, 3.0, 6.0, 10.0, 15.0, 25.0, 40.0, 70.0, 180.0001)
 
 #: Weight of the bend-size histogram relative to the paper's ``wG``. Measured on drawn maps,
-#: smooth river maps, deltas, cracks and vessel trees (256-512 px, 3 seeds each), bends per
-#: length over the example's: 1 x ``wG`` 0.95-1.40, 4 x 0.97-1.33, 8 x 0.95-1.25, 16 x
-#: 0.96-1.25 but coverage gaps up to 1.35 x the example's (1.14 x at 8).
+#: smooth river maps, deltas, cracks and vessel trees (256-512 px, 3 seeds each, uncapped),
+#: bends per length over the example's: 1 x ``wG`` 0.95-1.40, 4 x 0.97-1.33, 8 x 0.95-1.25,
+#: 16 x 0.96-1.25 but coverage gaps up to 1.35 x the example's (1.14 x at 8).
 BEND_GAIN = 8.0
 
-#: The factor stays within ``exp(+-BEND_CAP)``: it outweighs colonization's preference for turns
-#: but not the rules that keep a delta's channels off the image frame (``exp(-10)``).
-BEND_CAP = 4.0
+#: The factor stays within ``exp(+-BEND_CAP)`` (like the Markov quality's own range, 1-4): a
+#: steady nudge at every step, never outweighing the rules that keep a delta's channels off the
+#: image frame (``exp(-10)``) and pull them to the sea (at ``exp(+-4)`` a 192 px delta's channels
+#: stopped 26 px short of it and a trunk ran along the frame; at ``exp(+-1)``, 6 seeds each:
+#: bends per length deltas 0.98-1.17 x, maps 1.03-1.14 x, river maps 1.00-1.08 x).
+BEND_CAP = 1.0
 
 
 class BendHistogram:
