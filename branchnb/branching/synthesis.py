@@ -1212,12 +1212,16 @@ class _Grower:
             return np.vstack([tip, pts[j, : max(n_arr[j], 0)]])
 
         score = cs.score
-        if self.bend_counts is not None:
-            score = score * self.bends.factors(self.bend_counts[t_arr])
+        fb = self.bends.factors(self.bend_counts[t_arr]) if self.bend_counts is not None else None
         if self.drain is not None:
             score = score * self.drain.factor(tip, pts, n_arr, start=st.points[0])
         if self.shore is not None:
-            score = score * self.shore.factor(tip, pts, n_arr)
+            fs = self.shore.factor(tip, pts, n_arr)
+            score = score * fs
+            if fb is not None:   # near the coast the shore decides alone
+                fb = np.where(fs < 1.0, 1.0, fb)
+        if fb is not None:
+            score = score * fb
         if p.branch_end == "length":
             score = np.where(n_arr > 0, score, 0.0)
         heads = None
