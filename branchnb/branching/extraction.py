@@ -452,6 +452,21 @@ def _end_radius(pts: np.ndarray, r: np.ndarray, ends: np.ndarray, members: np.nd
     return np.maximum(out, r[ends])
 
 
+def _mouth_node(cand: np.ndarray, key: np.ndarray, members: np.ndarray, member_key: np.ndarray,
+                scale: float) -> tuple[np.ndarray, np.ndarray]:
+    """Root candidates of a piece that drains into a region: its ends, or the node nearest the region
+    when that is more than 4 px nearer than every end.
+
+    Going beyond the paper: where a drawn river meets the coast line, removing the coast's outline
+    from the skeleton can leave a little loop or junction at the mouth, so the mouth is no end of
+    the skeleton and the nearest *end* is the river's source (a tree rooted inland, upstream).
+    """
+    k = int(np.argmin(member_key))
+    if len(key) and member_key[k] + 4.0 * scale < float(np.min(key)):
+        return members[k:k + 1], member_key[k:k + 1]
+    return cand, key
+
+
 def _delta_source_key(key: np.ndarray, pts: np.ndarray, r: np.ndarray, ends: np.ndarray,
                       members: np.ndarray, scale: float) -> np.ndarray:
     """Root key of a piece that reaches the region at several mouths: a delta roots at its source.
@@ -509,8 +524,10 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
     root : {"auto", "thickest", "top", "bottom", "left", "right", "border", "nearest_region"} or (x, y)
         Root end point per piece: ``"auto"`` takes the end nearest to
         ``region`` when there is one and the piece's lines all have about one
-        width (its 75th radius percentile under 1.5 x the 25th: a drawn map's
-        rivers drain where they meet the sea), else the thickest end (a
+        width (its 75th radius percentile under 1.5 x the 25th, or less than
+        a pixel above it: a drawn map's rivers drain where they meet the sea;
+        a node of the piece more than 4 px nearer than every end, a mouth the
+        coast's removed outline left as a loop, beats the ends), else the thickest end (a
         vessel tree's trunk, a delta's inland channel; the radius near an end,
         not at it, which the frame or a rounded tip pinches); or the thickest, the top-most ..., the one
         nearest to the image border, the one nearest to ``region`` (e.g.
@@ -580,8 +597,14 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
         if isinstance(root, str):
             if root == "auto":
                 lo, hi = np.percentile(r_full[members], [25, 75])
-                key = -_end_radius(pts_full, r_full, cand, members) if hi >= 1.5 * lo or not has_region \
-                    else region_dist[ys[cand], xs[cand]]
+                # one width: within 1.5 x, or within a pixel (the radius of a 1-2 px drawn line comes
+                # in half-pixel steps, 0.5 vs 0.9, which says nothing about where it drains)
+                one_width = hi < 1.5 * lo or hi - lo < 1.0
+                if has_region and one_width:
+                    key = region_dist[ys[cand], xs[cand]]
+                    cand, key = _mouth_node(cand, key, members, region_dist[ys[members], xs[members]], scale)
+                else:
+                    key = -_end_radius(pts_full, r_full, cand, members)
             elif root == "thickest":
                 key = -_end_radius(pts_full, r_full, cand, members)
             elif root == "top":
