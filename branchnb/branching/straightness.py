@@ -18,7 +18,8 @@ paper's own rule, ``exp(g wG dB n_t / m)``, ``dB`` the improvement of
 magnitude and outweighs the paper's), within ``exp(+-1)`` (:data:`BEND_CAP`).
 Bends per length of the synthesized branches over the example's (see the
 final figures in the report of issue 23): drawn maps 256-512 px about
-0.95-1.15 (before 0.86-1.26), deltas 0.98-1.17 (1.02-1.84), river maps
+0.95-1.29 (before 0.86-1.26; 1.29 is a 256 px island seed whose coast
+rule switches the nudge off), deltas 0.98-1.17 (1.02-1.84), river maps
 1.00-1.08 (1.06-1.24), cracks and vessel trees about 1.0-1.2.
 
 Examples
