@@ -372,6 +372,8 @@ def snap_layer(evidence, blade, chains, widths, tolerance: float, *, min_evidenc
     blade = as_mask(blade, shape=ev.shape, name="blade")
     h, w = ev.shape
     out = np.zeros((h, w), bool)
+    # Paths may cross a hole in the blade (a damaged leaf): the vein runs on past it.
+    whole = ndi.binary_fill_holes(blade)
     tol = max(1.0, float(tolerance))
     r = int(np.ceil(tol)) + 1
     total = kept_len = 0.0
@@ -395,7 +397,7 @@ def snap_layer(evidence, blade, chains, widths, tolerance: float, *, min_evidenc
         iy = np.clip(np.round(dense[:, 1]).astype(int) - y0, 0, y1 - y0 - 1)
         line = np.zeros((y1 - y0, x1 - x0), bool)
         line[iy, ix] = True
-        tube = (ndi.distance_transform_edt(~line) <= tol) & blade[y0:y1, x0:x1]
+        tube = (ndi.distance_transform_edt(~line) <= tol) & whole[y0:y1, x0:x1]
         start, end = (iy[0], ix[0]), (iy[-1], ix[-1])
         if not (tube[start] and tube[end]):
             # An end carried off the blade: start from the nearest tube pixel.
@@ -1138,6 +1140,7 @@ def trace_branches(chains, maps, blade, *, max_angle: float = 30.0, step_deg: fl
     out = list(cs)
     placed = np.zeros((h, w), bool)
     inner = ndi.binary_erosion(blade)
+    whole = ndi.binary_fill_holes(blade)
     da = np.radians(step_deg)
     offs = np.arange(-max_angle, max_angle + 1e-9, step_deg)
     for i in np.argsort(lengths)[::-1]:
@@ -1199,10 +1202,11 @@ def trace_branches(chains, maps, blade, *, max_angle: float = 30.0, step_deg: fl
         tr = np.column_stack([px[jj, path], py[jj, path]])
         tr = np.vstack([pivot, tr])
         # Stop where the trace leaves the blade (a junction in the blade's
-        # notch may start just outside it).
+        # notch may start just outside it); a hole in the blade (a damaged
+        # leaf) is crossed, not an end: a vein runs on past it.
         tx = np.clip(np.round(tr[:, 0]).astype(int), 0, w - 1)
         ty = np.clip(np.round(tr[:, 1]).astype(int), 0, h - 1)
-        inside = blade[ty, tx]
+        inside = whole[ty, tx]
         first = int(np.argmax(inside)) if inside.any() else len(tr)
         after = ~inside[first:]
         stop = first + int(np.argmax(after)) if after.any() else len(tr)
