@@ -313,7 +313,7 @@ def test_snapped_vein_runs_on_past_holes_in_the_blade():
 def test_residual_of_an_elliptic_leaf_keeps_no_vein_stubs():
     """Elliptic leaves (pinnate, short stubs off the secondaries): the removed veins are grown along the
     layer's ridges far enough that the residual shows none (ridge response at the true vein pixels over
-    plain blade, away from spots: 0.74 and 0.75; with the extension's old level 0.25 and reach 0.04: 0.77 and 0.81)."""
+    plain blade, away from spots: 0.75 and 0.75; with the extension's old level 0.25 and reach 0.04: 0.77 and 0.81)."""
     from skimage.filters import sato
     fam = leaf_family(3, size=192, kind="elliptic", rng=1)
     _, blades, offs = normalise_exemplars(fam)

@@ -567,7 +567,7 @@ def _induced(combined, delta, training_overlap, snapped, e, blade, taken):
     return m if training_overlap >= COLOUR_RELIABLE else snapped[e] & ~taken
 
 
-def _ridge_extension(residual, blades, t, e, user, m, stats, params, *, level: float = 0.15,
+def _ridge_extension(residual, blades, t, e, user, m, stats, params, *, level: float = 0.2,
                      reach: float = 0.15):
     """A thin layer's induced mask on exemplar ``e``, grown along the layer's ridges, for its removal.
 
@@ -582,11 +582,13 @@ def _ridge_extension(residual, blades, t, e, user, m, stats, params, *, level: f
     most 1 on 17 of 18 exemplars (before 10), worst 1.41 -> 1.32 (an
     elliptic leaf whose own veins stand out only 1.75x). With ``level``
     0.25 and ``reach`` 0.04 the stubs of an elliptic leaf's secondaries
-    stayed as short light dashes beside the donor's veins; with 0.15 and
+    stayed as short light dashes beside the donor's veins; with 0.2 and
     0.15 (``_measure veinsystems``, new leaves, 2 seeds x 4, at 192 / 320
     px) the ratio at the background's own veins went from 1.00 / 1.11 to
-    1.00 / 1.01 elliptic and 0.87 / 0.91 to 0.82 / 0.80 trilobed (0.10
-    and 0.12: 1.00 / 1.02; removing a 2 px rim instead of 1: no gain).
+    1.00 / 1.01 elliptic, 0.87 / 0.91 to 0.81 / 0.80 trilobed and 0.91 /
+    0.81 to 0.93 / 0.79 lobed (level 0.15: the same, but on a drawn leaf
+    the grown mask reached the outline and its fill left ink in the
+    residual; 0.10 and 0.12: 1.00 / 1.02; a 2 px rim instead of 1: no gain).
     """
     from .induction import layer_width
     from .snapping import contrast_direction, ridge_evidence
