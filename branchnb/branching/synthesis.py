@@ -24,8 +24,12 @@ Putting the paper's models together (see the modules of the same names):
    room ahead grow on, and branches with room beside them furcate once
    more at their most probable vertex there (not with guidance). Beyond
    the paper, holes the example does not have (domain farther than 5 % of
-   its diameter from every branch, such as the lobes of a coast) are
-   filled last, past the coverage target (``_Grower._fill_holes``). A single
+   its diameter from every branch, such as the lobes of a coast, or the far
+   side of an image whose tree is rooted in a corner) are filled last, past
+   the coverage target (``_Grower._fill_holes``); in a free frame a root
+   reads the frame ahead as density (``colonization.frame_density``), so
+   its trunk turns into the image instead of walking out of the nearest
+   side. A single
    branch stops when the Markov chain reaches the end of an input branch,
    when every candidate
    is blocked (crossing or too dense), when it leaves the domain, or
@@ -57,6 +61,7 @@ from .colonization import (
     auto_rho,
     coverage_fraction,
     crosses_existing,
+    frame_density,
     growth_directions,
     profile_density,
 )
@@ -952,6 +957,8 @@ class _Grower:
         self.matcher = model.matcher(params.wG)
         self.rho = params.rho if params.rho > 0 else model.rho
         self.domain = domain
+        # a root reads the frame ahead as density (a free frame only: a map's domain has its own rules)
+        self.frame = params.colonization and guidance is None and (domain is None or bool(domain.all()))
         # coverage = fraction of the domain within rho of a branch (D > exp(-1))
         self.density = DensityMap(self.shape, self.rho, domain=domain, level=float(np.exp(-1.0))) \
             if params.colonization else None
@@ -992,6 +999,20 @@ class _Grower:
             iy = np.clip(np.rint(pts[:, 1]).astype(np.int64), 0, h - 1)
             ok &= self.domain[iy, ix]
         return ok
+
+    def _frame_factor(self, tip, dirs: np.ndarray, D_c: np.ndarray) -> np.ndarray:
+        """Score factor ``(D_c + eps) / (max(D_c, D_frame) + eps)`` of a root's candidates (issue 23).
+
+        Beyond the paper: the frame ahead counts as density
+        (:func:`~.colonization.frame_density`), so a root started near a
+        side or a corner turns into the image instead of walking out
+        through the nearest side after a fifth of the example's trunk length
+        (a lightning rooted top right: every seed's tree then filled only the right
+        half). Roots only: on children it made them run along the frame.
+        """
+        p = self.p
+        Df = frame_density(self.shape, tip, dirs, 3.0 * p.m * p.h, self.rho)
+        return (D_c + p.eps) / (np.maximum(D_c, Df) + p.eps)
 
     def _register(self, polyline: np.ndarray, angles=(), radii=()) -> None:
         poly = np.asarray(polyline, np.float64)
@@ -1090,6 +1111,8 @@ class _Grower:
         if self.density is not None:
             dc, cross, _ = profile_density(self.density, x0, dirs, 3.0 * p.m * p.h)
             score = np.where(cross, 0.0, score / (dc + p.eps))
+            if self.frame and parent is None:
+                score = score * self._frame_factor(x0, dirs, dc)
         inside = self._inside(new[:, 0])
         score = np.where(inside, score, 0.0)
         if self.drain is not None and parent is not None:  # downstream, not along or into the land's frame
@@ -1185,6 +1208,12 @@ class _Grower:
             return np.vstack([tip, pts[j, : max(n_arr[j], 0)]])
 
         score = cs.score
+        if self.frame and st.parent is None:
+            live = n_arr > 0
+            if live.any():
+                end = pts[np.arange(len(n_arr)), np.maximum(n_arr, 1) - 1] - tip
+                dirs = end / np.maximum(np.hypot(end[:, 0], end[:, 1]), 1e-9)[:, None]
+                score = np.where(live, score * self._frame_factor(tip, dirs, cs.D_c), score)
         if self.drain is not None:
             score = score * self.drain.factor(tip, pts, n_arr, start=st.points[0])
         if self.shore is not None:
@@ -1369,12 +1398,14 @@ class _Grower:
         further furcations) and tips ending before a hole grow on, past the
         coverage target, until the share is the example's or no branch can
         reach a hole (at most ``fill_rounds`` rounds; coverage at most
-        1.25 x the target). Only in a domain of the user's (a map's land, a
-        mask's region; a free image frame has no coast to reach), not with a
-        ``max_coverage`` of the user's, guidance, or ``fill_rounds = 0``.
+        1.25 x the target). In a domain of the user's (a map's land, a
+        mask's region) and in a free image frame alike (issue 23: a single
+        tree rooted near a corner reached the coverage target with its
+        branches packed beside the root and the far half of the image
+        empty), not with a ``max_coverage`` of the user's, guidance, or
+        ``fill_rounds = 0``.
         """
         if self.guidance is not None or self.density is None or not self.branches or \
-                self.domain is None or self.domain.all() or \
                 self.p.fill_rounds == 0 or self.p.max_coverage > 0 or \
                 self.stop_reason not in ("", "density (coverage)", "no branch can grow"):
             return
