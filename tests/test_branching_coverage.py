@@ -79,7 +79,7 @@ def test_root_spans_the_image_like_the_example():
         assert _far_share(r, s.image_shape) < 1.5 * ex_far, seed
 
 
-def test_free_frame_holes_are_filled():
+def test_tree_from_a_side_spans_the_image():
     # a tree entering from the left side: seed 0 left 1.68 x the example's far share before issue 23
     s = _tree("side", 400, 404)
     m = fit_model(s)

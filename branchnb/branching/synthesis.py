@@ -24,9 +24,9 @@ Putting the paper's models together (see the modules of the same names):
    room ahead grow on, and branches with room beside them furcate once
    more at their most probable vertex there (not with guidance). Beyond
    the paper, holes the example does not have (domain farther than 5 % of
-   its diameter from every branch, such as the lobes of a coast, or the far
-   side of an image whose tree is rooted in a corner) are filled last, past
-   the coverage target (``_Grower._fill_holes``); in a free frame a root
+   its diameter from every branch, such as the lobes of a coast) are
+   filled last, past the coverage target (``_Grower._fill_holes``); in a
+   free frame (no coast) a root
    reads the frame ahead as density (``colonization.frame_density``), so
    its trunk turns into the image instead of walking out of the nearest
    side. A single
@@ -1398,14 +1398,15 @@ class _Grower:
         further furcations) and tips ending before a hole grow on, past the
         coverage target, until the share is the example's or no branch can
         reach a hole (at most ``fill_rounds`` rounds; coverage at most
-        1.25 x the target). In a domain of the user's (a map's land, a
-        mask's region) and in a free image frame alike (issue 23: a single
-        tree rooted near a corner reached the coverage target with its
-        branches packed beside the root and the far half of the image
-        empty), not with a ``max_coverage`` of the user's, guidance, or
-        ``fill_rounds = 0``.
+        1.25 x the target). Only in a domain of the user's (a map's land, a
+        mask's region; a free image frame has no coast to reach: there the
+        roots read the frame as density instead, see ``_frame_factor``;
+        filling its holes too pushed coverage to 1.1-1.3 x the target on
+        the retina, lightning and crack samples), not with a
+        ``max_coverage`` of the user's, guidance, or ``fill_rounds = 0``.
         """
         if self.guidance is not None or self.density is None or not self.branches or \
+                self.domain is None or self.domain.all() or \
                 self.p.fill_rounds == 0 or self.p.max_coverage > 0 or \
                 self.stop_reason not in ("", "density (coverage)", "no branch can grow"):
             return
