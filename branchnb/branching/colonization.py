@@ -27,6 +27,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from ..core.validate import Point, Points, Real, Shape, checked
+
 __all__ = [
     "DensityMap",
     "SegmentStore",
@@ -393,6 +395,7 @@ def profile_density(dmap: DensityMap, tip, directions: np.ndarray, length: float
     return D_c.astype(np.float64), crossing, prof
 
 
+@checked(shape=Shape(), tip=Point(), directions=Points(), length=Real(0, 1e6), rho=Real(0, 1e4, low_open=True))
 def frame_density(shape, tip, directions: np.ndarray, length: float, rho: float) -> np.ndarray:
     """Density of the image frame ahead of a tip: ``exp(-d^2 / rho^2)`` at the end of each ray.
 
@@ -433,7 +436,7 @@ def frame_density(shape, tip, directions: np.ndarray, length: float, rho: float)
     (1.0, 0.0)
     """
     h, w = float(shape[0]), float(shape[1])
-    end = np.asarray(tip, np.float64)[None, :] + float(length) * np.asarray(directions, np.float64)
+    end = np.asarray(tip, np.float64)[None, :] + float(length) * np.asarray(directions, np.float64).reshape(-1, 2)
     d = np.minimum.reduce([end[:, 0] + 0.5, w - 0.5 - end[:, 0], end[:, 1] + 0.5, h - 0.5 - end[:, 1]])
     return np.exp(-np.maximum(d, 0.0) ** 2 / float(rho) ** 2)
 
