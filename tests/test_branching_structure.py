@@ -628,6 +628,10 @@ def test_roots_that_walk_out_at_once_are_regrown(lightning_model, monkeypatch):
     import branchnb.branching.synthesis as synthesis
 
     seeds = range(6)
+    # issue 23: a root reads the frame ahead as density and no longer walks out at once
+    assert all(synthesize_structure(lightning_model, rng=s).diagnostics["attempts"] == 1 for s in seeds)
+    # without that, roots walk out and are regrown
+    monkeypatch.setattr(synthesis._Grower, "_frame_factor", lambda self, tip, dirs, D_c: np.ones(len(dirs)))
     with_retry = [synthesize_structure(lightning_model, rng=s) for s in seeds]
     attempts = [r.diagnostics["attempts"] for r in with_retry]
     assert max(attempts) > 1 and max(attempts) <= synthesis.MAX_ROOT_ATTEMPTS

@@ -27,11 +27,14 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from ..core.validate import Point, Points, Real, Shape, checked
+
 __all__ = [
     "DensityMap",
     "SegmentStore",
     "coverage_fraction",
     "crosses_existing",
+    "frame_density",
     "growth_directions",
     "profile_density",
 ]
@@ -390,6 +393,52 @@ def profile_density(dmap: DensityMap, tip, directions: np.ndarray, length: float
     post_min = np.minimum.accumulate(prof[:, ::-1], axis=1)[:, ::-1]
     crossing = ((prof - pre_min > tol) & (prof - post_min > tol)).any(axis=1)
     return D_c.astype(np.float64), crossing, prof
+
+
+@checked(shape=Shape(), tip=Point(), directions=Points(), length=Real(0, 1e6), rho=Real(0, 1e4, low_open=True))
+def frame_density(shape, tip, directions: np.ndarray, length: float, rho: float) -> np.ndarray:
+    """Density of the image frame ahead of a tip: ``exp(-d^2 / rho^2)`` at the end of each ray.
+
+    Beyond the paper. Its density ``D`` sees only the branches grown so
+    far: the space beyond the image frame reads as free as the middle of
+    the domain, so a tip near a side drifts out as often as in (a tree
+    rooted near a corner leaves through the nearest sides and never spans
+    the image). Here the frame counts as one more branch: ``d`` is the
+    distance from the point ``length`` pixels ahead along each direction
+    to the nearest side, 0 (density 1) past it. Synthesis applies it to
+    roots only (their trunk spans the example); on every branch it made
+    children run along the frame.
+
+    Parameters
+    ----------
+    shape : (H, W) tuple of int
+        The frame in pixels.
+    tip : (2,) array_like
+        Start (x, y) of every ray.
+    directions : (J, 2) ndarray
+        Unit directions.
+    length : float
+        How far ahead the density is read (pixels): the paper's ray of
+        ``3 m h``.
+    rho : float
+        Density radius rho (pixels), > 0.
+
+    Returns
+    -------
+    (J,) ndarray
+        Frame density in [0, 1] for each direction.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> d = frame_density((100, 100), (90, 50), np.array([[1.0, 0.0], [-1.0, 0.0]]), 20.0, 8.0)
+    >>> float(d[0]), round(float(d[1]), 3)
+    (1.0, 0.0)
+    """
+    h, w = float(shape[0]), float(shape[1])
+    end = np.asarray(tip, np.float64)[None, :] + float(length) * np.asarray(directions, np.float64).reshape(-1, 2)
+    d = np.minimum.reduce([end[:, 0] + 0.5, w - 0.5 - end[:, 0], end[:, 1] + 0.5, h - 0.5 - end[:, 1]])
+    return np.exp(-np.maximum(d, 0.0) ** 2 / float(rho) ** 2)
 
 
 class SegmentStore:

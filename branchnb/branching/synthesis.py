@@ -31,7 +31,11 @@ Putting the paper's models together (see the modules of the same names):
    more at their most probable vertex there (not with guidance). Beyond
    the paper, holes the example does not have (domain farther than 5 % of
    its diameter from every branch, such as the lobes of a coast) are
-   filled last, past the coverage target (``_Grower._fill_holes``). A single
+   filled last, past the coverage target (``_Grower._fill_holes``); in a
+   free frame (no coast) a root
+   reads the frame ahead as density (``colonization.frame_density``), so
+   its trunk turns into the image instead of walking out of the nearest
+   side. A single
    branch stops when the Markov chain reaches the end of an input branch,
    when every candidate
    is blocked (crossing or too dense), when it leaves the domain, or
@@ -63,6 +67,7 @@ from .colonization import (
     auto_rho,
     coverage_fraction,
     crosses_existing,
+    frame_density,
     growth_directions,
     profile_density,
 )
@@ -971,6 +976,8 @@ class _Grower:
         self.bend_counts = self.bends.candidate_counts(bm.cont_angles, bm.cont_len) if params.wG > 0 else None
         self.rho = params.rho if params.rho > 0 else model.rho
         self.domain = domain
+        # a root reads the frame ahead as density (a free frame only: a map's domain has its own rules)
+        self.frame = params.colonization and guidance is None and (domain is None or bool(domain.all()))
         # coverage = fraction of the domain within rho of a branch (D > exp(-1))
         self.density = DensityMap(self.shape, self.rho, domain=domain, level=float(np.exp(-1.0))) \
             if params.colonization else None
@@ -1011,6 +1018,20 @@ class _Grower:
             iy = np.clip(np.rint(pts[:, 1]).astype(np.int64), 0, h - 1)
             ok &= self.domain[iy, ix]
         return ok
+
+    def _frame_factor(self, tip, dirs: np.ndarray, D_c: np.ndarray) -> np.ndarray:
+        """Score factor ``(D_c + eps) / (max(D_c, D_frame) + eps)`` of a root's candidates (issue 23).
+
+        Beyond the paper: the frame ahead counts as density
+        (:func:`~.colonization.frame_density`), so a root started near a
+        side or a corner turns into the image instead of walking out
+        through the nearest side after a fifth of the example's trunk length
+        (a lightning rooted top right: every seed's tree then filled only the right
+        half). Roots only: on children it made them run along the frame.
+        """
+        p = self.p
+        Df = frame_density(self.shape, tip, dirs, 3.0 * p.m * p.h, self.rho)
+        return (D_c + p.eps) / (np.maximum(D_c, Df) + p.eps)
 
     def _register(self, polyline: np.ndarray, angles=(), radii=()) -> None:
         poly = np.asarray(polyline, np.float64)
@@ -1110,6 +1131,8 @@ class _Grower:
         if self.density is not None:
             dc, cross, _ = profile_density(self.density, x0, dirs, 3.0 * p.m * p.h)
             score = np.where(cross, 0.0, score / (dc + p.eps))
+            if self.frame and parent is None:
+                score = score * self._frame_factor(x0, dirs, dc)
         inside = self._inside(new[:, 0])
         score = np.where(inside, score, 0.0)
         if self.drain is not None and parent is not None:  # downstream, not along or into the land's frame
@@ -1213,6 +1236,12 @@ class _Grower:
 
         score = cs.score
         fb = self.bends.factors(self.bend_counts[t_arr]) if self.bend_counts is not None else None
+        if self.frame and st.parent is None:
+            live = n_arr > 0
+            if live.any():
+                end = pts[np.arange(len(n_arr)), np.maximum(n_arr, 1) - 1] - tip
+                dirs = end / np.maximum(np.hypot(end[:, 0], end[:, 1]), 1e-9)[:, None]
+                score = np.where(live, score * self._frame_factor(tip, dirs, cs.D_c), score)
         if self.drain is not None:
             score = score * self.drain.factor(tip, pts, n_arr, start=st.points[0])
         if self.shore is not None:
@@ -1413,7 +1442,10 @@ class _Grower:
         coverage target, until the share is the example's or no branch can
         reach a hole (at most ``fill_rounds`` rounds; coverage at most
         1.25 x the target). Only in a domain of the user's (a map's land, a
-        mask's region; a free image frame has no coast to reach), not with a
+        mask's region; a free image frame has no coast to reach: there the
+        roots read the frame as density instead, see ``_frame_factor``;
+        filling its holes too pushed coverage to 1.1-1.3 x the target on
+        the retina, lightning and crack samples), not with a
         ``max_coverage`` of the user's, guidance, or ``fill_rounds = 0``.
         """
         if self.guidance is not None or self.density is None or not self.branches or \
