@@ -41,6 +41,10 @@ def maple_analysis():
 def test_maple_layers_from_real_scribbles(maple_analysis):
     """Measured (3 maples): veins lambda 0.74, training IoU 0.64; spots lambda 0.04, training IoU 0.46.
 
+    With thin line layers (issue 22: the maple's 1-2 px dark veins are one): veins lambda 0.42,
+    training IoU 0.54; spots lambda 0.00, training IoU 0.35 (``SnapParams(line_weight=0)``:
+    0.71 / 0.64 and 0.01 / 0.41).
+
     (Before: lambda 0 for both and training IoU 0.12: 1-px S_e windows and a liberal radius of
     about a pixel, far below the registration error.)
     """
