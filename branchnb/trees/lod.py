@@ -467,19 +467,14 @@ def bake_side_outline(cloud, *, yaws=tuple(range(15, 360, 15)), ink=None, width=
     True
     """
     from .outline import _depth
-    from .preview import _side_view_outline
+    from .preview import _outline_style
 
     _check_cloud(cloud)
     out = _subset(cloud, np.arange(cloud.n_billboards))
-    drawn = _side_view_outline(cloud)
-    if drawn is None and (ink is None or width is None):
+    style = _outline_style(cloud, ink, width)
+    if style is None:
         return out
-    ink = np.asarray(drawn[0] if ink is None else ink, np.float32)
-    width = int(drawn[1] if width is None else width)
-    if ink.shape != (3,) or not np.all(np.isfinite(ink)):
-        raise ValueError(f"ink must be 3 finite RGB values, got shape {ink.shape}")
-    if width < 1:
-        raise ValueError(f"width must be >= 1, got {width}")
+    ink, width = style
     offsets = _texel_offsets(cloud)
     want = np.zeros(int(offsets[-1]), bool)
     bad = np.zeros(int(offsets[-1]), bool)

@@ -149,7 +149,7 @@ def side_outline_cards(cloud, *, sides=(90.0, 270.0), ink=None, width=None, offs
     from .export import _check_cloud
     from .lod import _opaque_texels, _view_ids
     from .outline import _depth
-    from .preview import _side_view_outline, project
+    from .preview import _outline_style, project
 
     _check_cloud(cloud)
     try:
@@ -167,15 +167,10 @@ def side_outline_cards(cloud, *, sides=(90.0, 270.0), ink=None, width=None, offs
         raise TypeError(f"baked must be a BillboardCloud, got {type(baked).__name__}")
     if len(baked.textures) != len(cloud.textures):
         raise ValueError("baked must have the cloud's textures (bake_side_outline of it)")
-    drawn = _side_view_outline(cloud)
-    if drawn is None and (ink is None or width is None):
+    style = _outline_style(cloud, ink, width)
+    if style is None:
         return _empty()
-    ink = np.asarray(drawn[0] if ink is None else ink, np.float32)
-    width = int(drawn[1] if width is None else width)
-    if ink.shape != (3,) or not np.all(np.isfinite(ink)):
-        raise ValueError(f"ink must be 3 finite RGB values, got shape {ink.shape}")
-    if width < 1:
-        raise ValueError(f"width must be >= 1, got {width}")
+    ink, width = style
     starts = np.concatenate([[0], np.cumsum([t.shape[0] * t.shape[1] for t in cloud.textures])])
     colours = np.concatenate([t[..., :3].reshape(-1, 3) for t in baked.textures])
     inked = np.linalg.norm(colours - ink[None], axis=1) <= 0.15

@@ -116,6 +116,23 @@ def _side_view_outline(cloud):
     return (o.ink, o.width) if o.outlined else None
 
 
+def _outline_style(cloud, ink=None, width=None):
+    """``(ink, width)`` for a cloud's side-view outline: the given values, else the drawn ones; None if neither.
+
+    Raises ValueError naming ``ink`` or ``width`` when a value is not 3 finite RGB values or a width >= 1.
+    """
+    drawn = _side_view_outline(cloud)
+    if drawn is None and (ink is None or width is None):
+        return None
+    ink = np.asarray(drawn[0] if ink is None else ink, np.float32)
+    width = int(drawn[1] if width is None else width)
+    if ink.shape != (3,) or not np.all(np.isfinite(ink)):
+        raise ValueError(f"ink must be 3 finite RGB values, got shape {ink.shape}")
+    if width < 1:
+        raise ValueError(f"width must be >= 1, got {width}")
+    return ink, width
+
+
 def _ink_view(out: np.ndarray, ink, width: int) -> np.ndarray:
     """Ink a rendered view's outer silhouette (gaps between billboards are no drawn holes);
     its soft rim (0 < alpha < 0.5) and its outermost opaque ring take the ink colour too."""
