@@ -771,6 +771,61 @@ def export_lod_gltf(cloud, path, *, mode: str = "msft_lod", yaw: float = 0.0, he
     return out
 
 
+def export_full_gltf(cloud, path, *, yaw: float = 0.0, height: float = 10.0) -> Path:
+    """Write a cloud as one glTF 2.0 file with a drawn tree's side outline (the ``full`` level alone).
+
+    The billboards carry the side outline baked into their textures
+    (:func:`bake_side_outline`) and the rest of it on single-sided side
+    cards (:func:`~branchnb.trees.lod_cards.side_outline_cards`, a second
+    primitive), as the ``full`` level of :func:`export_lod_gltf`, without
+    building the coarser levels. A photographed tree gets neither.
+
+    Parameters
+    ----------
+    cloud : BillboardCloud
+        The cloud to write.
+    path : str or Path
+        Output ``.gltf`` file (self-contained: embedded buffer and PNG textures).
+    yaw : float
+        Turn of the tree about its axis in the file (degrees).
+    height : float
+        Height of the tree in metres (> 0).
+
+    Returns
+    -------
+    Path
+        The written file.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> from branchnb.trees.billboard import billboard_cloud
+    >>> from branchnb.trees.synthetic import synthetic_tree
+    >>> cloud = billboard_cloud(synthetic_tree("clean", rng=0, size=64).image, rng=0)
+    >>> p = export_full_gltf(cloud, os.path.join(tempfile.mkdtemp(), "t.gltf"))
+    >>> validate_gltf(p)
+    []
+    """
+    from .lod_cards import side_outline_cards
+
+    if isinstance(yaw, bool) or not isinstance(yaw, (int, float, np.integer, np.floating)):
+        raise TypeError(f"yaw must be a number (degrees), got {type(yaw).__name__}")
+    if not np.isfinite(yaw):
+        raise ValueError(f"yaw must be finite, got {yaw}")
+    if isinstance(height, bool) or not isinstance(height, (int, float, np.integer, np.floating)):
+        raise TypeError(f"height must be a number (metres), got {type(height).__name__}")
+    if not (np.isfinite(height) and height > 0):
+        raise ValueError(f"height must be a positive number, got {height}")
+    path = _out_path(path, ".gltf")
+    _check_cloud(cloud)
+    baked = bake_side_outline(cloud)
+    level = LodLevel("full", baked, cards=side_outline_cards(cloud, baked=baked))
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(dumps_strict(_document([level], yaw=float(yaw), height=float(height), lod=False),
+                                 name="glTF document"))
+    return path
+
+
 _COMPONENTS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4}
 _SIZES = {5126: 4, 5125: 4, 5123: 2, 5121: 1}
 

@@ -777,13 +777,11 @@ class TreeVariationsApp(widgets.VBox):
             import tempfile
             from pathlib import Path
 
-            from ..trees.export import export_gltf
-            from ..trees.lod import bake_side_outline
+            from ..trees.lod import export_full_gltf
 
             with tempfile.TemporaryDirectory() as tmp:
-                # With a drawn tree's side-view outline in the textures, as the LOD levels.
-                path = export_gltf(bake_side_outline(self.cloud), Path(tmp) / "cloud.gltf", embed_texture=True,
-                                   yaw=float(self.yaw.value))
+                # With a drawn tree's side-view outline (baked and on side cards), as the LOD chain's full level.
+                path = export_full_gltf(self.cloud, Path(tmp) / "cloud.gltf", yaw=float(self.yaw.value))
                 out["cloud.gltf"] = path.read_bytes()
         return out
 
