@@ -391,3 +391,19 @@ def test_the_parents_outline_does_not_run_on_into_a_turned_joint(size):
     res = edit_structure(obj.image, src, tgt)
     source = _dark_inside(obj.image, obj.image[..., 3] > 0.5)  # the eyes
     assert _dark_inside(res.image, res.mask) <= source + 0.01 * size
+
+
+def test_a_limb_at_a_joint_follows_instead_of_vanishing():
+    """A leg touching both the body and the tail where the tail turns stays (it follows the tail)."""
+    img = np.zeros((140, 220, 4), np.float32)
+    img[52:69, 15:185] = (0.45, 0.45, 0.4, 1.0)        # body + tail, one bar
+    img[60:118, 96:112] = (0.8, 0.15, 0.1, 1.0)        # the leg at the joint
+    body = np.array([(20.0, 60.0), (100.0, 60.0)])
+    tail = np.array([(100.0, 60.0), (180.0, 60.0)])
+    turned = np.array([(100.0, 60.0), (157.0, 17.0)])
+    red = colour_counts(img)[0]
+    res = edit_structure(img, [body, tail], [body, turned])
+    assert colour_counts(res.image)[0] >= 0.7 * red
+    assert pieces(res.image) == 1
+    drop = edit_structure(img, [body, tail], [body, turned], StrokeEditParams(unstroked="drop"))
+    assert colour_counts(drop.image)[0] < 0.5 * red

@@ -678,7 +678,9 @@ def _align_exits(index, pairs, attached, junctions) -> None:
 def _carried_parts(index, pairs, attached, window: float) -> list[tuple[int, int, float]]:
     """``(pair, part, s_target)``: every pair carries the parts hanging from its source stroke.
 
-    A part touching several places goes only where they all move alike.
+    A part touching its own stroke at several places goes only where they
+    all move alike; contact with other strokes does not hold it back (it
+    follows the stroke it touches most).
     """
     keys = [p.source.points.tobytes() for p in pairs]
     out = []
@@ -693,11 +695,13 @@ def _carried_parts(index, pairs, attached, window: float) -> list[tuple[int, int
             moved = corners @ rigid_frame(attached[i].source, attached[i].target, part.s, s_t,
                                           window=window).T
             alike = True
-            for j, s_a in part.anchors:
-                # the pair moving anchor j: this one if it shares the stroke, else the first
-                jj = i if keys[j] == keys[i] else keys.index(keys[j])
-                other = corners @ rigid_frame(attached[jj].source, attached[jj].target, s_a,
-                                              _mapped(attached[jj], s_a), window=window).T
+            # Only places on the part's own stroke (a loop between two cut ends) must move
+            # alike; a part also touching another stroke (a leg at the hip where the tail
+            # turns) follows the stroke it touches most, as a limb would, instead of vanishing.
+            own = [s_a for j, s_a in part.anchors if keys[j] == keys[i]]
+            for s_a in own if len(own) > 1 else ():
+                other = corners @ rigid_frame(attached[i].source, attached[i].target, s_a,
+                                              _mapped(attached[i], s_a), window=window).T
                 alike &= float(np.abs(other - moved).max()) <= 2.0
             if alike:
                 out.append((i, pi, s_t))

@@ -14,10 +14,12 @@ paper) those parts stay, so an edit changes only what the user touched:
 2. **Attachment.** A part hangs from the stroke whose tube it touches
    along most pixels, at the arc length ``s'`` where it touches (the
    median over the contact); a part touching nothing hangs from the
-   nearest stroke. A part touching two places (a loop of rope between
-   the two cut ends of the stroked piece, a limb between two stroked
-   branches) follows only where the two places move alike (within 2 px);
-   otherwise it cannot follow rigidly and is left out.
+   nearest stroke. A part touching its own stroke at two places (a loop
+   of rope between the two cut ends of the stroked piece) follows only
+   where the two places move alike (within 2 px); otherwise it cannot
+   follow rigidly and is left out. A part that also touches another
+   stroke (a leg at the hip where the tail turns, a limb between two
+   stroked branches) follows the stroke it touches most.
 3. **Following.** Every target stroke paired with that source stroke
    carries the part rigidly: the frame of the source stroke at ``s'``
    (point and direction) goes to the frame of the target stroke at the
