@@ -407,3 +407,28 @@ def test_a_limb_at_a_joint_follows_instead_of_vanishing():
     assert pieces(res.image) == 1
     drop = edit_structure(img, [body, tail], [body, turned], StrokeEditParams(unstroked="drop"))
     assert colour_counts(drop.image)[0] < 0.5 * red
+
+
+def test_a_stroke_drawn_along_the_edge_is_centred_on_its_part():
+    """A limb stroked along its edge is re-synthesized centred on its target; skeleton strokes stay as drawn."""
+    img = np.zeros((120, 240, 4), np.float32)
+    img[40:64, 20:120] = (0.45, 0.45, 0.4, 1.0)               # body
+    img[44:60, 120:220] = (0.7, 0.3, 0.2, 1.0)                # limb, middle at y = 51.5
+    body = np.array([(25.0, 52.0), (120.0, 52.0)])
+    edge = np.array([(120.0, 45.0), (215.0, 45.0)])           # along the limb's top edge
+    raised = np.array([(120.0, 52.0), (180.0, 2.0)])
+    direction = (raised[1] - raised[0]) / np.hypot(*(raised[1] - raised[0]))
+
+    def off_line(res):
+        """Mean signed distance (px) of the limb's pixels from the target stroke."""
+        yy, xx = np.nonzero((res.image[..., 0] > 0.6) & (res.image[..., 3] > 0.5))
+        return float(np.mean((xx - raised[0, 0]) * -direction[1] + (yy - raised[0, 1]) * direction[0]))
+
+    centred = edit_structure(img, [body, edge], [body, raised])
+    drawn = edit_structure(img, [body, edge], [body, raised], StrokeEditParams(centre_strokes=False))
+    assert abs(off_line(centred)) < 1.5 < 4.0 < abs(off_line(drawn))
+    assert pieces(centred.image) == 1
+    mid = np.array([(120.0, 51.5), (215.0, 51.5)])
+    a = edit_structure(img, [body, mid], [body, raised])
+    b = edit_structure(img, [body, mid], [body, raised], StrokeEditParams(centre_strokes=False))
+    assert np.array_equal(a.image, b.image)

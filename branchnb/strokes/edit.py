@@ -33,6 +33,7 @@ from ..core.io import encode_png
 from ..core.params import check_params, param
 from ..core.random import as_rng
 from ..core.validate import Seq, Shape, checked
+from .centring import centre_stroke
 from .composition import PlacedPatch, compose, labelling_cost, seam_mask
 from .display import draw_strokes
 from .fetch import fetch, sample_pair, source_index
@@ -56,10 +57,11 @@ class StrokeEditParams:
     (:mod:`~branchnb.strokes.procedural`). Sizes are in pixels of the
     source image; ``0`` means "automatic" for ``patch_size``, ``spacing``
     and ``junction_tolerance`` (the values used are in
-    :attr:`StrokeEditResult.auto`). ``unstroked`` and ``close_cuts`` go
-    beyond the paper (:mod:`~branchnb.strokes.parts`,
-    :mod:`~branchnb.strokes.outline`); ``unstroked="drop",
-    close_cuts=False`` is the paper's method.
+    :attr:`StrokeEditResult.auto`). ``unstroked``, ``close_cuts`` and
+    ``centre_strokes`` go beyond the paper (:mod:`~branchnb.strokes.parts`,
+    :mod:`~branchnb.strokes.outline`, :mod:`~branchnb.strokes.centring`);
+    ``unstroked="drop", close_cuts=False, centre_strokes=False`` is the
+    paper's method.
 
     Parameters
     ----------
@@ -110,6 +112,12 @@ class StrokeEditParams:
     close_cuts : bool
         Draw the object's outline over faces the strokes cut (stroke ends,
         dropped parts); True, beyond the paper.
+    centre_strokes : bool
+        Slide each moved source stroke across itself onto the middle of the
+        part it was drawn along (:mod:`~branchnb.strokes.centring`); True,
+        beyond the paper (which assumes strokes on the skeleton). Strokes
+        within 1 px of the middle, strokes kept in place and pairs with
+        control points stay as drawn.
 
     Examples
     --------
@@ -163,6 +171,9 @@ class StrokeEditParams:
              "or drop them (the paper's output: the strokes only)")
     close_cuts: bool = param(
         True, help="draw the object's outline over faces the strokes cut (stroke ends, dropped parts)")
+    centre_strokes: bool = param(
+        True, help="slide each moved source stroke onto the middle of the part it was drawn along "
+                   "(hand-drawn strokes off the skeleton fetch background otherwise)")
 
 
 @dataclass
@@ -431,7 +442,7 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
 #: The parameters the fetched candidate patches depend on (see :class:`EditPatches`); with
 #: ``sampling == "none"`` only one candidate per sample is fetched, so whether it is "none" counts too.
 FETCH_FIELDS = ("patch_size", "spacing", "search_window", "search_across", "search_step",
-                "junction_tolerance", "extend_branches", "unstroked")
+                "junction_tolerance", "extend_branches", "unstroked", "centre_strokes")
 
 
 def _check_edit_params(params) -> StrokeEditParams:
@@ -569,6 +580,8 @@ def fetch_patches(image, source_strokes, target_strokes, params: StrokeEditParam
     bg_img, target_shape = _background(background, target_shape, src_img.shape)
     pairs = make_pairs(source_strokes, target_strokes, control_points,
                        source_shape=src_img.shape, target_shape=target_shape)
+    if params.centre_strokes:
+        pairs = _centred_pairs(src_img, pairs, control_points, target_shape)
     index = source_index(src_img, [p.source for p in pairs], patch_size=params.patch_size)
     typical = float(np.median(np.concatenate([
         index.radius(k, np.linspace(0, p.source.length, 32), params.patch_size)
@@ -673,6 +686,31 @@ def _align_exits(index, pairs, attached, junctions) -> None:
         ls, lt = pair.source.length, pair.target.length
         row = (a, b) if jn.end == 0 else (ls - a, lt - b)
         attached[i] = _with_pins(pair, [row])
+
+
+def _centred_pairs(src_img, pairs, control_points, target_shape) -> list[StrokePair]:
+    """``pairs`` with every moved source stroke slid onto the middle of its part (:mod:`.centring`).
+
+    Pairs whose target is the source itself (parts kept in place) and pairs
+    with the user's own control points stay as drawn.
+    """
+    alpha = src_img[..., 3]
+    if not bool((alpha < 0.999).any()):
+        return pairs  # an opaque image: no silhouette to centre on
+    mask = alpha > 0.5
+    sources, changed = [], False
+    for i, p in enumerate(pairs):
+        keep = (control_points is not None and control_points[i] is not None) or (
+            p.source.points.shape == p.target.points.shape
+            and np.allclose(p.source.points, p.target.points))
+        others = [q.source.points for j, q in enumerate(pairs) if j != i]
+        pts = p.source.points if keep else centre_stroke(mask, p.source.points, others=others)
+        changed |= pts is not p.source.points
+        sources.append(pts)
+    if not changed:
+        return pairs
+    return make_pairs(sources, [p.target for p in pairs], control_points,
+                      source_shape=src_img.shape, target_shape=target_shape)
 
 
 def _carried_parts(index, pairs, attached, window: float) -> list[tuple[int, int, float]]:

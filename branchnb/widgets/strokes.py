@@ -75,7 +75,7 @@ SECTIONS = [
                               "search_step", "shift_penalty"]),
     ("composition (seams)", ["composition", "seam_power", "gradient_weighted"]),
     ("junctions", ["junction_tolerance", "extend_branches"]),
-    ("parts nobody stroked (beyond the paper)", ["unstroked", "close_cuts"]),
+    ("parts nobody stroked (beyond the paper)", ["unstroked", "close_cuts", "centre_strokes"]),
 ]
 LABELS = {
     "patch_size": ("patch size (0: auto)", "2r"), "spacing": ("spacing (0: auto)", "h"),
@@ -85,6 +85,7 @@ LABELS = {
     "seam_power": ("seam exponent", "p"), "gradient_weighted": ("seams follow edges", "/G"),
     "junction_tolerance": ("joint reach (0: auto)", ""), "extend_branches": ("extend branches", ""),
     "unstroked": ("unstroked parts", ""), "close_cuts": ("outline cut faces", ""),
+    "centre_strokes": ("centre strokes on their part", ""),
 }
 
 #: Strokes shorter than this (px, image pixels) are clicks, not strokes.
