@@ -593,13 +593,20 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
         lattice = max(lattice, min(int(round(side_px / p.max_upscale)), p.max_lattice))
     img0 = resample_to_lattice(full, lattice)
     hi, w = img0.shape[:2]
-    # larger images: more endpoints, so the branches stay about as far apart in image px
-    # (x image px per lattice px), and as dense per lattice px on a grown lattice
+    # larger images: more endpoints, so the branches stay as far apart in image px (x the
+    # square of image px per lattice px: the twigs share an area), and as dense per
+    # lattice px on a grown lattice
     up = float(np.hypot(*full.shape[:2]) / np.hypot(hi, w))
     grow = (lattice / p.lattice_size) ** 2 if p.lattice_size > 0 else 1.0
-    n_img = int(min(round(p.n_endpoints * max(up, 1.0) * grow), _MAX_ENDPOINTS))
+    n_img = int(min(round(p.n_endpoints * max(up, 1.0) ** 2 * grow), _MAX_ENDPOINTS))
     coarse = max(1, round(lattice / p.lattice_size)) if p.lattice_size > 0 else 1
     user = p
+    dense = n_img / max(p.n_endpoints * grow, 1.0)
+    if dense > 1.0 + 1e-3:
+        # ... and the pipe model's gain falls as the square root of that density, so the
+        # trunk and limbs stay as wide in image px as the picture is large (with the gain
+        # as given they carried the extra twigs: 2.5x wider at 2000 px than at 1000 px)
+        p = dataclasses.replace(p, pipe=p.pipe / float(np.sqrt(dense)))
     if lattice != p.lattice_size:  # lengths of the crown and limbs follow the grown lattice
         g = lattice / p.lattice_size
         p = dataclasses.replace(p, crown_blur=p.crown_blur * g, limb_length=p.limb_length * g)
