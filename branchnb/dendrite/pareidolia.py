@@ -96,7 +96,7 @@ a portrait, a grey portrait, a cat photo, a cup photo, a maple-leaf photo, a
 night photo of a rocket, flat objects, a drawn face, a grey ramp, a landscape
 and line art went from 0.80 0.85 0.69 0.77 0.84 0.41 0.80 0.89 0.84 0.92 0.89
 to 0.87 0.90 0.75 0.84 0.89 0.53 0.88 0.93 0.89 0.94 0.92 (limb reach 0.36-0.92
-of the crown, blunt ends 0-3 % instead of 0-10 %; 4-7 s of CPU on a loaded machine, about 20 %
+of the crown, blunt ends 0-3 % instead of 0-10 %; 4-7 s of CPU on a loaded machine, a median 13 %
 more); inputs up to ``max_lattice`` px are unchanged. The night photo stays
 low at every size (0.42 at 500 px): a dark sky that needs solid ink everywhere
 and fine lit towers no twig can draw.
