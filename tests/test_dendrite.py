@@ -34,7 +34,7 @@ from branchnb.dendrite import (
 )
 from branchnb.dendrite.importance import ImportanceParams
 from branchnb.dendrite.pareidolia import PareidoliaParams, pareidolia_tree
-from branchnb.dendrite.trees import TreeParams, grow_layers, grow_tree, rejection_endpoints
+from branchnb.dendrite.trees import TreeParams, grow_layers, grow_tree, rejection_endpoints, render_tree
 
 METRICS = ["cumulative", "nonscalar", "blend"]
 
@@ -324,7 +324,7 @@ def test_constant_image_is_handled(value):
 
 # ---------------------------------------------------------------------- trees
 def test_tree_trunk_is_thickest_and_iterations_shrink():
-    p = TreeParams(iterations=3, radius=30.0)
+    p = TreeParams(iterations=3, radius=30.0, scale_lengths=False)
     t = grow_tree((160, 140), p, rng=0)
     d = t.dendrite
     assert d.is_tree()
@@ -345,6 +345,24 @@ def test_tree_trunk_is_thickest_and_iterations_shrink():
         assert dist[e[:, 1], e[:, 0]].max() <= t.radii[i - 1] + 1e-9
     # grows upward from the bottom centre
     assert d.points[root[0], 1] == 159 and d.points[:, 1].mean() < 100
+
+
+def test_tree_is_the_same_at_any_canvas_size():
+    # the radius and widths are px of 512 x 512 and scale with the canvas: before, a
+    # 2000-px tree was a thin pole with hairline limbs (mean ink 0.016 vs 0.235 at 200 px)
+    p = TreeParams(iterations=3)
+    ink, trunk = {}, {}
+    for n in (128, 384):
+        t = grow_tree((n, n), p, rng=0)
+        ink[n] = 1.0 - float(render_tree(t.dendrite).image[..., :3].mean())
+        trunk[n] = 2 * t.dendrite.radius.max()
+        assert t.radii[1] == pytest.approx(p.radius * n / 512)
+        assert t.params == p  # the parameters as given
+    assert 0.8 < ink[128] / ink[384] < 1.25, ink  # 0.046 / 0.048 (1.7x before)
+    assert 2.2 < trunk[384] / trunk[128] < 3.8, trunk
+    # scale_lengths=False: px of the canvas itself, as in the paper
+    raw = grow_tree((128, 128), TreeParams(iterations=3, scale_lengths=False), rng=0)
+    assert raw.radii[1] == p.radius
 
 
 def test_rejection_endpoints_band():

@@ -271,14 +271,20 @@ def test_pareidolia_limbs_grow_from_the_trunk_and_twigs_taper(portrait_tree):
 
 
 def test_pareidolia_on_a_larger_image_gets_more_endpoints():
-    # drawn back at 2x, the lattice's tree would have its branches twice as far apart
+    # drawn back at 2x, the lattice's tree would have its branches twice as far apart:
+    # 4x the endpoints (they share an area) keep them as far apart in image px
     img = np.ones((128, 128))
     img[30:90, 40:100] = 0.2
     p = PareidoliaParams(n_endpoints=100, iterations=2, lattice_size=64, max_upscale=2.0)
     small = pareidolia_tree(img[::2, ::2], p, rng=0)
     large = pareidolia_tree(img, p, rng=0)
     assert len(small.endpoints_image) == 100
-    assert len(large.endpoints_image) == 200
+    assert len(large.endpoints_image) == 400
+    # ... and the trunk is as wide in image px as the picture is large (2x), not wider
+    # because it carries more twigs (the pipe model's gain falls with the density: with the
+    # gain as given it was 2.5x wider on a 2000-px cat photo than at 1000 px)
+    ratio = large.dendrite.radius[0] / small.dendrite.radius[0]
+    assert 1.6 < ratio < 2.4, ratio
 
 
 def _ancestor(d, i, dist, how_far):
@@ -342,15 +348,15 @@ def test_pareidolia_lattice_grows_on_large_pictures():
     p = PareidoliaParams(n_endpoints=40, iterations=2, lattice_size=64, max_upscale=2.0)
     t = pareidolia_tree(img, p, rng=0)
     assert t.importance.shape[1] == 128  # the picture's side / max_upscale
-    assert len(t.endpoints_image) == 40 * 2 * 4  # x image px per lattice px x lattice area
+    assert len(t.endpoints_image) == 40 * 2 ** 2 * 4  # x (image px per lattice px) ** 2 x lattice area
     assert t.dendrite.shape == t.image.shape[:2]
     q = pareidolia_tree(img, PareidoliaParams(n_endpoints=40, iterations=2, lattice_size=64,
                                               max_upscale=4.0), rng=0)
-    assert q.importance.shape[1] == 64 and len(q.endpoints_image) == 160
+    assert q.importance.shape[1] == 64 and len(q.endpoints_image) == 640
     # the default: the lattice follows the picture up to max_lattice
     r = pareidolia_tree(img, PareidoliaParams(n_endpoints=40, iterations=2, lattice_size=64,
                                               max_lattice=192), rng=0)
-    assert r.importance.shape[1] == 192 and len(r.endpoints_image) == round(40 * 256 / 192 * 9)
+    assert r.importance.shape[1] == 192 and len(r.endpoints_image) == round(40 * (256 / 192) ** 2 * 9)
 
 
 def test_pareidolia_low_contrast_picture_is_stretched():

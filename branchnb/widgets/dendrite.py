@@ -87,7 +87,7 @@ TREE_SECTIONS = [
     ("growth", ["iterations", "trunk_endpoints", "endpoint_growth", "radius", "radius_decay",
                 "min_distance"]),
     ("metric per iteration", ["blend_weight", "mix_power", "noise", "epsilon"]),
-    ("widths", ["tip_width", "increment", "pipe"]),
+    ("widths", ["tip_width", "increment", "pipe", "scale_lengths"]),
     ("crown shape", ["fork_jitter", "trunk_share", "crown_top", "crown_bottom", "crown_width"]),
 ]
 TREE_LABELS = {
@@ -99,7 +99,7 @@ TREE_LABELS = {
     "tip_width": ("twig width (px)", ""), "increment": ("width increment", ""),
     "pipe": ("pipe model", ""), "fork_jitter": ("fork jitter", ""), "trunk_share": ("trunk share", ""),
     "crown_top": ("crown top", ""), "crown_bottom": ("crown bottom", ""),
-    "crown_width": ("crown width", ""),
+    "crown_width": ("crown width", ""), "scale_lengths": ("px of 512 x 512", ""),
 }
 PAREIDOLIA_SECTIONS = [
     ("crown and endpoints", ["side", "crown", "crown_blur", "n_endpoints", "random_ratio",
