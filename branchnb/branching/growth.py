@@ -33,7 +33,7 @@ from .furcation import vertex_angles, window_features
 from .guidance import Guidance
 from .params import SynthesisParams
 from .scoring import _continue_radii, _rank_key, score_candidates
-from .straightness import BendHistogram
+from .straightness import BendHistogram, StraightRuns
 
 if TYPE_CHECKING:
     from .model import StructureModel
@@ -119,6 +119,8 @@ class _Grower(_Filling):
         bm = model.bending
         self.bends = BendHistogram(bm.angles, wG=params.wG, m=params.m)
         self.bend_counts = self.bends.candidate_counts(bm.cont_angles, bm.cont_len) if params.wG > 0 else None
+        # and where the turns fall: straight runs as long as the example's (see .straightness)
+        self.runs = StraightRuns(bm.angles, bm.branch) if params.wG > 0 else None
         self.rho = params.rho if params.rho > 0 else model.rho
         self.domain = domain
         # a root reads the frame ahead as density (a free frame only: a map's domain has its own rules)
@@ -389,6 +391,10 @@ class _Grower(_Filling):
                 score = np.where(live, score * self._frame_factor(tip, dirs, cs.D_c), score)
         if self.drain is not None:
             score = score * self.drain.factor(tip, pts, n_arr, start=st.points[0])
+        if self.runs is not None:
+            run = self.runs.run_length(st.elem_a[-(self.runs.max_run + 1):])
+            fr = self.runs.factors(run, self.model.bending.cont_angles[t_arr], n_arr, self.runs.state[t_arr])
+            fb = fr if fb is None else fb * fr
         if self.shore is not None:
             fs = self.shore.factor(tip, pts, n_arr)
             score = score * fs

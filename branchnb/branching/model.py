@@ -23,6 +23,7 @@ from .furcation import FurcationModel
 from .histogram_matching import HistogramMatcher
 from .params import SynthesisParams
 from .roots import RootModel, fit_roots
+from .strands import join_strands
 
 __all__ = ["StructureModel", "fit_model"]
 
@@ -262,7 +263,8 @@ def fit_model(example: Structure, params: SynthesisParams | None = None, *,
         dom = as_mask(domain, shape=example.image_shape, name="domain")
         if not dom.any():
             raise ValueError("domain is empty: no pixel where branches may grow")
-    ex = example.resampled(p.h)
+    # beyond the paper: a strand cut where another passes over it (line art) is one branch again
+    ex = join_strands(example).resampled(p.h)
     longest = max(len(b.points) for b in ex.branches)
     need = p.k + p.m + 2
     if longest < need:
