@@ -2,7 +2,9 @@
 
 Putting the paper's models together (see the modules of the same names):
 
-1. the example is resampled at step ``h`` and learnt: the bending model's
+1. strands cut where another passes over them (over-and-under line art)
+   are joined again (:mod:`.strands`, beyond the paper), the example is
+   resampled at step ``h`` and learnt: the bending model's
    element sequences, the global histograms, the furcation SVM;
 2. every root starts with the head of an input root branch and is grown
    step by step: all candidate sub-sequences are scored at once
@@ -14,7 +16,10 @@ Putting the paper's models together (see the modules of the same names):
    turns are matched to the example's too (:mod:`.straightness`: the
    paper's 16 angle bins cannot tell a straight step from a small bend, and
    colonization favours turning candidates, so branches bent up to 1.8 x as
-   often per length as the example's), and a river leaving a coast may not
+   often per length as the example's), where the bends fall too (a hazard
+   over the length of the straight run so far, ``StraightRuns``: the Markov
+   chain remembers ``k + 1`` elements, a drawn map's straight pieces are
+   longer), and a river leaving a coast may not
    curl back over the first ``MOUTH_SHARE`` of its length (a hook at its
    mouth);
 3. a finished branch receives ``d`` furcations at the vertices of highest
