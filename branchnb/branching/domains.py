@@ -1,0 +1,252 @@
+"""Domain handling of structure synthesis: deltas that drain, maps whose rivers keep off the coast.
+
+Beyond the paper, whose Markov chain has no notion of a domain: an example
+whose roots lie far inland and whose tips end at the region outside its
+domain *drains* (a delta, :func:`_drains`; its branches are pulled downstream,
+:class:`_Drain`); an example whose roots start at its domain's edge (rivers
+from a coast) keeps its branches off that edge (:class:`_Shore`), and its
+roots may not hook back at their mouth (``MOUTH_SHARE``, ``MOUTH_TURN``).
+Used by :mod:`.growth`; split from :mod:`.synthesis`.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..core.structure import Structure
+from .roots import outlet_starts
+
+if TYPE_CHECKING:
+    from .model import StructureModel
+
+
+def _frame(s: Structure) -> tuple[int, int]:
+    if s.image_shape is not None:
+        return tuple(int(v) for v in s.image_shape[:2])
+    _x0, _y0, x1, y1 = s.bounds()
+    return int(np.ceil(y1)) + 2, int(np.ceil(x1)) + 2
+
+
+def _drains(ex: Structure, domain: np.ndarray | None) -> bool:
+    """True when the example's roots lie far inland (over 30 % of the deepest distance to the
+    region outside the domain) and at least a third of its tips end at that region (within 10 %;
+    braided channels cut into a tree have other tips where the cycles were cut)."""
+    if domain is None or domain.all() or not domain.any():
+        return False
+    from scipy import ndimage as ndi
+
+    depth = ndi.distance_transform_edt(domain)
+    deepest = float(depth.max())
+    h, w = domain.shape
+
+    def at(p):
+        x, y = np.clip(np.rint(p).astype(int), 0, [w - 1, h - 1])
+        return depth[y, x]
+
+    kids = {b.parent for b in ex.branches}
+    # a tree rooted at a source whose one end at the coast is its mouth drains there (a river map
+    # traced the wrong way round, see roots.outlet_starts), its mouth is no tip
+    mouths = outlet_starts(ex, domain)
+    roots = [at(q) for q in mouths]
+    mouth_px = {tuple(np.rint(q).astype(int)) for q in mouths}
+    tips = [at(b.points[-1]) for i, b in enumerate(ex.branches)
+            if i not in kids and tuple(np.rint(b.points[-1]).astype(int)) not in mouth_px]
+    return bool(roots and tips and np.median(roots) > 0.3 * deepest
+                and np.mean(np.asarray(tips) < 0.1 * deepest) >= 1 / 3)
+
+
+#: Strength of the pull toward the sea of an example that drains (``exp(kappa cos)``).
+DRAIN_KAPPA = 2.0
+#: An example that drains: a step heading back inland (cosine to the way down below this) is forbidden.
+UPSTREAM_COS = -0.25
+
+
+class _Drain:
+    """Downstream pull for examples that drain (a delta, see ``StructureModel.drains``).
+
+    A candidate heading at angle ``phi`` to the way down to the region
+    outside the domain (the steepest descent of the distance to it) gets
+    its score times ``exp(kappa cos phi)``: heading to the sea is
+    ``e^(2 kappa)`` ~ 55 x likelier than heading back inland, sideways
+    ``e^kappa`` less than straight down. Going beyond the paper, whose
+    Markov chain alone has no notion of downstream: without it a delta's
+    trunk wanders and rarely reaches the sea. The pull alone still let
+    side channels head back inland (a delta with its sea on the left or
+    top: 5-26 % of the branch length in some seeds), so a step heading
+    back inland (cosine below ``UPSTREAM_COS``) or bringing a branch's tip
+    upstream of its start is forbidden, children's first steps included.
+
+    Also beyond the paper, the image frame where it cuts the land (every
+    side of the frame but the sea's) is no place for a channel: a
+    candidate that ends within ``margin`` pixels of such a side
+    (``max(8, 6 %`` of the image's smaller side``)``) gets its score times
+    ``exp(-10 (1 - d / margin))`` (``d`` the distance of its end), so of two
+    candidates the one farther from the frame wins, and none that touches
+    it (any new point within 3 px) is kept. New roots are exempt (they
+    start at the frame and head inward).
+    Without it the sea's pull drags branches along or into the frame where
+    it runs downstream (a delta whose sea is on the left: branches along
+    the bottom edge); the example's channels only leave through it where
+    they enter (the trunk), and a root heading inward moves away from it.
+    """
+
+    def __init__(self, domain: np.ndarray, kappa: float = DRAIN_KAPPA):
+        from scipy import ndimage as ndi
+
+        dom = np.asarray(domain, bool)
+        depth = ndi.gaussian_filter(ndi.distance_transform_edt(dom), 4.0)
+        gy, gx = np.gradient(-depth)
+        n = np.hypot(gx, gy) + 1e-12
+        self.down = np.stack([gx / n, gy / n], -1).astype(np.float32)
+        self.kappa = float(kappa)
+        h, w = dom.shape
+        self.shape = (h, w)
+        self.margin = max(8.0, 0.06 * min(h, w))
+        # the sides of the frame that cut the land (most of the side in the domain), not the sea's
+        sides = (dom[0], dom[-1], dom[:, 0], dom[:, -1])
+        self.cut = tuple(bool(side.mean() >= 0.5) for side in sides)
+
+    def frame_distance(self, pts: np.ndarray) -> np.ndarray:
+        """Distance of ``pts`` ((..., 2) x, y) to the nearest side of the frame that cuts the land."""
+        h, w = self.shape
+        x, y = pts[..., 0], pts[..., 1]
+        d = np.full(x.shape, np.inf)
+        for cut, v in zip(self.cut, (y, h - 1 - y, x, w - 1 - x)):
+            if cut:
+                d = np.minimum(d, v)
+        return d
+
+    def frame_factor(self, tip, points: np.ndarray, n_new: np.ndarray) -> np.ndarray:
+        """Score factor of candidates ``points`` ((C, M, 2), the first ``n_new`` new) from ``tip``."""
+        if not any(self.cut):
+            return np.ones(len(points))
+        fd = self.frame_distance(points)
+        n = np.maximum(n_new, 1)
+        valid = np.arange(points.shape[1])[None, :] < n[:, None]
+        closest = np.where(valid, fd, np.inf).min(1)
+        end = fd[np.arange(len(points)), n - 1]
+        f = np.exp(-10.0 * np.clip(1.0 - end / self.margin, 0.0, 1.0))
+        return np.where(closest < 3.0, 0.0, f)
+
+    def _cos(self, at, vec: np.ndarray) -> np.ndarray:
+        h, w = self.down.shape[:2]
+        x, y = np.clip(np.rint(np.asarray(at, np.float64)).astype(int), 0, [w - 1, h - 1])
+        return (vec @ self.down[y, x]) / np.maximum(np.hypot(vec[:, 0], vec[:, 1]), 1e-9)
+
+    def factor(self, tip, points: np.ndarray, n_new: np.ndarray, start=None) -> np.ndarray:
+        """Score factor of candidates ``points`` ((C, M, 2), the first ``n_new`` new) from ``tip``.
+
+        ``start`` (the branch's first point): a candidate that heads back
+        inland (over ``UPSTREAM_COS`` off the way down) or brings the
+        branch's tip back upstream of its start is forbidden (0).
+        """
+        tip = np.asarray(tip, np.float64)
+        end = points[np.arange(len(points)), np.maximum(n_new, 1) - 1]
+        cos = self._cos(tip, end - tip)
+        f = np.exp(self.kappa * cos) * self.frame_factor(tip, points, n_new)
+        f = np.where(cos < UPSTREAM_COS, 0.0, f)
+        if start is not None:
+            net = end - np.asarray(start, np.float64)
+            far = np.hypot(net[:, 0], net[:, 1]) > 4.0
+            f = np.where(far & (self._cos(start, net) < 0.0), 0.0, f)
+        return f
+
+
+#: A map's rivers keep off the coast: the margin is this quantile of the depths (distance to the region
+#: outside the domain) of the example's vertices past the first ``SHORE_SKIP`` px of its roots.
+SHORE_QUANTILE = 0.05
+SHORE_SKIP = 12.0
+#: No hooks at a mouth (beyond the paper): over the first ``MOUTH_SHARE`` of a coast root's
+#: length its heading may span at most ``MOUTH_TURN`` radians (a candidate that would turn it
+#: further is taken only when nothing else is left). Without it 2 of 3 rivers of a 1000 px coast
+#: map curled back by > 120 degrees just before their mouth.
+MOUTH_SHARE = 0.12
+MOUTH_TURN = float(np.radians(105.0))
+
+
+def _shore_margin(model: StructureModel) -> float:
+    """Distance the example's branches keep from its domain's edge (0: none to keep).
+
+    Used on examples whose roots start at the domain's edge (rivers from a
+    coast); 0 when the example has no domain, drains, its roots lie inland
+    (median depth over 15 % of the deepest), or its branches run along the
+    edge themselves (the margin is under 3 px).
+    """
+    dom = model.domain
+    if dom is None or dom.all() or not dom.any() or model.drains:
+        return 0.0
+    cached = model.__dict__.get("_shore_margin")
+    if cached is not None and cached[0] is dom:
+        return cached[1]
+    margin = _shore_margin_of(model, dom)
+    model.__dict__["_shore_margin"] = (dom, margin)
+    return margin
+
+
+def _shore_margin_of(model: StructureModel, dom: np.ndarray) -> float:
+    from scipy import ndimage as ndi
+
+    depth = ndi.distance_transform_edt(dom)
+    h, w = dom.shape
+    roots = [b.points[0] for b in model.example.branches if b.parent is None]
+    if not roots:
+        return 0.0
+    x, y = np.clip(np.rint(np.asarray(roots)).astype(int), 0, [w - 1, h - 1]).T
+    if np.median(depth[y, x]) > 0.15 * depth.max():     # roots inland (vessels from a disc): no coast
+        return 0.0
+    vals = []
+    for b in model.example.branches:
+        p = b.points
+        if b.parent is None:
+            arc = np.r_[0.0, np.cumsum(np.hypot(*np.diff(p, axis=0).T))]
+            p = p[arc > SHORE_SKIP]
+        if len(p):
+            x, y = np.clip(np.rint(p).astype(int), 0, [w - 1, h - 1]).T
+            vals.append(depth[y, x])
+    if not vals:
+        return 0.0
+    margin = float(np.quantile(np.concatenate(vals), SHORE_QUANTILE))
+    return min(margin, 0.08 * min(h, w)) if margin >= 3.0 else 0.0
+
+
+class _Shore:
+    """Rivers of a map keep off its coast (beyond the paper).
+
+    A candidate that comes closer to the edge of the domain (the coast)
+    or runs along it, and ends within ``margin`` px of it (see
+    :func:`_shore_margin`, the distance the example's rivers keep) gets
+    its score times ``exp(-8 (1 - d / margin))``, and is forbidden when one
+    of its new points comes within ``margin / 2``: such a river ends
+    there. Heading inland
+    (a root leaving the coast) is free. Without it a river that met the coast turned and ran
+    along it (islands of 256 px: 5-20 % of the river length within 6 px
+    of the coast against 1-1.5 % in the example).
+    """
+
+    def __init__(self, domain: np.ndarray, margin: float):
+        from scipy import ndimage as ndi
+
+        self.depth = ndi.distance_transform_edt(np.asarray(domain, bool)).astype(np.float32)
+        self.margin = float(margin)
+
+    def _at(self, pts: np.ndarray) -> np.ndarray:
+        h, w = self.depth.shape
+        ix = np.clip(np.rint(pts[..., 0]).astype(np.int64), 0, w - 1)
+        iy = np.clip(np.rint(pts[..., 1]).astype(np.int64), 0, h - 1)
+        return self.depth[iy, ix]
+
+    def factor(self, tip, points: np.ndarray, n_new: np.ndarray) -> np.ndarray:
+        """Score factor of candidates ``points`` ((C, M, 2), the first ``n_new`` new) from ``tip``."""
+        n = np.maximum(n_new, 1)
+        d = self._at(points)
+        valid = np.arange(points.shape[1])[None, :] < n[:, None]
+        closest = np.where(valid, d, np.inf).min(1)
+        end = d[np.arange(len(points)), n - 1]
+        tip = np.asarray(tip, np.float64)
+        d_tip = float(self._at(tip))
+        chord = np.hypot(*(points[np.arange(len(points)), n - 1] - tip).T)
+        leaving = end - d_tip >= 0.5 * chord      # heading inland (within 60 degrees of straight)
+        f = np.where(leaving, 1.0, np.exp(-8.0 * np.clip(1.0 - end / self.margin, 0.0, 1.0)))
+        return np.where(~leaving & (closest < 0.5 * self.margin), 0.0, f)

@@ -1,0 +1,197 @@
+"""Filling the domain after growth (the paper's stop rule, then beyond it).
+
+When every branch has stopped before the density covers the domain as
+much as the example's, the free space is filled round after round: tips
+that ended at their drawn length with room ahead grow on, branches with
+room beside them furcate once more (:meth:`_Filling._room`). Beyond the
+paper, holes the example does not have are filled last
+(:meth:`_Filling._fill_holes`, :func:`_hole_map`). A mixin of the grower
+(:class:`.growth._Grower`); split from :mod:`.synthesis`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..core.polyline import tangents
+from .domains import _frame
+
+#: A hole is domain farther than this share of the domain's diameter from every branch (issue 23).
+HOLE_DISTANCE = 0.05
+
+
+def _hole_map(polylines, domain: np.ndarray, cell: float) -> tuple[float, np.ndarray, float]:
+    """(share of ``domain`` in holes, distance to the nearest branch per grid cell, hole distance).
+
+    Computed on a grid of ``cell`` pixels: the cells holding a branch vertex
+    are the branches; a hole is a domain cell farther than
+    :data:`HOLE_DISTANCE` x the domain's diameter from all of them.
+    """
+    from scipy import ndimage as ndi
+
+    dom = np.asarray(domain, bool)
+    k = max(int(cell), 1)
+    grid = dom[::k, ::k]
+    gh, gw = grid.shape
+    occ = np.zeros((gh, gw), bool)
+    for pts in polylines:
+        pts = np.asarray(pts, np.float64)
+        if len(pts):
+            c = np.clip(np.floor((pts[:, 0] + 0.5) / k).astype(np.int64), 0, gw - 1)
+            r = np.clip(np.floor((pts[:, 1] + 0.5) / k).astype(np.int64), 0, gh - 1)
+            occ[r, c] = True
+    ys, xs = np.nonzero(dom)
+    diam = float(np.hypot(np.ptp(xs), np.ptp(ys))) if len(ys) else 0.0
+    gap = HOLE_DISTANCE * diam
+    if not occ.any() or not grid.any():
+        return 1.0, np.full((gh, gw), np.inf), gap
+    dist = ndi.distance_transform_edt(~occ) * k
+    return float(np.mean(dist[grid] > gap)), dist, gap
+
+
+class _Filling:
+    """The domain-filling methods of :class:`.growth._Grower`."""
+
+    def _update_room(self) -> None:
+        """Distance (pixels) from every density cell to the nearest covered cell (D > level)."""
+        from scipy import ndimage as ndi
+
+        dm = self.density
+        empty = dm.domain & (dm.grid <= dm.level)
+        self._empty_dt = ndi.distance_transform_edt(empty).astype(np.float32) * dm.cell
+
+    def _room(self, pts: np.ndarray) -> np.ndarray:
+        """Free space beside each vertex, ``(N,)`` pixels (0 = none).
+
+        A child starting at a vertex grows into the space beside its
+        parent: the room on a side is the free radius of the uncovered
+        region ``2 rho`` away along the normal (one example gap further),
+        kept only while that point is still uncovered and the region there
+        is at least ``rho / 2`` wide; the larger of the two sides counts.
+        """
+        dm, dt = self.density, self._empty_dt
+        if len(pts) < 3:
+            return np.zeros(len(pts))
+        tg = tangents(pts)
+        nrm = np.c_[-tg[:, 1], tg[:, 0]]
+        best = np.zeros(len(pts))
+        gh, gw = dt.shape
+        for side in (-1.0, 1.0):
+            q = pts + side * 2.0 * self.rho * nrm
+            c = np.floor((q[:, 0] + 0.5) / dm.cell).astype(np.int64)
+            r = np.floor((q[:, 1] + 0.5) / dm.cell).astype(np.int64)
+            ok = (c >= 0) & (c < gw) & (r >= 0) & (r < gh)
+            room = np.zeros(len(pts))
+            room[ok] = dt[r[ok], c[ok]]
+            room[dm.sample(q) > dm.level] = 0.0
+            best = np.maximum(best, room)
+        best[best < 0.5 * self.rho] = 0.0
+        return best
+
+    def _reopen_tips(self) -> list[int]:
+        """Branches that stopped at their drawn length with uncovered space ahead, reopened.
+
+        Each gets a new length target: its length plus one more draw for its
+        generation (still bounded by ``max_branch_factor``).
+        """
+        dm, dt = self.density, self._empty_dt
+        out = []
+        for bi, st in enumerate(self.branches):
+            if st.stop != "branch length" or len(st.points) < 2:
+                continue
+            tip = np.asarray(st.points[-1])
+            q = tip + 2.0 * self.rho * np.array([np.cos(st.theta), np.sin(st.theta)])
+            c, r = int(np.floor((q[0] + 0.5) / dm.cell)), int(np.floor((q[1] + 0.5) / dm.cell))
+            if not (0 <= r < dt.shape[0] and 0 <= c < dt.shape[1]) or dt[r, c] < 0.5 * self.rho:
+                continue
+            length = (len(st.points) - 1) * self.p.h
+            if length >= self.max_branch_len:
+                continue
+            st.stop = ""
+            st.target = length + self.model.sample_length(st.generation, float(st.radii[-1]), self.rng)
+            out.append(bi)
+        return out
+
+    def _drain(self, queue: list[int]) -> None:
+        """Grow the queued branches breadth first, queueing their children."""
+        qi = 0
+        while qi < len(queue):
+            bi = queue[qi]
+            qi += 1
+            if self.global_stop():
+                return
+            self.grow(bi)
+            if self.global_stop():
+                return
+            queue.extend(self.furcate(bi))
+
+    def _holes(self) -> tuple[float, np.ndarray, float]:
+        dom = self.domain if self.domain is not None else np.ones(self.shape, bool)
+        return _hole_map([st.points for st in self.branches], dom, self.density.cell)
+
+    def _example_holes(self) -> float:
+        m = self.model
+        dom = m.domain if m.domain is not None else np.ones(_frame(m.source), bool)
+        return _hole_map([b.points for b in m.example.branches], dom, self.density.cell)[0]
+
+    def _fill_holes(self) -> None:
+        """Grow into holes the example does not have (beyond the paper).
+
+        The coverage target counts the domain within ``rho`` of a branch, not
+        where the rest lies: a forest can reach it with branches crowded in
+        the middle and wide empty lobes along a coast. When the share of
+        the domain farther than :data:`HOLE_DISTANCE` x its diameter from
+        every branch exceeds the example's, branches beside the holes
+        furcate once more toward them (one child each, grown without
+        further furcations) and tips ending before a hole grow on, past the
+        coverage target, until the share is the example's or no branch can
+        reach a hole (at most ``fill_rounds`` rounds; coverage at most
+        1.25 x the target). Only in a domain of the user's (a map's land, a
+        mask's region; a free image frame has no coast to reach: there the
+        roots read the frame as density instead, see ``_frame_factor``;
+        filling its holes too pushed coverage to 1.1-1.3 x the target on
+        the retina, lightning and crack samples), not with a
+        ``max_coverage`` of the user's, guidance, or ``fill_rounds = 0``.
+        """
+        if self.guidance is not None or self.density is None or not self.branches or \
+                self.domain is None or self.domain.all() or \
+                self.p.fill_rounds == 0 or self.p.max_coverage > 0 or \
+                self.stop_reason not in ("", "density (coverage)", "no branch can grow"):
+            return
+        share, dist, gap = self._holes()
+        target = self._example_holes() + 1e-3
+        if share <= target:
+            return
+        saved, reason = self.coverage_target, self.stop_reason
+        # past the target, within bounds: 25 % more coverage at most
+        self.coverage_target, self.stop_reason = min(1.0, 1.25 * saved), ""
+        dm = self.density
+        for _ in range(self.p.fill_rounds):
+            before = len(self.branches)
+            self._update_room()
+            # room counts only in and around the holes
+            gd = dm.grid
+            k = max(int(dm.cell), 1)
+            # the hole grid (step k) and the density grid (step cell) differ: sample by position
+            ry = np.minimum((np.arange(gd.shape[0]) * dm.cell / k).astype(np.int64), dist.shape[0] - 1)
+            rx = np.minimum((np.arange(gd.shape[1]) * dm.cell / k).astype(np.int64), dist.shape[1] - 1)
+            near = dist[np.ix_(ry, rx)] > 0.5 * gap
+            self._empty_dt = np.where(near, self._empty_dt, 0.0).astype(np.float32)
+            for bi in self._reopen_tips():
+                self.grow(bi)
+            rooms = [float(self._room(np.asarray(b.points)).max(initial=0.0)) for b in self.branches]
+            for bi in np.argsort(rooms, kind="stable")[::-1]:
+                if rooms[bi] <= 0 or self.stop_reason:
+                    break
+                for c in self.furcate(int(bi), extra=True):
+                    self.grow(c)
+                share, dist, gap = self._holes()
+                if share <= target:
+                    break
+            self._empty_dt = None
+            share, dist, gap = self._holes()
+            if share <= target or len(self.branches) == before or self.stop_reason:
+                break
+        self.coverage_target = saved
+        if not self.stop_reason or self.stop_reason == "density (coverage)":
+            self.stop_reason = reason

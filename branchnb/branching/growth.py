@@ -1,0 +1,568 @@
+"""The growth loop of structure synthesis: roots, Markov steps, furcations, breadth first.
+
+Every root starts with the head of an input branch and is grown step by
+step (:meth:`_Grower.step`: all candidates scored by
+:func:`.scoring.score_candidates`, one of the ``c`` best drawn); a finished
+branch furcates (:meth:`_Grower.furcate`), its children start with the
+parent's non-causal window (:meth:`_Grower.start_child`) and grow the same
+way, generation by generation; then the domain is filled
+(:class:`.filling._Filling`). Split from :mod:`.synthesis`.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..core.polyline import tangents
+from ..core.structure import Branch, Structure
+from .colonization import (
+    DensityMap,
+    SegmentStore,
+    crosses_existing,
+    frame_density,
+    growth_directions,
+    profile_density,
+)
+from .domains import MOUTH_SHARE, MOUTH_TURN, _Drain, _Shore, _shore_margin
+from .filling import _Filling
+from .furcation import vertex_angles, window_features
+from .guidance import Guidance
+from .params import SynthesisParams
+from .scoring import _continue_radii, _rank_key, score_candidates
+from .straightness import RUN_MIN_MEAN, BendHistogram, StraightRuns
+
+if TYPE_CHECKING:
+    from .model import StructureModel
+
+__all__ = ["GrowthProgress"]
+
+
+@dataclass
+class GrowthProgress:
+    """A look at a structure while it grows: what ``synthesize_structure(progress=...)`` receives.
+
+    Parameters
+    ----------
+    fraction : float
+        Estimated progress in [0, 1]: the larger of the total length
+        over ``max_total_length`` and the coverage over its target (below
+        1 while growing; exactly 1 in the last report).
+    steps : int
+        Markov steps taken so far in this attempt.
+    attempt : int
+        Growth attempt (1, 2, ...): an attempt whose root walked out of
+        the domain at once is grown again from scratch (see
+        :data:`MAX_ROOT_ATTEMPTS`), so a later report may show fewer
+        branches than an earlier one.
+    n_branches : int
+        Branches grown so far.
+    total_length : float
+        Their total length (pixels).
+    coverage : float or None
+        Fraction of the domain within ``rho`` of a branch (None without
+        space colonization).
+    done : bool
+        True in the one report after synthesis has finished.
+    """
+
+    fraction: float
+    steps: int
+    attempt: int
+    n_branches: int
+    total_length: float
+    coverage: float | None
+    done: bool = False
+    _grower: object = field(default=None, repr=False)
+
+    def structure(self) -> Structure:
+        """The branches grown so far (a copy: growth goes on without changing it)."""
+        return self._grower.structure()
+
+
+@dataclass
+class _BranchState:
+    points: list
+    radii: list
+    elem_a: list
+    elem_r: list
+    theta: float
+    parent: int | None
+    parent_vertex: int | None
+    generation: int
+    stop: str = ""
+    target: float = np.inf
+    #: input element each vertex appended by a Markov step was copied from (the last ones)
+    src: list = field(default_factory=list)
+    #: a coast root near its mouth: (lowest, highest) heading so far (radians); None = no limit
+    mouth: tuple | None = None
+
+
+class _Grower(_Filling):
+    def __init__(self, model: StructureModel, params: SynthesisParams, rng, shape,
+                 guidance: Guidance | None, scorer=None, domain: np.ndarray | None = None):
+        self.model, self.p, self.rng = model, params, rng
+        scorer = scorer or score_candidates
+        self.shape = (int(shape[0]), int(shape[1]))
+        self.guidance = guidance
+        self.drain = _Drain(domain) if guidance is None and model.drains and domain is not None \
+            and not domain.all() else None
+        margin = _shore_margin(model) if guidance is None and domain is not None \
+            and not domain.all() and self.drain is None else 0.0
+        self.shore = _Shore(domain, margin) if margin > 0 else None
+        self.scorer = scorer
+        self.matcher = model.matcher(params.wG)
+        # beyond the paper: the sizes of the turns follow the example's too (see .straightness)
+        bm = model.bending
+        self.bends = BendHistogram(bm.angles, wG=params.wG, m=params.m)
+        self.bend_counts = self.bends.candidate_counts(bm.cont_angles, bm.cont_len) if params.wG > 0 else None
+        # and where the turns fall: straight runs as long as the example's (see .straightness)
+        self.runs = StraightRuns(bm.angles, bm.branch) if params.wG > 0 else None
+        # only where the example's runs are long (drawn maps), and not where it drains: on deltas the
+        # factor halved the channels reaching the sea (192 px, 6 seeds: 6 and 9 against 13 and 18)
+        if self.runs is not None and (self.runs.mean_run < RUN_MIN_MEAN or self.drain is not None):
+            self.runs = None
+        self.rho = params.rho if params.rho > 0 else model.rho
+        self.domain = domain
+        # a root reads the frame ahead as density (a free frame only: a map's domain has its own rules)
+        self.frame = params.colonization and guidance is None and (domain is None or bool(domain.all()))
+        # coverage = fraction of the domain within rho of a branch (D > exp(-1))
+        self.density = DensityMap(self.shape, self.rho, domain=domain, level=float(np.exp(-1.0))) \
+            if params.colonization else None
+        self.coverage_target = params.max_coverage if params.max_coverage > 0 else \
+            min(model.coverage_at(self.rho), 1.0)
+        self.store = SegmentStore()
+        self.branches: list[_BranchState] = []
+        self.total_length = 0.0
+        self.steps = 0
+        self.n_candidates = 0
+        self.stop_reason = ""
+        self.max_branch_len = params.max_branch_factor * model.max_branch_length
+        radii = model.example.thicknesses()
+        self.r_max = float(radii.max()) if radii.size else np.inf
+        self.fill_rounds = 0
+        self._empty_dt: np.ndarray | None = None
+        self.attempt = 1
+        self.progress = None  # progress(GrowthProgress) after every Markov step
+
+    def report(self, done: bool = False) -> None:
+        if self.progress is None:
+            return
+        cov = self.density.coverage() if self.density is not None else None
+        frac = self.total_length / max(self.p.max_total_length, 1e-9)
+        if cov is not None and self.coverage_target < 1:
+            frac = max(frac, cov / max(self.coverage_target, 1e-9))
+        frac = 1.0 if done else min(frac, 0.99)
+        self.progress(GrowthProgress(fraction=float(frac), steps=self.steps, attempt=self.attempt,
+                                     n_branches=len(self.branches), total_length=self.total_length,
+                                     coverage=cov, done=done, _grower=self))
+
+    # -- bookkeeping ------------------------------------------------------
+    def _inside(self, pts: np.ndarray) -> np.ndarray:
+        h, w = self.shape
+        ok = (pts[:, 0] >= -0.5) & (pts[:, 0] <= w - 0.5) & (pts[:, 1] >= -0.5) & (pts[:, 1] <= h - 0.5)
+        if self.domain is not None and ok.any():
+            ix = np.clip(np.rint(pts[:, 0]).astype(np.int64), 0, w - 1)
+            iy = np.clip(np.rint(pts[:, 1]).astype(np.int64), 0, h - 1)
+            ok &= self.domain[iy, ix]
+        return ok
+
+    def _frame_factor(self, tip, dirs: np.ndarray, D_c: np.ndarray) -> np.ndarray:
+        """Score factor ``(D_c + eps) / (max(D_c, D_frame) + eps)`` of a root's candidates (issue 23).
+
+        Beyond the paper: the frame ahead counts as density
+        (:func:`~.colonization.frame_density`), so a root started near a
+        side or a corner turns into the image instead of walking out
+        through the nearest side after a fifth of the example's trunk length
+        (a lightning rooted top right: every seed's tree then filled only the right
+        half). Roots only: on children it made them run along the frame.
+        """
+        p = self.p
+        Df = frame_density(self.shape, tip, dirs, 3.0 * p.m * p.h, self.rho)
+        return (D_c + p.eps) / (np.maximum(D_c, Df) + p.eps)
+
+    def _register(self, polyline: np.ndarray, angles=(), radii=()) -> None:
+        poly = np.asarray(polyline, np.float64)
+        if len(poly) > 1:
+            self.store.add_polyline(poly)
+            if self.density is not None:
+                self.density.add_segments(poly[:-1], poly[1:])
+            self.total_length += float(np.hypot(*np.diff(poly, axis=0).T).sum())
+        self.matcher.add(angles, radii)
+        self.bends.add(angles)
+
+    def add_existing(self, structure: Structure) -> None:
+        for b in structure.branches:
+            self._register(b.points, b.angles(), b.thickness)
+
+    def global_stop(self) -> bool:
+        if self.stop_reason:
+            return True
+        if self.total_length >= self.p.max_total_length - 1e-6:  # tolerance: summation order
+            self.stop_reason = "total length"
+        elif self.density is not None and self.coverage_target < 1 and \
+                self.density.coverage() >= self.coverage_target:
+            self.stop_reason = "density (coverage)"
+        return bool(self.stop_reason)
+
+    # -- selection --------------------------------------------------------
+    def _cap(self) -> int:
+        return 64 + 4 * self.p.c
+
+    def _pick(self, score: np.ndarray, polylines_fn) -> int | None:
+        """Among the c best valid candidates, choose one with probability ~ score."""
+        order = np.lexsort((np.arange(len(score)), -_rank_key(score)))
+        chosen: list[int] = []
+        tries = 0
+        for j in order:
+            if score[j] <= 0 or not np.isfinite(score[j]):
+                break
+            if self.density is not None:
+                tries += 1
+                if tries > self._cap():
+                    break
+                if crosses_existing(self.store, polylines_fn(j)):
+                    continue
+            chosen.append(int(j))
+            if len(chosen) == self.p.c:
+                break
+        return self._draw(score, chosen)
+
+    def _draw(self, score, chosen) -> int | None:
+        if not chosen:
+            return None
+        w = score[chosen]
+        return chosen[int(self.rng.choice(len(chosen), p=w / w.sum()))]
+
+    # -- starting branches ------------------------------------------------
+    def _start_branch(self, x0, theta0, heads, Q, parent, parent_vertex, generation,
+                      betas=None, mirror=None, r_cap: float | None = None) -> int | None:
+        """Start a branch at ``x0`` with one of the candidate input heads (vectorised).
+
+        ``r_cap`` (a child: the parent's radius at the junction) bounds the
+        copied head's radii: a head taken from a thicker input branch is
+        scaled down so the child never starts thicker than its parent.
+        """
+        model, p = self.model, self.p
+        heads = np.asarray(heads, np.int64)
+        if len(heads) == 0:
+            return None
+        x0 = np.asarray(x0, np.float64)
+        H = len(heads)
+        th0 = theta0 + (np.zeros(H) if betas is None else np.asarray(betas, np.float64))
+        n = model.first_len[heads]
+        # vertices after x0: x1 (first edge, no turn) then the n first elements
+        sign = np.where(mirror, -1.0, 1.0) if mirror is not None else np.ones(H)
+        turns = np.concatenate([np.zeros((H, 1)), model.first_a[heads] * sign[:, None]], axis=1)
+        valid = np.arange(p.m + 1)[None, :] <= n[:, None]
+        th = th0[:, None] + np.cumsum(turns * valid, axis=1)
+        steps = p.h * valid
+        new = np.stack([x0[0] + np.cumsum(np.cos(th) * steps, axis=1),
+                        x0[1] + np.cumsum(np.sin(th) * steps, axis=1)], axis=-1)
+
+        def poly(j):
+            return np.vstack([x0, new[j, : n[j] + 1]])
+
+        score = np.asarray(Q, np.float64).copy()
+        if self.matcher.wG > 0 and self.matcher.n_nodes > 0:
+            st0 = model.head_start[heads]
+            # mirrored heads have negated angles: bin them directly
+            ok = np.arange(p.m)[None, :] < n[:, None]
+            bins_a = self.matcher.bin_angles(model.first_a[heads] * sign[:, None])
+            flat = (bins_a + p.bins * np.arange(H)[:, None])[ok]
+            ca = np.bincount(flat, minlength=H * p.bins).reshape(H, p.bins).astype(np.float64)
+            cr = model.cum_r[st0 + n] - model.cum_r[st0]
+            score *= self.matcher.factors(ca, cr)
+        dirs = growth_directions(x0, new, n + 1)
+        if self.guidance is not None:
+            score = score / (self.guidance.along(x0, dirs, 3.0 * p.m * p.h) + p.eps)
+        if self.density is not None:
+            dc, cross, _ = profile_density(self.density, x0, dirs, 3.0 * p.m * p.h)
+            score = np.where(cross, 0.0, score / (dc + p.eps))
+            if self.frame and parent is None:
+                score = score * self._frame_factor(x0, dirs, dc)
+        inside = self._inside(new[:, 0])
+        score = np.where(inside, score, 0.0)
+        if self.drain is not None and parent is not None:  # downstream, not along or into the land's frame
+            score = score * self.drain.factor(x0, new, n + 1, start=x0)
+        if self.shore is not None:
+            score = score * self.shore.factor(x0, new, n + 1)
+        mouth = self.shore is not None and parent is None
+        if mouth:
+            span = np.where(valid, th, th[:, :1])
+            score = np.where(np.ptp(span, axis=1) > MOUTH_TURN, score * 1e-9, score)
+        j = self._pick(score, poly)
+        if j is None:
+            return None
+        hd = int(heads[j])
+        full = poly(j)
+        ok = self._inside(full)
+        cut = len(full) if ok.all() else int(np.argmin(ok))
+        pl = full[:cut]
+        head = model.bending.heads[hd]
+        ne = max(cut - 2, 0)
+        ea = list(sign[j] * model.first_a[hd, :ne])
+        er = list(model.first_r[hd, :ne])
+        radii = [head["r0"], head["r1"]] + er
+        if r_cap is not None:
+            f = min(1.0, r_cap / max(max(radii[:3]), 1e-9))
+            if f < 1.0:
+                radii = [max(r * f, model.r_min) for r in radii]
+                er = radii[2:]
+        d = pl[-1] - pl[-2]
+        st = _BranchState(points=list(pl), radii=radii, elem_a=ea, elem_r=er,
+                          theta=float(np.arctan2(d[1], d[0])), parent=parent,
+                          parent_vertex=parent_vertex, generation=generation)
+        if p.branch_end == "length":
+            st.target = model.sample_length(generation, float(np.mean(radii[:3])), self.rng)
+        if mouth:
+            hs = th[j, : max(cut - 1, 1)]
+            st.mouth = (float(hs.min()), float(hs.max()))
+        if cut < len(full):
+            st.stop = "left the domain"
+        elif n[j] < p.m and p.branch_end == "markov":
+            st.stop = "end of input branch"
+        self._register(pl, ea, radii)
+        self.branches.append(st)
+        return len(self.branches) - 1
+
+    def start_root(self, x, y, theta) -> int | None:
+        model = self.model
+        nb = len(model.example.branches)
+        usable = [i for i in range(nb) if model.first_len[i] > 0]
+        roots = [i for i in usable if model.example.branches[i].parent is None]
+        # With fewer than 3 input roots every new root would start with the same
+        # copied head; then any input branch's head may start a root.
+        pool = roots if len(roots) >= 3 else usable
+        Q = np.ones(len(pool))
+        return self._start_branch(np.array([x, y], float), float(theta), pool, Q, None, None, 0)
+
+    def start_child(self, parent: int, vertex: int) -> int | None:
+        model, fm = self.model, self.model.furcation
+        st = self.branches[parent]
+        pts = np.asarray(st.points)
+        rad = np.asarray(st.radii)
+        wa, wr = window_features(vertex_angles(pts), rad, fm.k)
+        Q = fm.child_quality(wa[vertex], wr[vertex])
+        heads = fm.child_index
+        usable = model.first_len[heads] > 0
+        heads, Q = heads[usable], Q[usable]
+        if len(heads) == 0:
+            return None
+        betas = np.array([model.bending.heads[h]["beta"] or 0.0 for h in heads])
+        mirror = np.zeros(len(heads), bool)
+        if self.p.mirror_children:
+            # the same furcations reflected: parent window and child angles negated
+            Qm = fm.child_quality(-wa[vertex], wr[vertex])[usable]
+            heads = np.concatenate([heads, heads])
+            Q = np.concatenate([Q, Qm])
+            betas = np.concatenate([betas, -betas])
+            mirror = np.concatenate([mirror, ~mirror])
+        tg = tangents(pts)[vertex]
+        return self._start_branch(pts[vertex], float(np.arctan2(tg[1], tg[0])), heads, Q, parent,
+                                  vertex, st.generation + 1, betas=betas, mirror=mirror,
+                                  r_cap=float(rad[vertex]))
+
+    # -- growing ----------------------------------------------------------
+    def step(self, bi: int) -> bool:
+        """One Markov step of branch ``bi``; False when the branch stops."""
+        st, p = self.branches[bi], self.p
+        if st.stop:
+            return False
+        if not st.elem_a:
+            st.stop = "no history"
+            return False
+        tip = np.asarray(st.points[-1])
+        self.steps += 1
+        cs = self.scorer(self.model, st.elem_a, st.elem_r, tip, st.theta, params=p,
+                         matcher=self.matcher, density=self.density, guidance=self.guidance)
+        pts, n_arr, t_arr = cs.points, cs.n_new, cs.t
+        self.n_candidates += len(t_arr)
+
+        def poly(j):
+            return np.vstack([tip, pts[j, : max(n_arr[j], 0)]])
+
+        score = cs.score
+        fb = self.bends.factors(self.bend_counts[t_arr]) if self.bend_counts is not None else None
+        if self.frame and st.parent is None:
+            live = n_arr > 0
+            if live.any():
+                end = pts[np.arange(len(n_arr)), np.maximum(n_arr, 1) - 1] - tip
+                dirs = end / np.maximum(np.hypot(end[:, 0], end[:, 1]), 1e-9)[:, None]
+                score = np.where(live, score * self._frame_factor(tip, dirs, cs.D_c), score)
+        if self.drain is not None:
+            score = score * self.drain.factor(tip, pts, n_arr, start=st.points[0])
+        if self.runs is not None:
+            run = self.runs.run_length(st.elem_a[-(self.runs.max_run + 1):])
+            fr = self.runs.factors(run, self.model.bending.cont_angles[t_arr], n_arr, self.runs.state[t_arr])
+            fb = fr if fb is None else fb * fr
+        if self.shore is not None:
+            fs = self.shore.factor(tip, pts, n_arr)
+            score = score * fs
+            if fb is not None:   # near the coast the shore decides alone
+                fb = np.where(fs < 1.0, 1.0, fb)
+        if fb is not None:
+            score = score * fb
+        if p.branch_end == "length":
+            score = np.where(n_arr > 0, score, 0.0)
+        heads = None
+        if st.mouth is not None:
+            if (len(st.points) - 1) * p.h < MOUTH_SHARE * min(st.target, self.max_branch_len):
+                heads = st.theta + np.cumsum(self.model.bending.cont_angles[t_arr], axis=1)
+                span = np.maximum(heads.max(1), st.mouth[1]) - np.minimum(heads.min(1), st.mouth[0])
+                score = np.where(span > MOUTH_TURN, score * 1e-9, score)
+            else:
+                st.mouth = None
+        if self.density is not None:
+            free = (~cs.crossing) & (n_arr > 0)
+            if not free.any() or cs.D_c[free].min() >= p.stop_density:
+                st.stop = "density"
+                return False
+        j = self._pick(score, poly)
+        if j is None:
+            st.stop = "blocked"
+            return False
+        t, n = int(t_arr[j]), int(n_arr[j])
+        if heads is not None and n:
+            st.mouth = (min(st.mouth[0], float(heads[j, :n].min())), max(st.mouth[1], float(heads[j, :n].max())))
+        bm = self.model.bending
+        new_pts = pts[j, :n]
+        ang = bm.cont_angles[t, :n]
+        rad = bm.cont_radii[t, :n]
+        if p.thickness_blend and n:
+            rad = _continue_radii(rad, st.radii[-1], bm.radii[t], self.model.r_min, self.r_max)
+        ok = self._inside(new_pts)
+        if not ok.all():
+            cut = int(np.argmin(ok))
+            new_pts, ang, rad = new_pts[:cut], ang[:cut], rad[:cut]
+            st.stop = "left the domain"
+        if len(new_pts):
+            self._register(np.vstack([tip, new_pts]), ang, rad)
+            st.src.extend(range(t + 1, t + 1 + len(new_pts)))
+            st.points.extend(new_pts)
+            st.radii.extend(rad.tolist())
+            st.elem_a.extend(ang.tolist())
+            st.elem_r.extend(rad.tolist())
+            st.theta += float(ang.sum())
+        if st.stop:
+            return False
+        if n < p.m and p.branch_end == "markov":
+            st.stop = "end of input branch"
+            return False
+        length = (len(st.points) - 1) * p.h
+        if length >= st.target - 1e-9:
+            st.stop = "branch length"
+            return False
+        if length >= self.max_branch_len:
+            st.stop = "max branch length"
+            return False
+        return True
+
+    def grow(self, bi: int, max_steps: int | None = None) -> None:
+        k = 0
+        while max_steps is None or k < max_steps:
+            if self.global_stop():
+                return
+            if not self.step(bi):
+                return
+            k += 1
+            self.report()
+
+    def furcate(self, bi: int, extra: bool = False) -> list[int]:
+        st, p = self.branches[bi], self.p
+        if st.generation >= p.max_generations or not self.model.furcation.can_branch:
+            return []
+        if st.stop == "existing":
+            return []
+        pts = np.asarray(st.points)
+        rad = np.asarray(st.radii)
+        length = (len(pts) - 1) * p.h
+        weights = None
+        if extra:
+            d = 1
+            existing = [b.parent_vertex for b in self.branches if b.parent == bi]
+            weights = self._room(pts) if self._empty_dt is not None else None
+            if weights is not None and not weights.any():
+                return []
+        else:
+            d = p.d if p.d >= 0 else self.model.furcation.sample_d(length, self.rng)
+            existing = ()
+        verts = self.model.furcation.choose(pts, rad, d, min_spacing=p.min_spacing, existing=existing,
+                                            weights=weights)
+        kids = []
+        for v in verts:
+            if self.global_stop():
+                break
+            c = self.start_child(bi, v)
+            if c is not None:
+                kids.append(c)
+        return kids
+
+    def run(self, starts) -> None:
+        queue = []
+        for (x, y, th) in starts:
+            if self.global_stop():
+                break
+            r = self.start_root(x, y, th)
+            if r is not None:
+                queue.append(r)
+        self._drain(queue)
+        # Everything stopped before the domain is as dense as the example:
+        # furcate the grown branches once more (highest furcation probability
+        # away from their children), round after round.
+        # (Not in guided synthesis: the user's path, not the domain, says where to grow.)
+        for _ in range(self.p.fill_rounds if self.guidance is None else 0):
+            if self.global_stop() or self.density is None or not self.branches:
+                break
+            before = len(self.branches)
+            self._update_room()
+            rooms = [float(self._room(np.asarray(b.points)).max(initial=0.0)) for b in self.branches]
+            # tips that ended at their drawn length with free space ahead grow on
+            self._drain(self._reopen_tips())
+            for bi in np.argsort(rooms, kind="stable")[::-1]:
+                if self.global_stop() or rooms[bi] <= 0:
+                    break
+                self._drain(self.furcate(int(bi), extra=True))
+            self._empty_dt = None
+            if len(self.branches) == before:
+                break
+            self.fill_rounds += 1
+        if not self.stop_reason:
+            self.stop_reason = "no branch can grow" if queue else "no root could start"
+
+    def structure(self) -> Structure:
+        out = []
+        for st in self.branches:
+            pts = np.asarray(st.points, np.float64)
+            out.append(Branch(pts, np.asarray(st.radii, np.float64), st.parent, st.parent_vertex))
+        return Structure(out, image_shape=self.shape)
+
+    def sources(self) -> list[np.ndarray]:
+        out = []
+        for st in self.branches:
+            src = np.asarray(st.src, np.int64)
+            out.append(np.r_[np.full(len(st.points) - len(src), -1, np.int64), src])
+        return out
+
+    def diagnostics(self, t0: float) -> dict:
+        stops: dict[str, int] = {}
+        for st in self.branches:
+            stops[st.stop or "not finished"] = stops.get(st.stop or "not finished", 0) + 1
+        return {
+            "time_s": time.perf_counter() - t0,
+            "steps": self.steps,
+            "candidates_per_step": self.n_candidates / max(self.steps, 1),
+            "stop_reason": self.stop_reason,
+            "branch_stops": stops,
+            "n_branches": len(self.branches),
+            "n_vertices": int(sum(len(st.points) for st in self.branches)),
+            "total_length": self.total_length,
+            "coverage": self.density.coverage() if self.density is not None else None,
+            "furcation_probability": self.model.furcation.probability_method,
+            "rho": self.rho,
+            "coverage_target": self.coverage_target,
+            "fill_rounds": self.fill_rounds,
+        }

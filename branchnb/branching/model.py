@@ -1,0 +1,315 @@
+"""Learning of structure synthesis: everything :func:`fit_model` learns from an example.
+
+The example is resampled at step ``h`` and learnt: the bending model's
+element sequences, the global histograms, the furcation SVM, the roots
+(:mod:`.roots`), the coverage target and whether it drains (a delta). The
+candidates' histogram counts and growth directions are precomputed here
+for the vectorised scorer (:mod:`.scoring`). Split from :mod:`.synthesis`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..core.params import check_params
+from ..core.structure import Branch, Structure  # noqa: F401  (Branch: the doctest)
+from ..core.validate import Real, checked
+from .bending import BendingModel
+from .colonization import auto_rho, coverage_fraction, growth_directions
+from .domains import _drains, _frame
+from .furcation import FurcationModel
+from .histogram_matching import HistogramMatcher
+from .params import SynthesisParams
+from .roots import RootModel, fit_roots
+from .strands import join_strands
+
+__all__ = ["StructureModel", "fit_model"]
+
+_FIT_FIELDS = ("h", "m", "k", "bins", "svm_C")
+
+
+
+# --------------------------------------------------------------------------
+# Learning
+# --------------------------------------------------------------------------
+@dataclass
+class StructureModel:
+    """Everything learnt from an example structure.
+
+    Parameters
+    ----------
+    source : Structure
+        The example as given.
+    example : Structure
+        The example resampled at ``params.h`` (what the models see).
+    bending : BendingModel
+        The Markov chain over (turning angle, thickness) elements.
+    furcation : FurcationModel
+        Where branches split and how children start.
+    params : SynthesisParams
+        The parameters the model was fitted with.
+    cum_a, cum_r : (T + 1, B) ndarray
+        Cumulative one-hot histogram bins of the elements' angles and
+        thicknesses (row ``i`` counts elements ``0 .. i-1``).
+    cand_counts_a, cand_counts_r : (T, B) ndarray
+        Bin counts of the followers each candidate would append.
+    cand_sq_a, cand_sq_r : (T,) ndarray
+        Their squared row norms (for the histogram factor).
+    local_dirs : (T, 2) ndarray
+        Growth direction (PCA) of each candidate in the frame of a tip
+        heading along +x.
+    head_start : (n_branches,) int ndarray
+        Index of each input branch's first element.
+    edges_a, edges_r : (B + 1,) ndarray
+        Bin edges of the angle (radians) and thickness (pixels)
+        histograms.
+    first_a, first_r : (n_branches, m) ndarray
+        The first ``m`` elements of every input branch (a new branch's
+        first piece), 0-padded.
+    first_len : (n_branches,) int ndarray
+        How many of them exist.
+    max_branch_length : float, default 0.0
+        Length of the longest input branch (pixels).
+    rho : float, default 8.0
+        The automatic density radius (pixels; used when ``params.rho == 0``).
+    r_min : float, default 0.5
+        Smallest thickness of the input (pixels).
+    branch_generation, branch_length, branch_r0 : (n_branches,) ndarray
+        Generation, length (pixels) and starting thickness (mean of the
+        first 3 radii) of every input branch, for drawing branch lengths.
+    domain : (H, W) bool ndarray, optional
+        Where the example's branches may grow; None = its whole frame.
+    roots : RootModel, optional
+        Where and how the example's roots start.
+    coverage : float, default 0.0
+        Fraction of the example's domain within ``rho`` of a branch.
+    drains : bool, default False
+        The example drains: its roots start far inland and its branches
+        end at the region outside the domain (a delta).
+    """
+
+    source: Structure
+    example: Structure
+    bending: BendingModel
+    furcation: FurcationModel
+    params: SynthesisParams
+    cum_a: np.ndarray = field(repr=False, default=None)
+    cum_r: np.ndarray = field(repr=False, default=None)
+    cand_counts_a: np.ndarray = field(repr=False, default=None)
+    cand_counts_r: np.ndarray = field(repr=False, default=None)
+    cand_sq_a: np.ndarray = field(repr=False, default=None)
+    cand_sq_r: np.ndarray = field(repr=False, default=None)
+    local_dirs: np.ndarray = field(repr=False, default=None)
+    head_start: np.ndarray = field(repr=False, default=None)
+    edges_a: np.ndarray = field(repr=False, default=None)
+    edges_r: np.ndarray = field(repr=False, default=None)
+    first_a: np.ndarray = field(repr=False, default=None)
+    first_r: np.ndarray = field(repr=False, default=None)
+    first_len: np.ndarray = field(repr=False, default=None)
+    max_branch_length: float = 0.0
+    rho: float = 8.0  #: the automatic density radius (used when params.rho == 0)
+    r_min: float = 0.5
+    branch_generation: np.ndarray = field(repr=False, default=None)
+    branch_length: np.ndarray = field(repr=False, default=None)
+    branch_r0: np.ndarray = field(repr=False, default=None)
+    #: Where the example's branches may grow ((H, W) bool), None = its whole frame.
+    domain: np.ndarray | None = field(repr=False, default=None)
+    roots: RootModel | None = None
+    #: Fraction of the example's domain within ``rho`` of a branch.
+    coverage: float = 0.0
+    #: The example drains: its roots start far inland and its branches end at the region outside the
+    #: domain (a delta's trunk enters from inland, its distributaries reach the sea).
+    drains: bool = False
+    _coverage_rho: float = field(repr=False, default=-1.0)
+
+    def sample_length(self, generation: int, r_start: float, rng, bandwidth: float = 0.5) -> float:
+        """Target length of a new branch: the length of an input branch of the same
+        generation (the deepest available if deeper), chosen with weights
+        ``exp(-log(r / r_b)^2 / (2 bw^2))`` on the starting thickness.
+
+        Parameters
+        ----------
+        generation : int
+            Generation of the new branch (0 = root).
+        r_start : float
+            Its starting thickness (pixels).
+        rng : numpy.random.Generator
+            Random generator.
+        bandwidth : float, default 0.5
+            Width ``bw`` of the thickness kernel in log units.
+
+        Returns
+        -------
+        float
+            The target length (pixels).
+        """
+        g = min(int(generation), int(self.branch_generation.max()))
+        idx = np.flatnonzero(self.branch_generation == g)
+        if len(idx) == 0:
+            idx = np.arange(len(self.branch_length))
+        r = np.maximum(self.branch_r0[idx], 1e-6)
+        w = np.exp(-np.log(max(r_start, 1e-6) / r) ** 2 / (2 * bandwidth ** 2)) + 1e-12
+        j = idx[rng.choice(len(idx), p=w / w.sum())]
+        return float(self.branch_length[j])
+
+    def matcher(self, wG: float) -> HistogramMatcher:
+        """A fresh global histogram matcher over the example's angles and thicknesses.
+
+        Parameters
+        ----------
+        wG : float
+            Global histogram weight ``wG`` (0 switches matching off).
+
+        Returns
+        -------
+        HistogramMatcher
+            With the model's ``bins`` and ``m`` and no synthesized counts yet.
+        """
+        return HistogramMatcher(self.example.angles(), self.example.thicknesses(),
+                                bins=self.params.bins, wG=wG, m=self.params.m)
+
+    @checked(rho=Real(0, 1e4, low_open=True))
+    def coverage_at(self, rho: float) -> float:
+        """Fraction of the example's domain within ``rho`` of one of its branches.
+
+        Parameters
+        ----------
+        rho : float
+            Distance (pixels), > 0.
+
+        Returns
+        -------
+        float
+            The covered fraction in [0, 1] (cached for the last ``rho``).
+        """
+        if abs(rho - self._coverage_rho) > 1e-9:
+            self.coverage = coverage_fraction(self.example, _frame(self.source), rho, self.domain)
+            self._coverage_rho = float(rho)
+        return self.coverage
+
+    def compatible(self, params: SynthesisParams) -> bool:
+        """Whether ``params`` could have been fitted by this model (same ``h``, ``m``, ``k``, ``bins``, ``svm_C``).
+
+        Parameters
+        ----------
+        params : SynthesisParams
+            The parameters a synthesis wants to use.
+
+        Returns
+        -------
+        bool
+            True when the fitted fields agree (the other fields only steer
+            synthesis).
+        """
+        return all(getattr(params, f) == getattr(self.params, f) for f in _FIT_FIELDS)
+
+
+def _check_example(example) -> Structure:
+    if isinstance(example, StructureModel):
+        return example.source
+    if not isinstance(example, Structure):
+        raise TypeError(f"example must be a Structure or StructureModel, got {type(example).__name__}")
+    if not example.branches:
+        raise ValueError("example structure is empty: annotate or extract at least one branch")
+    example.check_inside(name="example")
+    return example
+
+
+@checked()
+def fit_model(example: Structure, params: SynthesisParams | None = None, *,
+              domain=None) -> StructureModel:
+    """Learn the bending, histogram and furcation models from an example.
+
+    Parameters
+    ----------
+    example : Structure
+        The source structure (any vertex spacing; it is resampled at ``h``).
+    params : SynthesisParams, optional
+        Uses ``h``, ``m``, ``k``, ``bins``, ``svm_C``.
+    domain : (H, W) bool array_like, optional
+        Where the example's branches live (e.g. the land of a river map,
+        see :func:`~branchnb.branching.example_domain`); default
+        the whole ``image_shape``. The root model (:mod:`.roots`) learns
+        where roots start relative to its boundary, and the coverage
+        target is measured inside it.
+
+    Raises
+    ------
+    ValueError
+        Empty example, or no branch with at least ``k + m + 2`` vertices
+        after resampling (a full history of ``k + 1`` elements plus a
+        continuation is needed somewhere). Shorter branches are kept: they
+        feed the histograms, the furcation model and the candidates for
+        short histories (the start of a branch).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.linspace(0, 6, 200)
+    >>> ex = Structure([Branch(np.c_[20 * t, 10 * np.sin(t)] + 50, 2.0)])
+    >>> fit_model(ex).bending.n_elements
+    31
+    """
+    example = _check_example(example)
+    p = check_params(params if params is not None else SynthesisParams())
+    dom = None
+    if domain is not None:
+        from ..core.image import as_mask
+
+        if example.image_shape is None:
+            raise ValueError("domain needs example.image_shape (the frame the domain covers)")
+        dom = as_mask(domain, shape=example.image_shape, name="domain")
+        if not dom.any():
+            raise ValueError("domain is empty: no pixel where branches may grow")
+    # beyond the paper: a strand cut where another passes over it (line art) is one branch again
+    ex = join_strands(example).resampled(p.h)
+    longest = max(len(b.points) for b in ex.branches)
+    need = p.k + p.m + 2
+    if longest < need:
+        raise ValueError(
+            f"every branch of example is shorter than k + m: the longest has {longest} vertices at "
+            f"step h = {p.h}, need k + m + 2 = {need}. Lower k or m, lower h, or annotate longer branches")
+    bending = BendingModel.fit(ex, p.m, p.k, p.h)
+    furc = FurcationModel.fit(ex, p.k, p.svm_C)
+    hm = HistogramMatcher(ex.angles(), ex.thicknesses(), bins=p.bins, wG=p.wG, m=p.m)
+    T, B = bending.n_elements, p.bins
+    oa = np.zeros((T + 1, B))
+    orr = np.zeros((T + 1, B))
+    if T:
+        oa[1:][np.arange(T), hm.bin_angles(bending.angles)] = 1
+        orr[1:][np.arange(T), hm.bin_radii(bending.radii)] = 1
+    cum_a, cum_r = np.cumsum(oa, axis=0), np.cumsum(orr, axis=0)
+    nb = len(ex.branches)
+    fa, fr = np.zeros((nb, p.m)), np.zeros((nb, p.m))
+    fl = np.zeros(nb, np.int64)
+    for i, hd in enumerate(bending.heads):
+        n = min(p.m, hd["n"])
+        s = hd["start"]
+        fa[i, :n] = bending.angles[s:s + n]
+        fr[i, :n] = bending.radii[s:s + n]
+        fl[i] = n
+    tt = np.arange(T)
+    nn = bending.cont_len
+    cca = cum_a[tt + 1 + nn] - cum_a[tt + 1] if T else np.zeros((0, B))
+    ccr = cum_r[tt + 1 + nn] - cum_r[tt + 1] if T else np.zeros((0, B))
+    ldirs = growth_directions(np.zeros(2), bending.local_points, nn) if T else np.zeros((0, 2))
+    rho = auto_rho(ex, p.h)
+    frame = _frame(example)
+    cover = coverage_fraction(ex, frame, p.rho if p.rho > 0 else rho, dom)
+    return StructureModel(source=example, example=ex, bending=bending, furcation=furc, params=p,
+                          cum_a=cum_a, cum_r=cum_r, cand_counts_a=cca, cand_counts_r=ccr,
+                          cand_sq_a=np.einsum("ij,ij->i", cca, cca),
+                          cand_sq_r=np.einsum("ij,ij->i", ccr, ccr),
+                          local_dirs=ldirs,
+                          head_start=np.array([hd["start"] for hd in bending.heads], np.int64),
+                          edges_a=hm.edges_a, edges_r=hm.edges_r,
+                          first_a=fa, first_r=fr, first_len=fl,
+                          max_branch_length=max(b.length for b in ex.branches),
+                          r_min=float(ex.thicknesses().min()),
+                          rho=rho, domain=dom, coverage=cover, _coverage_rho=p.rho if p.rho > 0 else rho,
+                          roots=fit_roots(ex, dom, shape=frame), drains=_drains(ex, dom),
+                          branch_generation=np.array([ex.generation(i) for i in range(nb)]),
+                          branch_length=np.array([b.length for b in ex.branches]),
+                          branch_r0=np.array([np.mean(b.thickness[:3]) for b in ex.branches]))
