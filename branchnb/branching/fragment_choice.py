@@ -210,6 +210,24 @@ def _colour_cost_kernel(ex, xs, ys, rot, trans, excluded, owner, arcmap, unusabl
     return out
 
 
+def _source_windows(ctx: _Context, lib: FragmentLibrary, idx: np.ndarray, tgt: Fragment):
+    """The source windows of :func:`_allowed` for candidates ``idx`` (own branch; for a furcation
+    also the child): ``(branch, lo, hi)``, each ``(n, 1 or 2)``, arc lengths with the slack."""
+    n = len(idx)
+    slack = 0.5
+    lo, hi = _target_window(ctx.sm_t, tgt.branch, tgt.arc, tgt.radius)
+    wins = [(lib.branch[idx], lib.arc[idx], lib.sign[idx], lo, hi)]
+    if tgt.kind == "furcation":
+        Lc = float(ctx.sm_t.lengths[tgt.child])
+        zero = np.zeros(n)
+        wins.append((lib.child[idx], zero, zero + 1.0, -np.inf, Lc if Lc < 1.5 * tgt.radius else np.inf))
+    win_b = np.stack([w[0] for w in wins], 1).astype(np.int64)
+    ends = [(w[1] + w[2] * w[3], w[1] + w[2] * w[4]) for w in wins]
+    win_lo = np.stack([np.minimum(a, b) - slack for a, b in ends], 1)
+    win_hi = np.stack([np.maximum(a, b) + slack for a, b in ends], 1)
+    return win_b, win_lo, win_hi
+
+
 def _colour_costs(ctx: _Context, lib: FragmentLibrary, idx, rot, trans, tgt: Fragment,
                   origin, size: int, disk, ex_win, cov_win, body_win) -> np.ndarray:
     """Colour cost ``C`` of candidates ``idx`` (rigidly placed by ``rot, trans``) on the overlap.
@@ -229,18 +247,7 @@ def _colour_costs(ctx: _Context, lib: FragmentLibrary, idx, rot, trans, tgt: Fra
     rr, cc = np.nonzero(disk & cov_win)
     if n == 0 or len(rr) == 0:
         return np.zeros(n)
-    # the source windows of :func:`_allowed` (own branch; for a furcation also the child)
-    slack = 0.5
-    lo, hi = _target_window(ctx.sm_t, tgt.branch, tgt.arc, tgt.radius)
-    wins = [(lib.branch[idx], lib.arc[idx], lib.sign[idx], lo, hi)]
-    if tgt.kind == "furcation":
-        Lc = float(ctx.sm_t.lengths[tgt.child])
-        zero = np.zeros(n)
-        wins.append((lib.child[idx], zero, zero + 1.0, -np.inf, Lc if Lc < 1.5 * tgt.radius else np.inf))
-    win_b = np.stack([w[0] for w in wins], 1).astype(np.int64)
-    ends = [(w[1] + w[2] * w[3], w[1] + w[2] * w[4]) for w in wins]
-    win_lo = np.stack([np.minimum(a, b) - slack for a, b in ends], 1)
-    win_hi = np.stack([np.maximum(a, b) + slack for a, b in ends], 1)
+    win_b, win_lo, win_hi = _source_windows(ctx, lib, idx, tgt)
     ex = ctx.ex if ctx.ex.flags.c_contiguous else np.ascontiguousarray(ctx.ex)
     return _colour_cost_kernel(ex, cc.astype(np.float32) + np.float32(origin[0]),
                                rr.astype(np.float32) + np.float32(origin[1]),

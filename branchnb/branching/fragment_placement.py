@@ -11,12 +11,13 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import cv2
+import numba
 import numpy as np
 
 from ..core.blending import compose_piece
 from ..core.polyline import RigidTransform
 from .displacement import backward_map, displacement_field
-from .fragment_choice import _allowed, _colour_costs, _Context, _target_window, _tip_penalty
+from .fragment_choice import _colour_costs, _Context, _source_windows, _target_window, _tip_penalty
 from .fragments import Fragment, FragmentLibrary, ShapeBank, choose_among_best, shape_vectors
 from .skeleton_map import PixelMap
 
@@ -237,34 +238,23 @@ def _synthesize_fragments(ctx: _Context, pm_t: PixelMap, targets: list, shape, l
                 fld = displacement_field((size, size), qc - (x0, y0), dc,
                                          step=p.displacement_step)
         mx, my = backward_map((x0, y0), (size, size), T.rotation, T.translation, fld)
-        pix, inimg = _sample(ex, mx, my)
-        mine = [tf.branch] if tf.kind == "branch" else [tf.branch, tf.child]
-        b_win = _crop(pm_t.branch, x0, y0, size, -1)
-        body_win = _crop(body, x0, y0, size, False)
-        own_body = body_win & _one_of(b_win, mine)
+        pix, _ = _sample(ex, mx, my)
+        # Which window pixels the fragment may cover and which it must keep / leave, in one compiled
+        # pass over the window (the rules of ``_allowed``, the regions, the own body; same values).
+        b0 = tf.branch
+        b1 = tf.child if tf.kind == "furcation" else b0
+        own_lo = own_hi = 0.0
         if tf.kind == "branch":
             lo, hi = _target_window(sm_t, tf.branch, tf.arc, R)
-            a_win = _crop(pm_t.arc, x0, y0, size, 0.0)
-            own_body &= (a_win >= tf.arc + max(lo, -R) - 1) & (a_win <= tf.arc + min(hi, R) + 1)
-        # The fragment's own branch body is always taken from it (even where
-        # the source shows a neighbouring branch there: branch texture in a
-        # branch beats a hole filled with background later).
-        allowed = _allowed(ctx, mx[None], my[None], lib, pick, tf)[0]
-        src_ok = ~ctx.unusable[np.clip(np.rint(my).astype(np.int64), 0, ex.shape[0] - 1),
-                               np.clip(np.rint(mx).astype(np.int64), 0, ex.shape[1] - 1)]
-        valid = disk & inimg & (allowed | (own_body & src_ok))
-        if labels_t is not None:
-            # background pixels only from the target pixel's own region (land from land)
-            src_lab = src_labels[np.clip(np.rint(my).astype(np.int64), 0, ex.shape[0] - 1),
-                                np.clip(np.rint(mx).astype(np.int64), 0, ex.shape[1] - 1)]
-            valid &= (src_lab == _crop(labels_t, x0, y0, size, -1)) | own_body
-        own_win = _crop(owner, x0, y0, size, -1)
-        protect_piece = own_body & ~_one_of(own_win, mine) & valid
-        protect_canvas = body_win & ~_one_of(b_win, mine)
-        if tf.kind == "furcation" and p.furcation_clear > 0:
-            clear = ((xx + x0 - tf.center[0]) ** 2 + (yy + y0 - tf.center[1]) ** 2
-                     <= (p.furcation_clear * R) ** 2) & valid & ~protect_canvas
-            _uncover(covered, clear, x0, y0)
+            own_lo, own_hi = tf.arc + max(lo, -R) - 1, tf.arc + min(hi, R) + 1
+        win_b, win_lo, win_hi = _source_windows(ctx, lib, np.array([pick]), tf)
+        clear_r2 = (p.furcation_clear * R) ** 2 if tf.kind == "furcation" and p.furcation_clear > 0 else -1.0
+        valid, protect_piece, protect_canvas = _fragment_masks(
+            mx, my, x0, y0, float(tf.center[0]), float(tf.center[1]), R * R, clear_r2, ctx.excluded,
+            ctx.unusable, ctx.pm_s.branch, ctx.pm_s.arc, win_b[0], win_lo[0], win_hi[0],
+            labels_t is not None, src_labels if labels_t is not None else _NO_LABELS,
+            labels_t if labels_t is not None else _NO_LABELS, pm_t.branch, body, pm_t.arc, owner,
+            b0, b1, tf.kind == "branch", float(own_lo), float(own_hi), covered)
         comp = compose_piece(canvas, covered, pix, valid, (x0, y0), protect_canvas=protect_canvas,
                              protect_piece=protect_piece, method=p.seams, poisson=use_poisson,
                              anchored=p.anchors, anchor_weight=p.anchor_weight)
@@ -290,3 +280,69 @@ def _synthesize_fragments(ctx: _Context, pm_t: PixelMap, targets: list, shape, l
     frag_index[~covered] = -1
     source[~covered] = np.nan
     return _Canvas(canvas, covered, source, frag_index, seams, body, matches, total_seam)
+
+
+_NO_LABELS = np.zeros((1, 1), np.int32)
+
+
+@numba.njit(cache=True)
+def _fragment_masks(mx, my, x0, y0, cx, cy, r2, clear_r2, excluded, unusable, owner_s, arc_s, win_b, win_lo,
+                    win_hi, use_labels, src_labels, labels_t, branch_t, body_t, arc_t, owner_t, b0, b1,
+                    check_arc, own_lo, own_hi, covered):
+    """``valid``, ``protect_piece`` and ``protect_canvas`` of one fragment window, in one pass.
+
+    Per window pixel: inside the disk (``r2``), sampled inside the example, and a source pixel
+    that :func:`~.fragment_choice._allowed` allows (windows ``win_b/lo/hi``), or one of the
+    fragment's own target body (``b0``, ``b1``; on a branch within ``[own_lo, own_hi]``) from a
+    usable source pixel; with ``use_labels``, background only from the pixel's own region.
+    With ``clear_r2 >= 0`` (a furcation) the pixels within that squared radius that the
+    fragment covers and that are no other branch's body are uncovered in ``covered`` first.
+    The values of the former per-array numpy code (same comparisons, same float types).
+    """
+    size_h, size_w = mx.shape
+    h, w = excluded.shape
+    H, W = branch_t.shape
+    valid = np.zeros((size_h, size_w), np.bool_)
+    protect_piece = np.zeros((size_h, size_w), np.bool_)
+    protect_canvas = np.zeros((size_h, size_w), np.bool_)
+    n_win = win_b.shape[0]
+    for r in range(size_h):
+        Y = y0 + r
+        for c in range(size_w):
+            X = x0 + c
+            inside = Y >= 0 and Y < H and X >= 0 and X < W
+            bt = branch_t[Y, X] if inside else -1
+            body = body_t[Y, X] if inside else False
+            mine = bt == b0 or bt == b1
+            own_body = body and mine
+            if check_arc:
+                at = arc_t[Y, X] if inside else 0.0
+                own_body = own_body and at >= own_lo and at <= own_hi
+            dx = np.float64(X) - cx
+            dy = np.float64(Y) - cy
+            d2 = dx * dx + dy * dy
+            u = mx[r, c]
+            v = my[r, c]
+            ok = d2 <= r2 and u >= -0.5 and u <= w - 0.5 and v >= -0.5 and v <= h - 0.5
+            if ok:
+                ix = min(max(int(np.rint(u)), 0), w - 1)
+                iy = min(max(int(np.rint(v)), 0), h - 1)
+                usable = not unusable[iy, ix]
+                allowed = usable
+                if allowed and excluded[iy, ix]:
+                    allowed = False
+                    for t in range(n_win):
+                        if owner_s[iy, ix] == win_b[t] and arc_s[iy, ix] >= win_lo[t] and arc_s[iy, ix] <= win_hi[t]:
+                            allowed = True
+                ok = allowed or (own_body and usable)
+                if ok and use_labels:
+                    lt = labels_t[Y, X] if inside else -1
+                    ok = src_labels[iy, ix] == lt or own_body
+            valid[r, c] = ok
+            ow = owner_t[Y, X] if inside else -1
+            protect_piece[r, c] = own_body and not (ow == b0 or ow == b1) and ok
+            pc = body and not mine
+            protect_canvas[r, c] = pc
+            if clear_r2 >= 0.0 and inside and ok and not pc and d2 <= clear_r2:
+                covered[Y, X] = False
+    return valid, protect_piece, protect_canvas
