@@ -221,10 +221,14 @@ def _source_windows(ctx: _Context, lib: FragmentLibrary, idx: np.ndarray, tgt: F
         Lc = float(ctx.sm_t.lengths[tgt.child])
         zero = np.zeros(n)
         wins.append((lib.child[idx], zero, zero + 1.0, -np.inf, Lc if Lc < 1.5 * tgt.radius else np.inf))
-    win_b = np.stack([w[0] for w in wins], 1).astype(np.int64)
-    ends = [(w[1] + w[2] * w[3], w[1] + w[2] * w[4]) for w in wins]
-    win_lo = np.stack([np.minimum(a, b) - slack for a, b in ends], 1)
-    win_hi = np.stack([np.maximum(a, b) + slack for a, b in ends], 1)
+    win_b = np.empty((n, len(wins)), np.int64)
+    win_lo = np.empty((n, len(wins)))
+    win_hi = np.empty((n, len(wins)))
+    for t, w in enumerate(wins):
+        a, b = w[1] + w[2] * w[3], w[1] + w[2] * w[4]
+        win_b[:, t] = w[0]
+        win_lo[:, t] = np.minimum(a, b) - slack
+        win_hi[:, t] = np.maximum(a, b) + slack
     return win_b, win_lo, win_hi
 
 

@@ -86,8 +86,9 @@ def _constraints(ctx: _Context, src: Fragment, tgt: Fragment, rot, trans):
         ds.append(q - (pp @ rot.T + trans))
         if ctx.p.match_thickness:
             rt, rs, tt, ts = rt_all[sl], rs_all[sl], tt_all[sl], ts_all[sl]
-            nt = np.stack([-tt[:, 1], tt[:, 0]], 1)
-            ns = np.stack([-ts[:, 1], ts[:, 0]], 1)
+            nt, ns = np.empty_like(tt), np.empty_like(ts)   # the normals (-t_y, t_x)
+            nt[:, 0], nt[:, 1] = -tt[:, 1], tt[:, 0]
+            ns[:, 0], ns[:, 1] = -ts[:, 1], ts[:, 0]
             for side in (1.0, -1.0):
                 qe = q + side * rt[:, None] * nt
                 pe = pp + side * rs[:, None] * ns
