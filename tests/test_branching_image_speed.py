@@ -93,38 +93,6 @@ def test_batched_target_shape_vectors_and_scalar_thickness():
         assert [sm.thickness_at(b, v) for v in s] == sm.thickness(b, s).tolist()
 
 
-def test_compose_pins_equal_numpy_rules():
-    """``compose_piece``'s compiled pins are the masks of the numpy code they replaced."""
-    from scipy import ndimage as ndi
-
-    from branchnb.core.blending import _NONE, _pins
-
-    rng = np.random.default_rng(1)
-    for _ in range(60):
-        h, w = (int(v) for v in rng.integers(3, 24, 2))
-        cov, val = rng.random((h, w)) < rng.random(), rng.random((h, w)) < rng.random()
-        pa, pb = rng.random((h, w)) < 0.2, rng.random((h, w)) < 0.2
-        has_a, has_b = bool(rng.random() < 0.5), bool(rng.random() < 0.5)
-        overlap, only_a, only_b = cov & val, cov & ~val, val & ~cov
-        grown = ndi.binary_dilation(only_a)
-        grown[0, :] = grown[-1, :] = grown[:, 0] = grown[:, -1] = True
-        near_a = grown & overlap
-        ref_a = near_a | (pa & overlap) if has_a else near_a
-        ref_b = ndi.binary_dilation(only_b) & overlap & ~near_a
-        ref_b = (ref_b | (pb & overlap) if has_b else ref_b) & ~ref_a
-        ov, ob, pin_a, pin_b, (r0, r1, c0, c1) = _pins(cov, val, pa if has_a else _NONE, pb if has_b else _NONE,
-                                                        has_a, has_b)
-        np.testing.assert_array_equal(ov, overlap)
-        np.testing.assert_array_equal(ob, only_b)
-        np.testing.assert_array_equal(pin_a, ref_a)
-        np.testing.assert_array_equal(pin_b, ref_b)
-        if overlap.any():
-            rows, cols = np.nonzero(overlap)
-            assert (r0, r1, c0, c1) == (rows.min(), rows.max() + 1, cols.min(), cols.max() + 1)
-        else:
-            assert r1 == -1
-
-
 def test_fragment_masks_equal_allowed_rules():
     """A fragment's compiled valid / protect masks are those of ``_allowed`` and the numpy rules."""
     from branchnb.branching.fragment_choice import _allowed, _source_windows, _target_window

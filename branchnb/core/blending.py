@@ -27,7 +27,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import cv2
-import numba
 import numpy as np
 
 from .graphcut import _pair_costs, _seam_cost, _seam_cut
@@ -85,50 +84,6 @@ def _clip_window(origin, size, shape):
     if r0 >= r1 or c0 >= c1:
         return None
     return (slice(r0, r1), slice(c0, c1)), (slice(r0 - y0, r1 - y0), slice(c0 - x0, c1 - x0))
-
-
-_NONE = np.zeros((1, 1), bool)
-
-
-@numba.njit(cache=True)
-def _pins(cov, valid, prot_a, prot_b, has_a, has_b):
-    """``overlap``, ``only_b``, ``pin_a``, ``pin_b`` and the overlap's bounding box
-    ``(r0, r1, c0, c1)`` (``r1 = -1`` without overlap) of :func:`compose_piece`.
-
-    ``pin_a``: overlap pixels 4-adjacent to the part only the canvas covers or on the window's
-    border, plus ``prot_a``; ``pin_b``: overlap pixels 4-adjacent to the part only the piece
-    covers, plus ``prot_b``, never ``pin_a``.
-    """
-    h, w = cov.shape
-    overlap = np.zeros((h, w), np.bool_)
-    only_a = np.zeros((h, w), np.bool_)
-    only_b = np.zeros((h, w), np.bool_)
-    r0, r1, c0, c1 = h, -1, w, -1
-    for i in range(h):
-        for j in range(w):
-            a, b = cov[i, j], valid[i, j]
-            overlap[i, j] = a and b
-            only_a[i, j] = a and not b
-            only_b[i, j] = b and not a
-            if a and b:
-                r0 = min(r0, i)
-                r1 = max(r1, i + 1)
-                c0 = min(c0, j)
-                c1 = max(c1, j + 1)
-    pin_a = np.zeros((h, w), np.bool_)
-    pin_b = np.zeros((h, w), np.bool_)
-    for i in range(h):
-        for j in range(w):
-            if not overlap[i, j]:
-                continue
-            near_a = (i == 0 or i == h - 1 or j == 0 or j == w - 1 or only_a[i, j] or only_a[i - 1, j]
-                      or only_a[i + 1, j] or only_a[i, j - 1] or only_a[i, j + 1])
-            near_b = (only_b[i, j] or (i > 0 and only_b[i - 1, j]) or (i < h - 1 and only_b[i + 1, j])
-                      or (j > 0 and only_b[i, j - 1]) or (j < w - 1 and only_b[i, j + 1]))
-            pa = near_a or (has_a and prot_a[i, j])
-            pin_a[i, j] = pa
-            pin_b[i, j] = (near_b or (has_b and prot_b[i, j])) and not pa
-    return overlap, only_b, pin_a, pin_b, (r0, r1, c0, c1)
 
 
 def compose_piece(canvas: np.ndarray, covered: np.ndarray, piece: np.ndarray, valid: np.ndarray,
@@ -198,19 +153,28 @@ def compose_piece(canvas: np.ndarray, covered: np.ndarray, piece: np.ndarray, va
     covA = covered[win]
     P = piece[sub].astype(np.float32)
     V = valid[sub]
-    # the overlap, the pins and the overlap's bounding box in one compiled pass (same masks)
-    overlap, only_b, pin_a, pin_b, (by0, by1, bx0, bx1) = _pins(
-        np.ascontiguousarray(covA), np.ascontiguousarray(V),
-        _NONE if protect_canvas is None else np.ascontiguousarray(protect_canvas[sub]),
-        _NONE if protect_piece is None else np.ascontiguousarray(protect_piece[sub]),
-        protect_canvas is not None, protect_piece is not None)
-    if by1 < 0:   # no overlap
+    overlap = covA & V
+    only_a = covA & ~V
+    only_b = V & ~covA
+    grown_a = _dilate(only_a)   # a new array: the window's border pixels join it in place
+    grown_a[0, :] = grown_a[-1, :] = grown_a[:, 0] = grown_a[:, -1] = True
+    near_a = grown_a & overlap
+    near_b = _dilate(only_b) & overlap & ~near_a
+    pin_a = near_a.copy()
+    if protect_canvas is not None:
+        pin_a |= protect_canvas[sub] & overlap
+    pin_b = near_b
+    if protect_piece is not None:
+        pin_b = pin_b | (protect_piece[sub] & overlap)
+    pin_b &= ~pin_a
+    if not overlap.any():
         take = only_b.copy()
         cost = 0.0
     else:
         # Seam costs only where the cut can run: the overlap's bounding box plus one pixel of
         # context for the gradients (the same costs there as on the whole window).
-        box = (slice(max(by0 - 1, 0), by1 + 1), slice(max(bx0 - 1, 0), bx1 + 1))
+        bx, by, bw, bh = cv2.boundingRect(overlap.view(np.uint8))   # the overlap's bounding box
+        box = (slice(max(by - 1, 0), by + bh + 1), slice(max(bx - 1, 0), bx + bw + 1))
         # (the checked public graphcut functions would validate every argument of every piece again)
         right, down = _pair_costs(np.asarray(A[box], np.float32), P[box])
         if method == "overlay":
