@@ -91,3 +91,66 @@ def test_batched_target_shape_vectors_and_scalar_thickness():
     for b in range(sm.n_branches):
         s = np.linspace(-3.0, sm.lengths[b] + 3.0, 41)
         assert [sm.thickness_at(b, v) for v in s] == sm.thickness(b, s).tolist()
+
+
+def test_fragment_masks_equal_allowed_rules():
+    """A fragment's compiled valid / protect masks are those of ``_allowed`` and the numpy rules."""
+    from branchnb.branching.fragment_choice import _allowed, _source_windows, _target_window
+    from branchnb.branching.fragment_placement import _NO_LABELS, _crop, _fragment_masks, _one_of
+    from branchnb.branching.fragments import source_fragments
+
+    rng = np.random.default_rng(4)
+    sm_s = SkeletonMap(random_tree((120, 120), 1, n_children=3), 1.0)
+    sm_t = SkeletonMap(random_tree((100, 110), 5, n_children=3), 1.0)
+    pm_s, pm_t = sm_s.pixel_map((120, 120)), sm_t.pixel_map((100, 110))
+    excluded = pm_s.core(1.5, 2.0) | (rng.random((120, 120)) < 0.05)
+    unusable = rng.random((120, 120)) < 0.05
+    ctx = _Context(None, sm_s, sm_t, pm_s, excluded, unusable, ImageSynthesisParams())
+    lib_b, lib_f = source_fragments(sm_s)
+    body = pm_t.core(1.0, 1.0)
+    owner = np.where(rng.random((100, 110)) < 0.5, pm_t.branch, -1)
+    src_lab = (rng.random((120, 120)) < 0.3).astype(np.int32)
+    lab_t = (rng.random((100, 110)) < 0.3).astype(np.int32)
+    n = 0
+    for tf in target_fragments(sm_t):
+        lib = lib_f if tf.kind == "furcation" else lib_b
+        if len(lib) == 0:
+            continue
+        pick = int(rng.integers(len(lib)))
+        R, size = tf.radius, int(np.ceil(2 * tf.radius)) + 6
+        x0, y0 = int(np.floor(tf.center[0] - R)) - 2, int(np.floor(tf.center[1] - R)) - 2
+        yy, xx = np.mgrid[0:size, 0:size]
+        mx = (xx + rng.uniform(-10, 110)).astype(np.float32)
+        my = (yy + rng.uniform(-10, 110)).astype(np.float32)
+        for labels in (None, lab_t):
+            mine = [tf.branch] if tf.kind == "branch" else [tf.branch, tf.child]
+            b_win, body_win = _crop(pm_t.branch, x0, y0, size, -1), _crop(body, x0, y0, size, False)
+            own = body_win & _one_of(b_win, mine)
+            lo_o = hi_o = 0.0
+            if tf.kind == "branch":
+                lo, hi = _target_window(sm_t, tf.branch, tf.arc, R)
+                lo_o, hi_o = tf.arc + max(lo, -R) - 1, tf.arc + min(hi, R) + 1
+                a_win = _crop(pm_t.arc, x0, y0, size, 0.0)
+                own &= (a_win >= lo_o) & (a_win <= hi_o)
+            disk = (xx + x0 - tf.center[0]) ** 2 + (yy + y0 - tf.center[1]) ** 2 <= R * R
+            inimg = (mx >= -0.5) & (mx <= 119.5) & (my >= -0.5) & (my <= 119.5)
+            ix = np.clip(np.rint(mx).astype(np.int64), 0, 119)
+            iy = np.clip(np.rint(my).astype(np.int64), 0, 119)
+            valid = disk & inimg & (_allowed(ctx, mx[None], my[None], lib, pick, tf)[0] | (own & ~unusable[iy, ix]))
+            if labels is not None:
+                valid &= (src_lab[iy, ix] == _crop(labels, x0, y0, size, -1)) | own
+            ref_pp = own & ~_one_of(_crop(owner, x0, y0, size, -1), mine) & valid
+            ref_pc = body_win & ~_one_of(b_win, mine)
+            wb, wl, wh = _source_windows(ctx, lib, np.array([pick]), tf)
+            b1 = tf.child if tf.kind == "furcation" else tf.branch
+            v, pp, pc = _fragment_masks(mx, my, x0, y0, float(tf.center[0]), float(tf.center[1]), R * R, -1.0,
+                                        excluded, unusable, pm_s.branch, pm_s.arc, wb[0], wl[0], wh[0],
+                                        labels is not None, src_lab if labels is not None else _NO_LABELS,
+                                        labels if labels is not None else _NO_LABELS, pm_t.branch, body, pm_t.arc,
+                                        owner, tf.branch, b1, tf.kind == "branch", float(lo_o), float(hi_o),
+                                        np.ones((100, 110), bool))
+            np.testing.assert_array_equal(v, valid)
+            np.testing.assert_array_equal(pp, ref_pp)
+            np.testing.assert_array_equal(pc, ref_pc)
+            n += int(valid.sum() > 0)
+    assert n > 10

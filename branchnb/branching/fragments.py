@@ -457,7 +457,11 @@ def rigid_fit_batch(p: np.ndarray, q: np.ndarray):
     b = (pc[..., 0] * qc[None, :, 1] - pc[..., 1] * qc[None, :, 0]).sum(axis=1)
     th = np.arctan2(b, a)
     c, s = np.cos(th), np.sin(th)
-    rot = np.stack([np.stack([c, -s], -1), np.stack([s, c], -1)], -2)
+    rot = np.empty(c.shape + (2, 2))   # [[c, -s], [s, c]] (no stacking: called per fragment)
+    rot[:, 0, 0] = c
+    rot[:, 0, 1] = -s
+    rot[:, 1, 0] = s
+    rot[:, 1, 1] = c
     trans = mq[None, :] - np.einsum("nij,nj->ni", rot, mp)
     res = (pc**2).sum(axis=(1, 2)) + (qc**2).sum() - 2.0 * np.hypot(a, b)
     return np.maximum(res, 0.0), rot, trans

@@ -1,0 +1,129 @@
+"""The output's regions for flat-colour examples (drawn maps, masks) and their drawing in style.
+
+Going beyond the paper (which copies fragments of photographs): a map or a
+mask is segmented into its flat regions (land, sea); the output's regions
+come from the domain its structure grew in, or the example's own layout,
+and :func:`_draw_flat` draws the target the way the example is drawn
+(:mod:`.drawing`).
+"""
+
+from __future__ import annotations
+
+import time
+from typing import TYPE_CHECKING
+
+import numpy as np
+from scipy import ndimage as ndi
+
+from .skeleton_map import PixelMap
+
+if TYPE_CHECKING:
+    from .image_synthesis import ImageSynthesisParams, ImageSynthesisResult
+
+__all__: list[str] = []
+
+
+def _grew_in_example_layout(layout: np.ndarray, pm_s: PixelMap, pm_t: PixelMap,
+                            share: float = 0.98) -> bool:
+    """True when the output has the example's size and the target's centre lines lie (``share`` of
+    them) in the example's branch region, which is not (almost) all of it: it grew in the
+    example's domain (``fit_model(..., domain=example_domain(...))``), like a delta's
+    distributaries that stop at the example's sea."""
+    lay = np.asarray(layout)
+    if lay.shape != pm_t.dist.shape:
+        return False
+    on_s = lay[pm_s.dist <= 0.5]
+    on_t = pm_t.dist <= 0.5
+    if on_s.size == 0 or not on_t.any():
+        return False
+    inner = int(np.bincount(on_s - lay.min()).argmax() + lay.min())
+    if np.mean(lay == inner) > 0.9:   # (almost) no other region: nothing to keep
+        return False
+    return bool(np.mean(lay[on_t] == inner) >= share)
+
+
+def _example_layout_for(layout: np.ndarray, pm_s: PixelMap, pm_t: PixelMap) -> np.ndarray:
+    """The example's own layout for a target that grew in its domain; the target's bodies lie in the
+    branch region (going beyond the paper: a classifier of the skeleton's surroundings cannot tell
+    a delta's sea from its land when the trunk comes from inland, and slants the coast)."""
+    lay = np.asarray(layout).astype(np.int32).copy()
+    on_s = lay[pm_s.dist <= 0.5]
+    inner = int(np.bincount(on_s - lay.min()).argmax() + lay.min())
+    lay[pm_t.core(1.0, 1.5)] = inner
+    return lay
+
+
+def _domain_labels(layout: np.ndarray, pm_s: PixelMap, domain: np.ndarray,
+                   colours: np.ndarray | None = None) -> np.ndarray:
+    """Output regions from the domain the target grew in: the example's branch region inside it,
+    the region most of the example's other pixels have outside it (going beyond the paper: small
+    pieces outside the domain that lie on the example's branch region, e.g. a land corner between
+    rivers at the frame that the domain left out, stay in the branch region: no lake or inlet the
+    example does not have). ``colours``: the example's colour labels; when its branches have the
+    outer region's colour (a delta's water channels), a domain taken from the example
+    (:func:`~branchnb.branching.extraction.example_domain`) has a notch of sea at every example
+    mouth: the coast is drawn straight across it."""
+    lay = np.asarray(layout)
+    k = int(lay.max()) + 1
+    inner = int(np.bincount(lay[pm_s.dist <= 0.5], minlength=k).argmax())
+    rest = lay[lay != inner]
+    outer = int(np.bincount(rest, minlength=k).argmax()) if rest.size else inner
+    dom = np.asarray(domain, bool)
+    if dom.shape == lay.shape and dom.any() and not dom.all():
+        if colours is not None:
+            c = np.asarray(colours)[pm_s.dist <= 0.5]
+            c = c[c >= 0]
+            if c.size and int(np.bincount(c).argmax()) == outer:
+                dom = _across_example_mouths(dom, pm_s)
+        # small pieces outside the domain lying (almost) wholly on the example's branch region are
+        # no sea of the example (a flat land corner between rivers at the frame): they stay land
+        pieces, n = ndi.label(~dom)
+        if n:
+            area = np.bincount(pieces.ravel(), minlength=n + 1)
+            on_inner = np.bincount(pieces.ravel(), weights=(lay == inner).ravel(), minlength=n + 1)
+            fill = (area < 0.05 * dom.size) & (on_inner >= 0.9 * area)
+            fill[0] = False
+            dom = dom | fill[pieces]
+    return np.where(dom, inner, outer).astype(np.int32)
+
+
+def _across_example_mouths(domain: np.ndarray, pm_s: PixelMap) -> np.ndarray:
+    """``domain`` with the outer region's edge carried straight across the example's channels.
+
+    The outer region is taken without the example's channel bodies (a tube
+    of ``1.5 r + 4`` pixels) and closed with a disk wider than the tube, so it
+    grows back into the tubes only as far as its edge on both sides reaches;
+    the rest of the tubes (the notch each mouth cut into the coast) is
+    inside the domain."""
+    zone = pm_s.dist <= 1.5 * pm_s.radius + 4.0
+    out = ~domain
+    if not (out & zone).any():
+        return domain
+    R = 3 * int(np.ceil(1.5 * float(np.max(pm_s.radius[zone & out])) + 6.0))   # (a wide disk dips little)
+    yy, xx = np.mgrid[-R:R + 1, -R:R + 1]
+    disk = xx ** 2 + yy ** 2 <= R * R
+    pad = R + 1
+    closed = ndi.binary_closing(np.pad(out & ~zone, pad, mode="edge"), disk)[pad:-pad, pad:-pad]
+    return domain | (out & zone & ~closed)
+
+
+def _draw_flat(ex, example_structure, target_structure, layout, labels_t, target_domain, pm_s, labels_ex,
+               p: ImageSynthesisParams, t_start: float, report, shape) -> ImageSynthesisResult:
+    """``synthesize_image`` for flat-colour examples: draw the target in the example's style."""
+    from .drawing import draw_in_style, drawing_style
+    from .image_synthesis import ImageSynthesisResult
+
+    report(0.1, "measuring the example's drawing style")
+    style = drawing_style(ex, example_structure, layout, pm_s)
+    H, W = shape
+    if labels_t is None:
+        labels_t = _domain_labels(layout, pm_s, target_domain) if target_domain is not None else \
+            np.full((H, W), style.branch_region, np.int32)
+    report(0.5, "drawing")
+    img = draw_in_style(style, target_structure, labels_t)
+    report(1.0, "done")
+    z = np.zeros((H, W), bool)
+    return ImageSynthesisResult(img, z, z.copy(), np.full((H, W, 2), np.nan), np.full((H, W), -1, np.int64),
+                                z.copy(), [], 0.0, target_structure, None, 0,
+                                {"total": time.perf_counter() - t_start}, p,
+                                example_labels=labels_ex, labels=labels_t)
