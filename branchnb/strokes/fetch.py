@@ -70,6 +70,7 @@ from scipy import ndimage as ndi
 from ..core.graphcut import gradient_magnitude  # the edge strength G of the seam energy
 from ..core.image import as_rgba
 from ..core.validate import COORD_LIMIT, MAX_COUNT, Array, Int, Real, Shape, check_real, checked
+from ._distance import edt as _edt
 from .parts import add_bases, find_parts
 from .strokes import Stroke, StrokePair
 
@@ -320,7 +321,7 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
     # line of faint pixels beyond a gap).
     inked = alpha > _INKED
     # Distance to the background (the image border counts as background).
-    edt = ndi.distance_transform_edt(np.pad(obj, 1))[1:-1, 1:-1] if has_alpha else None
+    edt = _edt(np.pad(obj, 1))[1:-1, 1:-1] if has_alpha else None
 
     # Widths along every stroke (first: they bound how far from a stroke anything is needed).
     raw = [_raw_width(st, obj, edt) if has_alpha else
