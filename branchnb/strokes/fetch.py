@@ -379,6 +379,7 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
             core = inked & (endw > 0.5) & (d <= np.where(interior, tube + 0.5, cap))
         tubes[key] = (d, s_map, tube, interior, endw, core)
     tube_keys = list(tubes)
+    beyond_cap = _children_beyond_caps(source_strokes, keys, cuts, joined, tubes) if has_alpha else {}
     near_parent = {}
     if has_alpha:
         for k, st in enumerate(source_strokes):
@@ -436,6 +437,8 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
                     own |= ~held
             if k in near_parent:
                 own &= ~near_parent[k]
+            if key in beyond_cap:
+                own &= ~beyond_cap[key]
             weight = endw.copy()
             if has_alpha:
                 # The tube of the object's half width around the stroke, plus
@@ -462,6 +465,47 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
                         part_mask=part_mask if part_mask is not None else np.zeros((h, w), bool))
     add_bases(parts, index, window=3.0)
     return index
+
+
+def _children_beyond_caps(strokes, keys, cuts, joined, tubes) -> dict:
+    """Per tube with a free end that children join: the pixels of its tip's cap
+    (beyond a round cap of the end's half width) inside a child's tube.
+
+    A free end's cap reaches a tip's length beyond the stroke (a pointed tip
+    drawn short), but where children start under a rounded end (a figure's legs
+    under its body's lower dome) the object beyond the round cap is the
+    children's tops: copied with the parent they stay put while the children
+    turn, and peek out below the parent as teeth. They are taken out of the
+    parent's tube (its core and the pixels it may copy), so the children's
+    patches copy them and turn them with the children. Beyond the paper.
+    The cores in ``tubes`` are changed in place.
+    """
+    out: dict = {}
+    for k, st in enumerate(strokes):
+        key = (keys[k], cuts[k])
+        d, s_map, tube, interior, _, core = tubes[key]
+        free_ends = [end for end in (0, 1) if not cuts[k][end]]
+        if not free_ends:
+            continue
+        kids = [j for j in range(len(strokes)) if keys[j] != keys[k] and k in joined[j]]
+        if not kids:
+            continue
+        at_cap = ~interior & (d > tube + 0.5)
+        ends = np.zeros_like(at_cap)
+        for end in free_ends:
+            ends |= (s_map <= 1.0) if end == 0 else (s_map >= st.length - 1.0)
+        at_cap &= ends
+        if not at_cap.any():
+            continue
+        theirs = np.zeros_like(at_cap)
+        for j in kids:
+            dj, _, tj, _, _, _ = tubes[(keys[j], cuts[j])]
+            theirs |= dj <= tj + 0.5
+        taken = at_cap & theirs
+        if taken.any():
+            core[taken] = False
+            out[key] = out[key] | taken if key in out else taken
+    return out
 
 
 def _tube_margin(half_width):
@@ -533,15 +577,15 @@ def _raw_width(stroke: Stroke, obj: np.ndarray, edt: np.ndarray):
     n = stroke.normal_at(s, window=3.0)
     t = np.arange(-_MAX_WIDTH, _MAX_WIDTH + 1, dtype=float)
     inside = _lookup(obj, p[:, None, :] + t[None, :, None] * n[:, None, :])
-    runs, _ = ndi.label(inside, structure=[[0, 0, 0], [1, 1, 1], [0, 0, 0]])
     near = np.argmin(np.where(inside, np.abs(t)[None], np.inf), axis=1)
-    lab = runs[np.arange(len(s)), near]
-    wv = np.zeros(len(s))
-    boxes = ndi.find_objects(runs)
-    for i, lb in enumerate(lab):
-        if lb > 0:
-            cols = boxes[lb - 1][1]
-            wv[i] = max(abs(t[cols.start]), abs(t[cols.stop - 1])) + 0.5
+    # the run of object pixels through the nearest one: from after the last gap
+    # before it to before the first gap after it
+    col = np.arange(len(t))[None]
+    gap = ~inside
+    start = np.where(gap & (col < near[:, None]), col, -1).max(axis=1) + 1
+    stop = np.where(gap & (col > near[:, None]), col, len(t)).min(axis=1) - 1
+    has = inside[np.arange(len(s)), near]
+    wv = np.where(has, np.maximum(np.abs(t[start]), np.abs(t[stop])) + 0.5, 0.0)
     wv = np.minimum(wv, 2.0 * _local_max(edt, p) + 2.0)
     return s, wv, float(max(1, int(np.ceil(np.median(wv)))))
 
@@ -625,20 +669,17 @@ def _local_max(edt: np.ndarray, p: np.ndarray) -> np.ndarray:
     pick = np.unique(np.r_[np.arange(0, len(p), step), len(p) - 1])
     e0 = e_all[pick]
     rho = int(np.ceil(min(float(e0.max()), _MAX_WIDTH))) + 2
-    oy, ox = np.mgrid[-rho:rho + 1, -rho:rho + 1]
-    off = np.column_stack([ox.ravel(), oy.ravel()]).astype(float)
     out = np.zeros(len(pick))
-    chunk = max(1, 1_000_000 // len(off))  # bounded memory
-    for lo in range(0, len(pick), chunk):
-        pts = np.round(p[pick[lo:lo + chunk]])
-        q = pts[:, None, :] + off[None]
-        c = q[..., 0].astype(np.int64)
-        r = q[..., 1].astype(np.int64)
-        ok = (c >= 0) & (c < w) & (r >= 0) & (r < h)
-        ok &= np.hypot(off[:, 0], off[:, 1])[None] <= e0[lo:lo + chunk, None] + 2.0
-        val = np.zeros(q.shape[:2])
-        val[ok] = edt[r[ok], c[ok]]
-        out[lo:lo + chunk] = val.max(axis=1)
+    pts = np.round(p[pick]).astype(np.int64)
+    for i, ((x, y), e) in enumerate(zip(pts, e0)):
+        # the disk of radius e + 2 (at most rho) about the point, cut to the image
+        rr = min(int(np.floor(e + 2.0)), rho)
+        r0, r1, c0, c1 = max(y - rr, 0), min(y + rr + 1, h), max(x - rr, 0), min(x + rr + 1, w)
+        if r0 >= r1 or c0 >= c1:
+            continue
+        oy, ox = np.ogrid[r0 - y:r1 - y, c0 - x:c1 - x]
+        disk = np.hypot(ox, oy) <= e + 2.0
+        out[i] = max(float(edt[r0:r1, c0:c1][disk].max(initial=0.0)), 0.0)
     return np.interp(np.arange(len(p)), pick, out)
 
 

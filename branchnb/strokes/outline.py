@@ -202,7 +202,8 @@ def close_cuts(layer: np.ndarray, src_depth: np.ndarray, style: OutlineStyle) ->
     return out
 
 
-def clear_stale_outline(layer: np.ndarray, src_depth: np.ndarray, style: OutlineStyle) -> np.ndarray:
+def clear_stale_outline(layer: np.ndarray, src_depth: np.ndarray, style: OutlineStyle, *,
+                        filled: np.ndarray | None = None) -> np.ndarray:
     """``layer`` with the source's outline repainted where it is now inside the object
     (a new array, or ``layer``).
 
@@ -222,6 +223,11 @@ def clear_stale_outline(layer: np.ndarray, src_depth: np.ndarray, style: Outline
     style : OutlineStyle
         The source's outline; its width decides what is rim and what is
         "inside".
+    filled : (H, W) bool ndarray, optional
+        Pixels filled at joints (:func:`fill_joints`): their colours were
+        copied from nearby pixels, possibly a stale rim's, so the
+        outline-coloured ones among them are stale too, and no
+        outline-coloured pixel gives its colour.
 
     Returns
     -------
@@ -238,18 +244,34 @@ def clear_stale_outline(layer: np.ndarray, src_depth: np.ndarray, style: Outline
     """
     obj = layer[..., 3] > 0.5
     e = _edt(obj)
-    stale = obj & (src_depth > 0) & (src_depth <= style.width + 0.5) & (e > style.width + 1.5)
-    if not stale.any():
-        return layer
+    deep = obj & (e > style.width + 1.5)
+    stale = deep & (src_depth > 0) & (src_depth <= style.width + 0.5)
     good = obj & (src_depth > style.width + 0.75) & (e > style.width + 0.5)
-    if not good.any():
+    if filled is not None:
+        filled = np.asarray(filled)
+        if filled.shape != obj.shape or filled.dtype != bool:
+            raise ValueError(f"filled must be a bool array of shape {obj.shape}, got {filled.dtype} {filled.shape}")
+        inked = np.abs(layer[..., :3] - np.asarray(style.colour, np.float32)).max(axis=2) < 0.1
+        stale |= deep & filled & inked
+        good &= ~(inked & (filled | (src_depth <= style.width + 0.5)))
+    if not stale.any() or not good.any():
         return layer
-    dist, (ir, ic) = ndi.distance_transform_edt(~good, return_indices=True)
-    stale &= dist <= 3.0 * style.width + 3.0
-    if not stale.any():
+    # the nearest good pixel within 3 w + 3 px: found on the stale pixels' box grown by that much
+    reach = 3.0 * style.width + 3.0
+    rs, cs = np.nonzero(stale)
+    g = int(np.ceil(reach)) + 1
+    r0, r1 = max(rs.min() - g, 0), min(rs.max() + g + 1, obj.shape[0])
+    c0, c1 = max(cs.min() - g, 0), min(cs.max() + g + 1, obj.shape[1])
+    sub = good[r0:r1, c0:c1]
+    if not sub.any():
+        return layer
+    dist, (ir, ic) = ndi.distance_transform_edt(~sub, return_indices=True)
+    st = stale[r0:r1, c0:c1] & (dist <= reach)
+    if not st.any():
         return layer
     out = layer.copy()
-    out[stale, :3] = layer[ir[stale], ic[stale], :3]
+    win, src = out[r0:r1, c0:c1], layer[r0:r1, c0:c1]
+    win[st, :3] = src[ir[st], ic[st], :3]
     return out
 
 
