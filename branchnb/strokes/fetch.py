@@ -338,7 +338,8 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
             r = patch_size / 2.0 if patch_size > 0 else (float(auto_radius(wmax)) if has_alpha else OPAQUE_RADIUS)
             uniq[key] = _distance_map(st, (h, w), reach=max(r, 2.0 * wmax) + 24.0)
     d_min = np.min(np.stack([d for d, _ in uniq.values()]), axis=0) if len(uniq) > 1 else None
-    yy, xx = np.mgrid[0:h, 0:w].astype(np.float32)
+    # pixel coordinates as a row and a column (broadcast: no full-image grids)
+    yy, xx = np.arange(h, dtype=np.float32)[:, None], np.arange(w, dtype=np.float32)[None, :]
 
     # Ends joined to another stroke, cut ends.
     joined = _joined_ends(source_strokes, raw, keys)
@@ -370,7 +371,13 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
                     endw *= _end_tube(st, end, s_map, xx, yy, w_end, inked)
         tube = interior = core = None
         if has_alpha:
-            tube = np.interp(s_map, ws, wv).astype(np.float32)
+            # the half width at every pixel's nearest stroke point (beyond the distance
+            # map's box the arc length is 0: the first width)
+            tube = np.full((h, w), np.float32(np.interp(0.0, ws, wv)), np.float32)
+            rows, cols = np.nonzero((d < 1e6).any(axis=1))[0], np.nonzero((d < 1e6).any(axis=0))[0]
+            if len(rows):
+                box = (slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1))
+                tube[box] = np.interp(s_map[box], ws, wv)
             interior = (s_map > 1.0) & (s_map < st.length - 1.0)
             # beyond a free end the object may go on for a tip's length (see _is_cut), as far
             # as the patch at the end reaches (the rest is a part)
@@ -400,7 +407,14 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
             tubes[(keys[k], cuts[k])][5][cut] = False
             # the branch's patches still copy the two pixels of the parent's tube next to
             # the branch, so that the two overlap at the joint (no holes along the seam)
-            near_parent[k] = cut & ~ndi.binary_dilation(tubes[(keys[k], cuts[k])][5], iterations=2)
+            # (dilated on the cut's box grown by 3 px only: the same pixels on the cut)
+            rs, cs = np.nonzero(cut)
+            if not len(rs):
+                continue
+            box = (slice(max(rs.min() - 3, 0), rs.max() + 4), slice(max(cs.min() - 3, 0), cs.max() + 4))
+            grown = np.zeros_like(cut)
+            grown[box] = ndi.binary_dilation(tubes[(keys[k], cuts[k])][5][box], iterations=2)
+            near_parent[k] = cut & ~grown
     parts, part_mask = [], None
     if has_alpha:
         # Object pixels no stroke's tube holds: the parts nobody stroked.

@@ -368,7 +368,7 @@ def fill_joints(layer: np.ndarray, joints, radii, *, pockets=None, inner: int = 
         b0, b1 = max(int(x) - cr, c0) - c0, min(int(x) + cr + 1, c1) - c0
         closed = np.zeros_like(m)
         closed[a0:a1, b0:b1] = _disk_closing(m[a0:a1, b0:b1], k)
-        yy, xx = np.mgrid[r0:r1, c0:c1]
+        yy, xx = np.ogrid[r0:r1, c0:c1]
         near = np.hypot(xx - x, yy - y) <= r
         new = closed & ~m & near
         if not new.any():
