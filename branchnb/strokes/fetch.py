@@ -355,6 +355,7 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
     # object pixels within the half width (no margin), up to the cut lines,
     # and a free tip's cap -- and the weights of the cut ends.
     tubes: dict = {}
+    dboxes: dict = {}  # per distinct stroke: the box of its distance map
     for k, st in enumerate(source_strokes):
         key = (keys[k], cuts[k])
         if key in tubes:
@@ -374,10 +375,8 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
             # the half width at every pixel's nearest stroke point (beyond the distance
             # map's box the arc length is 0: the first width)
             tube = np.full((h, w), np.float32(np.interp(0.0, ws, wv)), np.float32)
-            rows, cols = np.nonzero((d < 1e6).any(axis=1))[0], np.nonzero((d < 1e6).any(axis=0))[0]
-            if len(rows):
-                box = (slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1))
-                tube[box] = np.interp(s_map[box], ws, wv)
+            box = dboxes.setdefault(keys[k], _reach_box(d))
+            tube[box] = np.interp(s_map[box], ws, wv)
             interior = (s_map > 1.0) & (s_map < st.length - 1.0)
             # beyond a free end the object may go on for a tip's length (see _is_cut), as far
             # as the patch at the end reaches (the rest is a part)
@@ -463,12 +462,14 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
                 # a side branch is copied with the stroke. A one-pixel ramp
                 # gives cut-off parts an anti-aliased edge. The object beyond
                 # the stroke ends is handled by the end weights.
-                held = part_mask.copy()
+                # (on the distance map's box: beyond it no pixel is interior)
+                b = dboxes[keys[k]]
+                held = part_mask[b].copy()
                 for o in others:
-                    held |= o
-                margin = np.where(inked, np.where(held, 0.0, _OPAQUE_MARGIN), _tube_margin(tube))
-                ramp = np.where(tubes[key][5], 1.0, np.clip(tube + margin - d + 0.5, 0.0, 1.0))
-                weight *= np.where(interior, ramp, 1.0).astype(np.float32)
+                    held |= o[b]
+                margin = np.where(inked[b], np.where(held, 0.0, _OPAQUE_MARGIN), _tube_margin(tube[b]))
+                ramp = np.where(tubes[key][5][b], 1.0, np.clip(tube[b] + margin - d[b] + 0.5, 0.0, 1.0))
+                weight[b] *= np.where(interior[b], ramp, 1.0).astype(np.float32)
             done[key] = (own & (weight > 0), weight)
         s_maps.append(s_map)
         allowed.append(done[key][0])
@@ -520,6 +521,15 @@ def _children_beyond_caps(strokes, keys, cuts, joined, tubes) -> dict:
             core[taken] = False
             out[key] = out[key] | taken if key in out else taken
     return out
+
+
+def _reach_box(d: np.ndarray) -> tuple[slice, slice]:
+    """The box of the pixels a distance map reaches (``d < 1e6``; see :func:`_distance_map`)."""
+    near = d < 1e6
+    rows, cols = np.flatnonzero(near.any(axis=1)), np.flatnonzero(near.any(axis=0))
+    if not len(rows):
+        return slice(0, 0), slice(0, 0)
+    return slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1)
 
 
 def _tube_margin(half_width):
