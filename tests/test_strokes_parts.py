@@ -320,6 +320,38 @@ def test_a_figure_spreads_its_legs_and_keeps_a_whole_body(size):
     assert res.mask[body_px].mean() > 0.99
 
 
+@pytest.mark.parametrize("size, spread", [(300, 0.6), (400, 0.9)])
+def test_spread_legs_leave_no_teeth_under_the_body(size, spread):
+    """Legs starting under the body's rounded lower end, spread about their roots: the
+    body keeps its round cap and the legs' tops turn with the legs (the body's tip cap
+    copied them in place: they peeked out under the dome as teeth, 230 px at 300 px /
+    0.6 rad before, up to 8 px out). Known answer: the body and head as drawn, each
+    limb's tapered capsule turned about its root."""
+    from branchnb.strokes.procedural import _seg_distance
+
+    obj = figure(size, rng=0)
+    body = obj.strokes[0]
+    src, tgt = [body], [body]
+    yy, xx = np.mgrid[0:size, 0:size].astype(float)
+    ideal = (obj.image[..., 3] > 0.5) & ~np.isin(obj.labels, [2, 3, 4, 5])
+    near = np.zeros((size, size), bool)
+    for k, ang in ((2, 0.9), (3, -1.0), (4, spread), (5, -spread)):
+        st = obj.strokes[k]
+        c, s = np.cos(ang), np.sin(ang)
+        t = (st - st[0]) @ np.array([[c, -s], [s, c]]).T + st[0]
+        src.append(st)
+        tgt.append(t)
+        d, arc = _seg_distance(xx, yy, t)
+        ideal |= d - obj.widths[k] * (1 - 0.2 * np.clip(arc / Stroke(t).length, 0, 1)) <= obj.outline
+        near |= np.hypot(xx - st[0, 0], yy - st[0, 1]) <= 2.0 * obj.widths[0]
+    res = edit_structure(obj.image, src, tgt)
+    teeth = res.mask & near & (ndi.distance_transform_edt(~ideal) > 1.5)
+    assert teeth.sum() <= 4, teeth.sum()
+    # the dome's bottom between the legs is there and outlined (dark)
+    x, y = int(body[0, 0]), int(body[0, 1] + obj.widths[0])
+    assert res.mask[y - 3, x] and res.image[y - 3:y + 4, x, :3].max(axis=1).min() < 0.3
+
+
 def _swayed_tree(size):
     """A bare tree whose trunk sways, its limbs and two twigs carried along by strokes."""
     from branchnb.strokes.parts import carry_stroke

@@ -909,7 +909,7 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
             if filled is not None and filled.any():
                 depth = np.where(filled, np.float32(_FILLED_DEPTH), depth)
             layer = close_cuts(layer, depth, style)
-            layer = clear_stale_outline(layer, depth, style)
+            layer = clear_stale_outline(layer, depth, style, filled=filled)
         if joints:
             layer = fill_joints(layer, [j[0] for j in joints], [j[1] for j in joints])
         layer = drop_flecks(layer, index.premult[:, :, 3])

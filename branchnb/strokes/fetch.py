@@ -70,6 +70,7 @@ from scipy import ndimage as ndi
 from ..core.graphcut import gradient_magnitude  # the edge strength G of the seam energy
 from ..core.image import as_rgba
 from ..core.validate import COORD_LIMIT, MAX_COUNT, Array, Int, Real, Shape, check_real, checked
+from ._distance import edt as _edt
 from .parts import add_bases, find_parts
 from .strokes import Stroke, StrokePair
 
@@ -320,7 +321,7 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
     # line of faint pixels beyond a gap).
     inked = alpha > _INKED
     # Distance to the background (the image border counts as background).
-    edt = ndi.distance_transform_edt(np.pad(obj, 1))[1:-1, 1:-1] if has_alpha else None
+    edt = _edt(np.pad(obj, 1))[1:-1, 1:-1] if has_alpha else None
 
     # Widths along every stroke (first: they bound how far from a stroke anything is needed).
     raw = [_raw_width(st, obj, edt) if has_alpha else
@@ -337,7 +338,8 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
             r = patch_size / 2.0 if patch_size > 0 else (float(auto_radius(wmax)) if has_alpha else OPAQUE_RADIUS)
             uniq[key] = _distance_map(st, (h, w), reach=max(r, 2.0 * wmax) + 24.0)
     d_min = np.min(np.stack([d for d, _ in uniq.values()]), axis=0) if len(uniq) > 1 else None
-    yy, xx = np.mgrid[0:h, 0:w].astype(np.float32)
+    # pixel coordinates as a row and a column (broadcast: no full-image grids)
+    yy, xx = np.arange(h, dtype=np.float32)[:, None], np.arange(w, dtype=np.float32)[None, :]
 
     # Ends joined to another stroke, cut ends.
     joined = _joined_ends(source_strokes, raw, keys)
@@ -353,6 +355,7 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
     # object pixels within the half width (no margin), up to the cut lines,
     # and a free tip's cap -- and the weights of the cut ends.
     tubes: dict = {}
+    dboxes: dict = {}  # per distinct stroke: the box of its distance map
     for k, st in enumerate(source_strokes):
         key = (keys[k], cuts[k])
         if key in tubes:
@@ -369,7 +372,11 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
                     endw *= _end_tube(st, end, s_map, xx, yy, w_end, inked)
         tube = interior = core = None
         if has_alpha:
-            tube = np.interp(s_map, ws, wv).astype(np.float32)
+            # the half width at every pixel's nearest stroke point (beyond the distance
+            # map's box the arc length is 0: the first width)
+            tube = np.full((h, w), np.float32(np.interp(0.0, ws, wv)), np.float32)
+            box = dboxes.setdefault(keys[k], _reach_box(d))
+            tube[box] = np.interp(s_map[box], ws, wv)
             interior = (s_map > 1.0) & (s_map < st.length - 1.0)
             # beyond a free end the object may go on for a tip's length (see _is_cut), as far
             # as the patch at the end reaches (the rest is a part)
@@ -378,6 +385,7 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
             core = inked & (endw > 0.5) & (d <= np.where(interior, tube + 0.5, cap))
         tubes[key] = (d, s_map, tube, interior, endw, core)
     tube_keys = list(tubes)
+    beyond_cap = _children_beyond_caps(source_strokes, keys, cuts, joined, tubes) if has_alpha else {}
     near_parent = {}
     if has_alpha:
         for k, st in enumerate(source_strokes):
@@ -398,7 +406,14 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
             tubes[(keys[k], cuts[k])][5][cut] = False
             # the branch's patches still copy the two pixels of the parent's tube next to
             # the branch, so that the two overlap at the joint (no holes along the seam)
-            near_parent[k] = cut & ~ndi.binary_dilation(tubes[(keys[k], cuts[k])][5], iterations=2)
+            # (dilated on the cut's box grown by 3 px only: the same pixels on the cut)
+            rs, cs = np.nonzero(cut)
+            if not len(rs):
+                continue
+            box = (slice(max(rs.min() - 3, 0), rs.max() + 4), slice(max(cs.min() - 3, 0), cs.max() + 4))
+            grown = np.zeros_like(cut)
+            grown[box] = ndi.binary_dilation(tubes[(keys[k], cuts[k])][5][box], iterations=2)
+            near_parent[k] = cut & ~grown
     parts, part_mask = [], None
     if has_alpha:
         # Object pixels no stroke's tube holds: the parts nobody stroked.
@@ -435,6 +450,8 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
                     own |= ~held
             if k in near_parent:
                 own &= ~near_parent[k]
+            if key in beyond_cap:
+                own &= ~beyond_cap[key]
             weight = endw.copy()
             if has_alpha:
                 # The tube of the object's half width around the stroke, plus
@@ -445,12 +462,14 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
                 # a side branch is copied with the stroke. A one-pixel ramp
                 # gives cut-off parts an anti-aliased edge. The object beyond
                 # the stroke ends is handled by the end weights.
-                held = part_mask.copy()
+                # (on the distance map's box: beyond it no pixel is interior)
+                b = dboxes[keys[k]]
+                held = part_mask[b].copy()
                 for o in others:
-                    held |= o
-                margin = np.where(inked, np.where(held, 0.0, _OPAQUE_MARGIN), _tube_margin(tube))
-                ramp = np.where(tubes[key][5], 1.0, np.clip(tube + margin - d + 0.5, 0.0, 1.0))
-                weight *= np.where(interior, ramp, 1.0).astype(np.float32)
+                    held |= o[b]
+                margin = np.where(inked[b], np.where(held, 0.0, _OPAQUE_MARGIN), _tube_margin(tube[b]))
+                ramp = np.where(tubes[key][5][b], 1.0, np.clip(tube[b] + margin - d[b] + 0.5, 0.0, 1.0))
+                weight[b] *= np.where(interior[b], ramp, 1.0).astype(np.float32)
             done[key] = (own & (weight > 0), weight)
         s_maps.append(s_map)
         allowed.append(done[key][0])
@@ -461,6 +480,56 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
                         part_mask=part_mask if part_mask is not None else np.zeros((h, w), bool))
     add_bases(parts, index, window=3.0)
     return index
+
+
+def _children_beyond_caps(strokes, keys, cuts, joined, tubes) -> dict:
+    """Per tube with a free end that children join: the pixels of its tip's cap
+    (beyond a round cap of the end's half width) inside a child's tube.
+
+    A free end's cap reaches a tip's length beyond the stroke (a pointed tip
+    drawn short), but where children start under a rounded end (a figure's legs
+    under its body's lower dome) the object beyond the round cap is the
+    children's tops: copied with the parent they stay put while the children
+    turn, and peek out below the parent as teeth. They are taken out of the
+    parent's tube (its core and the pixels it may copy), so the children's
+    patches copy them and turn them with the children. Beyond the paper.
+    The cores in ``tubes`` are changed in place.
+    """
+    out: dict = {}
+    for k, st in enumerate(strokes):
+        key = (keys[k], cuts[k])
+        d, s_map, tube, interior, _, core = tubes[key]
+        free_ends = [end for end in (0, 1) if not cuts[k][end]]
+        if not free_ends:
+            continue
+        kids = [j for j in range(len(strokes)) if keys[j] != keys[k] and k in joined[j]]
+        if not kids:
+            continue
+        at_cap = ~interior & (d > tube + 0.5)
+        ends = np.zeros_like(at_cap)
+        for end in free_ends:
+            ends |= (s_map <= 1.0) if end == 0 else (s_map >= st.length - 1.0)
+        at_cap &= ends
+        if not at_cap.any():
+            continue
+        theirs = np.zeros_like(at_cap)
+        for j in kids:
+            dj, _, tj, _, _, _ = tubes[(keys[j], cuts[j])]
+            theirs |= dj <= tj + 0.5
+        taken = at_cap & theirs
+        if taken.any():
+            core[taken] = False
+            out[key] = out[key] | taken if key in out else taken
+    return out
+
+
+def _reach_box(d: np.ndarray) -> tuple[slice, slice]:
+    """The box of the pixels a distance map reaches (``d < 1e6``; see :func:`_distance_map`)."""
+    near = d < 1e6
+    rows, cols = np.flatnonzero(near.any(axis=1)), np.flatnonzero(near.any(axis=0))
+    if not len(rows):
+        return slice(0, 0), slice(0, 0)
+    return slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1)
 
 
 def _tube_margin(half_width):
@@ -532,15 +601,15 @@ def _raw_width(stroke: Stroke, obj: np.ndarray, edt: np.ndarray):
     n = stroke.normal_at(s, window=3.0)
     t = np.arange(-_MAX_WIDTH, _MAX_WIDTH + 1, dtype=float)
     inside = _lookup(obj, p[:, None, :] + t[None, :, None] * n[:, None, :])
-    runs, _ = ndi.label(inside, structure=[[0, 0, 0], [1, 1, 1], [0, 0, 0]])
     near = np.argmin(np.where(inside, np.abs(t)[None], np.inf), axis=1)
-    lab = runs[np.arange(len(s)), near]
-    wv = np.zeros(len(s))
-    boxes = ndi.find_objects(runs)
-    for i, lb in enumerate(lab):
-        if lb > 0:
-            cols = boxes[lb - 1][1]
-            wv[i] = max(abs(t[cols.start]), abs(t[cols.stop - 1])) + 0.5
+    # the run of object pixels through the nearest one: from after the last gap
+    # before it to before the first gap after it
+    col = np.arange(len(t))[None]
+    gap = ~inside
+    start = np.where(gap & (col < near[:, None]), col, -1).max(axis=1) + 1
+    stop = np.where(gap & (col > near[:, None]), col, len(t)).min(axis=1) - 1
+    has = inside[np.arange(len(s)), near]
+    wv = np.where(has, np.maximum(np.abs(t[start]), np.abs(t[stop])) + 0.5, 0.0)
     wv = np.minimum(wv, 2.0 * _local_max(edt, p) + 2.0)
     return s, wv, float(max(1, int(np.ceil(np.median(wv)))))
 
@@ -624,20 +693,17 @@ def _local_max(edt: np.ndarray, p: np.ndarray) -> np.ndarray:
     pick = np.unique(np.r_[np.arange(0, len(p), step), len(p) - 1])
     e0 = e_all[pick]
     rho = int(np.ceil(min(float(e0.max()), _MAX_WIDTH))) + 2
-    oy, ox = np.mgrid[-rho:rho + 1, -rho:rho + 1]
-    off = np.column_stack([ox.ravel(), oy.ravel()]).astype(float)
     out = np.zeros(len(pick))
-    chunk = max(1, 1_000_000 // len(off))  # bounded memory
-    for lo in range(0, len(pick), chunk):
-        pts = np.round(p[pick[lo:lo + chunk]])
-        q = pts[:, None, :] + off[None]
-        c = q[..., 0].astype(np.int64)
-        r = q[..., 1].astype(np.int64)
-        ok = (c >= 0) & (c < w) & (r >= 0) & (r < h)
-        ok &= np.hypot(off[:, 0], off[:, 1])[None] <= e0[lo:lo + chunk, None] + 2.0
-        val = np.zeros(q.shape[:2])
-        val[ok] = edt[r[ok], c[ok]]
-        out[lo:lo + chunk] = val.max(axis=1)
+    pts = np.round(p[pick]).astype(np.int64)
+    for i, ((x, y), e) in enumerate(zip(pts, e0)):
+        # the disk of radius e + 2 (at most rho) about the point, cut to the image
+        rr = min(int(np.floor(e + 2.0)), rho)
+        r0, r1, c0, c1 = max(y - rr, 0), min(y + rr + 1, h), max(x - rr, 0), min(x + rr + 1, w)
+        if r0 >= r1 or c0 >= c1:
+            continue
+        oy, ox = np.ogrid[r0 - y:r1 - y, c0 - x:c1 - x]
+        disk = np.hypot(ox, oy) <= e + 2.0
+        out[i] = max(float(edt[r0:r1, c0:c1][disk].max(initial=0.0)), 0.0)
     return np.interp(np.arange(len(p)), pick, out)
 
 

@@ -36,6 +36,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage as ndi
 
+from ._distance import edt as _edt
+
 __all__ = ["OutlineStyle", "outline_style", "source_depth", "close_cuts", "clear_stale_outline", "drop_flecks",
            "fill_joints"]
 
@@ -189,7 +191,7 @@ def close_cuts(layer: np.ndarray, src_depth: np.ndarray, style: OutlineStyle) ->
     """
     alpha = layer[..., 3]
     obj = alpha > 0.5
-    e = ndi.distance_transform_edt(obj)
+    e = _edt(obj)
     band = (alpha > 0.02) & (e <= style.width + 0.5) & (src_depth > style.width + 0.75)
     if not band.any():
         return layer
@@ -200,7 +202,8 @@ def close_cuts(layer: np.ndarray, src_depth: np.ndarray, style: OutlineStyle) ->
     return out
 
 
-def clear_stale_outline(layer: np.ndarray, src_depth: np.ndarray, style: OutlineStyle) -> np.ndarray:
+def clear_stale_outline(layer: np.ndarray, src_depth: np.ndarray, style: OutlineStyle, *,
+                        filled: np.ndarray | None = None) -> np.ndarray:
     """``layer`` with the source's outline repainted where it is now inside the object
     (a new array, or ``layer``).
 
@@ -220,6 +223,11 @@ def clear_stale_outline(layer: np.ndarray, src_depth: np.ndarray, style: Outline
     style : OutlineStyle
         The source's outline; its width decides what is rim and what is
         "inside".
+    filled : (H, W) bool ndarray, optional
+        Pixels filled at joints (:func:`fill_joints`): their colours were
+        copied from nearby pixels, possibly a stale rim's, so the
+        outline-coloured ones among them are stale too, and no
+        outline-coloured pixel gives its colour.
 
     Returns
     -------
@@ -235,19 +243,35 @@ def clear_stale_outline(layer: np.ndarray, src_depth: np.ndarray, style: Outline
     ([0.20000000298023224, 0.800000011920929, 0.20000000298023224], [0.0, 0.0, 0.0])
     """
     obj = layer[..., 3] > 0.5
-    e = ndi.distance_transform_edt(obj)
-    stale = obj & (src_depth > 0) & (src_depth <= style.width + 0.5) & (e > style.width + 1.5)
-    if not stale.any():
-        return layer
+    e = _edt(obj)
+    deep = obj & (e > style.width + 1.5)
+    stale = deep & (src_depth > 0) & (src_depth <= style.width + 0.5)
     good = obj & (src_depth > style.width + 0.75) & (e > style.width + 0.5)
-    if not good.any():
+    if filled is not None:
+        filled = np.asarray(filled)
+        if filled.shape != obj.shape or filled.dtype != bool:
+            raise ValueError(f"filled must be a bool array of shape {obj.shape}, got {filled.dtype} {filled.shape}")
+        inked = np.abs(layer[..., :3] - np.asarray(style.colour, np.float32)).max(axis=2) < 0.1
+        stale |= deep & filled & inked
+        good &= ~(inked & (filled | (src_depth <= style.width + 0.5)))
+    if not stale.any() or not good.any():
         return layer
-    dist, (ir, ic) = ndi.distance_transform_edt(~good, return_indices=True)
-    stale &= dist <= 3.0 * style.width + 3.0
-    if not stale.any():
+    # the nearest good pixel within 3 w + 3 px: found on the stale pixels' box grown by that much
+    reach = 3.0 * style.width + 3.0
+    rs, cs = np.nonzero(stale)
+    g = int(np.ceil(reach)) + 1
+    r0, r1 = max(rs.min() - g, 0), min(rs.max() + g + 1, obj.shape[0])
+    c0, c1 = max(cs.min() - g, 0), min(cs.max() + g + 1, obj.shape[1])
+    sub = good[r0:r1, c0:c1]
+    if not sub.any():
+        return layer
+    dist, (ir, ic) = ndi.distance_transform_edt(~sub, return_indices=True)
+    st = stale[r0:r1, c0:c1] & (dist <= reach)
+    if not st.any():
         return layer
     out = layer.copy()
-    out[stale, :3] = layer[ir[stale], ic[stale], :3]
+    win, src = out[r0:r1, c0:c1], layer[r0:r1, c0:c1]
+    win[st, :3] = src[ir[st], ic[st], :3]
     return out
 
 
@@ -344,27 +368,76 @@ def fill_joints(layer: np.ndarray, joints, radii, *, pockets=None, inner: int = 
         b0, b1 = max(int(x) - cr, c0) - c0, min(int(x) + cr + 1, c1) - c0
         closed = np.zeros_like(m)
         closed[a0:a1, b0:b1] = _disk_closing(m[a0:a1, b0:b1], k)
-        yy, xx = np.mgrid[r0:r1, c0:c1]
+        yy, xx = np.ogrid[r0:r1, c0:c1]
         near = np.hypot(xx - x, yy - y) <= r
         new = closed & ~m & near
         if not new.any():
             continue
         if out is None:
             out = layer.copy()
-        deep = ndi.binary_erosion(m, iterations=from_depth) if from_depth > 0 and pk is not None else m
-        if not deep.any():
-            deep = m
-        _, (ir, ic) = ndi.distance_transform_edt(~deep, return_indices=True)
+        depth = from_depth if from_depth > 0 and pk is not None else 0
+        ir, ic = _nearest_deep(m, new, depth)
         win = out[r0:r1, c0:c1]
-        win[new, :3] = win[ir[new], ic[new], :3]
-        # inside the closed shape nothing stays half transparent (the old pocket's rim)
-        # the pixels within k + 1 steps of the new ones (binary_dilation(new, iterations=k + 1))
-        steps = (ndi.binary_dilation(new, iterations=k + 1) if k <= 5
-                 else ndi.distance_transform_cdt(~new, metric="taxicab") <= k + 1)
-        inner = ndi.binary_erosion(closed) & near & steps
+        win[new, :3] = win[ir, ic, :3]
+        # inside the closed shape nothing stays half transparent (the old pocket's rim):
+        # the pixels within k + 1 steps of the new ones (binary_dilation(new, iterations=k + 1)),
+        # on the new pixels' box grown by k + 2 (nothing farther can change)
+        nr, nc = np.nonzero(new)
+        g = k + 2
+        b = (slice(max(nr.min() - g, 0), nr.max() + g + 1), slice(max(nc.min() - g, 0), nc.max() + g + 1))
+        nb = new[b]
+        steps = (ndi.binary_dilation(nb, iterations=k + 1) if k <= 5
+                 else ndi.distance_transform_cdt(~nb, metric="taxicab") <= k + 1)
+        inner = np.zeros_like(new)
+        inner[b] = ndi.binary_erosion(closed[b]) & near[b] & steps
         win[new | inner, 3] = np.maximum(win[new | inner, 3], np.where(inner[new | inner], 1.0, 0.0))
         win[new & ~inner, 3] = 0.5 + 0.5 * (win[new & ~inner, 3] > 0.5)
     return layer if out is None else out
+
+
+def _nearest_deep(m: np.ndarray, new: np.ndarray, depth: int) -> tuple[np.ndarray, np.ndarray]:
+    """``(rows, cols)`` of the pixel of ``deep`` nearest to each ``new`` pixel, ``deep``
+    being ``m`` eroded ``depth`` times (``m`` itself if that leaves nothing).
+
+    The same pixels as the feature transform of ``~deep`` on the whole of ``m``,
+    computed on the new pixels' box grown by ``4 (depth + 2)`` px when every new
+    pixel's nearest deep pixel lies closer than that box's edge (the usual case:
+    a joint's pocket is a few px from the parent), else on the whole of ``m``.
+    """
+    h, w = m.shape
+    nr, nc = np.nonzero(new)
+    g = 4 * (depth + 2)
+    for _ in range(3):
+        r0, r1 = max(nr.min() - g, 0), min(nr.max() + g + 1, h)
+        c0, c1 = max(nc.min() - g, 0), min(nc.max() + g + 1, w)
+        whole = (r0, r1, c0, c1) == (0, h, 0, w)
+        if whole:
+            break
+        sub = m[r0:r1, c0:c1]
+        # erosion in the box: the box's inner edges count as empty, so deep pixels within
+        # ``depth`` of them may be missed -- trusted only farther in
+        deep = ndi.binary_erosion(sub, iterations=depth) if depth > 0 else sub
+        if deep.any():
+            dist, (ir, ic) = ndi.distance_transform_edt(~deep, return_indices=True)
+            lr, lc = nr - r0, nc - c0
+            # room to the box's inner edges (the image's own edges are no limit)
+            room = np.full(len(nr), np.inf)
+            if r0 > 0:
+                room = np.minimum(room, lr)
+            if r1 < h:
+                room = np.minimum(room, r1 - 1 - nr)
+            if c0 > 0:
+                room = np.minimum(room, lc)
+            if c1 < w:
+                room = np.minimum(room, c1 - 1 - nc)
+            if np.all(dist[lr, lc] < room - depth - 1):
+                return ir[lr, lc] + r0, ic[lr, lc] + c0
+        g *= 4
+    deep = ndi.binary_erosion(m, iterations=depth) if depth > 0 else m
+    if not deep.any():
+        deep = m
+    _, (ir, ic) = ndi.distance_transform_edt(~deep, return_indices=True)
+    return ir[nr, nc], ic[nr, nc]
 
 
 def _disk_closing(m: np.ndarray, k: int) -> np.ndarray:
@@ -380,5 +453,5 @@ def _disk_closing(m: np.ndarray, k: int) -> np.ndarray:
         yy, xx = np.mgrid[-k:k + 1, -k:k + 1]
         disk = xx**2 + yy**2 <= k * k
         return ndi.binary_erosion(ndi.binary_dilation(pad, disk), disk)[k + 1:-k - 1, k + 1:-k - 1]
-    grown = ndi.distance_transform_edt(~pad) <= k + 1e-9
-    return (ndi.distance_transform_edt(grown) > k + 1e-9)[k + 1:-k - 1, k + 1:-k - 1]
+    grown = _edt(~pad) <= k + 1e-6
+    return (_edt(grown) > k + 1e-6)[k + 1:-k - 1, k + 1:-k - 1]

@@ -41,6 +41,8 @@ import cv2
 import numpy as np
 from scipy import ndimage as ndi
 
+from ._distance import edt as _edt
+
 __all__ = ["Part", "find_parts", "place_part", "rigid_frame", "carry_stroke"]
 
 #: A piece touching a tube along at least this share of its pixels is a sliver of the tube's rim.
@@ -202,7 +204,7 @@ def add_bases(parts: list[Part], index, window: float) -> None:
         base = np.zeros_like(comp)
         part.at_end = not 1.0 < part.s < st.length - 1.0
         if part.contact:
-            near = ndi.distance_transform_edt(~comp) <= reach
+            near = _edt(~comp) <= reach
             # only the parent's pixels on the part's side, away from its centre line
             foot = st.point_at(index.s_map[part.stroke][big].ravel()).reshape(*comp.shape, 2)
             yy, xx = np.mgrid[R0:R1, C0:C1]
