@@ -538,10 +538,8 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
             m = user.copy() if e == t else _induced(combined[e], delta, tr_iou, snapped, e, blades[e], taken[e])
             masks.append(m)
             taken[e] = taken[e] | m
-            # The training leaf's own layer is grown along its ridges too: a
-            # user's layer seldom covers a vein to its faint ends and edges.
-            gone = m if snapped is None else _ridge_extension(residual, blades, t, e, user, m, stats, params,
-                                                              labs=labs)
+            gone = m if snapped is None or e == t else _ridge_extension(residual, blades, t, e, user, m, stats, params,
+                                                                        labs=labs)
             new_residual.append(remove_layer(residual[e], blades[e], gone, rng=rng))
         residual = new_residual
         residuals.append(list(residual))
