@@ -422,6 +422,16 @@ class VariationParams:
         ``"choose"``: size of the colour regions as a share of the tree.
     seam : float
         ``"choose"``: weight of the seam cost (0: regions as drawn, no cut).
+    choose_by : {"parts", "regions"}
+        ``"choose"`` (beyond the paper): ``"parts"`` takes the whole crown
+        from one exemplar and the whole trunk from one exemplar (drawn with
+        probabilities the colour weights), so a mix reads as one drawing:
+        the crown's clumps, layers and fruits whole and in one style, its
+        outline continuous, one trunk colour. ``"regions"`` cuts the tree
+        into random regions of several exemplars with graph-cut seams
+        (``region_scale``, ``seam``): on clip art such mixes read as
+        collages (stroke fragments inside the crown, a patch of another
+        style, a fruit alone on a conifer).
     outline : bool
         Beyond the paper: when the exemplars holding at least half the
         colour weight have an outlined silhouette
@@ -454,6 +464,9 @@ class VariationParams:
                                 help="choose: size of the colour regions (share of the tree)")
     seam: float = param(20.0, min=0.0, max=1000.0, step=0.1, log=True,
                         help="choose: weight of the seam cost between regions")
+    choose_by: str = param("parts", options=("parts", "regions"),
+                           help="choose: whole crown and trunk from one exemplar each (parts) or "
+                                "random regions with seams (regions)")
     outline: bool = param(True, help="ink the silhouette of outlined (drawn) trees where the mix "
                                      "cut their outline off")
 
@@ -716,10 +729,16 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     mode = resolve_colour_mode(p.colour_mode, [exemplars[i] for i in used])
     image, sources, trunk = transfer_colour([exemplars[i].image for i in used],
                                             [exemplars[i].cage(p.m_points) for i in used],
-                                            cage, mask, colour_weights=cw[used] / cw[used].sum(), mode=mode,
+                                            cage, mask, colour_weights=cw[used] / cw[used].sum(),
+                                            mode="parts" if mode == "choose" and p.choose_by == "parts" else mode,
                                             region_scale=p.region_scale, seam=p.seam, rng=rng,
-                                            return_sources=True, layers=[exemplars[i].trunk for i in used])
-    image = one_piece(image, [exemplars[i] for i in used])
+                                            return_sources=True, layers=[exemplars[i].trunk for i in used],
+                                            groups=[int(exemplar_outline(exemplars[i]).outlined) for i in used]
+                                            if mode == "choose" else None)
+    # "parts": the alpha is the chosen parts' own, holes included (a crown's gaps between its
+    # branches grow with the warp beyond the exemplars' largest hole and must not be filled).
+    parts_mode = mode == "choose" and p.choose_by == "parts" and len(used) > 1
+    image = _one_piece(image, [exemplars[i] for i in used], fill_holes=not parts_mode)
     if p.outline and len(used) > 1:      # one exemplar: its own shape, its outline intact
         image = _ink_outline(image, [exemplars[i] for i in used], cw[used],
                              np.where(image[..., 3] >= 0.5, sources, -1) if mode == "choose" else None)
@@ -773,7 +792,11 @@ def _ink_outline(image: np.ndarray, exemplars: Sequence[Exemplar], cw: np.ndarra
 
     outl = [exemplar_outline(e) for e in exemplars]
     on = np.array([o.outlined for o in outl])
-    if cw[on].sum() < 0.5 * cw.sum() - 1e-9:
+    if sources is not None:
+        # "choose": what the pixels show decides (a crown from an outlined tree is outlined
+        # whatever its colour weight), not the weights.
+        cw = np.bincount(sources[sources >= 0], minlength=len(exemplars)).astype(np.float64)
+    if cw[on].sum() < 0.5 * cw.sum() - 1e-9 or not on.any():
         return image
     best = outl[int(np.argmax(np.where(on, cw, -1.0)))]
     if sources is not None:
@@ -912,6 +935,10 @@ def one_piece(image, exemplars: Sequence[Exemplar]) -> np.ndarray:
     >>> float(one_piece(img, [ex])[0, 0, 3])
     0.0
     """
+    return _one_piece(image, exemplars)
+
+
+def _one_piece(image, exemplars: Sequence[Exemplar], fill_holes: bool = True) -> np.ndarray:
     img = np.array(image, dtype=np.float32, copy=True)
     alpha = img[:, :, 3] >= 0.5
     if not alpha.any():
@@ -934,7 +961,7 @@ def one_piece(image, exemplars: Sequence[Exemplar]) -> np.ndarray:
         keep[0] = False
         alpha = keep[lab]
     holes, _ = _holes(alpha)
-    if holes.any():
+    if holes.any() and fill_holes:
         limit = max((exemplar_largest_hole(e) for e in exemplars), default=0)
         hl, _ = ndi.label(holes)
         sizes = np.bincount(hl.ravel())
