@@ -375,7 +375,7 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
         combination). Exemplars with weight 0 are not sampled.
     rng : int or numpy.random.Generator, optional
         For the random colour weights and the regions of ``"choose"``.
-    mode : {"blend", "choose"}
+    mode : {"blend", "choose", "parts"}
         ``"blend"`` (the paper): every pixel's colour is the convex
         combination ``sum_i c_i [a_i] rgb_i / sum_i c_i [a_i]`` of the
         exemplars opaque there, right for photographs, whose colours vary
@@ -593,8 +593,9 @@ def _choose_parts(cols, on, trunk, c, ys, xs, groups, gen):
     probabilities ``c``; ``b`` must be of ``a``'s group (outlined or not),
     its trunk must overlap ``a``'s own trunk (below the crown) by an IoU of
     at least 1/2 (a thin stroke trunk does not replace a wide one, nor the
-    reverse: a black core or bare holes) and join the crown's main body in
-    one piece, else the next in the draw, down to ``a`` itself. A pixel is
+    reverse: a black core or bare holes), join the crown's main body in
+    one piece and leave no hole where ``a`` was opaque, else the next in
+    the draw, down to ``a`` itself. A pixel is
     ``a``'s where ``a`` is opaque and not trunk there, and wherever ``a``'s
     trunk lies inside ``a``'s crown (its branches); else ``b``'s where
     ``b``'s trunk is; else transparent. So the crown keeps its own drawing
@@ -631,11 +632,15 @@ def _choose_parts(cols, on, trunk, c, ys, xs, groups, gen):
             break
         # b's trunk below its own crown (its branches inside its crown stay behind).
         theirs = ~mine & on[b] & trunk[b] & ~ndi.binary_fill_holes(grid(on[b] & ~trunk[b]))[yy, xx]
-        if (theirs & own).sum() >= TRUNK_IOU * (theirs | own).sum() and \
-                (theirs & _largest(grid(body | theirs))[yy, xx]).sum() >= 0.9 * theirs.sum():
-            li = np.where(mine, a, b)
-            opaque = mine | theirs
-            break
+        if (theirs & own).sum() < TRUNK_IOU * (theirs | own).sum() or \
+                (theirs & _largest(grid(body | theirs))[yy, xx]).sum() < 0.9 * theirs.sum():
+            continue
+        both = grid(mine | theirs)
+        if (ndi.binary_fill_holes(both)[yy, xx] & ~(mine | theirs) & on[a]).any():
+            continue                # a gap where a's own trunk was: no hole a drawing has
+        li = np.where(mine, a, b)
+        opaque = mine | theirs
+        break
     return cols[li, np.arange(n)], li, opaque
 
 

@@ -108,11 +108,12 @@ def stray_ink(image, *, width: int | None = None, min_length: int | None = None,
     Ink pixels (as dark as the tree's outline, see
     :func:`~branchnb.trees.outline.silhouette_outline`) form 8-connected
     strokes. A stroke counts as stray when it lies wholly inside the tree
-    (no pixel within ``width + 1`` of the silhouette, where it would belong
-    to the outline), is thin (no pixel deeper than ``width + 1`` inside the
+    (no pixel within ``2 * width + 2`` of the silhouette: an arc occluded by
+    another shape ends on the outline, also where a mix moved the
+    silhouette by a stroke's width), is thin (no pixel deeper than ``width + 1`` inside the
     stroke: solid dark shapes are fills, not strokes), is *open* (encloses
-    no region even with gaps of ``width`` pixels closed: a whole fruit's or
-    clump's outline is a ring, perhaps broken by resampling) and is
+    no region even with one-pixel gaps closed: a whole fruit's or clump's
+    outline is a ring, perhaps broken by resampling) and is
     at least ``min_length`` pixels. Drawings score 0.
 
     Parameters
@@ -154,7 +155,7 @@ def stray_ink(image, *, width: int | None = None, min_length: int | None = None,
         return (0, found) if return_mask else 0
     ink, w = _ink_and_width(img, op, width)
     min_length = max(8, 4 * w) if min_length is None else check_int(min_length, "min_length", min=1)
-    deep = _depth(ndi.binary_fill_holes(op)) > w + 1
+    deep = _depth(ndi.binary_fill_holes(op)) > 2 * w + 2
     lab, n = ndi.label(ink, structure=_EIGHT)
     if n == 0:
         return (0, found) if return_mask else 0
@@ -169,7 +170,7 @@ def stray_ink(image, *, width: int | None = None, min_length: int | None = None,
             continue
         sl = ndi.find_objects((lab == i).astype(np.int32))[0]
         # A ring broken by a pixel or two (resampling) is still a whole shape's outline.
-        comp = ndi.binary_closing(np.pad(lab[sl] == i, 3), structure=_EIGHT, iterations=w)
+        comp = ndi.binary_closing(np.pad(lab[sl] == i, 3), structure=_EIGHT)
         if ndi.binary_fill_holes(comp).sum() == comp.sum():
             count += 1
             found |= lab == i
