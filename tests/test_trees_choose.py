@@ -185,10 +185,10 @@ def test_choose_on_a_coarse_grid_picks_sources_without_blending(drawn_lib, monke
     import branchnb.trees.mvc as mvc
 
     full = make_variation(drawn_lib, [0.5, 0.5, 0, 0], colour_weights=[0.5, 0.5, 0, 0],
-                          colour_mode="choose", rng=4)
+                          colour_mode="choose", choose_by="regions", rng=4)
     monkeypatch.setattr(mvc, "CHOOSE_CUT_SIDE", 32)
     v = make_variation(drawn_lib, [0.5, 0.5, 0, 0], colour_weights=[0.5, 0.5, 0, 0],
-                       colour_mode="choose", rng=4)
+                       colour_mode="choose", choose_by="regions", rng=4)
     assert np.array_equal(v.image[..., 3], full.image[..., 3])
     assert crossfade_fraction(v.image, _sources(drawn_lib, v)) <= 0.01
     # The seams move a little, the regions stay (most pixels keep their source).
@@ -221,7 +221,7 @@ def test_choose_seams_across_fills_are_outlined(drawn_lib):
     for r in range(4):
         for outline, out in ((False, bare), (True, inked)):
             v = make_variation(drawn_lib, [0.5, 0.5], use=["broadleaf", "conifer"], colour_weights=[0.5, 0.5],
-                               colour_mode="choose", outline=outline, rng=r)
+                               colour_mode="choose", choose_by="regions", outline=outline, rng=r)
             assert v.sources.shape == v.image.shape[:2]
             assert set(np.unique(v.sources[v.image[..., 3] >= 0.5])) <= {0, 1, -1}
             out.append(bare_seam_share(v.image, v.sources))

@@ -59,6 +59,17 @@ reference's trunk (crown), parts from :func:`~branchnb.trees.histogram_transfer.
 tree of each kind seen at 0, 45 and 90 degrees: the share of the opaque
 pixels in the largest 8-connected piece (1 = the crown stays on the trunk)
 and :func:`~branchnb.trees.quality.flat_region_speckle`.
+``flatmix``: flat-art mixes that should read as one drawing (issue 24): the
+clip-art trees cartoon_tree, plain_tree, tree_with_fruits, evergreen and
+arbre_modern and the drawn procedural trees (seed 0, and one draw of the four
+kinds at seed 11) at 96, 200 and 320 px wide, ``tree_variations(lib, T, 4,
+rng=0)`` and ``variations_of(T, 3, rng=2)`` of every exemplar ``T``:
+outline continuity (:func:`~branchnb.trees.quality.outline_continuity`,
+target >= 0.95 when an outlined exemplar is used), stray interior ink
+(:func:`~branchnb.trees.quality.stray_ink`, target 0), seam through flat fills
+(:func:`~branchnb.trees.quality.seam_through_flat`), small foreign patches
+(:func:`~branchnb.trees.quality.foreign_patches`, target 0), mixes with two
+crown styles or two trunk sources, the cross-fade share and CPU seconds.
 """
 
 from __future__ import annotations
@@ -527,6 +538,101 @@ def measure_transfer(size: int = 256) -> None:
               + " | ".join(f"{k} mean {np.mean(v):.2f} min {min(v):.2f} (n={len(v)})" for k, v in figs.items()))
 
 
+FLATMIX_CLIPART = ("cartoon_tree", "plain_tree", "tree_with_fruits", "evergreen", "arbre_modern")
+
+
+def _resized(img: np.ndarray, width: int) -> np.ndarray:
+    import cv2
+
+    h = int(round(img.shape[0] * width / img.shape[1]))
+    return cv2.resize(img, (width, h), interpolation=cv2.INTER_AREA)
+
+
+def flatmix_libraries(widths=(96, 200, 320)) -> dict:
+    """The libraries of ``flatmix``: clip art and drawn trees at each width."""
+    from .drawn import drawn_trees
+
+    libs = {}
+    for w in widths:
+        lib = TreeLibrary(size=w)
+        for n in FLATMIX_CLIPART:
+            lib.add(_resized(data.load(n), w), n)
+        libs[f"clipart{w}"] = lib
+        lib = TreeLibrary(size=w)
+        for name, img in drawn_trees(rng=0, size=2 * w) + drawn_trees((False,), rng=11, size=2 * w):
+            lib.add(img, name if name not in lib else name + "b")
+        libs[f"drawn{w}"] = lib
+    return libs
+
+
+def flatmix_figures(lib, v) -> dict:
+    """One mix's flat-art figures (see ``flatmix``)."""
+    from .outline import silhouette_outline
+    from .quality import (
+        crossfade_fraction,
+        crown_sources,
+        foreign_patches,
+        outline_continuity,
+        seam_through_flat,
+        stray_ink,
+    )
+    from .variations import exemplar_outline
+
+    op = v.image[..., 3] >= 0.5
+    used = [k for k in np.unique(v.sources[op]) if k >= 0]
+    px = {k: int(np.count_nonzero(v.sources == k)) for k in used}
+    outl = [k for k in used if exemplar_outline(lib[v.names[k]]).outlined]
+    cont = partial = None
+    if outl:
+        best = max(outl, key=lambda k: px[k])
+        c = outline_continuity(v.image, exemplar_outline(lib[v.names[best]]).ink)
+        if sum(px[k] for k in outl) >= 0.5 * sum(px.values()):
+            cont = c                   # mostly outlined sources: the outline must be continuous
+        else:
+            partial = c > 0.25         # mostly unoutlined: an outline on part of the rim is a collage
+    trunk = v.parts == 2
+    tsrc = np.bincount(v.sources[trunk & op], minlength=len(v.names)) if trunk.any() else np.zeros(1)
+    width = max(silhouette_outline(lib[v.names[k]].image).width for k in used)
+    return {"outline": cont, "partial": partial, "stray": stray_ink(v.image, width=width),
+            "through_flat": seam_through_flat(v.image, v.sources),
+            "foreign": foreign_patches(v.sources, v.parts),
+            "styles": crown_sources(v.sources, v.parts, share=0.05),
+            "trunks": int(np.count_nonzero(tsrc >= 0.05 * max(tsrc.sum(), 1))),
+            "crossfade": crossfade_fraction(v.image, _sources(lib, v))}
+
+
+def measure_flatmix(_size: int = 0) -> None:
+    from .outline import silhouette_outline
+    from .quality import stray_ink
+
+    allf = []
+    for name, lib in flatmix_libraries().items():
+        own = sum(stray_ink(e.image, width=silhouette_outline(e.image).width) for e in lib)
+        t0 = time.process_time()
+        vs = []
+        for t in lib.names:
+            vs += lib.variations_of(t, 4, rng=0) + lib.variations_of(t, 3, rng=2)
+        dt = time.process_time() - t0
+        f = [flatmix_figures(lib, v) for v in vs]
+        allf += f
+        cont = [x["outline"] for x in f if x["outline"] is not None]
+        print(f"{name:10s} {len(vs):3d} mixes ({dt / len(vs):.2f} s cpu each) | outline continuity mean "
+              f"{np.mean(cont):.3f} min {min(cont):.3f} >=0.95 {np.mean(np.array(cont) >= 0.95):.2f} "
+              f"(partial outlines {sum(bool(x['partial']) for x in f)}) | "
+              f"stray ink {sum(x['stray'] for x in f)} in {sum(x['stray'] > 0 for x in f)} mixes "
+              f"(exemplars {own}) | seam through flat {np.mean([x['through_flat'] for x in f]):.3f} | "
+              f"foreign patches {sum(x['foreign'] for x in f)} in {sum(x['foreign'] > 0 for x in f)} | "
+              f"2+ crown styles {sum(x['styles'] > 1 for x in f)} | 2+ trunk sources "
+              f"{sum(x['trunks'] > 1 for x in f)} | cross-fade max {max(x['crossfade'] for x in f):.3f}")
+    cont = [x["outline"] for x in allf if x["outline"] is not None]
+    print(f"ALL {len(allf)} mixes: outline continuity mean {np.mean(cont):.3f} >=0.95 "
+          f"{np.mean(np.array(cont) >= 0.95):.2f} (partial {sum(bool(x['partial']) for x in allf)}) "
+          f"| stray ink {sum(x['stray'] for x in allf)} | seam through flat "
+          f"{np.mean([x['through_flat'] for x in allf]):.3f} | foreign patches {sum(x['foreign'] for x in allf)} | "
+          f"2+ crown styles {sum(x['styles'] > 1 for x in allf)} | 2+ trunks {sum(x['trunks'] > 1 for x in allf)}"
+          f" | cross-fade max {max(x['crossfade'] for x in allf):.3f}")
+
+
 if __name__ == "__main__":
     what = sys.argv[1] if len(sys.argv) > 1 else "pins"
     size = int(sys.argv[2]) if len(sys.argv) > 2 else (
@@ -538,4 +644,4 @@ if __name__ == "__main__":
      "variety": measure_variety, "sideviews": measure_sideviews, "seams": measure_seams,
      "targets": measure_targets, "outline": measure_outline, "ground": measure_ground,
      "speed": measure_speed, "engine": measure_engine, "palms": measure_palms,
-     "transfer": measure_transfer}[what](size)
+     "transfer": measure_transfer, "flatmix": measure_flatmix}[what](size)

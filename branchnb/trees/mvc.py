@@ -28,6 +28,7 @@ from __future__ import annotations
 import cv2
 import numba
 import numpy as np
+from scipy import ndimage as ndi
 
 from ..core.image import as_mask, as_points, as_rgba
 from ..core.random import as_rng
@@ -282,8 +283,14 @@ SEAM_EPS = 0.01
 #: sources (no pixel is blended).
 CHOOSE_CUT_SIDE = 160
 
+#: ``"parts"``: another exemplar's trunk replaces the crown source's own only when the two
+#: overlap (below the crown) by at least this intersection over union; a thinner or wider trunk
+#: left a black core, bare gaps or loose fork tips (clip art: cartoon_tree's stroke trunk
+#: under tree_with_fruits's crown).
+TRUNK_IOU = 0.5
+
 #: How :func:`transfer_colour` combines the exemplars' colours.
-COLOUR_MODES = ("blend", "choose")
+COLOUR_MODES = ("blend", "choose", "parts")
 
 
 def smooth_gumbel(shape: tuple[int, int], k: int, scale: float, *, rng=None) -> np.ndarray:
@@ -347,7 +354,7 @@ def smooth_gumbel(shape: tuple[int, int], k: int, scale: float, *, rng=None) -> 
 def transfer_colour(sources, source_cages, target_cage, target_mask, *,
                     colour_weights=None, rng=None, mode: str = "blend",
                     region_scale: float = 0.15, seam: float = 20.0, return_sources: bool = False,
-                    layers=None):
+                    layers=None, groups=None):
     """Colour a target shape from one or more exemplars through their simplified contours.
 
     Parameters
@@ -368,7 +375,7 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
         combination). Exemplars with weight 0 are not sampled.
     rng : int or numpy.random.Generator, optional
         For the random colour weights and the regions of ``"choose"``.
-    mode : {"blend", "choose"}
+    mode : {"blend", "choose", "parts"}
         ``"blend"`` (the paper): every pixel's colour is the convex
         combination ``sum_i c_i [a_i] rgb_i / sum_i c_i [a_i]`` of the
         exemplars opaque there, right for photographs, whose colours vary
@@ -387,6 +394,12 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
         (about ten times faster at 512 px; the seams move by up to half a
         block, and the rare seam across a flat fill is a few pixels
         longer).
+        ``"parts"`` (beyond the paper, flat art that must read as one
+        drawing): the whole crown from one source and the whole trunk from
+        one source (``layers`` are the trunk masks), each drawn with
+        probabilities ``c_i``: no seam crosses a fill, a stroke or a fruit,
+        and the crown shows one style (see ``_choose_parts``). Alpha is the
+        chosen parts' own (inside ``target_mask``), not the weight vote.
     region_scale : float
         ``"choose"``: size of the regions, as a share of the image side.
     seam : float
@@ -399,6 +412,12 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
         opaque result pixel takes the nearest value of the map of the
         source its colour comes from (see ``sources`` below), so a result's
         parts need no new segmentation (beyond the paper).
+
+    groups : sequence of int, optional
+        ``"parts"``: one label per source (e.g. 1 outlined, 0 not); the
+        trunk comes only from a source of the crown source's group, so an
+        outline is either on the whole tree or on none of it. None: one
+        group.
 
     Returns
     -------
@@ -462,7 +481,17 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
     c = cw[used]
     vote = (c[:, None] * on).sum(axis=0)
     opaque = vote >= 0.5 - 1e-9
-    if mode == "blend" or len(used) == 1:
+    lv = None
+    if layers is not None:
+        lv = _layer_values(layers, srcs, used, mapped)
+    if groups is not None:
+        _check_groups(groups, len(srcs))
+    if mode == "parts" and len(used) > 1:
+        if lv is None:
+            raise ValueError("mode='parts' needs layers (one trunk mask per source)")
+        grp = _check_groups(groups, len(srcs))[used]
+        rgb, li, opaque = _choose_parts(cols, on, lv >= 0.5, c, ys, xs, grp, gen)
+    elif mode == "blend" or len(used) == 1:
         den = (c[:, None] * on).sum(axis=0)
         num = ((c[:, None] * on)[..., None] * cols).sum(axis=0)
         rgb = np.where(den[:, None] > 1e-12, num / np.maximum(den, 1e-12)[:, None], 0.0)
@@ -473,24 +502,9 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
     out[ys, xs, :3] = np.clip(rgb, 0.0, 1.0) * opaque[:, None]
     out[ys, xs, 3] = opaque
     extra = ()
-    if layers is not None:
-        if isinstance(layers, (str, bytes)) or not hasattr(layers, "__len__"):
-            raise TypeError(f"layers must be a sequence of (H, W) arrays, got {type(layers).__name__}")
-        if len(layers) != len(srcs):
-            raise ValueError(f"layers: need one map per source: {len(srcs)} sources, {len(layers)} maps")
+    if lv is not None:
         lay = np.zeros(mask.shape, np.float32)
-        val = np.zeros(len(pts), np.float32)
-        for k, i in enumerate(used):
-            try:
-                m = np.asarray(layers[i], np.float32)
-            except (TypeError, ValueError) as exc:
-                raise TypeError(f"layers[{i}] must be a numeric (H, W) array") from exc
-            if m.shape != srcs[i].shape[:2]:
-                raise ValueError(f"layers[{i}] has shape {m.shape}, its source {srcs[i].shape[:2]}")
-            px = np.clip(np.rint(mapped[k][:, 0]), 0, m.shape[1] - 1).astype(np.int64)
-            py = np.clip(np.rint(mapped[k][:, 1]), 0, m.shape[0] - 1).astype(np.int64)
-            pick = li == k
-            val[pick] = m[py[pick], px[pick]]
+        val = lv[li, np.arange(len(li))]
         lay[ys[opaque], xs[opaque]] = val[opaque]
         extra = (lay,)
     if not return_sources:
@@ -531,6 +545,103 @@ def _choose(cols, on, opaque, c, ys, xs, shape, region_scale, seam, gen) -> np.n
     elif seam > 0:
         li = _coarse_cut(imgs, unary, region, on, yy, xx, li, f, seam)
     return cols[li, np.arange(len(li))], li
+
+
+def _layer_values(layers, srcs, used, mapped) -> np.ndarray:
+    """Each used source's map (``layers``) at the mapped points, (k, P) float32 (nearest pixel)."""
+    if isinstance(layers, (str, bytes)) or not hasattr(layers, "__len__"):
+        raise TypeError(f"layers must be a sequence of (H, W) arrays, got {type(layers).__name__}")
+    if len(layers) != len(srcs):
+        raise ValueError(f"layers: need one map per source: {len(srcs)} sources, {len(layers)} maps")
+    out = np.zeros((len(used), mapped.shape[1]), np.float32)
+    for k, i in enumerate(used):
+        try:
+            m = np.asarray(layers[i], np.float32)
+        except (TypeError, ValueError) as exc:
+            raise TypeError(f"layers[{i}] must be a numeric (H, W) array") from exc
+        if m.shape != srcs[i].shape[:2]:
+            raise ValueError(f"layers[{i}] has shape {m.shape}, its source {srcs[i].shape[:2]}")
+        px = np.clip(np.rint(mapped[k][:, 0]), 0, m.shape[1] - 1).astype(np.int64)
+        py = np.clip(np.rint(mapped[k][:, 1]), 0, m.shape[0] - 1).astype(np.int64)
+        out[k] = m[py, px]
+    return out
+
+
+def _check_groups(groups, k: int) -> np.ndarray:
+    if groups is None:
+        return np.zeros(k, np.int64)
+    if isinstance(groups, (str, bytes, dict)) or not hasattr(groups, "__len__"):
+        raise TypeError(f"groups must be a sequence of ints (one per source), got {type(groups).__name__}")
+    g = np.asarray(groups)
+    if g.shape != (k,) or not (np.issubdtype(g.dtype, np.integer) or np.issubdtype(g.dtype, np.bool_)):
+        raise ValueError(f"groups must hold one int per source ({k}), got {g.dtype} of shape {g.shape}")
+    return g.astype(np.int64)
+
+
+def _largest(m: np.ndarray) -> np.ndarray:
+    """The largest 8-connected component of a boolean image (empty stays empty)."""
+    lab, n = ndi.label(m, structure=np.ones((3, 3), bool))
+    if n <= 1:
+        return m
+    return lab == np.argmax(np.bincount(lab.ravel())[1:]) + 1
+
+
+def _choose_parts(cols, on, trunk, c, ys, xs, groups, gen):
+    """Colour of the ``"parts"`` mode: the crown from one source, the trunk from one source.
+
+    The crown's source ``a`` and the trunk's source ``b`` are drawn with
+    probabilities ``c``; ``b`` must be of ``a``'s group (outlined or not),
+    its trunk must overlap ``a``'s own trunk (below the crown) by an IoU of
+    at least 1/2 (a thin stroke trunk does not replace a wide one, nor the
+    reverse: a black core or bare holes), join the crown's main body in
+    one piece and leave no hole where ``a`` was opaque, else the next in
+    the draw, down to ``a`` itself. A pixel is
+    ``a``'s where ``a`` is opaque and not trunk there, and wherever ``a``'s
+    trunk lies inside ``a``'s crown (its branches); else ``b``'s where
+    ``b``'s trunk is; else transparent. So the crown keeps its own drawing
+    (outline, clumps, fruits whole) and the trunk one colour.
+    Returns (rgb, source per point, opaque per point).
+    """
+    k, n = on.shape
+    p = c / c.sum()
+    with np.errstate(divide="ignore"):
+        rank = np.argsort(-(np.log(p) + gen.gumbel(size=k)))     # Gumbel-max order: P(first) = p
+    rank = rank[p[rank] > 0]
+    a = int(rank[0])
+    crown = on[a] & ~trunk[a]
+    r0, c0 = ys.min(), xs.min()
+    h, w = ys.max() - r0 + 1, xs.max() - c0 + 1
+    yy, xx = ys - r0, xs - c0
+
+    def grid(v):
+        g = np.zeros((h, w), bool)
+        g[yy, xx] = v
+        return g
+
+    inside = ndi.binary_fill_holes(grid(crown))[yy, xx]
+    mine = crown | (on[a] & trunk[a] & inside)
+    body = _largest(grid(mine))[yy, xx]
+    li, opaque = np.full(n, a), on[a].copy()
+    # The trunk: drawn again with probabilities p (the crown's own trunk included); a source
+    # whose trunk does not join the crown or covers less than half of it is passed over.
+    with np.errstate(divide="ignore"):
+        order = np.argsort(-(np.log(p) + gen.gumbel(size=k)))
+    own = on[a] & trunk[a] & ~inside
+    for b in order[(p[order] > 0) & (groups[order] == groups[a])]:
+        if b == a:
+            break
+        # b's trunk below its own crown (its branches inside its crown stay behind).
+        theirs = ~mine & on[b] & trunk[b] & ~ndi.binary_fill_holes(grid(on[b] & ~trunk[b]))[yy, xx]
+        if (theirs & own).sum() < TRUNK_IOU * (theirs | own).sum() or \
+                (theirs & _largest(grid(body | theirs))[yy, xx]).sum() < 0.9 * theirs.sum():
+            continue
+        both = grid(mine | theirs)
+        if (ndi.binary_fill_holes(both)[yy, xx] & ~(mine | theirs) & on[a]).any():
+            continue                # a gap where a's own trunk was: no hole a drawing has
+        li = np.where(mine, a, b)
+        opaque = mine | theirs
+        break
+    return cols[li, np.arange(n)], li, opaque
 
 
 def _blocks(a: np.ndarray, f: int) -> np.ndarray:

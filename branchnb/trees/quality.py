@@ -33,7 +33,8 @@ __all__ = ["soft_alpha_fraction", "flat_pixels", "palette_coverage", "palette_pi
            "dominant_palette", "crossfade_fraction",
            "foreign_colour_fraction", "dark_rim_fraction", "pieces", "large_holes", "hole_sizes",
            "flat_region_speckle", "colour_span", "largest_piece_share", "side_view_figures",
-           "bare_seam_share"]
+           "bare_seam_share", "outline_continuity", "stray_ink", "seam_through_flat", "foreign_patches",
+           "crown_sources"]
 
 
 def soft_alpha_fraction(image, *, rim: int = 1) -> float:
@@ -777,3 +778,13 @@ def bare_seam_share(image, sources=None, *, edge: float = 0.12, reach: int | Non
     if not seam.any():
         return 0.0
     return float((bare & ~near_ink).sum() / seam.sum())
+
+
+# Measures of flat-art mixes that read as one drawing (issue 24), kept in their own module.
+from .quality_mix import (  # noqa: E402
+    crown_sources,
+    foreign_patches,
+    outline_continuity,
+    seam_through_flat,
+    stray_ink,
+)

@@ -235,7 +235,7 @@ class TreeVariationsApp(widgets.VBox):
             "concentration": ("shape concentration", "\u03b1"),
             "colour_concentration": ("colour concentration", "\u03b1c"),
             "colour_mode": ("colour mixing", ""), "region_scale": ("colour region size", ""),
-            "seam": ("seam weight", "")}, title="variation parameters")
+            "seam": ("seam weight", ""), "choose_by": ("choose by", "")}, title="variation parameters")
         self.m_points = self.panel.controls["m_points"]
         self.panel.on_change(g(lambda _p: self._live_update()))
         self.rng = widgets.BoundedIntText(value=0, min=0, max=2**31 - 1, description="seed",

@@ -1,0 +1,312 @@
+"""Drawn (flat-art) trees in a variation, beyond the paper: outlines, flatness, pieces, parts.
+
+What a mix of drawn trees needs that the paper's photographs do not: the
+exemplars' outlines (:func:`exemplar_outline`, re-inked along a mix's
+silhouette), their flatness (:func:`flat_share`, which decides
+``colour_mode="auto"``), a result in one piece like its exemplars
+(:func:`one_piece`) and the crown/trunk parts (:func:`exemplar_parts`).
+Split out of :mod:`branchnb.trees.variations`, which re-exports every name.
+
+Examples
+--------
+>>> resolve_colour_mode("auto", [])
+'blend'
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+from scipy import ndimage as ndi
+
+from ..core.image import extend_nearest
+from .processing import Exemplar, ExemplarParams, process_exemplar  # noqa: F401 (doctests)
+
+__all__ = [
+    "exemplar_outline",
+    "flat_share",
+    "resolve_colour_mode",
+    "exemplar_largest_hole",
+    "one_piece",
+    "exemplar_parts",
+    "FLAT_ART_SHARE",
+]
+
+
+#: ``colour_mode="auto"`` chooses instead of blending when the mixed exemplars
+#: have on average at least this share of their opaque pixels in flat colour
+#: areas (:func:`~branchnb.trees.quality.flat_pixels`). Drawn trees measure
+#: 0.45-0.83 at 128-256 px (a thin outlined palm at 128 px: 0.047, its
+#: outlines take most pixels); the photographed ``tree_cutout_broadleaf``
+#: 0.006-0.014: photographs have texture in every 3 x 3 window.
+FLAT_ART_SHARE = 0.04
+
+
+def exemplar_outline(exemplar: Exemplar):
+    """:func:`~branchnb.trees.outline.silhouette_outline` of an exemplar (cached on it).
+
+    Parameters
+    ----------
+    exemplar : Exemplar
+        A processed exemplar; the measure is stored on it and reused.
+
+    Returns
+    -------
+    SilhouetteOutline
+        Ink share, colour and stroke width along the silhouette.
+
+    Examples
+    --------
+    >>> from branchnb.trees import TreeLibrary
+    >>> lib = TreeLibrary.from_data(["tree_rpg_05", "tree_rpg_06"], size=128)
+    >>> exemplar_outline(lib["tree_rpg_05"]).outlined  # a drawn sprite
+    True
+    """
+    if "outline" not in exemplar._cages:
+        from .outline import silhouette_outline
+
+        exemplar._cages["outline"] = silhouette_outline(exemplar.image)
+    return exemplar._cages["outline"]
+
+
+def _ink_outline(image: np.ndarray, exemplars: Sequence[Exemplar], cw: np.ndarray,
+                 sources: np.ndarray | None = None) -> np.ndarray:
+    """Ink the silhouette when outlined exemplars hold at least half the colour weight, and
+    (``sources``: the ``"choose"`` mode's source per pixel) the seams that cross a fill."""
+    from .outline import ink_seams, ink_silhouette
+
+    outl = [exemplar_outline(e) for e in exemplars]
+    on = np.array([o.outlined for o in outl])
+    if sources is not None:
+        # "choose": what the pixels show decides (a crown from an outlined tree is outlined
+        # whatever its colour weight), not the weights.
+        cw = np.bincount(sources[sources >= 0], minlength=len(exemplars)).astype(np.float64)
+    if cw[on].sum() < 0.5 * cw.sum() - 1e-9 or not on.any():
+        return image
+    best = outl[int(np.argmax(np.where(on, cw, -1.0)))]
+    if sources is not None:
+        image = ink_seams(image, sources, best.ink, best.width)
+    return ink_silhouette(image, best.ink, best.width)
+
+
+def flat_share(exemplar: Exemplar) -> float:
+    """Share of an exemplar's opaque pixels in flat colour areas (cached on the exemplar).
+
+    Parameters
+    ----------
+    exemplar : Exemplar
+        A processed exemplar.
+
+    Returns
+    -------
+    float
+        :func:`~branchnb.trees.quality.flat_pixels` over the opaque pixels,
+        in [0, 1]: drawn trees measure 0.05-0.9, photographs about 0.01.
+
+    Examples
+    --------
+    >>> from branchnb.trees import TreeLibrary
+    >>> lib = TreeLibrary.from_data(["tree_rpg_05", "tree_rpg_06"], size=128)
+    >>> flat_share(lib["tree_rpg_05"]) > FLAT_ART_SHARE
+    True
+    """
+    if "flat_share" not in exemplar._cages:
+        from .quality import flat_pixels
+
+        n = max(int(exemplar.alpha.sum()), 1)
+        exemplar._cages["flat_share"] = float(flat_pixels(exemplar.image).sum() / n)
+    return exemplar._cages["flat_share"]
+
+
+def resolve_colour_mode(mode: str, exemplars: Sequence[Exemplar]) -> str:
+    """``"blend"`` or ``"choose"`` for ``mode`` (``"auto"``: by the exemplars' :func:`flat_share`).
+
+    Parameters
+    ----------
+    mode : {"auto", "blend", "choose"}
+        ``VariationParams.colour_mode``; ``"blend"`` and ``"choose"`` are
+        returned as they are.
+    exemplars : sequence of Exemplar
+        The exemplars mixed; ``"auto"`` chooses when their mean flat share
+        is at least :data:`FLAT_ART_SHARE` (an empty list blends).
+
+    Returns
+    -------
+    str
+        ``"blend"`` or ``"choose"``.
+
+    Raises
+    ------
+    ValueError
+        Unknown ``mode``.
+
+    Examples
+    --------
+    >>> resolve_colour_mode("blend", []), resolve_colour_mode("auto", [])
+    ('blend', 'blend')
+    """
+    if mode not in ("auto", "blend", "choose"):
+        raise ValueError(f"colour_mode must be 'auto', 'blend' or 'choose', got {mode!r}")
+    if mode != "auto":
+        return mode
+    share = float(np.mean([flat_share(e) for e in exemplars])) if exemplars else 0.0
+    return "choose" if share >= FLAT_ART_SHARE else "blend"
+
+
+def _holes(alpha: np.ndarray) -> tuple[np.ndarray, int]:
+    """Transparent regions not connected to the image border, and their count."""
+    lab, n = ndi.label(~alpha)
+    border = np.unique(np.concatenate([lab[0], lab[-1], lab[:, 0], lab[:, -1]]))
+    holes = (lab > 0) & ~np.isin(lab, border)
+    return holes, int(n - np.count_nonzero(border > 0))
+
+
+def exemplar_largest_hole(exemplar: Exemplar) -> int:
+    """Area (pixels) of the largest interior transparent hole of an exemplar.
+
+    Parameters
+    ----------
+    exemplar : Exemplar
+        A processed exemplar (its binary alpha at the working size).
+
+    Returns
+    -------
+    int
+        Pixels of the largest transparent 4-connected region that does not
+        touch the image border (0 without holes); :func:`one_piece` fills
+        larger holes in a variation.
+
+    Examples
+    --------
+    >>> from branchnb.trees import TreeLibrary
+    >>> lib = TreeLibrary.from_data(["tree_rpg_05", "tree_rpg_06"], size=128)
+    >>> exemplar_largest_hole(lib["tree_rpg_05"]) >= 0
+    True
+    """
+    holes, _ = _holes(exemplar.alpha)
+    if not holes.any():
+        return 0
+    lab, _ = ndi.label(holes)
+    return int(np.bincount(lab.ravel())[1:].max())
+
+
+def one_piece(image, exemplars: Sequence[Exemplar]) -> np.ndarray:
+    """Keep a variation in one piece, like its exemplars.
+
+    The largest opaque component (8-connected) is kept; other components
+    are kept only if some exemplar has several pieces and they are at least
+    as large as that exemplar's smallest piece, and never more pieces than
+    the most broken-up exemplar has (the largest ones). Interior transparent holes
+    larger than the largest hole of the exemplars are filled, with the
+    colour of the nearest opaque pixel.
+
+    Parameters
+    ----------
+    image : (S, S, 4) array_like
+        Straight RGBA with binary alpha.
+    exemplars : sequence of Exemplar
+        The exemplars that were mixed.
+
+    Returns
+    -------
+    (S, S, 4) float32 ndarray
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from branchnb.trees.synthetic import synthetic_tree
+    >>> ex = process_exemplar(synthetic_tree("clean", rng=0, size=64).image, size=64, trunk="stem")
+    >>> img = ex.image.copy(); img[0, 0] = (0.0, 0.6, 0.0, 1.0)     # a stray speck
+    >>> float(one_piece(img, [ex])[0, 0, 3])
+    0.0
+    """
+    return _one_piece(image, exemplars)
+
+
+def _own_holes(alpha: np.ndarray, exemplars: Sequence[Exemplar], cage: np.ndarray, m_points: int) -> np.ndarray:
+    """Hole pixels of a mix that the cage maps into a hole of one of its exemplars (their drawing's own)."""
+    from .mvc import mvc_map
+
+    holes, _ = _holes(alpha)
+    out = np.zeros(alpha.shape, bool)
+    if not holes.any():
+        return out
+    ys, xs = np.nonzero(holes)
+    pts = np.stack([xs, ys], axis=1).astype(np.float64)
+    for e in exemplars:
+        own = ndi.binary_dilation(_holes(e.alpha)[0], iterations=2)
+        if not own.any():
+            continue
+        q = mvc_map(pts, cage, e.cage(m_points))
+        px = np.clip(np.rint(q[:, 0]), 0, own.shape[1] - 1).astype(np.int64)
+        py = np.clip(np.rint(q[:, 1]), 0, own.shape[0] - 1).astype(np.int64)
+        out[ys, xs] |= own[py, px]
+    return out
+
+
+def _one_piece(image, exemplars: Sequence[Exemplar], own_holes=None) -> np.ndarray:
+    img = np.array(image, dtype=np.float32, copy=True)
+    alpha = img[:, :, 3] >= 0.5
+    if not alpha.any():
+        return img
+    lab, n = ndi.label(alpha, structure=np.ones((3, 3), bool))
+    if n > 1:
+        areas = np.bincount(lab.ravel())
+        areas[0] = 0
+        keep = areas >= areas.max()
+        pieces = [np.bincount(ndi.label(e.alpha, structure=np.ones((3, 3), bool))[0].ravel())[1:]
+                  for e in exemplars]
+        multi = [p.min() for p in pieces if len(p) > 1]
+        if multi:
+            keep |= areas >= min(multi)
+            # Never more pieces than the most broken-up exemplar: a warp can
+            # split its thin parts into crumbs, which are no pieces of its own.
+            most = max(len(p) for p in pieces)
+            order = np.argsort(areas)[::-1]
+            keep[order[most:]] = False
+        keep[0] = False
+        alpha = keep[lab]
+    holes, _ = _holes(alpha)
+    if holes.any():
+        limit = max((exemplar_largest_hole(e) for e in exemplars), default=0)
+        hl, _ = ndi.label(holes)
+        sizes = np.bincount(hl.ravel())
+        sizes[0] = 0
+        big = sizes > limit
+        if own_holes is not None:       # holes the exemplars' own holes map to stay open
+            big[np.unique(hl[own_holes & holes])] = False
+        fill = big[hl] & holes
+        if fill.any():
+            img[fill, :3] = extend_nearest(img[:, :, :3], alpha)[fill]
+            alpha = alpha | fill
+    img[~alpha] = 0.0
+    img[:, :, 3] = alpha
+    return img
+
+
+def exemplar_parts(exemplar: Exemplar) -> np.ndarray:
+    """An exemplar's parts as :func:`~branchnb.trees.histogram_transfer.tree_parts` labels its image.
+
+    Parameters
+    ----------
+    exemplar : Exemplar
+        A processed exemplar; its stored trunk mask splits the opaque pixels.
+
+    Returns
+    -------
+    (S, S) uint8 ndarray
+        0 background, 1 crown, 2 trunk.
+
+    Examples
+    --------
+    >>> from branchnb.trees.synthetic import synthetic_tree
+    >>> img = synthetic_tree("clean", rng=0, size=64).image
+    >>> ex = process_exemplar(img, "t", exemplar_params=ExemplarParams(size=64))
+    >>> sorted(np.unique(exemplar_parts(ex)).tolist())
+    [0, 1, 2]
+    """
+    if not isinstance(exemplar, Exemplar):
+        raise TypeError(f"exemplar must be an Exemplar, got {type(exemplar).__name__}")
+    opaque = exemplar.image[..., 3] >= 0.5
+    return np.where(opaque, np.where(exemplar.trunk & opaque, 2, 1), 0).astype(np.uint8)
