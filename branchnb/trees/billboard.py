@@ -103,11 +103,12 @@ camera turns around the tree. The steps follow the paper:
    the side: left and right fronds cross in an X, fronds of one slant
    pile up with their outlines drawn twice a few pixels apart
    (:func:`~branchnb.trees.stacked.stacked_outline_share` up to 0.095 of
-   the stroke length at 45/90/135 degrees, above 0.03 on 7 of the 10
-   palms). A crown with sky between its fronds, covering less than 0.66
-   of its convex hull (:func:`_fan_crown`: drawn palms 0.47-0.63, the
-   other drawn kinds and outlined samples 0.74-0.98), of an outlined
-   drawing is one billboard whose turning axis is the trunk's top (a
+   the stroke length at 45/90/135 degrees, above 0.01 on all 10 palms,
+   above 0.03 on 9). A crown with sky between its fronds, covering less
+   than 0.66 of its convex hull (:func:`_fan_crown`: drawn palms
+   0.47-0.63, the other drawn kinds 0.84-0.97, the clip-art and RPG
+   samples 0.74-0.98 but two palm sprites, 0.45 and 0.50, whose
+   silhouettes are not outlined), of an outlined drawing is one billboard whose turning axis is the trunk's top (a
    palm's crown is near round about the trunk, so every side view shows
    the drawn fan on the trunk): stacked outlines, loose stroke bits and
    flecks 0 on all 10 palms, inner ink kept 1.0; such crowns have no
@@ -1244,8 +1245,7 @@ def _star_crown(crown: np.ndarray, lines: np.ndarray, background_share: float = 
 
 def _fan_crown(crown: np.ndarray) -> bool:
     """Whether the crown (holes filled) covers less than ``_FAN_HULL`` of its convex hull: a fan
-    of fronds with sky between them (drawn palms 0.47-0.63; other drawn trees and the outlined
-    samples 0.74-0.98)."""
+    of fronds with sky between them (drawn palms 0.47-0.63; the other drawn kinds 0.84-0.97)."""
     from skimage.morphology import convex_hull_image
 
     if not crown.any():
