@@ -537,6 +537,9 @@ def test_palm_with_merged_fronds_keeps_its_strokes_from_the_side(monkeypatch):
 
     img = drawn_tree("palm", rng=1, size=128)                # fronds merge at the hub in the line art
     params = BillboardParams(max_size=128)
+    fan = side_view_figures(billboard_cloud(img, params=params, rng=0), 90.0)
+    assert fan["fragments"] <= fan["fragments0"] + 1e-3, fan  # the default: the fan crown, one billboard
+    monkeypatch.setattr(bb, "_STAR_ONE", False)              # fronds on cards: the lobes rule
     now = side_view_figures(billboard_cloud(img, params=params, rng=0), 90.0)
     monkeypatch.setattr(bb, "_SKY_HULL", -1.0)               # the merged fronds split as a background
     split = side_view_figures(billboard_cloud(img, params=params, rng=0), 90.0)
@@ -591,3 +594,41 @@ def test_hub_strokes_leave_the_trunk_and_bark_ticks_stay():
     far = arm & (np.abs(np.arange(W)[None, :] - 40.5) > 8)
     assert stray[far].all() and not stray[tick].any()
     assert not stray[55:80].any() and stray.sum() <= arm.sum()
+
+
+def test_fan_crowns_are_one_billboard_without_stacked_outlines(monkeypatch):
+    # Issue 24: fronds on cards gather on the axis from the side and pile up, each edge drawn
+    # twice a few pixels apart; a palm's fan crown is one billboard about the trunk's top.
+    from branchnb.trees import billboard as bb
+    from branchnb.trees.billboard import TRUNK_LAYER
+    from branchnb.trees.drawn import drawn_tree
+    from branchnb.trees.stacked import stacked_outline_share
+
+    img = drawn_tree("palm", rng=3, size=128)
+    params = BillboardParams(max_size=128)
+    cloud = billboard_cloud(img, params=params, rng=0)
+    crown = np.flatnonzero(cloud.layer != TRUNK_LAYER)
+    assert len(crown) == 1
+    trunk = np.flatnonzero((cloud.layer == TRUNK_LAYER) & (cloud.centers[:, 1] < cloud.centers[:, 1].max()))
+    top = trunk[np.argmin(cloud.centers[trunk, 1])]
+    assert abs(cloud.centers[crown[0], 0] - cloud.centers[top, 0]) <= 1.0   # turns about the trunk's top
+    front = render_cloud(cloud, 0.0, crop="image")
+    assert np.abs(front[..., 3] - cloud.image[..., 3]).max() < 0.02
+    shares = [stacked_outline_share(cloud, y) for y in (0.0, 45.0, 90.0, 135.0)]
+    assert max(shares) == 0.0, shares
+    monkeypatch.setattr(bb, "_STAR_ONE", False)                              # fronds on cards
+    cards = billboard_cloud(img, params=params, rng=0)
+    assert (cards.layer != TRUNK_LAYER).sum() > 1
+    assert stacked_outline_share(cards, 90.0) > 0.03
+    monkeypatch.undo()
+    for kind in ("broadleaf", "conifer"):                                   # no fans: unchanged
+        c = billboard_cloud(drawn_tree(kind, rng=0, size=96), params=BillboardParams(max_size=96), rng=0)
+        assert (c.layer != TRUNK_LAYER).sum() > 1
+    with pytest.raises(ValueError, match="gap"):
+        stacked_outline_share(cloud, 90.0, gap=0)
+    with pytest.raises(TypeError, match="gap"):
+        stacked_outline_share(cloud, 90.0, gap="2")
+    with pytest.raises(ValueError, match="angle"):
+        stacked_outline_share(cloud, 90.0, angle=0.0)
+    with pytest.raises(ValueError, match="view"):
+        stacked_outline_share(cloud, 90.0, view=np.zeros((5, 5, 4)))

@@ -46,9 +46,11 @@ render's; the ink the cards add inside the crown, the largest change of the
 front view, and the cards' triangles.
 ``palms``: side views (45, 90 degrees) of 10 drawn palms (8 at 256 px,
 half with a leaf pile, 2 at 384 px) with merged fronds split as a
-background (the former rule), as lobes, as lobes at one depth, and with
-the hub's strokes taken off the trunk (the default): loose stroke
-bits, flecks and inner ink kept (:func:`~branchnb.trees.quality.side_view_figures`).
+background (the former rule), as lobes, as lobes at one depth, with
+the hub's strokes taken off the trunk, and with the fan crown as one
+billboard (the default): loose stroke bits, flecks and inner ink kept
+(:func:`~branchnb.trees.quality.side_view_figures`), and stacked outlines
+at 45, 90 and 135 degrees (:func:`~branchnb.trees.stacked.stacked_outline_share`).
 ``transfer``: histogram transfer of 12 drawn trees (4 kinds, 256 px with
 and without a leaf pile, and 128 px) onto 8 flat-art references (4 drawn
 trees recoloured to autumn hues, 4 clip-art samples), with the paper's
@@ -304,15 +306,17 @@ def measure_palms(size: int = 256) -> None:
     from . import billboard as bb
     from .drawn import drawn_tree
     from .quality import side_view_figures
+    from .stacked import stacked_outline_share
 
     items = [(s, size, s % 2 == 1) for s in range(8)] + [(s, 384, False) for s in (20, 21)]
     sky = bb._SKY_HULL
-    rules = [("split as a background", -1.0, False, False), ("lobes", sky, False, False),
-             ("lobes, one depth", sky, True, False), ("+ hub strokes (default)", sky, True, True)]
+    rules = [("split as a background", -1.0, False, False, False), ("lobes", sky, False, False, False),
+             ("lobes, one depth", sky, True, False, False), ("+ hub strokes", sky, True, True, False),
+             ("+ fan crown (default)", sky, True, True, True)]
     try:
-        for label, value, join, hub in rules:
-            bb._SKY_HULL, bb._JOIN_STARS, bb._HUB_STROKES = value, join, hub
-            fr, fl, ii = [], [], []
+        for label, value, join, hub, fan in rules:
+            bb._SKY_HULL, bb._JOIN_STARS, bb._HUB_STROKES, bb._STAR_ONE = value, join, hub, fan
+            fr, fl, ii, st = [], [], [], []
             for seed, s, pile in items:
                 cloud = bb.billboard_cloud(drawn_tree("palm", pile=pile, rng=seed, size=s),
                                            params=bb.BillboardParams(max_size=s), rng=0)
@@ -320,11 +324,13 @@ def measure_palms(size: int = 256) -> None:
                 fr.append(max(f[y]["fragments"] - f[y]["fragments0"] for y in f))
                 fl.append(max(f[y]["flecks"] - f[y]["flecks0"] for y in f))
                 ii.append(min(f[y]["inner_ink"] for y in f))
+                st.append(max(stacked_outline_share(cloud, y) for y in (45.0, 90.0, 135.0)))
             print(f"{label:24s} {len(items)} palms: stroke bits over the front view's mean {np.mean(fr):.3f} "
                   f"max {max(fr):.3f} | flecks mean {np.mean(fl):.3f} max {max(fl):.3f} | inner ink kept "
-                  f"mean {np.mean(ii):.2f} min {min(ii):.2f}")
+                  f"mean {np.mean(ii):.2f} min {min(ii):.2f} | stacked outlines (45/90/135) max "
+                  f"{max(st):.3f}, > 0.01 on {sum(x > 0.01 for x in st)}")
     finally:
-        bb._SKY_HULL, bb._JOIN_STARS, bb._HUB_STROKES = sky, True, True
+        bb._SKY_HULL, bb._JOIN_STARS, bb._HUB_STROKES, bb._STAR_ONE = sky, True, True, True
 
 
 def measure_seams(size: int = 192) -> None:

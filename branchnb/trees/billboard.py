@@ -99,6 +99,20 @@ camera turns around the tree. The steps follow the paper:
    degrees to 0, inner ink from 0.56 to 0.77, and the other 17 trees of
    ``sideviews`` do not change. Whiskers remain on about 3 of the 10 palms
    at 90 degrees (midribs the arms rule does not reach).
+   Even so, fronds on cards at (mostly) one depth gather on the axis from
+   the side: left and right fronds cross in an X, fronds of one slant
+   pile up with their outlines drawn twice a few pixels apart
+   (:func:`~branchnb.trees.stacked.stacked_outline_share` up to 0.095 of
+   the stroke length at 45/90/135 degrees, above 0.01 on all 10 palms,
+   above 0.03 on 9). A crown with sky between its fronds, covering less
+   than 0.66 of its convex hull (:func:`_fan_crown`: drawn palms
+   0.47-0.63, the other drawn kinds 0.84-0.97, the clip-art and RPG
+   samples 0.74-0.98 but two palm sprites, 0.45 and 0.50, whose
+   silhouettes are not outlined), of an outlined drawing is one billboard whose turning axis is the trunk's top (a
+   palm's crown is near round about the trunk, so every side view shows
+   the drawn fan on the trunk): stacked outlines, loose stroke bits and
+   flecks 0 on all 10 palms, inner ink kept 1.0; such crowns have no
+   parallax of their own.
 
 Billboards are *axial* billboards (each quad turns about its vertical
 axis to face the camera, the usual way trees are drawn with billboards),
@@ -603,6 +617,10 @@ _SKY_HULL = 0.8
 #: turns them off to compare.
 _JOIN_STARS = True
 _HUB_STROKES = True
+#: A fan crown (:func:`_fan_crown`) of an outlined drawing is one billboard turning about the
+#: trunk's top (``_measure palms`` compares it with the cards and lobes rule).
+_STAR_ONE = True
+_FAN_HULL = 0.66
 
 
 def _merged_lobes(m: np.ndarray, crown: np.ndarray, *, necks=(0.5, 0.4, 0.3), min_share: float = 0.03):
@@ -1225,6 +1243,18 @@ def _star_crown(crown: np.ndarray, lines: np.ndarray, background_share: float = 
     return bool((hull & crown[sl]).sum() < _SKY_HULL * hull.sum())
 
 
+def _fan_crown(crown: np.ndarray) -> bool:
+    """Whether the crown (holes filled) covers less than ``_FAN_HULL`` of its convex hull: a fan
+    of fronds with sky between them (drawn palms 0.47-0.63; the other drawn kinds 0.84-0.97)."""
+    from skimage.morphology import convex_hull_image
+
+    if not crown.any():
+        return False
+    f = ndi.binary_fill_holes(crown)
+    hull = convex_hull_image(f)
+    return bool(f.sum() < _FAN_HULL * hull.sum())
+
+
 def _stray_trunk_strokes(trunk: np.ndarray, crown: np.ndarray, lines: np.ndarray) -> np.ndarray:
     """Thin arms of the trunk mask that run off into the crown: they belong to the crown.
 
@@ -1455,7 +1485,8 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
     else:
         lines = np.zeros((H, W), bool)
     filled = _fill_lines(work, lines, alpha > 1e-3) if lines.any() else work
-    if _HUB_STROKES and lines.any() and crown.any() and _star_crown(crown, lines):
+    star_crown = bool(lines.any() and crown.any() and _star_crown(crown, lines))
+    if _HUB_STROKES and star_crown:
         stray = _stray_trunk_strokes(trunk_w & ~ground_w, crown, lines)
         if stray.any():
             trunk_w = trunk_w & ~stray
@@ -1716,11 +1747,27 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
         pieces += _trunk_strips(trunk_only, H)
     # pieces[-1] holds the trunk's foot.
     pieces.insert(0, (ground_ext, pieces[-1][1] if pieces else None))
+    n_crown = len(centers)
     for piece, pivot in pieces:
         cut = _cut(work, piece, pivot)
         if cut is not None:
             x0, y0, tex = cut
             add(x0, y0, tex, 0.0, 1.0, TRUNK_LAYER)
+    if _STAR_ONE and regions and n_crown and _fan_crown(crown) and silhouette_outline(work).outlined:
+        # A palm's crown (a star of fronds meeting at the hub) as one billboard turning about
+        # the trunk's top: see :func:`_one_star`.
+        top = next((pv for pc, pv in pieces[1:] if pc.any() and pv is not None), None)
+        cut = _cut(work, crown_ext, top)
+        if cut is not None:
+            keep = list(range(n_crown, len(centers)))
+            centers, sizes, tints, layers = ([a[i] for i in keep] for a in (centers, sizes, tints, layers))
+            used = sorted({tex_idx[i] for i in keep})
+            remap = {t: j for j, t in enumerate(used)}
+            textures = [textures[t] for t in used]
+            tex_idx = [remap[tex_idx[i]] for i in keep]
+            sources = list(range(len(keep)))
+            x0, y0, tex = cut
+            add(x0, y0, tex, 1e-3, 1.0, FRONT)
 
     # With drawn regions the crown's outlines travel on their shapes' billboards; only the
     # trunk's outlines are still drawn behind the fills.

@@ -1,4 +1,4 @@
-"""Side outline cards: the side silhouette's ink for an engine, on quads edge-on to the front view.
+"""Side outline cards: the side silhouette's ink for an engine, on fixed quads hidden in the front view.
 
 Beyond the paper. :func:`~branchnb.trees.lod.bake_side_outline` inks the
 texels an engine shows on a side view's rim, but only those hidden in the
@@ -16,7 +16,17 @@ with their own single-sided material (:func:`~branchnb.trees.lod.export_lod_gltf
 
 Between the views a card is seen obliquely and its ink lands nearer the
 billboard's centre; :func:`cards_view` draws what a depth-buffered engine
-shows (per-pixel depth along the slanted card).
+shows (per-pixel depth along the slanted card). The oblique sides (45,
+135, 225 and 315 degrees) get cards too; a card there is seen by the
+front camera or by the next side's, so every texel is checked in every
+view (every 15 degrees) and dropped where it would show in the front view,
+deeper than ``2 width + 1`` inside a silhouette or more than
+``2 width + 1`` outside it. Each card may face another way than its view
+(turned by up to 75 degrees, its texture stretched by ``1 / cos`` of the
+turn so that its texels still land on the rim from its own view): single
+sided, it is culled in the views where it would show in the wrong place,
+and of the turns tried the one keeping most texels wins (up to three
+cards per billboard and side take what the previous left).
 
 Examples
 --------
@@ -24,8 +34,8 @@ Examples
 >>> from branchnb.trees.drawn import drawn_tree
 >>> cloud = billboard_cloud(drawn_tree("fruit", rng=0, size=96), params=BillboardParams(max_size=96), rng=0)
 >>> cards = side_outline_cards(cloud)
->>> cards.n > 0, sorted(set(cards.turn.tolist()))
-(True, [90.0, 270.0])
+>>> cards.n > 0, {90.0, 270.0} <= set(cards.turn.tolist())
+(True, True)
 """
 
 from __future__ import annotations
@@ -80,9 +90,9 @@ def _empty() -> SideCards:
     return SideCards(np.zeros((0, 3)), np.zeros((0, 2)), [], np.zeros(0))
 
 
-def side_outline_cards(cloud, *, sides=(90.0, 270.0), ink=None, width=None, offset: float = 0.5,
-                       baked=None) -> SideCards:
-    """Quads edge-on to the front view that carry the side views' rim ink (beyond the paper).
+def side_outline_cards(cloud, *, sides=(45.0, 90.0, 135.0, 225.0, 270.0, 315.0), ink=None, width=None,
+                       offset: float = 0.5, baked=None) -> SideCards:
+    """Fixed quads, hidden in the front view, that carry the side views' rim ink (beyond the paper).
 
     For every yaw of ``sides`` this finds the texels an axial,
     depth-buffered engine shows in the view's outermost ring (``width``
@@ -90,30 +100,38 @@ def side_outline_cards(cloud, *, sides=(90.0, 270.0), ink=None, width=None, offs
     ``baked``, e.g. :func:`~branchnb.trees.lod.bake_side_outline` of the
     cloud), and copies them per billboard, in the ink colour, onto a quad
     that faces that side's camera, ``offset`` pixels in front of the
-    billboard. From the front (and the back) the quads are edge-on and
-    draw nothing, so the front view stays exactly as drawn.
+    billboard. Sides edge-on to the front view (90, 270) get one card per
+    billboard, checked against the front view only; from the front (and
+    the back) they are edge-on and draw nothing. The oblique sides' cards
+    are checked in every view (every 15 degrees: dropped where the front
+    view would show them, or deeper than ``2 width + 1`` inside a
+    silhouette or more than that outside it) and may turn by up to 75
+    degrees away from their view (texture stretched to match), so that
+    they are culled where they would stray; the front view stays exactly
+    as drawn.
 
     On 12 drawn trees of every kind (``python -m branchnb.trees._measure
-    engine``) the rim ink share of the engine's view of the full level at
-    90 degrees went from 0.83 (baked, min 0.60) to 0.98 (min 0.88), at 270
-    from 0.81 to 0.97, as in the in-memory render (0.98, 0.97); the reduced
-    level's from 0.96 to 1.00. Seen obliquely the cards add 0.3 % (45
-    degrees) to 0.5 % (135, at most 1.4 %) of the opaque pixels as ink
-    inside the crown, and leave the rim ink at 45 degrees where the bake
-    put it (0.81; in memory 0.97). Cards at 45 degrees too
-    (``sides=(45, 90, 135, 225, 270, 315)``, their texels that the front
-    view would show dropped) raise it to 0.90 on 4 of the trees, but with 4
-    times the cards and 1.3 % stray ink at 90 degrees. The cards add 22 %
-    to the full level's triangles (0 to 80 cards a tree; a 6-billboard
-    conifer gets 12).
+    engine``) the rim ink share of the engine's view of the full level
+    (baked, then with these cards) went at 45 degrees from 0.82 to 0.96
+    (min 0.82; cards at 90 and 270 only: 0.82), at 90 from 0.85 to 0.99,
+    at 135 from 0.84 to 0.96 (min 0.90), at 270 from 0.84 to 0.98, as in
+    the in-memory render (0.99, 0.99, 0.99, 0.98); the reduced level's to
+    0.99-1.00. The 90 and 270 degree cards, seen obliquely, add 0.25 % (45
+    degrees, at most 0.5 %) and 0.5 % (135, at most 1.4 %) of the opaque
+    pixels as ink inside the crown; the oblique sides' cards none. The
+    cards add 94 % to the full level's triangles (108 % to the reduced
+    level's; a 6-billboard conifer gets up to 47 cards, a 450-billboard
+    broadleaf about 180): ``extras.triangles`` of the exported levels
+    counts them. Oblique cards checked against the front view only reach
+    0.94 at 45 degrees but add 2.6 % stray ink at 180 degrees.
 
     Parameters
     ----------
     cloud : BillboardCloud
         The cloud as an engine draws it (axial billboards); not modified.
     sides : sequence of float
-        Yaws of the side views, degrees (default 90 and 270: the quads are
-        then edge-on at 0 and 180).
+        Yaws of the side views, degrees (default every 45 degrees but the
+        front and back views; cards of 90 and 270 are edge-on at 0 and 180).
     ink : (3,) array_like, optional
         Outline colour (default: the drawing's,
         :func:`~branchnb.trees.outline.silhouette_outline`).
@@ -149,7 +167,7 @@ def side_outline_cards(cloud, *, sides=(90.0, 270.0), ink=None, width=None, offs
     from .export import _check_cloud
     from .lod import _opaque_texels, _view_ids
     from .outline import _depth
-    from .preview import _outline_style, project
+    from .preview import _outline_style
 
     _check_cloud(cloud)
     try:
@@ -175,8 +193,7 @@ def side_outline_cards(cloud, *, sides=(90.0, 270.0), ink=None, width=None, offs
     colours = np.concatenate([t[..., :3].reshape(-1, 3) for t in baked.textures])
     inked = np.linalg.norm(colours - ink[None], axis=1) <= 0.15
     texels = _opaque_texels(cloud)
-    ids0, _ = _view_ids(cloud, 0.0, texels)
-    zbuf0 = np.where(ids0 >= 0, project(cloud, 0.0)[1][np.maximum(ids0, 0)], -np.inf)
+    checks = _check_views(cloud, texels, width)
     centers, sizes, textures, turn = [], [], [], []
     for yaw in sides:
         ids, texel = _view_ids(cloud, float(yaw), texels)
@@ -188,40 +205,113 @@ def side_outline_cards(cloud, *, sides=(90.0, 270.0), ink=None, width=None, offs
         if not sel.any():
             continue
         bb, tx = ids[sel], texel[sel]
-        t = np.deg2rad(yaw)
-        front = (zbuf0,) if np.cos(t) > 1e-6 else None  # a quad the front camera sees
-        toward = np.array([-np.sin(t), np.cos(t)])       # (X, Z) towards the camera of ``yaw``
-        right = np.array([np.cos(t), np.sin(t)])
+        # Edge-on to the front view (90, 270 degrees): cards facing the side, checked against the
+        # front view only; oblique sides: every view checked (see the docstring).
+        strict = abs(np.cos(np.deg2rad(yaw))) > 1e-6
         for i in np.unique(bb):
             ti = int(cloud.texture[i])
             h, w = cloud.textures[ti].shape[:2]
             flat = tx[bb == i] - starts[ti]
             vv, uu = flat // w, flat % w
             v0, v1, u0, u1 = vv.min(), vv.max() + 1, uu.min(), uu.max() + 1
-            tex = np.zeros((v1 - v0, u1 - u0, 4), np.float32)
-            tex[vv - v0, uu - u0, :3] = ink
-            tex[vv - v0, uu - u0, 3] = 1.0
-            # The crop's centre, along the quad's right vector and down the rows.
+            need = np.zeros((v1 - v0, u1 - u0), bool)
+            need[vv - v0, uu - u0] = True
+            # The crop's centre, along the billboard's right vector and down the rows.
             du = 0.5 * (u0 + u1) - 0.5 * w
             dv = 0.5 * (v0 + v1) - 0.5 * h
-            c = cloud.centers[i]
-            xz = np.array([c[0], c[2]]) + du * right + offset * toward
-            centre = np.array([xz[0], c[1] + dv, xz[1]])
-            if front is not None:
-                hit = _card_hits(cloud, centre, tex, yaw, 0.0, front[0].shape)
-                if hit is not None:
-                    rows, cols, vv, uu, dd = hit
-                    seen = (tex[vv, uu, 3] >= 0.5) & (dd > front[0][rows, cols])
-                    tex[vv[seen], uu[seen], 3] = 0.0     # would show in the front view
-                    if not (tex[..., 3] >= 0.5).any():
-                        continue
-            centers.append(centre)
-            sizes.append([u1 - u0, v1 - v0])
-            textures.append(tex)
-            turn.append(float(yaw))
+            for _ in range(_MAX_CARDS if strict else 1):
+                best = None
+                for turn_by in (_TURNS if strict else (0.0,)):
+                    card = _card(cloud, i, float(yaw), float(yaw) + turn_by, du, dv, need, ink, offset,
+                                 checks, strict)
+                    if card is not None and (best is None or card[3] > best[3]):
+                        best = card
+                if best is None or best[3] < _MIN_TEXELS:
+                    break
+                centre, size, tex, n, facing = best
+                centers.append(centre)
+                sizes.append(size)
+                textures.append(tex)
+                turn.append(facing)
+                need &= tex[..., 3] < 0.5
+                if not need.any():
+                    break
     if not textures:
         return _empty()
     return SideCards(np.asarray(centers, float), np.asarray(sizes, float), textures, np.asarray(turn, float))
+
+
+#: Turns (degrees) of a card from the view it inks that are tried; the one keeping most texels wins.
+_OUT_K = 2
+_TURNS = (0.0, 30.0, -30.0, 60.0, -60.0, 75.0, -75.0)
+#: Cards per billboard and side view at most (each takes the texels the previous ones left).
+_MAX_CARDS = 3
+_MIN_TEXELS = 1
+
+
+def _card(cloud, i: int, yaw: float, facing: float, du: float, dv: float, need, ink, offset: float, checks,
+          strict: bool = True):
+    """One card for billboard ``i``'s texels ``need`` (a crop at ``du``, ``dv`` from its centre) seen
+    from ``yaw``, facing ``facing``: ``(centre, size, texture, texels kept, facing)`` or None.
+
+    The texture is stretched by ``1 / cos(facing - yaw)`` along the card so that from ``yaw`` every
+    texel lands where the billboard's does, and the card stands in front of the billboard there;
+    texels that would show where ``checks`` forbid ink are dropped (``strict=False``: only
+    those the front view would show).
+    """
+    c = np.cos(np.deg2rad(facing - yaw))
+    if c <= 0.2:
+        return None
+    k = 1.0 / c
+    t, f = np.deg2rad(yaw), np.deg2rad(facing)
+    toward = np.array([-np.sin(t), np.cos(t)])           # (X, Z) towards the camera of ``yaw``
+    right = np.array([np.cos(t), np.sin(t)])
+    hw = 0.5 * need.shape[1]
+    # Depth along the card from ``yaw`` spans +-hw tan(facing - yaw): stand clear of the billboard.
+    lift = offset + hw * abs(np.tan(f - t))
+    ctr = cloud.centers[i]
+    xz = np.array([ctr[0], ctr[2]]) + du * right + lift * toward
+    centre = np.array([xz[0], ctr[1] + dv, xz[1]])
+    tex = np.zeros(need.shape + (4,), np.float32)
+    tex[need, :3] = ink
+    tex[need, 3] = 1.0
+    for vyaw, zbuf, bad in checks:
+        if abs(((vyaw - yaw) + 180.0) % 360.0 - 180.0) < 1e-6:
+            continue                                     # its own view: the ring, by construction
+        if not strict and vyaw % 360.0 != 0.0:
+            continue
+        hit = _card_hits(cloud, centre, tex, facing, vyaw, zbuf.shape, stretch=k)
+        if hit is None:
+            continue
+        rows, cols, hv, hu, dd = hit
+        drop = (tex[hv, hu, 3] >= 0.5) & (dd > zbuf[rows, cols]) & bad[rows, cols]
+        tex[hv[drop], hu[drop], 3] = 0.0
+    n = int((tex[..., 3] >= 0.5).sum())
+    if n == 0:
+        return None
+    return centre, [k * need.shape[1], need.shape[0]], tex, n, float(facing) % 360.0
+
+
+def _check_views(cloud, texels, width: int, yaws=None) -> list:
+    """Per view of ``yaws``: ``(yaw, zbuf, bad)``, the billboards' depth at each pixel and where
+    a card's ink must not show (anywhere in the front view; elsewhere deeper than ``2 width + 1``
+    inside the filled silhouette, or farther than ``width`` outside it)."""
+    from .lod import _view_ids
+    from .outline import _depth
+    from .preview import project
+
+    out = []
+    for yaw in (range(0, 360, 15) if yaws is None else yaws):
+        ids, _ = _view_ids(cloud, float(yaw), texels)
+        op = ids >= 0
+        zbuf = np.where(op, project(cloud, float(yaw))[1][np.maximum(ids, 0)], -np.inf)
+        if float(yaw) % 360.0 == 0.0:
+            bad = np.ones(op.shape, bool)
+        else:
+            filled = ndi.binary_fill_holes(op)
+            bad = (_depth(filled) > 2 * width + 1) | (ndi.distance_transform_edt(~filled) > _OUT_K * width + 1)
+        out.append((float(yaw), zbuf, bad))
+    return out
 
 
 def cards_view(view: np.ndarray, cloud, cards: SideCards, yaw: float) -> np.ndarray:
@@ -266,7 +356,9 @@ def cards_view(view: np.ndarray, cloud, cards: SideCards, yaw: float) -> np.ndar
     _, bdepth = project(cloud, float(yaw))
     zbuf = np.where(ids >= 0, bdepth[np.maximum(ids, 0)], -np.inf)
     for k in range(cards.n):
-        hit = _card_hits(cloud, cards.centers[k], cards.textures[k], cards.turn[k], yaw, out.shape[:2])
+        tex = cards.textures[k]
+        hit = _card_hits(cloud, cards.centers[k], tex, cards.turn[k], yaw, out.shape[:2],
+                         stretch=float(cards.sizes[k][0]) / tex.shape[1])
         if hit is None:
             continue
         rows, cols, vv, uu, dd = hit
@@ -280,7 +372,7 @@ def cards_view(view: np.ndarray, cloud, cards: SideCards, yaw: float) -> np.ndar
     return out
 
 
-def _card_hits(cloud, centre, tex, turn: float, yaw: float, shape):
+def _card_hits(cloud, centre, tex, turn: float, yaw: float, shape, stretch: float = 1.0):
     """Pixels a fixed quad covers from ``yaw`` in the ``crop="fit"`` frame (None: culled or off frame).
 
     Returns ``(rows, cols, v, u, depth)``: per covered pixel, its row and column, the texel
@@ -294,14 +386,15 @@ def _card_hits(cloud, centre, tex, turn: float, yaw: float, shape):
     if c <= 1e-6:
         return None                                    # edge-on or seen from behind: culled
     h, w = tex.shape[:2]
+    ww = w * stretch                                   # the quad's width in pixels
     r, _ = _extent(cloud)
     ox = int(np.ceil(max(cloud.axis, r))) + 1 - int(round(cloud.axis))
     X, Y, Z = centre[0] - cloud.axis, centre[1], centre[2]
     xc = cloud.axis + X * np.cos(th) + Z * np.sin(th) + ox
     dc = -X * np.sin(th) + Z * np.cos(th)
-    cols = np.arange(max(int(np.floor(xc - 0.5 * w * c)), 0), min(int(np.ceil(xc + 0.5 * w * c)) + 1, Wc))
+    cols = np.arange(max(int(np.floor(xc - 0.5 * ww * c)), 0), min(int(np.ceil(xc + 0.5 * ww * c)) + 1, Wc))
     a = (cols + 0.5 - xc) / c                          # offset along the quad's right vector
-    u = np.floor(a + 0.5 * w).astype(int)
+    u = np.floor((a + 0.5 * ww) / stretch).astype(int)
     ok = (u >= 0) & (u < w)
     cols, a, u = cols[ok], a[ok], u[ok]
     y0 = int(round(Y - 0.5 * h))
