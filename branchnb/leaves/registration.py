@@ -870,7 +870,14 @@ def _thin_parts_of(mask: np.ndarray) -> np.ndarray:
     filled = ndi_fill_holes(mask)
     r = _opening_radius(filled)
     k = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
-    opened = cv2.morphologyEx(filled.astype(np.uint8), cv2.MORPH_OPEN, k) > 0
+    # The opening of the blade's bounding box (r + 1 beyond it, clipped to
+    # the image): outside it the mask is empty and stays so.
+    ys, xs = np.nonzero(filled.any(1))[0], np.nonzero(filled.any(0))[0]
+    opened = np.zeros(mask.shape, bool)
+    if len(ys):
+        y0, y1 = max(0, ys[0] - r - 1), min(mask.shape[0], ys[-1] + r + 2)
+        x0, x1 = max(0, xs[0] - r - 1), min(mask.shape[1], xs[-1] + r + 2)
+        opened[y0:y1, x0:x1] = cv2.morphologyEx(filled[y0:y1, x0:x1].astype(np.uint8), cv2.MORPH_OPEN, k) > 0
     thin = mask & ~opened
     return thin if thin.sum() >= max(8, 0.002 * mask.sum()) else np.zeros_like(mask)
 
@@ -885,8 +892,15 @@ def _thin_roots(mask: np.ndarray, thin: np.ndarray, lamina: np.ndarray) -> np.nd
     lobe tips.
     """
     r = _opening_radius(mask)
-    near = cv2.dilate(lamina.astype(np.uint8), cv2.getStructuringElement(cv2.MORPH_ELLIPSE,
-                                                                          (4 * r + 1, 4 * r + 1))) > 0
+    # Only the dilation at the thin pixels counts: dilate the window around
+    # them (2 r beyond their bounding box), the same values as the whole image.
+    ys, xs = np.nonzero(thin)
+    near = np.zeros(mask.shape, bool)
+    if len(ys):
+        y0, y1 = max(0, ys.min() - 2 * r - 1), min(mask.shape[0], ys.max() + 2 * r + 2)
+        x0, x1 = max(0, xs.min() - 2 * r - 1), min(mask.shape[1], xs.max() + 2 * r + 2)
+        k = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (4 * r + 1, 4 * r + 1))
+        near[y0:y1, x0:x1] = cv2.dilate(lamina[y0:y1, x0:x1].astype(np.uint8), k) > 0
     roots = thin & near
     return roots if roots.sum() >= 4 else thin
 
@@ -1191,7 +1205,12 @@ def _blade_iou(mat, me, mt) -> float:
 # result
 
 def _bilinear_upsample(coarse: np.ndarray, step: int, shape: tuple[int, int]) -> np.ndarray:
-    """Values at every pixel of ``shape`` from samples at ``(j * step, i * step)``."""
+    """Values at every pixel of ``shape`` from samples at ``(j * step, i * step)``.
+
+    Separable: along x on the coarse rows first, then along y (the same
+    bilinear values as the four-corner formula, without four full-size
+    float64 temporaries per channel).
+    """
     h, w = shape
     ys = np.arange(h) / step
     xs = np.arange(w) / step
@@ -1199,13 +1218,12 @@ def _bilinear_upsample(coarse: np.ndarray, step: int, shape: tuple[int, int]) ->
     x0 = np.minimum(np.floor(xs).astype(int), coarse.shape[1] - 2)
     fy = (ys - y0)[:, None, None]
     fx = (xs - x0)[None, :, None]
-    c00 = coarse[y0][:, x0]
-    c01 = coarse[y0][:, x0 + 1]
-    c10 = coarse[y0 + 1][:, x0]
-    c11 = coarse[y0 + 1][:, x0 + 1]
-    top = c00 * (1 - fx) + c01 * fx
-    bot = c10 * (1 - fx) + c11 * fx
-    return (top * (1 - fy) + bot * fy).astype(np.float32)
+    rows = coarse[:, x0] * (1 - fx) + coarse[:, x0 + 1] * fx  # (gh, W, C)
+    out = np.empty((h, w) + coarse.shape[2:], np.float32)
+    for i0 in range(0, h, 256):  # row blocks keep the float64 temporaries small
+        sl = slice(i0, i0 + 256)
+        out[sl] = rows[y0[sl]] * (1 - fy[sl]) + rows[y0[sl] + 1] * fy[sl]
+    return out
 
 
 def _coarse_grid(shape, step):
