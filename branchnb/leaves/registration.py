@@ -129,7 +129,6 @@ from dataclasses import dataclass, field, replace
 import cv2
 import numba
 import numpy as np
-from scipy.interpolate import RBFInterpolator
 from scipy.ndimage import binary_fill_holes as ndi_fill_holes
 from scipy.ndimage import label as ndi_label
 from scipy.spatial import cKDTree
@@ -391,10 +390,13 @@ class ThinPlateSpline:
         return _SplineSystem(source).fit(target, weights=weights, lambda1=lambda1, lambda2=lambda2)
 
     def __call__(self, points) -> np.ndarray:
+        return self._eval(points, False)[0]
+
+    def _eval(self, points, jac: bool):
         p = np.ascontiguousarray(np.asarray(points, np.float64).reshape(-1, 2))
         return _tps_eval_nb(p, np.ascontiguousarray(self.centres, np.float64),
                             np.ascontiguousarray(self.w, np.float64), np.ascontiguousarray(self.d, np.float64),
-                            False)[0]
+                            jac)
 
     def jacobian(self, points) -> np.ndarray:
         """(N, 2, 2) ``J[n, i, j] = d f_i / d p_j``.
@@ -662,6 +664,8 @@ def _anneal(x, v, f, system, lab_x, lab_v, t, t_init, t_final, cx, prm, pair_cos
 # compiled annealing loop (the same arithmetic as _softassign and _SplineSystem.fit)
 
 _SINK_TOL = 1e-2
+#: Training px: :meth:`Registration.inverse` stops refining a point whose residual is below this.
+_NEWTON_TOL = 1e-4
 _MOVE_TOL = 1e-2
 _COUNTS = np.zeros(2, np.int64)
 _SUB_MARGIN = 0.7
@@ -1276,7 +1280,7 @@ class Registration:
     exemplar_shape: tuple[int, int]
     training_shape: tuple[int, int]
     grid_step: int = 8
-    _inverse_init: RBFInterpolator | None = field(default=None, repr=False)
+    _inverse_init: ThinPlateSpline | None = field(default=None, repr=False)
     _map_to: np.ndarray | None = field(default=None, repr=False)
     _map_from: np.ndarray | None = field(default=None, repr=False)
 
@@ -1346,27 +1350,58 @@ class Registration:
         if self._inverse_init is None:
             self._fit_inverse()
         p = self._inverse_init(self._normalise(y))
+        # Points whose residual is below _NEWTON_TOL px are done (a further
+        # step would move them by less than that); the rest take every step.
+        active = np.arange(len(p))
         for _ in range(newton_steps):
-            r = self.forward(p) - y
-            j = self.forward_jacobian(p)
+            if not len(active):
+                break
+            f, j = self._forward_and_jacobian(p[active])
+            r = f - y[active]
             det = j[:, 0, 0] * j[:, 1, 1] - j[:, 0, 1] * j[:, 1, 0]
             ok = np.abs(det) > 1e-9
-            step = np.zeros_like(p)
+            step = np.zeros_like(r)
             jinv = np.stack([np.stack([j[:, 1, 1], -j[:, 0, 1]], -1),
                              np.stack([-j[:, 1, 0], j[:, 0, 0]], -1)], 1) / np.where(ok, det, 1.0)[:, None, None]
             step[ok] = np.einsum("nij,nj->ni", jinv[ok], r[ok])
             # Damped where a full step would not reduce the residual much (fold-overs far outside).
-            p = p - np.clip(step, -self.radius, self.radius)
+            p[active] = p[active] - np.clip(step, -self.radius, self.radius)
+            active = active[np.hypot(*r.T) >= _NEWTON_TOL]
         return p
 
+    def _forward_and_jacobian(self, p):
+        """:meth:`forward` and :meth:`forward_jacobian` of (N, 2) float points in one pass per spline."""
+        q = self._normalise(self._start_map(p))
+        j = np.broadcast_to(self.start[:, :2], (len(p), 2, 2)).copy()
+        for f in self.splines:
+            fq, jf = f._eval(q, True)
+            j = jf @ j
+            q = fq
+        return q * self.radius + self.centre, j
+
     def _fit_inverse(self):
+        """A thin-plate spline through forward-mapped samples: the start of :meth:`inverse`'s Newton steps.
+
+        The interpolant ``sum_j w_j U(|y - c_j|) + affine(y)`` with a
+        smoothing of 1e-6 on the kernel's diagonal (what
+        ``scipy.interpolate.RBFInterpolator(kernel="thin_plate_spline",
+        smoothing=1e-6, degree=1)`` fits), evaluated compiled.
+        """
         he, we = self.exemplar_shape
         n = 28
         gx, gy = np.meshgrid(np.linspace(-0.1 * we, 1.1 * we, n), np.linspace(-0.1 * he, 1.1 * he, n))
         samples = np.vstack([np.column_stack([gx.ravel(), gy.ravel()]), self.exemplar_keypoints.points])
-        fwd = self.forward(samples)
-        self._inverse_init = RBFInterpolator(self._normalise(fwd), samples, kernel="thin_plate_spline",
-                                             smoothing=1e-6, degree=1)
+        src = self._normalise(self.forward(samples))
+        m = len(src)
+        lhs = np.zeros((m + 3, m + 3))
+        lhs[:m, :m] = _tps_kernel(_sqdist(src, src))
+        lhs[np.arange(m), np.arange(m)] += 1e-6
+        poly = np.column_stack([np.ones(m), src])
+        lhs[:m, m:] = poly
+        lhs[m:, :m] = poly.T
+        rhs = np.vstack([samples, np.zeros((3, 2))])
+        sol = _solve(lhs, rhs)
+        self._inverse_init = ThinPlateSpline(src, sol[:m], sol[m:])
 
     # dense maps ------------------------------------------------------------------
     @property
