@@ -12,6 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+from threadpoolctl import threadpool_limits
 
 from ..core.image import as_float_image
 from ..core.validate import check_int
@@ -218,7 +219,8 @@ class Registration:
         lhs[:m, m:] = poly
         lhs[m:, :m] = poly.T
         rhs = np.vstack([samples, np.zeros((3, 2))])
-        sol = _solve(lhs, rhs)
+        with threadpool_limits(1):  # one dense solve: BLAS threads only stall on a busy machine
+            sol = _solve(lhs, rhs)
         self._inverse_init = ThinPlateSpline(src, sol[:m], sol[m:])
 
     # dense maps ------------------------------------------------------------------
