@@ -122,6 +122,8 @@ registration", Computer Vision and Image Understanding 89 (2003) 114-141.
 
 from __future__ import annotations
 
+import hashlib
+import threading
 from dataclasses import dataclass, replace
 
 import cv2
@@ -346,8 +348,7 @@ def register(exemplar, training, exemplar_blade=None, training_blade=None, *,
     tr = _as_leaf(training, training_blade, "training")
     kp_e = exemplar_keypoints or edge_keypoints(ex.rgb, ex.blade, prm.n_keypoints,
                                                 outline_fraction=prm.outline_fraction)
-    kp_t = training_keypoints or edge_keypoints(tr.rgb, tr.blade, prm.n_keypoints,
-                                                outline_fraction=prm.outline_fraction)
+    kp_t = training_keypoints or _training_keypoints(tr.rgb, tr.blade, prm.n_keypoints, prm.outline_fraction)
     for nm, kp in (("exemplar", kp_e), ("training", kp_t)):
         if len(kp) < 8:
             raise ValueError(f"{nm} has only {len(kp)} keypoints; registration needs at least 8")
@@ -444,6 +445,35 @@ def register(exemplar, training, exemplar_blade=None, training_blade=None, *,
         match = _softassign(x, v, labels[1], labels[0], 1e-2, 1.0, x.mean(0), v.mean(0), prm.sinkhorn_iterations)
     return Registration(start, start_iou, splines, centre, radius, kp_e, kp_t, match,
                         ex.blade.shape, tr.blade.shape, prm.grid_step)
+
+
+_KP_CACHE: dict = {}
+_KP_LOCK = threading.Lock()  # batch runs register leaves on several threads
+
+
+def _training_keypoints(rgb, blade, n: int, outline_fraction: float) -> Keypoints:
+    """:func:`edge_keypoints` of the training leaf, remembered for the last few leaves.
+
+    Every exemplar of an analysis registers to the same training leaf:
+    its keypoints (deterministic) are found once, not once per exemplar.
+    """
+    rgb = np.ascontiguousarray(rgb)
+    m = np.ascontiguousarray(blade, bool)
+    h = hashlib.blake2b(digest_size=16)
+    h.update(str((rgb.shape, rgb.dtype.str, n, float(outline_fraction))).encode())
+    h.update(rgb.tobytes())
+    h.update(np.packbits(m).tobytes())
+    key = h.digest()
+    with _KP_LOCK:
+        hit = _KP_CACHE.get(key)
+    if hit is None:
+        hit = edge_keypoints(rgb, m, n, outline_fraction=outline_fraction)
+        with _KP_LOCK:
+            while len(_KP_CACHE) >= 4:
+                _KP_CACHE.pop(next(iter(_KP_CACHE)))
+            _KP_CACHE[key] = hit
+    return Keypoints(hit.points.copy(), hit.labels.copy(), hit.strength.copy(),
+                     None if hit.orientation is None else hit.orientation.copy())
 
 
 def _apex_point(lamina: np.ndarray, base: np.ndarray, margin: float = 1.15):
