@@ -5,6 +5,11 @@ The paper registers every exemplar to the training leaf with TPS-RPM
 (:func:`branchnb.leaves.keypoints.edge_keypoints`). No maintained Python 3
 implementation exists; this is one, in numpy.
 
+The steps live in modules of their own, all importable from here:
+:mod:`~branchnb.leaves.starts` (step 1), :mod:`~branchnb.leaves.tps` and
+:mod:`~branchnb.leaves.tpsrpm` (step 2), :mod:`~branchnb.leaves.warps`
+(step 3, the :class:`Registration` result).
+
 Steps
 -----
 1. **Start** (:func:`start_candidates`): a similarity of the exemplar's
@@ -113,6 +118,18 @@ Steps
    are evaluated on a grid of ``grid_step`` pixels and interpolated
    bilinearly, which is fast at a megapixel and exact to a small
    fraction of a pixel for a smooth spline.
+
+   **Speed at a megapixel** (issue 22; the same maps: within 1e-10 px of
+   the previous code on procedural leaves at 700 px). The inverse's start
+   spline is the interpolant ``scipy.interpolate.RBFInterpolator`` fitted,
+   solved on one BLAS thread and evaluated compiled; a Newton step
+   evaluates each spline once for value and Jacobian, and a point leaves
+   the loop once its residual is below 1e-4 px; the grid is upsampled
+   separably. The start scores' morphology (the opening that finds thin
+   parts, the dilation around their roots) runs on the window around the
+   blade / the thin parts only (identical masks), and the training leaf's
+   keypoints are found once per analysis, not once per exemplar. One
+   1 MP exemplar: registration and both dense maps 1.3-1.5 s CPU.
 
 References
 ----------
