@@ -542,22 +542,28 @@ def _on_layer(each: list, feat: np.ndarray, blade: np.ndarray) -> np.ndarray:
     nothing and keeps the half most unlike the ring.
     """
     out = np.zeros(blade.shape, bool)
+    h, w = blade.shape
     for m in each:
-        if m.sum() < 4:
+        ys, xs = np.nonzero(m)
+        if len(ys) < 4:
             out |= m
             continue
-        ring = ndi.binary_dilation(m, iterations=5) & ~ndi.binary_dilation(m, iterations=2) & blade
+        # The ring on the scribble's window (6 px beyond it: the 5-step
+        # dilation reaches 5), the same pixels as on the whole image.
+        y0, y1 = max(ys.min() - 6, 0), min(ys.max() + 7, h)
+        x0, x1 = max(xs.min() - 6, 0), min(xs.max() + 7, w)
+        mc, fc = m[y0:y1, x0:x1], feat[y0:y1, x0:x1]
+        ring = ndi.binary_dilation(mc, iterations=5) & ~ndi.binary_dilation(mc, iterations=2) & blade[y0:y1, x0:x1]
         if ring.sum() < 4:
             out |= m
             continue
-        ref = np.median(feat[ring], axis=0)
-        px = feat[m]
+        ref = np.median(fc[ring], axis=0)
+        px = fc[mc]  # row-major, as np.nonzero(m)
         d = np.sqrt(((px - ref) ** 2).sum(1))
-        spread = float(np.percentile(np.sqrt(((feat[ring] - ref) ** 2).sum(1)), 90))
+        spread = float(np.percentile(np.sqrt(((fc[ring] - ref) ** 2).sum(1)), 90))
         keep = d > spread
         if keep.sum() < max(2, 0.1 * len(d)):
             keep = d >= np.median(d)
-        ys, xs = np.nonzero(m)
         out[ys[keep], xs[keep]] = True
     return out
 
