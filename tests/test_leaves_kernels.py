@@ -19,7 +19,9 @@ def test_sato_bright_is_skimage_sato(sigmas):
     from skimage.filters import sato
     im = _image((40, 52))
     want = sato(im, sigmas=sigmas, black_ridges=False, mode="reflect")
-    assert np.array_equal(sato_bright(im, sigmas), want)
+    got = sato_bright(im, sigmas)
+    # OpenCV sums the Gaussian taps in float32, SciPy in float64: ~1e-7 of the response.
+    assert np.abs(got - want).max() <= 1e-5 * np.abs(want).max()
 
 
 def test_sample_scores_is_the_numpy_mean():

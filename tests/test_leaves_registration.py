@@ -148,6 +148,7 @@ def test_fast_tps_rpm_matches_the_plain_numpy_loop(monkeypatch):
     """The compiled loop with its shortcuts (coarse point subsets at high T, early stops) gives the
     plain loop's spline: an outline of 150 points (all three subset levels) and labelled landmarks."""
     from branchnb.leaves import registration as reg_mod
+    from branchnb.leaves import tpsrpm as tpsrpm_mod
 
     s = np.linspace(0, 2 * np.pi, 150, endpoint=False)
     x = np.column_stack([np.cos(s) * (1 + 0.2 * np.cos(5 * s)), np.sin(s) * (1 + 0.2 * np.cos(5 * s))])
@@ -160,7 +161,7 @@ def test_fast_tps_rpm_matches_the_plain_numpy_loop(monkeypatch):
     def fail(*args, **kwargs):
         raise ValueError("use the numpy loop")
 
-    monkeypatch.setattr(reg_mod, "_anneal_compiled", fail)  # tps_rpm falls back to the plain loop
+    monkeypatch.setattr(tpsrpm_mod, "_anneal_compiled", fail)  # tps_rpm falls back to the plain loop
     f_plain, m_plain = tps_rpm(v, x, source_labels=lab, target_labels=lab)
     err = np.hypot(*(f_fast(v) - f_plain(v)).T)
     assert err.max() < 1e-3  # blade radii (measured 2.4e-4)

@@ -66,7 +66,8 @@ def rows(quick: bool = False) -> list[BenchRow]:
     out.append(BenchRow(f"leaves analysis: {small_n} exemplars {mp:.2f} MP each, 2 layers", t,
                         "one cv2.xphoto shift-map inpainting of one vein layer", _shiftmap(a),
                         "target < 10 s for 8 exemplars of ~250 px (CPU, loaded 2 cores: 12.6 s before the "
-                        "compiled snapping, 8-9 s after)"))
+                        "compiled snapping, 8-9 s after; issue 22 speed pass, A/B: one run at load ~25 "
+                        "15.5 -> 10.2 s, three interleaved at load ~4 9.7-10.4 -> 9.2-10.0 s; the same layers)"))
     size = 384 if quick else 1000
     a, t_analysis = _analysis(4, size)
     mp = a.exemplars[0].shape[0] * a.exemplars[0].shape[1] / 1e6
@@ -74,7 +75,10 @@ def rows(quick: bool = False) -> list[BenchRow]:
                         "induction, residuals)", t_analysis,
                         "one cv2.xphoto shift-map inpainting of one vein layer", _shiftmap(a),
                         "target < 20 s at ~1 MP (CPU, loaded 2 cores: 38-39 s before the compiled snapping, "
-                        "25-27 s after; registration and lazy snapping ~11 s of it); the paper: several minutes"))
+                        "25-27 s after; issue 22 speed pass (registration 2.5 -> 1.3-1.5 s per exemplar with "
+                        "its dense maps, lazy snapping 3.4 -> 2.3 s), A/B runs: 30.4 -> 20.2 s at load ~25, "
+                        "33.6 -> 20.4 s at load ~4); "
+                        "the paper: several minutes"))
     generate(a, 1, rng=0)  # the per-analysis preparation, paid once
     t_gen = timeit(lambda: generate(a, 1, rng=1), repeat=2, warmup=False)
     tracemalloc.start()

@@ -1,0 +1,435 @@
+"""Start maps of a registration (step 1 of :mod:`branchnb.leaves.registration`).
+
+A similarity (optionally affine) map of an exemplar's blade onto the
+training blade from their moments, the rotation searched over the circle
+and scored by the chamfer distance of the laminae outlines and of the
+thin parts' roots; and the blade's parts it needs: lamina, thin parts
+(petiole, drawn-out tips), base point.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import threading
+
+import cv2
+import numpy as np
+from scipy.ndimage import binary_fill_holes as ndi_fill_holes
+from scipy.ndimage import label as ndi_label
+from scipy.spatial import cKDTree
+
+from ..core.image import as_mask
+from ..core.validate import Choice, Int, Real, checked
+
+__all__ = ["start_candidates", "start_alignment", "split_petiole"]
+
+
+def _moments(mask: np.ndarray):
+    ys, xs = np.nonzero(mask)
+    pts = np.column_stack([xs, ys]).astype(np.float64)
+    mu = pts.mean(0)
+    cov = np.cov((pts - mu).T) + 1e-6 * np.eye(2)
+    return mu, cov, float(len(pts))
+
+
+def _sqrtm(c, inverse=False):
+    vals, vecs = np.linalg.eigh(c)
+    vals = np.maximum(vals, 1e-9)
+    p = -0.5 if inverse else 0.5
+    return (vecs * vals ** p) @ vecs.T
+
+
+def _rot(theta):
+    c, s = np.cos(theta), np.sin(theta)
+    return np.array([[c, -s], [s, c]])
+
+
+def _contour_points(mask: np.ndarray, n: int = 600) -> np.ndarray:
+    contours, _ = cv2.findContours(mask.astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
+    pts = np.vstack([c[:, 0, :] for c in contours]).astype(np.float64)
+    if len(pts) > n:
+        pts = pts[np.linspace(0, len(pts) - 1, n).astype(int)]
+    return pts
+
+
+class _Chamfer:
+    """Mean distance of mapped points to a mask's outline (distance transform lookup)."""
+
+    def __init__(self, mask: np.ndarray, region: bool = False):
+        edge = np.ones(mask.shape, np.uint8)
+        if region:  # distance to the region itself
+            edge[mask] = 0
+        else:  # distance to its outline
+            edge[cv2.morphologyEx(mask.astype(np.uint8), cv2.MORPH_GRADIENT, np.ones((3, 3), np.uint8)) > 0] = 0
+        self.dt = cv2.distanceTransform(edge, cv2.DIST_L2, 3)
+        self.h, self.w = mask.shape
+
+    def __call__(self, pts: np.ndarray) -> float:
+        x, y = pts[:, 0], pts[:, 1]
+        xc, yc = np.clip(x, 0, self.w - 1), np.clip(y, 0, self.h - 1)
+        d = self.dt[np.round(yc).astype(int), np.round(xc).astype(int)]
+        d = d + np.hypot(x - xc, y - yc)  # outside the image: at least this far
+        return float(np.sqrt(np.mean(d * d)))
+
+
+def _opening_radius(mask: np.ndarray) -> int:
+    return max(1, int(round(0.05 * np.sqrt(mask.sum()))))
+
+
+_THIN_CACHE: dict = {}
+_THIN_LOCK = threading.Lock()  # batch runs register leaves on several threads
+
+
+def _thin_parts(mask: np.ndarray) -> np.ndarray:
+    """:func:`_thin_parts_of`, remembered for the last few masks (a registration asks ~12 times per leaf)."""
+    m = np.ascontiguousarray(mask, bool)
+    key = (m.shape, hashlib.blake2b(np.packbits(m).tobytes(), digest_size=16).digest())
+    with _THIN_LOCK:
+        hit = _THIN_CACHE.get(key)
+    if hit is None:
+        hit = _thin_parts_of(m)
+        with _THIN_LOCK:
+            while len(_THIN_CACHE) >= 8:
+                _THIN_CACHE.pop(next(iter(_THIN_CACHE)))
+            _THIN_CACHE[key] = hit
+    return hit.copy()
+
+
+def _thin_parts_of(mask: np.ndarray) -> np.ndarray:
+    """Thin protrusions of a blade (petiole, drawn-out tips): what an opening removes.
+
+    Holes (insect damage) are filled first: the pixels around a hole are
+    no protrusion of the outline.
+    """
+    filled = ndi_fill_holes(mask)
+    r = _opening_radius(filled)
+    k = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
+    # The opening of the blade's bounding box (r + 1 beyond it, clipped to
+    # the image): outside it the mask is empty and stays so.
+    ys, xs = np.nonzero(filled.any(1))[0], np.nonzero(filled.any(0))[0]
+    opened = np.zeros(mask.shape, bool)
+    if len(ys):
+        y0, y1 = max(0, ys[0] - r - 1), min(mask.shape[0], ys[-1] + r + 2)
+        x0, x1 = max(0, xs[0] - r - 1), min(mask.shape[1], xs[-1] + r + 2)
+        opened[y0:y1, x0:x1] = cv2.morphologyEx(filled[y0:y1, x0:x1].astype(np.uint8), cv2.MORPH_OPEN, k) > 0
+    thin = mask & ~opened
+    return thin if thin.sum() >= max(8, 0.002 * mask.sum()) else np.zeros_like(mask)
+
+
+def _thin_roots(mask: np.ndarray, thin: np.ndarray, lamina: np.ndarray) -> np.ndarray:
+    """Where the thin parts leave the lamina (within one opening radius of it).
+
+    A petiole's length and bend vary from leaf to leaf (a long curved
+    petiole would pull a whole-shape score towards a rotation that aligns
+    petioles instead of blades), but where it joins the blade, the base of
+    the leaf, is shared by every leaf of a kind; so are the roots of the
+    lobe tips.
+    """
+    r = _opening_radius(mask)
+    # Only the dilation at the thin pixels counts: dilate the window around
+    # them (2 r beyond their bounding box), the same values as the whole image.
+    ys, xs = np.nonzero(thin)
+    near = np.zeros(mask.shape, bool)
+    if len(ys):
+        y0, y1 = max(0, ys.min() - 2 * r - 1), min(mask.shape[0], ys.max() + 2 * r + 2)
+        x0, x1 = max(0, xs.min() - 2 * r - 1), min(mask.shape[1], xs.max() + 2 * r + 2)
+        k = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (4 * r + 1, 4 * r + 1))
+        near[y0:y1, x0:x1] = cv2.dilate(lamina[y0:y1, x0:x1].astype(np.uint8), k) > 0
+    roots = thin & near
+    return roots if roots.sum() >= 4 else thin
+
+
+def _base_point(mask: np.ndarray, thin: np.ndarray, lamina: np.ndarray):
+    """Where the dominant thin part (the petiole) joins the lamina, or None.
+
+    The thin part must be at least twice as large as any other (lobe tips),
+    so a leaf without a clear petiole gives no base point.
+    """
+    if not thin.any():
+        return None
+    lab, n = ndi_label(thin, structure=np.ones((3, 3)))
+    sizes = np.sort(np.bincount(lab.ravel())[1:])[::-1]
+    if n == 0 or (n > 1 and sizes[0] < 2 * sizes[1]):
+        return None
+    big = lab == int(np.argmax(np.bincount(lab.ravel())[1:]) + 1)
+    roots = _thin_roots(mask, big, lamina)
+    ys, xs = np.nonzero(roots)
+    return np.array([xs.mean(), ys.mean()])
+
+
+def split_petiole(blade) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """A blade's lamina, its petiole (the dominant thin protrusion) and the base where they meet.
+
+    Parameters
+    ----------
+    blade : (H, W) bool array_like
+        The leaf's silhouette (lamina and petiole).
+
+    Returns
+    -------
+    lamina, petiole : (H, W) bool ndarray
+        ``petiole`` is empty (and ``lamina`` the blade without thin parts)
+        when no thin part is at least twice as large as any other.
+    base : (2,) ndarray or None
+        ``(x, y)`` where the petiole joins the lamina.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> b = np.zeros((60, 40), bool); b[5:35, 5:35] = True; b[35:58, 19:21] = True
+    >>> lam, pet, base = split_petiole(b)
+    >>> bool(pet[50, 20]), bool(lam[20, 20]), base is not None
+    (True, True, True)
+    """
+    mask = as_mask(blade, name="blade")
+    thin = _thin_parts(mask)
+    lamina = _lamina(mask)
+    base = _base_point(mask, thin, lamina)
+    if base is None:
+        return lamina, np.zeros_like(mask), None
+    lab, _ = ndi_label(thin, structure=np.ones((3, 3)))
+    pet = lab == int(np.argmax(np.bincount(lab.ravel())[1:]) + 1)
+    return lamina, pet, base
+
+
+class _StartScore:
+    """Symmetric RMS chamfer distance of the laminae outlines (+ of the thin parts' roots) under an affine map.
+
+    When both leaves have a dominant thin part (a petiole), the distance
+    between their base points (where it joins the lamina) is added: a
+    palmate blade fits itself well at every lobe's rotation, its base
+    tells which one is right. Base distances below 0.3 blade radii are free.
+    """
+
+    def __init__(self, me: np.ndarray, mt: np.ndarray):
+        le, lt = _lamina(me), _lamina(mt)
+        self.out_e, self.out_t = _contour_points(le), _contour_points(lt)
+        self.cham_e, self.cham_t = _Chamfer(le), _Chamfer(lt)
+        te, tt = _thin_parts(me), _thin_parts(mt)
+        self.thin = te.any() and tt.any()
+        if self.thin:
+            te, tt = _thin_roots(me, te, le), _thin_roots(mt, tt, lt)
+            self.thin_e = np.column_stack(np.nonzero(te)[::-1]).astype(np.float64)
+            self.thin_t = np.column_stack(np.nonzero(tt)[::-1]).astype(np.float64)
+            self.thin_e = self.thin_e[:: max(1, len(self.thin_e) // 300)]
+            self.thin_t = self.thin_t[:: max(1, len(self.thin_t) // 300)]
+            self.dt_te, self.dt_tt = _Chamfer(te, region=True), _Chamfer(tt, region=True)
+        te, tt = _thin_parts(me), _thin_parts(mt)
+        self.base_e, self.base_t = _base_point(me, te, le), _base_point(mt, tt, lt)
+        self.radius_t = float(np.sqrt(lt.sum() / np.pi))
+
+    def __call__(self, mat: np.ndarray) -> float:
+        lin, off = mat[:, :2], mat[:, 2]
+        inv = np.linalg.inv(lin)
+        scale = np.sqrt(abs(np.linalg.det(lin)))
+        c = self.cham_t(self.out_e @ lin.T + off) + self.cham_e((self.out_t - off) @ inv.T) * scale
+        if self.thin:
+            c += self.dt_tt(self.thin_e @ lin.T + off) + self.dt_te((self.thin_t - off) @ inv.T) * scale
+        if self.base_e is not None and self.base_t is not None:
+            # Only a gross mismatch counts (another lobe's rotation moves the
+            # base by about a blade radius): the fine angle is the outlines'.
+            c += max(0.0, float(np.hypot(*(self.base_e @ lin.T + off - self.base_t))) - 0.3 * self.radius_t)
+        return c
+
+
+def _affine_icp(mat: np.ndarray, src: np.ndarray, dst: np.ndarray, iterations: int = 15) -> np.ndarray:
+    """Refine an affine map of outline points ``src`` onto ``dst`` (symmetric nearest points, trimmed)."""
+    tree_d, tree_s = cKDTree(dst), None
+    for _ in range(iterations):
+        lin, off = mat[:, :2], mat[:, 2]
+        ms = src @ lin.T + off
+        d1, i1 = tree_d.query(ms)
+        tree_s = cKDTree(ms)
+        d2, i2 = tree_s.query(dst)
+        a = np.vstack([src, src[i2]])
+        b = np.vstack([dst[i1], dst])
+        d = np.concatenate([d1, d2])
+        keep = d <= np.percentile(d, 90)
+        a_h = np.column_stack([a[keep], np.ones(keep.sum())])
+        sol, *_ = np.linalg.lstsq(a_h, b[keep], rcond=None)
+        new = sol.T
+        if np.abs(new - mat).max() < 1e-4:
+            mat = new
+            break
+        mat = new
+    return mat
+
+
+@checked(rotation_step=Real(0.5, 90.0), n=Int(1, 1000), start=Choice("similarity", "affine"))
+def start_candidates(exemplar_blade, training_blade, *, start: str = "similarity",
+                     rotation_step: float = 5.0, mirror: bool = False,
+                     n: int = 3) -> list[tuple[np.ndarray, float]]:
+    """The ``n`` best distinct start maps (2 x 3, exemplar px -> training px), best first, with their scores.
+
+    Every candidate maps the exemplar blade's centroid onto the training
+    blade's and scales it by the square root of the area ratio; rotations
+    cover the circle ``rotation_step`` apart (optionally mirrored). The
+    score is the symmetric RMS chamfer distance of the two outlines (in
+    training pixels) plus that of their thin parts (petiole, drawn-out
+    tips: what a morphological opening removes), which tell base from tip
+    on an almost symmetric blade. Local minima of the score more than 30
+    degrees apart are refined in steps of a tenth of ``rotation_step``;
+    with ``start="affine"`` each is then refined to an affine map by
+    trimmed symmetric ICP on the outlines.
+
+    Parameters
+    ----------
+    exemplar_blade : (H_e, W_e) bool array_like
+        The moving leaf's blade (at least 16 pixels).
+    training_blade : (H_t, W_t) bool array_like
+        The training leaf's blade (at least 16 pixels).
+    start : {"similarity", "affine"}
+        Family of start maps (default ``"similarity"``).
+    rotation_step : float
+        Degrees between the rotations tried, 0.5 to 90 (default 5).
+    mirror : bool
+        Also try mirrored maps (a leaf photographed from the back).
+    n : int
+        Number of candidates returned, at most (default 3).
+
+    Returns
+    -------
+    list of ((2, 3) ndarray, float)
+        Start maps and their chamfer scores (training pixels, lower is
+        better), best first.
+    """
+    me = as_mask(exemplar_blade, name="exemplar_blade")
+    mt = as_mask(training_blade, name="training_blade")
+    for nm, m in (("exemplar_blade", me), ("training_blade", mt)):
+        if m.sum() < 16:
+            raise ValueError(f"{nm} has only {int(m.sum())} pixels: no leaf to align")
+    if start not in ("similarity", "affine"):
+        raise ValueError(f"start must be 'similarity' or 'affine', got {start!r}")
+    if not 0 < rotation_step <= 180:
+        raise ValueError(f"rotation_step must be in (0, 180], got {rotation_step}")
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
+        raise ValueError(f"n must be a positive int, got {n!r}")
+    # Centroids and areas of the laminae: a long petiole would shift them.
+    mu_e, _, a_e = _moments(_lamina(me))
+    mu_t, _, a_t = _moments(_lamina(mt))
+    score = _StartScore(me, mt)
+    sc = np.sqrt(a_t / a_e)
+
+    def matrix(th, fl):
+        lin = sc * _rot(th) @ fl
+        return np.hstack([lin, (mu_t - lin @ mu_e)[:, None]])
+
+    flips = [np.eye(2)] + ([np.diag([1.0, -1.0])] if mirror else [])
+    step = np.deg2rad(rotation_step)
+    thetas = np.arange(0, 2 * np.pi, step)
+    found = []
+    for fl in flips:
+        costs = np.array([score(matrix(th, fl)) for th in thetas])
+        m = len(costs)
+        for idx in np.argsort(costs):
+            # Keep local minima that are far from the ones kept.
+            if costs[idx] > min(costs[(idx - 1) % m], costs[(idx + 1) % m]):
+                continue
+            th = thetas[idx]
+            if any(f is fl and abs(_wrap_angle(th - t0)) < np.deg2rad(30) for _, f, t0 in found):
+                continue
+            found.append((costs[idx], fl, th))
+    found.sort(key=lambda c: c[0])
+    out = []
+    for c, fl, th in found[:n]:
+        best_c, best_th = c, th
+        for dth in np.linspace(-step, step, 21):
+            c2 = score(matrix(th + dth, fl))
+            if c2 < best_c:
+                best_c, best_th = c2, th + dth
+        mat = matrix(best_th, fl)
+        if start == "affine":
+            mat = _affine_icp(mat, score.out_e, score.out_t)
+            best_c = score(mat)
+        out.append((mat, float(best_c)))
+    out.sort(key=lambda c: c[1])
+    return out
+
+
+def _lamina(mask: np.ndarray) -> np.ndarray:
+    """The blade without its thin parts (largest remaining component)."""
+    lam = mask & ~_thin_parts(mask)
+    lab, n = ndi_label(lam)
+    if n > 1:
+        sizes = np.bincount(lab.ravel())[1:]
+        lam = lab == (int(np.argmax(sizes)) + 1)
+    # An opening that eats much of the blade (a leaf riddled with holes) is
+    # no petiole removal: keep the blade then.
+    return lam if lam.sum() >= 0.75 * mask.sum() else mask
+
+
+def _outline_samples(mask: np.ndarray, n: int) -> np.ndarray:
+    """``n`` points evenly spaced along a blade's outer outline."""
+    from .keypoints import _outline_points
+
+    return _outline_points(mask, n)
+
+
+def _interior_samples(mask: np.ndarray, n: int = 2000) -> np.ndarray:
+    """About ``n`` pixel centres (x, y) spread evenly over ``mask``."""
+    ys, xs = np.nonzero(mask)
+    step = max(1, len(xs) // n)
+    return np.column_stack([xs[::step], ys[::step]]).astype(np.float64)
+
+
+def _jacobian_det(spline, points: np.ndarray) -> np.ndarray:
+    """Determinant of ``spline``'s Jacobian at ``points`` (<= 0 where it turns orientation)."""
+    jac = spline.jacobian(points)
+    return jac[:, 0, 0] * jac[:, 1, 1] - jac[:, 0, 1] * jac[:, 1, 0]
+
+
+def _outline_fit(mapped: np.ndarray, target: np.ndarray) -> float:
+    """Symmetric RMS nearest-point distance of two point sets."""
+    d1, _ = cKDTree(target).query(mapped)
+    d2, _ = cKDTree(mapped).query(target)
+    return float(np.sqrt(np.mean(d1 ** 2)) + np.sqrt(np.mean(d2 ** 2)))
+
+
+def _wrap_angle(a):
+    return (a + np.pi) % (2 * np.pi) - np.pi
+
+
+@checked(rotation_step=Real(0.5, 90.0), start=Choice("similarity", "affine"))
+def start_alignment(exemplar_blade, training_blade, *, start: str = "similarity", rotation_step: float = 5.0,
+                    mirror: bool = False) -> tuple[np.ndarray, float]:
+    """The best start map (2 x 3, exemplar pixels -> training pixels) and its blade overlap (IoU).
+
+    See :func:`start_candidates` for how it is found.
+
+    Parameters
+    ----------
+    exemplar_blade : (H_e, W_e) bool array_like
+        The moving leaf's blade.
+    training_blade : (H_t, W_t) bool array_like
+        The training leaf's blade.
+    start : {"similarity", "affine"}
+        Family of start maps (default ``"similarity"``).
+    rotation_step : float
+        Degrees between the rotations tried (default 5).
+    mirror : bool
+        Also try mirrored maps.
+
+    Returns
+    -------
+    matrix : (2, 3) ndarray
+    iou : float
+        Blade overlap after the map.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> a = np.zeros((60, 60), bool); a[10:50, 25:35] = True; a[10:20, 35:45] = True
+    >>> b = np.rot90(a).copy()
+    >>> m, score = start_alignment(a, b)
+    >>> score > 0.9
+    True
+    """
+    mat, _ = start_candidates(exemplar_blade, training_blade, start=start, rotation_step=rotation_step,
+                              mirror=mirror, n=1)[0]
+    return mat, _blade_iou(mat, as_mask(exemplar_blade), as_mask(training_blade))
+
+
+def _blade_iou(mat, me, mt) -> float:
+    warped = cv2.warpAffine(me.astype(np.float32), mat, mt.shape[::-1], flags=cv2.INTER_LINEAR) > 0.5
+    union = np.logical_or(warped, mt).sum()
+    return float(np.logical_and(warped, mt).sum() / union) if union else 0.0
