@@ -145,3 +145,20 @@ def test_photographs_blend_whatever_choose_by_says():
     b = make_variation(lib, [0.5, 0.5], colour_weights=[0.5, 0.5], colour_mode="blend", rng=0,
                        choose_by="regions")
     assert a.colour_mode == "blend" and np.array_equal(a.image, b.image)
+
+
+def test_a_mix_of_unlike_shapes_is_a_whole_tree():
+    """A palm pulled into a palm/fruit-tree contour covers 40 % of it with a torn trunk: the crown
+    then comes from a source that covers the contour, so the mix is one piece filling its shape."""
+    from scipy import ndimage as ndi
+
+    lib = TreeLibrary(size=256)
+    lib.add(drawn_tree("fruit", rng=20, size=512), "fruit")
+    lib.add(drawn_tree("palm", pile=True, rng=21, size=512), "palm")
+    for seed in (1, 2, 3):
+        v = lib.variation([0.5, 0.5], use=["palm", "fruit"], colour_weights=[0.5, 0.5], colour_mode="choose",
+                          rng=seed)
+        opaque = v.image[..., 3] >= 0.5
+        lab, n = ndi.label(opaque, structure=np.ones((3, 3)))
+        assert n == 1
+        assert (opaque & v.mask).sum() >= 0.8 * v.mask.sum()

@@ -283,6 +283,13 @@ SEAM_EPS = 0.01
 #: sources (no pixel is blended).
 CHOOSE_CUT_SIDE = 160
 
+#: ``"parts"``: a crown source whose warped drawing keeps at least this share of its pixels in one
+#: piece (else the next source in the draw gives the crown).
+ONE_PIECE = 0.97
+#: ``"parts"``: ... and covers at least this share of what the best-covering source covers of
+#: the mixed contour.
+COVERS = 0.75
+
 #: ``"parts"``: another exemplar's trunk replaces the crown source's own only when the two
 #: overlap (below the crown) by at least this intersection over union; a thinner or wider trunk
 #: left a black core, bare gaps or loose fork tips (clip art: cartoon_tree's stroke trunk
@@ -590,7 +597,9 @@ def _choose_parts(cols, on, trunk, c, ys, xs, groups, gen):
     """Colour of the ``"parts"`` mode: the crown from one source, the trunk from one source.
 
     The crown's source ``a`` and the trunk's source ``b`` are drawn with
-    probabilities ``c``; ``b`` must be of ``a``'s group (outlined or not),
+    probabilities ``c`` (``a`` among the sources the warp leaves in one
+    piece and covering the mixed contour, :data:`ONE_PIECE`,
+    :data:`COVERS`, if any); ``b`` must be of ``a``'s group (outlined or not),
     its trunk must overlap ``a``'s own trunk (below the crown) by an IoU of
     at least 1/2 (a thin stroke trunk does not replace a wide one, nor the
     reverse: a black core or bare holes), join the crown's main body in
@@ -607,8 +616,6 @@ def _choose_parts(cols, on, trunk, c, ys, xs, groups, gen):
     with np.errstate(divide="ignore"):
         rank = np.argsort(-(np.log(p) + gen.gumbel(size=k)))     # Gumbel-max order: P(first) = p
     rank = rank[p[rank] > 0]
-    a = int(rank[0])
-    crown = on[a] & ~trunk[a]
     r0, c0 = ys.min(), xs.min()
     h, w = ys.max() - r0 + 1, xs.max() - c0 + 1
     yy, xx = ys - r0, xs - c0
@@ -617,6 +624,23 @@ def _choose_parts(cols, on, trunk, c, ys, xs, groups, gen):
         g = np.zeros((h, w), bool)
         g[yy, xx] = v
         return g
+
+    # The shown tree is the crown source's own drawing, so a source the warp leaves far short
+    # of the mixed contour (a palm pulled into a palm/fruit-tree mix covers 40 % of it and its
+    # curved trunk ends half way down) or tears apart cannot give the whole tree: the next
+    # source in the draw that covers the contour and stays in one piece gives the crown,
+    # else the one that comes closest.
+    cover = on.mean(axis=1)
+    score = []
+    for cand in rank:
+        count = max(int(on[cand].sum()), 1)
+        whole = _largest(grid(on[cand]))[yy, xx].sum() / count
+        ok = whole >= ONE_PIECE and cover[cand] >= COVERS * cover[rank].max()
+        score.append(min(whole / ONE_PIECE, cover[cand] / (COVERS * cover[rank].max())))
+        if ok:
+            break
+    a = int(rank[len(score) - 1] if score[-1] >= 1.0 else rank[int(np.argmax(score))])
+    crown = on[a] & ~trunk[a]
 
     inside = ndi.binary_fill_holes(grid(crown))[yy, xx]
     mine = crown | (on[a] & trunk[a] & inside)
