@@ -6,7 +6,7 @@ step (:meth:`_Grower.step`: all candidates scored by
 branch furcates (:meth:`_Grower.furcate`), its children start with the
 parent's non-causal window (:meth:`_Grower.start_child`) and grow the same
 way, generation by generation; then the domain is filled
-(:class:`.filling._Filling`). Split from :mod:`.synthesis`.
+(:class:`.filling._Filling`). Split from :mod:`branchnb.branching.synthesis`.
 """
 
 from __future__ import annotations
@@ -56,7 +56,7 @@ class GrowthProgress:
     attempt : int
         Growth attempt (1, 2, ...): an attempt whose root walked out of
         the domain at once is grown again from scratch (see
-        :data:`MAX_ROOT_ATTEMPTS`), so a later report may show fewer
+        :data:`~branchnb.branching.synthesis.MAX_ROOT_ATTEMPTS`), so a later report may show fewer
         branches than an earlier one.
     n_branches : int
         Branches grown so far.

@@ -4,7 +4,7 @@ The example is resampled at step ``h`` and learnt: the bending model's
 element sequences, the global histograms, the furcation SVM, the roots
 (:mod:`.roots`), the coverage target and whether it drains (a delta). The
 candidates' histogram counts and growth directions are precomputed here
-for the vectorised scorer (:mod:`.scoring`). Split from :mod:`.synthesis`.
+for the vectorised scorer (:mod:`.scoring`). Split from :mod:`branchnb.branching.synthesis`.
 """
 
 from __future__ import annotations

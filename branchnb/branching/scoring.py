@@ -3,7 +3,7 @@
 ``score = Q * exp(wG (dA + dR) n_t / m) / (D_c + eps) / (G_c + eps)``: the
 bending model's quality ``Q``, the global histogram factor, space
 colonization's density ``D_c`` ahead and the guidance ``G_c`` ahead (see
-:func:`score_candidates`). Split from :mod:`.synthesis`.
+:func:`score_candidates`). Split from :mod:`branchnb.branching.synthesis`.
 """
 
 from __future__ import annotations
@@ -19,6 +19,8 @@ from .histogram_matching import HistogramMatcher
 from .params import SynthesisParams
 
 if TYPE_CHECKING:
+    import branchnb.branching  # the full name: leaves has a SynthesisParams too (the API docs link it)
+
     from .model import StructureModel
 
 __all__ = ["CandidateScores", "score_candidates"]
@@ -128,7 +130,7 @@ def _base_scores(model: StructureModel, hist_a, hist_r, tip, theta: float, param
 
 
 def score_candidates(model: StructureModel, hist_a, hist_r, tip, theta: float, *,
-                     params: SynthesisParams, matcher: HistogramMatcher | None = None,
+                     params: branchnb.branching.SynthesisParams, matcher: HistogramMatcher | None = None,
                      density: DensityMap | None = None,
                      guidance: Guidance | None = None) -> CandidateScores:
     """Score every candidate continuation of a branch tip (vectorised).

@@ -61,7 +61,7 @@ class TreeLibrary:
     contour_params : ContourParams, optional
         For trees added later.
     trunk : {"auto", "segmentation", "stem"}
-        How trees added later find their trunk (:func:`exemplar_trunk`).
+        How trees added later find their trunk (:func:`~branchnb.trees.processing.exemplar_trunk`).
     ground : {"cut", "keep"}
         Whether trees added later have ground clutter at the trunk foot
         cut off (:func:`process_exemplar`).
@@ -109,7 +109,7 @@ class TreeLibrary:
         contour_params : ContourParams, optional
             ``N``, crown share, ``M``, dilation.
         trunk : {"auto", "segmentation", "stem"}
-            How each tree finds its trunk (:func:`exemplar_trunk`).
+            How each tree finds its trunk (:func:`~branchnb.trees.processing.exemplar_trunk`).
         ground : {"cut", "keep"}
             Whether ground clutter at the trunk foot is cut off.
 
