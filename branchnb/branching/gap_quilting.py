@@ -11,7 +11,8 @@ with a cheaper window search, for image synthesis only:
   for every call: about 2.5 times less work per window search.
 
 The chosen windows differ (a coarser first look, float32 rounding), the
-quilting does not: same cells, order, seams and colour correction. Region
+quilting does not: same cells, order, seams and colour correction (the
+screened correction solved iteratively, :mod:`.gap_blend`). Region
 labels (maps) are passed on to ``complete_gaps`` unchanged.
 """
 
@@ -20,9 +21,9 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from ..core.blending import compose_piece
 from ..core.completion import CompletionResult, _box_count, _grid_cells, _hole_cells, _inpaint, _Matcher, _window_choice
 from ..core.random import as_rng
+from .gap_blend import compose_patch
 
 __all__: list[str] = []
 
@@ -174,7 +175,7 @@ screen, min_free, rng, progress, reuse_weight, max_passes
                 rr0, cc0 = max(r0, 0), max(c0, 0)
                 rr1, cc1 = min(r0 + full, H), min(c0 + full, W)
                 prot[rr0 - r0:rr1 - r0, cc0 - c0:cc1 - c0] = protect[rr0:rr1, cc0:cc1]
-            comp = compose_piece(canvas, covered, piece, valid, (x - margin, y - margin),
+            comp = compose_patch(canvas, covered, piece, valid, (x - margin, y - margin),
                                  protect_canvas=prot, method=method, poisson=poisson,
                                  anchored=anchored, anchor_weight=anchor_weight, screen=screen)
             n_patches += 1
