@@ -1,13 +1,15 @@
-"""Step 4 of image synthesis: composing one gap patch with a cheaper screened Poisson solve (issue 23).
+"""Composing a gap patch or a fragment with a cheaper gradient-domain solve (issue 23).
 
 :func:`branchnb.core.blending.compose_piece` (graph-cut seam, then a
-screened gradient-domain correction of the taken pixels) for the gap
-patches, whose correction is screened (``screen > 0``): the same linear
-system, solved by preconditioned conjugate gradients from the uncorrected
-patch (a few dozen sweeps over a ~36 x 36 window) instead of a banded
-Cholesky factorisation, to a residual far below one grey level. The
-screening keeps the system well conditioned (a correction fades within
-about ``1 / sqrt(screen)`` pixels), which is what makes so few sweeps enough.
+gradient-domain correction of the taken pixels) for steps 3 and 4 of image
+synthesis, when its system is well posed by construction: screened
+(``screen > 0``, the gap patches) or anchored (``anchor_weight > 0``, the
+fragments). The same linear system, solved by Jacobi-preconditioned
+conjugate gradients from the uncorrected piece (a few dozen sweeps over a
+~36 x 36 window) instead of a banded Cholesky factorisation, to a relative
+residual of ``CG_TOL`` = 1e-3: measured on the retina, lightning and crack
+examples, at most 0.003 (under one grey level) from the exact solution,
+typically 1e-4. The seam search is the core's, unchanged.
 """
 
 from __future__ import annotations
@@ -27,10 +29,11 @@ CG_MAX_ITER = 200
 
 
 @numba.njit(cache=True)
-def _screened_cg(target, src, mask, w, tol, max_iter):
+def _screened_cg(target, src, mask, weight, tol, max_iter):
     """Solve the screened Poisson system of ``core.poisson._poisson_solve(target, src, mask, mask, w)``.
 
-    Unknown ``d = u - src`` on ``mask``: ``(deg_p + w) d_p - sum_{q in mask} d_q = sum_{q not in mask}
+    ``weight`` (h, w) is each pixel's anchor weight ``w_p`` (``w`` on the whole mask for a screened
+    correction). Unknown ``d = u - src`` on ``mask``: ``(deg_p + w_p) d_p - sum_{q in mask} d_q = sum_{q not in mask}
     (target_q - src_q)`` (``deg_p`` the in-window neighbours), by Jacobi-preconditioned conjugate
     gradients per channel. Returns ``u`` (float64) on the window (``target`` off the mask).
     """
@@ -50,7 +53,7 @@ def _screened_cg(target, src, mask, w, tol, max_iter):
                     deg += 1.0
                 if j < wd - 1:
                     deg += 1.0
-                diag[i, j] = deg + w
+                diag[i, j] = deg + weight[i, j]
     b = np.zeros((h, wd))
     x = np.zeros((h, wd))
     r = np.zeros((h, wd))
@@ -160,19 +163,29 @@ def screened_correction(target: np.ndarray, source: np.ndarray, mask: np.ndarray
     """
     if not screen > 0:
         raise ValueError(f"screen must be > 0, got {screen}")
+    return _cg_solve(target, source, mask, np.full(mask.shape, float(screen)))
+
+
+def _cg_solve(target, source, mask, weight):
     out = _screened_cg(np.ascontiguousarray(target, np.float64), np.ascontiguousarray(source, np.float64),
-                       np.ascontiguousarray(mask, bool), float(screen), CG_TOL, CG_MAX_ITER)
+                       np.ascontiguousarray(mask, bool), np.ascontiguousarray(weight, np.float64),
+                       CG_TOL, CG_MAX_ITER)
     return np.clip(out, 0, 1).astype(np.float32)
 
 
-def compose_patch(canvas, covered, piece, valid, origin, *, protect_canvas=None, method="graphcut",
-                  poisson=True, anchored=True, anchor_weight=10.0, screen=0.0):
-    """:func:`branchnb.core.blending.compose_piece` with :func:`screened_correction` when ``screen > 0``.
+def compose_patch(canvas, covered, piece, valid, origin, *, protect_canvas=None, protect_piece=None,
+                  method="graphcut", poisson=True, anchored=True, anchor_weight=10.0, screen=0.0):
+    """:func:`branchnb.core.blending.compose_piece` with its correction solved by conjugate gradients.
+
+    Used when the system is well posed by construction: screened
+    (``screen > 0``, the gap patches) or anchored (``anchor_weight > 0``,
+    the fragments); other cases are passed on to ``compose_piece``.
 
     Parameters
     ----------
-    canvas, covered, piece, valid, origin, protect_canvas, method, poisson, anchored, anchor_weight, screen
-        As for ``compose_piece`` (other cases are passed on to it).
+    canvas, covered, piece, valid, origin, protect_canvas, protect_piece, method, poisson, anchored, \
+anchor_weight, screen
+        As for ``compose_piece``.
 
     Returns
     -------
@@ -188,9 +201,10 @@ def compose_patch(canvas, covered, piece, valid, origin, *, protect_canvas=None,
     >>> bool(covered.all()), float(canvas[0, 15, 0]) > 0.5
     (True, True)
     """
-    if not (poisson and screen > 0 and method == "graphcut"):
-        return compose_piece(canvas, covered, piece, valid, origin, protect_canvas=protect_canvas, method=method,
-                             poisson=poisson, anchored=anchored, anchor_weight=anchor_weight, screen=screen)
+    if not (poisson and method == "graphcut" and (screen > 0 or (anchored and anchor_weight > 0))):
+        return compose_piece(canvas, covered, piece, valid, origin, protect_canvas=protect_canvas,
+                             protect_piece=protect_piece, method=method, poisson=poisson, anchored=anchored,
+                             anchor_weight=anchor_weight, screen=screen)
     clip = _clip_window(origin, valid.shape, covered.shape)
     if clip is None:
         return None
@@ -209,7 +223,10 @@ def compose_patch(canvas, covered, piece, valid, origin, *, protect_canvas=None,
     pin_a = near_a.copy()
     if protect_canvas is not None:
         pin_a |= protect_canvas[sub] & overlap
-    pin_b = near_b & ~pin_a
+    pin_b = near_b
+    if protect_piece is not None:
+        pin_b = pin_b | (protect_piece[sub] & overlap)
+    pin_b &= ~pin_a
     if not overlap.any():
         take = only_b.copy()
         cost = 0.0
@@ -229,7 +246,10 @@ def compose_patch(canvas, covered, piece, valid, origin, *, protect_canvas=None,
     if kept.any() and (neutral is None or not np.array_equal(neutral, kept)):
         bnd = kept if neutral is None else kept & ~neutral
         target = np.where(bnd[:, :, None], A, P)
-        new = screened_correction(target, P, ~kept, float(screen))
+        if screen > 0:
+            new = _cg_solve(target, P, ~kept, np.where(kept, 0.0, float(screen)))
+        else:
+            new = _cg_solve(target, P, ~kept, np.where(~covA & ~take, float(anchor_weight), 0.0))
     A[take] = new[take]
     covA[take] = True
     return Composition(win, sub, take, seam, cost)
