@@ -14,11 +14,11 @@ import cv2
 import numba
 import numpy as np
 
-from ..core.blending import compose_piece
 from ..core.polyline import RigidTransform
 from .displacement import backward_map, displacement_field
 from .fragment_choice import _colour_costs, _Context, _source_windows, _target_window, _tip_penalty
 from .fragments import Fragment, FragmentLibrary, ShapeBank, choose_among_best, shape_vectors
+from .gap_blend import compose_patch as compose_piece
 from .skeleton_map import PixelMap
 
 __all__: list[str] = []

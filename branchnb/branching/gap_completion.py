@@ -1,7 +1,8 @@
 """Step 4 of image synthesis: gap completion (the paper did it by hand).
 
 The pixels no fragment covers are quilted from branch-free example pixels
-(:func:`branchnb.core.completion.complete_gaps`) with graph-cut seams, relit
+(:func:`branchnb.core.completion.complete_gaps`, with a quicker window search:
+:mod:`.gap_quilting`) with graph-cut seams, relit
 like the fragments around them (:func:`_relight_setup`), so no
 pseudo-branch and no square patch of another brightness appears.
 """
@@ -15,6 +16,7 @@ import numpy as np
 from scipy import ndimage as ndi
 
 from ..core.completion import complete_gaps
+from .gap_quilting import quilt_gaps
 from .regions import ExampleRegions, _normalized_blur
 
 __all__: list[str] = []
@@ -105,16 +107,16 @@ def _complete(out, ex: np.ndarray, regions: ExampleRegions, p, flat: bool, use_p
             relit = _relight_setup(ex, canvas, covered, regions, body, p.patch_size, pm_s.dist, pm_t.dist)
             if relit is not None:
                 ex_fill, canvas, offset_t = relit
-        comp = complete_gaps(canvas, covered, ex if relit is None else ex_fill, regions.forbidden,
-                             patch_size=p.patch_size,
-                             overlap=p.patch_overlap, protect=(body & covered) | inner,
-                             tolerance=p.completion_tolerance, forbid_weight=p.forbid_weight,
-                             min_free=p.min_free,
-                             method=p.seams, poisson=use_poisson, anchored=p.anchors,
-                             anchor_weight=p.anchor_weight,
-                             screen=p.completion_screen if p.anchors else 0.0,
-                             rng=rng, progress=sub_progress, regions=labels_t,
-                             example_regions=src_labels if labels_t is not None else None, fast=True)
+        ex_c = ex if relit is None else ex_fill
+        kw = dict(patch_size=p.patch_size, overlap=p.patch_overlap, protect=(body & covered) | inner,
+                  tolerance=p.completion_tolerance, forbid_weight=p.forbid_weight, min_free=p.min_free,
+                  method=p.seams, poisson=use_poisson, anchored=p.anchors, anchor_weight=p.anchor_weight,
+                  screen=p.completion_screen if p.anchors else 0.0, rng=rng, progress=sub_progress)
+        if labels_t is None:    # the quicker window search of gap_quilting (issue 23)
+            comp = quilt_gaps(canvas, covered, ex_c, regions.forbidden, **kw)
+        else:                   # region by region (maps): the core's loop
+            comp = complete_gaps(canvas, covered, ex_c, regions.forbidden, regions=labels_t,
+                                 example_regions=src_labels, fast=True, **kw)
         if relit is not None:
             canvas += offset_t      # back to the output's own light (fragments: exactly as before)
             out.canvas = canvas
