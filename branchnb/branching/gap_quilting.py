@@ -21,7 +21,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from ..core.completion import CompletionResult, _box_count, _grid_cells, _hole_cells, _inpaint, _Matcher, _window_choice
+from ..core.completion import CompletionResult, _Matcher, _quilt, _window_choice
 from ..core.random import as_rng
 from .gap_blend import compose_patch
 
@@ -105,6 +105,9 @@ def quilt_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray, for
                reuse_weight: float = 1.0, max_passes: int = 4) -> CompletionResult:
     """:func:`branchnb.core.completion.complete_gaps` (no regions, ``fast``) with :class:`_QuickMatcher`.
 
+    The same patch loop (``core.completion._quilt``) with the quicker window
+    search and the iterative colour correction of :mod:`.gap_blend`.
+
     ``canvas`` and ``covered`` are modified in place (all covered on return).
 
     Parameters
@@ -132,74 +135,10 @@ screen, min_free, rng, progress, reuse_weight, max_passes
     >>> bool(covered.all()), r.patch_size
     (True, 8)
     """
-    rng = as_rng(rng)
-    H, W = covered.shape
-    eh, ew = example.shape[:2]
-    margin = 2 if (poisson and anchored) else 0
-    size = int(min(patch_size, H, W, eh - 2 * margin, ew - 2 * margin))
-    if size < 4:
-        raise ValueError(f"example_image ({ew} x {eh}) is too small for gap completion")
-    while size > 8 and (_box_count(forbidden, size) == 0).mean() < min_free:
-        size = max(8, int(round(size * 0.75)))
-    full = size + 2 * margin
-    step = max(1, int(round(size * (1.0 - overlap))))
-    matcher = _QuickMatcher(example, forbidden, size, margin, SEARCH_SIZE, forbid_weight, reuse_weight, True)
-    filled = np.zeros((H, W), bool)
-    source = np.full((H, W, 2), np.nan)
-    seams = np.zeros((H, W), bool)
-    total_cost = 0.0
-    n_patches = 0
-    n_total = max(int((~covered).sum()), 1)
-    for pass_i in range(max_passes):
-        if covered.all():
-            break
-        cells = _grid_cells(H, W, size, step) if pass_i == 0 else _hole_cells(~covered, size)
-        cells = np.array(cells, np.int64).reshape(-1, 2)
-        known_n = np.array([covered[y:y + size, x:x + size].sum() for y, x in cells], np.int64)
-        todo = known_n < size * size
-        while todo.any():
-            i = int(np.argmax(np.where(todo, known_n, -1)))     # the most known pixels first
-            todo[i] = False
-            y, x = (int(v) for v in cells[i])
-            known = covered[y:y + size, x:x + size]
-            sy, sx = matcher.choose(canvas[y:y + size, x:x + size], known, tolerance, rng)
-            py0, px0 = sy - margin, sx - margin
-            piece = example[py0:py0 + full, px0:px0 + full]
-            valid = np.zeros((full, full), bool)
-            valid[margin:margin + size, margin:margin + size] = True
-            valid &= ~forbidden[py0:py0 + full, px0:px0 + full]
-            prot = None
-            if protect is not None:
-                prot = np.zeros((full, full), bool)
-                r0, c0 = y - margin, x - margin
-                rr0, cc0 = max(r0, 0), max(c0, 0)
-                rr1, cc1 = min(r0 + full, H), min(c0 + full, W)
-                prot[rr0 - r0:rr1 - r0, cc0 - c0:cc1 - c0] = protect[rr0:rr1, cc0:cc1]
-            comp = compose_patch(canvas, covered, piece, valid, (x - margin, y - margin),
-                                 protect_canvas=prot, method=method, poisson=poisson,
-                                 anchored=anchored, anchor_weight=anchor_weight, screen=screen)
-            n_patches += 1
-            if comp is not None:
-                total_cost += comp.cost
-                wr, wc = comp.window
-                tk = comp.take
-                filled[wr, wc] |= tk
-                seams[wr, wc] |= comp.seam
-                rows, cols = np.nonzero(tk)
-                src = source[wr, wc]
-                src[rows, cols, 0] = px0 + cols + comp.sub[1].start
-                src[rows, cols, 1] = py0 + rows + comp.sub[0].start
-            near = np.flatnonzero(todo & (np.abs(cells[:, 0] - y) < size + margin)
-                                  & (np.abs(cells[:, 1] - x) < size + margin))
-            for j in near:
-                cy, cx = cells[j]
-                known_n[j] = covered[cy:cy + size, cx:cx + size].sum()
-            todo[near[known_n[near] >= size * size]] = False
-            if progress is not None and n_patches % 16 == 0:
-                progress(min(1.0, 1.0 - (~covered).sum() / n_total), f"gap completion: {n_patches} patches")
-    n_inpainted = int((~covered).sum())
-    if n_inpainted:
-        _inpaint(canvas, covered)
-        filled |= ~covered
-        covered[:] = True
-    return CompletionResult(filled, source, seams, n_patches, total_cost, size, n_inpainted)
+    return _quilt(canvas, covered, example, forbidden, patch_size=patch_size, overlap=overlap, protect=protect,
+                  tolerance=tolerance, method=method, poisson=poisson, anchored=anchored,
+                  anchor_weight=anchor_weight, screen=screen, min_free=min_free, rng=as_rng(rng),
+                  progress=progress, max_passes=max_passes, outside=None, covered_in=None,
+                  matcher=lambda size, margin: _QuickMatcher(example, forbidden, size, margin, SEARCH_SIZE,
+                                                             forbid_weight, reuse_weight, True),
+                  compose=compose_patch)

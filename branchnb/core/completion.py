@@ -517,11 +517,34 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
                                             anchored=anchored, anchor_weight=anchor_weight, screen=screen,
                                             min_free=min_free, reuse_weight=reuse_weight,
                                             max_passes=max_passes, fast=fast))
+    covered_in = None
     if outside is not None:
         outside = np.asarray(outside, bool)
         covered_in = covered.copy()
         covered |= outside
         protect = outside if protect is None else (np.asarray(protect, bool) | outside)
+    return _quilt(canvas, covered, example, forbidden, patch_size=patch_size, overlap=overlap, protect=protect,
+                  tolerance=tolerance, method=method, poisson=poisson, anchored=anchored,
+                  anchor_weight=anchor_weight, screen=screen, min_free=min_free, rng=rng, progress=progress,
+                  max_passes=max_passes, outside=outside, covered_in=covered_in,
+                  matcher=lambda size, margin: _Matcher(example, forbidden, size, margin, search_size,
+                                                        forbid_weight, reuse_weight, fast),
+                  compose=compose_piece)
+
+
+def _quilt(canvas, covered, example, forbidden, *, patch_size, overlap, protect, tolerance, method, poisson,
+           anchored, anchor_weight, screen, min_free, rng, progress, max_passes, outside, covered_in,
+           matcher: Callable, compose: Callable) -> CompletionResult:
+    """The patch loop of :func:`complete_gaps` on one region.
+
+    ``matcher(size, margin)`` builds the window search (an object with
+    ``choose(window, known, tolerance, rng)``) and ``compose`` stitches a
+    piece in (as :func:`~branchnb.core.blending.compose_piece`), so a
+    technique can quilt with a quicker search or solver and the same loop.
+    ``outside`` and ``covered_in`` are prepared by :func:`complete_gaps`.
+    """
+    H, W = covered.shape
+    eh, ew = example.shape[:2]
     margin = 2 if (poisson and anchored) else 0
     size = int(min(patch_size, H, W, eh - 2 * margin, ew - 2 * margin))
     if size < 4:
@@ -532,7 +555,7 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
         size = max(8, int(round(size * 0.75)))
     full = size + 2 * margin
     step = max(1, int(round(size * (1.0 - overlap))))
-    matcher = _Matcher(example, forbidden, size, margin, search_size, forbid_weight, reuse_weight, fast)
+    matcher = matcher(size, margin)
     filled = np.zeros((H, W), bool)
     source = np.full((H, W, 2), np.nan)
     seams = np.zeros((H, W), bool)
@@ -572,9 +595,9 @@ def complete_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray,
                 rr0, cc0 = max(r0, 0), max(c0, 0)
                 rr1, cc1 = min(r0 + full, H), min(c0 + full, W)
                 prot[rr0 - r0:rr1 - r0, cc0 - c0:cc1 - c0] = prot_full[rr0:rr1, cc0:cc1]
-            comp = compose_piece(canvas, covered, piece, valid, (x - margin, y - margin),
-                                 protect_canvas=prot, method=method, poisson=poisson,
-                                 anchored=anchored, anchor_weight=anchor_weight, screen=screen)
+            comp = compose(canvas, covered, piece, valid, (x - margin, y - margin),
+                           protect_canvas=prot, method=method, poisson=poisson,
+                           anchored=anchored, anchor_weight=anchor_weight, screen=screen)
             n_patches += 1
             if comp is not None:
                 total_cost += comp.cost
