@@ -18,7 +18,7 @@ from ..core.polyline import RigidTransform
 from .displacement import backward_map, displacement_field
 from .fragment_choice import _colour_costs, _Context, _source_windows, _target_window, _tip_penalty
 from .fragments import Fragment, FragmentLibrary, ShapeBank, choose_among_best, shape_vectors
-from .gap_blend import compose_patch as compose_piece
+from .gap_blend import compose_patch
 from .skeleton_map import PixelMap
 
 __all__: list[str] = []
@@ -256,7 +256,7 @@ def _synthesize_fragments(ctx: _Context, pm_t: PixelMap, targets: list, shape, l
             labels_t is not None, src_labels if labels_t is not None else _NO_LABELS,
             labels_t if labels_t is not None else _NO_LABELS, pm_t.branch, body, pm_t.arc, owner,
             b0, b1, tf.kind == "branch", float(own_lo), float(own_hi), covered)
-        comp = compose_piece(canvas, covered, pix, valid, (x0, y0), protect_canvas=protect_canvas,
+        comp = compose_patch(canvas, covered, pix, valid, (x0, y0), protect_canvas=protect_canvas,
                              protect_piece=protect_piece, method=p.seams, poisson=use_poisson,
                              anchored=p.anchors, anchor_weight=p.anchor_weight)
         n_pix = 0
