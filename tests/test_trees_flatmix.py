@@ -162,3 +162,11 @@ def test_a_mix_of_unlike_shapes_is_a_whole_tree():
         lab, n = ndi.label(opaque, structure=np.ones((3, 3)))
         assert n == 1
         assert (opaque & v.mask).sum() >= 0.8 * v.mask.sum()
+
+
+def test_more_like_this_keeps_the_targets_drawing(drawn_lib):
+    """"More like this" of a drawn tree: new shapes, the target's own crown (it holds most of the colour)."""
+    for k, name in enumerate(drawn_lib.names):
+        for v in drawn_lib.variations_of(name, 3, rng=4):
+            crown = (v.sources >= 0) & (v.parts == 1)
+            assert np.bincount(v.sources[crown], minlength=len(drawn_lib.names)).argmax() == k, name

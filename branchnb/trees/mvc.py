@@ -596,7 +596,8 @@ def _largest(m: np.ndarray) -> np.ndarray:
 def _choose_parts(cols, on, trunk, c, ys, xs, groups, gen):
     """Colour of the ``"parts"`` mode: the crown from one source, the trunk from one source.
 
-    The crown's source ``a`` and the trunk's source ``b`` are drawn with
+    The crown's source ``a`` (the one source with half or more of the
+    colour weight if there is one) and the trunk's source ``b`` are drawn with
     probabilities ``c`` (``a`` among the sources the warp leaves in one
     piece and covering the mixed contour, :data:`ONE_PIECE`,
     :data:`COVERS`, if any); ``b`` must be of ``a``'s group (outlined or not),
@@ -616,6 +617,10 @@ def _choose_parts(cols, on, trunk, c, ys, xs, groups, gen):
     with np.errstate(divide="ignore"):
         rank = np.argsort(-(np.log(p) + gen.gumbel(size=k)))     # Gumbel-max order: P(first) = p
     rank = rank[p[rank] > 0]
+    if p.max() >= 0.5 and (p == p.max()).sum() == 1:
+        # a source holding the majority of the colour ("more like this" keeps >= 1/2 of the
+        # target's) draws the crown: a variation of a tree keeps that tree's drawing
+        rank = np.r_[np.argmax(p), rank[rank != np.argmax(p)]]
     r0, c0 = ys.min(), xs.min()
     h, w = ys.max() - r0 + 1, xs.max() - c0 + 1
     yy, xx = ys - r0, xs - c0
