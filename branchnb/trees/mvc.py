@@ -596,11 +596,12 @@ def _largest(m: np.ndarray) -> np.ndarray:
 def _choose_parts(cols, on, trunk, c, ys, xs, groups, gen):
     """Colour of the ``"parts"`` mode: the crown from one source, the trunk from one source.
 
-    The crown's source ``a`` (the one source with half or more of the
-    colour weight if there is one) and the trunk's source ``b`` are drawn with
-    probabilities ``c`` (``a`` among the sources the warp leaves in one
-    piece and covering the mixed contour, :data:`ONE_PIECE`,
-    :data:`COVERS`, if any); ``b`` must be of ``a``'s group (outlined or not),
+    The crown's source ``a`` is the one source with half or more of the
+    colour weight if there is one (and the warp leaves it in one piece,
+    :data:`ONE_PIECE`), else drawn with probabilities ``c`` among the
+    sources the warp leaves in one piece and covering the mixed contour
+    (:data:`COVERS`), if any; the trunk's source ``b`` is drawn with
+    probabilities ``c``; ``b`` must be of ``a``'s group (outlined or not),
     its trunk must overlap ``a``'s own trunk (below the crown) by an IoU of
     at least 1/2 (a thin stroke trunk does not replace a wide one, nor the
     reverse: a black core or bare holes), join the crown's main body in
@@ -617,10 +618,6 @@ def _choose_parts(cols, on, trunk, c, ys, xs, groups, gen):
     with np.errstate(divide="ignore"):
         rank = np.argsort(-(np.log(p) + gen.gumbel(size=k)))     # Gumbel-max order: P(first) = p
     rank = rank[p[rank] > 0]
-    if p.max() >= 0.5 and (p == p.max()).sum() == 1:
-        # a source holding the majority of the colour ("more like this" keeps >= 1/2 of the
-        # target's) draws the crown: a variation of a tree keeps that tree's drawing
-        rank = np.r_[np.argmax(p), rank[rank != np.argmax(p)]]
     r0, c0 = ys.min(), xs.min()
     h, w = ys.max() - r0 + 1, xs.max() - c0 + 1
     yy, xx = ys - r0, xs - c0
@@ -630,21 +627,28 @@ def _choose_parts(cols, on, trunk, c, ys, xs, groups, gen):
         g[yy, xx] = v
         return g
 
-    # The shown tree is the crown source's own drawing, so a source the warp leaves far short
-    # of the mixed contour (a palm pulled into a palm/fruit-tree mix covers 40 % of it and its
-    # curved trunk ends half way down) or tears apart cannot give the whole tree: the next
-    # source in the draw that covers the contour and stays in one piece gives the crown,
-    # else the one that comes closest.
-    cover = on.mean(axis=1)
-    score = []
-    for cand in rank:
-        count = max(int(on[cand].sum()), 1)
-        whole = _largest(grid(on[cand]))[yy, xx].sum() / count
-        ok = whole >= ONE_PIECE and cover[cand] >= COVERS * cover[rank].max()
-        score.append(min(whole / ONE_PIECE, cover[cand] / (COVERS * cover[rank].max())))
-        if ok:
-            break
-    a = int(rank[len(score) - 1] if score[-1] >= 1.0 else rank[int(np.argmax(score))])
+    def whole(i):
+        return _largest(grid(on[i]))[yy, xx].sum() / max(int(on[i].sum()), 1)
+
+    major = int(np.argmax(p)) if p.max() >= 0.5 and (p == p.max()).sum() == 1 else None
+    if major is not None and whole(major) >= ONE_PIECE:
+        # a source holding the majority of the colour ("more like this" keeps >= 1/2 of the
+        # target's) draws the crown: a variation of a tree keeps that tree's drawing
+        a = major
+    else:
+        # The shown tree is the crown source's own drawing, so a source the warp leaves far
+        # short of the mixed contour (a palm pulled into an even palm/fruit-tree mix covers
+        # 40 % of it and its curved trunk ends half way down) or tears apart cannot give the
+        # whole tree: the next source in the draw that covers the contour and stays in one
+        # piece gives the crown, else the one that comes closest.
+        cover = on.mean(axis=1)
+        score = []
+        for cand in rank:
+            ok = whole(cand) >= ONE_PIECE and cover[cand] >= COVERS * cover[rank].max()
+            score.append(min(whole(cand) / ONE_PIECE, cover[cand] / (COVERS * cover[rank].max())))
+            if ok:
+                break
+        a = int(rank[len(score) - 1] if score[-1] >= 1.0 else rank[int(np.argmax(score))])
     crown = on[a] & ~trunk[a]
 
     inside = ndi.binary_fill_holes(grid(crown))[yy, xx]
