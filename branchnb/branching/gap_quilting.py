@@ -21,7 +21,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from ..core.completion import CompletionResult, _Matcher, _quilt, _window_choice
+from ..core.completion import CompletionResult, _Matcher, _quilt
 from ..core.random import as_rng
 from .gap_blend import compose_patch
 
@@ -50,52 +50,12 @@ def _ssd_direct(planes, tpl: np.ndarray, mask: np.ndarray) -> np.ndarray:
 
 
 class _QuickMatcher(_Matcher):
-    """:class:`branchnb.core.completion._Matcher` (``fast``) with direct coarse correlations."""
+    """:class:`branchnb.core.completion._Matcher` (``fast``) whose coarse search correlates directly."""
 
-    def choose(self, tpl: np.ndarray, known: np.ndarray, tolerance: float,
-               rng: np.random.Generator) -> tuple[int, int]:
-        s = self.scale
-        unknown = (~known).astype(np.float32)
-        n_unknown = max(float(unknown.sum()), 1.0)
-        n_known = float(known.sum())
-        t_cv = np.ascontiguousarray(tpl[:, :, 0] if tpl.shape[2] == 1 else tpl, np.float32)
-        m = known.astype(np.float32)
-        if s > 1:
-            sz = (self.tsz, self.tsz)
-            t_s = cv2.resize(t_cv, sz, interpolation=cv2.INTER_AREA)
-            m_s = (cv2.resize(m, sz, interpolation=cv2.INTER_AREA) > 0.99).astype(np.float32)
-            u_s = cv2.resize(unknown, sz, interpolation=cv2.INTER_AREA)
-        else:
-            t_s, m_s, u_s = t_cv, m, unknown
-        hh, ww = self.usable_small.shape
-        f = _corr(self.forbid_small, u_s) / max(float(u_s.sum()), 1.0)
-        hh, ww = min(hh, f.shape[0]), min(ww, f.shape[1])
-        usable = self._usable_cache.get(f.shape)
-        if usable is None:
-            usable = np.zeros(f.shape, bool)
-            usable[:hh, :ww] = self.usable_small[:hh, :ww]
-            self._usable_cache[f.shape] = usable
-        if not usable.any():
-            cand = np.argwhere(self.usable)
-            return tuple(int(v) for v in cand[rng.integers(len(cand))])
-        box = cv2.boxFilter(self.used, -1, (self.tsz, self.tsz), anchor=(0, 0),
-                            normalize=True, borderType=cv2.BORDER_CONSTANT)
-        used = np.zeros(f.shape, np.float32)
-        used[:hh, :ww] = box[:hh, :ww]
-        has = bool(m_s.sum() >= 1)
-        ssd = (_ssd_direct(self.small_sq, t_s, m_s) / np.float32(float(m_s.sum()) * self.channels) if has
-               else np.zeros(f.shape, np.float32))
-        typical, good = _window_choice(ssd, has, f, used, usable, float(self.forbid_weight),
-                                       float(self.reuse_weight), float(tolerance))
-        if len(good) == 0:
-            cand = np.argwhere(self.usable)
-            return tuple(int(v) for v in cand[rng.integers(len(cand))])
-        gy, gx = divmod(int(good[rng.integers(len(good))]), f.shape[1])
-        self.used[gy:gy + self.tsz, gx:gx + self.tsz] += 1.0
-        cy, cx = gy * s, gx * s
-        if s == 1:
-            return cy, cx
-        return self._refine(cy, cx, typical, t_cv, m, unknown, n_known, n_unknown)
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._coarse_ssd = _ssd_direct
+        self._coarse_corr = _corr
 
 
 def quilt_gaps(canvas: np.ndarray, covered: np.ndarray, example: np.ndarray, forbidden: np.ndarray, *,

@@ -135,6 +135,10 @@ def _cv(img: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(img[:, :, 0] if img.shape[2] == 1 else img, np.float32)
 
 
+def _ccorr(img: np.ndarray, tpl: np.ndarray) -> np.ndarray:
+    return cv2.matchTemplate(img, tpl, cv2.TM_CCORR)
+
+
 def _with_squares(img: np.ndarray):
     """``img`` (as :func:`_cv` gives it) prepared for :func:`_masked_ssd`: its channels plus the
     sum of their squares as one more channel (a pair of images past OpenCV's 4 channels)."""
@@ -277,6 +281,9 @@ class _Matcher:
         self.small_sq = prep(self.small)
         self.ex_sq = prep(self.ex) if s > 1 else self.small_sq
         self._ssd = _masked_ssd_planes if fast else _masked_ssd
+        # The coarse search's correlations (a subclass may compute them another way).
+        self._coarse_ssd = self._ssd
+        self._coarse_corr = _ccorr
         # Windows that stay inside the example with their anchor band and
         # are not entirely forbidden.
         cnt = _box_count(forbidden, size)
@@ -316,7 +323,7 @@ class _Matcher:
         # fraction of the cell's empty pixels the window would leave empty
         # (its forbidden pixels are not copied).
         hh, ww = self.usable_small.shape
-        f = cv2.matchTemplate(self.forbid_small, u_s, cv2.TM_CCORR) / max(float(u_s.sum()), 1.0)
+        f = self._coarse_corr(self.forbid_small, u_s) / max(float(u_s.sum()), 1.0)
         hh, ww = min(hh, f.shape[0]), min(ww, f.shape[1])
         usable = self._usable_cache.get(f.shape)
         if usable is None:
@@ -333,7 +340,7 @@ class _Matcher:
             used = np.zeros(f.shape, np.float32)
             used[:hh, :ww] = box[:hh, :ww]
             has = bool(m_s.sum() >= 1)
-            ssd = (self._ssd(self.small_sq, t_s, m_s) / np.float32(float(m_s.sum()) * self.channels) if has
+            ssd = (self._coarse_ssd(self.small_sq, t_s, m_s) / np.float32(float(m_s.sum()) * self.channels) if has
                    else np.zeros(f.shape, np.float32))
             typical, good = _window_choice(ssd, has, f, used, usable, float(self.forbid_weight),
                                            float(self.reuse_weight), float(tolerance))
