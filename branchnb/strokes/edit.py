@@ -950,6 +950,8 @@ def _inside_parent(index, attached, jn, origin, size: int) -> np.ndarray:
     the parent's texture, a child turned far does not lay its cut face over its parent."""
     parent = attached[jn.parent]
     hw = float(index.edge_width(jn.parent, np.array([parent.source_arc_length(jn.parent_s)]))[0])
+    # where the child leaves along the parent's normal, the width across is the child's
+    hw = min(hw, index.side_width.get((jn.child, jn.end, jn.parent), np.inf) + 1.0)
     pts = parent.target.points
     a, b = pts[:-1], pts[1:]
     centre = np.array([origin[0] + 0.5 * size, origin[1] + 0.5 * size])
