@@ -464,3 +464,40 @@ def test_a_stroke_drawn_along_the_edge_is_centred_on_its_part():
     a = edit_structure(img, [body, mid], [body, raised])
     b = edit_structure(img, [body, mid], [body, raised], StrokeEditParams(centre_strokes=False))
     assert np.array_equal(a.image, b.image)
+
+
+#: The lizard (1024 px wide) stroked by hand: body to the hip, the hind thigh from inside the hip,
+#: the shin drawn along its edge.
+_LIZ_BODY = np.array([(45, 55), (110, 120), (180, 200), (280, 290), (380, 370), (450, 430), (472, 465)], float)
+_LIZ_THIGH = np.array([(415, 445), (350, 440), (290, 455), (262, 465)], float)
+_LIZ_SHIN = np.array([(300, 470), (340, 520), (372, 560), (385, 590)], float)
+
+
+def _lizard_leg_moved(width):
+    import cv2
+
+    from branchnb import data
+
+    full = data.load("lizard")
+    f = width / full.shape[1]
+    img = cv2.resize(full, (width, round(full.shape[0] * f)), interpolation=cv2.INTER_AREA)
+    c, s = np.cos(-0.6), np.sin(-0.6)
+    turn = lambda st: (st - _LIZ_THIGH[0]) @ np.array([[c, -s], [s, c]]).T + _LIZ_THIGH[0]  # noqa: E731
+    src = [st * f for st in (_LIZ_BODY, _LIZ_THIGH, _LIZ_SHIN)]
+    tgt = [_LIZ_BODY * f, turn(_LIZ_THIGH) * f, turn(_LIZ_SHIN) * f]
+    return img, src, tgt, f
+
+
+@pytest.mark.parametrize("width", [100, 240])
+def test_a_lizards_leg_moved_takes_its_whole_thigh(width):
+    """The hind leg (stroked from inside the hip) turned down: the thigh leaves the hip with
+    its base (before: the body's tube, as wide as the thigh is long across the hip, kept the
+    thigh's upper half in place, a flap stuck to the body), and nothing of the front foot
+    near the thigh's end is carried off with it (a loose piece at 100 px)."""
+    img, src, tgt, f = _lizard_leg_moved(width)
+    res = edit_structure(img, src, tgt)
+    assert pieces(res.image, 0.02) == 1
+    # where the thigh's upper half was (left of the hip, below the body's silhouette)
+    flap = np.array([(280, 435), (300, 432), (320, 432)]) * f
+    left = res.image[..., 3][np.round(flap[:, 1]).astype(int), np.round(flap[:, 0]).astype(int)]
+    assert (left < 0.5).all(), left
