@@ -501,3 +501,37 @@ def test_a_lizards_leg_moved_takes_its_whole_thigh(width):
     flap = np.array([(280, 435), (300, 432), (320, 432)]) * f
     left = res.image[..., 3][np.round(flap[:, 1]).astype(int), np.round(flap[:, 0]).astype(int)]
     assert (left < 0.5).all(), left
+
+
+def _starfish(size):
+    """A flat orange starfish (five tapering arms round a disk) and its arms' strokes from the centre."""
+    c, reach, hw = np.array([size / 2, size / 2]), 0.42 * size, 0.09 * size
+    arms = [np.linspace(c, c + reach * np.array([np.cos(a), np.sin(a)]), 12)
+            for a in -np.pi / 2 + np.arange(5) * 2 * np.pi / 5]
+    yy, xx = np.mgrid[0:size, 0:size].astype(float)
+    inside = 0.12 * size - np.hypot(xx - c[0], yy - c[1])
+    for st in arms:
+        ab = st[-1] - st[0]
+        t = np.clip(((xx - st[0, 0]) * ab[0] + (yy - st[0, 1]) * ab[1]) / (ab @ ab), 0, 1)
+        inside = np.maximum(inside, hw * (1 - 0.8 * t) - np.hypot(xx - st[0, 0] - t * ab[0], yy - st[0, 1] - t * ab[1]))
+    img = np.zeros((size, size, 4), np.float32)
+    img[..., :3] = (0.85, 0.45, 0.2)
+    img[..., 3] = np.clip(inside + 0.5, 0, 1)
+    return img, arms, c
+
+
+@pytest.mark.parametrize("size", [160, 300])
+def test_a_starfish_turning_one_arm_keeps_the_others_in_place(size):
+    """Two arms stroked from the centre, one turned: the three unstroked arms touch both
+    strokes at the disk and stay with the one that keeps them in place (before: they
+    followed the turned arm, the whole star turned but one arm)."""
+    img, arms, c = _starfish(size)
+    th = 0.5
+    turned = (arms[2] - c) @ np.array([[np.cos(th), -np.sin(th)], [np.sin(th), np.cos(th)]]).T + c
+    res = edit_structure(img, [arms[0], arms[2]], [arms[0], turned])
+    for k in (1, 3, 4):  # the unstroked arms, 80 % of the way to their tips
+        x, y = np.round(arms[k][0] + 0.8 * (arms[k][-1] - arms[k][0])).astype(int)
+        assert res.image[y, x, 3] > 0.5, k
+    x, y = np.round(turned[0] + 0.8 * (turned[-1] - turned[0])).astype(int)
+    assert res.image[y, x, 3] > 0.5
+    assert pieces(res.image, 0.02) == 1
