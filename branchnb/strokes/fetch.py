@@ -635,11 +635,13 @@ def _connected_to_stroke(core: np.ndarray, seed: np.ndarray) -> np.ndarray:
     would copy that limb with the stroke: a loose piece moved with it. Such
     pixels stay unstroked parts (they follow the stroke they touch).
     """
-    lab, n = ndi.label(core, structure=np.ones((3, 3), bool))
-    if n <= 1:
+    n, lab = cv2.connectedComponents(core.view(np.uint8), connectivity=8)
+    if n <= 2:
         return core
-    hit = np.unique(lab[seed & core])
-    return np.isin(lab, hit[hit > 0])
+    hit = np.zeros(n, bool)
+    hit[lab[seed & core]] = True
+    hit[0] = False
+    return hit[lab]
 
 
 def _parent_side(cut: np.ndarray, child: Stroke, end: int, parent: Stroke, s_map: np.ndarray,
@@ -662,9 +664,6 @@ def _parent_side(cut: np.ndarray, child: Stroke, end: int, parent: Stroke, s_map
     Returns those pixels and the parent's half width on the child's side
     (``inf`` where it cannot be measured).
     """
-    rs, cs = np.nonzero(cut)
-    if not len(rs):
-        return cut, np.inf
     s_j, _ = parent.project(child.points[:1] if end == 0 else child.points[-1:])
     s_j = float(s_j[0])
     p_j, n_j = parent.point_at(s_j), parent.normal_at(s_j, window=3.0)
@@ -683,6 +682,9 @@ def _parent_side(cut: np.ndarray, child: Stroke, end: int, parent: Stroke, s_map
             runs.append(_run_length(ray))
     if not runs or tube_width <= 1.5 * min(runs) + 2.0:
         return cut, np.inf  # a tube about as wide as the parent: the existing rule holds
+    rs, cs = np.nonzero(cut)
+    if not len(rs):
+        return cut, float(min(runs))
     s_px = s_map[rs, cs]
     foot, normal = parent.point_at(s_px), parent.normal_at(s_px, window=3.0)
     signed = side * ((cs - foot[:, 0]) * normal[:, 0] + (rs - foot[:, 1]) * normal[:, 1])
