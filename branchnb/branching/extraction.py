@@ -871,7 +871,7 @@ def large_flat_regions(mask, radius: float, min_area: float = 0.01) -> np.ndarra
     return ndi.binary_dilation(out) & m if out.any() else out
 
 
-def binary_channels(gray, polarity: str = "auto"):
+def binary_channels(gray, polarity: str = "auto", *, flat_regions: bool = True):
     """Foreground channels of a binary mask, the large flat regions removed, and the medial axis.
 
     The foreground is the bright class (``polarity="bright"``), the dark one
@@ -886,6 +886,9 @@ def binary_channels(gray, polarity: str = "auto"):
         The mask's luminance (two levels, maybe anti-aliased).
     polarity : {"auto", "bright", "dark"}, default "auto"
         Which class is foreground.
+    flat_regions : bool, default True
+        Set wide foreground regions apart as ``region``; False keeps every
+        foreground pixel a channel (a drawn tree's wide trunk is no sea).
 
     Returns
     -------
@@ -916,7 +919,9 @@ def binary_channels(gray, polarity: str = "auto"):
     sk0 = skeletonize(fg)
     r_med = float(np.median(dt[sk0])) if sk0.any() else 1.0
     big_r = max(3.0 * r_med, 3.0)
-    region = large_flat_regions(fg, big_r)
+    region = large_flat_regions(fg, big_r) if flat_regions else np.zeros_like(fg)
+    if not flat_regions:
+        big_r = float(dt.max()) + 1.0
     channels = fg & ~region
     skel = skeletonize(channels)
     # Skeleton stubs along the region's edge are outline, not branches.
@@ -1275,7 +1280,7 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
             # a thin line drawn across it (a ground line over the trunk) does not cut it in two
             shape |= ndi.binary_closing(shape, np.ones((5, 5), bool))
             return _extract_binary(np.where(shape, 0.0, 1.0), dataclasses.replace(p, polarity="dark"), mask,
-                                   return_maps, root_point)
+                                   return_maps, root_point, flat_regions=False)
     if p.binary == "on" or (p.binary == "auto" and shape_width is None and is_binary(gray)):
         return _extract_binary(gray, p, mask, return_maps, root_point)
     lines = gray
@@ -1577,7 +1582,7 @@ def example_domain(image, structure: Structure | None = None, *, radius: float =
     return ~flat_background(gray, branches, radius)
 
 
-def _extract_binary(gray, p: ExtractionParams, mask, return_maps: bool, root_point=None):
+def _extract_binary(gray, p: ExtractionParams, mask, return_maps: bool, root_point=None, flat_regions: bool = True):
     """``extract_structure`` for a binary mask: medial axis + distance-transform radius.
 
     Braided channels form cycles; the shortest-path tree from each root
@@ -1588,7 +1593,7 @@ def _extract_binary(gray, p: ExtractionParams, mask, return_maps: bool, root_poi
 
     work = rescale(gray, p.scale, order=0, anti_aliasing=False) if p.scale < 1 else gray
     pol = p.polarity
-    channels, region, skel, radius = binary_channels(work, pol)
+    channels, region, skel, radius = binary_channels(work, pol, flat_regions=flat_regions)
     if mask is not None:
         from skimage.transform import resize
 
