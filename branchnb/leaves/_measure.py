@@ -428,6 +428,7 @@ def vein_system_rows(kinds=KINDS_ALL, sizes=(192, 320), seeds=range(2), n_leaves
                     matched = _distance_matched(r, at_bg, near, ndi.distance_transform_edt(~d_v))
                     out.append(dict(kind=kind, size=size, seed=int(seed), leaf=k, background=bg, donor=e_v,
                                     bg=float(r[at_bg].mean()) / base if at_bg.any() else np.nan,
+                                    n_bg=int(at_bg.sum()),
                                     bg_matched=matched,
                                     donor_ratio=float(r[blade & d_v].mean()) / base if (blade & d_v).any() else np.nan))
                 p.source_coords = orig
@@ -489,6 +490,10 @@ def main(argv=None):
             print(f"{key[0]:<9} {key[1]:>4}  bg " + " ".join(f"{x:.2f}" for x in bgs)
                   + f"  mean {np.nanmean(bgs):.2f} max {np.nanmax(bgs):.2f}"
                   + f"  donor mean {np.nanmean([r['donor_ratio'] for r in rs]):.2f}")
+            nb = np.array([r["n_bg"] for r in rs], float)
+            ok = np.isfinite(bgs) & (nb > 0)
+            print(f"{'':<9} {'':>4}  pixels per leaf " + " ".join(str(int(x)) for x in nb)
+                  + f"  pixel-weighted bg {np.average(bgs[ok], weights=nb[ok]):.2f}")
             bm = np.array([r["bg_matched"] for r in rs])
             print(f"{'':<9} {'':>4}  bg over plain blade as far from the donor's veins: "
                   + " ".join(f"{x:.2f}" for x in bm) + f"  mean {np.nanmean(bm):.2f} max {np.nanmax(bm):.2f}")
