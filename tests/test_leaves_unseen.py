@@ -296,3 +296,31 @@ def test_a_compound_leaf_drawn_in_pieces_is_one_leaf():
     two[:, 160:] = fronds[1]
     with pytest.raises(ValueError, match="separate leaves"):
         normalise_exemplars([two, fronds[0]])
+
+
+def test_parallel_vein_strips_have_their_truth_and_induce_with_true_registrations():
+    """The grass-strip family (pale parallel veins, cut ends, any angle): veins inside the blade, the
+    same material keypoints on every strip; induction with true registrations finds every strip's own
+    parallel veins (measured IoU 0.69-0.99 on seeds 0 and 1)."""
+    from leaves_truth import TrueRegistration
+
+    from branchnb.leaves.procedural_strips import strip_family
+
+    fam = strip_family(3, size=160, rng=0)
+    for leaf in fam:
+        v = leaf.layers["veins"]
+        assert not (v & ~leaf.blade).any() and 0.1 < v.sum() / leaf.blade.sum() < 0.5
+        k = np.round(leaf.keypoints).astype(int)
+        assert leaf.blade[k[:, 1], k[:, 0]].mean() > 0.95
+    _, blades, offs = normalise_exemplars(fam)
+    shape = blades[0].shape
+
+    def on(m, o):
+        out = np.zeros(shape, bool)
+        out[o[1]:o[1] + m.shape[0], o[0]:o[0] + m.shape[1]] = m
+        return out
+    kps = [leaf.keypoints + np.array(o) for leaf, o in zip(fam, offs)]
+    regs = [TrueRegistration(k, kps[0], shape) for k in kps]
+    a = analyze(fam, 0, {"veins": fam[0].layers["veins"]}, registrations=regs)
+    for e in (1, 2):
+        assert iou(a.layer("veins").masks[e], on(fam[e].layers["veins"], offs[e])) > 0.6
