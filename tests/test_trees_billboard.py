@@ -514,7 +514,7 @@ def test_side_views_of_drawn_trees_keep_inner_outlines(kind):
 
 
 def test_merged_palm_fronds_are_lobes_not_a_background():
-    from branchnb.trees.billboard import _merged_lobes
+    from branchnb.trees.billboard_shapes import _merged_lobes
 
     yy, xx = np.mgrid[:61, :61] - 30.0
     star = np.zeros((61, 61), bool)
@@ -532,6 +532,7 @@ def test_merged_palm_fronds_are_lobes_not_a_background():
 
 def test_palm_with_merged_fronds_keeps_its_strokes_from_the_side(monkeypatch):
     from branchnb.trees import billboard as bb
+    from branchnb.trees import billboard_shapes as bb_shapes
     from branchnb.trees.drawn import drawn_tree
     from branchnb.trees.quality import side_view_figures
 
@@ -541,7 +542,7 @@ def test_palm_with_merged_fronds_keeps_its_strokes_from_the_side(monkeypatch):
     assert fan["fragments"] <= fan["fragments0"] + 1e-3, fan  # the default: the fan crown, one billboard
     monkeypatch.setattr(bb, "_STAR_ONE", False)              # fronds on cards: the lobes rule
     now = side_view_figures(billboard_cloud(img, params=params, rng=0), 90.0)
-    monkeypatch.setattr(bb, "_SKY_HULL", -1.0)               # the merged fronds split as a background
+    monkeypatch.setattr(bb_shapes, "_SKY_HULL", -1.0)             # the merged fronds split as a background
     split = side_view_figures(billboard_cloud(img, params=params, rng=0), 90.0)
     assert now["fragments"] <= 0.03 < split["fragments"], (now, split)
     # no piled-up comb strokes (with the whole line art found at 128 px, the former rule
