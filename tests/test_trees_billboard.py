@@ -633,3 +633,46 @@ def test_fan_crowns_are_one_billboard_without_stacked_outlines(monkeypatch):
         stacked_outline_share(cloud, 90.0, angle=0.0)
     with pytest.raises(ValueError, match="view"):
         stacked_outline_share(cloud, 90.0, view=np.zeros((5, 5, 4)))
+
+
+def _cross_crown(clumps: bool):
+    """A 64 px drawn crown: a base fill cut into four pieces by two outlined clumps crossing it
+    from rim to rim (``clumps=False``: the same cuts, the clumps in the base's own colour, as a
+    conifer's tiers of one fill)."""
+    yy, xx = np.mgrid[:64, :64]
+    crown = (xx - 32) ** 2 + (yy - 32) ** 2 <= 28 ** 2
+    vert = ((xx - 32) / 7.0) ** 2 + ((yy - 32) / 30.0) ** 2 <= 1
+    horiz = ((xx - 32) / 30.0) ** 2 + ((yy - 32) / 7.0) ** 2 <= 1
+    rgb = np.zeros((64, 64, 3), np.float32)
+    rgb[crown] = (0.15, 0.5, 0.15)
+    if clumps:
+        rgb[crown & (vert | horiz)] = (0.4, 0.85, 0.35)
+    lines = np.zeros((64, 64), bool)
+    for m in (crown, vert & crown, horiz & crown):
+        lines |= m & ~_erode(m)
+    rgb[lines] = 0.0
+    return rgb, crown, lines
+
+
+def _erode(m):
+    from scipy import ndimage as ndi
+
+    return ndi.binary_erosion(m, np.ones((3, 3), bool))
+
+
+def test_base_fill_cut_apart_by_clumps_is_the_background(monkeypatch):
+    # Issue 24: clumps drawn out to the rim cut a fruit tree's base fill into pieces, none a
+    # quarter of the crown; every piece was then a card (no rear, interior or core billboards)
+    # and side views tore the crown into a swirl of sky holes.
+    from branchnb.trees import billboard_shapes as bb_shapes
+
+    rgb, crown, lines = _cross_crown(True)
+    lab, background = bb_shapes._drawn_regions(rgb, crown, lines, n_segments=32)
+    base = crown & ~lines & (np.abs(rgb - (0.15, 0.5, 0.15)).max(axis=2) < 0.01)
+    assert background.any() and (background == base).all()
+    assert len(np.unique(lab[background])) >= 4                     # still split for depth
+    monkeypatch.setattr(bb_shapes, "_SPLIT_BASE", False)
+    assert not bb_shapes._drawn_regions(rgb, crown, lines, n_segments=32)[1].any()   # the former rule
+    monkeypatch.undo()
+    rgb, crown, lines = _cross_crown(False)                         # one fill: tiers, no background
+    assert not bb_shapes._drawn_regions(rgb, crown, lines, n_segments=32)[1].any()
