@@ -676,3 +676,18 @@ def test_base_fill_cut_apart_by_clumps_is_the_background(monkeypatch):
     monkeypatch.undo()
     rgb, crown, lines = _cross_crown(False)                         # one fill: tiers, no background
     assert not bb_shapes._drawn_regions(rgb, crown, lines, n_segments=32)[1].any()
+
+
+def test_no_billboard_without_an_opaque_texel_on_a_small_sprite():
+    # Issue 24 (LOD export of 96 px trees): a trunk strip of soft rim pixels only was a
+    # billboard an engine (alpha cut-off 0.5) draws nothing of; it joins its neighbour.
+    img = data.load("tree_rpg_06")
+    s = 96 / max(img.shape[:2])
+    small = np.clip(cv2.resize(np.ascontiguousarray(img, np.float32),
+                               (round(img.shape[1] * s), round(img.shape[0] * s)),
+                               interpolation=cv2.INTER_AREA), 0, 1)
+    cloud = billboard_cloud(small, params=BillboardParams(max_size=96), rng=0)
+    opaque = [(cloud.textures[t][..., 3] >= 0.5).any() for t in cloud.texture]
+    assert all(opaque), opaque
+    front = render_cloud(cloud, 0.0, crop="image")
+    assert np.abs(front[..., 3] - cloud.image[..., 3] * (cloud.image[..., 3] > 1e-3)).max() < 0.3
