@@ -53,6 +53,22 @@ def test_stray_ink_counts_open_strokes_not_whole_rings():
     assert stray_ink(blob) == 0
 
 
+def test_stray_ink_reads_resampled_rings_as_whole():
+    # At 96-200 px a warp lightens a 1 px ring in places (half ink, half fill): still a whole
+    # fruit, not an open stroke; the exemplars themselves scored 3-8 strays before.
+    img, yy, xx = _disc(60, 27)
+    r = np.hypot(yy - 30, xx - 24)
+    ring = (r > 4.5) & (r <= 5.6)
+    img[r <= 5.6, :3] = (1.0, 0.5, 0.0)
+    img[ring, :3] = 0.0
+    soft = ring & ((yy + xx) % 3 == 0)                           # resampled: every third pixel half-light
+    img[soft, :3] = 0.5 * np.array([1.0, 0.5, 0.0], np.float32)
+    assert stray_ink(img) == 0
+    half = img.copy()
+    half[:, 24:, :3] = np.where((r <= 5.6)[:, 24:, None], (0.3, 0.7, 0.2), half[:, 24:, :3])
+    assert stray_ink(half) == 1                                   # a real half ring is still stray
+
+
 def test_outline_continuity_seam_and_foreign_patch_measures():
     img, _, _ = _disc()
     assert outline_continuity(img, (0, 0, 0)) == 1.0
