@@ -186,3 +186,31 @@ def test_more_like_this_keeps_the_targets_drawing(drawn_lib):
         for v in drawn_lib.variations_of(name, 3, rng=4):
             crown = (v.sources >= 0) & (v.parts == 1)
             assert np.bincount(v.sources[crown], minlength=len(drawn_lib.names)).argmax() == k, name
+
+
+def _simple_tree(crown, bark, size=96, rx=30, ry=24, seed=0):
+    import cv2
+
+    g = np.random.default_rng(seed)
+    img = np.zeros((size, size, 4), np.float32)
+    cx = size // 2 + int(g.integers(-3, 4))
+    cv2.rectangle(img, (cx - 4, size // 2), (cx + 4, size - 3), (*bark, 1.0), -1)
+    cv2.ellipse(img, (cx, size // 2 - ry // 2), (rx + int(g.integers(-4, 5)), ry), 0, 0, 360, (*crown, 1.0), -1)
+    return img
+
+
+def test_silhouette_keeps_its_own_trunk():
+    # A one-colour silhouette takes no brown trunk from a coloured tree (nor gives its black one).
+    from branchnb.trees.flat_art import _drawing_group
+
+    lib = TreeLibrary(size=96)
+    lib.add(_simple_tree((0.05, 0.05, 0.06), (0.05, 0.05, 0.06)), "silhouette")
+    lib.add(_simple_tree((0.2, 0.6, 0.2), (0.45, 0.3, 0.15)), "flat")
+    assert [_drawing_group(e) for e in lib] == [2, 0]
+    for cw in ((0.6, 0.4), (0.4, 0.6)):
+        for r in range(4):
+            v = make_variation(lib, [0.5, 0.5], colour_weights=cw, rng=r)
+            op = (v.image[..., 3] >= 0.5) & (v.sources >= 0)
+            crown = np.bincount(v.sources[op & (v.parts == 1)], minlength=2)
+            trunk = np.bincount(v.sources[op & (v.parts == 2)], minlength=2)
+            assert trunk.sum() > 0 and trunk.argmax() == crown.argmax() and trunk.min() == 0, (cw, r)
