@@ -177,7 +177,10 @@ def test_a_mix_of_unlike_shapes_is_a_whole_tree():
         opaque = v.image[..., 3] >= 0.5
         lab, n = ndi.label(opaque, structure=np.ones((3, 3)))
         assert n == 1
-        assert (opaque & v.mask).sum() >= 0.8 * v.mask.sum()
+        # The palm now warps whole (its cage's R and L found, see simplify_contour) and may give
+        # the crown: it covers 0.78 of the contour, the rest is its own frond gaps (0.94 with
+        # the fruit tree's crown).
+        assert (opaque & v.mask).sum() >= 0.75 * v.mask.sum()
 
 
 def test_more_like_this_keeps_the_targets_drawing(drawn_lib):
@@ -214,3 +217,22 @@ def test_silhouette_keeps_its_own_trunk():
             crown = np.bincount(v.sources[op & (v.parts == 1)], minlength=2)
             trunk = np.bincount(v.sources[op & (v.parts == 2)], minlength=2)
             assert trunk.sum() > 0 and trunk.argmax() == crown.argmax() and trunk.min() == 0, (cw, r)
+
+
+def test_more_like_this_of_a_palm_silhouette_keeps_its_trunk_and_thin_fronds():
+    # The palm's thin trunk under a wide crown put the border point nearest R after the one
+    # nearest L; its cage then gave the whole border to the crown, and every "more like this"
+    # squashed the trunk to ~0.78 of the height (fronds merged into a blob at 256 px).
+    from scipy import ndimage as ndi
+
+    S2 = 128
+    lib = TreeLibrary.from_data(["palm_silhouette", "cartoon_tree", "evergreen", "arbre_modern"], size=S2)
+
+    def half_thickness(a):
+        return ndi.distance_transform_cdt(a, metric="chessboard")[a].mean()
+
+    own = half_thickness(lib["palm_silhouette"].alpha)
+    for v in lib.variations_of("palm_silhouette", 4, rng=0):
+        a = v.image[..., 3] >= 0.5
+        assert np.flatnonzero(a.any(axis=1)).max() >= 0.97 * (S2 - 1)       # the trunk reaches the foot
+        assert half_thickness(a) <= 1.3 * own                              # fronds stay thin
