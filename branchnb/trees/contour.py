@@ -559,7 +559,10 @@ def simplify_contour(resampled, n_crown_fraction: float = 0.8, *, m_points: int 
     fallback gave the whole border to the crown, so the palm's cage did not
     correspond to its mixes' and every "more like this" of the palm silhouette
     cut its trunk at 0.78 of the height and merged its fronds (now 1.00,
-    fronds as thin as the exemplar's: ``tests/test_trees_flatmix.py``).
+    fronds as thin as the exemplar's: ``tests/test_trees_flatmix.py``), and
+    the bent trunks of drawn palms' variations kinked where the cage's
+    crown vertices ran down them. Of 63 trees (the samples, 32 drawn trees,
+    8 procedural styles at 128 px) only the 5 palms' cages change.
 
     Examples
     --------
