@@ -599,7 +599,7 @@ def fetch_patches(image, source_strokes, target_strokes, params: StrokeEditParam
             continue
         depth = {}
         for jn in mine:
-            end_cut = index.cut_ends[i][jn.end]
+            end_cut = index.cut_ends[i][jn.end] or _under_parent(index, i, jn)
             if params.extend_branches and not end_cut:
                 # A free end (a tip) glued to the parent: push it under the parent.
                 # (A cut end -- also one that starts on another source stroke --
@@ -682,10 +682,57 @@ def _align_exits(index, pairs, attached, junctions) -> None:
                         jn.end)
         if a is None or b is None:
             continue
+        # A branch leaving its parent at the angle it left it in the source keeps the
+        # parent's tube at the joint as it was (the parent copies the same pixels there):
+        # it starts where it left the tube, as in the source (an identity edit is an
+        # identity; with the silhouette's width a corner-cutting branch was shifted along
+        # itself by the tube's excess and its unstroked parts no longer followed it).
+        # The more it turns, the more the silhouette's width counts. Beyond the paper.
+        same = exit_length(attached[i].target, ppair.target,
+                           lambda s, k=jn.parent, pp=ppair: index.half_width(k, pp.source_arc_length(s)),
+                           jn.end)
+        if same is not None:
+            turn = abs(_joint_angle(pairs[i].source, index.strokes[src_parent], jn.end)
+                       - _joint_angle(attached[i].target, ppair.target, jn.end))
+            turn = min(turn, 2.0 * np.pi - turn)
+            t = float(np.clip(turn / _EXIT_TURN, 0.0, 1.0))
+            b = (1.0 - t) * same + t * b
         pair = attached[i]
         ls, lt = pair.source.length, pair.target.length
         row = (a, b) if jn.end == 0 else (ls - a, lt - b)
         attached[i] = _with_pins(pair, [row])
+
+
+def _under_parent(index, i: int, jn) -> bool:
+    """Whether source stroke ``i`` already starts (at ``jn.end``) inside its target parent's
+    source silhouette: a branch drawn from inside the fork (not quite on the parent's centre
+    line), not a free tip glued to the parent. Such an end is not pushed under the parent
+    (an identity edit stays an identity: the extension stretched the whole branch)."""
+    if not index.has_alpha:
+        return False
+    child, parent = index.strokes[i], index.strokes[jn.parent]
+    if child.points.tobytes() == parent.points.tobytes():
+        return False
+    end = child.points[:1] if jn.end == 0 else child.points[-1:]
+    s_par, d = parent.project(end)
+    return bool(d[0] <= float(index.half_width(jn.parent, float(s_par[0]))) + 1.0)
+
+
+#: Turn of a branch against its parent (radians) from which its exit is placed at the
+#: silhouette's width only (see _align_exits).
+_EXIT_TURN = np.radians(30.0)
+
+
+def _joint_angle(child, parent, end: int) -> float:
+    """Angle (radians, in [0, 2 pi)) of ``child`` leaving ``parent`` at its ``end``, against the
+    parent's direction at the nearest point."""
+    s_c = 0.0 if end == 0 else child.length
+    d_c = float(child.angle_at(s_c, window=max(4.0, 0.1 * child.length)))
+    if end == 1:
+        d_c += np.pi
+    s_p = float(parent.project(child.point_at(np.array([s_c])))[0][0])
+    d_p = float(parent.angle_at(s_p, window=max(4.0, 0.05 * parent.length)))
+    return float((d_c - d_p) % (2.0 * np.pi))
 
 
 def _centred_pairs(src_img, pairs, control_points, target_shape) -> list[StrokePair]:
@@ -699,10 +746,15 @@ def _centred_pairs(src_img, pairs, control_points, target_shape) -> list[StrokeP
         return pairs  # an opaque image: no silhouette to centre on
     mask = alpha > 0.5
     sources, changed = [], False
+    kept = [p.source.points.shape == p.target.points.shape and np.allclose(p.source.points, p.target.points)
+            for p in pairs]
+    # a source stroke also given for a part kept in place (a branch copied to grow a new
+    # one) stays as drawn for every pair: two copies of one stroke, one centred, would
+    # split the branch's pixels between them (each the nearer one's) and neither fetch it whole
+    shared = {p.source.points.tobytes() for p, k in zip(pairs, kept) if k}
     for i, p in enumerate(pairs):
-        keep = (control_points is not None and control_points[i] is not None) or (
-            p.source.points.shape == p.target.points.shape
-            and np.allclose(p.source.points, p.target.points))
+        keep = (control_points is not None and control_points[i] is not None) or kept[i] or (
+            p.source.points.tobytes() in shared)
         others = [q.source.points for j, q in enumerate(pairs) if j != i]
         pts = p.source.points if keep else centre_stroke(mask, p.source.points, others=others)
         changed |= pts is not p.source.points
