@@ -83,3 +83,21 @@ def test_new_branch_from_a_copied_branch_keeps_the_tree_and_grows():
     assert on.mean() >= 0.9
     grown = (res.mask & ~before & (band > 0)).sum()
     assert grown >= 0.5 * 4.0 * seg[-1]  # at least ~4 px wide on average (the donor is ~10 px)
+
+
+@pytest.mark.parametrize("name, strokes, k, angle", [("tree_rpg_11", TREE_11, 5, -0.35),
+                                                     ("tree_rpg_12", TREE_12, 4, -0.3)])
+def test_turning_one_branch_keeps_the_others(name, strokes, k, angle):
+    # main before issue 25: IoU 0.963 / 0.982 away from the turned branch (neighbouring
+    # branches shifted along themselves at their forks, a limb's tip lost)
+    img, f = _tree(name, 474)
+    src = [np.array(s, float) * f for s in strokes]
+    c, s = np.cos(angle), np.sin(angle)
+    tgt = list(src)
+    tgt[k] = (src[k] - src[k][0]) @ np.array([[c, -s], [s, c]]).T + src[k][0]
+    res = edit_structure(img, src, tgt)
+    band = np.zeros(res.mask.shape, np.uint8)
+    for pts in (src[k], tgt[k]):
+        cv2.polylines(band, [np.round(pts).astype(np.int32)], False, 1, 60)
+    away = band == 0
+    assert _iou((img[..., 3] > 0.5) & away, res.mask & away) >= 0.98
