@@ -72,6 +72,7 @@ from .skeleton_tree import (  # noqa: F401  (re-exported: split from this module
     _skeleton_graph,
     skeleton_to_structure,
 )
+from .stroke_joins import find_stroke_joins
 
 __all__ = [
     "branch_from_clicks",
@@ -219,11 +220,12 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
     root = p.root
     if root in ("nearest_region", "auto"):
         region = flat_background(work, bw, 4 * p.sigma_max)
+    joins = find_stroke_joins(skel, radius, bw, scale=p.scale)
     s = skeleton_to_structure(skel, radius, h=p.h, min_branch_length=p.min_branch_length,
                               min_component_length=p.min_component_length,
                               root=root if root_point is None else root_point,
                               scale=p.scale, smooth=p.smooth_path, smooth_radius=p.smooth_radius,
-                              image_shape=gray.shape[:2], region=region)
+                              image_shape=gray.shape[:2], region=region, joins=joins)
     if return_maps:
         return s, (resp, bw, skel)
     return s
@@ -252,10 +254,11 @@ def _extract_binary(gray, p: ExtractionParams, mask, return_maps: bool, root_poi
             m = resize(m.astype(np.float32), skel.shape, order=0) > 0.5
         skel &= m
     root = p.root if root_point is None else root_point
+    joins = find_stroke_joins(skel, radius, channels, scale=p.scale)
     s = skeleton_to_structure(skel, radius, h=p.h, min_branch_length=p.min_branch_length,
                               min_component_length=p.min_component_length, root=root,
                               scale=p.scale, smooth=p.smooth_path, smooth_radius=p.smooth_radius,
-                              image_shape=gray.shape[:2], region=region)
+                              image_shape=gray.shape[:2], region=region, joins=joins)
     s = _unpinch_frame_ends(s, gray.shape[:2])
     if return_maps:
         return s, (channels.astype(np.float32), channels, skel)

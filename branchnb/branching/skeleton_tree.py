@@ -104,11 +104,47 @@ def _delta_source_key(key: np.ndarray, pts: np.ndarray, r: np.ndarray, ends: np.
     return out
 
 
+def _add_joins(g, ys, xs, node_r, shape, joins):
+    """The skeleton graph with a chain of extra nodes (about one pixel apart) for every join.
+
+    The chain's nodes sit on the straight line between the two pixels but are connected only to each
+    other, so a join through a crossing does not touch the stroke passing over it. Their radius is
+    the larger of the two ends' (a skeleton end is pinched by the line's tip or cut)."""
+    from scipy import sparse as sp
+
+    index = -np.ones(shape, np.int64)
+    index[ys, xs] = np.arange(len(ys))
+    n = len(ys)
+    new_y, new_x, new_r, rows, cols, w = [], [], [], [], [], []
+    for (y0, x0), (y1, x1), _through in joins:
+        i0, i1 = int(index[y0, x0]), int(index[y1, x1])
+        if i0 < 0 or i1 < 0 or i0 == i1:
+            continue
+        d = float(np.hypot(y1 - y0, x1 - x0))
+        m = max(int(np.ceil(d)) - 1, 0)
+        t = np.linspace(0.0, 1.0, m + 2)[1:-1]
+        chain = [i0] + list(range(n, n + m)) + [i1]
+        new_y += list(np.rint(y0 + t * (y1 - y0)).astype(np.int64))
+        new_x += list(np.rint(x0 + t * (x1 - x0)).astype(np.int64))
+        new_r += [max(node_r[i0], node_r[i1])] * m
+        n += m
+        rows += chain[:-1]
+        cols += chain[1:]
+        w += [d / (m + 1)] * (m + 1)
+    if not rows:
+        return g, ys, xs, node_r
+    big = sp.csr_matrix((g.data, g.indices, g.indptr), shape=(len(g.indptr) - 1, len(g.indptr) - 1))
+    big.resize((n, n))
+    extra = sp.coo_matrix((w, (rows, cols)), shape=(n, n)).tocsr()
+    return ((big + extra + extra.T).tocsr(), np.r_[ys, np.asarray(new_y, np.int64)],
+            np.r_[xs, np.asarray(new_x, np.int64)], np.r_[node_r, np.asarray(new_r, np.float64)])
+
+
 def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length: float = 12.0,
                           min_component_length: float = 60.0, root="thickest",
                           scale: float = 1.0, smooth: float = 4.0,
                           smooth_radius: float = 8.0, image_shape=None, region=None,
-                          spur_factor: float = 2.0) -> Structure:
+                          spur_factor: float = 2.0, joins=None) -> Structure:
     """Convert a one-pixel skeleton into a tree of branches.
 
     Each connected piece becomes one tree: a root end point is chosen
@@ -165,6 +201,30 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
         A side subtree is also pruned when it is shorter than this times the
         radius where it leaves its parent (the skeleton's spurs at the bends of
         wide channels are about one radius long).
+    joins : sequence of ((y0, x0), (y1, x1), through), optional
+        Skeleton pixels to connect by a straight piece of centre line, as
+        found by :func:`~branchnb.branching.stroke_joins.find_stroke_joins`
+        (drawn strokes broken at junctions and crossings). The piece touches
+        no other pixel: a join through a crossing passes under the stroke
+        it crosses.
+
+    Returns
+    -------
+    Structure
+        One tree per kept piece, with ``image_shape`` set.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> sk = np.zeros((40, 80), bool); sk[20, 5:75] = True; sk[21:36, 40] = True
+    >>> s = skeleton_to_structure(sk, np.full(sk.shape, 2.0), min_component_length=20)
+    >>> len(s.branches), s.branches[1].parent
+    (2, 0)
+    >>> sk[21:24, 40] = False      # the side branch stops 3 px short of the main one
+    >>> joined = skeleton_to_structure(sk, np.full(sk.shape, 2.0), min_component_length=20,
+    ...                                joins=[((24, 40), (20, 40), False)])
+    >>> len(joined.branches), joined.branches[1].parent
+    (2, 0)
     """
     sk = np.asarray(skeleton).astype(bool)
     rad = np.asarray(radius, np.float64)
@@ -176,10 +236,13 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
     if not sk.any():
         return out
     g, ys, xs = _skeleton_graph(sk)
+    node_r = rad[ys, xs]
+    if joins:
+        g, ys, xs, node_r = _add_joins(g, ys, xs, node_r, sk.shape, joins)
     n_comp, comp = csgraph.connected_components(g, directed=False)
     deg = np.diff(g.indptr)
     pts_full = np.column_stack([xs, ys]).astype(np.float64) / scale
-    r_full = np.maximum(rad[ys, xs] / scale, 0.5)
+    r_full = np.maximum(node_r / scale, 0.5)
     # Component lengths (sum of spanning edges ~ number of pixels).
     comp_len = np.bincount(comp, minlength=n_comp) / scale
     hh, ww = sk.shape
@@ -272,7 +335,7 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
                 if i + 1 < len(path) and u == path[i + 1]:
                     continue
                 sub = height[u] + np.hypot(ys[u] - ys[node], xs[u] - xs[node])
-                if sub >= max(min_len_px, spur_factor * rad[ys[node], xs[node]]):
+                if sub >= max(min_len_px, spur_factor * node_r[node]):
                     stack.append((u, bi, i))
     # Build branches in creation order; children prepend their furcation node.
     new_index: dict[int, int] = {}
