@@ -196,7 +196,8 @@ def measure_line_art(truth: Structure, junctions: np.ndarray, found: Structure, 
     """Trees, junctions recovered and centre-line recall of an extraction against the truth.
 
     A true junction counts as recovered when a child branch of ``found``
-    starts within ``junction_tol`` (default ``max(6, 3 r)``) of it; recall is
+    starts within ``junction_tol`` (default ``max(8, 3 r)``: the child starts at a
+    vertex of its parent, 4 px apart) of it; recall is
     the share of the true centre line (1 px samples) within ``tol`` px of
     ``found``'s centre lines.
     """
@@ -204,7 +205,7 @@ def measure_line_art(truth: Structure, junctions: np.ndarray, found: Structure, 
 
     ts, fs = _samples(truth), _samples(found, 0.5)
     r = float(np.median(np.concatenate([b.thickness for b in truth.branches])))
-    jt = junction_tol if junction_tol is not None else max(6.0, 3.0 * r)
+    jt = junction_tol if junction_tol is not None else max(8.0, 3.0 * r)
     recall = float((cKDTree(fs).query(ts)[0] <= tol).mean()) if len(fs) else 0.0
     starts = np.array([b.points[0] for b in found.branches if b.parent is not None]).reshape(-1, 2)
     if len(junctions) and len(starts):

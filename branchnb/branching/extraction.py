@@ -119,7 +119,10 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         channels (a sea) are no branches, and braided channels (cycles) are
         cut into a tree where the two fronts of the shortest-path tree meet.
         Outlines of large flat regions touching the border (a country
-        border, a coast line) are no branches either.
+        border, a coast line) are no branches either. Drawn strokes broken
+        at junctions and at the over-and-under crossings of an interlace are
+        joined where their directions continue (``join_gaps``, see
+        :func:`~branchnb.branching.stroke_joins.find_stroke_joins`).
     mask : (H, W) bool array_like, optional
         Only look inside this region.
     return_maps : bool, default False
@@ -220,7 +223,7 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
     root = p.root
     if root in ("nearest_region", "auto"):
         region = flat_background(work, bw, 4 * p.sigma_max)
-    joins = find_stroke_joins(skel, radius, bw, scale=p.scale)
+    joins = find_stroke_joins(skel, radius, bw, max_gap=p.join_gaps, scale=p.scale)
     s = skeleton_to_structure(skel, radius, h=p.h, min_branch_length=p.min_branch_length,
                               min_component_length=p.min_component_length,
                               root=root if root_point is None else root_point,
@@ -254,7 +257,7 @@ def _extract_binary(gray, p: ExtractionParams, mask, return_maps: bool, root_poi
             m = resize(m.astype(np.float32), skel.shape, order=0) > 0.5
         skel &= m
     root = p.root if root_point is None else root_point
-    joins = find_stroke_joins(skel, radius, channels, scale=p.scale)
+    joins = find_stroke_joins(skel, radius, channels, max_gap=p.join_gaps, scale=p.scale)
     s = skeleton_to_structure(skel, radius, h=p.h, min_branch_length=p.min_branch_length,
                               min_component_length=p.min_component_length, root=root,
                               scale=p.scale, smooth=p.smooth_path, smooth_radius=p.smooth_radius,

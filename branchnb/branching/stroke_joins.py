@@ -37,6 +37,7 @@ gaps wider than ``max_gap``.
 from __future__ import annotations
 
 import numpy as np
+from scipy.sparse import csgraph
 
 from ..core.validate import Real, checked
 from .skeleton_tree import _skeleton_graph
@@ -194,6 +195,23 @@ def find_stroke_joins(skeleton, radius, mask, *, max_gap: float = 3.0, min_cos: 
     at = np.array([anchor[int(k)] for k in keys], np.int64)
     used: set[int] = set()
     joins: list[tuple[tuple[int, int], tuple[int, int], bool]] = []
+    # pieces of the skeleton, merged as joins connect them: a join never closes a loop (the tree
+    # would then be cut somewhere else, e.g. a braided channel pinched shut on a mask)
+    _n, piece = csgraph.connected_components(g, directed=False)
+    up = list(range(_n))
+
+    def find(i: int) -> int:
+        while up[i] != i:
+            up[i] = up[up[i]]
+            i = up[i]
+        return i
+
+    def link(i: int, j: int) -> bool:
+        a, b = find(int(piece[i])), find(int(piece[j]))
+        if a == b:
+            return False
+        up[a] = b
+        return True
 
     def node(i: int) -> tuple[int, int]:
         return int(ys[i]), int(xs[i])
@@ -229,10 +247,12 @@ def find_stroke_joins(skeleton, radius, mask, *, max_gap: float = 3.0, min_cos: 
                 continue
             cands.append((float(dist[b_i]) * (2.0 - ca - cb), a, b, through))
     for _score, a, b, through in sorted(cands):
-        if a in used or b in used:
+        if a in used or b in used or not link(anchor[a], anchor[b]):
             continue
         used.update((a, b))
-        joins.append((node(anchor[a]), node(anchor[b]), through))
+        # from end to end (a join from one radius inward would leave the tip as a stub, a root
+        # candidate of its own)
+        joins.append((node(a), node(b), through))
     # 2. T-junctions: the heading runs into another stroke after one small gap
     for a in keys:
         a = int(a)
@@ -249,8 +269,8 @@ def find_stroke_joins(skeleton, radius, mask, *, max_gap: float = 3.0, min_cos: 
         ok = cos >= min_cos
         near, cos = near[ok], cos[ok]
         best = None
-        for q in near[np.argsort(dist[near] * (2.0 - cos))]:
-            if int(q) in own[a]:
+        for q in near[np.argsort(dist[near] * (np.sqrt(np.clip(1.0 - cos * cos, 0.0, 1.0)) + 0.05))]:
+            if int(q) in own[a] or find(int(piece[q])) == find(int(piece[anchor[a]])):
                 continue
             runs = _gaps(_profile(ink, pa, pts[q]))
             if runs is not None and len(runs) == 1 and not runs[0][0] and \
@@ -258,6 +278,7 @@ def find_stroke_joins(skeleton, radius, mask, *, max_gap: float = 3.0, min_cos: 
                 best = int(q)
                 break
         if best is not None:
+            link(anchor[a], best)
             used.add(a)
-            joins.append((node(anchor[a]), node(best), False))
+            joins.append((node(a), node(best), False))
     return joins
