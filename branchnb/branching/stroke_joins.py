@@ -254,22 +254,27 @@ def find_stroke_joins(skeleton, radius, mask, *, max_gap: float = 3.0, min_cos: 
         # candidate of its own)
         joins.append((node(a), node(b), through))
     # 2. T-junctions: the heading runs into another stroke after one small gap
+    from scipy.spatial import cKDTree
+
+    tree = cKDTree(pts)
     for a in keys:
         a = int(a)
         if a in used:
             continue
         pa = pts[anchor[a]]
         reach = 3.0 * width[a] + 2.0 * max(width[a], r_med) + gap_px + 3.0
-        d = pts - pa
-        dist = np.hypot(d[:, 0], d[:, 1])
-        near = np.flatnonzero((dist <= reach) & (dist > 0))
+        near = np.asarray(tree.query_ball_point(pa, reach), np.int64)
         if len(near) == 0:
             continue
-        cos = (d[near] @ heads[a]) / dist[near]
+        d = pts[near] - pa
+        dn = np.hypot(d[:, 0], d[:, 1])
+        near, d, dn = near[dn > 0], d[dn > 0], dn[dn > 0]
+        cos = (d @ heads[a]) / dn
         ok = cos >= min_cos
-        near, cos = near[ok], cos[ok]
+        near, cos, dn = near[ok], cos[ok], dn[ok]
         best = None
-        for q in near[np.argsort(dist[near] * (np.sqrt(np.clip(1.0 - cos * cos, 0.0, 1.0)) + 0.05))]:
+        # nearest to the heading's ray first (its distance from the ray, a little of the distance)
+        for q in near[np.argsort(dn * (np.sqrt(np.clip(1.0 - cos * cos, 0.0, 1.0)) + 0.05))]:
             if int(q) in own[a] or find(int(piece[q])) == find(int(piece[anchor[a]])):
                 continue
             runs = _gaps(_profile(ink, pa, pts[q]))
