@@ -144,7 +144,7 @@ def large_flat_regions(mask, radius: float, min_area: float = 0.01) -> np.ndarra
     return ndi.binary_dilation(out) & m if out.any() else out
 
 
-def binary_channels(gray, polarity: str = "auto"):
+def binary_channels(gray, polarity: str = "auto", *, flat_regions: bool = True):
     """Foreground channels of a binary mask, the large flat regions removed, and the medial axis.
 
     The foreground is the bright class (``polarity="bright"``), the dark one
@@ -159,6 +159,9 @@ def binary_channels(gray, polarity: str = "auto"):
         The mask's luminance (two levels, maybe anti-aliased).
     polarity : {"auto", "bright", "dark"}, default "auto"
         Which class is foreground.
+    flat_regions : bool, default True
+        Set wide foreground regions apart as ``region``; False keeps every
+        foreground pixel a channel (a drawn tree's wide trunk is no sea).
 
     Returns
     -------
@@ -189,7 +192,9 @@ def binary_channels(gray, polarity: str = "auto"):
     sk0 = skeletonize(fg)
     r_med = float(np.median(dt[sk0])) if sk0.any() else 1.0
     big_r = max(3.0 * r_med, 3.0)
-    region = large_flat_regions(fg, big_r)
+    region = large_flat_regions(fg, big_r) if flat_regions else np.zeros_like(fg)
+    if not flat_regions:
+        big_r = float(dt.max()) + 1.0
     channels = fg & ~region
     skel = skeletonize(channels)
     # Skeleton stubs along the region's edge are outline, not branches.

@@ -27,6 +27,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import ndimage as ndi
 
+from ..core.image import as_rgb
 from ..core.params import check_params
 from ..core.polyline import arc_length
 from ..core.structure import Branch, Structure
@@ -52,6 +53,8 @@ from .clicks import (  # noqa: F401  (re-exported: split from this module)
 )
 from .params import ExtractionParams
 from .ridges import (  # noqa: F401  (re-exported: split from this module)
+    _drawn_branching_width,
+    _line_colour_and_width,
     _local_background,
     _outside_field_of_view,
     _polarity,
@@ -174,7 +177,19 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         p = dataclasses.replace(p, **overrides)
     check_params(p)
     gray = gray_for_extraction(image)
-    if p.binary == "on" or (p.binary == "auto" and is_binary(gray)):
+    auto_colour = isinstance(line_colour, str) and line_colour == "auto"
+    shape_width = None
+    if auto_colour and p.binary != "on":
+        line_colour, shape_width = _line_colour_and_width(image, sigma_max=p.sigma_max)
+        if shape_width is not None and shape_width >= 3.0:
+            # a drawn tree wider than the ridge filter's scales (beyond the paper): trace the colour's own
+            # shape by its medial axis; its crown and ground are other colours, not a binary mask's background
+            shape = np.abs(as_rgb(image)[..., :3] - line_colour).max(-1) <= 0.12
+            # a thin line drawn across it (a ground line over the trunk) does not cut it in two
+            shape |= ndi.binary_closing(shape, np.ones((5, 5), bool))
+            return _extract_binary(np.where(shape, 0.0, 1.0), dataclasses.replace(p, polarity="dark"), mask,
+                                   return_maps, root_point, flat_regions=False)
+    if p.binary == "on" or (p.binary == "auto" and shape_width is None and is_binary(gray)):
         return _extract_binary(gray, p, mask, return_maps, root_point)
     lines = gray
     if line_colour is not None:
@@ -235,7 +250,7 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
 
 
 
-def _extract_binary(gray, p: ExtractionParams, mask, return_maps: bool, root_point=None):
+def _extract_binary(gray, p: ExtractionParams, mask, return_maps: bool, root_point=None, flat_regions: bool = True):
     """``extract_structure`` for a binary mask: medial axis + distance-transform radius.
 
     Braided channels form cycles; the shortest-path tree from each root
@@ -246,7 +261,7 @@ def _extract_binary(gray, p: ExtractionParams, mask, return_maps: bool, root_poi
 
     work = rescale(gray, p.scale, order=0, anti_aliasing=False) if p.scale < 1 else gray
     pol = p.polarity
-    channels, region, skel, radius = binary_channels(work, pol)
+    channels, region, skel, radius = binary_channels(work, pol, flat_regions=flat_regions)
     if mask is not None:
         from skimage.transform import resize
 
