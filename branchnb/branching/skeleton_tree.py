@@ -109,8 +109,20 @@ def _add_joins(g, ys, xs, node_r, shape, joins):
 
     The chain's nodes sit on the straight line between the two pixels but are connected only to each
     other, so a join through a crossing does not touch the stroke passing over it. Their radius is
-    the larger of the two ends' (a skeleton end is pinched by the line's tip or cut)."""
+    the strokes' own: the median over about 30 skeleton pixels from each end (the radius right at an
+    end is pinched by the line's cut), the smaller of the two (a T-join's target is the thicker
+    stem)."""
     from scipy import sparse as sp
+
+    def stroke_r(i: int, n_max: int = 30) -> float:
+        seen, todo = {i}, [i]
+        while todo and len(seen) < n_max:
+            v = todo.pop(0)
+            for u in g.indices[g.indptr[v]:g.indptr[v + 1]]:
+                if int(u) not in seen:
+                    seen.add(int(u))
+                    todo.append(int(u))
+        return float(np.median(node_r[list(seen)]))
 
     index = -np.ones(shape, np.int64)
     index[ys, xs] = np.arange(len(ys))
@@ -126,7 +138,7 @@ def _add_joins(g, ys, xs, node_r, shape, joins):
         chain = [i0] + list(range(n, n + m)) + [i1]
         new_y += list(np.rint(y0 + t * (y1 - y0)).astype(np.int64))
         new_x += list(np.rint(x0 + t * (x1 - x0)).astype(np.int64))
-        new_r += [max(node_r[i0], node_r[i1])] * m
+        new_r += [min(stroke_r(i0), stroke_r(i1))] * m
         n += m
         rows += chain[:-1]
         cols += chain[1:]
