@@ -1,217 +1,117 @@
-"""Procedural line art with a known tree: drawings broken at junctions, vines with interlace gaps.
+"""Line-art examples with known answers.
 
-Used by the tests and by :func:`measure_line_art` to check that extraction
-gives connected trees on drawn line art (issue 23): the strokes of a drawn
-tree stop 1-3 px short of the stroke they branch from, and the strand
-passing under a crossing is cut by a white gap on each side of the one
-passing over. Each example returns the image and the true polylines with
-their parents, so the number of trees, the junctions and the centre lines
-are known.
+* :func:`drawn_tree_example`: a drawn tree with a crown, a ground line and
+  roots, a coloured branching shape among flat areas (extraction must follow
+  the tree's colour, however wide, not the crown's rim or the grass);
+* :func:`crack_drawing_example`: a network of thin dark lines on white (a
+  drawn crack pattern; synthesized drawings must keep their lines whole).
 """
-
 from __future__ import annotations
 
-import cv2
 import numpy as np
 
-from ..core.structure import Structure
+from ..core.random import as_rng
+
+TRUNK = (0.48, 0.34, 0.09)
+CROWN = (0.01, 0.55, 0.0)
+CROWN_RIM = (0.0, 0.35, 0.0)
+GRASS = (0.3, 0.75, 0.3)
 
 
-def _draw(img: np.ndarray, pts: np.ndarray, width: float, value: int = 0) -> None:
-    cv2.polylines(img, [np.rint(pts * 16).astype(np.int32)], False, value, max(1, int(round(width))),
-                  cv2.LINE_AA, shift=4)
+def drawn_tree_example(size: int = 320, rng=0) -> tuple[np.ndarray, np.ndarray]:
+    """A flat-colour tree drawing and the mask of its trunk, branches and roots.
 
+    Parameters
+    ----------
+    size : int, default 320
+        Side of the square image (pixels); every length scales with it.
+    rng : int or numpy.random.Generator, default 0
+        Seed for the crown's discs and the branch angles.
 
-def _outline(img: np.ndarray, strokes: list[tuple[np.ndarray, float]], line: float) -> np.ndarray:
-    """Strokes drawn as outlines: black ink of ``line`` px around white insides."""
-    ink = np.full(img.shape, 255, np.uint8)
-    for pts, w in strokes:
-        _draw(ink, pts, w)
-    inside = np.full(img.shape, 255, np.uint8)
-    for pts, w in strokes:
-        _draw(inside, pts, max(w - 2 * line, 1))
-    return np.where(inside < 128, 255, ink).astype(np.uint8)
+    Returns
+    -------
+    image : (size, size, 3) float32
+        White ground, a green crown of overlapping discs with a dark rim,
+        brown branches drawn over it, a grass line with blades across the
+        trunk, roots below.
+    tree : (size, size) bool
+        The brown pixels (the structure's truth).
 
-
-def _walk(rng, start, heading, length, wiggle, bounds, step=1.0):
-    h, w = bounds
-    n = max(int(length / step), 2)
-    turn = np.cumsum(rng.normal(0, wiggle, n))
-    turn = np.convolve(turn, np.ones(9) / 9, "same")
-    ang = heading + turn
-    pts = start + np.cumsum(np.c_[np.cos(ang), np.sin(ang)] * step, 0)
-    inside = (pts[:, 0] > 6) & (pts[:, 0] < w - 7) & (pts[:, 1] > 6) & (pts[:, 1] < h - 7)
-    stop = int(np.argmin(inside)) if not inside.all() else n
-    return np.vstack([start, pts[:stop]])
-
-
-def branching_drawing(size: int = 400, rng=0, *, gap: float = 2.0, width: float | None = None,
-                      outlined: bool = False, depth: int = 3):
-    """A drawn tree: a trunk with side branches (recursively), each stopping ``gap`` px short of its parent.
-
-    Returns ``(image, truth, junctions)``: a float32 RGB image, the true
-    :class:`Structure` (one tree, centre lines) and the (x, y) points where
-    the children leave their parents.
+    Examples
+    --------
+    >>> img, tree = drawn_tree_example(160, rng=0)
+    >>> img.shape, bool(tree.any())
+    ((160, 160, 3), True)
     """
-    rng = np.random.default_rng(rng)
+    import cv2
+
+    r = as_rng(rng)
     h = w = int(size)
-    lw = float(width) if width is not None else max(2.0, size / 130)
-    from ..core.structure import Branch
+    s = size / 320
+    img = np.ones((h, w, 3), np.float32)
+    cx, cy = w / 2, 0.3 * h
+    for _ in range(6):
+        c = (int(cx + r.uniform(-60, 60) * s), int(cy + r.uniform(-25, 25) * s))
+        cv2.circle(img, c, int(r.uniform(35, 50) * s), CROWN_RIM, -1, cv2.LINE_AA)
+    crown = np.all(np.abs(img - np.array(CROWN_RIM, np.float32)) < 0.02, -1)
+    img[cv2.erode(crown.astype(np.uint8), np.ones((5, 5), np.uint8)) > 0] = CROWN
+    ground = int(0.62 * h)
+    tree = np.zeros((h, w), np.uint8)
 
-    start = np.array([w * 0.5 + rng.uniform(-0.1, 0.1) * w, h - 8.0])
-    trunk = _walk(rng, start, -np.pi / 2, 0.85 * h, 0.04, (h, w))
-    branches = [Branch(trunk, lw / 2)]
-    junctions = []
-    todo = [(0, 1, 0.55 * h)]
-    while todo:
-        bi, gen, length = todo.pop()
-        pts = branches[bi].points
-        n_kids = rng.integers(2, 4) if gen <= depth else 0
-        arc = np.r_[0, np.cumsum(np.hypot(*np.diff(pts, axis=0).T))]
-        if arc[-1] < 60:
-            continue
-        for k in range(n_kids):
-            s = arc[-1] * (0.25 + 0.6 * (k + rng.uniform(0.2, 0.8)) / n_kids)
-            v = int(np.searchsorted(arc, s))
-            v = int(np.clip(v, 3, len(pts) - 4))
-            tang = pts[v + 3] - pts[v - 3]
-            dev = rng.uniform(0.7, 1.1)
-            th = np.arctan2(tang[1], tang[0]) + rng.choice([-1, 1]) * dev
-            d = np.array([np.cos(th), np.sin(th)])
-            # the child stroke (its round cap) starts `gap` px of paper beyond the parent's ink
-            off = (lw + gap) / np.sin(dev) + 0.5
-            kid = _walk(rng, pts[v] + d * off, th, length * rng.uniform(0.5, 0.8), 0.05, (h, w))
-            if len(kid) < 25:
-                continue
-            # no crossing of earlier strokes
-            ok = True
-            for b in branches:
-                k0 = int(4 * lw + gap + 10)
-                if len(kid) <= k0:
-                    ok = False
-                    break
-                dd = np.hypot(kid[k0:, None, 0] - b.points[None, :, 0], kid[k0:, None, 1] - b.points[None, :, 1])
-                if dd.min() < 3 * lw + gap + 4:
-                    ok = False
-                    break
-            if not ok:
-                continue
-            branches.append(Branch(np.vstack([pts[v], kid]), lw / 2, parent=bi, parent_vertex=v))
-            junctions.append(pts[v].copy())
-            todo.append((len(branches) - 1, gen + 1, length * 0.6))
-    img = np.full((h, w), 255, np.uint8)
-    strokes = [(b.points if b.parent is None else b.points[1:], lw) for b in branches]
-    if outlined:
-        img = _outline(img, strokes, max(1.0, lw / 4))
-    else:
-        for pts, lwi in strokes:
-            _draw(img, pts, lwi)
-    g = img.astype(np.float32) / 255
-    return np.dstack([g] * 3), Structure(branches, image_shape=(h, w)), np.array(junctions).reshape(-1, 2)
+    def limb(p, angle, length, width, depth):
+        q = (p[0] + length * np.cos(angle), p[1] + length * np.sin(angle))
+        cv2.line(tree, (int(p[0]), int(p[1])), (int(q[0]), int(q[1])), 255, max(1, int(width)), cv2.LINE_AA)
+        if depth:
+            for turn in (-0.5, 0.45):
+                limb(q, angle + turn + r.uniform(-0.15, 0.15), 0.72 * length, 0.6 * width, depth - 1)
+
+    limb((w / 2, ground), -np.pi / 2, 0.16 * h, 12 * s, 3)
+    limb((w / 2, ground), np.pi / 2, 0.1 * h, 10 * s, 3)
+    a = tree.astype(np.float32)[..., None] / 255
+    img = img * (1 - a) + np.asarray(TRUNK, np.float32) * a
+    for x in range(4, w - 4, max(3, int(9 * s))):
+        tip = (x + int(r.integers(-3, 4)), ground - int(r.uniform(6, 14) * s))
+        cv2.line(img, (x, ground), tip, GRASS, 1, cv2.LINE_AA)
+    cv2.line(img, (0, ground), (w - 1, ground), GRASS, 2)
+    return np.clip(img, 0, 1).astype(np.float32), tree > 127
 
 
-def interlace_vine(size: int = 500, rng=0, *, loops: int = 3, width: float | None = None,
-                   outlined: bool = False, gap: float | None = None):
-    """One long stem looping over and under itself, with leafy side shoots touching it or 2 px short.
+def crack_drawing_example(size: int = 256, rng=0, *, cells: int = 30, width: int = 2) -> np.ndarray:
+    """A crack pattern drawn as thin dark lines on white: the edges of a Voronoi diagram.
 
-    Where the stem crosses itself the later pass goes over: the earlier one
-    is cut by a white gap (``gap`` px, default about the line's width) on
-    each side. Returns ``(image, truth, junctions)`` as :func:`branching_drawing`.
+    Parameters
+    ----------
+    size : int, default 256
+        Side of the square image (pixels).
+    rng : int or numpy.random.Generator, default 0
+        Seed for the cell centres.
+    cells : int, default 30
+        Number of Voronoi cells.
+    width : int, default 2
+        Line width (pixels).
+
+    Returns
+    -------
+    (size, size, 3) float32
+        The drawing.
+
+    Examples
+    --------
+    >>> img = crack_drawing_example(128, rng=0)
+    >>> img.shape, bool((img < 0.5).any())
+    ((128, 128, 3), True)
     """
-    from ..core.structure import Branch
+    import cv2
+    from scipy.spatial import Voronoi
 
-    rng = np.random.default_rng(rng)
-    h, w = int(0.62 * size), int(size)
-    lw = float(width) if width is not None else max(3.0, size / 90)
-    gp = float(gap) if gap is not None else 0.8 * lw
-    t = np.linspace(0, 1, 6000)
-    a, wv = 0.11 * h * 1.4, 2 * np.pi * loops
-    x = 0.1 * w + 0.8 * w * t - 1.3 * a * np.sin(wv * t)
-    y = 0.5 * h - a * np.cos(wv * t) + 0.1 * h * np.sin(2.3 * t + rng.uniform(0, 6))
-    arc = np.r_[0, np.cumsum(np.hypot(np.diff(x), np.diff(y)))]
-    s = np.arange(0, arc[-1], 1.0)
-    p = np.c_[np.interp(s, arc, x), np.interp(s, arc, y)]
-    n = len(p)
-    keep = np.ones(n, bool)
-    cut = int(np.ceil(lw / 2 + gp + lw / 2))
-    d = np.hypot(p[:, None, 0] - p[None, :, 0], p[:, None, 1] - p[None, :, 1])
-    under, _over = np.nonzero((d < 1.0) & (np.arange(n)[None, :] - np.arange(n)[:, None] > 4 * lw + 20))
-    for i in under:
-        keep[max(i - cut, 0): i + cut + 1] = False
-    branches = [Branch(p, lw / 2)]
-    junctions = []
-    strokes = []
-    for pc in np.split(np.arange(n), np.flatnonzero(np.diff(keep.astype(int))) + 1):
-        if keep[pc[0]] and len(pc) > 1:
-            strokes.append((p[pc], lw))
-    near_cut = np.convolve(~keep, np.ones(int(6 * cut) + 1), "same") > 0
-    leaves = []
-    step = int(max(60, 0.18 * w))
-    for s0 in np.arange(step // 2, n - step // 2, step):
-        if near_cut[s0]:
-            continue
-        tg = p[min(s0 + 3, n - 1)] - p[s0 - 3]
-        side = rng.choice([-1, 1])
-        th = np.arctan2(tg[1], tg[0]) + side * rng.uniform(0.7, 1.0)
-        g0 = rng.choice([0.0, 2.0])
-        dvec = np.array([np.cos(th), np.sin(th)])
-        k = np.arange(0, rng.uniform(5, 7) * lw, 1.0)
-        ang = th - side * 0.02 * k
-        q = p[s0] + dvec * (lw * 0.75 + g0) + np.c_[np.cumsum(np.cos(ang)), np.sin(ang).cumsum()]
-        if (q < 8).any() or (q[:, 0] > w - 8).any() or (q[:, 1] > h - 8).any():
-            continue
-        dd = np.hypot(q[:, None, 0] - p[None, :, 0], q[:, None, 1] - p[None, :, 1])
-        if dd[int(len(q) * 0.6):].min() < 2.5 * lw:
-            continue
-        sw = 0.7 * lw
-        strokes.append((q, sw))
-        leaves.append((q[-1], ang[-1]))
-        branches.append(Branch(np.vstack([p[s0], q]), sw / 2, parent=0, parent_vertex=int(s0)))
-        junctions.append(p[s0].copy())
-    img = np.full((h, w), 255, np.uint8)
-    if outlined:
-        img = _outline(img, strokes, max(1.0, lw / 4))
-    else:
-        for pts, lwi in strokes:
-            _draw(img, pts, lwi)
-    for c, ang in leaves:
-        cv2.ellipse(img, (int(c[0]), int(c[1])), (int(1.6 * lw), int(0.9 * lw)), float(np.degrees(ang)),
-                    0, 360, 0, -1 if not outlined else max(1, int(lw / 4)), cv2.LINE_AA)
-    g = img.astype(np.float32) / 255
-    return np.dstack([g] * 3), Structure(branches, image_shape=(h, w)), np.array(junctions).reshape(-1, 2)
-
-
-def _samples(s: Structure, step: float = 1.0) -> np.ndarray:
-    out = []
-    for b in s.branches:
-        pts = b.points
-        arc = np.r_[0, np.cumsum(np.hypot(*np.diff(pts, axis=0).T))]
-        t = np.arange(0, arc[-1] + 1e-9, step)
-        out.append(np.c_[np.interp(t, arc, pts[:, 0]), np.interp(t, arc, pts[:, 1])])
-    return np.vstack(out) if out else np.zeros((0, 2))
-
-
-def measure_line_art(truth: Structure, junctions: np.ndarray, found: Structure, *, tol: float = 3.0,
-                     junction_tol: float | None = None) -> dict:
-    """Trees, junctions recovered and centre-line recall of an extraction against the truth.
-
-    A true junction counts as recovered when a child branch of ``found``
-    starts within ``junction_tol`` (default ``max(8, 3 r)``: the child starts at a
-    vertex of its parent, 4 px apart) of it; recall is
-    the share of the true centre line (1 px samples) within ``tol`` px of
-    ``found``'s centre lines.
-    """
-    from scipy.spatial import cKDTree
-
-    ts, fs = _samples(truth), _samples(found, 0.5)
-    r = float(np.median(np.concatenate([b.thickness for b in truth.branches])))
-    jt = junction_tol if junction_tol is not None else max(8.0, 3.0 * r)
-    recall = float((cKDTree(fs).query(ts)[0] <= tol).mean()) if len(fs) else 0.0
-    starts = np.array([b.points[0] for b in found.branches if b.parent is not None]).reshape(-1, 2)
-    if len(junctions) and len(starts):
-        jr = float((cKDTree(starts).query(junctions)[0] <= jt).mean())
-    else:
-        jr = 1.0 if not len(junctions) else 0.0
-    return {"trees": sum(b.parent is None for b in found.branches),
-            "true_trees": sum(b.parent is None for b in truth.branches),
-            "junctions": jr, "recall": recall}
+    r = as_rng(rng)
+    pts = r.uniform(0, size, (int(cells), 2))
+    vor = Voronoi(pts)
+    img = np.ones((size, size, 3), np.float32)
+    for a, b in vor.ridge_vertices:
+        if a >= 0 and b >= 0:
+            p, q = vor.vertices[a], vor.vertices[b]
+            if np.all(np.abs(np.concatenate([p, q])) < 4 * size):
+                cv2.line(img, (int(p[0]), int(p[1])), (int(q[0]), int(q[1])), (0.1, 0.1, 0.1), int(width),
+                         cv2.LINE_AA)
+    return img
