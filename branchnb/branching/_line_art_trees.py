@@ -215,3 +215,42 @@ def measure_line_art(truth: Structure, junctions: np.ndarray, found: Structure, 
     return {"trees": sum(b.parent is None for b in found.branches),
             "true_trees": sum(b.parent is None for b in truth.branches),
             "junctions": jr, "recall": recall}
+
+
+def _main(argv=None) -> None:
+    """``python -m branchnb.branching._line_art_trees [--no-joins]``: the line-art table (24 cases)."""
+    import argparse
+    import time
+
+    from .extraction import extract_structure
+
+    ap = argparse.ArgumentParser(description=_main.__doc__)
+    ap.add_argument("--no-joins", action="store_true", help="extract with join_gaps=0 (before issue 23)")
+    a = ap.parse_args(argv)
+    kw = {"join_gaps": 0.0} if a.no_joins else {}
+    rows, cpu = [], 0.0
+    for kind in ("drawing", "vine"):
+        for size in (200, 500, 1000):
+            for outlined in (False, True):
+                for seed in (0, 1):
+                    if kind == "drawing":
+                        img, truth, junctions = branching_drawing(size, seed, gap=(1.0, 3.0)[seed], outlined=outlined)
+                    else:
+                        img, truth, junctions = interlace_vine(size, seed, outlined=outlined)
+                    t0 = time.process_time()
+                    found = extract_structure(img, **kw)
+                    cpu += time.process_time() - t0
+                    m = measure_line_art(truth, junctions, found)
+                    rows.append((outlined, m))
+                    print(f"{kind:8s} {size:5d} {'outlined' if outlined else 'solid':8s} seed {seed}: trees "
+                          f"{m['trees']}/{m['true_trees']}  junctions {m['junctions']:.2f}  recall {m['recall']:.2f}")
+    for o in (False, True):
+        sel = [m for oo, m in rows if oo == o]
+        print(f"{'outlined' if o else 'solid':8s}: exact tree count {sum(m['trees'] == m['true_trees'] for m in sel)}"
+              f"/{len(sel)}, mean trees {np.mean([m['trees'] for m in sel]):.1f}, junctions "
+              f"{np.mean([m['junctions'] for m in sel]):.2f}, recall {np.mean([m['recall'] for m in sel]):.3f}")
+    print(f"extraction CPU {cpu:.1f} s")
+
+
+if __name__ == "__main__":
+    _main()
