@@ -99,6 +99,9 @@ class _BranchState:
     src: list = field(default_factory=list)
     #: a coast root near its mouth: (lowest, highest) heading so far (radians); None = no limit
     mouth: tuple | None = None
+    #: a branch grown into a hole (see ``_Filling._fill_far``): the hole's centre (x, y) it heads
+    #: for until within ``rho`` of it; None = free growth
+    goal: np.ndarray | None = None
 
 
 class _Grower(_Filling):
@@ -340,7 +343,7 @@ class _Grower(_Filling):
         Q = np.ones(len(pool))
         return self._start_branch(np.array([x, y], float), float(theta), pool, Q, None, None, 0)
 
-    def start_child(self, parent: int, vertex: int) -> int | None:
+    def start_child(self, parent: int, vertex: int, toward=None) -> int | None:
         model, fm = self.model, self.model.furcation
         st = self.branches[parent]
         pts = np.asarray(st.points)
@@ -362,7 +365,11 @@ class _Grower(_Filling):
             betas = np.concatenate([betas, -betas])
             mirror = np.concatenate([mirror, ~mirror])
         tg = tangents(pts)[vertex]
-        return self._start_branch(pts[vertex], float(np.arctan2(tg[1], tg[0])), heads, Q, parent,
+        theta0 = float(np.arctan2(tg[1], tg[0]))
+        if toward is not None:   # a child grown into a hole starts toward it (``_Filling._fill_far``)
+            theta0 = float(np.arctan2(toward[1] - pts[vertex][1], toward[0] - pts[vertex][0]))
+            betas = np.zeros(len(heads))
+        return self._start_branch(pts[vertex], theta0, heads, Q, parent,
                                   vertex, st.generation + 1, betas=betas, mirror=mirror,
                                   r_cap=float(rad[vertex]))
 
@@ -395,6 +402,8 @@ class _Grower(_Filling):
                 score = np.where(live, score * self._frame_factor(tip, dirs, cs.D_c), score)
         if self.drain is not None:
             score = score * self.drain.factor(tip, pts, n_arr, start=st.points[0])
+        if st.goal is not None:
+            score = score * self._goal_factor(st, tip, pts, n_arr)
         if self.runs is not None:
             run = self.runs.run_length(st.elem_a[-(self.runs.max_run + 1):])
             fr = self.runs.factors(run, self.model.bending.cont_angles[t_arr], n_arr, self.runs.state[t_arr])

@@ -340,6 +340,7 @@ def _grow_with_retries(model, p, rng, shp, guidance, starts, scorer, domain=None
             best = g
             break
     best._fill_holes()   # on the kept attempt only
+    best._fill_far()
     return best
 
 
