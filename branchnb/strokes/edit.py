@@ -39,7 +39,7 @@ from .display import draw_strokes
 from .fetch import fetch, sample_pair, source_index
 from .junctions import attach, exit_length, far_side, find_junctions, stroke_order
 from .outline import _POCKET, clear_stale_outline, close_cuts, drop_flecks, fill_joints, outline_style, source_depth
-from .parts import place_part, rigid_frame
+from .parts import add_bases, place_part, rigid_frame
 from .sampling import candidate_offsets, choose, pair_energies
 from .strokes import StrokePair, make_pairs
 
@@ -723,6 +723,7 @@ def _carried_parts(index, pairs, attached, window: float) -> list[tuple[int, int
     keys = [p.source.points.tobytes() for p in pairs]
     out = []
     for pi, part in enumerate(index.parts):
+        _steadiest_anchor(index, part, pairs, attached, keys, window)
         (rs, cs) = part.box
         corners = np.array([[cs.start, rs.start, 1.0], [cs.stop, rs.stop, 1.0],
                             [cs.start, rs.stop, 1.0], [cs.stop, rs.start, 1.0]])
@@ -744,6 +745,44 @@ def _carried_parts(index, pairs, attached, window: float) -> list[tuple[int, int
             if alike:
                 out.append((i, pi, s_t))
     return out
+
+
+def _steadiest_anchor(index, part, pairs, attached, keys, window: float) -> None:
+    """Hang ``part`` from the stroke among those it touches that moves it least (in place).
+
+    A part touching two strokes that move apart (a starfish's arm between
+    the kept arm and the turned one, both stroked from the centre; a leg at
+    the hip where the tail turns) stays with the one that keeps it nearest
+    to where it was: an edit changes only what the user touched. Beyond the
+    paper.
+    """
+    strokes = {j for j, _ in part.anchors if keys[j] != keys[part.stroke]}
+    if not strokes:
+        return
+    (rs, cs) = part.box
+    corners = np.array([[cs.start, rs.start, 1.0], [cs.stop, rs.stop, 1.0],
+                        [cs.start, rs.stop, 1.0], [cs.stop, rs.start, 1.0]])
+    src = corners[:, :2]
+
+    def moved(j, s_a):
+        i = keys.index(keys[j])  # the first pair with that source stroke
+        frame = rigid_frame(attached[i].source, attached[i].target, s_a, _mapped(attached[i], s_a),
+                            window=window)
+        return float(np.abs(corners @ frame.T - src).max())
+
+    own = [s_a for j, s_a in part.anchors if keys[j] == keys[part.stroke]] or [part.s]
+    best, best_d = None, min(moved(part.stroke, s_a) for s_a in own)
+    for j in sorted(strokes):
+        d = max(moved(j, s_a) for jj, s_a in part.anchors if jj == j)
+        if d < best_d - 2.0:
+            best, best_d = j, d
+    if best is None:
+        return
+    s_best = [s_a for j, s_a in part.anchors if j == best]
+    part.stroke, part.s = best, float(np.median(s_best))
+    part.anchors = [(j, s_a) for j, s_a in part.anchors if keys[j] == keys[best]]
+    part.box = (slice(part.box[0].start, part.box[0].stop), slice(part.box[1].start, part.box[1].stop))
+    add_bases([part], index, window=3.0)
 
 
 def _mapped(pair: StrokePair, s_source: float) -> float:
@@ -950,6 +989,8 @@ def _inside_parent(index, attached, jn, origin, size: int) -> np.ndarray:
     the parent's texture, a child turned far does not lay its cut face over its parent."""
     parent = attached[jn.parent]
     hw = float(index.edge_width(jn.parent, np.array([parent.source_arc_length(jn.parent_s)]))[0])
+    # where the child leaves along the parent's normal, the width across is the child's
+    hw = min(hw, index.side_width.get((jn.child, jn.end, jn.parent), np.inf) + 1.0)
     pts = parent.target.points
     a, b = pts[:-1], pts[1:]
     centre = np.array([origin[0] + 0.5 * size, origin[1] + 0.5 * size])
