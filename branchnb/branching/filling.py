@@ -5,7 +5,9 @@ much as the example's, the free space is filled round after round: tips
 that ended at their drawn length with room ahead grow on, branches with
 room beside them furcate once more (:meth:`_Filling._room`). Beyond the
 paper, holes the example does not have are filled last
-(:meth:`_Filling._fill_holes`, :func:`_hole_map`). A mixin of the grower
+(:meth:`_Filling._fill_holes`, :func:`_hole_map`), then branches are grown
+into the largest hole left until holes are as rare as the example's
+(:meth:`_Filling._fill_far`). A mixin of the grower
 (:class:`.growth._Grower`); split from :mod:`.synthesis`.
 """
 
@@ -20,7 +22,7 @@ from .domains import _frame
 HOLE_DISTANCE = 0.05
 
 #: Holes are filled (``_Filling._fill_far``) until their share is at most this x the example's.
-FAR_TARGET = 1.0
+FAR_TARGET = 1.2
 
 #: Branches started into holes by ``_Filling._fill_far``, at most.
 FAR_MAX_TRIES = 40
