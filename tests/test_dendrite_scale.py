@@ -68,7 +68,20 @@ def _fish(n):
     return np.dstack([img] * 3).astype(np.float32), ndimage.binary_fill_holes(img < 0.95)
 
 
-_OBJECTS = {"leaf": _leaf, "fish": _fish}
+def _star(n, line=0.006):
+    """A five-pointed star outlined by a thin black line (``line`` x n px wide) on white."""
+    a = np.arange(10) * np.pi / 5 - np.pi / 2
+    r = np.where(np.arange(10) % 2 == 0, 0.42, 0.18) * n
+    inside = np.zeros((n, n), bool)
+    rr, cc = draw.polygon(0.5 * n + r * np.sin(a), 0.5 * n + r * np.cos(a), (n, n))
+    inside[rr, cc] = True
+    dist = np.where(inside, ndimage.distance_transform_edt(inside),
+                    ndimage.distance_transform_edt(~inside)) - 0.5
+    img = 1.0 - np.clip(line * n / 2 + 0.5 - dist, 0, 1)
+    return np.dstack([img] * 3).astype(np.float32), ndimage.binary_dilation(inside, iterations=2)
+
+
+_OBJECTS = {"leaf": _leaf, "fish": _fish, "star": _star}
 
 
 def _ink(rendering, mask):
@@ -91,6 +104,33 @@ def test_same_ink_and_solid_strokes_at_250_and_750_px(name):
     assert 2.0 * small.dendrite.radius.min() >= 0.99
     # a small image gets fewer endpoints (its strokes must fit between one another)
     assert len(small.endpoints) < StylizeParams().n_endpoints
+
+
+def test_thin_outline_keeps_its_ink_on_a_small_image():
+    # a 1.5-px outline at 250 px: the 1-px floor drew several parallel strokes along it
+    # (1.8x the ink of the same star at 750 px); twigs_within_ink thins them to one
+    (ink_s, solid_s), (ink_l, solid_l) = (_ink(stylize(_star(n)[0], rng=0).rendering.image,
+                                               _star(n)[1]) for n in (250, 750))
+    assert abs(ink_s - ink_l) <= 0.12 * ink_l
+    assert solid_s >= 0.8 * solid_l
+
+
+def test_twigs_within_ink_keeps_lone_lines():
+    from branchnb.dendrite import build_dendrite, make_lattice, plan
+    from branchnb.dendrite.thickness import twigs_within_ink
+
+    # a comb: a long spine with short teeth, and one long lone stem hanging off it
+    cost = np.ones((80, 80))
+    cost[10, 5:76] = cost[10:, 40] = 0.0
+    res = plan(make_lattice(cost, rng=0, noise=0.0), (40, 10))
+    ends = [(x, 14) for x in range(10, 71, 3)] + [(40, 75)]
+    d = build_dendrite(res, ends)
+    d = d.with_radius(np.full(d.n_nodes, 1.0))
+    keep = twigs_within_ink(d, np.full(d.n_nodes, 0.25), sigma=6.0, rng=0)
+    stem = int(np.argmin(np.hypot(*(d.points[d.tips] - (40, 75)).T)))
+    assert keep[stem]
+    assert keep.mean() < 0.6  # the short teeth go
+    assert twigs_within_ink(d, d.radius, sigma=6.0, rng=0).all()  # no excess: all kept
 
 
 def test_same_ink_from_200_to_1000_px_on_a_photo():
@@ -118,8 +158,9 @@ def test_images_larger_than_the_lattice_keep_its_widths():
 def test_outline_weighted_after_the_tone_match():
     img, mask = _fish(400)
     st = Stylizer(img)
-    plain = st.run(StylizeParams(edges=0.0), rng=0, metaphor=None).dendrite
-    weighted = st.run(StylizeParams(), rng=0, metaphor=None).dendrite
+    # output_width=0: the same tree for both (no twigs dropped to fit the ink of a small image)
+    plain = st.run(StylizeParams(edges=0.0, output_width=0.0), rng=0, metaphor=None).dendrite
+    weighted = st.run(StylizeParams(output_width=0.0), rng=0, metaphor=None).dendrite
     assert weighted is not plain
     # nodes on the fish's black outline (strong edges) get wider, flat regions stay
     g = gradient_strength(img)
