@@ -659,6 +659,8 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
         crown[:hi] = content_crown(imp[:hi], blur=p.crown_blur, outline=tree_crown((hi, w), rng=rng))
     else:
         crown = crown_mask((h, w), tp)
+    # the limbs follow the linear stretch; the twigs' tone the half-equalised one
+    dark_limbs = _stretch(dark, crown, p.contrast, equalize=0.0)
     dark = _stretch(dark, crown, p.contrast)
     if p.side == "full":
         noise = np.full((h, w), p.noise_image)
@@ -685,7 +687,7 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
     # outline cut across a light region to its end as a thick spoke (a drawn face)
     def shade(f):  # on the coarse grid the stippling runs on
         u = _shrink(upper.astype(float), f)
-        g = ndimage.gaussian_filter(_shrink(dark.astype(np.float64), f), p.crown_blur / f)
+        g = ndimage.gaussian_filter(_shrink(dark_limbs.astype(np.float64), f), p.crown_blur / f)
         return u * (0.1 + g / max(float(g[u > 0].max(initial=0.0)), 1e-6))
 
     limb_ends = _coarse_points(lambda f: stipple(shade(f), p.trunk_endpoints, iterations=15, rng=rng),
@@ -693,7 +695,7 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
     # the limbs run through the picture's dark parts: on the importance's cost they
     # followed strong edges, up the middle of a bright object (a lit rocket at night)
     limb_cost = p.cost_weight * (1.0 - np.clip(ndimage.gaussian_filter(
-        dark.astype(np.float64), 0.5 * p.crown_blur), 0.0, 1.0))
+        dark_limbs.astype(np.float64), 0.5 * p.crown_blur), 0.0, 1.0))
     lat = Lattice(node_weights(limb_cost, epsilon=p.epsilon, noise=noise, rng=rng))
     d = build_dendrite(plan(lat, seeds.reshape(h, w), metric="cumulative"), limb_ends,
                        base=trunk, radius=p.tip_width / 2, iteration=1)
