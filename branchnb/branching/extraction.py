@@ -871,7 +871,7 @@ def large_flat_regions(mask, radius: float, min_area: float = 0.01) -> np.ndarra
     return ndi.binary_dilation(out) & m if out.any() else out
 
 
-def binary_channels(gray, polarity: str = "auto"):
+def binary_channels(gray, polarity: str = "auto", *, flat_regions: bool = True):
     """Foreground channels of a binary mask, the large flat regions removed, and the medial axis.
 
     The foreground is the bright class (``polarity="bright"``), the dark one
@@ -886,6 +886,9 @@ def binary_channels(gray, polarity: str = "auto"):
         The mask's luminance (two levels, maybe anti-aliased).
     polarity : {"auto", "bright", "dark"}, default "auto"
         Which class is foreground.
+    flat_regions : bool, default True
+        Set wide foreground regions apart as ``region``; False keeps every
+        foreground pixel a channel (a drawn tree's wide trunk is no sea).
 
     Returns
     -------
@@ -916,7 +919,9 @@ def binary_channels(gray, polarity: str = "auto"):
     sk0 = skeletonize(fg)
     r_med = float(np.median(dt[sk0])) if sk0.any() else 1.0
     big_r = max(3.0 * r_med, 3.0)
-    region = large_flat_regions(fg, big_r)
+    region = large_flat_regions(fg, big_r) if flat_regions else np.zeros_like(fg)
+    if not flat_regions:
+        big_r = float(dt.max()) + 1.0
     channels = fg & ~region
     skel = skeletonize(channels)
     # Skeleton stubs along the region's edge are outline, not branches.
@@ -936,6 +941,31 @@ def _local_background(rgb: np.ndarray, sigma_max: float) -> np.ndarray:
     k = 2 * int(np.ceil(2 * sigma_max)) + 1
     u8 = np.clip(np.rint(rgb * 255.0), 0, 255).astype(np.uint8)
     return cv2.medianBlur(np.ascontiguousarray(u8), min(k, 255)).astype(np.float32) / 255.0
+
+
+def _drawn_branching_width(has: np.ndarray, sigma_max: float) -> float | None:
+    """Mean width of a colour's pixels when they form one connected, long, narrow shape (a drawn tree), else None.
+
+    Narrow is relative to the image (a trunk drawn 20 px wide in a 1000 px
+    picture is still a tree's), long means a centre line of at least half
+    the image's width plus height.
+    """
+    from skimage.morphology import skeletonize
+
+    # a thin line drawn across the shape (a ground line over the trunk) does not cut it in two
+    lab, n = ndi.label(ndi.binary_closing(has, np.ones((5, 5), bool)) | has, np.ones((3, 3), bool))
+    if n == 0:
+        return None
+    sizes = np.bincount(lab[has], minlength=n + 1)[1:]
+    if sizes.max() < 0.8 * sizes.sum():
+        return None
+    main = has & (lab == (int(np.argmax(sizes)) + 1))
+    length = int(skeletonize(main).sum())
+    h, w = has.shape
+    width = float(main.sum()) / max(length, 1)
+    if length < 0.5 * (h + w) or width > max(2.0 * sigma_max, 0.03 * min(h, w)):
+        return None
+    return width
 
 
 def thin_line_colour(image, *, sigma_max: float = 4.0, min_contrast: float = 0.12, tol: float = 0.12,
@@ -995,43 +1025,75 @@ def thin_line_colour(image, *, sigma_max: float = 4.0, min_contrast: float = 0.1
     >>> [round(float(v), 2) for v in thin_line_colour(img)]
     [0.0, 0.55, 0.83]
     """
+    return _line_colour_and_width(image, sigma_max=sigma_max, min_contrast=min_contrast, tol=tol,
+                                  min_share=min_share, max_colours=max_colours)[0]
+
+
+def _line_colour_and_width(image, *, sigma_max: float = 4.0, min_contrast: float = 0.12, tol: float = 0.12,
+                           min_share: float = 0.0005, max_colours: int = 6):
+    """:func:`thin_line_colour` and, for a drawn branching shape wider than a line, its mean width (else None)."""
     rgb = as_rgb(image)[..., :3].astype(np.float32)
     h, w = rgb.shape[:2]
     bg = _local_background(rgb, sigma_max)
     line_like = np.abs(rgb - bg).max(-1) >= min_contrast
     if line_like.sum() < max(min_share * h * w, 20):
-        return None
+        return None, None
     q = np.clip((rgb[line_like] * 8).astype(np.int64), 0, 7)
     key = (q[:, 0] * 8 + q[:, 1]) * 8 + q[:, 2]
     counts = np.bincount(key, minlength=512)
+    # a drawn tree's trunk is wider than a line: the image's main colours are candidates too
+    qa = np.clip((rgb.reshape(-1, 3) * 8).astype(np.int64), 0, 7)
+    all_counts = np.bincount((qa[:, 0] * 8 + qa[:, 1]) * 8 + qa[:, 2], minlength=512)
     gray = as_gray(rgb)
+    flat = (ndi.maximum_filter(gray, 5) - ndi.minimum_filter(gray, 5)) < 0.03
+    drawn = flat.mean() >= 0.5
+    # a drawing's shapes are filled with one exact colour; a smooth photograph (a fundus) is not
+    solid = np.max([ndi.maximum_filter(rgb[..., i], 3) - ndi.minimum_filter(rgb[..., i], 3)
+                    for i in range(3)], axis=0) < 0.01
     outside = border_flat_regions(gray, 4 * sigma_max)
     contrast = np.linalg.norm(rgb - bg, axis=-1)
     # the anti-aliased rim of a line: a neighbour has much more contrast
     rim = ndi.maximum_filter(contrast, 3) > contrast + 0.1
-    best, best_n = None, 0
-    for k in np.argsort(-counts)[:max_colours]:
-        if counts[k] == 0:
-            break
-        c = np.median(rgb[line_like][key == k], axis=0)
+    best, best_n, best_width = None, 0, None
+    candidates = list(np.argsort(-counts)[:max_colours])
+    if drawn:
+        candidates += [k for k in np.argsort(-all_counts)[:max_colours] if k not in candidates]
+    for k in candidates:
+        if counts[k] == 0 and all_counts[k] == 0:
+            continue
+        c = np.median(rgb[line_like][key == k], axis=0) if counts[k] >= 20 else \
+            np.median(rgb.reshape(-1, 3)[((qa[:, 0] * 8 + qa[:, 1]) * 8 + qa[:, 2]) == k], axis=0)
         has = np.abs(rgb - c).max(-1) <= tol
         # a border line drawn in the same colour (a coast) is not counted
         has &= ~outline_pixels(has, outside, 2 * sigma_max + 2)
         n = int(has.sum())
-        if n < min_share * h * w or np.mean(line_like[has]) < 0.5 or np.mean(rim[has]) > 0.5:
+        if n < min_share * h * w or np.mean(rim[has]) > 0.5:
             continue
+        width = None
+        if np.mean(line_like[has]) < 0.5:
+            # wider than a line, yet in a drawing a coloured tree shape is still the structure
+            width = _drawn_branching_width(has, sigma_max) if drawn and c.max() - c.min() >= 0.2 \
+                and np.mean(solid[has]) >= 0.25 else None
+            if width is None:
+                continue
         if n > best_n:
-            best, best_n = c, n
+            best, best_n, best_width = c, n, width
     if best is None:
-        return None
+        return None, None
+    if best_width is None and drawn and best.max() - best.min() >= 0.2:
+        has = np.abs(rgb - best).max(-1) <= tol
+        if np.mean(solid[has]) >= 0.25:
+            best_width = _drawn_branching_width(has, sigma_max)
+    if best_width is not None:
+        # a coloured branching shape among flat areas: brightness ridges would trace the areas' outlines
+        return best.astype(np.float32), best_width
     # hue against brightness in the line's contrast to its surroundings
     has = (np.abs(rgb - best).max(-1) <= tol) & line_like
     diff = best[None] - bg[has]
     lum = np.abs(diff.mean(-1)) * np.sqrt(3.0)
     chroma = np.linalg.norm(diff - diff.mean(-1, keepdims=True), axis=-1)
     ratio = float(np.median(chroma / np.maximum(lum, 1e-6)))
-    flat = (ndi.maximum_filter(gray, 5) - ndi.minimum_filter(gray, 5)) < 0.03
-    return best.astype(np.float32) if ratio >= (0.5 if flat.mean() >= 0.5 else 1.0) else None
+    return (best.astype(np.float32) if ratio >= (0.5 if drawn else 1.0) else None), None
 
 
 def line_colour_of(image, structure: Structure) -> np.ndarray:
@@ -1207,7 +1269,19 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         p = dataclasses.replace(p, **overrides)
     check_params(p)
     gray = gray_for_extraction(image)
-    if p.binary == "on" or (p.binary == "auto" and is_binary(gray)):
+    auto_colour = isinstance(line_colour, str) and line_colour == "auto"
+    shape_width = None
+    if auto_colour and p.binary != "on":
+        line_colour, shape_width = _line_colour_and_width(image, sigma_max=p.sigma_max)
+        if shape_width is not None and shape_width >= 3.0:
+            # a drawn tree wider than the ridge filter's scales (beyond the paper): trace the colour's own
+            # shape by its medial axis; its crown and ground are other colours, not a binary mask's background
+            shape = np.abs(as_rgb(image)[..., :3] - line_colour).max(-1) <= 0.12
+            # a thin line drawn across it (a ground line over the trunk) does not cut it in two
+            shape |= ndi.binary_closing(shape, np.ones((5, 5), bool))
+            return _extract_binary(np.where(shape, 0.0, 1.0), dataclasses.replace(p, polarity="dark"), mask,
+                                   return_maps, root_point, flat_regions=False)
+    if p.binary == "on" or (p.binary == "auto" and shape_width is None and is_binary(gray)):
         return _extract_binary(gray, p, mask, return_maps, root_point)
     lines = gray
     if line_colour is not None:
@@ -1508,7 +1582,7 @@ def example_domain(image, structure: Structure | None = None, *, radius: float =
     return ~flat_background(gray, branches, radius)
 
 
-def _extract_binary(gray, p: ExtractionParams, mask, return_maps: bool, root_point=None):
+def _extract_binary(gray, p: ExtractionParams, mask, return_maps: bool, root_point=None, flat_regions: bool = True):
     """``extract_structure`` for a binary mask: medial axis + distance-transform radius.
 
     Braided channels form cycles; the shortest-path tree from each root
@@ -1519,7 +1593,7 @@ def _extract_binary(gray, p: ExtractionParams, mask, return_maps: bool, root_poi
 
     work = rescale(gray, p.scale, order=0, anti_aliasing=False) if p.scale < 1 else gray
     pol = p.polarity
-    channels, region, skel, radius = binary_channels(work, pol)
+    channels, region, skel, radius = binary_channels(work, pol, flat_regions=flat_regions)
     if mask is not None:
         from skimage.transform import resize
 

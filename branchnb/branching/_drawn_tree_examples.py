@@ -1,0 +1,73 @@
+"""A drawn tree with a crown, a ground line and roots: a coloured branching shape among flat areas.
+
+Used to test that extraction follows the tree's colour (trunk, branches and
+roots, however wide) and not the outlines of the crown or the grass.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..core.random import as_rng
+
+TRUNK = (0.48, 0.34, 0.09)
+CROWN = (0.01, 0.55, 0.0)
+CROWN_RIM = (0.0, 0.35, 0.0)
+GRASS = (0.3, 0.75, 0.3)
+
+
+def drawn_tree_example(size: int = 320, rng=0) -> tuple[np.ndarray, np.ndarray]:
+    """A flat-colour tree drawing and the mask of its trunk, branches and roots.
+
+    Parameters
+    ----------
+    size : int, default 320
+        Side of the square image (pixels); every length scales with it.
+    rng : int or numpy.random.Generator, default 0
+        Seed for the crown's discs and the branch angles.
+
+    Returns
+    -------
+    image : (size, size, 3) float32
+        White ground, a green crown of overlapping discs with a dark rim,
+        brown branches drawn over it, a grass line with blades across the
+        trunk, roots below.
+    tree : (size, size) bool
+        The brown pixels (the structure's truth).
+
+    Examples
+    --------
+    >>> img, tree = drawn_tree_example(160, rng=0)
+    >>> img.shape, bool(tree.any())
+    ((160, 160, 3), True)
+    """
+    import cv2
+
+    r = as_rng(rng)
+    h = w = int(size)
+    s = size / 320
+    img = np.ones((h, w, 3), np.float32)
+    cx, cy = w / 2, 0.3 * h
+    for _ in range(6):
+        c = (int(cx + r.uniform(-60, 60) * s), int(cy + r.uniform(-25, 25) * s))
+        cv2.circle(img, c, int(r.uniform(35, 50) * s), CROWN_RIM, -1, cv2.LINE_AA)
+    crown = np.all(np.abs(img - np.array(CROWN_RIM, np.float32)) < 0.02, -1)
+    img[cv2.erode(crown.astype(np.uint8), np.ones((5, 5), np.uint8)) > 0] = CROWN
+    ground = int(0.62 * h)
+    tree = np.zeros((h, w), np.uint8)
+
+    def limb(p, angle, length, width, depth):
+        q = (p[0] + length * np.cos(angle), p[1] + length * np.sin(angle))
+        cv2.line(tree, (int(p[0]), int(p[1])), (int(q[0]), int(q[1])), 255, max(1, int(width)), cv2.LINE_AA)
+        if depth:
+            for turn in (-0.5, 0.45):
+                limb(q, angle + turn + r.uniform(-0.15, 0.15), 0.72 * length, 0.6 * width, depth - 1)
+
+    limb((w / 2, ground), -np.pi / 2, 0.16 * h, 12 * s, 3)
+    limb((w / 2, ground), np.pi / 2, 0.1 * h, 10 * s, 3)
+    a = tree.astype(np.float32)[..., None] / 255
+    img = img * (1 - a) + np.asarray(TRUNK, np.float32) * a
+    for x in range(4, w - 4, max(3, int(9 * s))):
+        tip = (x + int(r.integers(-3, 4)), ground - int(r.uniform(6, 14) * s))
+        cv2.line(img, (x, ground), tip, GRASS, 1, cv2.LINE_AA)
+    cv2.line(img, (0, ground), (w - 1, ground), GRASS, 2)
+    return np.clip(img, 0, 1).astype(np.float32), tree > 127
