@@ -791,9 +791,12 @@ class Stylizer:
                                                      self.endpoints(p, rng_seed)))
 
     def _widths(self, d: Dendrite, p: StylizeParams, lo: float, hi: float) -> Dendrite:
-        """The widths of ``d`` (lattice px, within ``[lo, hi]``) by ``p.thickness``."""
+        """The widths of ``d`` (lattice px, within ``[lo, hi]``) by ``p.thickness``;
+        ``self._pinned`` marks the nodes held at ``lo`` after the tone match."""
         if p.thickness != "importance":
-            return branch_thickness(d, mode=p.thickness, min_width=lo, max_width=hi)
+            d = branch_thickness(d, mode=p.thickness, min_width=lo, max_width=hi)
+            self._pinned = d.radius <= 0.5 * lo * 1.001
+            return d
         imp = self.importance(p)
         ref = max(float(np.percentile(imp, 99.0)), 1e-3)
         d = importance_thickness(d, imp, window=p.window, min_width=lo, max_width=hi,
@@ -804,6 +807,8 @@ class Stylizer:
         if p.tone > 0:
             d = tone_thickness(d, self.darkness(p), sigma=p.tone_sigma, min_width=lo,
                                max_width=hi, strength=p.tone)
+        # nodes the floor holds wider than the tone asks (before the edges' extra width)
+        self._pinned = d.radius <= 0.5 * lo * 1.001
         if p.edges > 0:
             # the tone match spreads ink evenly over a region; the outline and the
             # veins of a drawing should still read as its strongest lines
@@ -890,6 +895,7 @@ class Stylizer:
         d = self.dendrite(p, seed_lat, rng)
         imp = self.importance(p)
         d = self._widths(d, p, p.min_width, p.max_width)
+        pinned = self._pinned
         if k < 1.0 and p.output_width > 0 and p.thickness == "importance" and metaphor in (
                 "plain", None):
             # the floor keeps strokes a pixel wide; where that carries more ink than the
@@ -899,13 +905,16 @@ class Stylizer:
             full = d0 = self.dendrite(p, seed_lat, rng)
             keep = np.ones(len(full.tips), bool)
             for i in range(_PRUNE_ROUNDS):  # a round drops the outermost twigs only
-                ref = self._widths(d0, p, ref_lo, ref_hi).radius
+                # the reference differs only where the floor binds (elsewhere the partial
+                # tone match, started from other widths, would count as excess)
+                ref = np.where(pinned, self._widths(d0, p, ref_lo, ref_hi).radius, d.radius)
                 k_i = twigs_within_ink(d, ref, sigma=p.tone_sigma, rng=rng + 2 + i)
                 if k_i.mean() > 0.98:
                     break
                 keep &= ~np.isin(full.nodes[full.tips], d0.nodes[d0.tips[~k_i]])
                 d0 = self.dendrite_pruned(p, seed_lat, rng, keep)
                 d = self._widths(d0, p, p.min_width, p.max_width)
+                pinned = self._pinned
         scale = self.scale(p)
         if not np.allclose(scale, 1.0):
             d = d.rescaled(self.shape)
