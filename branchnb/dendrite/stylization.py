@@ -264,16 +264,17 @@ def effective_params(p: StylizeParams, scale: float) -> StylizeParams:
     1.5-px line at 250 px was traced by several parallel 1-px strokes and
     carried 1.8x the ink of the same star at 750 px (rope 1.47x at 150 px).
     :meth:`Stylizer.run` therefore compares, on a small image, the ink of the
-    floored widths with that of the widths at the 512-px floor and drops
-    twigs where the floor adds ink, up to four rounds
+    floored widths with that of the widths at the 512-px floor, on the nodes the
+    floor holds wider than the tone match asks, and drops twigs where the floor
+    adds ink, up to four rounds
     (:func:`~branchnb.dendrite.thickness.twigs_within_ink`; lone long lines
     such as a leaf's stem are kept). Measured against 750 px (mean ink in the
-    object, 150 / 250 px): thin-outlined star 1.62 / 1.04 (before 2.6 / 1.82
-    with the star's line under 1 px at 150), rope 1.12 / 1.13 (1.47 / 1.18),
-    maple photo 1.03 / 0.97 (1.27 / 1.10), lizard 1.09 / 1.03, clip-art tree
-    1.05 / 1.01, filled star 0.94 / 0.94, coffee photo 0.98 / 0.99, a night
-    photo 1.01 / 1.00; 1500 px within 1 % of 750 px. It costs about 1.5 s
-    of CPU on a small image.
+    object, 150 / 250 px): thin-outlined star 1.62 / 1.04 (before 2.6 / 1.82,
+    the star's line under 1 px at 150), rope 1.12 / 1.13 (1.47 / 1.18), maple
+    photo 1.03 / 0.97 (1.27 / 1.10), lizard 1.09 / 1.03 (1.16 / 1.09), clip-art
+    tree 1.05 / 1.01, filled star 0.97 / 0.96, coffee photo 1.02 / 1.02, a night
+    photo 1.04 / 1.03; 1500 px within 1 % of 750 px. It costs 0.6-1.1 s of CPU
+    on a 150-250 px image (1.2-1.5 s in all, 0.3-0.8 s without).
 
     Parameters
     ----------
@@ -816,7 +817,7 @@ class Stylizer:
             d = d.with_radius(np.clip(d.radius * (1.0 + p.edges * e ** 2), lo / 2, hi / 2))
         return d
 
-    def dendrite_pruned(self, p: StylizeParams, seed, rng_seed: int, keep) -> Dendrite:
+    def _dendrite_pruned(self, p: StylizeParams, seed, rng_seed: int, keep) -> Dendrite:
         """:meth:`dendrite` traced to the tips ``keep`` selects only (cached).
 
         Parameters
@@ -912,7 +913,7 @@ class Stylizer:
                 if k_i.mean() > 0.98:
                     break
                 keep &= ~np.isin(full.nodes[full.tips], d0.nodes[d0.tips[~k_i]])
-                d0 = self.dendrite_pruned(p, seed_lat, rng, keep)
+                d0 = self._dendrite_pruned(p, seed_lat, rng, keep)
                 d = self._widths(d0, p, p.min_width, p.max_width)
                 pinned = self._pinned
         scale = self.scale(p)
