@@ -267,3 +267,60 @@ def test_a_mosaic_of_leaf_close_ups_is_still_busy():
         img[:, lo:hi] = (rng.uniform(0.05, 0.35), rng.uniform(0.2, 0.6), rng.uniform(0.05, 0.3))
     with pytest.raises(ValueError, match="busy background"):
         leaf_exemplar(img)
+
+
+def _frond(gap=2, size=160, seed=0):
+    """A drawn pinnate frond: a rachis and pairs of pinnae, each drawn apart from it by ``gap`` px."""
+    rng = np.random.default_rng(seed)
+    img = np.zeros((size, size, 4), np.float32)
+    blade = np.zeros((size, size), bool)
+    cx = size // 2
+    blade[10:size - 10, cx - 2:cx + 2] = True
+    for y in range(18, size - 20, 14):
+        ln = int(rng.integers(size // 5, size // 3))
+        for side in (-1, 1):
+            rr, cc = ellipse(y, cx + side * (2 + gap + ln // 2), 5, ln // 2, shape=blade.shape)
+            blade[rr, cc] = True
+    img[blade] = (0.35, 0.6, 0.25, 1.0)
+    return img, blade
+
+
+def test_a_compound_leaf_drawn_in_pieces_is_one_leaf():
+    """A fern frond drawn as 33 pinnae with 4-8 px gaps (1.6 % of its size) was refused as
+    "33 separate leaves"; pieces closer than 3 % of the leaf's size are one compound leaf."""
+    fronds = [_frond(gap=2, seed=s)[0] for s in (0, 1)]
+    canvas, blades, _ = normalise_exemplars(fronds)
+    assert len(blades) == 2 and all(b.any() for b in blades)
+    two = np.zeros((160, 320, 4), np.float32)
+    two[:, :160] = fronds[0]
+    two[:, 160:] = fronds[1]
+    with pytest.raises(ValueError, match="separate leaves"):
+        normalise_exemplars([two, fronds[0]])
+
+
+def test_parallel_vein_strips_have_their_truth_and_induce_with_true_registrations():
+    """The grass-strip family (pale parallel veins, cut ends, any angle): veins inside the blade, the
+    same material keypoints on every strip; induction with true registrations finds every strip's own
+    parallel veins (measured IoU 0.69-0.99 on seeds 0 and 1)."""
+    from leaves_truth import TrueRegistration
+
+    from branchnb.leaves.procedural_strips import strip_family
+
+    fam = strip_family(3, size=160, rng=0)
+    for leaf in fam:
+        v = leaf.layers["veins"]
+        assert not (v & ~leaf.blade).any() and 0.1 < v.sum() / leaf.blade.sum() < 0.5
+        k = np.round(leaf.keypoints).astype(int)
+        assert leaf.blade[k[:, 1], k[:, 0]].mean() > 0.95
+    _, blades, offs = normalise_exemplars(fam)
+    shape = blades[0].shape
+
+    def on(m, o):
+        out = np.zeros(shape, bool)
+        out[o[1]:o[1] + m.shape[0], o[0]:o[0] + m.shape[1]] = m
+        return out
+    kps = [leaf.keypoints + np.array(o) for leaf, o in zip(fam, offs)]
+    regs = [TrueRegistration(k, kps[0], shape) for k in kps]
+    a = analyze(fam, 0, {"veins": fam[0].layers["veins"]}, registrations=regs)
+    for e in (1, 2):
+        assert iou(a.layer("veins").masks[e], on(fam[e].layers["veins"], offs[e])) > 0.6

@@ -464,3 +464,74 @@ def test_a_stroke_drawn_along_the_edge_is_centred_on_its_part():
     a = edit_structure(img, [body, mid], [body, raised])
     b = edit_structure(img, [body, mid], [body, raised], StrokeEditParams(centre_strokes=False))
     assert np.array_equal(a.image, b.image)
+
+
+#: The lizard (1024 px wide) stroked by hand: body to the hip, the hind thigh from inside the hip,
+#: the shin drawn along its edge.
+_LIZ_BODY = np.array([(45, 55), (110, 120), (180, 200), (280, 290), (380, 370), (450, 430), (472, 465)], float)
+_LIZ_THIGH = np.array([(415, 445), (350, 440), (290, 455), (262, 465)], float)
+_LIZ_SHIN = np.array([(300, 470), (340, 520), (372, 560), (385, 590)], float)
+
+
+def _lizard_leg_moved(width):
+    import cv2
+
+    from branchnb import data
+
+    full = data.load("lizard")
+    f = width / full.shape[1]
+    img = cv2.resize(full, (width, round(full.shape[0] * f)), interpolation=cv2.INTER_AREA)
+    c, s = np.cos(-0.6), np.sin(-0.6)
+    turn = lambda st: (st - _LIZ_THIGH[0]) @ np.array([[c, -s], [s, c]]).T + _LIZ_THIGH[0]  # noqa: E731
+    src = [st * f for st in (_LIZ_BODY, _LIZ_THIGH, _LIZ_SHIN)]
+    tgt = [_LIZ_BODY * f, turn(_LIZ_THIGH) * f, turn(_LIZ_SHIN) * f]
+    return img, src, tgt, f
+
+
+@pytest.mark.parametrize("width", [100, 240])
+def test_a_lizards_leg_moved_takes_its_whole_thigh(width):
+    """The hind leg (stroked from inside the hip) turned down: the thigh leaves the hip with
+    its base (before: the body's tube, as wide as the thigh is long across the hip, kept the
+    thigh's upper half in place, a flap stuck to the body), and nothing of the front foot
+    near the thigh's end is carried off with it (a loose piece at 100 px)."""
+    img, src, tgt, f = _lizard_leg_moved(width)
+    res = edit_structure(img, src, tgt)
+    assert pieces(res.image, 0.02) == 1
+    # where the thigh's upper half was (left of the hip, below the body's silhouette)
+    flap = np.array([(280, 435), (300, 432), (320, 432)]) * f
+    left = res.image[..., 3][np.round(flap[:, 1]).astype(int), np.round(flap[:, 0]).astype(int)]
+    assert (left < 0.5).all(), left
+
+
+def _starfish(size):
+    """A flat orange starfish (five tapering arms round a disk) and its arms' strokes from the centre."""
+    c, reach, hw = np.array([size / 2, size / 2]), 0.42 * size, 0.09 * size
+    arms = [np.linspace(c, c + reach * np.array([np.cos(a), np.sin(a)]), 12)
+            for a in -np.pi / 2 + np.arange(5) * 2 * np.pi / 5]
+    yy, xx = np.mgrid[0:size, 0:size].astype(float)
+    inside = 0.12 * size - np.hypot(xx - c[0], yy - c[1])
+    for st in arms:
+        ab = st[-1] - st[0]
+        t = np.clip(((xx - st[0, 0]) * ab[0] + (yy - st[0, 1]) * ab[1]) / (ab @ ab), 0, 1)
+        inside = np.maximum(inside, hw * (1 - 0.8 * t) - np.hypot(xx - st[0, 0] - t * ab[0], yy - st[0, 1] - t * ab[1]))
+    img = np.zeros((size, size, 4), np.float32)
+    img[..., :3] = (0.85, 0.45, 0.2)
+    img[..., 3] = np.clip(inside + 0.5, 0, 1)
+    return img, arms, c
+
+
+@pytest.mark.parametrize("size", [160, 300])
+def test_a_starfish_turning_one_arm_keeps_the_others_in_place(size):
+    """Two arms stroked from the centre, one turned: the three unstroked arms touch both
+    strokes at the disk and stay with the one that keeps them in place (before: they
+    followed the turned arm, the whole star turned but one arm)."""
+    img, arms, c = _starfish(size)
+    th = 0.5
+    turned = (arms[2] - c) @ np.array([[np.cos(th), -np.sin(th)], [np.sin(th), np.cos(th)]]).T + c
+    res = edit_structure(img, [arms[0], arms[2]], [arms[0], turned])
+    for k in (1, 3, 4):  # the unstroked arms, 80 % of the way to their tips
+        x, y = np.round(arms[k][0] + 0.8 * (arms[k][-1] - arms[k][0])).astype(int)
+        assert res.image[y, x, 3] > 0.5, k
+    x, y = np.round(turned[0] + 0.8 * (turned[-1] - turned[0])).astype(int)
+    assert res.image[y, x, 3] > 0.5
+    assert pieces(res.image, 0.02) == 1

@@ -514,7 +514,7 @@ def test_side_views_of_drawn_trees_keep_inner_outlines(kind):
 
 
 def test_merged_palm_fronds_are_lobes_not_a_background():
-    from branchnb.trees.billboard import _merged_lobes
+    from branchnb.trees.billboard_shapes import _merged_lobes
 
     yy, xx = np.mgrid[:61, :61] - 30.0
     star = np.zeros((61, 61), bool)
@@ -532,6 +532,7 @@ def test_merged_palm_fronds_are_lobes_not_a_background():
 
 def test_palm_with_merged_fronds_keeps_its_strokes_from_the_side(monkeypatch):
     from branchnb.trees import billboard as bb
+    from branchnb.trees import billboard_shapes as bb_shapes
     from branchnb.trees.drawn import drawn_tree
     from branchnb.trees.quality import side_view_figures
 
@@ -541,7 +542,7 @@ def test_palm_with_merged_fronds_keeps_its_strokes_from_the_side(monkeypatch):
     assert fan["fragments"] <= fan["fragments0"] + 1e-3, fan  # the default: the fan crown, one billboard
     monkeypatch.setattr(bb, "_STAR_ONE", False)              # fronds on cards: the lobes rule
     now = side_view_figures(billboard_cloud(img, params=params, rng=0), 90.0)
-    monkeypatch.setattr(bb, "_SKY_HULL", -1.0)               # the merged fronds split as a background
+    monkeypatch.setattr(bb_shapes, "_SKY_HULL", -1.0)             # the merged fronds split as a background
     split = side_view_figures(billboard_cloud(img, params=params, rng=0), 90.0)
     assert now["fragments"] <= 0.03 < split["fragments"], (now, split)
     # no piled-up comb strokes (with the whole line art found at 128 px, the former rule
@@ -632,3 +633,61 @@ def test_fan_crowns_are_one_billboard_without_stacked_outlines(monkeypatch):
         stacked_outline_share(cloud, 90.0, angle=0.0)
     with pytest.raises(ValueError, match="view"):
         stacked_outline_share(cloud, 90.0, view=np.zeros((5, 5, 4)))
+
+
+def _cross_crown(clumps: bool):
+    """A 64 px drawn crown: a base fill cut into four pieces by two outlined clumps crossing it
+    from rim to rim (``clumps=False``: the same cuts, the clumps in the base's own colour, as a
+    conifer's tiers of one fill)."""
+    yy, xx = np.mgrid[:64, :64]
+    crown = (xx - 32) ** 2 + (yy - 32) ** 2 <= 28 ** 2
+    vert = ((xx - 32) / 7.0) ** 2 + ((yy - 32) / 30.0) ** 2 <= 1
+    horiz = ((xx - 32) / 30.0) ** 2 + ((yy - 32) / 7.0) ** 2 <= 1
+    rgb = np.zeros((64, 64, 3), np.float32)
+    rgb[crown] = (0.15, 0.5, 0.15)
+    if clumps:
+        rgb[crown & (vert | horiz)] = (0.4, 0.85, 0.35)
+    lines = np.zeros((64, 64), bool)
+    for m in (crown, vert & crown, horiz & crown):
+        lines |= m & ~_erode(m)
+    rgb[lines] = 0.0
+    return rgb, crown, lines
+
+
+def _erode(m):
+    from scipy import ndimage as ndi
+
+    return ndi.binary_erosion(m, np.ones((3, 3), bool))
+
+
+def test_base_fill_cut_apart_by_clumps_is_the_background(monkeypatch):
+    # Issue 24: clumps drawn out to the rim cut a fruit tree's base fill into pieces, none a
+    # quarter of the crown; every piece was then a card (no rear, interior or core billboards)
+    # and side views tore the crown into a swirl of sky holes.
+    from branchnb.trees import billboard_shapes as bb_shapes
+
+    rgb, crown, lines = _cross_crown(True)
+    lab, background = bb_shapes._drawn_regions(rgb, crown, lines, n_segments=32)
+    base = crown & ~lines & (np.abs(rgb - (0.15, 0.5, 0.15)).max(axis=2) < 0.01)
+    assert background.any() and (background == base).all()
+    assert len(np.unique(lab[background])) >= 4                     # still split for depth
+    monkeypatch.setattr(bb_shapes, "_SPLIT_BASE", False)
+    assert not bb_shapes._drawn_regions(rgb, crown, lines, n_segments=32)[1].any()   # the former rule
+    monkeypatch.undo()
+    rgb, crown, lines = _cross_crown(False)                         # one fill: tiers, no background
+    assert not bb_shapes._drawn_regions(rgb, crown, lines, n_segments=32)[1].any()
+
+
+def test_no_billboard_without_an_opaque_texel_on_a_small_sprite():
+    # Issue 24 (LOD export of 96 px trees): a trunk strip of soft rim pixels only was a
+    # billboard an engine (alpha cut-off 0.5) draws nothing of; it joins its neighbour.
+    img = data.load("tree_rpg_06")
+    s = 96 / max(img.shape[:2])
+    small = np.clip(cv2.resize(np.ascontiguousarray(img, np.float32),
+                               (round(img.shape[1] * s), round(img.shape[0] * s)),
+                               interpolation=cv2.INTER_AREA), 0, 1)
+    cloud = billboard_cloud(small, params=BillboardParams(max_size=96), rng=0)
+    opaque = [(cloud.textures[t][..., 3] >= 0.5).any() for t in cloud.texture]
+    assert all(opaque), opaque
+    front = render_cloud(cloud, 0.0, crop="image")
+    assert np.abs(front[..., 3] - cloud.image[..., 3] * (cloud.image[..., 3] > 1e-3)).max() < 0.3

@@ -963,7 +963,7 @@ def _drawn_branching_width(has: np.ndarray, sigma_max: float) -> float | None:
     length = int(skeletonize(main).sum())
     h, w = has.shape
     width = float(main.sum()) / max(length, 1)
-    if length < 0.5 * (h + w) or width > max(2.0 * sigma_max, 0.03 * min(h, w)):
+    if length < 0.5 * (h + w) or width > max(3.0, 0.03 * min(h, w)):
         return None
     return width
 
@@ -994,6 +994,16 @@ def thin_line_colour(image, *, sigma_max: float = 4.0, min_contrast: float = 0.1
     of greys is what brightness-based ridge filters miss (they follow the
     terrain's edges instead). Grey, black or white lines, and the dark
     branches of photographs, keep the brightness path.
+
+    Beyond the paper, a drawing's *coloured tree shape* is a line colour
+    too, however wide its trunk: a colour filled solid (exactly flat) whose
+    pixels form one connected shape (thin lines drawn across it do not cut
+    it) with a centre line at least half the image's width plus height and
+    a mean width of at most ``max(3, 0.03 min(H, W))`` pixels (the brown
+    trunk, branches and roots of a clip-art tree, not its green crown or its
+    grass). It wins over a grey or dark line colour (the crown's rim), and
+    :func:`extract_structure` traces it by its medial axis when it is at
+    least 3 pixels wide.
 
     Parameters
     ----------
@@ -1049,12 +1059,12 @@ def _line_colour_and_width(image, *, sigma_max: float = 4.0, min_contrast: float
     drawn = flat.mean() >= 0.5
     # a drawing's shapes are filled with one exact colour; a smooth photograph (a fundus) is not
     solid = np.max([ndi.maximum_filter(rgb[..., i], 3) - ndi.minimum_filter(rgb[..., i], 3)
-                    for i in range(3)], axis=0) < 0.01
+                    for i in range(3)], axis=0) < 0.005
     outside = border_flat_regions(gray, 4 * sigma_max)
     contrast = np.linalg.norm(rgb - bg, axis=-1)
     # the anti-aliased rim of a line: a neighbour has much more contrast
     rim = ndi.maximum_filter(contrast, 3) > contrast + 0.1
-    best, best_n, best_width = None, 0, None
+    found = []
     candidates = list(np.argsort(-counts)[:max_colours])
     if drawn:
         candidates += [k for k in np.argsort(-all_counts)[:max_colours] if k not in candidates]
@@ -1069,31 +1079,30 @@ def _line_colour_and_width(image, *, sigma_max: float = 4.0, min_contrast: float
         n = int(has.sum())
         if n < min_share * h * w or np.mean(rim[has]) > 0.5:
             continue
-        width = None
-        if np.mean(line_like[has]) < 0.5:
-            # wider than a line, yet in a drawing a coloured tree shape is still the structure
-            width = _drawn_branching_width(has, sigma_max) if drawn and c.max() - c.min() >= 0.2 \
-                and np.mean(solid[has]) >= 0.25 else None
-            if width is None:
-                continue
-        if n > best_n:
-            best, best_n, best_width = c, n, width
-    if best is None:
+        # wider than a line, yet in a drawing a coloured tree shape is still the structure
+        width = _drawn_branching_width(has, sigma_max) if drawn and c.max() - c.min() >= 0.2 \
+            and np.mean(solid[has]) >= 0.12 else None
+        if width is None and np.mean(line_like[has]) < 0.5:
+            continue
+        found.append((n, c, width))
+    if not found:
         return None, None
-    if best_width is None and drawn and best.max() - best.min() >= 0.2:
-        has = np.abs(rgb - best).max(-1) <= tol
-        if np.mean(solid[has]) >= 0.25:
-            best_width = _drawn_branching_width(has, sigma_max)
-    if best_width is not None:
+    found.sort(key=lambda f: -f[0])
+    trees = [f for f in found if f[2] is not None]
+    n, best, width = found[0]
+    if width is not None:
         # a coloured branching shape among flat areas: brightness ridges would trace the areas' outlines
-        return best.astype(np.float32), best_width
+        return best.astype(np.float32), width
     # hue against brightness in the line's contrast to its surroundings
     has = (np.abs(rgb - best).max(-1) <= tol) & line_like
     diff = best[None] - bg[has]
     lum = np.abs(diff.mean(-1)) * np.sqrt(3.0)
     chroma = np.linalg.norm(diff - diff.mean(-1, keepdims=True), axis=-1)
     ratio = float(np.median(chroma / np.maximum(lum, 1e-6)))
-    return (best.astype(np.float32) if ratio >= (0.5 if drawn else 1.0) else None), None
+    if ratio >= (0.5 if drawn else 1.0):
+        return best.astype(np.float32), None
+    # the commonest line colour is grey or dark (a crown's rim): a coloured tree shape still wins
+    return (trees[0][1].astype(np.float32), trees[0][2]) if trees else (None, None)
 
 
 def line_colour_of(image, structure: Structure) -> np.ndarray:

@@ -646,6 +646,16 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     fill, n_inpainted = _complete(out, ex, regions, p, flat, use_poisson, pm_s, pm_t, labels_t, src_labels,
                                   rng, report, frag_share, timings)
     canvas, source, frag_index, seams = out.canvas, out.source, out.frag_index, out.seams
+    if flat_share >= 0.5:
+        # drawn examples: a branch the fragments left without ink is drawn in the example's style
+        from .drawing import drawing_style
+        from .stroke_repair import redraw_gaps
+
+        if "style" not in cached:
+            cached["style"] = drawing_style(cached["ex"], example_structure, layout, pm_s)
+        style = cached["style"]
+        canvas, _ = redraw_gaps(canvas, target_structure, style.line_colour,
+                                style.region_colours[style.branch_region], style.width_scale)
 
     fragment_mask = frag_index >= 0
     # Every stage keeps [0, 1]; this guards the contract (finite, in range) for any input.

@@ -773,6 +773,11 @@ class RegionLayoutModel:
     classifier : object, optional
         Predicts a pixel's region from its relation to the skeleton (None
         when the example has a single region).
+    bearing : (K,) bool ndarray, optional
+        Regions that hold a real share (>= 10 %) of the example's centre
+        lines besides the branch region (a drawn tree's branches run on
+        white ground and through a green crown); a target branch may lie in
+        any of them. None: only in the branch region.
     """
 
     labels: np.ndarray
@@ -781,6 +786,7 @@ class RegionLayoutModel:
     sigma: float
     min_area: np.ndarray
     classifier: object | None = None
+    bearing: np.ndarray | None = None
 
 
 def _stride(shape) -> int:
@@ -856,7 +862,9 @@ def fit_region_layout(layout: np.ndarray, structure: Structure, pm: PixelMap | N
         clf = ExtraTreesClassifier(n_estimators=12, max_depth=12, min_samples_leaf=10, max_features=None,
                                    n_jobs=1, random_state=0)
         clf.fit(X[::step], y[::step])
-    return RegionLayoutModel(labels, shares, branch_region, sigma, min_area, clf)
+    on_share = np.array([np.mean(on == k) for k in labels]) if on.size else np.zeros(len(labels))
+    bearing = (on_share >= 0.1) | (labels == branch_region)
+    return RegionLayoutModel(labels, shares, branch_region, sigma, min_area, clf, bearing)
 
 
 def layout_regions(model: RegionLayoutModel, structure: Structure, shape, pm: PixelMap | None = None, *,
@@ -916,8 +924,18 @@ def layout_regions(model: RegionLayoutModel, structure: Structure, shape, pm: Pi
     proba = np.stack([cv2.GaussianBlur(proba[..., k], (0, 0), 2.0) for k in range(K)], -1)
     logp = np.log(np.clip(proba, 1e-4, 1.0))
     body = pm.core(1.0, 1.5)
-    logp[body] = -1e3
-    logp[body, br] = 0.0
+    # a branch lies in the branch region, or in another region where the example's branches also run
+    # (going beyond the paper: a drawn tree's branches through its crown get no halo of ground)
+    bearing = np.zeros(K, bool) if model.bearing is None else np.asarray(model.bearing, bool)
+    bearing[br] = True
+    several = bool(bearing.sum() >= 2)
+    if several:
+        on_body = logp[body]
+        on_body[:, ~bearing] = -1e3
+        logp[body] = on_body
+    else:
+        logp[body] = -1e3
+        logp[body, br] = 0.0
     # One bias per region keeps the areas near the example's shares: within
     # ``share_tolerance`` of them the learnt relation decides (a target with
     # longer rivers has more floodplain), beyond it the biases pull back.
@@ -932,7 +950,7 @@ def layout_regions(model: RegionLayoutModel, structure: Structure, shape, pm: Pi
             break
         bias += 0.7 * np.log((goal + 1e-3) / (cur + 1e-3)).astype(np.float32)
     lab = np.argmax(logp + bias, axis=-1)
-    lab[body] = br
+    lab[body] = np.where(bearing[lab[body]], lab[body], br) if several else br
     # Specks: pieces smaller than half the example's smallest piece of that
     # region, holding no branch, join their surroundings (a short river's
     # floodplain is small but stays).

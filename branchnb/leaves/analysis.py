@@ -702,13 +702,25 @@ def _retuned(analysis, changes):
     return dataclasses.replace(a, params=params, layers=layers)
 
 
+#: Gap, as a fraction of the leaf's size (square root of its area), across which blade pieces are one leaf.
+COMPOUND_GAP = 0.03
+
+
 def _check_one_leaf(blade: np.ndarray, name: str) -> None:
     """Refuse an exemplar whose blade falls into two or more big pieces: several leaves, not one.
 
     A piece of at least a fifth of the largest (and 64 px) counts as a
-    leaf; crumbs (a torn tip, a speck of background) do not.
+    leaf; crumbs (a torn tip, a speck of background) do not. Pieces less
+    than :data:`COMPOUND_GAP` of the leaf's size apart are one compound
+    leaf (a fern frond drawn as 33 pinnae with 4-8 px gaps at 1021 px,
+    1.6 % of its size, was refused as "33 separate leaves").
     """
     labels, n = ndi.label(blade)
+    if n < 2:
+        return
+    gap = COMPOUND_GAP * np.sqrt(float(blade.sum()))
+    labels, n = ndi.label(ndi.distance_transform_edt(~blade) <= gap / 2)
+    labels = labels * blade
     if n < 2:
         return
     sizes = np.sort(np.bincount(labels.ravel())[1:])[::-1]

@@ -170,6 +170,11 @@ class SourceIndex:
         Per stroke: the half width of the silhouette itself along the
         stroke (at ``width_s``; median filtered, without the running
         maximum of ``width``).
+    side_width : dict
+        ``(child, end, parent) -> w``: the parent's own half width on the
+        side a joined child leaves it (the silhouette's run along the
+        parent's normal on the child's flanks; the tube's width there is
+        the child's run when the child leaves along that normal).
     """
 
     premult: np.ndarray
@@ -188,6 +193,7 @@ class SourceIndex:
     part_mask: np.ndarray | None = None
     joined: list = field(default_factory=list)
     edge: list = field(default_factory=list)
+    side_width: dict = field(default_factory=dict)
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -383,10 +389,11 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
             reach = patch_size / 2.0 if patch_size > 0 else auto_radius(tube)
             cap = np.minimum(np.maximum(2.0 * tube, 8.0) + 2.0, reach - 2.0)
             core = inked & (endw > 0.5) & (d <= np.where(interior, tube + 0.5, cap))
+            core[box] = _connected_to_stroke(core[box], d[box] <= 0.5 * tube[box] + 1.5)
         tubes[key] = (d, s_map, tube, interior, endw, core)
     tube_keys = list(tubes)
     beyond_cap = _children_beyond_caps(source_strokes, keys, cuts, joined, tubes) if has_alpha else {}
-    near_parent = {}
+    near_parent, side_width = {}, {}
     if has_alpha:
         for k, st in enumerate(source_strokes):
             for end, parent in enumerate(joined[k]):
@@ -401,6 +408,11 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
                                       raw[k][2]) + 4.0)
                 near = (s_map <= reach) if end == 0 else (s_map >= st.length - reach)
                 cut = near & tubes[pkey][5]
+                cut, side_width[(k, end, parent)] = _parent_side(
+                    cut, st, end, source_strokes[parent], tubes[pkey][1], obj, raw[k][2],
+                    tubes[pkey][0], tubes[(keys[k], cuts[k])][0],
+                    float(np.interp(source_strokes[parent].project(st.points[:1] if end == 0 else st.points[-1:])[0][0],
+                                    width_s[parent], widths[parent])))
                 near_parent[k] = near_parent[k] | cut if k in near_parent else cut
         for k, cut in near_parent.items():
             tubes[(keys[k], cuts[k])][5][cut] = False
@@ -477,7 +489,8 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
     depth = edt.astype(np.float32) if has_alpha else np.zeros((h, w), np.float32)
     index = SourceIndex(premult, grad, obj, has_alpha, list(source_strokes), s_maps, allowed,
                         weights, width_s, widths, cuts, parts=parts, depth=depth, joined=joined, edge=edge,
-                        part_mask=part_mask if part_mask is not None else np.zeros((h, w), bool))
+                        part_mask=part_mask if part_mask is not None else np.zeros((h, w), bool),
+                        side_width=side_width)
     add_bases(parts, index, window=3.0)
     return index
 
@@ -612,6 +625,73 @@ def _raw_width(stroke: Stroke, obj: np.ndarray, edt: np.ndarray):
     wv = np.where(has, np.maximum(np.abs(t[start]), np.abs(t[stop])) + 0.5, 0.0)
     wv = np.minimum(wv, 2.0 * _local_max(edt, p) + 2.0)
     return s, wv, float(max(1, int(np.ceil(np.median(wv)))))
+
+
+def _connected_to_stroke(core: np.ndarray, seed: np.ndarray) -> np.ndarray:
+    """The pixels of ``core`` in a piece (8-connected) that touches ``seed`` (the stroke's middle).
+
+    A tube or a free end's cap reaching across the background onto another
+    limb (a lizard's hind-leg stroke ending next to its front foot at 100 px)
+    would copy that limb with the stroke: a loose piece moved with it. Such
+    pixels stay unstroked parts (they follow the stroke they touch).
+    """
+    n, lab = cv2.connectedComponents(core.view(np.uint8), connectivity=8)
+    if n <= 2:
+        return core
+    hit = np.zeros(n, bool)
+    hit[lab[seed & core]] = True
+    hit[0] = False
+    return hit[lab]
+
+
+def _parent_side(cut: np.ndarray, child: Stroke, end: int, parent: Stroke, s_map: np.ndarray,
+                 obj: np.ndarray, half_width: float, d_parent: np.ndarray,
+                 d_child: np.ndarray, tube_width: float) -> tuple[np.ndarray, float]:
+    """The pixels of ``cut`` (the parent's tube about a child's joined ``end``) that are the parent's.
+
+    The parent's tube is as wide as the parent is anywhere across it; where a
+    limb leaves along the parent's normal (a lizard's thigh at the hip), the
+    run measured along that normal is the limb, so the tube swallows the
+    limb's base. On the child's side, the parent keeps only the pixels within
+    its own silhouette there: the run of object pixels along the normal on
+    either flank of the child (``1.5 w + 4`` px away along the parent, ``w``
+    the child's half width), the smaller of the two, plus a pixel, and the
+    pixels nearer to the parent's stroke (``d_parent``) than to the child's
+    (``d_child``) -- only where the parent's tube at the joint (``tube_width``)
+    is wider than 1.5 times that run (else the tube is the parent's own
+    width and stays). Beyond the paper (which assumes strokes with clean tubes).
+
+    Returns those pixels and the parent's half width on the child's side
+    (``inf`` where it cannot be measured).
+    """
+    s_j, _ = parent.project(child.points[:1] if end == 0 else child.points[-1:])
+    s_j = float(s_j[0])
+    p_j, n_j = parent.point_at(s_j), parent.normal_at(s_j, window=3.0)
+    t = np.arange(0.0, child.length + 0.5, 1.0)
+    pts = child.point_at(t if end == 0 else child.length - t)
+    side = float(np.sign(np.mean((pts - p_j) @ n_j)))
+    if side == 0.0:
+        return cut, np.inf
+    runs = []
+    for s_f in (s_j - 1.5 * half_width - 4.0, s_j + 1.5 * half_width + 4.0):
+        if not 0.0 <= s_f <= parent.length:
+            continue
+        q, n = parent.point_at(s_f), parent.normal_at(s_f, window=3.0)
+        ray = _lookup(obj, q[None] + side * np.arange(0.0, _MAX_WIDTH)[:, None] * n[None])
+        if ray[0]:
+            runs.append(_run_length(ray))
+    if not runs or tube_width <= 1.5 * min(runs) + 2.0:
+        return cut, np.inf  # a tube about as wide as the parent: the existing rule holds
+    rs, cs = np.nonzero(cut)
+    if not len(rs):
+        return cut, float(min(runs))
+    s_px = s_map[rs, cs]
+    foot, normal = parent.point_at(s_px), parent.normal_at(s_px, window=3.0)
+    signed = side * ((cs - foot[:, 0]) * normal[:, 0] + (rs - foot[:, 1]) * normal[:, 1])
+    keep = (signed <= min(runs) + 1.0) | (d_parent[rs, cs] <= d_child[rs, cs])
+    out = np.zeros_like(cut)
+    out[rs[keep], cs[keep]] = True
+    return out, float(min(runs))
 
 
 def _clear_of(child: Stroke, end: int, parent: Stroke, ws, wv, half_width: float) -> float:

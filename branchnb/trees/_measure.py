@@ -304,18 +304,19 @@ def measure_engine(size: int = 256) -> None:
 
 def measure_palms(size: int = 256) -> None:
     from . import billboard as bb
+    from . import billboard_shapes as bb_shapes
     from .drawn import drawn_tree
     from .quality import side_view_figures
     from .stacked import stacked_outline_share
 
     items = [(s, size, s % 2 == 1) for s in range(8)] + [(s, 384, False) for s in (20, 21)]
-    sky = bb._SKY_HULL
+    sky = bb_shapes._SKY_HULL
     rules = [("split as a background", -1.0, False, False, False), ("lobes", sky, False, False, False),
              ("lobes, one depth", sky, True, False, False), ("+ hub strokes", sky, True, True, False),
              ("+ fan crown (default)", sky, True, True, True)]
     try:
         for label, value, join, hub, fan in rules:
-            bb._SKY_HULL, bb._JOIN_STARS, bb._HUB_STROKES, bb._STAR_ONE = value, join, hub, fan
+            bb_shapes._SKY_HULL, bb._JOIN_STARS, bb._HUB_STROKES, bb._STAR_ONE = value, join, hub, fan
             fr, fl, ii, st = [], [], [], []
             for seed, s, pile in items:
                 cloud = bb.billboard_cloud(drawn_tree("palm", pile=pile, rng=seed, size=s),
@@ -330,7 +331,7 @@ def measure_palms(size: int = 256) -> None:
                   f"mean {np.mean(ii):.2f} min {min(ii):.2f} | stacked outlines (45/90/135) max "
                   f"{max(st):.3f}, > 0.01 on {sum(x > 0.01 for x in st)}")
     finally:
-        bb._SKY_HULL, bb._JOIN_STARS, bb._HUB_STROKES, bb._STAR_ONE = sky, True, True, True
+        bb_shapes._SKY_HULL, bb._JOIN_STARS, bb._HUB_STROKES, bb._STAR_ONE = sky, True, True, True
 
 
 def measure_seams(size: int = 192) -> None:

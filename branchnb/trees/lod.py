@@ -741,7 +741,11 @@ def export_lod_gltf(cloud, path, *, mode: str = "msft_lod", yaw: float = 0.0, he
     tree's full and reduced levels add 2 per side card (a second
     primitive with a single-sided material; on 12 drawn trees 0 to about
     180 cards, 94 % more triangles on the full level, ``extras.side_cards``),
-    which ``extras.triangles`` counts. Every file passes the Khronos glTF
+    which ``extras.triangles`` counts. At 96 px (4 drawn kinds, 2 RPG
+    sprites, 6 clip-art samples, 2 trees on a base) the full level has
+    10-1580 triangles (cards included; 256 superpixels make a 29 x 96 px
+    tree's full level 1272), the reduced 6-510, and no billboard or card
+    is empty. Every file passes the Khronos glTF
     validator with no error or warning (checked with ``npx gltf-validator``;
     :func:`validate_gltf` checks the structure without it).
 

@@ -1,7 +1,10 @@
-"""A drawn tree with a crown, a ground line and roots: a coloured branching shape among flat areas.
+"""Line-art examples with known answers.
 
-Used to test that extraction follows the tree's colour (trunk, branches and
-roots, however wide) and not the outlines of the crown or the grass.
+* :func:`drawn_tree_example`: a drawn tree with a crown, a ground line and
+  roots, a coloured branching shape among flat areas (extraction must follow
+  the tree's colour, however wide, not the crown's rim or the grass);
+* :func:`crack_drawing_example`: a network of thin dark lines on white (a
+  drawn crack pattern; synthesized drawings must keep their lines whole).
 """
 from __future__ import annotations
 
@@ -71,3 +74,44 @@ def drawn_tree_example(size: int = 320, rng=0) -> tuple[np.ndarray, np.ndarray]:
         cv2.line(img, (x, ground), tip, GRASS, 1, cv2.LINE_AA)
     cv2.line(img, (0, ground), (w - 1, ground), GRASS, 2)
     return np.clip(img, 0, 1).astype(np.float32), tree > 127
+
+
+def crack_drawing_example(size: int = 256, rng=0, *, cells: int = 30, width: int = 2) -> np.ndarray:
+    """A crack pattern drawn as thin dark lines on white: the edges of a Voronoi diagram.
+
+    Parameters
+    ----------
+    size : int, default 256
+        Side of the square image (pixels).
+    rng : int or numpy.random.Generator, default 0
+        Seed for the cell centres.
+    cells : int, default 30
+        Number of Voronoi cells.
+    width : int, default 2
+        Line width (pixels).
+
+    Returns
+    -------
+    (size, size, 3) float32
+        The drawing.
+
+    Examples
+    --------
+    >>> img = crack_drawing_example(128, rng=0)
+    >>> img.shape, bool((img < 0.5).any())
+    ((128, 128, 3), True)
+    """
+    import cv2
+    from scipy.spatial import Voronoi
+
+    r = as_rng(rng)
+    pts = r.uniform(0, size, (int(cells), 2))
+    vor = Voronoi(pts)
+    img = np.ones((size, size, 3), np.float32)
+    for a, b in vor.ridge_vertices:
+        if a >= 0 and b >= 0:
+            p, q = vor.vertices[a], vor.vertices[b]
+            if np.all(np.abs(np.concatenate([p, q])) < 4 * size):
+                cv2.line(img, (int(p[0]), int(p[1])), (int(q[0]), int(q[1])), (0.1, 0.1, 0.1), int(width),
+                         cv2.LINE_AA)
+    return img

@@ -1,0 +1,166 @@
+"""Billboard clouds, step 5: line art (not in the paper, for drawn trees).
+
+The thin dark strokes that outline flat colour in clip art (:func:`line_art`)
+mark the drawing's silhouettes as seen from the front. Turned with their
+billboards, they would pile up on the axis of a side view and cover its flat
+regions with broken black dashes. Every billboard keeps its texture, but its
+stroke pixels are drawn in a first pass, behind every fill pixel of the cloud
+(the billboard version of the "inverted hull" outline of toon rendering): in
+the front view nothing covers a stroke, so it is unchanged; from the side,
+strokes show only where no fill is, along the side view's own silhouette.
+Rear, interior and core billboards, hidden in the front view, show the image
+with its strokes filled in by the nearest fill colour. Photographs have no
+such strokes (a stroke must border a flat-coloured region) and are drawn as
+before.
+
+Part of :func:`~branchnb.trees.billboard.billboard_cloud` (see
+:mod:`branchnb.trees.billboard`).
+"""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+from scipy import ndimage as ndi
+
+from ..core.image import composite_over, extend_nearest
+from .quality import FLAT_COVERAGE, palette_coverage, palette_pixels
+
+
+def _outer_lines(lines: np.ndarray, opaque: np.ndarray) -> np.ndarray:
+    """The line pixels of the outline along the silhouette (within about one stroke of the outside).
+
+    They stay behind the fills in side views, where they would otherwise
+    cross the crown as the rim billboards carrying them swing inwards.
+    """
+    if not lines.any():
+        return lines
+    half = float(np.percentile(ndi.distance_transform_edt(lines)[lines], 90))
+    inside = ndi.distance_transform_edt(np.pad(opaque, 1))[1:-1, 1:-1]
+    return lines & (inside <= 2.0 * half + 1.5)
+
+
+def line_art(rgba, *, width: float = 0.04, contrast: float = 0.12, alpha_threshold: float = 0.5,
+             flat_span: float = 0.04) -> np.ndarray:
+    """The drawn outlines of a clip-art tree: thin dark strokes that border flat colour.
+
+    A pixel is on a stroke when a grey-level closing with a disc of
+    ``width`` times the tree's size (its longer side; the disc spans
+    ``width / 2`` each side of a stroke's middle) brightens its luminance
+    by more than ``contrast``: it lies on a dark feature thinner than the
+    disc, between brighter ones; the transparent surround counts as
+    white, so an outline along the silhouette is a stroke too. Only
+    strokes within one disc of a flat-coloured region count (pixels whose
+    3 x 3 colour span is at most ``flat_span``, in 4-connected pieces at
+    least as large as the disc's bounding square): a drawing's outlines
+    border its fills, while the dark gaps between the leaves of a
+    photograph border no flat colour and are left alone.
+
+    Parameters
+    ----------
+    rgba : (H, W, 4) array_like
+        Straight RGBA image in [0, 1].
+    width : float
+        Widest stroke, as a fraction of the tree's size.
+    contrast : float
+        Luminance a stroke is darker than what the closing fills it with.
+    alpha_threshold : float
+        Opaque where alpha >= this.
+    flat_span : float
+        Largest per-channel colour range of a flat pixel's 3 x 3 window.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        Stroke pixels (alpha > 0).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.zeros((60, 60, 4), np.float32)
+    >>> img[10:50, 10:50] = (0.1, 0.7, 0.2, 1.0)      # a green square
+    >>> img[10:50, 10:12, :3] = 0.0                    # outlined on its left
+    >>> lines = line_art(img)
+    >>> bool(lines[30, 10:12].all()), bool(lines[30, 20:48].any())
+    (True, False)
+    """
+    img = np.asarray(rgba, dtype=np.float32)
+    if img.ndim != 3 or img.shape[2] != 4:
+        raise ValueError(f"rgba must be an (H, W, 4) array, got shape {img.shape}")
+    for name, v in (("width", width), ("contrast", contrast), ("flat_span", flat_span)):
+        if not np.isfinite(v) or v < 0:
+            raise ValueError(f"{name} must be a finite number >= 0, got {v}")
+    a = img[:, :, 3]
+    opaque = a >= alpha_threshold
+    out = np.zeros(a.shape, bool)
+    if not opaque.any() or width <= 0:
+        return out
+    ys, xs = np.nonzero(opaque)
+    size = max(np.ptp(ys), np.ptp(xs)) + 1
+    r = max(1, int(round(0.5 * width * size)))
+    disc = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
+    lum = img[:, :, :3] @ np.array([0.2126, 0.7152, 0.0722], np.float32)
+    lum = np.where(opaque, lum, 1.0).astype(np.float32)
+    pad = 2 * r + 1
+    closed = cv2.morphologyEx(np.pad(lum, pad, constant_values=1.0), cv2.MORPH_CLOSE, disc)[pad:-pad, pad:-pad]
+    dark = (a > 1e-3) & (closed - lum > contrast)
+    if not dark.any():
+        return out
+    rgb = composite_over(img, (1.0, 1.0, 1.0))
+    span = (ndi.maximum_filter(rgb, size=(3, 3, 1)) - ndi.minimum_filter(rgb, size=(3, 3, 1))).max(axis=2)
+    flat = (a >= 0.99) & (span <= flat_span)
+    lab, _ = ndi.label(flat)
+    area = np.bincount(lab.ravel())
+    area[0] = 0
+    big = area[lab] >= (2 * r + 1) ** 2
+    if big.sum() < 0.05 * opaque.sum() and palette_coverage(img) >= FLAT_COVERAGE:
+        # Beyond the rule above: fills too thin for flat 3 x 3 windows (outlined
+        # palms at 128 px) are found by colour, the few main colours of flat art.
+        fill = palette_pixels(img) & ~dark
+        lab, _ = ndi.label(fill)
+        area = np.bincount(lab.ravel())
+        area[0] = 0
+        big |= area[lab] >= (2 * r + 1) ** 2
+    near = cv2.dilate(big.astype(np.uint8), cv2.getStructuringElement(
+        cv2.MORPH_ELLIPSE, (4 * r + 3, 4 * r + 3))) > 0
+    return dark & near
+
+
+_LUM3 = np.array([0.2126, 0.7152, 0.0722], np.float32)
+
+
+def _colour_span3(rgb: np.ndarray) -> np.ndarray:
+    """Largest per-channel range of each pixel's 3 x 3 window."""
+    return (ndi.maximum_filter(rgb, size=(3, 3, 1)) - ndi.minimum_filter(rgb, size=(3, 3, 1))).max(axis=2)
+
+
+def _fill_lines(image: np.ndarray, lines: np.ndarray, support: np.ndarray) -> np.ndarray:
+    """``image`` with every line pixel given the colour of the nearest non-line pixel of ``support``."""
+    keep = support & ~lines
+    if not keep.any():
+        return image
+    out = image.copy()
+    out[lines, :3] = extend_nearest(image[:, :, :3], keep)[lines]
+    return out
+
+
+def _line_masks(lines, textures, tex_idx, centers, sizes) -> list:
+    """Per texture, its pixels on ``lines`` where the front view puts it (None: none)."""
+    out = [None] * len(textures)
+    if not lines.any():
+        return out
+    H, W = lines.shape
+    for i, tid in enumerate(tex_idx):
+        if out[tid] is not None:
+            continue
+        w, h = sizes[i]
+        x0 = int(round(centers[i][0] - 0.5 * w))
+        y0 = int(round(centers[i][1] - 0.5 * h))
+        m = np.zeros((int(h), int(w)), bool)
+        ax0, ay0, ax1, ay1 = max(x0, 0), max(y0, 0), min(x0 + int(w), W), min(y0 + int(h), H)
+        if ax1 > ax0 and ay1 > ay0:
+            m[ay0 - y0: ay1 - y0, ax0 - x0: ax1 - x0] = lines[ay0:ay1, ax0:ax1]
+        m &= textures[tid][:, :, 3] > 0
+        if m.any():
+            out[tid] = m
+    return out
