@@ -15,21 +15,10 @@ import numpy as np
 from scipy import ndimage as ndi
 
 from ..core.image import extend_nearest
-from .flatart import drawn_outline, flat_art
+from .flatart import _replace_from_blade, drawn_outline, flat_art
 from .shaping import _grid, _map_jacobian, _remap_map, _remap_values, _sample
 
 __all__ = ["registration_errors"]
-
-
-def _remove(img: np.ndarray, blade: np.ndarray, remove: np.ndarray) -> np.ndarray:
-    """``img`` with ``remove`` (grown by one pixel) given the nearest other blade colour."""
-    gone = ndi.binary_dilation(remove) & blade
-    keep = blade & ~gone
-    if not gone.any() or not keep.any():
-        return img
-    out = img.copy()
-    out[gone] = extend_nearest(img, keep)[gone]
-    return out
 
 
 def _bleed(img: np.ndarray, mask: np.ndarray) -> np.ndarray:
@@ -100,7 +89,7 @@ class _Prepared:
             elif outlines[e].any():
                 # An ink outline around a leaf that is not flat art (a
                 # gradient-filled drawing) is taken out too (drawn_outline).
-                img = _remove(img, a.blades[e], outlines[e])
+                img = _replace_from_blade(img, a.blades[e], outlines[e])
             return _bleed(img, a.blades[e])
 
         outlines = [drawn_outline(a.exemplars[e], a.blades[e]) if fa is None else None for e in range(self.n)]
