@@ -505,7 +505,7 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         q = [_quantise_lab(lab, space) for lab in labs]
         cdf = layer_cdfs(q[t], user, space.bins)
         report(step / steps, f"layer {name}: snapping to each exemplar's ridges")  # "cancel" stops here too
-        snapped = _snapped(residual, blades, t, user, registrations, stats, tolerance, params, labs=labs)
+        snapped, own, own_px = _snapped(residual, blades, t, user, registrations, stats, tolerance, params, labs=labs)
         # The registered user layer and its distance map do not depend on n.
         reg_user, dist = [], []
         for e in range(n):
@@ -522,7 +522,7 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
             colour = []
             for e in range(n):
                 report(step / steps, f"layer {name}: colour and space terms on exemplar {e + 1}/{n}")
-                colour.append(colour_similarity(q[e], blades[e], cdf, n_px,
+                colour.append(colour_similarity(q[e], blades[e], _own_cdf(q[e], own_px[e], cdf, space.bins), n_px,
                                                 weights=space.weights if params.lab_units else None))
             lam, overlap, combined, delta, tr_iou = _combine(colour, dist, lengths, tolerance, params, blades,
                                                              registrations, t, user)
@@ -539,7 +539,7 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
             masks.append(m)
             taken[e] = taken[e] | m
             gone = m if snapped is None or e == t else _ridge_extension(residual, blades, t, e, user, m, stats, params,
-                                                                        labs=labs)
+                                                                        labs=labs, direction=own[e])
             new_residual.append(remove_layer(residual[e], blades[e], gone, rng=rng))
         residual = new_residual
         residuals.append(list(residual))
@@ -584,7 +584,7 @@ def _matched_lab(image, stats, e, t, params):
 
 
 def _ridge_extension(residual, blades, t, e, user, m, stats, params, *, level: float = 0.2,
-                     reach: float = 0.15, labs=None):
+                     reach: float = 0.15, labs=None, direction=None):
     """A thin layer's induced mask on exemplar ``e``, grown along the layer's ridges, for its removal.
 
     The colour term misses the faint ends of fine veins; left in the
@@ -611,22 +611,50 @@ def _ridge_extension(residual, blades, t, e, user, m, stats, params, *, level: f
 
     def lab_of(k):
         return labs[k] if labs is not None else _matched_lab(residual[k], stats, k, t, params)
-    direction = contrast_direction(lab_of(t), user, blades[t])
+    if direction is None:
+        direction = contrast_direction(lab_of(t), user, blades[t])
     ev = ridge_evidence(lab_of(e), blades[e], direction, max(1.0, layer_width(user)))
     steps = max(1, int(round(reach * np.sqrt(float(blades[e].sum())))))
     return ndi.binary_dilation(m, iterations=steps, mask=(ev >= level) & blades[e]) | m
 
 
 def _snapped(residual, blades, t, user, registrations, stats, tolerance, params, *, labs=None):
-    """The thin layer ``user`` snapped onto each exemplar's own ridges, or None (not thin / off)."""
-    from .snapping import is_thin_layer, snap_to_exemplars
+    """The thin layer ``user`` snapped onto each exemplar's own ridges, and each exemplar's own contrast.
+
+    Returns ``(masks, own)``: ``masks`` None (not thin / off) or one mask
+    per exemplar (None on the training leaf); ``own[e]`` the contrast
+    direction of exemplar ``e``'s own layer where it differs from the
+    training leaf's (:func:`branchnb.leaves.own_contrast.exemplar_direction`), else None.
+    """
+    from .induction import layer_width
+    from .own_contrast import exemplar_direction
+    from .snapping import contrast_direction, is_thin_layer, snap_to_exemplars
+    own = [None] * len(blades)
+    pixels = [None] * len(blades)
     if not params.snap or not is_thin_layer(user):
-        return None
+        return None, own, pixels
     if labs is None:
         labs = [_matched_lab(r, stats, e, t, params) for e, r in enumerate(residual)]
+    d_t = contrast_direction(labs[t], user, blades[t])
+    width = max(1.0, layer_width(user))
+    radius = max(3.0, 1.5 * float(tolerance), float(params.snap_radius) * width)
+    for e in range(len(blades)):
+        if e != t:
+            prior = warp_mask(registrations[e], user, to_training=False, level=0.25) & blades[e]
+            d, took, pix = exemplar_direction(labs[e], blades[e], prior, width, d_t, radius=radius,
+                                              return_pixels=True)
+            own[e] = d if took else None
+            pixels[e] = pix
     masks, _ = snap_to_exemplars(labs, blades, t, user, registrations, tolerance=tolerance,
-                                 radius_widths=params.snap_radius)
-    return masks
+                                 radius_widths=params.snap_radius, directions=own)
+    return masks, own, pixels
+
+
+def _own_cdf(q, pixels, cdf, bins):
+    """An exemplar's colour model of the layer: the training leaf's, or re-estimated from its own layer ``pixels``."""
+    if pixels is None or pixels.sum() < 10:
+        return cdf
+    return layer_cdfs(q, pixels, bins)
 
 
 def _combine(colour, dist, lengths, tolerance, params, blades, registrations, t, user):
