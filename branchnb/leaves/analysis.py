@@ -505,7 +505,14 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         q = [_quantise_lab(lab, space) for lab in labs]
         cdf = layer_cdfs(q[t], user, space.bins)
         report(step / steps, f"layer {name}: snapping to each exemplar's ridges")  # "cancel" stops here too
-        snapped, own, own_px = _snapped(residual, blades, t, user, registrations, stats, tolerance, params, labs=labs)
+        snapped, own, ridge_px = _snapped(residual, blades, t, user, registrations, stats, tolerance, params,
+                                          labs=labs)
+        # The training leaf's colour model where the exemplar's layer has its
+        # colour (it is exact there; re-estimated from the found pixels it lost
+        # 0.03-0.13 IoU on same-coloured veins), else the exemplar's own.
+        own_px = [p if p is not None and (own[e] is not None or
+                                          _other_colour(labs, t, user, blades[t], e, p, blades[e])) else None
+                  for e, p in enumerate(ridge_px)]
         # The registered user layer and its distance map do not depend on n.
         reg_user, dist = [], []
         for e in range(n):
@@ -535,7 +542,8 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         for e in range(n):
             report(step / steps, f"layer {name}: residual of exemplar {e + 1}/{n}")
             step += 1
-            m = user.copy() if e == t else _induced(combined[e], delta, tr_iou, snapped, e, blades[e], taken[e])
+            m = user.copy() if e == t else _induced(combined[e], _own_delta(combined[e], delta, ridge_px[e], blades[e]),
+                                                    tr_iou, snapped, e, blades[e], taken[e])
             masks.append(m)
             taken[e] = taken[e] | m
             gone = m if snapped is None or e == t else _ridge_extension(residual, blades, t, e, user, m, stats, params,
@@ -644,10 +652,7 @@ def _snapped(residual, blades, t, user, registrations, stats, tolerance, params,
             d, took, pix = exemplar_direction(labs[e], blades[e], prior, width, d_t, radius=radius,
                                               return_pixels=True)
             own[e] = d if took else None
-            # The training leaf's colour model where the exemplar's layer
-            # has its colour (it is exact there; re-estimated from found
-            # pixels it lost 0.03-0.13 IoU on same-coloured veins).
-            pixels[e] = pix if took or _other_colour(labs, t, user, blades[t], e, pix, blades[e]) else None
+            pixels[e] = pix
     masks, _ = snap_to_exemplars(labs, blades, t, user, registrations, tolerance=tolerance,
                                  radius_widths=params.snap_radius, directions=own)
     return masks, own, pixels
@@ -677,6 +682,22 @@ def _other_colour(labs, t, user, blade_t, e, pixels, blade_e=None):
         return False
     cos = float(c_t @ c_e) / max(float(np.linalg.norm(c_t) * np.linalg.norm(c_e)), 1e-9)
     return cos < SAME_CONTRAST
+
+
+def _own_delta(combined, delta, pixels, blade):
+    """``delta`` for one exemplar: the training leaf's, or larger where its own layer pixels need it.
+
+    The paper's ``delta`` is chosen on the training leaf; where the
+    exemplar's layer matches its colour model less closely (another vein
+    colour, a re-estimated model), ``{D < delta}`` kept only its midrib
+    (procedural pale -> dark veins: combined ``D`` 0.17 on its veins, 0.28
+    off them, ``delta`` 0.16). Chosen the same way (eq. 4) against the
+    exemplar's own layer pixels (:func:`branchnb.leaves.own_contrast.exemplar_direction`),
+    never below the training leaf's.
+    """
+    if pixels is None or pixels.sum() < 10:
+        return delta
+    return max(float(delta), choose_threshold(combined, pixels, blade)[0])
 
 
 def _own_cdf(q, pixels, cdf, bins):
