@@ -66,6 +66,9 @@ def exemplar_direction(lab, blade, prior, width: float, training_direction, *, r
         when the cosine between the two is below ``same_colour`` (default
         :data:`SAME_COLOUR`: the exemplar's layer stands out in another
         colour) and it scores no lower.
+    same_colour : float
+        Cosine between the two directions below which the exemplar's layer
+        counts as another colour (default :data:`SAME_COLOUR`).
     return_pixels : bool
         Also return the band's pixels that stand out most along the
         returned direction (as many as ``prior`` covers inside the band):
