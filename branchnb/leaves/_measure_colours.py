@@ -6,6 +6,18 @@ Run ``python -m branchnb.leaves._measure_colours`` (``--sizes``, ``--seeds``,
 true vein layer, the other leaves registered through the true keypoints and
 perturbed by ``factor`` main-vein widths (as ``_measure snapping``); IoU of
 every other leaf's induced vein layer with its true veins.
+
+Measured (3 kinds at 192 px, seed 0, 18 training -> exemplar pairs): IoU
+min 0.57, mean 0.69 (pale -> red 0.66-0.70, pale -> dark 0.57-0.80,
+red -> pale 0.60-0.66, red -> dark 0.69-0.77, dark -> pale 0.70-0.82,
+dark -> red 0.62-0.71). Before (the training leaf's contrast direction,
+colour model and ``delta`` on every exemplar): min 0.00, mean 0.12 (0.00
+on every pale -> red / dark pair). Steps: the exemplar's own contrast
+direction and colour model (:mod:`branchnb.leaves.own_contrast`) 0.12 ->
+0.62 mean, the colour model kept where the contrast agrees (same-coloured
+families as before), ``delta`` per exemplar (min 0.05 -> 0.57, mean 0.53 ->
+0.69). Still below the issue's 0.7 on 9 of 18 pairs (trilobed pale -> dark
+0.57).
 """
 
 from __future__ import annotations
