@@ -542,8 +542,20 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         for e in range(n):
             report(step / steps, f"layer {name}: residual of exemplar {e + 1}/{n}")
             step += 1
-            m = user.copy() if e == t else _induced(combined[e], _own_delta(combined[e], delta, ridge_px[e], blades[e]),
-                                                    tr_iou, snapped, e, blades[e], taken[e])
+            m = user.copy() if e == t else _induced(combined[e], delta, tr_iou, snapped, e, blades[e], taken[e])
+            # Only where the exemplar's layer has its own colour model (re-chosen
+            # on same-coloured leaves too, whenever the training delta found
+            # under half of the exemplar's ridge pixels, a lobed leaf's spots
+            # went 0.70 -> 0.38 IoU after the wider vein removal).
+            d_e = delta if e == t else _own_delta(combined[e], delta, own_px[e], blades[e])
+            if d_e > delta:
+                # Beyond the training leaf's delta only next to the exemplar's own layer pixels.
+                near = ndi.binary_dilation(ridge_px[e], iterations=1)
+                m = m | _induced(np.where(near, combined[e], np.inf), d_e, tr_iou, snapped, e, blades[e], taken[e])
+            if e != t and snapped is not None:
+                band = _outline_band(blades[e], user)
+                if (m & band).sum() >= INKED_OUTLINE * max(int(band.sum()), 1):
+                    m = m & ~band
             masks.append(m)
             taken[e] = taken[e] | m
             gone = m if snapped is None or e == t else _ridge_extension(residual, blades, t, e, user, m, stats, params,
@@ -682,6 +694,27 @@ def _other_colour(labs, t, user, blade_t, e, pixels, blade_e=None):
         return False
     cos = float(c_t @ c_e) / max(float(np.linalg.norm(c_t) * np.linalg.norm(c_e)), 1e-9)
     return cos < SAME_CONTRAST
+
+
+#: A thin layer's induced mask covering at least this share of the blade's
+#: outline band is an inked outline taken as layer: the band is left out.
+INKED_OUTLINE = 0.3
+
+
+def _outline_band(blade, user):
+    """The blade's outline band, as wide as a thin layer (2 px at least): never part of a vein layer.
+
+    Ink drawn along a sketched leaf's edge has the veins' colour and was
+    induced as vein (beyond the paper). Procedural dark-veined leaves with
+    a 1.5 px ink outline of the same colour (``_measure_colours --colours
+    dark --outline 1.5``): IoU min 0.53 -> 0.80, mean 0.62 -> 0.83; only
+    where the induced mask covers :data:`INKED_OUTLINE` of the band (always
+    left out, the vein ends at the margin cost 0.03 mean IoU on leaves
+    without ink).
+    """
+    from .induction import layer_width
+    reach = max(2.0, float(np.ceil(layer_width(user))))
+    return blade & (ndi.distance_transform_edt(blade) <= reach)
 
 
 def _own_delta(combined, delta, pixels, blade):

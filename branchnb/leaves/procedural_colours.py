@@ -31,7 +31,7 @@ VEIN_COLOURS = {
 }
 
 
-def recolour_veins(leaf: ProceduralLeaf, colour) -> ProceduralLeaf:
+def recolour_veins(leaf: ProceduralLeaf, colour, *, outline: float = 0.0) -> ProceduralLeaf:
     """``leaf`` with its veins repainted in ``colour`` (by their true coverage).
 
     Parameters
@@ -40,6 +40,10 @@ def recolour_veins(leaf: ProceduralLeaf, colour) -> ProceduralLeaf:
         A leaf of :func:`~branchnb.leaves.procedural.procedural_leaf`.
     colour : str or (3,) sequence of float
         A name of :data:`VEIN_COLOURS` or an RGB triple in [0, 1].
+    outline : float
+        Width (px) of an ink outline drawn in the vein colour along the
+        blade's edge, as on a sketch (0, default: none). It is no vein: the
+        layers are unchanged.
 
     Returns
     -------
@@ -64,19 +68,26 @@ def recolour_veins(leaf: ProceduralLeaf, colour) -> ProceduralLeaf:
     rgb_new = np.asarray(colour, np.float64).ravel()
     if rgb_new.shape != (3,) or not np.all(np.isfinite(rgb_new)) or rgb_new.min() < 0 or rgb_new.max() > 1:
         raise ValueError(f"colour must be an RGB triple in [0, 1], got {colour!r}")
+    if not np.isfinite(outline) or not 0 <= outline <= 20:
+        raise ValueError(f"outline must be in [0, 20] px, got {outline!r}")
     h, w = leaf.image.shape[:2]
     cov, _ = coverage_polylines((h, w), leaf.veins, leaf.vein_widths)
     cov = np.minimum(cov, leaf.image[..., 3])[..., None]
     old = np.asarray(PALETTES[leaf.palette]["veins"], np.float32)
     image = leaf.image.copy()
     image[..., :3] = np.clip(image[..., :3] + cov * (rgb_new.astype(np.float32) - old), 0.0, 1.0)
+    if outline > 0:
+        from scipy import ndimage as ndi
+        depth = ndi.distance_transform_edt(leaf.blade)
+        ink = np.clip(outline + 0.5 - depth, 0.0, 1.0)[..., None].astype(np.float32)
+        image[..., :3] = image[..., :3] * (1 - ink) + rgb_new.astype(np.float32) * ink
     image[..., :3] *= image[..., 3:] > 0
     return ProceduralLeaf(image, leaf.blade, dict(leaf.layers), leaf.keypoints, leaf.seed, leaf.kind,
                           leaf.palette, dict(leaf.shape), leaf.veins, leaf.vein_widths)
 
 
 def vein_colour_family(n: int, *, size: int = 192, kind: str = "lobed", colours=("pale", "red", "dark"),
-                       rng=None) -> list:
+                       outline: float = 0.0, rng=None) -> list:
     """``n`` leaves of one kind, leaf ``i`` with veins of ``colours[i % len(colours)]``.
 
     Parameters
@@ -89,6 +100,8 @@ def vein_colour_family(n: int, *, size: int = 192, kind: str = "lobed", colours=
         The family.
     colours : sequence of (str or RGB triple)
         Vein colours taken in turn (names of :data:`VEIN_COLOURS`).
+    outline : float
+        Width (px) of an ink outline in each leaf's vein colour (see :func:`recolour_veins`).
     rng : {numpy.random.Generator, int}, optional
         Draws the leaf seeds (the same leaves as ``leaf_family(n, rng=rng)``).
 
@@ -106,4 +119,4 @@ def vein_colour_family(n: int, *, size: int = 192, kind: str = "lobed", colours=
     if isinstance(colours, str) or len(colours) == 0:
         raise ValueError(f"colours must be a non-empty sequence of colours, got {colours!r}")
     fam = leaf_family(n, size=size, kind=kind, rng=rng)
-    return [recolour_veins(leaf, colours[i % len(colours)]) for i, leaf in enumerate(fam)]
+    return [recolour_veins(leaf, colours[i % len(colours)], outline=outline) for i, leaf in enumerate(fam)]
