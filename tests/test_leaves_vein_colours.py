@@ -69,3 +69,23 @@ def test_pale_training_leaf_finds_red_and_dark_veins():
     got = [iou(a.layer("veins").masks[e], gt[e]) for e in (1, 2)]
     assert min(got) >= 0.65, got  # 0.70, 0.76
     assert sorted(VEIN_COLOURS) == ["dark", "pale", "red"]
+
+
+def test_ink_outline_is_not_induced_as_vein():
+    """A sketch: dark veins and a dark 1.5 px ink outline along the edge (issue 22, case 3)."""
+    from scipy import ndimage as ndi
+
+    from branchnb.leaves._measure import _TrueRegistration
+    from branchnb.leaves._measure_colours import _on_canvas
+    from branchnb.leaves.analysis import analyze
+
+    fam = vein_colour_family(2, size=128, kind="elliptic", colours=("dark",), outline=1.5, rng=0)
+    gt, kps, shape = _on_canvas(fam)
+    regs = [_TrueRegistration(k, kps[0], shape) for k in kps]
+    a = analyze(fam, 0, {"veins": fam[0].layers["veins"]}, registrations=regs)
+    m = a.layer("veins").masks[1]
+    blade = a.blades[1]
+    edge = blade & (ndi.distance_transform_edt(blade) <= 2)
+    assert (m & edge).sum() < 0.1 * edge.sum()
+    with pytest.raises(ValueError, match="outline"):
+        recolour_veins(fam[0], "dark", outline=-1)
