@@ -53,6 +53,22 @@ def test_stray_ink_counts_open_strokes_not_whole_rings():
     assert stray_ink(blob) == 0
 
 
+def test_stray_ink_reads_resampled_rings_as_whole():
+    # At 96-200 px a warp lightens a 1 px ring in places (half ink, half fill): still a whole
+    # fruit, not an open stroke; the exemplars themselves scored 3-8 strays before.
+    img, yy, xx = _disc(60, 27)
+    r = np.hypot(yy - 30, xx - 24)
+    ring = (r > 4.5) & (r <= 5.6)
+    img[r <= 5.6, :3] = (1.0, 0.5, 0.0)
+    img[ring, :3] = 0.0
+    soft = ring & ((yy + xx) % 3 == 0)                           # resampled: every third pixel half-light
+    img[soft, :3] = 0.5 * np.array([1.0, 0.5, 0.0], np.float32)
+    assert stray_ink(img) == 0
+    half = img.copy()
+    half[:, 24:, :3] = np.where((r <= 5.6)[:, 24:, None], (0.3, 0.7, 0.2), half[:, 24:, :3])
+    assert stray_ink(half) == 1                                   # a real half ring is still stray
+
+
 def test_outline_continuity_seam_and_foreign_patch_measures():
     img, _, _ = _disc()
     assert outline_continuity(img, (0, 0, 0)) == 1.0
@@ -161,7 +177,10 @@ def test_a_mix_of_unlike_shapes_is_a_whole_tree():
         opaque = v.image[..., 3] >= 0.5
         lab, n = ndi.label(opaque, structure=np.ones((3, 3)))
         assert n == 1
-        assert (opaque & v.mask).sum() >= 0.8 * v.mask.sum()
+        # The palm now warps whole (its cage's R and L found, see simplify_contour) and may give
+        # the crown: it covers 0.78 of the contour, the rest is its own frond gaps (0.94 with
+        # the fruit tree's crown).
+        assert (opaque & v.mask).sum() >= 0.75 * v.mask.sum()
 
 
 def test_more_like_this_keeps_the_targets_drawing(drawn_lib):
@@ -170,3 +189,50 @@ def test_more_like_this_keeps_the_targets_drawing(drawn_lib):
         for v in drawn_lib.variations_of(name, 3, rng=4):
             crown = (v.sources >= 0) & (v.parts == 1)
             assert np.bincount(v.sources[crown], minlength=len(drawn_lib.names)).argmax() == k, name
+
+
+def _simple_tree(crown, bark, size=96, rx=30, ry=24, seed=0):
+    import cv2
+
+    g = np.random.default_rng(seed)
+    img = np.zeros((size, size, 4), np.float32)
+    cx = size // 2 + int(g.integers(-3, 4))
+    cv2.rectangle(img, (cx - 4, size // 2), (cx + 4, size - 3), (*bark, 1.0), -1)
+    cv2.ellipse(img, (cx, size // 2 - ry // 2), (rx + int(g.integers(-4, 5)), ry), 0, 0, 360, (*crown, 1.0), -1)
+    return img
+
+
+def test_silhouette_keeps_its_own_trunk():
+    # A one-colour silhouette takes no brown trunk from a coloured tree (nor gives its black one).
+    from branchnb.trees.flat_art import _drawing_group
+
+    lib = TreeLibrary(size=96)
+    lib.add(_simple_tree((0.05, 0.05, 0.06), (0.05, 0.05, 0.06)), "silhouette")
+    lib.add(_simple_tree((0.2, 0.6, 0.2), (0.45, 0.3, 0.15)), "flat")
+    assert [_drawing_group(e) for e in lib] == [2, 0]
+    for cw in ((0.6, 0.4), (0.4, 0.6)):
+        for r in range(4):
+            v = make_variation(lib, [0.5, 0.5], colour_weights=cw, rng=r)
+            op = (v.image[..., 3] >= 0.5) & (v.sources >= 0)
+            crown = np.bincount(v.sources[op & (v.parts == 1)], minlength=2)
+            trunk = np.bincount(v.sources[op & (v.parts == 2)], minlength=2)
+            assert trunk.sum() > 0 and trunk.argmax() == crown.argmax() and trunk.min() == 0, (cw, r)
+
+
+def test_more_like_this_of_a_palm_silhouette_keeps_its_trunk_and_thin_fronds():
+    # The palm's thin trunk under a wide crown put the border point nearest R after the one
+    # nearest L; its cage then gave the whole border to the crown, and every "more like this"
+    # squashed the trunk to ~0.78 of the height (fronds merged into a blob at 256 px).
+    from scipy import ndimage as ndi
+
+    S2 = 128
+    lib = TreeLibrary.from_data(["palm_silhouette", "cartoon_tree", "evergreen", "arbre_modern"], size=S2)
+
+    def half_thickness(a):
+        return ndi.distance_transform_cdt(a, metric="chessboard")[a].mean()
+
+    own = half_thickness(lib["palm_silhouette"].alpha)
+    for v in lib.variations_of("palm_silhouette", 4, rng=0):
+        a = v.image[..., 3] >= 0.5
+        assert np.flatnonzero(a.any(axis=1)).max() >= 0.97 * (S2 - 1)       # the trunk reaches the foot
+        assert half_thickness(a) <= 1.3 * own                              # fronds stay thin

@@ -84,7 +84,7 @@ def drawn_regions(rgb: np.ndarray, crown: np.ndarray, lines: np.ndarray, *, n_se
     crown : (H, W) bool array
         The crown pixels.
     lines : (H, W) bool array
-        The line art (:func:`line_art`); its pixels get label 0 and split
+        The line art (:func:`~branchnb.trees.billboard_lines.line_art`); its pixels get label 0 and split
         the crown into regions.
     n_segments : int
         Superpixels the whole crown would get (sets the size of the

@@ -70,6 +70,31 @@ def exemplar_outline(exemplar: Exemplar):
     return exemplar._cages["outline"]
 
 
+#: Largest RGB distance between the median crown and trunk colours of a tree drawn in one
+#: colour (a silhouette), as the palette tolerance of :func:`~branchnb.trees.quality.crossfade_fraction`.
+MONOCHROME_TOL = 0.12
+
+
+def _drawing_group(exemplar: Exemplar) -> int:
+    """Style group of an exemplar for ``"parts"``: 1 if outlined, + 2 if drawn in one colour.
+
+    Beyond the paper: a trunk comes only from a source of the crown source's group. A
+    silhouette (crown and trunk of one colour, median colours within
+    :data:`MONOCHROME_TOL`) given a brown trunk of a coloured tree, or a coloured crown
+    given a silhouette's black trunk, no longer reads as one drawing; both keep their own.
+    """
+    if "group" not in exemplar._cages:
+        op = exemplar.alpha
+        trunk, crown = op & exemplar.trunk, op & ~exemplar.trunk
+        mono = False
+        if trunk.sum() >= 4 and crown.sum() >= 4:
+            rgb = exemplar.image[..., :3]
+            d = np.median(rgb[trunk], axis=0) - np.median(rgb[crown], axis=0)
+            mono = bool(np.linalg.norm(d) <= MONOCHROME_TOL)
+        exemplar._cages["group"] = int(exemplar_outline(exemplar).outlined) + 2 * mono
+    return exemplar._cages["group"]
+
+
 def _ink_outline(image: np.ndarray, exemplars: Sequence[Exemplar], cw: np.ndarray,
                  sources: np.ndarray | None = None) -> np.ndarray:
     """Ink the silhouette when outlined exemplars hold at least half the colour weight, and

@@ -101,6 +101,23 @@ def _ink_and_width(img: np.ndarray, op: np.ndarray, width):
     return ink, int(w)
 
 
+def _weak_ink(img: np.ndarray, op: np.ndarray, ink: np.ndarray) -> np.ndarray:
+    """Opaque pixels next to ink, less than 0.6 of the way from the ink to the fill beside them.
+
+    A pixel half covered by a 1 px stroke (resampled) sits half-way between the ink and
+    the fill it lies on (the lightest pixel within 2 px).
+    """
+    from .outline import _LUM
+
+    if not ink.any() or ink.all():
+        return np.zeros(op.shape, bool)
+    lum = img[..., :3] @ _LUM
+    dark = float(np.median(lum[ink]))
+    fill = ndi.maximum_filter(np.where(op & ~ink, lum, dark), size=5)
+    near = ndi.binary_dilation(ink, _EIGHT) & ~ink & op
+    return near & (lum <= dark + 0.6 * (fill - dark))
+
+
 def stray_ink(image, *, width: int | None = None, min_length: int | None = None,
               return_mask: bool = False):
     """Open ink strokes inside a tree: pieces of an outline that a mix cut out of its drawing.
@@ -156,12 +173,16 @@ def stray_ink(image, *, width: int | None = None, min_length: int | None = None,
     ink, w = _ink_and_width(img, op, width)
     min_length = max(8, 4 * w) if min_length is None else check_int(min_length, "min_length", min=1)
     deep = _depth(ndi.binary_fill_holes(op)) > 2 * w + 2
-    lab, n = ndi.label(ink, structure=_EIGHT)
+    # Hysteresis: a thin stroke resampled at a small size (or where two strokes meet) has
+    # pixels lighter than the ink threshold but still darker than 0.6 of the way to the fill; those
+    # next to ink join its stroke, so a fruit's ring or an arc meeting another stays whole.
+    weak = _weak_ink(img, op, ink)
+    lab, n = ndi.label(ink | weak, structure=_EIGHT)
     if n == 0:
         return (0, found) if return_mask else 0
     touches = np.zeros(n + 1, bool)
-    touches[np.unique(lab[ink & ~deep])] = True
-    size = np.bincount(lab.ravel(), minlength=n + 1)
+    touches[np.unique(lab[(ink | weak) & ~deep])] = True
+    size = np.bincount(lab[ink], minlength=n + 1)
     thick = ndi.distance_transform_cdt(ink, metric="chessboard")
     thickest = ndi.maximum(thick, lab, index=np.arange(n + 1))
     count = 0
@@ -173,7 +194,7 @@ def stray_ink(image, *, width: int | None = None, min_length: int | None = None,
         comp = ndi.binary_closing(np.pad(lab[sl] == i, 3), structure=_EIGHT)
         if ndi.binary_fill_holes(comp).sum() == comp.sum():
             count += 1
-            found |= lab == i
+            found |= (lab == i) & ink
     return (count, found) if return_mask else count
 
 

@@ -52,6 +52,7 @@ from ..core.validate import Int, Seq, checked
 from .contour import simplify_contour
 from .flat_art import (
     FLAT_ART_SHARE,
+    _drawing_group,
     _ink_outline,
     _one_piece,
     _own_holes,
@@ -460,7 +461,7 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
                                             mode="parts" if mode == "choose" and p.choose_by == "parts" else mode,
                                             region_scale=p.region_scale, seam=p.seam, rng=rng,
                                             return_sources=True, layers=[exemplars[i].trunk for i in used],
-                                            groups=[int(exemplar_outline(exemplars[i]).outlined) for i in used]
+                                            groups=[_drawing_group(exemplars[i]) for i in used]
                                             if mode == "choose" else None)
     # "parts": the alpha is the chosen parts' own; a crown's gaps between its branches grow with
     # the warp beyond the exemplars' largest hole and stay open (the cage maps them into a hole
