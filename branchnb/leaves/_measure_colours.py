@@ -16,7 +16,11 @@ the dark veins). Before (the training leaf's contrast direction, colour
 model and ``delta`` on every exemplar): min 0.00, mean 0.12 (0.00 on every
 pale -> red / dark pair). Re-choosing ``delta`` on every exemplar whose
 ridge pixels the training ``delta`` finds under half of gave min 0.48,
-mean 0.67 but cost a lobed leaf's spots 0.70 -> 0.38 (``_measure induction``).
+mean 0.67 but cost a lobed leaf's spots 0.70 -> 0.38 (``_measure induction``);
+taking the exemplar's own colour model wherever the training model's colour
+term on its ridge pixels exceeded 1.8x the training layer's fixed red ->
+dark (0.05 -> 0.69, min 0.48, mean 0.68) but fired on same-coloured lobed
+and trilobed leaves (spots mean 0.75 -> 0.25, 0.84 -> 0.63): not kept.
 With a 1.5 px ink outline in the vein colour (``--colours dark --outline
 1.5``): min 0.53 -> 0.80, mean 0.62 -> 0.83 with the outline band left out.
 """
