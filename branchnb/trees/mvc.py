@@ -407,6 +407,11 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
         probabilities ``c_i``: no seam crosses a fill, a stroke or a fruit,
         and the crown shows one style (see ``_choose_parts``). Alpha is the
         chosen parts' own (inside ``target_mask``), not the weight vote.
+        In ``"choose"`` and ``"parts"`` (beyond the paper) a source's thin
+        dark strokes are sampled as ink coverage over each target pixel's
+        warped footprint, not bilinearly (see ``_sample_strokes``): 1 px
+        tier lines and clump arcs stay unbroken at small sizes, and fills
+        keep their flat colour next to them.
     region_scale : float
         ``"choose"``: size of the regions, as a share of the image side.
     seam : float
