@@ -66,14 +66,15 @@ def _trees(s: Structure) -> int:
 
 @pytest.mark.parametrize("seed", [0, 3])
 def test_a_vine_cut_at_its_crossings_grows_as_one_long_stem(seed):
-    # before: extraction cuts the stem where it passes under itself (2-3 trees here; the Celtic vine
+    # before: extraction cut the stem where it passes under itself (2-3 trees here; the Celtic vine
     # sample: 15 trees of 70-1065 px), so synthesis grew as many short trees (the vine: 14-15 trees
-    # of 100-930 px instead of the stems of 1.3-1.5k px); now fit_model joins the cut strands
+    # of 100-930 px instead of the stems of 1.3-1.5k px); fit_model joins cut strands (join_strands),
+    # and extraction now continues them through the crossings itself (stroke_joins)
     from branchnb.branching import example_domain, extract_structure, fit_model, synthesize_structure
 
     img, true_len = wavy_vine_example(rng=seed)
     ex = extract_structure(img)
-    assert _trees(ex) >= 2                       # the cut the model has to undo
+    assert _trees(ex) == 1                       # joined under the crossings by the extraction
     model = fit_model(ex, domain=example_domain(img, ex))
     assert _trees(model.example) == 1
     assert model.example.total_length > 0.75 * true_len

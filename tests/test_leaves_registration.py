@@ -220,3 +220,27 @@ def test_bad_inputs():
         reg.inverse([[np.nan, 1.0]])
     with pytest.raises(ValueError, match="image_or_mask"):
         reg.to_training(np.zeros((10, 10)))
+
+
+def test_vectorised_start_scores_equal_the_scores_one_map_at_a_time():
+    """Issue 22 (speed): the rotation search scores all maps in one call; the numbers are the same."""
+    from branchnb.leaves.starts import _rot, _StartScore
+
+    tr, ex = leaf_family(2, size=96, kind="trilobed", rng=2)
+    score = _StartScore(ex.blade, tr.blade)
+    mats = np.array([np.hstack([0.9 * _rot(th) @ fl, [[40.0], [37.5]]])
+                     for th in np.linspace(0, 2 * np.pi, 24, endpoint=False)
+                     for fl in (np.eye(2), np.diag([1.0, -1.0]))])
+    assert np.array_equal(score.many(mats), [score(m) for m in mats])
+
+
+def test_cholesky_solve_of_the_spline_system_matches_numpy():
+    from branchnb.leaves.tpsrpm import _spd_solve_nb
+
+    rng = np.random.default_rng(0)
+    a = rng.normal(size=(40, 40))
+    h = a.T @ a + 0.1 * np.eye(40)
+    rhs = rng.normal(size=(40, 2))
+    assert np.allclose(_spd_solve_nb(h, rhs), np.linalg.solve(h, rhs), rtol=1e-9, atol=1e-12)
+    with pytest.raises(np.linalg.LinAlgError):
+        _spd_solve_nb(-h, rhs)  # not positive definite: tps_rpm then falls back to the numpy loop

@@ -246,6 +246,12 @@ class ExtractionParams:
         Binary (or near-binary) input such as a water mask: centre lines by the
         medial axis with the distance-transform radius instead of the ridge filter;
         auto = detect it.
+    join_gaps : float, default 3.0
+        Beyond the paper: drawn strokes broken at junctions (a side branch
+        stopping short of its stem) and at the over-and-under crossings of an
+        interlace are joined across paper gaps up to this many pixels beyond
+        half the line's width, where their directions continue (see
+        :func:`~branchnb.branching.stroke_joins.find_stroke_joins`); 0 = never.
     """
 
     filter: str = param("sato", options=("sato", "frangi", "meijering"),
@@ -284,6 +290,11 @@ class ExtractionParams:
                         help="binary (or near-binary) input such as a water mask: centre lines by the "
                              "medial axis with the distance-transform radius instead of the ridge "
                              "filter; auto = detect it")
+    join_gaps: float = param(3.0, min=0.0, max=50.0, step=0.5,
+                             help="drawn strokes broken at junctions and crossings: join them across "
+                                  "paper gaps up to this (pixels, beyond half the line width) where "
+                                  "their directions continue (through an interlace crossing, tip to "
+                                  "tip, into a stroke at a T-junction); 0 = never")
 
 
 @dataclass

@@ -36,6 +36,17 @@ MIN_FLAT = 0.85
 FLAT_TOL = 0.05
 
 
+def _replace_from_blade(img: np.ndarray, blade: np.ndarray, remove: np.ndarray) -> np.ndarray:
+    """``img`` with ``remove`` (grown by one pixel: anti-aliased rims) given the nearest other blade colour."""
+    gone = ndi.binary_dilation(remove) & blade
+    keep = blade & ~gone
+    if not gone.any() or not keep.any():
+        return img
+    out = img.copy()
+    out[gone] = extend_nearest(img, keep)[gone]
+    return out
+
+
 @dataclass
 class FlatArt:
     """What :func:`flat_art` found on drawn exemplars.
@@ -86,13 +97,7 @@ class FlatArt:
         -------
         (H, W, C) float32 ndarray
         """
-        gone = ndi.binary_dilation(remove) & blade
-        keep = blade & ~gone
-        if not gone.any() or not keep.any():
-            return img
-        out = img.copy()
-        out[gone] = extend_nearest(img, keep)[gone]
-        return out
+        return _replace_from_blade(img, blade, remove)
 
 
 def drawn_outline(img, blade) -> np.ndarray:

@@ -241,6 +241,16 @@ def _line_average(r: np.ndarray, length: int, n_orientations: int = 12) -> tuple
     c = size // 2
     best = np.zeros_like(r)
     angle = np.zeros(r.shape, np.float32)
+    # Zero beyond the box of r's non-zero pixels grown by the kernel's
+    # reach (the border is constant 0): filter that window only (a blade
+    # covers about half of its canvas; 12 large filters were ~0.2 s a megapixel).
+    ys, xs = np.nonzero(r.any(1))[0], np.nonzero(r.any(0))[0]
+    if not len(ys):
+        return best, angle
+    y0, y1 = max(0, ys[0] - c - 1), min(r.shape[0], ys[-1] + c + 2)
+    x0, x1 = max(0, xs[0] - c - 1), min(r.shape[1], xs[-1] + c + 2)
+    win = np.ascontiguousarray(r[y0:y1, x0:x1])
+    best_w, angle_w = best[y0:y1, x0:x1], angle[y0:y1, x0:x1]
     for k in range(n_orientations):
         th = np.pi * k / n_orientations
         ker = np.zeros((size, size), np.float32)
@@ -248,10 +258,10 @@ def _line_average(r: np.ndarray, length: int, n_orientations: int = 12) -> tuple
         cv2.line(ker, (int(round(c - dx)), int(round(c - dy))), (int(round(c + dx)), int(round(c + dy))),
                  1.0, 1, cv2.LINE_AA)
         ker /= ker.sum()
-        resp = cv2.filter2D(r, -1, ker, borderType=cv2.BORDER_CONSTANT)
-        better = resp > best
-        best[better] = resp[better]
-        angle[better] = th
+        resp = cv2.filter2D(win, -1, ker, borderType=cv2.BORDER_CONSTANT)
+        better = resp > best_w
+        best_w[better] = resp[better]
+        angle_w[better] = th
     return best, angle
 
 

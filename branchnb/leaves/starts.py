@@ -71,6 +71,14 @@ class _Chamfer:
         d = d + np.hypot(x - xc, y - yc)  # outside the image: at least this far
         return float(np.sqrt(np.mean(d * d)))
 
+    def many(self, pts: np.ndarray) -> np.ndarray:
+        """:meth:`__call__` of every point set of a stack ``pts`` (M, N, 2): (M,) values, the same numbers."""
+        x, y = pts[..., 0], pts[..., 1]
+        xc, yc = np.clip(x, 0, self.w - 1), np.clip(y, 0, self.h - 1)
+        d = self.dt[np.round(yc).astype(int), np.round(xc).astype(int)]
+        d = d + np.hypot(x - xc, y - yc)
+        return np.sqrt(np.mean(d * d, axis=1))
+
 
 def _opening_radius(mask: np.ndarray) -> int:
     return max(1, int(round(0.05 * np.sqrt(mask.sum()))))
@@ -116,7 +124,44 @@ def _thin_parts_of(mask: np.ndarray) -> np.ndarray:
     return thin if thin.sum() >= max(8, 0.002 * mask.sum()) else np.zeros_like(mask)
 
 
+def _mask_key(*masks) -> tuple:
+    """A key for a cache of results on boolean masks (their shapes and a hash of their bits)."""
+    h = hashlib.blake2b(digest_size=16)
+    for m in masks:
+        m = np.ascontiguousarray(m, bool)
+        h.update(repr(m.shape).encode())
+        h.update(np.packbits(m).tobytes())
+    return h.digest()
+
+
+_PART_CACHE: dict = {}
+
+
+def _cached(kind: str, key, make):
+    """``make()``, remembered under ``(kind, key)`` for the last few masks (thread-safe, like ``_thin_parts``).
+
+    The training leaf's parts are asked for again with every exemplar
+    registered to it (and each exemplar's several times): a 1 MP blade's
+    thin roots (a dilation by a disc of four opening radii) cost ~30 ms.
+    """
+    k = (kind, key)
+    with _THIN_LOCK:
+        hit = _PART_CACHE.get(k)
+    if hit is None:
+        hit = make()
+        with _THIN_LOCK:
+            while len(_PART_CACHE) >= 32:
+                _PART_CACHE.pop(next(iter(_PART_CACHE)))
+            _PART_CACHE[k] = hit
+    return hit
+
+
 def _thin_roots(mask: np.ndarray, thin: np.ndarray, lamina: np.ndarray) -> np.ndarray:
+    """:func:`_thin_roots_of`, remembered for the last few masks (a copy)."""
+    return _cached("roots", _mask_key(mask, thin, lamina), lambda: _thin_roots_of(mask, thin, lamina)).copy()
+
+
+def _thin_roots_of(mask: np.ndarray, thin: np.ndarray, lamina: np.ndarray) -> np.ndarray:
     """Where the thin parts leave the lamina (within one opening radius of it).
 
     A petiole's length and bend vary from leaf to leaf (a long curved
@@ -192,6 +237,24 @@ def split_petiole(blade) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
     return lamina, pet, base
 
 
+class _StartSide:
+    """What :class:`_StartScore` needs of one blade: outline points and chamfer, thin roots, base point."""
+
+    def __init__(self, m: np.ndarray):
+        lam = _lamina(m)
+        self.out = _contour_points(lam)
+        self.cham = _Chamfer(lam)
+        t = _thin_parts(m)
+        self.thin = bool(t.any())
+        if self.thin:
+            roots = _thin_roots(m, t, lam)
+            pts = np.column_stack(np.nonzero(roots)[::-1]).astype(np.float64)
+            self.thin_pts = pts[:: max(1, len(pts) // 300)]
+            self.dt_thin = _Chamfer(roots, region=True)
+        self.base = _base_point(m, t, lam)
+        self.radius = float(np.sqrt(lam.sum() / np.pi))
+
+
 class _StartScore:
     """Symmetric RMS chamfer distance of the laminae outlines (+ of the thin parts' roots) under an affine map.
 
@@ -202,21 +265,17 @@ class _StartScore:
     """
 
     def __init__(self, me: np.ndarray, mt: np.ndarray):
-        le, lt = _lamina(me), _lamina(mt)
-        self.out_e, self.out_t = _contour_points(le), _contour_points(lt)
-        self.cham_e, self.cham_t = _Chamfer(le), _Chamfer(lt)
-        te, tt = _thin_parts(me), _thin_parts(mt)
-        self.thin = te.any() and tt.any()
+        # One side per blade, remembered: the training leaf's is the same for every exemplar.
+        se = _cached("start side", _mask_key(me), lambda: _StartSide(me))
+        st = _cached("start side", _mask_key(mt), lambda: _StartSide(mt))
+        self.out_e, self.out_t = se.out, st.out
+        self.cham_e, self.cham_t = se.cham, st.cham
+        self.thin = se.thin and st.thin
         if self.thin:
-            te, tt = _thin_roots(me, te, le), _thin_roots(mt, tt, lt)
-            self.thin_e = np.column_stack(np.nonzero(te)[::-1]).astype(np.float64)
-            self.thin_t = np.column_stack(np.nonzero(tt)[::-1]).astype(np.float64)
-            self.thin_e = self.thin_e[:: max(1, len(self.thin_e) // 300)]
-            self.thin_t = self.thin_t[:: max(1, len(self.thin_t) // 300)]
-            self.dt_te, self.dt_tt = _Chamfer(te, region=True), _Chamfer(tt, region=True)
-        te, tt = _thin_parts(me), _thin_parts(mt)
-        self.base_e, self.base_t = _base_point(me, te, le), _base_point(mt, tt, lt)
-        self.radius_t = float(np.sqrt(lt.sum() / np.pi))
+            self.thin_e, self.thin_t = se.thin_pts, st.thin_pts
+            self.dt_te, self.dt_tt = se.dt_thin, st.dt_thin
+        self.base_e, self.base_t = se.base, st.base
+        self.radius_t = st.radius
 
     def __call__(self, mat: np.ndarray) -> float:
         lin, off = mat[:, :2], mat[:, 2]
@@ -229,6 +288,27 @@ class _StartScore:
             # Only a gross mismatch counts (another lobe's rotation moves the
             # base by about a blade radius): the fine angle is the outlines'.
             c += max(0.0, float(np.hypot(*(self.base_e @ lin.T + off - self.base_t))) - 0.3 * self.radius_t)
+        return c
+
+    def many(self, mats: np.ndarray) -> np.ndarray:
+        """:meth:`__call__` of a stack of maps (M, 2, 3) at once: (M,) scores.
+
+        The rotation search scores ~70 maps per exemplar; one call each was
+        Python overhead on small arrays (~1 s of the 8-exemplar analysis).
+        """
+        mats = np.asarray(mats, np.float64)
+        lin, off = mats[:, :, :2], mats[:, :, 2]
+        inv = np.linalg.inv(lin)
+        scale = np.sqrt(np.abs(np.linalg.det(lin)))
+        lin_t, inv_t = np.swapaxes(lin, 1, 2), np.swapaxes(inv, 1, 2)
+        c = (self.cham_t.many(self.out_e @ lin_t + off[:, None])
+             + self.cham_e.many((self.out_t - off[:, None]) @ inv_t) * scale)
+        if self.thin:
+            c = c + (self.dt_tt.many(self.thin_e @ lin_t + off[:, None])
+                     + self.dt_te.many((self.thin_t - off[:, None]) @ inv_t) * scale)
+        if self.base_e is not None and self.base_t is not None:
+            gap = self.base_e @ lin_t + off - self.base_t
+            c = c + np.maximum(0.0, np.hypot(gap[:, 0], gap[:, 1]) - 0.3 * self.radius_t)
         return c
 
 
@@ -319,7 +399,7 @@ def start_candidates(exemplar_blade, training_blade, *, start: str = "similarity
     thetas = np.arange(0, 2 * np.pi, step)
     found = []
     for fl in flips:
-        costs = np.array([score(matrix(th, fl)) for th in thetas])
+        costs = score.many(np.array([matrix(th, fl) for th in thetas]))
         m = len(costs)
         for idx in np.argsort(costs):
             # Keep local minima that are far from the ones kept.
@@ -333,8 +413,8 @@ def start_candidates(exemplar_blade, training_blade, *, start: str = "similarity
     out = []
     for c, fl, th in found[:n]:
         best_c, best_th = c, th
-        for dth in np.linspace(-step, step, 21):
-            c2 = score(matrix(th + dth, fl))
+        dths = np.linspace(-step, step, 21)
+        for dth, c2 in zip(dths, score.many(np.array([matrix(th + dth, fl) for dth in dths]))):
             if c2 < best_c:
                 best_c, best_th = c2, th + dth
         mat = matrix(best_th, fl)

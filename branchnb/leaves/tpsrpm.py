@@ -290,6 +290,31 @@ def _softassign_nb(x, fv, lab_x, lab_v, use_lab, cost, use_cost, t, t0, cx, cv, 
 
 
 @numba.njit(cache=True)
+def _spd_solve_nb(h, rhs):  # pragma: no cover
+    """``h^-1 rhs`` for a symmetric positive definite ``h`` (Cholesky, then two triangular solves).
+
+    The spline's normal equations ``A^T C A + lambda B`` are SPD: half the
+    work of the LU solve, ~20 % of the annealing. Raises LinAlgError when
+    ``h`` is not positive definite (the numpy loop then takes over).
+    """
+    low = np.linalg.cholesky(h)
+    k, c = rhs.shape
+    z = np.empty_like(rhs)
+    for j in range(c):
+        for r in range(k):
+            s = rhs[r, j]
+            for q in range(r):
+                s -= low[r, q] * z[q, j]
+            z[r, j] = s / low[r, r]
+        for r in range(k - 1, -1, -1):
+            s = z[r, j]
+            for q in range(r + 1, k):
+                s -= low[q, r] * z[q, j]
+            z[r, j] = s / low[r, r]
+    return z
+
+
+@numba.njit(cache=True)
 def _anneal_nb(x, v, lab_x, lab_v, use_lab, cost, use_cost, phi, amat, bend, q2, t, t_init, t_final,
                rate, iterations, sinkhorn, lam1, lam2, sink_tol, move_tol, counts, fv0, cx_in,
                t_end):  # pragma: no cover
@@ -331,7 +356,7 @@ def _anneal_nb(x, v, lab_x, lab_v, use_lab, cost, use_cost, phi, amat, bend, q2,
             rhs[1, 0] += l2
             rhs[2, 1] += l2
             h[3:, 3:] += l1 * bend
-            z = np.linalg.solve(h, rhs)
+            z = _spd_solve_nb(h, rhs)
             w = np.dot(q2, np.ascontiguousarray(z[3:]))
             d = z[:3].copy()
             fv_new = np.dot(v, d[1:]) + np.dot(phi, w)

@@ -1,0 +1,449 @@
+"""Automatic extraction, step 2 (beyond the paper): what is no branch.
+
+Lines along the image frame, binary (water) masks traced by their medial
+axis, large flat regions (a sea) and the outlines of flat regions touching
+the border (a coast, a country border), and the domain of an example.
+
+Split from :mod:`.extraction` (which re-exports every name).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy import ndimage as ndi
+
+from ..core.structure import Structure
+from ..core.validate import Image, checked
+from .clicks import _RADIUS, gray_for_extraction
+
+__all__ = [
+    "frame_lines",
+    "is_binary",
+    "large_flat_regions",
+    "binary_channels",
+    "border_flat_regions",
+    "outline_pixels",
+    "flat_background",
+    "example_domain",
+]
+
+
+def frame_lines(mask, band: int = 4, share: float = 0.5) -> np.ndarray:
+    """Pixels of ``mask`` that form a line along the image frame (a drawn border, a map's frame).
+
+    Along each side, the band of ``band`` pixels is a frame line when
+    ``mask`` covers at least ``share`` of that side's length there; a
+    branch that merely enters the image through a side covers a few pixels.
+
+    Parameters
+    ----------
+    mask : (H, W) bool array_like
+        Line pixels (e.g. a thresholded ridge mask).
+    band : int, default 4
+        Width of the strip along each side (pixels).
+    share : float, default 0.5
+        Fraction of a side's length the strip must cover.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        The frame-line pixels (all False when none).
+    """
+    m = np.asarray(mask, bool)
+    out = np.zeros_like(m)
+    h, w = m.shape
+    b = int(min(band, h // 4, w // 4))
+    if b < 1:
+        return out
+    for sl, axis in (((slice(0, b), slice(None)), 0), ((slice(h - b, h), slice(None)), 0),
+                     ((slice(None), slice(0, b)), 1), ((slice(None), slice(w - b, w)), 1)):
+        strip = m[sl]
+        if strip.any(axis=axis).mean() < share:
+            continue
+        # a line, not the edge of a wide region (a sea reaching the border): the
+        # next band inwards is mostly free
+        r0, r1 = sl[0].start, sl[0].stop
+        c0, c1 = sl[1].start, sl[1].stop
+        if axis == 0:
+            inner = m[b:2 * b] if r0 == 0 else m[h - 2 * b:h - b]
+        else:
+            inner = m[:, b:2 * b] if c0 == 0 else m[:, w - 2 * b:w - b]
+        if inner.any(axis=axis).mean() < 0.5 * share:
+            out[r0:r1, c0:c1] = strip
+    return out
+
+
+def is_binary(gray, *, tol: float = 0.1, share: float = 0.97) -> bool:
+    """True if at least ``share`` of the pixels lie within ``tol`` (of the range) of the darkest
+    or the brightest level, and the two levels differ by at least 0.25 (a mask, maybe anti-aliased).
+
+    Parameters
+    ----------
+    gray : (H, W) array_like
+        Luminance in [0, 1].
+    tol : float, default 0.1
+        Distance to the 1st / 99th percentile level, as a fraction of their
+        difference.
+    share : float, default 0.97
+        Fraction of the pixels that must lie near one of the two levels.
+
+    Returns
+    -------
+    bool
+        Whether the image is a (near-)binary mask.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> m = np.zeros((20, 20)); m[5:9] = 1
+    >>> is_binary(m), is_binary(np.linspace(0, 1, 400).reshape(20, 20))
+    (True, False)
+    """
+    g = np.asarray(gray, np.float64)
+    lo, hi = np.percentile(g, [1, 99])
+    if hi - lo < 0.25:
+        return False
+    t = tol * (hi - lo)
+    return bool(np.mean((np.abs(g - lo) <= t) | (np.abs(g - hi) <= t)) >= share)
+
+
+def large_flat_regions(mask, radius: float, min_area: float = 0.01) -> np.ndarray:
+    """Parts of ``mask`` far wider than any branch: a sea, a lake, a flat background.
+
+    The opening of ``mask`` with a disk of ``radius`` keeps what a disk of
+    that radius fits into; its connected pieces of at least ``min_area`` of
+    the image are returned, grown by one pixel.
+
+    Parameters
+    ----------
+    mask : (H, W) bool array_like
+        Candidate pixels (e.g. a mask's foreground).
+    radius : float
+        Radius (pixels) of the opening disk: wider than any branch.
+    min_area : float, default 0.01
+        Smallest piece kept, as a fraction of the image.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        The large regions (within ``mask``).
+    """
+    import cv2
+
+    m = np.asarray(mask, bool)
+    r = max(int(round(radius)), 1)
+    disk = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
+    opened = cv2.morphologyEx(m.astype(np.uint8), cv2.MORPH_OPEN, disk, borderType=cv2.BORDER_REPLICATE) > 0
+    lab, n = ndi.label(opened)
+    if n == 0:
+        return np.zeros_like(m)
+    sizes = np.bincount(lab.ravel())
+    keep = sizes >= min_area * m.size
+    keep[0] = False
+    out = keep[lab]
+    return ndi.binary_dilation(out) & m if out.any() else out
+
+
+def binary_channels(gray, polarity: str = "auto", *, flat_regions: bool = True):
+    """Foreground channels of a binary mask, the large flat regions removed, and the medial axis.
+
+    The foreground is the bright class (``polarity="bright"``), the dark one
+    (``"dark"``), or with ``"auto"`` the class that covers less of the image.
+    Foreground regions much wider than the channels (more than 3 x their
+    median radius and 1 % of the image, e.g. the sea a delta drains into)
+    are no branches: they are returned as ``region``.
+
+    Parameters
+    ----------
+    gray : (H, W) array_like
+        The mask's luminance (two levels, maybe anti-aliased).
+    polarity : {"auto", "bright", "dark"}, default "auto"
+        Which class is foreground.
+    flat_regions : bool, default True
+        Set wide foreground regions apart as ``region``; False keeps every
+        foreground pixel a channel (a drawn tree's wide trunk is no sea).
+
+    Returns
+    -------
+    channels : (H, W) bool
+        Foreground without the large flat regions (and without a line
+        along the image frame).
+    region : (H, W) bool
+        The large flat foreground regions.
+    skeleton : (H, W) bool
+        Medial axis of ``channels``.
+    radius : (H, W) float
+        Distance transform of the whole foreground (the channel's half width
+        on its centre line), capped at the flat regions' scale.
+    """
+    from skimage.morphology import skeletonize
+
+    g = np.asarray(gray, np.float64)
+    lo, hi = np.percentile(g, [1, 99])
+    bright = g > 0.5 * (lo + hi)
+    if polarity == "bright":
+        fg = bright
+    elif polarity == "dark":
+        fg = ~bright
+    else:
+        fg = bright if bright.mean() <= 0.5 else ~bright
+    fg = fg & ~frame_lines(fg, band=8)
+    dt = ndi.distance_transform_edt(np.pad(fg, 1, mode="edge"))[1:-1, 1:-1]
+    sk0 = skeletonize(fg)
+    r_med = float(np.median(dt[sk0])) if sk0.any() else 1.0
+    big_r = max(3.0 * r_med, 3.0)
+    region = large_flat_regions(fg, big_r) if flat_regions else np.zeros_like(fg)
+    if not flat_regions:
+        big_r = float(dt.max()) + 1.0
+    channels = fg & ~region
+    skel = skeletonize(channels)
+    # Skeleton stubs along the region's edge are outline, not branches.
+    if region.any():
+        skel &= ndi.distance_transform_edt(~region) > 1.5
+    # The distance to the nearest background pixel centre is r + 0.5 on an
+    # odd-width channel's centre pixel and r on an even one (the centre line
+    # falls between two pixels): -0.25 is unbiased on average.
+    radius = np.minimum(dt, big_r) - 0.25
+    return channels, region, skel, np.maximum(radius, 0.5)
+
+
+def _flat_region_labels(gray, radius: float, tol: float):
+    """Labels of the large flat-colour regions (wider than ``radius``) and which of them touch the border."""
+    g = np.asarray(gray, np.float64)
+    flat = (ndi.maximum_filter(g, 5) - ndi.minimum_filter(g, 5)) < tol
+    lab, n = ndi.label(large_flat_regions(flat, radius, min_area=0.02))
+    touch = np.zeros(n + 1, bool)
+    for edge in (lab[0], lab[-1], lab[:, 0], lab[:, -1]):
+        touch[edge] = True
+    touch[0] = False
+    return lab, n, touch
+
+
+def _ground_regions(gray, branches, lab, n: int, tol: float) -> np.ndarray:
+    """Per label of ``lab`` (0..n): True when the region has the colour the ``branches`` lie in: the
+    median grey of the pixels 3-8 px beside them, when at least half of those pixels are within
+    ``2 tol`` of it (a flat ground, not a relief of greys), and the region's median is too."""
+    import cv2
+
+    br = np.asarray(branches, bool)
+    out = np.zeros(n + 1, bool)
+    if not br.any() or n == 0:
+        return out
+    b8 = br.astype(np.uint8)
+    near = cv2.dilate(b8, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (17, 17))) > 0
+    ring = near & ~(cv2.dilate(b8, np.ones((7, 7), np.uint8)) > 0)
+    if not ring.any():
+        return out
+    g = np.asarray(gray, np.float64)
+    ground = float(np.median(g[ring]))
+    if np.mean(np.abs(g[ring] - ground) <= 2 * tol) < 0.5:
+        return out
+    med = ndi.median(g, lab, np.arange(1, n + 1))
+    out[1:] = np.abs(np.asarray(med, np.float64) - ground) <= 2 * tol
+    return out
+
+
+def border_flat_regions(gray, radius: float, tol: float = 0.02, branches=None) -> np.ndarray:
+    """Large flat-colour regions (wider than ``radius``) that touch the image border.
+
+    With ``branches`` ((H, W) bool), regions of the colour the branches lie in are left out: on a
+    crop whose land runs off the frame, the land is no outside region (its rivers' junctions would
+    otherwise count as the outline of the land pieces between them and be cut).
+
+    Parameters
+    ----------
+    gray : (H, W) array_like
+        Luminance in [0, 1].
+    radius : float
+        Regions must be wider than a disk of this radius (pixels).
+    tol : float, default 0.02
+        Largest range of a flat 5 x 5 neighbourhood.
+    branches : (H, W) bool array_like, optional
+        Branch pixels; None = no such exclusion.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        The regions' pixels.
+    """
+    lab, n, touch = _flat_region_labels(gray, radius, tol)
+    if branches is not None:
+        touch = touch & ~_ground_regions(gray, branches, lab, n, tol)
+    return touch[lab]
+
+
+def outline_pixels(skeleton, outside, reach: float, gray=None, tol: float = 0.04) -> np.ndarray:
+    """Skeleton pixels that trace the outline of the ``outside`` regions (a map's country border, a coast line).
+
+    A skeleton pixel within ``reach`` of ``outside`` is outline when, looking
+    away from the nearest outside pixel, the other side is no outside: the
+    line separates the outside from the rest, and the line runs along the
+    outside rather than into it (its direction, from the structure tensor
+    of the skeleton, is within 45 degrees of the outside's edge). A branch
+    lying *in* a flat region (a lightning bolt in a flat sky) has that
+    region on both sides and stays; so does a river mouth meeting the
+    coast.
+
+    With ``gray`` (the image the regions were found in), the other side
+    counts by its colour: the line is outline when the two sides differ by
+    more than ``tol`` (land on one side, sea on the other), whether or not
+    the other side is a large flat region itself; rivers close together
+    have land on both sides, though the strip between them is too narrow
+    to be a region, and stay branches.
+
+    Parameters
+    ----------
+    skeleton : (H, W) bool array_like
+        Centre-line pixels.
+    outside : (H, W) bool array_like
+        The outside regions (e.g. :func:`border_flat_regions`).
+    reach : float
+        Largest distance (pixels) of an outline pixel to ``outside``.
+    gray : (H, W) array_like, optional
+        Luminance the regions were found in; None = judge the other side by
+        ``outside`` alone.
+    tol : float, default 0.04
+        Smallest luminance difference between the two sides of an outline.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        The outline pixels of ``skeleton``.
+    """
+    sk = np.asarray(skeleton, bool)
+    out = np.asarray(outside, bool)
+    if not out.any() or not sk.any():
+        return np.zeros_like(sk)
+    dist, (iy, ix) = ndi.distance_transform_edt(~out, return_indices=True)
+    ys, xs = np.nonzero(sk & (dist <= reach))
+    if len(ys) == 0:
+        return np.zeros_like(sk)
+    d = dist[ys, xs]
+    vy, vx = iy[ys, xs] - ys, ix[ys, xs] - xs
+    n = np.maximum(np.hypot(vy, vx), 1e-9)
+    step = d + 3.0
+    oy = np.clip(np.rint(ys - vy / n * step).astype(int), 0, sk.shape[0] - 1)
+    ox = np.clip(np.rint(xs - vx / n * step).astype(int), 0, sk.shape[1] - 1)
+    # The line's direction (structure tensor of the blurred skeleton): a line heading into
+    # the outside (a river mouth at the coast) is no outline, one running along it is.
+    b = ndi.gaussian_filter(sk.astype(np.float64), 1.0)
+    gy, gx = np.gradient(b)
+    jxx = ndi.gaussian_filter(gx * gx, 2.0)[ys, xs]
+    jyy = ndi.gaussian_filter(gy * gy, 2.0)[ys, xs]
+    jxy = ndi.gaussian_filter(gx * gy, 2.0)[ys, xs]
+    # the tensor's main axis is the line's normal; the tangent is perpendicular to it
+    theta = 0.5 * np.arctan2(2 * jxy, jxx - jyy)
+    tx, ty = -np.sin(theta), np.cos(theta)
+    heads_out = np.abs(tx * vx + ty * vy) / n > 0.7
+    res = np.zeros_like(sk)
+    if gray is not None:
+        g = np.asarray(gray, np.float64)
+        other = np.abs(g[oy, ox] - g[iy[ys, xs], ix[ys, xs]]) > tol
+    else:
+        other = ~out[oy, ox]
+    res[ys, xs] = other & ~heads_out
+    return res
+
+
+def flat_background(gray, branches, radius: float, tol: float = 0.02) -> np.ndarray:
+    """Large flat-colour regions without branches (the sea around a river map's land).
+
+    Pixels whose 5 x 5 neighbourhood varies by less than ``tol`` form flat
+    regions; those wider than ``radius`` (see :func:`large_flat_regions`)
+    that hold (almost) no ``branches`` pixel and touch the image border are
+    returned.
+
+    A branch lies *in* a region when the region's closing (a disk of
+    ``radius``) covers it: a drawn river is a thin non-flat line with the
+    land on both sides, so the land's closing bridges it, while a coast
+    line has land on one side only and belongs to neither. A region holds
+    no branches when less than 2 % of the branch pixels lie in it (the
+    river mouths touching the coast).
+
+    Beyond that rule, a region of the colour the branches lie in (the
+    median of the flat pixels 3-8 px beside them) is never background:
+    on a crop whose land runs off the frame, rivers running from frame to
+    frame cut the land into pieces that each touch the frame and hold no
+    river (each river lies between two pieces), yet they are land.
+
+    Parameters
+    ----------
+    gray : (H, W) array_like
+        Luminance in [0, 1].
+    branches : (H, W) bool array_like
+        Branch pixels (e.g. the rendered annotation).
+    radius : float
+        Regions must be wider than a disk of this radius (pixels).
+    tol : float, default 0.02
+        Largest range of a flat 5 x 5 neighbourhood.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        The background regions' pixels.
+    """
+    import cv2
+
+    lab, n, touch = _flat_region_labels(gray, radius, tol)
+    br = np.asarray(branches, bool)
+    keep = np.zeros(n + 1, bool)
+    n_br = int(br.sum())
+    r = max(int(round(radius)), 1)
+    disk = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
+    ground = _ground_regions(gray, br, lab, n, tol)
+    for k in np.flatnonzero(touch):
+        region = lab == k
+        if ground[k]:
+            continue  # the branches' own ground
+        closed = cv2.morphologyEx(region.astype(np.uint8), cv2.MORPH_CLOSE, disk,
+                                  borderType=cv2.BORDER_REPLICATE) > 0
+        keep[k] = np.count_nonzero(closed & br) <= 0.02 * n_br
+    keep[0] = False
+    return keep[lab]
+
+
+@checked(image=Image(), radius=_RADIUS)
+def example_domain(image, structure: Structure | None = None, *, radius: float = 12.0) -> np.ndarray:
+    """Where an example's branches live: the image minus its large branch-free flat regions.
+
+    For a binary mask, the foreground regions far wider than the channels
+    (the sea of a delta, see :func:`binary_channels`) are outside; for any
+    other image, the large flat-colour regions that touch the border and
+    hold no branch (the sea around a river map's land, see
+    :func:`flat_background`; the branches are ``structure`` if given).
+    Pass the result to :func:`~branchnb.branching.fit_model` as ``domain``.
+
+    Parameters
+    ----------
+    image : (H, W) or (H, W, C) array_like
+        The example: grey, RGB or RGBA (composited over white), float in [0, 1] or integer.
+    structure : Structure, optional
+        Its branches; None = judge regions by the image alone.
+    radius : float, default 12.0
+        Flat regions must be wider than a disk of this radius (pixels).
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        True where the branches may grow.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> m = np.zeros((100, 100)); m[70:] = 1; m[:70, 48:52] = 1   # a channel into a sea
+    >>> d = example_domain(m)
+    >>> bool(d[10, 50]), bool(d[90, 50])
+    (True, False)
+    """
+    gray = gray_for_extraction(image)
+    if is_binary(gray):
+        _ch, region, _sk, _r = binary_channels(gray)
+        return ~region
+    branches = np.zeros(gray.shape, bool)
+    if structure is not None and structure.branches:
+        from ..core.render import coverage_polylines
+
+        cov, _ = coverage_polylines(gray.shape, [b.points for b in structure.branches],
+                                    [2 * b.thickness + 2 for b in structure.branches])
+        branches = cov > 0.5
+    return ~flat_background(gray, branches, radius)

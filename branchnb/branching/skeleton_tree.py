@@ -1,0 +1,401 @@
+"""Automatic extraction, step 3 (beyond the paper): the skeleton graph as a tree of branches.
+
+The skeleton's pixels are a graph; each connected piece becomes a tree by
+the shortest-path tree from a root end point (main branch = the longest
+path, side branches hang off it), thickness from a radius map.
+
+Split from :mod:`.extraction` (which re-exports every name).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy import ndimage as ndi
+from scipy import sparse
+from scipy.sparse import csgraph
+
+from ..core.polyline import arc_length, polyline_length, resample_uniform
+from ..core.structure import Branch, Structure
+
+__all__ = [
+    "skeleton_to_structure",
+]
+
+
+_OFFSETS = ((0, 1), (1, -1), (1, 0), (1, 1))
+
+
+def _skeleton_graph(skel: np.ndarray):
+    ys, xs = np.nonzero(skel)
+    n = len(ys)
+    index = -np.ones(skel.shape, np.int64)
+    index[ys, xs] = np.arange(n)
+    rows, cols, w = [], [], []
+    h, wd = skel.shape
+    for dy, dx in _OFFSETS:
+        y2, x2 = ys + dy, xs + dx
+        ok = (y2 >= 0) & (y2 < h) & (x2 >= 0) & (x2 < wd)
+        j = np.full(n, -1)
+        j[ok] = index[y2[ok], x2[ok]]
+        ok = j >= 0
+        rows.append(np.flatnonzero(ok))
+        cols.append(j[ok])
+        w.append(np.full(ok.sum(), np.hypot(dy, dx)))
+    r, c, ww = np.concatenate(rows), np.concatenate(cols), np.concatenate(w)
+    g = sparse.coo_matrix((ww, (r, c)), shape=(n, n)).tocsr()
+    return (g + g.T).tocsr(), ys, xs
+
+
+def _end_radius(pts: np.ndarray, r: np.ndarray, ends: np.ndarray, members: np.ndarray) -> np.ndarray:
+    """How thick the line is at each end: the largest radius within ``3 r_med + 4`` pixels of it.
+
+    The radius right at a skeleton end is small (the medial axis ends where
+    the channel's rounded tip or the frame closes in), so a wide channel
+    leaving the frame would lose against a spur of a narrower one.
+    """
+    reach = 3.0 * float(np.median(r[members])) + 4.0
+    out = np.empty(len(ends))
+    for i in range(0, len(ends), 64):
+        e = ends[i:i + 64]
+        d2 = ((pts[e, None, :] - pts[None, members, :]) ** 2).sum(-1)
+        out[i:i + 64] = np.where(d2 <= reach * reach, r[members][None, :], 0.0).max(1)
+    return np.maximum(out, r[ends])
+
+
+def _mouth_node(cand: np.ndarray, key: np.ndarray, members: np.ndarray, member_key: np.ndarray,
+                scale: float) -> tuple[np.ndarray, np.ndarray]:
+    """Root candidates of a piece that drains into a region: its ends, or the node nearest the region
+    when that is more than 4 px nearer than every end.
+
+    Going beyond the paper: where a drawn river meets the coast line, removing the coast's outline
+    from the skeleton can leave a little loop or junction at the mouth, so the mouth is no end of
+    the skeleton and the nearest *end* is the river's source (a tree rooted inland, upstream).
+    """
+    k = int(np.argmin(member_key))
+    if len(key) and member_key[k] + 4.0 * scale < float(np.min(key)):
+        return members[k:k + 1], member_key[k:k + 1]
+    return cand, key
+
+
+def _delta_source_key(key: np.ndarray, pts: np.ndarray, r: np.ndarray, ends: np.ndarray,
+                      members: np.ndarray, scale: float) -> np.ndarray:
+    """Root key of a piece that reaches the region at several mouths: a delta roots at its source.
+
+    A river drains to the sea at one mouth; a delta reaches it at several
+    (its distributaries) and comes from one wide channel inland. When two
+    or more ends of the piece lie at the region (within ``3 + 2 r`` pixels
+    of it) and the thickest end away from it is at least 1.5 x thicker than
+    every mouth, that end becomes the root (key -1); else ``key`` is kept.
+    Going beyond the paper, whose roots are clicked: rooted at a mouth, a
+    delta's tree runs upstream and the synthesis grows its trunk from the sea.
+    """
+    if len(ends) < 3:
+        return key
+    er = _end_radius(pts, r, ends, members)
+    near = key * 1.0 / scale <= 3.0 + 2.0 * er
+    if near.sum() < 2 or near.all():
+        return key
+    far = np.flatnonzero(~near)
+    best = far[np.argmax(er[far])]
+    if er[best] < 1.5 * er[near].max():
+        return key
+    out = np.asarray(key, np.float64).copy()
+    out[best] = -1.0
+    return out
+
+
+def _add_joins(g, ys, xs, node_r, shape, joins):
+    """The skeleton graph with a chain of extra nodes (about one pixel apart) for every join.
+
+    The chain's nodes sit on the straight line between the two pixels but are connected only to each
+    other, so a join through a crossing does not touch the stroke passing over it. Their radius is
+    the strokes' own: the median over about 30 skeleton pixels from each end (the radius right at an
+    end is pinched by the line's cut), the smaller of the two (a T-join's target is the thicker
+    stem)."""
+    from scipy import sparse as sp
+
+    def stroke_r(i: int, n_max: int = 30) -> float:
+        seen, todo = {i}, [i]
+        while todo and len(seen) < n_max:
+            v = todo.pop(0)
+            for u in g.indices[g.indptr[v]:g.indptr[v + 1]]:
+                if int(u) not in seen:
+                    seen.add(int(u))
+                    todo.append(int(u))
+        return float(np.median(node_r[list(seen)]))
+
+    index = -np.ones(shape, np.int64)
+    index[ys, xs] = np.arange(len(ys))
+    n = len(ys)
+    new_y, new_x, new_r, rows, cols, w = [], [], [], [], [], []
+    for (y0, x0), (y1, x1), _through in joins:
+        i0, i1 = int(index[y0, x0]), int(index[y1, x1])
+        if i0 < 0 or i1 < 0 or i0 == i1:
+            continue
+        d = float(np.hypot(y1 - y0, x1 - x0))
+        m = max(int(np.ceil(d)) - 1, 0)
+        t = np.linspace(0.0, 1.0, m + 2)[1:-1]
+        chain = [i0] + list(range(n, n + m)) + [i1]
+        new_y += list(np.rint(y0 + t * (y1 - y0)).astype(np.int64))
+        new_x += list(np.rint(x0 + t * (x1 - x0)).astype(np.int64))
+        new_r += [min(stroke_r(i0), stroke_r(i1))] * m
+        n += m
+        rows += chain[:-1]
+        cols += chain[1:]
+        w += [d / (m + 1)] * (m + 1)
+    if not rows:
+        return g, ys, xs, node_r
+    big = sp.csr_matrix((g.data, g.indices, g.indptr), shape=(len(g.indptr) - 1, len(g.indptr) - 1))
+    big.resize((n, n))
+    extra = sp.coo_matrix((w, (rows, cols)), shape=(n, n)).tocsr()
+    return ((big + extra + extra.T).tocsr(), np.r_[ys, np.asarray(new_y, np.int64)],
+            np.r_[xs, np.asarray(new_x, np.int64)], np.r_[node_r, np.asarray(new_r, np.float64)])
+
+
+def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length: float = 12.0,
+                          min_component_length: float = 60.0, root="thickest",
+                          scale: float = 1.0, smooth: float = 4.0,
+                          smooth_radius: float = 8.0, image_shape=None, region=None,
+                          spur_factor: float = 2.0, joins=None) -> Structure:
+    """Convert a one-pixel skeleton into a tree of branches.
+
+    Each connected piece becomes one tree: a root end point is chosen
+    (``root``), the shortest-path tree from it is computed (cycles, e.g.
+    in crack networks, are cut where the two fronts meet), the main branch
+    follows the longest path and every other subtree hanging off a branch
+    becomes a child branch (recursively). Subtrees shorter than
+    ``min_branch_length`` are pruned (skeleton spurs).
+
+    Parameters
+    ----------
+    skeleton : (H, W) bool array_like
+        One-pixel-wide centre lines (8-connected), at the working scale.
+    radius : (H, W) array_like
+        Branch radius at each pixel (e.g. the distance transform).
+    h : float, default 4.0
+        Resampling step h of the result (full-size pixels).
+    min_branch_length, min_component_length : float, default 12.0, 60.0
+        Pruning thresholds in pixels of the *output* (full-size) image. A
+        piece that reaches the image frame (within 4 px) is kept from half
+        ``min_component_length``: the frame cut it (a crop's rivers that
+        enter from its frame), beyond the paper.
+    root : {"auto", "thickest", "top", "bottom", "left", "right", "border", "nearest_region"} or (x, y)
+        Root end point per piece: ``"auto"`` takes the end nearest to
+        ``region`` when there is one and the piece's lines all have about one
+        width (its 75th radius percentile under 1.5 x the 25th, or less than
+        a pixel above it: a drawn map's rivers drain where they meet the sea;
+        a node of the piece more than 4 px nearer than every end, a mouth the
+        coast's removed outline left as a loop, beats the ends), else the thickest end (a
+        vessel tree's trunk, a delta's inland channel; the radius near an end,
+        not at it, which the frame or a rounded tip pinches); or the thickest, the top-most ..., the one
+        nearest to the image border, the one nearest to ``region`` (e.g.
+        the sea a river flows into; the border if there is none; a piece
+        that meets the region at several mouths and has a much thicker end
+        away from it, a delta, roots at that end, see ``_delta_source_key``),
+        or the one nearest to a given point (full-size pixels). Default
+        ``"thickest"``.
+    scale : float, default 1.0
+        The skeleton is a ``scale`` x downscaled copy; coordinates and
+        radii are divided by it.
+    smooth : float, default 4.0
+        Gaussian smoothing (full-size pixels of arc length) of each pixel
+        path before resampling; removes the staircase of the pixel grid,
+        whose noise would otherwise dominate the turning angles.
+    smooth_radius : float, default 8.0
+        Gaussian smoothing of the radius along each branch (full-size
+        pixels of arc length): the distance transform bumps at every
+        junction and blob, which the synthesis would otherwise copy.
+    image_shape : (H, W), optional
+        Stored on the result (full-size).
+    region : (H, W) bool array_like, optional
+        At the skeleton's scale: the region ``root="nearest_region"`` looks for.
+    spur_factor : float, default 2.0
+        A side subtree is also pruned when it is shorter than this times the
+        radius where it leaves its parent (the skeleton's spurs at the bends of
+        wide channels are about one radius long).
+    joins : sequence of ((y0, x0), (y1, x1), through), optional
+        Skeleton pixels to connect by a straight piece of centre line, as
+        found by :func:`~branchnb.branching.stroke_joins.find_stroke_joins`
+        (drawn strokes broken at junctions and crossings). The piece touches
+        no other pixel: a join through a crossing passes under the stroke
+        it crosses.
+
+    Returns
+    -------
+    Structure
+        One tree per kept piece, with ``image_shape`` set.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> sk = np.zeros((40, 80), bool); sk[20, 5:75] = True; sk[21:36, 40] = True
+    >>> s = skeleton_to_structure(sk, np.full(sk.shape, 2.0), min_component_length=20)
+    >>> len(s.branches), s.branches[1].parent
+    (2, 0)
+    >>> sk[21:24, 40] = False      # the side branch stops 3 px short of the main one
+    >>> joined = skeleton_to_structure(sk, np.full(sk.shape, 2.0), min_component_length=20,
+    ...                                joins=[((24, 40), (20, 40), False)])
+    >>> len(joined.branches), joined.branches[1].parent
+    (2, 0)
+    """
+    sk = np.asarray(skeleton).astype(bool)
+    rad = np.asarray(radius, np.float64)
+    if sk.ndim != 2 or rad.shape != sk.shape:
+        raise ValueError("skeleton must be 2-D and radius must have the same shape")
+    if not h > 0:
+        raise ValueError(f"h must be > 0, got {h}")
+    out = Structure([], image_shape=tuple(image_shape) if image_shape is not None else None)
+    if not sk.any():
+        return out
+    g, ys, xs = _skeleton_graph(sk)
+    node_r = rad[ys, xs]
+    if joins:
+        g, ys, xs, node_r = _add_joins(g, ys, xs, node_r, sk.shape, joins)
+    n_comp, comp = csgraph.connected_components(g, directed=False)
+    deg = np.diff(g.indptr)
+    pts_full = np.column_stack([xs, ys]).astype(np.float64) / scale
+    r_full = np.maximum(node_r / scale, 0.5)
+    # Component lengths (sum of spanning edges ~ number of pixels).
+    comp_len = np.bincount(comp, minlength=n_comp) / scale
+    hh, ww = sk.shape
+    yy_, xx_ = np.mgrid[0:hh, 0:ww]
+    border_dist = np.minimum(np.minimum(yy_, hh - 1 - yy_), np.minimum(xx_, ww - 1 - xx_)).astype(np.float64)
+    region_dist = border_dist
+    has_region = False
+    if isinstance(root, str) and root in ("nearest_region", "auto") and region is not None:
+        reg = np.asarray(region, bool)
+        if reg.shape != sk.shape:
+            raise ValueError(f"region must have the skeleton's shape {sk.shape}, got {reg.shape}")
+        if reg.any():
+            region_dist = ndi.distance_transform_edt(~reg)
+            has_region = True
+    # a piece cut by the frame (it reaches within 4 px of it) is kept from half the length: the rest
+    # of the line is outside the image (a crop's rivers entering from its frame)
+    comp_frame = np.full(n_comp, np.inf)
+    np.minimum.at(comp_frame, comp, border_dist[ys, xs])
+    min_len = np.where(comp_frame <= 4.0 * scale, 0.5 * min_component_length, min_component_length)
+    roots = []
+    for c in np.flatnonzero(comp_len >= min_len):
+        members = np.flatnonzero(comp == c)
+        ends = members[deg[members] == 1]
+        cand = ends if len(ends) else members
+        if isinstance(root, str):
+            if root == "auto":
+                lo, hi = np.percentile(r_full[members], [25, 75])
+                # one width: within 1.5 x, or within a pixel (the radius of a 1-2 px drawn line comes
+                # in half-pixel steps, 0.5 vs 0.9, which says nothing about where it drains)
+                one_width = hi < 1.5 * lo or hi - lo < 1.0
+                if has_region and one_width:
+                    key = region_dist[ys[cand], xs[cand]]
+                    cand, key = _mouth_node(cand, key, members, region_dist[ys[members], xs[members]], scale)
+                else:
+                    key = -_end_radius(pts_full, r_full, cand, members)
+            elif root == "thickest":
+                key = -_end_radius(pts_full, r_full, cand, members)
+            elif root == "top":
+                key = pts_full[cand, 1]
+            elif root == "bottom":
+                key = -pts_full[cand, 1]
+            elif root == "left":
+                key = pts_full[cand, 0]
+            elif root == "right":
+                key = -pts_full[cand, 0]
+            elif root in ("border", "nearest_region"):
+                key = region_dist[ys[cand], xs[cand]] if root == "nearest_region" else \
+                    border_dist[ys[cand], xs[cand]]
+                if root == "nearest_region" and has_region:
+                    key = _delta_source_key(key, pts_full, r_full, cand, members, scale)
+            else:
+                raise ValueError("root must be auto/thickest/top/bottom/left/right/border/nearest_region "
+                                 f"or (x, y), got {root!r}")
+        else:
+            q = np.asarray(root, np.float64).reshape(2)
+            key = np.hypot(*(pts_full[cand] - q).T)
+        roots.append(int(cand[np.argmin(key)]))
+    if not roots:
+        return out
+    dist, pred, _ = csgraph.dijkstra(g, directed=False, indices=roots, return_predecessors=True,
+                                     min_only=True)
+    reach = np.isfinite(dist)
+    order = np.argsort(dist)
+    order = order[reach[order]]
+    children: dict[int, list[int]] = {}
+    height = np.zeros(len(ys))
+    for v in order[::-1]:
+        pv = pred[v]
+        if pv >= 0:
+            children.setdefault(int(pv), []).append(int(v))
+            hv = height[v] + np.hypot(ys[v] - ys[pv], xs[v] - xs[pv])
+            height[pv] = max(height[pv], hv)
+    min_len_px = min_branch_length * scale
+    # Decompose: (start node, parent branch, index of start node on the parent path)
+    stack = [(r, None, None) for r in roots]
+    paths: list[tuple[list[int], int | None, int | None]] = []
+    while stack:
+        start, par, pvx = stack.pop()
+        path = [start]
+        v = start
+        while v in children:
+            kids = children[v]
+            best = max(kids, key=lambda u: height[u])
+            path.append(best)
+            v = best
+        bi = len(paths)
+        paths.append((path, par, pvx))
+        for i, node in enumerate(path):
+            for u in children.get(node, ()):
+                if i + 1 < len(path) and u == path[i + 1]:
+                    continue
+                sub = height[u] + np.hypot(ys[u] - ys[node], xs[u] - xs[node])
+                if sub >= max(min_len_px, spur_factor * node_r[node]):
+                    stack.append((u, bi, i))
+    # Build branches in creation order; children prepend their furcation node.
+    new_index: dict[int, int] = {}
+    built: list[Branch] = []
+    for bi, (path, par, pvx) in enumerate(paths):
+        nodes = path if par is None else [paths[par][0][pvx]] + path
+        pts = pts_full[nodes]
+        r = r_full[nodes]
+        if par is not None and par not in new_index:
+            continue
+        if par is not None and len(nodes) > 2:
+            # The distance transform near the junction measures the parent:
+            # use the child's own radius from one parent radius onwards.
+            arc = arc_length(pts)
+            inside = arc < r[0] + 1.0
+            if inside.all():
+                inside[-1] = False
+            first = int(np.argmin(inside))
+            r = r.copy()
+            r[:first] = r[first]
+        if len(pts) >= 3 and smooth * scale > _NO_BLUR:
+            sm = ndi.gaussian_filter1d(pts, smooth * scale, axis=0, mode="nearest")
+            sm[0], sm[-1] = pts[0], pts[-1]
+            pts = sm
+        if len(r) >= 3 and smooth_radius * scale > _NO_BLUR:
+            r = _median_then_gauss(r, smooth_radius * scale)
+        length = polyline_length(pts)
+        if length < max(h, 1e-9) or (par is None and length < min_branch_length):
+            continue
+        rp, rr = resample_uniform(pts, h, values=r, include_end=True)
+        if len(rp) < 2:
+            continue
+        if par is None:
+            built.append(Branch(rp, np.maximum(rr, 0.5)))
+        else:
+            parent_b = built[new_index[par]]
+            anchor = pts[0]
+            v = int(np.argmin(np.hypot(*(parent_b.points - anchor).T)))
+            rp[0] = parent_b.points[v]
+            built.append(Branch(rp, np.maximum(rr, 0.5), new_index[par], v))
+        new_index[bi] = len(built) - 1
+    return Structure(built, image_shape=out.image_shape)
+
+
+#: Gaussian sigmas (pixels) below this are no smoothing (scipy divides by a vanishing sigma).
+_NO_BLUR = 1e-3
+
+
+def _median_then_gauss(r: np.ndarray, sigma: float) -> np.ndarray:
+    k = max(3, round(sigma) | 1)
+    return ndi.gaussian_filter1d(ndi.median_filter(r, size=k, mode="nearest"), sigma, mode="nearest")

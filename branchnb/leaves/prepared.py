@@ -1,0 +1,294 @@
+"""What every new leaf of one analysis shares (see :mod:`branchnb.leaves.synthesis`).
+
+The stage images of every exemplar (steps 1-2: the residual and each
+layer's image, bled outside the blade), the layer masks and weights, the
+colour ranges a layer's contrast is clipped to, the maps between the
+training frame and every exemplar's (with the exemplar's pose taken out,
+step 3), each exemplar's own petiole (step 5) and the median registration
+error (:func:`registration_errors`) the random warps are measured in.
+Built once per analysis and cached on it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy import ndimage as ndi
+
+from ..core.image import extend_nearest
+from .flatart import _replace_from_blade, drawn_outline, flat_art
+from .shaping import _grid, _map_jacobian, _remap_map, _remap_values, _sample
+
+__all__ = ["registration_errors"]
+
+
+def _bleed(img: np.ndarray, mask: np.ndarray) -> np.ndarray:
+    """Colours of ``mask`` extended outwards (nearest mask pixel), so warps never pull in the backdrop."""
+    return extend_nearest(img, mask)
+
+def _boundary(mask):
+    return mask & ~ndi.binary_erosion(mask)
+
+
+def registration_errors(analysis) -> list[float]:
+    """Per exemplar: mean distance (px) between the training blade's outline and the registered exemplar's.
+
+    A registration-independent measure (it only uses ``to_training``); 0 for the training leaf.
+
+    Parameters
+    ----------
+    analysis : LeafAnalysis
+        Gives the blades, the training index and the registrations.
+
+    Returns
+    -------
+    list of float
+        One symmetric mean outline distance per exemplar, in training-leaf
+        pixels; NaN where the warped blade is empty.
+    """
+    from .analysis import warp_mask
+    t = analysis.training_index
+    bt = analysis.blades[t]
+    dt_t = ndi.distance_transform_edt(~_boundary(bt))
+    out = []
+    for e, reg in enumerate(analysis.registrations):
+        if e == t:
+            out.append(0.0)
+            continue
+        be = warp_mask(reg, analysis.blades[e], to_training=True)
+        if not be.any():
+            out.append(float("nan"))
+            continue
+        dt_e = ndi.distance_transform_edt(~_boundary(be))
+        out.append(float(0.5 * (dt_t[_boundary(be)].mean() + dt_e[_boundary(bt)].mean())))
+    return out
+
+
+class _Prepared:
+    """What every generated leaf of one analysis shares (exemplar-frame images and maps)."""
+
+    def __init__(self, analysis):
+        a = analysis
+        self.analysis = a
+        t = a.training_index
+        self.shape = a.blades[t].shape
+        self.n = len(a.exemplars)
+        self.size = float(np.sqrt(a.blades[t].sum()))
+        self.xx, self.yy = _grid(self.shape)
+        # Drawn exemplars (flat fill, ink outline): see branchnb.leaves.flatart.
+        self.flat = flat_art(a.exemplars, a.blades)
+        fa = self.flat
+        last = len(a.residuals) - 1
+
+        def stage_image(k, e):
+            img = np.asarray(a.residuals[k][e], np.float32)
+            if fa is not None:
+                # No outline in any stage (it is drawn anew along the new
+                # blade), and no ink at all in the background: ink the
+                # induction missed stayed beside the donor's veins.
+                img = fa.clean(img, a.blades[e], fa.ink[e] if k == last else fa.outline[e])
+            elif outlines[e].any():
+                # An ink outline around a leaf that is not flat art (a
+                # gradient-filled drawing) is taken out too (drawn_outline).
+                img = _replace_from_blade(img, a.blades[e], outlines[e])
+            return _bleed(img, a.blades[e])
+
+        outlines = [drawn_outline(a.exemplars[e], a.blades[e]) if fa is None else None for e in range(self.n)]
+
+        # Stage k image of exemplar e (layers above k removed), bled outside the blade.
+        self.stage = [[stage_image(k, e) for e in range(self.n)] for k in range(len(a.residuals))]
+        # What a layer's contrast is taken against: the next stage, without
+        # any ink on drawn leaves (a stroke the induction missed is still in
+        # the next stage, so its ratio was 1 and the pasted vein had gaps).
+        self.under = [[_bleed(fa.clean(np.asarray(a.residuals[k][e], np.float32), a.blades[e], fa.ink[e]),
+                              a.blades[e]) for e in range(self.n)] if fa is not None and 0 < k < last
+                      else self.stage[k] for k in range(len(a.residuals))]
+        # Layer masks grown by the pixel the residual also removed: the
+        # exemplar's own anti-aliased rim comes back with the layer.
+        self.layer_masks, self.layer_weights = [], []
+        for L in a.layers:
+            ms, ws = [], []
+            for e in range(self.n):
+                mk = L.masks[e]
+                if fa is not None and mk.any():
+                    # Whole strokes: the ink the layer's mask touches, followed
+                    # through the ink (not the outline, drawn anew).
+                    strokes = fa.ink[e] & ~fa.outline[e]
+                    mk = (mk | ndi.binary_propagation(mk & strokes, mask=strokes)) & ~fa.outline[e]
+                ms.append(ndi.binary_dilation(mk).astype(np.float32) * a.blades[e])
+                wgt = np.where(a.blades[e], np.maximum(L.delta - L.combined[e], 0.0) / max(L.delta, 1e-6), 0.0)
+                ws.append(ndi.grey_dilation(wgt.astype(np.float32), size=3))
+            self.layer_masks.append(ms)
+            self.layer_weights.append(ws)
+        # The colours each layer takes in the exemplars (0.5th-99.5th
+        # percentile per channel): a layer brought as contrast onto another
+        # leaf stays inside them (a vein never darker than any exemplar's).
+        # Within the exemplars' blade colours as well (same percentiles).
+        blade_px = np.concatenate([np.asarray(a.exemplars[e], np.float32)[..., :3][a.blades[e]]
+                                   for e in range(self.n)])
+        b_lo, b_hi = np.percentile(blade_px, 0.5, axis=0), np.percentile(blade_px, 99.5, axis=0)
+        self.blade_range = (b_lo.astype(np.float32), b_hi.astype(np.float32))
+        self.layer_range = []
+        for k, L in enumerate(a.layers):
+            px = [np.asarray(a.residuals[k][e], np.float32)[..., :3][L.masks[e]] for e in range(self.n)]
+            px = np.concatenate([x for x in px if len(x)] or [np.zeros((1, 3), np.float32)])
+            lo = np.clip(np.percentile(px, 0.5, axis=0), b_lo, b_hi)
+            hi = np.clip(np.percentile(px, 99.5, axis=0), lo, b_hi)
+            self.layer_range.append((lo.astype(np.float32), hi.astype(np.float32)))
+        ident = np.stack([self.xx, self.yy], -1)
+        # Training frame -> exemplar e, and exemplar e's frame -> training.
+        self.to_exemplar = [ident if e == t else np.asarray(a.registrations[e].map_to_training, np.float32)
+                            for e in range(self.n)]
+        self.from_exemplar = [ident if e == t else np.asarray(a.registrations[e].map_from_training, np.float32)
+                              for e in range(self.n)]
+        self.pose_angles = [0.0] * self.n
+        ys, xs = np.nonzero(a.blades[t])
+        self.centre_t = np.array([xs.mean(), ys.mean()])
+        self.shape_maps = [ident if e == t else self._upright_map(e) for e in range(self.n)]
+        self.alpha_t = a.exemplars[t][..., 3].astype(np.float32)
+        self._prepare_petioles()
+        errs = np.array(registration_errors(a), float)
+        others = errs[np.arange(self.n) != t]
+        others = others[np.isfinite(others)]
+        self.registration_error = float(np.median(others)) if len(others) else 1.0
+        lams = np.array([L.lam for L in a.layers], float)
+        top = float(lams.max()) if len(lams) and lams.max() > 0 else 1.0
+        self.structural = [float(x / top) for x in lams]
+
+    def _upright_map(self, e: int) -> np.ndarray:
+        """Exemplar ``e``'s map to the training frame, seen in the training leaf's pose.
+
+        ``from_exemplar[e](P_e(y))`` with ``P_e`` the rigid part (rotation
+        about the blade centroid) taking the training pose to exemplar
+        ``e``'s: the least-squares rotation (Kabsch) of the whole map over
+        the training blade. (The start map's rotation is not that: on a
+        palmate leaf the start may sit a lobe away, about 47 degrees off
+        on a procedural family, which the spline then turns back; blending
+        such an "upright" map with the others gave malformed lobes.)
+        Leaves photographed at different angles (a strip lying across the
+        paper, another along it) give maps that agree up to their non-rigid
+        part and their size, so their convex blend is a leaf shape; blending
+        the raw maps mixed a rotation with its opposite and
+        swirled the blade into blobs. Size differences stay (they are shape
+        variation).
+        """
+        field = self.from_exemplar[e]
+        ys, xs = np.nonzero(self.analysis.blades[self.analysis.training_index])
+        step = max(1, len(xs) // 20000)
+        y = np.column_stack([xs[::step], ys[::step]]).astype(np.float64)
+        z = field[ys[::step], xs[::step]].astype(np.float64)
+        c_t, c_e = y.mean(0), z.mean(0)
+        u, _, vt = np.linalg.svd((z - c_e).T @ (y - c_t))
+        if np.linalg.det(u @ vt) < 0:  # a rotation, never a reflection
+            u[:, -1] *= -1
+        to_exemplar = u @ vt  # rotation of the map: training pose -> exemplar pose
+        # The exemplar's pose relative to the training leaf's (radians).
+        self.pose_angles[e] = -float(np.arctan2(to_exemplar[1, 0], to_exemplar[0, 0]))
+        rot = to_exemplar
+        # About the training centroid, the centre `posed` turns about, so a
+        # blend of one exemplar gives back its own map.
+        q = (np.stack([self.xx, self.yy], -1).astype(np.float64) - self.centre_t) @ rot + self.centre_t
+        return _remap_map(self.from_exemplar[e], q.astype(np.float32))
+
+    def posed(self, upright: np.ndarray, weights) -> np.ndarray:
+        """The blended upright map turned to the exemplars' mean pose (circular mean, ``weights``).
+
+        New leaves lie as the exemplars that made them lie, like the blend
+        of the raw maps for leaves photographed at nearly one angle; but
+        the angles are averaged as angles, so a leaf across the paper and
+        one along it give a leaf at 45 degrees, not a swirl. (The pose of
+        the exemplar weighing most instead tilted new maples by their
+        donors' few degrees and turned their petioles askew.)
+        """
+        w = np.asarray(weights, float)
+        ang = np.asarray(self.pose_angles)
+        theta = float(np.arctan2((w * np.sin(ang)).sum(), (w * np.cos(ang)).sum()))
+        if abs(theta) < 1e-6:
+            return upright
+        c, s = np.cos(theta), np.sin(theta)
+        back = np.array([[c, s], [-s, c]])  # rotation by -theta: output pose -> upright frame
+        q = (np.stack([self.xx, self.yy], -1).astype(np.float64) - self.centre_t) @ back.T + self.centre_t
+        return _remap_map(upright, q.astype(np.float32))
+
+    def _prepare_petioles(self):
+        """Each exemplar's own petiole (RGBA, exemplar frame), its base and how its lamina meets the base.
+
+        The registration is of the laminae (a petiole bends and varies in
+        length: no shared shape), so the shape blend would carry the training
+        leaf's petiole onto every new leaf. Instead the training petiole is
+        cut from the alpha and a new leaf gets one exemplar's own petiole,
+        attached at the new leaf's base as it is attached to its own lamina.
+        """
+        from .registration import split_petiole
+
+        a = self.analysis
+        t = a.training_index
+        self.petiole_rgba, self.petiole_base, self.petiole_jac = [], [], []
+        # Each exemplar's size: the square root of its lamina's area.
+        self.lamina_size = [float(np.sqrt(split_petiole(b)[0].sum())) for b in a.blades]
+        _, pet_t, base_t = split_petiole(a.blades[t])
+        self.base_t = base_t
+        if base_t is not None:
+            rim = ndi.binary_dilation(pet_t, iterations=2) & ~ndi.binary_erosion(
+                a.blades[t] & ~pet_t, iterations=1)
+            # With the faint alpha off the blade whose nearest blade pixel is
+            # petiole (a photo's shadow and fringe along the stalk), which
+            # the rim misses and which traced the old petiole faintly beside
+            # the new one.
+            rim |= extend_nearest(pet_t, a.blades[t]) & ~a.blades[t]
+            self.alpha_t = self.alpha_t * ~rim
+        for e in range(self.n):
+            _, pet, base = split_petiole(a.blades[e])
+            if base_t is None or base is None:
+                self.petiole_rgba.append(None)
+                self.petiole_base.append(None)
+                self.petiole_jac.append(None)
+                continue
+            img = np.asarray(a.exemplars[e], np.float32).copy()
+            keep = ndi.binary_dilation(pet, iterations=2)
+            img[..., 3] *= keep
+            self.petiole_rgba.append(img)
+            self.petiole_base.append(base)
+            self.petiole_jac.append(_map_jacobian(self.from_exemplar[e], base))
+        self.petiole_exemplars = [e for e in range(self.n) if self.petiole_rgba[e] is not None]
+
+    def petiole_layer(self, e: int, m: np.ndarray):
+        """Exemplar ``e``'s petiole (RGBA) in the output frame of the shape map ``m``, or None.
+
+        The new leaf's base ``y_b`` is where ``m`` reaches the training
+        base; the petiole is moved there by the similarity (the rotation and
+        scale of the polar decomposition) of ``J_m(y_b)^-1 J_e(base_e)``:
+        how exemplar ``e``'s frame relates to the new leaf's at the base.
+        """
+        if self.base_t is None or self.petiole_rgba[e] is None:
+            return None
+        d = np.hypot(m[..., 0] - self.base_t[0], m[..., 1] - self.base_t[1])
+        yb = np.array(np.unravel_index(int(np.argmin(d)), d.shape)[::-1], np.float64)
+        if d[int(yb[1]), int(yb[0])] > 0.05 * self.size:
+            return None  # the new leaf's base is off the canvas
+        jm = _map_jacobian(m, yb)
+        lin = np.linalg.solve(jm, self.petiole_jac[e]) if abs(np.linalg.det(jm)) > 1e-9 else np.eye(2)
+        u, sv, vt = np.linalg.svd(lin)
+        rot = u @ vt
+        if np.linalg.det(rot) < 0:  # no mirrored petiole
+            u[:, -1] *= -1
+            rot = u @ vt
+        sim = rot * float(np.sqrt(sv.prod()))
+        inv = np.linalg.inv(sim)
+        q = (np.stack([self.xx, self.yy], -1) - yb) @ inv.T + self.petiole_base[e]
+        return _sample(self.petiole_rgba[e], q.astype(np.float32))
+
+    def source_coords(self, e: int, m: np.ndarray, disp: np.ndarray) -> np.ndarray:
+        """Exemplar ``e`` pixel for every output pixel: ``W_e^-1(m(y) + d(m(y)))`` (maps composed, one resampling)."""
+        q = m + _remap_values(disp, m)
+        return _remap_values(self.to_exemplar[e], q)
+
+
+_CACHE_KEY = "_synthesis_prepared"
+
+
+def _prepared(analysis) -> _Prepared:
+    p = getattr(analysis, _CACHE_KEY, None)
+    if p is None or p.analysis is not analysis:
+        p = _Prepared(analysis)
+        object.__setattr__(analysis, _CACHE_KEY, p)
+    return p

@@ -1,0 +1,299 @@
+"""Random warps, the shape blend and resampling (steps 1-3 of :mod:`branchnb.leaves.synthesis`).
+
+:func:`random_warp` moves the background and each layer by a smooth random
+field; :func:`shape_weights` gives the per-pixel convex weights ``a_i(x)``
+of the blend of inverse registration warps. The private helpers compose
+and resample the coordinate maps (every image of a new leaf is resampled
+once) and fit the new leaf's size on the canvas.
+"""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+
+from ..core.random import as_rng
+from ..core.warp import remap
+
+__all__ = ["random_warp", "shape_weights"]
+
+
+def random_warp(shape, amplitude: float, correlation: float, rng) -> np.ndarray:
+    """A smooth random displacement field (H, W, 2) whose largest displacement is ``amplitude`` px.
+
+    Random vectors on a grid of spacing ``correlation`` px, interpolated
+    bicubically.
+
+    Parameters
+    ----------
+    shape : (int, int)
+        ``(H, W)`` of the field.
+    amplitude : float
+        Largest displacement length in pixels, ``>= 0`` (0: no warp).
+    correlation : float
+        Grid spacing of the random vectors in pixels, ``> 0``: the length
+        over which displacements are alike.
+    rng : {numpy.random.Generator, int}
+        Draws the random vectors.
+
+    Returns
+    -------
+    (H, W, 2) float32 ndarray
+        Displacement ``(dx, dy)`` per pixel.
+
+    Examples
+    --------
+    >>> d = random_warp((40, 50), 2.0, 20.0, 0)
+    >>> d.shape, round(float(np.hypot(d[..., 0], d[..., 1]).max()), 3)
+    ((40, 50, 2), 2.0)
+    """
+    rng = as_rng(rng)
+    h, w = int(shape[0]), int(shape[1])
+    if not (np.isfinite(amplitude) and amplitude >= 0):
+        raise ValueError(f"amplitude must be finite and >= 0, got {amplitude}")
+    if not (np.isfinite(correlation) and correlation > 0):
+        raise ValueError(f"correlation must be > 0, got {correlation}")
+    gh = max(2, int(np.ceil(h / correlation)) + 1)
+    gw = max(2, int(np.ceil(w / correlation)) + 1)
+    coarse = rng.standard_normal((gh, gw, 2)).astype(np.float32)
+    d = cv2.resize(coarse, (w, h), interpolation=cv2.INTER_CUBIC)
+    m = float(np.hypot(d[..., 0], d[..., 1]).max())
+    if amplitude == 0 or m == 0:
+        return np.zeros((h, w, 2), np.float32)
+    return (d * np.float32(amplitude / m)).astype(np.float32)
+
+def shape_weights(shape, n: int, grid: int, sigma_px: float, rng, concentration: float = 0.3,
+                  spread: float = 0.75) -> np.ndarray:
+    """Per-pixel convex weights ``a_i(x)`` (n, H, W): random coefficients, blurred, normalised.
+
+    One draw per leaf decides which exemplars its shape comes from: global
+    weights ``g ~ Dirichlet(concentration)`` (small concentration: one or
+    two exemplars dominate). Each of the ``grid`` x ``grid`` cells then
+    multiplies them by its own Gamma noise of mean 1 and coefficient of
+    variation ``spread`` (so the weights vary smoothly over the leaf), and
+    the coefficients are blurred by a Gaussian of ``sigma_px`` and
+    normalised per pixel.
+
+    Going beyond the paper: a Dirichlet drawn independently per cell (as a
+    literal reading of "random convex weights per pixel" suggests), once
+    blurred, averages nearly evenly over all exemplars at every pixel, so
+    every new leaf came out close to the mean shape (median pairwise
+    blade IoU 0.86 among new maples against the exemplars' 0.63).
+
+    Parameters
+    ----------
+    shape : (int, int)
+        ``(H, W)`` of the fields.
+    n : int
+        Number of exemplars.
+    grid : int
+        Random coefficients per side.
+    sigma_px : float
+        Blur of the coefficients (px).
+    rng : {numpy.random.Generator, int}
+        Draws the per-leaf weights and the per-cell factors.
+    concentration : float
+        Symmetric Dirichlet concentration of the per-leaf weights.
+    spread : float
+        Coefficient of variation of the per-cell factors (0: the same
+        weights everywhere).
+
+    Returns
+    -------
+    (n, H, W) float32 ndarray
+        Non-negative, summing to 1 at every pixel.
+
+    Examples
+    --------
+    >>> a = shape_weights((30, 30), 3, 2, 5.0, 0)
+    >>> a.shape, bool(np.allclose(a.sum(0), 1)), bool(a.min() >= 0)
+    ((3, 30, 30), True, True)
+    """
+    rng = as_rng(rng)
+    h, w = int(shape[0]), int(shape[1])
+    if not (np.isfinite(concentration) and concentration > 0):
+        raise ValueError(f"concentration must be > 0, got {concentration}")
+    if not (np.isfinite(spread) and spread >= 0):
+        raise ValueError(f"spread must be >= 0, got {spread}")
+    g = rng.dirichlet(np.full(n, float(concentration)))
+    g = np.maximum(np.nan_to_num(g, nan=0.0), 0.0)
+    if g.sum() <= 0:  # a degenerate draw (all alphas tiny): one exemplar
+        g = np.eye(n)[int(rng.integers(n))]
+    g = g / g.sum()
+    if spread > 0:
+        k = 1.0 / float(spread) ** 2
+        noise = rng.gamma(k, 1.0 / k, size=(grid, grid, n))
+    else:
+        noise = np.ones((grid, grid, n))
+    coeff = (g * noise).astype(np.float32)  # (g, g, n)
+    coeff /= np.maximum(coeff.sum(-1, keepdims=True), 1e-12)
+    # The fields are smooth: blur on a reduced grid, then interpolate up.
+    f = max(1, int(sigma_px // 4))
+    hs, ws = max(2, int(np.ceil(h / f))), max(2, int(np.ceil(w / f)))
+    out = np.empty((n, h, w), np.float32)
+    for i in range(n):
+        c = cv2.resize(coeff[..., i], (ws, hs), interpolation=cv2.INTER_LINEAR)
+        c = cv2.GaussianBlur(c, (0, 0), max(float(sigma_px) / f, 0.5), borderType=cv2.BORDER_REFLECT)
+        out[i] = cv2.resize(c, (w, h), interpolation=cv2.INTER_LINEAR)
+    out = np.maximum(out, 0)
+    out /= np.maximum(out.sum(0, keepdims=True), 1e-12)
+    return out
+
+def _grid(shape):
+    h, w = shape
+    xx, yy = np.meshgrid(np.arange(w, dtype=np.float32), np.arange(h, dtype=np.float32))
+    return xx, yy
+
+def _map_jacobian(field: np.ndarray, point) -> np.ndarray:
+    """2 x 2 Jacobian of a dense coordinate map ``field`` (H, W, 2) at ``point`` (x, y), by central differences."""
+    h, w = field.shape[:2]
+    x, y = float(point[0]), float(point[1])
+    step = 3.0
+    pts = np.array([[x + step, y], [x - step, y], [x, y + step], [x, y - step]], np.float32)
+    pts[:, 0] = np.clip(pts[:, 0], 0, w - 1)
+    pts[:, 1] = np.clip(pts[:, 1], 0, h - 1)
+    v = _remap_values(field, pts[None])[0]
+    dx = (v[0] - v[1]) / max(float(pts[0, 0] - pts[1, 0]), 1e-6)
+    dy = (v[2] - v[3]) / max(float(pts[2, 1] - pts[3, 1]), 1e-6)
+    return np.column_stack([dx, dy]).astype(np.float64)
+
+
+def _linear_part(field: np.ndarray) -> np.ndarray:
+    """The 2 x 2 linear part of the least-squares affine fit of a coordinate map (H, W, 2)."""
+    h, w = field.shape[:2]
+    step = max(1, int(np.sqrt(h * w / 4096)))
+    ys, xs = np.mgrid[0:h:step, 0:w:step]
+    src = np.column_stack([xs.ravel(), ys.ravel(), np.ones(xs.size)]).astype(np.float64)
+    dst = field[::step, ::step].reshape(-1, 2).astype(np.float64)
+    coef, *_ = np.linalg.lstsq(src, dst, rcond=None)
+    return coef[:2].T
+
+
+def _remap_map(field, c):
+    """A coordinate map resampled at ``c``, continued past the canvas by its affine fit.
+
+    Off the canvas the map is its edge value plus the fit's linear part
+    times the step beyond the edge, so far points keep going away (the
+    replicated edge value drew straight streaks from a leaf to the canvas
+    edge). A sentinel "off" value instead was blended into other maps with
+    a small weight, and bilinearly into its neighbours, giving finite
+    coordinates that landed on the lamina: stray fragments of leaf far
+    from the new one.
+    """
+    h, w = field.shape[:2]
+    c = np.asarray(c, np.float32)
+    inside = np.empty_like(c)
+    inside[..., 0] = np.clip(c[..., 0], 0, w - 1)
+    inside[..., 1] = np.clip(c[..., 1], 0, h - 1)
+    out = _remap_values(field, inside)
+    beyond = c - inside
+    if np.any(beyond):
+        out = out + (beyond @ _linear_part(field).T.astype(np.float32))
+    return out.astype(np.float32)
+
+
+def _remap_values(field, c):
+    """Bilinear samples of any float field (coordinates, displacements) at ``c``; edges replicated."""
+    out = cv2.remap(np.ascontiguousarray(field, np.float32), np.ascontiguousarray(c[..., 0]),
+                    np.ascontiguousarray(c[..., 1]), cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+    return out
+
+
+def _sample(img, c):
+    return remap(img, c[..., 0], c[..., 1])[0]
+
+
+def _sample_sharp(img, c):
+    """Colours sampled bicubically (clipped to [0, 1]).
+
+    Bilinear resampling at fractional offsets averages neighbours: a new
+    leaf came out with half its exemplars' high-frequency energy
+    (Laplacian variance inside the blade 0.49 of theirs on a 384 px
+    procedural family). Bicubic keeps veins and texture crisp.
+    """
+    img = np.ascontiguousarray(img, np.float32)
+    out = cv2.remap(img, np.ascontiguousarray(c[..., 0], np.float32), np.ascontiguousarray(c[..., 1], np.float32),
+                    cv2.INTER_LANCZOS4, borderMode=cv2.BORDER_REPLICATE)
+    if out.ndim == 2:
+        out = out[..., None]
+    return np.clip(out, 0.0, 1.0)
+
+
+def _sample_sharp_at(img, c, where):
+    """:func:`_sample_sharp` at the pixels of ``where`` only (0 elsewhere).
+
+    The same values where computed (remapping is per pixel), at the cost
+    of the pixels that are used: the blade, a layer's footprint. Lanczos
+    resampling of every channel over the whole canvas was half the time of
+    a new leaf at a megapixel.
+    """
+    img = np.ascontiguousarray(img, np.float32)
+    ch = img.shape[2] if img.ndim == 3 else 1
+    out = np.zeros(where.shape + (ch,), np.float32)
+    idx = np.flatnonzero(where)
+    if idx.size == 0:
+        return out
+    # The picked coordinates as a (rows, 1024) map (OpenCV maps are < 32767 on a side), padded.
+    n = idx.size
+    rows = -(-n // 1024)
+    maps = []
+    for i in (0, 1):
+        v = np.zeros(rows * 1024, np.float32)
+        v[:n] = c[..., i].reshape(-1)[idx]
+        maps.append(v.reshape(rows, 1024))
+    vals = cv2.remap(img, maps[0], maps[1], cv2.INTER_LANCZOS4, borderMode=cv2.BORDER_REPLICATE)
+    out.reshape(-1, ch)[idx] = np.clip(vals.reshape(-1, ch)[:n], 0.0, 1.0)
+    return out
+
+
+def _border_alpha(alpha: np.ndarray) -> float:
+    """Opacity on the canvas border (0: nothing is cut by the canvas edge)."""
+    return float(alpha[0].sum() + alpha[-1].sum() + alpha[:, 0].sum() + alpha[:, -1].sum())
+
+
+def _fit_size(p, m, size_from: int, shrink: float = 1.0) -> np.ndarray:
+    """The shape map ``m`` scaled (to one exemplar's size) and moved so the lamina stays on the canvas.
+
+    Going beyond the paper: a convex blend of warps averages the
+    exemplars' sizes, so new leaves came out nearly one size (size is most
+    of the variation among photographed maples: pairwise blade IoU 0.78
+    among new leaves against the exemplars' 0.63). With ``size_from >= 0``
+    the blend gives the shape and the size (square root of the lamina's
+    area) is that of exemplar ``size_from`` (-1: the blend's size). A
+    leaf that would then cross the canvas edge (a large exemplar's size on
+    the training leaf's place) is moved inwards, and shrunk only if it
+    cannot fit; ``shrink`` scales it further (room for a
+    petiole).
+    """
+    # The lamina on a coarse grid reaching half a canvas past each edge
+    # (the map continues past the canvas), so a leaf the canvas already
+    # cuts is measured whole.
+    h, w = p.shape
+    st = max(1.0, p.size / 100.0)
+    gx = np.arange(-0.5 * w, 1.5 * w, st, dtype=np.float32)
+    gy = np.arange(-0.5 * h, 1.5 * h, st, dtype=np.float32)
+    gxx, gyy = np.meshgrid(gx, gy)
+    mc = _remap_map(m, np.stack([gxx, gyy], -1))
+    lam = _remap_values(p.alpha_t, mc)
+    lam = np.where((mc[..., 0] >= 0) & (mc[..., 0] <= w - 1) & (mc[..., 1] >= 0) & (mc[..., 1] <= h - 1), lam, 0.0)
+    inside = lam > 0.5
+    if not inside.any():
+        return m
+    area = float(lam.sum()) * st * st
+    k = 1.0
+    if size_from >= 0 and p.lamina_size[size_from] > 0:
+        k = p.lamina_size[size_from] / np.sqrt(area)
+    ctr = np.array([(lam * gxx).sum(), (lam * gyy).sum()]) / float(lam.sum())
+    lo = np.array([gxx[inside].min(), gyy[inside].min()], float)
+    hi = np.array([gxx[inside].max(), gyy[inside].max()], float)
+    margin = 2.0 + 0.02 * p.size
+    room = np.array([w - 1.0, h - 1.0]) - 2 * margin
+    ext = np.maximum(hi - lo, 1.0)
+    k = float(min(k, *(room / ext))) if np.all(room > 0) else k
+    k *= float(shrink)
+    lo_k, hi_k = ctr + (lo - ctr) * k, ctr + (hi - ctr) * k
+    shift = np.maximum(margin - lo_k, 0.0) - np.maximum(hi_k - (np.array([w - 1.0, h - 1.0]) - margin), 0.0)
+    if abs(k - 1.0) < 1e-6 and not np.any(shift):
+        return m
+    q = (np.stack([p.xx, p.yy], -1) - (ctr + shift).astype(np.float32)) / np.float32(k) + ctr.astype(np.float32)
+    return _remap_map(m, q.astype(np.float32))

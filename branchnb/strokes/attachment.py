@@ -1,0 +1,229 @@
+"""Stroke pairs adjusted before fetching: branch exits, centred sources, unstroked parts carried.
+
+Step 2 (branching) of :func:`~branchnb.strokes.edit.edit_structure`, the
+parts beyond the paper: a branch drawn from its parent's centre line starts
+where it leaves the new parent's silhouette (:func:`_align_exits`), moved
+source strokes are slid onto the middle of their part (:func:`_centred_pairs`,
+:mod:`~branchnb.strokes.centring`), and the parts nobody stroked are carried
+rigidly by the stroke they hang from (:func:`_carried_parts`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .centring import centre_stroke
+from .junctions import exit_length
+from .parts import add_bases, rigid_frame
+from .strokes import StrokePair, make_pairs
+
+__all__: list[str] = []
+
+
+def _align_exits(index, pairs, attached, junctions) -> None:
+    """Make branches drawn from their parent's centre line leave the new parent's silhouette.
+
+    Such a branch copies nothing of its source parent (see
+    :func:`~branchnb.strokes.fetch.source_index`): its texture starts where
+    its source stroke leaves the source parent's tube. A control pair maps
+    that point to where its target stroke leaves the target parent's
+    silhouette (the parent as re-synthesized: its source silhouette's width
+    at the corresponding place), so the branch starts at the parent's
+    edge, wherever it is moved to and however thick the parent is there.
+    """
+    for jn in junctions:
+        i = jn.child
+        src_parent = index.joined[i][jn.end] if index.joined else -1
+        if src_parent < 0:
+            continue
+        ppair = attached[jn.parent]
+        a = exit_length(pairs[i].source, index.strokes[src_parent],
+                        lambda s, k=src_parent: index.half_width(k, s), jn.end)
+        b = exit_length(attached[i].target, ppair.target,
+                        lambda s, k=jn.parent, pp=ppair: index.edge_width(k, pp.source_arc_length(s)),
+                        jn.end)
+        if a is None or b is None:
+            continue
+        # A branch leaving its parent at the angle it left it in the source keeps the
+        # parent's tube at the joint as it was (the parent copies the same pixels there):
+        # it starts where it left the tube, as in the source (an identity edit is an
+        # identity; with the silhouette's width a corner-cutting branch was shifted along
+        # itself by the tube's excess and its unstroked parts no longer followed it).
+        # The more it turns, the more the silhouette's width counts. Beyond the paper.
+        same = exit_length(attached[i].target, ppair.target,
+                           lambda s, k=jn.parent, pp=ppair: index.half_width(k, pp.source_arc_length(s)),
+                           jn.end)
+        if same is not None:
+            turn = abs(_joint_angle(pairs[i].source, index.strokes[src_parent], jn.end)
+                       - _joint_angle(attached[i].target, ppair.target, jn.end))
+            turn = min(turn, 2.0 * np.pi - turn)
+            t = float(np.clip(turn / _EXIT_TURN, 0.0, 1.0))
+            b = (1.0 - t) * same + t * b
+        pair = attached[i]
+        ls, lt = pair.source.length, pair.target.length
+        row = (a, b) if jn.end == 0 else (ls - a, lt - b)
+        attached[i] = _with_pins(pair, [row])
+
+
+def _under_parent(index, i: int, jn) -> bool:
+    """Whether source stroke ``i`` already starts (at ``jn.end``) inside its target parent's
+    source silhouette: a branch drawn from inside the fork (not quite on the parent's centre
+    line), not a free tip glued to the parent. Such an end is not pushed under the parent
+    (an identity edit stays an identity: the extension stretched the whole branch)."""
+    if not index.has_alpha:
+        return False
+    child, parent = index.strokes[i], index.strokes[jn.parent]
+    if child.points.tobytes() == parent.points.tobytes():
+        return False
+    end = child.points[:1] if jn.end == 0 else child.points[-1:]
+    s_par, d = parent.project(end)
+    return bool(d[0] <= float(index.half_width(jn.parent, float(s_par[0]))) + 1.0)
+
+
+#: Turn of a branch against its parent (radians) from which its exit is placed at the
+#: silhouette's width only (see _align_exits).
+_EXIT_TURN = np.radians(30.0)
+
+
+def _joint_angle(child, parent, end: int) -> float:
+    """Angle (radians, in [0, 2 pi)) of ``child`` leaving ``parent`` at its ``end``, against the
+    parent's direction at the nearest point."""
+    s_c = 0.0 if end == 0 else child.length
+    d_c = float(child.angle_at(s_c, window=max(4.0, 0.1 * child.length)))
+    if end == 1:
+        d_c += np.pi
+    s_p = float(parent.project(child.point_at(np.array([s_c])))[0][0])
+    d_p = float(parent.angle_at(s_p, window=max(4.0, 0.05 * parent.length)))
+    return float((d_c - d_p) % (2.0 * np.pi))
+
+
+def _centred_pairs(src_img, pairs, control_points, target_shape) -> list[StrokePair]:
+    """``pairs`` with every moved source stroke slid onto the middle of its part (:mod:`.centring`).
+
+    Pairs whose target is the source itself (parts kept in place) and pairs
+    with the user's own control points stay as drawn.
+    """
+    alpha = src_img[..., 3]
+    if not bool((alpha < 0.999).any()):
+        return pairs  # an opaque image: no silhouette to centre on
+    mask = alpha > 0.5
+    sources, changed = [], False
+    kept = [p.source.points.shape == p.target.points.shape and np.allclose(p.source.points, p.target.points)
+            for p in pairs]
+    # a source stroke also given for a part kept in place (a branch copied to grow a new
+    # one) stays as drawn for every pair: two copies of one stroke, one centred, would
+    # split the branch's pixels between them (each the nearer one's) and neither fetch it whole
+    shared = {p.source.points.tobytes() for p, k in zip(pairs, kept) if k}
+    for i, p in enumerate(pairs):
+        keep = (control_points is not None and control_points[i] is not None) or kept[i] or (
+            p.source.points.tobytes() in shared)
+        others = [q.source.points for j, q in enumerate(pairs) if j != i]
+        pts = p.source.points if keep else centre_stroke(mask, p.source.points, others=others)
+        changed |= pts is not p.source.points
+        sources.append(pts)
+    if not changed:
+        return pairs
+    return make_pairs(sources, [p.target for p in pairs], control_points,
+                      source_shape=src_img.shape, target_shape=target_shape)
+
+
+def _carried_parts(index, pairs, attached, window: float) -> list[tuple[int, int, float]]:
+    """``(pair, part, s_target)``: every pair carries the parts hanging from its source stroke.
+
+    A part touching its own stroke at several places goes only where they
+    all move alike; contact with other strokes does not hold it back (it
+    follows the stroke it touches most).
+    """
+    keys = [p.source.points.tobytes() for p in pairs]
+    out = []
+    for pi, part in enumerate(index.parts):
+        _steadiest_anchor(index, part, pairs, attached, keys, window)
+        (rs, cs) = part.box
+        corners = np.array([[cs.start, rs.start, 1.0], [cs.stop, rs.stop, 1.0],
+                            [cs.start, rs.stop, 1.0], [cs.stop, rs.start, 1.0]])
+        for i in range(len(pairs)):
+            if keys[i] != keys[part.stroke]:
+                continue
+            s_t = _mapped(attached[i], part.s)
+            moved = corners @ rigid_frame(attached[i].source, attached[i].target, part.s, s_t,
+                                          window=window).T
+            alike = True
+            # Only places on the part's own stroke (a loop between two cut ends) must move
+            # alike; a part also touching another stroke (a leg at the hip where the tail
+            # turns) follows the stroke it touches most, as a limb would, instead of vanishing.
+            own = [s_a for j, s_a in part.anchors if keys[j] == keys[i]]
+            for s_a in own if len(own) > 1 else ():
+                other = corners @ rigid_frame(attached[i].source, attached[i].target, s_a,
+                                              _mapped(attached[i], s_a), window=window).T
+                alike &= float(np.abs(other - moved).max()) <= 2.0
+            if alike:
+                out.append((i, pi, s_t))
+    return out
+
+
+def _steadiest_anchor(index, part, pairs, attached, keys, window: float) -> None:
+    """Hang ``part`` from the stroke among those it touches that moves it least (in place).
+
+    A part touching two strokes that move apart (a starfish's arm between
+    the kept arm and the turned one, both stroked from the centre; a leg at
+    the hip where the tail turns) stays with the one that keeps it nearest
+    to where it was: an edit changes only what the user touched. Beyond the
+    paper.
+    """
+    strokes = {j for j, _ in part.anchors if keys[j] != keys[part.stroke]}
+    if not strokes:
+        return
+    (rs, cs) = part.box
+    corners = np.array([[cs.start, rs.start, 1.0], [cs.stop, rs.stop, 1.0],
+                        [cs.start, rs.stop, 1.0], [cs.stop, rs.start, 1.0]])
+    src = corners[:, :2]
+
+    def moved(j, s_a):
+        i = keys.index(keys[j])  # the first pair with that source stroke
+        frame = rigid_frame(attached[i].source, attached[i].target, s_a, _mapped(attached[i], s_a),
+                            window=window)
+        return float(np.abs(corners @ frame.T - src).max())
+
+    own = [s_a for j, s_a in part.anchors if keys[j] == keys[part.stroke]] or [part.s]
+    best, best_d = None, min(moved(part.stroke, s_a) for s_a in own)
+    for j in sorted(strokes):
+        d = max(moved(j, s_a) for jj, s_a in part.anchors if jj == j)
+        if d < best_d - 2.0:
+            best, best_d = j, d
+    if best is None:
+        return
+    s_best = [s_a for j, s_a in part.anchors if j == best]
+    part.stroke, part.s = best, float(np.median(s_best))
+    part.anchors = [(j, s_a) for j, s_a in part.anchors if keys[j] == keys[best]]
+    part.box = (slice(part.box[0].start, part.box[0].stop), slice(part.box[1].start, part.box[1].stop))
+    add_bases([part], index, window=3.0)
+
+
+def _mapped(pair: StrokePair, s_source: float) -> float:
+    """Target arc length of source arc length ``s_source`` (the pair's control mapping)."""
+    return float(np.interp(s_source, pair.control[:, 0], pair.control[:, 1]))
+
+
+def _with_pins(pair: StrokePair, pins) -> StrokePair:
+    """``pair`` with extra control points at ``(s_source, s_target)`` on its own mapping.
+
+    They do not change the mapping; they put a sample exactly where a part
+    is attached and pin it there (no shift by global sampling), so the
+    parent's texture at the joint is the one the part was cut from.
+    """
+    ctl = pair.control
+    rows = [tuple(r) for r in ctl[1:-1]]
+    ls, lt = ctl[-1]
+    for a, b in pins:
+        if not (1.0 < a < ls - 1.0 and 1.0 < b < lt - 1.0):
+            continue
+        if any(abs(a - r[0]) < 1.0 or abs(b - r[1]) < 1.0 for r in rows):
+            continue
+        rows.append((a, b))
+    rows.sort(key=lambda r: r[1])
+    if len(rows) == len(ctl) - 2:
+        return pair
+    try:
+        return StrokePair(pair.source, pair.target, np.array(rows, float).reshape(-1, 2), name=pair.name)
+    except ValueError:
+        return pair  # pins out of order (a folded mapping): sample as drawn

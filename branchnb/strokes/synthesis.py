@@ -1,0 +1,287 @@
+"""Stage 2 of the edit: global texture sampling and composition (:func:`compose_patches`).
+
+Steps 4 and 5 of :func:`~branchnb.strokes.edit.edit_structure`: the
+correspondences chosen by dynamic programming, the patches stitched by
+graph cut, the unstroked parts carried after all strokes, the joints
+closed and the cut faces outlined.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from .composition import PlacedPatch, compose, labelling_cost, seam_mask
+from .edit import FETCH_FIELDS, EditPatches, StrokeEditParams, StrokeEditResult, StrokeSamples, _check_edit_params
+from .junctions import far_side
+from .outline import _POCKET, clear_stale_outline, close_cuts, drop_flecks, fill_joints, source_depth
+from .parts import place_part, rigid_frame
+from .sampling import choose, pair_energies
+
+__all__ = ["compose_patches"]
+
+
+def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None) -> StrokeEditResult:
+    """Stage 2 of :func:`edit_structure`: choose the correspondences and stitch the patches.
+
+    Parameters
+    ----------
+    patches : EditPatches
+        From :func:`fetch_patches`.
+    params : StrokeEditParams, optional
+        Default: the parameters ``patches`` were fetched with. Others may
+        differ only outside :data:`FETCH_FIELDS` (see
+        :meth:`EditPatches.reusable_for`).
+
+    Returns
+    -------
+    StrokeEditResult
+        The same as :func:`edit_structure` with ``params`` gives.
+    """
+    if not isinstance(patches, EditPatches):
+        raise TypeError(f"patches must be EditPatches (from fetch_patches), got {type(patches).__name__}")
+    params = patches.params if params is None else _check_edit_params(params)
+    if not patches.reusable_for(params):
+        changed = [f for f in FETCH_FIELDS if getattr(params, f) != getattr(patches.params, f)]
+        raise ValueError(f"params differ from the fetched patches' in {changed or ['sampling (none)']}: "
+                         "call fetch_patches again")
+    index, window, junctions = patches._index, patches._window, patches.junctions
+    attached, extra, target_shape = patches.attached, patches._extra, patches.target_shape
+    placed: list[PlacedPatch] = []
+    samples: list[StrokeSamples | None] = [None] * len(patches.pairs)
+    e_total = e_pair = 0.0
+    source_region = np.zeros(index.shape, bool)
+    for cand in patches._strokes:
+        i, smp, radii, fetched, offs = cand.index, cand.samples, cand.radii, cand.fetched, cand.offsets
+        pair = attached[i]
+        unaries = [params.shift_penalty * np.abs(off).sum(axis=1) / patches._scale for off in offs]
+        pairwise = [pair_energies(fetched[j], fetched[j + 1], power=params.seam_power,
+                                  gradient_weighted=params.gradient_weighted,
+                                  stride=params.energy_stride)
+                    for j in range(len(smp) - 1)]
+        res = choose(unaries, pairwise, params.sampling)
+        e_total += res.energy
+        e_pair += res.pairwise
+        # Junction handling for the child's patches near its attached ends.
+        mine = [jn for jn in junctions if jn.child == i]
+        for j, k in enumerate(res.choice):
+            f = fetched[j]
+            pin_core, keep = True, None
+            for jn in mine:
+                end_s = 0.0 if jn.end == 0 else pair.target.length
+                near = abs(smp.s[j] - end_s) <= extra[i][jn.end] + f.radius
+                if not near:
+                    # farther along (a child leaving its parent at a slant), the patch
+                    # still may not lay the child's pixels over its parent's interior
+                    inside = _inside_parent(index, attached, jn, f.origin, f.valid.shape[1])
+                    if inside.any():
+                        keep = inside if keep is None else keep | inside
+                    continue
+                pin_core = False
+                step = f.radius if jn.end == 0 else -f.radius
+                into = pair.target.point_at(min(max(end_s + step, 0.0), pair.target.length)) \
+                    - jn.point
+                nrm = np.hypot(*into)
+                if nrm > 1e-9:
+                    fs = far_side(jn, attached[jn.parent].target, into / nrm, f.origin,
+                                  f.valid.shape[1], window=window)
+                    fs = fs | _inside_parent(index, attached, jn, f.origin, f.valid.shape[1])
+                    keep = fs if keep is None else keep | fs
+            placed.append(PlacedPatch(f.pixels[k], f.valid[k], f.origin, pin_core, keep,
+                                      _patch_map(f, k), grow=not pin_core))
+            rows, cols = f.source_pixels(k, index.shape)
+            source_region[rows, cols] = True
+        samples[i] = StrokeSamples(
+            target=smp.points, source=np.array([fetched[j].source_points[k]
+                                                for j, k in enumerate(res.choice)]),
+            source_s=np.array([fetched[j].source_s[k] for j, k in enumerate(res.choice)]),
+            shift=np.array([offs[j][k] for j, k in enumerate(res.choice)]),
+            radius=radii, pinned=smp.pinned, energy=res.energy, pairwise=res.pairwise)
+
+    # Joints (closed after composition): junctions and the attachments of carried parts.
+    joints = [(jn.point, 1.5 * float(index.half_width(jn.parent, attached[jn.parent].source_arc_length(
+        jn.parent_s))) + 4.0, _pocket(index, jn), jn) for jn in junctions]
+    # The parts nobody stroked, each carried rigidly by its stroke (after all strokes).
+    for i, pi, s_t in patches._carried:
+        part, pair = index.parts[pi], attached[i]
+        got = place_part(part, index.premult, rigid_frame(pair.source, pair.target, part.s, s_t,
+                                                          window=window), target_shape)
+        if got is None:
+            continue
+        pix, valid, _, origin, inverse = got
+        keep = None
+        if part.contact and not part.at_end:
+            # not over the far side of the parent's centre line
+            p, n = pair.target.point_at(s_t), pair.target.normal_at(s_t, window=window)
+            yy, xx = np.mgrid[0:valid.shape[0], 0:valid.shape[1]]
+            keep = ((xx + origin[0] - p[0]) * n[0] + (yy + origin[1] - p[1]) * n[1]) * part.side < -0.5
+        placed.append(PlacedPatch(pix, valid, origin, True, keep, inverse, grow=True))
+        source_region[part.box] |= part.mask
+        if part.contact:
+            joints.append((pair.target.point_at(s_t),
+                           1.5 * float(index.half_width(part.stroke, part.s)) + 4.0, None, None))
+    comp = compose(placed, target_shape, method=params.composition, power=params.seam_power,
+                   gradient_weighted=params.gradient_weighted)
+    # For an opaque source the alpha is 1 on every copied pixel (less on the
+    # anti-aliased edges of cut ends), 0 elsewhere: the object region is the
+    # union of the patches.
+    premult = comp.image
+    alpha = premult[:, :, 3].copy()
+    layer = np.zeros_like(premult)
+    nz = alpha > 1e-6
+    layer[nz, :3] = np.clip(premult[nz, :3] / alpha[nz, None], 0.0, 1.0)
+    layer[:, :, 3] = alpha
+    if index.has_alpha:
+        style = patches._style if params.close_cuts else None
+        wide = [j for j in joints if j[2] is not None]
+        filled = None
+        if wide:
+            # wide joints first, their pockets filled with the parts' inner colours (not
+            # the outline's); the new silhouette is then outlined like a cut face
+            before = layer[:, :, 3] > 0.5
+            old = layer
+            layer = fill_joints(layer, [j[0] for j in wide], [j[1] for j in wide],
+                                pockets=[j[2] for j in wide],
+                                inner=0 if style is None else int(np.ceil(style.width)) + 1)
+            if layer is not old:
+                # only the wedges along the children (no bridge to a neighbouring part)
+                changed = layer[:, :, 3] != old[:, :, 3]
+                away = changed & ~_along_children(wide, attached, old.shape[:2], changed)
+                layer[away] = old[away]
+            filled = (layer[:, :, 3] > 0.5) & ~before
+        if style is not None:
+            depth = source_depth(comp.labels, [pp.source_map for pp in placed], index.depth)
+            if filled is not None and filled.any():
+                depth = np.where(filled, np.float32(_FILLED_DEPTH), depth)
+            layer = close_cuts(layer, depth, style)
+            layer = clear_stale_outline(layer, depth, style, filled=filled)
+        if joints:
+            layer = fill_joints(layer, [j[0] for j in joints], [j[1] for j in joints])
+        layer = drop_flecks(layer, index.premult[:, :, 3])
+        alpha = layer[:, :, 3]
+    mask = alpha > 0.5
+    seams = seam_mask(comp.labels, alpha, min_alpha=0.1)
+    energies = {
+        "sampling": float(e_total),
+        "sampling_pairwise": float(e_pair),
+        "seam": labelling_cost(placed, comp.labels, power=params.seam_power,
+                               gradient_weighted=params.gradient_weighted),
+        "seam_steps": float(comp.step_costs.sum()),
+    }
+    background, bg_img = patches._background, patches._bg_img
+    if background is None:
+        out = layer.copy()
+    elif bg_img is None:
+        colour = np.asarray(background, np.float32)
+        bg_rgba = np.broadcast_to(np.append(colour[:3], colour[3] if len(colour) == 4 else 1.0),
+                                  (*target_shape, 4))
+        out = _over(layer, bg_rgba)
+    else:
+        out = _over(layer, bg_img)
+    return StrokeEditResult(
+        image=np.clip(out, 0, 1).astype(np.float32), mask=mask, seams=seams, energies=energies,
+        layer=layer, labels=comp.labels, samples=samples, pairs=attached, junctions=junctions,
+        radius=patches.radius, source_region=source_region & index.object,
+        params=dataclasses.replace(params), auto=dict(patches._auto))
+
+
+#: Source depth given to pixels filled at joints (deep enough to be outlined as a cut face).
+_FILLED_DEPTH = 100.0
+
+
+def _inside_parent(index, attached, jn, origin, size: int) -> np.ndarray:
+    """Pixels of a ``size`` x ``size`` patch at ``origin`` inside the parent's silhouette
+    (1.5 px in from its edge, the silhouette's half width at the junction): they keep
+    the parent's texture, a child turned far does not lay its cut face over its parent."""
+    parent = attached[jn.parent]
+    hw = float(index.edge_width(jn.parent, np.array([parent.source_arc_length(jn.parent_s)]))[0])
+    # where the child leaves along the parent's normal, the width across is the child's
+    hw = min(hw, index.side_width.get((jn.child, jn.end, jn.parent), np.inf) + 1.0)
+    pts = parent.target.points
+    a, b = pts[:-1], pts[1:]
+    centre = np.array([origin[0] + 0.5 * size, origin[1] + 0.5 * size])
+    near = _segment_distance(centre[None], a, b)[0] <= hw + 0.75 * size
+    if not near.any():
+        return np.zeros((size, size), bool)  # the patch's square is nowhere near the parent
+    yy, xx = np.mgrid[0:size, 0:size]
+    q = np.c_[xx.ravel() + origin[0], yy.ravel() + origin[1]].astype(float)
+    d = _segment_distance(q, a[near], b[near]).min(axis=1)
+    return (d <= hw - 1.5).reshape(size, size)
+
+
+def _segment_distance(q: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """(N, M) distances of points ``q`` (N, 2) to segments ``a``-``b`` (M, 2)."""
+    ab = b - a
+    len2 = np.maximum((ab ** 2).sum(axis=1), 1e-12)
+    t = np.clip(((q[:, None, :] - a[None]) * ab[None]).sum(axis=2) / len2, 0.0, 1.0)
+    p = a[None] + t[..., None] * ab[None]
+    return np.hypot(q[:, None, 0] - p[..., 0], q[:, None, 1] - p[..., 1])
+
+
+def _along_children(wide, attached, shape, where: np.ndarray | None = None) -> np.ndarray:
+    """Pixels within ``3 r`` (r: the joint's closing radius, half the child's half width,
+    so 1.5 child widths) of a wide joint's child target stroke, near the joint (only
+    among the pixels ``where``, if given: the others are False)."""
+    h, w = shape
+    out = np.zeros((h, w), bool)
+    for point, reach, r, jn in wide:
+        x, y = point
+        m = int(np.ceil(2 * reach)) + 2 + int(np.ceil(r))
+        r0, r1, c0, c1 = max(int(y) - m, 0), min(int(y) + m + 1, h), max(int(x) - m, 0), min(int(x) + m + 1, w)
+        if r0 >= r1 or c0 >= c1:
+            continue
+        if where is None:
+            yy, xx = np.mgrid[r0:r1, c0:c1]
+        else:
+            yy, xx = np.nonzero(where[r0:r1, c0:c1])
+            yy, xx = yy + r0, xx + c0
+        if not yy.size:
+            continue
+        _, d = attached[jn.child].target.project(np.c_[xx.ravel(), yy.ravel()])
+        out[yy, xx] |= d.reshape(yy.shape) <= 3.0 * r
+    return out
+
+
+def _pocket(index, jn) -> float | None:
+    """Radius of the closing at junction ``jn``: half the child's half width where
+    it leaves its parent's silhouette (None: the usual small closing).
+
+    A child turned far from its source direction (an arm raised by 50
+    degrees) has its cut face turned with it, which leaves a wedge between
+    the face and the parent's side; a 2-px closing fills only the wedge's
+    tip, a closing of half the child's half width rounds the joint like a
+    branch collar. (Beyond the paper, whose junctions keep the source angle.)
+    """
+    child, parent = index.strokes[jn.child], index.strokes[jn.parent]
+    t = np.arange(0.0, child.length, 1.0)
+    pts = child.point_at(t if jn.end == 0 else child.length - t)
+    s_par, d = parent.project(pts)
+    out = np.flatnonzero(d > index.edge_width(jn.parent, s_par) + 2.0)
+    if not len(out):
+        return None
+    q = np.rint(pts[out[0]:out[0] + 6]).astype(int)
+    h, w = index.shape
+    q = q[(q[:, 0] >= 0) & (q[:, 0] < w) & (q[:, 1] >= 0) & (q[:, 1] < h)]
+    if not len(q):
+        return None
+    r = float(index.depth[q[:, 1], q[:, 0]].min()) / 2.0
+    return r if r > _POCKET else None
+
+
+def _patch_map(f, k: int) -> np.ndarray:
+    """Target ``(x, y)`` -> source ``(x, y)`` of candidate ``k`` of ``f`` (a rotation about the sample)."""
+    th = float(f.source_angles[k]) - float(f.dst_angle)
+    c, s = np.cos(th), np.sin(th)
+    (cx, cy), (dx, dy) = f.source_points[k], f.dst_point
+    return np.array([[c, -s, cx - c * dx + s * dy], [s, c, cy - s * dx - c * dy]])
+
+
+def _over(layer: np.ndarray, bg: np.ndarray) -> np.ndarray:
+    """Straight-alpha RGBA ``layer`` over straight-alpha RGBA ``bg``."""
+    a = layer[:, :, 3:4]
+    b = bg[:, :, 3:4]
+    out_a = a + b * (1 - a)
+    rgb = layer[:, :, :3] * a + bg[:, :, :3] * b * (1 - a)
+    rgb = np.where(out_a > 1e-6, rgb / np.maximum(out_a, 1e-6), 0.0)
+    return np.dstack([rgb, out_a]).astype(np.float32)
