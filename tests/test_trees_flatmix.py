@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from scipy import ndimage as ndi
 
 from branchnb.trees.drawn import drawn_tree
 from branchnb.trees.mvc import transfer_colour
@@ -236,3 +237,29 @@ def test_more_like_this_of_a_palm_silhouette_keeps_its_trunk_and_thin_fronds():
         a = v.image[..., 3] >= 0.5
         assert np.flatnonzero(a.any(axis=1)).max() >= 0.97 * (S2 - 1)       # the trunk reaches the foot
         assert half_thickness(a) <= 1.3 * own                              # fronds stay thin
+
+
+def _line_art(size=48):
+    """A flat disc with two 1 px dark strokes inside: a chord and a diagonal."""
+    img, yy, xx = _disc(size, r=20, ring=0)
+    img[(yy == 16) & (xx >= 12) & (xx <= 36), :3] = 0.0
+    img[(yy - xx == 6) & (xx >= 14) & (xx <= 28), :3] = 0.0
+    return img
+
+
+@pytest.mark.parametrize("scale,shift", [(1.0, 0.5), (0.7, 0.3), (0.55, 0.5), (1.15, 0.25)])
+def test_flat_modes_keep_thin_strokes_whole_under_a_warp(scale, shift):
+    img = _line_art()
+    t = np.linspace(0, 2 * np.pi, 24, endpoint=False)
+    cage = np.stack([24 + 21 * np.cos(t), 24 + 21 * np.sin(t)], 1)
+    tcage = 24 + scale * (cage - 24) + shift
+    yy, xx = np.mgrid[:48, :48]
+    mask = np.hypot(yy - 24 - shift, xx - 24 - shift) <= 20 * scale + 0.5
+    own = ndi.label((img[..., 3] >= 0.5) & (img[..., :3].mean(axis=2) < 0.2), np.ones((3, 3), bool))[1]
+    out = transfer_colour(img, cage, tcage, mask, mode="choose")
+    op = out[..., 3] >= 0.5
+    ink = op & (out[..., :3].mean(axis=2) < 0.2)
+    assert ndi.label(ink, np.ones((3, 3), bool))[1] == own == 2   # no stroke broken into dashes
+    assert 0.8 * 40 * scale <= ink.sum() <= 2.0 * 40 * scale       # ... nor drawn twice as thick
+    # no dark fringe: every pixel that is not ink keeps the fill colour
+    assert np.abs(out[op & ~ink, :3] - (0.3, 0.7, 0.2)).max() < 0.05
