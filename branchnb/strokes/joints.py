@@ -79,7 +79,9 @@ def joint_disks(index, attached, junctions, window: float) -> list[tuple[np.ndar
         fwd = rigid_frame(par.source, par.target, s_src, float(jn.parent_s), window=window)
         rot = fwd[:, :2]
         inv = np.hstack([rot.T, (-rot.T @ fwd[:, 2])[:, None]])
-        out.append((fwd @ np.append(ps, 1.0), inv, r))
+        # clipped to the parent's own width there (not past its silhouette's sides)
+        hw = float(index.edge_width(jn.parent, np.array([s_src]))[0])
+        out.append((fwd @ np.append(ps, 1.0), inv, r, par.target, hw))
     return out
 
 
@@ -121,7 +123,7 @@ def hold_joint_bodies(layer: np.ndarray, source_premult: np.ndarray, source_dept
     if not disks:
         return layer, held
     pm = _premult(layer)
-    for centre, inv, r in disks:
+    for centre, inv, r, *clip in disks:
         cx, cy = centre
         r0, r1 = max(int(np.floor(cy - r)), 0), min(int(np.ceil(cy + r)) + 1, h)
         c0, c1 = max(int(np.floor(cx - r)), 0), min(int(np.ceil(cx + r)) + 1, w)
@@ -129,14 +131,19 @@ def hold_joint_bodies(layer: np.ndarray, source_premult: np.ndarray, source_dept
             continue
         yy, xx = np.mgrid[r0:r1, c0:c1]
         inside = np.hypot(xx - cx, yy - cy) <= r
+        if clip:
+            _, d = clip[0].project(np.c_[xx[inside], yy[inside]].astype(float))
+            inside[inside] = d <= clip[1]
         yy, xx = yy[inside], xx[inside]
         sx = inv[0, 0] * xx + inv[0, 1] * yy + inv[0, 2]
         sy = inv[1, 0] * xx + inv[1, 1] * yy + inv[1, 2]
         under = np.stack([ndi.map_coordinates(source_premult[..., c], [sy, sx], order=1, mode="nearest")
                           for c in range(4)], axis=1)
         top = pm[yy, xx]
+        # only where the edit left the body (partly) open: the parent's own edges,
+        # as synthesized, stay as they are
         was = top[:, 3] < 0.5
-        pm[yy, xx] = top + under * (1.0 - top[:, 3:4])
+        pm[yy[was], xx[was]] = top[was] + under[was] * (1.0 - top[was, 3:4])
         now = pm[yy, xx, 3] >= 0.5
         held[yy[was & now], xx[was & now]] = True
         if depth is not None and (was & now).any():
@@ -150,7 +157,7 @@ def close_hairlines(layer: np.ndarray, zones, *, reach: int = 2) -> np.ndarray:
 
     Two anti-aliased edges meeting inside the object (a turned arm's edge
     along a kept arm's) leave a line of pixels with alpha < 1 between
-    opaque pixels. A pixel with alpha < 0.98 that has opaque pixels within
+    opaque pixels. A pixel with alpha < 0.9 that has opaque pixels within
     ``reach`` px on both sides along one of four directions is made
     opaque with its nearest opaque pixel's colour. Only pixels within the
     ``zones`` (``(centre, radius)`` discs) are touched.
@@ -185,7 +192,8 @@ def close_hairlines(layer: np.ndarray, zones, *, reach: int = 2) -> np.ndarray:
     yy, xx = np.mgrid[0:h, 0:w]
     for (cx, cy), r in zones:
         zone |= (xx - cx) ** 2 + (yy - cy) ** 2 <= r * r
-    gap = zone & ~opaque & (a > 0.0) | zone & ~opaque & ndi.binary_dilation(opaque)
+    # (a pixel of a smooth edge has its neighbours along the edge about as open as itself)
+    gap = zone & (a < 0.9)
     if not gap.any():
         return layer
     pad = np.pad(opaque, reach)

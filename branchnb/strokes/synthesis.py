@@ -165,7 +165,7 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
             layer = clear_stale_outline(layer, depth, style, filled=filled)
         if joints:
             layer = fill_joints(layer, [j[0] for j in joints], [j[1] for j in joints])
-        layer = close_hairlines(layer, [(c, 1.5 * r + 4.0) for c, _, r in disks])
+        layer = close_hairlines(layer, [(d[0], 1.5 * d[2] + 4.0) for d in disks])
         layer = drop_flecks(layer, index.premult[:, :, 3])
         alpha = layer[:, :, 3]
     mask = alpha > 0.5
