@@ -161,11 +161,23 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
             depth = np.where(held, held_depth, depth)
             if filled is not None and filled.any():
                 depth = np.where(filled, np.float32(_FILLED_DEPTH), depth)
+            uncut = layer
             layer = close_cuts(layer, depth, style)
+            inked = np.any(layer != uncut, axis=2) if layer is not uncut else None
             layer = clear_stale_outline(layer, depth, style, filled=filled)
+        opened = layer[:, :, 3] <= 0.5
         if joints:
             layer = fill_joints(layer, [j[0] for j in joints], [j[1] for j in joints])
         layer = close_hairlines(layer, [(d[0], 1.5 * d[2] + 4.0) for d in disks])
+        if style is not None and disks:
+            # rims the last closings buried inside the object (a kept arm's outline
+            # running into a turned arm's root): interior ink, repainted
+            # and cut faces outlined before those closings joined them to a neighbour
+            late = opened & (layer[:, :, 3] > 0.5)
+            if inked is not None:
+                late |= inked
+            layer = clear_stale_outline(layer, depth, style,
+                                        filled=late if filled is None else late | filled)
         layer = drop_flecks(layer, index.premult[:, :, 3])
         alpha = layer[:, :, 3]
     mask = alpha > 0.5
