@@ -184,18 +184,35 @@ def close_hairlines(layer: np.ndarray, zones, *, reach: int = 2) -> np.ndarray:
     1.0
     """
     h, w = layer.shape[:2]
-    if not zones:
-        return layer
-    a = layer[..., 3]
-    opaque = a >= 0.98
-    zone = np.zeros((h, w), bool)
-    yy, xx = np.mgrid[0:h, 0:w]
+    out = layer
     for (cx, cy), r in zones:
-        zone |= (xx - cx) ** 2 + (yy - cy) ** 2 <= r * r
-    # (a pixel of a smooth edge has its neighbours along the edge about as open as itself)
-    gap = zone & (a < 0.9)
-    if not gap.any():
-        return layer
+        # each zone on its own box (grown by ``reach``, for the sides)
+        g = int(np.ceil(r)) + reach + 1
+        r0, r1 = max(int(cy) - g, 0), min(int(cy) + g + 1, h)
+        c0, c1 = max(int(cx) - g, 0), min(int(cx) + g + 1, w)
+        if r0 >= r1 or c0 >= c1:
+            continue
+        win = out[r0:r1, c0:c1]
+        hit = _hairline(win[..., 3], reach)
+        yy, xx = np.mgrid[r0:r1, c0:c1]
+        hit &= (xx - cx) ** 2 + (yy - cy) ** 2 <= r * r
+        if not hit.any():
+            continue
+        _, (iy, ix) = ndi.distance_transform_edt(win[..., 3] < 0.98, return_indices=True)
+        if out is layer:
+            out = layer.copy()
+        win = out[r0:r1, c0:c1]
+        win[hit, :3] = win[iy[hit], ix[hit], :3]
+        win[hit, 3] = 1.0
+    return out
+
+
+def _hairline(a: np.ndarray, reach: int) -> np.ndarray:
+    """Pixels with alpha < 0.9 that have opaque pixels within ``reach`` px on both sides
+    along one of four directions (a pixel of a smooth edge has its neighbours along
+    the edge about as open as itself)."""
+    h, w = a.shape
+    opaque = a >= 0.98
     pad = np.pad(opaque, reach)
     hit = np.zeros((h, w), bool)
     for dy, dx in ((0, 1), (1, 0), (1, 1), (1, -1)):
@@ -205,11 +222,4 @@ def close_hairlines(layer: np.ndarray, zones, *, reach: int = 2) -> np.ndarray:
             lo |= pad[reach - k * dy:reach - k * dy + h, reach - k * dx:reach - k * dx + w]
             hi |= pad[reach + k * dy:reach + k * dy + h, reach + k * dx:reach + k * dx + w]
         hit |= lo & hi
-    hit &= gap
-    if not hit.any():
-        return layer
-    _, (iy, ix) = ndi.distance_transform_edt(~opaque, return_indices=True)
-    out = layer.copy()
-    out[hit, :3] = layer[iy[hit], ix[hit], :3]
-    out[hit, 3] = 1.0
-    return out
+    return hit & (a < 0.9)
