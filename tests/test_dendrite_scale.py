@@ -68,7 +68,20 @@ def _fish(n):
     return np.dstack([img] * 3).astype(np.float32), ndimage.binary_fill_holes(img < 0.95)
 
 
-_OBJECTS = {"leaf": _leaf, "fish": _fish}
+def _star(n, line=0.006):
+    """A five-pointed star outlined by a thin black line (``line`` x n px wide) on white."""
+    a = np.arange(10) * np.pi / 5 - np.pi / 2
+    r = np.where(np.arange(10) % 2 == 0, 0.42, 0.18) * n
+    inside = np.zeros((n, n), bool)
+    rr, cc = draw.polygon(0.5 * n + r * np.sin(a), 0.5 * n + r * np.cos(a), (n, n))
+    inside[rr, cc] = True
+    dist = np.where(inside, ndimage.distance_transform_edt(inside),
+                    ndimage.distance_transform_edt(~inside)) - 0.5
+    img = 1.0 - np.clip(line * n / 2 + 0.5 - dist, 0, 1)
+    return np.dstack([img] * 3).astype(np.float32), ndimage.binary_dilation(inside, iterations=2)
+
+
+_OBJECTS = {"leaf": _leaf, "fish": _fish, "star": _star}
 
 
 def _ink(rendering, mask):
@@ -91,6 +104,33 @@ def test_same_ink_and_solid_strokes_at_250_and_750_px(name):
     assert 2.0 * small.dendrite.radius.min() >= 0.99
     # a small image gets fewer endpoints (its strokes must fit between one another)
     assert len(small.endpoints) < StylizeParams().n_endpoints
+
+
+def test_thin_outline_keeps_its_ink_on_a_small_image():
+    # a 1.5-px outline at 250 px: the 1-px floor drew several parallel strokes along it
+    # (1.8x the ink of the same star at 750 px); twigs_within_ink thins them to one
+    (ink_s, solid_s), (ink_l, solid_l) = (_ink(stylize(_star(n)[0], rng=0).rendering.image,
+                                               _star(n)[1]) for n in (250, 750))
+    assert abs(ink_s - ink_l) <= 0.12 * ink_l
+    assert solid_s >= 0.8 * solid_l
+
+
+def test_twigs_within_ink_keeps_lone_lines():
+    from branchnb.dendrite import build_dendrite, make_lattice, plan
+    from branchnb.dendrite.thickness import twigs_within_ink
+
+    # a comb: a long spine with short teeth, and one long lone stem hanging off it
+    cost = np.ones((80, 80))
+    cost[10, 5:76] = cost[10:, 40] = 0.0
+    res = plan(make_lattice(cost, rng=0, noise=0.0), (40, 10))
+    ends = [(x, 14) for x in range(10, 71, 3)] + [(40, 75)]
+    d = build_dendrite(res, ends)
+    d = d.with_radius(np.full(d.n_nodes, 1.0))
+    keep = twigs_within_ink(d, np.full(d.n_nodes, 0.25), sigma=6.0, rng=0)
+    stem = int(np.argmin(np.hypot(*(d.points[d.tips] - (40, 75)).T)))
+    assert keep[stem]
+    assert keep.mean() < 0.6  # the short teeth go
+    assert twigs_within_ink(d, d.radius, sigma=6.0, rng=0).all()  # no excess: all kept
 
 
 def test_same_ink_from_200_to_1000_px_on_a_photo():
@@ -118,8 +158,9 @@ def test_images_larger_than_the_lattice_keep_its_widths():
 def test_outline_weighted_after_the_tone_match():
     img, mask = _fish(400)
     st = Stylizer(img)
-    plain = st.run(StylizeParams(edges=0.0), rng=0, metaphor=None).dendrite
-    weighted = st.run(StylizeParams(), rng=0, metaphor=None).dendrite
+    # output_width=0: the same tree for both (no twigs dropped to fit the ink of a small image)
+    plain = st.run(StylizeParams(edges=0.0, output_width=0.0), rng=0, metaphor=None).dendrite
+    weighted = st.run(StylizeParams(output_width=0.0), rng=0, metaphor=None).dendrite
     assert weighted is not plain
     # nodes on the fish's black outline (strong edges) get wider, flat regions stay
     g = gradient_strength(img)
@@ -414,8 +455,9 @@ def _limb_reach(t):
         if d.parent[i] >= 0 and not thick[d.parent[i]]:
             thick[i] = False
     rows = np.flatnonzero(crown.any(axis=1))
-    n_trunk = int(np.flatnonzero(np.r_[d.parent[1:] != np.arange(d.n_nodes - 1), True])[0]) + 1
-    fork_y = d.points[n_trunk - 1, 1]
+    # the trunk is traced first, to the fork: its end is the first tip (the end of the
+    # first unbroken chain of nodes is not, when a limb continues straight up from it)
+    fork_y = d.points[d.tips[0], 1]
     return (fork_y - d.points[thick & inside, 1].min()) / (rows[-1] - rows[0])
 
 
@@ -466,3 +508,55 @@ def test_limb_widths_follow_the_pipe_model_and_the_trunk_top_has_no_knob():
     top = trunk.n_nodes - 1
     if not any(d.iteration[c] == 1 for c in kids.get(top, [])):
         assert w[top] < 0.2 * w[k]
+
+
+def test_pareidolia_limbs_keep_off_a_bright_object():
+    # a night sky with a lit tower up the middle (a rocket on its pad): on the importance's
+    # cost the limbs followed the tower's strong edges, half their ink within 4 px of it,
+    # drawn as a thick dark limb over the brightest part of the picture (tone r at 4 px
+    # blur 0.42 on a 500-px night photo of a rocket; 0.50 now)
+    yy, xx = np.mgrid[0:160, 0:160]
+    img = np.full((160, 160), 0.2) + 0.1 * yy / 160
+    bar = (np.abs(xx - 80) < 5) & (yy > 20)
+    img[bar] = 0.95
+    img = ndimage.gaussian_filter(img, 1.0)
+    t = pareidolia_tree(img, PareidoliaParams(n_endpoints=400, lattice_size=0), rng=0)
+    d = t.dendrite
+    at = np.rint(d.points).astype(int)
+    limb = (d.iteration == 1) & (at[:, 1] < 160) & (np.arange(d.n_nodes) > d.tips[0])
+    near = ndimage.binary_dilation(bar, iterations=4)[np.clip(at[:, 1], 0, 159),
+                                                      np.clip(at[:, 0], 0, 159)]
+    w = 2 * d.radius
+    assert limb.sum() > 100
+    assert (w * (near & limb)).sum() < 0.2 * (w * limb).sum()
+
+
+def test_pareidolia_night_sky_is_equalised(monkeypatch):
+    # a night photo: a dark sky over most of the crown, a lit tower and a dark mast. With
+    # the linear stretch alone the sky got nearly even ink, its gradient lost in the
+    # twigs' texture (tone r at 4 px blur 0.50 on a 500-px night photo of a rocket; with
+    # half the tone map equalised over the crown's histogram 0.62)
+    import functools
+
+    from branchnb.dendrite import pareidolia as par
+
+    yy, xx = np.mgrid[0:200, 0:200]
+    img = 0.12 + 0.25 * yy / 200
+    img[(np.abs(xx - 100) < 6) & (yy > 40)] = 0.9
+    img[(np.abs(xx - 40) < 2) & (yy > 80)] = 0.05
+    img = ndimage.gaussian_filter(img, 1.0)
+    r = {}
+    for eq in (0.0, 0.5):
+        monkeypatch.setattr(par, "_stretch", functools.partial(_stretch_orig, equalize=eq))
+        t = pareidolia_tree(img, PareidoliaParams(n_endpoints=600), rng=0)
+        r[eq] = _tone_r(t.image, t.render().image, t.crown_on_canvas())
+    assert r[0.5] > r[0.0] + 0.05, r
+    # the sky's tones (darkness 0.63-0.88, most of the crown) spread wider
+    dark = (1.0 - img).astype(np.float32)
+    sky = (yy > 20) & (np.abs(xx - 100) > 12) & (np.abs(xx - 40) > 6)
+    spread = [np.ptp(_stretch_orig(dark, np.ones_like(dark, bool), 1.0, equalize=e)[sky])
+              for e in (0.0, 0.5)]
+    assert spread[1] > spread[0] + 0.1, spread
+
+
+from branchnb.dendrite.pareidolia_widths import _stretch as _stretch_orig  # noqa: E402

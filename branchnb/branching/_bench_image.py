@@ -91,7 +91,12 @@ def _retina_row() -> list[BenchRow]:
     # compositions of 0.3-1 ms each; a fragment's masks are one compiled pass, same output).
     # Gap completion's quicker window search (gap_quilting) and the CG solve of the gap patches' and
     # fragments' corrections (gap_blend): 3.28 -> 2.84 s CPU, median of 7 cold runs each, old and new
-    # alternated in one process on a loaded 2-core machine (gaps 1.33 -> 0.92 s; warm run 2.4 s)
+    # alternated in one process on a loaded 2-core machine (gaps 1.33 -> 0.92 s; warm run 2.4 s).
+    # Then (bit-identical outputs): the CG solves sweep only their masked pixels (core.poisson_cg) and the
+    # example's blurs use OpenCV (regions._gaussian): 0.127 -> 0.097 s and 0.063 -> 0.026 s CPU per cold
+    # run, both versions timed on the same calls in one process (wrapping, with time.process_time,
+    # core.poisson_cg._screened_cg and branching.regions._gaussian); a whole
+    # cold run is ~1.55 s CPU here, its run-to-run noise on the loaded machine (+-10 %) larger than the gain.
     return [BenchRow(what + ", new example)", times[0], "paper, fastest reported image", PAPER_FASTEST,
                      "one run, example prepared in it; target < 2.6 s (issue 23; 2.8 s CPU measured after "
                      "the quicker gap search and CG corrections, from 3.3 s); " + NOTE),

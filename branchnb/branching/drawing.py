@@ -86,7 +86,7 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
     structure : Structure
         Its branches.
     layout : (H, W) int ndarray
-        Its regions without the branches (:func:`~branchnb.branching.regions.region_layout`).
+        Its regions without the branches (:func:`~branchnb.branching.flat_regions.region_layout`).
     pm : PixelMap
         The structure's pixel map on the example.
     tol : float

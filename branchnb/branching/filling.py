@@ -5,7 +5,9 @@ much as the example's, the free space is filled round after round: tips
 that ended at their drawn length with room ahead grow on, branches with
 room beside them furcate once more (:meth:`_Filling._room`). Beyond the
 paper, holes the example does not have are filled last
-(:meth:`_Filling._fill_holes`, :func:`_hole_map`). A mixin of the grower
+(:meth:`_Filling._fill_holes`, :func:`_hole_map`), then branches are grown
+into the largest hole left until holes are as rare as the example's
+(:meth:`_Filling._fill_far`). A mixin of the grower
 (:class:`.growth._Grower`); split from :mod:`.synthesis`.
 """
 
@@ -18,6 +20,18 @@ from .domains import _frame
 
 #: A hole is domain farther than this share of the domain's diameter from every branch (issue 23).
 HOLE_DISTANCE = 0.05
+
+#: Holes are filled (``_Filling._fill_far``) until their share is at most this x the example's.
+FAR_TARGET = 1.2
+
+#: Branches started into holes by ``_Filling._fill_far``, at most.
+FAR_MAX_TRIES = 40
+
+#: Coverage may exceed its target by this factor while holes are filled.
+FILL_COVERAGE = 1.25
+
+#: Pull of a branch grown into a hole toward its centre: candidates score x exp(kappa (cos - 1)).
+GOAL_KAPPA = 2.0
 
 
 def _hole_map(polylines, domain: np.ndarray, cell: float) -> tuple[float, np.ndarray, float]:
@@ -191,6 +205,108 @@ class _Filling:
             self._empty_dt = None
             share, dist, gap = self._holes()
             if share <= target or len(self.branches) == before or self.stop_reason:
+                break
+        self.coverage_target = saved
+        if not self.stop_reason or self.stop_reason == "density (coverage)":
+            self.stop_reason = reason
+
+    def _goal_factor(self, st, tip, pts: np.ndarray, n_arr: np.ndarray) -> np.ndarray:
+        """Score factor of a branch grown into a hole: ``exp(GOAL_KAPPA (cos - 1))`` toward its goal.
+
+        ``cos`` is the cosine between a candidate's chord and the direction
+        to the hole's centre; the pull ends (and the branch grows on freely)
+        once its tip is within ``rho`` of the centre.
+        """
+        d = np.asarray(st.goal, np.float64) - tip
+        dist = float(np.hypot(*d))
+        if dist < self.rho:
+            st.goal = None
+            return np.ones(len(n_arr))
+        end = pts[np.arange(len(n_arr)), np.maximum(n_arr, 1) - 1] - tip
+        cos = (end @ d) / np.maximum(np.hypot(end[:, 0], end[:, 1]) * dist, 1e-9)
+        return np.where(n_arr > 0, np.exp(GOAL_KAPPA * (cos - 1.0)), 1.0)
+
+    def _grow_into(self, goal: np.ndarray) -> bool:
+        """Start a child at the branch vertex nearest to ``goal`` heading there, and grow it (with its children).
+
+        Vertices of branches at the maximum generation, and the first and
+        last two of a branch, do not furcate; the four nearest other
+        branches are tried in turn. True if a child started.
+        """
+        cand = []
+        for bi, st in enumerate(self.branches):
+            if st.generation >= self.p.max_generations or len(st.points) < 5:
+                continue
+            pts = np.asarray(st.points[1:-2], np.float64)
+            d = np.hypot(*(pts - goal).T)
+            v = int(np.argmin(d))
+            cand.append((float(d[v]), bi, v + 1))
+        cand.sort()
+        for dist, bi, v in cand[:4]:
+            c = self.start_child(bi, v, toward=goal)
+            if c is None:
+                continue
+            st = self.branches[c]
+            st.goal = np.asarray(goal, np.float64)
+            st.target = min(max(st.target, dist + 2.0 * self.rho), self.max_branch_len)
+            if not st.stop:
+                self._drain([c])
+            return True
+        return False
+
+    def _fill_far(self) -> None:
+        """Grow branches into the largest hole, one after another, until holes are as rare as the example's.
+
+        Beyond the paper: the paper's stop rule (coverage within ``rho``)
+        and :meth:`_fill_holes` (furcations beside holes) leave, on some
+        seeds, regions farther than :data:`HOLE_DISTANCE` x the domain's
+        diameter from every branch covering 1.5-8 x the example's share
+        (retina, drawn maps, deltas: branches crowd in one part while
+        another stays empty). Here the centre of the largest hole (the
+        domain cell farthest from every branch) is found, a child starts at
+        the nearest branch vertex heading there (its head and length from
+        the furcation and bending models) and is pulled toward the centre
+        (:meth:`_goal_factor`) until it arrives, then grows and furcates
+        freely; repeated until the hole share is at most :data:`FAR_TARGET`
+        x the example's (at most :data:`FAR_MAX_TRIES` holes; coverage at
+        most :data:`FILL_COVERAGE` x its target). Also in a free frame. Not
+        with guidance, a ``max_coverage`` of the user's, or
+        ``fill_rounds = 0``.
+        """
+        if self.guidance is not None or self.density is None or not self.branches or \
+                self.p.fill_rounds == 0 or self.p.max_coverage > 0 or \
+                self.stop_reason not in ("", "density (coverage)", "no branch can grow"):
+            return
+        share, dist, gap = self._holes()
+        target = FAR_TARGET * self._example_holes() + 1e-3
+        if share <= target:
+            return
+        dom = self.domain if self.domain is not None else np.ones(self.shape, bool)
+        k = max(int(self.density.cell), 1)
+        grid = dom[::k, ::k]
+        tried = np.zeros(grid.shape, bool)
+        yy, xx = np.mgrid[: grid.shape[0], : grid.shape[1]]
+        saved, reason = self.coverage_target, self.stop_reason
+        # targeted growth: up to (FILL_COVERAGE - 1) x the target more than now (_fill_holes may have used
+        # its own margin already: retina seed 0 stopped at 1.6 x the example's hole share)
+        self.coverage_target = min(1.0, max(FILL_COVERAGE * saved,
+                                            self.density.coverage() + (FILL_COVERAGE - 1.0) * saved))
+        self.stop_reason = ""
+        for _ in range(FAR_MAX_TRIES):
+            free = np.where(grid & ~tried & (dist > gap), dist, -1.0)
+            r, c = np.unravel_index(int(np.argmax(free)), free.shape)
+            if free[r, c] < 0:
+                break
+            goal = np.array([c * k, r * k], np.float64)
+            length = self.total_length
+            self._grow_into(goal)
+            if self.total_length - length < 0.5 * float(dist[r, c]):
+                # nothing reached it: leave this hole
+                tried |= np.hypot(yy - r, xx - c) * k <= max(float(dist[r, c]), gap)
+            if self.stop_reason:
+                break
+            share, dist, gap = self._holes()
+            if share <= target:
                 break
         self.coverage_target = saved
         if not self.stop_reason or self.stop_reason == "density (coverage)":

@@ -34,10 +34,11 @@ def _sample(ex: np.ndarray, mx: np.ndarray, my: np.ndarray) -> tuple[np.ndarray,
     valid = (mx >= -0.5) & (mx <= w - 0.5) & (my >= -0.5) & (my <= h - 0.5)
     if not valid.any():
         return np.zeros(mx.shape + (ex.shape[2],), np.float32), valid
-    x0 = int(np.clip(np.floor(mx.min()) - 1, 0, w - 1))
-    x1 = int(np.clip(np.ceil(mx.max()) + 2, x0 + 1, w))
-    y0 = int(np.clip(np.floor(my.min()) - 1, 0, h - 1))
-    y1 = int(np.clip(np.ceil(my.max()) + 2, y0 + 1, h))
+    # np.clip's values on scalars, without its dispatch (once per fragment)
+    x0 = int(min(max(np.floor(mx.min()) - 1, 0), w - 1))
+    x1 = int(min(max(np.ceil(mx.max()) + 2, x0 + 1), w))
+    y0 = int(min(max(np.floor(my.min()) - 1, 0), h - 1))
+    y1 = int(min(max(np.ceil(my.max()) + 2, y0 + 1), h))
     roi = ex[y0:y1, x0:x1]
     out = cv2.remap(roi, mx - np.float32(x0), my - np.float32(y0), interpolation=cv2.INTER_LINEAR,
                     borderMode=cv2.BORDER_REPLICATE)

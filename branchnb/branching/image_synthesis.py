@@ -504,7 +504,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         ``ImageSynthesisResult.example_labels``), for flat-colour examples
         with ``params.keep_regions``; default: the example's regions laid
         out around the target branches as they lie around the example's
-        (:func:`~branchnb.branching.regions.target_layout`).
+        (:func:`~branchnb.branching.layout_model.target_layout`).
     target_domain : (H, W) bool array_like, optional
         Where the target structure grew (``SynthesisResult.domain``): for
         flat-colour examples the output's branch region (the land) is

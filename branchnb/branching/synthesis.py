@@ -36,7 +36,10 @@ Putting the paper's models together (see the modules of the same names):
    more at their most probable vertex there (not with guidance). Beyond
    the paper, holes the example does not have (domain farther than 5 % of
    its diameter from every branch, such as the lobes of a coast) are
-   filled last, past the coverage target (``_Grower._fill_holes``); in a
+   filled last, past the coverage target (``_Grower._fill_holes``), then
+   children are grown into the largest remaining hole one after another
+   until the holes are as rare as the example's (``_Grower._fill_far``,
+   also in a free frame); in a
    free frame (no coast) a root
    reads the frame ahead as density (``colonization.frame_density``), so
    its trunk turns into the image instead of walking out of the nearest
@@ -340,6 +343,7 @@ def _grow_with_retries(model, p, rng, shp, guidance, starts, scorer, domain=None
             best = g
             break
     best._fill_holes()   # on the kept attempt only
+    best._fill_far()
     return best
 
 

@@ -32,97 +32,113 @@ def _screened_cg(target, src, mask, weight, tol, max_iter):
     correction). Unknown ``d = u - src`` on ``mask``: ``(deg_p + w_p) d_p - sum_{q in mask} d_q = sum_{q not in mask}
     (target_q - src_q)`` (``deg_p`` the in-window neighbours), by Jacobi-preconditioned conjugate
     gradients per channel. Returns ``u`` (float64) on the window (``target`` off the mask).
+
+    The masked pixels are packed (row-major) with their masked neighbours' indices: the same
+    arithmetic in the same order as sweeping the whole window (the same values, bit for bit),
+    without visiting unmasked pixels or testing the mask in the inner loops (issue 23).
     """
     h, wd = mask.shape
     C = src.shape[2]
     out = target.copy()
-    diag = np.zeros((h, wd))
+    index = np.full((h, wd), -1, np.int64)
+    n = 0
     for i in range(h):
         for j in range(wd):
             if mask[i, j]:
-                deg = 0.0
-                if i > 0:
-                    deg += 1.0
-                if i < h - 1:
-                    deg += 1.0
-                if j > 0:
-                    deg += 1.0
-                if j < wd - 1:
-                    deg += 1.0
-                diag[i, j] = deg + weight[i, j]
-    b = np.zeros((h, wd))
-    x = np.zeros((h, wd))
-    r = np.zeros((h, wd))
-    z = np.zeros((h, wd))
-    p = np.zeros((h, wd))
-    ap = np.zeros((h, wd))
+                index[i, j] = n
+                n += 1
+    pi = np.empty(n, np.int64)
+    pj = np.empty(n, np.int64)
+    nb = np.full((n, 4), -1, np.int64)     # masked neighbours: up, down, left, right
+    diag = np.empty(n)
+    b = np.zeros((n, C))
+    for i in range(h):
+        for j in range(wd):
+            k = index[i, j]
+            if k < 0:
+                continue
+            pi[k] = i
+            pj[k] = j
+            deg = 0.0
+            if i > 0:
+                deg += 1.0
+                nb[k, 0] = index[i - 1, j]
+            if i < h - 1:
+                deg += 1.0
+                nb[k, 1] = index[i + 1, j]
+            if j > 0:
+                deg += 1.0
+                nb[k, 2] = index[i, j - 1]
+            if j < wd - 1:
+                deg += 1.0
+                nb[k, 3] = index[i, j + 1]
+            diag[k] = deg + weight[i, j]
+            for c in range(C):
+                v = 0.0
+                if i > 0 and not mask[i - 1, j]:
+                    v += target[i - 1, j, c] - src[i - 1, j, c]
+                if i < h - 1 and not mask[i + 1, j]:
+                    v += target[i + 1, j, c] - src[i + 1, j, c]
+                if j > 0 and not mask[i, j - 1]:
+                    v += target[i, j - 1, c] - src[i, j - 1, c]
+                if j < wd - 1 and not mask[i, j + 1]:
+                    v += target[i, j + 1, c] - src[i, j + 1, c]
+                b[k, c] = v
+    x = np.zeros(n)
+    r = np.zeros(n)
+    z = np.zeros(n)
+    p = np.zeros(n)
+    ap = np.zeros(n)
+    n0 = nb[:, 0].copy()
+    n1 = nb[:, 1].copy()
+    n2 = nb[:, 2].copy()
+    n3 = nb[:, 3].copy()
     for c in range(C):
         bn = 0.0
-        for i in range(h):
-            for j in range(wd):
-                v = 0.0
-                if mask[i, j]:
-                    if i > 0 and not mask[i - 1, j]:
-                        v += target[i - 1, j, c] - src[i - 1, j, c]
-                    if i < h - 1 and not mask[i + 1, j]:
-                        v += target[i + 1, j, c] - src[i + 1, j, c]
-                    if j > 0 and not mask[i, j - 1]:
-                        v += target[i, j - 1, c] - src[i, j - 1, c]
-                    if j < wd - 1 and not mask[i, j + 1]:
-                        v += target[i, j + 1, c] - src[i, j + 1, c]
-                b[i, j] = v
-                bn += v * v
-                x[i, j] = 0.0
-                r[i, j] = v
-                z[i, j] = v / diag[i, j] if mask[i, j] else 0.0
-                p[i, j] = z[i, j]
+        rz = 0.0
+        for k in range(n):
+            v = b[k, c]
+            bn += v * v
+            x[k] = 0.0
+            r[k] = v
+            z[k] = v / diag[k]
+            p[k] = z[k]
+            rz += v * z[k]
         if bn > 0.0:
-            rz = 0.0
-            for i in range(h):
-                for j in range(wd):
-                    rz += r[i, j] * z[i, j]
             lim = tol * tol * bn
             for _ in range(max_iter):
                 pap = 0.0
-                for i in range(h):
-                    for j in range(wd):
-                        if mask[i, j]:
-                            v = diag[i, j] * p[i, j]
-                            if i > 0 and mask[i - 1, j]:
-                                v -= p[i - 1, j]
-                            if i < h - 1 and mask[i + 1, j]:
-                                v -= p[i + 1, j]
-                            if j > 0 and mask[i, j - 1]:
-                                v -= p[i, j - 1]
-                            if j < wd - 1 and mask[i, j + 1]:
-                                v -= p[i, j + 1]
-                            ap[i, j] = v
-                            pap += p[i, j] * v
+                for k in range(n):
+                    v = diag[k] * p[k]
+                    if n0[k] >= 0:
+                        v -= p[n0[k]]
+                    if n1[k] >= 0:
+                        v -= p[n1[k]]
+                    if n2[k] >= 0:
+                        v -= p[n2[k]]
+                    if n3[k] >= 0:
+                        v -= p[n3[k]]
+                    ap[k] = v
+                    pap += p[k] * v
                 if pap <= 0.0:
                     break
                 a = rz / pap
                 rn = 0.0
                 rz_new = 0.0
-                for i in range(h):
-                    for j in range(wd):
-                        if mask[i, j]:
-                            x[i, j] += a * p[i, j]
-                            r[i, j] -= a * ap[i, j]
-                            rn += r[i, j] * r[i, j]
-                            z[i, j] = r[i, j] / diag[i, j]
-                            rz_new += r[i, j] * z[i, j]
+                for k in range(n):
+                    x[k] += a * p[k]
+                    r[k] -= a * ap[k]
+                    rn += r[k] * r[k]
+                    z[k] = r[k] / diag[k]
+                    rz_new += r[k] * z[k]
                 if rn <= lim:
                     break
                 beta = rz_new / rz
                 rz = rz_new
-                for i in range(h):
-                    for j in range(wd):
-                        if mask[i, j]:
-                            p[i, j] = z[i, j] + beta * p[i, j]
-        for i in range(h):
-            for j in range(wd):
-                if mask[i, j]:
-                    out[i, j, c] = src[i, j, c] + x[i, j]
+                for k in range(n):
+                    p[k] = z[k] + beta * p[k]
+        for k in range(n):
+            out[pi[k], pj[k], c] = src[pi[k], pj[k], c] + x[k]
     return out
 
 

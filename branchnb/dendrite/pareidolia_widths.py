@@ -153,13 +153,41 @@ def _tone_matcher(d: Dendrite, dark: np.ndarray, sigma: float, strength: float,
     return match
 
 
-def _stretch(dark: np.ndarray, crown: np.ndarray, contrast: float) -> np.ndarray:
+#: Share of histogram equalisation in :func:`_stretch` (the rest: the linear stretch).
+_EQUALIZE = 0.5
+
+
+def _stretch(dark: np.ndarray, crown: np.ndarray, contrast: float,
+             equalize: float = _EQUALIZE) -> np.ndarray:
     """The darkness stretched so its 1st-99th percentiles in the crown span [0, 1]
-    (gain at most 5), blended with the original by ``contrast``."""
+    (gain at most 5), half of it equalised over the crown's histogram, blended with
+    the original by ``contrast``.
+
+    Equalising (beyond the paper) spreads the tones most of the crown has: a night
+    photo's sky (darkness 0.6-0.85 over 95 % of the crown) got nearly even ink, its
+    gradient lost in the twigs' texture and the lit rocket hardly lighter (tone r at 4
+    px blur 0.50 at 500 px, 0.53 at 2000 px); with half the map equalised 0.62 / 0.64.
+    On a portrait, a cup photo, a dark camera photo, a dimmed cat photo and a dark drawn
+    portrait r went from 0.87 0.89 0.83 0.85 0.87 to 0.87 0.90 0.84 0.88 0.87 (fully
+    equalised the drawn portrait's few flat tones fell to 0.81). The limbs are planned
+    on the linear stretch only (``equalize=0``): on the equalised map they reached
+    less far into a portrait's crown.
+    """
     if contrast <= 0 or not crown.any():
         return dark
-    lo, hi = np.percentile(dark[crown], [1.0, 99.0])
+    inside = dark[crown]
+    lo, hi = np.percentile(inside, [1.0, 99.0])
     full = np.clip((dark - lo) / max(hi - lo, 0.2), 0.0, 1.0)
+    if hi - lo > 1e-3 and equalize > 0:  # a flat picture stays flat
+        # mid-ranks (ties share one), the crown's lightest tone at 0 and its darkest at 1
+        vals = np.sort(inside[:: max(1, inside.size // 200_000)])
+        rank = np.searchsorted(vals, dark, "left") + np.searchsorted(vals, dark, "right")
+        r0, r1 = (np.searchsorted(vals, v, "left") + np.searchsorted(vals, v, "right")
+                  for v in (vals[0], vals[-1]))
+        eq = np.clip((rank - r0) / max(r1 - r0, 1), 0.0, 1.0)
+        # a nearly flat picture (range < 0.1) keeps the linear stretch's gain of 5 at most
+        share = equalize * float(np.clip((hi - lo - 0.1) / 0.1, 0.0, 1.0))
+        full = (1.0 - share) * full + share * eq
     return ((1.0 - contrast) * dark + contrast * full).astype(np.float32)
 
 

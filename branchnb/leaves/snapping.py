@@ -552,7 +552,7 @@ def carry_points(registration, points) -> np.ndarray:
 def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *, tolerance: float,
                       radius_widths: float = 3.0, min_evidence: float = 0.2, refine: bool = True,
                       line_frac: float = 0.08, fit: bool = True, fit_reach: float = 0.2, oriented: bool = True,
-                      trace: bool = True, trace_kw=None, lightness_share: float = 0.3):
+                      trace: bool = True, trace_kw=None, lightness_share: float = 0.3, directions=None):
     """The training layer ``user`` snapped onto every exemplar's own ridges.
 
     Parameters
@@ -598,6 +598,11 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
     lightness_share : float
         Project on lightness alone when the contrast direction's lightness
         component is at least this (0 keeps the full direction).
+    directions : list of ((3,) array_like or None), optional
+        Per exemplar, the contrast direction of its own layer
+        (:func:`~branchnb.leaves.own_contrast.exemplar_direction`) instead of
+        the training leaf's; None (default, or an entry None): the training
+        leaf's.
 
     Returns
     -------
@@ -616,10 +621,15 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
     # reads a diagonal 3 px vein as 1.8 px: the laterals of a maple were
     # drawn one pixel wide.
     widths = [area_w[id(c)] for c in chains]
-    direction = contrast_direction(labs[t], user, blades[t])
-    if lightness_share > 0 and abs(direction[0]) >= lightness_share:
-        # The layer stands out in lightness: project on lightness alone.
-        direction = np.array([np.sign(direction[0]), 0.0, 0.0])
+    if directions is not None and (isinstance(directions, (str, bytes)) or len(directions) != len(labs)):
+        raise ValueError(f"directions must be a list of one direction or None per exemplar ({len(labs)})")
+
+    def projected(d):
+        if lightness_share > 0 and abs(d[0]) >= lightness_share:
+            # The layer stands out in lightness: project on lightness alone.
+            return np.array([np.sign(d[0]), 0.0, 0.0])
+        return d
+    training_direction = projected(contrast_direction(labs[t], user, blades[t]))
     radius = max(3.0, 1.5 * float(tolerance), float(radius_widths) * width)
     masks, kept = [], []
     size_t = np.sqrt(float(blades[t].sum()))
@@ -628,6 +638,12 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
             masks.append(None)
             kept.append(1.0)
             continue
+        direction = training_direction
+        if directions is not None and directions[e] is not None:
+            d = np.asarray(directions[e], np.float64).ravel()
+            if d.shape != (3,) or not np.all(np.isfinite(d)) or np.linalg.norm(d) < 1e-9:
+                raise ValueError(f"directions[{e}] must be 3 finite numbers, not all 0, got {directions[e]!r}")
+            direction = projected(d / np.linalg.norm(d))
         ev = ridge_evidence(lab, b, direction, width, line_frac * np.sqrt(float(b.sum())))
         carried = [carry_points(registrations[e], c) for c in chains]
         hess = ridge_hessian(lab, b, direction, width) if oriented else None
