@@ -10,7 +10,9 @@ silhouette, none across the joints), at any size:
   round fruits on stems, one fruit close enough to lie within the twig's
   patch band;
 * :func:`bare_tree`: a trunk with limbs and twigs on the limbs;
-* :func:`figure`: a body with a head, two arms and two legs.
+* :func:`figure`: a body with a head, two arms and two legs;
+* :func:`starfish`: five tapering arms round a disk (the disk wider than
+  any arm, so a turned arm's root lies within the body).
 
 >>> obj = twig(400, rng=0)
 >>> obj.image.shape, obj.names[:3]
@@ -28,7 +30,7 @@ import numpy as np
 from ..core.random import as_rng
 from ..core.validate import Int, checked
 
-__all__ = ["PartObject", "twig", "bare_tree", "figure"]
+__all__ = ["PartObject", "twig", "bare_tree", "figure", "starfish"]
 
 #: Outline colour of the procedural objects.
 OUTLINE = (0.12, 0.09, 0.06)
@@ -390,6 +392,67 @@ def figure(size: int = 600, *, rng=None) -> PartObject:
         c.add(sdf, _bark(c, s, _side(c, pts, s, d, hw), col, 30 * k) * 1.1, 1)
         strokes.append(pts)
         names.append(name)
+        parents.append(0)
+        widths.append(hw)
+    img, labels = c.render()
+    return PartObject(img, labels, strokes, parents, names, widths, c.outline)
+
+
+@checked(size=Int(64, 8192))
+def starfish(size: int = 400, *, rng=None) -> PartObject:
+    """A starfish (``size x size``): a disk and five tapering arms round it.
+
+    Parts: ``disk`` (its stroke a short segment across the centre) and
+    ``arm 1..5`` (children of the disk, their strokes from the centre to
+    the tips, arm 1 pointing up, then clockwise). The disk (radius
+    ``0.12 size``) is wider than the arms' roots (half width ``0.09
+    size``): a turned arm's root lies inside the body.
+
+    Parameters
+    ----------
+    size : int
+        Side of the square image in pixels (64 .. 8192); 400.
+    rng : int or numpy.random.Generator, optional
+        Random generator or seed of the texture noise.
+
+    Returns
+    -------
+    PartObject
+
+    Examples
+    --------
+    >>> obj = starfish(128, rng=0)
+    >>> obj.names[:2], obj.parents
+    (['disk', 'arm 1'], [-1, 0, 0, 0, 0, 0])
+    """
+    rng = as_rng(rng)
+    n = int(size)
+    k = n / 400.0
+    c = _Canvas(n, n, outline=max(1.0, 2.0 * k), rng=rng)
+    centre = np.array([0.5 * n, 0.5 * n])
+    orange = (0.88, 0.47, 0.20)
+    rd, reach, hw = 0.12 * n, 0.42 * n, 0.09 * n
+    # tubercles: light dots on a jittered grid, the same pattern on every part
+    period = 14 * k
+    jx, jy = c.noise(3 * period, 0.25 * period), c.noise(3 * period, 0.25 * period)
+    gx, gy = (c.xx + jx) / period, (c.yy + jy) / period
+    dots = np.hypot(gx - np.round(gx), gy - np.round(gy)) < 0.22
+    dr = np.hypot(c.xx - centre[0], c.yy - centre[1])
+
+    def skin(shade):
+        rgb = np.asarray(orange)[None, None] * shade[..., None] + c.noise(8 * k, 0.04)[..., None]
+        return np.where(dots[..., None], np.asarray(orange) * 1.25 + 0.05, rgb)
+
+    c.add(dr - rd, skin(1.0 - 0.15 * np.clip(dr / rd, 0, 1)), 2)
+    strokes = [np.array([centre - (0.5 * rd, 0), centre + (0.5 * rd, 0)])]
+    names, parents, widths = ["disk"], [-1], [rd]
+    for i, a in enumerate(-np.pi / 2 + np.arange(5) * 2 * np.pi / 5):
+        tip = centre + reach * np.array([np.cos(a), np.sin(a)])
+        pts = np.linspace(centre, tip, 8)
+        sdf, s = c.capsule(pts, hw, taper=0.2)
+        c.add(sdf, skin(0.95 - 0.2 * np.clip(s / reach, 0, 1)), 1)
+        strokes.append(pts)
+        names.append(f"arm {i + 1}")
         parents.append(0)
         widths.append(hw)
     img, labels = c.render()

@@ -14,6 +14,7 @@ import numpy as np
 
 from .composition import PlacedPatch, compose, labelling_cost, seam_mask
 from .edit import FETCH_FIELDS, EditPatches, StrokeEditParams, StrokeEditResult, StrokeSamples, _check_edit_params
+from .joints import close_hairlines, hold_joint_bodies, joint_disks
 from .junctions import far_side
 from .outline import _POCKET, clear_stale_outline, close_cuts, drop_flecks, fill_joints, source_depth
 from .parts import place_part, rigid_frame
@@ -136,6 +137,11 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
         style = patches._style if params.close_cuts else None
         wide = [j for j in joints if j[2] is not None]
         filled = None
+        # the parent's body at every junction stays with the parent (the notch a turned
+        # child would tear out of it is filled from the parent's own source pixels)
+        disks = joint_disks(index, attached, junctions, window)
+        held_depth = np.zeros(layer.shape[:2], np.float32)
+        layer, held = hold_joint_bodies(layer, index.premult, index.depth, disks, held_depth)
         if wide:
             # wide joints first, their pockets filled with the parts' inner colours (not
             # the outline's); the new silhouette is then outlined like a cut face
@@ -152,12 +158,26 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
             filled = (layer[:, :, 3] > 0.5) & ~before
         if style is not None:
             depth = source_depth(comp.labels, [pp.source_map for pp in placed], index.depth)
+            depth = np.where(held, held_depth, depth)
             if filled is not None and filled.any():
                 depth = np.where(filled, np.float32(_FILLED_DEPTH), depth)
+            uncut = layer
             layer = close_cuts(layer, depth, style)
+            inked = np.any(layer != uncut, axis=2) if layer is not uncut else None
             layer = clear_stale_outline(layer, depth, style, filled=filled)
+        opened = layer[:, :, 3] <= 0.5
         if joints:
             layer = fill_joints(layer, [j[0] for j in joints], [j[1] for j in joints])
+        layer = close_hairlines(layer, [(d[0], 1.5 * d[2] + 4.0) for d in disks])
+        if style is not None and disks:
+            # rims the last closings buried inside the object (a kept arm's outline
+            # running into a turned arm's root): interior ink, repainted
+            # and cut faces outlined before those closings joined them to a neighbour
+            late = opened & (layer[:, :, 3] > 0.5)
+            if inked is not None:
+                late |= inked
+            layer = clear_stale_outline(layer, depth, style,
+                                        filled=late if filled is None else late | filled)
         layer = drop_flecks(layer, index.premult[:, :, 3])
         alpha = layer[:, :, 3]
     mask = alpha > 0.5
