@@ -229,8 +229,9 @@ def effective_params(p: StylizeParams, scale: float) -> StylizeParams:
     the star's line under 1 px at 150), rope 1.12 / 1.13 (1.47 / 1.18), maple
     photo 1.03 / 0.97 (1.27 / 1.10), lizard 1.09 / 1.03 (1.16 / 1.09), clip-art
     tree 1.05 / 1.01, filled star 0.97 / 0.96, coffee photo 1.02 / 1.02, a night
-    photo 1.04 / 1.03; 1500 px within 1 % of 750 px. It costs 0.6-1.1 s of CPU
-    on a 150-250 px image (1.2-1.5 s in all, 0.3-0.8 s without).
+    photo 1.04 / 1.03; 1500 px within 1 % of 750 px. The blurs of the ink
+    maps are evaluated at the nodes only (bit for bit scipy's), so a 150-250 px
+    image takes 0.4-1.1 s of CPU in all (1.0-1.8 s before).
 
     Parameters
     ----------
