@@ -560,3 +560,22 @@ def test_pareidolia_night_sky_is_equalised(monkeypatch):
 
 
 from branchnb.dendrite.pareidolia_widths import _stretch as _stretch_orig  # noqa: E402
+
+
+def test_blur_at_nodes_is_scipys_gaussian_bit_for_bit():
+    # twigs_within_ink and tone_thickness blur only at the nodes (issue 25): the same numbers
+    from scipy import ndimage
+
+    from branchnb.dendrite.thickness import _blur_at
+
+    rng = np.random.default_rng(0)
+    for t in range(60):
+        h, w = (int(v) for v in rng.integers(3, 70, 2))
+        nodes = np.unique(rng.integers(0, h * w, int(rng.integers(1, 40))))
+        if t % 3 == 0:  # dense (a darkness map) or sparse (an ink map)
+            img = rng.random((h, w))
+        else:
+            img = np.zeros((h, w))
+            img.ravel()[nodes] = rng.random(nodes.size)
+        sigma = float(rng.choice([0.6, 2.0, 5.3, 30.0]))
+        assert np.array_equal(_blur_at(img, nodes, sigma), ndimage.gaussian_filter(img, sigma).ravel()[nodes])

@@ -237,13 +237,13 @@ def tone_thickness(dendrite: Dendrite, darkness, *, sigma: float = 8.0, min_widt
     seg = np.zeros(dendrite.n_nodes)
     step = dendrite.points[has] - dendrite.points[dendrite.parent[has]]
     seg[has] = np.hypot(step[:, 0], step[:, 1])
-    target = ndimage.gaussian_filter(np.clip(dark, 0.0, 1.0), sigma)
+    target = _blur_at(np.clip(dark, 0.0, 1.0), dendrite.nodes, sigma)
     # ink area needed for coverage black * T with randomly overlapping strokes
-    need = -np.log1p(-np.clip(black * target, 0.0, 0.95)).ravel()[dendrite.nodes]
+    need = -np.log1p(-np.clip(black * target, 0.0, 0.95))
     tiny = 1e-4
     for _ in range(int(iterations)):
         ink = np.bincount(dendrite.nodes, weights=width * seg, minlength=h * w).reshape(h, w)
-        have = ndimage.gaussian_filter(ink, sigma).ravel()[dendrite.nodes]
+        have = _blur_at(ink, dendrite.nodes, sigma)
         width = np.clip(width * ((need + tiny) / (have + tiny)) ** strength, min_width, max_width)
     return dendrite.with_radius(0.5 * width)
 
@@ -307,6 +307,107 @@ def branch_thickness(dendrite: Dendrite, *, mode: str = "subtree", min_width: fl
     return dendrite.with_radius(0.5 * w)
 
 
+def _reflected(n: int, r: int) -> np.ndarray:
+    """Indices of positions ``-r .. n - 1 + r`` of a line of ``n`` values in scipy's "reflect" mode."""
+    p = np.arange(-r, n + r) % (2 * n)
+    return np.where(p < n, p, 2 * n - 1 - p)
+
+
+@numba.njit(cache=True)
+def _first_pass_sparse(img, urows, wts, where):
+    """scipy's blur along axis 0 of a mostly empty ``img``, at rows ``urows`` only.
+
+    scipy starts each output at ``x[i] * w[0]`` and adds ``(x[i - d] + x[i + d]) * w[d]``
+    for ``d = r .. 1``; adding a pair of zeros changes no bit, so only the pairs
+    holding ink are added, in that order. ``where`` maps the extended line's
+    positions ``-r .. h - 1 + r`` to rows (:func:`_reflected`).
+    """
+    h, w = img.shape
+    r = wts.size - 1
+    first = np.zeros((urows.size, w))
+    pos = np.empty(where.size, np.int64)
+    val = np.empty(where.size)
+    for c in range(w):
+        m = 0
+        for q in range(where.size):
+            v = img[where[q], c]
+            if v != 0.0:
+                pos[m] = q - r
+                val[m] = v
+                m += 1
+        if m == 0:
+            continue
+        lo = 0
+        for k in range(urows.size):
+            i = urows[k]
+            while lo < m and pos[lo] < i - r:
+                lo += 1
+            mid = lo
+            while mid < m and pos[mid] < i:
+                mid += 1
+            hi = mid
+            while hi < m and pos[hi] <= i + r:
+                hi += 1
+            acc = img[i, c] * wts[0]
+            a, b = lo, hi - 1  # from the far ends in: d falls from r to 1
+            while a < mid or (b >= mid and pos[b] > i):
+                dl = i - pos[a] if a < mid else -1
+                dr = pos[b] - i if b >= mid and pos[b] > i else -1
+                if dl == dr:
+                    acc += (val[a] + val[b]) * wts[dl]
+                    a += 1
+                    b -= 1
+                elif dl > dr:
+                    acc += val[a] * wts[dl]
+                    a += 1
+                else:
+                    acc += val[b] * wts[dr]
+                    b -= 1
+            first[k, c] = acc
+    return first
+
+
+@numba.njit(cache=True)
+def _second_pass_at(ext, k_of, cols, wts):
+    """scipy's blur along axis 1 at ``(k_of[n], cols[n])`` of rows extended by ``r`` each side."""
+    r = wts.size - 1
+    out = np.empty(cols.size)
+    for n in range(cols.size):
+        k, c = k_of[n], cols[n] + r
+        acc = ext[k, c] * wts[0]
+        for d in range(r, 0, -1):
+            acc += (ext[k, c - d] + ext[k, c + d]) * wts[d]
+        out[n] = acc
+    return out
+
+
+def _blur_at(image, nodes, sigma: float) -> np.ndarray:
+    """``ndimage.gaussian_filter(image, sigma).ravel()[nodes]``, bit for bit, computed on less.
+
+    The same kernel and the same sums in the same order as scipy's separable
+    filter (axis 0, then axis 1), but only what the nodes read: the first pass
+    at the rows holding a node (adding only the ink of a sparse map), the
+    second at the nodes. About a tenth of the work on an ink map.
+    """
+    img = np.ascontiguousarray(image, dtype=np.float64)
+    nodes = np.asarray(nodes, np.int64)
+    if nodes.size == 0:
+        return np.zeros(0)
+    h, w = img.shape
+    r = int(4.0 * float(sigma) + 0.5)  # gaussian_filter's radius (truncate = 4)
+    impulse = np.zeros(2 * r + 1)
+    impulse[r] = 1.0
+    wts = ndimage.gaussian_filter1d(impulse, float(sigma))[r:]  # scipy's own w[0], ..., w[r]
+    rows, cols = np.divmod(nodes, w)
+    urows, k_of = np.unique(rows, return_inverse=True)
+    if np.count_nonzero(img) > 0.2 * img.size:  # dense: scipy's own first pass
+        first = ndimage.gaussian_filter1d(img, float(sigma), axis=0)[urows]
+    else:
+        first = _first_pass_sparse(img, urows, wts, _reflected(h, r))
+    ext = first[:, _reflected(w, r)]
+    return _second_pass_at(np.ascontiguousarray(ext), k_of.astype(np.int64), cols, wts)
+
+
 def _ink_map(dendrite: Dendrite, width, sigma: float, select=None) -> np.ndarray:
     """Stroke area (width x length of every edge) blurred over ``sigma``, at each node."""
     h, w = dendrite.shape
@@ -318,7 +419,7 @@ def _ink_map(dendrite: Dendrite, width, sigma: float, select=None) -> np.ndarray
     if select is not None:
         area = np.where(select, area, 0.0)
     ink = np.bincount(dendrite.nodes, weights=area, minlength=h * w).reshape(h, w)
-    return ndimage.gaussian_filter(ink, sigma).ravel()[dendrite.nodes]
+    return _blur_at(ink, dendrite.nodes, sigma)
 
 
 @checked(reference_radius=Array(ndim=1, min=0), sigma=Real(0, 1e4, low_open=True))
