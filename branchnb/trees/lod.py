@@ -448,6 +448,20 @@ def _texel_offsets(cloud) -> np.ndarray:
     return np.concatenate([[0], np.cumsum(n)]).astype(np.int64)
 
 
+def _pinholes_filled(op: np.ndarray, width: int) -> np.ndarray:
+    """``op`` with its holes filled but the drawn ones: a hole that holds a disc of radius
+    ``width + 1`` (between a crown and its branches) keeps its rim, gaps between billboards
+    (thinner) are filled."""
+    filled = ndi.binary_fill_holes(op)
+    holes = filled & ~op
+    if not holes.any():
+        return filled
+    lab, n = ndi.label(holes)
+    deep = ndi.maximum(ndi.distance_transform_edt(holes), lab, np.arange(1, n + 1))
+    keep = np.concatenate([[False], np.asarray(deep) >= width + 1])
+    return filled & ~keep[lab]
+
+
 def bake_side_outline(cloud, *, yaws=tuple(range(15, 360, 15)), ink=None, width=None):
     """Bake a drawn tree's side-view outline into the textures an engine shows (beyond the paper).
 
@@ -533,7 +547,7 @@ def bake_side_outline(cloud, *, yaws=tuple(range(15, 360, 15)), ink=None, width=
         if not op.any():
             continue
         d = _depth(ndi.binary_fill_holes(op))
-        want[texel[op & (d <= width)]] = True
+        want[texel[op & (_depth(_pinholes_filled(op, width)) <= width)]] = True
         bad[texel[op & (d > 2 * width + 1)]] = True
     paint = want & ~bad
     texs = []

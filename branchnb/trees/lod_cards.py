@@ -178,7 +178,7 @@ def side_outline_cards(cloud, *, sides=(45.0, 90.0, 135.0, 225.0, 270.0, 315.0),
     True
     """
     from .export import _check_cloud
-    from .lod import _opaque_texels, _view_ids
+    from .lod import _opaque_texels, _pinholes_filled, _view_ids
     from .outline import _depth
     from .preview import _outline_style
 
@@ -213,7 +213,7 @@ def side_outline_cards(cloud, *, sides=(45.0, 90.0, 135.0, 225.0, 270.0, 315.0),
         op = ids >= 0
         if not op.any():
             continue
-        ring = op & (_depth(ndi.binary_fill_holes(op)) <= width)
+        ring = op & (_depth(_pinholes_filled(op, width)) <= width)
         sel = ring & ~inked[texel]
         if not sel.any():
             continue
