@@ -19,7 +19,7 @@ Examples
 >>> from branchnb.trees.billboard import BillboardCloud
 >>> a = np.zeros((4, 6, 4), np.float32); a[:, :4] = (0, 0.5, 0, 1); a[0, 5] = (0, 0, 0, 1)   # crumb at column 5
 >>> b = np.zeros((4, 2, 4), np.float32); b[:, :] = (0, 0.3, 0, 1); b[0, 1, 3] = 0
->>> cloud = BillboardCloud(np.array([[3.0, 2, 0], [5.0, 6, 1]]), np.array([[6.0, 4], [2.0, 4]]),
+>>> cloud = BillboardCloud(np.array([[3.0, 2, 0], [5.0, 2, 1]]), np.array([[6.0, 4], [2.0, 4]]),
 ...                        np.array([0, 1]), np.ones(2), np.zeros(2, int), np.arange(2), [a, b])
 >>> out = adopt_crumbs(cloud)
 >>> float(out.textures[0][0, 5, 3]), out.n_billboards
