@@ -1,7 +1,8 @@
 """Side views of billboard clouds as an engine draws them (issue 24), not run by the tests.
 
-``python -m branchnb.trees._measure_sides [sizes] [yaws] [groups]`` (defaults ``96,200,512``,
-``45`` and ``rpg,clip,ground,drawn``): for every tree, the cloud at each size (the image
+``python -m branchnb.trees._measure_sides [sizes] [yaws] [groups] [names]`` (defaults
+``96,200,512``, ``45``, ``rpg,clip,ground,drawn`` and every sample of the groups): for every
+tree, the cloud at each size (the image
 resized so that its longest side is ``size``; ``BillboardParams(max_size=size)``), the full
 level as exported (:func:`~branchnb.trees.lod.bake_side_outline` and
 :func:`~branchnb.trees.lod_cards.side_outline_cards`) seen by
@@ -42,8 +43,8 @@ def _resized(img: np.ndarray, size: int) -> np.ndarray:
     return np.clip(out, 0.0, 1.0)
 
 
-def trees(groups, size: int) -> list:
-    """``(name, rgba)`` of the groups' trees at ``size`` px."""
+def trees(groups, size: int, only=None) -> list:
+    """``(name, rgba)`` of the groups' trees at ``size`` px (only the names in ``only``, if given)."""
     from .drawn import drawn_trees
 
     out = []
@@ -54,6 +55,8 @@ def trees(groups, size: int) -> list:
         names += list(CLIP)
     if "ground" in groups:
         names += list(GROUND)
+    if only:
+        names = [n for n in names if n in only]
     out += [(n, _resized(data.load(n), size)) for n in names]
     if "drawn" in groups:
         out += drawn_trees(rng=0, size=size)
@@ -61,7 +64,7 @@ def trees(groups, size: int) -> list:
     return out
 
 
-def measure(sizes=(96, 200, 512), yaws=(45.0,), groups=("rpg", "clip", "ground", "drawn")) -> dict:
+def measure(sizes=(96, 200, 512), yaws=(45.0,), groups=("rpg", "clip", "ground", "drawn"), only=None) -> dict:
     from .billboard import BillboardParams, billboard_cloud
     from .lod import bake_side_outline, engine_view, reduce_cloud
     from .lod_cards import side_outline_cards
@@ -71,7 +74,7 @@ def measure(sizes=(96, 200, 512), yaws=(45.0,), groups=("rpg", "clip", "ground",
     res = {}
     floats = {}
     for size in sizes:
-        for name, img in trees(groups, size):
+        for name, img in trees(groups, size, only):
             t0 = time.process_time()
             cloud = billboard_cloud(img, params=BillboardParams(max_size=size), rng=0)
             o = silhouette_outline(cloud.image)
@@ -118,4 +121,5 @@ if __name__ == "__main__":
     sizes = tuple(int(s) for s in sys.argv[1].split(",")) if len(sys.argv) > 1 else (96, 200, 512)
     yaws = tuple(float(y) for y in sys.argv[2].split(",")) if len(sys.argv) > 2 else (45.0,)
     groups = tuple(sys.argv[3].split(",")) if len(sys.argv) > 3 else ("rpg", "clip", "ground", "drawn")
-    measure(sizes, yaws, groups)
+    only = tuple(sys.argv[4].split(",")) if len(sys.argv) > 4 else None
+    measure(sizes, yaws, groups, only)
