@@ -157,10 +157,14 @@ def reduce_cloud(cloud, share: float = 0.3):
         is kept). Billboards behind the axis (``z < 0``) are dropped first,
         as the impostor would hide them.
 
+    Kept billboards that float off the impostor in a side view (every 15
+    degrees; a piece of outline hanging under the crown) are dropped again
+    (issue 24), so there may be fewer.
+
     Returns
     -------
     BillboardCloud
-        ``ceil(share K) + 1`` billboards, the impostor first.
+        At most ``ceil(share K) + 1`` billboards, the impostor first.
 
     Raises
     ------
