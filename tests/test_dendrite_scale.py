@@ -245,6 +245,22 @@ def test_lightning_on_an_image_reads_as_bolts_along_its_edges():
     assert brightness(wide) > brightness(thin) + 0.05
 
 
+def test_lightning_at_200_px_looks_like_the_larger_bolt_shown_small():
+    # below 512 px the widths follow the diagonal too (floors 0.4 / 2 px instead of 1 / 3):
+    # before, a 200-px bolt's twigs were as wide and bright as its core (mean brightness
+    # 0.24 vs 0.16 for the 600-px bolt shown at 200 px, 7 % bright pixels vs 2.5 %)
+    src = as_rgb(data.load("astronaut"))
+    lum = {}
+    for n in (200, 600):
+        img = resize(src, (n, n), anti_aliasing=True).astype(np.float32)
+        lum[n] = as_gray(stylize(img, rng=0, metaphor="lightning").rendering.image)
+    small = resize(lum[600], (200, 200), anti_aliasing=True)
+    assert lum[200].mean() == pytest.approx(small.mean(), rel=0.2)
+    assert (lum[200] > 0.7).mean() == pytest.approx((small > 0.7).mean(), rel=0.35)
+    # still a hierarchy: the main channels burn white
+    assert (lum[200] > 0.9).mean() > 0.003
+
+
 def test_lightning_widths_follow_the_diagonal_above_the_lattice():
     # before, 1-px twigs on a 2000-px image: the pipe model never reached the widest
     # channel and the whole picture was dim (bright core 0.8 % of the image vs 2.8 % at 500 px)
