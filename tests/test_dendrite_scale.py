@@ -575,6 +575,21 @@ def test_pareidolia_night_sky_is_equalised(monkeypatch):
     assert spread[1] > spread[0] + 0.1, spread
 
 
+def test_pareidolia_dark_regions_get_solid_ink():
+    # a night photo (skimage's rocket): a dark sky over most of the crown. With twigs at
+    # most 5 px wide the darkest tones read mid-grey and the texture drowned the picture
+    # (tone r at 4 px blur 0.62 at 500 px; 0.71 with max_width 8)
+    from skimage import data as skdata
+
+    img = resize(skdata.rocket() / 255.0, (169, 300), anti_aliasing=True).astype(np.float32)
+    r = {}
+    for mw in (5.0, 8.0):
+        t = pareidolia_tree(img, PareidoliaParams(max_width=mw), rng=0)
+        r[mw] = _tone_r(t.image, t.render().image, t.crown_on_canvas())
+    assert PareidoliaParams().max_width == 8.0
+    assert r[8.0] >= 0.7 and r[8.0] > r[5.0] + 0.03, r
+
+
 from branchnb.dendrite.pareidolia_widths import _stretch as _stretch_orig  # noqa: E402
 
 
