@@ -578,7 +578,8 @@ def test_pareidolia_night_sky_is_equalised(monkeypatch):
 def test_pareidolia_dark_regions_get_solid_ink():
     # a night photo (skimage's rocket): a dark sky over most of the crown. With twigs at
     # most 5 px wide the darkest tones read mid-grey and the texture drowned the picture
-    # (tone r at 4 px blur 0.62 at 500 px; 0.71 with max_width 8)
+    # (tone r at 4 px blur here 0.72 -> 0.80; at 500 px 0.62 -> 0.71, 0.80 with the fork
+    # on the dark side of the lit rocket)
     from skimage import data as skdata
 
     img = resize(skdata.rocket() / 255.0, (169, 300), anti_aliasing=True).astype(np.float32)
@@ -588,6 +589,30 @@ def test_pareidolia_dark_regions_get_solid_ink():
         r[mw] = _tone_r(t.image, t.render().image, t.crown_on_canvas())
     assert PareidoliaParams().max_width == 8.0
     assert r[8.0] >= 0.7 and r[8.0] > r[5.0] + 0.03, r
+
+
+def test_pareidolia_trunk_enters_the_crown_beside_a_light_object():
+    # a dark picture with a lit tower up its middle: the trunk (the widest stroke) entered
+    # the crown below the centre, drawn black over the tower's foot (the lit rocket at
+    # 1000 px: 43 % of the tone error within 8 px of the trunk and limbs, 9 % of the crown)
+    from branchnb.dendrite.pareidolia import _fork_point
+
+    yy, xx = np.mgrid[0:200, 0:200]
+    img = np.full((200, 200), 0.15)
+    tower = np.abs(xx - 100) < 12
+    img[tower] = 0.95
+    t = pareidolia_tree(ndimage.gaussian_filter(img, 1.0), PareidoliaParams(n_endpoints=600), rng=0)
+    d = t.dendrite
+    trunk = d.iteration == 1
+    low = trunk & (d.points[:, 1] > 200)  # the trunk in the blank strip below the picture
+    assert abs(np.median(d.points[low, 0]) - 100) > 14
+    # ... and straight: its foot under its fork
+    assert np.ptp(d.points[low, 0]) < 12
+    # a plain crown keeps the centre
+    crown = np.zeros((100, 100), bool)
+    crown[10:80, 20:80] = True
+    assert _fork_point(crown, np.zeros((100, 100)))[0] == pytest.approx(49.5, abs=0.6)
+    assert _fork_point(crown)[0] == pytest.approx(49.5, abs=0.6)
 
 
 from branchnb.dendrite.pareidolia_widths import _stretch as _stretch_orig  # noqa: E402
