@@ -31,6 +31,7 @@ from .induction import (
     colour_space,
     layer_cdfs,
     layer_weight,
+    layer_width,
     liberal_layer,
     neighbourhood_candidates,
     remove_layer,
@@ -38,6 +39,8 @@ from .induction import (
     spatial_term,
 )
 from .layers import LayerSet, SnapParams, TrainingLayers, grow_layers
+from .own_contrast import trim_to_ridges, without_blobs
+from .snapping import contrast_direction
 
 __all__ = ["IdentityRegistration", "LayerInduction", "LeafAnalysis", "analyze", "induce",
            "normalise_exemplars", "registration_tolerance", "warp_mask"]
@@ -556,6 +559,9 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
                 near = ndi.binary_dilation(ridge_px[e], iterations=1)
                 m = m | _induced(np.where(near, combined[e], np.inf), d_e, tr_iou, snapped, e, blades[e], taken[e])
             if e != t and snapped is not None:
+                m = without_blobs(m, user, blades[t], blades[e])
+                m = trim_to_ridges(m, labs[e], blades[e], own[e] if own[e] is not None else
+                                   contrast_direction(labs[t], user, blades[t]), layer_width(user))
                 band = _outline_band(blades[e], user)
                 if (m & band).sum() >= INKED_OUTLINE * max(int(band.sum()), 1):
                     m = m & ~band
