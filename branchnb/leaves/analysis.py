@@ -39,7 +39,7 @@ from .induction import (
     spatial_term,
 )
 from .layers import LayerSet, SnapParams, TrainingLayers, grow_layers
-from .own_contrast import trim_to_ridges, without_blobs
+from .own_contrast import high_pass, trim_by_contrast, without_blobs
 from .snapping import contrast_direction
 
 __all__ = ["IdentityRegistration", "LayerInduction", "LeafAnalysis", "analyze", "induce",
@@ -176,6 +176,10 @@ class LayerInduction:
         ridges (None on the training leaf), or None when the layer is not
         thin or snapping is off (beyond the paper; see
         :mod:`branchnb.leaves.snapping`).
+    contrast : list of ((H, W) float32 ndarray or None) or None, optional
+        Per exemplar, each pixel's high-pass colour along the thin layer's
+        contrast direction there, which its induced mask was trimmed by
+        (:func:`~branchnb.leaves.own_contrast.trim_by_contrast`); None where not trimmed.
     """
 
     name: str
@@ -191,6 +195,7 @@ class LayerInduction:
     eps_px: list = field(repr=False)
     neighbourhood: int = 1
     snapped: list | None = field(default=None, repr=False)
+    contrast: list | None = field(default=None, repr=False)
 
     def spatial(self, e: int) -> np.ndarray:
         """``F(x, c)`` on exemplar ``e`` (recomputed from the stored terms).
@@ -546,6 +551,7 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         tr_iou, n_px, colour, lam, overlap, combined, delta = best
         masks = []
         new_residual = []
+        contrast = None
         for e in range(n):
             report(step / steps, f"layer {name}: residual of exemplar {e + 1}/{n}")
             step += 1
@@ -559,12 +565,15 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
                 # Beyond the training leaf's delta only next to the exemplar's own layer pixels.
                 near = ndi.binary_dilation(ridge_px[e], iterations=1)
                 m = m | _induced(np.where(near, combined[e], np.inf), d_e, tr_iou, snapped, e, blades[e], taken[e])
-            if e != t and snapped is not None and tr_iou >= COLOUR_RELIABLE:
+            if e != t and snapped is not None and tr_iou >= COLOUR_RELIABLE and own_px[e] is not None:
                 # Where {D < delta} is induced (the snapped paths alone are drawn to width already:
                 # trimmed, the sample maples' induced veins lost half their width, IoU 0.64 -> 0.43).
-                m = without_blobs(m, user, blades[t], blades[e])
-                m = trim_to_ridges(m, labs[e], blades[e], own[e] if own[e] is not None else
-                                   contrast_direction(labs[t], user, blades[t]), layer_width(user))
+                if contrast is None:
+                    contrast = [None] * n
+                dir_e = own[e] if own[e] is not None else contrast_direction(labs[t], user, blades[t])
+                contrast[e] = (high_pass(labs[e], blades[e], layer_width(user) + 1.0)
+                               @ (np.asarray(dir_e, np.float64) / np.linalg.norm(dir_e))).astype(np.float32)
+                m = trim_by_contrast(without_blobs(m, user, blades[t], blades[e]), contrast[e])
             if e != t and snapped is not None:
                 band = _outline_band(blades[e], user)
                 if (m & band).sum() >= INKED_OUTLINE * max(int(band.sum()), 1):
@@ -578,7 +587,7 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         residuals.append(list(residual))
         out.append(LayerInduction(name, lam, overlap, delta, tr_iou, masks, colour, combined,
                                   reg_user, dist, [ln[0] for ln in lengths], n_px,
-                                  snapped=snapped))
+                                  snapped=snapped, contrast=contrast))
         step += 1
     report(1.0, "induction done")
     return out, residuals, space
@@ -897,6 +906,8 @@ def _retuned(analysis, changes):
         for e in range(len(a.blades)):
             m = user.copy() if e == t else _induced(combined[e], delta, tr_iou, old.snapped, e, a.blades[e],
                                                     taken[e])
+            if e != t and old.contrast is not None and old.contrast[e] is not None and tr_iou >= COLOUR_RELIABLE:
+                m = trim_by_contrast(without_blobs(m, user, a.blades[t], a.blades[e]), old.contrast[e])
             taken[e] |= m
             masks.append(m)
         layers.append(dataclasses.replace(old, lam=lam, liberal_overlap=overlap, delta=delta,

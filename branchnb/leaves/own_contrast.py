@@ -27,7 +27,7 @@ from scipy import ndimage as ndi
 
 from ..core.image import as_mask
 
-__all__ = ["exemplar_direction", "without_blobs", "trim_to_ridges"]
+__all__ = ["exemplar_direction", "without_blobs", "trim_to_ridges", "trim_by_contrast", "high_pass"]
 
 #: The exemplar's own direction replaces the training leaf's when its ridge score is this much higher.
 GAIN = 1.3
@@ -235,7 +235,6 @@ def trim_to_ridges(mask, lab, blade, direction, width: float, *, level: float = 
     >>> int(trim_to_ridges(m, lab, np.ones((30, 30), bool), [-1.0, 0, 0], 2.0)[15].sum())
     2
     """
-    from skimage.morphology import skeletonize
     mask = as_mask(mask, name="mask")
     blade = as_mask(blade, shape=mask.shape, name="blade")
     d = np.asarray(direction, np.float64).ravel()
@@ -244,7 +243,18 @@ def trim_to_ridges(mask, lab, blade, direction, width: float, *, level: float = 
     if not mask.any():
         return mask
     d = d / np.linalg.norm(d)
-    p = high_pass(lab, blade, max(1.0, float(width)) + 1.0) @ d
+    return trim_by_contrast(mask, high_pass(lab, blade, max(1.0, float(width)) + 1.0) @ d, level=level)
+
+
+def trim_by_contrast(mask, contrast, *, level: float = TRIM_LEVEL):
+    """:func:`trim_to_ridges` with each pixel's contrast along the layer's direction given (``contrast``)."""
+    from skimage.morphology import skeletonize
+    mask = as_mask(mask, name="mask")
+    p = np.asarray(contrast)
+    if p.shape != mask.shape:
+        raise ValueError(f"contrast must have the mask's shape {mask.shape}, got {p.shape}")
+    if not mask.any():
+        return mask
     skel = skeletonize(mask)
     ref = float(np.median(p[skel])) if skel.any() else 0.0
     if ref <= 0:
