@@ -63,6 +63,9 @@ spots) the carried-over layer is only a prior:
    the donor's veins on new leaves (two vein systems). Traces keep apart
    by the vein's own width (3 px at least): on a drawn oak at 480 px two
    traces ran along the two edges of one 6 px vein.
+   **Side ridges** (:func:`_side_ridges`): a long straight ridge at
+   :data:`SIDE_LEVEL` that leaves the found network is a branch the
+   training layer lacks (a torn lobe's lateral on the training maple 07).
 7. The kept paths, grown to each branch's width on the training leaf
    (area per skeleton pixel, so diagonal veins keep their width),
    are the snapped layer. :func:`branchnb.leaves.analysis.induce` uses it
