@@ -261,7 +261,7 @@ class _Filling:
         """Grow branches into the largest hole, one after another, until holes are as rare as the example's.
 
         Beyond the paper: the paper's stop rule (coverage within ``rho``)
-        and :meth:`_fill_holes` (furcations beside holes) leave, on some
+        leaves, on some
         seeds, regions farther than :data:`HOLE_DISTANCE` x the domain's
         diameter from every branch covering 1.5-8 x the example's share
         (retina, drawn maps, deltas: branches crowd in one part while

@@ -38,19 +38,24 @@ from .straightness import RUN_MIN_MEAN, BendHistogram, StraightRuns
 if TYPE_CHECKING:
     from .model import StructureModel
 
-__all__ = ["GrowthProgress", "LENGTH_BOUND", "LENGTH_FACTOR", "length_cap"]
+__all__ = ["FILL_LENGTH_FACTOR", "GrowthProgress", "LENGTH_BOUND", "LENGTH_FACTOR", "length_cap"]
 
 #: Auto length cap (``max_total_length = 0``): this x the example's total length per domain area.
 #: The coverage stop usually ends growth first (0.95-1.2 x); the cap ends the filling past it, which
 #: reached 1.4-1.6 x on the retina, the lightning and the Czech map at 2 x (see ``length_cap``).
 LENGTH_FACTOR = 1.3
+#: ... and at most this x while holes the example does not have are filled (``_Filling._fill_far``):
+#: a 1000 px retina reached its example's coverage at 1.5 x its length per area (at 1.3 x a seventh
+#: of it stayed far from every vessel, 75 x the example's share).
+FILL_LENGTH_FACTOR = 2.0
 #: Safety bound of the auto length cap against runaway growth: branch length (px) per domain pixel
 #: (0.25: branches 4 px apart all over the domain), and never below the former fixed 20000 px.
 LENGTH_BOUND = 0.25
 LENGTH_FLOOR = 20000.0
 
 
-def length_cap(model: StructureModel, params: SynthesisParams, shape, domain: np.ndarray | None) -> float:
+def length_cap(model: StructureModel, params: SynthesisParams, shape, domain: np.ndarray | None,
+               factor: float | None = None) -> float:
     """The total-length stop of a synthesis (pixels).
 
     ``params.max_total_length`` when set (> 0); else (auto, beyond the
@@ -73,6 +78,10 @@ def length_cap(model: StructureModel, params: SynthesisParams, shape, domain: np
         Output frame.
     domain : (H, W) bool ndarray or None
         Output domain (None: the whole frame).
+    factor : float, optional
+        Multiple of the example's length per area; default
+        :data:`LENGTH_FACTOR` (:data:`FILL_LENGTH_FACTOR` while holes are
+        filled).
 
     Returns
     -------
@@ -96,7 +105,8 @@ def length_cap(model: StructureModel, params: SynthesisParams, shape, domain: np
     else:
         fh, fw = _frame(model.source)
         ex_area = float(fh * fw)
-    cap = LENGTH_FACTOR * model.example.total_length * area / max(ex_area, 1.0)
+    f = LENGTH_FACTOR if factor is None else float(factor)
+    cap = f * model.example.total_length * area / max(ex_area, 1.0)
     return float(min(max(cap, 1.0), max(LENGTH_FLOOR, LENGTH_BOUND * area)))
 
 

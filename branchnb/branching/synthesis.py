@@ -42,7 +42,7 @@ Putting the paper's models together (see the modules of the same names):
    branches beside the holes left furcate once more toward them
    (``_Grower._fill_holes``). The total length stops at the example's
    length per domain area x 1.3 (``growth.length_cap``; the paper's fixed
-   cap stopped 1000 px examples short). A delta's channels run on to the
+   cap stopped 1000 px examples short), x 2 while holes are filled. A delta's channels run on to the
    sea; channels blocked inland are dropped (``_Grower._prune_dry``); in a
    free frame (no coast) a root
    reads the frame ahead as density (``colonization.frame_density``), so
@@ -87,7 +87,7 @@ from .domains import (  # noqa: F401  (re-exported: split from this module)
     _shore_margin_of,
 )
 from .filling import HOLE_DISTANCE, _hole_map  # noqa: F401
-from .growth import GrowthProgress, _BranchState, _Grower, length_cap
+from .growth import FILL_LENGTH_FACTOR, GrowthProgress, _BranchState, _Grower, length_cap
 from .guidance import Guidance
 from .histogram_matching import histogram_distances
 from .model import _FIT_FIELDS, StructureModel, _check_example, fit_model  # noqa: F401
@@ -350,8 +350,16 @@ def _grow_with_retries(model, p, rng, shp, guidance, starts, scorer, domain=None
     # on the kept attempt only. Targeted growth into the largest holes first: furcating beside every
     # hole first (``_fill_holes``) spent 0.25 x the example's length (retina 512: 1.4 x its length per
     # area, against 1.24-1.29 x this way round, with far shares 0.81-0.93 x against 0.72-1.41 x)
+    cut = best.stop_reason == "total length" and p.max_total_length <= 0
+    if cut:
+        # the auto cap stopped growth: holes the example does not have may still be filled, up to
+        # FILL_LENGTH_FACTOR x the example's length per area (a 1000 px retina needs 1.5 x)
+        best.max_total = length_cap(model, p, shp, domain, factor=FILL_LENGTH_FACTOR)
+        best.stop_reason = ""
     best._fill_far()
     best._fill_holes()
+    if cut and not best.stop_reason:
+        best.stop_reason = "total length"
     best._prune_dry()
     return best
 
