@@ -557,6 +557,9 @@ def extend_branch(structure: Structure, index: int, example, params: SynthesisPa
     guidance = _check_guidance(guidance, shp)
     g = _Grower(model, p, rng, shp, guidance, domain=_check_domain(None, model, shp))
     g.add_existing(structure)
+    if p.max_total_length <= 0:
+        # the auto cap counts what is added (a long structure is not stopped at once)
+        g.max_total += g.total_length
     if p.max_coverage <= 0:
         # extending is an explicit request: the automatic coverage target does not stop it
         g.coverage_target = 1.0
