@@ -350,11 +350,13 @@ def _grow_with_retries(model, p, rng, shp, guidance, starts, scorer, domain=None
     # on the kept attempt only. Targeted growth into the largest holes first: furcating beside every
     # hole first (``_fill_holes``) spent 0.25 x the example's length (retina 512: 1.4 x its length per
     # area, against 1.24-1.29 x this way round, with far shares 0.81-0.93 x against 0.72-1.41 x)
-    cut = best.stop_reason == "total length" and p.max_total_length <= 0
-    if cut:
-        # the auto cap stopped growth: holes the example does not have may still be filled, up to
+    auto = p.max_total_length <= 0
+    cut = auto and best.stop_reason == "total length"
+    if auto:
+        # holes the example does not have may still be filled past the auto cap, up to
         # FILL_LENGTH_FACTOR x the example's length per area (a 1000 px retina needs 1.5 x)
         best.max_total = length_cap(model, p, shp, domain, factor=FILL_LENGTH_FACTOR)
+    if cut:
         best.stop_reason = ""
     best._fill_far()
     best._fill_holes()
