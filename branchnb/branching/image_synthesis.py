@@ -187,6 +187,15 @@ class ImageSynthesisParams:
     completion_rim : int, default 3
         Gap completion: width (pixels) of the fragments' outer rim a patch's seam
         may cut into.
+    line_contrast : float, default 0.85
+        Beyond the paper: after gap completion every pixel of the target's
+        lines stands out from its local ground by at least this share of the
+        example's median line profile (per radius and distance to the centre
+        line, :mod:`~branchnb.branching.line_contrast`); pixels that fall
+        short (softened, half a pixel off, or a gap no fragment covered) move
+        along the example's line colour, the others keep the fragments'
+        texture. Thin lines (cracks, capillaries) otherwise come out pale and
+        broken. 0 = off (the paper).
     min_free : float, default 0.0
         Gap completion: shrink patches until this fraction of the example's windows
         is wholly branch-free.
@@ -292,6 +301,9 @@ class ImageSynthesisParams:
     completion_rim: int = param(3, min=0, max=16, step=1,
                                 help="gap completion: width (pixels) of the fragments' outer rim "
                                      "a patch's seam may cut into")
+    line_contrast: float = param(0.85, min=0.0, max=1.5, step=0.05,
+                                 help="every target line pixel stands out from its ground by at least "
+                                      "this share of the example's median line profile (0 = off)")
     min_free: float = param(0.0, min=0.0, max=0.5, step=0.005,
                             help="gap completion: shrink patches until this fraction of the "
                                  "example's windows is wholly branch-free")
@@ -646,6 +658,13 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     fill, n_inpainted = _complete(out, ex, regions, p, flat, use_poisson, pm_s, pm_t, labels_t, src_labels,
                                   rng, report, frag_share, timings)
     canvas, source, frag_index, seams = out.canvas, out.source, out.frag_index, out.seams
+    if p.line_contrast > 0:
+        from .line_contrast import line_profile, restore_line_contrast
+
+        if "profile" not in cached:
+            cached["profile"] = line_profile(cached["ex"], pm_s, ~regions.unusable)
+        if cached["profile"] is not None:
+            canvas, _ = restore_line_contrast(canvas, pm_t, cached["profile"], p.line_contrast)
     if flat_share >= 0.5:
         # drawn examples: a branch the fragments left without ink is drawn in the example's style
         from .drawing import drawing_style
