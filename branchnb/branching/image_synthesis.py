@@ -658,13 +658,6 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     fill, n_inpainted = _complete(out, ex, regions, p, flat, use_poisson, pm_s, pm_t, labels_t, src_labels,
                                   rng, report, frag_share, timings)
     canvas, source, frag_index, seams = out.canvas, out.source, out.frag_index, out.seams
-    if p.line_contrast > 0:
-        from .line_contrast import line_profile, restore_line_contrast
-
-        if "profile" not in cached:
-            cached["profile"] = line_profile(cached["ex"], pm_s, ~regions.unusable)
-        if cached["profile"] is not None:
-            canvas, _ = restore_line_contrast(canvas, pm_t, cached["profile"], p.line_contrast)
     if flat_share >= 0.5:
         # drawn examples: a branch the fragments left without ink is drawn in the example's style
         from .drawing import drawing_style
@@ -676,6 +669,14 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         canvas, _ = redraw_gaps(canvas, target_structure, style.line_colour,
                                 style.region_colours[style.branch_region], style.width_scale)
 
+    if p.line_contrast > 0:
+        # (after the drawn-style redraw: it draws the gaps of drawings in the full line colour)
+        from .line_contrast import line_profile, restore_line_contrast
+
+        if "profile" not in cached:
+            cached["profile"] = line_profile(cached["ex"], pm_s, ~regions.unusable)
+        if cached["profile"] is not None:
+            canvas, _ = restore_line_contrast(canvas, pm_t, cached["profile"], p.line_contrast)
     fragment_mask = frag_index >= 0
     # Every stage keeps [0, 1]; this guards the contract (finite, in range) for any input.
     np.clip(np.nan_to_num(canvas, nan=0.0), 0.0, 1.0, out=canvas)

@@ -240,7 +240,8 @@ def restore_line_contrast(image, pm: PixelMap, profile: LineProfile, share: floa
         return img, 0
     finite = np.isfinite(pm.dist) & (pm.radius > 0)
     r = np.where(finite, pm.radius, 0.0)
-    reach = finite & (pm.dist <= profile.u[-1] * np.maximum(r, 0.5))
+    # the line and its anti-aliased rim, not the glow or halo around it (the ground stays the fragments')
+    reach = finite & (pm.dist <= np.minimum(profile.u[-1] * np.maximum(r, 0.5), r + 1.5))
     if valid is not None:
         reach &= np.asarray(valid, bool)
     if not reach.any():
