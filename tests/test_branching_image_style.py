@@ -64,7 +64,7 @@ def test_no_profile_when_the_lines_do_not_show():
         restore_line_contrast(img, pm, line_profile(img, pm), -1.0)
 
 
-@pytest.fixture(scope="module", params=[(160, 3), (224, 5)], ids=["mud160", "mud224"])
+@pytest.fixture(scope="module", params=[(160, 3)], ids=["mud160"])
 def mud(request):
     size, seed = request.param
     img, _cracks = cracked_mud_example((size, size), seed)
@@ -123,3 +123,29 @@ def test_small_drawn_maps_keep_their_coast(size, seed):
     assert boundary_drawn_share(out.image, out_land, ink, ground) >= 0.9
     pieces = line_pieces(out.image, res.structure, ink, ground)
     assert pieces["max_pieces"] == 1 and pieces["specks"] == 0, pieces
+
+
+@pytest.mark.parametrize("kind,size,width", [("drawing", 200, 8.0), ("vine", 500, None)])
+def test_outlined_strokes_are_traced_once(kind, size, width):
+    from branchnb.branching._line_art_trees import branching_drawing, interlace_vine, measure_line_art
+
+    make = branching_drawing if kind == "drawing" else interlace_vine
+    img, truth, junctions = make(size, 0, outlined=True, width=width)
+    found = extract_structure(img)
+    m = measure_line_art(truth, junctions, found)
+    assert m["trees"] == 1 and m["recall"] >= 0.9, m
+    # once, not as its two outline lines: about the true length
+    ratio = sum(b.length for b in found.branches) / sum(b.length for b in truth.branches)
+    assert ratio <= 1.25, ratio
+
+
+def test_only_outlined_insides_are_filled():
+    from branchnb.branching._line_art_examples import crack_drawing_example
+    from branchnb.branching._map_examples import delta_mask_example
+    from branchnb.branching.ridges import fill_outlined_strokes
+
+    cells = crack_drawing_example(256, 0).mean(-1)           # wide cells of a crack drawing stay
+    assert fill_outlined_strokes(cells)[1] == 0
+    mask, _ch, _sea = delta_mask_example((256, 256), 3)      # islands between wide channels stay
+    assert fill_outlined_strokes(1.0 - mask.astype(np.float32))[1] == 0
+    assert fill_outlined_strokes(mask.astype(np.float32))[1] == 0
