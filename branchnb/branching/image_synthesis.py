@@ -193,10 +193,10 @@ class ImageSynthesisParams:
         example's median line profile (per radius and distance to the centre
         line, :mod:`~branchnb.branching.line_contrast`); pixels that fall
         short (softened, or half a pixel off, or a gap no fragment covered)
-        move along the example's line colour; the others, and any line pixel
-        a fragment copied to its own place across the line, keep the
-        fragments' texture (so synthesizing an example's own structure
-        reproduces it). Thin lines (cracks, capillaries) otherwise come out pale and
+        move along the example's line colour; the others keep the
+        fragments' texture. (The example's own weakest line pixels, e.g. at
+        faint tips, are raised too: synthesizing an example's own structure
+        reproduces it exactly only with 0.) Thin lines (cracks, capillaries) otherwise come out pale and
         broken. 0 = off (the paper).
     min_free : float, default 0.0
         Gap completion: shrink patches until this fraction of the example's windows
@@ -673,14 +673,12 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
 
     if p.line_contrast > 0:
         # (after the drawn-style redraw: it draws the gaps of drawings in the full line colour)
-        from .line_contrast import copied_in_place, line_profile, restore_line_contrast
+        from .line_contrast import line_profile, restore_line_contrast
 
         if "profile" not in cached:
             cached["profile"] = line_profile(cached["ex"], pm_s, ~regions.unusable)
         if cached["profile"] is not None:
-            # a line pixel a fragment brought to its own place across the line keeps the example's value
-            keep = copied_in_place(source, pm_s, pm_t, image=canvas, example=cached["ex"])
-            canvas, _ = restore_line_contrast(canvas, pm_t, cached["profile"], p.line_contrast, valid=~keep)
+            canvas, _ = restore_line_contrast(canvas, pm_t, cached["profile"], p.line_contrast)
     fragment_mask = frag_index >= 0
     # Every stage keeps [0, 1]; this guards the contract (finite, in range) for any input.
     np.clip(np.nan_to_num(canvas, nan=0.0), 0.0, 1.0, out=canvas)
