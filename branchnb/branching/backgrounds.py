@@ -243,10 +243,15 @@ def _ground_regions(gray, branches, lab, n: int, tol: float) -> np.ndarray:
     my = np.clip(2 * iy[ry, rx] - ry, 0, g.shape[0] - 1)
     mx = np.clip(2 * ix[ry, rx] - rx, 0, g.shape[1] - 1)
     two_sided = np.abs(g[my, mx] - g[ry, rx]) <= 2 * tol
-    if np.count_nonzero(two_sided) >= max(20, 0.1 * len(ry)):
-        ring = np.zeros_like(ring)
-        ring[ry[two_sided], rx[two_sided]] = True
     ground = float(np.median(g[ring]))
+    if np.mean(np.abs(g[ring] - ground) <= 2 * tol) < 0.5:
+        return out
+    if np.count_nonzero(two_sided) >= max(20, 0.1 * len(ry)):
+        ring2 = np.zeros_like(ring)
+        ring2[ry[two_sided], rx[two_sided]] = True
+        # the one-sided ring outvoted the ground: few of the two-sided pixels have its grey
+        if np.mean(np.abs(g[ring2] - ground) <= 2 * tol) < 0.3:
+            ring, ground = ring2, float(np.median(g[ring2]))
     if np.mean(np.abs(g[ring] - ground) <= 2 * tol) < 0.5:
         return out
     med = ndi.median(g, lab, np.arange(1, n + 1))
