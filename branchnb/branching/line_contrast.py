@@ -27,7 +27,7 @@ import numpy as np
 
 from .skeleton_map import PixelMap
 
-__all__ = ["LineProfile", "copied_in_place", "line_profile", "local_ground", "restore_line_contrast"]
+__all__ = ["LineProfile", "line_profile", "local_ground", "restore_line_contrast"]
 
 #: Normalised distances ``u = d / r`` at which the profile is measured.
 _U = np.array([0.0, 0.25, 0.5, 0.75, 1.0, 1.25, 1.5])
@@ -103,54 +103,6 @@ def local_ground(image: np.ndarray, exclude: np.ndarray, sigma: float) -> np.nda
     ok = den > 1e-3
     out = np.where(ok[..., None], num / np.maximum(den, 1e-6)[..., None], fallback)
     return out.astype(np.float32)
-
-
-def copied_in_place(source: np.ndarray, pm_source: PixelMap, pm_target: PixelMap, tol: float = 0.5, *,
-                    image=None, example=None, colour_tol: float = 0.05) -> np.ndarray:
-    """Output pixels a fragment copied from the same part of an example line (same ``u = d / r``).
-
-    With ``image`` and ``example``, only those that still show the example
-    pixel's colour (within ``colour_tol``, not washed out by a later seam or
-    correction).
-
-    Parameters
-    ----------
-    source : (H, W, 2) float ndarray
-        Example pixel (x, y) each output pixel was copied from; NaN where none.
-    pm_source, pm_target : PixelMap
-        The example's and the target's structure on their images.
-    tol : float, default 0.5
-        Largest difference of ``u`` between the two.
-    image, example : (H, W, C) / (h, w, C) array_like, optional
-        The output and the example.
-    colour_tol : float, default 0.05
-        Largest colour difference (Euclidean) to the example pixel.
-
-    Returns
-    -------
-    (H, W) bool ndarray
-        True where the output shows the example's own line pixel at its own
-        place across the line (these keep the example's variation).
-    """
-    src = np.asarray(source)
-    ok = np.isfinite(src).all(-1)
-    out = np.zeros(ok.shape, bool)
-    if not ok.any():
-        return out
-    h, w = pm_source.dist.shape
-    ys, xs = np.nonzero(ok)
-    sx = np.clip(np.rint(src[ys, xs, 0]).astype(np.int64), 0, w - 1)
-    sy = np.clip(np.rint(src[ys, xs, 1]).astype(np.int64), 0, h - 1)
-    rs = np.maximum(pm_source.radius[sy, sx], 0.5)
-    us = pm_source.dist[sy, sx] / rs
-    ut = pm_target.dist[ys, xs] / np.maximum(pm_target.radius[ys, xs], 0.5)
-    on_line = pm_source.dist[sy, sx] <= rs + 1.5
-    keep = on_line & (np.abs(us - ut) <= tol)
-    if image is not None and example is not None:
-        diff = np.asarray(image, np.float32)[ys, xs] - np.asarray(example, np.float32)[sy, sx]
-        keep &= np.linalg.norm(diff.reshape(len(ys), -1), axis=-1) <= colour_tol
-    out[ys, xs] = keep
-    return out
 
 
 def _ground_sigma(radius: np.ndarray) -> float:
