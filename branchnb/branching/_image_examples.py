@@ -87,3 +87,52 @@ def river_example(shape=(256, 256), rng=0, **tree_kw) -> tuple[np.ndarray, Struc
     blue = np.array([0.16, 0.28, 0.42])[None, None, :] * (1 + ripple[:, :, None])
     img = img * (1 - water[:, :, None]) + blue * water[:, :, None]
     return np.clip(img, 0, 1).astype(np.float32), s
+
+
+def cracked_mud_example(shape=(256, 256), rng=0, *, cells: int | None = None,
+                        width: float = 2.5) -> tuple[np.ndarray, np.ndarray]:
+    """Cracked mud: dark Voronoi cracks (with a darker core) on a blotchy mud texture.
+
+    Parameters
+    ----------
+    shape : (H, W), default (256, 256)
+        Image size.
+    rng : int or numpy.random.Generator, default 0
+        Seed.
+    cells : int, optional
+        Number of mud cells; default one per ~48 x 48 px.
+    width : float, default 2.5
+        Crack width (pixels).
+
+    Returns
+    -------
+    image : (H, W, 3) float32
+        The example.
+    cracks : (H, W) bool
+        The crack pixels (where the crack covers at least half a pixel).
+
+    Examples
+    --------
+    >>> img, cracks = cracked_mud_example((96, 96), 0)
+    >>> img.shape, bool(img[cracks].mean() < 0.6 * img[~cracks].mean())
+    ((96, 96, 3), True)
+    """
+    from scipy.spatial import Voronoi
+
+    rng = as_rng(rng)
+    h, w = shape
+    n = int(cells) if cells is not None else max(6, round(h * w / 48 ** 2))
+    pts = rng.uniform(0, 1, (n, 2)) * (w, h)
+    # mirror the centres across the frame so every cell is closed
+    allp = np.vstack([pts, pts * (-1, 1), pts * (1, -1), (2 * w, 0) + pts * (-1, 1), (0, 2 * h) + pts * (1, -1)])
+    vor = Voronoi(allp)
+    lines = [vor.vertices[[a, b]] for a, b in vor.ridge_vertices if a >= 0 and b >= 0]
+    lines = [pl for pl in lines if np.all(pl > -w) and np.all(pl < 2 * max(h, w))]
+    img = textured_ground(shape, rng, colour=(0.66, 0.53, 0.38))
+    cov = draw_polylines(np.zeros((h, w, 3), np.float32), lines, widths=width, colors=(1, 1, 1))[..., 0]
+    core = draw_polylines(np.zeros((h, w, 3), np.float32), lines, widths=max(width - 1.5, 1.0),
+                          colors=(1, 1, 1))[..., 0]
+    crack = np.array([0.30, 0.22, 0.15], np.float32)
+    img = img * (1 - cov[..., None]) + crack * cov[..., None]
+    img = img * (1 - 0.5 * core[..., None])
+    return np.clip(img, 0, 1).astype(np.float32), cov >= 0.5

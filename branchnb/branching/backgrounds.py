@@ -235,7 +235,23 @@ def _ground_regions(gray, branches, lab, n: int, tol: float) -> np.ndarray:
     if not ring.any():
         return out
     g = np.asarray(gray, np.float64)
+    # Only ring pixels whose mirror across the nearest branch pixel has their grey: a branch lies in
+    # its ground (the same colour on both sides); a coast line has land on one side and sea on the
+    # other, and on a small densely drawn map its one-sided ring would otherwise outvote the land.
+    _d, (iy, ix) = ndi.distance_transform_edt(~br, return_indices=True)
+    ry, rx = np.nonzero(ring)
+    my = np.clip(2 * iy[ry, rx] - ry, 0, g.shape[0] - 1)
+    mx = np.clip(2 * ix[ry, rx] - rx, 0, g.shape[1] - 1)
+    two_sided = np.abs(g[my, mx] - g[ry, rx]) <= 2 * tol
     ground = float(np.median(g[ring]))
+    if np.mean(np.abs(g[ring] - ground) <= 2 * tol) < 0.5:
+        return out
+    if np.count_nonzero(two_sided) >= max(20, 0.1 * len(ry)):
+        ring2 = np.zeros_like(ring)
+        ring2[ry[two_sided], rx[two_sided]] = True
+        # the one-sided ring outvoted the ground: few of the two-sided pixels have its grey
+        if np.mean(np.abs(g[ring2] - ground) <= 2 * tol) < 0.3:
+            ring, ground = ring2, float(np.median(g[ring2]))
     if np.mean(np.abs(g[ring] - ground) <= 2 * tol) < 0.5:
         return out
     med = ndi.median(g, lab, np.arange(1, n + 1))

@@ -135,10 +135,17 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
     edge = inside & ndi.binary_dilation(~inside) | ~inside & ndi.binary_dilation(inside)
     edge[:2] = edge[-2:] = False
     edge[:, :2] = edge[:, -2:] = False
-    edge &= pm.dist > 3 * max(mean_r, 1.0) + 6
+    # Away from the branches (their ink is no boundary line). On a small, densely drawn map the
+    # rivers reach the coast every few pixels and no boundary lies that far from them: then the
+    # boundary just off the branch bodies is read (beyond the paper, which draws no boundaries).
     b_col, b_width = None, 0.0
+    for margin in (3 * max(mean_r, 1.0) + 6, 2 * max(mean_r, 1.0) + 3):
+        kept = edge & (pm.dist > margin)
+        if np.count_nonzero(kept) >= 20:
+            break
+    edge = kept
     if np.count_nonzero(edge) >= 20:
-        band = ndi.binary_dilation(edge, iterations=4)
+        band = ndi.binary_dilation(edge, iterations=4) & (pm.dist > pm.radius + 1.5)
         ink = band & unlike_region
         hit = ndi.binary_dilation(ink, iterations=1)[edge]
         if hit.mean() >= 0.5 and ink.any():
@@ -146,7 +153,7 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
             strong = ink & (off_region >= np.percentile(off_region[ink], 67))
             b_col = _median_colour(img, strong, line)
             length = max(np.count_nonzero(edge) / 2.0, 1.0)  # both sides of the boundary are marked
-            b_width = float(np.clip(cover(b_col)[band & ~zone].sum() / length, 1.0, 16.0))
+            b_width = float(np.clip(cover(b_col)[band & (pm.dist > margin - 4)].sum() / length, 1.0, 16.0))
     # roots that start near the region boundary are outlets: the drawing joins them to it
     reach, tip_reach = 0.0, 0.0
     outside = ~inside

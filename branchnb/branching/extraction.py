@@ -58,6 +58,7 @@ from .ridges import (  # noqa: F401  (re-exported: split from this module)
     _local_background,
     _outside_field_of_view,
     _polarity,
+    fill_outlined_strokes,
     half_contrast_radius,
     line_colour_map,
     line_colour_of,
@@ -177,6 +178,11 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         p = dataclasses.replace(p, **overrides)
     check_params(p)
     gray = gray_for_extraction(image)
+    if p.binary != "off" and is_binary(gray):
+        # strokes drawn as two outline lines with the paper between them: traced once, along the centre
+        filled, n_filled = fill_outlined_strokes(gray)
+        if n_filled:
+            gray = image = filled
     auto_colour = isinstance(line_colour, str) and line_colour == "auto"
     shape_width = None
     if auto_colour and p.binary != "on":

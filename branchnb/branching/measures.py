@@ -11,7 +11,9 @@
 - :func:`line_pieces`: 8-connected line pieces per tree and specks in a
   synthesized image (one piece per tree = connected);
 - :func:`boundary_drawn_share`: how much of a region boundary carries the
-  drawn boundary line (a coast).
+  drawn boundary line (a coast);
+- :func:`line_contrast`: how far the centre lines stand out from the
+  ground beside them (compare the synthesized image's with the example's).
 
 ``python -m branchnb.branching.measures`` runs the default workflow
 (``extract_structure``, ``example_domain``, ``fit_model``,
@@ -40,7 +42,7 @@ from ..core.render import coverage_polylines
 from ..core.structure import Structure
 
 __all__ = ["far_share", "line_pieces", "root_boundary_distance", "straight_runs", "thick_end_share",
-           "boundary_drawn_share", "run_kind"]
+           "boundary_drawn_share", "line_contrast", "run_kind"]
 
 
 def far_share(structure: Structure, domain: np.ndarray) -> float:
@@ -227,6 +229,44 @@ def boundary_drawn_share(image: np.ndarray, region: np.ndarray, colour, ground) 
     ink = _ink(image, colour, ground)
     near = ndi.binary_dilation(ink, iterations=2)
     return float(np.mean(near[edge])) if edge.any() else 1.0
+
+
+def line_contrast(image: np.ndarray, structure: Structure) -> float:
+    """Colour distance between the median centre-line pixel and the median ground pixel beside the lines.
+
+    Centre-line pixels lie within ``max(0.5, 0.4 r)`` of the structure's
+    centre lines, ground pixels ``r + 3`` to ``r + 7`` from them.
+
+    Parameters
+    ----------
+    image : (H, W, C) array_like
+        Image, float in [0, 1] (the first 3 channels are used).
+    structure : Structure
+        The branches drawn in ``image``.
+
+    Returns
+    -------
+    float
+        Euclidean distance of the two median colours (0 = the lines do not
+        show).
+
+    Examples
+    --------
+    >>> from branchnb.core.structure import Branch, Structure
+    >>> img = np.full((30, 30, 3), 0.8, np.float32); img[14:16, 2:28] = 0.3
+    >>> round(line_contrast(img, Structure([Branch([(2, 14.5), (27, 14.5)], 1.0)])), 2)
+    0.87
+    """
+    from .skeleton_map import SkeletonMap
+
+    pm = SkeletonMap(structure, 1.0).pixel_map(np.asarray(image).shape[:2])
+    rgb = np.asarray(image, np.float32)[..., :3]
+    r = np.where(np.isfinite(pm.radius), pm.radius, 1.0)
+    line = pm.dist <= np.maximum(0.5, 0.4 * r)
+    ring = (pm.dist >= r + 3) & (pm.dist <= r + 7)
+    if not line.any() or not ring.any():
+        return 0.0
+    return float(np.linalg.norm(np.median(rgb[line], 0) - np.median(rgb[ring], 0)))
 
 
 def _kinds(sizes=(512, 1000)):

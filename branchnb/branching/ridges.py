@@ -458,3 +458,82 @@ def line_colour_map(image, colour, *, sigma_max: float = 4.0, spread: float = 0.
     blend[n2 < spread ** 2] = 0.0
     close = 1.0 - np.linalg.norm(rgb - c, axis=-1) / (2.0 * spread)
     return np.clip(np.maximum(blend, close), 0.0, 1.0).astype(np.float32)
+
+
+def fill_outlined_strokes(gray, *, max_width: float = 24.0) -> tuple[np.ndarray, int]:
+    """Fill the insides of strokes drawn as outlines, so each is traced once along its centre line.
+
+    Going beyond the paper (its examples are solid lines). A stroke drawn as
+    two parallel outline lines with the paper between them would otherwise
+    be traced as two lines. An inside is a region of the background colour
+    that is enclosed by dark ink (touches no frame edge), narrow (at most
+    ``max_width`` px and at most 6 x the ink line's width across),
+    elongated (its length at least 3 x its width) and wrapped in *thin* ink
+    (beyond the ink line lies background again, unlike the islands between
+    the wide channels of a braided river). Cells of a crack drawing are
+    wide and stay.
+
+    Parameters
+    ----------
+    gray : (H, W) array_like
+        Luminance in [0, 1] of dark ink on a light background.
+    max_width : float, default 24.0
+        Widest inside (pixels) that is filled.
+
+    Returns
+    -------
+    gray : (H, W) float32 ndarray
+        The image with the insides set to the ink's grey (a copy).
+    n : int
+        Number of insides filled.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> g = np.ones((40, 80), np.float32)
+    >>> g[15:25, 10:70] = 0.0; g[17:23, 12:68] = 1.0        # a stroke drawn as its outline
+    >>> out, n = fill_outlined_strokes(g)
+    >>> n, float(out[20, 40])
+    (1, 0.0)
+    """
+    from skimage.morphology import skeletonize
+
+    g = np.asarray(gray, np.float32)
+    out = g.copy()
+    lo, hi = np.percentile(g, [1, 99])
+    if hi - lo < 0.25:
+        return out, 0
+    ink = g < 0.5 * (lo + hi)
+    if ink.mean() > 0.5 or not ink.any():
+        return out, 0
+    sk = skeletonize(ink)
+    d_ink = ndi.distance_transform_edt(ink)
+    lw = 2.0 * float(np.median(d_ink[sk])) if sk.any() else 1.0
+    bg = ~ink
+    lab, n = ndi.label(bg)                       # 4-connected: an 8-connected ink line encloses
+    if n < 2:
+        return out, 0
+    edge = np.unique(np.concatenate([lab[0], lab[-1], lab[:, 0], lab[:, -1]]))
+    objs = ndi.find_objects(lab)
+    dt = ndi.distance_transform_edt(bg)
+    filled = 0
+    pad = int(np.ceil(lw)) + 4
+    h, w = g.shape
+    for i, sl in enumerate(objs, start=1):
+        if sl is None or i in edge:
+            continue
+        y0, y1 = max(sl[0].start - pad, 0), min(sl[0].stop + pad, h)
+        x0, x1 = max(sl[1].start - pad, 0), min(sl[1].stop + pad, w)
+        reg = lab[y0:y1, x0:x1] == i
+        width = 2.0 * float(dt[y0:y1, x0:x1][reg].max())
+        area = float(reg.sum())
+        if width > min(max_width, 6.0 * lw) or area < 3.0 * width * width:
+            continue
+        # thin ink around it: the shell just beyond one ink width is mostly background again
+        d_out = ndi.distance_transform_edt(~reg)
+        shell = (d_out > lw + 1.5) & (d_out <= lw + 3.5)
+        if not shell.any() or bg[y0:y1, x0:x1][shell].mean() < 0.6:
+            continue
+        out[y0:y1, x0:x1][reg] = float(np.median(g[ink]))
+        filled += 1
+    return out, filled
