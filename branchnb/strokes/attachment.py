@@ -141,9 +141,17 @@ def _carried_parts(index, pairs, attached, window: float) -> list[tuple[int, int
         (rs, cs) = part.box
         corners = np.array([[cs.start, rs.start, 1.0], [cs.stop, rs.stop, 1.0],
                             [cs.start, rs.stop, 1.0], [cs.stop, rs.start, 1.0]])
-        for i in range(len(pairs)):
-            if keys[i] != keys[part.stroke]:
-                continue
+        mine = [i for i in range(len(pairs)) if keys[i] == keys[part.stroke]]
+        if len(mine) > 1 and any(keys[j] != keys[part.stroke] for j, _ in part.anchors):
+            # A source stroke drawn twice (a copy: an arm added) carries a copy of the
+            # parts hanging from it alone (a limb's twig); a part that also touches
+            # another stroke (a starfish's arm at the disk, where every arm starts)
+            # stays one part, with the pair that moves it least.
+            shift = [float(np.abs(corners @ rigid_frame(attached[i].source, attached[i].target, part.s,
+                                                        _mapped(attached[i], part.s), window=window).T
+                                  - corners[:, :2]).max()) for i in mine]
+            mine = [mine[int(np.argmin(shift))]]
+        for i in mine:
             s_t = _mapped(attached[i], part.s)
             moved = corners @ rigid_frame(attached[i].source, attached[i].target, part.s, s_t,
                                           window=window).T
