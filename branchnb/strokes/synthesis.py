@@ -15,7 +15,7 @@ from scipy.spatial import cKDTree
 
 from .composition import PlacedPatch, compose, labelling_cost, seam_mask
 from .edit import FETCH_FIELDS, EditPatches, StrokeEditParams, StrokeEditResult, StrokeSamples, _check_edit_params
-from .joints import close_hairlines, hold_joint_bodies, joint_disks
+from .joints import close_hairlines, hold_joint_bodies, joint_disks, joint_roots
 from .junctions import far_side
 from .outline import _POCKET, clear_stale_outline, close_cuts, drop_flecks, fill_joints, source_depth
 from .parts import place_part, rigid_frame
@@ -144,6 +144,11 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
         disks = joint_disks(index, attached, junctions, window)
         held_depth = np.zeros(layer.shape[:2], np.float32)
         layer, held = hold_joint_bodies(layer, index.premult, index.depth, disks, held_depth)
+        # and every child's root tube stays with the child (no wedge left open between
+        # a turned child's cut face and its parent's side)
+        layer, held_roots = hold_joint_bodies(layer, index.premult, index.depth,
+                                              joint_roots(index, attached, junctions, window), held_depth)
+        held |= held_roots
         if wide:
             # wide joints first, their pockets filled with the parts' inner colours (not
             # the outline's); the new silhouette is then outlined like a cut face
