@@ -245,6 +245,22 @@ def test_lightning_on_an_image_reads_as_bolts_along_its_edges():
     assert brightness(wide) > brightness(thin) + 0.05
 
 
+def test_lightning_at_200_px_looks_like_the_larger_bolt_shown_small():
+    # below 512 px the widths follow the diagonal too (floors 0.4 / 2 px instead of 1 / 3):
+    # before, a 200-px bolt's twigs were as wide and bright as its core (mean brightness
+    # 0.24 vs 0.16 for the 600-px bolt shown at 200 px, 7 % bright pixels vs 2.5 %)
+    src = as_rgb(data.load("astronaut"))
+    lum = {}
+    for n in (200, 600):
+        img = resize(src, (n, n), anti_aliasing=True).astype(np.float32)
+        lum[n] = as_gray(stylize(img, rng=0, metaphor="lightning").rendering.image)
+    small = resize(lum[600], (200, 200), anti_aliasing=True)
+    assert lum[200].mean() == pytest.approx(small.mean(), rel=0.2)
+    assert (lum[200] > 0.7).mean() == pytest.approx((small > 0.7).mean(), rel=0.35)
+    # still a hierarchy: the main channels burn white
+    assert (lum[200] > 0.9).mean() > 0.003
+
+
 def test_lightning_widths_follow_the_diagonal_above_the_lattice():
     # before, 1-px twigs on a 2000-px image: the pipe model never reached the widest
     # channel and the whole picture was dim (bright core 0.8 % of the image vs 2.8 % at 500 px)
@@ -559,6 +575,46 @@ def test_pareidolia_night_sky_is_equalised(monkeypatch):
     assert spread[1] > spread[0] + 0.1, spread
 
 
+def test_pareidolia_dark_regions_get_solid_ink():
+    # a night photo (skimage's rocket): a dark sky over most of the crown. With twigs at
+    # most 5 px wide the darkest tones read mid-grey and the texture drowned the picture
+    # (tone r at 4 px blur here 0.72 -> 0.80; at 500 px 0.62 -> 0.71, 0.80 with the fork
+    # on the dark side of the lit rocket)
+    from skimage import data as skdata
+
+    img = resize(skdata.rocket() / 255.0, (169, 300), anti_aliasing=True).astype(np.float32)
+    r = {}
+    for mw in (5.0, 8.0):
+        t = pareidolia_tree(img, PareidoliaParams(max_width=mw), rng=0)
+        r[mw] = _tone_r(t.image, t.render().image, t.crown_on_canvas())
+    assert PareidoliaParams().max_width == 8.0
+    assert r[8.0] >= 0.7 and r[8.0] > r[5.0] + 0.03, r
+
+
+def test_pareidolia_trunk_enters_the_crown_beside_a_light_object():
+    # a dark picture with a lit tower up its middle: the trunk (the widest stroke) entered
+    # the crown below the centre, drawn black over the tower's foot (the lit rocket at
+    # 1000 px: 43 % of the tone error within 8 px of the trunk and limbs, 9 % of the crown)
+    from branchnb.dendrite.pareidolia import _fork_point
+
+    yy, xx = np.mgrid[0:200, 0:200]
+    img = np.full((200, 200), 0.15)
+    tower = np.abs(xx - 100) < 12
+    img[tower] = 0.95
+    t = pareidolia_tree(ndimage.gaussian_filter(img, 1.0), PareidoliaParams(n_endpoints=600), rng=0)
+    d = t.dendrite
+    trunk = d.iteration == 1
+    low = trunk & (d.points[:, 1] > 200)  # the trunk in the blank strip below the picture
+    assert abs(np.median(d.points[low, 0]) - 100) > 14
+    # ... and straight: its foot under its fork
+    assert np.ptp(d.points[low, 0]) < 12
+    # a plain crown keeps the centre
+    crown = np.zeros((100, 100), bool)
+    crown[10:80, 20:80] = True
+    assert _fork_point(crown, np.zeros((100, 100)))[0] == pytest.approx(49.5, abs=0.6)
+    assert _fork_point(crown)[0] == pytest.approx(49.5, abs=0.6)
+
+
 from branchnb.dendrite.pareidolia_widths import _stretch as _stretch_orig  # noqa: E402
 
 
@@ -579,3 +635,10 @@ def test_blur_at_nodes_is_scipys_gaussian_bit_for_bit():
             img.ravel()[nodes] = rng.random(nodes.size)
         sigma = float(rng.choice([0.6, 2.0, 5.3, 30.0]))
         assert np.array_equal(_blur_at(img, nodes, sigma), ndimage.gaussian_filter(img, sigma).ravel()[nodes])
+    # both first passes: a few nodes in a large map (sparse) and a map with ink on a
+    # tenth of its pixels in every row (dense: scipy's own pass, 1.5x faster there)
+    for share in (0.0005, 0.1):
+        img = np.zeros((150, 120))
+        nodes = np.unique(rng.integers(0, img.size, int(share * img.size) + 3))
+        img.ravel()[nodes] = rng.random(nodes.size)
+        assert np.array_equal(_blur_at(img, nodes, 9.0), ndimage.gaussian_filter(img, 9.0).ravel()[nodes])

@@ -274,6 +274,12 @@ VINE_SPACING = 2.5
 #: Lightning branches are this share of the image diagonal apart on average.
 LIGHTNING_SPACING = 0.045
 
+#: Thinnest lightning twig (image px); thinner ones, drawn anti-aliased, vanish.
+LIGHTNING_MIN_TWIG = 0.4
+
+#: Narrowest widest lightning channel (image px), on images below ~170 px.
+LIGHTNING_MIN_CORE = 2.0
+
 
 def metaphor_params(p: StylizeParams, metaphor: str, shape, object_share: float,
                     scale: float) -> StylizeParams:
@@ -298,10 +304,17 @@ def metaphor_params(p: StylizeParams, metaphor: str, shape, object_share: float,
       along the strongest edges), and widths from the pipe model alone
       (``thickness = "subtree"``: growing with the square root of the tips a
       channel carries) from 1 px to 6 px at 512 x 512 (both scaled with the
-      diagonal, at least 1 and 3 px): a few bright main channels that fork
+      diagonal, at least ``LIGHTNING_MIN_TWIG`` = 0.4 and
+      ``LIGHTNING_MIN_CORE`` = 2 px): a few bright main channels that fork
       into thin, dim branches, the same look from 200 to 2000 px
       (:func:`~branchnb.dendrite.metaphors.render_lightning` dims a stroke
-      with its width).
+      with its width; a twig thinner than a pixel is drawn dim, as the
+      larger bolt would be when shown small). Beyond the paper: with floors
+      of 1 and 3 px a 200-px bolt had twigs as wide as its core, a scribble
+      (on a portrait, a cup, a camera man and a horse at 200 px, the mean
+      brightness was 0.22-0.29 against 0.13-0.18 for the 600-px bolt shown
+      at 200 px, and 5-10 % of the pixels bright against 2.4-2.8 %; now
+      0.13-0.19 and 1.9-2.9 %).
 
     ``scale`` is image pixels per lattice pixel; the widths are returned in
     lattice pixels like every length of :class:`StylizeParams`.
@@ -345,10 +358,15 @@ def metaphor_params(p: StylizeParams, metaphor: str, shape, object_share: float,
         changes = dict(tone=0.0, edges=0.0)
     else:
         spacing = LIGHTNING_SPACING * float(np.hypot(h, w))
-        hi = max(3.0, 6.0 * length_scale((h, w))) / scale
+        # widths as at 512 x 512 scaled with the diagonal, also below 512 px (beyond the
+        # paper): with a floor of 1 px for the twigs and 3 px for the main channel, a
+        # 200-px bolt's twigs were as bright and wide as its core (twice the mean
+        # brightness of the 600-px bolt shown at 200 px, a scribble); thinner than a
+        # pixel, a twig is drawn dim (anti-aliased coverage), as it would be downscaled
+        hi = max(LIGHTNING_MIN_CORE, 6.0 * length_scale((h, w))) / scale
         # the thinnest branch too follows the diagonal above 512 px: with 1-px twigs the
         # pipe model never reached the widest channel on a 2000-px image (all dim)
-        lo = max(lo, max(1.0, length_scale((h, w))) / scale)
+        lo = max(p.min_width, max(LIGHTNING_MIN_TWIG, length_scale((h, w))) / scale)
         changes = dict(tone=0.0, edges=0.0, thickness="subtree", endpoint_gamma=2.0)
     n = int(round(float(np.clip(object_share, 0.0, 1.0)) * h * w / spacing ** 2))
     return _within_range(p, n_endpoints=int(np.clip(n, min(8, p.n_endpoints), p.n_endpoints)),
