@@ -150,7 +150,9 @@ def joint_roots(index, attached, junctions, window: float) -> list[tuple]:
         a, b = sorted((end_t, float(np.clip(end_t + sign * reach_t, 0.0, pair.target.length))))
         if b - a < 1.0:
             continue
-        clip = Stroke(pair.target.point_at(np.linspace(a, b, max(int(b - a), 2))))
+        tgt = pair.target
+        mid = (tgt.s > a) & (tgt.s < b)  # the target's own vertices between a and b
+        clip = Stroke(np.vstack([tgt.point_at(a)[None], tgt.points[mid], tgt.point_at(b)[None]]))
         centre = pair.target.point_at(end_t)
 
         u = child.point_at(s_exit + sign) - child.point_at(s_exit)
@@ -230,7 +232,10 @@ def hold_joint_bodies(layer: np.ndarray, source_premult: np.ndarray, source_dept
         if r0 >= r1 or c0 >= c1:
             continue
         yy, xx = np.mgrid[r0:r1, c0:c1]
-        inside = np.hypot(xx - cx, yy - cy) <= r
+        # only pixels the edit left (partly) open are filled: the others are not looked at
+        inside = (np.hypot(xx - cx, yy - cy) <= r) & (pm[r0:r1, c0:c1, 3] < 0.5)
+        if not inside.any():
+            continue
         if clip:
             _, d = clip[0].project(np.c_[xx[inside], yy[inside]].astype(float))
             inside[inside] = d <= clip[1]
