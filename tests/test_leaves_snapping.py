@@ -429,3 +429,26 @@ def test_a_holes_rim_is_no_vein():
                                  [None, TrueRegistration(ident, ident, (140, 140))], tolerance=0.0)
     assert iou(masks[1], veins_e) >= 0.9
     assert not (masks[1] & (d <= 9)).any()
+
+
+def test_a_branch_the_training_layer_lacks_is_found_from_the_network():
+    """A long straight ridge leaving the snapped network is a branch (maple 07's torn lobe: the
+    training layer has no lateral there); a short one, a wiggly one and one apart are not."""
+    from branchnb.leaves.snapping import _side_ridges
+
+    h, w = 120, 120
+    ev = np.zeros((h, w), np.float32)
+    found = np.zeros((h, w), bool)
+    found[10:110, 60] = True                       # the midrib found
+    ev[10:110, 60] = 1.0
+    for k in range(45):                            # a lateral at 45 degrees from (60, 60)
+        ev[60 - k, 60 + k] = 0.8
+    ev[90, 62:72] = 0.8                            # a short stub
+    ev[30:80, 20] = 0.8                            # a ridge apart from the network
+    side = _side_ridges(ev, np.ones((h, w), bool), found, 0.35, 30.0)
+    lateral = np.zeros((h, w), bool)
+    for k in range(5, 45):
+        lateral[60 - k, 60 + k] = True
+    assert side[lateral].mean() > 0.9
+    assert not side[85:95, 62:72].any() and not side[:, 15:25].any()
+    assert not (side & found).any()

@@ -4,10 +4,10 @@ When every branch has stopped before the density covers the domain as
 much as the example's, the free space is filled round after round: tips
 that ended at their drawn length with room ahead grow on, branches with
 room beside them furcate once more (:meth:`_Filling._room`). Beyond the
-paper, holes the example does not have are filled last
-(:meth:`_Filling._fill_holes`, :func:`_hole_map`), then branches are grown
+paper, holes the example does not have are filled last: branches are grown
 into the largest hole left until holes are as rare as the example's
-(:meth:`_Filling._fill_far`). A mixin of the grower
+(:meth:`_Filling._fill_far`, :func:`_hole_map`), then branches beside the
+holes still left furcate toward them (:meth:`_Filling._fill_holes`). A mixin of the grower
 (:class:`.growth._Grower`); split from :mod:`.synthesis`.
 """
 
@@ -155,10 +155,13 @@ class _Filling:
         where the rest lies: a forest can reach it with branches crowded in
         the middle and wide empty lobes along a coast. When the share of
         the domain farther than :data:`HOLE_DISTANCE` x its diameter from
-        every branch exceeds the example's, branches beside the holes
+        every branch exceeds :data:`FAR_TARGET` x the example's (after
+        :meth:`_fill_far`, which fills holes with less length: run first,
+        the retina at 512 px ended at 1.4 x its example's length per area
+        instead of 1.24-1.29 x), branches beside the holes
         furcate once more toward them (one child each, grown without
         further furcations) and tips ending before a hole grow on, past the
-        coverage target, until the share is the example's or no branch can
+        coverage target, until the share is that or no branch can
         reach a hole (at most ``fill_rounds`` rounds; coverage at most
         1.25 x the target). Only in a domain of the user's (a map's land, a
         mask's region; a free image frame has no coast to reach: there the
@@ -173,7 +176,7 @@ class _Filling:
                 self.stop_reason not in ("", "density (coverage)", "no branch can grow"):
             return
         share, dist, gap = self._holes()
-        target = self._example_holes() + 1e-3
+        target = FAR_TARGET * self._example_holes() + 1e-3
         if share <= target:
             return
         saved, reason = self.coverage_target, self.stop_reason
@@ -258,7 +261,7 @@ class _Filling:
         """Grow branches into the largest hole, one after another, until holes are as rare as the example's.
 
         Beyond the paper: the paper's stop rule (coverage within ``rho``)
-        and :meth:`_fill_holes` (furcations beside holes) leave, on some
+        leaves, on some
         seeds, regions farther than :data:`HOLE_DISTANCE` x the domain's
         diameter from every branch covering 1.5-8 x the example's share
         (retina, drawn maps, deltas: branches crowd in one part while

@@ -27,7 +27,7 @@ from .colonization import (
     growth_directions,
     profile_density,
 )
-from .domains import MOUTH_SHARE, MOUTH_TURN, _Drain, _Shore, _shore_margin
+from .domains import MOUTH_SHARE, MOUTH_TURN, _Drain, _frame, _Shore, _shore_margin
 from .filling import _Filling
 from .furcation import vertex_angles, window_features
 from .guidance import Guidance
@@ -38,7 +38,76 @@ from .straightness import RUN_MIN_MEAN, BendHistogram, StraightRuns
 if TYPE_CHECKING:
     from .model import StructureModel
 
-__all__ = ["GrowthProgress"]
+__all__ = ["FILL_LENGTH_FACTOR", "GrowthProgress", "LENGTH_BOUND", "LENGTH_FACTOR", "length_cap"]
+
+#: Auto length cap (``max_total_length = 0``): this x the example's total length per domain area.
+#: The coverage stop usually ends growth first (0.95-1.2 x); the cap ends the filling past it, which
+#: reached 1.4-1.6 x on the retina, the lightning and the Czech map at 2 x (see ``length_cap``).
+LENGTH_FACTOR = 1.3
+#: ... and at most this x while holes the example does not have are filled (``_Filling._fill_far``):
+#: a 1000 px retina reached its example's coverage at 1.5 x its length per area (at 1.3 x a seventh
+#: of it stayed far from every vessel, 75 x the example's share).
+FILL_LENGTH_FACTOR = 2.0
+#: Safety bound of the auto length cap against runaway growth: branch length (px) per domain pixel
+#: (0.25: branches 4 px apart all over the domain), and never below the former fixed 20000 px.
+LENGTH_BOUND = 0.25
+LENGTH_FLOOR = 20000.0
+
+
+def length_cap(model: StructureModel, params: SynthesisParams, shape, domain: np.ndarray | None,
+               factor: float | None = None) -> float:
+    """The total-length stop of a synthesis (pixels).
+
+    ``params.max_total_length`` when set (> 0); else (auto, beyond the
+    paper) the example's total length per area of its domain times the
+    output domain's area, times :data:`LENGTH_FACTOR`: a 1000 px retina or
+    cracked mud needs 1-2.5 x the former fixed 20000 px to reach its
+    example's density, a 250 px one a tenth of it. The output's length per
+    area thus stays within 1.3 x the example's, like its other statistics
+    (the coverage stop ends most syntheses before, at 0.95-1.2 x). Bounded by
+    ``max(LENGTH_FLOOR, LENGTH_BOUND x domain pixels)`` against runaway
+    growth.
+
+    Parameters
+    ----------
+    model : StructureModel
+        The fitted example (its resampled ``example`` and ``domain``).
+    params : SynthesisParams
+        Synthesis parameters (``max_total_length``).
+    shape : (H, W)
+        Output frame.
+    domain : (H, W) bool ndarray or None
+        Output domain (None: the whole frame).
+    factor : float, optional
+        Multiple of the example's length per area; default
+        :data:`LENGTH_FACTOR` (:data:`FILL_LENGTH_FACTOR` while holes are
+        filled).
+
+    Returns
+    -------
+    float
+        The cap (pixels), > 0.
+
+    Examples
+    --------
+    >>> from branchnb.branching import fit_model
+    >>> ex = Structure([Branch(np.c_[np.linspace(2, 97, 96), np.full(96, 50.0)], 2.0)], image_shape=(100, 100))
+    >>> m = fit_model(ex)
+    >>> round(length_cap(m, SynthesisParams(), (200, 200), None) / m.example.total_length, 1)   # 4 x the area
+    5.2
+    """
+    if params.max_total_length > 0:
+        return float(params.max_total_length)
+    h, w = int(shape[0]), int(shape[1])
+    area = float(np.count_nonzero(domain)) if domain is not None else float(h * w)
+    if model.domain is not None:
+        ex_area = float(np.count_nonzero(model.domain))
+    else:
+        fh, fw = _frame(model.source)
+        ex_area = float(fh * fw)
+    f = LENGTH_FACTOR if factor is None else float(factor)
+    cap = f * model.example.total_length * area / max(ex_area, 1.0)
+    return float(min(max(cap, 1.0), max(LENGTH_FLOOR, LENGTH_BOUND * area)))
 
 
 @dataclass
@@ -49,7 +118,7 @@ class GrowthProgress:
     ----------
     fraction : float
         Estimated progress in [0, 1]: the larger of the total length
-        over ``max_total_length`` and the coverage over its target (below
+        over the length cap (:func:`length_cap`) and the coverage over its target (below
         1 while growing; exactly 1 in the last report).
     steps : int
         Markov steps taken so far in this attempt.
@@ -153,10 +222,13 @@ class _Grower(_Filling):
         self.store = SegmentStore()
         self.branches: list[_BranchState] = []
         self.total_length = 0.0
+        self.max_total = length_cap(model, params, self.shape, domain)
         self.steps = 0
         self.n_candidates = 0
         self.stop_reason = ""
         self.max_branch_len = params.max_branch_factor * model.max_branch_length
+        if self.drain is not None:   # a channel from far inland may need more than the example's longest
+            self.max_branch_len = max(self.max_branch_len, 2.0 * float(np.hypot(*self.shape)))
         radii = model.example.thicknesses()
         self.r_max = float(radii.max()) if radii.size else np.inf
         self.r_grow = _radius_growth(model.example)
@@ -169,7 +241,7 @@ class _Grower(_Filling):
         if self.progress is None:
             return
         cov = self.density.coverage() if self.density is not None else None
-        frac = self.total_length / max(self.p.max_total_length, 1e-9)
+        frac = self.total_length / max(self.max_total, 1e-9)
         if cov is not None and self.coverage_target < 1:
             frac = max(frac, cov / max(self.coverage_target, 1e-9))
         frac = 1.0 if done else min(frac, 0.99)
@@ -218,7 +290,7 @@ class _Grower(_Filling):
     def global_stop(self) -> bool:
         if self.stop_reason:
             return True
-        if self.total_length >= self.p.max_total_length - 1e-6:  # tolerance: summation order
+        if self.total_length >= self.max_total - 1e-6:  # tolerance: summation order
             self.stop_reason = "total length"
         elif self.density is not None and self.coverage_target < 1 and \
                 self.density.coverage() >= self.coverage_target:
@@ -334,7 +406,9 @@ class _Grower(_Filling):
                           theta=float(np.arctan2(d[1], d[0])), parent=parent,
                           parent_vertex=parent_vertex, generation=generation)
         if p.branch_end == "length":
-            st.target = model.sample_length(generation, float(np.mean(radii[:3])), self.rng)
+            # beyond the paper: a delta's channel runs on to the sea (see ``grow``)
+            st.target = np.inf if self.drain is not None else \
+                model.sample_length(generation, float(np.mean(radii[:3])), self.rng)
         if mouth:
             hs = th[j, : max(cut - 1, 1)]
             st.mouth = (float(hs.min()), float(hs.max()))
@@ -490,9 +564,17 @@ class _Grower(_Filling):
         return True
 
     def grow(self, bi: int, max_steps: int | None = None) -> None:
+        """Markov steps of branch ``bi`` until it stops (or ``max_steps``).
+
+        Beyond the paper, in an example that drains (a delta, :class:`.domains._Drain`) a
+        branch, once started, runs on to the sea (or until blocked) past the global stops
+        (coverage, total length): cut there it ended in the middle of the land, where
+        the example's distributaries all reach the sea.
+        """
         k = 0
+        finish = self.drain is not None and max_steps is None
         while max_steps is None or k < max_steps:
-            if self.global_stop():
+            if self.global_stop() and not finish:
                 return
             if not self.step(bi):
                 return
@@ -561,6 +643,51 @@ class _Grower(_Filling):
         if not self.stop_reason:
             self.stop_reason = "no branch can grow" if queue else "no root could start"
 
+    def _prune_dry(self) -> None:
+        """Drop a delta's channels that end inland (beyond the paper; :class:`.domains._Drain` only).
+
+        A channel blocked by another (every candidate crosses it or is too
+        dense) stops in the middle of the land, a dry stub the example does
+        not have: its distributaries all run to the sea. Leaf branches (not
+        roots) whose tip is farther than ``2 h`` from the region outside the
+        domain are removed, again while removing one leaves its parent a
+        dry leaf.
+        """
+        if self.drain is None or self.domain is None or len(self.branches) < 2:
+            return
+        from scipy import ndimage as ndi
+
+        depth = ndi.distance_transform_edt(self.domain)
+        h, w = self.shape
+        keep = np.ones(len(self.branches), bool)
+        while True:
+            kids = np.zeros(len(self.branches), np.int64)
+            for i, st in enumerate(self.branches):
+                if keep[i] and st.parent is not None:
+                    kids[st.parent] += 1
+            dry = []
+            for i, st in enumerate(self.branches):
+                if not keep[i] or kids[i] or st.parent is None or st.stop == "left the domain":
+                    continue
+                x, y = np.clip(np.rint(st.points[-1]).astype(int), 0, [w - 1, h - 1])
+                if depth[y, x] > 2.0 * self.p.h:
+                    dry.append(i)
+            if not dry:
+                break
+            keep[dry] = False
+        if keep.all():
+            return
+        new_index = np.cumsum(keep) - 1
+        out = []
+        for i, st in enumerate(self.branches):
+            if keep[i]:
+                if st.parent is not None:
+                    st.parent = int(new_index[st.parent])
+                out.append(st)
+        self.branches = out
+        self.total_length = float(sum(np.hypot(*np.diff(np.asarray(st.points, np.float64), axis=0).T).sum()
+                                      for st in out if len(st.points) > 1))
+
     def structure(self) -> Structure:
         out = []
         for st in self.branches:
@@ -592,5 +719,6 @@ class _Grower(_Filling):
             "furcation_probability": self.model.furcation.probability_method,
             "rho": self.rho,
             "coverage_target": self.coverage_target,
+            "max_total_length": self.max_total,
             "fill_rounds": self.fill_rounds,
         }

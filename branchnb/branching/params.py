@@ -71,8 +71,15 @@ class SynthesisParams:
         Roots (separate trees) to grow; -1 = as many as the example has.
     max_generations : int, default 4
         Stop: maximum branch generation (0 = roots only).
-    max_total_length : float, default 20000.0
-        Stop: maximum total length of all branches (pixels).
+    max_total_length : float, default 0.0
+        Stop: maximum total length of all branches (pixels); 0 = auto: the example's
+        total length per domain area times the output domain's area, times
+        :data:`~branchnb.branching.growth.LENGTH_FACTOR` = 1.3 (beyond the paper, whose
+        examples were all small: a fixed 20000 px stopped a 1000 px retina or cracked
+        mud short of the example's density; up to
+        :data:`~branchnb.branching.growth.FILL_LENGTH_FACTOR` = 2 while holes the
+        example does not have are filled), at most
+        :data:`~branchnb.branching.growth.LENGTH_BOUND` px per domain pixel.
     max_coverage : float, default 0.0
         Stop: fraction of the domain within rho of a branch; 0 = auto: the example's
         own fraction (fills to the example's density), in [0, 1].
@@ -138,8 +145,10 @@ class SynthesisParams:
     # -- stopping -----------------------------------------------------------------
     max_generations: int = param(4, min=0, max=20,
                                  help="stop: maximum branch generation (0 = roots only)")
-    max_total_length: float = param(20000.0, min=0.0, max=1e6, step=100.0,
-                                    help="stop: maximum total length of all branches (pixels)")
+    max_total_length: float = param(0.0, min=0.0, max=1e6, step=100.0,
+                                    help="stop: maximum total length of all branches (pixels); 0 = auto: "
+                                         "the example's length per domain area x the domain's area "
+                                         "x 1.3 (x 2 while filling holes)")
     max_coverage: float = param(0.0, min=0.0, max=1.0, step=0.01,
                                 help="stop: fraction of the domain within rho of a branch; 0 = auto: "
                                      "the example's own fraction (fills to the example's density)")

@@ -31,6 +31,7 @@ from .induction import (
     colour_space,
     layer_cdfs,
     layer_weight,
+    layer_width,
     liberal_layer,
     neighbourhood_candidates,
     remove_layer,
@@ -38,6 +39,8 @@ from .induction import (
     spatial_term,
 )
 from .layers import LayerSet, SnapParams, TrainingLayers, grow_layers
+from .own_contrast import high_pass, trim_by_contrast, without_blobs
+from .snapping import contrast_direction
 
 __all__ = ["IdentityRegistration", "LayerInduction", "LeafAnalysis", "analyze", "induce",
            "normalise_exemplars", "registration_tolerance", "warp_mask"]
@@ -173,6 +176,10 @@ class LayerInduction:
         ridges (None on the training leaf), or None when the layer is not
         thin or snapping is off (beyond the paper; see
         :mod:`branchnb.leaves.snapping`).
+    contrast : list of ((H, W) float32 ndarray or None) or None, optional
+        Per exemplar, each pixel's high-pass colour along the thin layer's
+        contrast direction there, which its induced mask was trimmed by
+        (:func:`~branchnb.leaves.own_contrast.trim_by_contrast`); None where not trimmed.
     """
 
     name: str
@@ -188,6 +195,7 @@ class LayerInduction:
     eps_px: list = field(repr=False)
     neighbourhood: int = 1
     snapped: list | None = field(default=None, repr=False)
+    contrast: list | None = field(default=None, repr=False)
 
     def spatial(self, e: int) -> np.ndarray:
         """``F(x, c)`` on exemplar ``e`` (recomputed from the stored terms).
@@ -511,7 +519,8 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         # colour (it is exact there; re-estimated from the found pixels it lost
         # 0.03-0.13 IoU on same-coloured veins), else the exemplar's own.
         own_px = [p if p is not None and (own[e] is not None or
-                                          _other_colour(labs, t, user, blades[t], e, p, blades[e])) else None
+                                          _other_colour(labs, t, user, blades[t], e, p, blades[e],
+                                                        scale=_unmatched(stats, e, t, params))) else None
                   for e, p in enumerate(ridge_px)]
         # The registered user layer and its distance map do not depend on n.
         reg_user, dist = [], []
@@ -525,6 +534,9 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
                         np.full(ru.shape, 1e6, np.float32))
         best = None
         candidates = neighbourhood_candidates(params, blades[t], user)
+        if snapped is not None:
+            own_px = _under_induced(q, blades, t, user, cdf, own_px, ridge_px, dist, lengths, tolerance, params,
+                                    registrations, space, candidates[0])
         for n_px in candidates:
             colour = []
             for e in range(n):
@@ -539,6 +551,7 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         tr_iou, n_px, colour, lam, overlap, combined, delta = best
         masks = []
         new_residual = []
+        contrast = None
         for e in range(n):
             report(step / steps, f"layer {name}: residual of exemplar {e + 1}/{n}")
             step += 1
@@ -552,6 +565,15 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
                 # Beyond the training leaf's delta only next to the exemplar's own layer pixels.
                 near = ndi.binary_dilation(ridge_px[e], iterations=1)
                 m = m | _induced(np.where(near, combined[e], np.inf), d_e, tr_iou, snapped, e, blades[e], taken[e])
+            if e != t and snapped is not None and tr_iou >= COLOUR_RELIABLE and own_px[e] is not None:
+                # Where {D < delta} is induced (the snapped paths alone are drawn to width already:
+                # trimmed, the sample maples' induced veins lost half their width, IoU 0.64 -> 0.43).
+                if contrast is None:
+                    contrast = [None] * n
+                dir_e = own[e] if own[e] is not None else contrast_direction(labs[t], user, blades[t])
+                contrast[e] = (high_pass(labs[e], blades[e], layer_width(user) + 1.0)
+                               @ (np.asarray(dir_e, np.float64) / np.linalg.norm(dir_e))).astype(np.float32)
+                m = trim_by_contrast(without_blobs(m, user, blades[t], blades[e]), contrast[e])
             if e != t and snapped is not None:
                 band = _outline_band(blades[e], user)
                 if (m & band).sum() >= INKED_OUTLINE * max(int(band.sum()), 1):
@@ -565,10 +587,70 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         residuals.append(list(residual))
         out.append(LayerInduction(name, lam, overlap, delta, tr_iou, masks, colour, combined,
                                   reg_user, dist, [ln[0] for ln in lengths], n_px,
-                                  snapped=snapped))
+                                  snapped=snapped, contrast=contrast))
         step += 1
     report(1.0, "induction done")
     return out, residuals, space
+
+
+#: An exemplar whose ``{D < delta}`` under the training leaf's colour model
+#: covers less than this share of the area the layer should cover there
+#: (the training layer's area scaled by the blades' areas) takes its own
+#: colour model (:func:`_under_induced`).
+UNDER_INDUCED = 0.5
+
+
+def _under_induced(q, blades, t, user, cdf, own_px, ridge_px, dist, lengths, tolerance, params,
+                   registrations, space, n_px):
+    """``own_px`` with the exemplars the training colour model under-induces on given their own pixels.
+
+    A vein plays the same role on every leaf but its colour is the leaf's
+    own. Where the contrast test (:func:`_other_colour`) takes two colours
+    for one (red and dark-green veins both stand out darker, and after the
+    blade statistics are matched the dark veins' contrast turns within
+    0.95 of the red ones'), the training leaf's colour model finds a third
+    of the exemplar's veins (procedural red -> dark: IoU 0.05-0.20). Such
+    an exemplar's ``{D < delta}`` (training model and ``delta``) covers
+    under :data:`UNDER_INDUCED` of the area the layer should take on it;
+    it then takes the colour model of its own layer pixels (beyond the
+    paper). Deciding by the colour term at the exemplar's ridge pixels
+    instead fired on same-coloured lobed and trilobed leaves
+    (``_measure_colours`` notes): their induced area is never that short.
+    """
+    n = len(blades)
+    if not _long_network(user, blades[t]):
+        return own_px
+    todo = [e for e in range(n) if e != t and own_px[e] is None and ridge_px[e] is not None
+            and ridge_px[e].sum() >= 10]
+    if not todo:
+        return own_px
+    w = space.weights if params.lab_units else None
+    colour = [colour_similarity(q[e], blades[e], cdf, n_px, weights=w) for e in range(n)]
+    _, _, combined, delta, _ = _combine(colour, dist, lengths, tolerance, params, blades, registrations, t, user)
+    out = list(own_px)
+    area_t = float(user.sum()) / max(float(blades[t].sum()), 1.0)
+    for e in todo:
+        expected = area_t * float(blades[e].sum())
+        got = float(((combined[e] < delta) & blades[e]).sum())
+        if got < UNDER_INDUCED * expected:
+            out[e] = ridge_px[e]
+    return out
+
+
+def _long_network(user, blade, *, share: float = 1.0) -> bool:
+    """Whether ``user`` holds one connected piece whose skeleton is at least ``share`` of the leaf size long.
+
+    A vein system does; small spots (thin enough for :func:`~branchnb.leaves.snapping.is_thin_layer`)
+    do not, and their area varies from leaf to leaf, so no exemplar's spots
+    count as under-induced (procedural trilobed, spots 0.68 -> 0.01 IoU without this; a
+    cluster of spots had a skeleton 0.3 of the leaf size long, a vein system's is several).
+    """
+    from skimage.morphology import skeletonize
+    lab, n = ndi.label(user, structure=np.ones((3, 3)))
+    if n == 0:
+        return False
+    length = np.bincount(lab[skeletonize(user)], minlength=n + 1)[1:]
+    return float(length.max()) >= share * np.sqrt(float(blade.sum()))
 
 
 #: Below this training overlap the colour term does not tell a thin layer
@@ -684,14 +766,33 @@ def _contrast(lab, layer, blade):
     return lab[layer].mean(0) - lab[ring].mean(0)
 
 
-def _other_colour(labs, t, user, blade_t, e, pixels, blade_e=None):
-    """Whether exemplar ``e``'s layer ``pixels`` stand out from their blade in another colour than ``user``."""
+def _unmatched(stats, e, t, params):
+    """Per-channel factor taking a colour difference on exemplar ``e`` back from the training leaf's
+    statistics to its own (None without colour matching)."""
+    if not params.match_colours or e == t:
+        return None
+    return np.asarray(stats[e][1], np.float64) / np.maximum(np.asarray(stats[t][1], np.float64), 1e-6)
+
+
+def _other_colour(labs, t, user, blade_t, e, pixels, blade_e=None, *, scale=None):
+    """Whether exemplar ``e``'s layer ``pixels`` stand out from their blade in another colour than ``user``.
+
+    ``scale`` (:func:`_unmatched`) compares the two contrasts in each
+    leaf's own CIELAB: matched onto the training leaf's statistics, a red
+    training leaf's wide spread of ``a*`` shrank a dark-green vein's
+    contrast onto the red one's (cosine 0.87-0.98 matched, 0.47-0.49 in
+    their own colours; same-coloured procedural leaves 0.99-1.00 either
+    way), and the dark veins were induced with the red veins' colour model
+    (procedural lobed dark -> red: IoU 0.49 -> 0.71).
+    """
     if pixels is None or pixels.sum() < 10:
         return False
     c_t = _contrast(labs[t], user, blade_t)
     c_e = _contrast(labs[e], pixels, np.ones(pixels.shape, bool) if blade_e is None else blade_e)
     if c_t is None or c_e is None:
         return False
+    if scale is not None:
+        c_e = c_e * np.asarray(scale, c_e.dtype)
     cos = float(c_t @ c_e) / max(float(np.linalg.norm(c_t) * np.linalg.norm(c_e)), 1e-9)
     return cos < SAME_CONTRAST
 
@@ -805,6 +906,8 @@ def _retuned(analysis, changes):
         for e in range(len(a.blades)):
             m = user.copy() if e == t else _induced(combined[e], delta, tr_iou, old.snapped, e, a.blades[e],
                                                     taken[e])
+            if e != t and old.contrast is not None and old.contrast[e] is not None and tr_iou >= COLOUR_RELIABLE:
+                m = trim_by_contrast(without_blobs(m, user, a.blades[t], a.blades[e]), old.contrast[e])
             taken[e] |= m
             masks.append(m)
         layers.append(dataclasses.replace(old, lam=lam, liberal_overlap=overlap, delta=delta,

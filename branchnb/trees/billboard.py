@@ -548,6 +548,8 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
         hmap = np.zeros((H, W), np.float32)
     axis = float(np.nonzero(crown)[1].mean()) if crown.any() else float(np.nonzero(opaque)[1].mean())
 
+    from .billboard_crumbs import adopt_crumbs
+
     centers, sizes, tex_idx, tints, layers, sources, textures = [], [], [], [], [], [], []
 
     def add(x0, y0, tex, z, tint, layer, source=None, tex_id=None):
@@ -772,7 +774,9 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
         behind = behind | (ring & crown_ext & ~lines & (lum_w < ref[:, :, :3] @ _LUM3 - 0.03))
     line_masks = _line_masks(behind, textures, tex_idx, centers, sizes)
 
-    return BillboardCloud(
+    # Texels cut off their billboard's piece would float from the side: each goes to the
+    # billboard it touches in the front view (billboard_crumbs; the front view is unchanged).
+    return adopt_crumbs(BillboardCloud(
         centers=np.asarray(centers, np.float64).reshape(-1, 3),
         sizes=np.asarray(sizes, np.float64).reshape(-1, 2),
         texture=np.asarray(tex_idx, np.int64),
@@ -781,7 +785,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
         source=np.asarray(sources, np.int64),
         textures=textures, axis=axis, image=work, superpixels=sp_lab,
         depth=hmap, replaced=curves, scale=s, lines=lines, line_masks=line_masks,
-    )
+    ))
 
 
 def _front_overlay(cloud: BillboardCloud) -> np.ndarray:

@@ -157,10 +157,14 @@ def reduce_cloud(cloud, share: float = 0.3):
         is kept). Billboards behind the axis (``z < 0``) are dropped first,
         as the impostor would hide them.
 
+    Kept billboards that float off the impostor in a side view (every 15
+    degrees; a piece of outline hanging under the crown) are dropped again
+    (issue 24), so there may be fewer.
+
     Returns
     -------
     BillboardCloud
-        ``ceil(share K) + 1`` billboards, the impostor first.
+        At most ``ceil(share K) + 1`` billboards, the impostor first.
 
     Raises
     ------
@@ -194,12 +198,55 @@ def reduce_cloud(cloud, share: float = 0.3):
     # front billboards it backs.
     back = imp.centers.copy()
     t0 = len(sub.textures)
-    return BillboardCloud(np.vstack([back, sub.centers]), np.vstack([imp.sizes, sub.sizes]),
-                          np.concatenate([[t0], sub.texture]), np.concatenate([[1.0], sub.tint]),
-                          np.concatenate([[FRONT], sub.layer]), np.concatenate([[-1], sub.source]),
-                          sub.textures + imp.textures, cloud.axis, cloud.image, cloud.superpixels,
-                          cloud.depth, cloud.replaced, cloud.scale, cloud.lines,
-                          sub.line_masks + [None] if sub.line_masks else [])
+    out = BillboardCloud(np.vstack([back, sub.centers]), np.vstack([imp.sizes, sub.sizes]),
+                         np.concatenate([[t0], sub.texture]), np.concatenate([[1.0], sub.tint]),
+                         np.concatenate([[FRONT], sub.layer]), np.concatenate([[-1], sub.source]),
+                         sub.textures + imp.textures, cloud.axis, cloud.image, cloud.superpixels,
+                         cloud.depth, cloud.replaced, cloud.scale, cloud.lines,
+                         sub.line_masks + [None] if sub.line_masks else [])
+    return _drop_floating_billboards(out)
+
+
+def _drop_floating_billboards(cloud, yaws=tuple(range(15, 360, 15))):
+    """A reduced cloud without the kept billboards that float in a side view (issue 24).
+
+    From the side a kept billboard moves with its depth, off the impostor at the back (billboard
+    0): a piece of the crown's outline then hangs below or beside the tree. Billboards with
+    texels in an 8-connected piece of a view of ``yaws`` that holds none of the impostor's
+    pixels and is not the view's largest piece are dropped (the impostor shows the same texels
+    in the front view, so that stays as it was).
+    """
+    if cloud.n_billboards < 2:
+        return cloud
+    texels = _opaque_texels(cloud)
+    drop = np.zeros(cloud.n_billboards, bool)
+    eight = np.ones((3, 3), bool)
+    for yaw in yaws:
+        ids, _ = _view_ids(cloud, float(yaw), texels)
+        op = ids >= 0
+        lab, n = ndi.label(op, structure=eight)
+        if n < 2:
+            continue
+        size = np.bincount(lab.ravel(), minlength=n + 1)
+        size[0] = 0
+        anchored = np.zeros(n + 1, bool)
+        anchored[int(np.argmax(size))] = True
+        anchored[np.unique(lab[ids == 0])] = True
+        anchored[0] = True
+        loose = ~anchored[lab]
+        if loose.any():
+            drop[np.unique(ids[loose])] = True
+    drop[0] = False
+    if not drop.any():
+        return cloud
+    return _subset_keep_sources(cloud, np.flatnonzero(~drop))
+
+
+def _subset_keep_sources(cloud, keep):
+    """:func:`_subset` keeping the billboards' ``source`` (the impostor's stays -1)."""
+    sub = _subset(cloud, keep)
+    sub.source = cloud.source[np.asarray(keep, int)].copy()
+    return sub
 
 
 def impostor_cloud(cloud):
@@ -405,6 +452,20 @@ def _texel_offsets(cloud) -> np.ndarray:
     return np.concatenate([[0], np.cumsum(n)]).astype(np.int64)
 
 
+def _pinholes_filled(op: np.ndarray, width: int) -> np.ndarray:
+    """``op`` with its holes filled but the drawn ones: a hole that holds a disc of radius
+    ``width + 1`` (between a crown and its branches) keeps its rim, gaps between billboards
+    (thinner) are filled."""
+    filled = ndi.binary_fill_holes(op)
+    holes = filled & ~op
+    if not holes.any():
+        return filled
+    lab, n = ndi.label(holes)
+    deep = ndi.maximum(ndi.distance_transform_edt(holes), lab, np.arange(1, n + 1))
+    keep = np.concatenate([[False], np.asarray(deep) >= width + 1])
+    return filled & ~keep[lab]
+
+
 def bake_side_outline(cloud, *, yaws=tuple(range(15, 360, 15)), ink=None, width=None):
     """Bake a drawn tree's side-view outline into the textures an engine shows (beyond the paper).
 
@@ -490,7 +551,7 @@ def bake_side_outline(cloud, *, yaws=tuple(range(15, 360, 15)), ink=None, width=
         if not op.any():
             continue
         d = _depth(ndi.binary_fill_holes(op))
-        want[texel[op & (d <= width)]] = True
+        want[texel[op & (_depth(_pinholes_filled(op, width)) <= width)]] = True
         bad[texel[op & (d > 2 * width + 1)]] = True
     paint = want & ~bad
     texs = []

@@ -37,7 +37,7 @@ from ..core.image import as_rgba
 from ..core.validate import check_int
 
 __all__ = ["SilhouetteOutline", "silhouette_outline", "ink_silhouette", "ink_seams", "rim_ink_share",
-           "OUTLINED_SHARE"]
+           "floating_ink", "OUTLINED_SHARE"]
 
 _LUM = np.array([0.299, 0.587, 0.114], np.float32)
 
@@ -192,6 +192,70 @@ def rim_ink_share(image, ink) -> float:
         raise ValueError(f"ink must be 3 finite RGB values, got shape {ink.shape}")
     d = np.linalg.norm(img[rim][:, :3] - ink[None], axis=1)
     return float(np.mean(d <= 0.15))
+
+
+def floating_ink(image, ink, *, tol: float = 0.25, return_mask: bool = False):
+    """Loose stroke fragments: opaque pieces, apart from the tree, drawn mostly in ink.
+
+    A side view of a billboard cloud (or an engine's view of an exported
+    level) can show bits of outline that float beside or above the crown:
+    card or billboard texels whose neighbours moved elsewhere. They are
+    counted here as the 8-connected opaque components other than the
+    largest one of which at least half the pixels lie within ``tol``
+    (Euclidean RGB) of ``ink``. A drawing's own detached pieces (fruit on the
+    ground, a sun) count too: compare with the front view.
+
+    Parameters
+    ----------
+    image : (H, W, 4) array_like
+        Straight RGBA; opaque where alpha >= 0.5.
+    ink : (3,) array_like
+        Outline colour, RGB in [0, 1] (e.g. ``SilhouetteOutline.ink``).
+    tol : float
+        RGB distance within which a pixel is ink.
+    return_mask : bool
+        Also return the fragments' pixels, (H, W) bool.
+
+    Returns
+    -------
+    int
+        Number of floating ink fragments (and the mask with ``return_mask``).
+
+    Raises
+    ------
+    ValueError
+        If ``ink`` is not 3 finite values or ``tol`` is not positive.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.zeros((12, 12, 4)); img[2:9, 2:9] = (0, 0.6, 0, 1); img[2:9, 2, :3] = 0
+    >>> floating_ink(img, (0, 0, 0))
+    0
+    >>> img[10, 5:8] = (0, 0, 0, 1)                  # a loose stroke under the crown
+    >>> floating_ink(img, (0, 0, 0))
+    1
+    """
+    img = as_rgba(image, name="image")
+    ink = np.asarray(ink, np.float64)
+    if ink.shape != (3,) or not np.all(np.isfinite(ink)):
+        raise ValueError(f"ink must be 3 finite RGB values, got shape {ink.shape}")
+    if not (np.isfinite(tol) and tol > 0):
+        raise ValueError(f"tol must be > 0, got {tol}")
+    op = img[..., 3] >= 0.5
+    mask = np.zeros(op.shape, bool)
+    lab, n = ndi.label(op, structure=np.ones((3, 3), bool))
+    if n <= 1:
+        return (0, mask) if return_mask else 0
+    idx = np.arange(1, n + 1)
+    size = ndi.sum(op, lab, idx)
+    dark = np.linalg.norm(img[..., :3] - ink, axis=2) <= tol
+    share = ndi.sum(dark, lab, idx) / np.maximum(size, 1)
+    loose = (share >= 0.5) & (idx != idx[np.argmax(size)])
+    if return_mask:
+        mask = loose[np.maximum(lab - 1, 0)] & op
+        return int(loose.sum()), mask
+    return int(loose.sum())
 
 
 def ink_silhouette(image, ink, width: int, *, holes: bool = True) -> np.ndarray:
