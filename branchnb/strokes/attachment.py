@@ -141,9 +141,19 @@ def _carried_parts(index, pairs, attached, window: float) -> list[tuple[int, int
         (rs, cs) = part.box
         corners = np.array([[cs.start, rs.start, 1.0], [cs.stop, rs.stop, 1.0],
                             [cs.start, rs.stop, 1.0], [cs.stop, rs.start, 1.0]])
-        for i in range(len(pairs)):
-            if keys[i] != keys[part.stroke]:
-                continue
+        mine = [i for i in range(len(pairs)) if keys[i] == keys[part.stroke]]
+        if len(mine) > 1 and any(keys[j] != keys[part.stroke] for j, _ in part.anchors) \
+                and part.area > _own_area(index, part.stroke):
+            # A source stroke drawn twice (a copy: an arm added) carries a copy of the
+            # parts hanging from it alone (a limb's twig, the sliver at a branch's base);
+            # a part larger than the stroke's own piece that also touches another stroke
+            # (a starfish's disk and other arms, where every arm starts) is a body, not
+            # an appendage: it stays one part, with the pair that moves it least.
+            shift = [float(np.abs(corners @ rigid_frame(attached[i].source, attached[i].target, part.s,
+                                                        _mapped(attached[i], part.s), window=window).T
+                                  - corners[:, :2]).max()) for i in mine]
+            mine = [mine[int(np.argmin(shift))]]
+        for i in mine:
             s_t = _mapped(attached[i], part.s)
             moved = corners @ rigid_frame(attached[i].source, attached[i].target, part.s, s_t,
                                           window=window).T
@@ -159,6 +169,13 @@ def _carried_parts(index, pairs, attached, window: float) -> list[tuple[int, int
             if alike:
                 out.append((i, pi, s_t))
     return out
+
+
+def _own_area(index, k: int) -> float:
+    """Area (px) of stroke ``k``'s own piece: its length times twice its typical half width."""
+    st = index.strokes[k]
+    s = np.linspace(0.0, st.length, 16)
+    return float(st.length * 2.0 * np.median(index.edge_width(k, s)))
 
 
 def _steadiest_anchor(index, part, pairs, attached, keys, window: float) -> None:

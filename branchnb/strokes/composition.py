@@ -415,6 +415,20 @@ def labelling_cost(patches: list[PlacedPatch], labels: np.ndarray, *, power: flo
         vb = pj.valid[y0 - yj:y1 - yj, x0 - xj:x1 - xj]
         sub = lab[y0:y1, x0:x1]
         region = va & vb & ((sub == i) | (sub == j))
-        total += seam_cost(a, b, sub == j, region=region, power=power,
+        # only the i-j seam's pixels count: the cost is taken on their box grown by
+        # 2 px (the Sobel edge strength needs 1 px round a pixel: the same values)
+        take = sub == j
+        cut = np.zeros(take.shape, bool)
+        hz = (take[:, :-1] != take[:, 1:]) & region[:, :-1] & region[:, 1:]
+        vt = (take[:-1, :] != take[1:, :]) & region[:-1, :] & region[1:, :]
+        cut[:, :-1] |= hz
+        cut[:, 1:] |= hz
+        cut[:-1, :] |= vt
+        cut[1:, :] |= vt
+        rs, cs = np.nonzero(cut)
+        if not len(rs):
+            continue
+        box = (slice(max(rs.min() - 2, 0), rs.max() + 3), slice(max(cs.min() - 2, 0), cs.max() + 3))
+        total += seam_cost(a[box], b[box], take[box], region=region[box], power=power,
                            gradient_weighted=gradient_weighted)
     return total

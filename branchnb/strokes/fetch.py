@@ -351,8 +351,8 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
     joined = _joined_ends(source_strokes, raw, keys)
     cuts = [tuple(joined[k][end] >= 0 or _is_cut(st, obj, raw[k][2], end) for end in (0, 1))
             for k, st in enumerate(source_strokes)]
-    widths = [_smooth_width(raw[k][1], raw[k][2], cuts[k]) if has_alpha else raw[k][1]
-              for k in range(len(source_strokes))]
+    widths = [_smooth_width(raw[k][1], raw[k][2], _wide_ends(st, cuts[k], edt, raw[k][2])) if has_alpha
+              else raw[k][1] for k, st in enumerate(source_strokes)]
     width_s = [raw[k][0] for k in range(len(source_strokes))]
     # The silhouette's own half width (median over a few widths, no running maximum).
     edge = [ndi.median_filter(raw[k][1], size=4 * int(raw[k][2]) + 1, mode="nearest") if has_alpha
@@ -702,6 +702,25 @@ def _clear_of(child: Stroke, end: int, parent: Stroke, ws, wv, half_width: float
     s_par, d = parent.project(child.point_at(t if end == 0 else child.length - t))
     out = np.flatnonzero(d > np.interp(s_par, ws, wv) + half_width)
     return float(t[out[0]]) if len(out) else 0.0
+
+
+def _wide_ends(stroke: Stroke, cut, edt: np.ndarray, typical: float) -> tuple[bool, bool]:
+    """Per end: cut, or inside a body wider than the stroke's part (its depth over 1.5
+    times the typical half width: a starfish's arm stroked from the centre of its disk).
+
+    There the widths are the body's, not the stroke's own: :func:`_smooth_width`
+    replaces them as at a cut end, so that the stroke's tube does not swallow the
+    body and the parts round it (which then stay unstroked parts, held whole). Else
+    whether the median filter trimmed that bulge depended on the image's size
+    (kept at 400 px, swallowed at 150). Beyond the paper.
+    """
+    h, w = edt.shape
+    out = []
+    for end in (0, 1):
+        x, y = np.rint(stroke.points[0 if end == 0 else -1]).astype(int)
+        deep = 0 <= x < w and 0 <= y < h and float(edt[y, x]) > 1.5 * typical
+        out.append(bool(cut[end] or deep))
+    return out[0], out[1]
 
 
 def _smooth_width(wv: np.ndarray, typical: float, cut) -> np.ndarray:

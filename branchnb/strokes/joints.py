@@ -24,7 +24,7 @@ from scipy import ndimage as ndi
 
 from .parts import rigid_frame
 
-__all__ = ["hold_joint_bodies", "close_hairlines"]
+__all__ = ["joint_disks", "joint_roots", "hold_joint_bodies", "close_hairlines"]
 
 
 def _premult(layer: np.ndarray) -> np.ndarray:
@@ -85,6 +85,106 @@ def joint_disks(index, attached, junctions, window: float) -> list[tuple[np.ndar
     return out
 
 
+def joint_roots(index, attached, junctions, window: float) -> list[tuple]:
+    """The root of every child at a junction, as bodies to hold: the child's own tube
+    from the junction to where it leaves its parent (and half its width on).
+
+    A child turned about its root (a limb raised) has its cut face turned with it;
+    between the face and the parent's side a wedge of the child's tube was nobody's
+    (the parent's patches stop at the parent's silhouette, the child's near its
+    root keep the parent's interior): an enclosed notch, outlined like a hole. The
+    root tube, carried rigidly by the child's frame where it leaves the parent, is
+    laid under the layer like the joint bodies (:func:`hold_joint_bodies`), so it
+    fills only what the edit left open. Beyond the paper.
+
+    Parameters
+    ----------
+    index : SourceIndex
+        The source index.
+    attached : list of StrokePair
+        The stroke pairs (targets attached to their parents).
+    junctions : list of Junction
+        Junctions among the targets.
+    window : float
+        Half length (px) of the chords the child's direction is taken from.
+
+    Returns
+    -------
+    list of tuple
+        ``(centre, 2 x 3 target->source map, radius, clip stroke, clip half width,
+        source map)`` for :func:`hold_joint_bodies`: the disk round the junction that reaches the
+        exit, clipped to the child's target tube (its half width at the exit less
+        1 px: the edges stay as synthesized).
+
+    Examples
+    --------
+    >>> joint_roots(None, [], [], 5.0)
+    []
+    """
+    from .strokes import Stroke
+
+    out = []
+    for jn in junctions:
+        pair, par = attached[jn.child], attached[jn.parent]
+        child = pair.source
+        if child.length < 2.0:
+            continue
+        t = np.arange(0.0, child.length, 1.0)
+        s_c = t if jn.end == 0 else child.length - t
+        s_par, d = par.source.project(child.point_at(s_c))
+        away = np.flatnonzero(d > index.edge_width(jn.parent, s_par) + 1.0)
+        if not len(away):
+            continue
+        s_exit = float(s_c[away[0]])
+        sign = 1.0 if jn.end == 0 else -1.0
+        probe = np.clip(s_exit + sign * np.array([1.0, 2.0, 3.0]), 0.0, child.length)
+        hw = float(index.edge_width(jn.child, probe).min()) - 1.0
+        if hw < 1.5:
+            continue
+        s_exit_t = float(np.interp(s_exit, pair.control[:, 0], pair.control[:, 1]))
+        end_t = 0.0 if jn.end == 0 else pair.target.length
+        reach_t = abs(s_exit_t - end_t) + hw
+        fwd = rigid_frame(child, pair.target, s_exit, s_exit_t, window=window)
+        rot = fwd[:, :2]
+        inv = np.hstack([rot.T, (-rot.T @ fwd[:, 2])[:, None]])
+        a, b = sorted((end_t, float(np.clip(end_t + sign * reach_t, 0.0, pair.target.length))))
+        if b - a < 1.0:
+            continue
+        tgt = pair.target
+        mid = (tgt.s > a) & (tgt.s < b)  # the target's own vertices between a and b
+        clip = Stroke(np.vstack([tgt.point_at(a)[None], tgt.points[mid], tgt.point_at(b)[None]]))
+        centre = pair.target.point_at(end_t)
+
+        u = child.point_at(s_exit + sign) - child.point_at(s_exit)
+        u = u / max(float(np.hypot(*u)), 1e-9)  # the child's source direction, away from the parent
+
+        def own(sx, sy, parent=par.source, k=jn.parent, u=u):
+            # only the child's own flesh (outside the parent's silhouette in the source):
+            # a limb raised far must not pull flaps of its parent's body out along it;
+            # a pixel whose source lies in the parent takes the child's texture a little
+            # farther along the child instead
+            sx, sy = sx.copy(), sy.copy()
+            ok = np.zeros(len(sx), bool)
+            for _ in range(4):
+                s_p, d_p = parent.project(np.c_[sx, sy])
+                short = index.edge_width(k, s_p) + 1.0 - d_p
+                ok = short <= 0.5
+                if ok.all():
+                    break
+                sx[~ok] += u[0] * short[~ok]
+                sy[~ok] += u[1] * short[~ok]
+            # and solid flesh there (not the child's anti-aliased edge or the background)
+            h, w = index.shape
+            x, y = np.rint(sx).astype(int), np.rint(sy).astype(int)
+            inb = (x >= 0) & (x < w) & (y >= 0) & (y < h)
+            ok &= inb
+            ok[inb] &= index.premult[y[inb], x[inb], 3] >= 0.98
+            return sx, sy, ok
+
+        out.append((centre, inv, reach_t + hw, clip, hw, own))
+    return out
+
+
 def hold_joint_bodies(layer: np.ndarray, source_premult: np.ndarray, source_depth: np.ndarray,
                       disks, depth: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Lay every joint's body disk (the parent's source pixels) under ``layer``.
@@ -98,7 +198,9 @@ def hold_joint_bodies(layer: np.ndarray, source_premult: np.ndarray, source_dept
     source_depth : (Hs, Ws) ndarray
         The source silhouette's depth (distance to the background).
     disks : list of tuple
-        From :func:`joint_disks`.
+        From :func:`joint_disks` or :func:`joint_roots`: ``(centre, map, radius)``,
+        optionally a clip stroke and half width (target side) and a map of the
+        source coordinates ``(sx, sy) -> (sx, sy, usable)`` (source side).
     depth : (H, W) ndarray, optional
         Source depth of every target pixel; updated in place where a
         disk fills a pixel that had alpha < 0.5.
@@ -130,13 +232,19 @@ def hold_joint_bodies(layer: np.ndarray, source_premult: np.ndarray, source_dept
         if r0 >= r1 or c0 >= c1:
             continue
         yy, xx = np.mgrid[r0:r1, c0:c1]
-        inside = np.hypot(xx - cx, yy - cy) <= r
+        # only pixels the edit left (partly) open are filled: the others are not looked at
+        inside = (np.hypot(xx - cx, yy - cy) <= r) & (pm[r0:r1, c0:c1, 3] < 0.5)
+        if not inside.any():
+            continue
         if clip:
             _, d = clip[0].project(np.c_[xx[inside], yy[inside]].astype(float))
             inside[inside] = d <= clip[1]
         yy, xx = yy[inside], xx[inside]
         sx = inv[0, 0] * xx + inv[0, 1] * yy + inv[0, 2]
         sy = inv[1, 0] * xx + inv[1, 1] * yy + inv[1, 2]
+        if len(clip) > 2 and len(xx):
+            sx, sy, ok = clip[2](sx, sy)  # the source side: the child's own flesh only
+            yy, xx, sx, sy = yy[ok], xx[ok], sx[ok], sy[ok]
         under = np.stack([ndi.map_coordinates(source_premult[..., c], [sy, sx], order=1, mode="nearest")
                           for c in range(4)], axis=1)
         top = pm[yy, xx]

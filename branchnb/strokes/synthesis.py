@@ -11,10 +11,11 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from .composition import PlacedPatch, compose, labelling_cost, seam_mask
 from .edit import FETCH_FIELDS, EditPatches, StrokeEditParams, StrokeEditResult, StrokeSamples, _check_edit_params
-from .joints import close_hairlines, hold_joint_bodies, joint_disks
+from .joints import close_hairlines, hold_joint_bodies, joint_disks, joint_roots
 from .junctions import far_side
 from .outline import _POCKET, clear_stale_outline, close_cuts, drop_flecks, fill_joints, source_depth
 from .parts import place_part, rigid_frame
@@ -53,6 +54,7 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
     samples: list[StrokeSamples | None] = [None] * len(patches.pairs)
     e_total = e_pair = 0.0
     source_region = np.zeros(index.shape, bool)
+    inside_cache: dict = {}
     for cand in patches._strokes:
         i, smp, radii, fetched, offs = cand.index, cand.samples, cand.radii, cand.fetched, cand.offsets
         pair = attached[i]
@@ -75,7 +77,7 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
                 if not near:
                     # farther along (a child leaving its parent at a slant), the patch
                     # still may not lay the child's pixels over its parent's interior
-                    inside = _inside_parent(index, attached, jn, f.origin, f.valid.shape[1])
+                    inside = _inside_parent(index, attached, jn, f.origin, f.valid.shape[1], inside_cache)
                     if inside.any():
                         keep = inside if keep is None else keep | inside
                     continue
@@ -87,7 +89,7 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
                 if nrm > 1e-9:
                     fs = far_side(jn, attached[jn.parent].target, into / nrm, f.origin,
                                   f.valid.shape[1], window=window)
-                    fs = fs | _inside_parent(index, attached, jn, f.origin, f.valid.shape[1])
+                    fs = fs | _inside_parent(index, attached, jn, f.origin, f.valid.shape[1], inside_cache)
                     keep = fs if keep is None else keep | fs
             placed.append(PlacedPatch(f.pixels[k], f.valid[k], f.origin, pin_core, keep,
                                       _patch_map(f, k), grow=not pin_core))
@@ -142,6 +144,11 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
         disks = joint_disks(index, attached, junctions, window)
         held_depth = np.zeros(layer.shape[:2], np.float32)
         layer, held = hold_joint_bodies(layer, index.premult, index.depth, disks, held_depth)
+        # and every child's root tube stays with the child (no wedge left open between
+        # a turned child's cut face and its parent's side)
+        layer, held_roots = hold_joint_bodies(layer, index.premult, index.depth,
+                                              joint_roots(index, attached, junctions, window), held_depth)
+        held |= held_roots
         if wide:
             # wide joints first, their pockets filled with the parts' inner colours (not
             # the outline's); the new silhouette is then outlined like a cut face
@@ -210,33 +217,52 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
 _FILLED_DEPTH = 100.0
 
 
-def _inside_parent(index, attached, jn, origin, size: int) -> np.ndarray:
+def _inside_parent(index, attached, jn, origin, size: int, cache: dict | None = None) -> np.ndarray:
     """Pixels of a ``size`` x ``size`` patch at ``origin`` inside the parent's silhouette
     (1.5 px in from its edge, the silhouette's half width at the junction): they keep
-    the parent's texture, a child turned far does not lay its cut face over its parent."""
-    parent = attached[jn.parent]
-    hw = float(index.edge_width(jn.parent, np.array([parent.source_arc_length(jn.parent_s)]))[0])
-    # where the child leaves along the parent's normal, the width across is the child's
-    hw = min(hw, index.side_width.get((jn.child, jn.end, jn.parent), np.inf) + 1.0)
-    pts = parent.target.points
-    a, b = pts[:-1], pts[1:]
-    centre = np.array([origin[0] + 0.5 * size, origin[1] + 0.5 * size])
-    near = _segment_distance(centre[None], a, b)[0] <= hw + 0.75 * size
-    if not near.any():
+    the parent's texture, a child turned far does not lay its cut face over its parent.
+
+    Only where the parent has flesh: the source silhouette carried by the parent's
+    frame at the junction (a child added between two limbs that start at one centre,
+    a starfish's sixth arm, is not held back over the empty background within the
+    parent's width; that left it floating off the body). ``cache`` (a dict, one per
+    edit) keeps the parent's geometry per junction: every patch near a junction
+    asks the same question.
+    """
+    key = id(jn)
+    got = None if cache is None else cache.get(key)
+    if got is None:
+        parent = attached[jn.parent]
+        s_src = float(parent.source_arc_length(jn.parent_s))
+        hw = float(index.edge_width(jn.parent, np.array([s_src]))[0])
+        # where the child leaves along the parent's normal, the width across is the child's
+        hw = min(hw, index.side_width.get((jn.child, jn.end, jn.parent), np.inf) + 1.0)
+        # the parent's target stroke, densely sampled (0.25 px: distances exact to 0.01 px)
+        st = parent.target
+        pts = st.points if st.length < 1e-9 else \
+            np.stack([np.interp(np.linspace(0.0, st.length, int(np.ceil(st.length / 0.25)) + 1), st.s,
+                                st.points[:, c]) for c in (0, 1)], axis=1)
+        fwd = rigid_frame(parent.source, parent.target, s_src, float(jn.parent_s), window=3.0)
+        got = (cKDTree(pts), hw, fwd, pts.min(axis=0), pts.max(axis=0))
+        if cache is not None:
+            cache[key] = got
+    tree, hw, fwd, lo, hi = got
+    reach = hw - 1.5
+    if reach < 0 or (np.asarray(origin) + size < lo - reach).any() or (np.asarray(origin) > hi + reach).any():
         return np.zeros((size, size), bool)  # the patch's square is nowhere near the parent
     yy, xx = np.mgrid[0:size, 0:size]
     q = np.c_[xx.ravel() + origin[0], yy.ravel() + origin[1]].astype(float)
-    d = _segment_distance(q, a[near], b[near]).min(axis=1)
-    return (d <= hw - 1.5).reshape(size, size)
-
-
-def _segment_distance(q: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """(N, M) distances of points ``q`` (N, 2) to segments ``a``-``b`` (M, 2)."""
-    ab = b - a
-    len2 = np.maximum((ab ** 2).sum(axis=1), 1e-12)
-    t = np.clip(((q[:, None, :] - a[None]) * ab[None]).sum(axis=2) / len2, 0.0, 1.0)
-    p = a[None] + t[..., None] * ab[None]
-    return np.hypot(q[:, None, 0] - p[..., 0], q[:, None, 1] - p[..., 1])
+    d, _ = tree.query(q, distance_upper_bound=reach + 1e-9)
+    inside = d <= reach
+    if inside.any():
+        src = (q[inside] - fwd[:, 2]) @ fwd[:, :2]  # the inverse rigid map, row-wise
+        x, y = np.rint(src).astype(int).T
+        h, w = index.shape
+        ok = (x >= 0) & (x < w) & (y >= 0) & (y < h)
+        flesh = np.zeros(len(x), bool)
+        flesh[ok] = index.object[y[ok], x[ok]]
+        inside[np.flatnonzero(inside)[~flesh]] = False
+    return inside.reshape(size, size)
 
 
 def _along_children(wide, attached, shape, where: np.ndarray | None = None) -> np.ndarray:
