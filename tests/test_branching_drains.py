@@ -77,7 +77,10 @@ def test_map_rivers_keep_off_the_coast(layout, size, seed):
     model = fit_model(ex, domain=example_domain(img, ex))
     for rng in (0, 1):
         s = synthesize_structure(model, rng=rng).structure
-        assert _coast_share(s, land) <= _coast_share(ex, land) + 0.02
+        # 0.005-0.053 measured against the example's 0.020-0.024 (since broken strokes are joined,
+        # ``join_gaps``, the example's rivers reach the coast as children too, and so do the
+        # synthesized ones: the mouths count); a river running along the coast was 0.07-0.20
+        assert _coast_share(s, land) <= 2 * _coast_share(ex, land) + 0.02
 
 
 def _bends_per_100px(structure, h=4.0, tol=6.0):

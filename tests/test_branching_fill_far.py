@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from branchnb.branching.filling import _hole_map
-from branchnb.branching.growth import _Grower
+from branchnb.branching.growth import FILL_LENGTH_FACTOR, _Grower, length_cap
 from branchnb.branching.measures import far_share
 from branchnb.branching.params import SynthesisParams
 from branchnb.branching.synthesis import fit_model
@@ -36,6 +36,8 @@ def _grown_along_the_top(model, seed):
     g.branches[r].target = np.inf
     g.grow(r, 30)
     g.stop_reason = "density (coverage)"
+    # as synthesize_structure does before its fill passes: holes may be filled past the auto cap
+    g.max_total = length_cap(model, SynthesisParams(), (160, 160), None, factor=FILL_LENGTH_FACTOR)
     return g
 
 

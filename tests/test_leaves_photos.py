@@ -94,7 +94,9 @@ def test_drawn_leaves_on_white_through_the_pipeline():
     layer = a.layer("ink")
     assert layer.lam > 0.1 and layer.training_overlap > 0.7
     dark = (a.exemplars[1][..., :3].max(2) < 0.25) & a.blades[1]
-    assert iou(layer.masks[1], dark) > 0.15
+    # 0.91 measured; 0.00 while the other sketch's own contrast direction (white paper
+    # between its brush strokes) replaced the ink's colour model.
+    assert iou(layer.masks[1], dark) > 0.6
     new = generate(a, 1, rng=0)[0]
     assert new.image.shape == a.exemplars[0].shape and new.blade.any()
 
