@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -31,12 +30,10 @@ from .domains import MOUTH_SHARE, MOUTH_TURN, _Drain, _frame, _Shore, _shore_mar
 from .filling import _Filling
 from .furcation import vertex_angles, window_features
 from .guidance import Guidance
+from .model import StructureModel
 from .params import SynthesisParams
 from .scoring import _continue_radii, _rank_key, score_candidates
 from .straightness import RUN_MIN_MEAN, BendHistogram, StraightRuns
-
-if TYPE_CHECKING:
-    from .model import StructureModel
 
 __all__ = ["FILL_LENGTH_FACTOR", "GrowthProgress", "LENGTH_BOUND", "LENGTH_FACTOR", "length_cap"]
 
@@ -72,7 +69,7 @@ def length_cap(model: StructureModel, params: SynthesisParams, shape, domain: np
     ----------
     model : StructureModel
         The fitted example (its resampled ``example`` and ``domain``).
-    params : SynthesisParams
+    params : ~branchnb.branching.params.SynthesisParams
         Synthesis parameters (``max_total_length``).
     shape : (H, W)
         Output frame.

@@ -60,7 +60,20 @@ class LineProfile:
     shape: np.ndarray
 
     def target(self, dist: np.ndarray, radius: np.ndarray) -> np.ndarray:
-        """Projection a pixel at ``dist`` from a centre line of ``radius`` has in the example (median)."""
+        """Projection a pixel at ``dist`` from a centre line of ``radius`` has in the example (median).
+
+        Parameters
+        ----------
+        dist : ndarray
+            Distance (px) of each pixel from its centre line.
+        radius : ndarray
+            Radius (px) of that centre line there, same shape as ``dist``.
+
+        Returns
+        -------
+        ndarray
+            The example's median projection, same shape.
+        """
         r = np.maximum(radius, 0.5)
         amp = np.interp(r, self.radii, self.amplitude)
         return amp * np.interp(dist / r, self.u, self.shape, right=0.0)

@@ -166,12 +166,26 @@ def without_blobs(m, user, blade_t, blade_e):
     """A thin layer's induced mask on an exemplar without its blobs (beyond the paper).
 
     The exemplar's own colour model of a thin layer (its own layer pixels,
-    :func:`_under_induced`, :func:`_other_colour`) also matches spots of a
+    chosen in :mod:`branchnb.leaves.analysis`) also matches spots of a
     like colour (red veins and brown spots): the vein layer took the spots
     of a red-veined procedural leaf, and the spots layer lost them. A part
     of the induced mask that holds a disk wider than any the user's layer
-    holds (scaled by the blades' sizes; :func:`_thickest`), grown by the
-    disk, is no vein and is left out.
+    holds (scaled by the blades' sizes), grown by the disk, is no vein and
+    is left out.
+
+    Parameters
+    ----------
+    m : (H, W) bool ndarray
+        The induced mask on the exemplar.
+    user : (H, W) bool ndarray
+        The user's layer on the training leaf.
+    blade_t, blade_e : (H, W) bool ndarray
+        The training leaf's and the exemplar's blades.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        ``m`` without its blobs.
     """
     from skimage.morphology import disk
     r = int(np.ceil((_thickest(user) + 1) * np.sqrt(float(blade_e.sum()) / max(float(blade_t.sum()), 1.0))))
@@ -187,7 +201,21 @@ TRIM_LEVEL = 0.35
 
 
 def high_pass(lab, blade, sigma: float) -> np.ndarray:
-    """Each blade pixel's CIELAB minus the blade's Gaussian mean around it (``sigma`` px)."""
+    """Each blade pixel's CIELAB minus the blade's Gaussian mean around it (``sigma`` px).
+
+    Parameters
+    ----------
+    lab : (H, W, 3) float ndarray
+        CIELAB image.
+    blade : (H, W) bool ndarray
+        The blade; pixels off it do not enter the mean.
+    sigma : float
+        Standard deviation (px) of the Gaussian mean.
+
+    Returns
+    -------
+    (H, W, 3) float64 ndarray
+    """
     lab = np.asarray(lab, np.float64)
     b = np.asarray(blade, bool).astype(np.float64)
     norm = np.maximum(ndi.gaussian_filter(b, sigma), 1e-6)
@@ -247,7 +275,21 @@ def trim_to_ridges(mask, lab, blade, direction, width: float, *, level: float = 
 
 
 def trim_by_contrast(mask, contrast, *, level: float = TRIM_LEVEL):
-    """:func:`trim_to_ridges` with each pixel's contrast along the layer's direction given (``contrast``)."""
+    """:func:`trim_to_ridges` with each pixel's contrast along the layer's direction given (``contrast``).
+
+    Parameters
+    ----------
+    mask : (H, W) bool ndarray
+        A thin layer's induced mask.
+    contrast : (H, W) float ndarray
+        Each pixel's high-pass colour projected on the layer's direction.
+    level : float, optional
+        Share of the median contrast on the mask's skeleton a pixel keeps.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+    """
     from skimage.morphology import skeletonize
     mask = as_mask(mask, name="mask")
     p = np.asarray(contrast)

@@ -155,11 +155,9 @@ def reduce_cloud(cloud, share: float = 0.3):
     share : float
         Share of the billboards kept, in (0, 1] (default 0.3; at least one
         is kept). Billboards behind the axis (``z < 0``) are dropped first,
-        as the impostor would hide them.
-
-    Kept billboards that float off the impostor in a side view (every 15
-    degrees; a piece of outline hanging under the crown) are dropped again
-    (issue 24), so there may be fewer.
+        as the impostor would hide them. Kept billboards that float off the
+        impostor in a side view (every 15 degrees; a piece of outline
+        hanging under the crown) are dropped again, so there may be fewer.
 
     Returns
     -------
