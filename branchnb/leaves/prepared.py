@@ -243,6 +243,14 @@ class _Prepared:
         others = errs[np.arange(self.n) != t]
         others = others[np.isfinite(others)]
         self.registration_error = float(np.median(others)) if len(others) else 1.0
+        # Bandwidths (Silverman's rule, 1.06 sigma n^-1/5) of the pose angle
+        # and the log lamina size: a new leaf's pose and size are one
+        # exemplar's moved by a Gaussian of these (a smoothed bootstrap).
+        silver = 1.06 * self.n ** -0.2 if self.n > 1 else 0.0
+        ang = np.asarray(self.pose_angles, float)
+        self.pose_bandwidth = float(silver * np.std(np.angle(np.exp(1j * (ang - ang.mean())))))
+        sizes = np.asarray([x for x in self.lamina_size if x > 0], float)
+        self.size_bandwidth = float(silver * np.std(np.log(sizes))) if len(sizes) > 1 else 0.0
         lams = np.array([L.lam for L in a.layers], float)
         top = float(lams.max()) if len(lams) and lams.max() > 0 else 1.0
         self.structural = [float(x / top) for x in lams]
@@ -282,7 +290,7 @@ class _Prepared:
         q = (np.stack([self.xx, self.yy], -1).astype(np.float64) - self.centre_t) @ rot + self.centre_t
         return _remap_map(self.from_exemplar[e], q.astype(np.float32))
 
-    def posed(self, upright: np.ndarray, weights) -> np.ndarray:
+    def posed(self, upright: np.ndarray, weights, offset: float = 0.0) -> np.ndarray:
         """The blended upright map turned to the exemplars' mean pose (circular mean, ``weights``).
 
         New leaves lie as the exemplars that made them lie, like the blend
@@ -294,7 +302,7 @@ class _Prepared:
         """
         w = np.asarray(weights, float)
         ang = np.asarray(self.pose_angles)
-        theta = float(np.arctan2((w * np.sin(ang)).sum(), (w * np.cos(ang)).sum()))
+        theta = float(np.arctan2((w * np.sin(ang)).sum(), (w * np.cos(ang)).sum())) + float(offset)
         if abs(theta) < 1e-6:
             return upright
         c, s = np.cos(theta), np.sin(theta)

@@ -140,6 +140,22 @@ class SynthesisParams:
     own_size : bool
         Each new leaf takes the size of one exemplar drawn at random
         (default True; False: the convex blend's averaged size). Not in the paper.
+    restore_spread : bool
+        Scale each new shape's departure from the exemplars' mean shape
+        by ``sqrt(n * shape_concentration + 1)`` (default True; not in the
+        paper). A convex blend lies between its exemplars: with weights
+        from a symmetric Dirichlet of concentration ``c`` its expected
+        squared departure from the mean is ``1 / (n c + 1)`` of an
+        exemplar's, so new leaves overlapped each other more than the
+        exemplars do (median pairwise blade IoU 0.79 against 0.67 for 7
+        photographed maples' laminae). The scaled blend is an affine
+        combination of the exemplars' warps (weights may be negative) with
+        the exemplars' spread on average.
+    smooth_bootstrap : bool
+        Each new leaf's pose angle and log size are one exemplar's plus a
+        Gaussian of Silverman's bandwidth (``1.06 sigma n^-1/5`` of the
+        exemplars' values, cut at 1.5 bandwidths; default True; not in the paper, see
+        :func:`generate_leaf`'s comments).
     correct : bool
         Texture correction where the shape warp stretches or squeezes
         (default True).
@@ -162,6 +178,8 @@ class SynthesisParams:
     shape_spread: float = param(0.75, min=0.0, max=2.0, step=0.05,
                                 help="variation of the shape weights over the leaf (0: one blend everywhere)")
     own_size: bool = param(True, help="each new leaf is as large as one exemplar drawn at random")
+    restore_spread: bool = param(True, help="shapes depart from the mean shape as far as the exemplars do")
+    smooth_bootstrap: bool = param(True, help="pose and size: one exemplar's plus a small Gaussian kernel")
     correct: bool = param(True, help="texture correction where the shape warp stretches")
     layer_colour: str = param("contrast", options=("contrast", "copy"),
                               help="a layer brings its contrast to its own leaf (contrast) or its colours (copy)")
@@ -250,9 +268,14 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
     # The shape first: a convex blend of the inverse registration warps.
     wts = shape_weights(shape, n, params.shape_grid, params.shape_sigma * p.size, rng,
                         params.shape_concentration, params.shape_spread)
+    gain = float(np.sqrt(n * params.shape_concentration + 1.0)) if params.restore_spread and n > 1 else 1.0
     m = np.zeros(shape + (2,), np.float32)
     for i in range(n):
-        m += wts[i][..., None] * p.shape_maps[i]
+        # With the spread restored: the blend's departure from the
+        # exemplars' mean shape scaled by ``gain`` (an affine, no longer
+        # convex, combination; see SynthesisParams.restore_spread).
+        w_i = wts[i] if gain == 1.0 else np.float32(1.0 / n) + np.float32(gain) * (wts[i] - np.float32(1.0 / n))
+        m += w_i[..., None] * p.shape_maps[i]
     # The pose of one exemplar drawn at random: new leaves lie as variously
     # as the exemplars do (the weighted mean pose gave every new leaf
     # nearly the same angle: median pairwise blade IoU 0.80 against the
@@ -262,7 +285,19 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
     # (IoU 0.76 against 0.51 on 3 trilobed exemplars). From a stream of its
     # own, so the other draws do not depend on it.
     pose_from = int(np.random.default_rng((int(seed), 2)).integers(n))
-    m = p.posed(m, np.eye(n)[pose_from])
+    # A smoothed bootstrap of pose and size (beyond the paper): one
+    # exemplar's, moved by a Gaussian kernel of Silverman's bandwidth over
+    # the exemplars' poses and log sizes (from a stream of its own). Drawn
+    # from the exemplars' values alone, two new leaves took the same pose
+    # and size one time in n: more alike than any two exemplars (median
+    # pairwise blade IoU 0.73 against 0.55 on a procedural family whose
+    # leaves lie up to 30 degrees apart).
+    # The kernel is cut at 1.5 bandwidths: no leaf far smaller or more
+    # tilted than any exemplar.
+    z_pose, z_size = np.clip(np.random.default_rng((int(seed), 5)).standard_normal(2), -1.5, 1.5) \
+        if params.smooth_bootstrap else (0.0, 0.0)
+    m = p.posed(m, np.eye(n)[pose_from], z_pose * p.pose_bandwidth)
+    size_jitter = float(np.exp(z_size * p.size_bandwidth))
     # One exemplar's own petiole, drawn from a stream of its own (the main
     # one's use depends on the data: texture correction draws per replaced
     # patch). A petiole the canvas would cut is exchanged for the next
@@ -276,7 +311,7 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
     size_from = int(np.random.default_rng((int(seed), 3)).integers(n)) if params.own_size and n > 1 else -1
     m0, pet, pet_j = m, None, -1
     for attempt in range(4):
-        m = _fit_size(p, m0, size_from, 0.9 ** attempt)
+        m = _fit_size(p, m0, size_from, 0.9 ** attempt, size_jitter)
         pet, pet_j, best = None, -1, np.inf
         for cand in order:
             layer = p.petiole_layer(cand, m)
