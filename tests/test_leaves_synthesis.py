@@ -10,9 +10,9 @@ from branchnb.core.io import imread
 from branchnb.leaves import leaf_family
 from branchnb.leaves.analysis import analyze, normalise_exemplars
 from branchnb.leaves.synthesis import (
-    _prepared,
     GeneratedLeaf,
     SynthesisParams,
+    _prepared,
     colour_range_fraction,
     generate,
     generate_leaf,
