@@ -21,8 +21,8 @@ photos). Every row is one analysis; the columns:
 * ``vein_cont``: vein continuity: share of the donor's vein skeleton,
   carried into the new leaf by the coordinates the synthesis samples it
   with, where the new leaf shows at least half the donor's own median
-  contrast of the vein against the blade around it (target near the
-  exemplars' own, 1 - dashes).
+  contrast (relative: grey level over the blade around it) of the vein
+  (target near the exemplars' own, 1 - dashes).
 """
 
 from __future__ import annotations
@@ -99,10 +99,11 @@ def margin_foreign_share(img, blade, refs, tol: float = 0.12, width: int = 4) ->
 
 
 def _contrast(img, blade, sigma=3.0):
+    """Grey level over its blur inside the blade, minus 1 (relative: a vein pasted as a ratio keeps it)."""
     g = _grey(img)
     b = blade.astype(np.float32)
     blur = cv2.GaussianBlur(g * b, (0, 0), sigma) / np.maximum(cv2.GaussianBlur(b, (0, 0), sigma), 1e-6)
-    return g - blur
+    return g / np.maximum(blur, 0.02) - 1.0
 
 
 def vein_continuity(img, blade, skeleton, target: float) -> float:
