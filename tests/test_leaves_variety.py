@@ -68,9 +68,3 @@ def test_each_new_leaf_has_one_exemplars_size(family_analysis):
     assert sum(np.min(np.abs(x / ex - 1)) < 0.04 for x in lams) >= 4
     off = generate(a, 6, rng=3, params=SynthesisParams(own_size=False, smooth_bootstrap=False))
     assert not np.allclose([x.blade.sum() for x in off], [x.blade.sum() for x in generate(a, 6, rng=3, params=exact)])
-    # With the smoothed bootstrap (the default) a lamina's side is one exemplar's times at most
-    # exp(1.5 bandwidths).
-    from branchnb.leaves.synthesis import _prepared
-    bw = _prepared(a).size_bandwidth
-    lams = np.array([split_petiole(leaf.blade)[0].sum() for leaf in generate(a, 6, rng=3)], float)
-    assert np.exp(-3.2 * bw) * ex.min() <= lams.min() and lams.max() <= np.exp(3.2 * bw) * ex.max()

@@ -243,18 +243,15 @@ class _Prepared:
         others = errs[np.arange(self.n) != t]
         others = others[np.isfinite(others)]
         self.registration_error = float(np.median(others)) if len(others) else 1.0
-        # Bandwidths (Silverman's rule, 1.06 sigma n^-1/5) of the pose angle
-        # and the log lamina size: a new leaf's pose and size are one
-        # exemplar's moved by a Gaussian of these (a smoothed bootstrap).
+        # Bandwidth (Silverman's rule, 1.06 sigma n^-1/5) of the pose angle:
+        # a new leaf's pose is one exemplar's turned by a Gaussian of it (a
+        # smoothed bootstrap). Capped at 12 degrees: leaves lying across and
+        # along the paper (grass strips at 0 and 90 degrees) gave 35 degrees
+        # and strips at every slant between.
         silver = 1.06 * self.n ** -0.2 if self.n > 1 else 0.0
         ang = np.asarray(self.pose_angles, float)
-        # Capped at 12 degrees: leaves lying across and along the paper (grass
-        # strips at 0 and 90 degrees) gave a bandwidth of 35 degrees and
-        # strips at every slant between.
         self.pose_bandwidth = float(min(silver * np.std(np.angle(np.exp(1j * (ang - ang.mean())))),
                                         np.radians(12.0)))
-        sizes = np.asarray([x for x in self.lamina_size if x > 0], float)
-        self.size_bandwidth = float(silver * np.std(np.log(sizes))) if len(sizes) > 1 else 0.0
         lams = np.array([L.lam for L in a.layers], float)
         top = float(lams.max()) if len(lams) and lams.max() > 0 else 1.0
         self.structural = [float(x / top) for x in lams]

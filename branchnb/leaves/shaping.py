@@ -259,7 +259,7 @@ def _border_alpha(alpha: np.ndarray) -> float:
     return float(alpha[0].sum() + alpha[-1].sum() + alpha[:, 0].sum() + alpha[:, -1].sum())
 
 
-def _fit_size(p, m, size_from: int, shrink: float = 1.0, jitter: float = 1.0) -> np.ndarray:
+def _fit_size(p, m, size_from: int, shrink: float = 1.0) -> np.ndarray:
     """The shape map ``m`` scaled (to one exemplar's size) and moved so the lamina stays on the canvas.
 
     Going beyond the paper: a convex blend of warps averages the
@@ -271,7 +271,7 @@ def _fit_size(p, m, size_from: int, shrink: float = 1.0, jitter: float = 1.0) ->
     leaf that would then cross the canvas edge (a large exemplar's size on
     the training leaf's place) is moved inwards, and shrunk only if it
     cannot fit; ``shrink`` scales it further (room for a
-    petiole); ``jitter`` scales the exemplar's size (before the fit).
+    petiole).
     """
     # The lamina on a coarse grid reaching half a canvas past each edge
     # (the map continues past the canvas), so a leaf the canvas already
@@ -290,7 +290,7 @@ def _fit_size(p, m, size_from: int, shrink: float = 1.0, jitter: float = 1.0) ->
     area = float(lam.sum()) * st * st
     k = 1.0
     if size_from >= 0 and p.lamina_size[size_from] > 0:
-        k = p.lamina_size[size_from] / np.sqrt(area) * float(jitter)
+        k = p.lamina_size[size_from] / np.sqrt(area)
     ctr = np.array([(lam * gxx).sum(), (lam * gyy).sum()]) / float(lam.sum())
     lo = np.array([gxx[inside].min(), gyy[inside].min()], float)
     hi = np.array([gxx[inside].max(), gyy[inside].max()], float)
