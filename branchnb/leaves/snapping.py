@@ -141,6 +141,7 @@ from .snapping_fit import (  # noqa: F401  (the fit's names, importable from her
     oriented_response,
     ridge_hessian,
 )
+from .snapping_mirror import mirror_missing
 from .snapping_stray import SIDE_LEVEL, STRAY_LENGTH, STRAY_LEVEL, _side_ridges, _stray_ridges  # noqa: F401
 from .snapping_trace import refine_carried, trace_branches  # noqa: F401
 
@@ -574,7 +575,8 @@ def carry_points(registration, points) -> np.ndarray:
 def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *, tolerance: float,
                       radius_widths: float = 3.0, min_evidence: float = 0.2, refine: bool = True,
                       line_frac: float = 0.08, fit: bool = True, fit_reach: float = 0.2, oriented: bool = True,
-                      trace: bool = True, trace_kw=None, lightness_share: float = 0.3, directions=None):
+                      trace: bool = True, trace_kw=None, lightness_share: float = 0.3, directions=None,
+                      mirror: bool = True):
     """The training layer ``user`` snapped onto every exemplar's own ridges.
 
     Parameters
@@ -625,6 +627,11 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
         (:func:`~branchnb.leaves.own_contrast.exemplar_direction`) instead of
         the training leaf's; None (default, or an entry None): the training
         leaf's.
+    mirror : bool
+        Complete the training layer by the leaf's bilateral symmetry first
+        (:func:`~branchnb.leaves.snapping_mirror.mirror_missing`: a branch
+        with no counterpart on the other side of the midrib gets its mirror
+        image as a candidate), default True.
 
     Returns
     -------
@@ -643,6 +650,9 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
     # reads a diagonal 3 px vein as 1.8 px: the laterals of a maple were
     # drawn one pixel wide.
     widths = [area_w[id(c)] for c in chains]
+    if mirror:
+        # Branches the user left out on one side, mirrored about the midrib (candidates).
+        chains, widths, _ = mirror_missing(chains, widths, blades[t])
     if directions is not None and (isinstance(directions, (str, bytes)) or len(directions) != len(labs)):
         raise ValueError(f"directions must be a list of one direction or None per exemplar ({len(labs)})")
 
