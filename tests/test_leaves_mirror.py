@@ -20,7 +20,7 @@ def _blade():
 
 
 def test_a_missing_basal_vein_is_added_as_the_mirror_image_of_the_other():
-    layer = [_ray(-90, 70), _ray(-45, 40), _ray(-135, 40), _ray(-10, 35)]
+    layer = [_ray(-90, 84), _ray(-45, 40), _ray(-135, 40), _ray(-10, 35)]
     out, widths, n = mirror_missing(layer, [2.0, 1.5, 1.5, 1.0], _blade())
     assert n == 1 and len(out) == 5 and widths[-1] == 1.0
     want = _ray(-170, 35)
@@ -29,7 +29,7 @@ def test_a_missing_basal_vein_is_added_as_the_mirror_image_of_the_other():
 
 
 def test_a_symmetric_layer_and_an_asymmetric_leaf_are_left_as_they_are():
-    full = [_ray(-90, 70), _ray(-45, 40), _ray(-135, 40), _ray(-10, 35), _ray(-170, 35)]
+    full = [_ray(-90, 84), _ray(-45, 40), _ray(-135, 40), _ray(-10, 35), _ray(-170, 35)]
     out, _, n = mirror_missing(full, [1.0] * 5, _blade())
     assert n == 0 and all(np.array_equal(a, b) for a, b in zip(out, full))
     # A blade that no line through a branch mirrors onto itself: no axis, nothing added.
@@ -44,8 +44,17 @@ def test_a_symmetric_layer_and_an_asymmetric_leaf_are_left_as_they_are():
     assert n == 0
 
 
+def test_a_midrib_traced_short_runs_on_to_the_margin():
+    layer = [_ray(-90, 40), _ray(-45, 40), _ray(-135, 40), _ray(-10, 35), _ray(-170, 35)]
+    out, _, n = mirror_missing(layer, [1.0] * 5, _blade())
+    assert n == 1 and len(out) == 5
+    assert abs(out[0][-1][0] - 50.0) < 0.5 and 4.0 <= out[0][-1][1] <= 6.0   # the blade's top row is 5
+    out, _, n = mirror_missing(layer, [1.0] * 5, _blade(), axis_to_margin=False)
+    assert n == 0
+
+
 def test_a_counterpart_traced_short_runs_on_as_its_mirror_image():
-    layer = [_ray(-90, 70), _ray(-45, 40), _ray(-135, 12), _ray(-10, 35), _ray(-170, 35)]
+    layer = [_ray(-90, 84), _ray(-45, 40), _ray(-135, 12), _ray(-10, 35), _ray(-170, 35)]
     out, _, n = mirror_missing(layer, [1.0] * 5, _blade())
     assert n == 1 and len(out) == 5
     assert np.hypot(*(out[2][-1] - _ray(-135, 40)[-1])) < 2.0

@@ -56,7 +56,8 @@ def _inside(chain, whole):
 
 
 def mirror_missing(chains, widths, blade, *, match: float = 0.1, min_inside: float = 0.6,
-                   min_symmetry: float = 0.75, short: float = 0.6, primary: float = 0.3):
+                   min_symmetry: float = 0.75, short: float = 0.6, primary: float = 0.3,
+                   axis_to_margin: bool = True):
     """Branches of a symmetric layer with no counterpart, mirrored about its axis, as candidates.
 
     The axis is the line from a branch's junction through its far end
@@ -95,6 +96,9 @@ def mirror_missing(chains, widths, blade, *, match: float = 0.1, min_inside: flo
         size) and at least this fraction of the longest branch are
         mirrored (default 0.3): secondary veins are grown anew on every
         leaf and have no counterpart to keep.
+    axis_to_margin : bool
+        Carry the axis (the midrib) on straight to the blade's margin when
+        it stops more than 0.1 of the leaf size before it (default True).
 
     Returns
     -------
@@ -109,7 +113,7 @@ def mirror_missing(chains, widths, blade, *, match: float = 0.1, min_inside: flo
     >>> import numpy as np
     >>> ray = lambda deg, n: np.array([50.0, 90.0]) + np.arange(n)[:, None] * [
     ...     np.cos(np.radians(deg)), np.sin(np.radians(deg))]
-    >>> layer = [ray(-90, 70), ray(-45, 40), ray(-135, 40), ray(-10, 35)]   # no left basal vein
+    >>> layer = [ray(-90, 84), ray(-45, 40), ray(-135, 40), ray(-10, 35)]   # no left basal vein
     >>> blade = np.zeros((100, 100), bool); blade[10:95, 5:96] = True
     >>> out, w, n = mirror_missing(layer, [2.0] * 4, blade)
     >>> n, np.round(out[-1][-1]).tolist()                                    # its mirror image
@@ -188,5 +192,17 @@ def mirror_missing(chains, widths, blade, *, match: float = 0.1, min_inside: flo
         longer = _inside(np.vstack([out[k], tail]), whole)
         if longer is not None and _densify(longer)[1] > lengths[k] + 1.0:
             cs[k] = longer
+            n_added += 1
+    if axis_to_margin:
+        # The midrib runs on to the blade's tip: a midrib traced short is
+        # carried on straight to the margin (the trace ends it where its
+        # ridge fades on each exemplar).
+        a = out[i]
+        u = (a[-1] - a[0]) / max(np.hypot(*(a[-1] - a[0])), 1e-9)
+        steps = np.arange(1.0, 2.0 * size)
+        ray = a[-1] + steps[:, None] * u
+        tail = _inside(np.vstack([a[-1:], ray]), whole)
+        if tail is not None and _densify(tail)[1] > 0.1 * size:
+            cs[i] = np.vstack([a, tail[1:]])
             n_added += 1
     return cs, ws, n_added
