@@ -39,6 +39,12 @@ spots) the carried-over layer is only a prior:
    confident first, and a branch whose pose would lie mostly (30 %) on one
    already placed takes its next best pose: two laterals carried near one
    vein no longer both land on it.
+   **Symmetry** (:func:`~branchnb.leaves.snapping_mirror.mirror_missing`,
+   before the fit): a primary the user traced on one side of the midrib
+   only gets its mirror image as a candidate branch, a counterpart traced
+   short runs on as its mirror image, and a midrib traced short is carried
+   on to the blade's margin (maple 06's hand trace has no left basal vein,
+   maple 07's midrib and left lateral stop at its torn lobe).
 4. **Polar trace** (:func:`~branchnb.leaves.snapping_trace.trace_branches`):
    each fitted branch is traced anew from its junction outwards by dynamic
    programming over (radius, angle) on the oriented ridge scores, within
@@ -650,6 +656,7 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
     # reads a diagonal 3 px vein as 1.8 px: the laterals of a maple were
     # drawn one pixel wide.
     widths = [area_w[id(c)] for c in chains]
+    n_user = len(chains)
     if mirror:
         # Branches the user left out on one side, mirrored about the midrib (candidates).
         chains, widths, _ = mirror_missing(chains, widths, blades[t])
@@ -719,7 +726,16 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
         pev = ridge_evidence(lab, b, direction, 1.0)
         if rim.any():
             pev = np.where(rim, 0.0, pev).astype(np.float32)
-        m, k = snap_layer(pev, b, carried, [wd * scale for wd in widths], tube, min_evidence=min_evidence)
+        sw = [wd * scale for wd in widths]
+        m, k = snap_layer(pev, b, carried[:n_user], sw[:n_user], tube, min_evidence=min_evidence)
+        if len(carried) > n_user:
+            # A candidate (a mirrored branch) is kept only where it found a
+            # vein of its own: not one a branch of the user's already took.
+            taken = ndi.binary_dilation(m, iterations=max(2, int(np.ceil(max(sw[:n_user], default=1.0)))))
+            for c, wd in zip(carried[n_user:], sw[n_user:]):
+                mc, _ = snap_layer(pev, b, [c], [wd], tube, min_evidence=min_evidence)
+                if mc.any() and (mc & taken).sum() < 0.5 * mc.sum():
+                    m = m | mc
         if fit and chains and STRAY_LEVEL > 0:
             # As long as the layer's typical main branch at least: a vein, not a crease.
             typical = scale * float(np.median([np.hypot(*np.diff(c, axis=0).T).sum() for c in chains]))
