@@ -10,7 +10,20 @@ mirrors the others onto one another (the midrib), and adds the mirror
 image of every branch that has no counterpart on the other side as a
 *candidate* branch. A candidate is snapped like the user's branches and,
 like them, dropped on an exemplar where no ridge runs along it
-(:func:`~branchnb.leaves.snapping.snap_layer`'s ``min_evidence``).
+(:func:`~branchnb.leaves.snapping.snap_layer`'s ``min_evidence``), and kept
+only where it found a vein no branch of the user's took. A midrib traced
+short (maple 07's, which stops at its torn lobe) is carried on to the
+blade's margin; the polar trace ends it where its ridge fades.
+
+Measured (``python -m branchnb.leaves._measure maples``, every sample maple
+as the training leaf, mean induced-vein IoU over the six others): 0.70 0.69
+0.69 0.61 0.65 0.65 0.70 for maples 01-07 (before: 0.70 0.69 0.69 0.61 0.65
+0.60 0.60); only 06 and 07 have a branch without counterpart or a short
+midrib, the others are unchanged. Procedural families
+(``_measure snapping``): their layers are complete and symmetric, at most
+one candidate in 24 leaves; seed 0 unchanged to the second decimal.
+A maple-like star without its left basal vein
+(``tests/test_leaves_mirror.py``): that vein's recall 0.00-0.07 -> 0.94-1.00.
 """
 
 from __future__ import annotations
