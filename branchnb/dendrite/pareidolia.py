@@ -274,6 +274,13 @@ class PareidoliaParams:
         Beyond the paper: passes of a tone match on the drawing itself at
         the output's resolution (the strokes' real coverage, blurred over 3
         output px), within the lattice pass's limits; 2 (0: none).
+    slim : bool
+        Beyond the paper: along every terminal twig the widths become the
+        closest non-increasing profile (weighted by length, so the twig keeps
+        its ink); True. The tone match left twigs thin at their base (next to
+        their parent's ink) and wide at their ends in dark regions: stalks
+        ending in round blobs that read as dots, not twigs (see the module
+        docstring).
 
     Examples
     --------
@@ -343,6 +350,7 @@ class PareidoliaParams:
                                  "or keep it (0)")
     refine: int = param(2, min=0, max=5,
                         help="tone-match passes on the drawing at the output's size (0 = none)")
+    slim: bool = param(True, help="twigs never wider toward their ends (no club-shaped twigs)")
 
 
 @dataclass
