@@ -397,13 +397,18 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
             tube = np.full((h, w), np.float32(np.interp(0.0, ws, wv)), np.float32)
             box = dboxes.setdefault(keys[k], _reach_box(d))
             tube[box] = np.interp(s_map[box], ws, wv)
-            interior = (s_map > 1.0) & (s_map < st.length - 1.0)
+            # (on the distance map's box only: beyond it s_map is 0 and d is 1e6, so no
+            # pixel there is interior or in the core)
+            sb, tb, db = s_map[box], tube[box], d[box]
+            interior = np.zeros((h, w), bool)
+            interior[box] = (sb > 1.0) & (sb < st.length - 1.0)
             # beyond a free end the object may go on for a tip's length (see _is_cut), as far
             # as the patch at the end reaches (the rest is a part)
-            reach = patch_size / 2.0 if patch_size > 0 else auto_radius(tube)
-            cap = np.minimum(np.maximum(2.0 * tube, 8.0) + 2.0, reach - 2.0)
-            core = inked & (endw > 0.5) & (d <= np.where(interior, tube + 0.5, cap))
-            core[box] = _connected_to_stroke(core[box], d[box] <= 0.5 * tube[box] + 1.5)
+            reach = patch_size / 2.0 if patch_size > 0 else auto_radius(tb)
+            cap = np.minimum(np.maximum(2.0 * tb, 8.0) + 2.0, reach - 2.0)
+            core = np.zeros((h, w), bool)
+            core_b = inked[box] & (endw[box] > 0.5) & (db <= np.where(interior[box], tb + 0.5, cap))
+            core[box] = _connected_to_stroke(core_b, db <= 0.5 * tb + 1.5)
         tubes[key] = (d, s_map, tube, interior, endw, core)
     tube_keys = list(tubes)
     beyond_cap = _children_beyond_caps(source_strokes, keys, cuts, joined, tubes) if has_alpha else {}
