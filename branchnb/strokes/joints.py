@@ -225,6 +225,7 @@ def hold_joint_bodies(layer: np.ndarray, source_premult: np.ndarray, source_dept
     if not disks:
         return layer, held
     pm = _premult(layer)
+    changed = np.zeros((h, w), bool)
     for centre, inv, r, *clip in disks:
         cx, cy = centre
         r0, r1 = max(int(np.floor(cy - r)), 0), min(int(np.ceil(cy + r)) + 1, h)
@@ -252,12 +253,16 @@ def hold_joint_bodies(layer: np.ndarray, source_premult: np.ndarray, source_dept
         # as synthesized, stay as they are
         was = top[:, 3] < 0.5
         pm[yy[was], xx[was]] = top[was] + under[was] * (1.0 - top[was, 3:4])
+        changed[yy[was], xx[was]] = True
         now = pm[yy, xx, 3] >= 0.5
         held[yy[was & now], xx[was & now]] = True
         if depth is not None and (was & now).any():
             depth[yy[was & now], xx[was & now]] = ndi.map_coordinates(
                 source_depth, [sy[was & now], sx[was & now]], order=1, mode="nearest")
-    return _straight(pm).astype(np.float32), held
+    # back to straight alpha where the disks filled (elsewhere the layer as it was)
+    out = np.array(layer, np.float32, copy=True)
+    out[changed] = _straight(pm[changed])
+    return out, held
 
 
 def close_hairlines(layer: np.ndarray, zones, *, reach: int = 2) -> np.ndarray:
