@@ -382,20 +382,23 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
             continue
         d, s_map = uniq[keys[k]]
         ws, wv = width_s[k], widths[k]
+        # (the end weights on the distance map's box only: no patch of the stroke reaches
+        # beyond it, see _distance_map's reach)
+        box = dboxes.setdefault(keys[k], _reach_box(d))
         endw = np.ones((h, w), np.float32)
         for end, is_cut in enumerate(cuts[k]):
             if is_cut:
-                endw *= _beyond_weight(st, end, s_map, xx, yy)
+                bx, by = xx[:, box[1]], yy[box[0]]
+                endw[box] *= _beyond_weight(st, end, s_map[box], bx, by)
                 if has_alpha:
                     # The cut line itself: only across the tube.
                     w_end = float(np.interp(0.0 if end == 0 else st.length, ws, wv))
-                    endw *= _end_tube(st, end, s_map, xx, yy, w_end, inked)
+                    endw[box] *= _end_tube(st, end, s_map[box], bx, by, w_end, inked[box])
         tube = interior = core = None
         if has_alpha:
             # the half width at every pixel's nearest stroke point (beyond the distance
             # map's box the arc length is 0: the first width)
             tube = np.full((h, w), np.float32(np.interp(0.0, ws, wv)), np.float32)
-            box = dboxes.setdefault(keys[k], _reach_box(d))
             tube[box] = np.interp(s_map[box], ws, wv)
             # (on the distance map's box only: beyond it s_map is 0 and d is 1e6, so no
             # pixel there is interior or in the core)
