@@ -452,8 +452,10 @@ class _Grower(_Filling):
             # beyond the paper: a delta's channel runs on to the sea (see ``grow``)
             st.target = np.inf if self.drain is not None else \
                 model.sample_length(generation, float(np.mean(radii[:3])), self.rng)
+        hs = th[j, : max(cut - 1, 1)]
+        hs = hs + (st.theta - hs[-1])   # in the frame of st.theta (wrapped by arctan2; th is not)
+        st.heads = (float(hs.min()), float(hs.max()))
         if mouth:
-            hs = th[j, : max(cut - 1, 1)]
             st.mouth = (float(hs.min()), float(hs.max()))
         if cut < len(full):
             st.stop = "left the domain"
@@ -472,6 +474,8 @@ class _Grower(_Filling):
         # copied head; then any input branch's head may start a root.
         pool = roots if len(roots) >= 3 else usable
         Q = np.ones(len(pool))
+        if self.drain is not None and self.drain.apex is None:   # a delta fans out from its first root
+            self.drain.apex = np.array([x, y], np.float64)
         return self._start_branch(np.array([x, y], float), float(theta), pool, Q, None, None, 0)
 
     def start_child(self, parent: int, vertex: int, toward=None) -> int | None:
@@ -551,11 +555,11 @@ class _Grower(_Filling):
         if p.branch_end == "length":
             score = np.where(n_arr > 0, score, 0.0)
         # beyond the paper: no spirals. A candidate that would take the branch's heading range past the
-        # winding limit is taken only when nothing else is left (issue 23)
+        # winding limit is forbidden; the branch stops when nothing else is left (issue 23)
         th_c = st.theta + np.cumsum(self.model.bending.cont_angles[t_arr], axis=1)
         lo, hi = st.heads if st.heads is not None else (st.theta, st.theta)
         wind = np.maximum(th_c.max(1), hi) - np.minimum(th_c.min(1), lo)
-        score = np.where(wind > self.wind_max, score * 1e-9, score)
+        score = np.where(wind > self.wind_max, 0.0, score)
         heads = None
         if st.mouth is not None:
             if (len(st.points) - 1) * p.h < MOUTH_SHARE * min(st.target, self.max_branch_len):
