@@ -3,8 +3,7 @@ the fitted example of the checks comes from one helper (issue 23, branching19)."
 import numpy as np
 import pytest
 
-from branchnb.branching import fit_model, synthesize_structure
-from branchnb.branching import growth
+from branchnb.branching import fit_model, growth, synthesize_structure
 from branchnb.branching.domains import _Drain
 from branchnb.branching.growth import WIND_BOUNDS_DEG, winding, winding_limit
 from branchnb.core.structure import Branch, Structure
