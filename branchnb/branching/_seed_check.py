@@ -14,7 +14,9 @@ Kinds: retina (``retina_fundus``), lightning (``lightning_trace``), mud
 and x 1 ("512" and "1000"); river (a procedural drawn country map, uniform
 width lines and a coast, :func:`._map_examples.country_map_example`) and delta
 (a procedural binary delta mask, :func:`._map_examples.delta_mask_example`) at
-512 and 1000 px.
+512 and 1000 px; lineart (drawn cracks, thin dark lines on white,
+:func:`._line_art_examples.crack_drawing_example`). The default workflow up
+to the model is :func:`fitted_example` (also used by :mod:`._structure_check`).
 """
 
 from __future__ import annotations

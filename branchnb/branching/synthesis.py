@@ -21,7 +21,8 @@ Putting the paper's models together (see the modules of the same names):
    chain remembers ``k + 1`` elements, a drawn map's straight pieces are
    longer), and a river leaving a coast may not
    curl back over the first ``MOUTH_SHARE`` of its length (a hook at its
-   mouth);
+   mouth); no branch winds further than its example's most winding one
+   allows (``growth.winding_limit``, never a full turn: no spirals);
 3. a finished branch receives ``d`` furcations at the vertices of highest
    SVM probability; each child's first segment is chosen by the parent's
    non-causal window, then the child is grown the same way (breadth
