@@ -209,7 +209,18 @@ def winding(angles) -> float:
 
 def winding_limit(example: Structure) -> float:
     """The winding limit of synthesized branches (radians): :data:`WIND_FACTOR` x the example's most
-    winding branch, within :data:`WIND_BOUNDS_DEG`."""
+    winding branch, within :data:`WIND_BOUNDS_DEG`.
+
+    Parameters
+    ----------
+    example : Structure
+        The extracted example; its branches' windings (see :func:`winding`) set the limit.
+
+    Returns
+    -------
+    float
+        The largest range of headings (radians) a synthesized branch may sweep.
+    """
     w = max((winding(b.angles()) for b in example.branches if len(b.points) > 2), default=0.0)
     lo, hi = np.radians(WIND_BOUNDS_DEG)
     return float(np.clip(WIND_FACTOR * w, lo, hi))
