@@ -368,7 +368,9 @@ def _line_colour_and_width(image, *, sigma_max: float = 4.0, min_contrast: float
             np.median(rgb.reshape(-1, 3)[((qa[:, 0] * 8 + qa[:, 1]) * 8 + qa[:, 2]) == k], axis=0)
         has = np.abs(rgb - c).max(-1) <= tol
         # a border line drawn in the same colour (a coast) is not counted
-        has = _off_outline(has, outline_pixels(has, outside, 2 * sigma_max + 2))
+        outline = outline_pixels(has, outside, 2 * sigma_max + 2)
+        # (a grey or black border as a whole; a coloured shape touching the outside, a trunk, stays)
+        has = _off_outline(has, outline) if c.max() - c.min() < 0.2 else has & ~outline
         n = int(has.sum())
         if n < min_share * h * w or np.mean(rim[has]) > 0.5:
             continue

@@ -1,0 +1,55 @@
+"""Issue 23, extraction on real images: a drawn map scaled down keeps tracing its coloured rivers,
+not its grey border and relief (the border's stretches away from the outside no longer outnumber
+the thin rivers; faint coloured bins are line-colour candidates)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from skimage.transform import resize
+
+from branchnb import data
+from branchnb.branching import extract_structure
+from branchnb.branching._map_examples import line_scores, terrain_map_example
+from branchnb.branching.ridges import _off_outline, thin_line_colour
+from branchnb.core.image import as_rgb
+
+
+def _scaled(a, shape):
+    return resize(a, shape, anti_aliasing=True).astype(np.float32)
+
+
+@pytest.mark.parametrize("scale, p_min, r_min", [(0.6, 0.9, 0.85), (0.45, 0.6, 0.85)])
+def test_scaled_czech_map_follows_its_rivers(scale, p_min, r_min):
+    img = data.load("czech_rivers_map")
+    h, w = img.shape[:2]
+    small = _scaled(img, (int(h * scale), int(w * scale)))
+    rgb = as_rgb(small)
+    rivers = (rgb[..., 2] - rgb[..., 0]) >= 0.3          # the reference by hand: blue (B - R) pixels
+    c = thin_line_colour(small)
+    assert c is not None and c[2] - c[0] >= 0.3, c       # blue, not the grey border
+    p, r, _iou = line_scores(extract_structure(small, root="nearest_region"), rivers)
+    # before: 0.40 / 0.62 at 0.6, 0.32 / 0.55 at 0.45 (the border and relief edges were traced)
+    assert p >= p_min and r >= r_min, (p, r)
+
+
+@pytest.mark.parametrize("relief, size, seed", [("levels", 256, 1), ("shade", 400, 2)])
+def test_scaled_terrain_maps_keep_their_rivers(relief, size, seed):
+    img, _s, riv = terrain_map_example((size, size), seed, relief=relief)
+    n = int(0.6 * size)
+    small, truth = _scaled(img, (n, n)), _scaled(riv.astype(np.float32), (n, n)) > 0.3
+    p, r, _iou = line_scores(extract_structure(small, root="nearest_region"), truth)
+    assert p >= 0.9 and r >= 0.8, (p, r)       # (as before this change: a guard)
+
+
+def test_a_border_piece_is_dropped_whole_a_river_joined_to_it_is_not():
+    has = np.zeros((40, 60), bool)
+    has[5, 5:55] = True                      # a border line, outline along 30 of its 50 px
+    has[20:35, 30] = True                    # a river apart from it
+    outline = np.zeros_like(has)
+    outline[5, 5:35] = True
+    kept = _off_outline(has, outline)
+    assert not kept[5].any() and kept[20:35, 30].all()
+    has[6:20, 30] = True                     # the river joined to the border: the piece is mostly river
+    kept = _off_outline(has, outline)
+    assert kept[6:35, 30].all() and kept[5, 35:55].all() and not kept[5, 5:35].any()
