@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from scipy import ndimage as ndi
 from skimage.transform import resize
 
 from branchnb import data
@@ -53,3 +54,38 @@ def test_a_border_piece_is_dropped_whole_a_river_joined_to_it_is_not():
     has[6:20, 30] = True                     # the river joined to the border: the piece is mostly river
     kept = _off_outline(has, outline)
     assert kept[6:35, 30].all() and kept[5, 35:55].all() and not kept[5, 5:35].any()
+
+
+def _domain_iou(a, b):
+    return (a & b).sum() / max((a | b).sum(), 1)
+
+
+@pytest.mark.parametrize("scale", [0.6])
+def test_transparent_outside_of_a_drawn_map_is_no_domain(scale):
+    from branchnb.branching import example_domain, fit_model, synthesize_structure
+
+    img = data.load("czech_rivers_map")
+    h, w = img.shape[:2]
+    img = img if scale == 1 else _scaled(img, (int(h * scale), int(w * scale)))
+    land = img[..., 3] >= 0.5
+    ex = extract_structure(img)
+    dom = example_domain(img, ex)
+    assert _domain_iou(dom, land) >= 0.98          # before: 0.58 (white outside = white lowlands)
+    st = synthesize_structure(fit_model(ex, domain=dom), rng=0).structure
+    pts = np.rint(np.vstack([b.points for b in st.branches])).astype(int)
+    pts = np.clip(pts, 0, [land.shape[1] - 1, land.shape[0] - 1])
+    assert land[pts[:, 1], pts[:, 0]].mean() >= 0.99   # before: 67-84 % of the vertices on land
+
+
+@pytest.mark.parametrize("relief, size, seed", [("levels", 320, 4), ("shade", 256, 5)])
+def test_rgba_terrain_map_domain_is_its_opaque_land(relief, size, seed):
+    from branchnb.branching import example_domain
+
+    img, _s, _riv = terrain_map_example((size, size), seed, relief=relief)
+    land = ndi.binary_fill_holes(img.max(-1) < 0.999)          # inside the black coast
+    rgba = np.dstack([img, land.astype(np.float32)])
+    dom = example_domain(rgba, extract_structure(rgba))
+    assert _domain_iou(dom, land) >= 0.95
+    # an opaque RGBA (or one all transparent) is judged by its colours as before
+    opaque = np.dstack([img, np.ones(img.shape[:2], np.float32)])
+    np.testing.assert_array_equal(example_domain(opaque), example_domain(img))
