@@ -89,3 +89,26 @@ def test_rgba_terrain_map_domain_is_its_opaque_land(relief, size, seed):
     # an opaque RGBA (or one all transparent) is judged by its colours as before
     opaque = np.dstack([img, np.ones(img.shape[:2], np.float32)])
     np.testing.assert_array_equal(example_domain(opaque), example_domain(img))
+
+
+def test_rgba_map_image_draws_its_border_not_its_relief_edges():
+    from branchnb.branching import example_domain, fit_model, synthesize_image, synthesize_structure
+    from branchnb.branching.measures import boundary_drawn_share
+
+    img = data.load("czech_rivers_map")
+    h, w = img.shape[:2]
+    img = _scaled(img, (int(h * 0.6), int(w * 0.6)))
+    ex = extract_structure(img)
+    res = synthesize_structure(fit_model(ex, domain=example_domain(img, ex)), rng=1)
+    out = synthesize_image(img, ex, res, rng=0)
+
+    def over_white(a):
+        return a[..., :3] * a[..., 3:] + (1.0 - a[..., 3:])
+
+    ink, white = np.array([0.13, 0.13, 0.15]), np.ones(3)
+    land = img[..., 3] >= 0.5
+    assert boundary_drawn_share(over_white(img), land, ink, white) >= 0.9          # the example's border
+    # before: the land's edge against its relief levels hid the border (none drawn: 0.00)
+    assert boundary_drawn_share(over_white(out.image), res.domain, ink, white) >= 0.9
+    far_out = ~ndi.binary_dilation(res.domain, iterations=6)          # beyond the border line
+    assert np.mean(out.image[far_out][:, 3] <= 0.5) >= 0.99            # stays transparent
