@@ -217,7 +217,7 @@ def relative_line_pieces(example: np.ndarray, example_structure: Structure, imag
     Parameters
     ----------
     example : (H, W, C) array_like
-        The example image, float in [0, 1].
+        The example image, float in [0, 1] (RGBA is composited over white).
     example_structure : Structure
         Its branches (for the line profile).
     image : (H', W', C) array_like
@@ -247,14 +247,18 @@ def relative_line_pieces(example: np.ndarray, example_structure: Structure, imag
     from .line_contrast import _ground_sigma, line_profile, local_ground
     from .skeleton_map import SkeletonMap
 
-    ex = np.asarray(example, np.float32)
-    c = min(3, ex.shape[2]) if ex.ndim == 3 else 1
-    ex = ex[..., :c] if ex.ndim == 3 else ex[..., None]
+    def opaque(a):
+        # RGBA over white (a transparent outside is no dark ground); grey as one channel
+        a = np.asarray(a, np.float32)
+        if a.ndim == 2:
+            return a[..., None]
+        return a[..., :3] * a[..., 3:4] + (1.0 - a[..., 3:4]) if a.shape[2] == 4 else a[..., :3]
+
+    ex = opaque(example)
     prof = line_profile(ex, SkeletonMap(example_structure, 1.0).pixel_map(ex.shape[:2]))
     if prof is None:
         return {"trees": 0, "pieces_per_tree": 0.0, "max_pieces": 0, "gaps": 0, "specks": 0}
-    img = np.asarray(image, np.float32)
-    img = img[..., :c] if img.ndim == 3 else img[..., None]
+    img = opaque(image)
     pm = SkeletonMap(structure, 1.0).pixel_map(img.shape[:2])
     finite = np.isfinite(pm.dist) & (pm.radius > 0)
     r = np.where(finite, pm.radius, 0.0)
