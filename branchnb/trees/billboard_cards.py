@@ -23,20 +23,22 @@ from scipy import ndimage as ndi
 
 from ..core.image import extend_nearest
 
-#: Inner outline pixels per pixel of the crown's equivalent radius from which a drawn crown is
-#: built from whole cards (:func:`has_inner_outlines`).
-INNER_PER_RADIUS = 4.0
+#: Length of the inner outlines (in stroke widths) per pixel of the crown's equivalent radius from
+#: which a drawn crown is built from whole cards (:func:`has_inner_outlines`).
+INNER_PER_RADIUS = 1.0
 
 
 def has_inner_outlines(lines: np.ndarray, crown: np.ndarray, opaque: np.ndarray) -> bool:
     """Whether a drawn crown holds enough inner outlines to be built from whole cards.
 
-    Counts the stroke pixels of ``lines`` inside the crown and off the
-    silhouette (:func:`~branchnb.trees.billboard_lines._outer_lines`), per
-    pixel of the crown's equivalent radius ``sqrt(area / pi)``; at least
-    :data:`INNER_PER_RADIUS` is a drawing of outlined shapes (clumps, tiers,
-    fruits), below it a crown shaded without strokes (cartoon clumps) or
-    a photograph.
+    The stroke pixels of ``lines`` inside the crown and off the silhouette
+    (:func:`~branchnb.trees.billboard_lines._outer_lines`), divided by the
+    stroke width (twice the 90th percentile of the strokes' half width) and
+    by the crown's equivalent radius ``sqrt(area / pi)``: a length ratio, the
+    same at every size. Outlined clip art (clumps, tiers, fruits, baubles)
+    measures 1.1-4.3 on the samples at 96, 200 and 512 px; shaded RPG
+    sprites and cartoon clumps without strokes 0.0-0.74, a photograph 0.
+    At least :data:`INNER_PER_RADIUS` is a drawing of outlined shapes.
 
     Parameters
     ----------
@@ -51,7 +53,7 @@ def has_inner_outlines(lines: np.ndarray, crown: np.ndarray, opaque: np.ndarray)
     --------
     >>> import numpy as np
     >>> crown = np.zeros((60, 60), bool); crown[5:55, 5:55] = True
-    >>> lines = np.zeros_like(crown); lines[29:31, 10:50] = True   # one stroke across
+    >>> lines = np.zeros_like(crown); lines[29:31, 10:50] = lines[10:50, 29:31] = True   # a cross
     >>> has_inner_outlines(lines, crown, crown)
     True
     >>> has_inner_outlines(np.zeros_like(crown), crown, crown)
@@ -63,7 +65,8 @@ def has_inner_outlines(lines: np.ndarray, crown: np.ndarray, opaque: np.ndarray)
     if area <= 0 or not lines.any():
         return False
     inner = lines & crown & ~_outer_lines(lines, opaque)
-    return bool(inner.sum() >= INNER_PER_RADIUS * np.sqrt(area / np.pi))
+    half = float(np.percentile(ndi.distance_transform_edt(lines)[lines], 90))
+    return bool(inner.sum() / max(1.0, 2.0 * half) >= INNER_PER_RADIUS * np.sqrt(area / np.pi))
 
 
 def _nest_cards(z: np.ndarray, labels: np.ndarray, card: np.ndarray, opaque: np.ndarray,
