@@ -56,8 +56,9 @@ def test_fill_far_grows_children_into_the_empty_part():
         assert before > 0.4 and after <= 1.5 * target + 0.02, (seed, before, after, target)
         # every new branch is a child joined to a branch grown before it
         assert all(b.parent is not None and b.parent < i for i, b in enumerate(s.branches[n0:], n0))
-        # the stop reason of the run is kept
-        assert g.stop_reason == "density (coverage)"
+        # the stop reason of the run is kept, unless the fill itself reached the length cap
+        # (FILL_LENGTH_FACTOR = 1.3 since branching19; at 2 it never did here)
+        assert g.stop_reason in ("density (coverage)", "total length")
 
 
 def test_fill_far_leaves_a_covered_frame_alone_and_respects_the_user():

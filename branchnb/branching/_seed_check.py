@@ -14,7 +14,9 @@ Kinds: retina (``retina_fundus``), lightning (``lightning_trace``), mud
 and x 1 ("512" and "1000"); river (a procedural drawn country map, uniform
 width lines and a coast, :func:`._map_examples.country_map_example`) and delta
 (a procedural binary delta mask, :func:`._map_examples.delta_mask_example`) at
-512 and 1000 px.
+512 and 1000 px; lineart (drawn cracks, thin dark lines on white,
+:func:`._line_art_examples.crack_drawing_example`). The default workflow up
+to the model is :func:`fitted_example` (also used by :mod:`._structure_check`).
 """
 
 from __future__ import annotations
@@ -24,9 +26,12 @@ import time
 
 import numpy as np
 
-__all__ = ["KINDS", "example", "seed_rows"]
+__all__ = ["KINDS", "example", "fitted_example", "seed_rows"]
 
-KINDS = ("retina", "lightning", "mud", "river", "delta", "czech")
+KINDS = ("retina", "lightning", "mud", "river", "delta", "czech", "lineart")
+
+#: Root rule per kind for :func:`~branchnb.branching.extract_structure` (default otherwise).
+ROOTS = {"lightning": "top"}
 
 
 def example(kind: str, size: int) -> np.ndarray:
@@ -41,6 +46,11 @@ def example(kind: str, size: int) -> np.ndarray:
     if kind == "delta":
         m, _ch, _sea = delta_mask_example((size, size), 3 + size)
         return np.dstack([m] * 3)
+    if kind == "lineart":
+        from ._line_art_examples import crack_drawing_example
+
+        img = crack_drawing_example(size, 11 + size, cells=max(8, size // 20), width=max(2, size // 250))
+        return np.dstack([img] * 3) if img.ndim == 2 else img[..., :3]
     name = {"retina": "retina_fundus", "lightning": "lightning_trace", "mud": "cracked_mud",
             "czech": "czech_rivers_map"}[kind]
     img = np.asarray(data.load(name), np.float32)
@@ -52,16 +62,41 @@ def example(kind: str, size: int) -> np.ndarray:
     return np.clip(img, 0, 1).astype(np.float32)
 
 
-def seed_rows(kind: str, size: int, seeds=range(10), params=None, out_png: str | None = None):
-    """Figures per seed (dicts) and the example's, for one kind and size."""
-    from . import example_domain, extract_structure, fit_model, synthesize_structure
-    from .measures import far_share, straight_runs, thick_end_share
+def fitted_example(kind: str, size: int, cache: str | None = None):
+    """The default workflow up to the model: ``(image, domain, model)`` of ``kind`` at ``size`` px.
 
+    ``extract_structure`` (root rule :data:`ROOTS`) -> ``example_domain`` ->
+    ``fit_model``, shared by this module and :mod:`._structure_check`.
+    ``cache``: a folder where the result is pickled and read again (the
+    1000 px extractions take most of a check's time).
+    """
+    import os
+    import pickle
+
+    from . import example_domain, extract_structure, fit_model
+
+    path = os.path.join(cache, f"{kind}_{size}.pkl") if cache else None
+    if path and os.path.exists(path):
+        with open(path, "rb") as f:
+            return pickle.load(f)
     img = example(kind, size)
-    root = {"lightning": "top"}.get(kind)
+    root = ROOTS.get(kind)
     ex = extract_structure(img, root=root) if root else extract_structure(img)
     dom = example_domain(img, ex)
-    model = fit_model(ex, domain=dom)
+    out = (img, dom, fit_model(ex, domain=dom))
+    if path:
+        os.makedirs(cache, exist_ok=True)
+        with open(path, "wb") as f:
+            pickle.dump(out, f)
+    return out
+
+
+def seed_rows(kind: str, size: int, seeds=range(10), params=None, out_png: str | None = None):
+    """Figures per seed (dicts) and the example's, for one kind and size."""
+    from . import synthesize_structure
+    from .measures import far_share, straight_runs, thick_end_share
+
+    img, dom, model = fitted_example(kind, size)
     exs = model.example
     f_ex = far_share(exs, dom)
     a_ex, run_ex = straight_runs(exs)

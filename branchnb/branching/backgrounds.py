@@ -455,6 +455,7 @@ def example_domain(image, structure: Structure | None = None, *, radius: float =
     if is_binary(gray):
         _ch, region, _sk, _r = binary_channels(gray)
         return ~region
+    opaque = _opaque_part(image)
     branches = np.zeros(gray.shape, bool)
     if structure is not None and structure.branches:
         from ..core.render import coverage_polylines
@@ -462,4 +463,27 @@ def example_domain(image, structure: Structure | None = None, *, radius: float =
         cov, _ = coverage_polylines(gray.shape, [b.points for b in structure.branches],
                                     [2 * b.thickness + 2 for b in structure.branches])
         branches = cov > 0.5
-    return ~flat_background(gray, branches, radius)
+    dom = ~flat_background(gray, branches, radius)
+    return dom if opaque is None else dom & opaque
+
+
+def _opaque_part(image) -> np.ndarray | None:
+    """The opaque part of an RGBA example (a map whose land is drawn and outside transparent), or None.
+
+    Beyond the paper. Composited over white, a transparent outside has the
+    colour of a map's white lowlands, so no flat-region rule can tell them
+    apart; the alpha channel does. None when there is no alpha channel or
+    when it is (nearly) all opaque or all transparent (under 5 % either way).
+    """
+    a = np.asarray(image)
+    if a.ndim != 3 or a.shape[2] != 4:
+        return None
+    alpha = a[..., 3].astype(np.float64)
+    if np.issubdtype(a.dtype, np.integer):
+        alpha /= float(np.iinfo(a.dtype).max)
+    opaque = alpha >= 0.5
+    share = float(opaque.mean())
+    if not 0.05 <= share <= 0.95:
+        return None
+    # the land's own holes (a transparent lake drawn as a gap) stay in the domain
+    return ndi.binary_fill_holes(opaque)

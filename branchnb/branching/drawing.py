@@ -148,12 +148,23 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
         band = ndi.binary_dilation(edge, iterations=4) & (pm.dist > pm.radius + 1.5)
         ink = band & unlike_region
         hit = ndi.binary_dilation(ink, iterations=1)[edge]
+        against = False
+        if hit.mean() < 0.5 and k > 2:
+            edge, band, ink, hit = _drawn_against(edge, inside, lay, k, band, ink, unlike_region, pm)
+            against = True
         if hit.mean() >= 0.5 and ink.any():
             # the line's own colour: its most saturated pixels, not the anti-aliased rim
             strong = ink & (off_region >= np.percentile(off_region[ink], 67))
             b_col = _median_colour(img, strong, line)
-            length = max(np.count_nonzero(edge) / 2.0, 1.0)  # both sides of the boundary are marked
-            b_width = float(np.clip(cover(b_col)[band & (pm.dist > margin - 4)].sum() / length, 1.0, 16.0))
+            if against:
+                # the band also crosses other regions' edges: the line's width is its own area over its length
+                from skimage.morphology import skeletonize
+
+                solid = band & (cover(b_col) >= 0.5)
+                b_width = float(np.clip(solid.sum() / max(int(skeletonize(solid).sum()), 1), 1.0, 16.0))
+            else:
+                length = max(np.count_nonzero(edge) / 2.0, 1.0)  # both sides of the boundary are marked
+                b_width = float(np.clip(cover(b_col)[band & (pm.dist > margin - 4)].sum() / length, 1.0, 16.0))
     # roots that start near the region boundary are outlets: the drawing joins them to it
     reach, tip_reach = 0.0, 0.0
     outside = ~inside
@@ -187,6 +198,31 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
         tip_reach = _boundary_reach(ends, lim, share=0.5)
     return DrawingStyle(cols.astype(np.float32), branch_region, line.astype(np.float32), scale,
                         None if b_col is None else b_col.astype(np.float32), b_width, reach, tip_reach)
+
+
+def _drawn_against(edge, inside, lay, k, band, ink, unlike_region, pm):
+    """The boundary of the branch region against those neighbour regions it is drawn along.
+
+    Beyond the paper. A drawn map's land may meet several regions: the
+    transparent outside along a drawn border, and relief levels inside with
+    no line between them. The boundary line is judged on the edge against
+    each neighbour region (at least 20 pixels of it) alone; when some are
+    drawn (a line along at least half of that edge), the edge, band, ink
+    and hits are those against them; else they are returned as given.
+    """
+    near_ink = ndi.binary_dilation(ink, iterations=1)
+    outer = edge & ~inside
+    good = np.zeros(k, bool)
+    for j in np.unique(lay[outer]):
+        e_j = outer & (lay == j)
+        if np.count_nonzero(e_j) >= 20 and near_ink[e_j].mean() >= 0.5:
+            good[j] = True
+    if not good.any():
+        return edge, band, ink, near_ink[edge]
+    edge = edge & ndi.binary_dilation(good[lay] & ~inside)
+    band = ndi.binary_dilation(edge, iterations=4) & (pm.dist > pm.radius + 1.5)
+    ink = band & unlike_region
+    return edge, band, ink, ndi.binary_dilation(ink, iterations=1)[edge]
 
 
 def _pixel(p, w: int, h: int) -> tuple[int, int]:

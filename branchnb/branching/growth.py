@@ -35,16 +35,17 @@ from .params import SynthesisParams
 from .scoring import _continue_radii, _rank_key, score_candidates
 from .straightness import RUN_MIN_MEAN, BendHistogram, StraightRuns
 
-__all__ = ["FILL_LENGTH_FACTOR", "GrowthProgress", "LENGTH_BOUND", "LENGTH_FACTOR", "length_cap"]
+__all__ = ["FILL_LENGTH_FACTOR", "GrowthProgress", "LENGTH_BOUND", "LENGTH_FACTOR", "length_cap", "winding",
+           "winding_limit"]
 
-#: Auto length cap (``max_total_length = 0``): this x the example's total length per domain area.
-#: The coverage stop usually ends growth first (0.95-1.2 x); the cap ends the filling past it, which
-#: reached 1.4-1.6 x on the retina, the lightning and the Czech map at 2 x (see ``length_cap``).
-LENGTH_FACTOR = 1.3
-#: ... and at most this x while holes the example does not have are filled (``_Filling._fill_far``):
-#: a 1000 px retina reached its example's coverage at 1.5 x its length per area (at 1.3 x a seventh
-#: of it stayed far from every vessel, 75 x the example's share).
-FILL_LENGTH_FACTOR = 2.0
+#: Auto length cap (``max_total_length = 0``): this x the example's total length per domain area,
+#: while the forest grows (the coverage stop usually ends growth first, at 0.95-1.2 x) ...
+LENGTH_FACTOR = 1.15
+#: ... and at most this x once holes the example does not have are filled (``_Filling._fill_far``),
+#: so the output's length per area stays within 1.3 x the example's. It was 1.3 and 2.0: a 1000 px
+#: retina ended at 1.41-1.43 x, a 1000 px lightning at 1.21-1.50 x; at 1.15 and 1.3 the lightning
+#: ends at 1.21-1.30 x with its far share 1.11-1.40 x the example's (3 seeds; issue 23, branching19).
+FILL_LENGTH_FACTOR = 1.3
 #: Safety bound of the auto length cap against runaway growth: branch length (px) per domain pixel
 #: (0.25: branches 4 px apart all over the domain), and never below the former fixed 20000 px.
 LENGTH_BOUND = 0.25
@@ -60,7 +61,7 @@ def length_cap(model: StructureModel, params: SynthesisParams, shape, domain: np
     output domain's area, times :data:`LENGTH_FACTOR`: a 1000 px retina or
     cracked mud needs 1-2.5 x the former fixed 20000 px to reach its
     example's density, a 250 px one a tenth of it. The output's length per
-    area thus stays within 1.3 x the example's, like its other statistics
+    area thus stays within :data:`FILL_LENGTH_FACTOR` = 1.3 x the example's, like its other statistics
     (the coverage stop ends most syntheses before, at 0.95-1.2 x). Bounded by
     ``max(LENGTH_FLOOR, LENGTH_BOUND x domain pixels)`` against runaway
     growth.
@@ -91,7 +92,7 @@ def length_cap(model: StructureModel, params: SynthesisParams, shape, domain: np
     >>> ex = Structure([Branch(np.c_[np.linspace(2, 97, 96), np.full(96, 50.0)], 2.0)], image_shape=(100, 100))
     >>> m = fit_model(ex)
     >>> round(length_cap(m, SynthesisParams(), (200, 200), None) / m.example.total_length, 1)   # 4 x the area
-    5.2
+    4.6
     """
     if params.max_total_length > 0:
         return float(params.max_total_length)
@@ -168,6 +169,61 @@ class _BranchState:
     #: a branch grown into a hole (see ``_Filling._fill_far``): the hole's centre (x, y) it heads
     #: for until within ``rho`` of it; None = free growth
     goal: np.ndarray | None = None
+    #: (lowest, highest) heading along the branch so far (radians, unwrapped); None = not started
+    heads: tuple | None = None
+
+
+#: Largest net turn (radians) of any piece of a synthesized branch, as a multiple of the example's
+#: largest (:func:`winding_limit`): a branch may wind like the example's most winding one, a little more,
+#: never round in a spiral.
+WIND_FACTOR = 1.25
+#: Bounds of the winding limit (degrees): the floor lets a fairly straight example's branches still
+#: turn (a drawn map's rivers wind 120-200 degrees), the ceiling keeps every branch off a full turn
+#: (a 1000 px river map grew a spiral with nested children, a 1000 px lightning a 650 degree curl;
+#: issue 23).
+WIND_BOUNDS_DEG = (150.0, 300.0)
+
+
+def winding(angles) -> float:
+    """Largest net turn (radians) of any piece of a branch: ``ptp(cumsum(alpha))``.
+
+    Parameters
+    ----------
+    angles : array_like
+        The branch's turning angles alpha (radians), in order.
+
+    Returns
+    -------
+    float
+        ``max - min`` of the running heading (0 for fewer than 1 angle); a
+        spiral's is above ``2 pi``.
+
+    Examples
+    --------
+    >>> round(float(np.degrees(winding(np.radians([30.0, 30.0, -90.0, 10.0])))))
+    90
+    """
+    c = np.cumsum(np.r_[0.0, np.asarray(angles, np.float64).ravel()])
+    return float(np.ptp(c))
+
+
+def winding_limit(example: Structure) -> float:
+    """The winding limit of synthesized branches (radians): :data:`WIND_FACTOR` x the example's most
+    winding branch, within :data:`WIND_BOUNDS_DEG`.
+
+    Parameters
+    ----------
+    example : Structure
+        The extracted example; its branches' windings (see :func:`winding`) set the limit.
+
+    Returns
+    -------
+    float
+        The largest range of headings (radians) a synthesized branch may sweep.
+    """
+    w = max((winding(b.angles()) for b in example.branches if len(b.points) > 2), default=0.0)
+    lo, hi = np.radians(WIND_BOUNDS_DEG)
+    return float(np.clip(WIND_FACTOR * w, lo, hi))
 
 
 #: Quantile of the example's branches' (thickest radius / first radius) that bounds a synthesized branch's.
@@ -229,6 +285,7 @@ class _Grower(_Filling):
         radii = model.example.thicknesses()
         self.r_max = float(radii.max()) if radii.size else np.inf
         self.r_grow = _radius_growth(model.example)
+        self.wind_max = winding_limit(model.example)
         self.fill_rounds = 0
         self._empty_dt: np.ndarray | None = None
         self.attempt = 1
@@ -406,8 +463,10 @@ class _Grower(_Filling):
             # beyond the paper: a delta's channel runs on to the sea (see ``grow``)
             st.target = np.inf if self.drain is not None else \
                 model.sample_length(generation, float(np.mean(radii[:3])), self.rng)
+        hs = th[j, : max(cut - 1, 1)]
+        hs = hs + (st.theta - hs[-1])   # in the frame of st.theta (wrapped by arctan2; th is not)
+        st.heads = (float(hs.min()), float(hs.max()))
         if mouth:
-            hs = th[j, : max(cut - 1, 1)]
             st.mouth = (float(hs.min()), float(hs.max()))
         if cut < len(full):
             st.stop = "left the domain"
@@ -426,6 +485,8 @@ class _Grower(_Filling):
         # copied head; then any input branch's head may start a root.
         pool = roots if len(roots) >= 3 else usable
         Q = np.ones(len(pool))
+        if self.drain is not None and self.drain.apex is None:   # a delta fans out from its first root
+            self.drain.apex = np.array([x, y], np.float64)
         return self._start_branch(np.array([x, y], float), float(theta), pool, Q, None, None, 0)
 
     def start_child(self, parent: int, vertex: int, toward=None) -> int | None:
@@ -504,6 +565,12 @@ class _Grower(_Filling):
             score = score * fb
         if p.branch_end == "length":
             score = np.where(n_arr > 0, score, 0.0)
+        # beyond the paper: no spirals. A candidate that would take the branch's heading range past the
+        # winding limit is forbidden; the branch stops when nothing else is left (issue 23)
+        th_c = st.theta + np.cumsum(self.model.bending.cont_angles[t_arr], axis=1)
+        lo, hi = st.heads if st.heads is not None else (st.theta, st.theta)
+        wind = np.maximum(th_c.max(1), hi) - np.minimum(th_c.min(1), lo)
+        score = np.where(wind > self.wind_max, 0.0, score)
         heads = None
         if st.mouth is not None:
             if (len(st.points) - 1) * p.h < MOUTH_SHARE * min(st.target, self.max_branch_len):
@@ -522,6 +589,9 @@ class _Grower(_Filling):
             st.stop = "blocked"
             return False
         t, n = int(t_arr[j]), int(n_arr[j])
+        if n:
+            lo, hi = st.heads if st.heads is not None else (st.theta, st.theta)
+            st.heads = (min(lo, float(th_c[j, :n].min())), max(hi, float(th_c[j, :n].max())))
         if heads is not None and n:
             st.mouth = (min(st.mouth[0], float(heads[j, :n].min())), max(st.mouth[1], float(heads[j, :n].max())))
         bm = self.model.bending

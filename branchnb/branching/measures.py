@@ -42,7 +42,7 @@ from ..core.render import coverage_polylines
 from ..core.structure import Structure
 
 __all__ = ["far_share", "line_pieces", "root_boundary_distance", "straight_runs", "thick_end_share",
-           "boundary_drawn_share", "line_contrast", "run_kind"]
+           "boundary_drawn_share", "line_contrast", "relative_line_pieces", "run_kind"]
 
 
 def far_share(structure: Structure, domain: np.ndarray) -> float:
@@ -200,6 +200,100 @@ def line_pieces(image: np.ndarray, structure: Structure, colour, ground) -> dict
     specks = int(np.sum((sizes[1:] > 0) & (sizes[1:] < 10)))
     return {"trees": len(trees), "pieces_per_tree": float(np.mean(pieces)) if pieces else 0.0,
             "max_pieces": int(max(pieces)) if pieces else 0, "specks": specks}
+
+
+def relative_line_pieces(example: np.ndarray, example_structure: Structure, image: np.ndarray,
+                         structure: Structure, share: float = 0.4) -> dict:
+    """:func:`line_pieces` for photographs: line pixels judged against their *local* ground.
+
+    On a photograph (a retina, cracks in mud) neither the lines nor the
+    ground have one colour, so a global threshold cuts the example's own
+    vessels into dozens of pieces. Here a pixel within ``r + 1`` of the
+    structure's centre lines is line when it stands out from its local
+    ground (:func:`~branchnb.branching.line_contrast.local_ground`) along the
+    example's line colour direction by at least ``share`` of the example's
+    median amplitude at its radius (:func:`~branchnb.branching.line_contrast.line_profile`).
+
+    Parameters
+    ----------
+    example : (H, W, C) array_like
+        The example image, float in [0, 1] (RGBA is composited over white).
+    example_structure : Structure
+        Its branches (for the line profile).
+    image : (H', W', C) array_like
+        The synthesized image.
+    structure : Structure
+        The structure drawn in ``image``.
+    share : float, default 0.4
+        Share of the example's amplitude a line pixel reaches.
+
+    Returns
+    -------
+    dict
+        ``trees``, ``pieces_per_tree`` (mean), ``max_pieces``, ``gaps``
+        (runs of >= 2 px along a branch with no line pixel within 1 px) and
+        ``specks`` (line pieces under 10 px); all 0 when the example's lines
+        do not stand out (no profile).
+
+    Examples
+    --------
+    >>> from branchnb.core.structure import Branch
+    >>> img = np.full((40, 40, 3), 0.8, np.float32); img[19:21, 2:38] = 0.3
+    >>> s = Structure([Branch([(2, 19.5), (37, 19.5)], 1.0)])
+    >>> gap = img.copy(); gap[19:21, 18:24] = 0.8
+    >>> relative_line_pieces(img, s, gap, s)["max_pieces"]
+    2
+    """
+    from .line_contrast import _ground_sigma, line_profile, local_ground
+    from .skeleton_map import SkeletonMap
+
+    def opaque(a):
+        # RGBA over white (a transparent outside is no dark ground); grey as one channel
+        a = np.asarray(a, np.float32)
+        if a.ndim == 2:
+            return a[..., None]
+        return a[..., :3] * a[..., 3:4] + (1.0 - a[..., 3:4]) if a.shape[2] == 4 else a[..., :3]
+
+    ex = opaque(example)
+    prof = line_profile(ex, SkeletonMap(example_structure, 1.0).pixel_map(ex.shape[:2]))
+    if prof is None:
+        return {"trees": 0, "pieces_per_tree": 0.0, "max_pieces": 0, "gaps": 0, "specks": 0}
+    img = opaque(image)
+    pm = SkeletonMap(structure, 1.0).pixel_map(img.shape[:2])
+    finite = np.isfinite(pm.dist) & (pm.radius > 0)
+    r = np.where(finite, pm.radius, 0.0)
+    body = finite & (pm.dist <= 1.5 * np.maximum(r, 0.5) + 1.5)
+    ground = local_ground(img, body, _ground_sigma(r[finite & (pm.dist <= 0.5)]))
+    amp = np.interp(np.maximum(r, 0.5), prof.radii, prof.amplitude)
+    line = ((img - ground) @ prof.direction >= share * amp) & finite & (pm.dist <= np.maximum(r, 0.5) + 1.0)
+    roots = np.arange(len(structure.branches))
+    for i in range(len(roots)):
+        while structure.branches[roots[i]].parent is not None:
+            roots[i] = structure.branches[roots[i]].parent
+    tree = np.where(finite, roots[np.clip(pm.branch, 0, len(roots) - 1)], -1)
+    lab, n = ndi.label(line, structure=np.ones((3, 3)))
+    sizes = np.bincount(lab.ravel(), minlength=n + 1)
+    pieces = []
+    for t in np.unique(roots):
+        ids = np.unique(lab[line & (tree == t)])
+        pieces.append(int(np.count_nonzero(ids)))
+    near = ndi.binary_dilation(line, structure=np.ones((3, 3), bool))
+    h, w = line.shape
+    gaps = 0
+    for b in structure.branches:
+        pts = np.asarray(b.points, float)
+        arc = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))]
+        if arc[-1] < 2:
+            continue
+        t = np.arange(0.0, arc[-1], 1.0)
+        x, y = np.interp(t, arc, pts[:, 0]), np.interp(t, arc, pts[:, 1])
+        ok = (x >= 0) & (x < w) & (y >= 0) & (y < h)
+        miss = ~near[np.clip(np.rint(y).astype(int), 0, h - 1), np.clip(np.rint(x).astype(int), 0, w - 1)] & ok
+        edges = np.diff(np.r_[0, miss.astype(np.int8), 0])
+        gaps += int(np.sum(np.flatnonzero(edges == -1) - np.flatnonzero(edges == 1) >= 2))
+    return {"trees": len(pieces), "pieces_per_tree": float(np.mean(pieces)) if pieces else 0.0,
+            "max_pieces": max(pieces) if pieces else 0, "gaps": gaps,
+            "specks": int(np.sum((sizes[1:] > 0) & (sizes[1:] < 10)))}
 
 
 def boundary_drawn_share(image: np.ndarray, region: np.ndarray, colour, ground) -> float:

@@ -74,10 +74,10 @@ class SynthesisParams:
     max_total_length : float, default 0.0
         Stop: maximum total length of all branches (pixels); 0 = auto: the example's
         total length per domain area times the output domain's area, times
-        :data:`~branchnb.branching.growth.LENGTH_FACTOR` = 1.3 (beyond the paper, whose
+        :data:`~branchnb.branching.growth.LENGTH_FACTOR` = 1.15 (beyond the paper, whose
         examples were all small: a fixed 20000 px stopped a 1000 px retina or cracked
         mud short of the example's density; up to
-        :data:`~branchnb.branching.growth.FILL_LENGTH_FACTOR` = 2 while holes the
+        :data:`~branchnb.branching.growth.FILL_LENGTH_FACTOR` = 1.3 while holes the
         example does not have are filled), at most
         :data:`~branchnb.branching.growth.LENGTH_BOUND` px per domain pixel.
     max_coverage : float, default 0.0

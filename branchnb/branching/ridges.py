@@ -210,6 +210,26 @@ def _local_background(rgb: np.ndarray, sigma_max: float) -> np.ndarray:
     return cv2.medianBlur(np.ascontiguousarray(u8), min(k, 255)).astype(np.float32) / 255.0
 
 
+def _off_outline(has: np.ndarray, outline: np.ndarray) -> np.ndarray:
+    """``has`` without its outline pixels and without the rest of any piece that is mostly outline.
+
+    Beyond the paper. A country border drawn in a line colour is found as
+    outline only where the outside region comes within reach of it; where
+    the border bulges away from the frame (or the image was scaled down, so
+    the outside's margin is relatively wider) stretches of it are left over
+    and outnumber thin rivers of another colour. A piece (8-connected) of
+    the colour at least half of which is outline is the border as a whole.
+    """
+    rest = has & ~outline
+    if not outline.any():
+        return rest
+    lab, n = ndi.label(has, np.ones((3, 3), bool))
+    tot = np.bincount(lab.ravel(), minlength=n + 1)
+    on = np.bincount(lab[outline], minlength=n + 1)
+    border = (on >= 0.5 * np.maximum(tot, 1)) & (np.arange(n + 1) > 0)
+    return rest & ~border[lab]
+
+
 def _drawn_branching_width(has: np.ndarray, sigma_max: float) -> float | None:
     """Mean width of a colour's pixels when they form one connected, long, narrow shape (a drawn tree), else None.
 
@@ -333,6 +353,12 @@ def _line_colour_and_width(image, *, sigma_max: float = 4.0, min_contrast: float
     rim = ndi.maximum_filter(contrast, 3) > contrast + 0.1
     found = []
     candidates = list(np.argsort(-counts)[:max_colours])
+    # thin coloured lines in a small image are few line-like pixels beside the greys of a relief's edges
+    # (beyond the paper): the four commonest clearly coloured bins are candidates as well
+    bins = np.stack(np.unravel_index(np.arange(512), (8, 8, 8)), -1)
+    chromatic = (bins.max(-1) - bins.min(-1) >= 2) & (counts >= 20)
+    candidates += [k for k in np.argsort(-np.where(chromatic, counts, -1))[:4]
+                   if chromatic[k] and k not in candidates]
     if drawn:
         candidates += [k for k in np.argsort(-all_counts)[:max_colours] if k not in candidates]
     for k in candidates:
@@ -342,7 +368,9 @@ def _line_colour_and_width(image, *, sigma_max: float = 4.0, min_contrast: float
             np.median(rgb.reshape(-1, 3)[((qa[:, 0] * 8 + qa[:, 1]) * 8 + qa[:, 2]) == k], axis=0)
         has = np.abs(rgb - c).max(-1) <= tol
         # a border line drawn in the same colour (a coast) is not counted
-        has &= ~outline_pixels(has, outside, 2 * sigma_max + 2)
+        outline = outline_pixels(has, outside, 2 * sigma_max + 2)
+        # (a grey or black border as a whole; a coloured shape touching the outside, a trunk, stays)
+        has = _off_outline(has, outline) if c.max() - c.min() < 0.2 else has & ~outline
         n = int(has.sum())
         if n < min_share * h * w or np.mean(rim[has]) > 0.5:
             continue

@@ -21,7 +21,8 @@ Putting the paper's models together (see the modules of the same names):
    chain remembers ``k + 1`` elements, a drawn map's straight pieces are
    longer), and a river leaving a coast may not
    curl back over the first ``MOUTH_SHARE`` of its length (a hook at its
-   mouth);
+   mouth); no branch winds further than its example's most winding one
+   allows (``growth.winding_limit``, never a full turn: no spirals);
 3. a finished branch receives ``d`` furcations at the vertices of highest
    SVM probability; each child's first segment is chosen by the parent's
    non-causal window, then the child is grown the same way (breadth
@@ -41,8 +42,8 @@ Putting the paper's models together (see the modules of the same names):
    as the example's (``_Grower._fill_far``, also in a free frame), then
    branches beside the holes left furcate once more toward them
    (``_Grower._fill_holes``). The total length stops at the example's
-   length per domain area x 1.3 (``growth.length_cap``; the paper's fixed
-   cap stopped 1000 px examples short), x 2 while holes are filled. A delta's channels run on to the
+   length per domain area x 1.15 (``growth.length_cap``; the paper's fixed
+   cap stopped 1000 px examples short), x 1.3 while holes are filled. A delta's channels run on to the
    sea; channels blocked inland are dropped (``_Grower._prune_dry``); in a
    free frame (no coast) a root
    reads the frame ahead as density (``colonization.frame_density``), so
@@ -354,7 +355,7 @@ def _grow_with_retries(model, p, rng, shp, guidance, starts, scorer, domain=None
     cut = auto and best.stop_reason == "total length"
     if auto:
         # holes the example does not have may still be filled past the auto cap, up to
-        # FILL_LENGTH_FACTOR x the example's length per area (a 1000 px retina needs 1.5 x)
+        # FILL_LENGTH_FACTOR x the example's length per area
         best.max_total = length_cap(model, p, shp, domain, factor=FILL_LENGTH_FACTOR)
     if cut:
         best.stop_reason = ""

@@ -320,36 +320,61 @@ def _first_pass_sparse(img, urows, wts, where):
     scipy starts each output at ``x[i] * w[0]`` and adds ``(x[i - d] + x[i + d]) * w[d]``
     for ``d = r .. 1``; adding a pair of zeros changes no bit, so only the pairs
     holding ink are added, in that order. ``where`` maps the extended line's
-    positions ``-r .. h - 1 + r`` to rows (:func:`_reflected`).
+    positions ``-r .. h - 1 + r`` to rows (:func:`_reflected`). The ink is gathered
+    column by column from a row-major scan (a column-wise scan read a cache line per
+    pixel), and the window's bounds only move forward as the row grows.
     """
     h, w = img.shape
     r = wts.size - 1
-    first = np.zeros((urows.size, w))
-    pos = np.empty(where.size, np.int64)
-    val = np.empty(where.size)
+    L = where.size
+    # ink of the extended lines, column by column (CSR over columns, q order), from a
+    # row-major scan (the column-wise scan read a cache line per pixel)
+    cnt = np.zeros(w + 1, np.int64)
+    for q in range(L):
+        row = where[q]
+        for c in range(w):
+            if img[row, c] != 0.0:
+                cnt[c + 1] += 1
     for c in range(w):
-        m = 0
-        for q in range(where.size):
-            v = img[where[q], c]
+        cnt[c + 1] += cnt[c]
+    fill = cnt[:w].copy()
+    allpos = np.empty(cnt[w], np.int64)
+    allval = np.empty(cnt[w])
+    for q in range(L):
+        row = where[q]
+        for c in range(w):
+            v = img[row, c]
             if v != 0.0:
-                pos[m] = q - r
-                val[m] = v
-                m += 1
+                j = fill[c]
+                allpos[j] = q - r
+                allval[j] = v
+                fill[c] = j + 1
+    first = np.zeros((urows.size, w))
+    for c in range(w):
+        base = cnt[c]
+        m = cnt[c + 1] - base
         if m == 0:
             continue
+        pos = allpos[base:base + m]
+        val = allval[base:base + m]
         lo = 0
+        mid = 0
+        hi = 0
         for k in range(urows.size):
             i = urows[k]
             while lo < m and pos[lo] < i - r:
                 lo += 1
-            mid = lo
+            if mid < lo:
+                mid = lo
             while mid < m and pos[mid] < i:
                 mid += 1
-            hi = mid
+            if hi < mid:
+                hi = mid
             while hi < m and pos[hi] <= i + r:
                 hi += 1
             acc = img[i, c] * wts[0]
-            a, b = lo, hi - 1  # from the far ends in: d falls from r to 1
+            a, b = lo, hi - 1
+            # skip the node's own row in the right half
             while a < mid or (b >= mid and pos[b] > i):
                 dl = i - pos[a] if a < mid else -1
                 dr = pos[b] - i if b >= mid and pos[b] > i else -1
@@ -411,7 +436,9 @@ def _blur_at(image, nodes, sigma: float) -> np.ndarray:
         first = ndimage.gaussian_filter1d(img, float(sigma), axis=0)[urows]
     else:
         first = _first_pass_sparse(img, urows, wts, _reflected(h, r))
-    ext = first[:, _reflected(w, r)]
+    # take() keeps the rows contiguous (first[:, idx] came out column-major and
+    # np.ascontiguousarray then copied it again, a tenth of this function's time)
+    ext = first.take(_reflected(w, r), axis=1)
     return _second_pass_at(np.ascontiguousarray(ext), k_of.astype(np.int64), cols, wts)
 
 

@@ -54,7 +54,10 @@ __all__ = ["jacobian_singular_values", "distorted_pixels", "correct_texture", "T
 
 
 def _check_map(warp_map, name="warp_map") -> np.ndarray:
-    m = real_array(warp_map, name, finite=False)
+    # float32 maps (what the synthesis makes) stay float32: converting and
+    # checking a megapixel map twice in float64 was a tenth of a new leaf's time.
+    dt = np.float32 if getattr(warp_map, "dtype", None) == np.float32 else np.float64
+    m = real_array(warp_map, name, finite=False, dtype=dt)
     if m.ndim != 3 or m.shape[2] != 2 or min(m.shape[:2]) < 2:
         raise ValueError(f"{name} must have shape (H, W, 2) with H, W >= 2, got {m.shape}")
     return check_finite(m, name, limit=COORD_LIMIT)

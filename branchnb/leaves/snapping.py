@@ -30,16 +30,22 @@ spots) the carried-over layer is only a prior:
    registration of outlines can turn the inside of a leaf by tens of
    degrees: sample maple 02 -> 03). From each start the branches, as one
    template, then each on its own, are turned, scaled and shifted onto the
-   ridges that fit them best (:func:`fit_branches`); the better start wins.
+   ridges that fit them best (:func:`~branchnb.leaves.snapping_fit.fit_branches`); the better start wins.
    A pose is scored half by ``E_e`` and half by the *oriented* ridge
-   response along the branch's own direction (:func:`ridge_hessian`,
-   :func:`oriented_response`): the texture of a photographed blade
+   response along the branch's own direction (:func:`~branchnb.leaves.snapping_fit.ridge_hessian`,
+   :func:`~branchnb.leaves.snapping_fit.oriented_response`): the texture of a photographed blade
    (secondary veins, spots, hole rims) crosses a primary vein and no longer
    pulls the template onto it. Branches are placed one at a time, the most
    confident first, and a branch whose pose would lie mostly (30 %) on one
    already placed takes its next best pose: two laterals carried near one
    vein no longer both land on it.
-4. **Polar trace** (:func:`trace_branches`):
+   **Symmetry** (:func:`~branchnb.leaves.snapping_mirror.mirror_missing`,
+   before the fit): a primary the user traced on one side of the midrib
+   only gets its mirror image as a candidate branch, a counterpart traced
+   short runs on as its mirror image, and a midrib traced short is carried
+   on to the blade's margin (maple 06's hand trace has no left basal vein,
+   maple 07's midrib and left lateral stop at its torn lobe).
+4. **Polar trace** (:func:`~branchnb.leaves.snapping_trace.trace_branches`):
    each fitted branch is traced anew from its junction outwards by dynamic
    programming over (radius, angle) on the oriented ridge scores, within
    30 degrees of its fitted direction and out to 1.5 times its carried
@@ -54,8 +60,8 @@ spots) the carried-over layer is only a prior:
    The path follows the exemplar's own vein wherever one runs within the
    tube; a branch whose path finds no ridge (mean
    evidence below ``min_evidence``) is dropped: that vein is not there.
-6. **Stray veins** (:func:`_stray_ridges`): a long, nearly straight,
-   strong ridge (line-averaged evidence at least :data:`STRAY_LEVEL`, at
+6. **Stray veins** (:func:`~branchnb.leaves.snapping_stray._stray_ridges`): a long, nearly straight,
+   strong ridge (line-averaged evidence at least :data:`~branchnb.leaves.snapping_stray.STRAY_LEVEL`, at
    least as long as the layer's typical main branch) that no path reached
    is a vein of the layer too. A vein drawn as a stroke of its own, apart
    from the midrib (a drawn oak's lower lateral), is out of reach of every
@@ -63,8 +69,8 @@ spots) the carried-over layer is only a prior:
    the donor's veins on new leaves (two vein systems). Traces keep apart
    by the vein's own width (3 px at least): on a drawn oak at 480 px two
    traces ran along the two edges of one 6 px vein.
-   **Side ridges** (:func:`_side_ridges`): a long straight ridge at
-   :data:`SIDE_LEVEL` that leaves the found network is a branch the
+   **Side ridges** (:func:`~branchnb.leaves.snapping_stray._side_ridges`): a long straight ridge at
+   :data:`~branchnb.leaves.snapping_stray.SIDE_LEVEL` that leaves the found network is a branch the
    training layer lacks (a torn lobe's lateral on the training maple 07).
 7. The kept paths, grown to each branch's width on the training leaf
    (area per skeleton pixel, so diagonal veins keep their width),
@@ -124,6 +130,26 @@ import numpy as np
 from scipy import ndimage as ndi
 
 from ..core.image import as_mask, extend_nearest
+from .snapping_fit import (  # noqa: F401  (the fit's names, importable from here as before)
+    N_ORIENTATIONS,
+    ORIENTED_WEIGHT,
+    _apply_pose,
+    _branch_poses,
+    _densify,
+    _grid,
+    _oriented_maps,
+    _pivot_ends,
+    _pose_search,
+    _sample,
+    _stamp,
+    _tangents,
+    fit_branches,
+    oriented_response,
+    ridge_hessian,
+)
+from .snapping_mirror import mirror_missing
+from .snapping_stray import SIDE_LEVEL, STRAY_LENGTH, STRAY_LEVEL, _side_ridges, _stray_ridges  # noqa: F401
+from .snapping_trace import refine_carried, trace_branches  # noqa: F401
 
 __all__ = ["is_thin_layer", "contrast_direction", "ridge_evidence", "layer_branches", "snap_layer",
            "carry_points", "snap_to_exemplars", "refine_carried", "main_branches", "fit_branches",
@@ -555,7 +581,8 @@ def carry_points(registration, points) -> np.ndarray:
 def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *, tolerance: float,
                       radius_widths: float = 3.0, min_evidence: float = 0.2, refine: bool = True,
                       line_frac: float = 0.08, fit: bool = True, fit_reach: float = 0.2, oriented: bool = True,
-                      trace: bool = True, trace_kw=None, lightness_share: float = 0.3, directions=None):
+                      trace: bool = True, trace_kw=None, lightness_share: float = 0.3, directions=None,
+                      mirror: bool = True):
     """The training layer ``user`` snapped onto every exemplar's own ridges.
 
     Parameters
@@ -579,12 +606,12 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
         A path with a lower mean ridge evidence is dropped (default 0.2).
     refine : bool
         Without ``fit``: move the carried-over branches onto the ridges by
-        one smooth displacement field first (:func:`refine_carried`).
+        one smooth displacement field first (:func:`~branchnb.leaves.snapping_trace.refine_carried`).
     line_frac : float
         Straight-segment length of the ridge evidence, as a fraction of the
         leaf size (default 0.08; see :func:`ridge_evidence`).
     fit : bool
-        Place the branches by the template fit (:func:`fit_branches`, two
+        Place the branches by the template fit (:func:`~branchnb.leaves.snapping_fit.fit_branches`, two
         starts) before the path search (default True); the path tube is then
         1.5 layer widths.
     fit_reach : float
@@ -592,12 +619,12 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
         (default 0.2).
     oriented : bool
         Score poses half by the oriented ridge response
-        (:func:`ridge_hessian`), default True.
+        (:func:`~branchnb.leaves.snapping_fit.ridge_hessian`), default True.
     trace : bool
-        Trace each fitted branch from its junction (:func:`trace_branches`)
+        Trace each fitted branch from its junction (:func:`~branchnb.leaves.snapping_trace.trace_branches`)
         before the path search.
     trace_kw : dict, optional
-        Keyword arguments of :func:`trace_branches`.
+        Keyword arguments of :func:`~branchnb.leaves.snapping_trace.trace_branches`.
     lightness_share : float
         Project on lightness alone when the contrast direction's lightness
         component is at least this (0 keeps the full direction).
@@ -606,6 +633,11 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
         (:func:`~branchnb.leaves.own_contrast.exemplar_direction`) instead of
         the training leaf's; None (default, or an entry None): the training
         leaf's.
+    mirror : bool
+        Complete the training layer by the leaf's bilateral symmetry first
+        (:func:`~branchnb.leaves.snapping_mirror.mirror_missing`: a branch
+        with no counterpart on the other side of the midrib gets its mirror
+        image as a candidate), default True.
 
     Returns
     -------
@@ -624,6 +656,10 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
     # reads a diagonal 3 px vein as 1.8 px: the laterals of a maple were
     # drawn one pixel wide.
     widths = [area_w[id(c)] for c in chains]
+    n_user = len(chains)
+    if mirror:
+        # Branches the user left out on one side, mirrored about the midrib (candidates).
+        chains, widths, _ = mirror_missing(chains, widths, blades[t])
     if directions is not None and (isinstance(directions, (str, bytes)) or len(directions) != len(labs)):
         raise ValueError(f"directions must be a list of one direction or None per exemplar ({len(labs)})")
 
@@ -690,7 +726,16 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
         pev = ridge_evidence(lab, b, direction, 1.0)
         if rim.any():
             pev = np.where(rim, 0.0, pev).astype(np.float32)
-        m, k = snap_layer(pev, b, carried, [wd * scale for wd in widths], tube, min_evidence=min_evidence)
+        sw = [wd * scale for wd in widths]
+        m, k = snap_layer(pev, b, carried[:n_user], sw[:n_user], tube, min_evidence=min_evidence)
+        if len(carried) > n_user:
+            # A candidate (a mirrored branch) is kept only where it found a
+            # vein of its own: not one a branch of the user's already took.
+            taken = ndi.binary_dilation(m, iterations=max(2, int(np.ceil(max(sw[:n_user], default=1.0)))))
+            for c, wd in zip(carried[n_user:], sw[n_user:]):
+                mc, _ = snap_layer(pev, b, [c], [wd], tube, min_evidence=min_evidence)
+                if mc.any() and (mc & taken).sum() < 0.5 * mc.sum():
+                    m = m | mc
         if fit and chains and STRAY_LEVEL > 0:
             # As long as the layer's typical main branch at least: a vein, not a crease.
             typical = scale * float(np.median([np.hypot(*np.diff(c, axis=0).T).sum() for c in chains]))
@@ -705,710 +750,4 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
 #: Pixels around a hole in the blade with no ridge evidence (0: off).
 HOLE_RIM = 2
 
-#: Ridge evidence (line-averaged, :func:`ridge_evidence`) of a stray vein (:func:`_stray_ridges`); 0: off.
-STRAY_LEVEL = 0.5
-#: Shortest stray vein (skeleton length), as a fraction of the leaf size.
-STRAY_LENGTH = 0.2
 
-
-#: Ridge evidence of a branch the training layer lacks (:func:`_side_ridges`); 0: off.
-SIDE_LEVEL = 0.35
-
-
-def _side_ridges(evidence, blade, found, level: float, min_length: float) -> np.ndarray:
-    """Long straight ridges that leave the snapped network: branches the training layer lacks (beyond the paper).
-
-    A training leaf traced where its lobe is torn (sample maple 07) has no
-    lateral there, so no trace follows that lateral on any exemplar. A
-    piece of ``{evidence >= level}`` outside a 3 px ring around the found
-    network that touches the ring (it starts at the network), is at least
-    ``min_length`` px long (skeleton), nearly straight (principal axis, 4
-    standard deviations, at least 0.8 of its skeleton) and reaches
-    ``0.7 min_length`` from the network is taken, joined to the network
-    through the ring. Measured: maple 07 as training leaf, onto maple 06
-    0.49 -> 0.58 (mean 0.58 -> 0.60; other training maples unchanged);
-    procedural colour families (``_measure_colours``) and same-coloured
-    3-leaf families (2 vein widths off): vein IoU unchanged or +0.01-0.04.
-
-    Parameters
-    ----------
-    evidence : (H, W) float ndarray
-        Line-averaged ridge evidence of the exemplar, in [0, 1].
-    blade : (H, W) bool ndarray
-        Its blade.
-    found : (H, W) bool ndarray
-        The snapped layer so far.
-    level : float
-        Evidence level of a side branch's pixels.
-    min_length : float
-        Shortest side branch (px of skeleton): the layer's typical main branch.
-
-    Returns
-    -------
-    (H, W) bool ndarray
-    """
-    from skimage.morphology import skeletonize
-    ring = ndi.binary_dilation(found, iterations=3)
-    strong = (np.asarray(evidence) >= level) & blade & ~ring
-    lab, n = ndi.label(strong, structure=np.ones((3, 3)))
-    if n == 0:
-        return np.zeros(blade.shape, bool)
-    length = np.bincount(lab[skeletonize(strong)], minlength=n + 1)
-    touch = np.bincount(lab[ndi.binary_dilation(ring, iterations=2) & strong], minlength=n + 1)
-    far = ndi.distance_transform_edt(~found)
-    keep = (length >= min_length) & (touch > 0)
-    keep[0] = False
-    for k in np.nonzero(keep)[0]:
-        ys, xs = np.nonzero(lab == k)
-        span = 4.0 * np.sqrt(max(np.linalg.eigvalsh(np.cov(np.vstack([xs, ys]))).max(), 0.0))
-        keep[k] = span >= max(min_length, 0.8 * length[k]) and far[ys, xs].max() >= 0.7 * min_length
-    out = keep[lab]
-    # Joined to the network across the ring.
-    return out | (ndi.binary_dilation(out, iterations=4) & ring & ~found & (np.asarray(evidence) >= level) & blade)
-
-
-def _stray_ridges(evidence, blade, found, level: float, min_length: float) -> np.ndarray:
-    """Long strong ridges of the layer's kind that no snapped branch reached (beyond the paper).
-
-    A branch is traced from its junction (:func:`trace_branches`); a vein
-    that starts apart from the others on this exemplar (a drawn oak's lower
-    lateral, drawn as a separate stroke 10-20 px off the midrib) is out of
-    any trace's reach, stays in the residual and shows beside the donor's
-    pasted veins on every new leaf. Such a vein stands out on its own: a
-    connected piece of ``{evidence >= level}`` inside the blade, at least
-    ``min_length`` px long (its skeleton) and nearly straight (its principal
-    axis, four standard deviations of its pixels, spans at least 0.7 of its
-    skeleton) that touches no found pixel (within 2 px) is taken as a vein
-    of the layer.
-
-    Parameters
-    ----------
-    evidence : (H, W) float ndarray
-        Line-averaged ridge evidence of the exemplar, in [0, 1].
-    blade : (H, W) bool ndarray
-        Its blade.
-    found : (H, W) bool ndarray
-        The snapped layer so far.
-    level : float
-        Evidence level of a stray vein's pixels.
-    min_length : float
-        Shortest stray vein (px of skeleton).
-
-    Returns
-    -------
-    (H, W) bool ndarray
-        The stray veins (no pixel of ``found``).
-    """
-    from skimage.morphology import skeletonize
-    strong = (np.asarray(evidence) >= level) & blade
-    lab, n = ndi.label(strong, structure=np.ones((3, 3)))
-    if n == 0:
-        return np.zeros(blade.shape, bool)
-    length = np.bincount(lab[skeletonize(strong)], minlength=n + 1)
-    near = ndi.binary_dilation(found, iterations=2)
-    hit = np.bincount(lab[near], minlength=n + 1)
-    keep = (length >= min_length) & (hit == 0)
-    # A vein runs on nearly straight: its principal axis (4 standard
-    # deviations of its pixels) spans most of its skeleton; a texture
-    # blob's wiggly ridge (a photographed maple's mottling) does not.
-    for k in np.nonzero(keep)[0]:
-        ys, xs = np.nonzero(lab == k)
-        span = 4.0 * np.sqrt(max(np.linalg.eigvalsh(np.cov(np.vstack([xs, ys]))).max(), 0.0))
-        keep[k] = span >= max(min_length, 0.7 * length[k])
-    keep[0] = False
-    return keep[lab] & ~found
-
-
-def refine_carried(chains, evidence, blade, *, reach: float, nodes: int = 5, iterations: int = 40):
-    """Carried-over branches moved by one smooth displacement field onto the exemplar's ridges.
-
-    A registration of outlines and edge keypoints is loose inside the blade:
-    a carried-over primary vein of a maple can run 10-25 px (10-20 % of the
-    leaf) beside the exemplar's own. The branches are a template of the
-    layer: a displacement field on a ``nodes`` x ``nodes`` grid over their
-    bounding box (bilinear between nodes, so neighbouring branches move
-    together) climbs the evidence blurred at decreasing scales (``reach /
-    2``, ``reach / 4``, ``reach / 8``: a wide basin first, then the ridge
-    itself); after each step the field is smoothed over the grid and
-    clipped to ``reach`` px.
-
-    Returns the moved chains (same order and lengths).
-
-    Parameters
-    ----------
-    chains : list of (N, 2) array_like
-        Carried-over branches ``(x, y)`` on the exemplar.
-    evidence : (H, W) float ndarray
-        :func:`ridge_evidence` of the exemplar.
-    blade : (H, W) bool ndarray
-        The exemplar's blade (not used by the field itself).
-    reach : float
-        Largest displacement in pixels; 0: the chains are returned as they are.
-    nodes : int
-        Grid nodes per side of the displacement field (default 5).
-    iterations : int
-        Gradient steps per blur scale (default 40).
-
-    Returns
-    -------
-    list of (N, 2) float64 ndarray
-    """
-    import cv2
-    ev = np.asarray(evidence, np.float32)
-    pts = [np.asarray(c, np.float64) for c in chains]
-    if not pts or reach <= 0:
-        return pts
-    allp = np.concatenate(pts)
-    lo, hi = allp.min(0), allp.max(0)
-    span = np.maximum(hi - lo, 1.0)
-    g = max(2, int(nodes))
-    # Bilinear weights of every point on the node grid.
-    u = np.clip((allp - lo) / span * (g - 1), 0, g - 1 - 1e-9)
-    i0 = np.floor(u).astype(int)
-    f = u - i0
-    n = len(allp)
-    wts = np.zeros((n, g * g))
-    rows = np.arange(n)
-    for dy in (0, 1):
-        for dx in (0, 1):
-            k = (i0[:, 1] + dy) * g + (i0[:, 0] + dx)
-            wts[rows, k] += (f[:, 0] if dx else 1 - f[:, 0]) * (f[:, 1] if dy else 1 - f[:, 1])
-    mass = wts.sum(0)
-    disp = np.zeros((g * g, 2))
-    for sigma in (reach / 2.0, reach / 4.0, reach / 8.0):
-        s = max(float(sigma), 0.7)
-        blur = cv2.GaussianBlur(ev, (0, 0), s)
-        gy, gx = np.gradient(blur)
-        step = max(0.25, s / 4.0)
-        for _ in range(int(iterations)):
-            q = (allp + wts @ disp).astype(np.float32)
-            sx = cv2.remap(gx, q[:, 0][None], q[:, 1][None], cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT)[0]
-            sy = cv2.remap(gy, q[:, 0][None], q[:, 1][None], cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT)[0]
-            grad = wts.T @ np.column_stack([sx, sy]) / np.maximum(mass, 1e-9)[:, None]
-            norm = float(np.abs(grad).max())
-            if norm <= 1e-12:
-                break
-            disp += step * grad / norm
-            # Smooth over the grid (a membrane): neighbouring nodes move alike.
-            d = disp.reshape(g, g, 2)
-            pad = np.pad(d, ((1, 1), (1, 1), (0, 0)), mode="edge")
-            nb = (pad[:-2, 1:-1] + pad[2:, 1:-1] + pad[1:-1, :-2] + pad[1:-1, 2:]) / 4.0
-            d = 0.5 * d + 0.5 * nb
-            length = np.hypot(d[..., 0], d[..., 1])
-            d *= np.minimum(1.0, reach / np.maximum(length, 1e-9))[..., None]
-            disp = d.reshape(-1, 2)
-    moved = allp + wts @ disp
-    out, k = [], 0
-    for c in pts:
-        out.append(moved[k:k + len(c)])
-        k += len(c)
-    return out
-
-
-
-def _densify(c):
-    seg = np.hypot(*np.diff(c, axis=0).T)
-    t = np.concatenate([[0.0], np.cumsum(seg)])
-    s = np.linspace(0.0, t[-1], max(2, int(np.ceil(t[-1])) + 1))
-    return np.column_stack([np.interp(s, t, c[:, 0]), np.interp(s, t, c[:, 1])]), float(t[-1])
-
-
-def ridge_hessian(lab, blade, direction, width: float) -> np.ndarray:
-    """Hessian ``(Hxx, Hxy, Hyy)`` of the colours projected on ``direction``, for oriented ridge scores.
-
-    At scale ``sigma = max(1, width / 2)`` (times ``sigma**2``), divided by
-    the 99th percentile inside the blade of the bright-ridge strength
-    ``max(0, -lambda_min)``. :func:`oriented_response` then scores a ridge
-    *along a given direction* only: the mottled texture of a photographed
-    blade (secondary veins, spots, hole rims) crosses a primary vein's
-    direction and no longer counts for it.
-
-    Parameters
-    ----------
-    lab : (H, W, 3) float ndarray
-        CIELAB colours of the exemplar.
-    blade : (H, W) bool array_like
-        Its blade; 0 outside (and two pixels inside) its outline.
-    direction : (3,) ndarray
-        :func:`contrast_direction`.
-    width : float
-        The layer's typical width in pixels.
-
-    Returns
-    -------
-    (3, H, W) float32 ndarray
-    """
-    blade = as_mask(blade, shape=lab.shape[:2], name="blade")
-    p = (np.asarray(lab, np.float32) @ np.asarray(direction, np.float32)).astype(np.float32)
-    p = extend_nearest(p, blade)
-    s = max(1.0, 0.5 * float(width))
-    hxx = ndi.gaussian_filter(p, s, order=(0, 2)) * s * s
-    hxy = ndi.gaussian_filter(p, s, order=(1, 1)) * s * s
-    hyy = ndi.gaussian_filter(p, s, order=(2, 0)) * s * s
-    lam_min = 0.5 * (hxx + hyy) - np.sqrt(0.25 * (hxx - hyy) ** 2 + hxy ** 2)
-    inner = ndi.binary_erosion(blade, iterations=2)
-    strength = np.maximum(-lam_min, 0.0)[inner]
-    scale = float(np.percentile(strength, 99)) if strength.size else 0.0
-    out = np.stack([hxx, hxy, hyy]).astype(np.float32) / max(scale, 1e-12)
-    out[:, ~inner] = 0.0
-    return out
-
-
-def oriented_response(hess, ix, iy, tangent) -> np.ndarray:
-    """Bright-ridge score (0..1) at pixels ``(ix, iy)`` for a ridge running along ``tangent`` (unit x, y).
-
-    The curvature across the ridge, ``-n^T H n``, less the curvature along
-    it (a blob curves both ways, a vein one way only), clipped to ``[0, 1]``.
-
-    Parameters
-    ----------
-    hess : (3, H, W) ndarray
-        :func:`ridge_hessian`.
-    ix, iy : int ndarray
-        Pixel columns and rows (same shape).
-    tangent : (..., 2) ndarray
-        Unit direction ``(x, y)`` of the ridge at each pixel.
-
-    Returns
-    -------
-    ndarray
-        The shape of ``ix``.
-    """
-    hxx, hxy, hyy = (hh[iy, ix] for hh in hess)
-    tx, ty = tangent[..., 0], tangent[..., 1]
-    across = ty * ty * hxx - 2.0 * tx * ty * hxy + tx * tx * hyy
-    along = tx * tx * hxx + 2.0 * tx * ty * hxy + ty * ty * hyy
-    return np.clip(-across - np.abs(along), 0.0, 1.0)
-
-
-def _tangents(p):
-    """Unit tangents of an ordered point chain."""
-    if len(p) < 2:
-        return np.tile([1.0, 0.0], (len(p), 1))
-    g = np.gradient(np.asarray(p, np.float64), axis=0)
-    return g / np.maximum(np.hypot(*g.T), 1e-9)[:, None]
-
-
-N_ORIENTATIONS = 16
-
-
-def _oriented_maps(ev, hess, n: int = N_ORIENTATIONS) -> np.ndarray:
-    """Pose scores per tangent direction ``pi k / n``: the weighted oriented response and evidence, (n, H, W)."""
-    from ._snapkernels import oriented_maps  # compiled: the same float64 sums, one pass
-    tx = np.array([np.cos(np.pi * k / n) for k in range(n)])
-    ty = np.array([np.sin(np.pi * k / n) for k in range(n)])
-    return oriented_maps(np.ascontiguousarray(hess, np.float32), np.ascontiguousarray(ev, np.float32), tx, ty,
-                         float(ORIENTED_WEIGHT))
-
-
-def _stamp(placed, iy, ix, iterations: int) -> None:
-    """``placed |= binary_dilation(pixels (iy, ix), iterations)``, dilated in their bounding box only."""
-    h, w = placed.shape
-    if iterations < 1 or not len(iy):
-        stamp = np.zeros((h, w), bool)
-        stamp[iy, ix] = True
-        placed |= ndi.binary_dilation(stamp, iterations=iterations)
-        return
-    y0, y1 = max(int(iy.min()) - iterations, 0), min(int(iy.max()) + iterations + 1, h)
-    x0, x1 = max(int(ix.min()) - iterations, 0), min(int(ix.max()) + iterations + 1, w)
-    stamp = np.zeros((y1 - y0, x1 - x0), bool)
-    stamp[iy - y0, ix - x0] = True
-    placed[y0:y1, x0:x1] |= ndi.binary_dilation(stamp, iterations=iterations)
-
-
-def _sample(ev, maps, q, shifts, tangent):
-    """Mean score of points ``q`` moved by each shift: evidence, or the oriented maps along ``tangent``."""
-    from ._snapkernels import sample_scores  # compiled: the same sums, ~10x faster
-    q = np.ascontiguousarray(q, np.float64)
-    shifts = np.ascontiguousarray(shifts, np.float64).reshape(-1, 2)
-    if maps is None:
-        src, k = np.asarray(ev, np.float32)[None], np.zeros(len(q), np.int32)
-    else:
-        n = len(maps)
-        src = np.asarray(maps, np.float32)
-        k = np.round(np.mod(np.arctan2(tangent[:, 1], tangent[:, 0]), np.pi) / (np.pi / n)).astype(np.int32) % n
-    return sample_scores(src, k, q, shifts)
-
-
-#: Weight of the oriented ridge response (:func:`oriented_response`) against
-#: the isotropic evidence when a template's pose is scored.
-ORIENTED_WEIGHT = 0.5
-
-
-def _pose_search(p, pivot, ev, reach, angles, scales, shifts, a0, s0, d0, penalty, tang=None, hess=None):
-    """Best (angle, scale, shift) of points ``p`` about ``pivot`` by mean evidence minus a shift penalty."""
-    h, w = ev.shape
-    best = (-np.inf, a0, s0, d0)
-    dist = np.hypot(*(d0 + shifts).T)
-    ok = dist <= reach
-    sh = (d0 + shifts)[ok]
-    pen = penalty * dist[ok] / max(reach, 1e-9)
-    if not len(sh):
-        return best
-    for a in angles:
-        ca, sa = np.cos(np.radians(a0 + a)), np.sin(np.radians(a0 + a))
-        rot = (p - pivot) @ np.array([[ca, sa], [-sa, ca]])
-        tr = tang @ np.array([[ca, sa], [-sa, ca]]) if tang is not None else None
-        for sc in scales:
-            q = rot * (s0 * sc) + pivot
-            val = _sample(ev, hess, q, sh, tr)
-            score = val - pen
-            k = int(np.argmax(score))
-            if score[k] > best[0]:
-                best = (float(score[k]), a0 + a, s0 * sc, sh[k])
-    return best
-
-
-def _apply_pose(c, pivot, a, sc, d):
-    ca, sa = np.cos(np.radians(a)), np.sin(np.radians(a))
-    return (c - pivot) @ np.array([[ca, sa], [-sa, ca]]) * sc + pivot + d
-
-
-def _grid(r, step):
-    g = np.arange(-r, r + 1e-9, step, dtype=float)
-    return np.array([(x, y) for y in g for x in g])
-
-
-def fit_branches(chains, evidence, blade, *, reach: float, max_angle: float = 25.0,
-                 penalty: float = 0.1, return_score: bool = False, branch_angle: float = 10.0,
-                 overlap: float = 0.3, hessian=None):
-    """Carried-over branches moved onto the exemplar's ridges that fit them best: all together, then each.
-
-    A layer's main veins keep their pattern from leaf to leaf (a star of
-    nearly straight primaries on a maple) while the registration turns,
-    shifts and bends them: on the sample maples a carried primary vein lies
-    10-25 px and up to 15-20 degrees beside the exemplar's own, and a path
-    search in a tube that wide wanders along the texture. So the branches,
-    as one template, are first placed by the rotation (within
-    ``max_angle`` degrees about their centroid), scale (0.85-1.15) and
-    shift (within ``reach`` px) that maximise their mean evidence minus
-    ``penalty`` times the shift over ``reach`` (the registration is a weak
-    prior); then each branch by a smaller rotation (10 degrees) about the
-    end it shares with the others (its junction) and shift (``reach / 3``,
-    8 px at most).
-
-    ``hessian`` (:func:`ridge_hessian`), when given, makes every pose score
-    half the oriented ridge response along the branch's direction (beyond
-    the paper). Branches are posed one at a time, the best scoring first;
-    a pose with more than ``overlap`` of its points (beyond 6 px from its
-    pivot) within 3 px of a placed branch is skipped for the branch's next
-    best (two branches never share one vein).
-
-    Returns the moved chains (same order and lengths). Branches shorter than
-    8 px only follow the template.
-    ``return_score=True`` also returns the template's score (its mean
-    evidence less the shift penalty).
-
-    Parameters
-    ----------
-    chains : list of (N, 2) array_like
-        Carried-over branches ``(x, y)`` on the exemplar.
-    evidence : (H, W) float ndarray
-        :func:`ridge_evidence` of the exemplar.
-    blade : (H, W) bool array_like
-        Its blade; evidence outside it is 0.
-    reach : float
-        Largest template shift in pixels; 0: nothing moves.
-    max_angle : float
-        Largest template rotation in degrees (default 25).
-    penalty : float
-        Score lost per ``reach`` of shift (default 0.1).
-    return_score : bool
-        Also return the template's score.
-    branch_angle : float
-        Largest rotation of a single branch about its junction, degrees
-        (default 10).
-    overlap : float
-        Largest fraction of a branch's pose on an already placed branch
-        (default 0.3).
-    hessian : (3, H, W) ndarray, optional
-        :func:`ridge_hessian`, for oriented pose scores; None: evidence only.
-
-    Returns
-    -------
-    list of (N, 2) float64 ndarray, or (chains, score)
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> ev = np.zeros((80, 80), np.float32); ev[40, 10:70] = 1.0
-    >>> chain = np.column_stack([np.arange(10, 70), 33 + 0.1 * np.arange(60)])  # shifted and turned
-    >>> moved = fit_branches([chain], ev, np.ones((80, 80), bool), reach=12.0)[0]
-    >>> bool(np.abs(moved[:, 1] - 40).max() < 1.0)
-    True
-    """
-    import cv2
-    ev = np.asarray(evidence, np.float32)
-    blade = as_mask(blade, shape=ev.shape, name="blade")
-    ev = cv2.GaussianBlur(np.where(blade, ev, 0.0).astype(np.float32), (0, 0), 0.7)
-    reach = max(0.0, float(reach))
-    cs = [np.asarray(c, np.float64) for c in chains]
-    good = [len(c) >= 2 and bool(np.all(np.isfinite(c))) for c in cs]
-    if reach <= 0 or not any(good):
-        return (cs, -np.inf) if return_score else cs
-    dense = [_densify(c) if g else (None, 0.0) for c, g in zip(cs, good)]
-    allp = np.concatenate([d for d, _ in dense if d is not None])
-    tang = [_tangents(d) for d, _ in dense if d is not None]
-    allt = np.concatenate(tang)
-    hess = _oriented_maps(ev, hessian) if hessian is not None else None
-    centre = allp.mean(0)
-    r = float(np.ceil(reach))
-    z = np.zeros(2)
-    # Coarse: at most 300 template points, shifts in steps of reach / 8 (2 px at least).
-    sub = allp[::max(1, len(allp) // 300)]
-    subt = allt[::max(1, len(allp) // 300)]
-    step = max(2.0, float(round(reach / 8.0)))
-    _, a, sc, d = _pose_search(sub, centre, ev, reach, np.arange(-max_angle, max_angle + 1e-9, 2.5),
-                               (0.85, 0.92, 1.0, 1.08, 1.15), _grid(step * np.floor(r / step), step), 0.0, 1.0, z,
-                               penalty, subt, hess)
-    _, a, sc, d = _pose_search(sub, centre, ev, reach, np.arange(-1.5, 1.5 + 1e-9, 0.75),
-                               (0.97, 1.0, 1.03), _grid(step, 1.0), a, sc, d, penalty, subt, hess)
-    score, a, sc, d = _pose_search(allp, centre, ev, reach, (0.0,), (1.0,), _grid(1.0, 1.0), a, sc, d, penalty,
-                                   allt, hess)
-    cs = [_apply_pose(c, centre, a, sc, d) for c in cs]
-    ends = np.array([[c[0], c[-1]] for c, g in zip(cs, good) if g]).reshape(-1, 2)
-    out = list(cs)
-    rb = min(reach / 3.0, 8.0)
-    cands = []
-    for i, (c, g, (p, length)) in enumerate(zip(cs, good, dense)):
-        if not g or length < 8:
-            continue
-        # The branch's pivot: its end nearest another branch's end (a junction).
-        dists = [np.sort(np.hypot(*(ends - e).T))[1] if len(ends) > 1 else 0.0 for e in (c[0], c[-1])]
-        pivot = c[0] if dists[0] <= dists[1] else c[-1]
-        p2 = _apply_pose(p, centre, a, sc, d)
-        k2 = max(1, len(p2) // 150)
-        sub2, t2 = p2[::k2], _tangents(p)[::k2]
-        ca, sa = np.cos(np.radians(a)), np.sin(np.radians(a))
-        t2 = t2 @ np.array([[ca, sa], [-sa, ca]])
-        # Every pose of the branch about its junction, best first (several
-        # candidates: a branch must not take the ridge another one took).
-        poses = _branch_poses(sub2, pivot, ev, rb, branch_angle, penalty, tang=t2, hess=hess)
-        cands.append((i, pivot, poses))
-    # Greedy, most confident branch first: a pose whose points mostly lie on
-    # an already placed branch (two laterals on one vein) is skipped.
-    cands.sort(key=lambda x: -x[2][0][0] if x[2] else np.inf)
-    placed = np.zeros(ev.shape, bool)
-    h, w = ev.shape
-    for i, pivot, poses in cands:
-        chosen = None
-        for _sco, a2, s2, d2 in poses:
-            q = _apply_pose(dense[i][0], pivot, a2, s2, d2)
-            ix = np.clip(np.round(q[:, 0]).astype(int), 0, w - 1)
-            iy = np.clip(np.round(q[:, 1]).astype(int), 0, h - 1)
-            far = np.hypot(*(q - pivot).T) > 6.0
-            if not far.any() or placed[iy[far], ix[far]].mean() <= overlap:
-                chosen = (a2, s2, d2, ix, iy)
-                break
-        if chosen is None:
-            continue
-        a2, s2, d2, ix, iy = chosen
-        out[i] = _apply_pose(cs[i], pivot, a2, s2, d2)
-        _stamp(placed, iy, ix, 3)
-    return (out, score) if return_score else out
-
-
-def _branch_poses(p, pivot, ev, reach, max_angle, penalty, keep: int = 12, tang=None, hess=None):
-    """Poses (score, angle, scale, shift) of one branch about its pivot, best first, distinct angles."""
-    h, w = ev.shape
-    sh = _grid(np.ceil(reach), 1.0)
-    dist = np.hypot(*sh.T)
-    ok = dist <= max(reach, 1e-9)
-    sh, pen = sh[ok], penalty * dist[ok] / max(reach, 1e-9)
-    rows = []
-    for ang in np.arange(-max_angle, max_angle + 1e-9, 1.0):
-        ca, sa = np.cos(np.radians(ang)), np.sin(np.radians(ang))
-        rot = (p - pivot) @ np.array([[ca, sa], [-sa, ca]])
-        tr = tang @ np.array([[ca, sa], [-sa, ca]]) if tang is not None else None
-        for sc in (1.0,):
-            q = rot * sc + pivot
-            val = _sample(ev, hess, q, sh, tr)
-            score = val - pen
-            k = int(np.argmax(score))
-            rows.append((float(score[k]), float(ang), float(sc), sh[k]))
-    rows.sort(key=lambda r: -r[0])
-    out = []
-    for r in rows:
-        if all(abs(r[1] - o[1]) >= 3.0 for o in out):
-            out.append(r)
-        if len(out) >= keep:
-            break
-    return out
-
-
-def _pivot_ends(chains):
-    """For each chain: (pivot, far end), the pivot being the end nearest another chain's end (a junction)."""
-    ends = np.array([[c[0], c[-1]] for c in chains]).reshape(-1, 2)
-    out = []
-    for i, c in enumerate(chains):
-        if len(ends) <= 2:
-            out.append((c[0], c[-1]))
-            continue
-        others = np.delete(ends, [2 * i, 2 * i + 1], axis=0)
-        d0 = np.hypot(*(others - c[0]).T).min()
-        d1 = np.hypot(*(others - c[-1]).T).min()
-        out.append((c[0], c[-1]) if d0 <= d1 else (c[-1], c[0]))
-    return out
-
-
-def trace_branches(chains, maps, blade, *, max_angle: float = 30.0, step_deg: float = 1.0, r0: float = 3.0,
-                   slope: float = 0.3, prior: float = 0.15, overlap_px: float = 3.0, extend: float = 1.5,
-                   keep_level: float = 0.25):
-    """Each branch re-traced from its junction along the exemplar's ridge (beyond the paper).
-
-    A primary vein runs from its junction (the petiole junction of a maple's
-    star, or the midrib for a pinnate leaf's laterals) outwards, nearly
-    straight. A template pose (:func:`fit_branches`) keeps the training
-    leaf's angles between the branches, but a narrow maple's steep laterals
-    open 15-30 degrees wider on a broad one. So each branch is traced
-    anew in polar coordinates about its junction: at every radius
-    ``r`` (1 px steps, out to ``extend`` times the branch's carried chord)
-    an angle within
-    ``max_angle`` degrees of the carried direction, by dynamic programming
-    maximising the summed oriented ridge score along the radial direction
-    (``maps``, :func:`_oriented_maps`), the angle changing by at most
-    ``slope`` px sideways per px outwards (so a path bends as a vein bends
-    but cannot zig-zag along texture), minus ``prior`` times the final
-    angle's deviation over ``max_angle``. Branches are traced longest
-    first; pixels within ``overlap_px`` of a traced branch (beyond 6 px
-    from its junction) score -0.5 for the next: two branches never take one
-    vein. The trace ends (at least half the carried chord out) where its
-    summed score less ``keep_level`` times its mean score over the carried
-    chord is largest: a vein is followed as far as it shows on this leaf,
-    not as far as the user traced it on the training leaf. A hole in the
-    blade is crossed (its pixels score 0); the trace ends only where it
-    leaves the blade's outline.
-
-    Measured on the sample maples (``_measure maples``, each as training
-    leaf): mean induced-vein IoU 0.57 with ``keep_level`` 0.5 and 0.62 with
-    0.25 (0.62 at 0.15 too); ``max_angle`` 40 gave no gain (0.56),
-    ``extend`` 2 lost (0.59 against 0.60 at 0.35). Once ``slope`` was
-    honoured far from the junction (it used to allow one angular step per
-    radius, 3.5 px sideways per px at r = 200, and a trace across a grass
-    blade's parallel veins climbed from vein to vein in a staircase):
-    mean 0.63 at 0.5, 0.61 at 1.0, 0.64 at 0.3 (every maple as training
-    leaf 0.59-0.71, procedural min 0.70-0.75 unchanged).
-
-    Parameters
-    ----------
-    chains : list of (N, 2) ndarray
-        Branches already posed on the exemplar (x, y).
-    maps : (K, H, W) ndarray
-        Ridge score per tangent direction ``pi k / K`` (:func:`_oriented_maps`).
-    blade : (H, W) bool ndarray
-        The exemplar's blade; a trace ends where it leaves it.
-    max_angle : float
-        Largest turn (degrees) of a branch about its junction.
-    step_deg : float
-        Angular step (degrees) of the polar grid.
-    r0 : float
-        First radius (px) scored: the junction's own blob is skipped.
-    slope : float
-        Largest sideways move (px) per px outwards.
-    prior : float
-        Penalty of the final angle's deviation (over ``max_angle``) against the mean score.
-    overlap_px : float
-        Radius (px) around a traced branch the next ones avoid.
-    extend : float
-        How far out (times the carried chord) a branch may be followed.
-    keep_level : float
-        The trace ends where its score stays below this fraction of its mean.
-
-    Returns
-    -------
-    list of (M, 2) float ndarray
-        The traced branches, each from its junction outwards (a branch
-        without a junction, or shorter than 8 px, is returned unchanged).
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> def ray(deg, n):                                 # n px from the junction (40, 75)
-    ...     r = np.arange(n)[:, None]
-    ...     return np.array([40.0, 75.0]) + r * [np.cos(np.radians(deg)), np.sin(np.radians(deg))]
-    >>> maps = np.zeros((16, 80, 80), np.float32)
-    >>> v = np.round(ray(-70, 60)).astype(int); maps[:, v[:, 1], v[:, 0]] = 1.0   # the exemplar's vein
-    >>> out = trace_branches([ray(-95, 60), ray(180, 20), ray(0, 20)], maps, np.ones((80, 80), bool))
-    >>> tip = out[0][-1]; round(float(np.degrees(np.arctan2(tip[1] - 75, tip[0] - 40))))
-    -70
-    """
-    from ._snapkernels import polar_dp  # compiled DP over radius
-    maps = np.asarray(maps, np.float32)
-    k_dirs, h, w = maps.shape
-    blade = as_mask(blade, shape=(h, w), name="blade")
-    cs = [np.asarray(c, np.float64) for c in chains]
-    if len(cs) < 2:
-        return cs
-    pe = _pivot_ends(cs)
-    lengths = [float(np.hypot(*np.diff(c, axis=0).T).sum()) if len(c) > 1 else 0.0 for c in cs]
-    out = list(cs)
-    placed = np.zeros((h, w), bool)
-    inner = ndi.binary_erosion(blade)
-    whole = ndi.binary_fill_holes(blade)
-    da = np.radians(step_deg)
-    offs = np.arange(-max_angle, max_angle + 1e-9, step_deg)
-    for i in np.argsort(lengths)[::-1]:
-        pivot, far = pe[i]
-        radius = float(np.hypot(*(far - pivot)))
-        if lengths[i] < 8 or radius < 8:
-            continue
-        # The branch's carried extent along its chord (a curved vein's chord is shorter than its length).
-        n_r = int(np.ceil(extend * radius))
-        rs = np.arange(r0, n_r + 1e-9, 1.0)
-        phi0 = np.arctan2(far[1] - pivot[1], far[0] - pivot[0])
-        ang = phi0 + np.radians(offs)
-        px = pivot[0] + rs[:, None] * np.cos(ang)[None]
-        py = pivot[1] + rs[:, None] * np.sin(ang)[None]
-        ix, iy = np.round(px).astype(int), np.round(py).astype(int)
-        ok = (ix >= 0) & (ix < w) & (iy >= 0) & (iy < h)
-        ix, iy = np.clip(ix, 0, w - 1), np.clip(iy, 0, h - 1)
-        kk = (np.round(np.mod(ang, np.pi) / (np.pi / k_dirs)).astype(int) % k_dirs)[None].repeat(len(rs), 0)
-        s = np.where(ok & inner[iy, ix], maps[kk, iy, ix], 0.0)
-        near = ok & placed[iy, ix] & (rs[:, None] > 6.0)
-        s = np.where(near, -0.5, s)
-        # DP over radius: the angle index may change by m(r) steps per radial step.
-        # Sideways budget: ``slope`` px per px outwards. Far out one angular
-        # step is wider than that (1 deg is 3.5 px at r = 200), so the step
-        # is only allowed once the budget since the last allowed step covers
-        # it; a budget of one step per radius let a trace across parallel
-        # veins climb from one to the next in a staircase.
-        v, back, single = polar_dp(np.ascontiguousarray(s, np.float32), np.ascontiguousarray(rs, np.float64),
-                                   float(da), float(slope))
-        if single:
-            v = v.astype(np.float32)  # never a step: summed in float32, as NumPy did
-        final = v / len(rs) - prior * np.abs(offs) / max(max_angle, 1e-9)
-        a = int(np.argmax(final))
-        path = np.empty(len(rs), np.int32)
-        for j in range(len(rs) - 1, -1, -1):
-            path[j] = a
-            a = back[j, a]
-        jj = np.arange(len(rs))
-        # Where the vein ends: the length (at least half the carried one)
-        # that maximises the summed score less keep_level times the score's
-        # mean over the carried length (a vein fades out; texture beyond it
-        # scores below half a vein).
-        sp = s[jj, path]
-        inner_n = max(1, int(np.searchsorted(rs, radius)))
-        tau = keep_level * max(float(sp[:inner_n].mean()), 1e-3)
-        gain = np.cumsum(sp - tau)
-        lo = int(np.searchsorted(rs, 0.5 * radius))
-        end = lo + int(np.argmax(gain[lo:])) + 1 if lo < len(rs) else len(rs)
-        jj = jj[:end]
-        path = path[:end]
-        tr = np.column_stack([px[jj, path], py[jj, path]])
-        tr = np.vstack([pivot, tr])
-        # Stop where the trace leaves the blade (a junction in the blade's
-        # notch may start just outside it); a hole in the blade (a damaged
-        # leaf) is crossed, not an end: a vein runs on past it.
-        tx = np.clip(np.round(tr[:, 0]).astype(int), 0, w - 1)
-        ty = np.clip(np.round(tr[:, 1]).astype(int), 0, h - 1)
-        inside = whole[ty, tx]
-        first = int(np.argmax(inside)) if inside.any() else len(tr)
-        after = ~inside[first:]
-        stop = first + int(np.argmax(after)) if after.any() else len(tr)
-        tr = tr[:max(stop, 2)]
-        out[i] = tr if np.allclose(cs[i][0], pivot) else tr[::-1]
-        d, _ = _densify(tr)
-        _stamp(placed, np.clip(np.round(d[:, 1]).astype(int), 0, h - 1),
-               np.clip(np.round(d[:, 0]).astype(int), 0, w - 1), int(round(overlap_px)))
-    return out

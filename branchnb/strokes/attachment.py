@@ -61,6 +61,11 @@ def _align_exits(index, pairs, attached, junctions) -> None:
             b = (1.0 - t) * same + t * b
         pair = attached[i]
         ls, lt = pair.source.length, pair.target.length
+        if lt - b < _MOST_SQUEEZE * (ls - a):
+            # a child laid along its parent (a leaf turned onto its twig) leaves the
+            # parent's silhouette only near its tip: aligning its exit would squeeze
+            # the whole part into that tip. It keeps the mapping as drawn. Beyond the paper.
+            continue
         row = (a, b) if jn.end == 0 else (ls - a, lt - b)
         attached[i] = _with_pins(pair, [row])
 
@@ -79,6 +84,9 @@ def _under_parent(index, i: int, jn) -> bool:
     s_par, d = parent.project(end)
     return bool(d[0] <= float(index.half_width(jn.parent, float(s_par[0]))) + 1.0)
 
+
+#: Least share of its outside length a child keeps when its exit is aligned (see _align_exits).
+_MOST_SQUEEZE = 0.5
 
 #: Turn of a branch against its parent (radians) from which its exit is placed at the
 #: silhouette's width only (see _align_exits).

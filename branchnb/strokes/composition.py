@@ -66,6 +66,12 @@ class PlacedPatch:
         The patch's object pixels win over the canvas's transparent ones
         (a branch or a carried part joins its parent: it adds to the
         silhouette, the seam may not cut it short at the parent's margin).
+    stroke : int
+        Index of the stroke (part) the patch belongs to, -1 for none. Where
+        it overlaps pixels another stroke laid, the two bodies are united:
+        opaque wins over transparent either way (a part moved over another
+        part leaves no hole in either; beyond the paper, whose patches are
+        opaque texture).
 
     Examples
     --------
@@ -82,6 +88,7 @@ class PlacedPatch:
     keep_a: np.ndarray | None = None
     source_map: np.ndarray | None = None
     grow: bool = False
+    stroke: int = -1
 
     def __post_init__(self):
         px = np.asarray(self.pixels)
@@ -96,6 +103,8 @@ class PlacedPatch:
         for flag in ("pin_core", "grow"):
             if not isinstance(getattr(self, flag), (bool, np.bool_)):
                 raise TypeError(f"{flag} must be a bool, got {type(getattr(self, flag)).__name__}")
+        if not isinstance(self.stroke, (int, np.integer)) or isinstance(self.stroke, bool) or self.stroke < -1:
+            raise TypeError(f"stroke must be an int >= -1, got {self.stroke!r}")
         if self.source_map is not None:
             sm = np.asarray(self.source_map)
             if sm.shape != (2, 3) or sm.dtype.kind not in "fiu" or not np.isfinite(sm).all():
@@ -254,6 +263,7 @@ def compose(patches: list[PlacedPatch], shape, *, method: str = "graphcut",
     covered = np.zeros((h, w), bool)
     labels = np.full((h, w), -1, np.int64)
     weak = np.zeros((h, w), bool)  # laid under keep_a on an empty canvas: later patches take them
+    owner = np.full((h, w), -1, np.int64)  # the stroke whose patch laid each pixel
     costs = np.zeros(len(patches))
     for i, patch in enumerate(patches):
         pl = patch.placed((h, w), margin=1)
@@ -271,10 +281,16 @@ def compose(patches: list[PlacedPatch], shape, *, method: str = "graphcut",
             yield_ = overlap & weak[box] & ~keep
             pin_a = ((ndi.binary_dilation(only_a) & overlap) | (keep & overlap)) & ~yield_
             pin_b = (ndi.binary_dilation(only_b) & overlap & ~pin_a) | yield_
-            if patch.grow:
+            union = overlap if patch.grow else None
+            if patch.stroke >= 0:
+                # two parts overlapping (one moved over the other): their union
+                own = owner[box]
+                cross = overlap & (own >= 0) & (own != patch.stroke)
+                union = cross if union is None else union | cross
+            if union is not None and union.any():
                 # a joint is the union of the two: opaque wins over transparent either way
-                pin_a |= overlap & (a[..., 3] > 0.5) & (b[..., 3] < 0.02) & ~pin_b
-                pin_b |= overlap & (b[..., 3] > 0.5) & (a[..., 3] < 0.5) & ~pin_a
+                pin_a |= union & (a[..., 3] > 0.5) & (b[..., 3] < 0.02) & ~pin_b
+                pin_b |= union & (b[..., 3] > 0.5) & (a[..., 3] < 0.5) & ~pin_a
             if not only_b.any() and patch.pin_core:
                 pin_b = _core(vb) & overlap & ~pin_a
             pc = pair_costs(a, b, power=power, gradient_weighted=gradient_weighted)
@@ -288,6 +304,7 @@ def compose(patches: list[PlacedPatch], shape, *, method: str = "graphcut",
         image[box][take_b] = b[take_b]
         labels[box][take_b] = i
         weak[box][take_b] = keep[take_b]
+        owner[box][take_b] = patch.stroke
         covered[box] |= vb
     return Composition(image, covered, labels, costs)
 

@@ -588,7 +588,7 @@ def fetch_patches(image, source_strokes, target_strokes, params: StrokeEditParam
     tol = params.junction_tolerance if params.junction_tolerance > 0 else max(typical / 3.0, 2.0)
 
     # Branching: junctions among the target strokes.
-    junctions = find_junctions([p.target for p in pairs], tol)
+    junctions = find_junctions([p.target for p in pairs], tol, [p.source for p in pairs])
     attached: list[StrokePair] = list(pairs)
     extra = [{0: 0.0, 1: 0.0} for _ in pairs]
     for i, pair in enumerate(pairs):

@@ -69,10 +69,33 @@ from scipy import ndimage as ndi
 
 from ..core.graphcut import gradient_magnitude  # the edge strength G of the seam energy
 from ..core.image import as_rgba
-from ..core.validate import COORD_LIMIT, MAX_COUNT, Array, Int, Real, Shape, check_real, checked
+from ..core.validate import COORD_LIMIT, Array, Int, Real, Shape, checked
 from ._distance import edt as _edt
 from .parts import add_bases, find_parts
-from .strokes import Stroke, StrokePair
+from .samples import Samples, sample_pair
+from .strokes import Stroke
+from .tubes import (  # noqa: F401  (re-exported: fetch.py was split by step)
+    _MAX_WIDTH,
+    _OPAQUE_MARGIN,
+    _beyond_weight,
+    _children_beyond_caps,
+    _clear_of,
+    _connected_to_stroke,
+    _distance_map,
+    _end_direction,
+    _end_tube,
+    _is_cut,
+    _joined_ends,
+    _local_max,
+    _lookup,
+    _parent_side,
+    _raw_width,
+    _reach_box,
+    _run_length,
+    _smooth_width,
+    _tube_margin,
+    _wide_ends,
+)
 
 __all__ = ["SourceIndex", "Samples", "Fetched", "source_index", "sample_pair", "fetch",
            "OPAQUE_RADIUS"]
@@ -81,23 +104,14 @@ __all__ = ["SourceIndex", "Samples", "Fetched", "source_index", "sample_pair", "
 _REACH = 1.5
 #: A pixel belongs to every stroke within this many pixels of its nearest stroke.
 _SHARE = 2.0
-#: Opaque pixels are copied up to this far beyond the half width (px).
-_OPAQUE_MARGIN = 2.0
 #: Alpha above which a pixel counts as part of the object for the tube margins.
 _INKED = 0.02
 #: Patch radius for opaque images (no silhouette to measure the width from).
 OPAQUE_RADIUS = 24.0
-#: Longest distance the width measurement walks from the stroke (px).
-_MAX_WIDTH = 256
 
 
 #: Arc lengths and offsets along/across a stroke: finite and within the coordinate limit.
 _OFFSETS = Array(ndim=(0, 1), min=-COORD_LIMIT, max=COORD_LIMIT)
-
-
-def _SPACING(value, name, allow_none):
-    """A step ``h > 0`` in pixels, or a function of the arc length giving one."""
-    return value if callable(value) else check_real(value, name, 0, 1e5, low_open=True)
 
 
 def auto_radius(half_width):
@@ -368,28 +382,36 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
             continue
         d, s_map = uniq[keys[k]]
         ws, wv = width_s[k], widths[k]
+        # (the end weights on the distance map's box only: no patch of the stroke reaches
+        # beyond it, see _distance_map's reach)
+        box = dboxes.setdefault(keys[k], _reach_box(d))
         endw = np.ones((h, w), np.float32)
         for end, is_cut in enumerate(cuts[k]):
             if is_cut:
-                endw *= _beyond_weight(st, end, s_map, xx, yy)
+                bx, by = xx[:, box[1]], yy[box[0]]
+                endw[box] *= _beyond_weight(st, end, s_map[box], bx, by)
                 if has_alpha:
                     # The cut line itself: only across the tube.
                     w_end = float(np.interp(0.0 if end == 0 else st.length, ws, wv))
-                    endw *= _end_tube(st, end, s_map, xx, yy, w_end, inked)
+                    endw[box] *= _end_tube(st, end, s_map[box], bx, by, w_end, inked[box])
         tube = interior = core = None
         if has_alpha:
             # the half width at every pixel's nearest stroke point (beyond the distance
             # map's box the arc length is 0: the first width)
             tube = np.full((h, w), np.float32(np.interp(0.0, ws, wv)), np.float32)
-            box = dboxes.setdefault(keys[k], _reach_box(d))
             tube[box] = np.interp(s_map[box], ws, wv)
-            interior = (s_map > 1.0) & (s_map < st.length - 1.0)
+            # (on the distance map's box only: beyond it s_map is 0 and d is 1e6, so no
+            # pixel there is interior or in the core)
+            sb, tb, db = s_map[box], tube[box], d[box]
+            interior = np.zeros((h, w), bool)
+            interior[box] = (sb > 1.0) & (sb < st.length - 1.0)
             # beyond a free end the object may go on for a tip's length (see _is_cut), as far
             # as the patch at the end reaches (the rest is a part)
-            reach = patch_size / 2.0 if patch_size > 0 else auto_radius(tube)
-            cap = np.minimum(np.maximum(2.0 * tube, 8.0) + 2.0, reach - 2.0)
-            core = inked & (endw > 0.5) & (d <= np.where(interior, tube + 0.5, cap))
-            core[box] = _connected_to_stroke(core[box], d[box] <= 0.5 * tube[box] + 1.5)
+            reach = patch_size / 2.0 if patch_size > 0 else auto_radius(tb)
+            cap = np.minimum(np.maximum(2.0 * tb, 8.0) + 2.0, reach - 2.0)
+            core = np.zeros((h, w), bool)
+            core_b = inked[box] & (endw[box] > 0.5) & (db <= np.where(interior[box], tb + 0.5, cap))
+            core[box] = _connected_to_stroke(core_b, db <= 0.5 * tb + 1.5)
         tubes[key] = (d, s_map, tube, interior, endw, core)
     tube_keys = list(tubes)
     beyond_cap = _children_beyond_caps(source_strokes, keys, cuts, joined, tubes) if has_alpha else {}
@@ -493,454 +515,6 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
                         side_width=side_width)
     add_bases(parts, index, window=3.0)
     return index
-
-
-def _children_beyond_caps(strokes, keys, cuts, joined, tubes) -> dict:
-    """Per tube with a free end that children join: the pixels of its tip's cap
-    (beyond a round cap of the end's half width) inside a child's tube.
-
-    A free end's cap reaches a tip's length beyond the stroke (a pointed tip
-    drawn short), but where children start under a rounded end (a figure's legs
-    under its body's lower dome) the object beyond the round cap is the
-    children's tops: copied with the parent they stay put while the children
-    turn, and peek out below the parent as teeth. They are taken out of the
-    parent's tube (its core and the pixels it may copy), so the children's
-    patches copy them and turn them with the children. Beyond the paper.
-    The cores in ``tubes`` are changed in place.
-    """
-    out: dict = {}
-    for k, st in enumerate(strokes):
-        key = (keys[k], cuts[k])
-        d, s_map, tube, interior, _, core = tubes[key]
-        free_ends = [end for end in (0, 1) if not cuts[k][end]]
-        if not free_ends:
-            continue
-        kids = [j for j in range(len(strokes)) if keys[j] != keys[k] and k in joined[j]]
-        if not kids:
-            continue
-        at_cap = ~interior & (d > tube + 0.5)
-        ends = np.zeros_like(at_cap)
-        for end in free_ends:
-            ends |= (s_map <= 1.0) if end == 0 else (s_map >= st.length - 1.0)
-        at_cap &= ends
-        if not at_cap.any():
-            continue
-        theirs = np.zeros_like(at_cap)
-        for j in kids:
-            dj, _, tj, _, _, _ = tubes[(keys[j], cuts[j])]
-            theirs |= dj <= tj + 0.5
-        taken = at_cap & theirs
-        if taken.any():
-            core[taken] = False
-            out[key] = out[key] | taken if key in out else taken
-    return out
-
-
-def _reach_box(d: np.ndarray) -> tuple[slice, slice]:
-    """The box of the pixels a distance map reaches (``d < 1e6``; see :func:`_distance_map`)."""
-    near = d < 1e6
-    rows, cols = np.flatnonzero(near.any(axis=1)), np.flatnonzero(near.any(axis=0))
-    if not len(rows):
-        return slice(0, 0), slice(0, 0)
-    return slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1)
-
-
-def _tube_margin(half_width):
-    """Background kept around the silhouette: ``0.15 w + 3`` px."""
-    return 0.15 * half_width + 3.0
-
-
-def _distance_map(stroke: Stroke, shape, reach: float = np.inf) -> tuple[np.ndarray, np.ndarray]:
-    """Distance to ``stroke`` and arc length of its nearest point, for every pixel.
-
-    Computed within ``reach`` px of the stroke's bounding box only (farther
-    pixels get the distance ``1e6`` and the arc length 0: nothing of the stroke reaches them).
-    """
-    h, w = shape
-    s = np.linspace(0.0, stroke.length, max(2, int(np.ceil(stroke.length * 2)) + 1))
-    p = stroke.point_at(s)
-    c = np.clip(np.round(p[:, 0]).astype(int), 0, w - 1)
-    r = np.clip(np.round(p[:, 1]).astype(int), 0, h - 1)
-    pad = int(min(np.ceil(reach), max(h, w))) + 1
-    r0, r1 = max(int(r.min()) - pad, 0), min(int(r.max()) + pad + 1, h)
-    c0, c1 = max(int(c.min()) - pad, 0), min(int(c.max()) + pad + 1, w)
-    seeds = np.ones((r1 - r0, c1 - c0), bool)
-    seed_s = np.zeros((r1 - r0, c1 - c0), np.float32)
-    seeds[r - r0, c - c0] = False
-    seed_s[r - r0, c - c0] = s
-    d_in, (ir, ic) = ndi.distance_transform_edt(seeds, return_indices=True)
-    if (r0, r1, c0, c1) == (0, h, 0, w):
-        return d_in.astype(np.float32), seed_s[ir, ic]
-    d = np.full((h, w), 1e6, np.float32)
-    s_map = np.zeros((h, w), np.float32)
-    d[r0:r1, c0:c1] = d_in
-    s_map[r0:r1, c0:c1] = seed_s[ir, ic]
-    return d, s_map
-
-
-def _lookup(mask: np.ndarray, pts: np.ndarray) -> np.ndarray:
-    """``mask`` at the nearest pixels of ``pts`` (False outside the image)."""
-    h, w = mask.shape
-    c = np.round(pts[..., 0]).astype(np.int64)
-    r = np.round(pts[..., 1]).astype(np.int64)
-    inside = (c >= 0) & (c < w) & (r >= 0) & (r < h)
-    out = np.zeros(pts.shape[:-1], bool)
-    out[inside] = mask[r[inside], c[inside]]
-    return out
-
-
-def _run_length(inside: np.ndarray) -> np.ndarray:
-    """Number of leading True values along the last axis."""
-    first_out = np.argmin(inside, axis=-1)
-    return np.where(inside.all(axis=-1), inside.shape[-1], first_out)
-
-
-def _raw_width(stroke: Stroke, obj: np.ndarray, edt: np.ndarray):
-    """Half width a patch centred on ``stroke`` needs, every pixel of arc length (unsmoothed).
-
-    Along the normal at each stroke point ``p``, the run of object pixels
-    containing ``p`` (or the nearest run, for a stroke drawn a little off
-    the object) spans ``[t0, t1]``; a patch centred on ``p`` needs
-    ``max(|t0|, |t1|)``. Where the normal runs along another part of the
-    object (a crossing), the run is capped by ``2 m + 2`` with ``m`` the
-    largest distance to the background within ``edt(p) + 2`` px of ``p``
-    (the object's half width at its medial axis, also for a stroke up to
-    half a width off-centre).
-
-    Returns the arc lengths, the widths and their median (at least 1).
-    """
-    s = np.linspace(0.0, stroke.length, max(2, int(np.ceil(stroke.length)) + 1))
-    p = stroke.point_at(s)
-    n = stroke.normal_at(s, window=3.0)
-    t = np.arange(-_MAX_WIDTH, _MAX_WIDTH + 1, dtype=float)
-    inside = _lookup(obj, p[:, None, :] + t[None, :, None] * n[:, None, :])
-    near = np.argmin(np.where(inside, np.abs(t)[None], np.inf), axis=1)
-    # the run of object pixels through the nearest one: from after the last gap
-    # before it to before the first gap after it
-    col = np.arange(len(t))[None]
-    gap = ~inside
-    start = np.where(gap & (col < near[:, None]), col, -1).max(axis=1) + 1
-    stop = np.where(gap & (col > near[:, None]), col, len(t)).min(axis=1) - 1
-    has = inside[np.arange(len(s)), near]
-    wv = np.where(has, np.maximum(np.abs(t[start]), np.abs(t[stop])) + 0.5, 0.0)
-    wv = np.minimum(wv, 2.0 * _local_max(edt, p) + 2.0)
-    return s, wv, float(max(1, int(np.ceil(np.median(wv)))))
-
-
-def _connected_to_stroke(core: np.ndarray, seed: np.ndarray) -> np.ndarray:
-    """The pixels of ``core`` in a piece (8-connected) that touches ``seed`` (the stroke's middle).
-
-    A tube or a free end's cap reaching across the background onto another
-    limb (a lizard's hind-leg stroke ending next to its front foot at 100 px)
-    would copy that limb with the stroke: a loose piece moved with it. Such
-    pixels stay unstroked parts (they follow the stroke they touch).
-    """
-    n, lab = cv2.connectedComponents(core.view(np.uint8), connectivity=8)
-    if n <= 2:
-        return core
-    hit = np.zeros(n, bool)
-    hit[lab[seed & core]] = True
-    hit[0] = False
-    return hit[lab]
-
-
-def _parent_side(cut: np.ndarray, child: Stroke, end: int, parent: Stroke, s_map: np.ndarray,
-                 obj: np.ndarray, half_width: float, d_parent: np.ndarray,
-                 d_child: np.ndarray, tube_width: float) -> tuple[np.ndarray, float]:
-    """The pixels of ``cut`` (the parent's tube about a child's joined ``end``) that are the parent's.
-
-    The parent's tube is as wide as the parent is anywhere across it; where a
-    limb leaves along the parent's normal (a lizard's thigh at the hip), the
-    run measured along that normal is the limb, so the tube swallows the
-    limb's base. On the child's side, the parent keeps only the pixels within
-    its own silhouette there: the run of object pixels along the normal on
-    either flank of the child (``1.5 w + 4`` px away along the parent, ``w``
-    the child's half width), the smaller of the two, plus a pixel, and the
-    pixels nearer to the parent's stroke (``d_parent``) than to the child's
-    (``d_child``) -- only where the parent's tube at the joint (``tube_width``)
-    is wider than 1.5 times that run (else the tube is the parent's own
-    width and stays). Beyond the paper (which assumes strokes with clean tubes).
-
-    Returns those pixels and the parent's half width on the child's side
-    (``inf`` where it cannot be measured).
-    """
-    s_j, _ = parent.project(child.points[:1] if end == 0 else child.points[-1:])
-    s_j = float(s_j[0])
-    p_j, n_j = parent.point_at(s_j), parent.normal_at(s_j, window=3.0)
-    t = np.arange(0.0, child.length + 0.5, 1.0)
-    pts = child.point_at(t if end == 0 else child.length - t)
-    side = float(np.sign(np.mean((pts - p_j) @ n_j)))
-    if side == 0.0:
-        return cut, np.inf
-    runs = []
-    for s_f in (s_j - 1.5 * half_width - 4.0, s_j + 1.5 * half_width + 4.0):
-        if not 0.0 <= s_f <= parent.length:
-            continue
-        q, n = parent.point_at(s_f), parent.normal_at(s_f, window=3.0)
-        ray = _lookup(obj, q[None] + side * np.arange(0.0, _MAX_WIDTH)[:, None] * n[None])
-        if ray[0]:
-            runs.append(_run_length(ray))
-    if not runs or tube_width <= 1.5 * min(runs) + 2.0:
-        return cut, np.inf  # a tube about as wide as the parent: the existing rule holds
-    rs, cs = np.nonzero(cut)
-    if not len(rs):
-        return cut, float(min(runs))
-    s_px = s_map[rs, cs]
-    foot, normal = parent.point_at(s_px), parent.normal_at(s_px, window=3.0)
-    signed = side * ((cs - foot[:, 0]) * normal[:, 0] + (rs - foot[:, 1]) * normal[:, 1])
-    keep = (signed <= min(runs) + 1.0) | (d_parent[rs, cs] <= d_child[rs, cs])
-    out = np.zeros_like(cut)
-    out[rs[keep], cs[keep]] = True
-    return out, float(min(runs))
-
-
-def _clear_of(child: Stroke, end: int, parent: Stroke, ws, wv, half_width: float) -> float:
-    """How far along ``child`` from its ``end`` its silhouette (``half_width``) is clear of
-    the parent's (``wv`` at ``ws``): a branch leaving at a narrow angle runs along its
-    parent's side for several parent widths."""
-    t = np.arange(0.0, child.length + 0.5, 1.0)
-    s_par, d = parent.project(child.point_at(t if end == 0 else child.length - t))
-    out = np.flatnonzero(d > np.interp(s_par, ws, wv) + half_width)
-    return float(t[out[0]]) if len(out) else 0.0
-
-
-def _wide_ends(stroke: Stroke, cut, edt: np.ndarray, typical: float) -> tuple[bool, bool]:
-    """Per end: cut, or inside a body wider than the stroke's part (its depth over 1.5
-    times the typical half width: a starfish's arm stroked from the centre of its disk).
-
-    There the widths are the body's, not the stroke's own: :func:`_smooth_width`
-    replaces them as at a cut end, so that the stroke's tube does not swallow the
-    body and the parts round it (which then stay unstroked parts, held whole). Else
-    whether the median filter trimmed that bulge depended on the image's size
-    (kept at 400 px, swallowed at 150). Beyond the paper.
-    """
-    h, w = edt.shape
-    out = []
-    for end in (0, 1):
-        x, y = np.rint(stroke.points[0 if end == 0 else -1]).astype(int)
-        deep = 0 <= x < w and 0 <= y < h and float(edt[y, x]) > 1.5 * typical
-        out.append(bool(cut[end] or deep))
-    return out[0], out[1]
-
-
-def _smooth_width(wv: np.ndarray, typical: float, cut) -> np.ndarray:
-    """The width profile used for the tube and the patch radius.
-
-    At a cut end (the stroke runs into a longer object: a branch drawn
-    from the trunk, a tail drawn from the body) the widths above 1.5
-    times the median are the parent's and are replaced by the first width
-    of the stroke's own. A median filter along the stroke then removes
-    short outliers, a running maximum keeps the patches over local bulges
-    and a Gaussian smooths the profile, so that the tube's edge has no
-    steps where the width changes.
-    """
-    wv = wv.copy()
-    for end in (0, 1):
-        if cut[end]:
-            w = wv if end == 0 else wv[::-1]
-            free = np.flatnonzero(w <= 1.5 * typical)
-            if len(free):
-                w[:free[0]] = w[free[0]]
-    n = int(typical)
-    wv = ndi.median_filter(wv, size=2 * n + 1, mode="nearest")
-    wv = ndi.maximum_filter1d(wv, size=2 * n + 1, mode="nearest")
-    return ndi.gaussian_filter1d(wv, sigma=typical / 2.0, mode="nearest").astype(float)
-
-
-def _joined_ends(strokes, raw, keys) -> list[tuple[int, int]]:
-    """Per stroke and end: the (different) stroke the end lies on, within half its local width + 3 px, or -1.
-
-    Two ends meeting (each on the other near its end) join as in
-    :func:`~branchnb.strokes.junctions.find_junctions`: the later-drawn stroke
-    is the child.
-    """
-    out = []
-    for k, st in enumerate(strokes):
-        flags = []
-        for end in (0, 1):
-            q = st.points[0 if end == 0 else -1][None]
-            hit, best = -1, np.inf
-            for j, other in enumerate(strokes):
-                if j == k or keys[j] == keys[k]:
-                    continue
-                s, d = other.project(q)
-                tol = 0.5 * float(np.interp(s[0], raw[j][0], raw[j][1])) + 3.0
-                if d[0] <= tol and 1.0 < s[0] < other.length - 1.0 and d[0] < best:
-                    if j > k and min(s[0], other.length - s[0]) <= tol:
-                        # two ends meeting (a body's end where two legs start): the
-                        # later-drawn stroke is the child, as in find_junctions --
-                        # else each would be the other's child and the pixels round
-                        # the meeting point nobody's (a hole in the body)
-                        continue
-                    hit, best = j, float(d[0])
-            flags.append(hit)
-        out.append(tuple(flags))
-    return out
-
-
-def _local_max(edt: np.ndarray, p: np.ndarray) -> np.ndarray:
-    """Largest ``edt`` within ``edt(p) + 2`` px of each point ``p``.
-
-    Evaluated every few points (a quarter of the typical half width) and
-    interpolated in between: the widths are smoothed over several half
-    widths afterwards anyway.
-    """
-    h, w = edt.shape
-    e_all = edt[np.clip(np.round(p[:, 1]).astype(int), 0, h - 1),
-                np.clip(np.round(p[:, 0]).astype(int), 0, w - 1)]
-    step = max(1, int(np.median(e_all) // 4))
-    pick = np.unique(np.r_[np.arange(0, len(p), step), len(p) - 1])
-    e0 = e_all[pick]
-    rho = int(np.ceil(min(float(e0.max()), _MAX_WIDTH))) + 2
-    out = np.zeros(len(pick))
-    pts = np.round(p[pick]).astype(np.int64)
-    for i, ((x, y), e) in enumerate(zip(pts, e0)):
-        # the disk of radius e + 2 (at most rho) about the point, cut to the image
-        rr = min(int(np.floor(e + 2.0)), rho)
-        r0, r1, c0, c1 = max(y - rr, 0), min(y + rr + 1, h), max(x - rr, 0), min(x + rr + 1, w)
-        if r0 >= r1 or c0 >= c1:
-            continue
-        oy, ox = np.ogrid[r0 - y:r1 - y, c0 - x:c1 - x]
-        disk = np.hypot(ox, oy) <= e + 2.0
-        out[i] = max(float(edt[r0:r1, c0:c1][disk].max(initial=0.0)), 0.0)
-    return np.interp(np.arange(len(p)), pick, out)
-
-
-def _end_direction(stroke: Stroke, end: int, window: float) -> tuple[np.ndarray, np.ndarray]:
-    s_end = 0.0 if end == 0 else stroke.length
-    a = float(stroke.angle_at(s_end, window=window))
-    u = np.array([np.cos(a), np.sin(a)])
-    return stroke.point_at(s_end), (-u if end == 0 else u)
-
-
-def _is_cut(stroke: Stroke, obj: np.ndarray, half_width: float, end: int) -> bool:
-    """Whether the object goes on for more than ``max(2 w, 8)`` px beyond the stroke end.
-
-    ``w`` is the stroke's typical (median) half width.
-    """
-    p, u = _end_direction(stroke, end, window=max(3.0, half_width))
-    limit = max(2.0 * half_width, 8.0)
-    t = np.arange(1.0, np.ceil(limit) + 2.0)
-    run = _run_length(_lookup(obj, p[None] + t[:, None] * u[None]))
-    return bool(run > limit)
-
-
-def _beyond_weight(stroke: Stroke, end: int, s_map: np.ndarray, xx: np.ndarray,
-                   yy: np.ndarray) -> np.ndarray:
-    """0 past the straight cut at a stroke end, 1 before it, a one-pixel ramp between.
-
-    "Past" = the nearest stroke point is the end point and the pixel lies
-    ahead of it along the stroke direction.
-    """
-    p, u = _end_direction(stroke, end, window=3.0)
-    at_end = s_map <= 1.0 if end == 0 else s_map >= stroke.length - 1.0
-    ahead = (xx - p[0]) * u[0] + (yy - p[1]) * u[1]
-    return np.where(at_end, np.clip(0.5 - ahead, 0.0, 1.0), 1.0).astype(np.float32)
-
-
-def _end_tube(stroke: Stroke, end: int, s_map: np.ndarray, xx: np.ndarray, yy: np.ndarray,
-              half_width: float, inked: np.ndarray) -> np.ndarray:
-    """The tube of :func:`source_index` continued over the pixels nearest to a cut end.
-
-    Those pixels lie on the half plane behind the end point; the tube
-    bounds them laterally (distance from the stroke's end line), with the
-    same margins and one-pixel ramp as along the stroke.
-    """
-    p, u = _end_direction(stroke, end, window=3.0)
-    at_end = s_map <= 1.0 if end == 0 else s_map >= stroke.length - 1.0
-    lateral = np.abs((xx - p[0]) * u[1] - (yy - p[1]) * u[0])
-    margin = np.where(inked, _OPAQUE_MARGIN, _tube_margin(half_width))
-    ramp = np.clip(half_width + margin - lateral + 0.5, 0.0, 1.0)
-    return np.where(at_end, ramp, 1.0).astype(np.float32)
-
-
-@dataclass
-class Samples:
-    """Samples along one target stroke.
-
-    Parameters
-    ----------
-    s : (M,) ndarray
-        Target arc lengths.
-    points : (M, 2) ndarray
-        Target positions ``p``.
-    angles : (M,) ndarray
-        Target stroke direction at ``p`` (radians).
-    source_s : (M,) ndarray
-        Nominal source arc lengths of ``p'`` (arc-length fraction between
-        control points).
-    pinned : (M,) bool ndarray
-        Samples at control points (their correspondence is fixed).
-    """
-
-    s: np.ndarray
-    points: np.ndarray
-    angles: np.ndarray
-    source_s: np.ndarray
-    pinned: np.ndarray
-
-    def __len__(self) -> int:
-        return len(self.s)
-
-
-@checked(spacing=_SPACING, window=Real(0, 1e4))
-def sample_pair(pair: StrokePair, spacing, *, window: float) -> Samples:
-    """Sample the target stroke of ``pair`` every ``spacing`` pixels (about).
-
-    Each stretch between consecutive target control points is divided
-    into the fewest equal-count steps no longer than ``spacing``, so the
-    control points themselves are samples (and are pinned).
-
-    Parameters
-    ----------
-    pair : StrokePair
-        The pair whose target stroke is sampled; its control points are
-        samples.
-    spacing : float or callable
-        The step ``h`` (px), or a function of the target arc length
-        giving the local step (e.g. half the local patch radius): the
-        samples are then spread so that each step is about ``h`` where it
-        starts.
-    window : float
-        Chord half-length for the target directions.
-
-    Examples
-    --------
-    >>> from branchnb.strokes.strokes import Stroke, StrokePair
-    >>> pair = StrokePair(Stroke([(0, 0), (20, 0)]), Stroke([(0, 0), (0, 10)]))
-    >>> smp = sample_pair(pair, 4.0, window=2.0)
-    >>> smp.s.tolist(), smp.source_s.tolist()
-    ([0.0, 3.3333333333333335, 6.666666666666667, 10.0], [0.0, 6.666666666666667, 13.333333333333334, 20.0])
-    """
-    ct = pair.control[:, 1]
-    if callable(spacing):
-        grid = np.linspace(0.0, pair.target.length, max(2, int(np.ceil(pair.target.length * 2)) + 1))
-        h = np.asarray(spacing(grid), float)
-        if h.shape != grid.shape or not np.all(np.isfinite(h) & (h > 0)):
-            raise ValueError("spacing(s) must return finite steps > 0")
-        # N(s) = integral of ds / h: samples at equal steps of N.
-        n_of_s = np.concatenate([[0.0], np.cumsum(np.diff(grid) * 0.5 * (1 / h[1:] + 1 / h[:-1]))])
-    else:
-        if pair.target.length / spacing > MAX_COUNT:
-            raise ValueError(f"spacing {spacing:g} would make more than {MAX_COUNT} samples along the target stroke")
-        grid = np.array([0.0, pair.target.length])
-        n_of_s = grid / float(spacing)
-    parts = [np.array([ct[0]])]
-    pinned = [True]
-    for t0, t1 in zip(ct[:-1], ct[1:]):
-        n0, n1 = np.interp([t0, t1], grid, n_of_s)
-        n = max(1, int(np.ceil(n1 - n0 - 1e-9)))
-        inner = np.interp(np.linspace(n0, n1, n + 1)[1:-1], n_of_s, grid)
-        parts.append(np.concatenate([inner, [t1]]))
-        pinned.extend([False] * (n - 1) + [True])
-    s = np.concatenate(parts)
-    return Samples(
-        s=s,
-        points=pair.target.point_at(s),
-        angles=pair.target.angle_at(s, window=window),
-        source_s=pair.source_arc_length(s),
-        pinned=np.array(pinned, bool),
-    )
 
 
 @dataclass

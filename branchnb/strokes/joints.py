@@ -27,12 +27,6 @@ from .parts import rigid_frame
 __all__ = ["joint_disks", "joint_roots", "hold_joint_bodies", "close_hairlines"]
 
 
-def _premult(layer: np.ndarray) -> np.ndarray:
-    out = layer.copy()
-    out[..., :3] *= out[..., 3:4]
-    return out
-
-
 def _straight(premult: np.ndarray) -> np.ndarray:
     out = premult.copy()
     a = out[..., 3:4]
@@ -224,13 +218,21 @@ def hold_joint_bodies(layer: np.ndarray, source_premult: np.ndarray, source_dept
     held = np.zeros((h, w), bool)
     if not disks:
         return layer, held
-    pm = _premult(layer)
+    # premultiplied on the disks' boxes only (the rest is not looked at)
+    pm = np.array(layer, np.float32, copy=True)
+    done = np.zeros((h, w), bool)
+    changed = np.zeros((h, w), bool)
     for centre, inv, r, *clip in disks:
         cx, cy = centre
         r0, r1 = max(int(np.floor(cy - r)), 0), min(int(np.ceil(cy + r)) + 1, h)
         c0, c1 = max(int(np.floor(cx - r)), 0), min(int(np.ceil(cx + r)) + 1, w)
         if r0 >= r1 or c0 >= c1:
             continue
+        todo = ~done[r0:r1, c0:c1]
+        if todo.any():
+            win = pm[r0:r1, c0:c1]
+            win[todo, :3] *= win[todo, 3:4]
+            done[r0:r1, c0:c1] = True
         yy, xx = np.mgrid[r0:r1, c0:c1]
         # only pixels the edit left (partly) open are filled: the others are not looked at
         inside = (np.hypot(xx - cx, yy - cy) <= r) & (pm[r0:r1, c0:c1, 3] < 0.5)
@@ -252,12 +254,16 @@ def hold_joint_bodies(layer: np.ndarray, source_premult: np.ndarray, source_dept
         # as synthesized, stay as they are
         was = top[:, 3] < 0.5
         pm[yy[was], xx[was]] = top[was] + under[was] * (1.0 - top[was, 3:4])
+        changed[yy[was], xx[was]] = True
         now = pm[yy, xx, 3] >= 0.5
         held[yy[was & now], xx[was & now]] = True
         if depth is not None and (was & now).any():
             depth[yy[was & now], xx[was & now]] = ndi.map_coordinates(
                 source_depth, [sy[was & now], sx[was & now]], order=1, mode="nearest")
-    return _straight(pm).astype(np.float32), held
+    # back to straight alpha where the disks filled (elsewhere the layer as it was)
+    out = np.array(layer, np.float32, copy=True)
+    out[changed] = _straight(pm[changed])
+    return out, held
 
 
 def close_hairlines(layer: np.ndarray, zones, *, reach: int = 2) -> np.ndarray:

@@ -80,13 +80,20 @@ def _DICT(value, name, allow_none):
 
 
 @checked(tolerance=Real(0, 1e5))
-def find_junctions(strokes: list[Stroke], tolerance: float) -> list[Junction]:
+def find_junctions(strokes: list[Stroke], tolerance: float, sources: list[Stroke] | None = None) -> list[Junction]:
     """Junctions among ``strokes``: every stroke end within ``tolerance`` of another stroke.
 
     Each end attaches to at most one stroke (the nearest). A stroke end
     touching the *end* of another stroke also counts (the strokes then
     continue each other), except that of two ends touching each other only
     the later stroke is the child.
+
+    With ``sources`` (the source strokes, one per stroke), an end that stays
+    where it was (within ``tolerance`` of its source end) does not join a
+    stroke that was moved over it: it joins stroke ``j`` only if it lay on
+    source stroke ``j`` too. Without this, a part turned over a kept part's
+    end (a leaf laid along its twig, an arm over a leg) would take the kept
+    part as its child and drag it along. Beyond the paper.
 
     Parameters
     ----------
@@ -95,11 +102,18 @@ def find_junctions(strokes: list[Stroke], tolerance: float) -> list[Junction]:
     tolerance : float
         Largest gap (pixels, >= 0) between a stroke end and another stroke
         that still counts as touching (``StrokeEditParams.junction_tolerance``).
+    sources : list of Stroke, optional
+        The source strokes (same length as ``strokes``), in the same frame.
 
     Returns
     -------
     list of Junction
         At most two per stroke (one per end), in stroke order.
+
+    Raises
+    ------
+    ValueError
+        If ``sources`` has not one stroke per stroke.
 
     Examples
     --------
@@ -109,13 +123,21 @@ def find_junctions(strokes: list[Stroke], tolerance: float) -> list[Junction]:
     >>> [(j.child, j.end, j.parent, j.parent_s) for j in find_junctions([trunk, branch], 3)]
     [(1, 0, 0, 50.0)]
     """
+    if sources is not None and len(sources) != len(strokes):
+        raise ValueError(f"sources must have one stroke per stroke ({len(strokes)}), got {len(sources)}")
     out = []
     for i, st in enumerate(strokes):
         for end, q in ((0, st.points[0]), (1, st.points[-1])):
+            stayed = None
+            if sources is not None:
+                q_src = sources[i].points[0 if end == 0 else -1]
+                stayed = q_src if np.hypot(*(q - q_src)) <= tolerance else None
             best = None
             for j, other in enumerate(strokes):
                 if j == i:
                     continue
+                if stayed is not None and sources[j].project(stayed[None])[1][0] > tolerance:
+                    continue  # a stroke moved over an end that stayed put
                 s, d = other.project(q[None])
                 if d[0] <= tolerance and (best is None or d[0] < best[2]):
                     best = (j, float(s[0]), float(d[0]))

@@ -92,7 +92,7 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
                     fs = fs | _inside_parent(index, attached, jn, f.origin, f.valid.shape[1], inside_cache)
                     keep = fs if keep is None else keep | fs
             placed.append(PlacedPatch(f.pixels[k], f.valid[k], f.origin, pin_core, keep,
-                                      _patch_map(f, k), grow=not pin_core))
+                                      _patch_map(f, k), grow=not pin_core, stroke=i))
             rows, cols = f.source_pixels(k, index.shape)
             source_region[rows, cols] = True
         samples[i] = StrokeSamples(

@@ -108,7 +108,7 @@ PAREIDOLIA_SECTIONS = [
                                   "cost_weight", "epsilon", "intensity_weight", "gradient_weight"]),
     ("growth", ["iterations", "trunk_endpoints", "blend_weight", "trunk_height"]),
     ("widths", ["thickness", "window", "emphasis", "tone", "tip_width", "increment", "pipe", "max_width",
-                "limb_length", "limb_width", "taper", "tone_sigma", "contrast", "refine"]),
+                "limb_length", "limb_width", "taper", "slim", "tone_sigma", "contrast", "refine"]),
 ]
 PAREIDOLIA_LABELS = {
     "side": ("image side", ""), "n_endpoints": ("image endpoints", "N"),
@@ -125,7 +125,7 @@ PAREIDOLIA_LABELS = {
     "lattice_size": ("lattice (0 = image)", ""), "tone": ("match tone", ""),
     "max_width": ("max crown width (px)", ""), "limb_length": ("limb thinning length", ""),
     "limb_width": ("limb end width (px)", ""),
-    "taper": ("twig taper length", ""), "tone_sigma": ("tone scale", ""),
+    "taper": ("twig taper length", ""), "slim": ("slim twig ends", ""), "tone_sigma": ("tone scale", ""),
     "max_upscale": ("max image px / lattice px", ""), "max_lattice": ("largest lattice", ""),
     "contrast": ("crown contrast stretch", ""), "refine": ("tone passes at output size", ""),
 }

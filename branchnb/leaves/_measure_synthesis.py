@@ -1,0 +1,264 @@
+"""Measurements of the synthesis stage (issue 22): sharpness, variety, petioles, margins, veins, speed.
+
+Run ``python -m branchnb.leaves._measure_synthesis WHAT`` with ``WHAT`` one of
+``procedural`` (3 kinds, true registrations), ``speed`` (one new leaf at
+about 1 MP: CPU seconds and peak memory) or ``pickle PATH`` (an analysis
+saved with :mod:`pickle`, e.g. of the sample maples, drawn oaks or grass
+photos). Every row is one analysis; the columns:
+
+* ``sharp``: Laplacian variance of the grey level inside the new blades
+  (eroded by 3 px), over the exemplars' mean (target >= 0.8);
+* ``iou_new`` / ``iou_ex``: median pairwise blade IoU of the new leaves and
+  of the exemplars (target ``iou_new <= iou_ex + 0.05``);
+* ``cut``: share of new leaves the canvas edge cuts (target 0);
+  ``pet_dev``: largest angle (degrees) between a new leaf's petiole and
+  the lamina's axis beyond the largest such angle among the exemplars
+  (target 0: petioles attached in the leaf's own direction);
+* ``foreign``: share of the new blades' margin band (the 4 px inside the
+  outline) whose colour is farther than 0.12 (RGB) from every colour of
+  the exemplars' own margin bands (streaks of interior or backdrop colour
+  pulled to the margin; exemplars: the same measured leave-one-out);
+* ``vein_cont``: vein continuity: share of the donor's vein skeleton,
+  carried into the new leaf by the coordinates the synthesis samples it
+  with, where the new leaf shows at least half the donor's own median
+  contrast (relative: grey level over the blade around it) of the vein
+  (target near the exemplars' own, 1 - dashes).
+"""
+
+from __future__ import annotations
+
+import argparse
+import pickle
+import resource
+import time
+import tracemalloc
+
+import cv2
+import numpy as np
+from scipy import ndimage as ndi
+
+__all__ = ["laplacian_variance", "median_pair_iou", "petiole_angle", "margin_foreign_share",
+           "vein_continuity", "synthesis_row"]
+
+
+def _grey(img):
+    return np.ascontiguousarray(np.asarray(img, np.float32)[..., :3].mean(-1))
+
+
+def laplacian_variance(img, blade, erode: int = 3) -> float:
+    """Variance of the Laplacian of the grey level inside ``blade`` eroded by ``erode`` px."""
+    inner = ndi.binary_erosion(blade, iterations=erode)
+    if not inner.any():
+        return float("nan")
+    return float(np.var(cv2.Laplacian(_grey(img), cv2.CV_32F)[inner]))
+
+
+def median_pair_iou(blades) -> float:
+    """Median IoU over all pairs of blades."""
+    v = [(x & y).sum() / max((x | y).sum(), 1) for i, x in enumerate(blades) for y in blades[i + 1:]]
+    return float(np.median(v)) if v else float("nan")
+
+
+def petiole_angle(blade):
+    """Angle (degrees) between the petiole (base -> its far end) and the lamina's direction away from the base.
+
+    None when the blade has no petiole.
+    """
+    from .registration import split_petiole
+    lam, pet, base = split_petiole(blade)
+    if base is None or not pet.any() or not lam.any():
+        return None
+    ys, xs = np.nonzero(pet)
+    far = np.argmax(np.hypot(xs - base[0], ys - base[1]))
+    v_p = np.array([xs[far] - base[0], ys[far] - base[1]], float)
+    ly, lx = np.nonzero(lam)
+    v_l = np.array([lx.mean() - base[0], ly.mean() - base[1]], float)
+    if np.hypot(*v_p) < 1e-6 or np.hypot(*v_l) < 1e-6:
+        return None
+    c = float(np.dot(-v_l, v_p) / (np.hypot(*v_l) * np.hypot(*v_p)))
+    return float(np.degrees(np.arccos(np.clip(c, -1, 1))))
+
+
+def _band(blade, width=4):
+    return blade & ~ndi.binary_erosion(blade, iterations=width)
+
+
+def margin_foreign_share(img, blade, refs, tol: float = 0.12, width: int = 4) -> float:
+    """Share of ``img``'s margin band (``width`` px inside ``blade``) farther than ``tol`` from every
+    colour of the reference margin bands ``refs`` (list of (image, blade))."""
+    band = _band(blade, width)
+    if not band.any():
+        return float("nan")
+    ref = np.concatenate([np.asarray(r, np.float32)[..., :3][_band(b, width)] for r, b in refs])
+    q = np.round(ref / 0.04).astype(np.int32)
+    ref = np.unique(q, axis=0).astype(np.float32) * 0.04
+    px = np.asarray(img, np.float32)[..., :3][band]
+    from scipy.spatial import cKDTree
+    d, _ = cKDTree(ref).query(px, k=1)
+    return float((d > tol).mean())
+
+
+def _contrast(img, blade, sigma=3.0):
+    """Grey level over its blur inside the blade, minus 1 (relative: a vein pasted as a ratio keeps it)."""
+    g = _grey(img)
+    b = blade.astype(np.float32)
+    blur = cv2.GaussianBlur(g * b, (0, 0), sigma) / np.maximum(cv2.GaussianBlur(b, (0, 0), sigma), 1e-6)
+    return g / np.maximum(blur, 0.02) - 1.0
+
+
+def vein_continuity(img, blade, skeleton, target: float) -> float:
+    """Share of ``skeleton`` pixels (inside ``blade``) where the signed contrast reaches half ``target``."""
+    sk = skeleton & ndi.binary_erosion(blade, iterations=3)
+    if not sk.any() or target == 0:
+        return float("nan")
+    c = _contrast(img, blade)
+    # the best of the pixel and its 8 neighbours (a vein moved by a pixel is still a vein)
+    c = ndi.maximum_filter(c * np.sign(target), size=3)
+    return float((c[sk] >= 0.5 * abs(target)).mean())
+
+
+def _skeleton(mask):
+    from skimage.morphology import skeletonize
+    return skeletonize(np.asarray(mask, bool))
+
+
+def synthesis_row(a, n_new: int = 6, seed: int = 0, name: str = "", save: str | None = None) -> dict:
+    """Every column of the module docstring for one analysis ``a`` and ``n_new`` new leaves."""
+    from .synthesis import _prepared, generate
+
+    p = _prepared(a)
+    calls = []
+    orig = p.source_coords
+
+    def spy(e, m, disp):
+        c = orig(e, m, disp)
+        calls.append((e, c))
+        return c
+    p.source_coords = spy
+    leaves, coords = [], []
+    t0 = time.process_time()
+    rng = np.random.default_rng(seed)
+    for _ in range(n_new):
+        calls.clear()
+        leaves += generate(a, 1, rng=rng)
+        coords.append(list(calls))
+    sec = (time.process_time() - t0) / n_new
+    p.source_coords = orig
+    ex, bl = a.exemplars, a.blades
+    lv_ex = np.nanmean([laplacian_variance(e, b) for e, b in zip(ex, bl)])
+    lv_new = np.nanmean([laplacian_variance(x.image, x.blade) for x in leaves])
+    cut = np.mean([max(x.image[..., 3][0].max(), x.image[..., 3][-1].max(), x.image[..., 3][:, 0].max(),
+                       x.image[..., 3][:, -1].max()) >= 0.5 for x in leaves])
+    ang_ex = [petiole_angle(b) for b in bl]
+    ang_ex = [v for v in ang_ex if v is not None]
+    ang_new = [petiole_angle(x.blade) for x in leaves]
+    ang_new = [v for v in ang_new if v is not None]
+    pet_dev = max([0.0] + [v - max(ang_ex) for v in ang_new]) if ang_ex and ang_new else float("nan")
+    refs = [(e, b) for e, b in zip(ex, bl)]
+    f_ex = np.mean([margin_foreign_share(e, b, refs[:i] + refs[i + 1:]) for i, (e, b) in enumerate(refs)]) \
+        if len(refs) > 1 else float("nan")
+    f_new = [margin_foreign_share(x.image, x.blade, refs) for x in leaves]
+    # Vein continuity along the donor's induced veins carried into the new leaf.
+    cont, cont_ex = [], []
+    vk = next((k for k, L in enumerate(a.layers) if L.name == "veins"), 0 if a.layers else None)
+    if vk is not None:
+        L = a.layers[vk]
+        tgt = []
+        for e in range(len(ex)):
+            sk = _skeleton(L.masks[e])
+            if sk.sum() < 10:
+                tgt.append(0.0)
+                continue
+            c = _contrast(ex[e], bl[e])
+            tgt.append(float(np.median(c[sk & ndi.binary_erosion(bl[e], iterations=3)])) if sk.any() else 0.0)
+            cont_ex.append(vein_continuity(ex[e], bl[e], sk, tgt[-1]))
+        for x, calls_x in zip(leaves, coords):
+            d = x.layers.get(L.name, -1)
+            c = next((c for e, c in calls_x[1:] if e == d), None)
+            if d < 0 or c is None or tgt[d] == 0:
+                continue
+            carried = cv2.remap(L.masks[d].astype(np.float32), c[..., 0], c[..., 1], cv2.INTER_LINEAR) > 0.5
+            cont.append(vein_continuity(x.image, x.blade, _skeleton(carried), tgt[d]))
+    if save:
+        from ..core.io import encode_png
+        h = max(x.image.shape[0] for x in leaves)
+        row = np.hstack([np.pad(x.on_white(), ((0, h - x.image.shape[0]), (0, 4), (0, 0)), constant_values=1)
+                         for x in leaves])
+        with open(save, "wb") as f:
+            f.write(encode_png(row))
+    return dict(name=name, sharp=lv_new / lv_ex, iou_new=median_pair_iou([x.blade for x in leaves]),
+                iou_ex=median_pair_iou(list(bl)), cut=float(cut), pet_dev=pet_dev,
+                foreign=float(np.nanmean(f_new)), foreign_ex=float(f_ex),
+                vein_cont=float(np.nanmean(cont)) if cont else float("nan"),
+                vein_cont_min=float(np.nanmin(cont)) if cont else float("nan"),
+                vein_cont_ex=float(np.nanmean(cont_ex)) if cont_ex else float("nan"), cpu_s=sec)
+
+
+def _procedural(kind, size, seed, n=4):
+    from ._measure import _family_on_canvas, _TrueRegistration
+    from .analysis import analyze
+    fam, _, kps, shape = _family_on_canvas(kind, size, n, seed)
+    regs = [_TrueRegistration(k, kps[0], shape) for k in kps]
+    return analyze(fam, 0, {"veins": fam[0].layers["veins"], "spots": fam[0].layers["spots"]}, registrations=regs)
+
+
+def speed(size: int = 1000, n: int = 2):
+    """CPU seconds and peak memory (tracemalloc, ru_maxrss) of ``generate_leaf`` at ``size`` px."""
+    from .synthesis import _prepared, generate_leaf
+    a = _procedural("lobed", size, 0, 3)
+    mp = a.blades[0].size / 1e6
+    t0 = time.process_time()
+    _prepared(a)
+    prep = time.process_time() - t0
+    rss0 = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    secs = []
+    for s in range(n):
+        t0 = time.process_time()
+        generate_leaf(a, s)
+        secs.append(time.process_time() - t0)
+    rss1 = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    tracemalloc.start()
+    generate_leaf(a, n)
+    _, peak = tracemalloc.get_traced_memory()
+    tracemalloc.stop()
+    return dict(mp=mp, prepare_s=prep, leaf_s=float(np.median(secs)), peak_mb=peak / 2**20,
+                maxrss_mb=rss1 / 1024, maxrss_growth_mb=(rss1 - rss0) / 1024)
+
+
+def _print(r):
+    print(f"{r['name']:<22} sharp {r['sharp']:.2f}  iou new {r['iou_new']:.2f} ex {r['iou_ex']:.2f}  "
+          f"cut {r['cut']:.2f}  pet_dev {r['pet_dev']:5.1f}  foreign {r['foreign']:.3f} (ex {r['foreign_ex']:.3f})  "
+          f"vein_cont {r['vein_cont']:.2f} min {r['vein_cont_min']:.2f} (ex {r['vein_cont_ex']:.2f})  "
+          f"{r['cpu_s']:.2f} s/leaf", flush=True)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(prog="python -m branchnb.leaves._measure_synthesis",
+                                 description=__doc__.split("\n")[0])
+    ap.add_argument("what", choices=("procedural", "speed", "pickle"))
+    ap.add_argument("path", nargs="?")
+    ap.add_argument("--n", type=int, default=6)
+    ap.add_argument("--sizes", default="192,320")
+    ap.add_argument("--seeds", type=int, default=2)
+    ap.add_argument("--save", default=None, help="folder for a PNG row of the new leaves per analysis")
+    args = ap.parse_args(argv)
+    if args.what == "speed":
+        print(speed())
+        return
+    if args.what == "pickle":
+        with open(args.path, "rb") as f:
+            a = pickle.load(f)
+        name = args.path.rsplit("/", 1)[-1].split(".")[0]
+        _print(synthesis_row(a, args.n, name=name, save=f"{args.save}/{name}.png" if args.save else None))
+        return
+    for kind in ("lobed", "trilobed", "elliptic"):
+        for size in (int(s) for s in args.sizes.split(",")):
+            for seed in range(args.seeds):
+                a = _procedural(kind, size, seed)
+                name = f"{kind}_{size}_{seed}"
+                _print(synthesis_row(a, args.n, name=name,
+                                     save=f"{args.save}/{name}.png" if args.save else None))
+
+
+if __name__ == "__main__":
+    main()
