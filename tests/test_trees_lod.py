@@ -180,10 +180,8 @@ def test_exported_levels_keep_the_side_outline_of_drawn_trees(drawn_cloud):
         assert np.abs(engine_view(lv.cloud, 0.0) - engine_view(bare, 0.0)).max() < 1e-3
         for yaw in (45.0, 90.0):
             assert rim_ink_share(engine_view(lv.cloud, yaw), ink) >= rim_ink_share(engine_view(bare, yaw), ink)
-    full90 = rim_ink_share(engine_view(chain[0].cloud, 90.0), ink)
-    gain = full90 - rim_ink_share(engine_view(drawn_cloud, 90.0), ink)
-    # Baking adds the missing ink; a crown of whole cards (drawn_cards) has its outlines already.
-    assert gain > 0.1 or full90 >= 0.9, (gain, full90)
+    gain = rim_ink_share(engine_view(chain[0].cloud, 90.0), ink) - rim_ink_share(engine_view(drawn_cloud, 90.0), ink)
+    assert gain > 0.1, gain
     # A cloud without an outlined silhouette is left as it is.
     from branchnb.trees.synthetic import synthetic_tree
 

@@ -42,7 +42,7 @@ def test_whole_cards_keep_fruit_rings_without_smear(n):
     # Before (drawn_cards=False): ~500 billboards, smear 0.004-0.012, recall at 90 degrees 0.34-0.40.
     img = _fruit_tree(n)
     old = billboard_cloud(img, params=BillboardParams(drawn_cards=False), rng=0)
-    new = billboard_cloud(img, rng=0)
+    new = billboard_cloud(img, params=BillboardParams(drawn_cards=True), rng=0)
     assert new.n_billboards < 20 < old.n_billboards
     front = engine_view(new, 0.0, crop="image")
     assert float(np.abs(front[..., :3] * front[..., 3:] - img[..., :3] * img[..., 3:]).max()) < 0.02
@@ -54,7 +54,8 @@ def test_whole_cards_keep_fruit_rings_without_smear(n):
 @pytest.mark.parametrize("name,size", [("christmas_tree_root_flare", 160), ("arbre_modern", 200)])
 def test_drawn_samples_keep_inner_outlines_from_the_side(name, size):
     # Before: recall at 45 degrees 0.60 / 0.59 at 200 px (christmas tree: 593 billboards, smeared hatching).
-    cloud = billboard_cloud(_resized(data.load(name), size), params=BillboardParams(max_size=size), rng=0)
+    cloud = billboard_cloud(_resized(data.load(name), size), params=BillboardParams(max_size=size, drawn_cards=True),
+                            rng=0)
     baked = bake_side_outline(cloud)
     f = side_line_figures(baked, 45.0)
     assert f["recall"] >= 0.9 and f["smear"] <= 0.005, f

@@ -1,7 +1,7 @@
 """Side views of drawn trees' billboard clouds: inner outlines, smear, rim ink (issue 24), not run by the tests.
 
 ``python -m branchnb.trees._measure_lines [sizes] [groups] [drawn_cards] [names]``
-(defaults ``96,200,512``, ``rpg,clip,ground,drawn``, ``1``): for every tree
+(defaults ``96,200,512``, ``rpg,clip,ground,drawn``, ``1``: ``drawn_cards=True``): for every tree
 of :func:`~branchnb.trees._measure_sides.trees` at each size, the cloud
 (``BillboardParams(max_size=size, drawn_cards=...)``) baked as exported
 (:func:`~branchnb.trees.lod.bake_side_outline`), and per side view (45 and

@@ -1,17 +1,20 @@
 """Billboard clouds, step 6b: a drawn crown as whole cards (not in the paper, issue 24).
 
-With ``BillboardParams(drawn_cards=True)`` (the default), a drawn tree whose
+With ``BillboardParams(drawn_cards=True)`` (opt-in), a drawn tree whose
 crown holds inner outlines (:func:`has_inner_outlines`) is built from its
 drawn shapes only: every fill region bounded by strokes, the largest one
 (the crown's base fill) included, is one billboard carrying its whole
-outline, instead of the base fill being cut into superpixels with rear and
-interior copies in fill colour. Seen from the side, those copies and pieces
+outline, instead of the base fill being cut into superpixels with rear,
+interior and core copies in fill colour. Seen from the side, those copies and pieces
 covered the strokes with flat-colour blobs; whole cards keep every inner
 outline. Where a card's shape has a hole holding other shapes (fruits, a
 clump drawn over the base fill), the hole is underpainted with the card's
 nearest fill colour (:func:`_underpaint`), and the shapes in it are put in
 front of the card (:func:`_nest_cards`), so that the front view is the
 drawing and a side view shows fill, not sky, where the shapes moved away.
+Not yet handled: shapes in a notch of the silhouette or between several
+pieces of a split base fill leave sky when they move away (see
+``BillboardParams.drawn_cards``).
 
 Part of :func:`~branchnb.trees.billboard.billboard_cloud`.
 """
