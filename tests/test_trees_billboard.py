@@ -114,7 +114,8 @@ def test_front_billboards_tile_the_crown(cloud):
     crown = cloud.superpixels > 0
     # Billboards overlap only where they grew over same-coloured neighbours.
     tiling = billboard_cloud(cloud.image, np.zeros(cloud.image.shape[:2], bool),
-                             BillboardParams(max_size=320, overlap=0.0, n_interior=0, rear_layer=False), rng=0)
+                             BillboardParams(max_size=320, overlap=0.0, n_interior=0, rear_layer=False,
+                                                             drawn_cards=False), rng=0)
     assert sum(1 for i in np.flatnonzero(tiling.layer == FRONT)) > 100
     assert (cover[crown] >= 1).all()              # every crown pixel covered
     # Edge replacement leaves (almost) every superpixel in one piece.
@@ -537,7 +538,8 @@ def test_palm_with_merged_fronds_keeps_its_strokes_from_the_side(monkeypatch):
     from branchnb.trees.quality import side_view_figures
 
     img = drawn_tree("palm", rng=1, size=128)                # fronds merge at the hub in the line art
-    params = BillboardParams(max_size=128)
+    # The rules for fronds on the superpixel path (whole cards, drawn_cards, make them moot).
+    params = BillboardParams(max_size=128, drawn_cards=False)
     fan = side_view_figures(billboard_cloud(img, params=params, rng=0), 90.0)
     assert fan["fragments"] <= fan["fragments0"] + 1e-3, fan  # the default: the fan crown, one billboard
     monkeypatch.setattr(bb, "_STAR_ONE", False)              # fronds on cards: the lobes rule

@@ -101,8 +101,12 @@ def _ink_and_width(img: np.ndarray, op: np.ndarray, width):
     return ink, int(w)
 
 
+_FADING = True
+
+
 def _weak_ink(img: np.ndarray, op: np.ndarray, ink: np.ndarray) -> np.ndarray:
-    """Opaque pixels next to ink, less than 0.6 of the way from the ink to the fill beside them.
+    """Opaque pixels connected to ink through pixels less than 0.6 of the way from the ink to the
+    fill beside them.
 
     A pixel half covered by a 1 px stroke (resampled) sits half-way between the ink and
     the fill it lies on (the lightest pixel within 2 px).
@@ -114,8 +118,17 @@ def _weak_ink(img: np.ndarray, op: np.ndarray, ink: np.ndarray) -> np.ndarray:
     lum = img[..., :3] @ _LUM
     dark = float(np.median(lum[ink]))
     fill = ndi.maximum_filter(np.where(op & ~ink, lum, dark), size=5)
-    near = ndi.binary_dilation(ink, _EIGHT) & ~ink & op
-    return near & (lum <= dark + 0.6 * (fill - dark))
+    cand = op & ~ink & (lum <= dark + 0.6 * (fill - dark))
+    if not _FADING:
+        return cand & ndi.binary_dilation(ink, _EIGHT)
+    # A stroke that fades out (an arc drawn lighter towards its end, resampled at a small size)
+    # goes on through such pixels: every one connected to ink through them joins it (issue 24:
+    # arbre_modern's fading arc at 96 px read as an open stroke).
+    lab, n = ndi.label(cand | ink, structure=_EIGHT)
+    hit = np.zeros(n + 1, bool)
+    hit[np.unique(lab[ink])] = True
+    hit[0] = False
+    return cand & hit[lab]
 
 
 def stray_ink(image, *, width: int | None = None, min_length: int | None = None,
