@@ -338,7 +338,7 @@ def _retuned(analysis, changes):
         masks = []
         for e in range(len(a.blades)):
             m = user.copy() if e == t else _induced(combined[e], delta, tr_iou, old.snapped, e, a.blades[e],
-                                                    taken[e])
+                                                    taken[e], centred=old.centred)
             if e != t and old.contrast is not None and old.contrast[e] is not None and tr_iou >= COLOUR_RELIABLE:
                 m = trim_by_contrast(without_blobs(m, user, a.blades[t], a.blades[e]), old.contrast[e])
             taken[e] |= m

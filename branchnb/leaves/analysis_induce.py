@@ -114,6 +114,10 @@ class LayerInduction:
         Per exemplar, each pixel's high-pass colour along the thin layer's
         contrast direction there, which its induced mask was trimmed by
         (:func:`~branchnb.leaves.own_contrast.trim_by_contrast`); None where not trimmed.
+    centred : list of (H, W) bool ndarray or None, optional
+        The snapped paths grown to the side and width of each exemplar's own
+        vein (:func:`~branchnb.leaves.snapping._grow_to_width`); joined to
+        ``{D < delta}`` beside it (:func:`_induced`).
     """
 
     name: str
@@ -130,6 +134,7 @@ class LayerInduction:
     neighbourhood: int = 1
     snapped: list | None = field(default=None, repr=False)
     contrast: list | None = field(default=None, repr=False)
+    centred: list | None = field(default=None, repr=False)
 
     def spatial(self, e: int) -> np.ndarray:
         """``F(x, c)`` on exemplar ``e`` (recomputed from the stored terms).
@@ -258,7 +263,7 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         q = [_quantise_lab(lab, space) for lab in labs]
         cdf = layer_cdfs(q[t], user, space.bins)
         report(step / steps, f"layer {name}: snapping to each exemplar's ridges")  # "cancel" stops here too
-        snapped, own, ridge_px = _snapped(residual, blades, t, user, registrations, stats, tolerance, params,
+        snapped, own, ridge_px, centred = _snapped(residual, blades, t, user, registrations, stats, tolerance, params,
                                           labs=labs)
         # The training leaf's colour model where the exemplar's layer has its
         # colour (it is exact there; re-estimated from the found pixels it lost
@@ -303,7 +308,8 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         for e in range(n):
             report(step / steps, f"layer {name}: residual of exemplar {e + 1}/{n}")
             step += 1
-            m = user.copy() if e == t else _induced(combined[e], delta, tr_iou, snapped, e, blades[e], taken[e])
+            m = user.copy() if e == t else _induced(combined[e], delta, tr_iou, snapped, e, blades[e], taken[e],
+                                                                     centred=centred)
             # Only where the exemplar's layer has its own colour model (re-chosen
             # on same-coloured leaves too, whenever the training delta found
             # under half of the exemplar's ridge pixels, a lobed leaf's spots
@@ -312,7 +318,8 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
             if d_e > delta:
                 # Beyond the training leaf's delta only next to the exemplar's own layer pixels.
                 near = ndi.binary_dilation(ridge_px[e], iterations=1)
-                m = m | _induced(np.where(near, combined[e], np.inf), d_e, tr_iou, snapped, e, blades[e], taken[e])
+                m = m | _induced(np.where(near, combined[e], np.inf), d_e, tr_iou, snapped, e, blades[e], taken[e],
+                                  centred=centred)
             if e != t and snapped is not None and tr_iou >= COLOUR_RELIABLE and own_px[e] is not None:
                 # Where {D < delta} is induced (the snapped paths alone are drawn to width already:
                 # trimmed, the sample maples' induced veins lost half their width, IoU 0.64 -> 0.43).
@@ -335,7 +342,7 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         residuals.append(list(residual))
         out.append(LayerInduction(name, lam, overlap, delta, tr_iou, masks, colour, combined,
                                   reg_user, dist, [ln[0] for ln in lengths], n_px,
-                                  snapped=snapped, contrast=contrast))
+                                  snapped=snapped, contrast=contrast, centred=centred))
         step += 1
     report(1.0, "induction done")
     return out, residuals, space
@@ -407,7 +414,7 @@ def _long_network(user, blade, *, share: float = 1.0) -> bool:
 COLOUR_RELIABLE = 0.5
 
 
-def _induced(combined, delta, training_overlap, snapped, e, blade, taken):
+def _induced(combined, delta, training_overlap, snapped, e, blade, taken, *, centred=None):
     """The induced layer on exemplar ``e``: ``{D < delta}``, with a thin layer's snapped ridges.
 
     Where the colour term reproduces the user's layer on the training leaf
@@ -418,9 +425,9 @@ def _induced(combined, delta, training_overlap, snapped, e, blade, taken):
     leaf's); where it does not, the snapped structure alone (``{D < delta}``
     is then mostly blade of the layer's colour: measured on the sample
     maples with their hand-traced veins, mean IoU 0.30 with it, 0.34 without).
-    With the colour term, the snapped pixels next to ``{D < delta}`` (one
-    pixel) join it: the snapped paths, grown towards their vein's side
-    (:func:`~branchnb.leaves.snapping._grow_to_width`), fill the pixels the
+    With the colour term, the ``centred`` snapped pixels next to ``{D < delta}``
+    (one pixel) join it: the snapped paths, grown to their vein's side and
+    width (:func:`~branchnb.leaves.snapping._grow_to_width`), fill the pixels the
     colour term left beside its thin veins (procedural elliptic 192 px,
     training leaf 2 -> exemplar 3, seed 2: IoU 0.64 -> 0.70); all of them
     (a union) added the off-vein paths too (lobed 192 px 0.81 -> 0.80).
@@ -433,7 +440,9 @@ def _induced(combined, delta, training_overlap, snapped, e, blade, taken):
     # The snapped paths (grown to the side their vein lies) where they run
     # beside {D < delta}: the colour term, averaged over a neighbourhood,
     # puts a thin vein's pixels one pixel off along whole side veins.
-    return m | (snapped[e] & blade & ~taken & ndi.binary_dilation(m))
+    if centred is None or centred[e] is None:
+        return m
+    return m | (centred[e] & blade & ~taken & ndi.binary_dilation(m))
 
 
 def _matched_lab(image, stats, e, t, params):
@@ -482,8 +491,9 @@ def _ridge_extension(residual, blades, t, e, user, m, stats, params, *, level: f
 def _snapped(residual, blades, t, user, registrations, stats, tolerance, params, *, labs=None):
     """The thin layer ``user`` snapped onto each exemplar's own ridges, and each exemplar's own contrast.
 
-    Returns ``(masks, own)``: ``masks`` None (not thin / off) or one mask
-    per exemplar (None on the training leaf); ``own[e]`` the contrast
+    Returns ``(masks, own, pixels, centred)``: ``masks`` None (not thin / off) or one mask
+    per exemplar (None on the training leaf), ``centred`` the same paths grown to each
+    exemplar's own vein (:func:`~branchnb.leaves.snapping._grow_to_width`); ``own[e]`` the contrast
     direction of exemplar ``e``'s own layer where it differs from the
     training leaf's (:func:`branchnb.leaves.own_contrast.exemplar_direction`), else None.
     """
@@ -493,7 +503,7 @@ def _snapped(residual, blades, t, user, registrations, stats, tolerance, params,
     own = [None] * len(blades)
     pixels = [None] * len(blades)
     if not params.snap or not is_thin_layer(user):
-        return None, own, pixels
+        return None, own, pixels, None
     if labs is None:
         labs = [_matched_lab(r, stats, e, t, params) for e, r in enumerate(residual)]
     d_t = contrast_direction(labs[t], user, blades[t])
@@ -506,9 +516,9 @@ def _snapped(residual, blades, t, user, registrations, stats, tolerance, params,
                                               return_pixels=True)
             own[e] = d if took else None
             pixels[e] = pix
-    masks, _ = snap_to_exemplars(labs, blades, t, user, registrations, tolerance=tolerance,
-                                 radius_widths=params.snap_radius, directions=own)
-    return masks, own, pixels
+    masks, _, centred = snap_to_exemplars(labs, blades, t, user, registrations, tolerance=tolerance,
+                                          radius_widths=params.snap_radius, directions=own, return_centred=True)
+    return masks, own, pixels, centred
 
 
 #: An exemplar's layer has another colour than the training leaf's when its

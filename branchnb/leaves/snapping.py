@@ -412,15 +412,19 @@ def snap_layer(evidence, blade, chains, widths, tolerance: float, *, min_evidenc
     min_evidence : float
         A path whose mean evidence is below this is dropped (no vein there).
     centre : (H, W) float ndarray, optional
-        Per-pixel vein likelihood (:func:`vein_centre`); the path is grown
-        to its width towards the side where it is higher (see
-        :func:`_grow_to_width`). None (default): grown evenly on both sides.
+        Per-pixel vein likelihood (:func:`vein_centre`): the paths are also
+        grown by the exemplar's own contrast (see :func:`_grow_to_width`),
+        returned as ``centred``. None (default): not.
 
     Returns
     -------
     mask : (H, W) bool ndarray
+        The paths grown evenly to the branches' widths.
     kept : float
         Fraction of the branches' length that was kept.
+    centred : (H, W) bool ndarray
+        Only with ``centre``: the paths grown to the side and width of the
+        exemplar's own vein.
 
     Examples
     --------
@@ -436,6 +440,7 @@ def snap_layer(evidence, blade, chains, widths, tolerance: float, *, min_evidenc
     blade = as_mask(blade, shape=ev.shape, name="blade")
     h, w = ev.shape
     out = np.zeros((h, w), bool)
+    centred = np.zeros((h, w), bool)
     # Paths may cross a hole in the blade (a damaged leaf): the vein runs on past it.
     whole = ndi.binary_fill_holes(blade)
     tol = max(1.0, float(tolerance))
@@ -484,9 +489,13 @@ def snap_layer(evidence, blade, chains, widths, tolerance: float, *, min_evidenc
         kept_len += length
         drawn = np.zeros_like(line)
         drawn[path[:, 0], path[:, 1]] = True
-        out[y0:y1, x0:x1] |= _grow_to_width(drawn, float(width),
-                                            None if centre is None else centre[y0:y1, x0:x1])
-    return out & blade, (kept_len / total if total > 0 else 0.0)
+        out[y0:y1, x0:x1] |= _grow_to_width(drawn, float(width))
+        if centre is not None:
+            centred[y0:y1, x0:x1] |= _grow_to_width(drawn, float(width), centre[y0:y1, x0:x1])
+    kept = kept_len / total if total > 0 else 0.0
+    if centre is not None:
+        return out & blade, kept, centred & blade
+    return out & blade, kept
 
 
 def _area_widths(mask, chains) -> list:
@@ -579,9 +588,9 @@ def _grow_to_width(path, width: float, score=None) -> np.ndarray:
 
 #: A pixel beside a snapped path joins the vein when its contrast is at least
 #: this share of the path pixel's nearest it (:func:`_grow_to_width`).
-GROW_LEVEL = 0.5
+GROW_LEVEL = 0.4
 #: Largest area per path pixel, in the training branch's (scaled) widths.
-GROW_CAP = 1.0
+GROW_CAP = 1.3
 
 
 def vein_centre(lab, blade, direction, width: float) -> np.ndarray:
@@ -684,7 +693,7 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
                       radius_widths: float = 3.0, min_evidence: float = 0.2, refine: bool = True,
                       line_frac: float = 0.08, fit: bool = True, fit_reach: float = 0.2, oriented: bool = True,
                       trace: bool = True, trace_kw=None, lightness_share: float = 0.3, directions=None,
-                      mirror: bool = True, grow_to_centre: bool = True):
+                      mirror: bool = True, return_centred: bool = False):
     """The training layer ``user`` snapped onto every exemplar's own ridges.
 
     Parameters
@@ -740,10 +749,10 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
         (:func:`~branchnb.leaves.snapping_mirror.mirror_missing`: a branch
         with no counterpart on the other side of the midrib gets its mirror
         image as a candidate), default True.
-    grow_to_centre : bool
-        Grow each path to its width towards the side its vein lies
-        (:func:`vein_centre`, partial last shell of :func:`_grow_to_width`),
-        default True; False: evenly on both sides, to the nearest whole shell.
+    return_centred : bool
+        Also return ``centred``: the same paths grown by each exemplar's own
+        contrast, to the side and width of its vein (:func:`vein_centre`,
+        :func:`_grow_to_width`); default False.
 
     Returns
     -------
@@ -751,6 +760,8 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
         ``None`` for the training leaf.
     kept : list of float
         Fraction of the layer's length found on each exemplar (1 on the training leaf).
+    centred : list of (H, W) bool ndarray or None
+        Only with ``return_centred``.
     """
     t = training_index
     chains, widths = layer_branches(user)
@@ -776,12 +787,13 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
         return d
     training_direction = projected(contrast_direction(labs[t], user, blades[t]))
     radius = max(3.0, 1.5 * float(tolerance), float(radius_widths) * width)
-    masks, kept = [], []
+    masks, kept, centred_masks = [], [], []
     size_t = np.sqrt(float(blades[t].sum()))
     for e, (lab, b) in enumerate(zip(labs, blades)):
         if e == t:
             masks.append(None)
             kept.append(1.0)
+            centred_masks.append(None)
             continue
         direction = training_direction
         if directions is not None and directions[e] is not None:
@@ -830,27 +842,38 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
         # The path itself on the finest ridge response (one-pixel scale, no
         # line averaging): the centre of a 3 px vein, not of its blurred halo.
         pev = ridge_evidence(lab, b, direction, 1.0)
-        centre = vein_centre(lab, b, direction, width) if grow_to_centre else None
+        centre = vein_centre(lab, b, direction, width) if return_centred else None
         if rim.any():
             pev = np.where(rim, 0.0, pev).astype(np.float32)
         sw = [wd * scale for wd in widths]
-        m, k = snap_layer(pev, b, carried[:n_user], sw[:n_user], tube, min_evidence=min_evidence, centre=centre)
+        got = snap_layer(pev, b, carried[:n_user], sw[:n_user], tube, min_evidence=min_evidence, centre=centre)
+        m, k = got[0], got[1]
+        mcen = got[2] if centre is not None else m
         if len(carried) > n_user:
             # A candidate (a mirrored branch) is kept only where it found a
             # vein of its own: not one a branch of the user's already took.
             taken = ndi.binary_dilation(m, iterations=max(2, int(np.ceil(max(sw[:n_user], default=1.0)))))
             for c, wd in zip(carried[n_user:], sw[n_user:]):
-                mc, _ = snap_layer(pev, b, [c], [wd], tube, min_evidence=min_evidence, centre=centre)
+                gc = snap_layer(pev, b, [c], [wd], tube, min_evidence=min_evidence, centre=centre)
+                mc = gc[0]
                 if mc.any() and (mc & taken).sum() < 0.5 * mc.sum():
                     m = m | mc
+                    mcen = mcen | (gc[2] if centre is not None else mc)
         if fit and chains and STRAY_LEVEL > 0:
             # As long as the layer's typical main branch at least: a vein, not a crease.
             typical = scale * float(np.median([np.hypot(*np.diff(c, axis=0).T).sum() for c in chains]))
-            m = m | _stray_ridges(ev, b, m, STRAY_LEVEL, max(STRAY_LENGTH * np.sqrt(float(b.sum())), typical))
+            extra = _stray_ridges(ev, b, m, STRAY_LEVEL, max(STRAY_LENGTH * np.sqrt(float(b.sum())), typical))
+            m = m | extra
             if SIDE_LEVEL > 0:
-                m = m | _side_ridges(ev, b, m, SIDE_LEVEL, typical)
+                side = _side_ridges(ev, b, m, SIDE_LEVEL, typical)
+                m = m | side
+                extra = extra | side
+            mcen = mcen | extra
         masks.append(m)
         kept.append(k)
+        centred_masks.append(mcen)
+    if return_centred:
+        return masks, kept, centred_masks
     return masks, kept
 
 
