@@ -85,7 +85,7 @@ True
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import cv2
 import numpy as np
@@ -97,7 +97,7 @@ from ..core.params import check_params, param
 from ..core.random import as_rng
 from ..core.sampling import stipple
 from ..core.validate import Real, checked
-from .billboard_cards import _nest_cards, _underpaint, has_inner_outlines
+from .billboard_cards import _nest_cards, _underpaint, cards_hold, has_inner_outlines
 from .billboard_layers import _cut, _recolour, _same_colour_overlap, _shading, _trim, _trunk_strips
 from .billboard_lines import _LUM3, _colour_span3, _fill_lines, _line_masks, _outer_lines, line_art
 from .billboard_shapes import (
@@ -436,6 +436,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
     img, opaque_full = tree_rgba(rgba, alpha_threshold=p.alpha_threshold, min_pixels=16, name="rgba")
     rng = as_rng(rng)
     H0, W0 = opaque_full.shape
+    seg = None
     if trunk is None or isinstance(trunk, Segmentation):
         seg = segment_tree(img, rng=rng) if trunk is None else trunk
         # Ground clutter at the foot (a leaf pile, an island, a stand) joins
@@ -450,6 +451,9 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
         trunk_full = trunk_full.astype(bool)
     if trunk is not None and not isinstance(trunk, Segmentation):
         ground_full = None
+    # The generator's state here: the superpixel cloud a card cloud is checked against
+    # (cards_hold) is built from it, as a build with drawn_cards=False would be.
+    rng_state = rng.bit_generator.state
     work, s = _working_image(img, p.max_size)
     H, W = work.shape[:2]
     alpha = work[:, :, 3]
@@ -798,7 +802,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
 
     # Texels cut off their billboard's piece would float from the side: each goes to the
     # billboard it touches in the front view (billboard_crumbs; the front view is unchanged).
-    return adopt_crumbs(BillboardCloud(
+    cloud = adopt_crumbs(BillboardCloud(
         centers=np.asarray(centers, np.float64).reshape(-1, 3),
         sizes=np.asarray(sizes, np.float64).reshape(-1, 2),
         texture=np.asarray(tex_idx, np.int64),
@@ -808,6 +812,15 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
         textures=textures, axis=axis, image=work, superpixels=sp_lab,
         depth=hmap, replaced=curves, scale=s, lines=lines, line_masks=line_masks,
     ))
+    if all_cards:
+        # Whole cards only where they hold up from the side (billboard_cards.cards_hold).
+        again = type(rng.bit_generator)()
+        again.state = rng_state
+        plain = billboard_cloud(rgba, seg if seg is not None else trunk, replace(p, drawn_cards=False),
+                                rng=np.random.Generator(again))
+        if not cards_hold(cloud, plain):
+            return plain
+    return cloud
 
 
 def _front_overlay(cloud: BillboardCloud) -> np.ndarray:
