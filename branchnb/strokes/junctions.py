@@ -112,6 +112,8 @@ def find_junctions(strokes: list[Stroke], tolerance: float, sources: list[Stroke
 
     Raises
     ------
+    TypeError
+        If ``sources`` is not a list of :class:`~branchnb.strokes.strokes.Stroke`.
     ValueError
         If ``sources`` has not one stroke per stroke.
 
@@ -123,6 +125,9 @@ def find_junctions(strokes: list[Stroke], tolerance: float, sources: list[Stroke
     >>> [(j.child, j.end, j.parent, j.parent_s) for j in find_junctions([trunk, branch], 3)]
     [(1, 0, 0, 50.0)]
     """
+    if sources is not None and (not isinstance(sources, (list, tuple))
+                                or not all(isinstance(s, Stroke) for s in sources)):
+        raise TypeError(f"sources must be a list of Stroke or None, got {type(sources).__name__}")
     if sources is not None and len(sources) != len(strokes):
         raise ValueError(f"sources must have one stroke per stroke ({len(strokes)}), got {len(sources)}")
     out = []
