@@ -5,9 +5,11 @@ import numpy as np
 import pytest
 
 from branchnb import data
+from branchnb.trees import billboard
 from branchnb.trees._measure_sides import _resized
 from branchnb.trees.billboard import BillboardParams, billboard_cloud
-from branchnb.trees.billboard_cards import _holes, _underpaint, has_inner_outlines
+from branchnb.trees.billboard_cards import _holes, _underpaint, cards_hold, has_inner_outlines
+from branchnb.trees.drawn import drawn_trees
 from branchnb.trees.lod import bake_side_outline, engine_view
 from branchnb.trees.quality import stray_ink
 from branchnb.trees.side_lines import inner_lines, side_line_figures
@@ -38,8 +40,11 @@ def test_front_view_scores_full_recall_and_no_smear():
 
 
 @pytest.mark.parametrize("n", [96, 128])
-def test_whole_cards_keep_fruit_rings_without_smear(n):
+def test_whole_cards_keep_fruit_rings_without_smear(n, monkeypatch):
     # Before (drawn_cards=False): ~500 billboards, smear 0.004-0.012, recall at 90 degrees 0.34-0.40.
+    # The cards unchecked: by default (cards_hold) this tree keeps its superpixel cloud, whose
+    # recall at 45 degrees is higher (0.66 / 0.64 against 0.62 with cards).
+    monkeypatch.setattr(billboard, "_CHECK_CARDS", False)
     img = _fruit_tree(n)
     old = billboard_cloud(img, params=BillboardParams(drawn_cards=False), rng=0)
     new = billboard_cloud(img, params=BillboardParams(drawn_cards=True), rng=0)
@@ -59,6 +64,31 @@ def test_drawn_samples_keep_inner_outlines_from_the_side(name, size):
     baked = bake_side_outline(cloud)
     f = side_line_figures(baked, 45.0)
     assert f["recall"] >= 0.9 and f["smear"] <= 0.005, f
+
+
+def test_cards_are_the_default_and_fall_back_where_they_leave_sky():
+    # A fruit tree with a leaf pile (fruits in notches of the silhouette): whole cards showed sky
+    # from the side (rim ink 0.965 -> 0.947 at 45 degrees, 96 px), so the default build is the
+    # superpixel cloud, exactly as with drawn_cards=False.
+    assert BillboardParams().drawn_cards
+    (name, img), = drawn_trees((True,), kinds=("fruit",), rng=0, size=96)
+    assert name == "fruit_pile_0"
+    new = billboard_cloud(img, params=BillboardParams(max_size=96), rng=0)
+    old = billboard_cloud(img, params=BillboardParams(max_size=96, drawn_cards=False), rng=0)
+    assert new.n_billboards == old.n_billboards > 100
+    assert np.array_equal(new.centers, old.centers)
+    assert all(np.array_equal(a, b) for a, b in zip(new.textures, old.textures))
+
+
+def test_cards_hold_where_they_keep_the_side_views():
+    # A sample with tiers (christmas_tree_in_tray, 96 px): cards kept, recall at 45 degrees
+    # 0.55 (superpixels) -> 1.0.
+    img = _resized(data.load("christmas_tree_in_tray"), 96)
+    new = billboard_cloud(img, params=BillboardParams(max_size=96), rng=0)
+    old = billboard_cloud(img, params=BillboardParams(max_size=96, drawn_cards=False), rng=0)
+    assert new.n_billboards < 20 < old.n_billboards
+    assert cards_hold(new, old) and not cards_hold(old, new)
+    assert side_line_figures(bake_side_outline(new), 45.0)["recall"] >= 0.95
 
 
 def test_has_inner_outlines_tells_outlined_shapes_from_a_plain_crown():

@@ -85,7 +85,7 @@ True
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import cv2
 import numpy as np
@@ -97,7 +97,7 @@ from ..core.params import check_params, param
 from ..core.random import as_rng
 from ..core.sampling import stipple
 from ..core.validate import Real, checked
-from .billboard_cards import _nest_cards, _underpaint, has_inner_outlines
+from .billboard_cards import _nest_cards, _underpaint, cards_hold, has_inner_outlines
 from .billboard_layers import _cut, _recolour, _same_colour_overlap, _shading, _trim, _trunk_strips
 from .billboard_lines import _LUM3, _colour_span3, _fill_lines, _line_masks, _outer_lines, line_art
 from .billboard_shapes import (
@@ -136,6 +136,8 @@ __all__ = [
 ]
 
 FRONT, REAR, INTERIOR, TRUNK_LAYER, CORE = 0, 1, 2, 3, 4
+#: Whether a card crown is checked against the superpixel cloud (billboard_cards.cards_hold).
+_CHECK_CARDS = True
 LAYER_NAMES = {FRONT: "front", REAR: "rear", INTERIOR: "interior", TRUNK_LAYER: "trunk", CORE: "core"}
 
 
@@ -201,13 +203,18 @@ class BillboardParams:
         with inner outlines (:func:`~branchnb.trees.billboard_cards.has_inner_outlines`)
         is built from whole cards only (:mod:`branchnb.trees.billboard_cards`),
         without rear, interior or core copies, so side views keep the inner
-        outlines and show no smeared fill. Off by default: on outlined
-        clip art it raises the inner-outline recall at 45 degrees
-        (:func:`~branchnb.trees.side_lines.side_line_figures`) from about
-        0.6 to 0.87-1.0 and the rim ink of arbre_modern, but a broadleaf
-        whose base fill is cut in pieces by clumps reaching the rim shows
-        sky where the clumps move away (rim ink 0.92 -> 0.89 at 96 px,
-        0.97 -> 0.87 for a fruit tree with a leaf pile at 200 px).
+        outlines and show no smeared fill. Cards do not suit every drawing:
+        shapes in a notch of the silhouette or between pieces of a split
+        base fill leave sky when they move in depth (rim ink 0.97 -> 0.87
+        at 45 degrees on a fruit tree with a leaf pile). So the card cloud
+        is kept only when it is no worse from the side than the superpixel
+        cloud of the same tree
+        (:func:`~branchnb.trees.billboard_cards.cards_hold`: inner-outline
+        recall at 45 and 90 degrees, rim ink of the full and reduced levels
+        at 45 degrees, front PSNR >= 30 dB); otherwise the superpixel cloud
+        is returned, exactly as with ``drawn_cards=False``. The check builds
+        both clouds and draws them, so such crowns take about three times
+        as long to build.
     line_width : float
         Widest stroke taken for line art, as a fraction of the tree's size
         (0 disables line art).
@@ -262,9 +269,10 @@ class BillboardParams:
                                            "with its whole outline, only the crown's base fill is split; hidden "
                                            "layers show the base fill, so side views keep the inner outlines "
                                            "and scatter no fruit (not in the paper)")
-    drawn_cards: bool = param(False, help="a crown drawn with inner outlines is built from its drawn shapes "
-                                          "as whole cards, without hidden copies: side views keep the inner "
-                                          "outlines, no smear (not in the paper; opt-in, see the docstring)")
+    drawn_cards: bool = param(True, help="a crown drawn with inner outlines is built from its drawn shapes "
+                                         "as whole cards, without hidden copies, where that holds up from "
+                                         "the side (checked against the superpixel cloud): side views keep "
+                                         "the inner outlines, no smear (not in the paper)")
     line_width: float = param(0.04, min=0.0, max=0.2, step=0.005,
                               help="widest stroke taken for line art, as a fraction of the tree's size")
     max_size: int = param(1024, min=64, max=4096, step=64,
@@ -436,6 +444,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
     img, opaque_full = tree_rgba(rgba, alpha_threshold=p.alpha_threshold, min_pixels=16, name="rgba")
     rng = as_rng(rng)
     H0, W0 = opaque_full.shape
+    seg = None
     if trunk is None or isinstance(trunk, Segmentation):
         seg = segment_tree(img, rng=rng) if trunk is None else trunk
         # Ground clutter at the foot (a leaf pile, an island, a stand) joins
@@ -450,6 +459,9 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
         trunk_full = trunk_full.astype(bool)
     if trunk is not None and not isinstance(trunk, Segmentation):
         ground_full = None
+    # The generator's state here: the superpixel cloud a card cloud is checked against
+    # (cards_hold) is built from it, as a build with drawn_cards=False would be.
+    rng_state = rng.bit_generator.state
     work, s = _working_image(img, p.max_size)
     H, W = work.shape[:2]
     alpha = work[:, :, 3]
@@ -798,7 +810,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
 
     # Texels cut off their billboard's piece would float from the side: each goes to the
     # billboard it touches in the front view (billboard_crumbs; the front view is unchanged).
-    return adopt_crumbs(BillboardCloud(
+    cloud = adopt_crumbs(BillboardCloud(
         centers=np.asarray(centers, np.float64).reshape(-1, 3),
         sizes=np.asarray(sizes, np.float64).reshape(-1, 2),
         texture=np.asarray(tex_idx, np.int64),
@@ -808,6 +820,15 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
         textures=textures, axis=axis, image=work, superpixels=sp_lab,
         depth=hmap, replaced=curves, scale=s, lines=lines, line_masks=line_masks,
     ))
+    if all_cards and _CHECK_CARDS:
+        # Whole cards only where they hold up from the side (billboard_cards.cards_hold).
+        again = type(rng.bit_generator)()
+        again.state = rng_state
+        plain = billboard_cloud(rgba, seg if seg is not None else trunk, replace(p, drawn_cards=False),
+                                rng=np.random.Generator(again))
+        if not cards_hold(cloud, plain):
+            return plain
+    return cloud
 
 
 def _front_overlay(cloud: BillboardCloud) -> np.ndarray:
