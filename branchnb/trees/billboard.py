@@ -723,7 +723,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
         r = max(1, int(round(0.02 * max(np.ptp(ys_c), np.ptp(xs_c)))))
         core = cv2.erode(crown_ext.astype(np.uint8), cv2.getStructuringElement(
             cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))) > 0
-        if regions and not all_cards:
+        if regions:
             # Under the background and its decorations only: the other shapes (tiers,
             # fronds) are cards of their own, which a flat crown on the axis would cover
             # in side views.
