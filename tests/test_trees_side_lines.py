@@ -131,3 +131,49 @@ def test_stray_ink_follows_a_stroke_that_fades_out():
     assert stray_ink(img, width=2) == 0
     img[20, 40:54, :3] = (0.2, 0.7, 0.2)                    # cut off: an open stroke
     assert stray_ink(img, width=2) == 1
+
+
+def _three_lobes() -> np.ndarray:
+    """An outlined cartoon crown of three overlapping lobes (the side lobes' outlines run on under the
+    top lobe as arcs) with curl strokes, 220 px: no sample is drawn so."""
+    c = np.zeros((220, 220, 4), np.uint8)
+    fill, ink = (60, 150, 70, 255), (20, 30, 20, 255)
+    cv2.rectangle(c, (98, 120), (122, 205), (90, 60, 40, 255), -1)
+    cv2.rectangle(c, (98, 120), (122, 205), ink, 2)
+    lobes = [(80, 95, 45), (140, 95, 45), (110, 60, 48)]
+    for x, y, r in lobes:
+        cv2.circle(c, (x, y), r, fill, -1)
+    for x, y, r in lobes:
+        cv2.circle(c, (x, y), r, ink, 2)
+    for x, y, r in lobes[:2]:
+        cv2.circle(c, (x, y), r - 4, fill, -1)
+    cv2.circle(c, (110, 60), 46, fill, -1)
+    for x, y, r in lobes[:2]:
+        cv2.ellipse(c, (x, y), (r, r), 0, -200, 20, ink, 2)
+    cv2.circle(c, (110, 60), 48, ink, 2)
+    for x, y in ((95, 50), (125, 70), (75, 105), (145, 100)):
+        cv2.ellipse(c, (x, y), (12, 8), 0, 200, 340, ink, 2)
+    return c.astype(np.float32) / 255
+
+
+def test_cards_that_open_sky_inside_the_crown_fall_back(monkeypatch):
+    """Three outlined lobes: raw cards show 2-12 % of their opaque pixels as sky inside the crown at 45
+    and 90 degrees (the lobes move apart in depth); the default build falls back to the superpixel cloud,
+    whose side views are closed."""
+    from scipy import ndimage as ndi
+
+    img = _three_lobes()
+
+    def sky(cloud, yaw):
+        solid = engine_view(bake_side_outline(cloud), yaw)[..., 3] > 0.5
+        return float((ndi.binary_fill_holes(solid) & ~solid).sum()) / solid.sum()
+
+    default = billboard_cloud(img, rng=0)
+    plain = billboard_cloud(img, params=BillboardParams(drawn_cards=False), rng=0)
+    monkeypatch.setattr(billboard, "_CHECK_CARDS", False)
+    raw = billboard_cloud(img, rng=0)
+    assert len(raw.centers) < len(plain.centers)  # the crown qualifies for cards
+    assert max(sky(raw, 45.0), sky(raw, 90.0)) > 0.015
+    assert len(default.centers) == len(plain.centers)
+    assert np.array_equal(default.centers, plain.centers)
+    assert max(sky(default, 45.0), sky(default, 90.0)) <= 0.005

@@ -145,6 +145,9 @@ def _side_figures(cloud) -> dict:
     out = {"psnr": 10 * np.log10(1.0 / max(float(np.mean((front - ref) ** 2)), 1e-10))}
     for yaw in CHECK_YAWS:
         out[f"recall{yaw:g}"] = side_line_figures(baked, yaw)["recall"]
+        # Sky seen through the crown: cards moved apart in depth open gaps inside the silhouette.
+        solid = engine_view(baked, float(yaw))[..., 3] > 0.5
+        out[f"closed{yaw:g}"] = 1.0 - float((ndi.binary_fill_holes(solid) & ~solid).sum()) / max(int(solid.sum()), 1)
     o = silhouette_outline(cloud.image)
     if o.outlined:
         red = reduce_cloud(cloud)
@@ -153,6 +156,12 @@ def _side_figures(cloud) -> dict:
         out["rrim"] = rim_ink_share(engine_view(rbaked, 45.0, cards=side_outline_cards(red, baked=rbaked)),
                                     o.ink)
     return out
+
+
+#: Sky a card cloud may show through its side views beyond the superpixel cloud's (share of its opaque
+#: pixels): a drawing's own holes widen a little when their rims move in depth (arbre_modern at 200 px:
+#: 0.8 %), while cards moved apart open gaps of 2-12 % (three outlined lobes, 45 and 90 degrees).
+SKY_TOLERANCE = 0.015
 
 
 def cards_hold(cards, plain, *, min_psnr: float = 30.0) -> bool:
@@ -168,7 +177,10 @@ def cards_hold(cards, plain, *, min_psnr: float = 30.0) -> bool:
     at 45 and 90 degrees and, on an outlined tree, the rim ink share at 45
     degrees of the full and reduced levels with their side cards
     (:func:`~branchnb.trees.outline.rim_ink_share`) are each no lower than
-    the superpixel cloud's, and the front view keeps ``min_psnr``.
+    the superpixel cloud's, no more sky shows through the side views at
+    those yaws (holes inside the silhouette, per opaque pixel; up to
+    :data:`SKY_TOLERANCE` more), and the
+    front view keeps ``min_psnr``.
 
     Parameters
     ----------
@@ -193,4 +205,5 @@ def cards_hold(cards, plain, *, min_psnr: float = 30.0) -> bool:
     a, b = _side_figures(cards), _side_figures(plain)
     if a["psnr"] < min_psnr:
         return False
-    return all(a[k] >= b[k] - 1e-9 for k in b if k != "psnr" and k in a)
+    return all(a[k] >= b[k] - (SKY_TOLERANCE if k.startswith("closed") else 1e-9)
+               for k in b if k != "psnr" and k in a)
