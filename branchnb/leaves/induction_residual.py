@@ -13,6 +13,9 @@ from ..core.image import as_mask, as_rgb, extend_nearest
 
 __all__ = ["remove_layer", "telea"]
 
+#: Margin (px) around the blade's box :func:`remove_layer` works in.
+BOX_PAD = 8
+
 
 def telea(image: np.ndarray, hole: np.ndarray, radius: float = 3.0) -> np.ndarray:
     """OpenCV Telea inpainting of a float image, channel by channel at 16 bits.
@@ -84,6 +87,16 @@ def remove_layer(image, blade, mask, *, grow: int = 1, thin_width: float = 6.0,
     mask = as_mask(mask, shape=rgb.shape[:2], name="mask") & blade
     out = rgb.copy()
     if not mask.any():
+        return out
+    rows, cols = np.flatnonzero(blade.any(1)), np.flatnonzero(blade.any(0))
+    pad = BOX_PAD + int(grow)
+    y0, y1 = max(int(rows[0]) - pad, 0), min(int(rows[-1]) + 1 + pad, rgb.shape[0])
+    x0, x1 = max(int(cols[0]) - pad, 0), min(int(cols[-1]) + 1 + pad, rgb.shape[1])
+    if (y1 - y0) * (x1 - x0) < 0.9 * blade.size:
+        # Only the blade's box changes: work there (a padded canvas is 2-5x
+        # larger; the nearest-colour extension and the fills only read the blade).
+        out[y0:y1, x0:x1] = remove_layer(rgb[y0:y1, x0:x1], blade[y0:y1, x0:x1], mask[y0:y1, x0:x1], grow=grow,
+                                         thin_width=thin_width, patch_size=patch_size, rng=rng)
         return out
     if grow > 0:
         mask = ndi.binary_dilation(mask, iterations=int(grow)) & blade
