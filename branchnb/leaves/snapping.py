@@ -895,9 +895,9 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
             return m, k, mcen
         m, k, mcen = place(chains, widths, n_user)
         if n_mirrored:
-            # A completed layer may only add veins to the user's: where its
-            # candidates moved the user's own branches (the template fit posed
-            # all of them together), the user's layer alone is placed.
+            # A completion may only add to the user's layer: where it moved
+            # the user's own branches (the template fit poses all of them
+            # together) for little new vein, the user's layer alone is placed.
             m0, k0, mcen0 = place(user_chains, user_widths, len(user_chains))
             if not adds_only(m0, m, max(3.0, 1.5 * width * scale)):
                 m, k, mcen = m0, k0, mcen0
