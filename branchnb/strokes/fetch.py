@@ -61,6 +61,7 @@ RGBA image; for an opaque image it is the union of the copied patches.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
 
 import cv2
@@ -357,7 +358,8 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
             wmax = float(raw[k][1].max()) if has_alpha else 0.0
             r = patch_size / 2.0 if patch_size > 0 else (float(auto_radius(wmax)) if has_alpha else OPAQUE_RADIUS)
             uniq[key] = _distance_map(st, (h, w), reach=max(r, 2.0 * wmax) + 24.0)
-    d_min = np.min(np.stack([d for d, _ in uniq.values()]), axis=0) if len(uniq) > 1 else None
+    # (pairwise minimum: no (N, H, W) stack; the same values)
+    d_min = functools.reduce(np.minimum, [d for d, _ in uniq.values()]) if len(uniq) > 1 else None
     # pixel coordinates as a row and a column (broadcast: no full-image grids)
     yy, xx = np.arange(h, dtype=np.float32)[:, None], np.arange(w, dtype=np.float32)[None, :]
 
