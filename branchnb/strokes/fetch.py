@@ -509,7 +509,17 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
                     held |= o[b]
                 margin = np.where(inked[b], np.where(held, 0.0, _OPAQUE_MARGIN), _tube_margin(tube[b]))
                 ramp = np.where(tubes[key][5][b], 1.0, np.clip(tube[b] + margin - d[b] + 0.5, 0.0, 1.0))
-                weight[b] *= np.where(interior[b], ramp, 1.0).astype(np.float32)
+                # Beyond the ends, no unstroked part farther than a tip's length (the
+                # cap of pass 1): a free end's patch (radius ~1.2 w) reaches past the
+                # tip onto a neighbouring part (a lizard's hind leg ending next to its
+                # front foot, 150 px: the foot was copied with the turned leg and left
+                # floating). Such a part is carried or dropped as a whole instead.
+                tb = tube[b]
+                cap = np.minimum(np.maximum(2.0 * tb, 8.0) + 2.0,
+                                 (patch_size / 2.0 if patch_size > 0 else auto_radius(tb)) - 2.0)
+                beyond = part_mask[b] & ~interior[b]
+                ramp = np.where(interior[b], ramp, np.where(beyond, np.clip(cap - d[b] + 0.5, 0.0, 1.0), 1.0))
+                weight[b] *= ramp.astype(np.float32)
             done[key] = (own & (weight > 0), weight)
         s_maps.append(s_map)
         allowed.append(done[key][0])
