@@ -155,7 +155,7 @@ from ..core.sampling import stipple
 from .dendrite import Dendrite, build_dendrite
 from .endpoints import _snap_into, place_endpoints, random_endpoints
 from .importance import ImportanceParams, darkness, importance_map
-from .lattice import Lattice, node_weights
+from .lattice import Lattice, direction_factors, node_weights
 from .pareidolia_crown import _FORK_SPAN, _fork_point, content_crown, side_ramp, tree_crown  # noqa: F401
 from .pareidolia_widths import _refine_tone, _shrink, _stretch, _thickness
 from .planner import plan
@@ -296,6 +296,15 @@ class PareidoliaParams:
         their parent's ink) and wide at their ends in dark regions: stalks
         ending in round blobs that read as dots, not twigs (see the module
         docstring).
+    rise : float
+        Beyond the paper: twigs grow toward the light. In the later iterations
+        a lattice step up costs ``1 - rise`` times its length and a step down
+        ``1 + rise`` (:func:`~branchnb.dendrite.lattice.direction_factors`);
+        0.04 (0 = the paper's isotropic lattice). On the flat cost of a dark
+        region the lattice noise alone shaped the twigs: short squiggles,
+        widened by the tone match into bean-shaped blobs; a slight rise makes
+        them grow up from their branches in sprays (see the module docstring).
+        0.1 or more turns the twigs into vertical hatching.
 
     Examples
     --------
@@ -366,6 +375,8 @@ class PareidoliaParams:
     refine: int = param(2, min=0, max=5,
                         help="tone-match passes on the drawing at the output's size (0 = none)")
     slim: bool = param(True, help="twigs never wider toward their ends (no club-shaped twigs)")
+    rise: float = param(0.04, min=0.0, max=0.5, step=0.01,
+                        help="twigs grow up: a step up costs 1 - rise, a step down 1 + rise")
 
 
 @dataclass
@@ -596,6 +607,8 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
     ends = ends[rng.permutation(len(ends))]
     # growing batches over iterations 2..n (each twice the previous)
     n_it = p.iterations - 1
+    # twigs grow toward the light (beyond the paper): up a little cheaper, down dearer
+    rise = direction_factors(up=1.0 - p.rise, down=1.0 + p.rise) if p.rise > 0 else None
     sizes = 2.0 ** np.arange(n_it)
     cuts = np.round(np.cumsum(sizes) / sizes.sum() * len(ends)).astype(int)
     start = 0
@@ -605,7 +618,7 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
         if len(batch) == 0:
             continue
         metric, a = iteration_metric(i, tp)
-        lat = Lattice(node_weights(cost, epsilon=p.epsilon, noise=noise, rng=rng))
+        lat = Lattice(node_weights(cost, epsilon=p.epsilon, noise=noise, rng=rng), rise)
         seeds = np.zeros(h * w, bool)
         seeds[d.nodes] = True
         res = plan(lat, seeds.reshape(h, w), metric=metric, blend_weight=a)
