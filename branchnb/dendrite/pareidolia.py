@@ -143,7 +143,7 @@ twigs: squiggles about one endpoint spacing long, which the tone match widened i
 bean-shaped blobs, a texture of spots rather than twigs. The later iterations now plan
 on a lattice whose steps up cost ``1 - rise`` (0.96) and down ``1 + rise``, so twigs
 leave their branches upward in sprays; terminal twigs are also at least 3x (was 2x) as
-long as wide. Measured with the defaults (``/tmp/dendrite14/measure.py``) on dark beans
+long as wide. Measured with the defaults on dark beans
 on paper (300 / 900 px), a horse silhouette (400), a black tree on a hill (600), a cup
 photo (500), a portrait (250), a camera man (512), the night photo of a rocket (750), a
 drawn lizard (300) and a cat photo (1000): the share of the twigs' ink in compact twigs

@@ -330,7 +330,7 @@ def metaphor_params(p: StylizeParams, metaphor: str, shape, object_share: float,
     and dark beans (1200) the share of the ink on the main path (from the seed
     down the child that carries the most ink) went from 0.18 0.22 0.81 0.21 0.80
     0.65 0.34 to 0.45 0.52 0.78 0.40 0.55 0.38 0.68 and the tips from 231 211 87
-    210 44 116 46 to 59 51 23 54 10 33 11 (``/tmp/dendrite14/light.py``).
+    210 44 116 46 to 59 51 23 54 10 33 11.
 
     ``scale`` is image pixels per lattice pixel; the widths are returned in
     lattice pixels like every length of :class:`StylizeParams`.
