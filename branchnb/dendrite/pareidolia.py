@@ -109,7 +109,7 @@ of the tower. The limbs are now planned on the picture's darkness blurred over
 ``crown_blur / 2`` (their ends already were stippled on it): 7 % of the limb ink near
 the tower. Tone r at 4 px blur at 500 px on the rocket, a portrait, a cup photo, a dark
 camera photo, a dimmed cat photo and a dark drawn portrait went from 0.42 0.83 0.85 0.82
-0.78 0.84 to 0.50 0.87 0.89 0.83 0.85 0.87 (/tmp/d10/par.py); the limbs' reach
+0.78 0.84 to 0.50 0.87 0.89 0.83 0.85 0.87; the limbs' reach
 (branches wider than twice a twig, share of the crown's height) from 0.62 0.57 0.54 0.64
 to 0.65 0.45 0.53 0.66 on the portrait, cup, camera and cat.
 
