@@ -284,6 +284,15 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
     # The shape first: a convex blend of the inverse registration warps.
     wts = shape_weights(shape, n, params.shape_grid, params.shape_sigma * p.size, rng,
                         params.shape_concentration, params.shape_spread)
+    pose_from, size_from, lead = _exemplar_draws(int(seed), n)
+    if n > 1:
+        # The exemplar leading the shape (largest mean weight) is drawn
+        # from a stream of its own, so generate() can stratify it (see
+        # _stratified_seeds): the Dirichlet draw's weights are permuted to
+        # put its largest on ``lead`` (the same distribution).
+        top = int(np.argmax(wts.mean((1, 2))))
+        if top != lead:
+            wts[[top, lead]] = wts[[lead, top]]
     gain = float(np.sqrt(n * params.shape_concentration + 1.0)) if params.restore_spread and n > 1 else 1.0
     m = np.zeros(shape + (2,), np.float32)
     for i in range(n):
@@ -300,7 +309,6 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
     # the shape's weights, leaves of one dominant exemplar all lay alike
     # (IoU 0.76 against 0.51 on 3 trilobed exemplars). From a stream of its
     # own, so the other draws do not depend on it.
-    pose_from = int(np.random.default_rng((int(seed), 2)).integers(n))
     # A smoothed bootstrap of the pose (beyond the paper): one exemplar's,
     # turned by a Gaussian kernel of Silverman's bandwidth over the
     # exemplars' poses, cut at 1.5 bandwidths (from a stream of its own).
@@ -322,7 +330,7 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
     # of the shape (see _fit_size); that exemplar gives the background too,
     # so its texture is seen at its own scale (a small exemplar's residual
     # blown up to a large one's size came out blurred).
-    size_from = int(np.random.default_rng((int(seed), 3)).integers(n)) if params.own_size and n > 1 else -1
+    size_from = size_from if params.own_size and n > 1 else -1
     m0, pet, pet_j = m, None, -1
     for attempt in range(4):
         m = _fit_size(p, m0, size_from, 0.9 ** attempt)
@@ -422,6 +430,49 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
     inside = alpha > 0.5
     sw = [float(wts[i][inside].mean()) if inside.any() else float(wts[i].mean()) for i in range(n)]
     return GeneratedLeaf(img, int(seed), bg, chosen, sw, warps, pet_from)
+
+def _exemplar_draws(seed: int, n: int) -> tuple[int, int, int]:
+    """The exemplars giving leaf ``seed`` its pose, its size (and background) and its leading shape weight.
+
+    Each from a stream of its own of the seed, so the other draws do not depend on them.
+    """
+    return (int(np.random.default_rng((seed, 2)).integers(n)), int(np.random.default_rng((seed, 3)).integers(n)),
+            int(np.random.default_rng((seed, 6)).integers(n)))
+
+
+#: Largest number of candidate seeds tried per leaf by :func:`_stratified_seeds`.
+_STRATA_TRIES = 4096
+
+
+def _stratified_seeds(gen, count: int, n: int) -> np.ndarray:
+    """``count`` leaf seeds whose exemplar draws (:func:`_exemplar_draws`) are stratified over a batch.
+
+    Going beyond the paper. Drawn independently, two new leaves take the
+    same exemplar's pose (or size, or leading shape) one time in ``n``,
+    while two exemplars never are the same exemplar: with 4 exemplars,
+    new leaves overlapped each other more than the exemplars do (median
+    pairwise blade IoU 0.76 against 0.55 on a procedural elliptic family
+    whose leaves differ mostly by pose). Here the pose, size and lead
+    exemplars of consecutive leaves run through random permutations of the
+    exemplars (each on its own), and each leaf's seed is drawn until its
+    own draws are the wanted ones (rejection: every leaf is still
+    :func:`generate_leaf` of its seed). The lead exemplar is matched only
+    while ``n ** 3`` tries stay below ``_STRATA_TRIES``, then the size
+    too up to ``n ** 2``; beyond, only the pose.
+    """
+    seeds = gen.integers(0, 2**31 - 1, size=count)
+    if n < 2 or count < 2:
+        return seeds
+    parts = 3 if n ** 3 <= _STRATA_TRIES else 2 if n ** 2 <= _STRATA_TRIES else 1
+    want = [np.concatenate([gen.permutation(n) for _ in range(-(-count // n))])[:count] for _ in range(parts)]
+    for i in range(count):
+        target = tuple(int(w[i]) for w in want)
+        for _ in range(8 * _STRATA_TRIES):
+            if _exemplar_draws(int(seeds[i]), n)[:parts] == target:
+                break
+            seeds[i] = gen.integers(0, 2**31 - 1)
+    return seeds
+
 
 def _masked_blur(img, mask, sigma):
     """Gaussian blur of ``img`` over ``mask`` only (normalised convolution); ``img`` outside it.
@@ -552,7 +603,7 @@ def generate(analysis, n: int = 8, *, rng=None, params: SynthesisParams | None =
     params = check_params(params if params is not None else SynthesisParams(), name="params")
     check_callback(progress, "progress")
     gen = as_rng(rng)
-    seeds = gen.integers(0, 2**31 - 1, size=int(n))
+    seeds = _stratified_seeds(gen, int(n), len(analysis.exemplars))
     out = []
     for i, s in enumerate(seeds):
         if progress is not None:
