@@ -331,8 +331,11 @@ class _Prepared:
         a = self.analysis
         t = a.training_index
         self.petiole_rgba, self.petiole_base, self.petiole_jac = [], [], []
-        # Each exemplar's size: the square root of its lamina's area.
-        self.lamina_size = [float(np.sqrt(split_petiole(b)[0].sum())) for b in a.blades]
+        # Each exemplar's size: the square root of its lamina's area, and its lamina's centroid.
+        laminae = [split_petiole(b)[0] for b in a.blades]
+        self.lamina_size = [float(np.sqrt(lam.sum())) for lam in laminae]
+        self.lamina_centre = [np.array([np.nonzero(lam)[1].mean(), np.nonzero(lam)[0].mean()])
+                              if lam.any() else None for lam in laminae]
         _, pet_t, base_t = split_petiole(a.blades[t])
         self.base_t = base_t
         if base_t is not None:
@@ -369,9 +372,15 @@ class _Prepared:
         """Exemplar ``e``'s petiole (RGBA) in the output frame of the shape map ``m``, or None.
 
         The new leaf's base ``y_b`` is where ``m`` reaches the training
-        base; the petiole is moved there by the similarity (the rotation and
-        scale of the polar decomposition) of ``J_m(y_b)^-1 J_e(base_e)``:
-        how exemplar ``e``'s frame relates to the new leaf's at the base.
+        base; the petiole is moved there by a similarity whose scale is that
+        of the polar decomposition of ``J_m(y_b)^-1 J_e(base_e)`` (how
+        exemplar ``e``'s frame relates to the new leaf's at the base) and
+        whose rotation turns exemplar ``e``'s lamina axis (base to lamina
+        centroid) onto the new leaf's: the petiole keeps the angle it makes
+        with its own lamina. (The rotation of the local Jacobian followed
+        the blend's bending of the lamina right at the base: new maples'
+        petioles came out up to 18-20 degrees farther from the lamina's
+        axis than any exemplar's.)
         """
         if self.base_t is None or self.petiole_rgba[e] is None:
             return None
@@ -386,11 +395,36 @@ class _Prepared:
         if np.linalg.det(rot) < 0:  # no mirrored petiole
             u[:, -1] *= -1
             rot = u @ vt
+        axis_n = self._lamina_axis(m, yb)
+        c_e = self.lamina_centre[e]
+        if axis_n is not None and c_e is not None:
+            v_e = c_e - np.asarray(self.petiole_base[e], float)
+            if np.hypot(*v_e) > 1e-6:
+                t = float(np.arctan2(axis_n[1], axis_n[0]) - np.arctan2(v_e[1], v_e[0]))
+                rot = np.array([[np.cos(t), -np.sin(t)], [np.sin(t), np.cos(t)]])
         sim = rot * float(np.sqrt(sv.prod()))
         inv = np.linalg.inv(sim)
         q = (np.stack([self.xx, self.yy], -1) - yb) @ inv.T + self.petiole_base[e]
         img, off = self.petiole_rgba[e]
         return _sample(img, (q - off).astype(np.float32))
+
+    def _lamina_axis(self, m: np.ndarray, yb) -> np.ndarray | None:
+        """The new lamina's axis (from the base ``yb`` to its centroid) under the shape map ``m``, or None.
+
+        Measured on a grid of about 64 steps across the leaf (a centroid).
+        """
+        step = max(1, int(self.size // 64))
+        sub = np.ascontiguousarray(m[::step, ::step])
+        lam = _remap_values(self.alpha_t, sub)
+        inside = (sub[..., 0] >= 0) & (sub[..., 0] <= self.shape[1] - 1) & (sub[..., 1] >= 0) & (
+            sub[..., 1] <= self.shape[0] - 1)
+        lam = np.where(inside, lam, 0.0)
+        tot = float(lam.sum())
+        if tot <= 0:
+            return None
+        ys, xs = np.mgrid[0:self.shape[0]:step, 0:self.shape[1]:step]
+        v = np.array([(lam * xs).sum() / tot, (lam * ys).sum() / tot]) - np.asarray(yb, float)
+        return v if np.hypot(*v) > 1e-6 else None
 
     def source_detail(self, e: int) -> np.ndarray:
         """Exemplar ``e``'s background detail for texture correction (cached; see ``synthesis._correct``)."""
