@@ -408,7 +408,18 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
             under = _sample_sharp_at(p.layer_under[k][e][..., :3], c, on)
             lo, hi = p.layer_range[k]
             own = np.clip(rgb, *p.blade_range)
-            col = np.clip(rgb * col / np.maximum(under, 0.02), np.minimum(lo, own), np.maximum(hi, own))
+            # A layer lighter than the leaf under it (pale veins) is brought
+            # as a ratio of the light it lets through, 1 - (1 - rgb) (1 - col)
+            # / (1 - under) (a "screen"), a darker one as a ratio of the light
+            # (multiply): the ratio of a pale vein alone, on a background
+            # lighter than its own leaf, pushed it past every exemplar's vein
+            # (2-4 % of new blades' pixels above the exemplars' 99.5th
+            # percentile against 0.3-0.5 % in the exemplars, procedural
+            # families), which the blade's percentile clip had hidden by
+            # cutting every pale vein's crest.
+            mul = rgb * col / np.maximum(under, 0.02)
+            scr = 1.0 - (1.0 - rgb) * (1.0 - col) / np.maximum(1.0 - under, 0.02)
+            col = np.clip(np.where(col > under, scr, mul), np.minimum(lo, own), np.maximum(hi, own))
         wgt = (np.clip(_sample(p.layer_weights[k][e], c)[..., 0], 0, None) + 1e-6) * a_k
         cover = np.maximum(cover, a_k)
         mix += wgt[..., None] * col
@@ -470,17 +481,22 @@ def _stratified_seeds(gen, count: int, n: int) -> np.ndarray:
     exemplars are matched while ``n ** 2`` stays below ``_STRATA_TRIES``;
     beyond, only the lead.
     """
-    seeds = gen.integers(0, 2**31 - 1, size=count)
-    if n < 2 or count < 2:
-        return seeds
+    if n < 2:
+        return gen.integers(0, 2**31 - 1, size=count)
+    # Leaf by leaf (a block of n leaves per permutation), so a shorter batch
+    # from the same rng is the start of a longer one.
     parts = 2 if n ** 2 <= _STRATA_TRIES else 1
-    want = [np.concatenate([gen.permutation(n) for _ in range(-(-count // n))])[:count] for _ in range(parts)]
+    seeds = np.empty(count, np.int64)
     for i in range(count):
-        target = tuple(int(w[i]) for w in want)
+        if i % n == 0:
+            perms = [gen.permutation(n) for _ in range(parts)]
+        target = tuple(int(q[i % n]) for q in perms)
+        s = int(gen.integers(0, 2**31 - 1))
         for _ in range(8 * _STRATA_TRIES):
-            if _exemplar_draws(int(seeds[i]), n)[2:0:-1][:parts] == target:
+            if _exemplar_draws(s, n)[2:0:-1][:parts] == target:
                 break
-            seeds[i] = gen.integers(0, 2**31 - 1)
+            s = int(gen.integers(0, 2**31 - 1))
+        seeds[i] = s
     return seeds
 
 
