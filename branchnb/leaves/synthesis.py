@@ -175,6 +175,15 @@ class SynthesisParams:
     correct : bool
         Texture correction where the shape warp stretches or squeezes
         (default True).
+    donor_size_sigma : float
+        Each layer's donor is drawn with weights ``exp(-z^2 / 2)``, ``z``
+        the log of the donor's lamina size over the new leaf's, over this
+        sigma (default 0.05; 0: every donor alike, as in the paper). Not in
+        the paper: a layer is resampled at the ratio of the two sizes, and
+        a vein layer enlarged by 10 % keeps about 0.75 of its Laplacian
+        variance (a line's scales as ``s^-3``): on a procedural trilobed
+        family new leaves whose veins came from a donor 8-12 % smaller had
+        0.61-0.68 of the exemplars' high-frequency energy.
     layer_colour : {"contrast", "copy"}
         A layer brings its ratio to its own residual leaf (``"contrast"``,
         default; not in the paper) or pastes its colours (``"copy"``, the paper).
@@ -197,6 +206,8 @@ class SynthesisParams:
     restore_spread: bool = param(True, help="shapes depart from the mean shape as far as the exemplars do")
     smooth_bootstrap: bool = param(True, help="pose: one exemplar's plus a small Gaussian kernel")
     correct: bool = param(True, help="texture correction where the shape warp stretches")
+    donor_size_sigma: float = param(0.05, min=0.0, max=2.0, step=0.01,
+                                    help="layer donors of about the new leaf's size (log-size sigma; 0: any)")
     layer_colour: str = param("contrast", options=("contrast", "copy"),
                               help="a layer brings its contrast to its own leaf (contrast) or its colours (copy)")
 
@@ -370,6 +381,7 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
         rgb = _correct(rgb, alpha > 0.5, c_bg, p.stage[-1][bg], a.blades[bg],
                        np.random.default_rng((int(seed), 4)), p.source_detail(bg))
     warps = {"background": base_amp}
+    new_size = float(np.sqrt((alpha > 0.5).sum()))
     used = {bg}
     chosen = {}
     # Layers, bottom first, each from another exemplar with its own warp.
@@ -382,7 +394,15 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
         if not cands:
             continue
         fresh = [e for e in cands if e not in used]
-        e = int(rng.choice(fresh if fresh else cands))
+        pool = fresh if fresh else cands
+        if params.donor_size_sigma > 0 and len(pool) > 1 and new_size > 0:
+            # Donors of about the new leaf's size (see SynthesisParams.donor_size_sigma).
+            z = np.log(np.maximum([p.lamina_size[j] for j in pool], 1e-6) / new_size) / params.donor_size_sigma
+            w = np.exp(-0.5 * z ** 2)
+            w = w / w.sum() if w.sum() > 0 else np.full(len(pool), 1.0 / len(pool))
+            e = int(pool[int(rng.choice(len(pool), p=w))])
+        else:
+            e = int(rng.choice(pool))
         used.add(e)
         chosen[L.name] = e
         amp = base_amp + params.layer_warp * eps_px * (1.0 - p.structural[k])
