@@ -618,7 +618,11 @@ def generate(analysis, n: int = 8, *, rng=None, params: SynthesisParams | None =
     n : int
         Number of new leaves, 1 to 100000 (default 8).
     rng : int or Generator
-        Each leaf's seed is drawn from it (kept on the leaf).
+        Each leaf's seed is drawn from it (kept on the leaf). The seeds are
+        chosen so consecutive leaves take every exemplar in turn as the
+        leading shape (and pose) and as the size (random order per block
+        of as many leaves as exemplars); a shorter batch from the same
+        ``rng`` is the start of a longer one.
     params : SynthesisParams, optional
         None: ``SynthesisParams()`` (the defaults).
     progress : callable(fraction, text), optional
