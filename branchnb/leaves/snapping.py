@@ -927,7 +927,19 @@ BOX_PAD = 16
 
 
 def blade_box(blade, pad: int) -> tuple[int, int, int, int]:
-    """The blade's bounding box grown by ``pad`` px, clipped to the image: ``(y0, y1, x0, x1)``.
+    """The blade's bounding box grown by ``pad`` px, clipped to the image.
+
+    Parameters
+    ----------
+    blade : (H, W) array_like of bool
+        The blade mask.
+    pad : int
+        Pixels added on every side (negative values count as 0).
+
+    Returns
+    -------
+    (int, int, int, int)
+        ``(y0, y1, x0, x1)``, the whole image for an empty blade.
 
     Examples
     --------
