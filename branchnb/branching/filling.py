@@ -242,6 +242,11 @@ class _Filling:
                 continue
             pts = np.asarray(st.points[1:-2], np.float64)
             d = np.hypot(*(pts - goal).T)
+            head = self._below_head(bi)   # a delta's trunk parts at its head only
+            if head is not None:
+                d = np.where(head[1:-2], d, np.inf)
+                if not np.isfinite(d).any():
+                    continue
             v = int(np.argmin(d))
             cand.append((float(d[v]), bi, v + 1))
         cand.sort()

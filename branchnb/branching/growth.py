@@ -31,7 +31,7 @@ from .furcation import vertex_angles, window_features
 from .guidance import Guidance
 from .model import StructureModel
 from .params import SynthesisParams
-from .scoring import _continue_radii, _rank_key, binned_profile, score_candidates
+from .scoring import _continue_radii, _rank_key, _rotate, binned_profile, score_candidates
 from .straightness import RUN_MIN_MEAN, BendHistogram, StraightRuns
 
 __all__ = ["FILL_LENGTH_FACTOR", "GrowthProgress", "LENGTH_BOUND", "LENGTH_FACTOR", "length_cap", "winding",
@@ -363,6 +363,33 @@ class _Grower(_Filling):
     def _cap(self) -> int:
         return 64 + 4 * self.p.c
 
+    def _room_ahead(self, st, tip) -> bool:
+        """Does any of all the candidates (their directions) lead on below the density stop?"""
+        bm, p = self.model.bending, self.p
+        t = bm.windows(min(len(st.elem_a), bm.max_history()))[0]
+        t = t[bm.cont_len[t] > 0]
+        if not len(t):
+            return False
+        dc, cross = binned_profile(self.density, tip, _rotate(self.model.local_dirs[t], st.theta),
+                                   3.0 * p.m * p.h)
+        return bool(((~cross) & (dc < p.stop_density)).any())
+
+    def _below_head(self, bi: int) -> np.ndarray | None:
+        """A delta's trunk (a root, :class:`.domains._Drain`): which of its vertices lie at or below the
+        delta's head, where its channels part (beyond the paper, see :func:`.domains.head_share`);
+        None on any other branch or example. Sets the fan's apex at the head on first use."""
+        st = self.branches[bi]
+        if self.drain is None or st.parent is not None:
+            return None
+        share = self._head_share()
+        if share <= 0:
+            return None
+        pts = np.asarray(st.points, np.float64)
+        if not self.drain.head:
+            self.drain.set_head(pts, share)
+        dep = self.drain.depth_at(pts)
+        return dep <= share * dep[0]
+
     def _head_share(self) -> float:
         if self._head is None:
             m = self.model
@@ -403,7 +430,7 @@ class _Grower(_Filling):
 
     # -- starting branches ------------------------------------------------
     def _start_branch(self, x0, theta0, heads, Q, parent, parent_vertex, generation,
-                      betas=None, mirror=None, r_cap: float | None = None) -> int | None:
+                      betas=None, mirror=None, r_cap: float | None = None, full: bool = False) -> int | None:
         """Start a branch at ``x0`` with one of the candidate input heads (vectorised).
 
         ``r_cap`` (a child: the parent's radius at the junction) bounds the
@@ -414,8 +441,9 @@ class _Grower(_Filling):
         heads = np.asarray(heads, np.int64)
         if len(heads) == 0:
             return None
-        sub = self._share(len(heads))
+        sub = None if full else self._share(len(heads))
         if sub is not None:
+            every = (heads, Q, betas, mirror)
             heads, Q = heads[sub], np.asarray(Q)[sub]
             betas = None if betas is None else np.asarray(betas)[sub]
             mirror = None if mirror is None else np.asarray(mirror)[sub]
@@ -464,8 +492,11 @@ class _Grower(_Filling):
             span = np.where(valid, th, th[:, :1])
             score = np.where(np.ptp(span, axis=1) > MOUTH_TURN, score * 1e-9, score)
         j = self._pick(score, poly)
-        if j is None:
-            return None
+        if j is None:   # none of the share fits: all the heads (rare)
+            if sub is None:
+                return None
+            return self._start_branch(x0, theta0, every[0], every[1], parent, parent_vertex, generation,
+                                      every[2], every[3], r_cap, full=True)
         hd = int(heads[j])
         full = poly(j)
         ok = self._inside(full)
@@ -515,7 +546,7 @@ class _Grower(_Filling):
             self.drain.apex = np.array([x, y], np.float64)
         return self._start_branch(np.array([x, y], float), float(theta), pool, Q, None, None, 0)
 
-    def start_child(self, parent: int, vertex: int, toward=None) -> int | None:
+    def start_child(self, parent: int, vertex: int, toward=None, full: bool = False) -> int | None:
         model, fm = self.model, self.model.furcation
         st = self.branches[parent]
         pts = np.asarray(st.points)
@@ -528,7 +559,7 @@ class _Grower(_Filling):
             self._child_pool = (usable, betas)
         usable, betas = self._child_pool
         # a random share of the input furcations on large examples (MAX_CANDIDATES, speed)
-        sub = self._share(len(usable), MAX_CANDIDATES // (2 if self.p.mirror_children else 1))
+        sub = None if full else self._share(len(usable), MAX_CANDIDATES // (2 if self.p.mirror_children else 1))
         if sub is not None:
             usable, betas = usable[sub], betas[sub]
         heads = fm.child_index[usable]
@@ -548,13 +579,15 @@ class _Grower(_Filling):
         if toward is not None:   # a child grown into a hole starts toward it (``_Filling._fill_far``)
             theta0 = float(np.arctan2(toward[1] - pts[vertex][1], toward[0] - pts[vertex][0]))
             betas = np.zeros(len(heads))
-        return self._start_branch(pts[vertex], theta0, heads, Q, parent,
-                                  vertex, st.generation + 1, betas=betas, mirror=mirror,
-                                  r_cap=float(rad[vertex]))
+        c = self._start_branch(pts[vertex], theta0, heads, Q, parent, vertex, st.generation + 1,
+                               betas=betas, mirror=mirror, r_cap=float(rad[vertex]), full=full)
+        if c is None and sub is not None:   # none of the share fits: all the furcations (rare)
+            return self.start_child(parent, vertex, toward, full=True)
+        return c
 
     # -- growing ----------------------------------------------------------
-    def step(self, bi: int) -> bool:
-        """One Markov step of branch ``bi``; False when the branch stops."""
+    def step(self, bi: int, full: bool = False) -> bool:
+        """One Markov step of branch ``bi``; False when the branch stops (``full``: score every candidate)."""
         st, p = self.branches[bi], self.p
         if st.stop:
             return False
@@ -564,7 +597,7 @@ class _Grower(_Filling):
         tip = np.asarray(st.points[-1])
         self.steps += 1
         bm = self.model.bending
-        sub = self._share(len(bm.windows(min(len(st.elem_a), bm.max_history()))[0]))
+        sub = None if full else self._share(len(bm.windows(min(len(st.elem_a), bm.max_history()))[0]))
         cs = self.scorer(self.model, st.elem_a, st.elem_r, tip, st.theta, params=p,
                          matcher=self.matcher, density=self.density, guidance=self.guidance,
                          **({} if sub is None else {"subset": sub}))
@@ -625,10 +658,14 @@ class _Grower(_Filling):
         if self.density is not None:
             free = (~cs.crossing) & (n_arr > 0)
             if not free.any() or cs.D_c[free].min() >= p.stop_density:
+                if sub is not None and self._room_ahead(st, tip):   # the share missed the way out
+                    return self.step(bi, full=True)
                 st.stop = "density"
                 return False
         j = self._pick(score, poly)
         if j is None:
+            if sub is not None:
+                return self.step(bi, full=True)
             st.stop = "blocked"
             return False
         t, n = int(t_arr[j]), int(n_arr[j])
@@ -701,26 +738,20 @@ class _Grower(_Filling):
         rad = np.asarray(st.radii)
         length = (len(pts) - 1) * p.h
         weights = None
-        if self.drain is not None and st.parent is None:
-            # beyond the paper: a delta's channels part at its head and fan out from it
-            # (see ``.domains.head_share``); the trunk has no children above the head
-            share = self._head_share()
-            if not self.drain.head:
-                self.drain.set_head(pts, share)
-            if share > 0 and not extra:
-                dep = self.drain.depth_at(pts)
-                weights = (dep <= share * dep[0]).astype(np.float64)
-                if not weights.any():
-                    weights = None
+        head = self._below_head(bi)
         if extra:
             d = 1
             existing = [b.parent_vertex for b in self.branches if b.parent == bi]
             weights = self._room(pts) if self._empty_dt is not None else None
+            if head is not None:
+                weights = head * (1.0 if weights is None else weights)
             if weights is not None and not weights.any():
                 return []
         else:
             d = p.d if p.d >= 0 else self.model.furcation.sample_d(length, self.rng)
             existing = ()
+            if head is not None and head.any():
+                weights = head.astype(np.float64)
         verts = self.model.furcation.choose(pts, rad, d, min_spacing=p.min_spacing, existing=existing,
                                             weights=weights)
         kids = []
