@@ -45,7 +45,10 @@ def test_delta_distributaries_reach_the_sea(seed):
     top = np.argmax(sea, axis=0).astype(float)
     cov, _ = coverage_polylines(mask.shape, [b.points for b in res.structure.branches],
                                 [2 * b.thickness + 12 for b in res.structure.branches])
-    clear = ~(cov[:, :] > 0.01).any(axis=0)
+    # columns whose channels do not come near the sea edge (a fan may cross every column further inland)
+    edge = int(np.median(top))
+    clear = ~(cov[max(edge - 12, 0):edge + 12] > 0.01).any(axis=0)
+    assert clear.sum() >= 40
     # within 2 px: the bumps this guards against were 4-8 px (a notch per example mouth)
     assert np.abs(top[clear] - np.median(top[clear])).max() <= 2
 
