@@ -154,6 +154,10 @@ _CHECK_CARDS = True
 #: Lobes of one star (:func:`_merged_lobes`) share one depth, and thin arms of the trunk mask
 #: that run into the crown go to the crown (:func:`_stray_trunk_strokes`); ``_measure palms``
 #: turns them off to compare.
+#: Shapes in a notch of a card at the silhouette are nested in it like shapes in its holes
+#: (billboard_cards._nest_cards), and nested shapes' quads are centred on their card's (_centred_on).
+_NOTCHES = True
+_CENTRE_NESTED = True
 _JOIN_STARS = True
 _HUB_STROKES = True
 #: A fan crown (:func:`_fan_crown`) of an outlined drawing is one billboard turning about the
@@ -264,6 +268,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
     regions = p.drawn_regions and lines.any()
     all_cards = bool(regions and p.drawn_cards and has_inner_outlines(lines, crown, opaque))
     card_holes: dict = {}
+    card_owner: dict = {}
     if regions:
         stars: list = []
         sp_lab, background = _drawn_regions(work[:, :, :3], crown, lines & crown, n_segments=p.n_segments,
@@ -382,7 +387,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
                     z_front[g] = z_front[g].min()
         z_front = _lift_decorations(z_front, sp_lab, deco, background, mean_h, 2.0 * half + 1.5)
         if all_cards:
-            z_front, card_holes = _nest_cards(z_front, sp_ext, card, opaque)
+            z_front, card_holes, card_owner = _nest_cards(z_front, sp_ext, card, opaque, notches=_NOTCHES)
     zf_map = np.zeros((H, W), np.float32)
     front_tex = {}
     objs = ndi.find_objects(sp_ext)
@@ -393,6 +398,15 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
         grows &= ~shapes
         same_ok &= ~owned & ~np.isin(sp_lab, np.flatnonzero(shapes))
     r_over = int(round(p.overlap * np.sqrt(cnt[grows].mean()))) if grows.any() else 0
+    if card_holes:
+        objs = list(objs)
+        for k, hole in card_holes.items():
+            # A card's window covers the shapes in its notches (underpainted below).
+            if k - 1 < len(objs) and objs[k - 1] is not None:
+                ys, xs = np.nonzero(hole)
+                sl = objs[k - 1]
+                objs[k - 1] = (slice(min(sl[0].start, ys.min()), max(sl[0].stop, ys.max() + 1)),
+                               slice(min(sl[1].start, xs.min()), max(sl[1].stop, xs.max() + 1)))
     for k, sl in enumerate(objs, start=1):
         if sl is None or not valid[k]:
             continue
@@ -415,7 +429,10 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
         tex = work[sl].copy()
         tex[:, :, 3] *= keep
         if all_cards and k in card_holes:
-            tex = _underpaint(tex, keep, opaque[sl], sl, lines, 2.0 * half + 1.5)
+            tex = _underpaint(tex, keep, opaque[sl], sl, lines, 2.0 * half + 1.5, hole=card_holes[k],
+                              alpha=work[sl][:, :, 3])
+        if all_cards and k in card_owner and _CENTRE_NESTED:
+            x0, tex = _centred_on(x0, tex, _card_window(card_owner, k, objs, shape_lines))
         bid = add(x0, y0, tex, float(z_front[k]), 1.0, FRONT)
         front_tex[k] = (x0, y0, bid, tex_idx[bid])
         zf_map[sl][keep] = z_front[k]
@@ -587,3 +604,40 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
         if not cards_hold(cloud, plain):
             return plain
     return cloud
+
+
+def _card_window(owner: dict, k: int, objs, shape_lines: dict) -> tuple[int, int]:
+    """Columns ``[x0, x1)`` of the quad of the outermost card ``k`` is nested in (:func:`_nest_cards`)."""
+    seen = {k}
+    while k in owner and owner[k] not in seen:
+        k = owner[k]
+        seen.add(k)
+    sl = objs[k - 1]
+    x0, x1 = sl[1].start, sl[1].stop
+    if k in shape_lines:
+        win = shape_lines[k][0]
+        x0, x1 = min(x0, win[1].start), max(x1, win[1].stop)
+    return x0, x1
+
+
+def _centred_on(x0: int, tex: np.ndarray, window: tuple[int, int]) -> tuple[int, np.ndarray]:
+    """``(x0, tex)`` padded with transparent columns so that the quad's centre is ``window``'s.
+
+    Not in the paper (issue 24). Axial quads are drawn in the order of
+    their centres' depth: a shape drawn on a card (a fruit, a clump) whose
+    centre lies ``dx`` beside the card's turns behind it from yaws past
+    ``atan(dz / dx)``, and the card hides it. With one centre, the shape
+    stays on the card from every side, ``dz`` in front of it.
+    """
+    h, w = tex.shape[:2]
+    c2 = window[0] + window[1]                     # twice the card's centre
+    # The quad [x0 - pad_l, x0 + w + pad_r) centred on c2 / 2: pad on the side facing away.
+    if 2 * x0 + w < c2:
+        pad_l, pad_r = 0, c2 - (2 * x0 + w)
+    else:
+        pad_l, pad_r = (2 * x0 + w) - c2, 0
+    if not pad_l and not pad_r:
+        return x0, tex
+    out = np.zeros((h, w + pad_l + pad_r, tex.shape[2]), tex.dtype)
+    out[:, pad_l: pad_l + w] = tex
+    return x0 - pad_l, out
