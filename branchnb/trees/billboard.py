@@ -157,6 +157,8 @@ _CHECK_CARDS = True
 #: Shapes in a notch of a card at the silhouette are nested in it like shapes in its holes
 #: (billboard_cards._nest_cards), and nested shapes' quads are centred on their card's (_centred_on).
 _NOTCHES = True
+#: Cards joined by _join_cards become one card (_merge_cards).
+_MERGE_JOINED = True
 _CENTRE_NESTED = True
 _JOIN_STARS = True
 _HUB_STROKES = True
@@ -376,7 +378,17 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
     z_front = mean_h * (1.0 - p.darkness_depth * (1.0 - rank))
     if regions:
         z_front = _fit_cards(z_front, sp_lab, card, crown, hmap, axis, 2.0 * half + 1.5)
-        z_front = _join_cards(z_front, sp_lab, card, work[:, :, :3], 2.0 * half + 1.5)
+        joined: list = []
+        z_front = _join_cards(z_front, sp_lab, card, work[:, :, :3], 2.0 * half + 1.5, groups_out=joined)
+        if all_cards and _MERGE_JOINED and joined:
+            # One card per group of joined cards (one fill colour, meeting across strokes): pieces
+            # of a base fill split by clumps, lobes of one crown turn together from the side, and
+            # the shapes in the holes of their union are nested in it (beyond the paper).
+            sp_lab, sp_ext, shape_lines = _merge_cards(joined, sp_lab, sp_ext, shape_lines)
+            for g in joined:
+                card[g[1:]] = False
+                shapes[g[1:]] = False
+                valid[g[1:]] = False
         if _JOIN_STARS:
             # Lobes of one star (palm fronds merged at the hub) at one depth, their least: at
             # different depths the fronds tear apart at the hub from the side, and the hub's
@@ -641,3 +653,26 @@ def _centred_on(x0: int, tex: np.ndarray, window: tuple[int, int]) -> tuple[int,
     out = np.zeros((h, w + pad_l + pad_r, tex.shape[2]), tex.dtype)
     out[:, pad_l: pad_l + w] = tex
     return x0 - pad_l, out
+
+
+def _merge_cards(groups: list, sp_lab: np.ndarray, sp_ext: np.ndarray, shape_lines: dict):
+    """Labels (working and extended) and shape outlines with every group's cards under its first label."""
+    n = int(max(sp_lab.max(), sp_ext.max())) + 1
+    to = np.arange(n)
+    for g in groups:
+        to[np.asarray(g)] = g[0]
+    sp_lab, sp_ext = to[sp_lab].astype(sp_lab.dtype), to[sp_ext].astype(sp_ext.dtype)
+    out = dict(shape_lines)
+    for g in groups:
+        parts = [(k, out.pop(k)) for k in g if k in out]
+        if not parts:
+            continue
+        ya = min(w[0].start for _, (w, _) in parts)
+        yb = max(w[0].stop for _, (w, _) in parts)
+        xa = min(w[1].start for _, (w, _) in parts)
+        xb = max(w[1].stop for _, (w, _) in parts)
+        m = np.zeros((yb - ya, xb - xa), bool)
+        for _, (w, mk) in parts:
+            m[w[0].start - ya: w[0].stop - ya, w[1].start - xa: w[1].stop - xa] |= mk
+        out[g[0]] = ((slice(ya, yb), slice(xa, xb)), m)
+    return sp_lab, sp_ext, out
