@@ -121,7 +121,10 @@ def test_symmetric_maples_register_unmirrored_and_blend_into_leaf_shapes():
         assert blade.sum() > 0.5 * min(b.sum() for b in a.blades)
         # 0.96-0.97 measured: new leaves lie in the exemplars' mean pose (angles averaged), so
         # lobe tips and the donor's petiole, turned with the new leaf, reach a little past the union.
-        assert (blade & union).sum() >= 0.95 * blade.sum(), leaf.seed
+        # Since generate stratifies the leading exemplar over a batch (issue 22), every batch of 3
+        # has a leaf led by maple_leaf_07, whose registration covers its blade at IoU 0.78 only
+        # (maple_leaf_04: 0.88): 0.92 inside the union (a registration limit, not synthesis).
+        assert (blade & union).sum() >= 0.9 * blade.sum(), leaf.seed
 
 
 def test_new_maples_carry_their_donors_petiole(maple_analysis):
@@ -155,7 +158,10 @@ def test_new_maples_carry_their_donors_petiole(maple_analysis):
         turns = [np.array([[np.cos(t), -np.sin(t)], [np.sin(t), np.cos(t)]]) for t in np.radians(np.arange(-15, 16))]
         dist = {e: min(float(np.median(cKDTree(own[e]).query(pet @ r.T)[0])) for r in turns) for e in donors}
         other = min(d for e, d in dist.items() if e != leaf.petiole)
-        assert dist[leaf.petiole] < 4.0 and dist[leaf.petiole] < 0.3 * other, (leaf.seed, dist)
+        # Since petioles are turned by the lamina axes (issue 22), both donors' petioles hang
+        # alike from the base, so up to a 15-degree turn the other one lies about 1 px away too:
+        # the donor's own stays nearest (0.6 px against 1.1 px measured).
+        assert dist[leaf.petiole] < 4.0 and dist[leaf.petiole] < other, (leaf.seed, dist)
     assert got == donors  # the training leaf's petiole is not the only one
 
 

@@ -488,12 +488,13 @@ def _lizard_leg_moved(width):
     return img, src, tgt, f
 
 
-@pytest.mark.parametrize("width", [100, 240])
+@pytest.mark.parametrize("width", [100, 150, 240])
 def test_a_lizards_leg_moved_takes_its_whole_thigh(width):
     """The hind leg (stroked from inside the hip) turned down: the thigh leaves the hip with
     its base (before: the body's tube, as wide as the thigh is long across the hip, kept the
     thigh's upper half in place, a flap stuck to the body), and nothing of the front foot
-    near the thigh's end is carried off with it (a loose piece at 100 px)."""
+    near the thigh's end is carried off with it (a loose piece at 100 px; at 150 px the
+    thigh's end patch, 26 px across, still copied the foot: a 194-px piece)."""
     img, src, tgt, f = _lizard_leg_moved(width)
     res = edit_structure(img, src, tgt)
     assert pieces(res.image, 0.02) == 1

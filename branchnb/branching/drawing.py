@@ -59,6 +59,14 @@ class DrawingStyle:
         branch ends lie from the region boundary at most when they end at
         it (a delta's distributaries run into the sea); 0 when they end
         inland (a river's sources).
+    region_textures : dict or None
+        ``{label: (H', W', C) image}`` for regions that are not one flat
+        colour in the example (a map's relief in several greys): the
+        example's own pixels of that region with its lines and boundary
+        ink taken out (each such pixel takes the colour of the nearest
+        kept pixel of the region). :func:`draw_in_style` fills the region
+        from it at the same place (mirrored beyond its size). None or a
+        missing label: the flat colour.
     """
 
     region_colours: np.ndarray
@@ -69,6 +77,7 @@ class DrawingStyle:
     boundary_width: float
     outlet_reach: float = 0.0
     tip_reach: float = 0.0
+    region_textures: dict | None = None
 
 
 def _median_colour(img: np.ndarray, mask: np.ndarray, fallback) -> np.ndarray:
@@ -113,9 +122,13 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
                      for i in range(k)])
     centre = pm.dist <= 0.5
     branch_region = int(np.bincount(lay[centre], minlength=k).argmax()) if centre.any() else 0
-    line = _median_colour(img, centre, cols[branch_region])
     region_col = cols[lay]
     off_region = np.linalg.norm(img - region_col, axis=-1)
+    # the line's own colour: its centre pixels that stand out most (thin anti-aliased lines blend
+    # most of their centre pixels with the ground: their median drew pale rivers), the drawn width
+    # below then comes out narrower, so the ink per length stays the example's
+    strong = centre & (off_region >= np.percentile(off_region[centre], 67)) if centre.any() else centre
+    line = _median_colour(img, strong, cols[branch_region])
     unlike_region = off_region > tol
 
     def cover(colour):
@@ -196,8 +209,66 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
             body = np.median([d_out[_pixel(q, w, h)] for q in b.points])
             ends.append(d_out[iy, ix] if d_out[iy, ix] <= 0.5 * body else np.inf)
         tip_reach = _boundary_reach(ends, lim, share=0.5)
+    textures = _region_textures(img, lay, cols, pm, line, b_width if b_col is not None else 0.0,
+                                branch_region)
     return DrawingStyle(cols.astype(np.float32), branch_region, line.astype(np.float32), scale,
-                        None if b_col is None else b_col.astype(np.float32), b_width, reach, tip_reach)
+                        None if b_col is None else b_col.astype(np.float32), b_width, reach, tip_reach,
+                        textures or None)
+
+
+#: A region is textured when more than ``_TEXTURED_SHARE`` of its pixels away from the lines differ
+#: from its median colour by more than ``_TEXTURED_DEV`` (flat fills and their anti-aliasing stay flat).
+_TEXTURED_DEV = 0.06
+_TEXTURED_SHARE = 0.15
+
+
+def _region_textures(img: np.ndarray, lay: np.ndarray, cols: np.ndarray, pm: PixelMap, line: np.ndarray,
+                     boundary_width: float, branch_region: int) -> dict:
+    """The example's pixels of every region that is not one flat colour, without its lines or boundary.
+
+    Beyond the paper (which paints photographs with fragments): a drawn map whose land shows
+    relief in several greys kept only the land's median colour when drawn in style. The regions
+    the branches run through about as densely as through the branch region (>= 0.2x: relief
+    levels of the land, not the sea the rivers end at) form one group with it and share its
+    texture, so the output's land shows the example's relief.
+    """
+    out = {}
+    k = len(cols)
+    far = pm.dist > pm.radius + 3
+    centre = pm.dist <= 0.5
+    area = np.bincount(lay.ravel(), minlength=k).astype(float)
+    density = np.bincount(lay[centre], minlength=k) / np.maximum(area, 1.0)
+    group = set(np.flatnonzero(density >= 0.2 * density[branch_region]).tolist()) | {branch_region}
+    # ink of lines the structure does not hold (reservoirs, unextracted rivers): colours on the way from
+    # the ground to the line colour (within a cone around that segment; relief greys lie off it
+    # unless the lines are grey too)
+    c0 = np.asarray(cols[branch_region], np.float32)
+    d = np.asarray(line, np.float32) - c0
+    dd = float(d @ d)
+    ink = np.zeros(lay.shape, bool)
+    if dd > 0.01:
+        t = np.clip(((img - c0) @ d) / dd, 0.0, 1.0)
+        perp = np.linalg.norm(img - c0 - t[..., None] * d, axis=-1)
+        ink = (t > 0.25) & (perp < 0.35 * t * np.sqrt(dd))
+    groups = [sorted(group)] + [[i] for i in range(k) if i not in group]
+    for g in groups:
+        reg = np.isin(lay, g)
+        m = reg & far
+        if np.count_nonzero(m) < 50:
+            continue
+        dev = np.linalg.norm(img[m] - cols[g[0] if len(g) == 1 else branch_region], axis=-1)
+        if np.mean(dev > _TEXTURED_DEV) <= _TEXTURED_SHARE:
+            continue
+        # away from the region's edge (a drawn boundary and its anti-aliasing) and from any ink
+        inner = ndi.binary_erosion(reg, iterations=int(np.ceil(boundary_width)) + 2, border_value=1)
+        keep = (pm.dist > pm.radius + 2) & inner & ~ndi.binary_dilation(ink, iterations=1)
+        if np.count_nonzero(keep) < 50:
+            continue
+        _d, (iy, ix) = ndi.distance_transform_edt(~keep, return_indices=True)
+        tex = img[iy, ix].astype(np.float32)
+        for i in g:
+            out[i] = tex
+    return out
 
 
 def _drawn_against(edge, inside, lay, k, band, ink, unlike_region, pm):
@@ -326,10 +397,17 @@ def _to_outlets(structure: Structure, inside: np.ndarray, reach: float, tip_reac
     return Structure(fixed, image_shape=structure.image_shape)
 
 
+def _mirror(i: np.ndarray, n: int) -> np.ndarray:
+    """Indices ``i`` reflected into ``[0, n)`` (a texture repeated mirrored beyond its size)."""
+    i = np.mod(i, 2 * n)
+    return np.where(i < n, i, 2 * n - 1 - i)
+
+
 def draw_in_style(style: DrawingStyle, structure: Structure, labels: np.ndarray) -> np.ndarray:
     """Draw ``structure`` over the region map ``labels`` in ``style``; (H, W, C) float32.
 
-    Regions are filled with their colours, the boundary of the branch
+    Regions are filled with their colours (or the example's own pixels of
+    a textured region, see :class:`DrawingStyle`), the boundary of the branch
     region (not the frame) is drawn with the style's boundary line, then
     every branch with the line colour at ``width_scale * 2 r`` (at least one
     pixel, so no branch breaks into dots).
@@ -362,6 +440,11 @@ def draw_in_style(style: DrawingStyle, structure: Structure, labels: np.ndarray)
     h, w = lab.shape
     cols = style.region_colours
     img = cols[np.clip(lab, 0, len(cols) - 1)].astype(np.float32)
+    for i, tex in (style.region_textures or {}).items():
+        sel = lab == i
+        if sel.any() and tex.shape[2] == img.shape[2]:
+            ys, xs = np.nonzero(sel)
+            img[ys, xs] = tex[_mirror(ys, tex.shape[0]), _mirror(xs, tex.shape[1])]
     inside = lab == style.branch_region
 
     def paint(cov, colour):
@@ -385,9 +468,14 @@ def draw_in_style(style: DrawingStyle, structure: Structure, labels: np.ndarray)
             paint(cov, style.boundary_colour)
     clear = 2.0 * style.boundary_width + 2.0 if style.boundary_colour is not None else 0.0
     s = _to_outlets(structure, inside, style.outlet_reach, style.tip_reach, clear)
-    pls = [b.points for b in s.branches if len(b.points) >= 2]
-    wid = [np.maximum(style.width_scale * 2 * b.thickness, 1.0) for b in s.branches if len(b.points) >= 2]
+    drawn = [b for b in s.branches if len(b.points) >= 2]
+    pls = [b.points for b in drawn]
+    raw = [style.width_scale * 2 * b.thickness for b in drawn]
+    wid = [np.maximum(x, 1.0) for x in raw]
     if pls:
-        cov, _ = coverage_polylines((h, w), pls, wid)
-        paint(cov, style.line_colour)
+        cov, owner = coverage_polylines((h, w), pls, wid)
+        # a line thinner than a pixel is drawn one pixel wide at that share of the ink (as the
+        # example's anti-aliasing shows it), not one full pixel of its strongest colour
+        alpha = np.array([np.clip(np.median(x), 0.3, 1.0) for x in raw] + [1.0], np.float32)
+        paint(cov * alpha[owner], style.line_colour)
     return np.clip(img, 0.0, 1.0)

@@ -250,6 +250,10 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
                               root=root if root_point is None else root_point,
                               scale=p.scale, smooth=p.smooth_path, smooth_radius=p.smooth_radius,
                               image_shape=gray.shape[:2], region=region, joins=joins)
+    if p.centre_reach > 0 and s.branches:
+        from .centring import centre_on_lines
+
+        s = centre_on_lines(lines, s, _pol, p.centre_reach)
     if return_maps:
         return s, (resp, bw, skel)
     return s

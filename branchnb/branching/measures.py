@@ -351,16 +351,10 @@ def line_contrast(image: np.ndarray, structure: Structure) -> float:
     >>> round(line_contrast(img, Structure([Branch([(2, 14.5), (27, 14.5)], 1.0)])), 2)
     0.87
     """
+    from .line_contrast import centre_ring_contrast
     from .skeleton_map import SkeletonMap
 
-    pm = SkeletonMap(structure, 1.0).pixel_map(np.asarray(image).shape[:2])
-    rgb = np.asarray(image, np.float32)[..., :3]
-    r = np.where(np.isfinite(pm.radius), pm.radius, 1.0)
-    line = pm.dist <= np.maximum(0.5, 0.4 * r)
-    ring = (pm.dist >= r + 3) & (pm.dist <= r + 7)
-    if not line.any() or not ring.any():
-        return 0.0
-    return float(np.linalg.norm(np.median(rgb[line], 0) - np.median(rgb[ring], 0)))
+    return centre_ring_contrast(image, SkeletonMap(structure, 1.0).pixel_map(np.asarray(image).shape[:2]))
 
 
 def _kinds(sizes=(512, 1000)):

@@ -261,6 +261,14 @@ class ExtractionParams:
         interlace are joined across paper gaps up to this many pixels beyond
         half the line's width, where their directions continue (see
         :func:`~branchnb.branching.stroke_joins.find_stroke_joins`); 0 = never.
+    centre_reach : float, default 1.0
+        Beyond the paper: every traced vertex moves up to this many pixels
+        across its branch onto the crest of the line it traces (sub-pixel
+        centre lines, :func:`~branchnb.branching.centring.centre_on_lines`);
+        a skeleton on pixel centres ran a fraction of a pixel beside thin
+        lines (1-2 px rivers, capillaries), which then read as paler than
+        they are. 0 = off. Binary masks (traced by their medial axis) are
+        not moved.
     """
 
     filter: str = param("sato", options=("sato", "frangi", "meijering"),
@@ -304,6 +312,9 @@ class ExtractionParams:
                                   "paper gaps up to this (pixels, beyond half the line width) where "
                                   "their directions continue (through an interlace crossing, tip to "
                                   "tip, into a stroke at a T-junction); 0 = never")
+    centre_reach: float = param(1.0, min=0.0, max=4.0, step=0.25,
+                                help="move traced vertices up to this far across their branch onto the "
+                                     "line's crest (sub-pixel centre lines); 0 = off")
 
 
 @dataclass

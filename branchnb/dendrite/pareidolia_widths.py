@@ -124,7 +124,7 @@ def _slim_twigs(d: Dendrite, width: np.ndarray, aspect: float = 0.0, floor: floa
     return out
 
 
-_TWIG_ASPECT = 2.0  # a twig at least this many times as long as it is wide (slim)
+_TWIG_ASPECT = 3.0  # a twig at least this many times as long as it is wide (slim)
 _REFINE_SIGMA = 3.0  # px of the output: a little finer than the 4 px at which tone is judged
 _REFINE_GAIN = 0.7  # exponent on the correction (damped: neighbours share the blur)
 

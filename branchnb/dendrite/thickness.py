@@ -257,16 +257,22 @@ def branch_thickness(dendrite: Dendrite, *, mode: str = "subtree", min_width: fl
     ----------
     dendrite : Dendrite
         The tree to thicken; not modified.
-    mode : {"subtree", "distance"}
+    mode : {"subtree", "share", "distance"}
         ``"subtree"``: pipe model ``width = min_width * n_tips ** (1 / exponent)``,
-        clipped at ``max_width``. ``"distance"``: linear from ``max_width``
+        clipped at ``max_width``. ``"share"``: the share of all tips a node
+        carries, ``width = min_width + (max_width - min_width) * ((n_tips - 1) /
+        (N - 1)) ** (1 / exponent)`` with ``N`` the root's tips, so only the
+        channel that carries everything (a lightning bolt's main channel) is
+        ``max_width`` wide (the pipe model clipped at ``max_width`` made every
+        channel with more than ``(max_width / min_width) ** exponent`` tips as
+        wide as the root). ``"distance"``: linear from ``max_width``
         at the root to ``min_width`` at the farthest tip.
     min_width : float
         Width (pixels) of a tip (``"subtree"``) or of the farthest tip
         (``"distance"``); 0.6 by default.
     max_width : float or None
         Largest width (pixels); 8 by default. None leaves the pipe model
-        unclipped (``"distance"`` needs a value).
+        unclipped (``"share"`` and ``"distance"`` need a value).
     exponent : float
         Pipe-model exponent (2: da Vinci's rule; ~2.5-3 for Murray's law).
 
@@ -296,6 +302,14 @@ def branch_thickness(dendrite: Dendrite, *, mode: str = "subtree", min_width: fl
         w = min_width * np.maximum(dendrite.leaf_count(), 1.0) ** (1.0 / exponent)
         if max_width is not None:
             w = np.minimum(w, max_width)
+    elif mode == "share":
+        if max_width is None:
+            raise ValueError("mode='share' needs max_width")
+        if not np.isfinite(exponent) or exponent <= 0:
+            raise ValueError(f"exponent must be > 0, got {exponent}")
+        n = np.maximum(dendrite.leaf_count(), 1.0)
+        top = float(n.max()) if n.size else 1.0
+        w = min_width + (max_width - min_width) * ((n - 1.0) / max(top - 1.0, 1.0)) ** (1.0 / exponent)
     elif mode == "distance":
         if max_width is None:
             raise ValueError("mode='distance' needs max_width")
@@ -303,7 +317,7 @@ def branch_thickness(dendrite: Dendrite, *, mode: str = "subtree", min_width: fl
         t = d / d.max() if d.size and d.max() > 0 else np.zeros_like(d)
         w = max_width + (min_width - max_width) * t
     else:
-        raise ValueError(f"mode must be 'subtree' or 'distance', got {mode!r}")
+        raise ValueError(f"mode must be 'subtree', 'share' or 'distance', got {mode!r}")
     return dendrite.with_radius(0.5 * w)
 
 

@@ -124,26 +124,36 @@ def _skeleton(mask):
 
 def synthesis_row(a, n_new: int = 6, seed: int = 0, name: str = "", save: str | None = None) -> dict:
     """Every column of the module docstring for one analysis ``a`` and ``n_new`` new leaves."""
+    from . import synthesis
     from .synthesis import _prepared, generate
 
     p = _prepared(a)
     calls = []
     orig = p.source_coords
+    orig_leaf = synthesis.generate_leaf
 
     def spy(e, m, disp):
         c = orig(e, m, disp)
         calls.append((e, c))
         return c
-    p.source_coords = spy
-    leaves, coords = [], []
-    t0 = time.process_time()
-    rng = np.random.default_rng(seed)
-    for _ in range(n_new):
+
+    coords = []
+
+    def spy_leaf(*args, **kw):
         calls.clear()
-        leaves += generate(a, 1, rng=rng)
+        out = orig_leaf(*args, **kw)
         coords.append(list(calls))
+        return out
+    p.source_coords = spy
+    synthesis.generate_leaf = spy_leaf
+    t0 = time.process_time()
+    try:
+        # One batch, as a user makes them (generate stratifies the exemplar draws over it).
+        leaves = generate(a, n_new, rng=seed)
+    finally:
+        p.source_coords = orig
+        synthesis.generate_leaf = orig_leaf
     sec = (time.process_time() - t0) / n_new
-    p.source_coords = orig
     ex, bl = a.exemplars, a.blades
     lv_ex = np.nanmean([laplacian_variance(e, b) for e, b in zip(ex, bl)])
     lv_new = np.nanmean([laplacian_variance(x.image, x.blade) for x in leaves])

@@ -36,7 +36,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage as ndi
 
-from ..core.graphcut import pair_costs, seam_cost, seam_cut
+from ..core.graphcut import _pair_costs, seam_cost, seam_cut
 from ..core.validate import Array, Choice, Int, Real, Shape, checked
 
 __all__ = ["PlacedPatch", "Composition", "compose", "labelling_cost", "seam_mask"]
@@ -293,7 +293,10 @@ def compose(patches: list[PlacedPatch], shape, *, method: str = "graphcut",
                 pin_b |= union & (b[..., 3] > 0.5) & (a[..., 3] < 0.5) & ~pin_a
             if not only_b.any() and patch.pin_core:
                 pin_b = _core(vb) & overlap & ~pin_a
-            pc = pair_costs(a, b, power=power, gradient_weighted=gradient_weighted)
+            # (pair_costs' own conversion -- float32, clipped to [0, 1] -- without its checks:
+            # the canvas and the patches are float images already; the same values)
+            pc = _pair_costs(np.clip(np.asarray(a, np.float32), 0.0, 1.0),
+                             np.clip(np.asarray(b, np.float32), 0.0, 1.0), power, gradient_weighted)
             if method == "overlay":
                 take_b = only_b | (overlap & ~pin_a)
             else:

@@ -61,6 +61,7 @@ RGBA image; for an opaque image it is the union of the copied patches.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
 
 import cv2
@@ -347,20 +348,7 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
     raw = [_raw_width(st, obj, edt) if has_alpha else
            (np.array([0.0, st.length]), np.zeros(2), 0.0) for st in source_strokes]
 
-    # Per distinct stroke: distance and arc length of the nearest stroke point, within
-    # what its patches can reach (a patch's radius, a candidate's offset across, the tube).
-    keys, uniq = [], {}
-    for k, st in enumerate(source_strokes):
-        key = st.points.tobytes()
-        keys.append(key)
-        if key not in uniq:
-            wmax = float(raw[k][1].max()) if has_alpha else 0.0
-            r = patch_size / 2.0 if patch_size > 0 else (float(auto_radius(wmax)) if has_alpha else OPAQUE_RADIUS)
-            uniq[key] = _distance_map(st, (h, w), reach=max(r, 2.0 * wmax) + 24.0)
-    d_min = np.min(np.stack([d for d, _ in uniq.values()]), axis=0) if len(uniq) > 1 else None
-    # pixel coordinates as a row and a column (broadcast: no full-image grids)
-    yy, xx = np.arange(h, dtype=np.float32)[:, None], np.arange(w, dtype=np.float32)[None, :]
-
+    keys = [st.points.tobytes() for st in source_strokes]
     # Ends joined to another stroke, cut ends.
     joined = _joined_ends(source_strokes, raw, keys)
     cuts = [tuple(joined[k][end] >= 0 or _is_cut(st, obj, raw[k][2], end) for end in (0, 1))
@@ -368,6 +356,24 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
     widths = [_smooth_width(raw[k][1], raw[k][2], _wide_ends(st, cuts[k], edt, raw[k][2])) if has_alpha
               else raw[k][1] for k, st in enumerate(source_strokes)]
     width_s = [raw[k][0] for k in range(len(source_strokes))]
+
+    # Per distinct stroke: distance and arc length of the nearest stroke point, within
+    # what its patches can reach (a patch's radius, a candidate's offset across, the tube).
+    # (bounded by the smoothed widths the tubes and the patch radii are made of, not the
+    # raw ones: a limb drawn from inside a body measures the body's width at its root,
+    # which made every distance map cover ~80 % of a 1000-px figure)
+    uniq: dict = {}
+    for k, st in enumerate(source_strokes):
+        if keys[k] in uniq:
+            continue
+        wmax = max(float(widths[j].max()) for j in range(len(keys)) if keys[j] == keys[k]) if has_alpha else 0.0
+        r = patch_size / 2.0 if patch_size > 0 else (float(auto_radius(wmax)) if has_alpha else OPAQUE_RADIUS)
+        uniq[keys[k]] = _distance_map(st, (h, w), reach=max(r, 2.0 * wmax) + 24.0)
+    # (pairwise minimum: no (N, H, W) stack; the same values)
+    d_min = functools.reduce(np.minimum, [d for d, _ in uniq.values()]) if len(uniq) > 1 else None
+    # pixel coordinates as a row and a column (broadcast: no full-image grids)
+    yy, xx = np.arange(h, dtype=np.float32)[:, None], np.arange(w, dtype=np.float32)[None, :]
+
     # The silhouette's own half width (median over a few widths, no running maximum).
     edge = [ndi.median_filter(raw[k][1], size=4 * int(raw[k][2]) + 1, mode="nearest") if has_alpha
             else raw[k][1] for k in range(len(source_strokes))]
@@ -503,7 +509,17 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
                     held |= o[b]
                 margin = np.where(inked[b], np.where(held, 0.0, _OPAQUE_MARGIN), _tube_margin(tube[b]))
                 ramp = np.where(tubes[key][5][b], 1.0, np.clip(tube[b] + margin - d[b] + 0.5, 0.0, 1.0))
-                weight[b] *= np.where(interior[b], ramp, 1.0).astype(np.float32)
+                # Beyond the ends, no unstroked part farther than a tip's length (the
+                # cap of pass 1): a free end's patch (radius ~1.2 w) reaches past the
+                # tip onto a neighbouring part (a lizard's hind leg ending next to its
+                # front foot, 150 px: the foot was copied with the turned leg and left
+                # floating). Such a part is carried or dropped as a whole instead.
+                tb = tube[b]
+                cap = np.minimum(np.maximum(2.0 * tb, 8.0) + 2.0,
+                                 (patch_size / 2.0 if patch_size > 0 else auto_radius(tb)) - 2.0)
+                beyond = part_mask[b] & ~interior[b]
+                ramp = np.where(interior[b], ramp, np.where(beyond, np.clip(cap - d[b] + 0.5, 0.0, 1.0), 1.0))
+                weight[b] *= ramp.astype(np.float32)
             done[key] = (own & (weight > 0), weight)
         s_maps.append(s_map)
         allowed.append(done[key][0])

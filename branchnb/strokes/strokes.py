@@ -98,6 +98,10 @@ class Stroke:
         (2,) or (M, 2) float64 ndarray
             Linearly interpolated ``(x, y)``.
         """
+        return self._point_at(s)
+
+    def _point_at(self, s) -> np.ndarray:
+        """:meth:`point_at` without the argument check (arc lengths computed here)."""
         s = np.clip(np.asarray(s, float), 0.0, self.length)
         return np.stack([np.interp(s, self.s, self.points[:, 0]),
                          np.interp(s, self.s, self.points[:, 1])], axis=-1)
@@ -128,7 +132,7 @@ class Stroke:
         w = max(float(window), 1e-3)
         lo = np.clip(s - w, 0.0, self.length - 2e-3)
         hi = np.maximum(np.clip(s + w, 0.0, self.length), lo + 1e-3)
-        d = self.point_at(hi) - self.point_at(lo)
+        d = self._point_at(hi) - self._point_at(lo)
         return np.arctan2(d[..., 1], d[..., 0])
 
     @checked(s=_ARC, window=Real(0, 1e5))

@@ -200,14 +200,26 @@ def _parent_side(cut: np.ndarray, child: Stroke, end: int, parent: Stroke, s_map
     side = float(np.sign(np.mean((pts - p_j) @ n_j)))
     if side == 0.0:
         return cut, np.inf
-    runs = []
+    runs, flanks = [], 0
     for s_f in (s_j - 1.5 * half_width - 4.0, s_j + 1.5 * half_width + 4.0):
         if not 0.0 <= s_f <= parent.length:
             continue
+        flanks += 1
         q, n = parent.point_at(s_f), parent.normal_at(s_f, window=3.0)
         ray = _lookup(obj, q[None] + side * np.arange(0.0, _MAX_WIDTH)[:, None] * n[None])
         if ray[0]:
             runs.append(_run_length(ray))
+    if not flanks and tube_width > half_width + 2.0:
+        # a parent stroke shorter than the child is wide (a short stroke across a round
+        # body, a starfish's disk, its arms leaving from its centre): no flank to measure
+        # the parent's silhouette on, and its tube, measured across the arms, reaches far
+        # along the child; the parent keeps only the pixels nearer its stroke than the
+        # child's (else the child's root stays behind at the source when the child moves)
+        rs, cs = np.nonzero(cut)
+        out = np.zeros_like(cut)
+        keep = d_parent[rs, cs] <= d_child[rs, cs]
+        out[rs[keep], cs[keep]] = True
+        return out, np.inf
     if not runs or tube_width <= 1.5 * min(runs) + 2.0:
         return cut, np.inf  # a tube about as wide as the parent: the existing rule holds
     rs, cs = np.nonzero(cut)

@@ -55,10 +55,11 @@ from ..trees.variations import (
 )
 from .canvas import AnnotationCanvas
 from .files import canvases_json, load_canvases
-from .histograms import HistogramCompare
+from .histograms import HistogramCompare, channel_range
 from .imageview import ImageView
 from .params import ParamPanel
 from .shell import AppShell
+from .weights import convex_update
 
 __all__ = ["TreeVariationsApp", "convex_update", "channel_range"]
 
@@ -70,88 +71,6 @@ HAS_BILLBOARD = importlib.util.find_spec("branchnb.trees.billboard") is not None
 
 #: Extra histogram-transfer references offered besides the library trees.
 REFERENCES = ("maple_leaf_03", "maple_leaf_01", "tree_cutout_broadleaf", "evergreen")
-
-
-def convex_update(weights, index: int, value: float) -> np.ndarray:
-    """Set ``weights[index] = value`` and rescale the others so the sum stays 1.
-
-    The others keep their proportions; if they are all zero they share
-    ``1 - value`` equally.
-
-    Parameters
-    ----------
-    weights : (K,) array_like
-        Convex weights (>= 0, summing to 1), one per mixed tree.
-    index : int
-        The weight that is set (the slider moved).
-    value : float
-        Its new value, clipped to [0, 1]. With one tree the result is ``[1]``.
-
-    Returns
-    -------
-    (K,) float ndarray
-        A new array summing to 1.
-
-    Examples
-    --------
-    >>> convex_update([0.5, 0.3, 0.2], 0, 0.8).round(3).tolist()
-    [0.8, 0.12, 0.08]
-    >>> convex_update([1.0, 0.0, 0.0], 0, 0.4).round(3).tolist()
-    [0.4, 0.3, 0.3]
-    """
-    w = np.asarray(weights, dtype=np.float64).copy()
-    k = len(w)
-    v = float(np.clip(value, 0.0, 1.0))
-    if k == 1:
-        return np.ones(1)
-    w[index] = 0.0
-    rest = w.sum()
-    w = w * ((1.0 - v) / rest) if rest > 1e-12 else np.full(k, (1.0 - v) / (k - 1))
-    w[index] = v
-    return w
-
-
-def channel_range(samples, channel: int, *, min_width: float = 0.1) -> tuple[float, float]:
-    """Histogram range of one colour channel over several ``(P, 3)`` samples.
-
-    The data's own span rather than [0, 1], and centred on the data when
-    the span is narrower than ``min_width``: the blue of drawn green trees
-    is often exactly 0, so on [0, 1] its one bar sat on the left border and
-    the histogram looked empty.
-
-    Parameters
-    ----------
-    samples : sequence of (P, 3) array_like
-        RGB pixel samples in [0, 1] (e.g. of the input trees and the
-        variation); empty ones are skipped.
-    channel : int
-        0, 1 or 2 for red, green, blue.
-    min_width : float
-        Narrowest range returned.
-
-    Returns
-    -------
-    (float, float)
-        The 0.1 % .. 99.9 % quantiles padded by 2 % and clipped to [0, 1],
-        or a ``min_width`` range centred on the data (which may reach below
-        0 or above 1); ``(0, 1)`` without data.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> channel_range([np.array([[0.1, 0.5, 0.0], [0.2, 0.6, 0.0]])], 2)
-    (-0.05, 0.05)
-    """
-    vals = [np.asarray(p)[:, channel] for p in samples if len(p)]
-    if not vals:
-        return 0.0, 1.0
-    v = np.concatenate(vals)
-    lo, hi = float(np.quantile(v, 0.001)), float(np.quantile(v, 0.999))
-    if hi - lo < min_width:
-        mid = 0.5 * (lo + hi)
-        return round(mid - 0.5 * min_width, 6), round(mid + 0.5 * min_width, 6)
-    pad = 0.02 * (hi - lo)
-    return max(0.0, lo - pad), min(1.0, hi + pad)
 
 
 def _thumb(image, size: int) -> np.ndarray:

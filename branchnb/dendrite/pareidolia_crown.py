@@ -1,0 +1,208 @@
+"""The crown of a pareidolia tree and where its trunk enters it (paper, section 9).
+
+Split from :mod:`branchnb.dendrite.pareidolia`: the crown's outline
+(:func:`tree_crown`), the picture's content as a crown (:func:`content_crown`),
+the one-sided picture's ramp (:func:`side_ramp`) and the trunk's entry point
+(``_fork_point``). Every name stays importable from
+:mod:`branchnb.dendrite.pareidolia`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy import ndimage
+
+from ..core.random import as_rng
+
+__all__ = ["content_crown", "side_ramp", "tree_crown"]
+
+def side_ramp(shape, side: str = "left") -> np.ndarray:
+    """0 on the image side edge, 1 on the opposite edge, linear in x: an (H, W) array.
+
+    Parameters
+    ----------
+    shape : (int, int, ...)
+        ``(H, W)`` of the ramp.
+    side : {"left", "right"}
+        The image side, where the ramp is 0.
+
+    Returns
+    -------
+    (H, W) float64 ndarray
+        Values in [0, 1], constant along y.
+
+    Raises
+    ------
+    ValueError
+        If ``side`` is neither "left" nor "right".
+
+    Examples
+    --------
+    >>> side_ramp((2, 3), "right").tolist()
+    [[1.0, 0.5, 0.0], [1.0, 0.5, 0.0]]
+    """
+    h, w = int(shape[0]), int(shape[1])
+    t = np.linspace(0.0, 1.0, w)
+    if side == "right":
+        t = t[::-1]
+    elif side != "left":
+        raise ValueError(f"side must be 'left' or 'right', got {side!r}")
+    return np.broadcast_to(t, (h, w)).copy()
+
+
+def tree_crown(shape, *, lobes: int = 9, roughness: float = 0.1, rng=None) -> np.ndarray:
+    """A tree-crown silhouette filling an (H, W) frame: an egg-shaped ellipse with a
+    scalloped, lobed outline (cumulus-like clumps of foliage).
+
+    The outline's radius (relative to the inscribed ellipse) is ``1 -
+    roughness + roughness * |sin(lobes theta / 2 + phi)|`` plus a slow random
+    wobble, and the crown is a little wider above its centre than below, as a
+    broadleaf crown is.
+
+    Parameters
+    ----------
+    shape : (int, int)
+        ``(H, W)`` of the frame (at least 2 x 2); the crown touches its sides.
+    lobes : int
+        Number of scallops around the outline; 9.
+    roughness : float
+        Depth of the scallops as a share of the radius, in [0, 0.5); 0.1.
+    rng : {numpy.random.Generator, int}, optional
+        Random generator or seed of the lobes' phase and the wobble.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        True inside the crown.
+
+    Raises
+    ------
+    ValueError
+        If ``shape`` is smaller than 2 x 2 or ``roughness`` out of range.
+
+    Examples
+    --------
+    >>> c = tree_crown((100, 80), rng=0)
+    >>> bool(c[50, 40]), bool(c[0, 0]), bool(c[99, 79]), bool(0.55 < c.mean() < 0.8)
+    (True, False, False, True)
+    """
+    h, w = int(shape[0]), int(shape[1])
+    if h < 2 or w < 2:
+        raise ValueError(f"shape must be at least 2 x 2, got {shape}")
+    if not 0 <= roughness < 0.5:
+        raise ValueError(f"roughness must be in [0, 0.5), got {roughness}")
+    r = as_rng(rng)
+    yy, xx = np.mgrid[0:h, 0:w]
+    u = (xx - (w - 1) / 2) / (w / 2)
+    v = (yy - (h - 1) / 2) / (h / 2)
+    v = v * np.where(v < 0, 0.95, 1.1)  # egg shape: fuller above, narrower toward the trunk
+    theta = np.arctan2(v, u)
+    phase = r.uniform(0, 2 * np.pi, 3)
+    wobble = 0.35 * np.sin(2 * theta + phase[1]) + 0.25 * np.sin(3 * theta + phase[2])
+    edge = 1.0 - roughness + roughness * np.abs(np.sin(lobes * theta / 2 + phase[0])) ** 0.7 \
+        + roughness * 0.3 * wobble
+    return np.hypot(u, v) <= np.minimum(edge, 1.0)
+
+
+def content_crown(importance, *, blur: float = 10.0, threshold: float = 0.05,
+                  outline: np.ndarray | None = None) -> np.ndarray:
+    """The crown of a picture: where it has something to draw, filled and smoothed.
+
+    Pixels whose importance reaches ``threshold`` are blurred over ``blur``
+    pixels; the crown is where that fraction exceeds 0.25, with holes filled,
+    specks (below 2 % of the largest part) dropped. Content that fills the
+    frame (covering over a fifth of its border: a portrait, a landscape) is clipped to ``outline`` (a
+    tree-crown silhouette of the frame, :func:`tree_crown`, by default) so the
+    picture reads as a tree's crown, not as the image's rectangle; an object on
+    a blank ground keeps its own outline.
+
+    Parameters
+    ----------
+    importance : (H, W) array_like
+        Importance map of the picture (at least 2 x 2).
+    blur : float
+        Gaussian sigma (px) smoothing the content; 10.
+    threshold : float
+        Importance from which a pixel counts as content; 0.05.
+    outline : (H, W) bool array_like, optional
+        Silhouette that frame-filling content is clipped to; :func:`tree_crown`
+        of the frame (``rng=0``) by default.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        The crown; ``outline`` itself when the picture has no content.
+
+    Raises
+    ------
+    ValueError
+        If ``importance`` is not 2-D or ``outline`` has another shape.
+
+    Examples
+    --------
+    >>> imp = np.zeros((60, 80)); imp[10:50, 30:50] = 1.0
+    >>> c = content_crown(imp, blur=3)
+    >>> bool(c[30, 40]), bool(c[30, 5]), bool(c[30, 28])
+    (True, False, True)
+    """
+    imp = np.asarray(importance, dtype=np.float64)
+    if imp.ndim != 2 or min(imp.shape) < 2:
+        raise ValueError(f"importance must be an (H, W) array, got shape {imp.shape}")
+    box = tree_crown(imp.shape, rng=0) if outline is None else np.asarray(outline, bool)
+    if box.shape != imp.shape:
+        raise ValueError(f"outline has shape {box.shape}, expected {imp.shape}")
+    frac = ndimage.gaussian_filter((imp >= threshold).astype(np.float64), blur)
+    mask = ndimage.binary_fill_holes(frac > 0.25)
+    lab, n = ndimage.label(mask)
+    if n > 1:
+        sizes = np.bincount(lab.ravel())[1:]
+        mask = np.isin(lab, 1 + np.flatnonzero(sizes >= 0.02 * sizes.max()))
+    h, w = imp.shape
+    band = max(1, round(0.02 * min(h, w)))
+    frame = np.zeros_like(mask)
+    frame[:band], frame[-band:], frame[:, :band], frame[:, -band:] = True, True, True, True
+    if (mask & frame).sum() > 0.2 * frame.sum():
+        # the content fills the frame (not an object touching it at one spot):
+        # cut it to a crown's outline
+        mask &= box
+    if not mask.any():  # nothing to draw: the crown outline itself
+        mask = box
+    return mask
+
+
+#: Share of the crown's width, about its middle, where the trunk may enter it.
+_FORK_SPAN = 0.3
+
+
+def _fork_point(crown: np.ndarray, dark: np.ndarray | None = None,
+                blur: float = 10.0) -> np.ndarray:
+    """Where the trunk enters the crown: a little inside its lower edge, below the
+    crown's centre of mass, or (with ``dark``) at the darkest such point (blurred over
+    ``blur``) within ``_FORK_SPAN`` of the crown's width about its middle.
+
+    Beyond the paper: the trunk and the limbs' bases are the widest strokes, and
+    below the middle of a picture there is often something light (a lit rocket on its
+    pad, a white collar), drawn over as a black trunk.
+    """
+    ys, xs = np.nonzero(crown)
+    cx = float(np.clip(np.median(xs), xs.min(), xs.max()))
+    cands = [int(round(cx))]
+    if dark is not None:
+        half = 0.5 * _FORK_SPAN * (xs.max() - xs.min())
+        cands = list(range(int(np.ceil(cx - half)), int(np.floor(cx + half)) + 1)) or cands
+    pts, score = [], []
+    g = ndimage.gaussian_filter(np.asarray(dark, np.float64), blur) if dark is not None else None
+    for c in cands:
+        rows = np.flatnonzero(crown[:, c])
+        if rows.size == 0:
+            continue
+        bottom, top = rows.max(), rows.min()
+        y = bottom - 0.08 * (bottom - top)
+        pts.append((float(c), y))
+        # the darkness a little above the entry, where the trunk's top and limbs' bases are
+        score.append(0.0 if g is None else g[int(round(y - 0.1 * (bottom - top))), c]
+                     - 0.05 * abs(c - cx) / max(0.5 * _FORK_SPAN * (xs.max() - xs.min()), 1.0))
+    if not pts:  # a concave crown: the nearest crown pixel below the centre
+        k = int(np.argmin(np.abs(xs - cx) - 1e-3 * ys))
+        return np.array([float(xs[k]), float(ys[k])])
+    return np.array(pts[int(np.argmax(score))])
