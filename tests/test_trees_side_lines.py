@@ -158,11 +158,12 @@ def _three_lobes() -> np.ndarray:
 
 
 def test_cards_that_open_sky_inside_the_crown_fall_back(monkeypatch):
-    """Three outlined lobes as separate cards (_MERGE_JOINED off, the build before) show 2-12 % of their
+    """Three outlined lobes as separate cards (merging and nesting off, the build before) show 2-12 % of their
     opaque pixels as sky inside the crown at 45 and 90 degrees (the lobes move apart in depth), and the
     default build then falls back to the superpixel cloud, whose side views are closed."""
     img = _three_lobes()
-    monkeypatch.setattr(billboard, "_MERGE_JOINED", False)
+    for flag in ("_MERGE_JOINED", "_NOTCHES", "_CENTRE_NESTED"):     # each lobe a card of its own
+        monkeypatch.setattr(billboard, flag, False)
     default = billboard_cloud(img, rng=0)
     plain = billboard_cloud(img, params=BillboardParams(drawn_cards=False), rng=0)
     monkeypatch.setattr(billboard, "_CHECK_CARDS", False)
