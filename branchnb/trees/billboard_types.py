@@ -240,6 +240,7 @@ class BillboardCloud:
 
         Examples
         --------
+        >>> from branchnb.trees.billboard import billboard_cloud
         >>> from branchnb.trees.synthetic import synthetic_tree
         >>> cloud = billboard_cloud(synthetic_tree("clean", rng=0, size=64).image, rng=0)
         >>> sum(cloud.counts().values()) == cloud.n_billboards
