@@ -20,8 +20,10 @@ __all__ = ["rows", "naive_score_candidates", "example_structure"]
 
 
 def naive_score_candidates(model, hist_a, hist_r, tip, theta, *, params, matcher=None,
-                           density=None, guidance=None) -> CandidateScores:
+                           density=None, guidance=None, subset=None) -> CandidateScores:
     """Per-candidate Python loop computing exactly what ``score_candidates`` computes."""
+    keep = None if subset is None else set(int(i) for i in subset)
+    w = -1
     bm = model.bending
     ha = [float(x) for x in hist_a]
     hr = [float(x) for x in hist_r]
@@ -37,6 +39,9 @@ def naive_score_candidates(model, hist_a, hist_r, tip, theta, *, params, matcher
         ca0, cr0 = matcher.counts_a, matcher.counts_r
     for t in range(T):
         if bm.local[t] < L - 1:
+            continue
+        w += 1
+        if keep is not None and w not in keep:
             continue
         da = sum((bm.angles[t - L + 1 + i] - ha[i]) ** 2 for i in range(L))
         dr = sum((bm.radii[t - L + 1 + i] - hr[i]) ** 2 for i in range(L))

@@ -250,7 +250,7 @@ class BendingModel:
         longest = int(self.local.max()) + 1 if self.n_elements else 0
         return min(self.k + 1, longest)
 
-    def quality(self, hist_angles, hist_radii) -> tuple[np.ndarray, np.ndarray]:
+    def quality(self, hist_angles, hist_radii, subset=None) -> tuple[np.ndarray, np.ndarray]:
         """Markov quality ``Q`` of every candidate for a history.
 
         Parameters
@@ -258,6 +258,9 @@ class BendingModel:
         hist_angles, hist_radii : (L0,) array_like
             The growing branch's elements so far; the last
             ``min(L0, k + 1, max_history)`` are used.
+        subset : int array_like, optional
+            Positions in the list of all windows (:meth:`windows`) to score;
+            None = all.
 
         Returns
         -------
@@ -272,6 +275,8 @@ class BendingModel:
         if L < 1:
             raise ValueError("the history is empty: a branch needs at least one element")
         t, WA, WR = self.windows(L)
+        if subset is not None:
+            t, WA, WR = t[subset], WA[subset], WR[subset]
         q = markov_dist(WA, ha[-L:]) * markov_dist(WR, hr[-L:])
         return t, q
 

@@ -458,10 +458,14 @@ class SegmentStore:
     3
     """
 
-    def __init__(self, capacity: int = 1024):
+    def __init__(self, capacity: int = 1024, cell: float = 16.0):
         self.p0 = np.zeros((capacity, 2))
         self.p1 = np.zeros((capacity, 2))
         self.n = 0
+        # a grid of buckets (cell x cell px) of the segments whose bounding box meets each
+        # cell: a crossing test reads only the buckets under the candidate (speed, issue 23)
+        self.cell = float(cell)
+        self._buckets: dict[tuple[int, int], list[int]] = {}
 
     def add(self, p0, p1) -> None:
         """Append segments ``p0[i] -> p1[i]``, growing the buffer as needed.
@@ -479,7 +483,36 @@ class SegmentStore:
             self.p1 = np.vstack([self.p1, np.zeros_like(self.p1)])
         self.p0[self.n:self.n + k] = p0
         self.p1[self.n:self.n + k] = p1
+        lo = np.floor(np.minimum(p0, p1) / self.cell).astype(np.int64)
+        hi = np.floor(np.maximum(p0, p1) / self.cell).astype(np.int64)
+        b = self._buckets
+        for i, (x0, y0, x1, y1) in enumerate(np.c_[lo, hi].tolist()):
+            for cy in range(y0, y1 + 1):
+                for cx in range(x0, x1 + 1):
+                    b.setdefault((cx, cy), []).append(self.n + i)
         self.n += k
+
+    def near(self, lo, hi) -> np.ndarray:
+        """Indices of the stored segments whose bounding box may meet the box ``lo`` .. ``hi`` (x, y).
+
+        Parameters
+        ----------
+        lo, hi : (2,) array_like
+            Corners (x, y) of the box (pixels).
+
+        Returns
+        -------
+        (n,) int ndarray
+            Sorted unique segment indices (a superset of those meeting the box).
+        """
+        x0, y0 = (int(v) for v in np.floor(np.asarray(lo, np.float64) / self.cell))
+        x1, y1 = (int(v) for v in np.floor(np.asarray(hi, np.float64) / self.cell))
+        b = self._buckets
+        out: list[int] = []
+        for cy in range(y0, y1 + 1):
+            for cx in range(x0, x1 + 1):
+                out.extend(b.get((cx, cy), ()))
+        return np.unique(np.asarray(out, np.int64))
 
     def add_polyline(self, points) -> None:
         """Append the segments of a polyline.
@@ -540,9 +573,10 @@ def crosses_existing(store: SegmentStore, polyline: np.ndarray, eps: float = 1e-
     if len(a0) == 0:
         return False
     if store.n:
-        b0, b1 = store.p0[:store.n], store.p1[:store.n]
         lo = np.minimum(a0.min(0), a1.min(0))
         hi = np.maximum(a0.max(0), a1.max(0))
+        idx = store.near(lo, hi)
+        b0, b1 = store.p0[idx], store.p1[idx]
         near = ~((np.maximum(b0[:, 0], b1[:, 0]) < lo[0]) | (np.minimum(b0[:, 0], b1[:, 0]) > hi[0])
                  | (np.maximum(b0[:, 1], b1[:, 1]) < lo[1]) | (np.minimum(b0[:, 1], b1[:, 1]) > hi[1]))
         if near.any():

@@ -242,6 +242,11 @@ class _Filling:
                 continue
             pts = np.asarray(st.points[1:-2], np.float64)
             d = np.hypot(*(pts - goal).T)
+            head = self._below_head(bi)   # a delta's trunk parts at its head only
+            if head is not None:
+                d = np.where(head[1:-2], d, np.inf)
+                if not np.isfinite(d).any():
+                    continue
             v = int(np.argmin(d))
             cand.append((float(d[v]), bi, v + 1))
         cand.sort()
@@ -314,3 +319,48 @@ class _Filling:
         self.coverage_target = saved
         if not self.stop_reason or self.stop_reason == "density (coverage)":
             self.stop_reason = reason
+
+    def _prune_dry(self) -> None:
+        """Drop a delta's channels that end inland (beyond the paper; :class:`.domains._Drain` only).
+
+        A channel blocked by another (every candidate crosses it or is too
+        dense) stops in the middle of the land, a dry stub the example does
+        not have: its distributaries all run to the sea. Leaf branches (not
+        roots) whose tip is farther than ``2 h`` from the region outside the
+        domain are removed, again while removing one leaves its parent a
+        dry leaf.
+        """
+        if self.drain is None or self.domain is None or len(self.branches) < 2:
+            return
+        from scipy import ndimage as ndi
+
+        depth = ndi.distance_transform_edt(self.domain)
+        h, w = self.shape
+        keep = np.ones(len(self.branches), bool)
+        while True:
+            kids = np.zeros(len(self.branches), np.int64)
+            for i, st in enumerate(self.branches):
+                if keep[i] and st.parent is not None:
+                    kids[st.parent] += 1
+            dry = []
+            for i, st in enumerate(self.branches):
+                if not keep[i] or kids[i] or st.parent is None or st.stop == "left the domain":
+                    continue
+                x, y = np.clip(np.rint(st.points[-1]).astype(int), 0, [w - 1, h - 1])
+                if depth[y, x] > 2.0 * self.p.h:
+                    dry.append(i)
+            if not dry:
+                break
+            keep[dry] = False
+        if keep.all():
+            return
+        new_index = np.cumsum(keep) - 1
+        out = []
+        for i, st in enumerate(self.branches):
+            if keep[i]:
+                if st.parent is not None:
+                    st.parent = int(new_index[st.parent])
+                out.append(st)
+        self.branches = out
+        self.total_length = float(sum(np.hypot(*np.diff(np.asarray(st.points, np.float64), axis=0).T).sum()
+                                      for st in out if len(st.points) > 1))

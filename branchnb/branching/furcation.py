@@ -393,7 +393,7 @@ class FurcationModel:
         j = rng.choice(len(w), p=w / w.sum())
         return int(self.children_per_branch[j])
 
-    def child_quality(self, window_a, window_r) -> np.ndarray:
+    def child_quality(self, window_a, window_r, subset=None) -> np.ndarray:
         """Q of every input furcation for a synthesized parent window, ``(F,)``.
 
         Parameters
@@ -403,6 +403,8 @@ class FurcationModel:
             (radians) at the new furcation.
         window_r : (2k + 1,) array_like
             Its window of thicknesses (pixels).
+        subset : int array_like, optional
+            Only these input furcations (positions in ``child_index``); None = all.
 
         Returns
         -------
@@ -412,4 +414,7 @@ class FurcationModel:
         """
         if len(self.child_index) == 0:
             return np.zeros(0)
-        return markov_dist(self.parent_windows_a, window_a) * markov_dist(self.parent_windows_r, window_r)
+        wa, wr = self.parent_windows_a, self.parent_windows_r
+        if subset is not None:
+            wa, wr = wa[subset], wr[subset]
+        return markov_dist(wa, window_a) * markov_dist(wr, window_r)

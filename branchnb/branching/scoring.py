@@ -29,6 +29,18 @@ __all__ = ["CandidateScores", "score_candidates"]
 _DIRECTION_BINS = 512
 
 
+def binned_profile(density: DensityMap, tip, dirs: np.ndarray, length: float) -> tuple[np.ndarray, np.ndarray]:
+    """``(D_c, crossing)`` of :func:`.colonization.profile_density` along the nearest of
+    :data:`_DIRECTION_BINS` directions to each of ``dirs`` (each direction profiled once)."""
+    d = np.asarray(dirs, np.float64)
+    q = np.rint(np.arctan2(d[:, 1], d[:, 0]) * (_DIRECTION_BINS / (2 * np.pi))).astype(np.int64)
+    q %= _DIRECTION_BINS
+    uq, inv = np.unique(q, return_inverse=True)
+    ang = uq * (2 * np.pi / _DIRECTION_BINS)
+    dc, cross, _ = profile_density(density, tip, np.c_[np.cos(ang), np.sin(ang)], length)
+    return dc[inv], cross[inv]
+
+
 @dataclass
 class CandidateScores:
     """Scores of all candidates of one step.
@@ -107,9 +119,9 @@ class _Base:
 
 
 def _base_scores(model: StructureModel, hist_a, hist_r, tip, theta: float, params: SynthesisParams,
-                 matcher: HistogramMatcher | None, guidance: Guidance | None) -> _Base:
+                 matcher: HistogramMatcher | None, guidance: Guidance | None, subset=None) -> _Base:
     bm = model.bending
-    t, Q = bm.quality(hist_a, hist_r)
+    t, Q = bm.quality(hist_a, hist_r, subset)
     n_new = bm.cont_len[t]
     pts = bm.continuation_points(t, tip, theta)
     dirs = _rotate(model.local_dirs[t], theta)
@@ -132,7 +144,7 @@ def _base_scores(model: StructureModel, hist_a, hist_r, tip, theta: float, param
 def score_candidates(model: StructureModel, hist_a, hist_r, tip, theta: float, *,
                      params: branchnb.branching.SynthesisParams, matcher: HistogramMatcher | None = None,
                      density: DensityMap | None = None,
-                     guidance: Guidance | None = None) -> CandidateScores:
+                     guidance: Guidance | None = None, subset=None) -> CandidateScores:
     """Score every candidate continuation of a branch tip (vectorised).
 
     ``score = Q * exp(wG (dA + dR) n_t / m) / (D_c + eps) / (G_c + eps)``
@@ -166,13 +178,18 @@ def score_candidates(model: StructureModel, hist_a, hist_r, tip, theta: float, *
         Density of the branches so far; None = no colonization factor.
     guidance : Guidance, optional
         Guidance map; None = no guidance factor.
+    subset : int array_like, optional
+        Score only these candidates (positions in the list of all windows of
+        the history's length, :meth:`.bending.BendingModel.windows`); None = all.
+        The grower passes a random share on large examples (beyond the paper,
+        for speed: see :data:`.growth.MAX_CANDIDATES`).
 
     Returns
     -------
     CandidateScores
         Every candidate's factors and final score.
     """
-    b = _base_scores(model, hist_a, hist_r, tip, theta, params, matcher, guidance)
+    b = _base_scores(model, hist_a, hist_r, tip, theta, params, matcher, guidance, subset)
     J = len(b.t)
     term = b.n_new == 0
     D_c = np.zeros(J)
@@ -183,14 +200,7 @@ def score_candidates(model: StructureModel, hist_a, hist_r, tip, theta: float, *
         if live.any():
             # Many candidates head the same way: profile each direction (to 0.7 degrees, well
             # under a pixel over the ray) once.
-            d = b.dirs[live]
-            q = np.rint(np.arctan2(d[:, 1], d[:, 0]) * (_DIRECTION_BINS / (2 * np.pi))).astype(np.int64)
-            q %= _DIRECTION_BINS
-            uq, inv = np.unique(q, return_inverse=True)
-            ang = uq * (2 * np.pi / _DIRECTION_BINS)
-            dc, cross, _ = profile_density(density, tip, np.c_[np.cos(ang), np.sin(ang)],
-                                           3.0 * params.m * params.h)
-            dc, cross = dc[inv], cross[inv]
+            dc, cross = binned_profile(density, tip, b.dirs[live], 3.0 * params.m * params.h)
             D_c[live] = dc
             crossing[live] = cross
             ok = live.copy()

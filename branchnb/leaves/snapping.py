@@ -165,7 +165,7 @@ from .snapping_fit import (  # noqa: F401  (the fit's names, importable from her
     oriented_response,
     ridge_hessian,
 )
-from .snapping_mirror import mirror_missing
+from .snapping_mirror import adds_only, mirror_missing
 from .snapping_stray import SIDE_LEVEL, STRAY_LENGTH, STRAY_LEVEL, _side_ridges, _stray_ridges  # noqa: F401
 from .snapping_trace import refine_carried, trace_branches  # noqa: F401
 
@@ -792,9 +792,11 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
     # drawn one pixel wide.
     widths = [area_w[id(c)] for c in chains]
     n_user = len(chains)
+    user_chains, user_widths = list(chains), list(widths)
+    n_mirrored = 0
     if mirror:
         # Branches the user left out on one side, mirrored about the midrib (candidates).
-        chains, widths, _ = mirror_missing(chains, widths, blades[t])
+        chains, widths, n_mirrored = mirror_missing(chains, widths, blades[t])
     if directions is not None and (isinstance(directions, (str, bytes)) or len(directions) != len(labs)):
         raise ValueError(f"directions must be a list of one direction or None per exemplar ({len(labs)})")
 
@@ -813,6 +815,12 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
             kept.append(1.0)
             centred_masks.append(None)
             continue
+        # Everything below runs on the blade's box (a padded canvas is 2-5x
+        # larger): the same values, a fraction of the memory and time.
+        b_full = b
+        y0, y1, x0, x1 = blade_box(b, max(BOX_PAD, int(np.ceil(4 * width))))
+        lab, b = lab[y0:y1, x0:x1], b[y0:y1, x0:x1]
+        off = np.array([x0, y0], np.float64)
         direction = training_direction
         if directions is not None and directions[e] is not None:
             d = np.asarray(directions[e], np.float64).ravel()
@@ -820,7 +828,6 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
                 raise ValueError(f"directions[{e}] must be 3 finite numbers, not all 0, got {directions[e]!r}")
             direction = projected(d / np.linalg.norm(d))
         ev = ridge_evidence(lab, b, direction, width, line_frac * np.sqrt(float(b.sum())))
-        carried = [carry_points(registrations[e], c) for c in chains]
         hess = ridge_hessian(lab, b, direction, width) if oriented else None
         scale_e = np.sqrt(float(b.sum())) / max(size_t, 1.0)
         # A hole's rim (a torn or eaten patch) is an edge, not a vein.
@@ -829,32 +836,6 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
             ev = np.where(rim, 0.0, ev).astype(np.float32)
             if hess is not None:
                 hess = np.where(rim[None], 0.0, hess).astype(np.float32)
-        reach = max(radius, 0.12 * np.sqrt(float(b.sum())))
-        tube = radius
-        if fit and chains:
-            # Two starts for the template: the affine map nearest the
-            # registration, and the blades' centroids and sizes alone (a
-            # registration of outlines can turn the inside of a leaf by tens
-            # of degrees: maple 02 -> 03). The better fit wins.
-            best = None
-            for start in (_affine_carry(registrations[e], blades[t], chains), _moment_carry(blades[t], b, chains)):
-                got, score = fit_branches(start, ev, b, reach=fit_reach * np.sqrt(float(b.sum())), return_score=True,
-                                          hessian=hess)
-                if best is None or score > best[1]:
-                    best = (got, score)
-            carried = best[0]
-            tube = max(2.0, 1.5 * width)
-            if trace and hess is not None:
-                import cv2
-                evb = cv2.GaussianBlur(np.where(b, ev, 0.0).astype(np.float32), (0, 0), 0.7)
-                # Two traces may not share a vein: "near a placed branch" spans
-                # the vein's own width (3 px on a 3 px vein; a drawn oak's 6 px
-                # veins at 480 px took two traces side by side, 4 px apart).
-                kw = {"overlap_px": max(3.0, float(np.ceil(width * scale_e)))}
-                kw.update(trace_kw or {})
-                carried = trace_branches(carried, _oriented_maps(evb, hess), b, **kw)
-        elif refine:
-            carried = refine_carried(carried, ev, b, reach=reach)
         # A branch's width scales with the leaf.
         scale = np.sqrt(float(b.sum())) / max(size_t, 1.0)
         # The path itself on the finest ridge response (one-pixel scale, no
@@ -863,20 +844,63 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
         centre = vein_centre(lab, b, direction, width) if return_centred else None
         if rim.any():
             pev = np.where(rim, 0.0, pev).astype(np.float32)
-        sw = [wd * scale for wd in widths]
-        got = snap_layer(pev, b, carried[:n_user], sw[:n_user], tube, min_evidence=min_evidence, centre=centre)
-        m, k = got[0], got[1]
-        mcen = got[2] if centre is not None else m
-        if len(carried) > n_user:
-            # A candidate (a mirrored branch) is kept only where it found a
-            # vein of its own: not one a branch of the user's already took.
-            taken = ndi.binary_dilation(m, iterations=max(2, int(np.ceil(max(sw[:n_user], default=1.0)))))
-            for c, wd in zip(carried[n_user:], sw[n_user:]):
-                gc = snap_layer(pev, b, [c], [wd], tube, min_evidence=min_evidence, centre=centre)
-                mc = gc[0]
-                if mc.any() and (mc & taken).sum() < 0.5 * mc.sum():
-                    m = m | mc
-                    mcen = mcen | (gc[2] if centre is not None else mc)
+
+        def place(chains, widths, n_user, e=e, b=b, ev=ev, hess=hess, scale=scale, scale_e=scale_e, pev=pev,
+                  centre=centre, off=off, b_full=b_full):
+            # The branches carried into the exemplar, fitted, traced and snapped
+            # to its ridges; the branches past ``n_user`` are candidates.
+            carried = [carry_points(registrations[e], c) - off for c in chains]
+            reach = max(radius, 0.12 * np.sqrt(float(b.sum())))
+            tube = radius
+            if fit and chains:
+                # Two starts for the template: the affine map nearest the
+                # registration, and the blades' centroids and sizes alone (a
+                # registration of outlines can turn the inside of a leaf by tens
+                # of degrees: maple 02 -> 03). The better fit wins.
+                best = None
+                for start in (_affine_carry(registrations[e], blades[t], chains),
+                              _moment_carry(blades[t], b_full, chains)):
+                    got, score = fit_branches([c - off for c in start], ev, b,
+                                              reach=fit_reach * np.sqrt(float(b.sum())), return_score=True,
+                                              hessian=hess)
+                    if best is None or score > best[1]:
+                        best = (got, score)
+                carried = best[0]
+                tube = max(2.0, 1.5 * width)
+                if trace and hess is not None:
+                    import cv2
+                    evb = cv2.GaussianBlur(np.where(b, ev, 0.0).astype(np.float32), (0, 0), 0.7)
+                    # Two traces may not share a vein: "near a placed branch" spans
+                    # the vein's own width (3 px on a 3 px vein; a drawn oak's 6 px
+                    # veins at 480 px took two traces side by side, 4 px apart).
+                    kw = {"overlap_px": max(3.0, float(np.ceil(width * scale_e)))}
+                    kw.update(trace_kw or {})
+                    carried = trace_branches(carried, _oriented_maps(evb, hess), b, **kw)
+            elif refine:
+                carried = refine_carried(carried, ev, b, reach=reach)
+            sw = [wd * scale for wd in widths]
+            got = snap_layer(pev, b, carried[:n_user], sw[:n_user], tube, min_evidence=min_evidence, centre=centre)
+            m, k = got[0], got[1]
+            mcen = got[2] if centre is not None else m
+            if len(carried) > n_user:
+                # A candidate (a mirrored branch) is kept only where it found a
+                # vein of its own: not one a branch of the user's already took.
+                taken = ndi.binary_dilation(m, iterations=max(2, int(np.ceil(max(sw[:n_user], default=1.0)))))
+                for c, wd in zip(carried[n_user:], sw[n_user:]):
+                    gc = snap_layer(pev, b, [c], [wd], tube, min_evidence=min_evidence, centre=centre)
+                    mc = gc[0]
+                    if mc.any() and (mc & taken).sum() < 0.5 * mc.sum():
+                        m = m | mc
+                        mcen = mcen | (gc[2] if centre is not None else mc)
+            return m, k, mcen
+        m, k, mcen = place(chains, widths, n_user)
+        if n_mirrored:
+            # A completion may only add to the user's layer: where it moved
+            # the user's own branches (the template fit poses all of them
+            # together) for little new vein, the user's layer alone is placed.
+            m0, k0, mcen0 = place(user_chains, user_widths, len(user_chains))
+            if not adds_only(m0, m, max(3.0, 1.5 * width * scale)):
+                m, k, mcen = m0, k0, mcen0
         if fit and chains and STRAY_LEVEL > 0:
             # As long as the layer's typical main branch at least: a vein, not a crease.
             typical = scale * float(np.median([np.hypot(*np.diff(c, axis=0).T).sum() for c in chains]))
@@ -887,9 +911,9 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
                 m = m | side
                 extra = extra | side
             mcen = mcen | extra
-        masks.append(m)
+        masks.append(_unbox(m, b_full.shape, y0, x0))
         kept.append(k)
-        centred_masks.append(mcen)
+        centred_masks.append(_unbox(mcen, b_full.shape, y0, x0) if return_centred else None)
     if return_centred:
         return masks, kept, centred_masks
     return masks, kept
@@ -897,5 +921,46 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
 
 #: Pixels around a hole in the blade with no ridge evidence (0: off).
 HOLE_RIM = 2
+
+#: Least margin (px) around the blade's box the snapping works in.
+BOX_PAD = 16
+
+
+def blade_box(blade, pad: int) -> tuple[int, int, int, int]:
+    """The blade's bounding box grown by ``pad`` px, clipped to the image.
+
+    Parameters
+    ----------
+    blade : (H, W) array_like of bool
+        The blade mask.
+    pad : int
+        Pixels added on every side (negative values count as 0).
+
+    Returns
+    -------
+    (int, int, int, int)
+        ``(y0, y1, x0, x1)``, the whole image for an empty blade.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> b = np.zeros((50, 60), bool); b[10:20, 30:45] = True
+    >>> blade_box(b, 4)
+    (6, 24, 26, 49)
+    """
+    b = np.asarray(blade, bool)
+    rows, cols = np.flatnonzero(b.any(1)), np.flatnonzero(b.any(0))
+    if not len(rows):
+        return 0, b.shape[0], 0, b.shape[1]
+    h, w = b.shape
+    p = max(0, int(pad))
+    return (max(int(rows[0]) - p, 0), min(int(rows[-1]) + 1 + p, h),
+            max(int(cols[0]) - p, 0), min(int(cols[-1]) + 1 + p, w))
+
+
+def _unbox(m, shape, y0: int, x0: int) -> np.ndarray:
+    out = np.zeros(shape, bool)
+    out[y0:y0 + m.shape[0], x0:x0 + m.shape[1]] = m
+    return out
 
 
