@@ -620,6 +620,7 @@ def test_fan_crowns_are_one_billboard_without_stacked_outlines(monkeypatch):
     shares = [stacked_outline_share(cloud, y) for y in (0.0, 45.0, 90.0, 135.0)]
     assert max(shares) == 0.0, shares
     monkeypatch.setattr(bb, "_STAR_ONE", False)                              # fronds on cards
+    monkeypatch.setattr(bb, "_MERGE_JOINED", False)                          # each on its own
     cards = billboard_cloud(img, params=params, rng=0)
     assert (cards.layer != TRUNK_LAYER).sum() > 1
     assert stacked_outline_share(cards, 90.0) > 0.03

@@ -165,7 +165,24 @@ def test_single_level_is_an_impostor_atlas_of_inked_views(tmp_path):
 def drawn_cloud():
     from branchnb.trees.drawn import drawn_tree
 
-    return billboard_cloud(drawn_tree("broadleaf", rng=3, size=128), params=BillboardParams(max_size=128), rng=0)
+    # The superpixel cloud (the fallback of drawn_cards): its side views need the baked outline and
+    # the side cards. By default this tree's crown is whole cards now, which keep their rim ink
+    # (test_default_cards_of_a_drawn_tree_keep_the_rim_ink).
+    return billboard_cloud(drawn_tree("broadleaf", rng=3, size=128),
+                           params=BillboardParams(max_size=128, drawn_cards=False), rng=0)
+
+
+def test_default_cards_of_a_drawn_tree_keep_the_rim_ink():
+    from branchnb.trees.drawn import drawn_tree
+    from branchnb.trees.lod import engine_view
+    from branchnb.trees.outline import rim_ink_share, silhouette_outline
+
+    cloud = billboard_cloud(drawn_tree("broadleaf", rng=3, size=128), params=BillboardParams(max_size=128), rng=0)
+    assert cloud.n_billboards < 20
+    ink = silhouette_outline(cloud.image).ink
+    full = lod_chain(cloud)[0]
+    for yaw in (45.0, 90.0):
+        assert rim_ink_share(engine_view(full.cloud, yaw, cards=full.cards), ink) >= 0.95
 
 
 def test_exported_levels_keep_the_side_outline_of_drawn_trees(drawn_cloud):

@@ -42,8 +42,8 @@ def test_front_view_scores_full_recall_and_no_smear():
 @pytest.mark.parametrize("n", [96, 128])
 def test_whole_cards_keep_fruit_rings_without_smear(n, monkeypatch):
     # Before (drawn_cards=False): ~500 billboards, smear 0.004-0.012, recall at 90 degrees 0.34-0.40.
-    # The cards unchecked: by default (cards_hold) this tree keeps its superpixel cloud, whose
-    # recall at 45 degrees is higher (0.66 / 0.64 against 0.62 with cards).
+    # Cards: the fruits are nested in the crown's card with its centre (billboard._centred_on), so no
+    # side view turns them behind it: recall at 45 and 90 degrees 0.62 / 0.56 before, 1.0 now.
     monkeypatch.setattr(billboard, "_CHECK_CARDS", False)
     img = _fruit_tree(n)
     old = billboard_cloud(img, params=BillboardParams(drawn_cards=False), rng=0)
@@ -52,8 +52,9 @@ def test_whole_cards_keep_fruit_rings_without_smear(n, monkeypatch):
     front = engine_view(new, 0.0, crop="image")
     assert float(np.abs(front[..., :3] * front[..., 3:] - img[..., :3] * img[..., 3:]).max()) < 0.02
     f_old, f_new = side_line_figures(old, 90.0), side_line_figures(new, 90.0)
-    assert f_new["smear"] == 0.0 and f_old["smear"] > 0.002
+    assert f_new["smear"] <= 0.002 < f_old["smear"]
     assert f_new["recall"] >= f_old["recall"] + 0.1
+    assert min(f_new["recall"], side_line_figures(new, 45.0)["recall"]) >= 0.95
 
 
 @pytest.mark.parametrize("name,size", [("christmas_tree_root_flare", 160), ("arbre_modern", 200)])
@@ -157,23 +158,61 @@ def _three_lobes() -> np.ndarray:
 
 
 def test_cards_that_open_sky_inside_the_crown_fall_back(monkeypatch):
-    """Three outlined lobes: raw cards show 2-12 % of their opaque pixels as sky inside the crown at 45
-    and 90 degrees (the lobes move apart in depth); the default build falls back to the superpixel cloud,
-    whose side views are closed."""
-    from scipy import ndimage as ndi
-
+    """Three outlined lobes as separate cards (merging and nesting off, the build before) show 2-12 % of their
+    opaque pixels as sky inside the crown at 45 and 90 degrees (the lobes move apart in depth), and the
+    default build then falls back to the superpixel cloud, whose side views are closed."""
     img = _three_lobes()
-
-    def sky(cloud, yaw):
-        solid = engine_view(bake_side_outline(cloud), yaw)[..., 3] > 0.5
-        return float((ndi.binary_fill_holes(solid) & ~solid).sum()) / solid.sum()
-
+    for flag in ("_MERGE_JOINED", "_NOTCHES", "_CENTRE_NESTED"):     # each lobe a card of its own
+        monkeypatch.setattr(billboard, flag, False)
     default = billboard_cloud(img, rng=0)
     plain = billboard_cloud(img, params=BillboardParams(drawn_cards=False), rng=0)
     monkeypatch.setattr(billboard, "_CHECK_CARDS", False)
     raw = billboard_cloud(img, rng=0)
     assert len(raw.centers) < len(plain.centers)  # the crown qualifies for cards
-    assert max(sky(raw, 45.0), sky(raw, 90.0)) > 0.015
+    assert max(_sky(raw, 45.0), _sky(raw, 90.0)) > 0.015
     assert len(default.centers) == len(plain.centers)
     assert np.array_equal(default.centers, plain.centers)
-    assert max(sky(default, 45.0), sky(default, 90.0)) <= 0.005
+    assert max(_sky(default, 45.0), _sky(default, 90.0)) <= 0.005
+
+
+def _sky(cloud, yaw):
+    from scipy import ndimage as ndi
+
+    solid = engine_view(bake_side_outline(cloud), yaw)[..., 3] > 0.5
+    return float((ndi.binary_fill_holes(solid) & ~solid).sum()) / solid.sum()
+
+
+def test_lobes_of_one_fill_are_one_card_that_holds():
+    """The three lobes (one fill colour, meeting across strokes) are one card by default
+    (billboard._merge_cards): the cards hold, no sky opens, the curls and arcs stay (recall >= 0.95)."""
+    img = _three_lobes()
+    cloud = billboard_cloud(img, rng=0)
+    plain = billboard_cloud(img, params=BillboardParams(drawn_cards=False), rng=0)
+    assert len(cloud.centers) < 10 < len(plain.centers)
+    baked = bake_side_outline(cloud)
+    for yaw in (45.0, 90.0):
+        assert _sky(cloud, yaw) <= 0.005
+        f = side_line_figures(baked, yaw)
+        assert f["recall"] >= 0.95 and f["smear"] <= 0.005, (yaw, f)
+
+
+@pytest.mark.parametrize("kind,seed,size", [("broadleaf", 11, 96), ("fruit", 0, 200), ("fruit", 11, 200)])
+def test_generated_drawn_crowns_keep_their_cards(kind, seed, size):
+    """Generated clumped crowns (a base fill split by clumps, fruits on the rim) kept their superpixel
+    clouds before (cards turned clumps and fruits behind the base card: recall at 45 degrees 0.69-0.71
+    against 0.95; or opened sky between the base pieces: 8-9 %), smeared 0.002-0.10 at 90 degrees.
+    Now the cards hold: at 45 and 90 degrees recall >= 0.9, no smear, rim ink >= 0.92, no white bites."""
+    from branchnb.trees.drawn import drawn_tree
+    from branchnb.trees.lod_cards import side_outline_cards
+    from branchnb.trees.outline import rim_ink_share, silhouette_outline
+
+    img = drawn_tree(kind, rng=seed, size=size)
+    cloud = billboard_cloud(img, params=BillboardParams(max_size=size), rng=0)
+    assert cloud.n_billboards < 30
+    baked = bake_side_outline(cloud)
+    ink = silhouette_outline(cloud.image).ink
+    for yaw in (45.0, 90.0):
+        f = side_line_figures(baked, yaw)
+        assert f["recall"] >= 0.9 and f["smear"] <= 0.002, (yaw, f)
+        assert _sky(cloud, yaw) <= 0.005
+    assert rim_ink_share(engine_view(baked, 45.0, cards=side_outline_cards(cloud, baked=baked)), ink) >= 0.92

@@ -347,14 +347,15 @@ def _fit_cards(z, labels, cards, crown, hmap, axis: float, outline: float = 0.0)
     return z
 
 
-def _join_cards(z, labels, cards, rgb, reach: float, tol: float = 0.06) -> np.ndarray:
+def _join_cards(z, labels, cards, rgb, reach: float, tol: float = 0.06, groups_out: list | None = None) -> np.ndarray:
     """One depth for the cards of one fill colour that meet across a stroke.
 
     A stroke drawn inside a shape (a frond's midrib) cuts it into two cards;
     at different depths they part in side views and open a sliver. Cards of
     the same fill colour (mean colours within ``tol``) within ``reach + 1``
     pixels of each other form a group that takes its least depth (cards of
-    different colours, a conifer's alternating tiers, keep theirs).
+    different colours, a conifer's alternating tiers, keep theirs). The
+    groups of more than one card are appended to ``groups_out`` (a list).
     """
     ks = np.flatnonzero(cards)
     ks = ks[ks < len(z)]
@@ -394,6 +395,8 @@ def _join_cards(z, labels, cards, rgb, reach: float, tol: float = 0.06) -> np.nd
     for g in groups.values():
         if len(g) > 1:
             z[g] = z[g].min()
+            if groups_out is not None:
+                groups_out.append(sorted(g))
     return z
 
 
