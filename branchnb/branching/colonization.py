@@ -448,6 +448,9 @@ class SegmentStore:
     ----------
     capacity : int, default 1024
         Initial number of segments the buffer holds (it doubles when full).
+    cell : float, default 16.0
+        Side (pixels) of the grid buckets a crossing test reads: only the
+        segments whose bounding box meets the candidate's cells are tested.
 
     Examples
     --------

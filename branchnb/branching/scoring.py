@@ -30,8 +30,25 @@ _DIRECTION_BINS = 512
 
 
 def binned_profile(density: DensityMap, tip, dirs: np.ndarray, length: float) -> tuple[np.ndarray, np.ndarray]:
-    """``(D_c, crossing)`` of :func:`.colonization.profile_density` along the nearest of
-    :data:`_DIRECTION_BINS` directions to each of ``dirs`` (each direction profiled once)."""
+    """Density profiles along binned directions: each distinct direction is profiled once.
+
+    Parameters
+    ----------
+    density : DensityMap
+        The space-colonization density.
+    tip : (2,) array_like
+        Where the profiles start (x, y).
+    dirs : (K, 2) ndarray
+        Directions; each is replaced by the nearest of ``_DIRECTION_BINS`` directions.
+    length : float
+        Profile length in pixels.
+
+    Returns
+    -------
+    (K,) ndarray, (K,) ndarray
+        ``D_c`` and ``crossing`` of :func:`~branchnb.branching.colonization.profile_density`
+        for each of ``dirs``.
+    """
     d = np.asarray(dirs, np.float64)
     q = np.rint(np.arctan2(d[:, 1], d[:, 0]) * (_DIRECTION_BINS / (2 * np.pi))).astype(np.int64)
     q %= _DIRECTION_BINS
