@@ -6,7 +6,7 @@ domain *drains* (a delta, :func:`_drains`; its branches are pulled downstream,
 :class:`_Drain`); an example whose roots start at its domain's edge (rivers
 from a coast) keeps its branches off that edge (:class:`_Shore`), and its
 roots may not hook back at their mouth (``MOUTH_SHARE``, ``MOUTH_TURN``).
-Used by :mod:`.growth`; split from :mod:`.synthesis`.
+Used by :mod:`~branchnb.branching.growth`; split from :mod:`~branchnb.branching.synthesis`.
 """
 
 from __future__ import annotations

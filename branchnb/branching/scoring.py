@@ -197,9 +197,9 @@ def score_candidates(model: StructureModel, hist_a, hist_r, tip, theta: float, *
         Guidance map; None = no guidance factor.
     subset : int array_like, optional
         Score only these candidates (positions in the list of all windows of
-        the history's length, :meth:`.bending.BendingModel.windows`); None = all.
+        the history's length, :meth:`~branchnb.branching.bending.BendingModel.windows`); None = all.
         The grower passes a random share on large examples (beyond the paper,
-        for speed: see :data:`.growth.MAX_CANDIDATES`).
+        for speed: see :data:`~branchnb.branching.growth.MAX_CANDIDATES`).
 
     Returns
     -------
