@@ -116,7 +116,7 @@ class LayerInduction:
         (:func:`~branchnb.leaves.own_contrast.trim_by_contrast`); None where not trimmed.
     centred : list of (H, W) bool ndarray or None, optional
         The snapped paths grown to the side and width of each exemplar's own
-        vein (:func:`~branchnb.leaves.snapping._grow_to_width`); joined to
+        vein (:func:`~branchnb.leaves.snapping_width._grow_to_width`); joined to
         ``{D < delta}`` beside it (:func:`_induced`).
     """
 
@@ -427,7 +427,7 @@ def _induced(combined, delta, training_overlap, snapped, e, blade, taken, *, cen
     maples with their hand-traced veins, mean IoU 0.30 with it, 0.34 without).
     With the colour term, the ``centred`` snapped pixels next to ``{D < delta}``
     (one pixel) join it: the snapped paths, grown to their vein's side and
-    width (:func:`~branchnb.leaves.snapping._grow_to_width`), fill the pixels the
+    width (:func:`~branchnb.leaves.snapping_width._grow_to_width`), fill the pixels the
     colour term left beside its thin veins (procedural elliptic 192 px,
     training leaf 2 -> exemplar 3, seed 2: IoU 0.64 -> 0.70); all of them
     (a union) added the off-vein paths too (lobed 192 px 0.81 -> 0.80).
@@ -493,7 +493,7 @@ def _snapped(residual, blades, t, user, registrations, stats, tolerance, params,
 
     Returns ``(masks, own, pixels, centred)``: ``masks`` None (not thin / off) or one mask
     per exemplar (None on the training leaf), ``centred`` the same paths grown to each
-    exemplar's own vein (:func:`~branchnb.leaves.snapping._grow_to_width`); ``own[e]`` the contrast
+    exemplar's own vein (:func:`~branchnb.leaves.snapping_width._grow_to_width`); ``own[e]`` the contrast
     direction of exemplar ``e``'s own layer where it differs from the
     training leaf's (:func:`branchnb.leaves.own_contrast.exemplar_direction`), else None.
     """

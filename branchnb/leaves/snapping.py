@@ -123,8 +123,8 @@ veins: 0.68 0.68 0.69 0.59 0.66 0.61 0.58; with the old tracings 0.66 0.67
 (trilobed 192 px min 0.70 -> 0.71). Maple 07, torn, as the training leaf
 stays under 0.6: its own tracing stops where its lobe is damaged.
 
-**Centred widths** (``return_centred``, :func:`vein_centre`,
-:func:`_grow_to_width`): a path grown evenly to the training branch's
+**Centred widths** (``return_centred``, :func:`~branchnb.leaves.snapping_width.vein_centre`,
+:func:`~branchnb.leaves.snapping_width._grow_to_width`): a path grown evenly to the training branch's
 width sat on the exemplar's vein but covered a pixel beside it (a 2 px
 vein drawn 3 px; training leaves with wider veins than the exemplar's:
 elliptic 192 px, training leaf 2 -> exemplar 3, seed 2, 2.8 px per path
@@ -148,6 +148,7 @@ import numpy as np
 from scipy import ndimage as ndi
 
 from ..core.image import as_mask, extend_nearest
+from .snapping_carry import _affine_carry, _disk, _moment_carry, _nearest, carry_points  # noqa: F401
 from .snapping_fit import (  # noqa: F401  (the fit's names, importable from here as before)
     N_ORIENTATIONS,
     ORIENTED_WEIGHT,
@@ -168,6 +169,7 @@ from .snapping_fit import (  # noqa: F401  (the fit's names, importable from her
 from .snapping_mirror import adds_only, mirror_missing
 from .snapping_stray import SIDE_LEVEL, STRAY_LENGTH, STRAY_LEVEL, _side_ridges, _stray_ridges  # noqa: F401
 from .snapping_trace import refine_carried, trace_branches  # noqa: F401
+from .snapping_width import GROW_CAP, GROW_LEVEL, _area_widths, _grow_to_width, vein_centre  # noqa: F401
 
 __all__ = ["is_thin_layer", "contrast_direction", "ridge_evidence", "layer_branches", "snap_layer",
            "carry_points", "snap_to_exemplars", "refine_carried", "main_branches", "fit_branches",
@@ -430,8 +432,8 @@ def snap_layer(evidence, blade, chains, widths, tolerance: float, *, min_evidenc
     min_evidence : float
         A path whose mean evidence is below this is dropped (no vein there).
     centre : (H, W) float ndarray, optional
-        Per-pixel vein likelihood (:func:`vein_centre`): the paths are also
-        grown by the exemplar's own contrast (see :func:`_grow_to_width`),
+        Per-pixel vein likelihood (:func:`~branchnb.leaves.snapping_width.vein_centre`): the paths are also
+        grown by the exemplar's own contrast (see :func:`~branchnb.leaves.snapping_width._grow_to_width`),
         returned as ``centred``. None (default): not.
 
     Returns
@@ -516,197 +518,6 @@ def snap_layer(evidence, blade, chains, widths, tolerance: float, *, min_evidenc
     return out & blade, kept
 
 
-def _area_widths(mask, chains) -> list:
-    """Each branch's width as the area of the layer pixels nearest it over its pixel count."""
-    if not chains:
-        return []
-    lab = np.zeros(mask.shape, np.int32)
-    for k, c in enumerate(chains, start=1):
-        lab[c[:, 1], c[:, 0]] = k
-    _, (iy, ix) = ndi.distance_transform_edt(lab == 0, return_indices=True)
-    owner = lab[iy, ix][mask]
-    area = np.bincount(owner, minlength=len(chains) + 1)[1:].astype(float)
-    return [float(max(1.0, a / max(len(c), 1))) for a, c in zip(area, chains)]
-
-
-def _grow_to_width(path, width: float, score=None) -> np.ndarray:
-    """A one-pixel path grown until its area per path pixel is nearest ``width``.
-
-    Grown by thresholds of the distance to the path (``d <= sqrt(k)``): a
-    3 px wide vein stays 3 px wide whether it runs along the pixel grid or
-    diagonally (a disk of a rounded radius drew diagonal 2 px veins 1 px wide).
-
-    With ``score`` (per-pixel vein likelihood, :func:`vein_centre`) the path
-    is grown by the exemplar's own contrast instead: a pixel within the
-    shells of area ``width * GROW_CAP`` joins when its score is at least
-    :data:`GROW_LEVEL` of the score of the path pixel nearest it (covered
-    at least half by the vein, as the truth of a drawn vein is), nearest
-    and strongest first, up to ``width * GROW_CAP`` pixels per path pixel.
-    A vein two pixels wide is then the path and its neighbour on the side
-    the vein lies, and a vein narrower on this leaf than on the training
-    leaf keeps its own width. Grown evenly instead, the snapped side veins
-    of procedural leaves covered one pixel beside the true vein along their
-    whole length (elliptic 192 px, training leaf 2 -> exemplar 3, seed 2:
-    snapped layer 2.8 px per path pixel on 1.7 px veins, precision 0.60;
-    now 1.5 px, precision 0.93).
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> path = np.zeros((9, 12), bool); path[4] = True
-    >>> score = np.zeros((9, 12)); score[4] = 1.0; score[5] = 0.8   # the vein's second row: below
-    >>> grown = _grow_to_width(path, 2.0, score)
-    >>> bool(grown[5].all()), int(grown[3].sum())
-    (True, 0)
-    """
-    n = int(path.sum())
-    if n == 0 or (score is None and width <= 1.25) or width <= 1.0:
-        return path
-    pad = 8
-    if score is None:
-        d2 = ndi.distance_transform_edt(~np.pad(path, pad)) ** 2
-        d2 = d2[pad:-pad, pad:-pad]
-        best, best_err = path, abs(1.0 - width)
-        for k in (1, 2, 4, 5, 8, 9, 10, 13, 16, 17, 18, 20, 25):
-            m = d2 <= k + 1e-6
-            err = abs(m.sum() / n - width)
-            if err < best_err:
-                best, best_err = m, err
-            elif m.sum() / n > width:
-                break
-        return best
-    d, (iy, ix) = ndi.distance_transform_edt(~np.pad(path, pad), return_indices=True)
-    d2 = (d ** 2)[pad:-pad, pad:-pad]
-    iy = np.clip(iy[pad:-pad, pad:-pad] - pad, 0, path.shape[0] - 1)
-    ix = np.clip(ix[pad:-pad, pad:-pad] - pad, 0, path.shape[1] - 1)
-    score = np.asarray(score, np.float64)
-    cap = width * GROW_CAP
-    # A pixel joins when it stands out at least GROW_LEVEL as much as the path
-    # pixel nearest it (a vein pixel covered at least half, as a vein is
-    # drawn), touching the vein grown so far, nearest shells first: a path
-    # along one edge of a 3 px vein reaches its far edge, 2 px away.
-    ref = score[iy, ix]
-    ok = (score > 0) & (score >= GROW_LEVEL * ref)
-    need = int(round(cap * n)) - n
-    out = path.copy()
-    cross = np.array([[0, 1, 0], [1, 1, 1], [0, 1, 0]], bool)
-    kmax = float(np.ceil(cap)) ** 2
-    for k in (1, 2, 4, 5, 8, 9, 10, 13, 16, 17, 18, 20, 25):
-        if need <= 0 or k > kmax:
-            break
-        shell = (d2 <= k + 1e-6) & ~out & ok & ndi.binary_dilation(out, cross)
-        ys, xs = np.nonzero(shell)
-        if not len(ys):
-            continue
-        order = np.argsort(-score[ys, xs], kind="stable")[:need]
-        out[ys[order], xs[order]] = True
-        need -= len(order)
-    return out
-
-
-#: A pixel beside a snapped path joins the vein when its contrast is at least
-#: this share of the path pixel's nearest it (:func:`_grow_to_width`).
-GROW_LEVEL = 0.4
-#: Largest area per path pixel, in the training branch's (scaled) widths.
-GROW_CAP = 1.3
-
-
-def vein_centre(lab, blade, direction, width: float) -> np.ndarray:
-    """Per-pixel vein likelihood: the colours projected on ``direction``, minus their local mean.
-
-    The projection a vein's own pixels stand out in (its coverage of the
-    pixel, on a rendered or photographed vein), high-passed at a few vein
-    widths so shading does not decide which side of a path a vein is grown
-    to.
-
-    Parameters
-    ----------
-    lab : (H, W, 3) float ndarray
-        CIELAB colours.
-    blade : (H, W) bool array_like
-        The blade.
-    direction : (3,) array_like
-        :func:`contrast_direction` (as projected for the ridge evidence).
-    width : float
-        The layer's typical width (px).
-
-    Returns
-    -------
-    (H, W) float32 ndarray
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> lab = np.zeros((20, 20, 3)); lab[:, 10, 0] = 10.0
-    >>> c = vein_centre(lab, np.ones((20, 20), bool), (1.0, 0.0, 0.0), 1.0)
-    >>> int(np.argmax(c[10]))
-    10
-    """
-    import cv2
-    blade = as_mask(blade, shape=np.shape(lab)[:2], name="blade")
-    p = (np.asarray(lab, np.float32) @ np.asarray(direction, np.float32)).astype(np.float32)
-    p = extend_nearest(p, blade)
-    return (p - cv2.GaussianBlur(p, (0, 0), max(1.5, 2.0 * float(width)))).astype(np.float32)
-
-
-def _affine_carry(registration, blade_t, chains, step: int = 4):
-    """Chains carried by the affine map nearest the registration over the training blade."""
-    ys, xs = np.nonzero(blade_t[::step, ::step])
-    p = np.column_stack([xs, ys]).astype(np.float64) * step
-    q = carry_points(registration, p)
-    a = np.column_stack([p, np.ones(len(p))])
-    m = np.linalg.lstsq(a, q, rcond=None)[0]
-    return [np.column_stack([np.asarray(c, np.float64), np.ones(len(c))]) @ m for c in chains]
-
-
-def _moment_carry(blade_t, blade_e, chains):
-    """Chains carried by the similarity that maps the training blade's centroid and size onto the exemplar's."""
-    yt, xt = np.nonzero(blade_t)
-    ye, xe = np.nonzero(blade_e)
-    ct, ce = np.array([xt.mean(), yt.mean()]), np.array([xe.mean(), ye.mean()])
-    sc = np.sqrt(len(ye) / max(len(yt), 1))
-    return [(np.asarray(c, np.float64) - ct) * sc + ce for c in chains]
-
-
-def _nearest(ys, xs, p):
-    i = int(np.argmin((ys - p[0]) ** 2 + (xs - p[1]) ** 2))
-    return int(ys[i]), int(xs[i])
-
-
-def _disk(r: int) -> np.ndarray:
-    y, x = np.mgrid[-r:r + 1, -r:r + 1]
-    return x * x + y * y <= r * r + r
-
-
-def carry_points(registration, points) -> np.ndarray:
-    """Training-leaf points (x, y) carried into an exemplar by its registration.
-
-    Uses the dense ``map_to_training`` (bilinear) when the registration has
-    one, else its ``inverse`` point map.
-
-    Parameters
-    ----------
-    registration : Registration or IdentityRegistration
-        Exemplar -> training leaf.
-    points : (N, 2) array_like
-        ``(x, y)`` on the training leaf.
-
-    Returns
-    -------
-    (N, 2) float64 ndarray
-        ``(x, y)`` on the exemplar.
-    """
-    pts = np.asarray(points, np.float64).reshape(-1, 2)
-    mp = getattr(registration, "map_to_training", None)
-    if mp is None:
-        return np.asarray(registration.inverse(pts), np.float64)
-    import cv2
-    mp = np.asarray(mp, np.float32)
-    out = cv2.remap(mp, pts[:, 0].astype(np.float32)[None], pts[:, 1].astype(np.float32)[None],
-                    cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
-    return out[0].astype(np.float64)
-
-
 def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *, tolerance: float,
                       radius_widths: float = 3.0, min_evidence: float = 0.2, refine: bool = True,
                       line_frac: float = 0.08, fit: bool = True, fit_reach: float = 0.2, oriented: bool = True,
@@ -769,8 +580,8 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
         image as a candidate), default True.
     return_centred : bool
         Also return ``centred``: the same paths grown by each exemplar's own
-        contrast, to the side and width of its vein (:func:`vein_centre`,
-        :func:`_grow_to_width`); default False.
+        contrast, to the side and width of its vein (:func:`~branchnb.leaves.snapping_width.vein_centre`,
+        :func:`~branchnb.leaves.snapping_width._grow_to_width`); default False.
 
     Returns
     -------
@@ -787,7 +598,7 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
     area_w = {id(c): a for c, a in zip(chains, _area_widths(user, chains))}
     chains, widths = main_branches(chains, widths, np.sqrt(float(blades[t].sum())))
     # Drawn widths as each branch's area per skeleton pixel (what the vein
-    # covers; :func:`_grow_to_width` draws by the same measure). ``2 EDT - 1``
+    # covers; :func:`~branchnb.leaves.snapping_width._grow_to_width` draws by the same measure). ``2 EDT - 1``
     # reads a diagonal 3 px vein as 1.8 px: the laterals of a maple were
     # drawn one pixel wide.
     widths = [area_w[id(c)] for c in chains]

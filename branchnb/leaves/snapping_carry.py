@@ -1,0 +1,66 @@
+"""Carrying the training layer's points into an exemplar before the snap.
+
+Split from :mod:`~branchnb.leaves.snapping`; every name is importable from there as before.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def _affine_carry(registration, blade_t, chains, step: int = 4):
+    """Chains carried by the affine map nearest the registration over the training blade."""
+    ys, xs = np.nonzero(blade_t[::step, ::step])
+    p = np.column_stack([xs, ys]).astype(np.float64) * step
+    q = carry_points(registration, p)
+    a = np.column_stack([p, np.ones(len(p))])
+    m = np.linalg.lstsq(a, q, rcond=None)[0]
+    return [np.column_stack([np.asarray(c, np.float64), np.ones(len(c))]) @ m for c in chains]
+
+
+def _moment_carry(blade_t, blade_e, chains):
+    """Chains carried by the similarity that maps the training blade's centroid and size onto the exemplar's."""
+    yt, xt = np.nonzero(blade_t)
+    ye, xe = np.nonzero(blade_e)
+    ct, ce = np.array([xt.mean(), yt.mean()]), np.array([xe.mean(), ye.mean()])
+    sc = np.sqrt(len(ye) / max(len(yt), 1))
+    return [(np.asarray(c, np.float64) - ct) * sc + ce for c in chains]
+
+
+def _nearest(ys, xs, p):
+    i = int(np.argmin((ys - p[0]) ** 2 + (xs - p[1]) ** 2))
+    return int(ys[i]), int(xs[i])
+
+
+def _disk(r: int) -> np.ndarray:
+    y, x = np.mgrid[-r:r + 1, -r:r + 1]
+    return x * x + y * y <= r * r + r
+
+
+def carry_points(registration, points) -> np.ndarray:
+    """Training-leaf points (x, y) carried into an exemplar by its registration.
+
+    Uses the dense ``map_to_training`` (bilinear) when the registration has
+    one, else its ``inverse`` point map.
+
+    Parameters
+    ----------
+    registration : Registration or IdentityRegistration
+        Exemplar -> training leaf.
+    points : (N, 2) array_like
+        ``(x, y)`` on the training leaf.
+
+    Returns
+    -------
+    (N, 2) float64 ndarray
+        ``(x, y)`` on the exemplar.
+    """
+    pts = np.asarray(points, np.float64).reshape(-1, 2)
+    mp = getattr(registration, "map_to_training", None)
+    if mp is None:
+        return np.asarray(registration.inverse(pts), np.float64)
+    import cv2
+    mp = np.asarray(mp, np.float32)
+    out = cv2.remap(mp, pts[:, 0].astype(np.float32)[None], pts[:, 1].astype(np.float32)[None],
+                    cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+    return out[0].astype(np.float64)
