@@ -206,7 +206,8 @@ def bake_side_outline(cloud, *, yaws=tuple(range(15, 360, 15)), ink=None, width=
     >>> from branchnb.trees.billboard import BillboardParams, billboard_cloud
     >>> from branchnb.trees.drawn import drawn_tree
     >>> from branchnb.trees.outline import rim_ink_share, silhouette_outline
-    >>> cloud = billboard_cloud(drawn_tree("fruit", rng=0, size=128), params=BillboardParams(max_size=128), rng=0)
+    >>> params = BillboardParams(max_size=128, drawn_cards=False)   # the superpixel cloud (cards keep their lines)
+    >>> cloud = billboard_cloud(drawn_tree("fruit", rng=0, size=128), params=params, rng=0)
     >>> baked = bake_side_outline(cloud)
     >>> ink = silhouette_outline(cloud.image).ink
     >>> float(abs(engine_view(baked, 0.0) - engine_view(cloud, 0.0)).max()) < 1e-3   # front view as drawn
