@@ -19,6 +19,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import ndimage as ndi
 
+from ..core.polyline import normals
 from ..core.structure import Branch, Structure
 
 __all__ = ["centre_on_lines"]
@@ -83,9 +84,7 @@ def centre_on_lines(lines, structure: Structure, polarity: str = "dark", reach: 
         if len(p) < 3:
             moved.append(p.copy())
             continue
-        t = np.gradient(p, axis=0)
-        t /= np.maximum(np.linalg.norm(t, axis=1, keepdims=True), 1e-9)
-        n = np.stack([-t[:, 1], t[:, 0]], 1)
+        n = normals(p)
         q = p[:, None, :] + offs[None, :, None] * n[:, None, :]
         v = ndi.map_coordinates(ink, [q[..., 1].ravel(), q[..., 0].ravel()], order=1,
                                 mode="nearest").reshape(q.shape[:2])
