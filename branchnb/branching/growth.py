@@ -595,7 +595,8 @@ class _Grower(_Filling):
             st.stop = "no history"
             return False
         tip = np.asarray(st.points[-1])
-        self.steps += 1
+        if not full:   # a retry with every candidate is the same step
+            self.steps += 1
         bm = self.model.bending
         sub = None if full else self._share(len(bm.windows(min(len(st.elem_a), bm.max_history()))[0]))
         cs = self.scorer(self.model, st.elem_a, st.elem_r, tip, st.theta, params=p,
@@ -629,7 +630,7 @@ class _Grower(_Filling):
                 # of a 1000 px drawn map was 0.74-0.92 x the example's and of 1000 px drawn cracks
                 # 0.80-0.91 x with turns 1.8-2.0 x; blended 0.82-0.84 x and 0.88-1.02 x; issue 23)
                 fr = np.sqrt(fr * self.runs.factors(run, ca, n_arr, None))
-            if self.drain is not None:   # a delta's channel turns toward the sea: the drain decides first
+            else:   # a delta's channel turns toward the sea: the drain decides first
                 fr = np.sqrt(fr)
             fb = fr if fb is None else fb * fr
         if self.shore is not None:
