@@ -60,6 +60,14 @@ def true_registrations(leaves, training_index):
 
 
 
+def normalised_true_registrations(leaves, training_index=0):
+    """True registrations on the canvas :func:`~branchnb.leaves.analysis.normalise_exemplars` puts the leaves on."""
+    from branchnb.leaves.analysis import normalise_exemplars
+    _, blades, offs = normalise_exemplars(leaves)
+    kps = [leaf.keypoints + np.array(o) for leaf, o in zip(leaves, offs)]
+    return [TrueRegistration(k, kps[training_index], blades[0].shape) for k in kps]
+
+
 def perturbed(registration, amplitude, rng):
     """``registration`` with its maps moved by a smooth random field of at most ``amplitude`` px."""
     from branchnb.leaves._measure import _Perturbed

@@ -4,11 +4,11 @@ import json
 
 import numpy as np
 import pytest
-from leaves_truth import TrueRegistration
+from leaves_truth import normalised_true_registrations
 
 from branchnb.core.io import imread
 from branchnb.leaves import leaf_family
-from branchnb.leaves.analysis import analyze, normalise_exemplars
+from branchnb.leaves.analysis import analyze
 from branchnb.leaves.synthesis import (
     GeneratedLeaf,
     SynthesisParams,
@@ -25,9 +25,7 @@ from branchnb.leaves.synthesis import (
 @pytest.fixture(scope="module")
 def analysis():
     fam = leaf_family(4, size=320, rng=5)
-    _, blades, offs = normalise_exemplars(fam)
-    kps = [leaf.keypoints + np.array(o) for leaf, o in zip(fam, offs)]
-    regs = [TrueRegistration(k, kps[0], blades[0].shape) for k in kps]
+    regs = normalised_true_registrations(fam)
     return analyze(fam, 0, {"veins": fam[0].layers["veins"], "spots": fam[0].layers["spots"]},
                    registrations=regs)
 

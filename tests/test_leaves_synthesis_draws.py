@@ -2,20 +2,18 @@
 
 import numpy as np
 import pytest
-from leaves_truth import TrueRegistration
+from leaves_truth import normalised_true_registrations
 
 from branchnb.leaves import leaf_family
 from branchnb.leaves._measure_synthesis import laplacian_variance, petiole_angle
-from branchnb.leaves.analysis import analyze, normalise_exemplars
+from branchnb.leaves.analysis import analyze
 from branchnb.leaves.synthesis import _exemplar_draws, generate, generate_leaf
 
 
 @pytest.fixture(scope="module", params=["lobed", "elliptic"])
 def family_analysis(request):
     fam = leaf_family(4, size=192, kind=request.param, rng=3)
-    _, blades, offs = normalise_exemplars(fam)
-    kps = [leaf.keypoints + np.array(o) for leaf, o in zip(fam, offs)]
-    regs = [TrueRegistration(k, kps[0], blades[0].shape) for k in kps]
+    regs = normalised_true_registrations(fam)
     return analyze(fam, 0, {"veins": fam[0].layers["veins"], "spots": fam[0].layers["spots"]},
                    registrations=regs)
 

@@ -8,13 +8,13 @@ with known answers.
 import cv2
 import numpy as np
 import pytest
-from leaves_truth import TrueRegistration
+from leaves_truth import normalised_true_registrations
 from scipy import ndimage as ndi
 
 from branchnb.core.image import extend_nearest
 from branchnb.leaves import leaf_family
 from branchnb.leaves._measure_synthesis import median_pair_iou, synthesis_row
-from branchnb.leaves.analysis import analyze, normalise_exemplars
+from branchnb.leaves.analysis import analyze
 from branchnb.leaves.prepared import _bleed, _completed, _smooth_fill
 from branchnb.leaves.synthesis import SynthesisParams, _masked_blur, generate
 
@@ -95,9 +95,7 @@ def test_reduced_wide_blur_matches_the_full_size_one():
 @pytest.fixture(scope="module")
 def family():
     fam = leaf_family(5, size=160, kind="trilobed", rng=2)
-    _, blades, offs = normalise_exemplars(fam)
-    kps = [leaf.keypoints + np.array(o) for leaf, o in zip(fam, offs)]
-    regs = [TrueRegistration(k, kps[0], blades[0].shape) for k in kps]
+    regs = normalised_true_registrations(fam)
     return analyze(fam, 0, {"veins": fam[0].layers["veins"]}, registrations=regs)
 
 

@@ -2,10 +2,10 @@
 
 import numpy as np
 import pytest
-from leaves_truth import TrueRegistration
+from leaves_truth import normalised_true_registrations
 
 from branchnb.leaves import leaf_family
-from branchnb.leaves.analysis import analyze, normalise_exemplars
+from branchnb.leaves.analysis import analyze
 from branchnb.leaves.synthesis import SynthesisParams, generate, shape_weights
 
 
@@ -17,9 +17,7 @@ def _median_pair_iou(blades):
 @pytest.fixture(scope="module", params=["elliptic", "trilobed"])
 def family_analysis(request):
     fam = leaf_family(5, size=160, kind=request.param, rng=7)
-    _, blades, offs = normalise_exemplars(fam)
-    kps = [leaf.keypoints + np.array(o) for leaf, o in zip(fam, offs)]
-    regs = [TrueRegistration(k, kps[0], blades[0].shape) for k in kps]
+    regs = normalised_true_registrations(fam)
     return analyze(fam, 0, {"veins": fam[0].layers["veins"]}, registrations=regs)
 
 
