@@ -208,6 +208,8 @@ class SynthesisParams:
     correct: bool = param(True, help="texture correction where the shape warp stretches")
     donor_size_sigma: float = param(0.05, min=0.0, max=2.0, step=0.01,
                                     help="layer donors of about the new leaf's size (log-size sigma; 0: any)")
+    donor_complete: float = param(0.75, min=0.0, max=1.0, step=0.05,
+                                  help="layer donors need this share of the median completeness (0: any)")
     layer_colour: str = param("contrast", options=("contrast", "copy"),
                               help="a layer brings its contrast to its own leaf (contrast) or its colours (copy)")
 
@@ -393,15 +395,33 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
         cands = [e for e in range(n) if L.masks[e].any()]
         if not cands:
             continue
-        fresh = [e for e in cands if e not in used]
-        pool = fresh if fresh else cands
-        if params.donor_size_sigma > 0 and len(pool) > 1 and new_size > 0:
-            # Donors of about the new leaf's size (see SynthesisParams.donor_size_sigma).
-            z = np.log(np.maximum([p.lamina_size[j] for j in pool], 1e-6) / new_size) / params.donor_size_sigma
-            w = np.exp(-0.5 * z ** 2)
+        # Under-induced donors (a layer far sparser than most exemplars':
+        # a few dashes of veins) are passed over while others have one.
+        full = [e for e in cands if p.layer_complete[k][e] >= params.donor_complete]
+        cands = full if full else cands
+        # Never the donor of another layer (two layers of one exemplar
+        # pasted with different warps lay beside each other: vein continuity
+        # 0.58 on maples whose spots and veins came from one leaf).
+        free = [e for e in cands if e not in chosen.values()] or cands
+        fresh = [e for e in free if e not in used]
+        if params.donor_size_sigma > 0 and len(free) > 1 and new_size > 0:
+            # Donors whose layer is carried with the least stretch (see
+            # SynthesisParams.donor_size_sigma); the background's own
+            # exemplar only when every other one is stretched more.
+            sig = params.donor_size_sigma
+            size = np.log(np.maximum([p.lamina_size[j] for j in free], 1e-6) / new_size)
+            stretch = np.hypot(size, [p.carried_anisotropy(j, m, alpha > 0.5) for j in free])
+            ok = [i for i, j in enumerate(free) if j in fresh]
+            if not ok or stretch[ok].min() > max(float(stretch.min()) + 2.0 * sig, _REUSE_STRETCH):
+                ok = list(range(len(free)))
+            idx = ok
+            pool = [free[i] for i in idx]
+            best = float(stretch[idx].min())
+            w = np.exp(-0.5 * ((stretch[idx] - best) / sig) ** 2)
             w = w / w.sum() if w.sum() > 0 else np.full(len(pool), 1.0 / len(pool))
-            e = int(pool[int(rng.choice(len(pool), p=w))])
+            e = int(pool[int(rng.choice(len(pool), p=w))]) if len(pool) > 1 else int(pool[0])
         else:
+            pool = fresh if fresh else free
             e = int(rng.choice(pool))
         used.add(e)
         chosen[L.name] = e
@@ -480,6 +500,10 @@ def _exemplar_draws(seed: int, n: int) -> tuple[int, int, int]:
     lead = int(np.random.default_rng((seed, 6)).integers(n))
     return (lead, int(np.random.default_rng((seed, 3)).integers(n)), lead)
 
+
+#: A layer's donor is the background's own exemplar only when every other is stretched more than this
+#: (log of the scale; see :func:`generate_leaf`).
+_REUSE_STRETCH = float(np.log(1.25))
 
 #: Largest number of candidate seeds tried per leaf by :func:`_stratified_seeds`.
 _STRATA_TRIES = 4096
