@@ -2,7 +2,7 @@
 
 A grass leaf led by a wide exemplar took its veins from narrow strips stretched across it (vein
 continuity 0.45, no midrib). Here on procedural families with true registrations, some leaves
-stretched 2.2x across (a family of narrow and wide leaves of one kind).
+stretched 3.5x across (a family of narrow and wide leaves of one kind).
 """
 
 import dataclasses
@@ -13,7 +13,6 @@ import pytest
 from leaves_truth import normalised_true_registrations
 
 from branchnb.leaves import leaf_family
-from branchnb.leaves._measure_synthesis import synthesis_row
 from branchnb.leaves.analysis import analyze
 from branchnb.leaves.synthesis import _prepared, generate
 
@@ -32,7 +31,7 @@ def _stretched(leaf, fx):
 
 def _analysis(kind, seed, wide=(0,)):
     fam = leaf_family(4, size=150, kind=kind, rng=seed)
-    fam = [_stretched(x, 2.2) if i in wide else x for i, x in enumerate(fam)]
+    fam = [_stretched(x, 3.5) if i in wide else x for i, x in enumerate(fam)]
     regs = normalised_true_registrations(fam, 0)
     return analyze(fam, 0, {"veins": fam[0].layers["veins"]}, registrations=regs)
 
@@ -42,23 +41,54 @@ def wide_training():
     return _analysis("elliptic", 2)
 
 
-def test_stretch_of_a_scaled_map():
+def test_anisotropy_of_scaled_maps():
     a = _analysis("lobed", 0, wide=())
     p = _prepared(a)
     ident = np.stack([p.xx, p.yy], -1)
     blade = a.blades[0]
-    assert p.carried_stretch(0, ident, blade) == pytest.approx(0.0, abs=1e-6)
     c = np.array(blade.shape[::-1], np.float32) / 2
-    half = ((ident - c) * 0.5 + c).astype(np.float32)  # the exemplar seen at twice its size
-    assert p.carried_stretch(0, half, blade) == pytest.approx(np.log(2.0), abs=0.02)
+    assert p.carried_anisotropy(0, ident, blade) == pytest.approx(0.0, abs=1e-6)
+    half = ((ident - c) * 0.5 + c).astype(np.float32)  # a similarity: no anisotropy
+    assert p.carried_anisotropy(0, half, blade) == pytest.approx(0.0, abs=1e-6)
+    wide = ((ident - c) * np.array([0.5, 1.0], np.float32) + c).astype(np.float32)  # spread 2x across
+    assert p.carried_anisotropy(0, wide, blade) == pytest.approx(np.log(2.0) / 2, abs=0.01)
 
 
-def test_a_wide_training_leaf_keeps_continuous_veins(wide_training):
-    """Before: veins of the narrow leaves stretched 2.2x across the wide one's shape.
-    Measured (elliptic 150 px, 8 leaves): vein continuity min 0.75 -> 0.95 (mean 0.91 -> 0.98)."""
-    r = synthesis_row(wide_training, 8, seed=0)
-    assert r["vein_cont_min"] >= 0.9
-    assert r["vein_cont"] >= 0.95
+def _donor_stretch(a, params=None):
+    """Per new leaf: the stretch (log size ratio and anisotropy) of its vein donor and the least among the exemplars."""
+    from branchnb.leaves import synthesis
+    p = _prepared(a)
+    maps, out = [], []
+    orig = p.source_coords
+
+    def spy(e, m, d):
+        maps.append(m)
+        return orig(e, m, d)
+    p.source_coords = spy
+    try:
+        for s in range(6):
+            maps.clear()
+            x = synthesis.generate_leaf(a, s, params)
+            m = maps[0]
+            b = x.image[..., 3] > 0.5
+            an = [np.hypot(np.log(p.lamina_size[e] / np.sqrt(b.sum())), p.carried_anisotropy(e, m, b))
+                  for e in range(p.n)]
+            out.append((an[x.layers["veins"]], min(an)))
+    finally:
+        p.source_coords = orig
+    return np.array(out)
+
+
+def test_veins_come_from_the_least_stretched_donor(wide_training):
+    """One exemplar 3.5x wider than the others: its shape spreads a narrow leaf's veins across it.
+    Measured (elliptic 150 px, 6 leaves): mean stretch of the vein donor, any donor (the paper,
+    ``donor_size_sigma=0``) 0.33 -> 0.24 (least possible 0.22, the background's own exemplar
+    included, which is taken only when every other is stretched more than 1.5x)."""
+    from branchnb.leaves.synthesis import SynthesisParams
+    now = _donor_stretch(wide_training)
+    anyd = _donor_stretch(wide_training, SynthesisParams(donor_size_sigma=0.0))
+    assert np.all(now[:, 0] <= now[:, 1] + np.log(1.5) + 1e-9)
+    assert now[:, 0].mean() < anyd[:, 0].mean() - 0.05
 
 
 def test_an_under_induced_donor_is_passed_over(wide_training):
