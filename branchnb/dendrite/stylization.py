@@ -39,10 +39,14 @@ from .dendrite import Dendrite, PathStats, build_dendrite, path_statistics
 from .endpoints import place_endpoints
 from .importance import ImportanceParams, darkness, gradient_strength, importance_map
 from .lattice import Lattice, node_weights
+from .main_channel import shortcut_loops
 from .planner import METRICS, PlanResult, plan
 from .render import Rendering
 from .scale import resample_to_lattice
 from .stylize_params import (  # noqa: F401  (re-exported; the spacings too)
+    LIGHTNING_LOOP_REACH,
+    LIGHTNING_SEED_BLUR,
+    LIGHTNING_SEED_DENSITY,
     LIGHTNING_SPACING,
     VINE_SPACING,
     StylizeParams,
@@ -317,7 +321,11 @@ class Stylizer:
         ``params.endpoint_threshold`` within 5 % of the lattice's height below
         the topmost such pixel (beyond the paper: from the default seed, in the
         middle of the picture, the bolt burst out in every direction; from the
-        top it runs down and forks like a strike).
+        top it runs down and forks like a strike). Only content pixels in a
+        wide part count: their share of content within a blur of
+        ``LIGHTNING_SEED_BLUR`` of the lattice's diagonal reaches
+        ``LIGHTNING_SEED_DENSITY`` of its maximum (a thin tip on top, a fern's
+        leaflets or a horse's ear, started the widest channel with a knot).
 
         Parameters
         ----------
@@ -340,6 +348,14 @@ class Stylizer:
         ys, xs = np.nonzero(imp >= params.endpoint_threshold)
         if ys.size == 0:
             return np.array([(self.shape[1] - 1) / 2.0, 0.0])
+        content = imp >= params.endpoint_threshold
+        mass = ndimage.gaussian_filter(content.astype(np.float32),
+                                       LIGHTNING_SEED_BLUR * float(np.hypot(*imp.shape)),
+                                       mode="constant")
+        wide = mass[ys, xs] >= LIGHTNING_SEED_DENSITY * float(mass.max())
+        ys, xs = ys[wide], xs[wide]  # never empty: the maximum is on or next to content
+        if ys.size == 0:
+            ys, xs = np.nonzero(content)
         band = ys <= ys.min() + 0.05 * imp.shape[0]
         xb, yb = xs[band], ys[band]
         k = int(np.argmin(np.abs(xb - np.median(xb)) + 1e-3 * yb))  # on a content pixel
@@ -527,6 +543,31 @@ class Stylizer:
             d = d.with_radius(np.clip(d.radius * (1.0 + p.edges * e ** 2), lo / 2, hi / 2))
         return d
 
+    def _main_channel_straight(self, p: StylizeParams, seed, rng_seed: int) -> Dendrite:
+        """:meth:`dendrite` with the hairpins of its main channel cut (cached).
+
+        Beyond the paper: a lightning bolt's widest channel follows the picture's
+        edges, and through a thin, ragged part (a fern's tip leaflets) it doubled
+        back in hairpins a few pixels apart, a bright knot;
+        :func:`~branchnb.dendrite.main_channel.shortcut_loops` joins each
+        hairpin's legs within ``LIGHTNING_LOOP_REACH`` of the lattice's diagonal.
+        """
+        seed_key = tuple(np.round(np.asarray(seed, float), 3))
+        key = ("straight", _subset(p, _IMPORTANCE + _LATTICE + _PLAN + _ENDPOINTS),
+               seed_key, rng_seed)
+
+        def make():
+            d = self.dendrite(p, seed, rng_seed)
+            res = self.plan(p, seed, rng_seed)
+            reach = LIGHTNING_LOOP_REACH * float(np.hypot(*res.shape))
+            for _ in range(4):  # a cut can make another child the widest: cut again
+                cut = shortcut_loops(res, d, reach=reach)
+                if cut is res:
+                    break
+                res, d = cut, build_dendrite(cut, self.endpoints(p, rng_seed))
+            return d
+        return self._get(key, make)
+
     def _dendrite_pruned(self, p: StylizeParams, seed, rng_seed: int, keep) -> Dendrite:
         """:meth:`dendrite` traced to the tips ``keep`` selects only (cached).
 
@@ -607,6 +648,8 @@ class Stylizer:
         res = self.plan(p, seed_lat, rng)
         ends = self.endpoints(p, rng)
         d = self.dendrite(p, seed_lat, rng)
+        if metaphor == "lightning":
+            d = self._main_channel_straight(p, seed_lat, rng)
         imp = self.importance(p)
         d = self._widths(d, p, p.min_width, p.max_width)
         pinned = self._pinned

@@ -280,6 +280,17 @@ LIGHTNING_MIN_TWIG = 0.4
 #: Narrowest widest lightning channel (image px), on images below ~170 px.
 LIGHTNING_MIN_CORE = 2.0
 
+#: Longest straight step that cuts a hairpin out of a lightning bolt's main channel,
+#: as a share of the lattice's diagonal (beyond the paper: through a fern's ragged tip
+#: the widest channel doubled back in hairpins a few pixels apart).
+LIGHTNING_LOOP_REACH = 0.015
+
+#: Blur (share of the lattice's diagonal) and share of the densest content a lightning
+#: seed's neighbourhood must reach (beyond the paper: the topmost content pixel was often
+#: a thin tip, a leaflet or an ear, and the widest channel started with a knot in it).
+LIGHTNING_SEED_BLUR = 0.03
+LIGHTNING_SEED_DENSITY = 0.5
+
 
 def metaphor_params(p: StylizeParams, metaphor: str, shape, object_share: float,
                     scale: float) -> StylizeParams:
