@@ -24,7 +24,7 @@ def _fern_like(n):
     """A frond on white: a stem with leaflets, the top ones small and ragged."""
     yy, xx = np.mgrid[0:n, 0:n] / n
     ink = np.abs(xx - 0.5) < 0.006 + 0.004 * yy
-    for k, y0 in enumerate(np.linspace(0.08, 0.85, 14)):
+    for y0 in np.linspace(0.08, 0.85, 14):
         length = 0.03 + 0.3 * min(1.0, (y0 - 0.05) / 0.5)
         for side in (-1, 1):
             u = side * (xx - 0.5)
