@@ -329,6 +329,14 @@ class PareidoliaParams:
         widened by the tone match into bean-shaped blobs; a slight rise makes
         them grow up from their branches in sprays (see the module docstring).
         0.1 or more turns the twigs into vertical hatching.
+    cover : float
+        Beyond the paper: the largest share of a region's area the ink aims to
+        cover, blurred over a few px (the darkest tones bend smoothly toward it
+        from ``0.6 cover`` on, so darker stays darker); 0.6 (1: solid ink, the
+        paper's tone match). Matched to full darkness, a black region (a coat, a
+        silhouette) was 75-80 % ink at the output size, twigs as wide as long
+        with specks of paper between them: a dense mass, not branches. See the
+        module docstring for the measurements.
 
     Examples
     --------
@@ -401,6 +409,9 @@ class PareidoliaParams:
     slim: bool = param(True, help="twigs never wider toward their ends (no club-shaped twigs)")
     rise: float = param(0.04, min=0.0, max=0.5, step=0.01,
                         help="twigs grow up: a step up costs 1 - rise, a step down 1 + rise")
+    cover: float = param(0.6, min=0.2, max=1.0, step=0.05,
+                         help="most ink a dark region gets: gaps keep its twigs readable "
+                              "(1 = solid ink)")
 
 
 @dataclass
