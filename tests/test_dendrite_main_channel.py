@@ -6,7 +6,7 @@ import pytest
 from skimage.transform import resize
 
 from branchnb.dendrite import build_dendrite, make_lattice, plan, stylize
-from branchnb.dendrite.main_channel import main_path, path_loops, shortcut_loops
+from branchnb.dendrite.main_channel import main_path, path_loops, shortcut_loops, wide_top
 
 
 def _longest_loop(points, diag):
@@ -92,3 +92,15 @@ def test_lightning_fern_small_and_large_have_no_knot():
         d = stylize(img, rng=0, metaphor="lightning").dendrite
         diag = float(np.hypot(*img.shape[:2]))
         assert _longest_loop(d.points[main_path(d)], diag) < 0.03
+
+
+def test_wide_top_skips_a_thin_spire():
+    m = np.zeros((200, 200), bool)
+    m[100:180, 40:160] = True  # a body
+    m[10:100, 98:102] = True  # a 4-px spire on top
+    x, y = wide_top(m, 0.03, 0.5)
+    assert 95 <= y <= 110 and m[y, x]
+    assert wide_top(m, 0.03, 0.0)[1] == 10  # density 0: the topmost pixel, as before
+    assert wide_top(np.zeros((5, 5), bool), 0.03, 0.5) is None
+    with pytest.raises(ValueError, match="blur"):
+        wide_top(m, 0.0, 0.5)

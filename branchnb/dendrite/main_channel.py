@@ -15,11 +15,12 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+from scipy import ndimage
 
-from .dendrite import Dendrite
+from .dendrite import Dendrite, build_dendrite
 from .planner import PlanResult
 
-__all__ = ["main_path", "path_loops", "shortcut_loops"]
+__all__ = ["main_path", "path_loops", "shortcut_loops", "straighten", "wide_top"]
 
 
 def main_path(dendrite: Dendrite) -> np.ndarray:
@@ -182,3 +183,93 @@ def shortcut_loops(plan_result: PlanResult, dendrite: Dendrite, *, reach: float,
     if parent is None:
         return plan_result
     return dataclasses.replace(plan_result, parent=parent)
+
+
+def straighten(plan_result: PlanResult, dendrite: Dendrite, endpoints, *, reach: float,
+               ratio: float = 2.5, rounds: int = 4) -> Dendrite:
+    """:func:`shortcut_loops` and trace ``endpoints`` again, up to ``rounds`` times
+    (a cut can make another child the widest, whose channel may loop too).
+
+    Parameters
+    ----------
+    plan_result : PlanResult
+        The planner's output ``dendrite`` was traced in.
+    dendrite : Dendrite
+        Traced from ``endpoints`` in ``plan_result``.
+    endpoints : array_like
+        The endpoints it was traced from (:func:`~branchnb.dendrite.dendrite.build_dendrite`).
+    reach, ratio : float
+        As in :func:`shortcut_loops`.
+    rounds : int
+        Most rounds (>= 1).
+
+    Returns
+    -------
+    Dendrite
+        ``dendrite`` itself when its main channel has no hairpin.
+
+    Examples
+    --------
+    >>> from branchnb.dendrite import build_dendrite, make_lattice, plan
+    >>> res = plan(make_lattice(np.zeros((30, 30)), rng=0), (15, 0))
+    >>> d = build_dendrite(res, [(15, 29)])
+    >>> straighten(res, d, [(15, 29)], reach=8.0) is d
+    True
+    """
+    if int(rounds) < 1:
+        raise ValueError(f"rounds must be >= 1, got {rounds}")
+    for _ in range(int(rounds)):
+        cut = shortcut_loops(plan_result, dendrite, reach=reach, ratio=ratio)
+        if cut is plan_result:
+            break
+        plan_result, dendrite = cut, build_dendrite(cut, endpoints)
+    return dendrite
+
+
+def wide_top(content, blur: float, density: float) -> tuple[int, int] | None:
+    """The top of the wide part of a content mask: where a lightning bolt starts.
+
+    Content pixels count where their neighbourhood (a Gaussian of ``blur`` times
+    the mask's diagonal) holds at least ``density`` of the densest one's share
+    of content; among those within 5 % of the mask's height below the topmost,
+    the one nearest their median column (beyond the paper: the topmost content
+    pixel was often a thin tip, a fern's leaflets or an ear, and the widest
+    channel started with a knot in it).
+
+    Parameters
+    ----------
+    content : (h, w) array_like of bool
+        Where there is something to draw.
+    blur : float
+        Blur (> 0) as a share of the mask's diagonal.
+    density : float
+        Share in [0, 1] of the largest blurred content.
+
+    Returns
+    -------
+    (x, y) or None
+        A content pixel; None when the mask is empty.
+
+    Examples
+    --------
+    >>> m = np.zeros((100, 100), bool); m[50:90, 20:80] = True; m[5:50, 48:51] = True
+    >>> wide_top(m, 0.03, 0.5)[1] >= 45
+    True
+    """
+    c = np.asarray(content, bool)
+    if c.ndim != 2:
+        raise ValueError(f"content must be 2-D, got shape {c.shape}")
+    if not blur > 0 or not 0.0 <= density <= 1.0:
+        raise ValueError(f"blur must be > 0 and density in [0, 1], got {blur}, {density}")
+    ys, xs = np.nonzero(c)
+    if ys.size == 0:
+        return None
+    mass = ndimage.gaussian_filter(c.astype(np.float32), blur * float(np.hypot(*c.shape)),
+                                   mode="constant")
+    wide = mass[ys, xs] >= density * float(mass.max())
+    if wide.any():  # the maximum is on or next to content, but a 1-px mask may miss it
+        ys, xs = ys[wide], xs[wide]
+    band = ys <= ys.min() + 0.05 * c.shape[0]
+    xb, yb = xs[band], ys[band]
+    k = int(np.argmin(np.abs(xb - np.median(xb)) + 1e-3 * yb))  # on a content pixel
+    return int(xb[k]), int(yb[k])

@@ -39,7 +39,7 @@ from .dendrite import Dendrite, PathStats, build_dendrite, path_statistics
 from .endpoints import place_endpoints
 from .importance import ImportanceParams, darkness, gradient_strength, importance_map
 from .lattice import Lattice, node_weights
-from .main_channel import shortcut_loops
+from .main_channel import straighten, wide_top
 from .planner import METRICS, PlanResult, plan
 from .render import Rendering
 from .scale import resample_to_lattice
@@ -322,10 +322,11 @@ class Stylizer:
         the topmost such pixel (beyond the paper: from the default seed, in the
         middle of the picture, the bolt burst out in every direction; from the
         top it runs down and forks like a strike). Only content pixels in a
-        wide part count: their share of content within a blur of
-        ``LIGHTNING_SEED_BLUR`` of the lattice's diagonal reaches
-        ``LIGHTNING_SEED_DENSITY`` of its maximum (a thin tip on top, a fern's
-        leaflets or a horse's ear, started the widest channel with a knot).
+        wide part count (:func:`~branchnb.dendrite.main_channel.wide_top`):
+        their share of content within a blur of ``LIGHTNING_SEED_BLUR`` of the
+        lattice's diagonal reaches ``LIGHTNING_SEED_DENSITY`` of its maximum (a
+        thin tip on top, a fern's leaflets or a horse's ear, started the widest
+        channel with a knot).
 
         Parameters
         ----------
@@ -344,22 +345,12 @@ class Stylizer:
         >>> [round(v) for v in Stylizer(img).top_seed(StylizeParams(lattice_size=0))]
         [47, 7]
         """
-        imp = self.importance(params)
-        ys, xs = np.nonzero(imp >= params.endpoint_threshold)
-        if ys.size == 0:
+        at = wide_top(self.importance(params) >= params.endpoint_threshold,
+                      LIGHTNING_SEED_BLUR, LIGHTNING_SEED_DENSITY)
+        if at is None:
             return np.array([(self.shape[1] - 1) / 2.0, 0.0])
-        content = imp >= params.endpoint_threshold
-        mass = ndimage.gaussian_filter(content.astype(np.float32),
-                                       LIGHTNING_SEED_BLUR * float(np.hypot(*imp.shape)),
-                                       mode="constant")
-        wide = mass[ys, xs] >= LIGHTNING_SEED_DENSITY * float(mass.max())
-        ys, xs = ys[wide], xs[wide]  # never empty: the maximum is on or next to content
-        if ys.size == 0:
-            ys, xs = np.nonzero(content)
-        band = ys <= ys.min() + 0.05 * imp.shape[0]
-        xb, yb = xs[band], ys[band]
-        k = int(np.argmin(np.abs(xb - np.median(xb)) + 1e-3 * yb))  # on a content pixel
-        return self.to_image(params, [float(xb[k]), float(yb[k])])
+        xb, yb = at
+        return self.to_image(params, [float(xb), float(yb)])
 
     @checked()
     def importance(self, p: StylizeParams) -> np.ndarray:
@@ -557,15 +548,9 @@ class Stylizer:
                seed_key, rng_seed)
 
         def make():
-            d = self.dendrite(p, seed, rng_seed)
             res = self.plan(p, seed, rng_seed)
-            reach = LIGHTNING_LOOP_REACH * float(np.hypot(*res.shape))
-            for _ in range(4):  # a cut can make another child the widest: cut again
-                cut = shortcut_loops(res, d, reach=reach)
-                if cut is res:
-                    break
-                res, d = cut, build_dendrite(cut, self.endpoints(p, rng_seed))
-            return d
+            return straighten(res, self.dendrite(p, seed, rng_seed), self.endpoints(p, rng_seed),
+                              reach=LIGHTNING_LOOP_REACH * float(np.hypot(*res.shape)))
         return self._get(key, make)
 
     def _dendrite_pruned(self, p: StylizeParams, seed, rng_seed: int, keep) -> Dendrite:
