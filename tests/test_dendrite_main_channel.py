@@ -86,7 +86,7 @@ def test_lightning_seed_sits_where_the_content_is_wide():
 
 
 def test_lightning_fern_small_and_large_have_no_knot():
-    big = _fern_like(600)
+    big = _fern_like(480)
     small = resize(big, (250, 250), anti_aliasing=True).astype(np.float32)
     for img in (small, big):
         d = stylize(img, rng=0, metaphor="lightning").dendrite
