@@ -463,6 +463,20 @@ class _Prepared:
             cache[e] = _detail(self.stage[-1][e], self.analysis.blades[e], sigma)
         return cache[e]
 
+    def compatible(self, lead: int, limit: float) -> np.ndarray:
+        """Which exemplars' upright shape maps lie within ``limit`` leaf sizes of exemplar ``lead``'s.
+
+        The distance is the median over the training blade of the distance
+        between the two maps (cached per analysis), over the leaf size.
+        """
+        if getattr(self, "_map_dist", None) is None:
+            b = self.analysis.blades[self.analysis.training_index]
+            step = max(1, int(np.sqrt(b.sum() / 4000)))
+            pts = [mp[::step, ::step][b[::step, ::step]] for mp in self.shape_maps]
+            self._map_dist = np.array([[np.median(np.hypot(*(pts[i] - pts[j]).T)) / self.size
+                                        for j in range(self.n)] for i in range(self.n)])
+        return self._map_dist[lead] <= limit
+
     def carried_anisotropy(self, e: int, m: np.ndarray, blade: np.ndarray) -> float:
         """How much more exemplar ``e`` is stretched one way than across to cover the new blade of ``m``.
 
