@@ -108,3 +108,33 @@ def test_an_under_induced_donor_is_passed_over(wide_training):
     assert p.layer_complete[0][2] < 0.75 <= min(p.layer_complete[0][e] for e in (0, 1, 3))
     donors = [x.layers["veins"] for x in generate(a, 8, rng=1)]
     assert 2 not in donors and len(set(donors)) >= 2
+
+
+def _aspect(blade):
+    ys, xs = np.nonzero(blade)
+    ev = np.linalg.eigvalsh(np.cov(np.stack([xs, ys]).astype(float)))
+    return float(np.sqrt(ev[1] / ev[0]))
+
+
+def test_a_shape_blends_only_compatible_exemplars(wide_training):
+    """The wide exemplar's map lies 0.72-1.04 leaf sizes from the narrow ones' (those 0.21-0.32
+    apart): a leaf it leads is its own shape, not a blend bent between a wide and a narrow leaf.
+    Measured (elliptic 150 px, 8 leaves): aspect ratio (principal axes) of the leaves it leads,
+    every exemplar blended -> compatible ones only: 2.1 and 13.4 (a sliver) -> 1.50 and 1.52 (its own 1.52)."""
+    from branchnb.leaves.synthesis import SynthesisParams, _exemplar_draws
+    a = wide_training
+    p = _prepared(a)
+    iou = {}
+    for lim in (0.3, 10.0):
+        new = generate(a, 8, rng=3, params=SynthesisParams(shape_compatible=lim))
+        lead0 = [x for x in new if _exemplar_draws(x.seed, p.n)[2] == 0]
+        assert lead0
+        if lim == 0.3:
+            for x in new:
+                lead = _exemplar_draws(x.seed, p.n)[2]
+                far = ~p.compatible(lead, 0.3)
+                assert np.all(np.asarray(x.shape_weights)[far] == 0)
+        iou[lim] = [_aspect(x.blade) for x in lead0]
+    own = _aspect(a.blades[0])
+    assert max(abs(v - own) for v in iou[0.3]) < 0.1
+    assert max(abs(v - own) for v in iou[10.0]) > 0.5

@@ -189,11 +189,14 @@ class SynthesisParams:
         (default True).
     donor_size_sigma : float
         Each layer's donor is drawn with weights ``exp(-z^2 / 2)``, ``z``
-        its stretch minus the least stretch among the donors, over this
-        sigma (default 0.05; 0: every donor alike, as in the paper). The
+        its stretch over this sigma (default 0.05; 0: every donor alike, as in the paper). The
         stretch is the length of (log of the donor's lamina size over the
         new leaf's, its anisotropy ``log sqrt(s1 / s2)`` under the new
-        shape, ``prepared._Prepared.carried_anisotropy``).
+        shape, ``prepared._Prepared.carried_anisotropy``, less that of a
+        1.5x stretch one way). (Counted whole, the anisotropy of procedural
+        lobed leaves' donors, mostly below a 1.5x stretch, took the
+        closest size from the choice: Laplacian variance ratio 0.835 ->
+        0.815, 4 batches of 8.)
         Not in the paper: a layer is resampled at the ratio of the two
         sizes, and a vein layer enlarged by 10 % keeps about 0.75 of its
         Laplacian variance (a line's scales as ``s^-3``): on a procedural
@@ -452,14 +455,16 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
             # exemplar only when every other one is stretched more.
             sig = params.donor_size_sigma
             size = np.log(np.maximum([p.lamina_size[j] for j in free], 1e-6) / new_size)
-            stretch = np.hypot(size, [p.carried_anisotropy(j, m, alpha > 0.5) for j in free])
+            aniso = np.array([p.carried_anisotropy(j, m, alpha > 0.5) for j in free])
+            stretch = np.hypot(size, np.maximum(aniso - 0.5 * _REUSE_STRETCH, 0.0))
             ok = [i for i, j in enumerate(free) if j in fresh]
             if not ok or stretch[ok].min() > max(float(stretch.min()) + 2.0 * sig, _REUSE_STRETCH):
                 ok = list(range(len(free)))
             idx = ok
             pool = [free[i] for i in idx]
-            best = float(stretch[idx].min())
-            w = np.exp(-0.5 * ((stretch[idx] - best) / sig) ** 2)
+            # exp(-z^2 / 2) normalised, taken relative to its largest (no underflow when all are stretched)
+            logw = -0.5 * (stretch[idx] / sig) ** 2
+            w = np.exp(logw - logw.max())
             w = w / w.sum() if w.sum() > 0 else np.full(len(pool), 1.0 / len(pool))
             e = int(pool[int(rng.choice(len(pool), p=w))]) if len(pool) > 1 else int(pool[0])
         else:
