@@ -66,13 +66,14 @@ def _donor_stretch(a, params=None):
         return orig(e, m, d)
     p.source_coords = spy
     try:
-        for s in range(6):
+        for s in range(8):
             maps.clear()
             x = synthesis.generate_leaf(a, s, params)
             m = maps[0]
             b = x.image[..., 3] > 0.5
-            an = [np.hypot(np.log(p.lamina_size[e] / np.sqrt(b.sum())), p.carried_anisotropy(e, m, b))
-                  for e in range(p.n)]
+            # as generate_leaf weighs it: anisotropy beyond a 1.5x stretch one way
+            an = [np.hypot(np.log(p.lamina_size[e] / np.sqrt(b.sum())),
+                           max(p.carried_anisotropy(e, m, b) - 0.5 * np.log(1.5), 0.0)) for e in range(p.n)]
             out.append((an[x.layers["veins"]], min(an)))
     finally:
         p.source_coords = orig
@@ -81,8 +82,8 @@ def _donor_stretch(a, params=None):
 
 def test_veins_come_from_the_least_stretched_donor(wide_training):
     """One exemplar 3.5x wider than the others: its shape spreads a narrow leaf's veins across it.
-    Measured (elliptic 150 px, 6 leaves): mean stretch of the vein donor, any donor (the paper,
-    ``donor_size_sigma=0``) 0.33 -> 0.24 (least possible 0.22, the background's own exemplar
+    Measured (elliptic 150 px, 8 leaves): mean stretch of the vein donor, any donor (the paper,
+    ``donor_size_sigma=0``) 0.30 -> 0.22 (least possible 0.19, the background's own exemplar
     included, which is taken only when every other is stretched more than 1.5x)."""
     from branchnb.leaves.synthesis import SynthesisParams
     now = _donor_stretch(wide_training)
