@@ -13,6 +13,7 @@ import dataclasses
 import numpy as np
 from scipy.spatial import cKDTree
 
+from .crotches import _child_width, new_crotches, round_crotches
 from .composition import PlacedPatch, compose, labelling_cost, seam_mask
 from .edit import FETCH_FIELDS, EditPatches, StrokeEditParams, StrokeEditResult, StrokeSamples, _check_edit_params
 from .joints import close_hairlines, hold_joint_bodies, joint_disks, joint_roots
@@ -163,6 +164,16 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
                 away = changed & ~_along_children(wide, attached, old.shape[:2], changed)
                 layer[away] = old[away]
             filled = (layer[:, :, 3] > 0.5) & ~before
+        # crotches nobody drew (a new branch, a turned limb) rounded like the source's own
+        tol = patches._auto.get("junction_tolerance", params.junction_tolerance)
+        fresh, fillet = new_crotches(index, attached, junctions, tol)
+        if fresh and fillet is not None and fillet > _POCKET:
+            before = layer[:, :, 3] > 0.5
+            layer = round_crotches(layer, fresh, attached, [j for j in joints if j[3] in fresh], fillet,
+                                   inner=0 if style is None else int(np.ceil(style.width)) + 1,
+                                   half_widths=[_child_width(index, jn.child) for jn in fresh])
+            rounded = (layer[:, :, 3] > 0.5) & ~before
+            filled = rounded if filled is None else filled | rounded
         if style is not None:
             depth = source_depth(comp.labels, [pp.source_map for pp in placed], index.depth)
             depth = np.where(held, held_depth, depth)
