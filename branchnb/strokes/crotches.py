@@ -32,6 +32,8 @@ __all__ = ["crotch_shape", "source_fillet"]
 
 #: Smoothing of the contour's turning (px of arc length) before the arc is measured.
 _SIGMA = 1.0
+#: The radius a sharp corner measures times its turn (radians), smoothed over :data:`_SIGMA` px.
+_SHARP = 3.5
 #: The run of a crotch: where the concave curvature exceeds this share of its peak.
 _RUN_SHARE = 0.05
 
@@ -164,7 +166,9 @@ def source_fillet(alpha: np.ndarray, junctions, strokes, half_widths, *, min_tur
     Returns
     -------
     float or None
-        None if the source has no such crotch.
+        None if the source has no such crotch, or if they are sharp (most
+        measure less than twice a sharp corner's radius, ``3.5 px`` over
+        the turn in radians): sharp sources stay sharp.
 
     Examples
     --------
@@ -172,17 +176,19 @@ def source_fillet(alpha: np.ndarray, junctions, strokes, half_widths, *, min_tur
     >>> yy, xx = np.mgrid[0:80, 0:80]
     >>> alpha = ((np.abs(xx - 40) <= 8) | ((yy >= 32) & (yy <= 48) & (xx >= 40))).astype(float)
     >>> st = [Stroke([(40, 0), (40, 79)]), Stroke([(40, 40), (79, 40)])]
-    >>> r = source_fillet(alpha, find_junctions(st, 2.0), st, [8.0])
-    >>> r is not None and r < 3.0
-    True
+    >>> print(source_fillet(alpha, find_junctions(st, 2.0), st, [8.0]))     # sharp corners
+    None
     """
     radii = []
     for jn, hw in zip(junctions, half_widths):
         child = strokes[jn.child] if jn.end == 0 else strokes[jn.child].reversed()
         for turn, radius in crotch_shape(alpha, jn.point, child, float(hw)).values():
             if min_turn <= turn <= max_turn:
-                radii.append(radius)
-    return float(np.median(radii)) if radii else None
+                # a sharp corner measures _SHARP / turn: within twice that it counts as sharp
+                radii.append(radius if radius > 2.0 * _SHARP / np.radians(turn) else 0.0)
+    if not radii or np.median(radii) <= 0.0:
+        return None
+    return float(np.median(radii))
 
 
 def _child_width(index, k: int) -> float:
@@ -270,7 +276,8 @@ def round_crotches(layer: np.ndarray, junctions, attached, joints, fillet: float
     Only the sides of a child whose crotch turns by ``min_turn`` ..
     ``max_turn`` degrees and is sharper than ``fillet`` (:func:`crotch_shape`
     on ``layer``'s alpha) change, and only pixels along the child
-    (within ``3 fillet`` of its target stroke).
+    (within ``3 fillet`` of its target stroke). The arc's radius is at
+    most 1.5 times the child's half width.
 
     Parameters
     ----------
@@ -326,8 +333,11 @@ def round_crotches(layer: np.ndarray, junctions, attached, joints, fillet: float
         return layer
     # the fillet's arc reaches ``fillet tan(turn / 2)`` past the corner: the joints' reach grown by it
     todo = [((j[0], j[1] + fillet, j[2], j[3]), a) for j, a in todo]
+    # no arc wider than 1.5 child half widths (a thin twig on a trunk with wide collars
+    # would get a web)
+    radii = [min(fillet, 1.5 * hw) for hw, (_, sides) in zip(hws, allowed) if sides]
     out = fill_joints(layer, [j[0] for j, _ in todo], [j[1] for j, _ in todo],
-                      pockets=[fillet] * len(todo), inner=inner)
+                      pockets=radii, inner=inner)
     if out is layer:
         return layer
     changed = np.any(out != layer, axis=2)

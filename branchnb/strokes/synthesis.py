@@ -13,8 +13,8 @@ import dataclasses
 import numpy as np
 from scipy.spatial import cKDTree
 
-from .crotches import _child_width, new_crotches, round_crotches
 from .composition import PlacedPatch, compose, labelling_cost, seam_mask
+from .crotches import _child_width, new_crotches, round_crotches
 from .edit import FETCH_FIELDS, EditPatches, StrokeEditParams, StrokeEditResult, StrokeSamples, _check_edit_params
 from .joints import close_hairlines, hold_joint_bodies, joint_disks, joint_roots
 from .junctions import far_side
