@@ -262,11 +262,16 @@ def new_crotches(index, attached, junctions, tolerance: float) -> tuple[list, fl
         new.append(jn)
     if not new:
         return [], None
+    # the source's radius is the same for every edit of this source (an app re-composing)
+    cache = index.__dict__.setdefault("_crotch_fillets", {})
+    if tolerance in cache:
+        return new, cache[tolerance]
     from .junctions import Junction
 
     mine = [Junction(c, e, p, s, strokes[p].point_at(s), 0.0) for c, e, p, s in src_j]
     alpha = index.premult[:, :, 3]
-    return new, source_fillet(alpha, mine, strokes, [_child_width(index, sj.child) for sj in mine])
+    cache[tolerance] = source_fillet(alpha, mine, strokes, [_child_width(index, sj.child) for sj in mine])
+    return new, cache[tolerance]
 
 
 def round_crotches(layer: np.ndarray, junctions, attached, joints, fillet: float, *, inner: int = 0,

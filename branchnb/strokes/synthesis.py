@@ -11,7 +11,6 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
-from scipy import ndimage as ndi
 from scipy.spatial import cKDTree
 
 from .composition import PlacedPatch, compose, labelling_cost, seam_mask
@@ -258,23 +257,44 @@ def _inside_parent(index, attached, jn, origin, size: int, cache: dict | None = 
         got = (cKDTree(pts), hw, fwd, pts.min(axis=0), pts.max(axis=0))
         if cache is not None:
             cache[key] = got
-    tree, hw, fwd, lo, hi = got
+    tree, hw, fwd, lo, hi = got[:5]
     reach = hw - 1.5
     if reach < 0 or (np.asarray(origin) + size < lo - reach).any() or (np.asarray(origin) > hi + reach).any():
         return np.zeros((size, size), bool)  # the patch's square is nowhere near the parent
-    yy, xx = np.mgrid[0:size, 0:size]
+    if cache is None:
+        return _inside_box(index, tree, reach, fwd, origin, size, size)
+    if len(got) == 5:
+        # every pixel that can be within reach of the parent, once per junction (patches
+        # overlap: each asked again for most of its pixels); patches read their squares
+        x0, y0 = (np.floor(lo - reach) - 1).astype(int)
+        x1, y1 = (np.ceil(hi + reach) + 2).astype(int)
+        got = cache[key] = (*got, (x0, y0), _inside_box(index, tree, reach, fwd, (x0, y0), x1 - x0, y1 - y0))
+    (x0, y0), box = got[5], got[6]
+    out = np.zeros((size, size), bool)
+    ox, oy = int(origin[0]), int(origin[1])
+    a0, a1 = max(oy, y0), min(oy + size, y0 + box.shape[0])
+    b0, b1 = max(ox, x0), min(ox + size, x0 + box.shape[1])
+    if a0 < a1 and b0 < b1:
+        out[a0 - oy:a1 - oy, b0 - ox:b1 - ox] = box[a0 - y0:a1 - y0, b0 - x0:b1 - x0]
+    return out
+
+
+def _inside_box(index, tree, reach: float, fwd: np.ndarray, origin, w: int, h: int) -> np.ndarray:
+    """:func:`_inside_parent` on the ``h`` x ``w`` pixels at ``origin``."""
+    size = (h, w)
+    yy, xx = np.mgrid[0:h, 0:w]
     q = np.c_[xx.ravel() + origin[0], yy.ravel() + origin[1]].astype(float)
     d, _ = tree.query(q, distance_upper_bound=reach + 1e-9)
     inside = d <= reach
     if inside.any():
         src = (q[inside] - fwd[:, 2]) @ fwd[:, :2]  # the inverse rigid map, row-wise
         x, y = np.rint(src).astype(int).T
-        h, w = index.shape
-        ok = (x >= 0) & (x < w) & (y >= 0) & (y < h)
+        hs, ws = index.shape
+        ok = (x >= 0) & (x < ws) & (y >= 0) & (y < hs)
         flesh = np.zeros(len(x), bool)
         flesh[ok] = index.object[y[ok], x[ok]]
         inside[np.flatnonzero(inside)[~flesh]] = False
-    return inside.reshape(size, size)
+    return inside.reshape(size)
 
 
 def _along_children(wide, attached, shape, where: np.ndarray | None = None, index=None) -> np.ndarray:
@@ -311,26 +331,22 @@ def _along_children(wide, attached, shape, where: np.ndarray | None = None, inde
             fwd = rigid_frame(parent.source, parent.target, float(parent.source_arc_length(jn.parent_s)),
                               float(jn.parent_s), window=3.0)
             sx, sy = np.rint((q[ok] - fwd[:, 2]) @ fwd[:, :2]).astype(int).T
-            h_s, w_s = index.shape
-            inside = (sx >= 0) & (sx < w_s) & (sy >= 0) & (sy < h_s)
-            flesh = np.zeros(len(sx), bool)
-            near = _near_object(index)
-            flesh[inside] = near[sy[inside], sx[inside]]
-            ok[np.flatnonzero(ok)[~flesh]] = False
+            ok[np.flatnonzero(ok)[~_near_object(index.object, sx, sy)]] = False
         out[yy, xx] |= ok.reshape(yy.shape)
     return out
 
 
-def _near_object(index) -> np.ndarray:
-    """The source object grown by 2 px (kept on the index: one per source)."""
-    got = getattr(index, "_near_object", None)
-    if got is None:
-        got = ndi.binary_dilation(index.object, iterations=2)
-        try:
-            object.__setattr__(index, "_near_object", got)
-        except (AttributeError, TypeError):
-            pass
-    return got
+def _near_object(obj: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Whether each pixel ``(x, y)`` lies within 2 px (city block) of ``obj`` (False off the image):
+    ``binary_dilation(obj, iterations=2)`` read at those pixels only."""
+    h, w = obj.shape
+    out = np.zeros(len(x), bool)
+    for dy in range(-2, 3):
+        for dx in range(-2 + abs(dy), 3 - abs(dy)):
+            xx, yy = x + dx, y + dy
+            on = (xx >= 0) & (xx < w) & (yy >= 0) & (yy < h) & ~out
+            out[on] = obj[yy[on], xx[on]]
+    return out & (x >= 0) & (x < w) & (y >= 0) & (y < h)
 
 
 def _pocket(index, jn) -> float | None:
