@@ -262,28 +262,35 @@ def _inside_parent(index, attached, jn, origin, size: int, cache: dict | None = 
     if reach < 0 or (np.asarray(origin) + size < lo - reach).any() or (np.asarray(origin) > hi + reach).any():
         return np.zeros((size, size), bool)  # the patch's square is nowhere near the parent
     if cache is None:
-        return _inside_box(index, tree, reach, fwd, origin, size, size)
+        yy, xx = np.mgrid[0:size, 0:size]
+        q = np.c_[xx.ravel() + origin[0], yy.ravel() + origin[1]].astype(float)
+        return _inside_points(index, tree, reach, fwd, q).reshape(size, size)
     if len(got) == 5:
-        # every pixel that can be within reach of the parent, once per junction (patches
-        # overlap: each asked again for most of its pixels); patches read their squares
+        # a map of the pixels that can be within reach of the parent, filled as patches ask
+        # (they overlap: each pixel is computed once per junction, not once per patch)
         x0, y0 = (np.floor(lo - reach) - 1).astype(int)
         x1, y1 = (np.ceil(hi + reach) + 2).astype(int)
-        got = cache[key] = (*got, (x0, y0), _inside_box(index, tree, reach, fwd, (x0, y0), x1 - x0, y1 - y0))
-    (x0, y0), box = got[5], got[6]
+        got = cache[key] = (*got, (x0, y0), np.zeros((y1 - y0, x1 - x0), bool),
+                            np.zeros((y1 - y0, x1 - x0), bool))
+    (x0, y0), box, done = got[5], got[6], got[7]
     out = np.zeros((size, size), bool)
     ox, oy = int(origin[0]), int(origin[1])
     a0, a1 = max(oy, y0), min(oy + size, y0 + box.shape[0])
     b0, b1 = max(ox, x0), min(ox + size, x0 + box.shape[1])
     if a0 < a1 and b0 < b1:
-        out[a0 - oy:a1 - oy, b0 - ox:b1 - ox] = box[a0 - y0:a1 - y0, b0 - x0:b1 - x0]
+        sub = (slice(a0 - y0, a1 - y0), slice(b0 - x0, b1 - x0))
+        todo = ~done[sub]
+        if todo.any():
+            ty, tx = np.nonzero(todo)
+            q = np.c_[tx + b0, ty + a0].astype(float)
+            box[sub][ty, tx] = _inside_points(index, tree, reach, fwd, q)
+            done[sub] = True
+        out[a0 - oy:a1 - oy, b0 - ox:b1 - ox] = box[sub]
     return out
 
 
-def _inside_box(index, tree, reach: float, fwd: np.ndarray, origin, w: int, h: int) -> np.ndarray:
-    """:func:`_inside_parent` on the ``h`` x ``w`` pixels at ``origin``."""
-    size = (h, w)
-    yy, xx = np.mgrid[0:h, 0:w]
-    q = np.c_[xx.ravel() + origin[0], yy.ravel() + origin[1]].astype(float)
+def _inside_points(index, tree, reach: float, fwd: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """:func:`_inside_parent` at the pixels ``q`` ((N, 2) ``(x, y)``)."""
     d, _ = tree.query(q, distance_upper_bound=reach + 1e-9)
     inside = d <= reach
     if inside.any():
@@ -294,7 +301,7 @@ def _inside_box(index, tree, reach: float, fwd: np.ndarray, origin, w: int, h: i
         flesh = np.zeros(len(x), bool)
         flesh[ok] = index.object[y[ok], x[ok]]
         inside[np.flatnonzero(inside)[~flesh]] = False
-    return inside.reshape(size)
+    return inside
 
 
 def _along_children(wide, attached, shape, where: np.ndarray | None = None, index=None) -> np.ndarray:
