@@ -80,3 +80,52 @@ def test_sharp_sources_stay_sharp(monkeypatch):
     _no_rounding(monkeypatch)
     same = edit_structure(obj.image, src, tgt)
     assert np.array_equal(res.image, same.image)
+
+
+def _extent(alpha, p, direction, limit=60):
+    """Opaque run length (px) from ``p`` along ``direction``."""
+    for t in range(limit):
+        x, y = np.rint(p + t * direction).astype(int)
+        if not (0 <= y < alpha.shape[0] and 0 <= x < alpha.shape[1]) or alpha[y, x] <= 0.5:
+            return t
+    return limit
+
+
+@pytest.mark.parametrize("size", [400, 700])
+def test_a_new_leaf_leaves_no_stub_on_the_far_side_of_its_twig(size):
+    """A leaf copied and hung below a bent twig (notebook 05's edit). Before: its root tube,
+    as wide as the leaf's smoothed width (its blade's, ~4x the petiole's), reached behind the
+    junction across the twig and left a dark stub ~3 px high on the twig's top edge."""
+    from branchnb.strokes import Stroke
+    from branchnb.strokes.parts import carry_stroke
+    from branchnb.strokes.procedural import twig
+
+    obj = twig(size, rng=0)
+    spine = obj.strokes[0]
+    x, h = spine[:, 0], obj.image.shape[0]
+    bent = np.c_[x, 0.45 * h + 0.12 * h * np.sin((x - x[0]) / (x[-1] - x[0]) * np.pi)]
+    src = [spine] + [obj.strokes[k] for k in range(1, 5)] + [obj.strokes[2]]
+    leaf = carry_stroke(obj.strokes[2], spine, bent)
+    st = Stroke(bent)
+    s_at = 0.85 * st.length
+    at = st.point_at(s_at)
+    tgt = [bent] + [carry_stroke(obj.strokes[k], spine, bent) for k in range(1, 5)] + [at + (leaf - leaf[0]) * [1, -1]]
+    a = edit_structure(obj.image, src, tgt).image[..., 3]
+    up = -st.normal_at(np.array([s_at]))[0]
+    up = up if up[1] < 0 else -up                          # toward the far side (the top)
+    along = np.array([up[1], -up[0]])
+    at_joint = max(_extent(a, at + k * along, up) for k in range(-3, 4))
+    beside = [_extent(a, st.point_at(np.array([s_at + ds]))[0], up) for ds in (-0.06 * size, 0.06 * size)]
+    assert at_joint <= max(beside) + 1, (at_joint, beside)
+
+
+def test_a_new_branch_leaves_no_knob_on_the_trunks_far_side():
+    """tree_rpg_12 + a new branch: before, an 80-px knob stood out of the trunk's far side."""
+    img, src, tgt, kw = tree_add_branch()
+    a = edit_structure(img, src, tgt, **kw).image[..., 3] > 0.5
+    extra = a & ~(img[..., 3] > 0.5)
+    yy, xx = np.mgrid[0:a.shape[0], 0:a.shape[1]]
+    j = tgt[3][0]
+    d = np.array([300 - 208, 195 - 310.0]) / np.hypot(300 - 208, 195 - 310.0)  # the trunk's direction there
+    far = ((xx - j[0]) * d[1] - (yy - j[1]) * d[0] > 0) & (np.hypot(xx - j[0], yy - j[1]) < 40)
+    assert int((extra & far).sum()) == 0

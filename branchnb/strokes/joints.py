@@ -193,7 +193,8 @@ def hold_joint_bodies(layer: np.ndarray, source_premult: np.ndarray, source_dept
         The source silhouette's depth (distance to the background).
     disks : list of tuple
         From :func:`joint_disks` or :func:`joint_roots`: ``(centre, map, radius)``,
-        optionally a clip stroke and half width (target side) and a map of the
+        optionally a clip stroke and half width (target side: the pixels within
+        the half width of the stroke, none behind its start) and a map of the
         source coordinates ``(sx, sy) -> (sx, sy, usable)`` (source side).
     depth : (H, W) ndarray, optional
         Source depth of every target pixel; updated in place where a
@@ -239,8 +240,13 @@ def hold_joint_bodies(layer: np.ndarray, source_premult: np.ndarray, source_dept
         if not inside.any():
             continue
         if clip:
-            _, d = clip[0].project(np.c_[xx[inside], yy[inside]].astype(float))
-            inside[inside] = d <= clip[1]
+            # within the half width of the clip stroke, and not behind its start (the
+            # half disk there lies across the parent, on its far side: a thin child whose
+            # smoothed width is its blade's, a petiole, left a stub on the far edge)
+            q = np.c_[xx[inside], yy[inside]].astype(float)
+            s, d = clip[0].project(q)
+            ahead = (s > 0) | (d <= 0.5)
+            inside[inside] = (d <= clip[1]) & ahead
         yy, xx = yy[inside], xx[inside]
         sx = inv[0, 0] * xx + inv[0, 1] * yy + inv[0, 2]
         sy = inv[1, 0] * xx + inv[1, 1] * yy + inv[1, 2]
