@@ -28,10 +28,17 @@ from scipy import ndimage as ndi
 
 from .strokes import Stroke
 
-__all__ = ["crotch_shape", "source_fillet"]
+__all__ = ["crotch_shape", "crotch_angles", "source_fillet", "new_crotches", "round_crotches"]
 
 #: Smoothing of the contour's turning (px of arc length) before the arc is measured.
 _SIGMA = 1.0
+
+
+def _sigma(half_width: float) -> float:
+    """The smoothing for a child of ``half_width``: :data:`_SIGMA`, or an eighth of the width
+    on wide ones (pixel steps and texture on a large object are not crotches)."""
+    return max(_SIGMA, half_width / 8.0)
+
 #: The radius a sharp corner measures times its turn (radians), smoothed over :data:`_SIGMA` px.
 _SHARP = 3.5
 #: The run of a crotch: where the concave curvature exceeds this share of its peak.
@@ -108,7 +115,7 @@ def crotch_shape(alpha: np.ndarray, point, child, half_width: float, *, reach: f
         q = np.c_[np.interp(t, s, c[:, 0]), np.interp(t, s, c[:, 1])]
         d = np.gradient(q, axis=0)
         th = np.unwrap(np.arctan2(d[:, 1], d[:, 0]))
-        th = ndi.gaussian_filter1d(th, _SIGMA / 0.5, mode="nearest")
+        th = ndi.gaussian_filter1d(th, _sigma(half_width) / 0.5, mode="nearest")
         kappa = np.gradient(th) / 0.5
         # the object's side of the contour (left or right of travel), from the alpha itself
         nrm = np.c_[-np.sin(th), np.cos(th)]
@@ -145,8 +152,51 @@ def crotch_shape(alpha: np.ndarray, point, child, half_width: float, *, reach: f
     return out
 
 
-def source_fillet(alpha: np.ndarray, junctions, strokes, half_widths, *, min_turn: float = 25.0,
-                  max_turn: float = 100.0) -> float | None:
+def crotch_angles(point, child, parent: Stroke, parent_s: float, half_width: float) -> dict:
+    """The angle (degrees) between a child and its parent on each side of the child.
+
+    ``{side: angle}`` (sides as in :func:`crotch_shape`): the angle between
+    the child's direction and the parent's tangent at ``parent_s`` pointing
+    to that side (both over ``2 half_width + 2`` px); below 90 an acute
+    crotch (a V), above an obtuse one.
+
+    Parameters
+    ----------
+    point : (2,) array_like
+        The junction.
+    child : (N, 2) array_like or Stroke
+        The child's stroke, starting at ``point``.
+    parent : Stroke
+        The parent's stroke.
+    parent_s : float
+        Arc length of the junction on ``parent``.
+    half_width : float
+        The child's half width (px).
+
+    Returns
+    -------
+    dict
+
+    Examples
+    --------
+    >>> ang = crotch_angles((0, 50), [(0, 50), (40, 10)], Stroke([(0, 0), (0, 100)]), 50.0, 4.0)
+    >>> {k: round(v) for k, v in sorted(ang.items())}
+    {-1: 45, 1: 135}
+    """
+    st = child if isinstance(child, Stroke) else Stroke(np.asarray(child, float))
+    p = np.asarray(point, float)
+    ahead = st.point_at(min(st.length, 2.0 * half_width + 2.0)) - p
+    u = ahead / max(np.hypot(*ahead), 1e-9)
+    a = float(parent.angle_at(np.array([float(parent_s)]), window=2.0 * half_width + 2.0)[0])
+    t = np.array([np.cos(a), np.sin(a)])
+    out = {}
+    for d in (t, -t):
+        side = 1 if u[0] * d[1] - u[1] * d[0] > 0 else -1
+        out[side] = float(np.degrees(np.arccos(np.clip(u @ d, -1.0, 1.0))))
+    return out
+
+
+def source_fillet(alpha: np.ndarray, junctions, strokes, half_widths, *, min_angle: float = 60.0) -> float | None:
     """The radius of the source's obtuse crotches (median over its junctions), or None.
 
     Parameters
@@ -159,9 +209,10 @@ def source_fillet(alpha: np.ndarray, junctions, strokes, half_widths, *, min_tur
         The source strokes.
     half_widths : sequence of float
         Per junction, the child's half width where it leaves (px).
-    min_turn, max_turn : float
-        The crotches counted: those turning by ``min_turn`` .. ``max_turn``
-        degrees (obtuse crotches; the acute ones, V-shaped, are not closed).
+    min_angle : float
+        The crotches counted: those where the child leaves the parent at
+        ``min_angle`` degrees or more (:func:`crotch_angles`; the acute ones,
+        V-shaped, are not closed).
 
     Returns
     -------
@@ -182,10 +233,11 @@ def source_fillet(alpha: np.ndarray, junctions, strokes, half_widths, *, min_tur
     radii = []
     for jn, hw in zip(junctions, half_widths):
         child = strokes[jn.child] if jn.end == 0 else strokes[jn.child].reversed()
-        for turn, radius in crotch_shape(alpha, jn.point, child, float(hw)).values():
-            if min_turn <= turn <= max_turn:
+        ang = crotch_angles(jn.point, child, strokes[jn.parent], jn.parent_s, float(hw))
+        for side, (turn, radius) in crotch_shape(alpha, jn.point, child, float(hw)).items():
+            if ang.get(side, 0.0) >= min_angle and turn >= 15.0:
                 # a sharp corner measures _SHARP / turn: within twice that it counts as sharp
-                radii.append(radius if radius > 2.0 * _SHARP / np.radians(turn) else 0.0)
+                radii.append(radius if radius > 2.0 * _SHARP * _sigma(float(hw)) / np.radians(turn) else 0.0)
     if not radii or np.median(radii) <= 0.0:
         return None
     return float(np.median(radii))
@@ -243,8 +295,15 @@ def new_crotches(index, attached, junctions, tolerance: float) -> tuple[list, fl
     strokes = index.strokes
     # the source's junctions among its distinct strokes (a stroke given twice, to grow
     # two branches from one, is one stroke of the source)
-    keys = [st.points.tobytes() for st in strokes]
-    first = sorted({key: k for k, key in reversed(list(enumerate(keys)))}.values())
+    # (within 1 px: centring may move two copies of one stroke by a hair apart)
+    keys = list(range(len(strokes)))
+    for k, st in enumerate(strokes):
+        for j in range(k):
+            o = strokes[j].points
+            if keys[j] == j and o.shape == st.points.shape and np.abs(o - st.points).max() <= 1.0:
+                keys[k] = j
+                break
+    first = [k for k in range(len(strokes)) if keys[k] == k]
     src_j = [(first[sj.child], sj.end, first[sj.parent], sj.parent_s)
              for sj in find_junctions([strokes[k] for k in first], tolerance)]
     new = []
@@ -275,11 +334,11 @@ def new_crotches(index, attached, junctions, tolerance: float) -> tuple[list, fl
 
 
 def round_crotches(layer: np.ndarray, junctions, attached, joints, fillet: float, *, inner: int = 0,
-                   half_widths=None, min_turn: float = 25.0, max_turn: float = 100.0) -> np.ndarray:
+                   half_widths=None, min_angle: float = 60.0) -> np.ndarray:
     """``layer`` with the obtuse crotches at ``junctions`` closed by a disk of radius ``fillet``.
 
-    Only the sides of a child whose crotch turns by ``min_turn`` ..
-    ``max_turn`` degrees and is sharper than ``fillet`` (:func:`crotch_shape`
+    Only the sides of a child whose crotch is obtuse (``min_angle`` degrees
+    or more, :func:`crotch_angles`) and sharper than ``fillet`` (:func:`crotch_shape`
     on ``layer``'s alpha) change, and only pixels along the child
     (within ``3 fillet`` of its target stroke). The arc's radius is at
     most 1.5 times the child's half width.
@@ -301,7 +360,7 @@ def round_crotches(layer: np.ndarray, junctions, attached, joints, fillet: float
         New pixels take the colours from this deep inside (an outlined object).
     half_widths : sequence of float, optional
         Per junction, the child's half width (default: ``fillet``).
-    min_turn, max_turn : float
+    min_angle : float
         See :func:`source_fillet`.
 
     Returns
@@ -330,8 +389,9 @@ def round_crotches(layer: np.ndarray, junctions, attached, joints, fillet: float
     for jn, hw in zip(junctions, hws):
         child = attached[jn.child].target
         child = child if jn.end == 0 else child.reversed()
+        ang = crotch_angles(jn.point, child, attached[jn.parent].target, jn.parent_s, float(hw))
         sides = [side for side, (turn, radius) in crotch_shape(alpha, jn.point, child, float(hw)).items()
-                 if min_turn <= turn <= max_turn and radius < fillet]
+                 if ang.get(side, 0.0) >= min_angle and radius < fillet]
         allowed.append((child, sides))
     todo = [(j, a) for j, a in zip(joints, allowed) if a[1]]
     if not todo:

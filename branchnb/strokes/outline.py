@@ -95,15 +95,21 @@ def outline_style(premult: np.ndarray, depth: np.ndarray) -> OutlineStyle | None
     if (solid & (d >= 3)).sum() < 20:
         return None
     rgb = premult[..., :3] / np.maximum(alpha, 1e-6)[..., None]
-    rim = np.median(rgb[solid & (d == 1)], axis=0)
+    # the outermost solid ring (the first, or the second or third on a soft-edged source,
+    # e.g. upscaled, whose first ring is all below alpha 0.9: its median was NaN, and
+    # NaN ran into the whole result)
+    first = next((k for k in (1, 2, 3) if (solid & (d == k)).sum() >= 10), None)
+    if first is None:
+        return None
+    rim = np.median(rgb[solid & (d == first)], axis=0)
     deep = solid & (d >= _MAX_OUTLINE // 2 + 1) & (d <= 2 * _MAX_OUTLINE)
     if deep.sum() < 20:
         deep = solid & (d >= 3)
     inner = np.median(rgb[deep], axis=0)
     if float(np.linalg.norm(rim - inner)) < _CONTRAST:
         return None
-    width = 1.0
-    for k in range(2, _MAX_OUTLINE + 1):
+    width = float(first)
+    for k in range(first + 1, _MAX_OUTLINE + 1):
         ring = solid & (d == k)
         if ring.sum() < 10:
             break
