@@ -129,3 +129,26 @@ def test_a_new_branch_leaves_no_knob_on_the_trunks_far_side():
     d = np.array([300 - 208, 195 - 310.0]) / np.hypot(300 - 208, 195 - 310.0)  # the trunk's direction there
     far = ((xx - j[0]) * d[1] - (yy - j[1]) * d[0] > 0) & (np.hypot(xx - j[0], yy - j[1]) < 40)
     assert int((extra & far).sum()) == 0
+
+
+def test_a_soft_edged_source_gives_no_nan():
+    """A source upscaled 2x (its first solid ring all below alpha 0.9): the outline's colour
+    was the median of no pixels (NaN) and NaN ran into the result (963 px)."""
+    import cv2
+
+    from branchnb.strokes.outline import outline_style
+
+    obj = bare_tree(200, rng=0)
+    pm = obj.image.copy()
+    pm[..., :3] *= pm[..., 3:]
+    pm = np.clip(cv2.resize(pm, (400, 400), interpolation=cv2.INTER_CUBIC), 0, 1)
+    pm = ndi.gaussian_filter(pm, (1.2, 1.2, 0))
+    depth = ndi.distance_transform_edt(pm[..., 3] > 0.5)
+    assert not ((pm[..., 3] > 0.9) & (np.ceil(depth) == 1)).any()   # soft: ring 1 below 0.9
+    style = outline_style(pm, depth)
+    assert style is None or np.isfinite(style.colour).all()
+    a = pm[..., 3:]
+    img = np.dstack([np.where(a > 1e-3, pm[..., :3] / np.maximum(a, 1e-3), 0), a]).clip(0, 1).astype(np.float32)
+    trunk, limb = [s * 2 for s in obj.strokes[:2]]
+    res = edit_structure(img, [trunk, limb], [trunk, limb])
+    assert np.isfinite(res.image).all()
