@@ -378,9 +378,12 @@ def fill_joints(layer: np.ndarray, joints, radii, *, pockets=None, inner: int = 
         b0, b1 = max(int(x) - cr, c0) - c0, min(int(x) + cr + 1, c1) - c0
         closed = np.zeros_like(m)
         closed[a0:a1, b0:b1] = _disk_closing(m[a0:a1, b0:b1], k)
-        yy, xx = np.ogrid[r0:r1, c0:c1]
-        near = np.hypot(xx - x, yy - y) <= r
-        new = closed & ~m & near
+        # within r of the joint: inside the closing's box (cr > r), zero elsewhere
+        near = np.zeros_like(m)
+        yy, xx = np.ogrid[r0 + a0:r0 + a1, c0 + b0:c0 + b1]
+        near[a0:a1, b0:b1] = np.hypot(xx - x, yy - y) <= r
+        new = np.zeros_like(m)
+        new[a0:a1, b0:b1] = closed[a0:a1, b0:b1] & ~m[a0:a1, b0:b1] & near[a0:a1, b0:b1]
         if not new.any():
             continue
         if out is None:
