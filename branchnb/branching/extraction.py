@@ -288,7 +288,7 @@ def _extract_binary(gray, p: ExtractionParams, mask, return_maps: bool, root_poi
                               min_component_length=p.min_component_length, root=root,
                               scale=p.scale, smooth=p.smooth_path, smooth_radius=p.smooth_radius,
                               image_shape=gray.shape[:2], region=region, joins=joins,
-                              close_cycles=p.close_cycles)
+                              close_cycles=0.0)   # (a mask's braids stay cut: see ExtractionParams.close_cycles)
     s = _unpinch_frame_ends(s, gray.shape[:2])
     if return_maps:
         return s, (channels.astype(np.float32), channels, skel)

@@ -277,7 +277,9 @@ class ExtractionParams:
         cycle at least this long (pixels of loop; shorter ones are pixel
         clusters where lines meet) is closed again by a join branch that
         follows the traced line across the cut and ends on the branch on the
-        other side. 0 = off.
+        other side. 0 = off. Binary masks (a delta's braided channels, traced
+        by their medial axis) keep the tree: closing their braids misplaces the
+        sea the region layout puts off their mouths.
     """
 
     filter: str = param("sato", options=("sato", "frangi", "meijering"),
