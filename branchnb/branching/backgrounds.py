@@ -386,7 +386,7 @@ def flat_background(gray, branches, radius: float, tol: float = 0.02) -> np.ndar
     terrain map's white lowland has the colour of the white outside, and
     the outside is then told by the dark coast line around it (most of its
     edge away from the frame and the river mouths is a line at least 0.5
-    darker than the region, see :func:`_behind_drawn_line`); a crop's land
+    darker than the region, see ``_behind_drawn_line``); a crop's land
     pieces are bounded by the rivers and the relief, not by such a line.
 
     Parameters

@@ -224,7 +224,7 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
         this long (full-size pixels of loop) that the shortest-path tree cut,
         by a *join* branch: a child of the branch on one side of the cut that
         follows the skeleton across it and ends on a vertex of the branch on
-        the other side (:mod:`~branchnb.branching.skeleton_cycles`), so a
+        the other side (``branchnb.branching.skeleton_cycles``), so a
         crack network's cells stay closed. 0 = off (every cycle stays cut).
 
     Returns
