@@ -39,7 +39,10 @@ A new leaf is built in the training leaf's frame, then given a new shape:
    few exemplars dominate each leaf), times a ``shape_grid`` x
    ``shape_grid`` grid of random factors (``shape_spread``), smoothed by a
    Gaussian of ``shape_sigma`` times the leaf size and normalised per
-   pixel. Going beyond the paper: independent random weights per pixel
+   pixel. Only the exemplars whose maps lie near the leading one's
+   (``shape_compatible``) are blended: a wide grass leaf and narrow
+   strips blended into a wavy square with an S-bent midrib. Going beyond
+   the paper: independent random weights per pixel
    average every leaf to the mean shape, and a convex blend averages the
    sizes, so with ``own_size`` each leaf takes the size of one exemplar
    drawn at random (that exemplar also gives the background, seen at its
