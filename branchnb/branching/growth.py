@@ -18,12 +18,11 @@ import numpy as np
 
 from ..core.polyline import tangents
 from ..core.structure import Branch, Structure
+from . import _kernels
 from .colonization import (
     DensityMap,
     SegmentStore,
-    crosses_existing,
     frame_density,
-    growth_directions,
 )
 from .domains import MOUTH_SHARE, MOUTH_TURN, _Drain, _frame, _Shore, _shore_margin, head_share
 from .filling import _Filling
@@ -278,7 +277,7 @@ class _Grower(_Filling):
             if params.colonization else None
         self.coverage_target = params.max_coverage if params.max_coverage > 0 else \
             min(model.coverage_at(self.rho), 1.0)
-        self.store = SegmentStore()
+        self.store = SegmentStore(shape=self.shape)
         self.branches: list[_BranchState] = []
         self.total_length = 0.0
         self.max_total = length_cap(model, params, self.shape, domain)
@@ -403,24 +402,18 @@ class _Grower(_Filling):
         s = -(-n // cap)
         return np.arange(int(self.rng.integers(s)), n, s)
 
-    def _pick(self, score: np.ndarray, polylines_fn) -> int | None:
-        """Among the c best valid candidates, choose one with probability ~ score."""
+    def _pick(self, score: np.ndarray, tip, pts: np.ndarray, lens: np.ndarray) -> int | None:
+        """Among the c best valid candidates, choose one with probability ~ score.
+
+        Candidate ``j``'s polyline is ``[tip] + pts[j, :lens[j]]``; the crossing test
+        runs compiled over the ranked candidates (:func:`._kernels.first_free`)."""
         order = np.lexsort((np.arange(len(score)), -_rank_key(score)))
-        chosen: list[int] = []
-        tries = 0
-        for j in order:
-            if score[j] <= 0 or not np.isfinite(score[j]):
-                break
-            if self.density is not None:
-                tries += 1
-                if tries > self._cap():
-                    break
-                if crosses_existing(self.store, polylines_fn(j)):
-                    continue
-            chosen.append(int(j))
-            if len(chosen) == self.p.c:
-                break
-        return self._draw(score, chosen)
+        st = self.store
+        chosen = _kernels.first_free(order, np.asarray(score, np.float64), np.asarray(tip, np.float64),
+                                     np.ascontiguousarray(pts, np.float64), np.asarray(lens, np.int64),
+                                     st._head, st._next, st._seg, st.p0, st.p1, st.n, st.cell,
+                                     self._cap(), int(self.p.c), self.density is not None, 1e-9)
+        return self._draw(score, chosen.tolist())
 
     def _draw(self, score, chosen) -> int | None:
         if not chosen:
@@ -460,9 +453,6 @@ class _Grower(_Filling):
         new = np.stack([x0[0] + np.cumsum(np.cos(th) * steps, axis=1),
                         x0[1] + np.cumsum(np.sin(th) * steps, axis=1)], axis=-1)
 
-        def poly(j):
-            return np.vstack([x0, new[j, : n[j] + 1]])
-
         score = np.asarray(Q, np.float64).copy()
         if self.matcher.wG > 0 and self.matcher.n_nodes > 0:
             st0 = model.head_start[heads]
@@ -473,7 +463,7 @@ class _Grower(_Filling):
             ca = np.bincount(flat, minlength=H * p.bins).reshape(H, p.bins).astype(np.float64)
             cr = model.cum_r[st0 + n] - model.cum_r[st0]
             score *= self.matcher.factors(ca, cr)
-        dirs = growth_directions(x0, new, n + 1)
+        dirs = _kernels.pca_directions(float(x0[0]), float(x0[1]), np.ascontiguousarray(new), n + 1)
         if self.guidance is not None:
             score = score / (self.guidance.along(x0, dirs, 3.0 * p.m * p.h) + p.eps)
         if self.density is not None:
@@ -491,14 +481,14 @@ class _Grower(_Filling):
         if mouth:
             span = np.where(valid, th, th[:, :1])
             score = np.where(np.ptp(span, axis=1) > MOUTH_TURN, score * 1e-9, score)
-        j = self._pick(score, poly)
+        j = self._pick(score, x0, new, n + 1)
         if j is None:   # none of the share fits: all the heads (rare)
             if sub is None:
                 return None
             return self._start_branch(x0, theta0, every[0], every[1], parent, parent_vertex, generation,
                                       every[2], every[3], r_cap, full=True)
         hd = int(heads[j])
-        full = poly(j)
+        full = np.vstack([x0, new[j, : n[j] + 1]])
         ok = self._inside(full)
         cut = len(full) if ok.all() else int(np.argmin(ok))
         pl = full[:cut]
@@ -605,9 +595,6 @@ class _Grower(_Filling):
         pts, n_arr, t_arr = cs.points, cs.n_new, cs.t
         self.n_candidates += len(t_arr)
 
-        def poly(j):
-            return np.vstack([tip, pts[j, : max(n_arr[j], 0)]])
-
         score = cs.score
         fb = self.bends.factors(self.bend_counts[t_arr]) if self.bend_counts is not None else None
         if self.frame and st.parent is None:
@@ -663,7 +650,7 @@ class _Grower(_Filling):
                     return self.step(bi, full=True)
                 st.stop = "density"
                 return False
-        j = self._pick(score, poly)
+        j = self._pick(score, tip, pts, np.maximum(n_arr, 0))
         if j is None:
             if sub is not None:
                 return self.step(bi, full=True)
