@@ -21,7 +21,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-__all__ = ["bucket_add", "first_free", "pca_directions", "profile_bins"]
+__all__ = ["bucket_add", "crosses", "first_free", "pca_directions", "profile_bins", "score_step", "start_scores"]
 
 
 @numba.njit(cache=True)
@@ -253,3 +253,163 @@ def first_free(order, score, tip, pts, lens, head, nxt, seg, sp0, sp1, n_store, 
         if n == c:
             break
     return out[:n]
+
+
+@numba.njit(cache=True)
+def _hist_pre(p, counts):
+    """``(N, d_old, C.C, p.C, p.p)`` of a running histogram ``counts`` against the example's ``p``."""
+    B = p.shape[0]
+    n = 0.0
+    for b in range(B):
+        n += counts[b]
+    d_old = CC = pC = pp = 0.0
+    for b in range(B):
+        q = counts[b] / n if n > 0 else 0.0
+        d_old += (q - p[b]) ** 2
+        CC += counts[b] * counts[b]
+        pC += p[b] * counts[b]
+        pp += p[b] * p[b]
+    return n, d_old / B, CC, pC, pp
+
+
+@numba.njit(cache=True)
+def _improve(pre, p, counts, row):
+    """``d_old - d_new`` of :meth:`HistogramMatcher._improvement` for one candidate's counts ``row``."""
+    n, d_old, CC, pC, pp = pre
+    B = p.shape[0]
+    nc = cC = cp = sq = 0.0
+    for b in range(B):
+        nc += row[b]
+        cC += row[b] * counts[b]
+        cp += row[b] * p[b]
+        sq += row[b] * row[b]
+    nn = n + nc
+    if nn <= 0:
+        return 0.0
+    return d_old - ((CC + 2 * cC + sq) / nn ** 2 - 2 * (pC + cp) / nn + pp) / B
+
+
+@numba.njit(cache=True)
+def _improvements(p, counts, cc, cc_sq, t):
+    """:meth:`HistogramMatcher._improvement` for the candidate rows ``t`` of ``cc``."""
+    pre = _hist_pre(p, counts)
+    out = np.zeros(t.shape[0])
+    for j in range(t.shape[0]):
+        out[j] = _improve(pre, p, counts, cc[t[j]])
+    return out
+
+
+@numba.njit(cache=True)
+def start_scores(heads, th0, sign, first_a, n, x0x, x0y, h, Q, use_hist, edges_a, p_a, counts_a,
+                 cum_r, head_start, p_r, counts_r, hist_scale, use_density, grid, cell, length, n_samples,
+                 tol, nbins, eps):
+    """The vectorised part of ``_Grower._start_branch``: every candidate head's first vertices
+    ``new (H, m + 1, 2)`` and headings ``th (H, m + 1)``, its score ``Q`` x histogram factor, with
+    colonization ``/ (D_c + eps)`` (0 where the profile crosses), its PCA direction and ``D_c``."""
+    H = heads.shape[0]
+    m = first_a.shape[1]
+    B = p_a.shape[0]
+    th = np.empty((H, m + 1))
+    new = np.empty((H, m + 1, 2))
+    score = Q.copy()
+    pa = _hist_pre(p_a, counts_a) if use_hist else (0.0, 0.0, 0.0, 0.0, 0.0)
+    pr = _hist_pre(p_r, counts_r) if use_hist else (0.0, 0.0, 0.0, 0.0, 0.0)
+    row = np.zeros(B)
+    nb = edges_a.shape[0] - 1
+    for j in range(H):
+        hd = heads[j]
+        a = th0[j]
+        x, y = x0x, x0y
+        for i in range(m + 1):
+            ok = i <= n[j]
+            if i > 0 and ok:
+                a += first_a[hd, i - 1] * sign[j]
+            th[j, i] = a
+            if ok:
+                x += np.cos(a) * h
+                y += np.sin(a) * h
+            new[j, i, 0] = x
+            new[j, i, 1] = y
+        if use_hist:
+            row[:] = 0.0
+            for i in range(min(n[j], m)):
+                b = np.searchsorted(edges_a, first_a[hd, i] * sign[j], side="right") - 1
+                row[min(max(b, 0), nb - 1)] += 1.0
+            da = _improve(pa, p_a, counts_a, row)
+            s0 = head_start[hd]
+            for b in range(B):
+                row[b] = cum_r[s0 + n[j], b] - cum_r[s0, b]
+            dr = _improve(pr, p_r, counts_r, row)
+            score[j] *= np.exp(min(max(hist_scale * (da + dr), -50.0), 50.0))
+    dirs = pca_directions(x0x, x0y, new, n + 1)
+    dc = np.zeros(H)
+    cross = np.zeros(H, np.bool_)
+    if use_density:
+        dc, cross = profile_bins(grid, cell, x0x, x0y, dirs, length, n_samples, tol, nbins)
+        for j in range(H):
+            score[j] = 0.0 if cross[j] else score[j] / (dc[j] + eps)
+    return new, th, score, dirs, dc
+
+
+@numba.njit(cache=True)
+def score_step(t, WA, WR, ha, hr, local_points, local_dirs, cont_len, tipx, tipy, theta,
+               use_hist, p_a, counts_a, cc_a, sq_a, p_r, counts_r, cc_r, sq_r, hist_scale,
+               use_density, grid, cell, length, n_samples, tol, nbins, eps):
+    """One Markov step's scores (:func:`~branchnb.branching.scoring.score_candidates` without
+    guidance) of the candidate windows ``t`` with windows ``WA``/``WR`` (J, L) against the history
+    ``ha``/``hr`` (L,): returns ``Q, score, points (J, m, 2), hist_factor, D_c, crossing``."""
+    J, L = WA.shape
+    m = local_points.shape[1]
+    Q = np.empty(J)
+    c, s = np.cos(theta), np.sin(theta)
+    pts = np.empty((J, m, 2))
+    dirs = np.empty((J, 2))
+    for j in range(J):
+        da = dr = 0.0
+        for i in range(L):
+            da += (WA[j, i] - ha[i]) ** 2
+            dr += (WR[j, i] - hr[i]) ** 2
+        Q[j] = (1.0 / (np.sqrt(da) + 1.0) + 1.0) * (1.0 / (np.sqrt(dr) + 1.0) + 1.0)
+        r = t[j]
+        for i in range(m):
+            x, y = local_points[r, i, 0], local_points[r, i, 1]
+            pts[j, i, 0] = tipx + c * x - s * y
+            pts[j, i, 1] = tipy + s * x + c * y
+        x, y = local_dirs[r, 0], local_dirs[r, 1]
+        dirs[j, 0] = c * x - s * y
+        dirs[j, 1] = s * x + c * y
+    hf = np.ones(J)
+    base = Q.copy()
+    if use_hist:
+        ia = _improvements(p_a, counts_a, cc_a, sq_a, t)
+        ir = _improvements(p_r, counts_r, cc_r, sq_r, t)
+        for j in range(J):
+            hf[j] = np.exp(min(max(hist_scale * (ia[j] + ir[j]), -50.0), 50.0))
+            base[j] *= hf[j]
+    D_c = np.zeros(J)
+    cross = np.zeros(J, np.bool_)
+    score = base
+    if use_density:
+        live = np.empty(J, np.int64)
+        nl = 0
+        for j in range(J):
+            if cont_len[t[j]] > 0:
+                live[nl] = j
+                nl += 1
+        if nl > 0:
+            dc, cr = profile_bins(grid, cell, tipx, tipy, dirs[live[:nl]], length, n_samples, tol, nbins)
+            best = np.inf
+            for i in range(nl):
+                D_c[live[i]] = dc[i]
+                cross[live[i]] = cr[i]
+                if not cr[i] and dc[i] < best:
+                    best = dc[i]
+            if nl < J:
+                fill = best if np.isfinite(best) else 1.0
+                for j in range(J):
+                    if cont_len[t[j]] == 0:
+                        D_c[j] = fill
+        score = np.empty(J)
+        for j in range(J):
+            score[j] = 0.0 if cross[j] else base[j] / (D_c[j] + eps)
+    return Q, score, pts, hf, D_c, cross

@@ -30,7 +30,7 @@ from .furcation import vertex_angles, window_features
 from .guidance import Guidance
 from .model import StructureModel
 from .params import SynthesisParams
-from .scoring import _continue_radii, _rank_key, _rotate, binned_profile, score_candidates
+from .scoring import _DIRECTION_BINS, _continue_radii, _rank_key, _rotate, binned_profile, score_candidates
 from .straightness import RUN_MIN_MEAN, BendHistogram, StraightRuns
 
 __all__ = ["FILL_LENGTH_FACTOR", "GrowthProgress", "LENGTH_BOUND", "LENGTH_FACTOR", "length_cap", "winding",
@@ -446,31 +446,23 @@ class _Grower(_Filling):
         n = model.first_len[heads]
         # vertices after x0: x1 (first edge, no turn) then the n first elements
         sign = np.where(mirror, -1.0, 1.0) if mirror is not None else np.ones(H)
-        turns = np.concatenate([np.zeros((H, 1)), model.first_a[heads] * sign[:, None]], axis=1)
         valid = np.arange(p.m + 1)[None, :] <= n[:, None]
-        th = th0[:, None] + np.cumsum(turns * valid, axis=1)
-        steps = p.h * valid
-        new = np.stack([x0[0] + np.cumsum(np.cos(th) * steps, axis=1),
-                        x0[1] + np.cumsum(np.sin(th) * steps, axis=1)], axis=-1)
-
-        score = np.asarray(Q, np.float64).copy()
-        if self.matcher.wG > 0 and self.matcher.n_nodes > 0:
-            st0 = model.head_start[heads]
-            # mirrored heads have negated angles: bin them directly
-            ok = np.arange(p.m)[None, :] < n[:, None]
-            bins_a = self.matcher.bin_angles(model.first_a[heads] * sign[:, None])
-            flat = (bins_a + p.bins * np.arange(H)[:, None])[ok]
-            ca = np.bincount(flat, minlength=H * p.bins).reshape(H, p.bins).astype(np.float64)
-            cr = model.cum_r[st0 + n] - model.cum_r[st0]
-            score *= self.matcher.factors(ca, cr)
-        dirs = _kernels.pca_directions(float(x0[0]), float(x0[1]), np.ascontiguousarray(new), n + 1)
+        # geometry, histogram factor, PCA directions and density profiles in one compiled pass
+        hm = self.matcher
+        use_hist = hm.wG > 0 and hm.n_nodes > 0
+        dens = self.density
+        length = 3.0 * p.m * p.h
+        new, th, score, dirs, dc = _kernels.start_scores(
+            heads, th0, np.asarray(sign, np.float64), model.first_a, n, float(x0[0]), float(x0[1]), float(p.h),
+            np.asarray(Q, np.float64), use_hist, hm.edges_a, hm.p_a, hm.counts_a, model.cum_r, model.head_start,
+            hm.p_r, hm.counts_r, hm.wG * hm.n_nodes / hm.m if use_hist else 0.0, dens is not None,
+            dens.grid if dens is not None else np.zeros((1, 1), np.float32), dens.cell if dens is not None else 1.0,
+            length, int(np.clip(np.ceil(length / (dens.rho / 2.0)), 8, 48)) if dens is not None else 8, 0.02,
+            _DIRECTION_BINS, float(p.eps))
         if self.guidance is not None:
-            score = score / (self.guidance.along(x0, dirs, 3.0 * p.m * p.h) + p.eps)
-        if self.density is not None:
-            dc, cross = binned_profile(self.density, x0, dirs, 3.0 * p.m * p.h)
-            score = np.where(cross, 0.0, score / (dc + p.eps))
-            if self.frame and parent is None:
-                score = score * self._frame_factor(x0, dirs, dc)
+            score = score / (self.guidance.along(x0, dirs, length) + p.eps)
+        if dens is not None and self.frame and parent is None:
+            score = score * self._frame_factor(x0, dirs, dc)
         inside = self._inside(new[:, 0])
         score = np.where(inside, score, 0.0)
         if self.drain is not None and parent is not None:  # downstream, not along or into the land's frame
@@ -596,7 +588,7 @@ class _Grower(_Filling):
         self.n_candidates += len(t_arr)
 
         score = cs.score
-        fb = self.bends.factors(self.bend_counts[t_arr]) if self.bend_counts is not None else None
+        fb = self.bends.factors_at(self.bend_counts, t_arr) if self.bend_counts is not None else None
         if self.frame and st.parent is None:
             live = n_arr > 0
             if live.any():
