@@ -127,7 +127,8 @@ def run(kind, size, seeds, png=None, params=None, cache=None):
         rows.append(row)
         print(f"   seed {seed}: L x{row['L']:.2f} far x{row['far']:.2f} run x{row['run']:.2f} ang x{row['ang']:.2f} "
               f"brlen x{row['brlen']:.2f} sea {row['sea']:.2f} cpu {t:.1f}s wind {row['wind']:.0f} "
-              f"fan {row['fan'][0]:.0f}/{row['fan'][1]} inland {row['fin'][0]:.0f}/{row['fin'][1]} roots {sum(b.parent is None for b in s.branches)} "
+              f"fan {row['fan'][0]:.0f}/{row['fan'][1]} inland {row['fin'][0]:.0f}/{row['fin'][1]} "
+              f"roots {sum(b.parent is None for b in s.branches)} "
               f"hd {r.diagnostics.get('hist_distance', {}).get('sum', 0):.4f} stop {row['stop']}", flush=True)
     if png:
         _sheet(img, dom, exs, rows[:3], png)
