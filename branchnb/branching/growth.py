@@ -369,8 +369,11 @@ class _Grower(_Starts, _Filling):
                                    3.0 * p.m * p.h)
         return bool(((~cross) & (dc < p.stop_density)).any())
 
-    def _share(self, n: int, cap: int = MAX_CANDIDATES) -> np.ndarray | None:
-        """Positions of a random share of ``n`` candidates (None: score them all), see :data:`MAX_CANDIDATES`."""
+    def _share(self, n: int, cap: int | None = None) -> np.ndarray | None:
+        """Positions of a random share of ``n`` candidates (None: score them all), at most ``cap``
+        (default :data:`MAX_CANDIDATES`, read at each call)."""
+        if cap is None:
+            cap = MAX_CANDIDATES
         if n <= cap:
             return None
         s = -(-n // cap)
