@@ -4,9 +4,11 @@ Every root starts with the head of an input branch and is grown step by
 step (:meth:`_Grower.step`: all candidates scored by
 :func:`.scoring.score_candidates`, one of the ``c`` best drawn); a finished
 branch furcates (:meth:`_Grower.furcate`), its children start with the
-parent's non-causal window (:meth:`_Grower.start_child`) and grow the same
-way, generation by generation; then the domain is filled
+parent's non-causal window (``start_child``, in :mod:`.branch_starts`) and
+grow the same way, generation by generation; then the domain is filled
 (:class:`.filling._Filling`). Split from :mod:`branchnb.branching.synthesis`.
+The inner loops of a step and of a branch start (scores, density profiles,
+crossing tests) run compiled (:mod:`branchnb.branching._kernels`).
 """
 
 from __future__ import annotations
