@@ -64,6 +64,40 @@ def sea_bearings(s, dom, tol=6.0, back=30.0):
     R = np.hypot(np.mean(np.cos(ang)), np.mean(np.sin(ang)))
     return float(np.degrees(np.sqrt(-2 * np.log(max(R, 1e-9))))), len(ang)
 
+def sea_bearings_inland(s, dom, tol=6.0, inland=0.05, back=0.03):
+    """(circular spread in degrees, count) of the headings of the branches that reach the sea, taken
+    where each last crosses ``inland`` x the frame's diagonal from the sea (over the ``back`` x the
+    diagonal before that point): the fan of the channels, not the turns of their mouths along the
+    coast (an outer channel of the example bends parallel to the coast at its end)."""
+    d = ndi.distance_transform_edt(dom)
+    h, w = dom.shape
+    diag = float(np.hypot(h, w))
+    D, B = inland * diag, back * diag
+    ang = []
+    for b in s.branches:
+        if len(b.points) < 3:
+            continue
+        p = np.asarray(b.points, np.float64)
+        ix = np.clip(np.rint(p).astype(int), 0, [w - 1, h - 1])
+        dv = d[ix[:, 1], ix[:, 0]]
+        if dv[-1] > tol:
+            continue
+        far = np.flatnonzero(dv >= D)
+        if not len(far):
+            continue
+        i = int(far[-1])
+        seg = np.r_[0.0, np.cumsum(np.hypot(*np.diff(p[: i + 1], axis=0).T))]
+        j = int(np.searchsorted(seg, seg[-1] - B))
+        if j >= i:
+            continue
+        v = p[i] - p[j]
+        ang.append(np.arctan2(v[1], v[0]))
+    if len(ang) < 2:
+        return 0.0, len(ang)
+    R = np.hypot(np.mean(np.cos(ang)), np.mean(np.sin(ang)))
+    return float(np.degrees(np.sqrt(-2 * np.log(max(R, 1e-9))))), len(ang)
+
+
 def run(kind, size, seeds, png=None, params=None, cache=None):
     img, dom, model = fitted_example(kind, size, cache)
     exs = model.example
@@ -73,9 +107,10 @@ def run(kind, size, seeds, png=None, params=None, cache=None):
     sr_ex = sea_reach(exs, dom)
     bl_ex = seg_stats(exs)
     fan_ex = sea_bearings(exs, dom)
+    fin_ex = sea_bearings_inland(exs, dom)
     print(f"{kind:9s} {size:4d} {img.shape[:2]} ex: L {L_ex:.0f} far {f_ex:.3f} run {run_ex:.1f} ang {a_ex:.1f} "
           f"sea {sr_ex:.2f} brlen {bl_ex:.0f} dom {dom.mean():.2f} wind {winding(exs):.0f} "
-          f"fan {fan_ex[0]:.0f}/{fan_ex[1]}", flush=True)
+          f"fan {fan_ex[0]:.0f}/{fan_ex[1]} inland {fin_ex[0]:.0f}/{fin_ex[1]}", flush=True)
     rows = []
     for seed in seeds:
         t0 = time.process_time()
@@ -88,10 +123,12 @@ def run(kind, size, seeds, png=None, params=None, cache=None):
                    brlen=seg_stats(s) / max(bl_ex, 1e-6), stop=r.diagnostics.get("stop_reason"), struct=s)
         row["wind"] = winding(s)
         row["fan"] = sea_bearings(s, dom)
+        row["fin"] = sea_bearings_inland(s, dom)
         rows.append(row)
         print(f"   seed {seed}: L x{row['L']:.2f} far x{row['far']:.2f} run x{row['run']:.2f} ang x{row['ang']:.2f} "
               f"brlen x{row['brlen']:.2f} sea {row['sea']:.2f} cpu {t:.1f}s wind {row['wind']:.0f} "
-              f"fan {row['fan'][0]:.0f}/{row['fan'][1]} roots {sum(b.parent is None for b in s.branches)} "
+              f"fan {row['fan'][0]:.0f}/{row['fan'][1]} inland {row['fin'][0]:.0f}/{row['fin'][1]} "
+              f"roots {sum(b.parent is None for b in s.branches)} "
               f"hd {r.diagnostics.get('hist_distance', {}).get('sum', 0):.4f} stop {row['stop']}", flush=True)
     if png:
         _sheet(img, dom, exs, rows[:3], png)

@@ -28,6 +28,7 @@ import numba
 import numpy as np
 
 from ..core.validate import Point, Points, Real, Shape, checked
+from . import _kernels
 
 __all__ = [
     "DensityMap",
@@ -461,14 +462,20 @@ class SegmentStore:
     3
     """
 
-    def __init__(self, capacity: int = 1024, cell: float = 16.0):
+    def __init__(self, capacity: int = 1024, cell: float = 16.0, shape=None):
         self.p0 = np.zeros((capacity, 2))
         self.p1 = np.zeros((capacity, 2))
         self.n = 0
         # a grid of buckets (cell x cell px) of the segments whose bounding box meets each
-        # cell: a crossing test reads only the buckets under the candidate (speed, issue 23)
+        # cell, as linked lists in flat arrays (``_kernels.bucket_add``): a crossing test reads
+        # only the buckets under the candidate (speed, issue 23). Cells past the grid's sides
+        # share its border cells (still a superset of the segments near a box).
         self.cell = float(cell)
-        self._buckets: dict[tuple[int, int], list[int]] = {}
+        h, w = (4096, 4096) if shape is None else (int(shape[0]), int(shape[1]))
+        self._head = np.full((max(h // int(cell) + 1, 1), max(w // int(cell) + 1, 1)), -1, np.int64)
+        self._next = np.zeros(4 * capacity, np.int64)
+        self._seg = np.zeros(4 * capacity, np.int64)
+        self._n_entries = 0
 
     def add(self, p0, p1) -> None:
         """Append segments ``p0[i] -> p1[i]``, growing the buffer as needed.
@@ -486,13 +493,14 @@ class SegmentStore:
             self.p1 = np.vstack([self.p1, np.zeros_like(self.p1)])
         self.p0[self.n:self.n + k] = p0
         self.p1[self.n:self.n + k] = p1
-        lo = np.floor(np.minimum(p0, p1) / self.cell).astype(np.int64)
-        hi = np.floor(np.maximum(p0, p1) / self.cell).astype(np.int64)
-        b = self._buckets
-        for i, (x0, y0, x1, y1) in enumerate(np.c_[lo, hi].tolist()):
-            for cy in range(y0, y1 + 1):
-                for cx in range(x0, x1 + 1):
-                    b.setdefault((cx, cy), []).append(self.n + i)
+        while True:
+            e = _kernels.bucket_add(self._head, self._next, self._seg, self._n_entries,
+                                    self.p0[:self.n + k], self.p1[:self.n + k], self.n, self.cell)
+            if e >= 0:
+                break
+            self._next = np.r_[self._next, np.zeros_like(self._next)]
+            self._seg = np.r_[self._seg, np.zeros_like(self._seg)]
+        self._n_entries = int(e)
         self.n += k
 
     def near(self, lo, hi) -> np.ndarray:
@@ -508,13 +516,16 @@ class SegmentStore:
         (n,) int ndarray
             Sorted unique segment indices (a superset of those meeting the box).
         """
-        x0, y0 = (int(v) for v in np.floor(np.asarray(lo, np.float64) / self.cell))
-        x1, y1 = (int(v) for v in np.floor(np.asarray(hi, np.float64) / self.cell))
-        b = self._buckets
+        gh, gw = self._head.shape
+        lo = np.asarray(lo, np.float64)
+        hi = np.asarray(hi, np.float64)
+        x0, x1 = (int(np.clip(np.floor(v / self.cell), 0, gw - 1)) for v in (lo[0], hi[0]))
+        y0, y1 = (int(np.clip(np.floor(v / self.cell), 0, gh - 1)) for v in (lo[1], hi[1]))
         out: list[int] = []
-        for cy in range(y0, y1 + 1):
-            for cx in range(x0, x1 + 1):
-                out.extend(b.get((cx, cy), ()))
+        for e in self._head[y0:y1 + 1, x0:x1 + 1].ravel().tolist():
+            while e >= 0:
+                out.append(int(self._seg[e]))
+                e = int(self._next[e])
         return np.unique(np.asarray(out, np.int64))
 
     def add_polyline(self, points) -> None:
@@ -529,11 +540,6 @@ class SegmentStore:
         p = np.asarray(points, np.float64)
         if len(p) > 1:
             self.add(p[:-1], p[1:])
-
-
-def _orient(p, q, r):
-    return (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (q[..., 1] - p[..., 1]) * (
-        r[..., 0] - p[..., 0])
 
 
 def crosses_existing(store: SegmentStore, polyline: np.ndarray, eps: float = 1e-9) -> bool:
@@ -567,33 +573,6 @@ def crosses_existing(store: SegmentStore, polyline: np.ndarray, eps: float = 1e-
     >>> crosses_existing(store, [(5, 0), (5, 10)]), crosses_existing(store, [(5, 5), (5, 10)])
     (True, False)
     """
-    p = np.asarray(polyline, np.float64)
-    if len(p) < 2:
-        return False
-    a0, a1 = p[:-1], p[1:]
-    keep = np.any(a0 != a1, axis=1)
-    a0, a1 = a0[keep], a1[keep]
-    if len(a0) == 0:
-        return False
-    if store.n:
-        lo = np.minimum(a0.min(0), a1.min(0))
-        hi = np.maximum(a0.max(0), a1.max(0))
-        idx = store.near(lo, hi)
-        b0, b1 = store.p0[idx], store.p1[idx]
-        near = ~((np.maximum(b0[:, 0], b1[:, 0]) < lo[0]) | (np.minimum(b0[:, 0], b1[:, 0]) > hi[0])
-                 | (np.maximum(b0[:, 1], b1[:, 1]) < lo[1]) | (np.minimum(b0[:, 1], b1[:, 1]) > hi[1]))
-        if near.any():
-            B0, B1 = b0[near][None], b1[near][None]
-            A0, A1 = a0[:, None], a1[:, None]
-            x = (_orient(A0, A1, B0) * _orient(A0, A1, B1) < -eps) & \
-                (_orient(B0, B1, A0) * _orient(B0, B1, A1) < -eps)
-            if x.any():
-                return True
-    if len(a0) > 2:
-        A0, A1 = a0[:, None], a1[:, None]
-        B0, B1 = a0[None], a1[None]
-        x = (_orient(A0, A1, B0) * _orient(A0, A1, B1) < -eps) & \
-            (_orient(B0, B1, A0) * _orient(B0, B1, A1) < -eps)
-        if x.any():
-            return True
-    return False
+    p = np.ascontiguousarray(polyline, np.float64).reshape(-1, 2)
+    return bool(_kernels.crosses(store._head, store._next, store._seg, store.p0, store.p1, store.n,
+                                 store.cell, p, float(eps)))

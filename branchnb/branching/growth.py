@@ -4,9 +4,11 @@ Every root starts with the head of an input branch and is grown step by
 step (:meth:`_Grower.step`: all candidates scored by
 :func:`.scoring.score_candidates`, one of the ``c`` best drawn); a finished
 branch furcates (:meth:`_Grower.furcate`), its children start with the
-parent's non-causal window (:meth:`_Grower.start_child`) and grow the same
-way, generation by generation; then the domain is filled
+parent's non-causal window (``start_child``, in :mod:`.branch_starts`) and
+grow the same way, generation by generation; then the domain is filled
 (:class:`.filling._Filling`). Split from :mod:`branchnb.branching.synthesis`.
+The inner loops of a step and of a branch start (scores, density profiles,
+crossing tests) run compiled (:mod:`branchnb.branching._kernels`).
 """
 
 from __future__ import annotations
@@ -16,18 +18,16 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..core.polyline import tangents
 from ..core.structure import Branch, Structure
+from . import _kernels
+from .branch_starts import _BranchState, _Starts
 from .colonization import (
     DensityMap,
     SegmentStore,
-    crosses_existing,
     frame_density,
-    growth_directions,
 )
-from .domains import MOUTH_SHARE, MOUTH_TURN, _Drain, _frame, _Shore, _shore_margin, head_share
+from .domains import MOUTH_SHARE, MOUTH_TURN, _Drain, _frame, _Shore, _shore_margin
 from .filling import _Filling
-from .furcation import vertex_angles, window_features
 from .guidance import Guidance
 from .model import StructureModel
 from .params import SynthesisParams
@@ -47,6 +47,13 @@ __all__ = ["FILL_LENGTH_FACTOR", "GrowthProgress", "LENGTH_BOUND", "LENGTH_FACTO
 MAX_CANDIDATES = 1024
 
 LENGTH_FACTOR = 1.15
+#: Power of the straight-run factor (:class:`~branchnb.branching.straightness.StraightRuns`) on
+#: examples whose mean run is below :data:`~branchnb.branching.straightness.RUN_MIN_MEAN` (beyond
+#: the paper). Off there (0), straight runs (512 px, 3 seeds) were 0.73-0.78 x the example's on the
+#: Czech map, 0.84-0.91 x on the retina, 0.87-0.88 x on the lightning; at full power 1.06-1.26 x and
+#: cracked mud 1.30-1.40 x; at 0.2: Czech 0.91-0.94, retina 0.90-0.94, lightning 0.96-1.00, mud
+#: 1.11-1.15 (0.95-0.96 off), with turning angles and histogram distances unchanged (issue 23).
+SHORT_RUN_WEIGHT = 0.2
 #: ... and at most this x once holes the example does not have are filled (``_Filling._fill_far``),
 #: so the output's length per area stays within 1.3 x the example's. It was 1.3 and 2.0: a 1000 px
 #: retina ended at 1.41-1.43 x, a 1000 px lightning at 1.21-1.50 x; at 1.15 and 1.3 the lightning
@@ -56,6 +63,17 @@ FILL_LENGTH_FACTOR = 1.3
 #: (0.25: branches 4 px apart all over the domain), and never below the former fixed 20000 px.
 LENGTH_BOUND = 0.25
 LENGTH_FLOOR = 20000.0
+
+
+def example_length(model: StructureModel) -> float:
+    """The example's total length (pixels), computed once per model (a 1000 px crack example has
+    7.7 k branches: 0.3 s per sum)."""
+    key = (id(model.example), len(model.example.branches))
+    cached = model.__dict__.get("_example_length")
+    if cached is None or cached[0] != key:
+        cached = (key, float(model.example.total_length))
+        model.__dict__["_example_length"] = cached
+    return cached[1]
 
 
 def length_cap(model: StructureModel, params: SynthesisParams, shape, domain: np.ndarray | None,
@@ -110,7 +128,7 @@ def length_cap(model: StructureModel, params: SynthesisParams, shape, domain: np
         fh, fw = _frame(model.source)
         ex_area = float(fh * fw)
     f = LENGTH_FACTOR if factor is None else float(factor)
-    cap = f * model.example.total_length * area / max(ex_area, 1.0)
+    cap = f * example_length(model) * area / max(ex_area, 1.0)
     return float(min(max(cap, 1.0), max(LENGTH_FLOOR, LENGTH_BOUND * area)))
 
 
@@ -154,29 +172,6 @@ class GrowthProgress:
     def structure(self) -> Structure:
         """The branches grown so far (a copy: growth goes on without changing it)."""
         return self._grower.structure()
-
-
-@dataclass
-class _BranchState:
-    points: list
-    radii: list
-    elem_a: list
-    elem_r: list
-    theta: float
-    parent: int | None
-    parent_vertex: int | None
-    generation: int
-    stop: str = ""
-    target: float = np.inf
-    #: input element each vertex appended by a Markov step was copied from (the last ones)
-    src: list = field(default_factory=list)
-    #: a coast root near its mouth: (lowest, highest) heading so far (radians); None = no limit
-    mouth: tuple | None = None
-    #: a branch grown into a hole (see ``_Filling._fill_far``): the hole's centre (x, y) it heads
-    #: for until within ``rho`` of it; None = free growth
-    goal: np.ndarray | None = None
-    #: (lowest, highest) heading along the branch so far (radians, unwrapped); None = not started
-    heads: tuple | None = None
 
 
 #: Largest net turn (radians) of any piece of a synthesized branch, as a multiple of the example's
@@ -244,7 +239,7 @@ def _radius_growth(example) -> float:
     return max(1.0, float(np.quantile(ratios, RADIUS_GROWTH_QUANTILE))) if ratios else np.inf
 
 
-class _Grower(_Filling):
+class _Grower(_Starts, _Filling):
     def __init__(self, model: StructureModel, params: SynthesisParams, rng, shape,
                  guidance: Guidance | None, scorer=None, domain: np.ndarray | None = None):
         self.model, self.p, self.rng = model, params, rng
@@ -267,7 +262,9 @@ class _Grower(_Filling):
         # only where the example's runs are long (drawn maps, deltas). On deltas it was once left out
         # (it halved the channels reaching the sea at 192 px before the drain rules); without it their
         # straight runs were 0.54-0.60 x the example's (512 px, issue 23)
-        if self.runs is not None and self.runs.mean_run < RUN_MIN_MEAN:
+        # where runs are short (lightning, cracks, retina, the Czech map) at the power SHORT_RUN_WEIGHT
+        self.run_weight = 1.0 if self.runs is None or self.runs.mean_run >= RUN_MIN_MEAN else SHORT_RUN_WEIGHT
+        if self.run_weight <= 0:
             self.runs = None
         self.rho = params.rho if params.rho > 0 else model.rho
         self.domain = domain
@@ -278,7 +275,7 @@ class _Grower(_Filling):
             if params.colonization else None
         self.coverage_target = params.max_coverage if params.max_coverage > 0 else \
             min(model.coverage_at(self.rho), 1.0)
-        self.store = SegmentStore()
+        self.store = SegmentStore(shape=self.shape)
         self.branches: list[_BranchState] = []
         self.total_length = 0.0
         self.max_total = length_cap(model, params, self.shape, domain)
@@ -374,216 +371,34 @@ class _Grower(_Filling):
                                    3.0 * p.m * p.h)
         return bool(((~cross) & (dc < p.stop_density)).any())
 
-    def _below_head(self, bi: int) -> np.ndarray | None:
-        """A delta's trunk (a root, :class:`.domains._Drain`): which of its vertices lie at or below the
-        delta's head, where its channels part (beyond the paper, see :func:`.domains.head_share`);
-        None on any other branch or example. Sets the fan's apex at the head on first use."""
-        st = self.branches[bi]
-        if self.drain is None or st.parent is not None:
-            return None
-        share = self._head_share()
-        if share <= 0:
-            return None
-        pts = np.asarray(st.points, np.float64)
-        if not self.drain.head:
-            self.drain.set_head(pts, share)
-        dep = self.drain.depth_at(pts)
-        return dep <= share * dep[0]
-
-    def _head_share(self) -> float:
-        if self._head is None:
-            m = self.model
-            self._head = 0.0 if m.domain is None else head_share(m.example, m.domain)
-        return self._head
-
-    def _share(self, n: int, cap: int = MAX_CANDIDATES) -> np.ndarray | None:
-        """Positions of a random share of ``n`` candidates (None: score them all), see :data:`MAX_CANDIDATES`."""
+    def _share(self, n: int, cap: int | None = None) -> np.ndarray | None:
+        """Positions of a random share of ``n`` candidates (None: score them all), at most ``cap``
+        (default :data:`MAX_CANDIDATES`, read at each call)."""
+        if cap is None:
+            cap = MAX_CANDIDATES
         if n <= cap:
             return None
         s = -(-n // cap)
         return np.arange(int(self.rng.integers(s)), n, s)
 
-    def _pick(self, score: np.ndarray, polylines_fn) -> int | None:
-        """Among the c best valid candidates, choose one with probability ~ score."""
+    def _pick(self, score: np.ndarray, tip, pts: np.ndarray, lens: np.ndarray) -> int | None:
+        """Among the c best valid candidates, choose one with probability ~ score.
+
+        Candidate ``j``'s polyline is ``[tip] + pts[j, :lens[j]]``; the crossing test
+        runs compiled over the ranked candidates (:func:`._kernels.first_free`)."""
         order = np.lexsort((np.arange(len(score)), -_rank_key(score)))
-        chosen: list[int] = []
-        tries = 0
-        for j in order:
-            if score[j] <= 0 or not np.isfinite(score[j]):
-                break
-            if self.density is not None:
-                tries += 1
-                if tries > self._cap():
-                    break
-                if crosses_existing(self.store, polylines_fn(j)):
-                    continue
-            chosen.append(int(j))
-            if len(chosen) == self.p.c:
-                break
-        return self._draw(score, chosen)
+        st = self.store
+        chosen = _kernels.first_free(order, np.asarray(score, np.float64), np.asarray(tip, np.float64),
+                                     np.ascontiguousarray(pts, np.float64), np.asarray(lens, np.int64),
+                                     st._head, st._next, st._seg, st.p0, st.p1, st.n, st.cell,
+                                     self._cap(), int(self.p.c), self.density is not None, 1e-9)
+        return self._draw(score, chosen.tolist())
 
     def _draw(self, score, chosen) -> int | None:
         if not chosen:
             return None
         w = score[chosen]
         return chosen[int(self.rng.choice(len(chosen), p=w / w.sum()))]
-
-    # -- starting branches ------------------------------------------------
-    def _start_branch(self, x0, theta0, heads, Q, parent, parent_vertex, generation,
-                      betas=None, mirror=None, r_cap: float | None = None, full: bool = False) -> int | None:
-        """Start a branch at ``x0`` with one of the candidate input heads (vectorised).
-
-        ``r_cap`` (a child: the parent's radius at the junction) bounds the
-        copied head's radii: a head taken from a thicker input branch is
-        scaled down so the child never starts thicker than its parent.
-        """
-        model, p = self.model, self.p
-        heads = np.asarray(heads, np.int64)
-        if len(heads) == 0:
-            return None
-        sub = None if full else self._share(len(heads))
-        if sub is not None:
-            every = (heads, Q, betas, mirror)
-            heads, Q = heads[sub], np.asarray(Q)[sub]
-            betas = None if betas is None else np.asarray(betas)[sub]
-            mirror = None if mirror is None else np.asarray(mirror)[sub]
-        x0 = np.asarray(x0, np.float64)
-        H = len(heads)
-        th0 = theta0 + (np.zeros(H) if betas is None else np.asarray(betas, np.float64))
-        n = model.first_len[heads]
-        # vertices after x0: x1 (first edge, no turn) then the n first elements
-        sign = np.where(mirror, -1.0, 1.0) if mirror is not None else np.ones(H)
-        turns = np.concatenate([np.zeros((H, 1)), model.first_a[heads] * sign[:, None]], axis=1)
-        valid = np.arange(p.m + 1)[None, :] <= n[:, None]
-        th = th0[:, None] + np.cumsum(turns * valid, axis=1)
-        steps = p.h * valid
-        new = np.stack([x0[0] + np.cumsum(np.cos(th) * steps, axis=1),
-                        x0[1] + np.cumsum(np.sin(th) * steps, axis=1)], axis=-1)
-
-        def poly(j):
-            return np.vstack([x0, new[j, : n[j] + 1]])
-
-        score = np.asarray(Q, np.float64).copy()
-        if self.matcher.wG > 0 and self.matcher.n_nodes > 0:
-            st0 = model.head_start[heads]
-            # mirrored heads have negated angles: bin them directly
-            ok = np.arange(p.m)[None, :] < n[:, None]
-            bins_a = self.matcher.bin_angles(model.first_a[heads] * sign[:, None])
-            flat = (bins_a + p.bins * np.arange(H)[:, None])[ok]
-            ca = np.bincount(flat, minlength=H * p.bins).reshape(H, p.bins).astype(np.float64)
-            cr = model.cum_r[st0 + n] - model.cum_r[st0]
-            score *= self.matcher.factors(ca, cr)
-        dirs = growth_directions(x0, new, n + 1)
-        if self.guidance is not None:
-            score = score / (self.guidance.along(x0, dirs, 3.0 * p.m * p.h) + p.eps)
-        if self.density is not None:
-            dc, cross = binned_profile(self.density, x0, dirs, 3.0 * p.m * p.h)
-            score = np.where(cross, 0.0, score / (dc + p.eps))
-            if self.frame and parent is None:
-                score = score * self._frame_factor(x0, dirs, dc)
-        inside = self._inside(new[:, 0])
-        score = np.where(inside, score, 0.0)
-        if self.drain is not None and parent is not None:  # downstream, not along or into the land's frame
-            score = score * self.drain.factor(x0, new, n + 1, start=x0)
-        if self.shore is not None:
-            score = score * self.shore.factor(x0, new, n + 1)
-        mouth = self.shore is not None and parent is None
-        if mouth:
-            span = np.where(valid, th, th[:, :1])
-            score = np.where(np.ptp(span, axis=1) > MOUTH_TURN, score * 1e-9, score)
-        j = self._pick(score, poly)
-        if j is None:   # none of the share fits: all the heads (rare)
-            if sub is None:
-                return None
-            return self._start_branch(x0, theta0, every[0], every[1], parent, parent_vertex, generation,
-                                      every[2], every[3], r_cap, full=True)
-        hd = int(heads[j])
-        full = poly(j)
-        ok = self._inside(full)
-        cut = len(full) if ok.all() else int(np.argmin(ok))
-        pl = full[:cut]
-        head = model.bending.heads[hd]
-        ne = max(cut - 2, 0)
-        ea = list(sign[j] * model.first_a[hd, :ne])
-        er = list(model.first_r[hd, :ne])
-        radii = [head["r0"], head["r1"]] + er
-        if r_cap is not None:
-            f = min(1.0, r_cap / max(max(radii[:3]), 1e-9))
-            if f < 1.0:
-                radii = [max(r * f, model.r_min) for r in radii]
-                er = radii[2:]
-        d = pl[-1] - pl[-2]
-        st = _BranchState(points=list(pl), radii=radii, elem_a=ea, elem_r=er,
-                          theta=float(np.arctan2(d[1], d[0])), parent=parent,
-                          parent_vertex=parent_vertex, generation=generation)
-        if p.branch_end == "length":
-            # beyond the paper: a delta's channel runs on to the sea (see ``grow``)
-            st.target = np.inf if self.drain is not None else \
-                model.sample_length(generation, float(np.mean(radii[:3])), self.rng)
-        hs = th[j, : max(cut - 1, 1)]
-        hs = hs + (st.theta - hs[-1])   # in the frame of st.theta (wrapped by arctan2; th is not)
-        st.heads = (float(hs.min()), float(hs.max()))
-        if mouth:
-            st.mouth = (float(hs.min()), float(hs.max()))
-        if cut < len(full):
-            st.stop = "left the domain"
-        elif n[j] < p.m and p.branch_end == "markov":
-            st.stop = "end of input branch"
-        self._register(pl, ea, radii)
-        self.branches.append(st)
-        return len(self.branches) - 1
-
-    def start_root(self, x, y, theta) -> int | None:
-        model = self.model
-        nb = len(model.example.branches)
-        usable = [i for i in range(nb) if model.first_len[i] > 0]
-        roots = [i for i in usable if model.example.branches[i].parent is None]
-        # With fewer than 3 input roots every new root would start with the same
-        # copied head; then any input branch's head may start a root.
-        pool = roots if len(roots) >= 3 else usable
-        Q = np.ones(len(pool))
-        if self.drain is not None and self.drain.apex is None:   # a delta fans out from its first root
-            self.drain.apex = np.array([x, y], np.float64)
-        return self._start_branch(np.array([x, y], float), float(theta), pool, Q, None, None, 0)
-
-    def start_child(self, parent: int, vertex: int, toward=None, full: bool = False) -> int | None:
-        model, fm = self.model, self.model.furcation
-        st = self.branches[parent]
-        pts = np.asarray(st.points)
-        rad = np.asarray(st.radii)
-        wa, wr = window_features(vertex_angles(pts), rad, fm.k)
-        if self._child_pool is None:
-            heads = fm.child_index
-            usable = np.flatnonzero(model.first_len[heads] > 0)
-            betas = np.array([model.bending.heads[h]["beta"] or 0.0 for h in heads[usable]])
-            self._child_pool = (usable, betas)
-        usable, betas = self._child_pool
-        # a random share of the input furcations on large examples (MAX_CANDIDATES, speed)
-        sub = None if full else self._share(len(usable), MAX_CANDIDATES // (2 if self.p.mirror_children else 1))
-        if sub is not None:
-            usable, betas = usable[sub], betas[sub]
-        heads = fm.child_index[usable]
-        if len(heads) == 0:
-            return None
-        Q = fm.child_quality(wa[vertex], wr[vertex], usable)
-        mirror = np.zeros(len(heads), bool)
-        if self.p.mirror_children:
-            # the same furcations reflected: parent window and child angles negated
-            Qm = fm.child_quality(-wa[vertex], wr[vertex], usable)
-            heads = np.concatenate([heads, heads])
-            Q = np.concatenate([Q, Qm])
-            betas = np.concatenate([betas, -betas])
-            mirror = np.concatenate([mirror, ~mirror])
-        tg = tangents(pts)[vertex]
-        theta0 = float(np.arctan2(tg[1], tg[0]))
-        if toward is not None:   # a child grown into a hole starts toward it (``_Filling._fill_far``)
-            theta0 = float(np.arctan2(toward[1] - pts[vertex][1], toward[0] - pts[vertex][0]))
-            betas = np.zeros(len(heads))
-        c = self._start_branch(pts[vertex], theta0, heads, Q, parent, vertex, st.generation + 1,
-                               betas=betas, mirror=mirror, r_cap=float(rad[vertex]), full=full)
-        if c is None and sub is not None:   # none of the share fits: all the furcations (rare)
-            return self.start_child(parent, vertex, toward, full=True)
-        return c
 
     # -- growing ----------------------------------------------------------
     def step(self, bi: int, full: bool = False) -> bool:
@@ -605,11 +420,8 @@ class _Grower(_Filling):
         pts, n_arr, t_arr = cs.points, cs.n_new, cs.t
         self.n_candidates += len(t_arr)
 
-        def poly(j):
-            return np.vstack([tip, pts[j, : max(n_arr[j], 0)]])
-
         score = cs.score
-        fb = self.bends.factors(self.bend_counts[t_arr]) if self.bend_counts is not None else None
+        fb = self.bends.factors_at(self.bend_counts, t_arr) if self.bend_counts is not None else None
         if self.frame and st.parent is None:
             live = n_arr > 0
             if live.any():
@@ -632,6 +444,8 @@ class _Grower(_Filling):
                 fr = np.sqrt(fr * self.runs.factors(run, ca, n_arr, None))
             else:   # a delta's channel turns toward the sea: the drain decides first
                 fr = np.sqrt(fr)
+            if self.run_weight != 1.0:
+                fr = fr ** self.run_weight
             fb = fr if fb is None else fb * fr
         if self.shore is not None:
             fs = self.shore.factor(tip, pts, n_arr)
@@ -663,7 +477,7 @@ class _Grower(_Filling):
                     return self.step(bi, full=True)
                 st.stop = "density"
                 return False
-        j = self._pick(score, poly)
+        j = self._pick(score, tip, pts, np.maximum(n_arr, 0))
         if j is None:
             if sub is not None:
                 return self.step(bi, full=True)

@@ -13,7 +13,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .colonization import DensityMap, profile_density
+from . import _kernels
+from .colonization import DensityMap
 from .guidance import Guidance
 from .histogram_matching import HistogramMatcher
 from .params import SynthesisParams
@@ -49,13 +50,12 @@ def binned_profile(density: DensityMap, tip, dirs: np.ndarray, length: float) ->
         ``D_c`` and ``crossing`` of :func:`~branchnb.branching.colonization.profile_density`
         for each of ``dirs``.
     """
-    d = np.asarray(dirs, np.float64)
-    q = np.rint(np.arctan2(d[:, 1], d[:, 0]) * (_DIRECTION_BINS / (2 * np.pi))).astype(np.int64)
-    q %= _DIRECTION_BINS
-    uq, inv = np.unique(q, return_inverse=True)
-    ang = uq * (2 * np.pi / _DIRECTION_BINS)
-    dc, cross, _ = profile_density(density, tip, np.c_[np.cos(ang), np.sin(ang)], length)
-    return dc[inv], cross[inv]
+    d = np.ascontiguousarray(dirs, np.float64).reshape(-1, 2)
+    tip = np.asarray(tip, np.float64)
+    n_samples = int(np.clip(np.ceil(length / (density.rho / 2.0)), 8, 48))
+    # compiled (the numpy reference is profile_density over the unique bins)
+    return _kernels.profile_bins(density.grid, density.cell, float(tip[0]), float(tip[1]), d, float(length),
+                                 n_samples, 0.02, _DIRECTION_BINS)
 
 
 @dataclass
@@ -206,6 +206,8 @@ def score_candidates(model: StructureModel, hist_a, hist_r, tip, theta: float, *
     CandidateScores
         Every candidate's factors and final score.
     """
+    if guidance is None:
+        return _compiled_scores(model, hist_a, hist_r, tip, theta, params, matcher, density, subset)
     b = _base_scores(model, hist_a, hist_r, tip, theta, params, matcher, guidance, subset)
     J = len(b.t)
     term = b.n_new == 0
@@ -226,3 +228,37 @@ def score_candidates(model: StructureModel, hist_a, hist_r, tip, theta: float, *
         score = np.where(crossing, 0.0, score / (D_c + params.eps))
     return CandidateScores(t=b.t, Q=b.Q, score=score, points=b.points, n_new=b.n_new,
                            hist_factor=b.hist_factor, D_c=D_c, G_c=b.G_c, crossing=crossing)
+
+
+def _compiled_scores(model: StructureModel, hist_a, hist_r, tip, theta: float, params: SynthesisParams,
+                     matcher: HistogramMatcher | None, density: DensityMap | None, subset) -> CandidateScores:
+    """:func:`score_candidates` without guidance as one compiled pass (:func:`._kernels.score_step`)."""
+    bm = model.bending
+    ha = np.asarray(hist_a, np.float64)
+    hr = np.asarray(hist_r, np.float64)
+    L = min(len(ha), bm.max_history())
+    if L < 1:
+        raise ValueError("the history is empty: a branch needs at least one element")
+    t, WA, WR = bm.windows(L)
+    if subset is not None:
+        t, WA, WR = t[subset], WA[subset], WR[subset]
+    use_hist = matcher is not None and matcher.wG > 0 and matcher.n_nodes > 0
+    hm = matcher if use_hist else None
+    e1, e2 = np.zeros(1), np.zeros((1, 1))
+    length = 3.0 * params.m * params.h
+    if density is not None:
+        grid, cell = density.grid, density.cell
+        n_samples = int(np.clip(np.ceil(length / (density.rho / 2.0)), 8, 48))
+    else:
+        grid, cell, n_samples = np.zeros((1, 1), np.float32), 1.0, 8
+    tip = np.asarray(tip, np.float64)
+    Q, score, pts, hf, D_c, cross = _kernels.score_step(
+        t, np.ascontiguousarray(WA), np.ascontiguousarray(WR), ha[-L:].copy(), hr[-L:].copy(),
+        model.bending.local_points, model.local_dirs, bm.cont_len, float(tip[0]), float(tip[1]), float(theta),
+        use_hist, hm.p_a if hm else e1, hm.counts_a if hm else e1, model.cand_counts_a if hm else e2,
+        model.cand_sq_a if hm else e1, hm.p_r if hm else e1, hm.counts_r if hm else e1,
+        model.cand_counts_r if hm else e2, model.cand_sq_r if hm else e1,
+        hm.wG * hm.n_nodes / hm.m if hm else 0.0,
+        density is not None, grid, cell, length, n_samples, 0.02, _DIRECTION_BINS, float(params.eps))
+    return CandidateScores(t=t, Q=Q, score=score, points=pts, n_new=bm.cont_len[t], hist_factor=hf,
+                           D_c=D_c, G_c=np.ones(len(t)), crossing=cross)

@@ -157,6 +157,30 @@ class BendHistogram:
         d = HistogramMatcher._improvement(self.p, self.counts, cc)
         return np.exp(np.clip(self.wG * d * n / self.m, -BEND_CAP, BEND_CAP))
 
+    def factors_at(self, cand_counts: np.ndarray, rows: np.ndarray) -> np.ndarray:
+        """:meth:`factors` of the rows ``rows`` of ``cand_counts`` (compiled, no copy of the rows).
+
+        Parameters
+        ----------
+        cand_counts : (T, bins) ndarray
+            Bin counts of the turns of every candidate of the example.
+        rows : (J,) int ndarray
+            The candidates to score.
+
+        Returns
+        -------
+        (J,) ndarray
+            The factor of each candidate, as :meth:`factors` gives it.
+        """
+        from ._kernels import _improvements
+
+        n = float(self.counts.sum())
+        if self.wG == 0 or n == 0:
+            return np.ones(len(rows))
+        d = _improvements(np.asarray(self.p, np.float64), np.asarray(self.counts, np.float64),
+                          np.asarray(cand_counts, np.float64), np.zeros(0), np.asarray(rows, np.int64))
+        return np.exp(np.clip(self.wG * d * n / self.m, -BEND_CAP, BEND_CAP))
+
 
 #: A turn of at least this size (degrees, at step h) ends a straight run (a visible bend, see
 #: :data:`BEND_EDGES_DEG`; a traced straight line's staircase turns by 1.5-3 degrees).

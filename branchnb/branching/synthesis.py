@@ -88,7 +88,7 @@ from .domains import (  # noqa: F401  (re-exported: split from this module)
     _shore_margin_of,
 )
 from .filling import HOLE_DISTANCE, _hole_map  # noqa: F401
-from .growth import FILL_LENGTH_FACTOR, GrowthProgress, _BranchState, _Grower, length_cap
+from .growth import FILL_LENGTH_FACTOR, GrowthProgress, _BranchState, _Grower, example_length, length_cap
 from .guidance import Guidance
 from .histogram_matching import histogram_distances
 from .model import _FIT_FIELDS, StructureModel, _check_example, fit_model  # noqa: F401
@@ -330,7 +330,7 @@ def _grow_with_retries(model, p, rng, shp, guidance, starts, scorer, domain=None
         area_ratio = float(np.count_nonzero(domain)) / max(float(np.count_nonzero(model.domain)), 1.0)
     min_total = 0.0
     if starts is None or callable(starts):
-        min_total = min(0.25 * model.example.total_length * area_ratio,
+        min_total = min(0.25 * example_length(model) * area_ratio,
                         0.5 * length_cap(model, p, shp, domain))
     # A guided root follows the user's path, out of the domain if the path goes there.
     attempts = 1 if guidance is not None else MAX_ROOT_ATTEMPTS

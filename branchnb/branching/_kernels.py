@@ -1,0 +1,415 @@
+"""Compiled inner loops of structure synthesis (numba, ``cache=True``).
+
+Each kernel computes what a vectorised numpy function of
+:mod:`branchnb.branching.colonization` computes, on flat arrays, without the
+per-call overhead of some twenty small numpy operations: a Markov step of a
+1000 px example spends most of its time there (issue 23). The numpy
+versions stay the reference (tests compare them).
+
+- :func:`profile_bins`: :func:`~branchnb.branching.scoring.binned_profile`
+  (density profiles along binned directions, bilinear or nearest sampling of
+  the grid of a :class:`~branchnb.branching.colonization.DensityMap`);
+- :func:`pca_directions`: :func:`~branchnb.branching.colonization.growth_directions`;
+- :func:`bucket_add` / :func:`first_free`: the crossing test of
+  :func:`~branchnb.branching.colonization.crosses_existing` on the segment
+  grid of :class:`~branchnb.branching.colonization.SegmentStore`, run over
+  the ranked candidates of a step until ``c`` free ones are found.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+__all__ = ["bucket_add", "crosses", "first_free", "pca_directions", "profile_bins", "score_step", "start_scores"]
+
+
+@numba.njit(cache=True)
+def _sample(grid, cell, x, y):
+    """:meth:`DensityMap.sample` at one point (float32 result)."""
+    gh, gw = grid.shape
+    if cell <= 1.0:
+        c = int(np.floor((x + 0.5) / cell))
+        r = int(np.floor((y + 0.5) / cell))
+        if c < 0 or c >= gw or r < 0 or r >= gh:
+            return np.float32(0.0)
+        return grid[r, c]
+    fx = (x + 0.5) / cell - 0.5
+    fy = (y + 0.5) / cell - 0.5
+    if not (fx >= -0.5 and fx < gw - 0.5 and fy >= -0.5 and fy < gh - 0.5):
+        return np.float32(0.0)
+    fx = min(max(fx, 0.0), gw - 1.0)
+    fy = min(max(fy, 0.0), gh - 1.0)
+    c0 = min(int(fx), gw - 2) if gw > 1 else 0
+    r0 = min(int(fy), gh - 2) if gh > 1 else 0
+    c1 = min(c0 + 1, gw - 1)
+    r1 = min(r0 + 1, gh - 1)
+    tx, ty = fx - c0, fy - r0
+    v = (grid[r0, c0] * (1 - tx) + grid[r0, c1] * tx) * (1 - ty) + \
+        (grid[r1, c0] * (1 - tx) + grid[r1, c1] * tx) * ty
+    return np.float32(v)
+
+
+@numba.njit(cache=True)
+def profile_bins(grid, cell, tipx, tipy, dirs, length, n_samples, tol, nbins):
+    """``(D_c, crossing)`` of :func:`~branchnb.branching.colonization.profile_density` along each of
+    ``dirs`` (K, 2), each direction replaced by the nearest of ``nbins`` (each bin profiled once)."""
+    K = dirs.shape[0]
+    dc = np.empty(K)
+    cross = np.zeros(K, np.bool_)
+    done = np.zeros(nbins, np.bool_)
+    bdc = np.zeros(nbins)
+    bcr = np.zeros(nbins, np.bool_)
+    prof = np.empty(n_samples, np.float32)
+    pre = np.empty(n_samples, np.float32)
+    post = np.empty(n_samples, np.float32)
+    step = (length - length / n_samples) / (n_samples - 1) if n_samples > 1 else 0.0
+    two_pi = 2.0 * np.pi
+    for k in range(K):
+        q = int(np.rint(np.arctan2(dirs[k, 1], dirs[k, 0]) * (nbins / two_pi))) % nbins
+        if not done[q]:
+            ang = q * (two_pi / nbins)
+            ux, uy = np.cos(ang), np.sin(ang)
+            for i in range(n_samples):
+                t = length / n_samples + i * step if i < n_samples - 1 else length
+                prof[i] = _sample(grid, cell, tipx + t * ux, tipy + t * uy)
+            first = n_samples - 1
+            for i in range(n_samples - 1):
+                if prof[i + 1] - prof[i] > tol * 0.5:
+                    first = i
+                    break
+            m = 0.0
+            for i in range(first, n_samples):
+                if prof[i] > m:
+                    m = prof[i]
+            pre[0] = prof[0]
+            for i in range(1, n_samples):
+                pre[i] = min(pre[i - 1], prof[i])
+            post[n_samples - 1] = prof[n_samples - 1]
+            for i in range(n_samples - 2, -1, -1):
+                post[i] = min(post[i + 1], prof[i])
+            c = False
+            for i in range(n_samples):
+                if prof[i] - pre[i] > tol and prof[i] - post[i] > tol:
+                    c = True
+                    break
+            bdc[q] = m
+            bcr[q] = c
+            done[q] = True
+        dc[k] = bdc[q]
+        cross[k] = bcr[q]
+    return dc, cross
+
+
+@numba.njit(cache=True)
+def pca_directions(tipx, tipy, new_points, n_valid):
+    """:func:`~branchnb.branching.colonization.growth_directions` (principal axis of the tip and the
+    ``n_valid`` first new vertices, oriented toward the last one)."""
+    J, m, _ = new_points.shape
+    out = np.empty((J, 2))
+    for j in range(J):
+        nv = n_valid[j]
+        sx = sy = sxx = syy = sxy = 0.0
+        for i in range(min(nv, m)):
+            x = new_points[j, i, 0] - tipx
+            y = new_points[j, i, 1] - tipy
+            sx += x
+            sy += y
+            sxx += x * x
+            syy += y * y
+            sxy += x * y
+        n = nv + 1.0
+        mx, my = sx / n, sy / n
+        a = 0.5 * np.arctan2(2 * (sxy - n * mx * my), (sxx - n * mx * mx) - (syy - n * my * my))
+        vx, vy = np.cos(a), np.sin(a)
+        li = max(nv - 1, 0)
+        lx = new_points[j, li, 0] - tipx
+        ly = new_points[j, li, 1] - tipy
+        if vx * lx + vy * ly < 0:
+            vx, vy = -vx, -vy
+        out[j, 0] = vx
+        out[j, 1] = vy
+    return out
+
+
+@numba.njit(cache=True)
+def _cells(v, cell, n):
+    return min(max(int(np.floor(v / cell)), 0), n - 1)
+
+
+@numba.njit(cache=True)
+def bucket_add(head, nxt, seg, n_entries, p0, p1, first, cell):
+    """Enter segments ``first ..`` (``p0``/``p1`` rows) into the grid buckets of their bounding box
+    (linked lists: ``head[cy, cx]`` -> entry, ``nxt[entry]``, ``seg[entry]``); returns the new entry
+    count, or -1 when ``nxt`` is too short (the caller grows it and calls again)."""
+    gh, gw = head.shape
+    need = n_entries
+    for s in range(first, p0.shape[0]):
+        x0 = _cells(min(p0[s, 0], p1[s, 0]), cell, gw)
+        x1 = _cells(max(p0[s, 0], p1[s, 0]), cell, gw)
+        y0 = _cells(min(p0[s, 1], p1[s, 1]), cell, gh)
+        y1 = _cells(max(p0[s, 1], p1[s, 1]), cell, gh)
+        need += (x1 - x0 + 1) * (y1 - y0 + 1)
+    if need > nxt.shape[0]:
+        return -1
+    e = n_entries
+    for s in range(first, p0.shape[0]):
+        x0 = _cells(min(p0[s, 0], p1[s, 0]), cell, gw)
+        x1 = _cells(max(p0[s, 0], p1[s, 0]), cell, gw)
+        y0 = _cells(min(p0[s, 1], p1[s, 1]), cell, gh)
+        y1 = _cells(max(p0[s, 1], p1[s, 1]), cell, gh)
+        for cy in range(y0, y1 + 1):
+            for cx in range(x0, x1 + 1):
+                seg[e] = s
+                nxt[e] = head[cy, cx]
+                head[cy, cx] = e
+                e += 1
+    return e
+
+
+@numba.njit(cache=True)
+def _orient(px, py, qx, qy, rx, ry):
+    return (qx - px) * (ry - py) - (qy - py) * (rx - px)
+
+
+@numba.njit(cache=True)
+def _proper(ax, ay, bx, by, cx, cy, dx, dy, eps):
+    return _orient(ax, ay, bx, by, cx, cy) * _orient(ax, ay, bx, by, dx, dy) < -eps and \
+        _orient(cx, cy, dx, dy, ax, ay) * _orient(cx, cy, dx, dy, bx, by) < -eps
+
+
+@numba.njit(cache=True)
+def crosses(head, nxt, seg, sp0, sp1, n_store, cell, poly, eps):
+    """:func:`~branchnb.branching.colonization.crosses_existing` of polyline ``poly`` (N, 2)."""
+    N = poly.shape[0]
+    if N < 2:
+        return False
+    # the polyline's non-degenerate segments
+    a0 = np.empty((N - 1, 2))
+    a1 = np.empty((N - 1, 2))
+    k = 0
+    for i in range(N - 1):
+        if poly[i, 0] != poly[i + 1, 0] or poly[i, 1] != poly[i + 1, 1]:
+            a0[k, 0], a0[k, 1] = poly[i, 0], poly[i, 1]
+            a1[k, 0], a1[k, 1] = poly[i + 1, 0], poly[i + 1, 1]
+            k += 1
+    if k == 0:
+        return False
+    if n_store > 0:
+        lox = hix = a0[0, 0]
+        loy = hiy = a0[0, 1]
+        for i in range(k):
+            lox = min(lox, a0[i, 0], a1[i, 0])
+            hix = max(hix, a0[i, 0], a1[i, 0])
+            loy = min(loy, a0[i, 1], a1[i, 1])
+            hiy = max(hiy, a0[i, 1], a1[i, 1])
+        gh, gw = head.shape
+        for cy in range(_cells(loy, cell, gh), _cells(hiy, cell, gh) + 1):
+            for cx in range(_cells(lox, cell, gw), _cells(hix, cell, gw) + 1):
+                e = head[cy, cx]
+                while e >= 0:
+                    s = seg[e]
+                    e = nxt[e]
+                    bx0, by0, bx1, by1 = sp0[s, 0], sp0[s, 1], sp1[s, 0], sp1[s, 1]
+                    if max(bx0, bx1) < lox or min(bx0, bx1) > hix or max(by0, by1) < loy or min(by0, by1) > hiy:
+                        continue
+                    for i in range(k):
+                        if _proper(a0[i, 0], a0[i, 1], a1[i, 0], a1[i, 1], bx0, by0, bx1, by1, eps):
+                            return True
+    if k > 2:
+        for i in range(k):
+            for j in range(k):
+                if _proper(a0[i, 0], a0[i, 1], a1[i, 0], a1[i, 1], a0[j, 0], a0[j, 1], a1[j, 0], a1[j, 1], eps):
+                    return True
+    return False
+
+
+@numba.njit(cache=True)
+def first_free(order, score, tip, pts, lens, head, nxt, seg, sp0, sp1, n_store, cell, cap, c, test, eps):
+    """The first ``c`` candidates in ``order`` with a positive finite score whose polyline
+    ``[tip] + pts[j, :lens[j]]`` crosses nothing (at most ``cap`` tested; ``test`` False: no test)."""
+    out = np.empty(c, np.int64)
+    n = 0
+    tries = 0
+    M = pts.shape[1]
+    poly = np.empty((M + 1, 2))
+    poly[0, 0], poly[0, 1] = tip[0], tip[1]
+    for j in order:
+        s = score[j]
+        if not (s > 0) or not np.isfinite(s):
+            break
+        if test:
+            tries += 1
+            if tries > cap:
+                break
+            L = lens[j]
+            for i in range(L):
+                poly[i + 1, 0] = pts[j, i, 0]
+                poly[i + 1, 1] = pts[j, i, 1]
+            if crosses(head, nxt, seg, sp0, sp1, n_store, cell, poly[:L + 1], eps):
+                continue
+        out[n] = j
+        n += 1
+        if n == c:
+            break
+    return out[:n]
+
+
+@numba.njit(cache=True)
+def _hist_pre(p, counts):
+    """``(N, d_old, C.C, p.C, p.p)`` of a running histogram ``counts`` against the example's ``p``."""
+    B = p.shape[0]
+    n = 0.0
+    for b in range(B):
+        n += counts[b]
+    d_old = CC = pC = pp = 0.0
+    for b in range(B):
+        q = counts[b] / n if n > 0 else 0.0
+        d_old += (q - p[b]) ** 2
+        CC += counts[b] * counts[b]
+        pC += p[b] * counts[b]
+        pp += p[b] * p[b]
+    return n, d_old / B, CC, pC, pp
+
+
+@numba.njit(cache=True)
+def _improve(pre, p, counts, row):
+    """``d_old - d_new`` of :meth:`HistogramMatcher._improvement` for one candidate's counts ``row``."""
+    n, d_old, CC, pC, pp = pre
+    B = p.shape[0]
+    nc = cC = cp = sq = 0.0
+    for b in range(B):
+        nc += row[b]
+        cC += row[b] * counts[b]
+        cp += row[b] * p[b]
+        sq += row[b] * row[b]
+    nn = n + nc
+    if nn <= 0:
+        return 0.0
+    return d_old - ((CC + 2 * cC + sq) / nn ** 2 - 2 * (pC + cp) / nn + pp) / B
+
+
+@numba.njit(cache=True)
+def _improvements(p, counts, cc, cc_sq, t):
+    """:meth:`HistogramMatcher._improvement` for the candidate rows ``t`` of ``cc``."""
+    pre = _hist_pre(p, counts)
+    out = np.zeros(t.shape[0])
+    for j in range(t.shape[0]):
+        out[j] = _improve(pre, p, counts, cc[t[j]])
+    return out
+
+
+@numba.njit(cache=True)
+def start_scores(heads, th0, sign, first_a, n, x0x, x0y, h, Q, use_hist, edges_a, p_a, counts_a,
+                 cum_r, head_start, p_r, counts_r, hist_scale, use_density, grid, cell, length, n_samples,
+                 tol, nbins, eps):
+    """The vectorised part of ``_Grower._start_branch``: every candidate head's first vertices
+    ``new (H, m + 1, 2)`` and headings ``th (H, m + 1)``, its score ``Q`` x histogram factor, with
+    colonization ``/ (D_c + eps)`` (0 where the profile crosses), its PCA direction and ``D_c``."""
+    H = heads.shape[0]
+    m = first_a.shape[1]
+    B = p_a.shape[0]
+    th = np.empty((H, m + 1))
+    new = np.empty((H, m + 1, 2))
+    score = Q.copy()
+    pa = _hist_pre(p_a, counts_a) if use_hist else (0.0, 0.0, 0.0, 0.0, 0.0)
+    pr = _hist_pre(p_r, counts_r) if use_hist else (0.0, 0.0, 0.0, 0.0, 0.0)
+    row = np.zeros(B)
+    nb = edges_a.shape[0] - 1
+    for j in range(H):
+        hd = heads[j]
+        a = th0[j]
+        x, y = x0x, x0y
+        for i in range(m + 1):
+            ok = i <= n[j]
+            if i > 0 and ok:
+                a += first_a[hd, i - 1] * sign[j]
+            th[j, i] = a
+            if ok:
+                x += np.cos(a) * h
+                y += np.sin(a) * h
+            new[j, i, 0] = x
+            new[j, i, 1] = y
+        if use_hist:
+            row[:] = 0.0
+            for i in range(min(n[j], m)):
+                b = np.searchsorted(edges_a, first_a[hd, i] * sign[j], side="right") - 1
+                row[min(max(b, 0), nb - 1)] += 1.0
+            da = _improve(pa, p_a, counts_a, row)
+            s0 = head_start[hd]
+            for b in range(B):
+                row[b] = cum_r[s0 + n[j], b] - cum_r[s0, b]
+            dr = _improve(pr, p_r, counts_r, row)
+            score[j] *= np.exp(min(max(hist_scale * (da + dr), -50.0), 50.0))
+    dirs = pca_directions(x0x, x0y, new, n + 1)
+    dc = np.zeros(H)
+    cross = np.zeros(H, np.bool_)
+    if use_density:
+        dc, cross = profile_bins(grid, cell, x0x, x0y, dirs, length, n_samples, tol, nbins)
+        for j in range(H):
+            score[j] = 0.0 if cross[j] else score[j] / (dc[j] + eps)
+    return new, th, score, dirs, dc
+
+
+@numba.njit(cache=True)
+def score_step(t, WA, WR, ha, hr, local_points, local_dirs, cont_len, tipx, tipy, theta,
+               use_hist, p_a, counts_a, cc_a, sq_a, p_r, counts_r, cc_r, sq_r, hist_scale,
+               use_density, grid, cell, length, n_samples, tol, nbins, eps):
+    """One Markov step's scores (:func:`~branchnb.branching.scoring.score_candidates` without
+    guidance) of the candidate windows ``t`` with windows ``WA``/``WR`` (J, L) against the history
+    ``ha``/``hr`` (L,): returns ``Q, score, points (J, m, 2), hist_factor, D_c, crossing``."""
+    J, L = WA.shape
+    m = local_points.shape[1]
+    Q = np.empty(J)
+    c, s = np.cos(theta), np.sin(theta)
+    pts = np.empty((J, m, 2))
+    dirs = np.empty((J, 2))
+    for j in range(J):
+        da = dr = 0.0
+        for i in range(L):
+            da += (WA[j, i] - ha[i]) ** 2
+            dr += (WR[j, i] - hr[i]) ** 2
+        Q[j] = (1.0 / (np.sqrt(da) + 1.0) + 1.0) * (1.0 / (np.sqrt(dr) + 1.0) + 1.0)
+        r = t[j]
+        for i in range(m):
+            x, y = local_points[r, i, 0], local_points[r, i, 1]
+            pts[j, i, 0] = tipx + c * x - s * y
+            pts[j, i, 1] = tipy + s * x + c * y
+        x, y = local_dirs[r, 0], local_dirs[r, 1]
+        dirs[j, 0] = c * x - s * y
+        dirs[j, 1] = s * x + c * y
+    hf = np.ones(J)
+    base = Q.copy()
+    if use_hist:
+        ia = _improvements(p_a, counts_a, cc_a, sq_a, t)
+        ir = _improvements(p_r, counts_r, cc_r, sq_r, t)
+        for j in range(J):
+            hf[j] = np.exp(min(max(hist_scale * (ia[j] + ir[j]), -50.0), 50.0))
+            base[j] *= hf[j]
+    D_c = np.zeros(J)
+    cross = np.zeros(J, np.bool_)
+    score = base
+    if use_density:
+        live = np.empty(J, np.int64)
+        nl = 0
+        for j in range(J):
+            if cont_len[t[j]] > 0:
+                live[nl] = j
+                nl += 1
+        if nl > 0:
+            dc, cr = profile_bins(grid, cell, tipx, tipy, dirs[live[:nl]], length, n_samples, tol, nbins)
+            best = np.inf
+            for i in range(nl):
+                D_c[live[i]] = dc[i]
+                cross[live[i]] = cr[i]
+                if not cr[i] and dc[i] < best:
+                    best = dc[i]
+            if nl < J:
+                fill = best if np.isfinite(best) else 1.0
+                for j in range(J):
+                    if cont_len[t[j]] == 0:
+                        D_c[j] = fill
+        score = np.empty(J)
+        for j in range(J):
+            score[j] = 0.0 if cross[j] else base[j] / (D_c[j] + eps)
+    return Q, score, pts, hf, D_c, cross

@@ -1,0 +1,223 @@
+"""Starting branches in structure synthesis: roots, and children at furcations.
+
+A new branch starts with the head of an input branch (:meth:`_Starts._start_branch`):
+every candidate head is laid from the start point (a root's, or the parent's
+vertex with the input furcation's angle ``beta``), scored by the Markov
+quality ``Q`` of the furcation (children: the parent's non-causal window
+against the input's, :meth:`~branchnb.branching.furcation.FurcationModel.child_quality`),
+the global histogram factor and space colonization, and one of the ``c`` best
+is drawn. Split from :mod:`branchnb.branching.growth` (the paper's
+furcation step; the Markov steps stay there).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..core.polyline import tangents
+from . import _kernels
+from .domains import MOUTH_TURN, head_share
+from .furcation import vertex_angles, window_features
+from .scoring import _DIRECTION_BINS
+
+__all__: list[str] = []
+
+
+@dataclass
+class _BranchState:
+    points: list
+    radii: list
+    elem_a: list
+    elem_r: list
+    theta: float
+    parent: int | None
+    parent_vertex: int | None
+    generation: int
+    stop: str = ""
+    target: float = np.inf
+    #: input element each vertex appended by a Markov step was copied from (the last ones)
+    src: list = field(default_factory=list)
+    #: a coast root near its mouth: (lowest, highest) heading so far (radians); None = no limit
+    mouth: tuple | None = None
+    #: a branch grown into a hole (see ``_Filling._fill_far``): the hole's centre (x, y) it heads
+    #: for until within ``rho`` of it; None = free growth
+    goal: np.ndarray | None = None
+    #: (lowest, highest) heading along the branch so far (radians, unwrapped); None = not started
+    heads: tuple | None = None
+
+
+class _Starts:
+    """The branch-starting half of ``growth._Grower`` (a mixin: it uses the grower's state)."""
+
+    def _below_head(self, bi: int) -> np.ndarray | None:
+        """A delta's trunk (a root, :class:`.domains._Drain`): which of its vertices lie at or below the
+        delta's head, where its channels part (beyond the paper, see :func:`.domains.head_share`);
+        None on any other branch or example. Sets the fan's apex at the head on first use."""
+        st = self.branches[bi]
+        if self.drain is None or st.parent is not None:
+            return None
+        share = self._head_share()
+        if share <= 0:
+            return None
+        pts = np.asarray(st.points, np.float64)
+        if not self.drain.head:
+            self.drain.set_head(pts, share)
+        dep = self.drain.depth_at(pts)
+        return dep <= share * dep[0]
+
+    def _head_share(self) -> float:
+        if self._head is None:
+            m = self.model
+            self._head = 0.0 if m.domain is None else head_share(m.example, m.domain)
+        return self._head
+
+
+    def _start_branch(self, x0, theta0, heads, Q, parent, parent_vertex, generation,
+                      betas=None, mirror=None, r_cap: float | None = None, full: bool = False) -> int | None:
+        """Start a branch at ``x0`` with one of the candidate input heads (vectorised).
+
+        ``r_cap`` (a child: the parent's radius at the junction) bounds the
+        copied head's radii: a head taken from a thicker input branch is
+        scaled down so the child never starts thicker than its parent.
+        """
+        model, p = self.model, self.p
+        heads = np.asarray(heads, np.int64)
+        if len(heads) == 0:
+            return None
+        sub = None if full else self._share(len(heads))
+        if sub is not None:
+            every = (heads, Q, betas, mirror)
+            heads, Q = heads[sub], np.asarray(Q)[sub]
+            betas = None if betas is None else np.asarray(betas)[sub]
+            mirror = None if mirror is None else np.asarray(mirror)[sub]
+        x0 = np.asarray(x0, np.float64)
+        H = len(heads)
+        th0 = theta0 + (np.zeros(H) if betas is None else np.asarray(betas, np.float64))
+        n = model.first_len[heads]
+        # vertices after x0: x1 (first edge, no turn) then the n first elements
+        sign = np.where(mirror, -1.0, 1.0) if mirror is not None else np.ones(H)
+        valid = np.arange(p.m + 1)[None, :] <= n[:, None]
+        # geometry, histogram factor, PCA directions and density profiles in one compiled pass
+        hm = self.matcher
+        use_hist = hm.wG > 0 and hm.n_nodes > 0
+        dens = self.density
+        length = 3.0 * p.m * p.h
+        new, th, score, dirs, dc = _kernels.start_scores(
+            heads, th0, np.asarray(sign, np.float64), model.first_a, n, float(x0[0]), float(x0[1]), float(p.h),
+            np.asarray(Q, np.float64), use_hist, hm.edges_a, hm.p_a, hm.counts_a, model.cum_r, model.head_start,
+            hm.p_r, hm.counts_r, hm.wG * hm.n_nodes / hm.m if use_hist else 0.0, dens is not None,
+            dens.grid if dens is not None else np.zeros((1, 1), np.float32), dens.cell if dens is not None else 1.0,
+            length, int(np.clip(np.ceil(length / (dens.rho / 2.0)), 8, 48)) if dens is not None else 8, 0.02,
+            _DIRECTION_BINS, float(p.eps))
+        if self.guidance is not None:
+            score = score / (self.guidance.along(x0, dirs, length) + p.eps)
+        if dens is not None and self.frame and parent is None:
+            score = score * self._frame_factor(x0, dirs, dc)
+        inside = self._inside(new[:, 0])
+        score = np.where(inside, score, 0.0)
+        if self.drain is not None and parent is not None:  # downstream, not along or into the land's frame
+            score = score * self.drain.factor(x0, new, n + 1, start=x0)
+        if self.shore is not None:
+            score = score * self.shore.factor(x0, new, n + 1)
+        mouth = self.shore is not None and parent is None
+        if mouth:
+            span = np.where(valid, th, th[:, :1])
+            score = np.where(np.ptp(span, axis=1) > MOUTH_TURN, score * 1e-9, score)
+        j = self._pick(score, x0, new, n + 1)
+        if j is None:   # none of the share fits: all the heads (rare)
+            if sub is None:
+                return None
+            return self._start_branch(x0, theta0, every[0], every[1], parent, parent_vertex, generation,
+                                      every[2], every[3], r_cap, full=True)
+        hd = int(heads[j])
+        full = np.vstack([x0, new[j, : n[j] + 1]])
+        ok = self._inside(full)
+        cut = len(full) if ok.all() else int(np.argmin(ok))
+        pl = full[:cut]
+        head = model.bending.heads[hd]
+        ne = max(cut - 2, 0)
+        ea = list(sign[j] * model.first_a[hd, :ne])
+        er = list(model.first_r[hd, :ne])
+        radii = [head["r0"], head["r1"]] + er
+        if r_cap is not None:
+            f = min(1.0, r_cap / max(max(radii[:3]), 1e-9))
+            if f < 1.0:
+                radii = [max(r * f, model.r_min) for r in radii]
+                er = radii[2:]
+        d = pl[-1] - pl[-2]
+        st = _BranchState(points=list(pl), radii=radii, elem_a=ea, elem_r=er,
+                          theta=float(np.arctan2(d[1], d[0])), parent=parent,
+                          parent_vertex=parent_vertex, generation=generation)
+        if p.branch_end == "length":
+            # beyond the paper: a delta's channel runs on to the sea (see ``grow``)
+            st.target = np.inf if self.drain is not None else \
+                model.sample_length(generation, float(np.mean(radii[:3])), self.rng)
+        hs = th[j, : max(cut - 1, 1)]
+        hs = hs + (st.theta - hs[-1])   # in the frame of st.theta (wrapped by arctan2; th is not)
+        st.heads = (float(hs.min()), float(hs.max()))
+        if mouth:
+            st.mouth = (float(hs.min()), float(hs.max()))
+        if cut < len(full):
+            st.stop = "left the domain"
+        elif n[j] < p.m and p.branch_end == "markov":
+            st.stop = "end of input branch"
+        self._register(pl, ea, radii)
+        self.branches.append(st)
+        return len(self.branches) - 1
+
+    def start_root(self, x, y, theta) -> int | None:
+        model = self.model
+        nb = len(model.example.branches)
+        usable = [i for i in range(nb) if model.first_len[i] > 0]
+        roots = [i for i in usable if model.example.branches[i].parent is None]
+        # With fewer than 3 input roots every new root would start with the same
+        # copied head; then any input branch's head may start a root.
+        pool = roots if len(roots) >= 3 else usable
+        Q = np.ones(len(pool))
+        if self.drain is not None and self.drain.apex is None:   # a delta fans out from its first root
+            self.drain.apex = np.array([x, y], np.float64)
+        return self._start_branch(np.array([x, y], float), float(theta), pool, Q, None, None, 0)
+
+    def start_child(self, parent: int, vertex: int, toward=None, full: bool = False) -> int | None:
+        model, fm = self.model, self.model.furcation
+        st = self.branches[parent]
+        pts = np.asarray(st.points)
+        rad = np.asarray(st.radii)
+        wa, wr = window_features(vertex_angles(pts), rad, fm.k)
+        if self._child_pool is None:
+            heads = fm.child_index
+            usable = np.flatnonzero(model.first_len[heads] > 0)
+            betas = np.array([model.bending.heads[h]["beta"] or 0.0 for h in heads[usable]])
+            self._child_pool = (usable, betas)
+        usable, betas = self._child_pool
+        # a random share of the input furcations on large examples (MAX_CANDIDATES, speed)
+        from .growth import MAX_CANDIDATES  # growth imports this module
+
+        sub = None if full else self._share(len(usable), MAX_CANDIDATES // (2 if self.p.mirror_children else 1))
+        if sub is not None:
+            usable, betas = usable[sub], betas[sub]
+        heads = fm.child_index[usable]
+        if len(heads) == 0:
+            return None
+        Q = fm.child_quality(wa[vertex], wr[vertex], usable)
+        mirror = np.zeros(len(heads), bool)
+        if self.p.mirror_children:
+            # the same furcations reflected: parent window and child angles negated
+            Qm = fm.child_quality(-wa[vertex], wr[vertex], usable)
+            heads = np.concatenate([heads, heads])
+            Q = np.concatenate([Q, Qm])
+            betas = np.concatenate([betas, -betas])
+            mirror = np.concatenate([mirror, ~mirror])
+        tg = tangents(pts)[vertex]
+        theta0 = float(np.arctan2(tg[1], tg[0]))
+        if toward is not None:   # a child grown into a hole starts toward it (``_Filling._fill_far``)
+            theta0 = float(np.arctan2(toward[1] - pts[vertex][1], toward[0] - pts[vertex][0]))
+            betas = np.zeros(len(heads))
+        c = self._start_branch(pts[vertex], theta0, heads, Q, parent, vertex, st.generation + 1,
+                               betas=betas, mirror=mirror, r_cap=float(rad[vertex]), full=full)
+        if c is None and sub is not None:   # none of the share fits: all the furcations (rare)
+            return self.start_child(parent, vertex, toward, full=True)
+        return c
+
