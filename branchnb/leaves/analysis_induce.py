@@ -32,6 +32,7 @@ from .induction import (
 )
 from .own_contrast import high_pass, trim_by_contrast, without_blobs
 from .snapping import contrast_direction
+from .stored_maps import BoxedMaps, CombinedMaps, DistanceMaps
 
 __all__ = ["LayerInduction", "induce", "registration_tolerance", "warp_mask"]
 
@@ -340,8 +341,14 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
             new_residual.append(remove_layer(residual[e], blades[e], gone, rng=rng))
         residual = new_residual
         residuals.append(list(residual))
-        out.append(LayerInduction(name, lam, overlap, delta, tr_iou, masks, colour, combined,
-                                  reg_user, dist, [ln[0] for ln in lengths], n_px,
+        # Kept small (:mod:`branchnb.leaves.stored_maps`): S_e on the blades' boxes, ||x, c|| and D
+        # recomputed from the registered layers when read (the same values).
+        eps_list = [ln[0] for ln in lengths]
+        colour_kept = BoxedMaps(colour, blades, 1.0)
+        dist_kept = DistanceMaps(reg_user)
+        out.append(LayerInduction(name, lam, overlap, delta, tr_iou, masks, colour_kept,
+                                  CombinedMaps(lam, colour_kept, dist_kept, eps_list),
+                                  reg_user, dist_kept, eps_list, n_px,
                                   snapped=snapped, contrast=contrast, centred=centred))
         step += 1
     report(1.0, "induction done")
