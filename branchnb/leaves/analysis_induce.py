@@ -248,7 +248,9 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
     tolerance = registration_tolerance(registrations, training_index)
     stats = [blade_lab_stats(im, b) for im, b in zip(rgb, blades)]
     residual = list(rgb)
-    residuals = [list(rgb)]
+    # The exemplars themselves where they are the same float32 colours (no second copy).
+    residuals = [[im if isinstance(im, np.ndarray) and im.dtype == np.float32 and im.shape == r.shape
+                  and np.array_equal(im, r) else r for im, r in zip(images, rgb)]]
     taken = [np.zeros_like(b) for b in blades]
     out = []
     names = list(user_masks)
