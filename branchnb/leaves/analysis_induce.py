@@ -511,7 +511,7 @@ def _snapped(residual, blades, t, user, registrations, stats, tolerance, params,
     from .snapping import contrast_direction, is_thin_layer, snap_to_exemplars
     own = [None] * len(blades)
     pixels = [None] * len(blades)
-    if not params.snap or not is_thin_layer(user, max_width=thin_width(blades[t])):
+    if not params.snap or not is_thin_layer(user, max_width=thin_width(blades[t], user)):
         return None, own, pixels, None
     if labs is None:
         labs = [_matched_lab(r, stats, e, t, params) for e, r in enumerate(residual)]
@@ -535,13 +535,27 @@ def _snapped(residual, blades, t, user, registrations, stats, tolerance, params,
 THIN_SHARE = 0.04
 
 
-def thin_width(blade) -> float:
+def thin_width(blade, user=None) -> float:
     """The widest median curve width (px) of a thin layer on a leaf with this blade: :data:`THIN_SHARE`.
 
     A sketched maple's ink veins at 360 px are 6.2 px wide (0.03 of the leaf
     size); at 6 px they were not thin, nothing was snapped and the second
     maple sketch got 1227 of its ~6000 vein pixels (its midrib stayed in
-    its residual); taken as thin, 5989.
+    its residual); taken as thin, 5989. Only for a network: a ``user``
+    layer whose skeleton is at least :data:`THIN_NETWORK` leaf sizes long
+    in all (a few elongated spots are not; procedural spots at 512-1000 px
+    were taken as thin without this); 6 px otherwise.
+
+    Parameters
+    ----------
+    blade : (H, W) bool ndarray
+        The training leaf's blade.
+    user : (H, W) bool ndarray, optional
+        The layer; None: taken as a network.
+
+    Returns
+    -------
+    float
 
     Examples
     --------
@@ -549,7 +563,16 @@ def thin_width(blade) -> float:
     >>> thin_width(np.ones((100, 100), bool)), thin_width(np.ones((400, 400), bool))
     (6.0, 16.0)
     """
-    return max(6.0, THIN_SHARE * float(np.sqrt(np.count_nonzero(blade))))
+    size = float(np.sqrt(np.count_nonzero(blade)))
+    if user is not None:
+        from skimage.morphology import skeletonize
+        if np.count_nonzero(skeletonize(np.asarray(user, bool))) < THIN_NETWORK * size:
+            return 6.0
+    return max(6.0, THIN_SHARE * size)
+
+
+#: Least total skeleton length of a layer, in leaf sizes, for :func:`thin_width` to scale.
+THIN_NETWORK = 2.0
 
 
 #: An exemplar's layer has another colour than the training leaf's when its
