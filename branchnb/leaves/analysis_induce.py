@@ -94,14 +94,17 @@ class LayerInduction:
         IoU of ``{D < delta}`` with the user's layer on the training leaf.
     masks : list of (H, W) bool ndarray
         The induced layer in each exemplar (the user's layer on the training leaf).
-    colour : list of (H, W) float32 ndarray
-        ``S_e(x, c)`` per exemplar.
-    combined : list of (H, W) float32 ndarray
-        ``D(x, c)`` per exemplar.
+    colour : sequence of (H, W) float32 ndarray
+        ``S_e(x, c)`` per exemplar (from :func:`induce`: a
+        :class:`~branchnb.leaves.stored_maps.BoxedMaps`, kept on the blades' boxes).
+    combined : sequence of (H, W) float32 ndarray
+        ``D(x, c)`` per exemplar (from :func:`induce`: a
+        :class:`~branchnb.leaves.stored_maps.CombinedMaps`, recomputed when read).
     registered : list of (H, W) bool ndarray
         The user layer registered onto each exemplar.
-    distance : list of (H, W) float32 ndarray
-        ``||x, c||`` per exemplar.
+    distance : sequence of (H, W) float32 ndarray
+        ``||x, c||`` per exemplar (from :func:`induce`: a
+        :class:`~branchnb.leaves.stored_maps.DistanceMaps` of ``registered``).
     eps_px : list of float
         The scaled ``eps`` of each exemplar.
     neighbourhood : int
