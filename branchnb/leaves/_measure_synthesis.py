@@ -22,7 +22,12 @@ photos). Every row is one analysis; the columns:
   carried into the new leaf by the coordinates the synthesis samples it
   with, where the new leaf shows at least half the donor's own median
   contrast (relative: grey level over the blade around it) of the vein
-  (target near the exemplars' own, 1 - dashes).
+  (target near the exemplars' own, 1 - dashes);
+* ``fine``: fine-vein recall (procedural families, whose true veins are
+  known): the same share as ``vein_cont``, on the skeleton of the donor's
+  *true* veins at most 3 px wide (:func:`fine_veins`, whether or not the
+  induction found them), against the donor's median contrast there;
+  ``fine_min`` the worst new leaf (the exemplars' own: ``fine_ex``).
 """
 
 from __future__ import annotations
@@ -38,7 +43,7 @@ import numpy as np
 from scipy import ndimage as ndi
 
 __all__ = ["laplacian_variance", "median_pair_iou", "petiole_angle", "margin_foreign_share",
-           "vein_continuity", "synthesis_row"]
+           "vein_continuity", "fine_veins", "synthesis_row"]
 
 
 def _grey(img):
@@ -117,13 +122,24 @@ def vein_continuity(img, blade, skeleton, target: float) -> float:
     return float((c[sk] >= 0.5 * abs(target)).mean())
 
 
+def fine_veins(veins, width: float = 3.0):
+    """Skeleton pixels of the vein mask ``veins`` where the vein is at most ``width`` px wide."""
+    sk = _skeleton(veins)
+    dt = ndi.distance_transform_edt(np.asarray(veins, bool))
+    return sk & (2.0 * dt - 1.0 <= width)
+
+
 def _skeleton(mask):
     from skimage.morphology import skeletonize
     return skeletonize(np.asarray(mask, bool))
 
 
-def synthesis_row(a, n_new: int = 6, seed: int = 0, name: str = "", save: str | None = None) -> dict:
-    """Every column of the module docstring for one analysis ``a`` and ``n_new`` new leaves."""
+def synthesis_row(a, n_new: int = 6, seed: int = 0, name: str = "", save: str | None = None,
+                  truth=None) -> dict:
+    """Every column of the module docstring for one analysis ``a`` and ``n_new`` new leaves.
+
+    ``truth``: the exemplars' true vein masks (analysis frame) for the ``fine`` columns, or None.
+    """
     from . import synthesis
     from .synthesis import _prepared, generate
 
@@ -189,6 +205,19 @@ def synthesis_row(a, n_new: int = 6, seed: int = 0, name: str = "", save: str | 
                 continue
             carried = cv2.remap(L.masks[d].astype(np.float32), c[..., 0], c[..., 1], cv2.INTER_LINEAR) > 0.5
             cont.append(vein_continuity(x.image, x.blade, _skeleton(carried), tgt[d]))
+    fine, fine_ex = [], []
+    if truth is not None and vk is not None:
+        fv = [fine_veins(t) & ndi.binary_erosion(b, iterations=3) for t, b in zip(truth, bl)]
+        ftg = [float(np.median(_contrast(ex[e], bl[e])[fv[e]])) if fv[e].sum() >= 10 else 0.0
+               for e in range(len(ex))]
+        fine_ex = [vein_continuity(ex[e], bl[e], fv[e], ftg[e]) for e in range(len(ex)) if ftg[e] != 0]
+        for x, calls_x in zip(leaves, coords):
+            d = x.layers.get(a.layers[vk].name, -1)
+            c = next((c for e, c in calls_x[1:] if e == d), None)
+            if d < 0 or c is None or ftg[d] == 0:
+                continue
+            carried = cv2.remap(fv[d].astype(np.float32), c[..., 0], c[..., 1], cv2.INTER_LINEAR) > 0.25
+            fine.append(vein_continuity(x.image, x.blade, _skeleton(carried), ftg[d]))
     if save:
         from ..core.io import encode_png
         h = max(x.image.shape[0] for x in leaves)
@@ -201,15 +230,19 @@ def synthesis_row(a, n_new: int = 6, seed: int = 0, name: str = "", save: str | 
                 foreign=float(np.nanmean(f_new)), foreign_ex=float(f_ex),
                 vein_cont=float(np.nanmean(cont)) if cont else float("nan"),
                 vein_cont_min=float(np.nanmin(cont)) if cont else float("nan"),
-                vein_cont_ex=float(np.nanmean(cont_ex)) if cont_ex else float("nan"), cpu_s=sec)
+                vein_cont_ex=float(np.nanmean(cont_ex)) if cont_ex else float("nan"),
+                fine=float(np.nanmean(fine)) if fine else float("nan"),
+                fine_min=float(np.nanmin(fine)) if fine else float("nan"),
+                fine_ex=float(np.nanmean(fine_ex)) if fine_ex else float("nan"), cpu_s=sec)
 
 
-def _procedural(kind, size, seed, n=4):
+def _procedural(kind, size, seed, n=4, with_truth=False):
     from ._measure import _family_on_canvas, _TrueRegistration
     from .analysis import analyze
-    fam, _, kps, shape = _family_on_canvas(kind, size, n, seed)
+    fam, truth, kps, shape = _family_on_canvas(kind, size, n, seed)
     regs = [_TrueRegistration(k, kps[0], shape) for k in kps]
-    return analyze(fam, 0, {"veins": fam[0].layers["veins"], "spots": fam[0].layers["spots"]}, registrations=regs)
+    a = analyze(fam, 0, {"veins": fam[0].layers["veins"], "spots": fam[0].layers["spots"]}, registrations=regs)
+    return (a, [t["veins"] for t in truth]) if with_truth else a
 
 
 def speed(size: int = 1000, n: int = 2):
@@ -239,7 +272,7 @@ def _print(r):
     print(f"{r['name']:<22} sharp {r['sharp']:.2f}  iou new {r['iou_new']:.2f} ex {r['iou_ex']:.2f}  "
           f"cut {r['cut']:.2f}  pet_dev {r['pet_dev']:5.1f}  foreign {r['foreign']:.3f} (ex {r['foreign_ex']:.3f})  "
           f"vein_cont {r['vein_cont']:.2f} min {r['vein_cont_min']:.2f} (ex {r['vein_cont_ex']:.2f})  "
-          f"{r['cpu_s']:.2f} s/leaf", flush=True)
+          f"fine {r['fine']:.2f} min {r['fine_min']:.2f} (ex {r['fine_ex']:.2f})  {r['cpu_s']:.2f} s/leaf", flush=True)
 
 
 def main(argv=None):
@@ -264,9 +297,9 @@ def main(argv=None):
     for kind in ("lobed", "trilobed", "elliptic"):
         for size in (int(s) for s in args.sizes.split(",")):
             for seed in range(args.seeds):
-                a = _procedural(kind, size, seed)
+                a, truth = _procedural(kind, size, seed, with_truth=True)
                 name = f"{kind}_{size}_{seed}"
-                _print(synthesis_row(a, args.n, name=name,
+                _print(synthesis_row(a, args.n, name=name, truth=truth,
                                      save=f"{args.save}/{name}.png" if args.save else None))
 
 

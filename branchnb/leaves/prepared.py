@@ -106,6 +106,22 @@ def _smooth_fill(img: np.ndarray, known: np.ndarray) -> np.ndarray:
     return out[..., 0] if two else out
 
 
+def _completeness(layer) -> list[float]:
+    """Per exemplar: skeleton length of the induced mask over the registered training mask's (at most 1),
+    over the median of these ratios among the exemplars with a layer (1: as complete as most; 0: empty).
+    """
+    from skimage.morphology import skeletonize
+    reg = getattr(layer, "registered", None)
+    q = []
+    for e, mk in enumerate(layer.masks):
+        own = float(skeletonize(np.asarray(mk, bool)).sum()) if mk.any() else 0.0
+        pred = float(skeletonize(np.asarray(reg[e], bool)).sum()) if reg is not None and reg[e].any() else own
+        q.append(min(1.0, own / pred) if pred > 0 else 0.0)
+    q = np.array(q)
+    med = float(np.median(q[q > 0])) if (q > 0).any() else 1.0
+    return [float(x / med) for x in q]
+
+
 def _boundary(mask):
     return mask & ~ndi.binary_erosion(mask)
 
@@ -212,6 +228,18 @@ class _Prepared:
             self.layer_masks.append(ms)
             self.layer_weights.append(ws)
             self.layer_under.append(us)
+        # How complete each exemplar's induced layer is: its skeleton's
+        # length over that of the training layer carried onto it (the
+        # registered mask), at most 1, over the median of the exemplars'
+        # (see synthesis: donors far below it are passed over). Only for the
+        # most structural layer (largest lambda, the first on a tie): its
+        # layout corresponds from leaf to leaf, so the carried training layer
+        # predicts how much of it an exemplar has; spots do not (each leaf
+        # has its own), and passing over the exemplars with fewer spots cost
+        # procedural lobed leaves 0.03-0.05 of their Laplacian variance ratio.
+        top_k = int(np.argmax([L.lam for L in a.layers])) if a.layers else -1
+        self.layer_complete = [_completeness(L) if k == top_k else [1.0] * self.n
+                               for k, L in enumerate(a.layers)]
         # The colours each layer takes in the exemplars (0.5th-99.5th
         # percentile per channel): a layer brought as contrast onto another
         # leaf stays inside them (a vein never darker than any exemplar's).
@@ -434,6 +462,42 @@ class _Prepared:
             sigma = max(8, min(self.shape) // 24) / 2.0
             cache[e] = _detail(self.stage[-1][e], self.analysis.blades[e], sigma)
         return cache[e]
+
+    def compatible(self, lead: int, limit: float) -> np.ndarray:
+        """Which exemplars' upright shape maps lie within ``limit`` leaf sizes of exemplar ``lead``'s.
+
+        The distance is the median over the training blade of the distance
+        between the two maps (cached per analysis), over the leaf size.
+        """
+        if getattr(self, "_map_dist", None) is None:
+            b = self.analysis.blades[self.analysis.training_index]
+            step = max(1, int(np.sqrt(b.sum() / 4000)))
+            pts = [mp[::step, ::step][b[::step, ::step]] for mp in self.shape_maps]
+            self._map_dist = np.array([[np.median(np.hypot(*(pts[i] - pts[j]).T)) / self.size
+                                        for j in range(self.n)] for i in range(self.n)])
+        return self._map_dist[lead] <= limit
+
+    def carried_anisotropy(self, e: int, m: np.ndarray, blade: np.ndarray) -> float:
+        """How much more exemplar ``e`` is stretched one way than across to cover the new blade of ``m``.
+
+        The median over ``blade`` (output frame) of ``log sqrt(s1 / s2)``,
+        ``s1 >= s2`` the singular values of the Jacobian of ``W_e^-1(m(y))``
+        (exemplar pixels per output pixel): 0 for any similarity,
+        ``log(k) / 2`` for a stretch ``k`` one way only (a narrow grass
+        strip's layer spread over a wide one's shape). Taken on a grid of
+        about 48 steps across the leaf.
+        """
+        step = max(1, int(self.size // 48))
+        sub = np.ascontiguousarray(m[::step, ::step])
+        inside = np.asarray(blade, bool)[::step, ::step]
+        if inside.sum() < 4 or min(sub.shape[:2]) < 3:
+            return 0.0
+        c = _remap_values(self.to_exemplar[e], sub).astype(np.float64)
+        jx = np.gradient(c, axis=1) / step  # d(source)/dx: columns of the Jacobian
+        jy = np.gradient(c, axis=0) / step
+        sv = np.linalg.svd(np.stack([jx[inside], jy[inside]], -1), compute_uv=False)
+        ls = np.log(np.maximum(sv, 1e-6))
+        return float(np.median(0.5 * (ls[:, 0] - ls[:, 1])))
 
     def source_coords(self, e: int, m: np.ndarray, disp: np.ndarray) -> np.ndarray:
         """Exemplar ``e`` pixel for every output pixel: ``W_e^-1(m(y) + d(m(y)))`` (maps composed, one resampling)."""

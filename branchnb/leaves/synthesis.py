@@ -13,6 +13,9 @@ A new leaf is built in the training leaf's frame, then given a new shape:
    ``layer_warp * eps`` scaled by ``1 - lambda_c / max lambda``, so the
    most structural layer (veins, largest ``lambda``) moves no more than
    the background and a colour layer (spots, ``lambda ~ 0``) the most.
+   The donor of a layer is the exemplar carried with the least stretch
+   (size and anisotropy, see :class:`SynthesisParams`), never one whose
+   induced layer is far less complete than the others'.
    Each layer covers the warped induced mask (bilinear, so edges stay
    anti-aliased); where several cover a pixel their colours are mixed
    with the per-pixel weights ``delta_c - D_c`` normalised to sum 1.
@@ -36,7 +39,10 @@ A new leaf is built in the training leaf's frame, then given a new shape:
    few exemplars dominate each leaf), times a ``shape_grid`` x
    ``shape_grid`` grid of random factors (``shape_spread``), smoothed by a
    Gaussian of ``shape_sigma`` times the leaf size and normalised per
-   pixel. Going beyond the paper: independent random weights per pixel
+   pixel. Only the exemplars whose maps lie near the leading one's
+   (``shape_compatible``) are blended: a wide grass leaf and narrow
+   strips blended into a wavy square with an S-bent midrib. Going beyond
+   the paper: independent random weights per pixel
    average every leaf to the mean shape, and a convex blend averages the
    sizes, so with ``own_size`` each leaf takes the size of one exemplar
    drawn at random (that exemplar also gives the background, seen at its
@@ -153,6 +159,15 @@ class SynthesisParams:
     shape_spread : float
         Coefficient of variation of the per-cell shape factors (default
         0.75; 0: one blend everywhere). Not in the paper.
+    shape_compatible : float
+        Only the exemplars whose upright shape map lies within this
+        distance of the leading exemplar's (median over the training blade,
+        in leaf sizes, the square root of the training lamina's area) enter
+        a leaf's shape blend (default 0.3). Not in the paper: blending maps
+        of very different shapes bends a leaf into none of them; a grass
+        leaf led by the wide strip_01 (maps 0.36-0.59 from the narrow
+        strips', 0.06-0.23 among those; maples, oaks, procedural families
+        at most 0.15) came out a wavy square with an S-bent midrib.
     own_size : bool
         Each new leaf takes the size of one exemplar drawn at random
         (default True; False: the convex blend's averaged size). Not in the paper.
@@ -177,13 +192,37 @@ class SynthesisParams:
         (default True).
     donor_size_sigma : float
         Each layer's donor is drawn with weights ``exp(-z^2 / 2)``, ``z``
-        the log of the donor's lamina size over the new leaf's, over this
-        sigma (default 0.05; 0: every donor alike, as in the paper). Not in
-        the paper: a layer is resampled at the ratio of the two sizes, and
-        a vein layer enlarged by 10 % keeps about 0.75 of its Laplacian
-        variance (a line's scales as ``s^-3``): on a procedural trilobed
-        family new leaves whose veins came from a donor 8-12 % smaller had
-        0.61-0.68 of the exemplars' high-frequency energy.
+        its stretch over this sigma (default 0.05; 0: every donor alike, as in the paper). The
+        stretch is the length of (log of the donor's lamina size over the
+        new leaf's, its anisotropy ``log sqrt(s1 / s2)`` under the new
+        shape, ``prepared._Prepared.carried_anisotropy``, less that of a
+        1.5x stretch one way). (Counted whole, the anisotropy of procedural
+        lobed leaves' donors, mostly below a 1.5x stretch, took the
+        closest size from the choice: Laplacian variance ratio 0.835 ->
+        0.815, 4 batches of 8.)
+        Not in the paper: a layer is resampled at the ratio of the two
+        sizes, and a vein layer enlarged by 10 % keeps about 0.75 of its
+        Laplacian variance (a line's scales as ``s^-3``): on a procedural
+        trilobed family new leaves whose veins came from a donor 8-12 %
+        smaller had 0.61-0.68 of the exemplars' high-frequency energy. The
+        anisotropy: a grass leaf led by a wide exemplar (strip_01 of the
+        grass photos) took its veins from narrow strips spread 3-5 times
+        across it, a wavy blur without the wide strip's midrib (vein
+        continuity 0.45). Going beyond the paper's "each layer from another
+        exemplar" there: a layer comes from the background's exemplar when
+        every other donor is stretched more than 1.5 times (and never from
+        the donor of another layer).
+    donor_complete : float
+        A donor of the most structural layer (largest ``lambda``) whose
+        induced layer is less complete than this share of the exemplars'
+        median completeness is passed over while another has the layer
+        (default 0.75; 0: any). Completeness: the skeleton length of the
+        induced mask over that of the training layer carried onto the
+        exemplar (its registered mask), at most 1. Not in the paper: an
+        under-induced donor (a grass photo whose vein layer was a few
+        dashes at its tip) gave new leaves no veins at all (vein continuity
+        0.30-0.60 for 7 of 32 new grass leaves, two batches of 16; after:
+        none below 0.81).
     layer_colour : {"contrast", "copy"}
         A layer brings its ratio to its own residual leaf (``"contrast"``,
         default; not in the paper) or pastes its colours (``"copy"``, the paper).
@@ -202,12 +241,16 @@ class SynthesisParams:
                                        help="per-leaf Dirichlet concentration (small: one exemplar dominates)")
     shape_spread: float = param(0.75, min=0.0, max=2.0, step=0.05,
                                 help="variation of the shape weights over the leaf (0: one blend everywhere)")
+    shape_compatible: float = param(0.3, min=0.0, max=10.0, step=0.05,
+                                    help="blend only shapes this close to the leading one (leaf sizes)")
     own_size: bool = param(True, help="each new leaf is as large as one exemplar drawn at random")
     restore_spread: bool = param(True, help="shapes depart from the mean shape as far as the exemplars do")
     smooth_bootstrap: bool = param(True, help="pose: one exemplar's plus a small Gaussian kernel")
     correct: bool = param(True, help="texture correction where the shape warp stretches")
     donor_size_sigma: float = param(0.05, min=0.0, max=2.0, step=0.01,
                                     help="layer donors of about the new leaf's size (log-size sigma; 0: any)")
+    donor_complete: float = param(0.75, min=0.0, max=1.0, step=0.05,
+                                  help="layer donors need this share of the median completeness (0: any)")
     layer_colour: str = param("contrast", options=("contrast", "copy"),
                               help="a layer brings its contrast to its own leaf (contrast) or its colours (copy)")
 
@@ -304,13 +347,20 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
         top = int(np.argmax(wts.mean((1, 2))))
         if top != lead:
             wts[[top, lead]] = wts[[lead, top]]
-    gain = float(np.sqrt(n * params.shape_concentration + 1.0)) if params.restore_spread and n > 1 else 1.0
+    # Only exemplars whose shape is compatible with the leading one's are
+    # blended (see SynthesisParams.shape_compatible).
+    comp = p.compatible(lead, params.shape_compatible) if n > 1 else np.ones(n, bool)
+    if not comp.all():
+        wts[~comp] = 0.0
+        wts /= np.maximum(wts.sum(0), 1e-12)
+    n_c = int(comp.sum())
+    gain = float(np.sqrt(n_c * params.shape_concentration + 1.0)) if params.restore_spread and n_c > 1 else 1.0
     m = np.zeros(shape + (2,), np.float32)
-    for i in range(n):
+    for i in np.flatnonzero(comp):
         # With the spread restored: the blend's departure from the
         # exemplars' mean shape scaled by ``gain`` (an affine, no longer
         # convex, combination; see SynthesisParams.restore_spread).
-        w_i = wts[i] if gain == 1.0 else np.float32(1.0 / n) + np.float32(gain) * (wts[i] - np.float32(1.0 / n))
+        w_i = wts[i] if gain == 1.0 else np.float32(1.0 / n_c) + np.float32(gain) * (wts[i] - np.float32(1.0 / n_c))
         m += w_i[..., None] * p.shape_maps[i]
     # The pose of one exemplar: new leaves lie as variously as the
     # exemplars do (the weighted mean pose gave every new leaf nearly the
@@ -393,15 +443,35 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
         cands = [e for e in range(n) if L.masks[e].any()]
         if not cands:
             continue
-        fresh = [e for e in cands if e not in used]
-        pool = fresh if fresh else cands
-        if params.donor_size_sigma > 0 and len(pool) > 1 and new_size > 0:
-            # Donors of about the new leaf's size (see SynthesisParams.donor_size_sigma).
-            z = np.log(np.maximum([p.lamina_size[j] for j in pool], 1e-6) / new_size) / params.donor_size_sigma
-            w = np.exp(-0.5 * z ** 2)
+        # Under-induced donors (a layer far sparser than most exemplars':
+        # a few dashes of veins) are passed over while others have one.
+        full = [e for e in cands if p.layer_complete[k][e] >= params.donor_complete]
+        cands = full if full else cands
+        # Never the donor of another layer (two layers of one exemplar
+        # pasted with different warps lay beside each other: vein continuity
+        # 0.58 on maples whose spots and veins came from one leaf).
+        free = [e for e in cands if e not in chosen.values()] or cands
+        fresh = [e for e in free if e not in used]
+        if params.donor_size_sigma > 0 and len(free) > 1 and new_size > 0:
+            # Donors whose layer is carried with the least stretch (see
+            # SynthesisParams.donor_size_sigma); the background's own
+            # exemplar only when every other one is stretched more.
+            sig = params.donor_size_sigma
+            size = np.log(np.maximum([p.lamina_size[j] for j in free], 1e-6) / new_size)
+            aniso = np.array([p.carried_anisotropy(j, m, alpha > 0.5) for j in free])
+            stretch = np.hypot(size, np.maximum(aniso - 0.5 * _REUSE_STRETCH, 0.0))
+            ok = [i for i, j in enumerate(free) if j in fresh]
+            if not ok or stretch[ok].min() > max(float(stretch.min()) + 2.0 * sig, _REUSE_STRETCH):
+                ok = list(range(len(free)))
+            idx = ok
+            pool = [free[i] for i in idx]
+            # exp(-z^2 / 2) normalised, taken relative to its largest (no underflow when all are stretched)
+            logw = -0.5 * (stretch[idx] / sig) ** 2
+            w = np.exp(logw - logw.max())
             w = w / w.sum() if w.sum() > 0 else np.full(len(pool), 1.0 / len(pool))
-            e = int(pool[int(rng.choice(len(pool), p=w))])
+            e = int(pool[int(rng.choice(len(pool), p=w))]) if len(pool) > 1 else int(pool[0])
         else:
+            pool = fresh if fresh else free
             e = int(rng.choice(pool))
         used.add(e)
         chosen[L.name] = e
@@ -480,6 +550,10 @@ def _exemplar_draws(seed: int, n: int) -> tuple[int, int, int]:
     lead = int(np.random.default_rng((seed, 6)).integers(n))
     return (lead, int(np.random.default_rng((seed, 3)).integers(n)), lead)
 
+
+#: A layer's donor is the background's own exemplar only when every other is stretched more than this
+#: (log of the scale; see :func:`generate_leaf`).
+_REUSE_STRETCH = float(np.log(1.5))
 
 #: Largest number of candidate seeds tried per leaf by :func:`_stratified_seeds`.
 _STRATA_TRIES = 4096
