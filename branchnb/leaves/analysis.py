@@ -64,6 +64,7 @@ from .induction import (
 )
 from .layers import LayerSet, SnapParams, TrainingLayers, grow_layers
 from .own_contrast import trim_by_contrast, without_blobs
+from .stored_maps import CombinedMaps
 
 __all__ = ["IdentityRegistration", "LayerInduction", "LeafAnalysis", "analyze", "induce",
            "normalise_exemplars", "registration_tolerance", "warp_mask"]
@@ -344,7 +345,9 @@ def _retuned(analysis, changes):
             taken[e] |= m
             masks.append(m)
         layers.append(dataclasses.replace(old, lam=lam, liberal_overlap=overlap, delta=delta,
-                                          training_overlap=tr_iou, masks=masks, combined=combined,
+                                          training_overlap=tr_iou, masks=masks,
+                                          combined=CombinedMaps(lam, old.colour, old.distance,
+                                                                [ln[0] for ln in lengths]),
                                           eps_px=[ln[0] for ln in lengths]))
     return dataclasses.replace(a, params=params, layers=layers)
 

@@ -243,6 +243,16 @@ def colour_similarity(q: np.ndarray, blade, cdfs: np.ndarray, size: int, weights
             raise ValueError(f"weights must be 3 non-negative finite numbers, got {weights!r}")
         w = w / w.sum()
     wch = (w / (bins - 1)).astype(np.float32)
+    rows, cols = np.flatnonzero(blade.any(1)), np.flatnonzero(blade.any(0))
+    y0, y1 = (int(rows[0]), int(rows[-1]) + 1) if len(rows) else (0, blade.shape[0])
+    x0, x1 = (int(cols[0]), int(cols[-1]) + 1) if len(cols) else (0, blade.shape[1])
+    if (y1 - y0, x1 - x0) != blade.shape:
+        # Pixels off the blade count in no neighbourhood: on the blade's box
+        # the sums are the same (a padded canvas is 2-5x larger), 1 elsewhere.
+        out = np.ones((k,) + q.shape[:2], np.float32)
+        out[:, y0:y1, x0:x1] = colour_similarity(np.ascontiguousarray(q[y0:y1, x0:x1]), blade[y0:y1, x0:x1],
+                                                 cdfs, size, weights=w)
+        return out[0] if single else out
     bf = blade.astype(np.float32)
     ksize = (size, size)
 
