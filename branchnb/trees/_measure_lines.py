@@ -22,14 +22,13 @@ import numpy as np
 
 def measure(sizes=(96, 200, 512), groups=("rpg", "clip", "ground", "drawn"), drawn_cards=True, only=None):
     from ..core.image import composite_over
+    from . import billboard as _bb
     from ._measure_sides import trees
     from .billboard import BillboardParams, billboard_cloud
     from .lod import bake_side_outline, engine_view, reduce_cloud
     from .lod_cards import side_outline_cards
     from .outline import floating_ink, rim_ink_share, silhouette_outline
     from .side_lines import side_line_figures
-
-    from . import billboard as _bb
 
     held = []
     check = _bb.cards_hold
