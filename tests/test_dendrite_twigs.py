@@ -73,7 +73,8 @@ def test_slim_twigs_takes_clubs_out_of_a_pareidolia_tree_at_the_same_tone():
     # to their parent's ink) and wide at their ends, stalks with a blob (issue 25)
     yy, xx = np.mgrid[0:120, 0:120]
     img = np.where((xx - 60) ** 2 + (yy - 55) ** 2 < 40 ** 2, 0.3 - 0.25 * xx / 120.0, 0.9)
-    p = PareidoliaParams(n_endpoints=400, iterations=3, lattice_size=0, rise=0.0)  # isotropic
+    # isotropic, solid ink (cover 1: the slim pass alone, as measured before the cover)
+    p = PareidoliaParams(n_endpoints=400, iterations=3, lattice_size=0, rise=0.0, cover=1.0)
     out = {}
     for slim in (False, True):
         t = pareidolia_tree(img, dataclasses.replace(p, slim=slim), rng=0)

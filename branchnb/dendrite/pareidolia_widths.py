@@ -20,6 +20,18 @@ from .thickness import rolling_importance
 if TYPE_CHECKING:
     from .pareidolia import PareidoliaParams
 
+def _soft_cap(x: np.ndarray, cover: float) -> np.ndarray:
+    """``x`` (an ink coverage to aim at) below ``0.6 cover`` as it is, above it
+    bending smoothly (tanh) toward ``cover``, which it never reaches: darker stays
+    darker, but a black region keeps gaps between its twigs. ``cover >= 1``: ``x``."""
+    x = np.asarray(x, np.float64)
+    if cover >= 1.0:
+        return x
+    knee = 0.6 * cover
+    span = cover - knee
+    return np.where(x <= knee, x, knee + span * np.tanh((x - knee) / span))
+
+
 def _shrink(a: np.ndarray, f: int) -> np.ndarray:
     """Mean over ``f x f`` blocks (the last partial blocks dropped)."""
     if f == 1:
@@ -183,7 +195,8 @@ def _refine_tone(d: Dendrite, dark: np.ndarray, bounds: dict, s: float,
         have = ndimage.gaussian_filter(cov.astype(np.float64), _REFINE_SIGMA)[row, col]
         if gain is None:  # keep the crown's ink: only where it goes changes
             gain = have[inside].mean() / max(target[inside].mean(), 1e-6)
-        ratio = np.clip((gain * target + 1e-3) / (have + 1e-3), 0.5, 2.0) ** _REFINE_GAIN
+        want = _soft_cap(gain * target, p.cover)
+        ratio = np.clip((want + 1e-3) / (have + 1e-3), 0.5, 2.0) ** _REFINE_GAIN
         width = np.where(inside, np.clip(width * ratio, np.maximum(lo, floor), cap), width)
         if p.slim:  # in the loop, so the next pass puts the ink it takes back elsewhere
             width = _slim_twigs(d, width, _TWIG_ASPECT, p.tip_width * 0.4 * s)
@@ -374,7 +387,7 @@ def _thickness(d: Dendrite, p: PareidoliaParams, imp, dark, crown, n_trunk: int,
     cap = np.where(is1, np.maximum(p.max_width, limb), cap)
     floor = np.where(is1, limb, floor)
     w_tone = width
-    match = _tone_matcher(d, dark, p.tone_sigma, p.tone)
+    match = _tone_matcher(d, dark, p.tone_sigma, p.tone, min(0.7, p.cover))
     for _ in range(_TONE_ROUNDS if p.taper > 0 else 1):
         # the tone match thickens a dark region's twig ends as much as their bodies (more:
         # less ink around an end): taper them again and match again, so the ink taken

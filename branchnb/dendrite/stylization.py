@@ -39,10 +39,14 @@ from .dendrite import Dendrite, PathStats, build_dendrite, path_statistics
 from .endpoints import place_endpoints
 from .importance import ImportanceParams, darkness, gradient_strength, importance_map
 from .lattice import Lattice, node_weights
+from .main_channel import straighten, wide_top
 from .planner import METRICS, PlanResult, plan
 from .render import Rendering
 from .scale import resample_to_lattice
 from .stylize_params import (  # noqa: F401  (re-exported; the spacings too)
+    LIGHTNING_LOOP_REACH,
+    LIGHTNING_SEED_BLUR,
+    LIGHTNING_SEED_DENSITY,
     LIGHTNING_SPACING,
     VINE_SPACING,
     StylizeParams,
@@ -317,7 +321,12 @@ class Stylizer:
         ``params.endpoint_threshold`` within 5 % of the lattice's height below
         the topmost such pixel (beyond the paper: from the default seed, in the
         middle of the picture, the bolt burst out in every direction; from the
-        top it runs down and forks like a strike).
+        top it runs down and forks like a strike). Only content pixels in a
+        wide part count (:func:`~branchnb.dendrite.main_channel.wide_top`):
+        their share of content within a blur of ``LIGHTNING_SEED_BLUR`` of the
+        lattice's diagonal reaches ``LIGHTNING_SEED_DENSITY`` of its maximum (a
+        thin tip on top, a fern's leaflets or a horse's ear, started the widest
+        channel with a knot).
 
         Parameters
         ----------
@@ -336,14 +345,12 @@ class Stylizer:
         >>> [round(v) for v in Stylizer(img).top_seed(StylizeParams(lattice_size=0))]
         [47, 7]
         """
-        imp = self.importance(params)
-        ys, xs = np.nonzero(imp >= params.endpoint_threshold)
-        if ys.size == 0:
+        at = wide_top(self.importance(params) >= params.endpoint_threshold,
+                      LIGHTNING_SEED_BLUR, LIGHTNING_SEED_DENSITY)
+        if at is None:
             return np.array([(self.shape[1] - 1) / 2.0, 0.0])
-        band = ys <= ys.min() + 0.05 * imp.shape[0]
-        xb, yb = xs[band], ys[band]
-        k = int(np.argmin(np.abs(xb - np.median(xb)) + 1e-3 * yb))  # on a content pixel
-        return self.to_image(params, [float(xb[k]), float(yb[k])])
+        xb, yb = at
+        return self.to_image(params, [float(xb), float(yb)])
 
     @checked()
     def importance(self, p: StylizeParams) -> np.ndarray:
@@ -527,6 +534,25 @@ class Stylizer:
             d = d.with_radius(np.clip(d.radius * (1.0 + p.edges * e ** 2), lo / 2, hi / 2))
         return d
 
+    def _main_channel_straight(self, p: StylizeParams, seed, rng_seed: int) -> Dendrite:
+        """:meth:`dendrite` with the hairpins of its main channel cut (cached).
+
+        Beyond the paper: a lightning bolt's widest channel follows the picture's
+        edges, and through a thin, ragged part (a fern's tip leaflets) it doubled
+        back in hairpins a few pixels apart, a bright knot;
+        :func:`~branchnb.dendrite.main_channel.shortcut_loops` joins each
+        hairpin's legs within ``LIGHTNING_LOOP_REACH`` of the lattice's diagonal.
+        """
+        seed_key = tuple(np.round(np.asarray(seed, float), 3))
+        key = ("straight", _subset(p, _IMPORTANCE + _LATTICE + _PLAN + _ENDPOINTS),
+               seed_key, rng_seed)
+
+        def make():
+            res = self.plan(p, seed, rng_seed)
+            return straighten(res, self.dendrite(p, seed, rng_seed), self.endpoints(p, rng_seed),
+                              reach=LIGHTNING_LOOP_REACH * float(np.hypot(*res.shape)))
+        return self._get(key, make)
+
     def _dendrite_pruned(self, p: StylizeParams, seed, rng_seed: int, keep) -> Dendrite:
         """:meth:`dendrite` traced to the tips ``keep`` selects only (cached).
 
@@ -607,6 +633,8 @@ class Stylizer:
         res = self.plan(p, seed_lat, rng)
         ends = self.endpoints(p, rng)
         d = self.dendrite(p, seed_lat, rng)
+        if metaphor == "lightning":
+            d = self._main_channel_straight(p, seed_lat, rng)
         imp = self.importance(p)
         d = self._widths(d, p, p.min_width, p.max_width)
         pinned = self._pinned

@@ -1,0 +1,275 @@
+"""The main channel of a dendrite: find it, measure its loops, cut them.
+
+A lightning bolt drawn from an image (:meth:`~branchnb.dendrite.stylization.Stylizer.run`
+with ``metaphor="lightning"``) is widest along its *main channel*: from the seed,
+always down the child that carries the most tips. Least-cost paths follow the
+picture's edges, so where the seed sits in a thin, ragged part (the tip leaflets
+of a fern frond) the main channel zigzags back and forth along the outline in
+hairpins a few pixels apart: drawn 6 px wide, a bright knot. Beyond the papers
+(Xu & Mould 2007; Long & Mould 2009), :func:`shortcut_loops` joins the two legs of
+every such hairpin on the main channel by a short straight step, so the channel
+runs on and the hairpin, if other branches still use it, becomes a thin fork.
+"""
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+from scipy import ndimage
+
+from .dendrite import Dendrite, build_dendrite
+from .planner import PlanResult
+
+__all__ = ["main_path", "path_loops", "shortcut_loops", "straighten", "wide_top"]
+
+
+def main_path(dendrite: Dendrite) -> np.ndarray:
+    """Tree indices of the main channel: from the root down the child with most tips.
+
+    Parameters
+    ----------
+    dendrite : Dendrite
+        A tree with one root (the first root is used otherwise).
+
+    Returns
+    -------
+    (K,) int64 ndarray
+        Node indices, root first.
+
+    Examples
+    --------
+    >>> from branchnb.dendrite import build_dendrite, make_lattice, plan
+    >>> d = build_dendrite(plan(make_lattice(np.zeros((30, 30)), rng=0), (15, 0)),
+    ...                    [(3, 29), (5, 28), (27, 29)])
+    >>> p = main_path(d); int(p[0]), bool(d.points[p[-1], 0] < 15)
+    (0, True)
+    """
+    if not isinstance(dendrite, Dendrite):
+        raise TypeError(f"dendrite must be a Dendrite, got {type(dendrite).__name__}")
+    if dendrite.n_nodes == 0:
+        return np.zeros(0, np.int64)
+    parent = dendrite.parent
+    n = dendrite.leaf_count()
+    # the child with the most tips of every node (ties: the first child)
+    best = np.full(dendrite.n_nodes, -1, np.int64)
+    child = np.flatnonzero(parent >= 0)
+    order = child[np.lexsort((-child, n[child]))]  # ascending tips: the best child is written last
+    best[parent[order]] = order
+    node = int(np.flatnonzero(parent < 0)[0])
+    path = [node]
+    while best[node] >= 0:
+        node = int(best[node])
+        path.append(node)
+    return np.asarray(path, np.int64)
+
+
+def _arc(points: np.ndarray) -> np.ndarray:
+    return np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(points, axis=0).T))])
+
+
+def path_loops(points, *, reach: float) -> tuple[float, float]:
+    """How much a polyline loops: its worst detour and its tortuosity.
+
+    Parameters
+    ----------
+    points : (K, 2) array_like
+        The polyline, ``(x, y)``.
+    reach : float
+        Distance (> 0) under which two points count as close; e.g. 1 % of
+        the image's diagonal.
+
+    Returns
+    -------
+    detour : float
+        The largest ``arc(i, j) / max(chord(i, j), reach)`` over pairs of
+        points: the length of the way round between two points, in units of
+        how close they are (about 1-2 for a jagged but straight path, 5 or
+        more for a hairpin or a loop).
+    tortuosity : float
+        Length over the distance between the ends (1 for a straight line).
+
+    Examples
+    --------
+    >>> t = np.linspace(0, 2 * np.pi, 50)
+    >>> ring = np.column_stack([10 * np.cos(t), 10 * np.sin(t)])
+    >>> [round(v, 1) for v in path_loops(np.array([[0, 0], [0, 10], [0, 20]]), reach=1.0)]
+    [1.0, 1.0]
+    >>> path_loops(ring, reach=1.0)[0] > 30
+    True
+    """
+    p = np.asarray(points, np.float64)
+    if p.ndim != 2 or p.shape[1] != 2:
+        raise ValueError(f"points must be (K, 2), got shape {p.shape}")
+    if not reach > 0:
+        raise ValueError(f"reach must be > 0, got {reach}")
+    if len(p) < 2:
+        return 1.0, 1.0
+    arc = _arc(p)
+    worst = 1.0
+    for i in range(len(p) - 1):  # rows of the pair matrix, one at a time (memory stays O(K))
+        chord = np.hypot(*(p[i + 1:] - p[i]).T)
+        worst = max(worst, float(np.max((arc[i + 1:] - arc[i]) / np.maximum(chord, reach))))
+    end = float(np.hypot(*(p[-1] - p[0])))
+    return worst, float(arc[-1] / max(end, 1e-9))
+
+
+def shortcut_loops(plan_result: PlanResult, dendrite: Dendrite, *, reach: float,
+                   ratio: float = 2.5) -> PlanResult:
+    """Cut the hairpins of the main channel out of the planner's path tree.
+
+    Walking the main channel (:func:`main_path`) from the root, at each node
+    ``i`` the farthest later node ``j`` within ``reach`` of it is taken as a
+    hairpin's other leg when the channel's way round is long, ``arc(i, j) >
+    ratio * chord(i, j)`` and ``arc(i, j) - chord(i, j) > reach``; then ``j``'s
+    parent becomes ``i`` (a straight step of at most ``reach``) and the walk
+    goes on from ``j``. Every endpoint below ``j`` now runs through the step;
+    the hairpin stays only where other endpoints still use it, as a fork.
+
+    Parameters
+    ----------
+    plan_result : PlanResult
+        The planner's output the dendrite was traced in
+        (:func:`~branchnb.dendrite.dendrite.build_dendrite`).
+    dendrite : Dendrite
+        The dendrite traced from it.
+    reach : float
+        Longest straight step (lattice px, > 0).
+    ratio : float
+        How much longer than the step the way round must be (> 1).
+
+    Returns
+    -------
+    PlanResult
+        A copy with a new ``parent`` array (the same object when nothing is
+        cut); trace the same endpoints in it again.
+
+    Examples
+    --------
+    >>> from branchnb.dendrite import build_dendrite, make_lattice, plan
+    >>> w = np.full((30, 30), 50.0); w[2:28, 14:16] = 0.0; w[27, 14:22] = 0.0; w[2:28, 21] = 0
+    >>> res = plan(make_lattice(w, rng=0), (21, 2))  # a U: down one leg, up the other
+    >>> d = build_dendrite(res, [(14, 2)])
+    >>> cut = build_dendrite(shortcut_loops(res, d, reach=8.0), [(14, 2)])
+    >>> int(d.n_nodes) > 40, int(cut.n_nodes) < 12
+    (True, True)
+    """
+    if not isinstance(plan_result, PlanResult):
+        raise TypeError(f"plan_result must be a PlanResult, got {type(plan_result).__name__}")
+    if not isinstance(dendrite, Dendrite):
+        raise TypeError(f"dendrite must be a Dendrite, got {type(dendrite).__name__}")
+    if not reach > 0:
+        raise ValueError(f"reach must be > 0, got {reach}")
+    if not ratio > 1:
+        raise ValueError(f"ratio must be > 1, got {ratio}")
+    path = main_path(dendrite)
+    p = dendrite.points[path]
+    arc = _arc(p)
+    parent = None
+    i = 0
+    while i < len(path) - 2:
+        chord = np.hypot(*(p[i + 2:] - p[i]).T)
+        near = np.flatnonzero(chord <= reach)
+        if near.size:
+            k = int(near[-1])
+            j = i + 2 + k
+            way = arc[j] - arc[i]
+            if way > ratio * chord[k] and way - chord[k] > reach:
+                if parent is None:
+                    parent = plan_result.parent.copy()
+                parent[dendrite.nodes[path[j]]] = dendrite.nodes[path[i]]
+                i = j
+                continue
+        i += 1
+    if parent is None:
+        return plan_result
+    return dataclasses.replace(plan_result, parent=parent)
+
+
+def straighten(plan_result: PlanResult, dendrite: Dendrite, endpoints, *, reach: float,
+               ratio: float = 2.5, rounds: int = 4) -> Dendrite:
+    """:func:`shortcut_loops` and trace ``endpoints`` again, up to ``rounds`` times
+    (a cut can make another child the widest, whose channel may loop too).
+
+    Parameters
+    ----------
+    plan_result : PlanResult
+        The planner's output ``dendrite`` was traced in.
+    dendrite : Dendrite
+        Traced from ``endpoints`` in ``plan_result``.
+    endpoints : array_like
+        The endpoints it was traced from (:func:`~branchnb.dendrite.dendrite.build_dendrite`).
+    reach, ratio : float
+        As in :func:`shortcut_loops`.
+    rounds : int
+        Most rounds (>= 1).
+
+    Returns
+    -------
+    Dendrite
+        ``dendrite`` itself when its main channel has no hairpin.
+
+    Examples
+    --------
+    >>> from branchnb.dendrite import build_dendrite, make_lattice, plan
+    >>> res = plan(make_lattice(np.zeros((30, 30)), rng=0), (15, 0))
+    >>> d = build_dendrite(res, [(15, 29)])
+    >>> straighten(res, d, [(15, 29)], reach=8.0) is d
+    True
+    """
+    if int(rounds) < 1:
+        raise ValueError(f"rounds must be >= 1, got {rounds}")
+    for _ in range(int(rounds)):
+        cut = shortcut_loops(plan_result, dendrite, reach=reach, ratio=ratio)
+        if cut is plan_result:
+            break
+        plan_result, dendrite = cut, build_dendrite(cut, endpoints)
+    return dendrite
+
+
+def wide_top(content, blur: float, density: float) -> tuple[int, int] | None:
+    """The top of the wide part of a content mask: where a lightning bolt starts.
+
+    Content pixels count where their neighbourhood (a Gaussian of ``blur`` times
+    the mask's diagonal) holds at least ``density`` of the densest one's share
+    of content; among those within 5 % of the mask's height below the topmost,
+    the one nearest their median column (beyond the paper: the topmost content
+    pixel was often a thin tip, a fern's leaflets or an ear, and the widest
+    channel started with a knot in it).
+
+    Parameters
+    ----------
+    content : (h, w) array_like of bool
+        Where there is something to draw.
+    blur : float
+        Blur (> 0) as a share of the mask's diagonal.
+    density : float
+        Share in [0, 1] of the largest blurred content.
+
+    Returns
+    -------
+    (x, y) or None
+        A content pixel; None when the mask is empty.
+
+    Examples
+    --------
+    >>> m = np.zeros((100, 100), bool); m[50:90, 20:80] = True; m[5:50, 48:51] = True
+    >>> wide_top(m, 0.03, 0.5)[1] >= 45
+    True
+    """
+    c = np.asarray(content, bool)
+    if c.ndim != 2:
+        raise ValueError(f"content must be 2-D, got shape {c.shape}")
+    if not blur > 0 or not 0.0 <= density <= 1.0:
+        raise ValueError(f"blur must be > 0 and density in [0, 1], got {blur}, {density}")
+    ys, xs = np.nonzero(c)
+    if ys.size == 0:
+        return None
+    mass = ndimage.gaussian_filter(c.astype(np.float32), blur * float(np.hypot(*c.shape)),
+                                   mode="constant")
+    wide = mass[ys, xs] >= density * float(mass.max())
+    if wide.any():  # the maximum is on or next to content, but a 1-px mask may miss it
+        ys, xs = ys[wide], xs[wide]
+    band = ys <= ys.min() + 0.05 * c.shape[0]
+    xb, yb = xs[band], ys[band]
+    k = int(np.argmin(np.abs(xb - np.median(xb)) + 1e-3 * yb))  # on a content pixel
+    return int(xb[k]), int(yb[k])

@@ -1,0 +1,106 @@
+"""A lightning bolt's main channel runs on without loops: the seed sits where the
+content is wide and the main channel's hairpins are cut (a fern's ragged tip, thin
+prongs on top of a body)."""
+import numpy as np
+import pytest
+from skimage.transform import resize
+
+from branchnb.dendrite import build_dendrite, make_lattice, plan, stylize
+from branchnb.dendrite.main_channel import main_path, path_loops, shortcut_loops, wide_top
+
+
+def _longest_loop(points, diag):
+    """The longest way round (share of the diagonal) between two points of a
+    polyline closer than 1.5 % of the diagonal."""
+    p = np.asarray(points, float)
+    arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(p, axis=0).T))])
+    i, j = np.triu_indices(len(p), 1)
+    chord = np.hypot(*(p[j] - p[i]).T)
+    way = arc[j] - arc[i] - chord
+    return float(np.max(np.where(chord <= 0.015 * diag, way, 0.0))) / diag
+
+
+def _fern_like(n):
+    """A frond on white: a stem with leaflets, the top ones small and ragged."""
+    yy, xx = np.mgrid[0:n, 0:n] / n
+    ink = np.abs(xx - 0.5) < 0.006 + 0.004 * yy
+    for y0 in np.linspace(0.08, 0.85, 14):
+        length = 0.03 + 0.3 * min(1.0, (y0 - 0.05) / 0.5)
+        for side in (-1, 1):
+            u = side * (xx - 0.5)
+            centre = y0 + 0.15 * u
+            ink |= (u > 0) & (u < length) & (np.abs(yy - centre) < 0.012 + 0.02 * (1 - u / length) * length)
+    return np.where(ink[..., None], np.float32(0.3), np.float32(1.0)).repeat(3, -1)
+
+
+def _prongs(n):
+    yy, xx = np.mgrid[0:n, 0:n] / n
+    ink = ((np.abs(xx - 0.35) < 0.015) | (np.abs(xx - 0.65) < 0.015)) & (yy > 0.05) & (yy < 0.45)
+    ink |= (np.abs(xx - 0.5) < 0.3) & (yy >= 0.45) & (yy < 0.9)
+    return np.where(ink[..., None], np.float32(0.1), np.float32(1.0)).repeat(3, -1)
+
+
+def test_shortcut_cuts_a_hairpin_and_keeps_a_straight_path():
+    w = np.full((30, 30), 50.0)
+    w[2:28, 14:16] = 0.0
+    w[27, 14:22] = 0.0
+    w[2:28, 21] = 0.0
+    res = plan(make_lattice(w, rng=0), (21, 2))
+    d = build_dendrite(res, [(14, 2)])
+    cut = build_dendrite(shortcut_loops(res, d, reach=8.0), [(14, 2)])
+    assert path_loops(d.points[main_path(d)], reach=1.0)[0] > 5
+    assert path_loops(cut.points[main_path(cut)], reach=1.0)[0] < 1.5
+    straight = plan(make_lattice(np.zeros((30, 30)), rng=0), (15, 0))
+    d2 = build_dendrite(straight, [(15, 29)])
+    assert shortcut_loops(straight, d2, reach=8.0) is straight
+    with pytest.raises(ValueError, match="reach"):
+        shortcut_loops(res, d, reach=0)
+
+
+@pytest.mark.parametrize("make,n", [(_fern_like, 300), (_fern_like, 700), (_prongs, 400)])
+def test_lightning_main_channel_has_no_loop(make, n):
+    img = make(n)
+    s = stylize(img, rng=0, metaphor="lightning")
+    d = s.dendrite
+    path = main_path(d)
+    diag = float(np.hypot(*img.shape[:2]))
+    # before: the seed sat on the topmost thin tip and the widest channel doubled back
+    assert _longest_loop(d.points[path], diag) < 0.03
+    seg = np.zeros(d.n_nodes)
+    has = d.parent >= 0
+    seg[has] = np.hypot(*(d.points[has] - d.points[d.parent[has]]).T)
+    ink = 2 * d.radius * seg
+    assert ink[path].sum() / ink.sum() > 0.3
+
+
+def test_lightning_seed_sits_where_the_content_is_wide():
+    img = _prongs(300)
+    s = stylize(img, rng=0, metaphor="lightning")
+    x, y = s.seed
+    # the prongs reach up to 5 % of the height, the body starts at 45 %
+    assert 0.4 * 300 < y < 0.5 * 300 and 0.2 * 300 < x < 0.8 * 300
+    # a plain block keeps its seed at the top
+    block = np.ones((200, 200, 3), np.float32)
+    block[40:160, 40:160] = 0.1
+    assert stylize(block, rng=0, metaphor="lightning").seed[1] < 50
+
+
+def test_lightning_fern_small_and_large_have_no_knot():
+    big = _fern_like(480)
+    small = resize(big, (250, 250), anti_aliasing=True).astype(np.float32)
+    for img in (small, big):
+        d = stylize(img, rng=0, metaphor="lightning").dendrite
+        diag = float(np.hypot(*img.shape[:2]))
+        assert _longest_loop(d.points[main_path(d)], diag) < 0.03
+
+
+def test_wide_top_skips_a_thin_spire():
+    m = np.zeros((200, 200), bool)
+    m[100:180, 40:160] = True  # a body
+    m[10:100, 98:102] = True  # a 4-px spire on top
+    x, y = wide_top(m, 0.03, 0.5)
+    assert 95 <= y <= 110 and m[y, x]
+    assert wide_top(m, 0.03, 0.0)[1] == 10  # density 0: the topmost pixel, as before
+    assert wide_top(np.zeros((5, 5), bool), 0.03, 0.5) is None
+    with pytest.raises(ValueError, match="blur"):
+        wide_top(m, 0.0, 0.5)
