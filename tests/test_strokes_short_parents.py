@@ -4,7 +4,9 @@ A starfish's disk stroked with a short segment across its centre (kept), one
 arm stroked from the centre and turned: before, the disk's tube (measured
 across the arms, ~2.5 times the disk's radius) claimed the turned arm's root,
 which stayed behind at the source as a stump (119 / 990 / 6704 px outside
-the expected silhouette at 150 / 400 / 1000 px). The expected silhouette is
+the expected silhouette at 150 / 400 / 1000 px). The wide joint's closing then
+filled the V between the turned arm and its neighbour (14 / 53-215 px at
+400 / 1000 px): a joint fills only where the parent's frame finds source flesh. The expected silhouette is
 known: the kept parts where they were plus the turned arm turned rigidly.
 
 The distance maps of :func:`~branchnb.strokes.fetch.source_index` are
@@ -46,15 +48,17 @@ def _stray(obj, res, th, c):
     return int(((a > 0.5) & ~grown).sum()), int((inner & (a < 0.5)).sum())
 
 
-@pytest.mark.parametrize("size,th", [(150, 0.5), (400, 0.5), (400, -0.6)])
+@pytest.mark.parametrize("size,th", [(150, 0.5), (400, 0.5), (400, -0.6), (1000, -0.6)])
 def test_a_turned_arm_leaves_no_stump_when_the_disk_is_kept(size, th):
     obj = starfish(size, rng=0)
     c = obj.strokes[1][0]
     src = [obj.strokes[0], obj.strokes[3]]
     res = edit_structure(obj.image, src, [src[0], _turn(src[1], th, c)])
     stray, holes = _stray(obj, res, th, c)
-    # before: 119 / 990 / 1171 px (the arm's root left at the source)
-    assert stray <= 0.0002 * size**2, stray
+    # before: 119 / 990 / 1171 px (the arm's root left at the source); then 0 / 0 / 14 /
+    # 53 / 215 px (the wide joint's closing webbed the V between the turned arm and the
+    # next one, with a dark smudge of old outline in it)
+    assert stray <= 2, stray
     assert holes == 0
     assert ndi.label(res.image[..., 3] > 0.02, structure=EIGHT)[1] == 1
     # the turned arm is there

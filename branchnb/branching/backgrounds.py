@@ -382,6 +382,13 @@ def flat_background(gray, branches, radius: float, tol: float = 0.02) -> np.ndar
     frame cut the land into pieces that each touch the frame and hold no
     river (each river lies between two pieces), yet they are land.
 
+    ... unless a drawn line walls the region off (beyond the paper): a
+    terrain map's white lowland has the colour of the white outside, and
+    the outside is then told by the dark coast line around it (most of its
+    edge away from the frame and the river mouths is a line at least 0.5
+    darker than the region, see ``_behind_drawn_line``); a crop's land
+    pieces are bounded by the rivers and the relief, not by such a line.
+
     Parameters
     ----------
     gray : (H, W) array_like
@@ -407,15 +414,44 @@ def flat_background(gray, branches, radius: float, tol: float = 0.02) -> np.ndar
     r = max(int(round(radius)), 1)
     disk = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
     ground = _ground_regions(gray, br, lab, n, tol)
+    g = np.asarray(gray, np.float64)
+    near_br = cv2.dilate(br.astype(np.uint8), np.ones((5, 5), np.uint8)) > 0 if n_br else br
     for k in np.flatnonzero(touch):
         region = lab == k
-        if ground[k]:
+        if ground[k] and not _behind_drawn_line(g, region, near_br):
             continue  # the branches' own ground
         closed = cv2.morphologyEx(region.astype(np.uint8), cv2.MORPH_CLOSE, disk,
                                   borderType=cv2.BORDER_REPLICATE) > 0
         keep[k] = np.count_nonzero(closed & br) <= 0.02 * n_br
     keep[0] = False
     return keep[lab]
+
+
+def _behind_drawn_line(gray: np.ndarray, region: np.ndarray, near_branches: np.ndarray, *,
+                       contrast: float = 0.5, share: float = 0.6) -> bool:
+    """Whether a drawn dark line (a coast) walls ``region`` off: of the pixels 1-6 px outside it,
+    away from the frame (3 px) and from the branches (their mouths cross the coast), at least 65 %
+    remain and ``share`` of those are ``contrast`` darker than the region's median. (The outside of
+    a terrain map has 4-24 % of its edge by river mouths; a crop's land piece cut off by a river
+    running into the coast has half.)"""
+    import cv2
+
+    r8 = region.astype(np.uint8)
+    ring = (cv2.dilate(r8, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (13, 13))) > 0) & ~region
+    ring[:3] = ring[-3:] = False
+    ring[:, :3] = ring[:, -3:] = False
+    n_ring = int(np.count_nonzero(ring))
+    if n_ring == 0:
+        return False
+    rest = ring & ~near_branches
+    n_rest = int(np.count_nonzero(rest))
+    if n_rest < 0.65 * n_ring:
+        return False    # branches run along a third of its edge or more: a piece of land they cut
+    med = float(np.median(gray[region]))
+    # the ring is 6 px wide and the line ~2 px: a ring pixel counts as on the line when a line pixel
+    # lies across it (the darkest of its 7 x 7 neighbourhood), not only when it is one
+    darkest = cv2.erode(gray.astype(np.float32), np.ones((7, 7), np.uint8))
+    return bool(np.mean(darkest[rest] < med - contrast) >= share)
 
 
 @checked(image=Image(), radius=_RADIUS)
@@ -463,7 +499,14 @@ def example_domain(image, structure: Structure | None = None, *, radius: float =
         cov, _ = coverage_polylines(gray.shape, [b.points for b in structure.branches],
                                     [2 * b.thickness + 2 for b in structure.branches])
         branches = cov > 0.5
-    dom = ~flat_background(gray, branches, radius)
+    bg = flat_background(gray, branches, radius)
+    if bg.any():
+        # the flat test leaves a 2 px rim of the background's colour along its edge (windows that
+        # reach the coast line): the background takes it, up to the drawn line (beyond the paper)
+        g = np.asarray(gray, np.float64)
+        like = np.abs(g - float(np.median(g[bg]))) <= 0.1
+        bg = ndi.binary_dilation(bg, iterations=4, mask=like | bg)
+    dom = ~bg
     return dom if opaque is None else dom & opaque
 
 

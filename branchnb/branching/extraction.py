@@ -249,7 +249,8 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
                               min_component_length=p.min_component_length,
                               root=root if root_point is None else root_point,
                               scale=p.scale, smooth=p.smooth_path, smooth_radius=p.smooth_radius,
-                              image_shape=gray.shape[:2], region=region, joins=joins)
+                              image_shape=gray.shape[:2], region=region, joins=joins,
+                              close_cycles=p.close_cycles)
     if p.centre_reach > 0 and s.branches:
         from .centring import centre_on_lines
 
@@ -286,7 +287,8 @@ def _extract_binary(gray, p: ExtractionParams, mask, return_maps: bool, root_poi
     s = skeleton_to_structure(skel, radius, h=p.h, min_branch_length=p.min_branch_length,
                               min_component_length=p.min_component_length, root=root,
                               scale=p.scale, smooth=p.smooth_path, smooth_radius=p.smooth_radius,
-                              image_shape=gray.shape[:2], region=region, joins=joins)
+                              image_shape=gray.shape[:2], region=region, joins=joins,
+                              close_cycles=0.0)   # (a mask's braids stay cut: see ExtractionParams.close_cycles)
     s = _unpinch_frame_ends(s, gray.shape[:2])
     if return_maps:
         return s, (channels.astype(np.float32), channels, skel)

@@ -269,6 +269,17 @@ class ExtractionParams:
         lines (1-2 px rivers, capillaries), which then read as paler than
         they are. 0 = off. Binary masks (traced by their medial axis) are
         not moved.
+    close_cycles : float, default 40.0
+        Beyond the paper: the tree of branches cuts every cycle of the traced
+        lines once (where the fronts of its shortest paths meet) and the spur
+        pruning then drops the two half-edges, so a network (cracks, mud,
+        braided channels, roads) came out as a tree of open ends. Every cut
+        cycle at least this long (pixels of loop; shorter ones are pixel
+        clusters where lines meet) is closed again by a join branch that
+        follows the traced line across the cut and ends on the branch on the
+        other side. 0 = off. Binary masks (a delta's braided channels, traced
+        by their medial axis) keep the tree: closing their braids misplaces the
+        sea the region layout puts off their mouths.
     """
 
     filter: str = param("sato", options=("sato", "frangi", "meijering"),
@@ -312,6 +323,9 @@ class ExtractionParams:
                                   "paper gaps up to this (pixels, beyond half the line width) where "
                                   "their directions continue (through an interlace crossing, tip to "
                                   "tip, into a stroke at a T-junction); 0 = never")
+    close_cycles: float = param(40.0, min=0.0, max=2000.0, step=5.0,
+                                help="close the cycles of a network (cells) at least this long (pixels "
+                                     "of loop) by join branches; 0 = cycles stay cut (a tree)")
     centre_reach: float = param(1.0, min=0.0, max=4.0, step=0.25,
                                 help="move traced vertices up to this far across their branch onto the "
                                      "line's crest (sub-pixel centre lines); 0 = off")

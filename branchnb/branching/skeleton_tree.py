@@ -156,7 +156,7 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
                           min_component_length: float = 60.0, root="thickest",
                           scale: float = 1.0, smooth: float = 4.0,
                           smooth_radius: float = 8.0, image_shape=None, region=None,
-                          spur_factor: float = 2.0, joins=None) -> Structure:
+                          spur_factor: float = 2.0, joins=None, close_cycles: float = 0.0) -> Structure:
     """Convert a one-pixel skeleton into a tree of branches.
 
     Each connected piece becomes one tree: a root end point is chosen
@@ -219,6 +219,13 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
         (drawn strokes broken at junctions and crossings). The piece touches
         no other pixel: a join through a crossing passes under the stroke
         it crosses.
+    close_cycles : float, default 0.0
+        Beyond the paper: close again every cycle of the skeleton at least
+        this long (full-size pixels of loop) that the shortest-path tree cut,
+        by a *join* branch: a child of the branch on one side of the cut that
+        follows the skeleton across it and ends on a vertex of the branch on
+        the other side (``branchnb.branching.skeleton_cycles``), so a
+        crack network's cells stay closed. 0 = off (every cycle stays cut).
 
     Returns
     -------
@@ -237,6 +244,13 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
     ...                                joins=[((24, 40), (20, 40), False)])
     >>> len(joined.branches), joined.branches[1].parent
     (2, 0)
+    >>> ring = np.zeros((60, 60), bool); ring[10, 10:50] = ring[49, 10:50] = True
+    >>> ring[10:50, 10] = ring[10:50, 49] = True                       # one closed square cell
+    >>> s = skeleton_to_structure(ring, np.full(ring.shape, 1.5), close_cycles=40.0)
+    >>> img = s.render((60, 60))[..., 0] < 0.5
+    >>> from scipy import ndimage as ndi
+    >>> int(ndi.label(~img)[1])                                        # inside and outside
+    2
     """
     sk = np.asarray(skeleton).astype(bool)
     rad = np.asarray(radius, np.float64)
@@ -389,7 +403,40 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
             rp[0] = parent_b.points[v]
             built.append(Branch(rp, np.maximum(rr, 0.5), new_index[par], v))
         new_index[bi] = len(built) - 1
+    if close_cycles > 0 and built:
+        built += _cycle_joins(g, pred, dist, paths, new_index, built, pts_full, r_full,
+                              close_cycles * scale, h, scale * smooth, scale * smooth_radius)
     return Structure(built, image_shape=out.image_shape)
+
+
+def _cycle_joins(g, pred, dist, paths, new_index, built, pts_full, r_full, min_loop, h, smooth,
+                 smooth_radius) -> list[Branch]:
+    """Join branches closing the cycles the tree cut (see ``close_cycles`` and :mod:`.skeleton_cycles`)."""
+    from .skeleton_cycles import cycle_chains
+
+    on_built = np.full(len(pts_full), -1, np.int64)
+    for bi, (path, _par, _pvx) in enumerate(paths):
+        if bi in new_index:
+            on_built[path] = new_index[bi]
+    out = []
+    for nodes, b0, b1 in cycle_chains(g, pred, dist, on_built, min_loop):
+        pts, r = pts_full[nodes], r_full[nodes]
+        if len(pts) >= 3 and smooth > _NO_BLUR:
+            sm = ndi.gaussian_filter1d(pts, smooth, axis=0, mode="nearest")
+            sm[0], sm[-1] = pts[0], pts[-1]
+            pts = sm
+        # the radius of the lines it joins (the distance transform swells where they meet)
+        rr = float(np.median(r))
+        rp = resample_uniform(pts, h, include_end=True) if polyline_length(pts) >= h else pts[[0, -1]]
+        rp = np.array(rp, np.float64)
+        first, last = built[b0].points, built[b1].points
+        v = int(np.argmin(np.hypot(*(first - rp[0]).T)))
+        rp[0] = first[v]
+        rp[-1] = last[int(np.argmin(np.hypot(*(last - rp[-1]).T)))]
+        if len(rp) < 2 or np.allclose(rp[0], rp[-1]):
+            continue
+        out.append(Branch(rp, np.full(len(rp), max(rr, 0.5)), b0, v))
+    return out
 
 
 #: Gaussian sigmas (pixels) below this are no smoothing (scipy divides by a vanishing sigma).

@@ -106,7 +106,8 @@ def joint_roots(index, attached, junctions, window: float) -> list[tuple]:
     -------
     list of tuple
         ``(centre, 2 x 3 target->source map, radius, clip stroke, clip half width,
-        source map)`` for :func:`hold_joint_bodies`: the disk round the junction that reaches the
+        source map, the parent's target->source map)`` for
+        :func:`hold_joint_bodies`: the disk round the junction that reaches the
         exit, clipped to the child's target tube (its half width at the exit less
         1 px: the edges stay as synthesized).
 
@@ -175,7 +176,11 @@ def joint_roots(index, attached, junctions, window: float) -> list[tuple]:
             ok[inb] &= index.premult[y[inb], x[inb], 3] >= 0.98
             return sx, sy, ok
 
-        out.append((centre, inv, reach_t + hw, clip, hw, own))
+        # behind the junction only over the parent's flesh: across it lies its far side
+        pf = rigid_frame(par.source, par.target, float(par.source_arc_length(jn.parent_s)), float(jn.parent_s),
+                         window=3.0)
+        behind = np.hstack([pf[:, :2].T, (-pf[:, :2].T @ pf[:, 2])[:, None]])
+        out.append((centre, inv, reach_t + hw, clip, hw, own, behind))
     return out
 
 
@@ -193,8 +198,11 @@ def hold_joint_bodies(layer: np.ndarray, source_premult: np.ndarray, source_dept
         The source silhouette's depth (distance to the background).
     disks : list of tuple
         From :func:`joint_disks` or :func:`joint_roots`: ``(centre, map, radius)``,
-        optionally a clip stroke and half width (target side) and a map of the
-        source coordinates ``(sx, sy) -> (sx, sy, usable)`` (source side).
+        optionally a clip stroke and half width (target side: the pixels within
+        the half width of the stroke), a map of the source coordinates
+        ``(sx, sy) -> (sx, sy, usable)`` (source side) and the parent's 2 x 3
+        target -> source map: behind the clip stroke's start only the pixels
+        it maps into the source's flesh (``source_depth > 0``) are filled.
     depth : (H, W) ndarray, optional
         Source depth of every target pixel; updated in place where a
         disk fills a pixel that had alpha < 0.5.
@@ -239,8 +247,21 @@ def hold_joint_bodies(layer: np.ndarray, source_premult: np.ndarray, source_dept
         if not inside.any():
             continue
         if clip:
-            _, d = clip[0].project(np.c_[xx[inside], yy[inside]].astype(float))
-            inside[inside] = d <= clip[1]
+            # within the half width of the clip stroke, and behind its start only over the
+            # parent's flesh (a thin child whose smoothed width is its blade's, a petiole,
+            # left a stub on its twig's far edge; a new branch a knob on its trunk's)
+            q = np.c_[xx[inside], yy[inside]].astype(float)
+            s, d = clip[0].project(q)
+            keep = d <= clip[1]
+            back = keep & (s <= 0) & (d > 0.5)
+            if len(clip) > 3 and back.any():
+                # behind the start: only where the parent's frame finds its source's flesh
+                px, py = np.rint(q[back] @ clip[3][:, :2].T + clip[3][:, 2]).astype(int).T
+                hs, ws = source_depth.shape
+                ok = (px >= 0) & (px < ws) & (py >= 0) & (py < hs)
+                ok[ok] = source_depth[py[ok], px[ok]] > 0
+                keep[np.flatnonzero(back)[~ok]] = False
+            inside[inside] = keep
         yy, xx = yy[inside], xx[inside]
         sx = inv[0, 0] * xx + inv[0, 1] * yy + inv[0, 2]
         sy = inv[1, 0] * xx + inv[1, 1] * yy + inv[1, 2]

@@ -95,15 +95,21 @@ def outline_style(premult: np.ndarray, depth: np.ndarray) -> OutlineStyle | None
     if (solid & (d >= 3)).sum() < 20:
         return None
     rgb = premult[..., :3] / np.maximum(alpha, 1e-6)[..., None]
-    rim = np.median(rgb[solid & (d == 1)], axis=0)
+    # the outermost solid ring (the first, or the second or third on a soft-edged source,
+    # e.g. upscaled, whose first ring is all below alpha 0.9: its median was NaN, and
+    # NaN ran into the whole result)
+    first = next((k for k in (1, 2, 3) if (solid & (d == k)).sum() >= 10), None)
+    if first is None:
+        return None
+    rim = np.median(rgb[solid & (d == first)], axis=0)
     deep = solid & (d >= _MAX_OUTLINE // 2 + 1) & (d <= 2 * _MAX_OUTLINE)
     if deep.sum() < 20:
         deep = solid & (d >= 3)
     inner = np.median(rgb[deep], axis=0)
     if float(np.linalg.norm(rim - inner)) < _CONTRAST:
         return None
-    width = 1.0
-    for k in range(2, _MAX_OUTLINE + 1):
+    width = float(first)
+    for k in range(first + 1, _MAX_OUTLINE + 1):
         ring = solid & (d == k)
         if ring.sum() < 10:
             break
@@ -372,9 +378,12 @@ def fill_joints(layer: np.ndarray, joints, radii, *, pockets=None, inner: int = 
         b0, b1 = max(int(x) - cr, c0) - c0, min(int(x) + cr + 1, c1) - c0
         closed = np.zeros_like(m)
         closed[a0:a1, b0:b1] = _disk_closing(m[a0:a1, b0:b1], k)
-        yy, xx = np.ogrid[r0:r1, c0:c1]
-        near = np.hypot(xx - x, yy - y) <= r
-        new = closed & ~m & near
+        # within r of the joint: inside the closing's box (cr > r), zero elsewhere
+        near = np.zeros_like(m)
+        yy, xx = np.ogrid[r0 + a0:r0 + a1, c0 + b0:c0 + b1]
+        near[a0:a1, b0:b1] = np.hypot(xx - x, yy - y) <= r
+        new = np.zeros_like(m)
+        new[a0:a1, b0:b1] = closed[a0:a1, b0:b1] & ~m[a0:a1, b0:b1] & near[a0:a1, b0:b1]
         if not new.any():
             continue
         if out is None:

@@ -14,6 +14,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from .composition import PlacedPatch, compose, labelling_cost, seam_mask
+from .crotches import _child_width, new_crotches, round_crotches
 from .edit import FETCH_FIELDS, EditPatches, StrokeEditParams, StrokeEditResult, StrokeSamples, _check_edit_params
 from .joints import close_hairlines, hold_joint_bodies, joint_disks, joint_roots
 from .junctions import far_side
@@ -160,9 +161,19 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
             if layer is not old:
                 # only the wedges along the children (no bridge to a neighbouring part)
                 changed = layer[:, :, 3] != old[:, :, 3]
-                away = changed & ~_along_children(wide, attached, old.shape[:2], changed)
+                away = changed & ~_along_children(wide, attached, old.shape[:2], changed, index)
                 layer[away] = old[away]
             filled = (layer[:, :, 3] > 0.5) & ~before
+        # crotches nobody drew (a new branch, a turned limb) rounded like the source's own
+        tol = patches._auto.get("junction_tolerance", params.junction_tolerance)
+        fresh, fillet = new_crotches(index, attached, junctions, tol)
+        if fresh and fillet is not None and fillet > _POCKET:
+            before = layer[:, :, 3] > 0.5
+            layer = round_crotches(layer, fresh, attached, [j for j in joints if j[3] in fresh], fillet,
+                                   inner=0 if style is None else int(np.ceil(style.width)) + 1,
+                                   half_widths=[_child_width(index, jn.child) for jn in fresh])
+            rounded = (layer[:, :, 3] > 0.5) & ~before
+            filled = rounded if filled is None else filled | rounded
         if style is not None:
             depth = source_depth(comp.labels, [pp.source_map for pp in placed], index.depth)
             depth = np.where(held, held_depth, depth)
@@ -246,29 +257,64 @@ def _inside_parent(index, attached, jn, origin, size: int, cache: dict | None = 
         got = (cKDTree(pts), hw, fwd, pts.min(axis=0), pts.max(axis=0))
         if cache is not None:
             cache[key] = got
-    tree, hw, fwd, lo, hi = got
+    tree, hw, fwd, lo, hi = got[:5]
     reach = hw - 1.5
     if reach < 0 or (np.asarray(origin) + size < lo - reach).any() or (np.asarray(origin) > hi + reach).any():
         return np.zeros((size, size), bool)  # the patch's square is nowhere near the parent
-    yy, xx = np.mgrid[0:size, 0:size]
-    q = np.c_[xx.ravel() + origin[0], yy.ravel() + origin[1]].astype(float)
+    if cache is None:
+        yy, xx = np.mgrid[0:size, 0:size]
+        q = np.c_[xx.ravel() + origin[0], yy.ravel() + origin[1]].astype(float)
+        return _inside_points(index, tree, reach, fwd, q).reshape(size, size)
+    if len(got) == 5:
+        # a map of the pixels that can be within reach of the parent, filled as patches ask
+        # (they overlap: each pixel is computed once per junction, not once per patch)
+        x0, y0 = (np.floor(lo - reach) - 1).astype(int)
+        x1, y1 = (np.ceil(hi + reach) + 2).astype(int)
+        got = cache[key] = (*got, (x0, y0), np.zeros((y1 - y0, x1 - x0), bool),
+                            np.zeros((y1 - y0, x1 - x0), bool))
+    (x0, y0), box, done = got[5], got[6], got[7]
+    out = np.zeros((size, size), bool)
+    ox, oy = int(origin[0]), int(origin[1])
+    a0, a1 = max(oy, y0), min(oy + size, y0 + box.shape[0])
+    b0, b1 = max(ox, x0), min(ox + size, x0 + box.shape[1])
+    if a0 < a1 and b0 < b1:
+        sub = (slice(a0 - y0, a1 - y0), slice(b0 - x0, b1 - x0))
+        todo = ~done[sub]
+        if todo.any():
+            ty, tx = np.nonzero(todo)
+            q = np.c_[tx + b0, ty + a0].astype(float)
+            box[sub][ty, tx] = _inside_points(index, tree, reach, fwd, q)
+            done[sub] = True
+        out[a0 - oy:a1 - oy, b0 - ox:b1 - ox] = box[sub]
+    return out
+
+
+def _inside_points(index, tree, reach: float, fwd: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """:func:`_inside_parent` at the pixels ``q`` ((N, 2) ``(x, y)``)."""
     d, _ = tree.query(q, distance_upper_bound=reach + 1e-9)
     inside = d <= reach
     if inside.any():
         src = (q[inside] - fwd[:, 2]) @ fwd[:, :2]  # the inverse rigid map, row-wise
         x, y = np.rint(src).astype(int).T
-        h, w = index.shape
-        ok = (x >= 0) & (x < w) & (y >= 0) & (y < h)
+        hs, ws = index.shape
+        ok = (x >= 0) & (x < ws) & (y >= 0) & (y < hs)
         flesh = np.zeros(len(x), bool)
         flesh[ok] = index.object[y[ok], x[ok]]
         inside[np.flatnonzero(inside)[~flesh]] = False
-    return inside.reshape(size, size)
+    return inside
 
 
-def _along_children(wide, attached, shape, where: np.ndarray | None = None) -> np.ndarray:
+def _along_children(wide, attached, shape, where: np.ndarray | None = None, index=None) -> np.ndarray:
     """Pixels within ``3 r`` (r: the joint's closing radius, half the child's half width,
     so 1.5 child widths) of a wide joint's child target stroke, near the joint (only
-    among the pixels ``where``, if given: the others are False)."""
+    among the pixels ``where``, if given: the others are False).
+
+    With ``index``, only pixels whose source under the parent's frame at the junction
+    was the object (within 2 px): the wedge a turned child leaves at its parent's side
+    was flesh (the child's old root); the V between the child and a neighbour it was
+    turned toward was not (a starfish's arm turned toward the next: the closing webbed
+    the V, 215 px outside the silhouette at 1000 px).
+    """
     h, w = shape
     out = np.zeros((h, w), bool)
     for point, reach, r, jn in wide:
@@ -284,9 +330,30 @@ def _along_children(wide, attached, shape, where: np.ndarray | None = None) -> n
             yy, xx = yy + r0, xx + c0
         if not yy.size:
             continue
-        _, d = attached[jn.child].target.project(np.c_[xx.ravel(), yy.ravel()])
-        out[yy, xx] |= d.reshape(yy.shape) <= 3.0 * r
+        q = np.c_[xx.ravel(), yy.ravel()].astype(float)
+        _, d = attached[jn.child].target.project(q)
+        ok = d <= 3.0 * r
+        if index is not None and ok.any():
+            parent = attached[jn.parent]
+            fwd = rigid_frame(parent.source, parent.target, float(parent.source_arc_length(jn.parent_s)),
+                              float(jn.parent_s), window=3.0)
+            sx, sy = np.rint((q[ok] - fwd[:, 2]) @ fwd[:, :2]).astype(int).T
+            ok[np.flatnonzero(ok)[~_near_object(index.object, sx, sy)]] = False
+        out[yy, xx] |= ok.reshape(yy.shape)
     return out
+
+
+def _near_object(obj: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Whether each pixel ``(x, y)`` lies within 2 px (city block) of ``obj`` (False off the image):
+    ``binary_dilation(obj, iterations=2)`` read at those pixels only."""
+    h, w = obj.shape
+    out = np.zeros(len(x), bool)
+    for dy in range(-2, 3):
+        for dx in range(-2 + abs(dy), 3 - abs(dy)):
+            xx, yy = x + dx, y + dy
+            on = (xx >= 0) & (xx < w) & (yy >= 0) & (yy < h) & ~out
+            out[on] = obj[yy[on], xx[on]]
+    return out & (x >= 0) & (x < w) & (y >= 0) & (y < h)
 
 
 def _pocket(index, jn) -> float | None:

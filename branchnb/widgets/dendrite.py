@@ -108,7 +108,7 @@ PAREIDOLIA_SECTIONS = [
                                   "cost_weight", "epsilon", "intensity_weight", "gradient_weight"]),
     ("growth", ["iterations", "trunk_endpoints", "blend_weight", "trunk_height", "rise"]),
     ("widths", ["thickness", "window", "emphasis", "tone", "tip_width", "increment", "pipe", "max_width",
-                "limb_length", "limb_width", "taper", "slim", "tone_sigma", "contrast", "refine"]),
+                "limb_length", "limb_width", "taper", "slim", "tone_sigma", "contrast", "refine", "cover"]),
 ]
 PAREIDOLIA_LABELS = {
     "side": ("image side", ""), "n_endpoints": ("image endpoints", "N"),
@@ -128,7 +128,7 @@ PAREIDOLIA_LABELS = {
     "taper": ("twig taper length", ""), "slim": ("slim twig ends", ""), "tone_sigma": ("tone scale", ""),
     "max_upscale": ("max image px / lattice px", ""), "max_lattice": ("largest lattice", ""),
     "contrast": ("crown contrast stretch", ""), "refine": ("tone passes at output size", ""),
-    "rise": ("twigs grow up", ""),
+    "rise": ("twigs grow up", ""), "cover": ("dark-region ink cover", ""),
 }
 
 
