@@ -182,7 +182,7 @@ def test_silhouettes_and_photographs_are_not_outlined():
 
 def test_choose_on_a_coarse_grid_picks_sources_without_blending(drawn_lib, monkeypatch):
     # Large trees cut their seams on a grid f times coarser (speed); here f = 4 at 128 px.
-    import branchnb.trees.mvc as mvc
+    import branchnb.trees.mvc_pick as mvc
 
     full = make_variation(drawn_lib, [0.5, 0.5, 0, 0], colour_weights=[0.5, 0.5, 0, 0],
                           colour_mode="choose", choose_by="regions", rng=4)

@@ -67,16 +67,16 @@ def test_drawn_samples_keep_inner_outlines_from_the_side(name, size):
     assert f["recall"] >= 0.9 and f["smear"] <= 0.005, f
 
 
-def test_cards_are_the_default_and_fall_back_where_they_leave_sky():
-    # A fruit tree with a leaf pile (fruits in notches of the silhouette): whole cards showed sky
-    # from the side (rim ink 0.965 -> 0.947 at 45 degrees, 96 px), so the default build is the
-    # superpixel cloud, exactly as with drawn_cards=False.
+def test_cards_are_the_default_and_fall_back_where_they_lose_outlines():
+    # A conifer whose tiers turn apart from the side (conifer_0_s11, 96 px): its cards keep 0.54 of
+    # the inner outlines at 90 degrees, the superpixel cloud 1.0, so the default build is the
+    # superpixel cloud, exactly as with drawn_cards=False. (A fruit tree with a leaf pile fell back
+    # here before its split base fill was joined: tests/test_trees_cards_cost.py.)
     assert BillboardParams().drawn_cards
-    (name, img), = drawn_trees((True,), kinds=("fruit",), rng=0, size=96)
-    assert name == "fruit_pile_0"
+    img = dict(drawn_trees((False,), rng=11, size=96))["conifer_0"]
     new = billboard_cloud(img, params=BillboardParams(max_size=96), rng=0)
     old = billboard_cloud(img, params=BillboardParams(max_size=96, drawn_cards=False), rng=0)
-    assert new.n_billboards == old.n_billboards > 100
+    assert new.n_billboards == old.n_billboards
     assert np.array_equal(new.centers, old.centers)
     assert all(np.array_equal(a, b) for a, b in zip(new.textures, old.textures))
 

@@ -474,17 +474,17 @@ def measure_ground(size: int = 192) -> None:
 
 
 def measure_speed(size: int = 512) -> None:
-    from . import mvc
+    from . import mvc_pick
     from .drawn import drawn_trees
 
     lib = TreeLibrary(size=size)
     for name, img in drawn_trees(rng=0, size=size):
         lib.add(img, name)
     make_variation(lib, rng=0, colour_mode="choose")
-    side = mvc.CHOOSE_CUT_SIDE
+    side = mvc_pick.CHOOSE_CUT_SIDE
     try:
         for label, s in (("full grid", 10 ** 9), (f"coarse grid ({side} px)", side)):
-            mvc.CHOOSE_CUT_SIDE = s
+            mvc_pick.CHOOSE_CUT_SIDE = s
             ts = []
             for r in range(8):
                 t0 = time.perf_counter()
@@ -492,7 +492,7 @@ def measure_speed(size: int = 512) -> None:
                 ts.append(time.perf_counter() - t0)
             print(f"choose, {size} px, {label}: median {np.median(ts):.3f} s, min {min(ts):.3f} s")
     finally:
-        mvc.CHOOSE_CUT_SIDE = side
+        mvc_pick.CHOOSE_CUT_SIDE = side
 
 
 def autumn(image, shift: float = -80.0) -> np.ndarray:

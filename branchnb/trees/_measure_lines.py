@@ -22,6 +22,7 @@ import numpy as np
 
 def measure(sizes=(96, 200, 512), groups=("rpg", "clip", "ground", "drawn"), drawn_cards=True, only=None):
     from ..core.image import composite_over
+    from . import billboard as _bb
     from ._measure_sides import trees
     from .billboard import BillboardParams, billboard_cloud
     from .lod import bake_side_outline, engine_view, reduce_cloud
@@ -29,16 +30,28 @@ def measure(sizes=(96, 200, 512), groups=("rpg", "clip", "ground", "drawn"), dra
     from .outline import floating_ink, rim_ink_share, silhouette_outline
     from .side_lines import side_line_figures
 
+    held = []
+    check = _bb.cards_hold
+
+    def _hold(*a, **k):
+        held.append(check(*a, **k))
+        return held[-1]
+
+    _bb.cards_hold = _hold
     rows = []
     for size in sizes:
         for name, img in trees(groups, size, only):
             t0 = time.process_time()
+            held.clear()
             cloud = billboard_cloud(img, params=BillboardParams(max_size=size, drawn_cards=drawn_cards), rng=0)
+            t_build = time.process_time() - t0
+            used = "-" if not held else ("cards" if held[-1] else "FALLBACK")
             baked = bake_side_outline(cloud)
             front = composite_over(engine_view(baked, 0.0, crop="image"), (1, 1, 1))
             ref = composite_over(cloud.image, (1, 1, 1))
             psnr = 10 * np.log10(1.0 / max(float(np.mean((front - ref) ** 2)), 1e-10))
-            r = {"name": name, "size": size, "psnr": psnr, "bb": cloud.n_billboards}
+            r = {"name": name, "size": size, "psnr": psnr, "bb": cloud.n_billboards, "cards": used,
+                 "build": t_build}
             f45, f90 = side_line_figures(baked, 45.0), side_line_figures(baked, 90.0)
             r.update(lines=f45["lines"], rec45=f45["recall"], rec90=f90["recall"], sm45=f45["smear"],
                      sm90=f90["smear"])
@@ -59,7 +72,7 @@ def measure(sizes=(96, 200, 512), groups=("rpg", "clip", "ground", "drawn"), dra
                  f"recall 45 {r['rec45']:.3f} 90 {r['rec90']:.3f} smear 45 {r['sm45']:.3f} 90 {r['sm90']:.3f}")
             if "rim" in r:
                 s += f" | rim 45 full {r['rim']:.3f} reduced {r['rrim']:.3f} floating {r['floating']}"
-            print(s + f" | {time.process_time() - t0:.1f} s", flush=True)
+            print(s + f" | {used} build {t_build:.1f} s | {time.process_time() - t0:.1f} s", flush=True)
     lined = [r for r in rows if r["lines"] >= 20]
     if lined:
         for k in ("rec45", "rec90", "sm45", "sm90"):
@@ -72,6 +85,8 @@ def measure(sizes=(96, 200, 512), groups=("rpg", "clip", "ground", "drawn"), dra
             worst = min(rim, key=lambda r: r[k])
             print(f"{k}: mean {np.mean(v):.3f} min {min(v):.3f} ({worst['name']} {worst['size']}), "
                   f"{sum(x < 0.92 for x in v)} of {len(v)} below 0.92")
+    print(f"build CPU {sum(r['build'] for r in rows):.1f} s; "
+          f"fallbacks {[(r['name'], r['size']) for r in rows if r['cards'] == 'FALLBACK']}")
     print(f"floating {sum(r.get('floating', 0) for r in rows)}; front PSNR min "
           f"{min(r['psnr'] for r in rows):.1f}")
     return rows

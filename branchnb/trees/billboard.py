@@ -611,10 +611,16 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
         # Whole cards only where they hold up from the side (billboard_cards.cards_hold).
         again = type(rng.bit_generator)()
         again.state = rng_state
-        plain = billboard_cloud(rgba, seg if seg is not None else trunk, replace(p, drawn_cards=False),
-                                rng=np.random.Generator(again))
+        built: list = []
+
+        def plain():
+            # Built only when the cards are not good outright (billboard_cards.cards_hold).
+            built.append(billboard_cloud(rgba, seg if seg is not None else trunk, replace(p, drawn_cards=False),
+                                         rng=np.random.Generator(again)))
+            return built[0]
+
         if not cards_hold(cloud, plain):
-            return plain
+            return built[0] if built else plain()
     return cloud
 
 

@@ -347,6 +347,10 @@ def _fit_cards(z, labels, cards, crown, hmap, axis: float, outline: float = 0.0)
     return z
 
 
+#: Cards are joined by their flat fill's median colour (:func:`_join_cards`), not their mean colour.
+_FILL_COLOUR = True
+
+
 def _join_cards(z, labels, cards, rgb, reach: float, tol: float = 0.06, groups_out: list | None = None) -> np.ndarray:
     """One depth for the cards of one fill colour that meet across a stroke.
 
@@ -366,6 +370,16 @@ def _join_cards(z, labels, cards, rgb, reach: float, tol: float = 0.06, groups_o
     idx = labels.ravel()
     cnt = np.maximum(np.bincount(idx, minlength=n), 1).astype(np.float64)
     mean = np.stack([np.bincount(idx, weights=rgb[..., c].ravel(), minlength=n) / cnt for c in range(3)], 1)
+    if _FILL_COLOUR:
+        # A card's fill colour: the median over its flat pixels (3 x 3 colour span <= tol). The
+        # mean took in its strokes, so a thin piece of a base fill cut off by a clump touching the
+        # silhouette (mostly outline) read darker than the rest of the fill and stayed apart.
+        span = (ndi.maximum_filter(rgb, size=(3, 3, 1)) - ndi.minimum_filter(rgb, size=(3, 3, 1))).max(axis=2)
+        flat = span <= tol
+        for k in ks:
+            m = (labels == k) & flat
+            if m.sum() >= 4:
+                mean[k] = np.median(rgb[m], axis=0)
     parent = {int(k): int(k) for k in ks}
 
     def find(k):

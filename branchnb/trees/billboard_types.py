@@ -89,14 +89,14 @@ class BillboardParams:
         shapes in a notch of the silhouette or between pieces of a split
         base fill leave sky when they move in depth (rim ink 0.97 -> 0.87
         at 45 degrees on a fruit tree with a leaf pile). So the card cloud
-        is kept only when it is no worse from the side than the superpixel
-        cloud of the same tree
+        is kept only when it is good from the side, or no worse there than
+        the superpixel cloud of the same tree
         (:func:`~branchnb.trees.billboard_cards.cards_hold`: inner-outline
         recall at 45 and 90 degrees, rim ink of the full and reduced levels
         at 45 degrees, front PSNR >= 30 dB); otherwise the superpixel cloud
-        is returned, exactly as with ``drawn_cards=False``. The check builds
-        both clouds and draws them, so such crowns take about three times
-        as long to build.
+        is returned, exactly as with ``drawn_cards=False``. The check draws
+        the card cloud from the side; the superpixel cloud is built and
+        drawn too only when the cards are not good outright.
     line_width : float
         Widest stroke taken for line art, as a fraction of the tree's size
         (0 disables line art).
