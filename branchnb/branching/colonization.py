@@ -452,6 +452,9 @@ class SegmentStore:
     cell : float, default 16.0
         Side (pixels) of the grid buckets a crossing test reads: only the
         segments whose bounding box meets the candidate's cells are tested.
+    shape : tuple of int, optional
+        (height, width) of the frame the segments lie in, which sizes the
+        grid; None = 4096 x 4096.
 
     Examples
     --------

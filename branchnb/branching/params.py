@@ -261,14 +261,6 @@ class ExtractionParams:
         interlace are joined across paper gaps up to this many pixels beyond
         half the line's width, where their directions continue (see
         :func:`~branchnb.branching.stroke_joins.find_stroke_joins`); 0 = never.
-    centre_reach : float, default 1.0
-        Beyond the paper: every traced vertex moves up to this many pixels
-        across its branch onto the crest of the line it traces (sub-pixel
-        centre lines, :func:`~branchnb.branching.centring.centre_on_lines`);
-        a skeleton on pixel centres ran a fraction of a pixel beside thin
-        lines (1-2 px rivers, capillaries), which then read as paler than
-        they are. 0 = off. Binary masks (traced by their medial axis) are
-        not moved.
     close_cycles : float, default 40.0
         Beyond the paper: the tree of branches cuts every cycle of the traced
         lines once (where the fronts of its shortest paths meet) and the spur
@@ -280,6 +272,14 @@ class ExtractionParams:
         other side. 0 = off. Binary masks (a delta's braided channels, traced
         by their medial axis) keep the tree: closing their braids misplaces the
         sea the region layout puts off their mouths.
+    centre_reach : float, default 1.0
+        Beyond the paper: every traced vertex moves up to this many pixels
+        across its branch onto the crest of the line it traces (sub-pixel
+        centre lines, :func:`~branchnb.branching.centring.centre_on_lines`);
+        a skeleton on pixel centres ran a fraction of a pixel beside thin
+        lines (1-2 px rivers, capillaries), which then read as paler than
+        they are. 0 = off. Binary masks (traced by their medial axis) are
+        not moved.
     """
 
     filter: str = param("sato", options=("sato", "frangi", "meijering"),
