@@ -96,7 +96,7 @@ from ..core.params import check_params
 from ..core.random import as_rng
 from ..core.sampling import stipple
 from ..core.validate import checked
-from .billboard_cards import _nest_cards, _underpaint, cards_hold, has_inner_outlines
+from .billboard_cards import _nest_cards, _underpaint, cards_hold, crown_inlay, flat_fill_cards, has_inner_outlines
 from .billboard_layers import _cut, _recolour, _same_colour_overlap, _shading, _trim, _trunk_strips
 from .billboard_lines import _LUM3, _colour_span3, _fill_lines, _line_masks, _outer_lines, line_art
 from .billboard_shapes import (
@@ -148,6 +148,9 @@ __all__ = [
 
 #: Whether a card crown is checked against the superpixel cloud (billboard_cards.cards_hold).
 _CHECK_CARDS = True
+#: A flat-fill crown in a thick outline band without inner strokes (an RPG sprite) is built from
+#: cards too (billboard_cards.flat_fill_cards), its trunk inlaid where it runs inside the crown.
+_FLAT_CARDS = True
 
 
 
@@ -269,6 +272,10 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
     # 1-2. Superpixels with natural outlines; on drawn trees the drawn shapes.
     regions = p.drawn_regions and lines.any()
     all_cards = bool(regions and p.drawn_cards and has_inner_outlines(lines, crown, opaque))
+    # Beyond the paper: a flat fill in a thick outline band (no inner strokes) is cards too.
+    flat_cards = bool(_FLAT_CARDS and regions and p.drawn_cards and not all_cards
+                      and flat_fill_cards(work, crown, lines))
+    all_cards = all_cards or flat_cards
     card_holes: dict = {}
     card_owner: dict = {}
     if regions:
@@ -419,6 +426,20 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
                 sl = objs[k - 1]
                 objs[k - 1] = (slice(min(sl[0].start, ys.min()), max(sl[0].stop, ys.max() + 1)),
                                slice(min(sl[1].start, xs.min()), max(sl[1].stop, xs.max() + 1)))
+    inlay_lab = None
+    if flat_cards and regions:
+        # The trunk's pixels inside the crown's rows go on the nearest card: on their own strips,
+        # turning about other centres, they would open sky in the card's notches from the side.
+        inlay = crown_inlay(crown_ext, trunk_ext & ~ground_w)
+        if inlay.any():
+            inlay_lab = np.where(inlay, _extend(np.where(np.isin(sp_ext, np.flatnonzero(card)), sp_ext, 0),
+                                                crown_ext | inlay), 0)
+            objs = list(objs)
+            for k, sl in enumerate(ndi.find_objects(inlay_lab), start=1):
+                if sl is not None and k - 1 < len(objs) and objs[k - 1] is not None:
+                    o = objs[k - 1]
+                    objs[k - 1] = (slice(min(o[0].start, sl[0].start), max(o[0].stop, sl[0].stop)),
+                                   slice(min(o[1].start, sl[1].start), max(o[1].stop, sl[1].stop)))
     for k, sl in enumerate(objs, start=1):
         if sl is None or not valid[k]:
             continue
@@ -433,6 +454,8 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
             sl, keep = _same_colour_overlap(work, sp_ext, k, sl, same_ok, r_over, p.overlap_tolerance)
         else:
             keep = sp_ext[sl] == k
+        if inlay_lab is not None and card[k]:
+            keep = keep | (inlay_lab[sl] == k)
         if regions and not shapes[k]:
             keep = keep & ~owned[sl]
             if not keep.any():

@@ -74,6 +74,85 @@ def has_inner_outlines(lines: np.ndarray, crown: np.ndarray, opaque: np.ndarray)
     return bool(inner.sum() / max(1.0, 2.0 * half) >= INNER_PER_RADIUS * np.sqrt(area / np.pi))
 
 
+#: Least share of a crown's fill pixels (off the line art) that are flat (3 x 3 colour span at most
+#: 0.04) for :func:`flat_fill_cards`.
+FLAT_FILL_SHARE = 0.8
+
+
+def flat_fill_cards(rgba: np.ndarray, crown: np.ndarray, lines: np.ndarray) -> bool:
+    """Whether a crown without inner strokes is a flat fill in an outline band, built from cards.
+
+    Beyond the paper (issue 24). :func:`has_inner_outlines` asks for
+    strokes inside the crown; an RPG sprite has none: a flat green fill in
+    a thick brown band, whose tiers and lobes are drawn by the band alone,
+    folding in along the silhouette. Split into superpixels, the band's
+    pieces swing across the crown from the side and its tiers melt into
+    one round blob (inner-outline recall 0.11-0.78 at 45 and 90 degrees on
+    mixes of the RPG samples). Such a crown is built from whole cards
+    (one per fill region) when its silhouette is outlined
+    (:func:`~branchnb.trees.outline.silhouette_outline`) and at least
+    :data:`FLAT_FILL_SHARE` of its pixels off the line art are flat
+    (3 x 3 colour span at most 0.04); shaded sprites and photographs are
+    not. :func:`cards_hold` still compares the cards with the superpixel
+    cloud.
+
+    Parameters
+    ----------
+    rgba : (H, W, 4) array
+        The working image, straight RGBA in [0, 1].
+    crown, lines : (H, W) bool arrays
+        Crown pixels and line art (:func:`~branchnb.trees.billboard_lines.line_art`).
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.zeros((40, 40, 4), np.float32); img[4:36, 4:36] = (0.35, 0.2, 0.0, 1.0)
+    >>> img[8:32, 8:32, :3] = (0.0, 0.65, 0.0)              # a green fill in a 4 px brown band
+    >>> lines = np.zeros((40, 40), bool); lines[4:36, 4:8] = lines[4:36, 32:36] = True
+    >>> lines[4:8, 4:36] = lines[32:36, 4:36] = True
+    >>> flat_fill_cards(img, img[..., 3] > 0.5, lines)
+    True
+    """
+    from .billboard_lines import _colour_span3
+    from .outline import silhouette_outline
+
+    crown = np.asarray(crown, bool)
+    free = crown & ~np.asarray(lines, bool)
+    if free.sum() < 16 or not silhouette_outline(rgba).outlined:
+        return False
+    flat = _colour_span3(np.asarray(rgba, np.float32)[:, :, :3]) <= 0.04
+    return bool(flat[free].mean() >= FLAT_FILL_SHARE)
+
+
+def crown_inlay(crown: np.ndarray, trunk: np.ndarray) -> np.ndarray:
+    """Trunk pixels inside the crown's rows (between a row's leftmost and rightmost crown pixel).
+
+    Beyond the paper (issue 24): on a flat-fill crown built from cards
+    (:func:`flat_fill_cards`) they go on the cards, so that branches drawn
+    over the crown turn with it from the side instead of opening sky in
+    its notches.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> crown = np.zeros((5, 7), bool); crown[1:3, 1:6] = True; crown[1:3, 3] = False
+    >>> trunk = np.zeros_like(crown); trunk[1:5, 3] = True
+    >>> crown_inlay(crown, trunk)[:, 3].astype(int).tolist()
+    [0, 1, 1, 0, 0]
+    """
+    crown = np.asarray(crown, bool)
+    trunk = np.asarray(trunk, bool)
+    cols = np.arange(crown.shape[1])
+    has = crown.any(axis=1)
+    left = np.where(has, np.argmax(crown, axis=1), crown.shape[1])
+    right = np.where(has, crown.shape[1] - 1 - np.argmax(crown[:, ::-1], axis=1), -1)
+    return trunk & (cols[None, :] >= left[:, None]) & (cols[None, :] <= right[:, None])
+
+
 def _nest_cards(z: np.ndarray, labels: np.ndarray, card: np.ndarray, opaque: np.ndarray,
                 step: float = 1.0, *, notches: bool = True):
     """Depths with every shape inside a card's hole (or notch) in front of that card.
@@ -248,6 +327,16 @@ GOOD_RECALL = 0.95
 GOOD_RIM = 0.95
 
 
+#: Rim ink share (45 degrees) a card cloud may lose against the superpixel cloud's, below
+#: :data:`GOOD_RIM`, where it keeps at least :data:`RECALL_GAIN` more of the inner outlines at some
+#: check yaw (:func:`cards_hold`). On the RPG sprites (flat fill in a thick band, 200 px) the
+#: reduced level's rim reads 0.937-0.947 with cards against 0.974-0.995, all of it anti-aliased
+#: fringe pixels of the band, while the superpixel cloud keeps 0.0-0.74 of the inner outlines.
+RIM_TRADE = 0.03
+#: Inner-outline recall gain that buys :data:`RIM_TRADE`.
+RECALL_GAIN = 0.2
+
+
 def _good(a: dict) -> bool:
     return (all(a[f"recall{y:g}"] >= GOOD_RECALL and a[f"closed{y:g}"] >= 1.0 - SKY_TOLERANCE
                 for y in CHECK_YAWS) and all(a[k] >= GOOD_RIM for k in ("rim", "rrim") if k in a))
@@ -272,7 +361,9 @@ def cards_hold(cards, plain, *, min_psnr: float = 30.0) -> bool:
     :data:`GOOD_RIM`. Otherwise (only then is the superpixel cloud needed)
     it holds when each figure is no worse than the superpixel cloud's:
     recall no lower, up to :data:`SKY_TOLERANCE` more sky, rim ink no
-    lower or at least :data:`GOOD_RIM`.
+    lower or at least :data:`GOOD_RIM` (less :data:`RIM_TRADE` where the cards keep
+    :data:`RECALL_GAIN` more of the inner outlines at some check yaw; beyond the
+    earlier rule, for flat-fill sprites, :func:`flat_fill_cards`).
 
     Parameters
     ----------
@@ -305,11 +396,13 @@ def cards_hold(cards, plain, *, min_psnr: float = 30.0) -> bool:
         return True
     b = _side_figures(plain() if callable(plain) else plain)
     tol = {"rim": None, "rrim": None}
+    gain = max(a[f"recall{y:g}"] - b[f"recall{y:g}"] for y in CHECK_YAWS)
+    trade = RIM_TRADE if gain >= RECALL_GAIN else 0.0
     for k in b:
         if k == "psnr" or k not in a:
             continue
         if k in tol:
-            ok = a[k] >= min(b[k], GOOD_RIM) - 1e-9
+            ok = a[k] >= min(b[k], GOOD_RIM) - trade - 1e-9
         else:
             ok = a[k] >= b[k] - (SKY_TOLERANCE if k.startswith("closed") else 1e-9)
         if not ok:
