@@ -427,7 +427,15 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
                 objs[k - 1] = (slice(min(sl[0].start, ys.min()), max(sl[0].stop, ys.max() + 1)),
                                slice(min(sl[1].start, xs.min()), max(sl[1].stop, xs.max() + 1)))
     inlay_lab = None
+    flat_pivot = None
     if flat_cards and regions:
+        # The cards turn about the trunk where it leaves the crown (the pivot of the trunk strip
+        # at the crown's lowest row), so the crown stays on its trunk from every side.
+        stem = trunk_ext & ~ground_w
+        crown_rows = np.flatnonzero(crown_ext.any(axis=1))
+        if stem.any() and crown.any() and crown_rows.size:
+            below = [pv for pc, pv in _trunk_strips(stem, H) if np.flatnonzero(pc.any(axis=1)).max() >= crown_rows[-1]]
+            flat_pivot = below[0] if below else None
         # The trunk's pixels inside the crown's rows go on the nearest card: on their own strips,
         # turning about other centres, they would open sky in the card's notches from the side.
         inlay = crown_inlay(crown_ext, trunk_ext & ~ground_w)
@@ -468,6 +476,8 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
                               alpha=work[sl][:, :, 3])
         if all_cards and k in card_owner and _CENTRE_NESTED:
             x0, tex = _centred_on(x0, tex, _card_window(card_owner, k, objs, shape_lines))
+        elif flat_pivot is not None and card[k]:
+            x0, tex = _centred_on(x0, tex, (int(np.floor(flat_pivot)), int(np.ceil(flat_pivot))))
         bid = add(x0, y0, tex, float(z_front[k]), 1.0, FRONT)
         front_tex[k] = (x0, y0, bid, tex_idx[bid])
         zf_map[sl][keep] = z_front[k]
