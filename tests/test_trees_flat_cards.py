@@ -70,7 +70,7 @@ def test_rpg_mix_with_branches_in_the_crown_keeps_its_outlines_from_the_side(mon
 
 
 def test_tiered_rpg_conifer_gets_cards_at_200px():
-    # tree_rpg_05: tiers drawn by the band alone; its cards trade 0.03 of reduced-level rim ink
+    # tree_rpg_05: tiers drawn by the band alone; its cards trade up to 0.07 of reduced-level rim ink
     # (anti-aliased fringe) for recall 0.95 / 1.0 against the superpixel cloud's 0.74 / 0.46.
     img = _resized(data.load("tree_rpg_05"), 200)
     cloud = billboard_cloud(img, params=BillboardParams(max_size=200), rng=0)
