@@ -107,8 +107,20 @@ def crotch_shape(alpha: np.ndarray, point, child, half_width: float, *, reach: f
         where the silhouette turns concavely: the turn in degrees and the
         radius (px) it turns over: along the concave run through the sharpest
         point, the turn ``T`` over the integral of the squared curvature (a fillet of radius ``R`` gives
-        ``R``; a sharp corner, smoothed over 1 px, ``3.5 px / T`` in
+        ``R``; a sharp corner, smoothed over ``s`` px, ``3.5 s / T`` in
         radians; an arc with a kink, between the two, weighted by their turns).
+
+    Notes
+    -----
+    Beyond the paper. The silhouette around ``point`` is first resampled so
+    that ``half_width`` becomes :data:`_MEASURE_HW` px, and the contour's
+    turning is smoothed over :data:`_SIGMA` px there (``s`` above:
+    ``half_width / 8``, at least one source pixel): the same crotch drawn at
+    any size measures the same radius relative to its child (measured at its
+    own pixels, a concave run merged or split with the image's scale). A run
+    is followed across dips of at most :data:`_GAP` px (pixel steps break a
+    faint arc into pieces), and a run whose peak lies outside the side's zone
+    belongs to another corner (it is not this crotch).
 
     Examples
     --------
@@ -270,8 +282,9 @@ def source_fillet(alpha: np.ndarray, junctions, strokes, half_widths, *, min_ang
     -------
     float or None
         None if the source has no such crotch, or if they are sharp (most
-        measure less than twice a sharp corner's radius, ``3.5 px`` over
-        the turn in radians): sharp sources stay sharp.
+        measure less than twice a sharp corner's radius, ``3.5 s`` over
+        the turn in radians, ``s`` the smoothing of :func:`crotch_shape`):
+        sharp sources stay sharp.
 
     Examples
     --------
