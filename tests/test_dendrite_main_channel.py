@@ -152,3 +152,22 @@ def test_wide_top_skips_a_thin_spire():
     assert wide_top(np.zeros((5, 5), bool), 0.03, 0.5) is None
     with pytest.raises(ValueError, match="blur"):
         wide_top(m, 0.0, 0.5)
+
+
+def test_widen_main_path_stops_where_the_channel_turns_back():
+    w = np.full((30, 30), 50.0)
+    w[2:28, 14:16] = 0.0
+    w[27, 14:22] = 0.0
+    w[2:28, 21] = 0.0
+    res = plan(make_lattice(w, rng=0), (21, 2))  # a U: down one leg, up the other
+    d = branch_thickness(build_dendrite(res, [(14, 2), (15, 4), (21, 27)]), mode="share",
+                         min_width=1.0, max_width=6.0)
+    wide = widen_main_path(d, 1.0, 6.0)
+    path = main_path(d)
+    y = d.points[path, 1]
+    bottom = int(np.argmax(y))
+    down = path[:bottom]
+    assert np.all(wide.radius[down] >= 0.5 * (1.0 + 5.0 * 0.5 ** (1 / 8)) - 1e-9)
+    # past the bottom the channel climbs back: share-rule widths
+    up = path[bottom:][y[bottom:] < 20]
+    assert up.size > 5 and np.array_equal(wide.radius[up], d.radius[up])

@@ -290,10 +290,12 @@ def widen_main_path(dendrite: Dendrite, min_width: float, max_width: float, *,
     at every fork, and on a busy picture (a camera man, 54 tips) it faded into
     its side branches a third of the way down, holding under a third of the
     ink once :func:`shortcut_loops` had cut its hairpins. A strike's return
-    stroke stays bright far down: along the main channel the width is at
-    least ``min_width + (max_width - min_width) * q ** (1 / exponent)``; its
-    last twig (one tip, ``q = 0``) stays thin, so a hook at its end does not
-    light up, and side branches keep their widths.
+    stroke stays bright far down: along the main channel, from the root to
+    its node farthest from the root, the width is at least ``min_width +
+    (max_width - min_width) * q ** (1 / exponent)``; its last twig (one tip,
+    ``q = 0``) stays thin, and so does any stretch past the farthest node,
+    where the channel turns back (a hook at its end, a climb up a rocket
+    beside a portrait); side branches keep their widths.
 
     Parameters
     ----------
@@ -306,7 +308,8 @@ def widen_main_path(dendrite: Dendrite, min_width: float, max_width: float, *,
         Exponent (> 0) of the main channel's share;
         ``LIGHTNING_MAIN_EXPONENT`` = 8 by default (2 is the share rule of
         every other channel: no change). With 4 the camera man's main path
-        held 0.34 of the ink (256 px), with 8 0.35, with uniform width 0.39.
+        held 0.34 of the ink (256 px), with 8 0.35, at full width to its tip
+        0.39 (with its last twig lit too).
 
     Returns
     -------
@@ -336,6 +339,10 @@ def widen_main_path(dendrite: Dendrite, min_width: float, max_width: float, *,
     n = np.maximum(dendrite.leaf_count()[path], 1.0)
     q = (n - 1.0) / max(float(n.max()) - 1.0, 1.0)
     floor = 0.5 * (min_width + (max_width - min_width) * q ** (1.0 / exponent))
+    # up to the node farthest from the root: where the channel turns back (up a rocket
+    # beside a portrait, a hook at a tripod's foot) it keeps the share rule's width
+    far = int(np.argmax(np.hypot(*(dendrite.points[path] - dendrite.points[path[0]]).T)))
+    path, floor = path[:far + 1], floor[:far + 1]
     radius = dendrite.radius.astype(np.float64, copy=True)
     radius[path] = np.maximum(radius[path], floor)
     return dendrite.with_radius(radius)

@@ -360,13 +360,13 @@ def metaphor_params(p: StylizeParams, metaphor: str, shape, object_share: float,
     main path from 0.34-0.82 to 0.31-0.82 (the camera man 0.34 -> 0.31): cut short,
     the main channel thinned at every fork and faded into its side branches. Its
     width now follows its share of the tips with the exponent
-    ``LIGHTNING_MAIN_EXPONENT`` = 8 instead of 2
-    (:func:`~branchnb.dendrite.main_channel.widen_main_path`): bright down to its
-    last fork, its last twig thin. On the camera man (256 / 512 / 800 px), a fern
-    photo (600), a spire, a portrait, a cat, a cup, cracked mud, a retina and a tree
-    photo the ink on the main path went from 0.31 / 0.43 / 0.32, 0.41, 0.30 and
-    0.36-0.67 to 0.35 / 0.51 / 0.36, 0.46, 0.40 and 0.44-0.71 (silhouettes 0.76-0.92),
-    the paths and their loops unchanged.
+    ``LIGHTNING_MAIN_EXPONENT`` = 8 instead of 2 down to its node farthest from the
+    seed (:func:`~branchnb.dendrite.main_channel.widen_main_path`): bright down to
+    its last fork, its last twig and any turn back thin. On the camera man (256 /
+    512 / 800 px), a fern photo (600), a spire (400), and a portrait, a cat, a cup,
+    cracked mud, a retina and a tree photo the ink on the main path went from 0.31 /
+    0.43 / 0.32, 0.41, 0.30 and 0.36-0.67 to 0.35 / 0.47 / 0.36, 0.46, 0.38 and
+    0.39-0.68 (silhouettes 0.72-0.91 to 0.72-0.92), the paths and loops unchanged.
 
     ``scale`` is image pixels per lattice pixel; the widths are returned in
     lattice pixels like every length of :class:`StylizeParams`.
