@@ -3,10 +3,11 @@ content is wide and the main channel's hairpins are cut (a fern's ragged tip, th
 prongs on top of a body)."""
 import numpy as np
 import pytest
+from skimage import data
 from skimage.transform import resize
 
-from branchnb.dendrite import build_dendrite, make_lattice, plan, stylize
-from branchnb.dendrite.main_channel import main_path, path_loops, shortcut_loops, wide_top
+from branchnb.dendrite import branch_thickness, build_dendrite, make_lattice, plan, stylize
+from branchnb.dendrite.main_channel import main_path, path_loops, shortcut_loops, wide_top, widen_main_path
 
 
 def _longest_loop(points, diag):
@@ -66,11 +67,58 @@ def test_lightning_main_channel_has_no_loop(make, n):
     diag = float(np.hypot(*img.shape[:2]))
     # before: the seed sat on the topmost thin tip and the widest channel doubled back
     assert _longest_loop(d.points[path], diag) < 0.03
+    assert _main_ink(d) > 0.3
+
+
+def _main_ink(d):
+    """Share of the ink (width x length) on the main path."""
     seg = np.zeros(d.n_nodes)
     has = d.parent >= 0
     seg[has] = np.hypot(*(d.points[has] - d.points[d.parent[has]]).T)
     ink = 2 * d.radius * seg
-    assert ink[path].sum() / ink.sum() > 0.3
+    return float(ink[main_path(d)].sum() / ink.sum())
+
+
+def _spire(n):
+    m = np.zeros((n, n), bool)
+    m[int(0.5 * n):int(0.9 * n), int(0.2 * n):int(0.8 * n)] = True
+    m[int(0.05 * n):int(0.5 * n), int(0.49 * n):int(0.51 * n)] = True
+    return np.where(m[..., None], np.float32(0.1), np.float32(1.0)).repeat(3, -1)
+
+
+@pytest.mark.parametrize("name", ["camera", "spire"])
+def test_lightning_main_path_keeps_its_ink_after_the_cut(name):
+    if name == "camera":  # a busy photo: 54 tips
+        img = resize(data.camera() / 255.0, (256, 256), anti_aliasing=True).astype(np.float32)
+    else:  # the seed sits at the spire's foot, the main path runs round the body
+        img = _spire(400)
+    d = stylize(img, rng=0, metaphor="lightning").dendrite
+    diag = float(np.hypot(*img.shape[:2]))
+    assert _longest_loop(d.points[main_path(d)], diag) < 0.025  # the hairpins stay cut
+    # before: 0.31 (camera) and 0.30 (spire); the uncut bolt held 0.34 on the camera
+    assert _main_ink(d) >= 0.34
+
+
+def test_widen_main_path_raises_the_main_channel_only():
+    res = plan(make_lattice(np.zeros((40, 40)), rng=0), (20, 0))
+    ends = [(2, 39), (6, 38), (12, 39), (20, 39), (27, 39), (33, 38), (38, 39), (20, 20)]
+    d = branch_thickness(build_dendrite(res, ends), mode="share", min_width=1.0, max_width=6.0)
+    w = widen_main_path(d, 1.0, 6.0)
+    path = main_path(d)
+    off = np.setdiff1d(np.arange(d.n_nodes), path)
+    assert np.array_equal(w.radius[off], d.radius[off])  # side branches keep their widths
+    assert np.all(w.radius[path] >= d.radius[path])
+    assert w.radius[path[0]] == pytest.approx(3.0)  # the root stays max_width wide
+    assert w.radius[path[-1]] == pytest.approx(0.5)  # the last twig stays thin
+    n = d.leaf_count()[path]
+    q = (n - 1) / (n.max() - 1)
+    assert np.allclose(w.radius[path], 0.5 * (1.0 + 5.0 * q ** (1 / 8)))
+    assert _main_ink(w) > _main_ink(d)
+    assert np.array_equal(widen_main_path(d, 1.0, 6.0, exponent=2.0).radius, d.radius)
+    with pytest.raises(ValueError, match="max_width"):
+        widen_main_path(d, 3.0, 1.0)
+    with pytest.raises(ValueError, match="exponent"):
+        widen_main_path(d, 1.0, 6.0, exponent=0.0)
 
 
 def test_lightning_seed_sits_where_the_content_is_wide():
@@ -104,3 +152,22 @@ def test_wide_top_skips_a_thin_spire():
     assert wide_top(np.zeros((5, 5), bool), 0.03, 0.5) is None
     with pytest.raises(ValueError, match="blur"):
         wide_top(m, 0.0, 0.5)
+
+
+def test_widen_main_path_stops_where_the_channel_turns_back():
+    w = np.full((30, 30), 50.0)
+    w[2:28, 14:16] = 0.0
+    w[27, 14:22] = 0.0
+    w[2:28, 21] = 0.0
+    res = plan(make_lattice(w, rng=0), (21, 2))  # a U: down one leg, up the other
+    d = branch_thickness(build_dendrite(res, [(14, 2), (15, 4), (21, 27)]), mode="share",
+                         min_width=1.0, max_width=6.0)
+    wide = widen_main_path(d, 1.0, 6.0)
+    path = main_path(d)
+    y = d.points[path, 1]
+    bottom = int(np.argmax(y))
+    down = path[:bottom]
+    assert np.all(wide.radius[down] >= 0.5 * (1.0 + 5.0 * 0.5 ** (1 / 8)) - 1e-9)
+    # past the bottom the channel climbs back: share-rule widths
+    up = path[bottom:][y[bottom:] < 20]
+    assert up.size > 5 and np.array_equal(wide.radius[up], d.radius[up])

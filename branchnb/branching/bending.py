@@ -269,6 +269,34 @@ class BendingModel:
         Q : (J,) ndarray
             ``dist(alpha) * dist(r)``.
         """
+        ha, hr, t, WA, WR = self.history_windows(hist_angles, hist_radii, subset)
+        q = markov_dist(WA, ha) * markov_dist(WR, hr)
+        return t, q
+
+    def history_windows(self, hist_angles, hist_radii, subset=None):
+        """The used end of a history and the candidate windows it is compared with.
+
+        Parameters
+        ----------
+        hist_angles, hist_radii : (L0,) array_like
+            The growing branch's elements so far.
+        subset : int array_like, optional
+            Positions in the list of all windows (:meth:`windows`); None = all.
+
+        Returns
+        -------
+        ha, hr : (L,) ndarray
+            The last ``L = min(L0, max_history)`` angles and radii.
+        t : (J,) int ndarray
+            Candidate windows (index of their last element).
+        WA, WR : (J, L) ndarray
+            The windows' angles and radii.
+
+        Raises
+        ------
+        ValueError
+            If the history is empty.
+        """
         ha = np.asarray(hist_angles, np.float64)
         hr = np.asarray(hist_radii, np.float64)
         L = min(len(ha), self.max_history())
@@ -277,8 +305,7 @@ class BendingModel:
         t, WA, WR = self.windows(L)
         if subset is not None:
             t, WA, WR = t[subset], WA[subset], WR[subset]
-        q = markov_dist(WA, ha[-L:]) * markov_dist(WR, hr[-L:])
-        return t, q
+        return ha[-L:], hr[-L:], t, WA, WR
 
     def continuation_points(self, t: np.ndarray, tip, theta: float) -> np.ndarray:
         """Vertices each candidate would append: ``(J, m, 2)``.

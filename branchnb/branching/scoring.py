@@ -234,14 +234,7 @@ def _compiled_scores(model: StructureModel, hist_a, hist_r, tip, theta: float, p
                      matcher: HistogramMatcher | None, density: DensityMap | None, subset) -> CandidateScores:
     """:func:`score_candidates` without guidance as one compiled pass (:func:`._kernels.score_step`)."""
     bm = model.bending
-    ha = np.asarray(hist_a, np.float64)
-    hr = np.asarray(hist_r, np.float64)
-    L = min(len(ha), bm.max_history())
-    if L < 1:
-        raise ValueError("the history is empty: a branch needs at least one element")
-    t, WA, WR = bm.windows(L)
-    if subset is not None:
-        t, WA, WR = t[subset], WA[subset], WR[subset]
+    ha, hr, t, WA, WR = bm.history_windows(hist_a, hist_r, subset)
     use_hist = matcher is not None and matcher.wG > 0 and matcher.n_nodes > 0
     hm = matcher if use_hist else None
     e1, e2 = np.zeros(1), np.zeros((1, 1))
@@ -253,7 +246,7 @@ def _compiled_scores(model: StructureModel, hist_a, hist_r, tip, theta: float, p
         grid, cell, n_samples = np.zeros((1, 1), np.float32), 1.0, 8
     tip = np.asarray(tip, np.float64)
     Q, score, pts, hf, D_c, cross = _kernels.score_step(
-        t, np.ascontiguousarray(WA), np.ascontiguousarray(WR), ha[-L:].copy(), hr[-L:].copy(),
+        t, np.ascontiguousarray(WA), np.ascontiguousarray(WR), ha.copy(), hr.copy(),
         model.bending.local_points, model.local_dirs, bm.cont_len, float(tip[0]), float(tip[1]), float(theta),
         use_hist, hm.p_a if hm else e1, hm.counts_a if hm else e1, model.cand_counts_a if hm else e2,
         model.cand_sq_a if hm else e1, hm.p_r if hm else e1, hm.counts_r if hm else e1,

@@ -39,7 +39,7 @@ from .dendrite import Dendrite, PathStats, build_dendrite, path_statistics
 from .endpoints import place_endpoints
 from .importance import ImportanceParams, darkness, gradient_strength, importance_map
 from .lattice import Lattice, node_weights
-from .main_channel import straighten, wide_top
+from .main_channel import straighten, wide_top, widen_main_path
 from .planner import METRICS, PlanResult, plan
 from .render import Rendering
 from .scale import resample_to_lattice
@@ -637,6 +637,7 @@ class Stylizer:
             d = self._main_channel_straight(p, seed_lat, rng)
         imp = self.importance(p)
         d = self._widths(d, p, p.min_width, p.max_width)
+        d = widen_main_path(d, p.min_width, p.max_width) if metaphor == "lightning" else d
         pinned = self._pinned
         if k < 1.0 and p.output_width > 0 and p.thickness == "importance" and metaphor in (
                 "plain", None):

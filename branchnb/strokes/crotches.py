@@ -30,19 +30,50 @@ from .strokes import Stroke
 
 __all__ = ["crotch_shape", "crotch_angles", "source_fillet", "new_crotches", "round_crotches"]
 
-#: Smoothing of the contour's turning (px of arc length) before the arc is measured.
-_SIGMA = 1.0
+#: Smoothing of the contour's turning (px of arc length, at the measuring scale) before the arc is measured.
+_SIGMA = 1.5
+#: The child's half width (px) every crotch is measured at: the silhouette around the junction is
+#: resampled by ``_MEASURE_HW / half_width`` first (beyond the paper). Measured at its own pixels, a
+#: crotch's concave run merged or split with the image's scale (tree_rpg_12's source radius measured
+#: 6.4 / 23.2 / 16.3 px per unit of scale at 0.5x / 1x / 2x, so nothing was rounded at 0.5x).
+_MEASURE_HW = 12.0
 
 
-def _sigma(half_width: float) -> float:
-    """The smoothing for a child of ``half_width``: :data:`_SIGMA`, or an eighth of the width
-    on wide ones (pixel steps and texture on a large object are not crotches)."""
-    return max(_SIGMA, half_width / 8.0)
+def _scale(half_width: float) -> float:
+    """The resampling factor of the measure for a child of ``half_width`` (px)."""
+    return _MEASURE_HW / float(half_width)
 
-#: The radius a sharp corner measures times its turn (radians), smoothed over :data:`_SIGMA` px.
+
+def _sharp_radius(half_width: float, turn: float) -> float:
+    """The radius (px) a sharp corner turning by ``turn`` degrees measures on a child of ``half_width``
+    (smoothed over :data:`_SIGMA` at the measuring scale, and over at least the 1 px of a source's
+    anti-aliasing: a thin child's corner resampled up is soft over one source pixel)."""
+    return _SHARP * max(_SIGMA / _scale(half_width), 1.0) / np.radians(turn)
+
+
+#: The radius a sharp corner measures times its turn (radians), per px of :data:`_SIGMA` (at the measuring scale).
 _SHARP = 3.5
 #: The run of a crotch: where the concave curvature exceeds this share of its peak.
 _RUN_SHARE = 0.05
+
+
+#: The longest dip (px at the measuring scale) a concave run is followed across.
+_GAP = 3.0
+
+
+def _run_end(concave: np.ndarray, i: int, step: int, level: float) -> int:
+    """The last index of the run through ``i`` (in direction ``step``) where ``concave > level``,
+    dips of at most :data:`_GAP` px included."""
+    end, gap, j = i, 0, i + step
+    while 0 <= j < len(concave):
+        if concave[j] > level:
+            end, gap = j, 0
+        else:
+            gap += 1
+            if gap * 0.5 > _GAP:
+                break
+        j += step
+    return end
 
 
 def _contours(alpha: np.ndarray) -> list[np.ndarray]:
@@ -76,8 +107,20 @@ def crotch_shape(alpha: np.ndarray, point, child, half_width: float, *, reach: f
         where the silhouette turns concavely: the turn in degrees and the
         radius (px) it turns over: along the concave run through the sharpest
         point, the turn ``T`` over the integral of the squared curvature (a fillet of radius ``R`` gives
-        ``R``; a sharp corner, smoothed over 1 px, ``3.5 px / T`` in
+        ``R``; a sharp corner, smoothed over ``s`` px, ``3.5 s / T`` in
         radians; an arc with a kink, between the two, weighted by their turns).
+
+    Notes
+    -----
+    Beyond the paper. The silhouette around ``point`` is first resampled so
+    that ``half_width`` becomes :data:`_MEASURE_HW` px, and the contour's
+    turning is smoothed over :data:`_SIGMA` px there (``s`` above:
+    ``half_width / 8``, at least one source pixel): the same crotch drawn at
+    any size measures the same radius relative to its child (measured at its
+    own pixels, a concave run merged or split with the image's scale). A run
+    is followed across dips of at most :data:`_GAP` px (pixel steps break a
+    faint arc into pieces), and a run whose peak lies outside the side's zone
+    belongs to another corner (it is not this crotch).
 
     Examples
     --------
@@ -101,11 +144,24 @@ def crotch_shape(alpha: np.ndarray, point, child, half_width: float, *, reach: f
     x, y = int(round(p[0])), int(round(p[1]))
     r0, c0 = max(y - m, 0), max(x - m, 0)
     sub = alpha[r0:min(y + m + 1, h), c0:min(x + m + 1, w)]
+    if sub.size == 0:
+        return {}
+    # measured at one scale relative to the child: the child's half width becomes _MEASURE_HW px
+    g = _scale(half_width)
+    shape = (max(int(round(sub.shape[1] * g)), 2), max(int(round(sub.shape[0] * g)), 2))
+    gx, gy = shape[0] / sub.shape[1], shape[1] / sub.shape[0]
+    if shape != sub.shape[::-1]:
+        import cv2
+
+        sub = cv2.resize(np.ascontiguousarray(sub, np.float32), shape,
+                         interpolation=cv2.INTER_AREA if g < 1 else cv2.INTER_LINEAR)
+    p = (p - (c0, r0) + 0.5) * (gx, gy) - 0.5          # the junction in the measuring frame
+    reach, half_width = reach * g, half_width * g
     out: dict = {}
     for c in _contours(sub):
         if len(c) < 8:
             continue
-        c = c + (c0 - 1, r0 - 1)
+        c = c - 1.0
         # uniform 0.5-px resampling, turning angle smoothed along the arc
         seg = np.hypot(*np.diff(c, axis=0).T)
         s = np.r_[0.0, np.cumsum(seg)]
@@ -115,11 +171,11 @@ def crotch_shape(alpha: np.ndarray, point, child, half_width: float, *, reach: f
         q = np.c_[np.interp(t, s, c[:, 0]), np.interp(t, s, c[:, 1])]
         d = np.gradient(q, axis=0)
         th = np.unwrap(np.arctan2(d[:, 1], d[:, 0]))
-        th = ndi.gaussian_filter1d(th, _sigma(half_width) / 0.5, mode="nearest")
+        th = ndi.gaussian_filter1d(th, _SIGMA / 0.5, mode="nearest")
         kappa = np.gradient(th) / 0.5
         # the object's side of the contour (left or right of travel), from the alpha itself
         nrm = np.c_[-np.sin(th), np.cos(th)]
-        probe = np.rint(q + 1.5 * nrm - (c0, r0)).astype(int)
+        probe = np.rint(q + 1.5 * nrm).astype(int)
         ok = (probe[:, 0] >= 0) & (probe[:, 0] < sub.shape[1]) & (probe[:, 1] >= 0) & (probe[:, 1] < sub.shape[0])
         left = np.mean(sub[probe[ok, 1], probe[ok, 0]] > 0.5) if ok.any() else 0.5
         concave = kappa * (-1.0 if left >= 0.5 else 1.0)
@@ -133,20 +189,28 @@ def crotch_shape(alpha: np.ndarray, point, child, half_width: float, *, reach: f
                 continue
             z = np.flatnonzero(zone)
             i = z[np.argmax(concave[z])]
+            # uphill to the run's own peak: a peak beyond reach belongs to another corner (the
+            # zone only cut its flank, e.g. a notch further along the parent)
+            while True:
+                j = i - 1 if i > 0 and concave[i - 1] > concave[i] else i + 1
+                if j >= len(q) or concave[j] <= concave[i]:
+                    break
+                i = j
+            if not zone[i]:
+                continue
             peak = concave[i]
             if peak <= 0.02:
                 continue
             # the concave run through the peak (to where the curvature is back to ~0)
-            lo, hi = i, i
-            while lo > 0 and concave[lo - 1] > _RUN_SHARE * peak:
-                lo -= 1
-            while hi < len(q) - 1 and concave[hi + 1] > _RUN_SHARE * peak:
-                hi += 1
-            k = concave[lo:hi + 1]
+            # (across dips of at most _GAP px: pixel steps of a small or resampled source break
+            # a long arc's faint curvature into pieces)
+            lo = _run_end(concave, i, -1, _RUN_SHARE * peak)
+            hi = _run_end(concave, i, 1, _RUN_SHARE * peak)
+            k = np.maximum(concave[lo:hi + 1], 0.0)
             turn = float(k.sum()) * 0.5
             if turn < np.radians(5.0):
                 continue
-            radius = turn / (float((k * k).sum()) * 0.5)
+            radius = turn / (float((k * k).sum()) * 0.5) / g
             if side not in out or turn > np.radians(out[side][0]):
                 out[side] = (float(np.degrees(turn)), radius)
     return out
@@ -218,8 +282,9 @@ def source_fillet(alpha: np.ndarray, junctions, strokes, half_widths, *, min_ang
     -------
     float or None
         None if the source has no such crotch, or if they are sharp (most
-        measure less than twice a sharp corner's radius, ``3.5 px`` over
-        the turn in radians): sharp sources stay sharp.
+        measure less than twice a sharp corner's radius, ``3.5 s`` over
+        the turn in radians, ``s`` the smoothing of :func:`crotch_shape`):
+        sharp sources stay sharp.
 
     Examples
     --------
@@ -237,7 +302,7 @@ def source_fillet(alpha: np.ndarray, junctions, strokes, half_widths, *, min_ang
         for side, (turn, radius) in crotch_shape(alpha, jn.point, child, float(hw)).items():
             if ang.get(side, 0.0) >= min_angle and turn >= 15.0:
                 # a sharp corner measures _SHARP / turn: within twice that it counts as sharp
-                radii.append(radius if radius > 2.0 * _SHARP * _sigma(float(hw)) / np.radians(turn) else 0.0)
+                radii.append(radius if radius > 2.0 * _sharp_radius(float(hw), turn) else 0.0)
     if not radii or np.median(radii) <= 0.0:
         return None
     return float(np.median(radii))
