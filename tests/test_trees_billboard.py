@@ -27,7 +27,9 @@ from branchnb.trees.billboard import (
 from branchnb.trees.export import export_gltf, export_obj, quad_vertices, texture_atlas
 from branchnb.trees.preview import render_cloud
 
-SMALL = BillboardParams(max_size=320)
+# The paper's superpixel cloud: the RPG sprites (flat fill in a thick band) are built from cards
+# by default since issue 24 (billboard_cards.flat_fill_cards; tested in test_trees_flat_cards.py).
+SMALL = BillboardParams(max_size=320, drawn_cards=False)
 
 
 def _psnr_opaque(render, image):
