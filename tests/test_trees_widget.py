@@ -176,7 +176,8 @@ def test_scribbles_correct_the_trunk_and_move_the_pins(app, lib):
 def test_billboard_cloud_tab(app):
     cloud = app.build_cloud("tree_rpg_06", yaw=40.0)
     assert app.errors.last_error is None
-    assert cloud is app.cloud and cloud.n_billboards > 10
+    # A flat-fill RPG sprite is built from whole cards (issue 24): a few crown cards and trunk strips.
+    assert cloud is app.cloud and cloud.counts()["front"] >= 1 and cloud.counts()["trunk"] >= 1
     assert len(app.cloud_view.images) == 2
     app.yaw.value = -60.0
     assert "-60" in app.cloud_view.title_texts[1]
