@@ -62,7 +62,10 @@ camera turns around the tree. The steps follow the paper:
 6. **Drawn shapes** (not in the paper, :func:`drawn_regions`): on drawn trees every
    fill region bounded by the line art is one billboard carrying its whole outline;
    only the crown's background is split for depth, and a palm's fan crown is one
-   billboard. Details and measurements: :mod:`branchnb.trees.billboard_shapes`.
+   billboard. Details and measurements: :mod:`branchnb.trees.billboard_shapes`. A crown
+   of flat fill in a thick outline band without inner strokes (an RPG sprite) is built from
+   whole cards too, its trunk inlaid where it runs inside the crown, turning about the trunk
+   where it leaves the crown (:func:`~branchnb.trees.billboard_cards.flat_fill_cards`).
 
 Billboards are *axial* billboards (each quad turns about its vertical
 axis to face the camera, the usual way trees are drawn with billboards),
@@ -78,8 +81,10 @@ towards the viewer. :mod:`branchnb.trees.export` writes glTF / OBJ
 Examples
 --------
 >>> from branchnb import data
->>> cloud = billboard_cloud(data.load("tree_rpg_01"), rng=0)
->>> cloud.n_billboards > 256
+>>> cloud = billboard_cloud(data.load("tree_rpg_01"), params=BillboardParams(drawn_cards=False), rng=0)
+>>> cloud.n_billboards > 256          # the paper's superpixel cloud
+True
+>>> billboard_cloud(data.load("tree_rpg_01"), rng=0).n_billboards < 64   # a flat-fill sprite: cards
 True
 """
 

@@ -82,7 +82,9 @@ class BillboardParams:
         (:func:`~branchnb.trees.billboard_shapes.drawn_regions`); only the crown's base fill is split.
     drawn_cards : bool
         Beyond the paper (issue 24), with ``drawn_regions``: a crown drawn
-        with inner outlines (:func:`~branchnb.trees.billboard_cards.has_inner_outlines`)
+        with inner outlines (:func:`~branchnb.trees.billboard_cards.has_inner_outlines`),
+        or a flat fill in a thick outline band without inner strokes (an RPG
+        sprite, :func:`~branchnb.trees.billboard_cards.flat_fill_cards`),
         is built from whole cards only (:mod:`branchnb.trees.billboard_cards`),
         without rear, interior or core copies, so side views keep the inner
         outlines and show no smeared fill. Cards do not suit every drawing:
