@@ -141,6 +141,21 @@ def crown_inlay(crown: np.ndarray, trunk: np.ndarray) -> np.ndarray:
     over the crown turn with it from the side instead of opening sky in
     its notches.
 
+    Parameters
+    ----------
+    crown, trunk : (H, W) bool array_like
+        Crown and trunk pixels of the working image (same shape).
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        The trunk pixels that lie within their row's span of crown.
+
+    Raises
+    ------
+    ValueError
+        If ``crown`` and ``trunk`` are not 2-D arrays of one shape.
+
     Examples
     --------
     >>> import numpy as np
@@ -151,6 +166,8 @@ def crown_inlay(crown: np.ndarray, trunk: np.ndarray) -> np.ndarray:
     """
     crown = np.asarray(crown, bool)
     trunk = np.asarray(trunk, bool)
+    if crown.ndim != 2 or trunk.shape != crown.shape:
+        raise ValueError(f"crown and trunk must be 2-D masks of one shape, got {crown.shape} and {trunk.shape}")
     cols = np.arange(crown.shape[1])
     has = crown.any(axis=1)
     left = np.where(has, np.argmax(crown, axis=1), crown.shape[1])
