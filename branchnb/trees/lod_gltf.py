@@ -26,6 +26,26 @@ __all__ = ["SCREEN_COVERAGE", "export_lod_gltf", "export_full_gltf", "validate_g
 SCREEN_COVERAGE = (0.5, 0.2, 0.05, 0.0)
 
 
+
+def _add_mesh(pos, uv, col, idx, data: bytearray, views: list, accessors: list) -> tuple[int, bytearray]:
+    """Pack one quad mesh into the buffer; returns its first accessor's index and the buffer."""
+    first = len(views)
+    v, data = _pack([pos.tobytes(), uv.tobytes(), col.tobytes(), idx.tobytes()],
+                    [34962, 34962, 34962, 34963], data)
+    views += v
+    acc = len(accessors)
+    accessors += _accessors(first, pos, uv, col, idx)
+    return acc, data
+
+
+def _add_texture(atlas, data: bytearray, views: list, images: list, textures: list) -> bytearray:
+    """Pack an atlas as a PNG image and add its texture (the last of ``textures``)."""
+    v, data = _pack([encode_png(atlas)], [None], data)
+    images.append({"bufferView": len(views), "mimeType": "image/png"})
+    views += v
+    textures.append({"source": len(images) - 1, "sampler": 0})
+    return data
+
 def _material(name: str, texture: int, double_sided: bool = True) -> dict:
     return {"name": name,
             "pbrMetallicRoughness": {"baseColorTexture": {"index": texture}, "metallicFactor": 0.0,
@@ -53,18 +73,10 @@ def _document(levels: list[LodLevel], *, yaw: float, height: float, lod: bool,
     for i, lv in enumerate(levels):
         atlas, pos, uv, col, idx = _level_arrays(lv.cloud, yaw=yaw, height=height, crossed=lv.crossed,
                                                  turn=lv.turn)
-        first = len(views)
-        v, data = _pack([pos.tobytes(), uv.tobytes(), col.tobytes(), idx.tobytes()],
-                        [34962, 34962, 34962, 34963], data)
-        views += v
-        acc0 = len(accessors)
-        accessors += _accessors(first, pos, uv, col, idx)
+        acc0, data = _add_mesh(pos, uv, col, idx, data, views, accessors)
         key = id(lv.cloud)
         if key not in atlases:
-            v, data = _pack([encode_png(atlas)], [None], data)
-            images.append({"bufferView": len(views), "mimeType": "image/png"})
-            views += v
-            textures.append({"source": len(images) - 1, "sampler": 0})
+            data = _add_texture(atlas, data, views, images, textures)
             materials.append(_material(f"{lv.name}_atlas", len(textures) - 1))
             atlases[key] = len(materials) - 1
         extras = {"triangles": lv.triangles, "crossed": lv.crossed}
@@ -85,16 +97,8 @@ def _document(levels: list[LodLevel], *, yaw: float, height: float, lod: bool,
             cc = _cards_cloud(lv.cards, lv.cloud)
             atlas, pos, uv, col, idx = _level_arrays(cc, yaw=yaw, height=height, crossed=False,
                                                      turn=np.asarray(lv.cards.turn) - yaw)
-            first = len(views)
-            v, data = _pack([pos.tobytes(), uv.tobytes(), col.tobytes(), idx.tobytes()],
-                            [34962, 34962, 34962, 34963], data)
-            views += v
-            acc1 = len(accessors)
-            accessors += _accessors(first, pos, uv, col, idx)
-            v, data = _pack([encode_png(atlas)], [None], data)
-            images.append({"bufferView": len(views), "mimeType": "image/png"})
-            views += v
-            textures.append({"source": len(images) - 1, "sampler": 0})
+            acc1, data = _add_mesh(pos, uv, col, idx, data, views, accessors)
+            data = _add_texture(atlas, data, views, images, textures)
             materials.append(_material(f"{lv.name}_side_cards", len(textures) - 1, double_sided=False))
             prims.append({"attributes": {"POSITION": acc1, "TEXCOORD_0": acc1 + 1, "COLOR_0": acc1 + 2},
                           "indices": acc1 + 3, "material": len(materials) - 1, "mode": 4})
