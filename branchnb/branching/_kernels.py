@@ -138,6 +138,13 @@ def _cells(v, cell, n):
 
 
 @numba.njit(cache=True)
+def _segment_cells(p0, p1, s, cell, gw, gh):
+    """First and last grid column and row of segment ``s``'s bounding box."""
+    return (_cells(min(p0[s, 0], p1[s, 0]), cell, gw), _cells(max(p0[s, 0], p1[s, 0]), cell, gw),
+            _cells(min(p0[s, 1], p1[s, 1]), cell, gh), _cells(max(p0[s, 1], p1[s, 1]), cell, gh))
+
+
+@numba.njit(cache=True)
 def bucket_add(head, nxt, seg, n_entries, p0, p1, first, cell):
     """Enter segments ``first ..`` (``p0``/``p1`` rows) into the grid buckets of their bounding box
     (linked lists: ``head[cy, cx]`` -> entry, ``nxt[entry]``, ``seg[entry]``); returns the new entry
@@ -145,19 +152,13 @@ def bucket_add(head, nxt, seg, n_entries, p0, p1, first, cell):
     gh, gw = head.shape
     need = n_entries
     for s in range(first, p0.shape[0]):
-        x0 = _cells(min(p0[s, 0], p1[s, 0]), cell, gw)
-        x1 = _cells(max(p0[s, 0], p1[s, 0]), cell, gw)
-        y0 = _cells(min(p0[s, 1], p1[s, 1]), cell, gh)
-        y1 = _cells(max(p0[s, 1], p1[s, 1]), cell, gh)
+        x0, x1, y0, y1 = _segment_cells(p0, p1, s, cell, gw, gh)
         need += (x1 - x0 + 1) * (y1 - y0 + 1)
     if need > nxt.shape[0]:
         return -1
     e = n_entries
     for s in range(first, p0.shape[0]):
-        x0 = _cells(min(p0[s, 0], p1[s, 0]), cell, gw)
-        x1 = _cells(max(p0[s, 0], p1[s, 0]), cell, gw)
-        y0 = _cells(min(p0[s, 1], p1[s, 1]), cell, gh)
-        y1 = _cells(max(p0[s, 1], p1[s, 1]), cell, gh)
+        x0, x1, y0, y1 = _segment_cells(p0, p1, s, cell, gw, gh)
         for cy in range(y0, y1 + 1):
             for cx in range(x0, x1 + 1):
                 seg[e] = s
