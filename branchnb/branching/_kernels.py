@@ -21,7 +21,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-__all__ = ["bucket_add", "crosses", "first_free", "pca_directions", "profile_bins", "score_step", "start_scores"]
+__all__ = ["bucket_add", "crosses", "first_free", "pca_directions", "profile_bins", "score_step", "start_scores",
+           "step_factors"]
 
 
 @numba.njit(cache=True)
@@ -414,3 +415,73 @@ def score_step(t, WA, WR, ha, hr, local_points, local_dirs, cont_len, tipx, tipy
         for j in range(J):
             score[j] = 0.0 if cross[j] else base[j] / (D_c[j] + eps)
     return Q, score, pts, hf, D_c, cross
+
+
+@numba.njit(cache=True)
+def step_factors(t, cont_angles, cont_len, use_bend, bend_p, bend_counts, bend_cc, bend_scale, bend_cap,
+                 use_runs, log_h, log_1h, log_q, log_1q, state, run, tol, max_run, mode, weight, run_gain,
+                 run_cap, theta, lo, hi, wind_max, end_zero):
+    """The per-candidate factors of ``_Grower.step`` after the scores, in one pass over the candidate
+    windows ``t``: returns ``(fb, zero)``, ``fb`` the bend-size factor
+    (:meth:`~branchnb.branching.straightness.BendHistogram.factors_at`) times the straight-run factor
+    (:meth:`~branchnb.branching.straightness.StraightRuns.factors` against the candidate's own run,
+    ``mode`` 0: blended (geometric mean) with the one against the overall bend rate, 1: its square
+    root alone, 2: as is; to the power ``weight``), ``zero`` the candidates a branch may not take
+    (``end_zero``: those that end it; those whose headings would sweep past ``wind_max``)."""
+    J = t.shape[0]
+    M = cont_angles.shape[1]
+    fb = np.ones(J)
+    zero = np.zeros(J, np.bool_)
+    if use_bend:
+        d = _improvements(bend_p, bend_counts, bend_cc, np.zeros(0), t)
+    for j in range(J):
+        r = t[j]
+        n = cont_len[r]
+        f = 1.0
+        if use_bend:
+            f = np.exp(min(max(bend_scale * d[j], -bend_cap), bend_cap))
+        if use_runs:
+            L = run
+            Lb = state[r]
+            ll = 0.0
+            la = 0.0
+            for i in range(M):
+                if i >= n:
+                    break
+                bent = abs(cont_angles[r, i]) >= tol
+                if L > 0:
+                    jl = min(L, max_run)
+                    jb = min(Lb, max_run)
+                    if bent:
+                        ll += log_h[jl] - log_h[jb]
+                        la += log_h[jl] - log_q
+                    else:
+                        ll += log_1h[jl] - log_1h[jb]
+                        la += log_1h[jl] - log_1q
+                if bent:
+                    L = 0
+                    Lb = 0
+                else:
+                    L += 1
+                    Lb += 1
+            fr = np.exp(min(max(run_gain * ll, -run_cap), run_cap))
+            if mode == 0:
+                fr = np.sqrt(fr * np.exp(min(max(run_gain * la, -run_cap), run_cap)))
+            elif mode == 1:
+                fr = np.sqrt(fr)
+            if weight != 1.0:
+                fr = fr ** weight
+            f = f * fr if use_bend else fr
+        fb[j] = f
+        if end_zero and n <= 0:
+            zero[j] = True
+        a = theta
+        amax = hi
+        amin = lo
+        for i in range(M):
+            a += cont_angles[r, i]
+            amax = max(amax, a)
+            amin = min(amin, a)
+        if amax - amin > wind_max:
+            zero[j] = True
+    return fb, zero

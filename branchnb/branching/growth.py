@@ -32,7 +32,7 @@ from .guidance import Guidance
 from .model import StructureModel
 from .params import SynthesisParams
 from .scoring import _continue_radii, _rank_key, _rotate, binned_profile, score_candidates
-from .straightness import RUN_MIN_MEAN, BendHistogram, StraightRuns
+from .straightness import BEND_CAP, RUN_CAP, RUN_GAIN, RUN_MIN_MEAN, BendHistogram, StraightRuns
 
 __all__ = ["FILL_LENGTH_FACTOR", "GrowthProgress", "LENGTH_BOUND", "LENGTH_FACTOR", "length_cap", "winding",
            "winding_limit"]
@@ -307,6 +307,8 @@ class _Grower(_Starts, _Filling):
         self.attempt = 1
         self.progress = None  # progress(GrowthProgress) after every Markov step
         self._child_pool: tuple[np.ndarray, np.ndarray] | None = None
+        self._run_logs: tuple | None = None
+        self._e1, self._e2, self._ei = np.zeros(1), np.zeros((1, 1)), np.zeros(1, np.int64)
         self._head: float | None = None
 
     def report(self, done: bool = False) -> None:
@@ -413,6 +415,38 @@ class _Grower(_Starts, _Filling):
         w = score[chosen]
         return chosen[int(self.rng.choice(len(chosen), p=w / w.sum()))]
 
+    def _step_factors(self, st, t_arr: np.ndarray) -> tuple[np.ndarray | None, np.ndarray]:
+        """``(fb, zero)`` of a step's candidates ``t_arr`` (:func:`._kernels.step_factors`): the bend-size
+        factor times the straight-run factor (None when neither applies) and the candidates a branch
+        may not take (they end it under ``branch_end = "length"``, or sweep past the winding limit)."""
+        bends, runs = self.bends, self.runs
+        use_bend = self.bend_counts is not None
+        n_bent = float(bends.counts.sum()) if use_bend else 0.0
+        lo, hi = st.heads if st.heads is not None else (st.theta, st.theta)
+        bm = self.model.bending
+        if runs is not None:
+            r = runs.run_length(st.elem_a[-(runs.max_run + 1):])
+            if self._run_logs is None:
+                self._run_logs = (np.log(runs.hazard), np.log1p(-runs.hazard), float(np.log(runs.q)),
+                                  float(np.log1p(-runs.q)))
+            lh, l1h, lq, l1q = self._run_logs
+            # beyond the rule of .straightness: half of it against the overall bend rate, not
+            # only against each candidate's own context (relative alone, the mean straight run
+            # of a 1000 px drawn map was 0.74-0.92 x the example's and of 1000 px drawn cracks
+            # 0.80-0.91 x with turns 1.8-2.0 x; blended 0.82-0.84 x and 0.88-1.02 x; issue 23);
+            # a delta's channel turns toward the sea: there the drain decides first (square root)
+            mode = 0 if self.drain is None else 1
+            state, tol, max_run = runs.state, runs.tol, runs.max_run
+        else:
+            r, lh, l1h, lq, l1q, mode, state, tol, max_run = 0, self._e1, self._e1, 0.0, 0.0, 2, self._ei, 0.0, 0
+        fb, zero = _kernels.step_factors(
+            t_arr, bm.cont_angles, bm.cont_len, use_bend and bends.wG > 0 and n_bent > 0,
+            bends.p, bends.counts, self.bend_counts if use_bend else self._e2, bends.wG * n_bent / bends.m,
+            BEND_CAP, runs is not None, lh, l1h, lq, l1q, state, int(r), float(tol), int(max_run), mode,
+            float(self.run_weight), RUN_GAIN, RUN_CAP, float(st.theta), float(lo), float(hi),
+            float(self.wind_max), self.p.branch_end == "length")
+        return (fb if use_bend or runs is not None else None), zero
+
     # -- growing ----------------------------------------------------------
     def step(self, bi: int, full: bool = False) -> bool:
         """One Markov step of branch ``bi``; False when the branch stops (``full``: score every candidate)."""
@@ -434,7 +468,6 @@ class _Grower(_Starts, _Filling):
         self.n_candidates += len(t_arr)
 
         score = cs.score
-        fb = self.bends.factors_at(self.bend_counts, t_arr) if self.bend_counts is not None else None
         if self.frame and st.parent is None:
             live = n_arr > 0
             if live.any():
@@ -445,21 +478,9 @@ class _Grower(_Starts, _Filling):
             score = score * self.drain.factor(tip, pts, n_arr, start=st.points[0])
         if st.goal is not None:
             score = score * self._goal_factor(st, tip, pts, n_arr)
-        if self.runs is not None:
-            run = self.runs.run_length(st.elem_a[-(self.runs.max_run + 1):])
-            ca = self.model.bending.cont_angles[t_arr]
-            fr = self.runs.factors(run, ca, n_arr, self.runs.state[t_arr])
-            if self.drain is None:
-                # beyond the rule of .straightness: half of it against the overall bend rate, not
-                # only against each candidate's own context (relative alone, the mean straight run
-                # of a 1000 px drawn map was 0.74-0.92 x the example's and of 1000 px drawn cracks
-                # 0.80-0.91 x with turns 1.8-2.0 x; blended 0.82-0.84 x and 0.88-1.02 x; issue 23)
-                fr = np.sqrt(fr * self.runs.factors(run, ca, n_arr, None))
-            else:   # a delta's channel turns toward the sea: the drain decides first
-                fr = np.sqrt(fr)
-            if self.run_weight != 1.0:
-                fr = fr ** self.run_weight
-            fb = fr if fb is None else fb * fr
+        # the bend-size factor (see .straightness), the straight-run factor (below) and the winding
+        # limit in one compiled pass (_kernels.step_factors)
+        fb, zero = self._step_factors(st, t_arr)
         if self.shore is not None:
             fs = self.shore.factor(tip, pts, n_arr)
             score = score * fs
@@ -467,18 +488,13 @@ class _Grower(_Starts, _Filling):
                 fb = np.where(fs < 1.0, 1.0, fb)
         if fb is not None:
             score = score * fb
-        if p.branch_end == "length":
-            score = np.where(n_arr > 0, score, 0.0)
         # beyond the paper: no spirals. A candidate that would take the branch's heading range past the
         # winding limit is forbidden; the branch stops when nothing else is left (issue 23)
-        th_c = st.theta + np.cumsum(self.model.bending.cont_angles[t_arr], axis=1)
-        lo, hi = st.heads if st.heads is not None else (st.theta, st.theta)
-        wind = np.maximum(th_c.max(1), hi) - np.minimum(th_c.min(1), lo)
-        score = np.where(wind > self.wind_max, 0.0, score)
+        score = np.where(zero, 0.0, score)
         heads = None
         if st.mouth is not None:
             if (len(st.points) - 1) * p.h < MOUTH_SHARE * min(st.target, self.max_branch_len):
-                heads = st.theta + np.cumsum(self.model.bending.cont_angles[t_arr], axis=1)
+                heads = st.theta + np.cumsum(bm.cont_angles[t_arr], axis=1)
                 span = np.maximum(heads.max(1), st.mouth[1]) - np.minimum(heads.min(1), st.mouth[0])
                 score = np.where(span > MOUTH_TURN, score * 1e-9, score)
             else:
@@ -498,11 +514,11 @@ class _Grower(_Starts, _Filling):
             return False
         t, n = int(t_arr[j]), int(n_arr[j])
         if n:
+            th_j = st.theta + np.cumsum(bm.cont_angles[t, :n])
             lo, hi = st.heads if st.heads is not None else (st.theta, st.theta)
-            st.heads = (min(lo, float(th_c[j, :n].min())), max(hi, float(th_c[j, :n].max())))
+            st.heads = (min(lo, float(th_j.min())), max(hi, float(th_j.max())))
         if heads is not None and n:
             st.mouth = (min(st.mouth[0], float(heads[j, :n].min())), max(st.mouth[1], float(heads[j, :n].max())))
-        bm = self.model.bending
         new_pts = pts[j, :n]
         ang = bm.cont_angles[t, :n]
         rad = bm.cont_radii[t, :n]
