@@ -22,7 +22,7 @@ import numba
 import numpy as np
 
 __all__ = ["bucket_add", "crosses", "first_free", "pca_directions", "profile_bins", "score_step", "start_scores",
-           "step_factors"]
+           "step_factors", "child_quality"]
 
 
 @numba.njit(cache=True)
@@ -485,3 +485,58 @@ def step_factors(t, cont_angles, cont_len, use_bend, bend_p, bend_counts, bend_c
         if amax - amin > wind_max:
             zero[j] = True
     return fb, zero
+
+
+@numba.njit(cache=True)
+def _np_sum(a):
+    """``numpy.sum(x, axis=-1)`` of one short row of a 2-d array, in numpy's order (below 8 values
+    one after another, else its pairwise sum with eight partial sums), so results match numpy's to
+    the bit."""
+    n = a.shape[0]
+    if n < 8:
+        out = 0.0
+        for i in range(n):
+            out = out + a[i] if i else a[0]
+        return out
+    r0, r1, r2, r3, r4, r5, r6, r7 = a[0], a[1], a[2], a[3], a[4], a[5], a[6], a[7]
+    i = 8
+    while i < n - (n % 8):
+        r0 += a[i]
+        r1 += a[i + 1]
+        r2 += a[i + 2]
+        r3 += a[i + 3]
+        r4 += a[i + 4]
+        r5 += a[i + 5]
+        r6 += a[i + 6]
+        r7 += a[i + 7]
+        i += 8
+    res = ((r0 + r1) + (r2 + r3)) + ((r4 + r5) + (r6 + r7))
+    while i < n:
+        res += a[i]
+        i += 1
+    return res
+
+
+@numba.njit(cache=True)
+def child_quality(wa, wr, rows, win_a, win_r, mirror):
+    """:meth:`~branchnb.branching.furcation.FurcationModel.child_quality` of the input furcations
+    ``rows`` (``markov_dist`` of the angle windows times that of the thickness windows), followed,
+    when ``mirror``, by the same with the angle window negated: ``(len(rows) x (1 + mirror),)``."""
+    F = rows.shape[0]
+    K = wa.shape[1]
+    out = np.empty(F * (2 if mirror else 1))
+    d = np.empty(K)
+    for half in range(2 if mirror else 1):
+        sgn = -1.0 if half == 1 else 1.0
+        for j in range(F):
+            r = rows[j]
+            for i in range(K):
+                x = wa[r, i] - sgn * win_a[i]
+                d[i] = x * x
+            qa = 1.0 / (np.sqrt(_np_sum(d)) + 1.0) + 1.0
+            for i in range(K):
+                x = wr[r, i] - win_r[i]
+                d[i] = x * x
+            qr = 1.0 / (np.sqrt(_np_sum(d)) + 1.0) + 1.0
+            out[half * F + j] = qa * qr
+    return out

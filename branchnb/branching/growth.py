@@ -308,6 +308,7 @@ class _Grower(_Starts, _Filling):
         self.progress = None  # progress(GrowthProgress) after every Markov step
         self._child_pool: tuple[np.ndarray, np.ndarray] | None = None
         self._run_logs: tuple | None = None
+        self._all_dirs: np.ndarray | None = None
         self._e1, self._e2, self._ei = np.zeros(1), np.zeros((1, 1)), np.zeros(1, np.int64)
         self._head: float | None = None
 
