@@ -240,7 +240,7 @@ class _Starts:
             betas = np.zeros(len(heads))
         c = self._start_branch(pts[v], theta0, heads, Q, parent, vertex, st.generation + 1,
                                betas=betas, mirror=mirror, r_cap=float(rad[v]), full=full)
-        if c is None and sub is not None:   # none of the share fits: all the furcations (rare)
-            return self.start_child(parent, vertex, toward, full=True)
+        if c is None and sub is not None and self._room_around(pts[v], 3.0 * self.p.m * self.p.h):
+            return self.start_child(parent, vertex, toward, full=True)   # none of the share fits: all (rare)
         return c
 
