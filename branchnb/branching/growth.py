@@ -402,7 +402,7 @@ class _Grower(_Starts, _Filling):
 
         Candidate ``j``'s polyline is ``[tip] + pts[j, :lens[j]]``; the crossing test
         runs compiled over the ranked candidates (:func:`._kernels.first_free`)."""
-        order = np.lexsort((np.arange(len(score)), -_rank_key(score)))
+        order = np.argsort(-_rank_key(score), kind="stable")   # ties by index
         st = self.store
         chosen = _kernels.first_free(order, np.asarray(score, np.float64), np.asarray(tip, np.float64),
                                      np.ascontiguousarray(pts, np.float64), np.asarray(lens, np.int64),
@@ -414,7 +414,10 @@ class _Grower(_Starts, _Filling):
         if not chosen:
             return None
         w = score[chosen]
-        return chosen[int(self.rng.choice(len(chosen), p=w / w.sum()))]
+        # rng.choice(len(chosen), p=w / w.sum()) without its checks: the same draw
+        cdf = (w / w.sum()).cumsum()
+        cdf /= cdf[-1]
+        return chosen[int(cdf.searchsorted(self.rng.random(), side="right"))]
 
     def _step_factors(self, st, t_arr: np.ndarray) -> tuple[np.ndarray | None, np.ndarray]:
         """``(fb, zero)`` of a step's candidates ``t_arr`` (:func:`._kernels.step_factors`): the bend-size
