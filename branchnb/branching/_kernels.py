@@ -354,13 +354,14 @@ def start_scores(heads, th0, sign, first_a, n, x0x, x0y, h, Q, use_hist, edges_a
 
 
 @numba.njit(cache=True)
-def score_step(t, WA, WR, ha, hr, local_points, local_dirs, cont_len, tipx, tipy, theta,
+def score_step(t, angles, radii, ha, hr, local_points, local_dirs, cont_len, tipx, tipy, theta,
                use_hist, p_a, counts_a, cc_a, sq_a, p_r, counts_r, cc_r, sq_r, hist_scale,
                use_density, grid, cell, length, n_samples, tol, nbins, eps):
     """One Markov step's scores (:func:`~branchnb.branching.scoring.score_candidates` without
-    guidance) of the candidate windows ``t`` with windows ``WA``/``WR`` (J, L) against the history
+    guidance) of the candidate windows ``t`` (the ``L`` input elements ``angles``/``radii`` up to
+    each, :meth:`~branchnb.branching.bending.BendingModel.windows`) against the history
     ``ha``/``hr`` (L,): returns ``Q, score, points (J, m, 2), hist_factor, D_c, crossing``."""
-    J, L = WA.shape
+    J, L = t.shape[0], ha.shape[0]
     m = local_points.shape[1]
     Q = np.empty(J)
     c, s = np.cos(theta), np.sin(theta)
@@ -368,9 +369,10 @@ def score_step(t, WA, WR, ha, hr, local_points, local_dirs, cont_len, tipx, tipy
     dirs = np.empty((J, 2))
     for j in range(J):
         da = dr = 0.0
+        e0 = t[j] - L + 1
         for i in range(L):
-            da += (WA[j, i] - ha[i]) ** 2
-            dr += (WR[j, i] - hr[i]) ** 2
+            da += (angles[e0 + i] - ha[i]) ** 2
+            dr += (radii[e0 + i] - hr[i]) ** 2
         Q[j] = (1.0 / (np.sqrt(da) + 1.0) + 1.0) * (1.0 / (np.sqrt(dr) + 1.0) + 1.0)
         r = t[j]
         for i in range(m):
