@@ -309,6 +309,7 @@ class _Grower(_Starts, _Filling):
         self._child_pool: tuple[np.ndarray, np.ndarray] | None = None
         self._run_logs: tuple | None = None
         self._all_dirs: np.ndarray | None = None
+        self._kids_of: tuple | None = None
         self._e1, self._e2, self._ei = np.zeros(1), np.zeros((1, 1)), np.zeros(1, np.int64)
         self._head: float | None = None
 
@@ -418,6 +419,18 @@ class _Grower(_Starts, _Filling):
         cdf = (w / w.sum()).cumsum()
         cdf /= cdf[-1]
         return chosen[int(cdf.searchsorted(self.rng.random(), side="right"))]
+
+    def _child_vertices(self, bi: int) -> list:
+        """The parent vertices of branch ``bi``'s children, in the order they were started (an index
+        kept up to date as branches are added, rebuilt when the list is replaced)."""
+        if self._kids_of is None or self._kids_of[0] is not self.branches:
+            self._kids_of = (self.branches, 0, {})
+        lst, done, kids = self._kids_of
+        for b in lst[done:]:
+            if b.parent is not None:
+                kids.setdefault(b.parent, []).append(b.parent_vertex)
+        self._kids_of = (lst, len(lst), kids)
+        return list(kids.get(bi, ()))
 
     def _step_factors(self, st, t_arr: np.ndarray) -> tuple[np.ndarray | None, np.ndarray]:
         """``(fb, zero)`` of a step's candidates ``t_arr`` (:func:`._kernels.step_factors`): the bend-size
@@ -589,7 +602,7 @@ class _Grower(_Starts, _Filling):
         head = self._below_head(bi)
         if extra:
             d = 1
-            existing = [b.parent_vertex for b in self.branches if b.parent == bi]
+            existing = self._child_vertices(bi)
             weights = self._room(pts) if self._empty_dt is not None else None
             if head is not None:
                 weights = head * (1.0 if weights is None else weights)
@@ -629,7 +642,7 @@ class _Grower(_Starts, _Filling):
                 break
             before = len(self.branches)
             self._update_room()
-            rooms = [float(self._room(np.asarray(b.points)).max(initial=0.0)) for b in self.branches]
+            rooms = self._max_rooms()
             # tips that ended at their drawn length with free space ahead grow on
             self._drain(self._reopen_tips())
             for bi in np.argsort(rooms, kind="stable")[::-1]:
