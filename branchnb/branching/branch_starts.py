@@ -16,10 +16,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..core.polyline import tangents
 from . import _kernels
 from .domains import MOUTH_TURN, head_share
-from .furcation import vertex_angles, window_features
+from .furcation import vertex_angles
 from .scoring import _DIRECTION_BINS
 
 __all__: list[str] = []
@@ -205,8 +204,14 @@ class _Starts:
         pts = np.asarray(st.points[lo:hi], np.float64)
         rad = np.asarray(st.radii[lo:hi], np.float64)
         v = vertex - lo
-        wa, wr = window_features(vertex_angles(pts), rad, k)
-        wa, wr = np.ascontiguousarray(wa[v]), np.ascontiguousarray(wr[v])
+        # window_features(vertex_angles(pts), rad, k)[:, v] without the whole branch's windows:
+        # angles padded with 0 (straight), radii with the end values
+        idx = np.arange(v - k, v + k + 1)
+        inner = (idx > 0) & (idx < len(pts) - 1)
+        wa = np.zeros(2 * k + 1)
+        if inner.any():
+            wa[inner] = vertex_angles(pts)[idx[inner]]
+        wr = rad[np.clip(idx, 0, len(pts) - 1)]
         if self._child_pool is None:
             heads = fm.child_index
             usable = np.flatnonzero(model.first_len[heads] > 0)
@@ -233,7 +238,10 @@ class _Starts:
             mirror = np.repeat(np.array([False, True]), len(usable))
         else:
             mirror = np.zeros(len(heads), bool)
-        tg = tangents(pts[max(v - 1, 0): v + 2])[min(v, 1)]
+        # core.polyline.tangents(pts)[v]: central difference, one-sided at an end
+        tg = pts[min(v + 1, len(pts) - 1)] - pts[max(v - 1, 0)]
+        nrm = float(np.hypot(tg[0], tg[1]))
+        tg = tg / (nrm if nrm != 0 else 1.0)
         theta0 = float(np.arctan2(tg[1], tg[0]))
         if toward is not None:   # a child grown into a hole starts toward it (``_Filling._fill_far``)
             theta0 = float(np.arctan2(toward[1] - pts[v][1], toward[0] - pts[v][0]))
