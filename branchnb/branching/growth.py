@@ -29,7 +29,7 @@ from .colonization import (
 from .domains import MOUTH_SHARE, MOUTH_TURN, _Drain, _frame, _Shore, _shore_margin
 from .filling import _Filling
 from .guidance import Guidance
-from .model import StructureModel
+from .model import StructureModel, _choice
 from .params import SynthesisParams
 from .scoring import _continue_radii, _rank_key, _rotate, binned_profile, score_candidates
 from .straightness import BEND_CAP, RUN_CAP, RUN_GAIN, RUN_MIN_MEAN, BendHistogram, StraightRuns
@@ -415,10 +415,7 @@ class _Grower(_Starts, _Filling):
         if not chosen:
             return None
         w = score[chosen]
-        # rng.choice(len(chosen), p=w / w.sum()) without its checks: the same draw
-        cdf = (w / w.sum()).cumsum()
-        cdf /= cdf[-1]
-        return chosen[int(cdf.searchsorted(self.rng.random(), side="right"))]
+        return chosen[_choice(self.rng, w / w.sum())]   # rng.choice(len(chosen), p=...), the same draw
 
     def _child_vertices(self, bi: int) -> list:
         """The parent vertices of branch ``bi``'s children, in the order they were started (an index
