@@ -169,9 +169,14 @@ class _Filling:
         return _hole_map([st.points for st in self.branches], dom, self.density.cell)
 
     def _example_holes(self) -> float:
+        """The example's hole share on the density grid (computed once per model and cell size)."""
         m = self.model
-        dom = m.domain if m.domain is not None else np.ones(_frame(m.source), bool)
-        return _hole_map([b.points for b in m.example.branches], dom, self.density.cell)[0]
+        cache = m.__dict__.setdefault("_example_holes", {})
+        key = (id(m.example), len(m.example.branches), float(self.density.cell))
+        if key not in cache:
+            dom = m.domain if m.domain is not None else np.ones(_frame(m.source), bool)
+            cache[key] = _hole_map([b.points for b in m.example.branches], dom, self.density.cell)[0]
+        return cache[key]
 
     def _fill_holes(self) -> None:
         """Grow into holes the example does not have (beyond the paper).
