@@ -424,6 +424,9 @@ class PareidoliaParams:
     slim: bool = param(True, help="twigs never wider toward their ends (no club-shaped twigs)")
     rise: float = param(0.04, min=0.0, max=0.5, step=0.01,
                         help="twigs grow up: a step up costs 1 - rise, a step down 1 + rise")
+    bottleneck: str = param("density", options=("density", "edge"),
+                            help="the blend metric's bottleneck: cost per unit length (no "
+                                 "lattice grain) or per edge (paper)")
     cover: float = param(0.6, min=0.2, max=1.0, step=0.05,
                          help="most ink a dark region gets: gaps keep its twigs readable "
                               "(1 = solid ink)")
@@ -668,7 +671,8 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
         if len(batch) == 0:
             continue
         metric, a = iteration_metric(i, tp)
-        lat = Lattice(node_weights(cost, epsilon=p.epsilon, noise=noise, rng=rng), rise)
+        lat = Lattice(node_weights(cost, epsilon=p.epsilon, noise=noise, rng=rng), rise,
+                      bottleneck=p.bottleneck)
         seeds = np.zeros(h * w, bool)
         seeds[d.nodes] = True
         res = plan(lat, seeds.reshape(h, w), metric=metric, blend_weight=a)
