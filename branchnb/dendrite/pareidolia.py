@@ -175,6 +175,17 @@ portrait; the endpoints are now stippled on a grid of about the picture's own si
 (``floor(lattice px / image px)`` times coarser) and spread over its cells, the 9 limb
 ends on one twice as coarse: CPU time on the portrait 1.43 -> 0.91 s (with the rise
 above), tone r 0.965 -> 0.969; pictures of 256 px or more are planned as before.
+
+No lattice grain, longer twigs (beyond the paper). The later iterations' blend metric
+``a M + S`` took ``M`` as the largest edge cost, and a diagonal step costs sqrt(2) times
+an axis step over the same weights: with ``a = 1000`` and weights that vary by less than
+that (a flat region, mild noise) no path stepped diagonally, and flat dark regions were
+drawn as horizontal rails with vertical spikes. ``M`` is now taken per unit of step
+length (``bottleneck="density"``). Endpoints within ``min_twig`` lattice px of the tree
+grown so far are dropped (they only added 1-3 px stubs), and in the picture's dark parts
+a twig is at least 6x as long as wide (3x in the light and mid tones, where twig ends
+draw small features), the rest of its ink going into the branch it hangs from. The
+measurements are in the report of branch dendrite18 and in ``tests/test_dendrite_grain.py``.
 """
 
 from __future__ import annotations
@@ -344,6 +355,22 @@ class PareidoliaParams:
         widened by the tone match into bean-shaped blobs; a slight rise makes
         them grow up from their branches in sprays (see the module docstring).
         0.1 or more turns the twigs into vertical hatching.
+    bottleneck : {"density", "edge"}
+        Beyond the paper: the bottleneck term ``M`` of the later iterations' blend
+        metric is the largest edge cost per unit of step length ("density",
+        default; :class:`~branchnb.dendrite.lattice.Lattice`) instead of the
+        largest edge cost ("edge", the paper's). With "edge" and ``a = 1000`` a
+        diagonal step (sqrt(2) times dearer) was never taken on a flat region,
+        so a flat dark region was drawn in 4-connected staircases: horizontal
+        rails with vertical spikes (a 0 / 90 deg grain). See the module
+        docstring for the measurements.
+    min_twig : float
+        Beyond the paper: endpoints closer than this (lattice px) to the tree
+        grown so far are dropped; 2 (0 keeps them all). Next to a branch they
+        added stubs of 1-3 px (a third of the terminal twigs of a dark figure,
+        2 % of their ink) that read as bumps, not twigs. 3 made the twigs
+        longer still but coarser: tone r at 4 px blur on a dark disc at 2000 px
+        0.72 -> 0.64.
     cover : float
         Beyond the paper: the largest share of a region's area the ink aims to
         cover, blurred over a few px (the darkest tones bend smoothly toward it
@@ -427,6 +454,9 @@ class PareidoliaParams:
     bottleneck: str = param("density", options=("density", "edge"),
                             help="the blend metric's bottleneck: cost per unit length (no "
                                  "lattice grain) or per edge (paper)")
+    min_twig: float = param(2.0, min=0.0, max=20.0, step=0.5,
+                            help="endpoints closer than this to the tree grown so far are "
+                                 "dropped: no stubs (lattice px)")
     cover: float = param(0.6, min=0.2, max=1.0, step=0.05,
                          help="most ink a dark region gets: gaps keep its twigs readable "
                               "(1 = solid ink)")
@@ -675,6 +705,14 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
                       bottleneck=p.bottleneck)
         seeds = np.zeros(h * w, bool)
         seeds[d.nodes] = True
+        if p.min_twig > 0:
+            # an endpoint next to the tree grown so far adds a stub, not a twig (beyond the
+            # paper): a bump on its branch that the tone match cannot make read as a twig
+            gap = ndimage.distance_transform_edt(~seeds.reshape(h, w))
+            at = np.clip(np.rint(batch).astype(np.int64), 0, [w - 1, h - 1])
+            batch = batch[gap[at[:, 1], at[:, 0]] >= p.min_twig]
+            if len(batch) == 0:
+                continue
         res = plan(lat, seeds.reshape(h, w), metric=metric, blend_weight=a)
         d = build_dendrite(res, batch, base=d, radius=p.tip_width / 2, iteration=i)
 
