@@ -184,8 +184,17 @@ drawn as horizontal rails with vertical spikes. ``M`` is now taken per unit of s
 length (``bottleneck="density"``). Endpoints within ``min_twig`` lattice px of the tree
 grown so far are dropped (they only added 1-3 px stubs), and in the picture's dark parts
 a twig is at least 6x as long as wide (3x in the light and mid tones, where twig ends
-draw small features), the rest of its ink going into the branch it hangs from. The
-measurements are in the report of branch dendrite18 and in ``tests/test_dendrite_grain.py``.
+draw small features), the rest of its ink going into the branch it hangs from. With the
+defaults on a dark disc (250 / 800 / 2000 px), a dark figure with a light face (300 /
+2000), the astronaut, the camera man, a cat photo, a cup photo, a horse silhouette, a tree
+on a hill, a palm and an evergreen, the orientation histogram of the ink in the dark
+regions (structure tensor, 12 bins of 15 deg, 1 = uniform) went from a largest bin of
+2.3-3.6 to 1.4-2.0 and an axis share (0 / 45 / 90 / 135 deg) of 1.15-1.71 to 1.01-1.19;
+the terminal twigs' median length / width from 5.0-6.2 to 6.7-7.6 and their median
+length 1.15-1.7x; tone r at 4 px blur in the crown from 0.76-0.96 to 0.72-0.96 (the
+astronaut 0.87 -> 0.85, the disc at 2000 px 0.76 -> 0.72, the rest within 0.03); the
+paper share of the dark regions 0.44-0.59 -> 0.48-0.61; no blunt twig ends before or
+after.
 """
 
 from __future__ import annotations

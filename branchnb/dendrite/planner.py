@@ -25,7 +25,10 @@ and the planner settles nodes in increasing order of a key built from it:
 ``"blend"``
     key = ``a * M + S`` (a scalar; ``a`` = ``blend_weight``, the paper
     found ``a = 1000`` good for trees). ``a = 0`` is the cumulative metric;
-    large ``a`` approaches the non-scalar one.
+    large ``a`` approaches the non-scalar one. On a
+    :class:`~branchnb.dendrite.lattice.Lattice` with ``bottleneck="density"``
+    ``M`` is the largest edge cost per unit of step length (a diagonal step
+    is then not sqrt(2) times dearer in ``M``); ``S`` is unchanged.
 
 Relaxation replaces a node's label only when the new key is strictly
 smaller. The non-scalar key is the whole label and the cumulative metric is
