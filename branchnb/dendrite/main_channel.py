@@ -21,14 +21,25 @@ from scipy import ndimage
 
 from .dendrite import Dendrite, build_dendrite
 from .planner import PlanResult
-from .stylize_params import LIGHTNING_MAIN_EXPONENT
+from .stylize_params import (
+    LIGHTNING_MAIN_EXPONENT,
+    LIGHTNING_SEED_BLUR,
+    LIGHTNING_SEED_DENSITY,
+    STRIKE_BAND,
+    STRIKE_PENALTY,
+)
 
-__all__ = ["main_path", "path_loops", "shortcut_loops", "straighten", "wide_top",
-           "widen_main_path"]
+__all__ = ["main_path", "path_loops", "outline_band", "shortcut_loops", "silhouette", "straighten",
+           "strike_channel", "wide_top", "widen_main_path"]
 
 
 def main_path(dendrite: Dendrite) -> np.ndarray:
     """Tree indices of the main channel: from the root down the child with most tips.
+
+    The walk stops at its node farthest from the root (beyond the papers: the
+    child with most tips can turn back at the end, e.g. from a lightning bolt's
+    foot up the other side of a drawn object's outline, on 15 of 18 test
+    inputs by more than 120 degrees in its last fifth).
 
     Parameters
     ----------
@@ -64,7 +75,11 @@ def main_path(dendrite: Dendrite) -> np.ndarray:
     while best[node] >= 0:
         node = int(best[node])
         path.append(node)
-    return np.asarray(path, np.int64)
+    path = np.asarray(path, np.int64)
+    # up to the node farthest from the root: past it the channel turns back (up the
+    # other side of a silhouette from its foot, a hook at a tripod's foot)
+    far = int(np.argmax(np.hypot(*(dendrite.points[path] - dendrite.points[path[0]]).T)))
+    return path[:far + 1]
 
 
 def _arc(points: np.ndarray) -> np.ndarray:
@@ -346,3 +361,135 @@ def widen_main_path(dendrite: Dendrite, min_width: float, max_width: float, *,
     radius = dendrite.radius.astype(np.float64, copy=True)
     radius[path] = np.maximum(radius[path], floor)
     return dendrite.with_radius(radius)
+
+
+def silhouette(content) -> np.ndarray:
+    """The filled outline of a content mask: what a drawn object covers.
+
+    Closed over 1 % of the mask's diagonal (a line drawing's gaps) and with its
+    holes filled (a star drawn as an outline covers its inside too).
+
+    Parameters
+    ----------
+    content : (h, w) array_like of bool
+        Where there is something to draw.
+
+    Returns
+    -------
+    (h, w) bool ndarray
+
+    Examples
+    --------
+    >>> m = np.zeros((40, 40), bool); m[5:35, 5] = m[5:35, 34] = m[5, 5:35] = m[34, 5:35] = True
+    >>> int(silhouette(m).sum())
+    900
+    """
+    c = np.asarray(content, bool)
+    if c.ndim != 2:
+        raise ValueError(f"content must be 2-D, got shape {c.shape}")
+    r = max(1, int(round(0.01 * float(np.hypot(*c.shape)))))
+    disk = np.hypot(*np.mgrid[-r:r + 1, -r:r + 1]) <= r
+    closed = ndimage.binary_closing(np.pad(c, r), disk)[r:-r, r:-r] | c
+    return ndimage.binary_fill_holes(closed)
+
+
+def outline_band(content, band: float = STRIKE_BAND) -> tuple[np.ndarray, np.ndarray, float]:
+    """A drawn object's silhouette, the band inside its outline, and how filled it is.
+
+    Parameters
+    ----------
+    content : (h, w) array_like of bool
+        Where there is something to draw.
+    band : float
+        Depth of the band (share of the diagonal, >= 0).
+
+    Returns
+    -------
+    sil : (h, w) bool ndarray
+        The :func:`silhouette`.
+    near : (h, w) float64 ndarray
+        1 on the silhouette's outline and outside it, falling linearly to 0 at
+        depth ``band`` inside it.
+    fill : float
+        Share of the silhouette deeper than ``band`` that is content: ~1 for a
+        filled shape, ~0 for an outline drawing (a star drawn as a line).
+
+    Examples
+    --------
+    >>> m = np.zeros((60, 60), bool); m[10:50, 10:50] = True
+    >>> sil, near, fill = outline_band(m, 0.05)
+    >>> float(near[10, 30]), float(near[30, 30]), float(near[0, 0]), fill
+    (1.0, 0.0, 1.0, 1.0)
+    """
+    if not band >= 0:
+        raise ValueError(f"band must be >= 0, got {band}")
+    c = np.asarray(content, bool)
+    sil = silhouette(c)
+    depth = ndimage.distance_transform_edt(np.pad(sil, 1))[1:-1, 1:-1]
+    reach = max(band * float(np.hypot(*c.shape)), 1e-9)
+    near = np.where(sil, np.clip(1.0 - (depth - 1.0) / reach, 0.0, 1.0), 1.0)
+    inner = sil & (depth > reach)
+    return sil, near, float(c[inner].mean()) if inner.any() else 0.0
+
+
+def strike_channel(weights, content, seed, *, band: float = STRIKE_BAND,
+                   penalty: float = STRIKE_PENALTY) -> np.ndarray:
+    """The path of a lightning bolt's main channel: from the seed down through the object.
+
+    Beyond the papers: a bolt's widest channel was the child with the most tips,
+    and on a flat-shaded drawing (a clip-art poplar, a filled ellipse) the tips
+    sit on the outline, the cheapest way along the picture's edges, so the
+    bright channel ran round the whole silhouette instead of down through it.
+    Here the main channel is planned on its own: the least cumulative cost
+    path on ``weights`` from ``seed`` to the bottom of the object's wide part
+    (:func:`wide_top` of the mask turned upside down), inside the object's
+    :func:`silhouette`, with ``penalty`` times the mean weight added within
+    ``band`` of the diagonal of its outline (:func:`outline_band`), so it keeps
+    off the outline and follows the object's middle in thin parts; outside the
+    silhouette every weight is 10 times the mean.
+
+    Parameters
+    ----------
+    weights : (h, w) array_like
+        Node weights of the lattice (>= 0).
+    content : (h, w) array_like of bool
+        Where there is something to draw (importance at or above the threshold).
+    seed : (x, y)
+        Start, in lattice pixels.
+    band : float
+        Depth (share of the diagonal, >= 0) of the outline band the channel avoids.
+    penalty : float
+        Extra weight (>= 0, in units of the mean weight) on the outline itself.
+
+    Returns
+    -------
+    (K, 2) int64 ndarray
+        Lattice ``(x, y)`` from the seed to the end (one row when there is no content).
+
+    Examples
+    --------
+    >>> m = np.zeros((60, 60), bool); m[5:55, 20:40] = True
+    >>> path = strike_channel(np.ones((60, 60)), m, (30, 5))
+    >>> bool(path[-1, 1] > 45 and np.abs(path[:, 0] - 29.5).max() < 6)
+    True
+    """
+    from .lattice import Lattice
+    from .planner import plan
+
+    w = np.asarray(weights, np.float64)
+    c = np.asarray(content, bool)
+    if w.ndim != 2 or c.shape != w.shape:
+        raise ValueError(f"weights and content must be 2-D of one shape, got {w.shape}, {c.shape}")
+    if not penalty >= 0:
+        raise ValueError(f"penalty must be >= 0, got {penalty}")
+    sx, sy = (int(round(float(v))) for v in seed)
+    sil, near, _ = outline_band(c, band)
+    end = wide_top(sil[::-1], LIGHTNING_SEED_BLUR, LIGHTNING_SEED_DENSITY)
+    if end is None:
+        return np.array([[sx, sy]], np.int64)
+    end = (end[0], w.shape[0] - 1 - end[1])
+    mean = float(np.mean(w[np.isfinite(w)])) if np.isfinite(w).any() else 1.0
+    cost = w + mean * np.where(sil, penalty * near, 10.0)
+    res = plan(Lattice(cost), (sx, sy), metric="cumulative")
+    nodes = res.path(int(end[1]) * w.shape[1] + int(end[0]))
+    return np.column_stack([nodes % w.shape[1], nodes // w.shape[1]]).astype(np.int64)

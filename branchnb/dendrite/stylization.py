@@ -39,7 +39,7 @@ from .dendrite import Dendrite, build_dendrite
 from .endpoints import place_endpoints
 from .importance import ImportanceParams, darkness, gradient_strength, importance_map
 from .lattice import Lattice, node_weights
-from .main_channel import straighten, wide_top, widen_main_path
+from .main_channel import outline_band, straighten, strike_channel, wide_top, widen_main_path
 from .planner import PlanResult, plan
 from .render import Rendering
 from .scale import resample_to_lattice
@@ -48,6 +48,8 @@ from .stylize_params import (  # noqa: F401  (re-exported; the spacings too)
     LIGHTNING_SEED_BLUR,
     LIGHTNING_SEED_DENSITY,
     LIGHTNING_SPACING,
+    STRIKE_MAX_COVER,
+    STRIKE_PENALTY,
     VINE_SPACING,
     StylizeParams,
     effective_params,
@@ -442,7 +444,10 @@ class Stylizer:
             lambda: self._plan(p, seed, rng_seed))
 
     def _plan(self, p: StylizeParams, seed, rng_seed: int) -> PlanResult:
-        lat = self.lattice(p, rng_seed)
+        return self._plan_on(self.lattice(p, rng_seed), p, seed)
+
+    @staticmethod
+    def _plan_on(lat: Lattice, p: StylizeParams, seed) -> PlanResult:
         res = plan(lat, seed, metric=p.metric, blend_weight=p.blend_weight)
         if p.metric == "nonscalar" and p.break_ties:
             res = refine_ties(lat, res)
@@ -547,6 +552,44 @@ class Stylizer:
                               reach=LIGHTNING_LOOP_REACH * float(np.hypot(*res.shape)))
         return self._get(key, make)
 
+    def _strike(self, p: StylizeParams, seed, rng_seed: int) -> tuple[PlanResult, Dendrite]:
+        """The plan and the dendrite of a lightning bolt, its main channel planned first (cached).
+
+        Beyond the paper: the main channel's path
+        (:func:`~branchnb.dendrite.main_channel.strike_channel`, from the seed
+        down through the object, off its outline) is made a highway of the
+        lattice (its weights 0), the outline band of a filled object costs as
+        much as for the channel (:func:`~branchnb.dendrite.main_channel.outline_band`,
+        times its ``fill``: a line drawing keeps its cheap lines), the planner
+        runs from the seed on that lattice and the channel's end joins the
+        endpoints, so the bolt's other branches fork off the channel; then its
+        hairpins are cut (:meth:`_main_channel_straight`). Only for an object
+        on a background: where the silhouette covers more than
+        ``STRIKE_MAX_COVER`` of the picture (a photo) the plain plan is used.
+        """
+        seed_key = tuple(np.round(np.asarray(seed, float), 3))
+        key = ("strike", _subset(p, _IMPORTANCE + _LATTICE + _PLAN + _ENDPOINTS), seed_key,
+               rng_seed)
+
+        def make():
+            lat = self.lattice(p, rng_seed)
+            content = self.importance(p) >= p.endpoint_threshold
+            sil, near, fill = outline_band(content)
+            path = strike_channel(lat.weights, content, seed)
+            if sil.mean() > STRIKE_MAX_COVER or len(path) < 2:  # a photo: no object to go through
+                res = self.plan(p, seed, rng_seed)
+                return res, self._main_channel_straight(p, seed, rng_seed)
+            # a filled object's outline and its outside cost as much to follow as the channel's
+            # band: the branches fork off the channel inside the object
+            w = lat.weights + float(lat.weights.mean()) * STRIKE_PENALTY * fill * near
+            w[path[:, 1], path[:, 0]] = 0.0
+            res = self._plan_on(Lattice(w, lat.factors), p, seed)
+            ends = np.concatenate([self.endpoints(p, rng_seed), path[-1:].astype(float)])
+            d = straighten(res, build_dendrite(res, ends), ends,
+                           reach=LIGHTNING_LOOP_REACH * float(np.hypot(*res.shape)))
+            return res, d
+        return self._get(key, make)
+
     def _dendrite_pruned(self, p: StylizeParams, seed, rng_seed: int, keep) -> Dendrite:
         """:meth:`dendrite` traced to the tips ``keep`` selects only (cached).
 
@@ -628,7 +671,7 @@ class Stylizer:
         ends = self.endpoints(p, rng)
         d = self.dendrite(p, seed_lat, rng)
         if metaphor == "lightning":
-            d = self._main_channel_straight(p, seed_lat, rng)
+            res, d = self._strike(p, seed_lat, rng)
         imp = self.importance(p)
         d = self._widths(d, p, p.min_width, p.max_width)
         d = widen_main_path(d, p.min_width, p.max_width) if metaphor == "lightning" else d
