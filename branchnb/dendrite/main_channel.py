@@ -59,6 +59,17 @@ def main_path(dendrite: Dendrite) -> np.ndarray:
     >>> p = main_path(d); int(p[0]), bool(d.points[p[-1], 0] < 15)
     (0, True)
     """
+    path = _walk(dendrite)
+    if path.size == 0:
+        return path
+    # up to the node farthest from the root: past it the channel turns back (up the
+    # other side of a silhouette from its foot, a hook at a tripod's foot)
+    far = int(np.argmax(np.hypot(*(dendrite.points[path] - dendrite.points[path[0]]).T)))
+    return path[:far + 1]
+
+
+def _walk(dendrite: Dendrite) -> np.ndarray:
+    """From the root down the child with most tips, to a tip (:func:`main_path` uncut)."""
     if not isinstance(dendrite, Dendrite):
         raise TypeError(f"dendrite must be a Dendrite, got {type(dendrite).__name__}")
     if dendrite.n_nodes == 0:
@@ -75,11 +86,7 @@ def main_path(dendrite: Dendrite) -> np.ndarray:
     while best[node] >= 0:
         node = int(best[node])
         path.append(node)
-    path = np.asarray(path, np.int64)
-    # up to the node farthest from the root: past it the channel turns back (up the
-    # other side of a silhouette from its foot, a hook at a tripod's foot)
-    far = int(np.argmax(np.hypot(*(dendrite.points[path] - dendrite.points[path[0]]).T)))
-    return path[:far + 1]
+    return np.asarray(path, np.int64)
 
 
 def _arc(points: np.ndarray) -> np.ndarray:
@@ -136,7 +143,7 @@ def shortcut_loops(plan_result: PlanResult, dendrite: Dendrite, *, reach: float,
                    ratio: float = 2.5) -> PlanResult:
     """Cut the hairpins of the main channel out of the planner's path tree.
 
-    Walking the main channel (:func:`main_path`) from the root, at each node
+    Walking the main channel (:func:`main_path`, past its farthest node) from the root, at each node
     ``i`` the farthest later node ``j`` within ``reach`` of it is taken as a
     hairpin's other leg when the channel's way round is long, ``arc(i, j) >
     ratio * chord(i, j)`` and ``arc(i, j) - chord(i, j) > reach``; then ``j``'s
@@ -180,7 +187,7 @@ def shortcut_loops(plan_result: PlanResult, dendrite: Dendrite, *, reach: float,
         raise ValueError(f"reach must be > 0, got {reach}")
     if not ratio > 1:
         raise ValueError(f"ratio must be > 1, got {ratio}")
-    path = main_path(dendrite)
+    path = _walk(dendrite)  # the whole walk: a hairpin's second leg climbs back
     p = dendrite.points[path]
     arc = _arc(p)
     parent = None

@@ -45,9 +45,11 @@ from .render import Rendering
 from .scale import resample_to_lattice
 from .stylize_params import (  # noqa: F401  (re-exported; the spacings too)
     LIGHTNING_LOOP_REACH,
+    LIGHTNING_MAIN_EXPONENT,
     LIGHTNING_SEED_BLUR,
     LIGHTNING_SEED_DENSITY,
     LIGHTNING_SPACING,
+    STRIKE_MAIN_EXPONENT,
     STRIKE_MAX_COVER,
     STRIKE_PENALTY,
     VINE_SPACING,
@@ -552,7 +554,7 @@ class Stylizer:
                               reach=LIGHTNING_LOOP_REACH * float(np.hypot(*res.shape)))
         return self._get(key, make)
 
-    def _strike(self, p: StylizeParams, seed, rng_seed: int) -> tuple[PlanResult, Dendrite]:
+    def _strike(self, p: StylizeParams, seed, rng_seed: int) -> tuple[PlanResult, Dendrite, bool]:
         """The plan and the dendrite of a lightning bolt, its main channel planned first (cached).
 
         Beyond the paper: the main channel's path
@@ -565,7 +567,8 @@ class Stylizer:
         endpoints, so the bolt's other branches fork off the channel; then its
         hairpins are cut (:meth:`_main_channel_straight`). Only for an object
         on a background: where the silhouette covers more than
-        ``STRIKE_MAX_COVER`` of the picture (a photo) the plain plan is used.
+        ``STRIKE_MAX_COVER`` of the picture (a photo) the plain plan is used;
+        the flag says whether the channel was planned.
         """
         seed_key = tuple(np.round(np.asarray(seed, float), 3))
         key = ("strike", _subset(p, _IMPORTANCE + _LATTICE + _PLAN + _ENDPOINTS), seed_key,
@@ -578,7 +581,7 @@ class Stylizer:
             path = strike_channel(lat.weights, content, seed)
             if sil.mean() > STRIKE_MAX_COVER or len(path) < 2:  # a photo: no object to go through
                 res = self.plan(p, seed, rng_seed)
-                return res, self._main_channel_straight(p, seed, rng_seed)
+                return res, self._main_channel_straight(p, seed, rng_seed), False
             # a filled object's outline and its outside cost as much to follow as the channel's
             # band: the branches fork off the channel inside the object
             w = lat.weights + float(lat.weights.mean()) * STRIKE_PENALTY * fill * near
@@ -587,7 +590,7 @@ class Stylizer:
             ends = np.concatenate([self.endpoints(p, rng_seed), path[-1:].astype(float)])
             d = straighten(res, build_dendrite(res, ends), ends,
                            reach=LIGHTNING_LOOP_REACH * float(np.hypot(*res.shape)))
-            return res, d
+            return res, d, True
         return self._get(key, make)
 
     def _dendrite_pruned(self, p: StylizeParams, seed, rng_seed: int, keep) -> Dendrite:
@@ -671,10 +674,12 @@ class Stylizer:
         ends = self.endpoints(p, rng)
         d = self.dendrite(p, seed_lat, rng)
         if metaphor == "lightning":
-            res, d = self._strike(p, seed_lat, rng)
+            res, d, struck = self._strike(p, seed_lat, rng)
         imp = self.importance(p)
         d = self._widths(d, p, p.min_width, p.max_width)
-        d = widen_main_path(d, p.min_width, p.max_width) if metaphor == "lightning" else d
+        if metaphor == "lightning":  # a planned channel stays bright down to its last fork
+            d = widen_main_path(d, p.min_width, p.max_width,
+                                exponent=STRIKE_MAIN_EXPONENT if struck else LIGHTNING_MAIN_EXPONENT)
         pinned = self._pinned
         if k < 1.0 and p.output_width > 0 and p.thickness == "importance" and metaphor in (
                 "plain", None):
