@@ -32,11 +32,12 @@ from .stylize_params import (
     LIGHTNING_SEED_BLUR,
     LIGHTNING_SEED_DENSITY,
     STRIKE_BAND,
+    STRIKE_MAX_COVER,
     STRIKE_PENALTY,
 )
 
 __all__ = ["main_path", "path_loops", "outline_band", "shortcut_loops", "silhouette", "straighten",
-           "strike_channel", "wide_top", "widen_main_path"]
+           "strike_channel", "strike_weights", "wide_top", "widen_main_path"]
 
 
 def main_path(dendrite: Dendrite) -> np.ndarray:
@@ -535,3 +536,58 @@ def strike_channel(weights, content, seed, *, band: float = STRIKE_BAND,
     res = plan(Lattice(cost), (sx, sy), metric="cumulative")
     nodes = res.path(int(end[1]) * w.shape[1] + int(end[0]))
     return np.column_stack([nodes % w.shape[1], nodes // w.shape[1]]).astype(np.int64)
+
+
+def strike_weights(weights, content, seed, *, band: float = STRIKE_BAND,
+                   penalty: float = STRIKE_PENALTY,
+                   max_cover: float = STRIKE_MAX_COVER) -> tuple[np.ndarray, np.ndarray] | None:
+    """Lattice weights for a lightning bolt that runs down through a drawn object.
+
+    Beyond the papers: the main channel (:func:`strike_channel`) becomes a
+    highway (its weights 0), and a filled object's outline band and its
+    outside cost ``penalty`` times the mean weight more, times the object's
+    ``fill`` (:func:`outline_band`: a line drawing keeps its cheap lines), so
+    the branches planned from the seed fork off the channel inside the object
+    instead of running round its outline. Only for an object on a
+    background: None where its silhouette covers more than ``max_cover`` of
+    the picture (photos: 0.96-1; drawn objects 0.19-0.61).
+
+    Parameters
+    ----------
+    weights : (h, w) array_like
+        Node weights of the lattice (>= 0).
+    content : (h, w) array_like of bool
+        Where there is something to draw.
+    seed : (x, y)
+        Start, in lattice pixels.
+    band, penalty : float
+        As in :func:`strike_channel`.
+    max_cover : float
+        Largest share in [0, 1] of the picture the silhouette may cover.
+
+    Returns
+    -------
+    (weights, path) or None
+        The new ``(h, w)`` weights and the channel's ``(K, 2)`` lattice ``(x, y)``.
+
+    Examples
+    --------
+    >>> m = np.zeros((60, 60), bool); m[5:55, 20:40] = True
+    >>> w, path = strike_weights(np.ones((60, 60)), m, (30, 5))
+    >>> float(w[30, 34]), float(w[30, 20]) > 2, float(w[path[5, 1], path[5, 0]])
+    (1.0, True, 0.0)
+    >>> strike_weights(np.ones((60, 60)), np.ones((60, 60), bool), (30, 5)) is None
+    True
+    """
+    if not 0.0 <= max_cover <= 1.0:
+        raise ValueError(f"max_cover must be in [0, 1], got {max_cover}")
+    w = np.asarray(weights, np.float64)
+    sil, near, fill = outline_band(content, band)
+    if sil.mean() > max_cover:
+        return None
+    path = strike_channel(w, content, seed, band=band, penalty=penalty)
+    if len(path) < 2:
+        return None
+    out = w + float(np.mean(w[np.isfinite(w)])) * penalty * fill * near
+    out[path[:, 1], path[:, 0]] = 0.0
+    return out, path

@@ -39,7 +39,7 @@ from .dendrite import Dendrite, build_dendrite
 from .endpoints import place_endpoints
 from .importance import ImportanceParams, darkness, gradient_strength, importance_map
 from .lattice import Lattice, node_weights
-from .main_channel import outline_band, straighten, strike_channel, wide_top, widen_main_path
+from .main_channel import straighten, strike_weights, wide_top, widen_main_path
 from .planner import PlanResult, plan
 from .render import Rendering
 from .scale import resample_to_lattice
@@ -50,8 +50,6 @@ from .stylize_params import (  # noqa: F401  (re-exported; the spacings too)
     LIGHTNING_SEED_DENSITY,
     LIGHTNING_SPACING,
     STRIKE_MAIN_EXPONENT,
-    STRIKE_MAX_COVER,
-    STRIKE_PENALTY,
     VINE_SPACING,
     StylizeParams,
     effective_params,
@@ -557,18 +555,13 @@ class Stylizer:
     def _strike(self, p: StylizeParams, seed, rng_seed: int) -> tuple[PlanResult, Dendrite, bool]:
         """The plan and the dendrite of a lightning bolt, its main channel planned first (cached).
 
-        Beyond the paper: the main channel's path
-        (:func:`~branchnb.dendrite.main_channel.strike_channel`, from the seed
-        down through the object, off its outline) is made a highway of the
-        lattice (its weights 0), the outline band of a filled object costs as
-        much as for the channel (:func:`~branchnb.dendrite.main_channel.outline_band`,
-        times its ``fill``: a line drawing keeps its cheap lines), the planner
-        runs from the seed on that lattice and the channel's end joins the
-        endpoints, so the bolt's other branches fork off the channel; then its
-        hairpins are cut (:meth:`_main_channel_straight`). Only for an object
-        on a background: where the silhouette covers more than
-        ``STRIKE_MAX_COVER`` of the picture (a photo) the plain plan is used;
-        the flag says whether the channel was planned.
+        Beyond the paper: on an object on a background the planner runs on
+        :func:`~branchnb.dendrite.main_channel.strike_weights` (the main channel
+        down through the object a highway, a filled object's outline costly)
+        and the channel's end joins the endpoints, so the bolt's other branches
+        fork off the channel; then its hairpins are cut. On a photo the plain
+        plan is used (:meth:`_main_channel_straight`). The flag says whether
+        the channel was planned.
         """
         seed_key = tuple(np.round(np.asarray(seed, float), 3))
         key = ("strike", _subset(p, _IMPORTANCE + _LATTICE + _PLAN + _ENDPOINTS), seed_key,
@@ -576,18 +569,11 @@ class Stylizer:
 
         def make():
             lat = self.lattice(p, rng_seed)
-            content = self.importance(p) >= p.endpoint_threshold
-            sil, near, fill = outline_band(content)
-            path = strike_channel(lat.weights, content, seed)
-            if sil.mean() > STRIKE_MAX_COVER or len(path) < 2:  # a photo: no object to go through
-                res = self.plan(p, seed, rng_seed)
-                return res, self._main_channel_straight(p, seed, rng_seed), False
-            # a filled object's outline and its outside cost as much to follow as the channel's
-            # band: the branches fork off the channel inside the object
-            w = lat.weights + float(lat.weights.mean()) * STRIKE_PENALTY * fill * near
-            w[path[:, 1], path[:, 0]] = 0.0
-            res = self._plan_on(Lattice(w, lat.factors), p, seed)
-            ends = np.concatenate([self.endpoints(p, rng_seed), path[-1:].astype(float)])
+            got = strike_weights(lat.weights, self.importance(p) >= p.endpoint_threshold, seed)
+            if got is None:  # a photo: no object to go through
+                return self.plan(p, seed, rng_seed), self._main_channel_straight(p, seed, rng_seed), False
+            res = self._plan_on(Lattice(got[0], lat.factors), p, seed)
+            ends = np.concatenate([self.endpoints(p, rng_seed), got[1][-1:].astype(float)])
             d = straighten(res, build_dendrite(res, ends), ends,
                            reach=LIGHTNING_LOOP_REACH * float(np.hypot(*res.shape)))
             return res, d, True
