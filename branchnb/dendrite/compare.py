@@ -69,7 +69,7 @@ def compare_metrics(stylizer: Stylizer, params: StylizeParams | None = None, *, 
     params : StylizeParams, optional
         Common parameters (defaults if None); only the metric differs.
     seed : (x, y), optional
-        Start of both dendrites (image pixels); see :meth:`Stylizer.run`.
+        Start of both dendrites (image pixels); see :meth:`~branchnb.dendrite.stylization.Stylizer.run`.
     rng : int or numpy.random.Generator
         Seed of the lattice noise and the stippling, shared by both runs; 0.
     first : {"cumulative", "nonscalar", "blend"}
