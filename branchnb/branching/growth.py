@@ -310,6 +310,7 @@ class _Grower(_Starts, _Filling):
         self._run_logs: tuple | None = None
         self._all_dirs: np.ndarray | None = None
         self._kids_of: tuple | None = None
+        self._live_dirs: dict = {}
         self._e1, self._e2, self._ei = np.zeros(1), np.zeros((1, 1)), np.zeros(1, np.int64)
         self._head: float | None = None
 
@@ -380,12 +381,15 @@ class _Grower(_Starts, _Filling):
     def _room_ahead(self, st, tip) -> bool:
         """Does any of all the candidates (their directions) lead on below the density stop?"""
         bm, p = self.model.bending, self.p
-        t = bm.windows(min(len(st.elem_a), bm.max_history()))[0]
-        t = t[bm.cont_len[t] > 0]
-        if not len(t):
+        L = min(len(st.elem_a), bm.max_history())
+        dirs = self._live_dirs.get(L)
+        if dirs is None:   # the directions of the windows that go on, per history length (found once)
+            t = bm.windows(L)[0]
+            t = t[bm.cont_len[t] > 0]
+            dirs = self._live_dirs[L] = np.ascontiguousarray(self.model.local_dirs[t])
+        if not len(dirs):
             return False
-        dc, cross = binned_profile(self.density, tip, _rotate(self.model.local_dirs[t], st.theta),
-                                   3.0 * p.m * p.h)
+        dc, cross = binned_profile(self.density, tip, _rotate(dirs, st.theta), 3.0 * p.m * p.h)
         return bool(((~cross) & (dc < p.stop_density)).any())
 
     def _share(self, n: int, cap: int | None = None) -> np.ndarray | None:
