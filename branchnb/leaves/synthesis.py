@@ -98,8 +98,9 @@ The steps live in their own modules: :mod:`branchnb.leaves.shaping` (random
 warps, shape weights, map composition and resampling),
 :mod:`branchnb.leaves.prepared` (what every leaf of one analysis shares:
 stage images, layer masks, maps, petioles), :mod:`branchnb.leaves.inking`
-(drawn leaves), :mod:`branchnb.leaves.correction` (texture correction) and :mod:`branchnb.leaves.comparison` (measures used by the
-tests); this module assembles a leaf and re-exports their public names.
+(drawn leaves), :mod:`branchnb.leaves.correction` (texture correction)
+and :mod:`branchnb.leaves.comparison` (measures used by the tests); this
+module assembles a leaf and re-exports their public names.
 
 Every leaf keeps the seed that made it, the exemplars it used and the mean
 shape weights; :func:`save_leaves` writes RGBA PNGs and a strict-JSON record.
