@@ -358,7 +358,7 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
         wts[~comp] = 0.0
         wts /= np.maximum(wts.sum(0), 1e-12)
     n_c = int(comp.sum())
-    gain = float(np.sqrt(n_c * params.shape_concentration * float(os.environ.get("BNB_G", "1")) + 1.0)) if params.restore_spread and n_c > 1 else 1.0
+    gain = float(np.sqrt(n_c * params.shape_concentration + 1.0)) if params.restore_spread and n_c > 1 else 1.0
     m = np.zeros(shape + (2,), np.float32)
     for i in np.flatnonzero(comp):
         # With the spread restored: the blend's departure from the
