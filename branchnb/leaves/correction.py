@@ -330,11 +330,10 @@ def _correct(rgb, blade, mapping, source, source_blade, rng, source_detail=None)
     if y1 - y0 < 2 or x1 - x0 < 2:
         return rgb
     sub, b = np.ascontiguousarray(rgb[box]), blade[box]
-    src = np.asarray(source, np.float32)[..., :3]
     low = _masked_blur(sub, b, sigma)
     detail = np.clip(sub - low + 0.5, 0, 1)
     if source_detail is None:
-        source_detail = _detail(src, source_blade, sigma)
+        source_detail = _detail(source, source_blade, sigma)
     try:
         res = correct_texture(detail, np.ascontiguousarray(mapping[box]), source_detail, mask=b,
                               source_mask=source_blade, rng=rng, patch_size=ps)

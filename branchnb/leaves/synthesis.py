@@ -499,9 +499,11 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
             # rim of a light vein was lifted to the vein's colour: veins
             # widened and blurred, new leaves had about half their
             # exemplars' Laplacian variance on procedural families.)
-            under = _sample_sharp_at(p.layer_under[k][e][..., :3], c, on)
+            # (On the layer's footprint only: a weight of 0 elsewhere.)
+            under = _sample_sharp_at(p.layer_under[k][e][..., :3], c, on)[on]
             lo, hi = p.layer_range[k]
-            own = np.clip(rgb, *p.blade_range)
+            fg, bg_on = col[on], rgb[on]
+            own = np.clip(bg_on, *p.blade_range)
             # A layer lighter than the leaf under it (pale veins) is brought
             # as a ratio of the light it lets through, 1 - (1 - rgb) (1 - col)
             # / (1 - under) (a "screen"), a darker one as a ratio of the light
@@ -511,8 +513,8 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
             # percentile against 0.3-0.5 % in the exemplars, procedural
             # families), which the blade's percentile clip had hidden by
             # cutting every pale vein's crest.
-            mul = rgb * col / np.maximum(under, 0.02)
-            scr = 1.0 - (1.0 - rgb) * (1.0 - col) / np.maximum(1.0 - under, 0.02)
+            mul = bg_on * fg / np.maximum(under, 0.02)
+            scr = 1.0 - (1.0 - bg_on) * (1.0 - fg) / np.maximum(1.0 - under, 0.02)
             # Pale layers as a plain ratio too (it keeps the layer's relative
             # contrast), only never past the exemplars' lightest blade colour
             # (99.5th percentile) unless the screen goes past it: as a screen
@@ -521,7 +523,7 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
             # dark strip's veins fell below half their own contrast on a light
             # background; vein continuity 0.85).
             light = np.maximum(scr, np.minimum(mul, p.blade_range[1]))
-            col = np.clip(np.where(col > under, light, mul), np.minimum(lo, own), np.maximum(hi, own))
+            col[on] = np.clip(np.where(fg > under, light, mul), np.minimum(lo, own), np.maximum(hi, own))
         wgt = (np.clip(_sample(p.layer_weights[k][e], c)[..., 0], 0, None) + 1e-6) * a_k
         cover = np.maximum(cover, a_k)
         mix += wgt[..., None] * col
