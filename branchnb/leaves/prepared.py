@@ -243,6 +243,12 @@ class _Prepared:
             self.layer_masks.append(ms)
             self.layer_weights.append(ws)
             self.layer_under.append(us)
+        # Whether each exemplar's layer stands out from the leaf under it as
+        # the training leaf's does (lighter or darker: the median of its
+        # ratio to the leaf under it, minus 1, of the training leaf's sign).
+        # A layer of the other sign is another structure (dark dots induced
+        # as a grass strip's pale veins): synthesis passes it over as a donor.
+        self.layer_agrees = [self._agreement(k) for k in range(len(a.layers))]
         # How complete each exemplar's induced layer is: its skeleton's
         # length over that of the training layer carried onto it (the
         # registered mask), at most 1, over the median of the exemplars'
@@ -304,6 +310,20 @@ class _Prepared:
         lams = np.array([L.lam for L in a.layers], float)
         top = float(lams.max()) if len(lams) and lams.max() > 0 else 1.0
         self.structural = [float(x / top) for x in lams]
+
+    def _agreement(self, k: int) -> list[bool]:
+        """Per exemplar: layer ``k`` stands out from the leaf under it with the training leaf's sign."""
+        sign = []
+        for e in range(self.n):
+            mk = self.layer_masks[k][e] > 0.5
+            if not mk.any():
+                sign.append(0.0)
+                continue
+            st = np.asarray(self.stage[k][e], np.float32)[mk].mean(-1)
+            un = np.asarray(self.layer_under[k][e], np.float32)[mk].mean(-1)
+            sign.append(float(np.sign(np.median(st / np.maximum(un, 0.02) - 1.0))))
+        t = sign[self.analysis.training_index]
+        return [t == 0 or s_e == t for s_e in sign]
 
     def _upright_map(self, e: int) -> np.ndarray:
         """Exemplar ``e``'s map to the training frame, seen in the training leaf's pose.

@@ -451,6 +451,12 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
         # a few dashes of veins) are passed over while others have one.
         full = [e for e in cands if p.layer_complete[k][e] >= params.donor_complete]
         cands = full if full else cands
+        # Nor one whose layer stands out the other way than the training
+        # leaf's (see prepared._Prepared._agreement): a grass strip's dark dots
+        # induced as its pale veins gave new leaves dotted, not lined, veins
+        # (vein continuity 0.88 where that strip gave the veins).
+        same = [e for e in cands if p.layer_agrees[k][e]]
+        cands = same if same else cands
         # Never the donor of another layer (two layers of one exemplar
         # pasted with different warps lay beside each other: vein continuity
         # 0.58 on maples whose spots and veins came from one leaf).
