@@ -17,7 +17,7 @@ from scipy import ndimage as ndi
 
 from ..core.completion import complete_gaps
 from .gap_quilting import quilt_gaps
-from .regions import ExampleRegions, _normalized_blur
+from .regions import ExampleRegions
 
 __all__: list[str] = []
 
@@ -29,23 +29,48 @@ DETAIL_SCALE = 0.25
 LAYOUT_SCALE = 1.0 / 16.0
 
 
-def _filled_blur(img: np.ndarray, weight: np.ndarray, sigma: float, levels: int = 5) -> np.ndarray:
-    """:func:`~branchnb.branching.regions._normalized_blur` of ``img`` over ``weight``, defined
-    everywhere: where few weighted pixels lie within ``sigma`` (a wide forbidden area), the average
-    at twice, four times ... the scale takes over smoothly."""
-    w = weight.astype(np.float64)
-    out = _normalized_blur(img, w, sigma)
-    den = _normalized_blur(w[..., None], np.ones_like(w), sigma)[..., 0]
-    s = sigma
+def _coarse_blur(img: np.ndarray, weight: np.ndarray, sigma: float, levels: int = 0) -> np.ndarray:
+    """Gaussian average of ``img`` over ``weight`` (normalised), on a grid ``sigma / 3`` times coarser
+    (float32, interpolated back: the result is smooth at that scale anyway).
+
+    With ``levels``, the average is defined everywhere: where few weighted
+    pixels lie within ``sigma`` (a wide forbidden area), the average at
+    twice, four times ... the scale (each on its own coarser grid) takes
+    over smoothly.
+    """
+    H, W = weight.shape
+    n = img.shape[2]
+    wimg = (img * weight[..., None]).astype(np.float32)
+    wt32 = weight.astype(np.float32)
+
+    def average(scale, size):
+        f = max(int(scale // 3), 1)
+        hs, ws = max(H // f, 1), max(W // f, 1)
+        wt = cv2.resize(wt32, (ws, hs), interpolation=cv2.INTER_AREA)
+        iw = cv2.resize(wimg, (ws, hs), interpolation=cv2.INTER_AREA).reshape(hs, ws, n)
+        den = cv2.GaussianBlur(wt, (0, 0), scale / f, borderType=cv2.BORDER_REPLICATE)
+        num = cv2.GaussianBlur(iw, (0, 0), scale / f, borderType=cv2.BORDER_REPLICATE).reshape(hs, ws, n)
+        if (ws, hs) != size:
+            den = cv2.resize(den, size, interpolation=cv2.INTER_LINEAR)
+            num = cv2.resize(num, size, interpolation=cv2.INTER_LINEAR).reshape(size[1], size[0], n)
+        return num / np.maximum(den, 1e-6)[..., None], den
+
+    f0 = max(int(sigma // 3), 1)
+    size = (max(W // f0, 1), max(H // f0, 1))
+    out, den = average(sigma, size)
+    scale = sigma
     for _ in range(levels):
         a = np.clip(den / 0.3, 0.0, 1.0)[..., None]
-        if a.min() >= 1.0:
+        if a.min() >= 1.0 or scale > max(H, W):
             break
-        s *= 2.0
-        coarse = _normalized_blur(img, w, s)
+        scale *= 2.0
+        coarse, d2 = average(scale, size)
         out = a * out + (1.0 - a) * coarse
-        den = np.maximum(den, _normalized_blur(w[..., None], np.ones_like(w), s)[..., 0])
-    return out
+        den = np.maximum(den, d2)
+    if den.min() <= 1e-6:
+        mean = wimg.sum((0, 1)) / max(float(weight.sum()), 1.0)
+        out = np.where(den[..., None] > 1e-6, out, mean.astype(np.float32))
+    return cv2.resize(out, (W, H), interpolation=cv2.INTER_LINEAR).reshape(H, W, n).astype(np.float64)
 
 
 def _relight_setup(ex: np.ndarray, canvas: np.ndarray, covered: np.ndarray, regions: ExampleRegions,
@@ -89,16 +114,16 @@ def _relight_setup(ex: np.ndarray, canvas: np.ndarray, covered: np.ndarray, regi
         return None
     sigma = DETAIL_SCALE * float(patch_size)
     exc = ex[..., :n].astype(np.float64)
-    shade_ex = _filled_blur(exc, bg_ex, sigma)
+    shade_ex = _coarse_blur(exc, bg_ex, sigma, levels=5)
     mean = exc[bg_ex].mean(axis=0)
     # the example's light layout, at the output's size (same relative position)
     H, W = bg_t.shape
-    layout = _filled_blur(exc, bg_ex, LAYOUT_SCALE * max(ex.shape[:2]))
+    layout = _coarse_blur(exc, bg_ex, LAYOUT_SCALE * max(ex.shape[:2]), levels=5)
     g = cv2.resize(layout.astype(np.float32), (W, H), interpolation=cv2.INTER_LINEAR).reshape(H, W, n)
     # the fragments' light where they are (their background averaged at sigma), weighted by how
     # much of it lies around
-    blur_t = _normalized_blur(canvas[..., :n].astype(np.float64), bg_t.astype(np.float64), sigma)
-    den = _normalized_blur(bg_t.astype(np.float64)[..., None], np.ones((H, W)), sigma)
+    blur_t = _coarse_blur(canvas[..., :n], bg_t, sigma, levels=5)
+    den = _coarse_blur(bg_t[..., None].astype(np.float32), np.ones((H, W), bool), sigma)
     shade_t = (blur_t * den + prior * g) / (den + prior)
     ex_flat = ex.copy()
     ex_flat[..., :n] = ex[..., :n] + (mean - shade_ex)
