@@ -25,7 +25,8 @@ __all__: list[str] = []
 #: Detail scale of the relighting, as a fraction of the patch side: the example's texture keeps
 #: what varies faster than this (Gaussian sigma); slower light comes from the layout.
 DETAIL_SCALE = 0.25
-#: Scale of the example's light layout, as a fraction of its long side (Gaussian sigma).
+#: Scale of the example's light layout, as a fraction of its long side (Gaussian sigma; at least the
+#: patch side, so that a small example's lines leave no dark trace in it).
 LAYOUT_SCALE = 1.0 / 16.0
 
 
@@ -118,7 +119,7 @@ def _relight_setup(ex: np.ndarray, canvas: np.ndarray, covered: np.ndarray, regi
     mean = exc[bg_ex].mean(axis=0)
     # the example's light layout, at the output's size (same relative position)
     H, W = bg_t.shape
-    layout = _coarse_blur(exc, bg_ex, LAYOUT_SCALE * max(ex.shape[:2]), levels=5)
+    layout = _coarse_blur(exc, bg_ex, max(LAYOUT_SCALE * max(ex.shape[:2]), float(patch_size)), levels=5)
     g = cv2.resize(layout.astype(np.float32), (W, H), interpolation=cv2.INTER_LINEAR).reshape(H, W, n)
     # the fragments' light where they are (their background averaged at sigma), weighted by how
     # much of it lies around

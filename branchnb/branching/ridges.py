@@ -578,8 +578,9 @@ def multi_colour_ink(image, *, paper_share: float = 0.5, tol: float = 0.1,
     at least ``paper_share`` of the pixels have one colour (the paper, the
     most frequent colour) and at least ``share`` of all pixels lie within
     ``tol`` of it or clearly away from it (3 ``tol``: the ink, only its
-    anti-aliased rim in between), while the ink is thin everywhere (no
-    flat region of it wider than 3 x the strokes' median width, as a sea is) and
+    anti-aliased rim in between), while the ink is thin everywhere (at
+    most 35 % of the image, and no part of it wider than 3 x the strokes'
+    median width, as a sea or a land is) and
     of more than one colour (one ink colour is a mask already), the ink's
     distance from the paper colour is returned as a grey image (0 = ink, 1 = paper), for
     tracing by its medial axis like a binary mask.
@@ -634,7 +635,8 @@ def multi_colour_ink(image, *, paper_share: float = 0.5, tol: float = 0.1,
     if not sk.any():
         return None
     r_med = float(np.median(dt[sk]))
-    if large_flat_regions(ink, max(3.0 * r_med, 3.0)).any():
-        return None         # a sea or a filled shape: no drawing of strokes
+    if (ink.mean() > 0.35 or float(np.percentile(dt[sk], 99)) > 3.0 * r_med + 1.0
+            or large_flat_regions(ink, max(3.0 * r_med, 3.0)).any()):
+        return None         # a sea, a land or a filled shape: no drawing of strokes
     depth = float(np.percentile(d[far], 25))   # every ink colour fully dark
     return (1.0 - np.clip(d / max(depth, 1e-6), 0.0, 1.0)).astype(np.float32)
