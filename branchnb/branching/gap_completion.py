@@ -95,7 +95,7 @@ def _relight_setup(ex: np.ndarray, canvas: np.ndarray, covered: np.ndarray, regi
     Away from the fragments the output's light tends (with weight ``prior``
     against the fragments' local share of the background) to the example's **light
     layout** at the same relative position: its background averaged at
-    ``LAYOUT_SCALE`` of its long side (the dark top of a night sky, the
+    ``LAYOUT_SCALE`` of its long side, at least the patch side (the dark top of a night sky, the
     bright clouds low in the middle, a fundus photo's vignetting), so the
     large-scale light of the example is kept rather than quilted from
     patches of bright and dark. Returns ``(example, canvas, offset)`` or
