@@ -119,23 +119,44 @@ class _Canvas:
         return len(self.sdf) - 1
 
     def capsule(self, pts, half_width, *, taper: float = 1.0):
-        """SDF of a tapered capsule along ``pts`` and the arc length map."""
-        d, s = _seg_distance(self.xx, self.yy, np.asarray(pts, float))
-        length = float(np.hypot(*np.diff(np.asarray(pts, float), axis=0).T).sum())
+        """SDF of a tapered capsule along ``pts`` and the arc length map.
+
+        Computed on the capsule's box grown by ``half_width + outline + 3`` px
+        only: farther out the distance is set to ``1e6`` and the arc length to
+        0 (no pixel there is drawn by this part, the rendered image is the
+        same as with exact distances everywhere).
+        """
+        pts = np.asarray(pts, float)
+        m = float(half_width) + self.outline + 3.0
+        x0, y0 = np.maximum(np.floor(pts.min(axis=0) - m).astype(int), 0)
+        x1, y1 = np.ceil(pts.max(axis=0) + m).astype(int) + 1
+        box = (slice(y0, min(y1, self.h)), slice(x0, min(x1, self.w)))
+        d = np.full((self.h, self.w), 1e6)
+        s = np.zeros((self.h, self.w))
+        d[box], s[box] = _seg_distance(self.xx[box], self.yy[box], pts)
+        length = float(np.hypot(*np.diff(pts, axis=0).T).sum())
         hw = half_width * (1.0 - (1.0 - taper) * np.clip(s / max(length, 1e-9), 0, 1))
         return d - hw, s
 
     def render(self) -> tuple[np.ndarray, np.ndarray]:
-        sdf = np.stack(self.sdf)
-        union = sdf.min(axis=0)
-        alpha = np.clip(0.5 - union, 0.0, 1.0)
         # Which part shows at each pixel: the highest drawing order among the
-        # parts covering it (or the nearest part outside all of them).
-        inside = sdf <= 0.0
-        order = np.asarray(self.order, float)[:, None, None]
-        score = np.where(inside, order, -1e9) - 1e-3 * sdf
-        top = np.argmax(score, axis=0)
-        rgb = np.take_along_axis(np.stack(self.colour), top[None, :, :, None], axis=0)[0]
+        # parts covering it (or the nearest part outside all of them); the
+        # first part wins a tie. One part at a time (no stack of every part).
+        union = self.sdf[0].copy()
+        best = np.where(self.sdf[0] <= 0.0, float(self.order[0]), -1e9) - 1e-3 * self.sdf[0]
+        top = np.zeros(union.shape, np.intp)
+        for i in range(1, len(self.sdf)):
+            sd = self.sdf[i]
+            np.minimum(union, sd, out=union)
+            score = np.where(sd <= 0.0, float(self.order[i]), -1e9) - 1e-3 * sd
+            better = score > best
+            best[better] = score[better]
+            top[better] = i
+        alpha = np.clip(0.5 - union, 0.0, 1.0)
+        rgb = self.colour[0].copy()
+        for i in range(1, len(self.colour)):
+            m = top == i
+            rgb[m] = self.colour[i][m]
         # A dark outline along the silhouette of the union only (none across joints).
         rim = np.clip(union + self.outline + 0.5, 0.0, 1.0)
         rgb = rgb * (1 - rim[..., None]) + np.asarray(OUTLINE)[None, None] * rim[..., None]
