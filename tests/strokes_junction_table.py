@@ -7,12 +7,13 @@ copied) and a coral (a branch turned, one copied) at 256 / 512 / 1000 px and
 prints per edit: the longest gap (px) along a child's stroke, the most
 missing px of one part where its rigid map puts it, pieces, fleck px, light
 (un-outlined) silhouette px, CPU s
-the results go to /tmp/strokes15/TAG_*.png.
+the results go to ``$TMPDIR/strokes_junction_table/TAG_*.png`` (or ``OUT=dir``).
 ``ONLY=coral,antlers`` picks objects.
 """
 import json
 import os
 import sys
+import tempfile
 import time
 
 import numpy as np
@@ -168,6 +169,8 @@ if __name__ == "__main__":
     only = os.environ.get("ONLY")
     if only:
         names = only.split(",")
+    folder = os.environ.get("OUT") or os.path.join(tempfile.gettempdir(), "strokes_junction_table")
+    os.makedirs(folder, exist_ok=True)
     out = {}
     for name in names:
         for n in sizes:
@@ -179,6 +182,7 @@ if __name__ == "__main__":
             r["cpu"] = round(dt, 2)
             out[f"{name} {n}"] = r
             print(f"{name:9s} {n:5d} " + " ".join(f"{k}={v}" for k, v in r.items()), flush=True)
-            os.makedirs("/tmp/strokes15", exist_ok=True)
-            open(f"/tmp/strokes15/{tag}_{name}_{n}.png", "wb").write(encode_png(composite_over(res.image)))
-    json.dump(out, open(f"/tmp/strokes15/{tag}.json", "w"), indent=1)
+            with open(os.path.join(folder, f"{tag}_{name}_{n}.png"), "wb") as f:
+                f.write(encode_png(composite_over(res.image)))
+    with open(os.path.join(folder, f"{tag}.json"), "w") as f:
+        json.dump(out, f, indent=1)
