@@ -22,8 +22,9 @@ versions stay the reference (tests compare them).
   input furcations, mirrored too (numpy's summation order: the same numbers to the bit).
 
 With these the structures are the same as the numpy code's, seed for seed; a 1000 px cracked mud
-(4.5 k steps, 3.2 k branch starts) took 22-24 s CPU per seed before the last two and the
-Python-side savings that came with them (issue 23, branching25), 13-14 s after, on a loaded machine.
+(4.5 k steps, 3.2 k branch starts) took 19.9-25.9 s CPU per seed (3 seeds, a loaded machine) before
+the last two and the Python-side savings that came with them (issue 23, branching25), 11.4-13.9 s
+after.
 """
 
 from __future__ import annotations
