@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import ndimage as ndi
 
+from ..core.distance import edt as _edt
 from ..core.image import as_mask, as_rgb
 from ..core.random import as_rng
 from ..core.validate import check_bool, check_callback, check_int, check_real
@@ -287,7 +288,7 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
                 # The exemplar's own main structure joins the carried-over prior.
                 ru = ru | snapped[e]
             reg_user.append(ru)
-            dist.append(ndi.distance_transform_edt(~ru).astype(np.float32) if ru.any() else
+            dist.append(_edt(~ru) if ru.any() else
                         np.full(ru.shape, 1e6, np.float32))
         best = None
         candidates = neighbourhood_candidates(params, blades[t], user)
@@ -641,7 +642,7 @@ def _outline_band(blade, user):
     """
     from .induction import layer_width
     reach = max(2.0, float(np.ceil(layer_width(user))))
-    return blade & (ndi.distance_transform_edt(_closed_blade(blade)) <= reach)
+    return blade & (_edt(_closed_blade(blade)) <= reach)
 
 
 #: Gaps between a drawn blade's paint strokes up to twice this share of the leaf size (``sqrt`` of its
