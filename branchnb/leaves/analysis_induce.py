@@ -245,12 +245,14 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
     rng = as_rng(rng)
     n = len(images)
     rgb = [as_rgb(im, name=f"images[{i}]") for i, im in enumerate(images)]
+    # Each exemplar's CIELAB, converted once for the colour space, the blade statistics and the first layer.
+    lab0 = [_lab(im) for im in rgb]
     if space is None:
-        space = colour_space(rgb, blades, params.bins)
+        space = colour_space(rgb, blades, params.bins, labs=lab0)
     t = training_index
     lengths = [scaled_lengths(params, b) for b in blades]
     tolerance = registration_tolerance(registrations, training_index)
-    stats = [blade_lab_stats(im, b) for im, b in zip(rgb, blades)]
+    stats = [blade_lab_stats(im, b, lab=lab) for im, b, lab in zip(rgb, blades, lab0)]
     residual = list(rgb)
     # The exemplars themselves where they are the same float32 colours (no second copy).
     residuals = [[im if isinstance(im, np.ndarray) and im.dtype == np.float32 and im.shape == r.shape
@@ -266,7 +268,9 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
             raise ValueError(f"user_masks[{name!r}] is empty on the training leaf's blade")
         # Each residual's CIELAB (moved onto the training leaf's statistics),
         # converted once for the colour term, the snapping and the ridge extension.
-        labs = [_matched_lab(r, stats, e, t, params) for e, r in enumerate(residual)]
+        labs = [_matched_lab(r, stats, e, t, params, lab=lab0[e] if r is rgb[e] else None)
+                for e, r in enumerate(residual)]
+        lab0 = [None] * n  # later layers' residuals differ: not held any longer
         q = [_quantise_lab(lab, space) for lab in labs]
         cdf = layer_cdfs(q[t], user, space.bins)
         report(step / steps, f"layer {name}: snapping to each exemplar's ridges")  # "cancel" stops here too
@@ -458,9 +462,10 @@ def _induced(combined, delta, training_overlap, snapped, e, blade, taken, *, cen
     return m | (centred[e] & blade & ~taken & ndi.binary_dilation(m))
 
 
-def _matched_lab(image, stats, e, t, params):
-    """CIELAB of exemplar ``e``'s ``image``, moved onto the training leaf's blade statistics (colour matching on)."""
-    lab = _lab(image)
+def _matched_lab(image, stats, e, t, params, lab=None):
+    """CIELAB of exemplar ``e``'s ``image`` (``lab`` when converted already), moved onto the training leaf's
+    blade statistics (colour matching on)."""
+    lab = _lab(image) if lab is None else lab
     if params.match_colours and e != t:
         lab = (lab - stats[e][0]) / stats[e][1] * stats[t][1] + stats[t][0]
     return lab
