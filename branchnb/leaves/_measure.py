@@ -529,8 +529,10 @@ def sketch_rows(folder: str = SKETCHES):
         a = analyze(order, 0, {"veins": _ink_veins(order[0])})
         m = a.layer("veins").masks[1]
         g = _ink_veins(np.asarray(a.exemplars[1], np.float32)) & a.blades[1]
+        from ._measure_colours import outline_precision
+        prec, taken = outline_precision(m, g, a.blades[1], outline=4.0, tol=2)
         out.append(dict(training=t + 1, exemplar=2 - t, iou=iou(m, g), recall=float((m & g).sum() / max(g.sum(), 1)),
-                        induced=int(m.sum()), ink=int(g.sum())))
+                        induced=int(m.sum()), ink=int(g.sum()), outline_precision=prec, outline_taken=taken))
     return out
 
 
@@ -576,7 +578,8 @@ def main(argv=None):
     if args.what == "sketches":
         for r in sketch_rows():
             print(f"maple sketch {r['training']} -> {r['exemplar']}: vein IoU {r['iou']:.2f} recall {r['recall']:.2f} "
-                  f"({r['induced']} px induced, {r['ink']} px of ink veins)")
+                  f"({r['induced']} px induced, {r['ink']} px of ink veins); outline band (6 px): precision "
+                  f"{r['outline_precision']:.2f}, plain band taken {r['outline_taken']:.3f}")
         return
     if args.what == "maples":
         rows = maple_rows(snap=not args.no_snap)
