@@ -694,7 +694,14 @@ def _outline_stretches(in_band, user):
     ending at the margin crosses the band: its piece there spans about one
     band depth (two or three when it meets the margin at a slant). A piece
     whose bounding box spans :data:`OUTLINE_STRETCH` band depths or more
-    runs along the outline and is left out; the vein ends stay.
+    runs along the outline and is left out; the vein ends stay. Measured:
+    maple sketch 1 -> 2 IoU 0.57 -> 0.69 (band's plain pixels taken 0.170 ->
+    0.033); procedural dark-veined leaves with a 1.5 px ink outline
+    (``_measure_colours --colours dark --outline 1.5 --sizes 192,320``)
+    band taken max 0.075 -> 0.035, IoU mean 0.81 unchanged, one training
+    leaf (trilobed 320 px) 0.57 / 0.64 -> 0.56 / 0.62 (a vein into a narrow
+    lobe tip lies in the band); without ink (:func:`_inked_outline` false)
+    nothing changes.
     """
     from .induction import layer_width
     if not in_band.any():
