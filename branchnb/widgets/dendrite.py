@@ -107,7 +107,8 @@ PAREIDOLIA_SECTIONS = [
                              "endpoint_gamma"]),
     ("lattice and node weights", ["lattice_size", "max_upscale", "max_lattice", "noise_image", "noise_random",
                                   "cost_weight", "epsilon", "intensity_weight", "gradient_weight"]),
-    ("growth", ["iterations", "trunk_endpoints", "blend_weight", "trunk_height", "rise"]),
+    ("growth", ["iterations", "trunk_endpoints", "blend_weight", "bottleneck", "trunk_height", "rise",
+                "min_twig"]),
     ("widths", ["thickness", "window", "emphasis", "tone", "tip_width", "increment", "pipe", "max_width",
                 "limb_length", "limb_width", "taper", "slim", "tone_sigma", "contrast", "refine", "cover"]),
 ]
@@ -130,6 +131,7 @@ PAREIDOLIA_LABELS = {
     "max_upscale": ("max image px / lattice px", ""), "max_lattice": ("largest lattice", ""),
     "contrast": ("crown contrast stretch", ""), "refine": ("tone passes at output size", ""),
     "rise": ("twigs grow up", ""), "cover": ("dark-region ink cover", ""),
+    "bottleneck": ("blend bottleneck", "M"), "min_twig": ("shortest twig (px)", ""),
 }
 
 
