@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 from scipy import ndimage as ndi
 
+from branchnb.core.distance import edt
 from branchnb.core.metrics import iou
 from branchnb.leaves.analysis_induce import _closed_blade, _outline_band, thin_width
 from branchnb.leaves.induction import spatial_term
@@ -52,7 +53,7 @@ def test_stored_maps_read_as_the_full_maps_and_pickle():
     assert len(c) == len(d) == len(comb) == 3
     assert c.stored_bytes < 0.6 * sum(x.nbytes for x in colour)
     for e in range(3):
-        dist = (ndi.distance_transform_edt(~layers[e]).astype(np.float32) if layers[e].any()
+        dist = (edt(~layers[e]) if layers[e].any()  # the induction's distance map (core.distance.edt)
                 else np.full(layers[e].shape, 1e6, np.float32))
         assert np.array_equal(c[e], colour[e])
         assert np.array_equal(d[e], dist)

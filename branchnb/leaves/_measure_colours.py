@@ -44,6 +44,7 @@ from __future__ import annotations
 import argparse
 
 import numpy as np
+from scipy import ndimage as ndi
 
 from ._measure import KINDS_ALL, _Perturbed, _TrueRegistration, main_vein_width
 
@@ -60,6 +61,25 @@ def _on_canvas(fam):
     truth = [put(leaf.layers["veins"], o) for leaf, o in zip(fam, offs)]
     kps = [leaf.keypoints + np.asarray(o) for leaf, o in zip(fam, offs)]
     return truth, kps, shape
+
+
+def outline_precision(induced, truth, blade, outline: float = 0.0, tol: int = 1):
+    """Vein precision near the outline: (share of induced pixels in the outline band on a true vein,
+    share of the band's non-vein pixels induced).
+
+    The band is the blade's edge ``outline + 2`` px deep (the ink outline of a
+    sketch and a vein-width beyond). A vein reaching the margin counts as
+    vein within ``tol`` px of the truth. Precision is NaN when nothing in the
+    band was induced (nothing taken: the best answer).
+    """
+    from ..core.distance import edt
+    from .analysis_induce import _closed_blade  # a sketch's gaps between paint strokes are inside it
+    band = blade & (edt(_closed_blade(blade)) <= float(outline) + 2.0)
+    near_truth = ndi.binary_dilation(truth, iterations=tol) if tol > 0 else truth
+    got = induced & band
+    prec = float((got & near_truth).sum() / got.sum()) if got.any() else float("nan")
+    plain = band & ~near_truth
+    return prec, float((got & plain).sum() / max(plain.sum(), 1))
 
 
 def colour_rows(kinds=KINDS_ALL, sizes=(192,), seeds=range(1), n_leaves: int = 3, factor: float = 2.0,
@@ -84,9 +104,11 @@ def colour_rows(kinds=KINDS_ALL, sizes=(192,), seeds=range(1), n_leaves: int = 3
                     layer = a.layer("veins")
                     for e in range(n_leaves):
                         if e != t:
+                            prec, band_share = outline_precision(layer.masks[e], gt[e], a.blades[e], outline)
                             out.append(dict(kind=kind, size=size, seed=int(seed), training=t, exemplar=e,
                                             pair=f"{colours[t % len(colours)]}->{colours[e % len(colours)]}",
-                                            iou=iou(layer.masks[e], gt[e]), lam=a.lambdas["veins"]))
+                                            iou=iou(layer.masks[e], gt[e]), lam=a.lambdas["veins"],
+                                            outline_precision=prec, outline_taken=band_share))
     return out
 
 
@@ -104,9 +126,14 @@ def main(argv=None):
                        range(args.seeds), factor=args.factor,
                        colours=tuple(args.colours.split(",")), outline=args.outline)
     for r in rows:
-        print(f"{r['kind']:<9} {r['size']:>4} {r['seed']:>2} {r['pair']:<12} IoU {r['iou']:.2f} lambda {r['lam']:.3f}")
+        print(f"{r['kind']:<9} {r['size']:>4} {r['seed']:>2} {r['pair']:<12} IoU {r['iou']:.2f} lambda {r['lam']:.3f}"
+              f"  outline band: precision {r['outline_precision']:.2f} taken {r['outline_taken']:.3f}")
     v = np.array([r["iou"] for r in rows])
-    print(f"all: min {v.min():.2f} mean {v.mean():.2f}")
+    p = np.array([r["outline_precision"] for r in rows])
+    b = np.array([r["outline_taken"] for r in rows])
+    print(f"all: min {v.min():.2f} mean {v.mean():.2f}; outline band precision min {np.nanmin(p):.2f} "
+          f"mean {np.nanmean(p):.2f} (NaN: nothing taken, {int(np.isnan(p).sum())} of {len(p)}), "
+          f"share of the band's plain pixels taken max {b.max():.3f} mean {b.mean():.3f}")
 
 
 if __name__ == "__main__":

@@ -115,6 +115,35 @@ def sample_scores(src, k, q, shifts):  # pragma: no cover - compiled
 
 
 @numba.njit(cache=True)
+def sample_scores_many(src, k, q, shifts):  # pragma: no cover - compiled
+    """:func:`sample_scores` for several point sets at once (one call per pose search, not per pose).
+
+    ``k`` (A, P) int, ``q`` (A, P, 2) float64, ``shifts`` (S, 2) float64;
+    returns (A, S) float32, row ``a`` equal to ``sample_scores(src, k[a],
+    q[a], shifts)`` (the same float64 sums over the points in the same
+    order). Points outer and shifts inner: a point's shifts read one small
+    window of ``src``, cache-friendly on a 1 MP leaf.
+    """
+    _, h, w = src.shape
+    n_a, n_p, n_s = q.shape[0], q.shape[1], shifts.shape[0]
+    out = np.empty((n_a, n_s), np.float32)
+    acc = np.empty(n_s, np.float64)
+    for a in range(n_a):
+        acc[:] = 0.0
+        for p in range(n_p):
+            kp = k[a, p]
+            qx, qy = q[a, p, 0], q[a, p, 1]
+            for s in range(n_s):
+                x = np.rint(qx + shifts[s, 0])
+                y = np.rint(qy + shifts[s, 1])
+                if x >= 0 and x < w and y >= 0 and y < h:
+                    acc[s] += src[kp, int(y), int(x)]
+        for s in range(n_s):
+            out[a, s] = np.float32(acc[s] / n_p) if n_p else np.float32(np.nan)
+    return out
+
+
+@numba.njit(cache=True)
 def polar_dp(s, rs, da, slope):  # pragma: no cover - compiled
     """The polar trace's dynamic programme: summed score per final angle, back pointers, float32 flag.
 

@@ -9,9 +9,22 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import ndimage as ndi
 
+from ..core.distance import edt as _edt
 from ..core.image import as_mask, as_rgb
 from ..core.random import as_rng
 from ..core.validate import check_bool, check_callback, check_int, check_real
+from .analysis_outline import (  # noqa: F401  (importable from here as before)
+    INKED_OUTLINE,
+    OUTLINE_GAP,
+    OUTLINE_IN_LAYER,
+    OUTLINE_STRETCH,
+    _closed_blade,
+    _contrast,
+    _inked_outline,
+    _outline_band,
+    _outline_in_layer,
+    _outline_stretches,
+)
 from .induction import (
     ColourSpace,
     InductionParams,
@@ -244,12 +257,14 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
     rng = as_rng(rng)
     n = len(images)
     rgb = [as_rgb(im, name=f"images[{i}]") for i, im in enumerate(images)]
+    # Each exemplar's CIELAB, converted once for the colour space, the blade statistics and the first layer.
+    lab0 = [_lab(im) for im in rgb]
     if space is None:
-        space = colour_space(rgb, blades, params.bins)
+        space = colour_space(rgb, blades, params.bins, labs=lab0)
     t = training_index
     lengths = [scaled_lengths(params, b) for b in blades]
     tolerance = registration_tolerance(registrations, training_index)
-    stats = [blade_lab_stats(im, b) for im, b in zip(rgb, blades)]
+    stats = [blade_lab_stats(im, b, lab=lab) for im, b, lab in zip(rgb, blades, lab0)]
     residual = list(rgb)
     # The exemplars themselves where they are the same float32 colours (no second copy).
     residuals = [[im if isinstance(im, np.ndarray) and im.dtype == np.float32 and im.shape == r.shape
@@ -265,7 +280,9 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
             raise ValueError(f"user_masks[{name!r}] is empty on the training leaf's blade")
         # Each residual's CIELAB (moved onto the training leaf's statistics),
         # converted once for the colour term, the snapping and the ridge extension.
-        labs = [_matched_lab(r, stats, e, t, params) for e, r in enumerate(residual)]
+        labs = [_matched_lab(r, stats, e, t, params, lab=lab0[e] if r is rgb[e] else None)
+                for e, r in enumerate(residual)]
+        lab0 = [None] * n  # later layers' residuals differ: not held any longer
         q = [_quantise_lab(lab, space) for lab in labs]
         cdf = layer_cdfs(q[t], user, space.bins)
         report(step / steps, f"layer {name}: snapping to each exemplar's ridges")  # "cancel" stops here too
@@ -287,12 +304,13 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
                 # The exemplar's own main structure joins the carried-over prior.
                 ru = ru | snapped[e]
             reg_user.append(ru)
-            dist.append(ndi.distance_transform_edt(~ru).astype(np.float32) if ru.any() else
+            dist.append(_edt(~ru) if ru.any() else
                         np.full(ru.shape, 1e6, np.float32))
         best = None
         candidates = neighbourhood_candidates(params, blades[t], user)
         # An ink layer the user drew with the leaf's outline (a sketch's ink) keeps it on every exemplar.
         outline_in_layer = _outline_in_layer(blades[t], user)
+        inked_outline = not outline_in_layer and _inked_outline(labs[t], blades[t], user)
         if snapped is not None:
             own_px = _under_induced(q, blades, t, user, cdf, own_px, ridge_px, dist, lengths, tolerance, params,
                                     registrations, space, candidates[0])
@@ -339,6 +357,8 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
                 band = _outline_band(blades[e], user)
                 if (m & band).sum() >= INKED_OUTLINE * max(int(band.sum()), 1):
                     m = m & ~band
+                elif inked_outline:
+                    m = m & ~_outline_stretches(m & band, user)
             masks.append(m)
             taken[e] = taken[e] | m
             gone = m if snapped is None or e == t else _ridge_extension(residual, blades, t, e, user, m, stats, params,
@@ -457,9 +477,10 @@ def _induced(combined, delta, training_overlap, snapped, e, blade, taken, *, cen
     return m | (centred[e] & blade & ~taken & ndi.binary_dilation(m))
 
 
-def _matched_lab(image, stats, e, t, params):
-    """CIELAB of exemplar ``e``'s ``image``, moved onto the training leaf's blade statistics (colour matching on)."""
-    lab = _lab(image)
+def _matched_lab(image, stats, e, t, params, lab=None):
+    """CIELAB of exemplar ``e``'s ``image`` (``lab`` when converted already), moved onto the training leaf's
+    blade statistics (colour matching on)."""
+    lab = _lab(image) if lab is None else lab
     if params.match_colours and e != t:
         lab = (lab - stats[e][0]) / stats[e][1] * stats[t][1] + stats[t][0]
     return lab
@@ -585,13 +606,6 @@ THIN_NETWORK = 2.0
 SAME_CONTRAST = 0.95
 
 
-def _contrast(lab, layer, blade):
-    ring = ndi.binary_dilation(layer, iterations=4) & blade & ~layer
-    if not ring.any() or not layer.any():
-        return None
-    return lab[layer].mean(0) - lab[ring].mean(0)
-
-
 def _unmatched(stats, e, t, params):
     """Per-channel factor taking a colour difference on exemplar ``e`` back from the training leaf's
     statistics to its own (None without colour matching)."""
@@ -621,51 +635,6 @@ def _other_colour(labs, t, user, blade_t, e, pixels, blade_e=None, *, scale=None
         c_e = c_e * np.asarray(scale, c_e.dtype)
     cos = float(c_t @ c_e) / max(float(np.linalg.norm(c_t) * np.linalg.norm(c_e)), 1e-9)
     return cos < SAME_CONTRAST
-
-
-#: A thin layer's induced mask covering at least this share of the blade's
-#: outline band is an inked outline taken as layer: the band is left out.
-INKED_OUTLINE = 0.2
-
-
-def _outline_band(blade, user):
-    """The blade's outline band, as wide as a thin layer (2 px at least): never part of a vein layer.
-
-    Ink drawn along a sketched leaf's edge has the veins' colour and was
-    induced as vein (beyond the paper). Procedural dark-veined leaves with
-    a 1.5 px ink outline of the same colour (``_measure_colours --colours
-    dark --outline 1.5``): IoU min 0.53 -> 0.80, mean 0.62 -> 0.83; only
-    where the induced mask covers :data:`INKED_OUTLINE` of the band (always
-    left out, the vein ends at the margin cost 0.03 mean IoU on leaves
-    without ink).
-    """
-    from .induction import layer_width
-    reach = max(2.0, float(np.ceil(layer_width(user))))
-    return blade & (ndi.distance_transform_edt(_closed_blade(blade)) <= reach)
-
-
-#: Gaps between a drawn blade's paint strokes up to twice this share of the leaf size (``sqrt`` of its
-#: area) are inside the leaf for :func:`_outline_band` (0: every blade edge is outline).
-OUTLINE_GAP = 0.03
-
-
-def _closed_blade(blade):
-    """The blade with the gaps between its paint strokes closed: the area inside its outline.
-
-    A sketched leaf painted with brush strokes (``leaves_more`` maples)
-    has white gaps all over its blade; the edges of those gaps are not its
-    outline. Taken for it, the outline band spread over the whole blade, the
-    induced veins never covered :data:`INKED_OUTLINE` of it, and the ink
-    outline of maple sketch 1 was induced as vein on long stretches.
-    """
-    r = int(round(OUTLINE_GAP * np.sqrt(float(blade.sum()))))
-    if r < 1:
-        return blade
-    import cv2
-    disk = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
-    pad = np.pad(blade.astype(np.uint8), r + 1)
-    closed = cv2.morphologyEx(pad, cv2.MORPH_CLOSE, disk)[r + 1:-r - 1, r + 1:-r - 1].astype(bool)
-    return ndi.binary_fill_holes(closed | blade)
 
 
 #: An exemplar whose blade holds at least this share of the training layer's
@@ -700,25 +669,6 @@ def _has_layer_colour(labs, t, user, blade_t, e, pixels, blade_e) -> bool:
     share_t = float(user.sum()) / max(float(blade_t.sum()), 1.0)
     share_e = float(close.sum()) / max(float(blade_e.sum()), 1.0)
     return share_e >= LAYER_COLOUR_PRESENT * share_t
-
-
-#: The user's layer covering at least this share of the training blade's
-#: outline band holds the outline itself (:func:`_outline_in_layer`).
-OUTLINE_IN_LAYER = 0.6
-
-
-def _outline_in_layer(blade, user) -> bool:
-    """Whether the user's layer on the training leaf holds the blade's outline (:data:`OUTLINE_IN_LAYER` of its band).
-
-    Then the outline is part of what the user marked (all of a sketch's ink
-    as one layer: 0.77 of the band on a drawn maple) and
-    :func:`_outline_band` is not left out on the other exemplars: left
-    out, the ink induced on a second drawn maple matched its dark pixels
-    with IoU 0.37 instead of 0.91. Veins that reach the margin cover less
-    (0.37-0.39 on a 128 px elliptic leaf).
-    """
-    band = _outline_band(blade, user)
-    return bool((user & band).sum() >= OUTLINE_IN_LAYER * max(int(band.sum()), 1))
 
 
 def _own_delta(combined, delta, pixels, blade):

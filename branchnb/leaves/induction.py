@@ -66,8 +66,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import ndimage as ndi
 
+from ..core.distance import edt as _edt
 from ..core.image import as_mask
 from ..core.params import param
 from .induction_colour import (  # noqa: F401  (importable from here)
@@ -250,7 +250,7 @@ def layer_width(mask) -> float:
     mask = as_mask(mask, name="mask")
     if not mask.any():
         raise ValueError("mask is empty")
-    edt = ndi.distance_transform_edt(mask)
+    edt = _edt(mask).astype(np.float64)
     skel = skeletonize(mask)
     vals = edt[skel] if skel.any() else edt[mask]
     return float(max(1.0, np.median(2.0 * vals - 1.0)))

@@ -20,6 +20,7 @@ import cv2
 import numpy as np
 from scipy import ndimage as ndi
 
+from ..core.distance import edt as _edt
 from ..core.image import as_float_image, as_mask
 from ..core.validate import Int, Real, checked
 
@@ -205,7 +206,7 @@ def edge_keypoints(image, blade, n_points: int = 100, *, outline_fraction: float
     if md <= 0:
         raise ValueError(f"min_distance must be > 0, got {min_distance}")
     mg = float(margin) if margin is not None else md / 2.0
-    inner = ndi.distance_transform_edt(m) > mg
+    inner = _edt(m) > mg
     interior = np.zeros((0, 2))
     s_in = np.zeros(0)
     if n_in > 0 and inner.any():
@@ -323,7 +324,7 @@ def vein_strength(image, blade, *, sigma: float | None = None, length: float | N
     gray = _luminance(img)
     gray = np.where(m, gray, float(gray[m].mean())).astype(np.float32)
     l1, l2 = hessian_matrix_eigvals(hessian_matrix(gray, sigma=s, order="rc", use_gaussian_derivatives=False))
-    inner = ndi.distance_transform_edt(m) > 2 * s + 2
+    inner = _edt(m) > 2 * s + 2
     if not inner.any():
         z = np.zeros((h, w), np.float32)
         return (z, z.copy()) if return_orientation else z

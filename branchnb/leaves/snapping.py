@@ -281,12 +281,25 @@ def ridge_evidence(lab, blade, direction, width: float, line_length: float = 0.0
     """
     from ._snapkernels import sato_bright  # skimage.filters.sato without its imports, fewer zero taps
     blade = as_mask(blade, shape=lab.shape[:2], name="blade")
-    p = (np.asarray(lab, np.float32) @ np.asarray(direction, np.float32)).astype(np.float32)
+    s = max(0.7, 0.5 * float(width))
+    sigmas = [s, max(s, float(width))]
+    # Only the blade's pixels are kept: filter its box grown by the two
+    # Gaussian passes' reach (the same values there; a padded canvas is 2-5x larger).
+    big = max(sigmas)
+    reach = 2 * int((8 if big > 1 else 12) * big / np.sqrt(2) + 0.5) + 2
+    rows, cols = np.flatnonzero(blade.any(1)), np.flatnonzero(blade.any(0))
+    if len(rows):
+        y0, y1 = max(0, int(rows[0]) - reach), min(blade.shape[0], int(rows[-1]) + reach + 1)
+        x0, x1 = max(0, int(cols[0]) - reach), min(blade.shape[1], int(cols[-1]) + reach + 1)
+    else:
+        y0, y1, x0, x1 = 0, blade.shape[0], 0, blade.shape[1]
+    lab_box = np.asarray(lab)[y0:y1, x0:x1]
+    p = (np.asarray(lab_box, np.float32) @ np.asarray(direction, np.float32)).astype(np.float32)
     # Outside the blade the projection continues the nearest blade pixel:
     # the outline is no ridge.
-    p = extend_nearest(p, blade)
-    s = max(0.7, 0.5 * float(width))
-    r = sato_bright(p, [s, max(s, float(width))]).astype(np.float32)
+    p = extend_nearest(p, blade[y0:y1, x0:x1])
+    r = np.zeros(blade.shape, np.float32)
+    r[y0:y1, x0:x1] = sato_bright(p, sigmas)
     inner = ndi.binary_erosion(blade)
     r = np.where(inner, r, 0.0).astype(np.float32)
     if line_length and line_length >= 3:

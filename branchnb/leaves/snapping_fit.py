@@ -133,6 +133,21 @@ def _sample(ev, maps, q, shifts, tangent):
     return sample_scores(src, k, q, shifts)
 
 
+def _sample_many(ev, maps, qs, shifts, tangents):
+    """:func:`_sample` for a stack of point sets ``qs`` (A, P, 2) and their tangents: (A, S) scores."""
+    from ._snapkernels import sample_scores_many
+    qs = np.ascontiguousarray(qs, np.float64)
+    shifts = np.ascontiguousarray(shifts, np.float64).reshape(-1, 2)
+    if maps is None:
+        src, k = np.asarray(ev, np.float32)[None], np.zeros(qs.shape[:2], np.int32)
+    else:
+        n = len(maps)
+        src = np.asarray(maps, np.float32)
+        t = np.asarray(tangents)
+        k = np.round(np.mod(np.arctan2(t[..., 1], t[..., 0]), np.pi) / (np.pi / n)).astype(np.int32) % n
+    return sample_scores_many(src, k, qs, shifts)
+
+
 #: Weight of the oriented ridge response (:func:`oriented_response`) against
 #: the isotropic evidence when a template's pose is scored.
 ORIENTED_WEIGHT = 0.5
@@ -148,17 +163,22 @@ def _pose_search(p, pivot, ev, reach, angles, scales, shifts, a0, s0, d0, penalt
     pen = penalty * dist[ok] / max(reach, 1e-9)
     if not len(sh):
         return best
+    # Every pose's points at once (the same arithmetic per pose), scored in one compiled call.
+    qs, ts, poses = [], [], []
     for a in angles:
         ca, sa = np.cos(np.radians(a0 + a)), np.sin(np.radians(a0 + a))
         rot = (p - pivot) @ np.array([[ca, sa], [-sa, ca]])
         tr = tang @ np.array([[ca, sa], [-sa, ca]]) if tang is not None else None
         for sc in scales:
-            q = rot * (s0 * sc) + pivot
-            val = _sample(ev, hess, q, sh, tr)
-            score = val - pen
-            k = int(np.argmax(score))
-            if score[k] > best[0]:
-                best = (float(score[k]), a0 + a, s0 * sc, sh[k])
+            qs.append(rot * (s0 * sc) + pivot)
+            ts.append(tr)
+            poses.append((a, sc))
+    vals = _sample_many(ev, hess, np.stack(qs), sh, np.stack(ts) if hess is not None else None)
+    for (a, sc), val in zip(poses, vals):
+        score = val - pen
+        k = int(np.argmax(score))
+        if score[k] > best[0]:
+            best = (float(score[k]), a0 + a, s0 * sc, sh[k])
     return best
 
 
@@ -319,16 +339,16 @@ def _branch_poses(p, pivot, ev, reach, max_angle, penalty, keep: int = 12, tang=
     ok = dist <= max(reach, 1e-9)
     sh, pen = sh[ok], penalty * dist[ok] / max(reach, 1e-9)
     rows = []
-    for ang in np.arange(-max_angle, max_angle + 1e-9, 1.0):
+    qs, ts, angs = [], [], np.arange(-max_angle, max_angle + 1e-9, 1.0)
+    for ang in angs:
         ca, sa = np.cos(np.radians(ang)), np.sin(np.radians(ang))
-        rot = (p - pivot) @ np.array([[ca, sa], [-sa, ca]])
-        tr = tang @ np.array([[ca, sa], [-sa, ca]]) if tang is not None else None
-        for sc in (1.0,):
-            q = rot * sc + pivot
-            val = _sample(ev, hess, q, sh, tr)
-            score = val - pen
-            k = int(np.argmax(score))
-            rows.append((float(score[k]), float(ang), float(sc), sh[k]))
+        qs.append((p - pivot) @ np.array([[ca, sa], [-sa, ca]]) * 1.0 + pivot)
+        ts.append(tang @ np.array([[ca, sa], [-sa, ca]]) if tang is not None else None)
+    vals = _sample_many(ev, hess, np.stack(qs), sh, np.stack(ts) if hess is not None else None)
+    for ang, val in zip(angs, vals):
+        score = val - pen
+        k = int(np.argmax(score))
+        rows.append((float(score[k]), float(ang), 1.0, sh[k]))
     rows.sort(key=lambda r: -r[0])
     out = []
     for r in rows:

@@ -44,6 +44,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import ndimage as ndi
 
+from ..core.distance import edt as _edt
 from ..core.image import as_mask
 from .snapping_fit import _densify, _pivot_ends
 
@@ -141,10 +142,10 @@ def adds_only(alone, completed, reach: float, share: float | None = None, gain: 
         return True
     if not c.any():
         return False
-    lost = ndi.distance_transform_edt(~c)[sk] > float(reach)
+    lost = _edt(~c)[sk] > float(reach)
     if np.mean(~lost) >= share:
         return True
-    added = ndi.distance_transform_edt(~a)[skeletonize(c)] > float(reach)
+    added = _edt(~a)[skeletonize(c)] > float(reach)
     return bool(added.sum() >= gain * lost.sum())
 
 
@@ -250,7 +251,7 @@ def mirror_missing(chains, widths, blade, *, match: float = 0.1, min_inside: flo
     for c in out:
         d, _ = _densify(c)
         drawn[np.clip(np.round(d[:, 1]).astype(int), 0, h - 1), np.clip(np.round(d[:, 0]).astype(int), 0, w - 1)] = True
-    near = ndi.distance_transform_edt(~drawn) <= max(3.0, 0.06 * size)
+    near = _edt(~drawn) <= max(3.0, 0.06 * size)
 
     def new(c):
         d, _ = _densify(c)

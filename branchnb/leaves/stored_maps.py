@@ -22,7 +22,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
-from scipy import ndimage as ndi
+
+from ..core.distance import edt as _edt
 
 __all__ = ["BoxedMaps", "CombinedMaps", "DistanceMaps"]
 
@@ -139,7 +140,7 @@ class DistanceMaps(_Cached):
         ru = np.asarray(self.layers[e], bool)
         if not ru.any():
             return np.full(ru.shape, 1e6, np.float32)
-        return ndi.distance_transform_edt(~ru).astype(np.float32)
+        return _edt(~ru)
 
 
 class CombinedMaps(_Cached):

@@ -260,7 +260,10 @@ def _softassign_nb(x, fv, lab_x, lab_v, use_lab, cost, use_cost, t, t0, cx, cv, 
     m[n, k] = -np.inf
     for a in range(n + 1):
         for i in range(k + 1):
-            m[a, i] = np.exp(m[a, i] - top)
+            z = m[a, i] - top
+            # Below exp(-708) a weight is subnormal (< 1e-307 of the largest): 0 instead, or every
+            # Sinkhorn round multiplies subnormals, ~10x slower (~30 % of a cold round's time).
+            m[a, i] = np.exp(z) if z > -708.0 else 0.0
     colsum = np.empty(k)
     rowsum = np.empty(n)
     for it in range(sinkhorn):
