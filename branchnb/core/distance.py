@@ -6,7 +6,7 @@ import cv2
 import numpy as np
 from scipy import ndimage as ndi
 
-__all__ = ["edt"]
+__all__ = ["edt", "edt_boxed"]
 
 
 def edt(mask) -> np.ndarray:
@@ -56,3 +56,41 @@ def edt(mask) -> np.ndarray:
 
 #: Up to this distance (px) a float32 distance squared lies within 0.5 of its integer.
 _EXACT_UP_TO = 1500.0
+
+
+def edt_boxed(mask) -> np.ndarray:
+    """:func:`edt` computed on the True pixels' box grown by 1 px only (the same values).
+
+    Every True pixel's nearest False one lies within that box: its ring
+    is all False (or the image's edge, which is no background in either).
+    Much faster than :func:`edt` for a small object on a large canvas.
+
+    Parameters
+    ----------
+    mask : (H, W) array_like of bool
+
+    Returns
+    -------
+    (H, W) float32 ndarray
+
+    Raises
+    ------
+    ValueError
+        If ``mask`` is not two-dimensional.
+
+    Examples
+    --------
+    >>> m = np.zeros((8, 9), bool); m[2:5, 3:8] = True
+    >>> bool(np.array_equal(edt_boxed(m), edt(m)))
+    True
+    """
+    m = np.asarray(mask, bool)
+    if m.ndim != 2:
+        raise ValueError(f"mask must be a 2-D array, got {m.ndim} dimensions")
+    rows, cols = np.flatnonzero(m.any(axis=1)), np.flatnonzero(m.any(axis=0))
+    out = np.zeros(m.shape, np.float32)
+    if not len(rows):
+        return out
+    box = (slice(max(rows[0] - 1, 0), rows[-1] + 2), slice(max(cols[0] - 1, 0), cols[-1] + 2))
+    out[box] = edt(m[box])
+    return out

@@ -68,10 +68,10 @@ import cv2
 import numpy as np
 from scipy import ndimage as ndi
 
+from ..core.distance import edt as _edt
 from ..core.graphcut import gradient_magnitude  # the edge strength G of the seam energy
 from ..core.image import as_rgba
 from ..core.validate import COORD_LIMIT, Array, Int, Real, Shape, checked
-from ._distance import edt as _edt
 from .parts import add_bases, find_parts
 from .samples import Samples, sample_pair
 from .strokes import Stroke

@@ -36,8 +36,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage as ndi
 
-from ._distance import edt as _edt
-from ._distance import edt_boxed as _edt_boxed
+from ..core.distance import edt as _edt
+from ..core.distance import edt_boxed as _edt_boxed
 
 __all__ = ["OutlineStyle", "outline_style", "source_depth", "close_cuts", "clear_stale_outline", "drop_flecks",
            "fill_joints"]

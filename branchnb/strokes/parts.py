@@ -41,7 +41,7 @@ import cv2
 import numpy as np
 from scipy import ndimage as ndi
 
-from ._distance import edt as _edt
+from ..core.distance import edt as _edt
 
 __all__ = ["Part", "find_parts", "place_part", "rigid_frame", "carry_stroke"]
 
