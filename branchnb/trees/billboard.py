@@ -101,7 +101,15 @@ from ..core.params import check_params
 from ..core.random import as_rng
 from ..core.sampling import stipple
 from ..core.validate import checked
-from .billboard_cards import _nest_cards, _underpaint, cards_hold, crown_inlay, flat_fill_cards, has_inner_outlines
+from .billboard_cards import (
+    _nest_cards,
+    _underpaint,
+    cards_hold,
+    crown_inlay,
+    flat_fill_cards,
+    has_inner_outlines,
+    shaded_cards,
+)
 from .billboard_layers import _cut, _recolour, _same_colour_overlap, _shading, _trim, _trunk_strips
 from .billboard_lines import _LUM3, _colour_span3, _fill_lines, _line_masks, _outer_lines, line_art
 from .billboard_shapes import (
@@ -156,6 +164,8 @@ _CHECK_CARDS = True
 #: A flat-fill crown in a thick outline band without inner strokes (an RPG sprite) is built from
 #: cards too (billboard_cards.flat_fill_cards), its trunk inlaid where it runs inside the crown.
 _FLAT_CARDS = True
+#: A drawn crown without outlines (clumps in tones, gradients) is cards too (billboard_cards.shaded_cards).
+_SHADED_CARDS = True
 
 
 
@@ -280,6 +290,9 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
     # Beyond the paper: a flat fill in a thick outline band (no inner strokes) is cards too.
     flat_cards = bool(_FLAT_CARDS and regions and p.drawn_cards and not all_cards
                       and flat_fill_cards(work, crown, lines))
+    # Beyond that: a drawn crown shaded in tones or gradients, without outlines, is cards too.
+    flat_cards = flat_cards or bool(_SHADED_CARDS and regions and p.drawn_cards and not all_cards
+                                    and shaded_cards(work, crown))
     all_cards = all_cards or flat_cards
     card_holes: dict = {}
     card_owner: dict = {}
