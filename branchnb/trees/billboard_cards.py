@@ -191,6 +191,52 @@ def shaded_cards(rgba: np.ndarray, crown: np.ndarray) -> bool:
     return bool(palette_coverage(img) >= SHADED_COVERAGE)
 
 
+#: Least 3 x 3 colour span (per channel) of a sharp tone edge inside a shaded crown
+#: (:func:`tone_edges`): clumps drawn in different tones of green differ by 0.2-0.5, a smooth
+#: gradient changes by at most 0.03 over 3 pixels at 96-512 px.
+TONE_EDGE = 0.12
+
+
+def tone_edges(rgba: np.ndarray, crown: np.ndarray) -> np.ndarray:
+    """Sharp colour edges inside a crown: where two tones of a drawing without outlines meet.
+
+    Beyond the paper (issue 24). A crown drawn as overlapping clumps in a
+    few tones (``cartoon_tree``) or tiers set off by highlight lines
+    (``evergreen``) has no strokes between its shapes, so the fill regions
+    of its line art are the whole crown, one card. Its crown pixels (off
+    the silhouette's outermost pixel) whose 3 x 3 colour span exceeds
+    :data:`TONE_EDGE` split it instead, as strokes would: each clump or
+    tier of one tone is a card of its own, and a smooth gradient (no such
+    edge) stays one card.
+
+    Parameters
+    ----------
+    rgba : (H, W, 4) array
+        The working image, straight RGBA in [0, 1].
+    crown : (H, W) bool array
+        Crown pixels.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        The edge pixels (a subset of ``crown``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.zeros((20, 20, 4), np.float32); img[2:18, 2:18] = (0.1, 0.5, 0.1, 1.0)
+    >>> img[2:18, 10:18, :3] = (0.3, 0.8, 0.2)               # a second tone, no outline
+    >>> e = tone_edges(img, img[..., 3] > 0.5)
+    >>> sorted(set(np.nonzero(e)[1].tolist()))
+    [9, 10]
+    """
+    from .billboard_lines import _colour_span3
+
+    crown = np.asarray(crown, bool)
+    inner = ndi.binary_erosion(crown, border_value=1)
+    return inner & (_colour_span3(np.asarray(rgba, np.float32)[:, :, :3]) > TONE_EDGE)
+
+
 def crown_inlay(crown: np.ndarray, trunk: np.ndarray) -> np.ndarray:
     """Trunk pixels inside the crown's rows (between a row's leftmost and rightmost crown pixel).
 
