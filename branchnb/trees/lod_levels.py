@@ -52,9 +52,10 @@ def reduce_cloud(cloud, share: float = 0.3):
 
     Examples
     --------
-    >>> from branchnb.trees.billboard import billboard_cloud
+    >>> from branchnb.trees.billboard import BillboardParams, billboard_cloud
     >>> from branchnb.trees.synthetic import synthetic_tree
-    >>> cloud = billboard_cloud(synthetic_tree("clean", rng=0, size=64).image, rng=0)
+    >>> img = synthetic_tree("clean", rng=0, size=64).image   # the paper's cloud, not drawn cards
+    >>> cloud = billboard_cloud(img, params=BillboardParams(drawn_cards=False), rng=0)
     >>> cloud.n_billboards, reduce_cloud(cloud, 0.3).n_billboards
     (642, 194)
     """
