@@ -44,6 +44,7 @@ def test_tone_edges_split_tones_but_not_a_gradient():
     edges = tone_edges(img, crown)
     assert set(np.nonzero(edges)[1].tolist()) == {14, 15}
     grad = img.copy()
+    grad[3:27, 3:27, :3] = TONES[0]
     grad[3:27, 3:27, 1] = np.linspace(0.4, 0.8, 24)[None, :]      # 0.017 per pixel
     assert not tone_edges(grad, crown).any()
 
