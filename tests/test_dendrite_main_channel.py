@@ -7,7 +7,16 @@ from skimage import data
 from skimage.transform import resize
 
 from branchnb.dendrite import branch_thickness, build_dendrite, make_lattice, plan, stylize
-from branchnb.dendrite.main_channel import main_path, path_loops, shortcut_loops, wide_top, widen_main_path
+from branchnb.dendrite.main_channel import (
+    _walk,
+    main_path,
+    outline_band,
+    path_loops,
+    shortcut_loops,
+    strike_channel,
+    wide_top,
+    widen_main_path,
+)
 
 
 def _longest_loop(points, diag):
@@ -49,8 +58,11 @@ def test_shortcut_cuts_a_hairpin_and_keeps_a_straight_path():
     res = plan(make_lattice(w, rng=0), (21, 2))
     d = build_dendrite(res, [(14, 2)])
     cut = build_dendrite(shortcut_loops(res, d, reach=8.0), [(14, 2)])
-    assert path_loops(d.points[main_path(d)], reach=1.0)[0] > 5
-    assert path_loops(cut.points[main_path(cut)], reach=1.0)[0] < 1.5
+    assert path_loops(d.points[_walk(d)], reach=1.0)[0] > 5
+    assert path_loops(cut.points[_walk(cut)], reach=1.0)[0] < 1.5
+    # main_path stops at the U's foot, before the leg that climbs back
+    y = d.points[main_path(d), 1]
+    assert y[-1] == y.max() and len(main_path(d)) < len(_walk(d))
     straight = plan(make_lattice(np.zeros((30, 30)), rng=0), (15, 0))
     d2 = build_dendrite(straight, [(15, 29)])
     assert shortcut_loops(straight, d2, reach=8.0) is straight
@@ -58,7 +70,7 @@ def test_shortcut_cuts_a_hairpin_and_keeps_a_straight_path():
         shortcut_loops(res, d, reach=0)
 
 
-@pytest.mark.parametrize("make,n", [(_fern_like, 300), (_fern_like, 700), (_prongs, 400)])
+@pytest.mark.parametrize("make,n", [(_fern_like, 300), (_prongs, 400)])  # a large fern below
 def test_lightning_main_channel_has_no_loop(make, n):
     img = make(n)
     s = stylize(img, rng=0, metaphor="lightning")
@@ -163,7 +175,7 @@ def test_widen_main_path_stops_where_the_channel_turns_back():
     d = branch_thickness(build_dendrite(res, [(14, 2), (15, 4), (21, 27)]), mode="share",
                          min_width=1.0, max_width=6.0)
     wide = widen_main_path(d, 1.0, 6.0)
-    path = main_path(d)
+    path = _walk(d)
     y = d.points[path, 1]
     bottom = int(np.argmax(y))
     down = path[:bottom]
@@ -171,3 +183,61 @@ def test_widen_main_path_stops_where_the_channel_turns_back():
     # past the bottom the channel climbs back: share-rule widths
     up = path[bottom:][y[bottom:] < 20]
     assert up.size > 5 and np.array_equal(wide.radius[up], d.radius[up])
+
+
+def _flat(kind, n=360):
+    """A flat-filled drawn object (green, 2-px dark outline) on white, and its axis."""
+    yy, xx = np.mgrid[0:n, 0:n] / n
+    if kind == "ellipse":
+        m = ((xx - 0.5) / 0.18) ** 2 + ((yy - 0.5) / 0.42) ** 2 < 1
+    else:  # a flat conifer: a triangle on a trunk
+        m = (yy > 0.05) & (yy < 0.75) & (np.abs(xx - 0.5) < 0.33 * (yy - 0.05))
+        m |= (np.abs(xx - 0.5) < 0.05) & (yy >= 0.7) & (yy < 0.95)
+    img = np.ones((n, n, 3), np.float32)
+    img[m] = (0.2, 0.55, 0.2)
+    from scipy import ndimage
+    img[m & ~ndimage.binary_erosion(m, iterations=2)] = 0.1
+    return img, m
+
+
+def _end_turn(p, diag):
+    """Largest angle (deg) in the last 20 % of a path between its local direction (over 3 %
+    of the diagonal) and its overall direction."""
+    arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(p, axis=0).T))])
+    s = np.arange(0.0, arc[-1], 0.005 * diag)
+    q = np.column_stack([np.interp(s, arc, p[:, 0]), np.interp(s, arc, p[:, 1])])
+    over = (q[-1] - q[0]) / np.hypot(*(q[-1] - q[0]))
+    v = q[6:] - q[:-6]
+    cos = (v @ over) / np.maximum(np.hypot(*v.T), 1e-9)
+    return float(np.degrees(np.arccos(np.clip(cos[int(0.8 * len(q)) - 6:], -1, 1))).max())
+
+
+@pytest.mark.parametrize("kind", ["ellipse", "cone"])
+def test_lightning_runs_down_through_a_flat_object(kind):
+    img, m = _flat(kind)
+    n = img.shape[0]
+    d = stylize(img, rng=0, metaphor="lightning").dendrite
+    p = d.points[main_path(d)]
+    diag = float(np.hypot(n, n))
+    from scipy import ndimage
+    outline = ndimage.distance_transform_edt(~(m & ~ndimage.binary_erosion(m)))
+    near = outline[np.round(p[:, 1]).astype(int), np.round(p[:, 0]).astype(int)] <= 0.03 * diag
+    # before: 0.73 (ellipse) and 0.88 (cone) of the main path ran round the outline
+    assert near.mean() < 0.3
+    assert np.abs(p[:, 0] - 0.5 * n).mean() < 0.02 * diag  # on the vertical axis (before 0.07)
+    assert p[:, 1].max() - p[:, 1].min() > 0.75 * n  # from top to bottom
+    assert _end_turn(p, diag) < 120  # before: 179 deg, up the outline from the foot
+    assert _main_ink(d) >= 0.34 and _longest_loop(p, diag) < 0.022
+
+
+def test_strike_channel_and_outline_band():
+    m = np.zeros((80, 80), bool)
+    m[5:75, 25:55] = True
+    sil, near, fill = outline_band(m, 0.05)
+    assert fill == 1.0 and near[40, 25] == 1.0 and near[40, 40] == 0.0 and near[0, 0] == 1.0
+    ring = m & ~np.pad(np.ones((66, 26), bool), ((7, 7), (27, 27)))  # an outline drawing
+    assert outline_band(ring, 0.05)[2] < 0.05
+    path = strike_channel(np.ones((80, 80)), m, (40, 5))
+    assert path[-1, 1] >= 70 and np.abs(path[:, 0] - 39.5).max() < 5  # down the middle
+    with pytest.raises(ValueError, match="weights and content"):
+        strike_channel(np.ones((80, 80)), m[:10], (40, 5))

@@ -121,6 +121,28 @@ def test_slider_move_shows_a_half_resolution_preview_first():
     assert app.errors.last_error is None and app.errors.text.startswith("update: ")
 
 
+def test_preview_keeps_the_size_adapted_widths_without_the_pruning_rounds():
+    from branchnb.dendrite.stylize_params import effective_params
+    from branchnb.widgets.dendrite import _scaled
+
+    img = np.ones((200, 200))
+    img[50:150, 50:150] = 0.0
+    app = DendriteApp(img, max_size=200)
+    app.panels["stylize"].controls["max_width"].value = 7.0
+    pv = app.preview
+    full = app.panels["stylize"].values
+    s = app._preview_scale
+    k = float(np.sqrt(np.prod(app.preview_stylizer.scale(_scaled(full, s)))))
+    want = effective_params(_scaled(full, s), k)
+    assert k < 1  # a small picture on a larger lattice: the full run prunes twigs
+    # the same floor and widths, but not the twig-dropping rounds (3/4 of the preview's time)
+    assert pv.params.output_width == 0.0
+    assert (pv.params.min_width, pv.params.max_width) == (want.min_width, want.max_width)
+    assert pv.params.n_endpoints == want.n_endpoints
+    ink = 1.0 - pv.rendering.image.mean()
+    assert 0.05 < ink < 0.6
+
+
 def test_tree_mode_controls_are_usable(app):
     app.mode = "tree"
     assert app.layers.layout.display is None

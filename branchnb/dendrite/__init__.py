@@ -8,6 +8,7 @@ edge cost first, cumulative cost second) makes the branches jagged and
 lightning-like.
 """
 
+from .compare import MetricComparison, compare_metrics
 from .dendrite import Dendrite, PathStats, build_dendrite, path_statistics
 from .endpoints import place_endpoints, random_endpoints
 from .importance import ImportanceParams, importance_map
@@ -15,14 +16,7 @@ from .lattice import Lattice, direction_factors, make_lattice, node_weights
 from .metaphors import LightningParams, lightning, render_lightning, render_vines
 from .planner import METRICS, PlanResult, plan
 from .render import Rendering, cost_image, draw_points, render_plain, visiting_order_image
-from .stylization import (
-    MetricComparison,
-    Stylization,
-    StylizeParams,
-    Stylizer,
-    compare_metrics,
-    stylize,
-)
+from .stylization import Stylization, StylizeParams, Stylizer, stylize
 from .thickness import branch_thickness, importance_thickness, rolling_importance
 
 __all__ = [

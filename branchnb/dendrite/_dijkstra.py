@@ -104,8 +104,10 @@ def _count_stops(stop_at):
 # cumulative metric; the lexicographic pair (M, S)), so that no metric test
 # runs inside the relaxation loop.
 @numba.njit(cache=True)
-def _lattice_scalar(w, height, width, drow, dcol, factor, seeds, a,
+def _lattice_scalar(w, height, width, drow, dcol, factor, mfactor, seeds, a,
                     mmax, total, parent, order, stop_at):
+    # mfactor: the direction factors of the bottleneck term M (``factor`` for the
+    # paper's max edge cost; ``factor`` / step length for a cost per unit length)
     # the heap operations are written out here: through the (inlined)
     # helpers this kernel ran about 25 % slower
     hk, hn, pos, key, n = _start(height * width, seeds, 0, mmax, total, parent)
@@ -177,8 +179,9 @@ def _lattice_scalar(w, height, width, drow, dcol, factor, seeds, a,
             wv = w[v]
             if not wv < np.inf:
                 continue
-            e = 0.5 * (wu + wv) * factor[k]
-            m = max(mu, e)
+            wm = 0.5 * (wu + wv)
+            e = wm * factor[k]
+            m = max(mu, wm * mfactor[k])
             s = su + e
             nk = a * m + s
             if nk < key[v]:

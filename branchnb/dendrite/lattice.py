@@ -157,12 +157,26 @@ class Lattice:
         Per-direction edge length factors ``f_k`` (positive, finite) in
         :data:`OFFSETS` order; Euclidean diagonals
         (:func:`direction_factors`) by default.
+    bottleneck : {"edge", "density"}
+        What the bottleneck term ``M`` of the blend metric
+        (:func:`~branchnb.dendrite.planner.plan`) takes the maximum of: the
+        edge costs ``c(p, q)`` ("edge", the paper's, default) or the edge
+        costs per unit of Euclidean step length, ``c(p, q) / |q - p|``
+        ("density", beyond the paper). With "edge" a diagonal step's cost is
+        sqrt(2) times an axis step's over the same weights, so with a large
+        blend weight (``a = 1000``) and weights that vary by less than that
+        factor (a flat region with mild noise) the paths never step
+        diagonally: 4-connected staircases, which on a flat dark region draw
+        a grain of horizontal rails and vertical spikes. "density" makes ``M``
+        isotropic; the cumulative term ``S`` is the same either way. The
+        non-scalar metric supports "edge" only.
 
     Raises
     ------
     ValueError
         If ``weights`` is not a non-empty 2-D array of values >= 0 (or
-        +inf), or ``factors`` is not 8 positive finite numbers.
+        +inf), ``factors`` is not 8 positive finite numbers, or
+        ``bottleneck`` is not "edge" or "density".
 
     Examples
     --------
@@ -173,8 +187,11 @@ class Lattice:
 
     weights: np.ndarray
     factors: np.ndarray | None = None
+    bottleneck: str = "edge"
 
     def __post_init__(self):
+        if self.bottleneck not in ("edge", "density"):
+            raise ValueError(f"bottleneck must be 'edge' or 'density', got {self.bottleneck!r}")
         self.weights = np.ascontiguousarray(_check_weights(self.weights, "weights"))
         if self.factors is None:
             self.factors = direction_factors()
@@ -182,6 +199,19 @@ class Lattice:
         if f.shape != (8,) or not np.all(np.isfinite(f)) or (f <= 0).any():
             raise ValueError("factors must be 8 positive finite numbers (one per direction)")
         self.factors = f
+
+    def bottleneck_factors(self) -> np.ndarray:
+        """The 8 direction factors of the bottleneck term ``M``: :attr:`factors`
+        ("edge"), or :attr:`factors` over the Euclidean step lengths ("density").
+
+        Examples
+        --------
+        >>> Lattice(np.ones((2, 2)), bottleneck="density").bottleneck_factors().round(3).tolist()
+        [1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0]
+        """
+        if self.bottleneck == "edge":
+            return self.factors
+        return self.factors / np.hypot(OFFSETS[:, 0], OFFSETS[:, 1])
 
     @property
     def shape(self) -> tuple[int, int]:

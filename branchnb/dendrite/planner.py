@@ -25,7 +25,10 @@ and the planner settles nodes in increasing order of a key built from it:
 ``"blend"``
     key = ``a * M + S`` (a scalar; ``a`` = ``blend_weight``, the paper
     found ``a = 1000`` good for trees). ``a = 0`` is the cumulative metric;
-    large ``a`` approaches the non-scalar one.
+    large ``a`` approaches the non-scalar one. On a
+    :class:`~branchnb.dendrite.lattice.Lattice` with ``bottleneck="density"``
+    ``M`` is the largest edge cost per unit of step length (a diagonal step
+    is then not sqrt(2) times dearer in ``M``); ``S`` is unchanged.
 
 Relaxation replaces a node's label only when the new key is strictly
 smaller. The non-scalar key is the whole label and the cumulative metric is
@@ -326,6 +329,9 @@ def plan(graph, seeds, *, metric: str = "nonscalar", blend_weight: float = 1000.
         f = np.asarray(graph.factors, np.float64)
         if f.shape != (8,) or not np.isfinite(f).all() or (f <= 0).any():
             raise ValueError("graph factors must be 8 positive finite numbers")
+        if code == _NONSCALAR and graph.bottleneck != "edge":
+            raise ValueError("the nonscalar metric needs a lattice with bottleneck='edge', "
+                             f"got {graph.bottleneck!r}")
     elif sp.issparse(graph):
         graph = _check_sparse(graph)
         n_nodes = graph.shape[0]
@@ -348,11 +354,12 @@ def plan(graph, seeds, *, metric: str = "nonscalar", blend_weight: float = 1000.
     a = 0.0 if code == _CUMULATIVE else float(blend_weight)  # scalar key a * M + S
     if isinstance(graph, Lattice):
         h, w = graph.shape
-        args = (graph.weights.ravel(), h, w, _DROW, _DCOL, f, nodes)
+        args = (graph.weights.ravel(), h, w, _DROW, _DCOL, f)
         if code == _NONSCALAR:
-            count = _lattice_pair(*args, mmax, total, parent, order, stop)
+            count = _lattice_pair(*args, nodes, mmax, total, parent, order, stop)
         else:
-            count = _lattice_scalar(*args, a, mmax, total, parent, order, stop)
+            mf = np.ascontiguousarray(graph.bottleneck_factors(), np.float64)
+            count = _lattice_scalar(*args, mf, nodes, a, mmax, total, parent, order, stop)
         shape = (h, w)
     else:
         args = (graph.indptr.astype(np.int64), graph.indices.astype(np.int64), graph.data, nodes)

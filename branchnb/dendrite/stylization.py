@@ -34,20 +34,22 @@ from ..core.image import as_float_image, as_points, as_rgb
 from ..core.io import encode_png
 from ..core.params import check_params
 from ..core.random import as_seed
-from ..core.validate import Choice, Int, Point, Points, checked
-from .dendrite import Dendrite, PathStats, build_dendrite, path_statistics
+from ..core.validate import Int, Point, Points, checked
+from .dendrite import Dendrite, build_dendrite
 from .endpoints import place_endpoints
 from .importance import ImportanceParams, darkness, gradient_strength, importance_map
 from .lattice import Lattice, node_weights
-from .main_channel import straighten, wide_top, widen_main_path
-from .planner import METRICS, PlanResult, plan
+from .main_channel import straighten, strike_weights, wide_top, widen_main_path
+from .planner import PlanResult, plan
 from .render import Rendering
 from .scale import resample_to_lattice
 from .stylize_params import (  # noqa: F401  (re-exported; the spacings too)
     LIGHTNING_LOOP_REACH,
+    LIGHTNING_MAIN_EXPONENT,
     LIGHTNING_SEED_BLUR,
     LIGHTNING_SEED_DENSITY,
     LIGHTNING_SPACING,
+    STRIKE_MAIN_EXPONENT,
     VINE_SPACING,
     StylizeParams,
     effective_params,
@@ -63,19 +65,13 @@ from .thickness import (
 from .ties import refine_ties
 
 __all__ = [
-    "MetricComparison",
     "effective_params",
     "metaphor_params",
     "Stylization",
     "StylizeParams",
     "Stylizer",
-    "compare_metrics",
     "stylize",
 ]
-
-#: A planner metric name.
-_METRIC = Choice(*METRICS)
-
 
 @dataclass
 class Stylization:
@@ -448,7 +444,10 @@ class Stylizer:
             lambda: self._plan(p, seed, rng_seed))
 
     def _plan(self, p: StylizeParams, seed, rng_seed: int) -> PlanResult:
-        lat = self.lattice(p, rng_seed)
+        return self._plan_on(self.lattice(p, rng_seed), p, seed)
+
+    @staticmethod
+    def _plan_on(lat: Lattice, p: StylizeParams, seed) -> PlanResult:
         res = plan(lat, seed, metric=p.metric, blend_weight=p.blend_weight)
         if p.metric == "nonscalar" and p.break_ties:
             res = refine_ties(lat, res)
@@ -553,6 +552,33 @@ class Stylizer:
                               reach=LIGHTNING_LOOP_REACH * float(np.hypot(*res.shape)))
         return self._get(key, make)
 
+    def _strike(self, p: StylizeParams, seed, rng_seed: int) -> tuple[PlanResult, Dendrite, bool]:
+        """The plan and the dendrite of a lightning bolt, its main channel planned first (cached).
+
+        Beyond the paper: on an object on a background the planner runs on
+        :func:`~branchnb.dendrite.main_channel.strike_weights` (the main channel
+        down through the object a highway, a filled object's outline costly)
+        and the channel's end joins the endpoints, so the bolt's other branches
+        fork off the channel; then its hairpins are cut. On a photo the plain
+        plan is used (:meth:`_main_channel_straight`). The flag says whether
+        the channel was planned.
+        """
+        seed_key = tuple(np.round(np.asarray(seed, float), 3))
+        key = ("strike", _subset(p, _IMPORTANCE + _LATTICE + _PLAN + _ENDPOINTS), seed_key,
+               rng_seed)
+
+        def make():
+            lat = self.lattice(p, rng_seed)
+            got = strike_weights(lat.weights, self.importance(p) >= p.endpoint_threshold, seed)
+            if got is None:  # a photo: no object to go through
+                return self.plan(p, seed, rng_seed), self._main_channel_straight(p, seed, rng_seed), False
+            res = self._plan_on(Lattice(got[0], lat.factors), p, seed)
+            ends = np.concatenate([self.endpoints(p, rng_seed), got[1][-1:].astype(float)])
+            d = straighten(res, build_dendrite(res, ends), ends,
+                           reach=LIGHTNING_LOOP_REACH * float(np.hypot(*res.shape)))
+            return res, d, True
+        return self._get(key, make)
+
     def _dendrite_pruned(self, p: StylizeParams, seed, rng_seed: int, keep) -> Dendrite:
         """:meth:`dendrite` traced to the tips ``keep`` selects only (cached).
 
@@ -634,10 +660,12 @@ class Stylizer:
         ends = self.endpoints(p, rng)
         d = self.dendrite(p, seed_lat, rng)
         if metaphor == "lightning":
-            d = self._main_channel_straight(p, seed_lat, rng)
+            res, d, struck = self._strike(p, seed_lat, rng)
         imp = self.importance(p)
         d = self._widths(d, p, p.min_width, p.max_width)
-        d = widen_main_path(d, p.min_width, p.max_width) if metaphor == "lightning" else d
+        if metaphor == "lightning":  # a planned channel stays bright down to its last fork
+            d = widen_main_path(d, p.min_width, p.max_width,
+                                exponent=STRIKE_MAIN_EXPONENT if struck else LIGHTNING_MAIN_EXPONENT)
         pinned = self._pinned
         if k < 1.0 and p.output_width > 0 and p.thickness == "importance" and metaphor in (
                 "plain", None):
@@ -708,93 +736,3 @@ def stylize(image, params: StylizeParams | None = None, *, seed=None, rng: int |
     (40, 40, 3)
     """
     return Stylizer(image).run(params, seed=seed, rng=rng, metaphor=metaphor, **render_options)
-
-
-@dataclass
-class MetricComparison:
-    """The same image, seed, lattice and endpoints planned with two metrics.
-
-    Parameters
-    ----------
-    first, second : Stylization
-        The two runs, usually the cumulative and the non-scalar result.
-    stats_first, stats_second : PathStats
-        Per-endpoint tortuosity and maximum edge cost of each, one entry per
-        endpoint in the same order.
-    """
-
-    first: Stylization
-    second: Stylization
-    stats_first: PathStats
-    stats_second: PathStats
-
-    def _repr_png_(self) -> bytes:
-        a, b = self.first, self.second
-        imgs = [x.rendering.image if x.rendering is not None else x.dendrite.render()
-                for x in (a, b)]
-        return encode_png(np.concatenate(imgs, axis=1))
-
-
-@checked(first=_METRIC, second=_METRIC)
-def compare_metrics(stylizer: Stylizer, params: StylizeParams | None = None, *, seed=None,
-                    rng: int | np.random.Generator = 0, first: str = "cumulative", second: str | None = None,
-                    metaphor: str | None = "plain", **render_options) -> MetricComparison:
-    """Run the stylization twice on the same endpoints: ``first`` and ``second`` metric.
-
-    ``second`` defaults to ``params.metric`` (or ``"nonscalar"`` when that is
-    the same as ``first``). Both runs share the cached importance, lattice
-    and endpoints of ``stylizer``.
-
-    Parameters
-    ----------
-    stylizer : Stylizer
-        The image's pipeline; its caches are shared by both runs.
-    params : StylizeParams, optional
-        Common parameters (defaults if None); only the metric differs.
-    seed : (x, y), optional
-        Start of both dendrites (image pixels); see :meth:`Stylizer.run`.
-    rng : int or numpy.random.Generator
-        Seed of the lattice noise and the stippling, shared by both runs; 0.
-    first : {"cumulative", "nonscalar", "blend"}
-        Metric of the first run; "cumulative".
-    second : {"cumulative", "nonscalar", "blend"}, optional
-        Metric of the second run (see above).
-    metaphor : {"plain", "vines", "lightning", None}
-        Rendering metaphor of both runs.
-    **render_options
-        Passed to the metaphor's render function.
-
-    Returns
-    -------
-    MetricComparison
-        Both stylizations and per-endpoint path statistics of every endpoint,
-        in the same order for both.
-
-    Examples
-    --------
-    >>> img = np.ones((40, 40)); img[10:30, 10:30] = 0.0
-    >>> c = compare_metrics(Stylizer(img), StylizeParams(n_endpoints=30), rng=0)
-    >>> c.second.params.metric, bool((c.stats_second.max_edge <= c.stats_first.max_edge).all())
-    ('nonscalar', True)
-    """
-    p = check_params(params if params is not None else StylizeParams())
-    rng = as_seed(rng)  # both runs share one seed, so they share the endpoints
-    if second is None:
-        second = p.metric if p.metric != first else "nonscalar"
-    a = stylizer.run(dataclasses.replace(p, metric=first), seed=seed, rng=rng, metaphor=metaphor,
-                     **render_options)
-    b = stylizer.run(dataclasses.replace(p, metric=second), seed=seed, rng=rng,
-                     metaphor=metaphor, **render_options)
-    # per endpoint, in the same order for both (endpoints lying on the structure included)
-    return MetricComparison(a, b, _endpoint_stats(a), _endpoint_stats(b))
-
-
-def _endpoint_stats(s: Stylization) -> PathStats:
-    hl, wl = s.lattice.shape
-    lat_ends = np.clip((s.endpoints + 0.5) / s.scale - 0.5, 0, [wl - 1, hl - 1])
-    nodes = np.unique(s.lattice.node_index(lat_ends))
-    d = s.dendrite
-    where = np.full(s.plan.n_nodes, -1, np.int64)
-    where[d.nodes] = np.arange(d.n_nodes)
-    every_end = dataclasses.replace(d, tips=where[nodes])
-    return path_statistics(every_end, s.plan)

@@ -291,6 +291,22 @@ LIGHTNING_LOOP_REACH = 0.015
 LIGHTNING_SEED_BLUR = 0.03
 LIGHTNING_SEED_DENSITY = 0.5
 
+#: Depth (share of the diagonal) of the outline band a lightning bolt's main channel
+#: keeps out of, and the extra weight (units of the mean weight) on the outline itself
+#: (:func:`~branchnb.dendrite.main_channel.strike_channel`).
+STRIKE_BAND = 0.03
+STRIKE_PENALTY = 2.0
+
+#: Largest share of the picture an object's silhouette covers for a lightning bolt to
+#: plan its main channel through it (drawn objects 0.19-0.61, photos 0.96-1).
+STRIKE_MAX_COVER = 0.85
+
+#: Exponent of the share of the tips that sets the width of a main channel planned
+#: through an object (``LIGHTNING_MAIN_EXPONENT`` otherwise): down the middle of a
+#: body with thin prongs on top it is short, and with 8 it held 0.31 of the ink; 1000 keeps it
+#: at practically full width down to its last fork (0.34).
+STRIKE_MAIN_EXPONENT = 1000.0
+
 #: Exponent of the share of the tips that sets a lightning bolt's main channel's width
 #: (:func:`~branchnb.dendrite.main_channel.widen_main_path`; the other channels keep the
 #: share rule's 2; beyond the paper: thinned at every fork, the main channel faded into
