@@ -470,6 +470,11 @@ GOOD_RIM = 0.95
 RIM_TRADE = 0.07
 #: Inner-outline recall gain that buys :data:`RIM_TRADE`.
 RECALL_GAIN = 0.2
+#: Inner-outline recall a card cloud may lose against a superpixel cloud that shows at least
+#: :data:`SKY_TOLERANCE` more sky inside its side views (which also buys :data:`RIM_TRADE`):
+#: christmas_tree_root_flare at 512 px fell back to superpixels with 3.5-4.2 % sky (baubles
+#: moved off their holes, white discs from the side) for 0.939 / 0.940 against 0.959 / 0.948.
+RECALL_SLACK = 0.03
 
 
 def _good(a: dict) -> bool:
@@ -498,7 +503,11 @@ def cards_hold(cards, plain, *, min_psnr: float = 30.0) -> bool:
     recall no lower, up to :data:`SKY_TOLERANCE` more sky, rim ink no
     lower or at least :data:`GOOD_RIM` (less :data:`RIM_TRADE` where the cards keep
     :data:`RECALL_GAIN` more of the inner outlines at some check yaw; beyond the
-    earlier rule, for flat-fill sprites, :func:`flat_fill_cards`).
+    earlier rule, for flat-fill sprites, :func:`flat_fill_cards`). Where the
+    superpixel cloud shows at least :data:`SKY_TOLERANCE` more sky inside its
+    side views, the cards may also keep :data:`RECALL_SLACK` less recall and
+    trade :data:`RIM_TRADE` of rim ink. Recall is compared only for drawings
+    with at least :data:`MIN_INNER_LINES` inner-outline pixels.
 
     Parameters
     ----------
@@ -532,12 +541,18 @@ def cards_hold(cards, plain, *, min_psnr: float = 30.0) -> bool:
     b = _side_figures(plain() if callable(plain) else plain)
     tol = {"rim": None, "rrim": None}
     gain = max(a[f"recall{y:g}"] - b[f"recall{y:g}"] for y in CHECK_YAWS)
-    trade = RIM_TRADE if gain >= RECALL_GAIN else 0.0
+    # Beyond the earlier rule: superpixels that open sky inside the crown (shapes moved off
+    # their underpainting) are no reference to lose a little recall or rim ink against.
+    sky = max(a[f"closed{y:g}"] - b[f"closed{y:g}"] for y in CHECK_YAWS) >= SKY_TOLERANCE
+    trade = RIM_TRADE if gain >= RECALL_GAIN or sky else 0.0
+    slack = RECALL_SLACK if sky else 1e-9
     for k in b:
         if k == "psnr" or k not in a:
             continue
         if k in tol:
             ok = a[k] >= min(b[k], GOOD_RIM) - trade - 1e-9
+        elif k.startswith("recall"):
+            ok = a[k] >= b[k] - slack
         else:
             ok = a[k] >= b[k] - (SKY_TOLERANCE if k.startswith("closed") else 1e-9)
         if not ok:
