@@ -246,9 +246,12 @@ class BendingModel:
         return out
 
     def max_history(self) -> int:
-        """Longest history for which candidates exist (<= k + 1)."""
-        longest = int(self.local.max()) + 1 if self.n_elements else 0
-        return min(self.k + 1, longest)
+        """Longest history for which candidates exist (<= k + 1; computed once, read at every step)."""
+        out = self.__dict__.get("_max_history")
+        if out is None:
+            longest = int(self.local.max()) + 1 if self.n_elements else 0
+            out = self.__dict__["_max_history"] = min(self.k + 1, longest)
+        return out
 
     def quality(self, hist_angles, hist_radii, subset=None) -> tuple[np.ndarray, np.ndarray]:
         """Markov quality ``Q`` of every candidate for a history.

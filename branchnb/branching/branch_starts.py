@@ -16,10 +16,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..core.polyline import tangents
 from . import _kernels
 from .domains import MOUTH_TURN, head_share
-from .furcation import vertex_angles, window_features
+from .furcation import vertex_angles
 from .scoring import _DIRECTION_BINS
 
 __all__: list[str] = []
@@ -127,7 +126,7 @@ class _Starts:
             score = np.where(np.ptp(span, axis=1) > MOUTH_TURN, score * 1e-9, score)
         j = self._pick(score, x0, new, n + 1)
         if j is None:   # none of the share fits: all the heads (rare)
-            if sub is None:
+            if sub is None or not self._room_around(x0, length):
                 return None
             return self._start_branch(x0, theta0, every[0], every[1], parent, parent_vertex, generation,
                                       every[2], every[3], r_cap, full=True)
@@ -167,6 +166,22 @@ class _Starts:
         self.branches.append(st)
         return len(self.branches) - 1
 
+    def _room_around(self, x0, length: float) -> bool:
+        """Does any direction from ``x0`` lead on without a crossing (every one of the density
+        profile's direction bins, :data:`.scoring._DIRECTION_BINS`)? When none does, no head can
+        start there and the retry with every head is skipped (it found a start in none of 477 such
+        cases on a 1000 px crack example, and in 100 of the 237 others)."""
+        dens = self.density
+        if dens is None:
+            return True
+        if self._all_dirs is None:
+            a = np.arange(_DIRECTION_BINS) * (2.0 * np.pi / _DIRECTION_BINS)
+            self._all_dirs = np.ascontiguousarray(np.c_[np.cos(a), np.sin(a)])
+        n_samples = int(np.clip(np.ceil(length / (dens.rho / 2.0)), 8, 48))
+        _dc, cross = _kernels.profile_bins(dens.grid, dens.cell, float(x0[0]), float(x0[1]), self._all_dirs,
+                                           float(length), n_samples, 0.02, _DIRECTION_BINS)
+        return not bool(cross.all())
+
     def start_root(self, x, y, theta) -> int | None:
         model = self.model
         nb = len(model.example.branches)
@@ -183,9 +198,20 @@ class _Starts:
     def start_child(self, parent: int, vertex: int, toward=None, full: bool = False) -> int | None:
         model, fm = self.model, self.model.furcation
         st = self.branches[parent]
-        pts = np.asarray(st.points)
-        rad = np.asarray(st.radii)
-        wa, wr = window_features(vertex_angles(pts), rad, fm.k)
+        k = fm.k
+        # the parent's non-causal window at the vertex (window_features of the vertices around it only)
+        lo, hi = max(vertex - k - 1, 0), min(vertex + k + 2, len(st.points))
+        pts = np.asarray(st.points[lo:hi], np.float64)
+        rad = np.asarray(st.radii[lo:hi], np.float64)
+        v = vertex - lo
+        # window_features(vertex_angles(pts), rad, k)[:, v] without the whole branch's windows:
+        # angles padded with 0 (straight), radii with the end values
+        idx = np.arange(v - k, v + k + 1)
+        inner = (idx > 0) & (idx < len(pts) - 1)
+        wa = np.zeros(2 * k + 1)
+        if inner.any():
+            wa[inner] = vertex_angles(pts)[idx[inner]]
+        wr = rad[np.clip(idx, 0, len(pts) - 1)]
         if self._child_pool is None:
             heads = fm.child_index
             usable = np.flatnonzero(model.first_len[heads] > 0)
@@ -201,23 +227,28 @@ class _Starts:
         heads = fm.child_index[usable]
         if len(heads) == 0:
             return None
-        Q = fm.child_quality(wa[vertex], wr[vertex], usable)
-        mirror = np.zeros(len(heads), bool)
-        if self.p.mirror_children:
-            # the same furcations reflected: parent window and child angles negated
-            Qm = fm.child_quality(-wa[vertex], wr[vertex], usable)
+        # Q of every furcation, then (mirror_children) of the same reflected: parent window and child
+        # angles negated (compiled, :func:`._kernels.child_quality`)
+        mirror = bool(self.p.mirror_children)
+        Q = _kernels.child_quality(fm.parent_windows_a, fm.parent_windows_r, np.asarray(usable, np.int64),
+                                   wa, wr, mirror)
+        if mirror:
             heads = np.concatenate([heads, heads])
-            Q = np.concatenate([Q, Qm])
             betas = np.concatenate([betas, -betas])
-            mirror = np.concatenate([mirror, ~mirror])
-        tg = tangents(pts)[vertex]
+            mirror = np.repeat(np.array([False, True]), len(usable))
+        else:
+            mirror = np.zeros(len(heads), bool)
+        # core.polyline.tangents(pts)[v]: central difference, one-sided at an end
+        tg = pts[min(v + 1, len(pts) - 1)] - pts[max(v - 1, 0)]
+        nrm = float(np.hypot(tg[0], tg[1]))
+        tg = tg / (nrm if nrm != 0 else 1.0)
         theta0 = float(np.arctan2(tg[1], tg[0]))
         if toward is not None:   # a child grown into a hole starts toward it (``_Filling._fill_far``)
-            theta0 = float(np.arctan2(toward[1] - pts[vertex][1], toward[0] - pts[vertex][0]))
+            theta0 = float(np.arctan2(toward[1] - pts[v][1], toward[0] - pts[v][0]))
             betas = np.zeros(len(heads))
-        c = self._start_branch(pts[vertex], theta0, heads, Q, parent, vertex, st.generation + 1,
-                               betas=betas, mirror=mirror, r_cap=float(rad[vertex]), full=full)
-        if c is None and sub is not None:   # none of the share fits: all the furcations (rare)
-            return self.start_child(parent, vertex, toward, full=True)
+        c = self._start_branch(pts[v], theta0, heads, Q, parent, vertex, st.generation + 1,
+                               betas=betas, mirror=mirror, r_cap=float(rad[v]), full=full)
+        if c is None and sub is not None and self._room_around(pts[v], 3.0 * self.p.m * self.p.h):
+            return self.start_child(parent, vertex, toward, full=True)   # none of the share fits: all (rare)
         return c
 

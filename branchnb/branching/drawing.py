@@ -145,39 +145,18 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
     scale = float(np.clip(width / max(2 * mean_r, 1e-6), 0.25, 4.0)) if drawn else 1.0
     # the boundary of the branch region, away from the branches and the frame
     inside = lay == branch_region
-    edge = inside & ndi.binary_dilation(~inside) | ~inside & ndi.binary_dilation(inside)
-    edge[:2] = edge[-2:] = False
-    edge[:, :2] = edge[:, -2:] = False
-    # Away from the branches (their ink is no boundary line). On a small, densely drawn map the
-    # rivers reach the coast every few pixels and no boundary lies that far from them: then the
-    # boundary just off the branch bodies is read (beyond the paper, which draws no boundaries).
-    b_col, b_width = None, 0.0
-    for margin in (3 * max(mean_r, 1.0) + 6, 2 * max(mean_r, 1.0) + 3):
-        kept = edge & (pm.dist > margin)
-        if np.count_nonzero(kept) >= 20:
-            break
-    edge = kept
-    if np.count_nonzero(edge) >= 20:
-        band = ndi.binary_dilation(edge, iterations=4) & (pm.dist > pm.radius + 1.5)
-        ink = band & unlike_region
-        hit = ndi.binary_dilation(ink, iterations=1)[edge]
-        against = False
-        if hit.mean() < 0.5 and k > 2:
-            edge, band, ink, hit = _drawn_against(edge, inside, lay, k, band, ink, unlike_region, pm)
-            against = True
-        if hit.mean() >= 0.5 and ink.any():
-            # the line's own colour: its most saturated pixels, not the anti-aliased rim
-            strong = ink & (off_region >= np.percentile(off_region[ink], 67))
-            b_col = _median_colour(img, strong, line)
-            if against:
-                # the band also crosses other regions' edges: the line's width is its own area over its length
-                from skimage.morphology import skeletonize
+    b_col, b_width = _boundary_line(img, inside, lay, k, pm, mean_r, off_region, unlike_region, line, cover)
+    if b_col is None:
+        # Beyond the paper: the branch region by colour may be one relief level of the land (a small
+        # terrain map whose white lowlands have the colour of the white outside, and whose rivers lie
+        # mostly in a grey level): the coast is then read along the example's domain, the land a
+        # drawn line walls off (:func:`~branchnb.branching.backgrounds.example_domain`).
+        from .backgrounds import example_domain
 
-                solid = band & (cover(b_col) >= 0.5)
-                b_width = float(np.clip(solid.sum() / max(int(skeletonize(solid).sum()), 1), 1.0, 16.0))
-            else:
-                length = max(np.count_nonzero(edge) / 2.0, 1.0)  # both sides of the boundary are marked
-                b_width = float(np.clip(cover(b_col)[band & (pm.dist > margin - 4)].sum() / length, 1.0, 16.0))
+        dom = example_domain(img[..., :3], structure)
+        if 0.02 < dom.mean() < 0.98:
+            b_col, b_width = _boundary_line(img, dom, lay, k, pm, mean_r, off_region, unlike_region, line,
+                                            cover)
     # roots that start near the region boundary are outlets: the drawing joins them to it
     reach, tip_reach = 0.0, 0.0
     outside = ~inside
@@ -214,6 +193,45 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
     return DrawingStyle(cols.astype(np.float32), branch_region, line.astype(np.float32), scale,
                         None if b_col is None else b_col.astype(np.float32), b_width, reach, tip_reach,
                         textures or None)
+
+
+def _boundary_line(img, inside, lay, k, pm, mean_r, off_region, unlike_region, line, cover):
+    """The colour and width of the line drawn along the boundary of ``inside`` (the branch region)
+    away from the branches and the frame, or ``(None, 0.0)`` when most of it is not drawn."""
+    edge = inside & ndi.binary_dilation(~inside) | ~inside & ndi.binary_dilation(inside)
+    edge[:2] = edge[-2:] = False
+    edge[:, :2] = edge[:, -2:] = False
+    # Away from the branches (their ink is no boundary line). On a small, densely drawn map the
+    # rivers reach the coast every few pixels and no boundary lies that far from them: then the
+    # boundary just off the branch bodies is read (beyond the paper, which draws no boundaries).
+    b_col, b_width = None, 0.0
+    for margin in (3 * max(mean_r, 1.0) + 6, 2 * max(mean_r, 1.0) + 3):
+        kept = edge & (pm.dist > margin)
+        if np.count_nonzero(kept) >= 20:
+            break
+    edge = kept
+    if np.count_nonzero(edge) >= 20:
+        band = ndi.binary_dilation(edge, iterations=4) & (pm.dist > pm.radius + 1.5)
+        ink = band & unlike_region
+        hit = ndi.binary_dilation(ink, iterations=1)[edge]
+        against = False
+        if hit.mean() < 0.5 and k > 2:
+            edge, band, ink, hit = _drawn_against(edge, inside, lay, k, band, ink, unlike_region, pm)
+            against = True
+        if hit.mean() >= 0.5 and ink.any():
+            # the line's own colour: its most saturated pixels, not the anti-aliased rim
+            strong = ink & (off_region >= np.percentile(off_region[ink], 67))
+            b_col = _median_colour(img, strong, line)
+            if against:
+                # the band also crosses other regions' edges: the line's width is its own area over its length
+                from skimage.morphology import skeletonize
+
+                solid = band & (cover(b_col) >= 0.5)
+                b_width = float(np.clip(solid.sum() / max(int(skeletonize(solid).sum()), 1), 1.0, 16.0))
+            else:
+                length = max(np.count_nonzero(edge) / 2.0, 1.0)  # both sides of the boundary are marked
+                b_width = float(np.clip(cover(b_col)[band & (pm.dist > margin - 4)].sum() / length, 1.0, 16.0))
+    return b_col, b_width
 
 
 #: A region is textured when more than ``_TEXTURED_SHARE`` of its pixels away from the lines differ

@@ -62,6 +62,7 @@ from .ridges import (  # noqa: F401  (re-exported: split from this module)
     half_contrast_radius,
     line_colour_map,
     line_colour_of,
+    multi_colour_ink,
     ridge_mask,
     ridge_response,
     thin_line_colour,
@@ -123,7 +124,10 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         channels (a sea) are no branches, and braided channels (cycles) are
         cut into a tree where the two fronts of the shortest-path tree meet.
         Outlines of large flat regions touching the border (a country
-        border, a coast line) are no branches either. Drawn strokes broken
+        border, a coast line) are no branches either. Strokes of several
+        colours on one plain paper (an ornament's black stroke with a
+        coloured inner line) are traced as one ink mask
+        (:func:`~branchnb.branching.ridges.multi_colour_ink`). Drawn strokes broken
         at junctions and at the over-and-under crossings of an interlace are
         joined where their directions continue (``join_gaps``, see
         :func:`~branchnb.branching.stroke_joins.find_stroke_joins`).
@@ -178,6 +182,12 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         p = dataclasses.replace(p, **overrides)
     check_params(p)
     gray = gray_for_extraction(image)
+    if p.binary == "auto" and (line_colour is None or isinstance(line_colour, str)):
+        # strokes of several colours on one plain paper (a black stroke with a coloured inner line):
+        # traced by the medial axis of all the ink, not along one of its dark edges (beyond the paper)
+        ink = multi_colour_ink(image)
+        if ink is not None:
+            gray = image = ink
     if p.binary != "off" and is_binary(gray):
         # strokes drawn as two outline lines with the paper between them: traced once, along the centre
         filled, n_filled = fill_outlined_strokes(gray)

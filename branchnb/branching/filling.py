@@ -83,10 +83,35 @@ class _Filling:
         kept only while that point is still uncovered and the region there
         is at least ``rho / 2`` wide; the larger of the two sides counts.
         """
-        dm, dt = self.density, self._empty_dt
         if len(pts) < 3:
             return np.zeros(len(pts))
-        tg = tangents(pts)
+        return self._room_at(pts, tangents(pts))
+
+    def _max_rooms(self) -> list[float]:
+        """The largest :meth:`_room` of every branch (all branches' vertices in one pass)."""
+        pl = [np.asarray(b.points, np.float64) for b in self.branches]
+        n = np.array([len(q) for q in pl], np.int64)
+        out = np.zeros(len(pl))
+        use = n >= 3
+        if not use.any():
+            return out.tolist()
+        P = np.concatenate([q for q, u in zip(pl, use) if u])
+        lens = n[use]
+        starts = np.r_[0, np.cumsum(lens)[:-1]]
+        ends = starts + lens - 1
+        # core.polyline.tangents of each branch: central differences, one-sided at its ends
+        t = np.empty_like(P)
+        t[1:-1] = P[2:] - P[:-2]
+        t[starts] = P[starts + 1] - P[starts]
+        t[ends] = P[ends] - P[ends - 1]
+        norm = np.hypot(t[:, 0], t[:, 1])
+        norm[norm == 0] = 1.0
+        out[use] = np.maximum.reduceat(self._room_at(P, t / norm[:, None]), starts)
+        return np.maximum(out, 0.0).tolist()
+
+    def _room_at(self, pts: np.ndarray, tg: np.ndarray) -> np.ndarray:
+        """:meth:`_room` of vertices ``pts`` with unit tangents ``tg``."""
+        dm, dt = self.density, self._empty_dt
         nrm = np.c_[-tg[:, 1], tg[:, 0]]
         best = np.zeros(len(pts))
         gh, gw = dt.shape
@@ -144,9 +169,14 @@ class _Filling:
         return _hole_map([st.points for st in self.branches], dom, self.density.cell)
 
     def _example_holes(self) -> float:
+        """The example's hole share on the density grid (computed once per model and cell size)."""
         m = self.model
-        dom = m.domain if m.domain is not None else np.ones(_frame(m.source), bool)
-        return _hole_map([b.points for b in m.example.branches], dom, self.density.cell)[0]
+        cache = m.__dict__.setdefault("_example_holes", {})
+        key = (id(m.example), len(m.example.branches), float(self.density.cell))
+        if key not in cache:
+            dom = m.domain if m.domain is not None else np.ones(_frame(m.source), bool)
+            cache[key] = _hole_map([b.points for b in m.example.branches], dom, self.density.cell)[0]
+        return cache[key]
 
     def _fill_holes(self) -> None:
         """Grow into holes the example does not have (beyond the paper).
@@ -196,7 +226,7 @@ class _Filling:
             self._empty_dt = np.where(near, self._empty_dt, 0.0).astype(np.float32)
             for bi in self._reopen_tips():
                 self.grow(bi)
-            rooms = [float(self._room(np.asarray(b.points)).max(initial=0.0)) for b in self.branches]
+            rooms = self._max_rooms()
             for bi in np.argsort(rooms, kind="stable")[::-1]:
                 if rooms[bi] <= 0 or self.stop_reason:
                     break

@@ -390,8 +390,9 @@ class FurcationModel:
         w = np.exp(-np.log(length / L) ** 2 / (2 * bandwidth ** 2))
         if w.sum() <= 0:
             w = np.ones_like(w)
-        j = rng.choice(len(w), p=w / w.sum())
-        return int(self.children_per_branch[j])
+        from .model import _choice  # model imports this module
+
+        return int(self.children_per_branch[_choice(rng, w / w.sum())])
 
     def child_quality(self, window_a, window_r, subset=None) -> np.ndarray:
         """Q of every input furcation for a synthesized parent window, ``(F,)``.

@@ -29,10 +29,10 @@ from .colonization import (
 from .domains import MOUTH_SHARE, MOUTH_TURN, _Drain, _frame, _Shore, _shore_margin
 from .filling import _Filling
 from .guidance import Guidance
-from .model import StructureModel
+from .model import StructureModel, _choice
 from .params import SynthesisParams
 from .scoring import _continue_radii, _rank_key, _rotate, binned_profile, score_candidates
-from .straightness import RUN_MIN_MEAN, BendHistogram, StraightRuns
+from .straightness import BEND_CAP, RUN_CAP, RUN_GAIN, RUN_MIN_MEAN, BendHistogram, StraightRuns
 
 __all__ = ["FILL_LENGTH_FACTOR", "GrowthProgress", "LENGTH_BOUND", "LENGTH_FACTOR", "length_cap", "winding",
            "winding_limit"]
@@ -307,6 +307,11 @@ class _Grower(_Starts, _Filling):
         self.attempt = 1
         self.progress = None  # progress(GrowthProgress) after every Markov step
         self._child_pool: tuple[np.ndarray, np.ndarray] | None = None
+        self._run_logs: tuple | None = None
+        self._all_dirs: np.ndarray | None = None
+        self._kids_of: tuple | None = None
+        self._live_dirs: dict = {}
+        self._e1, self._e2, self._ei = np.zeros(1), np.zeros((1, 1)), np.zeros(1, np.int64)
         self._head: float | None = None
 
     def report(self, done: bool = False) -> None:
@@ -376,12 +381,15 @@ class _Grower(_Starts, _Filling):
     def _room_ahead(self, st, tip) -> bool:
         """Does any of all the candidates (their directions) lead on below the density stop?"""
         bm, p = self.model.bending, self.p
-        t = bm.windows(min(len(st.elem_a), bm.max_history()))[0]
-        t = t[bm.cont_len[t] > 0]
-        if not len(t):
+        L = min(len(st.elem_a), bm.max_history())
+        dirs = self._live_dirs.get(L)
+        if dirs is None:   # the directions of the windows that go on, per history length (found once)
+            t = bm.windows(L)[0]
+            t = t[bm.cont_len[t] > 0]
+            dirs = self._live_dirs[L] = np.ascontiguousarray(self.model.local_dirs[t])
+        if not len(dirs):
             return False
-        dc, cross = binned_profile(self.density, tip, _rotate(self.model.local_dirs[t], st.theta),
-                                   3.0 * p.m * p.h)
+        dc, cross = binned_profile(self.density, tip, _rotate(dirs, st.theta), 3.0 * p.m * p.h)
         return bool(((~cross) & (dc < p.stop_density)).any())
 
     def _share(self, n: int, cap: int | None = None) -> np.ndarray | None:
@@ -399,7 +407,7 @@ class _Grower(_Starts, _Filling):
 
         Candidate ``j``'s polyline is ``[tip] + pts[j, :lens[j]]``; the crossing test
         runs compiled over the ranked candidates (:func:`._kernels.first_free`)."""
-        order = np.lexsort((np.arange(len(score)), -_rank_key(score)))
+        order = np.argsort(-_rank_key(score), kind="stable")   # ties by index
         st = self.store
         chosen = _kernels.first_free(order, np.asarray(score, np.float64), np.asarray(tip, np.float64),
                                      np.ascontiguousarray(pts, np.float64), np.asarray(lens, np.int64),
@@ -411,7 +419,51 @@ class _Grower(_Starts, _Filling):
         if not chosen:
             return None
         w = score[chosen]
-        return chosen[int(self.rng.choice(len(chosen), p=w / w.sum()))]
+        return chosen[_choice(self.rng, w / w.sum())]   # rng.choice(len(chosen), p=...), the same draw
+
+    def _child_vertices(self, bi: int) -> list:
+        """The parent vertices of branch ``bi``'s children, in the order they were started (an index
+        kept up to date as branches are added, rebuilt when the list is replaced)."""
+        if self._kids_of is None or self._kids_of[0] is not self.branches:
+            self._kids_of = (self.branches, 0, {})
+        lst, done, kids = self._kids_of
+        for b in lst[done:]:
+            if b.parent is not None:
+                kids.setdefault(b.parent, []).append(b.parent_vertex)
+        self._kids_of = (lst, len(lst), kids)
+        return list(kids.get(bi, ()))
+
+    def _step_factors(self, st, t_arr: np.ndarray) -> tuple[np.ndarray | None, np.ndarray]:
+        """``(fb, zero)`` of a step's candidates ``t_arr`` (:func:`._kernels.step_factors`): the bend-size
+        factor times the straight-run factor (None when neither applies) and the candidates a branch
+        may not take (they end it under ``branch_end = "length"``, or sweep past the winding limit)."""
+        bends, runs = self.bends, self.runs
+        use_bend = self.bend_counts is not None
+        n_bent = float(bends.counts.sum()) if use_bend else 0.0
+        lo, hi = st.heads if st.heads is not None else (st.theta, st.theta)
+        bm = self.model.bending
+        if runs is not None:
+            r = runs.run_length(st.elem_a[-(runs.max_run + 1):])
+            if self._run_logs is None:
+                self._run_logs = (np.log(runs.hazard), np.log1p(-runs.hazard), float(np.log(runs.q)),
+                                  float(np.log1p(-runs.q)))
+            lh, l1h, lq, l1q = self._run_logs
+            # beyond the rule of .straightness: half of it against the overall bend rate, not
+            # only against each candidate's own context (relative alone, the mean straight run
+            # of a 1000 px drawn map was 0.74-0.92 x the example's and of 1000 px drawn cracks
+            # 0.80-0.91 x with turns 1.8-2.0 x; blended 0.82-0.84 x and 0.88-1.02 x; issue 23);
+            # a delta's channel turns toward the sea: there the drain decides first (square root)
+            mode = 0 if self.drain is None else 1
+            state, tol, max_run = runs.state, runs.tol, runs.max_run
+        else:
+            r, lh, l1h, lq, l1q, mode, state, tol, max_run = 0, self._e1, self._e1, 0.0, 0.0, 2, self._ei, 0.0, 0
+        fb, zero = _kernels.step_factors(
+            t_arr, bm.cont_angles, bm.cont_len, use_bend and bends.wG > 0 and n_bent > 0,
+            bends.p, bends.counts, self.bend_counts if use_bend else self._e2, bends.wG * n_bent / bends.m,
+            BEND_CAP, runs is not None, lh, l1h, lq, l1q, state, int(r), float(tol), int(max_run), mode,
+            float(self.run_weight), RUN_GAIN, RUN_CAP, float(st.theta), float(lo), float(hi),
+            float(self.wind_max), self.p.branch_end == "length")
+        return (fb if use_bend or runs is not None else None), zero
 
     # -- growing ----------------------------------------------------------
     def step(self, bi: int, full: bool = False) -> bool:
@@ -434,7 +486,6 @@ class _Grower(_Starts, _Filling):
         self.n_candidates += len(t_arr)
 
         score = cs.score
-        fb = self.bends.factors_at(self.bend_counts, t_arr) if self.bend_counts is not None else None
         if self.frame and st.parent is None:
             live = n_arr > 0
             if live.any():
@@ -445,21 +496,9 @@ class _Grower(_Starts, _Filling):
             score = score * self.drain.factor(tip, pts, n_arr, start=st.points[0])
         if st.goal is not None:
             score = score * self._goal_factor(st, tip, pts, n_arr)
-        if self.runs is not None:
-            run = self.runs.run_length(st.elem_a[-(self.runs.max_run + 1):])
-            ca = self.model.bending.cont_angles[t_arr]
-            fr = self.runs.factors(run, ca, n_arr, self.runs.state[t_arr])
-            if self.drain is None:
-                # beyond the rule of .straightness: half of it against the overall bend rate, not
-                # only against each candidate's own context (relative alone, the mean straight run
-                # of a 1000 px drawn map was 0.74-0.92 x the example's and of 1000 px drawn cracks
-                # 0.80-0.91 x with turns 1.8-2.0 x; blended 0.82-0.84 x and 0.88-1.02 x; issue 23)
-                fr = np.sqrt(fr * self.runs.factors(run, ca, n_arr, None))
-            else:   # a delta's channel turns toward the sea: the drain decides first
-                fr = np.sqrt(fr)
-            if self.run_weight != 1.0:
-                fr = fr ** self.run_weight
-            fb = fr if fb is None else fb * fr
+        # the bend-size factor (see .straightness), the straight-run factor (below) and the winding
+        # limit in one compiled pass (_kernels.step_factors)
+        fb, zero = self._step_factors(st, t_arr)
         if self.shore is not None:
             fs = self.shore.factor(tip, pts, n_arr)
             score = score * fs
@@ -467,18 +506,13 @@ class _Grower(_Starts, _Filling):
                 fb = np.where(fs < 1.0, 1.0, fb)
         if fb is not None:
             score = score * fb
-        if p.branch_end == "length":
-            score = np.where(n_arr > 0, score, 0.0)
         # beyond the paper: no spirals. A candidate that would take the branch's heading range past the
         # winding limit is forbidden; the branch stops when nothing else is left (issue 23)
-        th_c = st.theta + np.cumsum(self.model.bending.cont_angles[t_arr], axis=1)
-        lo, hi = st.heads if st.heads is not None else (st.theta, st.theta)
-        wind = np.maximum(th_c.max(1), hi) - np.minimum(th_c.min(1), lo)
-        score = np.where(wind > self.wind_max, 0.0, score)
+        score = np.where(zero, 0.0, score)
         heads = None
         if st.mouth is not None:
             if (len(st.points) - 1) * p.h < MOUTH_SHARE * min(st.target, self.max_branch_len):
-                heads = st.theta + np.cumsum(self.model.bending.cont_angles[t_arr], axis=1)
+                heads = st.theta + np.cumsum(bm.cont_angles[t_arr], axis=1)
                 span = np.maximum(heads.max(1), st.mouth[1]) - np.minimum(heads.min(1), st.mouth[0])
                 score = np.where(span > MOUTH_TURN, score * 1e-9, score)
             else:
@@ -498,11 +532,11 @@ class _Grower(_Starts, _Filling):
             return False
         t, n = int(t_arr[j]), int(n_arr[j])
         if n:
+            th_j = st.theta + np.cumsum(bm.cont_angles[t, :n])
             lo, hi = st.heads if st.heads is not None else (st.theta, st.theta)
-            st.heads = (min(lo, float(th_c[j, :n].min())), max(hi, float(th_c[j, :n].max())))
+            st.heads = (min(lo, float(th_j.min())), max(hi, float(th_j.max())))
         if heads is not None and n:
             st.mouth = (min(st.mouth[0], float(heads[j, :n].min())), max(st.mouth[1], float(heads[j, :n].max())))
-        bm = self.model.bending
         new_pts = pts[j, :n]
         ang = bm.cont_angles[t, :n]
         rad = bm.cont_radii[t, :n]
@@ -569,7 +603,7 @@ class _Grower(_Starts, _Filling):
         head = self._below_head(bi)
         if extra:
             d = 1
-            existing = [b.parent_vertex for b in self.branches if b.parent == bi]
+            existing = self._child_vertices(bi)
             weights = self._room(pts) if self._empty_dt is not None else None
             if head is not None:
                 weights = head * (1.0 if weights is None else weights)
@@ -609,7 +643,7 @@ class _Grower(_Starts, _Filling):
                 break
             before = len(self.branches)
             self._update_room()
-            rooms = [float(self._room(np.asarray(b.points)).max(initial=0.0)) for b in self.branches]
+            rooms = self._max_rooms()
             # tips that ended at their drawn length with free space ahead grow on
             self._drain(self._reopen_tips())
             for bi in np.argsort(rooms, kind="stable")[::-1]:

@@ -34,6 +34,14 @@ _FIT_FIELDS = ("h", "m", "k", "bins", "svm_C")
 # --------------------------------------------------------------------------
 # Learning
 # --------------------------------------------------------------------------
+def _choice(rng, p: np.ndarray) -> int:
+    """``rng.choice(len(p), p=p)`` without its checks of ``p`` (the same draw from the same stream:
+    the cdf of ``p`` searched at one uniform number); it ran once per branch start."""
+    cdf = np.cumsum(p)
+    cdf /= cdf[-1]
+    return int(cdf.searchsorted(rng.random(), side="right"))
+
+
 @dataclass
 class StructureModel:
     """Everything learnt from an example structure.
@@ -145,13 +153,16 @@ class StructureModel:
         float
             The target length (pixels).
         """
-        g = min(int(generation), int(self.branch_generation.max()))
-        idx = np.flatnonzero(self.branch_generation == g)
-        if len(idx) == 0:
-            idx = np.arange(len(self.branch_length))
-        r = np.maximum(self.branch_r0[idx], 1e-6)
+        cache = self.__dict__.setdefault("_length_pools", {})
+        if generation not in cache:   # the input branches of each generation, found once
+            g = min(int(generation), int(self.branch_generation.max()))
+            idx = np.flatnonzero(self.branch_generation == g)
+            if len(idx) == 0:
+                idx = np.arange(len(self.branch_length))
+            cache[generation] = (idx, np.maximum(self.branch_r0[idx], 1e-6))
+        idx, r = cache[generation]
         w = np.exp(-np.log(max(r_start, 1e-6) / r) ** 2 / (2 * bandwidth ** 2)) + 1e-12
-        j = idx[rng.choice(len(idx), p=w / w.sum())]
+        j = idx[_choice(rng, w / w.sum())]
         return float(self.branch_length[j])
 
     def matcher(self, wG: float) -> HistogramMatcher:

@@ -565,3 +565,78 @@ def fill_outlined_strokes(gray, *, max_width: float = 24.0) -> tuple[np.ndarray,
         out[y0:y1, x0:x1][reg] = float(np.median(g[ink]))
         filled += 1
     return out, filled
+
+
+def multi_colour_ink(image, *, paper_share: float = 0.5, tol: float = 0.1,
+                     share: float = 0.97) -> np.ndarray | None:
+    """Ink of several colours on one plain paper, as one dark-on-white grey image (or None).
+
+    Going beyond the paper. A drawn stroke of two colours (a black outline
+    stroke with a red or green inner line, an ornament) is no brightness
+    ridge: the ridge filter finds its two dark edges and traces one of
+    them, so fragments come out with the inner line off to one side. When
+    at least ``paper_share`` of the pixels have one colour (the paper, the
+    most frequent colour) and at least ``share`` of all pixels lie within
+    ``tol`` of it or clearly away from it (3 ``tol``: the ink, only its
+    anti-aliased rim in between), while the ink is thin everywhere (at
+    most 35 % of the image, and no part of it wider than 3 x the strokes'
+    median width, as a sea or a land is) and
+    of more than one colour (one ink colour is a mask already), the ink's
+    distance from the paper colour is returned as a grey image (0 = ink, 1 = paper), for
+    tracing by its medial axis like a binary mask.
+
+    Parameters
+    ----------
+    image : (H, W) or (H, W, C) array_like
+        The image (RGBA composited over white).
+    paper_share : float, default 0.5
+        Smallest share of the paper colour.
+    tol : float, default 0.1
+        Largest channel difference of a paper pixel from the paper colour.
+    share : float, default 0.97
+        Share of the pixels that are clearly paper or clearly ink.
+
+    Returns
+    -------
+    (H, W) float32 ndarray or None
+        The ink as a grey image, or None when the image is no such drawing.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.ones((60, 80, 3)); img[26:35, 5:75] = 0.0; img[29:32, 5:75] = (0.9, 0.1, 0.1)
+    >>> ink = multi_colour_ink(img)
+    >>> float(ink[30, 40]), float(ink[10, 40])
+    (0.0, 1.0)
+    """
+    from .backgrounds import large_flat_regions
+
+    rgb = np.asarray(as_rgb(image), np.float64)[..., :3]
+    q = np.clip((rgb * 15.999).astype(np.int64), 0, 15)
+    code = (q[..., 0] * 16 + q[..., 1]) * 16 + q[..., 2]
+    counts = np.bincount(code.ravel(), minlength=4096)
+    top = int(np.argmax(counts))
+    paper = rgb[code == top].mean(axis=0)
+    d = np.abs(rgb - paper).max(-1)
+    near, far = d <= tol, d >= 3 * tol
+    if near.mean() < paper_share or (near | far).mean() < share or not far.any():
+        return None
+    solid = ndi.binary_erosion(far, np.ones((3, 3), bool))   # no anti-aliased rim
+    if not solid.any():
+        return None
+    spread = np.percentile(rgb[solid], 95, axis=0) - np.percentile(rgb[solid], 5, axis=0)
+    if spread.max() < 0.25:
+        return None         # one ink colour: its grey image is a mask already
+    ink = d >= 1.5 * tol
+    dt = ndi.distance_transform_edt(ink)
+    from skimage.morphology import skeletonize
+
+    sk = skeletonize(ink)
+    if not sk.any():
+        return None
+    r_med = float(np.median(dt[sk]))
+    if (ink.mean() > 0.35 or float(np.percentile(dt[sk], 99)) > 3.0 * r_med + 1.0
+            or large_flat_regions(ink, max(3.0 * r_med, 3.0)).any()):
+        return None         # a sea, a land or a filled shape: no drawing of strokes
+    depth = float(np.percentile(d[far], 25))   # every ink colour fully dark
+    return (1.0 - np.clip(d / max(depth, 1e-6), 0.0, 1.0)).astype(np.float32)

@@ -234,7 +234,14 @@ def _compiled_scores(model: StructureModel, hist_a, hist_r, tip, theta: float, p
                      matcher: HistogramMatcher | None, density: DensityMap | None, subset) -> CandidateScores:
     """:func:`score_candidates` without guidance as one compiled pass (:func:`._kernels.score_step`)."""
     bm = model.bending
-    ha, hr, t, WA, WR = bm.history_windows(hist_a, hist_r, subset)
+    L = min(len(hist_a), bm.max_history())
+    if L < 1:
+        raise ValueError("the history is empty: a branch needs at least one element")
+    # the windows are read in place (not copied per step): the last L elements of the history
+    ha, hr = np.asarray(hist_a[-L:], np.float64), np.asarray(hist_r[-L:], np.float64)
+    t = bm.windows(L)[0]
+    if subset is not None:
+        t = t[subset]
     use_hist = matcher is not None and matcher.wG > 0 and matcher.n_nodes > 0
     hm = matcher if use_hist else None
     e1, e2 = np.zeros(1), np.zeros((1, 1))
@@ -246,7 +253,7 @@ def _compiled_scores(model: StructureModel, hist_a, hist_r, tip, theta: float, p
         grid, cell, n_samples = np.zeros((1, 1), np.float32), 1.0, 8
     tip = np.asarray(tip, np.float64)
     Q, score, pts, hf, D_c, cross = _kernels.score_step(
-        t, np.ascontiguousarray(WA), np.ascontiguousarray(WR), ha.copy(), hr.copy(),
+        t, bm.angles, bm.radii, ha, hr,
         model.bending.local_points, model.local_dirs, bm.cont_len, float(tip[0]), float(tip[1]), float(theta),
         use_hist, hm.p_a if hm else e1, hm.counts_a if hm else e1, model.cand_counts_a if hm else e2,
         model.cand_sq_a if hm else e1, hm.p_r if hm else e1, hm.counts_r if hm else e1,

@@ -42,6 +42,21 @@ def _bleed(img: np.ndarray, mask: np.ndarray) -> np.ndarray:
     return np.where(ring[..., None] if img.ndim == 3 else ring, near, out).astype(np.float32)
 
 
+def _stored(img: np.ndarray) -> np.ndarray:
+    """An image kept for every new leaf: its colour channels (no alpha) as float16.
+
+    The stage images, the leaf under each layer, the layer masks and
+    weights of every exemplar are held as long as the analysis: as float32
+    RGBA they were 319 MB for 3 exemplars of 1.1 MP (procedural lobed, two
+    layers); float16 RGB halves that and more (relative precision 5e-4,
+    a tenth of a grey level; they are turned back to float32 where sampled).
+    """
+    img = np.asarray(img)
+    if img.ndim == 3 and img.shape[2] == 4:
+        img = img[..., :3]
+    return np.ascontiguousarray(img, np.float16)
+
+
 def _completed(img: np.ndarray, blade: np.ndarray, mask: np.ndarray, reach: int = 3):
     """A layer's mask completed by the pixels beside it that stand out as the layer does, and the leaf under it.
 
@@ -187,7 +202,7 @@ class _Prepared:
                 # An ink outline around a leaf that is not flat art (a
                 # gradient-filled drawing) is taken out too (drawn_outline).
                 img = _replace_from_blade(img, a.blades[e], outlines[e])
-            return _bleed(img, a.blades[e])
+            return _stored(_bleed(img, a.blades[e]))
 
         outlines = [drawn_outline(a.exemplars[e], a.blades[e]) if fa is None else None for e in range(self.n)]
 
@@ -196,8 +211,8 @@ class _Prepared:
         # What a layer's contrast is taken against: the next stage, without
         # any ink on drawn leaves (a stroke the induction missed is still in
         # the next stage, so its ratio was 1 and the pasted vein had gaps).
-        self.under = [[_bleed(fa.clean(np.asarray(a.residuals[k][e], np.float32), a.blades[e], fa.ink[e]),
-                              a.blades[e]) for e in range(self.n)] if fa is not None and 0 < k < last
+        self.under = [[_stored(_bleed(fa.clean(np.asarray(a.residuals[k][e], np.float32), a.blades[e], fa.ink[e]),
+                                      a.blades[e])) for e in range(self.n)] if fa is not None and 0 < k < last
                       else self.stage[k] for k in range(len(a.residuals))]
         # Layer masks grown by the pixel the residual also removed: the
         # exemplar's own anti-aliased rim comes back with the layer.
@@ -219,15 +234,21 @@ class _Prepared:
                     us.append(self.under[k + 1][e])
                 elif mk.any():
                     mk, under = _completed(self.stage[k][e], a.blades[e], mk)
-                    us.append(under)
+                    us.append(_stored(under))
                 else:
                     us.append(self.under[k + 1][e])
-                ms.append(ndi.binary_dilation(mk).astype(np.float32) * a.blades[e])
+                ms.append(_stored(ndi.binary_dilation(mk) & a.blades[e]))
                 wgt = np.where(a.blades[e], np.maximum(L.delta - L.combined[e], 0.0) / max(L.delta, 1e-6), 0.0)
-                ws.append(ndi.grey_dilation(wgt.astype(np.float32), size=3))
+                ws.append(_stored(ndi.grey_dilation(wgt.astype(np.float32), size=3)))
             self.layer_masks.append(ms)
             self.layer_weights.append(ws)
             self.layer_under.append(us)
+        # Whether each exemplar's layer stands out from the leaf under it as
+        # the training leaf's does (lighter or darker: the median of its
+        # ratio to the leaf under it, minus 1, of the training leaf's sign).
+        # A layer of the other sign is another structure (dark dots induced
+        # as a grass strip's pale veins): synthesis passes it over as a donor.
+        self.layer_agrees = [self._agreement(k) for k in range(len(a.layers))]
         # How complete each exemplar's induced layer is: its skeleton's
         # length over that of the training layer carried onto it (the
         # registered mask), at most 1, over the median of the exemplars'
@@ -289,6 +310,20 @@ class _Prepared:
         lams = np.array([L.lam for L in a.layers], float)
         top = float(lams.max()) if len(lams) and lams.max() > 0 else 1.0
         self.structural = [float(x / top) for x in lams]
+
+    def _agreement(self, k: int) -> list[bool]:
+        """Per exemplar: layer ``k`` stands out from the leaf under it with the training leaf's sign."""
+        sign = []
+        for e in range(self.n):
+            mk = self.layer_masks[k][e] > 0.5
+            if not mk.any():
+                sign.append(0.0)
+                continue
+            st = np.asarray(self.stage[k][e], np.float32)[mk].mean(-1)
+            un = np.asarray(self.layer_under[k][e], np.float32)[mk].mean(-1)
+            sign.append(float(np.sign(np.median(st / np.maximum(un, 0.02) - 1.0))))
+        t = sign[self.analysis.training_index]
+        return [t == 0 or s_e == t for s_e in sign]
 
     def _upright_map(self, e: int) -> np.ndarray:
         """Exemplar ``e``'s map to the training frame, seen in the training leaf's pose.
@@ -455,10 +490,10 @@ class _Prepared:
         return v if np.hypot(*v) > 1e-6 else None
 
     def source_detail(self, e: int) -> np.ndarray:
-        """Exemplar ``e``'s background detail for texture correction (cached; see ``synthesis._correct``)."""
+        """Exemplar ``e``'s background detail for texture correction (cached; see ``correction._correct``)."""
         cache = self.__dict__.setdefault("_details", {})
         if e not in cache:
-            from .synthesis import _detail
+            from .correction import _detail
             sigma = max(8, min(self.shape) // 24) / 2.0
             cache[e] = _detail(self.stage[-1][e], self.analysis.blades[e], sigma)
         return cache[e]

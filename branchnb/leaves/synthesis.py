@@ -98,8 +98,9 @@ The steps live in their own modules: :mod:`branchnb.leaves.shaping` (random
 warps, shape weights, map composition and resampling),
 :mod:`branchnb.leaves.prepared` (what every leaf of one analysis shares:
 stage images, layer masks, maps, petioles), :mod:`branchnb.leaves.inking`
-(drawn leaves) and :mod:`branchnb.leaves.comparison` (measures used by the
-tests); this module assembles a leaf and re-exports their public names.
+(drawn leaves), :mod:`branchnb.leaves.correction` (texture correction)
+and :mod:`branchnb.leaves.comparison` (measures used by the tests); this
+module assembles a leaf and re-exports their public names.
 
 Every leaf keeps the seed that made it, the exemplars it used and the mean
 shape weights; :func:`save_leaves` writes RGBA PNGs and a strict-JSON record.
@@ -119,6 +120,9 @@ from ..core.params import check_params, param
 from ..core.random import as_rng
 from ..core.validate import check_callback
 from .comparison import colour_range_fraction, leaf_distance
+from .correction import _correct as _correct
+from .correction import _detail as _detail
+from .correction import _masked_blur as _masked_blur
 from .inking import _ink_outline
 from .prepared import _CACHE_KEY as _CACHE_KEY
 from .prepared import _Prepared as _Prepared
@@ -447,6 +451,12 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
         # a few dashes of veins) are passed over while others have one.
         full = [e for e in cands if p.layer_complete[k][e] >= params.donor_complete]
         cands = full if full else cands
+        # Nor one whose layer stands out the other way than the training
+        # leaf's (see prepared._Prepared._agreement): a grass strip's dark dots
+        # induced as its pale veins gave new leaves dotted, not lined, veins
+        # (vein continuity 0.88 where that strip gave the veins).
+        same = [e for e in cands if p.layer_agrees[k][e]]
+        cands = same if same else cands
         # Never the donor of another layer (two layers of one exemplar
         # pasted with different warps lay beside each other: vein continuity
         # 0.58 on maples whose spots and veins came from one leaf).
@@ -495,9 +505,11 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
             # rim of a light vein was lifted to the vein's colour: veins
             # widened and blurred, new leaves had about half their
             # exemplars' Laplacian variance on procedural families.)
-            under = _sample_sharp_at(p.layer_under[k][e][..., :3], c, on)
+            # (On the layer's footprint only: a weight of 0 elsewhere.)
+            under = _sample_sharp_at(p.layer_under[k][e][..., :3], c, on)[on]
             lo, hi = p.layer_range[k]
-            own = np.clip(rgb, *p.blade_range)
+            fg, bg_on = col[on], rgb[on]
+            own = np.clip(bg_on, *p.blade_range)
             # A layer lighter than the leaf under it (pale veins) is brought
             # as a ratio of the light it lets through, 1 - (1 - rgb) (1 - col)
             # / (1 - under) (a "screen"), a darker one as a ratio of the light
@@ -507,9 +519,17 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
             # percentile against 0.3-0.5 % in the exemplars, procedural
             # families), which the blade's percentile clip had hidden by
             # cutting every pale vein's crest.
-            mul = rgb * col / np.maximum(under, 0.02)
-            scr = 1.0 - (1.0 - rgb) * (1.0 - col) / np.maximum(1.0 - under, 0.02)
-            col = np.clip(np.where(col > under, scr, mul), np.minimum(lo, own), np.maximum(hi, own))
+            mul = bg_on * fg / np.maximum(under, 0.02)
+            scr = 1.0 - (1.0 - bg_on) * (1.0 - fg) / np.maximum(1.0 - under, 0.02)
+            # Pale layers as a plain ratio too (it keeps the layer's relative
+            # contrast), only never past the exemplars' lightest blade colour
+            # (99.5th percentile) unless the screen goes past it: as a screen
+            # alone, a pale vein of a dark leaf pasted onto a light one kept
+            # about half its relative contrast (grass photos: 13-15 % of a
+            # dark strip's veins fell below half their own contrast on a light
+            # background; vein continuity 0.85).
+            light = np.maximum(scr, np.minimum(mul, p.blade_range[1]))
+            col[on] = np.clip(np.where(fg > under, light, mul), np.minimum(lo, own), np.maximum(hi, own))
         wgt = (np.clip(_sample(p.layer_weights[k][e], c)[..., 0], 0, None) + 1e-6) * a_k
         cover = np.maximum(cover, a_k)
         mix += wgt[..., None] * col
@@ -592,92 +612,6 @@ def _stratified_seeds(gen, count: int, n: int) -> np.ndarray:
             s = int(gen.integers(0, 2**31 - 1))
         seeds[i] = s
     return seeds
-
-
-def _masked_blur(img, mask, sigma):
-    """Gaussian blur of ``img`` over ``mask`` only (normalised convolution); ``img`` outside it.
-
-    A blur this wide (``sigma`` ~ 20 px at 1 MP) is smooth: it is taken on
-    the image reduced by about ``sigma / 3`` and brought back bilinearly
-    (at full size it was a fifth of a new leaf's time at 1 MP).
-    """
-    img = np.asarray(img, np.float32)
-    m = np.asarray(mask, bool)
-    f = max(1, int(sigma // 3))
-    h, w = m.shape
-    mf = m.astype(np.float32)
-    num = np.ascontiguousarray(img * mf[..., None])
-    if f > 1:
-        size = (max(1, -(-w // f)), max(1, -(-h // f)))
-        mf_s = cv2.resize(mf, size, interpolation=cv2.INTER_AREA)
-        num_s = cv2.resize(num, size, interpolation=cv2.INTER_AREA)
-        wb = cv2.GaussianBlur(mf_s, (0, 0), sigma / f)
-        nb = cv2.GaussianBlur(num_s, (0, 0), sigma / f)
-        if nb.ndim == 2:
-            nb = nb[..., None]
-        low = nb / np.maximum(wb, 1e-6)[..., None]
-        low = cv2.resize(low, (w, h), interpolation=cv2.INTER_LINEAR).reshape(h, w, -1)
-    else:
-        wb = cv2.GaussianBlur(mf, (0, 0), sigma)
-        nb = cv2.GaussianBlur(num, (0, 0), sigma).reshape(num.shape)
-        low = nb / np.maximum(wb, 1e-6)[..., None]
-    return np.where(m[..., None], low, img).astype(np.float32)
-
-
-def _correct(rgb, blade, mapping, source, source_blade, rng, source_detail=None):
-    """Texture correction of the warped background, on its detail only.
-
-    The distorted pixels get quilted *detail* (each image minus its blur
-    at half a patch side) of the unwarped source over the warped image's
-    own blur: the patches bring back grain and fine veins but not colours
-    from elsewhere on the leaf. (Beyond the paper; quilting whole colours,
-    a leaf with a smooth large-scale gradient, drawn or lit, came out with
-    blocky patches of the wrong shade: a drawn maple's shape over two
-    drawn oaks' fill. On a gradient with grain, stretched 3.3x over half
-    its width: mean change of the blurred colour of the corrected pixels
-    0.039-0.046 -> 0.004-0.005, their Laplacian variance unchanged; see
-    the test.) Everything is computed on the new blade's bounding box
-    (plus a patch side), with the patch side of the whole canvas;
-    ``source_detail`` is the source's detail image when it is cached.
-    """
-    try:
-        from .correction import correct_texture
-    except ImportError:  # pragma: no cover - the correction module is another part of the package
-        return rgb
-    if not blade.any():
-        return rgb
-    full = blade.shape
-    ps = max(8, min(full) // 24)
-    sigma = ps / 2.0
-    ys, xs = np.nonzero(blade)
-    pad = 2 * ps
-    y0, y1 = max(0, ys.min() - pad), min(full[0], ys.max() + pad + 1)
-    x0, x1 = max(0, xs.min() - pad), min(full[1], xs.max() + pad + 1)
-    box = (slice(y0, y1), slice(x0, x1))
-    if y1 - y0 < 2 or x1 - x0 < 2:
-        return rgb
-    sub, b = np.ascontiguousarray(rgb[box]), blade[box]
-    src = np.asarray(source, np.float32)[..., :3]
-    low = _masked_blur(sub, b, sigma)
-    detail = np.clip(sub - low + 0.5, 0, 1)
-    if source_detail is None:
-        source_detail = _detail(src, source_blade, sigma)
-    try:
-        res = correct_texture(detail, np.ascontiguousarray(mapping[box]), source_detail, mask=b,
-                              source_mask=source_blade, rng=rng, patch_size=ps)
-    except ValueError:
-        return rgb  # nothing to copy from: keep the warped texture
-    out = rgb.copy()
-    rep = res.replaced
-    o = out[box]
-    o[rep] = np.clip(low[rep] + res.image[rep] - 0.5, 0, 1)
-    return out
-
-
-def _detail(src, blade, sigma):
-    """``src`` minus its blur over ``blade`` (sigma px), plus 0.5: the detail texture correction quilts."""
-    src = np.asarray(src, np.float32)[..., :3]
-    return np.clip(src - _masked_blur(src, np.asarray(blade, bool), sigma) + 0.5, 0, 1)
 
 
 def generate(analysis, n: int = 8, *, rng=None, params: SynthesisParams | None = None,

@@ -226,24 +226,33 @@ def hold_joint_bodies(layer: np.ndarray, source_premult: np.ndarray, source_dept
     held = np.zeros((h, w), bool)
     if not disks:
         return layer, held
-    # premultiplied on the disks' boxes only (the rest is not looked at)
-    pm = np.array(layer, np.float32, copy=True)
-    done = np.zeros((h, w), bool)
-    changed = np.zeros((h, w), bool)
-    for centre, inv, r, *clip in disks:
+    # premultiplied on the disks' boxes only (the rest is not looked at), in a copy of
+    # the box round all the disks (pm, done and changed are that box's; yy, xx the image's)
+    boxes = []
+    for centre, _inv, r, *_clip in disks:
         cx, cy = centre
-        r0, r1 = max(int(np.floor(cy - r)), 0), min(int(np.ceil(cy + r)) + 1, h)
-        c0, c1 = max(int(np.floor(cx - r)), 0), min(int(np.ceil(cx + r)) + 1, w)
+        boxes.append((max(int(np.floor(cy - r)), 0), min(int(np.ceil(cy + r)) + 1, h),
+                      max(int(np.floor(cx - r)), 0), min(int(np.ceil(cx + r)) + 1, w)))
+    R0, R1 = min(b[0] for b in boxes), max(b[1] for b in boxes)
+    C0, C1 = min(b[2] for b in boxes), max(b[3] for b in boxes)
+    if R0 >= R1 or C0 >= C1:
+        return np.array(layer, np.float32, copy=True), held
+    pm = np.array(layer[R0:R1, C0:C1], np.float32, copy=True)
+    done = np.zeros(pm.shape[:2], bool)
+    changed = np.zeros(pm.shape[:2], bool)
+    for (centre, inv, r, *clip), (r0, r1, c0, c1) in zip(disks, boxes):
+        cx, cy = centre
         if r0 >= r1 or c0 >= c1:
             continue
-        todo = ~done[r0:r1, c0:c1]
+        lb = (slice(r0 - R0, r1 - R0), slice(c0 - C0, c1 - C0))
+        todo = ~done[lb]
         if todo.any():
-            win = pm[r0:r1, c0:c1]
+            win = pm[lb]
             win[todo, :3] *= win[todo, 3:4]
-            done[r0:r1, c0:c1] = True
+            done[lb] = True
         yy, xx = np.mgrid[r0:r1, c0:c1]
         # only pixels the edit left (partly) open are filled: the others are not looked at
-        inside = (np.hypot(xx - cx, yy - cy) <= r) & (pm[r0:r1, c0:c1, 3] < 0.5)
+        inside = (np.hypot(xx - cx, yy - cy) <= r) & (pm[lb][..., 3] < 0.5)
         if not inside.any():
             continue
         if clip:
@@ -270,20 +279,21 @@ def hold_joint_bodies(layer: np.ndarray, source_premult: np.ndarray, source_dept
             yy, xx, sx, sy = yy[ok], xx[ok], sx[ok], sy[ok]
         under = np.stack([ndi.map_coordinates(source_premult[..., c], [sy, sx], order=1, mode="nearest")
                           for c in range(4)], axis=1)
-        top = pm[yy, xx]
+        ly, lx = yy - R0, xx - C0
+        top = pm[ly, lx]
         # only where the edit left the body (partly) open: the parent's own edges,
         # as synthesized, stay as they are
         was = top[:, 3] < 0.5
-        pm[yy[was], xx[was]] = top[was] + under[was] * (1.0 - top[was, 3:4])
-        changed[yy[was], xx[was]] = True
-        now = pm[yy, xx, 3] >= 0.5
+        pm[ly[was], lx[was]] = top[was] + under[was] * (1.0 - top[was, 3:4])
+        changed[ly[was], lx[was]] = True
+        now = pm[ly, lx, 3] >= 0.5
         held[yy[was & now], xx[was & now]] = True
         if depth is not None and (was & now).any():
             depth[yy[was & now], xx[was & now]] = ndi.map_coordinates(
                 source_depth, [sy[was & now], sx[was & now]], order=1, mode="nearest")
     # back to straight alpha where the disks filled (elsewhere the layer as it was)
     out = np.array(layer, np.float32, copy=True)
-    out[changed] = _straight(pm[changed])
+    out[R0:R1, C0:C1][changed] = _straight(pm[changed])
     return out, held
 
 

@@ -37,6 +37,7 @@ import numpy as np
 from scipy import ndimage as ndi
 
 from ._distance import edt as _edt
+from ._distance import edt_boxed as _edt_boxed
 
 __all__ = ["OutlineStyle", "outline_style", "source_depth", "close_cuts", "clear_stale_outline", "drop_flecks",
            "fill_joints"]
@@ -197,7 +198,7 @@ def close_cuts(layer: np.ndarray, src_depth: np.ndarray, style: OutlineStyle) ->
     """
     alpha = layer[..., 3]
     obj = alpha > 0.5
-    e = _edt(obj)
+    e = _edt_boxed(obj)  # (on the object's box: the same values)
     band = (alpha > 0.02) & (e <= style.width + 0.5) & (src_depth > style.width + 0.75)
     if not band.any():
         return layer
@@ -249,7 +250,7 @@ def clear_stale_outline(layer: np.ndarray, src_depth: np.ndarray, style: Outline
     ([0.20000000298023224, 0.800000011920929, 0.20000000298023224], [0.0, 0.0, 0.0])
     """
     obj = layer[..., 3] > 0.5
-    e = _edt(obj)
+    e = _edt_boxed(obj)  # (on the object's box: the same values)
     deep = obj & (e > style.width + 1.5)
     stale = deep & (src_depth > 0) & (src_depth <= style.width + 0.5)
     good = obj & (src_depth > style.width + 0.75) & (e > style.width + 0.5)

@@ -53,6 +53,8 @@ _MIN_AREA = 4
 _ANCHOR = 0.15
 #: Contact pixels further apart than this along a stroke (px) touch it at two places.
 _GAP = 10.0
+#: A ring pixel counts as touching a stroke within this much (px) of its nearest stroke.
+_OWN = 2.0
 
 
 @dataclass
@@ -143,18 +145,23 @@ def find_parts(alpha: np.ndarray, inked: np.ndarray, claimed: np.ndarray, cores:
             continue
         ring = ndi.binary_dilation(comp) & ~comp
         touch = ndi.binary_dilation(ring) & comp  # the part's pixels next to its ring
-        contacts = [int((ring & core[sub]).sum()) for core in cores]
+        # a part touches a stroke where its ring meets that stroke's tube nearer that stroke
+        # than any other (within _OWN px): a trunk's tube measured across a branch leaving
+        # at a narrow angle covers the branch's root, and a sub-branch there was anchored to
+        # the trunk too (a coral's branch turned: its sub-branch stayed behind with the trunk)
+        near = d_maps[0][sub] if len(d_maps) == 1 else np.minimum.reduce([d[sub] for d in d_maps])
+        touching = [ring & core[sub] & (d[sub] <= near + _OWN) for core, d in zip(cores, d_maps)]
+        contacts = [int(t.sum()) for t in touching]
         k = int(np.argmax(contacts))
         if contacts[k] and (touch & ndi.binary_dilation(cores[k][sub])).sum() >= _SLIVER * comp.sum():
             continue  # a sliver along the tube's rim
         anchors = []
         if contacts[k]:
-            at = ring & cores[k][sub]
-            s = float(np.median(s_maps[k][sub][at]))
+            s = float(np.median(s_maps[k][sub][touching[k]]))
             least = max(3, _ANCHOR * sum(contacts))
             for j, c in enumerate(contacts):
                 if c >= least:
-                    anchors += [(j, a) for a in _clusters(s_maps[j][sub][ring & cores[j][sub]], least)]
+                    anchors += [(j, a) for a in _clusters(s_maps[j][sub][touching[j]], least)]
         else:
             dist = [float(d[sub][comp].min()) for d in d_maps]
             k = int(np.argmin(dist))

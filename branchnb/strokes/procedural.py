@@ -12,7 +12,11 @@ silhouette, none across the joints), at any size:
 * :func:`bare_tree`: a trunk with limbs and twigs on the limbs;
 * :func:`figure`: a body with a head, two arms and two legs;
 * :func:`starfish`: five tapering arms round a disk (the disk wider than
-  any arm, so a turned arm's root lies within the body).
+  any arm, so a turned arm's root lies within the body);
+* :func:`antlers`: a curved beam with four tines leaving it at narrow
+  angles (sharp crotches);
+* :func:`coral`: a trunk, three branches and a sub-branch on each
+  (parts of parts), round tips and polyp dots.
 
 >>> obj = twig(400, rng=0)
 >>> obj.image.shape, obj.names[:3]
@@ -30,7 +34,7 @@ import numpy as np
 from ..core.random import as_rng
 from ..core.validate import Int, checked
 
-__all__ = ["PartObject", "twig", "bare_tree", "figure", "starfish"]
+__all__ = ["PartObject", "twig", "bare_tree", "figure", "starfish", "antlers", "coral"]
 
 #: Outline colour of the procedural objects.
 OUTLINE = (0.12, 0.09, 0.06)
@@ -119,23 +123,44 @@ class _Canvas:
         return len(self.sdf) - 1
 
     def capsule(self, pts, half_width, *, taper: float = 1.0):
-        """SDF of a tapered capsule along ``pts`` and the arc length map."""
-        d, s = _seg_distance(self.xx, self.yy, np.asarray(pts, float))
-        length = float(np.hypot(*np.diff(np.asarray(pts, float), axis=0).T).sum())
+        """SDF of a tapered capsule along ``pts`` and the arc length map.
+
+        Computed on the capsule's box grown by ``half_width + outline + 3`` px
+        only: farther out the distance is set to ``1e6`` and the arc length to
+        0 (no pixel there is drawn by this part, the rendered image is the
+        same as with exact distances everywhere).
+        """
+        pts = np.asarray(pts, float)
+        m = float(half_width) + self.outline + 3.0
+        x0, y0 = np.maximum(np.floor(pts.min(axis=0) - m).astype(int), 0)
+        x1, y1 = np.ceil(pts.max(axis=0) + m).astype(int) + 1
+        box = (slice(y0, min(y1, self.h)), slice(x0, min(x1, self.w)))
+        d = np.full((self.h, self.w), 1e6)
+        s = np.zeros((self.h, self.w))
+        d[box], s[box] = _seg_distance(self.xx[box], self.yy[box], pts)
+        length = float(np.hypot(*np.diff(pts, axis=0).T).sum())
         hw = half_width * (1.0 - (1.0 - taper) * np.clip(s / max(length, 1e-9), 0, 1))
         return d - hw, s
 
     def render(self) -> tuple[np.ndarray, np.ndarray]:
-        sdf = np.stack(self.sdf)
-        union = sdf.min(axis=0)
-        alpha = np.clip(0.5 - union, 0.0, 1.0)
         # Which part shows at each pixel: the highest drawing order among the
-        # parts covering it (or the nearest part outside all of them).
-        inside = sdf <= 0.0
-        order = np.asarray(self.order, float)[:, None, None]
-        score = np.where(inside, order, -1e9) - 1e-3 * sdf
-        top = np.argmax(score, axis=0)
-        rgb = np.take_along_axis(np.stack(self.colour), top[None, :, :, None], axis=0)[0]
+        # parts covering it (or the nearest part outside all of them); the
+        # first part wins a tie. One part at a time (no stack of every part).
+        union = self.sdf[0].copy()
+        best = np.where(self.sdf[0] <= 0.0, float(self.order[0]), -1e9) - 1e-3 * self.sdf[0]
+        top = np.zeros(union.shape, np.intp)
+        for i in range(1, len(self.sdf)):
+            sd = self.sdf[i]
+            np.minimum(union, sd, out=union)
+            score = np.where(sd <= 0.0, float(self.order[i]), -1e9) - 1e-3 * sd
+            better = score > best
+            best[better] = score[better]
+            top[better] = i
+        alpha = np.clip(0.5 - union, 0.0, 1.0)
+        rgb = self.colour[0].copy()
+        for i in range(1, len(self.colour)):
+            m = top == i
+            rgb[m] = self.colour[i][m]
         # A dark outline along the silhouette of the union only (none across joints).
         rim = np.clip(union + self.outline + 0.5, 0.0, 1.0)
         rgb = rgb * (1 - rim[..., None]) + np.asarray(OUTLINE)[None, None] * rim[..., None]
@@ -454,6 +479,136 @@ def starfish(size: int = 400, *, rng=None) -> PartObject:
         strokes.append(pts)
         names.append(f"arm {i + 1}")
         parents.append(0)
+        widths.append(hw)
+    img, labels = c.render()
+    return PartObject(img, labels, strokes, parents, names, widths, c.outline)
+
+
+def _point_at(pts: np.ndarray, frac: float) -> np.ndarray:
+    """The point at ``frac`` of a polyline's arc length."""
+    s = np.concatenate([[0], np.cumsum(np.hypot(*np.diff(pts, axis=0).T))])
+    t = frac * s[-1]
+    return np.array([np.interp(t, s, pts[:, 0]), np.interp(t, s, pts[:, 1])])
+
+
+@checked(size=Int(64, 8192))
+def antlers(size: int = 600, *, rng=None) -> PartObject:
+    """An antler (``size x size``): a curved beam and four tines off it.
+
+    Parts: ``beam`` (from the burr at the bottom left, curving up to the
+    right) and ``tine 1..4`` (children of the beam, leaving it at 35-55
+    degrees: narrow, sharp crotches). Bone coloured with streaks along
+    every part.
+
+    Parameters
+    ----------
+    size : int
+        Side of the square image in pixels (64 .. 8192); 600.
+    rng : int or numpy.random.Generator, optional
+        Random generator or seed of the texture noise.
+
+    Returns
+    -------
+    PartObject
+
+    Examples
+    --------
+    >>> obj = antlers(160, rng=0)
+    >>> obj.names[1], obj.parents
+    ('tine 1', [-1, 0, 0, 0, 0])
+    """
+    rng = as_rng(rng)
+    n = int(size)
+    k = n / 600.0
+    c = _Canvas(n, n, outline=max(1.0, 2.0 * k), rng=rng)
+    t = np.linspace(0.0, 1.0, 24)
+    beam = np.c_[0.22 * n + 0.55 * n * t ** 1.3, 0.92 * n - 0.8 * n * np.sin(0.5 * np.pi * t) ** 1.1]
+    bone = (0.86, 0.78, 0.60)
+    hw0 = 19 * k
+    sdf, s = c.capsule(beam, hw0, taper=0.4)
+    c.add(sdf, _bark(c, s, _side(c, beam, s, sdf + hw0, hw0), bone, 26 * k), 3)
+    strokes, names, parents, widths = [beam], ["beam"], [-1], [hw0]
+    for i, (frac, turn, length) in enumerate(((0.16, 0.95, 0.22), (0.42, -0.75, 0.24), (0.63, -0.65, 0.2),
+                                              (0.8, -0.8, 0.15))):
+        a = _point_at(beam, frac)
+        j = int(frac * (len(beam) - 1))
+        d = beam[j + 1] - beam[j]
+        ang = np.arctan2(d[1], d[0]) + turn
+        u = np.array([np.cos(ang), np.sin(ang)])
+        v = np.array([-u[1], u[0]])
+        tt = np.linspace(0.0, 1.0, 8)[:, None]
+        pts = a + length * n * (tt * u - 0.15 * tt ** 2 * v * np.sign(turn))
+        hw = 12 * k
+        sdf, s = c.capsule(pts, hw, taper=0.35)
+        c.add(sdf, _bark(c, s, _side(c, pts, s, sdf + hw, hw), bone, 20 * k) * 1.03, 2)
+        strokes.append(pts)
+        names.append(f"tine {i + 1}")
+        parents.append(0)
+        widths.append(hw)
+    img, labels = c.render()
+    return PartObject(img, labels, strokes, parents, names, widths, c.outline)
+
+
+@checked(size=Int(64, 8192))
+def coral(size: int = 600, *, rng=None) -> PartObject:
+    """A branching coral (``size x size``): a trunk, three branches, a sub-branch on each.
+
+    Parts: ``trunk``, ``branch 1..3`` (children of the trunk) and ``tip
+    1..3`` (tip ``i`` a child of branch ``i``): parts of parts. Every
+    part has a round end; light polyp dots on a jittered grid cover all.
+
+    Parameters
+    ----------
+    size : int
+        Side of the square image in pixels (64 .. 8192); 600.
+    rng : int or numpy.random.Generator, optional
+        Random generator or seed of the texture noise.
+
+    Returns
+    -------
+    PartObject
+
+    Examples
+    --------
+    >>> coral(160, rng=0).parents
+    [-1, 0, 0, 0, 1, 2, 3]
+    """
+    rng = as_rng(rng)
+    n = int(size)
+    k = n / 600.0
+    c = _Canvas(n, n, outline=max(1.0, 2.0 * k), rng=rng)
+    pink = (0.93, 0.45, 0.42)
+    period = 13 * k
+    jx, jy = c.noise(3 * period, 0.25 * period), c.noise(3 * period, 0.25 * period)
+    gx, gy = (c.xx + jx) / period, (c.yy + jy) / period
+    dots = np.hypot(gx - np.round(gx), gy - np.round(gy)) < 0.2
+
+    def skin(s, length):
+        shade = 0.85 + 0.2 * np.clip(s / max(length, 1e-9), 0, 1)
+        rgb = np.asarray(pink)[None, None] * shade[..., None] + c.noise(8 * k, 0.04)[..., None]
+        return np.where(dots[..., None], np.minimum(np.asarray(pink) * 1.2 + 0.1, 1.0), rgb)
+
+    trunk = np.array([(0.5 * n, 0.95 * n), (0.49 * n, 0.75 * n), (0.5 * n, 0.55 * n)])
+    parts = [(trunk, 26 * k, -1)]
+    for frac, ang, length in ((0.55, -2.35, 0.3), (1.0, -1.5, 0.32), (0.8, -0.6, 0.3)):
+        a = _point_at(trunk, frac)
+        u = np.array([np.cos(ang), np.sin(ang)])
+        v = np.array([-u[1], u[0]])
+        parts.append((np.array([a, a + 0.5 * length * n * u + 0.03 * n * v, a + length * n * u]), 17 * k, 0))
+    for i, turn in enumerate((0.8, -0.7, -0.75)):
+        limb = parts[1 + i][0]
+        a = _point_at(limb, 0.55)
+        d = limb[2] - limb[1]
+        ang = np.arctan2(d[1], d[0]) + turn
+        u = np.array([np.cos(ang), np.sin(ang)])
+        parts.append((np.array([a, a + 0.09 * n * u, a + 0.17 * n * u]), 11 * k, 1 + i))
+    strokes, names, parents, widths = [], [], [], []
+    for i, (pts, hw, parent) in enumerate(parts):
+        sdf, s = c.capsule(pts, hw)
+        c.add(sdf, skin(s, float(np.hypot(*np.diff(pts, axis=0).T).sum())), 3 - (i > 0) - (i > 3))
+        strokes.append(pts)
+        names.append("trunk" if i == 0 else f"branch {i}" if i <= 3 else f"tip {i - 3}")
+        parents.append(parent)
         widths.append(hw)
     img, labels = c.render()
     return PartObject(img, labels, strokes, parents, names, widths, c.outline)

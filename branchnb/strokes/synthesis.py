@@ -224,6 +224,9 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
         params=dataclasses.replace(params), auto=dict(patches._auto))
 
 
+#: Parents with at most this many segments are measured exactly in :func:`_inside_points`.
+_FEW_SEGMENTS = 16
+
 #: Source depth given to pixels filled at joints (deep enough to be outlined as a cut face).
 _FILLED_DEPTH = 100.0
 
@@ -254,7 +257,10 @@ def _inside_parent(index, attached, jn, origin, size: int, cache: dict | None = 
             np.stack([np.interp(np.linspace(0.0, st.length, int(np.ceil(st.length / 0.25)) + 1), st.s,
                                 st.points[:, c]) for c in (0, 1)], axis=1)
         fwd = rigid_frame(parent.source, parent.target, s_src, float(jn.parent_s), window=3.0)
-        got = (cKDTree(pts), hw, fwd, pts.min(axis=0), pts.max(axis=0))
+        # a parent of a few segments (a starfish's disk, a figure's body): exact distances to
+        # its segments, cheaper than the tree's nearest sample
+        near = st.points if len(st.points) <= _FEW_SEGMENTS + 1 and st.length >= 1e-9 else cKDTree(pts)
+        got = (near, hw, fwd, pts.min(axis=0), pts.max(axis=0))
         if cache is not None:
             cache[key] = got
     tree, hw, fwd, lo, hi = got[:5]
@@ -290,8 +296,17 @@ def _inside_parent(index, attached, jn, origin, size: int, cache: dict | None = 
 
 
 def _inside_points(index, tree, reach: float, fwd: np.ndarray, q: np.ndarray) -> np.ndarray:
-    """:func:`_inside_parent` at the pixels ``q`` ((N, 2) ``(x, y)``)."""
-    d, _ = tree.query(q, distance_upper_bound=reach + 1e-9)
+    """:func:`_inside_parent` at the pixels ``q`` ((N, 2) ``(x, y)``); ``tree`` is a KD-tree
+    of the parent's densely sampled stroke or its (few) vertices."""
+    if isinstance(tree, np.ndarray):
+        d = np.full(len(q), np.inf)
+        for a, b in zip(tree[:-1], tree[1:]):
+            ab = b - a
+            n2 = float(ab @ ab)
+            t = np.clip(((q - a) @ ab) / n2, 0.0, 1.0) if n2 > 0 else np.zeros(len(q))
+            np.minimum(d, np.hypot(q[:, 0] - a[0] - t * ab[0], q[:, 1] - a[1] - t * ab[1]), out=d)
+    else:
+        d, _ = tree.query(q, distance_upper_bound=reach + 1e-9)
     inside = d <= reach
     if inside.any():
         src = (q[inside] - fwd[:, 2]) @ fwd[:, :2]  # the inverse rigid map, row-wise

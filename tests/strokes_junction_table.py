@@ -1,0 +1,188 @@
+"""Junction checks of issue 25 on multi-part procedural objects, as a table (not a test).
+
+``PYTHONPATH=. python tests/strokes_junction_table.py TAG [SIZES...]`` edits a
+twig (bent, 4 parts carried, a leaf added), a figure (limbs turned), a
+starfish (two arms turned, the disk kept), antlers (two tines turned, one
+copied) and a coral (a branch turned, one copied) at 256 / 512 / 1000 px and
+prints per edit: the longest gap (px) along a child's stroke, the most
+missing px of one part where its rigid map puts it, pieces, fleck px, light
+(un-outlined) silhouette px, CPU s
+the results go to ``$TMPDIR/strokes_junction_table/TAG_*.png`` (or ``OUT=dir``).
+``ONLY=coral,antlers`` picks objects.
+"""
+import json
+import os
+import sys
+import tempfile
+import time
+
+import numpy as np
+from scipy import ndimage as ndi
+
+from branchnb.core.image import composite_over
+from branchnb.core.io import encode_png
+from branchnb.strokes import Stroke, edit_structure
+from branchnb.strokes.parts import carry_stroke
+from branchnb.strokes.procedural import antlers, coral, figure, starfish, twig
+
+EIGHT = np.ones((3, 3))
+
+def rot(th):
+    c, s = np.cos(th), np.sin(th)
+    return np.array([[c, -s], [s, c]])
+
+def turn(st, th, about):
+    return (np.asarray(st, float) - about) @ rot(th).T + about
+
+def rigid_from(src, tgt):
+    """(R, t) with tgt ~ R src + t (first point and first->last direction)."""
+    src, tgt = np.asarray(src, float), np.asarray(tgt, float)
+    a = np.arctan2(*(src[-1] - src[0])[::-1])
+    b = np.arctan2(*(tgt[-1] - tgt[0])[::-1])
+    R = rot(b - a)
+    return R, tgt[0] - R @ src[0]
+
+def mapped(obj, part, R, t, shape):
+    """Part pixels (eroded) mapped by x -> R x + t into a mask of ``shape``."""
+    m = ndi.binary_erosion(obj.labels == part, iterations=int(np.ceil(obj.outline)) + 1)
+    yy, xx = np.nonzero(m)
+    out = np.zeros(shape, bool)
+    # forward splat with 2x supersampling
+    for dx in (-0.25, 0.25):
+        for dy in (-0.25, 0.25):
+            q = np.c_[xx + dx, yy + dy] @ R.T + t
+            qi = np.rint(q).astype(int)
+            ok = (qi[:, 0] >= 0) & (qi[:, 0] < shape[1]) & (qi[:, 1] >= 0) & (qi[:, 1] < shape[0])
+            out[qi[ok, 1], qi[ok, 0]] = True
+    return ndi.binary_erosion(out)  # splat holes at the rim
+
+def gap_along(alpha, st, frac=0.8):
+    st = Stroke(st)
+    s = np.arange(0.0, frac * st.length, 0.5)
+    p = np.array([st.point_at(v) for v in s])
+    a = ndi.map_coordinates(alpha, [p[:, 1], p[:, 0]], order=1, cval=0)
+    off = a < 0.5
+    best = run = 0
+    for o in off:
+        run = run + 1 if o else 0
+        best = max(best, run)
+    return best * 0.5
+
+# ---- edits: returns obj, src, tgt, expect (list of (part, R, t)), children (list of target strokes)
+def ed_twig(n):
+    obj = twig(n, rng=3)
+    sp = obj.strokes[0]
+    h = obj.image.shape[0]
+    x0 = sp[0, 0]
+    bent = np.c_[sp[:, 0], 0.45 * h + 0.12 * h * np.sin((sp[:, 0] - x0) / (sp[-1, 0] - x0) * np.pi)]
+    src, tgt, exp = [sp], [bent], []
+    for k in range(1, 5):
+        c = carry_stroke(obj.strokes[k], sp, bent)
+        src.append(obj.strokes[k])
+        tgt.append(c)
+        exp.append((k, *rigid_from(obj.strokes[k], c)))
+    leaf = carry_stroke(obj.strokes[2], sp, bent)
+    bst = Stroke(bent)
+    p = bst.point_at(0.85 * bst.length)
+    new = p + (leaf - leaf[0]) * [1, -1]
+    src.append(obj.strokes[2])
+    tgt.append(new)
+    # mirrored leaf: not rigid, skip its coverage
+    return obj, src, tgt, exp, tgt[1:]
+
+def ed_figure(n):
+    obj = figure(n, rng=0)
+    body = obj.strokes[0]
+    src, tgt, exp = [body], [body], [(0, np.eye(2), np.zeros(2)), (1, np.eye(2), np.zeros(2))]
+    for k, ang in ((2, 0.9), (3, -1.0), (4, 0.3), (5, -0.3)):
+        st = obj.strokes[k]
+        src.append(st)
+        t = turn(st, ang, st[0])
+        tgt.append(t)
+        exp.append((k, rot(ang), st[0] - rot(ang) @ st[0]))
+    return obj, src, tgt, exp, tgt[1:]
+
+def ed_starfish(n):
+    obj = starfish(n, rng=0)
+    c = obj.strokes[1][0]
+    src = [obj.strokes[0], obj.strokes[3], obj.strokes[1]]
+    tgt = [src[0], turn(src[1], -0.6, c), turn(src[2], 0.35, c)]
+    I = (np.eye(2), np.zeros(2))
+    exp = [(0, *I), (2, *I), (4, *I), (5, *I), (3, rot(-0.6), c - rot(-0.6) @ c), (1, rot(0.35), c - rot(0.35) @ c)]
+    return obj, src, tgt, exp, tgt[1:]
+
+def ed_antlers(n):
+    obj = antlers(n, rng=0)
+    beam = obj.strokes[0]
+    I = (np.eye(2), np.zeros(2))
+    t2, t3 = obj.strokes[2], obj.strokes[3]
+    bst = Stroke(beam)
+    p = bst.point_at(0.3 * bst.length)
+    # a new tine: tine 2 copied to 30 % of the beam
+    new = p + (t2 - t2[0])
+    src = [beam, obj.strokes[1], t2, t3, t2]
+    tgt = [beam, obj.strokes[1], turn(t2, -0.35, t2[0]), turn(t3, 0.3, t3[0]), new]
+    exp = [(0, *I), (1, *I), (4, *I), (2, rot(-0.35), t2[0] - rot(-0.35) @ t2[0]),
+           (3, rot(0.3), t3[0] - rot(0.3) @ t3[0])]
+    return obj, src, tgt, exp, tgt[1:]
+
+def ed_coral(n):
+    obj = coral(n, rng=0)
+    trunk, b1, b2, b3 = obj.strokes[:4]
+    I = (np.eye(2), np.zeros(2))
+    ts = Stroke(trunk)
+    p = ts.point_at(0.35 * ts.length)
+    new = p + (b3 - b3[0]) @ rot(0.25).T
+    R1 = rot(-0.3)
+    t1 = b1[0] - R1 @ b1[0]
+    src = [trunk, b1, b2, b3, b3]
+    tgt = [trunk, turn(b1, -0.3, b1[0]), b2, b3, new]
+    exp = [(0, *I), (2, *I), (3, *I), (5, *I), (6, *I), (1, R1, t1), (4, R1, t1)]
+    return obj, src, tgt, exp, tgt[1:]
+
+EDITS = {"twig": ed_twig, "figure": ed_figure, "starfish": ed_starfish, "antlers": ed_antlers, "coral": ed_coral}
+
+def measure(obj, res, exp, children):
+    img = res.image
+    a = img[..., 3]
+    shape = a.shape
+    gaps = [gap_along(a, c) for c in children]
+    want = np.zeros(shape, bool)
+    missing = []
+    for part, R, t in exp:
+        m = mapped(obj, part, R, t, shape)
+        want |= m
+        missing.append(int((m & (a < 0.5)).sum()))
+    lab, npc = ndi.label(a > 0.02, structure=EIGHT)
+    sizes = np.bincount(lab.ravel())[1:]
+    fleck = int(sizes.sum() - sizes.max()) if npc else 0
+    m = a > 0.5
+    edge = m & ~ndi.binary_erosion(m)
+    light = edge & (img[..., :3].mean(axis=2) > 0.35)
+    return dict(gap=max(gaps), missing=max(missing), pieces=int(npc), fleck_px=fleck,
+                light_edge=int(light.sum()), edge=int(edge.sum()))
+
+if __name__ == "__main__":
+    tag = sys.argv[1]
+    sizes = [int(v) for v in sys.argv[2:]] or [256, 512, 1000]
+    names = [v for v in EDITS]
+    only = os.environ.get("ONLY")
+    if only:
+        names = only.split(",")
+    folder = os.environ.get("OUT") or os.path.join(tempfile.gettempdir(), "strokes_junction_table")
+    os.makedirs(folder, exist_ok=True)
+    out = {}
+    for name in names:
+        for n in sizes:
+            obj, src, tgt, exp, children = EDITS[name](n)
+            t0 = time.process_time()
+            res = edit_structure(obj.image, src, tgt)
+            dt = time.process_time() - t0
+            r = measure(obj, res, exp, children)
+            r["cpu"] = round(dt, 2)
+            out[f"{name} {n}"] = r
+            print(f"{name:9s} {n:5d} " + " ".join(f"{k}={v}" for k, v in r.items()), flush=True)
+            with open(os.path.join(folder, f"{tag}_{name}_{n}.png"), "wb") as f:
+                f.write(encode_png(composite_over(res.image)))
+    with open(os.path.join(folder, f"{tag}.json"), "w") as f:
+        json.dump(out, f, indent=1)
