@@ -65,6 +65,7 @@ def test_rpg_mix_with_branches_in_the_crown_keeps_its_outlines_from_the_side(mon
     r45, r90 = _recalls(cloud)
     assert r45 >= 0.95 and r90 >= 0.95
     monkeypatch.setattr(billboard, "_FLAT_CARDS", False)
+    monkeypatch.setattr(billboard, "_SHADED_CARDS", False)
     old = billboard_cloud(v.image, params=BillboardParams(max_size=256), rng=0)
     assert old.n_billboards > 300 and max(_recalls(old)) < 0.6
 

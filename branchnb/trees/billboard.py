@@ -101,7 +101,18 @@ from ..core.params import check_params
 from ..core.random import as_rng
 from ..core.sampling import stipple
 from ..core.validate import checked
-from .billboard_cards import _nest_cards, _underpaint, cards_hold, crown_inlay, flat_fill_cards, has_inner_outlines
+from .billboard_cards import (
+    _good,
+    _nest_cards,
+    _side_figures,
+    _underpaint,
+    cards_hold,
+    crown_inlay,
+    flat_fill_cards,
+    has_inner_outlines,
+    shaded_cards,
+    tone_edges,
+)
 from .billboard_layers import _cut, _recolour, _same_colour_overlap, _shading, _trim, _trunk_strips
 from .billboard_lines import _LUM3, _colour_span3, _fill_lines, _line_masks, _outer_lines, line_art
 from .billboard_shapes import (
@@ -156,6 +167,8 @@ _CHECK_CARDS = True
 #: A flat-fill crown in a thick outline band without inner strokes (an RPG sprite) is built from
 #: cards too (billboard_cards.flat_fill_cards), its trunk inlaid where it runs inside the crown.
 _FLAT_CARDS = True
+#: A drawn crown without outlines (clumps in tones, gradients) is cards too (billboard_cards.shaded_cards).
+_SHADED_CARDS = True
 
 
 
@@ -280,12 +293,21 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
     # Beyond the paper: a flat fill in a thick outline band (no inner strokes) is cards too.
     flat_cards = bool(_FLAT_CARDS and regions and p.drawn_cards and not all_cards
                       and flat_fill_cards(work, crown, lines))
+    # Beyond that: a drawn crown shaded in tones or gradients, without outlines, is cards too.
+    shaded = bool(_SHADED_CARDS and regions and p.drawn_cards and not all_cards and not flat_cards
+                  and shaded_cards(work, crown))
+    flat_cards = flat_cards or shaded
     all_cards = all_cards or flat_cards
+    # The fill regions are bounded by the strokes, and on a shaded crown by its sharp tone edges.
+    region_lines = lines & crown
+    toned = bool(shaded and p.tone_cards and _one_region(crown, lines))
+    if toned:
+        region_lines = region_lines | tone_edges(work, crown)
     card_holes: dict = {}
     card_owner: dict = {}
     if regions:
         stars: list = []
-        sp_lab, background = _drawn_regions(work[:, :, :3], crown, lines & crown, n_segments=p.n_segments,
+        sp_lab, background = _drawn_regions(work[:, :, :3], crown, region_lines, n_segments=p.n_segments,
                                             compactness=p.compactness, stars=stars)
         if background.any():
             # A background beside shapes spanning the crown (tiers, together at least half
@@ -298,7 +320,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
             spans = shapes & ~_decorations(sp_lab, shapes, background, crown, 2.0 * half + 1.5)
             if all_cards or int(np.isin(sp_lab, np.flatnonzero(spans)).sum()) >= 0.5 * background.sum():
                 stars = []
-                sp_lab, background = _drawn_regions(work[:, :, :3], crown, lines & crown,
+                sp_lab, background = _drawn_regions(work[:, :, :3], crown, region_lines,
                                                     n_segments=p.n_segments, compactness=p.compactness,
                                                     background_share=2.0, stars=stars)
     else:
@@ -649,6 +671,10 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
         # Whole cards only where they hold up from the side (billboard_cards.cards_hold).
         again = type(rng.bit_generator)()
         again.state = rng_state
+        if toned and not _good(_side_figures(cloud)):
+            # Tone cards that lose lines or open sky from the side: the fill regions are the cards.
+            return billboard_cloud(rgba, seg if seg is not None else trunk, replace(p, tone_cards=False),
+                                   rng=np.random.Generator(again))
         built: list = []
 
         def plain():
@@ -660,6 +686,20 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
         if not cards_hold(cloud, plain):
             return built[0] if built else plain()
     return cloud
+
+
+def _one_region(crown: np.ndarray, lines: np.ndarray, share: float = 0.05) -> bool:
+    """Whether the strokes leave the crown one fill region (no other of ``share`` of its area).
+
+    Then a shaded crown is split by its tones (billboard_cards.tone_edges); where the strokes
+    already cut it into shapes (an RPG palm's band round gradient fronds), its gradients would
+    only add pieces that open sky from the side.
+    """
+    lab, n = ndi.label(crown & ~lines)
+    if n < 2:
+        return True
+    areas = np.bincount(lab.ravel())[1:]
+    return int((areas >= share * crown.sum()).sum()) <= 1
 
 
 def _card_window(owner: dict, k: int, objs, shape_lines: dict) -> tuple[int, int]:

@@ -99,6 +99,16 @@ class BillboardParams:
         is returned, exactly as with ``drawn_cards=False``. The check draws
         the card cloud from the side; the superpixel cloud is built and
         drawn too only when the cards are not good outright.
+    tone_cards : bool
+        Beyond the paper (issue 24), with ``drawn_cards``: a drawn crown
+        without outlines (clumps in a few tones, gradients;
+        :func:`~branchnb.trees.billboard_cards.shaded_cards`) is built from
+        cards too. With ``tone_cards`` its clumps, split by their sharp tone
+        edges (:func:`~branchnb.trees.billboard_cards.tone_edges`), are cards
+        of their own, in depth; where those lose inner outlines from the
+        side (recall below 0.95 at 45 or 90 degrees) or open sky, and with
+        ``tone_cards=False``, the crown's fill regions are the cards (a crown
+        without strokes is one card, its side views the drawing itself).
     line_width : float
         Widest stroke taken for line art, as a fraction of the tree's size
         (0 disables line art).
@@ -157,6 +167,8 @@ class BillboardParams:
                                          "as whole cards, without hidden copies, where that holds up from "
                                          "the side (checked against the superpixel cloud): side views keep "
                                          "the inner outlines, no smear (not in the paper)")
+    tone_cards: bool = param(True, help="a drawn crown without outlines is split into cards by its tones "
+                                        "(clumps in depth) where that holds up from the side (not in the paper)")
     line_width: float = param(0.04, min=0.0, max=0.2, step=0.005,
                               help="widest stroke taken for line art, as a fraction of the tree's size")
     max_size: int = param(1024, min=64, max=4096, step=64,

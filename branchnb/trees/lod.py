@@ -157,9 +157,10 @@ def lod_chain(cloud, *, reduced_share: float = 0.3) -> list[LodLevel]:
 
     Examples
     --------
-    >>> from branchnb.trees.billboard import billboard_cloud
+    >>> from branchnb.trees.billboard import BillboardParams, billboard_cloud
     >>> from branchnb.trees.synthetic import synthetic_tree
-    >>> cloud = billboard_cloud(synthetic_tree("clean", rng=0, size=64).image, rng=0)
+    >>> img = synthetic_tree("clean", rng=0, size=64).image   # the paper's cloud, not drawn cards
+    >>> cloud = billboard_cloud(img, params=BillboardParams(drawn_cards=False), rng=0)
     >>> [(lv.name, lv.triangles) for lv in lod_chain(cloud)]
     [('full', 1284), ('reduced', 388), ('crossed', 4), ('single', 2)]
     """
