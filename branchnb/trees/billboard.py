@@ -114,7 +114,7 @@ from .billboard_cards import (
     tone_edges,
 )
 from .billboard_layers import _cut, _recolour, _same_colour_overlap, _shading, _trim, _trunk_strips
-from .billboard_lines import _LUM3, _colour_span3, _fill_lines, _line_masks, _outer_lines, line_art
+from .billboard_lines import _LUM3, _colour_span3, _fill_lines, _line_masks, _outer_lines, line_art, trunk_outline
 from .billboard_shapes import (
     _decorations,
     _drawn_regions,
@@ -186,6 +186,8 @@ _HUB_STROKES = True
 #: A fan crown (:func:`_fan_crown`) of an outlined drawing is one billboard turning about the
 #: trunk's top (``_measure palms`` compares it with the cards and lobes rule).
 _STAR_ONE = True
+#: A drawn trunk's side strokes go to the trunk (:func:`~branchnb.trees.billboard_lines.trunk_outline`).
+_TRUNK_OUTLINE = True
 
 
 @checked()
@@ -275,6 +277,17 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
         lines = line_art(work, width=p.line_width, alpha_threshold=p.alpha_threshold)
     else:
         lines = np.zeros((H, W), bool)
+    if _TRUNK_OUTLINE and lines.any() and trunk_w.any() and crown.any():
+        # The trunk's own strokes go with it (billboard_lines.trunk_outline).
+        half0 = float(np.percentile(ndi.distance_transform_edt(lines)[lines], 90))
+        grown = trunk_outline(trunk_w, opaque, lines, 2.0 * half0 + 1.5) & ~ground_w
+        if (grown & ~trunk_w).any() and (opaque & ~(trunk_w | grown)).any():
+            trunk_w = trunk_w | grown
+            crown = opaque & ~trunk_w
+            part = np.where(crown, 1, np.where(trunk_w, 2, 0)).astype(np.int32)
+            part_ext = _extend(part, alpha > 1e-3)
+            crown_ext = part_ext == 1
+            trunk_ext = part_ext == 2
     filled = _fill_lines(work, lines, alpha > 1e-3) if lines.any() else work
     star_crown = bool(lines.any() and crown.any() and _star_crown(crown, lines))
     if _HUB_STROKES and star_crown:
