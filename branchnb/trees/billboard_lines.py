@@ -178,6 +178,11 @@ def trunk_outline(trunk: np.ndarray, opaque: np.ndarray, lines: np.ndarray, band
     joins it, and so does every line pixel within ``band`` of it whose
     nearest fill pixel is trunk and which lies farther than ``band`` from
     any other fill (the crown's strokes over the trunk stay the crown's).
+    ``python -m branchnb.trees._measure_lines 512 ground 1
+    christmas_tree_root_flare``: full level's rim ink at 45 degrees 0.851 ->
+    0.878 (the drawing's own front view: 0.796, its soft rim and the star's
+    own outline colour); the 37 trees at 256 px unchanged or better
+    (conifer_on_base 0.986 -> 0.994), no card fallback.
 
     Parameters
     ----------
