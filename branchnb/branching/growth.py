@@ -313,6 +313,8 @@ class _Grower(_Starts, _Filling):
         self._live_dirs: dict = {}
         self._e1, self._e2, self._ei = np.zeros(1), np.zeros((1, 1)), np.zeros(1, np.int64)
         self._head: float | None = None
+        #: a delta's channels that left its trunk below the head so far, (left, right) of it
+        self._fan_count = (0, 0)
 
     def report(self, done: bool = False) -> None:
         if self.progress is None:
@@ -493,7 +495,7 @@ class _Grower(_Starts, _Filling):
                 dirs = end / np.maximum(np.hypot(end[:, 0], end[:, 1]), 1e-9)[:, None]
                 score = np.where(live, score * self._frame_factor(tip, dirs, cs.D_c), score)
         if self.drain is not None:
-            score = score * self.drain.factor(tip, pts, n_arr, start=st.points[0])
+            score = score * self.drain.factor(tip, pts, n_arr, start=st.points[0], fan=st.fan)
         if st.goal is not None:
             score = score * self._goal_factor(st, tip, pts, n_arr)
         # the bend-size factor (see .straightness), the straight-run factor (below) and the winding
