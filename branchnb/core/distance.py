@@ -23,6 +23,7 @@ def edt(mask) -> np.ndarray:
     Parameters
     ----------
     mask : (H, W) array_like of bool
+        The object (True) whose pixels get their distance to the background (False).
 
     Returns
     -------
@@ -68,6 +69,7 @@ def edt_boxed(mask) -> np.ndarray:
     Parameters
     ----------
     mask : (H, W) array_like of bool
+        The object (True) whose pixels get their distance to the background (False).
 
     Returns
     -------

@@ -327,21 +327,15 @@ def bare_tree(size: int = 800, *, rng=None) -> PartObject:
     parts = [(trunk, 26 * k, 0.45, -1)]
     limbs = [(0.62, -2.5, 0.30), (0.45, -0.55, 0.33), (0.30, -2.0, 0.22)]
 
-    def point_at(pts, frac):
-        seg = np.hypot(*np.diff(pts, axis=0).T)
-        s = np.concatenate([[0], np.cumsum(seg)])
-        t = frac * s[-1]
-        return np.array([np.interp(t, s, pts[:, 0]), np.interp(t, s, pts[:, 1])])
-
     for frac, ang, length in limbs:
-        a = point_at(trunk, frac)
+        a = _point_at(trunk, frac)
         u = np.array([np.cos(ang), np.sin(ang)])
         v = np.array([-u[1], u[0]])
         pts = np.array([a, a + 0.5 * length * n * u + 0.03 * n * v, a + length * n * u])
         parts.append((pts, 11 * k, 0.5, 0))
     for i, (_, ang, _) in enumerate(limbs):
         limb = parts[1 + i][0]
-        a = point_at(limb, 0.6)
+        a = _point_at(limb, 0.6)
         ang2 = ang + (0.7 if i % 2 == 0 else -0.7)
         u = np.array([np.cos(ang2), np.sin(ang2)])
         parts.append((np.array([a, a + 0.12 * n * u]), 5 * k, 0.5, 1 + i))
