@@ -189,7 +189,9 @@ def test_binary_example_gives_a_binary_image(delta):
     res = synthesize_structure(fit_model(s, domain=~sea), rng=1)
     out = synthesize_image(np.dstack([mask] * 3), s, res, rng=0)   # the result carries its domain
     im = out.image
-    assert np.mean((im <= 0.1) | (im >= 0.9)) >= 0.98
+    # grey is the anti-aliased edge of the channels: structure seeds 0-4 give 0.979-0.988 (0.984-0.987
+    # before the delta's channels fanned out, branching27, with more and thinner channels at the sea)
+    assert np.mean((im <= 0.1) | (im >= 0.9)) >= 0.975
     # the target grew in the example's domain: its laid-out sea is the example's, and white
     lab_sea = int(np.bincount(out.example_labels[sea]).argmax())
     mine = out.labels == lab_sea

@@ -439,7 +439,8 @@ def step_factors(t, cont_angles, cont_len, use_bend, bend_p, bend_counts, bend_c
     (:meth:`~branchnb.branching.straightness.BendHistogram.factors_at`) times the straight-run factor
     (:meth:`~branchnb.branching.straightness.StraightRuns.factors` against the candidate's own run,
     ``mode`` 0: blended (geometric mean) with the one against the overall bend rate, 1: its square
-    root alone, 2: as is; to the power ``weight``), ``zero`` the candidates a branch may not take
+    root alone, 2: as is, 3: its fourth root times the one against the overall rate to the power 3/4;
+    to the power ``weight``), ``zero`` the candidates a branch may not take
     (``end_zero``: those that end it; those whose headings would sweep past ``wind_max``)."""
     J = t.shape[0]
     M = cont_angles.shape[1]
@@ -482,6 +483,8 @@ def step_factors(t, cont_angles, cont_len, use_bend, bend_p, bend_counts, bend_c
                 fr = np.sqrt(fr * np.exp(min(max(run_gain * la, -run_cap), run_cap)))
             elif mode == 1:
                 fr = np.sqrt(fr)
+            elif mode == 3:
+                fr = fr ** 0.25 * np.exp(0.75 * min(max(run_gain * la, -run_cap), run_cap))
             if weight != 1.0:
                 fr = fr ** weight
             f = f * fr if use_bend else fr

@@ -17,11 +17,16 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import _kernels
-from .domains import MOUTH_TURN, head_share
+from .domains import HEAD_PULL, MOUTH_TURN, head_share
 from .furcation import vertex_angles
 from .scoring import _DIRECTION_BINS
 
 __all__: list[str] = []
+
+#: A delta (beyond the paper, issue 23): a channel leaving the trunk at or below the delta's head on the
+#: side that already has more of them gets its score times this (the example's channels part to both
+#: sides of its head; without it 2 of 3 seeds of a 1000 px delta sent every channel to one side).
+FAN_OTHER_SIDE = 0.02
 
 
 @dataclass
@@ -45,6 +50,9 @@ class _BranchState:
     goal: np.ndarray | None = None
     #: (lowest, highest) heading along the branch so far (radians, unwrapped); None = not started
     heads: tuple | None = None
+    #: a delta's channel that left its parent below the head: its own fan bearing (unit x, y,
+    #: :meth:`.domains._Drain.bearing`); None = the descent alone (a trunk) or no delta
+    fan: np.ndarray | None = None
 
 
 class _Starts:
@@ -53,7 +61,7 @@ class _Starts:
     def _below_head(self, bi: int) -> np.ndarray | None:
         """A delta's trunk (a root, :class:`.domains._Drain`): which of its vertices lie at or below the
         delta's head, where its channels part (beyond the paper, see :func:`.domains.head_share`);
-        None on any other branch or example. Sets the fan's apex at the head on first use."""
+        None on any other branch or example. Finds the head (:meth:`.domains._Drain.set_head`) on first use."""
         st = self.branches[bi]
         if self.drain is None or st.parent is not None:
             return None
@@ -117,7 +125,14 @@ class _Starts:
         inside = self._inside(new[:, 0])
         score = np.where(inside, score, 0.0)
         if self.drain is not None and parent is not None:  # downstream, not along or into the land's frame
-            score = score * self.drain.factor(x0, new, n + 1, start=x0)
+            # a channel leaving the trunk at or below the delta's head heads apart by its furcation angle
+            fan = self.drain.head and self.branches[parent].parent is None
+            score = score * self.drain.factor(x0, new, n + 1, start=x0, pull=HEAD_PULL if self.drain.head else 1.0)
+            if fan:   # and to the side of the trunk with fewer channels so far (both sides, like the example's)
+                side = self._fan_side(x0, theta0, new, n)
+                left, right = self._fan_count
+                if left != right:
+                    score = np.where(side == (1 if left < right else -1), score, score * FAN_OTHER_SIDE)
         if self.shore is not None:
             score = score * self.shore.factor(x0, new, n + 1)
         mouth = self.shore is not None and parent is None
@@ -162,9 +177,21 @@ class _Starts:
             st.stop = "left the domain"
         elif n[j] < p.m and p.branch_end == "markov":
             st.stop = "end of input branch"
+        if self.drain is not None and parent is not None and self.drain.head:
+            st.fan = self.drain.bearing(x0, pl[-1] - x0, self.branches[parent].fan)
+            if self.branches[parent].parent is None:
+                side = int(self._fan_side(x0, theta0, new[j:j + 1], n[j:j + 1])[0])
+                self._fan_count = (self._fan_count[0] + (side > 0), self._fan_count[1] + (side < 0))
         self._register(pl, ea, radii)
         self.branches.append(st)
         return len(self.branches) - 1
+
+    @staticmethod
+    def _fan_side(x0, theta0: float, new: np.ndarray, n: np.ndarray) -> np.ndarray:
+        """Side of the trunk (heading ``theta0`` at ``x0``) each candidate head ends on: +1 or -1."""
+        end = new[np.arange(len(new)), np.maximum(n, 1) - 1] - np.asarray(x0, np.float64)
+        cross = np.cos(theta0) * end[:, 1] - np.sin(theta0) * end[:, 0]
+        return np.where(cross >= 0.0, 1, -1)
 
     def _room_around(self, x0, length: float) -> bool:
         """Does any direction from ``x0`` lead on without a crossing (every one of the density
@@ -191,8 +218,6 @@ class _Starts:
         # copied head; then any input branch's head may start a root.
         pool = roots if len(roots) >= 3 else usable
         Q = np.ones(len(pool))
-        if self.drain is not None and self.drain.apex is None:   # a delta fans out from its first root
-            self.drain.apex = np.array([x, y], np.float64)
         return self._start_branch(np.array([x, y], float), float(theta), pool, Q, None, None, 0)
 
     def start_child(self, parent: int, vertex: int, toward=None, full: bool = False) -> int | None:

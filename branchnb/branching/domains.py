@@ -59,13 +59,32 @@ def _drains(ex: Structure, domain: np.ndarray | None) -> bool:
 
 #: Strength of the pull toward the sea of an example that drains (``exp(kappa cos)``).
 DRAIN_KAPPA = 2.0
-#: An example that drains: the way down is this share the direction away from the delta's apex (the first
-#: root's start) and the rest the steepest descent to the sea. The descent alone is parallel near a straight
+#: An example that drains: the way down is this share the direction away from the delta's apex (when one
+#: is set) and the rest the steepest descent to the sea. The descent alone is parallel near a straight
 #: coast, so the channels ran side by side to the sea (bearings at the sea spread 7-8 degrees on a 512 px
-#: delta against its example's 45; issue 23, branching19); from the apex they fan out.
+#: delta against its example's 45; issue 23, branching19). The grower sets no apex any more: the direction
+#: away from it is a branch's own heading where it leaves the trunk (it kept the trunk on whatever course
+#: it took and ran children beside it); each channel has its own bearing instead (:meth:`_Drain.bearing`).
 FAN_WEIGHT = 0.5
 #: An example that drains: a step heading back inland (cosine to the way down below this) is forbidden.
 UPSTREAM_COS = -0.25
+#: An example that drains: the pull's strength (x ``kappa``) on the first head of a channel that leaves the
+#: trunk below the delta's head. There the way down is the trunk's own direction, so the full pull
+#: (``e^kappa`` against a sideways start) turned every furcation down the trunk and the channels ran
+#: side by side to the sea (their bearings 5 % of the diagonal inland spread 13-16 degrees on a 1000 px delta
+#: against its example's 41, issue 23); without it the example's furcation angles (``beta``) decide.
+HEAD_PULL = 0.0
+#: An example that drains: a channel leaving its parent below the delta's head keeps its own bearing (the
+#: heading of its first head, at most this many radians off the descent) as the fan direction of its way
+#: down. The direction away from the apex is its parent's own direction where it leaves the trunk (or a
+#: channel) below the head, so children ran beside their parents to the sea.
+FAN_MAX = float(np.radians(60.0))
+#: ... and at least this many radians off its parent's way down where it leaves it (half the smallest
+#: furcation angle of the 250-1000 px delta examples, 46-91 degrees): a bearing close to its parent's ran the
+#: child beside it to the sea.
+FAN_SPLIT = float(np.radians(25.0))
+#: ... and its way down is this share its bearing, the rest the descent.
+BEARING_WEIGHT = 0.5
 
 
 class _Drain:
@@ -114,9 +133,10 @@ class _Drain:
         # the sides of the frame that cut the land (most of the side in the domain), not the sea's
         sides = (dom[0], dom[-1], dom[:, 0], dom[:, -1])
         self.cut = tuple(bool(side.mean() >= 0.5) for side in sides)
-        #: the delta's apex (x, y): the first root's start, then its head (:meth:`set_head`), set by
-        #: the grower; None = descent only
+        #: a fan's apex (x, y) for :meth:`way_down` without a bearing; None (the grower's) = descent only
         self.apex: np.ndarray | None = None
+        #: the delta's head on the trunk (x, y) once found (:meth:`set_head`)
+        self.head_at: np.ndarray | None = None
         self.head = False
 
     def frame_distance(self, pts: np.ndarray) -> np.ndarray:
@@ -141,13 +161,43 @@ class _Drain:
         f = np.exp(-10.0 * np.clip(1.0 - end / self.margin, 0.0, 1.0))
         return np.where(closest < 3.0, 0.0, f)
 
-    def way_down(self, at) -> np.ndarray:
-        """Unit direction (x, y) downstream at ``at``: the steepest descent to the sea, blended
-        (:data:`FAN_WEIGHT`) with the direction away from the apex once one is set."""
+    def descent(self, at) -> np.ndarray:
+        """Unit direction (x, y) of the steepest descent to the sea at ``at``."""
         h, w = self.down.shape[:2]
+        x, y = np.clip(np.rint(np.asarray(at, np.float64)).astype(int), 0, [w - 1, h - 1])
+        return self.down[y, x].astype(np.float64)
+
+    def bearing(self, at, heading, parent_fan=None) -> np.ndarray:
+        """A channel's own fan bearing: the unit ``heading`` it left its parent with, at least
+        :data:`FAN_SPLIT` radians off its parent's way down there (``parent_fan``: the parent's own
+        bearing, None for a trunk) and at most :data:`FAN_MAX` off the descent at ``at`` (never
+        upstream); where that limit would lay it along its parent's, it takes the parent's other side."""
+        d = self.descent(at)
+        a_d = float(np.arctan2(d[1], d[0]))
+        wrap = lambda v: float(np.angle(np.exp(1j * v)))  # noqa: E731
+        pd = self.way_down(at, parent_fan)
+        a_p = wrap(float(np.arctan2(pd[1], pd[0])) - a_d)
+        off = wrap(float(np.arctan2(heading[1], heading[0])) - a_d)
+        rel = wrap(off - a_p)
+        if abs(rel) < FAN_SPLIT:
+            rel = FAN_SPLIT if rel >= 0 else -FAN_SPLIT
+        off = a_p + rel
+        if abs(off) > FAN_MAX:
+            off = float(np.clip(off, -FAN_MAX, FAN_MAX))
+            if abs(off - a_p) < FAN_SPLIT:       # the fan's edge: the other side of the parent
+                off = float(np.clip(a_p - np.sign(rel) * FAN_SPLIT, -FAN_MAX, FAN_MAX))
+        a = a_d + off
+        return np.array([np.cos(a), np.sin(a)])
+
+    def way_down(self, at, fan=None) -> np.ndarray:
+        """Unit direction (x, y) downstream at ``at``: the steepest descent to the sea, blended
+        (:data:`FAN_WEIGHT`) with the channel's own bearing ``fan`` (:meth:`bearing`) when given,
+        else with the direction away from the apex once one is set."""
         at = np.asarray(at, np.float64)
-        x, y = np.clip(np.rint(at).astype(int), 0, [w - 1, h - 1])
-        d = self.down[y, x].astype(np.float64)
+        d = self.descent(at)
+        if fan is not None:
+            d = (1.0 - BEARING_WEIGHT) * d + BEARING_WEIGHT * np.asarray(fan, np.float64)
+            return d / max(float(np.hypot(*d)), 1e-9)
         if self.apex is not None:
             r = at - self.apex
             n = float(np.hypot(*r))
@@ -167,36 +217,41 @@ class _Drain:
         return self.depth[y, x].astype(np.float64)
 
     def set_head(self, trunk: np.ndarray, share: float) -> None:
-        """Move the apex down the trunk to the delta's head: its first vertex whose depth is at most
-        ``share`` x the trunk start's (the example's first furcation, :func:`head_share`)."""
+        """Find the delta's head on the trunk: its first vertex whose depth is at most ``share`` x the
+        trunk start's (the example's first furcation, :func:`head_share`); the channels leave the trunk
+        below it, each with its own bearing (:meth:`bearing`)."""
         trunk = np.asarray(trunk, np.float64)
         if len(trunk) < 2 or not 0.0 < share < 1.0:
             return
         dep = self.depth_at(trunk)
         below = np.flatnonzero(dep <= share * dep[0])
         if below.size:
-            self.apex = trunk[int(below[0])].copy()
+            self.head_at = trunk[int(below[0])].copy()
             self.head = True
 
-    def _cos(self, at, vec: np.ndarray) -> np.ndarray:
-        return (vec @ self.way_down(at)) / np.maximum(np.hypot(vec[:, 0], vec[:, 1]), 1e-9)
+    def _cos(self, at, vec: np.ndarray, fan=None) -> np.ndarray:
+        return (vec @ self.way_down(at, fan)) / np.maximum(np.hypot(vec[:, 0], vec[:, 1]), 1e-9)
 
-    def factor(self, tip, points: np.ndarray, n_new: np.ndarray, start=None) -> np.ndarray:
+    def factor(self, tip, points: np.ndarray, n_new: np.ndarray, start=None, pull: float = 1.0,
+               fan=None) -> np.ndarray:
         """Score factor of candidates ``points`` ((C, M, 2), the first ``n_new`` new) from ``tip``.
 
         ``start`` (the branch's first point): a candidate that heads back
         inland (over ``UPSTREAM_COS`` off the way down) or brings the
         branch's tip back upstream of its start is forbidden (0).
+        ``pull``: the downstream pull's strength as a share of ``kappa``
+        (:data:`HEAD_PULL` for a channel's first head below the delta's head).
+        ``fan``: the channel's own bearing (:meth:`bearing`), None for a trunk.
         """
         tip = np.asarray(tip, np.float64)
         end = points[np.arange(len(points)), np.maximum(n_new, 1) - 1]
-        cos = self._cos(tip, end - tip)
-        f = np.exp(self.kappa * cos) * self.frame_factor(tip, points, n_new)
+        cos = self._cos(tip, end - tip, fan)
+        f = np.exp(pull * self.kappa * cos) * self.frame_factor(tip, points, n_new)
         f = np.where(cos < UPSTREAM_COS, 0.0, f)
         if start is not None:
             net = end - np.asarray(start, np.float64)
             far = np.hypot(net[:, 0], net[:, 1]) > 4.0
-            f = np.where(far & (self._cos(start, net) < 0.0), 0.0, f)
+            f = np.where(far & (self._cos(start, net, fan) < 0.0), 0.0, f)
         return f
 
 
