@@ -446,7 +446,8 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
                     z_front[g] = z_front[g].min()
         z_front = _lift_decorations(z_front, sp_lab, deco, background, mean_h, 2.0 * half + 1.5)
         if all_cards:
-            z_front, card_holes, card_owner = _nest_cards(z_front, sp_ext, card, opaque, notches=_NOTCHES)
+            z_front, card_holes, card_owner = _nest_cards(z_front, sp_ext, card, opaque, notches=_NOTCHES,
+                                                              trunk=trunk_ext & ~ground_w)
     zf_map = np.zeros((H, W), np.float32)
     front_tex = {}
     objs = ndi.find_objects(sp_ext)
@@ -513,7 +514,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
         tex[:, :, 3] *= keep
         if all_cards and k in card_holes:
             tex = _underpaint(tex, keep, opaque[sl], sl, lines, 2.0 * half + 1.5, hole=card_holes[k],
-                              alpha=work[sl][:, :, 3])
+                              alpha=work[sl][:, :, 3], trunk=trunk_ext & ~ground_w)
         if all_cards and k in card_owner and _CENTRE_NESTED:
             x0, tex = _centred_on(x0, tex, _card_window(card_owner, k, objs, shape_lines))
         elif flat_pivot is not None and card[k]:

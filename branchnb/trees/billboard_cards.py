@@ -280,7 +280,7 @@ def crown_inlay(crown: np.ndarray, trunk: np.ndarray) -> np.ndarray:
 
 
 def _nest_cards(z: np.ndarray, labels: np.ndarray, card: np.ndarray, opaque: np.ndarray,
-                step: float = 1.0, *, notches: bool = True):
+                step: float = 1.0, *, notches: bool = True, trunk: np.ndarray | None = None):
     """Depths with every shape inside a card's hole (or notch) in front of that card.
 
     A shape drawn over a card is in its hole (:func:`_holes`) or, at the
@@ -290,6 +290,9 @@ def _nest_cards(z: np.ndarray, labels: np.ndarray, card: np.ndarray, opaque: np.
     underpainted over (:func:`_underpaint`), ``owner`` maps every shape so
     nested to the innermost card it lies on (the billboard builder centres
     its quad on that card's, so that no side view turns it behind the card).
+    ``trunk`` (an (H, W) bool mask, optional) is the trunk's pixels: round a
+    shape in a notch they count as allowed, like sky (a bauble where a crown
+    tier meets the trunk; beyond the earlier rule, issue 24).
     """
     z = z.copy()
     holes: dict = {}
@@ -311,7 +314,7 @@ def _nest_cards(z: np.ndarray, labels: np.ndarray, card: np.ndarray, opaque: np.
             inner = set(int(v) for v in np.unique(labels[hole]))
             while True:
                 more = _notch_shapes(labels, k, [c for c in cards if c != k and c not in owner and c not in inner],
-                                     opaque, objs, inner)
+                                     opaque, objs, inner, trunk=trunk)
                 if not more:
                     break
                 for s in more:
@@ -339,20 +342,28 @@ NEST_DEPTH = 0.3
 _PEERS = True
 
 #: A shape is in a notch of a card (:func:`_notch_shapes`) when at least this share of the pixels
-#: round it are the card's, and the rest sky.
+#: round it are the card's, and the rest sky (or trunk).
 NOTCH_SHARE = 0.55
+#: Trunk pixels round a shape count as allowed in :func:`_notch_shapes` (beyond the earlier rule,
+#: issue 24): christmas_tree_root_flare at 512 px has a bauble where the lowest tier meets the
+#: trunk (ring 79 % tier, 21 % trunk, no sky); left out of the tier's window, nothing filled
+#: behind it and sky opened there at 45 degrees.
+_TRUNK_NOTCH = True
 
 
 def _notch_shapes(labels: np.ndarray, k: int, others: list, opaque: np.ndarray, objs,
-                  inner=()) -> list:
+                  inner=(), trunk: np.ndarray | None = None) -> list:
     """The shapes among ``others`` that sit in a notch of card ``k`` at the silhouette.
 
     Round the shape (a 2-pixel ring), at least :data:`NOTCH_SHARE` of the
     pixels are card ``k``'s and all the others are sky (beyond the
-    silhouette, at most 45 %) or shapes already nested in ``k`` (``inner``):
-    a fruit or clump drawn over the crown's rim. A conifer's tier (mostly
+    silhouette, at most 45 %), shapes already nested in ``k`` (``inner``)
+    or, beyond the earlier rule, the trunk's (``trunk``, an (H, W) bool
+    mask; :data:`_TRUNK_NOTCH`): a fruit or clump drawn over the crown's
+    rim, or a bauble where a tier meets the trunk. A conifer's tier (mostly
     sky round it) or a shape touching other cards is not in a notch.
     """
+    use_trunk = _TRUNK_NOTCH and trunk is not None
     inner = np.asarray(sorted(inner), int)
     H, W = labels.shape
     out = []
@@ -369,6 +380,7 @@ def _notch_shapes(labels: np.ndarray, k: int, others: list, opaque: np.ndarray, 
         sky = int((ring & ~opaque[win]).sum()) / n
         nested = int((ring & np.isin(labels[win], inner)).sum()) / n if inner.size else 0.0
         peers = int((ring & np.isin(labels[win], others)).sum()) / n
+        sky += int((ring & opaque[win] & trunk[win] & (labels[win] != k)).sum()) / n if use_trunk else 0.0
         if (on_k >= NOTCH_SHARE * (1.0 - nested) and sky <= 0.45 and on_k + sky + nested >= 0.97) or \
                 (_PEERS and on_k >= 0.3 and sky <= 0.45 and on_k + sky + nested + peers >= 0.97):
             out.append(s)
@@ -381,13 +393,16 @@ def _holes(m: np.ndarray, opaque: np.ndarray) -> np.ndarray:
 
 
 def _underpaint(tex: np.ndarray, keep: np.ndarray, opaque: np.ndarray, sl, lines: np.ndarray,
-                reach: float, hole: np.ndarray | None = None, alpha: np.ndarray | None = None) -> np.ndarray:
+                reach: float, hole: np.ndarray | None = None, alpha: np.ndarray | None = None,
+                trunk: np.ndarray | None = None) -> np.ndarray:
     """``tex`` (a card's texture, alpha already cut to ``keep``) with its holes (:func:`_holes`,
     or the window of ``hole``, an (H, W) mask from :func:`_nest_cards`), and the strokes and
     anti-aliased pixels within ``reach`` of them (the outlines of the shapes drawn there), painted
     with the card's nearest flat fill colour (off its strokes); strokes along the silhouette (a
     notch's rim) keep their ink. ``alpha`` (the window's alpha in the drawing; default 1) is the
-    alpha the hole gets."""
+    alpha the hole gets. ``trunk`` (an (H, W) mask of the trunk's pixels, optional; beyond the
+    earlier rule, issue 24): the hole's pixels take the colour of the nearer of the card's flat fill
+    and the trunk's (a bauble where a tier meets the trunk is filled behind from both)."""
     hole = _holes(keep, opaque) if hole is None else (hole[sl] & opaque & ~keep)
     if not hole.any():
         return tex
@@ -401,6 +416,10 @@ def _underpaint(tex: np.ndarray, keep: np.ndarray, opaque: np.ndarray, sl, lines
         return tex
     out = tex.copy()
     out[paint, :3] = extend_nearest(rgb, src)[paint]
+    if trunk is not None:
+        t_src = trunk[sl] & opaque & ~keep & ~lines[sl] & (span <= 0.06) & ~paint
+        if t_src.any():
+            out[hole, :3] = extend_nearest(rgb, src | t_src)[hole]
     out[hole, 3] = 1.0 if alpha is None else alpha[hole]
     return out
 
