@@ -59,11 +59,12 @@ from .stylize_params import (  # noqa: F401  (re-exported; the spacings too)
     LIGHTNING_SEED_BLUR,
     LIGHTNING_SEED_DENSITY,
     LIGHTNING_SPACING,
-    STRIKE_MAIN_EXPONENT,
     STRIKE_BAND,
+    STRIKE_MAIN_EXPONENT,
     STRIKE_MAX_COVER,
     STRIKE_PENALTY,
     STRIKE_PHOTO_SIDE,
+    STRIKE_SIDE,
     VINE_SPACING,
     StylizeParams,
     effective_params,
@@ -695,7 +696,8 @@ class Stylizer:
         if metaphor == "lightning":  # a planned channel stays bright down to its last fork
             d = widen_main_path(d, p.min_width, p.max_width,
                                 exponent=STRIKE_MAIN_EXPONENT if struck else LIGHTNING_MAIN_EXPONENT,
-                                side=STRIKE_PHOTO_SIDE if d.main is not None else 1.0)
+                                side=(STRIKE_PHOTO_SIDE if d.main is not None
+                                      else STRIKE_SIDE if struck else 1.0))
         pinned = self._pinned
         if k < 1.0 and p.output_width > 0 and p.thickness == "importance" and metaphor in (
                 "plain", None):

@@ -311,9 +311,12 @@ STRIKE_PHOTO_DEPTH = 0.4
 
 #: Factor on the width (above the thinnest) of the side branches of a lightning bolt on a
 #: photo (:func:`~branchnb.dendrite.main_channel.widen_main_path`, ``side``; beyond the
-#: paper: the planned channel forks into long branches that held 0.7-0.85 of the ink, a
+#: paper: the planned channel forks into long branches that held 0.65-0.8 of the ink, a
 #: glowing scribble round the channel).
-STRIKE_PHOTO_SIDE = 0.4
+STRIKE_PHOTO_SIDE = 0.25
+#: The same for a bolt through a drawn object (beyond the paper: down the middle of a
+#: body with thin prongs on top, the channel held 0.340 of the ink at full side widths).
+STRIKE_SIDE = 0.8
 
 #: Exponent of the share of the tips that sets the width of a main channel planned
 #: through an object (``LIGHTNING_MAIN_EXPONENT`` otherwise): down the middle of a
