@@ -281,3 +281,21 @@ def test_lightning_on_a_photo_strikes_down_the_picture(name):
         r = np.round(p).astype(int)
         lower = r[:, 1] > 0.2 * h
         assert np.mean(far[r[lower, 1], r[lower, 0]] <= 0.015 * diag) > 0.7
+
+
+def test_photo_channel_follows_a_cheap_line_and_chains_the_plan():
+    from branchnb.dendrite.main_channel import channel_plan, photo_channel, with_channel
+    w = np.ones((60, 60))
+    w[:, 40] = 0.3  # a cheap line off the seed's column
+    path = photo_channel(w, np.ones((60, 60), bool), (36, 0))
+    assert path[-1, 1] >= 0.6 * 59 and np.mean(path[:, 0] == 40) > 0.8
+    seeds = np.zeros((60, 60), bool)
+    seeds[path[:, 1], path[:, 0]] = True
+    res = channel_plan(plan(make_lattice(w, rng=0), seeds, metric="cumulative"), path)
+    d = with_channel(build_dendrite(res, [(5, 30), (55, 10), tuple(path[-1])]), path)
+    assert np.array_equal(d.points[main_path(d)], path.astype(float))
+    assert d.points[d.parent < 0].tolist() == [path[0].astype(float).tolist()]
+    with pytest.raises(ValueError, match="length"):
+        photo_channel(w, w > 0, (36, 0), length=-1.0)
+    with pytest.raises(ValueError, match="twice"):
+        channel_plan(res, np.vstack([path, path[:1]]))
