@@ -44,15 +44,7 @@ spots) the carried-over layer is only a prior:
    only gets its mirror image as a candidate branch, a counterpart traced
    short runs on as its mirror image, and a midrib traced short is carried
    on to the blade's margin (maple 06's hand trace has no left basal vein,
-   maple 07's midrib and left lateral stop at its torn lobe). A branch
-   carried on past twice what the user drew (:data:`TEMPLATE_DRAWN`; maple
-   06's 3 px stub carried 46 px on) does not pose the template: the
-   branches as drawn do, and it is posed on its own after them
-   (``fit_branches``' ``n_template``). Measured
-   (``python -m branchnb.leaves._measure maples``): maple 06 as the
-   training leaf 0.53 0.83 0.76 0.65 0.57 0.67 -> 0.62 0.82 0.77 0.64 0.57
-   0.60 (min 0.53 -> 0.57, mean 0.67 both); no other maple's trace is
-   carried on that far (their figures are unchanged).
+   maple 07's midrib and left lateral stop at its torn lobe).
 4. **Polar trace** (:func:`~branchnb.leaves.snapping_trace.trace_branches`):
    each fitted branch is traced anew from its junction outwards by dynamic
    programming over (radius, angle) on the oriented ridge scores, within
