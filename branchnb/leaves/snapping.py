@@ -621,18 +621,6 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
     if mirror:
         # Branches the user left out on one side, mirrored about the midrib (candidates).
         chains, widths, n_mirrored = mirror_missing(chains, widths, blades[t])
-    n_template = None
-    if n_mirrored and TEMPLATE_DRAWN:
-        # The template is posed by the branches as drawn: those a completion
-        # carried on (a 3 px stub of maple 06 carried 43 px on) come after them,
-        # still the user's, posed each on the template's ridges.
-        def drawn_share(j):
-            return _path_length(user_chains[j]) / max(_path_length(chains[j]), 1e-9)
-        same = [j for j in range(n_user) if drawn_share(j) >= TEMPLATE_DRAWN]
-        longer = [j for j in range(n_user) if j not in same]
-        order = same + longer + list(range(n_user, len(chains)))
-        chains, widths = [chains[j] for j in order], [widths[j] for j in order]
-        n_template = len(same)
     if directions is not None and (isinstance(directions, (str, bytes)) or len(directions) != len(labs)):
         raise ValueError(f"directions must be a list of one direction or None per exemplar ({len(labs)})")
 
@@ -681,8 +669,8 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
         if rim.any():
             pev = np.where(rim, 0.0, pev).astype(np.float32)
 
-        def place(chains, widths, n_user, n_template=None, e=e, b=b, ev=ev, hess=hess, scale=scale, scale_e=scale_e,
-                  pev=pev, centre=centre, off=off, b_full=b_full):
+        def place(chains, widths, n_user, e=e, b=b, ev=ev, hess=hess, scale=scale, scale_e=scale_e, pev=pev,
+                  centre=centre, off=off, b_full=b_full):
             # The branches carried into the exemplar, fitted, traced and snapped
             # to its ridges; the branches past ``n_user`` are candidates.
             carried = [carry_points(registrations[e], c) - off for c in chains]
@@ -698,7 +686,7 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
                               _moment_carry(blades[t], b_full, chains)):
                     got, score = fit_branches([c - off for c in start], ev, b,
                                               reach=fit_reach * np.sqrt(float(b.sum())), return_score=True,
-                                              hessian=hess, n_template=n_template)
+                                              hessian=hess)
                     if best is None or score > best[1]:
                         best = (got, score)
                 carried = best[0]
@@ -729,7 +717,7 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
                         m = m | mc
                         mcen = mcen | (gc[2] if centre is not None else mc)
             return m, k, mcen
-        m, k, mcen = place(chains, widths, n_user, n_template)
+        m, k, mcen = place(chains, widths, n_user)
         if n_mirrored:
             # A completion may only add to the user's layer: where it moved
             # the user's own branches (the template fit poses all of them
@@ -753,16 +741,6 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
     if return_centred:
         return masks, kept, centred_masks
     return masks, kept
-
-
-#: Least share of a branch's completed length the user drew for the branch
-#: to pose the template (0: every branch does).
-TEMPLATE_DRAWN = 0.5
-
-
-def _path_length(c) -> float:
-    c = np.asarray(c, np.float64)
-    return float(np.hypot(*np.diff(c, axis=0).T).sum()) if len(c) > 1 else 0.0
 
 
 #: Pixels around a hole in the blade with no ridge evidence (0: off).

@@ -194,7 +194,7 @@ def _grid(r, step):
 
 def fit_branches(chains, evidence, blade, *, reach: float, max_angle: float = 25.0,
                  penalty: float = 0.1, return_score: bool = False, branch_angle: float = 10.0,
-                 overlap: float = 0.3, hessian=None, n_template: int | None = None):
+                 overlap: float = 0.3, hessian=None):
     """Carried-over branches moved onto the exemplar's ridges that fit them best: all together, then each.
 
     A layer's main veins keep their pattern from leaf to leaf (a star of
@@ -246,13 +246,6 @@ def fit_branches(chains, evidence, blade, *, reach: float, max_angle: float = 25
         (default 0.3).
     hessian : (3, H, W) ndarray, optional
         :func:`ridge_hessian`, for oriented pose scores; None: evidence only.
-    n_template : int, optional
-        Only the first ``n_template`` chains (the user's branches) pose the
-        template and are placed first; the others (candidates, e.g. from
-        :func:`~branchnb.leaves.snapping_mirror.mirror_missing`) follow the
-        template and are then posed each, on ridges the first ones left
-        (beyond the paper: a completion may not move what the user drew).
-        None: every chain (default).
 
     Returns
     -------
@@ -276,14 +269,9 @@ def fit_branches(chains, evidence, blade, *, reach: float, max_angle: float = 25
     good = [len(c) >= 2 and bool(np.all(np.isfinite(c))) for c in cs]
     if reach <= 0 or not any(good):
         return (cs, -np.inf) if return_score else cs
-    nt = len(cs) if n_template is None else int(n_template)
-    if nt < 0:
-        raise ValueError(f"n_template must be >= 0, got {n_template!r}")
-    if not any(good[:nt]):
-        nt = len(cs)
     dense = [_densify(c) if g else (None, 0.0) for c, g in zip(cs, good)]
-    allp = np.concatenate([d for d, _ in dense[:nt] if d is not None])
-    tang = [_tangents(d) for d, _ in dense[:nt] if d is not None]
+    allp = np.concatenate([d for d, _ in dense if d is not None])
+    tang = [_tangents(d) for d, _ in dense if d is not None]
     allt = np.concatenate(tang)
     hess = _oriented_maps(ev, hessian) if hessian is not None else None
     centre = allp.mean(0)
@@ -322,7 +310,7 @@ def fit_branches(chains, evidence, blade, *, reach: float, max_angle: float = 25
         cands.append((i, pivot, poses))
     # Greedy, most confident branch first: a pose whose points mostly lie on
     # an already placed branch (two laterals on one vein) is skipped.
-    cands.sort(key=lambda x: (x[0] >= nt, -x[2][0][0] if x[2] else np.inf))
+    cands.sort(key=lambda x: -x[2][0][0] if x[2] else np.inf)
     placed = np.zeros(ev.shape, bool)
     h, w = ev.shape
     for i, pivot, poses in cands:
