@@ -620,6 +620,19 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     if flat and p.flat_drawing:
         return _draw_flat(ex, example_structure, target_structure, layout, labels_t, target_domain,
                           pm_s, labels_ex, p, t_start, report, (H, W))
+    boundary = None
+    if labels_t is None and target_domain is not None and not flat and target_domain.any() \
+            and not target_domain.all():
+        # beyond the paper: an example whose domain a drawn line walls off (a shaded terrain map):
+        # land from land, outside from outside, and its line drawn along the output's domain
+        from .drawn_domains import domain_labels, drawn_boundary
+
+        if "drawn_boundary" not in cached:
+            cached["drawn_boundary"] = drawn_boundary(ex, example_structure, pm_s)
+        boundary = cached["drawn_boundary"]
+        if boundary is not None:
+            labels_t = domain_labels(target_domain)
+            src_labels = domain_labels(boundary.domain, boundary.ink)
     # Line art on one plain background has a single flat region (so it is not
     # drawn in style like a map) but Poisson blending still smudges its ink.
     use_poisson = p.poisson and (flat_share < 0.5 or p.flat_poisson)
@@ -642,6 +655,16 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         cached.update(regions=regions, ex=ex, excluded=excluded, lib_b=lib_b, lib_f=lib_f,
                       free_start=free_start, free_end=free_end, vec_cache={})
     regions, ex, excluded, lib_b, lib_f = (cached[k] for k in ("regions", "ex", "excluded", "lib_b", "lib_f"))
+    if boundary is not None:
+        from .drawn_domains import regions_by_domain
+
+        if "regions_drawn" not in cached:
+            cached["regions_drawn"] = regions_by_domain(ex, regions, boundary,
+                                                        p.salient_z if p.avoid_salient else None)
+        regions = cached["regions_drawn"]
+        excluded = regions.body | regions.branch_like
+        if regions.salient is not None:
+            excluded = excluded | regions.salient
     free_start, free_end = cached["free_start"].copy(), cached["free_end"].copy()
     ctx = _Context(ex, sm_s, sm_t, pm_s, excluded, regions.unusable, p)
     free_t = _free_ends(sm_t, pm_t)
@@ -657,7 +680,8 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
                                 cached["vec_cache"], labels_t, src_labels, use_poisson, rng, report,
                                 frag_share)
     timings["fragments"] = time.perf_counter() - t0
-    fill, n_inpainted = _complete(out, ex, regions, p, flat, use_poisson, pm_s, pm_t, labels_t, src_labels,
+    # (with drawn-boundary regions no relighting: its light layout would mix the outside into the land)
+    fill, n_inpainted = _complete(out, ex, regions, p, flat or boundary is not None, use_poisson, pm_s, pm_t, labels_t, src_labels,
                                   rng, report, frag_share, timings)
     canvas, source, frag_index, seams = out.canvas, out.source, out.frag_index, out.seams
     if flat_share >= 0.5:
@@ -671,6 +695,10 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         canvas, _ = redraw_gaps(canvas, target_structure, style.line_colour,
                                 style.region_colours[style.branch_region], style.width_scale)
 
+    if boundary is not None:
+        from .drawn_domains import draw_boundary
+
+        canvas = draw_boundary(canvas, target_domain, boundary.colour, boundary.width)
     if p.line_contrast > 0:
         # (after the drawn-style redraw: it draws the gaps of drawings in the full line colour)
         from .line_contrast import line_profile, restore_line_contrast
