@@ -76,7 +76,7 @@ def _coarse_blur(img: np.ndarray, weight: np.ndarray, sigma: float, levels: int 
 
 def _relight_setup(ex: np.ndarray, canvas: np.ndarray, covered: np.ndarray, regions: ExampleRegions,
                    body: np.ndarray, patch_size: int, dist: np.ndarray, dist_t: np.ndarray,
-                   prior: float = 1.0):
+                   prior: float = 1.0, domains=None):
     """Shading-free example and canvas for gap completion (going beyond the paper).
 
     The paper fills the gaps by hand. Copied automatically, square patches
@@ -101,6 +101,11 @@ def _relight_setup(ex: np.ndarray, canvas: np.ndarray, covered: np.ndarray, regi
     patches of bright and dark. Returns ``(example, canvas, offset)`` or
     None when there is no background to measure the light on.
 
+    ``domains = (example_domain, output_domain)`` (an example whose domain a
+    drawn line walls off, :mod:`~branchnb.branching.drawn_domains`): the light
+    is measured and changed inside the domains only (the white outside of a
+    shaded map would brighten its land's light; the outside keeps its own).
+
     (Measured on a night sky with bright clouds, ``lightning_noaa`` at
     512 px: the mean difference of the 1/16-scale backgrounds, output
     against example, 0.24 -> 0.09; the gradient along the patch grid
@@ -111,6 +116,9 @@ def _relight_setup(ex: np.ndarray, canvas: np.ndarray, covered: np.ndarray, regi
     n = min(ex.shape[2], 3)   # colour channels only (alpha is copied as is)
     bg_ex = ~(regions.forbidden | ndi.binary_dilation(regions.body | regions.branch_like, iterations=3))
     bg_t = covered & ~ndi.binary_dilation(body, iterations=3)
+    if domains is not None:
+        bg_ex = bg_ex & domains[0]
+        bg_t = bg_t & domains[1]
     if np.count_nonzero(bg_ex) < 64 or np.count_nonzero(bg_t) < 64:
         return None
     sigma = DETAIL_SCALE * float(patch_size)
@@ -130,11 +138,15 @@ def _relight_setup(ex: np.ndarray, canvas: np.ndarray, covered: np.ndarray, regi
     ex_flat[..., :n] = ex[..., :n] + (mean - shade_ex)
     offset = np.zeros(canvas.shape, np.float32)
     offset[..., :n] = (shade_t - mean).astype(np.float32)
+    if domains is not None:
+        ex_flat[~domains[0]] = ex[~domains[0]]
+        offset[~domains[1]] = 0.0
     return ex_flat.astype(np.float32), (canvas - offset).astype(np.float32), offset
 
 
 def _complete(out, ex: np.ndarray, regions: ExampleRegions, p, flat: bool, use_poisson: bool, pm_s, pm_t,
-              labels_t, src_labels, rng: np.random.Generator, report, frag_share: float, timings: dict):
+              labels_t, src_labels, rng: np.random.Generator, report, frag_share: float, timings: dict,
+              domains=None):
     """Gap completion of the fragments' canvas ``out`` (a ``_Canvas``, updated in place).
 
     Returns ``(fill, n_inpainted)``.
@@ -154,7 +166,8 @@ def _complete(out, ex: np.ndarray, regions: ExampleRegions, p, flat: bool, use_p
         inner = ndi.binary_erosion(covered, iterations=rim, border_value=1) if rim > 0 else covered
         relit = None
         if p.relight_completion and not flat:
-            relit = _relight_setup(ex, canvas, covered, regions, body, p.patch_size, pm_s.dist, pm_t.dist)
+            relit = _relight_setup(ex, canvas, covered, regions, body, p.patch_size, pm_s.dist, pm_t.dist,
+                                   domains=domains)
             if relit is not None:
                 ex_fill, canvas, offset_t = relit
         ex_c = ex if relit is None else ex_fill

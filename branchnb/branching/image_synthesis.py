@@ -680,9 +680,9 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
                                 cached["vec_cache"], labels_t, src_labels, use_poisson, rng, report,
                                 frag_share)
     timings["fragments"] = time.perf_counter() - t0
-    # (with drawn-boundary regions no relighting: its light layout would mix the outside into the land)
-    fill, n_inpainted = _complete(out, ex, regions, p, flat or boundary is not None, use_poisson, pm_s, pm_t, labels_t, src_labels,
-                                  rng, report, frag_share, timings)
+    fill, n_inpainted = _complete(out, ex, regions, p, flat, use_poisson, pm_s, pm_t, labels_t, src_labels,
+                                  rng, report, frag_share, timings,
+                                  domains=None if boundary is None else (boundary.domain, target_domain))
     canvas, source, frag_index, seams = out.canvas, out.source, out.frag_index, out.seams
     if flat_share >= 0.5:
         # drawn examples: a branch the fragments left without ink is drawn in the example's style
