@@ -74,6 +74,33 @@ def _coarse_blur(img: np.ndarray, weight: np.ndarray, sigma: float, levels: int 
     return cv2.resize(out, (W, H), interpolation=cv2.INTER_LINEAR).reshape(H, W, n).astype(np.float64)
 
 
+def light_layout(ex: np.ndarray, regions: ExampleRegions, patch_size: int) -> np.ndarray | None:
+    """The example's light layout: its background averaged at ``LAYOUT_SCALE`` of its long side
+    (at least ``patch_size``), defined everywhere; (h, w, n) float32 over its colour channels, or
+    None when there is no background to measure it on.
+
+    The same layout :func:`_relight_setup` lights the gaps with; the fragments use it too (a
+    fragment's ground is moved from the layout where it comes from to the layout where it goes).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from branchnb.branching.regions import ExampleRegions
+    >>> z = np.zeros((64, 64), bool)
+    >>> img = np.full((64, 64, 3), 0.5, np.float32)
+    >>> lay = light_layout(img, ExampleRegions(z, z, z, z.astype(float)), 32)
+    >>> lay.shape, bool(np.allclose(lay, 0.5, atol=1e-3))
+    ((64, 64, 3), True)
+    """
+    n = min(ex.shape[2], 3)
+    bg_ex = ~(regions.forbidden | ndi.binary_dilation(regions.body | regions.branch_like, iterations=3))
+    if np.count_nonzero(bg_ex) < 64:
+        return None
+    exc = ex[..., :n].astype(np.float64)
+    return _coarse_blur(exc, bg_ex, max(LAYOUT_SCALE * max(ex.shape[:2]), float(patch_size)),
+                        levels=5).astype(np.float32)
+
+
 def _relight_setup(ex: np.ndarray, canvas: np.ndarray, covered: np.ndarray, regions: ExampleRegions,
                    body: np.ndarray, patch_size: int, dist: np.ndarray, dist_t: np.ndarray,
                    prior: float = 1.0, domains=None):

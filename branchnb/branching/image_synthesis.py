@@ -45,6 +45,7 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+import cv2
 import numpy as np
 from scipy import ndimage as ndi
 
@@ -289,6 +290,10 @@ class ImageSynthesisParams:
                                                 "large-scale shading taken out and lights it like the "
                                                 "fragments around it (a vignetted photo gives no square "
                                                 "patches of another brightness; off: copy as is)")
+    relight_fragments: bool = param(True, help="a fragment's ground is moved from the example's light "
+                                               "where it comes from to the example's light where it goes "
+                                               "(a bolt from a bright cloud placed in a dark sky brings no "
+                                               "glowing tube of cloud; off: the paper's fragments)")
     patch_size: int = param(32, min=8, max=128, step=2,
                             help="gap completion: patch side (pixels)")
     patch_overlap: float = param(0.25, min=0.1, max=0.5, step=0.05,
@@ -676,9 +681,18 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
 
     t0 = time.perf_counter()
     frag_share = 0.6 if p.completion else 1.0
+    light = None
+    if p.relight_fragments and not flat and boundary is None:
+        from .gap_completion import light_layout
+
+        if "light" not in cached:
+            cached["light"] = light_layout(ex, regions, p.patch_size)
+        if cached["light"] is not None:
+            light = (cached["light"], cv2.resize(cached["light"], (W, H), interpolation=cv2.INTER_LINEAR)
+                     .reshape(H, W, -1))
     out = _synthesize_fragments(ctx, pm_t, targets, (H, W), lib_b, lib_f, free_start, free_end, free_t,
                                 cached["vec_cache"], labels_t, src_labels, use_poisson, rng, report,
-                                frag_share)
+                                frag_share, light)
     timings["fragments"] = time.perf_counter() - t0
     fill, n_inpainted = _complete(out, ex, regions, p, flat, use_poisson, pm_s, pm_t, labels_t, src_labels,
                                   rng, report, frag_share, timings,
