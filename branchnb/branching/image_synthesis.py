@@ -654,6 +654,9 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         if regions.salient is not None:
             excluded = excluded | regions.salient
         lib_b, lib_f = source_fragments(sm_s, density=p.source_density, reverse=p.reverse, **geo)
+        from .crossings import without_crossings
+
+        lib_b = without_crossings(lib_b, example_structure, ex.shape[:2])
         free_start, free_end = _free_ends(sm_s, pm_s)
         if labels_ex.max() >= 1:
             _joined_at_region_edge(sm_s, labels_ex, free_start, free_end)
