@@ -674,12 +674,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         if regions.salient is not None:
             excluded = excluded | regions.salient
     free_start, free_end = cached["free_start"].copy(), cached["free_end"].copy()
-    # Beyond the paper: branch-like pixels that are no annotated body (a strand crossing the branch
-    # in a knot, a leaf on a vine) are never copied by a fragment, even from the fragment's own branch
-    # window (they came out as cross-shaped stubs across the synthesized strokes).
-    if "foreign" not in cached:
-        cached["foreign"] = regions.unusable | (regions.branch_like & ~regions.body)
-    ctx = _Context(ex, sm_s, sm_t, pm_s, excluded, cached["foreign"], p)
+    ctx = _Context(ex, sm_s, sm_t, pm_s, excluded, regions.unusable, p)
     free_t = _free_ends(sm_t, pm_t)
     if len(lib_b) == 0:
         raise ValueError("example_structure yields no source fragment (all branches have zero length)")

@@ -4,8 +4,8 @@
   the output's domain and its land grey (measured before: coast share 0.04-0.13, land left white);
 - a glowing bolt copied from a bright cloud into a dark sky brings no glowing tube of cloud (its glow
   width against the example's, measured 1.39x before, 1.14x with the fragments relit);
-- an unannotated strand crossing a drawn stroke (a knot, a leaf) is not copied as a tick across the
-  synthesized stroke.
+- a strand crossing a drawn stroke (a knot) is not copied as a cross-shaped tick across the
+  synthesized stroke (:mod:`~branchnb.branching.crossings`).
 """
 
 from __future__ import annotations
@@ -101,15 +101,42 @@ def _centre(st, n):
     return m > 0
 
 
-def test_an_unannotated_crossing_strand_is_not_copied_across_a_stroke():
+@pytest.mark.parametrize("annotated", [True, False])
+def test_a_crossing_strand_is_not_copied_across_a_stroke(annotated):
     n, w = 160, 6.0
     img = np.ones((n, n, 3), np.float32)
-    h_line = [np.array([(8.0, 80.0), (152.0, 80.0)])]
-    cov, _ = coverage_polylines((n, n), h_line + [np.array([(80.0, 8.0), (80.0, 152.0)])], [w, w])
+    h_line = np.array([(8.0, 80.0), (152.0, 80.0)])
+    v_line = np.array([(80.0, 8.0), (80.0, 152.0)])
+    cov, _ = coverage_polylines((n, n), [h_line, v_line], [w, w])
     img *= 1 - cov[..., None]
-    src = Structure([Branch(h_line[0], w / 2)], (n, n))          # the vertical strand is not annotated
+    # two strands crossing without a junction (a knot), or one of them not annotated
+    src = Structure([Branch(h_line, w / 2)] + ([Branch(v_line, w / 2)] if annotated else []), (n, n))
     tgt = Structure([Branch(np.array([(10.0, 40.0), (150.0, 120.0)]), w / 2)], (n, n))
     out = synthesize_image(img, src, tgt, rng=0)
     body, _ = coverage_polylines((n, n), [tgt.branches[0].points], [w + 4.0])
     ticks = (out.image[..., :3].mean(-1) < 0.5) & (body < 0.05)
     assert ticks.sum() < 5, int(ticks.sum())
+
+
+def test_crossing_fragments_are_left_out_of_the_library():
+    from branchnb.branching.crossings import crossing_points, without_crossings
+    from branchnb.branching.fragments import source_fragments
+    from branchnb.branching.skeleton_map import SkeletonMap
+
+    n = 160
+    h_line = np.array([(8.0, 80.0), (152.0, 80.0)])
+    knot = Structure([Branch(h_line, 3.0), Branch(np.array([(80.0, 8.0), (80.0, 152.0)]), 3.0)], (n, n))
+    cross = crossing_points(knot, (n, n))
+    ys, xs = np.nonzero(cross)
+    assert np.hypot(xs - 80, ys - 80).max() <= 1.5            # the one crossing, where it is
+    # a child starting on its parent is a junction, no crossing
+    tee = Structure([Branch(np.array([(80.0, 80.0), (8.0, 80.0)]), 3.0),
+                     Branch(np.array([(80.0, 80.0), (152.0, 80.0)]), 3.0, 0, 0),
+                     Branch(np.array([(80.0, 80.0), (80.0, 150.0)]), 3.0, 0, 0)], (n, n))
+    assert not crossing_points(tee, (n, n)).any()
+    lib, _ = source_fragments(SkeletonMap(knot, 1.0))
+    kept = without_crossings(lib, knot, (n, n))
+    d = np.hypot(*(lib.center - 80.0).T)
+    assert 0 < len(kept) < len(lib)
+    assert np.all(np.hypot(*(kept.center - 80.0).T) > kept.radius)   # no kept disk holds the crossing
+    assert len(kept) == int(np.sum(d > lib.radius))
