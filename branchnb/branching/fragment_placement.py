@@ -256,11 +256,13 @@ def _synthesize_fragments(ctx: _Context, pm_t: PixelMap, targets: list, shape, l
             ty = min(max(int(round(float(tf.center[1]))), 0), H - 1)
             n = ly.shape[2]
             g_s = lx[sy, sx]
-            # on the target's branch bodies, light above the ground (a bolt's core) keeps its share:
-            # a white core stays white (an additive shift would tint it); the rest moves fully
+            # on the target's branch bodies, light above the ground (a bolt's core) keeps its share of
+            # a darkening: a white core stays white (an additive shift would tint it); the rest moves
+            # fully, and every pixel brightens fully (a bolt keeps its contrast in a brighter place)
+            off = ly[ty, tx] - g_s
             up = ((pix[..., :n] - g_s) / np.maximum(1.0 - g_s, 1e-3)).max(axis=-1)
             keep = (np.clip(up, 0.0, 1.0) * _crop(body, x0, y0, size, False))[..., None]
-            pix[..., :n] += (1.0 - keep) * (ly[ty, tx] - g_s)
+            pix[..., :n] += np.where(off > 0, 0.0, (1.0 - keep) * off)
         # Which window pixels the fragment may cover and which it must keep / leave, in one compiled
         # pass over the window (the rules of ``_allowed``, the regions, the own body; same values).
         b0 = tf.branch
