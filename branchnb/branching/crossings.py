@@ -40,11 +40,15 @@ def crossing_points(structure: Structure, shape) -> np.ndarray:
     """
     h, w = int(shape[0]), int(shape[1])
     count = np.zeros((h, w), np.int16)
-    one = np.zeros((h, w), np.uint8)
     for b in structure.branches:
-        one[...] = 0
-        cv2.polylines(one, [np.round(b.points).astype(np.int32)], False, 1, 1)
-        count += one
+        p = np.round(b.points).astype(np.int32)
+        x0, y0 = max(int(p[:, 0].min()) - 1, 0), max(int(p[:, 1].min()) - 1, 0)
+        x1, y1 = min(int(p[:, 0].max()) + 2, w), min(int(p[:, 1].max()) + 2, h)
+        if x1 <= x0 or y1 <= y0:
+            continue
+        one = np.zeros((y1 - y0, x1 - x0), np.uint8)      # its bounding box only
+        cv2.polylines(one, [p - (x0, y0)], False, 1, 1)
+        count[y0:y1, x0:x1] += one
     cross = count >= 2
     if not cross.any():
         return cross
