@@ -167,6 +167,7 @@ from .snapping_fit import (  # noqa: F401  (the fit's names, importable from her
     ridge_hessian,
 )
 from .snapping_mirror import adds_only, mirror_missing
+from .snapping_parallel import along_ridges, is_parallel_layer
 from .snapping_stray import SIDE_LEVEL, STRAY_LENGTH, STRAY_LEVEL, _side_ridges, _stray_ridges  # noqa: F401
 from .snapping_trace import refine_carried, trace_branches  # noqa: F401
 from .snapping_width import GROW_CAP, GROW_LEVEL, _area_widths, _grow_to_width, vein_centre  # noqa: F401
@@ -617,6 +618,8 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
     widths = [area_w[id(c)] for c in chains]
     n_user = len(chains)
     user_chains, user_widths = list(chains), list(widths)
+    # Parallel venation (a grass blade's): followed along each exemplar's own veins at the end.
+    parallel = fit and is_parallel_layer(user_chains, np.sqrt(float(blades[t].sum())))
     n_mirrored = 0
     if mirror:
         # Branches the user left out on one side, mirrored about the midrib (candidates).
@@ -735,6 +738,12 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
                 m = m | side
                 extra = extra | side
             mcen = mcen | extra
+        if parallel:
+            # Cut where a path crosses the veins, each piece followed along its own ridge.
+            wd = float(np.median(widths)) * scale
+            run = PARALLEL_RUN * np.sqrt(float(b.sum()))
+            m = along_ridges(m, ev, b, wd, min_run=run)
+            mcen = along_ridges(mcen, ev, b, wd, min_run=run, centre=centre) if centre is not None else m
         masks.append(_unbox(m, b_full.shape, y0, x0))
         kept.append(k)
         centred_masks.append(_unbox(mcen, b_full.shape, y0, x0) if return_centred else None)
@@ -742,6 +751,10 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
         return masks, kept, centred_masks
     return masks, kept
 
+
+#: Shortest parallel vein kept on an exemplar (:func:`~branchnb.leaves.snapping_parallel.along_ridges`),
+#: as a fraction of the leaf size.
+PARALLEL_RUN = 0.1
 
 #: Pixels around a hole in the blade with no ridge evidence (0: off).
 HOLE_RIM = 2
