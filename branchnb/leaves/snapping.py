@@ -742,8 +742,9 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
             # Cut where a path crosses the veins, each piece followed along its own ridge.
             wd = float(np.median(widths)) * scale
             run = PARALLEL_RUN * np.sqrt(float(b.sum()))
-            m = along_ridges(m, ev, b, wd, min_run=run)
-            mcen = along_ridges(mcen, ev, b, wd, min_run=run, centre=centre) if centre is not None else m
+            win = max(4.0, 3.0 * wd, PARALLEL_SCALE * np.sqrt(float(b.sum())))
+            m = along_ridges(m, ev, b, wd, min_run=run, scale=win)
+            mcen = along_ridges(mcen, ev, b, wd, min_run=run, centre=centre, scale=win) if centre is not None else m
         masks.append(_unbox(m, b_full.shape, y0, x0))
         kept.append(k)
         centred_masks.append(_unbox(mcen, b_full.shape, y0, x0) if return_centred else None)
@@ -755,6 +756,9 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
 #: Shortest parallel vein kept on an exemplar (:func:`~branchnb.leaves.snapping_parallel.along_ridges`),
 #: as a fraction of the leaf size.
 PARALLEL_RUN = 0.1
+
+#: Window of the veins' direction field on a parallel layer, as a fraction of the leaf size.
+PARALLEL_SCALE = 0.06
 
 #: Pixels around a hole in the blade with no ridge evidence (0: off).
 HOLE_RIM = 2
