@@ -216,7 +216,7 @@ from .endpoints import _snap_into, place_endpoints, random_endpoints
 from .importance import ImportanceParams, darkness, importance_map
 from .lattice import Lattice, direction_factors, node_weights
 from .pareidolia_crown import _FORK_SPAN, _fork_point, content_crown, side_ramp, tree_crown  # noqa: F401
-from .pareidolia_widths import _refine_tone, _shrink, _stretch, _thickness
+from .pareidolia_widths import _feature_cover, _features, _refine_tone, _shrink, _stretch, _thickness
 from .planner import plan
 from .render import Rendering
 from .scale import resample_to_lattice
@@ -469,6 +469,8 @@ class PareidoliaParams:
     cover: float = param(0.6, min=0.2, max=1.0, step=0.05,
                          help="most ink a dark region gets: gaps keep its twigs readable "
                               "(1 = solid ink)")
+    features: bool = param(True, help="small dark features (eyes, a mouth) may be drawn up to "
+                                      "solid ink, so they read")
 
 
 @dataclass
@@ -726,7 +728,10 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
         d = build_dendrite(res, batch, base=d, radius=p.tip_width / 2, iteration=i)
 
     bounds = {}
-    d = _thickness(d, p, imp, dark, crown, trunk.n_nodes, bounds)
+    # small dark features (eyes, a mouth) may be solid ink (beyond the paper)
+    spacing = float(np.sqrt(crown.sum() / max((1.0 + p.random_ratio) * n_img, 1.0)))
+    feat = _features(dark, spacing, float(np.sqrt(crown.sum()))) * crown if p.features else np.zeros_like(dark)
+    d = _thickness(d, p, imp, dark, crown, trunk.n_nodes, bounds, cover=_feature_cover(feat, p.cover))
     shape_full = (full.shape[0] + round(p.trunk_height * full.shape[0]), full.shape[1])
     canvas = np.ones((*shape_full, 3), np.float32)
     canvas[:full.shape[0]] = full
@@ -740,7 +745,11 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
     if p.refine > 0 and bounds:
         big = resize(crown.astype(np.float32), shape_full, order=0) > 0.5 \
             if shape_full != (h, w) else crown
-        d = _refine_tone(d, _stretch(darkness(canvas), big, p.contrast), bounds,
-                         float(np.sqrt(scale.prod())) if shape_full != (h, w) else 1.0, p)
+        dark_out = _stretch(darkness(canvas), big, p.contrast)
+        if shape_full != (h, w):
+            feat = resize(feat, shape_full, order=1)
+        d = _refine_tone(d, dark_out, bounds,
+                         float(np.sqrt(scale.prod())) if shape_full != (h, w) else 1.0, p,
+                         _feature_cover(feat, p.cover))
     return PareidoliaTree(canvas, imp, d, to_canvas(e_img), to_canvas(e_rand).reshape(-1, 2),
                           dataclasses.replace(user), crown)
