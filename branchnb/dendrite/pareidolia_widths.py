@@ -53,9 +53,14 @@ def _features(dark: np.ndarray, spacing: float, size: float = 0.0) -> np.ndarray
     blur of a few spacings spreads its darkness over the face around it (a
     portrait's eyes at 0.3-0.4 of the picture's contrast at 4 px blur).
     """
+    from skimage.morphology import reconstruction
+
     k = max(3, int(round(max(_FEATURE_SPAN * spacing, _FEATURE_SIZE * size))) | 1)
     a = np.asarray(dark, np.float64)
     opened = ndimage.grey_opening(a, size=(k, k), mode="nearest")
+    # by reconstruction: a thin part of a large dark region (the hair round a light face,
+    # joined to a dark coat) grows back from the region and is no feature
+    opened = reconstruction(np.minimum(opened, a), a, method="dilation")
     return np.clip(ndimage.gaussian_filter(a - opened, 0.5), 0.0, 1.0)
 
 
@@ -246,7 +251,8 @@ def _refine_tone(d: Dendrite, dark: np.ndarray, bounds: dict, s: float,
     target = ndimage.gaussian_filter(np.asarray(dark, np.float64), _REFINE_SIGMA)[row, col]
     cover_n = p.cover if cover is None else np.maximum(ndimage.gaussian_filter(
         np.asarray(cover, np.float64), _REFINE_SIGMA)[row, col], p.cover)
-    aspect = _twig_aspect(target, _feature_share(cover_n, p.cover))
+    fshare = _feature_share(cover_n, p.cover)
+    aspect = _twig_aspect(target, fshare)
     pts = d.smoothed_points(smooth)
     has = np.flatnonzero(d.parent >= 0)
     par = d.parent[has]
@@ -262,7 +268,8 @@ def _refine_tone(d: Dendrite, dark: np.ndarray, bounds: dict, s: float,
         have = ndimage.gaussian_filter(cov.astype(np.float64), _REFINE_SIGMA)[row, col]
         if gain is None:  # keep the crown's ink: only where it goes changes
             gain = have[inside].mean() / max(target[inside].mean(), 1e-6)
-        want = _soft_cap(gain * target, cover_n)
+        # a small feature aims at its own darkness, not the crown's compressed tone
+        want = _soft_cap(gain * target * (1.0 + fshare * (1.0 / max(gain, 1e-6) - 1.0)), cover_n)
         ratio = np.clip((want + 1e-3) / (have + 1e-3), 0.5, 2.0) ** _REFINE_GAIN
         width = np.where(inside, np.clip(width * ratio, np.maximum(lo, floor), cap), width)
         if p.slim:  # in the loop, so the next pass puts the ink it takes back elsewhere
