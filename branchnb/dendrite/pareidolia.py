@@ -389,6 +389,14 @@ class PareidoliaParams:
         with specks of paper between them: a dense mass, not branches. See the
         module docstring for the measurements.
 
+    features : bool
+        Beyond the paper: small dark features (eyes, a mouth, nostrils: darker than
+        all round them and narrower than 2 twig spacings or a tenth of the crown's
+        size: ``pareidolia_widths._features``) may be drawn up to
+        solid ink at their own darkness, by twigs as short as 1.5x their width; True.
+        With ``cover``'s gaps and the dark twigs' 6x aspect they were drawn as
+        outlines or a twig across them. See the module docstring for the measurements.
+
     Examples
     --------
     >>> p = PareidoliaParams(side="left")
