@@ -21,7 +21,25 @@ photo (content everywhere, no object to run down through,
   importance, whose darkness term is high all over a night sky, the side branches
   wandered through the dark cloud along noise-level edges, a faint scribble. Their
   endpoints are now stippled on the edges that stand out of the picture's noise, and they
-  are planned on a lattice whose cost falls with that significance.
+  are planned on a lattice whose cost falls with that significance. On a lightning photo
+  (one with a strike) they are the photo's other long bright lines (its other bolts;
+  pieces shorter than ``STRIKE_MIN_PIECE`` of the diagonal, specks of cloud and the
+  lights on the ground, left out), and between them the lattice is cheaper where the
+  picture is bright (``STRIKE_GLOW``: through the lit cloud, not the dark sky); on other
+  photos the edges whose gradient stands ``STRIKE_EDGE_NOISE`` robust standard deviations
+  above the median.
+
+Measured with the defaults (before -> after): on the NOAA lightning photo at 512 / 1000
+px the seed's luminance percentile 0.01 / 0.05 -> 0.99 / 1.00 (on its brightest bolt,
+where it leaves the cloud), the share of the side branches' ink within 2 px of an edge
+above the noise (gradient above median + 3 robust sd; 0.18-0.19 of the picture) 0.38 /
+0.35 -> 0.56 / 0.47, the main channel's ink 0.24 -> 0.32; on a procedural night storm
+(240 / 280 px) the seed 0.35 of the height above the strike's top -> on it, the side
+branches' share 0.25 / 0.23 -> 0.75 / 0.73; the lowest point of the main channel on
+cracked mud, a cat photo and a cup photo 0.60 / 0.65 / 0.82 -> 1.00 of the height
+(procedural cracks 0.75 -> 1.00), the side branches' share 0.54 / 0.39 / 0.62 -> 0.62 /
+0.61 / 0.85 (procedural cracks 0.78 -> 0.97), on the astronaut and the camera man 0.76 /
+0.53 -> 0.88 / 0.63, on a storm with one bolt 0.08-0.11 -> 1.00.
 """
 
 from __future__ import annotations
