@@ -16,11 +16,12 @@ Measured (``python -m branchnb.leaves._measure snapping --kinds strips``:
 procedural strips, every strip of 4 as training leaf, true registrations
 perturbed by 2 vein widths, seeds 0-1): vein IoU min / mean 0.67 / 0.92 ->
 0.68 / 0.94 at 192 px, 0.35 / 0.88 -> 0.36 / 0.90 at 384 px. Real grass
-photos 01-05 at 400 px (the training strip's own pale veins found by a
-ridge filter as its layer; continuity: along-strip runs of the induced
-skeleton cut at junctions and turns over 20 degrees): training 01, mean /
-least run 0.19 / 0.15 -> 0.44 / 0.27 strip lengths, off-direction share
-0.15 -> 0.07; training 02, 0.27 / 0.21 -> 0.44 / 0.21, 0.12 -> 0.11.
+photos 01-05 at 400 px (``python -m branchnb.leaves._measure_grass``: the
+training strip's own pale veins as its layer; along-strip runs of the
+induced skeleton, cut at junctions and turns over 20 degrees, over the
+strip's length): training 01, mean / least run 0.13 / 0.10 -> 0.31 / 0.18,
+off-direction share 0.15 -> 0.07; training 02, 0.23 / 0.18 -> 0.37 / 0.15
+(strip 05 0.18 -> 0.15), 0.12 -> 0.11.
 Not solved: on a faint strip whose veins lie 4 px apart (photo 05 at 300
 px) the lines stay broken (mean run 0.09 before and after; the strict
 centre line breaks where a vein's centre falls between two pixels, and a
