@@ -206,7 +206,7 @@ class _Starts:
                 if left != right:
                     score = np.where(side == (1 if left < right else -1), score, score * FAN_OTHER_SIDE)
         if self.shore is not None:
-            score = score * self.shore.factor(x0, new, n + 1)
+            score = score * self.shore.factor(x0, new, n + 1) * self.shore.along_factor(x0, new, n + 1)
         mouth = self.shore is not None and parent is None
         if mouth:
             span = np.where(valid, th, th[:, :1])

@@ -26,7 +26,7 @@ from .colonization import (
     SegmentStore,
     frame_density,
 )
-from .domains import MOUTH_SHARE, MOUTH_TURN, _Drain, _frame, _Shore, _shore_margin
+from .domains import MOUTH_SHARE, MOUTH_TURN, _Drain, _frame, _Shore, _shore_margin, runs_inland
 from .filling import _Filling
 from .guidance import Guidance
 from .model import StructureModel, _choice
@@ -285,7 +285,7 @@ class _Grower(_Starts, _Filling):
             and not domain.all() else None
         margin = _shore_margin(model) if guidance is None and domain is not None \
             and not domain.all() and self.drain is None else 0.0
-        self.shore = _Shore(domain, margin) if margin > 0 else None
+        self.shore = _Shore(domain, margin, inland=runs_inland(model)) if margin > 0 else None
         self.scorer = scorer
         self.matcher = model.matcher(params.wG)
         # beyond the paper: the sizes of the turns follow the example's too (see .straightness)
@@ -530,7 +530,7 @@ class _Grower(_Starts, _Filling):
         fb, zero = self._step_factors(st, t_arr)
         if self.shore is not None:
             fs = self.shore.factor(tip, pts, n_arr)
-            score = score * fs
+            score = score * fs * self.shore.along_factor(tip, pts, n_arr)
             if fb is not None:   # near the coast the shore decides alone
                 fb = np.where(fs < 1.0, 1.0, fb)
         if fb is not None:
