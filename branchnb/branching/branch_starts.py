@@ -85,13 +85,12 @@ class _Starts:
         return self.__dict__["_spread"]
 
     def _fan_need(self) -> int:
-        """A delta: how many channels the example takes to the sea (its tips within 10 % of the deepest
-        depth of the sea, as in :func:`.domains._drains`), at least 2."""
+        """A delta: how many channels the example takes to the sea (branches ending within 10 % of the
+        deepest depth of the sea, as in :func:`.domains._drains`), at least 2."""
         need = self.__dict__.get("_fan_n")
         if need is None:
             ex = self.model.example
-            kids = {b.parent for b in ex.branches}
-            tips = [b.points[-1] for i, b in enumerate(ex.branches) if i not in kids and len(b.points)]
+            tips = [b.points[-1] for b in ex.branches if len(b.points)]
             deep = float(self.drain.depth.max())
             need = max(2, int(np.sum(self.drain.depth_at(np.asarray(tips)) < 0.1 * deep))) if tips else 2
             self.__dict__["_fan_n"] = need
@@ -133,7 +132,10 @@ class _Starts:
                     wet += self._wet(c)
 
     def _wet(self, bi: int) -> bool:
-        """Does branch ``bi`` (or a branch of its subtree) reach the sea (a delta; see ``_prune_dry``)?"""
+        """Does branch ``bi`` (or a branch of its subtree) reach the sea (a delta; see ``_prune_dry``) from
+        inland (it starts over 10 % of the deepest depth from the sea; not a stub at a mouth)?"""
+        if float(self.drain.depth_at(self.branches[bi].points[0])[0]) < 0.1 * float(self.drain.depth.max()):
+            return False
         todo = [bi]
         while todo:
             i = todo.pop()
