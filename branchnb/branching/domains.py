@@ -173,8 +173,9 @@ class _Drain:
         :data:`FAN_SPLIT` radians off its parent's way down there (``parent_fan``: the parent's own
         bearing, None for a trunk) and at most :data:`FAN_MAX` off the descent at ``at`` (never
         upstream); where that limit would lay it along its parent's, it takes the parent's other side.
-        ``spread`` (radians, a trunk's child only): the bearing is this far off the descent on the
-        side of ``heading`` (the example's outer channels', :func:`fan_spread`)."""
+        ``spread`` (radians, the example's outer channels', :func:`fan_spread`): a trunk's child's
+        bearing is this far off the descent on the side of ``heading``; a channel's child parts
+        toward the descent (at most as far as its parent's way down is off it)."""
         d = self.descent(at)
         a_d = float(np.arctan2(d[1], d[0]))
         wrap = lambda v: float(np.angle(np.exp(1j * v)))  # noqa: E731
@@ -184,6 +185,10 @@ class _Drain:
         pd = self.way_down(at, parent_fan)
         a_p = wrap(float(np.arctan2(pd[1], pd[0])) - a_d)
         rel = wrap(off - a_p)
+        if parent_fan is not None and spread is not None and abs(a_p) >= FAN_SPLIT:
+            # a channel's channel parts toward the descent, between its parent and the trunk (the
+            # example's does; toward the outside they ran side by side, nearly along the coast)
+            rel = -float(np.sign(a_p)) * float(np.clip(abs(rel), FAN_SPLIT, abs(a_p)))
         if abs(rel) < FAN_SPLIT:
             rel = FAN_SPLIT if rel >= 0 else -FAN_SPLIT
         off = a_p + rel
