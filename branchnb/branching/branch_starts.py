@@ -270,11 +270,12 @@ class _Starts:
 
         The radii (per vertex, the same step ``h`` in both) are binned in :data:`CHANNEL_RADIUS_BINS`
         log-spaced bins over the example's range; the channel starts at the example's median radius in
-        the bin where the synthesized vertices so far fall furthest short of the example's count (at most
-        ``r_cap``; the
-        paper's global histogram matching, for the radius a head is copied at). Copied from a random head, the channels were as thin as the
-        example's thinnest wherever its head was drawn (length-weighted median radius 0.29-0.6 x
-        the example's in 5 of 15 seeds of 250-1000 px deltas).
+        the bin where the synthesized vertices so far fall furthest short of the example's count (at
+        most ``r_cap``): the paper's global histogram matching, for the radius a head is copied at.
+        Copied from a random head, the channels were as thin as the example's thinnest wherever its
+        thinnest head was drawn (length-weighted median radius 0.28-0.54 x the example's in 5 of 5
+        seeds of a 512 px delta; after this, the trunk's start (``start_root``) and
+        :func:`~branchnb.branching.growth._radius_keep`: 0.89-1.24 x).
         """
         cache = self.__dict__.get("_ex_radius_bins")
         if cache is None:
