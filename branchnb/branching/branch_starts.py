@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import _kernels
-from .domains import HEAD_PULL, MOUTH_TURN, fan_spread, head_share
+from .domains import FAN_SPLIT, HEAD_PULL, MOUTH_TURN, fan_spread, head_share
 from .furcation import vertex_angles
 from .scoring import _DIRECTION_BINS
 
@@ -256,9 +256,15 @@ class _Starts:
         elif n[j] < p.m and p.branch_end == "markov":
             st.stop = "end of input branch"
         if self.drain is not None and parent is not None and self.drain.head:
-            st.fan = self.drain.bearing(x0, pl[-1] - x0, self.branches[parent].fan, spread=self._fan_spread())
-            if self.branches[parent].parent is None:
+            spread = self._fan_spread()
+            trunk = self.branches[parent].parent is None
+            if trunk:
                 side = int(self._fan_side(x0, theta0, new[j:j + 1], n[j:j + 1])[0])
+                k = self._fan_count[0] if side > 0 else self._fan_count[1]
+                if spread is not None and k:   # the k-th channel on a side: between the others and the descent
+                    spread = max(spread / (k + 1), FAN_SPLIT)
+            st.fan = self.drain.bearing(x0, pl[-1] - x0, self.branches[parent].fan, spread=spread)
+            if trunk:
                 self._fan_count = (self._fan_count[0] + (side > 0), self._fan_count[1] + (side < 0))
         self._register(pl, ea, radii)
         self.branches.append(st)
