@@ -241,3 +241,61 @@ def test_strike_channel_and_outline_band():
     assert path[-1, 1] >= 70 and np.abs(path[:, 0] - 39.5).max() < 5  # down the middle
     with pytest.raises(ValueError, match="weights and content"):
         strike_channel(np.ones((80, 80)), m[:10], (40, 5))
+
+
+def _storm(n=300, seed=0):
+    """A photo-like picture: textured clouds everywhere and one bright jagged bolt
+    from the top to near the bottom, off the picture's middle; and the bolt's mask."""
+    from scipy import ndimage
+    rng = np.random.default_rng(seed)
+    sky = ndimage.gaussian_filter(rng.random((n, n)), 0.04 * n)
+    sky = 0.15 + 0.35 * (sky - sky.min()) / np.ptp(sky) + 0.05 * rng.random((n, n))
+    ys = np.arange(int(0.03 * n), int(0.95 * n))
+    xs = 0.62 * n + np.cumsum(rng.choice([-2, -1, 0, 1, 2], ys.size)) * 0.3
+    bolt = np.zeros((n, n), bool)
+    bolt[ys, np.clip(np.round(xs).astype(int), 0, n - 1)] = True
+    bolt = ndimage.binary_dilation(bolt, iterations=1)
+    img = np.where(bolt, 0.95, sky).astype(np.float32)
+    return np.dstack([img * 0.9, img * 0.8, img]), bolt
+
+
+@pytest.mark.parametrize("name", ["storm", "camera"])
+def test_lightning_on_a_photo_strikes_down_the_picture(name):
+    if name == "storm":
+        img, bolt = _storm()
+    else:
+        img = resize(data.camera() / 255.0, (256, 256), anti_aliasing=True).astype(np.float32)
+    d = stylize(img, rng=0, metaphor="lightning").dendrite
+    p = d.points[main_path(d)]
+    h = img.shape[0]
+    diag = float(np.hypot(*img.shape[:2]))
+    arc = np.hypot(*np.diff(p, axis=0).T).sum()
+    # before: straightness 0.25-0.55 on photos (the widest channel ran along the border or
+    # across the portrait), here 0.86-0.94
+    assert np.hypot(*(p[-1] - p[0])) / arc > 0.75
+    assert np.ptp(p[:, 1]) > 0.75 * h  # from the top down to the bottom of the picture
+    assert _longest_loop(p, diag) < 0.022 and _main_ink(d) > 0.25
+    if name == "storm":  # along the bolt where there is one
+        from scipy import ndimage
+        far = ndimage.distance_transform_edt(~bolt)
+        r = np.round(p).astype(int)
+        lower = r[:, 1] > 0.2 * h
+        assert np.mean(far[r[lower, 1], r[lower, 0]] <= 0.015 * diag) > 0.7
+
+
+def test_photo_channel_follows_a_cheap_line_and_chains_the_plan():
+    from branchnb.dendrite.main_channel import channel_plan, photo_channel, with_channel
+    w = np.ones((60, 60))
+    w[:, 40] = 0.3  # a cheap line off the seed's column
+    path = photo_channel(w, np.ones((60, 60), bool), (36, 0))
+    assert path[-1, 1] >= 0.6 * 59 and np.mean(path[:, 0] == 40) > 0.8
+    seeds = np.zeros((60, 60), bool)
+    seeds[path[:, 1], path[:, 0]] = True
+    res = channel_plan(plan(make_lattice(w, rng=0), seeds, metric="cumulative"), path)
+    d = with_channel(build_dendrite(res, [(5, 30), (55, 10), tuple(path[-1])]), path)
+    assert np.array_equal(d.points[main_path(d)], path.astype(float))
+    assert d.points[d.parent < 0].tolist() == [path[0].astype(float).tolist()]
+    with pytest.raises(ValueError, match="length"):
+        photo_channel(w, w > 0, (36, 0), length=-1.0)
+    with pytest.raises(ValueError, match="twice"):
+        channel_plan(res, np.vstack([path, path[:1]]))

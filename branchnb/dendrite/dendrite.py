@@ -130,6 +130,12 @@ class Dendrite:
         Lattice / image shape.
     iteration : (M,) int64
         Growth iteration that added each node (trees; 0 otherwise).
+    main : (K,) int64 or None
+        Tree indices of a main channel planned on its own, root first (a
+        lightning bolt on a photo,
+        :func:`~branchnb.dendrite.main_channel.photo_channel`); None (the
+        default): :func:`~branchnb.dendrite.main_channel.main_path` walks
+        down the child with most tips.
 
     Examples
     --------
@@ -149,6 +155,7 @@ class Dendrite:
     tips: np.ndarray
     shape: tuple[int, int] | None = None
     iteration: np.ndarray = field(default=None)
+    main: np.ndarray | None = None
 
     def __post_init__(self):
         self.nodes = real_array(self.nodes, "nodes", ndim=1, dtype=np.int64, allow_empty=True, min=0)
@@ -165,6 +172,11 @@ class Dendrite:
         if self.iteration is None:
             self.iteration = np.zeros(n, np.int64)
         self.iteration = real_array(self.iteration, "iteration", ndim=1, dtype=np.int64, allow_empty=True, min=0)
+        if self.main is not None:
+            self.main = real_array(self.main, "main", ndim=1, dtype=np.int64, allow_empty=True, min=0)
+            if (self.main >= n).any() or (self.main.size > 1
+                                          and np.any(self.parent[self.main[1:]] != self.main[:-1])):
+                raise ValueError("main must be tree indices of a path, each node's parent before it")
 
     # -- structure ------------------------------------------------------
     @property
@@ -259,7 +271,7 @@ class Dendrite:
         if r.shape != (self.n_nodes,) or not np.all(np.isfinite(r)) or (r < 0).any():
             raise ValueError(f"radius must be {self.n_nodes} finite values >= 0")
         return Dendrite(self.nodes, self.parent, self.points, r, self.branches,
-                        self.branch_parent, self.tips, self.shape, self.iteration)
+                        self.branch_parent, self.tips, self.shape, self.iteration, self.main)
 
     @checked(shape=Shape())
     def rescaled(self, shape) -> Dendrite:
@@ -297,7 +309,8 @@ class Dendrite:
         sx, sy = w / self.shape[1], h / self.shape[0]
         pts = (self.points + 0.5) * np.array([sx, sy]) - 0.5
         return Dendrite(self.nodes, self.parent, pts, self.radius * float(np.sqrt(sx * sy)),
-                        self.branches, self.branch_parent, self.tips, (h, w), self.iteration)
+                        self.branches, self.branch_parent, self.tips, (h, w), self.iteration,
+                        self.main)
 
     # -- geometry -------------------------------------------------------
     @checked(iterations=Int(0, 10_000))

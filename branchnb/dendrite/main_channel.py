@@ -34,19 +34,27 @@ from .stylize_params import (
     STRIKE_BAND,
     STRIKE_MAX_COVER,
     STRIKE_PENALTY,
+    STRIKE_PHOTO_CONTRAST,
+    STRIKE_PHOTO_DEPTH,
+    STRIKE_PHOTO_LENGTH,
 )
 
 __all__ = ["main_path", "path_loops", "outline_band", "shortcut_loops", "silhouette", "straighten",
-           "strike_channel", "strike_weights", "wide_top", "widen_main_path"]
+           "channel_plan", "photo_channel", "with_channel", "strike_channel", "strike_weights",
+           "wide_top", "widen_main_path"]
 
 
 def main_path(dendrite: Dendrite) -> np.ndarray:
     """Tree indices of the main channel: from the root down the child with most tips.
 
+    A dendrite whose main channel was planned on its own (``dendrite.main``,
+    :func:`channel_plan`) returns that channel as it is.
+
     The walk stops at its node farthest from the root, and before a last hook:
     where, in its last fifth, it heads more than 120 degrees away from its
-    overall direction (root to end) over 3 % of the diagonal, it ends at the
-    hook's start (beyond the
+    overall direction (root to end) over 3 % of the diagonal (read on samples
+    every 0.5 % of the diagonal), it ends at the hook's start, up to 4 times
+    (beyond the
     papers: the child with most tips can turn back at the end, e.g. from a
     lightning bolt's foot up the other side of a drawn object's outline or at a
     tripod's foot; on 16 of 18 test inputs it turned by more than 120 degrees
@@ -70,6 +78,8 @@ def main_path(dendrite: Dendrite) -> np.ndarray:
     >>> p = main_path(d); int(p[0]), bool(d.points[p[-1], 0] < 15)
     (0, True)
     """
+    if isinstance(dendrite, Dendrite) and dendrite.main is not None and dendrite.main.size:
+        return dendrite.main.copy()  # planned on its own (a bolt on a photo)
     path = _walk(dendrite)
     if path.size == 0:
         return path
@@ -80,28 +90,50 @@ def main_path(dendrite: Dendrite) -> np.ndarray:
     path, pts = path[:far + 1], pts[:far + 1]
     # and without a last hook against its overall direction (at a tripod's foot)
     size = dendrite.shape if dendrite.shape is not None else np.ptp(pts, axis=0)[::-1] + 1
-    window = _HOOK_WINDOW * float(np.hypot(*size))
+    diag = float(np.hypot(*size))
     for _ in range(_HOOK_ROUNDS):
-        arc = _arc(pts)
-        over = pts[-1] - pts[0]
-        if len(pts) < 3 or arc[-1] <= 2 * window or not np.hypot(*over) > 0:
+        cut = _hook(pts, diag)
+        if cut is None:
             break
-        back = np.searchsorted(arc, arc - window)  # the node ``window`` back along the path
-        step = pts - pts[back]
-        # heading more than 120 degrees away from the root-to-end direction
-        cos = (step @ over) / np.maximum(np.hypot(*step.T) * np.hypot(*over), 1e-12)
-        against = (cos < -0.5) & (arc >= 0.8 * arc[-1]) & (back < np.arange(len(pts)))
-        if not against.any():
-            break
-        cut = int(back[np.flatnonzero(against)[0]])
         path, pts = path[:cut + 1], pts[:cut + 1]
     return path
 
 
 #: Length (share of the diagonal) over which :func:`main_path` reads the direction of its end.
 _HOOK_WINDOW = 0.03
-#: Most hooks :func:`main_path` cuts off its end.
-_HOOK_ROUNDS = 1
+#: Most hooks :func:`main_path` cuts off its end (a cut moves the end, and the new end can hook).
+_HOOK_ROUNDS = 4
+#: Spacing (share of the diagonal) of the samples :func:`main_path` reads its end's direction on.
+_HOOK_STEP = 0.005
+
+
+def _hook(pts: np.ndarray, diag: float) -> int | None:
+    """The node where a polyline's last hook starts, or None.
+
+    On samples every ``_HOOK_STEP`` of ``diag`` along the polyline, the
+    direction over ``_HOOK_WINDOW`` of ``diag`` of every sample in the last
+    fifth against the direction from the first sample to the last: the
+    first that heads more than 120 degrees away starts the hook, which is
+    cut at the node at or before that sample's window start.
+    """
+    arc = _arc(pts)
+    step = _HOOK_STEP * diag
+    k = int(round(_HOOK_WINDOW / _HOOK_STEP))
+    if len(pts) < 3 or not step > 0 or arc[-1] <= 2 * _HOOK_WINDOW * diag:
+        return None
+    s = np.arange(0.0, arc[-1], step)
+    q = np.column_stack([np.interp(s, arc, pts[:, 0]), np.interp(s, arc, pts[:, 1])])
+    over = q[-1] - q[0]
+    if len(q) <= k or not np.hypot(*over) > 0:
+        return None
+    v = q[k:] - q[:-k]
+    cos = (v @ over) / np.maximum(np.hypot(*v.T) * np.hypot(*over), 1e-12)
+    first = max(int(0.8 * len(q)) - k, 0)
+    against = np.flatnonzero(cos[first:] < -0.5)
+    if against.size == 0:
+        return None
+    start = s[first + int(against[0])]
+    return max(int(np.searchsorted(arc, start, side="right")) - 1, 1)
 
 
 def _walk(dendrite: Dendrite) -> np.ndarray:
@@ -338,7 +370,7 @@ def wide_top(content, blur: float, density: float) -> tuple[int, int] | None:
 
 
 def widen_main_path(dendrite: Dendrite, min_width: float, max_width: float, *,
-                    exponent: float = LIGHTNING_MAIN_EXPONENT) -> Dendrite:
+                    exponent: float = LIGHTNING_MAIN_EXPONENT, side: float = 1.0) -> Dendrite:
     """Widths of the main channel from its share of the tips, with a larger exponent.
 
     Beyond the papers: with widths from the share of the tips a channel
@@ -368,6 +400,10 @@ def widen_main_path(dendrite: Dendrite, min_width: float, max_width: float, *,
         every other channel: no change). With 4 the camera man's main path
         held 0.34 of the ink (256 px), with 8 0.35, at full width to its tip
         0.39 (with its last twig lit too).
+    side : float
+        Factor in [0, 1] on the side branches' width above ``min_width``
+        (1: unchanged; a bolt on a photo, whose planned channel has many
+        long side branches, uses ``STRIKE_PHOTO_SIDE``).
 
     Returns
     -------
@@ -391,6 +427,8 @@ def widen_main_path(dendrite: Dendrite, min_width: float, max_width: float, *,
                          f"got {min_width}, {max_width}")
     if not (np.isfinite(exponent) and exponent > 0):
         raise ValueError(f"exponent must be > 0, got {exponent}")
+    if not 0.0 <= side <= 1.0:
+        raise ValueError(f"side must be in [0, 1], got {side}")
     path = main_path(dendrite)
     if path.size < 2:
         return dendrite
@@ -402,6 +440,11 @@ def widen_main_path(dendrite: Dendrite, min_width: float, max_width: float, *,
     far = int(np.argmax(np.hypot(*(dendrite.points[path] - dendrite.points[path[0]]).T)))
     path, floor = path[:far + 1], floor[:far + 1]
     radius = dendrite.radius.astype(np.float64, copy=True)
+    if side < 1.0:
+        off = np.ones(dendrite.n_nodes, bool)
+        off[path] = False
+        lo = 0.5 * min_width
+        radius[off] = np.where(radius[off] > lo, lo + side * (radius[off] - lo), radius[off])
     radius[path] = np.maximum(radius[path], floor)
     return dendrite.with_radius(radius)
 
@@ -591,3 +634,169 @@ def strike_weights(weights, content, seed, *, band: float = STRIKE_BAND,
     out = w + float(np.mean(w[np.isfinite(w)])) * penalty * fill * near
     out[path[:, 1], path[:, 0]] = 0.0
     return out, path
+
+
+def photo_channel(weights, content, seed, *, length: float = STRIKE_PHOTO_LENGTH,
+                  contrast: float = STRIKE_PHOTO_CONTRAST,
+                  depth: float = STRIKE_PHOTO_DEPTH) -> np.ndarray:
+    """The path of a lightning bolt's main channel on a photo: from the seed down the picture.
+
+    Beyond the papers: on a photo (content everywhere, no object to go
+    through, :func:`strike_channel`) the bolt's widest channel was the child
+    with the most tips, and it wandered along whatever edges led to most
+    endpoints (round the border of a lightning photo, across a portrait).
+    Here it is planned on its own: the least cumulative cost path on
+    ``(g / median(g)) ** contrast``, ``g`` the weights blurred by 1 px (the
+    lattice's noise averaged out, the picture's structure made cheaper: a
+    lightning photo's bolts weigh ~0.6 of the median, 0.13 after the power),
+    plus ``length`` times its mean per pixel of length (so
+    it runs along the picture's bright or dark structure where that goes
+    down, and straight where nothing does), from ``seed`` to the content
+    pixel, in the lower ``depth`` of the content below the seed, that costs
+    least per pixel of descent.
+
+    Parameters
+    ----------
+    weights : (h, w) array_like
+        Node weights of the lattice (>= 0).
+    content : (h, w) array_like of bool
+        Where there is something to draw.
+    seed : (x, y)
+        Start, in lattice pixels.
+    length : float
+        Cost (>= 0, in units of the mean weight) of a pixel of length.
+    contrast : float
+        Power (> 0) the weights are raised to.
+    depth : float
+        Share in (0, 1] of the content's height below the seed where the channel may end.
+
+    Returns
+    -------
+    (K, 2) int64 ndarray
+        Lattice ``(x, y)`` from the seed to the end (one row when there is no content below it).
+
+    Examples
+    --------
+    >>> w = np.ones((60, 60)); w[:, 40] = 0.0  # a cheap line, off the seed's column
+    >>> path = photo_channel(w, np.ones((60, 60), bool), (38, 0))
+    >>> bool(path[-1, 1] > 50), bool(np.mean(path[:, 0] == 40) > 0.8)
+    (True, True)
+    """
+    from .lattice import Lattice
+    from .planner import plan
+
+    w = np.asarray(weights, np.float64)
+    c = np.asarray(content, bool)
+    if w.ndim != 2 or c.shape != w.shape:
+        raise ValueError(f"weights and content must be 2-D of one shape, got {w.shape}, {c.shape}")
+    if not length >= 0:
+        raise ValueError(f"length must be >= 0, got {length}")
+    if not contrast > 0:
+        raise ValueError(f"contrast must be > 0, got {contrast}")
+    if not 0 < depth <= 1:
+        raise ValueError(f"depth must be in (0, 1], got {depth}")
+    sx, sy = (int(round(float(v))) for v in seed)
+    w = np.where(np.isfinite(w), w, np.nanmax(np.where(np.isfinite(w), w, np.nan)))
+    g = ndimage.gaussian_filter(w, 1.0)
+    g = (g / max(float(np.median(g)), 1e-12)) ** contrast
+    mean = max(float(np.mean(g)), 1e-12)
+    res = plan(Lattice(g + length * mean), (sx, sy), metric="cumulative")
+    ys, xs = np.nonzero(c)
+    below = ys > sy
+    if not below.any():
+        return np.array([[sx, sy]], np.int64)
+    low = ys.max() - depth * (ys.max() - sy)
+    pick = below & (ys >= low)
+    ys, xs = ys[pick], xs[pick]
+    cost = res.total_cost[ys * w.shape[1] + xs] / (ys - sy)
+    k = int(np.argmin(np.where(np.isfinite(cost), cost, np.inf)))
+    nodes = res.path(int(ys[k]) * w.shape[1] + int(xs[k]))
+    return np.column_stack([nodes % w.shape[1], nodes // w.shape[1]]).astype(np.int64)
+
+
+def channel_plan(plan_result: PlanResult, path) -> PlanResult:
+    """A plan from a whole channel made one tree: the channel's pixels chained from its start.
+
+    ``plan_result`` was planned from every pixel of ``path`` as a seed, so each
+    node's path runs to the nearest (cheapest) pixel of the channel; here each
+    channel pixel but the first gets the one before it as parent, so every
+    endpoint traced in it (:func:`~branchnb.dendrite.dendrite.build_dendrite`)
+    forks off the channel and runs down it to ``path[0]``; :func:`with_channel`
+    then makes the channel the dendrite's main path (:func:`main_path`: the
+    child with most tips would leave it where a side branch holds more tips
+    than the rest of the channel).
+
+    Parameters
+    ----------
+    plan_result : PlanResult
+        A lattice plan whose seeds are the pixels of ``path``.
+    path : (K, 2) array_like of int
+        The channel's lattice ``(x, y)``, start first, no pixel twice.
+
+    Returns
+    -------
+    PlanResult
+        A copy with the new ``parent`` and ``seeds = [path[0]]``.
+
+    Examples
+    --------
+    >>> from branchnb.dendrite import build_dendrite, make_lattice, plan
+    >>> lat = make_lattice(np.ones((20, 20)), rng=0)
+    >>> line = np.column_stack([np.full(20, 10), np.arange(20)])
+    >>> seeds = np.zeros((20, 20), bool); seeds[:, 10] = True
+    >>> res = channel_plan(plan(lat, seeds, metric="cumulative"), line)
+    >>> d = build_dendrite(res, [(2, 15), (18, 5), (10, 19)])
+    >>> bool(np.isin(line[:, 1] * 20 + 10, d.nodes).all()), d.points[d.parent < 0].tolist()
+    (True, [[10.0, 0.0]])
+    """
+    if not isinstance(plan_result, PlanResult):
+        raise TypeError(f"plan_result must be a PlanResult, got {type(plan_result).__name__}")
+    if plan_result.shape is None:
+        raise ValueError("plan_result must be planned on a lattice")
+    q = np.asarray(path, np.int64).reshape(-1, 2)
+    nodes = q[:, 1] * plan_result.shape[1] + q[:, 0]
+    if np.unique(nodes).size != nodes.size:
+        raise ValueError("path must not visit a pixel twice")
+    parent = plan_result.parent.copy()
+    parent[nodes[0]] = -1
+    parent[nodes[1:]] = nodes[:-1]
+    return dataclasses.replace(plan_result, parent=parent, seeds=nodes[:1].copy())
+
+
+def with_channel(dendrite: Dendrite, path) -> Dendrite:
+    """``dendrite`` with ``main`` set to the tree nodes of the lattice ``path``
+    (traced in a :func:`channel_plan` with ``path``'s end among the endpoints).
+
+    Parameters
+    ----------
+    dendrite : Dendrite
+        Traced in the plan ``path`` was chained into.
+    path : (K, 2) array_like of int
+        The channel's lattice ``(x, y)``, start first.
+
+    Returns
+    -------
+    Dendrite
+        A copy; :func:`main_path` returns the channel.
+
+    Examples
+    --------
+    >>> from branchnb.dendrite import build_dendrite, make_lattice, plan
+    >>> lat = make_lattice(np.ones((20, 20)), rng=0)
+    >>> line = np.column_stack([np.full(20, 10), np.arange(20)])
+    >>> seeds = np.zeros((20, 20), bool); seeds[:, 10] = True
+    >>> res = channel_plan(plan(lat, seeds, metric="cumulative"), line)
+    >>> d = with_channel(build_dendrite(res, [(2, 3), (10, 19)]), line)
+    >>> len(main_path(d))
+    20
+    """
+    if not isinstance(dendrite, Dendrite):
+        raise TypeError(f"dendrite must be a Dendrite, got {type(dendrite).__name__}")
+    if dendrite.shape is None:
+        raise ValueError("dendrite must be traced on a lattice")
+    q = np.asarray(path, np.int64).reshape(-1, 2)
+    nodes = q[:, 1] * dendrite.shape[1] + q[:, 0]
+    where = {int(v): i for i, v in enumerate(dendrite.nodes)}
+    if any(int(v) not in where for v in nodes):
+        raise ValueError("path must lie on the dendrite (trace its end too)")
+    return dataclasses.replace(dendrite, main=np.array([where[int(v)] for v in nodes], np.int64))

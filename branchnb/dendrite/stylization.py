@@ -39,7 +39,17 @@ from .dendrite import Dendrite, build_dendrite
 from .endpoints import place_endpoints
 from .importance import ImportanceParams, darkness, gradient_strength, importance_map
 from .lattice import Lattice, node_weights
-from .main_channel import straighten, strike_weights, wide_top, widen_main_path
+from .main_channel import (
+    channel_plan,
+    outline_band,
+    photo_channel,
+    silhouette,
+    straighten,
+    strike_weights,
+    wide_top,
+    widen_main_path,
+    with_channel,
+)
 from .planner import PlanResult, plan
 from .render import Rendering
 from .scale import resample_to_lattice
@@ -49,7 +59,12 @@ from .stylize_params import (  # noqa: F401  (re-exported; the spacings too)
     LIGHTNING_SEED_BLUR,
     LIGHTNING_SEED_DENSITY,
     LIGHTNING_SPACING,
+    STRIKE_BAND,
     STRIKE_MAIN_EXPONENT,
+    STRIKE_MAX_COVER,
+    STRIKE_PENALTY,
+    STRIKE_PHOTO_SIDE,
+    STRIKE_SIDE,
     VINE_SPACING,
     StylizeParams,
     effective_params,
@@ -569,9 +584,24 @@ class Stylizer:
 
         def make():
             lat = self.lattice(p, rng_seed)
-            got = strike_weights(lat.weights, self.importance(p) >= p.endpoint_threshold, seed)
+            content = self.importance(p) >= p.endpoint_threshold
+            got = strike_weights(lat.weights, content, seed)
             if got is None:  # a photo: no object to go through
-                return self.plan(p, seed, rng_seed), self._main_channel_straight(p, seed, rng_seed), False
+                if silhouette(content).mean() <= STRIKE_MAX_COVER:  # nothing to draw
+                    return (self.plan(p, seed, rng_seed),
+                            self._main_channel_straight(p, seed, rng_seed), False)
+                path = photo_channel(lat.weights, content, seed)
+                if len(path) < 2:
+                    return (self.plan(p, seed, rng_seed),
+                            self._main_channel_straight(p, seed, rng_seed), False)
+                mask = np.zeros(lat.weights.shape, bool)
+                mask[path[:, 1], path[:, 0]] = True
+                # the picture's border band costs more, as a drawn object's outline does
+                near = outline_band(content, STRIKE_BAND)[1]
+                w = lat.weights + float(np.mean(lat.weights)) * STRIKE_PENALTY * near
+                res = channel_plan(self._plan_on(Lattice(w, lat.factors), p, mask), path)
+                ends = np.concatenate([self.endpoints(p, rng_seed), path[-1:].astype(float)])
+                return res, with_channel(build_dendrite(res, ends), path), True
             res = self._plan_on(Lattice(got[0], lat.factors), p, seed)
             ends = np.concatenate([self.endpoints(p, rng_seed), got[1][-1:].astype(float)])
             d = straighten(res, build_dendrite(res, ends), ends,
@@ -665,7 +695,9 @@ class Stylizer:
         d = self._widths(d, p, p.min_width, p.max_width)
         if metaphor == "lightning":  # a planned channel stays bright down to its last fork
             d = widen_main_path(d, p.min_width, p.max_width,
-                                exponent=STRIKE_MAIN_EXPONENT if struck else LIGHTNING_MAIN_EXPONENT)
+                                exponent=STRIKE_MAIN_EXPONENT if struck else LIGHTNING_MAIN_EXPONENT,
+                                side=(STRIKE_PHOTO_SIDE if d.main is not None
+                                      else STRIKE_SIDE if struck else 1.0))
         pinned = self._pinned
         if k < 1.0 and p.output_width > 0 and p.thickness == "importance" and metaphor in (
                 "plain", None):

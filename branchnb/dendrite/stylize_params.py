@@ -301,6 +301,23 @@ STRIKE_PENALTY = 2.0
 #: plan its main channel through it (drawn objects 0.19-0.61, photos 0.96-1).
 STRIKE_MAX_COVER = 0.85
 
+#: On a photo (silhouette over ``STRIKE_MAX_COVER``), the cost of a pixel of length (units
+#: of the mean weight) of a lightning bolt's main channel, the power its weights are
+#: raised to, and the lower share of the content's height where it ends
+#: (:func:`~branchnb.dendrite.main_channel.photo_channel`).
+STRIKE_PHOTO_LENGTH = 0.3
+STRIKE_PHOTO_CONTRAST = 4.0
+STRIKE_PHOTO_DEPTH = 0.4
+
+#: Factor on the width (above the thinnest) of the side branches of a lightning bolt on a
+#: photo (:func:`~branchnb.dendrite.main_channel.widen_main_path`, ``side``; beyond the
+#: paper: the planned channel forks into long branches that held 0.65-0.8 of the ink, a
+#: glowing scribble round the channel).
+STRIKE_PHOTO_SIDE = 0.25
+#: The same for a bolt through a drawn object (beyond the paper: down the middle of a
+#: body with thin prongs on top, the channel held 0.340 of the ink at full side widths).
+STRIKE_SIDE = 0.8
+
 #: Exponent of the share of the tips that sets the width of a main channel planned
 #: through an object (``LIGHTNING_MAIN_EXPONENT`` otherwise): down the middle of a
 #: body with thin prongs on top it is short, and with 8 it held 0.31 of the ink; 1000 keeps it
