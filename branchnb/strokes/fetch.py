@@ -85,6 +85,7 @@ from .tubes import (  # noqa: F401  (re-exported: fetch.py was split by step)
     _distance_map,
     _end_direction,
     _end_tube,
+    _far_half_width,
     _is_cut,
     _joined_ends,
     _local_max,
@@ -351,6 +352,14 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
     keys = [st.points.tobytes() for st in source_strokes]
     # Ends joined to another stroke, cut ends.
     joined = _joined_ends(source_strokes, raw, keys)
+    if has_alpha:
+        # a parent measured across its children's roots is as wide as they are long: measured
+        # again, away from them (see _raw_width)
+        for k, st in enumerate(source_strokes):
+            kids = [(source_strokes[j], _far_half_width(raw[j][1], joined[j], k))
+                    for j in range(len(source_strokes)) if keys[j] != keys[k] and k in joined[j]]
+            if kids:
+                raw[k] = _raw_width(st, obj, edt, children=kids)
     cuts = [tuple(joined[k][end] >= 0 or _is_cut(st, obj, raw[k][2], end) for end in (0, 1))
             for k, st in enumerate(source_strokes)]
     widths = [_smooth_width(raw[k][1], raw[k][2], _wide_ends(st, cuts[k], edt, raw[k][2])) if has_alpha
