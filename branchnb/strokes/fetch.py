@@ -304,6 +304,53 @@ class SourceIndex:
         return auto_radius(np.interp(s, self.width_s[k], cover))
 
 
+def _widths_apart(strokes, raw, joined, keys, obj, edt):
+    """The raw widths of joined strokes, each measured away from the other's flesh (beyond the paper).
+
+    A parent measured across its children's roots is as wide as they are long
+    (a coral's trunk across a branch leaving at 36 degrees: 2.3 times its
+    width), and a child measured across its parent as wide as the parent (a
+    limb hugging a trunk at a narrow angle: 18.9 px for 6.9, so its tube held
+    the trunk's side and a twig in the crotch; a thigh drawn from inside the
+    hip). Every stroke is measured away from the flesh of the strokes joined to
+    it (its children's and its parents', see
+    :func:`~branchnb.strokes.tubes._raw_width`), twice: the second time with
+    the widths the first one found.
+    """
+    n = len(strokes)
+    kids_of = [[j for j in range(n) if keys[j] != keys[k] and k in joined[j]] for k in range(n)]
+    parents_of = [sorted({p for p in joined[k] if p >= 0 and keys[p] != keys[k]}) for k in range(n)]
+    for _ in range(_APART_ROUNDS):
+        prev, raw = raw, list(raw)
+        for k, st in enumerate(strokes):
+            kids = [(strokes[j], _far_half_width(prev[j][1], joined[j], k)) for j in kids_of[k]]
+            pars = [(strokes[p], float(prev[p][2])) for p in parents_of[k]]
+            if not kids and not pars:
+                continue
+            got = _raw_width(st, obj, edt, children=kids + pars)
+            if pars:
+                # where its cross-section lies inside the parent's flesh (a limb drawn from
+                # the body's centre line) the widths stay the parent's: a cut end's (see
+                # _smooth_width)
+                ins = np.zeros(len(got[0]), bool)
+                pts = st.point_at(got[0])
+                own = min(_far_half_width(prev[k][1], joined[k], p) for p in parents_of[k])
+                for par, hw in pars:
+                    ins |= par.project(pts)[1] <= hw - own
+                if ins.any():
+                    keep = _raw_width(st, obj, edt, children=kids) if kids else prev[k]
+                    wv = np.where(ins, keep[1], got[1])
+                    got = (got[0], wv, float(max(1, int(np.ceil(np.median(wv))))))
+            raw[k] = got
+    return raw
+
+
+#: A parent's tube's last px (from its edge inwards) that a joined child's flesh takes (0: none).
+_CHILD_RIM = 1.0
+#: Rounds of :func:`_widths_apart` (each from the widths the last one measured).
+_APART_ROUNDS = 2
+
+
 @checked(patch_size=Real(0, 1e4))
 def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0) -> SourceIndex:
     """Prepare ``image`` for fetching along ``source_strokes``.
@@ -352,14 +399,9 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
     keys = [st.points.tobytes() for st in source_strokes]
     # Ends joined to another stroke, cut ends.
     joined = _joined_ends(source_strokes, raw, keys)
+    measured = raw
     if has_alpha:
-        # a parent measured across its children's roots is as wide as they are long: measured
-        # again, away from them (see _raw_width)
-        for k, st in enumerate(source_strokes):
-            kids = [(source_strokes[j], _far_half_width(raw[j][1], joined[j], k))
-                    for j in range(len(source_strokes)) if keys[j] != keys[k] and k in joined[j]]
-            if kids:
-                raw[k] = _raw_width(st, obj, edt, children=kids)
+        raw = _widths_apart(source_strokes, raw, joined, keys, obj, edt)
     cuts = [tuple(joined[k][end] >= 0 or _is_cut(st, obj, raw[k][2], end) for end in (0, 1))
             for k, st in enumerate(source_strokes)]
     widths = [_smooth_width(raw[k][1], raw[k][2], _wide_ends(st, cuts[k], edt, raw[k][2])) if has_alpha
@@ -450,6 +492,27 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
                     tubes[pkey][0], tubes[(keys[k], cuts[k])][0],
                     float(np.interp(source_strokes[parent].project(st.points[:1] if end == 0 else st.points[-1:])[0][0],
                                     width_s[parent], widths[parent])))
+                if _CHILD_RIM and keys.count(keys[k]) == 1:
+                    # but the parent's rim (its last px) in the child's flesh, nearer the child,
+                    # is the child's: a thigh drawn along the hip's edge left its upper edge
+                    # behind on the body when it turned (a lizard at 100 px)
+                    # (where the child's stroke itself runs outside the parent's tube: not at
+                    # the root of a leaf's petiole drawn from the twig's centre line; not for a
+                    # stroke drawn twice: its copy lands on another stretch of the parent, where
+                    # that rim is a fleck)
+                    dk, dp = tubes[(keys[k], cuts[k])][0], tubes[pkey][0]
+                    rim = cut & (dk < dp) & (dk <= raw[k][2] + 0.5) & (dp > tubes[pkey][2] - _CHILD_RIM)
+                    if rim.any():
+                        par = source_strokes[parent]
+                        q = st.point_at(tubes[(keys[k], cuts[k])][1][rim])
+                        sq, dq = par.project(q)
+                        sp = tubes[pkey][1][rim]
+                        # (and where the parent was measured away from its children: across
+                        # them it was wider, see _widths_apart)
+                        rim[rim] = (dq > np.interp(sq, width_s[parent], widths[parent]) + 0.5) & (
+                            np.interp(sp, measured[parent][0], measured[parent][1])
+                            > np.interp(sp, raw[parent][0], raw[parent][1]) + 0.5)
+                        cut &= ~rim
                 near_parent[k] = near_parent[k] | cut if k in near_parent else cut
         for k, cut in near_parent.items():
             tubes[(keys[k], cuts[k])][5][cut] = False
