@@ -347,6 +347,8 @@ def _widths_apart(strokes, raw, joined, keys, obj, edt):
 
 #: A parent's tube's last px (from its edge inwards) that a joined child's flesh takes (0: none).
 _CHILD_RIM = 1.0
+#: ... along the parent's side: the sine of the angle between the two strokes below this.
+_ALONG = np.sin(np.radians(60.0))
 #: Rounds of :func:`_widths_apart` (each from the widths the last one measured).
 _APART_ROUNDS = 2
 
@@ -399,7 +401,6 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
     keys = [st.points.tobytes() for st in source_strokes]
     # Ends joined to another stroke, cut ends.
     joined = _joined_ends(source_strokes, raw, keys)
-    measured = raw
     if has_alpha:
         raw = _widths_apart(source_strokes, raw, joined, keys, obj, edt)
     cuts = [tuple(joined[k][end] >= 0 or _is_cut(st, obj, raw[k][2], end) for end in (0, 1))
@@ -506,12 +507,12 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
                         par = source_strokes[parent]
                         q = st.point_at(tubes[(keys[k], cuts[k])][1][rim])
                         sq, dq = par.project(q)
-                        sp = tubes[pkey][1][rim]
-                        # (and where the parent was measured away from its children: across
-                        # them it was wider, see _widths_apart)
+                        # (and where it runs along the parent's side, within 60 degrees of it: a
+                        # limb leaving at a wide angle takes none of the parent's shoulder)
+                        sk = tubes[(keys[k], cuts[k])][1][rim]
+                        along = np.abs(np.sin(st.angle_at(sk, window=3.0) - par.angle_at(sq, window=3.0)))
                         rim[rim] = (dq > np.interp(sq, width_s[parent], widths[parent]) + 0.5) & (
-                            np.interp(sp, measured[parent][0], measured[parent][1])
-                            > np.interp(sp, raw[parent][0], raw[parent][1]) + 0.5)
+                            along < _ALONG)
                         cut &= ~rim
                 near_parent[k] = near_parent[k] | cut if k in near_parent else cut
         for k, cut in near_parent.items():
