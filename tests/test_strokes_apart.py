@@ -43,3 +43,17 @@ def test_a_solid_dot_joined_by_faint_pixels_is_a_fleck():
     layer[13, 16] = layer[12, 16]
     src[12:14, 20:22] = 1.0
     assert drop_flecks(layer, src, level=0.5)[12, 16, 3] == 1.0
+
+
+def test_a_solid_link_between_two_faint_runs_is_kept():
+    """A 1-px solid pixel joining two pieces through faint pixels (a toe at 100 px) is not a fleck:
+    without it the object would fall apart."""
+    src = np.zeros((30, 30))
+    src[5:25, 5:15] = 1.0
+    layer = np.zeros((30, 30, 4), np.float32)
+    layer[5:25, 5:15] = 1.0
+    layer[12, 15, 3] = 0.15
+    layer[12, 16] = (0.1, 0.1, 0.1, 1.0)
+    layer[12, 17, 3] = 0.15
+    layer[10:15, 18:20, 3] = 0.3                  # a faint toe beyond it
+    assert drop_flecks(layer, src, level=0.5)[12, 16, 3] == 1.0

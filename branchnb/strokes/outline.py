@@ -324,8 +324,21 @@ def drop_flecks(layer: np.ndarray, source_alpha: np.ndarray, *, level: float = 0
     small = (sizes < 0.5 * src_sizes.min()) & (sizes < 0.05 * sizes.max())
     if not small.any():
         return layer
+    gone = np.isin(lab, np.flatnonzero(small) + 1)
+    if level > 0.02:
+        # not a piece whose faint pixels join two others (a toe's solid link at 100 px):
+        # removing it would split the object
+        rest, _ = ndi.label((layer[..., 3] > 0.02) & ~gone, structure=eight)
+        boxes = ndi.find_objects(lab)
+        for i in np.flatnonzero(small) + 1:
+            sl = tuple(slice(max(b.start - 1, 0), b.stop + 1) for b in boxes[i - 1])
+            ring = ndi.binary_dilation(lab[sl] == i, structure=eight) & (rest[sl] > 0)
+            if len(np.unique(rest[sl][ring])) > 1:
+                gone[sl] &= lab[sl] != i
+    if not gone.any():
+        return layer
     out = layer.copy()
-    out[np.isin(lab, np.flatnonzero(small) + 1)] = 0.0
+    out[gone] = 0.0
     return out
 
 
