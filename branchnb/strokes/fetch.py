@@ -304,7 +304,7 @@ class SourceIndex:
         return auto_radius(np.interp(s, self.width_s[k], cover))
 
 
-def _widths_apart(strokes, raw, joined, keys, obj, edt):
+def _widths_apart(strokes, raw, joined, keys, obj, edt, caches):
     """The raw widths of joined strokes, each measured away from the other's flesh (beyond the paper).
 
     A parent measured across its children's roots is as wide as they are long
@@ -320,6 +320,7 @@ def _widths_apart(strokes, raw, joined, keys, obj, edt):
     n = len(strokes)
     kids_of = [[j for j in range(n) if keys[j] != keys[k] and k in joined[j]] for k in range(n)]
     parents_of = [sorted({p for p in joined[k] if p >= 0 and keys[p] != keys[k]}) for k in range(n)]
+    used: dict = {}
     for _ in range(_APART_ROUNDS):
         prev, raw = raw, list(raw)
         for k, st in enumerate(strokes):
@@ -327,7 +328,10 @@ def _widths_apart(strokes, raw, joined, keys, obj, edt):
             pars = [(strokes[p], float(prev[p][2])) for p in parents_of[k]]
             if not kids and not pars:
                 continue
-            got = _raw_width(st, obj, edt, children=kids + pars)
+            if used.get(k, (None,))[0] == [w for _, w in kids + pars]:
+                raw[k] = used[k][1]  # the same widths round it: the same result
+                continue
+            got = _raw_width(st, obj, edt, children=kids + pars, cache=caches[k])
             if pars:
                 # where its cross-section lies inside the parent's flesh (a limb drawn from
                 # the body's centre line) the widths stay the parent's: a cut end's (see
@@ -338,10 +342,11 @@ def _widths_apart(strokes, raw, joined, keys, obj, edt):
                 for par, hw in pars:
                     ins |= par.project(pts)[1] <= hw - own
                 if ins.any():
-                    keep = _raw_width(st, obj, edt, children=kids) if kids else prev[k]
+                    keep = _raw_width(st, obj, edt, children=kids, cache=caches[k]) if kids else prev[k]
                     wv = np.where(ins, keep[1], got[1])
                     got = (got[0], wv, float(max(1, int(np.ceil(np.median(wv))))))
             raw[k] = got
+            used[k] = ([w for _, w in kids + pars], got)
     return raw
 
 
@@ -395,14 +400,15 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
     edt = _edt(np.pad(obj, 1))[1:-1, 1:-1] if has_alpha else None
 
     # Widths along every stroke (first: they bound how far from a stroke anything is needed).
-    raw = [_raw_width(st, obj, edt) if has_alpha else
-           (np.array([0.0, st.length]), np.zeros(2), 0.0) for st in source_strokes]
+    caches = [{} for _ in source_strokes]  # per stroke: its rays and runs, measured once
+    raw = [_raw_width(st, obj, edt, cache=caches[k]) if has_alpha else
+           (np.array([0.0, st.length]), np.zeros(2), 0.0) for k, st in enumerate(source_strokes)]
 
     keys = [st.points.tobytes() for st in source_strokes]
     # Ends joined to another stroke, cut ends.
     joined = _joined_ends(source_strokes, raw, keys)
     if has_alpha:
-        raw = _widths_apart(source_strokes, raw, joined, keys, obj, edt)
+        raw = _widths_apart(source_strokes, raw, joined, keys, obj, edt, caches)
     cuts = [tuple(joined[k][end] >= 0 or _is_cut(st, obj, raw[k][2], end) for end in (0, 1))
             for k, st in enumerate(source_strokes)]
     widths = [_smooth_width(raw[k][1], raw[k][2], _wide_ends(st, cuts[k], edt, raw[k][2])) if has_alpha

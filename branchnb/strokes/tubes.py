@@ -123,7 +123,7 @@ def _run_length(inside: np.ndarray) -> np.ndarray:
     return np.where(inside.all(axis=-1), inside.shape[-1], first_out)
 
 
-def _raw_width(stroke: Stroke, obj: np.ndarray, edt: np.ndarray, children=()):
+def _raw_width(stroke: Stroke, obj: np.ndarray, edt: np.ndarray, children=(), cache: dict | None = None):
     """Half width a patch centred on ``stroke`` needs, every pixel of arc length (unsmoothed).
 
     Along the normal at each stroke point ``p``, the run of object pixels
@@ -149,8 +149,25 @@ def _raw_width(stroke: Stroke, obj: np.ndarray, edt: np.ndarray, children=()):
     children on both sides it is interpolated from the samples with none.
     Beyond the paper.
 
+    ``cache`` (a dict kept per stroke): the rays and runs, measured once for
+    every set of ``children`` (they do not depend on them).
+
     Returns the arc lengths, the widths and their median (at least 1).
     """
+    if cache is not None and "rays" in cache:
+        s, p, t, rays, start, stop, has, local, wv = cache["rays"]
+    else:
+        s, p, t, rays, start, stop, has, local, wv = _width_runs(stroke, obj, edt)
+        if cache is not None:
+            cache["rays"] = (s, p, t, rays, start, stop, has, local, wv)
+    if len(children):
+        wv = _away_from_children(stroke, p, t, rays, start, stop, has, wv, children, obj.shape, local)
+    wv = np.minimum(wv, local)
+    return s, wv, float(max(1, int(np.ceil(np.median(wv)))))
+
+
+def _width_runs(stroke: Stroke, obj: np.ndarray, edt: np.ndarray):
+    """The rays along the normals of :func:`_raw_width` and the object's runs on them."""
     s = np.linspace(0.0, stroke.length, max(2, int(np.ceil(stroke.length)) + 1))
     p = stroke.point_at(s)
     n = stroke.normal_at(s, window=3.0)
@@ -167,10 +184,7 @@ def _raw_width(stroke: Stroke, obj: np.ndarray, edt: np.ndarray, children=()):
     has = inside[np.arange(len(s)), near]
     local = 2.0 * _local_max(edt, p) + 2.0
     wv = np.where(has, np.maximum(np.abs(t[start]), np.abs(t[stop])) + 0.5, 0.0)
-    if len(children):
-        wv = _away_from_children(stroke, p, t, rays, start, stop, has, wv, children, obj.shape, local)
-    wv = np.minimum(wv, local)
-    return s, wv, float(max(1, int(np.ceil(np.median(wv)))))
+    return s, p, t, rays, start, stop, has, local, wv
 
 
 def _far_half_width(wv: np.ndarray, joined, parent: int) -> float:
