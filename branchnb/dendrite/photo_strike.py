@@ -166,6 +166,7 @@ def long_pieces(mask, min_extent: float) -> np.ndarray:
     Parameters
     ----------
     mask : (h, w) array_like of bool
+        Pixels to group into pieces (e.g. a picture's bright lines).
     min_extent : float
         Share (>= 0) of the diagonal.
 
