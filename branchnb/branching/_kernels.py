@@ -556,3 +556,20 @@ def child_quality(wa, wr, rows, win_a, win_r, mirror):
             qr = 1.0 / (np.sqrt(_np_sum(d)) + 1.0) + 1.0
             out[half * F + j] = qa * qr
     return out
+
+
+@numba.njit(cache=True)
+def inside(pts, h, w, domain, use_domain):
+    """``_Grower._inside``: which points ``(N, 2)`` lie in the ``h x w`` frame (to half a pixel past
+    its border pixels) and, when ``use_domain``, on a ``domain`` pixel (the nearest, ``np.rint``)."""
+    N = pts.shape[0]
+    ok = np.zeros(N, np.bool_)
+    for i in range(N):
+        x, y = pts[i, 0], pts[i, 1]
+        o = x >= -0.5 and x <= w - 0.5 and y >= -0.5 and y <= h - 0.5
+        if o and use_domain:
+            ix = min(max(int(np.rint(x)), 0), w - 1)
+            iy = min(max(int(np.rint(y)), 0), h - 1)
+            o = domain[iy, ix]
+        ok[i] = o
+    return ok

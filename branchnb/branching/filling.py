@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.polyline import tangents
 from .domains import _frame
 
 #: A hole is domain farther than this share of the domain's diameter from every branch (issue 23).
@@ -85,7 +84,14 @@ class _Filling:
         """
         if len(pts) < 3:
             return np.zeros(len(pts))
-        return self._room_at(pts, tangents(pts))
+        # core.polyline.tangents(pts) without its input checks (once per furcation)
+        t = np.empty_like(pts)
+        t[1:-1] = pts[2:] - pts[:-2]
+        t[0] = pts[1] - pts[0]
+        t[-1] = pts[-1] - pts[-2]
+        norm = np.hypot(t[:, 0], t[:, 1])
+        norm[norm == 0] = 1.0
+        return self._room_at(pts, t / norm[:, None])
 
     def _max_rooms(self) -> list[float]:
         """The largest :meth:`_room` of every branch (all branches' vertices in one pass)."""

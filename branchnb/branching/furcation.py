@@ -86,8 +86,10 @@ def window_features(av: np.ndarray, rv: np.ndarray, k: int) -> tuple[np.ndarray,
     """
     av = np.asarray(av, np.float64)
     rv = np.asarray(rv, np.float64)
-    pa = np.pad(av, k, mode="constant")
-    pr = np.pad(rv, k, mode="edge")
+    # np.pad(av, k) and np.pad(rv, k, mode="edge"), without np.pad's per-call overhead (the synthesis
+    # loop calls this once per furcation)
+    pa = np.concatenate([np.zeros(k), av, np.zeros(k)])
+    pr = np.concatenate([np.full(k, rv[0]), rv, np.full(k, rv[-1])]) if len(rv) else np.zeros(2 * k)
     idx = np.arange(len(av))[:, None] + np.arange(2 * k + 1)[None, :]
     return pa[idx], pr[idx]
 
@@ -347,11 +349,16 @@ class FurcationModel:
         furc = list(existing)
         if not self.can_branch or N < 3 or d <= 0:
             return chosen
+        # the windows do not change from one pick to the next, only n- and n+ do: the features are
+        # furcation_features(vertex_angles(points), radii, furc, k), built the same way
+        wa, wr = window_features(vertex_angles(points), radii, self.k)
+        wgt = None if weights is None else np.asarray(weights, np.float64)
         for _ in range(int(d)):
-            p = self.probabilities(points, radii, furc)
-            ok = np.ones(N, bool) if weights is None else np.asarray(weights, np.float64) > 0
-            if weights is not None:
-                p = p * np.asarray(weights, np.float64)
+            nm, npl = _gaps(N, furc)
+            p = self._proba(np.hstack([wa, wr, nm[:, None], npl[:, None]]))
+            ok = np.ones(N, bool) if wgt is None else wgt > 0
+            if wgt is not None:
+                p = p * wgt
             ok[0] = ok[-1] = False
             for f in furc:
                 lo, hi = max(f - max(min_spacing, 1) + 1, 0), min(f + max(min_spacing, 1), N)

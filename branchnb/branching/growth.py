@@ -252,6 +252,19 @@ def _radius_growth(example) -> float:
     return max(1.0, float(np.quantile(ratios, RADIUS_GROWTH_QUANTILE))) if ratios else np.inf
 
 
+def _example_bounds(model: StructureModel) -> tuple[float, float, float]:
+    """``(thickest radius, _radius_growth, winding_limit)`` of the model's example, computed once per
+    model (a 1000 px crack example has 2.9 k branches: 0.2 s per growth attempt)."""
+    key = (id(model.example), len(model.example.branches))
+    cached = model.__dict__.get("_example_bounds")
+    if cached is None or cached[0] != key:
+        radii = model.example.thicknesses()
+        cached = (key, (float(radii.max()) if radii.size else np.inf, _radius_growth(model.example),
+                        winding_limit(model.example)))
+        model.__dict__["_example_bounds"] = cached
+    return cached[1]
+
+
 class _Grower(_Starts, _Filling):
     def __init__(self, model: StructureModel, params: SynthesisParams, rng, shape,
                  guidance: Guidance | None, scorer=None, domain: np.ndarray | None = None):
@@ -281,6 +294,7 @@ class _Grower(_Starts, _Filling):
             self.runs = None
         self.rho = params.rho if params.rho > 0 else model.rho
         self.domain = domain
+        self._e_dom = np.zeros((1, 1), bool)
         # a root reads the frame ahead as density (a free frame only: a map's domain has its own rules)
         self.frame = params.colonization and guidance is None and (domain is None or bool(domain.all()))
         # coverage = fraction of the domain within rho of a branch (D > exp(-1))
@@ -298,10 +312,7 @@ class _Grower(_Starts, _Filling):
         self.max_branch_len = params.max_branch_factor * model.max_branch_length
         if self.drain is not None:   # a channel from far inland may need more than the example's longest
             self.max_branch_len = max(self.max_branch_len, 2.0 * float(np.hypot(*self.shape)))
-        radii = model.example.thicknesses()
-        self.r_max = float(radii.max()) if radii.size else np.inf
-        self.r_grow = _radius_growth(model.example)
-        self.wind_max = winding_limit(model.example)
+        self.r_max, self.r_grow, self.wind_max = _example_bounds(model)
         self.fill_rounds = 0
         self._empty_dt: np.ndarray | None = None
         self.attempt = 1
@@ -331,12 +342,9 @@ class _Grower(_Starts, _Filling):
     # -- bookkeeping ------------------------------------------------------
     def _inside(self, pts: np.ndarray) -> np.ndarray:
         h, w = self.shape
-        ok = (pts[:, 0] >= -0.5) & (pts[:, 0] <= w - 0.5) & (pts[:, 1] >= -0.5) & (pts[:, 1] <= h - 0.5)
-        if self.domain is not None and ok.any():
-            ix = np.clip(np.rint(pts[:, 0]).astype(np.int64), 0, w - 1)
-            iy = np.clip(np.rint(pts[:, 1]).astype(np.int64), 0, h - 1)
-            ok &= self.domain[iy, ix]
-        return ok
+        dom = self.domain
+        return _kernels.inside(np.ascontiguousarray(pts, np.float64), h, w,
+                               self._e_dom if dom is None else dom, dom is not None)
 
     def _frame_factor(self, tip, dirs: np.ndarray, D_c: np.ndarray) -> np.ndarray:
         """Score factor ``(D_c + eps) / (max(D_c, D_frame) + eps)`` of a root's candidates (issue 23).
