@@ -255,7 +255,7 @@ def _radius_growth(example) -> float:
 def _example_bounds(model: StructureModel) -> tuple[float, float, float]:
     """``(thickest radius, _radius_growth, winding_limit)`` of the model's example, computed once per
     model (a 1000 px crack example has 2.9 k branches: 0.2 s per growth attempt)."""
-    key = (id(model.example), len(model.example.branches))
+    key = (id(model.example), len(model.example.branches), winding_limit, _radius_growth)   # (patchable)
     cached = model.__dict__.get("_example_bounds")
     if cached is None or cached[0] != key:
         radii = model.example.thicknesses()
