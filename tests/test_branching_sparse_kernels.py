@@ -139,15 +139,3 @@ def test_hole_map_of_all_branches_at_once_equals_branch_by_branch():
     assert np.array_equal(dist == 0, occ)
     assert 0.0 < share < 1.0 and gap > 0
 
-
-def test_room_distances_equal_scipy_to_the_bit():
-    import cv2
-    from scipy import ndimage as ndi
-
-    rng = np.random.default_rng(5)
-    for share in (0.5, 0.97, 0.999):
-        empty = rng.random((301, 257)) < share
-        empty[:3] = True   # no background along the top: the frame is not a zero either
-        ref = ndi.distance_transform_edt(empty).astype(np.float32) * 0.83
-        got = cv2.distanceTransform(empty.astype(np.uint8), cv2.DIST_L2, cv2.DIST_MASK_PRECISE) * np.float32(0.83)
-        assert np.array_equal(got, ref)
