@@ -307,6 +307,10 @@ class _Prepared:
         ang = np.asarray(self.pose_angles, float)
         self.pose_bandwidth = float(min(silver * np.std(np.angle(np.exp(1j * (ang - ang.mean())))),
                                         np.radians(12.0)))
+        # The same for the log lamina size (a new leaf's size is one
+        # exemplar's times exp of a Gaussian of it), at most 10 %.
+        ls = np.log(np.maximum(np.asarray(self.lamina_size, float), 1e-6))
+        self.size_bandwidth = float(min(silver * np.std(ls), np.log(1.1))) if self.n > 1 else 0.0
         lams = np.array([L.lam for L in a.layers], float)
         top = float(lams.max()) if len(lams) and lams.max() > 0 else 1.0
         self.structural = [float(x / top) for x in lams]
