@@ -584,7 +584,12 @@ def _exemplar_draws(seed: int, n: int) -> tuple[int, int, int]:
     the draws.)
     """
     lead = int(np.random.default_rng((seed, 6)).integers(n))
+    if not _TIE_SIZE:
+        return (lead, int(np.random.default_rng((seed, 3)).integers(n)), lead)
     return (lead, lead, lead)
+
+
+_TIE_SIZE = True
 
 
 #: A layer's donor is the background's own exemplar only when every other is stretched more than this
