@@ -127,7 +127,16 @@ from .inking import _ink_outline
 from .prepared import _CACHE_KEY as _CACHE_KEY
 from .prepared import _Prepared as _Prepared
 from .prepared import _prepared, registration_errors
-from .shaping import _border_alpha, _fit_size, _sample, _sample_grain_at, _sample_sharp_at, random_warp, shape_weights
+from .shaping import (
+    GRAIN_SIGMA,
+    _border_alpha,
+    _fit_size,
+    _sample,
+    _sample_grain_at,
+    _sample_sharp_at,
+    random_warp,
+    shape_weights,
+)
 
 __all__ = ["SynthesisParams", "GeneratedLeaf", "generate", "generate_leaf", "save_leaves",
            "random_warp", "shape_weights", "registration_errors", "leaf_distance",
@@ -449,6 +458,7 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
     chosen = {}
     # Layers, bottom first, each from another exemplar with its own warp.
     cover = np.zeros(shape, np.float32)
+    rgb_low = None
     mix = np.zeros(shape + (3,), np.float32)
     wsum = np.zeros(shape, np.float32)
     for k in reversed(range(len(a.layers))):
@@ -517,8 +527,15 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
             # (On the layer's footprint only: a weight of 0 elsewhere.)
             under = _sample_sharp_at(p.layer_under[k][e][..., :3], c, on)[on]
             lo, hi = p.layer_range[k]
-            fg, bg_on = col[on], rgb[on]
-            own = np.clip(bg_on, *p.blade_range)
+            fg = col[on]
+            own = np.clip(rgb[on], *p.blade_range)
+            # The background under the layer without its grain: the layer's
+            # ratio brings the donor's grain (the leaf under it is smooth),
+            # and on top of the background's own it doubled the texture
+            # under the pasted footprint.
+            if rgb_low is None:
+                rgb_low = cv2.GaussianBlur(rgb, (0, 0), GRAIN_SIGMA)
+            bg_on = rgb_low[on]
             # A layer lighter than the leaf under it (pale veins) is brought
             # as a ratio of the light it lets through, 1 - (1 - rgb) (1 - col)
             # / (1 - under) (a "screen"), a darker one as a ratio of the light
