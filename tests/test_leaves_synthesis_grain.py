@@ -63,7 +63,7 @@ def test_a_vein_the_induction_missed_is_flattened_in_the_background(sign):
     at most 1.5x after; the found vein's smooth strip gets the blade's grain back (Laplacian
     variance there under 0.3 -> 0.5-1.5 of plain blade's); plain blade is untouched."""
     leaf, res, blade, mid, lat = _two_veins(sign=sign)
-    out = flatten_leftover(res, blade, leaf, leaf, mid, sign, 3.0)
+    out = flatten_leftover(res, blade, leaf, leaf, mid, sign, 3.0, regrain=True)
     inner = ndi.binary_erosion(blade, iterations=4)
     plain = inner & ~ndi.binary_dilation(mid | lat, iterations=5)
 
@@ -81,6 +81,7 @@ def test_a_vein_the_induction_missed_is_flattened_in_the_background(sign):
     corridor = ndi.binary_dilation(mid, iterations=4)
     kept = flatten_leftover(res, blade, leaf, leaf, mid, sign, 3.0, corridor=corridor)
     assert strength(kept) > 3.0
+    assert _lapvar(kept, strip) / _lapvar(kept, plain) < 0.3  # not regrained by default
 
 
 def test_size_and_pose_come_with_the_leading_shape():
