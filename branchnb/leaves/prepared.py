@@ -215,19 +215,6 @@ class _Prepared:
 
         def stage_image(k, e):
             img = np.asarray(a.residuals[k][e], np.float32)
-            if leftover is not None and k == last and k > 0:
-                # One vein system: what the induction left of the most
-                # structural layer is flattened, the filled strips regrained
-                # (branchnb.leaves.leftover).
-                top, sign, width = leftover
-                L = a.layers[top]
-                reg = getattr(L, "registered", None)
-                corridor = None
-                if reg is not None and reg[e] is not None and np.asarray(reg[e]).any():
-                    corridor = ndi.binary_dilation(np.asarray(reg[e], bool),
-                                                   iterations=max(1, int(np.ceil(L.eps_px[e]))))
-                img = flatten_leftover(img, a.blades[e], a.exemplars[e], a.residuals[top][e], L.masks[e],
-                                       sign, width, corridor=corridor)
             if fa is not None:
                 # No outline in any stage (it is drawn anew along the new
                 # blade), and no ink at all in the background: ink the
@@ -237,6 +224,23 @@ class _Prepared:
                 # An ink outline around a leaf that is not flat art (a
                 # gradient-filled drawing) is taken out too (drawn_outline).
                 img = _replace_from_blade(img, a.blades[e], outlines[e])
+            if leftover is not None and k == last and k > 0:
+                # One vein system: what the induction left of the most
+                # structural layer is flattened (branchnb.leaves.leftover),
+                # once any ink outline is gone (lines found along it were
+                # filled with its ink: dark pixels inside new blades).
+                top, sign, width = leftover
+                L = a.layers[top]
+                reg = getattr(L, "registered", None)
+                corridor = None
+                if reg is not None and reg[e] is not None and np.asarray(reg[e]).any():
+                    corridor = ndi.binary_dilation(np.asarray(reg[e], bool),
+                                                   iterations=max(1, int(np.ceil(L.eps_px[e]))))
+                src = np.asarray(a.exemplars[e], np.float32)
+                if outlines[e].any():
+                    src = _replace_from_blade(src, a.blades[e], outlines[e])
+                img = flatten_leftover(img, a.blades[e], src, a.residuals[top][e], L.masks[e],
+                                       sign, width, corridor=corridor)
             return _stored(_bleed(img, a.blades[e]))
 
         outlines = [drawn_outline(a.exemplars[e], a.blades[e]) if fa is None else None for e in range(self.n)]
