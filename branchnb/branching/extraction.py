@@ -244,6 +244,12 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
     work = rescale(gray, p.scale, anti_aliasing=True) if p.scale < 1 else gray
     outside = border_flat_regions(work, 4 * p.sigma_max, branches=bw)
     skel &= ~outline_pixels(skel, outside, 2 * p.sigma_max + 2, gray=ndi.median_filter(work, 3))
+    if p.false_ridges and lines is gray:
+        # photographs: edges of lit regions and rows of separate lights are no lines (beyond the paper)
+        from .line_profiles import false_ridge_pixels
+
+        skel &= ~false_ridge_pixels(work, skel, _pol, sigma_min=p.sigma_min * p.scale,
+                                    sigma_max=p.sigma_max * p.scale)
     if p.radius == "fwhm":
         lines_w = rescale(lines, p.scale, anti_aliasing=True) if p.scale < 1 and lines is not gray else \
             (work if lines is gray else lines)

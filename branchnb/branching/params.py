@@ -280,6 +280,14 @@ class ExtractionParams:
         lines (1-2 px rivers, capillaries), which then read as paler than
         they are. 0 = off. Binary masks (traced by their medial axis) are
         not moved.
+    false_ridges : bool, default True
+        Beyond the paper: in a photograph the ridge filter also answers along the
+        edge of a lit region (a bright cloud layer under a dark one) and along a row
+        of separate lights (a city under a storm); such skeleton stretches (an edge:
+        the line stands out from one side only; a row of dots: Frangi's blobness
+        along it) are dropped (see
+        :func:`~branchnb.branching.line_profiles.false_ridge_pixels`). Lines traced
+        by colour and binary masks are not tested.
     """
 
     filter: str = param("sato", options=("sato", "frangi", "meijering"),
@@ -329,6 +337,8 @@ class ExtractionParams:
     centre_reach: float = param(1.0, min=0.0, max=4.0, step=0.25,
                                 help="move traced vertices up to this far across their branch onto the "
                                      "line's crest (sub-pixel centre lines); 0 = off")
+    false_ridges: bool = param(True, help="drop traced stretches that are the edge of a lit region or a row "
+                                          "of separate dots (photographs), not a line")
 
 
 @dataclass

@@ -1,0 +1,155 @@
+"""Automatic extraction, beyond the paper: traced ridges that are no lines (photographs).
+
+In a photograph the ridge filter also answers where no branch is: along the
+edge of a lit region (a bright cloud layer under a dark one; one side of the
+"line" is as bright as the line) and along a row of separate bright dots
+(city lights under a storm; the line's brightness falls to the ground
+between the dots). :func:`false_ridge_pixels` finds both on the skeleton, by
+the profile across each skeleton stretch and the Hessian's shape along it,
+so :func:`~branchnb.branching.extraction.extract_structure` drops them.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy import ndimage as ndi
+
+__all__ = ["false_ridge_pixels"]
+
+_NEIGH = np.ones((3, 3), np.int32)
+
+
+def _hessian_across(gray: np.ndarray, sigmas) -> tuple[np.ndarray, ...]:
+    """Per pixel, at the scale where the ridge is strongest (``sigma^2 |lambda_across|``): the
+    across-line eigenvalue, the along-line eigenvalue and the unit normal (nx, ny)."""
+    best = np.full(gray.shape, -1.0)
+    l_a = np.zeros(gray.shape)
+    l_b = np.zeros(gray.shape)
+    nx = np.ones(gray.shape)
+    ny = np.zeros(gray.shape)
+    for s in sigmas:
+        g = ndi.gaussian_filter(gray, s)
+        gy, gx = np.gradient(g)
+        hyy, hyx = np.gradient(gy)
+        _hxy, hxx = np.gradient(gx)
+        tr = 0.5 * (hxx + hyy)
+        disc = np.sqrt(0.25 * (hxx - hyy) ** 2 + hyx ** 2)
+        l1, l2 = tr + disc, tr - disc                       # l1 >= l2
+        big = np.where(np.abs(l1) >= np.abs(l2), l1, l2)    # across the line: the larger magnitude
+        small = np.where(np.abs(l1) >= np.abs(l2), l2, l1)
+        # eigenvector of ``big``: (hyx, big - hxx) or (big - hyy, hyx)
+        vx = np.where(np.abs(hxx - big) < np.abs(hyy - big), big - hyy, hyx)
+        vy = np.where(np.abs(hxx - big) < np.abs(hyy - big), hyx, big - hxx)
+        n = np.hypot(vx, vy)
+        ok = n > 1e-12
+        vx = np.where(ok, vx / np.where(ok, n, 1), 1.0)
+        vy = np.where(ok, vy / np.where(ok, n, 1), 0.0)
+        st = s * s * np.abs(big)
+        upd = st > best
+        best = np.where(upd, st, best)
+        l_a = np.where(upd, big, l_a)
+        l_b = np.where(upd, small, l_b)
+        nx = np.where(upd, vx, nx)
+        ny = np.where(upd, vy, ny)
+    return l_a, l_b, nx, ny
+
+
+def false_ridge_pixels(gray, skeleton, polarity: str, *, sigma_min: float = 1.0, sigma_max: float = 4.0,
+                       two_sided: float = 0.3, dotted: float = 0.3, min_run: int = 10) -> np.ndarray:
+    """Skeleton pixels on stretches that are an edge or a row of dots, not a line.
+
+    The skeleton is cut at its junctions into stretches; a stretch of at least ``min_run`` pixels
+    is dropped when, in the median over its pixels,
+
+    * *one-sided*: the line stands out from both sides by less than ``two_sided`` x what it
+      stands out from the darker side (bright polarity), at every pair of neighbouring
+      distances across (2, 3, 4.5, 6, 8, 12 px up to 3 ``sigma_max``; a line of any width is
+      two-sided just beyond its edges): an edge of a lit region, not a line;
+    * *dotted*: its contrast over the darker side (``2 sigma_max`` across) falls below half
+      its 90th percentile on at least a ``dotted`` share of the stretch, and varies along it
+      by a coefficient of variation of at least ``dotted``: a row of separate dots whose
+      brightness drops to the ground between them, not a continuous line.
+
+    Parameters
+    ----------
+    gray : (H, W) array_like
+        Luminance in [0, 1] at the skeleton's scale.
+    skeleton : (H, W) bool array_like
+        One-pixel-wide ridge skeleton.
+    polarity : {"bright", "dark"}
+        Lines brighter or darker than their ground.
+    sigma_min, sigma_max : float
+        Scales of the ridge filter (pixels).
+    two_sided, dotted : float
+        Thresholds of the two tests above; ``0`` / ``inf`` switch one off.
+    min_run : int
+        Shorter stretches (at junctions, at bends) are always kept.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        The skeleton pixels to drop.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.full((40, 60), 0.1); img[20, 5:55] = 1.0      # a line
+    >>> img[30:, :] = 0.8                                        # the edge of a bright region
+    >>> sk = np.zeros(img.shape, bool); sk[20, 5:55] = True; sk[29, 5:55] = True
+    >>> bad = false_ridge_pixels(img, sk, "bright")
+    >>> int(bad[20].sum()), int(bad[29].sum()) > 40
+    (0, True)
+    """
+    g = np.asarray(gray, np.float64)
+    sk = np.asarray(skeleton, bool)
+    if g.ndim != 2 or sk.shape != g.shape:
+        raise ValueError(f"gray and skeleton must be 2-D of one shape, got {g.shape} and {sk.shape}")
+    if polarity not in ("bright", "dark"):
+        raise ValueError(f"polarity must be 'bright' or 'dark', got {polarity!r}")
+    out = np.zeros(sk.shape, bool)
+    if not sk.any():
+        return out
+    sign = 1.0 if polarity == "bright" else -1.0
+    n_s = max(2, int(np.ceil(sigma_max - sigma_min)) + 1)
+    _l_a, _l_b, nx, ny = _hessian_across(g, np.linspace(sigma_min, sigma_max, n_s))
+    # stretches between junctions
+    nb = ndi.convolve(sk.astype(np.int32), _NEIGH, mode="constant") - 1
+    runs = sk & (nb <= 2)
+    lab, n = ndi.label(runs, structure=np.ones((3, 3)))
+    if n == 0:
+        return out
+    yy, xx = np.nonzero(runs)
+    ll = lab[yy, xx]
+    gs = ndi.gaussian_filter(g, 0.7)
+    c = gs[yy, xx] * sign
+    ux, uy = nx[yy, xx], ny[yy, xx]
+    idx = np.arange(1, n + 1)
+    meds = []
+    for d in (2.0, 3.0, 4.5, 6.0, 8.0, 12.0):
+        if d > max(3.0, 3.0 * sigma_max) + 1e-9:
+            break
+        a = ndi.map_coordinates(gs, [yy + d * uy, xx + d * ux], order=1, mode="nearest") * sign
+        b = ndi.map_coordinates(gs, [yy - d * uy, xx - d * ux], order=1, mode="nearest") * sign
+        t = c - np.maximum(a, b)
+        o = c - np.minimum(a, b)
+        meds.append(np.asarray(ndi.median(np.where(o > 1e-3, t / np.maximum(o, 1e-3), -1.0), ll, idx)))
+    meds = np.array(meds)
+    # two-sided at two neighbouring distances (just beyond the line's own width, whatever it is)
+    med_score = np.zeros(n + 1)
+    med_score[1:] = np.max(np.minimum(meds[:-1], meds[1:]), axis=0)
+    # along the stretch: its contrast over the darker side, far across (beyond a line's glow)
+    d = max(3.0, 2.0 * sigma_max)
+    a = ndi.map_coordinates(gs, [yy + d * uy, xx + d * ux], order=1, mode="nearest") * sign
+    b = ndi.map_coordinates(gs, [yy - d * uy, xx - d * ux], order=1, mode="nearest") * sign
+    con = c - np.minimum(a, b)
+    size = np.bincount(ll, minlength=n + 1)
+    p90 = np.zeros(n + 1)
+    p90[1:] = ndi.labeled_comprehension(con, ll, idx, lambda v: np.percentile(v, 90), float, 0.0)
+    dip = np.bincount(ll, weights=con < 0.5 * p90[ll], minlength=n + 1) / np.maximum(size, 1)
+    mean = np.bincount(ll, weights=con, minlength=n + 1) / np.maximum(size, 1)
+    sq = np.bincount(ll, weights=con * con, minlength=n + 1) / np.maximum(size, 1)
+    cv = np.sqrt(np.maximum(sq - mean ** 2, 0.0)) / np.maximum(mean, 1e-3)
+    drop = (size >= min_run) & ((med_score < two_sided) | ((dip >= dotted) & (cv >= dotted)))
+    drop[0] = False
+    out[yy, xx] = drop[ll]
+    return out
