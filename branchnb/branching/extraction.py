@@ -248,8 +248,7 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         # photographs: edges of lit regions and rows of separate lights are no lines (beyond the paper)
         from .line_profiles import false_ridge_pixels
 
-        skel &= ~false_ridge_pixels(work, skel, _pol, sigma_min=p.sigma_min * p.scale,
-                                    sigma_max=p.sigma_max * p.scale)
+        skel &= ~false_ridge_pixels(work, skel, _pol, sigma_min=p.sigma_min, sigma_max=p.sigma_max)
     if p.radius == "fwhm":
         lines_w = rescale(lines, p.scale, anti_aliasing=True) if p.scale < 1 and lines is not gray else \
             (work if lines is gray else lines)

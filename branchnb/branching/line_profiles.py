@@ -67,8 +67,9 @@ def false_ridge_pixels(gray, skeleton, polarity: str, *, sigma_min: float = 1.0,
       two-sided just beyond its edges): an edge of a lit region, not a line;
     * *dotted*: its contrast over the darker side (``2 sigma_max`` across) falls below half
       its 90th percentile on at least a ``dotted`` share of the stretch, and varies along it
-      by a coefficient of variation of at least ``dotted``: a row of separate dots whose
-      brightness drops to the ground between them, not a continuous line.
+      by a coefficient of variation of at least ``dotted``, bright in three or more separate
+      pieces: a row of separate dots whose brightness drops to the ground between them, not
+      a continuous line (nor one fading towards its tip).
 
     Parameters
     ----------
@@ -83,7 +84,9 @@ def false_ridge_pixels(gray, skeleton, polarity: str, *, sigma_min: float = 1.0,
     two_sided, dotted : float
         Thresholds of the two tests above; ``0`` / ``inf`` switch one off.
     min_run : int
-        Shorter stretches (at junctions, at bends) are always kept.
+        Shorter stretches (at junctions, at bends) are always kept; the one-sided test
+        needs at least ``5 sigma_max`` pixels (short links in the glow between two bright
+        lines stand out from one side only).
 
     Returns
     -------
@@ -149,7 +152,15 @@ def false_ridge_pixels(gray, skeleton, polarity: str, *, sigma_min: float = 1.0,
     mean = np.bincount(ll, weights=con, minlength=n + 1) / np.maximum(size, 1)
     sq = np.bincount(ll, weights=con * con, minlength=n + 1) / np.maximum(size, 1)
     cv = np.sqrt(np.maximum(sq - mean ** 2, 0.0)) / np.maximum(mean, 1e-3)
-    drop = (size >= min_run) & ((med_score < two_sided) | ((dip >= dotted) & (cv >= dotted)))
+    # a row of dots is bright in several separate pieces; a line fading towards its tip in one
+    high = np.zeros(sk.shape, bool)
+    high[yy, xx] = con >= 0.5 * p90[ll]
+    hl, _ = ndi.label(high, structure=np.ones((3, 3)))
+    pairs = np.unique(np.stack([ll, hl[yy, xx]], 1)[hl[yy, xx] > 0], axis=0)
+    pieces = np.bincount(pairs[:, 0], minlength=n + 1)
+    dots = (dip >= dotted) & (cv >= dotted) & (pieces >= 3)
+    # short stretches in a glow between two bright lines are one-sided too: only long edges count
+    drop = ((size >= max(min_run, 5.0 * sigma_max)) & (med_score < two_sided)) | ((size >= min_run) & dots)
     drop[0] = False
     out[yy, xx] = drop[ll]
     return out
