@@ -114,7 +114,16 @@ from .billboard_cards import (
     tone_edges,
 )
 from .billboard_layers import _cut, _recolour, _same_colour_overlap, _shading, _trim, _trunk_strips
-from .billboard_lines import _LUM3, _colour_span3, _fill_lines, _line_masks, _outer_lines, line_art, trunk_outline
+from .billboard_lines import (
+    _LUM3,
+    _colour_span3,
+    _fill_lines,
+    _line_masks,
+    _outer_lines,
+    flat_slivers,
+    line_art,
+    trunk_outline,
+)
 from .billboard_shapes import (
     _decorations,
     _drawn_regions,
@@ -188,6 +197,8 @@ _HUB_STROKES = True
 _STAR_ONE = True
 #: A drawn trunk's side strokes go to the trunk (:func:`~branchnb.trees.billboard_lines.trunk_outline`).
 _TRUNK_OUTLINE = True
+#: Tone-card crowns: the slivers of dark fills are no strokes (billboard_lines.fill_slivers).
+_FILL_SLIVERS = True
 
 
 @checked()
@@ -314,6 +325,13 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
     # The fill regions are bounded by the strokes, and on a shaded crown by its sharp tone edges.
     region_lines = lines & crown
     toned = bool(shaded and p.tone_cards and _one_region(crown, lines))
+    if toned and _FILL_SLIVERS:
+        # Flat discs without outlines: the slivers of their darkest fills are no strokes.
+        sliver = flat_slivers(work, lines, crown, width=p.line_width, alpha_threshold=p.alpha_threshold)
+        if sliver.any():
+            lines = lines & ~sliver
+            region_lines = lines & crown
+            filled = _fill_lines(work, lines, alpha > 1e-3) if lines.any() else work
     if toned:
         region_lines = region_lines | tone_edges(work, crown)
     card_holes: dict = {}
