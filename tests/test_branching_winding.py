@@ -79,10 +79,10 @@ def test_fitted_example_is_shared_and_cached(tmp_path):
 def test_delta_channel_bearing_heads_apart_from_its_parent():
     from branchnb.branching.domains import FAN_MAX, FAN_SPLIT
 
-    dom = np.ones((200, 200), bool)
+    dom = np.ones((200, 600), bool)                    # wide: a straight run 60 degrees off reaches the sea
     dom[160:] = False                                  # the sea along the bottom: descent is +y
     d = _Drain(dom)
-    at = np.array([100.0, 80.0])
+    at = np.array([300.0, 80.0])
 
     def off(v):                                        # degrees off straight down, + toward -x
         return float(np.degrees(np.arctan2(-v[0], v[1])))

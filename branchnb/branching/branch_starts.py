@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import _kernels
-from .domains import HEAD_PULL, MOUTH_TURN, head_share
+from .domains import FAN_SPLIT, HEAD_PULL, MOUTH_TURN, fan_spread, head_share
 from .furcation import vertex_angles
 from .scoring import _DIRECTION_BINS
 
@@ -27,6 +27,9 @@ __all__: list[str] = []
 #: side that already has more of them gets its score times this (the example's channels part to both
 #: sides of its head; without it 2 of 3 seeds of a 1000 px delta sent every channel to one side).
 FAN_OTHER_SIDE = 0.02
+#: A delta: log-spaced radius bins over the example's range in which a new channel's radius is chosen
+#: (:meth:`_Starts._channel_radius`).
+CHANNEL_RADIUS_BINS = 8
 
 
 @dataclass
@@ -74,6 +77,74 @@ class _Starts:
         dep = self.drain.depth_at(pts)
         return dep <= share * dep[0]
 
+    def _fan_spread(self) -> float | None:
+        """A delta: the bearing of the trunk's channels off the descent (:func:`.domains.fan_spread`)."""
+        if "_spread" not in self.__dict__:
+            m = self.model
+            self.__dict__["_spread"] = None if m.domain is None else fan_spread(m.example, m.domain)
+        return self.__dict__["_spread"]
+
+    def _fan_need(self) -> int:
+        """A delta: how many channels the example takes to the sea (branches ending within 10 % of the
+        deepest depth of the sea, as in :func:`.domains._drains`), at least 2."""
+        need = self.__dict__.get("_fan_n")
+        if need is None:
+            ex = self.model.example
+            tips = [b.points[-1] for b in ex.branches if len(b.points)]
+            deep = float(self.drain.depth.max())
+            need = max(2, int(np.sum(self.drain.depth_at(np.asarray(tips)) < 0.1 * deep))) if tips else 2
+            self.__dict__["_fan_n"] = need
+        return need
+
+    def _finish_fan(self) -> None:
+        """A delta stopped by coverage or length: its trunks fan out to the sea all the same.
+
+        Beyond the paper (issue 23): the global stops (coverage, total length) hold the example's
+        density, but a delta's trunk that met them before it furcated (a small example, whose trunk
+        alone covers as much as the whole example: 3 of 5 seeds of a 250 px delta) ran to the sea
+        alone, and children started just before the stop stayed heads. Each trunk gets children below
+        the delta's head until it and they make the example's number of channels at the sea
+        (:meth:`_fan_need`), and every child of a trunk runs on to the sea (``grow`` past the stops).
+        """
+        if self.drain is None:
+            return
+        for bi in [i for i, st in enumerate(self.branches) if st.parent is None]:
+            below = self._below_head(bi)
+            if below is None or not below.any():
+                continue
+            kids = [i for i, st in enumerate(self.branches) if st.parent == bi]
+            for c in kids:
+                if not self.branches[c].stop:
+                    self.grow(c)
+            st = self.branches[bi]
+            pts, rad = np.asarray(st.points, np.float64), np.asarray(st.radii, np.float64)
+            tried = [self.branches[c].parent_vertex for c in kids]
+            wet = sum(self._wet(c) for c in kids)
+            while wet + 1 < self._fan_need():
+                verts = self.model.furcation.choose(pts, rad, 1, min_spacing=self.p.min_spacing, existing=tried,
+                                                    weights=below.astype(np.float64))
+                if not verts:
+                    break
+                tried.append(int(verts[0]))
+                c = self.start_child(bi, int(verts[0]))
+                if c is not None:
+                    self.grow(c)
+                    wet += self._wet(c)
+
+    def _wet(self, bi: int) -> bool:
+        """Does branch ``bi`` (or a branch of its subtree) reach the sea (a delta; see ``_prune_dry``) from
+        inland (it starts over 10 % of the deepest depth from the sea; not a stub at a mouth)?"""
+        if float(self.drain.depth_at(self.branches[bi].points[0])[0]) < 0.1 * float(self.drain.depth.max()):
+            return False
+        todo = [bi]
+        while todo:
+            i = todo.pop()
+            st = self.branches[i]
+            if st.stop == "left the domain" or float(self.drain.depth_at(st.points[-1])[0]) <= 2.0 * self.p.h:
+                return True
+            todo.extend(j for j, b in enumerate(self.branches) if b.parent == i)
+        return False
+
     def _head_share(self) -> float:
         if self._head is None:
             m = self.model
@@ -82,12 +153,15 @@ class _Starts:
 
 
     def _start_branch(self, x0, theta0, heads, Q, parent, parent_vertex, generation,
-                      betas=None, mirror=None, r_cap: float | None = None, full: bool = False) -> int | None:
+                      betas=None, mirror=None, r_cap: float | None = None, full: bool = False,
+                      r_set: float | None = None) -> int | None:
         """Start a branch at ``x0`` with one of the candidate input heads (vectorised).
 
         ``r_cap`` (a child: the parent's radius at the junction) bounds the
         copied head's radii: a head taken from a thicker input branch is
         scaled down so the child never starts thicker than its parent.
+        ``r_set`` (a delta's trunk) scales the copied head's radii so it starts
+        that thick.
         """
         model, p = self.model, self.p
         heads = np.asarray(heads, np.int64)
@@ -134,7 +208,7 @@ class _Starts:
                 if left != right:
                     score = np.where(side == (1 if left < right else -1), score, score * FAN_OTHER_SIDE)
         if self.shore is not None:
-            score = score * self.shore.factor(x0, new, n + 1)
+            score = score * self.shore.factor(x0, new, n + 1) * self.shore.along_factor(x0, new, n + 1)
         mouth = self.shore is not None and parent is None
         if mouth:
             span = np.where(valid, th, th[:, :1])
@@ -144,7 +218,7 @@ class _Starts:
             if sub is None or not self._room_around(x0, length):
                 return None
             return self._start_branch(x0, theta0, every[0], every[1], parent, parent_vertex, generation,
-                                      every[2], every[3], r_cap, full=True)
+                                      every[2], every[3], r_cap, full=True, r_set=r_set)
         hd = int(heads[j])
         full = np.vstack([x0, new[j, : n[j] + 1]])
         ok = self._inside(full)
@@ -155,6 +229,10 @@ class _Starts:
         ea = list(sign[j] * model.first_a[hd, :ne])
         er = list(model.first_r[hd, :ne])
         radii = [head["r0"], head["r1"]] + er
+        if r_set is not None:
+            f = r_set / max(max(radii[:3]), 1e-9)
+            radii = [max(r * f, model.r_min) for r in radii]
+            er = radii[2:]
         if r_cap is not None:
             f = min(1.0, r_cap / max(max(radii[:3]), 1e-9))
             if f < 1.0:
@@ -178,13 +256,53 @@ class _Starts:
         elif n[j] < p.m and p.branch_end == "markov":
             st.stop = "end of input branch"
         if self.drain is not None and parent is not None and self.drain.head:
-            st.fan = self.drain.bearing(x0, pl[-1] - x0, self.branches[parent].fan)
-            if self.branches[parent].parent is None:
+            spread = self._fan_spread()
+            trunk = self.branches[parent].parent is None
+            if trunk:
                 side = int(self._fan_side(x0, theta0, new[j:j + 1], n[j:j + 1])[0])
+                k = self._fan_count[0] if side > 0 else self._fan_count[1]
+                if spread is not None and k:   # the k-th channel on a side: between the others and the descent
+                    spread = max(spread / (k + 1), FAN_SPLIT)
+            st.fan = self.drain.bearing(x0, pl[-1] - x0, self.branches[parent].fan, spread=spread)
+            if trunk:
                 self._fan_count = (self._fan_count[0] + (side > 0), self._fan_count[1] + (side < 0))
         self._register(pl, ea, radii)
         self.branches.append(st)
         return len(self.branches) - 1
+
+    def _channel_radius(self, r_cap: float) -> float | None:
+        """A delta's new channel: the radius (at most ``r_cap``, its parent's there) where the synthesized
+        channels' radii fall shortest of the example's (beyond the paper, issue 23).
+
+        The radii (per vertex, the same step ``h`` in both) are binned in :data:`CHANNEL_RADIUS_BINS`
+        log-spaced bins over the example's range; the channel starts at the example's median radius in
+        the bin where the synthesized vertices so far fall furthest short of the example's count (at
+        most ``r_cap``): the paper's global histogram matching, for the radius a head is copied at.
+        Copied from a random head, the channels were as thin as the example's thinnest wherever its
+        thinnest head was drawn (length-weighted median radius 0.28-0.54 x the example's in 5 of 5
+        seeds of a 512 px delta; after this, the trunk's start (``start_root``) and
+        :func:`~branchnb.branching.growth._radius_keep`: 0.89-1.24 x).
+        """
+        cache = self.__dict__.get("_ex_radius_bins")
+        if cache is None:
+            r = self.model.example.thicknesses()
+            r = r[np.isfinite(r) & (r > 0)]
+            if not len(r):
+                return None
+            edges = np.geomspace(r.min() * 0.999, r.max() * 1.001, CHANNEL_RADIUS_BINS + 1)
+            b = np.clip(np.searchsorted(edges, r, side="right") - 1, 0, CHANNEL_RADIUS_BINS - 1)
+            share = np.bincount(b, minlength=CHANNEL_RADIUS_BINS).astype(np.float64)
+            med = np.array([np.median(r[b == k]) if (b == k).any() else np.nan for k in range(CHANNEL_RADIUS_BINS)])
+            cache = self.__dict__["_ex_radius_bins"] = (edges, share, med)
+        edges, share, med = cache
+        out = np.concatenate([np.asarray(st.radii, np.float64) for st in self.branches]) if self.branches \
+            else np.zeros(0)
+        ob = np.clip(np.searchsorted(edges, out, side="right") - 1, 0, CHANNEL_RADIUS_BINS - 1)
+        have = np.bincount(ob, minlength=CHANNEL_RADIUS_BINS)
+        ok = np.isfinite(med) & (edges[:-1] <= r_cap)
+        if not ok.any():
+            return None
+        return float(min(med[int(np.argmax(np.where(ok, share - have, -np.inf)))], r_cap))
 
     @staticmethod
     def _fan_side(x0, theta0: float, new: np.ndarray, n: np.ndarray) -> np.ndarray:
@@ -218,7 +336,12 @@ class _Starts:
         # copied head; then any input branch's head may start a root.
         pool = roots if len(roots) >= 3 else usable
         Q = np.ones(len(pool))
-        return self._start_branch(np.array([x, y], float), float(theta), pool, Q, None, None, 0)
+        # beyond the paper: a delta's trunk starts as thick as the example's (any branch's head may start
+        # it, and a channel's head made the trunk of a 250-512 px delta 0.3-0.5 x the example's thickness)
+        r_set = None
+        if self.drain is not None and roots:
+            r_set = float(np.mean([max(model.bending.heads[i]["r0"], model.bending.heads[i]["r1"]) for i in roots]))
+        return self._start_branch(np.array([x, y], float), float(theta), pool, Q, None, None, 0, r_set=r_set)
 
     def start_child(self, parent: int, vertex: int, toward=None, full: bool = False) -> int | None:
         model, fm = self.model, self.model.furcation
@@ -271,8 +394,9 @@ class _Starts:
         if toward is not None:   # a child grown into a hole starts toward it (``_Filling._fill_far``)
             theta0 = float(np.arctan2(toward[1] - pts[v][1], toward[0] - pts[v][0]))
             betas = np.zeros(len(heads))
+        r_set = self._channel_radius(float(rad[v])) if self.drain is not None else None
         c = self._start_branch(pts[v], theta0, heads, Q, parent, vertex, st.generation + 1,
-                               betas=betas, mirror=mirror, r_cap=float(rad[v]), full=full)
+                               betas=betas, mirror=mirror, r_cap=float(rad[v]), full=full, r_set=r_set)
         if c is None and sub is not None and self._room_around(pts[v], 3.0 * self.p.m * self.p.h):
             return self.start_child(parent, vertex, toward, full=True)   # none of the share fits: all (rare)
         return c

@@ -158,9 +158,11 @@ class _Filling:
             bi = queue[qi]
             qi += 1
             if self.global_stop():
+                self._finish_fan()
                 return
             self.grow(bi)
             if self.global_stop():
+                self._finish_fan()
                 return
             queue.extend(self.furcate(bi))
 
@@ -360,7 +362,10 @@ class _Filling:
         domain are removed, again while removing one leaves its parent a
         dry leaf.
         """
-        if self.drain is None or self.domain is None or len(self.branches) < 2:
+        if self.drain is None or self.domain is None:
+            return
+        self._finish_fan()
+        if len(self.branches) < 2:
             return
         from scipy import ndimage as ndi
 

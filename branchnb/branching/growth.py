@@ -26,7 +26,7 @@ from .colonization import (
     SegmentStore,
     frame_density,
 )
-from .domains import MOUTH_SHARE, MOUTH_TURN, _Drain, _frame, _Shore, _shore_margin
+from .domains import MOUTH_SHARE, MOUTH_TURN, _Drain, _frame, _Shore, _shore_margin, runs_inland
 from .filling import _Filling
 from .guidance import Guidance
 from .model import StructureModel, _choice
@@ -252,6 +252,28 @@ def _radius_growth(example) -> float:
     return max(1.0, float(np.quantile(ratios, RADIUS_GROWTH_QUANTILE))) if ratios else np.inf
 
 
+#: An example that drains (a delta): quantile of its branches' (thinnest radius over their first 90 % /
+#: first radius) below which a synthesized channel may not thin.
+RADIUS_KEEP_QUANTILE = 0.5
+
+
+def _radius_keep(example) -> float:
+    """How much thinner than at its start a delta's channel may get (beyond the paper, issue 23).
+
+    The example's branches' ``min(r) / max(r_0, r_1)`` over their first 90 % (their last vertices
+    thin where the mask meets the sea) at :data:`RADIUS_KEEP_QUANTILE`, at most 1. The copied tapers
+    multiply step after step (``_continue_radii``) and the cap on thickening (:func:`_radius_growth`)
+    left only the thinning: every channel of a 512-1000 px delta fell to the example's thinnest radius
+    (length-weighted median radius 0.13-0.78 x the example's; after 0.8-1.2 x).
+    """
+    ratios = []
+    for b in example.branches:
+        t = np.asarray(b.thickness, np.float64)
+        if len(t) > 2:
+            ratios.append(float(t[: max(2, int(0.9 * len(t)))].min()) / max(float(t[:2].max()), 1e-9))
+    return min(1.0, float(np.quantile(ratios, RADIUS_KEEP_QUANTILE))) if ratios else 0.0
+
+
 class _Grower(_Starts, _Filling):
     def __init__(self, model: StructureModel, params: SynthesisParams, rng, shape,
                  guidance: Guidance | None, scorer=None, domain: np.ndarray | None = None):
@@ -263,7 +285,7 @@ class _Grower(_Starts, _Filling):
             and not domain.all() else None
         margin = _shore_margin(model) if guidance is None and domain is not None \
             and not domain.all() and self.drain is None else 0.0
-        self.shore = _Shore(domain, margin) if margin > 0 else None
+        self.shore = _Shore(domain, margin, inland=runs_inland(model)) if margin > 0 else None
         self.scorer = scorer
         self.matcher = model.matcher(params.wG)
         # beyond the paper: the sizes of the turns follow the example's too (see .straightness)
@@ -301,6 +323,7 @@ class _Grower(_Starts, _Filling):
         radii = model.example.thicknesses()
         self.r_max = float(radii.max()) if radii.size else np.inf
         self.r_grow = _radius_growth(model.example)
+        self.r_keep = _radius_keep(model.example) if self.drain is not None else 0.0
         self.wind_max = winding_limit(model.example)
         self.fill_rounds = 0
         self._empty_dt: np.ndarray | None = None
@@ -507,7 +530,7 @@ class _Grower(_Starts, _Filling):
         fb, zero = self._step_factors(st, t_arr)
         if self.shore is not None:
             fs = self.shore.factor(tip, pts, n_arr)
-            score = score * fs
+            score = score * fs * self.shore.along_factor(tip, pts, n_arr)
             if fb is not None:   # near the coast the shore decides alone
                 fb = np.where(fs < 1.0, 1.0, fb)
         if fb is not None:
@@ -551,6 +574,8 @@ class _Grower(_Starts, _Filling):
             # beyond the paper: the taper's ratios multiply step after step, a random walk that ended
             # 12-22 % of a delta's branches (example 7-11 %) > 2 x thicker than they start (issue 23)
             rad = np.minimum(rad, self.r_grow * max(float(st.radii[0]), float(st.radii[1])))
+            if self.r_keep > 0:   # and a delta's channels keep their width (see _radius_keep)
+                rad = np.maximum(rad, self.r_keep * max(float(st.radii[0]), float(st.radii[1])))
         ok = self._inside(new_pts)
         if not ok.all():
             cut = int(np.argmin(ok))

@@ -133,7 +133,7 @@ class Dendrite:
     main : (K,) int64 or None
         Tree indices of a main channel planned on its own, root first (a
         lightning bolt on a photo,
-        :func:`~branchnb.dendrite.main_channel.photo_channel`); None (the
+        :func:`~branchnb.dendrite.photo_strike.photo_channel`); None (the
         default): :func:`~branchnb.dendrite.main_channel.main_path` walks
         down the child with most tips.
 

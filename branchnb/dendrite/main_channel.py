@@ -26,6 +26,7 @@ import numpy as np
 from scipy import ndimage
 
 from .dendrite import Dendrite, build_dendrite
+from .photo_strike import photo_channel  # noqa: F401  (re-exported: it was defined here)
 from .planner import PlanResult
 from .stylize_params import (
     LIGHTNING_MAIN_EXPONENT,
@@ -34,13 +35,10 @@ from .stylize_params import (
     STRIKE_BAND,
     STRIKE_MAX_COVER,
     STRIKE_PENALTY,
-    STRIKE_PHOTO_CONTRAST,
-    STRIKE_PHOTO_DEPTH,
-    STRIKE_PHOTO_LENGTH,
 )
 
 __all__ = ["main_path", "path_loops", "outline_band", "shortcut_loops", "silhouette", "straighten",
-           "channel_plan", "photo_channel", "with_channel", "strike_channel", "strike_weights",
+           "channel_plan", "with_channel", "strike_channel", "strike_weights",
            "wide_top", "widen_main_path"]
 
 
@@ -634,84 +632,6 @@ def strike_weights(weights, content, seed, *, band: float = STRIKE_BAND,
     out = w + float(np.mean(w[np.isfinite(w)])) * penalty * fill * near
     out[path[:, 1], path[:, 0]] = 0.0
     return out, path
-
-
-def photo_channel(weights, content, seed, *, length: float = STRIKE_PHOTO_LENGTH,
-                  contrast: float = STRIKE_PHOTO_CONTRAST,
-                  depth: float = STRIKE_PHOTO_DEPTH) -> np.ndarray:
-    """The path of a lightning bolt's main channel on a photo: from the seed down the picture.
-
-    Beyond the papers: on a photo (content everywhere, no object to go
-    through, :func:`strike_channel`) the bolt's widest channel was the child
-    with the most tips, and it wandered along whatever edges led to most
-    endpoints (round the border of a lightning photo, across a portrait).
-    Here it is planned on its own: the least cumulative cost path on
-    ``(g / median(g)) ** contrast``, ``g`` the weights blurred by 1 px (the
-    lattice's noise averaged out, the picture's structure made cheaper: a
-    lightning photo's bolts weigh ~0.6 of the median, 0.13 after the power),
-    plus ``length`` times its mean per pixel of length (so
-    it runs along the picture's bright or dark structure where that goes
-    down, and straight where nothing does), from ``seed`` to the content
-    pixel, in the lower ``depth`` of the content below the seed, that costs
-    least per pixel of descent.
-
-    Parameters
-    ----------
-    weights : (h, w) array_like
-        Node weights of the lattice (>= 0).
-    content : (h, w) array_like of bool
-        Where there is something to draw.
-    seed : (x, y)
-        Start, in lattice pixels.
-    length : float
-        Cost (>= 0, in units of the mean weight) of a pixel of length.
-    contrast : float
-        Power (> 0) the weights are raised to.
-    depth : float
-        Share in (0, 1] of the content's height below the seed where the channel may end.
-
-    Returns
-    -------
-    (K, 2) int64 ndarray
-        Lattice ``(x, y)`` from the seed to the end (one row when there is no content below it).
-
-    Examples
-    --------
-    >>> w = np.ones((60, 60)); w[:, 40] = 0.0  # a cheap line, off the seed's column
-    >>> path = photo_channel(w, np.ones((60, 60), bool), (38, 0))
-    >>> bool(path[-1, 1] > 50), bool(np.mean(path[:, 0] == 40) > 0.8)
-    (True, True)
-    """
-    from .lattice import Lattice
-    from .planner import plan
-
-    w = np.asarray(weights, np.float64)
-    c = np.asarray(content, bool)
-    if w.ndim != 2 or c.shape != w.shape:
-        raise ValueError(f"weights and content must be 2-D of one shape, got {w.shape}, {c.shape}")
-    if not length >= 0:
-        raise ValueError(f"length must be >= 0, got {length}")
-    if not contrast > 0:
-        raise ValueError(f"contrast must be > 0, got {contrast}")
-    if not 0 < depth <= 1:
-        raise ValueError(f"depth must be in (0, 1], got {depth}")
-    sx, sy = (int(round(float(v))) for v in seed)
-    w = np.where(np.isfinite(w), w, np.nanmax(np.where(np.isfinite(w), w, np.nan)))
-    g = ndimage.gaussian_filter(w, 1.0)
-    g = (g / max(float(np.median(g)), 1e-12)) ** contrast
-    mean = max(float(np.mean(g)), 1e-12)
-    res = plan(Lattice(g + length * mean), (sx, sy), metric="cumulative")
-    ys, xs = np.nonzero(c)
-    below = ys > sy
-    if not below.any():
-        return np.array([[sx, sy]], np.int64)
-    low = ys.max() - depth * (ys.max() - sy)
-    pick = below & (ys >= low)
-    ys, xs = ys[pick], xs[pick]
-    cost = res.total_cost[ys * w.shape[1] + xs] / (ys - sy)
-    k = int(np.argmin(np.where(np.isfinite(cost), cost, np.inf)))
-    nodes = res.path(int(ys[k]) * w.shape[1] + int(xs[k]))
-    return np.column_stack([nodes % w.shape[1], nodes // w.shape[1]]).astype(np.int64)
 
 
 def channel_plan(plan_result: PlanResult, path) -> PlanResult:

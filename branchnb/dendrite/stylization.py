@@ -30,7 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage
 
-from ..core.image import as_float_image, as_points, as_rgb
+from ..core.image import as_float_image, as_gray, as_points, as_rgb
 from ..core.io import encode_png
 from ..core.params import check_params
 from ..core.random import as_seed
@@ -42,13 +42,19 @@ from .lattice import Lattice, node_weights
 from .main_channel import (
     channel_plan,
     outline_band,
-    photo_channel,
     silhouette,
     straighten,
     strike_weights,
     wide_top,
     widen_main_path,
     with_channel,
+)
+from .photo_strike import (
+    bright_ridges,
+    edge_significance,
+    long_pieces,
+    photo_channel,
+    strike_origin,
 )
 from .planner import PlanResult, plan
 from .render import Rendering
@@ -60,8 +66,11 @@ from .stylize_params import (  # noqa: F401  (re-exported; the spacings too)
     LIGHTNING_SEED_DENSITY,
     LIGHTNING_SPACING,
     STRIKE_BAND,
+    STRIKE_EDGE_NOISE,
+    STRIKE_GLOW,
     STRIKE_MAIN_EXPONENT,
     STRIKE_MAX_COVER,
+    STRIKE_MIN_PIECE,
     STRIKE_PENALTY,
     STRIKE_PHOTO_SIDE,
     STRIKE_SIDE,
@@ -332,7 +341,9 @@ class Stylizer:
         ``params.endpoint_threshold`` within 5 % of the lattice's height below
         the topmost such pixel (beyond the paper: from the default seed, in the
         middle of the picture, the bolt burst out in every direction; from the
-        top it runs down and forks like a strike). Only content pixels in a
+        top it runs down and forks like a strike). On a photo (content all over)
+        with a strike of its own, the top of its brightest strike
+        (:func:`~branchnb.dendrite.photo_strike.strike_origin`). Only content pixels in a
         wide part count (:func:`~branchnb.dendrite.main_channel.wide_top`):
         their share of content within a blur of ``LIGHTNING_SEED_BLUR`` of the
         lattice's diagonal reaches ``LIGHTNING_SEED_DENSITY`` of its maximum (a
@@ -356,8 +367,14 @@ class Stylizer:
         >>> [round(v) for v in Stylizer(img).top_seed(StylizeParams(lattice_size=0))]
         [47, 7]
         """
-        at = wide_top(self.importance(params) >= params.endpoint_threshold,
-                      LIGHTNING_SEED_BLUR, LIGHTNING_SEED_DENSITY)
+        content = self.importance(params) >= params.endpoint_threshold
+        if silhouette(content).mean() > STRIKE_MAX_COVER:
+            # a photo: its own brightest strike's top, if it has one (beyond the paper:
+            # from the top of the picture a bolt on a lightning photo started in the cloud)
+            at = strike_origin(as_gray(self.working_image(params)))
+            if at is not None:
+                return self.to_image(params, [float(at[0]), float(at[1])])
+        at = wide_top(content, LIGHTNING_SEED_BLUR, LIGHTNING_SEED_DENSITY)
         if at is None:
             return np.array([(self.shape[1] - 1) / 2.0, 0.0])
         xb, yb = at
@@ -596,11 +613,33 @@ class Stylizer:
                             self._main_channel_straight(p, seed, rng_seed), False)
                 mask = np.zeros(lat.weights.shape, bool)
                 mask[path[:, 1], path[:, 0]] = True
+                # the side branches follow the edges that stand out of the picture's noise
+                # (beyond the paper: on the importance they wandered through a night sky)
+                base, ends = lat.weights, self.endpoints(p, rng_seed)
+                lum = as_gray(self.working_image(p))
+                if strike_origin(lum) is not None:
+                    # a lightning photo: the side branches run along its other bolts (its
+                    # long bright lines), not through the dark cloud round them
+                    top, strong = bright_ridges(lum)
+                    strong = long_pieces(strong, STRIKE_MIN_PIECE)
+                    sig = np.where(strong, np.clip(top / max(float(top[strong].max(initial=0.0)),
+                                                             1e-6), 0.0, 1.0), 0.0)
+                    if (sig > 0).sum() >= 4 * p.n_endpoints:
+                        # ... and between them through the lit cloud rather than the dark sky
+                        glow = STRIKE_GLOW * ndimage.gaussian_filter(lum, 0.01 * np.hypot(*lum.shape))
+                        base = node_weights(p.cost_weight * (1.0 - np.maximum(np.sqrt(sig), glow)),
+                                            epsilon=p.epsilon, noise=p.noise, rng=rng_seed)
+                else:  # their ends on the edges that stand out of the picture's noise
+                    sig = edge_significance(self.edge_map(p), STRIKE_EDGE_NOISE)
+                if (sig > 0).sum() >= 4 * p.n_endpoints:
+                    ends = place_endpoints(sig, p.n_endpoints, gamma=p.endpoint_gamma,
+                                           floor=0.0, threshold=1e-6,
+                                           iterations=p.stipple_iterations, rng=rng_seed + 1)
                 # the picture's border band costs more, as a drawn object's outline does
                 near = outline_band(content, STRIKE_BAND)[1]
-                w = lat.weights + float(np.mean(lat.weights)) * STRIKE_PENALTY * near
+                w = base + float(np.mean(base)) * STRIKE_PENALTY * near
                 res = channel_plan(self._plan_on(Lattice(w, lat.factors), p, mask), path)
-                ends = np.concatenate([self.endpoints(p, rng_seed), path[-1:].astype(float)])
+                ends = np.concatenate([ends, path[-1:].astype(float)])
                 return res, with_channel(build_dendrite(res, ends), path), True
             res = self._plan_on(Lattice(got[0], lat.factors), p, seed)
             ends = np.concatenate([self.endpoints(p, rng_seed), got[1][-1:].astype(float)])

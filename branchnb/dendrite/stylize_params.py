@@ -304,10 +304,36 @@ STRIKE_MAX_COVER = 0.85
 #: On a photo (silhouette over ``STRIKE_MAX_COVER``), the cost of a pixel of length (units
 #: of the mean weight) of a lightning bolt's main channel, the power its weights are
 #: raised to, and the lower share of the content's height where it ends
-#: (:func:`~branchnb.dendrite.main_channel.photo_channel`).
+#: (:func:`~branchnb.dendrite.photo_strike.photo_channel`).
 STRIKE_PHOTO_LENGTH = 0.3
 STRIKE_PHOTO_CONTRAST = 4.0
 STRIKE_PHOTO_DEPTH = 0.4
+#: ... and how much more than the least cost per pixel of descent its end may cost, the
+#: deepest such end taken (beyond the paper: with the least alone it ended at the nearest
+#: cheap place, 0.60 of the height on cracked mud whose cracks run to the bottom).
+STRIKE_PHOTO_SLACK = 0.25
+
+#: A photo's strike (:func:`~branchnb.dendrite.photo_strike.strike_origin`): bright
+#: structures narrower than ``STRIKE_RIDGE`` of the diagonal, ``STRIKE_NOISE`` robust
+#: standard deviations above the picture's noise and at least ``STRIKE_MIN_RIDGE`` of
+#: luminance; none where they cover more than ``STRIKE_MAX_RIDGE`` of the picture (a
+#: textured photo: 0.09-0.19 on a portrait, a cat, a cup and a camera man, 0.01-0.03 on
+#: lightning photos) or span less than ``STRIKE_MIN_SPAN`` of its height.
+STRIKE_RIDGE = 0.02
+STRIKE_NOISE = 4.0
+STRIKE_MIN_RIDGE = 0.08
+STRIKE_MAX_RIDGE = 0.06
+STRIKE_MIN_SPAN = 0.2
+#: Robust standard deviations above the median gradient from which an edge stands out of
+#: a photo's noise for a lightning bolt's side branches
+#: (:func:`~branchnb.dendrite.photo_strike.edge_significance`).
+STRIKE_EDGE_NOISE = 3.0
+#: Shortest piece of a lightning photo's bright lines (its extent, share of the diagonal)
+#: its side branches run along (specks of cloud and the lights on the ground are shorter).
+STRIKE_MIN_PIECE = 0.05
+#: ... and between those lines they cost less where the picture is bright (a lit cloud,
+#: not the dark sky): the importance there is this share of the blurred luminance.
+STRIKE_GLOW = 0.6
 
 #: Factor on the width (above the thinnest) of the side branches of a lightning bolt on a
 #: photo (:func:`~branchnb.dendrite.main_channel.widen_main_path`, ``side``; beyond the

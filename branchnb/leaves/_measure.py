@@ -209,8 +209,9 @@ def _print_registration(rows, size):
 def _family_on_canvas(kind, size, n, seed):
     from .analysis import normalise_exemplars
     from .procedural import leaf_family
+    from .procedural_strips import strip_family
 
-    fam = leaf_family(n, size=size, kind=kind, rng=seed)
+    fam = strip_family(n, size=size, rng=seed) if kind == "strips" else leaf_family(n, size=size, kind=kind, rng=seed)
     _, blades, offs = normalise_exemplars(fam)
     shape = blades[0].shape
 

@@ -25,10 +25,11 @@ spots) the carried-over layer is only a prior:
    normalised by its 99th percentile inside the blade, in ``[0, 1]``.
 3. **Template fit.** The training layer's skeleton is cut into branches
    at its junctions and its main branches (:func:`main_branches`) are
-   carried into the exemplar twice: by the affine map nearest the
-   registration, and by the blades' centroids and sizes alone (a
+   carried into the exemplar three times: by the affine map nearest the
+   registration, by the blades' centroids and sizes alone (a
    registration of outlines can turn the inside of a leaf by tens of
-   degrees: sample maple 02 -> 03). From each start the branches, as one
+   degrees: sample maple 02 -> 03) and, when :data:`REGISTRATION_START`
+   is set, by the registration itself. From each start the branches, as one
    template, then each on its own, are turned, scaled and shifted onto the
    ridges that fit them best (:func:`~branchnb.leaves.snapping_fit.fit_branches`); the better start wins.
    A pose is scored half by ``E_e`` and half by the *oriented* ridge
@@ -72,7 +73,18 @@ spots) the carried-over layer is only a prior:
    **Side ridges** (:func:`~branchnb.leaves.snapping_stray._side_ridges`): a long straight ridge at
    :data:`~branchnb.leaves.snapping_stray.SIDE_LEVEL` that leaves the found network is a branch the
    training layer lacks (a torn lobe's lateral on the training maple 07).
-7. The kept paths, grown to each branch's width on the training leaf
+7. **Parallel venation** (:mod:`branchnb.leaves.snapping_parallel`): when the training layer's
+   main branches are parallel veins that do not meet (a grass blade's,
+   :func:`~branchnb.leaves.snapping_parallel.is_parallel_layer`), the paths are cut where they
+   cross the exemplar's own vein direction and each piece is followed along
+   its ridge's centre line (:func:`~branchnb.leaves.snapping_parallel.along_ridges`): the
+   staircases the path search climbed across neighbouring veins become
+   parallel lines (``python -m branchnb.leaves._measure_grass``: real grass
+   strips 01-05 at 400 px, training strip 01 / 02: mean along-strip run
+   0.13 / 0.23 -> 0.31 / 0.37 strip lengths, rungs 15 / 12 % -> 7 / 11 %
+   of the induced length). Branching venation (procedural families, the sample
+   maples, sketched maples) is never parallel: unchanged.
+8. The kept paths, grown to each branch's width on the training leaf
    (area per skeleton pixel, so diagonal veins keep their width),
    are the snapped layer. :func:`branchnb.leaves.analysis.induce` uses it
    in place of the carried-over layer for the paper's ``||x, c||`` (eqs.
@@ -148,7 +160,7 @@ import numpy as np
 from scipy import ndimage as ndi
 
 from ..core.image import as_mask, extend_nearest
-from .snapping_carry import _affine_carry, _disk, _moment_carry, _nearest, carry_points  # noqa: F401
+from .snapping_carry import _affine_carry, _disk, _moment_carry, _nearest, _unbox, blade_box, carry_points  # noqa: F401
 from .snapping_fit import (  # noqa: F401  (the fit's names, importable from here as before)
     N_ORIENTATIONS,
     ORIENTED_WEIGHT,
@@ -167,6 +179,7 @@ from .snapping_fit import (  # noqa: F401  (the fit's names, importable from her
     ridge_hessian,
 )
 from .snapping_mirror import adds_only, mirror_missing
+from .snapping_parallel import along_ridges, is_parallel_layer
 from .snapping_stray import SIDE_LEVEL, STRAY_LENGTH, STRAY_LEVEL, _side_ridges, _stray_ridges  # noqa: F401
 from .snapping_trace import refine_carried, trace_branches  # noqa: F401
 from .snapping_width import GROW_CAP, GROW_LEVEL, _area_widths, _grow_to_width, vein_centre  # noqa: F401
@@ -617,6 +630,8 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
     widths = [area_w[id(c)] for c in chains]
     n_user = len(chains)
     user_chains, user_widths = list(chains), list(widths)
+    # Parallel venation (a grass blade's): followed along each exemplar's own veins at the end.
+    parallel = fit and is_parallel_layer(user_chains, np.sqrt(float(blades[t].sum())))
     n_mirrored = 0
     if mirror:
         # Branches the user left out on one side, mirrored about the midrib (candidates).
@@ -677,16 +692,22 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
             reach = max(radius, 0.12 * np.sqrt(float(b.sum())))
             tube = radius
             if fit and chains:
-                # Two starts for the template: the affine map nearest the
-                # registration, and the blades' centroids and sizes alone (a
+                # Starts for the template: the affine map nearest the
+                # registration, the blades' centroids and sizes alone (a
                 # registration of outlines can turn the inside of a leaf by tens
-                # of degrees: maple 02 -> 03). The better fit wins.
+                # of degrees: maple 02 -> 03), and the registration itself (its
+                # non-rigid carry, only with REGISTRATION_START). The better fit
+                # wins; the registration's own only by that margin.
                 best = None
-                for start in (_affine_carry(registrations[e], blades[t], chains),
-                              _moment_carry(blades[t], b_full, chains)):
-                    got, score = fit_branches([c - off for c in start], ev, b,
-                                              reach=fit_reach * np.sqrt(float(b.sum())), return_score=True,
-                                              hessian=hess)
+                starts = [[c - off for c in _affine_carry(registrations[e], blades[t], chains)],
+                          [c - off for c in _moment_carry(blades[t], b_full, chains)]]
+                if REGISTRATION_START > 0:
+                    starts.append(carried)
+                for k, start in enumerate(starts):
+                    got, score = fit_branches(start, ev, b, reach=fit_reach * np.sqrt(float(b.sum())),
+                                              return_score=True, hessian=hess)
+                    if k == 2:
+                        score = score / REGISTRATION_START
                     if best is None or score > best[1]:
                         best = (got, score)
                 carried = best[0]
@@ -735,6 +756,13 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
                 m = m | side
                 extra = extra | side
             mcen = mcen | extra
+        if parallel:
+            # Cut where a path crosses the veins, each piece followed along its own ridge.
+            wd = float(np.median(widths)) * scale
+            run = PARALLEL_RUN * np.sqrt(float(b.sum()))
+            win = max(4.0, 3.0 * wd, PARALLEL_SCALE * np.sqrt(float(b.sum())))
+            m = along_ridges(m, ev, b, wd, min_run=run, scale=win)
+            mcen = along_ridges(mcen, ev, b, wd, min_run=run, centre=centre, scale=win) if centre is not None else m
         masks.append(_unbox(m, b_full.shape, y0, x0))
         kept.append(k)
         centred_masks.append(_unbox(mcen, b_full.shape, y0, x0) if return_centred else None)
@@ -743,48 +771,27 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
     return masks, kept
 
 
+#: The registration's own carry of the training layer as a third start of the template fit, taken
+#: when its fit scores at least this many times the better of the other two; 0 (default): off.
+#: Beyond the paper; tried, not on by default. Measured (``_measure maples``, 42 pairs) with 1.1: mean
+#: IoU 0.671 -> 0.686, pairs under 0.6: 10 -> 7 (maple 06 -> 01 0.53 -> 0.78, 06 -> 05 0.57 -> 0.70,
+#: 04 -> 05 0.54 -> 0.69; lost: 05 -> 04 0.65 -> 0.43, 01 -> 04 0.60 -> 0.56); 1.0 (plain best score):
+#: mean 0.671, least pair 0.35 -> 0.19 (04 -> 07); 1.15: mean 0.679, 9 pairs under 0.6. Procedural
+#: families (``_measure snapping``, 2 vein widths off) with 1.1: lobed 384 min 0.74 -> 0.77, trilobed
+#: 384 min / mean 0.77 / 0.84 -> 0.79 / 0.85, the rest unchanged. Off because the new leaves of a
+#: lobed family (``tests/test_leaves_synthesis.py``, true registrations) then leave the exemplars'
+#: colour range more (one leaf 0.97595 -> 0.97484 inside, needed 0.97547; 1.15 the same).
+REGISTRATION_START = 0.0
+
+#: Shortest parallel vein kept on an exemplar (:func:`~branchnb.leaves.snapping_parallel.along_ridges`),
+#: as a fraction of the leaf size.
+PARALLEL_RUN = 0.1
+
+#: Window of the veins' direction field on a parallel layer, as a fraction of the leaf size.
+PARALLEL_SCALE = 0.06
+
 #: Pixels around a hole in the blade with no ridge evidence (0: off).
 HOLE_RIM = 2
 
 #: Least margin (px) around the blade's box the snapping works in.
 BOX_PAD = 16
-
-
-def blade_box(blade, pad: int) -> tuple[int, int, int, int]:
-    """The blade's bounding box grown by ``pad`` px, clipped to the image.
-
-    Parameters
-    ----------
-    blade : (H, W) array_like of bool
-        The blade mask.
-    pad : int
-        Pixels added on every side (negative values count as 0).
-
-    Returns
-    -------
-    (int, int, int, int)
-        ``(y0, y1, x0, x1)``, the whole image for an empty blade.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> b = np.zeros((50, 60), bool); b[10:20, 30:45] = True
-    >>> blade_box(b, 4)
-    (6, 24, 26, 49)
-    """
-    b = np.asarray(blade, bool)
-    rows, cols = np.flatnonzero(b.any(1)), np.flatnonzero(b.any(0))
-    if not len(rows):
-        return 0, b.shape[0], 0, b.shape[1]
-    h, w = b.shape
-    p = max(0, int(pad))
-    return (max(int(rows[0]) - p, 0), min(int(rows[-1]) + 1 + p, h),
-            max(int(cols[0]) - p, 0), min(int(cols[-1]) + 1 + p, w))
-
-
-def _unbox(m, shape, y0: int, x0: int) -> np.ndarray:
-    out = np.zeros(shape, bool)
-    out[y0:y0 + m.shape[0], x0:x0 + m.shape[1]] = m
-    return out
-
-

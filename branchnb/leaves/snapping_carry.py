@@ -1,4 +1,4 @@
-"""Carrying the training layer's points into an exemplar before the snap.
+"""Carrying the training layer's points into an exemplar before the snap, and the blade box the snap works in.
 
 Split from :mod:`~branchnb.leaves.snapping`; every name is importable from there as before.
 """
@@ -64,3 +64,41 @@ def carry_points(registration, points) -> np.ndarray:
     out = cv2.remap(mp, pts[:, 0].astype(np.float32)[None], pts[:, 1].astype(np.float32)[None],
                     cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
     return out[0].astype(np.float64)
+
+
+def blade_box(blade, pad: int) -> tuple[int, int, int, int]:
+    """The blade's bounding box grown by ``pad`` px, clipped to the image.
+
+    Parameters
+    ----------
+    blade : (H, W) array_like of bool
+        The blade mask.
+    pad : int
+        Pixels added on every side (negative values count as 0).
+
+    Returns
+    -------
+    (int, int, int, int)
+        ``(y0, y1, x0, x1)``, the whole image for an empty blade.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> b = np.zeros((50, 60), bool); b[10:20, 30:45] = True
+    >>> blade_box(b, 4)
+    (6, 24, 26, 49)
+    """
+    b = np.asarray(blade, bool)
+    rows, cols = np.flatnonzero(b.any(1)), np.flatnonzero(b.any(0))
+    if not len(rows):
+        return 0, b.shape[0], 0, b.shape[1]
+    h, w = b.shape
+    p = max(0, int(pad))
+    return (max(int(rows[0]) - p, 0), min(int(rows[-1]) + 1 + p, h),
+            max(int(cols[0]) - p, 0), min(int(cols[-1]) + 1 + p, w))
+
+
+def _unbox(m, shape, y0: int, x0: int) -> np.ndarray:
+    out = np.zeros(shape, bool)
+    out[y0:y0 + m.shape[0], x0:x0 + m.shape[1]] = m
+    return out

@@ -85,6 +85,7 @@ from .tubes import (  # noqa: F401  (re-exported: fetch.py was split by step)
     _distance_map,
     _end_direction,
     _end_tube,
+    _far_half_width,
     _is_cut,
     _joined_ends,
     _local_max,
@@ -303,6 +304,60 @@ class SourceIndex:
         return auto_radius(np.interp(s, self.width_s[k], cover))
 
 
+def _widths_apart(strokes, raw, joined, keys, obj, edt, caches):
+    """The raw widths of joined strokes, each measured away from the other's flesh (beyond the paper).
+
+    A parent measured across its children's roots is as wide as they are long
+    (a coral's trunk across a branch leaving at 36 degrees: 2.3 times its
+    width), and a child measured across its parent as wide as the parent (a
+    limb hugging a trunk at a narrow angle: 18.9 px for 6.9, so its tube held
+    the trunk's side and a twig in the crotch; a thigh drawn from inside the
+    hip). Every stroke is measured away from the flesh of the strokes joined to
+    it (its children's and its parents', see
+    :func:`~branchnb.strokes.tubes._raw_width`), twice: the second time with
+    the widths the first one found.
+    """
+    n = len(strokes)
+    kids_of = [[j for j in range(n) if keys[j] != keys[k] and k in joined[j]] for k in range(n)]
+    parents_of = [sorted({p for p in joined[k] if p >= 0 and keys[p] != keys[k]}) for k in range(n)]
+    used: dict = {}
+    for _ in range(_APART_ROUNDS):
+        prev, raw = raw, list(raw)
+        for k, st in enumerate(strokes):
+            kids = [(strokes[j], _far_half_width(prev[j][1], joined[j], k)) for j in kids_of[k]]
+            pars = [(strokes[p], float(prev[p][2])) for p in parents_of[k]]
+            if not kids and not pars:
+                continue
+            if used.get(k, (None,))[0] == [w for _, w in kids + pars]:
+                raw[k] = used[k][1]  # the same widths round it: the same result
+                continue
+            got = _raw_width(st, obj, edt, children=kids + pars, cache=caches[k])
+            if pars:
+                # where its cross-section lies inside the parent's flesh (a limb drawn from
+                # the body's centre line) the widths stay the parent's: a cut end's (see
+                # _smooth_width)
+                ins = np.zeros(len(got[0]), bool)
+                pts = st.point_at(got[0])
+                own = min(_far_half_width(prev[k][1], joined[k], p) for p in parents_of[k])
+                for par, hw in pars:
+                    ins |= par.project(pts)[1] <= hw - own
+                if ins.any():
+                    keep = _raw_width(st, obj, edt, children=kids, cache=caches[k]) if kids else prev[k]
+                    wv = np.where(ins, keep[1], got[1])
+                    got = (got[0], wv, float(max(1, int(np.ceil(np.median(wv))))))
+            raw[k] = got
+            used[k] = ([w for _, w in kids + pars], got)
+    return raw
+
+
+#: A parent's tube's last px (from its edge inwards) that a joined child's flesh takes (0: none).
+_CHILD_RIM = 1.0
+#: ... along the parent's side: the sine of the angle between the two strokes below this.
+_ALONG = np.sin(np.radians(60.0))
+#: Rounds of :func:`_widths_apart` (each from the widths the last one measured).
+_APART_ROUNDS = 2
+
+
 @checked(patch_size=Real(0, 1e4))
 def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0) -> SourceIndex:
     """Prepare ``image`` for fetching along ``source_strokes``.
@@ -345,12 +400,15 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
     edt = _edt(np.pad(obj, 1))[1:-1, 1:-1] if has_alpha else None
 
     # Widths along every stroke (first: they bound how far from a stroke anything is needed).
-    raw = [_raw_width(st, obj, edt) if has_alpha else
-           (np.array([0.0, st.length]), np.zeros(2), 0.0) for st in source_strokes]
+    caches = [{} for _ in source_strokes]  # per stroke: its rays and runs, measured once
+    raw = [_raw_width(st, obj, edt, cache=caches[k]) if has_alpha else
+           (np.array([0.0, st.length]), np.zeros(2), 0.0) for k, st in enumerate(source_strokes)]
 
     keys = [st.points.tobytes() for st in source_strokes]
     # Ends joined to another stroke, cut ends.
     joined = _joined_ends(source_strokes, raw, keys)
+    if has_alpha:
+        raw = _widths_apart(source_strokes, raw, joined, keys, obj, edt, caches)
     cuts = [tuple(joined[k][end] >= 0 or _is_cut(st, obj, raw[k][2], end) for end in (0, 1))
             for k, st in enumerate(source_strokes)]
     widths = [_smooth_width(raw[k][1], raw[k][2], _wide_ends(st, cuts[k], edt, raw[k][2])) if has_alpha
@@ -441,6 +499,27 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
                     tubes[pkey][0], tubes[(keys[k], cuts[k])][0],
                     float(np.interp(source_strokes[parent].project(st.points[:1] if end == 0 else st.points[-1:])[0][0],
                                     width_s[parent], widths[parent])))
+                if _CHILD_RIM and keys.count(keys[k]) == 1:
+                    # but the parent's rim (its last px) in the child's flesh, nearer the child,
+                    # is the child's: a thigh drawn along the hip's edge left its upper edge
+                    # behind on the body when it turned (a lizard at 100 px)
+                    # (where the child's stroke itself runs outside the parent's tube: not at
+                    # the root of a leaf's petiole drawn from the twig's centre line; not for a
+                    # stroke drawn twice: its copy lands on another stretch of the parent, where
+                    # that rim is a fleck)
+                    dk, dp = tubes[(keys[k], cuts[k])][0], tubes[pkey][0]
+                    rim = cut & (dk < dp) & (dk <= raw[k][2] + 0.5) & (dp > tubes[pkey][2] - _CHILD_RIM)
+                    if rim.any():
+                        par = source_strokes[parent]
+                        q = st.point_at(tubes[(keys[k], cuts[k])][1][rim])
+                        sq, dq = par.project(q)
+                        # (and where it runs along the parent's side, within 60 degrees of it: a
+                        # limb leaving at a wide angle takes none of the parent's shoulder)
+                        sk = tubes[(keys[k], cuts[k])][1][rim]
+                        along = np.abs(np.sin(st.angle_at(sk, window=3.0) - par.angle_at(sq, window=3.0)))
+                        rim[rim] = (dq > np.interp(sq, width_s[parent], widths[parent]) + 0.5) & (
+                            along < _ALONG)
+                        cut &= ~rim
                 near_parent[k] = near_parent[k] | cut if k in near_parent else cut
         for k, cut in near_parent.items():
             tubes[(keys[k], cuts[k])][5][cut] = False

@@ -197,6 +197,7 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
             layer = clear_stale_outline(layer, depth, style,
                                         filled=late if filled is None else late | filled)
         layer = drop_flecks(layer, index.premult[:, :, 3])
+        layer = drop_flecks(layer, index.premult[:, :, 3], level=0.5)
         alpha = layer[:, :, 3]
     mask = alpha > 0.5
     seams = seam_mask(comp.labels, alpha, min_alpha=0.1)

@@ -110,7 +110,8 @@ PAREIDOLIA_SECTIONS = [
     ("growth", ["iterations", "trunk_endpoints", "blend_weight", "bottleneck", "trunk_height", "rise",
                 "min_twig"]),
     ("widths", ["thickness", "window", "emphasis", "tone", "tip_width", "increment", "pipe", "max_width",
-                "limb_length", "limb_width", "taper", "slim", "tone_sigma", "contrast", "refine", "cover"]),
+                "limb_length", "limb_width", "taper", "slim", "tone_sigma", "contrast", "refine", "cover",
+                "features"]),
 ]
 PAREIDOLIA_LABELS = {
     "side": ("image side", ""), "n_endpoints": ("image endpoints", "N"),
@@ -132,6 +133,7 @@ PAREIDOLIA_LABELS = {
     "contrast": ("crown contrast stretch", ""), "refine": ("tone passes at output size", ""),
     "rise": ("twigs grow up", ""), "cover": ("dark-region ink cover", ""),
     "bottleneck": ("blend bottleneck", "M"), "min_twig": ("shortest twig (px)", ""),
+    "features": ("solid small dark features", ""),
 }
 
 
