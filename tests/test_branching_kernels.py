@@ -99,7 +99,7 @@ def test_compiled_start_matches_the_numpy_heads(crack_model):
     n = m.first_len[heads]
     new, th, score, _dirs, _dc = _kernels.start_scores(
         heads, th0, sign, m.first_a, n, 30.0, 40.0, p.h, np.ones(H), True, hm.edges_a, hm.p_a, hm.counts_a,
-        m.cum_r, m.head_start, hm.p_r, hm.counts_r, hm.wG * hm.n_nodes / hm.m, False,
+        _kernels.element_bins(m.cum_r), m.head_start, hm.p_r, hm.counts_r, hm.wG * hm.n_nodes / hm.m, False,
         np.zeros((1, 1), np.float32), 1.0, 48.0, 8, 0.02, _DIRECTION_BINS, p.eps)
     turns = np.concatenate([np.zeros((H, 1)), m.first_a[heads] * sign[:, None]], axis=1)
     valid = np.arange(p.m + 1)[None, :] <= n[:, None]

@@ -34,7 +34,8 @@ def test_step_factors_equal_the_numpy_factors(crack_model, mode, weight):
     for run in (0, 3, 60):
         n = float(bends.counts.sum())
         fb, zero = _kernels.step_factors(
-            t, bm.cont_angles, bm.cont_len, True, bends.p, bends.counts, cc, bends.wG * n / bends.m, BEND_CAP,
+            t, bm.cont_angles, bm.cont_len, True, bends.p, bends.counts, _kernels.count_bins(cc),
+            bends.wG * n / bends.m, BEND_CAP,
             True, np.log(runs.hazard), np.log1p(-runs.hazard), float(np.log(runs.q)), float(np.log1p(-runs.q)),
             runs.state, run, runs.tol, runs.max_run, mode, weight, RUN_GAIN, RUN_CAP, theta, lo, hi, wmax, True)
         ca, nn = bm.cont_angles[t], bm.cont_len[t]

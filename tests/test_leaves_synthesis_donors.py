@@ -124,13 +124,14 @@ def test_a_shape_blends_only_compatible_exemplars(wide_training):
     """The wide exemplar's map lies 0.72-1.04 leaf sizes from the narrow ones' (those 0.22-0.32
     apart): a leaf it leads is its own shape, not a blend bent between a wide and a narrow leaf.
     Measured (elliptic 110 px, 8 leaves): aspect ratio (principal axes) of the leaves it leads,
-    every exemplar blended -> compatible ones only: 2.2 and 13.6 (a sliver) -> 1.47 and 1.51 (its own 1.51)."""
+    every exemplar blended -> compatible ones only: 2.2 and 13.6 (a sliver) -> 1.47 and 1.51 (its own 1.51);
+    with the lead's own size (issue 22), 16 leaves: 1.08-4.34 -> 1.48-1.51."""
     from branchnb.leaves.synthesis import _exemplar_draws
     a = wide_training
     p = _prepared(a)
     iou = {}
     for lim in (0.3, 10.0):
-        new = generate(a, 8, rng=3, params=SynthesisParams(shape_compatible=lim, correct=False))
+        new = generate(a, 16, rng=3, params=SynthesisParams(shape_compatible=lim, correct=False))
         lead0 = [x for x in new if _exemplar_draws(x.seed, p.n)[2] == 0]
         assert lead0
         if lim == 0.3:

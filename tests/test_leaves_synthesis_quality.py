@@ -100,15 +100,17 @@ def family():
 
 
 def test_spread_and_smoothed_bootstrap_make_new_leaves_as_varied_as_the_exemplars(family):
-    """Median pairwise blade IoU of 12 new leaves. Measured here: the convex blend with poses and
-    sizes copied 0.59, with both changes 0.53, exemplars 0.56 (maples 0.75 -> 0.67 against 0.63)."""
+    """Median pairwise blade IoU of 12 new leaves, mean over 4 batches (one batch swings by +-0.05).
+    Measured here (rng 0-3; size and pose the leading exemplar's, issue 22): the convex blend with
+    poses and sizes copied 0.62, with both changes 0.56, exemplars 0.56 (maples 0.75 -> 0.67 against
+    0.63)."""
     a = family
     ex = median_pair_iou(list(a.blades))
     old = SynthesisParams(restore_spread=False, smooth_bootstrap=False)
-    before = median_pair_iou([x.blade for x in generate(a, 12, rng=4, params=old)])
-    after = median_pair_iou([x.blade for x in generate(a, 12, rng=4)])
+    before = np.mean([median_pair_iou([x.blade for x in generate(a, 12, rng=r, params=old)]) for r in range(4)])
+    after = np.mean([median_pair_iou([x.blade for x in generate(a, 12, rng=r)]) for r in range(4)])
     assert after <= ex + 0.05
-    assert after < before
+    assert after < before - 0.03
 
 
 def test_new_leaves_keep_sharp_solid_veins_inside_the_canvas(family):

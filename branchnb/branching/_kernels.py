@@ -25,6 +25,14 @@ With these the structures are the same as the numpy code's, seed for seed; a 100
 (4.5 k steps, 3.2 k branch starts) took 19.9-25.9 s CPU per seed (3 seeds, a loaded machine) before
 the last two and the Python-side savings that came with them (issue 23, branching25), 11.4-13.9 s
 after.
+
+- :func:`count_bins` / :func:`element_bins` with :func:`_improve_bins`: the histogram factors of a
+  step (angles, thicknesses, bend sizes) and of a branch start read each candidate's few counted
+  bins (int16) instead of its ``B``-wide row of counts (float64): the rows of ~1000 random
+  candidates out of 17.6 k per step missed the cache. Counts are whole numbers, so every sum is
+  the same to the bit (issue 23, branching28; with the Python-side savings of that session a 1000 px
+  cracked mud took 18.7 -> 15.2 s CPU for seed 1, old and new code alternated on a loaded machine);
+- :func:`inside`: ``_Grower._inside`` (frame and domain test of new vertices).
 """
 
 from __future__ import annotations
@@ -32,8 +40,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-__all__ = ["bucket_add", "crosses", "first_free", "pca_directions", "profile_bins", "score_step", "start_scores",
-           "step_factors", "child_quality"]
+__all__ = ["bucket_add", "count_bins", "crosses", "element_bins", "first_free", "inside", "pca_directions",
+           "profile_bins", "score_step", "start_scores", "step_factors", "child_quality"]
 
 
 @numba.njit(cache=True)
@@ -312,22 +320,106 @@ def _improvements(p, counts, cc, cc_sq, t):
     return out
 
 
+def count_bins(cc: np.ndarray) -> np.ndarray:
+    """The bins of every candidate's counted values, ``(T, M)`` int16, each row ascending and padded
+    with 32767: a row of ``cc`` (T, B) counting ``2`` in bin 3 and ``1`` in bin 5 becomes ``[3, 3, 5, pad]``.
+
+    The kernels read these few bins (:func:`_improve_bins`) instead of the ``B`` columns of ``cc``: a
+    Markov step of a 1000 px crack example reads the rows of some 1000 random candidates out of
+    17.6 k, and ``cc``'s 128-byte rows missed the cache (issue 23). Counts are whole numbers, so
+    every sum comes out as with ``cc`` to the bit.
+    """
+    cc = np.asarray(cc, np.float64)
+    T, B = cc.shape
+    k = np.rint(cc).astype(np.int64)
+    if not np.array_equal(k, cc) or (k < 0).any() or B >= 32767:
+        raise ValueError("cc must hold non-negative whole counts in fewer than 32767 bins")
+    tot = k.sum(axis=1)
+    out = np.full((T, max(int(tot.max()) if T else 0, 1)), 32767, np.int16)
+    rows = np.repeat(np.arange(T), tot)
+    bins = np.repeat(np.tile(np.arange(B), T), k.ravel())
+    starts = np.r_[0, np.cumsum(tot)[:-1]] if T else np.zeros(0, np.int64)
+    out[rows, np.arange(len(rows)) - np.repeat(starts, tot)] = bins
+    return out
+
+
+@numba.njit(cache=True)
+def _improve_bins(pre, p, counts, bins):
+    """:func:`_improve` of the candidate whose counted bins are ``bins`` (a row of :func:`count_bins`):
+    the same sums in the same (ascending bin) order, the zero columns left out."""
+    n, d_old, CC, pC, pp = pre
+    B = p.shape[0]
+    M = bins.shape[0]
+    nc = cC = cp = sq = 0.0
+    i = 0
+    while i < M:
+        b = bins[i]
+        if b >= B:
+            break
+        v = 1.0
+        while i + 1 < M and bins[i + 1] == b:
+            v += 1.0
+            i += 1
+        i += 1
+        nc += v
+        cC += v * counts[b]
+        cp += v * p[b]
+        sq += v * v
+    nn = n + nc
+    if nn <= 0:
+        return 0.0
+    return d_old - ((CC + 2 * cC + sq) / nn ** 2 - 2 * (pC + cp) / nn + pp) / B
+
+
+@numba.njit(cache=True)
+def _improvements_bins(p, counts, bins, t):
+    """:func:`_improvements` from the rows ``t`` of :func:`count_bins` (the same numbers to the bit)."""
+    pre = _hist_pre(p, counts)
+    out = np.zeros(t.shape[0])
+    for j in range(t.shape[0]):
+        out[j] = _improve_bins(pre, p, counts, bins[t[j]])
+    return out
+
+
+def element_bins(cum: np.ndarray) -> np.ndarray:
+    """The bin of every element, ``(T,)`` int16, from the running one-hot counts ``cum`` (T + 1, B)
+    (``model.cum_r``: ``cum[e + 1] - cum[e]`` counts element ``e`` in its bin)."""
+    d = np.diff(np.asarray(cum, np.float64), axis=0)
+    b = np.argmax(d, axis=1) if len(d) else np.zeros(0, np.int64)
+    if len(d) and (not np.array_equal(d.sum(axis=1), np.ones(len(d))) or
+                   not np.array_equal(d[np.arange(len(d)), b], np.ones(len(d))) or d.shape[1] >= 32767):
+        raise ValueError("cum must hold running one-hot counts")
+    return b.astype(np.int16)
+
+
+@numba.njit(cache=True)
+def _insert_sorted(buf, k, b):
+    """Insert ``b`` into the ascending ``buf[:k]`` (insertion sort step)."""
+    i = k
+    while i > 0 and buf[i - 1] > b:
+        buf[i] = buf[i - 1]
+        i -= 1
+    buf[i] = b
+
+
 @numba.njit(cache=True)
 def start_scores(heads, th0, sign, first_a, n, x0x, x0y, h, Q, use_hist, edges_a, p_a, counts_a,
-                 cum_r, head_start, p_r, counts_r, hist_scale, use_density, grid, cell, length, n_samples,
+                 elem_bins_r, head_start, p_r, counts_r, hist_scale, use_density, grid, cell, length, n_samples,
                  tol, nbins, eps):
     """The vectorised part of ``_Grower._start_branch``: every candidate head's first vertices
     ``new (H, m + 1, 2)`` and headings ``th (H, m + 1)``, its score ``Q`` x histogram factor, with
-    colonization ``/ (D_c + eps)`` (0 where the profile crosses), its PCA direction and ``D_c``."""
+    colonization ``/ (D_c + eps)`` (0 where the profile crosses), its PCA direction and ``D_c``.
+    ``elem_bins_r``: the thickness bin of every input element (:func:`element_bins` of ``model.cum_r``);
+    a head's counts are read as its few bins (:func:`_improve_bins`), the same sums as from its
+    ``B``-wide row of counts."""
     H = heads.shape[0]
     m = first_a.shape[1]
-    B = p_a.shape[0]
     th = np.empty((H, m + 1))
     new = np.empty((H, m + 1, 2))
     score = Q.copy()
     pa = _hist_pre(p_a, counts_a) if use_hist else (0.0, 0.0, 0.0, 0.0, 0.0)
     pr = _hist_pre(p_r, counts_r) if use_hist else (0.0, 0.0, 0.0, 0.0, 0.0)
-    row = np.zeros(B)
+    row = np.empty(max(m, n.max() if H else 0) + 1, np.int16)
     nb = edges_a.shape[0] - 1
     for j in range(H):
         hd = heads[j]
@@ -344,15 +436,17 @@ def start_scores(heads, th0, sign, first_a, n, x0x, x0y, h, Q, use_hist, edges_a
             new[j, i, 0] = x
             new[j, i, 1] = y
         if use_hist:
-            row[:] = 0.0
-            for i in range(min(n[j], m)):
+            k = min(n[j], m)
+            for i in range(k):
                 b = np.searchsorted(edges_a, first_a[hd, i] * sign[j], side="right") - 1
-                row[min(max(b, 0), nb - 1)] += 1.0
-            da = _improve(pa, p_a, counts_a, row)
+                _insert_sorted(row, i, min(max(b, 0), nb - 1))
+            row[k] = 32767
+            da = _improve_bins(pa, p_a, counts_a, row[:k + 1])
             s0 = head_start[hd]
-            for b in range(B):
-                row[b] = cum_r[s0 + n[j], b] - cum_r[s0, b]
-            dr = _improve(pr, p_r, counts_r, row)
+            for i in range(n[j]):
+                _insert_sorted(row, i, elem_bins_r[s0 + i])
+            row[n[j]] = 32767
+            dr = _improve_bins(pr, p_r, counts_r, row[:n[j] + 1])
             score[j] *= np.exp(min(max(hist_scale * (da + dr), -50.0), 50.0))
     dirs = pca_directions(x0x, x0y, new, n + 1)
     dc = np.zeros(H)
@@ -366,12 +460,13 @@ def start_scores(heads, th0, sign, first_a, n, x0x, x0y, h, Q, use_hist, edges_a
 
 @numba.njit(cache=True)
 def score_step(t, angles, radii, ha, hr, local_points, local_dirs, cont_len, tipx, tipy, theta,
-               use_hist, p_a, counts_a, cc_a, sq_a, p_r, counts_r, cc_r, sq_r, hist_scale,
+               use_hist, p_a, counts_a, bins_a, p_r, counts_r, bins_r, hist_scale,
                use_density, grid, cell, length, n_samples, tol, nbins, eps):
     """One Markov step's scores (:func:`~branchnb.branching.scoring.score_candidates` without
     guidance) of the candidate windows ``t`` (the ``L`` input elements ``angles``/``radii`` up to
     each, :meth:`~branchnb.branching.bending.BendingModel.windows`) against the history
-    ``ha``/``hr`` (L,): returns ``Q, score, points (J, m, 2), hist_factor, D_c, crossing``."""
+    ``ha``/``hr`` (L,), the candidates' histogram counts as :func:`count_bins` rows: returns
+    ``Q, score, points (J, m, 2), hist_factor, D_c, crossing``."""
     J, L = t.shape[0], ha.shape[0]
     m = local_points.shape[1]
     Q = np.empty(J)
@@ -396,8 +491,8 @@ def score_step(t, angles, radii, ha, hr, local_points, local_dirs, cont_len, tip
     hf = np.ones(J)
     base = Q.copy()
     if use_hist:
-        ia = _improvements(p_a, counts_a, cc_a, sq_a, t)
-        ir = _improvements(p_r, counts_r, cc_r, sq_r, t)
+        ia = _improvements_bins(p_a, counts_a, bins_a, t)
+        ir = _improvements_bins(p_r, counts_r, bins_r, t)
         for j in range(J):
             hf[j] = np.exp(min(max(hist_scale * (ia[j] + ir[j]), -50.0), 50.0))
             base[j] *= hf[j]
@@ -431,11 +526,12 @@ def score_step(t, angles, radii, ha, hr, local_points, local_dirs, cont_len, tip
 
 
 @numba.njit(cache=True)
-def step_factors(t, cont_angles, cont_len, use_bend, bend_p, bend_counts, bend_cc, bend_scale, bend_cap,
+def step_factors(t, cont_angles, cont_len, use_bend, bend_p, bend_counts, bend_bins, bend_scale, bend_cap,
                  use_runs, log_h, log_1h, log_q, log_1q, state, run, tol, max_run, mode, weight, run_gain,
                  run_cap, theta, lo, hi, wind_max, end_zero):
     """The per-candidate factors of ``_Grower.step`` after the scores, in one pass over the candidate
-    windows ``t``: returns ``(fb, zero)``, ``fb`` the bend-size factor
+    windows ``t`` (their bend counts as :func:`count_bins` rows ``bend_bins``): returns ``(fb, zero)``,
+    ``fb`` the bend-size factor
     (:meth:`~branchnb.branching.straightness.BendHistogram.factors_at`) times the straight-run factor
     (:meth:`~branchnb.branching.straightness.StraightRuns.factors` against the candidate's own run,
     ``mode`` 0: blended (geometric mean) with the one against the overall bend rate, 1: its square
@@ -447,7 +543,7 @@ def step_factors(t, cont_angles, cont_len, use_bend, bend_p, bend_counts, bend_c
     fb = np.ones(J)
     zero = np.zeros(J, np.bool_)
     if use_bend:
-        d = _improvements(bend_p, bend_counts, bend_cc, np.zeros(0), t)
+        d = _improvements_bins(bend_p, bend_counts, bend_bins, t)
     for j in range(J):
         r = t[j]
         n = cont_len[r]
@@ -556,3 +652,20 @@ def child_quality(wa, wr, rows, win_a, win_r, mirror):
             qr = 1.0 / (np.sqrt(_np_sum(d)) + 1.0) + 1.0
             out[half * F + j] = qa * qr
     return out
+
+
+@numba.njit(cache=True)
+def inside(pts, h, w, domain, use_domain):
+    """``_Grower._inside``: which points ``(N, 2)`` lie in the ``h x w`` frame (to half a pixel past
+    its border pixels) and, when ``use_domain``, on a ``domain`` pixel (the nearest, ``np.rint``)."""
+    N = pts.shape[0]
+    ok = np.zeros(N, np.bool_)
+    for i in range(N):
+        x, y = pts[i, 0], pts[i, 1]
+        o = x >= -0.5 and x <= w - 0.5 and y >= -0.5 and y <= h - 0.5
+        if o and use_domain:
+            ix = min(max(int(np.rint(x)), 0), w - 1)
+            iy = min(max(int(np.rint(y)), 0), h - 1)
+            o = domain[iy, ix]
+        ok[i] = o
+    return ok

@@ -32,6 +32,14 @@ FAN_OTHER_SIDE = 0.02
 CHANNEL_RADIUS_BINS = 8
 
 
+def _elem_bins(model) -> np.ndarray:
+    """The thickness bin of every input element (:func:`._kernels.element_bins`), once per model."""
+    got = model.__dict__.get("_elem_bins_r")
+    if got is None or got[0] is not model.cum_r:
+        got = model.__dict__["_elem_bins_r"] = (model.cum_r, _kernels.element_bins(model.cum_r))
+    return got[1]
+
+
 @dataclass
 class _BranchState:
     points: list
@@ -187,10 +195,10 @@ class _Starts:
         length = 3.0 * p.m * p.h
         new, th, score, dirs, dc = _kernels.start_scores(
             heads, th0, np.asarray(sign, np.float64), model.first_a, n, float(x0[0]), float(x0[1]), float(p.h),
-            np.asarray(Q, np.float64), use_hist, hm.edges_a, hm.p_a, hm.counts_a, model.cum_r, model.head_start,
+            np.asarray(Q, np.float64), use_hist, hm.edges_a, hm.p_a, hm.counts_a, _elem_bins(model), model.head_start,
             hm.p_r, hm.counts_r, hm.wG * hm.n_nodes / hm.m if use_hist else 0.0, dens is not None,
             dens.grid if dens is not None else np.zeros((1, 1), np.float32), dens.cell if dens is not None else 1.0,
-            length, int(np.clip(np.ceil(length / (dens.rho / 2.0)), 8, 48)) if dens is not None else 8, 0.02,
+            length, int(min(max(np.ceil(length / (dens.rho / 2.0)), 8), 48)) if dens is not None else 8, 0.02,
             _DIRECTION_BINS, float(p.eps))
         if self.guidance is not None:
             score = score / (self.guidance.along(x0, dirs, length) + p.eps)
@@ -322,7 +330,7 @@ class _Starts:
         if self._all_dirs is None:
             a = np.arange(_DIRECTION_BINS) * (2.0 * np.pi / _DIRECTION_BINS)
             self._all_dirs = np.ascontiguousarray(np.c_[np.cos(a), np.sin(a)])
-        n_samples = int(np.clip(np.ceil(length / (dens.rho / 2.0)), 8, 48))
+        n_samples = int(min(max(np.ceil(length / (dens.rho / 2.0)), 8), 48))
         _dc, cross = _kernels.profile_bins(dens.grid, dens.cell, float(x0[0]), float(x0[1]), self._all_dirs,
                                            float(length), n_samples, 0.02, _DIRECTION_BINS)
         return not bool(cross.all())
@@ -359,7 +367,7 @@ class _Starts:
         wa = np.zeros(2 * k + 1)
         if inner.any():
             wa[inner] = vertex_angles(pts)[idx[inner]]
-        wr = rad[np.clip(idx, 0, len(pts) - 1)]
+        wr = rad[np.minimum(np.maximum(idx, 0), len(pts) - 1)]
         if self._child_pool is None:
             heads = fm.child_index
             usable = np.flatnonzero(model.first_len[heads] > 0)

@@ -225,7 +225,7 @@ class DensityMap:
         fx = (p[..., 0] + 0.5) / self.cell - 0.5
         fy = (p[..., 1] + 0.5) / self.cell - 0.5
         ok = (fx >= -0.5) & (fx < gw - 0.5) & (fy >= -0.5) & (fy < gh - 0.5)
-        fx, fy = np.clip(fx, 0, gw - 1), np.clip(fy, 0, gh - 1)
+        fx, fy = np.minimum(np.maximum(fx, 0), gw - 1), np.minimum(np.maximum(fy, 0), gh - 1)   # np.clip
         c0 = np.minimum(fx.astype(np.int64), gw - 2) if gw > 1 else np.zeros(fx.shape, np.int64)
         r0 = np.minimum(fy.astype(np.int64), gh - 2) if gh > 1 else np.zeros(fy.shape, np.int64)
         c1, r1 = np.minimum(c0 + 1, gw - 1), np.minimum(r0 + 1, gh - 1)

@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.polyline import tangents
 from .domains import _frame
 
 #: A hole is domain farther than this share of the domain's diameter from every branch (issue 23).
@@ -48,12 +47,12 @@ def _hole_map(polylines, domain: np.ndarray, cell: float) -> tuple[float, np.nda
     grid = dom[::k, ::k]
     gh, gw = grid.shape
     occ = np.zeros((gh, gw), bool)
-    for pts in polylines:
-        pts = np.asarray(pts, np.float64)
-        if len(pts):
-            c = np.clip(np.floor((pts[:, 0] + 0.5) / k).astype(np.int64), 0, gw - 1)
-            r = np.clip(np.floor((pts[:, 1] + 0.5) / k).astype(np.int64), 0, gh - 1)
-            occ[r, c] = True
+    pl = [np.asarray(q, np.float64).reshape(-1, 2) for q in polylines]
+    if pl:   # every vertex of every branch at once
+        pts = np.concatenate(pl)
+        c = np.clip(np.floor((pts[:, 0] + 0.5) / k).astype(np.int64), 0, gw - 1)
+        r = np.clip(np.floor((pts[:, 1] + 0.5) / k).astype(np.int64), 0, gh - 1)
+        occ[r, c] = True
     ys, xs = np.nonzero(dom)
     diam = float(np.hypot(np.ptp(xs), np.ptp(ys))) if len(ys) else 0.0
     gap = HOLE_DISTANCE * diam
@@ -85,7 +84,14 @@ class _Filling:
         """
         if len(pts) < 3:
             return np.zeros(len(pts))
-        return self._room_at(pts, tangents(pts))
+        # core.polyline.tangents(pts) without its input checks (once per furcation)
+        t = np.empty_like(pts)
+        t[1:-1] = pts[2:] - pts[:-2]
+        t[0] = pts[1] - pts[0]
+        t[-1] = pts[-1] - pts[-2]
+        norm = np.hypot(t[:, 0], t[:, 1])
+        norm[norm == 0] = 1.0
+        return self._room_at(pts, t / norm[:, None])
 
     def _max_rooms(self) -> list[float]:
         """The largest :meth:`_room` of every branch (all branches' vertices in one pass)."""

@@ -156,9 +156,15 @@ class _Canvas:
 def _synthesize_fragments(ctx: _Context, pm_t: PixelMap, targets: list, shape, lib_b: FragmentLibrary,
                           lib_f: FragmentLibrary, free_start, free_end, free_t, banks: dict, labels_t,
                           src_labels, use_poisson: bool, rng: np.random.Generator, report,
-                          frag_share: float) -> _Canvas:
+                          frag_share: float, light=None) -> _Canvas:
     """Steps 1-3 for every target fragment, in order: choose, bend and compose (see
-    :func:`~branchnb.branching.image_synthesis.synthesize_image`)."""
+    :func:`~branchnb.branching.image_synthesis.synthesize_image`).
+
+    ``light = (example_layout, output_layout)`` (the example's light layout,
+    :func:`~branchnb.branching.gap_completion.light_layout`, and the same at the output's size):
+    going beyond the paper, each fragment is shifted by the difference of the layouts at its
+    target centre and its source centre, so a bolt copied from a bright cloud into a dark
+    sky does not carry the cloud along as a glowing tube (its glow above the ground is kept)."""
     from .image_synthesis import FragmentMatch
 
     ex, sm_s, sm_t, p = ctx.ex, ctx.sm_s, ctx.sm_t, ctx.p
@@ -241,6 +247,22 @@ def _synthesize_fragments(ctx: _Context, pm_t: PixelMap, targets: list, shape, l
                                          step=p.displacement_step)
         mx, my = backward_map((x0, y0), (size, size), T.rotation, T.translation, fld)
         pix, _ = _sample(ex, mx, my)
+        if light is not None:
+            lx, ly = light
+            c = size // 2
+            sx = min(max(int(round(float(mx[c, c]))), 0), lx.shape[1] - 1)
+            sy = min(max(int(round(float(my[c, c]))), 0), lx.shape[0] - 1)
+            tx = min(max(int(round(float(tf.center[0]))), 0), W - 1)
+            ty = min(max(int(round(float(tf.center[1]))), 0), H - 1)
+            n = ly.shape[2]
+            g_s = lx[sy, sx]
+            # on the target's branch bodies, light above the ground (a bolt's core) keeps its share of
+            # a darkening: a white core stays white (an additive shift would tint it); the rest moves
+            # fully, and every pixel brightens fully (a bolt keeps its contrast in a brighter place)
+            off = ly[ty, tx] - g_s
+            up = ((pix[..., :n] - g_s) / np.maximum(1.0 - g_s, 1e-3)).max(axis=-1)
+            keep = (np.clip(up, 0.0, 1.0) * _crop(body, x0, y0, size, False))[..., None]
+            pix[..., :n] += np.where(off > 0, 0.0, (1.0 - keep) * off)
         # Which window pixels the fragment may cover and which it must keep / leave, in one compiled
         # pass over the window (the rules of ``_allowed``, the regions, the own body; same values).
         b0 = tf.branch

@@ -86,8 +86,10 @@ def window_features(av: np.ndarray, rv: np.ndarray, k: int) -> tuple[np.ndarray,
     """
     av = np.asarray(av, np.float64)
     rv = np.asarray(rv, np.float64)
-    pa = np.pad(av, k, mode="constant")
-    pr = np.pad(rv, k, mode="edge")
+    # np.pad(av, k) and np.pad(rv, k, mode="edge"), without np.pad's per-call overhead (the synthesis
+    # loop calls this once per furcation)
+    pa = np.concatenate([np.zeros(k), av, np.zeros(k)])
+    pr = np.concatenate([np.full(k, rv[0]), rv, np.full(k, rv[-1])]) if len(rv) else np.zeros(2 * k)
     idx = np.arange(len(av))[:, None] + np.arange(2 * k + 1)[None, :]
     return pa[idx], pr[idx]
 
@@ -99,9 +101,9 @@ def _gaps(n: int, furcations) -> tuple[np.ndarray, np.ndarray]:
     if len(f) == 0:
         return i.astype(np.float64), (n - 1 - i).astype(np.float64)
     pos = np.searchsorted(f, i, side="left")  # f[pos - 1] < i
-    prev = np.where(pos > 0, f[np.clip(pos - 1, 0, len(f) - 1)], 0)
+    prev = np.where(pos > 0, f[np.minimum(np.maximum(pos - 1, 0), len(f) - 1)], 0)
     posr = np.searchsorted(f, i, side="right")  # f[posr] > i
-    nxt = np.where(posr < len(f), f[np.clip(posr, 0, len(f) - 1)], n - 1)
+    nxt = np.where(posr < len(f), f[np.minimum(posr, len(f) - 1)], n - 1)
     return (i - prev).astype(np.float64), (nxt - i).astype(np.float64)
 
 
@@ -307,7 +309,7 @@ class FurcationModel:
         out = np.zeros(len(F))
         for w, b, A, B in self._linear:
             f = F @ w + b
-            out += 1.0 / (1.0 + np.exp(np.clip(A * f + B, -50, 50)))
+            out += 1.0 / (1.0 + np.exp(np.minimum(np.maximum(A * f + B, -50), 50)))
         return out / len(self._linear)
 
     def choose(self, points, radii, d: int, *, min_spacing: int = 0, existing=(),
@@ -347,11 +349,16 @@ class FurcationModel:
         furc = list(existing)
         if not self.can_branch or N < 3 or d <= 0:
             return chosen
+        # the windows do not change from one pick to the next, only n- and n+ do: the features are
+        # furcation_features(vertex_angles(points), radii, furc, k), built the same way
+        wa, wr = window_features(vertex_angles(points), radii, self.k)
+        wgt = None if weights is None else np.asarray(weights, np.float64)
         for _ in range(int(d)):
-            p = self.probabilities(points, radii, furc)
-            ok = np.ones(N, bool) if weights is None else np.asarray(weights, np.float64) > 0
-            if weights is not None:
-                p = p * np.asarray(weights, np.float64)
+            nm, npl = _gaps(N, furc)
+            p = self._proba(np.hstack([wa, wr, nm[:, None], npl[:, None]]))
+            ok = np.ones(N, bool) if wgt is None else wgt > 0
+            if wgt is not None:
+                p = p * wgt
             ok[0] = ok[-1] = False
             for f in furc:
                 lo, hi = max(f - max(min_spacing, 1) + 1, 0), min(f + max(min_spacing, 1), N)

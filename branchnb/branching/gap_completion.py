@@ -74,9 +74,36 @@ def _coarse_blur(img: np.ndarray, weight: np.ndarray, sigma: float, levels: int 
     return cv2.resize(out, (W, H), interpolation=cv2.INTER_LINEAR).reshape(H, W, n).astype(np.float64)
 
 
+def light_layout(ex: np.ndarray, regions: ExampleRegions, patch_size: int) -> np.ndarray | None:
+    """The example's light layout: its background averaged at ``LAYOUT_SCALE`` of its long side
+    (at least ``patch_size``), defined everywhere; (h, w, n) float32 over its colour channels, or
+    None when there is no background to measure it on.
+
+    The same layout :func:`_relight_setup` lights the gaps with; the fragments use it too (a
+    fragment's ground is moved from the layout where it comes from to the layout where it goes).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from branchnb.branching.regions import ExampleRegions
+    >>> z = np.zeros((64, 64), bool)
+    >>> img = np.full((64, 64, 3), 0.5, np.float32)
+    >>> lay = light_layout(img, ExampleRegions(z, z, z, z.astype(float)), 32)
+    >>> lay.shape, bool(np.allclose(lay, 0.5, atol=1e-3))
+    ((64, 64, 3), True)
+    """
+    n = min(ex.shape[2], 3)
+    bg_ex = ~(regions.forbidden | ndi.binary_dilation(regions.body | regions.branch_like, iterations=3))
+    if np.count_nonzero(bg_ex) < 64:
+        return None
+    exc = ex[..., :n].astype(np.float64)
+    return _coarse_blur(exc, bg_ex, max(LAYOUT_SCALE * max(ex.shape[:2]), float(patch_size)),
+                        levels=5).astype(np.float32)
+
+
 def _relight_setup(ex: np.ndarray, canvas: np.ndarray, covered: np.ndarray, regions: ExampleRegions,
                    body: np.ndarray, patch_size: int, dist: np.ndarray, dist_t: np.ndarray,
-                   prior: float = 1.0):
+                   prior: float = 1.0, domains=None):
     """Shading-free example and canvas for gap completion (going beyond the paper).
 
     The paper fills the gaps by hand. Copied automatically, square patches
@@ -101,6 +128,11 @@ def _relight_setup(ex: np.ndarray, canvas: np.ndarray, covered: np.ndarray, regi
     patches of bright and dark. Returns ``(example, canvas, offset)`` or
     None when there is no background to measure the light on.
 
+    ``domains = (example_domain, output_domain)`` (an example whose domain a
+    drawn line walls off, :mod:`~branchnb.branching.drawn_domains`): the light
+    is measured and changed inside the domains only (the white outside of a
+    shaded map would brighten its land's light; the outside keeps its own).
+
     (Measured on a night sky with bright clouds, ``lightning_noaa`` at
     512 px: the mean difference of the 1/16-scale backgrounds, output
     against example, 0.24 -> 0.09; the gradient along the patch grid
@@ -111,6 +143,9 @@ def _relight_setup(ex: np.ndarray, canvas: np.ndarray, covered: np.ndarray, regi
     n = min(ex.shape[2], 3)   # colour channels only (alpha is copied as is)
     bg_ex = ~(regions.forbidden | ndi.binary_dilation(regions.body | regions.branch_like, iterations=3))
     bg_t = covered & ~ndi.binary_dilation(body, iterations=3)
+    if domains is not None:
+        bg_ex = bg_ex & domains[0]
+        bg_t = bg_t & domains[1]
     if np.count_nonzero(bg_ex) < 64 or np.count_nonzero(bg_t) < 64:
         return None
     sigma = DETAIL_SCALE * float(patch_size)
@@ -130,11 +165,15 @@ def _relight_setup(ex: np.ndarray, canvas: np.ndarray, covered: np.ndarray, regi
     ex_flat[..., :n] = ex[..., :n] + (mean - shade_ex)
     offset = np.zeros(canvas.shape, np.float32)
     offset[..., :n] = (shade_t - mean).astype(np.float32)
+    if domains is not None:
+        ex_flat[~domains[0]] = ex[~domains[0]]
+        offset[~domains[1]] = 0.0
     return ex_flat.astype(np.float32), (canvas - offset).astype(np.float32), offset
 
 
 def _complete(out, ex: np.ndarray, regions: ExampleRegions, p, flat: bool, use_poisson: bool, pm_s, pm_t,
-              labels_t, src_labels, rng: np.random.Generator, report, frag_share: float, timings: dict):
+              labels_t, src_labels, rng: np.random.Generator, report, frag_share: float, timings: dict,
+              domains=None):
     """Gap completion of the fragments' canvas ``out`` (a ``_Canvas``, updated in place).
 
     Returns ``(fill, n_inpainted)``.
@@ -154,7 +193,8 @@ def _complete(out, ex: np.ndarray, regions: ExampleRegions, p, flat: bool, use_p
         inner = ndi.binary_erosion(covered, iterations=rim, border_value=1) if rim > 0 else covered
         relit = None
         if p.relight_completion and not flat:
-            relit = _relight_setup(ex, canvas, covered, regions, body, p.patch_size, pm_s.dist, pm_t.dist)
+            relit = _relight_setup(ex, canvas, covered, regions, body, p.patch_size, pm_s.dist, pm_t.dist,
+                                   domains=domains)
             if relit is not None:
                 ex_fill, canvas, offset_t = relit
         ex_c = ex if relit is None else ex_fill

@@ -26,7 +26,7 @@ __all__ = ["HistogramMatcher", "histogram_distances"]
 
 
 def _bin_index(values: np.ndarray, edges: np.ndarray) -> np.ndarray:
-    return np.clip(np.searchsorted(edges, values, side="right") - 1, 0, len(edges) - 2)
+    return np.minimum(np.maximum(np.searchsorted(edges, values, side="right") - 1, 0), len(edges) - 2)
 
 
 class HistogramMatcher:
@@ -206,10 +206,14 @@ def histogram_distances(example, structure, *, bins: int = 16,
     >>> histogram_distances(s, s)["sum"]
     0.0
     """
+    return _distances(example.angles(), example.thicknesses(), structure.angles(), structure.thicknesses(),
+                      bins, metric)
+
+
+def _distances(ea, er, sa, sr, bins: int = 16, metric: str = "l2sq") -> dict[str, float]:
+    """:func:`histogram_distances` of the example's and the structure's angles and thicknesses."""
     from ..core.histogram import histogram_distance
 
-    ea, er = example.angles(), example.thicknesses()
-    sa, sr = structure.angles(), structure.thicknesses()
     if ea.size == 0 or sa.size == 0:
         raise ValueError("example and structure both need at least one turning angle (a branch of >= 3 vertices)")
     out = {}

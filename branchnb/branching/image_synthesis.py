@@ -45,6 +45,7 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+import cv2
 import numpy as np
 from scipy import ndimage as ndi
 
@@ -289,6 +290,10 @@ class ImageSynthesisParams:
                                                 "large-scale shading taken out and lights it like the "
                                                 "fragments around it (a vignetted photo gives no square "
                                                 "patches of another brightness; off: copy as is)")
+    relight_fragments: bool = param(True, help="a fragment's ground is moved from the example's light "
+                                               "where it comes from to the example's light where it goes "
+                                               "(a bolt from a bright cloud placed in a dark sky brings no "
+                                               "glowing tube of cloud; off: the paper's fragments)")
     patch_size: int = param(32, min=8, max=128, step=2,
                             help="gap completion: patch side (pixels)")
     patch_overlap: float = param(0.25, min=0.1, max=0.5, step=0.05,
@@ -620,6 +625,19 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     if flat and p.flat_drawing:
         return _draw_flat(ex, example_structure, target_structure, layout, labels_t, target_domain,
                           pm_s, labels_ex, p, t_start, report, (H, W))
+    boundary = None
+    if labels_t is None and target_domain is not None and not flat and target_domain.any() \
+            and not target_domain.all():
+        # beyond the paper: an example whose domain a drawn line walls off (a shaded terrain map):
+        # land from land, outside from outside, and its line drawn along the output's domain
+        from .drawn_domains import domain_labels, drawn_boundary
+
+        if "drawn_boundary" not in cached:
+            cached["drawn_boundary"] = drawn_boundary(ex, example_structure, pm_s)
+        boundary = cached["drawn_boundary"]
+        if boundary is not None:
+            labels_t = domain_labels(target_domain)
+            src_labels = domain_labels(boundary.domain, boundary.ink)
     # Line art on one plain background has a single flat region (so it is not
     # drawn in style like a map) but Poisson blending still smudges its ink.
     use_poisson = p.poisson and (flat_share < 0.5 or p.flat_poisson)
@@ -636,12 +654,25 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         if regions.salient is not None:
             excluded = excluded | regions.salient
         lib_b, lib_f = source_fragments(sm_s, density=p.source_density, reverse=p.reverse, **geo)
+        from .crossings import without_crossings
+
+        lib_b = without_crossings(lib_b, example_structure, ex.shape[:2])
         free_start, free_end = _free_ends(sm_s, pm_s)
         if labels_ex.max() >= 1:
             _joined_at_region_edge(sm_s, labels_ex, free_start, free_end)
         cached.update(regions=regions, ex=ex, excluded=excluded, lib_b=lib_b, lib_f=lib_f,
                       free_start=free_start, free_end=free_end, vec_cache={})
     regions, ex, excluded, lib_b, lib_f = (cached[k] for k in ("regions", "ex", "excluded", "lib_b", "lib_f"))
+    if boundary is not None:
+        from .drawn_domains import regions_by_domain
+
+        if "regions_drawn" not in cached:
+            cached["regions_drawn"] = regions_by_domain(ex, regions, boundary,
+                                                        p.salient_z if p.avoid_salient else None)
+        regions = cached["regions_drawn"]
+        excluded = regions.body | regions.branch_like
+        if regions.salient is not None:
+            excluded = excluded | regions.salient
     free_start, free_end = cached["free_start"].copy(), cached["free_end"].copy()
     ctx = _Context(ex, sm_s, sm_t, pm_s, excluded, regions.unusable, p)
     free_t = _free_ends(sm_t, pm_t)
@@ -653,12 +684,22 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
 
     t0 = time.perf_counter()
     frag_share = 0.6 if p.completion else 1.0
+    light = None
+    if p.relight_fragments and not flat and boundary is None:
+        from .gap_completion import light_layout
+
+        if "light" not in cached:
+            cached["light"] = light_layout(ex, regions, p.patch_size)
+        if cached["light"] is not None:
+            light = (cached["light"], cv2.resize(cached["light"], (W, H), interpolation=cv2.INTER_LINEAR)
+                     .reshape(H, W, -1))
     out = _synthesize_fragments(ctx, pm_t, targets, (H, W), lib_b, lib_f, free_start, free_end, free_t,
                                 cached["vec_cache"], labels_t, src_labels, use_poisson, rng, report,
-                                frag_share)
+                                frag_share, light)
     timings["fragments"] = time.perf_counter() - t0
     fill, n_inpainted = _complete(out, ex, regions, p, flat, use_poisson, pm_s, pm_t, labels_t, src_labels,
-                                  rng, report, frag_share, timings)
+                                  rng, report, frag_share, timings,
+                                  domains=None if boundary is None else (boundary.domain, target_domain))
     canvas, source, frag_index, seams = out.canvas, out.source, out.frag_index, out.seams
     if flat_share >= 0.5:
         # drawn examples: a branch the fragments left without ink is drawn in the example's style
@@ -671,6 +712,10 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         canvas, _ = redraw_gaps(canvas, target_structure, style.line_colour,
                                 style.region_colours[style.branch_region], style.width_scale)
 
+    if boundary is not None:
+        from .drawn_domains import draw_boundary
+
+        canvas = draw_boundary(canvas, target_domain, boundary.colour, boundary.width)
     if p.line_contrast > 0:
         # (after the drawn-style redraw: it draws the gaps of drawings in the full line colour)
         from .line_contrast import line_profile, restore_line_contrast

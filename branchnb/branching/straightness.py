@@ -101,7 +101,7 @@ class BendHistogram:
             Bin index in ``0 .. bins - 1``, same shape as ``a``.
         """
         x = np.abs(np.asarray(a, np.float64))
-        return np.clip(np.searchsorted(self.edges, x, side="right") - 1, 0, self.bins - 1)
+        return np.minimum(np.maximum(np.searchsorted(self.edges, x, side="right") - 1, 0), self.bins - 1)
 
     def add(self, angles=()) -> None:
         """Count synthesized turning angles.

@@ -90,7 +90,7 @@ from .domains import (  # noqa: F401  (re-exported: split from this module)
 from .filling import HOLE_DISTANCE, _hole_map  # noqa: F401
 from .growth import FILL_LENGTH_FACTOR, GrowthProgress, _BranchState, _Grower, example_length, length_cap
 from .guidance import Guidance
-from .histogram_matching import histogram_distances
+from .histogram_matching import _distances, histogram_distances
 from .model import _FIT_FIELDS, StructureModel, _check_example, fit_model  # noqa: F401
 from .params import SynthesisParams
 from .scoring import (  # noqa: F401
@@ -491,8 +491,13 @@ def synthesize_structure(example, params: SynthesisParams | None = None, *, rng=
     s = _lift_child_heads(g.structure())
     diag = g.diagnostics(t0)
     diag["attempts"] = g.attempt
-    if s.branches and s.angles().size:
-        diag["hist_distance"] = histogram_distances(model.example, s, bins=p.bins)
+    sa = s.angles() if s.branches else np.zeros(0)
+    if sa.size:   # histogram_distances(model.example, s), the example's values read once per model
+        ex = model.__dict__.get("_example_values")
+        if ex is None or ex[0] is not model.example:
+            ex = model.__dict__["_example_values"] = (model.example, model.example.angles(),
+                                                     model.example.thicknesses())
+        diag["hist_distance"] = _distances(ex[1], ex[2], sa, s.thicknesses(), bins=p.bins)
     dens = g.density.image() if g.density is not None else None
     return SynthesisResult(structure=s, example=model.example, diagnostics=diag, density=dens, domain=g.domain,
                            sources=g.sources())

@@ -407,17 +407,9 @@ def vein_system_rows(kinds=KINDS_ALL, sizes=(192, 320), seeds=range(2), n_leaves
     True registrations, the training leaf's true veins and spots; every
     new leaf's background exemplar's true veins (and spots) and its vein
     donor's are carried into the new leaf by the same coordinate maps the
-    synthesis samples with. ``bg`` is the mean ridge response (scikit-image
-    ``sato``, both polarities, sigmas 1 and 2, of the grey level) at the
-    background's vein pixels farther than 4 px from the donor's veins and
-    from any spot (a removed spot's rim is the spots' business) over that
-    on plain blade (4 px from any vein or spot); ``donor``
-    the same at the donor's veins (the vein system the leaf should show).
+    synthesis samples with (:func:`vein_system_scores`).
     """
-    from skimage.filters import sato
-
     from .analysis import analyze
-    from .synthesis import _prepared, generate_leaf
 
     out = []
     for kind in kinds:
@@ -427,48 +419,74 @@ def vein_system_rows(kinds=KINDS_ALL, sizes=(192, 320), seeds=range(2), n_leaves
                 regs = [_TrueRegistration(k, kps[0], shape) for k in kps]
                 a = analyze(fam, 0, {"veins": fam[0].layers["veins"], "spots": fam[0].layers["spots"]},
                             registrations=regs)
-                p = _prepared(a)
-                calls = []
-                orig = p.source_coords
+                rows = vein_system_scores(a, [g["veins"] for g in gt], [g["spots"] for g in gt],
+                                          seeds=[100 * int(seed) + k for k in range(n_new)])
+                out += [dict(kind=kind, size=size, seed=int(seed), leaf=k, **r) for k, r in enumerate(rows)]
+    return out
 
-                def spy(e, m, disp, _orig=orig, _calls=calls):
-                    c = _orig(e, m, disp)
-                    _calls.append((e, c))
-                    return c
-                p.source_coords = spy
-                for k in range(n_new):
-                    calls.clear()
-                    leaf = generate_leaf(a, 100 * int(seed) + k)
-                    bg, cbg = calls[0]
-                    e_v = leaf.layers.get("veins", -1)
-                    cv = next((c for e, c in calls[1:] if e == e_v), None)
 
-                    def carried(mask, c):
-                        return _apply_coords(mask, c)
-                    bg_v, bg_s = carried(gt[bg]["veins"], cbg), carried(gt[bg]["spots"], cbg)
-                    d_v = carried(gt[e_v]["veins"], cv) if cv is not None else np.zeros(shape, bool)
-                    e_s = leaf.layers.get("spots", -1)
-                    cs = next((c for e, c in calls[1:] if e == e_s), None)
-                    d_s = carried(gt[e_s]["spots"], cs) if cs is not None else np.zeros(shape, bool)
-                    from scipy import ndimage as ndi
-                    blade = ndi.binary_erosion(leaf.image[..., 3] > 0.5, iterations=3)
-                    g = leaf.image[..., :3].mean(-1)
-                    r = np.maximum(sato(g, sigmas=[1, 2], black_ridges=True),
-                                   sato(g, sigmas=[1, 2], black_ridges=False))
-                    others = ndi.binary_dilation(d_v | d_s | bg_s, iterations=4)
-                    at_bg = blade & bg_v & ~others
-                    plain = blade & ~ndi.binary_dilation(bg_v | bg_s | d_v | d_s, iterations=4)
-                    base = float(r[plain].mean()) if plain.any() else np.nan
-                    # The same over plain blade at the same distances from the
-                    # donor's veins (their ridge response's halo reaches past 4 px).
-                    near = blade & ~ndi.binary_dilation(bg_v | bg_s | d_s, iterations=4) & ~others
-                    matched = _distance_matched(r, at_bg, near, ndi.distance_transform_edt(~d_v))
-                    out.append(dict(kind=kind, size=size, seed=int(seed), leaf=k, background=bg, donor=e_v,
-                                    bg=float(r[at_bg].mean()) / base if at_bg.any() else np.nan,
-                                    n_bg=int(at_bg.sum()),
-                                    bg_matched=matched,
-                                    donor_ratio=float(r[blade & d_v].mean()) / base if (blade & d_v).any() else np.nan))
-                p.source_coords = orig
+def vein_system_scores(a, veins, spots=None, seeds=range(4)):
+    """Ridge response of new leaves at their background exemplar's true veins, over plain blade.
+
+    ``veins`` (and ``spots``, optional): every exemplar's true masks in the
+    analysis frame. For each leaf seed, the background's and the vein
+    donor's masks are carried into the new leaf by the coordinate maps the
+    synthesis samples with. ``bg`` is the mean ridge response (scikit-image
+    ``sato``, both polarities, sigmas 1 and 2, of the grey level) at the
+    background's vein pixels farther than 4 px from the donor's veins and
+    from any spot (a removed spot's rim is the spots' business) over that
+    on plain blade (4 px from any vein or spot); ``bg_matched`` the same
+    over plain blade at the same distances from the donor's veins;
+    ``donor_ratio`` the same at the donor's veins (the vein system the leaf
+    should show).
+    """
+    from skimage.filters import sato
+
+    from .synthesis import _prepared, generate_leaf
+
+    p = _prepared(a)
+    shape = p.shape
+    spots = spots if spots is not None else [np.zeros(shape, bool)] * len(veins)
+    calls = []
+    orig = p.source_coords
+
+    def spy(e, m, disp):
+        c = orig(e, m, disp)
+        calls.append((e, c))
+        return c
+    p.source_coords = spy
+    out = []
+    try:
+        for s in seeds:
+            calls.clear()
+            leaf = generate_leaf(a, int(s))
+            bg, cbg = calls[0]
+            e_v = leaf.layers.get("veins", -1)
+            cv = next((c for e, c in calls[1:] if e == e_v), None)
+            bg_v, bg_s = _apply_coords(veins[bg], cbg), _apply_coords(spots[bg], cbg)
+            # The donor's masks at a low level: a 1 px vein carried bilinearly
+            # falls below 0.5 on many pixels, and the gaps of a dashed mask
+            # counted its pasted ridges as the background's.
+            d_v = _apply_coords(veins[e_v], cv, 0.25) if cv is not None else np.zeros(shape, bool)
+            e_s = leaf.layers.get("spots", -1)
+            cs = next((c for e, c in calls[1:] if e == e_s), None)
+            d_s = _apply_coords(spots[e_s], cs, 0.25) if cs is not None else np.zeros(shape, bool)
+            blade = ndi.binary_erosion(leaf.image[..., 3] > 0.5, iterations=3)
+            g = leaf.image[..., :3].mean(-1)
+            r = np.maximum(sato(g, sigmas=[1, 2], black_ridges=True), sato(g, sigmas=[1, 2], black_ridges=False))
+            others = ndi.binary_dilation(d_v | d_s | bg_s, iterations=4)
+            at_bg = blade & bg_v & ~others
+            plain = blade & ~ndi.binary_dilation(bg_v | bg_s | d_v | d_s, iterations=4)
+            base = float(r[plain].mean()) if plain.any() else np.nan
+            # The same over plain blade at the same distances from the
+            # donor's veins (their ridge response's halo reaches past 4 px).
+            near = blade & ~ndi.binary_dilation(bg_v | bg_s | d_s, iterations=4) & ~others
+            matched = _distance_matched(r, at_bg, near, ndi.distance_transform_edt(~d_v))
+            out.append(dict(background=bg, donor=e_v, bg=float(r[at_bg].mean()) / base if at_bg.any() else np.nan,
+                            n_bg=int(at_bg.sum()), bg_matched=matched,
+                            donor_ratio=float(r[blade & d_v].mean()) / base if (blade & d_v).any() else np.nan))
+    finally:
+        p.source_coords = orig
     return out
 
 
@@ -490,11 +508,11 @@ def _distance_matched(r, at, plain, dist, bins: float = 1.0):
     return float(r[at][ok].mean() / mean_p[ka[ok]].mean())
 
 
-def _apply_coords(mask, c):
+def _apply_coords(mask, c, level: float = 0.5):
     import cv2
     m = np.asarray(mask, np.float32)
     c = np.asarray(c, np.float32)
-    return cv2.remap(m, c[..., 0], c[..., 1], cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT) > 0.5
+    return cv2.remap(m, c[..., 0], c[..., 1], cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT) > level
 
 
 SKETCHES = "/work/shared/data/leaves_more"

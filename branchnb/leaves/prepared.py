@@ -17,6 +17,7 @@ from scipy import ndimage as ndi
 
 from ..core.image import extend_nearest
 from .flatart import _replace_from_blade, drawn_outline, flat_art
+from .leftover import flatten_leftover
 from .shaping import _grid, _map_jacobian, _remap_map, _remap_values, _sample
 
 __all__ = ["registration_errors"]
@@ -121,6 +122,25 @@ def _smooth_fill(img: np.ndarray, known: np.ndarray) -> np.ndarray:
     return out[..., 0] if two else out
 
 
+def _leftover_layer(a):
+    """``(k, sign, width)`` of the most structural layer (largest lambda): its polarity on the
+    training leaf and its median width (px) there; None without layers or a training mask."""
+    if not a.layers or len(a.residuals) < 2:
+        return None
+    k = int(np.argmax([L.lam for L in a.layers]))
+    t = a.training_index
+    mk = np.asarray(a.layers[k].masks[t], bool) & a.blades[t]
+    if mk.sum() < 10:
+        return None
+    g_on = np.asarray(a.residuals[k][t], np.float32)[..., :3][mk].mean(-1)
+    g_off = np.asarray(a.residuals[k + 1][t], np.float32)[..., :3][mk].mean(-1)
+    sign = float(np.sign(np.median(g_on - g_off)))
+    from skimage.morphology import skeletonize
+    sk = skeletonize(mk)
+    width = float(np.median(2.0 * ndi.distance_transform_edt(mk)[sk] - 1.0)) if sk.any() else 1.0
+    return (k, sign, width) if sign != 0 else None
+
+
 def _completeness(layer) -> list[float]:
     """Per exemplar: skeleton length of the induced mask over the registered training mask's (at most 1),
     over the median of these ratios among the exemplars with a layer (1: as complete as most; 0: empty).
@@ -191,6 +211,8 @@ class _Prepared:
         fa = self.flat
         last = len(a.residuals) - 1
 
+        leftover = _leftover_layer(a) if fa is None else None
+
         def stage_image(k, e):
             img = np.asarray(a.residuals[k][e], np.float32)
             if fa is not None:
@@ -202,6 +224,23 @@ class _Prepared:
                 # An ink outline around a leaf that is not flat art (a
                 # gradient-filled drawing) is taken out too (drawn_outline).
                 img = _replace_from_blade(img, a.blades[e], outlines[e])
+            if leftover is not None and k == last and k > 0:
+                # One vein system: what the induction left of the most
+                # structural layer is flattened (branchnb.leaves.leftover),
+                # once any ink outline is gone (lines found along it were
+                # filled with its ink: dark pixels inside new blades).
+                top, sign, width = leftover
+                L = a.layers[top]
+                reg = getattr(L, "registered", None)
+                corridor = None
+                if reg is not None and reg[e] is not None and np.asarray(reg[e]).any():
+                    corridor = ndi.binary_dilation(np.asarray(reg[e], bool),
+                                                   iterations=max(1, int(np.ceil(L.eps_px[e]))))
+                src = np.asarray(a.exemplars[e], np.float32)
+                if outlines[e].any():
+                    src = _replace_from_blade(src, a.blades[e], outlines[e])
+                img = flatten_leftover(img, a.blades[e], src, a.residuals[top][e], L.masks[e],
+                                       sign, width, corridor=corridor)
             return _stored(_bleed(img, a.blades[e]))
 
         outlines = [drawn_outline(a.exemplars[e], a.blades[e]) if fa is None else None for e in range(self.n)]
@@ -307,6 +346,10 @@ class _Prepared:
         ang = np.asarray(self.pose_angles, float)
         self.pose_bandwidth = float(min(silver * np.std(np.angle(np.exp(1j * (ang - ang.mean())))),
                                         np.radians(12.0)))
+        # The same for the log lamina size (a new leaf's size is one
+        # exemplar's times exp of a Gaussian of it), at most 10 %.
+        ls = np.log(np.maximum(np.asarray(self.lamina_size, float), 1e-6))
+        self.size_bandwidth = float(min(silver * np.std(ls), np.log(1.1))) if self.n > 1 else 0.0
         lams = np.array([L.lam for L in a.layers], float)
         top = float(lams.max()) if len(lams) and lams.max() > 0 else 1.0
         self.structural = [float(x / top) for x in lams]

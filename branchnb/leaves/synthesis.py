@@ -2,7 +2,9 @@
 
 A new leaf is built in the training leaf's frame, then given a new shape:
 
-1. **Background**: the residual (every layer removed) of one exemplar,
+1. **Background**: the residual (every layer removed) of one exemplar
+   (on photographs with what the induction left of the most structural
+   layer flattened: :mod:`branchnb.leaves.leftover`),
    brought into the training frame by its registration and moved by a
    small smooth random warp whose magnitude stays below the registration
    error (``background_warp`` times the median registration error), so
@@ -44,9 +46,9 @@ A new leaf is built in the training leaf's frame, then given a new shape:
    strips blended into a wavy square with an S-bent midrib. Going beyond
    the paper: independent random weights per pixel
    average every leaf to the mean shape, and a convex blend averages the
-   sizes, so with ``own_size`` each leaf takes the size of one exemplar
-   drawn at random (that exemplar also gives the background, seen at its
-   own scale) and is kept whole on the canvas. A convex blend lies
+   sizes, so with ``own_size`` each leaf takes the size of its leading
+   exemplar (which also gives the background, seen at its own scale) and
+   is kept whole on the canvas. A convex blend lies
    between its exemplars, so with ``restore_spread`` its departure from
    the mean shape is scaled back to the exemplars' spread, and with
    ``smooth_bootstrap`` the pose is one exemplar's turned by a small
@@ -66,7 +68,13 @@ A new leaf is built in the training leaf's frame, then given a new shape:
    background before the layers go on (so no vein or spot is replaced by
    plain texture), and the alpha of the training leaf's lamina carried by
    the shape warp. All maps are composed first, so every image is
-   resampled once.
+   resampled once: colours in two bands (going beyond the paper,
+   :func:`branchnb.leaves.shaping._sample_grain_at`), the band above a
+   1 px Gaussian carried from whole pixels, the rest by Lanczos; with
+   Lanczos alone new 1 MP leaves kept 0.72-0.99 of their exemplars'
+   Laplacian variance inside the blade (4 exemplars, procedural lobed,
+   TPS-RPM or true registrations; a single leaf 0.74-0.76), now
+   0.99-1.15 (single 0.98-1.01).
 5. **Petiole**: the registration is of the laminae (a petiole bends and
    varies in length from leaf to leaf), so instead of the training leaf's
    petiole carried by the shape warp, a new leaf gets one exemplar's own
@@ -127,7 +135,16 @@ from .inking import _ink_outline
 from .prepared import _CACHE_KEY as _CACHE_KEY
 from .prepared import _Prepared as _Prepared
 from .prepared import _prepared, registration_errors
-from .shaping import _border_alpha, _fit_size, _sample, _sample_sharp_at, random_warp, shape_weights
+from .shaping import (
+    GRAIN_SIGMA,
+    _border_alpha,
+    _fit_size,
+    _sample,
+    _sample_grain_at,
+    _sample_sharp_at,
+    random_warp,
+    shape_weights,
+)
 
 __all__ = ["SynthesisParams", "GeneratedLeaf", "generate", "generate_leaf", "save_leaves",
            "random_warp", "shape_weights", "registration_errors", "leaf_distance",
@@ -173,8 +190,9 @@ class SynthesisParams:
         strips', 0.06-0.23 among those; maples, oaks, procedural families
         at most 0.15) came out a wavy square with an S-bent midrib.
     own_size : bool
-        Each new leaf takes the size of one exemplar drawn at random
-        (default True; False: the convex blend's averaged size). Not in the paper.
+        Each new leaf takes the size of its leading shape exemplar
+        (default True; False: the convex blend's averaged size). Not in the
+        paper (see :func:`_exemplar_draws` for why the lead's).
     restore_spread : bool
         Scale each new shape's departure from the exemplars' mean shape
         by ``sqrt(n * shape_concentration + 1)`` (default True; not in the
@@ -189,8 +207,12 @@ class SynthesisParams:
     smooth_bootstrap : bool
         Each new leaf's pose angle is one exemplar's plus a Gaussian of
         Silverman's bandwidth (``1.06 sigma n^-1/5`` of the exemplars'
-        angles, at most 12 degrees), cut at 1.5 bandwidths (default True;
-        not in the paper).
+        angles, at most 12 degrees), cut at 1.5 bandwidths, and its log
+        size the same (bandwidth of the exemplars' log lamina sizes, at
+        most log 1.1) (default True; not in the paper). (The size's kernel
+        cost Laplacian variance while the colours were interpolated at
+        fractional offsets; with the grain carried from whole pixels,
+        :func:`branchnb.leaves.shaping._sample_grain_at`, it does not.)
     correct : bool
         Texture correction where the shape warp stretches or squeezes
         (default True).
@@ -392,14 +414,18 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
     # donor's (seeded order) that stays inside; if every one is cut, the
     # leaf is made a little smaller (at most three times).
     order = [int(e) for e in np.random.default_rng((int(seed), 1)).permutation(p.petiole_exemplars)]
-    # The size of one exemplar, drawn from a stream of its own, independently
-    # of the shape (see _fit_size); that exemplar gives the background too,
-    # so its texture is seen at its own scale (a small exemplar's residual
-    # blown up to a large one's size came out blurred).
+    # The size of the leading exemplar (see _exemplar_draws and _fit_size);
+    # that exemplar gives the background too, so its texture is seen at its
+    # own scale (a small exemplar's residual blown up to a large one's size
+    # came out blurred).
     size_from = size_from if params.own_size and n > 1 else -1
+    # Smoothed bootstrap of the size too (from a stream of its own): the
+    # lead's size times exp of a Gaussian of the log sizes' bandwidth.
+    z_size = float(np.clip(np.random.default_rng((int(seed), 7)).standard_normal(), -1.5, 1.5)) \
+        if params.smooth_bootstrap and size_from >= 0 else 0.0
     m0, pet, pet_j = m, None, -1
     for attempt in range(4):
-        m = _fit_size(p, m0, size_from, 0.9 ** attempt)
+        m = _fit_size(p, m0, size_from, 0.9 ** attempt, float(np.exp(z_size * p.size_bandwidth)))
         pet, pet_j, best = None, -1, np.inf
         for cand in order:
             layer = p.petiole_layer(cand, m)
@@ -424,7 +450,7 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
     # texture correction matches patches against the canvas there.
     rim = 2 * (max(8, min(shape) // 24) + 2) + 1
     shown = cv2.dilate((alpha > 0).astype(np.uint8), cv2.getStructuringElement(cv2.MORPH_RECT, (rim, rim))) > 0
-    rgb = _sample_sharp_at(p.stage[-1][bg][..., :3], c_bg, shown)
+    rgb = _sample_grain_at(p.stage[-1][bg][..., :3], c_bg, shown)
     if params.correct:
         # Texture correction where the composed warp stretches or squeezes,
         # from the background exemplar's unwarped residual (before the layers
@@ -440,6 +466,7 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
     chosen = {}
     # Layers, bottom first, each from another exemplar with its own warp.
     cover = np.zeros(shape, np.float32)
+    rgb_low = None
     mix = np.zeros(shape + (3,), np.float32)
     wsum = np.zeros(shape, np.float32)
     for k in reversed(range(len(a.layers))):
@@ -490,7 +517,7 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
         c = p.source_coords(e, m, random_warp(shape, amp, corr, rng))
         a_k = np.clip(_sample(p.layer_masks[k][e], c)[..., 0], 0, 1)
         on = a_k > 0  # the layer's colours are needed under its footprint only
-        col = _sample_sharp_at(p.stage[k][e][..., :3], c, on)
+        col = _sample_grain_at(p.stage[k][e][..., :3], c, on)
         if params.layer_colour == "contrast":
             # The layer relative to the same leaf without it (the next
             # residual): a vein of a yellow leaf darkens an orange
@@ -508,8 +535,15 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
             # (On the layer's footprint only: a weight of 0 elsewhere.)
             under = _sample_sharp_at(p.layer_under[k][e][..., :3], c, on)[on]
             lo, hi = p.layer_range[k]
-            fg, bg_on = col[on], rgb[on]
-            own = np.clip(bg_on, *p.blade_range)
+            fg = col[on]
+            own = np.clip(rgb[on], *p.blade_range)
+            # The background under the layer without its grain: the layer's
+            # ratio brings the donor's grain (the leaf under it is smooth),
+            # and on top of the background's own it doubled the texture
+            # under the pasted footprint.
+            if rgb_low is None:
+                rgb_low = cv2.GaussianBlur(rgb, (0, 0), GRAIN_SIGMA)
+            bg_on = rgb_low[on]
             # A layer lighter than the leaf under it (pale veins) is brought
             # as a ratio of the light it lets through, 1 - (1 - rgb) (1 - col)
             # / (1 - under) (a "screen"), a darker one as a ratio of the light
@@ -556,19 +590,31 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
 def _exemplar_draws(seed: int, n: int) -> tuple[int, int, int]:
     """The exemplars giving leaf ``seed`` its pose, its size (and background) and its leading shape weight.
 
-    Each from a stream of its own of the seed, so the other draws do not
-    depend on them. The pose is the leading shape exemplar's: the upright
-    shape maps are each exemplar's map turned to fit the training leaf
-    best, so part of how an exemplar's outline differs lies in its pose;
-    with the pose of another exemplar, new leaves overlapped each other
-    more than the exemplars do (procedural elliptic family, 8 new leaves
-    in 3 batches: median pairwise blade IoU 0.59-0.66 -> 0.56-0.59 against
-    0.55). (Drawn independently per leaf, the pose of the leading exemplar
-    made leaves of one dominant exemplar lie alike: generate() now
-    stratifies the draws.)
+    One exemplar for all three, from a stream of its own of the seed, so
+    the other draws do not depend on it. The pose is the leading shape
+    exemplar's: the upright shape maps are each exemplar's map turned to
+    fit the training leaf best, so part of how an exemplar's outline
+    differs lies in its pose; with the pose of another exemplar, new
+    leaves overlapped each other more than the exemplars do (procedural
+    elliptic family, 8 new leaves in 3 batches: median pairwise blade IoU
+    0.59-0.66 -> 0.56-0.59 against 0.55). So is the size: a shape and its
+    size go together in the exemplars, and with the size of an exemplar
+    drawn apart from the lead, two new leaves shared a lead or a size in
+    8 of 28 pairs of a batch of 8 from 4 exemplars (median pairwise blade
+    IoU, rng 0 and 7 of ``generate(a, 8)``, over the exemplars': procedural
+    trilobed 192 px seed 1 +0.06 and +0.15 -> +0.04 and +0.07, elliptic
+    seed 0 +0.03 and +0.12 -> -0.01 and +0.03, lobed within +-0.03 either
+    way). (Drawn independently per leaf, the pose of the leading exemplar
+    made leaves of one dominant exemplar lie alike: generate() stratifies
+    the draws.)
     """
     lead = int(np.random.default_rng((seed, 6)).integers(n))
-    return (lead, int(np.random.default_rng((seed, 3)).integers(n)), lead)
+    if not _TIE_SIZE:
+        return (lead, int(np.random.default_rng((seed, 3)).integers(n)), lead)
+    return (lead, lead, lead)
+
+
+_TIE_SIZE = True
 
 
 #: A layer's donor is the background's own exemplar only when every other is stretched more than this
@@ -583,31 +629,27 @@ def _stratified_seeds(gen, count: int, n: int) -> np.ndarray:
     """``count`` leaf seeds whose exemplar draws (:func:`_exemplar_draws`) are stratified over a batch.
 
     Going beyond the paper. Drawn independently, two new leaves take the
-    same exemplar's pose (or size, or leading shape) one time in ``n``,
-    while two exemplars never are the same exemplar: with 4 exemplars,
-    new leaves overlapped each other more than the exemplars do (median
+    same exemplar's pose, size and leading shape one time in ``n``, while
+    two exemplars never are the same exemplar: with 4 exemplars, new
+    leaves overlapped each other more than the exemplars do (median
     pairwise blade IoU 0.76 against 0.55 on a procedural elliptic family
-    whose leaves differ mostly by pose). Here the pose, size and lead
-    exemplars of consecutive leaves run through random permutations of the
-    exemplars (each on its own), and each leaf's seed is drawn until its
-    own draws are the wanted ones (rejection: every leaf is still
-    :func:`generate_leaf` of its seed). The lead (and pose) and the size
-    exemplars are matched while ``n ** 2`` stays below ``_STRATA_TRIES``;
-    beyond, only the lead.
+    whose leaves differ mostly by pose). Here the lead exemplars of
+    consecutive leaves run through random permutations of the exemplars,
+    and each leaf's seed is drawn until its own lead is the wanted one
+    (rejection: every leaf is still :func:`generate_leaf` of its seed).
     """
     if n < 2:
         return gen.integers(0, 2**31 - 1, size=count)
     # Leaf by leaf (a block of n leaves per permutation), so a shorter batch
     # from the same rng is the start of a longer one.
-    parts = 2 if n ** 2 <= _STRATA_TRIES else 1
     seeds = np.empty(count, np.int64)
     for i in range(count):
         if i % n == 0:
-            perms = [gen.permutation(n) for _ in range(parts)]
-        target = tuple(int(q[i % n]) for q in perms)
+            perm = gen.permutation(n)
+        target = int(perm[i % n])
         s = int(gen.integers(0, 2**31 - 1))
         for _ in range(8 * _STRATA_TRIES):
-            if _exemplar_draws(s, n)[2:0:-1][:parts] == target:
+            if _exemplar_draws(s, n)[2] == target:
                 break
             s = int(gen.integers(0, 2**31 - 1))
         seeds[i] = s
@@ -628,8 +670,8 @@ def generate(analysis, n: int = 8, *, rng=None, params: SynthesisParams | None =
     rng : int or Generator
         Each leaf's seed is drawn from it (kept on the leaf). The seeds are
         chosen so consecutive leaves take every exemplar in turn as the
-        leading shape (and pose) and as the size (random order per block
-        of as many leaves as exemplars); a shorter batch from the same
+        leading shape, pose and size (random order per block of as many
+        leaves as exemplars); a shorter batch from the same
         ``rng`` is the start of a longer one.
     params : SynthesisParams, optional
         None: ``SynthesisParams()`` (the defaults).
