@@ -29,6 +29,13 @@ def crossing_points(structure: Structure, shape) -> np.ndarray:
 
     A child's start on its parent (within 3 px) is a junction, not a crossing.
 
+    Parameters
+    ----------
+    structure : Structure
+        The branches whose centre lines are drawn.
+    shape : tuple of int
+        (H, W) of the returned mask.
+
     Examples
     --------
     >>> import numpy as np

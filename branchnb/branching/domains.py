@@ -473,7 +473,14 @@ def _along_share(example: Structure, domain: np.ndarray) -> float:
 
 def runs_inland(model: StructureModel) -> bool:
     """Do the example's rivers run inland from their coast (:func:`_along_share` below
-    :data:`ALONG_EXAMPLE_MAX`)? Cached on the model."""
+    :data:`ALONG_EXAMPLE_MAX`)? Cached on the model.
+
+    Parameters
+    ----------
+    model : StructureModel
+        A fitted model; without a domain (or with a domain that is everything) the answer
+        is False.
+    """
     dom = model.domain
     if dom is None or dom.all() or not dom.any():
         return False

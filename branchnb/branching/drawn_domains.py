@@ -113,6 +113,13 @@ def drawn_boundary(image: np.ndarray, structure: Structure, pm: PixelMap) -> Dra
 def domain_labels(domain: np.ndarray, ink: np.ndarray | None = None) -> np.ndarray:
     """Region labels of a domain: 1 inside, 0 outside, 2 on ``ink`` (a label no output pixel has).
 
+    Parameters
+    ----------
+    domain : (H, W) array_like of bool
+        Inside of the domain.
+    ink : (H, W) array_like of bool, optional
+        The drawn boundary line's pixels.
+
     Examples
     --------
     >>> import numpy as np

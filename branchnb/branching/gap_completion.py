@@ -82,6 +82,16 @@ def light_layout(ex: np.ndarray, regions: ExampleRegions, patch_size: int) -> np
     The same layout :func:`_relight_setup` lights the gaps with; the fragments use it too (a
     fragment's ground is moved from the layout where it comes from to the layout where it goes).
 
+    Parameters
+    ----------
+    ex : (h, w, C) float ndarray
+        The example image.
+    regions : ExampleRegions
+        The example's regions; the background is what is neither forbidden nor (near) a body
+        or branch-like pixel.
+    patch_size : int
+        Smallest blur scale (pixels).
+
     Examples
     --------
     >>> import numpy as np

@@ -174,6 +174,11 @@ class ImageSynthesisParams:
         Gap completion copies the example's texture with its large-scale shading
         taken out and lights it like the fragments around it (a vignetted photo
         gives no square patches of another brightness; off: copy as is).
+    relight_fragments : bool, default True
+        A fragment's ground is moved from the example's large-scale light where it
+        comes from to the light where it goes (beyond the paper: a bolt taken from
+        a bright cloud and placed in a dark sky brings no glowing tube of cloud;
+        off: the paper's fragments).
     patch_size : int, default 32
         Gap completion: patch side (pixels).
     patch_overlap : float, default 0.25

@@ -42,6 +42,7 @@ def ridge_strength(grey: np.ndarray, sigmas, sign: float) -> np.ndarray:
     Parameters
     ----------
     grey : (H, W) float ndarray
+        Grey image searched for lines.
     sigmas : sequence of float
         Gaussian scales (px).
     sign : float
@@ -103,6 +104,7 @@ def flatten_leftover(residual, blade, source, layer_image, layer_mask, sign: flo
     residual : (H, W, 3) float ndarray
         The exemplar with every layer removed (the new leaf's background).
     blade : (H, W) bool ndarray
+        The leaf's blade; nothing outside it is changed.
     source : (H, W, 3) float ndarray
         The exemplar itself (where ``residual`` differs from it, the
         layers were filled).

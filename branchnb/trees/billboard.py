@@ -90,6 +90,7 @@ True
 
 from __future__ import annotations
 
+from contextvars import ContextVar
 from dataclasses import replace
 
 import cv2
@@ -114,7 +115,16 @@ from .billboard_cards import (
     tone_edges,
 )
 from .billboard_layers import _cut, _recolour, _same_colour_overlap, _shading, _trim, _trunk_strips
-from .billboard_lines import _LUM3, _colour_span3, _fill_lines, _line_masks, _outer_lines, line_art, trunk_outline
+from .billboard_lines import (
+    _LUM3,
+    _colour_span3,
+    _fill_lines,
+    _line_masks,
+    _outer_lines,
+    flat_slivers,
+    line_art,
+    trunk_outline,
+)
 from .billboard_shapes import (
     _decorations,
     _drawn_regions,
@@ -188,6 +198,10 @@ _HUB_STROKES = True
 _STAR_ONE = True
 #: A drawn trunk's side strokes go to the trunk (:func:`~branchnb.trees.billboard_lines.trunk_outline`).
 _TRUNK_OUTLINE = True
+#: Tone cards that fail from the side are tried once more with the slivers of dark fills as
+#: fill, not strokes (billboard_lines.flat_slivers), before the fill regions become the cards.
+_FILL_SLIVERS = True
+_SLIVERS_NOW = ContextVar("_SLIVERS_NOW", default=False)
 
 
 @checked()
@@ -314,6 +328,13 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
     # The fill regions are bounded by the strokes, and on a shaded crown by its sharp tone edges.
     region_lines = lines & crown
     toned = bool(shaded and p.tone_cards and _one_region(crown, lines))
+    if toned and _SLIVERS_NOW.get():
+        # Flat discs without outlines: the slivers of their darkest fills are no strokes.
+        sliver = flat_slivers(work, lines, crown, width=p.line_width, alpha_threshold=p.alpha_threshold)
+        if sliver.any():
+            lines = lines & ~sliver
+            region_lines = lines & crown
+            filled = _fill_lines(work, lines, alpha > 1e-3) if lines.any() else work
     if toned:
         region_lines = region_lines | tone_edges(work, crown)
     card_holes: dict = {}
@@ -686,6 +707,17 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
         again = type(rng.bit_generator)()
         again.state = rng_state
         if toned and not _good(_side_figures(cloud)):
+            if _FILL_SLIVERS and not _SLIVERS_NOW.get():
+                # First with the dark slivers as fill (cartoon_tree: one flat card -> 12-14 cards).
+                token = _SLIVERS_NOW.set(True)
+                try:
+                    again2 = type(rng.bit_generator)()
+                    again2.state = rng_state
+                    retry = billboard_cloud(rgba, seg if seg is not None else trunk, p,
+                                            rng=np.random.Generator(again2))
+                finally:
+                    _SLIVERS_NOW.reset(token)
+                return retry
             # Tone cards that lose lines or open sky from the side: the fill regions are the cards.
             return billboard_cloud(rgba, seg if seg is not None else trunk, replace(p, tone_cards=False),
                                    rng=np.random.Generator(again))
