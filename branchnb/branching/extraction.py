@@ -244,8 +244,9 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
     work = rescale(gray, p.scale, anti_aliasing=True) if p.scale < 1 else gray
     outside = border_flat_regions(work, 4 * p.sigma_max, branches=bw)
     skel &= ~outline_pixels(skel, outside, 2 * p.sigma_max + 2, gray=ndi.median_filter(work, 3))
-    if p.false_ridges and lines is gray:
-        # photographs: edges of lit regions and rows of separate lights are no lines (beyond the paper)
+    if p.false_ridges and lines is gray and _pol == "bright":
+        # photographs: edges of lit regions and rows of separate lights are no lines (beyond the paper);
+        # dark lines are left alone (a crack with a lit rim is one-sided, its darkness intermittent)
         from .line_profiles import false_ridge_pixels
 
         skel &= ~false_ridge_pixels(work, skel, _pol, sigma_min=p.sigma_min, sigma_max=p.sigma_max)

@@ -286,8 +286,10 @@ class ExtractionParams:
         of separate lights (a city under a storm); such skeleton stretches (an edge:
         the line stands out from one side only; a row of dots: Frangi's blobness
         along it) are dropped (see
-        :func:`~branchnb.branching.line_profiles.false_ridge_pixels`). Lines traced
-        by colour and binary masks are not tested.
+        :func:`~branchnb.branching.line_profiles.false_ridge_pixels`). Only bright
+        lines are tested (a dark crack with a lit rim is one-sided by nature and its
+        darkness intermittent: 5.7 % of the cracked-mud sample's cracks were lost);
+        lines traced by colour and binary masks are not.
     """
 
     filter: str = param("sato", options=("sato", "frangi", "meijering"),
