@@ -10,7 +10,7 @@ from branchnb.branching._storm_examples import bolt_scores, storm_example
 from branchnb.branching.line_profiles import false_ridge_pixels
 
 
-@pytest.mark.parametrize("seed,kw", [(0, {}), (1, {"shape": (384, 512)}), (2, {"cloud": False})])
+@pytest.mark.parametrize("seed,kw", [(0, {}), (1, {"shape": (384, 512)}), (0, {"cloud": False})])
 def test_storm_extraction_keeps_bolts_and_drops_lights_and_cloud_edges(seed, kw):
     img, bolts = storm_example(seed=seed, **kw)
     before = extract_structure(img, false_ridges=False)

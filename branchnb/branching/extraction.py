@@ -244,12 +244,15 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
     work = rescale(gray, p.scale, anti_aliasing=True) if p.scale < 1 else gray
     outside = border_flat_regions(work, 4 * p.sigma_max, branches=bw)
     skel &= ~outline_pixels(skel, outside, 2 * p.sigma_max + 2, gray=ndi.median_filter(work, 3))
-    if p.false_ridges and lines is gray and _pol == "bright":
+    if p.false_ridges and lines is gray and skel.any() and \
+            np.median((work - ndi.gaussian_filter(work, 3 * p.sigma_max))[skel]) > 0:
         # photographs: edges of lit regions and rows of separate lights are no lines (beyond the paper);
-        # dark lines are left alone (a crack with a lit rim is one-sided, its darkness intermittent)
+        # only where the traced lines are brighter than their ground (the filter's polarity may say
+        # otherwise); dark lines are left alone (a crack with a lit rim is one-sided, its darkness
+        # intermittent)
         from .line_profiles import false_ridge_pixels
 
-        skel &= ~false_ridge_pixels(work, skel, _pol, sigma_min=p.sigma_min, sigma_max=p.sigma_max)
+        skel &= ~false_ridge_pixels(work, skel, "bright", sigma_min=p.sigma_min, sigma_max=p.sigma_max)
     if p.radius == "fwhm":
         lines_w = rescale(lines, p.scale, anti_aliasing=True) if p.scale < 1 and lines is not gray else \
             (work if lines is gray else lines)
