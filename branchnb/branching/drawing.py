@@ -25,6 +25,7 @@ from scipy import ndimage as ndi
 
 from ..core.render import coverage_polylines
 from ..core.structure import Branch, Structure
+from .drawn_domains import draw_boundary
 from .roots import outlet_starts
 from .skeleton_map import PixelMap
 
@@ -469,21 +470,8 @@ def draw_in_style(style: DrawingStyle, structure: Structure, labels: np.ndarray)
         np.multiply(img, 1 - cov[..., None], out=img)
         img[...] += cov[..., None] * np.asarray(colour, np.float32)
 
-    if style.boundary_colour is not None and inside.any() and not inside.all():
-        from skimage import measure
-
-        lines = []
-        pad = np.pad(inside.astype(np.float32), 1, mode="edge")
-        for c in measure.find_contours(pad, 0.5):
-            pts = c[:, ::-1] - 1.0
-            on_frame = (pts[:, 0] <= 0) | (pts[:, 1] <= 0) | (pts[:, 0] >= w - 1) | (pts[:, 1] >= h - 1)
-            cut = np.flatnonzero(np.diff(on_frame.astype(int)))
-            for piece in np.split(np.arange(len(pts)), cut + 1):
-                if len(piece) >= 2 and not on_frame[piece].all():
-                    lines.append(pts[piece])
-        if lines:
-            cov, _ = coverage_polylines((h, w), lines, [np.full(len(p), style.boundary_width) for p in lines])
-            paint(cov, style.boundary_colour)
+    if style.boundary_colour is not None:
+        img[...] = draw_boundary(img, inside, style.boundary_colour, style.boundary_width)
     clear = 2.0 * style.boundary_width + 2.0 if style.boundary_colour is not None else 0.0
     s = _to_outlets(structure, inside, style.outlet_reach, style.tip_reach, clear)
     drawn = [b for b in s.branches if len(b.points) >= 2]
