@@ -90,7 +90,6 @@ True
 
 from __future__ import annotations
 
-from contextvars import ContextVar
 from dataclasses import replace
 
 import cv2
@@ -103,7 +102,10 @@ from ..core.random import as_rng
 from ..core.sampling import stipple
 from ..core.validate import checked
 from .billboard_cards import (
+    _card_window,
+    _centred_on,
     _good,
+    _merge_cards,
     _nest_cards,
     _side_figures,
     _underpaint,
@@ -201,7 +203,6 @@ _TRUNK_OUTLINE = True
 #: Tone cards that fail from the side are tried once more with the slivers of dark fills as
 #: fill, not strokes (billboard_lines.flat_slivers), before the fill regions become the cards.
 _FILL_SLIVERS = True
-_SLIVERS_NOW = ContextVar("_SLIVERS_NOW", default=False)
 
 
 @checked()
@@ -241,6 +242,12 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
     >>> sorted(cloud.counts())
     ['core', 'front', 'interior', 'rear', 'trunk']
     """
+    return _billboard_cloud(rgba, trunk, params, rng=rng)
+
+
+def _billboard_cloud(rgba, trunk, params, *, rng, slivers: bool = False) -> BillboardCloud:
+    """:func:`billboard_cloud` on checked arguments; ``slivers``: the retry that takes the slivers
+    of dark fills as fill (:func:`~branchnb.trees.billboard_lines.flat_slivers`)."""
     p = check_params(params if params is not None else BillboardParams())
     img, opaque_full = tree_rgba(rgba, alpha_threshold=p.alpha_threshold, min_pixels=16, name="rgba")
     rng = as_rng(rng)
@@ -328,7 +335,7 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
     # The fill regions are bounded by the strokes, and on a shaded crown by its sharp tone edges.
     region_lines = lines & crown
     toned = bool(shaded and p.tone_cards and _one_region(crown, lines))
-    if toned and _SLIVERS_NOW.get():
+    if toned and slivers:
         # Flat discs without outlines: the slivers of their darkest fills are no strokes.
         sliver = flat_slivers(work, lines, crown, width=p.line_width, alpha_threshold=p.alpha_threshold)
         if sliver.any():
@@ -707,17 +714,12 @@ def billboard_cloud(rgba, trunk=None, params: BillboardParams | None = None, *,
         again = type(rng.bit_generator)()
         again.state = rng_state
         if toned and not _good(_side_figures(cloud)):
-            if _FILL_SLIVERS and not _SLIVERS_NOW.get():
+            if _FILL_SLIVERS and not slivers:
                 # First with the dark slivers as fill (cartoon_tree: one flat card -> 12-14 cards).
-                token = _SLIVERS_NOW.set(True)
-                try:
-                    again2 = type(rng.bit_generator)()
-                    again2.state = rng_state
-                    retry = billboard_cloud(rgba, seg if seg is not None else trunk, p,
-                                            rng=np.random.Generator(again2))
-                finally:
-                    _SLIVERS_NOW.reset(token)
-                return retry
+                again2 = type(rng.bit_generator)()
+                again2.state = rng_state
+                return _billboard_cloud(rgba, seg if seg is not None else trunk, p,
+                                        rng=np.random.Generator(again2), slivers=True)
             # Tone cards that lose lines or open sky from the side: the fill regions are the cards.
             return billboard_cloud(rgba, seg if seg is not None else trunk, replace(p, tone_cards=False),
                                    rng=np.random.Generator(again))
@@ -746,63 +748,3 @@ def _one_region(crown: np.ndarray, lines: np.ndarray, share: float = 0.05) -> bo
         return True
     areas = np.bincount(lab.ravel())[1:]
     return int((areas >= share * crown.sum()).sum()) <= 1
-
-
-def _card_window(owner: dict, k: int, objs, shape_lines: dict) -> tuple[int, int]:
-    """Columns ``[x0, x1)`` of the quad of the outermost card ``k`` is nested in (:func:`_nest_cards`)."""
-    seen = {k}
-    while k in owner and owner[k] not in seen:
-        k = owner[k]
-        seen.add(k)
-    sl = objs[k - 1]
-    x0, x1 = sl[1].start, sl[1].stop
-    if k in shape_lines:
-        win = shape_lines[k][0]
-        x0, x1 = min(x0, win[1].start), max(x1, win[1].stop)
-    return x0, x1
-
-
-def _centred_on(x0: int, tex: np.ndarray, window: tuple[int, int]) -> tuple[int, np.ndarray]:
-    """``(x0, tex)`` padded with transparent columns so that the quad's centre is ``window``'s.
-
-    Not in the paper (issue 24). Axial quads are drawn in the order of
-    their centres' depth: a shape drawn on a card (a fruit, a clump) whose
-    centre lies ``dx`` beside the card's turns behind it from yaws past
-    ``atan(dz / dx)``, and the card hides it. With one centre, the shape
-    stays on the card from every side, ``dz`` in front of it.
-    """
-    h, w = tex.shape[:2]
-    c2 = window[0] + window[1]                     # twice the card's centre
-    # The quad [x0 - pad_l, x0 + w + pad_r) centred on c2 / 2: pad on the side facing away.
-    if 2 * x0 + w < c2:
-        pad_l, pad_r = 0, c2 - (2 * x0 + w)
-    else:
-        pad_l, pad_r = (2 * x0 + w) - c2, 0
-    if not pad_l and not pad_r:
-        return x0, tex
-    out = np.zeros((h, w + pad_l + pad_r, tex.shape[2]), tex.dtype)
-    out[:, pad_l: pad_l + w] = tex
-    return x0 - pad_l, out
-
-
-def _merge_cards(groups: list, sp_lab: np.ndarray, sp_ext: np.ndarray, shape_lines: dict):
-    """Labels (working and extended) and shape outlines with every group's cards under its first label."""
-    n = int(max(sp_lab.max(), sp_ext.max())) + 1
-    to = np.arange(n)
-    for g in groups:
-        to[np.asarray(g)] = g[0]
-    sp_lab, sp_ext = to[sp_lab].astype(sp_lab.dtype), to[sp_ext].astype(sp_ext.dtype)
-    out = dict(shape_lines)
-    for g in groups:
-        parts = [(k, out.pop(k)) for k in g if k in out]
-        if not parts:
-            continue
-        ya = min(w[0].start for _, (w, _) in parts)
-        yb = max(w[0].stop for _, (w, _) in parts)
-        xa = min(w[1].start for _, (w, _) in parts)
-        xb = max(w[1].stop for _, (w, _) in parts)
-        m = np.zeros((yb - ya, xb - xa), bool)
-        for _, (w, mk) in parts:
-            m[w[0].start - ya: w[0].stop - ya, w[1].start - xa: w[1].stop - xa] |= mk
-        out[g[0]] = ((slice(ya, yb), slice(xa, xb)), m)
-    return sp_lab, sp_ext, out

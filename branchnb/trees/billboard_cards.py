@@ -584,3 +584,63 @@ def cards_hold(cards, plain, *, min_psnr: float = 30.0) -> bool:
         if not ok:
             return False
     return True
+
+
+def _card_window(owner: dict, k: int, objs, shape_lines: dict) -> tuple[int, int]:
+    """Columns ``[x0, x1)`` of the quad of the outermost card ``k`` is nested in (:func:`_nest_cards`)."""
+    seen = {k}
+    while k in owner and owner[k] not in seen:
+        k = owner[k]
+        seen.add(k)
+    sl = objs[k - 1]
+    x0, x1 = sl[1].start, sl[1].stop
+    if k in shape_lines:
+        win = shape_lines[k][0]
+        x0, x1 = min(x0, win[1].start), max(x1, win[1].stop)
+    return x0, x1
+
+
+def _centred_on(x0: int, tex: np.ndarray, window: tuple[int, int]) -> tuple[int, np.ndarray]:
+    """``(x0, tex)`` padded with transparent columns so that the quad's centre is ``window``'s.
+
+    Not in the paper (issue 24). Axial quads are drawn in the order of
+    their centres' depth: a shape drawn on a card (a fruit, a clump) whose
+    centre lies ``dx`` beside the card's turns behind it from yaws past
+    ``atan(dz / dx)``, and the card hides it. With one centre, the shape
+    stays on the card from every side, ``dz`` in front of it.
+    """
+    h, w = tex.shape[:2]
+    c2 = window[0] + window[1]                     # twice the card's centre
+    # The quad [x0 - pad_l, x0 + w + pad_r) centred on c2 / 2: pad on the side facing away.
+    if 2 * x0 + w < c2:
+        pad_l, pad_r = 0, c2 - (2 * x0 + w)
+    else:
+        pad_l, pad_r = (2 * x0 + w) - c2, 0
+    if not pad_l and not pad_r:
+        return x0, tex
+    out = np.zeros((h, w + pad_l + pad_r, tex.shape[2]), tex.dtype)
+    out[:, pad_l: pad_l + w] = tex
+    return x0 - pad_l, out
+
+
+def _merge_cards(groups: list, sp_lab: np.ndarray, sp_ext: np.ndarray, shape_lines: dict):
+    """Labels (working and extended) and shape outlines with every group's cards under its first label."""
+    n = int(max(sp_lab.max(), sp_ext.max())) + 1
+    to = np.arange(n)
+    for g in groups:
+        to[np.asarray(g)] = g[0]
+    sp_lab, sp_ext = to[sp_lab].astype(sp_lab.dtype), to[sp_ext].astype(sp_ext.dtype)
+    out = dict(shape_lines)
+    for g in groups:
+        parts = [(k, out.pop(k)) for k in g if k in out]
+        if not parts:
+            continue
+        ya = min(w[0].start for _, (w, _) in parts)
+        yb = max(w[0].stop for _, (w, _) in parts)
+        xa = min(w[1].start for _, (w, _) in parts)
+        xb = max(w[1].stop for _, (w, _) in parts)
+        m = np.zeros((yb - ya, xb - xa), bool)
+        for _, (w, mk) in parts:
+            m[w[0].start - ya: w[0].stop - ya, w[1].start - xa: w[1].stop - xa] |= mk
+        out[g[0]] = ((slice(ya, yb), slice(xa, xb)), m)
+    return sp_lab, sp_ext, out
