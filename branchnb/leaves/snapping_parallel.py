@@ -22,10 +22,20 @@ induced skeleton, cut at junctions and turns over 20 degrees, over the
 strip's length): training 01, mean / least run 0.13 / 0.10 -> 0.31 / 0.18,
 off-direction share 0.15 -> 0.07; training 02, 0.23 / 0.18 -> 0.37 / 0.15
 (strip 05 0.18 -> 0.15), 0.12 -> 0.11.
-Not solved: on a faint strip whose veins lie 4 px apart (photo 05 at 300
-px) the lines stay broken (mean run 0.09 before and after; the strict
-centre line breaks where a vein's centre falls between two pixels, and a
-tolerant one joined neighbouring veins).
+Followed on the ridge's crest (:func:`follow_lines`, sub-pixel, in place of
+the pixel-wise centre line, which broke wherever a faint vein's centre fell
+between two pixels: strip 05's veins lie 3-4 px apart): mean / least run,
+training 01, 0.31 / 0.18 -> 0.46 / 0.35 (strip 04 0.21 -> 0.35, strip 05
+0.18 -> 0.37), off-direction share 0.07 -> 0.08; training 02, 0.37 / 0.15 ->
+0.45 / 0.28 (strip 04 0.27 -> 0.42, strip 05 0.15 -> 0.28; strip 01 0.51 ->
+0.42: two of its six lines join near one end), 0.11 -> 0.13. Procedural
+strips (``--kinds strips``, seed 0): min / mean 0.68 / 0.89 and
+0.94 / 0.98 -> 0.68 / 0.89 and 0.93 / 0.98 at 192 / 384 px. (These
+before -> after figures include the third template start,
+:data:`~branchnb.leaves.snapping.REGISTRATION_START`; the crest alone, on the
+same snapped paths of training 01: strip 04 / 05 runs 0.21 / 0.18 -> 0.35 / 0.37.)
+Not solved: a line may still bend onto the blade's margin where the vein
+direction field follows it (strip 04 from training 02: one hook).
 """
 
 from __future__ import annotations
