@@ -124,7 +124,8 @@ they run in the photograph, beyond where its hand trace stops (without 04
 as exemplar: mean 0.625 -> 0.629). Procedural blades have no holes
 (unchanged). A hole's rim (:data:`HOLE_RIM` px around it) takes no ridge
 evidence: the edge of a torn patch is no vein, and traces ran along it
-(maple 04 as training leaf, onto maple 07: IoU 0.37 -> 0.49).
+(maple 04 as training leaf, onto maple 07: IoU 0.37 -> 0.49); unless the
+rims cover over :data:`HOLE_SHARE` of the blade (maple 04's specks: texture).
 
 Measured with the hand tracings version 2 (maple 04's laterals extended to
 the lobe tips, ``_measure maples``), per training maple 01-07: 0.70 0.69
