@@ -461,7 +461,9 @@ def test_a_branch_the_training_layer_lacks_is_found_from_the_network():
 def test_a_speckled_blade_keeps_its_evidence():
     """Pale specks the blade segmentation left out (maple 04: 334 holes of 1-23 px, their rims a
     quarter of the blade) are the blade's texture, not torn patches: the veins running past them keep
-    their evidence (:func:`~branchnb.leaves.snapping._hole_rim`). One torn hole keeps its rim."""
+    their evidence (:func:`~branchnb.leaves.snapping_stray._hole_rim`). One torn hole keeps its rim.
+    (On this drawn star the specks' rims cost little either way, 0.97 with them: the path crosses them;
+    on maple 04 they cost 0.03-0.10 IoU per training maple, see ``_hole_rim``.)"""
     from skimage.color import rgb2lab
 
     from branchnb.leaves import snapping
@@ -476,18 +478,11 @@ def test_a_speckled_blade_keeps_its_evidence():
     specks[ys[pick], xs[pick]] = True
     specks = ndi.binary_dilation(specks) & ~ndi.binary_dilation(veins_e, iterations=1)
     speckled = blade & ~specks
-    assert not _hole_rim(speckled).any()
+    assert not _hole_rim(speckled, snapping.HOLE_RIM, snapping.HOLE_SHARE).any()
     one = blade.copy()
     one[60:64, 30:34] = False
-    assert _hole_rim(one).sum() > 20
+    assert _hole_rim(one, snapping.HOLE_RIM, snapping.HOLE_SHARE).sum() > 20
     ident = np.array([[0, 0], [139, 0], [0, 139], [139, 139.]])
-    got = {}
-    for share in (np.inf, snapping.HOLE_SHARE):
-        old, snapping.HOLE_SHARE = snapping.HOLE_SHARE, share
-        try:
-            masks, _ = snap_to_exemplars([rgb2lab(img_t), rgb2lab(img_e)], [blade, speckled], 0, veins_t,
-                                         [None, TrueRegistration(ident, ident, (140, 140))], tolerance=0.0)
-        finally:
-            snapping.HOLE_SHARE = old
-        got[share] = iou(masks[1], veins_e & speckled)
-    assert got[snapping.HOLE_SHARE] >= 0.85
+    masks, _ = snap_to_exemplars([rgb2lab(img_t), rgb2lab(img_e)], [blade, speckled], 0, veins_t,
+                                 [None, TrueRegistration(ident, ident, (140, 140))], tolerance=0.0)
+    assert iou(masks[1], veins_e & speckled) >= 0.9      # measured 0.97
