@@ -10,9 +10,12 @@ photo (content everywhere, no object to run down through,
   a bright structure narrower than ``STRIKE_RIDGE`` of the diagonal (a white top-hat of
   the luminance) standing out of the picture's noise (``STRIKE_NOISE`` robust standard
   deviations, and at least ``STRIKE_MIN_RIDGE`` of luminance); where such bright lines
-  are rare (under ``STRIKE_MAX_RIDGE`` of the picture: not a textured photo) and the
-  brightest one spans at least ``STRIKE_MIN_SPAN`` of the height, the bolt starts at its
-  top.
+  are rare (under ``STRIKE_MAX_RIDGE`` of the picture: not a textured photo), the bolt
+  starts at the top of the brightest one that spans at least ``STRIKE_MIN_SPAN`` of the
+  height and has a bolt's profile (:func:`jaggedness` at least ``STRIKE_MIN_JAG``: a
+  straight lit mast is no strike). Otherwise it is the ordinary lightning metaphor: from
+  the top of the picture's content, its main channel's straight stretches zigzagging
+  (:func:`jag_channel`).
 * **How far it goes** (:func:`photo_channel`). The main channel runs down the picture's
   structure to the deepest end whose cost per pixel of descent is within
   ``STRIKE_PHOTO_SLACK`` of the cheapest (it ended at the nearest cheap place: 0.60 of
@@ -51,6 +54,7 @@ from .stylize_params import (
     STRIKE_BAND,
     STRIKE_EDGE_NOISE,
     STRIKE_GLOW,
+    STRIKE_JAG_AMPLITUDE,
     STRIKE_JAG_WINDOW,
     STRIKE_MAX_RIDGE,
     STRIKE_MIN_JAG,
@@ -67,7 +71,7 @@ from .stylize_params import (
 )
 
 __all__ = ["bright_ridges", "edge_significance", "jaggedness", "long_pieces", "noise_threshold",
-           "photo_channel", "side_branches", "strike_origin"]
+           "jag_channel", "photo_channel", "side_branches", "strike_origin"]
 
 
 def noise_threshold(values, k: float = STRIKE_NOISE) -> float:
@@ -504,3 +508,109 @@ def side_branches(luminance, edges, weights, content, params, *, struck: bool,
                                iterations=params.stipple_iterations, rng=rng + 1)
     near = outline_band(c, STRIKE_BAND)[1]
     return base + float(np.mean(base)) * STRIKE_PENALTY * near, ends
+
+
+def _path_spread(xy: np.ndarray, window: float) -> np.ndarray:
+    """Per point of an ordered path, its spread (px) across its own direction within a
+    Gaussian window of ``window`` px of arc length, less a digital line's pixel steps."""
+    step = np.r_[0.0, np.hypot(*np.diff(xy, axis=0).T)]
+    sig = window / max(float(np.mean(step[1:])), 1e-9)
+
+    def mean(a):
+        return ndimage.gaussian_filter1d(a, sig, mode="nearest")
+
+    x, y = xy[:, 0] - xy[:, 0].mean(), xy[:, 1] - xy[:, 1].mean()
+    mx, my = mean(x), mean(y)
+    cxx, cyy, cxy = mean(x * x) - mx ** 2, mean(y * y) - my ** 2, mean(x * y) - mx * my
+    tr, det = cxx + cyy, cxx * cyy - cxy ** 2
+    small = tr / 2 - np.sqrt(np.maximum(tr ** 2 / 4 - det, 0.0))
+    return np.sqrt(np.maximum(small - 1.0 / 12.0, 0.0))
+
+
+def jag_channel(path, shape, *, window: float = STRIKE_JAG_WINDOW, min_jag: float = STRIKE_MIN_JAG,
+                amplitude: float = STRIKE_JAG_AMPLITUDE, rng: int = 0) -> np.ndarray:
+    """A lightning channel's straight stretches given a bolt's profile.
+
+    Beyond the papers: on a photo without a strike of its own (no bolt to follow,
+    :func:`strike_origin`) the main channel (:func:`photo_channel`) runs along the
+    picture's structure, and where that is a straight man-made line (a rocket on its
+    pad, a mast) or nothing at all (a clear sky), it came out ruler-straight, no bolt.
+    Where the channel's spread across its direction within a window of ``window`` of
+    the diagonal (as :func:`jaggedness` measures a line) is under ``min_jag`` of the
+    window, it is displaced across its direction by a zigzag of two octaves (vertices
+    every window and every third of it along the channel, each shifted uniformly
+    within ``amplitude`` of its spacing), as the ordinary lightning metaphor's bolts
+    turn every few pixels; its jagged stretches, its start and its end stay where they
+    are. The result is a chain of 8-neighbouring pixels, none twice.
+
+    Parameters
+    ----------
+    path : (K, 2) array_like of int
+        Lattice ``(x, y)``, start first (e.g. :func:`photo_channel`).
+    shape : (h, w)
+        The lattice's shape.
+    window, min_jag : float
+        As in :func:`strike_origin`.
+    amplitude : float
+        Largest shift (>= 0) of a zigzag vertex, as a share of the vertices' spacing.
+    rng : int or numpy.random.Generator
+        Seed of the zigzag.
+
+    Returns
+    -------
+    (K', 2) int64 ndarray
+
+    Examples
+    --------
+    >>> line = np.column_stack([np.full(150, 60), np.arange(150)])
+    >>> bolt = jag_channel(line, (150, 120), rng=0)
+    >>> mask = np.zeros((150, 120), bool); mask[bolt[:, 1], bolt[:, 0]] = True
+    >>> bool(jaggedness(mask, 0.02 * np.hypot(150, 120)) > 0.05), bolt[0].tolist(), bolt[-1].tolist()
+    (True, [60, 0], [60, 149])
+    """
+    from skimage.draw import line as draw_line
+
+    q = np.asarray(path, np.int64).reshape(-1, 2)
+    h, w = (int(v) for v in shape)
+    if not amplitude >= 0:
+        raise ValueError(f"amplitude must be >= 0, got {amplitude}")
+    if not window > 0:
+        raise ValueError(f"window must be > 0, got {window}")
+    if len(q) < 4:
+        return q.copy()
+    rng = np.random.default_rng(rng)
+    xy = q.astype(np.float64)
+    sig = window * float(np.hypot(h, w))
+    s = np.r_[0.0, np.cumsum(np.hypot(*np.diff(xy, axis=0).T))]
+    straight = (_path_spread(xy, sig) < min_jag * sig).astype(np.float64)
+    per = max(float(s[-1]) / (len(s) - 1), 1e-9)
+    weight = np.clip(ndimage.gaussian_filter1d(straight, 0.25 * sig / per, mode="nearest") * 2 - 0.5,
+                     0.0, 1.0)
+    weight *= np.clip(np.minimum(s, s[-1] - s) / sig, 0.0, 1.0)  # start and end stay
+    if not weight.any():
+        return q.copy()
+    off = np.zeros(len(s))
+    for spacing in (3.0 * sig, sig, sig / 3.0):
+        knots = np.arange(0.0, s[-1] + spacing, spacing)
+        off += np.interp(s, knots, rng.uniform(-1, 1, knots.size) * amplitude * spacing)
+    tx = ndimage.gaussian_filter1d(xy[:, 0], sig / per, mode="nearest", order=1)
+    ty = ndimage.gaussian_filter1d(xy[:, 1], sig / per, mode="nearest", order=1)
+    norm = np.maximum(np.hypot(tx, ty), 1e-9)
+    new = xy + (off * weight / norm)[:, None] * np.column_stack([-ty, tx])
+    new = np.rint(new).astype(np.int64)
+    new[:, 0] = np.clip(new[:, 0], 0, w - 1)
+    new[:, 1] = np.clip(new[:, 1], 0, h - 1)
+    chain = [tuple(new[0])]
+    for a, b in zip(new[:-1], new[1:]):
+        rr, cc = draw_line(int(a[1]), int(a[0]), int(b[1]), int(b[0]))
+        chain.extend(zip(cc[1:].tolist(), rr[1:].tolist()))
+    out, seen = [], {}
+    for px in chain:  # cut the loops: a pixel met again closes one
+        if px in seen:
+            for old in out[seen[px] + 1:]:
+                del seen[old]
+            del out[seen[px] + 1:]
+            continue
+        seen[px] = len(out)
+        out.append(px)
+    return np.asarray(out, np.int64)

@@ -48,7 +48,7 @@ from .main_channel import (
     widen_main_path,
     with_channel,
 )
-from .photo_strike import photo_channel, side_branches, strike_origin
+from .photo_strike import jag_channel, photo_channel, side_branches, strike_origin
 from .planner import PlanResult, plan
 from .render import Rendering
 from .scale import resample_to_lattice
@@ -616,6 +616,8 @@ class Stylizer:
                 if path is None or len(path) < 2:  # nothing to draw, or nothing below the seed
                     return (self.plan(p, seed, rng_seed),
                             self._main_channel_straight(p, seed, rng_seed), False)
+                if self.strike(p) is None:  # no bolt to follow: its straight stretches zigzag
+                    path = jag_channel(path, content.shape, rng=rng_seed)
                 mask = np.zeros(lat.weights.shape, bool)
                 mask[path[:, 1], path[:, 0]] = True
                 # the side branches follow the edges that stand out of the picture's noise

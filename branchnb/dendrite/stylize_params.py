@@ -333,6 +333,10 @@ STRIKE_MIN_SPAN = 0.2
 #: 0.07-0.12 (beyond the papers: the mast was taken for a strike and the bolt ran down it).
 STRIKE_JAG_WINDOW = 0.02
 STRIKE_MIN_JAG = 0.05
+#: Where a lightning bolt's main channel on a photo without a strike is straighter than
+#: that, it zigzags: vertices every window and every third of it, each shifted within this
+#: share of its spacing (:func:`~branchnb.dendrite.photo_strike.jag_channel`).
+STRIKE_JAG_AMPLITUDE = 0.35
 #: Robust standard deviations above the median gradient from which an edge stands out of
 #: a photo's noise for a lightning bolt's side branches
 #: (:func:`~branchnb.dendrite.photo_strike.edge_significance`).
