@@ -537,11 +537,13 @@ def jag_channel(path, shape, *, window: float = STRIKE_JAG_WINDOW, min_jag: floa
     pad, a mast) or nothing at all (a clear sky), it came out ruler-straight, no bolt.
     Where the channel's spread across its direction within a window of ``window`` of
     the diagonal (as :func:`jaggedness` measures a line) is under ``min_jag`` of the
-    window, it is displaced across its direction by a zigzag of two octaves (vertices
-    every window and every third of it along the channel, each shifted uniformly
-    within ``amplitude`` of its spacing), as the ordinary lightning metaphor's bolts
-    turn every few pixels; its jagged stretches, its start and its end stay where they
-    are. The result is a chain of 8-neighbouring pixels, none twice.
+    window, it is displaced across its direction by a zigzag of up to three octaves
+    (vertices every three windows, every window and every third of it along the
+    channel, each shifted uniformly within ``amplitude`` of its spacing; an octave only
+    where the straight stretch is at least one of its spacings long, so a short straight
+    piece of a crack keeps near the crack and a rocket's full height wanders like a bolt),
+    as the ordinary lightning metaphor's bolts turn at every scale; its jagged
+    stretches, its start and its end stay where they are. The result is a chain of 8-neighbouring pixels, none twice.
 
     Parameters
     ----------
@@ -582,21 +584,30 @@ def jag_channel(path, shape, *, window: float = STRIKE_JAG_WINDOW, min_jag: floa
     xy = q.astype(np.float64)
     sig = window * float(np.hypot(h, w))
     s = np.r_[0.0, np.cumsum(np.hypot(*np.diff(xy, axis=0).T))]
-    straight = (_path_spread(xy, sig) < min_jag * sig).astype(np.float64)
+    straight = _path_spread(xy, sig) < min_jag * sig
     per = max(float(s[-1]) / (len(s) - 1), 1e-9)
-    weight = np.clip(ndimage.gaussian_filter1d(straight, 0.25 * sig / per, mode="nearest") * 2 - 0.5,
-                     0.0, 1.0)
-    weight *= np.clip(np.minimum(s, s[-1] - s) / sig, 0.0, 1.0)  # start and end stay
-    if not weight.any():
+    lab, n = ndimage.label(straight)
+    if n == 0:
         return q.copy()
+    first = ndimage.minimum(s, lab, np.arange(1, n + 1))
+    last = ndimage.maximum(s, lab, np.arange(1, n + 1))
+    run = np.r_[0.0, last - first][lab]  # the length of the straight stretch a point is in
+    ends = np.clip(np.minimum(s, s[-1] - s) / sig, 0.0, 1.0)  # start and end stay
     off = np.zeros(len(s))
     for spacing in (3.0 * sig, sig, sig / 3.0):
+        # an octave where the straight stretch holds one of its spacings (a short straight
+        # piece of a crack keeps near it; a rocket's full height wanders like a bolt)
+        on = (run >= spacing).astype(np.float64)
+        weight = np.clip(ndimage.gaussian_filter1d(on, 0.25 * sig / per, mode="nearest") * 2 - 0.5,
+                         0.0, 1.0) * ends
         knots = np.arange(0.0, s[-1] + spacing, spacing)
-        off += np.interp(s, knots, rng.uniform(-1, 1, knots.size) * amplitude * spacing)
+        off += weight * np.interp(s, knots, rng.uniform(-1, 1, knots.size) * amplitude * spacing)
+    if not off.any():
+        return q.copy()
     tx = ndimage.gaussian_filter1d(xy[:, 0], sig / per, mode="nearest", order=1)
     ty = ndimage.gaussian_filter1d(xy[:, 1], sig / per, mode="nearest", order=1)
     norm = np.maximum(np.hypot(tx, ty), 1e-9)
-    new = xy + (off * weight / norm)[:, None] * np.column_stack([-ty, tx])
+    new = xy + (off / norm)[:, None] * np.column_stack([-ty, tx])
     new = np.rint(new).astype(np.int64)
     new[:, 0] = np.clip(new[:, 0], 0, w - 1)
     new[:, 1] = np.clip(new[:, 1], 0, h - 1)
