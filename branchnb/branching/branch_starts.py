@@ -215,6 +215,8 @@ class _Starts:
                 left, right = self._fan_count
                 if left != right:
                     score = np.where(side == (1 if left < right else -1), score, score * FAN_OTHER_SIDE)
+        if self.drain is not None and parent is None:   # a delta's trunk starts downstream (see root_factor)
+            score = score * self.drain.root_factor(x0, new, n + 1)
         if self.shore is not None:
             score = score * self.shore.factor(x0, new, n + 1) * self.shore.along_factor(x0, new, n + 1)
         mouth = self.shore is not None and parent is None
