@@ -12,7 +12,7 @@ from scipy import ndimage as ndi
 
 from branchnb.branching import example_domain, extract_structure, fit_model, synthesize_structure
 from branchnb.branching._map_examples import delta_mask_example
-from branchnb.branching.domains import _drains, _Drain
+from branchnb.branching.domains import _Drain, _drains
 from branchnb.core.structure import Branch, Structure
 
 
