@@ -272,19 +272,6 @@ class _Drain:
     def _cos(self, at, vec: np.ndarray, fan=None) -> np.ndarray:
         return (vec @ self.way_down(at, fan)) / np.maximum(np.hypot(vec[:, 0], vec[:, 1]), 1e-9)
 
-    def root_factor(self, tip, points: np.ndarray, n_new: np.ndarray) -> np.ndarray:
-        """Score factor of a new root's candidate heads ``points`` ((C, M, 2), the first ``n_new`` new)
-        from ``tip``: the downstream pull (``exp(kappa cos)``), a head heading back inland (cosine
-        below ``UPSTREAM_COS``) forbidden, and no frame factor (a root starts at the frame).
-
-        Beyond the paper (issue 23): with no pull at all, the trunk of a 1000 x 1500 px delta took a
-        head running along the frame it started on and left the domain at its second vertex (1 of
-        5 seeds: nothing grew in any of the 3 attempts)."""
-        tip = np.asarray(tip, np.float64)
-        end = points[np.arange(len(points)), np.maximum(n_new, 1) - 1]
-        cos = self._cos(tip, end - tip)
-        return np.where(cos < UPSTREAM_COS, 0.0, np.exp(self.kappa * cos))
-
     def factor(self, tip, points: np.ndarray, n_new: np.ndarray, start=None, pull: float = 1.0,
                fan=None) -> np.ndarray:
         """Score factor of candidates ``points`` ((C, M, 2), the first ``n_new`` new) from ``tip``.
