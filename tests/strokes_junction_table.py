@@ -202,10 +202,17 @@ def ed_hand_bend(n):
 def ed_hand_add(n):
     obj = hand(n, rng=0)
     palm, th = obj.strokes[1], obj.strokes[6]
-    x = palm[0, 0]
+    x = th[0, 0]
     new = np.c_[2 * x - th[:, 0], th[:, 1]]
     I = (np.eye(2), np.zeros(2))
     return obj, [palm, th, th], [palm, th, new], [(k, *I) for k in range(7)], [th, new]
+
+def ed_hand_turn(n):
+    obj = hand(n, rng=0)
+    palm, th = obj.strokes[1], obj.strokes[6]
+    I = (np.eye(2), np.zeros(2))
+    new = turn(th, -2.4, th[0])
+    return obj, [palm, th], [palm, new], [(k, *I) for k in range(6)], [new]
 
 def ed_hand_long(n):
     obj = hand(n, rng=0)
@@ -221,7 +228,7 @@ def ed_hand_half(n):
 
 EDITS = {"twig": ed_twig, "figure": ed_figure, "starfish": ed_starfish, "antlers": ed_antlers, "coral": ed_coral,
          "flower_bend": ed_flower_bend, "flower_half": ed_flower_half, "flower_add": ed_flower_add,
-         "flower_long": ed_flower_long, "hand_bend": ed_hand_bend, "hand_add": ed_hand_add,
+         "flower_long": ed_flower_long, "hand_bend": ed_hand_bend, "hand_add": ed_hand_add, "hand_turn": ed_hand_turn,
          "hand_long": ed_hand_long, "hand_half": ed_hand_half}
 
 def measure(obj, res, exp, children):

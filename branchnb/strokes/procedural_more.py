@@ -182,6 +182,7 @@ def hand(size: int = 600, *, rng=None) -> PartObject:
     for i, (dx, ang, length) in enumerate(((-0.66, -1.85, 120), (-0.22, -1.65, 140), (0.22, -1.5, 132),
                                            (0.64, -1.3, 100))):
         digit(knuckles + np.array([dx * phw, 0.1 * phw]), ang, length * k, 15 * k, f"finger {i + 1}")
-    digit(_point_at(palm, 0.45) + np.array([0.5 * phw, 0.0]), -0.35, 115 * k, 17 * k, "thumb")
+    # the thumb's stroke starts on the palm's (its first stretch hidden under the palm)
+    digit(_point_at(palm, 0.45), -0.35, 115 * k + 0.5 * phw, 17 * k, "thumb")
     img, labels = c.render()
     return PartObject(img, labels, strokes, parents, names, widths, c.outline)
