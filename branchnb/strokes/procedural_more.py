@@ -115,8 +115,10 @@ def hand(size: int = 600, *, rng=None) -> PartObject:
     Parts: ``forearm`` (from the bottom edge up to the wrist), ``palm``
     (a child of the forearm, its stroke from the wrist to the knuckles;
     ``1.6x`` the forearm's width), ``finger 1..4`` (children of the
-    palm, from the knuckle line up, slightly fanned out) and ``thumb`` (a
-    child of the palm, leaving its side at ~50 degrees). Each finger and
+    palm, their strokes from the knuckle line inside the palm up, slightly
+    fanned out: they start inside their parent, not on its stroke, as a
+    user draws them) and ``thumb`` (a child of the palm, its stroke from
+    the palm's stroke, leaving the palm's side at ~20 degrees). Each finger and
     the thumb has a pale nail near its tip.
 
     Parameters
