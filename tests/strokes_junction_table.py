@@ -3,7 +3,13 @@
 ``PYTHONPATH=. python tests/strokes_junction_table.py TAG [SIZES...]`` edits a
 twig (bent, 4 parts carried, a leaf added), a figure (limbs turned), a
 starfish (two arms turned, the disk kept), antlers (two tines turned, one
-copied) and a coral (a branch turned, one copied) at 256 / 512 / 1000 px and
+copied), a coral (a branch turned, one copied), a flower (``flower_bend``:
+stem bent, leaves and head carried, petals unstroked; ``flower_half``: stem
+shortened 0.5x carrying them; ``flower_add``: a third leaf; ``flower_long``:
+a leaf lengthened 1.4x) and a hand (``hand_bend``: palm turned, fingers
+carried, thumb unstroked; ``hand_add``: a second thumb; ``hand_turn``: the
+thumb turned across; ``hand_long`` / ``hand_half``: a finger 1.4x / 0.5x,
+the other fingers unstroked) at 256 / 512 / 1000 px and
 prints per edit: the longest gap (px) along a child's stroke, the most
 missing px of one part where its rigid map puts it, pieces, fleck px, light
 (un-outlined) silhouette px, CPU s
