@@ -106,3 +106,20 @@ def test_a_bent_stem_carries_the_head_and_its_unstroked_petals():
         got = ndi.map_coordinates(alpha, [q[:, 1], q[:, 0]], order=1)
         assert (got > 0.5).mean() >= 0.98, obj.names[k]
     assert _pieces(res.image) == 1 and _pieces(res.image, 0.02) == 1
+
+
+def test_a_new_leaf_near_the_head_does_not_cut_a_petal():
+    """A third leaf copied high on the stem, next to the head (head and petals nobody
+    stroked: one part on the stem's end): every petal stays whole (a petal's tip beyond
+    the stem's centre line was cut straight where the new leaf's patch margin lay: 131 px
+    at 800 px)."""
+    size = 800
+    obj = flower(size, rng=0)
+    st, l2 = obj.strokes[0], obj.strokes[2]
+    p = Stroke(st).point_at(0.72 * Stroke(st).length)
+    c, s = np.cos(0.35), np.sin(0.35)
+    new = p + (l2 - l2[0]) @ np.array([[c, -s], [s, c]]).T
+    res = edit_structure(obj.image, [st, l2, l2], [st, l2, new])
+    miss = _missing(obj, res, range(10))
+    assert max(miss.values()) == 0, miss
+    assert _pieces(res.image) == 1
