@@ -34,9 +34,17 @@ def contrast_direction(lab, layer, blade) -> np.ndarray:
     (3,) float ndarray
         Unit vector; ``(-1, 0, 0)`` (darker) when the layer or the blade
         around it is empty or they do not differ.
+
+    Raises
+    ------
+    ValueError
+        ``lab`` is not ``(H, W, 3)`` or a mask is not ``(H, W)``.
     """
-    layer = as_mask(layer, name="layer")
-    blade = as_mask(blade, name="blade")
+    lab = np.asarray(lab)
+    if lab.ndim != 3 or lab.shape[2] != 3:
+        raise ValueError(f"lab must be an (H, W, 3) array, got shape {lab.shape}")
+    layer = as_mask(layer, shape=lab.shape[:2], name="layer")
+    blade = as_mask(blade, shape=lab.shape[:2], name="blade")
     ring = ndi.binary_dilation(layer, iterations=4) & blade & ~layer
     if not ring.any():
         ring = blade & ~layer
