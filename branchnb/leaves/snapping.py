@@ -614,13 +614,15 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
                 if REGISTRATION_START > 0:
                     starts.append(carried)
                 for k, start in enumerate(starts):
+                    if _ONLY_START is not None and k != _ONLY_START:
+                        continue
                     got, score = fit_branches(start, ev, b, reach=fit_reach * np.sqrt(float(b.sum())),
                                               return_score=True, hessian=hess)
                     if k == 2:
                         score = score / REGISTRATION_START
                     if best is None or score > best[1]:
                         best = (got, score)
-                carried = best[0]
+                carried = best[0] if best is not None else carried
                 tube = max(2.0, 1.5 * width)
                 if trace and hess is not None:
                     import cv2
@@ -691,6 +693,20 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
 #: under its colour floor; the pixels it lost were pale veins capped at the range's bound, counted
 #: out by one float32 step: :func:`~branchnb.leaves.comparison.colour_range_fraction`.)
 REGISTRATION_START = 1.1
+# Which start wins, measured (``_measure maples --start K``: each start forced in turn, same
+# registrations). Forced: mean 0.63 / 0.63 / 0.64 (affine / moments / registration), 11-12 pairs
+# under 0.6; the rule above 0.69, 7 under; the best start per pair (an oracle) 0.71, 5 under (01 -> 07
+# 0.53, 05 -> 07 0.43, 04 -> 07 0.49, 02 -> 04 0.56, 03 -> 07 0.59 whichever start): the other misses
+# are not the start's. Rules tried in its place (42 pairs, mean / under 0.6 / 05 -> 04): the fit's
+# mean evidence after the per-branch poses 0.69 / 6 / 0.70 (but 03 -> 05 0.79 -> 0.67); its weakest
+# branch 0.69 / 7; the snapped paths' kept share 0.65 / 9, their mean fine evidence 0.69 / 8, length x
+# evidence 0.69 / 5-7 (01 -> 07 0.53 -> 0.30); the start nearest the other two (a consensus) 0.62 / 14
+# (the right start is often the lone one: 02 -> 03, 07 -> 03). Each trades pairs at the noise level of
+# the 42; none kept.
+
+#: Measurement only (``_measure maples --start K``): try only start ``K`` (0 affine, 1 moments, 2 the
+#: registration's carry); None: all three, the rule above.
+_ONLY_START: int | None = None
 
 #: Shortest parallel vein kept on an exemplar (:func:`~branchnb.leaves.snapping_parallel.along_ridges`),
 #: as a fraction of the leaf size.
