@@ -43,6 +43,7 @@ from .backgrounds import (  # noqa: F401  (re-exported: split from this module)
     is_binary,
     large_flat_regions,
     outline_pixels,
+    region_border_pixels,
 )
 from .clicks import (  # noqa: F401  (re-exported: split from this module)
     _RADIUS,
@@ -244,6 +245,12 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
     work = rescale(gray, p.scale, anti_aliasing=True) if p.scale < 1 else gray
     outside = border_flat_regions(work, 4 * p.sigma_max, branches=bw)
     skel &= ~outline_pixels(skel, outside, 2 * p.sigma_max + 2, gray=ndi.median_filter(work, 3))
+    rgb = as_rgb(image)
+    if rgb.shape[:2] != skel.shape:
+        rgb = rescale(rgb, p.scale, anti_aliasing=True, channel_axis=-1)
+    # a drawn border between two inside regions of different colours (two countries) is no branch either
+    if rgb.shape[:2] == skel.shape:
+        skel &= ~region_border_pixels(skel, rgb, 4 * p.sigma_max, reach=2 * p.sigma_max + 4)
     if p.false_ridges and lines is gray and skel.any() and \
             np.median((work - ndi.gaussian_filter(work, 3 * p.sigma_max))[skel]) > 0:
         # photographs: edges of lit regions and rows of separate lights are no lines (beyond the paper);
