@@ -81,7 +81,8 @@ def two_country_map_example(shape=(512, 512), rng=0, *, layout: str = "island", 
     curve = _border_curve(land, rng)
     yy, xx = np.mgrid[0:h, 0:w]
     west = land & (xx < np.interp(yy, curve[:, 1], curve[:, 0]))
-    ins = land[np.clip(np.rint(curve[:, 1]).astype(int), 0, h - 1), np.clip(np.rint(curve[:, 0]).astype(int), 0, w - 1)]
+    ins = land[np.clip(np.rint(curve[:, 1]).astype(int), 0, h - 1),
+               np.clip(np.rint(curve[:, 0]).astype(int), 0, w - 1)]
     border = curve[ins]
     img = np.empty(tuple(shape) + (3,), np.float32)
     img[:] = SEA
@@ -154,7 +155,8 @@ def leaf_vein_example(shape=(512, 512), rng=0):
             head = -np.pi / 2 + side * rng.uniform(0.75, 1.0)
             length = 0.6 * w * np.sin(np.pi * min(v / len(mid), 0.95)) + 0.05 * w
             sec = _vein(rng, mid[v], head, length, wiggle=0.05, curl=-side * 0.006)
-            ok = blade[np.clip(np.rint(sec[:, 1]).astype(int), 0, h - 1), np.clip(np.rint(sec[:, 0]).astype(int), 0, w - 1)]
+            ok = blade[np.clip(np.rint(sec[:, 1]).astype(int), 0, h - 1),
+                       np.clip(np.rint(sec[:, 0]).astype(int), 0, w - 1)]
             stop = int(np.argmin(ok[1:])) + 1 if not ok[1:].all() else len(sec)
             sec = sec[:max(stop - int(0.02 * size), 2)]
             if len(sec) < 6:
