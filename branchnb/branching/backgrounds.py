@@ -374,7 +374,8 @@ def region_border_pixels(skeleton, image, radius: float, tol: float = 0.06, reac
     skeleton), both sides lie in large flat-colour regions (wider than
     ``radius``) whose colours differ by more than ``tol`` in some channel. A
     river has the same ground on both sides and stays, and so do lines on a
-    photograph (no flat regions).
+    photograph (no flat regions). The skeleton's stretches between junctions
+    go out or stay whole, by the majority of their pixels.
 
     Parameters
     ----------
@@ -436,6 +437,17 @@ def region_border_pixels(skeleton, image, radius: float, tol: float = 0.06, reac
             seen[k] |= new
     differ = np.abs(col[0] - col[1]).max(-1) > tol
     res[ys, xs] = seen[0] & seen[1] & differ
+    # decided per stretch between junctions, by the majority of its pixels: a river running beside the
+    # border for a while (its far side then lies beyond the border) stays whole, a border stays out whole
+    nb = ndi.convolve(sk.astype(np.int32), np.ones((3, 3), np.int32), mode="constant") - 1
+    runs = sk & (nb <= 2)
+    lab, n = ndi.label(runs, structure=np.ones((3, 3)))
+    if n:
+        share = np.bincount(lab[runs], weights=res[runs], minlength=n + 1) / \
+            np.maximum(np.bincount(lab[runs], minlength=n + 1), 1)
+        keep = res & ~runs                                  # junction pixels: as judged
+        keep |= runs & (share[lab] >= 0.5)
+        res = keep
     return res
 
 
@@ -586,9 +598,18 @@ def unlike_background(image, branches, radius: float = 12.0, k: float = 4.0, min
     sm = cv2.GaussianBlur(rgb, (0, 0), 2.0)
     b8 = br.astype(np.uint8)
     ring = (cv2.dilate(b8, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (17, 17))) > 0) & \
-        ~(cv2.dilate(b8, np.ones((7, 7), np.uint8)) > 0)
-    if ring.sum() < 20:
+        ~(cv2.dilate(b8, np.ones((3, 3), np.uint8)) > 0)
+    # only ring pixels whose mirror across the nearest branch pixel has their colour: the ground the
+    # branches lie *in* (the outermost veins of a leaf have the table on one side)
+    _d, (iy, ix) = ndi.distance_transform_edt(~br, return_indices=True)
+    ry, rx = np.nonzero(ring)
+    my = np.clip(2 * iy[ry, rx] - ry, 0, br.shape[0] - 1)
+    mx = np.clip(2 * ix[ry, rx] - rx, 0, br.shape[1] - 1)
+    two = (np.abs(sm[my, mx] - sm[ry, rx]).max(-1) <= min_diff) & ~br[my, mx]
+    if np.count_nonzero(two) < 20:
         return out
+    ring = np.zeros_like(ring)
+    ring[ry[two], rx[two]] = True
     ground = np.median(sm[ring], axis=0)
     d = np.abs(sm - ground).max(-1)
     spread = 1.4826 * float(np.median(d[ring]))
