@@ -301,8 +301,9 @@ def _keep_border_ink(img: np.ndarray, tex: np.ndarray, reg: np.ndarray, ink: np.
     border between them: filled over, the countries met in a soft seam with
     no line (issue 23). Ink pixels along the seams of the filled texture
     (where its colour changes by more than ``tol``), in pieces of at least
-    ``12 w`` pixels running along a seam (a river crossing it alone leaves a
-    dash of about its width), keep the example's pixels (within 2 px of the
+    ``12 w`` pixels off the structure's bodies running along a seam (a river
+    crossing it alone leaves a dash of about its width; a traced river along
+    a relief level's edge is no border), keep the example's pixels (within 2 px of the
     seam: a river crossing the border leaves no more than a tick).
     """
     if not ink.any():
@@ -324,7 +325,9 @@ def _keep_border_ink(img: np.ndarray, tex: np.ndarray, reg: np.ndarray, ink: np.
     if n == 0:
         return tex
     w = max(float(np.median(ndi.distance_transform_edt(ink)[ink])) * 2.0, 1.0)
-    sizes = np.bincount(lab.ravel(), minlength=n + 1)
+    # counted off the structure's bodies: a traced river lying along a relief level's edge is no border,
+    # a border passing beside a river keeps its whole length
+    sizes = np.bincount(lab.ravel(), weights=(pm.dist > pm.radius + 1.5).ravel(), minlength=n + 1)
     ok = sizes >= 12 * w * w + 20
     ok[0] = False
     put = ok[lab]
