@@ -85,9 +85,20 @@ removed veins 1.00 / 1.02.
 
 Maples
 ------
-Latest (with the symmetry completion of :mod:`branchnb.leaves.snapping_mirror`),
-mean IoU per training maple 01-07: 0.70 0.69 0.69 0.61 0.65 0.65 0.70 (before
-it 0.70 0.69 0.69 0.61 0.65 0.60 0.60). Older figures below.
+Latest (the registration's own carry as a third template start,
+:data:`~branchnb.leaves.snapping.REGISTRATION_START` 1.1, and a speckled
+blade's holes keeping their evidence, :func:`~branchnb.leaves.snapping_stray._hole_rim`):
+mean IoU per training maple 01-07: 0.71 0.67 0.73 0.64 0.63 0.75 0.70, all 42
+pairs mean 0.67 -> 0.69, pairs under 0.6: 10 -> 7 (01 -> 04 0.58, 01 -> 07 0.53,
+02 -> 04 0.56, 03 -> 07 0.59, 04 -> 07 0.49, 05 -> 04 0.49, 05 -> 07 0.35; maple
+05's hand trace joins its right lateral to the midrib 14 px above the
+junction, and maple 07's torn lobes stop its traced veins; tried, not kept:
+that short stem between two junctions joined to the branches above it, mean
+0.69 -> 0.70 but 8 pairs under 0.6 and procedural trilobed 192 px min 0.75 ->
+0.73). Before: 0.70 0.69
+0.69 0.61 0.65 0.67 0.70. With the symmetry completion of
+:mod:`branchnb.leaves.snapping_mirror` (before it 0.70 0.69 0.69 0.61 0.65 0.60
+0.60). Older figures below.
 
 Sketches
 --------
