@@ -17,7 +17,7 @@ from scipy import ndimage as ndi
 
 from ..core.image import extend_nearest
 from .flatart import _replace_from_blade, drawn_outline, flat_art
-from .leftover import flatten_leftover
+from .leftover import flatten_leftover, layer_strength, own_lines
 from .shaping import _grid, _map_jacobian, _remap_map, _remap_values, _sample
 
 __all__ = ["registration_errors"]
@@ -353,6 +353,10 @@ class _Prepared:
         lams = np.array([L.lam for L in a.layers], float)
         top = float(lams.max()) if len(lams) and lams.max() > 0 else 1.0
         self.structural = [float(x / top) for x in lams]
+        # One vein system (see own_lines): the background's own lines of the
+        # most structural layer, found once per exemplar when first needed.
+        self.leftover = leftover
+        self._own = {}
 
     def _agreement(self, k: int) -> list[bool]:
         """Per exemplar: layer ``k`` stands out from the leaf under it with the training leaf's sign."""
@@ -576,6 +580,30 @@ class _Prepared:
         sv = np.linalg.svd(np.stack([jx[inside], jy[inside]], -1), compute_uv=False)
         ls = np.log(np.maximum(sv, 1e-6))
         return float(np.median(0.5 * (ls[:, 0] - ls[:, 1])))
+
+    def own_lines(self, e: int):
+        """``(labels, filled)`` of exemplar ``e``'s background (:func:`branchnb.leaves.leftover.own_lines`).
+
+        None on drawn leaves (their background keeps no ink) or without a
+        structural layer. The reference strength of an exemplar without
+        the layer is the median of the others'.
+        """
+        if self.leftover is None or self.flat is not None:
+            return None
+        if e not in self._own:
+            a = self.analysis
+            top, sign, width = self.leftover
+            L = a.layers[top]
+            ref = None
+            if not np.asarray(L.masks[e]).any():
+                refs = [layer_strength(a.residuals[top][j], np.asarray(L.masks[j], bool) & a.blades[j], sign, width)
+                        for j in range(self.n) if np.asarray(L.masks[j]).any()]
+                ref = float(np.median(refs)) if refs else 0.0
+            lab, filled, _ = own_lines(np.asarray(self.stage[-1][e], np.float32), a.blades[e],
+                                       a.residuals[top][e], L.masks[e], sign, width, ref_level=ref)
+            self._own[e] = (lab, _stored(filled)) if lab.any() else (None, None)
+        lab, filled = self._own[e]
+        return None if lab is None else (lab, filled)
 
     def source_coords(self, e: int, m: np.ndarray, disp: np.ndarray) -> np.ndarray:
         """Exemplar ``e`` pixel for every output pixel: ``W_e^-1(m(y) + d(m(y)))`` (maps composed, one resampling)."""

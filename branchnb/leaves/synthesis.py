@@ -132,6 +132,7 @@ from .correction import _correct as _correct
 from .correction import _detail as _detail
 from .correction import _masked_blur as _masked_blur
 from .inking import _ink_outline
+from .leftover import parallel_lines
 from .prepared import _CACHE_KEY as _CACHE_KEY
 from .prepared import _Prepared as _Prepared
 from .prepared import _prepared, registration_errors
@@ -249,6 +250,19 @@ class SynthesisParams:
         dashes at its tip) gave new leaves no veins at all (vein continuity
         0.30-0.60 for 7 of 32 new grass leaves, two batches of 16; after:
         none below 0.81).
+    one_system : float
+        One vein system per new leaf (default 1.0; 0: off; not in the
+        paper). The background's own lines of the most structural layer
+        that run beside the donor's pasted layer, within this many times
+        (median ``eps`` + median registration error) plus the layer's
+        width and within 30 degrees of its direction, are taken out and
+        filled from the blade's own texture
+        (:func:`branchnb.leaves.leftover.own_lines`,
+        :func:`branchnb.leaves.leftover.parallel_lines`): a vein the
+        induction missed in the background stays in its residual, and the
+        donor's corresponding vein, moved by the errors of both
+        registrations and the warps, was pasted up to ~10 px beside it
+        (maples: doubled veins, beyond ``eps``).
     layer_colour : {"contrast", "copy"}
         A layer brings its ratio to its own residual leaf (``"contrast"``,
         default; not in the paper) or pastes its colours (``"copy"``, the paper).
@@ -277,6 +291,8 @@ class SynthesisParams:
                                     help="layer donors of about the new leaf's size (log-size sigma; 0: any)")
     donor_complete: float = param(0.75, min=0.0, max=1.0, step=0.05,
                                   help="layer donors need this share of the median completeness (0: any)")
+    one_system: float = param(1.0, min=0.0, max=5.0, step=0.1,
+                              help="remove the background's own veins beside pasted ones (reach; 0: off)")
     layer_colour: str = param("contrast", options=("contrast", "copy"),
                               help="a layer brings its contrast to its own leaf (contrast) or its colours (copy)")
 
@@ -516,6 +532,16 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
         warps[L.name] = amp
         c = p.source_coords(e, m, random_warp(shape, amp, corr, rng))
         a_k = np.clip(_sample(p.layer_masks[k][e], c)[..., 0], 0, 1)
+        if p.leftover is not None and k == p.leftover[0] and params.one_system > 0:
+            # One vein system: the background's own lines of this layer that
+            # run beside the donor's pasted one (the same vein of the other
+            # leaf, moved by both registrations' errors and the warps) are
+            # taken out, filled from the blade's own texture.
+            gone = _one_system(p, bg, c_bg, a_k > 0.5, alpha > 0.5,
+                               params.one_system * (eps_px + p.registration_error) + p.leftover[2])
+            if gone is not None:
+                rgb[gone] = _sample_grain_at(p.own_lines(bg)[1], c_bg, gone)[gone]
+                rgb_low = None
         on = a_k > 0  # the layer's colours are needed under its footprint only
         col = _sample_grain_at(p.stage[k][e][..., :3], c, on)
         if params.layer_colour == "contrast":
@@ -586,6 +612,24 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
     inside = alpha > 0.5
     sw = [float(wts[i][inside].mean()) if inside.any() else float(wts[i].mean()) for i in range(n)]
     return GeneratedLeaf(img, int(seed), bg, chosen, sw, warps, pet_from)
+
+def _one_system(p, bg: int, c_bg, footprint, blade, reach: float):
+    """New-leaf pixels of the background ``bg``'s own lines beside ``footprint`` (None: none).
+
+    See :func:`branchnb.leaves.leftover.parallel_lines`; the lines are the
+    background exemplar's (:meth:`branchnb.leaves.prepared._Prepared.own_lines`),
+    carried into the new leaf by its coordinates ``c_bg``.
+    """
+    own = p.own_lines(bg)
+    if own is None or not footprint.any():
+        return None
+    lab = cv2.remap(own[0].astype(np.float32), np.ascontiguousarray(c_bg[..., 0], np.float32),
+                    np.ascontiguousarray(c_bg[..., 1], np.float32), cv2.INTER_NEAREST,
+                    borderMode=cv2.BORDER_CONSTANT, borderValue=0).astype(np.int32)
+    lab[~blade] = 0
+    gone = parallel_lines(lab, footprint, reach, width=p.leftover[2])
+    return gone if gone.any() else None
+
 
 def _exemplar_draws(seed: int, n: int) -> tuple[int, int, int]:
     """The exemplars giving leaf ``seed`` its pose, its size (and background) and its leading shape weight.
