@@ -2,7 +2,6 @@
 
 import numpy as np
 import pytest
-from scipy import ndimage as ndi
 
 from branchnb.leaves.leftover import layer_strength, own_lines, parallel_lines, ridge_strength
 
