@@ -13,7 +13,10 @@ How a leaf is made
    a polar radius ``R(a)`` around a centre, ``a`` the angle from the tip
    direction. ``"lobed"`` (palmate, maple-like, 5 pointed lobes) and
    ``"trilobed"`` (3 lobes) are soft maxima of pointed lobe profiles;
-   ``"elliptic"`` is an ovate blade with an acuminate tip. Margins carry
+   ``"elliptic"`` is an ovate blade with an acuminate tip; ``"fan"`` a
+   ginkgo-like fan with a cleft and a wavy arc, whose veins fork
+   dichotomously with no network between them
+   (:mod:`branchnb.leaves.procedural_fan`). Margins carry
    small teeth: a regular sawtooth in the angle on the lobed kinds;
    serrate teeth (a long convex basal flank, a steep apical one, the tip
    pointing to the apex, about 2 % of the blade length deep) on the
@@ -650,7 +653,7 @@ def leaf_family(n: int, *, size: int = 512, kind: str = "lobed", palette: str = 
         Number of leaves, 1 to 10000.
     size : int
         Canvas side in pixels, 32 to 4096 (default 512).
-    kind : {"lobed", "trilobed", "elliptic"}
+    kind : {"lobed", "trilobed", "elliptic", "fan"}
         The family (see :data:`KINDS`); one kind for all leaves.
     palette : {"green", "autumn"}
         Colours (see :data:`PALETTES`).

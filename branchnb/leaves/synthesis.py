@@ -32,6 +32,15 @@ A new leaf is built in the training leaf's frame, then given a new shape:
    (:func:`branchnb.leaves.prepared._completed`): against the analysis'
    residual, which keeps what the induced mask missed, a drawn oak's wide
    veins traced on their two rims were pasted hollow.
+   One vein system (going beyond the paper, ``one_system``): before the
+   most structural layer goes on, the background's own lines of that
+   layer running beside the donor's pasted footprint (within ``eps`` plus
+   the registration error, within 30 degrees of its direction) are
+   replaced by the background with them filled from the blade's own
+   texture (:func:`branchnb.leaves.leftover.own_lines`,
+   :func:`branchnb.leaves.leftover.parallel_lines`): a vein the induction
+   missed stays in the residual, and the donor's, moved by both
+   registrations' errors, came out beside it.
 3. **Shape**: a convex per-pixel blend of the inverse registration warps,
    ``W^-1(x) = sum_i a_i(x) W_i^-1(x)``, each seen in the training leaf's
    pose (its start map's rotation taken out), the blend then turned to the
@@ -132,7 +141,6 @@ from .correction import _correct as _correct
 from .correction import _detail as _detail
 from .correction import _masked_blur as _masked_blur
 from .inking import _ink_outline
-from .leftover import parallel_lines
 from .prepared import _CACHE_KEY as _CACHE_KEY
 from .prepared import _Prepared as _Prepared
 from .prepared import _prepared, registration_errors
@@ -537,8 +545,8 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
             # run beside the donor's pasted one (the same vein of the other
             # leaf, moved by both registrations' errors and the warps) are
             # taken out, filled from the blade's own texture.
-            gone = _one_system(p, bg, c_bg, a_k > 0.5, alpha > 0.5,
-                               params.one_system * (eps_px + p.registration_error) + p.leftover[2])
+            gone = p.beside_lines(bg, c_bg, a_k > 0.5, alpha > 0.5,
+                                  params.one_system * (eps_px + p.registration_error) + p.leftover[2])
             if gone is not None:
                 rgb[gone] = _sample_grain_at(p.own_lines(bg)[1], c_bg, gone)[gone]
                 rgb_low = None
@@ -612,24 +620,6 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
     inside = alpha > 0.5
     sw = [float(wts[i][inside].mean()) if inside.any() else float(wts[i].mean()) for i in range(n)]
     return GeneratedLeaf(img, int(seed), bg, chosen, sw, warps, pet_from)
-
-def _one_system(p, bg: int, c_bg, footprint, blade, reach: float):
-    """New-leaf pixels of the background ``bg``'s own lines beside ``footprint`` (None: none).
-
-    See :func:`branchnb.leaves.leftover.parallel_lines`; the lines are the
-    background exemplar's (:meth:`branchnb.leaves.prepared._Prepared.own_lines`),
-    carried into the new leaf by its coordinates ``c_bg``.
-    """
-    own = p.own_lines(bg)
-    if own is None or not footprint.any():
-        return None
-    lab = cv2.remap(own[0].astype(np.float32), np.ascontiguousarray(c_bg[..., 0], np.float32),
-                    np.ascontiguousarray(c_bg[..., 1], np.float32), cv2.INTER_NEAREST,
-                    borderMode=cv2.BORDER_CONSTANT, borderValue=0).astype(np.int32)
-    lab[~blade] = 0
-    gone = parallel_lines(lab, footprint, reach, width=p.leftover[2])
-    return gone if gone.any() else None
-
 
 def _exemplar_draws(seed: int, n: int) -> tuple[int, int, int]:
     """The exemplars giving leaf ``seed`` its pose, its size (and background) and its leading shape weight.
