@@ -13,13 +13,15 @@ from branchnb.dendrite.pareidolia_widths import _feature_cover, _features, _soft
 
 
 def _face(n):
-    """A grey face on a light ground with small dark eyes and mouth; their boxes."""
+    """A grey face on a light ground with small dark eyes, mouth and nostrils (6 x 5 px at
+    250 px); their boxes."""
     yy, xx = (np.mgrid[0:n, 0:n] + 0.5) / n
     g = np.full((n, n), 0.9)
     g[np.hypot((xx - 0.5) / 0.3, (yy - 0.48) / 0.38) < 1] = 0.7
     boxes = []
     for cx, cy, a, b, v in ((0.38, 0.42, 0.03, 0.015, 0.05), (0.62, 0.42, 0.03, 0.015, 0.05),
-                            (0.50, 0.68, 0.06, 0.018, 0.15)):
+                            (0.50, 0.68, 0.06, 0.018, 0.15), (0.46, 0.56, 0.012, 0.01, 0.15),
+                            (0.54, 0.56, 0.012, 0.01, 0.15)):
         g[np.hypot((xx - cx) / a, (yy - cy) / b) < 1] = v
         boxes.append((int((cx - a) * n), int((cy - b) * n), int(np.ceil((cx + a) * n)),
                       int(np.ceil((cy + b) * n))))
@@ -53,7 +55,9 @@ def faces():
 def test_small_features_read(faces):
     boxes, t = faces
     # measured (features off -> on): eyes 0.51 0.56 -> 0.68 0.72, mouth 0.80 -> 0.87,
-    # tone r 0.721 -> 0.753; at 750 px eyes 0.39 0.43 -> 0.64 0.69
+    # tone r 0.721 -> 0.753; at 750 px eyes 0.39 0.43 -> 0.64 0.69. With nostrils (6 x 5
+    # px; the pareidolia docstring had them at 0.58-0.61), now off -> on: eyes 0.51 0.51 ->
+    # 0.88 0.85, mouth 0.83 -> 1.05, nostrils 0.65 1.23 -> 0.91 1.39, r 0.719 -> 0.780
     before = [_feature_contrast(*t[False][:2], b) for b in boxes]
     after = [_feature_contrast(*t[True][:2], b) for b in boxes]
     assert min(after) >= 0.6

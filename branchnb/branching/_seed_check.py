@@ -14,7 +14,8 @@ Kinds: retina (``retina_fundus``), lightning (``lightning_trace``), mud
 and x 1 ("512" and "1000"); river (a procedural drawn country map, uniform
 width lines and a coast, :func:`._map_examples.country_map_example`) and delta
 (a procedural binary delta mask, :func:`._map_examples.delta_mask_example`) at
-512 and 1000 px; lineart (drawn cracks, thin dark lines on white,
+512 and 1000 px, also with its sea on the left (delta_side) and in a frame 1.5 x wider than high
+(delta_wide); lineart (drawn cracks, thin dark lines on white,
 :func:`._line_art_examples.crack_drawing_example`). The default workflow up
 to the model is :func:`fitted_example` (also used by :mod:`._structure_check`).
 """
@@ -28,7 +29,7 @@ import numpy as np
 
 __all__ = ["KINDS", "example", "fitted_example", "seed_rows"]
 
-KINDS = ("retina", "lightning", "mud", "river", "delta", "czech", "lineart")
+KINDS = ("retina", "lightning", "mud", "river", "delta", "czech", "lineart", "delta_side", "delta_wide")
 
 #: Root rule per kind for :func:`~branchnb.branching.extract_structure` (default otherwise).
 ROOTS = {"lightning": "top"}
@@ -45,6 +46,12 @@ def example(kind: str, size: int) -> np.ndarray:
         return country_map_example((size, size), size + 7, layout=("island", "coast", "bay")[size % 3])[0]
     if kind == "delta":
         m, _ch, _sea = delta_mask_example((size, size), 3 + size)
+        return np.dstack([m] * 3)
+    if kind == "delta_side":   # the sea on the left
+        m = np.rot90(delta_mask_example((size, size), 5 + size)[0], 1)[:, ::-1]
+        return np.ascontiguousarray(np.dstack([m] * 3))
+    if kind == "delta_wide":   # a frame 1.5 x wider than high
+        m, _ch, _sea = delta_mask_example((size, size * 3 // 2), 7 + size)
         return np.dstack([m] * 3)
     if kind == "lineart":
         from ._line_art_examples import crack_drawing_example

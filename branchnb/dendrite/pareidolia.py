@@ -196,29 +196,30 @@ astronaut 0.87 -> 0.85, the disc at 2000 px 0.76 -> 0.72, the rest within 0.03);
 paper share of the dark regions 0.44-0.59 -> 0.48-0.61; no blunt twig ends before or
 after.
 
-Small dark features read (``features``, beyond the paper). A portrait's eyes and mouth
-are darker than all round them and only a few twig spacings across: ``cover`` kept gaps
-in them, the dark twigs' 6x aspect left no twig there long enough to be wide, and the
-tone match's gain (the crown's mean ink, ~0.6 of the picture's darkness) compressed them
-with the rest, so they came out as outlines or a twig across them. Features are now the
-top-hat by reconstruction of the darkness (``pareidolia_widths._features``: parts that
-vanish under an opening of 2 twig spacings or a tenth of the crown's size and are not
-joined to a larger dark region, so the hair round a light face on a dark coat is no
-feature), and in them the ink may rise to solid, at the feature's own darkness, by twigs
-as short as 1.5x their width. Measured as the slope of the drawing's darkness on the
-picture's in and around each feature's box at 4 px blur (1 = the picture's contrast),
-the weakest feature of a procedural face with eyes, mouth and nostrils at 250 / 750 /
-2000 px went from 0.45 / 0.52 / 0.45 to 0.58 / 0.71 / 0.70 (eyes and mouth 0.59-0.63 /
-0.53-0.56 / 0.49-0.53 to 0.77-0.92 / 0.86-0.92 / 0.95-0.98; the nostrils, 6 x 5 px at
-250 px, stay at 0.58-0.61), a grey face with small eyes at 250 / 750 px from 0.51 / 0.39
-to 0.87 / 0.78, the astronaut's eyes at 512 / 1000 px from 0.82 / 0.64 to 1.05 / 0.87 and
-a cat's pupils from 0.72 to 1.27. Tone r at 4 px blur on those faces 0.972 0.923 0.885
-0.721 0.603 -> 0.969 0.920 0.880 0.790 0.717, the astronaut 0.851 / 0.861 -> 0.854 /
+Small dark features read (``features``, beyond the paper). A portrait's eyes and mouth are
+darker than all round them and only a few twig spacings across: ``cover`` kept gaps in
+them, the dark twigs' 6x aspect left no twig there long enough to be wide, and the tone
+match's gain (the crown's mean ink, ~0.6 of the picture's darkness) compressed them with
+the rest, so they came out as outlines or a twig across them. Features are now the top-hat
+by reconstruction of the darkness (``pareidolia_widths._features``: parts that vanish
+under an opening of 2 twig spacings or a tenth of the crown's size and are not joined to a
+larger dark region, so the hair round a light face on a dark coat is no feature), and in
+them the ink may rise to solid, at the feature's own darkness, by twigs as short as 1.5x
+their width. Measured as the slope of the drawing's darkness on the picture's in and
+around each feature's box at 4 px blur (1 = the picture's contrast), the weakest feature
+of a procedural face with eyes, mouth and nostrils at 250 / 750 / 2000 px went from 0.45 /
+0.52 / 0.45 to 0.58 / 0.71 / 0.70 (eyes and mouth 0.59-0.63 / 0.53-0.56 / 0.49-0.53 to
+0.77-0.92 / 0.86-0.92 / 0.95-0.98; the nostrils, 6 x 5 px at 250 px, stayed at 0.58-0.61,
+and since the features aim at their own darkness read 0.88-1.57 at 250 px over three
+nostril sizes and darknesses and three seeds, eyes 0.81-0.91 and mouth 1.02-1.08 on the
+same faces, 0.95 / 1.05 at 750 px), a grey face with small eyes at 250 / 750 px from 0.51
+/ 0.39 to 0.87 / 0.78, the astronaut's eyes at 512 / 1000 px from 0.82 / 0.64 to 1.05 /
+0.87 and a cat's pupils from 0.72 to 1.27. Tone r at 4 px blur on those faces 0.972 0.923
+0.885 0.721 0.603 -> 0.969 0.920 0.880 0.790 0.717, the astronaut 0.851 / 0.861 -> 0.854 /
 0.861, the cat 0.892 -> 0.941, the camera man 0.834 -> 0.853, a cup 0.839 -> 0.844, a
 horse 0.976 -> 0.976, a maple-leaf photo 0.891 -> 0.895, a tree photo 0.888 -> 0.951, a
-dark figure with a light face at 300 / 2000 px 0.968 / 0.860 -> 0.968 / 0.860, a dark
-disc at 2000 px 0.717 -> 0.717.
-"""
+dark figure with a light face at 300 / 2000 px 0.968 / 0.860 -> 0.968 / 0.860, a dark disc
+at 2000 px 0.717 -> 0.717. """
 
 from __future__ import annotations
 

@@ -41,7 +41,6 @@ from .importance import ImportanceParams, darkness, gradient_strength, importanc
 from .lattice import Lattice, node_weights
 from .main_channel import (
     channel_plan,
-    outline_band,
     silhouette,
     straighten,
     strike_weights,
@@ -49,13 +48,7 @@ from .main_channel import (
     widen_main_path,
     with_channel,
 )
-from .photo_strike import (
-    bright_ridges,
-    edge_significance,
-    long_pieces,
-    photo_channel,
-    strike_origin,
-)
+from .photo_strike import jag_channel, photo_channel, side_branches, strike_origin
 from .planner import PlanResult, plan
 from .render import Rendering
 from .scale import resample_to_lattice
@@ -88,14 +81,7 @@ from .thickness import (
 )
 from .ties import refine_ties
 
-__all__ = [
-    "effective_params",
-    "metaphor_params",
-    "Stylization",
-    "StylizeParams",
-    "Stylizer",
-    "stylize",
-]
+__all__ = ["effective_params", "metaphor_params", "Stylization", "StylizeParams", "Stylizer", "stylize"]
 
 @dataclass
 class Stylization:
@@ -371,7 +357,7 @@ class Stylizer:
         if silhouette(content).mean() > STRIKE_MAX_COVER:
             # a photo: its own brightest strike's top, if it has one (beyond the paper:
             # from the top of the picture a bolt on a lightning photo started in the cloud)
-            at = strike_origin(as_gray(self.working_image(params)))
+            at = self.strike(params)
             if at is not None:
                 return self.to_image(params, [float(at[0]), float(at[1])])
         at = wide_top(content, LIGHTNING_SEED_BLUR, LIGHTNING_SEED_DENSITY)
@@ -379,6 +365,26 @@ class Stylizer:
             return np.array([(self.shape[1] - 1) / 2.0, 0.0])
         xb, yb = at
         return self.to_image(params, [float(xb), float(yb)])
+
+    def strike(self, p: StylizeParams) -> tuple[int, int] | None:
+        """The top of the photo's own strike on the lattice, or None (cached).
+
+        :func:`~branchnb.dendrite.photo_strike.strike_origin` of the working image's
+        luminance, computed once per lattice size (the seed and the side branches both
+        ask for it).
+
+        Parameters
+        ----------
+        p : StylizeParams
+            Uses ``lattice_size``.
+
+        Returns
+        -------
+        (x, y) or None
+            In lattice pixels.
+        """
+        return self._get(("strike_origin", p.lattice_size),
+                         lambda: strike_origin(as_gray(self.working_image(p))))
 
     @checked()
     def importance(self, p: StylizeParams) -> np.ndarray:
@@ -591,53 +597,36 @@ class Stylizer:
         :func:`~branchnb.dendrite.main_channel.strike_weights` (the main channel
         down through the object a highway, a filled object's outline costly)
         and the channel's end joins the endpoints, so the bolt's other branches
-        fork off the channel; then its hairpins are cut. On a photo the plain
-        plan is used (:meth:`_main_channel_straight`). The flag says whether
+        fork off the channel; then its hairpins are cut. On a photo the channel is
+        :func:`~branchnb.dendrite.photo_strike.photo_channel` and the side branches
+        follow :func:`~branchnb.dendrite.photo_strike.side_branches`; with nothing to
+        draw, the plain plan (:meth:`_main_channel_straight`). The flag says whether
         the channel was planned.
         """
-        seed_key = tuple(np.round(np.asarray(seed, float), 3))
-        key = ("strike", _subset(p, _IMPORTANCE + _LATTICE + _PLAN + _ENDPOINTS), seed_key,
-               rng_seed)
+        key = ("strike", _subset(p, _IMPORTANCE + _LATTICE + _PLAN + _ENDPOINTS),
+               tuple(np.round(np.asarray(seed, float), 3)), rng_seed)
 
         def make():
             lat = self.lattice(p, rng_seed)
             content = self.importance(p) >= p.endpoint_threshold
             got = strike_weights(lat.weights, content, seed)
             if got is None:  # a photo: no object to go through
-                if silhouette(content).mean() <= STRIKE_MAX_COVER:  # nothing to draw
+                path = (photo_channel(lat.weights, content, seed)
+                        if silhouette(content).mean() > STRIKE_MAX_COVER else None)
+                if path is None or len(path) < 2:  # nothing to draw, or nothing below the seed
                     return (self.plan(p, seed, rng_seed),
                             self._main_channel_straight(p, seed, rng_seed), False)
-                path = photo_channel(lat.weights, content, seed)
-                if len(path) < 2:
-                    return (self.plan(p, seed, rng_seed),
-                            self._main_channel_straight(p, seed, rng_seed), False)
+                if self.strike(p) is None:  # no bolt to follow: its straight stretches zigzag
+                    path = jag_channel(path, content.shape, rng=rng_seed)
                 mask = np.zeros(lat.weights.shape, bool)
                 mask[path[:, 1], path[:, 0]] = True
                 # the side branches follow the edges that stand out of the picture's noise
                 # (beyond the paper: on the importance they wandered through a night sky)
-                base, ends = lat.weights, self.endpoints(p, rng_seed)
-                lum = as_gray(self.working_image(p))
-                if strike_origin(lum) is not None:
-                    # a lightning photo: the side branches run along its other bolts (its
-                    # long bright lines), not through the dark cloud round them
-                    top, strong = bright_ridges(lum)
-                    strong = long_pieces(strong, STRIKE_MIN_PIECE)
-                    sig = np.where(strong, np.clip(top / max(float(top[strong].max(initial=0.0)),
-                                                             1e-6), 0.0, 1.0), 0.0)
-                    if (sig > 0).sum() >= 4 * p.n_endpoints:
-                        # ... and between them through the lit cloud rather than the dark sky
-                        glow = STRIKE_GLOW * ndimage.gaussian_filter(lum, 0.01 * np.hypot(*lum.shape))
-                        base = node_weights(p.cost_weight * (1.0 - np.maximum(np.sqrt(sig), glow)),
-                                            epsilon=p.epsilon, noise=p.noise, rng=rng_seed)
-                else:  # their ends on the edges that stand out of the picture's noise
-                    sig = edge_significance(self.edge_map(p), STRIKE_EDGE_NOISE)
-                if (sig > 0).sum() >= 4 * p.n_endpoints:
-                    ends = place_endpoints(sig, p.n_endpoints, gamma=p.endpoint_gamma,
-                                           floor=0.0, threshold=1e-6,
-                                           iterations=p.stipple_iterations, rng=rng_seed + 1)
-                # the picture's border band costs more, as a drawn object's outline does
-                near = outline_band(content, STRIKE_BAND)[1]
-                w = base + float(np.mean(base)) * STRIKE_PENALTY * near
+                w, ends = side_branches(as_gray(self.working_image(p)), self.edge_map(p),
+                                        lat.weights, content, p,
+                                        struck=self.strike(p) is not None, rng=rng_seed)
+                if ends is None:
+                    ends = self.endpoints(p, rng_seed)
                 res = channel_plan(self._plan_on(Lattice(w, lat.factors), p, mask), path)
                 ends = np.concatenate([ends, path[-1:].astype(float)])
                 return res, with_channel(build_dendrite(res, ends), path), True
@@ -725,11 +714,9 @@ class Stylizer:
                              image_shape=self.shape)[0]
         seed_lat = self.to_lattice(p, seed)
         lat = self.lattice(p, rng)
-        res = self.plan(p, seed_lat, rng)
         ends = self.endpoints(p, rng)
-        d = self.dendrite(p, seed_lat, rng)
-        if metaphor == "lightning":
-            res, d, struck = self._strike(p, seed_lat, rng)
+        res, d, struck = (self._strike(p, seed_lat, rng) if metaphor == "lightning" else
+                          (self.plan(p, seed_lat, rng), self.dendrite(p, seed_lat, rng), False))
         imp = self.importance(p)
         d = self._widths(d, p, p.min_width, p.max_width)
         if metaphor == "lightning":  # a planned channel stays bright down to its last fork

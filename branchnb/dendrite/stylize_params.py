@@ -324,6 +324,19 @@ STRIKE_NOISE = 4.0
 STRIKE_MIN_RIDGE = 0.08
 STRIKE_MAX_RIDGE = 0.06
 STRIKE_MIN_SPAN = 0.2
+#: A strike has a bolt's profile: along its centreline (its skeleton), within a Gaussian
+#: window of ``STRIKE_JAG_WINDOW`` of the diagonal, the centreline's spread across its own
+#: direction is at least ``STRIKE_MIN_JAG`` of the window (median over the centreline;
+#: :func:`~branchnb.dendrite.photo_strike.jaggedness`). Measured on the 512-px lattice:
+#: straight lines of any slope 0, a dusk skyline's lit mast 0.017, a curve of radius 0.5
+#: of the diagonal 0.027, the bolts of the NOAA photo 0.27-0.54, procedural storms
+#: 0.07-0.12 (beyond the papers: the mast was taken for a strike and the bolt ran down it).
+STRIKE_JAG_WINDOW = 0.02
+STRIKE_MIN_JAG = 0.05
+#: Where a lightning bolt's main channel on a photo without a strike is straighter than
+#: that, it zigzags: vertices every window and every third of it, each shifted within this
+#: share of its spacing (:func:`~branchnb.dendrite.photo_strike.jag_channel`).
+STRIKE_JAG_AMPLITUDE = 0.35
 #: Robust standard deviations above the median gradient from which an edge stands out of
 #: a photo's noise for a lightning bolt's side branches
 #: (:func:`~branchnb.dendrite.photo_strike.edge_significance`).
