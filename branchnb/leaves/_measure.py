@@ -436,7 +436,7 @@ def vein_system_rows(kinds=KINDS_ALL, sizes=(192, 320), seeds=range(2), n_leaves
     return out
 
 
-def vein_system_scores(a, veins, spots=None, seeds=range(4)):
+def vein_system_scores(a, veins, spots=None, seeds=range(4), near: int = 4, params=None):
     """Ridge response of new leaves at their background exemplar's true veins, over plain blade.
 
     ``veins`` (and ``spots``, optional): every exemplar's true masks in the
@@ -449,13 +449,19 @@ def vein_system_scores(a, veins, spots=None, seeds=range(4)):
     on plain blade (4 px from any vein or spot); ``bg_matched`` the same
     over plain blade at the same distances from the donor's veins;
     ``donor_ratio`` the same at the donor's veins (the vein system the leaf
-    should show).
+    should show); ``bg_own`` (``n_own`` pixels) the background's veins
+    farther than 2 px from the donor's true veins *and* from its pasted
+    layer, over plain blade at the same distances from them. ``near``: the 4 px above (with ``bg_matched``, veins
+    doubled closer than 4 px count too); ``params``: the synthesis
+    parameters (None: the defaults).
     """
     from skimage.filters import sato
 
     from .synthesis import _prepared, generate_leaf
 
+    excl = int(near)
     p = _prepared(a)
+    vk = next((k for k, L in enumerate(a.layers) if L.name == "veins"), 0)
     shape = p.shape
     spots = spots if spots is not None else [np.zeros(shape, bool)] * len(veins)
     calls = []
@@ -470,7 +476,7 @@ def vein_system_scores(a, veins, spots=None, seeds=range(4)):
     try:
         for s in seeds:
             calls.clear()
-            leaf = generate_leaf(a, int(s))
+            leaf = generate_leaf(a, int(s), params)
             bg, cbg = calls[0]
             e_v = leaf.layers.get("veins", -1)
             cv = next((c for e, c in calls[1:] if e == e_v), None)
@@ -485,7 +491,7 @@ def vein_system_scores(a, veins, spots=None, seeds=range(4)):
             blade = ndi.binary_erosion(leaf.image[..., 3] > 0.5, iterations=3)
             g = leaf.image[..., :3].mean(-1)
             r = np.maximum(sato(g, sigmas=[1, 2], black_ridges=True), sato(g, sigmas=[1, 2], black_ridges=False))
-            others = ndi.binary_dilation(d_v | d_s | bg_s, iterations=4)
+            others = ndi.binary_dilation(d_v | d_s | bg_s, iterations=excl)
             at_bg = blade & bg_v & ~others
             plain = blade & ~ndi.binary_dilation(bg_v | bg_s | d_v | d_s, iterations=4)
             base = float(r[plain].mean()) if plain.any() else np.nan
@@ -493,8 +499,21 @@ def vein_system_scores(a, veins, spots=None, seeds=range(4)):
             # donor's veins (their ridge response's halo reaches past 4 px).
             near = blade & ~ndi.binary_dilation(bg_v | bg_s | d_s, iterations=4) & ~others
             matched = _distance_matched(r, at_bg, near, ndi.distance_transform_edt(~d_v))
+            # The background's own veins apart from everything the donor's
+            # layer brought (its true veins and its pasted, induced, mask:
+            # where the induction put the donor's layer off its true veins,
+            # the pasted pieces lay on or beside the background's veins and
+            # counted as the background's), 2 px, over plain blade as far
+            # from all of it.
+            d_all = d_v
+            if cv is not None and e_v >= 0:
+                d_all = d_v | _apply_coords(p.layer_masks[vk][e_v].astype(np.float32), cv, 0.25)
+            at_own = blade & bg_v & ~ndi.binary_dilation(d_all | d_s | bg_s, iterations=2)
+            plain_own = blade & ~ndi.binary_dilation(bg_v | bg_s | d_s, iterations=4) \
+                & ~ndi.binary_dilation(d_all | d_s | bg_s, iterations=2)
+            own = _distance_matched(r, at_own, plain_own, ndi.distance_transform_edt(~d_all))
             out.append(dict(background=bg, donor=e_v, bg=float(r[at_bg].mean()) / base if at_bg.any() else np.nan,
-                            n_bg=int(at_bg.sum()), bg_matched=matched,
+                            n_bg=int(at_bg.sum()), bg_matched=matched, bg_own=own, n_own=int(at_own.sum()),
                             donor_ratio=float(r[blade & d_v].mean()) / base if (blade & d_v).any() else np.nan))
     finally:
         p.source_coords = orig
