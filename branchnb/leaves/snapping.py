@@ -702,7 +702,8 @@ REGISTRATION_START = 1.1
 # branch 0.69 / 7; the snapped paths' kept share 0.65 / 9, their mean fine evidence 0.69 / 8, length x
 # evidence 0.69 / 5-7 (01 -> 07 0.53 -> 0.30); the start nearest the other two (a consensus) 0.62 / 14
 # (the right start is often the lone one: 02 -> 03, 07 -> 03). Each trades pairs at the noise level of
-# the 42; none kept.
+# the 42; none kept. Seen (05 -> 04): the registration's start wins by fit score and loses both basal
+# veins (maple 05's traced stem joins 14 px above the junction), the affine start keeps them (0.70).
 
 #: Measurement only (``_measure maples --start K``): try only start ``K`` (0 affine, 1 moments, 2 the
 #: registration's carry); None: all three, the rule above.
