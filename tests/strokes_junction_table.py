@@ -3,7 +3,13 @@
 ``PYTHONPATH=. python tests/strokes_junction_table.py TAG [SIZES...]`` edits a
 twig (bent, 4 parts carried, a leaf added), a figure (limbs turned), a
 starfish (two arms turned, the disk kept), antlers (two tines turned, one
-copied) and a coral (a branch turned, one copied) at 256 / 512 / 1000 px and
+copied), a coral (a branch turned, one copied), a flower (``flower_bend``:
+stem bent, leaves and head carried, petals unstroked; ``flower_half``: stem
+shortened 0.5x carrying them; ``flower_add``: a third leaf; ``flower_long``:
+a leaf lengthened 1.4x) and a hand (``hand_bend``: palm turned, fingers
+carried, thumb unstroked; ``hand_add``: a second thumb; ``hand_turn``: the
+thumb turned across; ``hand_long`` / ``hand_half``: a finger 1.4x / 0.5x,
+the other fingers unstroked) at 256 / 512 / 1000 px and
 prints per edit: the longest gap (px) along a child's stroke, the most
 missing px of one part where its rigid map puts it, pieces, fleck px, light
 (un-outlined) silhouette px, CPU s
@@ -24,6 +30,7 @@ from branchnb.core.io import encode_png
 from branchnb.strokes import Stroke, edit_structure
 from branchnb.strokes.parts import carry_stroke
 from branchnb.strokes.procedural import antlers, coral, figure, starfish, twig
+from branchnb.strokes.procedural_more import flower, hand
 
 EIGHT = np.ones((3, 3))
 
@@ -140,7 +147,95 @@ def ed_coral(n):
     exp = [(0, *I), (2, *I), (3, *I), (5, *I), (6, *I), (1, R1, t1), (4, R1, t1)]
     return obj, src, tgt, exp, tgt[1:]
 
-EDITS = {"twig": ed_twig, "figure": ed_figure, "starfish": ed_starfish, "antlers": ed_antlers, "coral": ed_coral}
+def scaled(st, f):
+    st = np.asarray(st, float)
+    return st[0] + f * (st - st[0])
+
+def carried(obj, src, tgt, exp, kids, parent_k, parent_tgt, strokes_of, follow=()):
+    """Children ``strokes_of`` carried by strokes along part ``parent_k`` moved to ``parent_tgt``;
+    ``follow``: (part, carrier part) pairs of unstroked parts expected to move with the carrier."""
+    rig = {}
+    for k in strokes_of:
+        c = carry_stroke(obj.strokes[k], obj.strokes[parent_k], parent_tgt)
+        src.append(obj.strokes[k])
+        tgt.append(c)
+        kids.append(c)
+        rig[k] = rigid_from(obj.strokes[k], c)
+        exp.append((k, *rig[k]))
+    for part, carrier in follow:
+        exp.append((part, *rig[carrier]))
+
+def ed_flower_bend(n):
+    obj = flower(n, rng=0)
+    st = obj.strokes[0]
+    y = (st[0, 1] - st[:, 1]) / (st[0, 1] - st[-1, 1])
+    bent = st + np.c_[0.15 * n * y ** 2, 0.02 * n * y]
+    src, tgt, exp, kids = [st], [bent], [], []
+    carried(obj, src, tgt, exp, kids, 0, bent, (1, 2, 3), [(p, 3) for p in range(4, 10)])
+    return obj, src, tgt, exp, kids
+
+def ed_flower_half(n):
+    obj = flower(n, rng=0)
+    st = obj.strokes[0]
+    short = scaled(st, 0.5)
+    src, tgt, exp, kids = [st], [short], [], []
+    carried(obj, src, tgt, exp, kids, 0, short, (1, 2, 3), [(p, 3) for p in range(4, 10)])
+    return obj, src, tgt, exp, kids
+
+def ed_flower_add(n):
+    obj = flower(n, rng=0)
+    st, l2 = obj.strokes[0], obj.strokes[2]
+    p = Stroke(st).point_at(0.72 * Stroke(st).length)
+    new = p + (l2 - l2[0]) @ rot(0.35).T
+    I = (np.eye(2), np.zeros(2))
+    return obj, [st, l2, l2], [st, l2, new], [(k, *I) for k in range(10)], [l2, new]
+
+def ed_flower_long(n):
+    obj = flower(n, rng=0)
+    st, l1 = obj.strokes[0], obj.strokes[1]
+    I = (np.eye(2), np.zeros(2))
+    return obj, [st, l1], [st, scaled(l1, 1.4)], [(k, *I) for k in (0, 2, 3, 4, 5, 6, 7, 8, 9)], [scaled(l1, 1.4)]
+
+def ed_hand_bend(n):
+    obj = hand(n, rng=0)
+    fore, palm = obj.strokes[0], obj.strokes[1]
+    tp = turn(palm, 0.45, palm[0])
+    I = (np.eye(2), np.zeros(2))
+    src, tgt, exp, kids = [fore, palm], [fore, tp], [(0, *I), (1, rot(0.45), palm[0] - rot(0.45) @ palm[0])], [tp]
+    carried(obj, src, tgt, exp, kids, 1, tp, (2, 3, 4, 5), [(6, 2)])
+    return obj, src, tgt, exp, kids
+
+def ed_hand_add(n):
+    obj = hand(n, rng=0)
+    palm, th = obj.strokes[1], obj.strokes[6]
+    x = th[0, 0]
+    new = np.c_[2 * x - th[:, 0], th[:, 1]]
+    I = (np.eye(2), np.zeros(2))
+    return obj, [palm, th, th], [palm, th, new], [(k, *I) for k in range(7)], [th, new]
+
+def ed_hand_turn(n):
+    obj = hand(n, rng=0)
+    palm, th = obj.strokes[1], obj.strokes[6]
+    I = (np.eye(2), np.zeros(2))
+    new = turn(th, -2.4, th[0])
+    return obj, [palm, th], [palm, new], [(k, *I) for k in range(6)], [new]
+
+def ed_hand_long(n):
+    obj = hand(n, rng=0)
+    palm, f2 = obj.strokes[1], obj.strokes[3]
+    I = (np.eye(2), np.zeros(2))
+    return obj, [palm, f2], [palm, scaled(f2, 1.4)], [(k, *I) for k in (0, 1, 2, 4, 5, 6)], [scaled(f2, 1.4)]
+
+def ed_hand_half(n):
+    obj = hand(n, rng=0)
+    palm, f3 = obj.strokes[1], obj.strokes[4]
+    I = (np.eye(2), np.zeros(2))
+    return obj, [palm, f3], [palm, scaled(f3, 0.5)], [(k, *I) for k in (0, 1, 2, 3, 5, 6)], [scaled(f3, 0.5)]
+
+EDITS = {"twig": ed_twig, "figure": ed_figure, "starfish": ed_starfish, "antlers": ed_antlers, "coral": ed_coral,
+         "flower_bend": ed_flower_bend, "flower_half": ed_flower_half, "flower_add": ed_flower_add,
+         "flower_long": ed_flower_long, "hand_bend": ed_hand_bend, "hand_add": ed_hand_add, "hand_turn": ed_hand_turn,
+         "hand_long": ed_hand_long, "hand_half": ed_hand_half}
 
 def measure(obj, res, exp, children):
     img = res.image

@@ -33,6 +33,13 @@ after.
   the same to the bit (issue 23, branching28; with the Python-side savings of that session a 1000 px
   cracked mud took 18.7 -> 15.2 s CPU for seed 1, old and new code alternated on a loaded machine);
 - :func:`inside`: ``_Grower._inside`` (frame and domain test of new vertices).
+- :func:`ranked_free`: ``first_free`` over the candidates in the order of a full stable argsort of
+  their float32 scores, ranked lazily (the next best of those left; a step takes its ``c`` free
+  ones among the first few); :func:`free_direction`: is any direction free (``_room_ahead``,
+  ``_room_around``), ending at the first free bin instead of profiling all of them;
+  :func:`start_scores` leaves out the histogram factor of heads whose profile crosses (score 0).
+  The same structures to the bit on seven kinds at 250/512/1000 px, 3 seeds each (issue 23,
+  branching32).
 """
 
 from __future__ import annotations
@@ -40,8 +47,9 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-__all__ = ["bucket_add", "count_bins", "crosses", "element_bins", "first_free", "inside", "pca_directions",
-           "profile_bins", "score_step", "start_scores", "step_factors", "child_quality"]
+__all__ = ["bucket_add", "count_bins", "crosses", "element_bins", "first_free", "free_direction", "inside",
+           "pca_directions", "profile_bins", "ranked_free", "score_step", "start_scores", "step_factors",
+           "child_quality"]
 
 
 @numba.njit(cache=True)
@@ -71,6 +79,39 @@ def _sample(grid, cell, x, y):
 
 
 @numba.njit(cache=True)
+def _bin_profile(grid, cell, tipx, tipy, q, length, n_samples, tol, nbins, step, prof, pre, post):
+    """``(D_c, crossing)`` of the profile along direction bin ``q`` (one bin of :func:`profile_bins`;
+    ``prof``, ``pre``, ``post``: float32 work rows of ``n_samples``)."""
+    two_pi = 2.0 * np.pi
+    ang = q * (two_pi / nbins)
+    ux, uy = np.cos(ang), np.sin(ang)
+    for i in range(n_samples):
+        t = length / n_samples + i * step if i < n_samples - 1 else length
+        prof[i] = _sample(grid, cell, tipx + t * ux, tipy + t * uy)
+    first = n_samples - 1
+    for i in range(n_samples - 1):
+        if prof[i + 1] - prof[i] > tol * 0.5:
+            first = i
+            break
+    m = 0.0
+    for i in range(first, n_samples):
+        if prof[i] > m:
+            m = prof[i]
+    pre[0] = prof[0]
+    for i in range(1, n_samples):
+        pre[i] = min(pre[i - 1], prof[i])
+    post[n_samples - 1] = prof[n_samples - 1]
+    for i in range(n_samples - 2, -1, -1):
+        post[i] = min(post[i + 1], prof[i])
+    c = False
+    for i in range(n_samples):
+        if prof[i] - pre[i] > tol and prof[i] - post[i] > tol:
+            c = True
+            break
+    return m, c
+
+
+@numba.njit(cache=True)
 def profile_bins(grid, cell, tipx, tipy, dirs, length, n_samples, tol, nbins):
     """``(D_c, crossing)`` of :func:`~branchnb.branching.colonization.profile_density` along each of
     ``dirs`` (K, 2), each direction replaced by the nearest of ``nbins`` (each bin profiled once)."""
@@ -88,37 +129,40 @@ def profile_bins(grid, cell, tipx, tipy, dirs, length, n_samples, tol, nbins):
     for k in range(K):
         q = int(np.rint(np.arctan2(dirs[k, 1], dirs[k, 0]) * (nbins / two_pi))) % nbins
         if not done[q]:
-            ang = q * (two_pi / nbins)
-            ux, uy = np.cos(ang), np.sin(ang)
-            for i in range(n_samples):
-                t = length / n_samples + i * step if i < n_samples - 1 else length
-                prof[i] = _sample(grid, cell, tipx + t * ux, tipy + t * uy)
-            first = n_samples - 1
-            for i in range(n_samples - 1):
-                if prof[i + 1] - prof[i] > tol * 0.5:
-                    first = i
-                    break
-            m = 0.0
-            for i in range(first, n_samples):
-                if prof[i] > m:
-                    m = prof[i]
-            pre[0] = prof[0]
-            for i in range(1, n_samples):
-                pre[i] = min(pre[i - 1], prof[i])
-            post[n_samples - 1] = prof[n_samples - 1]
-            for i in range(n_samples - 2, -1, -1):
-                post[i] = min(post[i + 1], prof[i])
-            c = False
-            for i in range(n_samples):
-                if prof[i] - pre[i] > tol and prof[i] - post[i] > tol:
-                    c = True
-                    break
-            bdc[q] = m
-            bcr[q] = c
+            bdc[q], bcr[q] = _bin_profile(grid, cell, tipx, tipy, q, length, n_samples, tol, nbins, step,
+                                          prof, pre, post)
             done[q] = True
         dc[k] = bdc[q]
         cross[k] = bcr[q]
     return dc, cross
+
+
+@numba.njit(cache=True)
+def free_direction(grid, cell, tipx, tipy, dirs, theta, rotate, length, n_samples, tol, nbins, stop):
+    """Does any of ``dirs`` (K, 2; turned by ``theta`` when ``rotate``, as ``scoring._rotate``) lead on:
+    its bin's profile (:func:`profile_bins`) without a crossing and with ``D_c < stop``? Bins are
+    profiled in the order the directions first reach them, and the search ends at the first free one
+    (``_Grower._room_ahead`` and ``_room_around``: the same answer as ``profile_bins`` over all of them)."""
+    K = dirs.shape[0]
+    done = np.zeros(nbins, np.bool_)
+    prof = np.empty(n_samples, np.float32)
+    pre = np.empty(n_samples, np.float32)
+    post = np.empty(n_samples, np.float32)
+    step = (length - length / n_samples) / (n_samples - 1) if n_samples > 1 else 0.0
+    two_pi = 2.0 * np.pi
+    c, s = np.cos(theta), np.sin(theta)
+    for k in range(K):
+        x, y = dirs[k, 0], dirs[k, 1]
+        if rotate:
+            x, y = c * dirs[k, 0] - s * dirs[k, 1], s * dirs[k, 0] + c * dirs[k, 1]
+        q = int(np.rint(np.arctan2(y, x) * (nbins / two_pi))) % nbins
+        if done[q]:
+            continue
+        done[q] = True
+        m, cr = _bin_profile(grid, cell, tipx, tipy, q, length, n_samples, tol, nbins, step, prof, pre, post)
+        if not cr and m < stop:
+            return True
+    return False
 
 
 @numba.njit(cache=True)
@@ -277,6 +321,61 @@ def first_free(order, score, tip, pts, lens, head, nxt, seg, sp0, sp1, n_store, 
 
 
 @numba.njit(cache=True)
+def _ranks_before(key, i, j):
+    """Does candidate ``i`` rank before ``j``: ``np.argsort(-key, kind="stable")`` order (higher
+    float32 key first, ties by index, NaN last)?"""
+    a, b = key[i], key[j]
+    if np.isnan(a):
+        return np.isnan(b) and i < j
+    if np.isnan(b):
+        return True
+    return a > b or (a == b and i < j)
+
+
+@numba.njit(cache=True)
+def ranked_free(score, tip, pts, lens, head, nxt, seg, sp0, sp1, n_store, cell, cap, c, test, eps):
+    """:func:`first_free` over the candidates ranked by their scores rounded to float32
+    (``scoring._rank_key``; ``np.argsort(-key, kind="stable")``: ties by index), ranked lazily: each next
+    candidate is the best of those left, so a step that finds its ``c`` free ones among the first few
+    does not sort all of them (the same candidates as ``first_free(np.argsort(...), ...)``)."""
+    J = score.shape[0]
+    key = np.empty(J, np.float32)
+    for j in range(J):
+        key[j] = np.float32(score[j])
+    used = np.zeros(J, np.bool_)
+    out = np.empty(c, np.int64)
+    n = 0
+    tries = 0
+    M = pts.shape[1]
+    poly = np.empty((M + 1, 2))
+    poly[0, 0], poly[0, 1] = tip[0], tip[1]
+    for _ in range(J):
+        j = -1
+        for i in range(J):
+            if not used[i] and (j < 0 or _ranks_before(key, i, j)):
+                j = i
+        used[j] = True
+        s = score[j]
+        if not (s > 0) or not np.isfinite(s):
+            break
+        if test:
+            tries += 1
+            if tries > cap:
+                break
+            L = lens[j]
+            for i in range(L):
+                poly[i + 1, 0] = pts[j, i, 0]
+                poly[i + 1, 1] = pts[j, i, 1]
+            if crosses(head, nxt, seg, sp0, sp1, n_store, cell, poly[:L + 1], eps):
+                continue
+        out[n] = j
+        n += 1
+        if n == c:
+            break
+    return out[:n]
+
+
+@numba.njit(cache=True)
 def _hist_pre(p, counts):
     """``(N, d_old, C.C, p.C, p.p)`` of a running histogram ``counts`` against the example's ``p``."""
     B = p.shape[0]
@@ -411,7 +510,9 @@ def start_scores(heads, th0, sign, first_a, n, x0x, x0y, h, Q, use_hist, edges_a
     colonization ``/ (D_c + eps)`` (0 where the profile crosses), its PCA direction and ``D_c``.
     ``elem_bins_r``: the thickness bin of every input element (:func:`element_bins` of ``model.cum_r``);
     a head's counts are read as its few bins (:func:`_improve_bins`), the same sums as from its
-    ``B``-wide row of counts."""
+    ``B``-wide row of counts. The histogram factor is left out of heads whose profile crosses a
+    branch (their score is 0 all the same; up to 80-100 % of a start's heads in a dense 1000 px
+    cracked mud)."""
     H = heads.shape[0]
     m = first_a.shape[1]
     th = np.empty((H, m + 1))
@@ -435,6 +536,16 @@ def start_scores(heads, th0, sign, first_a, n, x0x, x0y, h, Q, use_hist, edges_a
                 y += np.sin(a) * h
             new[j, i, 0] = x
             new[j, i, 1] = y
+    dirs = pca_directions(x0x, x0y, new, n + 1)
+    dc = np.zeros(H)
+    cross = np.zeros(H, np.bool_)
+    if use_density:
+        dc, cross = profile_bins(grid, cell, x0x, x0y, dirs, length, n_samples, tol, nbins)
+    for j in range(H):
+        if use_density and cross[j]:   # a crossing head scores 0: its histogram factor is not needed
+            score[j] = 0.0
+            continue
+        hd = heads[j]
         if use_hist:
             k = min(n[j], m)
             for i in range(k):
@@ -448,13 +559,8 @@ def start_scores(heads, th0, sign, first_a, n, x0x, x0y, h, Q, use_hist, edges_a
             row[n[j]] = 32767
             dr = _improve_bins(pr, p_r, counts_r, row[:n[j] + 1])
             score[j] *= np.exp(min(max(hist_scale * (da + dr), -50.0), 50.0))
-    dirs = pca_directions(x0x, x0y, new, n + 1)
-    dc = np.zeros(H)
-    cross = np.zeros(H, np.bool_)
-    if use_density:
-        dc, cross = profile_bins(grid, cell, x0x, x0y, dirs, length, n_samples, tol, nbins)
-        for j in range(H):
-            score[j] = 0.0 if cross[j] else score[j] / (dc[j] + eps)
+        if use_density:
+            score[j] = score[j] / (dc[j] + eps)
     return new, th, score, dirs, dc
 
 

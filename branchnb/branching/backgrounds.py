@@ -23,7 +23,9 @@ __all__ = [
     "binary_channels",
     "border_flat_regions",
     "outline_pixels",
+    "region_border_pixels",
     "flat_background",
+    "unlike_background",
     "example_domain",
 ]
 
@@ -361,6 +363,94 @@ def outline_pixels(skeleton, outside, reach: float, gray=None, tol: float = 0.04
     return res
 
 
+def region_border_pixels(skeleton, image, radius: float, tol: float = 0.06, reach: float = 8.0) -> np.ndarray:
+    """Skeleton pixels of a drawn line between two flat regions of different colours (a country border).
+
+    Beyond the paper: on a political or relief map a drawn border between
+    two inside regions (two countries, two land colours) is no branch,
+    though it looks like one to the ridge filter, and traced it joins every
+    river that crosses it into one tree. A skeleton pixel is border when,
+    across the line (its normal from the structure tensor of the
+    skeleton), both sides lie in large flat-colour regions (wider than
+    ``radius``) whose colours differ by more than ``tol`` in some channel. A
+    river has the same ground on both sides and stays, and so do lines on a
+    photograph (no flat regions). The skeleton's stretches between junctions
+    go out or stay whole, by the majority of their pixels.
+
+    Parameters
+    ----------
+    skeleton : (H, W) bool array_like
+        Centre-line pixels.
+    image : (H, W, 3) array_like
+        The colour image the skeleton was traced in, float in [0, 1].
+    radius : float
+        The flat regions must be as large as a disk of this radius (pixels).
+    tol : float, default 0.06
+        Smallest colour difference (largest over the channels) between the
+        two sides.
+    reach : float, default 8.0
+        Farthest a side is looked for across the line (pixels).
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        The border pixels of ``skeleton``.
+
+    Examples
+    --------
+    >>> img = np.ones((60, 60, 3), np.float32); img[:, :30] = (0.9, 0.8, 0.6); img[:, 29:31] = 0.0
+    >>> sk = np.zeros((60, 60), bool); sk[5:55, 30] = True
+    >>> int(region_border_pixels(sk, img, 6.0).sum())
+    50
+    """
+    sk = np.asarray(skeleton, bool)
+    rgb = np.asarray(image, np.float64)[..., :3]
+    res = np.zeros_like(sk)
+    if not sk.any():
+        return res
+    rng_c = np.max([ndi.maximum_filter(rgb[..., c], 5) - ndi.minimum_filter(rgb[..., c], 5) for c in range(3)], 0)
+    # flat pixels in large connected pieces (not opened by a disk: the pieces must reach the line)
+    lab, n = ndi.label(rng_c < 0.02)
+    sizes = np.bincount(lab.ravel(), minlength=n + 1)
+    big = sizes >= max(np.pi * radius ** 2, 0.002 * sk.size)
+    big[0] = False
+    flat = big[lab]
+    if not flat.any():
+        return res
+    ys, xs = np.nonzero(sk)
+    b = ndi.gaussian_filter(sk.astype(np.float64), 1.0)
+    gy, gx = np.gradient(b)
+    jxx = ndi.gaussian_filter(gx * gx, 2.0)[ys, xs]
+    jyy = ndi.gaussian_filter(gy * gy, 2.0)[ys, xs]
+    jxy = ndi.gaussian_filter(gx * gy, 2.0)[ys, xs]
+    theta = 0.5 * np.arctan2(2 * jxy, jxx - jyy)      # the line's normal
+    nx, ny = np.cos(theta), np.sin(theta)
+    h, w = sk.shape
+    seen = np.zeros((2, len(ys)), bool)
+    col = np.zeros((2, len(ys), 3))
+    for d in np.arange(3.0, reach + 0.5, 1.0):
+        for k, sgn in enumerate((1.0, -1.0)):
+            py = np.clip(np.rint(ys + sgn * d * ny).astype(int), 0, h - 1)
+            px = np.clip(np.rint(xs + sgn * d * nx).astype(int), 0, w - 1)
+            new = ~seen[k] & flat[py, px]
+            col[k, new] = rgb[py[new], px[new]]
+            seen[k] |= new
+    differ = np.abs(col[0] - col[1]).max(-1) > tol
+    res[ys, xs] = seen[0] & seen[1] & differ
+    # decided per stretch between junctions, by the majority of its pixels: a river running beside the
+    # border for a while (its far side then lies beyond the border) stays whole, a border stays out whole
+    nb = ndi.convolve(sk.astype(np.int32), np.ones((3, 3), np.int32), mode="constant") - 1
+    runs = sk & (nb <= 2)
+    lab, n = ndi.label(runs, structure=np.ones((3, 3)))
+    if n:
+        share = np.bincount(lab[runs], weights=res[runs], minlength=n + 1) / \
+            np.maximum(np.bincount(lab[runs], minlength=n + 1), 1)
+        keep = res & ~runs                                  # junction pixels: as judged
+        keep |= runs & (share[lab] >= 0.5)
+        res = keep
+    return res
+
+
 def flat_background(gray, branches, radius: float, tol: float = 0.02) -> np.ndarray:
     """Large flat-colour regions without branches (the sea around a river map's land).
 
@@ -454,6 +544,92 @@ def _behind_drawn_line(gray: np.ndarray, region: np.ndarray, near_branches: np.n
     return bool(np.mean(darkest[rest] < med - contrast) >= share)
 
 
+def unlike_background(image, branches, radius: float = 12.0, k: float = 4.0, min_diff: float = 0.12,
+                      min_area: float = 0.02) -> np.ndarray:
+    """Large branch-free regions of another colour than the ground the branches lie in (beyond the paper).
+
+    :func:`flat_background` needs a flat colour; on a photograph the
+    outside is textured (a table round a leaf, a wall round a tile). The
+    ground the branches lie in is the colour of the pixels 3-8 px beside
+    them (median of a 2 px blur); a pixel is unlike it when some channel
+    differs by more than ``k`` robust spreads of the ground and at least
+    ``min_diff``. The unlike pixels wider than ``radius`` (an opening with a
+    disk), in pieces of at least ``min_area`` of the image that touch the
+    image border and hold (almost) no branch pixel, are returned.
+
+    Parameters
+    ----------
+    image : (H, W) or (H, W, C) array_like
+        The example, float in [0, 1] (RGBA is composited over white).
+    branches : (H, W) bool array_like
+        Branch pixels.
+    radius : float, default 12.0
+        The regions must be wider than a disk of this radius (pixels).
+    k : float, default 4.0
+        Spreads (1.4826 x the median absolute deviation) of the ground's colour a pixel must differ by.
+    min_diff : float, default 0.12
+        Smallest colour difference counted.
+    min_area : float, default 0.02
+        Smallest region kept, as a fraction of the image.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        The outside regions.
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> img = 0.8 + 0.03 * rng.normal(size=(80, 80, 3)); img[10:70, 10:70] = (0.2, 0.45, 0.1)
+    >>> br = np.zeros((80, 80), bool); br[40, 15:65] = True
+    >>> bg = unlike_background(img, br, 4.0)
+    >>> bool(bg[2, 2]), bool(bg[40, 40])
+    (True, False)
+    """
+    import cv2
+
+    from ..core.image import as_rgb
+
+    rgb = as_rgb(image).astype(np.float32)
+    br = np.asarray(branches, bool)
+    out = np.zeros(br.shape, bool)
+    if not br.any() or rgb.shape[:2] != br.shape:
+        return out
+    sm = cv2.GaussianBlur(rgb, (0, 0), 2.0)
+    b8 = br.astype(np.uint8)
+    ring = (cv2.dilate(b8, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (17, 17))) > 0) & \
+        ~(cv2.dilate(b8, np.ones((3, 3), np.uint8)) > 0)
+    # only ring pixels whose mirror across the nearest branch pixel has their colour: the ground the
+    # branches lie *in* (the outermost veins of a leaf have the table on one side)
+    _d, (iy, ix) = ndi.distance_transform_edt(~br, return_indices=True)
+    ry, rx = np.nonzero(ring)
+    my = np.clip(2 * iy[ry, rx] - ry, 0, br.shape[0] - 1)
+    mx = np.clip(2 * ix[ry, rx] - rx, 0, br.shape[1] - 1)
+    two = (np.abs(sm[my, mx] - sm[ry, rx]).max(-1) <= min_diff) & ~br[my, mx]
+    if np.count_nonzero(two) < 20:
+        return out
+    ring = np.zeros_like(ring)
+    ring[ry[two], rx[two]] = True
+    ground = np.median(sm[ring], axis=0)
+    d = np.abs(sm - ground).max(-1)
+    spread = 1.4826 * float(np.median(d[ring]))
+    unlike = d > max(k * spread, min_diff)
+    r = max(int(round(radius)), 1)
+    disk = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
+    unlike = cv2.morphologyEx(unlike.astype(np.uint8), cv2.MORPH_OPEN, disk, borderType=cv2.BORDER_REPLICATE) > 0
+    lab, n = ndi.label(unlike)
+    if n == 0:
+        return out
+    sizes = np.bincount(lab.ravel(), minlength=n + 1)
+    hits = np.bincount(lab[br], minlength=n + 1)
+    touch = np.zeros(n + 1, bool)
+    for edge in (lab[0], lab[-1], lab[:, 0], lab[:, -1]):
+        touch[edge] = True
+    keep = touch & (sizes >= min_area * br.size) & (hits <= 0.01 * sizes)
+    keep[0] = False
+    return keep[lab]
+
+
 @checked(image=Image(), radius=_RADIUS)
 def example_domain(image, structure: Structure | None = None, *, radius: float = 12.0) -> np.ndarray:
     """Where an example's branches live: the image minus its large branch-free flat regions.
@@ -500,6 +676,9 @@ def example_domain(image, structure: Structure | None = None, *, radius: float =
                                     [2 * b.thickness + 2 for b in structure.branches])
         branches = cov > 0.5
     bg = flat_background(gray, branches, radius)
+    if not bg.any() and branches.any():
+        # a photograph: no flat background, but a textured ground of another colour (a table round a leaf)
+        bg = unlike_background(image, branches, radius)
     if bg.any():
         # the flat test leaves a 2 px rim of the background's colour along its edge (windows that
         # reach the coast line): the background takes it, up to the drawn line (beyond the paper)

@@ -339,9 +339,9 @@ class _Starts:
             a = np.arange(_DIRECTION_BINS) * (2.0 * np.pi / _DIRECTION_BINS)
             self._all_dirs = np.ascontiguousarray(np.c_[np.cos(a), np.sin(a)])
         n_samples = int(min(max(np.ceil(length / (dens.rho / 2.0)), 8), 48))
-        _dc, cross = _kernels.profile_bins(dens.grid, dens.cell, float(x0[0]), float(x0[1]), self._all_dirs,
-                                           float(length), n_samples, 0.02, _DIRECTION_BINS)
-        return not bool(cross.all())
+        # any bin without a crossing (any D_c), ending at the first one
+        return bool(_kernels.free_direction(dens.grid, dens.cell, float(x0[0]), float(x0[1]), self._all_dirs, 0.0,
+                                            False, float(length), n_samples, 0.02, _DIRECTION_BINS, np.inf))
 
     def start_root(self, x, y, theta) -> int | None:
         model = self.model

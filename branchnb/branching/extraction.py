@@ -43,6 +43,7 @@ from .backgrounds import (  # noqa: F401  (re-exported: split from this module)
     is_binary,
     large_flat_regions,
     outline_pixels,
+    region_border_pixels,
 )
 from .clicks import (  # noqa: F401  (re-exported: split from this module)
     _RADIUS,
@@ -182,6 +183,7 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         p = dataclasses.replace(p, **overrides)
     check_params(p)
     gray = gray_for_extraction(image)
+    colour_image = image          # the region colours, before any ink map replaces the image below
     if p.binary == "auto" and (line_colour is None or isinstance(line_colour, str)):
         # strokes of several colours on one plain paper (a black stroke with a coloured inner line):
         # traced by the medial axis of all the ink, not along one of its dark edges (beyond the paper)
@@ -206,7 +208,7 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
             return _extract_binary(np.where(shape, 0.0, 1.0), dataclasses.replace(p, polarity="dark"), mask,
                                    return_maps, root_point, flat_regions=False)
     if p.binary == "on" or (p.binary == "auto" and shape_width is None and is_binary(gray)):
-        return _extract_binary(gray, p, mask, return_maps, root_point)
+        return _extract_binary(gray, p, mask, return_maps, root_point, colour=colour_image)
     lines = gray
     if line_colour is not None:
         if isinstance(line_colour, str):
@@ -244,6 +246,12 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
     work = rescale(gray, p.scale, anti_aliasing=True) if p.scale < 1 else gray
     outside = border_flat_regions(work, 4 * p.sigma_max, branches=bw)
     skel &= ~outline_pixels(skel, outside, 2 * p.sigma_max + 2, gray=ndi.median_filter(work, 3))
+    rgb = as_rgb(colour_image)
+    if rgb.shape[:2] != skel.shape:
+        rgb = rescale(rgb, p.scale, anti_aliasing=True, channel_axis=-1)
+    # a drawn border between two inside regions of different colours (two countries) is no branch either
+    if rgb.shape[:2] == skel.shape:
+        skel &= ~region_border_pixels(skel, rgb, 4 * p.sigma_max, reach=2 * p.sigma_max + 4)
     if p.false_ridges and lines is gray and skel.any() and \
             np.median((work - ndi.gaussian_filter(work, 3 * p.sigma_max))[skel]) > 0:
         # photographs: edges of lit regions and rows of separate lights are no lines (beyond the paper);
@@ -280,8 +288,10 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
 
 
 
-def _extract_binary(gray, p: ExtractionParams, mask, return_maps: bool, root_point=None, flat_regions: bool = True):
-    """``extract_structure`` for a binary mask: medial axis + distance-transform radius.
+def _extract_binary(gray, p: ExtractionParams, mask, return_maps: bool, root_point=None, flat_regions: bool = True,
+                    colour=None):
+    """``extract_structure`` for a binary mask: medial axis + distance-transform radius (``colour``: the
+    colour image, whose drawn region borders are taken out, see ``region_border_pixels``).
 
     Braided channels form cycles; the shortest-path tree from each root
     cuts every cycle once, where the two fronts meet (see
@@ -292,6 +302,14 @@ def _extract_binary(gray, p: ExtractionParams, mask, return_maps: bool, root_poi
     work = rescale(gray, p.scale, order=0, anti_aliasing=False) if p.scale < 1 else gray
     pol = p.polarity
     channels, region, skel, radius = binary_channels(work, pol, flat_regions=flat_regions)
+    if colour is not None and np.ndim(colour) == 3:
+        # black lines on a map of two near-equal greys (a crop with no sea) read as binary: a drawn border
+        # between two regions of different colours is still no branch
+        rgb = as_rgb(colour)
+        if rgb.shape[:2] != skel.shape:
+            rgb = rescale(rgb, p.scale, anti_aliasing=True, channel_axis=-1)
+        if rgb.shape[:2] == skel.shape:
+            skel &= ~region_border_pixels(skel, rgb, 4 * p.sigma_max, reach=2 * p.sigma_max + 4)
     if mask is not None:
         from skimage.transform import resize
 

@@ -31,7 +31,7 @@ from .filling import _Filling
 from .guidance import Guidance
 from .model import StructureModel, _choice
 from .params import SynthesisParams
-from .scoring import _continue_radii, _rank_key, _rotate, binned_profile, score_candidates
+from .scoring import _DIRECTION_BINS, _continue_radii, score_candidates
 from .straightness import BEND_CAP, RUN_CAP, RUN_GAIN, RUN_MIN_MEAN, BendHistogram, StraightRuns
 
 __all__ = ["FILL_LENGTH_FACTOR", "GrowthProgress", "LENGTH_BOUND", "LENGTH_FACTOR", "length_cap", "winding",
@@ -424,8 +424,13 @@ class _Grower(_Starts, _Filling):
             dirs = self._live_dirs[L] = np.ascontiguousarray(self.model.local_dirs[t])
         if not len(dirs):
             return False
-        dc, cross = binned_profile(self.density, tip, _rotate(dirs, st.theta), 3.0 * p.m * p.h)
-        return bool(((~cross) & (dc < p.stop_density)).any())
+        # compiled, ending at the first free direction (the answer of binned_profile over all of them)
+        length = 3.0 * p.m * p.h
+        dens = self.density
+        n_samples = int(min(max(np.ceil(length / (dens.rho / 2.0)), 8), 48))
+        return bool(_kernels.free_direction(dens.grid, dens.cell, float(tip[0]), float(tip[1]), dirs,
+                                            float(st.theta), True, length, n_samples, 0.02, _DIRECTION_BINS,
+                                            float(p.stop_density)))
 
     def _share(self, n: int, cap: int | None = None) -> np.ndarray | None:
         """Positions of a random share of ``n`` candidates (None: score them all), at most ``cap``
@@ -441,10 +446,10 @@ class _Grower(_Starts, _Filling):
         """Among the c best valid candidates, choose one with probability ~ score.
 
         Candidate ``j``'s polyline is ``[tip] + pts[j, :lens[j]]``; the crossing test
-        runs compiled over the ranked candidates (:func:`._kernels.first_free`)."""
-        order = np.argsort(-_rank_key(score), kind="stable")   # ties by index
+        runs compiled over the ranked candidates (:func:`._kernels.ranked_free`)."""
         st = self.store
-        chosen = _kernels.first_free(order, np.asarray(score, np.float64), np.asarray(tip, np.float64),
+        # ranked as np.argsort(-_rank_key(score), kind="stable") (ties by index), lazily
+        chosen = _kernels.ranked_free(np.asarray(score, np.float64), np.asarray(tip, np.float64),
                                      np.ascontiguousarray(pts, np.float64), np.asarray(lens, np.int64),
                                      st._head, st._next, st._seg, st.p0, st.p1, st.n, st.cell,
                                      self._cap(), int(self.p.c), self.density is not None, 1e-9)

@@ -1,7 +1,7 @@
 """Measurements of the synthesis stage (issue 22): sharpness, variety, petioles, margins, veins, speed.
 
 Run ``python -m branchnb.leaves._measure_synthesis WHAT`` with ``WHAT`` one of
-``procedural`` (3 kinds, true registrations), ``speed`` (one new leaf at
+``procedural`` (4 kinds, true registrations), ``speed`` (one new leaf at
 about 1 MP: CPU seconds and peak memory) or ``pickle PATH`` (an analysis
 saved with :mod:`pickle`, e.g. of the sample maples, drawn oaks or grass
 photos). Every row is one analysis; the columns:
@@ -294,7 +294,7 @@ def main(argv=None):
         name = args.path.rsplit("/", 1)[-1].split(".")[0]
         _print(synthesis_row(a, args.n, name=name, save=f"{args.save}/{name}.png" if args.save else None))
         return
-    for kind in ("lobed", "trilobed", "elliptic"):
+    for kind in ("lobed", "trilobed", "elliptic", "fan"):
         for size in (int(s) for s in args.sizes.split(",")):
             for seed in range(args.seeds):
                 a, truth = _procedural(kind, size, seed, with_truth=True)

@@ -29,7 +29,7 @@ import cv2
 import numpy as np
 from scipy import ndimage as ndi
 
-__all__ = ["ridge_strength", "flatten_leftover"]
+__all__ = ["ridge_strength", "flatten_leftover", "layer_strength", "own_lines", "parallel_lines"]
 
 
 def ridge_strength(grey: np.ndarray, sigmas, sign: float) -> np.ndarray:
@@ -92,6 +92,36 @@ def _grain(img: np.ndarray, blade: np.ndarray, hole: np.ndarray, reach: int) -> 
         ok[ok] = src_ok[sy[ok], sx[ok]]
         out[ys[ok], xs[ok]] = detail[sy[ok], sx[ok]]
         todo[ys[ok], xs[ok]] = False
+    return out
+
+
+def _line_pieces(img, blade, sigmas, sign, floor, w, min_length, corridor=None) -> np.ndarray:
+    """Labels (1, 2, ...) of the elongated pieces of ``img``'s lines of polarity ``sign`` (0 elsewhere).
+
+    A line pixel's ridge strength (:func:`ridge_strength` over ``sigmas``)
+    reaches ``floor`` and the blade's 90th percentile, 2 px inside the
+    blade (and inside ``corridor`` if given); a piece is kept when it spans
+    ``min_length`` of the leaf size and is no wider than ``max(3, 1.5 w)``
+    px on average (area over extent).
+    """
+    inner = ndi.binary_erosion(blade, iterations=2)
+    r = ridge_strength(np.asarray(img, np.float32)[..., :3].mean(-1), sigmas, sign)
+    lines = (r >= max(floor, float(np.percentile(r[blade], 90)))) & inner
+    if corridor is not None:
+        lines &= np.asarray(corridor, bool)
+    lab, n = ndi.label(lines, structure=np.ones((3, 3)))
+    out = np.zeros(blade.shape, np.int32)
+    if not n:
+        return out
+    size = float(np.sqrt(blade.sum()))
+    objs = ndi.find_objects(lab)
+    area = np.bincount(lab.ravel(), minlength=n + 1)[1:]
+    ext = np.array([np.hypot(sl[0].stop - sl[0].start, sl[1].stop - sl[1].start) for sl in objs])
+    keep = (ext >= min_length * size) & (area / np.maximum(ext, 1.0) <= max(3.0, 1.5 * w))
+    if keep.any():
+        new_id = np.zeros(n + 1, np.int32)
+        new_id[1 + np.flatnonzero(keep)] = np.arange(1, int(keep.sum()) + 1, dtype=np.int32)
+        out = new_id[lab]
     return out
 
 
@@ -181,20 +211,9 @@ def flatten_leftover(residual, blade, source, layer_image, layer_mask, sign: flo
     out = res.copy()
     hole = np.zeros(blade.shape, bool)
     if ref_level > 0:
-        inner = ndi.binary_erosion(blade, iterations=2)
-        r = ridge_strength(res.mean(-1), sigmas, sign)
-        lines = (r >= max(level * ref_level, float(np.percentile(r[blade], 90)))) & inner
-        if corridor is not None:
-            lines &= np.asarray(corridor, bool)
-        lab, n = ndi.label(lines, structure=np.ones((3, 3)))
-        if n:
-            size = float(np.sqrt(blade.sum()))
-            objs = ndi.find_objects(lab)
-            area = np.bincount(lab.ravel(), minlength=n + 1)[1:]
-            ext = np.array([np.hypot(sl[0].stop - sl[0].start, sl[1].stop - sl[1].start) for sl in objs])
-            keep = (ext >= min_length * size) & (area / np.maximum(ext, 1.0) <= max(3.0, 1.5 * w))
-            if keep.any():
-                hole = ndi.binary_dilation(np.isin(lab, 1 + np.flatnonzero(keep)), iterations=1) & blade
+        lab = _line_pieces(res, blade, sigmas, sign, level * ref_level, w, min_length, corridor)
+        if lab.any():
+            hole = ndi.binary_dilation(lab > 0, iterations=1) & blade
         if hole.any():
             from .prepared import _smooth_fill
             out = np.where(hole[..., None], _smooth_fill(res, blade & ~hole), res).astype(np.float32)
@@ -205,3 +224,207 @@ def flatten_leftover(residual, blade, source, layer_image, layer_mask, sign: flo
         g = _grain(src, blade & ~filled, filled, reach)
         out = np.where(filled[..., None], out - (out - cv2.GaussianBlur(out, (0, 0), 1.0)) + g, out)
     return np.clip(out, 0.0, 1.0).astype(np.float32)
+
+
+def own_lines(background, blade, layer_image, layer_mask, sign: float, width: float, *, level: float = 0.5,
+              min_length: float = 0.04, ref_level: float | None = None):
+    """The lines of a layer left anywhere in a background, and the background with them filled.
+
+    The first half of the per-leaf step that gives a new leaf one vein
+    system (:func:`parallel_lines` is the second): unlike
+    :func:`flatten_leftover`, which flattens only inside the training
+    layer's corridor (for every new leaf alike), this finds the
+    background's own lines of the layer's polarity over the whole blade,
+    and leaves to each new leaf the choice of which to remove: those that
+    run beside a vein pasted from a donor (the same vein of the other
+    leaf, moved by the registration errors and warps of both), not the
+    tertiary network elsewhere.
+
+    Parameters
+    ----------
+    background : (H, W, 3) float ndarray
+        The exemplar's background (its last residual).
+    blade : (H, W) bool ndarray
+        The exemplar's blade.
+    layer_image, layer_mask : ndarray
+        The image in which the layer was induced and its induced mask: the
+        median ridge strength of the layer on its mask there is the
+        reference strength (unless ``ref_level`` is given).
+    sign : float
+        The layer's polarity (> 0 lighter than the leaf, < 0 darker).
+    width : float
+        The layer's typical width (px).
+    level : float
+        A line reaches this share of the reference strength (default 0.5,
+        as in :func:`flatten_leftover`) and the blade's 90th percentile.
+    min_length : float
+        Shortest piece, as a share of the leaf size (default 0.04).
+    ref_level : float, optional
+        Reference strength to use instead of the exemplar's own (an
+        exemplar whose layer was not induced has none).
+
+    Returns
+    -------
+    labels : (H, W) int32 ndarray
+        0 off the lines, ``1..n`` one label per piece.
+    filled : (H, W, 3) float32 ndarray
+        ``background`` with every piece (grown by 1 px) filled smoothly from
+        the blade around it, with the blade's grain (detail above a 1 px
+        Gaussian of blade pixels a few widths away).
+    ref_level : float
+        The reference strength used.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> bg = np.full((60, 60, 3), 0.5, np.float32); bg[10:50, 20:22] = 0.35
+    >>> layer = bg.copy(); layer[10:50, 40:43] = 0.3
+    >>> mask = np.zeros((60, 60), bool); mask[10:50, 40:43] = True
+    >>> lab, filled, ref = own_lines(bg, np.ones((60, 60), bool), layer, mask, -1.0, 3.0)
+    >>> int(lab.max()), bool(lab[30, 20] > 0), bool(abs(filled[30, 20, 0] - 0.5) < 0.02)
+    (1, True, True)
+    """
+    res = np.asarray(background, np.float32)[..., :3]
+    blade = np.asarray(blade, bool)
+    w = max(float(width), 1.0)
+    sigmas = sorted({1.0, max(1.0, 0.3 * w), max(1.0, 0.6 * w)})
+    if ref_level is None:
+        ref_level = layer_strength(layer_image, np.asarray(layer_mask, bool) & blade, sign, width)
+    lab = np.zeros(blade.shape, np.int32)
+    if not blade.any() or sign == 0 or not ref_level > 0:
+        return lab, res.copy(), float(ref_level)
+    ys, xs = np.nonzero(blade)
+    pad = 8 + int(np.ceil(2 * w))
+    y0, y1 = max(int(ys.min()) - pad, 0), min(int(ys.max()) + pad + 1, blade.shape[0])
+    x0, x1 = max(int(xs.min()) - pad, 0), min(int(xs.max()) + pad + 1, blade.shape[1])
+    box = (slice(y0, y1), slice(x0, x1))
+    lab[box] = _line_pieces(res[box], blade[box], sigmas, sign, level * ref_level, w, min_length)
+    filled = res.copy()
+    if lab.any():
+        from .prepared import _smooth_fill
+        hole = ndi.binary_dilation(lab[box] > 0, iterations=1) & blade[box]
+        sub = res[box]
+        out = np.where(hole[..., None], _smooth_fill(sub, blade[box] & ~hole), sub).astype(np.float32)
+        g = _grain(sub, blade[box] & ~hole, hole, int(np.ceil(2 * w)) + 2)
+        out = np.where(hole[..., None], out - (out - cv2.GaussianBlur(out, (0, 0), 1.0)) + g, out)
+        filled[box] = np.clip(out, 0.0, 1.0)
+        lab[box] = np.where(hole, ndi.grey_dilation(lab[box], size=3), lab[box])
+    return lab, filled, float(ref_level)
+
+
+def layer_strength(layer_image, layer_mask, sign: float, width: float) -> float:
+    """Median ridge strength (:func:`ridge_strength` at a layer's scales) of a layer on its own mask.
+
+    Parameters
+    ----------
+    layer_image : (H, W, 3) float ndarray
+        The image in which the layer was induced.
+    layer_mask : (H, W) bool ndarray
+        Its induced mask (0.0 is returned when empty).
+    sign, width : float
+        The layer's polarity and typical width (px).
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.full((40, 40, 3), 0.5, np.float32); img[5:35, 19:22] = 0.3
+    >>> m = np.zeros((40, 40), bool); m[5:35, 19:22] = True
+    >>> bool(layer_strength(img, m, -1.0, 3.0) > 0), layer_strength(img, m, 1.0, 3.0)
+    (True, 0.0)
+    """
+    mask = np.asarray(layer_mask, bool)
+    if not mask.any():
+        return 0.0
+    w = max(float(width), 1.0)
+    sigmas = sorted({1.0, max(1.0, 0.3 * w), max(1.0, 0.6 * w)})
+    ref = ridge_strength(np.asarray(layer_image, np.float32)[..., :3].mean(-1), sigmas, sign)
+    return float(np.median(ref[mask]))
+
+
+def _doubled_angle(mask: np.ndarray, sigma: float) -> np.ndarray:
+    """Unit doubled-angle vectors (cos 2t, sin 2t) of the structure tensor of ``mask`` (t across its lines)."""
+    m = cv2.GaussianBlur(np.asarray(mask, np.float32), (0, 0), max(0.7, 0.5 * sigma))
+    gx = cv2.Sobel(m, cv2.CV_32F, 1, 0, ksize=3)
+    gy = cv2.Sobel(m, cv2.CV_32F, 0, 1, ksize=3)
+    jxx = cv2.GaussianBlur(gx * gx, (0, 0), sigma)
+    jyy = cv2.GaussianBlur(gy * gy, (0, 0), sigma)
+    jxy = cv2.GaussianBlur(gx * gy, (0, 0), sigma)
+    c, s = jxx - jyy, 2.0 * jxy
+    n = np.maximum(np.hypot(c, s), 1e-12)
+    return np.stack([c / n, s / n], -1)
+
+
+def parallel_lines(labels, footprint, reach: float, *, max_angle: float = 30.0, share: float = 0.5,
+                   width: float = 2.0) -> np.ndarray:
+    """Pixels of the line pieces ``labels`` that run beside ``footprint`` (within ``reach``, about parallel).
+
+    The second half of the one-vein-system step (see :func:`own_lines`):
+    ``labels`` are a background's own line pieces carried into a new leaf,
+    ``footprint`` where a donor's layer of the same kind is pasted on it.
+    A pixel is beside the footprint when it lies within ``reach`` px of it
+    and the piece's direction there is within ``max_angle`` degrees of the
+    footprint's direction at its nearest pixel. A piece with at least
+    ``share`` of its pixels beside the footprint is taken whole (it is the
+    same vein, moved); of the others only the pixels beside it, grown by
+    ``width`` px along the piece.
+
+    Parameters
+    ----------
+    labels : (H, W) int ndarray
+        0 off the lines, one positive label per piece.
+    footprint : (H, W) bool ndarray
+        The pasted layer.
+    reach : float
+        Largest distance (px) between a line and the footprint.
+    max_angle : float
+        Largest angle (degrees) between their directions (default 30).
+    share : float
+        Share of a piece beside the footprint for it to go whole (default 0.5).
+    width : float
+        Growth (px) of the pixels taken from a piece that stays (default 2).
+
+    Returns
+    -------
+    (H, W) bool ndarray
+
+    Examples
+    --------
+    A line 6 px beside a pasted vein goes, one across it stays:
+
+    >>> import numpy as np
+    >>> lab = np.zeros((80, 80), np.int32); lab[10:70, 30:32] = 1; lab[50:52, 40:75] = 2
+    >>> foot = np.zeros((80, 80), bool); foot[10:70, 37:40] = True
+    >>> out = parallel_lines(lab, foot, 8.0)
+    >>> bool(out[40, 30]), bool(out[50, 60])
+    (True, False)
+    """
+    labels = np.asarray(labels)
+    foot = np.asarray(footprint, bool)
+    out = np.zeros(labels.shape, bool)
+    if not foot.any() or not (labels > 0).any():
+        return out
+    lines = labels > 0
+    ys, xs = np.nonzero(lines | foot)
+    pad = int(np.ceil(reach)) + 8
+    y0, y1 = max(int(ys.min()) - pad, 0), min(int(ys.max()) + pad + 1, labels.shape[0])
+    x0, x1 = max(int(xs.min()) - pad, 0), min(int(xs.max()) + pad + 1, labels.shape[1])
+    box = (slice(y0, y1), slice(x0, x1))
+    lab, f, ln = labels[box], foot[box], lines[box]
+    dist, (iy, ix) = ndi.distance_transform_edt(~f, return_indices=True)
+    sig = max(1.5, 0.5 * float(width) + 1.0)
+    o_line = _doubled_angle(ln, sig)
+    o_foot = _doubled_angle(f, sig)[iy, ix]
+    cos = (o_line * o_foot).sum(-1)
+    beside = ln & (dist <= reach) & (cos >= np.cos(np.radians(2.0 * max_angle)))
+    n = int(lab.max())
+    tot = np.bincount(lab.ravel(), minlength=n + 1)
+    hit = np.bincount(lab[beside].ravel(), minlength=n + 1)
+    whole = (hit >= share * np.maximum(tot, 1)) & (tot > 0)
+    whole[0] = False
+    grown = ndi.binary_dilation(beside, iterations=max(1, int(round(width)))) & ln
+    out[box] = whole[lab] | grown
+    return out

@@ -13,7 +13,10 @@ How a leaf is made
    a polar radius ``R(a)`` around a centre, ``a`` the angle from the tip
    direction. ``"lobed"`` (palmate, maple-like, 5 pointed lobes) and
    ``"trilobed"`` (3 lobes) are soft maxima of pointed lobe profiles;
-   ``"elliptic"`` is an ovate blade with an acuminate tip. Margins carry
+   ``"elliptic"`` is an ovate blade with an acuminate tip; ``"fan"`` a
+   ginkgo-like fan with a cleft and a wavy arc, whose veins fork
+   dichotomously with no network between them
+   (:mod:`branchnb.leaves.procedural_fan`). Margins carry
    small teeth: a regular sawtooth in the angle on the lobed kinds;
    serrate teeth (a long convex basal flank, a steep apical one, the tip
    pointing to the apex, about 2 % of the blade length deep) on the
@@ -88,6 +91,7 @@ from ..core.image import to_uint8
 from ..core.random import as_rng
 from ..core.render import coverage_polylines
 from ..core.validate import Int, Real, Seq, brief, check_int, checked, real_array
+from .procedural_fan import FAN, dichotomous_veins, fan_radius
 from .procedural_venation import _grow_venation, _smooth_line, _vein_polylines
 
 __all__ = ["ProceduralLeaf", "procedural_leaf", "leaf_family", "KINDS", "PALETTES"]
@@ -108,6 +112,8 @@ KINDS = {
                  # each ending at a tooth; (base, apex) angles to the midrib.
                  "secondaries": {"pairs": 8, "span": (0.1, 0.82), "angle": (58.0, 38.0),
                                  "curve": 12.0, "alternate": True, "extra_teeth": (1, 3)}},
+    # Ginkgo-like: a fan with a cleft and a wavy arc, dichotomous veins (branchnb.leaves.procedural_fan).
+    "fan": FAN,
 }
 
 #: Colours (RGB in [0, 1]) of blade, second blade tone (mottling), veins and spots.
@@ -179,6 +185,8 @@ def _wrap(a):
 def _canonical_radius(kind: dict, ac: np.ndarray, lobe_scale: np.ndarray, teeth_phase: float | None) -> np.ndarray:
     """``R(a_c)``: the outline radius at canonical angle ``a_c`` (radians from the tip)."""
     ac = np.asarray(ac, np.float64)
+    if "fan" in kind:
+        return fan_radius(kind, ac, lobe_scale, teeth_phase is not None)
     if kind["lobes"]:
         q = 8.0  # soft maximum: sinuses stay sharp-ish but smooth
         acc = np.full(ac.shape, kind["sinus"] ** q)
@@ -284,7 +292,7 @@ class _Shape:
         kind = KINDS[kind_name]
         self.kind = kind
         self.kind_name = kind_name
-        n_lobes = max(len(kind["lobes"]), 1)
+        n_lobes = 2 if "fan" in kind else max(len(kind["lobes"]), 1)  # a fan: its size and cleft
         v = variation
         self.lobe_scale = np.exp(rng.normal(0.0, 0.09 * v, n_lobes))
         eps = rng.normal(0.0, 0.05 * v, 3)
@@ -353,6 +361,8 @@ class _Shape:
     def primaries(self, rng, spacing: float):
         """Primary veins (leaf frame, final size): one per lobe axis, or the midrib."""
         lines = []
+        if "dichotomous" in self.kind:
+            return [ln for ln, lev in self._dichotomous(rng, spacing) if lev == 0]
         if self.kind["lobes"]:
             axes = [np.deg2rad(ang) for ang, _ in self.kind["lobes"]]
             for ac in axes:
@@ -379,6 +389,9 @@ class _Shape:
         points ``(a_c, rho)``, so they move with its angle warp and aspect
         like the margin they end at.
         """
+        if "dichotomous" in self.kind:
+            # Each fork of a dichotomous kind starts where its parent ends.
+            return [ln for ln, lev in self._dichotomous(rng, spacing) if lev > 0]
         if "secondaries" not in self.kind:
             return []
         lines = []
@@ -395,6 +408,19 @@ class _Shape:
             rho = np.hypot(d[:, 0], d[:, 1]) / _canonical_radius(self.kind, ac, np.ones(1), 0.0)
             lines.append(self.material(ac, rho))
         return lines
+
+    def _dichotomous(self, rng, spacing: float):
+        """The dichotomous veins of a fan kind (leaf frame), drawn once per leaf, as material points."""
+        if getattr(self, "_dich", None) is None:
+            centre = np.asarray(self.kind["centre"], np.float64)
+            out = []
+            for line, lev in dichotomous_veins(self.kind, rng, spacing):
+                d = line - centre
+                ac = np.arctan2(d[:, 0], -d[:, 1])
+                rho = np.minimum(np.hypot(d[:, 0], d[:, 1]) / _canonical_radius(self.kind, ac, np.ones(2), 0.0), 0.95)
+                out.append((self.material(ac, rho), lev))
+            self._dich = out
+        return self._dich
 
     def outline(self, n=720):
         ac = np.linspace(-np.pi, np.pi, n, endpoint=False)
@@ -482,8 +508,9 @@ def procedural_leaf(kind: str = "lobed", *, size: int = 512, palette: str = "gre
 
     Parameters
     ----------
-    kind : {"lobed", "trilobed", "elliptic"}
-        The family (see :data:`KINDS`).
+    kind : {"lobed", "trilobed", "elliptic", "fan"}
+        The family (see :data:`KINDS`; ``"fan"``: ginkgo-like, dichotomous
+        veins, :mod:`branchnb.leaves.procedural_fan`).
     size : int
         Canvas side in pixels (1000 gives a 1-megapixel leaf).
     palette : {"green", "autumn"}
@@ -626,7 +653,7 @@ def leaf_family(n: int, *, size: int = 512, kind: str = "lobed", palette: str = 
         Number of leaves, 1 to 10000.
     size : int
         Canvas side in pixels, 32 to 4096 (default 512).
-    kind : {"lobed", "trilobed", "elliptic"}
+    kind : {"lobed", "trilobed", "elliptic", "fan"}
         The family (see :data:`KINDS`); one kind for all leaves.
     palette : {"green", "autumn"}
         Colours (see :data:`PALETTES`).

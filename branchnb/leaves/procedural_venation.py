@@ -50,7 +50,10 @@ def _grow_venation(shape: _Shape, rng: np.random.Generator, *, step: float = 0.0
         sources = sources * ratio
         prev = s
         nodes, parent = _subdivide(nodes, parent, 2.5 * step)
-        # New sources by dart throwing inside the blade at this size.
+        # New sources by dart throwing inside the blade at this size (none
+        # on a kind without fine veins: its veins only stretch).
+        if not shape.kind.get("fine", True):
+            continue
         cand = rng.uniform(lo * s, hi * s, (400, 2))
         cand = cand[shape.inside_depth(cand / s) > 0.02]
         if len(cand):

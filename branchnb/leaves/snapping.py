@@ -26,10 +26,9 @@ spots) the carried-over layer is only a prior:
 3. **Template fit.** The training layer's skeleton is cut into branches
    at its junctions and its main branches (:func:`main_branches`) are
    carried into the exemplar three times: by the affine map nearest the
-   registration, by the blades' centroids and sizes alone (a
-   registration of outlines can turn the inside of a leaf by tens of
-   degrees: sample maple 02 -> 03) and, when :data:`REGISTRATION_START`
-   is set, by the registration itself. From each start the branches, as one
+   registration, by the blades' centroids and sizes alone (a registration
+   of outlines can turn a leaf's inside by tens of degrees: maple 02 -> 03)
+   and by the registration itself (by a margin, :data:`REGISTRATION_START`). From each start the branches, as one
    template, then each on its own, are turned, scaled and shifted onto the
    ridges that fit them best (:func:`~branchnb.leaves.snapping_fit.fit_branches`); the better start wins.
    A pose is scored half by ``E_e`` and half by the *oriented* ridge
@@ -81,8 +80,8 @@ spots) the carried-over layer is only a prior:
    staircases the path search climbed across neighbouring veins become
    parallel lines (``python -m branchnb.leaves._measure_grass``: real grass
    strips 01-05 at 400 px, training strip 01 / 02: mean along-strip run
-   0.13 / 0.23 -> 0.31 / 0.37 strip lengths, rungs 15 / 12 % -> 7 / 11 %
-   of the induced length). Branching venation (procedural families, the sample
+   0.13 / 0.23 -> 0.31 / 0.37 -> 0.46 / 0.45 strip lengths on the crest
+   (:func:`~branchnb.leaves.snapping_parallel.follow_lines`)). Branching venation (procedural families, the sample
    maples, sketched maples) is never parallel: unchanged.
 8. The kept paths, grown to each branch's width on the training leaf
    (area per skeleton pixel, so diagonal veins keep their width),
@@ -125,7 +124,8 @@ they run in the photograph, beyond where its hand trace stops (without 04
 as exemplar: mean 0.625 -> 0.629). Procedural blades have no holes
 (unchanged). A hole's rim (:data:`HOLE_RIM` px around it) takes no ridge
 evidence: the edge of a torn patch is no vein, and traces ran along it
-(maple 04 as training leaf, onto maple 07: IoU 0.37 -> 0.49).
+(maple 04 as training leaf, onto maple 07: IoU 0.37 -> 0.49); unless the
+rims cover over :data:`HOLE_SHARE` of the blade (maple 04's specks: texture).
 
 Measured with the hand tracings version 2 (maple 04's laterals extended to
 the lobe tips, ``_measure maples``), per training maple 01-07: 0.70 0.69
@@ -180,7 +180,7 @@ from .snapping_fit import (  # noqa: F401  (the fit's names, importable from her
 )
 from .snapping_mirror import adds_only, mirror_missing
 from .snapping_parallel import along_ridges, is_parallel_layer
-from .snapping_stray import SIDE_LEVEL, STRAY_LENGTH, STRAY_LEVEL, _side_ridges, _stray_ridges  # noqa: F401
+from .snapping_stray import SIDE_LEVEL, STRAY_LENGTH, STRAY_LEVEL, _hole_rim, _side_ridges, _stray_ridges  # noqa: F401
 from .snapping_trace import refine_carried, trace_branches  # noqa: F401
 from .snapping_width import GROW_CAP, GROW_LEVEL, _area_widths, _grow_to_width, vein_centre  # noqa: F401
 
@@ -670,7 +670,7 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
         hess = ridge_hessian(lab, b, direction, width) if oriented else None
         scale_e = np.sqrt(float(b.sum())) / max(size_t, 1.0)
         # A hole's rim (a torn or eaten patch) is an edge, not a vein.
-        rim = ndi.binary_dilation(ndi.binary_fill_holes(b) & ~b, iterations=HOLE_RIM) & b
+        rim = _hole_rim(b, HOLE_RIM, HOLE_SHARE)
         if rim.any():
             ev = np.where(rim, 0.0, ev).astype(np.float32)
             if hess is not None:
@@ -696,7 +696,7 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
                 # registration, the blades' centroids and sizes alone (a
                 # registration of outlines can turn the inside of a leaf by tens
                 # of degrees: maple 02 -> 03), and the registration itself (its
-                # non-rigid carry, only with REGISTRATION_START). The better fit
+                # non-rigid carry, unless REGISTRATION_START is 0). The better fit
                 # wins; the registration's own only by that margin.
                 best = None
                 starts = [[c - off for c in _affine_carry(registrations[e], blades[t], chains)],
@@ -772,16 +772,15 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
 
 
 #: The registration's own carry of the training layer as a third start of the template fit, taken
-#: when its fit scores at least this many times the better of the other two; 0 (default): off.
-#: Beyond the paper; tried, not on by default. Measured (``_measure maples``, 42 pairs) with 1.1: mean
-#: IoU 0.671 -> 0.686, pairs under 0.6: 10 -> 7 (maple 06 -> 01 0.53 -> 0.78, 06 -> 05 0.57 -> 0.70,
-#: 04 -> 05 0.54 -> 0.69; lost: 05 -> 04 0.65 -> 0.43, 01 -> 04 0.60 -> 0.56); 1.0 (plain best score):
-#: mean 0.671, least pair 0.35 -> 0.19 (04 -> 07); 1.15: mean 0.679, 9 pairs under 0.6. Procedural
-#: families (``_measure snapping``, 2 vein widths off) with 1.1: lobed 384 min 0.74 -> 0.77, trilobed
-#: 384 min / mean 0.77 / 0.84 -> 0.79 / 0.85, the rest unchanged. Off because the new leaves of a
-#: lobed family (``tests/test_leaves_synthesis.py``, true registrations) then leave the exemplars'
-#: colour range more (one leaf 0.97595 -> 0.97484 inside, needed 0.97547; 1.15 the same).
-REGISTRATION_START = 0.0
+#: when its fit scores at least this many times the better of the other two; 0: off. Beyond the
+#: paper. Measured 0 -> 1.1: ``_measure maples`` (42 pairs) mean IoU 0.671 -> 0.686, pairs under 0.6
+#: 10 -> 7 (06 -> 01 0.53 -> 0.78, 06 -> 05 0.57 -> 0.70, 04 -> 05 0.54 -> 0.69; lost: 05 -> 04
+#: 0.65 -> 0.43, 01 -> 04 0.60 -> 0.56; 1.0: least pair 0.19, 1.15: 9 under 0.6); ``_measure
+#: snapping``: lobed 384 min 0.74 -> 0.77, trilobed 384 min / mean 0.77 / 0.84 -> 0.79 / 0.85, the
+#: rest unchanged. (Off before: a new lobed leaf of ``tests/test_leaves_synthesis.py`` fell 0.0001
+#: under its colour floor; the pixels it lost were pale veins capped at the range's bound, counted
+#: out by one float32 step: :func:`~branchnb.leaves.comparison.colour_range_fraction`.)
+REGISTRATION_START = 1.1
 
 #: Shortest parallel vein kept on an exemplar (:func:`~branchnb.leaves.snapping_parallel.along_ridges`),
 #: as a fraction of the leaf size.
@@ -792,6 +791,11 @@ PARALLEL_SCALE = 0.06
 
 #: Pixels around a hole in the blade with no ridge evidence (0: off).
 HOLE_RIM = 2
+
+#: Largest share of the blade the holes' rims may cover for them to take no evidence; past it the
+#: holes are texture, not damage (:func:`~branchnb.leaves.snapping_stray._hole_rim`).
+HOLE_SHARE = 0.1
+
 
 #: Least margin (px) around the blade's box the snapping works in.
 BOX_PAD = 16

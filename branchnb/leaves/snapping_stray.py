@@ -120,3 +120,26 @@ def _stray_ridges(evidence, blade, found, level: float, min_length: float) -> np
     keep[0] = False
     return keep[lab] & ~found
 
+
+
+def _hole_rim(blade, rim: int, share: float) -> np.ndarray:
+    """The pixels within ``rim`` px of a hole in ``blade``, or none when the holes are texture.
+
+    A torn patch's edge is no vein (maple 07), but a speckled blade whose
+    pale specks the segmentation left out (maple 04: 334 holes of 1-23 px)
+    is no damaged one: their rims covered a quarter of the blade and took
+    the ridge evidence from the veins running past the specks. Holes whose
+    rims cover more than ``share`` of the blade
+    (:data:`~branchnb.leaves.snapping.HOLE_SHARE`) are taken as texture.
+    Measured (``_measure maples``, maple 04 as exemplar, the six other
+    maples as training leaf): vein IoU 0.56 0.65 0.56 0.43 0.65 0.66 ->
+    0.58 0.56 0.66 0.49 0.72 0.70 (mean 0.585 -> 0.618; training 02 loses);
+    the other maples' holes cover 0-4 % and keep their rims.
+    """
+    b = np.asarray(blade, bool)
+    if rim <= 0:
+        return np.zeros_like(b)
+    out = ndi.binary_dilation(ndi.binary_fill_holes(b) & ~b, iterations=int(rim)) & b
+    if out.sum() > share * max(int(b.sum()), 1):
+        return np.zeros_like(b)
+    return out

@@ -32,6 +32,15 @@ A new leaf is built in the training leaf's frame, then given a new shape:
    (:func:`branchnb.leaves.prepared._completed`): against the analysis'
    residual, which keeps what the induced mask missed, a drawn oak's wide
    veins traced on their two rims were pasted hollow.
+   One vein system (going beyond the paper, ``one_system``): before the
+   most structural layer goes on, the background's own lines of that
+   layer running beside the donor's pasted footprint (within ``eps`` plus
+   the registration error, within 30 degrees of its direction) are
+   replaced by the background with them filled from the blade's own
+   texture (:func:`branchnb.leaves.leftover.own_lines`,
+   :func:`branchnb.leaves.leftover.parallel_lines`): a vein the induction
+   missed stays in the residual, and the donor's, moved by both
+   registrations' errors, came out beside it.
 3. **Shape**: a convex per-pixel blend of the inverse registration warps,
    ``W^-1(x) = sum_i a_i(x) W_i^-1(x)``, each seen in the training leaf's
    pose (its start map's rotation taken out), the blend then turned to the
@@ -249,6 +258,19 @@ class SynthesisParams:
         dashes at its tip) gave new leaves no veins at all (vein continuity
         0.30-0.60 for 7 of 32 new grass leaves, two batches of 16; after:
         none below 0.81).
+    one_system : float
+        One vein system per new leaf (default 1.0; 0: off; not in the
+        paper). The background's own lines of the most structural layer
+        that run beside the donor's pasted layer, within this many times
+        (median ``eps`` + median registration error) plus the layer's
+        width and within 30 degrees of its direction, are taken out and
+        filled from the blade's own texture
+        (:func:`branchnb.leaves.leftover.own_lines`,
+        :func:`branchnb.leaves.leftover.parallel_lines`): a vein the
+        induction missed in the background stays in its residual, and the
+        donor's corresponding vein, moved by the errors of both
+        registrations and the warps, was pasted up to ~10 px beside it
+        (maples: doubled veins, beyond ``eps``).
     layer_colour : {"contrast", "copy"}
         A layer brings its ratio to its own residual leaf (``"contrast"``,
         default; not in the paper) or pastes its colours (``"copy"``, the paper).
@@ -277,6 +299,8 @@ class SynthesisParams:
                                     help="layer donors of about the new leaf's size (log-size sigma; 0: any)")
     donor_complete: float = param(0.75, min=0.0, max=1.0, step=0.05,
                                   help="layer donors need this share of the median completeness (0: any)")
+    one_system: float = param(1.0, min=0.0, max=5.0, step=0.1,
+                              help="remove the background's own veins beside pasted ones (reach; 0: off)")
     layer_colour: str = param("contrast", options=("contrast", "copy"),
                               help="a layer brings its contrast to its own leaf (contrast) or its colours (copy)")
 
@@ -516,6 +540,16 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
         warps[L.name] = amp
         c = p.source_coords(e, m, random_warp(shape, amp, corr, rng))
         a_k = np.clip(_sample(p.layer_masks[k][e], c)[..., 0], 0, 1)
+        if p.leftover is not None and k == p.leftover[0] and params.one_system > 0:
+            # One vein system: the background's own lines of this layer that
+            # run beside the donor's pasted one (the same vein of the other
+            # leaf, moved by both registrations' errors and the warps) are
+            # taken out, filled from the blade's own texture.
+            gone = p.beside_lines(bg, c_bg, a_k > 0.5, alpha > 0.5,
+                                  params.one_system * (eps_px + p.registration_error) + p.leftover[2])
+            if gone is not None:
+                rgb[gone] = _sample_grain_at(p.own_lines(bg)[1], c_bg, gone)[gone]
+                rgb_low = None
         on = a_k > 0  # the layer's colours are needed under its footprint only
         col = _sample_grain_at(p.stage[k][e][..., :3], c, on)
         if params.layer_colour == "contrast":

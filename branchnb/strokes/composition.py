@@ -36,7 +36,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage as ndi
 
-from ..core.graphcut import _pair_costs, seam_cost, seam_cut
+from ..core.graphcut import _pair_costs, _seam_cost, _seam_cut, seam_cost
 from ..core.validate import Array, Choice, Int, Real, Shape, checked
 
 __all__ = ["PlacedPatch", "Composition", "compose", "labelling_cost", "seam_mask"]
@@ -300,10 +300,10 @@ def compose(patches: list[PlacedPatch], shape, *, method: str = "graphcut",
             if method == "overlay":
                 take_b = only_b | (overlap & ~pin_a)
             else:
-                take_b = only_b | seam_cut(a, b, overlap, pin_a, pin_b, power=power,
-                                           gradient_weighted=gradient_weighted, costs=pc)
-            costs[i] = seam_cost(a, b, take_b, region=overlap, power=power,
-                                 gradient_weighted=gradient_weighted, costs=pc)
+                # (seam_cut's checks skipped: bool masks of the box's shape, the pins
+                # disjoint by construction and kept within the overlap here)
+                take_b = only_b | _seam_cut(*pc, overlap, pin_a & overlap, pin_b & overlap)
+            costs[i] = _seam_cost(*pc, take_b, overlap)
         image[box][take_b] = b[take_b]
         labels[box][take_b] = i
         weak[box][take_b] = keep[take_b]

@@ -149,7 +149,11 @@ def find_parts(alpha: np.ndarray, inked: np.ndarray, claimed: np.ndarray, cores:
         # than any other (within _OWN px): a trunk's tube measured across a branch leaving
         # at a narrow angle covers the branch's root, and a sub-branch there was anchored to
         # the trunk too (a coral's branch turned: its sub-branch stayed behind with the trunk)
-        near = d_maps[0][sub] if len(d_maps) == 1 else np.minimum.reduce([d[sub] for d in d_maps])
+        # (nearest among the tubes that hold the ring pixel: a finger's root on the palm's
+        # cap, beyond the palm stroke's end, lies nearer the next finger's stroke than the
+        # palm's, yet only the palm's tube holds it; it was a loose part carried by the
+        # next finger)
+        near = np.minimum.reduce([np.where(core[sub], d[sub], np.inf) for core, d in zip(cores, d_maps)])
         touching = [ring & core[sub] & (d[sub] <= near + _OWN) for core, d in zip(cores, d_maps)]
         contacts = [int(t.sum()) for t in touching]
         k = int(np.argmax(contacts))

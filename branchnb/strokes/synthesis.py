@@ -18,7 +18,7 @@ from .crotches import _child_width, new_crotches, round_crotches
 from .edit import FETCH_FIELDS, EditPatches, StrokeEditParams, StrokeEditResult, StrokeSamples, _check_edit_params
 from .joints import close_hairlines, hold_joint_bodies, joint_disks, joint_roots
 from .junctions import far_side
-from .outline import _POCKET, clear_stale_outline, close_cuts, drop_flecks, fill_joints, source_depth
+from .outline import _POCKET, clear_stale_outline, close_cuts, drop_flecks, fill_joints, fill_pinholes, source_depth
 from .parts import place_part, rigid_frame
 from .sampling import choose, pair_energies
 
@@ -120,6 +120,12 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
             p, n = pair.target.point_at(s_t), pair.target.normal_at(s_t, window=window)
             yy, xx = np.mgrid[0:valid.shape[0], 0:valid.shape[1]]
             keep = ((xx + origin[0] - p[0]) * n[0] + (yy + origin[1] - p[1]) * n[1]) * part.side < -0.5
+            # (over the parent only, near the attachment: a part reaching far round its parent
+            # -- a flower's head and petals on the stem's end -- crosses the line of the
+            # parent's centre line far beyond the parent, and a petal's tip there was cut
+            # straight where a new leaf's transparent patch margin lay)
+            reach = 2.0 * float(index.half_width(part.stroke, part.s)) + 2.0
+            keep &= np.hypot(xx + origin[0] - p[0], yy + origin[1] - p[1]) <= reach
         placed.append(PlacedPatch(pix, valid, origin, True, keep, inverse, grow=True))
         source_region[part.box] |= part.mask
         if part.contact:
@@ -196,6 +202,7 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
                 late |= inked
             layer = clear_stale_outline(layer, depth, style,
                                         filled=late if filled is None else late | filled)
+        layer = fill_pinholes(layer, 1.0 if style is None else style.width)
         layer = drop_flecks(layer, index.premult[:, :, 3])
         layer = drop_flecks(layer, index.premult[:, :, 3], level=0.5)
         alpha = layer[:, :, 3]
