@@ -116,3 +116,22 @@ def test_compose_piece_matches_reference_take():
     assert np.array_equal(comp.take, take)
     assert 0 < (take & overlap).sum() < overlap.sum()
     assert np.array_equal(canvas[4:34, 8:38][take], piece[take])
+
+
+def test_structure_resampled_equals_per_branch_resample_uniform():
+    from branchnb.branching._image_examples import random_tree
+    from branchnb.core.polyline import resample_uniform
+    from branchnb.core.structure import Branch, Structure
+
+    trees = [random_tree((200, 200), k, n_children=3) for k in range(3)]
+    trees.append(Structure([Branch([(0, 0), (0, 0)], 1.0), Branch([(1, 1)], 1.0), Branch([(0, 0), (9, 0)], [1, 3])]))
+    for st in trees:
+        for h in (0.7, 2.5):
+            ref = st.with_polylines([
+                (b.points.copy(), b.thickness.copy()) if len(b.points) < 2 or b.length <= 0
+                else resample_uniform(b.points, h, values=b.thickness, include_end=True) for b in st.branches])
+            for x, y in zip(ref.branches, st.resampled(h).branches):
+                assert np.array_equal(x.points, y.points) and np.array_equal(x.thickness, y.thickness)
+                assert (x.parent, x.parent_vertex) == (y.parent, y.parent_vertex)
+    with pytest.raises(ValueError, match="h must be"):
+        trees[0].resampled(0.0)
