@@ -13,7 +13,7 @@ from dataclasses import dataclass, field, fields
 import numpy as np
 
 from .image import as_points
-from .polyline import _arc_length, _resample_uniform, polyline_length, turning_angles
+from .polyline import _arc_length, _resample_uniform, turning_angles
 from .structure_io import GENERATION_COLORS, STRUCTURE_JSON_VERSION, _StructureOutput
 from .validate import COORD_LIMIT, check_finite, check_int, check_real, check_shape, real_array
 
@@ -80,7 +80,8 @@ class Branch:
     @property
     def length(self) -> float:
         """Arc length (pixels)."""
-        return polyline_length(self.points) if len(self.points) > 1 else 0.0
+        # the points are checked at construction: polyline_length's value without its checks
+        return float(_arc_length(np.asarray(self.points, np.float64))[-1]) if len(self.points) > 1 else 0.0
 
     def angles(self) -> np.ndarray:
         """Turning angles alpha at the interior vertices (N - 2 values, radians).
