@@ -66,9 +66,9 @@ def cases():
 def main(args: list[str]) -> None:
     import cv2
 
+    from . import example_domain
     from .extraction import extract_structure
     from .image_synthesis import ImageSynthesisParams, synthesize_image
-    from . import example_domain
     from .model import fit_model
     from .skeleton_map import SkeletonMap
     from .synthesis import synthesize_structure
