@@ -501,6 +501,13 @@ RECALL_GAIN = 0.2
 #: christmas_tree_root_flare at 512 px fell back to superpixels with 3.5-4.2 % sky (baubles
 #: moved off their holes, white discs from the side) for 0.939 / 0.940 against 0.959 / 0.948.
 RECALL_SLACK = 0.03
+#: Sky a card cloud may show beyond the superpixel cloud's where it keeps at least
+#: :data:`RECALL_GAIN` more of the inner outlines at some check yaw (in place of
+#: :data:`SKY_TOLERANCE`): the drawn fruit tree with a leaf pile (``drawn_trees(rng=0)``,
+#: fruit_pile_0) at 512 px fell back, for 1.6 % sky against 0 %, to a superpixel cloud that keeps
+#: 0.786 / 0.602 of its inner outlines at 45 / 90 degrees (smeared blobs; cards 0.948 / 0.950).
+#: Below the 2 % of cards moved apart (:data:`SKY_TOLERANCE`).
+SKY_TRADE = 0.02
 
 
 def _good(a: dict) -> bool:
@@ -528,7 +535,8 @@ def cards_hold(cards, plain, *, min_psnr: float = 30.0) -> bool:
     it holds when each figure is no worse than the superpixel cloud's:
     recall no lower, up to :data:`SKY_TOLERANCE` more sky, rim ink no
     lower or at least :data:`GOOD_RIM` (less :data:`RIM_TRADE` where the cards keep
-    :data:`RECALL_GAIN` more of the inner outlines at some check yaw; beyond the
+    :data:`RECALL_GAIN` more of the inner outlines at some check yaw, which also
+    buys up to :data:`SKY_TRADE` more sky in place of :data:`SKY_TOLERANCE`; beyond the
     earlier rule, for flat-fill sprites, :func:`flat_fill_cards`). Where the
     superpixel cloud shows at least :data:`SKY_TOLERANCE` more sky inside its
     side views, the cards may also keep :data:`RECALL_SLACK` less recall and
@@ -572,6 +580,7 @@ def cards_hold(cards, plain, *, min_psnr: float = 30.0) -> bool:
     sky = max(a[f"closed{y:g}"] - b[f"closed{y:g}"] for y in CHECK_YAWS) >= SKY_TOLERANCE
     trade = RIM_TRADE if gain >= RECALL_GAIN or sky else 0.0
     slack = RECALL_SLACK if sky else 1e-9
+    sky_tol = SKY_TRADE if gain >= RECALL_GAIN else SKY_TOLERANCE
     for k in b:
         if k == "psnr" or k not in a:
             continue
@@ -580,7 +589,7 @@ def cards_hold(cards, plain, *, min_psnr: float = 30.0) -> bool:
         elif k.startswith("recall"):
             ok = a[k] >= b[k] - slack
         else:
-            ok = a[k] >= b[k] - (SKY_TOLERANCE if k.startswith("closed") else 1e-9)
+            ok = a[k] >= b[k] - (sky_tol if k.startswith("closed") else 1e-9)
         if not ok:
             return False
     return True
