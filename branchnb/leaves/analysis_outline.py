@@ -14,6 +14,7 @@ import numpy as np
 from scipy import ndimage as ndi
 
 from ..core.distance import edt as _edt
+from ..core.morphology import fill_holes
 
 
 def _contrast(lab, layer, blade):
@@ -127,7 +128,7 @@ def _closed_blade(blade):
     disk = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
     pad = np.pad(blade.astype(np.uint8), r + 1)
     closed = cv2.morphologyEx(pad, cv2.MORPH_CLOSE, disk)[r + 1:-r - 1, r + 1:-r - 1].astype(bool)
-    return ndi.binary_fill_holes(closed | blade)
+    return fill_holes(closed | blade)
 
 
 #: The user's layer covering at least this share of the training blade's

@@ -46,6 +46,7 @@ from skimage.filters import threshold_otsu
 
 from ..core.image import as_float_image, extend_nearest
 from ..core.io import encode_png
+from ..core.morphology import fill_holes
 from ..core.validate import Int, Real, Seq, checked
 
 __all__ = ["Exemplar", "leaf_exemplar", "blade_mask", "prepare_exemplars"]
@@ -170,7 +171,7 @@ def _drawn_interior(blade: np.ndarray) -> np.ndarray:
     disk = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
     pad = r + 1
     closed = cv2.morphologyEx(np.pad(blade, pad).astype(np.uint8), cv2.MORPH_CLOSE, disk)[pad:-pad, pad:-pad] > 0
-    silhouette = ndi.binary_fill_holes(closed)
+    silhouette = fill_holes(closed)
     inner = cv2.distanceTransform(np.pad(silhouette, 1).astype(np.uint8), cv2.DIST_L2, 5)[1:-1, 1:-1] > r
     if inner.sum() < 16 or (inner & ~blade).sum() < MIN_POROSITY * inner.sum():
         return np.zeros_like(blade)
@@ -266,7 +267,7 @@ def _cast_shadow(fg: np.ndarray, lab: np.ndarray, bg: np.ndarray) -> np.ndarray:
     n_fg = int(fg.sum())
     if not grey.any() or core.sum() < 0.5 * n_fg:
         return empty
-    inside = ndi.binary_fill_holes(core)
+    inside = fill_holes(core)
     cand = grey & ~inside
     if not cand.any():
         return empty
@@ -394,7 +395,7 @@ def blade_mask(image, *, max_hole: float = 0.01, min_part: float = 0.02, name: s
         raise ValueError(f"{name}: no leaf found")
     blade = np.isin(lab_cc, _leaf_parts(lab_cc, lab, min_part))
     blade |= _drawn_interior(blade)
-    holes = ndi.binary_fill_holes(blade) & ~blade
+    holes = fill_holes(blade) & ~blade
     if holes.any():
         hl, nh = ndi.label(holes)
         hs = np.bincount(hl.ravel())[1:]

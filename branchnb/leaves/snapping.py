@@ -160,6 +160,7 @@ import numpy as np
 from scipy import ndimage as ndi
 
 from ..core.image import as_mask
+from ..core.morphology import fill_holes
 from .snapping_carry import _affine_carry, _disk, _moment_carry, _nearest, _unbox, blade_box, carry_points  # noqa: F401
 from .snapping_evidence import contrast_direction, ridge_evidence
 from .snapping_fit import (  # noqa: F401  (the fit's names, importable from here as before)
@@ -398,7 +399,7 @@ def snap_layer(evidence, blade, chains, widths, tolerance: float, *, min_evidenc
     out = np.zeros((h, w), bool)
     centred = np.zeros((h, w), bool)
     # Paths may cross a hole in the blade (a damaged leaf): the vein runs on past it.
-    whole = ndi.binary_fill_holes(blade)
+    whole = fill_holes(blade)
     tol = max(1.0, float(tolerance))
     r = int(np.ceil(tol)) + 1
     total = kept_len = 0.0

@@ -42,10 +42,10 @@ unchanged (0.70 0.69 0.69 0.61 0.65 . 0.70); procedural families
 from __future__ import annotations
 
 import numpy as np
-from scipy import ndimage as ndi
 
 from ..core.distance import edt as _edt
 from ..core.image import as_mask
+from ..core.morphology import fill_holes
 from .snapping_fit import _densify, _pivot_ends
 
 __all__ = ["adds_only", "mirror_missing"]
@@ -224,7 +224,7 @@ def mirror_missing(chains, widths, blade, *, match: float = 0.1, min_inside: flo
     tol = float(match) * size
     pe = _pivot_ends(cs)
     lengths = np.array([_densify(c)[1] if len(c) > 1 else 0.0 for c in cs])
-    whole = ndi.binary_fill_holes(b)
+    whole = fill_holes(b)
     h, w = b.shape
     ys, xs = np.nonzero(whole[::2, ::2])
     pts = np.column_stack([xs, ys]).astype(np.float64) * 2

@@ -6,6 +6,8 @@ from __future__ import annotations
 import numpy as np
 from scipy import ndimage as ndi
 
+from ..core.morphology import fill_holes
+
 #: Ridge evidence (line-averaged, :func:`~branchnb.leaves.snapping_evidence.ridge_evidence`) of a stray vein
 #: (:func:`~branchnb.leaves.snapping_stray._stray_ridges`); 0: off.
 STRAY_LEVEL = 0.5
@@ -139,7 +141,7 @@ def _hole_rim(blade, rim: int, share: float) -> np.ndarray:
     b = np.asarray(blade, bool)
     if rim <= 0:
         return np.zeros_like(b)
-    out = ndi.binary_dilation(ndi.binary_fill_holes(b) & ~b, iterations=int(rim)) & b
+    out = ndi.binary_dilation(fill_holes(b) & ~b, iterations=int(rim)) & b
     if out.sum() > share * max(int(b.sum()), 1):
         return np.zeros_like(b)
     return out

@@ -7,6 +7,7 @@ import numpy as np
 from scipy import ndimage as ndi
 
 from ..core.image import as_mask
+from ..core.morphology import fill_holes
 from .snapping_fit import _densify, _pivot_ends, _stamp
 
 
@@ -192,7 +193,7 @@ def trace_branches(chains, maps, blade, *, max_angle: float = 30.0, step_deg: fl
     out = list(cs)
     placed = np.zeros((h, w), bool)
     inner = ndi.binary_erosion(blade)
-    whole = ndi.binary_fill_holes(blade)
+    whole = fill_holes(blade)
     da = np.radians(step_deg)
     offs = np.arange(-max_angle, max_angle + 1e-9, step_deg)
     for i in np.argsort(lengths)[::-1]:

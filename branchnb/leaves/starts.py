@@ -14,11 +14,11 @@ import threading
 
 import cv2
 import numpy as np
-from scipy.ndimage import binary_fill_holes as ndi_fill_holes
 from scipy.ndimage import label as ndi_label
 from scipy.spatial import cKDTree
 
 from ..core.image import as_mask
+from ..core.morphology import fill_holes as ndi_fill_holes
 from ..core.validate import Choice, Int, Real, checked
 
 __all__ = ["start_candidates", "start_alignment", "split_petiole"]
