@@ -288,6 +288,13 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
 
 
 
+def _region_colours(image, share: float = 0.01) -> int:
+    """How many colours (quantised to 1/20) each cover more than ``share`` of ``image``."""
+    q = np.round(as_rgb(image)[::2, ::2] * 20).astype(np.int16).reshape(-1, 3)
+    _, counts = np.unique(q, axis=0, return_counts=True)
+    return int((counts > share * len(q)).sum())
+
+
 def _extract_binary(gray, p: ExtractionParams, mask, return_maps: bool, root_point=None, flat_regions: bool = True,
                     colour=None):
     """``extract_structure`` for a binary mask: medial axis + distance-transform radius (``colour``: the
@@ -302,9 +309,10 @@ def _extract_binary(gray, p: ExtractionParams, mask, return_maps: bool, root_poi
     work = rescale(gray, p.scale, order=0, anti_aliasing=False) if p.scale < 1 else gray
     pol = p.polarity
     channels, region, skel, radius = binary_channels(work, pol, flat_regions=flat_regions)
-    if colour is not None and np.ndim(colour) == 3:
+    if colour is not None and np.ndim(colour) == 3 and _region_colours(colour) >= 3:
         # black lines on a map of two near-equal greys (a crop with no sea) read as binary: a drawn border
-        # between two regions of different colours is still no branch
+        # between two regions of different colours is still no branch. A true two-colour mask (a delta's
+        # water and land) has no such regions: its channels beside the sea would be taken for borders.
         rgb = as_rgb(colour)
         if rgb.shape[:2] != skel.shape:
             rgb = rescale(rgb, p.scale, anti_aliasing=True, channel_axis=-1)

@@ -732,11 +732,14 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         # ... and no more than the example's either (lines bent exactly onto the target's centre
         # lines stand out more than an extracted example's, whose centre lines are a fraction of a
         # pixel off): the median centre-line contrast is brought back into 0.85-1.18x the example's
-        from .line_contrast import centre_ring_contrast, match_line_contrast
+        # (lines of the example's colour that stand out only because their ground is darker or
+        # lighter than the example's, e.g. a relit bolt, are not faded)
+        from .line_contrast import centre_ring_colours, centre_ring_contrast, match_line_contrast
 
         if "centre_contrast" not in cached:
             cached["centre_contrast"] = centre_ring_contrast(ex, pm_s)
-        canvas, _ = match_line_contrast(canvas, pm_t, cached["centre_contrast"])
+            cached["centre_colours"] = centre_ring_colours(ex, pm_s)
+        canvas, _ = match_line_contrast(canvas, pm_t, cached["centre_contrast"], colours=cached["centre_colours"])
     fragment_mask = frag_index >= 0
     # Every stage keeps [0, 1]; this guards the contract (finite, in range) for any input.
     np.clip(np.nan_to_num(canvas, nan=0.0), 0.0, 1.0, out=canvas)

@@ -36,7 +36,7 @@ import numpy as np
 from .skeleton_map import PixelMap
 
 __all__ = ["LineProfile", "line_profile", "local_ground", "restore_line_contrast", "centre_ring_contrast",
-           "match_line_contrast"]
+           "centre_ring_colours", "match_line_contrast"]
 
 #: Normalised distances ``u = d / r`` at which the profile is measured.
 _U = np.array([0.0, 0.25, 0.5, 0.75, 1.0, 1.25, 1.5])
@@ -325,8 +325,45 @@ def centre_ring_contrast(image, pm: PixelMap) -> float:
     return float(np.linalg.norm(np.median(rgb[line], 0) - np.median(rgb[ring], 0)))
 
 
+def centre_ring_colours(image, pm: PixelMap) -> tuple[np.ndarray, np.ndarray] | None:
+    """Median colours of the centre-line pixels and of the ground beside the lines.
+
+    The two sets of :func:`centre_ring_contrast` (whose value is the distance
+    between these two colours).
+
+    Parameters
+    ----------
+    image : (H, W, C) array_like
+        Image, float in [0, 1] (the first 3 channels are used).
+    pm : PixelMap
+        The structure's pixel map on the image.
+
+    Returns
+    -------
+    (line, ground) : pair of (C,) ndarrays, or None
+        The median colours; None when either set is empty.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from branchnb.core.structure import Branch, Structure
+    >>> from branchnb.branching.skeleton_map import SkeletonMap
+    >>> img = np.full((30, 30, 3), 0.8, np.float32); img[14:16, 2:28] = 0.3
+    >>> pm = SkeletonMap(Structure([Branch([(2, 14.5), (27, 14.5)], 1.0)]), 1.0).pixel_map((30, 30))
+    >>> [c.round(2).tolist() for c in centre_ring_colours(img, pm)]
+    [[0.3, 0.3, 0.3], [0.8, 0.8, 0.8]]
+    """
+    img = np.asarray(image, np.float32)
+    rgb = img[..., None] if img.ndim == 2 else img[..., :3]
+    line, ring = _centre_ring(pm)
+    if not line.any() or not ring.any():
+        return None
+    return np.median(rgb[line], 0), np.median(rgb[ring], 0)
+
+
 def match_line_contrast(image, pm: PixelMap, reference: float, *, low: float = 0.85, high: float = 1.18,
-                        k_range: tuple[float, float] = (0.2, 3.0), valid=None) -> tuple[np.ndarray, float]:
+                        k_range: tuple[float, float] = (0.2, 3.0), valid=None,
+                        colours=None) -> tuple[np.ndarray, float]:
     """Scale the lines' difference to their local ground so they stand out as much as the example's.
 
     When the image's :func:`centre_ring_contrast` lies outside
@@ -351,6 +388,17 @@ def match_line_contrast(image, pm: PixelMap, reference: float, *, low: float = 0
         Bounds of the scale ``k``.
     valid : (H, W) bool array_like, optional
         Pixels that may change; None = all.
+    colours : (line, ground) pair of (C,) array_like, optional
+        The example's median centre-line and ground colours
+        (:func:`centre_ring_colours`). Beyond the paper: light lines on a
+        darker ground (lightning, glowing filaments: they read by their
+        core's brightness, not by their contrast) are never faded past the
+        example's centre colour (``k`` stays at or above the scale that
+        brings their median centre colour nearest to it). A bolt from a
+        bright cloud relit into a dark sky stands out more because its ground
+        changed; fading it to the example's contrast squashed its bright core
+        into its glow (a flat tube). Dark lines (vessels, cracks, ink) are
+        matched by contrast as before. None = no such floor.
 
     Returns
     -------
@@ -410,6 +458,14 @@ def match_line_contrast(image, pm: PixelMap, reference: float, *, low: float = 0
         return float(np.linalg.norm(np.median(np.clip(g_l + k * d_l, 0.0, 1.0), 0) - ring_med)) / reference
 
     lo, hi = (k_range[0], 1.0) if ratio > high else (1.0, k_range[1])
+    if colours is not None and ratio > high:
+        c_line = np.asarray(colours[0], np.float32).ravel()[:nc]
+        if float(c_line.mean()) > float(np.asarray(colours[1], np.float32).ravel()[:nc].mean()):
+            ks = np.geomspace(lo, 1.0, 24)
+            err = [float(np.linalg.norm(np.median(np.clip(g_l + k * d_l, 0.0, 1.0), 0) - c_line)) for k in ks]
+            lo = float(ks[int(np.argmin(err))])
+            if lo >= 1.0:
+                return img, 1.0
     if (contrast(lo) - 1.0) * (contrast(hi) - 1.0) > 0:
         # the band cannot be reached (e.g. lines as pale as their ground): the nearer bound
         k = lo if ratio > high else hi

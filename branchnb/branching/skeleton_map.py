@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage as ndi
 
-from ..core.polyline import arc_length
+from ..core.polyline import _arc_length
 from ..core.structure import Structure
 
 __all__ = ["SkeletonMap", "PixelMap"]
@@ -102,7 +102,8 @@ class SkeletonMap:
         pts, arcs, rads = [], [], []
         for b in self.structure.branches:
             pts.append(b.points)
-            arcs.append(arc_length(b.points) if len(b.points) > 1 else np.zeros(1))
+            # (the resampled structure's points are checked: arc_length's values without its checks)
+            arcs.append(_arc_length(np.asarray(b.points, np.float64)) if len(b.points) > 1 else np.zeros(1))
             rads.append(b.thickness)
         self.points = pts
         self.arcs = arcs

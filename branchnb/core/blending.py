@@ -27,6 +27,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import cv2
+import numba
 import numpy as np
 
 from .graphcut import _pair_costs, _seam_cost, _seam_cut
@@ -75,6 +76,47 @@ _CROSS = cv2.getStructuringElement(cv2.MORPH_CROSS, (3, 3))
 def _dilate(mask: np.ndarray) -> np.ndarray:
     """``scipy.ndimage.binary_dilation(mask)`` (4-neighbours, nothing from outside the window), with OpenCV."""
     return cv2.dilate(mask.view(np.uint8), _CROSS).view(bool)
+
+
+_NO_MASK = np.zeros((1, 1), bool)
+
+
+@numba.njit(cache=True)
+def _overlap_pins(cov, valid, prot_a, prot_b, has_a, has_b):
+    """``overlap``, ``only_b``, ``pin_a`` and ``pin_b`` of a window in one pass.
+
+    ``overlap = cov & valid``; ``only_b = valid & ~cov``; an overlap pixel is pinned to the canvas
+    (``pin_a``) on the window's border, next to (4-neighbours) or on a pixel only the canvas covers, or
+    where ``prot_a`` (if ``has_a``) protects it; else to the piece (``pin_b``) next to a pixel only
+    the piece covers or where ``prot_b`` (if ``has_b``) protects it. The values of the former
+    dilation-based numpy code.
+    """
+    h, w = cov.shape
+    overlap = np.zeros((h, w), np.bool_)
+    only_b = np.zeros((h, w), np.bool_)
+    pin_a = np.zeros((h, w), np.bool_)
+    pin_b = np.zeros((h, w), np.bool_)
+    for i in range(h):
+        for j in range(w):
+            overlap[i, j] = cov[i, j] and valid[i, j]
+            only_b[i, j] = valid[i, j] and not cov[i, j]
+    for i in range(h):
+        for j in range(w):
+            if not overlap[i, j]:
+                continue
+            # next to a pixel only the canvas covers (a covered, not valid neighbour), or on the border
+            near_a = i == 0 or j == 0 or i == h - 1 or j == w - 1
+            if not near_a:
+                near_a = ((cov[i - 1, j] and not valid[i - 1, j]) or (cov[i + 1, j] and not valid[i + 1, j])
+                          or (cov[i, j - 1] and not valid[i, j - 1]) or (cov[i, j + 1] and not valid[i, j + 1]))
+            pa = near_a or (has_a and prot_a[i, j])
+            pin_a[i, j] = pa
+            if pa:
+                continue
+            near_b = ((i > 0 and only_b[i - 1, j]) or (i < h - 1 and only_b[i + 1, j])
+                      or (j > 0 and only_b[i, j - 1]) or (j < w - 1 and only_b[i, j + 1]))
+            pin_b[i, j] = near_b or (has_b and prot_b[i, j])
+    return overlap, only_b, pin_a, pin_b
 
 
 def _clip_window(origin, size, shape):
@@ -163,20 +205,10 @@ def compose_piece(canvas: np.ndarray, covered: np.ndarray, piece: np.ndarray, va
     covA = covered[win]
     P = piece[sub].astype(np.float32)
     V = valid[sub]
-    overlap = covA & V
-    only_a = covA & ~V
-    only_b = V & ~covA
-    grown_a = _dilate(only_a)   # a new array: the window's border pixels join it in place
-    grown_a[0, :] = grown_a[-1, :] = grown_a[:, 0] = grown_a[:, -1] = True
-    near_a = grown_a & overlap
-    near_b = _dilate(only_b) & overlap & ~near_a
-    pin_a = near_a.copy()
-    if protect_canvas is not None:
-        pin_a |= protect_canvas[sub] & overlap
-    pin_b = near_b
-    if protect_piece is not None:
-        pin_b = pin_b | (protect_piece[sub] & overlap)
-    pin_b &= ~pin_a
+    overlap, only_b, pin_a, pin_b = _overlap_pins(
+        covA, V, protect_canvas[sub] if protect_canvas is not None else _NO_MASK,
+        protect_piece[sub] if protect_piece is not None else _NO_MASK,
+        protect_canvas is not None, protect_piece is not None)
     if not overlap.any():
         take = only_b.copy()
         cost = 0.0

@@ -138,6 +138,11 @@ def pair_costs(a, b, *, power: float = 1.0, gradient_weighted: bool = True,
 def _pair_costs(a: np.ndarray, b: np.ndarray, power: float = 1.0, gradient_weighted: bool = True,
                 eps: float = 1e-3) -> tuple[np.ndarray, np.ndarray]:
     """:func:`pair_costs` of two float32 ``(H, W, C)`` images already checked (the per-piece inner loop)."""
+    if (power == 1.0 and a.dtype == np.float32 and b.dtype == np.float32 and a.ndim == 3
+            and a.shape == b.shape and a.shape[0] >= 2 and a.shape[1] >= 2):
+        # the per-piece case (float32 pieces, power 1): one compiled pass, the same values
+        g = gradient_magnitude(a) + gradient_magnitude(b) if gradient_weighted else np.zeros(a.shape[:2])
+        return _pair_costs_f32(a, b, g, bool(gradient_weighted), float(eps))
     d = np.sqrt(((a - b) ** 2).sum(axis=2)) ** power
     right = d[:, :-1] + d[:, 1:]
     down = d[:-1, :] + d[1:, :]
@@ -146,6 +151,32 @@ def _pair_costs(a: np.ndarray, b: np.ndarray, power: float = 1.0, gradient_weigh
         right = right / (g[:, :-1] + g[:, 1:] + eps)
         down = down / (g[:-1, :] + g[1:, :] + eps)
     return right.astype(np.float64), down.astype(np.float64)
+
+
+@numba.njit(cache=True)
+def _pair_costs_f32(a, b, g, weighted, eps):
+    """``right, down`` of :func:`_pair_costs` for float32 images and ``power == 1``: the same float32
+    colour distances (channels summed in order) and float64 divisions as the vectorised code."""
+    h, w, C = a.shape
+    d = np.empty((h, w), np.float32)
+    for i in range(h):
+        for j in range(w):
+            acc = np.float32(0.0)
+            for c in range(C):
+                t = a[i, j, c] - b[i, j, c]
+                acc += t * t
+            d[i, j] = np.sqrt(acc)
+    right = np.empty((h, w - 1))
+    down = np.empty((h - 1, w))
+    for i in range(h):
+        for j in range(w - 1):
+            v = d[i, j] + d[i, j + 1]
+            right[i, j] = v / (g[i, j] + g[i, j + 1] + eps) if weighted else np.float64(v)
+    for i in range(h - 1):
+        for j in range(w):
+            v = d[i, j] + d[i + 1, j]
+            down[i, j] = v / (g[i, j] + g[i + 1, j] + eps) if weighted else np.float64(v)
+    return right, down
 
 
 def _costs(a, b, costs, power, gradient_weighted):
@@ -213,11 +244,16 @@ def _seam_cut(right: np.ndarray, down: np.ndarray, region: np.ndarray, pin_a: np
               pin_b: np.ndarray) -> np.ndarray:
     """:func:`seam_cut` on checked pair costs and bool masks (``pin_a``, ``pin_b`` disjoint, inside ``region``)."""
     shape = right.shape[0], down.shape[1]
-    take_b = np.zeros(shape, bool)
-    if not region.any():
+    # Pinned pixels keep their side whatever the cut, so only the free pixels and their neighbours
+    # make the graph: the same labelling (the pixels that can still reach the sink after the max
+    # flow) on a graph a fraction of the size, none at all when every pixel is pinned.
+    take_b = pin_b & region
+    free = region & ~pin_a & ~pin_b
+    if not free.any():
         return take_b
-    rows, cols = np.nonzero(region)
-    r0, r1, c0, c1 = rows.min(), rows.max() + 1, cols.min(), cols.max() + 1
+    rows, cols = np.nonzero(free)
+    r0, r1 = max(rows.min() - 1, 0), min(rows.max() + 2, shape[0])
+    c0, c1 = max(cols.min() - 1, 0), min(cols.max() + 2, shape[1])
     reg = region[r0:r1, c0:c1]
     rgt = right[r0:r1, c0:c1 - 1] if c1 - c0 > 1 else np.zeros((r1 - r0, 0))
     dwn = down[r0:r1 - 1, c0:c1] if r1 - r0 > 1 else np.zeros((0, c1 - c0))

@@ -138,9 +138,21 @@ def resample_uniform(points, h: float, *, values=None, include_end: bool = False
         raise ValueError(f"h must be a positive step, got {h}")
     v = _values(values, len(p))
     s = arc_length(p)
-    total = s[-1]
-    if total <= 0:
+    if s[-1] <= 0:
         raise ValueError("points has zero length: all vertices coincide")
+    return _resample_uniform(p, h, v, include_end, s)
+
+
+def _arc_length(p: np.ndarray) -> np.ndarray:
+    """:func:`arc_length` of checked (N, 2) float points (open polyline)."""
+    seg = np.hypot(*np.diff(p, axis=0).T)
+    return np.concatenate([[0.0], np.cumsum(seg)])
+
+
+def _resample_uniform(p: np.ndarray, h: float, v, include_end: bool, s: np.ndarray):
+    """:func:`resample_uniform` of checked points ``p``, values ``v`` (or None) and their arc length
+    ``s`` (> 0 at the end): the per-branch inner call of structure resampling."""
+    total = s[-1]
     if total / h > MAX_COUNT:
         raise ValueError(f"h = {h:g} would make {total / h:.3g} points along a polyline of length {total:.4g} "
                          f"(limit {MAX_COUNT})")

@@ -13,7 +13,7 @@ from dataclasses import dataclass, field, fields
 import numpy as np
 
 from .image import as_points
-from .polyline import polyline_length, resample_uniform, turning_angles
+from .polyline import _arc_length, _resample_uniform, turning_angles
 from .structure_io import GENERATION_COLORS, STRUCTURE_JSON_VERSION, _StructureOutput
 from .validate import COORD_LIMIT, check_finite, check_int, check_real, check_shape, real_array
 
@@ -80,7 +80,8 @@ class Branch:
     @property
     def length(self) -> float:
         """Arc length (pixels)."""
-        return polyline_length(self.points) if len(self.points) > 1 else 0.0
+        # the points are checked at construction: polyline_length's value without its checks
+        return float(_arc_length(np.asarray(self.points, np.float64))[-1]) if len(self.points) > 1 else 0.0
 
     def angles(self) -> np.ndarray:
         """Turning angles alpha at the interior vertices (N - 2 values, radians).
@@ -567,12 +568,18 @@ class Structure(_StructureOutput):
         """
         if not self.branches:
             raise ValueError("structure is empty")
+        if not (np.isfinite(h) and h > 0):
+            raise ValueError(f"h must be a positive step, got {h}")
         new = []
         for b in self.branches:
-            if len(b.points) < 2 or b.length <= 0:
+            # the branch's points and thickness are checked already: resample_uniform's steps without
+            # its argument checks (same values)
+            pts = np.asarray(b.points, np.float64)
+            s = _arc_length(pts) if len(pts) >= 2 else None
+            if s is None or s[-1] <= 0:
                 new.append((b.points.copy(), b.thickness.copy()))
                 continue
-            p, t = resample_uniform(b.points, h, values=b.thickness, include_end=True)
+            p, t = _resample_uniform(pts, float(h), np.asarray(b.thickness, np.float64), True, s)
             new.append((p, t))
         return self.with_polylines(new)
 

@@ -598,6 +598,8 @@ def main(argv=None):
     ap.add_argument("--seeds", type=int, default=None, help="number of seeds (0, 1, ...)")
     ap.add_argument("--sizes", default=None, help="comma-separated canvas sizes")
     ap.add_argument("--truth", action="store_true", help="induction through the true correspondences")
+    ap.add_argument("--start", type=int, default=None, choices=(0, 1, 2),
+                    help="maples: force the template fit's start (0 affine, 1 moments, 2 registration)")
     args = ap.parse_args(argv)
     kinds = tuple(args.kinds.split(","))
     if args.what == "snapping":
@@ -635,7 +637,12 @@ def main(argv=None):
                   f"{r['outline_precision']:.2f}, plain band taken {r['outline_taken']:.3f}")
         return
     if args.what == "maples":
-        rows = maple_rows(snap=not args.no_snap)
+        from . import snapping
+        snapping._ONLY_START = args.start
+        try:
+            rows = maple_rows(snap=not args.no_snap)
+        finally:
+            snapping._ONLY_START = None
         for name in dict.fromkeys(r["training"] for r in rows):
             v = [r["iou"] for r in rows if r["training"] == name]
             scores = " ".join(f"{x:.2f}" for x in v)

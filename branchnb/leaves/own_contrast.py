@@ -5,7 +5,7 @@ the same *role* on every leaf (a thin line standing out from the blade
 around it, where the warped training layer says it runs), but its colour is
 the leaf's own: pale on a photographed maple, red on a clip-art oak, black
 ink on a sketch. Projected on the training leaf's contrast direction
-(:func:`~branchnb.leaves.snapping.contrast_direction`), red veins on green
+(:func:`~branchnb.leaves.snapping_evidence.contrast_direction`), red veins on green
 answer nothing when the training veins are pale, and induction found none
 of them (``python -m branchnb.leaves._measure_colours``: IoU 0.00 on every
 pale -> red / dark pair).

@@ -72,7 +72,24 @@ def _layout(kind: dict):
 
 
 def fan_radius(kind: dict, ac: np.ndarray, lobe_scale: np.ndarray, waves: bool) -> np.ndarray:
-    """``R(a_c)`` of a fan kind (see the module docstring); ``lobe_scale``: (size, cleft depth) factors."""
+    """``R(a_c)`` of a fan kind (see the module docstring).
+
+    Parameters
+    ----------
+    kind : dict
+        The leaf kind (its ``"fan"`` entry, ``"teeth"``, ``"tooth_depth"``).
+    ac : array_like
+        Angles around the base, radians, 0 along the midline.
+    lobe_scale : (2,) ndarray
+        (size, cleft depth) factors of this leaf; empty for the kind's own.
+    waves : bool
+        Whether the arc gets its wavy teeth.
+
+    Returns
+    -------
+    ndarray
+        The blade's radius at each angle (canonical leaf frame).
+    """
     ac = np.asarray(ac, np.float64)
     grid, r0, a_arc = _layout(kind)
     f = kind["fan"]
@@ -89,9 +106,23 @@ def fan_radius(kind: dict, ac: np.ndarray, lobe_scale: np.ndarray, waves: bool) 
 
 
 def dichotomous_veins(kind: dict, rng: np.random.Generator, spacing: float):
-    """Vein polylines (canonical leaf frame), parents before children: ``[(line, level), ...]``.
+    """Vein polylines (canonical leaf frame), parents before children.
 
     The two first ones start at the base; every other starts where its parent ends.
+
+    Parameters
+    ----------
+    kind : dict
+        The leaf kind (its ``"fan"`` and ``"dichotomous"`` entries).
+    rng : numpy.random.Generator
+        Jitter of the forks and of the veins' angles.
+    spacing : float
+        Point spacing along each vein (canonical units).
+
+    Returns
+    -------
+    list of (ndarray, int)
+        ``[(line, level), ...]``: each vein's (n, 2) polyline and its forking level.
     """
     f, dic = kind["fan"], kind["dichotomous"]
     big_a, length = np.deg2rad(f["half_angle"]), f["length"]

@@ -33,7 +33,7 @@ def ridge_hessian(lab, blade, direction, width: float) -> np.ndarray:
     blade : (H, W) bool array_like
         Its blade; 0 outside (and two pixels inside) its outline.
     direction : (3,) ndarray
-        :func:`~branchnb.leaves.snapping.contrast_direction`.
+        :func:`~branchnb.leaves.snapping_evidence.contrast_direction`.
     width : float
         The layer's typical width in pixels.
 
@@ -227,7 +227,7 @@ def fit_branches(chains, evidence, blade, *, reach: float, max_angle: float = 25
     chains : list of (N, 2) array_like
         Carried-over branches ``(x, y)`` on the exemplar.
     evidence : (H, W) float ndarray
-        :func:`~branchnb.leaves.snapping.ridge_evidence` of the exemplar.
+        :func:`~branchnb.leaves.snapping_evidence.ridge_evidence` of the exemplar.
     blade : (H, W) bool array_like
         Its blade; evidence outside it is 0.
     reach : float

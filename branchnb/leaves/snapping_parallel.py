@@ -146,7 +146,7 @@ def vein_direction(evidence, blade, scale: float) -> np.ndarray:
     Parameters
     ----------
     evidence : (H, W) float ndarray
-        :func:`~branchnb.leaves.snapping.ridge_evidence`.
+        :func:`~branchnb.leaves.snapping_evidence.ridge_evidence`.
     blade : (H, W) bool ndarray
         The blade (the evidence is 0 outside it).
     scale : float
@@ -200,7 +200,7 @@ def along_ridges(mask, evidence, blade, width: float, *, level: float = ALONG_LE
     mask : (H, W) bool ndarray
         The snapped layer on the exemplar.
     evidence : (H, W) float ndarray
-        Its :func:`~branchnb.leaves.snapping.ridge_evidence`.
+        Its :func:`~branchnb.leaves.snapping_evidence.ridge_evidence`.
     blade : (H, W) bool ndarray
         The exemplar's blade.
     width : float

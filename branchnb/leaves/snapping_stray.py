@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import ndimage as ndi
 
-#: Ridge evidence (line-averaged, :func:`~branchnb.leaves.snapping.ridge_evidence`) of a stray vein
+#: Ridge evidence (line-averaged, :func:`~branchnb.leaves.snapping_evidence.ridge_evidence`) of a stray vein
 #: (:func:`~branchnb.leaves.snapping_stray._stray_ridges`); 0: off.
 STRAY_LEVEL = 0.5
 #: Shortest stray vein (skeleton length), as a fraction of the leaf size.

@@ -30,7 +30,7 @@ def refine_carried(chains, evidence, blade, *, reach: float, nodes: int = 5, ite
     chains : list of (N, 2) array_like
         Carried-over branches ``(x, y)`` on the exemplar.
     evidence : (H, W) float ndarray
-        :func:`~branchnb.leaves.snapping.ridge_evidence` of the exemplar.
+        :func:`~branchnb.leaves.snapping_evidence.ridge_evidence` of the exemplar.
     blade : (H, W) bool ndarray
         The exemplar's blade (not used by the field itself).
     reach : float

@@ -123,7 +123,7 @@ def vein_centre(lab, blade, direction, width: float) -> np.ndarray:
     blade : (H, W) bool array_like
         The blade.
     direction : (3,) array_like
-        :func:`~branchnb.leaves.snapping.contrast_direction` (as projected for the ridge evidence).
+        :func:`~branchnb.leaves.snapping_evidence.contrast_direction` (as projected for the ridge evidence).
     width : float
         The layer's typical width (px).
 

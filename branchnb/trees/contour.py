@@ -281,6 +281,27 @@ def _trunkness(trunk: np.ndarray, opaque: np.ndarray, points: np.ndarray, radius
     return t[yi, xi] / np.maximum(o[yi, xi], 1.0)
 
 
+def _with_trunk_rim(trunk: np.ndarray, opaque: np.ndarray, radius: int) -> np.ndarray:
+    """``trunk`` plus the opaque non-trunk pixels between it and the outside (a drawn outline).
+
+    A drawn trunk's outline is neither bark nor crown colour, so the
+    segmenter leaves it out of the trunk; a 2 px outline then fills half of
+    the opaque part of a window on the contour (``radius`` 4 px at 256 px),
+    the trunk share along the trunk's sides falls below one half and the
+    walk from ``B`` stops at once (``R`` next to ``B``). Pixels within
+    ``radius`` of both the trunk and the outside count as trunk; where
+    the crown meets the trunk that adds only a corner of that size.
+    """
+    t = trunk & opaque
+    if radius <= 1 or not t.any():
+        return t
+    k = 2 * radius + 1
+    kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (k, k))
+    near_trunk = cv2.dilate(t.astype(np.uint8), kernel) > 0
+    near_outside = cv2.dilate((~opaque).astype(np.uint8), kernel, borderValue=0) > 0
+    return t | (opaque & near_trunk & near_outside)
+
+
 def _close_gaps(flags: np.ndarray, max_gap: int) -> np.ndarray:
     """Fill runs of False up to ``max_gap`` long between True runs of a closed sequence.
 
@@ -361,7 +382,10 @@ def pin_points(contour, alpha, trunk_mask=None, *, radius: float = 0.015) -> Pin
     trunk foot) but a trunk point lies within 5 % of the height above it,
     the lowest trunk point is ``B``. If ``B`` is not on the trunk, or the walk from ``B`` never
     reaches the crown (a bare tree that is all trunk), no trunk is visible
-    and ``L = R = B``.
+    and ``L = R = B``. Beyond the paper: when a side's walk fails (it ends
+    at the foot, or is under a quarter of the other side), the trunk's
+    drawn outline, which a segmentation leaves out of the trunk, is counted
+    as trunk and the walk is redone.
 
     Examples
     --------
@@ -400,18 +424,54 @@ def pin_points(contour, alpha, trunk_mask=None, *, radius: float = 0.015) -> Pin
         ib = int(low[np.argsort(c[low, 0], kind="stable")[(len(low) - 1) // 2]])
         b = c[ib]
         none = PinPoints(b.copy(), b.copy(), b.copy(), ib, ib, ib, False)
-    is_trunk = _close_gaps(is_trunk, int(0.3 * (ymax - c[:, 1].min())))
+    height = ymax - c[:, 1].min()
+    max_gap = int(0.3 * height)
+    sides = _trunk_sides(_close_gaps(is_trunk, max_gap), ib)
+    if sides is not None and _failed_sides(c, ib, sides, height):
+        # A side stops at once or at the foot: a drawn outline may be taking the trunk's
+        # share (see _with_trunk_rim). Counting it as trunk is kept only where it helps.
+        rim = _trunkness(_with_trunk_rim(trunk, opaque, r_px), opaque, c, r_px) >= 0.5
+        retry = _trunk_sides(_close_gaps(rim | is_trunk, max_gap), ib)
+        if retry is not None and (_failed_sides(c, ib, retry, height)
+                                  < _failed_sides(c, ib, sides, height)):
+            sides = retry
+    if sides is None:
+        return none
+    jr, jl = sides
+    ir, il = (ib + jr) % k, (ib - jl) % k
+    return PinPoints(b.copy(), c[ir].copy(), c[il].copy(), ib, ir, il, True)
+
+
+#: A trunk side walked from ``B`` shorter than this share of the other is taken as a failed walk.
+_LOPSIDED = 0.25
+#: ... as is a side whose end rises less than this share of the tree's height above ``B``.
+_LOW_SIDE = 0.05
+
+
+def _failed_sides(c: np.ndarray, ib: int, sides: tuple[int, int], height: float) -> int:
+    """How many of the walked trunk sides look like a failed walk (0, 1 or 2)."""
+    jr, jl = sides
+    k = len(c)
+    low = [c[ib, 1] - c[(ib + jr) % k, 1] < _LOW_SIDE * height,
+           c[ib, 1] - c[(ib - jl) % k, 1] < _LOW_SIDE * height]
+    if min(jr, jl) < _LOPSIDED * max(jr, jl):
+        low[int(jl < jr)] = True
+    return int(sum(low))
+
+
+def _trunk_sides(is_trunk: np.ndarray, ib: int) -> tuple[int, int] | None:
+    """Steps from ``B`` to the first crown point on the right and on the left (None: no crown)."""
+    k = len(is_trunk)
     fwd = np.roll(is_trunk, -ib)            # fwd[j] = point ib + j (to the right)
     stop_r = np.flatnonzero(~fwd)
     if stop_r.size == 0:
-        return none
+        return None
     jr = int(stop_r[0])
     bwd = fwd[::-1]                          # bwd[j] = point ib - 1 - j
     jl = int(np.flatnonzero(~bwd)[0]) + 1    # steps backwards
     if jr + jl >= k - 2:
-        return none
-    ir, il = (ib + jr) % k, (ib - jl) % k
-    return PinPoints(b.copy(), c[ir].copy(), c[il].copy(), ib, ir, il, True)
+        return None
+    return jr, jl
 
 
 def _sample_closed(points: np.ndarray, s_new: np.ndarray) -> np.ndarray:
