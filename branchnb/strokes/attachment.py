@@ -196,8 +196,11 @@ def _steadiest_anchor(index, part, pairs, attached, keys, window: float) -> None
     A part touching two strokes that move apart (a starfish's arm between
     the kept arm and the turned one, both stroked from the centre; a leg at
     the hip where the tail turns) stays with the one that keeps it nearest
-    to where it was: an edit changes only what the user touched. Beyond the
-    paper.
+    to where it was: an edit changes only what the user touched. Only a
+    markedly steadier stroke (moving it at most :data:`_STEADIER` times as
+    far) wins over the one it touches most: a part every stroke moves far
+    (a petal under a flower's head, also touching the shortened stem's
+    side) stays with its main contact. Beyond the paper.
     """
     strokes = {j for j, _ in part.anchors if keys[j] != keys[part.stroke]}
     if not strokes:
