@@ -349,40 +349,6 @@ def _fit_cards(z, labels, cards, crown, hmap, axis: float, outline: float = 0.0)
 
 #: Cards are joined by their flat fill's median colour (:func:`_join_cards`), not their mean colour.
 _FILL_COLOUR = True
-#: Cards whose fills match where they meet (a gradient fill cut at a pinch of its outline, a star's
-#: tips) are joined too (:func:`_join_cards`). Off: on christmas_tree_root_flare at 512 px the star
-#: becomes one card (its tips no longer slide into its body from the side, 26 -> 22 billboards), but
-#: the drawing's own star rim is not ink (front-view rim ink share 0.796), so the 45 degree rim share
-#: reads 0.888 -> 0.880 (90: 0.979 -> 0.973); not yet measured on the other 37 trees.
-_LOCAL_COLOUR = False
-
-
-def _meet_alike(lab, rgb, flat, k: int, j: int, dk, reach: float, tol: float) -> bool:
-    """Whether cards ``k`` and ``j`` have the same fill colour where they meet (within ``reach + 1``).
-
-    A gradient fill (a star shaded from its centre) whose outline pinches
-    it into pieces (the star's tips) has pieces of different mean colours that match across the
-    pinch; each side's median over its flat pixels near the other must agree within ``tol``.
-    """
-    mj, mk = lab == j, lab == k
-    dj = ndi.distance_transform_edt(~mj)
-    if flat is not None:
-        mj, mk = mj & flat, mk & flat
-    if not (mk & (dj <= reach + 1)).any() or not (mj & (dk <= reach + 1)).any():
-        return False
-    # The pixels nearest the other card (its closest distance + 2 px): across a pinch a
-    # gradient goes on changing, so wider bands would differ by the gradient alone.
-    near_j = mk & (dj <= dj[mk].min() + 2)
-    near_k = mj & (dk <= dk[mj].min() + 2)
-    if near_j.sum() < 4 or near_k.sum() < 4:
-        return False
-    # Only gradient fills: one of the cards spans more than 2 tol in colour over its own pixels
-    # (flat tones of a drawing, a clump over its crown, keep the fill-colour rule); across the
-    # pinch (the outline's width) the gradient still changes, so the sides may differ by 2 tol.
-    span = max(float(np.ptp(np.percentile(rgb[m], (5, 95), axis=0), axis=0).max()) for m in (mj, mk))
-    if span <= 2 * tol:
-        return False
-    return bool(np.abs(np.median(rgb[near_j], axis=0) - np.median(rgb[near_k], axis=0)).max() <= 2 * tol)
 
 
 def _join_cards(z, labels, cards, rgb, reach: float, tol: float = 0.06, groups_out: list | None = None) -> np.ndarray:
@@ -394,6 +360,13 @@ def _join_cards(z, labels, cards, rgb, reach: float, tol: float = 0.06, groups_o
     pixels of each other form a group that takes its least depth (cards of
     different colours, a conifer's alternating tiers, keep theirs). The
     groups of more than one card are appended to ``groups_out`` (a list).
+
+    Pieces of one gradient fill (a star's tips cut off by its outline) differ
+    in median colour and stay apart. Joining cards whose colours match where
+    they meet was tried and dropped (issue 24, 512/200 px sweep): it joined a
+    light clump to a darker crown (fruit_0_s11 at 200 px: side-view recall
+    0.982 -> 0.945 at 90 degrees) and lowered the reduced level's 45 degree rim
+    ink of christmas_tree_root_flare at 512 px from 0.927 to 0.900.
     """
     ks = np.flatnonzero(cards)
     ks = ks[ks < len(z)]
@@ -404,7 +377,6 @@ def _join_cards(z, labels, cards, rgb, reach: float, tol: float = 0.06, groups_o
     idx = labels.ravel()
     cnt = np.maximum(np.bincount(idx, minlength=n), 1).astype(np.float64)
     mean = np.stack([np.bincount(idx, weights=rgb[..., c].ravel(), minlength=n) / cnt for c in range(3)], 1)
-    flat = None
     if _FILL_COLOUR:
         # A card's fill colour: the median over its flat pixels (3 x 3 colour span <= tol). The
         # mean took in its strokes, so a thin piece of a base fill cut off by a clump touching the
@@ -439,8 +411,7 @@ def _join_cards(z, labels, cards, rgb, reach: float, tol: float = 0.06, groups_o
             j = int(j)
             if j == k or j not in parent:
                 continue
-            if np.abs(mean[j] - mean[k]).max() <= tol or (_LOCAL_COLOUR and _meet_alike(
-                    lab, rgb[win], flat[win] if _FILL_COLOUR else None, k, j, dk, reach, tol)):
+            if np.abs(mean[j] - mean[k]).max() <= tol:
                 parent[find(j)] = find(int(k))
     groups = {}
     for k in ks:
