@@ -123,3 +123,65 @@ def test_a_new_leaf_near_the_head_does_not_cut_a_petal():
     miss = _missing(obj, res, range(10))
     assert max(miss.values()) == 0, miss
     assert _pieces(res.image) == 1
+
+
+def _moved_missing(obj, res, k, R, t):
+    """Part ``k``'s eroded pixels mapped by ``x -> R x + t`` the result leaves transparent."""
+    m = ndi.binary_erosion(obj.labels == k, iterations=int(np.ceil(obj.outline)) + 2)
+    yy, xx = np.nonzero(m)
+    q = np.c_[xx, yy] @ R.T + t
+    got = ndi.map_coordinates(res.image[..., 3], [q[:, 1], q[:, 0]], order=1)
+    return int((got < 0.5).sum())
+
+
+@pytest.mark.parametrize("size", [512, 700])
+def test_a_shortened_stem_carries_the_whole_head_and_every_petal(size):
+    """Stem shortened 0.5x, leaves and head carried: the head and the six petals land
+    where the head's rigid move puts them. The two lower petals touch the stem's side too
+    and followed it (it moved them a few % less): they slid 14 px into the head at 1000 px,
+    a bite out of the head by the stem; the side petals slid 7 px along the head with the
+    pin where the head leaves the new stem (83 / 144 px missing at 512 / 700)."""
+    obj = flower(size, rng=0)
+    st = obj.strokes[0]
+    short = _scaled(st, 0.5)
+    src, tgt = [st], [short]
+    for k in (1, 2, 3):
+        src.append(obj.strokes[k])
+        tgt.append(carry_stroke(obj.strokes[k], st, short))
+    res = edit_structure(obj.image, src, tgt)
+    a = np.arctan2(*(tgt[3][-1] - tgt[3][0])[::-1]) - np.arctan2(*(src[3][-1] - src[3][0])[::-1])
+    R = np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
+    t = tgt[3][0] - R @ src[3][0]
+    miss = {obj.names[k]: _moved_missing(obj, res, k, R, t) for k in range(3, 10)}
+    assert max(miss.values()) == 0, miss
+    # no petal colour inside the head's disk
+    m = ndi.binary_erosion(obj.labels == 3, iterations=int(np.ceil(obj.outline)) + 2)
+    yy, xx = np.nonzero(m)
+    q = np.rint(np.c_[xx, yy] @ R.T + t).astype(int)
+    rgb = res.image[q[:, 1], q[:, 0], :3]
+    assert ((rgb[:, 0] > 0.7) & (rgb[:, 1] > 0.55)).sum() == 0
+    assert _pieces(res.image) == 1
+
+
+@pytest.mark.parametrize("edit", ["long", "half"])
+def test_a_changed_finger_leaves_no_dark_blobs_in_the_palm(edit):
+    """Finger 2 lengthened 1.4x or finger 3 shortened 0.5x (512 px): no outline-dark
+    pixels more than the outline's width + 1.5 px inside the hand (the pockets filled
+    at the changed finger's crotches averaged the outline into 2-4 px dark brown blobs,
+    (0.28, 0.21, 0.15) against the ink's (0.12, 0.09, 0.06))."""
+    size = 512
+    obj = hand(size, rng=0)
+    palm, f = obj.strokes[1], obj.strokes[3 if edit == "long" else 4]
+    res = edit_structure(obj.image, [palm, f], [palm, _scaled(f, 1.4 if edit == "long" else 0.5)])
+    mask = res.image[..., 3] > 0.5
+    hand_up = np.arange(size)[:, None] < 0.62 * size  # palm and fingers (not the dark sleeve)
+    deep = (ndi.distance_transform_edt(mask) > 2 * obj.outline + 1.5) & hand_up
+    # dark: nearer the ink than half-way to the skin
+    ink, skin = np.array([0.12, 0.09, 0.06]), np.array([0.88, 0.66, 0.50])
+    d = np.linalg.norm(res.image[..., :3] - ink, axis=2)
+    dark = deep & (d < 0.5 * np.linalg.norm(skin - ink))
+    # (none in the source: its creases and palm lines are lighter)
+    src_deep = (ndi.distance_transform_edt(obj.image[..., 3] > 0.5) > 2 * obj.outline + 1.5) & hand_up
+    assert (src_deep & (np.linalg.norm(obj.image[..., :3] - ink, axis=2) < 0.5 * np.linalg.norm(skin - ink))).sum() == 0
+    assert dark.sum() <= 2, dark.sum()  # 66 / 30 before
+    assert _pieces(res.image) == 1

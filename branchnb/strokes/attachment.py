@@ -186,14 +186,21 @@ def _own_area(index, k: int) -> float:
     return float(st.length * 2.0 * np.median(index.edge_width(k, s)))
 
 
+#: A part leaves the stroke it touches most for a steadier one moving it at most this share as far.
+_STEADIER = 0.5
+
+
 def _steadiest_anchor(index, part, pairs, attached, keys, window: float) -> None:
     """Hang ``part`` from the stroke among those it touches that moves it least (in place).
 
     A part touching two strokes that move apart (a starfish's arm between
     the kept arm and the turned one, both stroked from the centre; a leg at
     the hip where the tail turns) stays with the one that keeps it nearest
-    to where it was: an edit changes only what the user touched. Beyond the
-    paper.
+    to where it was: an edit changes only what the user touched. Only a
+    markedly steadier stroke (moving it at most :data:`_STEADIER` times as
+    far) wins over the one it touches most: a part every stroke moves far
+    (a petal under a flower's head, also touching the shortened stem's
+    side) stays with its main contact. Beyond the paper.
     """
     strokes = {j for j, _ in part.anchors if keys[j] != keys[part.stroke]}
     if not strokes:
@@ -211,9 +218,14 @@ def _steadiest_anchor(index, part, pairs, attached, keys, window: float) -> None
 
     own = [s_a for j, s_a in part.anchors if keys[j] == keys[part.stroke]] or [part.s]
     best, best_d = None, min(moved(part.stroke, s_a) for s_a in own)
+    first_d = best_d
     for j in sorted(strokes):
         d = max(moved(j, s_a) for jj, s_a in part.anchors if jj == j)
-        if d < best_d - 2.0:
+        # markedly steadier only (at most half the move): a part that every stroke it
+        # touches moves far (a flower's petal under its head, touching the shortened
+        # stem's side too) follows the one it touches most, not the one moving it a few
+        # percent less (the petal slid into the head: a bite out of it by the stem)
+        if d < best_d - 2.0 and d <= max(2.0, _STEADIER * first_d):
             best, best_d = j, d
     if best is None:
         return
@@ -225,8 +237,30 @@ def _steadiest_anchor(index, part, pairs, attached, keys, window: float) -> None
 
 
 def _mapped(pair: StrokePair, s_source: float) -> float:
-    """Target arc length of source arc length ``s_source`` (the pair's control mapping)."""
+    """Target arc length of source arc length ``s_source`` (the pair's control mapping).
+
+    A target stroke that is a rigid copy of its source (moved or turned as a
+    whole, e.g. a head carried on a shortened stem) maps every arc length to
+    itself: its parts follow the one rigid map, whatever pins the mapping
+    holds (an exit pin where the copy leaves its parent's new silhouette
+    slid a flower's side petals 7 px along the head at 1000 px).
+    """
+    if _rigid_copy(pair):
+        return float(s_source)
     return float(np.interp(s_source, pair.control[:, 0], pair.control[:, 1]))
+
+
+def _rigid_copy(pair: StrokePair, tol: float = 0.5) -> bool:
+    """The target's points are the source's moved rigidly (within ``tol`` px)."""
+    a, b = pair.source.points, pair.target.points
+    if a.shape != b.shape or abs(pair.source.length - pair.target.length) > tol:
+        return False
+    ca, cb = a - a.mean(axis=0), b - b.mean(axis=0)
+    u, _, vt = np.linalg.svd(ca.T @ cb)
+    if np.linalg.det(u @ vt) < 0:
+        u[:, -1] = -u[:, -1]  # a proper rotation (Kabsch); a reflection only fits collinear points
+    r = u @ vt
+    return float(np.abs(ca @ r - cb).max()) <= tol
 
 
 def _with_pins(pair: StrokePair, pins) -> StrokePair:

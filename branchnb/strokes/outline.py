@@ -318,7 +318,9 @@ def clear_stale_outline(layer: np.ndarray, src_depth: np.ndarray, style: Outline
         Pixels filled at joints (:func:`fill_joints`): their colours were
         copied from nearby pixels, possibly a stale rim's, so the
         outline-coloured ones among them are stale too, and no
-        outline-coloured pixel gives its colour.
+        outline-coloured pixel gives its colour. So are those tinted by
+        the ink (nearer its colour than half-way to the object's median
+        interior colour: an outline pixel averaged into a dark blob).
 
     Returns
     -------
@@ -347,8 +349,21 @@ def clear_stale_outline(layer: np.ndarray, src_depth: np.ndarray, style: Outline
         inked = np.abs(layer[..., 0] - col[0]) < 0.1
         for c in (1, 2):
             inked &= np.abs(layer[..., c] - col[c]) < 0.1
-        stale |= deep & filled & inked
         good &= ~(inked & (filled | (src_depth <= style.width + 0.5)))
+        # filled pixels tinted by the ink (an outline pixel averaged with its neighbours
+        # into a dark blob at a finger's crotch) are stale too: nearer the ink's colour
+        # than half-way to the object's own interior colour
+        soft = deep & filled & ~inked
+        if soft.any():
+            inner = good & ~filled
+            if inner.any():
+                mid = np.median(layer[inner][:, :3], axis=0)
+                half = 0.5 * float(np.linalg.norm(mid - col))
+                d_ink = np.linalg.norm(layer[soft][:, :3] - col, axis=1)
+                soft[soft] = d_ink < half
+                inked |= soft
+                good &= ~soft
+        stale |= deep & filled & inked
     if not stale.any() or not good.any():
         return layer
     # the nearest good pixel within 3 w + 3 px: found on the stale pixels' box grown by that much
