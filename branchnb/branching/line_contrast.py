@@ -350,7 +350,7 @@ def centre_ring_colours(image, pm: PixelMap) -> tuple[np.ndarray, np.ndarray] | 
     >>> from branchnb.branching.skeleton_map import SkeletonMap
     >>> img = np.full((30, 30, 3), 0.8, np.float32); img[14:16, 2:28] = 0.3
     >>> pm = SkeletonMap(Structure([Branch([(2, 14.5), (27, 14.5)], 1.0)]), 1.0).pixel_map((30, 30))
-    >>> [c.round(2).tolist() for c in centre_ring_colours(img, pm)]
+    >>> [[round(float(v), 2) for v in c] for c in centre_ring_colours(img, pm)]
     [[0.3, 0.3, 0.3], [0.8, 0.8, 0.8]]
     """
     img = np.asarray(image, np.float32)

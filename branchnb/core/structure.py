@@ -568,8 +568,7 @@ class Structure(_StructureOutput):
         """
         if not self.branches:
             raise ValueError("structure is empty")
-        if not (np.isfinite(h) and h > 0):
-            raise ValueError(f"h must be a positive step, got {h}")
+        h = check_real(h, "h", 0, low_open=True)
         new = []
         for b in self.branches:
             # the branch's points and thickness are checked already: resample_uniform's steps without
