@@ -14,11 +14,10 @@ from __future__ import annotations
 import numpy as np
 from scipy import ndimage as ndi
 
-from ..core.polyline import resample_uniform
 from ..core.random import as_rng
 from ..core.render import coverage_polylines, draw_polylines
 from ..core.structure import Branch, Structure
-from ._map_examples import INK, LAND, SEA, _rivers_on, coast_mask
+from ._map_examples import INK, LAND, SEA, _drawn_rivers
 
 __all__ = ["LAND_B", "two_country_map_example", "leaf_vein_example"]
 
@@ -60,24 +59,7 @@ def two_country_map_example(shape=(512, 512), rng=0, *, layout: str = "island", 
     """
     rng = as_rng(rng)
     h, w = shape
-    size = min(h, w)
-    lw = float(line_width) if line_width is not None else max(1.5, 2.0 * size / 500)
-    n = int(n_trees) if n_trees is not None else int(np.clip(size / 40, 8, 30))
-    land = coast_mask(shape, rng, layout)
-    land = ndi.binary_opening(np.pad(land, 4, mode="edge"), iterations=2)[4:-4, 4:-4]
-    _img, s, _ = _rivers_on(land, rng, n, lw / 2)
-    step = max(4, int(0.03 * size / 2))
-    flat: list[Branch] = []
-    for b in s.branches:
-        keep = np.unique(np.r_[np.arange(0, len(b.points), step), len(b.points) - 1])
-        pts = resample_uniform(b.points[keep], 1.0, include_end=True)
-        pv = b.parent_vertex
-        if b.parent is not None:
-            ppts = flat[b.parent].points
-            pv = int(np.argmin(np.hypot(*(ppts - b.points[0]).T)))
-            pts = np.vstack([ppts[pv], pts[1:]])
-        flat.append(Branch(pts, np.full(len(pts), lw / 2), b.parent, pv))
-    s = Structure(flat, image_shape=tuple(shape))
+    land, s, lw = _drawn_rivers(shape, rng, layout, n_trees, line_width)
     curve = _border_curve(land, rng)
     yy, xx = np.mgrid[0:h, 0:w]
     west = land & (xx < np.interp(yy, curve[:, 1], curve[:, 0]))

@@ -307,17 +307,23 @@ def first_free(order, score, tip, pts, lens, head, nxt, seg, sp0, sp1, n_store, 
             tries += 1
             if tries > cap:
                 break
-            L = lens[j]
-            for i in range(L):
-                poly[i + 1, 0] = pts[j, i, 0]
-                poly[i + 1, 1] = pts[j, i, 1]
-            if crosses(head, nxt, seg, sp0, sp1, n_store, cell, poly[:L + 1], eps):
+            if _candidate_crosses(j, pts, lens, poly, head, nxt, seg, sp0, sp1, n_store, cell, eps):
                 continue
         out[n] = j
         n += 1
         if n == c:
             break
     return out[:n]
+
+
+@numba.njit(cache=True)
+def _candidate_crosses(j, pts, lens, poly, head, nxt, seg, sp0, sp1, n_store, cell, eps):
+    """Does ``poly[0] + pts[j, :lens[j]]`` (``poly[0]`` the tip; ``poly`` a work buffer) cross a stored segment?"""
+    L = lens[j]
+    for i in range(L):
+        poly[i + 1, 0] = pts[j, i, 0]
+        poly[i + 1, 1] = pts[j, i, 1]
+    return crosses(head, nxt, seg, sp0, sp1, n_store, cell, poly[:L + 1], eps)
 
 
 @numba.njit(cache=True)
@@ -362,11 +368,7 @@ def ranked_free(score, tip, pts, lens, head, nxt, seg, sp0, sp1, n_store, cell, 
             tries += 1
             if tries > cap:
                 break
-            L = lens[j]
-            for i in range(L):
-                poly[i + 1, 0] = pts[j, i, 0]
-                poly[i + 1, 1] = pts[j, i, 1]
-            if crosses(head, nxt, seg, sp0, sp1, n_store, cell, poly[:L + 1], eps):
+            if _candidate_crosses(j, pts, lens, poly, head, nxt, seg, sp0, sp1, n_store, cell, eps):
                 continue
         out[n] = j
         n += 1

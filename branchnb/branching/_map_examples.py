@@ -174,6 +174,35 @@ def _rivers_on(land, rng, n_trees, r_mouth, river_color=RIVER):
     return img, Structure(branches, image_shape=shape), land
 
 
+def _drawn_rivers(shape, rng: np.random.Generator, layout: str, n_trees: int | None,
+                  line_width: float | None) -> tuple[np.ndarray, Structure, float]:
+    """The land of a drawn map and its rivers as hand-drawn polylines of one width: ``(land, structure,
+    line width)`` (shared by :func:`country_map_example` and the two-country map)."""
+    h, w = shape
+    size = min(h, w)
+    lw = float(line_width) if line_width is not None else max(1.5, 2.0 * size / 500)
+    n = int(n_trees) if n_trees is not None else int(np.clip(size / 40, 8, 30))
+    land = coast_mask(shape, rng, layout)
+    # opened on an edge-padded copy: land running off the frame stays land (a zero border would
+    # nibble the corners) and sea at the frame stays sea (a border of ones would grow a ring of land)
+    land = ndi.binary_opening(np.pad(land, 4, mode="edge"), iterations=2)[4:-4, 4:-4]
+    _img, s, _ = _rivers_on(land, rng, n, lw / 2)
+    # drawn as straight pieces between hand-placed vertices (every ~3 % of the map), one width
+    step = max(4, int(0.03 * size / 2))
+    flat: list[Branch] = []
+    for b in s.branches:
+        keep = np.unique(np.r_[np.arange(0, len(b.points), step), len(b.points) - 1])
+        pts = resample_uniform(b.points[keep], 1.0, include_end=True)
+        pv = b.parent_vertex
+        if b.parent is not None:
+            ppts = flat[b.parent].points
+            pv = int(np.argmin(np.hypot(*(ppts - b.points[0]).T)))
+            pts = np.vstack([ppts[pv], pts[1:]])
+        flat.append(Branch(pts, np.full(len(pts), lw / 2), b.parent, pv))
+    s = Structure(flat, image_shape=tuple(shape))
+    return land, s, lw
+
+
 def country_map_example(shape=(512, 512), rng=0, *, layout: str = "island", n_trees: int | None = None,
                         line_width: float | None = None) -> tuple[np.ndarray, Structure, np.ndarray]:
     """A drawn country map: flat land and sea colours, black rivers and a black coastline.
@@ -209,27 +238,7 @@ def country_map_example(shape=(512, 512), rng=0, *, layout: str = "island", n_tr
     """
     rng = as_rng(rng)
     h, w = shape
-    size = min(h, w)
-    lw = float(line_width) if line_width is not None else max(1.5, 2.0 * size / 500)
-    n = int(n_trees) if n_trees is not None else int(np.clip(size / 40, 8, 30))
-    land = coast_mask(shape, rng, layout)
-    # opened on an edge-padded copy: land running off the frame stays land (a zero border would
-    # nibble the corners) and sea at the frame stays sea (a border of ones would grow a ring of land)
-    land = ndi.binary_opening(np.pad(land, 4, mode="edge"), iterations=2)[4:-4, 4:-4]
-    _img, s, _ = _rivers_on(land, rng, n, lw / 2)
-    # drawn as straight pieces between hand-placed vertices (every ~3 % of the map), one width
-    step = max(4, int(0.03 * size / 2))
-    flat: list[Branch] = []
-    for b in s.branches:
-        keep = np.unique(np.r_[np.arange(0, len(b.points), step), len(b.points) - 1])
-        pts = resample_uniform(b.points[keep], 1.0, include_end=True)
-        pv = b.parent_vertex
-        if b.parent is not None:
-            ppts = flat[b.parent].points
-            pv = int(np.argmin(np.hypot(*(ppts - b.points[0]).T)))
-            pts = np.vstack([ppts[pv], pts[1:]])
-        flat.append(Branch(pts, np.full(len(pts), lw / 2), b.parent, pv))
-    s = Structure(flat, image_shape=tuple(shape))
+    land, s, lw = _drawn_rivers(shape, rng, layout, n_trees, line_width)
     img = np.empty(tuple(shape) + (3,), np.float32)
     img[:] = SEA
     img[land] = LAND

@@ -734,11 +734,13 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         # pixel off): the median centre-line contrast is brought back into 0.85-1.18x the example's
         # (lines of the example's colour that stand out only because their ground is darker or
         # lighter than the example's, e.g. a relit bolt, are not faded)
-        from .line_contrast import centre_ring_colours, centre_ring_contrast, match_line_contrast
+        from .line_contrast import centre_ring_colours, match_line_contrast
 
-        if "centre_contrast" not in cached:
-            cached["centre_contrast"] = centre_ring_contrast(ex, pm_s)
-            cached["centre_colours"] = centre_ring_colours(ex, pm_s)
+        if "centre_colours" not in cached:
+            # one pass over the example: its contrast is the distance of these two colours
+            colours = centre_ring_colours(ex, pm_s)
+            cached["centre_colours"] = colours
+            cached["centre_contrast"] = 0.0 if colours is None else float(np.linalg.norm(colours[0] - colours[1]))
         canvas, _ = match_line_contrast(canvas, pm_t, cached["centre_contrast"], colours=cached["centre_colours"])
     fragment_mask = frag_index >= 0
     # Every stage keeps [0, 1]; this guards the contract (finite, in range) for any input.

@@ -317,12 +317,8 @@ def centre_ring_contrast(image, pm: PixelMap) -> float:
     >>> round(centre_ring_contrast(img, pm), 2)
     0.87
     """
-    img = np.asarray(image, np.float32)
-    rgb = img[..., None] if img.ndim == 2 else img[..., :3]
-    line, ring = _centre_ring(pm)
-    if not line.any() or not ring.any():
-        return 0.0
-    return float(np.linalg.norm(np.median(rgb[line], 0) - np.median(rgb[ring], 0)))
+    colours = centre_ring_colours(image, pm)
+    return 0.0 if colours is None else float(np.linalg.norm(colours[0] - colours[1]))
 
 
 def centre_ring_colours(image, pm: PixelMap) -> tuple[np.ndarray, np.ndarray] | None:
