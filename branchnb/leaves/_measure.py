@@ -83,6 +83,29 @@ instead of Lanczos sampling 0.98 / 1.01, the background's lines of the
 layer's polarity flattened (grey opening) within two vein widths of its
 removed veins 1.00 / 1.02.
 
+Latest (issue 22, ``rel``: see :func:`vein_system_scores`). The ratio to
+plain blade above (``bg``) read the donor's veins, not the background's:
+every pixel it kept lay 3.6-5.3 px from a donor vein (the same vein of
+the other leaf, moved by both registrations and the warps), and in the
+exemplars themselves, untouched, the ridge response 3-4 / 4-5 px from a
+real vein is 1.4-2.9 / 1.0-1.7 times plain blade's (its side lobes; the
+fan's dense forks the most). An exemplar with another exemplar's true
+veins carried onto it (one vein system, nothing synthesized) scored
+``bg`` 1.95 on the fan family at 320 px, 0.95 on the elliptic. Neither
+the donor's true veins pasted instead of its induced layer nor the
+one-system step (``one_system`` 0 or 2) moved ``bg`` (elliptic 320
+seed 1: 1.08 either way): it was no induction error. The background
+residuals keep no tone at their true veins (mean grey minus the
+vein-free rendering's -0.0004 to +0.0010, against 0.17-0.20 in the
+exemplars; 0 at 1-5 px). ``rel`` divides by the same pixels of the same
+leaf made on the background rendered without veins (:func:`plain_exemplars`).
+Measured (3 seeds x 4 new leaves, 256 / 320 / 512 px; mean ``bg`` ->
+mean ``rel``, ``own_rel`` at 2 px): fan 2.17 / 2.13 / 2.02 -> 1.04 /
+1.03 / 0.97, own 1.02 / 1.02 / 0.99 (single leaves 0.85-1.30 on 10-60
+pixels each; fan 320 seed 2's two leaves at 1.10 show no line by eye, and
+neither ``one_system`` 0 nor ``correct=False`` changes them: the texture
+of the residual's filled strips beside a pasted vein).
+
 Maples
 ------
 Latest (the registration's own carry as a third template start,
