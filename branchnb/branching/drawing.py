@@ -68,6 +68,13 @@ class DrawingStyle:
         kept pixel of the region). :func:`draw_in_style` fills the region
         from it at the same place (mirrored beyond its size). None or a
         missing label: the flat colour.
+    two_tone : bool
+        The example is a binary line mask (one region, every pixel either
+        its colour or the line colour, no anti-aliasing): the drawing is
+        snapped to those two colours, each branch keeping an unbroken
+        8-connected centre line (beyond the paper: a mask synthesized from
+        a mask stays a mask, and its one-pixel lines stay whole and full
+        strength).
     """
 
     region_colours: np.ndarray
@@ -79,6 +86,7 @@ class DrawingStyle:
     outlet_reach: float = 0.0
     tip_reach: float = 0.0
     region_textures: dict | None = None
+    two_tone: bool = False
 
 
 def _median_colour(img: np.ndarray, mask: np.ndarray, fallback) -> np.ndarray:
@@ -191,9 +199,12 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
         tip_reach = _boundary_reach(ends, lim, share=0.5)
     textures = _region_textures(img, lay, cols, pm, line, b_width if b_col is not None else 0.0,
                                 branch_region)
+    # a binary line mask: every pixel is the ground colour or the line colour
+    two_tone = bool(k == 1 and b_col is None and not textures
+                    and np.all(np.minimum(np.abs(img - cols[0]).max(-1), np.abs(img - line).max(-1)) <= 1.5 / 255))
     return DrawingStyle(cols.astype(np.float32), branch_region, line.astype(np.float32), scale,
                         None if b_col is None else b_col.astype(np.float32), b_width, reach, tip_reach,
-                        textures or None)
+                        textures or None, two_tone)
 
 
 def _boundary_line(img, inside, lay, k, pm, mean_r, off_region, unlike_region, line, cover):
@@ -532,4 +543,22 @@ def draw_in_style(style: DrawingStyle, structure: Structure, labels: np.ndarray)
         # example's anti-aliasing shows it), not one full pixel of its strongest colour
         alpha = np.array([np.clip(np.median(x), 0.3, 1.0) for x in raw] + [1.0], np.float32)
         paint(cov * alpha[owner], style.line_colour)
+        if style.two_tone:
+            img = _snap_two_tone(img, pls, cols[style.branch_region], style.line_colour)
     return np.clip(img, 0.0, 1.0)
+
+
+def _snap_two_tone(img: np.ndarray, lines: list, ground: np.ndarray, line: np.ndarray) -> np.ndarray:
+    """Snap an anti-aliased drawing to its ``ground`` and ``line`` colours: pixels at least half
+    way to the line colour, and every line's 8-connected centre-line raster, take the line colour."""
+    import cv2
+
+    g, c = np.asarray(ground, np.float32), np.asarray(line, np.float32)
+    v = c - g
+    ink = (img - g) @ v >= 0.5 * max(float(v @ v), 1e-12)
+    centre = np.zeros(ink.shape, np.uint8)
+    for pts in lines:
+        cv2.polylines(centre, [np.round(np.asarray(pts, np.float64) * 8).astype(np.int32)], False, 1, 1,
+                      cv2.LINE_8, 3)
+    ink |= centre > 0
+    return np.where(ink[..., None], c, g).astype(np.float32)
