@@ -136,7 +136,11 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
     # the line's own colour: its centre pixels that stand out most (thin anti-aliased lines blend
     # most of their centre pixels with the ground: their median drew pale rivers), the drawn width
     # below then comes out narrower, so the ink per length stays the example's
-    strong = centre & (off_region >= np.percentile(off_region[centre], 67)) if centre.any() else centre
+    # (a line mask on one ground, k == 1: its lines of every width are one ink at full cover, so the
+    # line colour is its strongest centre pixels'; a mask mostly of thin anti-aliased lines otherwise
+    # drew its wide trunk grey)
+    pct = 90 if k == 1 else 67
+    strong = centre & (off_region >= np.percentile(off_region[centre], pct)) if centre.any() else centre
     line = _median_colour(img, strong, cols[branch_region])
     unlike_region = off_region > tol
 
