@@ -157,6 +157,11 @@ class ImageSynthesisParams:
         example is drawn (its region colours, its boundary line along the output's
         region boundary, branches as connected strokes of its line colour and
         measured width) instead of copying fragments (off: the paper's fragments).
+        A line mask on one plain ground (binary or anti-aliased, either
+        polarity, :func:`~branchnb.branching.flat_regions.two_tone_lines`)
+        counts however thin its lines (beyond the paper: copied fragments
+        turned its one-pixel lines into pale broken dashes); a binary mask
+        gives a binary drawing.
     keep_regions : bool, default True
         Flat-colour examples (maps, masks): segment the example into its flat
         regions (land, sea), lay them out in the output as in the example, and fill
