@@ -541,25 +541,29 @@ def draw_in_style(style: DrawingStyle, structure: Structure, labels: np.ndarray)
     pls = [b.points for b in drawn]
     raw = [style.width_scale * 2 * b.thickness for b in drawn]
     wid = [np.maximum(x, 1.0) for x in raw]
+    if pls and style.two_tone:
+        # a binary mask: lines under 1.5 px are one-pixel rasters (as the example draws them), wider
+        # ones every pixel they cover at least half of; no anti-aliasing
+        wide = [i for i, x in enumerate(raw) if np.median(x) >= 1.5]
+        cov = coverage_polylines((h, w), [pls[i] for i in wide], [wid[i] for i in wide])[0] if wide \
+            else np.zeros((h, w), np.float32)
+        return _two_tone(cov >= 0.5, pls, cols[style.branch_region], style.line_colour)
     if pls:
         cov, owner = coverage_polylines((h, w), pls, wid)
         # a line thinner than a pixel is drawn one pixel wide at that share of the ink (as the
         # example's anti-aliasing shows it), not one full pixel of its strongest colour
         alpha = np.array([np.clip(np.median(x), 0.3, 1.0) for x in raw] + [1.0], np.float32)
         paint(cov * alpha[owner], style.line_colour)
-        if style.two_tone:
-            img = _snap_two_tone(img, pls, cols[style.branch_region], style.line_colour)
     return np.clip(img, 0.0, 1.0)
 
 
-def _snap_two_tone(img: np.ndarray, lines: list, ground: np.ndarray, line: np.ndarray) -> np.ndarray:
-    """Snap an anti-aliased drawing to its ``ground`` and ``line`` colours: pixels at least half
-    way to the line colour, and every line's 8-connected centre-line raster, take the line colour."""
+def _two_tone(ink: np.ndarray, lines: list, ground: np.ndarray, line: np.ndarray) -> np.ndarray:
+    """A two-colour drawing: ``ink`` pixels and every line's 8-connected centre-line raster in the
+    ``line`` colour, the rest ``ground``."""
     import cv2
 
     g, c = np.asarray(ground, np.float32), np.asarray(line, np.float32)
-    v = c - g
-    ink = (img - g) @ v >= 0.5 * max(float(v @ v), 1e-12)
+    ink = np.array(ink, bool)
     centre = np.zeros(ink.shape, np.uint8)
     for pts in lines:
         cv2.polylines(centre, [np.round(np.asarray(pts, np.float64) * 8).astype(np.int32)], False, 1, 1,
