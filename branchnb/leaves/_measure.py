@@ -102,9 +102,11 @@ leaf made on the background rendered without veins (:func:`plain_exemplars`).
 Measured (3 seeds x 4 new leaves, 256 / 320 / 512 px; mean ``bg`` ->
 mean ``rel``, ``own_rel`` at 2 px): fan 2.17 / 2.13 / 2.02 -> 1.04 /
 1.03 / 0.97, own 1.02 / 1.02 / 0.99; elliptic 0.90 / 0.96 / 0.97 -> 0.99
-/ 0.98 / 0.91, own 1.00 / 0.99 / 0.95; lobed 0.79 / 0.76 -> 0.97 / 0.96
-(256 / 320), own 0.98 / 0.98 (single fan leaves 0.85-1.30 on 10-60
-pixels each; fan 320 seed 2's two leaves at 1.10 show no line by eye, and
+/ 0.98 / 0.91, own 1.00 / 0.99 / 0.95; lobed 0.79 / 0.76 / 0.84 -> 0.97
+/ 0.96 / 0.88, own 0.98 / 0.98 / 0.92; trilobed 0.78 / 0.78 / 0.82 ->
+0.98 / 0.94 / 0.87, own 0.99 / 0.96 / 0.92. ``bg`` of the vein-free
+leaves themselves: fan 2.08-2.12, the others 0.79-1.06 (single fan
+leaves 0.85-1.30 on 10-60 pixels each; fan 320 seed 2's two leaves at 1.10 show no line by eye, and
 neither ``one_system`` 0 nor ``correct=False`` changes them: the texture
 of the residual's filled strips beside a pasted vein).
 
