@@ -72,6 +72,14 @@ spots) the carried-over layer is only a prior:
    **Side ridges** (:func:`~branchnb.leaves.snapping_stray._side_ridges`): a long straight ridge at
    :data:`~branchnb.leaves.snapping_stray.SIDE_LEVEL` that leaves the found network is a branch the
    training layer lacks (a torn lobe's lateral on the training maple 07).
+   **Lost basal veins** (:func:`~branchnb.leaves.snapping_basal.basal_branches`): the training
+   layer's branches leaving its petiole junction are matched by angle (about the midrib) to the
+   snapped network's branches leaving the exemplar's junction; a training branch at least
+   :data:`~branchnb.leaves.snapping_basal.BASAL_ANGLE` degrees from the midrib left unmatched (a
+   basal vein at right angles to the midrib on sample maples 04 and 07, missed by the carried prior)
+   is searched for by rays from the junction and taken when its ray scores at least
+   :data:`~branchnb.leaves.snapping_basal.RAY_LEVEL` of the found branches' own. Nothing is searched
+   where the training layer has no branch.
 7. **Parallel venation** (:mod:`branchnb.leaves.snapping_parallel`): when the training layer's
    main branches are parallel veins that do not meet (a grass blade's,
    :func:`~branchnb.leaves.snapping_parallel.is_parallel_layer`), the paths are cut where they
@@ -516,6 +524,9 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
         (:func:`~branchnb.leaves.snapping_mirror.mirror_missing`: a branch
         with no counterpart on the other side of the midrib gets its mirror
         image as a candidate), default True.
+    basal : bool
+        Look for the training junction's basal branches the snapping lost
+        (:func:`~branchnb.leaves.snapping_basal.basal_branches`), default True.
     return_centred : bool
         Also return ``centred``: the same paths grown by each exemplar's own
         contrast, to the side and width of its vein (:func:`~branchnb.leaves.snapping_width.vein_centre`,

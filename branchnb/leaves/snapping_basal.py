@@ -334,6 +334,13 @@ def basal_branches(found, star, carried_centre, maps, fine, blade, widths, scale
     for i in missing:
         if abs(want[i]) < np.radians(BASAL_ANGLE):
             continue  # the midrib and the laterals: within the trace's reach, never searched
+        side = [j for j in range(len(want)) if np.sign(want[j]) == np.sign(want[i])
+                and 0 < abs(want[j]) < np.radians(BASAL_ANGLE)]
+        if side and not any(j in matched for j in side):
+            # No lateral of its side leaves the exemplar's junction either: the junction is not
+            # where the network's branches meet on that side (training maple 02 -> 01 took the
+            # base's margin beside the petiole for a basal vein).
+            continue
         length = star["lengths"][i] * scale
         offs = np.arange(-window, window + 1e-9, np.radians(1.0))
         cand = want[i] + offs
