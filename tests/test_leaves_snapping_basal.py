@@ -108,3 +108,19 @@ def test_nothing_changes_when_every_branch_is_found(angles):
     off, _ = _snap(angles, basal=False)
     on, _ = _snap(angles, basal=True)
     assert np.array_equal(on, off)
+
+
+def test_no_basal_vein_searched_beside_a_lost_lateral():
+    # The exemplar's left lateral is not found at the junction: its side of the junction is not
+    # credible, so its left basal vein is not searched for; the right one still is.
+    blade = _blade()
+    user = _star(ANG_T, LEN) & blade
+    truth = _star((0, 45, 100, -100), (120, 85, 60, 60)) & blade
+    labs = [_lab(user, blade, 0), _lab(truth, blade, 1)]
+    regs = [IdentityRegistration((H, W))] * 2
+    on = snap_to_exemplars(labs, [blade, blade], 0, user, regs, tolerance=2.0, basal=True)[0][1]
+    off = snap_to_exemplars(labs, [blade, blade], 0, user, regs, tolerance=2.0, basal=False)[0][1]
+    new = on & ~off
+    assert new[:, :int(JUNCTION[0]) - 6].sum() == 0
+    right = _star((100,), (60,)) & ~_star((0,), (20,)) & blade
+    assert (on & right).sum() > 0.8 * right.sum()

@@ -21,8 +21,25 @@ away from the branches found), traced on from the best ray
 (:func:`~branchnb.leaves.snapping_trace.trace_branches`) and snapped by the
 path search (:func:`~branchnb.leaves.snapping.snap_layer`). A ray is taken
 only when it scores at least :data:`RAY_LEVEL` of the exemplar's found
-branches' own rays: a vein, not blade texture. Nothing is searched where
-the training layer has no branch: no vein is invented.
+branches' own rays: a vein, not blade texture. Rays start about the junction
+and along the network within :data:`~branchnb.leaves.snapping_basal.basal_branches`'s
+``shift`` of it (training maple 05's basal veins join its midrib 14 px above
+the junction, so the junction found on an exemplar moves by as much). Only
+branches at least :data:`BASAL_ANGLE` degrees from the midrib (basal veins)
+are searched for, and only beside a found lateral of their side. Nothing is
+searched where the training layer has no branch: no vein is invented.
+
+Measured (``python -m branchnb.leaves._measure maples``, 42 pairs, each sample
+maple as training leaf): mean IoU 0.690 -> 0.701, pairs under 0.6 7 -> 4;
+01 -> 04 0.58 -> 0.65, 01 -> 07 0.53 -> 0.66, 05 -> 04 0.49 -> 0.68, 05 -> 07
+0.35 -> 0.41, every other pair unchanged (to 0.005). ``_measure snapping``
+(procedural lobed, trilobed, elliptic at 192 / 384 px): unchanged, min / mean
+0.74-0.79 / 0.80-0.85 - their traced layers' primaries are cut into short
+branches by the secondaries, so no star is found and the step does not run.
+Tried: the centroid direction as the frame (a torn lobe tilts it: 01 -> 07
+matched the left lateral to the basal vein), the laterals searched too
+(02 -> 07 0.60 -> 0.56), :data:`RAY_LEVEL` 0.5 with rays from the junction alone (02 -> 07 0.60 -> 0.53, 06 -> 07
+0.67 -> 0.63).
 """
 
 from __future__ import annotations
