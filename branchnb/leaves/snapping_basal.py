@@ -105,8 +105,8 @@ def junction_star(chains, blade, *, reach: float = 0.12, leave: float = 0.2):
     ...     r = np.arange(n)[:, None]
     ...     return np.array([50.0, 75.0]) + r * [np.cos(np.radians(deg)), np.sin(np.radians(deg))]
     >>> s = junction_star([ray(-90, 60), ray(-45, 40), ray(-135, 40), ray(180, 35)], b)
-    >>> np.round(np.degrees(s["angles"])).astype(int).tolist()
-    [0, 45, -45, -90]
+    >>> len(s["index"]), np.round(np.degrees(s["angles"] - s["angles"][0])).astype(int).tolist()   # about the midrib
+    (4, [0, 45, -45, -90])
     """
     cs = [np.asarray(c, np.float64) for c in chains if len(c) >= 2]
     b = np.asarray(blade, bool)
