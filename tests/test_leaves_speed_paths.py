@@ -90,3 +90,21 @@ def test_ridge_evidence_on_the_blade_box_is_the_full_canvas_one(width, pad):
     got = ridge_evidence(lab, blade, direction, width)
     want = _ridge_evidence_full_canvas(lab, blade, direction, width)
     assert np.array_equal(got, want)
+
+
+@pytest.mark.parametrize("shape, channels, dtype, share", [
+    ((1, 4), None, np.float64, 0.5), ((37, 53), 3, np.float32, 0.02), ((64, 81), 4, np.float32, 0.6),
+    ((50, 40), None, np.int64, 0.1), ((45, 33), 1, np.uint8, 0.9), ((30, 70), 3, bool, 0.3)])
+def test_extend_nearest_is_scipys_nearest_value(shape, channels, dtype, share):
+    """extend_nearest (indices only, gathered with np.take) equals SciPy's nearest-index lookup exactly."""
+    from branchnb.core.image import extend_nearest
+    rng = np.random.default_rng(len(shape) + shape[0])
+    v = (rng.random(shape + (() if channels is None else (channels,))) * 9).astype(dtype)
+    known = rng.random(shape) < share
+    known.flat[0] = True
+    known.flat[-1] = False
+    ref = v[tuple(ndi.distance_transform_edt(~known, return_indices=True)[1])]
+    got = extend_nearest(v, known)
+    assert got.dtype == ref.dtype and np.array_equal(got, ref)
+    view = np.repeat(v, 2, axis=1)[:, ::2]  # a strided view
+    assert np.array_equal(extend_nearest(view, known), ref)
