@@ -33,6 +33,17 @@ from ..core.render import coverage_polylines
 from ..leaves.analysis import LeafAnalysis, analyze, normalise_exemplars
 from ..leaves.induction import InductionParams
 from ..leaves.layers import Layer, LayerSet
+from ..leaves.structural import (  # noqa: F401  (importable from here as before)
+    MAX_STRUCTURAL_REACH,
+    MIN_STANDOUT,
+    MIN_STRUCTURAL_LAMBDA,
+    _delta_text,
+    _reach_text,
+    _scribbled_as_structure,
+    is_structural,
+    layer_warnings,
+    spatial_reach,
+)
 from ..leaves.synthesis import SynthesisParams, generate
 from .canvas import AnnotationCanvas
 from .files import canvases_json, load_canvases
@@ -656,7 +667,8 @@ class LeafApp(widgets.VBox):
                              "<th title='how far from the registered layer it can be induced, in ε: "
                              "sqrt(ln(δ / λ)) (the δ criterion)'>reach</th>"
                              f"<th title='structural: λ &gt; {MIN_STRUCTURAL_LAMBDA} and reach ≤ "
-                             f"{MAX_STRUCTURAL_REACH} ε; colour: leans on colour alone; non-structural ⚠: "
+                             f"{MAX_STRUCTURAL_REACH} ε (thin lines: stands out from its blade by ≥ "
+                             f"{MIN_STANDOUT} colour spreads); colour: leans on colour alone; non-structural ⚠: "
                              "scribbled as a structure but induced by colour'>kind</th>"
                              "<th title='exemplars on which the layer was found'>found</th></tr>"
                              + rows + "</table>" + warn)
@@ -681,116 +693,14 @@ class LeafApp(widgets.VBox):
             self.histograms.update(*samples, labels=labels, range=(0.0, 100.0))
 
 
-def _delta_text(delta: float) -> str:
-    """``delta`` for a table: F is an exponential, so past 10 it only says "any distance"."""
-    return f"{delta:.3f}" if delta < 10 else "> 10 (any distance)"
-
-
-#: A layer is structural when its place on the leaf decides where it is
-#: induced: a pixel of the layer's exact colour joins it only within this
-#: many ``eps`` of the registered layer (:func:`spatial_reach`) ...
-MAX_STRUCTURAL_REACH = 3.0
-#: ... and its weight ``lambda`` is above this.
-MIN_STRUCTURAL_LAMBDA = 0.05
-
-
-def spatial_reach(lam: float, delta: float) -> float:
-    """How far from the registered layer, in units of ``eps``, the layer can be induced (the delta criterion).
-
-    A pixel joins the layer where ``D = lambda F + S_e < delta`` with
-    ``F = exp(d^2 / (eps^2 (1 - S_e)))``; for a perfect colour match
-    (``S_e = 0``) that is ``d < eps sqrt(ln(delta / lambda))``. ``inf``
-    when ``lambda`` is 0 or ``F`` (clipped at ``exp(60)``) never reaches
-    ``delta / lambda``: the layer's place does not matter, it is
-    induced by colour alone (non-structural).
-
-    Parameters
-    ----------
-    lam, delta : float
-        The layer's ``lambda`` and ``delta`` (eqs. 3-4).
-
-    Returns
-    -------
-    float
-
-    Examples
-    --------
-    >>> round(spatial_reach(0.5, 1.0), 3), spatial_reach(0.0, 1.0), round(spatial_reach(1e-9, 5.93e6), 2)
-    (0.833, inf, 6.03)
-    """
-    if not lam > 0 or not np.isfinite(delta):
-        return float("inf")
-    if delta <= lam:
-        return 0.0
-    ratio = np.log(delta / lam)
-    return float("inf") if ratio >= 60.0 else float(np.sqrt(ratio))
-
-
-def is_structural(layer) -> bool:
-    """Whether an induced layer leans on its place on the leaf (``lambda`` and :func:`spatial_reach`).
-
-    Parameters
-    ----------
-    layer : LayerInduction
-        One induced layer of a :class:`~branchnb.leaves.LeafAnalysis` (its ``lam`` and ``delta``).
-
-    Returns
-    -------
-    bool
-        True when ``lambda`` exceeds ``MIN_STRUCTURAL_LAMBDA`` and the reach is at most
-        ``MAX_STRUCTURAL_REACH`` (in units of eps).
-    """
-    return layer.lam > MIN_STRUCTURAL_LAMBDA and spatial_reach(layer.lam, layer.delta) <= MAX_STRUCTURAL_REACH
-
-
 def _kind_text(layer) -> str:
     if is_structural(layer):
         kind = "structural"
-    elif layer.snapped is not None:
+    elif _scribbled_as_structure(layer):
         kind = "<b style='color:#b35900'>non-structural ⚠</b>"  # scribbled as a structure
     else:
         kind = "colour"
     return kind + (", snapped" if layer.snapped is not None else "")
-
-
-def _reach_text(layer) -> str:
-    r = spatial_reach(layer.lam, layer.delta)
-    return "anywhere" if not np.isfinite(r) else f"{r:.1f} ε"
-
-
-def layer_warnings(analysis) -> list[str]:
-    """Plain-language warnings about an analysis: a thin layer that came out non-structural, a layer not found.
-
-    Parameters
-    ----------
-    analysis : LeafAnalysis
-        The result of the app's "analyze" step (its ``layers`` with their
-        ``lam``, ``snapped`` and ``empty`` fields).
-
-    Returns
-    -------
-    list of str
-        One sentence per problem; empty when all is well.
-
-    Examples
-    --------
-    >>> from types import SimpleNamespace as NS
-    >>> layer_warnings(NS(layers=[NS(name="veins", lam=0.0, delta=1.0, snapped=[None, None], masks=[1, 1],
-    ...                              empty=[])]))[0][:33]
-    "'veins' was scribbled as thin lin"
-    """
-    out = []
-    for x in analysis.layers:
-        if x.snapped is not None and not is_structural(x):
-            out.append(f"'{x.name}' was scribbled as thin lines (a structure) but came out non-structural "
-                       f"(λ = {x.lam:.3f}, δ {'= ' if x.delta < 10 else ''}{_delta_text(x.delta)}: reach "
-                       f"{_reach_text(x)}): its exemplars' "
-                       "copies do not overlap after registration, so it was induced from each leaf's own "
-                       "ridges and colours. Check the registration overlays.")
-        if x.empty:
-            out.append(f"'{x.name}' was not found on exemplar(s) {', '.join('#' + str(e) for e in x.empty)}; "
-                       "new leaves take it from the others.")
-    return out
 
 
 def _shapes_json(shapes) -> str:
