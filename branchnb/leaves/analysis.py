@@ -378,8 +378,10 @@ def analyze(exemplars, training_index: int, layers, params: InductionParams | No
     progress : callable(fraction, text), optional
         Called between steps with the fraction done; raise from it to stop.
     registrations : list, optional
-        Precomputed registrations (exemplar ``i`` -> training leaf); skips
-        the registration step.
+        Precomputed registrations (exemplar ``i`` -> training leaf, e.g. from
+        :func:`~branchnb.leaves.registration.register` on the canvases of
+        :func:`~branchnb.leaves.analysis_normalise.normalise_exemplars`); a
+        None entry is computed (the training leaf's: the identity).
     snap_params : SnapParams, optional
         Lazy-snapping parameters.
     registration_params : optional
@@ -398,21 +400,44 @@ def analyze(exemplars, training_index: int, layers, params: InductionParams | No
     -------
     LeafAnalysis
 
+    Warns
+    -----
+    NonStructuralLayerWarning
+        A layer scribbled as thin lines (a structure) came out
+        non-structural: its masks do not stand out from their blades
+        (:func:`~branchnb.leaves.structural.is_structural`); the message
+        names the layer and its ``lambda``. Beyond the paper.
+    ShadowAsLeafWarning
+        An exemplar's blade holds a grey drop or cast shadow
+        (:func:`~branchnb.leaves.structural.shadow_share`).
+
     Examples
     --------
     The whole pipeline on three procedural leaves: scribbles on the
     training leaf (here simulated along its true veins; in a notebook,
     :class:`branchnb.widgets.leaves.LeafApp`), analysis, new leaves.
 
-    >>> from branchnb.leaves import Layer, LayerSet, generate, leaf_family, simulate_scribbles
+    >>> from branchnb.leaves import Layer, LayerSet, generate, is_structural, layer_warnings, leaf_family
+    >>> from branchnb.leaves import simulate_scribbles
     >>> leaves = leaf_family(3, size=160, rng=0)
     >>> veins = simulate_scribbles(leaves[0].layers["veins"], 10, length=12, rng=0)
     >>> a = analyze(leaves, 0, LayerSet([Layer("veins", "#d62728", 0, veins)]))
     >>> [x.name for x in a.layers], len(a.layer("veins").masks)
     (['veins'], 3)
+    >>> is_structural(a.layer("veins")), layer_warnings(a)   # else analyze warned (NonStructuralLayerWarning)
+    (True, [])
     >>> new = generate(a, 2, rng=0)
     >>> new[0].image.shape == a.exemplars[0].shape
     True
+
+    Registrations made beforehand (a None entry is computed):
+
+    >>> from branchnb.leaves import normalise_exemplars, register
+    >>> canvases, blades, offsets = normalise_exemplars(leaves)
+    >>> regs = [None] + [register(canvases[i], canvases[0], blades[i], blades[0]) for i in (1, 2)]
+    >>> b = analyze(leaves, 0, {"veins": leaves[0].layers["veins"]}, registrations=regs)
+    >>> type(b.registrations[0]).__name__, b.registrations[1] is regs[1]
+    ('IdentityRegistration', True)
     """
     params = check_params(params if params is not None else InductionParams(), name="params")
     if isinstance(rng, np.random.Generator) or rng is None:
@@ -466,19 +491,22 @@ def analyze(exemplars, training_index: int, layers, params: InductionParams | No
     else:
         raise TypeError(f"layers must be a LayerSet or a dict of masks, got {type(layers).__name__}")
     if registrations is None:
-        from .registration import register
-        registrations = []
-        for i in range(n):
-            report(0.05 + 0.45 * i / n, f"registering exemplar {i + 1}/{n}")
-            if i == t:
-                registrations.append(IdentityRegistration(blades[t].shape))
-            else:
-                registrations.append(register(images[i], images[t], blades[i], blades[t],
-                                              params=registration_params, rng=rng))
+        registrations = [None] * n
     elif isinstance(registrations, (str, bytes, dict)) or not hasattr(registrations, "__len__"):
         raise TypeError(f"registrations must be a list (one per exemplar), got {type(registrations).__name__}")
     elif len(registrations) != n:
         raise ValueError(f"registrations must have one entry per exemplar ({n}), got {len(registrations)}")
+    registrations = list(registrations)
+    for i in range(n):
+        if registrations[i] is not None:
+            continue
+        report(0.05 + 0.45 * i / n, f"registering exemplar {i + 1}/{n}")
+        if i == t:
+            registrations[i] = IdentityRegistration(blades[t].shape)
+        else:
+            from .registration import register
+            registrations[i] = register(images[i], images[t], blades[i], blades[t],
+                                        params=registration_params, rng=rng)
     layers_out, residuals, space = induce(
         [im[..., :3] for im in images], blades, t, {k: training.masks[k] for k in training.order},
         registrations, params, progress=_progress(progress, 0.5, 1.0), rng=rng)

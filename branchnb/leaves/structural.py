@@ -336,9 +336,8 @@ def _message(x) -> str:
     """The warning about layer ``x``, scribbled as thin lines and come out non-structural."""
     return (f"'{x.name}' was scribbled as thin lines (a structure) but came out non-structural "
             f"(λ = {x.lam:.3f}, δ {'= ' if x.delta < 10 else ''}{_delta_text(x.delta)}: reach "
-            f"{_reach_text(x)}{_standout_text(x)}): check that the scribbles lie on the leaf's "
-            "own veins and the registration overlays; its induced copies follow colour, not a "
-            "structure of the exemplars.")
+            f"{_reach_text(x)}{_standout_text(x)}): the exemplars show no lines where it was induced. "
+            "Check that the scribbles lie on the training leaf's own veins, and the registration overlays.")
 
 
 def warn_analysis(analysis, *, stacklevel: int = 2) -> list[str]:
