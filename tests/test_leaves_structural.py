@@ -68,17 +68,9 @@ def test_true_veins_are_structural(kind, palette):
     assert is_structural(veins)
 
 
-def test_scribbled_true_veins_are_structural():
-    family = leaf_family(3, size=192, kind="lobed", rng=3)
-    strokes = simulate_scribbles(family[0].layers["veins"], 10, length=12, rng=0)
-    a, caught = _analyse(family, LayerSet([Layer("veins", "#d62728", 0, strokes)]))
-    assert caught == [] and is_structural(a.layer("veins"))
-    assert float(np.median(a.layer("veins").standout)) >= 1.0
-
-
-@pytest.mark.parametrize("kind,given", [("lobed", "mask"), ("elliptic", "scribbles"), ("fan", "mask")])
+@pytest.mark.parametrize("kind,given", [("lobed", "mask"), ("elliptic", "scribbles"), ("trilobed", "mask")])
 def test_vein_layer_on_plain_blade_warns(kind, given):
-    family = leaf_family(3, size=192, kind=kind, rng=3)
+    family = leaf_family(3, size=160 if kind == "trilobed" else 192, kind=kind, rng=3)
     plain = [plain_blade(leaf) for leaf in family]
     veins = family[0].layers["veins"]
     layers = {"veins": veins} if given == "mask" else \
@@ -87,16 +79,20 @@ def test_vein_layer_on_plain_blade_warns(kind, given):
         a = analyze(plain, 0, layers)
     x = a.layer("veins")
     assert not is_structural(x)
-    assert float(np.median(x.standout)) < 0.45
+    assert float(np.median(x.standout)) < 0.3
     assert any("non-structural" in w for w in leaves.layer_warnings(a))
 
 
 def test_spots_are_not_judged_as_lines():
-    family = leaf_family(3, size=192, kind="trilobed", rng=3)
-    spots = simulate_scribbles(family[0].layers["spots"], 6, length=4, rng=0)
-    a, caught = _analyse(family, LayerSet([Layer("spots", "#1f77b4", 0, spots)]))
-    assert a.layer("spots").standout is None and a.layer("spots").snapped is None
-    assert not [w for w in caught if w.category is NonStructuralLayerWarning]
+    from types import SimpleNamespace as NS
+
+    from branchnb.leaves import Scribble
+    from branchnb.leaves.analysis import scribbled_as_lines
+    dabs = [Scribble([(40, 40)], 4.0), Scribble([(60, 30), (63, 31)], 3.0)]
+    strokes = [Scribble([(10, 10), (40, 12), (70, 30)], 1.0), Scribble([(20, 50), (22, 52)], 1.0)]
+    a = NS(layer_set=LayerSet([Layer("spots", "#1f77b4", 0, dabs), Layer("veins", "#d62728", 1, strokes)]),
+           layers=[NS(name="spots", snapped=None), NS(name="veins", snapped=None)])
+    assert not scribbled_as_lines(a, "spots") and scribbled_as_lines(a, "veins")
 
 
 def _with_drop_shadow(leaf, offset=5, grey=0.62):

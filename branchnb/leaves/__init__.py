@@ -39,6 +39,7 @@ from .registration import (
 from .scribbles import Scribble
 from .structural import (
     MAX_STRUCTURAL_REACH,
+    MIN_FOUND,
     MIN_STANDOUT,
     MIN_STRUCTURAL_LAMBDA,
     LeafAnalysisWarning,
@@ -56,7 +57,7 @@ from .synthesis import GeneratedLeaf, SynthesisParams, generate, save_leaves
 __all__ = [
     "Layer", "LayerSet", "Scribble", "SnapParams", "TrainingLayers", "grow_layers", "scribble_mask",
     "simulate_scribbles",
-    "MAX_STRUCTURAL_REACH", "MIN_STANDOUT", "MIN_STRUCTURAL_LAMBDA", "LeafAnalysisWarning",
+    "MAX_STRUCTURAL_REACH", "MIN_FOUND", "MIN_STANDOUT", "MIN_STRUCTURAL_LAMBDA", "LeafAnalysisWarning",
     "NonStructuralLayerWarning", "ShadowAsLeafWarning", "is_structural", "layer_standout", "layer_warnings",
     "shadow_share", "spatial_reach", "warn_analysis",
     "InductionParams", "LayerInduction", "LeafAnalysis", "analyze", "IdentityRegistration",

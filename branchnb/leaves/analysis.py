@@ -66,7 +66,7 @@ from .induction import (
 from .layers import LayerSet, SnapParams, TrainingLayers, grow_layers
 from .own_contrast import trim_by_contrast, without_blobs
 from .stored_maps import CombinedMaps
-from .structural import layer_standout, warn_analysis
+from .structural import MIN_FOUND, layer_standout, warn_analysis
 
 __all__ = ["IdentityRegistration", "LayerInduction", "LeafAnalysis", "analyze", "induce",
            "normalise_exemplars", "registration_tolerance", "warp_mask"]
@@ -574,7 +574,11 @@ def _with_standout(analysis: LeafAnalysis) -> LeafAnalysis:
     for k, x in enumerate(analysis.layers):
         standout = None
         if scribbled_as_lines(analysis, x.name):
-            residual = analysis.residuals[k]
-            standout = [layer_standout(residual[e], analysis.blades[e], m) for e, m in enumerate(x.masks)]
+            residual, blades, t = analysis.residuals[k], analysis.blades, analysis.training_index
+            share_t = float(x.masks[t].sum()) / max(float(blades[t].sum()), 1.0)
+            # An exemplar on which the layer covers under MIN_FOUND of the training leaf's share was not
+            # found there (its few pixels may sit on a spot: a vein layer on plain blade went 0.1 -> 1.0).
+            standout = [0.0 if e != t and float(m.sum()) < MIN_FOUND * share_t * float(blades[e].sum())
+                        else layer_standout(residual[e], blades[e], m) for e, m in enumerate(x.masks)]
         layers.append(dataclasses.replace(x, standout=standout))
     return dataclasses.replace(analysis, layers=layers)

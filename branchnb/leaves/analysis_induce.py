@@ -138,7 +138,9 @@ class LayerInduction:
     standout : list of (float or None) or None, optional
         For a layer scribbled as thin lines: how much its mask stands out
         from the blade around it on each exemplar (the training leaf's
-        included), :func:`~branchnb.leaves.structural.layer_standout`; None
+        included), :func:`~branchnb.leaves.structural.layer_standout` (0 where it
+        covers under :data:`~branchnb.leaves.structural.MIN_FOUND` of the
+        training leaf's share of the blade); None
         for other layers (set by :func:`~branchnb.leaves.analysis.analyze`,
         read by :func:`~branchnb.leaves.structural.is_structural`).
     """

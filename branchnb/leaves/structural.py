@@ -35,7 +35,7 @@ from scipy import ndimage as ndi
 from ..core.image import as_mask
 
 __all__ = [
-    "MAX_STRUCTURAL_REACH", "MIN_STRUCTURAL_LAMBDA", "MIN_STANDOUT", "MIN_SHADOW_SHARE",
+    "MAX_STRUCTURAL_REACH", "MIN_STRUCTURAL_LAMBDA", "MIN_STANDOUT", "MIN_FOUND", "MIN_SHADOW_SHARE",
     "LeafAnalysisWarning", "NonStructuralLayerWarning", "ShadowAsLeafWarning",
     "spatial_reach", "is_structural", "layer_standout", "shadow_share", "layer_warnings", "warn_analysis",
 ]
@@ -50,13 +50,21 @@ MIN_STRUCTURAL_LAMBDA = 0.05
 #: A layer scribbled as lines is structural when its masks' colours differ
 #: from the blade within 4 px around them by at least this many of that
 #: blade's colour spreads (:func:`layer_standout`), in the median over the
-#: exemplars. Measured at 192 px on the four procedural kinds, green and
-#: autumn palettes, 3 leaves each: true veins (scribbled or given as masks)
-#: 1.38-2.35; the same vein layer given on the same leaves with their veins
-#: painted out 0.09-0.38; the sample maples' faint veins (their stored
-#: scribbles, or hand tracings on maple_leaf_04 / _06 as training leaf)
-#: 0.62-0.64; drawn ink veins ~6.
-MIN_STANDOUT = 0.5
+#: exemplars and the training leaf. Measured on the four procedural kinds
+#: (green and autumn palettes at 192 px, one each at 160 px, 3 leaves):
+#: true veins, scribbled or given as masks, 1.38-2.35; the same vein layer
+#: given on the same leaves with their veins painted out 0.02-0.29, and
+#: on drawn leaves whose ink veins were left out 0.32; the sample maples'
+#: faint veins (their stored scribbles on maple_leaf_01 with 3 or 7
+#: maples, or hand tracings with maple_leaf_02 / _04 / _06 as training
+#: leaf) 0.43-0.64; drawn ink veins ~6.
+MIN_STANDOUT = 0.4
+#: An exemplar on which a layer scribbled as lines covers less than this
+#: share of the blade the training layer covers counts as standing out by
+#: 0 (it was not found there: a vein layer given on plain blade kept
+#: 7-36 % on some exemplars, its few pixels on dark spots; true veins 75-135 %,
+#: the sample maples 57-191 %).
+MIN_FOUND = 0.4
 #: A blade whose grey, unsaturated rim darker than paper (a drop or cast
 #: shadow, :func:`shadow_share`) is at least this share of it is warned about.
 MIN_SHADOW_SHARE = 0.01
@@ -174,6 +182,9 @@ def layer_standout(image, blade, mask, *, ring: int = 4) -> float | None:
     the blade pixels within ``ring`` px of the layer (not the layer). A
     vein stands out (procedural veins 1.3-2.4, faint maple veins 0.4-1.4);
     lines drawn on plain blade do not (0.02-0.45). Beyond the paper.
+    :func:`~branchnb.leaves.analysis.analyze` stores it for each exemplar
+    in ``LayerInduction.standout`` (0 where the layer covers under
+    :data:`MIN_FOUND` of the training leaf's share of the blade).
 
     Parameters
     ----------
