@@ -154,3 +154,16 @@ def test_pipeline_docstrings_use_public_names(func):
     for block in re.findall(r"from branchnb\.leaves import ([\w, ]+)", doc):
         for name in re.findall(r"\w+", block):
             assert name in leaves.__all__ and not name.startswith("_"), name
+
+
+def test_leaf_app_reports_the_warning_instead_of_raising_it():
+    from branchnb.leaves import Scribble
+    from branchnb.widgets.leaves import LeafApp
+    family = leaf_family(3, size=160, kind="lobed", rng=3)
+    strokes = [Scribble(v, 1.0) for v in family[0].veins[1:7]]  # traced along the (painted-out) main veins
+    app = LeafApp([plain_blade(leaf) for leaf in family], layers=LayerSet([Layer("veins", "#d62728", 0, strokes)]))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", LeafAnalysisWarning)  # the app shows them in its report, not on stderr
+        app.run_analysis()
+    assert not is_structural(app.analysis.layer("veins"))
+    assert "non-structural" in app.report.value and "λ = " in app.report.value

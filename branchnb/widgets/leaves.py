@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import dataclasses
 import html
+import warnings
 
 import cv2
 import ipywidgets as widgets
@@ -37,6 +38,8 @@ from ..leaves.structural import (  # noqa: F401  (importable from here as before
     MAX_STRUCTURAL_REACH,
     MIN_STANDOUT,
     MIN_STRUCTURAL_LAMBDA,
+    LeafAnalysisWarning,
+    ShadowAsLeafWarning,
     _delta_text,
     _reach_text,
     _scribbled_as_structure,
@@ -168,6 +171,7 @@ class LeafApp(widgets.VBox):
         self._marks: dict = {}  # exemplar -> (registration key, (grid, keypoint) coverage)
         self._white: dict = {}  # exemplar -> (its image, on white, L*): kept between slider moves
         self.analysis: LeafAnalysis | None = None
+        self._shadows: list[str] = []  # ShadowAsLeafWarning messages of the last analysis, shown in the report
         self.leaves: list = []
         if layers is None:
             layers = LayerSet([Layer("veins", _PALETTE[0], 0), Layer("spots", _PALETTE[1], 1)])
@@ -500,8 +504,12 @@ class LeafApp(widgets.VBox):
         """Grow the scribbled layers, register (once), induce; show the result."""
         ls = self.scribbled_layers()
         prm = self.induction_panel.values
-        a = analyze(self.images, self.training_index, ls, prm, progress=self.shell.progress,
-                    registrations=self._registrations)
+        # The report shows analyze's warnings (layer_warnings and the shadowed blades): not on stderr too.
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", LeafAnalysisWarning)
+            a = analyze(self.images, self.training_index, ls, prm, progress=self.shell.progress,
+                        registrations=self._registrations)
+        self._shadows = [str(w.message) for w in caught if issubclass(w.category, ShadowAsLeafWarning)]
         self._registrations = a.registrations
         self.analysis = a
         self._show_analysis()
@@ -522,7 +530,9 @@ class LeafApp(widgets.VBox):
 
     def _reinduce(self, params) -> str:
         changes = {f.name: getattr(params, f.name) for f in dataclasses.fields(params)}
-        a = self.analysis.reinduce(progress=self.shell.progress, **changes)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", LeafAnalysisWarning)  # shown in the report
+            a = self.analysis.reinduce(progress=self.shell.progress, **changes)
         self.analysis = a
         self._show_analysis()
         return ", ".join(f"{x.name}: lambda {x.lam:.2f}" for x in a.layers)
@@ -660,7 +670,8 @@ class LeafApp(widgets.VBox):
                        f"<td>{x.training_overlap:.2f}</td><td>{x.neighbourhood}</td><td>{_reach_text(x)}</td>"
                        f"<td>{_kind_text(x)}</td>"
                        f"<td>{len(x.masks) - len(x.empty)}/{len(x.masks)}</td></tr>" for x in a.layers)
-        warn = "".join(f"<div style='color:#b35900'>⚠ {html.escape(w)}</div>" for w in layer_warnings(a))
+        warn = "".join(f"<div style='color:#b35900'>⚠ {html.escape(w)}</div>"
+                       for w in layer_warnings(a) + self._shadows)
         self.report.value = ("<table style='font-size:12px'><tr><th>layer</th><th>λ</th><th>δ</th>"
                              "<th title='IoU of the induced layer with yours on the training leaf'>IoU</th>"
                              "<th title='neighbourhood side of S_e (px)'>n</th>"
