@@ -14,10 +14,8 @@ import re
 import warnings
 from pathlib import Path
 
-import cv2
 import numpy as np
 import pytest
-from scipy import ndimage as ndi
 
 import branchnb.leaves as leaves
 from branchnb.leaves import (
@@ -33,20 +31,9 @@ from branchnb.leaves import (
     shadow_share,
     simulate_scribbles,
 )
+from branchnb.leaves._measure_structural import plain_blade
 
 ROOT = Path(__file__).resolve().parents[1]
-
-
-def plain_blade(leaf) -> np.ndarray:
-    """The leaf's RGBA with its veins (and petiole) painted out: plain blade where the veins were."""
-    img = leaf.image.copy()
-    veins = ndi.binary_dilation(leaf.layers["veins"], iterations=1) & leaf.blade
-    fill = np.median(img[..., :3][leaf.blade & ~leaf.layers["veins"]], axis=0)
-    base = np.where(leaf.blade[..., None], img[..., :3], fill)
-    rgb = (np.clip(base, 0, 1) * 255).astype(np.uint8)
-    out = cv2.inpaint(rgb, veins.astype(np.uint8), 5, cv2.INPAINT_TELEA).astype(np.float32) / 255
-    img[..., :3] = np.where(veins[..., None], out, img[..., :3])
-    return img
 
 
 def _analyse(exemplars, layers):
