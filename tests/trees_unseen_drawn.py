@@ -63,7 +63,7 @@ def cypress(size: int = 256) -> np.ndarray:
 
 def apple(size: int = 256) -> np.ndarray:
     s = size / 256.0
-    ink, w = (0.05, 0.2, 0.05), 0.6 * s
+    ink, w = (0.05, 0.2, 0.05), 1.0 * s
     trunk = np.array([[118, 140], [124, 175], [110, 150], [104, 154], [120, 190], [122, 250],
                       [140, 250], [140, 185], [156, 150], [150, 146], [138, 172], [138, 140]]) * s
     shapes = [("poly", trunk, (0.45, 0.28, 0.12), ink, w)]
@@ -89,7 +89,7 @@ def fan_palm(size: int = 256) -> np.ndarray:
     trunk = np.array([[150, 250], [132, 250], [118, 150], [112, 92], [124, 92], [132, 150]]) * s
     shapes = [("poly", trunk, (0.7, 0.55, 0.35), ink, w)]
     for y in range(110, 245, 18):
-        cx = 125 + (y - 92) * 16 / 158
+        cx = 118 + (y - 92) * 23 / 158
         shapes.append(("poly", np.array([[cx - 5, y], [cx + 5, y], [cx + 5, y + 3], [cx - 5, y + 3]]) * s,
                        (0.5, 0.35, 0.2), ink, 0))
     hub = np.array([118.0, 92.0])

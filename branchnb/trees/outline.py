@@ -336,8 +336,9 @@ def even_outline(image, ink, width: int, *, holes: bool = True) -> np.ndarray:
     takes the colour of the nearest
     fill pixel (within ``width + 2``), with the stroke's soft inner edge;
     dark regions thicker than ``2 width + 2`` (a dark trunk, a sprite's
-    shadow) are fills and stay. Light pixels of the ``width`` band take the
-    colour of the nearest stroke pixel (the drawing's own ink colours), and
+    shadow) are fills and stay. Pixels of the ``width`` band lighter than
+    ink + 0.35 of the way to the median colour take the colour of the
+    nearest stroke pixel (the drawing's own ink colours), and
     the ring just inside the new stroke takes half the ink, as the
     drawings' anti-aliased strokes have. Inner lines, fruits and fills keep
     their colours.
@@ -415,14 +416,15 @@ def even_outline(image, ink, width: int, *, holes: bool = True) -> np.ndarray:
                 # only next to a fill (a thin dark trunk has none beside it: it stays)
                 excess &= dist <= width + 2
                 img[excess, :3] = img[idx[0][excess], idx[1][excess], :3]
-    # Too thin: every light pixel within ``width`` of the silhouette takes the colour of the
+    # Too thin: every pixel within ``width`` of the silhouette not ink takes the colour of the
     # nearest stroke pixel there (the drawing's own ink, ``ink`` where there is none), and the
     # next ring half of it (the drawings' own strokes have an anti-aliased inner edge).
     ink = ink.astype(np.float32)
     band = alpha & (depth <= width)
-    thin = band & light
+    strong = lum <= ink_lum + 0.35 * (np.median(lum[alpha]) - ink_lum)
+    thin = band & ~strong
     if thin.any():
-        stroke = band & ~light
+        stroke = band & strong
         col = np.broadcast_to(ink, (int(thin.sum()), 3)).copy()
         if stroke.any():
             dist, idx = ndi.distance_transform_edt(~stroke, return_indices=True)
