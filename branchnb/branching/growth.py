@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..core.structure import Branch, Structure
-from . import _kernels
+from . import _kernels, _loop_kernels
 from .branch_starts import _BranchState, _Starts
 from .colonization import (
     DensityMap,
@@ -31,7 +31,7 @@ from .filling import _Filling
 from .guidance import Guidance
 from .model import StructureModel, _choice
 from .params import SynthesisParams
-from .scoring import _DIRECTION_BINS, _continue_radii, score_candidates
+from .scoring import _DIRECTION_BINS, _cand_bins, _continue_radii, score_candidates
 from .straightness import BEND_CAP, RUN_CAP, RUN_GAIN, RUN_MIN_MEAN, BendHistogram, StraightRuns
 
 __all__ = ["FILL_LENGTH_FACTOR", "GrowthProgress", "LENGTH_BOUND", "LENGTH_FACTOR", "length_cap", "winding",
@@ -350,6 +350,7 @@ class _Grower(_Starts, _Filling):
         self.rho = params.rho if params.rho > 0 else model.rho
         self.domain = domain
         self._e_dom = np.zeros((1, 1), bool)
+        self._e_grid = np.zeros((1, 1), np.float32)
         # a root reads the frame ahead as density (a free frame only: a map's domain has its own rules)
         self.frame = params.colonization and guidance is None and (domain is None or bool(domain.all()))
         # coverage = fraction of the domain within rho of a branch (D > exp(-1))
@@ -418,7 +419,37 @@ class _Grower(_Starts, _Filling):
         return (D_c + p.eps) / (np.maximum(D_c, Df) + p.eps)
 
     def _register(self, polyline: np.ndarray, angles=(), radii=()) -> None:
-        poly = np.asarray(polyline, np.float64)
+        poly = np.ascontiguousarray(polyline, np.float64)
+        if len(poly) <= _loop_kernels.MAX_REGISTER and poly.ndim == 2 and poly.shape[1] == 2:
+            # compiled, the same numbers (the numpy code below stays the reference)
+            store, dens, hm = self.store, self.density, self.matcher
+            a = np.ascontiguousarray(angles, np.float64).ravel()
+            r = np.ascontiguousarray(radii, np.float64).ravel()
+            k = max(len(poly) - 1, 0)
+            while store.n + k > len(store.p0):
+                store.p0 = np.vstack([store.p0, np.zeros_like(store.p0)])
+                store.p1 = np.vstack([store.p1, np.zeros_like(store.p1)])
+            while True:
+                e, above, length = _loop_kernels.register(
+                    poly, a, r, store.p0, store.p1, store.n, store._head, store._next, store._seg,
+                    store._n_entries, store.cell, dens is not None,
+                    dens.grid if dens is not None else self._e_grid, dens.domain if dens is not None else self._e_dom,
+                    dens.cell if dens is not None else 1.0, dens.rho if dens is not None else 1.0,
+                    dens.level if dens is not None else 0.0, hm.edges_a, hm.counts_a, hm.edges_r, hm.counts_r,
+                    self.bends.edges, self.bends.counts)
+                if e >= 0:
+                    break
+                store._next = np.r_[store._next, np.zeros_like(store._next)]
+                store._seg = np.r_[store._seg, np.zeros_like(store._seg)]
+            store._n_entries = int(e)
+            store.n += k
+            if k and dens is not None:
+                dens._n_above += int(above)
+                dens.n_updates += 1
+            if k:
+                self.total_length += float(length)
+            hm.n_nodes += int(r.size)
+            return
         if len(poly) > 1:
             self.store.add_polyline(poly)
             if self.density is not None:
@@ -509,6 +540,50 @@ class _Grower(_Starts, _Filling):
         """``(fb, zero)`` of a step's candidates ``t_arr`` (:func:`._kernels.step_factors`): the bend-size
         factor times the straight-run factor (None when neither applies) and the candidates a branch
         may not take (they end it under ``branch_end = "length"``, or sweep past the winding limit)."""
+        args, use_fb = self._factor_args(st)
+        fb, zero = _kernels.step_factors(t_arr, *args)
+        return (fb if use_fb else None), zero
+
+    def _plain(self, st) -> bool:
+        """Is branch ``st``'s next step a plain one (:func:`._loop_kernels.plain_step`): the default
+        scorer, no guidance, drain, shore, frame factor (a root on a free frame), goal or mouth?"""
+        return (self.scorer is score_candidates and self.guidance is None and self.drain is None
+                and self.shore is None and st.goal is None and st.mouth is None
+                and not (self.frame and st.parent is None))
+
+    def _plain_step(self, st, tip, t: np.ndarray, L: int):
+        """``(stopped, score, points, chosen)`` of a plain step over the candidate windows ``t``
+        (:func:`._loop_kernels.plain_step`; the reference is the general path of :meth:`step`)."""
+        model, p, bm = self.model, self.p, self.model.bending
+        ha = np.asarray(st.elem_a[-L:], np.float64)
+        hr = np.asarray(st.elem_r[-L:], np.float64)
+        hm = self.matcher
+        use_hist = hm.wG > 0 and hm.n_nodes > 0
+        e1, e2 = self._e1, self._e2i
+        length = 3.0 * p.m * p.h
+        dens = self.density
+        if dens is not None:
+            grid, cell = dens.grid, dens.cell
+            n_samples = int(min(max(np.ceil(length / (dens.rho / 2.0)), 8), 48))
+        else:
+            grid, cell, n_samples = self._e_grid, 1.0, 8
+        fargs, use_fb = self._factor_args(st)
+        store = self.store
+        return _loop_kernels.plain_step(
+            t, bm.angles, bm.radii, ha, hr, bm.local_points, model.local_dirs, bm.cont_len,
+            float(tip[0]), float(tip[1]), float(st.theta),
+            use_hist, hm.p_a if use_hist else e1, hm.counts_a if use_hist else e1,
+            _cand_bins(model, "a") if use_hist else e2, hm.p_r if use_hist else e1,
+            hm.counts_r if use_hist else e1, _cand_bins(model, "r") if use_hist else e2,
+            hm.wG * hm.n_nodes / hm.m if use_hist else 0.0,
+            dens is not None, grid, cell, length, n_samples, 0.02, _DIRECTION_BINS, float(p.eps),
+            fargs[0], *fargs[2:21], *fargs[22:], use_fb, float(p.stop_density),
+            store._head, store._next, store._seg, store.p0, store.p1, store.n, store.cell,
+            self._cap(), int(p.c), 1e-9)
+
+    def _factor_args(self, st) -> tuple[tuple, bool]:
+        """The arguments of :func:`._kernels.step_factors` after the candidates, and whether its
+        factor applies (the bend-size or the straight-run factor is on)."""
         bends, runs = self.bends, self.runs
         use_bend = self.bend_counts is not None
         n_bent = float(bends.counts.sum()) if use_bend else 0.0
@@ -533,13 +608,12 @@ class _Grower(_Starts, _Filling):
             state, tol, max_run = runs.state, runs.tol, runs.max_run
         else:
             r, lh, l1h, lq, l1q, mode, state, tol, max_run = 0, self._e1, self._e1, 0.0, 0.0, 2, self._ei, 0.0, 0
-        fb, zero = _kernels.step_factors(
-            t_arr, bm.cont_angles, bm.cont_len, use_bend and bends.wG > 0 and n_bent > 0,
-            bends.p, bends.counts, self._bend_bins if use_bend else self._e2i, bends.wG * n_bent / bends.m,
-            BEND_CAP, runs is not None, lh, l1h, lq, l1q, state, int(r), float(tol), int(max_run), mode,
-            float(self.run_weight), RUN_GAIN, RUN_CAP, float(st.theta), float(lo), float(hi),
-            float(self.wind_max), self.p.branch_end == "length")
-        return (fb if use_bend or runs is not None else None), zero
+        args = (bm.cont_angles, bm.cont_len, use_bend and bends.wG > 0 and n_bent > 0,
+                bends.p, bends.counts, self._bend_bins if use_bend else self._e2i, bends.wG * n_bent / bends.m,
+                BEND_CAP, runs is not None, lh, l1h, lq, l1q, state, int(r), float(tol), int(max_run), mode,
+                float(self.run_weight), RUN_GAIN, RUN_CAP, float(st.theta), float(lo), float(hi),
+                float(self.wind_max), self.p.branch_end == "length")
+        return args, use_bend or runs is not None
 
     # -- growing ----------------------------------------------------------
     def step(self, bi: int, full: bool = False) -> bool:
@@ -554,53 +628,68 @@ class _Grower(_Starts, _Filling):
         if not full:   # a retry with every candidate is the same step
             self.steps += 1
         bm = self.model.bending
-        sub = None if full else self._share(len(bm.windows(min(len(st.elem_a), bm.max_history()))[0]))
-        cs = self.scorer(self.model, st.elem_a, st.elem_r, tip, st.theta, params=p,
-                         matcher=self.matcher, density=self.density, guidance=self.guidance,
-                         **({} if sub is None else {"subset": sub}))
-        pts, n_arr, t_arr = cs.points, cs.n_new, cs.t
-        self.n_candidates += len(t_arr)
-
-        score = cs.score
-        if self.frame and st.parent is None:
-            live = n_arr > 0
-            if live.any():
-                end = pts[np.arange(len(n_arr)), np.maximum(n_arr, 1) - 1] - tip
-                dirs = end / np.maximum(np.hypot(end[:, 0], end[:, 1]), 1e-9)[:, None]
-                score = np.where(live, score * self._frame_factor(tip, dirs, cs.D_c), score)
-        if self.drain is not None:
-            score = score * self.drain.factor(tip, pts, n_arr, start=st.points[0], fan=st.fan)
-        if st.goal is not None:
-            score = score * self._goal_factor(st, tip, pts, n_arr)
-        # the bend-size factor (see .straightness), the straight-run factor (below) and the winding
-        # limit in one compiled pass (_kernels.step_factors)
-        fb, zero = self._step_factors(st, t_arr)
-        if self.shore is not None:
-            fs = self.shore.factor(tip, pts, n_arr)
-            score = score * fs * self.shore.along_factor(tip, pts, n_arr)
-            if fb is not None:   # near the coast the shore decides alone
-                fb = np.where(fs < 1.0, 1.0, fb)
-        if fb is not None:
-            score = score * fb
-        # beyond the paper: no spirals. A candidate that would take the branch's heading range past the
-        # winding limit is forbidden; the branch stops when nothing else is left (issue 23)
-        score = np.where(zero, 0.0, score)
+        L = min(len(st.elem_a), bm.max_history())
+        t_all = bm.windows(L)[0]
+        sub = None if full else self._share(len(t_all))
         heads = None
-        if st.mouth is not None:
-            if (len(st.points) - 1) * p.h < MOUTH_SHARE * min(st.target, self.max_branch_len):
-                heads = st.theta + np.cumsum(bm.cont_angles[t_arr], axis=1)
-                span = np.maximum(heads.max(1), st.mouth[1]) - np.minimum(heads.min(1), st.mouth[0])
-                score = np.where(span > MOUTH_TURN, score * 1e-9, score)
-            else:
-                st.mouth = None
-        if self.density is not None:
-            free = (~cs.crossing) & (n_arr > 0)
-            if not free.any() or cs.D_c[free].min() >= p.stop_density:
+        if self._plain(st):   # the common case in one compiled call (the same numbers as below)
+            t_arr = t_all if sub is None else t_all[sub]
+            n_arr = bm.cont_len[t_arr]
+            self.n_candidates += len(t_arr)
+            stopped, score, pts, chosen = self._plain_step(st, tip, t_arr, L)
+            if stopped:
                 if sub is not None and self._room_ahead(st, tip):   # the share missed the way out
                     return self.step(bi, full=True)
                 st.stop = "density"
                 return False
-        j = self._pick(score, tip, pts, np.maximum(n_arr, 0))
+            j = self._draw(score, chosen.tolist())
+        else:
+            cs = self.scorer(self.model, st.elem_a, st.elem_r, tip, st.theta, params=p,
+                             matcher=self.matcher, density=self.density, guidance=self.guidance,
+                             **({} if sub is None else {"subset": sub}))
+            pts, n_arr, t_arr = cs.points, cs.n_new, cs.t
+            self.n_candidates += len(t_arr)
+
+            score = cs.score
+            if self.frame and st.parent is None:
+                live = n_arr > 0
+                if live.any():
+                    end = pts[np.arange(len(n_arr)), np.maximum(n_arr, 1) - 1] - tip
+                    dirs = end / np.maximum(np.hypot(end[:, 0], end[:, 1]), 1e-9)[:, None]
+                    score = np.where(live, score * self._frame_factor(tip, dirs, cs.D_c), score)
+            if self.drain is not None:
+                score = score * self.drain.factor(tip, pts, n_arr, start=st.points[0], fan=st.fan)
+            if st.goal is not None:
+                score = score * self._goal_factor(st, tip, pts, n_arr)
+            # the bend-size factor (see .straightness), the straight-run factor (below) and the winding
+            # limit in one compiled pass (_kernels.step_factors)
+            fb, zero = self._step_factors(st, t_arr)
+            if self.shore is not None:
+                fs = self.shore.factor(tip, pts, n_arr)
+                score = score * fs * self.shore.along_factor(tip, pts, n_arr)
+                if fb is not None:   # near the coast the shore decides alone
+                    fb = np.where(fs < 1.0, 1.0, fb)
+            if fb is not None:
+                score = score * fb
+            # beyond the paper: no spirals. A candidate that would take the branch's heading range past the
+            # winding limit is forbidden; the branch stops when nothing else is left (issue 23)
+            score = np.where(zero, 0.0, score)
+            heads = None
+            if st.mouth is not None:
+                if (len(st.points) - 1) * p.h < MOUTH_SHARE * min(st.target, self.max_branch_len):
+                    heads = st.theta + np.cumsum(bm.cont_angles[t_arr], axis=1)
+                    span = np.maximum(heads.max(1), st.mouth[1]) - np.minimum(heads.min(1), st.mouth[0])
+                    score = np.where(span > MOUTH_TURN, score * 1e-9, score)
+                else:
+                    st.mouth = None
+            if self.density is not None:
+                free = (~cs.crossing) & (n_arr > 0)
+                if not free.any() or cs.D_c[free].min() >= p.stop_density:
+                    if sub is not None and self._room_ahead(st, tip):   # the share missed the way out
+                        return self.step(bi, full=True)
+                    st.stop = "density"
+                    return False
+            j = self._pick(score, tip, pts, np.maximum(n_arr, 0))
         if j is None:
             if sub is not None:
                 return self.step(bi, full=True)

@@ -1,0 +1,139 @@
+"""Compiled glue of the grow loop (numba, ``cache=True``; issue 23, branching40).
+
+:mod:`branchnb.branching._kernels` holds the compiled inner loops of a step and of a branch start
+(scores, density profiles, crossing tests). What is left between them was Python glue: a
+1000 px cracked mud spent about half of its 9-12 s CPU per seed in it. The kernels here take over
+pieces of that glue, each computing the very numbers (to the bit) of the numpy code it replaces,
+which stays the reference (``tests/test_branching_loop_kernels.py`` compares them):
+
+- :func:`register`: ``_Grower._register`` (segment store, density splat, total length, the
+  running histograms of angles, thicknesses and bend sizes) in one call;
+- :func:`plain_step`: a Markov step without the factors of deltas, coasts, holes and guidance
+  (scores, step factors, density stop, ranked crossing test) in one call.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+from ._kernels import _np_sum, _segment_cells
+from ._kernels import ranked_free as _ranked_free
+from ._kernels import score_step as _score_step
+from ._kernels import step_factors as _step_factors
+from .colonization import _splat_segments
+
+__all__ = ["MAX_REGISTER", "plain_step", "register"]
+
+#: Most segments :func:`register` sums like numpy (its pairwise sum splits longer arrays).
+MAX_REGISTER = 128
+
+
+@numba.njit(cache=True)
+def _bin(edges, x, nb):
+    """``min(max(searchsorted(edges, x, "right") - 1, 0), nb - 1)`` (``histogram_matching._bin_index``)."""
+    return min(max(np.searchsorted(edges, x, side="right") - 1, 0), nb - 1)
+
+
+@numba.njit(cache=True)
+def register(poly, angles, radii, sp0, sp1, n_store, head, nxt, seg, n_entries, store_cell,
+             use_density, grid, domain, cell, rho, level, edges_a, counts_a, edges_r, counts_r,
+             bend_edges, bend_counts):
+    """``_Grower._register`` of the polyline ``poly`` (N, 2) and its new elements ``angles``/``radii``.
+
+    Stores the polyline's ``N - 1`` segments (at most :data:`MAX_REGISTER`) at rows ``n_store ..``
+    of ``sp0``/``sp1`` (the caller made room) and in the store's grid buckets
+    (:func:`._kernels.bucket_add`), splats them into the density ``grid``
+    (:func:`.colonization._splat_segments`, when ``use_density``), counts ``angles`` and ``radii``
+    in ``counts_a``/``counts_r`` and ``|angles|`` in ``bend_counts``. Returns
+    ``(entries, above, length)``: the store's new entry count (-1, and nothing changed but the
+    free rows of ``sp0``/``sp1``, when ``nxt`` is too short: the caller grows it and calls again),
+    the change in covered domain cells and the polyline's length (numpy's summation order)."""
+    N = poly.shape[0]
+    k = N - 1 if N > 1 else 0
+    gh, gw = head.shape
+    for s in range(k):
+        sp0[n_store + s, 0] = poly[s, 0]
+        sp0[n_store + s, 1] = poly[s, 1]
+        sp1[n_store + s, 0] = poly[s + 1, 0]
+        sp1[n_store + s, 1] = poly[s + 1, 1]
+    need = n_entries
+    for s in range(n_store, n_store + k):
+        x0, x1, y0, y1 = _segment_cells(sp0, sp1, s, store_cell, gw, gh)
+        need += (x1 - x0 + 1) * (y1 - y0 + 1)
+    if need > nxt.shape[0]:
+        return -1, 0, 0.0
+    e = n_entries
+    for s in range(n_store, n_store + k):
+        x0, x1, y0, y1 = _segment_cells(sp0, sp1, s, store_cell, gw, gh)
+        for cy in range(y0, y1 + 1):
+            for cx in range(x0, x1 + 1):
+                seg[e] = s
+                nxt[e] = head[cy, cx]
+                head[cy, cx] = e
+                e += 1
+    above = 0
+    length = 0.0
+    if k > 0:
+        if use_density:
+            above = _splat_segments(grid, domain, poly[:-1], poly[1:], cell, rho, level)
+        d = np.empty(k)
+        for s in range(k):
+            d[s] = np.hypot(poly[s + 1, 0] - poly[s, 0], poly[s + 1, 1] - poly[s, 1])
+        length = _np_sum(d)
+    na, nr = counts_a.shape[0], counts_r.shape[0]
+    for i in range(angles.shape[0]):
+        counts_a[_bin(edges_a, angles[i], na)] += 1.0
+    for i in range(radii.shape[0]):
+        counts_r[_bin(edges_r, radii[i], nr)] += 1.0
+    nb = bend_counts.shape[0]
+    for i in range(angles.shape[0]):
+        bend_counts[_bin(bend_edges, abs(angles[i]), nb)] += 1.0
+    return e, above, length
+
+
+@numba.njit(cache=True)
+def plain_step(t, angles, radii, ha, hr, local_points, local_dirs, cont_len, tipx, tipy, theta,
+               use_hist, p_a, counts_a, bins_a, p_r, counts_r, bins_r, hist_scale,
+               use_density, grid, cell, length, n_samples, tol, nbins, eps,
+               cont_angles, use_bend, bend_p, bend_counts, bend_bins, bend_scale, bend_cap,
+               use_runs, log_h, log_1h, log_q, log_1q, state, run, run_tol, max_run, mode, weight, run_gain,
+               run_cap, lo, hi, wind_max, end_zero, use_fb, stop_density,
+               head, nxt, seg, sp0, sp1, n_store, store_cell, cap, c, cross_eps):
+    """A Markov step of ``_Grower.step`` without guidance, drain, shore, goal, mouth or frame factor,
+    up to the draw: :func:`._kernels.score_step` (arguments up to ``eps``), the step factors
+    (:func:`._kernels.step_factors`, arguments ``cont_angles`` .. ``end_zero``; multiplied in when
+    ``use_fb``, the forbidden candidates set to 0), the density stop (no free candidate, or the
+    least density ahead of the free ones at ``stop_density`` or more) and the ``c`` best candidates
+    that cross no stored segment (:func:`._kernels.ranked_free`, arguments ``head`` ..).
+
+    Returns ``(stopped, score, points, chosen)``: ``stopped`` the density stop (then ``chosen`` is
+    empty), the final scores, the candidates' vertices (J, m, 2) and the chosen positions."""
+    Q, score, pts, hf, D_c, cross = _score_step(
+        t, angles, radii, ha, hr, local_points, local_dirs, cont_len, tipx, tipy, theta,
+        use_hist, p_a, counts_a, bins_a, p_r, counts_r, bins_r, hist_scale,
+        use_density, grid, cell, length, n_samples, tol, nbins, eps)
+    fb, zero = _step_factors(t, cont_angles, cont_len, use_bend, bend_p, bend_counts, bend_bins, bend_scale,
+                             bend_cap, use_runs, log_h, log_1h, log_q, log_1q, state, run, run_tol, max_run, mode,
+                             weight, run_gain, run_cap, theta, lo, hi, wind_max, end_zero)
+    J = t.shape[0]
+    out = np.empty(J)
+    lens = np.empty(J, np.int64)
+    for j in range(J):
+        s = score[j] * fb[j] if use_fb else score[j]
+        out[j] = 0.0 if zero[j] else s
+        lens[j] = max(cont_len[t[j]], 0)
+    if use_density:
+        best = np.inf
+        anyfree = False
+        for j in range(J):
+            if not cross[j] and cont_len[t[j]] > 0:
+                anyfree = True
+                best = min(best, D_c[j])
+        if not anyfree or best >= stop_density:
+            return True, out, pts, np.empty(0, np.int64)
+    tip = np.empty(2)
+    tip[0], tip[1] = tipx, tipy
+    chosen = _ranked_free(out, tip, pts, lens, head, nxt, seg, sp0, sp1, n_store, store_cell, cap, c,
+                          use_density, cross_eps)
+    return False, out, pts, chosen
