@@ -17,10 +17,9 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ._kernels import _np_sum, _segment_cells
+from ._kernels import _factor_at, _hist_pre, _improve_bins, _np_sum, _segment_cells
+from ._kernels import profile_bins as _profile_bins
 from ._kernels import ranked_free as _ranked_free
-from ._kernels import score_step as _score_step
-from ._kernels import step_factors as _step_factors
 from .colonization import _splat_segments
 
 __all__ = ["MAX_REGISTER", "plain_step", "register"]
@@ -101,28 +100,82 @@ def plain_step(t, angles, radii, ha, hr, local_points, local_dirs, cont_len, tip
                run_cap, lo, hi, wind_max, end_zero, use_fb, stop_density,
                head, nxt, seg, sp0, sp1, n_store, store_cell, cap, c, cross_eps):
     """A Markov step of ``_Grower.step`` without guidance, drain, shore, goal, mouth or frame factor,
-    up to the draw: :func:`._kernels.score_step` (arguments up to ``eps``), the step factors
-    (:func:`._kernels.step_factors`, arguments ``cont_angles`` .. ``end_zero``; multiplied in when
-    ``use_fb``, the forbidden candidates set to 0), the density stop (no free candidate, or the
+    up to the draw: the scores of :func:`._kernels.score_step` (arguments up to ``eps``) times the
+    step factors (:func:`._kernels.step_factors`, arguments ``cont_angles`` .. ``end_zero``; multiplied
+    in when ``use_fb``, the forbidden candidates set to 0), both computed only for the candidates
+    whose density profile crosses no branch (the others score 0 whatever their factors; 0 in
+    ``points`` too), the density stop (no free candidate, or the
     least density ahead of the free ones at ``stop_density`` or more) and the ``c`` best candidates
     that cross no stored segment (:func:`._kernels.ranked_free`, arguments ``head`` ..).
 
     Returns ``(stopped, score, points, chosen)``: ``stopped`` the density stop (then ``chosen`` is
     empty), the final scores, the candidates' vertices (J, m, 2) and the chosen positions."""
-    Q, score, pts, hf, D_c, cross = _score_step(
-        t, angles, radii, ha, hr, local_points, local_dirs, cont_len, tipx, tipy, theta,
-        use_hist, p_a, counts_a, bins_a, p_r, counts_r, bins_r, hist_scale,
-        use_density, grid, cell, length, n_samples, tol, nbins, eps)
-    fb, zero = _step_factors(t, cont_angles, cont_len, use_bend, bend_p, bend_counts, bend_bins, bend_scale,
-                             bend_cap, use_runs, log_h, log_1h, log_q, log_1q, state, run, run_tol, max_run, mode,
-                             weight, run_gain, run_cap, theta, lo, hi, wind_max, end_zero)
-    J = t.shape[0]
-    out = np.empty(J)
+    J, L = t.shape[0], ha.shape[0]
+    m = local_points.shape[1]
+    c_, s_ = np.cos(theta), np.sin(theta)
+    # directions first (score_step's order of operations, candidate by candidate): a candidate whose
+    # density profile crosses a branch scores 0 whatever its other factors, so only its direction is
+    # needed (most candidates of a dense 1000 px cracked mud)
+    dirs = np.empty((J, 2))
+    for j in range(J):
+        x, y = local_dirs[t[j], 0], local_dirs[t[j], 1]
+        dirs[j, 0] = c_ * x - s_ * y
+        dirs[j, 1] = s_ * x + c_ * y
+    D_c = np.zeros(J)
+    cross = np.zeros(J, np.bool_)
+    if use_density:
+        live = np.empty(J, np.int64)
+        nl = 0
+        for j in range(J):
+            if cont_len[t[j]] > 0:
+                live[nl] = j
+                nl += 1
+        if nl > 0:
+            dc, cr = _profile_bins(grid, cell, tipx, tipy, dirs[live[:nl]], length, n_samples, tol, nbins)
+            best = np.inf
+            for i in range(nl):
+                D_c[live[i]] = dc[i]
+                cross[live[i]] = cr[i]
+                if not cr[i] and dc[i] < best:
+                    best = dc[i]
+            if nl < J:
+                fill = best if np.isfinite(best) else 1.0
+                for j in range(J):
+                    if cont_len[t[j]] == 0:
+                        D_c[j] = fill
+    pa = _hist_pre(p_a, counts_a) if use_hist else (0.0, 0.0, 0.0, 0.0, 0.0)
+    pr = _hist_pre(p_r, counts_r) if use_hist else (0.0, 0.0, 0.0, 0.0, 0.0)
+    pb = _hist_pre(bend_p, bend_counts) if use_bend else (0.0, 0.0, 0.0, 0.0, 0.0)
+    pts = np.zeros((J, m, 2))
+    out = np.zeros(J)
     lens = np.empty(J, np.int64)
     for j in range(J):
-        s = score[j] * fb[j] if use_fb else score[j]
-        out[j] = 0.0 if zero[j] else s
-        lens[j] = max(cont_len[t[j]], 0)
+        r = t[j]
+        lens[j] = max(cont_len[r], 0)
+        if cross[j]:
+            continue
+        da = dr = 0.0
+        e0 = r - L + 1
+        for i in range(L):
+            da += (angles[e0 + i] - ha[i]) ** 2
+            dr += (radii[e0 + i] - hr[i]) ** 2
+        q = (1.0 / (np.sqrt(da) + 1.0) + 1.0) * (1.0 / (np.sqrt(dr) + 1.0) + 1.0)
+        for i in range(m):
+            x, y = local_points[r, i, 0], local_points[r, i, 1]
+            pts[j, i, 0] = tipx + c_ * x - s_ * y
+            pts[j, i, 1] = tipy + s_ * x + c_ * y
+        if use_hist:
+            ia = _improve_bins(pa, p_a, counts_a, bins_a[r])
+            ir = _improve_bins(pr, p_r, counts_r, bins_r[r])
+            q *= np.exp(min(max(hist_scale * (ia + ir), -50.0), 50.0))
+        sc = q / (D_c[j] + eps) if use_density else q
+        d = _improve_bins(pb, bend_p, bend_counts, bend_bins[r]) if use_bend else 0.0
+        f, z = _factor_at(r, d, cont_angles, cont_len, use_bend, bend_scale, bend_cap, use_runs, log_h, log_1h,
+                          log_q, log_1q, state, run, run_tol, max_run, mode, weight, run_gain, run_cap, theta, lo,
+                          hi, wind_max, end_zero)
+        if use_fb:
+            sc = sc * f
+        out[j] = 0.0 if z else sc
     if use_density:
         best = np.inf
         anyfree = False
