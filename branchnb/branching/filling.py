@@ -40,6 +40,12 @@ def _edt(mask: np.ndarray, float32: bool = False) -> np.ndarray:
     scipy's value to the bit (``float32``: that cast to float32). A mask without a zero, or a frame
     too large, goes to scipy. The grow loop took two of these per fill round on a 1000 x 1000 grid
     (issue 23).
+
+    Examples
+    --------
+    >>> m = np.ones((3, 5), bool); m[1, 2] = False
+    >>> _edt(m)[1].tolist(), _edt(m, float32=True).dtype.name
+    ([2.0, 1.0, 0.0, 1.0, 2.0], 'float32')
     """
     import cv2
     from scipy import ndimage as ndi

@@ -8,7 +8,9 @@ parent's non-causal window (``start_child``, in :mod:`.branch_starts`) and
 grow the same way, generation by generation; then the domain is filled
 (:class:`.filling._Filling`). Split from :mod:`branchnb.branching.synthesis`.
 The inner loops of a step and of a branch start (scores, density profiles,
-crossing tests) run compiled (:mod:`branchnb.branching._kernels`).
+crossing tests) run compiled (:mod:`branchnb.branching._kernels`); a plain step
+(no delta, coast, hole or guidance factor) and the bookkeeping of new segments
+are one compiled call each (:mod:`branchnb.branching._loop_kernels`).
 """
 
 from __future__ import annotations
