@@ -21,8 +21,9 @@ from ._kernels import _factor_at, _hist_pre, _improve_bins, _np_sum, _segment_ce
 from ._kernels import profile_bins as _profile_bins
 from ._kernels import ranked_free as _ranked_free
 from .colonization import _splat_segments
+from .scoring import _DIRECTION_BINS, _cand_bins
 
-__all__ = ["MAX_REGISTER", "plain_step", "register"]
+__all__ = ["MAX_REGISTER", "plain_step", "register", "register_polyline", "step_call"]
 
 #: Most segments :func:`register` sums like numpy (its pairwise sum splits longer arrays).
 MAX_REGISTER = 128
@@ -190,3 +191,73 @@ def plain_step(t, angles, radii, ha, hr, local_points, local_dirs, cont_len, tip
     chosen = _ranked_free(out, tip, pts, lens, head, nxt, seg, sp0, sp1, n_store, store_cell, cap, c,
                           use_density, cross_eps)
     return False, out, pts, chosen
+
+
+_E1, _E2 = np.zeros(1), np.zeros((1, 1), np.int16)
+_E_GRID, _E_DOM = np.zeros((1, 1), np.float32), np.zeros((1, 1), bool)
+
+
+def register_polyline(store, density, matcher, bends, polyline, angles=(), radii=()) -> float | None:
+    """``_Grower._register`` through :func:`register`: the polyline's segments into ``store``
+    (:class:`~branchnb.branching.colonization.SegmentStore`, its buffers grown as needed) and
+    ``density`` (a :class:`~branchnb.branching.colonization.DensityMap` or None), the elements into
+    ``matcher`` and ``bends`` (running histograms). Returns the polyline's length, or None (nothing
+    done) for a polyline of more than :data:`MAX_REGISTER` vertices or not ``(N, 2)``: the caller
+    takes the numpy path.
+    """
+    poly = np.ascontiguousarray(polyline, np.float64)
+    if len(poly) > MAX_REGISTER or poly.ndim != 2 or poly.shape[1] != 2:
+        return None
+    a = np.ascontiguousarray(angles, np.float64).ravel()
+    r = np.ascontiguousarray(radii, np.float64).ravel()
+    k = max(len(poly) - 1, 0)
+    while store.n + k > len(store.p0):
+        store.p0 = np.vstack([store.p0, np.zeros_like(store.p0)])
+        store.p1 = np.vstack([store.p1, np.zeros_like(store.p1)])
+    dens = density
+    while True:
+        e, above, length = register(
+            poly, a, r, store.p0, store.p1, store.n, store._head, store._next, store._seg, store._n_entries,
+            store.cell, dens is not None, dens.grid if dens is not None else _E_GRID,
+            dens.domain if dens is not None else _E_DOM, dens.cell if dens is not None else 1.0,
+            dens.rho if dens is not None else 1.0, dens.level if dens is not None else 0.0,
+            matcher.edges_a, matcher.counts_a, matcher.edges_r, matcher.counts_r, bends.edges, bends.counts)
+        if e >= 0:
+            break
+        store._next = np.r_[store._next, np.zeros_like(store._next)]
+        store._seg = np.r_[store._seg, np.zeros_like(store._seg)]
+    store._n_entries = int(e)
+    store.n += k
+    if k and dens is not None:
+        dens._n_above += int(above)
+        dens.n_updates += 1
+    matcher.n_nodes += int(r.size)
+    return float(length) if k else 0.0
+
+
+def step_call(model, p, matcher, density, store, st, tip, t, L: int, fargs: tuple, use_fb: bool, cap: int):
+    """:func:`plain_step` of branch state ``st`` at ``tip`` over the candidate windows ``t`` (history
+    length ``L``), with ``_Grower``'s model, parameters, running histograms, density and segment
+    store; ``fargs``/``use_fb`` from ``_Grower._factor_args``, ``cap`` the crossing tests' cap."""
+    bm = model.bending
+    ha = np.asarray(st.elem_a[-L:], np.float64)
+    hr = np.asarray(st.elem_r[-L:], np.float64)
+    hm = matcher
+    use_hist = hm.wG > 0 and hm.n_nodes > 0
+    length = 3.0 * p.m * p.h
+    dens = density
+    if dens is not None:
+        grid, cell = dens.grid, dens.cell
+        n_samples = int(min(max(np.ceil(length / (dens.rho / 2.0)), 8), 48))
+    else:
+        grid, cell, n_samples = _E_GRID, 1.0, 8
+    return plain_step(
+        t, bm.angles, bm.radii, ha, hr, bm.local_points, model.local_dirs, bm.cont_len,
+        float(tip[0]), float(tip[1]), float(st.theta),
+        use_hist, hm.p_a if use_hist else _E1, hm.counts_a if use_hist else _E1,
+        _cand_bins(model, "a") if use_hist else _E2, hm.p_r if use_hist else _E1,
+        hm.counts_r if use_hist else _E1, _cand_bins(model, "r") if use_hist else _E2,
+        hm.wG * hm.n_nodes / hm.m if use_hist else 0.0,
+        dens is not None, grid, cell, length, n_samples, 0.02, _DIRECTION_BINS, float(p.eps),
+        fargs[0], *fargs[2:21], *fargs[22:], use_fb, float(p.stop_density),
+        store._head, store._next, store._seg, store.p0, store.p1, store.n, store.cell, cap, int(p.c), 1e-9)

@@ -33,7 +33,7 @@ from .filling import _Filling
 from .guidance import Guidance
 from .model import StructureModel, _choice
 from .params import SynthesisParams
-from .scoring import _DIRECTION_BINS, _cand_bins, _continue_radii, score_candidates
+from .scoring import _DIRECTION_BINS, _continue_radii, score_candidates
 from .straightness import BEND_CAP, RUN_CAP, RUN_GAIN, RUN_MIN_MEAN, BendHistogram, StraightRuns
 
 __all__ = ["FILL_LENGTH_FACTOR", "GrowthProgress", "LENGTH_BOUND", "LENGTH_FACTOR", "length_cap", "winding",
@@ -352,7 +352,6 @@ class _Grower(_Starts, _Filling):
         self.rho = params.rho if params.rho > 0 else model.rho
         self.domain = domain
         self._e_dom = np.zeros((1, 1), bool)
-        self._e_grid = np.zeros((1, 1), np.float32)
         # a root reads the frame ahead as density (a free frame only: a map's domain has its own rules)
         self.frame = params.colonization and guidance is None and (domain is None or bool(domain.all()))
         # coverage = fraction of the domain within rho of a branch (D > exp(-1))
@@ -422,35 +421,10 @@ class _Grower(_Starts, _Filling):
 
     def _register(self, polyline: np.ndarray, angles=(), radii=()) -> None:
         poly = np.ascontiguousarray(polyline, np.float64)
-        if len(poly) <= _loop_kernels.MAX_REGISTER and poly.ndim == 2 and poly.shape[1] == 2:
-            # compiled, the same numbers (the numpy code below stays the reference)
-            store, dens, hm = self.store, self.density, self.matcher
-            a = np.ascontiguousarray(angles, np.float64).ravel()
-            r = np.ascontiguousarray(radii, np.float64).ravel()
-            k = max(len(poly) - 1, 0)
-            while store.n + k > len(store.p0):
-                store.p0 = np.vstack([store.p0, np.zeros_like(store.p0)])
-                store.p1 = np.vstack([store.p1, np.zeros_like(store.p1)])
-            while True:
-                e, above, length = _loop_kernels.register(
-                    poly, a, r, store.p0, store.p1, store.n, store._head, store._next, store._seg,
-                    store._n_entries, store.cell, dens is not None,
-                    dens.grid if dens is not None else self._e_grid, dens.domain if dens is not None else self._e_dom,
-                    dens.cell if dens is not None else 1.0, dens.rho if dens is not None else 1.0,
-                    dens.level if dens is not None else 0.0, hm.edges_a, hm.counts_a, hm.edges_r, hm.counts_r,
-                    self.bends.edges, self.bends.counts)
-                if e >= 0:
-                    break
-                store._next = np.r_[store._next, np.zeros_like(store._next)]
-                store._seg = np.r_[store._seg, np.zeros_like(store._seg)]
-            store._n_entries = int(e)
-            store.n += k
-            if k and dens is not None:
-                dens._n_above += int(above)
-                dens.n_updates += 1
-            if k:
-                self.total_length += float(length)
-            hm.n_nodes += int(r.size)
+        length = _loop_kernels.register_polyline(self.store, self.density, self.matcher, self.bends, poly,
+                                                 angles, radii)
+        if length is not None:   # compiled, the same numbers (the numpy code below stays the reference)
+            self.total_length += length
             return
         if len(poly) > 1:
             self.store.add_polyline(poly)
@@ -556,32 +530,9 @@ class _Grower(_Starts, _Filling):
     def _plain_step(self, st, tip, t: np.ndarray, L: int):
         """``(stopped, score, points, chosen)`` of a plain step over the candidate windows ``t``
         (:func:`._loop_kernels.plain_step`; the reference is the general path of :meth:`step`)."""
-        model, p, bm = self.model, self.p, self.model.bending
-        ha = np.asarray(st.elem_a[-L:], np.float64)
-        hr = np.asarray(st.elem_r[-L:], np.float64)
-        hm = self.matcher
-        use_hist = hm.wG > 0 and hm.n_nodes > 0
-        e1, e2 = self._e1, self._e2i
-        length = 3.0 * p.m * p.h
-        dens = self.density
-        if dens is not None:
-            grid, cell = dens.grid, dens.cell
-            n_samples = int(min(max(np.ceil(length / (dens.rho / 2.0)), 8), 48))
-        else:
-            grid, cell, n_samples = self._e_grid, 1.0, 8
         fargs, use_fb = self._factor_args(st)
-        store = self.store
-        return _loop_kernels.plain_step(
-            t, bm.angles, bm.radii, ha, hr, bm.local_points, model.local_dirs, bm.cont_len,
-            float(tip[0]), float(tip[1]), float(st.theta),
-            use_hist, hm.p_a if use_hist else e1, hm.counts_a if use_hist else e1,
-            _cand_bins(model, "a") if use_hist else e2, hm.p_r if use_hist else e1,
-            hm.counts_r if use_hist else e1, _cand_bins(model, "r") if use_hist else e2,
-            hm.wG * hm.n_nodes / hm.m if use_hist else 0.0,
-            dens is not None, grid, cell, length, n_samples, 0.02, _DIRECTION_BINS, float(p.eps),
-            fargs[0], *fargs[2:21], *fargs[22:], use_fb, float(p.stop_density),
-            store._head, store._next, store._seg, store.p0, store.p1, store.n, store.cell,
-            self._cap(), int(p.c), 1e-9)
+        return _loop_kernels.step_call(self.model, self.p, self.matcher, self.density, self.store, st, tip, t, L,
+                                       fargs, use_fb, self._cap())
 
     def _factor_args(self, st) -> tuple[tuple, bool]:
         """The arguments of :func:`._kernels.step_factors` after the candidates, and whether its
