@@ -145,6 +145,7 @@ def free_direction(grid, cell, tipx, tipy, dirs, theta, rotate, length, n_sample
     (``_Grower._room_ahead`` and ``_room_around``: the same answer as ``profile_bins`` over all of them)."""
     K = dirs.shape[0]
     done = np.zeros(nbins, np.bool_)
+    n_done = 0
     prof = np.empty(n_samples, np.float32)
     pre = np.empty(n_samples, np.float32)
     post = np.empty(n_samples, np.float32)
@@ -162,6 +163,9 @@ def free_direction(grid, cell, tipx, tipy, dirs, theta, rotate, length, n_sample
         m, cr = _bin_profile(grid, cell, tipx, tipy, q, length, n_samples, tol, nbins, step, prof, pre, post)
         if not cr and m < stop:
             return True
+        n_done += 1
+        if n_done == nbins:   # every bin profiled and none free: the other directions cannot change that
+            return False
     return False
 
 
