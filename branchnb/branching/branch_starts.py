@@ -43,6 +43,27 @@ def _elem_bins(model) -> np.ndarray:
     return got[1]
 
 
+def _inland_radius(branch, head: dict, shape) -> float:
+    """A delta's input root's radius away from the image frame (beyond the paper, issue 23).
+
+    The median radius of the vertices of the root's first quarter (by arc length) that lie more than
+    twice their radius from the frame; its head's ``max(r0, r1)`` when there are none. Where a channel
+    enters through the frame its measured width shrinks (the frame cuts the half-contrast mask): a
+    1000 px delta's trunk measured 21 px at the frame and 31 px past it, and the synthesized trunk,
+    started at the head's 21, kept the whole delta at 0.51-0.62 x the example's median radius.
+    """
+    p = np.asarray(branch.points, np.float64)
+    r = np.asarray(branch.thickness, np.float64)
+    fallback = float(max(head["r0"], head["r1"]))
+    if len(p) < 2:
+        return fallback
+    h, w = shape
+    s = np.r_[0.0, np.cumsum(np.hypot(*np.diff(p, axis=0).T))]
+    d = np.minimum(np.minimum(p[:, 0], w - 1 - p[:, 0]), np.minimum(p[:, 1], h - 1 - p[:, 1]))
+    ok = (s <= 0.25 * s[-1]) & (d > 2.0 * r)
+    return float(np.median(r[ok])) if ok.any() else fallback
+
+
 @dataclass
 class _BranchState:
     points: list
@@ -408,7 +429,9 @@ class _Starts:
         # it, and a channel's head made the trunk of a 250-512 px delta 0.3-0.5 x the example's thickness)
         r_set = None
         if self.drain is not None and roots:
-            r_set = float(np.mean([max(model.bending.heads[i]["r0"], model.bending.heads[i]["r1"]) for i in roots]))
+            shape = np.shape(model.domain)
+            r_set = float(np.mean([_inland_radius(model.example.branches[i], model.bending.heads[i], shape)
+                                   for i in roots]))
         elif pool is not roots and roots:
             # beyond the paper (issue 23): any branch's head may start the root, the ones as thick as an
             # input root's head likelier (see _root_radius)
