@@ -85,7 +85,14 @@ removed veins 1.00 / 1.02.
 
 Maples
 ------
-Latest (the registration's own carry as a third template start,
+Latest (the junction's basal veins the snapping lost, found by rays,
+:mod:`branchnb.leaves.snapping_basal`): mean IoU per training maple 01-07:
+0.74 0.67 0.73 0.64 0.68 0.75 0.70, all 42 pairs 0.690 -> 0.701, under 0.6
+7 -> 4 (02 -> 04 0.56: found where they run, drawn wider than 04's traced
+veins; 03 -> 07 0.59, 04 -> 07 0.49: maple 07's right lateral lost to a ridge
+beside it; 05 -> 07 0.41: false veins beside 07's midrib). Before:
+
+(the registration's own carry as a third template start,
 :data:`~branchnb.leaves.snapping.REGISTRATION_START` 1.1, and a speckled
 blade's holes keeping their evidence, :func:`~branchnb.leaves.snapping_stray._hole_rim`):
 mean IoU per training maple 01-07: 0.71 0.67 0.73 0.64 0.63 0.75 0.70, all 42
