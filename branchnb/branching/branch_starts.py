@@ -33,6 +33,9 @@ CHANNEL_RADIUS_BINS = 8
 #: Fewer than 3 input roots (any input branch's head may start a root): a head's weight is (its radius
 #: over the input root's, or the inverse, at most 1) to this power (:meth:`_Starts._root_radius`).
 ROOT_RADIUS_POWER = 2.0
+#: A delta's trunk starts at least this share of its example trunk's radius away from the frame
+#: (:func:`_inland_radius`).
+INLAND_SHARE = 1.0
 
 
 def _elem_bins(model) -> np.ndarray:
@@ -61,7 +64,7 @@ def _inland_radius(branch, head: dict, shape) -> float:
     s = np.r_[0.0, np.cumsum(np.hypot(*np.diff(p, axis=0).T))]
     d = np.minimum(np.minimum(p[:, 0], w - 1 - p[:, 0]), np.minimum(p[:, 1], h - 1 - p[:, 1]))
     ok = (s <= 0.25 * s[-1]) & (d > 2.0 * r)
-    return float(np.median(r[ok])) if ok.any() else fallback
+    return max(fallback, INLAND_SHARE * float(np.median(r[ok]))) if ok.any() else fallback
 
 
 @dataclass
