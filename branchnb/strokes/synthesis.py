@@ -18,7 +18,16 @@ from .crotches import _child_width, new_crotches, round_crotches
 from .edit import FETCH_FIELDS, EditPatches, StrokeEditParams, StrokeEditResult, StrokeSamples, _check_edit_params
 from .joints import close_hairlines, hold_joint_bodies, joint_disks, joint_roots
 from .junctions import far_side
-from .outline import _POCKET, clear_stale_outline, close_cuts, drop_flecks, fill_joints, fill_pinholes, source_depth
+from .outline import (
+    _POCKET,
+    _disk_closing,
+    clear_stale_outline,
+    close_cuts,
+    drop_flecks,
+    fill_joints,
+    fill_pinholes,
+    source_depth,
+)
 from .parts import place_part, rigid_frame
 from .sampling import choose, pair_energies
 
@@ -146,6 +155,7 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
         style = patches._style if params.close_cuts else None
         wide = [j for j in joints if j[2] is not None]
         filled = None
+        pockets = _SourcePockets(index, comp.labels, placed)
         # the parent's body at every junction stays with the parent (the notch a turned
         # child would tear out of it is filled from the parent's own source pixels)
         disks = joint_disks(index, attached, junctions, window)
@@ -162,7 +172,7 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
             before = layer[:, :, 3] > 0.5
             old = layer
             layer = fill_joints(layer, [j[0] for j in wide], [j[1] for j in wide],
-                                pockets=[j[2] for j in wide],
+                                pockets=[j[2] for j in wide], keep_open=pockets,
                                 inner=0 if style is None else int(np.ceil(style.width)) + 1)
             if layer is not old:
                 # only the wedges along the children (no bridge to a neighbouring part)
@@ -191,7 +201,8 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
             layer = clear_stale_outline(layer, depth, style, filled=filled)
         opened = layer[:, :, 3] <= 0.5
         if joints:
-            layer = fill_joints(layer, [j[0] for j in joints], [j[1] for j in joints])
+            layer = fill_joints(layer, [j[0] for j in joints], [j[1] for j in joints],
+                                keep_open=pockets)
         layer = close_hairlines(layer, [(d[0], 1.5 * d[2] + 4.0) for d in disks])
         if style is not None and disks:
             # rims the last closings buried inside the object (a kept arm's outline
@@ -237,6 +248,59 @@ _FEW_SEGMENTS = 16
 
 #: Source depth given to pixels filled at joints (deep enough to be outlined as a cut face).
 _FILLED_DEPTH = 100.0
+
+
+class _SourcePockets:
+    """``(rows, cols, k) -> bool``: result pixels copied from a pocket of the source itself.
+
+    A pocket is what the joints' closing (a disk of ``k`` px) would fill in the
+    source: the bottom of a narrow crotch. Such a pixel, copied
+    by a patch from that very place, is the source's own shape, not a gap the edit
+    opened (an identity edit of a finger drawn from inside its palm closed the crotches
+    beside it with a thick dark notch and steps up the finger's sides). Pixels that no
+    patch laid, or laid from elsewhere, stay closable. The source's closing is computed
+    once per ``k``, on the object's box, when first asked.
+    """
+
+    def __init__(self, index, labels: np.ndarray, placed: list):
+        self.index, self.labels, self.placed = index, labels, placed
+        self.pockets: dict = {}
+
+    def __call__(self, rows: np.ndarray, cols: np.ndarray, k: int) -> np.ndarray:
+        out = np.zeros(len(rows), bool)
+        lab = self.labels[rows, cols]
+        if not (lab >= 0).any():
+            return out
+        if k not in self.pockets:
+            self.pockets[k] = self._source_pockets(k)
+        pocket = self.pockets[k]
+        ph, pw = pocket.shape
+        for i in np.unique(lab[lab >= 0]):
+            m = self.placed[i].source_map
+            if m is None:
+                continue
+            sel = lab == i
+            x, y = cols[sel], rows[sel]
+            sx = np.rint(m[0, 0] * x + m[0, 1] * y + m[0, 2]).astype(np.intp)
+            sy = np.rint(m[1, 0] * x + m[1, 1] * y + m[1, 2]).astype(np.intp)
+            ok = (sx >= 0) & (sx < pw) & (sy >= 0) & (sy < ph)
+            hit = np.zeros(len(x), bool)
+            hit[ok] = pocket[sy[ok], sx[ok]]
+            out[sel] = hit
+        return out
+
+    def _source_pockets(self, k: int) -> np.ndarray:
+        obj = self.index.premult[:, :, 3] > 0.5
+        pocket = np.zeros_like(obj)
+        rs, cs = np.nonzero(obj)
+        if not len(rs):
+            return pocket
+        g = k + 2
+        r0, r1 = max(rs.min() - g, 0), rs.max() + g + 1
+        c0, c1 = max(cs.min() - g, 0), cs.max() + g + 1
+        sub = obj[r0:r1, c0:c1]
+        pocket[r0:r1, c0:c1] = _disk_closing(sub, k) & ~sub
+        return pocket
 
 
 def _inside_parent(index, attached, jn, origin, size: int, cache: dict | None = None) -> np.ndarray:
