@@ -769,8 +769,9 @@ def fetch(index: SourceIndex, stroke_id: int, source_s, across, dst_point, dst_a
     stroke = index.strokes[stroke_id]
     s = np.clip(np.atleast_1d(np.asarray(source_s, float)), 0.0, stroke.length)
     e = np.broadcast_to(np.asarray(across, float), s.shape)
-    centres = stroke.point_at(s) + e[:, None] * stroke.normal_at(s, window=window)
-    angles = stroke.angle_at(s, window=window)
+    # (the unchecked methods: s is clipped float arc lengths, window a checked number)
+    angles = stroke._angle_at(s, window)
+    centres = stroke._point_at(s) + e[:, None] * np.stack([-np.sin(angles), np.cos(angles)], axis=-1)
     h, w = index.shape
     s_map, allowed = index.s_map[stroke_id], index.allowed[stroke_id]
     # All candidates at once: target pixel q -> source p = R(a_k - dst_angle) (q - p_dst) + c_k

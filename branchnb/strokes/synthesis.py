@@ -11,6 +11,7 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+from scipy import ndimage as ndi
 from scipy.spatial import cKDTree
 
 from .composition import PlacedPatch, compose, labelling_cost, seam_mask
@@ -254,53 +255,56 @@ class _SourcePockets:
     """``(rows, cols, k) -> bool``: result pixels copied from a pocket of the source itself.
 
     A pocket is what the joints' closing (a disk of ``k`` px) would fill in the
-    source: the bottom of a narrow crotch. Such a pixel, copied
-    by a patch from that very place, is the source's own shape, not a gap the edit
-    opened (an identity edit of a finger drawn from inside its palm closed the crotches
-    beside it with a thick dark notch and steps up the finger's sides). Pixels that no
-    patch laid, or laid from elsewhere, stay closable. The source's closing is computed
-    once per ``k``, on the object's box, when first asked.
+    source: the bottom of a narrow crotch. Such a pixel, copied by a patch from
+    that very place, is the source's own shape, not a gap the edit opened (an
+    identity edit of a finger drawn from inside its palm closed the crotches beside
+    it with a thick dark notch and steps up the finger's sides). A pixel no patch
+    laid (between the patches, deep in a crotch) is mapped by the patch of its
+    nearest laid pixel (within ``2 k + 3`` px; none: it stays closable). The
+    source's closing is computed on the box of the pixels asked about, grown by
+    ``2 k + 3`` px (all the pixels it depends on).
     """
 
     def __init__(self, index, labels: np.ndarray, placed: list):
-        self.index, self.labels, self.placed = index, labels, placed
-        self.pockets: dict = {}
+        self.obj = index.premult[:, :, 3] > 0.5
+        self.labels, self.placed = labels, placed
 
     def __call__(self, rows: np.ndarray, cols: np.ndarray, k: int) -> np.ndarray:
         out = np.zeros(len(rows), bool)
-        lab = self.labels[rows, cols]
-        if not (lab >= 0).any():
-            return out
-        if k not in self.pockets:
-            self.pockets[k] = self._source_pockets(k)
-        pocket = self.pockets[k]
-        ph, pw = pocket.shape
+        lab = self.labels[rows, cols].copy()
+        g = 2 * int(k) + 3
+        loose = lab < 0
+        if loose.any():
+            # the patch of the nearest laid pixel (on the loose pixels' box grown by g)
+            lr, lc = rows[loose], cols[loose]
+            H, W = self.labels.shape
+            r0, r1 = max(int(lr.min()) - g, 0), min(int(lr.max()) + g + 1, H)
+            c0, c1 = max(int(lc.min()) - g, 0), min(int(lc.max()) + g + 1, W)
+            sub = self.labels[r0:r1, c0:c1]
+            if (sub >= 0).any():
+                dist, (ir, ic) = ndi.distance_transform_edt(sub < 0, return_indices=True)
+                near = dist[lr - r0, lc - c0] <= g
+                lab[np.flatnonzero(loose)[near]] = sub[ir[lr - r0, lc - c0], ic[lr - r0, lc - c0]][near]
+        sx = np.full(len(rows), -1, np.intp)
+        sy = np.full(len(rows), -1, np.intp)
         for i in np.unique(lab[lab >= 0]):
             m = self.placed[i].source_map
             if m is None:
                 continue
             sel = lab == i
             x, y = cols[sel], rows[sel]
-            sx = np.rint(m[0, 0] * x + m[0, 1] * y + m[0, 2]).astype(np.intp)
-            sy = np.rint(m[1, 0] * x + m[1, 1] * y + m[1, 2]).astype(np.intp)
-            ok = (sx >= 0) & (sx < pw) & (sy >= 0) & (sy < ph)
-            hit = np.zeros(len(x), bool)
-            hit[ok] = pocket[sy[ok], sx[ok]]
-            out[sel] = hit
+            sx[sel] = np.rint(m[0, 0] * x + m[0, 1] * y + m[0, 2]).astype(np.intp)
+            sy[sel] = np.rint(m[1, 0] * x + m[1, 1] * y + m[1, 2]).astype(np.intp)
+        h, w = self.obj.shape
+        ok = (sx >= 0) & (sx < w) & (sy >= 0) & (sy < h)
+        if not ok.any():
+            return out
+        r0, r1 = max(int(sy[ok].min()) - g, 0), min(int(sy[ok].max()) + g + 1, h)
+        c0, c1 = max(int(sx[ok].min()) - g, 0), min(int(sx[ok].max()) + g + 1, w)
+        sub = self.obj[r0:r1, c0:c1]
+        pocket = _disk_closing(sub, int(k)) & ~sub
+        out[ok] = pocket[sy[ok] - r0, sx[ok] - c0]
         return out
-
-    def _source_pockets(self, k: int) -> np.ndarray:
-        obj = self.index.premult[:, :, 3] > 0.5
-        pocket = np.zeros_like(obj)
-        rs, cs = np.nonzero(obj)
-        if not len(rs):
-            return pocket
-        g = k + 2
-        r0, r1 = max(rs.min() - g, 0), rs.max() + g + 1
-        c0, c1 = max(cs.min() - g, 0), cs.max() + g + 1
-        sub = obj[r0:r1, c0:c1]
-        pocket[r0:r1, c0:c1] = _disk_closing(sub, k) & ~sub
-        return pocket
 
 
 def _inside_parent(index, attached, jn, origin, size: int, cache: dict | None = None) -> np.ndarray:
