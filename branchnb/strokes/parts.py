@@ -57,6 +57,8 @@ _RIM = 6
 _ENDS = 0.75
 #: A piece thinner than this share of the half width of the tubes holding it is their rim.
 _THIN = 0.2
+#: A piece held at both ends lies within this many half widths of one holding stroke.
+_ALONG_SIDE = 2.0
 #: Contact pixels further apart than this along a stroke (px) touch it at two places.
 _GAP = 10.0
 #: A ring pixel counts as touching a stroke within this much (px) of its nearest stroke.
@@ -236,14 +238,20 @@ def _ends(touching: list, contacts: list, least: float, comp: np.ndarray, d_sub:
     than :data:`_THIN` times the thinner tube's half width (the median
     distance of its contact to that stroke) is a sliver of the tubes'
     rims, not held (a palm's rim along the forearm it turns on, 1000 px:
-    4 px against 57; a twig in a crotch: 2-4 px against 4-7).
+    4 px against 57; a twig in a crotch: 2-4 px against 4-7). Only a piece
+    lying along one of the two (within :data:`_ALONG_SIDE` times its half
+    width of its centre line) is held: a long branch reaching out of a
+    fork it touches at two places is carried as a whole.
     """
     held = [j for j, c in enumerate(contacts) if c >= least]
     if len(held) < 2:
         return []
     ys, xs = np.nonzero(comp)
     extent = float(np.hypot(xs.max() - xs.min() + 1, ys.max() - ys.min() + 1))
-    if len(ys) < _THIN * extent * min(float(np.median(d_sub[j][touching[j]])) for j in held):
+    hw = {j: float(np.median(d_sub[j][touching[j]])) for j in held}
+    if len(ys) < _THIN * extent * min(hw.values()):
+        return []
+    if not any(float(d_sub[j][comp].max()) <= _ALONG_SIDE * hw[j] for j in held):
         return []
     pts = {j: np.argwhere(touching[j]).astype(float) for j in held}
     best, pair = _ENDS * extent, []
