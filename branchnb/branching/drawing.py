@@ -68,6 +68,13 @@ class DrawingStyle:
         kept pixel of the region). :func:`draw_in_style` fills the region
         from it at the same place (mirrored beyond its size). None or a
         missing label: the flat colour.
+    two_tone : bool
+        The example is a binary line mask (one region, every pixel either
+        its colour or the line colour, no anti-aliasing): the drawing is
+        snapped to those two colours, each branch keeping an unbroken
+        8-connected centre line (beyond the paper: a mask synthesized from
+        a mask stays a mask, and its one-pixel lines stay whole and full
+        strength).
     """
 
     region_colours: np.ndarray
@@ -79,6 +86,7 @@ class DrawingStyle:
     outlet_reach: float = 0.0
     tip_reach: float = 0.0
     region_textures: dict | None = None
+    two_tone: bool = False
 
 
 def _median_colour(img: np.ndarray, mask: np.ndarray, fallback) -> np.ndarray:
@@ -128,7 +136,11 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
     # the line's own colour: its centre pixels that stand out most (thin anti-aliased lines blend
     # most of their centre pixels with the ground: their median drew pale rivers), the drawn width
     # below then comes out narrower, so the ink per length stays the example's
-    strong = centre & (off_region >= np.percentile(off_region[centre], 67)) if centre.any() else centre
+    # (a line mask on one ground, k == 1: its lines of every width are one ink at full cover, so the
+    # line colour is its strongest centre pixels'; a mask mostly of thin anti-aliased lines otherwise
+    # drew its wide trunk grey)
+    pct = 90 if k == 1 else 67
+    strong = centre & (off_region >= np.percentile(off_region[centre], pct)) if centre.any() else centre
     line = _median_colour(img, strong, cols[branch_region])
     unlike_region = off_region > tol
 
@@ -191,9 +203,12 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
         tip_reach = _boundary_reach(ends, lim, share=0.5)
     textures = _region_textures(img, lay, cols, pm, line, b_width if b_col is not None else 0.0,
                                 branch_region)
+    # a binary line mask: every pixel is the ground colour or the line colour
+    two_tone = bool(k == 1 and b_col is None and not textures
+                    and np.all(np.minimum(np.abs(img - cols[0]).max(-1), np.abs(img - line).max(-1)) <= 1.5 / 255))
     return DrawingStyle(cols.astype(np.float32), branch_region, line.astype(np.float32), scale,
                         None if b_col is None else b_col.astype(np.float32), b_width, reach, tip_reach,
-                        textures or None)
+                        textures or None, two_tone)
 
 
 def _boundary_line(img, inside, lay, k, pm, mean_r, off_region, unlike_region, line, cover):
@@ -526,6 +541,13 @@ def draw_in_style(style: DrawingStyle, structure: Structure, labels: np.ndarray)
     pls = [b.points for b in drawn]
     raw = [style.width_scale * 2 * b.thickness for b in drawn]
     wid = [np.maximum(x, 1.0) for x in raw]
+    if pls and style.two_tone:
+        # a binary mask: lines under 1.5 px are one-pixel rasters (as the example draws them), wider
+        # ones every pixel they cover at least half of; no anti-aliasing
+        wide = [i for i, x in enumerate(raw) if np.median(x) >= 1.5]
+        cov = coverage_polylines((h, w), [pls[i] for i in wide], [wid[i] for i in wide])[0] if wide \
+            else np.zeros((h, w), np.float32)
+        return _two_tone(cov >= 0.5, pls, cols[style.branch_region], style.line_colour)
     if pls:
         cov, owner = coverage_polylines((h, w), pls, wid)
         # a line thinner than a pixel is drawn one pixel wide at that share of the ink (as the
@@ -533,3 +555,18 @@ def draw_in_style(style: DrawingStyle, structure: Structure, labels: np.ndarray)
         alpha = np.array([np.clip(np.median(x), 0.3, 1.0) for x in raw] + [1.0], np.float32)
         paint(cov * alpha[owner], style.line_colour)
     return np.clip(img, 0.0, 1.0)
+
+
+def _two_tone(ink: np.ndarray, lines: list, ground: np.ndarray, line: np.ndarray) -> np.ndarray:
+    """A two-colour drawing: ``ink`` pixels and every line's 8-connected centre-line raster in the
+    ``line`` colour, the rest ``ground``."""
+    import cv2
+
+    g, c = np.asarray(ground, np.float32), np.asarray(line, np.float32)
+    ink = np.array(ink, bool)
+    centre = np.zeros(ink.shape, np.uint8)
+    for pts in lines:
+        cv2.polylines(centre, [np.round(np.asarray(pts, np.float64) * 8).astype(np.int32)], False, 1, 1,
+                      cv2.LINE_8, 3)
+    ink |= centre > 0
+    return np.where(ink[..., None], c, g).astype(np.float32)

@@ -12,7 +12,7 @@ import cv2
 import numpy as np
 from scipy import ndimage as ndi
 
-__all__ = ["flat_colour_regions", "region_layout", "colour_labels"]
+__all__ = ["flat_colour_regions", "region_layout", "colour_labels", "two_tone_lines"]
 
 def flat_colour_regions(image: np.ndarray, exclude: np.ndarray | None = None, *, tol: float = 0.03,
                         min_fraction: float = 0.02) -> tuple[np.ndarray, float]:
@@ -206,3 +206,74 @@ def colour_labels(image: np.ndarray, labels: np.ndarray, sample: np.ndarray | No
     out = ks[np.argmin(d, axis=-1)].astype(np.int32)
     out[d.min(-1) > tol] = -1
     return out
+
+
+def two_tone_lines(image: np.ndarray, *, off_axis: float = 0.06, ground_share: float = 0.5,
+                   max_off: float = 0.005, max_inner: float = 0.1) -> bool:
+    """Whether an example is a line mask: lines of one colour on a plain ground, nothing else.
+
+    Every pixel is the ground colour, the line colour or (on the lines'
+    anti-aliased edges) a mix of the two. Such an example (a binary or
+    anti-aliased vessel, crack or river mask, in either polarity) has no
+    texture a copied fragment could bring: its lines are best drawn.
+
+    Parameters
+    ----------
+    image : (H, W, C) float ndarray
+        The example, float in [0, 1] (the first 3 channels are used).
+    off_axis : float, default 0.06
+        A pixel farther than this (Euclidean) from the segment between the
+        ground and line colours is of another colour.
+    ground_share : float, default 0.5
+        Smallest share of the image in the ground colour.
+    max_off : float, default 0.005
+        Largest share of the image in other colours (noise, a third colour).
+    max_inner : float, default 0.1
+        Largest share of the mixed pixels (10-90 % of the way to the line
+        colour) with no ground pixel beside them: mixed pixels of a mask are
+        anti-aliased edges, those of a glow or a blur lie inside a halo.
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.ones((40, 60, 3), np.float32); img[18:21, 5:55] = 0.0
+    >>> two_tone_lines(img)
+    True
+    >>> two_tone_lines(np.random.default_rng(0).random((40, 60, 3)).astype(np.float32))
+    False
+    """
+    img = np.asarray(image, np.float32)
+    if img.ndim == 2:
+        img = img[..., None]
+    img = img[..., :3]
+    flat_px = img.reshape(-1, img.shape[2])
+    # the ground: the most common colour (quantised), the line: the colour farthest from it in the
+    # strongest percent of the image
+    q = np.round(flat_px * 16).astype(np.int32)
+    keys, counts = np.unique(q @ (17 ** np.arange(q.shape[1])), return_counts=True)
+    key = keys[counts.argmax()]
+    near = (q @ (17 ** np.arange(q.shape[1]))) == key
+    if near.mean() < ground_share:
+        return False
+    g = np.median(flat_px[near], axis=0)
+    d = np.linalg.norm(flat_px - g, axis=1)
+    far = d >= np.percentile(d, 99.5)
+    if float(d.max()) < 0.2:
+        return False
+    line = np.median(flat_px[far], axis=0)
+    v = line - g
+    span = float(v @ v)
+    t = np.clip((flat_px - g) @ v / span, 0.0, 1.0)
+    off = np.linalg.norm(flat_px - g - t[:, None] * v, axis=1) > off_axis
+    if off.mean() > max_off:
+        return False
+    t = t.reshape(img.shape[:2])
+    mixed = (t > 0.1) & (t < 0.9)
+    if not mixed.any():
+        return True
+    beside_ground = ndi.binary_dilation(t <= 0.1, structure=np.ones((3, 3), bool))
+    return float(np.mean(~beside_ground[mixed])) <= max_inner

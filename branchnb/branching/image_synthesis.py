@@ -56,6 +56,7 @@ from ..core.random import as_rng
 from ..core.render import draw_polylines
 from ..core.structure import Structure
 from ..core.validate import Shape, checked
+from .flat_regions import two_tone_lines
 from .fragment_choice import _Context, _free_ends, _joined_at_region_edge
 from .fragment_placement import _constraints, _synthesize_fragments
 from .fragments import Fragment, source_fragments, target_fragments
@@ -156,6 +157,11 @@ class ImageSynthesisParams:
         example is drawn (its region colours, its boundary line along the output's
         region boundary, branches as connected strokes of its line colour and
         measured width) instead of copying fragments (off: the paper's fragments).
+        A line mask on one plain ground (binary or anti-aliased, either
+        polarity, :func:`~branchnb.branching.flat_regions.two_tone_lines`)
+        counts however thin its lines (beyond the paper: copied fragments
+        turned its one-pixel lines into pale broken dashes); a binary mask
+        gives a binary drawing.
     keep_regions : bool, default True
         Flat-colour examples (maps, masks): segment the example into its flat
         regions (land, sea), lay them out in the output as in the example, and fill
@@ -596,12 +602,17 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         pm_s = sm_s.pixel_map(ex.shape[:2])
         # Flat-colour examples (maps, masks): their regions, and no matte / Poisson.
         labels_ex, flat_share = flat_colour_regions(ex, pm_s.core(p.exclusion, p.exclusion_margin))
+        # a line mask on one plain ground (its lines too thin to form a flat region of their own)
+        mask = bool(flat_share >= 0.5 and labels_ex.max() == 0 and two_tone_lines(ex))
         cached = _EXAMPLE_CACHE[key] = {"sm_s": sm_s, "pm_s": pm_s, "labels_ex": labels_ex,
-                                        "flat_share": flat_share}
+                                        "flat_share": flat_share, "mask": mask}
     sm_s, pm_s, labels_ex, flat_share = (cached[k] for k in ("sm_s", "pm_s", "labels_ex", "flat_share"))
     sm_t = SkeletonMap(target_structure, 1.0)
     pm_t = sm_t.pixel_map((H, W))
     flat = bool(flat_share >= 0.5 and labels_ex.max() >= 1)
+    if cached["mask"] and p.flat_drawing:
+        return _draw_flat(ex, example_structure, target_structure, labels_ex, None, None,
+                          pm_s, labels_ex, p, t_start, report, (H, W))
     labels_t = None
     src_labels = labels_ex
     layout = labels_ex
