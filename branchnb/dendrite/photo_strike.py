@@ -71,6 +71,7 @@ from .stylize_params import (
     STRIKE_JAG_AMPLITUDE,
     STRIKE_JAG_WINDOW,
     STRIKE_MAX_RIDGE,
+    STRIKE_MAX_STRAIGHT,
     STRIKE_MIN_JAG,
     STRIKE_MIN_PIECE,
     STRIKE_MIN_RIDGE,
@@ -82,10 +83,13 @@ from .stylize_params import (
     STRIKE_PHOTO_LENGTH,
     STRIKE_PHOTO_SLACK,
     STRIKE_RIDGE,
+    STRIKE_STRAIGHT_BAND,
+    STRIKE_STRAIGHT_LENGTH,
+    STRIKE_STRAIGHT_PENALTY,
 )
 
 __all__ = ["bright_ridges", "edge_significance", "jaggedness", "long_pieces", "noise_threshold",
-           "jag_channel", "photo_channel", "side_branches", "strike_origin"]
+           "jag_channel", "photo_channel", "side_branches", "straight_edges", "strike_origin"]
 
 
 def noise_threshold(values, k: float = STRIKE_NOISE) -> float:
@@ -286,7 +290,8 @@ def jaggedness(mask, window: float) -> float:
 def strike_origin(luminance, *, ridge: float = STRIKE_RIDGE, k: float = STRIKE_NOISE,
                   min_ridge: float = STRIKE_MIN_RIDGE, max_share: float = STRIKE_MAX_RIDGE,
                   min_span: float = STRIKE_MIN_SPAN, window: float = STRIKE_JAG_WINDOW,
-                  min_jag: float = STRIKE_MIN_JAG) -> tuple[int, int] | None:
+                  min_jag: float = STRIKE_MIN_JAG,
+                  max_straight: float = STRIKE_MAX_STRAIGHT) -> tuple[int, int] | None:
     """The top of a photo's brightest strike: where a bolt drawn from it starts.
 
     The bright structures narrower than ``ridge`` of the diagonal (the white
@@ -296,7 +301,10 @@ def strike_origin(luminance, *, ridge: float = STRIKE_RIDGE, k: float = STRIKE_N
     spans at least ``min_span`` of the height and has a bolt's profile: its
     :func:`jaggedness` in a window of ``window`` of the diagonal is at least
     ``min_jag`` (beyond the papers: a dusk skyline's lit mast, a ruler-straight
-    bright line, was taken for a strike and the bolt ran down it). The brightest
+    bright line, was taken for a strike and the bolt ran down it) and at most
+    ``max_straight`` of its pixels lie on the picture's long straight edges
+    (:func:`straight_edges`; beyond the papers: a launch tower's lit truss, jagged as
+    a mesh, was a strike on the rocket photo at 300-320 px). The brightest
     strike (most top-hat brightness) counts, and its topmost pixel (the
     brightest of its top row) is the origin. None when the bright lines cover
     more than ``max_share`` of the picture (a textured photo: a portrait's
@@ -308,7 +316,7 @@ def strike_origin(luminance, *, ridge: float = STRIKE_RIDGE, k: float = STRIKE_N
     ----------
     luminance : (h, w) array_like
         Luminance in [0, 1].
-    ridge, k, min_ridge, max_share, min_span, window, min_jag : float
+    ridge, k, min_ridge, max_share, min_span, window, min_jag, max_straight : float
         As above.
 
     Returns
@@ -337,11 +345,16 @@ def strike_origin(luminance, *, ridge: float = STRIKE_RIDGE, k: float = STRIKE_N
     boxes = ndimage.find_objects(lab, n)
     span = np.array([0 if b is None else b[0].stop - b[0].start for b in boxes])
     sigma = window * float(np.hypot(*top.shape))
+    straight = None
     for i in np.argsort(-score, kind="stable"):
         if span[i] < min_span * h:
             continue
         piece = lab[boxes[i]] == i + 1
         if jaggedness(piece, sigma) < min_jag:
+            continue
+        if straight is None:
+            straight = straight_edges(luminance)
+        if straight[boxes[i]][piece].mean() > max_straight:  # a lit truss, not a bolt
             continue
         ys, xs = np.nonzero(piece)
         ys, xs = ys + boxes[i][0].start, xs + boxes[i][1].start
@@ -441,6 +454,62 @@ def photo_channel(weights, content, seed, *, length: float = STRIKE_PHOTO_LENGTH
     return np.column_stack([nodes % w.shape[1], nodes // w.shape[1]]).astype(np.int64)
 
 
+def straight_edges(luminance, *, length: float = STRIKE_STRAIGHT_LENGTH,
+                   band: float = STRIKE_STRAIGHT_BAND) -> np.ndarray:
+    """Where a picture has long straight edges (a mast, a tower, a horizon, a table's rim).
+
+    Beyond the papers: the Canny edges of ``luminance`` (sigma 1 px, hysteresis between
+    the 70th and 90th percentile of the gradient, so a dim night photo has edges too),
+    their probabilistic Hough segments at least ``length`` of the diagonal long (gaps up
+    to 3 px bridged), drawn and widened by ``band`` of the diagonal (at least 1 px).
+
+    Parameters
+    ----------
+    luminance : (h, w) array_like
+        In [0, 1].
+    length : float
+        Shortest segment, share of the diagonal (> 0).
+    band : float
+        Half-width of the band round each segment, share of the diagonal (>= 0).
+
+    Returns
+    -------
+    (h, w) bool ndarray
+
+    Examples
+    --------
+    >>> lum = np.full((80, 80), 0.2); lum[:, 40:] = 0.8
+    >>> m = straight_edges(lum)
+    >>> bool(m[5:-5, 39:42].all()), bool(m[:, :36].any())
+    (True, False)
+    """
+    from skimage.draw import line as draw_line
+    from skimage.feature import canny
+    from skimage.transform import probabilistic_hough_line
+
+    lum = np.asarray(luminance, np.float64)
+    if lum.ndim != 2:
+        raise ValueError(f"luminance must be 2-D, got shape {lum.shape}")
+    if not length > 0:
+        raise ValueError(f"length must be > 0, got {length}")
+    if not band >= 0:
+        raise ValueError(f"band must be >= 0, got {band}")
+    out = np.zeros(lum.shape, bool)
+    if min(lum.shape) < 8 or np.ptp(lum) <= 1e-6:
+        return out
+    diag = float(np.hypot(*lum.shape))
+    edges = canny(lum, sigma=1.0, low_threshold=0.7, high_threshold=0.9, use_quantiles=True)
+    segs = probabilistic_hough_line(edges, threshold=10, line_length=max(int(length * diag), 10),
+                                    line_gap=3, rng=0)
+    for (x0, y0), (x1, y1) in segs:
+        rr, cc = draw_line(y0, x0, y1, x1)
+        out[rr, cc] = True
+    r = max(int(round(band * diag)), 1)
+    if out.any():
+        out = ndimage.binary_dilation(out, ndimage.generate_binary_structure(2, 1), iterations=r)
+    return out
+
+
 def side_branches(luminance, edges, weights, content, params, *, struck: bool,
                   rng: int = 0) -> tuple[np.ndarray, np.ndarray | None]:
     """The lattice weights and the endpoints of a lightning bolt's side branches on a photo.
@@ -488,7 +557,8 @@ def side_branches(luminance, edges, weights, content, params, *, struck: bool,
     Examples
     --------
     >>> from branchnb.dendrite import StylizeParams
-    >>> lum = np.full((64, 64), 0.1); lum[:, 30] = 0.9
+    >>> yy, xx = np.mgrid[0:64, 0:64]
+    >>> lum = np.where(np.hypot(xx - 32, yy - 32) < 12, 0.9, 0.1)
     >>> w, ends = side_branches(lum, np.abs(np.gradient(lum)[1]), np.ones((64, 64)),
     ...                         np.ones((64, 64), bool), StylizeParams(n_endpoints=5), struck=False)
     >>> w.shape, ends.shape
@@ -516,6 +586,12 @@ def side_branches(luminance, edges, weights, content, params, *, struck: bool,
                                 epsilon=params.epsilon, noise=params.noise, rng=rng)
     else:
         sig = edge_significance(edges, STRIKE_EDGE_NOISE)
+        # long straight edges (a launch tower, a mast) neither hold endpoints nor make a
+        # cheap highway: the branches ran ruler-straight down them (beyond the paper)
+        line = straight_edges(lum)
+        if line.any():
+            sig = np.where(line, 0.0, sig)
+            base = base + float(np.mean(base)) * STRIKE_STRAIGHT_PENALTY * line
     ends = None
     if (sig > 0).sum() >= 4 * n:
         ends = place_endpoints(sig, n, gamma=params.endpoint_gamma, floor=0.0, threshold=1e-6,

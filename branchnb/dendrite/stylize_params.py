@@ -347,6 +347,20 @@ STRIKE_MIN_PIECE = 0.05
 #: ... and between those lines they cost less where the picture is bright (a lit cloud,
 #: not the dark sky): the importance there is this share of the blurred luminance.
 STRIKE_GLOW = 0.6
+#: On a photo without a strike, the long straight edges (Hough segments of the Canny
+#: edges, at least ``STRIKE_STRAIGHT_LENGTH`` of the diagonal) and a band of
+#: ``STRIKE_STRAIGHT_BAND`` of the diagonal round them cost this many mean weights more for
+#: the side branches, and no endpoint is stippled there
+#: (:func:`~branchnb.dendrite.photo_strike.straight_edges`; beyond the paper: the side
+#: branches ran ruler-straight down a rocket's launch towers).
+STRIKE_STRAIGHT_LENGTH = 0.06
+STRIKE_STRAIGHT_BAND = 0.005
+STRIKE_STRAIGHT_PENALTY = 1.0
+#: ... and a bright piece with more than this share of its pixels on those straight edges is
+#: no strike (a launch tower's lit truss, jagged as a 2-D mesh: on the rocket photo at 300
+#: and 320 px 0.24-0.42, taken for a strike; the NOAA bolts 0.00-0.08, procedural storms
+#: 0.00-0.13).
+STRIKE_MAX_STRAIGHT = 0.2
 
 #: Factor on the width (above the thinnest) of the side branches of a lightning bolt on a
 #: photo (:func:`~branchnb.dendrite.main_channel.widen_main_path`, ``side``; beyond the
