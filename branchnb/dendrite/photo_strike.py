@@ -325,10 +325,10 @@ def strike_origin(luminance, *, ridge: float = STRIKE_RIDGE, k: float = STRIKE_N
 
     Examples
     --------
-    >>> lum = np.full((60, 60), 0.2); y = np.arange(12, 55)
-    >>> lum[y, 28 + np.abs((y - 12) % 8 - 4)] = 0.9  # a zigzag bright line from row 12 down
+    >>> lum = np.full((160, 160), 0.2); y = np.arange(12, 155)
+    >>> lum[y, 80 + np.abs((y - 12) % 20 - 10)] = 0.9  # a zigzag bright line from row 12 down
     >>> strike_origin(lum)
-    (32, 12)
+    (90, 12)
     >>> lum = np.full((60, 60), 0.2); lum[12:55, 30] = 0.9  # a straight one: no strike
     >>> strike_origin(lum) is None
     True
@@ -462,6 +462,11 @@ def straight_edges(luminance, *, length: float = STRIKE_STRAIGHT_LENGTH,
     the 70th and 90th percentile of the gradient, so a dim night photo has edges too),
     their probabilistic Hough segments at least ``length`` of the diagonal long (gaps up
     to 3 px bridged), drawn and widened by ``band`` of the diagonal (at least 1 px).
+    Limits: an edge that lies exactly between two pixel columns (a synthetic, unblurred
+    step) alternates between them in Canny and is found only in pieces; a bolt's straight
+    legs longer than ``length`` count (the fine zigzag of a 60-px toy bolt is straight at
+    10 px: on a 512-px lattice the NOAA bolts have 0.00-0.08 of their pixels on these
+    lines, procedural storms 0.00-0.13).
 
     Parameters
     ----------
