@@ -72,6 +72,14 @@ spots) the carried-over layer is only a prior:
    **Side ridges** (:func:`~branchnb.leaves.snapping_stray._side_ridges`): a long straight ridge at
    :data:`~branchnb.leaves.snapping_stray.SIDE_LEVEL` that leaves the found network is a branch the
    training layer lacks (a torn lobe's lateral on the training maple 07).
+   **Lost basal veins** (:func:`~branchnb.leaves.snapping_basal.basal_branches`): the training
+   layer's branches leaving its petiole junction are matched by angle (about the midrib) to the
+   snapped network's branches leaving the exemplar's junction; a training branch at least
+   :data:`~branchnb.leaves.snapping_basal.BASAL_ANGLE` degrees from the midrib left unmatched (a
+   basal vein at right angles to the midrib on sample maples 04 and 07, missed by the carried prior)
+   is searched for by rays from the junction and taken when its ray scores at least
+   :data:`~branchnb.leaves.snapping_basal.RAY_LEVEL` of the found branches' own. Nothing is searched
+   where the training layer has no branch.
 7. **Parallel venation** (:mod:`branchnb.leaves.snapping_parallel`): when the training layer's
    main branches are parallel veins that do not meet (a grass blade's,
    :func:`~branchnb.leaves.snapping_parallel.is_parallel_layer`), the paths are cut where they
@@ -161,6 +169,7 @@ from scipy import ndimage as ndi
 
 from ..core.image import as_mask
 from ..core.morphology import fill_holes
+from .snapping_basal import basal_branches, junction_star
 from .snapping_carry import _affine_carry, _disk, _moment_carry, _nearest, _unbox, blade_box, carry_points  # noqa: F401
 from .snapping_evidence import contrast_direction, ridge_evidence
 from .snapping_fit import (  # noqa: F401  (the fit's names, importable from here as before)
@@ -459,7 +468,7 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
                       radius_widths: float = 3.0, min_evidence: float = 0.2, refine: bool = True,
                       line_frac: float = 0.08, fit: bool = True, fit_reach: float = 0.2, oriented: bool = True,
                       trace: bool = True, trace_kw=None, lightness_share: float = 0.3, directions=None,
-                      mirror: bool = True, return_centred: bool = False):
+                      mirror: bool = True, return_centred: bool = False, basal: bool = True):
     """The training layer ``user`` snapped onto every exemplar's own ridges.
 
     Parameters
@@ -515,6 +524,9 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
         (:func:`~branchnb.leaves.snapping_mirror.mirror_missing`: a branch
         with no counterpart on the other side of the midrib gets its mirror
         image as a candidate), default True.
+    basal : bool
+        Look for the training junction's basal branches the snapping lost
+        (:func:`~branchnb.leaves.snapping_basal.basal_branches`), default True.
     return_centred : bool
         Also return ``centred``: the same paths grown by each exemplar's own
         contrast, to the side and width of its vein (:func:`~branchnb.leaves.snapping_width.vein_centre`,
@@ -557,6 +569,8 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
         return d
     training_direction = projected(contrast_direction(labs[t], user, blades[t]))
     radius = max(3.0, 1.5 * float(tolerance), float(radius_widths) * width)
+    # The training layer's petiole junction and the branches leaving it (None: no star).
+    star = junction_star(user_chains, blades[t]) if (fit and basal and not parallel) else None
     masks, kept, centred_masks = [], [], []
     size_t = np.sqrt(float(blades[t].sum()))
     for e, (lab, b) in enumerate(zip(labs, blades)):
@@ -659,6 +673,17 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
             m0, k0, mcen0 = place(user_chains, user_widths, len(user_chains))
             if not adds_only(m0, m, max(3.0, 1.5 * width * scale)):
                 m, k, mcen = m0, k0, mcen0
+        if fit and star is not None and hess is not None:
+            # The junction's branches the snapping lost (a basal vein at a wider angle), found by rays.
+            import cv2
+            evb = cv2.GaussianBlur(np.where(b, ev, 0.0).astype(np.float32), (0, 0), 0.7)
+            jc = carry_points(registrations[e], star["centre"][None])[0] - off
+            sw_star = [user_widths[i] * scale for i in star["index"]]
+            found = basal_branches(m, star, jc, _oriented_maps(evb, hess), pev, b, sw_star, scale_e,
+                                   max(2.0, 1.5 * width), min_evidence=min_evidence,
+                                   overlap_px=max(3.0, float(np.ceil(width * scale_e))))
+            m = m | found
+            mcen = mcen | found
         if fit and chains and STRAY_LEVEL > 0:
             # As long as the layer's typical main branch at least: a vein, not a crease.
             typical = scale * float(np.median([np.hypot(*np.diff(c, axis=0).T).sum() for c in chains]))
