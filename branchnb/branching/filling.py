@@ -65,6 +65,8 @@ FILL_COVERAGE = 1.25
 
 #: Pull of a branch grown into a hole toward its centre: candidates score x exp(kappa (cos - 1)).
 GOAL_KAPPA = 2.0
+#: rounds of growing on after the never-grown heads are dropped (``_Filling._drop_unborn``)
+UNBORN_ROUNDS = 3
 
 
 def _hole_map(polylines, domain: np.ndarray, cell: float) -> tuple[float, np.ndarray, float]:
@@ -212,7 +214,7 @@ class _Filling:
             if st.parent is not None and not st.stop and not st.src:
                 st.unborn = True
 
-    def _drop_unborn(self) -> None:
+    def _drop_unborn(self, resume: bool = True) -> None:
         """Drop children queued but never grown (beyond the paper, issue 23).
 
         Children are started (their first segment copied from an input head) when their parent
@@ -222,12 +224,31 @@ class _Filling:
         unseen 300 x 450 crack mask: 4 of 6 short thick children of a seed were such heads). Leaf
         children that took no Markov step are removed (a child that later furcated is kept).
 
-        The density map keeps their cells (the coverage target was reached with them), so the
-        output is 3-5 % shorter where the coverage stopped the growth (thin line masks 512 px,
-        length ratio 0.90-0.99 -> 0.86-0.96; retina, map 1.19-1.24 -> 1.14-1.19 x the example's).
+        ``resume``: the density map is rebuilt without them, the branches the stop cut short grow
+        on and the fill rounds (``_Grower._fill_rounds``) run again, up to :data:`UNBORN_ROUNDS`
+        times (the heads queued then dropped again), so the length and coverage the heads held go
+        to grown branches: dropped alone, a thin crack mask's output lost up to 22 % of its length.
         """
+        for _ in range(UNBORN_ROUNDS if resume else 1):
+            if not self._drop_heads():
+                return
+            if self.density is not None:
+                self._rebuild_density()
+            if not resume or self.stop_reason not in ("density (coverage)", "total length"):
+                return
+            queue = [i for i, st in enumerate(self.branches) if not st.stop and st.src]
+            self.stop_reason = ""
+            if self.global_stop():
+                return
+            self._drain(queue)
+            self._fill_rounds()
+        if self._drop_heads() and self.density is not None:
+            self._rebuild_density()
+
+    def _drop_heads(self) -> bool:
+        """Remove leaf children flagged ``unborn`` that took no step; True when any was removed."""
         if len(self.branches) < 2:
-            return
+            return False
         kids = np.zeros(len(self.branches), np.int64)
         for st in self.branches:
             if st.parent is not None:
@@ -235,6 +256,17 @@ class _Filling:
         keep = np.array([not (st.unborn and not st.src and kids[i] == 0)
                          for i, st in enumerate(self.branches)])
         self._keep_branches(keep)
+        return not keep.all()
+
+    def _rebuild_density(self) -> None:
+        """The density map of the branches kept (after some were removed)."""
+        dm = self.density
+        dm.grid[:] = 0.0
+        dm._n_above = 0
+        for st in self.branches:
+            if len(st.points) > 1:
+                q = np.asarray(st.points, np.float64)
+                dm.add_segments(q[:-1], q[1:])
 
     def _holes(self) -> tuple[float, np.ndarray, float]:
         dom = self.domain if self.domain is not None else np.ones(self.shape, bool)
