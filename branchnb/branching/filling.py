@@ -255,8 +255,20 @@ class _Filling:
                 kids[st.parent] += 1
         keep = np.array([not (st.unborn and not st.src and kids[i] == 0)
                          for i, st in enumerate(self.branches)])
+        for i in np.flatnonzero(~keep):   # the histograms counted them when they were started
+            self._uncount(self.branches[i])
         self._keep_branches(keep)
         return not keep.all()
+
+    def _uncount(self, st) -> None:
+        """Take a removed head's angles and radii out of the running histograms (global matching)."""
+        hm, a, r = self.matcher, np.asarray(st.elem_a, np.float64), np.asarray(st.radii, np.float64)
+        if a.size:
+            hm.counts_a -= np.bincount(hm.bin_angles(a), minlength=hm.bins)
+            self.bends.counts -= np.bincount(self.bends.bin_angles(a), minlength=self.bends.bins)
+        if r.size:
+            hm.counts_r -= np.bincount(hm.bin_radii(r), minlength=hm.bins)
+            hm.n_nodes -= int(r.size)
 
     def _rebuild_density(self) -> None:
         """The density map of the branches kept (after some were removed)."""
