@@ -63,8 +63,8 @@ def test_two_country_crop_keeps_rivers_beside_the_border():
 def test_dense_row_of_dots_is_dropped_line_kept():
     yy, xx = np.mgrid[0:50, 0:160].astype(float)
     img = np.full((50, 160), 0.08)
-    for x0 in np.arange(6, 154, 4.5):             # dots close enough to merge into one ridge
-        img += 0.8 * np.exp(-((xx - x0) ** 2 + (yy - 35) ** 2) / (2 * 1.3 ** 2))
+    for x0 in np.arange(6, 154, 5.5):             # dots close enough to merge into one ridge
+        img += 0.8 * np.exp(-((xx - x0) ** 2 + (yy - 35) ** 2) / (2 * 1.6 ** 2))
     img[12, 6:154] += 0.7                         # a continuous line
     img = np.clip(ndi.gaussian_filter(img, 0.6) + np.random.default_rng(0).normal(0, 0.01, img.shape), 0, 1)
     sk = np.zeros(img.shape, bool)

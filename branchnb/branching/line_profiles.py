@@ -55,7 +55,7 @@ def _hessian_across(gray: np.ndarray, sigmas) -> tuple[np.ndarray, ...]:
 
 
 def false_ridge_pixels(gray, skeleton, polarity: str, *, sigma_min: float = 1.0, sigma_max: float = 4.0,
-                       two_sided: float = 0.3, dotted: float = 0.3, beads: float = 0.25,
+                       two_sided: float = 0.3, dotted: float = 0.3, beads: float = 0.3,
                        min_run: int = 10) -> np.ndarray:
     """Skeleton pixels on stretches that are an edge or a row of dots, not a line.
 
