@@ -5,7 +5,14 @@ import pytest
 from scipy import ndimage as ndi
 
 from branchnb.leaves import snapping
-from branchnb.leaves._snapkernels import oriented_maps, polar_dp, sample_scores, sato_bright
+from branchnb.leaves._snapkernels import (
+    oriented_maps,
+    polar_dp,
+    sample_scores,
+    sample_scores_int,
+    sample_scores_many,
+    sato_bright,
+)
 from branchnb.leaves.induction import choose_threshold, colour_similarity, layer_cdfs
 
 
@@ -36,6 +43,26 @@ def test_sample_scores_is_the_numpy_mean():
     v = maps[k[None], np.clip(iy, 0, 29), np.clip(ix, 0, 39)]
     want = np.where(inside, v, 0.0).mean(1)
     np.testing.assert_allclose(sample_scores(maps, k, q, shifts), want, rtol=1e-6)
+
+
+@pytest.mark.parametrize("halves", [False, True])
+def test_whole_pixel_shifts_give_the_same_scores_bit_for_bit(halves):
+    """The integer-addressed kernel of the pose searches equals the float one exactly: points near and
+    past the border, exact half pixels (round half to even), a NaN point, shift grids of step 1-3."""
+    rng = np.random.default_rng(3)
+    maps = rng.random((6, 50, 61)).astype(np.float32)
+    for trial in range(12):
+        q = rng.uniform(-8, 66, (int(rng.integers(1, 9)), int(rng.integers(1, 40)), 2))
+        if halves:
+            q = np.round(q * 2) / 2
+        q[0, 0] = np.nan if trial == 5 else q[0, 0]
+        k = rng.integers(0, 6, q.shape[:2]).astype(np.int32)
+        r, step = int(rng.integers(1, 9)), int(rng.integers(1, 4))
+        g = np.arange(-r, r + 1, step)
+        shifts = np.array([(x, y) for y in g for x in g], np.float64) + rng.integers(-4, 5, 2)
+        want = sample_scores_many(maps, k, q, shifts)
+        got = sample_scores_int(maps, k, q, shifts.astype(np.int64))
+        assert np.array_equal(got, want, equal_nan=True)
 
 
 @pytest.mark.parametrize("r0, slope", [(3.0, 0.5), (3.0, 0.3), (150.0, 0.3), (300.0, 0.01)])

@@ -145,6 +145,7 @@ def free_direction(grid, cell, tipx, tipy, dirs, theta, rotate, length, n_sample
     (``_Grower._room_ahead`` and ``_room_around``: the same answer as ``profile_bins`` over all of them)."""
     K = dirs.shape[0]
     done = np.zeros(nbins, np.bool_)
+    n_done = 0
     prof = np.empty(n_samples, np.float32)
     pre = np.empty(n_samples, np.float32)
     post = np.empty(n_samples, np.float32)
@@ -162,6 +163,9 @@ def free_direction(grid, cell, tipx, tipy, dirs, theta, rotate, length, n_sample
         m, cr = _bin_profile(grid, cell, tipx, tipy, q, length, n_samples, tol, nbins, step, prof, pre, post)
         if not cr and m < stop:
             return True
+        n_done += 1
+        if n_done == nbins:   # every bin profiled and none free: the other directions cannot change that
+            return False
     return False
 
 
@@ -647,64 +651,72 @@ def step_factors(t, cont_angles, cont_len, use_bend, bend_p, bend_counts, bend_b
     to the power ``weight``), ``zero`` the candidates a branch may not take
     (``end_zero``: those that end it; those whose headings would sweep past ``wind_max``)."""
     J = t.shape[0]
-    M = cont_angles.shape[1]
     fb = np.ones(J)
     zero = np.zeros(J, np.bool_)
-    if use_bend:
-        d = _improvements_bins(bend_p, bend_counts, bend_bins, t)
+    d = _improvements_bins(bend_p, bend_counts, bend_bins, t) if use_bend else np.zeros(J)
     for j in range(J):
-        r = t[j]
-        n = cont_len[r]
-        f = 1.0
-        if use_bend:
-            f = np.exp(min(max(bend_scale * d[j], -bend_cap), bend_cap))
-        if use_runs:
-            L = run
-            Lb = state[r]
-            ll = 0.0
-            la = 0.0
-            for i in range(M):
-                if i >= n:
-                    break
-                bent = abs(cont_angles[r, i]) >= tol
-                if L > 0:
-                    jl = min(L, max_run)
-                    jb = min(Lb, max_run)
-                    if bent:
-                        ll += log_h[jl] - log_h[jb]
-                        la += log_h[jl] - log_q
-                    else:
-                        ll += log_1h[jl] - log_1h[jb]
-                        la += log_1h[jl] - log_1q
-                if bent:
-                    L = 0
-                    Lb = 0
-                else:
-                    L += 1
-                    Lb += 1
-            fr = np.exp(min(max(run_gain * ll, -run_cap), run_cap))
-            if mode == 0:
-                fr = np.sqrt(fr * np.exp(min(max(run_gain * la, -run_cap), run_cap)))
-            elif mode == 1:
-                fr = np.sqrt(fr)
-            elif mode == 3:
-                fr = fr ** 0.25 * np.exp(0.75 * min(max(run_gain * la, -run_cap), run_cap))
-            if weight != 1.0:
-                fr = fr ** weight
-            f = f * fr if use_bend else fr
-        fb[j] = f
-        if end_zero and n <= 0:
-            zero[j] = True
-        a = theta
-        amax = hi
-        amin = lo
-        for i in range(M):
-            a += cont_angles[r, i]
-            amax = max(amax, a)
-            amin = min(amin, a)
-        if amax - amin > wind_max:
-            zero[j] = True
+        fb[j], zero[j] = _factor_at(t[j], d[j], cont_angles, cont_len, use_bend, bend_scale,
+                                    bend_cap, use_runs, log_h, log_1h, log_q, log_1q, state, run, tol, max_run,
+                                    mode, weight, run_gain, run_cap, theta, lo, hi, wind_max, end_zero)
     return fb, zero
+
+
+@numba.njit(cache=True)
+def _factor_at(r, d, cont_angles, cont_len, use_bend, bend_scale, bend_cap, use_runs, log_h, log_1h, log_q,
+               log_1q, state, run, tol, max_run, mode, weight, run_gain, run_cap, theta, lo, hi, wind_max,
+               end_zero):
+    """``(fb, zero)`` of :func:`step_factors` for the candidate window ``r`` whose bend-size
+    improvement is ``d``."""
+    M = cont_angles.shape[1]
+    n = cont_len[r]
+    f = 1.0
+    if use_bend:
+        f = np.exp(min(max(bend_scale * d, -bend_cap), bend_cap))
+    if use_runs:
+        L = run
+        Lb = state[r]
+        ll = 0.0
+        la = 0.0
+        for i in range(M):
+            if i >= n:
+                break
+            bent = abs(cont_angles[r, i]) >= tol
+            if L > 0:
+                jl = min(L, max_run)
+                jb = min(Lb, max_run)
+                if bent:
+                    ll += log_h[jl] - log_h[jb]
+                    la += log_h[jl] - log_q
+                else:
+                    ll += log_1h[jl] - log_1h[jb]
+                    la += log_1h[jl] - log_1q
+            if bent:
+                L = 0
+                Lb = 0
+            else:
+                L += 1
+                Lb += 1
+        fr = np.exp(min(max(run_gain * ll, -run_cap), run_cap))
+        if mode == 0:
+            fr = np.sqrt(fr * np.exp(min(max(run_gain * la, -run_cap), run_cap)))
+        elif mode == 1:
+            fr = np.sqrt(fr)
+        elif mode == 3:
+            fr = fr ** 0.25 * np.exp(0.75 * min(max(run_gain * la, -run_cap), run_cap))
+        if weight != 1.0:
+            fr = fr ** weight
+        f = f * fr if use_bend else fr
+    z = end_zero and n <= 0
+    a = theta
+    amax = hi
+    amin = lo
+    for i in range(M):
+        a += cont_angles[r, i]
+        amax = max(amax, a)
+        amin = min(amin, a)
+    if amax - amin > wind_max:
+        z = True
+    return f, z
 
 
 @numba.njit(cache=True)

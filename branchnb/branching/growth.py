@@ -8,7 +8,9 @@ parent's non-causal window (``start_child``, in :mod:`.branch_starts`) and
 grow the same way, generation by generation; then the domain is filled
 (:class:`.filling._Filling`). Split from :mod:`branchnb.branching.synthesis`.
 The inner loops of a step and of a branch start (scores, density profiles,
-crossing tests) run compiled (:mod:`branchnb.branching._kernels`).
+crossing tests) run compiled (:mod:`branchnb.branching._kernels`); a plain step
+(no delta, coast, hole or guidance factor) and the bookkeeping of new segments
+are one compiled call each (:mod:`branchnb.branching._loop_kernels`).
 """
 
 from __future__ import annotations
@@ -19,7 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..core.structure import Branch, Structure
-from . import _kernels
+from . import _kernels, _loop_kernels
 from .branch_starts import _BranchState, _Starts
 from .colonization import (
     DensityMap,
@@ -297,6 +299,11 @@ def _pull_radii(cont: np.ndarray, copied: np.ndarray, pull: float | None = None)
     return cont * (np.maximum(copied, 1e-9) / np.maximum(cont, 1e-9)) ** w
 
 
+#: :data:`RADIUS_PULL` of a root toward its input root's radius at the same arc length
+#: (:meth:`~branchnb.branching.branch_starts._Starts._root_profile`).
+ROOT_PROFILE_PULL = 0.05
+
+
 #: An example that drains (a delta): quantile of its branches' (thinnest radius over their first 90 % /
 #: first radius) below which a synthesized channel may not thin.
 RADIUS_KEEP_QUANTILE = 0.5
@@ -418,7 +425,12 @@ class _Grower(_Starts, _Filling):
         return (D_c + p.eps) / (np.maximum(D_c, Df) + p.eps)
 
     def _register(self, polyline: np.ndarray, angles=(), radii=()) -> None:
-        poly = np.asarray(polyline, np.float64)
+        poly = np.ascontiguousarray(polyline, np.float64)
+        length = _loop_kernels.register_polyline(self.store, self.density, self.matcher, self.bends, poly,
+                                                 angles, radii)
+        if length is not None:   # compiled, the same numbers (the numpy code below stays the reference)
+            self.total_length += length
+            return
         if len(poly) > 1:
             self.store.add_polyline(poly)
             if self.density is not None:
@@ -509,6 +521,27 @@ class _Grower(_Starts, _Filling):
         """``(fb, zero)`` of a step's candidates ``t_arr`` (:func:`._kernels.step_factors`): the bend-size
         factor times the straight-run factor (None when neither applies) and the candidates a branch
         may not take (they end it under ``branch_end = "length"``, or sweep past the winding limit)."""
+        args, use_fb = self._factor_args(st)
+        fb, zero = _kernels.step_factors(t_arr, *args)
+        return (fb if use_fb else None), zero
+
+    def _plain(self, st) -> bool:
+        """Is branch ``st``'s next step a plain one (:func:`._loop_kernels.plain_step`): the default
+        scorer, no guidance, drain, shore, frame factor (a root on a free frame), goal or mouth?"""
+        return (self.scorer is score_candidates and self.guidance is None and self.drain is None
+                and self.shore is None and st.goal is None and st.mouth is None
+                and not (self.frame and st.parent is None))
+
+    def _plain_step(self, st, tip, t: np.ndarray, L: int):
+        """``(stopped, score, points, chosen)`` of a plain step over the candidate windows ``t``
+        (:func:`._loop_kernels.plain_step`; the reference is the general path of :meth:`step`)."""
+        fargs, use_fb = self._factor_args(st)
+        return _loop_kernels.step_call(self.model, self.p, self.matcher, self.density, self.store, st, tip, t, L,
+                                       fargs, use_fb, self._cap())
+
+    def _factor_args(self, st) -> tuple[tuple, bool]:
+        """The arguments of :func:`._kernels.step_factors` after the candidates, and whether its
+        factor applies (the bend-size or the straight-run factor is on)."""
         bends, runs = self.bends, self.runs
         use_bend = self.bend_counts is not None
         n_bent = float(bends.counts.sum()) if use_bend else 0.0
@@ -533,13 +566,12 @@ class _Grower(_Starts, _Filling):
             state, tol, max_run = runs.state, runs.tol, runs.max_run
         else:
             r, lh, l1h, lq, l1q, mode, state, tol, max_run = 0, self._e1, self._e1, 0.0, 0.0, 2, self._ei, 0.0, 0
-        fb, zero = _kernels.step_factors(
-            t_arr, bm.cont_angles, bm.cont_len, use_bend and bends.wG > 0 and n_bent > 0,
-            bends.p, bends.counts, self._bend_bins if use_bend else self._e2i, bends.wG * n_bent / bends.m,
-            BEND_CAP, runs is not None, lh, l1h, lq, l1q, state, int(r), float(tol), int(max_run), mode,
-            float(self.run_weight), RUN_GAIN, RUN_CAP, float(st.theta), float(lo), float(hi),
-            float(self.wind_max), self.p.branch_end == "length")
-        return (fb if use_bend or runs is not None else None), zero
+        args = (bm.cont_angles, bm.cont_len, use_bend and bends.wG > 0 and n_bent > 0,
+                bends.p, bends.counts, self._bend_bins if use_bend else self._e2i, bends.wG * n_bent / bends.m,
+                BEND_CAP, runs is not None, lh, l1h, lq, l1q, state, int(r), float(tol), int(max_run), mode,
+                float(self.run_weight), RUN_GAIN, RUN_CAP, float(st.theta), float(lo), float(hi),
+                float(self.wind_max), self.p.branch_end == "length")
+        return args, use_bend or runs is not None
 
     # -- growing ----------------------------------------------------------
     def step(self, bi: int, full: bool = False) -> bool:
@@ -554,53 +586,68 @@ class _Grower(_Starts, _Filling):
         if not full:   # a retry with every candidate is the same step
             self.steps += 1
         bm = self.model.bending
-        sub = None if full else self._share(len(bm.windows(min(len(st.elem_a), bm.max_history()))[0]))
-        cs = self.scorer(self.model, st.elem_a, st.elem_r, tip, st.theta, params=p,
-                         matcher=self.matcher, density=self.density, guidance=self.guidance,
-                         **({} if sub is None else {"subset": sub}))
-        pts, n_arr, t_arr = cs.points, cs.n_new, cs.t
-        self.n_candidates += len(t_arr)
-
-        score = cs.score
-        if self.frame and st.parent is None:
-            live = n_arr > 0
-            if live.any():
-                end = pts[np.arange(len(n_arr)), np.maximum(n_arr, 1) - 1] - tip
-                dirs = end / np.maximum(np.hypot(end[:, 0], end[:, 1]), 1e-9)[:, None]
-                score = np.where(live, score * self._frame_factor(tip, dirs, cs.D_c), score)
-        if self.drain is not None:
-            score = score * self.drain.factor(tip, pts, n_arr, start=st.points[0], fan=st.fan)
-        if st.goal is not None:
-            score = score * self._goal_factor(st, tip, pts, n_arr)
-        # the bend-size factor (see .straightness), the straight-run factor (below) and the winding
-        # limit in one compiled pass (_kernels.step_factors)
-        fb, zero = self._step_factors(st, t_arr)
-        if self.shore is not None:
-            fs = self.shore.factor(tip, pts, n_arr)
-            score = score * fs * self.shore.along_factor(tip, pts, n_arr)
-            if fb is not None:   # near the coast the shore decides alone
-                fb = np.where(fs < 1.0, 1.0, fb)
-        if fb is not None:
-            score = score * fb
-        # beyond the paper: no spirals. A candidate that would take the branch's heading range past the
-        # winding limit is forbidden; the branch stops when nothing else is left (issue 23)
-        score = np.where(zero, 0.0, score)
+        L = min(len(st.elem_a), bm.max_history())
+        t_all = bm.windows(L)[0]
+        sub = None if full else self._share(len(t_all))
         heads = None
-        if st.mouth is not None:
-            if (len(st.points) - 1) * p.h < MOUTH_SHARE * min(st.target, self.max_branch_len):
-                heads = st.theta + np.cumsum(bm.cont_angles[t_arr], axis=1)
-                span = np.maximum(heads.max(1), st.mouth[1]) - np.minimum(heads.min(1), st.mouth[0])
-                score = np.where(span > MOUTH_TURN, score * 1e-9, score)
-            else:
-                st.mouth = None
-        if self.density is not None:
-            free = (~cs.crossing) & (n_arr > 0)
-            if not free.any() or cs.D_c[free].min() >= p.stop_density:
+        if self._plain(st):   # the common case in one compiled call (the same numbers as below)
+            t_arr = t_all if sub is None else t_all[sub]
+            n_arr = bm.cont_len[t_arr]
+            self.n_candidates += len(t_arr)
+            stopped, score, pts, chosen = self._plain_step(st, tip, t_arr, L)
+            if stopped:
                 if sub is not None and self._room_ahead(st, tip):   # the share missed the way out
                     return self.step(bi, full=True)
                 st.stop = "density"
                 return False
-        j = self._pick(score, tip, pts, np.maximum(n_arr, 0))
+            j = self._draw(score, chosen.tolist())
+        else:
+            cs = self.scorer(self.model, st.elem_a, st.elem_r, tip, st.theta, params=p,
+                             matcher=self.matcher, density=self.density, guidance=self.guidance,
+                             **({} if sub is None else {"subset": sub}))
+            pts, n_arr, t_arr = cs.points, cs.n_new, cs.t
+            self.n_candidates += len(t_arr)
+
+            score = cs.score
+            if self.frame and st.parent is None:
+                live = n_arr > 0
+                if live.any():
+                    end = pts[np.arange(len(n_arr)), np.maximum(n_arr, 1) - 1] - tip
+                    dirs = end / np.maximum(np.hypot(end[:, 0], end[:, 1]), 1e-9)[:, None]
+                    score = np.where(live, score * self._frame_factor(tip, dirs, cs.D_c), score)
+            if self.drain is not None:
+                score = score * self.drain.factor(tip, pts, n_arr, start=st.points[0], fan=st.fan)
+            if st.goal is not None:
+                score = score * self._goal_factor(st, tip, pts, n_arr)
+            # the bend-size factor (see .straightness), the straight-run factor (below) and the winding
+            # limit in one compiled pass (_kernels.step_factors)
+            fb, zero = self._step_factors(st, t_arr)
+            if self.shore is not None:
+                fs = self.shore.factor(tip, pts, n_arr)
+                score = score * fs * self.shore.along_factor(tip, pts, n_arr)
+                if fb is not None:   # near the coast the shore decides alone
+                    fb = np.where(fs < 1.0, 1.0, fb)
+            if fb is not None:
+                score = score * fb
+            # beyond the paper: no spirals. A candidate that would take the branch's heading range past the
+            # winding limit is forbidden; the branch stops when nothing else is left (issue 23)
+            score = np.where(zero, 0.0, score)
+            heads = None
+            if st.mouth is not None:
+                if (len(st.points) - 1) * p.h < MOUTH_SHARE * min(st.target, self.max_branch_len):
+                    heads = st.theta + np.cumsum(bm.cont_angles[t_arr], axis=1)
+                    span = np.maximum(heads.max(1), st.mouth[1]) - np.minimum(heads.min(1), st.mouth[0])
+                    score = np.where(span > MOUTH_TURN, score * 1e-9, score)
+                else:
+                    st.mouth = None
+            if self.density is not None:
+                free = (~cs.crossing) & (n_arr > 0)
+                if not free.any() or cs.D_c[free].min() >= p.stop_density:
+                    if sub is not None and self._room_ahead(st, tip):   # the share missed the way out
+                        return self.step(bi, full=True)
+                    st.stop = "density"
+                    return False
+            j = self._pick(score, tip, pts, np.maximum(n_arr, 0))
         if j is None:
             if sub is not None:
                 return self.step(bi, full=True)
@@ -619,7 +666,11 @@ class _Grower(_Starts, _Filling):
         if p.thickness_blend and n:
             cont = _continue_radii(rad, st.radii[-1], bm.radii[t], self.model.r_min, self.r_max)
             # a delta's channels keep the width they started at (_channel_radius, _radius_keep): no pull
-            rad = cont if self.drain is not None else _pull_radii(cont, rad)
+            if st.profile is not None:   # a root: toward its input root's radius there (_root_profile)
+                at = np.interp((len(st.points) - 1 + np.arange(1, n + 1)) * p.h, *st.profile)
+                rad = _pull_radii(cont, at, ROOT_PROFILE_PULL)
+            else:
+                rad = cont if self.drain is not None else _pull_radii(cont, rad)
             # beyond the paper: the taper's ratios multiply step after step, a random walk that ended
             # 12-22 % of a delta's branches (example 7-11 %) > 2 x thicker than they start (issue 23)
             rad = np.minimum(rad, self.r_grow * max(float(st.radii[0]), float(st.radii[1])))

@@ -91,6 +91,8 @@ def rows(quick: bool = False) -> list[BenchRow]:
                         "same layers; fill-holes and colour-EMD pass (OpenCV flood fill for scipy's "
                         "binary_fill_holes; S_e's per-bin terms in one compiled float32 pass), same-run CPU A/B at "
                         "load ~3-4: lobed 19.1 -> 17.9 s, fan 19.3 -> 17.8 s, identical layers and registrations; "
+                        "integer-addressed pose-search kernel (whole-pixel shifts), two interleaved CPU A/B pairs "
+                        "at load ~15-20: 20.5 -> 18.8, 19.4 -> 18.6 s, identical layers and registrations; "
                         "the paper: several minutes"))
     generate(a, 1, rng=0)  # the per-analysis preparation, paid once
     t_gen = timeit(lambda: generate(a, 1, rng=1), repeat=2, warmup=False)

@@ -145,6 +145,11 @@ def _sample_many(ev, maps, qs, shifts, tangents):
         src = np.asarray(maps, np.float32)
         t = np.asarray(tangents)
         k = np.round(np.mod(np.arctan2(t[..., 1], t[..., 0]), np.pi) / (np.pi / n)).astype(np.int32) % n
+    whole = np.rint(shifts)
+    if len(shifts) and np.array_equal(whole, shifts) and np.abs(whole).max() < 2**30:
+        # Whole-pixel shifts (every pose search's): integer addressing, the same sums.
+        from ._snapkernels import sample_scores_int
+        return sample_scores_int(np.ascontiguousarray(src), k, qs, whole.astype(np.int64))
     return sample_scores_many(src, k, qs, shifts)
 
 
