@@ -65,7 +65,7 @@ from ..core.image import as_float_image, as_rgb
 from ..core.polyline import resample_uniform
 from ..core.render import draw_polylines
 from .canvas import AnnotationCanvas
-from .feedback import ProgressBar
+from .feedback import Cancelled, ProgressBar
 from .files import canvases_json, load_canvases
 from .histograms import HistogramCompare
 from .imageview import ImageView
@@ -523,8 +523,37 @@ class BranchingApp(widgets.VBox):
         button, ``fresh``, and every parameter change).
 
         The shell's progress is reported between Markov steps, so "cancel"
-        or a newer change stops this one (before its result is shown).
+        or a newer change stops this one (before its result is shown). The
+        first synthesis of an example fits its model first (seconds on a
+        large example): the status line says so, and "cancel" stops right
+        after it. A cancelled or failed synthesis takes its partial skeleton
+        off the view and shows the last finished structure again.
         """
+        p = self.params
+        if self._model is None or self._model_key[1:] != (p.h, p.m, p.k, p.bins, p.svm_C):
+            self.shell.progress(0.0, "fitting the model to the example")
+        try:
+            return self._grow_with_previews(fresh)
+        except Cancelled:
+            if fresh:  # (a superseded slider update: the newer one shows its own skeleton)
+                self._drop_partial()
+            raise
+        except Exception:
+            self._drop_partial()
+            raise
+
+    def _drop_partial(self) -> None:
+        """Take a growing skeleton nobody will finish off the view (the last result shows again)."""
+        if self.partial is None:
+            return
+        self.partial = None
+        if self.result is not None:
+            self._after_change()
+        else:
+            self.view.update([], [])
+            self.info.value = ""
+
+    def _grow_with_previews(self, fresh: bool):
         t0 = time.perf_counter()
         due = {"preview": t0 + self.preview_first, "status": t0}
         self._growing = "growing" if fresh else "growing with the new parameters"
