@@ -428,3 +428,25 @@ def test_first_synthesis_says_it_fits_the_model(app, monkeypatch):
     texts.clear()
     app._resynthesize(fresh=True)
     assert texts[0] == "fitting the model to the example"
+
+
+def test_slider_updates_convert_the_example_once_per_change(app, monkeypatch):
+    # widgets23: every slider move converted the canvas' polylines to a structure and JSON again
+    # (60-160 ms of a loaded machine's first-preview budget); now once per annotation change.
+    import branchnb.widgets.branching as mod
+
+    calls = []
+    real = mod.annotations_to_structure
+    monkeypatch.setattr(mod, "annotations_to_structure", lambda *a, **k: (calls.append(1), real(*a, **k))[1])
+    app.synthesize()
+    n = len(calls)
+    app.synthesize()
+    first = app.result
+    app.panel.controls["c"].value = app.params.c + 1  # re-synthesizes
+    assert len(calls) == n and app.result is not first
+    # an edit of the example is seen at once: the model is fitted to the new example
+    v0 = app.result.example.n_vertices
+    app.canvas.model.remove_shape(len(app.canvas.model) - 1)
+    app.synthesize()
+    assert len(calls) == n + 1 and app.result.example.n_vertices < v0
+    assert app._example_and_json()[1] == app.example_structure().to_json()

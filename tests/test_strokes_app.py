@@ -248,7 +248,7 @@ def test_reduced_preview_is_the_new_value_at_reduced_size():
                          [b * s for b in tgt], pv.params, target_shape=pv.image.shape[:2])
     assert pv.params.seam_power == 2.5 and np.array_equal(pv.image, ref.image)
     assert np.array_equal(first[0], pv.show())
-    assert np.array_equal(last[1], app.result.show(seams=True)) and app.result.params.seam_power == 2.5
+    assert np.array_equal(last[1], app._patches(app.result)) and app.result.params.seam_power == 2.5
     app.preview_after = 10.0  # fast edits: a seam-only change shows the result without a preview
     shown.clear()
     app.panel.controls["seam_power"].value = 3.0
