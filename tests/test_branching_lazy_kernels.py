@@ -155,14 +155,15 @@ def test_synthesis_equals_the_former_python_paths(crack_model, monkeypatch, cap)
 
     if cap is not None:
         monkeypatch.setattr(growth, "MAX_CANDIDATES", cap)
-    res = [synthesize_structure(crack_model, rng=s) for s in (0, 1)]
+    # seeds 0 and 3: seed 3 retries with every candidate (since branching39's root radius rule; seed 1 did before)
+    res = [synthesize_structure(crack_model, rng=s) for s in (0, 3)]
     new = [r.structure for r in res]
     if cap is not None:   # some steps found nothing in the share and were retried with every candidate
         assert max(r.diagnostics["candidates_per_step"] for r in res) > cap
     monkeypatch.setattr(_Grower, "_pick", _old_pick)
     monkeypatch.setattr(_Grower, "_room_ahead", _old_room_ahead)
     monkeypatch.setattr(_Starts, "_room_around", _old_room_around)
-    old = [synthesize_structure(crack_model, rng=s).structure for s in (0, 1)]
+    old = [synthesize_structure(crack_model, rng=s).structure for s in (0, 3)]
     for a, b in zip(new, old):
         assert len(a.branches) >= 5
         assert _key(a) == _key(b)

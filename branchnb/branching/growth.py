@@ -299,6 +299,11 @@ def _pull_radii(cont: np.ndarray, copied: np.ndarray, pull: float | None = None)
     return cont * (np.maximum(copied, 1e-9) / np.maximum(cont, 1e-9)) ** w
 
 
+#: :data:`RADIUS_PULL` of a root toward its input root's radius at the same arc length
+#: (:meth:`~branchnb.branching.branch_starts._Starts._root_profile`).
+ROOT_PROFILE_PULL = 0.05
+
+
 #: An example that drains (a delta): quantile of its branches' (thinnest radius over their first 90 % /
 #: first radius) below which a synthesized channel may not thin.
 RADIUS_KEEP_QUANTILE = 0.5
@@ -661,7 +666,11 @@ class _Grower(_Starts, _Filling):
         if p.thickness_blend and n:
             cont = _continue_radii(rad, st.radii[-1], bm.radii[t], self.model.r_min, self.r_max)
             # a delta's channels keep the width they started at (_channel_radius, _radius_keep): no pull
-            rad = cont if self.drain is not None else _pull_radii(cont, rad)
+            if st.profile is not None:   # a root: toward its input root's radius there (_root_profile)
+                at = np.interp((len(st.points) - 1 + np.arange(1, n + 1)) * p.h, *st.profile)
+                rad = _pull_radii(cont, at, ROOT_PROFILE_PULL)
+            else:
+                rad = cont if self.drain is not None else _pull_radii(cont, rad)
             # beyond the paper: the taper's ratios multiply step after step, a random walk that ended
             # 12-22 % of a delta's branches (example 7-11 %) > 2 x thicker than they start (issue 23)
             rad = np.minimum(rad, self.r_grow * max(float(st.radii[0]), float(st.radii[1])))

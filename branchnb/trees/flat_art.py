@@ -99,7 +99,7 @@ def _ink_outline(image: np.ndarray, exemplars: Sequence[Exemplar], cw: np.ndarra
                  sources: np.ndarray | None = None) -> np.ndarray:
     """Ink the silhouette when outlined exemplars hold at least half the colour weight, and
     (``sources``: the ``"choose"`` mode's source per pixel) the seams that cross a fill."""
-    from .outline import ink_seams, ink_silhouette
+    from .outline import even_outline, ink_seams, ink_silhouette
 
     outl = [exemplar_outline(e) for e in exemplars]
     on = np.array([o.outlined for o in outl])
@@ -112,7 +112,7 @@ def _ink_outline(image: np.ndarray, exemplars: Sequence[Exemplar], cw: np.ndarra
     best = outl[int(np.argmax(np.where(on, cw, -1.0)))]
     if sources is not None:
         image = ink_seams(image, sources, best.ink, best.width)
-    return ink_silhouette(image, best.ink, best.width)
+    return even_outline(ink_silhouette(image, best.ink, best.width), best.ink, best.width)
 
 
 def flat_share(exemplar: Exemplar) -> float:

@@ -152,6 +152,17 @@ def _pinholes_filled(op: np.ndarray, width: int) -> np.ndarray:
     return filled & ~keep[lab]
 
 
+#: :func:`bake_side_outline` also inks the front silhouette's own half-tone outline pixels (within
+#: ``width`` of it, darker than half-way from the median fill to the ink). Off: it breaks the
+#: rule that the front view stays exactly as drawn (two tests pin it). Measured on (issue 24,
+#: ``python -m branchnb.trees._measure_lines 512 ground,clip 1``): christmas_tree_root_flare full
+#: level's rim ink at 45 degrees 0.888 -> 0.912, reduced 0.927 -> 0.953, front view 0.796 ->
+#: 0.873 (its soft 1 px star and trunk outline); recall, smear, floating and the other ten
+#: trees' rims unchanged; front PSNR against the drawing 53.7 -> 51.3 (arbre_modern), 40.9 ->
+#: 39.8 (tree_with_fruits), 35.3 -> 35.1 (the root flare).
+_FRONT_RIM_INK = False
+
+
 def bake_side_outline(cloud, *, yaws=tuple(range(15, 360, 15)), ink=None, width=None):
     """Bake a drawn tree's side-view outline into the textures an engine shows (beyond the paper).
 
@@ -230,6 +241,16 @@ def bake_side_outline(cloud, *, yaws=tuple(range(15, 360, 15)), ink=None, width=
     texels = _opaque_texels(cloud)
     ids, texel = _view_ids(cloud, 0.0, texels)
     bad[texel[ids >= 0]] = True
+    if _FRONT_RIM_INK:
+        # The front silhouette's own half-tone outline pixels (a thin anti-aliased stroke, darker
+        # than half-way from the fill to the ink) may take the full ink.
+        op0 = ids >= 0
+        colours = np.concatenate([t[..., :3].reshape(-1, 3) for t in cloud.textures])
+        lum = colours @ np.array([0.299, 0.587, 0.114], np.float32)
+        ink_lum = float(np.asarray(ink, np.float32) @ np.array([0.299, 0.587, 0.114], np.float32))
+        mid = float(np.median(lum[texel[op0]]))
+        rim0 = texel[op0 & (_depth(_pinholes_filled(op0, width)) <= width)]
+        bad[rim0[lum[rim0] <= ink_lum + 0.5 * (mid - ink_lum)]] = False
     for yaw in yaws:
         if float(yaw) % 360.0 == 0.0:
             continue

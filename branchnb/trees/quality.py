@@ -33,8 +33,8 @@ __all__ = ["soft_alpha_fraction", "flat_pixels", "palette_coverage", "palette_pi
            "dominant_palette", "crossfade_fraction",
            "foreign_colour_fraction", "dark_rim_fraction", "pieces", "large_holes", "hole_sizes",
            "flat_region_speckle", "colour_span", "largest_piece_share", "side_view_figures",
-           "bare_seam_share", "outline_continuity", "stray_ink", "seam_through_flat", "foreign_patches",
-           "crown_sources"]
+           "bare_seam_share", "outline_continuity", "outline_width_spread", "stray_ink", "seam_through_flat",
+           "foreign_patches", "crown_sources"]
 
 
 def soft_alpha_fraction(image, *, rim: int = 1) -> float:
@@ -605,6 +605,7 @@ from .quality_mix import (  # noqa: E402
     crown_sources,
     foreign_patches,
     outline_continuity,
+    outline_width_spread,
     seam_through_flat,
     stray_ink,
 )

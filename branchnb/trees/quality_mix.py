@@ -12,7 +12,9 @@ and still look like a collage. These numbers say where (all are re-exported by
   cuts through a flat fill of one of them instead of running along its
   colour edges;
 * :func:`foreign_patches`: patches from an exemplar that holds less than 5 %
-  of the tree (a lone fruit or clump of another style pasted in: target 0).
+  of the tree (a lone fruit or clump of another style pasted in: target 0);
+* :func:`outline_width_spread`: how evenly wide the silhouette's outline is
+  (q90 / q10 of its thickness round the rim: close to the exemplars').
 
 Examples
 --------
@@ -31,7 +33,8 @@ from scipy import ndimage as ndi
 from ..core.image import as_rgba
 from ..core.validate import check_int, check_real
 
-__all__ = ["outline_continuity", "stray_ink", "seam_through_flat", "foreign_patches", "crown_sources"]
+__all__ = ["outline_continuity", "stray_ink", "seam_through_flat", "foreign_patches", "crown_sources",
+           "outline_width_spread"]
 
 _EIGHT = np.ones((3, 3), bool)
 
@@ -354,3 +357,61 @@ def foreign_patches(sources, parts=None, *, share: float = 0.05, min_area: int =
         if m:
             count += int(np.count_nonzero(np.bincount(lab.ravel())[1:] >= min_area))
     return count
+
+
+def outline_width_spread(image, ink=None) -> tuple[float, float, float]:
+    """Thickness of the silhouette's outline round the rim: its 10th, 50th and 90th percentiles.
+
+    At every inked rim pixel (opaque, 8-adjacent to a transparent one, and
+    closer to the ink than to the fill: luminance below ink + 0.35 of the
+    way to the median) the outline is as thick as the Euclidean distance to
+    the nearest opaque pixel that is not ink; thicknesses above
+    ``4 width + 2`` (a dark trunk, an inner line running inward) are left
+    out. A drawing stroked with one pen has q90 / q10 about 1.4-1.6 (the
+    distance across a diagonal stroke is longer); a mix whose warped
+    outline drifted off its silhouette measured 1.6-3.6 (issue 24).
+
+    Parameters
+    ----------
+    image : (H, W, 4) array_like
+        Straight RGBA; opaque where alpha >= 0.5.
+    ink : (3,) array_like, optional
+        Outline colour (default: :func:`~branchnb.trees.outline.silhouette_outline`'s).
+
+    Returns
+    -------
+    (float, float, float)
+        q10, q50, q90 in pixels (nan with fewer than 10 inked rim pixels).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.zeros((40, 40, 4), np.float32); img[4:36, 4:36] = (0, 0, 0, 1)
+    >>> img[6:34, 6:34, :3] = (0.2, 0.7, 0.2)                 # a 2 px outline all round
+    >>> [round(v, 1) for v in outline_width_spread(img)]
+    [2.0, 2.0, 2.0]
+    >>> img[6:34, 6:9, :3] = 0.0                              # 5 px on the left
+    >>> [round(v, 1) for v in outline_width_spread(img)]
+    [2.0, 2.0, 5.0]
+    """
+    from .outline import _LUM, _depth, silhouette_outline
+
+    img = as_rgba(image, name="image")
+    a = img[..., 3] >= 0.5
+    o = silhouette_outline(img)
+    ink = o.ink if ink is None else _ink_colour(ink)
+    if a.sum() < 9 or a.all():
+        return (float("nan"),) * 3
+    lum = img[..., :3] @ _LUM
+    il = float(np.asarray(ink, np.float32) @ _LUM)
+    inked = a & (lum <= il + 0.35 * (np.median(lum[a]) - il))
+    fill = a & ~inked
+    if not fill.any():
+        return (float("nan"),) * 3
+    d = ndi.distance_transform_edt(~fill)
+    w = d[(_depth(a) == 1) & inked]
+    w = w[w <= 4 * max(o.width, 1) + 2]
+    if len(w) < 10:
+        return (float("nan"),) * 3
+    q10, q50, q90 = np.quantile(w, [0.1, 0.5, 0.9])
+    return float(q10), float(q50), float(q90)
