@@ -347,6 +347,19 @@ STRIKE_MIN_PIECE = 0.05
 #: ... and between those lines they cost less where the picture is bright (a lit cloud,
 #: not the dark sky): the importance there is this share of the blurred luminance.
 STRIKE_GLOW = 0.6
+#: On a photo without a strike, the long straight edges (Hough segments of the Canny
+#: edges, at least ``STRIKE_STRAIGHT_LENGTH`` of the diagonal) and a band of
+#: ``STRIKE_STRAIGHT_BAND`` of the diagonal round them cost this many mean weights more for
+#: the side branches, and no endpoint is stippled there
+#: (:func:`~branchnb.dendrite.photo_strike.straight_edges`; beyond the paper: the side
+#: branches ran ruler-straight down a rocket's launch towers).
+STRIKE_STRAIGHT_LENGTH = 0.06
+STRIKE_STRAIGHT_BAND = 0.005
+STRIKE_STRAIGHT_PENALTY = 1.0
+#: ... unless more than this share of the edges that stand out of the noise lie on them:
+#: then they are the picture's structure (procedural straight cracks 0.74; a launch pad
+#: 0.57, text 0.40-0.42, the rocket photo 0.26-0.33, the camera man 0.26, photos 0.04-0.16).
+STRIKE_STRAIGHT_MAX_SHARE = 0.65
 
 #: Factor on the width (above the thinnest) of the side branches of a lightning bolt on a
 #: photo (:func:`~branchnb.dendrite.main_channel.widen_main_path`, ``side``; beyond the

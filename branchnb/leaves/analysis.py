@@ -46,6 +46,7 @@ from .analysis_induce import (  # noqa: F401  (importable from here as before)
     _unmatched,
     induce,
     registration_tolerance,
+    thin_width,
     warp_mask,
 )
 from .analysis_normalise import (  # noqa: F401
@@ -65,6 +66,7 @@ from .induction import (
 from .layers import LayerSet, SnapParams, TrainingLayers, grow_layers
 from .own_contrast import trim_by_contrast, without_blobs
 from .stored_maps import CombinedMaps
+from .structural import MIN_FOUND, layer_standout, warn_analysis
 
 __all__ = ["IdentityRegistration", "LayerInduction", "LeafAnalysis", "analyze", "induce",
            "normalise_exemplars", "registration_tolerance", "warp_mask"]
@@ -243,7 +245,10 @@ class LeafAnalysis:
             {n: self.training.masks[n] for n in self.training.order}, self.registrations,
             params, space=self.space if params.bins == self.space.bins else None,
             progress=progress, rng=self.rng_seed)
-        return dataclasses.replace(self, params=params, layers=layers, residuals=residuals, space=space)
+        out = _with_standout(dataclasses.replace(self, params=params, layers=layers, residuals=residuals,
+                                                 space=space))
+        warn_analysis(out, stacklevel=2)
+        return out
 
     def retune(self, **changes) -> LeafAnalysis:
         """A quick re-induction (eqs. 2-4 only) for a changed ``eps``, ``kappa`` or liberal threshold.
@@ -267,7 +272,7 @@ class LeafAnalysis:
         LeafAnalysis
             A new analysis (this one is not modified).
         """
-        return _retuned(self, changes)
+        return _with_standout(_retuned(self, changes))
 
     def overlay(self, e: int, *, base: np.ndarray | None = None, step: int = 1) -> np.ndarray:
         """Exemplar ``e`` on white with its induced layers tinted in the layers' colours.
@@ -373,8 +378,10 @@ def analyze(exemplars, training_index: int, layers, params: InductionParams | No
     progress : callable(fraction, text), optional
         Called between steps with the fraction done; raise from it to stop.
     registrations : list, optional
-        Precomputed registrations (exemplar ``i`` -> training leaf); skips
-        the registration step.
+        Precomputed registrations (exemplar ``i`` -> training leaf, e.g. from
+        :func:`~branchnb.leaves.registration.register` on the canvases of
+        :func:`~branchnb.leaves.analysis_normalise.normalise_exemplars`); a
+        None entry is computed (the training leaf's: the identity).
     snap_params : SnapParams, optional
         Lazy-snapping parameters.
     registration_params : optional
@@ -393,21 +400,44 @@ def analyze(exemplars, training_index: int, layers, params: InductionParams | No
     -------
     LeafAnalysis
 
+    Warns
+    -----
+    NonStructuralLayerWarning
+        A layer scribbled as thin lines (a structure) came out
+        non-structural: its masks do not stand out from their blades
+        (:func:`~branchnb.leaves.structural.is_structural`); the message
+        names the layer and its ``lambda``. Beyond the paper.
+    ShadowAsLeafWarning
+        An exemplar's blade holds a grey drop or cast shadow
+        (:func:`~branchnb.leaves.structural.shadow_share`).
+
     Examples
     --------
     The whole pipeline on three procedural leaves: scribbles on the
     training leaf (here simulated along its true veins; in a notebook,
     :class:`branchnb.widgets.leaves.LeafApp`), analysis, new leaves.
 
-    >>> from branchnb.leaves import Layer, LayerSet, generate, leaf_family, simulate_scribbles
+    >>> from branchnb.leaves import Layer, LayerSet, generate, is_structural, layer_warnings, leaf_family
+    >>> from branchnb.leaves import simulate_scribbles
     >>> leaves = leaf_family(3, size=160, rng=0)
     >>> veins = simulate_scribbles(leaves[0].layers["veins"], 10, length=12, rng=0)
     >>> a = analyze(leaves, 0, LayerSet([Layer("veins", "#d62728", 0, veins)]))
     >>> [x.name for x in a.layers], len(a.layer("veins").masks)
     (['veins'], 3)
+    >>> is_structural(a.layer("veins")), layer_warnings(a)   # else analyze warned (NonStructuralLayerWarning)
+    (True, [])
     >>> new = generate(a, 2, rng=0)
     >>> new[0].image.shape == a.exemplars[0].shape
     True
+
+    Registrations made beforehand (a None entry is computed):
+
+    >>> from branchnb.leaves import normalise_exemplars, register
+    >>> canvases, blades, offsets = normalise_exemplars(leaves)
+    >>> regs = [None] + [register(canvases[i], canvases[0], blades[i], blades[0]) for i in (1, 2)]
+    >>> b = analyze(leaves, 0, {"veins": leaves[0].layers["veins"]}, registrations=regs)
+    >>> type(b.registrations[0]).__name__, b.registrations[1] is regs[1]
+    ('IdentityRegistration', True)
     """
     params = check_params(params if params is not None else InductionParams(), name="params")
     if isinstance(rng, np.random.Generator) or rng is None:
@@ -461,21 +491,94 @@ def analyze(exemplars, training_index: int, layers, params: InductionParams | No
     else:
         raise TypeError(f"layers must be a LayerSet or a dict of masks, got {type(layers).__name__}")
     if registrations is None:
-        from .registration import register
-        registrations = []
-        for i in range(n):
-            report(0.05 + 0.45 * i / n, f"registering exemplar {i + 1}/{n}")
-            if i == t:
-                registrations.append(IdentityRegistration(blades[t].shape))
-            else:
-                registrations.append(register(images[i], images[t], blades[i], blades[t],
-                                              params=registration_params, rng=rng))
+        registrations = [None] * n
     elif isinstance(registrations, (str, bytes, dict)) or not hasattr(registrations, "__len__"):
         raise TypeError(f"registrations must be a list (one per exemplar), got {type(registrations).__name__}")
     elif len(registrations) != n:
         raise ValueError(f"registrations must have one entry per exemplar ({n}), got {len(registrations)}")
+    registrations = list(registrations)
+    for i in range(n):
+        if registrations[i] is not None:
+            continue
+        report(0.05 + 0.45 * i / n, f"registering exemplar {i + 1}/{n}")
+        if i == t:
+            registrations[i] = IdentityRegistration(blades[t].shape)
+        else:
+            from .registration import register
+            registrations[i] = register(images[i], images[t], blades[i], blades[t],
+                                        params=registration_params, rng=rng)
     layers_out, residuals, space = induce(
         [im[..., :3] for im in images], blades, t, {k: training.masks[k] for k in training.order},
         registrations, params, progress=_progress(progress, 0.5, 1.0), rng=rng)
-    return LeafAnalysis(images, blades, t, training, list(registrations), params, space, layers_out,
-                        residuals, layer_set, rng, offsets, mirrored)
+    out = _with_standout(LeafAnalysis(images, blades, t, training, list(registrations), params, space, layers_out,
+                                      residuals, layer_set, rng, offsets, mirrored))
+    warn_analysis(out, stacklevel=2)
+    return out
+
+
+#: A stroke is a line when its polyline is at least this many brush diameters long.
+LINE_STROKE = 4.0
+
+
+def scribbled_as_lines(analysis: LeafAnalysis, name: str) -> bool:
+    """Whether the user drew layer ``name`` as a structure: thin lines rather than dabs or blobs.
+
+    From the scribbles when there are any (most of their length in strokes
+    at least :data:`LINE_STROKE` brush diameters long: the sample maple's
+    vein strokes are 8-17, its spot dabs 0-2, simulated vein strokes of
+    radius 0.5 at 192 px 2-14), else from the layer's mask
+    (:func:`~branchnb.leaves.snapping.is_thin_layer`). A layer snapped to
+    the exemplars' ridges is always one.
+
+    Parameters
+    ----------
+    analysis : LeafAnalysis
+        The analysis (its ``layer_set``, training masks and layers).
+    name : str
+        A user layer's name.
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> import numpy as np
+    >>> from branchnb.leaves import Layer, LayerSet, Scribble
+    >>> ls = LayerSet([Layer("veins", "#d62728", 0, [Scribble([(0, 0), (30, 0)], 1.0)]),
+    ...                Layer("spots", "#1f77b4", 1, [Scribble([(5, 5)], 3.0)])])
+    >>> a = NS(layer_set=ls, layers=[NS(name="veins", snapped=None), NS(name="spots", snapped=None)])
+    >>> scribbled_as_lines(a, "veins"), scribbled_as_lines(a, "spots")
+    (True, False)
+    """
+    from .snapping import is_thin_layer
+    for x in analysis.layers:
+        if x.name == name and x.snapped is not None:
+            return True
+    if analysis.layer_set is not None:
+        strokes = [s for layer in analysis.layer_set.layers if layer.name == name for s in layer.scribbles]
+        if strokes:
+            lengths = np.array([float(np.hypot(*np.diff(s.points, axis=0).T).sum()) if len(s.points) > 1 else 0.0
+                                for s in strokes])
+            lines = lengths >= LINE_STROKE * np.array([max(2.0 * s.radius, 1.0) for s in strokes])
+            return float(lengths[lines].sum()) >= 0.5 * max(float(lengths.sum()), 1e-9)
+    t = analysis.training_index
+    user = analysis.training.masks[name] & analysis.blades[t]
+    return bool(is_thin_layer(user, max_width=thin_width(analysis.blades[t], user)))
+
+
+def _with_standout(analysis: LeafAnalysis) -> LeafAnalysis:
+    """``analysis`` with each layer scribbled as lines given its ``standout`` on every exemplar."""
+    layers = []
+    for k, x in enumerate(analysis.layers):
+        standout = None
+        if scribbled_as_lines(analysis, x.name):
+            residual, blades, t = analysis.residuals[k], analysis.blades, analysis.training_index
+            share_t = float(x.masks[t].sum()) / max(float(blades[t].sum()), 1.0)
+            # An exemplar on which the layer covers under MIN_FOUND of the training leaf's share was not
+            # found there (its few pixels may sit on a spot: a vein layer on plain blade went 0.1 -> 1.0).
+            standout = [0.0 if e != t and float(m.sum()) < MIN_FOUND * share_t * float(blades[e].sum())
+                        else layer_standout(residual[e], blades[e], m) for e, m in enumerate(x.masks)]
+        layers.append(dataclasses.replace(x, standout=standout))
+    return dataclasses.replace(analysis, layers=layers)

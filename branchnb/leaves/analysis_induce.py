@@ -135,6 +135,14 @@ class LayerInduction:
         The snapped paths grown to the side and width of each exemplar's own
         vein (:func:`~branchnb.leaves.snapping_width._grow_to_width`); joined to
         ``{D < delta}`` beside it (:func:`_induced`).
+    standout : list of (float or None) or None, optional
+        For a layer scribbled as thin lines: how much its mask stands out
+        from the blade around it on each exemplar (the training leaf's
+        included), :func:`~branchnb.leaves.structural.layer_standout` (0 where it
+        covers under :data:`~branchnb.leaves.structural.MIN_FOUND` of the
+        training leaf's share of the blade); None
+        for other layers (set by :func:`~branchnb.leaves.analysis.analyze`,
+        read by :func:`~branchnb.leaves.structural.is_structural`).
     """
 
     name: str
@@ -152,6 +160,7 @@ class LayerInduction:
     snapped: list | None = field(default=None, repr=False)
     contrast: list | None = field(default=None, repr=False)
     centred: list | None = field(default=None, repr=False)
+    standout: list | None = field(default=None, repr=False)
 
     def spatial(self, e: int) -> np.ndarray:
         """``F(x, c)`` on exemplar ``e`` (recomputed from the stored terms).

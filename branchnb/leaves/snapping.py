@@ -524,13 +524,13 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
         (:func:`~branchnb.leaves.snapping_mirror.mirror_missing`: a branch
         with no counterpart on the other side of the midrib gets its mirror
         image as a candidate), default True.
-    basal : bool
-        Look for the training junction's basal branches the snapping lost
-        (:func:`~branchnb.leaves.snapping_basal.basal_branches`), default True.
     return_centred : bool
         Also return ``centred``: the same paths grown by each exemplar's own
         contrast, to the side and width of its vein (:func:`~branchnb.leaves.snapping_width.vein_centre`,
         :func:`~branchnb.leaves.snapping_width._grow_to_width`); default False.
+    basal : bool
+        Look for the training junction's basal branches the snapping lost
+        (:func:`~branchnb.leaves.snapping_basal.basal_branches`), default True.
 
     Returns
     -------

@@ -157,6 +157,12 @@ def leaving_directions(found, centre, axis: float, size: float, *, ring=(0.12, 0
         The leaf's axis angle (radians).
     size : float
         The leaf size (px).
+    ring : (2,) tuple of float
+        Inner and outer radius of the ring, as fractions of ``size``.
+    min_px : int
+        Fewest pixels of a branch's group.
+    gap : float
+        Angle gap (degrees) that splits two branches.
 
     Returns
     -------
@@ -198,8 +204,26 @@ def leaving_directions(found, centre, axis: float, size: float, *, ring=(0.12, 0
 def ray_scores(maps, blade, centre, angles, r0: float, r1: float) -> np.ndarray:
     """Mean oriented ridge score along rays from ``centre`` (absolute angles, radians), radii ``r0..r1``.
 
-    ``maps``: ridge scores per tangent direction (:func:`~branchnb.leaves.snapping_fit._oriented_maps`);
-    each ray is scored along its own direction, 0 outside the blade.
+    Each ray is scored along its own direction, 0 outside the blade.
+
+    Parameters
+    ----------
+    maps : (K, H, W) ndarray
+        Ridge scores per tangent direction
+        (:func:`~branchnb.leaves.snapping_fit._oriented_maps`).
+    blade : (H, W) bool ndarray
+        The exemplar's blade.
+    centre : (2,) array_like
+        Where the rays start (x, y).
+    angles : (N,) array_like
+        Absolute ray angles (radians).
+    r0, r1 : float
+        First and last radius (px) sampled along each ray.
+
+    Returns
+    -------
+    (N,) float ndarray
+        Mean score per ray.
     """
     k_dirs, h, w = maps.shape
     ang = np.asarray(angles, np.float64)
@@ -220,8 +244,27 @@ def exemplar_junction(found, carried_centre, size: float, axis_point, *, reach: 
     Candidates: the skeleton junctions of ``found`` within ``reach`` of the
     leaf size of ``carried_centre`` (the ``n_max`` nearest) and the nearest
     pixel of ``found``; the one most branches leave
-    (:func:`leaving_directions`) wins, the nearest of a tie. ``axis_point``:
-    the blade's centroid. None when no pixel of ``found`` lies that near.
+    (:func:`leaving_directions`) wins, the nearest of a tie.
+
+    Parameters
+    ----------
+    found : (H, W) bool ndarray
+        The snapped network on the exemplar.
+    carried_centre : (2,) array_like
+        The training junction carried into the exemplar (x, y).
+    size : float
+        The leaf size (px).
+    axis_point : (2,) array_like
+        The blade's centroid (x, y); the axis runs from a candidate to it.
+    reach : float
+        Largest distance of a candidate from ``carried_centre``, as a share of ``size``.
+    n_max : int
+        Most skeleton junctions tried (the nearest).
+
+    Returns
+    -------
+    (2,) float ndarray or None
+        The junction (x, y); None when no pixel of ``found`` lies that near.
     """
     from skimage.morphology import skeletonize
     f = np.asarray(found, bool)
@@ -280,11 +323,11 @@ def basal_branches(found, star, carried_centre, maps, fine, blade, widths, scale
         :data:`RAY_LEVEL`, :data:`RAY_WINDOW`, :data:`RAY_APART` (None: those).
     overlap_px : float
         A new branch lies mostly (half) farther than this from ``found``.
+    match : float
+        Largest angle (degrees) between a found branch and the training branch it stands for.
     shift : float
         Rays start at the junction and at the network's skeleton pixels within this share of the leaf
         size of it.
-    match : float
-        Largest angle (degrees) between a found branch and the training branch it stands for.
     details : dict, optional
         Filled with what was measured (for inspection).
 

@@ -166,6 +166,14 @@ def _carried_parts(index, pairs, attached, window: float) -> list[tuple[int, int
             moved = corners @ rigid_frame(attached[i].source, attached[i].target, part.s, s_t,
                                           window=window).T
             alike = True
+            # A part held at both ends by two strokes (a twig in a crotch, its root on a
+            # limb, its tip against the trunk) follows only if both move it alike: carried
+            # by one, it was torn from the other, whose tube kept its end (fragments).
+            for j, s_a in part.ends:
+                pj = keys.index(keys[j])  # the first pair with that source stroke
+                other = corners @ rigid_frame(attached[pj].source, attached[pj].target, s_a,
+                                              _mapped(attached[pj], s_a), window=window).T
+                alike &= float(np.abs(other - moved).max()) <= 2.0
             # Only places on the part's own stroke (a loop between two cut ends) must move
             # alike; a part also touching another stroke (a leg at the hip where the tail
             # turns) follows the stroke it touches most, as a limb would, instead of vanishing.

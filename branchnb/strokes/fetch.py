@@ -439,6 +439,7 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
     # object pixels within the half width (no margin), up to the cut lines,
     # and a free tip's cap -- and the weights of the cut ends.
     tubes: dict = {}
+    rims: dict = {}  # per distinct stroke: its core's pixels beyond the silhouette's own width
     dboxes: dict = {}  # per distinct stroke: the box of its distance map
     for k, st in enumerate(source_strokes):
         key = (keys[k], cuts[k])
@@ -476,6 +477,11 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
             core = np.zeros((h, w), bool)
             core_b = inked[box] & (endw[box] > 0.5) & (db <= np.where(interior[box], tb + 0.5, cap))
             core[box] = _connected_to_stroke(core_b, db <= 0.5 * tb + 1.5)
+            # the core's pixels beyond the silhouette's own half width (the running
+            # maximum of the tube's width reaches over a neighbour lying along it)
+            loose = np.zeros((h, w), bool)
+            loose[box] = core[box] & (db > np.interp(sb, ws, edge[k]) + 0.5)
+            rims[key] = loose
         tubes[key] = (d, s_map, tube, interior, endw, core)
     tube_keys = list(tubes)
     beyond_cap = _children_beyond_caps(source_strokes, keys, cuts, joined, tubes) if has_alpha else {}
@@ -541,10 +547,12 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
             claimed |= tubes[key][5]
         parts, part_mask = find_parts(alpha, inked, claimed, [tubes[key][5] for key in tube_keys],
                                       [tubes[key][1] for key in tube_keys],
-                                      [tubes[key][0] for key in tube_keys])
+                                      [tubes[key][0] for key in tube_keys],
+                                      rims=[rims[key] for key in tube_keys])
+        first = [(keys[k], cuts[k]) for k in range(len(source_strokes))]
         for part in parts:  # tube index -> the first stroke with that tube
-            part.stroke = [(keys[k], cuts[k]) for k in range(len(source_strokes))].index(
-                tube_keys[part.stroke])
+            part.stroke = first.index(tube_keys[part.stroke])
+            part.ends = [(first.index(tube_keys[j]), s_a) for j, s_a in part.ends]
 
     # Pass 2: the pixels each stroke may copy and their weights.
     s_maps, allowed, weights = [], [], []
@@ -761,8 +769,9 @@ def fetch(index: SourceIndex, stroke_id: int, source_s, across, dst_point, dst_a
     stroke = index.strokes[stroke_id]
     s = np.clip(np.atleast_1d(np.asarray(source_s, float)), 0.0, stroke.length)
     e = np.broadcast_to(np.asarray(across, float), s.shape)
-    centres = stroke.point_at(s) + e[:, None] * stroke.normal_at(s, window=window)
-    angles = stroke.angle_at(s, window=window)
+    # (the unchecked methods: s is clipped float arc lengths, window a checked number)
+    angles = stroke._angle_at(s, window)
+    centres = stroke._point_at(s) + e[:, None] * np.stack([-np.sin(angles), np.cos(angles)], axis=-1)
     h, w = index.shape
     s_map, allowed = index.s_map[stroke_id], index.allowed[stroke_id]
     # All candidates at once: target pixel q -> source p = R(a_k - dst_angle) (q - p_dst) + c_k

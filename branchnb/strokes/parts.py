@@ -51,6 +51,14 @@ _SLIVER = 0.4
 _MIN_AREA = 4
 #: A second place a part touches counts if it holds this share of the contact.
 _ANCHOR = 0.15
+#: How far (px) a piece held at both ends reaches into the tubes' rims (see find_parts' rims).
+_RIM = 6
+#: Two strokes' contacts this share of a piece's extent apart hold it at both ends.
+_ENDS = 0.75
+#: A piece thinner than this share of the half width of the tubes holding it is their rim.
+_THIN = 0.2
+#: A piece held at both ends lies within this many half widths of one holding stroke.
+_ALONG_SIDE = 2.0
 #: Contact pixels further apart than this along a stroke (px) touch it at two places.
 _GAP = 10.0
 #: A ring pixel counts as touching a stroke within this much (px) of its nearest stroke.
@@ -87,6 +95,11 @@ class Part:
         Every place it touches a tube: ``(stroke, s)``; a part touching
         two places (a loop of rope between the two cut ends of a stroke)
         follows only if they move alike.
+    ends : list of (int, float)
+        ``(stroke, s)`` of two strokes holding the part at both ends (their
+        contacts farther apart than half the part's extent: a twig in a
+        crotch, its root on a limb and its tip against the trunk); empty
+        otherwise. It follows only if the two move it alike.
     """
 
     box: tuple
@@ -99,10 +112,11 @@ class Part:
     area: int
     at_end: bool = False
     anchors: list = field(default_factory=list)
+    ends: list = field(default_factory=list)
 
 
 def find_parts(alpha: np.ndarray, inked: np.ndarray, claimed: np.ndarray, cores: list,
-               s_maps: list, d_maps: list) -> tuple[list[Part], np.ndarray]:
+               s_maps: list, d_maps: list, *, rims: list | None = None) -> tuple[list[Part], np.ndarray]:
     """The unstroked parts of an RGBA object.
 
     Parameters
@@ -118,6 +132,13 @@ def find_parts(alpha: np.ndarray, inked: np.ndarray, claimed: np.ndarray, cores:
         Each stroke's tube (one per distinct stroke).
     s_maps, d_maps : list of (H, W) ndarray
         Arc length of, and distance to, the nearest point of each stroke.
+    rims : list of (H, W) bool ndarray, optional
+        Each tube's pixels beyond its stroke's silhouette half width. A
+        piece touching two tubes (a twig in a crotch, its root on one
+        limb and its tip against the trunk) takes the pixels of these
+        rims that join it, and ``cores`` and ``claimed`` give them up:
+        held at both ends, it was torn into three (each end re-synthesized
+        with its tube, the middle carried) and came out in fragments.
 
     Returns
     -------
@@ -143,37 +164,104 @@ def find_parts(alpha: np.ndarray, inked: np.ndarray, claimed: np.ndarray, cores:
         area = int((comp & (alpha[sub] > 0.5)).sum())
         if area < _MIN_AREA:
             continue
-        ring = ndi.binary_dilation(comp) & ~comp
-        touch = ndi.binary_dilation(ring) & comp  # the part's pixels next to its ring
-        # a part touches a stroke where its ring meets that stroke's tube nearer that stroke
-        # than any other (within _OWN px): a trunk's tube measured across a branch leaving
-        # at a narrow angle covers the branch's root, and a sub-branch there was anchored to
-        # the trunk too (a coral's branch turned: its sub-branch stayed behind with the trunk)
-        # (nearest among the tubes that hold the ring pixel: a finger's root on the palm's
-        # cap, beyond the palm stroke's end, lies nearer the next finger's stroke than the
-        # palm's, yet only the palm's tube holds it; it was a loose part carried by the
-        # next finger)
-        near = np.minimum.reduce([np.where(core[sub], d[sub], np.inf) for core, d in zip(cores, d_maps)])
-        touching = [ring & core[sub] & (d[sub] <= near + _OWN) for core, d in zip(cores, d_maps)]
-        contacts = [int(t.sum()) for t in touching]
-        k = int(np.argmax(contacts))
+        ring, touch, touching, contacts, k = _contacts(comp, sub, cores, d_maps)
         if contacts[k] and (touch & ndi.binary_dilation(cores[k][sub])).sum() >= _SLIVER * comp.sum():
             continue  # a sliver along the tube's rim
-        anchors = []
+        least = max(3, _ANCHOR * sum(contacts))
+        if rims is not None and contacts[k] and _ends(touching, contacts, least, comp, [d[sub] for d in d_maps]):
+            # held at both ends: the piece takes the tubes' rims joining it
+            big = (slice(max(r0 - _RIM, 0), min(r1 + _RIM, h)), slice(max(c0 - _RIM, 0), min(c1 + _RIM, w)))
+            seed = labels[big] == lab
+            loose = np.zeros_like(seed)
+            for j, c in enumerate(contacts):
+                if c >= least:
+                    loose |= rims[j][big]
+            extra = ndi.binary_propagation(seed, structure=np.ones((3, 3), bool),
+                                           mask=seed | (loose & inked[big])) & ~seed
+            if extra.any():
+                for core in cores:
+                    core[big] &= ~extra
+                claimed[big] &= ~extra
+                sub, comp = big, seed | extra
+                area = int((comp & (alpha[sub] > 0.5)).sum())
+                ring, touch, touching, contacts, k = _contacts(comp, sub, cores, d_maps)
+                least = max(3, _ANCHOR * sum(contacts))
+        anchors, ends = [], []
         if contacts[k]:
             s = float(np.median(s_maps[k][sub][touching[k]]))
-            least = max(3, _ANCHOR * sum(contacts))
             for j, c in enumerate(contacts):
                 if c >= least:
                     anchors += [(j, a) for a in _clusters(s_maps[j][sub][touching[j]], least)]
+            ends = [(j, float(np.median(s_maps[j][sub][touching[j]])))
+                    for j in _ends(touching, contacts, least, comp, [d[sub] for d in d_maps])]
         else:
             dist = [float(d[sub][comp].min()) for d in d_maps]
             k = int(np.argmin(dist))
             s = float(s_maps[k][sub][comp][np.argmin(d_maps[k][sub][comp])])
         mask[sub] |= comp
         parts.append(Part(box=sub, mask=comp, base=np.zeros_like(comp), stroke=k, s=s,
-                          contact=contacts[k], side=0.0, area=area, anchors=anchors))
+                          contact=contacts[k], side=0.0, area=area, anchors=anchors, ends=ends))
     return parts, mask
+
+
+def _contacts(comp: np.ndarray, sub: tuple, cores: list, d_maps: list) -> tuple:
+    """``(ring, touch, touching, contacts, k)`` of a piece ``comp`` on the box ``sub``.
+
+    ``ring``: the pixels round it; ``touch``: its pixels next to the ring;
+    ``touching[j]``: the ring's pixels in tube ``j``; ``contacts[j]``: how
+    many; ``k``: the tube touched most.
+    """
+    ring = ndi.binary_dilation(comp) & ~comp
+    touch = ndi.binary_dilation(ring) & comp  # the part's pixels next to its ring
+    # a part touches a stroke where its ring meets that stroke's tube nearer that stroke
+    # than any other (within _OWN px): a trunk's tube measured across a branch leaving
+    # at a narrow angle covers the branch's root, and a sub-branch there was anchored to
+    # the trunk too (a coral's branch turned: its sub-branch stayed behind with the trunk)
+    # (nearest among the tubes that hold the ring pixel: a finger's root on the palm's
+    # cap, beyond the palm stroke's end, lies nearer the next finger's stroke than the
+    # palm's, yet only the palm's tube holds it; it was a loose part carried by the
+    # next finger)
+    near = np.minimum.reduce([np.where(core[sub], d[sub], np.inf) for core, d in zip(cores, d_maps)])
+    touching = [ring & core[sub] & (d[sub] <= near + _OWN) for core, d in zip(cores, d_maps)]
+    contacts = [int(t.sum()) for t in touching]
+    return ring, touch, touching, contacts, int(np.argmax(contacts))
+
+
+def _ends(touching: list, contacts: list, least: float, comp: np.ndarray, d_sub: list) -> list[int]:
+    """``[j, k]``: two tubes holding a piece at its two ends (or ``[]``).
+
+    Some contact pixel of one lies farther than :data:`_ENDS` times the
+    piece's extent (the diagonal of its pixels' box) from some contact
+    pixel of the other (a twig in a crotch: its root on a limb, its tip
+    against the trunk); a leg touching the body and the tail at its root
+    is held at one end only. A piece thinner (its area over its extent)
+    than :data:`_THIN` times the thinner tube's half width (the median
+    distance of its contact to that stroke) is a sliver of the tubes'
+    rims, not held (a palm's rim along the forearm it turns on, 1000 px:
+    4 px against 57; a twig in a crotch: 2-4 px against 4-7). Only a piece
+    lying along one of the two (within :data:`_ALONG_SIDE` times its half
+    width of its centre line) is held: a long branch reaching out of a
+    fork it touches at two places is carried as a whole.
+    """
+    held = [j for j, c in enumerate(contacts) if c >= least]
+    if len(held) < 2:
+        return []
+    ys, xs = np.nonzero(comp)
+    extent = float(np.hypot(xs.max() - xs.min() + 1, ys.max() - ys.min() + 1))
+    hw = {j: float(np.median(d_sub[j][touching[j]])) for j in held}
+    if len(ys) < _THIN * extent * min(hw.values()):
+        return []
+    if not any(float(d_sub[j][comp].max()) <= _ALONG_SIDE * hw[j] for j in held):
+        return []
+    pts = {j: np.argwhere(touching[j]).astype(float) for j in held}
+    best, pair = _ENDS * extent, []
+    for a in held:
+        for b in held:
+            if a < b:
+                d = float(np.sqrt(((pts[a][:, None] - pts[b][None]) ** 2).sum(axis=2).max()))
+                if d > best:
+                    best, pair = d, [a, b]
+    return pair
 
 
 def _clusters(s: np.ndarray, least: float) -> list[float]:

@@ -27,6 +27,7 @@ silhouette, none across the joints), at any size:
 
 from __future__ import annotations
 
+import inspect
 from dataclasses import dataclass
 
 import numpy as np
@@ -112,15 +113,32 @@ class _Canvas:
         self.yy, self.xx = np.mgrid[0:h, 0:w].astype(np.float64)
         self.outline = outline
         self.rng = rng
-        self.sdf = []     # per part: signed distance (negative inside)
-        self.colour = []  # per part: (H, W, 3)
-        self.order = []   # per part: drawing priority (higher on top)
+        self.sdf = []     # per layer: signed distance (negative inside)
+        self.colour = []  # per layer: (H, W, 3)
+        self.order = []   # per layer: drawing priority (higher on top)
+        # per part: its skeleton stroke, name, parent part and typical half width
+        self.strokes, self.names, self.parents, self.widths = [], [], [], []
 
     def add(self, sdf: np.ndarray, colour: np.ndarray, order: int) -> int:
         self.sdf.append(sdf)
         self.colour.append(colour)
         self.order.append(order)
         return len(self.sdf) - 1
+
+    def part(self, stroke, name: str, parent: int, width: float, layer=None) -> None:
+        """Record a part: its stroke, name, parent and half width (and draw ``layer``,
+        ``(sdf, colour, order)``, if given)."""
+        if layer is not None:
+            self.add(*layer)
+        self.strokes.append(np.array(stroke))
+        self.names.append(name)
+        self.parents.append(parent)
+        self.widths.append(width)
+
+    def result(self) -> PartObject:
+        """The rendered object with the recorded parts."""
+        img, labels = self.render()
+        return PartObject(img, labels, self.strokes, self.parents, self.names, self.widths, self.outline)
 
     def capsule(self, pts, half_width, *, taper: float = 1.0):
         """SDF of a tapered capsule along ``pts`` and the arc length map.
@@ -176,6 +194,33 @@ class _Canvas:
         gh, gw = max(2, int(self.h / scale) + 2), max(2, int(self.w / scale) + 2)
         g = self.rng.uniform(-amount, amount, (gh, gw)).astype(np.float32)
         return cv2.resize(g, (self.w, self.h), interpolation=cv2.INTER_CUBIC).astype(np.float64)
+
+
+def _square_canvas(size: int, base: float, rng) -> tuple[_Canvas, int, float]:
+    """A ``size x size`` canvas, its side ``n`` and scale ``k = n / base`` (outline ``max(1, 2 k)`` px)."""
+    n = int(size)
+    k = n / base
+    return _Canvas(n, n, outline=max(1.0, 2.0 * k), rng=as_rng(rng)), n, k
+
+
+_SQUARE_PARAMS = """Parameters
+    ----------
+    size : int
+        Side of the square image in pixels (64 .. 8192); {default}.
+    rng : int or numpy.random.Generator, optional
+        Random generator or seed of the texture noise.
+
+    Returns
+    -------
+    PartObject"""
+
+
+def _square_doc(func):
+    """Fill ``{square_params}`` in ``func``'s docstring (the shared Parameters and Returns
+    of the square objects, with ``size``'s default)."""
+    default = inspect.signature(func).parameters["size"].default
+    func.__doc__ = func.__doc__.replace("{square_params}", _SQUARE_PARAMS.format(default=default))
+    return func
 
 
 def _bark(c: _Canvas, s: np.ndarray, d_signed: np.ndarray, base, period: float) -> np.ndarray:
@@ -267,50 +312,36 @@ def twig(size: int = 1000, *, rng=None) -> PartObject:
     sdf, s = c.capsule(spine, tw_hw, taper=0.55)
     d = sdf + tw_hw
     rgb = _bark(c, s, _side(c, spine, s, d, tw_hw), (0.45, 0.30, 0.17), 40 * k)
-    c.add(sdf, rgb, 3)
+    c.part(spine, "twig", -1, tw_hw, (sdf, rgb, 3))
 
     def on_spine(frac):
         i = frac * (len(spine) - 1)
         j = int(i)
         return spine[j] + (i - j) * (spine[min(j + 1, len(spine) - 1)] - spine[j])
 
-    strokes, names, widths = [spine], ["twig"], [tw_hw]
     for n, (frac, ang) in enumerate(((0.28, -2.2), (0.62, -1.0))):
         a = on_spine(frac)
         u = np.array([np.cos(ang), np.sin(ang)])
         base = a + 70 * k * u
         _, st = _leaf(c, base, base + 230 * k * u, 55 * k, a, 4.5 * k, 1)
-        strokes.append(np.array(st))
-        names.append(f"leaf {n + 1}")
-        widths.append(55 * k)
+        c.part(st, f"leaf {n + 1}", 0, 55 * k)
     for n, (frac, stem_len, rad) in enumerate(((0.44, 95, 42), (0.78, 22, 38))):
         a = on_spine(frac)
         centre = a + np.array([8 * k, (stem_len + rad) * k])
         _, st = _fruit(c, a, centre, rad * k, 3.5 * k, 2)
-        strokes.append(np.array(st))
-        names.append(f"fruit {n + 1}")
-        widths.append(rad * k)
-    img, labels = c.render()
-    return PartObject(img, labels, strokes, [-1, 0, 0, 0, 0], names, widths, c.outline)
+        c.part(st, f"fruit {n + 1}", 0, rad * k)
+    return c.result()
 
 
 @checked(size=Int(64, 8192))
+@_square_doc
 def bare_tree(size: int = 800, *, rng=None) -> PartObject:
     """A bare tree (``size x size``): a trunk, three limbs and a twig on each limb.
 
     Parts: ``trunk``, ``limb 1..3`` (children of the trunk), ``twig 1..3``
     (twig ``i`` on limb ``i``).
 
-    Parameters
-    ----------
-    size : int
-        Side of the square image in pixels (64 .. 8192); 800.
-    rng : int or numpy.random.Generator, optional
-        Random generator or seed of the texture noise.
-
-    Returns
-    -------
-    PartObject
+    {square_params}
 
     Examples
     --------
@@ -318,10 +349,7 @@ def bare_tree(size: int = 800, *, rng=None) -> PartObject:
     >>> obj.parents
     [-1, 0, 0, 0, 1, 2, 3]
     """
-    rng = as_rng(rng)
-    n = int(size)
-    k = n / 800.0
-    c = _Canvas(n, n, outline=max(1.0, 2.0 * k), rng=rng)
+    c, n, k = _square_canvas(size, 800.0, rng)
     trunk = np.array([(0.5 * n, 0.95 * n), (0.49 * n, 0.7 * n), (0.51 * n, 0.45 * n), (0.5 * n, 0.2 * n)])
     bark = (0.40, 0.28, 0.18)
     parts = [(trunk, 26 * k, 0.45, -1)]
@@ -339,20 +367,16 @@ def bare_tree(size: int = 800, *, rng=None) -> PartObject:
         ang2 = ang + (0.7 if i % 2 == 0 else -0.7)
         u = np.array([np.cos(ang2), np.sin(ang2)])
         parts.append((np.array([a, a + 0.12 * n * u]), 5 * k, 0.5, 1 + i))
-    strokes, names, parents, widths = [], [], [], []
     for i, (pts, hw, taper, parent) in enumerate(parts):
         sdf, s = c.capsule(pts, hw, taper=taper)
         d = sdf + hw
-        c.add(sdf, _bark(c, s, _side(c, pts, s, d, hw), bark, 30 * k), 3 - (i > 0) - (i > 3))
-        strokes.append(pts)
-        names.append("trunk" if i == 0 else f"limb {i}" if i <= 3 else f"twig {i - 3}")
-        parents.append(parent)
-        widths.append(hw)
-    img, labels = c.render()
-    return PartObject(img, labels, strokes, parents, names, widths, c.outline)
+        c.part(pts, "trunk" if i == 0 else f"limb {i}" if i <= 3 else f"twig {i - 3}", parent, hw,
+               (sdf, _bark(c, s, _side(c, pts, s, d, hw), bark, 30 * k), 3 - (i > 0) - (i > 3)))
+    return c.result()
 
 
 @checked(size=Int(64, 8192))
+@_square_doc
 def figure(size: int = 600, *, rng=None) -> PartObject:
     """A figure (``size x size``): a body with a head, two arms and two legs.
 
@@ -360,44 +384,29 @@ def figure(size: int = 600, *, rng=None) -> PartObject:
     ``right leg``; all children of the body, their strokes starting on the
     body's centre line.
 
-    Parameters
-    ----------
-    size : int
-        Side of the square image in pixels (64 .. 8192); 600.
-    rng : int or numpy.random.Generator, optional
-        Random generator or seed of the texture noise.
-
-    Returns
-    -------
-    PartObject
+    {square_params}
 
     Examples
     --------
     >>> figure(200, rng=0).names[1]
     'head'
     """
-    rng = as_rng(rng)
-    n = int(size)
-    k = n / 600.0
-    c = _Canvas(n, n, outline=max(1.0, 2.0 * k), rng=rng)
+    c, n, k = _square_canvas(size, 600.0, rng)
     body = np.array([(0.5 * n, 0.62 * n), (0.5 * n, 0.32 * n)])
     cloth = (0.20, 0.35, 0.70)
     skin = (0.90, 0.70, 0.55)
     sdf, s = c.capsule(body, 55 * k)
     stripes = 0.5 + 0.5 * np.sin(2 * np.pi * s / (25 * k))
-    c.add(sdf, np.asarray(cloth)[None, None] * (0.8 + 0.3 * stripes)[..., None] + c.noise(20 * k, 0.03)[..., None], 3)
-    strokes, names, parents, widths = [body], ["body"], [-1], [55 * k]
+    c.part(body, "body", -1, 55 * k, (sdf, np.asarray(cloth)[None, None] * (0.8 + 0.3 * stripes)[..., None]
+                                      + c.noise(20 * k, 0.03)[..., None], 3))
     head_c = np.array([0.5 * n, 0.17 * n])
     dh = np.hypot(c.xx - head_c[0], c.yy - head_c[1])
     face = np.asarray(skin)[None, None] * (1 - 0.15 * dh / (60 * k))[..., None]
     eyes = (np.hypot(np.abs(c.xx - head_c[0]) - 20 * k, c.yy - head_c[1] + 8 * k) < 6 * k)
     face = np.where(eyes[..., None], 0.1, face)
     neck, _ = c.capsule([body[1], head_c], 14 * k)
-    c.add(np.minimum(dh - 60 * k, neck), face, 2)
-    strokes.append(np.array([body[1] + (0, 20 * k), head_c, head_c - (0, 50 * k)]))
-    names.append("head")
-    parents.append(0)
-    widths.append(60 * k)
+    c.part([body[1] + (0, 20 * k), head_c, head_c - (0, 50 * k)], "head", 0, 60 * k,
+           (np.minimum(dh - 60 * k, neck), face, 2))
     limbs = [("left arm", body[1] + (0, 30 * k), (-0.25, 0.17), 16 * k, skin),
              ("right arm", body[1] + (0, 30 * k), (0.25, 0.10), 16 * k, skin),
              ("left leg", body[0] - (0, 10 * k), (-0.12, 0.32), 22 * k, cloth),
@@ -408,16 +417,12 @@ def figure(size: int = 600, *, rng=None) -> PartObject:
         pts = np.array([start, mid, end])
         sdf, s = c.capsule(pts, hw, taper=0.8)
         d = sdf + hw
-        c.add(sdf, _bark(c, s, _side(c, pts, s, d, hw), col, 30 * k) * 1.1, 1)
-        strokes.append(pts)
-        names.append(name)
-        parents.append(0)
-        widths.append(hw)
-    img, labels = c.render()
-    return PartObject(img, labels, strokes, parents, names, widths, c.outline)
+        c.part(pts, name, 0, hw, (sdf, _bark(c, s, _side(c, pts, s, d, hw), col, 30 * k) * 1.1, 1))
+    return c.result()
 
 
 @checked(size=Int(64, 8192))
+@_square_doc
 def starfish(size: int = 400, *, rng=None) -> PartObject:
     """A starfish (``size x size``): a disk and five tapering arms round it.
 
@@ -427,16 +432,7 @@ def starfish(size: int = 400, *, rng=None) -> PartObject:
     ``0.12 size``) is wider than the arms' roots (half width ``0.09
     size``): a turned arm's root lies inside the body.
 
-    Parameters
-    ----------
-    size : int
-        Side of the square image in pixels (64 .. 8192); 400.
-    rng : int or numpy.random.Generator, optional
-        Random generator or seed of the texture noise.
-
-    Returns
-    -------
-    PartObject
+    {square_params}
 
     Examples
     --------
@@ -444,10 +440,7 @@ def starfish(size: int = 400, *, rng=None) -> PartObject:
     >>> obj.names[:2], obj.parents
     (['disk', 'arm 1'], [-1, 0, 0, 0, 0, 0])
     """
-    rng = as_rng(rng)
-    n = int(size)
-    k = n / 400.0
-    c = _Canvas(n, n, outline=max(1.0, 2.0 * k), rng=rng)
+    c, n, k = _square_canvas(size, 400.0, rng)
     centre = np.array([0.5 * n, 0.5 * n])
     orange = (0.88, 0.47, 0.20)
     rd, reach, hw = 0.12 * n, 0.42 * n, 0.09 * n
@@ -462,20 +455,14 @@ def starfish(size: int = 400, *, rng=None) -> PartObject:
         rgb = np.asarray(orange)[None, None] * shade[..., None] + c.noise(8 * k, 0.04)[..., None]
         return np.where(dots[..., None], np.asarray(orange) * 1.25 + 0.05, rgb)
 
-    c.add(dr - rd, skin(1.0 - 0.15 * np.clip(dr / rd, 0, 1)), 2)
-    strokes = [np.array([centre - (0.5 * rd, 0), centre + (0.5 * rd, 0)])]
-    names, parents, widths = ["disk"], [-1], [rd]
+    c.part([centre - (0.5 * rd, 0), centre + (0.5 * rd, 0)], "disk", -1, rd,
+           (dr - rd, skin(1.0 - 0.15 * np.clip(dr / rd, 0, 1)), 2))
     for i, a in enumerate(-np.pi / 2 + np.arange(5) * 2 * np.pi / 5):
         tip = centre + reach * np.array([np.cos(a), np.sin(a)])
         pts = np.linspace(centre, tip, 8)
         sdf, s = c.capsule(pts, hw, taper=0.2)
-        c.add(sdf, skin(0.95 - 0.2 * np.clip(s / reach, 0, 1)), 1)
-        strokes.append(pts)
-        names.append(f"arm {i + 1}")
-        parents.append(0)
-        widths.append(hw)
-    img, labels = c.render()
-    return PartObject(img, labels, strokes, parents, names, widths, c.outline)
+        c.part(pts, f"arm {i + 1}", 0, hw, (sdf, skin(0.95 - 0.2 * np.clip(s / reach, 0, 1)), 1))
+    return c.result()
 
 
 def _point_at(pts: np.ndarray, frac: float) -> np.ndarray:
@@ -486,6 +473,7 @@ def _point_at(pts: np.ndarray, frac: float) -> np.ndarray:
 
 
 @checked(size=Int(64, 8192))
+@_square_doc
 def antlers(size: int = 600, *, rng=None) -> PartObject:
     """An antler (``size x size``): a curved beam and four tines off it.
 
@@ -494,16 +482,7 @@ def antlers(size: int = 600, *, rng=None) -> PartObject:
     degrees: narrow, sharp crotches). Bone coloured with streaks along
     every part.
 
-    Parameters
-    ----------
-    size : int
-        Side of the square image in pixels (64 .. 8192); 600.
-    rng : int or numpy.random.Generator, optional
-        Random generator or seed of the texture noise.
-
-    Returns
-    -------
-    PartObject
+    {square_params}
 
     Examples
     --------
@@ -511,17 +490,13 @@ def antlers(size: int = 600, *, rng=None) -> PartObject:
     >>> obj.names[1], obj.parents
     ('tine 1', [-1, 0, 0, 0, 0])
     """
-    rng = as_rng(rng)
-    n = int(size)
-    k = n / 600.0
-    c = _Canvas(n, n, outline=max(1.0, 2.0 * k), rng=rng)
+    c, n, k = _square_canvas(size, 600.0, rng)
     t = np.linspace(0.0, 1.0, 24)
     beam = np.c_[0.22 * n + 0.55 * n * t ** 1.3, 0.92 * n - 0.8 * n * np.sin(0.5 * np.pi * t) ** 1.1]
     bone = (0.86, 0.78, 0.60)
     hw0 = 19 * k
     sdf, s = c.capsule(beam, hw0, taper=0.4)
-    c.add(sdf, _bark(c, s, _side(c, beam, s, sdf + hw0, hw0), bone, 26 * k), 3)
-    strokes, names, parents, widths = [beam], ["beam"], [-1], [hw0]
+    c.part(beam, "beam", -1, hw0, (sdf, _bark(c, s, _side(c, beam, s, sdf + hw0, hw0), bone, 26 * k), 3))
     for i, (frac, turn, length) in enumerate(((0.16, 0.95, 0.22), (0.42, -0.75, 0.24), (0.63, -0.65, 0.2),
                                               (0.8, -0.8, 0.15))):
         a = _point_at(beam, frac)
@@ -534,16 +509,12 @@ def antlers(size: int = 600, *, rng=None) -> PartObject:
         pts = a + length * n * (tt * u - 0.15 * tt ** 2 * v * np.sign(turn))
         hw = 12 * k
         sdf, s = c.capsule(pts, hw, taper=0.35)
-        c.add(sdf, _bark(c, s, _side(c, pts, s, sdf + hw, hw), bone, 20 * k) * 1.03, 2)
-        strokes.append(pts)
-        names.append(f"tine {i + 1}")
-        parents.append(0)
-        widths.append(hw)
-    img, labels = c.render()
-    return PartObject(img, labels, strokes, parents, names, widths, c.outline)
+        c.part(pts, f"tine {i + 1}", 0, hw, (sdf, _bark(c, s, _side(c, pts, s, sdf + hw, hw), bone, 20 * k) * 1.03, 2))
+    return c.result()
 
 
 @checked(size=Int(64, 8192))
+@_square_doc
 def coral(size: int = 600, *, rng=None) -> PartObject:
     """A branching coral (``size x size``): a trunk, three branches, a sub-branch on each.
 
@@ -551,26 +522,14 @@ def coral(size: int = 600, *, rng=None) -> PartObject:
     1..3`` (tip ``i`` a child of branch ``i``): parts of parts. Every
     part has a round end; light polyp dots on a jittered grid cover all.
 
-    Parameters
-    ----------
-    size : int
-        Side of the square image in pixels (64 .. 8192); 600.
-    rng : int or numpy.random.Generator, optional
-        Random generator or seed of the texture noise.
-
-    Returns
-    -------
-    PartObject
+    {square_params}
 
     Examples
     --------
     >>> coral(160, rng=0).parents
     [-1, 0, 0, 0, 1, 2, 3]
     """
-    rng = as_rng(rng)
-    n = int(size)
-    k = n / 600.0
-    c = _Canvas(n, n, outline=max(1.0, 2.0 * k), rng=rng)
+    c, n, k = _square_canvas(size, 600.0, rng)
     pink = (0.93, 0.45, 0.42)
     period = 13 * k
     jx, jy = c.noise(3 * period, 0.25 * period), c.noise(3 * period, 0.25 * period)
@@ -596,13 +555,8 @@ def coral(size: int = 600, *, rng=None) -> PartObject:
         ang = np.arctan2(d[1], d[0]) + turn
         u = np.array([np.cos(ang), np.sin(ang)])
         parts.append((np.array([a, a + 0.09 * n * u, a + 0.17 * n * u]), 11 * k, 1 + i))
-    strokes, names, parents, widths = [], [], [], []
     for i, (pts, hw, parent) in enumerate(parts):
         sdf, s = c.capsule(pts, hw)
-        c.add(sdf, skin(s, float(np.hypot(*np.diff(pts, axis=0).T).sum())), 3 - (i > 0) - (i > 3))
-        strokes.append(pts)
-        names.append("trunk" if i == 0 else f"branch {i}" if i <= 3 else f"tip {i - 3}")
-        parents.append(parent)
-        widths.append(hw)
-    img, labels = c.render()
-    return PartObject(img, labels, strokes, parents, names, widths, c.outline)
+        c.part(pts, "trunk" if i == 0 else f"branch {i}" if i <= 3 else f"tip {i - 3}", parent, hw,
+               (sdf, skin(s, float(np.hypot(*np.diff(pts, axis=0).T).sum())), 3 - (i > 0) - (i > 3)))
+    return c.result()

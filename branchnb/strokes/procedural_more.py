@@ -21,14 +21,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.random import as_rng
 from ..core.validate import Int, checked
-from .procedural import PartObject, _bark, _Canvas, _leaf, _point_at, _side
+from .procedural import PartObject, _bark, _leaf, _point_at, _side, _square_canvas, _square_doc
 
 __all__ = ["flower", "hand"]
 
 
 @checked(size=Int(64, 8192))
+@_square_doc
 def flower(size: int = 600, *, rng=None) -> PartObject:
     """A flower (``size x size``): a stem, two leaves, a head and six petals.
 
@@ -38,16 +38,7 @@ def flower(size: int = 600, *, rng=None) -> PartObject:
     continued across the disk) and ``petal 1..6`` (children of the head,
     their strokes from the head's centre out; drawn under the head).
 
-    Parameters
-    ----------
-    size : int
-        Side of the square image in pixels (64 .. 8192); 600.
-    rng : int or numpy.random.Generator, optional
-        Random generator or seed of the texture noise.
-
-    Returns
-    -------
-    PartObject
+    {square_params}
 
     Examples
     --------
@@ -55,25 +46,18 @@ def flower(size: int = 600, *, rng=None) -> PartObject:
     >>> len(obj.strokes), obj.parents[4:]
     (10, [3, 3, 3, 3, 3, 3])
     """
-    rng = as_rng(rng)
-    n = int(size)
-    k = n / 600.0
-    c = _Canvas(n, n, outline=max(1.0, 2.0 * k), rng=rng)
+    c, n, k = _square_canvas(size, 600.0, rng)
     t = np.linspace(0.0, 1.0, 16)
     stem = np.c_[0.5 * n + 0.05 * n * np.sin(1.4 * np.pi * t), 0.96 * n - 0.6 * n * t]
     hw = 9 * k
     sdf, s = c.capsule(stem, hw, taper=0.8)
-    c.add(sdf, _bark(c, s, _side(c, stem, s, sdf + hw, hw), (0.30, 0.55, 0.20), 24 * k), 2)
-    strokes, names, parents, widths = [stem], ["stem"], [-1], [hw]
+    c.part(stem, "stem", -1, hw, (sdf, _bark(c, s, _side(c, stem, s, sdf + hw, hw), (0.30, 0.55, 0.20), 24 * k), 2))
     for i, (frac, ang) in enumerate(((0.3, -2.6), (0.5, -0.45))):
         a = _point_at(stem, frac)
         u = np.array([np.cos(ang), np.sin(ang)])
         base = a + 30 * k * u
         _, st = _leaf(c, base, base + 140 * k * u, 34 * k, a, 3.5 * k, 1, colour=(0.22, 0.50, 0.16))
-        strokes.append(np.array(st))
-        names.append(f"leaf {i + 1}")
-        parents.append(0)
-        widths.append(34 * k)
+        c.part(st, f"leaf {i + 1}", 0, 34 * k)
     top = stem[-1]
     d = stem[-1] - stem[-2]
     u = d / np.hypot(*d)
@@ -82,11 +66,8 @@ def flower(size: int = 600, *, rng=None) -> PartObject:
     dh = np.hypot(c.xx - centre[0], c.yy - centre[1])
     seeds = 0.5 + 0.5 * np.sin(dh / (4 * k)) * np.sin(np.arctan2(c.yy - centre[1], c.xx - centre[0]) * 13)
     head_rgb = np.asarray((0.45, 0.25, 0.08))[None, None] * (0.8 + 0.35 * seeds)[..., None]
-    c.add(dh - rh, head_rgb + c.noise(6 * k, 0.03)[..., None], 3)
-    strokes.append(np.array([top - 12 * k * u, centre, centre + 0.8 * rh * u]))
-    names.append("head")
-    parents.append(0)
-    widths.append(rh)
+    c.part([top - 12 * k * u, centre, centre + 0.8 * rh * u], "head", 0, rh,
+           (dh - rh, head_rgb + c.noise(6 * k, 0.03)[..., None], 3))
     reach, phw = 120 * k, 26 * k
     a0 = np.arctan2(u[1], u[0])
     for i in range(6):
@@ -99,16 +80,12 @@ def flower(size: int = 600, *, rng=None) -> PartObject:
         sdf = sdf + phw * 0.55 * (1 - np.sin(np.pi * (0.15 + 0.85 * rel)) ** 0.6)
         streak = 0.5 + 0.5 * np.cos(2 * np.pi * _side(c, pts, s, sdf + phw, phw) * 1.5)
         rgb = np.asarray((0.98, 0.80, 0.15))[None, None] * (0.85 + 0.2 * streak - 0.1 * rel)[..., None]
-        c.add(sdf, rgb + c.noise(10 * k, 0.03)[..., None], 1)
-        strokes.append(pts)
-        names.append(f"petal {i + 1}")
-        parents.append(3)
-        widths.append(phw)
-    img, labels = c.render()
-    return PartObject(img, labels, strokes, parents, names, widths, c.outline)
+        c.part(pts, f"petal {i + 1}", 3, phw, (sdf, rgb + c.noise(10 * k, 0.03)[..., None], 1))
+    return c.result()
 
 
 @checked(size=Int(64, 8192))
+@_square_doc
 def hand(size: int = 600, *, rng=None) -> PartObject:
     """A hand (``size x size``): a forearm, a palm, four fingers and a thumb.
 
@@ -121,16 +98,7 @@ def hand(size: int = 600, *, rng=None) -> PartObject:
     the palm's stroke, leaving the palm's side at ~20 degrees). Each finger and
     the thumb has a pale nail near its tip.
 
-    Parameters
-    ----------
-    size : int
-        Side of the square image in pixels (64 .. 8192); 600.
-    rng : int or numpy.random.Generator, optional
-        Random generator or seed of the texture noise.
-
-    Returns
-    -------
-    PartObject
+    {square_params}
 
     Examples
     --------
@@ -138,28 +106,20 @@ def hand(size: int = 600, *, rng=None) -> PartObject:
     >>> obj.names[-1], obj.parents
     ('thumb', [-1, 0, 1, 1, 1, 1, 1])
     """
-    rng = as_rng(rng)
-    n = int(size)
-    k = n / 600.0
-    c = _Canvas(n, n, outline=max(1.0, 2.0 * k), rng=rng)
+    c, n, k = _square_canvas(size, 600.0, rng)
     skin = np.asarray((0.88, 0.66, 0.50))
     sleeve = np.asarray((0.30, 0.45, 0.35))
     fore = np.array([(0.46 * n, 0.97 * n), (0.47 * n, 0.82 * n), (0.48 * n, 0.66 * n)])
     fhw = 34 * k
     sdf, s = c.capsule(fore, fhw)
-    c.add(sdf, _bark(c, s, _side(c, fore, s, sdf + fhw, fhw), sleeve, 22 * k), 2)
-    strokes, names, parents, widths = [fore], ["forearm"], [-1], [fhw]
+    c.part(fore, "forearm", -1, fhw, (sdf, _bark(c, s, _side(c, fore, s, sdf + fhw, fhw), sleeve, 22 * k), 2))
     palm = np.array([fore[-1], (0.485 * n, 0.55 * n), (0.49 * n, 0.44 * n)])
     phw = 55 * k
     sdf, s = c.capsule(palm, phw)
     lines = np.abs(np.sin((c.xx + 0.6 * c.yy) / (9 * k))) < 0.06
     rgb = skin[None, None] * (1 - 0.12 * np.clip(np.abs(c.xx - 0.485 * n) / phw, 0, 1))[..., None]
     rgb = np.where(lines[..., None], skin * 0.85, rgb) + c.noise(12 * k, 0.03)[..., None]
-    c.add(sdf, rgb, 3)
-    strokes.append(palm)
-    names.append("palm")
-    parents.append(0)
-    widths.append(phw)
+    c.part(palm, "palm", 0, phw, (sdf, rgb, 3))
 
     def digit(start, ang, length, hw, name):
         u = np.array([np.cos(ang), np.sin(ang)])
@@ -174,11 +134,7 @@ def hand(size: int = 600, *, rng=None) -> PartObject:
         rgb = np.where((creases & (s > 0.2 * length))[..., None], skin * 0.8, rgb)
         nail = (s > length - 0.33 * hw - 0.45 * length * 0.3) & (s < length) & (np.abs(side) < 0.55)
         rgb = np.where(nail[..., None], np.array([0.97, 0.86, 0.82]), rgb)
-        c.add(sdf, rgb + c.noise(8 * k, 0.03)[..., None], 1)
-        strokes.append(pts)
-        names.append(name)
-        parents.append(1)
-        widths.append(hw)
+        c.part(pts, name, 1, hw, (sdf, rgb + c.noise(8 * k, 0.03)[..., None], 1))
 
     knuckles = palm[-1]
     for i, (dx, ang, length) in enumerate(((-0.66, -1.85, 120), (-0.22, -1.65, 140), (0.22, -1.5, 132),
@@ -186,5 +142,4 @@ def hand(size: int = 600, *, rng=None) -> PartObject:
         digit(knuckles + np.array([dx * phw, 0.1 * phw]), ang, length * k, 15 * k, f"finger {i + 1}")
     # the thumb's stroke starts on the palm's (its first stretch hidden under the palm)
     digit(_point_at(palm, 0.45), -0.35, 115 * k + 0.5 * phw, 17 * k, "thumb")
-    img, labels = c.render()
-    return PartObject(img, labels, strokes, parents, names, widths, c.outline)
+    return c.result()

@@ -128,6 +128,10 @@ class Stroke:
             Angles in radians, of the shape of ``s`` (y points down, so positive
             angles turn clockwise on screen).
         """
+        return self._angle_at(s, window)
+
+    def _angle_at(self, s, window: float = 0.0) -> np.ndarray:
+        """:meth:`angle_at` without the argument checks."""
         s = np.clip(np.asarray(s, float), 0.0, self.length)
         w = max(float(window), 1e-3)
         lo = np.clip(s - w, 0.0, self.length - 2e-3)
@@ -157,7 +161,11 @@ class Stroke:
         >>> Stroke([(0, 0), (10, 0)]).normal_at(5.0).round(6).tolist()
         [-0.0, 1.0]
         """
-        a = self.angle_at(s, window=window)
+        return self._normal_at(s, window)
+
+    def _normal_at(self, s, window: float = 0.0) -> np.ndarray:
+        """:meth:`normal_at` without the argument checks."""
+        a = self._angle_at(s, window)
         return np.stack([-np.sin(a), np.cos(a)], axis=-1)
 
     @checked(points=Array(ndim=2))

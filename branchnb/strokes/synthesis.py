@@ -11,6 +11,7 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+from scipy import ndimage as ndi
 from scipy.spatial import cKDTree
 
 from .composition import PlacedPatch, compose, labelling_cost, seam_mask
@@ -18,7 +19,16 @@ from .crotches import _child_width, new_crotches, round_crotches
 from .edit import FETCH_FIELDS, EditPatches, StrokeEditParams, StrokeEditResult, StrokeSamples, _check_edit_params
 from .joints import close_hairlines, hold_joint_bodies, joint_disks, joint_roots
 from .junctions import far_side
-from .outline import _POCKET, clear_stale_outline, close_cuts, drop_flecks, fill_joints, fill_pinholes, source_depth
+from .outline import (
+    _POCKET,
+    _disk_closing,
+    clear_stale_outline,
+    close_cuts,
+    drop_flecks,
+    fill_joints,
+    fill_pinholes,
+    source_depth,
+)
 from .parts import place_part, rigid_frame
 from .sampling import choose, pair_energies
 
@@ -146,6 +156,7 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
         style = patches._style if params.close_cuts else None
         wide = [j for j in joints if j[2] is not None]
         filled = None
+        pockets = _SourcePockets(index, comp.labels, placed)
         # the parent's body at every junction stays with the parent (the notch a turned
         # child would tear out of it is filled from the parent's own source pixels)
         disks = joint_disks(index, attached, junctions, window)
@@ -162,7 +173,7 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
             before = layer[:, :, 3] > 0.5
             old = layer
             layer = fill_joints(layer, [j[0] for j in wide], [j[1] for j in wide],
-                                pockets=[j[2] for j in wide],
+                                pockets=[j[2] for j in wide], keep_open=pockets,
                                 inner=0 if style is None else int(np.ceil(style.width)) + 1)
             if layer is not old:
                 # only the wedges along the children (no bridge to a neighbouring part)
@@ -191,7 +202,8 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
             layer = clear_stale_outline(layer, depth, style, filled=filled)
         opened = layer[:, :, 3] <= 0.5
         if joints:
-            layer = fill_joints(layer, [j[0] for j in joints], [j[1] for j in joints])
+            layer = fill_joints(layer, [j[0] for j in joints], [j[1] for j in joints],
+                                keep_open=pockets)
         layer = close_hairlines(layer, [(d[0], 1.5 * d[2] + 4.0) for d in disks])
         if style is not None and disks:
             # rims the last closings buried inside the object (a kept arm's outline
@@ -237,6 +249,62 @@ _FEW_SEGMENTS = 16
 
 #: Source depth given to pixels filled at joints (deep enough to be outlined as a cut face).
 _FILLED_DEPTH = 100.0
+
+
+class _SourcePockets:
+    """``(rows, cols, k) -> bool``: result pixels copied from a pocket of the source itself.
+
+    A pocket is what the joints' closing (a disk of ``k`` px) would fill in the
+    source: the bottom of a narrow crotch. Such a pixel, copied by a patch from
+    that very place, is the source's own shape, not a gap the edit opened (an
+    identity edit of a finger drawn from inside its palm closed the crotches beside
+    it with a thick dark notch and steps up the finger's sides). A pixel no patch
+    laid (between the patches, deep in a crotch) is mapped by the patch of its
+    nearest laid pixel (within ``2 k + 3`` px; none: it stays closable). The
+    source's closing is computed on the box of the pixels asked about, grown by
+    ``2 k + 3`` px (all the pixels it depends on).
+    """
+
+    def __init__(self, index, labels: np.ndarray, placed: list):
+        self.obj = index.premult[:, :, 3] > 0.5
+        self.labels, self.placed = labels, placed
+
+    def __call__(self, rows: np.ndarray, cols: np.ndarray, k: int) -> np.ndarray:
+        out = np.zeros(len(rows), bool)
+        lab = self.labels[rows, cols].copy()
+        g = 2 * int(k) + 3
+        loose = lab < 0
+        if loose.any():
+            # the patch of the nearest laid pixel (on the loose pixels' box grown by g)
+            lr, lc = rows[loose], cols[loose]
+            H, W = self.labels.shape
+            r0, r1 = max(int(lr.min()) - g, 0), min(int(lr.max()) + g + 1, H)
+            c0, c1 = max(int(lc.min()) - g, 0), min(int(lc.max()) + g + 1, W)
+            sub = self.labels[r0:r1, c0:c1]
+            if (sub >= 0).any():
+                dist, (ir, ic) = ndi.distance_transform_edt(sub < 0, return_indices=True)
+                near = dist[lr - r0, lc - c0] <= g
+                lab[np.flatnonzero(loose)[near]] = sub[ir[lr - r0, lc - c0], ic[lr - r0, lc - c0]][near]
+        sx = np.full(len(rows), -1, np.intp)
+        sy = np.full(len(rows), -1, np.intp)
+        for i in np.unique(lab[lab >= 0]):
+            m = self.placed[i].source_map
+            if m is None:
+                continue
+            sel = lab == i
+            x, y = cols[sel], rows[sel]
+            sx[sel] = np.rint(m[0, 0] * x + m[0, 1] * y + m[0, 2]).astype(np.intp)
+            sy[sel] = np.rint(m[1, 0] * x + m[1, 1] * y + m[1, 2]).astype(np.intp)
+        h, w = self.obj.shape
+        ok = (sx >= 0) & (sx < w) & (sy >= 0) & (sy < h)
+        if not ok.any():
+            return out
+        r0, r1 = max(int(sy[ok].min()) - g, 0), min(int(sy[ok].max()) + g + 1, h)
+        c0, c1 = max(int(sx[ok].min()) - g, 0), min(int(sx[ok].max()) + g + 1, w)
+        sub = self.obj[r0:r1, c0:c1]
+        pocket = _disk_closing(sub, int(k)) & ~sub
+        out[ok] = pocket[sy[ok] - r0, sx[ok] - c0]
+        return out
 
 
 def _inside_parent(index, attached, jn, origin, size: int, cache: dict | None = None) -> np.ndarray:

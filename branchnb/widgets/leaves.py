@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import dataclasses
 import html
+import warnings
 
 import cv2
 import ipywidgets as widgets
@@ -33,6 +34,19 @@ from ..core.render import coverage_polylines
 from ..leaves.analysis import LeafAnalysis, analyze, normalise_exemplars
 from ..leaves.induction import InductionParams
 from ..leaves.layers import Layer, LayerSet
+from ..leaves.structural import (  # noqa: F401  (importable from here as before)
+    MAX_STRUCTURAL_REACH,
+    MIN_STANDOUT,
+    MIN_STRUCTURAL_LAMBDA,
+    LeafAnalysisWarning,
+    ShadowAsLeafWarning,
+    _delta_text,
+    _reach_text,
+    _scribbled_as_structure,
+    is_structural,
+    layer_warnings,
+    spatial_reach,
+)
 from ..leaves.synthesis import SynthesisParams, generate
 from .canvas import AnnotationCanvas
 from .files import canvases_json, load_canvases
@@ -157,6 +171,7 @@ class LeafApp(widgets.VBox):
         self._marks: dict = {}  # exemplar -> (registration key, (grid, keypoint) coverage)
         self._white: dict = {}  # exemplar -> (its image, on white, L*): kept between slider moves
         self.analysis: LeafAnalysis | None = None
+        self._shadows: list[str] = []  # ShadowAsLeafWarning messages of the last analysis, shown in the report
         self.leaves: list = []
         if layers is None:
             layers = LayerSet([Layer("veins", _PALETTE[0], 0), Layer("spots", _PALETTE[1], 1)])
@@ -489,8 +504,12 @@ class LeafApp(widgets.VBox):
         """Grow the scribbled layers, register (once), induce; show the result."""
         ls = self.scribbled_layers()
         prm = self.induction_panel.values
-        a = analyze(self.images, self.training_index, ls, prm, progress=self.shell.progress,
-                    registrations=self._registrations)
+        # The report shows analyze's warnings (layer_warnings and the shadowed blades): not on stderr too.
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", LeafAnalysisWarning)
+            a = analyze(self.images, self.training_index, ls, prm, progress=self.shell.progress,
+                        registrations=self._registrations)
+        self._shadows = [str(w.message) for w in caught if issubclass(w.category, ShadowAsLeafWarning)]
         self._registrations = a.registrations
         self.analysis = a
         self._show_analysis()
@@ -511,7 +530,9 @@ class LeafApp(widgets.VBox):
 
     def _reinduce(self, params) -> str:
         changes = {f.name: getattr(params, f.name) for f in dataclasses.fields(params)}
-        a = self.analysis.reinduce(progress=self.shell.progress, **changes)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", LeafAnalysisWarning)  # shown in the report
+            a = self.analysis.reinduce(progress=self.shell.progress, **changes)
         self.analysis = a
         self._show_analysis()
         return ", ".join(f"{x.name}: lambda {x.lam:.2f}" for x in a.layers)
@@ -649,14 +670,16 @@ class LeafApp(widgets.VBox):
                        f"<td>{x.training_overlap:.2f}</td><td>{x.neighbourhood}</td><td>{_reach_text(x)}</td>"
                        f"<td>{_kind_text(x)}</td>"
                        f"<td>{len(x.masks) - len(x.empty)}/{len(x.masks)}</td></tr>" for x in a.layers)
-        warn = "".join(f"<div style='color:#b35900'>⚠ {html.escape(w)}</div>" for w in layer_warnings(a))
+        warn = "".join(f"<div style='color:#b35900'>⚠ {html.escape(w)}</div>"
+                       for w in layer_warnings(a) + self._shadows)
         self.report.value = ("<table style='font-size:12px'><tr><th>layer</th><th>λ</th><th>δ</th>"
                              "<th title='IoU of the induced layer with yours on the training leaf'>IoU</th>"
                              "<th title='neighbourhood side of S_e (px)'>n</th>"
                              "<th title='how far from the registered layer it can be induced, in ε: "
                              "sqrt(ln(δ / λ)) (the δ criterion)'>reach</th>"
                              f"<th title='structural: λ &gt; {MIN_STRUCTURAL_LAMBDA} and reach ≤ "
-                             f"{MAX_STRUCTURAL_REACH} ε; colour: leans on colour alone; non-structural ⚠: "
+                             f"{MAX_STRUCTURAL_REACH} ε (thin lines: stands out from its blade by ≥ "
+                             f"{MIN_STANDOUT} colour spreads); colour: leans on colour alone; non-structural ⚠: "
                              "scribbled as a structure but induced by colour'>kind</th>"
                              "<th title='exemplars on which the layer was found'>found</th></tr>"
                              + rows + "</table>" + warn)
@@ -681,116 +704,14 @@ class LeafApp(widgets.VBox):
             self.histograms.update(*samples, labels=labels, range=(0.0, 100.0))
 
 
-def _delta_text(delta: float) -> str:
-    """``delta`` for a table: F is an exponential, so past 10 it only says "any distance"."""
-    return f"{delta:.3f}" if delta < 10 else "> 10 (any distance)"
-
-
-#: A layer is structural when its place on the leaf decides where it is
-#: induced: a pixel of the layer's exact colour joins it only within this
-#: many ``eps`` of the registered layer (:func:`spatial_reach`) ...
-MAX_STRUCTURAL_REACH = 3.0
-#: ... and its weight ``lambda`` is above this.
-MIN_STRUCTURAL_LAMBDA = 0.05
-
-
-def spatial_reach(lam: float, delta: float) -> float:
-    """How far from the registered layer, in units of ``eps``, the layer can be induced (the delta criterion).
-
-    A pixel joins the layer where ``D = lambda F + S_e < delta`` with
-    ``F = exp(d^2 / (eps^2 (1 - S_e)))``; for a perfect colour match
-    (``S_e = 0``) that is ``d < eps sqrt(ln(delta / lambda))``. ``inf``
-    when ``lambda`` is 0 or ``F`` (clipped at ``exp(60)``) never reaches
-    ``delta / lambda``: the layer's place does not matter, it is
-    induced by colour alone (non-structural).
-
-    Parameters
-    ----------
-    lam, delta : float
-        The layer's ``lambda`` and ``delta`` (eqs. 3-4).
-
-    Returns
-    -------
-    float
-
-    Examples
-    --------
-    >>> round(spatial_reach(0.5, 1.0), 3), spatial_reach(0.0, 1.0), round(spatial_reach(1e-9, 5.93e6), 2)
-    (0.833, inf, 6.03)
-    """
-    if not lam > 0 or not np.isfinite(delta):
-        return float("inf")
-    if delta <= lam:
-        return 0.0
-    ratio = np.log(delta / lam)
-    return float("inf") if ratio >= 60.0 else float(np.sqrt(ratio))
-
-
-def is_structural(layer) -> bool:
-    """Whether an induced layer leans on its place on the leaf (``lambda`` and :func:`spatial_reach`).
-
-    Parameters
-    ----------
-    layer : LayerInduction
-        One induced layer of a :class:`~branchnb.leaves.LeafAnalysis` (its ``lam`` and ``delta``).
-
-    Returns
-    -------
-    bool
-        True when ``lambda`` exceeds ``MIN_STRUCTURAL_LAMBDA`` and the reach is at most
-        ``MAX_STRUCTURAL_REACH`` (in units of eps).
-    """
-    return layer.lam > MIN_STRUCTURAL_LAMBDA and spatial_reach(layer.lam, layer.delta) <= MAX_STRUCTURAL_REACH
-
-
 def _kind_text(layer) -> str:
     if is_structural(layer):
         kind = "structural"
-    elif layer.snapped is not None:
+    elif _scribbled_as_structure(layer):
         kind = "<b style='color:#b35900'>non-structural ⚠</b>"  # scribbled as a structure
     else:
         kind = "colour"
     return kind + (", snapped" if layer.snapped is not None else "")
-
-
-def _reach_text(layer) -> str:
-    r = spatial_reach(layer.lam, layer.delta)
-    return "anywhere" if not np.isfinite(r) else f"{r:.1f} ε"
-
-
-def layer_warnings(analysis) -> list[str]:
-    """Plain-language warnings about an analysis: a thin layer that came out non-structural, a layer not found.
-
-    Parameters
-    ----------
-    analysis : LeafAnalysis
-        The result of the app's "analyze" step (its ``layers`` with their
-        ``lam``, ``snapped`` and ``empty`` fields).
-
-    Returns
-    -------
-    list of str
-        One sentence per problem; empty when all is well.
-
-    Examples
-    --------
-    >>> from types import SimpleNamespace as NS
-    >>> layer_warnings(NS(layers=[NS(name="veins", lam=0.0, delta=1.0, snapped=[None, None], masks=[1, 1],
-    ...                              empty=[])]))[0][:33]
-    "'veins' was scribbled as thin lin"
-    """
-    out = []
-    for x in analysis.layers:
-        if x.snapped is not None and not is_structural(x):
-            out.append(f"'{x.name}' was scribbled as thin lines (a structure) but came out non-structural "
-                       f"(λ = {x.lam:.3f}, δ {'= ' if x.delta < 10 else ''}{_delta_text(x.delta)}: reach "
-                       f"{_reach_text(x)}): its exemplars' "
-                       "copies do not overlap after registration, so it was induced from each leaf's own "
-                       "ridges and colours. Check the registration overlays.")
-        if x.empty:
-            out.append(f"'{x.name}' was not found on exemplar(s) {', '.join('#' + str(e) for e in x.empty)}; "
-                       "new leaves take it from the others.")
-    return out
 
 
 def _shapes_json(shapes) -> str:
