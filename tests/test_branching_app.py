@@ -385,3 +385,68 @@ def test_synthesize_button_cancel_stops_the_growth(app, monkeypatch):
     assert app.shell.wait(30)
     assert "cancelled" in app.errors.text and app.errors.last_error is None
     assert app.result is None and not app.buttons["synthesize"].disabled
+
+
+def test_cancel_takes_the_growing_skeleton_off_and_shows_the_last_result(app, monkeypatch):
+    # Found in the browser (widgets23): after "cancel" the view kept the cancelled skeleton,
+    # titled "growing: 68 branches so far (the finished structure follows)" - nothing followed.
+    import threading
+
+    import branchnb.widgets.branching as mod
+
+    app.synthesize()
+    before = app.result.structure.to_json()
+    shown_before = app.view.title_texts[0]
+    _slowed(mod, monkeypatch, 0.05)
+    grew = threading.Event()
+    orig = app._show_partial
+    monkeypatch.setattr(app, "_show_partial", lambda g: (orig(g), grew.set()))
+    app.preview_first = 0.0
+    app.shell.background = True
+    app.shell.click("synthesize")
+    assert grew.wait(30) and "growing" in app.view.title_texts[0]
+    app.shell.cancel()
+    assert app.shell.wait(30)
+    assert "cancelled" in app.errors.text and app.partial is None
+    assert app.view.title_texts[0].startswith("synthesized structure") and "growing" not in app.info.value
+    assert app.view.title_texts[0] == shown_before and app.result.structure.to_json() == before
+
+
+def test_first_synthesis_says_it_fits_the_model(app, monkeypatch):
+    # Found in the browser (widgets23): the first "synthesize" of a 360 px retina spent 4.4 s fitting
+    # (domain and model) under a bare "computing synthesize ..." before its first preview.
+    texts = []
+    real = app.shell.progress
+    monkeypatch.setattr(app.shell, "progress", lambda f, t="": (texts.append(t), real(f, t)))
+    app._resynthesize(fresh=True)
+    assert texts[0] == "fitting the model to the example" and texts.count(texts[0]) == 1
+    texts.clear()
+    app._resynthesize(fresh=True)  # the model is kept: straight to growing
+    assert texts and "fitting" not in " ".join(texts)
+    app.auto.value = False
+    app.panel.controls["k"].value = app.params.k + 2  # the model depends on k: fitted again
+    texts.clear()
+    app._resynthesize(fresh=True)
+    assert texts[0] == "fitting the model to the example"
+
+
+def test_slider_updates_convert_the_example_once_per_change(app, monkeypatch):
+    # widgets23: every slider move converted the canvas' polylines to a structure and JSON again
+    # (60-160 ms of a loaded machine's first-preview budget); now once per annotation change.
+    import branchnb.widgets.branching as mod
+
+    calls = []
+    real = mod.annotations_to_structure
+    monkeypatch.setattr(mod, "annotations_to_structure", lambda *a, **k: (calls.append(1), real(*a, **k))[1])
+    app.synthesize()
+    n = len(calls)
+    app.synthesize()
+    first = app.result
+    app.panel.controls["c"].value = app.params.c + 1  # re-synthesizes
+    assert len(calls) == n and app.result is not first
+    # an edit of the example is seen at once: the model is fitted to the new example
+    v0 = app.result.example.n_vertices
+    app.canvas.model.remove_shape(len(app.canvas.model) - 1)
+    app.synthesize()
+    assert len(calls) == n + 1 and app.result.example.n_vertices < v0
+    assert app._example_and_json()[1] == app.example_structure().to_json()

@@ -118,7 +118,7 @@ def test_sliders_and_seams(app):
     ov = app.result.seams
     assert ov.any()
     # the view shows what the target canvas does not: where the result came from, and its seams
-    assert app.view.title_texts == ["copied from the source (the rest dimmed)", "seams between the patches (red)"]
+    assert app.view.title_texts == ["copied from the source (the rest dimmed)", "patches (a colour each), seams red"]
     copied = app._copied(app.result)
     inside, obj = app.result.source_region, app.image[..., 3] > 0.5
     assert copied.shape[:2] == app.image.shape[:2] and inside.any() and (obj & ~inside).any()
@@ -248,7 +248,7 @@ def test_reduced_preview_is_the_new_value_at_reduced_size():
                          [b * s for b in tgt], pv.params, target_shape=pv.image.shape[:2])
     assert pv.params.seam_power == 2.5 and np.array_equal(pv.image, ref.image)
     assert np.array_equal(first[0], pv.show())
-    assert np.array_equal(last[1], app.result.show(seams=True)) and app.result.params.seam_power == 2.5
+    assert np.array_equal(last[1], app._patches(app.result)) and app.result.params.seam_power == 2.5
     app.preview_after = 10.0  # fast edits: a seam-only change shows the result without a preview
     shown.clear()
     app.panel.controls["seam_power"].value = 3.0
@@ -277,3 +277,33 @@ def test_automatic_parameters_say_so(app):
     assert f"2r = {app.result.auto['patch_size']:g} px" in app.status.value
     app.panel.controls["patch_size"].value = 24
     assert "patch_size" not in app.result.auto and "2r =" not in app.status.value
+
+
+def test_result_view_does_not_repeat_the_target_canvas(app):
+    # Found (issue 25, app): the view's second image was the result with its seams, which the
+    # target canvas already shows ("show seams"). It now shows which patch each pixel comes from.
+    app.add_stroke("source", SRC)
+    app.add_stroke("target", TGT)
+    import cv2
+
+    r = app.result
+    copied, patches = (cv2.cvtColor(cv2.imdecode(np.frombuffer(im.value, np.uint8), cv2.IMREAD_COLOR),
+                                    cv2.COLOR_BGR2RGB).astype(np.float32) / 255.0 for im in app.view.images)
+    shown = r.show(seams=True)
+    obj = r.image[..., 3] > 0.5
+    assert patches.shape == shown.shape and obj.sum() > 200
+    # off the seams (red in both), the patch picture differs from the canvas' result ...
+    same = np.abs(patches - shown).max(axis=-1) < 0.05
+    assert same[obj & ~r.seams].mean() < 0.1
+    assert (patches[(r.image[..., 3] == 0) & ~r.seams] > 0.97).all()  # (white around the object, like the result)
+    # ... it has one colour per patch (up to the object's shading): touching patches differ
+    inner = obj & ~r.seams & (r.labels >= 0)
+    labels = np.unique(r.labels[inner])
+    assert labels.size >= 3
+    hue = patches / np.maximum(patches.sum(axis=-1, keepdims=True), 1e-6)  # chromaticity
+    means = np.array([hue[inner & (r.labels == k)].mean(axis=0) for k in labels])
+    steps = np.abs(np.diff(means, axis=0)).sum(axis=1)
+    assert steps.min() > 0.05, steps
+    assert np.allclose(patches[r.seams], (1.0, 0.0, 0.0))
+    # and the source picture is the source's size, not the target's
+    assert copied.shape[:2] == app.image.shape[:2]

@@ -273,3 +273,18 @@ def test_more_like_this_of_two_checked_trees_reaches_the_library(app, lib):
     i = next(i for i, v in enumerate(more) if v.weights[list(v.names).index("tree_rpg_06")] > 0)
     app.adopt(i)                                      # brings in the unchecked tree it mixed
     assert "tree_rpg_06" in app.selected and app.weights.sum() == pytest.approx(1.0)
+
+
+def test_tab_control_rows_wrap_instead_of_squeezing_sliders(app):
+    # Found in the browser (widgets23): once the tabs took the column's width (min_width 0), the
+    # morph "t", "keep" and "count" sliders sat in rows that squeezed their tracks to ~10 px.
+    import ipywidgets as widgets
+
+    rows = [w for tab in app.tabs.children for w in tab.children if isinstance(w, widgets.HBox)
+            and any(isinstance(c, (widgets.FloatSlider, widgets.IntSlider, widgets.Dropdown)) for c in w.children)]
+    sliders = [c for r in rows for c in r.children if isinstance(c, (widgets.FloatSlider, widgets.IntSlider))]
+    assert len(rows) >= 3 and {app.morph_t, app.keep, app.n_similar} <= set(sliders)
+    for r in rows:
+        assert r.layout.flex_flow == "row wrap"
+    for s in sliders:
+        assert s.layout.width.endswith("px") and int(s.layout.min_width[:-2]) >= 200

@@ -96,6 +96,9 @@ class _BranchState:
     profile: tuple | None = None
     #: the input branch whose head started this branch
     head_src: int = -1
+    #: queued but never grown: the global stop (length, coverage) came before its turn, so it is only
+    #: its copied head (see ``_Filling._drop_unborn``)
+    unborn: bool = False
 
 
 class _Starts:

@@ -97,6 +97,14 @@ BEARING_WEIGHT = 1.0
 #: ... and a channel with its own bearing follows it this many times more firmly (``kappa``) than a trunk
 #: follows the descent.
 FAN_KAPPA_GAIN = 2.0
+#: ... and, beyond the paper, a candidate whose chord runs ``a`` radians off that bearing gets its score times
+#: ``exp(-FAN_HOLD a)``. ``exp(kappa cos a)`` is flat near the bearing (30 degrees off cost a factor 1.7
+#: at ``kappa`` 4), weaker than the spread of the matching scores (a factor 2-3 between the best and the
+#: median candidate), so a channel kept the heading it left its parent with and ran up to 30-40 degrees off
+#: its bearing; the linear term makes that cost a factor ``e^(FAN_HOLD pi / 6)`` ~ 500 (issue 23, branching43:
+#: headings 5 % of the diagonal inland spread 16-47 degrees, median 30, over 3 delta shapes x 512/1000 px x
+#: 3 seeds, now 28-57, median 38; the examples' 41-50; 4 and 8 gave medians 32 and 36).
+FAN_HOLD = 12.0
 
 
 class _Drain:
@@ -288,6 +296,11 @@ class _Drain:
         cos = self._cos(tip, end - tip, fan)
         k = self.kappa * (FAN_KAPPA_GAIN if fan is not None else 1.0)
         f = np.exp(pull * k * cos) * self.frame_factor(tip, points, n_new)
+        if fan is not None and FAN_HOLD > 0:
+            fv = np.asarray(fan, np.float64)
+            chord = end - tip
+            off = np.abs(np.arctan2(chord[:, 1] * fv[0] - chord[:, 0] * fv[1], chord @ fv))
+            f = f * np.exp(-pull * FAN_HOLD * off)
         f = np.where(cos < UPSTREAM_COS, 0.0, f)
         if start is not None:
             net = end - np.asarray(start, np.float64)

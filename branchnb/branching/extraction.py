@@ -192,7 +192,9 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
             gray = image = ink
     if p.binary != "off" and is_binary(gray):
         # strokes drawn as two outline lines with the paper between them: traced once, along the centre
-        filled, n_filled = fill_outlined_strokes(gray)
+        rgb = as_rgb(image) if np.ndim(image) == 3 else None
+        filled, n_filled = fill_outlined_strokes(gray, colour=rgb if rgb is not None and rgb.shape[:2] ==
+                                                 np.shape(gray) else None)
         if n_filled:
             gray = image = filled
     auto_colour = isinstance(line_colour, str) and line_colour == "auto"

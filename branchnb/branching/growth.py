@@ -765,6 +765,11 @@ class _Grower(_Starts, _Filling):
             if r is not None:
                 queue.append(r)
         self._drain(queue)
+        self._fill_rounds()
+        if not self.stop_reason:
+            self.stop_reason = "no branch can grow" if queue else "no root could start"
+
+    def _fill_rounds(self) -> None:
         # Everything stopped before the domain is as dense as the example:
         # furcate the grown branches once more (highest furcation probability
         # away from their children), round after round.
@@ -785,8 +790,6 @@ class _Grower(_Starts, _Filling):
             if len(self.branches) == before:
                 break
             self.fill_rounds += 1
-        if not self.stop_reason:
-            self.stop_reason = "no branch can grow" if queue else "no root could start"
 
     def structure(self) -> Structure:
         out = []

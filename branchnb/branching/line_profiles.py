@@ -55,7 +55,8 @@ def _hessian_across(gray: np.ndarray, sigmas) -> tuple[np.ndarray, ...]:
 
 
 def false_ridge_pixels(gray, skeleton, polarity: str, *, sigma_min: float = 1.0, sigma_max: float = 4.0,
-                       two_sided: float = 0.3, dotted: float = 0.3, min_run: int = 10) -> np.ndarray:
+                       two_sided: float = 0.3, dotted: float = 0.3, beads: float = 0.3,
+                       min_run: int = 10) -> np.ndarray:
     """Skeleton pixels on stretches that are an edge or a row of dots, not a line.
 
     The skeleton is cut at its junctions into stretches; a stretch of at least ``min_run`` pixels
@@ -69,7 +70,12 @@ def false_ridge_pixels(gray, skeleton, polarity: str, *, sigma_min: float = 1.0,
       its 90th percentile on at least a ``dotted`` share of the stretch, and varies along it
       by a coefficient of variation of at least ``dotted``, bright in three or more separate
       pieces: a row of separate dots whose brightness drops to the ground between them, not
-      a continuous line (nor one fading towards its tip).
+      a continuous line (nor one fading towards its tip);
+    * *beaded* (beyond the paper): dots so close that their glows merge into one ridge, whose
+      contrast never falls to half: along the stretch its brightness peaks (the brightest skeleton
+      pixel within 3 px) at least 8 times, once every 8 px or closer, each peak rising by at least
+      ``beads`` x the stretch's 90th-percentile contrast over the darkest skeleton pixel within
+      4 px. A jagged bolt peaks at a few of its bends only, a line's noise by far less.
 
     Parameters
     ----------
@@ -81,8 +87,9 @@ def false_ridge_pixels(gray, skeleton, polarity: str, *, sigma_min: float = 1.0,
         Lines brighter or darker than their ground.
     sigma_min, sigma_max : float
         Scales of the ridge filter (pixels).
-    two_sided, dotted : float
-        Thresholds of the two tests above; ``0`` / ``inf`` switch one off.
+    two_sided, dotted, beads : float
+        Thresholds of the three tests above; ``0`` / ``inf`` switch ``two_sided`` / ``dotted`` off,
+        ``beads=0`` switches the beaded test off.
     min_run : int
         Shorter stretches (at junctions, at bends) are always kept; the one-sided test
         needs at least ``5 sigma_max`` pixels (short links in the glow between two bright
@@ -159,6 +166,19 @@ def false_ridge_pixels(gray, skeleton, polarity: str, *, sigma_min: float = 1.0,
     pairs = np.unique(np.stack([ll, hl[yy, xx]], 1)[hl[yy, xx] > 0], axis=0)
     pieces = np.bincount(pairs[:, 0], minlength=n + 1)
     dots = (dip >= dotted) & (cv >= dotted) & (pieces >= 3)
+    if beads > 0:
+        # dots close enough to merge into one ridge: the brightness along the stretch still rises and
+        # falls at every dot, by much more than a line's noise; count its peaks (beyond the paper)
+        vals = np.full(sk.shape, -np.inf)
+        vals[yy, xx] = c
+        lo = np.full(sk.shape, np.inf)
+        lo[yy, xx] = c
+        peak = (c >= ndi.maximum_filter(vals, 7)[yy, xx] - 1e-9)
+        prom = c - ndi.minimum_filter(lo, 9)[yy, xx]
+        peak &= prom >= beads * np.maximum(p90[ll], 1e-3)
+        n_peaks = np.bincount(ll, weights=peak, minlength=n + 1)
+        # at least 8 dots, one every 8 px or closer; a jagged bolt peaks at a few of its bends only
+        dots |= (n_peaks >= 8) & (n_peaks * 8.0 >= size)
     # short stretches in a glow between two bright lines are one-sided too: only long edges count
     drop = ((size >= max(min_run, 5.0 * sigma_max)) & (med_score < two_sided)) | ((size >= min_run) & dots)
     drop[0] = False

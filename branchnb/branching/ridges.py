@@ -488,7 +488,8 @@ def line_colour_map(image, colour, *, sigma_max: float = 4.0, spread: float = 0.
     return np.clip(np.maximum(blend, close), 0.0, 1.0).astype(np.float32)
 
 
-def fill_outlined_strokes(gray, *, max_width: float = 24.0) -> tuple[np.ndarray, int]:
+def fill_outlined_strokes(gray, *, max_width: float = 24.0, colour=None,
+                          colour_tol: float = 0.06) -> tuple[np.ndarray, int]:
     """Fill the insides of strokes drawn as outlines, so each is traced once along its centre line.
 
     Going beyond the paper (its examples are solid lines). A stroke drawn as
@@ -507,6 +508,17 @@ def fill_outlined_strokes(gray, *, max_width: float = 24.0) -> tuple[np.ndarray,
         Luminance in [0, 1] of dark ink on a light background.
     max_width : float, default 24.0
         Widest inside (pixels) that is filled.
+    colour : (H, W, 3) array_like, optional
+        The colour image ``gray`` was made from. When given, an inside is
+        only filled when the background just beyond its ink has the
+        inside's colour (within ``colour_tol`` in every channel) on more
+        than 80 % of it: on a map whose two land colours have nearly one
+        grey, the sliver of one country between a river and the drawn
+        border has the other country's colour beyond the border, and is no
+        stroke's inside (beyond the paper; filling it would merge the river
+        and the border into one wide blob that is then dropped).
+    colour_tol : float, default 0.06
+        Largest colour difference (over the channels) still the same colour.
 
     Returns
     -------
@@ -528,6 +540,12 @@ def fill_outlined_strokes(gray, *, max_width: float = 24.0) -> tuple[np.ndarray,
 
     g = np.asarray(gray, np.float32)
     out = g.copy()
+    rgb = None
+    if colour is not None:
+        rgb = np.asarray(colour, np.float32)
+        if rgb.ndim != 3 or rgb.shape[:2] != g.shape or rgb.shape[2] < 3:
+            raise ValueError(f"colour must be an (H, W, 3) image of gray's shape {g.shape}, got {rgb.shape}")
+        rgb = rgb[..., :3]
     lo, hi = np.percentile(g, [1, 99])
     if hi - lo < 0.25:
         return out, 0
@@ -562,6 +580,14 @@ def fill_outlined_strokes(gray, *, max_width: float = 24.0) -> tuple[np.ndarray,
         shell = (d_out > lw + 1.5) & (d_out <= lw + 3.5)
         if not shell.any() or bg[y0:y1, x0:x1][shell].mean() < 0.6:
             continue
+        if rgb is not None:
+            # a stroke's inside has the paper's colour beyond its outline too; a sliver of one country
+            # between a river and the border has the other country's colour beyond the border
+            win = rgb[y0:y1, x0:x1]
+            inside = np.median(win[reg], axis=0)
+            out_bg = shell & bg[y0:y1, x0:x1]
+            if np.mean(np.abs(win[out_bg] - inside).max(-1) > colour_tol) >= 0.2:
+                continue
         out[y0:y1, x0:x1][reg] = float(np.median(g[ink]))
         filled += 1
     return out, filled

@@ -351,6 +351,7 @@ def _grow_with_retries(model, p, rng, shp, guidance, starts, scorer, domain=None
     # on the kept attempt only. Targeted growth into the largest holes first: furcating beside every
     # hole first (``_fill_holes``) spent 0.25 x the example's length (retina 512: 1.4 x its length per
     # area, against 1.24-1.29 x this way round, with far shares 0.81-0.93 x against 0.72-1.41 x)
+    best._drop_unborn()   # heads queued when the growth stopped, their length grown on elsewhere
     auto = p.max_total_length <= 0
     cut = auto and best.stop_reason == "total length"
     if auto:
@@ -363,6 +364,7 @@ def _grow_with_retries(model, p, rng, shp, guidance, starts, scorer, domain=None
     best._fill_holes()
     if cut and not best.stop_reason:
         best.stop_reason = "total length"
+    best._drop_unborn(resume=False)
     best._prune_dry()
     return best
 

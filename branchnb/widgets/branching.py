@@ -65,7 +65,7 @@ from ..core.image import as_float_image, as_rgb
 from ..core.polyline import resample_uniform
 from ..core.render import draw_polylines
 from .canvas import AnnotationCanvas
-from .feedback import ProgressBar
+from .feedback import Cancelled, ProgressBar
 from .files import canvases_json, load_canvases
 from .histograms import HistogramCompare
 from .imageview import ImageView
@@ -277,6 +277,11 @@ class BranchingApp(widgets.VBox):
         self._model_key = None
         self._domain = None
         self._domain_key = None
+        # The canvas' example as a structure and its JSON, per revision of the annotations (a
+        # slider move re-synthesizes from the same example: converting it again cost 60-160 ms
+        # of the first preview's 200 ms).
+        self._example_rev = 0
+        self._example_cache = None
 
         g = sh.guard
         self.panel.on_change(g(self._params_changed))
@@ -439,6 +444,7 @@ class BranchingApp(widgets.VBox):
         self.canvas.set_image(as_rgb(img))
         self.canvas.model.clear()
         self._model = self._domain = self._domain_key = None
+        self._example_rev += 1
         self.result_controls.layout.display = "none"
         if had_result:
             self.view.mark_stale("from the previous example")
@@ -471,16 +477,25 @@ class BranchingApp(widgets.VBox):
 
     # -- synthesis ------------------------------------------------------------
     def _invalidate(self) -> None:
+        self._example_rev += 1
         self._model = None
         if self.result is not None and not self.view.stale:
             # the shown structure was grown from the example as it was (e.g. before "clear")
             self.view.mark_stale("out of date (the example changed; synthesize again)")
 
+    def _example_and_json(self) -> tuple[Structure, str]:
+        """The canvas' example and its JSON, converted once per revision of the annotations."""
+        rev, cached = self._example_rev, self._example_cache
+        if cached is None or cached[0] != rev:
+            ex = self.example_structure()
+            cached = (rev, ex, ex.to_json())
+            self._example_cache = cached  # (a change meanwhile bumped the revision: redone next time)
+        return cached[1], cached[2]
+
     def _fitted(self, params: SynthesisParams):
-        ex = self.example_structure()
+        ex, text = self._example_and_json()
         if not ex.branches:
             raise ValueError("the example is empty: draw a branch (polyline tool) or press 'extract'")
-        text = ex.to_json()
         key = (text, params.h, params.m, params.k, params.bins, params.svm_C)
         if self._model is None or self._model_key != key:
             self._model = fit_model(ex, params, domain=self.domain(ex, _text=text))
@@ -523,8 +538,37 @@ class BranchingApp(widgets.VBox):
         button, ``fresh``, and every parameter change).
 
         The shell's progress is reported between Markov steps, so "cancel"
-        or a newer change stops this one (before its result is shown).
+        or a newer change stops this one (before its result is shown). The
+        first synthesis of an example fits its model first (seconds on a
+        large example): the status line says so, and "cancel" stops right
+        after it. A cancelled or failed synthesis takes its partial skeleton
+        off the view and shows the last finished structure again.
         """
+        p = self.params
+        if self._model is None or self._model_key[1:] != (p.h, p.m, p.k, p.bins, p.svm_C):
+            self.shell.progress(0.0, "fitting the model to the example")
+        try:
+            return self._grow_with_previews(fresh)
+        except Cancelled:
+            if fresh:  # (a superseded slider update: the newer one shows its own skeleton)
+                self._drop_partial()
+            raise
+        except Exception:
+            self._drop_partial()
+            raise
+
+    def _drop_partial(self) -> None:
+        """Take a growing skeleton nobody will finish off the view (the last result shows again)."""
+        if self.partial is None:
+            return
+        self.partial = None
+        if self.result is not None:
+            self._after_change()
+        else:
+            self.view.update([], [])
+            self.info.value = ""
+
+    def _grow_with_previews(self, fresh: bool):
         t0 = time.perf_counter()
         due = {"preview": t0 + self.preview_first, "status": t0}
         self._growing = "growing" if fresh else "growing with the new parameters"

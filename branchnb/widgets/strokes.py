@@ -23,8 +23,10 @@ A thin app over :mod:`branchnb.strokes`:
   composition (:func:`~branchnb.strokes.compose_patches`); when the edit
   still promises to be slow (over :data:`PREVIEW_AFTER` s) the same edit
   at reduced size is shown first;
-* the result over the target canvas (under your strokes) and in an
-  :class:`ImageView`, seams optionally drawn in red; side-by-side
+* the result over the target canvas (under your strokes, seams optionally
+  drawn in red); beside it an :class:`ImageView` with what the canvas does
+  not show: the source with the pixels the result copies, and the patches
+  of the result in a colour each with their seams; side-by-side
   histograms of the red, green and blue values of the source object region
   and of the result (:func:`~branchnb.strokes.compare_colours`).
 
@@ -87,6 +89,9 @@ LABELS = {
     "unstroked": ("unstroked parts", ""), "close_cuts": ("outline cut faces", ""),
     "centre_strokes": ("centre strokes on their part", ""),
 }
+
+#: Title of the result view's second image (the target canvas shows the result itself).
+PATCHES_TITLE = "patches (a colour each), seams red"
 
 #: Strokes shorter than this (px, image pixels) are clicks, not strokes.
 MIN_STROKE = 2.0
@@ -705,9 +710,31 @@ class StrokeEditApp(widgets.VBox):
         if self.result is None:
             return
         r = self.result
-        self.view.update([self._copied(r), r.show(seams=True)],
-                         ["copied from the source (the rest dimmed)", "seams between the patches (red)"])
+        self.view.update([self._copied(r), self._patches(r)],
+                         ["copied from the source (the rest dimmed)", PATCHES_TITLE])
         self._target_overlay()
+
+    @staticmethod
+    def _patches(res) -> np.ndarray:
+        """Each patch of the result in a colour of its own (over the object's shading), seams red.
+
+        The target canvas already shows the result itself (and its seams with
+        "show seams"); this shows what it does not: which patch every pixel
+        comes from.
+        """
+        labels = res.labels
+        n = int(labels.max()) + 1 if labels.size else 0
+        hues = (np.arange(max(n, 1)) * 0.618034) % 1.0  # golden-ratio hues: neighbours differ
+        hsv = np.stack([hues * 180, np.full_like(hues, 170), np.full_like(hues, 235)], -1).astype(np.uint8)
+        colours = cv2.cvtColor(hsv[None], cv2.COLOR_HSV2RGB)[0].astype(np.float32) / 255.0
+        alpha = np.clip(res.image[..., 3:4], 0.0, 1.0)
+        inside = (labels >= 0) & (alpha[..., 0] > 0)
+        shade = res.image[..., :3].mean(axis=-1, keepdims=True)  # the object's light and dark, kept
+        tinted = np.ones(labels.shape + (3,), np.float32)
+        tinted[inside] = colours[labels[inside]] * (0.45 + 0.55 * shade[inside])
+        rgb = np.where(inside[..., None], alpha * tinted + (1.0 - alpha), 1.0).astype(np.float32)
+        rgb[res.seams] = (1.0, 0.0, 0.0)
+        return rgb
 
     def _copied(self, res) -> np.ndarray:
         """The source with the pixels the result copies at full strength, the rest dimmed."""

@@ -68,6 +68,10 @@ SEG_LABELS = {"trunk": "#c62828", "crown": "#2e7d32"}
 REFERENCES = ("maple_leaf_03", "maple_leaf_01", "tree_cutout_broadleaf", "evergreen")
 
 
+#: A row of controls that wraps instead of squeezing them (layout of the tabs' control rows).
+_WRAP_ROW = {"flex_flow": "row wrap", "align_items": "center"}
+
+
 def _thumb(image, size: int) -> np.ndarray:
     return cv2.resize(composite_over(image, (1.0, 1.0, 1.0)), (size, size),
                       interpolation=cv2.INTER_AREA)
@@ -197,7 +201,12 @@ class TreeVariationsApp(_SegmentCloudTabs, widgets.VBox):
         for w in (self.morph_a, self.morph_b, self.morph_t):
             w.observe(g(self._on_morph_widget), names="value")
         self.morph_view = ImageView(width=disp)
-        morph = widgets.VBox([widgets.HBox([self.morph_a, self.morph_b, self.morph_t]),
+        # Fixed widths in a wrapping row: the tab is as wide as the column gives (min_width 0, so the
+        # sidebar never jumps), and a flexible row squeezed the sliders' tracks to nothing.
+        for w in (self.morph_a, self.morph_b):
+            w.layout, w.style.description_width = widgets.Layout(width="200px"), "44px"
+        self.morph_t.layout = widgets.Layout(width="260px", min_width="200px")
+        morph = widgets.VBox([widgets.HBox([self.morph_a, self.morph_b, self.morph_t], layout=_WRAP_ROW),
                               self.morph_view])
 
         # -- more like this
@@ -219,7 +228,11 @@ class TreeVariationsApp(_SegmentCloudTabs, widgets.VBox):
         self.grid = widgets.HBox(layout=widgets.Layout(flex_flow="row wrap"))
         self.grid.add_class("bnb-view")
         self._grid_size = min(max(96, int(display) // 2), self.library.size)
-        similar = widgets.VBox([widgets.HBox([self.keep, self.n_similar, self.similar_library]),
+        for w in (self.keep, self.n_similar):
+            w.layout = widgets.Layout(width="240px", min_width="200px")
+            w.style.description_width = "44px"
+        similar = widgets.VBox([widgets.HBox([self.keep, self.n_similar, self.similar_library],
+                                             layout=_WRAP_ROW),
                                 self.grid])
 
         # -- segmentation (scribble correction)
@@ -242,7 +255,7 @@ class TreeVariationsApp(_SegmentCloudTabs, widgets.VBox):
         self.seg_status = widgets.HTML()
         self.seg_view = ImageView(width=disp)
         seg_tab = widgets.VBox([
-            widgets.HBox([self.seg_tree, self.seg_reset]),
+            widgets.HBox([self.seg_tree, self.seg_reset], layout=_WRAP_ROW),
             widgets.HTML("scribble <b>trunk</b> (red) or <b>crown</b> (green) where the "
                          "segmentation is wrong; the pin points B, R, L follow"),
             widgets.HBox([self.seg_canvas, self.seg_view]), self.seg_status])
@@ -264,10 +277,14 @@ class TreeVariationsApp(_SegmentCloudTabs, widgets.VBox):
             self.yaw = widgets.FloatSlider(value=30.0, min=-180.0, max=180.0, step=5.0,
                                            description="yaw", continuous_update=False)
             self.yaw.observe(g(lambda _c: self.set_yaw()), names="value")
+            self.cloud_source.layout = widgets.Layout(width="240px")
+            self.cloud_source.style.description_width = "36px"
+            self.cloud_button.layout.min_width = "max-content"  # ("build ..." when squeezed)
+            self.yaw.layout = widgets.Layout(width="260px", min_width="200px")
             self.cloud_view = ImageView(width=disp)
             self.cloud_status = widgets.HTML()
             children.append(widgets.VBox([
-                widgets.HBox([self.cloud_source, self.cloud_button, self.yaw]),
+                widgets.HBox([self.cloud_source, self.cloud_button, self.yaw], layout=_WRAP_ROW),
                 self.cloud_status, self.cloud_view]))
             titles.append("billboard cloud")
 
