@@ -288,3 +288,18 @@ def test_tab_control_rows_wrap_instead_of_squeezing_sliders(app):
         assert r.layout.flex_flow == "row wrap"
     for s in sliders:
         assert s.layout.width.endswith("px") and int(s.layout.min_width[:-2]) >= 200
+
+
+def test_each_histogram_caption_sits_above_its_own_plot(app):
+    # QA of issue 24: the caption was below its plot, so the blue plot read as the green caption's.
+    mix = next(w for w in app.tabs.children if any(h in w.children for h in app.hists))
+    order = [mix.children.index(h) for h in app.hists]
+    assert order == sorted(order)  # red, green, blue from top to bottom
+    for channel, h in zip(("red", "green", "blue"), app.hists):
+        kids = list(h.children)
+        assert kids.index(h.caption) < kids.index(h.canvas)  # caption first, then its plot
+        assert f"{channel} channel" in h.caption.value
+        others = {"red", "green", "blue"} - {channel}
+        assert not any(f"{o} channel" in h.caption.value for o in others)
+        # Stacked histograms are separated (the caption is not glued to the plot above it).
+        assert h.layout.margin and h.layout.margin.split()[0] != "0"

@@ -25,8 +25,9 @@ PALETTE = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b")
 class HistogramCompare(widgets.VBox):
     """Side-by-side and overlaid histograms of two or more samples on shared bins.
 
-    The first sample is the reference; the distance of every other sample
-    to it is printed under the plots. Updates redraw the canvas in one
+    The first sample is the reference; the caption (``title`` and the
+    distance of every other sample to it) sits above the plots, so in a
+    stack of histograms each caption reads with the plot below it. Updates redraw the canvas in one
     batched message, so the plot changes in place without flicker.
 
     Parameters
@@ -36,7 +37,7 @@ class HistogramCompare(widgets.VBox):
     metric : str
         ``l1``, ``l2sq``, ``chi2`` or ``emd`` (see :mod:`branchnb.core.histogram`).
     title : str
-        Heading drawn above the plots (none if empty).
+        Heading of the caption above the plots (none if empty).
     width, height : int
         Canvas size in CSS pixels (narrower where the browser shows it in a
         narrower column: it is redrawn at the width it gets); the backing store has ``pixel_ratio``
@@ -73,10 +74,12 @@ class HistogramCompare(widgets.VBox):
         self.caption = widgets.HTML()
         self.errors = ErrorArea()
         self._probe = PixelRatioProbe()
-        super().__init__([self.canvas, self.caption, self.errors, self._probe])
+        # Caption first: below its plot it read as the heading of the next plot in a stack.
+        super().__init__([self.caption, self.canvas, self.errors, self._probe])
         self.add_class("bnb-hist")
         self.add_class("bnb-fit")
         self.layout.max_width = "100%"
+        self.layout.margin = "6px 0 0 0"  # a gap between stacked histograms
         self._probe.observe(self.errors.guard(self._on_probe, action=False), names="ratio")
         self._probe.observe(self.errors.guard(self._on_width, action=False), names="width")
         self._size()
