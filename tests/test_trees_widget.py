@@ -303,3 +303,18 @@ def test_each_histogram_caption_sits_above_its_own_plot(app):
         assert not any(f"{o} channel" in h.caption.value for o in others)
         # Stacked histograms are separated (the caption is not glued to the plot above it).
         assert h.layout.margin and h.layout.margin.split()[0] != "0"
+
+
+def test_largest_weight_view_shows_the_library_tree_unchanged(app):
+    # QA of issue 24: green specks outside the outline of the "largest weight" tree. The app sends
+    # the library's own image losslessly (the specks are gaps in the sample art's outline).
+    import io
+
+    from PIL import Image
+
+    dom = app.selected[int(np.argmax(app.weights))]
+    assert app.views.title_texts[1] == f"largest weight: {dom}"
+    shown = np.asarray(Image.open(io.BytesIO(app.views.images[1].value)), dtype=float) / 255
+    lib_img = np.clip(app.library[dom].image, 0, 1)
+    assert shown.shape == lib_img.shape
+    assert np.abs(shown - lib_img).max() <= 1 / 255 + 1e-6
