@@ -138,6 +138,55 @@ def profile_bins(grid, cell, tipx, tipy, dirs, length, n_samples, tol, nbins):
 
 
 @numba.njit(cache=True)
+def live_profiles(grid, cell, tipx, tipy, dirs, t, cont_len, length, n_samples, tol, nbins):
+    """Density profile bins and crossing flags of the candidates whose template continues.
+
+    A candidate whose template ends here (``cont_len[t[j]] == 0``) has no
+    profile of its own: it takes the best non-crossing candidate's value
+    (1 when there is none) and never counts as crossing.
+
+    Parameters
+    ----------
+    grid, cell, tipx, tipy, length, n_samples, tol, nbins
+        As for :func:`profile_bins`.
+    dirs : (J, 2) float ndarray
+        Unit directions of all candidates.
+    t : (J,) int ndarray
+        Template index of each candidate.
+    cont_len : (T,) int ndarray
+        Continuation length of each template.
+
+    Returns
+    -------
+    D_c : (J,) float ndarray
+    cross : (J,) bool ndarray
+    """
+    J = len(t)
+    D_c = np.zeros(J)
+    cross = np.zeros(J, np.bool_)
+    live = np.empty(J, np.int64)
+    nl = 0
+    for j in range(J):
+        if cont_len[t[j]] > 0:
+            live[nl] = j
+            nl += 1
+    if nl > 0:
+        dc, cr = profile_bins(grid, cell, tipx, tipy, dirs[live[:nl]], length, n_samples, tol, nbins)
+        best = np.inf
+        for i in range(nl):
+            D_c[live[i]] = dc[i]
+            cross[live[i]] = cr[i]
+            if not cr[i] and dc[i] < best:
+                best = dc[i]
+        if nl < J:
+            fill = best if np.isfinite(best) else 1.0
+            for j in range(J):
+                if cont_len[t[j]] == 0:
+                    D_c[j] = fill
+    return D_c, cross
+
+
+@numba.njit(cache=True)
 def free_direction(grid, cell, tipx, tipy, dirs, theta, rotate, length, n_samples, tol, nbins, stop):
     """Does any of ``dirs`` (K, 2; turned by ``theta`` when ``rotate``, as ``scoring._rotate``) lead on:
     its bin's profile (:func:`profile_bins`) without a crossing and with ``D_c < stop``? Bins are
@@ -612,25 +661,7 @@ def score_step(t, angles, radii, ha, hr, local_points, local_dirs, cont_len, tip
     cross = np.zeros(J, np.bool_)
     score = base
     if use_density:
-        live = np.empty(J, np.int64)
-        nl = 0
-        for j in range(J):
-            if cont_len[t[j]] > 0:
-                live[nl] = j
-                nl += 1
-        if nl > 0:
-            dc, cr = profile_bins(grid, cell, tipx, tipy, dirs[live[:nl]], length, n_samples, tol, nbins)
-            best = np.inf
-            for i in range(nl):
-                D_c[live[i]] = dc[i]
-                cross[live[i]] = cr[i]
-                if not cr[i] and dc[i] < best:
-                    best = dc[i]
-            if nl < J:
-                fill = best if np.isfinite(best) else 1.0
-                for j in range(J):
-                    if cont_len[t[j]] == 0:
-                        D_c[j] = fill
+        D_c, cross = live_profiles(grid, cell, tipx, tipy, dirs, t, cont_len, length, n_samples, tol, nbins)
         score = np.empty(J)
         for j in range(J):
             score[j] = 0.0 if cross[j] else base[j] / (D_c[j] + eps)

@@ -18,7 +18,7 @@ import numba
 import numpy as np
 
 from ._kernels import _factor_at, _hist_pre, _improve_bins, _np_sum, _segment_cells
-from ._kernels import profile_bins as _profile_bins
+from ._kernels import live_profiles as _live_profiles
 from ._kernels import ranked_free as _ranked_free
 from .colonization import _splat_segments
 from .scoring import _DIRECTION_BINS, _cand_bins
@@ -125,25 +125,7 @@ def plain_step(t, angles, radii, ha, hr, local_points, local_dirs, cont_len, tip
     D_c = np.zeros(J)
     cross = np.zeros(J, np.bool_)
     if use_density:
-        live = np.empty(J, np.int64)
-        nl = 0
-        for j in range(J):
-            if cont_len[t[j]] > 0:
-                live[nl] = j
-                nl += 1
-        if nl > 0:
-            dc, cr = _profile_bins(grid, cell, tipx, tipy, dirs[live[:nl]], length, n_samples, tol, nbins)
-            best = np.inf
-            for i in range(nl):
-                D_c[live[i]] = dc[i]
-                cross[live[i]] = cr[i]
-                if not cr[i] and dc[i] < best:
-                    best = dc[i]
-            if nl < J:
-                fill = best if np.isfinite(best) else 1.0
-                for j in range(J):
-                    if cont_len[t[j]] == 0:
-                        D_c[j] = fill
+        D_c, cross = _live_profiles(grid, cell, tipx, tipy, dirs, t, cont_len, length, n_samples, tol, nbins)
     pa = _hist_pre(p_a, counts_a) if use_hist else (0.0, 0.0, 0.0, 0.0, 0.0)
     pr = _hist_pre(p_r, counts_r) if use_hist else (0.0, 0.0, 0.0, 0.0, 0.0)
     pb = _hist_pre(bend_p, bend_counts) if use_bend else (0.0, 0.0, 0.0, 0.0, 0.0)
