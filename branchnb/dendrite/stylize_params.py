@@ -360,6 +360,21 @@ STRIKE_STRAIGHT_PENALTY = 1.0
 #: then they are the picture's structure (procedural straight cracks 0.74; a launch pad
 #: 0.57, text 0.40-0.42, the rocket photo 0.26-0.33, the camera man 0.26, photos 0.04-0.16).
 STRIKE_STRAIGHT_MAX_SHARE = 0.65
+#: A bright piece (:func:`~branchnb.dendrite.photo_strike.strike_origin`) with more than
+#: ``STRIKE_MAX_STRAIGHT`` of its pixels on those straight edges, counting only segments
+#: that are Canny edges along at least ``STRIKE_STRAIGHT_COVER`` of their length, is no
+#: strike (a launch tower's lit truss,
+#: jagged as a 2-D mesh, was a strike on the rocket photo at 200-320 px: 0.08-0.42 of it on
+#: them; the zelkova leaf's veins at 240 px 0.68; the NOAA bolts and procedural storms
+#: 0.00). The segments' cover leaves out the axis of a fine zigzag, which Hough finds
+#: through its legs' crossings (cover 0.49-0.67). The rule counts only for a piece whose
+#: jag (:func:`~branchnb.dendrite.photo_strike.jaggedness` times the window) is at least
+#: ``STRIKE_STRAIGHT_MIN_SPREAD`` pixels: a line zigzagging within ~1.5 px of its axis is
+#: one straight band at the Canny edges' resolution (sigma 1 px), so they say nothing
+#: about it (toy zigzags of 60-160 px with a period of 6-10 px: 0.3-1.4 px).
+STRIKE_MAX_STRAIGHT = 0.05
+STRIKE_STRAIGHT_COVER = 0.75
+STRIKE_STRAIGHT_MIN_SPREAD = 1.5
 
 #: Factor on the width (above the thinnest) of the side branches of a lightning bolt on a
 #: photo (:func:`~branchnb.dendrite.main_channel.widen_main_path`, ``side``; beyond the

@@ -551,7 +551,8 @@ class LeafApp(widgets.VBox):
         self.leaves = generate(self.analysis, n, rng=int(self.seed.value), params=self.synthesis_panel.values,
                                progress=self.shell.progress)
         self.gallery.update([leaf.on_white() for leaf in self.leaves],
-                            [f"#{i}: seed {leaf.seed % 100000}" for i, leaf in enumerate(self.leaves)])
+                            # a shortened seed would not reproduce the leaf: the full-size view shows it whole
+                            [f"#{i}" for i in range(len(self.leaves))])
         self.open_leaf.options = [(f"leaf #{i}", i) for i in range(len(self.leaves))]
         self.open_leaf.value = 0
         self.show_leaf(0)
