@@ -110,12 +110,16 @@ FAN_HOLD = 12.0
 #: channels kept their bearing but ran ruler-straight (deviation from their chord 0.7-4.9 % of its length
 #: against the examples' 3.4-10 %); over a window a step may wander and the channel curve, while its mean
 #: heading over the window keeps the bearing (beyond the paper; issue 23, branching45: deviation median 2.2 ->
-#: 3.6 % over 3 delta shapes x 512/1000 px x 6 seeds, fan spread median 34.9 -> 34.6 degrees; a window of
-#: 0.08-0.15 x the diagonal to the sea gave 32-36 % more curve but the fan 3 degrees narrower) ...
+#: 3.9 % over 3 delta shapes x 512/1000 px x 6 seeds, fan spread median 34.9 -> 33.9 degrees, lowest seed
+#: 21.7 -> 21.4; a window of 0.08-0.15 x the diagonal down to the sea gave the curve but the fan 3 degrees
+#: narrower, and alone (without FAN_WHOLE) it let a channel drift: lowest seed 8-17 degrees) ...
 FAN_WINDOW = 0.08
 #: ... up to where the channel's depth (distance to the sea) falls to this share of its start's; below it
 #: the chord runs from the tip again, so the channel reaches the sea on its bearing.
 FAN_STRAIGHT = 0.6
+#: ... and a candidate is off its bearing by the larger of its windowed chord's angle and this x that of the
+#: chord from the channel's start (a channel may curve about its bearing but not drift off it).
+FAN_WHOLE = 1.0
 
 
 class _Drain:
@@ -323,6 +327,12 @@ class _Drain:
             fv = np.asarray(fan, np.float64)
             chord = end - (tip if hold_from is None else np.asarray(hold_from, np.float64))
             off = np.abs(np.arctan2(chord[:, 1] * fv[0] - chord[:, 0] * fv[1], chord @ fv))
+            if hold_from is not None and start is not None and FAN_WHOLE > 0:
+                # ... and no drift: the whole channel's chord is held too (see FAN_WHOLE)
+                c2 = end - np.asarray(start, np.float64)
+                o2 = np.abs(np.arctan2(c2[:, 1] * fv[0] - c2[:, 0] * fv[1], c2 @ fv))
+                o2 = np.where(np.hypot(c2[:, 0], c2[:, 1]) > 4.0, o2, 0.0)
+                off = np.maximum(off, FAN_WHOLE * o2)
             f = f * np.exp(-pull * FAN_HOLD * off)
         f = np.where(cos < UPSTREAM_COS, 0.0, f)
         if start is not None:
