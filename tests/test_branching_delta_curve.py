@@ -7,7 +7,6 @@ and on the whole channel's chord (``FAN_WHOLE``) so it does not drift."""
 from __future__ import annotations
 
 import numpy as np
-import pytest
 from scipy import ndimage as ndi
 
 from branchnb.branching import domains, synthesize_structure
