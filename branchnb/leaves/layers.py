@@ -43,7 +43,7 @@ from skimage.segmentation import slic
 
 from ..core.image import as_mask, as_rgb
 from ..core.params import check_params, param
-from ..core.validate import check_int, check_real
+from ..core.validate import brief, check_int, check_real, check_shape
 from ._lines import _line_channel, _ridges
 
 # The user's scribbles and layers (the data model) live in .scribbles; importable from here as before.
@@ -171,7 +171,9 @@ def scribble_mask(scribbles, shape) -> np.ndarray:
     >>> bool(m[2, 2:9].all()), bool(m[4].any())
     (True, False)
     """
-    h, w = shape
+    h, w = check_shape(shape, "shape")
+    if scribbles is None or isinstance(scribbles, (str, bytes)) or not hasattr(scribbles, "__iter__"):
+        raise TypeError(f"scribbles must be an iterable of Scribble or (N, 2) point arrays, got {brief(scribbles)}")
     out = np.zeros((h, w), np.uint8)
     for s in scribbles:
         s = _as_scribble(s, "scribbles")

@@ -32,7 +32,8 @@ import cv2
 import numpy as np
 from scipy import ndimage as ndi
 
-from ..core.image import as_mask
+from ..core.image import as_mask, as_rgb
+from ..core.validate import check_int, check_real
 
 __all__ = [
     "MAX_STRUCTURAL_REACH", "MIN_STRUCTURAL_LAMBDA", "MIN_STANDOUT", "MIN_FOUND", "MIN_SHADOW_SHARE",
@@ -132,6 +133,8 @@ def spatial_reach(lam: float, delta: float) -> float:
     >>> round(spatial_reach(0.5, 1.0), 3), spatial_reach(0.0, 1.0), round(spatial_reach(1e-9, 5.93e6), 2)
     (0.833, inf, 6.03)
     """
+    lam = check_real(lam, "lam", min=0.0)
+    delta = check_real(delta, "delta", min=0.0, allow_inf=True)
     if not lam > 0 or not np.isfinite(delta):
         return float("inf")
     if delta <= lam:
@@ -168,6 +171,8 @@ def is_structural(layer) -> bool:
     >>> is_structural(NS(lam=0.0, delta=0.2, standout=[1.4, 1.2, 0.9])), is_structural(NS(lam=0.3, standout=[0.2, 0.1]))
     (True, False)
     """
+    if not hasattr(layer, "lam"):
+        raise TypeError(f"layer must be a LayerInduction (with its lam and delta), got {type(layer).__name__}")
     standout = getattr(layer, "standout", None)
     if standout is not None:
         values = [s for s in standout if s is not None]
@@ -215,11 +220,10 @@ def layer_standout(image, blade, mask, *, ring: int = 4) -> float | None:
     >>> layer_standout(img, blade, line) > 3
     True
     """
-    img = np.asarray(image, np.float32)
-    if img.ndim != 3 or img.shape[2] < 3:
-        raise ValueError(f"image must be an (H, W, 3) RGB array, got shape {img.shape}")
-    blade = as_mask(blade, shape=img.shape[:2], name="blade")
-    mask = as_mask(mask, shape=img.shape[:2], name="mask") & blade
+    img = as_rgb(image, name="image")
+    ring = check_int(ring, "ring", min=1, max=1000)
+    blade = as_mask(blade, shape=img.shape[:2], name="blade", like="image")
+    mask = as_mask(mask, shape=img.shape[:2], name="mask", like="image") & blade
     if not mask.any():
         return None
     ys, xs = np.nonzero(mask)
@@ -267,16 +271,10 @@ def shadow_share(image, blade) -> float:
     0.28
     """
     from .exemplar import _cast_shadow
-    img = np.asarray(image, np.float32)
-    if img.ndim != 3 or img.shape[2] not in (3, 4):
-        raise ValueError(f"image must be an (H, W, 3) or (H, W, 4) array, got shape {img.shape}")
-    blade = as_mask(blade, shape=img.shape[:2], name="blade")
+    rgb = as_rgb(image, name="image")
+    blade = as_mask(blade, shape=rgb.shape[:2], name="blade", like="image")
     if not blade.any():
         return 0.0
-    rgb = img[..., :3]
-    if img.shape[2] == 4:
-        a = img[..., 3:]
-        rgb = rgb * a + (1 - a)
     ys, xs = np.nonzero(blade)
     pad = 8
     y0, y1 = max(ys.min() - pad, 0), ys.max() + pad + 1
@@ -333,6 +331,7 @@ def layer_warnings(analysis) -> list[str]:
     ...                              empty=[])]))[0][:33]
     "'veins' was scribbled as thin lin"
     """
+    _check_analysis(analysis)
     out = []
     for x in analysis.layers:
         if _scribbled_as_structure(x) and not is_structural(x):
@@ -341,6 +340,13 @@ def layer_warnings(analysis) -> list[str]:
             out.append(f"'{x.name}' was not found on exemplar(s) {', '.join('#' + str(e) for e in x.empty)}; "
                        "new leaves take it from the others.")
     return out
+
+
+def _check_analysis(analysis) -> None:
+    """TypeError naming ``analysis`` unless it has the layers of a LeafAnalysis."""
+    layers = getattr(analysis, "layers", None)
+    if layers is None or isinstance(layers, (str, bytes)) or not hasattr(layers, "__iter__"):
+        raise TypeError(f"analysis must be a LeafAnalysis (with its induced layers), got {type(analysis).__name__}")
 
 
 def _message(x) -> str:
@@ -384,6 +390,8 @@ def warn_analysis(analysis, *, stacklevel: int = 2) -> list[str]:
     >>> [w.category.__name__ for w in caught]
     ['NonStructuralLayerWarning']
     """
+    _check_analysis(analysis)
+    stacklevel = check_int(stacklevel, "stacklevel", min=1, max=100)
     out = []
     for x in analysis.layers:
         if _scribbled_as_structure(x) and not is_structural(x):
