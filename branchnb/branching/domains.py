@@ -105,21 +105,6 @@ FAN_KAPPA_GAIN = 2.0
 #: headings 5 % of the diagonal inland spread 16-47 degrees, median 30, over 3 delta shapes x 512/1000 px x
 #: 3 seeds, now 28-57, median 38; the examples' 41-50; 4 and 8 gave medians 32 and 36).
 FAN_HOLD = 12.0
-#: ... the chord that hold measures runs from the channel's point this share of the frame's diagonal back
-#: along it (or its start when shorter) to the candidate's end, not from the tip: held step by step the
-#: channels kept their bearing but ran ruler-straight (deviation from their chord 0.7-4.9 % of its length
-#: against the examples' 3.4-10 %); over a window a step may wander and the channel curve, while its mean
-#: heading over the window keeps the bearing (beyond the paper; issue 23, branching45: deviation median 2.2 ->
-#: 3.9 % over 3 delta shapes x 512/1000 px x 6 seeds, fan spread median 34.9 -> 33.9 degrees, lowest seed
-#: 21.7 -> 21.4; a window of 0.08-0.15 x the diagonal down to the sea gave the curve but the fan 3 degrees
-#: narrower, and alone (without FAN_WHOLE) it let a channel drift: lowest seed 8-17 degrees) ...
-FAN_WINDOW = 0.08
-#: ... up to where the channel's depth (distance to the sea) falls to this share of its start's; below it
-#: the chord runs from the tip again, so the channel reaches the sea on its bearing.
-FAN_STRAIGHT = 0.6
-#: ... and a candidate is off its bearing by the larger of its windowed chord's angle and this x that of the
-#: chord from the channel's start (a channel may curve about its bearing but not drift off it).
-FAN_WHOLE = 1.0
 
 
 class _Drain:
@@ -295,18 +280,8 @@ class _Drain:
     def _cos(self, at, vec: np.ndarray, fan=None) -> np.ndarray:
         return (vec @ self.way_down(at, fan)) / np.maximum(np.hypot(vec[:, 0], vec[:, 1]), 1e-9)
 
-    def hold_from(self, points, h: float) -> np.ndarray:
-        """The point of a channel ``points`` (its vertices, ``h`` px apart) :data:`FAN_WINDOW` x the frame's
-        diagonal back from its tip (its first when shorter): where the chord held to the bearing starts;
-        the tip itself once the channel's depth is at most :data:`FAN_STRAIGHT` x its start's."""
-        back = int(FAN_WINDOW * float(np.hypot(*self.shape)) / max(float(h), 1e-9))
-        d0, d1 = self.depth_at([points[0], points[-1]])
-        if d1 <= FAN_STRAIGHT * d0:
-            return np.asarray(points[-1], np.float64)
-        return np.asarray(points[max(0, len(points) - 1 - back)], np.float64)
-
     def factor(self, tip, points: np.ndarray, n_new: np.ndarray, start=None, pull: float = 1.0,
-               fan=None, hold_from=None) -> np.ndarray:
+               fan=None) -> np.ndarray:
         """Score factor of candidates ``points`` ((C, M, 2), the first ``n_new`` new) from ``tip``.
 
         ``start`` (the branch's first point): a candidate that heads back
@@ -315,8 +290,6 @@ class _Drain:
         ``pull``: the downstream pull's strength as a share of ``kappa``
         (:data:`HEAD_PULL` for a channel's first head below the delta's head).
         ``fan``: the channel's own bearing (:meth:`bearing`), None for a trunk.
-        ``hold_from``: where the chord held to ``fan`` (:data:`FAN_HOLD`) starts (:meth:`hold_from`;
-        ``tip`` when None).
         """
         tip = np.asarray(tip, np.float64)
         end = points[np.arange(len(points)), np.maximum(n_new, 1) - 1]
@@ -325,14 +298,8 @@ class _Drain:
         f = np.exp(pull * k * cos) * self.frame_factor(tip, points, n_new)
         if fan is not None and FAN_HOLD > 0:
             fv = np.asarray(fan, np.float64)
-            chord = end - (tip if hold_from is None else np.asarray(hold_from, np.float64))
+            chord = end - tip
             off = np.abs(np.arctan2(chord[:, 1] * fv[0] - chord[:, 0] * fv[1], chord @ fv))
-            if hold_from is not None and start is not None and FAN_WHOLE > 0:
-                # ... and no drift: the whole channel's chord is held too (see FAN_WHOLE)
-                c2 = end - np.asarray(start, np.float64)
-                o2 = np.abs(np.arctan2(c2[:, 1] * fv[0] - c2[:, 0] * fv[1], c2 @ fv))
-                o2 = np.where(np.hypot(c2[:, 0], c2[:, 1]) > 4.0, o2, 0.0)
-                off = np.maximum(off, FAN_WHOLE * o2)
             f = f * np.exp(-pull * FAN_HOLD * off)
         f = np.where(cos < UPSTREAM_COS, 0.0, f)
         if start is not None:
