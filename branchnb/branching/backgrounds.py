@@ -700,8 +700,8 @@ def example_domain(image, structure: Structure | None = None, *, radius: float =
     return dom if opaque is None else dom & opaque
 
 
-EMPTY_DISK = 0.15     #: a disk this share of the frame's short side fits in the empty part
-EMPTY_MARGIN = 0.5   #: the domain reaches this share of the disk's radius beyond the outermost lines
+EMPTY_DISK = 0.2     #: a disk this share of the frame's short side fits in the empty part
+EMPTY_MARGIN = 0.75  #: the domain reaches this share of the disk's radius beyond the outermost lines
 EMPTY_AREA = 0.05    #: an empty part covers at least this share of the frame
 
 
