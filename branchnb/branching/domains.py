@@ -105,6 +105,45 @@ FAN_KAPPA_GAIN = 2.0
 #: headings 5 % of the diagonal inland spread 16-47 degrees, median 30, over 3 delta shapes x 512/1000 px x
 #: 3 seeds, now 28-57, median 38; the examples' 41-50; 4 and 8 gave medians 32 and 36).
 FAN_HOLD = 12.0
+#: ... the chord that hold measures runs from the channel's point this share of the frame's diagonal back
+#: along it (or its start when shorter) to the candidate's end, not from the tip: held step by step the
+#: channels kept their bearing but ran ruler-straight (deviation from their chord 0.7-4.9 % of its length
+#: against the examples' 3.4-10 %); over a window a step may wander and the channel curve, while its mean
+#: heading over the window keeps the bearing (beyond the paper; issue 23, branching45: deviation median 2.2 ->
+#: 3.9 % over 3 delta shapes x 512/1000 px x 6 seeds, fan spread median 34.9 -> 33.9 degrees, lowest seed
+#: 21.7 -> 21.4; a window of 0.08-0.15 x the diagonal down to the sea gave the curve but the fan 3 degrees
+#: narrower, and alone (without FAN_WHOLE) it let a channel drift: lowest seed 8-17 degrees) ...
+FAN_WINDOW = 0.08
+#: ... up to where the channel's depth (distance to the sea) falls to this share of its start's; below it
+#: the chord runs from the tip again, so the channel reaches the sea on its bearing.
+FAN_STRAIGHT = 0.6
+#: ... and a candidate is off its bearing by the larger of its windowed chord's angle and this x that of the
+#: chord from the channel's start (a channel may curve about its bearing but not drift off it).
+FAN_WHOLE = 1.0
+#: A frame guard for channels that curve (beyond the paper; issue 23, branching47): within this many x
+#: :attr:`_Drain.margin` of a side of the frame that cuts the land the hold is step by step again (the chord
+#: from the tip, no window, no whole chord) ... With the guard, :data:`FRAME_POWER` and :data:`FAN_CHILD`
+#: (``python -m branchnb.branching._delta_fan_check bottom,top,left,right 320,512 3 OUT CACHE -,4,9``: 4 sea
+#: sides x 3 masks x 3 seeds; 1000 px: 4 sides x 3 seeds; main -> this): deviation from the chord median
+#: 320 px 0.054 -> 0.069, 512 px 0.040 -> 0.051, 1000 px 0.021 -> 0.036 (examples 0.037-0.122); frame share
+#: mean 0.0121 -> 0.0103 / 0.0013 -> 0.0014 / 0.0037 -> 0.0058 (max 0.129 -> 0.084 / 0.016 -> 0.029 /
+#: 0.029 -> 0.035, the 1000 px one the trunk's, which has no bearing); fan spread median 32.8 -> 33.6 /
+#: 34.3 -> 35.5 / 31.0 -> 32.5; no crossings; far share and channels reaching the sea unchanged.
+FAN_FRAME_GUARD = 2.0
+#: ... and a channel with its own bearing takes the frame factor (:meth:`_Drain.frame_factor`) to this
+#: power. ``exp(-10 (1 - d / margin))`` costs a candidate 8 px from the frame a factor ~100 on a 256 px
+#: delta, less than the hold's 30 degrees off the bearing (~500): a bearing that passes near a corner
+#: pinned its channel along the frame there, and curving about it (``FAN_WINDOW``, ``FAN_WHOLE``) did so
+#: more (a sea-left 256 px delta's frame share, mean over 6 seeds: 0.016 -> 0.032, the CI's limit 0.03;
+#: with the guard and this power 0.014; masks 0, 4, 1: 0.014/0.016/0.020 on main -> 0.011/0.014/0.010).
+FRAME_POWER = 3.0
+#: A channel's channel (its parent has its own bearing) takes a bearing this share of the way from its
+#: parent's way down toward the descent (at least :data:`FAN_SPLIT` off its parent's; beyond the paper,
+#: issue 23, branching47). It took the descent itself (it parts toward it at its furcation angle, 46-91
+#: degrees, more than its parent's bearing is off the descent), so the channels of channels and the trunk
+#: all reached the sea straight down, which capped the fan's spread (34-38 degrees against the
+#: examples' 41-50).
+FAN_CHILD = 0.5
 
 
 class _Drain:
@@ -194,7 +233,7 @@ class _Drain:
         upstream); where that limit would lay it along its parent's, it takes the parent's other side.
         ``spread`` (radians, the example's outer channels', :func:`fan_spread`): a trunk's child's
         bearing is this far off the descent on the side of ``heading``; a channel's child parts
-        toward the descent (at most as far as its parent's way down is off it)."""
+        toward the descent, :data:`FAN_CHILD` of the way from its parent's way down."""
         d = self.descent(at)
         a_d = float(np.arctan2(d[1], d[0]))
         wrap = lambda v: float(np.angle(np.exp(1j * v)))  # noqa: E731
@@ -206,8 +245,9 @@ class _Drain:
         rel = wrap(off - a_p)
         if parent_fan is not None and spread is not None and abs(a_p) >= FAN_SPLIT:
             # a channel's channel parts toward the descent, between its parent and the trunk (the
-            # example's does; toward the outside they ran side by side, nearly along the coast)
-            rel = -float(np.sign(a_p)) * float(np.clip(abs(rel), FAN_SPLIT, abs(a_p)))
+            # example's does; toward the outside they ran side by side, nearly along the coast), part of
+            # the way (FAN_CHILD)
+            rel = -float(np.sign(a_p)) * float(np.clip(min(abs(rel), FAN_CHILD * abs(a_p)), FAN_SPLIT, abs(a_p)))
         if abs(rel) < FAN_SPLIT:
             rel = FAN_SPLIT if rel >= 0 else -FAN_SPLIT
         off = a_p + rel
@@ -280,8 +320,21 @@ class _Drain:
     def _cos(self, at, vec: np.ndarray, fan=None) -> np.ndarray:
         return (vec @ self.way_down(at, fan)) / np.maximum(np.hypot(vec[:, 0], vec[:, 1]), 1e-9)
 
+    def hold_from(self, points, h: float) -> np.ndarray | None:
+        """The point of a channel ``points`` (its vertices, ``h`` px apart) :data:`FAN_WINDOW` x the frame's
+        diagonal back from its tip (its first when shorter): where the chord held to the bearing starts;
+        the tip itself once the channel's depth is at most :data:`FAN_STRAIGHT` x its start's; None (the
+        hold step by step, :meth:`factor`) within :data:`FAN_FRAME_GUARD` x the margin of the frame."""
+        back = int(FAN_WINDOW * float(np.hypot(*self.shape)) / max(float(h), 1e-9))
+        d0, d1 = self.depth_at([points[0], points[-1]])
+        if float(self.frame_distance(np.asarray(points[-1], np.float64))) < FAN_FRAME_GUARD * self.margin:
+            return None
+        if d1 <= FAN_STRAIGHT * d0:
+            return np.asarray(points[-1], np.float64)
+        return np.asarray(points[max(0, len(points) - 1 - back)], np.float64)
+
     def factor(self, tip, points: np.ndarray, n_new: np.ndarray, start=None, pull: float = 1.0,
-               fan=None) -> np.ndarray:
+               fan=None, hold_from=None) -> np.ndarray:
         """Score factor of candidates ``points`` ((C, M, 2), the first ``n_new`` new) from ``tip``.
 
         ``start`` (the branch's first point): a candidate that heads back
@@ -290,16 +343,28 @@ class _Drain:
         ``pull``: the downstream pull's strength as a share of ``kappa``
         (:data:`HEAD_PULL` for a channel's first head below the delta's head).
         ``fan``: the channel's own bearing (:meth:`bearing`), None for a trunk.
+        ``hold_from``: where the chord held to ``fan`` (:data:`FAN_HOLD`) starts (:meth:`hold_from`); when
+        None, at ``tip`` and without the whole chord (:data:`FAN_WHOLE`). A channel with a ``fan`` takes the
+        frame factor to the power :data:`FRAME_POWER`.
         """
         tip = np.asarray(tip, np.float64)
         end = points[np.arange(len(points)), np.maximum(n_new, 1) - 1]
         cos = self._cos(tip, end - tip, fan)
         k = self.kappa * (FAN_KAPPA_GAIN if fan is not None else 1.0)
-        f = np.exp(pull * k * cos) * self.frame_factor(tip, points, n_new)
+        ff = self.frame_factor(tip, points, n_new)
+        if fan is not None and FRAME_POWER != 1.0:
+            ff = ff ** FRAME_POWER
+        f = np.exp(pull * k * cos) * ff
         if fan is not None and FAN_HOLD > 0:
             fv = np.asarray(fan, np.float64)
-            chord = end - tip
+            chord = end - (tip if hold_from is None else np.asarray(hold_from, np.float64))
             off = np.abs(np.arctan2(chord[:, 1] * fv[0] - chord[:, 0] * fv[1], chord @ fv))
+            if hold_from is not None and start is not None and FAN_WHOLE > 0:
+                # ... and no drift: the whole channel's chord is held too (see FAN_WHOLE)
+                c2 = end - np.asarray(start, np.float64)
+                o2 = np.abs(np.arctan2(c2[:, 1] * fv[0] - c2[:, 0] * fv[1], c2 @ fv))
+                o2 = np.where(np.hypot(c2[:, 0], c2[:, 1]) > 4.0, o2, 0.0)
+                off = np.maximum(off, FAN_WHOLE * o2)
             f = f * np.exp(-pull * FAN_HOLD * off)
         f = np.where(cos < UPSTREAM_COS, 0.0, f)
         if start is not None:

@@ -616,7 +616,9 @@ class _Grower(_Starts, _Filling):
                     dirs = end / np.maximum(np.hypot(end[:, 0], end[:, 1]), 1e-9)[:, None]
                     score = np.where(live, score * self._frame_factor(tip, dirs, cs.D_c), score)
             if self.drain is not None:
-                score = score * self.drain.factor(tip, pts, n_arr, start=st.points[0], fan=st.fan)
+                score = score * self.drain.factor(
+                    tip, pts, n_arr, start=st.points[0], fan=st.fan,
+                    hold_from=None if st.fan is None else self.drain.hold_from(st.points, p.h))
             if st.goal is not None:
                 score = score * self._goal_factor(st, tip, pts, n_arr)
             # the bend-size factor (see .straightness), the straight-run factor (below) and the winding

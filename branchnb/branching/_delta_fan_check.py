@@ -1,0 +1,154 @@
+"""Delta figures over orientations, sizes and seeds for issue 23 (branching47).
+
+``python -m branchnb.branching._delta_fan_check SIDES SIZES N [OUT] [CACHE] [MASKS]`` (e.g.
+``bottom,top,left,right 320,512,1000 3 /tmp/b47/after /tmp/b47/cache -,4``; MASKS the mask seeds, ``-`` for
+``3 + size``) fits the default workflow
+(``extract_structure`` -> ``example_domain`` -> ``fit_model``) on the procedural delta mask
+(:func:`._map_examples.delta_mask_example`) turned so its sea lies on side SIDE, synthesizes seeds
+0 .. N - 1 and prints per seed: the fan spread (:func:`._structure_check.sea_bearings_inland`, degrees),
+the chord deviation (:func:`chord_deviation`), the frame share (:func:`frame_share`), crossings, the far
+share over the example's, the channels reaching the sea and the length-weighted median radius over the
+example's; the example's own figures first, a summary line (medians, worst) per case last. Sheets of the
+example and seeds 0-2 go to ``OUT_side_size.png``.
+"""
+
+from __future__ import annotations
+
+import os
+import pickle
+import sys
+
+import numpy as np
+from scipy import ndimage as ndi
+
+from ._delta_coast_check import crossings, median_radius
+from ._map_examples import delta_mask_example
+from ._seed_check import _sheet
+from ._structure_check import sea_bearings_inland
+from .measures import far_share
+
+
+def turned(mask: np.ndarray, side: str) -> np.ndarray:
+    """``mask`` (its sea at the bottom) turned so the sea lies on ``side``."""
+    out = {"bottom": mask, "top": mask[::-1], "left": mask.T[:, ::-1], "right": mask.T}[side]
+    return np.ascontiguousarray(out)
+
+
+def chord_deviation(s, dom: np.ndarray) -> float:
+    """Median over the non-root channels that reach the sea (chord >= 10 % of the diagonal) of their
+    largest distance from their chord, as a share of its length (a ruler-straight channel: 0)."""
+    d = ndi.distance_transform_edt(dom)
+    h, w = dom.shape
+    out = []
+    for b in s.branches:
+        p = np.asarray(b.points, float)
+        if b.parent is None or len(p) < 3:
+            continue
+        ix = np.clip(np.rint(p[-1]).astype(int), 0, [w - 1, h - 1])
+        c = p[-1] - p[0]
+        L = float(np.hypot(*c))
+        if d[ix[1], ix[0]] > 6.0 or L < 0.1 * np.hypot(h, w):
+            continue
+        out.append(np.abs((p[:, 0] - p[0, 0]) * c[1] - (p[:, 1] - p[0, 1]) * c[0]).max() / L ** 2)
+    return float(np.median(out)) if out else 0.0
+
+
+def frame_share(s, shape, sea_side: str, skip: float = 12.0, margin: float = 8.0) -> float:
+    """Share of the branches' length within ``margin`` px of a frame side that is not the sea's (a root's
+    first ``skip`` px, where it enters through the frame, not counted); as in test_branching_drawn_maps."""
+    h, w = shape
+    near = total = 0.0
+    for b in s.branches:
+        p = np.asarray(b.points, float)
+        if len(p) < 2:
+            continue
+        seg = np.hypot(*np.diff(p, axis=0).T)
+        mid = 0.5 * (p[1:] + p[:-1])
+        dd = {"top": mid[:, 1], "bottom": h - 1 - mid[:, 1], "left": mid[:, 0], "right": w - 1 - mid[:, 0]}
+        fd = np.min([v for k, v in dd.items() if k != sea_side], axis=0)
+        keep = np.cumsum(seg) > skip if b.parent is None else np.ones(len(seg), bool)
+        near += seg[keep & (fd < margin)].sum()
+        total += seg.sum()
+    return near / max(total, 1e-9)
+
+
+def n_to_sea(s, dom: np.ndarray, tol: float = 6.0) -> int:
+    """Number of branches whose last vertex lies within ``tol`` px of the sea."""
+    d = ndi.distance_transform_edt(dom)
+    h, w = dom.shape
+    n = 0
+    for b in s.branches:
+        if len(b.points) >= 2:
+            x, y = np.clip(np.rint(b.points[-1]).astype(int), 0, [w - 1, h - 1])
+            n += int(d[y, x] <= tol)
+    return n
+
+
+def fitted(side: str, size: int, cache: str | None = None, mask_seed: int | None = None):
+    """(image, domain, model) of the delta (mask seed ``mask_seed``, ``3 + size`` when None) with its sea
+    on ``side`` at ``size`` px (default workflow)."""
+    from . import example_domain, extract_structure, fit_model
+
+    mask_seed = 3 + size if mask_seed is None else int(mask_seed)
+    path = os.path.join(cache, f"delta_{side}_{size}_{mask_seed}.pkl") if cache else None
+    if path and os.path.exists(path):
+        with open(path, "rb") as f:
+            return pickle.load(f)
+    m = turned(delta_mask_example((size, size), mask_seed)[0], side)
+    img = np.dstack([m] * 3)
+    ex = extract_structure(img)
+    dom = example_domain(img, ex)
+    out = (img, dom, fit_model(ex, domain=dom))
+    if path:
+        os.makedirs(cache, exist_ok=True)
+        with open(path, "wb") as f:
+            pickle.dump(out, f)
+    return out
+
+
+def figures(s, dom, side) -> dict:
+    return dict(fan=sea_bearings_inland(s, dom)[0], dev=chord_deviation(s, dom),
+                frame=frame_share(s, dom.shape, side), cross=crossings(s), far=far_share(s, dom),
+                sea=n_to_sea(s, dom), rad=median_radius(s))
+
+
+def run(side: str, size: int, seeds, out: str | None = None, cache: str | None = None,
+        mask_seed: int | None = None) -> list[dict]:
+    from . import synthesize_structure
+
+    img, dom, model = fitted(side, size, cache, mask_seed)
+    ex = figures(model.example, dom, side)
+    print(f"{side} {size} mask {mask_seed} example: fan {ex['fan']:.1f} dev {ex['dev']:.3f} frame {ex['frame']:.3f} "
+          f"far {ex['far']:.3f} sea {ex['sea']} rad {ex['rad']:.2f}", flush=True)
+    rows = []
+    for seed in seeds:
+        s = synthesize_structure(model, rng=seed).structure
+        f = figures(s, dom, side)
+        f["far"] /= max(ex["far"], 1e-3)
+        f["rad"] /= ex["rad"]
+        f["struct"] = s
+        rows.append(f)
+        print(f"  seed {seed}: fan {f['fan']:.1f} dev {f['dev']:.3f} frame {f['frame']:.3f} cross {f['cross']} "
+              f"far x{f['far']:.2f} sea {f['sea']} rad x{f['rad']:.2f}", flush=True)
+    med = {k: float(np.median([r[k] for r in rows])) for k in ("fan", "dev", "frame", "far", "rad")}
+    print(f"  SUMMARY {side} {size} mask {mask_seed}: fan med {med['fan']:.1f} min {min(r['fan'] for r in rows):.1f} "
+          f"(ex {ex['fan']:.1f}) dev med {med['dev']:.3f} (ex {ex['dev']:.3f}) frame med {med['frame']:.3f} "
+          f"max {max(r['frame'] for r in rows):.3f} cross {sum(r['cross'] for r in rows)} far med x{med['far']:.2f} "
+          f"max x{max(r['far'] for r in rows):.2f} sea min {min(r['sea'] for r in rows)} rad med x{med['rad']:.2f} "
+          f"max x{max(r['rad'] for r in rows):.2f}", flush=True)
+    if out:
+        _sheet(img, dom, model.example, rows[:3], f"{out}_{side}_{size}_{mask_seed}.png")
+    return rows
+
+
+if __name__ == "__main__":
+    sides = sys.argv[1].split(",")
+    sizes = [int(v) for v in sys.argv[2].split(",")]
+    n = int(sys.argv[3]) if len(sys.argv) > 3 else 3
+    out = sys.argv[4] if len(sys.argv) > 4 else None
+    cache = sys.argv[5] if len(sys.argv) > 5 else None
+    masks = [None] if len(sys.argv) <= 6 else [None if v == "-" else int(v) for v in sys.argv[6].split(",")]
+    for sz in sizes:
+        for sd in sides:
+            for ms in masks:
+                run(sd, sz, range(n), out, cache, ms)
