@@ -35,10 +35,11 @@ from ..core.random import as_rng
 from ..core.validate import Seq, Shape, checked
 from .attachment import _align_exits, _carried_parts, _centred_pairs, _under_parent, _with_pins
 from .display import draw_strokes
-from .fetch import fetch, sample_pair, source_index
+from .fetch import fetch, sample_pair
 from .junctions import attach, find_junctions, stroke_order
 from .outline import outline_style
 from .sampling import candidate_offsets
+from .source import source_index
 from .strokes import StrokePair, make_pairs
 
 __all__ = ["FETCH_FIELDS", "EditPatches", "StrokeEditParams", "StrokeEditResult", "StrokeSamples",
@@ -66,7 +67,7 @@ class StrokeEditParams:
     patch_size : int
         Patch diameter ``2 r`` (px); 0 (default) = automatic: ``r = 1.2 w + 4``
         follows the object's half width ``w`` along the source strokes
-        (:func:`~branchnb.strokes.fetch.auto_radius`; 24 px radius for opaque
+        (:func:`~branchnb.strokes.source.auto_radius`; 24 px radius for opaque
         images).
     spacing : float
         Sample spacing ``h`` along the target strokes (px), at most the local
