@@ -35,7 +35,7 @@ from ..core.random import as_rng
 from ..core.validate import Seq, Shape, checked
 from .attachment import _align_exits, _carried_parts, _centred_pairs, _under_parent, _with_pins
 from .display import draw_strokes
-from .fetch import fetch, sample_pair
+from .fetch import _fetch, sample_pair
 from .junctions import attach, find_junctions, stroke_order
 from .outline import outline_style
 from .sampling import candidate_offsets
@@ -631,8 +631,10 @@ def fetch_patches(image, source_strokes, target_strokes, params: StrokeEditParam
         fetched, offs = [], []
         for j in range(len(smp)):
             off = offsets[:1] if smp.pinned[j] else offsets
-            fetched.append(fetch(index, i, smp.source_s[j] + off[:, 0], off[:, 1],
-                                 smp.points[j], smp.angles[j], float(radii[j]), window=window))
+            # (fetch's checks skipped: float arc lengths and offsets, one target point)
+            fetched.append(_fetch(index, i, smp.source_s[j] + off[:, 0], off[:, 1],
+                                  np.asarray(smp.points[j], float), float(smp.angles[j]), float(radii[j]),
+                                  float(window)))
             offs.append(off)
             n_cand += len(off)
         strokes.append(_StrokeCandidates(i, smp, radii, fetched, offs))

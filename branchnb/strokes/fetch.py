@@ -212,6 +212,12 @@ def fetch(index: SourceIndex, stroke_id: int, source_s, across, dst_point, dst_a
     index._stroke(stroke_id, "stroke_id")
     if dst_point.shape != (2,):
         raise ValueError(f"dst_point must be one (x, y) point, got shape {dst_point.shape}")
+    return _fetch(index, stroke_id, source_s, across, dst_point, dst_angle, radius, window)
+
+
+def _fetch(index: SourceIndex, stroke_id: int, source_s, across, dst_point, dst_angle: float,
+           radius: float, window: float) -> Fetched:
+    """:func:`fetch` on checked arguments (the edit's inner loop: one call per target sample)."""
     stroke = index.strokes[stroke_id]
     s = np.clip(np.atleast_1d(np.asarray(source_s, float)), 0.0, stroke.length)
     e = np.broadcast_to(np.asarray(across, float), s.shape)
