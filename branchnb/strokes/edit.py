@@ -405,6 +405,11 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
     :class:`EditPatches` to re-run only the second stage (global sampling
     and composition) when only the others change (e.g. ``seam_power``).
 
+    Beyond the paper: a target stroke that bends the other way than its
+    source (a bent arm copied to the other side of its trunk, drawn as its
+    mirror image; both turning by over 0.5 rad) is drawn with mirror-image
+    patches -- rotated ones would put the outer side of the elbow inside.
+
     Raises
     ------
     ValueError
@@ -625,6 +630,7 @@ def fetch_patches(image, source_strokes, target_strokes, params: StrokeEditParam
     strokes, n_cand = [], 0
     for i in order:
         pair = attached[i]
+        mirror = _mirrored(pairs[i], window)
         radius_of, step_of = _sampling_geometry(params, index, i, pair)
         smp = sample_pair(pair, step_of, window=window)
         radii = radius_of(smp.s)
@@ -634,7 +640,7 @@ def fetch_patches(image, source_strokes, target_strokes, params: StrokeEditParam
             # (fetch's checks skipped: float arc lengths and offsets, one target point)
             fetched.append(_fetch(index, i, smp.source_s[j] + off[:, 0], off[:, 1],
                                   np.asarray(smp.points[j], float), float(smp.angles[j]), float(radii[j]),
-                                  float(window)))
+                                  float(window), mirror))
             offs.append(off)
             n_cand += len(off)
         strokes.append(_StrokeCandidates(i, smp, radii, fetched, offs))
@@ -645,6 +651,32 @@ def fetch_patches(image, source_strokes, target_strokes, params: StrokeEditParam
                        _background=None if background is None else background, _bg_img=bg_img,
                        _carried=carried, _auto=_auto_values(params, typical, tol),
                        _style=outline_style(index.premult, index.depth) if index.has_alpha else None)
+
+
+#: A pair is mirrored when its source and target strokes turn opposite ways, each by more than this (rad).
+_MIRROR_TURN = 0.5
+
+
+def _turning(stroke, window: float) -> float:
+    """Total signed turning of ``stroke`` (rad; directions over chords of ``window``)."""
+    if stroke.length < 1e-9:
+        return 0.0
+    s = np.linspace(0.0, stroke.length, max(8, int(np.ceil(2.0 * stroke.length / max(window, 1.0)))))
+    a = np.unwrap(stroke._angle_at(s, window))
+    return float(a[-1] - a[0])
+
+
+def _mirrored(pair: StrokePair, window: float) -> bool:
+    """Whether the target stroke bends the other way than the source (a bent arm copied to the
+    other side of its trunk, drawn as its mirror image): its patches are then mirror images.
+
+    Rotated patches (the paper's) cannot follow such a bend: the outer side of the
+    source's elbow lands on the inner side of the target's, an X of two cut faces
+    across the elbow (a cactus arm copied to the trunk's other side). Beyond the
+    paper; only when both strokes turn by more than :data:`_MIRROR_TURN`.
+    """
+    a, b = _turning(pair.source, window), _turning(pair.target, window)
+    return a * b < 0 and min(abs(a), abs(b)) > _MIRROR_TURN
 
 
 def _auto_values(params: StrokeEditParams, typical: float, tol: float) -> dict:

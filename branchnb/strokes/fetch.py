@@ -93,6 +93,9 @@ class Fetched:
         Target direction at ``p``.
     radius : float
         Patch radius ``r``.
+    mirror : bool
+        The patches are mirror images (reflected across the target stroke,
+        then rotated): the target stroke turns the other way than the source.
     """
 
     pixels: np.ndarray
@@ -105,6 +108,7 @@ class Fetched:
     dst_point: np.ndarray
     dst_angle: float
     radius: float = 0.0
+    mirror: bool = False
 
     def _candidate(self, k: int) -> None:
         if not 0 <= k < len(self.pixels):
@@ -128,7 +132,7 @@ class Fetched:
         sl = slice(k, k + 1)
         return Fetched(self.pixels[sl], self.valid[sl], self.grad[sl], self.origin,
                        self.source_points[sl], self.source_s[sl], self.source_angles[sl],
-                       self.dst_point, self.dst_angle, self.radius)
+                       self.dst_point, self.dst_angle, self.radius, self.mirror)
 
     @checked(k=Int(0), shape=Shape())
     def source_pixels(self, k: int, shape) -> tuple[np.ndarray, np.ndarray]:
@@ -148,22 +152,27 @@ class Fetched:
         """
         self._candidate(k)
         sx, sy = _source_coords(self.source_points[k], self.source_angles[k], self.dst_point,
-                                self.dst_angle, self.origin, self.valid.shape[1])
+                                self.dst_angle, self.origin, self.valid.shape[1], self.mirror)
         v = self.valid[k]
         h, w = shape[:2]
         return (np.clip(np.rint(sy[v]).astype(np.int64), 0, h - 1),
                 np.clip(np.rint(sx[v]).astype(np.int64), 0, w - 1))
 
 
-def _source_coords(centre, angle: float, dst_point, dst_angle: float, origin, n: int):
+def _source_coords(centre, angle: float, dst_point, dst_angle: float, origin, n: int, mirror: bool = False):
     """Source ``(x, y)`` of every pixel of an ``n`` x ``n`` patch at ``origin``.
 
     The inverse of the rotation :func:`~branchnb.core.warp.transfer_patch`
-    applies: ``p = R(angle - dst_angle) (q - p_dst) + p'``.
+    applies: ``p = R(angle - dst_angle) (q - p_dst) + p'`` (mirrored:
+    ``p = R(angle) F R(-dst_angle) (q - p_dst) + p'``, ``F`` the reflection across
+    the stroke's direction).
     """
-    th = float(angle) - float(dst_angle)
     u, v = np.meshgrid(np.arange(n) + origin[0] - float(dst_point[0]),
                        np.arange(n) + origin[1] - float(dst_point[1]))
+    if mirror:
+        ph = float(angle) + float(dst_angle)
+        return np.cos(ph) * u + np.sin(ph) * v + centre[0], np.sin(ph) * u - np.cos(ph) * v + centre[1]
+    th = float(angle) - float(dst_angle)
     sx = np.cos(th) * u - np.sin(th) * v + centre[0]
     sy = np.sin(th) * u + np.cos(th) * v + centre[1]
     return sx, sy
@@ -216,8 +225,9 @@ def fetch(index: SourceIndex, stroke_id: int, source_s, across, dst_point, dst_a
 
 
 def _fetch(index: SourceIndex, stroke_id: int, source_s, across, dst_point, dst_angle: float,
-           radius: float, window: float) -> Fetched:
-    """:func:`fetch` on checked arguments (the edit's inner loop: one call per target sample)."""
+           radius: float, window: float, mirror: bool = False) -> Fetched:
+    """:func:`fetch` on checked arguments (the edit's inner loop: one call per target sample);
+    ``mirror``: mirror-image patches (see :class:`Fetched`)."""
     stroke = index.strokes[stroke_id]
     s = np.clip(np.atleast_1d(np.asarray(source_s, float)), 0.0, stroke.length)
     e = np.broadcast_to(np.asarray(across, float), s.shape)
@@ -235,12 +245,20 @@ def _fetch(index: SourceIndex, stroke_id: int, source_s, across, dst_point, dst_
     uu, vv = np.meshgrid(np.arange(size, dtype=np.float32) + np.float32(x0 - dx),
                          np.arange(size, dtype=np.float32) + np.float32(y0 - dy))
     disk = uu**2 + vv**2 <= radius**2
-    th = np.asarray(angles, float) - float(dst_angle)
-    cos = np.cos(th).astype(np.float32)[:, None, None]
-    sin = np.sin(th).astype(np.float32)[:, None, None]
     k = len(s)
-    mx = (cos * uu - sin * vv + centres[:, 0, None, None].astype(np.float32)).reshape(k * size, size)
-    my = (sin * uu + cos * vv + centres[:, 1, None, None].astype(np.float32)).reshape(k * size, size)
+    if mirror:
+        # reflected across the target direction, then rotated: R(a_k) F R(-dst_angle)
+        ph = np.asarray(angles, float) + float(dst_angle)
+        cos = np.cos(ph).astype(np.float32)[:, None, None]
+        sin = np.sin(ph).astype(np.float32)[:, None, None]
+        mx = (cos * uu + sin * vv + centres[:, 0, None, None].astype(np.float32)).reshape(k * size, size)
+        my = (sin * uu - cos * vv + centres[:, 1, None, None].astype(np.float32)).reshape(k * size, size)
+    else:
+        th = np.asarray(angles, float) - float(dst_angle)
+        cos = np.cos(th).astype(np.float32)[:, None, None]
+        sin = np.sin(th).astype(np.float32)[:, None, None]
+        mx = (cos * uu - sin * vv + centres[:, 0, None, None].astype(np.float32)).reshape(k * size, size)
+        my = (sin * uu + cos * vv + centres[:, 1, None, None].astype(np.float32)).reshape(k * size, size)
     pix = cv2.remap(index.premult, mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
     wt = cv2.remap(index.weight[stroke_id], mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
     pix = pix.reshape(k, size, size, 4)
@@ -252,4 +270,4 @@ def _fetch(index: SourceIndex, stroke_id: int, source_s, across, dst_point, dst_
     ok &= np.abs(s_map.ravel().take(flat) - s[:, None, None].astype(np.float32)) <= _REACH * radius
     return Fetched(pix, ok, index.grad.ravel().take(flat),
                    (x0, y0), centres, s, np.asarray(angles, float),
-                   np.asarray(dst_point, float), float(dst_angle), float(radius))
+                   np.asarray(dst_point, float), float(dst_angle), float(radius), bool(mirror))
