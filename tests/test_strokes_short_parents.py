@@ -70,7 +70,7 @@ def test_distance_maps_stay_within_what_the_patches_reach(monkeypatch):
     """Limbs drawn from inside a figure's body (400 px): each distance map covers at most
     45 % of the image (before: 79-95 %; 10-30 % at 1000 px, before 71-86 %), and the index is
     the same as with maps over the whole image."""
-    fetch_mod = sys.modules["branchnb.strokes.fetch"]
+    fetch_mod = sys.modules["branchnb.strokes.source"]  # (source_index lives there since fetch.py was split)
     obj = figure(400, rng=0)
     strokes = [Stroke(st) for st in obj.strokes[:1] + obj.strokes[2:6]]
     cover = []

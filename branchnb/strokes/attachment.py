@@ -24,7 +24,7 @@ def _align_exits(index, pairs, attached, junctions) -> None:
     """Make branches drawn from their parent's centre line leave the new parent's silhouette.
 
     Such a branch copies nothing of its source parent (see
-    :func:`~branchnb.strokes.fetch.source_index`): its texture starts where
+    :func:`~branchnb.strokes.source.source_index`): its texture starts where
     its source stroke leaves the source parent's tube. A control pair maps
     that point to where its target stroke leaves the target parent's
     silhouette (the parent as re-synthesized: its source silhouette's width

@@ -36,7 +36,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage as ndi
 
-from ..core.graphcut import _pair_costs, _seam_cost, _seam_cut, seam_cost
+from ..core.graphcut import _pair_costs, _seam_cost, _seam_cut
 from ..core.validate import Array, Choice, Int, Real, Shape, checked
 
 __all__ = ["PlacedPatch", "Composition", "compose", "labelling_cost", "seam_mask"]
@@ -449,6 +449,9 @@ def labelling_cost(patches: list[PlacedPatch], labels: np.ndarray, *, power: flo
         if not len(rs):
             continue
         box = (slice(max(rs.min() - 2, 0), rs.max() + 3), slice(max(cs.min() - 2, 0), cs.max() + 3))
-        total += seam_cost(a[box], b[box], take[box], region=region[box], power=power,
-                           gradient_weighted=gradient_weighted)
+        # (seam_cost's conversion -- float32, clipped to [0, 1] -- without its checks, as in
+        # compose: the patches are float images already; the same values)
+        pc = _pair_costs(np.clip(np.asarray(a[box], np.float32), 0.0, 1.0),
+                         np.clip(np.asarray(b[box], np.float32), 0.0, 1.0), power, gradient_weighted)
+        total += _seam_cost(*pc, take[box], region[box])
     return total

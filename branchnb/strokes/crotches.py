@@ -331,7 +331,7 @@ def new_crotches(index, attached, junctions, tolerance: float) -> tuple[list, fl
     Parameters
     ----------
     index : SourceIndex
-        The source strokes and widths (:func:`~branchnb.strokes.fetch.source_index`).
+        The source strokes and widths (:func:`~branchnb.strokes.source.source_index`).
     attached : list of StrokePair
         The pairs, target strokes extended at junctions.
     junctions : list of Junction

@@ -35,10 +35,11 @@ from ..core.random import as_rng
 from ..core.validate import Seq, Shape, checked
 from .attachment import _align_exits, _carried_parts, _centred_pairs, _under_parent, _with_pins
 from .display import draw_strokes
-from .fetch import fetch, sample_pair, source_index
+from .fetch import _fetch, sample_pair
 from .junctions import attach, find_junctions, stroke_order
 from .outline import outline_style
 from .sampling import candidate_offsets
+from .source import source_index
 from .strokes import StrokePair, make_pairs
 
 __all__ = ["FETCH_FIELDS", "EditPatches", "StrokeEditParams", "StrokeEditResult", "StrokeSamples",
@@ -66,7 +67,7 @@ class StrokeEditParams:
     patch_size : int
         Patch diameter ``2 r`` (px); 0 (default) = automatic: ``r = 1.2 w + 4``
         follows the object's half width ``w`` along the source strokes
-        (:func:`~branchnb.strokes.fetch.auto_radius`; 24 px radius for opaque
+        (:func:`~branchnb.strokes.source.auto_radius`; 24 px radius for opaque
         images).
     spacing : float
         Sample spacing ``h`` along the target strokes (px), at most the local
@@ -404,6 +405,11 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
     :class:`EditPatches` to re-run only the second stage (global sampling
     and composition) when only the others change (e.g. ``seam_power``).
 
+    Beyond the paper: a target stroke that bends the other way than its
+    source (a bent arm copied to the other side of its trunk, drawn as its
+    mirror image; both turning by over 0.5 rad) is drawn with mirror-image
+    patches -- rotated ones would put the outer side of the elbow inside.
+
     Raises
     ------
     ValueError
@@ -624,14 +630,17 @@ def fetch_patches(image, source_strokes, target_strokes, params: StrokeEditParam
     strokes, n_cand = [], 0
     for i in order:
         pair = attached[i]
+        mirror = _mirrored(pairs[i], window)
         radius_of, step_of = _sampling_geometry(params, index, i, pair)
         smp = sample_pair(pair, step_of, window=window)
         radii = radius_of(smp.s)
         fetched, offs = [], []
         for j in range(len(smp)):
             off = offsets[:1] if smp.pinned[j] else offsets
-            fetched.append(fetch(index, i, smp.source_s[j] + off[:, 0], off[:, 1],
-                                 smp.points[j], smp.angles[j], float(radii[j]), window=window))
+            # (fetch's checks skipped: float arc lengths and offsets, one target point)
+            fetched.append(_fetch(index, i, smp.source_s[j] + off[:, 0], off[:, 1],
+                                  np.asarray(smp.points[j], float), float(smp.angles[j]), float(radii[j]),
+                                  float(window), mirror))
             offs.append(off)
             n_cand += len(off)
         strokes.append(_StrokeCandidates(i, smp, radii, fetched, offs))
@@ -642,6 +651,32 @@ def fetch_patches(image, source_strokes, target_strokes, params: StrokeEditParam
                        _background=None if background is None else background, _bg_img=bg_img,
                        _carried=carried, _auto=_auto_values(params, typical, tol),
                        _style=outline_style(index.premult, index.depth) if index.has_alpha else None)
+
+
+#: A pair is mirrored when its source and target strokes turn opposite ways, each by more than this (rad).
+_MIRROR_TURN = 0.5
+
+
+def _turning(stroke, window: float) -> float:
+    """Total signed turning of ``stroke`` (rad; directions over chords of ``window``)."""
+    if stroke.length < 1e-9:
+        return 0.0
+    s = np.linspace(0.0, stroke.length, max(8, int(np.ceil(2.0 * stroke.length / max(window, 1.0)))))
+    a = np.unwrap(stroke._angle_at(s, window))
+    return float(a[-1] - a[0])
+
+
+def _mirrored(pair: StrokePair, window: float) -> bool:
+    """Whether the target stroke bends the other way than the source (a bent arm copied to the
+    other side of its trunk, drawn as its mirror image): its patches are then mirror images.
+
+    Rotated patches (the paper's) cannot follow such a bend: the outer side of the
+    source's elbow lands on the inner side of the target's, an X of two cut faces
+    across the elbow (a cactus arm copied to the trunk's other side). Beyond the
+    paper; only when both strokes turn by more than :data:`_MIRROR_TURN`.
+    """
+    a, b = _turning(pair.source, window), _turning(pair.target, window)
+    return a * b < 0 and min(abs(a), abs(b)) > _MIRROR_TURN
 
 
 def _auto_values(params: StrokeEditParams, typical: float, tol: float) -> dict:

@@ -31,6 +31,8 @@ object.
 
 from __future__ import annotations
 
+import functools
+import inspect
 from dataclasses import dataclass
 
 import numpy as np
@@ -48,6 +50,54 @@ _CONTRAST = 0.2
 _MAX_OUTLINE = 8
 #: Radius of the closing that fills pockets at joints (px).
 _POCKET = 2
+
+
+#: Background px kept round the object's box when a step runs on the box only.
+_BOX_MARGIN = 3
+
+
+def _on_object_box(*names: str):
+    """Run a ``layer -> layer`` step on the box of the layer's non-transparent pixels (grown by
+    :data:`_BOX_MARGIN` px) instead of the whole canvas; the arguments ``names`` (arrays of the
+    canvas's shape) are cut to the same box.
+
+    The same values: the steps change no pixel off the object, and every
+    neighbourhood, label and distance they use stays within the object plus a
+    ring of background (background outside the box connects round that ring
+    as it did round the object). A 5-part edit's object covers 40-70 % of
+    its 1000-px canvas; a small object on a large canvas much less.
+    """
+    def decorate(func):
+        sig = inspect.signature(func)
+
+        @functools.wraps(func)
+        def run(layer, *args, **kwargs):
+            a = layer[..., 3]
+            h, w = a.shape
+            rows, cols = np.flatnonzero(a.any(axis=1)), np.flatnonzero(a.any(axis=0))
+            if not len(rows):
+                return func(layer, *args, **kwargs)
+            m = _BOX_MARGIN
+            r0, r1 = max(int(rows[0]) - m, 0), min(int(rows[-1]) + m + 1, h)
+            c0, c1 = max(int(cols[0]) - m, 0), min(int(cols[-1]) + m + 1, w)
+            bound = sig.bind(layer, *args, **kwargs)
+            cut = [n for n in names if isinstance(bound.arguments.get(n), np.ndarray)]
+            if (r1 - r0) * (c1 - c0) > 0.9 * h * w or any(bound.arguments[n].shape[:2] != (h, w) for n in cut):
+                return func(layer, *args, **kwargs)
+            box = (slice(r0, r1), slice(c0, c1))
+            bound.arguments["layer"] = sub = layer[box]
+            for n in cut:
+                bound.arguments[n] = bound.arguments[n][box]
+            got = func(*bound.args, **bound.kwargs)
+            if got is sub:
+                return layer
+            out = layer.copy()
+            out[box] = got
+            return out
+
+        return run
+
+    return decorate
 
 
 @dataclass(frozen=True)
@@ -171,6 +221,7 @@ def source_depth(labels: np.ndarray, source_maps: list, depth: np.ndarray) -> np
     return out
 
 
+@_on_object_box("src_depth")
 def close_cuts(layer: np.ndarray, src_depth: np.ndarray, style: OutlineStyle) -> np.ndarray:
     """``layer`` (straight RGBA) with the outline painted over its cut faces (a new array).
 
@@ -272,6 +323,7 @@ def _small_holes(solid: np.ndarray, width: float, alpha: np.ndarray | None = Non
 _CRACK = 4.0
 
 
+@_on_object_box()
 def fill_pinholes(layer: np.ndarray, width: float = 1.0) -> np.ndarray:
     """``layer`` with its small enclosed holes made opaque (a new array, or ``layer``).
 
@@ -317,6 +369,7 @@ def fill_pinholes(layer: np.ndarray, width: float = 1.0) -> np.ndarray:
     return out
 
 
+@_on_object_box("src_depth", "filled")
 def clear_stale_outline(layer: np.ndarray, src_depth: np.ndarray, style: OutlineStyle, *,
                         filled: np.ndarray | None = None) -> np.ndarray:
     """``layer`` with the source's outline repainted where it is now inside the object
@@ -410,6 +463,7 @@ def clear_stale_outline(layer: np.ndarray, src_depth: np.ndarray, style: Outline
     return out
 
 
+@_on_object_box()
 def drop_flecks(layer: np.ndarray, source_alpha: np.ndarray, *, level: float = 0.02) -> np.ndarray:
     """``layer`` without the small pieces no source piece is as small as (a new array, or ``layer``).
 

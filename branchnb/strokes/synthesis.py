@@ -474,7 +474,13 @@ def _pocket(index, jn) -> float | None:
 
 
 def _patch_map(f, k: int) -> np.ndarray:
-    """Target ``(x, y)`` -> source ``(x, y)`` of candidate ``k`` of ``f`` (a rotation about the sample)."""
+    """Target ``(x, y)`` -> source ``(x, y)`` of candidate ``k`` of ``f`` (a rotation about the sample;
+    for mirror-image patches a reflection)."""
+    if getattr(f, "mirror", False):
+        ph = float(f.source_angles[k]) + float(f.dst_angle)
+        c, s = np.cos(ph), np.sin(ph)
+        (cx, cy), (dx, dy) = f.source_points[k], f.dst_point
+        return np.array([[c, s, cx - c * dx - s * dy], [s, -c, cy - s * dx + c * dy]])
     th = float(f.source_angles[k]) - float(f.dst_angle)
     c, s = np.cos(th), np.sin(th)
     (cx, cy), (dx, dy) = f.source_points[k], f.dst_point

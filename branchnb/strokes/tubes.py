@@ -1,11 +1,11 @@
 """Measuring the source object along its strokes: widths, tubes, cut and joined ends.
 
-The geometry :func:`~branchnb.strokes.fetch.source_index` prepares before
-any patch is fetched (see :mod:`branchnb.strokes.fetch` for the rules): the
+The geometry :func:`~branchnb.strokes.source.source_index` prepares before
+any patch is fetched (see :mod:`branchnb.strokes.source` for the rules): the
 distance and arc-length maps of every stroke, the object's half width
 across each stroke and its smoothing, which stroke ends are joined to
 another stroke or cut across a longer object, and the tubes of pixels
-each stroke owns near its ends. Split out of :mod:`branchnb.strokes.fetch`;
+each stroke owns near its ends. Split out of :mod:`branchnb.strokes.fetch` (now :mod:`~branchnb.strokes.source`);
 the names are importable from there too.
 """
 
