@@ -49,7 +49,7 @@ import numpy as np
 
 __all__ = ["bucket_add", "count_bins", "crosses", "element_bins", "first_free", "free_direction", "inside",
            "pca_directions", "profile_bins", "ranked_free", "score_step", "start_scores", "step_factors",
-           "child_quality"]
+           "child_quality", "head_rows"]
 
 
 @numba.njit(cache=True)
@@ -262,19 +262,20 @@ def _segment_cells(p0, p1, s, cell, gw, gh):
 
 
 @numba.njit(cache=True)
-def bucket_add(head, nxt, seg, n_entries, p0, p1, first, cell):
-    """Enter segments ``first ..`` (``p0``/``p1`` rows) into the grid buckets of their bounding box
-    (linked lists: ``head[cy, cx]`` -> entry, ``nxt[entry]``, ``seg[entry]``); returns the new entry
-    count, or -1 when ``nxt`` is too short (the caller grows it and calls again)."""
+def bucket_range(head, nxt, seg, n_entries, p0, p1, first, last, cell):
+    """Enter segments ``first .. last - 1`` (``p0``/``p1`` rows) into the grid buckets of their bounding
+    box (linked lists: ``head[cy, cx]`` -> entry, ``nxt[entry]``, ``seg[entry]``); returns the new entry
+    count, or -1 (nothing entered) when ``nxt`` is too short (the caller grows it and calls again).
+    Shared by :func:`bucket_add` and :func:`._loop_kernels.register`."""
     gh, gw = head.shape
     need = n_entries
-    for s in range(first, p0.shape[0]):
+    for s in range(first, last):
         x0, x1, y0, y1 = _segment_cells(p0, p1, s, cell, gw, gh)
         need += (x1 - x0 + 1) * (y1 - y0 + 1)
     if need > nxt.shape[0]:
         return -1
     e = n_entries
-    for s in range(first, p0.shape[0]):
+    for s in range(first, last):
         x0, x1, y0, y1 = _segment_cells(p0, p1, s, cell, gw, gh)
         for cy in range(y0, y1 + 1):
             for cx in range(x0, x1 + 1):
@@ -283,6 +284,14 @@ def bucket_add(head, nxt, seg, n_entries, p0, p1, first, cell):
                 head[cy, cx] = e
                 e += 1
     return e
+
+
+@numba.njit(cache=True)
+def bucket_add(head, nxt, seg, n_entries, p0, p1, first, cell):
+    """Enter segments ``first ..`` (``p0``/``p1`` rows) into the grid buckets of their bounding box
+    (:func:`bucket_range` up to the last row); returns the new entry count, or -1 when ``nxt`` is
+    too short (the caller grows it and calls again)."""
+    return bucket_range(head, nxt, seg, n_entries, p0, p1, first, p0.shape[0], cell)
 
 
 @numba.njit(cache=True)
@@ -557,17 +566,43 @@ def _insert_sorted(buf, k, b):
 
 
 @numba.njit(cache=True)
-def start_scores(heads, th0, sign, first_a, n, x0x, x0y, h, Q, use_hist, edges_a, p_a, counts_a,
-                 elem_bins_r, head_start, p_r, counts_r, hist_scale, use_density, grid, cell, length, n_samples,
+def head_rows(first_a, first_len, edges_a, elem_bins_r, head_start):
+    """The histogram bins of every input head's first elements, for :func:`start_scores`: ``rows_a``
+    (2, n_branches, W) the bins of its ``min(first_len, m)`` angles (``edges_a``; index 1 with the
+    angles negated, a mirrored head), ``rows_r`` (n_branches, W) the thickness bins of its
+    ``first_len`` elements (``elem_bins_r`` from ``head_start``), each row ascending and padded with
+    32767 (:func:`count_bins`' rows). A head's rows do not change during a synthesis: computed once
+    per model instead of at every branch start (issue 23, branching46)."""
+    nh, m = first_a.shape
+    W = max(m, first_len.max() if nh else 0) + 1
+    nb = edges_a.shape[0] - 1
+    rows_a = np.full((2, nh, W), 32767, np.int16)
+    rows_r = np.full((nh, W), 32767, np.int16)
+    for hd in range(nh):
+        k = min(first_len[hd], m)
+        for s in range(2):
+            sg = -1.0 if s == 1 else 1.0
+            for i in range(k):
+                b = np.searchsorted(edges_a, first_a[hd, i] * sg, side="right") - 1
+                _insert_sorted(rows_a[s, hd], i, min(max(b, 0), nb - 1))
+        s0 = head_start[hd]
+        for i in range(first_len[hd]):
+            _insert_sorted(rows_r[hd], i, elem_bins_r[s0 + i])
+    return rows_a, rows_r
+
+
+@numba.njit(cache=True)
+def start_scores(heads, th0, sign, first_a, n, x0x, x0y, h, Q, use_hist, rows_a, p_a, counts_a,
+                 rows_r, p_r, counts_r, hist_scale, use_density, grid, cell, length, n_samples,
                  tol, nbins, eps):
     """The vectorised part of ``_Grower._start_branch``: every candidate head's first vertices
     ``new (H, m + 1, 2)`` and headings ``th (H, m + 1)``, its score ``Q`` x histogram factor, with
     colonization ``/ (D_c + eps)`` (0 where the profile crosses), its PCA direction and ``D_c``.
-    ``elem_bins_r``: the thickness bin of every input element (:func:`element_bins` of ``model.cum_r``);
-    a head's counts are read as its few bins (:func:`_improve_bins`), the same sums as from its
-    ``B``-wide row of counts. The histogram factor is left out of heads whose profile crosses a
-    branch (their score is 0 all the same; up to 80-100 % of a start's heads in a dense 1000 px
-    cracked mud)."""
+    ``rows_a`` (2, n_branches, W): every input head's angle bins, ascending and padded (index 0 as
+    copied, 1 mirrored), ``rows_r`` (n_branches, W) its thickness bins (:func:`head_rows`): a head's
+    counts are read as its few bins (:func:`_improve_bins`), the same sums as from its ``B``-wide row
+    of counts. The histogram factor is left out of heads whose profile crosses a branch (their score
+    is 0 all the same; up to 80-100 % of a start's heads in a dense 1000 px cracked mud)."""
     H = heads.shape[0]
     m = first_a.shape[1]
     th = np.empty((H, m + 1))
@@ -575,8 +610,6 @@ def start_scores(heads, th0, sign, first_a, n, x0x, x0y, h, Q, use_hist, edges_a
     score = Q.copy()
     pa = _hist_pre(p_a, counts_a) if use_hist else (0.0, 0.0, 0.0, 0.0, 0.0)
     pr = _hist_pre(p_r, counts_r) if use_hist else (0.0, 0.0, 0.0, 0.0, 0.0)
-    row = np.empty(max(m, n.max() if H else 0) + 1, np.int16)
-    nb = edges_a.shape[0] - 1
     for j in range(H):
         hd = heads[j]
         a = th0[j]
@@ -602,17 +635,8 @@ def start_scores(heads, th0, sign, first_a, n, x0x, x0y, h, Q, use_hist, edges_a
             continue
         hd = heads[j]
         if use_hist:
-            k = min(n[j], m)
-            for i in range(k):
-                b = np.searchsorted(edges_a, first_a[hd, i] * sign[j], side="right") - 1
-                _insert_sorted(row, i, min(max(b, 0), nb - 1))
-            row[k] = 32767
-            da = _improve_bins(pa, p_a, counts_a, row[:k + 1])
-            s0 = head_start[hd]
-            for i in range(n[j]):
-                _insert_sorted(row, i, elem_bins_r[s0 + i])
-            row[n[j]] = 32767
-            dr = _improve_bins(pr, p_r, counts_r, row[:n[j] + 1])
+            da = _improve_bins(pa, p_a, counts_a, rows_a[1 if sign[j] < 0 else 0, hd])
+            dr = _improve_bins(pr, p_r, counts_r, rows_r[hd])
             score[j] *= np.exp(min(max(hist_scale * (da + dr), -50.0), 50.0))
         if use_density:
             score[j] = score[j] / (dc[j] + eps)
