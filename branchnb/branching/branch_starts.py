@@ -507,8 +507,7 @@ class _Starts:
         if len(usable) == 0:
             return None
         mirror = bool(self.p.mirror_children)
-        if self.drain is None and self.shore is None and self.guidance is None and \
-                (full or len(usable) * (1 + mirror) <= MAX_CANDIDATES):
+        if self._plain_start() and (full or len(usable) * (1 + mirror) <= MAX_CANDIDATES):
             # the common case in one compiled call (the same numbers as below and _start_branch)
             return self._plain_child(parent, vertex, pts, rad, v, wa, wr, usable, betas, mirror, toward, sub)
         heads = fm.child_index[usable]
@@ -531,6 +530,10 @@ class _Starts:
         if c is None and sub is not None and self._room_around(pts[v], 3.0 * self.p.m * self.p.h):
             return self.start_child(parent, vertex, toward, full=True)   # none of the share fits: all (rare)
         return c
+
+    def _plain_start(self) -> bool:
+        """Is a child's start a plain one (:meth:`_plain_child`): no guidance, drain or shore factor?"""
+        return self.drain is None and self.shore is None and self.guidance is None
 
     @staticmethod
     def _child_heading(pts: np.ndarray, v: int, toward) -> float:
