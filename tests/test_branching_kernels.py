@@ -97,9 +97,11 @@ def test_compiled_start_matches_the_numpy_heads(crack_model):
     th0 = rng.uniform(-3, 3, H)
     sign = np.where(rng.random(H) < 0.5, -1.0, 1.0)
     n = m.first_len[heads]
+    rows_a, rows_r = _kernels.head_rows(m.first_a, m.first_len, hm.edges_a, _kernels.element_bins(m.cum_r),
+                                        m.head_start)
     new, th, score, _dirs, _dc = _kernels.start_scores(
-        heads, th0, sign, m.first_a, n, 30.0, 40.0, p.h, np.ones(H), True, hm.edges_a, hm.p_a, hm.counts_a,
-        _kernels.element_bins(m.cum_r), m.head_start, hm.p_r, hm.counts_r, hm.wG * hm.n_nodes / hm.m, False,
+        heads, th0, sign, m.first_a, n, 30.0, 40.0, p.h, np.ones(H), True, rows_a, hm.p_a, hm.counts_a,
+        rows_r, hm.p_r, hm.counts_r, hm.wG * hm.n_nodes / hm.m, False,
         np.zeros((1, 1), np.float32), 1.0, 48.0, 8, 0.02, _DIRECTION_BINS, p.eps)
     turns = np.concatenate([np.zeros((H, 1)), m.first_a[heads] * sign[:, None]], axis=1)
     valid = np.arange(p.m + 1)[None, :] <= n[:, None]

@@ -97,14 +97,16 @@ def test_start_scores_skip_only_what_crossing_zeroes(crack_model):
     for b in m.example.branches[:25]:
         dm.add_segments(b.points[:-1], b.points[1:])
     crossed = 0
+    rows_a, rows_r = _kernels.head_rows(m.first_a, m.first_len, hm.edges_a, _kernels.element_bins(m.cum_r),
+                                        m.head_start)
     for _ in range(5):
         th0 = rng.uniform(-3, 3, H)
         sign = np.where(rng.random(H) < 0.5, -1.0, 1.0)
         n = m.first_len[heads]
         Q = rng.uniform(1, 4, H)
         x0 = rng.uniform(40, 150, 2)
-        common = (heads, th0, sign, m.first_a, n, float(x0[0]), float(x0[1]), p.h, Q, True, hm.edges_a, hm.p_a,
-                  hm.counts_a, _kernels.element_bins(m.cum_r), m.head_start, hm.p_r, hm.counts_r,
+        common = (heads, th0, sign, m.first_a, n, float(x0[0]), float(x0[1]), p.h, Q, True, rows_a, hm.p_a,
+                  hm.counts_a, rows_r, hm.p_r, hm.counts_r,
                   hm.wG * hm.n_nodes / hm.m)
         n_s = int(min(max(np.ceil(48.0 / (dm.rho / 2.0)), 8), 48))
         _n0, _t0, base, dirs0, _ = _kernels.start_scores(*common, False, np.zeros((1, 1), np.float32), 1.0, 48.0,

@@ -10,8 +10,8 @@ versions stay the reference (tests compare them).
   (density profiles along binned directions, bilinear or nearest sampling of
   the grid of a :class:`~branchnb.branching.colonization.DensityMap`);
 - :func:`pca_directions`: :func:`~branchnb.branching.colonization.growth_directions`;
-- :func:`bucket_add` / :func:`first_free`: the crossing test of
-  :func:`~branchnb.branching.colonization.crosses_existing` on the segment
+- :func:`bucket_add` / :func:`first_free` (in :mod:`._crossing_kernels`, re-exported): the crossing
+  test of :func:`~branchnb.branching.colonization.crosses_existing` on the segment
   grid of :class:`~branchnb.branching.colonization.SegmentStore`, run over
   the ranked candidates of a step until ``c`` free ones are found;
 - :func:`score_step` / :func:`start_scores`: a Markov step's scores and a new branch's heads;
@@ -33,6 +33,9 @@ after.
   the same to the bit (issue 23, branching28; with the Python-side savings of that session a 1000 px
   cracked mud took 18.7 -> 15.2 s CPU for seed 1, old and new code alternated on a loaded machine);
 - :func:`inside`: ``_Grower._inside`` (frame and domain test of new vertices).
+- :func:`head_rows`: every input head's histogram bins once per model (a branch start read them from
+  the heads' elements at every start); :func:`bucket_range`: the segment grid's bucket insert, shared
+  with :func:`._loop_kernels.register` (issue 23, branching46).
 - :func:`ranked_free`: ``first_free`` over the candidates in the order of a full stable argsort of
   their float32 scores, ranked lazily (the next best of those left; a step takes its ``c`` free
   ones among the first few); :func:`free_direction`: is any direction free (``_room_ahead``,
@@ -47,9 +50,12 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+# the segment grid's crossing test, split off to ._crossing_kernels (re-exported)
+from ._crossing_kernels import bucket_add, bucket_range, crosses, first_free, ranked_free
+
 __all__ = ["bucket_add", "count_bins", "crosses", "element_bins", "first_free", "free_direction", "inside",
            "pca_directions", "profile_bins", "ranked_free", "score_step", "start_scores", "step_factors",
-           "child_quality"]
+           "child_quality", "head_rows", "bucket_range"]
 
 
 @numba.njit(cache=True)
@@ -250,187 +256,6 @@ def pca_directions(tipx, tipy, new_points, n_valid):
 
 
 @numba.njit(cache=True)
-def _cells(v, cell, n):
-    return min(max(int(np.floor(v / cell)), 0), n - 1)
-
-
-@numba.njit(cache=True)
-def _segment_cells(p0, p1, s, cell, gw, gh):
-    """First and last grid column and row of segment ``s``'s bounding box."""
-    return (_cells(min(p0[s, 0], p1[s, 0]), cell, gw), _cells(max(p0[s, 0], p1[s, 0]), cell, gw),
-            _cells(min(p0[s, 1], p1[s, 1]), cell, gh), _cells(max(p0[s, 1], p1[s, 1]), cell, gh))
-
-
-@numba.njit(cache=True)
-def bucket_add(head, nxt, seg, n_entries, p0, p1, first, cell):
-    """Enter segments ``first ..`` (``p0``/``p1`` rows) into the grid buckets of their bounding box
-    (linked lists: ``head[cy, cx]`` -> entry, ``nxt[entry]``, ``seg[entry]``); returns the new entry
-    count, or -1 when ``nxt`` is too short (the caller grows it and calls again)."""
-    gh, gw = head.shape
-    need = n_entries
-    for s in range(first, p0.shape[0]):
-        x0, x1, y0, y1 = _segment_cells(p0, p1, s, cell, gw, gh)
-        need += (x1 - x0 + 1) * (y1 - y0 + 1)
-    if need > nxt.shape[0]:
-        return -1
-    e = n_entries
-    for s in range(first, p0.shape[0]):
-        x0, x1, y0, y1 = _segment_cells(p0, p1, s, cell, gw, gh)
-        for cy in range(y0, y1 + 1):
-            for cx in range(x0, x1 + 1):
-                seg[e] = s
-                nxt[e] = head[cy, cx]
-                head[cy, cx] = e
-                e += 1
-    return e
-
-
-@numba.njit(cache=True)
-def _orient(px, py, qx, qy, rx, ry):
-    return (qx - px) * (ry - py) - (qy - py) * (rx - px)
-
-
-@numba.njit(cache=True)
-def _proper(ax, ay, bx, by, cx, cy, dx, dy, eps):
-    return _orient(ax, ay, bx, by, cx, cy) * _orient(ax, ay, bx, by, dx, dy) < -eps and \
-        _orient(cx, cy, dx, dy, ax, ay) * _orient(cx, cy, dx, dy, bx, by) < -eps
-
-
-@numba.njit(cache=True)
-def crosses(head, nxt, seg, sp0, sp1, n_store, cell, poly, eps):
-    """:func:`~branchnb.branching.colonization.crosses_existing` of polyline ``poly`` (N, 2)."""
-    N = poly.shape[0]
-    if N < 2:
-        return False
-    # the polyline's non-degenerate segments
-    a0 = np.empty((N - 1, 2))
-    a1 = np.empty((N - 1, 2))
-    k = 0
-    for i in range(N - 1):
-        if poly[i, 0] != poly[i + 1, 0] or poly[i, 1] != poly[i + 1, 1]:
-            a0[k, 0], a0[k, 1] = poly[i, 0], poly[i, 1]
-            a1[k, 0], a1[k, 1] = poly[i + 1, 0], poly[i + 1, 1]
-            k += 1
-    if k == 0:
-        return False
-    if n_store > 0:
-        lox = hix = a0[0, 0]
-        loy = hiy = a0[0, 1]
-        for i in range(k):
-            lox = min(lox, a0[i, 0], a1[i, 0])
-            hix = max(hix, a0[i, 0], a1[i, 0])
-            loy = min(loy, a0[i, 1], a1[i, 1])
-            hiy = max(hiy, a0[i, 1], a1[i, 1])
-        gh, gw = head.shape
-        for cy in range(_cells(loy, cell, gh), _cells(hiy, cell, gh) + 1):
-            for cx in range(_cells(lox, cell, gw), _cells(hix, cell, gw) + 1):
-                e = head[cy, cx]
-                while e >= 0:
-                    s = seg[e]
-                    e = nxt[e]
-                    bx0, by0, bx1, by1 = sp0[s, 0], sp0[s, 1], sp1[s, 0], sp1[s, 1]
-                    if max(bx0, bx1) < lox or min(bx0, bx1) > hix or max(by0, by1) < loy or min(by0, by1) > hiy:
-                        continue
-                    for i in range(k):
-                        if _proper(a0[i, 0], a0[i, 1], a1[i, 0], a1[i, 1], bx0, by0, bx1, by1, eps):
-                            return True
-    if k > 2:
-        for i in range(k):
-            for j in range(k):
-                if _proper(a0[i, 0], a0[i, 1], a1[i, 0], a1[i, 1], a0[j, 0], a0[j, 1], a1[j, 0], a1[j, 1], eps):
-                    return True
-    return False
-
-
-@numba.njit(cache=True)
-def first_free(order, score, tip, pts, lens, head, nxt, seg, sp0, sp1, n_store, cell, cap, c, test, eps):
-    """The first ``c`` candidates in ``order`` with a positive finite score whose polyline
-    ``[tip] + pts[j, :lens[j]]`` crosses nothing (at most ``cap`` tested; ``test`` False: no test)."""
-    out = np.empty(c, np.int64)
-    n = 0
-    tries = 0
-    M = pts.shape[1]
-    poly = np.empty((M + 1, 2))
-    poly[0, 0], poly[0, 1] = tip[0], tip[1]
-    for j in order:
-        s = score[j]
-        if not (s > 0) or not np.isfinite(s):
-            break
-        if test:
-            tries += 1
-            if tries > cap:
-                break
-            if _candidate_crosses(j, pts, lens, poly, head, nxt, seg, sp0, sp1, n_store, cell, eps):
-                continue
-        out[n] = j
-        n += 1
-        if n == c:
-            break
-    return out[:n]
-
-
-@numba.njit(cache=True)
-def _candidate_crosses(j, pts, lens, poly, head, nxt, seg, sp0, sp1, n_store, cell, eps):
-    """Does ``poly[0] + pts[j, :lens[j]]`` (``poly[0]`` the tip; ``poly`` a work buffer) cross a stored segment?"""
-    L = lens[j]
-    for i in range(L):
-        poly[i + 1, 0] = pts[j, i, 0]
-        poly[i + 1, 1] = pts[j, i, 1]
-    return crosses(head, nxt, seg, sp0, sp1, n_store, cell, poly[:L + 1], eps)
-
-
-@numba.njit(cache=True)
-def _ranks_before(key, i, j):
-    """Does candidate ``i`` rank before ``j``: ``np.argsort(-key, kind="stable")`` order (higher
-    float32 key first, ties by index, NaN last)?"""
-    a, b = key[i], key[j]
-    if np.isnan(a):
-        return np.isnan(b) and i < j
-    if np.isnan(b):
-        return True
-    return a > b or (a == b and i < j)
-
-
-@numba.njit(cache=True)
-def ranked_free(score, tip, pts, lens, head, nxt, seg, sp0, sp1, n_store, cell, cap, c, test, eps):
-    """:func:`first_free` over the candidates ranked by their scores rounded to float32
-    (``scoring._rank_key``; ``np.argsort(-key, kind="stable")``: ties by index), ranked lazily: each next
-    candidate is the best of those left, so a step that finds its ``c`` free ones among the first few
-    does not sort all of them (the same candidates as ``first_free(np.argsort(...), ...)``)."""
-    J = score.shape[0]
-    key = np.empty(J, np.float32)
-    for j in range(J):
-        key[j] = np.float32(score[j])
-    used = np.zeros(J, np.bool_)
-    out = np.empty(c, np.int64)
-    n = 0
-    tries = 0
-    M = pts.shape[1]
-    poly = np.empty((M + 1, 2))
-    poly[0, 0], poly[0, 1] = tip[0], tip[1]
-    for _ in range(J):
-        j = -1
-        for i in range(J):
-            if not used[i] and (j < 0 or _ranks_before(key, i, j)):
-                j = i
-        used[j] = True
-        s = score[j]
-        if not (s > 0) or not np.isfinite(s):
-            break
-        if test:
-            tries += 1
-            if tries > cap:
-                break
-            if _candidate_crosses(j, pts, lens, poly, head, nxt, seg, sp0, sp1, n_store, cell, eps):
-                continue
-        out[n] = j
-        n += 1
-        if n == c:
-            break
-    return out[:n]
-
-
-@numba.njit(cache=True)
 def _hist_pre(p, counts):
     """``(N, d_old, C.C, p.C, p.p)`` of a running histogram ``counts`` against the example's ``p``."""
     B = p.shape[0]
@@ -557,17 +382,43 @@ def _insert_sorted(buf, k, b):
 
 
 @numba.njit(cache=True)
-def start_scores(heads, th0, sign, first_a, n, x0x, x0y, h, Q, use_hist, edges_a, p_a, counts_a,
-                 elem_bins_r, head_start, p_r, counts_r, hist_scale, use_density, grid, cell, length, n_samples,
+def head_rows(first_a, first_len, edges_a, elem_bins_r, head_start):
+    """The histogram bins of every input head's first elements, for :func:`start_scores`: ``rows_a``
+    (2, n_branches, W) the bins of its ``min(first_len, m)`` angles (``edges_a``; index 1 with the
+    angles negated, a mirrored head), ``rows_r`` (n_branches, W) the thickness bins of its
+    ``first_len`` elements (``elem_bins_r`` from ``head_start``), each row ascending and padded with
+    32767 (:func:`count_bins`' rows). A head's rows do not change during a synthesis: computed once
+    per model instead of at every branch start (issue 23, branching46)."""
+    nh, m = first_a.shape
+    W = max(m, first_len.max() if nh else 0) + 1
+    nb = edges_a.shape[0] - 1
+    rows_a = np.full((2, nh, W), 32767, np.int16)
+    rows_r = np.full((nh, W), 32767, np.int16)
+    for hd in range(nh):
+        k = min(first_len[hd], m)
+        for s in range(2):
+            sg = -1.0 if s == 1 else 1.0
+            for i in range(k):
+                b = np.searchsorted(edges_a, first_a[hd, i] * sg, side="right") - 1
+                _insert_sorted(rows_a[s, hd], i, min(max(b, 0), nb - 1))
+        s0 = head_start[hd]
+        for i in range(first_len[hd]):
+            _insert_sorted(rows_r[hd], i, elem_bins_r[s0 + i])
+    return rows_a, rows_r
+
+
+@numba.njit(cache=True)
+def start_scores(heads, th0, sign, first_a, n, x0x, x0y, h, Q, use_hist, rows_a, p_a, counts_a,
+                 rows_r, p_r, counts_r, hist_scale, use_density, grid, cell, length, n_samples,
                  tol, nbins, eps):
     """The vectorised part of ``_Grower._start_branch``: every candidate head's first vertices
     ``new (H, m + 1, 2)`` and headings ``th (H, m + 1)``, its score ``Q`` x histogram factor, with
     colonization ``/ (D_c + eps)`` (0 where the profile crosses), its PCA direction and ``D_c``.
-    ``elem_bins_r``: the thickness bin of every input element (:func:`element_bins` of ``model.cum_r``);
-    a head's counts are read as its few bins (:func:`_improve_bins`), the same sums as from its
-    ``B``-wide row of counts. The histogram factor is left out of heads whose profile crosses a
-    branch (their score is 0 all the same; up to 80-100 % of a start's heads in a dense 1000 px
-    cracked mud)."""
+    ``rows_a`` (2, n_branches, W): every input head's angle bins, ascending and padded (index 0 as
+    copied, 1 mirrored), ``rows_r`` (n_branches, W) its thickness bins (:func:`head_rows`): a head's
+    counts are read as its few bins (:func:`_improve_bins`), the same sums as from its ``B``-wide row
+    of counts. The histogram factor is left out of heads whose profile crosses a branch (their score
+    is 0 all the same; up to 80-100 % of a start's heads in a dense 1000 px cracked mud)."""
     H = heads.shape[0]
     m = first_a.shape[1]
     th = np.empty((H, m + 1))
@@ -575,8 +426,6 @@ def start_scores(heads, th0, sign, first_a, n, x0x, x0y, h, Q, use_hist, edges_a
     score = Q.copy()
     pa = _hist_pre(p_a, counts_a) if use_hist else (0.0, 0.0, 0.0, 0.0, 0.0)
     pr = _hist_pre(p_r, counts_r) if use_hist else (0.0, 0.0, 0.0, 0.0, 0.0)
-    row = np.empty(max(m, n.max() if H else 0) + 1, np.int16)
-    nb = edges_a.shape[0] - 1
     for j in range(H):
         hd = heads[j]
         a = th0[j]
@@ -602,17 +451,8 @@ def start_scores(heads, th0, sign, first_a, n, x0x, x0y, h, Q, use_hist, edges_a
             continue
         hd = heads[j]
         if use_hist:
-            k = min(n[j], m)
-            for i in range(k):
-                b = np.searchsorted(edges_a, first_a[hd, i] * sign[j], side="right") - 1
-                _insert_sorted(row, i, min(max(b, 0), nb - 1))
-            row[k] = 32767
-            da = _improve_bins(pa, p_a, counts_a, row[:k + 1])
-            s0 = head_start[hd]
-            for i in range(n[j]):
-                _insert_sorted(row, i, elem_bins_r[s0 + i])
-            row[n[j]] = 32767
-            dr = _improve_bins(pr, p_r, counts_r, row[:n[j] + 1])
+            da = _improve_bins(pa, p_a, counts_a, rows_a[1 if sign[j] < 0 else 0, hd])
+            dr = _improve_bins(pr, p_r, counts_r, rows_r[hd])
             score[j] *= np.exp(min(max(hist_scale * (da + dr), -50.0), 50.0))
         if use_density:
             score[j] = score[j] / (dc[j] + eps)

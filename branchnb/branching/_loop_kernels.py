@@ -9,7 +9,9 @@ which stays the reference (``tests/test_branching_loop_kernels.py`` compares the
 - :func:`register`: ``_Grower._register`` (segment store, density splat, total length, the
   running histograms of angles, thicknesses and bend sizes) in one call;
 - :func:`plain_step`: a Markov step without the factors of deltas, coasts, holes and guidance
-  (scores, step factors, density stop, ranked crossing test) in one call.
+  (scores, step factors, density stop, ranked crossing test) in one call;
+- :func:`child_start`: a child's start without them (the furcations' quality, mirrored heads, the
+  heads' scores, the frame and domain test, ranked crossing test) in one call (issue 23, branching46).
 """
 
 from __future__ import annotations
@@ -17,13 +19,17 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ._kernels import _factor_at, _hist_pre, _improve_bins, _np_sum, _segment_cells
+from ._kernels import _factor_at, _hist_pre, _improve_bins, _np_sum
+from ._kernels import bucket_range as _bucket_range
+from ._kernels import child_quality as _child_quality
+from ._kernels import inside as _inside
 from ._kernels import live_profiles as _live_profiles
 from ._kernels import ranked_free as _ranked_free
+from ._kernels import start_scores as _start_scores
 from .colonization import _splat_segments
 from .scoring import _DIRECTION_BINS, _cand_bins
 
-__all__ = ["MAX_REGISTER", "plain_step", "register", "register_polyline", "step_call"]
+__all__ = ["MAX_REGISTER", "child_start", "plain_step", "register", "register_polyline", "step_call"]
 
 #: Most segments :func:`register` sums like numpy (its pairwise sum splits longer arrays).
 MAX_REGISTER = 128
@@ -43,7 +49,7 @@ def register(poly, angles, radii, sp0, sp1, n_store, head, nxt, seg, n_entries, 
 
     Stores the polyline's ``N - 1`` segments (at most :data:`MAX_REGISTER`) at rows ``n_store ..``
     of ``sp0``/``sp1`` (the caller made room) and in the store's grid buckets
-    (:func:`._kernels.bucket_add`), splats them into the density ``grid``
+    (:func:`._kernels.bucket_range`), splats them into the density ``grid``
     (:func:`.colonization._splat_segments`, when ``use_density``), counts ``angles`` and ``radii``
     in ``counts_a``/``counts_r`` and ``|angles|`` in ``bend_counts``. Returns
     ``(entries, above, length)``: the store's new entry count (-1, and nothing changed but the
@@ -51,27 +57,14 @@ def register(poly, angles, radii, sp0, sp1, n_store, head, nxt, seg, n_entries, 
     the change in covered domain cells and the polyline's length (numpy's summation order)."""
     N = poly.shape[0]
     k = N - 1 if N > 1 else 0
-    gh, gw = head.shape
     for s in range(k):
         sp0[n_store + s, 0] = poly[s, 0]
         sp0[n_store + s, 1] = poly[s, 1]
         sp1[n_store + s, 0] = poly[s + 1, 0]
         sp1[n_store + s, 1] = poly[s + 1, 1]
-    need = n_entries
-    for s in range(n_store, n_store + k):
-        x0, x1, y0, y1 = _segment_cells(sp0, sp1, s, store_cell, gw, gh)
-        need += (x1 - x0 + 1) * (y1 - y0 + 1)
-    if need > nxt.shape[0]:
+    e = _bucket_range(head, nxt, seg, n_entries, sp0, sp1, n_store, n_store + k, store_cell)
+    if e < 0:
         return -1, 0, 0.0
-    e = n_entries
-    for s in range(n_store, n_store + k):
-        x0, x1, y0, y1 = _segment_cells(sp0, sp1, s, store_cell, gw, gh)
-        for cy in range(y0, y1 + 1):
-            for cx in range(x0, x1 + 1):
-                seg[e] = s
-                nxt[e] = head[cy, cx]
-                head[cy, cx] = e
-                e += 1
     above = 0
     length = 0.0
     if k > 0:
@@ -173,6 +166,58 @@ def plain_step(t, angles, radii, ha, hr, local_points, local_dirs, cont_len, tip
     chosen = _ranked_free(out, tip, pts, lens, head, nxt, seg, sp0, sp1, n_store, store_cell, cap, c,
                           use_density, cross_eps)
     return False, out, pts, chosen
+
+
+@numba.njit(cache=True)
+def child_start(usable, betas_u, child_index, wa, wr, win_a, win_r, mirror, theta0, straight,
+                x0x, x0y, first_a, first_len, h, use_hist, rows_a, p_a, counts_a, rows_r, p_r, counts_r, hist_scale,
+                use_density, grid, cell, length, n_samples, tol, nbins, eps, frame_h, frame_w, domain, use_domain,
+                head, nxt, seg, sp0, sp1, n_store, store_cell, cap, c, cross_eps):
+    """``start_child`` of a child with no guidance, drain or shore factor, up to the draw: the quality
+    ``Q`` of the input furcations ``usable`` (:func:`._kernels.child_quality`, the parent's window
+    ``win_a``/``win_r``; then, when ``mirror``, the same mirrored: heads again with their turns and
+    furcation angles ``betas_u`` negated), the heads ``child_index[usable]`` started at ``theta0`` +
+    their angle (0 when ``straight``: a child toward a hole), scored by :func:`._kernels.start_scores`
+    (arguments ``x0x`` .. ``eps``), 0 where their first vertex leaves the frame or domain
+    (:func:`._kernels.inside`), and the ``c`` best that cross no stored segment
+    (:func:`._kernels.ranked_free`, arguments ``head`` ..).
+
+    Returns ``(heads, n, new, th, sign, score, chosen)``: the candidate heads, their copied element
+    counts, first vertices and headings, sign (-1 mirrored), final scores and the chosen positions:
+    the same numbers as ``_Starts._start_branch``'s (the reference)."""
+    F = usable.shape[0]
+    Q = _child_quality(wa, wr, usable, win_a, win_r, mirror)
+    H = F * (2 if mirror else 1)
+    heads = np.empty(H, np.int64)
+    th0 = np.empty(H)
+    sign = np.empty(H)
+    for half in range(2 if mirror else 1):
+        for j in range(F):
+            k = half * F + j
+            heads[k] = child_index[usable[j]]
+            b = 0.0 if straight else (-betas_u[j] if half == 1 else betas_u[j])
+            th0[k] = theta0 + b
+            sign[k] = -1.0 if half == 1 else 1.0
+    n = np.empty(H, np.int64)
+    for k in range(H):
+        n[k] = first_len[heads[k]]
+    new, th, score, _dirs, _dc = _start_scores(
+        heads, th0, sign, first_a, n, x0x, x0y, h, Q, use_hist, rows_a, p_a, counts_a, rows_r, p_r, counts_r,
+        hist_scale, use_density, grid, cell, length, n_samples, tol, nbins, eps)
+    first = np.empty((H, 2))
+    for k in range(H):
+        first[k, 0] = new[k, 0, 0]
+        first[k, 1] = new[k, 0, 1]
+    ok = _inside(first, frame_h, frame_w, domain, use_domain)
+    for k in range(H):
+        if not ok[k]:
+            score[k] = 0.0
+    tip = np.empty(2)
+    tip[0], tip[1] = x0x, x0y
+    lens = n + 1
+    chosen = _ranked_free(score, tip, new, lens, head, nxt, seg, sp0, sp1, n_store, store_cell, cap, c,
+                          use_density, cross_eps)
+    return heads, n, new, th, sign, score, chosen
 
 
 _E1, _E2 = np.zeros(1), np.zeros((1, 1), np.int16)

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import _kernels
+from . import _kernels, _loop_kernels
 from .domains import FAN_SPLIT, HEAD_PULL, MOUTH_TURN, fan_spread, head_share
 from .furcation import vertex_angles
 from .scoring import _DIRECTION_BINS
@@ -43,6 +43,22 @@ def _elem_bins(model) -> np.ndarray:
     got = model.__dict__.get("_elem_bins_r")
     if got is None or got[0] is not model.cum_r:
         got = model.__dict__["_elem_bins_r"] = (model.cum_r, _kernels.element_bins(model.cum_r))
+    return got[1]
+
+
+_E2, _E3 = np.zeros((1, 1), np.int16), np.zeros((2, 1, 1), np.int16)
+_E_GRID = np.zeros((1, 1), np.float32)
+
+
+def _head_rows(model, edges_a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Every input head's angle and thickness bins (:func:`._kernels.head_rows`), once per model and
+    angle bin edges."""
+    key = (model.first_a, model.first_len, model.cum_r, edges_a.tobytes())
+    got = model.__dict__.get("_head_rows")
+    if got is None or any(a is not b for a, b in zip(got[0][:3], key[:3])) or got[0][3] != key[3]:
+        rows = _kernels.head_rows(model.first_a, model.first_len, np.asarray(edges_a, np.float64), _elem_bins(model),
+                                  model.head_start)
+        got = model.__dict__["_head_rows"] = (key, rows)
     return got[1]
 
 
@@ -228,10 +244,11 @@ class _Starts:
         use_hist = hm.wG > 0 and hm.n_nodes > 0
         dens = self.density
         length = 3.0 * p.m * p.h
+        rows_a, rows_r = _head_rows(model, hm.edges_a) if use_hist else (_E3, _E2)
         new, th, score, dirs, dc = _kernels.start_scores(
             heads, th0, np.asarray(sign, np.float64), model.first_a, n, float(x0[0]), float(x0[1]), float(p.h),
-            np.asarray(Q, np.float64), use_hist, hm.edges_a, hm.p_a, hm.counts_a, _elem_bins(model), model.head_start,
-            hm.p_r, hm.counts_r, hm.wG * hm.n_nodes / hm.m if use_hist else 0.0, dens is not None,
+            np.asarray(Q, np.float64), use_hist, rows_a, hm.p_a, hm.counts_a, rows_r, hm.p_r, hm.counts_r,
+            hm.wG * hm.n_nodes / hm.m if use_hist else 0.0, dens is not None,
             dens.grid if dens is not None else np.zeros((1, 1), np.float32), dens.cell if dens is not None else 1.0,
             length, int(min(max(np.ceil(length / (dens.rho / 2.0)), 8), 48)) if dens is not None else 8, 0.02,
             _DIRECTION_BINS, float(p.eps))
@@ -270,6 +287,15 @@ class _Starts:
                 return None
             return self._start_branch(x0, theta0, every[0], every[1], parent, parent_vertex, generation,
                                       every[2], every[3], r_cap, full=True, r_set=r_set)
+        return self._make_branch(x0, theta0, j, heads, n, new, th, sign, parent, parent_vertex, generation,
+                                 r_cap, r_set, mouth)
+
+    def _make_branch(self, x0, theta0, j, heads, n, new, th, sign, parent, parent_vertex, generation,
+                     r_cap, r_set, mouth) -> int:
+        """The new branch of :meth:`_start_branch` with the chosen candidate head ``j`` (its first
+        vertices ``new[j]``, headings ``th[j]``, ``n[j]`` copied elements, mirrored where ``sign[j]``
+        is -1): its state, radii, length target and fan bearing, registered; returns its index."""
+        model, p = self.model, self.p
         hd = int(heads[j])
         full = np.vstack([x0, new[j, : n[j] + 1]])
         ok = self._inside(full)
@@ -478,12 +504,15 @@ class _Starts:
         sub = None if full else self._share(len(usable), MAX_CANDIDATES // (2 if self.p.mirror_children else 1))
         if sub is not None:
             usable, betas = usable[sub], betas[sub]
-        heads = fm.child_index[usable]
-        if len(heads) == 0:
+        if len(usable) == 0:
             return None
+        mirror = bool(self.p.mirror_children)
+        if self._plain_start() and (full or len(usable) * (1 + mirror) <= MAX_CANDIDATES):
+            # the common case in one compiled call (the same numbers as below and _start_branch)
+            return self._plain_child(parent, vertex, pts, rad, v, wa, wr, usable, betas, mirror, toward, sub)
+        heads = fm.child_index[usable]
         # Q of every furcation, then (mirror_children) of the same reflected: parent window and child
         # angles negated (compiled, :func:`._kernels.child_quality`)
-        mirror = bool(self.p.mirror_children)
         Q = _kernels.child_quality(fm.parent_windows_a, fm.parent_windows_r, np.asarray(usable, np.int64),
                                    wa, wr, mirror)
         if mirror:
@@ -492,13 +521,8 @@ class _Starts:
             mirror = np.repeat(np.array([False, True]), len(usable))
         else:
             mirror = np.zeros(len(heads), bool)
-        # core.polyline.tangents(pts)[v]: central difference, one-sided at an end
-        tg = pts[min(v + 1, len(pts) - 1)] - pts[max(v - 1, 0)]
-        nrm = float(np.hypot(tg[0], tg[1]))
-        tg = tg / (nrm if nrm != 0 else 1.0)
-        theta0 = float(np.arctan2(tg[1], tg[0]))
+        theta0 = self._child_heading(pts, v, toward)
         if toward is not None:   # a child grown into a hole starts toward it (``_Filling._fill_far``)
-            theta0 = float(np.arctan2(toward[1] - pts[v][1], toward[0] - pts[v][0]))
             betas = np.zeros(len(heads))
         r_set = self._channel_radius(float(rad[v])) if self.drain is not None else None
         c = self._start_branch(pts[v], theta0, heads, Q, parent, vertex, st.generation + 1,
@@ -506,4 +530,50 @@ class _Starts:
         if c is None and sub is not None and self._room_around(pts[v], 3.0 * self.p.m * self.p.h):
             return self.start_child(parent, vertex, toward, full=True)   # none of the share fits: all (rare)
         return c
+
+    def _plain_start(self) -> bool:
+        """Is a child's start a plain one (:meth:`_plain_child`): no guidance, drain or shore factor?"""
+        return self.drain is None and self.shore is None and self.guidance is None
+
+    @staticmethod
+    def _child_heading(pts: np.ndarray, v: int, toward) -> float:
+        """The parent's heading at its vertex ``v`` (``core.polyline.tangents(pts)[v]``: central
+        difference, one-sided at an end), or the heading toward ``toward`` (a hole) when given."""
+        if toward is not None:
+            return float(np.arctan2(toward[1] - pts[v][1], toward[0] - pts[v][0]))
+        tg = pts[min(v + 1, len(pts) - 1)] - pts[max(v - 1, 0)]
+        nrm = float(np.hypot(tg[0], tg[1]))
+        tg = tg / (nrm if nrm != 0 else 1.0)
+        return float(np.arctan2(tg[1], tg[0]))
+
+    def _plain_child(self, parent, vertex, pts, rad, v, wa, wr, usable, betas, mirror, toward, sub) -> int | None:
+        """:meth:`start_child` with no guidance, drain or shore (:func:`._loop_kernels.child_start`, up to
+        the draw; the reference is :meth:`_start_branch`), from the parent's window ``wa``/``wr`` at its
+        vertex ``v`` of ``pts``/``rad`` and the input furcations ``usable`` (``sub``: a share of them)."""
+        model, fm, p = self.model, self.model.furcation, self.p
+        theta0 = self._child_heading(pts, v, toward)
+        x0 = pts[v]
+        hm = self.matcher
+        use_hist = hm.wG > 0 and hm.n_nodes > 0
+        rows_a, rows_r = _head_rows(model, hm.edges_a) if use_hist else (_E3, _E2)
+        dens = self.density
+        length = 3.0 * p.m * p.h
+        dom = self.domain
+        st = self.store
+        heads, n, new, th, sign, score, chosen = _loop_kernels.child_start(
+            np.asarray(usable, np.int64), np.asarray(betas, np.float64), fm.child_index, fm.parent_windows_a,
+            fm.parent_windows_r, wa, wr, mirror, theta0, toward is not None, float(x0[0]), float(x0[1]),
+            model.first_a, model.first_len, float(p.h), use_hist, rows_a, hm.p_a, hm.counts_a, rows_r, hm.p_r,
+            hm.counts_r, hm.wG * hm.n_nodes / hm.m if use_hist else 0.0, dens is not None,
+            dens.grid if dens is not None else _E_GRID, dens.cell if dens is not None else 1.0, length,
+            int(min(max(np.ceil(length / (dens.rho / 2.0)), 8), 48)) if dens is not None else 8, 0.02,
+            _DIRECTION_BINS, float(p.eps), self.shape[0], self.shape[1], self._e_dom if dom is None else dom,
+            dom is not None, st._head, st._next, st._seg, st.p0, st.p1, st.n, st.cell, self._cap(), int(p.c), 1e-9)
+        j = self._draw(score, chosen.tolist())
+        if j is None:
+            if sub is not None and self._room_around(x0, length):
+                return self.start_child(parent, vertex, toward, full=True)   # none of the share fits: all (rare)
+            return None
+        return self._make_branch(x0, theta0, j, heads, n, new, th, sign, parent, vertex,
+                                 self.branches[parent].generation + 1, float(rad[v]), None, False)
 

@@ -76,6 +76,49 @@ def _splat_segments(grid, domain, p0, p1, cell, rho, level):
     return delta
 
 
+@numba.njit(cache=True)
+def _splat_union(grid, domain, p0, p1, cell, rho, level):
+    """:func:`_splat_segments` of all segments into a zeroed ``grid`` at once: the same grid to the
+    bit (a max of ``exp(-d^2 / rho^2)`` is that of the least ``d^2``, so each cell takes one ``exp``
+    of its nearest segment's ``d^2`` instead of one per segment in reach) and the same count (domain
+    cells above ``level``). A rebuild of the density after unborn children are removed (issue 23,
+    branching46) splatted every branch again: 9 % of a 1000 px cracked mud's time."""
+    gh, gw = grid.shape
+    reach = 3.0 * rho
+    inv = 1.0 / (rho * rho)
+    d2 = np.full((gh, gw), np.inf)
+    for s in range(p0.shape[0]):
+        ax, ay, bx, by = p0[s, 0], p0[s, 1], p1[s, 0], p1[s, 1]
+        dx, dy = bx - ax, by - ay
+        L2 = dx * dx + dy * dy
+        c0 = max(int(np.floor((min(ax, bx) - reach) / cell)), 0)
+        c1 = min(int(np.ceil((max(ax, bx) + reach) / cell)) + 1, gw)
+        r0 = max(int(np.floor((min(ay, by) - reach) / cell)), 0)
+        r1 = min(int(np.ceil((max(ay, by) + reach) / cell)) + 1, gh)
+        for r in range(r0, r1):
+            y = (r + 0.5) * cell - 0.5
+            for c in range(c0, c1):
+                x = (c + 0.5) * cell - 0.5
+                t = 0.0
+                if L2 > 0:
+                    t = ((x - ax) * dx + (y - ay) * dy) / L2
+                    t = min(max(t, 0.0), 1.0)
+                ex, ey = x - ax - t * dx, y - ay - t * dy
+                e2 = ex * ex + ey * ey
+                if e2 < d2[r, c]:
+                    d2[r, c] = e2
+    n = 0
+    for r in range(gh):
+        for c in range(gw):
+            if d2[r, c] < np.inf:
+                D = np.float32(np.exp(-d2[r, c] * inv))
+                if D > grid[r, c]:
+                    grid[r, c] = D
+                if domain[r, c] and grid[r, c] > level:
+                    n += 1
+    return n
+
+
 def auto_rho(structure, h: float = 4.0) -> float:
     """A density radius from the example: its median half-gap between branches.
 
@@ -197,6 +240,19 @@ class DensityMap:
             return
         self._n_above += int(_splat_segments(self.grid, self.domain, p0, p1, self.cell, self.rho, self.level))
         self.n_updates += 1
+
+    def _rebuild(self, polylines) -> None:
+        """The density of ``polylines`` alone (the grid cleared first): :meth:`add_segments` of each
+        one, in one compiled pass (:func:`_splat_union`, the same grid to the bit)."""
+        self.grid[:] = 0.0
+        self._n_above = 0
+        qs = [np.asarray(q, np.float64) for q in polylines if len(q) > 1]
+        if not qs:
+            return
+        p0 = np.concatenate([q[:-1] for q in qs]).reshape(-1, 2)
+        p1 = np.concatenate([q[1:] for q in qs]).reshape(-1, 2)
+        self._n_above = int(_splat_union(self.grid, self.domain, p0, p1, self.cell, self.rho, self.level))
+        self.n_updates += len(qs)
 
     def sample(self, points) -> np.ndarray:
         """Density at points ``(..., 2)`` (x, y); 0 outside the domain.

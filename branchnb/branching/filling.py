@@ -272,13 +272,7 @@ class _Filling:
 
     def _rebuild_density(self) -> None:
         """The density map of the branches kept (after some were removed)."""
-        dm = self.density
-        dm.grid[:] = 0.0
-        dm._n_above = 0
-        for st in self.branches:
-            if len(st.points) > 1:
-                q = np.asarray(st.points, np.float64)
-                dm.add_segments(q[:-1], q[1:])
+        self.density._rebuild([st.points for st in self.branches])
 
     def _holes(self) -> tuple[float, np.ndarray, float]:
         dom = self.domain if self.domain is not None else np.ones(self.shape, bool)

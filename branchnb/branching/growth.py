@@ -6,7 +6,8 @@ step (:meth:`_Grower.step`: all candidates scored by
 branch furcates (:meth:`_Grower.furcate`), its children start with the
 parent's non-causal window (``start_child``, in :mod:`.branch_starts`) and
 grow the same way, generation by generation; then the domain is filled
-(:class:`.filling._Filling`). Split from :mod:`branchnb.branching.synthesis`.
+(:class:`.filling._Filling`). Split from :mod:`branchnb.branching.synthesis`; the length cap and
+the winding limit are in :mod:`.stopping`.
 The inner loops of a step and of a branch start (scores, density profiles,
 crossing tests) run compiled (:mod:`branchnb.branching._kernels`); a plain step
 (no delta, coast, hole or guidance factor) and the bookkeeping of new segments
@@ -28,19 +29,30 @@ from .colonization import (
     SegmentStore,
     frame_density,
 )
-from .domains import MOUTH_SHARE, MOUTH_TURN, _Drain, _frame, _Shore, _shore_margin, runs_inland
+from .domains import MOUTH_SHARE, MOUTH_TURN, _Drain, _Shore, _shore_margin, runs_inland
 from .filling import _Filling
 from .guidance import Guidance
 from .model import StructureModel, _choice
 from .params import SynthesisParams
 from .scoring import _DIRECTION_BINS, _continue_radii, score_candidates
+from .stopping import (
+    FILL_LENGTH_FACTOR,
+    LENGTH_BOUND,
+    LENGTH_FACTOR,
+    LENGTH_FLOOR,
+    WIND_BOUNDS_DEG,
+    WIND_FACTOR,
+    example_length,
+    length_cap,
+    winding,
+    winding_limit,
+)
 from .straightness import BEND_CAP, RUN_CAP, RUN_GAIN, RUN_MIN_MEAN, BendHistogram, StraightRuns
 
-__all__ = ["FILL_LENGTH_FACTOR", "GrowthProgress", "LENGTH_BOUND", "LENGTH_FACTOR", "length_cap", "winding",
-           "winding_limit"]
+# the stopping rules' names (split to .stopping) stay importable from here
+__all__ = ["FILL_LENGTH_FACTOR", "GrowthProgress", "LENGTH_BOUND", "LENGTH_FACTOR", "LENGTH_FLOOR", "WIND_BOUNDS_DEG",
+           "WIND_FACTOR", "example_length", "length_cap", "winding", "winding_limit"]
 
-#: Auto length cap (``max_total_length = 0``): this x the example's total length per domain area,
-#: while the forest grows (the coverage stop usually ends growth first, at 0.95-1.2 x) ...
 #: Beyond the paper, for speed: a Markov step scores at most about this many candidate windows
 #: (and a new branch this many input heads), a random share of all of them (every ``s``-th
 #: from a random offset, so each candidate is equally likely). A 1000 px crack example has
@@ -48,7 +60,6 @@ __all__ = ["FILL_LENGTH_FACTOR", "GrowthProgress", "LENGTH_BOUND", "LENGTH_FACTO
 #: examples are scored whole, unchanged (issue 23).
 MAX_CANDIDATES = 1024
 
-LENGTH_FACTOR = 1.15
 #: Power of the straight-run factor (:class:`~branchnb.branching.straightness.StraightRuns`) on
 #: examples whose mean run is below :data:`~branchnb.branching.straightness.RUN_MIN_MEAN` (beyond
 #: the paper). Off there (0), straight runs (512 px, 3 seeds) were 0.73-0.78 x the example's on the
@@ -56,95 +67,6 @@ LENGTH_FACTOR = 1.15
 #: cracked mud 1.30-1.40 x; at 0.2: Czech 0.91-0.94, retina 0.90-0.94, lightning 0.96-1.00, mud
 #: 1.11-1.15 (0.95-0.96 off), with turning angles and histogram distances unchanged (issue 23).
 SHORT_RUN_WEIGHT = 0.2
-#: ... and at most this x once holes the example does not have are filled (``_Filling._fill_far``),
-#: so the output's length per area stays within 1.3 x the example's. It was 1.3 and 2.0: a 1000 px
-#: retina ended at 1.41-1.43 x, a 1000 px lightning at 1.21-1.50 x; at 1.15 and 1.3 the lightning
-#: ends at 1.21-1.30 x with its far share 1.11-1.40 x the example's (3 seeds; issue 23, branching19).
-FILL_LENGTH_FACTOR = 1.3
-#: Safety bound of the auto length cap against runaway growth: branch length (px) per domain pixel
-#: (0.25: branches 4 px apart all over the domain), and never below the former fixed 20000 px.
-LENGTH_BOUND = 0.25
-LENGTH_FLOOR = 20000.0
-
-
-def example_length(model: StructureModel) -> float:
-    """The example's total length (pixels), computed once per model.
-
-    A 1000 px crack example has 7.7 k branches: 0.3 s per sum, once per
-    synthesized branch, so the sum is cached on the model.
-
-    Parameters
-    ----------
-    model : StructureModel
-        The fitted model whose example is measured.
-
-    Returns
-    -------
-    float
-        Sum of the example's branch lengths in pixels.
-    """
-    key = (id(model.example), len(model.example.branches))
-    cached = model.__dict__.get("_example_length")
-    if cached is None or cached[0] != key:
-        cached = (key, float(model.example.total_length))
-        model.__dict__["_example_length"] = cached
-    return cached[1]
-
-
-def length_cap(model: StructureModel, params: SynthesisParams, shape, domain: np.ndarray | None,
-               factor: float | None = None) -> float:
-    """The total-length stop of a synthesis (pixels).
-
-    ``params.max_total_length`` when set (> 0); else (auto, beyond the
-    paper) the example's total length per area of its domain times the
-    output domain's area, times :data:`LENGTH_FACTOR`: a 1000 px retina or
-    cracked mud needs 1-2.5 x the former fixed 20000 px to reach its
-    example's density, a 250 px one a tenth of it. The output's length per
-    area thus stays within :data:`FILL_LENGTH_FACTOR` = 1.3 x the example's, like its other statistics
-    (the coverage stop ends most syntheses before, at 0.95-1.2 x). Bounded by
-    ``max(LENGTH_FLOOR, LENGTH_BOUND x domain pixels)`` against runaway
-    growth.
-
-    Parameters
-    ----------
-    model : StructureModel
-        The fitted example (its resampled ``example`` and ``domain``).
-    params : ~branchnb.branching.params.SynthesisParams
-        Synthesis parameters (``max_total_length``).
-    shape : (H, W)
-        Output frame.
-    domain : (H, W) bool ndarray or None
-        Output domain (None: the whole frame).
-    factor : float, optional
-        Multiple of the example's length per area; default
-        :data:`LENGTH_FACTOR` (:data:`FILL_LENGTH_FACTOR` while holes are
-        filled).
-
-    Returns
-    -------
-    float
-        The cap (pixels), > 0.
-
-    Examples
-    --------
-    >>> from branchnb.branching import fit_model
-    >>> ex = Structure([Branch(np.c_[np.linspace(2, 97, 96), np.full(96, 50.0)], 2.0)], image_shape=(100, 100))
-    >>> m = fit_model(ex)
-    >>> round(length_cap(m, SynthesisParams(), (200, 200), None) / m.example.total_length, 1)   # 4 x the area
-    4.6
-    """
-    if params.max_total_length > 0:
-        return float(params.max_total_length)
-    h, w = int(shape[0]), int(shape[1])
-    area = float(np.count_nonzero(domain)) if domain is not None else float(h * w)
-    if model.domain is not None:
-        ex_area = float(np.count_nonzero(model.domain))
-    else:
-        fh, fw = _frame(model.source)
-        ex_area = float(fh * fw)
-    f = LENGTH_FACTOR if factor is None else float(factor)
-    cap = f * example_length(model) * area / max(ex_area, 1.0)
-    return float(min(max(cap, 1.0), max(LENGTH_FLOOR, LENGTH_BOUND * area)))
 
 
 @dataclass
@@ -188,58 +110,6 @@ class GrowthProgress:
         """The branches grown so far (a copy: growth goes on without changing it)."""
         return self._grower.structure()
 
-
-#: Largest net turn (radians) of any piece of a synthesized branch, as a multiple of the example's
-#: largest (:func:`winding_limit`): a branch may wind like the example's most winding one, a little more,
-#: never round in a spiral.
-WIND_FACTOR = 1.25
-#: Bounds of the winding limit (degrees): the floor lets a fairly straight example's branches still
-#: turn (a drawn map's rivers wind 120-200 degrees), the ceiling keeps every branch off a full turn
-#: (a 1000 px river map grew a spiral with nested children, a 1000 px lightning a 650 degree curl;
-#: issue 23).
-WIND_BOUNDS_DEG = (150.0, 300.0)
-
-
-def winding(angles) -> float:
-    """Largest net turn (radians) of any piece of a branch: ``ptp(cumsum(alpha))``.
-
-    Parameters
-    ----------
-    angles : array_like
-        The branch's turning angles alpha (radians), in order.
-
-    Returns
-    -------
-    float
-        ``max - min`` of the running heading (0 for fewer than 1 angle); a
-        spiral's is above ``2 pi``.
-
-    Examples
-    --------
-    >>> round(float(np.degrees(winding(np.radians([30.0, 30.0, -90.0, 10.0])))))
-    90
-    """
-    c = np.cumsum(np.r_[0.0, np.asarray(angles, np.float64).ravel()])
-    return float(np.ptp(c))
-
-
-def winding_limit(example: Structure) -> float:
-    """The winding limit of synthesized branches (radians): :data:`WIND_FACTOR` x the example's most
-    winding branch, within :data:`WIND_BOUNDS_DEG`.
-
-    Parameters
-    ----------
-    example : Structure
-        The extracted example; its branches' windings (see :func:`winding`) set the limit.
-
-    Returns
-    -------
-    float
-        The largest range of headings (radians) a synthesized branch may sweep.
-    """
-    w = max((winding(b.angles()) for b in example.branches if len(b.points) > 2), default=0.0)
-    lo, hi = np.radians(WIND_BOUNDS_DEG)
-    return float(np.clip(WIND_FACTOR * w, lo, hi))
 
 
 #: Quantile of the example's branches' (thickest radius / first radius) that bounds a synthesized branch's.
