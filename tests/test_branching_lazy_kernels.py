@@ -20,11 +20,12 @@ from branchnb.branching.scoring import _DIRECTION_BINS, _rank_key, _rotate, binn
 
 @pytest.fixture(scope="module")
 def crack_model():
-    from branchnb.branching import example_domain, extract_structure
+    from branchnb.branching import extract_structure
 
+    # the whole frame as domain (what example_domain gave this sparse crack before its empty parts were cut
+    # out): the seeds below were chosen for the retries they take there
     img = crack_pattern_example((192, 192), 2)
-    ex = extract_structure(img)
-    return fit_model(ex, domain=example_domain(img, ex))
+    return fit_model(extract_structure(img), domain=np.ones(img.shape[:2], bool))
 
 
 def _store(rng, n=40):
