@@ -375,6 +375,15 @@ STRIKE_STRAIGHT_MAX_SHARE = 0.65
 STRIKE_MAX_STRAIGHT = 0.05
 STRIKE_STRAIGHT_COVER = 0.75
 STRIKE_STRAIGHT_MIN_SPREAD = 1.5
+#: A strike is a light source: the median luminance of its piece
+#: (:func:`~branchnb.dendrite.photo_strike.strike_origin`) is above at least
+#: ``STRIKE_MIN_RANK`` of the picture's pixels (beyond the papers). Measured: the NOAA
+#: bolt at 200-1024 px 0.987-0.992, procedural storms 0.93-0.996 (the lowest under a lit
+#: cloud brighter than the bolt); a zelkova leaf's midrib, lighter than its blade but
+#: darker than the paper, 0.34 (a strike at 200 px, where its veins' 0.85-px jag is below
+#: what the straight-edge test resolves), on a crop of the blade with a paper corner
+#: 0.88; the white ground between a horse silhouette's tail and leg 0.34.
+STRIKE_MIN_RANK = 0.9
 
 #: Factor on the width (above the thinnest) of the side branches of a lightning bolt on a
 #: photo (:func:`~branchnb.dendrite.main_channel.widen_main_path`, ``side``; beyond the
