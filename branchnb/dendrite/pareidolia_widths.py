@@ -159,8 +159,8 @@ def _slim_twigs(d: Dendrite, width: np.ndarray, aspect=0.0, floor: float = 0.0) 
     if d.n_nodes == 0 or bp.size == 0:
         return width
     n_child = np.bincount(bp[bp >= 0], minlength=len(bp))
-    runs = [d.branches[b][1:] for b in np.flatnonzero((n_child == 0) & (bp >= 0))]
-    runs = [r for r in runs if len(r) > 1]
+    sel = [b for b in np.flatnonzero((n_child == 0) & (bp >= 0)) if len(d.branches[b]) > 2]
+    runs = [d.branches[b][1:] for b in sel]
     if not runs:
         return width
     nodes = np.concatenate(runs).astype(np.int64)
@@ -171,6 +171,13 @@ def _slim_twigs(d: Dendrite, width: np.ndarray, aspect=0.0, floor: float = 0.0) 
     seg[has] = np.hypot(step[:, 0], step[:, 1])
     out = np.array(width, np.float64, copy=True)
     _pav_down(start, nodes, out, seg + 1e-6)
+    if _FORK_CAP > 0:
+        # nor wider than the branch they hang from at the fork (the pipe model's rule):
+        # in a light region the tone match thinned a twig to a pale line and left its
+        # end twigs 2x as wide, dark flecks along it (a third of the end twigs of a
+        # 600-px portrait were > 0.5 px wider than their fork)
+        fork = np.repeat(np.array([d.branches[b][0] for b in sel]), np.diff(start))
+        out[nodes] = np.minimum(out[nodes], np.maximum(_FORK_CAP * out[fork], floor))
     asp = np.asarray(aspect, np.float64)
     if asp.ndim:  # per node: each twig takes the mean over its nodes
         asp = np.add.reduceat(asp[nodes], start[:-1]) / np.diff(start)
@@ -181,6 +188,7 @@ def _slim_twigs(d: Dendrite, width: np.ndarray, aspect=0.0, floor: float = 0.0) 
     return out
 
 
+_FORK_CAP = 1.0  # a terminal twig at most this times its fork's width (0: off)
 _TWIG_ASPECT = 3.0  # a twig at least this many times as long as it is wide (slim) ...
 _DARK_ASPECT = 6.0  # ... and this many times in the picture's dark parts (beyond the paper)
 _FEATURE_ASPECT = 1.5  # ... and this many times in a small dark feature (an eye, a mouth)
