@@ -46,3 +46,20 @@ def test_end_twigs_are_no_wider_than_their_fork(trees):
     wide, light = fleck_shares(on)
     assert wide < 0.02 and light < 0.02
     assert tone_r(on) >= 0.7 and tone_r(on) >= tone_r(off) - 0.03
+
+
+def test_slim_twigs_fork_cap():
+    from branchnb.dendrite import build_dendrite, make_lattice, plan, random_endpoints
+
+    res = plan(make_lattice(np.zeros((80, 80)), rng=0), (40, 79))
+    d = build_dendrite(res, random_endpoints(np.ones((80, 80), bool), 60, rng=1))
+    width = np.random.default_rng(0).uniform(0.5, 6.0, d.n_nodes)
+    bp = d.branch_parent
+    n_child = np.bincount(bp[bp >= 0], minlength=len(bp))
+    ends = [d.branches[b] for b in np.flatnonzero((n_child == 0) & (bp >= 0)) if len(d.branches[b]) > 2]
+    free = pw._slim_twigs(d, width)
+    assert any(free[b[1:]].max() > free[b[0]] + 0.5 for b in ends)  # without the cap
+    out = pw._slim_twigs(d, width, 0.0, 0.3, fork_cap=1.0)
+    for b in ends:
+        assert out[b[1:]].max() <= max(out[b[0]], 0.3) + 1e-9
+        assert (np.diff(out[b[1:]]) <= 1e-12).all()
