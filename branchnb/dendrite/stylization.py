@@ -48,7 +48,8 @@ from .main_channel import (
     widen_main_path,
     with_channel,
 )
-from .photo_strike import jag_channel, photo_channel, side_branches, strike_origin
+from .photo_side import side_branches, strike_region
+from .photo_strike import jag_channel, photo_channel, strike_origin
 from .planner import PlanResult, plan
 from .render import Rendering
 from .scale import resample_to_lattice
@@ -616,17 +617,25 @@ class Stylizer:
                 if path is None or len(path) < 2:  # nothing to draw, or nothing below the seed
                     return (self.plan(p, seed, rng_seed),
                             self._main_channel_straight(p, seed, rng_seed), False)
+                region = None
                 if self.strike(p) is None:  # no bolt to follow: its straight stretches zigzag
                     path = jag_channel(path, content.shape, rng=rng_seed)
+                    # and its side branches stay in the bolt's cone (they crossed the sky)
+                    region = strike_region(path, content.shape)
                 mask = np.zeros(lat.weights.shape, bool)
                 mask[path[:, 1], path[:, 0]] = True
                 # the side branches follow the edges that stand out of the picture's noise
                 # (beyond the paper: on the importance they wandered through a night sky)
                 w, ends = side_branches(as_gray(self.working_image(p)), self.edge_map(p),
                                         lat.weights, content, p,
-                                        struck=self.strike(p) is not None, rng=rng_seed)
+                                        struck=self.strike(p) is not None, rng=rng_seed,
+                                        region=region)
                 if ends is None:
                     ends = self.endpoints(p, rng_seed)
+                    if region is not None:
+                        inside = region[np.clip(np.rint(ends[:, 1]).astype(int), 0, region.shape[0] - 1),
+                                        np.clip(np.rint(ends[:, 0]).astype(int), 0, region.shape[1] - 1)]
+                        ends = ends[inside] if inside.any() else ends
                 res = channel_plan(self._plan_on(Lattice(w, lat.factors), p, mask), path)
                 ends = np.concatenate([ends, path[-1:].astype(float)])
                 return res, with_channel(build_dendrite(res, ends), path), True
