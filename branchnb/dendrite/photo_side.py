@@ -4,7 +4,7 @@ Split from :mod:`~branchnb.dendrite.photo_strike` (where the bolt starts and how
 channel runs); see its docstring for the measurements. Beyond the papers:
 :func:`side_branches` gives the lattice and the endpoints of the side branches (the
 edges that stand out of the picture's noise, or its other bolts; no highway along long
-straight edges) and :func:`strike_region` the cone about the main channel they stay in
+straight edges) and :func:`strike_region` the cone about the main channel they end in
 on a photo without a strike of its own.
 """
 
@@ -22,7 +22,6 @@ from .stylize_params import (
     STRIKE_PENALTY,
     STRIKE_REGION_ANGLE,
     STRIKE_REGION_MARGIN,
-    STRIKE_REGION_PENALTY,
     STRIKE_STRAIGHT_MAX_SHARE,
     STRIKE_STRAIGHT_PENALTY,
 )
@@ -125,8 +124,7 @@ def side_branches(luminance, edges, weights, content, params, *, struck: bool,
     rng : int
         Seed (>= 0): of the lattice noise (``rng``) and of the stippling (``rng + 1``).
     region : (h, w) array_like of bool, optional
-        Where the side branches may go (:func:`strike_region`): no endpoint outside it,
-        and ``STRIKE_REGION_PENALTY`` mean weights more there.
+        Where the side branches may end (:func:`strike_region`): no endpoint outside it.
 
     Returns
     -------
@@ -181,7 +179,6 @@ def side_branches(luminance, edges, weights, content, params, *, struck: bool,
         if reg.shape != lum.shape:
             raise ValueError(f"region must have the luminance's shape {lum.shape}, got {reg.shape}")
         sig = np.where(reg, sig, 0.0)
-        base = base + float(np.mean(base)) * STRIKE_REGION_PENALTY * ~reg
     ends = None
     if (sig > 0).sum() >= 4 * n:
         ends = place_endpoints(sig, n, gamma=params.endpoint_gamma, floor=0.0, threshold=1e-6,

@@ -79,18 +79,23 @@ at 5 sizes, 10 night storms, 20 storms with a lit cloud and city lights) keep 31
 at the same origins (the bolts' ranks 0.93-0.996). Limit: a bolt under a lit cloud
 covering more than a tenth of the picture would be lost.
 
-On a photo without a strike of its own the side branches stay in the bolt's region
-(:func:`strike_region`, ``STRIKE_REGION_ANGLE``): a cone of 25 degrees either side of
-the main channel from its top. ``python -m branchnb.dendrite._side_spread`` (before ->
-after, 320 / 640 px), the side branches' mean lateral reach from their fork as a share
-of the diagonal: rocket 0.219 / 0.185 -> 0.120 / 0.094, text 0.239 / 0.255 -> 0.054 /
-0.069, clock 0.116 / 0.060 -> 0.065 / 0.062, cup 0.210 / 0.199 -> 0.093 / 0.100, cat
-0.138 / 0.107 -> 0.054 / 0.054, astronaut 0.173 / 0.182 -> 0.135 / 0.129, camera man
-0.151 / 0.161 -> 0.098 / 0.106, cracked mud 0.194 / 0.184 -> 0.138 / 0.133 (the NOAA
-photo, struck, unchanged 0.171 / 0.176); the procedural storms' own side branches 0.029
-(median, 0.012-0.048): the branches still reach 2-4x as far as a bolt's, and along the
-ground they run sideways from the channel's foot (their length outside a 60-degree cone
-below their fork 0.39-0.94, the storms' 0.14).
+On a photo without a strike of its own the side branches end in the bolt's region
+(:func:`~branchnb.dendrite.photo_side.strike_region`, ``STRIKE_REGION_ANGLE``: a cone of
+25 degrees either side of the main channel from its top, as the lightning metaphor's
+endpoints lie in a cone 24 degrees wide on a square) and are planned with edges stepping
+up twice as long (``STRIKE_PHOTO_UP``), so they fork downwards.
+``python -m branchnb.dendrite._side_spread`` (before -> after, 320 / 640 px): the share of
+the side branches' length outside a 60-degree cone below their fork on the main channel,
+rocket 0.95 / 0.67 -> 0.17 / 0.04, text 0.98 / 0.99 -> 0.76 / 0.85 (its lines of letters
+run sideways), clock 0.67 / 0.93 -> 0.17 / 0.10, cup 0.82 / 0.90 -> 0.38 / 0.35, cat 0.79 /
+0.76 -> 0.15 / 0.22, astronaut 0.92 / 0.88 -> 0.05 / 0.04, camera man 0.56 / 0.58 -> 0.22 /
+0.09, cracked mud 0.86 / 0.82 -> 0.05 / 0.09 (the procedural storms' own side branches
+0.14); their mean lateral reach from the fork, share of the diagonal, rocket 0.219 / 0.185
+-> 0.115 / 0.110, text 0.239 / 0.255 -> 0.062 / 0.071, clock 0.116 / 0.060 -> 0.069 /
+0.072, cup 0.210 / 0.199 -> 0.105 / 0.086, cat 0.138 / 0.107 -> 0.067 / 0.068, astronaut
+0.173 / 0.182 -> 0.117 / 0.119, camera man 0.151 / 0.161 -> 0.071 / 0.099, cracked mud
+0.194 / 0.184 -> 0.115 / 0.130 (storms 0.029: the branches still reach 2-4x as far as a
+bolt's). The NOAA photo, struck, is unchanged (0.82 / 0.88, 0.171 / 0.176).
 """
 
 from __future__ import annotations

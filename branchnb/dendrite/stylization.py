@@ -38,7 +38,7 @@ from ..core.validate import Int, Point, Points, checked
 from .dendrite import Dendrite, build_dendrite
 from .endpoints import place_endpoints
 from .importance import ImportanceParams, darkness, gradient_strength, importance_map
-from .lattice import Lattice, node_weights
+from .lattice import Lattice, direction_factors, node_weights
 from .main_channel import (
     channel_plan,
     silhouette,
@@ -67,6 +67,7 @@ from .stylize_params import (  # noqa: F401  (re-exported; the spacings too)
     STRIKE_MIN_PIECE,
     STRIKE_PENALTY,
     STRIKE_PHOTO_SIDE,
+    STRIKE_PHOTO_UP,
     STRIKE_SIDE,
     VINE_SPACING,
     StylizeParams,
@@ -153,6 +154,10 @@ _LATTICE = ("cost_weight", "epsilon", "noise")
 _PLAN = ("metric", "blend_weight", "break_ties")
 _ENDPOINTS = ("n_endpoints", "endpoint_gamma", "endpoint_threshold", "endpoint_floor",
               "stipple_iterations")
+
+
+#: Direction factors of a bolt's side branches on a photo without a strike (``STRIKE_PHOTO_UP``).
+_SIDE_FACTORS = direction_factors(up=STRIKE_PHOTO_UP) / direction_factors()
 
 
 class Stylizer:
@@ -636,7 +641,10 @@ class Stylizer:
                         inside = region[np.clip(np.rint(ends[:, 1]).astype(int), 0, region.shape[0] - 1),
                                         np.clip(np.rint(ends[:, 0]).astype(int), 0, region.shape[1] - 1)]
                         ends = ends[inside] if inside.any() else ends
-                res = channel_plan(self._plan_on(Lattice(w, lat.factors), p, mask), path)
+                # and they grow downward as the lightning metaphor's do (edges stepping up
+                # or sideways cost more): from the channel's foot they ran along the ground
+                factors = lat.factors if region is None else lat.factors * _SIDE_FACTORS
+                res = channel_plan(self._plan_on(Lattice(w, factors), p, mask), path)
                 ends = np.concatenate([ends, path[-1:].astype(float)])
                 return res, with_channel(build_dendrite(res, ends), path), True
             res = self._plan_on(Lattice(got[0], lat.factors), p, seed)

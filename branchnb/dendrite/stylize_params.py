@@ -384,20 +384,22 @@ STRIKE_STRAIGHT_MIN_SPREAD = 1.5
 #: what the straight-edge test resolves), on a crop of the blade with a paper corner
 #: 0.88; the white ground between a horse silhouette's tail and leg 0.34.
 STRIKE_MIN_RANK = 0.9
-#: On a photo without a strike of its own, the side branches of the bolt stay in its
-#: region (:func:`~branchnb.dendrite.photo_strike.strike_region`, beyond the papers): a
-#: cone about the main channel from its top, ``STRIKE_REGION_ANGLE`` degrees either side
-#: of the channel, plus ``STRIKE_REGION_MARGIN`` of the diagonal; outside it no endpoint and
-#: ``STRIKE_REGION_PENALTY`` mean weights more per node. Without it a bolt down the middle
-#: of a night photo (the rocket at 640 px) sent branches from its top across the whole sky
-#: to the lights on the ground. The procedural storms' side branches leave at 29-52
-#: degrees off the vertical. The side branches' mean lateral reach (share of the
-#: diagonal) on the rocket at 640 px, the astronaut, the camera man and a cup: 0.185,
-#: 0.182, 0.161, 0.199 with no region; 0.172, 0.156, 0.147, 0.169 at 40 degrees; 0.094,
-#: 0.129, 0.106, 0.100 at 25.
+#: On a photo without a strike of its own, the side branches of the bolt end in its
+#: region (:func:`~branchnb.dendrite.photo_side.strike_region`, beyond the papers): a cone
+#: about the main channel from its top, ``STRIKE_REGION_ANGLE`` degrees either side of the
+#: channel, plus ``STRIKE_REGION_MARGIN`` of the diagonal, as the lightning metaphor's
+#: side-branch endpoints lie in a cone 0.45 of the width wide at the bottom (24 degrees on
+#: a square; :class:`~branchnb.dendrite.metaphors.LightningParams`, ``spread``); and they
+#: are planned with edges stepping up ``STRIKE_PHOTO_UP`` times as long (the metaphor's 6x,
+#: with sideways 1.6x, kept the side branches off a crack picture's cracks: their share
+#: near the cracks 0.97 -> 0.66; 3x / 1.2x 0.80; 2x 0.99). Without them a bolt down the
+#: middle of a night photo (the rocket at 640 px) sent branches from its top across the
+#: whole sky to the lights on the ground; side branches' length outside a 60-degree cone
+#: below their fork, rocket / astronaut at 640 px: 0.67 / 0.88 without, 0.53 / 0.79 with
+#: the region, 0.04 / 0.04 with the region and up 2x (0.00 / 0.06 at 6x).
 STRIKE_REGION_ANGLE = 25.0
 STRIKE_REGION_MARGIN = 0.03
-STRIKE_REGION_PENALTY = 2.0
+STRIKE_PHOTO_UP = 2.0
 
 #: Factor on the width (above the thinnest) of the side branches of a lightning bolt on a
 #: photo (:func:`~branchnb.dendrite.main_channel.widen_main_path`, ``side``; beyond the
