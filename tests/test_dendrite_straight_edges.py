@@ -150,7 +150,8 @@ def test_zigzags_of_any_scale_keep_their_strike(n, period, width):
 def test_a_lit_truss_is_no_strike(n):
     # measured (before -> after): the launch pad's lit tower was a strike at 256/320/480 px
     # x seeds 0-1 (6 of 6 -> 0); the rocket photo at 200-320 px 5 of 6 -> 0, the zelkova
-    # leaf at 200-300 px 2 -> 1 (200 px: its veins' jag 0.85 px, unresolved); the NOAA
+    # leaf at 200-300 px 2 -> 1 (200 px: its veins' jag 0.85 px, unresolved; no strike
+    # since STRIKE_MIN_RANK, test_dendrite_strike_light.py); the NOAA
     # photo (9 sizes) and 20 procedural storms keep theirs
     img, _ = _launch_pad(n, 0)
     assert Stylizer(img).strike(StylizeParams()) is None

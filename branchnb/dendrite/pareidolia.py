@@ -65,7 +65,15 @@ falls to 0.3 at the end (the tone match alone widened a dark region's twig
 ends more than their bodies and the round caps drew dots). Those dots carried
 ink: in dark, flat regions the picture is lighter than with dots (tone r at 4
 px blur on 1000-px pictures 0.5-0.73, below the issue's 0.7 on a cat photo, a
-gradient and flat coloured objects).
+gradient and flat coloured objects). Nor is an end twig wider than the branch at its
+fork (the pipe model's rule; ``_slim_twigs``' fork cap): in the crown's light parts the
+tone match thinned a twig to a pale line and left the twigs at its end twice as wide,
+dark flecks along pale twigs. ``python -m branchnb.dendrite._twig_ends`` (600 px, cap off
+-> on): end twigs more than 0.5 px wider than their fork on a portrait, a cat, a cup, the
+camera man, the rocket, a maple leaf 0.156 0.164 0.173 0.140 0.154 0.091 -> 0.026 0.028
+0.030 0.021 0.028 0.013 (in the light parts 0.206 0.039 0.121 0.192 0.000 0.092 -> 0.002
+0.000 0.005 0.017 0.000 0.013); tone r at 4 px blur 0.858 0.908 0.844 0.859 0.613 0.835
+-> 0.855 0.894 0.831 0.856 0.601 0.818 (the ink the cap drops).
 
 Limbs that reach into the crown (beyond the paper). With the pipe model over all
 twigs the limbs thinned soon after the fork: the twigs hang mostly from their

@@ -143,10 +143,13 @@ def _pav_down(start, nodes, width, weight):
                 i += 1
 
 
-def _slim_twigs(d: Dendrite, width: np.ndarray, aspect=0.0, floor: float = 0.0) -> np.ndarray:
+def _slim_twigs(d: Dendrite, width: np.ndarray, aspect=0.0, floor: float = 0.0,
+                fork_cap: float = 0.0) -> np.ndarray:
     """Twigs never wider toward their ends (beyond the paper): along every terminal
     twig (a branch with no side branch) the widths become the closest non-increasing
-    profile, weighted by the segments' lengths, so each twig keeps its ink.
+    profile, weighted by the segments' lengths, so each twig keeps its ink; with
+    ``fork_cap`` > 0 no wider than ``fork_cap`` times the branch at their fork (down to
+    ``floor``), which drops the ink beyond.
 
     The tone match widens a node by the ink missing around it: the base of a twig,
     next to its parent branch, had ink enough and stayed thin while the twig's end
@@ -159,8 +162,8 @@ def _slim_twigs(d: Dendrite, width: np.ndarray, aspect=0.0, floor: float = 0.0) 
     if d.n_nodes == 0 or bp.size == 0:
         return width
     n_child = np.bincount(bp[bp >= 0], minlength=len(bp))
-    runs = [d.branches[b][1:] for b in np.flatnonzero((n_child == 0) & (bp >= 0))]
-    runs = [r for r in runs if len(r) > 1]
+    sel = [b for b in np.flatnonzero((n_child == 0) & (bp >= 0)) if len(d.branches[b]) > 2]
+    runs = [d.branches[b][1:] for b in sel]
     if not runs:
         return width
     nodes = np.concatenate(runs).astype(np.int64)
@@ -171,6 +174,13 @@ def _slim_twigs(d: Dendrite, width: np.ndarray, aspect=0.0, floor: float = 0.0) 
     seg[has] = np.hypot(step[:, 0], step[:, 1])
     out = np.array(width, np.float64, copy=True)
     _pav_down(start, nodes, out, seg + 1e-6)
+    if fork_cap > 0:
+        # nor wider than the branch they hang from at the fork (the pipe model's rule):
+        # in a light region the tone match thinned a twig to a pale line and left its
+        # end twigs 2x as wide, dark flecks along it (a third of the end twigs of a
+        # 600-px portrait were > 0.5 px wider than their fork)
+        fork = np.repeat(np.array([d.branches[b][0] for b in sel]), np.diff(start))
+        out[nodes] = np.minimum(out[nodes], np.maximum(fork_cap * out[fork], floor))
     asp = np.asarray(aspect, np.float64)
     if asp.ndim:  # per node: each twig takes the mean over its nodes
         asp = np.add.reduceat(asp[nodes], start[:-1]) / np.diff(start)
@@ -181,6 +191,7 @@ def _slim_twigs(d: Dendrite, width: np.ndarray, aspect=0.0, floor: float = 0.0) 
     return out
 
 
+_FORK_CAP = 1.0  # a terminal twig at most this times its fork's width (0: off)
 _TWIG_ASPECT = 3.0  # a twig at least this many times as long as it is wide (slim) ...
 _DARK_ASPECT = 6.0  # ... and this many times in the picture's dark parts (beyond the paper)
 _FEATURE_ASPECT = 1.5  # ... and this many times in a small dark feature (an eye, a mouth)
@@ -273,7 +284,7 @@ def _refine_tone(d: Dendrite, dark: np.ndarray, bounds: dict, s: float,
         ratio = np.clip((want + 1e-3) / (have + 1e-3), 0.5, 2.0) ** _REFINE_GAIN
         width = np.where(inside, np.clip(width * ratio, np.maximum(lo, floor), cap), width)
         if p.slim:  # in the loop, so the next pass puts the ink it takes back elsewhere
-            width = _slim_twigs(d, width, aspect, p.tip_width * 0.4 * s)
+            width = _slim_twigs(d, width, aspect, p.tip_width * 0.4 * s, _FORK_CAP)
     if p.taper > 0:
         width = _taper_ends(d, width, bounds["dist"] * s, p.taper * s)
     return d.with_radius(width / 2)
@@ -478,7 +489,7 @@ def _thickness(d: Dendrite, p: PareidoliaParams, imp, dark, crown, n_trunk: int,
         # from the ends goes back into the bodies
         w_tone = np.clip(match(w_tone, p.tip_width * 0.4, float(cap.max())), floor, cap)
         if p.slim:
-            w_tone = _slim_twigs(d, w_tone, aspect, p.tip_width * 0.4)
+            w_tone = _slim_twigs(d, w_tone, aspect, p.tip_width * 0.4, _FORK_CAP)
         if p.taper > 0:
             w_tone = _taper_ends(d, w_tone, dist, p.taper)
     # a slight flare at the foot of the trunk

@@ -38,7 +38,7 @@ from ..core.validate import Int, Point, Points, checked
 from .dendrite import Dendrite, build_dendrite
 from .endpoints import place_endpoints
 from .importance import ImportanceParams, darkness, gradient_strength, importance_map
-from .lattice import Lattice, node_weights
+from .lattice import Lattice, direction_factors, node_weights
 from .main_channel import (
     channel_plan,
     silhouette,
@@ -48,7 +48,8 @@ from .main_channel import (
     widen_main_path,
     with_channel,
 )
-from .photo_strike import jag_channel, photo_channel, side_branches, strike_origin
+from .photo_side import side_branches, strike_region
+from .photo_strike import jag_channel, photo_channel, strike_origin
 from .planner import PlanResult, plan
 from .render import Rendering
 from .scale import resample_to_lattice
@@ -66,6 +67,7 @@ from .stylize_params import (  # noqa: F401  (re-exported; the spacings too)
     STRIKE_MIN_PIECE,
     STRIKE_PENALTY,
     STRIKE_PHOTO_SIDE,
+    STRIKE_PHOTO_UP,
     STRIKE_SIDE,
     VINE_SPACING,
     StylizeParams,
@@ -152,6 +154,10 @@ _LATTICE = ("cost_weight", "epsilon", "noise")
 _PLAN = ("metric", "blend_weight", "break_ties")
 _ENDPOINTS = ("n_endpoints", "endpoint_gamma", "endpoint_threshold", "endpoint_floor",
               "stipple_iterations")
+
+
+#: Direction factors of a bolt's side branches on a photo without a strike (``STRIKE_PHOTO_UP``).
+_SIDE_FACTORS = direction_factors(up=STRIKE_PHOTO_UP) / direction_factors()
 
 
 class Stylizer:
@@ -616,18 +622,29 @@ class Stylizer:
                 if path is None or len(path) < 2:  # nothing to draw, or nothing below the seed
                     return (self.plan(p, seed, rng_seed),
                             self._main_channel_straight(p, seed, rng_seed), False)
+                region = None
                 if self.strike(p) is None:  # no bolt to follow: its straight stretches zigzag
                     path = jag_channel(path, content.shape, rng=rng_seed)
+                    # and its side branches stay in the bolt's cone (they crossed the sky)
+                    region = strike_region(path, content.shape)
                 mask = np.zeros(lat.weights.shape, bool)
                 mask[path[:, 1], path[:, 0]] = True
                 # the side branches follow the edges that stand out of the picture's noise
                 # (beyond the paper: on the importance they wandered through a night sky)
                 w, ends = side_branches(as_gray(self.working_image(p)), self.edge_map(p),
                                         lat.weights, content, p,
-                                        struck=self.strike(p) is not None, rng=rng_seed)
+                                        struck=self.strike(p) is not None, rng=rng_seed,
+                                        region=region)
                 if ends is None:
                     ends = self.endpoints(p, rng_seed)
-                res = channel_plan(self._plan_on(Lattice(w, lat.factors), p, mask), path)
+                    if region is not None:
+                        inside = region[np.clip(np.rint(ends[:, 1]).astype(int), 0, region.shape[0] - 1),
+                                        np.clip(np.rint(ends[:, 0]).astype(int), 0, region.shape[1] - 1)]
+                        ends = ends[inside] if inside.any() else ends
+                # and they grow downward as the lightning metaphor's do (edges stepping up
+                # or sideways cost more): from the channel's foot they ran along the ground
+                factors = lat.factors if region is None else lat.factors * _SIDE_FACTORS
+                res = channel_plan(self._plan_on(Lattice(w, factors), p, mask), path)
                 ends = np.concatenate([ends, path[-1:].astype(float)])
                 return res, with_channel(build_dendrite(res, ends), path), True
             res = self._plan_on(Lattice(got[0], lat.factors), p, seed)

@@ -375,6 +375,31 @@ STRIKE_STRAIGHT_MAX_SHARE = 0.65
 STRIKE_MAX_STRAIGHT = 0.05
 STRIKE_STRAIGHT_COVER = 0.75
 STRIKE_STRAIGHT_MIN_SPREAD = 1.5
+#: A strike is a light source: the median luminance of its piece
+#: (:func:`~branchnb.dendrite.photo_strike.strike_origin`) is above at least
+#: ``STRIKE_MIN_RANK`` of the picture's pixels (beyond the papers). Measured: the NOAA
+#: bolt at 200-1024 px 0.987-0.992, procedural storms 0.93-0.996 (the lowest under a lit
+#: cloud brighter than the bolt); a zelkova leaf's midrib, lighter than its blade but
+#: darker than the paper, 0.34 (a strike at 200 px, where its veins' 0.85-px jag is below
+#: what the straight-edge test resolves), on a crop of the blade with a paper corner
+#: 0.88; the white ground between a horse silhouette's tail and leg 0.34.
+STRIKE_MIN_RANK = 0.9
+#: On a photo without a strike of its own, the side branches of the bolt end in its
+#: region (:func:`~branchnb.dendrite.photo_side.strike_region`, beyond the papers): a cone
+#: about the main channel from its top, ``STRIKE_REGION_ANGLE`` degrees either side of the
+#: channel, plus ``STRIKE_REGION_MARGIN`` of the diagonal, as the lightning metaphor's
+#: side-branch endpoints lie in a cone 0.45 of the width wide at the bottom (24 degrees on
+#: a square; :class:`~branchnb.dendrite.metaphors.LightningParams`, ``spread``); and they
+#: are planned with edges stepping up ``STRIKE_PHOTO_UP`` times as long (the metaphor's 6x,
+#: with sideways 1.6x, kept the side branches off a crack picture's cracks: their share
+#: near the cracks 0.97 -> 0.66; 3x / 1.2x 0.80; 2x 0.99). Without them a bolt down the
+#: middle of a night photo (the rocket at 640 px) sent branches from its top across the
+#: whole sky to the lights on the ground; side branches' length outside a 60-degree cone
+#: below their fork, rocket / astronaut at 640 px: 0.67 / 0.88 without, 0.53 / 0.79 with
+#: the region, 0.04 / 0.04 with the region and up 2x (0.00 / 0.06 at 6x).
+STRIKE_REGION_ANGLE = 25.0
+STRIKE_REGION_MARGIN = 0.03
+STRIKE_PHOTO_UP = 2.0
 
 #: Factor on the width (above the thinnest) of the side branches of a lightning bolt on a
 #: photo (:func:`~branchnb.dendrite.main_channel.widen_main_path`, ``side``; beyond the
