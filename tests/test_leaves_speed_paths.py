@@ -8,6 +8,7 @@ import pytest
 from scipy import ndimage as ndi
 
 from branchnb.core.distance import edt
+from branchnb.core.morphology import _binary_dilation, _binary_erosion, _binary_opening
 from branchnb.leaves._snapkernels import sample_scores, sample_scores_many
 from branchnb.leaves.snapping import ridge_evidence
 from branchnb.leaves.tpsrpm import _exp_row, _softassign, _softassign_nb
@@ -61,6 +62,29 @@ def test_softassign_with_flushed_weights_is_the_numpy_one(t):
     # Weights below 1e-307 of the largest are 0 in the compiled kernel; the rest agree.
     np.testing.assert_allclose(got, want, rtol=1e-9, atol=1e-300)
     assert np.all(np.isfinite(got)) and np.all(got >= 0)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_opencv_morphology_is_scipys(seed):
+    rng = np.random.default_rng(seed)
+    r = 1 + seed
+    yy, xx = np.mgrid[-r:r + 1, -r:r + 1]
+    disk = xx**2 + yy**2 <= r * r
+    for shape in [(1, 9), (7, 5), (40, 63), (120, 90)]:
+        m = rng.random(shape) < 0.2
+        m[:, 0] = True  # the image border: outside is False in both
+        for it in (1, 2, 4):
+            for st in (None, disk, np.ones((3, 3), bool)):
+                assert np.array_equal(_binary_dilation(m, st, iterations=it),
+                                      ndi.binary_dilation(m, st, iterations=it))
+                assert np.array_equal(_binary_erosion(m, st, iterations=it),
+                                      ndi.binary_erosion(m, st, iterations=it))
+        assert np.array_equal(_binary_opening(m, structure=disk), ndi.binary_opening(m, structure=disk))
+    # Cases OpenCV would not match go to SciPy: an even structure, iterations 0 (until nothing changes).
+    m = rng.random((30, 30)) < 0.1
+    even = np.ones((2, 2), bool)
+    assert np.array_equal(_binary_dilation(m, even), ndi.binary_dilation(m, even))
+    assert np.array_equal(_binary_dilation(m, iterations=0), ndi.binary_dilation(m, iterations=0))
 
 
 def test_exp_row_is_numpys_exp_within_an_ulp():
