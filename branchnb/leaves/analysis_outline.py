@@ -14,11 +14,11 @@ import numpy as np
 from scipy import ndimage as ndi
 
 from ..core.distance import edt as _edt
-from ..core.morphology import fill_holes
+from ..core.morphology import _binary_dilation, fill_holes
 
 
 def _contrast(lab, layer, blade):
-    ring = ndi.binary_dilation(layer, iterations=4) & blade & ~layer
+    ring = _binary_dilation(layer, iterations=4) & blade & ~layer
     if not ring.any() or not layer.any():
         return None
     return lab[layer].mean(0) - lab[ring].mean(0)
@@ -67,7 +67,7 @@ def _inked_outline(lab, blade, user) -> bool:
     c = _contrast(lab, user, blade)
     if c is None:
         return False
-    band = _outline_band(blade, user) & ~ndi.binary_dilation(user, iterations=2)
+    band = _outline_band(blade, user) & ~_binary_dilation(user, iterations=2)
     if not band.any():
         return False
     colour = np.median(lab[user], axis=0)

@@ -10,6 +10,7 @@ from scipy import ndimage as ndi
 
 from ..core.completion import complete_gaps
 from ..core.image import as_mask, as_rgb, extend_nearest
+from ..core.morphology import _binary_dilation, _binary_erosion, _binary_opening
 
 __all__ = ["remove_layer", "telea"]
 
@@ -99,7 +100,7 @@ def remove_layer(image, blade, mask, *, grow: int = 1, thin_width: float = 6.0,
                                          thin_width=thin_width, patch_size=patch_size, rng=rng)
         return out
     if grow > 0:
-        mask = ndi.binary_dilation(mask, iterations=int(grow)) & blade
+        mask = _binary_dilation(mask, iterations=int(grow)) & blade
     if patch_size is None:
         patch_size = int(np.clip(round(0.05 * np.sqrt(blade.sum())), 8, 48))
     # Colour outside the blade must not bleed in: extend the blade's own
@@ -113,7 +114,7 @@ def remove_layer(image, blade, mask, *, grow: int = 1, thin_width: float = 6.0,
     r = max(1, int(np.ceil(thin_width / 2)))
     yy, xx = np.mgrid[-r:r + 1, -r:r + 1]
     disk = xx**2 + yy**2 <= r * r
-    wide = ndi.binary_dilation(ndi.binary_opening(mask, structure=disk), iterations=1) & mask
+    wide = _binary_dilation(_binary_opening(mask, structure=disk), iterations=1) & mask
     # Only blob-like wide parts (spots); elongated ones (a broad petiole or
     # midrib) are filled along their length by diffusion as well.
     wl, nw = ndi.label(wide, structure=np.ones((3, 3)))
@@ -128,7 +129,7 @@ def remove_layer(image, blade, mask, *, grow: int = 1, thin_width: float = 6.0,
     if wide.any():
         canvas = filled.copy()
         covered = ~wide
-        forbidden = ndi.binary_dilation(mask, iterations=2) | ~ndi.binary_erosion(blade, iterations=2)
+        forbidden = _binary_dilation(mask, iterations=2) | ~_binary_erosion(blade, iterations=2)
         if (~forbidden).sum() > 4 * patch_size**2:
             # One canvas per wide part: its bounding box plus a ring of known
             # pixels, filled by one example patch of that size (more where

@@ -26,6 +26,7 @@ import numpy as np
 from scipy import ndimage as ndi
 
 from ..core.image import as_mask
+from ..core.morphology import _binary_dilation, _binary_erosion, _binary_opening
 
 __all__ = ["exemplar_direction", "without_blobs", "trim_to_ridges", "trim_by_contrast", "high_pass"]
 
@@ -122,8 +123,8 @@ def exemplar_direction(lab, blade, prior, width: float, training_direction, *, r
     td = td / max(float(np.linalg.norm(td)), 1e-9)
     w = max(1.0, float(width))
     # The outline band: a blade's edge (and ink drawn along it) is never a vein.
-    inner = ndi.binary_erosion(blade, iterations=int(np.ceil(w)) + 2)
-    band = ndi.binary_dilation(prior, iterations=max(1, int(round(radius)))) & inner
+    inner = _binary_erosion(blade, iterations=int(np.ceil(w)) + 2)
+    band = _binary_dilation(prior, iterations=max(1, int(round(radius)))) & inner
     n = int(min((prior & inner).sum(), 0.3 * band.sum()))
     if n < 10:
         return out(td, False)
@@ -157,7 +158,7 @@ def _thickest(mask) -> int:
     from skimage.morphology import disk
     total = max(int(mask.sum()), 1)
     r = 0
-    while r < 20 and ndi.binary_opening(mask, structure=disk(r + 1)).sum() >= 0.05 * total:
+    while r < 20 and _binary_opening(mask, structure=disk(r + 1)).sum() >= 0.05 * total:
         r += 1
     return r
 
@@ -189,10 +190,10 @@ def without_blobs(m, user, blade_t, blade_e):
     """
     from skimage.morphology import disk
     r = int(np.ceil((_thickest(user) + 1) * np.sqrt(float(blade_e.sum()) / max(float(blade_t.sum()), 1.0))))
-    blobs = ndi.binary_opening(m, structure=disk(r + 1))
+    blobs = _binary_opening(m, structure=disk(r + 1))
     if not blobs.any():
         return m
-    return m & ~ndi.binary_dilation(blobs, structure=disk(r + 1))
+    return m & ~_binary_dilation(blobs, structure=disk(r + 1))
 
 
 #: A thin layer's pixel stays when its own contrast along the layer's

@@ -6,9 +6,9 @@ Split from :mod:`branchnb.leaves.snapping` (unchanged; both names are still impo
 from __future__ import annotations
 
 import numpy as np
-from scipy import ndimage as ndi
 
 from ..core.image import as_mask, extend_nearest
+from ..core.morphology import _binary_dilation, _binary_erosion
 
 __all__ = ["contrast_direction", "ridge_evidence"]
 
@@ -45,7 +45,7 @@ def contrast_direction(lab, layer, blade) -> np.ndarray:
         raise ValueError(f"lab must be an (H, W, 3) array, got shape {lab.shape}")
     layer = as_mask(layer, shape=lab.shape[:2], name="layer")
     blade = as_mask(blade, shape=lab.shape[:2], name="blade")
-    ring = ndi.binary_dilation(layer, iterations=4) & blade & ~layer
+    ring = _binary_dilation(layer, iterations=4) & blade & ~layer
     if not ring.any():
         ring = blade & ~layer
     if not ring.any() or not layer.any():
@@ -99,7 +99,7 @@ def ridge_evidence(lab, blade, direction, width: float, line_length: float = 0.0
     p = extend_nearest(p, blade[y0:y1, x0:x1])
     r = np.zeros(blade.shape, np.float32)
     r[y0:y1, x0:x1] = sato_bright(p, sigmas)
-    inner = ndi.binary_erosion(blade)
+    inner = _binary_erosion(blade)
     r = np.where(inner, r, 0.0).astype(np.float32)
     if line_length and line_length >= 3:
         # Veins run on: the geometric mean with the best straight-segment

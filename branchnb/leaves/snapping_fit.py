@@ -7,6 +7,7 @@ import numpy as np
 from scipy import ndimage as ndi
 
 from ..core.image import as_mask, extend_nearest
+from ..core.morphology import _binary_dilation, _binary_erosion
 
 
 def _densify(c):
@@ -49,7 +50,7 @@ def ridge_hessian(lab, blade, direction, width: float) -> np.ndarray:
     hxy = ndi.gaussian_filter(p, s, order=(1, 1)) * s * s
     hyy = ndi.gaussian_filter(p, s, order=(2, 0)) * s * s
     lam_min = 0.5 * (hxx + hyy) - np.sqrt(0.25 * (hxx - hyy) ** 2 + hxy ** 2)
-    inner = ndi.binary_erosion(blade, iterations=2)
+    inner = _binary_erosion(blade, iterations=2)
     strength = np.maximum(-lam_min, 0.0)[inner]
     scale = float(np.percentile(strength, 99)) if strength.size else 0.0
     out = np.stack([hxx, hxy, hyy]).astype(np.float32) / max(scale, 1e-12)
@@ -110,13 +111,13 @@ def _stamp(placed, iy, ix, iterations: int) -> None:
     if iterations < 1 or not len(iy):
         stamp = np.zeros((h, w), bool)
         stamp[iy, ix] = True
-        placed |= ndi.binary_dilation(stamp, iterations=iterations)
+        placed |= _binary_dilation(stamp, iterations=iterations)
         return
     y0, y1 = max(int(iy.min()) - iterations, 0), min(int(iy.max()) + iterations + 1, h)
     x0, x1 = max(int(ix.min()) - iterations, 0), min(int(ix.max()) + iterations + 1, w)
     stamp = np.zeros((y1 - y0, x1 - x0), bool)
     stamp[iy - y0, ix - x0] = True
-    placed[y0:y1, x0:x1] |= ndi.binary_dilation(stamp, iterations=iterations)
+    placed[y0:y1, x0:x1] |= _binary_dilation(stamp, iterations=iterations)
 
 
 def _sample(ev, maps, q, shifts, tangent):

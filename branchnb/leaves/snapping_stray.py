@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import ndimage as ndi
 
-from ..core.morphology import fill_holes
+from ..core.morphology import _binary_dilation, fill_holes
 
 #: Ridge evidence (line-averaged, :func:`~branchnb.leaves.snapping_evidence.ridge_evidence`) of a stray vein
 #: (:func:`~branchnb.leaves.snapping_stray._stray_ridges`); 0: off.
@@ -52,13 +52,13 @@ def _side_ridges(evidence, blade, found, level: float, min_length: float) -> np.
     (H, W) bool ndarray
     """
     from skimage.morphology import skeletonize
-    ring = ndi.binary_dilation(found, iterations=3)
+    ring = _binary_dilation(found, iterations=3)
     strong = (np.asarray(evidence) >= level) & blade & ~ring
     lab, n = ndi.label(strong, structure=np.ones((3, 3)))
     if n == 0:
         return np.zeros(blade.shape, bool)
     length = np.bincount(lab[skeletonize(strong)], minlength=n + 1)
-    touch = np.bincount(lab[ndi.binary_dilation(ring, iterations=2) & strong], minlength=n + 1)
+    touch = np.bincount(lab[_binary_dilation(ring, iterations=2) & strong], minlength=n + 1)
     far = ndi.distance_transform_edt(~found)
     keep = (length >= min_length) & (touch > 0)
     keep[0] = False
@@ -68,7 +68,7 @@ def _side_ridges(evidence, blade, found, level: float, min_length: float) -> np.
         keep[k] = span >= max(min_length, 0.8 * length[k]) and far[ys, xs].max() >= 0.7 * min_length
     out = keep[lab]
     # Joined to the network across the ring.
-    return out | (ndi.binary_dilation(out, iterations=4) & ring & ~found & (np.asarray(evidence) >= level) & blade)
+    return out | (_binary_dilation(out, iterations=4) & ring & ~found & (np.asarray(evidence) >= level) & blade)
 
 
 def _stray_ridges(evidence, blade, found, level: float, min_length: float) -> np.ndarray:
@@ -109,7 +109,7 @@ def _stray_ridges(evidence, blade, found, level: float, min_length: float) -> np
     if n == 0:
         return np.zeros(blade.shape, bool)
     length = np.bincount(lab[skeletonize(strong)], minlength=n + 1)
-    near = ndi.binary_dilation(found, iterations=2)
+    near = _binary_dilation(found, iterations=2)
     hit = np.bincount(lab[near], minlength=n + 1)
     keep = (length >= min_length) & (hit == 0)
     # A vein runs on nearly straight: its principal axis (4 standard
@@ -141,7 +141,7 @@ def _hole_rim(blade, rim: int, share: float) -> np.ndarray:
     b = np.asarray(blade, bool)
     if rim <= 0:
         return np.zeros_like(b)
-    out = ndi.binary_dilation(fill_holes(b) & ~b, iterations=int(rim)) & b
+    out = _binary_dilation(fill_holes(b) & ~b, iterations=int(rim)) & b
     if out.sum() > share * max(int(b.sum()), 1):
         return np.zeros_like(b)
     return out

@@ -4,10 +4,9 @@
 from __future__ import annotations
 
 import numpy as np
-from scipy import ndimage as ndi
 
 from ..core.image import as_mask
-from ..core.morphology import fill_holes
+from ..core.morphology import _binary_erosion, fill_holes
 from .snapping_fit import _densify, _pivot_ends, _stamp
 
 
@@ -192,7 +191,7 @@ def trace_branches(chains, maps, blade, *, max_angle: float = 30.0, step_deg: fl
     lengths = [float(np.hypot(*np.diff(c, axis=0).T).sum()) if len(c) > 1 else 0.0 for c in cs]
     out = list(cs)
     placed = np.zeros((h, w), bool)
-    inner = ndi.binary_erosion(blade)
+    inner = _binary_erosion(blade)
     whole = fill_holes(blade)
     da = np.radians(step_deg)
     offs = np.arange(-max_angle, max_angle + 1e-9, step_deg)

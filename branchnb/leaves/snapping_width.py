@@ -11,6 +11,7 @@ import numpy as np
 from scipy import ndimage as ndi
 
 from ..core.image import as_mask, extend_nearest
+from ..core.morphology import _binary_dilation
 
 
 def _area_widths(mask, chains) -> list:
@@ -91,7 +92,7 @@ def _grow_to_width(path, width: float, score=None) -> np.ndarray:
     for k in (1, 2, 4, 5, 8, 9, 10, 13, 16, 17, 18, 20, 25):
         if need <= 0 or k > kmax:
             break
-        shell = (d2 <= k + 1e-6) & ~out & ok & ndi.binary_dilation(out, cross)
+        shell = (d2 <= k + 1e-6) & ~out & ok & _binary_dilation(out, cross)
         ys, xs = np.nonzero(shell)
         if not len(ys):
             continue
