@@ -710,9 +710,23 @@ def test_dendrite_app_in_the_browser_at_dpr_2(lab, chromium, tmp_path):
         _delete_kernels(lab)
 
 
+_TOOL_ROWS = """() => [...document.querySelectorAll('.bnb-app .bnb-canvas')].map(c => {
+  const row = c.querySelector('.widget-hbox');
+  const boxes = [...row.querySelectorAll('.widget-button, .widget-toggle-button')]
+    .filter(e => e.offsetParent !== null).map(e => e.getBoundingClientRect());
+  return {controls: boxes.length, rows: new Set(boxes.map(b => Math.round(b.top / 6))).size,
+          width: Math.round(c.getBoundingClientRect().width),
+          used: Math.round(Math.max(...boxes.map(b => b.right)) - Math.min(...boxes.map(b => b.left)))};
+})"""
+
+
 def test_strokes_app_in_the_browser(lab, chromium, tmp_path):
     page, kernel = _open(lab, chromium, "strokes")
     try:
+        # widgets25: each canvas' 12 controls took two rows beside the other canvas; one row now
+        rows = page.evaluate(_TOOL_ROWS)
+        print("strokes canvas toolbars:", rows)
+        assert len(rows) == 2 and all(r["controls"] == 12 and r["rows"] == 1 for r in rows), rows
         src = _canvas_box(page, 0)
         _drag(page, src, [(0.08, 0.5), (0.5, 0.5), (0.92, 0.5)])
         time.sleep(0.3)
