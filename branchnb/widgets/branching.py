@@ -503,6 +503,9 @@ class BranchingApp(widgets.VBox):
         if self._model is None or self._model_key != key:
             report = progress if progress is not None else (lambda fraction, text: None)
             if self._domain_key != text:
+                if progress is not None:  # at once: the example (its domain follows in a second or so)
+                    self._show_example(ex, None)
+                    self._fit_shown = True
                 report(0.0, "fitting: finding where the example's branches live")
             dom = self.domain(ex, _text=text)
             report(0.3, "fitting the model to the example")
@@ -612,12 +615,17 @@ class BranchingApp(widgets.VBox):
                                  [np.maximum(2 * b.thickness, 1.0) for b in st.branches], colors,
                                  max_size=self.display, background=background)
 
-    def _show_example(self, example: Structure, domain: np.ndarray) -> None:
-        """While the model is fitted: the example's structure over its domain (grey outside)."""
-        bg = np.where(domain, np.float32(1.0), np.float32(0.82))[..., None]
+    def _show_example(self, example: Structure, domain: np.ndarray | None) -> None:
+        """While the model is fitted: the example's structure over its domain (grey outside) once known."""
         n = len(example.branches)
+        what = f"the example: {n} branch{'es' * (n != 1)}"
+        if domain is None:
+            self.view.update([self._sketch(example)], [f"{what} (finding its domain, then fitting the model; "
+                                                       "the synthesized structure grows here next)"])
+            return
+        bg = np.where(domain, np.float32(1.0), np.float32(0.82))[..., None]
         self.view.update([self._sketch(example, np.repeat(bg, 3, axis=2))],
-                         [f"the example: {n} branch{'es' * (n != 1)}, grey = outside its domain "
+                         [f"{what}, grey = outside its domain "
                           "(fitting the model; the synthesized structure grows here next)"])
 
     def _show_partial(self, growth) -> None:
