@@ -6,7 +6,12 @@ import numpy as np
 import pytest
 
 from branchnb.branching import Branch, Structure
-from branchnb.widgets.branching import BranchingApp, annotations_to_structure, structure_to_annotations
+from branchnb.widgets.branching import (
+    PREVIEW_FIRST,
+    BranchingApp,
+    annotations_to_structure,
+    structure_to_annotations,
+)
 
 
 def send(canvas, event: str, x: float, y: float):
@@ -419,7 +424,10 @@ def test_first_synthesis_says_it_fits_the_model(app, monkeypatch):
     real = app.shell.progress
     monkeypatch.setattr(app.shell, "progress", lambda f, t="": (texts.append(t), real(f, t)))
     app._resynthesize(fresh=True)
-    assert texts[0] == "fitting the model to the example" and texts.count(texts[0]) == 1
+    fit = [t for t in texts if t.startswith("fitting")]
+    # every fitting step is named before the growth starts (widgets25: the domain, then fit_model's steps)
+    assert texts[: len(fit)] == fit and len(fit) >= 4
+    assert any("furcation" in t for t in fit) and any("branches live" in t for t in fit)
     texts.clear()
     app._resynthesize(fresh=True)  # the model is kept: straight to growing
     assert texts and "fitting" not in " ".join(texts)
@@ -427,7 +435,85 @@ def test_first_synthesis_says_it_fits_the_model(app, monkeypatch):
     app.panel.controls["k"].value = app.params.k + 2  # the model depends on k: fitted again
     texts.clear()
     app._resynthesize(fresh=True)
-    assert texts[0] == "fitting the model to the example"
+    assert texts[0].startswith("fitting the model to the example")
+    assert not any("branches live" in t for t in texts)  # the domain is kept
+
+
+def test_fit_shows_the_example_at_once_and_cancels_between_steps(app, monkeypatch):
+    # widgets25: the first "synthesize" showed nothing but a spinner for the 3-4 s of the fit;
+    # now the example's structure over its domain, and "cancel" stops before the furcation SVM.
+    from branchnb.widgets.feedback import Cancelled
+
+    seen = []
+
+    def progress(fraction, text=""):
+        seen.append((text, app.view.title_texts[:1], [im.value for im in app.view.images]))
+        if "furcation" in text:
+            raise Cancelled("cancelled by the test")
+
+    monkeypatch.setattr(app.shell, "progress", progress)
+    with pytest.raises(Cancelled):
+        app._resynthesize(fresh=True)
+    shown = [(t, title) for t, title, imgs in seen if imgs and title and title[0].startswith("the example")]
+    assert shown, [s[:2] for s in seen]
+    assert seen[0][1][0].startswith("the example")  # already before the domain is looked for
+    assert any("grey = outside its domain" in title[0] for _, title in shown)
+    assert app._model is None and app.result is None  # stopped inside the fit
+    assert app.view.images == [] or app.view.title_texts == []  # the example preview was taken off
+    # the picture is the example: dark generation-coloured lines on white, 3 branches in the title
+    assert "3 branches" in shown[0][1][0]
+
+
+def test_partial_skeletons_are_quick_sketches_at_the_view_width(monkeypatch):
+    # widgets25: a partial skeleton was rasterised at the image's full size with per-vertex tapers
+    # (25-60 ms under load of a first preview's 200 ms budget); now a sketch at the view's width.
+    import branchnb.widgets.branching as mod
+
+    img = np.ones((400, 600, 3), np.float32)
+    t = np.linspace(0, 1, 120)
+    s = Structure([Branch(np.c_[40 + 520 * t, 200 + 40 * np.sin(9 * t)], 3.0)], image_shape=(400, 600))
+    a = BranchingApp(img, structure=s, display=200)
+    a.synthesize()
+    full = []
+    real = mod.draw_polylines
+    monkeypatch.setattr(mod, "draw_polylines", lambda *x, **k: (full.append(1), real(*x, **k))[1])
+    shapes = []
+    show = a._show_partial
+
+    def spy(growth):
+        show(growth)
+        shapes.append(a.view.images[0].value)
+
+    a._show_partial = spy
+    a.preview_first = a.preview_every = 0.0
+    a._grow_with_previews(False)
+    assert shapes
+    import cv2
+    for png in shapes:
+        got = cv2.imdecode(np.frombuffer(png, np.uint8), cv2.IMREAD_UNCHANGED)
+        assert max(got.shape[:2]) <= 200 and got.shape[1] == 200  # reduced to the view's width
+    assert PREVIEW_FIRST <= 0.05
+
+
+def test_resynthesis_reuses_the_domain_frame(app, monkeypatch):
+    # widgets25: every re-synthesis computed the domain's boundary frame (an EDT) and the example's
+    # angles again before its first step: 115-122 ms to the first partial skeleton, now ~40 ms.
+    import branchnb.branching.roots as roots
+
+    app.synthesize()
+    calls = []
+    real = roots._boundary_frame
+    monkeypatch.setattr(roots, "_boundary_frame", lambda d: (calls.append(1), real(d))[1])
+    model = app._fitted(app.params)
+    angles = []
+    real_angles = type(model.example).angles
+    monkeypatch.setattr(type(model.example), "angles",
+                        lambda self: (angles.append(self is model.example), real_angles(self))[1])
+    from branchnb.branching import synthesize_structure
+
+    for seed in (1, 2):
+        synthesize_structure(model, app.params, rng=seed, shape=app.image_shape)
+    assert calls == [] and not any(angles)
 
 
 def test_slider_updates_convert_the_example_once_per_change(app, monkeypatch):

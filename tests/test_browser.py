@@ -710,9 +710,27 @@ def test_dendrite_app_in_the_browser_at_dpr_2(lab, chromium, tmp_path):
         _delete_kernels(lab)
 
 
+_TOOL_ROWS = """() => [...document.querySelectorAll('.bnb-app .bnb-canvas')].map(c => {
+  const row = c.querySelector('.widget-hbox');
+  const boxes = [...row.querySelectorAll('.widget-button, .widget-toggle-button')]
+    .filter(e => e.offsetParent !== null).map(e => e.getBoundingClientRect());
+  // a new row starts where a control's middle lies more than 12 px below the previous one's
+  const mids = boxes.map(b => (b.top + b.bottom) / 2).sort((a, b) => a - b);
+  const rows = mids.length ? 1 + mids.slice(1).filter((m, i) => m - mids[i] > 12).length : 0;
+  return {controls: boxes.length, rows, mids: mids.map(Math.round),
+          width: Math.round(c.getBoundingClientRect().width),
+          used: Math.round(Math.max(...boxes.map(b => b.right)) - Math.min(...boxes.map(b => b.left)))};
+})"""
+
+
 def test_strokes_app_in_the_browser(lab, chromium, tmp_path):
     page, kernel = _open(lab, chromium, "strokes")
     try:
+        # widgets25: each canvas' 12 controls took two rows beside the other canvas; one row now
+        rows = page.evaluate(_TOOL_ROWS)
+        print("strokes canvas toolbars:", rows)
+        _screenshot(page, "strokes_toolbars", tmp_path)
+        assert len(rows) == 2 and all(r["controls"] == 12 and r["rows"] == 1 for r in rows), rows
         src = _canvas_box(page, 0)
         _drag(page, src, [(0.08, 0.5), (0.5, 0.5), (0.92, 0.5)])
         time.sleep(0.3)

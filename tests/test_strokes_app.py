@@ -307,3 +307,23 @@ def test_result_view_does_not_repeat_the_target_canvas(app):
     assert np.allclose(patches[r.seams], (1.0, 0.0, 0.0))
     # and the source picture is the source's size, not the target's
     assert copied.shape[:2] == app.image.shape[:2]
+
+
+def test_narrow_canvases_get_a_one_row_toolbar():
+    # widgets25: at max_display 280 each canvas' 4 named tools and 8 buttons of 34 px took two rows;
+    # narrow canvases show the tools as icons (name in the tooltip) and 21 px buttons: 12 x 21 px + margins.
+    from branchnb.widgets.canvas import COMPACT_BELOW, AnnotationCanvas
+
+    img = np.ones((120, 300, 3), np.float32)
+    app = StrokeEditApp(img, target_shape=(200, 300), max_display=280)
+    for c in (app.source_canvas, app.target_canvas):
+        row = c.children[0].children[0]
+        assert "bnb-compact" in row._dom_classes
+        assert len(c._tools.icons) == len(c._tools.options) == 4
+        assert c._tools.style.button_width == "21px"
+        widths = [b.layout.width for b in c.buttons.values() if b.layout.display != "none"]
+        assert widths == ["21px"] * 8
+        assert all(t.split(":")[0] in ("freehand", "polyline", "point", "pan") for t in c._tools.tooltips)
+        assert [label for label, _ in c._tools.options] == ["freehand", "polyline", "point", "pan"]
+    wide = AnnotationCanvas(img, max_display=COMPACT_BELOW)
+    assert "bnb-compact" not in wide.children[0].children[0]._dom_classes and not wide._tools.icons

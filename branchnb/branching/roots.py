@@ -21,6 +21,7 @@ heads into the domain with the copied angle to the inward normal.
 
 from __future__ import annotations
 
+import hashlib
 from dataclasses import dataclass
 
 import numpy as np
@@ -67,6 +68,23 @@ def boundary_frame(domain: np.ndarray):
     (1.0, 0, 3)
     """
     d = np.asarray(domain, bool)
+    key = (d.shape, hashlib.blake2b(np.packbits(d).tobytes(), digest_size=16).digest())
+    hit = _FRAME_CACHE.get(key)
+    if hit is not None:
+        return hit
+    out = _boundary_frame(d)
+    for a in out:
+        a.setflags(write=False)  # shared by later calls on the same domain
+    _FRAME_CACHE.clear()  # one domain at a time: a slider re-synthesizes in the same one
+    _FRAME_CACHE[key] = out
+    return out
+
+
+#: The last domain's frame (the root sampler of every synthesis in one domain asks for it again).
+_FRAME_CACHE: dict = {}
+
+
+def _boundary_frame(d: np.ndarray):
     h, w = d.shape
     padded = np.pad(d, 1, constant_values=False)
     dist, (iy, ix) = ndi.distance_transform_edt(padded, return_indices=True)

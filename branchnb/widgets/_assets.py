@@ -93,7 +93,16 @@ _ZOOM_JS = ("if(!window.__bnbZoom){window.__bnbZoom=1;document.addEventListener(
             "im.classList.add('bnb-big');im.style.setProperty('width',w+'px','important');"
             "im.style.setProperty('max-width','none','important');},true);}")
 
-_CSS = """
+#: A narrow canvas' toolbar on one row: tool names hidden (icons and tooltips stay), 1 px margins.
+COMPACT_CSS = """
+.bnb-compact .widget-toggle-button{font-size:0;padding:0;margin:1px 1px 1px 0;min-width:0}
+.bnb-compact .widget-toggle-button i{font-size:12px;margin:0}
+.bnb-compact .widget-toggle-buttons{margin:0 1px 0 0}
+.bnb-compact > .widget-button{margin:1px;min-width:0}
+.bnb-compact > .widget-button i{font-size:12px;margin:0}
+"""
+
+_CSS = COMPACT_CSS + """
 .bnb-view img{cursor:zoom-in}
 .bnb-view img.bnb-big{cursor:zoom-out;image-rendering:pixelated;position:relative;z-index:5}
 .bnb-view .widget-vbox{overflow:visible}

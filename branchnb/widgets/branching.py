@@ -63,7 +63,8 @@ from ..branching.extraction import estimate_thickness, gray_for_extraction
 from ..core.annotations import annotations_to_structure, structure_to_annotations
 from ..core.image import as_float_image, as_rgb
 from ..core.polyline import resample_uniform
-from ..core.render import draw_polylines
+from ..core.render import _sketch_polylines, draw_polylines
+from ..core.structure_io import GENERATION_COLORS
 from .canvas import AnnotationCanvas
 from .feedback import Cancelled, ProgressBar
 from .files import canvases_json, load_canvases
@@ -144,7 +145,7 @@ IMAGE_LABELS = {
 
 #: After "synthesize" or a parameter change, the partial skeleton is first shown this many seconds into the
 #: synthesis,
-PREVIEW_FIRST = 0.1
+PREVIEW_FIRST = 0.03
 #: then again every this many seconds until the finished structure replaces it.
 PREVIEW_EVERY = 0.25
 
@@ -270,6 +271,7 @@ class BranchingApp(widgets.VBox):
 
         self.result = None  # SynthesisResult
         self.partial = None
+        self._fit_shown = False  # the view shows the example while its model is fitted
         self.preview_first, self.preview_every = PREVIEW_FIRST, PREVIEW_EVERY
         self._growing = "growing with the new parameters"  # what a partial skeleton's title says
         self.image_result = None
@@ -492,14 +494,28 @@ class BranchingApp(widgets.VBox):
             self._example_cache = cached  # (a change meanwhile bumped the revision: redone next time)
         return cached[1], cached[2]
 
-    def _fitted(self, params: SynthesisParams):
+    def _fitted(self, params: SynthesisParams, progress=None):
+        """The model of the canvas' example (cached); ``progress(fraction, text)`` while fitting."""
         ex, text = self._example_and_json()
         if not ex.branches:
             raise ValueError("the example is empty: draw a branch (polyline tool) or press 'extract'")
         key = (text, params.h, params.m, params.k, params.bins, params.svm_C)
         if self._model is None or self._model_key != key:
-            self._model = fit_model(ex, params, domain=self.domain(ex, _text=text))
+            report = progress if progress is not None else (lambda fraction, text: None)
+            if self._domain_key != text:
+                if progress is not None:  # at once: the example (its domain follows in a second or so)
+                    self._show_example(ex, None)
+                    self._fit_shown = True
+                report(0.0, "fitting: finding where the example's branches live")
+            dom = self.domain(ex, _text=text)
+            report(0.3, "fitting the model to the example")
+            if progress is not None:
+                self._show_example(ex, dom)
+                self._fit_shown = True
+            self._model = fit_model(ex, params, domain=dom, progress=lambda f, t: report(
+                0.3 + 0.7 * f, f"fitting the model to the example: {t}"))
             self._model_key = key
+            self._fit_shown = False
         return self._model
 
     def domain(self, structure: Structure | None = None, *, _text: str | None = None) -> np.ndarray:
@@ -540,13 +556,15 @@ class BranchingApp(widgets.VBox):
         The shell's progress is reported between Markov steps, so "cancel"
         or a newer change stops this one (before its result is shown). The
         first synthesis of an example fits its model first (seconds on a
-        large example): the status line says so, and "cancel" stops right
-        after it. A cancelled or failed synthesis takes its partial skeleton
-        off the view and shows the last finished structure again.
+        large example): the view shows the example's structure over its
+        domain at once, the status line the fitting step, and "cancel"
+        stops between the steps (the furcation SVM, half the fit, is one
+        step). Partial skeletons are quick sketches at the view's width
+        (a few ms; the first one after :data:`PREVIEW_FIRST`). A cancelled
+        or failed synthesis takes its partial skeleton (or the example shown
+        during the fit) off the view and shows the last finished structure
+        again.
         """
-        p = self.params
-        if self._model is None or self._model_key[1:] != (p.h, p.m, p.k, p.bins, p.svm_C):
-            self.shell.progress(0.0, "fitting the model to the example")
         try:
             return self._grow_with_previews(fresh)
         except Cancelled:
@@ -559,9 +577,9 @@ class BranchingApp(widgets.VBox):
 
     def _drop_partial(self) -> None:
         """Take a growing skeleton nobody will finish off the view (the last result shows again)."""
-        if self.partial is None:
+        if self.partial is None and not self._fit_shown:
             return
-        self.partial = None
+        self.partial, self._fit_shown = None, False
         if self.result is not None:
             self._after_change()
         else:
@@ -582,20 +600,45 @@ class BranchingApp(widgets.VBox):
                 self._show_partial(growth)
                 due["preview"] = time.perf_counter() + self.preview_every
 
-        return self.synthesize(progress=watch)
+        return self.synthesize(progress=watch, fit_progress=self._fit_progress)
+
+    def _fit_progress(self, fraction: float, text: str) -> None:
+        self.shell.progress(fraction, text)  # raises Cancelled on "cancel"
+
+    def _sketch(self, structure: Structure, background=None) -> np.ndarray:
+        """A growing skeleton at the view's width (a few ms: what a preview can afford)."""
+        st = structure
+        pal = np.asarray(GENERATION_COLORS, np.float32)
+        colors = pal[np.minimum([st.generation(i) for i in range(len(st.branches))], len(pal) - 1)] \
+            if st.branches else pal[:1]
+        return _sketch_polylines(self.image_shape, [b.points for b in st.branches],
+                                 [np.maximum(2 * b.thickness, 1.0) for b in st.branches], colors,
+                                 max_size=self.display, background=background)
+
+    def _show_example(self, example: Structure, domain: np.ndarray | None) -> None:
+        """While the model is fitted: the example's structure over its domain (grey outside) once known."""
+        n = len(example.branches)
+        what = f"the example: {n} branch{'es' * (n != 1)}"
+        if domain is None:
+            self.view.update([self._sketch(example)], [f"{what} (finding its domain, then fitting the model; "
+                                                       "the synthesized structure grows here next)"])
+            return
+        bg = np.where(domain, np.float32(1.0), np.float32(0.82))[..., None]
+        self.view.update([self._sketch(example, np.repeat(bg, 3, axis=2))],
+                         [f"{what}, grey = outside its domain "
+                          "(fitting the model; the synthesized structure grows here next)"])
 
     def _show_partial(self, growth) -> None:
         what = self._growing
         s = growth.structure()
-        self.partial = s
-        img = s.render(self.image_shape, by_generation=True, min_width=1.0)
+        self.partial, self._fit_shown = s, False
         n = len(s.branches)
-        self.view.update([img], [f"{what}: {n} branch{'es' * (n != 1)} so far "
-                                 "(the finished structure follows)"])
+        self.view.update([self._sketch(s)], [f"{what}: {n} branch{'es' * (n != 1)} so far "
+                                             "(the finished structure follows)"])
         self.info.value = (f"<span style='font-size:12px'>growing: {n} branch{'es' * (n != 1)}, "
                            f"{s.n_vertices} vertices so far (attempt {growth.attempt})</span>")
 
-    def synthesize(self, progress=None):
+    def synthesize(self, progress=None, fit_progress=None):
         """Grow a new structure from the example with the panel's parameters and seed.
 
         Parameters
@@ -604,6 +647,10 @@ class BranchingApp(widgets.VBox):
             ``progress(growth)``, passed on to
             :func:`~branchnb.branching.synthesize_structure` (partial
             skeletons while it grows; raising there stops it).
+        fit_progress : callable, optional
+            ``fit_progress(fraction, text)`` while the model of a new example
+            is fitted (the first synthesis; seconds on a large example); the
+            view shows the example's structure and domain meanwhile.
 
         Returns
         -------
@@ -611,7 +658,7 @@ class BranchingApp(widgets.VBox):
             Also kept as ``result`` and drawn.
         """
         p = self.params
-        model = self._fitted(p)
+        model = self._fitted(p, fit_progress)
         self.result = synthesize_structure(model, p, rng=int(self.seed.value), guidance=self.guidance(),
                                            shape=self.image_shape, progress=progress)
         self.partial = None

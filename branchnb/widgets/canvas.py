@@ -43,7 +43,7 @@ from ipycanvas import MultiCanvas
 
 from ..core.image import as_float_image, as_rgba
 from ..core.io import encode_png
-from ._assets import PixelRatioProbe, backing_ratio
+from ._assets import COMPACT_CSS, PixelRatioProbe, backing_ratio
 from ._draw import batched
 from .canvas_mouse import KIND_COLOURS, WHEEL_STEP, CanvasBindings
 from .feedback import ErrorArea
@@ -60,6 +60,15 @@ DEFAULT_LABELS = {"foreground": "#e53935", "background": "#1e88e5"}
 #: What the tool buttons say (the values stay the short mode names).
 _MODE_LABELS = {"polyline": "polyline", "stroke": "freehand", "scribble": "scribble",
                 "point": "point", "edit": "select/move", "pan": "pan"}
+
+#: Font Awesome icon of each tool: a narrow canvas (``max_display`` < :data:`COMPACT_BELOW`) shows the
+#: icons alone (the name is the tooltip) so that its toolbar holds one row.
+_MODE_ICONS = {"polyline": "share-alt", "stroke": "pencil", "scribble": "paint-brush", "point": "map-marker",
+               "edit": "mouse-pointer", "pan": "arrows"}
+
+#: Canvases narrower than this (``max_display``, CSS px) get the compact toolbar: icon-only tools and
+#: 21 px buttons (12 controls in 274 px; the named tools and 34 px buttons took two rows below ~480 px).
+COMPACT_BELOW = 480
 
 _MODE_HELP = {
     "polyline": "click vertices; click the last one again (or Enter) to finish",
@@ -165,9 +174,12 @@ class AnnotationCanvas(CanvasBindings, widgets.VBox):
         self.selected: tuple[int, int] | None = None
 
         self.canvas = MultiCanvas(4)
+        compact = self.max_display < COMPACT_BELOW
         self._tools = widgets.ToggleButtons(options=[(_MODE_LABELS[m], m) for m in modes], value=mode,
-                                            tooltips=[_MODE_HELP[m] for m in modes],
-                                            style={"button_width": "auto"})
+                                            tooltips=[(f"{_MODE_LABELS[m]}: " if compact else "") + _MODE_HELP[m]
+                                                      for m in modes],
+                                            icons=[_MODE_ICONS[m] for m in modes] if compact else [],
+                                            style={"button_width": "21px" if compact else "auto"})
         self._tools.layout.display = None if len(modes) > 1 else "none"
         self._label_picker = widgets.Dropdown(options=list(self.labels), description="label",
                                               style={"description_width": "36px"},
@@ -193,7 +205,7 @@ class AnnotationCanvas(CanvasBindings, widgets.VBox):
              lambda _: setattr(self, "show_annotations", not self.show_annotations)),
         ):
             b = widgets.Button(description="", icon=icon, tooltip=tip,
-                               layout=widgets.Layout(width="34px", padding="0"))
+                               layout=widgets.Layout(width="21px" if compact else "34px", padding="0"))
             b.on_click(g(handler))
             buttons.append(b)
             self.buttons[name] = b
@@ -203,10 +215,13 @@ class AnnotationCanvas(CanvasBindings, widgets.VBox):
         self._options = widgets.HBox([self._label_picker, self._radius_slider],
                                      layout=widgets.Layout(flex_flow="row wrap", min_height="30px",
                                                            align_items="center"))
-        toolbar = widgets.VBox([
-            widgets.HBox([self._tools] + buttons, layout=widgets.Layout(flex_flow="row wrap",
-                                                                        align_items="center")),
-            self._options])
+        row = widgets.HBox([self._tools] + buttons, layout=widgets.Layout(flex_flow="row wrap",
+                                                                         align_items="center"))
+        if compact:
+            row.add_class("bnb-compact")  # (the kit's stylesheet hides the tool names, narrows the margins)
+        style = [widgets.HTML(f"<style>{COMPACT_CSS}</style>", layout=widgets.Layout(height="0px", margin="0",
+                                                                                       overflow="hidden"))]
+        toolbar = widgets.VBox([row, self._options] + (style if compact else []))
         self._probe = _PixelRatioProbe()
         children = [toolbar, self.canvas, self.status, self._probe]
         if errors is None:
