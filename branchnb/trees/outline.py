@@ -391,6 +391,7 @@ def even_outline(image, ink, width: int, *, holes: bool = True) -> np.ndarray:
         reach = dark & (depth == d) & (cv2.dilate(reach.astype(np.uint8), np.ones((3, 3), np.uint8)) > 0)
         if d > width:
             shell |= reach
+    inner, ring = _inner_shapes(alpha & light, depth, width)
     lab, n = ndi.label(shell, np.ones((3, 3), bool))
     if n:
         rim = depth == 1
@@ -406,11 +407,12 @@ def even_outline(image, ink, width: int, *, holes: bool = True) -> np.ndarray:
         k = 2 * width + 3
         thick = cv2.morphologyEx(dark.astype(np.uint8), cv2.MORPH_OPEN, np.ones((k, k), np.uint8)) > 0
         excess &= ~(cv2.dilate(thick.astype(np.uint8), np.ones((3, 3), np.uint8)) > 0)
+        excess &= ~ring
         if excess.any():
             # with the stroke's soft inner edge (its anti-aliased pixels, lighter than ``dark``)
             excess = cv2.dilate(excess.astype(np.uint8), np.ones((3, 3), np.uint8)) > 0
-            excess &= alpha & (depth > width) & ~thick
-            fill = alpha & light & (depth > width + 1) & ~excess
+            excess &= alpha & (depth > width) & ~thick & ~ring
+            fill = alpha & light & (depth > width + 1) & ~excess & ~inner
             if fill.any():
                 dist, idx = ndi.distance_transform_edt(~fill, return_indices=True)
                 # only next to a fill (a thin dark trunk has none beside it: it stays)
@@ -420,11 +422,18 @@ def even_outline(image, ink, width: int, *, holes: bool = True) -> np.ndarray:
     # nearest stroke pixel there (the drawing's own ink, ``ink`` where there is none), and the
     # next ring half of it (the drawings' own strokes have an anti-aliased inner edge).
     ink = ink.astype(np.float32)
-    band = alpha & (depth <= width)
+    # An inner shape the silhouette cuts (a fruit the warp moved onto the rim) gets its own ring
+    # there too: the drawings keep a ring and the outline, about 1.75 width, between it and the edge.
+    band = alpha & ((depth <= width) | (inner & (depth <= int(1.75 * width))))
     strong = lum <= ink_lum + 0.35 * (np.median(lum[alpha]) - ink_lum)
-    thin = band & ~strong
+    # Dark but not ink-coloured (an anti-aliased mix of a fruit's orange and the ink, dark red)
+    # is no stroke colour: taken as one it was spread across the band, a 3-4 px smear (issue 24).
+    # Nor are the pixels next to an inner shape that the band cuts (its soft edge into the ink).
+    edge_of_inner = (cv2.dilate(inner.astype(np.uint8), np.ones((3, 3), np.uint8)) > 0) & ~inner
+    inky = strong & (np.linalg.norm(img[..., :3] - ink, axis=2) <= INK_COLOUR_TOL) & ~edge_of_inner
+    thin = band & ~inky
     if thin.any():
-        stroke = band & strong
+        stroke = band & inky
         col = np.broadcast_to(ink, (int(thin.sum()), 3)).copy()
         if stroke.any():
             dist, idx = ndi.distance_transform_edt(~stroke, return_indices=True)
@@ -435,6 +444,54 @@ def even_outline(image, ink, width: int, *, holes: bool = True) -> np.ndarray:
     soft = alpha & (depth == width + 1) & (lum > ink_lum + 0.5 * (np.median(lum[alpha]) - ink_lum))
     img[soft, :3] = 0.5 * (img[soft, :3] + ink)
     return img
+
+
+#: :func:`even_outline`: a light piece is an inner shape (a fruit, a bauble) when it is smaller than
+#: this share of the largest light piece (the crown's fill) ...
+INNER_SHAPE_AREA = 0.1
+#: ... and less than this share of its pixels lie within ``2 width + 2`` of the silhouette (a
+#: trunk's or a thin part's fill runs along it; a fruit touching the outline touches it at a point)
+#: or it is compact: its area at most this many discs of its widest inscribed circle (a fruit the
+#: warp cut with the silhouette: a half disc is 2).
+INNER_SHAPE_NEAR = 0.35
+INNER_SHAPE_COMPACT = 2.5
+
+
+#: :func:`even_outline`: a dark pixel of the outline band gives its colour to the band (a drawing's
+#: own ink colours: dark green round a crown, dark brown round a trunk) only within this RGB
+#: distance of the outline's ink; farther (a dark red between a fruit and the ink) it is repainted.
+INK_COLOUR_TOL = 0.3
+
+
+def _inner_shapes(light: np.ndarray, depth: np.ndarray, width: int) -> tuple[np.ndarray, np.ndarray]:
+    """Inner shapes among the light pieces of a drawing and their own rings.
+
+    A fruit drawn against the crown's outline has its own ring between its fill and the outline:
+    the ink there is two strokes, deeper than ``width`` and running along the rim, so it looks
+    like a warped stroke to thin. Repainting it with the nearest fill (the fruit's) ran the fruit's
+    colour across its ring to the outline: the 3-4 px smear of issue 24. Returns the inner shapes'
+    pixels and the pixels within ``width + 1`` of them that are not theirs (their rings).
+    """
+    lab, n = ndi.label(light, np.ones((3, 3), bool))
+    if n < 2:
+        z = np.zeros_like(light)
+        return z, z
+    area = np.bincount(lab.ravel(), minlength=n + 1)
+    near = np.bincount(lab.ravel(), weights=(depth <= 2 * width + 2).ravel(), minlength=n + 1)
+    area[0] = 0
+    # compact (a disc, or a disc cut by the silhouette: area within 2.5 discs of its widest
+    # inscribed circle) or mostly away from the rim; a trunk's fill is long and runs along it
+    rad = ndi.maximum(ndi.distance_transform_edt(light), lab, np.arange(n + 1))
+    compact = area <= INNER_SHAPE_COMPACT * np.pi * np.maximum(rad, 0.5) ** 2
+    inner = (area < INNER_SHAPE_AREA * area.max()) & ((near < INNER_SHAPE_NEAR * area) | compact) & (area >= 4)
+    inner[0] = False
+    if not inner.any():
+        z = np.zeros_like(light)
+        return z, z
+    shapes = inner[lab]
+    k = 2 * width + 3
+    ring = (cv2.dilate(shapes.astype(np.uint8), np.ones((k, k), np.uint8)) > 0) & ~shapes
+    return shapes, ring
 
 
 def _source_seams(sources: np.ndarray) -> np.ndarray:
