@@ -123,7 +123,8 @@ darker and smoother than the vein-free one (Laplacian variance 1.0e-3
 against 3.3e-3) and shows no line by eye; both the low-pass (1.11) and
 the high-pass (1.04) part of the difference raise the ratio. Regraining
 the analysis' Telea fill of thin strips (``remove_layer``) left every fan
-figure unchanged to three decimals (the stage fill replaces it);
+figure unchanged to three decimals (fan 320, rerun; which later fill
+replaces it there was not traced);
 ``flatten_leftover(regrain=True)`` was measured worse on the elliptic
 family (above).
 
