@@ -115,7 +115,8 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
 
     # Joints (closed after composition): junctions and the attachments of carried parts.
     joints = [(jn.point, 1.5 * float(index.half_width(jn.parent, attached[jn.parent].source_arc_length(
-        jn.parent_s))) + 4.0, _pocket(index, jn), jn) for jn in junctions]
+        jn.parent_s))) + 4.0, _pocket(index, jn) if _turned(attached, jn, window) else None, jn)
+              for jn in junctions]
     # The parts nobody stroked, each carried rigidly by its stroke (after all strokes).
     for i, pi, s_t in patches._carried:
         part, pair = index.parts[pi], attached[i]
@@ -445,6 +446,32 @@ def _near_object(obj: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
             on = (xx >= 0) & (xx < w) & (yy >= 0) & (yy < h) & ~out
             out[on] = obj[yy[on], xx[on]]
     return out & (x >= 0) & (x < w) & (y >= 0) & (y < h)
+
+
+#: Turn (radians) of a child at its joint, relative to its parent, below which the
+#: joint keeps the usual small closing (see :func:`_turned`).
+_POCKET_TURN = np.radians(5.0)
+
+
+def _turned(attached, jn, window: float) -> bool:
+    """Whether junction ``jn``'s child leaves its parent at another angle than in the source.
+
+    The wide closing of :func:`_pocket` fills the wedge a turned child's cut face
+    leaves at its parent's side. A child that only changes length (or bends further
+    out) leaves no wedge, and the closing instead webbed the crotches beside its
+    root: a finger lengthened 1.4x got a 2-3 px outward jog of its outline just
+    above both crotches (1000 px; beyond the paper). The turn is the change of the
+    child's direction at its joined end less the parent's own turn at the joint.
+    """
+    child, parent = attached[jn.child], attached[jn.parent]
+    s_t = 0.0 if jn.end == 0 else child.target.length
+    s_s = 0.0 if jn.end == 0 else child.source.length
+    w = min(window, 0.5 * child.target.length, 0.5 * child.source.length)
+    turn = float(child.target.angle_at(s_t, window=w)) - float(child.source.angle_at(s_s, window=w))
+    ps = float(jn.parent_s)
+    turn -= float(parent.target.angle_at(ps, window=window)) - float(
+        parent.source.angle_at(float(parent.source_arc_length(ps)), window=window))
+    return abs(float(np.angle(np.exp(1j * turn)))) >= _POCKET_TURN
 
 
 def _pocket(index, jn) -> float | None:
