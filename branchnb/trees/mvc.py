@@ -500,8 +500,7 @@ def _sample_strokes(src: np.ndarray, mapped: np.ndarray, smp: np.ndarray, ys, xs
     colour, any other the colour of the fill without ink. Strokes stay 1-2 px wide and
     unbroken under a warp that shrinks by up to 2, and fills stay flat (no dark fringe).
     """
-    from ..core.image import extend_nearest
-    from .outline import _LUM, _ink_threshold, _is_ink
+    from .outline import _ink_threshold, _is_ink
 
     a = src[..., 3]
     op = a >= 0.5
@@ -513,16 +512,7 @@ def _sample_strokes(src: np.ndarray, mapped: np.ndarray, smp: np.ndarray, ys, xs
     if not ink.any():
         return base
     inkimg = np.concatenate([rgb * ink[..., None], ink[..., None]], axis=2).astype(np.float32)
-    # The anti-aliased pixels between a stroke and a fill (darker than half-way from the ink to
-    # the median colour, next to ink) are no fill colour: a warp that stretches the drawing
-    # stretches them into a 2-4 px smear (a fruit's orange into the outline: dark red, issue 24).
-    # Fills are sampled from the pure pixels only (a hard edge at the target's resolution).
-    lum = rgb @ _LUM
-    thr = _ink_threshold(rgb, op)
-    soft = (cv2.dilate(ink.astype(np.uint8), np.ones((3, 3), np.uint8)) > 0) & (ink == 0) \
-        & (lum < thr + 0.5 * (float(np.median(lum[op])) - thr))
-    pure = op & (ink == 0) & ~soft
-    fill = a * pure
+    fill = a * (1.0 - ink)
     fillimg = np.concatenate([rgb * fill[..., None], fill[..., None]], axis=2).astype(np.float32)
     jx, jy = _footprint(mapped, ys, xs, shape)
     best = np.zeros((len(mapped), 4), np.float32)
@@ -535,10 +525,6 @@ def _sample_strokes(src: np.ndarray, mapped: np.ndarray, smp: np.ndarray, ys, xs
             best[better] = s[better]
             at[better] = q[better]
     f = sample_rgba(fillimg, mapped)
-    if pure.any():
-        ext = extend_nearest(rgb, pure)
-        far = sample_rgba(np.concatenate([ext, np.ones_like(a)[..., None]], axis=2).astype(np.float32), mapped)
-        base = far[:, :3]
     out = np.where(f[:, 3:] > 1e-3, f[:, :3] / np.maximum(f[:, 3:], 1e-6), base)
     stroke = best[:, 3] >= STROKE_COVER
     out[stroke] = best[stroke, :3] / best[stroke, 3:]
