@@ -41,6 +41,29 @@ __all__ = [
 ]
 
 
+@numba.njit(cache=True, inline="always")
+def _segment_box(ax, ay, bx, by, cell, reach, gh, gw):
+    """Grid rows ``r0:r1`` and columns ``c0:c1`` within ``reach`` of segment ``a``-``b``."""
+    c0 = max(int(np.floor((min(ax, bx) - reach) / cell)), 0)
+    c1 = min(int(np.ceil((max(ax, bx) + reach) / cell)) + 1, gw)
+    r0 = max(int(np.floor((min(ay, by) - reach) / cell)), 0)
+    r1 = min(int(np.ceil((max(ay, by) + reach) / cell)) + 1, gh)
+    return r0, r1, c0, c1
+
+
+@numba.njit(cache=True, inline="always")
+def _segment_d2(x, y, ax, ay, bx, by):
+    """Squared distance of ``(x, y)`` to segment ``a``-``b``."""
+    dx, dy = bx - ax, by - ay
+    L2 = dx * dx + dy * dy
+    t = 0.0
+    if L2 > 0:
+        t = ((x - ax) * dx + (y - ay) * dy) / L2
+        t = min(max(t, 0.0), 1.0)
+    ex, ey = x - ax - t * dx, y - ay - t * dy
+    return ex * ex + ey * ey
+
+
 @numba.njit(cache=True)
 def _splat_segments(grid, domain, p0, p1, cell, rho, level):
     """``grid = max(grid, exp(-d^2 / rho^2))`` within ``3 rho`` of each segment; returns the change in
@@ -52,22 +75,12 @@ def _splat_segments(grid, domain, p0, p1, cell, rho, level):
     delta = 0
     for s in range(p0.shape[0]):
         ax, ay, bx, by = p0[s, 0], p0[s, 1], p1[s, 0], p1[s, 1]
-        dx, dy = bx - ax, by - ay
-        L2 = dx * dx + dy * dy
-        c0 = max(int(np.floor((min(ax, bx) - reach) / cell)), 0)
-        c1 = min(int(np.ceil((max(ax, bx) + reach) / cell)) + 1, gw)
-        r0 = max(int(np.floor((min(ay, by) - reach) / cell)), 0)
-        r1 = min(int(np.ceil((max(ay, by) + reach) / cell)) + 1, gh)
+        r0, r1, c0, c1 = _segment_box(ax, ay, bx, by, cell, reach, gh, gw)
         for r in range(r0, r1):
             y = (r + 0.5) * cell - 0.5
             for c in range(c0, c1):
-                x = (c + 0.5) * cell - 0.5
-                t = 0.0
-                if L2 > 0:
-                    t = ((x - ax) * dx + (y - ay) * dy) / L2
-                    t = min(max(t, 0.0), 1.0)
-                ex, ey = x - ax - t * dx, y - ay - t * dy
-                D = np.float32(np.exp(-(ex * ex + ey * ey) * inv))
+                e2 = _segment_d2((c + 0.5) * cell - 0.5, y, ax, ay, bx, by)
+                D = np.float32(np.exp(-e2 * inv))
                 old = grid[r, c]
                 if D > old:
                     grid[r, c] = D
@@ -89,22 +102,11 @@ def _splat_union(grid, domain, p0, p1, cell, rho, level):
     d2 = np.full((gh, gw), np.inf)
     for s in range(p0.shape[0]):
         ax, ay, bx, by = p0[s, 0], p0[s, 1], p1[s, 0], p1[s, 1]
-        dx, dy = bx - ax, by - ay
-        L2 = dx * dx + dy * dy
-        c0 = max(int(np.floor((min(ax, bx) - reach) / cell)), 0)
-        c1 = min(int(np.ceil((max(ax, bx) + reach) / cell)) + 1, gw)
-        r0 = max(int(np.floor((min(ay, by) - reach) / cell)), 0)
-        r1 = min(int(np.ceil((max(ay, by) + reach) / cell)) + 1, gh)
+        r0, r1, c0, c1 = _segment_box(ax, ay, bx, by, cell, reach, gh, gw)
         for r in range(r0, r1):
             y = (r + 0.5) * cell - 0.5
             for c in range(c0, c1):
-                x = (c + 0.5) * cell - 0.5
-                t = 0.0
-                if L2 > 0:
-                    t = ((x - ax) * dx + (y - ay) * dy) / L2
-                    t = min(max(t, 0.0), 1.0)
-                ex, ey = x - ax - t * dx, y - ay - t * dy
-                e2 = ex * ex + ey * ey
+                e2 = _segment_d2((c + 0.5) * cell - 0.5, y, ax, ay, bx, by)
                 if e2 < d2[r, c]:
                     d2[r, c] = e2
     n = 0

@@ -180,10 +180,14 @@ class StructureModel:
         """
         # the example's angles and thicknesses are measured once (30 ms on a retina: a slider's
         # re-synthesis started with them before its first partial skeleton)
-        cache = self.__dict__.setdefault("_matcher_data", {})
-        if not cache:
-            cache["a"], cache["r"] = self.example.angles(), self.example.thicknesses()
-        return HistogramMatcher(cache["a"], cache["r"], bins=self.params.bins, wG=wG, m=self.params.m)
+        # keyed on the example like stopping.example_length, so a model given another example
+        # measures that one
+        key = (id(self.example), len(self.example.branches))
+        cached = self.__dict__.get("_matcher_data")
+        if cached is None or cached[0] != key:
+            cached = (key, self.example.angles(), self.example.thicknesses())
+            self.__dict__["_matcher_data"] = cached
+        return HistogramMatcher(cached[1], cached[2], bins=self.params.bins, wG=wG, m=self.params.m)
 
     @checked(rho=Real(0, 1e4, low_open=True))
     def coverage_at(self, rho: float) -> float:
@@ -299,7 +303,8 @@ def fit_model(example: Structure, params: SynthesisParams | None = None, *,
     report(0.1, "furcation model (SVM)")
     furc = FurcationModel.fit(ex, p.k, p.svm_C)
     report(0.8, "histograms, roots and coverage")
-    hm = HistogramMatcher(ex.angles(), ex.thicknesses(), bins=p.bins, wG=p.wG, m=p.m)
+    ex_angles, ex_radii = ex.angles(), ex.thicknesses()
+    hm = HistogramMatcher(ex_angles, ex_radii, bins=p.bins, wG=p.wG, m=p.m)
     T, B = bending.n_elements, p.bins
     oa = np.zeros((T + 1, B))
     orr = np.zeros((T + 1, B))
@@ -327,7 +332,7 @@ def fit_model(example: Structure, params: SynthesisParams | None = None, *,
     roots = fit_roots(ex, dom, shape=frame)
     drains = _drains(ex, dom)
     report(1.0, "fitted")
-    return StructureModel(source=example, example=ex, bending=bending, furcation=furc, params=p,
+    model = StructureModel(source=example, example=ex, bending=bending, furcation=furc, params=p,
                           cum_a=cum_a, cum_r=cum_r, cand_counts_a=cca, cand_counts_r=ccr,
                           cand_sq_a=np.einsum("ij,ij->i", cca, cca),
                           cand_sq_r=np.einsum("ij,ij->i", ccr, ccr),
@@ -336,9 +341,12 @@ def fit_model(example: Structure, params: SynthesisParams | None = None, *,
                           edges_a=hm.edges_a, edges_r=hm.edges_r,
                           first_a=fa, first_r=fr, first_len=fl,
                           max_branch_length=max(b.length for b in ex.branches),
-                          r_min=float(ex.thicknesses().min()),
+                          r_min=float(ex_radii.min()),
                           rho=rho, domain=dom, coverage=cover, _coverage_rho=p.rho if p.rho > 0 else rho,
                           roots=roots, drains=drains,
                           branch_generation=np.array([ex.generation(i) for i in range(nb)]),
                           branch_length=np.array([b.length for b in ex.branches]),
                           branch_r0=np.array([np.mean(b.thickness[:3]) for b in ex.branches]))
+    # the matcher's example measures, taken once here (see StructureModel.matcher)
+    model.__dict__["_matcher_data"] = ((id(ex), len(ex.branches)), ex_angles, ex_radii)
+    return model
