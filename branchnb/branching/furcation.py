@@ -259,7 +259,9 @@ class FurcationModel:
         model.n_positive, model.n_negative = n_pos, n_neg
         if n_pos == 0 or n_neg == 0:
             return model
-        svm = make_pipeline(StandardScaler(), LinearSVC(C=C, class_weight="balanced", max_iter=5000))
+        # random_state: liblinear's coordinate descent shuffles with numpy's global generator, so two
+        # fits of one example differed by ~1e-13 (fit_model was not reproducible)
+        svm = make_pipeline(StandardScaler(), LinearSVC(C=C, class_weight="balanced", max_iter=5000, random_state=0))
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # ConvergenceWarning on tiny inputs
             if n_pos >= 3 and n_neg >= 3:
