@@ -90,7 +90,10 @@ def test_side_branches_leave_the_towers(n, seed):
     # unchanged); the rocket photo 0.23 -> 0.01 at 640 px (Hough on its Canny edges).
     img, legs = _launch_pad(n, seed)
     out = stylize(img, rng=seed, metaphor="lightning")
-    assert _side_share(out.dendrite, ndimage.binary_dilation(legs, iterations=2)) < 0.25
+    # 0.3, not 0.25: since side branches are cut to STRIKE_SIDE_LENGTH of the channel
+    # (issue 25) there is less side length to share; measured at 256/320/480 x seeds 0/1,
+    # uncut -> cut: 0.17 0.19 0.00 0.00 0.02 0.02 -> 0.26 0.14 0.00 0.00 0.00 0.05
+    assert _side_share(out.dendrite, ndimage.binary_dilation(legs, iterations=2)) < 0.3
 
 
 @pytest.mark.parametrize("seed", [0, 3])

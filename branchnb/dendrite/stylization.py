@@ -48,7 +48,7 @@ from .main_channel import (
     widen_main_path,
     with_channel,
 )
-from .photo_side import side_branches, strike_region
+from .photo_side import _short_sides, side_branches, strike_region
 from .photo_strike import jag_channel, photo_channel, strike_origin
 from .planner import PlanResult, plan
 from .render import Rendering
@@ -644,7 +644,13 @@ class Stylizer:
                 # and they grow downward as the lightning metaphor's do (edges stepping up
                 # or sideways cost more): from the channel's foot they ran along the ground
                 factors = lat.factors if region is None else lat.factors * _SIDE_FACTORS
-                res = channel_plan(self._plan_on(Lattice(w, factors), p, mask), path)
+                res = self._plan_on(Lattice(w, factors), p, mask)
+                if region is not None:
+                    # and they are short beside the channel, as a real bolt's are (beyond
+                    # the paper: forking at the channel's top they ran down beside it)
+                    short = _short_sides(res, ends, path)
+                    ends = short if len(short) else ends
+                res = channel_plan(res, path)
                 ends = np.concatenate([ends, path[-1:].astype(float)])
                 return res, with_channel(build_dendrite(res, ends), path), True
             res = self._plan_on(Lattice(got[0], lat.factors), p, seed)

@@ -399,6 +399,16 @@ STRIKE_MIN_RANK = 0.9
 #: the region, 0.04 / 0.04 with the region and up 2x (0.00 / 0.06 at 6x).
 STRIKE_REGION_ANGLE = 25.0
 STRIKE_REGION_MARGIN = 0.03
+#: And they are as short as a real bolt's (beyond the papers): each is cut back to
+#: ``STRIKE_SIDE_LENGTH`` of the main channel's length (and to the channel's length below
+#: its fork), and a tip more than ``STRIKE_SIDE_ANGLE`` degrees off straight down from its
+#: fork is dropped (:func:`~branchnb.dendrite.photo_side._short_sides`). Forking at the
+#: channel's top they ran down beside it to the ground: side branches as long as the
+#: channel, mean lateral reach 0.06-0.12 of the diagonal against ~0.03 for a bolt (the
+#: procedural storms' side branches are 0.19-0.37 of their trunk, 29-52 degrees off
+#: the vertical). ``python -m branchnb.dendrite._side_spread``.
+STRIKE_SIDE_LENGTH = 0.3
+STRIKE_SIDE_ANGLE = 60.0
 STRIKE_PHOTO_UP = 2.0
 
 #: Factor on the width (above the thinnest) of the side branches of a lightning bolt on a
