@@ -113,6 +113,70 @@ def fern(size=600, rng=0):
     return c.result()
 
 
+def berries(size=600, rng=0):
+    """A curved branch with three tapered leaves and two berries on thin stalks."""
+    c, n, k = _square_canvas(size, 600.0, rng)
+    t = np.linspace(0, 1, 10)
+    branch = np.c_[0.12 * n + 0.76 * n * t, 0.7 * n - 0.25 * n * np.sin(0.5 * np.pi * t)]
+    bark = np.array((0.45, 0.32, 0.2))
+
+    def tex(s, col, period):
+        rip = 0.5 + 0.5 * np.sin(2 * np.pi * s / (period * k) + 2 * c.noise(25 * k, 1.0))
+        return np.asarray(col)[None, None] * (0.85 + 0.25 * rip)[..., None] + c.noise(6 * k, 0.03)[..., None]
+
+    parts = [(branch, 12 * k, -1, 0.6, bark, 9)]
+    for frac, side, length in ((0.25, -1, 0.2), (0.5, 1, 0.22), (0.72, -1, 0.18)):
+        a = _point_at(branch, frac)
+        b = _point_at(branch, frac + 0.02)
+        d = (b - a) / np.hypot(*(b - a))
+        u = rot(side * 0.9) @ d
+        parts.append((np.array([a, a + 0.5 * length * n * u, a + length * n * u]), 16 * k, 0, 0.15,
+                      (0.25, 0.55, 0.2), 14))
+    for frac in (0.38, 0.62):
+        a = _point_at(branch, frac)
+        tip = a + np.array([0.01 * n, 0.14 * n])
+        parts.append((np.array([a, 0.5 * (a + tip) + [0.01 * n, 0], tip]), 3 * k, 0, 1.0, bark, 9))
+    for i, (pts, hw, parent, taper, col, period) in enumerate(parts):
+        sdf, s = c.capsule(pts, hw, taper=taper)
+        c.part(pts, "branch" if i == 0 else f"part {i}", parent, hw, (sdf, tex(s, col, period), 2 if i == 0 else 1))
+    for j, stalk in enumerate((4, 5)):
+        tip = parts[stalk][0][-1]
+        pts = np.array([tip, tip + np.array([0.0, 0.05 * n])])
+        sdf, s = c.capsule(pts, 22 * k)
+        c.part(pts, f"berry {j + 1}", stalk, 22 * k, (sdf, tex(s, (0.7, 0.1, 0.25), 30), 3))
+    return c.result()
+
+
+def stickman(size=600, rng=0):
+    """A stick figure with elbowed arms and knees: torso, head, two arms, two legs."""
+    c, n, k = _square_canvas(size, 600.0, rng)
+    cloth = np.array((0.3, 0.35, 0.7))
+
+    def tex(s, col):
+        st = 0.5 + 0.5 * np.sign(np.sin(2 * np.pi * s / (16 * k)))
+        return np.asarray(col)[None, None] * (0.8 + 0.25 * st)[..., None] + c.noise(8 * k, 0.03)[..., None]
+
+    torso = np.array([(0.5 * n, 0.3 * n), (0.5 * n, 0.45 * n), (0.5 * n, 0.62 * n)])
+    parts = [(torso, 26 * k, -1, cloth)]
+    sh = _point_at(torso, 0.12)
+    for side in (-1, 1):
+        elbow = sh + np.array([side * 0.16 * n, 0.04 * n])
+        parts.append((np.array([sh, elbow, elbow + np.array([side * 0.04 * n, -0.14 * n])]), 11 * k, 0,
+                      (0.85, 0.65, 0.5)))
+    hip = torso[-1]
+    for side in (-1, 1):
+        knee = hip + np.array([side * 0.08 * n, 0.14 * n])
+        parts.append((np.array([hip, knee, knee + np.array([0.0, 0.16 * n])]), 14 * k, 0, (0.25, 0.25, 0.3)))
+    for i, (pts, hw, parent, col) in enumerate(parts):
+        sdf, s = c.capsule(pts, hw)
+        c.part(pts, "torso" if i == 0 else f"limb {i}", parent, hw, (sdf, tex(s, col), 2 if i == 0 else 1))
+    neck = torso[0]
+    pts = np.array([neck, neck + np.array([0.0, -0.12 * n])])
+    sdf, s = c.capsule(pts, 30 * k, taper=1.0)
+    c.part(pts, "head", 0, 30 * k, (sdf, tex(s, (0.85, 0.65, 0.5)), 3))
+    return c.result()
+
+
 I = (np.eye(2), np.zeros(2))
 
 
@@ -170,7 +234,55 @@ def edit_fern(n):
     return obj, src, tgt, exp, tgt[1:]
 
 
-EDITS = {"cactus": edit_cactus, "delta": edit_delta, "fern": edit_fern}
+def edit_berries(n):
+    """The branch bent (its far half raised 0.2 rad about its middle); the leaves and berry
+    stalks carried by strokes, the berries unstroked; leaf 2 copied to the branch's tip half
+    (a new leaf)."""
+    obj = berries(n)
+    br = obj.strokes[0]
+    mid = _point_at(br, 0.5)
+    cum = np.r_[0, np.cumsum(np.hypot(*np.diff(br, axis=0).T))]
+    w = np.clip((cum / cum[-1] - 0.5) / 0.5, 0, 1)[:, None]
+    R = rot(-0.2)
+    bent = (1 - w) * br + w * ((br - mid) @ R.T + mid)
+    src, tgt, exp = [br], [bent], []
+    for kk, frac in zip(range(1, 6), (0.25, 0.5, 0.72, 0.38, 0.62)):
+        st = obj.strokes[kk]
+        # the part keeps its place and angle on the bent branch
+        d0 = _point_at(br, frac + 0.01) - _point_at(br, frac - 0.01)
+        d1 = _point_at(bent, frac + 0.01) - _point_at(bent, frac - 0.01)
+        Rk = rot(np.arctan2(d1[1], d1[0]) - np.arctan2(d0[1], d0[0]))
+        tk = _point_at(bent, frac) - Rk @ _point_at(br, frac)
+        src.append(st)
+        tgt.append(st @ Rk.T + tk)
+        exp.append((kk, Rk, tk))
+    exp += [(6, *exp[3][1:]), (7, *exp[4][1:])]
+    leaf = obj.strokes[2]
+    a = _point_at(bent, 0.85)
+    src.append(leaf)
+    tgt.append(a + (leaf - leaf[0]))
+    return obj, src, tgt, exp, tgt[1:]
+
+
+def edit_stickman(n):
+    """Torso kept; the right arm raised 0.5 rad about the shoulder; the left leg lengthened
+    1.15x; the left arm copied, mirrored, to the hip (a third arm, a new part); the head
+    unstroked."""
+    obj = stickman(n)
+    torso, la, ra, ll, rl = obj.strokes[:5]
+    R = rot(-0.5)
+    ra_t = turn(ra, -0.5, ra[0])
+    ll_t = ll[0] + 1.15 * (ll - ll[0])
+    p = _point_at(torso, 0.8)
+    new = p + (la - la[0]) * [-1, 1]
+    src = [torso, la, ra, ll, rl, la]
+    tgt = [torso, la, ra_t, ll_t, rl, new]
+    exp = [(0, *I), (1, *I), (4, *I), (5, *I), (2, R, ra[0] - R @ ra[0])]
+    return obj, src, tgt, exp, tgt[1:]
+
+
+EDITS = {"cactus": edit_cactus, "delta": edit_delta, "fern": edit_fern, "berries": edit_berries,
+         "stickman": edit_stickman}
 
 if __name__ == "__main__":
     from branchnb.core.image import composite_over

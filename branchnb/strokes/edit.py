@@ -409,6 +409,11 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
     source (a bent arm copied to the other side of its trunk, drawn as its
     mirror image; both turning by over 0.5 rad) is drawn with mirror-image
     patches -- rotated ones would put the outer side of the elbow inside.
+    Where a target stroke is not its source moved rigidly (lengthened,
+    bent), a patch's pixels reached across a bend of the source stroke (the
+    upright of an L-shaped arm seen from its horizontal leg) are kept only
+    where they land about as far from the target stroke as they lay from
+    the source stroke; a lengthened arm got a staircase of stale uprights.
 
     Raises
     ------

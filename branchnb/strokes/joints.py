@@ -26,6 +26,9 @@ from .parts import rigid_frame
 
 __all__ = ["joint_disks", "joint_roots", "hold_joint_bodies", "close_hairlines"]
 
+#: A child's root tube is at most this many times the child's median half width (see :func:`joint_roots`).
+_ROOT_WIDTH = 1.25
+
 
 def _straight(premult: np.ndarray) -> np.ndarray:
     out = premult.copy()
@@ -133,7 +136,13 @@ def joint_roots(index, attached, junctions, window: float) -> list[tuple]:
         s_exit = float(s_c[away[0]])
         sign = 1.0 if jn.end == 0 else -1.0
         probe = np.clip(s_exit + sign * np.array([1.0, 2.0, 3.0]), 0.0, child.length)
-        hw = float(index.edge_width(jn.child, probe).min()) - 1.0
+        hw = float(index.edge_width(jn.child, probe).min())
+        # at most a little over the child's typical width: where siblings leave one point (a
+        # delta's channels) the silhouette across a child's root spans its neighbours, and a
+        # root tube that wide filled the V between a turned channel and the next with the
+        # neighbour's old root (a sawtooth of stale flesh)
+        typical = float(np.median(index.edge_width(jn.child, np.linspace(0.0, child.length, 33))))
+        hw = min(hw, _ROOT_WIDTH * typical) - 1.0
         if hw < 1.5:
             continue
         s_exit_t = float(np.interp(s_exit, pair.control[:, 0], pair.control[:, 1]))

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 
+import cv2
 import numpy as np
 from scipy import ndimage as ndi
 from scipy.spatial import cKDTree
@@ -66,6 +67,8 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
     e_total = e_pair = 0.0
     source_region = np.zeros(index.shape, bool)
     inside_cache: dict = {}
+    across = {cand.index: _AcrossCheck(index, cand.index, attached[cand.index], cand.radii, target_shape)
+              for cand in patches._strokes if not _rigid(attached[cand.index])}
     for cand in patches._strokes:
         i, smp, radii, fetched, offs = cand.index, cand.samples, cand.radii, cand.fetched, cand.offsets
         pair = attached[i]
@@ -102,7 +105,11 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
                                   f.valid.shape[1], window=window)
                     fs = fs | _inside_parent(index, attached, jn, f.origin, f.valid.shape[1], inside_cache)
                     keep = fs if keep is None else keep | fs
-            placed.append(PlacedPatch(f.pixels[k], f.valid[k], f.origin, pin_core, keep,
+            valid = f.valid[k]
+            if i in across:
+                valid = valid & across[i](f.origin, valid.shape[0], _patch_map(f, k), f.source_points[k],
+                                          float(f.source_angles[k]), float(f.source_s[k]))
+            placed.append(PlacedPatch(f.pixels[k], valid, f.origin, pin_core, keep,
                                       _patch_map(f, k), grow=not pin_core, stroke=i))
             rows, cols = f.source_pixels(k, index.shape)
             source_region[rows, cols] = True
@@ -243,6 +250,96 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
         layer=layer, labels=comp.labels, samples=samples, pairs=attached, junctions=junctions,
         radius=patches.radius, source_region=source_region & index.object,
         params=dataclasses.replace(params), auto=dict(patches._auto))
+
+
+#: A patch pixel lands at most this share of the patch radius (and 2 px) farther from or nearer
+#: to its target stroke than its source pixel lies from the source stroke (see :class:`_AcrossCheck`).
+_ACROSS_TOL = 0.06
+#: ... judged only where its source stroke's nearest point lies more than this share of the
+#: patch radius farther along (or back) than the pixel's own offset along the patch.
+_BEND_TOL = 0.25
+
+
+def _rigid(pair, tol: float = 1.0) -> bool:
+    """Whether ``pair``'s target is its source moved rigidly (or mirrored), within ``tol`` px:
+    points at matching arc lengths fitted by one rotation (or reflection) and translation."""
+    s_s = np.linspace(0.0, pair.source.length, 33)
+    a = pair.source.point_at(s_s)
+    b = pair.target.point_at(np.interp(s_s, pair.control[:, 0], pair.control[:, 1]))
+    a, b = a - a.mean(axis=0), b - b.mean(axis=0)
+    u, _, vt = np.linalg.svd(a.T @ b)
+    for flip in (1.0, -1.0):
+        d = np.diag([1.0, flip * np.sign(np.linalg.det(u @ vt)) or 1.0])
+        rot = u @ d @ vt
+        if np.sqrt(np.mean(np.sum((a @ rot - b) ** 2, axis=1))) <= tol:
+            return True
+    return False
+
+
+class _AcrossCheck:
+    """``(origin, size, map) -> (size, size) bool``: the patch pixels that land about as far
+    from the target stroke as their source pixels lie from the source stroke.
+
+    A patch copies a rigid square of the source. Where the target stroke is not the
+    source moved rigidly (lengthened, bent), pixels far along the patch that belong to
+    another leg of the source stroke (the upright of an L-shaped arm seen from a patch on
+    its horizontal leg) land beside the target's leg instead of on it: a lengthened
+    cactus arm got a staircase of stale uprights on its inner side, each patch's a little
+    farther out. Such a pixel lands much farther from (or nearer to) the target stroke than
+    its source lies from the source stroke; the along-stroke error of a stretch moves
+    pixels along the tube and is kept. Pixels off the source stroke's own tube (beyond
+    twice the patch radius) are not judged. Beyond the paper (its patches are rigid
+    copies, its strokes short).
+    """
+
+    def __init__(self, index, stroke: int, pair, radii, shape):
+        self.tol = max(2.0, _ACROSS_TOL * float(np.median(radii)))
+        self.bend = _BEND_TOL * float(np.median(radii))
+        self.s_map = index.s_map[stroke]
+        self.length = float(index.strokes[stroke].length)
+        reach = 2.0 * float(np.max(radii)) + 2.0
+
+        def dist(stroke, shp):
+            # distance to the stroke's polyline on a box round it (+ reach), as a full-size map
+            h, w = shp
+            lo = np.floor(stroke.points.min(axis=0) - reach).astype(int)
+            hi = np.ceil(stroke.points.max(axis=0) + reach).astype(int) + 1
+            x0, y0 = max(lo[0], 0), max(lo[1], 0)
+            x1, y1 = min(hi[0], w), min(hi[1], h)
+            out = np.full((h, w), np.inf, np.float32)
+            if x0 >= x1 or y0 >= y1:
+                return out
+            canvas = np.full((y1 - y0, x1 - x0), 255, np.uint8)
+            # (8 sub-pixel bits: the polyline is drawn to 1/256 px)
+            line = np.rint((stroke.points - (x0, y0)) * 256.0).astype(np.int32)
+            cv2.polylines(canvas, [line.reshape(-1, 1, 2)], False, 0, 1, cv2.LINE_8, 8)
+            d = cv2.distanceTransform(canvas, cv2.DIST_L2, cv2.DIST_MASK_PRECISE)
+            d[d > reach] = np.inf
+            out[y0:y1, x0:x1] = d
+            return out
+
+        self.src = dist(pair.source, index.shape)
+        self.tgt = dist(pair.target, shape)
+
+    def __call__(self, origin, size: int, m: np.ndarray, centre, angle: float, s0: float) -> np.ndarray:
+        x0, y0 = int(origin[0]), int(origin[1])
+        yy, xx = np.mgrid[y0:y0 + size, x0:x0 + size]
+        fx = m[0, 0] * xx + m[0, 1] * yy + m[0, 2]
+        fy = m[1, 0] * xx + m[1, 1] * yy + m[1, 2]
+        hs, ws = self.src.shape
+        sx = np.clip(np.rint(fx).astype(np.intp), 0, ws - 1)
+        sy = np.clip(np.rint(fy).astype(np.intp), 0, hs - 1)
+        # only pixels reached across a bend of the source stroke: their nearest stroke point
+        # lies much farther along (or back) than their offset along the patch's own axis
+        along = (fx - centre[0]) * np.cos(angle) + (fy - centre[1]) * np.sin(angle)
+        # (not beyond the stroke's ends, where the nearest point is the end itself: a tip)
+        sig = self.s_map[sy, sx]
+        bent = (np.abs(sig - s0 - along) > self.bend) & (sig > 0.5) & (sig < self.length - 0.5)
+        ds = self.src[sy, sx]
+        ht, wt = self.tgt.shape
+        dt = self.tgt[np.clip(yy, 0, ht - 1), np.clip(xx, 0, wt - 1)]
+        judged = bent & np.isfinite(ds) & np.isfinite(dt)
+        return ~judged | (np.abs(dt - ds) <= self.tol)
 
 
 #: Parents with at most this many segments are measured exactly in :func:`_inside_points`.
