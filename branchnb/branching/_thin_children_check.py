@@ -1,13 +1,16 @@
-"""Issue-23 figures on masks with thick trunks and many thin children (branching48).
+"""Issue-23 figures on masks with thick trunks and many thin children (branching48, branching52).
 
 ``python -m branchnb.branching._thin_children_check [SEEDS] [KINDS] [PNG_DIR]`` (e.g. ``0,1,2
-comb,partial,crack,vessel,river``; ``crack``, ``vessel`` and ``river`` are
-:func:`._thin_mask_check.thin_mask_example`'s binary masks) runs each kind at sizes 200-600 px through the default workflow
-(``extract_structure``, ``fit_model(ex, domain=example_domain(img, ex))``, ``synthesize_structure``, ``synthesize_image``) and prints, per case
-and per kind (output over example): branch count ratio ``nb``, length ratio ``len``, share of the length at
-radius <= 1 px ``thin`` and >= 2 px ``thick`` (example -> output), L1 distance of the length-weighted radius histograms ``hd``
-(0 = equal, 2 = disjoint) and the share of the output's length farther than 8 % of the frame's short side
-from every example line ``out`` (``out15``: 15 %; the part of the frame the example leaves empty).
+comb,partial,crack,vessel,river,roots``; ``crack``, ``vessel`` and ``river`` are
+:func:`._thin_mask_check.thin_mask_example`'s binary masks, ``roots`` :func:`roots_drawing`) runs each kind
+at sizes 200-600 px through the default workflow (``extract_structure``, ``fit_model(ex,
+domain=example_domain(img, ex))``, ``synthesize_structure``) and prints, per case and per kind (output
+over example): branch count ratio ``nb``, length ratio ``len``, share of the length at radius <= 1 px
+``thin`` and >= 2 px ``thick`` and at or above the example's length-weighted 90th-percentile radius
+``top`` (example -> output), L1 distance of the length-weighted radius histograms ``hd`` (0 = equal,
+2 = disjoint) and the share of the output's length farther than 8 % of the frame's short side from
+every example line ``out`` (``out15``: 15 %; the part of the frame the example leaves empty).
+PNG_DIR: per case the example and the output structure drawn at its radii.
 """
 # ruff: noqa: E501, E702
 from __future__ import annotations
