@@ -230,7 +230,7 @@ def unseen_leaf(kind: str, size: int = 400, seed: int = 0) -> UnseenLeaf:
     blade_cov = np.zeros(shape, np.float32)
     cv2.fillPoly(blade_cov, [np.round(px(outline) * 16).astype(np.int32)], 1.0, cv2.LINE_AA, shift=4)
     blade_cov = np.clip(blade_cov, 0, 1)
-    pet = np.array([[0.0, 0.02], [0.01 * r.normal(), pet_len]])
+    pet = np.array([[0.0, -0.03], [0.01 * r.normal(), pet_len]])
     pet_cov, _ = coverage_polylines(shape, [px(pet)], [max(0.012 * length, 2.0)])
     lam = blade_cov > 0.5
     vlines = [px(v) for v in veins]
