@@ -76,7 +76,7 @@ def _willow(r):
     mid = np.stack([bend * t ** 2, -t], 1)
     veins, widths = [mid], [np.linspace(0.011, 0.003, 60)]
     pairs = int(r.integers(11, 16))
-    for k, tb in enumerate(np.linspace(0.07, 0.86, pairs)):
+    for tb in np.linspace(0.07, 0.86, pairs):
         for side in (-1, 1):
             tb2 = float(np.clip(tb + (0.02 if side > 0 else 0.0) + r.normal(0, 0.008), 0.03, 0.9))
             x0 = bend * tb2 ** 2

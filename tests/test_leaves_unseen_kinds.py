@@ -1,0 +1,50 @@
+"""Leaf kinds the package had never seen (issue 22): willow, cordate, deeply lobed oak, clip art.
+
+Each test rebuilds a failure found running the whole workflow with the
+defaults on :mod:`branchnb.leaves._unseen_kinds` (``python -m
+branchnb.leaves._measure_unseen``).
+"""
+
+import numpy as np
+import pytest
+
+from branchnb.leaves import split_petiole
+from branchnb.leaves._unseen_kinds import unseen_leaf
+
+
+def _bottom(blade):
+    return np.nonzero(blade)[0].max()
+
+
+@pytest.mark.parametrize("kind,size", [("willow", 240), ("willow", 480), ("cordate", 300), ("cordate", 640)])
+@pytest.mark.parametrize("seed", [0, 1])
+def test_a_drawn_out_tip_is_no_petiole(kind, size, seed):
+    """The base is where the petiole (at the bottom) meets the lamina, not the acuminate tip.
+
+    Before, the thin part that was largest was the petiole: a willow's
+    tapering tip (160-760 px) outweighed its 4-8 px stalk, so no base was
+    found (None), and a cordate leaf's tip was taken as the petiole (base
+    at the top, y 42-91 of 275-592).
+    """
+    leaf = unseen_leaf(kind, size, seed)
+    lam, pet, base = split_petiole(leaf.blade)
+    assert base is not None
+    length = _bottom(leaf.blade) - np.nonzero(leaf.blade)[0].min()
+    # the petiole hangs below the base: the base lies in the lowest quarter of the leaf
+    assert base[1] > _bottom(leaf.blade) - 0.25 * length
+    assert pet.any() and np.nonzero(pet)[0].mean() > base[1] - 2
+
+
+def test_a_blade_with_a_stalk_and_a_long_tip():
+    """An ellipse drawn out into a long tapering tip, with an even 3 px stalk: the stalk is the petiole.
+
+    Before, the tip (larger) was taken for the petiole.
+    """
+    yy, xx = np.mgrid[:170, :120]
+    blade = ((xx - 60) / 30.0) ** 2 + ((yy - 80) / 50.0) ** 2 < 1
+    blade |= (np.abs(xx - 60) < 0.2 * yy) & (yy < 40)
+    assert split_petiole(blade)[2] is None or split_petiole(blade)[2][1] < 60  # the tip alone: a thin part
+    blade[125:160, 59:62] = True
+    lam, pet, base = split_petiole(blade)
+    assert base is not None and base[1] > 120
+    assert pet[150, 60] and not pet[10, 60]
