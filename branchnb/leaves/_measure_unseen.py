@@ -12,6 +12,7 @@ does, and prints one row:
   (drop and soft shadows taken as leaf lower it);
 * ``iou``: induced vein IoU with the true veins per exemplar (the
   training leaf's grown layer first);
+* ``spots``: the same for the spots (kinds with spots);
 * ``bg_rel`` / ``own_rel``: one vein system
   (:func:`branchnb.leaves._measure.vein_system_scores` with the plain
   renderings): ridge response at the background's true veins in the new
@@ -95,6 +96,7 @@ def run(kind: str, size: int, seed: int, n: int = 4, n_new: int = 6, save: str |
     plain = [_on_canvas(x.plain, o, shape, m) for x, o, m in zip(leaves, a.offsets, a.mirrored)]
     L = a.layer("veins")
     ious = [iou(L.masks[e], veins[e]) for e in range(n)]
+    spot_iou = [iou(a.layer("spots").masks[e], spots[e]) for e in range(n)] if leaves[0].spots.any() else []
     t0 = time.process_time()
     row = synthesis_row(a, n_new, truth=veins, name=f"{kind}_{size}_{seed}",
                         save=f"{save}/{kind}_{size}_{seed}_new.png" if save else None)
@@ -103,7 +105,7 @@ def run(kind: str, size: int, seed: int, n: int = 4, n_new: int = 6, save: str |
                             seeds=[100 * seed + k for k in range(3)], plain=plain)
     if save:
         _sheet(a, veins, f"{save}/{kind}_{size}_{seed}_induced.png")
-    return dict(name=f"{kind}_{size}_{seed}", blade=blade_iou, iou=ious, lam=L.lam,
+    return dict(name=f"{kind}_{size}_{seed}", blade=blade_iou, iou=ious, spot_iou=spot_iou, lam=L.lam,
                 bg_rel=float(np.nanmean([v["bg_rel"] for v in vs])),
                 own_rel=float(np.nanmean([v["own_rel"] for v in vs])),
                 sharp=row["sharp"], iou_new=row["iou_new"], iou_ex=row["iou_ex"], pet_dev=row["pet_dev"],
@@ -130,6 +132,7 @@ def _sheet(a, veins, path):
 
 def _print(r):
     print(f"{r['name']:<16} blade {r['blade']:.2f}  vein IoU {' '.join(f'{v:.2f}' for v in r['iou'])}  "
+          f"{'spots ' + ' '.join(f'{v:.2f}' for v in r['spot_iou']) + '  ' if r['spot_iou'] else ''}"
           f"lam {r['lam']:.3f}  bg_rel {r['bg_rel']:.2f} own_rel {r['own_rel']:.2f}  sharp {r['sharp']:.2f}  "
           f"iou new {r['iou_new']:.2f} ex {r['iou_ex']:.2f}  pet_dev {r['pet_dev']:.1f} cut {r['cut']:.2f}  "
           f"analysis {r['t_an']:.1f} s, {r['t_gen']:.2f} s/leaf", flush=True)
