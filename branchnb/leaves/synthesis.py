@@ -109,7 +109,11 @@ A new leaf is built in the training leaf's frame, then given a new shape:
    outside 33-38 % -> 0 %; ridge response at the background's own moved
    veins (0 plain blade, 1 a pasted vein) 0.04-0.40 -> 0.00; Laplacian
    variance 5 px inside the outline 0.44-0.55 -> 1.12-1.20 of the
-   exemplars'. Photographs are untouched (same pixels).
+   exemplars'. Photographs are untouched (same pixels). The new outline
+   runs along the lamina only: the pasted petiole keeps its exemplar's own
+   colours, inked or not (a clip-art leaf's fill-coloured 2 px petiole,
+   outlined with the blade, came out solid ink: share of petiole pixels
+   of ink colour 0.97-1.00 against 0.00-0.12 in the exemplars).
 
 The steps live in their own modules: :mod:`branchnb.leaves.shaping` (random
 warps, shape weights, map composition and resampling),
@@ -606,16 +610,24 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
     rgb = rgb * (1 - cover[..., None]) + layer_rgb * cover[..., None]
     alpha = np.clip(alpha, 0, 1)
     pet_from = -1
+    pet_own = None
     if pet is not None:
         # Attached at the new leaf's base, under the lamina.
         pet_from = pet_j
         ap = np.clip(pet[..., 3], 0, 1)
+        pet_own = ap * (1 - alpha) > 0.5
         out_a = alpha + ap * (1 - alpha)
         rgb = (rgb * alpha[..., None] + pet[..., :3] * (ap * (1 - alpha))[..., None]) / np.maximum(
             out_a, 1e-6)[..., None]
         alpha = out_a
     if p.flat is not None:
         rgb, alpha = _ink_outline(rgb, alpha, p.flat)
+        if pet_own is not None and pet_own.any():
+            # The petiole is an exemplar's own, drawn as it was (inked or
+            # not); the new outline is the lamina's. Outlined along its
+            # boundary too, a clip-art leaf's 2 px fill-coloured petiole came
+            # out solid ink on every new leaf.
+            rgb[pet_own] = pet[..., :3][pet_own]
     img = np.dstack([np.clip(rgb, 0, 1) * (alpha[..., None] > 0), alpha]).astype(np.float32)
     inside = alpha > 0.5
     sw = [float(wts[i][inside].mean()) if inside.any() else float(wts[i].mean()) for i in range(n)]
