@@ -48,3 +48,28 @@ def test_a_blade_with_a_stalk_and_a_long_tip():
     lam, pet, base = split_petiole(blade)
     assert base is not None and base[1] > 120
     assert pet[150, 60] and not pet[10, 60]
+
+
+def test_a_clip_art_petiole_keeps_its_own_colours():
+    """New clip-art leaves keep the exemplars' fill-coloured petiole; the new ink outline is the lamina's.
+
+    Before, the outline was drawn along the whole new blade, and a 2-3 px
+    petiole came out solid ink (share of petiole pixels nearer the ink
+    than the fill 0.56-1.00 on new leaves, 0.00 on the exemplars).
+    """
+    from scipy import ndimage as ndi
+
+    from branchnb.leaves import analyze, generate, leaf_exemplar
+    from branchnb.leaves._measure_unseen import user_scribbles
+
+    ink, fill = np.array((0.10, 0.22, 0.08)), np.array((0.42, 0.70, 0.28))
+    leaves = [unseen_leaf("clipart", 300, k) for k in range(3)]
+    a = analyze([leaf_exemplar(x.image) for x in leaves], 0, user_scribbles(leaves[0]))
+    shares = []
+    for leaf in generate(a, 2, rng=0):
+        lam, pet, base = split_petiole(leaf.blade)
+        pet &= ~ndi.binary_dilation(lam, iterations=3)
+        assert pet.sum() >= 5
+        px = leaf.image[..., :3][pet]
+        shares.append(float((np.linalg.norm(px - ink, axis=1) < np.linalg.norm(px - fill, axis=1)).mean()))
+    assert max(shares) < 0.2, shares

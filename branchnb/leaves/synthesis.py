@@ -113,7 +113,8 @@ A new leaf is built in the training leaf's frame, then given a new shape:
    runs along the lamina only: the pasted petiole keeps its exemplar's own
    colours, inked or not (a clip-art leaf's fill-coloured 2 px petiole,
    outlined with the blade, came out solid ink: share of petiole pixels
-   of ink colour 0.97-1.00 against 0.00-0.12 in the exemplars).
+   nearer the ink than the fill 0.56-1.00 -> 0.00, exemplars 0.00;
+   procedural clip-art leaves of 300 and 480 px, 2 seeds, 4 new leaves).
 
 The steps live in their own modules: :mod:`branchnb.leaves.shaping` (random
 warps, shape weights, map composition and resampling),
