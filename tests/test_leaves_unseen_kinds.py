@@ -38,16 +38,15 @@ def test_a_drawn_out_tip_is_no_petiole(kind, size, seed):
 def test_a_blade_with_a_stalk_and_a_long_tip():
     """An ellipse drawn out into a long tapering tip, with an even 3 px stalk: the stalk is the petiole.
 
-    Before, the tip (larger) was taken for the petiole.
+    Before, neither thin part was twice as large as the other: no petiole, no base.
     """
-    yy, xx = np.mgrid[:170, :120]
-    blade = ((xx - 60) / 30.0) ** 2 + ((yy - 80) / 50.0) ** 2 < 1
-    blade |= (np.abs(xx - 60) < 0.2 * yy) & (yy < 40)
-    assert split_petiole(blade)[2] is None or split_petiole(blade)[2][1] < 60  # the tip alone: a thin part
-    blade[125:160, 59:62] = True
+    yy, xx = np.mgrid[:340, :240]
+    blade = ((xx - 120) / 60.0) ** 2 + ((yy - 160) / 100.0) ** 2 < 1
+    blade |= (np.abs(xx - 120) < 0.2 * yy) & (yy < 80)
+    blade[250:320, 119:122] = True
     lam, pet, base = split_petiole(blade)
-    assert base is not None and base[1] > 120
-    assert pet[150, 60] and not pet[10, 60]
+    assert base is not None and base[1] > 240
+    assert pet[300, 120] and not pet[20, 120]
 
 
 def test_a_clip_art_petiole_keeps_its_own_colours():
