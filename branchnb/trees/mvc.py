@@ -341,7 +341,11 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
         dark strokes are sampled as ink coverage over each target pixel's
         warped footprint, not bilinearly (see ``_sample_strokes``): 1 px
         tier lines and clump arcs stay unbroken at small sizes, and fills
-        keep their flat colour next to them.
+        keep their flat colour next to them. Where the warp stretches a
+        source by more than 1.1 (:data:`STRETCH_START`), each pixel is its
+        ink over its pure fill colour, anti-aliased at the target's
+        resolution, not a stretched blend of both (no smear); a warp that
+        does not stretch keeps every fill pixel as drawn.
     region_scale : float
         ``"choose"``: size of the regions, as a share of the image side.
     seam : float
