@@ -158,7 +158,13 @@ end, ``keep_level`` 0.15, raises the mean to 0.74 but drops 06 -> 07 0.67 -> 0.5
 proportion, power 1 / 0.5 / 0 (relative floor off): mean 0.701 / 0.713 over the 42 pairs; with
 training maples 01, 02, 03, 06 alone 0.723 / 0.741 / 0.743 (power 0.5 keeps the procedural families'
 widths, which do scale with the leaf, within 12 %). Relative floor
-0.75: mean 0.722, 01 -> 02 0.83 -> 0.73. Procedural families: see ``_measure snapping`` (below).
+0.75: mean 0.722, 01 -> 02 0.83 -> 0.73. Procedural families (``_measure snapping --seeds 3``, min /
+mean per kind and size, before -> after): lobed 192 0.74/0.82 -> 0.75/0.82, 384 0.77/0.85 ->
+0.75/0.85; trilobed 192 0.71/0.80 -> 0.70/0.80, 384 0.74/0.84 -> 0.73/0.83; elliptic 192 0.73/0.81 ->
+0.73/0.81, 384 0.72/0.84 -> 0.71/0.83 (the widths alone: 384 px unchanged; the small losses are the
+relative floor's, which drops a few faint procedural paths too). Tried: the floor only on paths of
+0.3 leaf sizes or more (384 px: elliptic min 0.70), or only below a mean evidence of 0.35 (elliptic
+384 min 0.69, maples mean 0.721).
 
 **Centred widths** (``return_centred``, :func:`~branchnb.leaves.snapping_width.vein_centre`,
 :func:`~branchnb.leaves.snapping_width._grow_to_width`): a path grown evenly to the training branch's
