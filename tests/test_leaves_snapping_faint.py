@@ -40,8 +40,7 @@ def _lab(veins, blade, seed, texture=1.0):
 
 
 def test_a_path_far_fainter_than_the_others_is_dropped(monkeypatch):
-    # Off by default (it tips the non-structural warning of tests/test_leaves_drawn.py): the proposed value.
-    monkeypatch.setattr(snapping, "RELATIVE_EVIDENCE", 0.65)
+    monkeypatch.setattr(snapping, "RELATIVE_EVIDENCE", 0.65)   # the default, pinned
     # Four veins of full evidence and one carried branch over texture (evidence 0.3-0.45).
     rng = np.random.default_rng(0)
     ev = np.zeros((60, 120), np.float32)
@@ -60,7 +59,7 @@ def test_a_path_far_fainter_than_the_others_is_dropped(monkeypatch):
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_veins_of_a_larger_leaf_keep_about_their_width(seed, monkeypatch):
-    monkeypatch.setattr(snapping, "WIDTH_POWER", 0.5)   # off by default, see snapping.WIDTH_POWER
+    monkeypatch.setattr(snapping, "WIDTH_POWER", 0.5)   # the default, pinned
     # The same 3 px veins on a leaf 1.4 times the training leaf's size (hand-traced sample maples:
     # every vein 3 px wide whatever the leaf's size). Drawn at 1.4 x 3 px they covered a pixel
     # beside the vein along its whole length.

@@ -144,7 +144,7 @@ veins: 0.68 0.68 0.69 0.59 0.66 0.61 0.58; with the old tracings 0.66 0.67
 stays under 0.6: its own tracing stops where its lobe is damaged.
 
 **Faint paths and widths on larger leaves** (issue 22, ``_measure maples``, 42 pairs; measured with
-``RELATIVE_EVIDENCE`` 0.65 and ``WIDTH_POWER`` 0.5, both OFF by default for now, see :data:`WIDTH_POWER`). A path far
+``RELATIVE_EVIDENCE`` 0.65 and ``WIDTH_POWER`` 0.5, the defaults). A path far
 fainter than the other paths of its leaf (:data:`RELATIVE_EVIDENCE`) is dropped: training maple 05's
 steep right lateral, carried between maple 07's midrib and its own lateral, followed blade texture
 (mean fine evidence 0.28 against 0.41-0.52 of the real veins). Branch widths scale by the square
@@ -789,16 +789,16 @@ HOLE_RIM = 2
 HOLE_SHARE = 0.1
 
 
-#: Power of the leaf-size ratio the snapped branches' widths scale by (1: in proportion). 0.5 measured
-#: best on the maples (module notes) but left at 1: it, like RELATIVE_EVIDENCE 0.65, stops the
-#: non-structural warning for a vein layer on a plain gradient drawing
-#: (tests/test_leaves_drawn.py::test_outline_of_a_gradient_drawing_stays_out_of_new_blades), found at
-#: the deadline; to be resolved before switching them on.
-WIDTH_POWER = 1.0
+#: Power of the leaf-size ratio the snapped branches' widths scale by (1: in proportion); 0.5 measured
+#: best on the maples (module notes). Switched on with RELATIVE_EVIDENCE once the non-structural warning
+#: no longer read a layer's ink-outline stretches and spots (either rule alone had lifted a vein layer on
+#: a gradient drawing without veins over :data:`~branchnb.leaves.structural.MIN_STANDOUT`:
+#: :func:`~branchnb.leaves.structural.layer_standout`).
+WIDTH_POWER = 0.5
 
 #: A snapped path whose mean fine ridge evidence is below this share of the median over the paths of
 #: one :func:`snap_layer` call (at least RELATIVE_MIN of them) is dropped (0: off).
-RELATIVE_EVIDENCE = 0.0
+RELATIVE_EVIDENCE = 0.65
 
 RELATIVE_MIN = 4
 
