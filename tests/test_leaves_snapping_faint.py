@@ -76,3 +76,24 @@ def test_veins_of_a_larger_leaf_keep_about_their_width(seed, monkeypatch):
     assert recall > 0.85
     assert precision > 0.8
     assert iou(got, truth) > 0.75
+
+
+def test_a_path_touching_the_outline_between_deep_stretches_is_cut(monkeypatch):
+    # OUTLINE_TOUCH is off by default (measured on the maples only): the rule itself, switched on.
+    monkeypatch.setattr(snapping, "OUTLINE_TOUCH", 2.0)
+    # A body and a lobe joined by a 3 px neck (a torn notch); the carried branch runs on through it.
+    blade = np.zeros((60, 140), bool)
+    blade[10:50, 5:70] = True
+    blade[28:31, 70:80] = True
+    blade[15:45, 80:135] = True
+    ev = np.zeros(blade.shape, np.float32)
+    ev[29, 8:130] = 1.0
+    chain = np.column_stack([np.arange(8, 130), np.full(122, 29)])
+    m, _ = snap_layer(ev, blade, [chain], [1.0], 2.0)
+    assert m[29, 10:68].all() and not m[:, 72:].any()
+    # A vein from the base to the margin (touching it only at its ends) is kept whole.
+    m2, _ = snap_layer(ev[:, :70], blade[:, :70], [chain[chain[:, 0] < 69]], [1.0], 2.0)
+    assert m2[29, 8:69].sum() >= 58
+    monkeypatch.setattr(snapping, "OUTLINE_TOUCH", 0.0)
+    m3, _ = snap_layer(ev, blade, [chain], [1.0], 2.0)
+    assert m3[29, 85:125].all()
