@@ -61,6 +61,7 @@ from .analysis_normalise import (  # noqa: F401
 from .induction import (
     ColourSpace,
     InductionParams,
+    layer_width,
     scaled_lengths,
 )
 from .layers import LayerSet, SnapParams, TrainingLayers, grow_layers
@@ -578,7 +579,11 @@ def _with_standout(analysis: LeafAnalysis) -> LeafAnalysis:
             share_t = float(x.masks[t].sum()) / max(float(blades[t].sum()), 1.0)
             # An exemplar on which the layer covers under MIN_FOUND of the training leaf's share was not
             # found there (its few pixels may sit on a spot: a vein layer on plain blade went 0.1 -> 1.0).
+            # Measured off the outline band as wide as the layer (as induction leaves it out of thin
+            # layers, :func:`~branchnb.leaves.analysis_outline._outline_band`): an edge is no vein.
+            margin = max(2.0, float(np.ceil(layer_width(x.masks[t])))) if x.masks[t].any() else 2.0
             standout = [0.0 if e != t and float(m.sum()) < MIN_FOUND * share_t * float(blades[e].sum())
-                        else layer_standout(residual[e], blades[e], m) for e, m in enumerate(x.masks)]
+                        else layer_standout(residual[e], blades[e], m, margin=margin)
+                        for e, m in enumerate(x.masks)]
         layers.append(dataclasses.replace(x, standout=standout))
     return dataclasses.replace(analysis, layers=layers)
