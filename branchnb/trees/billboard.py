@@ -667,7 +667,7 @@ def _billboard_cloud(rgba, trunk, params, *, rng, slivers: bool = False) -> Bill
         if cut is not None:
             x0, y0, tex = cut
             add(x0, y0, tex, 0.0, 1.0, TRUNK_LAYER)
-    if _STAR_ONE and regions and n_crown and _fan_crown(crown) and silhouette_outline(work).outlined:
+    if _STAR_ONE and regions and n_crown and _fan_crown(crown, lines, opaque) and silhouette_outline(work).outlined:
         # A palm's crown (a star of fronds meeting at the hub) as one billboard turning about
         # the trunk's top: see :func:`_one_star`.
         top = next((pv for pc, pv in pieces[1:] if pc.any() and pv is not None), None)
