@@ -1,0 +1,164 @@
+"""Issue-23 figures on masks with thick trunks and many thin children (branching48).
+
+``python -m branchnb.branching._thin_children_check [SEEDS] [KINDS] [PNG_DIR]`` (e.g. ``0,1,2
+comb,partial,crack,vessel,river``; ``crack``, ``vessel`` and ``river`` are
+:func:`._thin_mask_check.thin_mask_example`'s binary masks) runs each kind at sizes 200-600 px through the default workflow
+(``extract_structure``, ``fit_model(ex, domain=example_domain(img, ex))``, ``synthesize_structure``, ``synthesize_image``) and prints, per case
+and per kind (output over example): branch count ratio ``nb``, length ratio ``len``, share of the length at
+radius <= 1 px ``thin`` (example -> output), L1 distance of the length-weighted radius histograms ``hd``
+(0 = equal, 2 = disjoint) and the share of the output's length farther than 8 % of the frame's short side
+from every example line ``out`` (``out15``: 15 %; the part of the frame the example leaves empty).
+"""
+# ruff: noqa: E501, E702
+from __future__ import annotations
+
+import os
+import sys
+
+import cv2
+import numpy as np
+from scipy import ndimage as ndi
+
+KINDS = ("comb", "partial", "crack", "vessel", "river")
+SIZES = (200, 300, 380, 450, 600)
+R_EDGES = np.array([0.0, 1.0, 1.5, 2.0, 3.0, 1e9])
+
+
+def comb_mask(width: int, seed: int, *, partial: bool = False) -> np.ndarray:
+    """A random-walk crack mask ``2 width / 3`` x ``width`` (H, W) float32 in {0, 1} (1 = line).
+
+    A few thick trunks (3-4 px) wander across the frame; many 1-px side cracks (and a few 2-px ones, with
+    their own 1-px side cracks) leave them every few steps. ``partial``: the network lives in the lower
+    ~55 % of the frame and the upper part is empty (the unseen finding).
+    """
+    rng = np.random.default_rng(1000 + seed * 13 + (7 if partial else 0))
+    H, W = int(width * 2 / 3), int(width)
+    m = np.zeros((H, W), np.uint8)
+    step = 5.0 * W / 380
+    top = 0.45 * H if partial else 0.0
+
+    def walk(p, a, n, wd, depth):
+        pts = [p.copy()]
+        for i in range(n):
+            a += rng.normal(0, 0.15)
+            q = p + step * np.array([np.cos(a), np.sin(a)])
+            if q[1] < top + 3 or q[1] > H - 3:       # off the empty part and the frame: turn back
+                a = -a; q = p + step * np.array([np.cos(a), np.sin(a)])
+            if not (1 < q[0] < W - 2 and 1 < q[1] < H - 2):
+                break
+            p = q; pts.append(p.copy())
+            if depth < 2 and i > 1 and rng.random() < (0.2 if wd >= 3 else 0.2):
+                cw = 2 if (wd >= 3 and rng.random() < 0.2) else 1
+                ln = int(rng.integers(4, 12)) if cw == 1 else int(rng.integers(12, 25))
+                walk(p.copy(), a + rng.choice([-1, 1]) * rng.uniform(0.6, 1.3), ln, cw, depth + 1)
+        if len(pts) > 1:
+            cv2.polylines(m, [np.round(np.asarray(pts) * 8).astype(np.int32)], False, 1, wd, cv2.LINE_8, 3)
+
+    n_trunks = int(rng.integers(2, 4))
+    for _ in range(n_trunks):
+        y0 = rng.uniform(max(top, 0.15 * H) + 0.1 * H, 0.85 * H)
+        walk(np.array([2.0, y0]), rng.normal(0, 0.3), int(1.1 * W / step), int(rng.integers(3, 5)), 0)
+    return m.astype(np.float32)
+
+
+def example_mask(kind: str, width: int, seed: int) -> np.ndarray:
+    """(H, W, 3) float32 black lines on white for ``kind`` (see :data:`KINDS`)."""
+    if kind in ("comb", "partial"):
+        m = comb_mask(width, seed, partial=kind == "partial")
+        return (1.0 - m)[..., None] * np.ones(3, np.float32)
+    from ._thin_mask_check import thin_mask_example
+    return thin_mask_example(kind, width, seed)
+
+
+def radius_length(s) -> tuple[np.ndarray, np.ndarray]:
+    """Per segment: mean radius and length of every branch of ``s``."""
+    r, ln = [], []
+    for b in s.branches:
+        p = np.asarray(b.points, float)
+        if len(p) < 2:
+            continue
+        t = np.broadcast_to(np.asarray(b.thickness, float), (len(p),))
+        r.append(0.5 * (t[1:] + t[:-1])); ln.append(np.hypot(*np.diff(p, axis=0).T))
+    return (np.concatenate(r), np.concatenate(ln)) if r else (np.zeros(0), np.zeros(0))
+
+
+def figures(img, ex, out) -> dict:
+    """The figures of one case (example structure ``ex``, synthesized structure ``out``)."""
+    re_, le = radius_length(ex)
+    ro, lo = radius_length(out)
+    he = np.histogram(re_, R_EDGES, weights=le)[0] / max(le.sum(), 1e-9)
+    ho = np.histogram(ro, R_EDGES, weights=lo)[0] / max(lo.sum(), 1e-9)
+    ink = img[..., :3].mean(-1) < 0.5
+    d = ndi.distance_transform_edt(~ink)
+    far = d > 0.08 * min(ink.shape)
+    far15 = d > 0.15 * min(ink.shape)
+    H, W = ink.shape
+    outside = outside15 = 0.0
+    tot = 0.0
+    for b in out.branches:
+        p = np.asarray(b.points, float)
+        if len(p) < 2:
+            continue
+        mid = 0.5 * (p[1:] + p[:-1]); sl = np.hypot(*np.diff(p, axis=0).T)
+        xi = np.clip(np.round(mid[:, 0]).astype(int), 0, W - 1); yi = np.clip(np.round(mid[:, 1]).astype(int), 0, H - 1)
+        outside += float(sl[far[yi, xi]].sum()); tot += float(sl.sum())
+        outside15 += float(sl[far15[yi, xi]].sum())
+    return {"nb_ex": len(ex.branches), "nb_out": len(out.branches), "nb": len(out.branches) / max(len(ex.branches), 1),
+            "len": lo.sum() / max(le.sum(), 1e-9),
+            "thin_ex": float(le[re_ <= 1.0].sum() / max(le.sum(), 1e-9)),
+            "thin_out": float(lo[ro <= 1.0].sum() / max(lo.sum(), 1e-9)),
+            "hd": float(np.abs(he - ho).sum()), "out": outside / max(tot, 1e-9),
+            "out15": outside15 / max(tot, 1e-9)}
+
+
+def case(kind: str, width: int, seed: int, png: str | None = None, image: bool = False) -> dict:
+    from . import example_domain, extract_structure, fit_model, synthesize_image, synthesize_structure
+
+    img = example_mask(kind, width, seed)
+    ex = extract_structure(img)
+    model = fit_model(ex, domain=example_domain(img, ex))
+    res = synthesize_structure(model, rng=seed)
+    f = figures(img, ex, res.structure)
+    if png:
+        panels = [img]
+        if image:
+            panels.append(synthesize_image(img, ex, res, rng=seed).image[..., :3])
+        panels.append(_draw(res.structure, img.shape[:2]))
+        cv2.imwrite(png, (np.hstack(panels) * 255).astype(np.uint8)[..., ::-1])
+    return f
+
+
+def _draw(s, shape) -> np.ndarray:
+    """The structure drawn at its radii, black on white, (H, W, 3)."""
+    canvas = np.ones(tuple(shape) + (3,), np.float32)
+    for b in s.branches:
+        p = np.asarray(b.points, float)
+        t = np.broadcast_to(np.asarray(b.thickness, float), (len(p),))
+        for i in range(len(p) - 1):
+            w = max(1, int(round(t[i] + t[i + 1])))
+            cv2.line(canvas, tuple(np.round(p[i] * 8).astype(int)), tuple(np.round(p[i + 1] * 8).astype(int)),
+                     (0, 0, 0), w, cv2.LINE_8, 3)
+    return canvas
+
+
+def main(argv=None) -> None:
+    argv = sys.argv[1:] if argv is None else argv
+    seeds = [int(s) for s in argv[0].split(",")] if argv else [0, 1, 2]
+    kinds = argv[1].split(",") if len(argv) > 1 else list(KINDS)
+    pngdir = argv[2] if len(argv) > 2 else None
+    if pngdir:
+        os.makedirs(pngdir, exist_ok=True)
+    keys = ("nb", "len", "thin_ex", "thin_out", "hd", "out", "out15")
+    for kind in kinds:
+        rows = []
+        for s in seeds:
+            size = SIZES[(s + KINDS.index(kind)) % len(SIZES)]
+            png = os.path.join(pngdir, f"{kind}_{size}_{s}.png") if pngdir else None
+            r = case(kind, size, s, png)
+            rows.append(r)
+            print(f"{kind:8s} {size:4d} {s}  nb {r['nb_ex']:3d}->{r['nb_out']:3d} " + " ".join(f"{k}={r[k]:.2f}" for k in keys), flush=True)
+        print(f"MEAN {kind:8s} " + " ".join(f"{k}={np.mean([r[k] for r in rows]):.2f}" for k in keys), flush=True)
+
+
+if __name__ == "__main__":
+    main()
