@@ -93,6 +93,25 @@ def _frame_entries(cand: np.ndarray, end_r: np.ndarray, frame_d: np.ndarray, pts
     return out
 
 
+def _one_per_line(entries: list[int], g, r: np.ndarray, r_entry: float) -> list[int]:
+    """``entries`` less those joined to an earlier one by a line at least half as thick as the thinnest
+    entry: one thick line crossing the frame (a crack's trunk from side to side) enters once, at its
+    thickest end (not split into two trees meeting in its middle)."""
+    if len(entries) < 2:
+        return entries
+    thick = np.flatnonzero(r >= 0.5 * r_entry)
+    sub = g[thick][:, thick]
+    _n, lab = csgraph.connected_components(sub, directed=False)
+    where = dict(zip(thick.tolist(), lab.tolist()))
+    seen, out = set(), []
+    for e in entries:
+        c = where.get(e, -1 - e)
+        if c not in seen:
+            seen.add(c)
+            out.append(e)
+    return out
+
+
 def _mouth_node(cand: np.ndarray, key: np.ndarray, members: np.ndarray, member_key: np.ndarray,
                 scale: float) -> tuple[np.ndarray, np.ndarray]:
     """Root candidates of a piece that drains into a region: its ends, or the node nearest the region
@@ -337,6 +356,8 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
                     key = -_end_radius(pts_full, r_full, cand, members)
                     entries = _frame_entries(cand, -key, border_dist[ys[cand], xs[cand]] / scale,
                                              pts_full, float(np.median(r_full[members])))
+                    entries = _one_per_line(entries, g, r_full, -key[np.isin(cand, entries)].min()
+                                            if entries else 0.0)
                     if entries:
                         roots.extend(entries)
                         continue
