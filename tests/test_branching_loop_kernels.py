@@ -27,7 +27,8 @@ def crack_model():
 
     # no domain: roots then start on a free frame, which only the general step handles, so both paths run
     img = crack_pattern_example((192, 192), 2)
-    return fit_model(extract_structure(img))
+    # (its former roots: root="auto" now also roots a tree where a thick crack enters the frame)
+    return fit_model(extract_structure(img, root="thickest"))
 
 
 def _bookkeeping(rng, density: bool):

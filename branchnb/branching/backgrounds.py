@@ -195,6 +195,12 @@ def binary_channels(gray, polarity: str = "auto", *, flat_regions: bool = True):
     r_med = float(np.median(dt[sk0])) if sk0.any() else 1.0
     big_r = max(3.0 * r_med, 3.0)
     region = large_flat_regions(fg, big_r) if flat_regions else np.zeros_like(fg)
+    if region.any():
+        lines = region & ~_no_thick_lines(region, dt)
+        if lines.any():
+            # thick lines are channels: their radius is read in full (the cap is for a sea's edge)
+            region &= ~lines
+            big_r = max(big_r, float(dt[lines].max()) + 0.5)
     if not flat_regions:
         big_r = float(dt.max()) + 1.0
     channels = fg & ~region
@@ -207,6 +213,37 @@ def binary_channels(gray, polarity: str = "auto", *, flat_regions: bool = True):
     # falls between two pixels): -0.25 is unbiased on average.
     radius = np.minimum(dt, big_r) - 0.25
     return channels, region, skel, np.maximum(radius, 0.5)
+
+
+#: A wide foreground piece longer than this many times its widest radius squared (area / r^2) is a
+#: thick line (a trunk), not a flat region (a sea); a sea strip along the frame is ~1-10.
+LINE_ELONGATION = 25.0
+
+
+def _no_thick_lines(region: np.ndarray, dt: np.ndarray) -> np.ndarray:
+    """``region`` without its pieces that are thick lines: area over :data:`LINE_ELONGATION` x the
+    square of their largest distance ``dt`` to the background.
+
+    Beyond the paper (issue 23): a root drawing's 6-px trunks entering from the top among 1-px roots
+    are 3 x the median radius, as wide as a delta's sea in that test; taken for a sea, they left the
+    domain and the output's roots started inland and at the left side.
+
+    Examples
+    --------
+    >>> m = np.zeros((100, 200), bool); m[40:48, 10:190] = True; m[60:100, 150:200] = True
+    >>> dt = ndi.distance_transform_edt(m)
+    >>> r = _no_thick_lines(m, dt)
+    >>> bool(r[44, 50]), bool(r[80, 170])
+    (False, True)
+    """
+    lab, n = ndi.label(region)
+    if n == 0:
+        return region
+    idx = np.arange(1, n + 1)
+    area = ndi.sum_labels(region, lab, idx)
+    widest = np.asarray(ndi.maximum(dt, lab, idx), np.float64)
+    keep = np.r_[False, area <= LINE_ELONGATION * np.maximum(widest, 1.0) ** 2]
+    return keep[lab]
 
 
 def _flat_region_labels(gray, radius: float, tol: float):
@@ -641,6 +678,12 @@ def example_domain(image, structure: Structure | None = None, *, radius: float =
     :func:`flat_background`; the branches are ``structure`` if given).
     Pass the result to :func:`~branchnb.branching.fit_model` as ``domain``.
 
+    Beyond the paper (issue 23): a line mask on one plain ground (binary, or
+    anti-aliased in two tones) leaves out the part of the frame its lines
+    leave empty (:func:`.empty_ground._empty_part`), so the output keeps to the occupied
+    part. :func:`~branchnb.branching.fit_model` reads that part as ground, not
+    as a coast or a hole (``StructureModel.ground``).
+
     Parameters
     ----------
     image : (H, W) or (H, W, C) array_like
@@ -665,7 +708,12 @@ def example_domain(image, structure: Structure | None = None, *, radius: float =
     """
     gray = gray_for_extraction(image)
     if is_binary(gray):
-        _ch, region, _sk, _r = binary_channels(gray)
+        ch, region, _sk, _r = binary_channels(gray)
+        if not region.any():
+            # one region (lines on a plain ground): the ground the network leaves empty is no domain
+            from .empty_ground import _empty_part
+
+            return ~_empty_part(ch)
         return ~region
     opaque = _opaque_part(image)
     branches = np.zeros(gray.shape, bool)
@@ -676,6 +724,15 @@ def example_domain(image, structure: Structure | None = None, *, radius: float =
                                     [2 * b.thickness + 2 for b in structure.branches])
         branches = cov > 0.5
     bg = flat_background(gray, branches, radius)
+    if not bg.any() and branches.any() and np.ndim(image) == 3:
+        from .empty_ground import _empty_part
+        from .flat_regions import two_tone_lines
+
+        if two_tone_lines(np.asarray(image, np.float32)):
+            # an anti-aliased line mask on one plain ground: like a binary one (above)
+            lo, hi = np.percentile(gray, [1, 99])
+            fg = gray > 0.5 * (lo + hi)
+            return ~_empty_part(fg if fg.mean() < 0.5 else ~fg)
     if not bg.any() and branches.any():
         # a photograph: no flat background, but a textured ground of another colour (a table round a leaf)
         bg = unlike_background(image, branches, radius)

@@ -29,6 +29,55 @@ def _frame(s: Structure) -> tuple[int, int]:
     return int(np.ceil(y1)) + 2, int(np.ceil(x1)) + 2
 
 
+#: An outside part of a domain no example vertex comes this close to (share of the frame's short side) is
+#: ground the example keeps away from, not a coast (:func:`_ground`).
+GROUND_DISTANCE = 0.06
+
+
+def _ground(ex: Structure, domain: np.ndarray | None) -> np.ndarray | None:
+    """The parts outside ``domain`` that every vertex of ``ex`` keeps farther than
+    :data:`GROUND_DISTANCE` x the frame's short side from, or None.
+
+    Beyond the paper (issue 23): :func:`~branchnb.branching.example_domain` leaves the empty part of a
+    line mask (cracks over the lower half of the frame) out of the domain, so no branch grows there.
+    It is no coast and no sea, though: a river reaches its coast, a delta's channels the sea, a leaf's
+    veins its margin. Counted as a region outside, the domain became a band shaped by the example's own
+    lines; any new layout left holes in it, far-hole filling grew into them and a wavy vine came out
+    1.10-1.31 x the example's length (the whole frame: 0.96-1.04). Coverage, holes, roots, the length
+    cap and the drain read the domain plus this ground (:attr:`.model.StructureModel.region`).
+
+    Examples
+    --------
+    >>> from branchnb.core.structure import Branch
+    >>> ex = Structure([Branch(np.c_[np.linspace(2, 97, 40), np.full(40, 80.0)], 1.0)], image_shape=(100, 100))
+    >>> dom = np.ones((100, 100), bool); dom[:40] = False          # the top, far from the line
+    >>> int(_ground(ex, dom).sum())
+    4000
+    >>> dom[:, :] = True; dom[85:] = False                          # the line runs along it: a coast
+    >>> _ground(ex, dom) is None
+    True
+    """
+    if domain is None or domain.all() or not ex.branches:
+        return None
+    from scipy import ndimage as ndi
+
+    out = ~np.asarray(domain, bool)
+    h, w = out.shape
+    near = np.zeros((h, w), bool)
+    pts = np.concatenate([np.asarray(b.points, np.float64).reshape(-1, 2) for b in ex.branches])
+    xi = np.clip(np.rint(pts[:, 0]).astype(np.int64), 0, w - 1)
+    yi = np.clip(np.rint(pts[:, 1]).astype(np.int64), 0, h - 1)
+    near[yi, xi] = True
+    d = ndi.distance_transform_edt(~near)
+    lab, n = ndi.label(out)
+    if n == 0:
+        return None
+    closest = ndi.minimum(d, lab, index=np.arange(1, n + 1))
+    keep = np.r_[False, np.asarray(closest) > GROUND_DISTANCE * min(h, w)]
+    g = keep[lab]
+    return g if g.any() else None
+
+
 def _drains(ex: Structure, domain: np.ndarray | None) -> bool:
     """True when the example's roots lie far inland (over 30 % of the deepest distance to the
     region outside the domain) and at least a third of its branches end at that region (within 10 %;
@@ -481,7 +530,7 @@ def _shore_margin(model: StructureModel) -> float:
     (median depth over 15 % of the deepest), or its branches run along the
     edge themselves (the margin is under 3 px).
     """
-    dom = model.domain
+    dom = model.region
     if dom is None or dom.all() or not dom.any() or model.drains:
         return 0.0
     cached = model.__dict__.get("_shore_margin")
@@ -565,7 +614,7 @@ def runs_inland(model: StructureModel) -> bool:
         A fitted model; without a domain (or with a domain that is everything) the answer
         is False.
     """
-    dom = model.domain
+    dom = model.region
     if dom is None or dom.all() or not dom.any():
         return False
     cached = model.__dict__.get("_runs_inland")

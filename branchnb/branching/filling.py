@@ -103,6 +103,16 @@ class _Filling:
         """Distance (pixels) from every density cell to the nearest covered cell (D > level)."""
         dm = self.density
         empty = dm.domain & (dm.grid <= dm.level)
+        if self.region is not self.domain and self.domain is not None:
+            # room only where branches may grow: not in the ground the example keeps away from
+            grow = self.__dict__.get("_grow_grid")
+            if grow is None:
+                import cv2
+
+                gh, gw = dm.grid.shape
+                grow = self._grow_grid = cv2.resize(self.domain.astype(np.uint8), (gw, gh),
+                                                    interpolation=cv2.INTER_NEAREST) > 0
+            empty &= grow
         # scipy's distance_transform_edt cast to float32, the same numbers (_edt)
         self._empty_dt = _edt(empty, float32=True) * dm.cell
 
@@ -275,7 +285,9 @@ class _Filling:
         self.density._rebuild([st.points for st in self.branches])
 
     def _holes(self) -> tuple[float, np.ndarray, float]:
-        dom = self.domain if self.domain is not None else np.ones(self.shape, bool)
+        # the ground outside the domain the example keeps away from counts (region): it is no hole to
+        # fill, the example's share has it too
+        dom = self.region if self.region is not None else np.ones(self.shape, bool)
         return _hole_map([st.points for st in self.branches], dom, self.density.cell)
 
     def _example_holes(self) -> float:
@@ -284,7 +296,7 @@ class _Filling:
         cache = m.__dict__.setdefault("_example_holes", {})
         key = (id(m.example), len(m.example.branches), float(self.density.cell))
         if key not in cache:
-            dom = m.domain if m.domain is not None else np.ones(_frame(m.source), bool)
+            dom = m.region if m.region is not None else np.ones(_frame(m.source), bool)
             cache[key] = _hole_map([b.points for b in m.example.branches], dom, self.density.cell)[0]
         return cache[key]
 
@@ -311,7 +323,7 @@ class _Filling:
         ``max_coverage`` of the user's, guidance, or ``fill_rounds = 0``.
         """
         if self.guidance is not None or self.density is None or not self.branches or \
-                self.domain is None or self.domain.all() or \
+                self.region is None or self.region.all() or \
                 self.p.fill_rounds == 0 or self.p.max_coverage > 0 or \
                 self.stop_reason not in ("", "density (coverage)", "no branch can grow"):
             return

@@ -205,16 +205,20 @@ def _radius_keep(example) -> float:
 
 class _Grower(_Starts, _Filling):
     def __init__(self, model: StructureModel, params: SynthesisParams, rng, shape,
-                 guidance: Guidance | None, scorer=None, domain: np.ndarray | None = None):
+                 guidance: Guidance | None, scorer=None, domain: np.ndarray | None = None,
+                 region: np.ndarray | None = None):
         self.model, self.p, self.rng = model, params, rng
+        # branches grow in ``domain``; the rest reads ``region``, the domain with the ground the example
+        # keeps away from (StructureModel.ground: a line mask's empty part is no coast)
+        self.region = region = domain if region is None else (None if region.all() else region)
         scorer = scorer or score_candidates
         self.shape = (int(shape[0]), int(shape[1]))
         self.guidance = guidance
-        self.drain = _Drain(domain) if guidance is None and model.drains and domain is not None \
-            and not domain.all() else None
-        margin = _shore_margin(model) if guidance is None and domain is not None \
-            and not domain.all() and self.drain is None else 0.0
-        self.shore = _Shore(domain, margin, inland=runs_inland(model)) if margin > 0 else None
+        self.drain = _Drain(region) if guidance is None and model.drains and region is not None \
+            and not region.all() else None
+        margin = _shore_margin(model) if guidance is None and region is not None \
+            and not region.all() and self.drain is None else 0.0
+        self.shore = _Shore(region, margin, inland=runs_inland(model)) if margin > 0 else None
         self.scorer = scorer
         self.matcher = model.matcher(params.wG)
         # beyond the paper: the sizes of the turns follow the example's too (see .straightness)
@@ -235,16 +239,16 @@ class _Grower(_Starts, _Filling):
         self.domain = domain
         self._e_dom = np.zeros((1, 1), bool)
         # a root reads the frame ahead as density (a free frame only: a map's domain has its own rules)
-        self.frame = params.colonization and guidance is None and (domain is None or bool(domain.all()))
+        self.frame = params.colonization and guidance is None and (region is None or bool(region.all()))
         # coverage = fraction of the domain within rho of a branch (D > exp(-1))
-        self.density = DensityMap(self.shape, self.rho, domain=domain, level=float(np.exp(-1.0))) \
+        self.density = DensityMap(self.shape, self.rho, domain=region, level=float(np.exp(-1.0))) \
             if params.colonization else None
         self.coverage_target = params.max_coverage if params.max_coverage > 0 else \
             min(model.coverage_at(self.rho), 1.0)
         self.store = SegmentStore(shape=self.shape)
         self.branches: list[_BranchState] = []
         self.total_length = 0.0
-        self.max_total = length_cap(model, params, self.shape, domain)
+        self.max_total = length_cap(model, params, self.shape, region)
         self.steps = 0
         self.n_candidates = 0
         self.stop_reason = ""

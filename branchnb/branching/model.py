@@ -21,7 +21,7 @@ from ..core.structure import Branch, Structure  # noqa: F401  (Branch: the docte
 from ..core.validate import Real, checked
 from .bending import BendingModel
 from .colonization import auto_rho, coverage_fraction, growth_directions
-from .domains import _drains, _frame
+from .domains import _drains, _frame, _ground
 from .furcation import FurcationModel
 from .histogram_matching import HistogramMatcher
 from .params import SynthesisParams
@@ -99,6 +99,11 @@ class StructureModel:
     drains : bool, default False
         The example drains: its roots start far inland and its branches
         end at the region outside the domain (a delta).
+    ground : (H, W) bool ndarray, optional
+        The parts outside ``domain`` no example branch comes near (a line
+        mask's empty part, see :func:`~branchnb.branching.example_domain`):
+        no branch grows there, but it is no coast or sea to fill or reach;
+        coverage, holes, roots and the length cap count :attr:`region`.
     """
 
     source: Structure
@@ -133,7 +138,22 @@ class StructureModel:
     #: The example drains: its roots start far inland and its branches end at the region outside the
     #: domain (a delta's trunk enters from inland, its distributaries reach the sea).
     drains: bool = False
+    #: The parts of the frame outside ``domain`` the example's branches keep away from ((H, W) bool, or
+    #: None): a line mask's empty ground (:func:`~branchnb.branching.example_domain`), no coast or sea.
+    ground: np.ndarray | None = field(repr=False, default=None)
     _coverage_rho: float = field(repr=False, default=-1.0)
+
+    @property
+    def region(self) -> np.ndarray | None:
+        """The domain with its :attr:`ground`: what coverage, holes, roots and the length cap count
+        (None = the whole frame). Branches grow in :attr:`domain` only."""
+        if self.ground is None or self.domain is None:
+            return self.domain
+        c = self.__dict__.get("_region")
+        if c is None or c[0] is not self.domain or c[1] is not self.ground:
+            reg = self.domain | self.ground
+            c = self.__dict__["_region"] = (self.domain, self.ground, None if reg.all() else reg)
+        return c[2]
 
     def sample_length(self, generation: int, r_start: float, rng, bandwidth: float = 0.5) -> float:
         """Target length of a new branch: the length of an input branch of the same
@@ -207,7 +227,7 @@ class StructureModel:
             The covered fraction in [0, 1] (cached for the last ``rho``).
         """
         if abs(rho - self._coverage_rho) > 1e-9:
-            self.coverage = coverage_fraction(self.example, _frame(self.source), rho, self.domain)
+            self.coverage = coverage_fraction(self.example, _frame(self.source), rho, self.region)
             self._coverage_rho = float(rho)
         return self.coverage
 
@@ -333,9 +353,12 @@ def fit_model(example: Structure, params: SynthesisParams | None = None, *,
     ldirs = growth_directions(np.zeros(2), bending.local_points, nn) if T else np.zeros((0, 2))
     rho = auto_rho(ex, p.h)
     frame = _frame(example)
-    cover = coverage_fraction(ex, frame, p.rho if p.rho > 0 else rho, dom)
-    roots = fit_roots(ex, dom, shape=frame)
-    drains = _drains(ex, dom)
+    ground = _ground(ex, dom)
+    # the ground the example keeps away from is no coast: everything but growth reads the frame there
+    reg = dom if ground is None else (None if (dom | ground).all() else dom | ground)
+    cover = coverage_fraction(ex, frame, p.rho if p.rho > 0 else rho, reg)
+    roots = fit_roots(ex, reg, shape=frame)
+    drains = _drains(ex, reg)
     report(1.0, "fitted")
     model = StructureModel(source=example, example=ex, bending=bending, furcation=furc, params=p,
                           cum_a=cum_a, cum_r=cum_r, cand_counts_a=cca, cand_counts_r=ccr,
@@ -348,7 +371,7 @@ def fit_model(example: Structure, params: SynthesisParams | None = None, *,
                           max_branch_length=max(b.length for b in ex.branches),
                           r_min=float(ex_radii.min()),
                           rho=rho, domain=dom, coverage=cover, _coverage_rho=p.rho if p.rho > 0 else rho,
-                          roots=roots, drains=drains,
+                          roots=roots, drains=drains, ground=ground,
                           branch_generation=np.array([ex.generation(i) for i in range(nb)]),
                           branch_length=np.array([b.length for b in ex.branches]),
                           branch_r0=np.array([np.mean(b.thickness[:3]) for b in ex.branches]))

@@ -62,6 +62,56 @@ def _end_radius(pts: np.ndarray, r: np.ndarray, ends: np.ndarray, members: np.nd
     return np.maximum(out, r[ends])
 
 
+#: ``root="auto"`` on a piece not of one width: ends within this many pixels of the frame, at least
+#: :data:`ENTRY_SHARE` x as thick as the piece's thickest end and :data:`ENTRY_RATIO` x its median
+#: radius, are where it enters the frame: each roots a tree (:func:`_frame_entries`).
+ENTRY_FRAME = 4.0
+ENTRY_SHARE = 0.75
+ENTRY_RATIO = 2.0
+
+
+def _frame_entries(cand: np.ndarray, end_r: np.ndarray, frame_d: np.ndarray, pts: np.ndarray,
+                   r_med: float) -> list[int]:
+    """The ends of a piece where thick lines enter the frame, thickest first, each farther than
+    4 x its radius from the ones before (empty when none).
+
+    Beyond the paper (issue 23): a root drawing's two 6-px trunks entering from the top among 1-px
+    roots read as one piece (the roots cross); rooted at its thickest end, a tie between the trunks'
+    frame ends and inner ends beside a trunk, it was rooted inside and the output's trees started in
+    the middle and at other sides. A line cut by the frame at its full thickness enters there; every
+    such entry roots a tree (the shortest-path tree splits the piece between them).
+    """
+    if not len(cand):
+        return []
+    top = float(end_r.max())
+    ok = (frame_d <= ENTRY_FRAME) & (end_r >= ENTRY_SHARE * top) & (end_r >= ENTRY_RATIO * r_med)
+    out: list[int] = []
+    for i in np.flatnonzero(ok)[np.argsort(-end_r[ok], kind="stable")]:
+        p = pts[cand[i]]
+        if all(np.hypot(*(p - pts[j])) > 4.0 * end_r[i] for j in out):
+            out.append(int(cand[i]))
+    return out
+
+
+def _one_per_line(entries: list[int], g, r: np.ndarray, r_entry: float) -> list[int]:
+    """``entries`` less those joined to an earlier one by a line at least half as thick as the thinnest
+    entry: one thick line crossing the frame (a crack's trunk from side to side) enters once, at its
+    thickest end (not split into two trees meeting in its middle)."""
+    if len(entries) < 2:
+        return entries
+    thick = np.flatnonzero(r >= 0.5 * r_entry)
+    sub = g[thick][:, thick]
+    _n, lab = csgraph.connected_components(sub, directed=False)
+    where = dict(zip(thick.tolist(), lab.tolist()))
+    seen, out = set(), []
+    for e in entries:
+        c = where.get(e, -1 - e)
+        if c not in seen:
+            seen.add(c)
+            out.append(e)
+    return out
+
+
 def _mouth_node(cand: np.ndarray, key: np.ndarray, members: np.ndarray, member_key: np.ndarray,
                 scale: float) -> tuple[np.ndarray, np.ndarray]:
     """Root candidates of a piece that drains into a region: its ends, or the node nearest the region
@@ -304,6 +354,13 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
                     cand, key = _mouth_node(cand, key, members, region_dist[ys[members], xs[members]], scale)
                 else:
                     key = -_end_radius(pts_full, r_full, cand, members)
+                    entries = _frame_entries(cand, -key, border_dist[ys[cand], xs[cand]] / scale,
+                                             pts_full, float(np.median(r_full[members])))
+                    entries = _one_per_line(entries, g, r_full, -key[np.isin(cand, entries)].min()
+                                            if entries else 0.0)
+                    if entries:
+                        roots.extend(entries)
+                        continue
             elif root == "thickest":
                 key = -_end_radius(pts_full, r_full, cand, members)
             elif root == "top":

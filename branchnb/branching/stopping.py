@@ -104,8 +104,8 @@ def length_cap(model: StructureModel, params: SynthesisParams, shape, domain: np
         return float(params.max_total_length)
     h, w = int(shape[0]), int(shape[1])
     area = float(np.count_nonzero(domain)) if domain is not None else float(h * w)
-    if model.domain is not None:
-        ex_area = float(np.count_nonzero(model.domain))
+    if model.region is not None:
+        ex_area = float(np.count_nonzero(model.region))
     else:
         fh, fw = _frame(model.source)
         ex_area = float(fh * fw)

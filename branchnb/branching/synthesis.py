@@ -300,7 +300,7 @@ def _root_escaped(g: _Grower, min_root_length: float) -> bool:
 
 
 def _grow_with_retries(model, p, rng, shp, guidance, starts, scorer, domain=None,
-                       progress=None) -> _Grower:
+                       progress=None, region=None) -> _Grower:
     """Grow, restarting when a root walks out of the domain at once.
 
     A root starts at an example root's head with its heading; near the
@@ -326,17 +326,18 @@ def _grow_with_retries(model, p, rng, shp, guidance, starts, scorer, domain=None
     # A forest that died young (its roots blocked or ended at once) is grown again too.
     frame = _frame(model.source)
     area_ratio = (shp[0] * shp[1]) / max(frame[0] * frame[1], 1)
-    if domain is not None and model.domain is not None:
-        area_ratio = float(np.count_nonzero(domain)) / max(float(np.count_nonzero(model.domain)), 1.0)
+    reg = domain if region is None else region
+    if reg is not None and model.region is not None:
+        area_ratio = float(np.count_nonzero(reg)) / max(float(np.count_nonzero(model.region)), 1.0)
     min_total = 0.0
     if starts is None or callable(starts):
         min_total = min(0.25 * example_length(model) * area_ratio,
-                        0.5 * length_cap(model, p, shp, domain))
+                        0.5 * length_cap(model, p, shp, reg))
     # A guided root follows the user's path, out of the domain if the path goes there.
     attempts = 1 if guidance is not None else MAX_ROOT_ATTEMPTS
     best = None
     for attempt in range(1, attempts + 1):
-        g = _Grower(model, p, rng, shp, guidance, scorer=scorer, domain=domain)
+        g = _Grower(model, p, rng, shp, guidance, scorer=scorer, domain=domain, region=region)
         g.attempt, g.progress = attempt, progress
         g.run(starts(rng) if callable(starts) else starts)
         if best is None or _fullness(g) > _fullness(best):
@@ -357,7 +358,7 @@ def _grow_with_retries(model, p, rng, shp, guidance, starts, scorer, domain=None
     if auto:
         # holes the example does not have may still be filled past the auto cap, up to
         # FILL_LENGTH_FACTOR x the example's length per area
-        best.max_total = length_cap(model, p, shp, domain, factor=FILL_LENGTH_FACTOR)
+        best.max_total = length_cap(model, p, shp, reg, factor=FILL_LENGTH_FACTOR)
     if cut:
         best.stop_reason = ""
     best._fill_far()
@@ -369,18 +370,30 @@ def _grow_with_retries(model, p, rng, shp, guidance, starts, scorer, domain=None
     return best
 
 
-def _check_domain(domain, model: StructureModel, shape):
+def _resized(d: np.ndarray, shape) -> np.ndarray:
     import cv2
 
+    if d.shape != tuple(shape):
+        d = cv2.resize(d.astype(np.uint8), (shape[1], shape[0]), interpolation=cv2.INTER_NEAREST) > 0
+    return d
+
+
+def _region(domain, model: StructureModel, shape):
+    """The model's domain with its ground (``StructureModel.region``) at ``shape``, when synthesis grows
+    in the model's own domain (``domain`` not given) and it has ground; else None (the domain itself)."""
+    if domain is not None or model.ground is None or model.domain is None:
+        return None
+    reg = model.region
+    return np.ones(tuple(shape), bool) if reg is None else _resized(reg, shape)
+
+
+def _check_domain(domain, model: StructureModel, shape):
     from ..core.image import as_mask
 
     if domain is None:
         if model.domain is None:
             return None
-        d = model.domain
-        if d.shape != tuple(shape):
-            d = cv2.resize(d.astype(np.uint8), (shape[1], shape[0]), interpolation=cv2.INTER_NEAREST) > 0
-        return d
+        return _resized(model.domain, shape)
     d = as_mask(domain, shape=tuple(shape), name="domain")
     if not d.any():
         raise ValueError("domain is empty: no pixel where branches may grow")
@@ -488,7 +501,8 @@ def synthesize_structure(example, params: SynthesisParams | None = None, *, rng=
         if bad.any():
             raise ValueError(f"starts[{int(np.flatnonzero(bad)[0])}] lies outside the {w} x {h} domain")
         starts = [tuple(map(float, s)) for s in st]
-    g = _grow_with_retries(model, p, rng, shp, guidance, starts, _scorer, dom, progress)
+    reg = _region(domain, model, shp)
+    g = _grow_with_retries(model, p, rng, shp, guidance, starts, _scorer, dom, progress, reg)
     g.report(done=True)
     s = _lift_child_heads(g.structure())
     diag = g.diagnostics(t0)
@@ -501,8 +515,9 @@ def synthesize_structure(example, params: SynthesisParams | None = None, *, rng=
                                                      model.example.thicknesses())
         diag["hist_distance"] = _distances(ex[1], ex[2], sa, s.thicknesses(), bins=p.bins)
     dens = g.density.image() if g.density is not None else None
-    return SynthesisResult(structure=s, example=model.example, diagnostics=diag, density=dens, domain=g.domain,
-                           sources=g.sources())
+    # the output's regions (synthesize_image) follow the region: a line mask's empty ground is no sea
+    return SynthesisResult(structure=s, example=model.example, diagnostics=diag, density=dens,
+                           domain=g.domain if reg is None else reg, sources=g.sources())
 
 
 @checked(index=Int(0), n_steps=Int(1, 100_000), shape=Shape())
@@ -565,7 +580,8 @@ def extend_branch(structure: Structure, index: int, example, params: SynthesisPa
     rng = as_rng(rng)
     shp = tuple(structure.image_shape) if shape is None and structure.image_shape else _domain(model, shape)
     guidance = _check_guidance(guidance, shp)
-    g = _Grower(model, p, rng, shp, guidance, domain=_check_domain(None, model, shp))
+    g = _Grower(model, p, rng, shp, guidance, domain=_check_domain(None, model, shp),
+                region=_region(None, model, shp))
     g.add_existing(structure)
     if p.max_total_length <= 0:
         # the auto cap counts what is added (a long structure is not stopped at once)
