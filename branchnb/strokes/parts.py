@@ -156,6 +156,15 @@ def find_parts(alpha: np.ndarray, inked: np.ndarray, claimed: np.ndarray, cores:
         rims that join it, and ``cores`` and ``claimed`` give them up:
         held at both ends, it was torn into three (each end re-synthesized
         with its tube, the middle carried) and came out in fragments.
+    tips : list of list of (x, y, r), optional
+        Per tube: the free tips of its strokes (the end of a stroke joined
+        to a parent at its other end) and the strokes' half widths. A piece
+        enclosing exactly one tube's tip hangs from that tube, whatever
+        touches it along more pixels (see :func:`_tip_holder`).
+    colour : (H, W, 3) ndarray, optional
+        The source's colours (not premultiplied). With ``tips``, such a
+        piece takes back its own pixels from the tubes of other strokes
+        lying over it (see :func:`_reclaim`).
 
     Returns
     -------
