@@ -211,7 +211,7 @@ def _steadiest_anchor(index, part, pairs, attached, keys, window: float) -> None
     side) stays with its main contact. Beyond the paper.
     """
     strokes = {j for j, _ in part.anchors if keys[j] != keys[part.stroke]}
-    if not strokes:
+    if not strokes or part.tip is not None:  # a stroke whose tip ends in the part carries it
         return
     (rs, cs) = part.box
     corners = np.array([[cs.start, rs.start, 1.0], [cs.stop, rs.stop, 1.0],

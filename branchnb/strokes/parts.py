@@ -63,6 +63,17 @@ _ALONG_SIDE = 2.0
 _GAP = 10.0
 #: A ring pixel counts as touching a stroke within this much (px) of its nearest stroke.
 _OWN = 2.0
+#: Share of the pixels round a stroke's free tip (in the piece or the background) a piece holds to enclose it.
+_TIP_INSIDE = 0.75
+#: Radius (px) beyond a free tip's half width of the disk looked at round it.
+_TIP_RING = 4.0
+#: Least share of that disk in the piece or the background for it to decide.
+_TIP_LEAST = 0.15
+#: A pixel within this share of the squared colour distance between a tip-held part and
+#: another tube looks like the tube.
+_RECLAIM_OTHER = 0.25
+#: How far (px) round its reclaimed pixels a tip-held part takes ink looking like neither (its outline).
+_RECLAIM_RIM = 3
 
 
 @dataclass
@@ -100,6 +111,10 @@ class Part:
         contacts farther apart than half the part's extent: a twig in a
         crotch, its root on a limb and its tip against the trunk); empty
         otherwise. It follows only if the two move it alike.
+    tip : (x, y, r) or None
+        The free tip (point, half width) of the stroke it hangs from when
+        that tip ends inside it (see :func:`_tip_holder`): it hangs from
+        that stroke, not from the one it touches most.
     """
 
     box: tuple
@@ -113,10 +128,12 @@ class Part:
     at_end: bool = False
     anchors: list = field(default_factory=list)
     ends: list = field(default_factory=list)
+    tip: tuple | None = None
 
 
 def find_parts(alpha: np.ndarray, inked: np.ndarray, claimed: np.ndarray, cores: list,
-               s_maps: list, d_maps: list, *, rims: list | None = None) -> tuple[list[Part], np.ndarray]:
+               s_maps: list, d_maps: list, *, rims: list | None = None,
+               tips: list | None = None, colour: np.ndarray | None = None) -> tuple[list[Part], np.ndarray]:
     """The unstroked parts of an RGBA object.
 
     Parameters
@@ -139,6 +156,15 @@ def find_parts(alpha: np.ndarray, inked: np.ndarray, claimed: np.ndarray, cores:
         rims that join it, and ``cores`` and ``claimed`` give them up:
         held at both ends, it was torn into three (each end re-synthesized
         with its tube, the middle carried) and came out in fragments.
+    tips : list of list of (x, y, r), optional
+        Per tube: the free tips of its strokes (the end of a stroke joined
+        to a parent at its other end) and the strokes' half widths. A piece
+        enclosing exactly one tube's tip hangs from that tube, whatever
+        touches it along more pixels (see :func:`_tip_holder`).
+    colour : (H, W, 3) ndarray, optional
+        The source's colours (not premultiplied). With ``tips``, such a
+        piece takes back its own pixels from the tubes of other strokes
+        lying over it (see :func:`_reclaim`).
 
     Returns
     -------
@@ -187,21 +213,135 @@ def find_parts(alpha: np.ndarray, inked: np.ndarray, claimed: np.ndarray, cores:
                 ring, touch, touching, contacts, k = _contacts(comp, sub, cores, d_maps)
                 least = max(3, _ANCHOR * sum(contacts))
         anchors, ends = [], []
+        held = _tip_holder(comp, sub, alpha, tips) if tips is not None else None
+        if held is not None and colour is not None:
+            sub, comp, grown = _reclaim(comp, sub, held[0], cores, claimed, d_maps, colour, inked)
+            if grown:
+                area = int((comp & (alpha[sub] > 0.5)).sum())
+                ring, touch, touching, contacts, k = _contacts(comp, sub, cores, d_maps)
+                least = max(3, _ANCHOR * sum(contacts))
+        if held is not None:
+            k = held[0]
+            if not contacts[k]:
+                # the tube round the tip also lies nearer an overlapping part's stroke (a leaf
+                # over the berry): its contact is every ring pixel in it
+                touching[k] = ring & cores[k][sub]
+                contacts[k] = int(touching[k].sum())
         if contacts[k]:
             s = float(np.median(s_maps[k][sub][touching[k]]))
             for j, c in enumerate(contacts):
                 if c >= least:
                     anchors += [(j, a) for a in _clusters(s_maps[j][sub][touching[j]], least)]
-            ends = [(j, float(np.median(s_maps[j][sub][touching[j]])))
-                    for j in _ends(touching, contacts, least, comp, [d[sub] for d in d_maps])]
+            ends = [] if held is not None else [
+                (j, float(np.median(s_maps[j][sub][touching[j]])))
+                for j in _ends(touching, contacts, least, comp, [d[sub] for d in d_maps])]
         else:
             dist = [float(d[sub][comp].min()) for d in d_maps]
             k = int(np.argmin(dist))
             s = float(s_maps[k][sub][comp][np.argmin(d_maps[k][sub][comp])])
         mask[sub] |= comp
         parts.append(Part(box=sub, mask=comp, base=np.zeros_like(comp), stroke=k, s=s,
-                          contact=contacts[k], side=0.0, area=area, anchors=anchors, ends=ends))
+                          contact=contacts[k], side=0.0, area=area, anchors=anchors, ends=ends,
+                          tip=held[1] if held is not None else None))
     return parts, mask
+
+
+def _tip_holder(comp: np.ndarray, sub: tuple, alpha: np.ndarray, tips: list) -> tuple | None:
+    """``(tube, (x, y, r))``: the one tube whose stroke's free tip ends inside the piece ``comp`` (or None).
+
+    A tip is inside when, in the disk of radius ``r +`` :data:`_TIP_RING`
+    px round it (``r`` the tip's half width: 2 px beyond its tube), the piece
+    holds at least :data:`_TIP_INSIDE` of the pixels that are the piece's
+    or background (pixels of the tubes, the tip's own and those of parts
+    lying over it, count for neither). Where those are fewer than
+    :data:`_TIP_LEAST` of the disk (tubes cover it), a disk twice as wide
+    decides. A berry on a stalk drawn into it hangs from the stalk, even
+    when a leaf lying over it touches it along many more pixels (it was
+    carried by the leaf: a slot in its top where the stalk had been, a copy
+    under a copied leaf). Beyond the paper.
+    """
+    h, w = alpha.shape
+    (r0, r1), (c0, c1) = (sub[0].start, sub[0].stop), (sub[1].start, sub[1].stop)
+    found = []
+    for j, points in enumerate(tips):
+        for x, y, r in points:
+            if not (c0 <= x < c1 and r0 <= y < r1):
+                continue
+            for rad in (r + _TIP_RING, 2.0 * r + 2.0 * _TIP_RING):
+                y0, y1 = max(int(y - rad), 0), min(int(y + rad) + 2, h)
+                x0, x1 = max(int(x - rad), 0), min(int(x + rad) + 2, w)
+                yy, xx = np.mgrid[y0:y1, x0:x1]
+                disk = (xx - x) ** 2 + (yy - y) ** 2 <= rad * rad
+                mine = np.zeros(disk.shape, bool)
+                a0, a1, b0, b1 = max(y0, r0), min(y1, r1), max(x0, c0), min(x1, c1)
+                mine[a0 - y0:a1 - y0, b0 - x0:b1 - x0] = comp[a0 - r0:a1 - r0, b0 - c0:b1 - c0]
+                n_mine = int((mine & disk).sum())
+                n_seen = n_mine + int((disk & (alpha[y0:y1, x0:x1] <= 0.5)).sum())
+                if n_seen < _TIP_LEAST * int(disk.sum()):
+                    continue  # the disk lies in tubes (the tip's own, a leaf's over the part): look wider
+                if n_mine >= _TIP_INSIDE * n_seen:
+                    found.append((j, (float(x), float(y), float(r))))
+                break
+            if found and found[-1][0] == j:
+                break
+    return found[0] if len(found) == 1 else None
+
+
+def _reclaim(comp: np.ndarray, sub: tuple, own: int, cores: list, claimed: np.ndarray, d_maps: list,
+             colour: np.ndarray, inked: np.ndarray) -> tuple:
+    """``(sub, comp, grown)``: a tip-held piece with its pixels taken back from other tubes.
+
+    Another stroke's tube measured across the piece (a leaf lying along a
+    berry's top: its width runs on into the berry) holds pixels of the
+    piece; carried with that stroke, they left a bite out of the piece and
+    a copy of it wherever the stroke went. Pixels of other tubes (not the
+    tip's own) joined to the piece, nearer its mean colour than the mean
+    colour of that tube's pixels near its stroke, are the piece's, and the
+    tubes give them up (``cores`` and ``claimed`` are changed in place),
+    with the ink within :data:`_RECLAIM_RIM` px round them that looks like
+    neither (the part's outline: left behind, it hung as loose arcs).
+    Beyond the paper.
+    """
+    h, w = claimed.shape
+    ys, xs = np.nonzero(comp)
+    grow = int(max(ys.max() - ys.min(), xs.max() - xs.min()) // 2) + 3
+    r0, r1 = max(sub[0].start - grow, 0), min(sub[0].stop + grow, h)
+    c0, c1 = max(sub[1].start - grow, 0), min(sub[1].stop + grow, w)
+    big = (slice(r0, r1), slice(c0, c1))
+    seed = np.zeros((r1 - r0, c1 - c0), bool)
+    seed[sub[0].start - r0:sub[0].stop - r0, sub[1].start - c0:sub[1].stop - c0] = comp
+    rgb = colour[big]
+    mine = rgb[seed].mean(axis=0)
+    take = np.zeros_like(seed)
+    other = np.zeros_like(seed)  # pixels that look like another tube's stroke
+    for j, core in enumerate(cores):
+        if j == own:
+            continue
+        cj = core[big] & inked[big]
+        if not cj.any():
+            continue
+        dj = d_maps[j][big]
+        near = cj & (dj <= max(1.5, 0.5 * float(np.median(dj[cj]))))
+        if not near.any():
+            continue
+        theirs = rgb[near].mean(axis=0)
+        d_mine, d_theirs = ((rgb - mine) ** 2).sum(axis=2), ((rgb - theirs) ** 2).sum(axis=2)
+        take |= cj & (d_mine < d_theirs)
+        other |= cj & (d_theirs <= _RECLAIM_OTHER * float(((mine - theirs) ** 2).sum()))
+    if not take.any():
+        return sub, comp, False
+    got = ndi.binary_propagation(seed, structure=np.ones((3, 3), bool), mask=seed | take) & ~seed
+    if not got.any():
+        return sub, comp, False
+    # and the part's outline round them: ink like neither colour, within a few px
+    rim = ndi.binary_dilation(seed | got, iterations=_RECLAIM_RIM) & ~(seed | got) & ~other
+    for j, core in enumerate(cores):
+        if j != own:
+            got |= rim & core[big] & inked[big]
+    for core in cores:
+        core[big] &= ~got
+    claimed[big] &= ~got
+    return big, seed | got, True
 
 
 def _contacts(comp: np.ndarray, sub: tuple, cores: list, d_maps: list) -> tuple:
@@ -310,6 +450,13 @@ def add_bases(parts: list[Part], index, window: float) -> None:
             off = np.hypot(xx - foot[..., 0], yy - foot[..., 1])
             base = near & index.allowed[part.stroke][big] & (index.weight[part.stroke][big] > 0.5) \
                 & (index.premult[big][..., 3] > 0.02) & ~comp & ((off > 0.35 * half) | part.at_end)
+        if part.tip is not None:
+            # the tip's own tube inside the part (a stalk drawn into its berry) goes with it:
+            # the part's patch covers the slot the stalk's cut end leaves there
+            rad = int(np.ceil(part.tip[2])) + 3
+            disk = np.hypot(*np.mgrid[-rad:rad + 1, -rad:rad + 1]) <= rad
+            closed = ndi.binary_closing(np.pad(comp, rad + 1), structure=disk)[rad + 1:-rad - 1, rad + 1:-rad - 1]
+            base |= closed & ~comp & (index.premult[big][..., 3] > 0.02)
         part.box, part.mask, part.base = big, comp, base
         ys, xs = np.nonzero(comp)
         p = st.point_at(part.s)

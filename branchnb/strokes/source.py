@@ -517,16 +517,30 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
             grown = np.zeros_like(cut)
             grown[box] = ndi.binary_dilation(tubes[(keys[k], cuts[k])][5][box], iterations=2)
             near_parent[k] = cut & ~grown
-    parts, part_mask = [], None
+    parts, part_mask, given = [], None, None
     if has_alpha:
         # Object pixels no stroke's tube holds: the parts nobody stroked.
         claimed = np.zeros((h, w), bool)
         for key in tube_keys:
             claimed |= tubes[key][5]
+        claimed_before = claimed.copy()
+        # a stroke joined to a parent at one end only ends in a free tip at the other
+        tips = [[(*source_strokes[k].points[-1 if joined[k][0] >= 0 else 0], float(raw[k][2]))
+                 for k in range(len(source_strokes))
+                 if (keys[k], cuts[k]) == key and (joined[k][0] >= 0) != (joined[k][1] >= 0)]
+                for key in tube_keys]
         parts, part_mask = find_parts(alpha, inked, claimed, [tubes[key][5] for key in tube_keys],
                                       [tubes[key][1] for key in tube_keys],
                                       [tubes[key][0] for key in tube_keys],
-                                      rims=[rims[key] for key in tube_keys])
+                                      rims=[rims[key] for key in tube_keys],
+                                      tips=tips,
+                                      colour=premult[..., :3] / np.maximum(premult[..., 3:], 1e-6))
+        # a tip-held part's pixels taken back from other tubes (see parts._reclaim) are no
+        # stroke's: the tube's width measured across the part would let it copy them again
+        given = np.zeros((h, w), bool)
+        for part in parts:
+            if part.tip is not None:
+                given[part.box] |= part.mask & claimed_before[part.box]
         first = [(keys[k], cuts[k]) for k in range(len(source_strokes))]
         for part in parts:  # tube index -> the first stroke with that tube
             part.stroke = first.index(tube_keys[part.stroke])
@@ -585,6 +599,8 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
                 beyond = part_mask[b] & ~interior[b]
                 ramp = np.where(interior[b], ramp, np.where(beyond, np.clip(cap - d[b] + 0.5, 0.0, 1.0), 1.0))
                 weight[b] *= ramp.astype(np.float32)
+                if given is not None:
+                    weight[b][given[b]] = 0.0
             done[key] = (own & (weight > 0), weight)
         s_maps.append(s_map)
         allowed.append(done[key][0])
