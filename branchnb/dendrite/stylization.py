@@ -408,7 +408,7 @@ class Stylizer:
             ``I`` in [0, 1] (:func:`~branchnb.dendrite.importance.importance_map`), cached.
         """
         return self._get(("importance", _subset(p, _IMPORTANCE)), lambda: importance_map(
-            self._paper_image(p), ImportanceParams(p.intensity_weight, p.gradient_weight,
+            self.working_image(p), ImportanceParams(p.intensity_weight, p.gradient_weight,
                                                     p.sigma)))
 
     @checked()
@@ -425,11 +425,13 @@ class Stylizer:
         (h, w) float32 ndarray
         """
         return self._get(("edges", p.lattice_size, p.sigma), lambda: gradient_strength(
-            self._paper_image(p), sigma=p.sigma))
+            self.working_image(p), sigma=p.sigma))
 
     def _paper_image(self, p: StylizeParams) -> np.ndarray:
-        # the working image with its lightest tone as paper (importance._to_paper_white):
-        # the tone match and the stippling see a low-key picture's object apart from its ground
+        # the working image with its lightest tone as paper (importance._to_paper_white): the
+        # tone match sees a low-key picture's object apart from its ground. Only the tone
+        # target: the importance (stippling, lightning's strike search) keeps the picture's own
+        # luminance, levelled it sent bolts off the camera man's and a crack picture's edges
         return self._get(("paper", p.lattice_size), lambda: _to_paper_white(self.working_image(p)))
 
     @checked()
