@@ -37,7 +37,7 @@ from ..core.random import as_seed
 from ..core.validate import Int, Point, Points, checked
 from .dendrite import Dendrite, build_dendrite
 from .endpoints import place_endpoints
-from .importance import ImportanceParams, darkness, gradient_strength, importance_map
+from .importance import ImportanceParams, _to_paper_white, darkness, gradient_strength, importance_map
 from .lattice import Lattice, direction_factors, node_weights
 from .main_channel import (
     channel_plan,
@@ -427,9 +427,17 @@ class Stylizer:
         return self._get(("edges", p.lattice_size, p.sigma), lambda: gradient_strength(
             self.working_image(p), sigma=p.sigma))
 
+    def _paper_image(self, p: StylizeParams) -> np.ndarray:
+        # the working image with its lightest tone as paper (importance._to_paper_white): the
+        # tone match sees a low-key picture's object apart from its ground. Only the tone
+        # target: the importance (stippling, lightning's strike search) keeps the picture's own
+        # luminance, levelled it sent bolts off the camera man's and a crack picture's edges
+        return self._get(("paper", p.lattice_size), lambda: _to_paper_white(self.working_image(p)))
+
     @checked()
     def darkness(self, p: StylizeParams) -> np.ndarray:
-        """The tone target ``1 - luminance`` on the lattice.
+        """The tone target ``1 - luminance`` on the lattice, the picture's lightest tone as
+        paper (beyond the paper: a low-key picture's ground no longer takes the object's ink).
 
         Parameters
         ----------
@@ -440,7 +448,7 @@ class Stylizer:
         -------
         (h, w) float32 ndarray
         """
-        return self._get(("darkness", p.lattice_size), lambda: darkness(self.working_image(p)))
+        return self._get(("darkness", p.lattice_size), lambda: darkness(self._paper_image(p)))
 
     @checked(rng_seed=Int(0))
     def lattice(self, p: StylizeParams, rng_seed: int) -> Lattice:
