@@ -548,7 +548,9 @@ def metaphor_params(p: StylizeParams, metaphor: str, shape, object_share: float,
         ``(H, W)`` of the image (pixels).
     object_share : float
         Share of the image with something to draw (importance at or above the
-        threshold), in [0, 1].
+        threshold), in [0, 1]. For vines :meth:`Stylizer.run` passes the share
+        standing out from the picture's own ground (:func:`_ground_threshold`) and
+        stipples the tips there.
     scale : float
         Image pixels per lattice pixel.
 
