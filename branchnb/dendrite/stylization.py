@@ -71,6 +71,8 @@ from .stylize_params import (  # noqa: F401  (re-exported; the spacings too)
     STRIKE_SIDE,
     VINE_SPACING,
     StylizeParams,
+    _ground_threshold,
+    _within_range,
     effective_params,
     metaphor_params,
 )
@@ -736,8 +738,15 @@ class Stylizer:
         given, p = p, effective_params(p, k)
         if metaphor in ("vines", "lightning"):
             # the metaphors size their own strokes from the given parameters
-            share = float((self.importance(p) >= p.endpoint_threshold).mean())
-            p = metaphor_params(given, metaphor, self.shape, share, k)
+            # vines: the object is what stands out from the picture's own ground (on a
+            # grey wall or a dark textured ground the whole frame passed the threshold);
+            # its tips are stippled there too
+            imp = self.importance(p)
+            thr = (_ground_threshold(imp, p.endpoint_threshold) if metaphor == "vines"
+                   else p.endpoint_threshold)
+            p = metaphor_params(given, metaphor, self.shape, float((imp >= thr).mean()), k)
+            if thr > p.endpoint_threshold:
+                p = _within_range(p, endpoint_threshold=thr)
         if seed is None:
             seed = self.top_seed(p) if metaphor == "lightning" else self.default_seed(p)
         else:

@@ -271,6 +271,16 @@ def effective_params(p: StylizeParams, scale: float) -> StylizeParams:
 #: Vine stems are this many leaf lengths apart on average (:func:`metaphor_params`).
 VINE_SPACING = 2.5
 
+#: The vines' object is what stands out from the picture's own ground (beyond the
+#: paper, :func:`_ground_threshold`): importance at least ``endpoint_threshold`` above the
+#: ``VINE_GROUND_QUANTILE`` quantile of the importance in a ring ``VINE_GROUND_RING``
+#: of the long side wide along the frame. On white paper that level is ~0 and the share
+#: is the paper's (importance above the threshold); on a grey wall and table or a dark
+#: textured ground the whole frame passed the threshold and vines got 3-7x the tips the
+#: object's area asks for.
+VINE_GROUND_QUANTILE = 0.75
+VINE_GROUND_RING = 0.03
+
 #: Lightning branches are this share of the image diagonal apart on average.
 LIGHTNING_SPACING = 0.09
 
@@ -433,6 +443,28 @@ STRIKE_MAIN_EXPONENT = 1000.0
 LIGHTNING_MAIN_EXPONENT = 8.0
 
 
+def _ground_threshold(importance: np.ndarray, threshold: float) -> float:
+    """The importance threshold of what stands out from the picture's own ground (vines).
+
+    The ground's level is a high quantile (``VINE_GROUND_QUANTILE``) of the importance
+    along the frame (a ring ``VINE_GROUND_RING`` of the long side wide): the dominant
+    ground, also where an object or a table touches the frame. Content is importance at
+    least ``threshold`` above it. A ground below half the threshold is paper and the
+    paper's rule holds (``threshold`` itself: the same count and endpoints on white, bit
+    for bit); between half the threshold and the threshold the shift ramps up, so the
+    count never jumps as a ground darkens. Beyond the paper: on a grey wall and table or
+    a dark textured ground the whole frame passed the paper's threshold, and vines got
+    5-7x the tips the object's area asks for, spread over the ground.
+    """
+    imp = np.asarray(importance, np.float32)
+    b = max(1, int(round(VINE_GROUND_RING * max(imp.shape))))
+    ring = np.ones(imp.shape, bool)
+    ring[b:-b, b:-b] = False
+    level = float(np.quantile(imp[ring], VINE_GROUND_QUANTILE)) if ring.any() else 0.0
+    ramp = float(np.clip(2.0 * level / threshold - 1.0, 0.0, 1.0)) if threshold > 0 else 1.0
+    return float(threshold + ramp * level)
+
+
 def metaphor_params(p: StylizeParams, metaphor: str, shape, object_share: float,
                     scale: float) -> StylizeParams:
     """The parameters of a stylization drawn with ``metaphor`` (plain: ``p`` itself).
@@ -516,7 +548,9 @@ def metaphor_params(p: StylizeParams, metaphor: str, shape, object_share: float,
         ``(H, W)`` of the image (pixels).
     object_share : float
         Share of the image with something to draw (importance at or above the
-        threshold), in [0, 1].
+        threshold), in [0, 1]. For vines :meth:`Stylizer.run` passes the share
+        standing out from the picture's own ground (:func:`_ground_threshold`) and
+        stipples the tips there.
     scale : float
         Image pixels per lattice pixel.
 
