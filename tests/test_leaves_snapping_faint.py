@@ -79,8 +79,7 @@ def test_veins_of_a_larger_leaf_keep_about_their_width(seed, monkeypatch):
 
 
 def test_a_path_touching_the_outline_between_deep_stretches_is_cut(monkeypatch):
-    # OUTLINE_TOUCH is off by default (measured on the maples only): the rule itself, switched on.
-    monkeypatch.setattr(snapping, "OUTLINE_TOUCH", 2.0)
+    assert snapping.OUTLINE_TOUCH == 2.0  # on by default
     # A body and a lobe joined by a 3 px neck (a torn notch); the carried branch runs on through it.
     blade = np.zeros((60, 140), bool)
     blade[10:50, 5:70] = True

@@ -831,17 +831,16 @@ RELATIVE_MIN = 4
 
 #: A snapped path that comes within this many px of the blade's outer outline (holes filled) between two
 #: stretches more than OUTLINE_DEEP times as deep inside is cut there (:func:`_inside_part`; 0: off).
-#: OFF by default: measured at 2 only on the maples (``_measure maples``, 42 pairs): 03 -> 07 0.59 ->
-#: 0.66 (its left lateral no longer runs through the notch into 07's torn left lobe, where 07's own
-#: tracing stops), the other 41 pairs identical, mean 0.723 -> 0.725, pairs under 0.6 3 -> 2; procedural
-#: families (``_measure snapping --seeds 1``, 192 and 384 px) the same min / mean to 0.01 (lobed 0.75 /
-#: 0.80 and 0.75 / 0.83, trilobed 0.75 / 0.81 and 0.76 / 0.84, elliptic 0.77 / 0.81 and 0.77 / 0.84); off
-#: only because the whole leaves suite has not run with it yet. 04 -> 07 and 05 -> 07 stay at
+#: Measured at 2 on the maples (``_measure maples``, 42 pairs): 03 -> 07 0.59 -> 0.66 (its left lateral
+#: no longer runs through the notch into 07's torn left lobe, where 07's own tracing stops), the other 41
+#: pairs identical, mean 0.723 -> 0.725, pairs under 0.6 3 -> 2; procedural families (``_measure snapping
+#: --seeds 1``, 192 and 384 px) the same min / mean to 0.01 (lobed 0.75 / 0.80 and 0.75 / 0.83, trilobed
+#: 0.75 / 0.81 and 0.76 / 0.84, elliptic 0.77 / 0.81 and 0.77 / 0.84). 04 -> 07 and 05 -> 07 stay at
 #: 0.49 (05's lateral into the torn lobe is not cut: no touch between two stretches deeper than 6 px;
 #: not traced further), and 04 -> 07's right lateral stops at a hole 07's tracing runs past (a rule
 #: stopping paths at hole rims would cut 07's own traced lateral: 25 of its 264 skeleton px lie within
 #: 3 px of a hole).
-OUTLINE_TOUCH = 0.0
+OUTLINE_TOUCH = 2.0
 OUTLINE_DEEP = 3.0
 
 #: Least margin (px) around the blade's box the snapping works in.
