@@ -388,7 +388,8 @@ def _vacated_roots(index, pairs, window: float) -> list[tuple[int, int, float]]:
     for c, pc in enumerate(pairs):
         for end in (0, -1):
             q = pc.source.points[end]
-            if np.hypot(*(pc.target.points[end] - q)) <= window:
+            # a root only (the end cut where the child meets its parent), not a free tip
+            if not index.cut_ends[c][end] or np.hypot(*(pc.target.points[end] - q)) <= window:
                 continue
             hw_c = float(index.half_width(c, 0.0 if end == 0 else pc.source.length))
             for p, pp in enumerate(pairs):
