@@ -9,7 +9,6 @@ pinna. Around the old root the edit must match it.
 import os
 import sys
 
-import numpy as np
 import pytest
 
 from branchnb.core.image import composite_over

@@ -410,14 +410,17 @@ def _vacated_roots(index, pairs, window: float) -> list[tuple[int, int, float]]:
     return out
 
 
-def refill_vacated_roots(layer: np.ndarray, index, pairs, window: float, outline: float) -> np.ndarray:
+def _refill_vacated_roots(layer: np.ndarray, index, pairs, window: float, outline: float) -> np.ndarray:
     """Make the parent's tube whole where a child's root was and its target left.
 
     The parent's tube in the source gives the child's root pixels to the child,
     so when the child is only copied elsewhere nothing lays the parent's side
     there and the cut face's outline bites into the parent. Those pixels are
-    copied from the parent's own source a little farther along (its flesh and
-    outline), on the child's side of the parent's centre line only.
+    copied from the parent's own source a little farther along its centre line
+    (flesh and outline; both ways averaged where both are clear of other
+    children, so a tapering parent keeps its width): along the child's root on
+    its side, and over the child's round root cap on the far side. Beyond the
+    paper, which only ever draws the strokes' tubes.
     """
     out = layer
     h, w = layer.shape[:2]
