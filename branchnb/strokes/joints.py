@@ -19,6 +19,7 @@ left where two anti-aliased edges meet inside the object near a joint.
 
 from __future__ import annotations
 
+import cv2
 import numpy as np
 from scipy import ndimage as ndi
 
@@ -377,3 +378,110 @@ def _hairline(a: np.ndarray, reach: int) -> np.ndarray:
             hi |= pad[reach + k * dy:reach + k * dy + h, reach + k * dx:reach + k * dx + w]
         hit |= lo & hi
     return hit & (a < 0.9)
+
+
+def _vacated_roots(index, pairs, window: float) -> list[tuple[int, int, float]]:
+    """``(child, parent, s)``: source strokes whose root on a parent's source stroke
+    (at arc length ``s`` of it) is left by their target, where the parent's target
+    stays put (a pinna used only as a copy source elsewhere)."""
+    out = []
+    for c, pc in enumerate(pairs):
+        for end in (0, -1):
+            q = pc.source.points[end]
+            # a root only (the end cut where the child meets its parent), not a free tip
+            if not index.cut_ends[c][end] or np.hypot(*(pc.target.points[end] - q)) <= window:
+                continue
+            hw_c = float(index.half_width(c, 0.0 if end == 0 else pc.source.length))
+            for p, pp in enumerate(pairs):
+                if p == c:
+                    continue
+                s, d = pp.source.project(q[None])
+                s, d = float(s[0]), float(d[0])
+                if not 0.0 < s < pp.source.length or d > float(index.half_width(p, s)) + 2.0:
+                    continue
+                # the parent's target keeps its place there, and no other target stroke
+                # comes to the root (the root's place is left empty, not re-used)
+                if np.hypot(*(pp.target.point_at(s) - pp.source.point_at(s))) > 1.0:
+                    continue
+                near = [o for o, po in enumerate(pairs) if o != p
+                        and float(po.target.project(q[None])[1][0]) < hw_c + 2.0]
+                if not near:
+                    out.append((c, p, s, end))
+    return out
+
+
+def _refill_vacated_roots(layer: np.ndarray, index, pairs, window: float, outline: float) -> np.ndarray:
+    """Make the parent's tube whole where a child's root was and its target left.
+
+    The parent's tube in the source gives the child's root pixels to the child,
+    so when the child is only copied elsewhere nothing lays the parent's side
+    there and the cut face's outline bites into the parent. Those pixels are
+    copied from the parent's own source a little farther along its centre line
+    (flesh and outline; both ways averaged where both are clear of other
+    children, so a tapering parent keeps its width): along the child's root on
+    its side, and over the child's round root cap on the far side. Beyond the
+    paper, which only ever draws the strokes' tubes.
+    """
+    out = layer
+    h, w = layer.shape[:2]
+    for c, p, s, end in _vacated_roots(index, pairs, window):
+        pp, pc = pairs[p], pairs[c]
+        q = pc.source.points[end]
+        hw_c = float(index.half_width(c, 0.0 if end == 0 else pc.source.length))
+        hw_p = float(index.half_width(p, s))
+        rad = hw_c + 3.0 * outline + 3.0
+        nrm = pp.source.normal_at(s, window=window)
+        side = np.sign(float(np.dot(pc.source.point_at(min(hw_c + hw_p, pc.source.length) if end == 0
+                                                        else max(pc.source.length - hw_c - hw_p, 0.0))
+                                    - pp.source.point_at(s), nrm))) or 1.0
+        x0, x1 = int(max(q[0] - rad - hw_p, 0)), int(min(q[0] + rad + hw_p + 1, w))
+        y0, y1 = int(max(q[1] - rad - hw_p, 0)), int(min(q[1] + rad + hw_p + 1, h))
+        yy, xx = np.mgrid[y0:y1, x0:x1].astype(float)
+        ps = pp.source.point_at(s)
+        along = np.abs((xx - ps[0]) * nrm[1] - (yy - ps[1]) * nrm[0])
+        off = ((xx - ps[0]) * nrm[0] + (yy - ps[1]) * nrm[1]) * side
+        # the child's side along its root, and on the far side what its round root cap
+        # pushed out past the parent's other edge
+        zone = (np.abs(off) <= hw_p + 2.0 * outline + 2.0) & (
+            ((along <= rad) & (off > 0)) | (np.hypot(xx - q[0], yy - q[1]) <= hw_c + 2.0 * outline + 2.0))
+        # each pixel as (arc length, signed distance) on the parent's source stroke
+        pix = np.c_[xx.ravel(), yy.ravel()]
+        sx_s, _ = pp.source.project(pix)
+        foot = pp.source.point_at(sx_s)
+        sx_d = ((pix - foot) * pp.source.normal_at(sx_s, window=window)).sum(axis=1)
+        got = []
+        for step in (rad + hw_c + outline, -(rad + hw_c + outline)):
+            s2 = s + step
+            if not 0.0 <= s2 <= pp.source.length:
+                continue
+            # along the parent's own centre line (a polyline's corner inside the zone
+            # bends a rigid copy off by a pixel or two at the zone's ends)
+            s3 = np.clip(sx_s + step, 0.0, pp.source.length)
+            base = pp.source.point_at(s3)
+            n3 = pp.source.normal_at(s3, window=window)
+            sx = (base[:, 0] + sx_d * n3[:, 0]).reshape(xx.shape).astype(np.float32)
+            sy = (base[:, 1] + sx_d * n3[:, 1]).reshape(xx.shape).astype(np.float32)
+            # bilinear: a half-pixel jog at the zone's ends shows
+            src = cv2.remap(np.ascontiguousarray(index.premult, np.float32), sx, sy, cv2.INTER_LINEAR,
+                            borderMode=cv2.BORDER_CONSTANT, borderValue=0)
+            # another child there (opaque beyond the parent's edge): not a clean copy
+            stray = int(((along <= rad) & (np.abs(off) > hw_p + outline + 2.0) & (src[..., 3] > 0.5)).sum())
+            got.append((stray, src))
+        if not got:
+            continue
+        least = min(g[0] for g in got)
+        # both ways when both are clean: a tapering parent's widths before and after average
+        # to its width here
+        src = np.mean([g[1] for g in got if g[0] == least], axis=0)
+        a = src[..., 3]
+        # the whole zone, transparent too: what is left there of the child's root goes
+        put = zone
+        if not (put & (a > 0.5)).any():
+            continue
+        if out is layer:
+            out = layer.copy()
+        sub = out[y0:y1, x0:x1]
+        col = np.clip(src[..., :3] / np.maximum(a, 1e-6)[..., None], 0.0, 1.0)
+        sub[put, :3] = col[put]
+        sub[put, 3] = a[put]
+    return out

@@ -18,7 +18,7 @@ from scipy.spatial import cKDTree
 from .composition import PlacedPatch, compose, labelling_cost, seam_mask
 from .crotches import _child_width, new_crotches, round_crotches
 from .edit import FETCH_FIELDS, EditPatches, StrokeEditParams, StrokeEditResult, StrokeSamples, _check_edit_params
-from .joints import close_hairlines, hold_joint_bodies, joint_disks, joint_roots
+from .joints import _refill_vacated_roots, close_hairlines, hold_joint_bodies, joint_disks, joint_roots
 from .junctions import far_side
 from .outline import (
     _POCKET,
@@ -222,6 +222,7 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
                 late |= inked
             layer = clear_stale_outline(layer, depth, style,
                                         filled=late if filled is None else late | filled)
+        layer = _refill_vacated_roots(layer, index, attached, window, 1.0 if style is None else style.width)
         layer = fill_pinholes(layer, 1.0 if style is None else style.width)
         layer = drop_flecks(layer, index.premult[:, :, 3])
         layer = drop_flecks(layer, index.premult[:, :, 3], level=0.5)
