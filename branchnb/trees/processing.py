@@ -32,7 +32,7 @@ from .exemplar import (
     normalize_exemplar,
     tree_rgba,
 )
-from .ground import split_ground
+from .ground import _join_detached_trunk, split_ground
 
 __all__ = ["Exemplar", "exemplar_trunk", "process_exemplar", "TRUNK_METHODS", "GROUND_METHODS"]
 
@@ -294,6 +294,9 @@ def process_exemplar(image, name: str = "", *, trunk_mask=None, trunk: str = "au
     if ground not in GROUND_METHODS:
         raise ValueError(f"ground must be one of {list(GROUND_METHODS)}, got {ground!r}")
     cut = None
+    if trunk_mask is None:
+        # An icon's trunk drawn apart from the crown is the tree's, no clutter.
+        image = _join_detached_trunk(image)
     if ground == "cut":
         img, opaque = tree_rgba(image, alpha_threshold=ep.alpha_threshold)
         split = split_ground(img)
