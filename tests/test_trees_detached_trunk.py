@@ -115,3 +115,11 @@ def test_bridge_is_trunk_coloured():
     inner[:, :trunk_cols[0] + 4] = False
     inner[:, trunk_cols[-1] - 3:] = False
     assert np.abs(out[inner][:, :3] - fill).max() < 0.1
+
+
+def test_given_trunk_mask_keeps_detached_trunk():
+    img = _icon("round", 10, 256, 10)
+    brown = (img[:, :, 3] > 0.5) & (img[:, :, 0] > 0.35) & (img[:, :, 1] < 0.4)
+    ex = TreeLibrary(size=128).add(img, "icon", trunk_mask=brown)
+    assert ex.trunk_source == "mask"
+    assert ex.trunk[-3:].sum() > 0 and ex.contour.pins.has_trunk

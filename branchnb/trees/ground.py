@@ -608,7 +608,7 @@ def _detached_trunk(opaque: np.ndarray) -> tuple[np.ndarray, np.ndarray, int] | 
     return best
 
 
-def _join_detached_trunk(image) -> np.ndarray:
+def _join_detached_trunk(image, alpha_threshold: float = 0.5) -> np.ndarray:
     """``image`` (RGBA) with a trunk drawn apart from the crown joined to it.
 
     Beyond the paper (its exemplars are one region): the trunk found by
@@ -618,7 +618,7 @@ def _join_detached_trunk(image) -> np.ndarray:
     which also paints over the trunk's top outline. The image is returned
     unchanged (a copy) when there is no such trunk.
     """
-    img, opaque = tree_rgba(image, name="image")
+    img, opaque = tree_rgba(image, alpha_threshold=alpha_threshold, name="image")
     img = img.copy()
     found = _detached_trunk(opaque)
     if found is None:
