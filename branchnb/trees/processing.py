@@ -32,7 +32,7 @@ from .exemplar import (
     normalize_exemplar,
     tree_rgba,
 )
-from .ground import split_ground
+from .ground import _join_detached_trunk, split_ground
 
 __all__ = ["Exemplar", "exemplar_trunk", "process_exemplar", "TRUNK_METHODS", "GROUND_METHODS"]
 
@@ -274,6 +274,16 @@ def process_exemplar(image, name: str = "", *, trunk_mask=None, trunk: str = "au
         No alpha channel, fully transparent/opaque image, several trees
         with ``components="error"``, a bad trunk mask.
 
+    Notes
+    -----
+    Beyond the paper (its exemplars are one region): a trunk drawn apart
+    from the crown, as icon-style trees often are (a gap of a few pixels
+    under a round crown), would be dropped as a second region; a narrow,
+    upright region under the crown's centre, at most 10 % of the tree's
+    height below it, is drawn on up into the crown first
+    (:func:`~branchnb.trees.ground._join_detached_trunk`), while a sun, a
+    ground disc, a leaf pile or a pebble is still dropped or cut.
+
     Examples
     --------
     >>> from branchnb import data
@@ -294,6 +304,8 @@ def process_exemplar(image, name: str = "", *, trunk_mask=None, trunk: str = "au
     if ground not in GROUND_METHODS:
         raise ValueError(f"ground must be one of {list(GROUND_METHODS)}, got {ground!r}")
     cut = None
+    # An icon's trunk drawn apart from the crown is the tree's, no clutter.
+    image = _join_detached_trunk(image, ep.alpha_threshold)
     if ground == "cut":
         img, opaque = tree_rgba(image, alpha_threshold=ep.alpha_threshold)
         split = split_ground(img)
