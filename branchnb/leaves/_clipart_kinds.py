@@ -100,7 +100,7 @@ def _elm(r):
     mid = np.stack([0.0 * tt, -tt], 1)
     veins, kinds = [mid], [0]
     n = int(r.integers(7, 10))
-    for i, tb in enumerate(np.linspace(0.08, 0.8, n)):
+    for tb in np.linspace(0.08, 0.8, n):
         for side in (-1, 1):
             tb2 = tb + (0.5 / n * 0.72 if side > 0 else 0.0)  # alternate
             if tb2 > 0.85:
