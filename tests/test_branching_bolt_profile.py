@@ -51,16 +51,12 @@ def test_storm_bolt_profile_kept():
     img, _ = storm_example(seed=0, n_bolts=2)
     ex = extract_structure(img)
     pe = bolt_profile(img, SkeletonMap(ex, 1.0).pixel_map(img.shape[:2]))
-    peaks, corrs = [], []
+    peaks = []
     for seed in range(4):
         res = synthesize_structure(ex, rng=seed)
         out = synthesize_image(img, ex, res, rng=seed).image
         po = bolt_profile(out, SkeletonMap(res.structure, 1.0).pixel_map(out.shape[:2]))
-        corrs.append(np.corrcoef(pe["profile"], po["profile"])[0, 1])
+        assert np.corrcoef(pe["profile"], po["profile"])[0, 1] > 0.97
         assert po["sat"] < 0.05
         peaks.append(po["peak"])
-    # branching52 (trunks keep their radius, children's heads against the children's histogram): the
-    # bolts' 90th-percentile radius 0.69 -> 0.84 x the example's in seed 2, its peak 0.56 -> 0.76 (example
-    # 0.78), but its glow wider: correlation 0.983 -> 0.961 (seeds 0, 1, 3: 0.973-0.997)
-    assert min(corrs) > 0.95 and np.median(corrs) > 0.97, corrs
     assert np.median(peaks) > pe["peak"] - 0.25

@@ -156,6 +156,10 @@ def case(kind: str, width: int, seed: int, png: str | None = None, image: bool =
     model = fit_model(ex, domain=example_domain(img, ex))
     res = synthesize_structure(model, rng=seed)
     f = figures(img, ex, res.structure)
+    from .measures import far_share, thick_end_share
+    reg = model.region if model.region is not None else np.ones(img.shape[:2], bool)
+    f.update(tend_ex=thick_end_share(ex), tend_out=thick_end_share(res.structure),
+             far_ex=far_share(ex, reg), far_out=far_share(res.structure, reg))
     if png:
         panels = [img]
         if image:
@@ -185,7 +189,8 @@ def main(argv=None) -> None:
     pngdir = argv[2] if len(argv) > 2 else None
     if pngdir:
         os.makedirs(pngdir, exist_ok=True)
-    keys = ("nb", "len", "thin_ex", "thin_out", "thick_ex", "thick_out", "top_ex", "top_out", "hd", "out", "out15")
+    keys = ("nb", "len", "thin_ex", "thin_out", "thick_ex", "thick_out", "top_ex", "top_out", "hd", "out", "out15",
+            "tend_ex", "tend_out", "far_ex", "far_out")
     for kind in kinds:
         rows = []
         for s in seeds:
