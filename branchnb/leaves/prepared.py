@@ -347,6 +347,7 @@ class _Prepared:
             ms, ws, us = [], [], []
             for e in range(self.n):
                 mk = L.masks[e]
+                line = False
                 if fa is not None and mk.any():
                     # Whole strokes: the ink the layer's mask touches, followed
                     # through the ink (not the outline, drawn anew).
@@ -358,7 +359,6 @@ class _Prepared:
                     mk, under = _completed(self.stage[k][e], a.blades[e], mk, line=line)
                     us.append(_stored(under))
                 else:
-                    line = False
                     us.append(self.under[k + 1][e])
                 ring = ndi.binary_dilation(mk) & a.blades[e]
                 # A vein layer's outer ring half pasted: the donor's halo, cut
