@@ -2,9 +2,8 @@
 
 A donor's vein layer is pasted as its completed mask (the induced mask plus
 the pixels beside it that stand out as the vein does). Specks and flecks
-touching a vein joined it as side knobs and came onto new leaves with it, and
-the footprint's ragged edge cut the vein's halo off there: lumps and beads
-along every pasted vein.
+near a vein joined it as side knobs and came onto new leaves with it: lumps
+and beads along pasted veins.
 """
 
 import numpy as np
@@ -13,7 +12,7 @@ from scipy import ndimage as ndi
 
 from branchnb.leaves import _measure_beads as mb
 from branchnb.leaves import analyze, leaf_family
-from branchnb.leaves.prepared import _completed, _prepared
+from branchnb.leaves.prepared import _completed
 
 
 def _line_leaf():
@@ -66,24 +65,9 @@ def test_pasted_vein_layer_keeps_to_the_vein(specked):
     rows = mb.pasted_off_vein(a, truths)
     off, core = rows[0]
     # The training leaf's layer (its specks joined it only through the completion): share of the pasted
-    # change more than 1 px from the true vein 0.157 before, 0.070 after; the vein itself as strong.
-    assert off < 0.1
+    # change more than 1 px from the true vein 0.157 before, 0.094 after; the vein itself as strong.
+    assert off < 0.12
     assert core > 0.5
     for o, c in rows:
         assert o < 0.25 and c > 0.5
 
-
-def test_vein_footprint_ring_is_half_pasted(specked):
-    a, _ = specked
-    p = _prepared(a)
-    k = p.leftover[0]
-    for e in range(len(a.exemplars)):
-        m = np.asarray(p.layer_masks[k][e], np.float32)
-        vals = np.unique(m)
-        assert set(np.round(vals, 3)) <= {0.0, 0.5, 1.0}
-        core = m > 0.75
-        ring = (m > 0.25) & (m < 0.75)
-        # The half-weight pixels are the core's 1 px ring, inside the blade.
-        assert ring.any()
-        assert not (ring & ~ndi.binary_dilation(core, structure=np.ones((3, 3), bool))).any()
-        assert not (ring & ~a.blades[e]).any()

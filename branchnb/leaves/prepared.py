@@ -360,11 +360,7 @@ class _Prepared:
                     us.append(_stored(under))
                 else:
                     us.append(self.under[k + 1][e])
-                ring = ndi.binary_dilation(mk) & a.blades[e]
-                # A vein layer's outer ring half pasted: the donor's halo, cut
-                # off at the footprint's edge, showed the footprint's ragged
-                # outline as lumps along every pasted vein (see _completed).
-                ms.append(_stored(np.where(mk, 1.0, 0.5 * ring) if line else ring))
+                ms.append(_stored(ndi.binary_dilation(mk) & a.blades[e]))
                 wgt = np.where(a.blades[e], np.maximum(L.delta - L.combined[e], 0.0) / max(L.delta, 1e-6), 0.0)
                 ws.append(_stored(ndi.grey_dilation(wgt.astype(np.float32), size=3)))
             self.layer_masks.append(ms)
