@@ -1,6 +1,19 @@
 """Beaded donor veins and spiky outlines of new leaves, measured (issue 22; a check script, not API).
 
-``python -m branchnb.leaves._measure_beads [procedural] [maples] [--n 8] [--save DIR]``
+``python -m branchnb.leaves._measure_beads [procedural] [maples] [--n 8]`` (new leaves, ``generate(a, n,
+rng=0)``), ``... pasted [procedural] [maples] [--old]`` (each donor's pasted vein layer in its own frame;
+``--old``: without the side-knob rule of :func:`branchnb.leaves.prepared._completed`).
+
+Cause found (maples, the notebook's analysis): the pasted layers are not
+broken along their length (the footprint covers 92-97 % of each traced
+vein's skeleton within its reach) and the synthesis keeps each donor vein's
+contrast along its core (new leaf within 1 px against donor, point by
+point). The beads are the donors' own: at 250 px a maple's midrib between
+its vein nodes stands 0.02-0.05 out of the blade and its nodes 0.13-0.17
+(maple_leaf_05), and speckled donors (maple_leaf_04) carry the flecks
+touching their veins; pasted onto a smoother or more textured background
+the faint line between nodes sinks and the flecks stand alone. Part of
+the flecks came through the mask's completion (side knobs), now left out.
 
 **Beads.** A donor's vein, pasted into a new leaf, should come out as
 continuous as it is in the donor. Each donor vein with a known answer (the
@@ -17,6 +30,18 @@ of its median) and the pasted layer covers the carried point:
 * ``pieces``: the visible points kept, as pieces along the skeleton, per
   100 px of kept skeleton, minus the donor's own pieces per 100 px (0: as
   continuous as the donor; a dashed vein adds a piece per dash).
+
+**Pasted off the vein** (``pasted``). The synthesis changes the background
+by ``cover * (ratio - 1)`` under a layer; ``off`` is the share of that
+change more than 1 px from the true vein, ``core`` the change on the vein
+itself. Before -> after the side-knob rule: maples 0.201 -> 0.188 (per
+exemplar 0.31/0.06/0.08/0.29/0.13/0.18/0.37 -> 0.30/0.04/0.06/0.27/0.11/0.17/0.36;
+the rest is mostly veins the tracing leaves out), procedural lobed,
+trilobed, elliptic 256 px 0.010/0.007/0.010 unchanged, core unchanged.
+New leaves (maples, rng 0, the same donors): ``gap`` mean 0.038 -> 0.037,
+``pieces`` +1.86 -> +1.78 per 100 px. A footprint ring pasted at half
+weight took off-vein down to 0.171 but cut faint veins (``gap`` 0.044,
+``pieces`` +2.14): not kept.
 
 **Spikes.** The new blade's outline (without the petiole) is smoothed a
 little and its turning angle over +-3 px arcs read (0 straight, 180 a

@@ -81,7 +81,10 @@ def _completed(img: np.ndarray, blade: np.ndarray, mask: np.ndarray, reach: int 
     two of the mask's pieces (a dash's gap): a side knob is a speck or a
     dark fleck of the blade beside the vein, not the vein. Kept, the knobs
     came with the vein onto a new leaf whose blade had none: the maples'
-    pasted veins looked beaded (``python -m branchnb.leaves._measure_beads``).
+    pasted veins looked beaded. Share of a pasted vein layer's change more
+    than 1 px from the traced vein (``python -m
+    branchnb.leaves._measure_beads pasted``): maples 0.201 -> 0.188,
+    procedural families unchanged (0.007-0.010).
     """
     img = np.asarray(img, np.float32)[..., :3]
     under = _smooth_fill(img, blade & ~ndi.binary_dilation(mask, iterations=2))
