@@ -61,6 +61,23 @@ def test_fill_far_grows_children_into_the_empty_part():
         assert g.stop_reason in ("density (coverage)", "total length")
 
 
+def test_a_fill_child_stopping_short_leaves_the_rest_of_the_hole_open(monkeypatch):
+    # branching54: with like-radius tapers (growth.TAPER_LIKENESS 2, off by default) the first child
+    # toward the lower-left corner of seed 0 left the domain after 64 px of the 150 it had to go; the
+    # whole hole within 150 px of the corner was then ruled out and the fill stopped at a far share of
+    # 0.556 (example 0.108). Now only the goal's neighbourhood is left: 0.114
+    import branchnb.branching.growth as growth
+
+    monkeypatch.setattr(growth, "TAPER_LIKENESS", 2.0)
+    ex = _comb()
+    model = fit_model(ex)
+    dom = np.ones((160, 160), bool)
+    target = far_share(model.example, dom)
+    g = _grown_along_the_top(model, 0)
+    g._fill_far()
+    assert far_share(g.structure(), dom) <= 1.5 * target + 0.02
+
+
 def test_fill_far_leaves_a_covered_frame_alone_and_respects_the_user():
     ex = _comb()
     model = fit_model(ex)

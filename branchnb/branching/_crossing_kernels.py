@@ -114,6 +114,25 @@ def crosses(head, nxt, seg, sp0, sp1, n_store, cell, poly, eps):
     return False
 
 
+_STOP, _SKIP, _KEEP = 0, 1, 2
+
+
+@numba.njit(cache=True)
+def _verdict(j, score, tries, pts, lens, poly, head, nxt, seg, sp0, sp1, n_store, cell, cap, test, eps):
+    """What the selection loops do with candidate ``j`` (``_STOP``: no positive finite score left or ``cap``
+    tests spent; ``_SKIP``: it crosses a stored segment; ``_KEEP``), and the tests spent so far."""
+    s = score[j]
+    if not (s > 0) or not np.isfinite(s):
+        return _STOP, tries
+    if test:
+        tries += 1
+        if tries > cap:
+            return _STOP, tries
+        if _candidate_crosses(j, pts, lens, poly, head, nxt, seg, sp0, sp1, n_store, cell, eps):
+            return _SKIP, tries
+    return _KEEP, tries
+
+
 @numba.njit(cache=True)
 def first_free(order, score, tip, pts, lens, head, nxt, seg, sp0, sp1, n_store, cell, cap, c, test, eps):
     """The first ``c`` candidates in ``order`` with a positive finite score whose polyline
@@ -125,15 +144,12 @@ def first_free(order, score, tip, pts, lens, head, nxt, seg, sp0, sp1, n_store, 
     poly = np.empty((M + 1, 2))
     poly[0, 0], poly[0, 1] = tip[0], tip[1]
     for j in order:
-        s = score[j]
-        if not (s > 0) or not np.isfinite(s):
+        verdict, tries = _verdict(j, score, tries, pts, lens, poly, head, nxt, seg, sp0, sp1, n_store, cell, cap,
+                                  test, eps)
+        if verdict == _STOP:
             break
-        if test:
-            tries += 1
-            if tries > cap:
-                break
-            if _candidate_crosses(j, pts, lens, poly, head, nxt, seg, sp0, sp1, n_store, cell, eps):
-                continue
+        if verdict == _SKIP:
+            continue
         out[n] = j
         n += 1
         if n == c:
@@ -186,15 +202,12 @@ def ranked_free(score, tip, pts, lens, head, nxt, seg, sp0, sp1, n_store, cell, 
             if not used[i] and (j < 0 or _ranks_before(key, i, j)):
                 j = i
         used[j] = True
-        s = score[j]
-        if not (s > 0) or not np.isfinite(s):
+        verdict, tries = _verdict(j, score, tries, pts, lens, poly, head, nxt, seg, sp0, sp1, n_store, cell, cap,
+                                  test, eps)
+        if verdict == _STOP:
             break
-        if test:
-            tries += 1
-            if tries > cap:
-                break
-            if _candidate_crosses(j, pts, lens, poly, head, nxt, seg, sp0, sp1, n_store, cell, eps):
-                continue
+        if verdict == _SKIP:
+            continue
         out[n] = j
         n += 1
         if n == c:

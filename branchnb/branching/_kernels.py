@@ -410,7 +410,7 @@ def head_rows(first_a, first_len, edges_a, elem_bins_r, head_start):
 @numba.njit(cache=True)
 def start_scores(heads, th0, sign, first_a, n, x0x, x0y, h, Q, use_hist, rows_a, p_a, counts_a,
                  rows_r, p_r, counts_r, hist_scale, use_density, grid, cell, length, n_samples,
-                 tol, nbins, eps):
+                 tol, nbins, eps, r_scale=-1.0):
     """The vectorised part of ``_Grower._start_branch``: every candidate head's first vertices
     ``new (H, m + 1, 2)`` and headings ``th (H, m + 1)``, its score ``Q`` x histogram factor, with
     colonization ``/ (D_c + eps)`` (0 where the profile crosses), its PCA direction and ``D_c``.
@@ -418,7 +418,9 @@ def start_scores(heads, th0, sign, first_a, n, x0x, x0y, h, Q, use_hist, rows_a,
     copied, 1 mirrored), ``rows_r`` (n_branches, W) its thickness bins (:func:`head_rows`): a head's
     counts are read as its few bins (:func:`_improve_bins`), the same sums as from its ``B``-wide row
     of counts. The histogram factor is left out of heads whose profile crosses a branch (their score
-    is 0 all the same; up to 80-100 % of a start's heads in a dense 1000 px cracked mud)."""
+    is 0 all the same; up to 80-100 % of a start's heads in a dense 1000 px cracked mud). ``r_scale`` >= 0:
+    the thickness term's weight instead of ``hist_scale`` (``p_r``/``counts_r`` then a child's own
+    histograms, ``branch_starts.CHILD_RADIUS_HISTOGRAM``)."""
     H = heads.shape[0]
     m = first_a.shape[1]
     th = np.empty((H, m + 1))
@@ -453,7 +455,8 @@ def start_scores(heads, th0, sign, first_a, n, x0x, x0y, h, Q, use_hist, rows_a,
         if use_hist:
             da = _improve_bins(pa, p_a, counts_a, rows_a[1 if sign[j] < 0 else 0, hd])
             dr = _improve_bins(pr, p_r, counts_r, rows_r[hd])
-            score[j] *= np.exp(min(max(hist_scale * (da + dr), -50.0), 50.0))
+            x = hist_scale * (da + dr) if r_scale < 0.0 else hist_scale * da + r_scale * dr
+            score[j] *= np.exp(min(max(x, -50.0), 50.0))
         if use_density:
             score[j] = score[j] / (dc[j] + eps)
     return new, th, score, dirs, dc

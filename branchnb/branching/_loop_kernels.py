@@ -172,13 +172,13 @@ def plain_step(t, angles, radii, ha, hr, local_points, local_dirs, cont_len, tip
 def child_start(usable, betas_u, child_index, wa, wr, win_a, win_r, mirror, theta0, straight,
                 x0x, x0y, first_a, first_len, h, use_hist, rows_a, p_a, counts_a, rows_r, p_r, counts_r, hist_scale,
                 use_density, grid, cell, length, n_samples, tol, nbins, eps, frame_h, frame_w, domain, use_domain,
-                head, nxt, seg, sp0, sp1, n_store, store_cell, cap, c, cross_eps):
+                head, nxt, seg, sp0, sp1, n_store, store_cell, cap, c, cross_eps, r_scale=-1.0):
     """``start_child`` of a child with no guidance, drain or shore factor, up to the draw: the quality
     ``Q`` of the input furcations ``usable`` (:func:`._kernels.child_quality`, the parent's window
     ``win_a``/``win_r``; then, when ``mirror``, the same mirrored: heads again with their turns and
     furcation angles ``betas_u`` negated), the heads ``child_index[usable]`` started at ``theta0`` +
     their angle (0 when ``straight``: a child toward a hole), scored by :func:`._kernels.start_scores`
-    (arguments ``x0x`` .. ``eps``), 0 where their first vertex leaves the frame or domain
+    (arguments ``x0x`` .. ``eps``, ``r_scale``), 0 where their first vertex leaves the frame or domain
     (:func:`._kernels.inside`), and the ``c`` best that cross no stored segment
     (:func:`._kernels.ranked_free`, arguments ``head`` ..).
 
@@ -203,7 +203,7 @@ def child_start(usable, betas_u, child_index, wa, wr, win_a, win_r, mirror, thet
         n[k] = first_len[heads[k]]
     new, th, score, _dirs, _dc = _start_scores(
         heads, th0, sign, first_a, n, x0x, x0y, h, Q, use_hist, rows_a, p_a, counts_a, rows_r, p_r, counts_r,
-        hist_scale, use_density, grid, cell, length, n_samples, tol, nbins, eps)
+        hist_scale, use_density, grid, cell, length, n_samples, tol, nbins, eps, r_scale)
     first = np.empty((H, 2))
     for k in range(H):
         first[k, 0] = new[k, 0, 0]

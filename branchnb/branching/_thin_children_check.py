@@ -1,13 +1,16 @@
-"""Issue-23 figures on masks with thick trunks and many thin children (branching48).
+"""Issue-23 figures on masks with thick trunks and many thin children (branching48, branching52).
 
 ``python -m branchnb.branching._thin_children_check [SEEDS] [KINDS] [PNG_DIR]`` (e.g. ``0,1,2
-comb,partial,crack,vessel,river``; ``crack``, ``vessel`` and ``river`` are
-:func:`._thin_mask_check.thin_mask_example`'s binary masks) runs each kind at sizes 200-600 px through the default workflow
-(``extract_structure``, ``fit_model(ex, domain=example_domain(img, ex))``, ``synthesize_structure``, ``synthesize_image``) and prints, per case
-and per kind (output over example): branch count ratio ``nb``, length ratio ``len``, share of the length at
-radius <= 1 px ``thin`` (example -> output), L1 distance of the length-weighted radius histograms ``hd``
-(0 = equal, 2 = disjoint) and the share of the output's length farther than 8 % of the frame's short side
-from every example line ``out`` (``out15``: 15 %; the part of the frame the example leaves empty).
+comb,partial,crack,vessel,river,roots``; ``crack``, ``vessel`` and ``river`` are
+:func:`._thin_mask_check.thin_mask_example`'s binary masks, ``roots`` :func:`roots_drawing`) runs each kind
+at sizes 200-600 px through the default workflow (``extract_structure``, ``fit_model(ex,
+domain=example_domain(img, ex))``, ``synthesize_structure``) and prints, per case and per kind (output
+over example): branch count ratio ``nb``, length ratio ``len``, share of the length at radius <= 1 px
+``thin`` and >= 2 px ``thick`` and at or above the example's length-weighted 90th-percentile radius
+``top`` (example -> output), L1 distance of the length-weighted radius histograms ``hd`` (0 = equal,
+2 = disjoint) and the share of the output's length farther than 8 % of the frame's short side from
+every example line ``out`` (``out15``: 15 %; the part of the frame the example leaves empty).
+PNG_DIR: per case the example and the output structure drawn at its radii.
 """
 # ruff: noqa: E501, E702
 from __future__ import annotations
@@ -19,7 +22,7 @@ import cv2
 import numpy as np
 from scipy import ndimage as ndi
 
-KINDS = ("comb", "partial", "crack", "vessel", "river")
+KINDS = ("comb", "partial", "crack", "vessel", "river", "roots")
 SIZES = (200, 300, 380, 450, 600)
 R_EDGES = np.array([0.0, 1.0, 1.5, 2.0, 3.0, 1e9])
 
@@ -61,8 +64,37 @@ def comb_mask(width: int, seed: int, *, partial: bool = False) -> np.ndarray:
     return m.astype(np.float32)
 
 
+def roots_drawing(width: int, seed: int) -> np.ndarray:
+    """(H, W, 3) float32 plant roots drawn dark on a cream background, ``3 width / 4`` x ``width``: 2-3
+    trunks 5-7 px wide from the top edge, whose children are 0.6 x as wide as their parent (down to
+    1-px hairlines, 3 generations), anti-aliased."""
+    rng = np.random.default_rng(5000 + seed)
+    H, W = int(width * 3 / 4), int(width)
+    img = np.ones((H, W), np.float32)
+    step = 2.0 * W / 420
+
+    def grow(x, y, ang, wd, depth):
+        pts = []
+        for _ in range(int((60 + 40 * rng.random()) * (0.8 if depth else 1.0))):
+            ang += rng.normal(0, 0.12)
+            x += step * np.cos(ang); y += step * np.sin(ang)
+            if not (0 <= x < W and 0 <= y < H):
+                break
+            pts.append((x, y))
+            if depth < 3 and rng.random() < 0.035:
+                grow(x, y, ang + rng.choice([-1, 1]) * rng.uniform(0.4, 0.9), max(1.0, wd * 0.6), depth + 1)
+        for (a, b), (c, d) in zip(pts[:-1], pts[1:]):
+            cv2.line(img, (int(a), int(b)), (int(c), int(d)), 0.15, int(max(1, wd)), cv2.LINE_AA)
+
+    for x0 in np.linspace(0.2, 0.8, int(rng.integers(2, 4))) * W:
+        grow(x0, 0.0, np.pi / 2 + rng.normal(0, 0.2), float(rng.uniform(5, 7)), 0)
+    return np.dstack([img * 0.95, img * 0.9, img * 0.8]).astype(np.float32)
+
+
 def example_mask(kind: str, width: int, seed: int) -> np.ndarray:
     """(H, W, 3) float32 black lines on white for ``kind`` (see :data:`KINDS`)."""
+    if kind == "roots":
+        return roots_drawing(width, seed)
     if kind in ("comb", "partial"):
         m = comb_mask(width, seed, partial=kind == "partial")
         return (1.0 - m)[..., None] * np.ones(3, np.float32)
@@ -86,6 +118,7 @@ def figures(img, ex, out) -> dict:
     """The figures of one case (example structure ``ex``, synthesized structure ``out``)."""
     re_, le = radius_length(ex)
     ro, lo = radius_length(out)
+    top = re_[np.argsort(re_)][min(np.searchsorted(np.cumsum(le[np.argsort(re_)]) / max(le.sum(), 1e-9), 0.9), len(re_) - 1)]
     he = np.histogram(re_, R_EDGES, weights=le)[0] / max(le.sum(), 1e-9)
     ho = np.histogram(ro, R_EDGES, weights=lo)[0] / max(lo.sum(), 1e-9)
     ink = img[..., :3].mean(-1) < 0.5
@@ -107,6 +140,10 @@ def figures(img, ex, out) -> dict:
             "len": lo.sum() / max(le.sum(), 1e-9),
             "thin_ex": float(le[re_ <= 1.0].sum() / max(le.sum(), 1e-9)),
             "thin_out": float(lo[ro <= 1.0].sum() / max(lo.sum(), 1e-9)),
+            "thick_ex": float(le[re_ >= 2.0].sum() / max(le.sum(), 1e-9)),
+            "thick_out": float(lo[ro >= 2.0].sum() / max(lo.sum(), 1e-9)),
+            "top_ex": float(le[re_ >= top].sum() / max(le.sum(), 1e-9)),
+            "top_out": float(lo[ro >= top].sum() / max(lo.sum(), 1e-9)),
             "hd": float(np.abs(he - ho).sum()), "out": outside / max(tot, 1e-9),
             "out15": outside15 / max(tot, 1e-9)}
 
@@ -119,6 +156,10 @@ def case(kind: str, width: int, seed: int, png: str | None = None, image: bool =
     model = fit_model(ex, domain=example_domain(img, ex))
     res = synthesize_structure(model, rng=seed)
     f = figures(img, ex, res.structure)
+    from .measures import far_share, thick_end_share
+    reg = model.region if model.region is not None else np.ones(img.shape[:2], bool)
+    f.update(tend_ex=thick_end_share(ex), tend_out=thick_end_share(res.structure),
+             far_ex=far_share(ex, reg), far_out=far_share(res.structure, reg))
     if png:
         panels = [img]
         if image:
@@ -148,7 +189,8 @@ def main(argv=None) -> None:
     pngdir = argv[2] if len(argv) > 2 else None
     if pngdir:
         os.makedirs(pngdir, exist_ok=True)
-    keys = ("nb", "len", "thin_ex", "thin_out", "hd", "out", "out15")
+    keys = ("nb", "len", "thin_ex", "thin_out", "thick_ex", "thick_out", "top_ex", "top_out", "hd", "out", "out15",
+            "tend_ex", "tend_out", "far_ex", "far_out")
     for kind in kinds:
         rows = []
         for s in seeds:

@@ -38,6 +38,15 @@ ROOT_RADIUS_POWER = 2.0
 INLAND_SHARE = 1.0
 
 
+#: A child's head: the thickness term of its histogram factor compares the synthesized children's
+#: thicknesses with the example's children's, not every branch's (:meth:`_Starts._child_radius_hist`;
+#: beyond the paper, issue 23). False = the paper's global factor. Off by default (branching54): with
+#: it, on the partial comb mask of ``test_branching_thin_children`` (300 px, seed 0) 0.22 of the output
+#: length lies > 8 % of the short side from every example line (bound 0.2; 4 seeds: mean 0.13 -> 0.15 with
+#: both rules), and the storm bolts' profile correlation drops to 0.96 in one seed (bound 0.97).
+CHILD_RADIUS_HISTOGRAM = False
+
+
 def _elem_bins(model) -> np.ndarray:
     """The thickness bin of every input element (:func:`._kernels.element_bins`), once per model."""
     got = model.__dict__.get("_elem_bins_r")
@@ -204,6 +213,53 @@ class _Starts:
             todo.extend(j for j, b in enumerate(self.branches) if b.parent == i)
         return False
 
+    def _child_radius_hist(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """``(p, counts)``: the example's thickness histogram over its child branches' vertices (the
+        matcher's bins) and the running counts of the synthesized children's, or None
+        (:data:`CHILD_RADIUS_HISTOGRAM` off, no histogram matching, a delta, or no child in the example).
+
+        Beyond the paper (issue 23). The paper's factor weighs a head's thicknesses against the shares
+        of every node grown so far, but growth is not in proportion: a tree's trunk grows first, so
+        when its children start the running histogram is all trunk, every thick head is turned down,
+        and by the time thin children have filled the histogram the thick junctions that could start a
+        thick child are taken (a child never starts thicker than its parent's junction). On masks with
+        3-4 px trunks and 1-px side cracks no child came out thicker than 0.9 px where the example's
+        depth-1 children reach 1.9-2.3 px. Against the children's own histograms a child head is
+        judged among children only: the first children start with no thickness term, later ones fill
+        the bins the example's children fill. A delta's channels take their radius from
+        ``_channel_radius`` and keep the paper's factor.
+        """
+        hm = self.matcher
+        if not CHILD_RADIUS_HISTOGRAM or hm.wG <= 0 or self.drain is not None:
+            return None
+        cached = self.__dict__.get("_child_hist")
+        if cached is None:
+            r = [np.broadcast_to(np.asarray(b.thickness, np.float64), (len(b.points),))
+                 for b in self.model.example.branches if b.parent is not None]
+            r = np.concatenate(r) if r else np.zeros(0)
+            if r.size == 0:
+                cached = ()
+            else:
+                pc = np.bincount(hm.bin_radii(r), minlength=hm.bins).astype(np.float64)
+                cached = (pc / pc.sum(), np.zeros(hm.bins))
+            self.__dict__["_child_hist"] = cached
+        return cached or None
+
+    def _child_count(self, radii) -> None:
+        """Count a synthesized child's new vertex thicknesses (:meth:`_child_radius_hist`)."""
+        ch = self._child_radius_hist()
+        if ch is not None and len(radii):
+            ch[1][:] += np.bincount(self.matcher.bin_radii(np.asarray(radii, np.float64)), minlength=len(ch[1]))
+
+    def _child_hist_args(self, use_hist: bool) -> tuple:
+        """``(p_r, counts_r, r_scale)`` of a child's start (:func:`._kernels.start_scores`): its thickness
+        term against the children's histograms (:data:`CHILD_RADIUS_HISTOGRAM`), else the matcher's."""
+        hm = self.matcher
+        ch = self._child_radius_hist() if use_hist else None
+        if ch is None:
+            return hm.p_r, hm.counts_r, -1.0
+        return ch[0], ch[1], hm.wG * float(ch[1].sum()) / hm.m
+
     def _head_share(self) -> float:
         if self._head is None:
             m = self.model
@@ -245,13 +301,14 @@ class _Starts:
         dens = self.density
         length = 3.0 * p.m * p.h
         rows_a, rows_r = _head_rows(model, hm.edges_a) if use_hist else (_E3, _E2)
+        p_r, counts_r, r_scale = self._child_hist_args(use_hist) if parent is not None else (hm.p_r, hm.counts_r, -1.0)
         new, th, score, dirs, dc = _kernels.start_scores(
             heads, th0, np.asarray(sign, np.float64), model.first_a, n, float(x0[0]), float(x0[1]), float(p.h),
-            np.asarray(Q, np.float64), use_hist, rows_a, hm.p_a, hm.counts_a, rows_r, hm.p_r, hm.counts_r,
+            np.asarray(Q, np.float64), use_hist, rows_a, hm.p_a, hm.counts_a, rows_r, p_r, counts_r,
             hm.wG * hm.n_nodes / hm.m if use_hist else 0.0, dens is not None,
             dens.grid if dens is not None else np.zeros((1, 1), np.float32), dens.cell if dens is not None else 1.0,
             length, int(min(max(np.ceil(length / (dens.rho / 2.0)), 8), 48)) if dens is not None else 8, 0.02,
-            _DIRECTION_BINS, float(p.eps))
+            _DIRECTION_BINS, float(p.eps), r_scale)
         if self.guidance is not None:
             score = score / (self.guidance.along(x0, dirs, length) + p.eps)
         if dens is not None and self.frame and parent is None:
@@ -344,6 +401,8 @@ class _Starts:
             if trunk:
                 self._fan_count = (self._fan_count[0] + (side > 0), self._fan_count[1] + (side < 0))
         self._register(pl, ea, radii)
+        if parent is not None:
+            self._child_count(radii)
         self.branches.append(st)
         return len(self.branches) - 1
 
@@ -556,6 +615,7 @@ class _Starts:
         hm = self.matcher
         use_hist = hm.wG > 0 and hm.n_nodes > 0
         rows_a, rows_r = _head_rows(model, hm.edges_a) if use_hist else (_E3, _E2)
+        p_r, counts_r, r_scale = self._child_hist_args(use_hist)
         dens = self.density
         length = 3.0 * p.m * p.h
         dom = self.domain
@@ -563,12 +623,13 @@ class _Starts:
         heads, n, new, th, sign, score, chosen = _loop_kernels.child_start(
             np.asarray(usable, np.int64), np.asarray(betas, np.float64), fm.child_index, fm.parent_windows_a,
             fm.parent_windows_r, wa, wr, mirror, theta0, toward is not None, float(x0[0]), float(x0[1]),
-            model.first_a, model.first_len, float(p.h), use_hist, rows_a, hm.p_a, hm.counts_a, rows_r, hm.p_r,
-            hm.counts_r, hm.wG * hm.n_nodes / hm.m if use_hist else 0.0, dens is not None,
+            model.first_a, model.first_len, float(p.h), use_hist, rows_a, hm.p_a, hm.counts_a, rows_r, p_r,
+            counts_r, hm.wG * hm.n_nodes / hm.m if use_hist else 0.0, dens is not None,
             dens.grid if dens is not None else _E_GRID, dens.cell if dens is not None else 1.0, length,
             int(min(max(np.ceil(length / (dens.rho / 2.0)), 8), 48)) if dens is not None else 8, 0.02,
             _DIRECTION_BINS, float(p.eps), self.shape[0], self.shape[1], self._e_dom if dom is None else dom,
-            dom is not None, st._head, st._next, st._seg, st.p0, st.p1, st.n, st.cell, self._cap(), int(p.c), 1e-9)
+            dom is not None, st._head, st._next, st._seg, st.p0, st.p1, st.n, st.cell, self._cap(), int(p.c), 1e-9,
+            r_scale)
         j = self._draw(score, chosen.tolist())
         if j is None:
             if sub is not None and self._room_around(x0, length):

@@ -158,7 +158,8 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
     scale = float(np.clip(width / max(2 * mean_r, 1e-6), 0.25, 4.0)) if drawn else 1.0
     # the boundary of the branch region, away from the branches and the frame
     inside = lay == branch_region
-    b_col, b_width = _boundary_line(img, inside, lay, k, pm, mean_r, off_region, unlike_region, line, cover)
+    b_col, b_width = _boundary_line(img, inside, lay, k, pm, mean_r, off_region, unlike_region, line, cover,
+                                    cols, tol)
     if b_col is None:
         # Beyond the paper: the branch region by colour may be one relief level of the land (a small
         # terrain map whose white lowlands have the colour of the white outside, and whose rivers lie
@@ -169,7 +170,7 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
         dom = example_domain(img[..., :3], structure)
         if 0.02 < dom.mean() < 0.98:
             b_col, b_width = _boundary_line(img, dom, lay, k, pm, mean_r, off_region, unlike_region, line,
-                                            cover)
+                                            cover, cols, tol)
     # roots that start near the region boundary are outlets: the drawing joins them to it
     reach, tip_reach = 0.0, 0.0
     outside = ~inside
@@ -211,9 +212,11 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
                         textures or None, two_tone)
 
 
-def _boundary_line(img, inside, lay, k, pm, mean_r, off_region, unlike_region, line, cover):
+def _boundary_line(img, inside, lay, k, pm, mean_r, off_region, unlike_region, line, cover, cols, tol):
     """The colour and width of the line drawn along the boundary of ``inside`` (the branch region)
-    away from the branches and the frame, or ``(None, 0.0)`` when most of it is not drawn."""
+    away from the branches and the frame, or ``(None, 0.0)`` when most of it is not drawn or its
+    colour is a region's own (within ``tol`` of one of ``cols``: a photograph's matte with a
+    vignetted rim, e.g. a fundus, whose darkest rim pixels are the matte's colour, is no line)."""
     edge = inside & ndi.binary_dilation(~inside) | ~inside & ndi.binary_dilation(inside)
     edge[:2] = edge[-2:] = False
     edge[:, :2] = edge[:, -2:] = False
@@ -238,6 +241,8 @@ def _boundary_line(img, inside, lay, k, pm, mean_r, off_region, unlike_region, l
             # the line's own colour: its most saturated pixels, not the anti-aliased rim
             strong = ink & (off_region >= np.percentile(off_region[ink], 67))
             b_col = _median_colour(img, strong, line)
+            if np.min(np.linalg.norm(np.asarray(cols, np.float32) - b_col, axis=-1)) < tol:
+                return None, 0.0
             if against:
                 # the band also crosses other regions' edges: the line's width is its own area over its length
                 from skimage.morphology import skeletonize

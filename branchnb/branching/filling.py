@@ -26,6 +26,10 @@ FAR_TARGET = 1.2
 #: Branches started into holes by ``_Filling._fill_far``, at most.
 FAR_MAX_TRIES = 40
 
+#: A child grown toward a hole's centre that stopped short but grew at least this x the hole distance
+#: rules out only the goal's neighbourhood (``_Filling._fill_far``), not the whole hole.
+PART_GROWN = 1.0
+
 #: Largest ``(H - 1)^2 + (W - 1)^2`` for which :func:`_edt` takes OpenCV's exact distance transform:
 #: below it every squared distance is recovered exactly from its float32 distance.
 EDT_CV2_LIMIT = 2 ** 22
@@ -460,9 +464,14 @@ class _Filling:
             goal = np.array([c * k, r * k], np.float64)
             length = self.total_length
             self._grow_into(goal)
-            if self.total_length - length < 0.5 * float(dist[r, c]):
-                # nothing reached it: leave this hole
-                tried |= np.hypot(yy - r, xx - c) * k <= max(float(dist[r, c]), gap)
+            grown = self.total_length - length
+            if grown < 0.5 * float(dist[r, c]):
+                # nothing reached it: leave this hole. A child that grew part of the way (it left the
+                # domain or met a branch on a corner goal) leaves only the goal's own neighbourhood:
+                # the rest of the hole is tried from elsewhere (ruling out the whole hole after one
+                # short child left 0.56 of a frame empty where the example leaves 0.11)
+                reach = float(dist[r, c]) if grown < PART_GROWN * gap else 0.0
+                tried |= np.hypot(yy - r, xx - c) * k <= max(reach, gap)
             if self.stop_reason:
                 break
             share, dist, gap = self._holes()

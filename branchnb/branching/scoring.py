@@ -93,7 +93,8 @@ class CandidateScores:
     crossing: np.ndarray
 
 
-def _continue_radii(rad: np.ndarray, r_tip: float, r_src: float, r_min: float, r_max: float) -> np.ndarray:
+def _continue_radii(rad: np.ndarray, r_tip: float, r_src: float, r_min: float, r_max: float,
+                    like: float = 0.0, resolved: float = 0.0) -> np.ndarray:
     """Copied radii scaled to continue from the tip (thickness continuity).
 
     ``r_src`` is the input radius that precedes the copied elements: the
@@ -102,7 +103,32 @@ def _continue_radii(rad: np.ndarray, r_tip: float, r_src: float, r_min: float, r
     ``[r_min, r_max]``. (Copying absolute radii, or fading a shift back to
     them, makes the radius jump at every step whenever the matched input
     piece is thicker or thinner than the tip: beads along the branch.)
+
+    ``like`` > 0 (beyond the paper, issue 23; ``growth.TAPER_LIKENESS``): the
+    relative change is raised to ``(min(r_src, r_tip) / max(r_src, r_tip)) ** like``,
+    so a piece as thick as the tip passes on its whole taper and a much
+    thinner or thicker one little of it. A 1-px crack's blurred end, where
+    the extraction measures it 30-50 % thicker at the junction, thins the
+    tip that copies it by as much: on masks with 3-4 px trunks and many 1-px
+    side cracks (most of the pieces) the trunks thinned step after step from
+    2.6 to 0.9 px within 160 px; with ``like`` = 2 they keep 2.1-2.4 px.
+    Radii below ``resolved`` count as ``resolved`` in the likeness
+    (``growth.TAPER_RESOLVED``): sub-pixel widths are alike.
+
+    Examples
+    --------
+    >>> _continue_radii(np.array([0.5]), 2.0, 1.0, 0.1, 9.0).tolist()
+    [1.0]
+    >>> round(float(_continue_radii(np.array([0.5]), 2.0, 1.0, 0.1, 9.0, like=2.0)[0]), 3)
+    1.682
+    >>> _continue_radii(np.array([0.5]), 0.8, 0.6, 0.1, 9.0, like=2.0, resolved=1.0).round(3).tolist()
+    [0.667]
     """
+    if like > 0:
+        r_src = max(r_src, 1e-9)
+        lo, hi = max(min(r_src, r_tip), resolved), max(r_src, r_tip, resolved, 1e-9)
+        w = (lo / hi) ** like
+        return np.minimum(np.maximum(r_tip * (np.maximum(rad, 1e-9) / r_src) ** w, r_min), r_max)
     return np.minimum(np.maximum(rad * (r_tip / max(r_src, 1e-9)), r_min), r_max)   # np.clip, less overhead
 
 

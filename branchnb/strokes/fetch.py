@@ -31,29 +31,6 @@ from ..core.validate import COORD_LIMIT, Array, Int, Real, Shape, checked
 from .samples import Samples, sample_pair
 from .source import OPAQUE_RADIUS, SourceIndex, auto_radius, source_index  # noqa: F401  (re-exported)
 from .strokes import Stroke  # noqa: F401  (the examples use it)
-from .tubes import (  # noqa: F401  (re-exported: fetch.py was split by step)
-    _MAX_WIDTH,
-    _OPAQUE_MARGIN,
-    _beyond_weight,
-    _children_beyond_caps,
-    _clear_of,
-    _connected_to_stroke,
-    _distance_map,
-    _end_direction,
-    _end_tube,
-    _far_half_width,
-    _is_cut,
-    _joined_ends,
-    _local_max,
-    _lookup,
-    _parent_side,
-    _raw_width,
-    _reach_box,
-    _run_length,
-    _smooth_width,
-    _tube_margin,
-    _wide_ends,
-)
 
 __all__ = ["SourceIndex", "Samples", "Fetched", "source_index", "sample_pair", "fetch",
            "OPAQUE_RADIUS"]

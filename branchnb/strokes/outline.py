@@ -586,10 +586,13 @@ def fill_joints(layer: np.ndarray, joints, radii, *, pockets=None, inner: int = 
         near[a0:a1, b0:b1] = np.hypot(xx - x, yy - y) <= r
         new = np.zeros_like(m)
         new[a0:a1, b0:b1] = closed[a0:a1, b0:b1] & ~m[a0:a1, b0:b1] & near[a0:a1, b0:b1]
+        kept = None
         if keep_open is not None and new.any():
             nr, nc = np.nonzero(new)
             stay = np.asarray(keep_open(nr + r0, nc + c0, k), bool)
             new[nr[stay], nc[stay]] = False
+            kept = np.zeros_like(new)
+            kept[nr[stay], nc[stay]] = True
         if not new.any():
             continue
         if out is None:
@@ -609,6 +612,10 @@ def fill_joints(layer: np.ndarray, joints, radii, *, pockets=None, inner: int = 
                  else ndi.distance_transform_cdt(~nb, metric="taxicab") <= k + 1)
         inner = np.zeros_like(new)
         inner[b] = ndi.binary_erosion(closed[b]) & near[b] & steps
+        if kept is not None:
+            # a pocket kept open stays open: raising its alpha would show its undefined
+            # (black) colour as dark specks inside the object
+            inner &= ~kept
         win[new | inner, 3] = np.maximum(win[new | inner, 3], np.where(inner[new | inner], 1.0, 0.0))
         win[new & ~inner, 3] = 0.5 + 0.5 * (win[new & ~inner, 3] > 0.5)
     return layer if out is None else out
