@@ -16,7 +16,7 @@ import numpy as np
 from scipy import ndimage as ndi
 
 from ..core.image import extend_nearest
-from .flatart import _replace_from_blade, drawn_outline, flat_art
+from .flatart import _layer_lines, _replace_from_blade, drawn_outline, flat_art
 from .leftover import flatten_leftover, layer_strength, own_lines, parallel_lines
 from .shaping import _grid, _map_jacobian, _remap_map, _remap_values, _sample
 
@@ -295,6 +295,19 @@ class _Prepared:
         last = len(a.residuals) - 1
 
         leftover = _leftover_layer(a) if fa is None else None
+        # On drawings, each layer's whole drawn lines (branchnb.leaves.flatart._layer_lines):
+        # the stretches of a line the induction missed are the same vein, so
+        # they leave the later stages (the background above all: they stayed
+        # beside the donor's pasted veins) and come with the layer when pasted.
+        self.lines = [[_layer_lines(a.residuals[k][e], a.blades[e], L.masks[e], fa.ink[e], fa.outline[e])
+                       for e in range(self.n)] for k, L in enumerate(a.layers)] if fa is not None else None
+
+        def drawn_removed(k, e, base):
+            # What a drawing's stage k lacks: ``base`` and the lines of every layer above it.
+            out = base
+            for j in range(min(k, len(self.lines))):
+                out = out | self.lines[j][e]
+            return out
 
         def stage_image(k, e):
             img = np.asarray(a.residuals[k][e], np.float32)
@@ -302,7 +315,7 @@ class _Prepared:
                 # No outline in any stage (it is drawn anew along the new
                 # blade), and no ink at all in the background: ink the
                 # induction missed stayed beside the donor's veins.
-                img = fa.clean(img, a.blades[e], fa.ink[e] if k == last else fa.outline[e])
+                img = fa.clean(img, a.blades[e], drawn_removed(k, e, fa.ink[e] if k == last else fa.outline[e]))
             elif outlines[e].any():
                 # An ink outline around a leaf that is not flat art (a
                 # gradient-filled drawing) is taken out too (drawn_outline).
@@ -335,7 +348,8 @@ class _Prepared:
         # What a layer's contrast is taken against: the next stage, without
         # any ink on drawn leaves (a stroke the induction missed is still in
         # the next stage, so its ratio was 1 and the pasted vein had gaps).
-        self.under = [[_stored(_bleed(fa.clean(np.asarray(a.residuals[k][e], np.float32), a.blades[e], fa.ink[e]),
+        self.under = [[_stored(_bleed(fa.clean(np.asarray(a.residuals[k][e], np.float32), a.blades[e],
+                                               drawn_removed(k, e, fa.ink[e])),
                                       a.blades[e])) for e in range(self.n)] if fa is not None and 0 < k < last
                       else self.stage[k] for k in range(len(a.residuals))]
         # Layer masks grown by the pixel the residual also removed: the
@@ -355,7 +369,7 @@ class _Prepared:
                     # Whole strokes: the ink the layer's mask touches, followed
                     # through the ink (not the outline, drawn anew).
                     strokes = fa.ink[e] & ~fa.outline[e]
-                    mk = (mk | ndi.binary_propagation(mk & strokes, mask=strokes)) & ~fa.outline[e]
+                    mk = (mk | ndi.binary_propagation(mk & strokes, mask=strokes) | self.lines[k][e]) & ~fa.outline[e]
                     us.append(self.under[k + 1][e])
                 elif mk.any():
                     line = _LINE_KNOBS and leftover is not None and k == leftover[0]
