@@ -34,8 +34,9 @@ def _frame(s: Structure) -> tuple[int, int]:
 GROUND_DISTANCE = 0.06
 #: ... and so is an outside part whose edge keeps within this share of its median distance from the
 #: example's vertices everywhere, and at least :data:`BAND_GAP` pixels: a band drawn round its lines
+#: (its margin is at least ``empty_ground.BAND_MIN``; a coast traced as a line runs closer)
 BAND_STEADY = 0.5
-BAND_GAP = 3.0
+BAND_GAP = 7.0
 
 
 def _ground(ex: Structure, domain: np.ndarray | None) -> np.ndarray | None:

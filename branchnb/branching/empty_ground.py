@@ -69,7 +69,7 @@ BAND_QUANTILE = 0.9   #: the strand spacing is this quantile of the line-to-line
 BAND_HITS = 0.3       #: ... read when at least this share of the rays' start points meet another line
 BAND_RAYS = 16        #: directions of the rays from each start point
 BAND_POINTS = 2000    #: at most this many start points (skeleton pixels, evenly spread)
-BAND_MIN = 3.0        #: never a band narrower than this (pixels) beyond the lines
+BAND_MIN = 8.0        #: never a band narrower than this (pixels) beyond the lines
 BAND_WIDTH = 1.0      #: the band reaches this x the strand spacing beyond the lines
 
 
