@@ -681,8 +681,12 @@ def example_domain(image, structure: Structure | None = None, *, radius: float =
     Beyond the paper (issue 23): a line mask on one plain ground (binary, or
     anti-aliased in two tones) leaves out the part of the frame its lines
     leave empty (:func:`.empty_ground._empty_part`), so the output keeps to the occupied
-    part. :func:`~branchnb.branching.fit_model` reads that part as ground, not
-    as a coast or a hole (``StructureModel.ground``).
+    part, and keeps within the lines' own line-to-line spacing of them
+    (:func:`.empty_ground._line_domain`: a vine along two borders of its frame
+    grows along those borders, not as a bush over a region twice the band's
+    width). :func:`~branchnb.branching.fit_model` reads the rest as ground, not
+    as a coast or a hole (``StructureModel.ground``), and the output's strands
+    turn to stay in the domain (``branch_starts.LEAVE_BAND``).
 
     Parameters
     ----------

@@ -50,6 +50,9 @@ def _ground(ex: Structure, domain: np.ndarray | None) -> np.ndarray | None:
     lines; any new layout left holes in it, far-hole filling grew into them and a wavy vine came out
     1.10-1.31 x the example's length (the whole frame: 0.96-1.04). Coverage, holes, roots, the length
     cap and the drain read the domain plus this ground (:attr:`.model.StructureModel.region`).
+    An outside part whose edge keeps a steady distance (:data:`BAND_STEADY`, :data:`BAND_GAP`) from
+    the example's lines is ground too: the band :func:`.empty_ground._line_domain` draws round a vine
+    ornament's strands, which no strand reaches (a coast is reached by its rivers; branching53).
 
     Examples
     --------
