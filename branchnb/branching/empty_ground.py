@@ -71,6 +71,7 @@ BAND_RAYS = 16        #: directions of the rays from each start point
 BAND_POINTS = 2000    #: at most this many start points (skeleton pixels, evenly spread)
 BAND_MIN = 8.0        #: never a band narrower than this (pixels) beyond the lines
 BAND_WIDTH = 1.0      #: the band reaches this x the strand spacing beyond the lines
+BAND_DEPTH = 0.16     #: a band's deepest point lies within this x the short side of its edge
 
 
 def _strand_spacing(lines: np.ndarray, reach: float) -> float | None:
@@ -143,4 +144,15 @@ def _line_domain(lines) -> np.ndarray:
     s = _strand_spacing(lines, EMPTY_MARGIN * EMPTY_DISK * min(H, W))
     if s is None:
         return dom
-    return dom & (ndi.distance_transform_edt(~lines) <= max(BAND_WIDTH * s, BAND_MIN))
+    band = dom & (ndi.distance_transform_edt(~lines) <= max(BAND_WIDTH * s, BAND_MIN))
+    # a network that covers an area (cracks, vessels, a mesh) keeps the former rule: only a band
+    return band if _is_band(band) else dom
+
+
+def _is_band(domain) -> bool:
+    """Is ``domain`` a band: no point deeper than :data:`BAND_DEPTH` x the frame's short side?"""
+    domain = np.asarray(domain, bool)
+    if not domain.any() or domain.all():
+        return False
+    depth = ndi.distance_transform_edt(np.pad(domain, 1))   # the frame is no edge of a band
+    return bool(depth.max() <= BAND_DEPTH * min(domain.shape))

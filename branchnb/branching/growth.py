@@ -30,6 +30,7 @@ from .colonization import (
     frame_density,
 )
 from .domains import MOUTH_SHARE, MOUTH_TURN, _Drain, _Shore, _shore_margin, runs_inland
+from .empty_ground import _is_band
 from .filling import _Filling
 from .guidance import Guidance
 from .model import StructureModel, _choice
@@ -234,7 +235,7 @@ class _Grower(_Starts, _Filling):
         # a line mask's domain with ground round it (.empty_ground._line_domain): its edge is no coast,
         # a branch turns along it (LEAVE_BAND)
         self.keep_in = guidance is None and domain is not None and model.ground is not None \
-            and not bool(np.all(domain))
+            and _is_band(domain)
         self._e_dom = np.zeros((1, 1), bool)
         # a root reads the frame ahead as density (a free frame only: a map's domain has its own rules)
         self.frame = params.colonization and guidance is None and (region is None or bool(region.all()))
