@@ -348,7 +348,10 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
         a node of the piece more than 4 px nearer than every end, a mouth the
         coast's removed outline left as a loop, beats the ends), else the thickest end (a
         vessel tree's trunk, a delta's inland channel; the radius near an end,
-        not at it, which the frame or a rounded tip pinches); or the thickest, the top-most ..., the one
+        not at it, which the frame or a rounded tip pinches), every end where a thick line
+        enters the frame (``_frame_entries``), or, on a piece of one width that meets the
+        frame, the frame end its forks point to (``_frame_outlet``: a line map's river cut by
+        the frame drains there, beyond the paper); or the thickest, the top-most ..., the one
         nearest to the image border, the one nearest to ``region`` (e.g.
         the sea a river flows into; the border if there is none; a piece
         that meets the region at several mouths and has a much thicker end
