@@ -488,11 +488,6 @@ def line_colour_map(image, colour, *, sigma_max: float = 4.0, spread: float = 0.
     return np.clip(np.maximum(blend, close), 0.0, 1.0).astype(np.float32)
 
 
-#: An enclosed inside that :data:`LEAVING_LINES` or more ink lines leave (beyond its ink ring) is a cell
-#: between crossing lines, not a stroke's outline (:func:`fill_outlined_strokes`).
-LEAVING_LINES = 3
-
-
 def fill_outlined_strokes(gray, *, max_width: float = 24.0, colour=None,
                           colour_tol: float = 0.06) -> tuple[np.ndarray, int]:
     """Fill the insides of strokes drawn as outlines, so each is traced once along its centre line.
@@ -568,7 +563,7 @@ def fill_outlined_strokes(gray, *, max_width: float = 24.0, colour=None,
     objs = ndi.find_objects(lab)
     dt = ndi.distance_transform_edt(bg)
     filled = 0
-    pad = int(np.ceil(3.0 * lw)) + 6
+    pad = int(np.ceil(lw)) + 4
     h, w = g.shape
     for i, sl in enumerate(objs, start=1):
         if sl is None or i in edge:
@@ -584,12 +579,6 @@ def fill_outlined_strokes(gray, *, max_width: float = 24.0, colour=None,
         d_out = ndi.distance_transform_edt(~reg)
         shell = (d_out > lw + 1.5) & (d_out <= lw + 3.5)
         if not shell.any() or bg[y0:y1, x0:x1][shell].mean() < 0.6:
-            continue
-        # lines that run on beyond the ink ring (crossing lines; two crossing at a shallow angle are one
-        # blob just beyond the ring, apart a few line widths farther out)
-        far = (d_out > 3.0 * lw + 2.0) & (d_out <= 3.0 * lw + 4.0)
-        win_ink = ink[y0:y1, x0:x1]
-        if max(ndi.label(ring & win_ink, np.ones((3, 3), bool))[1] for ring in (shell, far)) >= LEAVING_LINES:
             continue
         if rgb is not None:
             # a stroke's inside has the paper's colour beyond its outline too; a sliver of one country
