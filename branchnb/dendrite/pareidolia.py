@@ -584,6 +584,8 @@ class PareidoliaTree:
 
 
 _MAX_ENDPOINTS = 60000
+_DARK_TWIGS = 3.0
+_DARK_FROM = 0.6
 
 
 
@@ -682,6 +684,12 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
         crown[:hi] = content_crown(imp[:hi], blur=p.crown_blur, outline=tree_crown((hi, w), rng=rng))
     else:
         crown = crown_mask((h, w), tp)
+    # a picture dark all over needs more twigs (beyond the paper): wide twigs carrying
+    # its ink left gaps as large as themselves, a coarse texture that hid its tones
+    more = 1.0 + _DARK_TWIGS * max(float(dark[crown].mean()) - _DARK_FROM, 0.0) if crown.any() else 1.0
+    if more > 1.0 + 1e-3:  # ... and the trunk and limbs stay as wide (the pipe gain)
+        n_img = int(min(round(n_img * more), _MAX_ENDPOINTS))
+        p = dataclasses.replace(p, pipe=p.pipe / float(np.sqrt(more)))
     # the limbs follow the linear stretch; the twigs' tone the half-equalised one
     dark_limbs = _stretch(dark, crown, p.contrast, equalize=0.0)
     dark = _stretch(dark, crown, p.contrast)

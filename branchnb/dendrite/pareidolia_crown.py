@@ -165,9 +165,48 @@ def content_crown(importance, *, blur: float = 10.0, threshold: float = 0.05,
         # the content fills the frame (not an object touching it at one spot):
         # cut it to a crown's outline
         mask &= box
+    elif mask.any() and _AROUND > 0:
+        mask = _crown_around(mask, box)
     if not mask.any():  # nothing to draw: the crown outline itself
         mask = box
     return mask
+
+
+#: An object on a blank ground gets a tree crown this much larger than its bounding box
+#: (each way, about its centre; 0: the object's own outline, as before).
+_AROUND = 1.3
+#: ... whose height is at most / at least this many times its width.
+_CROWN_ASPECT = (0.6, 1.5)
+
+
+def _crown_around(mask: np.ndarray, outline: np.ndarray) -> np.ndarray:
+    """A tree crown round an object on a blank ground (beyond the paper): ``outline``
+    (a crown silhouette of the frame) scaled to ``_AROUND`` times the object's bounding
+    box, its aspect kept within ``_CROWN_ASPECT``, and clipped to the frame, joined with
+    the object's own mask (so none of the picture is lost).
+
+    The object's silhouette as the crown drew a maple leaf or a logo as a leaf- or
+    letter-shaped tree; a tree crown holding the picture reads as a tree first, and the
+    ground round the object gets light twigs (the random endpoints).
+    """
+    from skimage.transform import resize
+
+    h, w = mask.shape
+    ys, xs = np.nonzero(mask)
+    cy, cx = 0.5 * (ys.min() + ys.max()), 0.5 * (xs.min() + xs.max())
+    bh = _AROUND * (ys.max() - ys.min() + 1)
+    bw = _AROUND * (xs.max() - xs.min() + 1)
+    bh, bw = max(bh, _CROWN_ASPECT[0] * bw), max(bw, bh / _CROWN_ASPECT[1])
+    y0, y1 = int(round(cy - bh / 2)), int(round(cy + bh / 2))
+    x0, x1 = int(round(cx - bw / 2)), int(round(cx + bw / 2))
+    if y1 - y0 < 2 or x1 - x0 < 2:
+        return mask
+    crown = resize(np.asarray(outline, np.float64), (y1 - y0, x1 - x0), order=1) > 0.5
+    out = np.zeros_like(mask)
+    cy0, cx0 = max(y0, 0), max(x0, 0)
+    cy1, cx1 = min(y1, h), min(x1, w)
+    out[cy0:cy1, cx0:cx1] = crown[cy0 - y0:cy1 - y0, cx0 - x0:cx1 - x0]
+    return out | mask
 
 
 #: Share of the crown's width, about its middle, where the trunk may enter it.

@@ -229,6 +229,9 @@ def _twig_aspect(dark: np.ndarray, feature=0.0) -> np.ndarray:
 
 
 _REFINE_SIGMA = 3.0  # px of the output: a little finer than the 4 px at which tone is judged
+_LIMB_BUDGET = 1.0
+_LIMB_SPAN = 0.25
+_LIMB_MIN = 0.5
 _REFINE_GAIN = 0.7  # exponent on the correction (damped: neighbours share the blur)
 
 
@@ -264,7 +267,10 @@ def _refine_tone(d: Dendrite, dark: np.ndarray, bounds: dict, s: float,
     # stays about as fine in output px at every size) does not
     limb = np.asarray(bounds.get("limb", np.zeros_like(f)))
     base = np.minimum(limb, p.limb_width)
-    floor = np.minimum(np.maximum(floor * s, base * min(s, 1.0) + (limb - base) * s), width)
+    ramp = np.asarray(bounds.get("ramp", np.zeros_like(f)))
+    keep = 1.0 - _LIMB_BUDGET * ramp
+    floor = np.minimum(np.maximum(floor * s * keep, base * min(s, 1.0) * (1.0 - (1.0 - _LIMB_MIN) * (1.0 - keep))
+                                  + (limb - base) * s * keep), width)
     cap = np.maximum(bounds["cap"] * s, width)
     smooth = 3  # render()'s default
     h, w = d.shape
@@ -480,6 +486,9 @@ def _thickness(d: Dendrite, p: PareidoliaParams, imp, dark, crown, n_trunk: int,
         entry = arc[int(np.argmax(inside[:n_trunk]))]
         ramp[:n_trunk] = np.clip((arc[:n_trunk] - entry) / (0.25 * p.limb_length), 0.0, 1.0)
     light = 1.0 - (1.0 - light) * ramp
+    budget = np.clip(from_fork / (_LIMB_SPAN * p.limb_length), 0.0, 1.0)
+    if inside[:n_trunk].any():
+        budget[:n_trunk] = np.clip((arc[:n_trunk] - entry) / (_LIMB_SPAN * p.limb_length), 0.0, 1.0)
     thin = np.minimum(limb, p.limb_width)  # the limbs keep limb_width, the rest narrows
     limb = thin + (limb - thin) * light
     structural = is1 & (np.arange(d.n_nodes) >= first_seed)
@@ -521,5 +530,5 @@ def _thickness(d: Dendrite, p: PareidoliaParams, imp, dark, crown, n_trunk: int,
     if p.taper > 0:
         out = _taper_ends(d, out, dist, p.taper)
     if bounds is not None:  # what the output-resolution pass may change, and how far
-        bounds.update(inside=inside, floor=floor, cap=cap, dist=dist, limb=limb)
+        bounds.update(inside=inside, floor=floor, cap=cap, dist=dist, limb=limb, ramp=budget * inside)
     return d.with_radius(out / 2)
