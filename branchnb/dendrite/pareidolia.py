@@ -247,7 +247,7 @@ from .dendrite import Dendrite, build_dendrite
 from .endpoints import _snap_into, place_endpoints, random_endpoints
 from .importance import ImportanceParams, darkness, importance_map
 from .lattice import Lattice, direction_factors, node_weights
-from .pareidolia_crown import _FORK_SPAN, _fork_point, content_crown, side_ramp, tree_crown  # noqa: F401
+from .pareidolia_crown import _FORK_SPAN, _content, _fork_point, content_crown, side_ramp, tree_crown  # noqa: F401
 from .pareidolia_widths import _feature_cover, _features, _refine_tone, _shrink, _stretch, _thickness
 from .planner import plan
 from .render import Rendering
@@ -586,6 +586,10 @@ class PareidoliaTree:
 _MAX_ENDPOINTS = 60000
 _DARK_TWIGS = 3.0
 _DARK_FROM = 0.6
+#: Darkness the twigs aim at on the blank ground inside a tree crown round an object.
+_GROUND_TONE = 0.15
+#: Extra random endpoints on that ground, per stippled endpoint and share of the crown.
+_GROUND_TWIGS = 0.3
 
 
 
@@ -693,6 +697,12 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
     # the limbs follow the linear stretch; the twigs' tone the half-equalised one
     dark_limbs = _stretch(dark, crown, p.contrast, equalize=0.0)
     dark = _stretch(dark, crown, p.contrast)
+    # the blank ground a tree crown round an object holds gets light but solid twigs, so
+    # the crown reads as a crown (matched to white they were sub-pixel grey wisps)
+    ground = np.zeros((h, w), bool)
+    if p.crown == "content" and _GROUND_TONE > 0:
+        ground[:hi] = crown[:hi] & ~_content(imp[:hi], p.crown_blur)
+        dark = np.where(ground, np.maximum(dark, _GROUND_TONE), dark).astype(np.float32)
     if p.side == "full":
         noise = np.full((h, w), p.noise_image)
         img_side = np.ones((h, w), bool)
@@ -745,6 +755,10 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
     rand_region = crown & ~img_side if p.side != "full" else crown
     e_rand = (random_endpoints(rand_region, n_rand, rng=rng) if n_rand > 0 and rand_region.any()
               else np.zeros((0, 2)))
+    if ground.any() and _GROUND_TWIGS > 0:
+        # ... and twigs of their own there (the stippling leaves blank ground empty)
+        n_gr = round(_GROUND_TWIGS * n_img * ground.sum() / max(crown.sum(), 1))
+        e_rand = np.vstack([e_rand, random_endpoints(ground, n_gr, rng=rng)]) if n_gr > 0 else e_rand
     ends = np.vstack([e_img, e_rand])
     ends = ends[rng.permutation(len(ends))]
     # growing batches over iterations 2..n (each twice the previous)
@@ -779,7 +793,8 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
     # small dark features (eyes, a mouth) may be solid ink (beyond the paper)
     spacing = float(np.sqrt(crown.sum() / max((1.0 + p.random_ratio) * n_img, 1.0)))
     feat = _features(dark, spacing, float(np.sqrt(crown.sum()))) * crown if p.features else np.zeros_like(dark)
-    d = _thickness(d, p, imp, dark, crown, trunk.n_nodes, bounds, cover=_feature_cover(feat, p.cover))
+    d = _thickness(d, p, imp, dark, crown, trunk.n_nodes, bounds, cover=_feature_cover(feat, p.cover),
+                   ground=ground)
     shape_full = (full.shape[0] + round(p.trunk_height * full.shape[0]), full.shape[1])
     canvas = np.ones((*shape_full, 3), np.float32)
     canvas[:full.shape[0]] = full
@@ -794,6 +809,10 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
         big = resize(crown.astype(np.float32), shape_full, order=0) > 0.5 \
             if shape_full != (h, w) else crown
         dark_out = _stretch(darkness(canvas), big, p.contrast)
+        if ground.any():
+            g = resize(ground.astype(np.float32), shape_full, order=0) > 0.5 \
+                if shape_full != (h, w) else ground
+            dark_out = np.where(g, np.maximum(dark_out, _GROUND_TONE), dark_out)
         if shape_full != (h, w):
             feat = resize(feat, shape_full, order=1)
         d = _refine_tone(d, dark_out, bounds,

@@ -151,12 +151,7 @@ def content_crown(importance, *, blur: float = 10.0, threshold: float = 0.05,
     box = tree_crown(imp.shape, rng=0) if outline is None else np.asarray(outline, bool)
     if box.shape != imp.shape:
         raise ValueError(f"outline has shape {box.shape}, expected {imp.shape}")
-    frac = ndimage.gaussian_filter((imp >= threshold).astype(np.float64), blur)
-    mask = ndimage.binary_fill_holes(frac > 0.25)
-    lab, n = ndimage.label(mask)
-    if n > 1:
-        sizes = np.bincount(lab.ravel())[1:]
-        mask = np.isin(lab, 1 + np.flatnonzero(sizes >= 0.02 * sizes.max()))
+    mask = _content(imp, blur, threshold)
     h, w = imp.shape
     band = max(1, round(0.02 * min(h, w)))
     frame = np.zeros_like(mask)
@@ -169,6 +164,18 @@ def content_crown(importance, *, blur: float = 10.0, threshold: float = 0.05,
         mask = _crown_around(mask, box)
     if not mask.any():  # nothing to draw: the crown outline itself
         mask = box
+    return mask
+
+
+def _content(imp: np.ndarray, blur: float, threshold: float = 0.05) -> np.ndarray:
+    """Where the picture has something to draw: importance from ``threshold`` blurred over
+    ``blur`` px above 0.25, holes filled, specks (< 2 % of the largest part) dropped."""
+    frac = ndimage.gaussian_filter((np.asarray(imp, np.float64) >= threshold).astype(np.float64), blur)
+    mask = ndimage.binary_fill_holes(frac > 0.25)
+    lab, n = ndimage.label(mask)
+    if n > 1:
+        sizes = np.bincount(lab.ravel())[1:]
+        mask = np.isin(lab, 1 + np.flatnonzero(sizes >= 0.02 * sizes.max()))
     return mask
 
 

@@ -443,9 +443,11 @@ def _limb_widths(d: Dendrite, first_seed: int, w0: float, w_end: float,
 
 def _thickness(d: Dendrite, p: PareidoliaParams, imp, dark, crown, n_trunk: int,
                bounds: dict | None = None, first_seed: int | None = None,
-               cover: np.ndarray | None = None) -> Dendrite:
+               cover: np.ndarray | None = None, ground: np.ndarray | None = None) -> Dendrite:
     """Pipe model + importance emphasis; tone-matched under a limb cap inside the crown,
-    the trunk and main limbs at least their :func:`_limb_widths`; tapered twig ends."""
+    the trunk and main limbs at least their :func:`_limb_widths`; tapered twig ends.
+    ``ground``: the blank ground inside a tree crown round an object, where the trunk and
+    limbs keep their pipe widths (it is no part of the picture to keep light)."""
     leaf = np.zeros(d.n_nodes)
     leaf[d.tips] = 1.0
     tips = np.maximum(_accumulate_up(d.parent, leaf), 1.0)
@@ -485,10 +487,12 @@ def _thickness(d: Dendrite, p: PareidoliaParams, imp, dark, crown, n_trunk: int,
     if inside[:n_trunk].any():  # the trunk's top narrows likewise from where it enters the crown
         entry = arc[int(np.argmax(inside[:n_trunk]))]
         ramp[:n_trunk] = np.clip((arc[:n_trunk] - entry) / (0.25 * p.limb_length), 0.0, 1.0)
-    light = 1.0 - (1.0 - light) * ramp
+    gnd = np.zeros(d.n_nodes, bool) if ground is None else np.asarray(ground, bool).ravel()[d.nodes]
+    light = np.where(gnd, 1.0, 1.0 - (1.0 - light) * ramp)
     budget = np.clip(from_fork / (_LIMB_SPAN * p.limb_length), 0.0, 1.0)
     if inside[:n_trunk].any():
         budget[:n_trunk] = np.clip((arc[:n_trunk] - entry) / (_LIMB_SPAN * p.limb_length), 0.0, 1.0)
+    budget[gnd] = 0.0
     thin = np.minimum(limb, p.limb_width)  # the limbs keep limb_width, the rest narrows
     limb = thin + (limb - thin) * light
     structural = is1 & (np.arange(d.n_nodes) >= first_seed)
