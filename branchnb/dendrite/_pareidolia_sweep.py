@@ -4,8 +4,10 @@
 tree with the defaults on each picture (long side ``size`` px) with this session's rules off
 and on (interleaved: more twigs on dark pictures ``pareidolia._DARK_TWIGS``, the limbs' ink
 budgeted against the tone ``pareidolia_widths._LIMB_BUDGET``, a tree crown round an object
-on a blank ground ``pareidolia_crown._AROUND``) and prints tone r inside the crown at 2 / 4
-/ 8 px blur, the share of the crown outside the picture's silhouette (``out``) and the
+on a blank ground ``pareidolia_crown._AROUND`` with light twigs on that ground
+``pareidolia._GROUND_TONE``, ``_GROUND_TWIGS``) and prints tone r inside the crown at 2 / 4
+/ 8 px blur, the same at 4 px on the crown's part inside the picture's silhouette
+(``obj``), the share of the crown outside the picture's silhouette (``out``) and the
 crown's solidity (area over its convex hull's). Pictures: portraits (the astronaut, a
 procedural face), objects on photos (coffee, cat), the night photo of a rocket, the camera
 man, objects on white (a procedural clip-art apple, a maple-leaf photo, a procedural logo).
@@ -111,6 +113,17 @@ def crown_shape(t) -> tuple[float, float]:
     return out, float(c.sum() / max(convex_hull_image(c).sum(), 1))
 
 
+def object_r(t, sigma: float = 4.0) -> float:
+    """Tone r at ``sigma`` px blur on the crown's part inside the picture's silhouette
+    (a tree crown round an object adds blank ground, whose white is easy to match)."""
+    from ..core import as_gray
+
+    m = t.crown_on_canvas() & silhouette(t.image)
+    x = ndimage.gaussian_filter(1.0 - as_gray(t.image).astype(np.float64), sigma)[m]
+    y = ndimage.gaussian_filter(1.0 - as_gray(t.render().image).astype(np.float64), sigma)[m]
+    return float(np.corrcoef(x, y)[0, 1])
+
+
 def tone_rs(t, sigmas=(2.0, 4.0, 8.0)) -> list[float]:
     from ._twig_ends import tone_r
 
@@ -125,6 +138,8 @@ def _switch(on: bool) -> None:
     pa._DARK_TWIGS = _KEEP[0] if on else 0.0
     pw._LIMB_BUDGET = _KEEP[1] if on else 0.0
     pc._AROUND = _KEEP[2] if on else 0.0
+    pa._GROUND_TONE = _KEEP[3] if on else 0.0
+    pa._GROUND_TWIGS = _KEEP[4] if on else 0.0
 
 
 def _keep():
@@ -132,7 +147,7 @@ def _keep():
     from . import pareidolia_crown as pc
     from . import pareidolia_widths as pw
 
-    return pa._DARK_TWIGS, pw._LIMB_BUDGET, pc._AROUND
+    return pa._DARK_TWIGS, pw._LIMB_BUDGET, pc._AROUND, pa._GROUND_TONE, pa._GROUND_TWIGS
 
 
 _KEEP = None
@@ -160,7 +175,8 @@ def main(argv=None) -> None:
                         dt = time.process_time() - t0
                         r = tone_rs(t)
                         out, solid = crown_shape(t)
-                        row.append(f"r {r[0]:.3f} {r[1]:.3f} {r[2]:.3f} out {out:.2f} "
+                        ro = object_r(t)
+                        row.append(f"r {r[0]:.3f} {r[1]:.3f} {r[2]:.3f} obj {ro:.3f} out {out:.2f} "
                                    f"solid {solid:.2f} {dt:4.1f}s")
                     print(f"{name:14s} {n:5d} {seed}  {row[0]}  ->  {row[1]}", flush=True)
     finally:

@@ -700,9 +700,13 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
     # the blank ground a tree crown round an object holds gets light but solid twigs, so
     # the crown reads as a crown (matched to white they were sub-pixel grey wisps)
     ground = np.zeros((h, w), bool)
+    blank = ground
     if p.crown == "content" and _GROUND_TONE > 0:
         ground[:hi] = crown[:hi] & ~_content(imp[:hi], p.crown_blur)
         dark = np.where(ground, np.maximum(dark, _GROUND_TONE), dark).astype(np.float32)
+        # the trunk and limbs keep their widths up to the object itself (a tighter margin)
+        blank = np.zeros((h, w), bool)
+        blank[:hi] = crown[:hi] & ~_content(imp[:hi], 0.2 * p.crown_blur)
     if p.side == "full":
         noise = np.full((h, w), p.noise_image)
         img_side = np.ones((h, w), bool)
@@ -794,7 +798,7 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
     spacing = float(np.sqrt(crown.sum() / max((1.0 + p.random_ratio) * n_img, 1.0)))
     feat = _features(dark, spacing, float(np.sqrt(crown.sum()))) * crown if p.features else np.zeros_like(dark)
     d = _thickness(d, p, imp, dark, crown, trunk.n_nodes, bounds, cover=_feature_cover(feat, p.cover),
-                   ground=ground)
+                   ground=blank)
     shape_full = (full.shape[0] + round(p.trunk_height * full.shape[0]), full.shape[1])
     canvas = np.ones((*shape_full, 3), np.float32)
     canvas[:full.shape[0]] = full

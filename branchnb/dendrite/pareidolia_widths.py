@@ -484,13 +484,16 @@ def _thickness(d: Dendrite, p: PareidoliaParams, imp, dark, crown, n_trunk: int,
     # as wide as the pipe model says), and outside the crown too (a limb crossing the
     # blank between two objects had its full pipe width, then stepped down at the crown)
     ramp = np.clip(from_fork / (0.25 * p.limb_length), 0.0, 1.0)
-    if inside[:n_trunk].any():  # the trunk's top narrows likewise from where it enters the crown
-        entry = arc[int(np.argmax(inside[:n_trunk]))]
-        ramp[:n_trunk] = np.clip((arc[:n_trunk] - entry) / (0.25 * p.limb_length), 0.0, 1.0)
     gnd = np.zeros(d.n_nodes, bool) if ground is None else np.asarray(ground, bool).ravel()[d.nodes]
+    # the trunk's top narrows likewise from where it enters the crown (the picture in it:
+    # not the blank ground round an object, where it stepped down as it met the object)
+    pic = inside & ~gnd
+    if pic[:n_trunk].any():
+        entry = arc[int(np.argmax(pic[:n_trunk]))]
+        ramp[:n_trunk] = np.clip((arc[:n_trunk] - entry) / (0.25 * p.limb_length), 0.0, 1.0)
     light = np.where(gnd, 1.0, 1.0 - (1.0 - light) * ramp)
     budget = np.clip(from_fork / (_LIMB_SPAN * p.limb_length), 0.0, 1.0)
-    if inside[:n_trunk].any():
+    if pic[:n_trunk].any():
         budget[:n_trunk] = np.clip((arc[:n_trunk] - entry) / (_LIMB_SPAN * p.limb_length), 0.0, 1.0)
     budget[gnd] = 0.0
     thin = np.minimum(limb, p.limb_width)  # the limbs keep limb_width, the rest narrows
@@ -530,6 +533,9 @@ def _thickness(d: Dendrite, p: PareidoliaParams, imp, dark, crown, n_trunk: int,
     flare[n_trunk:] = 1.0
     # outside the crown, the trunk above the limbs' departures and the limbs have their
     # limb widths (the pipe over all twigs made a step where they entered the crown)
+    # ... and so does the trunk on the blank ground inside a tree crown round an object
+    # (there it stepped from the pipe over all twigs down to the limbs' pipe, 13 -> 6 px)
+    inside = inside & ~(gnd & (np.arange(d.n_nodes) < n_trunk))
     out = np.where(inside, w_tone, np.where(structural, limb, width * flare))
     if p.taper > 0:
         out = _taper_ends(d, out, dist, p.taper)
