@@ -227,7 +227,38 @@ same faces, 0.95 / 1.05 at 750 px), a grey face with small eyes at 250 / 750 px 
 0.861, the cat 0.892 -> 0.941, the camera man 0.834 -> 0.853, a cup 0.839 -> 0.844, a
 horse 0.976 -> 0.976, a maple-leaf photo 0.891 -> 0.895, a tree photo 0.888 -> 0.951, a
 dark figure with a light face at 300 / 2000 px 0.968 / 0.860 -> 0.968 / 0.860, a dark disc
-at 2000 px 0.717 -> 0.717. """
+at 2000 px 0.717 -> 0.717.
+
+Pictures dark all over, and limbs within the tone (beyond the paper). On the night photo
+of a rocket (darkness 0.6-0.88 over most of the crown) tone r at 4 px blur was 0.61 at
+600 px: the 4 px round the limbs (9 % of the crown) held 34 % of the tone error, and away
+from them the twigs that carry a dark picture's ink were so wide that their gaps made a
+coarse texture (r 0.72 there). The limbs' ink is now budgeted against the tone: past a
+quarter of ``limb_length`` from the fork the output-size pass may narrow a limb where the
+drawing is darker than the picture, its pipe width beyond ``limb_width`` fully and
+``limb_width`` itself to half (``pareidolia_widths._LIMB_BUDGET``, ``_LIMB_MIN``); and a
+picture whose crown is darker than 0.6 on average gets ``1 + 3 (mean - 0.6)`` times the
+endpoints, the pipe gain divided by its square root so the trunk keeps its width
+(``_DARK_TWIGS``). ``python -m branchnb.dendrite._pareidolia_sweep 300,600 0``: tone r at 2 /
+4 / 8 px blur, the rocket at 300 px 0.69 / 0.81 / 0.83 -> 0.80 / 0.88 / 0.88, at 600 px 0.42 /
+0.61 / 0.72 -> 0.54 / 0.76 / 0.84, at 1000 px (seeds 0 / 1) ROCKET1000; at 4 px at 300 / 600
+px the astronaut 0.922 / 0.855 -> 0.927 / 0.864, a procedural face 0.961 / 0.897 -> 0.973 /
+0.917, a cup photo 0.931 / 0.831 -> 0.947 / 0.856, a cat photo 0.952 / 0.894 -> 0.956 / 0.901,
+the camera man 0.934 / 0.857 -> 0.961 / 0.906 (the extra twigs only where the crown's mean
+darkness exceeds 0.6; CPU time unchanged within the load's noise).
+
+A tree crown round an object on a blank ground (beyond the paper; see
+:func:`~branchnb.dendrite.pareidolia_crown.content_crown`). The crown was the object's own
+silhouette, blurred: an apple-, leaf- or logo-shaped tree. It is now a lobed tree crown of
+1.3 times the object's box joined with the object, whose blank ground gets light but solid
+twigs (their tone target at least ``_GROUND_TONE`` 0.15 there, and ``_GROUND_TWIGS`` 0.3
+random endpoints per stippled one and share of the crown), and the trunk keeps its pipe
+width across that ground up to the object (it stepped from 13 to 6 px, or 21 to 4, as it
+entered the crown). Share of the crown outside the object's silhouette / the crown's
+solidity (area over convex hull) at 300 / 600 px: a clip-art apple APPLE, a maple-leaf
+photo MAPLE, a logo LOGO; tone r at 4 px blur on the object's part of the crown APPLEOBJ.
+Tone r over the whole crown rises more (the blank ground's white is easy to match) and is
+no fair measure there. """
 
 from __future__ import annotations
 

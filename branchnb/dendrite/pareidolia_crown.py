@@ -114,7 +114,10 @@ def content_crown(importance, *, blur: float = 10.0, threshold: float = 0.05,
     frame (covering over a fifth of its border: a portrait, a landscape) is clipped to ``outline`` (a
     tree-crown silhouette of the frame, :func:`tree_crown`, by default) so the
     picture reads as a tree's crown, not as the image's rectangle; an object on
-    a blank ground keeps its own outline.
+    a blank ground gets a tree crown round it (beyond the paper): ``outline``
+    scaled to 1.3 times the object's bounding box (its height within 0.6-1.5 of
+    its width, moved and shrunk into the frame) joined with the object, so a leaf or a logo
+    is held in a tree's crown instead of drawing a leaf- or logo-shaped tree.
 
     Parameters
     ----------
@@ -189,7 +192,7 @@ _CROWN_ASPECT = (0.6, 1.5)
 def _crown_around(mask: np.ndarray, outline: np.ndarray) -> np.ndarray:
     """A tree crown round an object on a blank ground (beyond the paper): ``outline``
     (a crown silhouette of the frame) scaled to ``_AROUND`` times the object's bounding
-    box, its aspect kept within ``_CROWN_ASPECT``, and clipped to the frame, joined with
+    box, its aspect kept within ``_CROWN_ASPECT``, moved and shrunk into the frame, joined with
     the object's own mask (so none of the picture is lost).
 
     The object's silhouette as the crown drew a maple leaf or a logo as a leaf- or
@@ -204,6 +207,10 @@ def _crown_around(mask: np.ndarray, outline: np.ndarray) -> np.ndarray:
     bh = _AROUND * (ys.max() - ys.min() + 1)
     bw = _AROUND * (xs.max() - xs.min() + 1)
     bh, bw = max(bh, _CROWN_ASPECT[0] * bw), max(bw, bh / _CROWN_ASPECT[1])
+    # inside the frame (moved in, then shrunk): clipped by it, the crown had straight sides
+    bh, bw = min(bh, h), min(bw, w)
+    cy = float(np.clip(cy, bh / 2, h - bh / 2))
+    cx = float(np.clip(cx, bw / 2, w - bw / 2))
     y0, y1 = int(round(cy - bh / 2)), int(round(cy + bh / 2))
     x0, x1 = int(round(cx - bw / 2)), int(round(cx + bw / 2))
     if y1 - y0 < 2 or x1 - x0 < 2:

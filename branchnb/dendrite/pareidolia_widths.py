@@ -15,6 +15,15 @@ night sky 0.735 / 0.726 -> 0.752 / 0.742 (seeds 0 / 1). The rest of the limbs' e
 ink (limb cores +0.15 darker than the fitted tone) is their pipe width and the trunk's
 entry into the crown; narrowing them further (``_LIMB_LIGHT`` 0.15, the base ramp over
 0.1 instead of 0.25 of ``limb_length``) moved r by <= 0.008.
+
+The limbs' ink budgeted against the tone (beyond the paper, ``_LIMB_BUDGET``): the output-
+size pass held every limb at its lattice floor (``limb_width`` or its pipe width), so where
+limbs crossed a crown darker than they could leave room for (the rocket's night sky) their
+4-px band held a third of the tone error. Past ``_LIMB_SPAN`` of ``limb_length`` from the
+fork that floor now falls (the pipe width beyond ``limb_width`` fully, ``limb_width`` itself
+to ``_LIMB_MIN`` of it) and the pass narrows a limb where the drawing is darker than the
+picture; near the fork and on the blank ground of a crown round an object the limbs and the
+trunk keep their widths. Figures in :mod:`~branchnb.dendrite.pareidolia`.
 """
 
 from __future__ import annotations
