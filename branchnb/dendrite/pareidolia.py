@@ -233,7 +233,9 @@ Pictures dark all over, and limbs within the tone (beyond the paper). On the nig
 of a rocket (darkness 0.6-0.88 over most of the crown) tone r at 4 px blur was 0.61 at
 600 px: the 4 px round the limbs (9 % of the crown) held 34 % of the tone error, and away
 from them the twigs that carry a dark picture's ink were so wide that their gaps made a
-coarse texture (r 0.72 there). The limbs' ink is now budgeted against the tone: past a
+coarse texture (r 0.72 there). On such a picture (the crown's mean darkness from 0.6, fully from 0.7; on a portrait the
+limbs then narrowed to twigs in the light face) the limbs' ink is budgeted against the
+tone: past a
 quarter of ``limb_length`` from the fork the output-size pass may narrow a limb where the
 drawing is darker than the picture, its pipe width beyond ``limb_width`` fully and
 ``limb_width`` itself to half (``pareidolia_widths._LIMB_BUDGET``, ``_LIMB_MIN``); and a
@@ -721,7 +723,8 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
         crown = crown_mask((h, w), tp)
     # a picture dark all over needs more twigs (beyond the paper): wide twigs carrying
     # its ink left gaps as large as themselves, a coarse texture that hid its tones
-    more = 1.0 + _DARK_TWIGS * max(float(dark[crown].mean()) - _DARK_FROM, 0.0) if crown.any() else 1.0
+    mean_dark = float(dark[crown].mean()) if crown.any() else 0.0
+    more = 1.0 + _DARK_TWIGS * max(mean_dark - _DARK_FROM, 0.0)
     if more > 1.0 + 1e-3:  # ... and the trunk and limbs stay as wide (the pipe gain)
         n_img = int(min(round(n_img * more), _MAX_ENDPOINTS))
         p = dataclasses.replace(p, pipe=p.pipe / float(np.sqrt(more)))
@@ -830,6 +833,11 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
     feat = _features(dark, spacing, float(np.sqrt(crown.sum()))) * crown if p.features else np.zeros_like(dark)
     d = _thickness(d, p, imp, dark, crown, trunk.n_nodes, bounds, cover=_feature_cover(feat, p.cover),
                    ground=blank)
+    if "ramp" in bounds:
+        # the limbs' ink is budgeted against the tone on a picture dark all over only (from
+        # _DARK_FROM, fully 0.1 darker): on lighter ones they narrowed to twigs' width in a
+        # portrait's light face and no longer reached into the crown
+        bounds["ramp"] = bounds["ramp"] * float(np.clip((mean_dark - _DARK_FROM) / 0.1, 0.0, 1.0))
     shape_full = (full.shape[0] + round(p.trunk_height * full.shape[0]), full.shape[1])
     canvas = np.ones((*shape_full, 3), np.float32)
     canvas[:full.shape[0]] = full

@@ -23,7 +23,10 @@ limbs crossed a crown darker than they could leave room for (the rocket's night 
 fork that floor now falls (the pipe width beyond ``limb_width`` fully, ``limb_width`` itself
 to ``_LIMB_MIN`` of it) and the pass narrows a limb where the drawing is darker than the
 picture; near the fork and on the blank ground of a crown round an object the limbs and the
-trunk keep their widths. Figures in :mod:`~branchnb.dendrite.pareidolia`.
+trunk keep their widths. Only on a picture dark all over (the crown's mean darkness from
+0.6, fully from 0.7): on a portrait the limbs narrowed to a twig's width in the light face
+and no longer reached into the crown (reach 0.76 -> 0.00). Figures in
+:mod:`~branchnb.dendrite.pareidolia`.
 """
 
 from __future__ import annotations
