@@ -160,8 +160,8 @@ def figures(obj, res, checks):
         exp = _warp(img, R, t, shape)
         # (registered within 3 px: a copy is attached to its parent, which may shift it a little)
         obj_m = a > 0.5
-        best = max(((int((np.roll(exp[..., 3] > 0.5, (dy, dx), axis=(0, 1)) & obj_m).sum()), dy, dx)
-                    for dy in range(-3, 4) for dx in range(-3, 4)))
+        best = max((int((np.roll(exp[..., 3] > 0.5, (dy, dx), axis=(0, 1)) & obj_m).sum()), dy, dx)
+                    for dy in range(-3, 4) for dx in range(-3, 4))
         exp = np.roll(exp, best[1:], axis=(0, 1))
         ea = exp[..., 3]
         cover = np.zeros(shape, bool)

@@ -67,16 +67,33 @@ def _own_views(index, tubes: dict, keys: list, cuts: list, joined: list, window:
                 zone &= (sb > reach) if end == 0 else (sb < st.length - reach)
         if not zone.any():
             continue
+        reach_k = _END_REACH * float(np.median(index.width[k])) + 4.0
         foreign = np.zeros(zone.shape, bool)
         for okey, tb_o in tubes.items():
             if okey[0] not in rel_keys:
-                foreign |= tb_o[5][box]
+                # another stroke's tube crossing this one's, away from both strokes' ends
+                # (siblings leaving a palm side by side overlap at their roots: no hiding there)
+                o = next(j for j in range(n) if keys[j] == okey[0])
+                reach_o = _END_REACH * float(np.median(index.width[o])) + 4.0
+                so = tb_o[1][box]
+                foreign |= tb_o[5][box] & (so > reach_o) & (so < index.strokes[o].length - reach_o)
+        foreign &= (sb > reach_k) & (sb < st.length - reach_k)
         near = np.zeros(zone.shape, bool)  # the related strokes' own tubes (not a clean reference)
         for okey, tb_o in tubes.items():
             if okey[0] in rel_keys and okey[0] != keys[k]:
                 near |= tb_o[5][box]
+        # strokes joined at one of this one's ends (a flower's head on its stem's tip)
+        at_end = {keys[j] for j in joined[k] if j >= 0}
+        for j in range(n):
+            for e, par in enumerate(joined[j]):
+                if par == k:
+                    sj = st.project(index.strokes[j].points[[0 if e == 0 else -1]])[0][0]
+                    if sj <= reach_k or sj >= st.length - reach_k:
+                        at_end.add(keys[j])
         for part in index.parts:
-            if keys[part.stroke] == keys[k]:
+            # (a part hanging from a stroke joined at this one's end -- a flower's petals
+            # round the head on its stem's tip -- lies where the joint is: no hiding there)
+            if keys[part.stroke] == keys[k] or keys[part.stroke] in at_end:
                 continue
             sub = np.zeros((h, w), bool)
             sub[part.box] = part.mask
