@@ -26,6 +26,8 @@ _RIM = 2
 _CLEAR = 3
 #: Steps along the centre line (a share of the local half width, >= 1 px) tried for a clean copy.
 _STEP = 0.25
+#: Another part hides the stroke where it reaches within this share of the stroke's half width.
+_DEEP = 0.6
 #: A joined end (a leaf's root on its twig) is left alone within this many of its parent's widths.
 _END_REACH = 2.5
 
@@ -99,6 +101,13 @@ def _own_views(index, tubes: dict, keys: list, cuts: list, joined: list, window:
             sub[part.box] = part.mask
             foreign |= sub[box]
         foreign &= zone
+        if not foreign.any():
+            continue
+        # only what covers the stroke's own flesh (well inside its width), not what merely
+        # touches its margin (a neighbouring finger's side at a crotch)
+        lab, nlab = ndi.label(foreign, structure=np.ones((3, 3)))
+        deep = np.unique(lab[foreign & (db <= _DEEP * np.interp(sb, index.width_s[k], index.edge[k]))])
+        foreign = np.isin(lab, deep[deep > 0])
         if not foreign.any():
             continue
         hidden = zone & ndi.binary_dilation(foreign, iterations=_RIM)
