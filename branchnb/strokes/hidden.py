@@ -77,6 +77,10 @@ def _own_views(index, tubes: dict, keys: list, cuts: list, joined: list, window:
                 # (siblings leaving a palm side by side overlap at their roots: no hiding there)
                 o = next(j for j in range(n) if keys[j] == okey[0])
                 reach_o = _END_REACH * float(np.median(index.width[o])) + 4.0
+                ends_k, ends_o = st.points[[0, -1]], index.strokes[o].points[[0, -1]]
+                near_ends = 2.0 * max(float(np.median(index.width[k])), float(np.median(index.width[o]))) + 4.0
+                if np.hypot(*(ends_k[:, None] - ends_o[None]).transpose(2, 0, 1)).min() < near_ends:
+                    continue  # (a delta's distributaries leaving one fan head overlap there)
                 so = tb_o[1][box]
                 foreign |= tb_o[5][box] & (so > reach_o) & (so < index.strokes[o].length - reach_o)
         foreign &= (sb > reach_k) & (sb < st.length - reach_k)
