@@ -106,22 +106,32 @@ def _pen_outline(image: np.ndarray, ink, width: int, profile: np.ndarray, pen: f
     """A mix's outline in the sources' pen: the warped stroke deeper than ``width`` goes
     (:func:`~branchnb.trees.outline._drop_excess`), then :func:`_draw_pen` with ``profile``
     shifted to the pen width ``pen`` (default: the profile's own)."""
-    from .outline import _drop_excess
+    from .outline import _depth, _drop_excess, _inner_shapes
 
-    img = _drop_excess(np.array(image, dtype=np.float32, copy=True), np.asarray(ink, np.float64), width)
+    img = np.array(image, dtype=np.float32, copy=True)
+    alpha = img[..., 3] >= 0.5
+    if alpha.sum() < 9 or alpha.all():
+        return img
+    # inner shapes (fruits) before the stroke is thinned, as even_outline finds them
+    ink_lum = float(np.asarray(ink, np.float32) @ _LUM)
+    lum = img[..., :3] @ _LUM
+    inner, _ = _inner_shapes(alpha & (lum > ink_lum + 0.5 * (np.median(lum[alpha]) - ink_lum)), _depth(alpha), width)
+    img = _drop_excess(img, np.asarray(ink, np.float64), width)
     shift = 0.0 if pen is None else pen - _pen_width(profile)
-    return _draw_pen(img, ink, profile, shift=shift)
+    return _draw_pen(img, ink, profile, shift=shift, inner=inner)
 
 
 def _draw_pen(image: np.ndarray, ink, profile: np.ndarray, *, shift: float = 0.0, ink_tol: float = 0.3,
-              holes: bool = True) -> np.ndarray:
+              holes: bool = True, inner: np.ndarray | None = None) -> np.ndarray:
     """Repaint a silhouette's outline band with the pen ``profile`` (a copy; alpha unchanged).
 
     Every opaque pixel at Euclidean depth ``d`` where the profile is above 0 becomes
     ``c(d - shift) ink + (1 - c(d - shift)) fill`` (``shift``: how much wider the pen is drawn).
     ``fill`` is the colour of the nearest pixel beyond the band, the ink the colour of the
     darkest band pixel near by within ``ink_tol`` of ``ink`` (dark green round a crown, dark
-    brown round a trunk, as drawn), else ``ink``.
+    brown round a trunk, as drawn), else ``ink``. Pixels of ``inner`` shapes (a fruit the warp
+    moved onto the rim) take the pen 1.75 times as deep: the drawings keep the fruit's ring and
+    the outline between its fill and the edge (even_outline does the same).
     """
     img = np.array(image, dtype=np.float32, copy=True)
     alpha = img[..., 3] >= 0.5
@@ -132,8 +142,9 @@ def _draw_pen(image: np.ndarray, ink, profile: np.ndarray, *, shift: float = 0.0
     reach = 1 + _STEP * np.flatnonzero(profile > 0).max() + shift if (profile > 0).any() else 0.0
     if reach <= 0:
         return img
-    band = alpha & (depth <= reach + 0.5 * _STEP)
-    beyond = alpha & (depth > reach + 0.5 * _STEP)
+    deep_pen = np.zeros_like(alpha) if inner is None else inner & (depth <= 1.75 * reach + 0.5 * _STEP)
+    band = alpha & ((depth <= reach + 0.5 * _STEP) | deep_pen)
+    beyond = alpha & ~band
     if not beyond.any():
         return img
     ink = np.asarray(ink, np.float32)
@@ -157,7 +168,42 @@ def _draw_pen(image: np.ndarray, ink, profile: np.ndarray, *, shift: float = 0.0
         by = best < none
         flat = best[by] % (h * w)
         col[by] = img[flat // w, flat % w, :3]
-    c = _profile_at(profile, np.maximum(depth[ys, xs] - shift, 1.0))[:, None].astype(np.float32)
+    # inner shapes: full ink to 1.75 reach, the pen's soft edge there
+    d = depth[ys, xs] - shift - np.where(deep_pen[ys, xs], 0.75 * reach, 0.0)
+    c = _profile_at(profile, np.maximum(d, 1.0))[:, None].astype(np.float32)
     img[ys, xs, :3] = c * col + (1 - c) * fill
+    # light as against the pen as drawn (its rim), the colour a reader of the mix takes for ink
+    rim_lum = float(np.median(img[alpha & (depth < 1.5), :3] @ _LUM))
+    return _close_flecks(img, alpha, depth, min(ink_lum, rim_lum), 2 * reach + 2)
+
+
+def _close_flecks(img: np.ndarray, alpha: np.ndarray, depth: np.ndarray, ink_lum: float, near: float) -> np.ndarray:
+    """Flecks of fill left between the new pen and a dark stroke beyond it (within ``near`` of
+    the silhouette) take the colour of the darkest pixel next to them (in place).
+
+    :func:`~branchnb.trees.outline._drop_excess` gives the fill's colour to a warped stroke
+    only next to a fill; where a thick dark stretch stays beyond it, a strip of that fill is
+    cut off between the pen and the dark: light specks in a dark stroke, which no drawing has.
+    """
+    lum = img[..., :3] @ _LUM
+    light = alpha & (lum > ink_lum + 0.5 * (np.median(lum[alpha]) - ink_lum))
+    lab, n = ndi.label(light, np.ones((3, 3), bool))
+    if n < 2:
+        return img
+    area = np.bincount(lab.ravel(), minlength=n + 1)
+    small = area <= max(2.0, 4e-4 * alpha.sum())
+    small[0] = False
+    fleck = small[lab] & (depth <= near)
+    if not fleck.any():
+        return img
+    h, w = alpha.shape
+    none = np.int64(2) ** 52
+    key = np.where(alpha & ~light, np.round(np.clip(lum, 0, 1) * 4095).astype(np.int64) * (h * w)
+                   + np.arange(h * w).reshape(h, w), none)
+    best = ndi.minimum_filter(key, size=5, mode="nearest")[fleck]
+    ok = best < none
+    fy, fx = np.nonzero(fleck)
+    flat = best[ok] % (h * w)
+    img[fy[ok], fx[ok], :3] = img[flat // w, flat % w, :3]
     return img
 
