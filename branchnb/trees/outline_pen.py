@@ -39,6 +39,12 @@ def _depth_edt(alpha: np.ndarray) -> np.ndarray:
     return ndi.distance_transform_edt(pad)[1:-1, 1:-1]
 
 
+def _chessboard(alpha: np.ndarray) -> np.ndarray:
+    from .outline import _depth
+
+    return _depth(alpha)
+
+
 def _coverage(rgb: np.ndarray, fill: np.ndarray, ink: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Ink coverage of pixels between their fill and the ink, and where that is measurable."""
     d = fill - ink[None]
@@ -118,11 +124,11 @@ def _pen_outline(image: np.ndarray, ink, width: int, profile: np.ndarray, pen: f
     inner, _ = _inner_shapes(alpha & (lum > ink_lum + 0.5 * (np.median(lum[alpha]) - ink_lum)), _depth(alpha), width)
     img = _drop_excess(img, np.asarray(ink, np.float64), width)
     shift = 0.0 if pen is None else pen - _pen_width(profile)
-    return _draw_pen(img, ink, profile, shift=shift, inner=inner)
+    return _draw_pen(img, ink, profile, shift=shift, inner=inner, inner_depth=int(1.75 * width))
 
 
 def _draw_pen(image: np.ndarray, ink, profile: np.ndarray, *, shift: float = 0.0, ink_tol: float = 0.3,
-              holes: bool = True, inner: np.ndarray | None = None) -> np.ndarray:
+              holes: bool = True, inner: np.ndarray | None = None, inner_depth: float = 0.0) -> np.ndarray:
     """Repaint a silhouette's outline band with the pen ``profile`` (a copy; alpha unchanged).
 
     Every opaque pixel at Euclidean depth ``d`` where the profile is above 0 becomes
@@ -130,8 +136,8 @@ def _draw_pen(image: np.ndarray, ink, profile: np.ndarray, *, shift: float = 0.0
     ``fill`` is the colour of the nearest pixel beyond the band, the ink the colour of the
     darkest band pixel near by within ``ink_tol`` of ``ink`` (dark green round a crown, dark
     brown round a trunk, as drawn), else ``ink``. Pixels of ``inner`` shapes (a fruit the warp
-    moved onto the rim) take the pen 1.75 times as deep: the drawings keep the fruit's ring and
-    the outline between its fill and the edge (even_outline does the same).
+    moved onto the rim) are ink to ``inner_depth``: the drawings keep the fruit's ring and the
+    outline between its fill and the edge (even_outline inks them to 1.75 ``width`` too).
     """
     img = np.array(image, dtype=np.float32, copy=True)
     alpha = img[..., 3] >= 0.5
@@ -142,7 +148,8 @@ def _draw_pen(image: np.ndarray, ink, profile: np.ndarray, *, shift: float = 0.0
     reach = 1 + _STEP * np.flatnonzero(profile > 0).max() + shift if (profile > 0).any() else 0.0
     if reach <= 0:
         return img
-    deep_pen = np.zeros_like(alpha) if inner is None else inner & (depth <= 1.75 * reach + 0.5 * _STEP)
+    # chessboard depth, as the ring is kept round a fruit in the drawings (and in even_outline)
+    deep_pen = np.zeros_like(alpha) if inner is None else inner & (_chessboard(a) <= inner_depth)
     band = alpha & ((depth <= reach + 0.5 * _STEP) | deep_pen)
     beyond = alpha & ~band
     if not beyond.any():
@@ -168,9 +175,9 @@ def _draw_pen(image: np.ndarray, ink, profile: np.ndarray, *, shift: float = 0.0
         by = best < none
         flat = best[by] % (h * w)
         col[by] = img[flat // w, flat % w, :3]
-    # inner shapes: full ink to 1.75 reach, the pen's soft edge there
-    d = depth[ys, xs] - shift - np.where(deep_pen[ys, xs], 0.75 * reach, 0.0)
-    c = _profile_at(profile, np.maximum(d, 1.0))[:, None].astype(np.float32)
+    c = _profile_at(profile, np.maximum(depth[ys, xs] - shift, 1.0))
+    c[deep_pen[ys, xs]] = 1.0
+    c = c[:, None].astype(np.float32)
     img[ys, xs, :3] = c * col + (1 - c) * fill
     # light as against the pen as drawn (its rim), the colour a reader of the mix takes for ink
     rim_lum = float(np.median(img[alpha & (depth < 1.5), :3] @ _LUM))
