@@ -5,7 +5,10 @@ drawn leaves: the outline band (:func:`_outline_band`, of the closed blade
 :func:`_closed_blade`), whether the user's layer holds the outline
 (:func:`_outline_in_layer`) or the training outline is inked in the
 layer's colour (:func:`_inked_outline`), and the induced pieces that run
-along the band (:func:`_outline_stretches`).
+along the band (:func:`_outline_stretches`); and, before induction, the
+outline stretches lazy snapping grew into a thin layer nobody scribbled
+there (:func:`_unscribbled_outline`, called by
+:func:`branchnb.leaves.layers.grow_layers`).
 """
 
 from __future__ import annotations
@@ -151,7 +154,7 @@ def _outline_in_layer(blade, user) -> bool:
 
 
 def _unscribbled_outline(grown, blade, scribbled, ink):
-    """The stretches of a thin layer grown on the training leaf that run along its ink outline, away from the scribbles.
+    """The stretches of a thin layer grown on the training leaf that run along its ink outline, unscribbled.
 
     Beyond the paper. On a drawn leaf the ink outline is a line like a
     vein, and lazy snapping grew short vein scribbles along it (a drawn
@@ -164,10 +167,10 @@ def _unscribbled_outline(grown, blade, scribbled, ink):
     grown layer's :func:`_outline_stretches` (pieces running along the band
     for :data:`OUTLINE_STRETCH` band depths) are left out, unless the user
     scribbled the outline: :data:`SCRIBBLED_OUTLINE` of the scribbles'
-    pixels in the band (a sketch's ink as one layer keeps it). Whether a
-    scribble merely touched a stretch was no test: the vein scribbles lie
-    within a few pixels of the outline at the sinuses and kept whole lobe
-    outlines. The vein ends crossing the band stay.
+    pixels in the band (a sketch's ink as one layer keeps it). Keeping
+    only the stretches a scribble touches was tried: two lobes' outlines
+    stayed on the drawn pale maple (training IoU 0.55 against 0.80). The
+    vein ends crossing the band stay.
     """
     if not ink.any() or not grown.any():
         return np.zeros_like(grown)

@@ -389,6 +389,15 @@ def grow_layers(image, blade, layer_set: LayerSet, params: SnapParams | None = N
         No layers; a layer without scribbles; a scribble outside the image
         or the leaf (each message names the layer and the scribble).
 
+    Notes
+    -----
+    Beyond the paper: on a drawn leaf (its rim inked,
+    :func:`branchnb.leaves.flatart.drawn_outline`) a thin layer does not
+    grow along the ink outline unless its scribbles lie there
+    (:func:`branchnb.leaves.analysis_outline._unscribbled_outline`); the
+    outline, a dark line like a vein, was otherwise grown from vein
+    scribbles and then induced as vein on every exemplar.
+
     Examples
     --------
     >>> import numpy as np
