@@ -1,7 +1,7 @@
 """The whole leaf workflow with the defaults on four kinds nobody tuned for (issue 22).
 
 ``python -m branchnb.leaves._measure_unseen [--kinds willow,cordate,oak,clipart] [--sizes ...] [--seeds 0,1]
-[--save DIR]`` builds, per kind, size and seed, four leaves of
+[--save DIR] [--induce-only]`` builds, per kind, size and seed, four leaves of
 :mod:`branchnb.leaves._unseen_kinds` (RGB on paper, as a user's photos or
 clip art), scribbles on the first programmatically as a user would (short
 radius-1 strokes on the midrib and the main veins, a blade blob, dabs on
@@ -89,8 +89,9 @@ def _on_canvas(m, offset, shape, mirrored):
     return out[:, ::-1].copy() if mirrored else out
 
 
-def run(kind: str, size: int, seed: int, n: int = 4, n_new: int = 6, save: str | None = None) -> dict:
-    """One row of the module docstring."""
+def run(kind: str, size: int, seed: int, n: int = 4, n_new: int = 6, save: str | None = None,
+        induce_only: bool = False) -> dict:
+    """One row of the module docstring (``induce_only``: blade, vein IoU and lambda only, no synthesis)."""
     from ..core.metrics import iou
     from ._measure import vein_system_scores
     from ._measure_synthesis import synthesis_row
@@ -111,14 +112,17 @@ def run(kind: str, size: int, seed: int, n: int = 4, n_new: int = 6, save: str |
     L = a.layer("veins")
     ious = [iou(L.masks[e], veins[e]) for e in range(n)]
     spot_iou = [iou(a.layer("spots").masks[e], spots[e]) for e in range(n)] if leaves[0].spots.any() else []
+    if save:
+        _sheet(a, veins, f"{save}/{kind}_{size}_{seed}_induced.png")
+    if induce_only:
+        return dict(name=f"{kind}_{size}_{seed}", blade=blade_iou, iou=ious, spot_iou=spot_iou, lam=L.lam,
+                    t_an=t_an)
     t0 = time.process_time()
     row = synthesis_row(a, n_new, truth=veins, name=f"{kind}_{size}_{seed}",
                         save=f"{save}/{kind}_{size}_{seed}_new.png" if save else None)
     t_gen = time.process_time() - t0
     vs = vein_system_scores(a, veins, spots if leaves[0].spots.any() else None,
                             seeds=[100 * seed + k for k in range(3)], plain=plain)
-    if save:
-        _sheet(a, veins, f"{save}/{kind}_{size}_{seed}_induced.png")
     return dict(name=f"{kind}_{size}_{seed}", blade=blade_iou, iou=ious, spot_iou=spot_iou, lam=L.lam,
                 bg_rel=float(np.nanmean([v["bg_rel"] for v in vs])),
                 own_rel=float(np.nanmean([v["own_rel"] for v in vs])),
@@ -145,6 +149,10 @@ def _sheet(a, veins, path):
 
 
 def _print(r):
+    if "sharp" not in r:
+        print(f"{r['name']:<24} blade {r['blade']:.2f}  vein IoU {' '.join(f'{v:.2f}' for v in r['iou'])}  "
+              f"mean {np.mean(r['iou']):.3f}  lam {r['lam']:.3f}  analysis {r['t_an']:.1f} s", flush=True)
+        return
     print(f"{r['name']:<16} blade {r['blade']:.2f}  vein IoU {' '.join(f'{v:.2f}' for v in r['iou'])}  "
           f"{'spots ' + ' '.join(f'{v:.2f}' for v in r['spot_iou']) + '  ' if r['spot_iou'] else ''}"
           f"lam {r['lam']:.3f}  bg_rel {r['bg_rel']:.2f} own_rel {r['own_rel']:.2f}  sharp {r['sharp']:.2f}  "
@@ -158,12 +166,13 @@ def main(argv=None):
     ap.add_argument("--sizes", default=None, help="comma list; default one size per kind")
     ap.add_argument("--seeds", default="0,1")
     ap.add_argument("--save", default=None)
+    ap.add_argument("--induce-only", action="store_true", help="stop after the induced layers (fast)")
     args = ap.parse_args(argv)
     for kind in args.kinds.split(","):
         sizes = [int(s) for s in args.sizes.split(",")] if args.sizes else [SIZES.get(kind, 512)]
         for size in sizes:
             for seed in (int(s) for s in args.seeds.split(",")):
-                _print(run(kind, size, seed, save=args.save))
+                _print(run(kind, size, seed, save=args.save, induce_only=args.induce_only))
 
 
 if __name__ == "__main__":

@@ -45,6 +45,7 @@ from ..core.image import as_mask, as_rgb
 from ..core.params import check_params, param
 from ..core.validate import brief, check_int, check_real, check_shape
 from ._lines import _line_channel, _ridges
+from .analysis_outline import _unscribbled_outline
 
 # The user's scribbles and layers (the data model) live in .scribbles; importable from here as before.
 from .scribbles import Layer, LayerSet, Scribble, _as_scribble, _check_dict, _check_list  # noqa: F401
@@ -388,6 +389,15 @@ def grow_layers(image, blade, layer_set: LayerSet, params: SnapParams | None = N
         No layers; a layer without scribbles; a scribble outside the image
         or the leaf (each message names the layer and the scribble).
 
+    Notes
+    -----
+    Beyond the paper: on a drawn leaf (its rim inked,
+    :func:`branchnb.leaves.flatart.drawn_outline`) a thin layer does not
+    grow along the ink outline unless its scribbles lie there
+    (:func:`branchnb.leaves.analysis_outline._unscribbled_outline`); the
+    outline, a dark line like a vein, was otherwise grown from vein
+    scribbles and then induced as vein on every exemplar.
+
     Examples
     --------
     >>> import numpy as np
@@ -451,6 +461,7 @@ def grow_layers(image, blade, layer_set: LayerSet, params: SnapParams | None = N
     ridges = _ridges(lab[..., 0], blade) if params.line_weight > 0 else None
 
     masks = {}
+    ink = None
     for layer in layer_set.ordered():
         fg_px = _on_layer(each[layer.name], feat, blade)
         others = np.zeros_like(fg_px)
@@ -510,6 +521,12 @@ def grow_layers(image, blade, layer_set: LayerSet, params: SnapParams | None = N
             conf = np.abs(e_fg - e_bg) / np.maximum(area, 1.0)
             mask = _refine(mask, feat, blade, fg_px, others, fg_c, bg_c, prior * conf[sp],
                            params.smoothness, line, params.line_weight)
+        if line is not None:
+            # A drawn leaf's ink outline is a line like a vein: not grown into a thin layer nobody scribbled there.
+            if ink is None:
+                from .flatart import drawn_outline
+                ink = drawn_outline(rgb, blade)
+            mask = mask & ~_unscribbled_outline(mask, blade, marks[layer.name], ink)
         masks[layer.name] = mask
     # Overlaps go to the upper layer.
     taken = np.zeros((h, w), bool)
