@@ -197,7 +197,7 @@ def _within_range(p: StylizeParams, **values) -> StylizeParams:
 #: gave a 250-px object a 3-4 px outline round a sparse interior scribble where the same
 #: object at 750 px is a dense texture with a thin outline.
 SMALL_ENDPOINT_POWER = 1.25
-SMALL_WIDTH_POWER = 0.3
+SMALL_WIDTH_POWER = 0.45
 
 
 def effective_params(p: StylizeParams, scale: float) -> StylizeParams:
@@ -214,13 +214,14 @@ def effective_params(p: StylizeParams, scale: float) -> StylizeParams:
     longer fit between one another, so the endpoint count falls to
     ``n_endpoints * scale ** 1.25`` (``SMALL_ENDPOINT_POWER``), ``tone_sigma``
     grows as the branch spacing does, by ``scale ** -0.75``, and ``max_width``
-    by ``scale ** -0.3`` (``SMALL_WIDTH_POWER``). With the earlier 1.5 and
+    by ``scale ** -0.45`` (``SMALL_WIDTH_POWER``; 0.3 left a 224-px night
+    scene too pale, tone r 0.58). With the earlier 1.5 and
     0.75 the widest strokes, the object's outline, grew with the spacing: a
     250-px object read as a heavy 3-4 px outline round a sparse interior
     scribble, the same object at 750 px as a dense texture with a thin outline
     (ink of an 8-px band along the outline over the interior's, both shown at
-    400 px, 250 against 750 px: mid-grey body 1.37 against 1.07, now 1.24;
-    dark outlined 1.09 -> 1.00 against 1.00).
+    400 px, 250 against 750 px: mid-grey body 1.37 against 1.07, now 1.25;
+    dark outlined 1.09 -> 1.01 against 1.00).
     Falling with ``scale`` alone left small inputs too dark (a maple leaf at
     200 px carried 1.44x the ink of the same leaf at 1000 px: the 1-px floor
     kept most strokes wider than the tone match asked for); falling with the
@@ -266,7 +267,7 @@ def effective_params(p: StylizeParams, scale: float) -> StylizeParams:
     --------
     >>> q = effective_params(StylizeParams(), 0.5)
     >>> q.n_endpoints, q.min_width, round(q.max_width, 2)
-    (1261, 2.0, 4.92)
+    (1261, 2.0, 5.46)
     >>> effective_params(StylizeParams(), 2.0).min_width
     1.0
     >>> effective_params(StylizeParams(output_width=0.0), 0.5) == StylizeParams(output_width=0.0)
