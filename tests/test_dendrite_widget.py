@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from branchnb.dendrite import StylizeParams
+from branchnb.dendrite.stylize_params import SMALL_ENDPOINT_POWER
 from branchnb.widgets.dendrite import DendriteApp
 
 
@@ -54,10 +55,10 @@ def test_slider_changes_reuse_the_cached_plan(app):
     assert app.comparison.second.params.metric == "blend"
     assert app.comparison.second.endpoints is ends
     app.panels["stylize"].controls["n_endpoints"].value = 100
-    # an image smaller than the lattice gets n_endpoints x (image px per lattice px) ** 1.5
+    # an image smaller than the lattice gets n_endpoints x (image px per lattice px) ** 1.25
     k = float(np.sqrt(np.prod(app.comparison.second.scale)))
     assert k < 1
-    assert len(app.comparison.second.endpoints) == round(100 * k ** 1.5)
+    assert len(app.comparison.second.endpoints) == round(100 * k ** SMALL_ENDPOINT_POWER)
 
 
 @pytest.mark.parametrize("metaphor", ["plain", "vines", "lightning"])

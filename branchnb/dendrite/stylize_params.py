@@ -191,6 +191,15 @@ def _within_range(p: StylizeParams, **values) -> StylizeParams:
     return dataclasses.replace(p, **values)
 
 
+#: On an image smaller than the lattice (``scale < 1``) the endpoint count falls by
+#: ``scale ** SMALL_ENDPOINT_POWER`` and ``max_width`` grows by ``scale ** -SMALL_WIDTH_POWER``
+#: (:func:`effective_params`; beyond the paper). 1.5 and 0.75 (the branch spacing's growth)
+#: gave a 250-px object a 3-4 px outline round a sparse interior scribble where the same
+#: object at 750 px is a dense texture with a thin outline.
+SMALL_ENDPOINT_POWER = 1.25
+SMALL_WIDTH_POWER = 0.45
+
+
 def effective_params(p: StylizeParams, scale: float) -> StylizeParams:
     """The parameters a stylization drawn at ``scale`` image px per lattice px really uses.
 
@@ -203,9 +212,16 @@ def effective_params(p: StylizeParams, scale: float) -> StylizeParams:
     hairlines a quarter as wide that read paler and paler as the input grows.
     On an image smaller than the lattice (``scale < 1``) the branches would no
     longer fit between one another, so the endpoint count falls to
-    ``n_endpoints * scale ** 1.5`` and the lattice lengths that depend on the
-    branch spacing grow as it does, by ``scale ** -0.75`` (``max_width``,
-    ``tone_sigma``: dark regions still fill in).
+    ``n_endpoints * scale ** 1.25`` (``SMALL_ENDPOINT_POWER``), ``tone_sigma``
+    grows as the branch spacing does, by ``scale ** -0.75``, and ``max_width``
+    by ``scale ** -0.45`` (``SMALL_WIDTH_POWER``; 0.3 left a 224-px night
+    scene too pale, tone r 0.58). With the earlier 1.5 and
+    0.75 the widest strokes, the object's outline, grew with the spacing: a
+    250-px object read as a heavy 3-4 px outline round a sparse interior
+    scribble, the same object at 750 px as a dense texture with a thin outline
+    (ink of an 8-px band along the outline over the interior's, both shown at
+    400 px, 250 against 750 px: mid-grey body 1.37 against 1.07, now 1.25;
+    dark outlined 1.09 -> 1.01 against 1.00).
     Falling with ``scale`` alone left small inputs too dark (a maple leaf at
     200 px carried 1.44x the ink of the same leaf at 1000 px: the 1-px floor
     kept most strokes wider than the tone match asked for); falling with the
@@ -251,7 +267,7 @@ def effective_params(p: StylizeParams, scale: float) -> StylizeParams:
     --------
     >>> q = effective_params(StylizeParams(), 0.5)
     >>> q.n_endpoints, q.min_width, round(q.max_width, 2)
-    (1061, 2.0, 6.73)
+    (1261, 2.0, 5.46)
     >>> effective_params(StylizeParams(), 2.0).min_width
     1.0
     >>> effective_params(StylizeParams(output_width=0.0), 0.5) == StylizeParams(output_width=0.0)
@@ -263,9 +279,12 @@ def effective_params(p: StylizeParams, scale: float) -> StylizeParams:
     if scale >= 1.0:
         return _within_range(p, min_width=lo, max_width=max(p.max_width, 2.0 * lo))
     grow = scale ** -0.75  # the branch spacing, in lattice px, grows by this
+    # the widest strokes (the outline: most important) must not outgrow the branch
+    # spacing, or a small input reads as a heavy outline round a sparse scribble
     return _within_range(
-        p, min_width=lo, max_width=max(p.max_width * grow, lo), tone_sigma=p.tone_sigma * grow,
-        n_endpoints=max(1, int(round(p.n_endpoints * scale ** 1.5))))
+        p, min_width=lo, max_width=max(p.max_width * scale ** -SMALL_WIDTH_POWER, lo),
+        tone_sigma=p.tone_sigma * grow,
+        n_endpoints=max(1, int(round(p.n_endpoints * scale ** SMALL_ENDPOINT_POWER))))
 
 
 #: Vine stems are this many leaf lengths apart on average (:func:`metaphor_params`).

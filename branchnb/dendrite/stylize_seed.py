@@ -36,7 +36,7 @@ def _subset(p, names):
 
 
 #: Rounds of :func:`~branchnb.dendrite.thickness.twigs_within_ink` on a small image.
-_PRUNE_ROUNDS = 4
+_PRUNE_ROUNDS = 3
 
 _IMPORTANCE = ("lattice_size", "intensity_weight", "gradient_weight", "sigma")
 _LATTICE = ("cost_weight", "epsilon", "noise")
