@@ -66,3 +66,24 @@ def test_matte_kept_outside_domain(seed, colour):
     rim = dom & ~ndi.binary_erosion(dom, iterations=3) & ndi.binary_erosion(dom, iterations=1)
     if colour == 0.0:
         assert np.median(out[rim].mean(1)) > 0.6 * np.median(out[core].mean(1))
+
+
+def test_example_domain_leaves_out_matte_slivers():
+    # a fundus disk nearly touching the frame: the matte between it and the frame is a sliver
+    # narrower than the flat-region disk, still no part of the domain
+    from branchnb.branching import example_domain
+    from branchnb.branching.regions import matte_mask
+
+    size = 200
+    rng = np.random.default_rng(4)
+    img = textured_ground((size, size), rng, colour=(0.85, 0.42, 0.18))
+    s = random_tree((size, size), rng, n_children=3, r_root=2.5, r_child=1.8)
+    img = draw_polylines(img, [b.points for b in s.branches], widths=[2 * b.thickness for b in s.branches],
+                         colors=(0.45, 0.1, 0.05))
+    dom = _disk(size, 0.495)
+    a = ndi.gaussian_filter(dom.astype(np.float32), 1.0)[..., None]
+    img = np.clip(img * a, 0, 1).astype(np.float32)
+    d = example_domain(img, s)
+    matte = matte_mask(img, dilate=0)
+    assert (d & matte).sum() <= 0.02 * matte.sum()
+    assert np.mean(d[ndi.binary_erosion(dom, iterations=4)]) >= 0.99
