@@ -87,3 +87,20 @@ def test_example_domain_leaves_out_matte_slivers():
     matte = matte_mask(img, dilate=0)
     assert (d & matte).sum() <= 0.02 * matte.sum()
     assert np.mean(d[ndi.binary_erosion(dom, iterations=4)]) >= 0.99
+
+
+def test_matte_edge_is_no_drawn_line_but_a_terrain_coast_is():
+    # at 500 px a fundus disk's blurred rim passes the drawn-boundary test; it is the matte's edge
+    # (a blend of ground and matte), so the output keeps the matte instead of drawing an arc
+    from branchnb.branching._map_examples import terrain_map_example
+    from branchnb.branching.drawn_domains import drawn_boundary
+    from branchnb.branching.output_regions import _walls_off_matte
+    from branchnb.branching.skeleton_map import SkeletonMap
+
+    ex, s, _dom = _fundus(500, 0)
+    b = drawn_boundary(ex, s, SkeletonMap(s, 1.0).pixel_map(ex.shape[:2]))
+    assert b is not None and _walls_off_matte(b.domain, b.colour, ex)
+    for seed in (0, 1):
+        img, st, _riv = terrain_map_example((256, 256), seed)
+        b = drawn_boundary(img, st, SkeletonMap(st, 1.0).pixel_map(img.shape[:2]))
+        assert b is not None and not _walls_off_matte(b.domain, b.colour, img)

@@ -68,6 +68,7 @@ from .output_regions import (
     _grew_in_example_layout,
     _keep_matte,
     _matte_colour,
+    _walls_off_matte,
 )
 from .regions import ExampleRegions, colour_labels, example_regions, flat_colour_regions, flatten_shading, region_layout
 from .skeleton_map import SkeletonMap
@@ -662,6 +663,11 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         if "drawn_boundary" not in cached:
             cached["drawn_boundary"] = drawn_boundary(ex, example_structure, pm_s)
         boundary = cached["drawn_boundary"]
+        if boundary is not None and cached["matte_colour"] is not None and \
+                _walls_off_matte(boundary.domain, boundary.colour, ex):
+            # the soft edge of a photo's matte (a fundus disk's rim) is no drawn line: the matte is
+            # kept as a region instead (beyond the paper)
+            boundary = None
         if boundary is not None:
             labels_t = domain_labels(target_domain)
             src_labels = domain_labels(boundary.domain, boundary.ink)

@@ -153,3 +153,31 @@ def _keep_matte(canvas: np.ndarray, domain: np.ndarray, colour: np.ndarray,
         np.asarray(domain, np.float32)
     inside = np.where(domain, np.maximum(inside, 0.5), inside)[..., None]
     return (canvas * inside + colour[None, None, :] * (1.0 - inside)).astype(canvas.dtype)
+
+
+def _walls_off_matte(domain: np.ndarray, colour: np.ndarray, image: np.ndarray, share: float = 0.8,
+                     tol: float = 0.08) -> bool:
+    """True when a "drawn" boundary is the soft edge of the example's flat matte, not a drawn coast.
+
+    What the line walls off is (``share`` of it, without the line's band) the
+    matte, and the line's ``colour`` is a blend of the matte's and the
+    domain's (within ``tol`` of the segment between them): a blurred step.
+    A terrain map's dark coast on a white outside is no such blend.
+    """
+    from .regions import matte_mask
+
+    dom = np.asarray(domain, bool)
+    out = ~ndi.binary_dilation(dom, iterations=4)
+    inner = ndi.binary_erosion(dom, iterations=4)
+    if not out.any() or not inner.any():
+        return False
+    matte = matte_mask(image, dilate=2)
+    if np.mean(matte[out]) < share:
+        return False
+    c = image.shape[2]
+    m = np.median(image[out & matte], axis=0)
+    g = np.median(image[inner], axis=0)
+    col = np.asarray(colour, np.float64).ravel()[:c]
+    d = g - m
+    t = float(np.clip((col - m) @ d / max(float(d @ d), 1e-9), 0.0, 1.0))
+    return bool(np.max(np.abs(col - (m + t * d))) <= tol)
