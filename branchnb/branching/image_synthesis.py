@@ -654,6 +654,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         return _draw_flat(ex, example_structure, target_structure, layout, labels_t, target_domain,
                           pm_s, labels_ex, p, t_start, report, (H, W))
     boundary = None
+    matte_edge = False
     if labels_t is None and target_domain is not None and not flat and target_domain.any() \
             and not target_domain.all():
         # beyond the paper: an example whose domain a drawn line walls off (a shaded terrain map):
@@ -663,11 +664,10 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         if "drawn_boundary" not in cached:
             cached["drawn_boundary"] = drawn_boundary(ex, example_structure, pm_s)
         boundary = cached["drawn_boundary"]
-        if boundary is not None and cached["matte_colour"] is not None and \
-                _walls_off_matte(boundary.domain, boundary.colour, ex):
-            # the soft edge of a photo's matte (a fundus disk's rim) is no drawn line: the matte is
-            # kept as a region instead (beyond the paper)
-            boundary = None
+        # the soft edge of a photo's matte (a fundus disk's rim) is no drawn line: its regions are
+        # used, but the matte is kept as a region instead of drawing the line (beyond the paper)
+        matte_edge = boundary is not None and cached["matte_colour"] is not None and \
+            _walls_off_matte(boundary.domain, boundary.colour, ex)
         if boundary is not None:
             labels_t = domain_labels(target_domain)
             src_labels = domain_labels(boundary.domain, boundary.ink)
@@ -745,7 +745,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         canvas, _ = redraw_gaps(canvas, target_structure, style.line_colour,
                                 style.region_colours[style.branch_region], style.width_scale)
 
-    if boundary is not None:
+    if boundary is not None and not matte_edge:
         from .drawn_domains import draw_boundary
 
         canvas = draw_boundary(canvas, target_domain, boundary.colour, boundary.width)
@@ -770,8 +770,8 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
             cached["centre_colours"] = colours
             cached["centre_contrast"] = 0.0 if colours is None else float(np.linalg.norm(colours[0] - colours[1]))
         canvas, _ = match_line_contrast(canvas, pm_t, cached["centre_contrast"], colours=cached["centre_colours"])
-    if cached["matte_colour"] is not None and boundary is None and not flat and target_domain is not None \
-            and target_domain.any() and not target_domain.all():
+    if cached["matte_colour"] is not None and (boundary is None or matte_edge) and not flat \
+            and target_domain is not None and target_domain.any() and not target_domain.all():
         # beyond the paper: a photo's matte (a fundus's black surround) stays outside the domain
         canvas = _keep_matte(canvas, target_domain, cached["matte_colour"])
     fragment_mask = frag_index >= 0
