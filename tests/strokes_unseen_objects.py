@@ -113,8 +113,9 @@ def fern(size=600, rng=0):
     return c.result()
 
 
-def berries(size=600, rng=0):
-    """A curved branch with three tapered leaves and two berries on thin stalks."""
+def berries(size=600, rng=0, with_canvas=False):
+    """A curved branch with three tapered leaves and two berries on thin stalks (and the canvas:
+    ``with_canvas``)."""
     c, n, k = _square_canvas(size, 600.0, rng)
     t = np.linspace(0, 1, 10)
     branch = np.c_[0.12 * n + 0.76 * n * t, 0.7 * n - 0.25 * n * np.sin(0.5 * np.pi * t)]
@@ -144,7 +145,7 @@ def berries(size=600, rng=0):
         pts = np.array([tip, tip + np.array([0.0, 0.05 * n])])
         sdf, s = c.capsule(pts, 22 * k)
         c.part(pts, f"berry {j + 1}", stalk, 22 * k, (sdf, tex(s, (0.7, 0.1, 0.25), 30), 3))
-    return c.result()
+    return (c.result(), c) if with_canvas else c.result()
 
 
 def stickman(size=600, rng=0):

@@ -55,8 +55,10 @@ def test_fit_with_progress_equals_the_fit_without():
     a = fit_model(ex, progress=lambda f, t: seen.append(t))
     b = fit_model(ex)
     assert seen[0] == "bending model" and seen[-1] == "fitted"
-    np.testing.assert_array_equal(a.furcation.probabilities(ex.branches[0].points, ex.branches[0].thickness),
-                                  b.furcation.probabilities(ex.branches[0].points, ex.branches[0].thickness))
+    # equal up to floating-point reduction order (BLAS threads may split sums differently under load)
+    np.testing.assert_allclose(a.furcation.probabilities(ex.branches[0].points, ex.branches[0].thickness),
+                               b.furcation.probabilities(ex.branches[0].points, ex.branches[0].thickness),
+                               rtol=1e-9, atol=1e-12)
 
 
 def test_an_error_in_the_svm_reaches_the_caller(monkeypatch):

@@ -681,8 +681,12 @@ def example_domain(image, structure: Structure | None = None, *, radius: float =
     Beyond the paper (issue 23): a line mask on one plain ground (binary, or
     anti-aliased in two tones) leaves out the part of the frame its lines
     leave empty (:func:`.empty_ground._empty_part`), so the output keeps to the occupied
-    part. :func:`~branchnb.branching.fit_model` reads that part as ground, not
-    as a coast or a hole (``StructureModel.ground``).
+    part, and keeps within the lines' own line-to-line spacing of them
+    (:func:`.empty_ground._line_domain`: a vine along two borders of its frame
+    grows along those borders, not as a bush over a region twice the band's
+    width). :func:`~branchnb.branching.fit_model` reads the rest as ground, not
+    as a coast or a hole (``StructureModel.ground``), and the output's strands
+    turn to stay in the domain (``branch_starts.LEAVE_BAND``).
 
     Parameters
     ----------
@@ -711,9 +715,9 @@ def example_domain(image, structure: Structure | None = None, *, radius: float =
         ch, region, _sk, _r = binary_channels(gray)
         if not region.any():
             # one region (lines on a plain ground): the ground the network leaves empty is no domain
-            from .empty_ground import _empty_part
+            from .empty_ground import _line_domain
 
-            return ~_empty_part(ch)
+            return _line_domain(ch)
         return ~region
     opaque = _opaque_part(image)
     branches = np.zeros(gray.shape, bool)
@@ -725,14 +729,14 @@ def example_domain(image, structure: Structure | None = None, *, radius: float =
         branches = cov > 0.5
     bg = flat_background(gray, branches, radius)
     if not bg.any() and branches.any() and np.ndim(image) == 3:
-        from .empty_ground import _empty_part
+        from .empty_ground import _line_domain
         from .flat_regions import two_tone_lines
 
         if two_tone_lines(np.asarray(image, np.float32)):
             # an anti-aliased line mask on one plain ground: like a binary one (above)
             lo, hi = np.percentile(gray, [1, 99])
             fg = gray > 0.5 * (lo + hi)
-            return ~_empty_part(fg if fg.mean() < 0.5 else ~fg)
+            return _line_domain(fg if fg.mean() < 0.5 else ~fg)
     if not bg.any() and branches.any():
         # a photograph: no flat background, but a textured ground of another colour (a table round a leaf)
         bg = unlike_background(image, branches, radius)

@@ -32,6 +32,11 @@ def _frame(s: Structure) -> tuple[int, int]:
 #: An outside part of a domain no example vertex comes this close to (share of the frame's short side) is
 #: ground the example keeps away from, not a coast (:func:`_ground`).
 GROUND_DISTANCE = 0.06
+#: ... and so is an outside part whose edge keeps within this share of its median distance from the
+#: example's vertices everywhere, and at least :data:`BAND_GAP` pixels: a band drawn round its lines
+#: (its margin is at least ``empty_ground.BAND_MIN``; a coast traced as a line runs closer)
+BAND_STEADY = 0.5
+BAND_GAP = 7.0
 
 
 def _ground(ex: Structure, domain: np.ndarray | None) -> np.ndarray | None:
@@ -45,6 +50,9 @@ def _ground(ex: Structure, domain: np.ndarray | None) -> np.ndarray | None:
     lines; any new layout left holes in it, far-hole filling grew into them and a wavy vine came out
     1.10-1.31 x the example's length (the whole frame: 0.96-1.04). Coverage, holes, roots, the length
     cap and the drain read the domain plus this ground (:attr:`.model.StructureModel.region`).
+    An outside part whose edge keeps a steady distance (:data:`BAND_STEADY`, :data:`BAND_GAP`) from
+    the example's lines is ground too: the band :func:`.empty_ground._line_domain` draws round a vine
+    ornament's strands, which no strand reaches (a coast is reached by its rivers; branching53).
 
     Examples
     --------
@@ -72,8 +80,17 @@ def _ground(ex: Structure, domain: np.ndarray | None) -> np.ndarray | None:
     lab, n = ndi.label(out)
     if n == 0:
         return None
-    closest = ndi.minimum(d, lab, index=np.arange(1, n + 1))
-    keep = np.r_[False, np.asarray(closest) > GROUND_DISTANCE * min(h, w)]
+    idx = np.arange(1, n + 1)
+    closest = np.asarray(ndi.minimum(d, lab, index=idx))
+    keep = closest > GROUND_DISTANCE * min(h, w)
+    # a band round the example's lines (:func:`.empty_ground._line_domain`): its edge keeps a steady
+    # distance from them, where a coast is touched by the rivers it drains
+    rim = out & ndi.binary_dilation(~out)
+    if rim.any():
+        rim_min = np.asarray(ndi.minimum(d, lab * rim, index=idx))
+        rim_med = np.asarray(ndi.median(d, lab * rim, index=idx))
+        keep |= (rim_min >= BAND_STEADY * rim_med) & (rim_min >= BAND_GAP)
+    keep = np.r_[False, keep]
     g = keep[lab]
     return g if g.any() else None
 

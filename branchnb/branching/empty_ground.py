@@ -63,3 +63,96 @@ def _empty_part(lines) -> np.ndarray:
         keep[0] = False
         out = keep[lab]
     return out
+
+
+BAND_QUANTILE = 0.9   #: the strand spacing is this quantile of the line-to-line distances
+BAND_HITS = 0.3       #: ... read when at least this share of the rays' start points meet another line
+BAND_RAYS = 16        #: directions of the rays from each start point
+BAND_POINTS = 2000    #: at most this many start points (skeleton pixels, evenly spread)
+BAND_MIN = 8.0        #: never a band narrower than this (pixels) beyond the lines
+BAND_WIDTH = 1.0      #: the band reaches this x the strand spacing beyond the lines
+BAND_DEPTH = 0.16     #: a band's deepest point lies within this x the short side of its edge
+
+
+def _strand_spacing(lines: np.ndarray, reach: float) -> float | None:
+    """The line-to-line distance of a line network (pixels), or None when its lines are far apart.
+
+    From evenly spread skeleton pixels, rays in :data:`BAND_RAYS` directions walk until they meet
+    another line (after crossing at least 2 ground pixels) within ``reach``; each point's shortest
+    hit is its distance to the neighbouring strand, and the spacing is the :data:`BAND_QUANTILE`
+    quantile of those (the widest gaps between interlaced strands, not the crossings).
+    """
+    from skimage.morphology import skeletonize
+
+    H, W = lines.shape
+    ys, xs = np.nonzero(skeletonize(lines))
+    if len(xs) < 8 or reach < 2:
+        return None
+    sel = np.linspace(0, len(xs) - 1, min(len(xs), BAND_POINTS)).astype(np.int64)
+    xs, ys = xs[sel].astype(np.float64), ys[sel].astype(np.float64)
+    a = np.linspace(0, 2 * np.pi, BAND_RAYS, endpoint=False)
+    steps = np.arange(1, int(reach) + 1, dtype=np.float64)
+    xi = np.rint(xs[:, None, None] + np.cos(a)[None, :, None] * steps).astype(np.int64)
+    yi = np.rint(ys[:, None, None] + np.sin(a)[None, :, None] * steps).astype(np.int64)
+    inside = (xi >= 0) & (xi < W) & (yi >= 0) & (yi < H)
+    # a ray ends at the frame: everything after its first step outside is outside
+    inside = np.minimum.accumulate(inside, axis=2)
+    on = np.zeros(xi.shape, bool)
+    on[inside] = lines[yi[inside], xi[inside]]
+    hit = on & (np.cumsum(~on & inside, axis=2) >= 2)      # left its own line first
+    any_hit = hit.any(2)
+    first = np.where(any_hit, hit.argmax(2) + 1.0, np.inf).min(1)
+    ok = np.isfinite(first)
+    if ok.mean() < BAND_HITS:
+        return None
+    return float(np.quantile(first[ok], BAND_QUANTILE))
+
+
+def _line_domain(lines) -> np.ndarray:
+    """Where a line mask's branches may grow: the frame less its empty part, and within the strand
+    spacing of the lines.
+
+    Beyond the paper (issue 23): a vine ornament drawn along two borders of its frame (an L-shaped
+    band of interlaced strands) kept everything within :data:`EMPTY_MARGIN` x the empty disk
+    (0.15 x the short side) of a line, a region much wider than the band, and the output filled it
+    as a bush of short branches. The domain is also held to the band the lines occupy: within the
+    example's own line-to-line distance (:func:`_strand_spacing`) of a line. A network that fills its
+    frame (mud, drawn cracks) lies within its spacing everywhere and keeps the whole frame; strands
+    too far apart for a spacing (a lone line) keep the former rule.
+
+    Parameters
+    ----------
+    lines : (H, W) bool array_like
+        The network's pixels.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+
+    Examples
+    --------
+    >>> m = np.zeros((200, 200), bool); m[20, :] = True; m[40, :] = True
+    >>> d = _line_domain(m)
+    >>> bool(d[30, 100]), bool(d[55, 100]), bool(d[120, 100])
+    (True, True, False)
+    """
+    lines = np.asarray(lines, bool)
+    dom = ~_empty_part(lines)
+    if not lines.any():
+        return dom
+    H, W = lines.shape
+    s = _strand_spacing(lines, EMPTY_MARGIN * EMPTY_DISK * min(H, W))
+    if s is None:
+        return dom
+    band = dom & (ndi.distance_transform_edt(~lines) <= max(BAND_WIDTH * s, BAND_MIN))
+    # a network that covers an area (cracks, vessels, a mesh) keeps the former rule: only a band
+    return band if _is_band(band) else dom
+
+
+def _is_band(domain) -> bool:
+    """Is ``domain`` a band: no point deeper than :data:`BAND_DEPTH` x the frame's short side?"""
+    domain = np.asarray(domain, bool)
+    if not domain.any() or domain.all():
+        return False
+    depth = ndi.distance_transform_edt(np.pad(domain, 1))   # the frame is no edge of a band
+    return bool(depth.max() <= BAND_DEPTH * min(domain.shape))

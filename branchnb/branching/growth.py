@@ -23,13 +23,14 @@ import numpy as np
 
 from ..core.structure import Branch, Structure
 from . import _kernels, _loop_kernels
-from .branch_starts import _BranchState, _Starts
+from .branch_starts import LEAVE_BAND, _BranchState, _Starts
 from .colonization import (
     DensityMap,
     SegmentStore,
     frame_density,
 )
 from .domains import MOUTH_SHARE, MOUTH_TURN, _Drain, _Shore, _shore_margin, runs_inland
+from .empty_ground import _is_band
 from .filling import _Filling
 from .guidance import Guidance
 from .model import StructureModel, _choice
@@ -198,6 +199,7 @@ ROOT_PROFILE_PULL = 0.05
 RADIUS_KEEP_QUANTILE = 0.5
 
 
+
 def _radius_keep(example) -> float:
     """How much thinner than at its start a delta's channel may get (beyond the paper, issue 23).
 
@@ -249,6 +251,10 @@ class _Grower(_Starts, _Filling):
             self.runs = None
         self.rho = params.rho if params.rho > 0 else model.rho
         self.domain = domain
+        # a line mask's domain with ground round it (.empty_ground._line_domain): its edge is no coast,
+        # a branch turns along it (LEAVE_BAND)
+        self.keep_in = guidance is None and domain is not None and model.ground is not None \
+            and _is_band(domain)
         self._e_dom = np.zeros((1, 1), bool)
         # a root reads the frame ahead as density (a free frame only: a map's domain has its own rules)
         self.frame = params.colonization and guidance is None and (region is None or bool(region.all()))
@@ -423,7 +429,7 @@ class _Grower(_Starts, _Filling):
         scorer, no guidance, drain, shore, frame factor (a root on a free frame), goal or mouth?"""
         return (self.scorer is score_candidates and self.guidance is None and self.drain is None
                 and self.shore is None and st.goal is None and st.mouth is None
-                and not (self.frame and st.parent is None))
+                and not (self.frame and st.parent is None) and not self.keep_in)
 
     def _plain_step(self, st, tip, t: np.ndarray, L: int):
         """``(stopped, score, points, chosen)`` of a plain step over the candidate windows ``t``
@@ -524,6 +530,10 @@ class _Grower(_Starts, _Filling):
                     fb = np.where(fs < 1.0, 1.0, fb)
             if fb is not None:
                 score = score * fb
+            if self.keep_in and len(pts):
+                inside = self._inside(pts.reshape(-1, 2)).reshape(pts.shape[:2])
+                leave = ((np.arange(pts.shape[1])[None, :] < n_arr[:, None]) & ~inside).any(1)
+                score = np.where(leave, score * LEAVE_BAND, score)
             # beyond the paper: no spirals. A candidate that would take the branch's heading range past the
             # winding limit is forbidden; the branch stops when nothing else is left (issue 23)
             score = np.where(zero, 0.0, score)

@@ -112,6 +112,117 @@ def _one_per_line(entries: list[int], g, r: np.ndarray, r_entry: float) -> list[
     return out
 
 
+#: ``root="auto"`` on a piece of one width with ends at the frame: an end within this many pixels (plus
+#: twice the piece's median radius) of the frame is where the line meets it (:func:`_frame_outlet`).
+OUTLET_FRAME = 4.0
+#: ... when no end of the piece is more than this many times as thick as its median end (plus half a pixel).
+OUTLET_EVEN = 1.5
+#: A three-armed junction votes for the arm toward the root when its two narrowest-apart arms are at
+#: least this many radians closer together than either is to the third (:func:`_junction_trunk_arms`).
+OUTLET_MARGIN = 0.35
+#: ... and a frame end is the outlet unless a place inside (the trunk side of one of up to this many
+#: forks) gets more fork votes, by more than :data:`OUTLET_INNER_MARGIN` x the number of forks.
+OUTLET_INNER = 48
+OUTLET_INNER_MARGIN = 0.1
+
+
+def _walk_arm(g, deg: np.ndarray, start: int, prev: int, stop: np.ndarray, pts: np.ndarray,
+              reach: float) -> tuple[int, float]:
+    """Follow the skeleton from ``start`` (``prev`` behind it) along two-neighbour pixels for up to
+    ``reach`` pixels (full size); the last node reached and the length walked."""
+    cur, back, walked = int(start), int(prev), float(np.hypot(*(pts[start] - pts[prev])))
+    while walked < reach and deg[cur] == 2 and not stop[cur]:
+        nb = g.indices[g.indptr[cur]:g.indptr[cur + 1]]
+        nxt = int(nb[0]) if int(nb[0]) != back else int(nb[1])
+        walked += float(np.hypot(*(pts[nxt] - pts[cur])))
+        back, cur = cur, nxt
+    return cur, walked
+
+
+def _junction_trunk_arms(g, deg: np.ndarray, members: np.ndarray, pts: np.ndarray,
+                         reach: float) -> list[tuple[np.ndarray, int]]:
+    """Per clear three-armed junction of a piece: ``(first nodes of its arms, index of its trunk arm)``.
+
+    Where a line forks (a river's tributary joins, a root or a vessel branches), the two arms away from
+    the trunk leave at an acute angle and the arm toward the trunk runs opposite both: the trunk arm is
+    the one not in the pair of arms closest in direction (by :data:`OUTLET_MARGIN`; each arm's direction
+    from the junction to the skeleton ``reach`` pixels along it). Junctions with another number of
+    arms (crossings) or an arm shorter than half ``reach`` (the two forks of a crossing, a spur) do
+    not vote.
+    """
+    jn = members[deg[members] >= 3]
+    if not len(jn):
+        return []
+    is_j = np.zeros(len(deg), bool)
+    is_j[jn] = True
+    sub = g[jn][:, jn]
+    _n, lab = csgraph.connected_components(sub, directed=False)
+    out = []
+    for c in np.unique(lab):
+        cl = jn[lab == c]
+        centre = pts[cl].mean(0)
+        arms, dirs, short = [], [], False
+        for v in cl:
+            for u in g.indices[g.indptr[v]:g.indptr[v + 1]]:
+                if is_j[u]:
+                    continue
+                end, walked = _walk_arm(g, deg, int(u), int(v), is_j, pts, reach)
+                short |= walked < 0.5 * reach
+                d = pts[end] - centre
+                arms.append(int(u))
+                dirs.append(np.arctan2(d[1], d[0]))
+        if short or len(arms) != 3:
+            continue
+        a = np.asarray(dirs)
+        pair = np.abs(np.angle(np.exp(1j * (a[:, None] - a[None, :]))))
+        ang = np.array([pair[1, 2], pair[0, 2], pair[0, 1]])   # ang[i]: between the two arms other than i
+        order = np.argsort(ang)
+        if ang[order[1]] - ang[order[0]] < OUTLET_MARGIN:
+            continue
+        trunk = int(order[0])          # the two others are the close pair: arm i runs opposite both
+        out.append((np.asarray(arms, np.int64), trunk))
+    return out
+
+
+def _frame_outlet(g, deg: np.ndarray, cand: np.ndarray, members: np.ndarray, pts: np.ndarray,
+                  r: np.ndarray, frame_d: np.ndarray) -> int | None:
+    """The end of a piece of one width where it meets the frame and its junctions say it drains
+    (``None`` when no end lies at the frame).
+
+    Beyond the paper (issue 23): a line map's rivers all have one width, so the thickest end is any
+    end (a river entering from the bottom edge was rooted at its source inside). A network cut by the
+    frame drains through the frame at one of its frame ends; at each fork the arm toward the outlet
+    runs opposite the two others (:func:`_junction_trunk_arms`), so the frame end the most forks point
+    to (its shortest path enters them by their trunk arm) is the outlet; ties go to the thicker end,
+    then the one nearer the frame. When the forks point away from every frame end (more disagree than
+    agree) or more firmly to a place inside, the lines spread from inside and only their tips leave
+    the frame: ``None``.
+    """
+    r_med = float(np.median(r[members]))
+    at = frame_d <= OUTLET_FRAME + 2.0 * r_med
+    if not at.any():
+        return None
+    ends = cand[at]
+    votes = _junction_trunk_arms(g, deg, members, pts, 6.0 * r_med + 8.0)
+    score = np.zeros(len(ends))
+    if votes:
+        # the same count inside, at the trunk side of (up to OUTLET_INNER) forks: the forks of lines that
+        # spread from inside (a root system drawn whole, its tips leaving the frame) point to a place
+        # inside more firmly than to any frame end
+        pick = np.unique(np.linspace(0, len(votes) - 1, min(len(votes), OUTLET_INNER)).astype(int))
+        inner = np.asarray([votes[i][0][votes[i][1]] for i in pick], np.int64)
+        dist = csgraph.dijkstra(g, directed=False, indices=np.r_[ends, inner])
+        total = np.zeros(len(dist))
+        for arms, trunk in votes:
+            total += np.where(np.argmin(dist[:, arms], axis=1) == trunk, 1.0, -1.0)
+        score = total[:len(ends)]
+        if score.max() <= 0 or total[len(ends):].max() > score.max() + OUTLET_INNER_MARGIN * len(votes):
+            return None
+    er = _end_radius(pts, r, ends, members)
+    key = np.lexsort((frame_d[at], -er, -score))
+    return int(ends[key[0]])
+
+
 def _mouth_node(cand: np.ndarray, key: np.ndarray, members: np.ndarray, member_key: np.ndarray,
                 scale: float) -> tuple[np.ndarray, np.ndarray]:
     """Root candidates of a piece that drains into a region: its ends, or the node nearest the region
@@ -237,7 +348,10 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
         a node of the piece more than 4 px nearer than every end, a mouth the
         coast's removed outline left as a loop, beats the ends), else the thickest end (a
         vessel tree's trunk, a delta's inland channel; the radius near an end,
-        not at it, which the frame or a rounded tip pinches); or the thickest, the top-most ..., the one
+        not at it, which the frame or a rounded tip pinches), every end where a thick line
+        enters the frame (``_frame_entries``), or, on a piece of one width that meets the
+        frame, the frame end its forks point to (``_frame_outlet``: a line map's river cut by
+        the frame drains there, beyond the paper); or the thickest, the top-most ..., the one
         nearest to the image border, the one nearest to ``region`` (e.g.
         the sea a river flows into; the border if there is none; a piece
         that meets the region at several mouths and has a much thicker end
@@ -360,6 +474,14 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
                                             if entries else 0.0)
                     if entries:
                         roots.extend(entries)
+                        continue
+                    # lines of one width (within a pixel: 1 and 2 px lines), no end much thicker than the
+                    # others (a drawn root system's trunks among its thin roots), that meet the frame drain there
+                    if (hi <= 1.5 * lo or hi - lo <= 1.0) and len(ends) and \
+                            -key.min() <= OUTLET_EVEN * float(np.median(-key)) + 0.5 and (outlet := _frame_outlet(
+                            g, deg, cand, members, pts_full, r_full, border_dist[ys[cand], xs[cand]] / scale)) \
+                            is not None:
+                        roots.append(outlet)
                         continue
             elif root == "thickest":
                 key = -_end_radius(pts_full, r_full, cand, members)

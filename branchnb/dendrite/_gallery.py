@@ -67,5 +67,5 @@ def render(outdir: Path) -> list[GalleryItem]:
     save("dendrite_pareidolia.png", par.render().image, "Pareidolia tree",
          "astronaut hidden in the crown; the crown follows the picture, pipe-model trunk")
     save("dendrite_pareidolia_leaf.png", leaf.render().image, "Pareidolia tree: a leaf",
-         "a leaf photo as the crown: the crown takes the leaf's outline")
+         "a leaf photo on white: a tree crown round the leaf, light twigs on its blank ground")
     return items

@@ -114,7 +114,10 @@ def content_crown(importance, *, blur: float = 10.0, threshold: float = 0.05,
     frame (covering over a fifth of its border: a portrait, a landscape) is clipped to ``outline`` (a
     tree-crown silhouette of the frame, :func:`tree_crown`, by default) so the
     picture reads as a tree's crown, not as the image's rectangle; an object on
-    a blank ground keeps its own outline.
+    a blank ground gets a tree crown round it (beyond the paper): ``outline``
+    scaled to 1.3 times the object's bounding box (its height within 0.6-1.5 of
+    its width, moved and shrunk into the frame) joined with the object, so a leaf or a logo
+    is held in a tree's crown instead of drawing a leaf- or logo-shaped tree.
 
     Parameters
     ----------
@@ -151,12 +154,7 @@ def content_crown(importance, *, blur: float = 10.0, threshold: float = 0.05,
     box = tree_crown(imp.shape, rng=0) if outline is None else np.asarray(outline, bool)
     if box.shape != imp.shape:
         raise ValueError(f"outline has shape {box.shape}, expected {imp.shape}")
-    frac = ndimage.gaussian_filter((imp >= threshold).astype(np.float64), blur)
-    mask = ndimage.binary_fill_holes(frac > 0.25)
-    lab, n = ndimage.label(mask)
-    if n > 1:
-        sizes = np.bincount(lab.ravel())[1:]
-        mask = np.isin(lab, 1 + np.flatnonzero(sizes >= 0.02 * sizes.max()))
+    mask = _content(imp, blur, threshold)
     h, w = imp.shape
     band = max(1, round(0.02 * min(h, w)))
     frame = np.zeros_like(mask)
@@ -165,9 +163,64 @@ def content_crown(importance, *, blur: float = 10.0, threshold: float = 0.05,
         # the content fills the frame (not an object touching it at one spot):
         # cut it to a crown's outline
         mask &= box
+    elif mask.any() and _AROUND > 0:
+        mask = _crown_around(mask, box)
     if not mask.any():  # nothing to draw: the crown outline itself
         mask = box
     return mask
+
+
+def _content(imp: np.ndarray, blur: float, threshold: float = 0.05) -> np.ndarray:
+    """Where the picture has something to draw: importance from ``threshold`` blurred over
+    ``blur`` px above 0.25, holes filled, specks (< 2 % of the largest part) dropped."""
+    frac = ndimage.gaussian_filter((np.asarray(imp, np.float64) >= threshold).astype(np.float64), blur)
+    mask = ndimage.binary_fill_holes(frac > 0.25)
+    lab, n = ndimage.label(mask)
+    if n > 1:
+        sizes = np.bincount(lab.ravel())[1:]
+        mask = np.isin(lab, 1 + np.flatnonzero(sizes >= 0.02 * sizes.max()))
+    return mask
+
+
+#: An object on a blank ground gets a tree crown this much larger than its bounding box
+#: (each way, about its centre; 0: the object's own outline, as before).
+_AROUND = 1.3
+#: ... whose height is at most / at least this many times its width.
+_CROWN_ASPECT = (0.6, 1.5)
+
+
+def _crown_around(mask: np.ndarray, outline: np.ndarray) -> np.ndarray:
+    """A tree crown round an object on a blank ground (beyond the paper): ``outline``
+    (a crown silhouette of the frame) scaled to ``_AROUND`` times the object's bounding
+    box, its aspect kept within ``_CROWN_ASPECT``, moved and shrunk into the frame, joined with
+    the object's own mask (so none of the picture is lost).
+
+    The object's silhouette as the crown drew a maple leaf or a logo as a leaf- or
+    letter-shaped tree; a tree crown holding the picture reads as a tree first, and the
+    ground round the object gets light twigs (the random endpoints).
+    """
+    from skimage.transform import resize
+
+    h, w = mask.shape
+    ys, xs = np.nonzero(mask)
+    cy, cx = 0.5 * (ys.min() + ys.max()), 0.5 * (xs.min() + xs.max())
+    bh = _AROUND * (ys.max() - ys.min() + 1)
+    bw = _AROUND * (xs.max() - xs.min() + 1)
+    bh, bw = max(bh, _CROWN_ASPECT[0] * bw), max(bw, bh / _CROWN_ASPECT[1])
+    # inside the frame (moved in, then shrunk): clipped by it, the crown had straight sides
+    bh, bw = min(bh, h), min(bw, w)
+    cy = float(np.clip(cy, bh / 2, h - bh / 2))
+    cx = float(np.clip(cx, bw / 2, w - bw / 2))
+    y0, y1 = int(round(cy - bh / 2)), int(round(cy + bh / 2))
+    x0, x1 = int(round(cx - bw / 2)), int(round(cx + bw / 2))
+    if y1 - y0 < 2 or x1 - x0 < 2:
+        return mask
+    crown = resize(np.asarray(outline, np.float64), (y1 - y0, x1 - x0), order=1) > 0.5
+    out = np.zeros_like(mask)
+    cy0, cx0 = max(y0, 0), max(x0, 0)
+    cy1, cx1 = min(y1, h), min(x1, w)
+    out[cy0:cy1, cx0:cx1] = crown[cy0 - y0:cy1 - y0, cx0 - x0:cx1 - x0]
+    return out | mask
 
 
 #: Share of the crown's width, about its middle, where the trunk may enter it.

@@ -15,6 +15,18 @@ night sky 0.735 / 0.726 -> 0.752 / 0.742 (seeds 0 / 1). The rest of the limbs' e
 ink (limb cores +0.15 darker than the fitted tone) is their pipe width and the trunk's
 entry into the crown; narrowing them further (``_LIMB_LIGHT`` 0.15, the base ramp over
 0.1 instead of 0.25 of ``limb_length``) moved r by <= 0.008.
+
+The limbs' ink budgeted against the tone (beyond the paper, ``_LIMB_BUDGET``): the output-
+size pass held every limb at its lattice floor (``limb_width`` or its pipe width), so where
+limbs crossed a crown darker than they could leave room for (the rocket's night sky) their
+4-px band held a third of the tone error. Past ``_LIMB_SPAN`` of ``limb_length`` from the
+fork that floor now falls (the pipe width beyond ``limb_width`` fully, ``limb_width`` itself
+to ``_LIMB_MIN`` of it) and the pass narrows a limb where the drawing is darker than the
+picture; near the fork and on the blank ground of a crown round an object the limbs and the
+trunk keep their widths. Only on a picture dark all over (the crown's mean darkness from
+0.6, fully from 0.7): on a portrait the limbs narrowed to a twig's width in the light face
+and no longer reached into the crown (reach 0.76 -> 0.00). Figures in
+:mod:`~branchnb.dendrite.pareidolia`.
 """
 
 from __future__ import annotations
@@ -229,6 +241,9 @@ def _twig_aspect(dark: np.ndarray, feature=0.0) -> np.ndarray:
 
 
 _REFINE_SIGMA = 3.0  # px of the output: a little finer than the 4 px at which tone is judged
+_LIMB_BUDGET = 1.0
+_LIMB_SPAN = 0.25
+_LIMB_MIN = 0.5
 _REFINE_GAIN = 0.7  # exponent on the correction (damped: neighbours share the blur)
 
 
@@ -264,7 +279,10 @@ def _refine_tone(d: Dendrite, dark: np.ndarray, bounds: dict, s: float,
     # stays about as fine in output px at every size) does not
     limb = np.asarray(bounds.get("limb", np.zeros_like(f)))
     base = np.minimum(limb, p.limb_width)
-    floor = np.minimum(np.maximum(floor * s, base * min(s, 1.0) + (limb - base) * s), width)
+    ramp = np.asarray(bounds.get("ramp", np.zeros_like(f)))
+    keep = 1.0 - _LIMB_BUDGET * ramp
+    floor = np.minimum(np.maximum(floor * s * keep, base * min(s, 1.0) * (1.0 - (1.0 - _LIMB_MIN) * (1.0 - keep))
+                                  + (limb - base) * s * keep), width)
     cap = np.maximum(bounds["cap"] * s, width)
     smooth = 3  # render()'s default
     h, w = d.shape
@@ -437,9 +455,11 @@ def _limb_widths(d: Dendrite, first_seed: int, w0: float, w_end: float,
 
 def _thickness(d: Dendrite, p: PareidoliaParams, imp, dark, crown, n_trunk: int,
                bounds: dict | None = None, first_seed: int | None = None,
-               cover: np.ndarray | None = None) -> Dendrite:
+               cover: np.ndarray | None = None, ground: np.ndarray | None = None) -> Dendrite:
     """Pipe model + importance emphasis; tone-matched under a limb cap inside the crown,
-    the trunk and main limbs at least their :func:`_limb_widths`; tapered twig ends."""
+    the trunk and main limbs at least their :func:`_limb_widths`; tapered twig ends.
+    ``ground``: the blank ground inside a tree crown round an object, where the trunk and
+    limbs keep their pipe widths (it is no part of the picture to keep light)."""
     leaf = np.zeros(d.n_nodes)
     leaf[d.tips] = 1.0
     tips = np.maximum(_accumulate_up(d.parent, leaf), 1.0)
@@ -476,10 +496,18 @@ def _thickness(d: Dendrite, p: PareidoliaParams, imp, dark, crown, n_trunk: int,
     # as wide as the pipe model says), and outside the crown too (a limb crossing the
     # blank between two objects had its full pipe width, then stepped down at the crown)
     ramp = np.clip(from_fork / (0.25 * p.limb_length), 0.0, 1.0)
-    if inside[:n_trunk].any():  # the trunk's top narrows likewise from where it enters the crown
-        entry = arc[int(np.argmax(inside[:n_trunk]))]
+    gnd = np.zeros(d.n_nodes, bool) if ground is None else np.asarray(ground, bool).ravel()[d.nodes]
+    # the trunk's top narrows likewise from where it enters the crown (the picture in it:
+    # not the blank ground round an object, where it stepped down as it met the object)
+    pic = inside & ~gnd
+    if pic[:n_trunk].any():
+        entry = arc[int(np.argmax(pic[:n_trunk]))]
         ramp[:n_trunk] = np.clip((arc[:n_trunk] - entry) / (0.25 * p.limb_length), 0.0, 1.0)
-    light = 1.0 - (1.0 - light) * ramp
+    light = np.where(gnd, 1.0, 1.0 - (1.0 - light) * ramp)
+    budget = np.clip(from_fork / (_LIMB_SPAN * p.limb_length), 0.0, 1.0)
+    if pic[:n_trunk].any():
+        budget[:n_trunk] = np.clip((arc[:n_trunk] - entry) / (_LIMB_SPAN * p.limb_length), 0.0, 1.0)
+    budget[gnd] = 0.0
     thin = np.minimum(limb, p.limb_width)  # the limbs keep limb_width, the rest narrows
     limb = thin + (limb - thin) * light
     structural = is1 & (np.arange(d.n_nodes) >= first_seed)
@@ -517,9 +545,12 @@ def _thickness(d: Dendrite, p: PareidoliaParams, imp, dark, crown, n_trunk: int,
     flare[n_trunk:] = 1.0
     # outside the crown, the trunk above the limbs' departures and the limbs have their
     # limb widths (the pipe over all twigs made a step where they entered the crown)
+    # ... and so does the trunk on the blank ground inside a tree crown round an object
+    # (there it stepped from the pipe over all twigs down to the limbs' pipe, 13 -> 6 px)
+    inside = inside & ~(gnd & (np.arange(d.n_nodes) < n_trunk))
     out = np.where(inside, w_tone, np.where(structural, limb, width * flare))
     if p.taper > 0:
         out = _taper_ends(d, out, dist, p.taper)
     if bounds is not None:  # what the output-resolution pass may change, and how far
-        bounds.update(inside=inside, floor=floor, cap=cap, dist=dist, limb=limb)
+        bounds.update(inside=inside, floor=floor, cap=cap, dist=dist, limb=limb, ramp=budget * inside)
     return d.with_radius(out / 2)

@@ -20,6 +20,12 @@ lightning set their own endpoint counts and widths); both live in
 :class:`Stylizer` caches every stage keyed by the parameters it depends
 on, so changing only rendering or thickness parameters does not re-plan
 and changing the metric does not re-stipple: sliders stay live.
+
+By step: the working image, its scale and the seed are in
+:mod:`~branchnb.dendrite.stylize_seed`, the lightning metaphor's main
+channel and strike in :mod:`~branchnb.dendrite.stylize_strike`
+(:class:`Stylizer` inherits their methods); the parameters in
+:mod:`~branchnb.dendrite.stylize_params`.
 """
 
 from __future__ import annotations
@@ -28,31 +34,21 @@ import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import ndimage
 
-from ..core.image import as_float_image, as_gray, as_points, as_rgb
+from ..core.image import as_float_image, as_points, as_rgb
 from ..core.io import encode_png
 from ..core.params import check_params
 from ..core.random import as_seed
-from ..core.validate import Int, Point, Points, checked
+from ..core.validate import Int, Point, checked
 from .dendrite import Dendrite, build_dendrite
 from .endpoints import place_endpoints
 from .importance import ImportanceParams, _to_paper_white, darkness, gradient_strength, importance_map
-from .lattice import Lattice, direction_factors, node_weights
+from .lattice import Lattice, node_weights
 from .main_channel import (
-    channel_plan,
-    silhouette,
-    straighten,
-    strike_weights,
-    wide_top,
     widen_main_path,
-    with_channel,
 )
-from .photo_side import _short_sides, side_branches, strike_region
-from .photo_strike import jag_channel, photo_channel, strike_origin
 from .planner import PlanResult, plan
 from .render import Rendering
-from .scale import resample_to_lattice
 from .stylize_params import (  # noqa: F401  (re-exported; the spacings too)
     LIGHTNING_LOOP_REACH,
     LIGHTNING_MAIN_EXPONENT,
@@ -76,6 +72,8 @@ from .stylize_params import (  # noqa: F401  (re-exported; the spacings too)
     effective_params,
     metaphor_params,
 )
+from .stylize_seed import _ENDPOINTS, _IMPORTANCE, _LATTICE, _PLAN, _PRUNE_ROUNDS, _SeedSteps, _subset
+from .stylize_strike import _StrikeSteps
 from .thickness import (
     branch_thickness,
     importance_thickness,
@@ -144,25 +142,7 @@ class Stylization:
         return encode_png(self.dendrite.render())
 
 
-def _subset(p, names):
-    return tuple(getattr(p, n) for n in names)
-
-
-#: Rounds of :func:`~branchnb.dendrite.thickness.twigs_within_ink` on a small image.
-_PRUNE_ROUNDS = 4
-
-_IMPORTANCE = ("lattice_size", "intensity_weight", "gradient_weight", "sigma")
-_LATTICE = ("cost_weight", "epsilon", "noise")
-_PLAN = ("metric", "blend_weight", "break_ties")
-_ENDPOINTS = ("n_endpoints", "endpoint_gamma", "endpoint_threshold", "endpoint_floor",
-              "stipple_iterations")
-
-
-#: Direction factors of a bolt's side branches on a photo without a strike (``STRIKE_PHOTO_UP``).
-_SIDE_FACTORS = direction_factors(up=STRIKE_PHOTO_UP) / direction_factors()
-
-
-class Stylizer:
+class Stylizer(_SeedSteps, _StrikeSteps):
     """The stylization pipeline on one image, with each stage cached.
 
     Parameters
@@ -203,196 +183,6 @@ class Stylizer:
         self._cache[key] = value = fn()
         return value
 
-    @checked()
-    def working_image(self, p: StylizeParams) -> np.ndarray:
-        """The image resampled to the planning lattice (``p.lattice_size``).
-
-        Parameters
-        ----------
-        p : StylizeParams
-            Only ``lattice_size`` is used.
-
-        Returns
-        -------
-        (h, w, 3) float32 ndarray
-            Cached; the input itself when the sizes agree.
-        """
-        return self._get(("work", p.lattice_size), lambda: resample_to_lattice(self.image, p.lattice_size))
-
-    @checked()
-    def scale(self, p: StylizeParams) -> np.ndarray:
-        """Image pixels per lattice pixel, ``(sx, sy)``.
-
-        Parameters
-        ----------
-        p : StylizeParams
-            Only ``lattice_size`` is used.
-
-        Returns
-        -------
-        (2,) float64 ndarray
-            1 on a lattice of the image's own size, 2 for a 1024-px image on the
-            512 lattice.
-
-        Examples
-        --------
-        >>> Stylizer(np.ones((64, 64))).scale(StylizeParams(lattice_size=32)).tolist()
-        [2.0, 2.0]
-        """
-        h, w = self.shape
-        hw, ww = self.working_image(p).shape[:2]
-        return np.array([w / ww, h / hw])
-
-    @checked(points=Points())
-    def to_lattice(self, p: StylizeParams, points) -> np.ndarray:
-        """Image ``(x, y)`` points in lattice coordinates (pixel centres map to centres).
-
-        Parameters
-        ----------
-        p : StylizeParams
-            Only ``lattice_size`` is used.
-        points : (N, 2) array_like
-            ``(x, y)`` in image pixels.
-
-        Returns
-        -------
-        (N, 2) float64 ndarray
-            Lattice ``(x, y)``, clipped to the lattice.
-        """
-        hw, ww = self.working_image(p).shape[:2]
-        q = (np.asarray(points, float) + 0.5) / self.scale(p) - 0.5
-        return np.clip(q, 0, [ww - 1, hw - 1])
-
-    @checked(points=Points())
-    def to_image(self, p: StylizeParams, points) -> np.ndarray:
-        """Lattice ``(x, y)`` points in image coordinates.
-
-        Parameters
-        ----------
-        p : StylizeParams
-            Only ``lattice_size`` is used.
-        points : (N, 2) array_like
-            ``(x, y)`` in lattice pixels.
-
-        Returns
-        -------
-        (N, 2) float64 ndarray
-            Image ``(x, y)`` (not clipped).
-        """
-        return (np.asarray(points, float) + 0.5) * self.scale(p) - 0.5
-
-    @checked()
-    def default_seed(self, params: StylizeParams | None = None) -> np.ndarray:
-        """Where the dendrite starts by default.
-
-        Without ``params``, the image centre. With them, the centre of the most
-        important region: the maximum of the importance blurred over 8 % of the
-        lattice diagonal. The non-scalar metric floods from the seed in order of
-        the path's largest edge, so everything behind a costly barrier (a bright
-        region around the seed) ties at that barrier's cost and is reached by
-        nearly straight cumulative paths, a radial burst; starting in the
-        darkest, most detailed region keeps the branches wandering where the
-        ink is.
-
-        Parameters
-        ----------
-        params : StylizeParams, optional
-            Parameters of the importance map and the endpoint threshold; None
-            gives the image centre.
-
-        Returns
-        -------
-        (2,) float64 ndarray
-            ``(x, y)`` in image pixels.
-
-        Examples
-        --------
-        >>> img = np.ones((40, 60)); img[5:15, 40:55] = 0.0
-        >>> st = Stylizer(img)
-        >>> st.default_seed().tolist(), bool(st.default_seed(StylizeParams(lattice_size=0))[0] > 30)
-        ([29.5, 19.5], True)
-        """
-        h, w = self.shape
-        if params is None:
-            return np.array([(w - 1) / 2.0, (h - 1) / 2.0])
-        imp = self.importance(params).astype(np.float64)
-        if np.ptp(imp) == 0:
-            return np.array([(w - 1) / 2.0, (h - 1) / 2.0])
-        sigma = 0.08 * float(np.hypot(*imp.shape))
-        smooth = ndimage.gaussian_filter(imp, sigma, mode="constant")
-        row, col = np.unravel_index(int(np.argmax(smooth)), smooth.shape)
-        if imp[row, col] < params.endpoint_threshold:  # e.g. inside a ring: the nearest ink
-            ys, xs = np.nonzero(imp >= params.endpoint_threshold)
-            if xs.size:
-                k = int(np.argmin((xs - col) ** 2 + (ys - row) ** 2))
-                row, col = ys[k], xs[k]
-        return self.to_image(params, [float(col), float(row)])
-
-    def top_seed(self, params: StylizeParams) -> np.ndarray:
-        """Where a lightning bolt starts: the top of the picture's content.
-
-        The median column of the pixels whose importance reaches
-        ``params.endpoint_threshold`` within 5 % of the lattice's height below
-        the topmost such pixel (beyond the paper: from the default seed, in the
-        middle of the picture, the bolt burst out in every direction; from the
-        top it runs down and forks like a strike). On a photo (content all over)
-        with a strike of its own, the top of its brightest strike
-        (:func:`~branchnb.dendrite.photo_strike.strike_origin`). Only content pixels in a
-        wide part count (:func:`~branchnb.dendrite.main_channel.wide_top`):
-        their share of content within a blur of ``LIGHTNING_SEED_BLUR`` of the
-        lattice's diagonal reaches ``LIGHTNING_SEED_DENSITY`` of its maximum (a
-        thin tip on top, a fern's leaflets or a horse's ear, started the widest
-        channel with a knot).
-
-        Parameters
-        ----------
-        params : StylizeParams
-            Parameters of the importance map and the endpoint threshold.
-
-        Returns
-        -------
-        (2,) float64 ndarray
-            ``(x, y)`` in image pixels; the top centre of the image when nothing
-            reaches the threshold.
-
-        Examples
-        --------
-        >>> img = np.ones((40, 60)); img[10:30, 40:55] = 0.0
-        >>> [round(v) for v in Stylizer(img).top_seed(StylizeParams(lattice_size=0))]
-        [47, 7]
-        """
-        content = self.importance(params) >= params.endpoint_threshold
-        if silhouette(content).mean() > STRIKE_MAX_COVER:
-            # a photo: its own brightest strike's top, if it has one (beyond the paper:
-            # from the top of the picture a bolt on a lightning photo started in the cloud)
-            at = self.strike(params)
-            if at is not None:
-                return self.to_image(params, [float(at[0]), float(at[1])])
-        at = wide_top(content, LIGHTNING_SEED_BLUR, LIGHTNING_SEED_DENSITY)
-        if at is None:
-            return np.array([(self.shape[1] - 1) / 2.0, 0.0])
-        xb, yb = at
-        return self.to_image(params, [float(xb), float(yb)])
-
-    def strike(self, p: StylizeParams) -> tuple[int, int] | None:
-        """The top of the photo's own strike on the lattice, or None (cached).
-
-        :func:`~branchnb.dendrite.photo_strike.strike_origin` of the working image's
-        luminance, computed once per lattice size (the seed and the side branches both
-        ask for it).
-
-        Parameters
-        ----------
-        p : StylizeParams
-            Uses ``lattice_size``.
-
-        Returns
-        -------
-        (x, y) or None
-            In lattice pixels.
-        """
-        return self._get(("strike_origin", p.lattice_size),
-                         lambda: strike_origin(as_gray(self.working_image(p))))
 
     @checked()
     def importance(self, p: StylizeParams) -> np.ndarray:
@@ -586,116 +376,6 @@ class Stylizer:
             e = np.clip(rolling_importance(d, self.edge_map(p), p.window), 0.0, 1.0)
             d = d.with_radius(np.clip(d.radius * (1.0 + p.edges * e ** 2), lo / 2, hi / 2))
         return d
-
-    def _main_channel_straight(self, p: StylizeParams, seed, rng_seed: int) -> Dendrite:
-        """:meth:`dendrite` with the hairpins of its main channel cut (cached).
-
-        Beyond the paper: a lightning bolt's widest channel follows the picture's
-        edges, and through a thin, ragged part (a fern's tip leaflets) it doubled
-        back in hairpins a few pixels apart, a bright knot;
-        :func:`~branchnb.dendrite.main_channel.shortcut_loops` joins each
-        hairpin's legs within ``LIGHTNING_LOOP_REACH`` of the lattice's diagonal.
-        """
-        seed_key = tuple(np.round(np.asarray(seed, float), 3))
-        key = ("straight", _subset(p, _IMPORTANCE + _LATTICE + _PLAN + _ENDPOINTS),
-               seed_key, rng_seed)
-
-        def make():
-            res = self.plan(p, seed, rng_seed)
-            return straighten(res, self.dendrite(p, seed, rng_seed), self.endpoints(p, rng_seed),
-                              reach=LIGHTNING_LOOP_REACH * float(np.hypot(*res.shape)))
-        return self._get(key, make)
-
-    def _strike(self, p: StylizeParams, seed, rng_seed: int) -> tuple[PlanResult, Dendrite, bool]:
-        """The plan and the dendrite of a lightning bolt, its main channel planned first (cached).
-
-        Beyond the paper: on an object on a background the planner runs on
-        :func:`~branchnb.dendrite.main_channel.strike_weights` (the main channel
-        down through the object a highway, a filled object's outline costly)
-        and the channel's end joins the endpoints, so the bolt's other branches
-        fork off the channel; then its hairpins are cut. On a photo the channel is
-        :func:`~branchnb.dendrite.photo_strike.photo_channel` and the side branches
-        follow :func:`~branchnb.dendrite.photo_strike.side_branches`; with nothing to
-        draw, the plain plan (:meth:`_main_channel_straight`). The flag says whether
-        the channel was planned.
-        """
-        key = ("strike", _subset(p, _IMPORTANCE + _LATTICE + _PLAN + _ENDPOINTS),
-               tuple(np.round(np.asarray(seed, float), 3)), rng_seed)
-
-        def make():
-            lat = self.lattice(p, rng_seed)
-            content = self.importance(p) >= p.endpoint_threshold
-            got = strike_weights(lat.weights, content, seed)
-            if got is None:  # a photo: no object to go through
-                path = (photo_channel(lat.weights, content, seed)
-                        if silhouette(content).mean() > STRIKE_MAX_COVER else None)
-                if path is None or len(path) < 2:  # nothing to draw, or nothing below the seed
-                    return (self.plan(p, seed, rng_seed),
-                            self._main_channel_straight(p, seed, rng_seed), False)
-                region = None
-                if self.strike(p) is None:  # no bolt to follow: its straight stretches zigzag
-                    path = jag_channel(path, content.shape, rng=rng_seed)
-                    # and its side branches stay in the bolt's cone (they crossed the sky)
-                    region = strike_region(path, content.shape)
-                mask = np.zeros(lat.weights.shape, bool)
-                mask[path[:, 1], path[:, 0]] = True
-                # the side branches follow the edges that stand out of the picture's noise
-                # (beyond the paper: on the importance they wandered through a night sky)
-                w, ends = side_branches(as_gray(self.working_image(p)), self.edge_map(p),
-                                        lat.weights, content, p,
-                                        struck=self.strike(p) is not None, rng=rng_seed,
-                                        region=region)
-                if ends is None:
-                    ends = self.endpoints(p, rng_seed)
-                    if region is not None:
-                        inside = region[np.clip(np.rint(ends[:, 1]).astype(int), 0, region.shape[0] - 1),
-                                        np.clip(np.rint(ends[:, 0]).astype(int), 0, region.shape[1] - 1)]
-                        ends = ends[inside] if inside.any() else ends
-                # and they grow downward as the lightning metaphor's do (edges stepping up
-                # or sideways cost more): from the channel's foot they ran along the ground
-                factors = lat.factors if region is None else lat.factors * _SIDE_FACTORS
-                res = self._plan_on(Lattice(w, factors), p, mask)
-                if region is not None:
-                    # and they are short beside the channel, as a real bolt's are (beyond
-                    # the paper: forking at the channel's top they ran down beside it)
-                    short = _short_sides(res, ends, path)
-                    ends = short if len(short) else ends
-                res = channel_plan(res, path)
-                ends = np.concatenate([ends, path[-1:].astype(float)])
-                return res, with_channel(build_dendrite(res, ends), path), True
-            res = self._plan_on(Lattice(got[0], lat.factors), p, seed)
-            ends = np.concatenate([self.endpoints(p, rng_seed), got[1][-1:].astype(float)])
-            d = straighten(res, build_dendrite(res, ends), ends,
-                           reach=LIGHTNING_LOOP_REACH * float(np.hypot(*res.shape)))
-            return res, d, True
-        return self._get(key, make)
-
-    def _dendrite_pruned(self, p: StylizeParams, seed, rng_seed: int, keep) -> Dendrite:
-        """:meth:`dendrite` traced to the tips ``keep`` selects only (cached).
-
-        Parameters
-        ----------
-        p : StylizeParams
-            Parameters of every stage up to the endpoints.
-        seed : (x, y)
-            Start point in lattice pixels.
-        rng_seed : int
-            Seed (>= 0) of the lattice noise and the stippling.
-        keep : (E,) array_like of bool
-            One per tip of :meth:`dendrite` (its ``tips``, in order).
-
-        Returns
-        -------
-        Dendrite
-            On the lattice, every radius 1.
-        """
-        keep = np.asarray(keep, bool)
-        full = self.dendrite(p, seed, rng_seed)
-        seed_key = tuple(np.round(np.asarray(seed, float), 3))
-        key = ("pruned", _subset(p, _IMPORTANCE + _LATTICE + _PLAN + _ENDPOINTS), seed_key,
-               rng_seed, keep.tobytes())
-        return self._get(key, lambda: build_dendrite(self.plan(p, seed, rng_seed),
-                                                     full.points[full.tips[keep]]))
 
     @checked(seed=Point())
     def run(self, params: StylizeParams | None = None, *, seed=None, rng: int | np.random.Generator = 0,

@@ -21,6 +21,11 @@ does, and prints one row:
 * ``sharp``, ``iou_new``/``iou_ex``, ``pet_dev``, ``cut``: from
   :func:`branchnb.leaves._measure_synthesis.synthesis_row`;
 * ``t_an`` / ``t_gen``: CPU seconds of the analysis and per new leaf.
+
+A kind ``SHAPE-STYLE-WIDTH`` (e.g. ``maple-colour-2``) is a drawn leaf of
+:func:`branchnb.leaves._clipart_kinds.clip_leaf` (shapes maple, oak, elm,
+palmate; vein styles pale, colour, black; vein width in px), 512 px by
+default.
 """
 
 from __future__ import annotations
@@ -34,6 +39,15 @@ from scipy import ndimage as ndi
 from ._unseen_kinds import KINDS44, unseen_leaf
 
 SIZES = {"willow": 480, "cordate": 640, "oak": 360, "clipart": 260}
+
+
+def _leaf(kind: str, size: int, seed: int):
+    """A leaf of :mod:`._unseen_kinds` or, for ``SHAPE-STYLE-WIDTH``, of :mod:`._clipart_kinds`."""
+    if "-" in kind:
+        from ._clipart_kinds import clip_leaf
+        shape, style, width = kind.split("-")
+        return clip_leaf(shape, size, seed, float(width), style)
+    return unseen_leaf(kind, size, seed)
 
 
 def _stroke(line, f0, f1, n=8):
@@ -83,7 +97,7 @@ def run(kind: str, size: int, seed: int, n: int = 4, n_new: int = 6, save: str |
     from .analysis import analyze
     from .exemplar import leaf_exemplar
 
-    leaves = [unseen_leaf(kind, size, 10 * seed + k) for k in range(n)]
+    leaves = [_leaf(kind, size, 10 * seed + k) for k in range(n)]
     ex = [leaf_exemplar(x.image) for x in leaves]
     blade_iou = min(iou(e.blade, x.blade) for e, x in zip(ex, leaves))
     ls = user_scribbles(leaves[0], rng=seed)
@@ -146,7 +160,7 @@ def main(argv=None):
     ap.add_argument("--save", default=None)
     args = ap.parse_args(argv)
     for kind in args.kinds.split(","):
-        sizes = [int(s) for s in args.sizes.split(",")] if args.sizes else [SIZES[kind]]
+        sizes = [int(s) for s in args.sizes.split(",")] if args.sizes else [SIZES.get(kind, 512)]
         for size in sizes:
             for seed in (int(s) for s in args.seeds.split(",")):
                 _print(run(kind, size, seed, save=args.save))

@@ -72,6 +72,10 @@ class PlacedPatch:
         opaque wins over transparent either way (a part moved over another
         part leaves no hole in either; beyond the paper, whose patches are
         opaque texture).
+    behind : (S, S) bool ndarray or None
+        Pixels copied from where another part hid the stroke in the source
+        (filled in, see :mod:`~branchnb.strokes.hidden`): they lie under
+        every other stroke's or part's opaque pixels, whichever is laid first.
 
     Examples
     --------
@@ -89,6 +93,7 @@ class PlacedPatch:
     source_map: np.ndarray | None = None
     grow: bool = False
     stroke: int = -1
+    behind: np.ndarray | None = None
 
     def __post_init__(self):
         px = np.asarray(self.pixels)
@@ -100,6 +105,8 @@ class PlacedPatch:
             raise ValueError(f"pixels {px.shape[:2]} and valid {np.shape(self.valid)} must cover the same S x S square")
         if self.keep_a is not None and np.shape(self.keep_a) != px.shape[:2]:
             raise ValueError(f"keep_a must have shape {px.shape[:2]}, got {np.shape(self.keep_a)}")
+        if self.behind is not None and np.shape(self.behind) != px.shape[:2]:
+            raise ValueError(f"behind must have shape {px.shape[:2]}, got {np.shape(self.behind)}")
         for flag in ("pin_core", "grow"):
             if not isinstance(getattr(self, flag), (bool, np.bool_)):
                 raise TypeError(f"{flag} must be a bool, got {type(getattr(self, flag)).__name__}")
@@ -184,6 +191,19 @@ class PlacedPatch:
             keep[inner] = self.keep_a[patch]
         return canvas, pix, val, keep
 
+    def _behind_on(self, canvas, box_shape) -> np.ndarray | None:
+        """:attr:`behind` on the box :meth:`placed` returned (``canvas`` its slices)."""
+        if self.behind is None:
+            return None
+        out = np.zeros(box_shape, bool)
+        x0, y0 = self.origin
+        s = self.valid.shape[0]
+        r0, c0 = canvas[0].start, canvas[1].start
+        pr0, pr1 = max(r0, y0), min(canvas[0].stop, y0 + s)
+        pc0, pc1 = max(c0, x0), min(canvas[1].stop, x0 + s)
+        out[pr0 - r0:pr1 - r0, pc0 - c0:pc1 - c0] = self.behind[pr0 - y0:pr1 - y0, pc0 - x0:pc1 - x0]
+        return out
+
 
 @dataclass
 class Composition:
@@ -264,6 +284,7 @@ def compose(patches: list[PlacedPatch], shape, *, method: str = "graphcut",
     labels = np.full((h, w), -1, np.int64)
     weak = np.zeros((h, w), bool)  # laid under keep_a on an empty canvas: later patches take them
     owner = np.full((h, w), -1, np.int64)  # the stroke whose patch laid each pixel
+    under = np.zeros((h, w), bool)  # laid from a stroke's hidden stretch (PlacedPatch.behind)
     costs = np.zeros(len(patches))
     for i, patch in enumerate(patches):
         pl = patch.placed((h, w), margin=1)
@@ -291,6 +312,19 @@ def compose(patches: list[PlacedPatch], shape, *, method: str = "graphcut",
                 # a joint is the union of the two: opaque wins over transparent either way
                 pin_a |= union & (a[..., 3] > 0.5) & (b[..., 3] < 0.02) & ~pin_b
                 pin_b |= union & (b[..., 3] > 0.5) & (a[..., 3] < 0.5) & ~pin_a
+            bh = patch._behind_on(box, vb.shape)
+            if bh is not None or under[box].any():
+                # what another part hid in the source stays under that part's (or any other
+                # stroke's) opaque pixels, whichever comes first
+                opaque_a, opaque_b = a[..., 3] > 0.5, b[..., 3] > 0.5
+                give = overlap & under[box] & opaque_b
+                hold = overlap & opaque_a & ~under[box] & (owner[box] != patch.stroke) if bh is not None \
+                    else np.zeros_like(overlap)
+                if bh is not None:
+                    give &= ~bh
+                    hold &= bh
+                pin_a = (pin_a & ~give) | hold
+                pin_b = (pin_b & ~hold) | give
             if not only_b.any() and patch.pin_core:
                 pin_b = _core(vb) & overlap & ~pin_a
             # (pair_costs' own conversion -- float32, clipped to [0, 1] -- without its checks:
@@ -308,6 +342,9 @@ def compose(patches: list[PlacedPatch], shape, *, method: str = "graphcut",
         labels[box][take_b] = i
         weak[box][take_b] = keep[take_b]
         owner[box][take_b] = patch.stroke
+        if patch.behind is not None or under[box].any():
+            bh = patch._behind_on(box, vb.shape)
+            under[box][take_b] = False if bh is None else bh[take_b]
         covered[box] |= vb
     return Composition(image, covered, labels, costs)
 

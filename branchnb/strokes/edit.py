@@ -414,6 +414,13 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
     upright of an L-shaped arm seen from its horizontal leg) are kept only
     where they land about as far from the target stroke as they lay from
     the source stroke; a lengthened arm got a staircase of stale uprights.
+    Where another part lies over a stroke's tube in the source (a berry
+    hanging over a leaf), the stroke's patches see that stretch filled in
+    with its own flesh and outline from farther along it
+    (:mod:`~branchnb.strokes.hidden`), and those pixels stay under any other
+    part's opaque pixels in the result: a copied or turned leaf is whole
+    (no notch, no grey arcs of the berry's rim), a carried one stays under
+    its berry.
 
     Raises
     ------

@@ -236,7 +236,9 @@ def _fetch(index: SourceIndex, stroke_id: int, source_s, across, dst_point, dst_
         sin = np.sin(th).astype(np.float32)[:, None, None]
         mx = (cos * uu - sin * vv + centres[:, 0, None, None].astype(np.float32)).reshape(k * size, size)
         my = (sin * uu + cos * vv + centres[:, 1, None, None].astype(np.float32)).reshape(k * size, size)
-    pix = cv2.remap(index.premult, mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+    view = index.views.get(stroke_id)
+    premult, grad = (index.premult, index.grad) if view is None else (view[0], view[2])
+    pix = cv2.remap(premult, mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
     wt = cv2.remap(index.weight[stroke_id], mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
     pix = pix.reshape(k, size, size, 4)
     pix *= wt.reshape(k, size, size, 1)
@@ -245,6 +247,6 @@ def _fetch(index: SourceIndex, stroke_id: int, source_s, across, dst_point, dst_
             + np.clip(np.rint(mx), 0, w - 1).astype(np.intp)).reshape(k, size, size)
     ok = disk[None] & inside.reshape(k, size, size) & allowed.ravel().take(flat)
     ok &= np.abs(s_map.ravel().take(flat) - s[:, None, None].astype(np.float32)) <= _REACH * radius
-    return Fetched(pix, ok, index.grad.ravel().take(flat),
+    return Fetched(pix, ok, grad.ravel().take(flat),
                    (x0, y0), centres, s, np.asarray(angles, float),
                    np.asarray(dst_point, float), float(dst_angle), float(radius), bool(mirror))

@@ -63,6 +63,7 @@ from ..core.distance import edt as _edt
 from ..core.graphcut import gradient_magnitude  # the edge strength G of the seam energy
 from ..core.image import as_rgba
 from ..core.validate import Array, Int, Real, checked
+from .hidden import _own_views
 from .parts import add_bases, find_parts
 from .strokes import Stroke
 from .tubes import (
@@ -169,6 +170,11 @@ class SourceIndex:
         side a joined child leaves it (the silhouette's run along the
         parent's normal on the child's flanks; the tube's width there is
         the child's run when the child leaves along that normal).
+    views : dict
+        ``stroke -> (premult, depth, grad, filled)``: the source as that
+        stroke's patches see it where another part hides its tube (the
+        hidden pixels hold its own flesh and outline, see
+        :mod:`~branchnb.strokes.hidden`); strokes not in it see the source.
     """
 
     premult: np.ndarray
@@ -188,6 +194,7 @@ class SourceIndex:
     joined: list = field(default_factory=list)
     edge: list = field(default_factory=list)
     side_width: dict = field(default_factory=dict)
+    views: dict = field(default_factory=dict)
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -611,4 +618,11 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
                         part_mask=part_mask if part_mask is not None else np.zeros((h, w), bool),
                         side_width=side_width)
     add_bases(parts, index, window=3.0)
+    if has_alpha:
+        index.views = _own_views(index, tubes, keys, cuts, joined)
+        for k, (_, _, _, filled) in index.views.items():
+            # (identical strokes share these arrays: the same pixels either way)
+            allowed[k][filled] = True
+            weight = weights[k]
+            weight[filled] = np.maximum(weight[filled], tubes[(keys[k], cuts[k])][4][filled])
     return index

@@ -109,9 +109,15 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
             if i in across:
                 valid = valid & across[i](f.origin, valid.shape[0], _patch_map(f, k), f.source_points[k],
                                           float(f.source_angles[k]), float(f.source_s[k]))
-            placed.append(PlacedPatch(f.pixels[k], valid, f.origin, pin_core, keep,
-                                      _patch_map(f, k), grow=not pin_core, stroke=i))
             rows, cols = f.source_pixels(k, index.shape)
+            behind = None
+            if i in index.views:
+                behind = np.zeros(valid.shape, bool)
+                behind[f.valid[k]] = index.views[i][3][rows, cols]
+                behind &= valid
+                behind = behind if behind.any() else None
+            placed.append(PlacedPatch(f.pixels[k], valid, f.origin, pin_core, keep,
+                                      _patch_map(f, k), grow=not pin_core, stroke=i, behind=behind))
             source_region[rows, cols] = True
         samples[i] = StrokeSamples(
             target=smp.points, source=np.array([fetched[j].source_points[k]
@@ -201,6 +207,13 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
             filled = rounded if filled is None else filled | rounded
         if style is not None:
             depth = source_depth(comp.labels, [pp.source_map for pp in placed], index.depth)
+            for k, view in index.views.items():
+                # (a stroke whose hidden stretch was filled in: its own depth there)
+                mine = np.array([pp.stroke == k for pp in placed] + [False])
+                if mine.any():
+                    depth = np.where(mine[comp.labels], source_depth(
+                        comp.labels, [pp.source_map if pp.stroke == k else None for pp in placed], view[1]),
+                        depth)
             depth = np.where(held, held_depth, depth)
             if filled is not None and filled.any():
                 depth = np.where(filled, np.float32(_FILLED_DEPTH), depth)

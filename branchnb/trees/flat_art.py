@@ -100,6 +100,7 @@ def _ink_outline(image: np.ndarray, exemplars: Sequence[Exemplar], cw: np.ndarra
     """Ink the silhouette when outlined exemplars hold at least half the colour weight, and
     (``sources``: the ``"choose"`` mode's source per pixel) the seams that cross a fill."""
     from .outline import even_outline, ink_seams, ink_silhouette
+    from .outline_pen import _pen_outline, _pen_width
 
     outl = [exemplar_outline(e) for e in exemplars]
     on = np.array([o.outlined for o in outl])
@@ -112,7 +113,29 @@ def _ink_outline(image: np.ndarray, exemplars: Sequence[Exemplar], cw: np.ndarra
     best = outl[int(np.argmax(np.where(on, cw, -1.0)))]
     if sources is not None:
         image = ink_seams(image, sources, best.ink, best.width)
-    return even_outline(ink_silhouette(image, best.ink, best.width), best.ink, best.width)
+    i = int(np.argmax(np.where(on, cw, -1.0)))
+    profile = _exemplar_pen(exemplars[i])
+    if profile is None:
+        return even_outline(ink_silhouette(image, best.ink, best.width), best.ink, best.width)
+    # The sources' own pen (width and soft inner edge, in Euclidean depth) rather than a band of
+    # ``best.width`` whole pixels, which was thinner and ragged next to the sources' stroke. Each
+    # source is scaled to the working size by its own box, so their pens differ: the mix's is the
+    # weighted mean width, in the soft edge of the source with most weight.
+    pens = [(_pen_width(p), w) for e, w, o in zip(exemplars, cw, on, strict=True)
+            if o and w > 0 and (p := _exemplar_pen(e)) is not None]
+    pen = float(np.average([p for p, _ in pens], weights=[w for _, w in pens])) if pens else None
+    return _pen_outline(ink_silhouette(image, best.ink, best.width), best.ink, best.width, profile, pen)
+
+
+def _exemplar_pen(exemplar: Exemplar):
+    """The pen profile of an outlined exemplar (:func:`~branchnb.trees.outline_pen._pen_profile`,
+    cached on it; None when not outlined or unmeasurable)."""
+    if "pen" not in exemplar._cages:
+        from .outline_pen import _pen_profile
+
+        o = exemplar_outline(exemplar)
+        exemplar._cages["pen"] = _pen_profile(exemplar.image, o.ink, o.width) if o.outlined else None
+    return exemplar._cages["pen"]
 
 
 def flat_share(exemplar: Exemplar) -> float:

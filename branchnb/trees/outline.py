@@ -380,6 +380,45 @@ def even_outline(image, ink, width: int, *, holes: bool = True) -> np.ndarray:
     depth = _depth(alpha if holes else ndi.binary_fill_holes(alpha))
     ink_lum = float(ink @ _LUM)
     lum = img[..., :3] @ _LUM
+    inner, _ = _inner_shapes(alpha & (lum > ink_lum + 0.5 * (np.median(lum[alpha]) - ink_lum)), depth, width)
+    img = _drop_excess(img, ink, width, holes)
+    # Too thin: every pixel within ``width`` of the silhouette not ink takes the colour of the
+    # nearest stroke pixel there (the drawing's own ink, ``ink`` where there is none), and the
+    # next ring half of it (the drawings' own strokes have an anti-aliased inner edge).
+    ink = ink.astype(np.float32)
+    # An inner shape the silhouette cuts (a fruit the warp moved onto the rim) gets its own ring
+    # there too: the drawings keep a ring and the outline, about 1.75 width, between it and the edge.
+    band = alpha & ((depth <= width) | (inner & (depth <= int(1.75 * width))))
+    strong = lum <= ink_lum + 0.35 * (np.median(lum[alpha]) - ink_lum)
+    # Dark but not ink-coloured (an anti-aliased mix of a fruit's orange and the ink, dark red)
+    # is no stroke colour: taken as one it was spread across the band, a 3-4 px smear (issue 24).
+    # Nor are the pixels next to an inner shape that the band cuts (its soft edge into the ink).
+    edge_of_inner = (cv2.dilate(inner.astype(np.uint8), np.ones((3, 3), np.uint8)) > 0) & ~inner
+    inky = strong & (np.linalg.norm(img[..., :3] - ink, axis=2) <= INK_COLOUR_TOL) & ~edge_of_inner
+    thin = band & ~inky
+    if thin.any():
+        stroke = band & inky
+        col = np.broadcast_to(ink, (int(thin.sum()), 3)).copy()
+        if stroke.any():
+            dist, idx = ndi.distance_transform_edt(~stroke, return_indices=True)
+            by = dist[thin] <= 2 * width + 1
+            col[by] = img[idx[0][thin][by], idx[1][thin][by], :3]
+        img[thin, :3] = col
+    lum = img[..., :3] @ _LUM
+    soft = alpha & (depth == width + 1) & (lum > ink_lum + 0.5 * (np.median(lum[alpha]) - ink_lum))
+    img[soft, :3] = 0.5 * (img[soft, :3] + ink)
+    return img
+
+
+def _drop_excess(img: np.ndarray, ink: np.ndarray, width: int, holes: bool = True) -> np.ndarray:
+    """:func:`even_outline`'s first step, in place: a warped stroke deeper than ``width`` that runs
+    along the silhouette takes the colour of the nearest fill."""
+    alpha = img[..., 3] >= 0.5
+    if alpha.sum() < 9 or alpha.all():
+        return img
+    depth = _depth(alpha if holes else ndi.binary_fill_holes(alpha))
+    ink_lum = float(ink @ _LUM)
+    lum = img[..., :3] @ _LUM
     light = lum > ink_lum + 0.5 * (np.median(lum[alpha]) - ink_lum)
     dark = alpha & ~light
     # Too thick: dark pixels of the shell (width, 2 width + 2] connected to the band along the rim.
@@ -418,31 +457,6 @@ def even_outline(image, ink, width: int, *, holes: bool = True) -> np.ndarray:
                 # only next to a fill (a thin dark trunk has none beside it: it stays)
                 excess &= dist <= width + 2
                 img[excess, :3] = img[idx[0][excess], idx[1][excess], :3]
-    # Too thin: every pixel within ``width`` of the silhouette not ink takes the colour of the
-    # nearest stroke pixel there (the drawing's own ink, ``ink`` where there is none), and the
-    # next ring half of it (the drawings' own strokes have an anti-aliased inner edge).
-    ink = ink.astype(np.float32)
-    # An inner shape the silhouette cuts (a fruit the warp moved onto the rim) gets its own ring
-    # there too: the drawings keep a ring and the outline, about 1.75 width, between it and the edge.
-    band = alpha & ((depth <= width) | (inner & (depth <= int(1.75 * width))))
-    strong = lum <= ink_lum + 0.35 * (np.median(lum[alpha]) - ink_lum)
-    # Dark but not ink-coloured (an anti-aliased mix of a fruit's orange and the ink, dark red)
-    # is no stroke colour: taken as one it was spread across the band, a 3-4 px smear (issue 24).
-    # Nor are the pixels next to an inner shape that the band cuts (its soft edge into the ink).
-    edge_of_inner = (cv2.dilate(inner.astype(np.uint8), np.ones((3, 3), np.uint8)) > 0) & ~inner
-    inky = strong & (np.linalg.norm(img[..., :3] - ink, axis=2) <= INK_COLOUR_TOL) & ~edge_of_inner
-    thin = band & ~inky
-    if thin.any():
-        stroke = band & inky
-        col = np.broadcast_to(ink, (int(thin.sum()), 3)).copy()
-        if stroke.any():
-            dist, idx = ndi.distance_transform_edt(~stroke, return_indices=True)
-            by = dist[thin] <= 2 * width + 1
-            col[by] = img[idx[0][thin][by], idx[1][thin][by], :3]
-        img[thin, :3] = col
-    lum = img[..., :3] @ _LUM
-    soft = alpha & (depth == width + 1) & (lum > ink_lum + 0.5 * (np.median(lum[alpha]) - ink_lum))
-    img[soft, :3] = 0.5 * (img[soft, :3] + ink)
     return img
 
 

@@ -1,0 +1,249 @@
+"""Dendritic stylization, step 0: the working image and the seed (split from
+:mod:`~branchnb.dendrite.stylization`, whose :class:`~branchnb.dendrite.stylization.Stylizer`
+has these methods).
+
+The image resampled to the planning lattice, the scale between image and lattice, the
+seed the structure grows from (the darkest point, or for lightning the top of the picture
+or the strike's origin on a lightning photo).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy import ndimage
+
+from ..core.image import as_gray
+from ..core.validate import Points, checked
+from .lattice import direction_factors
+from .main_channel import (
+    silhouette,
+    wide_top,
+)
+from .photo_strike import strike_origin
+from .scale import resample_to_lattice
+from .stylize_params import (
+    LIGHTNING_SEED_BLUR,
+    LIGHTNING_SEED_DENSITY,
+    STRIKE_MAX_COVER,
+    STRIKE_PHOTO_UP,
+    StylizeParams,
+)
+
+__all__: list[str] = []
+
+def _subset(p, names):
+    return tuple(getattr(p, n) for n in names)
+
+
+#: Rounds of :func:`~branchnb.dendrite.thickness.twigs_within_ink` on a small image.
+_PRUNE_ROUNDS = 4
+
+_IMPORTANCE = ("lattice_size", "intensity_weight", "gradient_weight", "sigma")
+_LATTICE = ("cost_weight", "epsilon", "noise")
+_PLAN = ("metric", "blend_weight", "break_ties")
+_ENDPOINTS = ("n_endpoints", "endpoint_gamma", "endpoint_threshold", "endpoint_floor",
+              "stipple_iterations")
+
+
+#: Direction factors of a bolt's side branches on a photo without a strike (``STRIKE_PHOTO_UP``).
+_SIDE_FACTORS = direction_factors(up=STRIKE_PHOTO_UP) / direction_factors()
+
+
+
+class _SeedSteps:
+    """:class:`~branchnb.dendrite.stylization.Stylizer`'s lattice-scale and seed methods
+    (they use its ``image`` and ``_get`` cache)."""
+
+    @checked()
+    def working_image(self, p: StylizeParams) -> np.ndarray:
+        """The image resampled to the planning lattice (``p.lattice_size``).
+
+        Parameters
+        ----------
+        p : StylizeParams
+            Only ``lattice_size`` is used.
+
+        Returns
+        -------
+        (h, w, 3) float32 ndarray
+            Cached; the input itself when the sizes agree.
+        """
+        return self._get(("work", p.lattice_size), lambda: resample_to_lattice(self.image, p.lattice_size))
+
+    @checked()
+    def scale(self, p: StylizeParams) -> np.ndarray:
+        """Image pixels per lattice pixel, ``(sx, sy)``.
+
+        Parameters
+        ----------
+        p : StylizeParams
+            Only ``lattice_size`` is used.
+
+        Returns
+        -------
+        (2,) float64 ndarray
+            1 on a lattice of the image's own size, 2 for a 1024-px image on the
+            512 lattice.
+
+        Examples
+        --------
+        >>> from branchnb.dendrite import Stylizer, StylizeParams
+        >>> Stylizer(np.ones((64, 64))).scale(StylizeParams(lattice_size=32)).tolist()
+        [2.0, 2.0]
+        """
+        h, w = self.shape
+        hw, ww = self.working_image(p).shape[:2]
+        return np.array([w / ww, h / hw])
+
+    @checked(points=Points())
+    def to_lattice(self, p: StylizeParams, points) -> np.ndarray:
+        """Image ``(x, y)`` points in lattice coordinates (pixel centres map to centres).
+
+        Parameters
+        ----------
+        p : StylizeParams
+            Only ``lattice_size`` is used.
+        points : (N, 2) array_like
+            ``(x, y)`` in image pixels.
+
+        Returns
+        -------
+        (N, 2) float64 ndarray
+            Lattice ``(x, y)``, clipped to the lattice.
+        """
+        hw, ww = self.working_image(p).shape[:2]
+        q = (np.asarray(points, float) + 0.5) / self.scale(p) - 0.5
+        return np.clip(q, 0, [ww - 1, hw - 1])
+
+    @checked(points=Points())
+    def to_image(self, p: StylizeParams, points) -> np.ndarray:
+        """Lattice ``(x, y)`` points in image coordinates.
+
+        Parameters
+        ----------
+        p : StylizeParams
+            Only ``lattice_size`` is used.
+        points : (N, 2) array_like
+            ``(x, y)`` in lattice pixels.
+
+        Returns
+        -------
+        (N, 2) float64 ndarray
+            Image ``(x, y)`` (not clipped).
+        """
+        return (np.asarray(points, float) + 0.5) * self.scale(p) - 0.5
+
+    @checked()
+    def default_seed(self, params: StylizeParams | None = None) -> np.ndarray:
+        """Where the dendrite starts by default.
+
+        Without ``params``, the image centre. With them, the centre of the most
+        important region: the maximum of the importance blurred over 8 % of the
+        lattice diagonal. The non-scalar metric floods from the seed in order of
+        the path's largest edge, so everything behind a costly barrier (a bright
+        region around the seed) ties at that barrier's cost and is reached by
+        nearly straight cumulative paths, a radial burst; starting in the
+        darkest, most detailed region keeps the branches wandering where the
+        ink is.
+
+        Parameters
+        ----------
+        params : StylizeParams, optional
+            Parameters of the importance map and the endpoint threshold; None
+            gives the image centre.
+
+        Returns
+        -------
+        (2,) float64 ndarray
+            ``(x, y)`` in image pixels.
+
+        Examples
+        --------
+        >>> from branchnb.dendrite import Stylizer, StylizeParams
+        >>> img = np.ones((40, 60)); img[5:15, 40:55] = 0.0
+        >>> st = Stylizer(img)
+        >>> st.default_seed().tolist(), bool(st.default_seed(StylizeParams(lattice_size=0))[0] > 30)
+        ([29.5, 19.5], True)
+        """
+        h, w = self.shape
+        if params is None:
+            return np.array([(w - 1) / 2.0, (h - 1) / 2.0])
+        imp = self.importance(params).astype(np.float64)
+        if np.ptp(imp) == 0:
+            return np.array([(w - 1) / 2.0, (h - 1) / 2.0])
+        sigma = 0.08 * float(np.hypot(*imp.shape))
+        smooth = ndimage.gaussian_filter(imp, sigma, mode="constant")
+        row, col = np.unravel_index(int(np.argmax(smooth)), smooth.shape)
+        if imp[row, col] < params.endpoint_threshold:  # e.g. inside a ring: the nearest ink
+            ys, xs = np.nonzero(imp >= params.endpoint_threshold)
+            if xs.size:
+                k = int(np.argmin((xs - col) ** 2 + (ys - row) ** 2))
+                row, col = ys[k], xs[k]
+        return self.to_image(params, [float(col), float(row)])
+
+    def top_seed(self, params: StylizeParams) -> np.ndarray:
+        """Where a lightning bolt starts: the top of the picture's content.
+
+        The median column of the pixels whose importance reaches
+        ``params.endpoint_threshold`` within 5 % of the lattice's height below
+        the topmost such pixel (beyond the paper: from the default seed, in the
+        middle of the picture, the bolt burst out in every direction; from the
+        top it runs down and forks like a strike). On a photo (content all over)
+        with a strike of its own, the top of its brightest strike
+        (:func:`~branchnb.dendrite.photo_strike.strike_origin`). Only content pixels in a
+        wide part count (:func:`~branchnb.dendrite.main_channel.wide_top`):
+        their share of content within a blur of ``LIGHTNING_SEED_BLUR`` of the
+        lattice's diagonal reaches ``LIGHTNING_SEED_DENSITY`` of its maximum (a
+        thin tip on top, a fern's leaflets or a horse's ear, started the widest
+        channel with a knot).
+
+        Parameters
+        ----------
+        params : StylizeParams
+            Parameters of the importance map and the endpoint threshold.
+
+        Returns
+        -------
+        (2,) float64 ndarray
+            ``(x, y)`` in image pixels; the top centre of the image when nothing
+            reaches the threshold.
+
+        Examples
+        --------
+        >>> from branchnb.dendrite import Stylizer, StylizeParams
+        >>> img = np.ones((40, 60)); img[10:30, 40:55] = 0.0
+        >>> [round(v) for v in Stylizer(img).top_seed(StylizeParams(lattice_size=0))]
+        [47, 7]
+        """
+        content = self.importance(params) >= params.endpoint_threshold
+        if silhouette(content).mean() > STRIKE_MAX_COVER:
+            # a photo: its own brightest strike's top, if it has one (beyond the paper:
+            # from the top of the picture a bolt on a lightning photo started in the cloud)
+            at = self.strike(params)
+            if at is not None:
+                return self.to_image(params, [float(at[0]), float(at[1])])
+        at = wide_top(content, LIGHTNING_SEED_BLUR, LIGHTNING_SEED_DENSITY)
+        if at is None:
+            return np.array([(self.shape[1] - 1) / 2.0, 0.0])
+        xb, yb = at
+        return self.to_image(params, [float(xb), float(yb)])
+
+    def strike(self, p: StylizeParams) -> tuple[int, int] | None:
+        """The top of the photo's own strike on the lattice, or None (cached).
+
+        :func:`~branchnb.dendrite.photo_strike.strike_origin` of the working image's
+        luminance, computed once per lattice size (the seed and the side branches both
+        ask for it).
+
+        Parameters
+        ----------
+        p : StylizeParams
+            Uses ``lattice_size``.
+
+        Returns
+        -------
+        (x, y) or None
+            In lattice pixels.
+        """
+        return self._get(("strike_origin", p.lattice_size),
+                         lambda: strike_origin(as_gray(self.working_image(p))))

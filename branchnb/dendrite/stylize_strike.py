@@ -1,0 +1,150 @@
+"""Dendritic stylization, the lightning metaphor's main channel and strike (split from
+:mod:`~branchnb.dendrite.stylization`, whose :class:`~branchnb.dendrite.stylization.Stylizer`
+has these methods).
+
+A bolt's main channel straightened (hairpins cut), a lightning photo's strike traced as
+the channel with short side branches, and the dendrite pruned to the tips kept.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..core.image import as_gray
+from .dendrite import Dendrite, build_dendrite
+from .lattice import Lattice
+from .main_channel import (
+    channel_plan,
+    silhouette,
+    straighten,
+    strike_weights,
+    with_channel,
+)
+from .photo_side import _short_sides, side_branches, strike_region
+from .photo_strike import jag_channel, photo_channel
+from .planner import PlanResult
+from .stylize_params import (
+    LIGHTNING_LOOP_REACH,
+    STRIKE_MAX_COVER,
+    StylizeParams,
+)
+from .stylize_seed import _ENDPOINTS, _IMPORTANCE, _LATTICE, _PLAN, _SIDE_FACTORS, _subset
+
+__all__: list[str] = []
+
+
+
+class _StrikeSteps:
+    """:class:`~branchnb.dendrite.stylization.Stylizer`'s lightning methods (they use its
+    cached stages: ``plan``, ``dendrite``, ``importance`` ...)."""
+
+    def _main_channel_straight(self, p: StylizeParams, seed, rng_seed: int) -> Dendrite:
+        """:meth:`dendrite` with the hairpins of its main channel cut (cached).
+
+        Beyond the paper: a lightning bolt's widest channel follows the picture's
+        edges, and through a thin, ragged part (a fern's tip leaflets) it doubled
+        back in hairpins a few pixels apart, a bright knot;
+        :func:`~branchnb.dendrite.main_channel.shortcut_loops` joins each
+        hairpin's legs within ``LIGHTNING_LOOP_REACH`` of the lattice's diagonal.
+        """
+        seed_key = tuple(np.round(np.asarray(seed, float), 3))
+        key = ("straight", _subset(p, _IMPORTANCE + _LATTICE + _PLAN + _ENDPOINTS),
+               seed_key, rng_seed)
+
+        def make():
+            res = self.plan(p, seed, rng_seed)
+            return straighten(res, self.dendrite(p, seed, rng_seed), self.endpoints(p, rng_seed),
+                              reach=LIGHTNING_LOOP_REACH * float(np.hypot(*res.shape)))
+        return self._get(key, make)
+
+    def _strike(self, p: StylizeParams, seed, rng_seed: int) -> tuple[PlanResult, Dendrite, bool]:
+        """The plan and the dendrite of a lightning bolt, its main channel planned first (cached).
+
+        Beyond the paper: on an object on a background the planner runs on
+        :func:`~branchnb.dendrite.main_channel.strike_weights` (the main channel
+        down through the object a highway, a filled object's outline costly)
+        and the channel's end joins the endpoints, so the bolt's other branches
+        fork off the channel; then its hairpins are cut. On a photo the channel is
+        :func:`~branchnb.dendrite.photo_strike.photo_channel` and the side branches
+        follow :func:`~branchnb.dendrite.photo_strike.side_branches`; with nothing to
+        draw, the plain plan (:meth:`_main_channel_straight`). The flag says whether
+        the channel was planned.
+        """
+        key = ("strike", _subset(p, _IMPORTANCE + _LATTICE + _PLAN + _ENDPOINTS),
+               tuple(np.round(np.asarray(seed, float), 3)), rng_seed)
+
+        def make():
+            lat = self.lattice(p, rng_seed)
+            content = self.importance(p) >= p.endpoint_threshold
+            got = strike_weights(lat.weights, content, seed)
+            if got is None:  # a photo: no object to go through
+                path = (photo_channel(lat.weights, content, seed)
+                        if silhouette(content).mean() > STRIKE_MAX_COVER else None)
+                if path is None or len(path) < 2:  # nothing to draw, or nothing below the seed
+                    return (self.plan(p, seed, rng_seed),
+                            self._main_channel_straight(p, seed, rng_seed), False)
+                region = None
+                if self.strike(p) is None:  # no bolt to follow: its straight stretches zigzag
+                    path = jag_channel(path, content.shape, rng=rng_seed)
+                    # and its side branches stay in the bolt's cone (they crossed the sky)
+                    region = strike_region(path, content.shape)
+                mask = np.zeros(lat.weights.shape, bool)
+                mask[path[:, 1], path[:, 0]] = True
+                # the side branches follow the edges that stand out of the picture's noise
+                # (beyond the paper: on the importance they wandered through a night sky)
+                w, ends = side_branches(as_gray(self.working_image(p)), self.edge_map(p),
+                                        lat.weights, content, p,
+                                        struck=self.strike(p) is not None, rng=rng_seed,
+                                        region=region)
+                if ends is None:
+                    ends = self.endpoints(p, rng_seed)
+                    if region is not None:
+                        inside = region[np.clip(np.rint(ends[:, 1]).astype(int), 0, region.shape[0] - 1),
+                                        np.clip(np.rint(ends[:, 0]).astype(int), 0, region.shape[1] - 1)]
+                        ends = ends[inside] if inside.any() else ends
+                # and they grow downward as the lightning metaphor's do (edges stepping up
+                # or sideways cost more): from the channel's foot they ran along the ground
+                factors = lat.factors if region is None else lat.factors * _SIDE_FACTORS
+                res = self._plan_on(Lattice(w, factors), p, mask)
+                if region is not None:
+                    # and they are short beside the channel, as a real bolt's are (beyond
+                    # the paper: forking at the channel's top they ran down beside it)
+                    short = _short_sides(res, ends, path)
+                    ends = short if len(short) else ends
+                res = channel_plan(res, path)
+                ends = np.concatenate([ends, path[-1:].astype(float)])
+                return res, with_channel(build_dendrite(res, ends), path), True
+            res = self._plan_on(Lattice(got[0], lat.factors), p, seed)
+            ends = np.concatenate([self.endpoints(p, rng_seed), got[1][-1:].astype(float)])
+            d = straighten(res, build_dendrite(res, ends), ends,
+                           reach=LIGHTNING_LOOP_REACH * float(np.hypot(*res.shape)))
+            return res, d, True
+        return self._get(key, make)
+
+    def _dendrite_pruned(self, p: StylizeParams, seed, rng_seed: int, keep) -> Dendrite:
+        """:meth:`dendrite` traced to the tips ``keep`` selects only (cached).
+
+        Parameters
+        ----------
+        p : StylizeParams
+            Parameters of every stage up to the endpoints.
+        seed : (x, y)
+            Start point in lattice pixels.
+        rng_seed : int
+            Seed (>= 0) of the lattice noise and the stippling.
+        keep : (E,) array_like of bool
+            One per tip of :meth:`dendrite` (its ``tips``, in order).
+
+        Returns
+        -------
+        Dendrite
+            On the lattice, every radius 1.
+        """
+        keep = np.asarray(keep, bool)
+        full = self.dendrite(p, seed, rng_seed)
+        seed_key = tuple(np.round(np.asarray(seed, float), 3))
+        key = ("pruned", _subset(p, _IMPORTANCE + _LATTICE + _PLAN + _ENDPOINTS), seed_key,
+               rng_seed, keep.tobytes())
+        return self._get(key, lambda: build_dendrite(self.plan(p, seed, rng_seed),
+                                                     full.points[full.tips[keep]]))
+

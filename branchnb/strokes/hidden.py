@@ -1,0 +1,220 @@
+"""What another part hides of a stroke's tube, filled in from the stroke's own pixels.
+
+In the source a part may lie over a stroke's tube (a berry hanging over a
+leaf, a stalk drawn into the leaf it passes under). Those pixels belong to
+the part: the stroke's patches may not copy them, so a copied leaf showed a
+notch where the berry had been (the berry's outline round it, the berry's
+faint anti-aliased rim as grey arcs in the background). Here each such
+stroke gets its own view of the source: the hidden pixels of its tube (and
+the ring of the part's rim round them) hold the stroke's own flesh, outline
+and background, copied from farther along its centre line at the same
+distance from its silhouette's edge. Beyond the paper, which assumes every
+stroke's tube is visible in the source.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy import ndimage as ndi
+
+from ..core.graphcut import gradient_magnitude
+from .tubes import _tube_margin
+
+#: The other part's pixels grown by this much (px): its anti-aliased rim and outline go with it.
+_RIM = 2
+#: ... and the stroke's own pixels used as a reference keep this far from them (px).
+_CLEAR = 3
+#: Steps along the centre line (a share of the local half width, >= 1 px) tried for a clean copy.
+_STEP = 0.25
+#: Another part hides the stroke where it reaches within this share of the stroke's half width.
+_DEEP = 0.6
+#: A joined end (a leaf's root on its twig) is left alone within this many of its parent's widths.
+_END_REACH = 2.5
+
+
+def _own_views(index, tubes: dict, keys: list, cuts: list, joined: list, window: float = 3.0) -> dict:
+    """Per stroke with a hidden stretch: ``(premult, depth, grad, hidden)`` with it filled in.
+
+    ``tubes``: per ``(key, cuts)`` the ``(d, s_map, tube, interior, endw, core)``
+    of :func:`~branchnb.strokes.source.source_index`'s first pass. Only for
+    objects with an alpha channel. ``hidden`` is the full-size mask of the
+    pixels filled (the stroke may copy them).
+    """
+    h, w = index.shape
+    n = len(index.strokes)
+    views: dict = {}
+    done: dict = {}
+    for k in range(n):
+        key = (keys[k], cuts[k])
+        if key in done:
+            if done[key] is not None:
+                views[k] = done[key]
+            continue
+        done[key] = None
+        # strokes joined to this one (its parent, its children) share its pixels at the joint
+        related = {k} | {j for j in joined[k] if j >= 0} | {j for j in range(n) if k in joined[j]}
+        related |= {j for j in range(n) if keys[j] == keys[k]}
+        rel_keys = {keys[j] for j in related}
+        d, s_map, tube, interior, endw, _ = tubes[key]
+        rows, cols = np.nonzero(d < 1e5)
+        if not len(rows):
+            continue
+        box = (slice(rows.min(), rows.max() + 1), slice(cols.min(), cols.max() + 1))
+        db, sb, tb = d[box], s_map[box], tube[box]
+        st = index.strokes[k]
+        zone = (db <= tb + _tube_margin(tb)) & interior[box] & (endw[box] > 0.5)
+        for end, par in enumerate(joined[k]):
+            if par >= 0:
+                reach = _END_REACH * float(np.max(index.width[par])) + 4.0
+                zone &= (sb > reach) if end == 0 else (sb < st.length - reach)
+        if not zone.any():
+            continue
+        reach_k = _END_REACH * float(np.median(index.width[k])) + 4.0
+        foreign = np.zeros(zone.shape, bool)
+        for okey, tb_o in tubes.items():
+            if okey[0] not in rel_keys:
+                # another stroke's tube crossing this one's, away from both strokes' ends
+                # (siblings leaving a palm side by side overlap at their roots: no hiding there)
+                o = next(j for j in range(n) if keys[j] == okey[0])
+                reach_o = _END_REACH * float(np.median(index.width[o])) + 4.0
+                ends_k, ends_o = st.points[[0, -1]], index.strokes[o].points[[0, -1]]
+                near_ends = 2.0 * max(float(np.median(index.width[k])), float(np.median(index.width[o]))) + 4.0
+                if np.hypot(*(ends_k[:, None] - ends_o[None]).transpose(2, 0, 1)).min() < near_ends:
+                    continue  # (a delta's distributaries leaving one fan head overlap there)
+                so = tb_o[1][box]
+                foreign |= tb_o[5][box] & (so > reach_o) & (so < index.strokes[o].length - reach_o)
+        foreign &= (sb > reach_k) & (sb < st.length - reach_k)
+        near = np.zeros(zone.shape, bool)  # the related strokes' own tubes (not a clean reference)
+        for okey, tb_o in tubes.items():
+            if okey[0] in rel_keys and okey[0] != keys[k]:
+                near |= tb_o[5][box]
+        # strokes joined at one of this one's ends (a flower's head on its stem's tip)
+        at_end = {keys[j] for j in joined[k] if j >= 0}
+        for j in range(n):
+            for e, par in enumerate(joined[j]):
+                if par == k:
+                    sj = st.project(index.strokes[j].points[[0 if e == 0 else -1]])[0][0]
+                    if sj <= reach_k or sj >= st.length - reach_k:
+                        at_end.add(keys[j])
+        for part in index.parts:
+            # (a part hanging from a stroke joined at this one's end -- a flower's petals
+            # round the head on its stem's tip -- lies where the joint is: no hiding there)
+            if keys[part.stroke] == keys[k] or keys[part.stroke] in at_end:
+                continue
+            sub = np.zeros((h, w), bool)
+            sub[part.box] = part.mask
+            foreign |= sub[box]
+        foreign &= zone
+        if not foreign.any():
+            continue
+        # only what covers the stroke's own flesh (well inside its width), not what merely
+        # touches its margin (a neighbouring finger's side at a crotch)
+        lab, nlab = ndi.label(foreign, structure=np.ones((3, 3)))
+        deep = np.unique(lab[foreign & (db <= _DEEP * np.interp(sb, index.width_s[k], index.edge[k]))])
+        foreign = np.isin(lab, deep[deep > 0])
+        if not foreign.any():
+            continue
+        hidden = zone & ndi.binary_dilation(foreign, iterations=_RIM)
+        # (the reference is the stroke's own tube: no part, not even one hanging from it)
+        # and only pixels it may copy (not a tip-held part's, taken back from its tube)
+        mine = index.allowed[k][box] & (index.weight[k][box] > 0.5)
+        clean = zone & ~ndi.binary_dilation(foreign | near | index.part_mask[box] | ~mine, iterations=_CLEAR)
+        # the silhouette's width along the hidden stretch is the other part's: bridged
+        # linearly from the stroke's own widths on either side
+        ws, we = index.width_s[k], np.asarray(index.edge[k], float)
+        sf = sb[hidden]
+        lost = (ws >= sf.min() - _CLEAR) & (ws <= sf.max() + _CLEAR)
+        if lost.any() and not lost.all():
+            we = we.copy()
+            we[lost] = np.interp(ws[lost], ws[~lost], we[~lost])
+        for part in index.parts:
+            # a part the stroke's tip ends in (a cherry on its stalk): its tube there is the
+            # part's flesh, no reference
+            if part.tip is None or keys[part.stroke] != keys[k]:
+                continue
+            sub = np.zeros((h, w), bool)
+            sub[part.box] = part.mask
+            sp = sb[sub[box] & (db < 1e5)]
+            if len(sp):
+                tip_end = st.project(np.array([part.tip[:2]], float))[0][0] > 0.5 * st.length
+                clean &= (sb < sp.min() - _CLEAR) if tip_end else (sb > sp.max() + _CLEAR)
+        # (nor flesh deeper inside the object than the stroke's own half width: a wider
+        # part its tube runs into -- a cherry round a stalk's tip)
+        clean &= index.depth[box] <= np.interp(sb, ws, we) + 2.0
+        got = _refill(index, k, box, hidden, clean, window, ws, we)
+        if got is None:
+            continue
+        filled, vals, dep = got
+        premult = index.premult.copy()
+        depth = index.depth.copy()
+        full = np.zeros((h, w), bool)
+        full[box] = filled
+        premult[full] = vals
+        depth[full] = dep
+        rs, cs = np.nonzero(full)
+        g0, g1 = max(rs.min() - 2, 0), min(rs.max() + 3, h)
+        c0, c1 = max(cs.min() - 2, 0), min(cs.max() + 3, w)
+        grad = index.grad.copy()
+        # (the edge strength on the filled pixels' box: the same Sobel as the source's)
+        grad[g0:g1, c0:c1] = gradient_magnitude(premult[max(g0 - 2, 0):g1 + 2, max(c0 - 2, 0):c1 + 2])[
+            g0 - max(g0 - 2, 0):g1 - max(g0 - 2, 0), c0 - max(c0 - 2, 0):c1 - max(c0 - 2, 0)]
+        done[key] = views[k] = (premult, depth, grad, full)
+    return views
+
+
+def _refill(index, k: int, box, hidden: np.ndarray, clean: np.ndarray, window: float, ws: np.ndarray,
+            we: np.ndarray):
+    """Values for ``hidden`` (box coordinates) from ``clean`` pixels of stroke ``k`` farther along it.
+
+    Each pixel keeps its signed distance to the silhouette's edge (so the
+    outline keeps its width on a tapering part); both ways are averaged where
+    both reach a clean pixel at the same step.
+    """
+    st = index.strokes[k]
+    rs, cs = np.nonzero(hidden)
+    pts = np.c_[cs + box[1].start, rs + box[0].start].astype(float)
+    s0, _ = st.project(pts)
+    foot = st.point_at(s0)
+    e0 = ((pts - foot) * st.normal_at(s0, window=window)).sum(axis=1)
+    w0 = np.interp(s0, ws, we)
+    sign = np.where(e0 < 0, -1.0, 1.0)
+    step = np.maximum(_STEP * float(np.median(w0)), 1.0)
+    acc = np.zeros((len(pts), 4))
+    accd = np.zeros(len(pts))
+    found = np.zeros(len(pts), bool)
+    premult = index.premult
+    by, bx = box[0].start, box[1].start
+    hb, wb = clean.shape
+    j = 1
+    while not found.all() and (j - 1) * step <= st.length:
+        cnt = np.zeros(len(pts))
+        for way in (1.0, -1.0):
+            todo = np.nonzero(~found)[0]
+            s2 = s0[todo] + way * j * step
+            inside = (s2 >= 0.0) & (s2 <= st.length)
+            todo, s2 = todo[inside], s2[inside]
+            if not len(todo):
+                continue
+            e2 = e0[todo] + sign[todo] * (np.interp(s2, ws, we) - w0[todo])
+            e2 = np.where(e2 * sign[todo] < 0, 0.0, e2)  # not across the centre line
+            q = st.point_at(s2) + e2[:, None] * st.normal_at(s2, window=window)
+            qi = np.rint(q).astype(int)
+            ok = (qi[:, 0] >= bx) & (qi[:, 0] < bx + wb) & (qi[:, 1] >= by) & (qi[:, 1] < by + hb)
+            ok[ok] = clean[qi[ok, 1] - by, qi[ok, 0] - bx]
+            todo, q = todo[ok], q[ok]
+            if not len(todo):
+                continue
+            for c in range(4):
+                acc[todo, c] += ndi.map_coordinates(premult[..., c], [q[:, 1], q[:, 0]], order=1, mode="nearest")
+            accd[todo] += ndi.map_coordinates(index.depth, [q[:, 1], q[:, 0]], order=1, mode="nearest")
+            cnt[todo] += 1
+        hit = cnt > 0
+        acc[hit] /= cnt[hit, None]
+        accd[hit] /= cnt[hit]
+        found |= hit
+        j += 1
+    if not found.any():
+        return None
+    filled = np.zeros_like(hidden)
+    filled[rs[found], cs[found]] = True
+    return filled, acc[found].astype(np.float32), accd[found].astype(np.float32)
