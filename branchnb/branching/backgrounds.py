@@ -746,6 +746,17 @@ def example_domain(image, structure: Structure | None = None, *, radius: float =
         g = np.asarray(gray, np.float64)
         like = np.abs(g - float(np.median(g[bg]))) <= 0.1
         bg = ndi.binary_dilation(bg, iterations=4, mask=like | bg)
+        if np.ndim(image) == 3:
+            # a photo's flat black/white matte is outside wholly, also its slivers narrower than
+            # ``radius`` where a fundus disk nears the frame (beyond the paper)
+            from .regions import matte_mask
+
+            rgb = np.asarray(image, np.float32)
+            if np.issubdtype(np.asarray(image).dtype, np.integer):
+                rgb = rgb / float(np.iinfo(np.asarray(image).dtype).max)
+            matte = matte_mask(rgb, dilate=0)
+            if matte.any() and (bg & matte).sum() >= 0.5 * matte.sum():
+                bg |= matte
     dom = ~bg
     return dom if opaque is None else dom & opaque
 

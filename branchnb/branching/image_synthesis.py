@@ -61,7 +61,15 @@ from .fragment_choice import _Context, _free_ends, _joined_at_region_edge
 from .fragment_placement import _constraints, _synthesize_fragments
 from .fragments import Fragment, source_fragments, target_fragments
 from .gap_completion import _complete
-from .output_regions import _domain_labels, _draw_flat, _example_layout_for, _grew_in_example_layout
+from .output_regions import (
+    _domain_labels,
+    _draw_flat,
+    _example_layout_for,
+    _grew_in_example_layout,
+    _keep_matte,
+    _matte_colour,
+    _walls_off_matte,
+)
 from .regions import ExampleRegions, colour_labels, example_regions, flat_colour_regions, flatten_shading, region_layout
 from .skeleton_map import SkeletonMap
 
@@ -151,7 +159,9 @@ class ImageSynthesisParams:
         as a fraction of the example's size, e.g. 0.05 (0 = copy as is, the paper).
     exclude_matte : bool, default True
         Never copy a flat black/white matte connected to the example's border (e.g.
-        around a fundus photo).
+        around a fundus photo); beyond the paper, with a ``target_domain`` the output
+        keeps that matte, in its colour, outside the domain (a photo's surround is a
+        region of its own, its edge no drawn line).
     flat_drawing : bool, default True
         Flat-colour examples (drawn maps, masks): draw the output the way the
         example is drawn (its region colours, its boundary line along the output's
@@ -284,7 +294,8 @@ class ImageSynthesisParams:
                                         "dark parts match; Gaussian scale as a fraction of the "
                                         "example's size, e.g. 0.05 (0 = copy as is, the paper)")
     exclude_matte: bool = param(True, help="never copy a flat black/white matte connected to the "
-                                           "example's border (e.g. around a fundus photo)")
+                                           "example's border (e.g. around a fundus photo); with a "
+                                           "target domain, keep it outside the domain")
     flat_drawing: bool = param(True, help="flat-colour examples (drawn maps, masks): draw the output the way "
                                           "the example is drawn (its region colours, its boundary line "
                                           "along the output's region boundary, branches as connected "
@@ -605,7 +616,8 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         # a line mask on one plain ground (its lines too thin to form a flat region of their own)
         mask = bool(flat_share >= 0.5 and labels_ex.max() == 0 and two_tone_lines(ex))
         cached = _EXAMPLE_CACHE[key] = {"sm_s": sm_s, "pm_s": pm_s, "labels_ex": labels_ex,
-                                        "flat_share": flat_share, "mask": mask}
+                                        "flat_share": flat_share, "mask": mask,
+                                        "matte_colour": _matte_colour(ex) if p.exclude_matte else None}
     sm_s, pm_s, labels_ex, flat_share = (cached[k] for k in ("sm_s", "pm_s", "labels_ex", "flat_share"))
     sm_t = SkeletonMap(target_structure, 1.0)
     pm_t = sm_t.pixel_map((H, W))
@@ -642,6 +654,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         return _draw_flat(ex, example_structure, target_structure, layout, labels_t, target_domain,
                           pm_s, labels_ex, p, t_start, report, (H, W))
     boundary = None
+    matte_edge = False
     if labels_t is None and target_domain is not None and not flat and target_domain.any() \
             and not target_domain.all():
         # beyond the paper: an example whose domain a drawn line walls off (a shaded terrain map):
@@ -651,6 +664,10 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         if "drawn_boundary" not in cached:
             cached["drawn_boundary"] = drawn_boundary(ex, example_structure, pm_s)
         boundary = cached["drawn_boundary"]
+        # the soft edge of a photo's matte (a fundus disk's rim) is no drawn line: its regions are
+        # used, but the matte is kept as a region instead of drawing the line (beyond the paper)
+        matte_edge = boundary is not None and cached["matte_colour"] is not None and \
+            _walls_off_matte(boundary.domain, boundary.colour, ex)
         if boundary is not None:
             labels_t = domain_labels(target_domain)
             src_labels = domain_labels(boundary.domain, boundary.ink)
@@ -728,7 +745,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         canvas, _ = redraw_gaps(canvas, target_structure, style.line_colour,
                                 style.region_colours[style.branch_region], style.width_scale)
 
-    if boundary is not None:
+    if boundary is not None and not matte_edge:
         from .drawn_domains import draw_boundary
 
         canvas = draw_boundary(canvas, target_domain, boundary.colour, boundary.width)
@@ -753,6 +770,10 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
             cached["centre_colours"] = colours
             cached["centre_contrast"] = 0.0 if colours is None else float(np.linalg.norm(colours[0] - colours[1]))
         canvas, _ = match_line_contrast(canvas, pm_t, cached["centre_contrast"], colours=cached["centre_colours"])
+    if cached["matte_colour"] is not None and (boundary is None or matte_edge) and not flat \
+            and target_domain is not None and target_domain.any() and not target_domain.all():
+        # beyond the paper: a photo's matte (a fundus's black surround) stays outside the domain
+        canvas = _keep_matte(canvas, target_domain, cached["matte_colour"])
     fragment_mask = frag_index >= 0
     # Every stage keeps [0, 1]; this guards the contract (finite, in range) for any input.
     np.clip(np.nan_to_num(canvas, nan=0.0), 0.0, 1.0, out=canvas)

@@ -127,3 +127,57 @@ def _draw_flat(ex, example_structure, target_structure, layout, labels_t, target
                                 z.copy(), [], 0.0, target_structure, None, 0,
                                 {"total": time.perf_counter() - t_start}, p,
                                 example_labels=labels_ex, labels=labels_t)
+
+
+def _matte_colour(image: np.ndarray) -> np.ndarray | None:
+    """The colour of the example's flat black/white matte (a fundus photo's surround), or None."""
+    from .regions import matte_mask
+
+    matte = matte_mask(image, dilate=0)
+    if not matte.any():
+        return None
+    return np.median(image[matte], axis=0).astype(np.float32)
+
+
+def _keep_matte(canvas: np.ndarray, domain: np.ndarray, colour: np.ndarray,
+                feather: float = 1.0) -> np.ndarray:
+    """``canvas`` with everything outside ``domain`` in the example's matte colour.
+
+    Going beyond the paper (which fills the whole frame with the example's
+    texture): a photo's matte is a region of its own, not texture to copy, so
+    the output keeps it outside the domain its structure grew in; its edge is
+    a soft step like a photo's (a Gaussian of ``feather`` pixels), no drawn
+    line.
+    """
+    inside = ndi.gaussian_filter(np.asarray(domain, np.float32), feather) if feather > 0 else \
+        np.asarray(domain, np.float32)
+    inside = np.where(domain, np.maximum(inside, 0.5), inside)[..., None]
+    return (canvas * inside + colour[None, None, :] * (1.0 - inside)).astype(canvas.dtype)
+
+
+def _walls_off_matte(domain: np.ndarray, colour: np.ndarray, image: np.ndarray, share: float = 0.8,
+                     tol: float = 0.08) -> bool:
+    """True when a "drawn" boundary is the soft edge of the example's flat matte, not a drawn coast.
+
+    What the line walls off is (``share`` of it, without the line's band) the
+    matte, and the line's ``colour`` is a blend of the matte's and the
+    domain's (within ``tol`` of the segment between them): a blurred step.
+    A terrain map's dark coast on a white outside is no such blend.
+    """
+    from .regions import matte_mask
+
+    dom = np.asarray(domain, bool)
+    out = ~ndi.binary_dilation(dom, iterations=4)
+    inner = ndi.binary_erosion(dom, iterations=4)
+    if not out.any() or not inner.any():
+        return False
+    matte = matte_mask(image, dilate=2)
+    if np.mean(matte[out]) < share:
+        return False
+    c = image.shape[2]
+    m = np.median(image[out & matte], axis=0)
+    g = np.median(image[inner], axis=0)
+    col = np.asarray(colour, np.float64).ravel()[:c]
+    d = g - m
+    t = float(np.clip((col - m) @ d / max(float(d @ d), 1e-9), 0.0, 1.0))
+    return bool(np.max(np.abs(col - (m + t * d))) <= tol)
