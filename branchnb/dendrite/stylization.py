@@ -157,7 +157,7 @@ class Stylizer(_SeedSteps, _StrikeSteps):
     >>> st = Stylizer(img)
     >>> out = st.run(StylizeParams(n_endpoints=2000), rng=0)
     >>> out.params.n_endpoints  # a 48-px image: fewer endpoints (effective_params)
-    57
+    104
     >>> out.dendrite.is_tree(), len(out.dendrite.tips) > 20
     (True, True)
     """
