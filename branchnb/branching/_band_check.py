@@ -11,7 +11,6 @@ the output over the example's ``turn``. PNG_DIR: sheets example | seed s | seed 
 # ruff: noqa: E501, E702
 from __future__ import annotations
 
-import os
 import sys
 
 import cv2
@@ -19,6 +18,7 @@ import numpy as np
 from scipy import ndimage as ndi
 
 from ._band_examples import KINDS, band_example
+from ._check_table import print_table
 
 SIZES = (256, 384, 512, 640, 768)
 
@@ -84,18 +84,9 @@ def main(argv=None) -> None:
     seeds = [int(s) for s in argv[0].split(",")] if argv else [0, 1, 2]
     kinds = argv[1].split(",") if len(argv) > 1 and argv[1] != "all" else list(KINDS) + [k + "+" for k in KINDS]
     pngdir = argv[2] if len(argv) > 2 else None
-    if pngdir:
-        os.makedirs(pngdir, exist_ok=True)
     keys = ("out", "nb", "ml", "len", "turn")
-    for kind in kinds:
-        rows = []
-        for s in seeds:
-            size = SIZES[(s + KINDS.index(kind.rstrip("+"))) % len(SIZES)]
-            png = os.path.join(pngdir, f"{kind}_{size}_{s}.png") if pngdir else None
-            r = case(kind, size, s, png)
-            rows.append(r)
-            print(f"{kind:6s} {size:4d} {s}  nb {r['nb_ex']:3d}->{r['nb_out']:3d} " + " ".join(f"{k}={r[k]:.2f}" for k in keys), flush=True)
-        print(f"MEAN {kind:6s} " + " ".join(f"{k}={np.mean([r[k] for r in rows]):.2f}" for k in keys), flush=True)
+    print_table(kinds, seeds, lambda kind, s: SIZES[(s + KINDS.index(kind.rstrip("+"))) % len(SIZES)], case, keys,
+                lambda r: f"nb {r['nb_ex']:3d}->{r['nb_out']:3d}", pngdir, width=6)
 
 
 if __name__ == "__main__":

@@ -17,12 +17,13 @@ network entering from the bottom edge).
 # ruff: noqa: E501, E702
 from __future__ import annotations
 
-import os
 import sys
 
 import cv2
 import numpy as np
 from scipy import ndimage as ndi
+
+from ._check_table import print_table
 
 KINDS = ("top", "bottom", "left", "right", "topleft", "inside", "river")
 SIZES = (320, 420, 520)
@@ -165,18 +166,9 @@ def main(argv=None) -> None:
     seeds = [int(s) for s in argv[0].split(",")] if argv else [0, 1]
     kinds = argv[1].split(",") if len(argv) > 1 and argv[1] != "all" else list(KINDS)
     pngdir = argv[2] if len(argv) > 2 else None
-    if pngdir:
-        os.makedirs(pngdir, exist_ok=True)
     keys = ("side", "pos", "near", "len", "nb", "out")
-    for kind in kinds:
-        rows = []
-        for s in seeds:
-            size = SIZES[(s + KINDS.index(kind)) % len(SIZES)]
-            png = os.path.join(pngdir, f"{kind}_{size}_{s}.png") if pngdir else None
-            r = case(kind, size, s, png)
-            rows.append(r)
-            print(f"{kind:8s} {size:4d} {s}  roots {r['n_ex']}->{r['n_out']} " + " ".join(f"{k}={r[k]:.2f}" for k in keys), flush=True)
-        print(f"MEAN {kind:8s} " + " ".join(f"{k}={np.mean([r[k] for r in rows]):.2f}" for k in keys), flush=True)
+    print_table(kinds, seeds, lambda kind, s: SIZES[(s + KINDS.index(kind)) % len(SIZES)], case, keys,
+                lambda r: f"roots {r['n_ex']}->{r['n_out']}", pngdir)
 
 
 if __name__ == "__main__":

@@ -15,12 +15,13 @@ PNG_DIR: per case the example and the output structure drawn at its radii.
 # ruff: noqa: E501, E702
 from __future__ import annotations
 
-import os
 import sys
 
 import cv2
 import numpy as np
 from scipy import ndimage as ndi
+
+from ._check_table import print_table
 
 KINDS = ("comb", "partial", "crack", "vessel", "river", "roots")
 SIZES = (200, 300, 380, 450, 600)
@@ -187,19 +188,10 @@ def main(argv=None) -> None:
     seeds = [int(s) for s in argv[0].split(",")] if argv else [0, 1, 2]
     kinds = argv[1].split(",") if len(argv) > 1 else list(KINDS)
     pngdir = argv[2] if len(argv) > 2 else None
-    if pngdir:
-        os.makedirs(pngdir, exist_ok=True)
     keys = ("nb", "len", "thin_ex", "thin_out", "thick_ex", "thick_out", "top_ex", "top_out", "hd", "out", "out15",
             "tend_ex", "tend_out", "far_ex", "far_out")
-    for kind in kinds:
-        rows = []
-        for s in seeds:
-            size = SIZES[(s + KINDS.index(kind)) % len(SIZES)]
-            png = os.path.join(pngdir, f"{kind}_{size}_{s}.png") if pngdir else None
-            r = case(kind, size, s, png)
-            rows.append(r)
-            print(f"{kind:8s} {size:4d} {s}  nb {r['nb_ex']:3d}->{r['nb_out']:3d} " + " ".join(f"{k}={r[k]:.2f}" for k in keys), flush=True)
-        print(f"MEAN {kind:8s} " + " ".join(f"{k}={np.mean([r[k] for r in rows]):.2f}" for k in keys), flush=True)
+    print_table(kinds, seeds, lambda kind, s: SIZES[(s + KINDS.index(kind)) % len(SIZES)], case, keys,
+                lambda r: f"nb {r['nb_ex']:3d}->{r['nb_out']:3d}", pngdir)
 
 
 if __name__ == "__main__":

@@ -1,0 +1,39 @@
+"""The table the branching check scripts print: one row per kind and seed, then each kind's means.
+
+Shared by :mod:`._root_sides_check`, :mod:`._thin_children_check` and :mod:`._band_check`
+(private measurement scripts, not part of the API).
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable
+
+import numpy as np
+
+
+def print_table(kinds, seeds, size_of: Callable, case: Callable, keys, head: Callable,
+                pngdir: str | None = None, width: int = 8) -> None:
+    """Run ``case(kind, size_of(kind, seed), seed, png)`` for every kind and seed and print its
+    figures ``keys`` (after ``head(row)``), then the mean of each figure per kind.
+
+    Examples
+    --------
+    >>> print_table(["a"], [0], lambda k, s: 8, lambda k, n, s, png: {"x": n + s}, ("x",),
+    ...             lambda r: "row")
+    a           8 0  row x=8.00
+    MEAN a        x=8.00
+    """
+    if pngdir:
+        os.makedirs(pngdir, exist_ok=True)
+    for kind in kinds:
+        rows = []
+        for s in seeds:
+            size = size_of(kind, s)
+            png = os.path.join(pngdir, f"{kind}_{size}_{s}.png") if pngdir else None
+            r = case(kind, size, s, png)
+            rows.append(r)
+            print(f"{kind:{width}s} {size:4d} {s}  {head(r)} " + " ".join(f"{k}={r[k]:.2f}" for k in keys),
+                  flush=True)
+        print(f"MEAN {kind:{width}s} " + " ".join(f"{k}={np.mean([r[k] for r in rows]):.2f}" for k in keys),
+              flush=True)
