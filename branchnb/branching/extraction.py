@@ -254,15 +254,27 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
     # a drawn border between two inside regions of different colours (two countries) is no branch either
     if rgb.shape[:2] == skel.shape:
         skel &= ~region_border_pixels(skel, rgb, 4 * p.sigma_max, reach=2 * p.sigma_max + 4)
-    if p.false_ridges and lines is gray and skel.any() and \
-            np.median((work - ndi.gaussian_filter(work, 3 * p.sigma_max))[skel]) > 0:
-        # photographs: edges of lit regions and rows of separate lights are no lines (beyond the paper);
-        # only where the traced lines are brighter than their ground (the filter's polarity may say
-        # otherwise); dark lines are left alone (a crack with a lit rim is one-sided, its darkness
-        # intermittent)
+    if p.false_ridges and skel.any():
         from .line_profiles import false_ridge_pixels
 
-        skel &= ~false_ridge_pixels(work, skel, "bright", sigma_min=p.sigma_min, sigma_max=p.sigma_max)
+        if lines is not gray:
+            # a line colour traced on a photo: the edge between a darker and a lighter field has a little
+            # of the line colour on its darker side only, and the hysteresis joins those edges to the
+            # lines (a grid of field edges hanging off a river). A line has its colour against both sides
+            lines_w = rescale(lines, p.scale, anti_aliasing=True) if p.scale < 1 else lines
+            skel &= ~false_ridge_pixels(lines_w, skel, "bright", sigma_min=p.sigma_min, sigma_max=p.sigma_max,
+                                        dotted=np.inf, beads=0.0)
+        elif np.median((work - ndi.gaussian_filter(work, 3 * p.sigma_max))[skel]) > 0:
+            # photographs: edges of lit regions and rows of separate lights are no lines (beyond the paper);
+            # only where the traced lines are brighter than their ground (the filter's polarity may say
+            # otherwise)
+            skel &= ~false_ridge_pixels(work, skel, "bright", sigma_min=p.sigma_min, sigma_max=p.sigma_max)
+        else:
+            # dark lines: the step between a darker and a lighter field (a photo's fields, tiles, shading) is
+            # no line either, it is as dark as its darker side; only that test (a crack's darkness is
+            # intermittent, a dotted test would cut it)
+            skel &= ~false_ridge_pixels(work, skel, "dark", sigma_min=p.sigma_min, sigma_max=p.sigma_max,
+                                        dotted=np.inf, beads=0.0, local=2.0 * p.sigma_max)
     if p.radius == "fwhm":
         lines_w = rescale(lines, p.scale, anti_aliasing=True) if p.scale < 1 and lines is not gray else \
             (work if lines is gray else lines)

@@ -56,7 +56,7 @@ def _hessian_across(gray: np.ndarray, sigmas) -> tuple[np.ndarray, ...]:
 
 def false_ridge_pixels(gray, skeleton, polarity: str, *, sigma_min: float = 1.0, sigma_max: float = 4.0,
                        two_sided: float = 0.3, dotted: float = 0.3, beads: float = 0.3,
-                       min_run: int = 10) -> np.ndarray:
+                       min_run: int = 10, local: float = 0.0) -> np.ndarray:
     """Skeleton pixels on stretches that are an edge or a row of dots, not a line.
 
     The skeleton is cut at its junctions into stretches; a stretch of at least ``min_run`` pixels
@@ -94,6 +94,12 @@ def false_ridge_pixels(gray, skeleton, polarity: str, *, sigma_min: float = 1.0,
         Shorter stretches (at junctions, at bends) are always kept; the one-sided test
         needs at least ``5 sigma_max`` pixels (short links in the glow between two bright
         lines stand out from one side only).
+    local : float, default 0.0
+        If > 0, the one-sided test also runs on every skeleton pixel with the medians taken
+        over the skeleton pixels within ``local`` pixels instead of over its stretch: the
+        skeleton of an edge between two noisy fields has a spur every few pixels, so its
+        stretches are all shorter than ``min_run`` (beyond the paper; meant for dark lines,
+        which have no glow).
 
     Returns
     -------
@@ -135,15 +141,45 @@ def false_ridge_pixels(gray, skeleton, polarity: str, *, sigma_min: float = 1.0,
     ux, uy = nx[yy, xx], ny[yy, xx]
     idx = np.arange(1, n + 1)
     meds = []
-    for d in (2.0, 3.0, 4.5, 6.0, 8.0, 12.0):
-        if d > max(3.0, 3.0 * sigma_max) + 1e-9:
-            break
+    ratio_d = [d for d in (2.0, 3.0, 4.5, 6.0, 8.0, 12.0) if d <= max(3.0, 3.0 * sigma_max) + 1e-9]
+    if local > 0:
+        sy_, sx_ = np.nonzero(sk)
+        nxs, nys = nx[sy_, sx_], ny[sy_, sx_]
+    for d in ratio_d:
         a = ndi.map_coordinates(gs, [yy + d * uy, xx + d * ux], order=1, mode="nearest") * sign
         b = ndi.map_coordinates(gs, [yy - d * uy, xx - d * ux], order=1, mode="nearest") * sign
         t = c - np.maximum(a, b)
         o = c - np.minimum(a, b)
         meds.append(np.asarray(ndi.median(np.where(o > 1e-3, t / np.maximum(o, 1e-3), -1.0), ll, idx)))
     meds = np.array(meds)
+    if local > 0:
+        # each pixel's ratio averaged with its neighbours *along the skeleton* (a diffusion on its
+        # pixels, about ``local`` px each way): a window would mix in the parallel lines nearby
+        sy, sx = np.nonzero(sk)
+        skf = sk.astype(np.float64)
+        den = ndi.convolve(skf, _NEIGH.astype(np.float64), mode="constant")[sy, sx]
+        loc = []
+        for dd in ratio_d:
+            a = ndi.map_coordinates(gs, [sy + dd * nys, sx + dd * nxs], order=1, mode="nearest") * sign
+            b = ndi.map_coordinates(gs, [sy - dd * nys, sx - dd * nxs], order=1, mode="nearest") * sign
+            cc = gs[sy, sx] * sign
+            t = cc - np.maximum(a, b)
+            o = cc - np.minimum(a, b)
+            rmap = np.zeros(sk.shape)
+            rmap[sy, sx] = np.clip(np.where(o > 1e-3, t / np.maximum(o, 1e-3), -1.0), -1.0, 1.0)
+            for _ in range(int(np.ceil(local))):
+                rmap[sy, sx] = ndi.convolve(rmap, _NEIGH.astype(np.float64), mode="constant")[sy, sx] / den
+            loc.append(rmap[sy, sx])
+        loc = np.array(loc)
+        loc_score = np.max(np.minimum(loc[:-1], loc[1:]), axis=0) if len(loc) > 1 else loc[0]
+        low = np.zeros(sk.shape, bool)
+        low[sy[loc_score < two_sided], sx[loc_score < two_sided]] = True
+        # a short low run is where a line meets or crosses another (its ratio sees the other line):
+        # dropped, it would cut the line into pieces too short to keep
+        lab_low, n_low = ndi.label(low, structure=np.ones((3, 3)))
+        long_run = np.bincount(lab_low.ravel(), minlength=n_low + 1) >= 2.0 * local
+        long_run[0] = False
+        out |= long_run[lab_low]
     # two-sided at two neighbouring distances (just beyond the line's own width, whatever it is)
     med_score = np.zeros(n + 1)
     med_score[1:] = np.max(np.minimum(meds[:-1], meds[1:]), axis=0)
@@ -182,5 +218,5 @@ def false_ridge_pixels(gray, skeleton, polarity: str, *, sigma_min: float = 1.0,
     # short stretches in a glow between two bright lines are one-sided too: only long edges count
     drop = ((size >= max(min_run, 5.0 * sigma_max)) & (med_score < two_sided)) | ((size >= min_run) & dots)
     drop[0] = False
-    out[yy, xx] = drop[ll]
+    out[yy, xx] |= drop[ll]
     return out
