@@ -131,7 +131,11 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         (:func:`~branchnb.branching.ridges.multi_colour_ink`). Drawn strokes broken
         at junctions and at the over-and-under crossings of an interlace are
         joined where their directions continue (``join_gaps``, see
-        :func:`~branchnb.branching.stroke_joins.find_stroke_joins`).
+        :func:`~branchnb.branching.stroke_joins.find_stroke_joins`). In
+        photographs (``false_ridges``), beyond the paper, the step between a
+        darker and a lighter patch of ground (fields, tiles, a shading step) is
+        no line: a traced stretch as dark as the ground on one of its sides is
+        dropped (:func:`~branchnb.branching.line_profiles.false_ridge_pixels`).
     mask : (H, W) bool array_like, optional
         Only look inside this region.
     return_maps : bool, default False
