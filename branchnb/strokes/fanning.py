@@ -153,14 +153,14 @@ def _fanned_maps(index, attached, carried, window: float) -> list[np.ndarray]:
     for i, pi, s_t in carried:
         part, pair = index.parts[pi], attached[i]
         fwd = rigid_frame(pair.source, pair.target, part.s, s_t, window=window)
-        pivot = pair.target.point_at(s_t)
-        tangent = float(pair.target.angle_at(s_t, window=window))
+        pivot = pair.target._point_at(s_t)
+        tangent = float(pair.target._angle_at(s_t, window))
         placed.append(_Placed(part, fwd, pivot, tangent))
     rigid = [p.forward for p in placed]
     if not placed:
         return rigid
     near = _near_pairs(placed, carried)
-    over = _colliding(placed, near)
+    over, excess = _colliding(placed, near)
     if not over:
         return rigid
     # the chains of siblings (one carrying pair, one side, by attachment) holding a collision
@@ -180,13 +180,13 @@ def _fanned_maps(index, attached, carried, window: float) -> list[np.ndarray]:
             g = _separation(placed[k], placed[l], sk)
             rows.append((k, l, sk, sl, g))
         before = [p.angle for p in placed]
-        excess = _excess(placed, near)
         _solve(placed, active, rows, links)
-        if _excess(placed, near) > excess:
+        still, now = _colliding(placed, near)
+        if now > excess:
             for p, a in zip(placed, before):  # a round that made things worse is undone
                 p.angle = a
             break
-        still = _colliding(placed, near)
+        excess = now
         if not still:
             break
         new = {tuple(sorted(p)) for p in still} - cons
@@ -238,28 +238,53 @@ def _allowed(a: _Placed, b: _Placed) -> float:
     return got
 
 
-def _collide(a: _Placed, b: _Placed) -> bool:
-    return _overlap(a, b) > _allowed(a, b) or _overlap(b, a) > _allowed(b, a)
-
-
-def _colliding(placed, pairs) -> list[tuple[int, int]]:
-    """The ``pairs`` of placed parts that collide (their boxes first: most lie apart)."""
+def _colliding(placed, pairs) -> tuple[list[tuple[int, int]], float]:
+    """The ``pairs`` of placed parts that collide, and the sum over them of the share of points closer
+    than allowed (both ways)."""
     if not pairs:
-        return []
-    boxes = np.array([np.r_[p.points().min(axis=0), p.points().max(axis=0)] for p in placed])
-    k, m = np.array(pairs).T
-    reach = 2 * _CLEAR + 1
-    meet = ((boxes[k, :2] <= boxes[m, 2:] + reach) & (boxes[m, :2] <= boxes[k, 2:] + reach)).all(axis=1)
-    return [(int(a), int(b)) for a, b, ok in zip(k, m, meet) if ok and _collide(placed[a], placed[b])]
+        return [], 0.0
+    counts = _counts(placed)
+    out, excess = [], 0.0
+    for i, j in pairs:
+        a, b = placed[i], placed[j]
+        if counts[i, j] <= _OVERLAP * a.n and counts[j, i] <= _OVERLAP * b.n:
+            continue  # (no more than any pair may have: the source's share is not needed)
+        ea = counts[i, j] - _allowed(a, b)
+        eb = counts[j, i] - _allowed(b, a)
+        if ea > 0 or eb > 0:
+            out.append((i, j))
+            excess += max(ea, 0.0) / a.n + max(eb, 0.0) / b.n
+    return out, excess
 
 
-def _excess(placed, pairs) -> float:
-    """Sum over ``pairs`` of the share of points closer than allowed (both ways)."""
-    total = 0.0
-    for k, m in _colliding(placed, pairs):
-        a, b = placed[k], placed[m]
-        total += max(_overlap(a, b) - _allowed(a, b), 0) / a.n + max(_overlap(b, a) - _allowed(b, a), 0) / b.n
-    return total
+def _counts(placed) -> np.ndarray:
+    """``c[k, l]``: points of part ``k`` within the clearance of part ``l`` (all pairs at once: each
+    part's grown pixels are one bit of a shared canvas, 63 parts a canvas)."""
+    n = len(placed)
+    pts = [p.points() for p in placed]
+    allp = np.vstack(pts)
+    x0, y0 = np.floor(allp.min(axis=0)).astype(int) - 3 - _CLEAR
+    x1, y1 = np.ceil(allp.max(axis=0)).astype(int) + 4 + _CLEAR
+    box = (int(x0), int(y0), int(x1 - x0), int(y1 - y0))
+    out = np.zeros((n, n), np.int64)
+    q = [np.rint(p - (x0, y0)).astype(np.intp) for p in pts]
+    for g0 in range(0, n, 63):
+        group = range(g0, min(g0 + 63, n))
+        bits = np.zeros((box[3], box[2]), np.int64)
+        for j in group:
+            p = placed[j]
+            lo = np.floor(pts[j].min(axis=0)).astype(int) - 2 - _CLEAR
+            hi = np.ceil(pts[j].max(axis=0)).astype(int) + 3 + _CLEAR
+            sub = (int(lo[0]), int(lo[1]), int(hi[0] - lo[0]), int(hi[1] - lo[1]))
+            ras = p.raster(sub)
+            r0, c0 = sub[1] - y0, sub[0] - x0
+            bits[r0:r0 + sub[3], c0:c0 + sub[2]] |= ras.astype(np.int64) << (j - g0)
+        shifts = np.arange(len(group), dtype=np.int64)
+        for k in range(n):
+            vals = bits[q[k][:, 1], q[k][:, 0]]
+            out[k, g0:g0 + len(group)] = ((vals[:, None] >> shifts) & 1).sum(axis=0)
+    np.fill_diagonal(out, 0)
+    return out
 
 
 def _away(a: _Placed, b: _Placed) -> float:

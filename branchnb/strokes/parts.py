@@ -496,8 +496,9 @@ def rigid_frame(source, target, s_source: float, s_target: float, *, window: flo
     >>> np.round(m @ [4.0, 1.0, 1.0], 6).tolist()
     [4.0, 9.0]
     """
-    ps, pt = source.point_at(s_source), target.point_at(s_target)
-    th = float(target.angle_at(s_target, window=window)) - float(source.angle_at(s_source, window=window))
+    # (the strokes' unchecked accessors: called for every carried part, the same values)
+    ps, pt = source._point_at(s_source), target._point_at(s_target)
+    th = float(target._angle_at(s_target, window)) - float(source._angle_at(s_source, window))
     c, s = np.cos(th), np.sin(th)
     rot = np.array([[c, -s], [s, c]])
     return np.hstack([rot, (pt - rot @ ps)[:, None]])
