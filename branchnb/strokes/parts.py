@@ -26,7 +26,11 @@ paper) those parts stay, so an edit changes only what the user touched:
    corresponding arc length. The part brings a *base* along, the parent's
    object pixels near the contact, so that the graph cut stitches it into
    the parent like any patch. A part hanging between two stroked parts
-   follows the one it touches more (rigidly; it is not bent).
+   follows the one it touches more (rigidly; it is not bent). Where the
+   target bends the parent so that carried siblings would collide (a
+   fern's pinnae on the inner side of the bend), they are turned apart
+   about their attachments, as evenly as the chain of siblings allows
+   (:mod:`~branchnb.strokes.fanning`).
 
 ``StrokeEditParams.unstroked = "drop"`` keeps the paper's output: parts
 nobody stroked are left out (their cut faces get the object's outline,
