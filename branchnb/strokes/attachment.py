@@ -5,7 +5,8 @@ parts beyond the paper: a branch drawn from its parent's centre line starts
 where it leaves the new parent's silhouette (:func:`_align_exits`), moved
 source strokes are slid onto the middle of their part (:func:`_centred_pairs`,
 :mod:`~branchnb.strokes.centring`), and the parts nobody stroked are carried
-rigidly by the stroke they hang from (:func:`_carried_parts`).
+rigidly by the stroke they hang from (:func:`_carried_parts`; fanned apart where
+they would collide, :mod:`~branchnb.strokes.fanning`).
 """
 
 from __future__ import annotations

@@ -26,7 +26,11 @@ paper) those parts stay, so an edit changes only what the user touched:
    corresponding arc length. The part brings a *base* along, the parent's
    object pixels near the contact, so that the graph cut stitches it into
    the parent like any patch. A part hanging between two stroked parts
-   follows the one it touches more (rigidly; it is not bent).
+   follows the one it touches more (rigidly; it is not bent). Where the
+   target bends the parent so that carried siblings would collide (a
+   fern's pinnae on the inner side of the bend), they are turned apart
+   about their attachments, as evenly as the chain of siblings allows
+   (:mod:`~branchnb.strokes.fanning`).
 
 ``StrokeEditParams.unstroked = "drop"`` keeps the paper's output: parts
 nobody stroked are left out (their cut faces get the object's outline,
@@ -496,8 +500,9 @@ def rigid_frame(source, target, s_source: float, s_target: float, *, window: flo
     >>> np.round(m @ [4.0, 1.0, 1.0], 6).tolist()
     [4.0, 9.0]
     """
-    ps, pt = source.point_at(s_source), target.point_at(s_target)
-    th = float(target.angle_at(s_target, window=window)) - float(source.angle_at(s_source, window=window))
+    # (the strokes' unchecked accessors: called for every carried part, the same values)
+    ps, pt = source._point_at(s_source), target._point_at(s_target)
+    th = float(target._angle_at(s_target, window)) - float(source._angle_at(s_source, window))
     c, s = np.cos(th), np.sin(th)
     rot = np.array([[c, -s], [s, c]])
     return np.hstack([rot, (pt - rot @ ps)[:, None]])

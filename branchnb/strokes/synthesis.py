@@ -18,6 +18,7 @@ from scipy.spatial import cKDTree
 from .composition import PlacedPatch, compose, labelling_cost, seam_mask
 from .crotches import _child_width, new_crotches, round_crotches
 from .edit import FETCH_FIELDS, EditPatches, StrokeEditParams, StrokeEditResult, StrokeSamples, _check_edit_params
+from .fanning import _fanned_maps
 from .joints import _refill_vacated_roots, close_hairlines, hold_joint_bodies, joint_disks, joint_roots
 from .junctions import far_side
 from .outline import (
@@ -131,10 +132,10 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
         jn.parent_s))) + 4.0, _pocket(index, jn) if _turned(attached, jn, window) else None, jn)
               for jn in junctions]
     # The parts nobody stroked, each carried rigidly by its stroke (after all strokes).
-    for i, pi, s_t in patches._carried:
+    # (turned apart about their attachments where the parent's bend makes them collide)
+    for (i, pi, s_t), fwd in zip(patches._carried, _fanned_maps(index, attached, patches._carried, window)):
         part, pair = index.parts[pi], attached[i]
-        got = place_part(part, index.premult, rigid_frame(pair.source, pair.target, part.s, s_t,
-                                                          window=window), target_shape)
+        got = place_part(part, index.premult, fwd, target_shape)
         if got is None:
             continue
         pix, valid, _, origin, inverse = got
