@@ -39,6 +39,7 @@ from .analysis_induce import (  # noqa: F401  (importable from here as before)
     _outline_in_layer,
     _own_cdf,
     _own_delta,
+    _pinholes,
     _progress,
     _ridge_extension,
     _snapped,
@@ -482,7 +483,9 @@ def analyze(exemplars, training_index: int, layers, params: InductionParams | No
             if not isinstance(name, str) or not name.strip() or name == "blade":
                 raise ValueError(f"layers: {name!r} is not a layer name (a non-empty str; 'blade' is the "
                                  "background's)")
-            m = _shift_mask(m, offsets[t], blades[t].shape, f"layers[{name!r}]") & blades[t] & ~taken
+            m = _shift_mask(m, offsets[t], blades[t].shape, f"layers[{name!r}]")
+            # A stroke across the matte's pinholes stays one stroke (see analysis_induce._pinholes).
+            m = m & (blades[t] | _pinholes(blades[t], m)) & ~taken
             if not m.any():
                 raise ValueError(f"layers[{name!r}] selects no pixel of the training leaf's blade")
             masks[name] = m
