@@ -496,7 +496,11 @@ def _pinholes(blade, layer) -> np.ndarray:
     """The blade's holes narrower than the layer (inscribed disc no wider than its width, 3 px at least).
 
     Matte pinholes and specular dots of a photographed leaf, not its real
-    holes (wider, or cut through by the user's stroke anyway).
+    holes (wider). The user's layer keeps its pixels in them: maple_leaf_04's
+    hand-traced veins, cut into 3 pieces by its 334 pinholes, as the training
+    leaf: induced-vein IoU on maples 01/02/03/05/06 0.68/0.71/0.69/0.70/0.64
+    -> 0.77/0.82/0.73/0.76/0.71, but on 07 0.49 -> 0.36 (the whole template's
+    junction lands on 07's dark hole rim above its own).
     """
     from .induction import layer_width
     holes = ndi.binary_fill_holes(blade) & ~blade
