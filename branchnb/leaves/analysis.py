@@ -39,11 +39,13 @@ from .analysis_induce import (  # noqa: F401  (importable from here as before)
     _outline_in_layer,
     _own_cdf,
     _own_delta,
+    _pinholes,
     _progress,
     _ridge_extension,
     _snapped,
     _under_induced,
     _unmatched,
+    _without_dots,
     induce,
     registration_tolerance,
     thin_width,
@@ -339,7 +341,8 @@ def _retuned(analysis, changes):
     taken = [np.zeros_like(b) for b in a.blades]
     layers = []
     for old in a.layers:
-        user = a.training.masks[old.name] & a.blades[t]
+        user = a.training.masks[old.name]
+        user = user & (a.blades[t] | _pinholes(a.blades[t], user))
         lam, overlap, combined, delta, tr_iou = _combine(old.colour, old.distance, lengths, tolerance, params,
                                                          a.blades, a.registrations, t, user)
         masks = []
@@ -348,6 +351,8 @@ def _retuned(analysis, changes):
                                                     taken[e], centred=old.centred)
             if e != t and old.contrast is not None and old.contrast[e] is not None and tr_iou >= COLOUR_RELIABLE:
                 m = trim_by_contrast(without_blobs(m, user, a.blades[t], a.blades[e]), old.contrast[e])
+            if e != t and old.snapped is not None:
+                m = _without_dots(m, layer_width(user))
             taken[e] |= m
             masks.append(m)
         layers.append(dataclasses.replace(old, lam=lam, liberal_overlap=overlap, delta=delta,
@@ -482,7 +487,9 @@ def analyze(exemplars, training_index: int, layers, params: InductionParams | No
             if not isinstance(name, str) or not name.strip() or name == "blade":
                 raise ValueError(f"layers: {name!r} is not a layer name (a non-empty str; 'blade' is the "
                                  "background's)")
-            m = _shift_mask(m, offsets[t], blades[t].shape, f"layers[{name!r}]") & blades[t] & ~taken
+            m = _shift_mask(m, offsets[t], blades[t].shape, f"layers[{name!r}]")
+            # A stroke across the matte's pinholes stays one stroke (see analysis_induce._pinholes).
+            m = m & (blades[t] | _pinholes(blades[t], m)) & ~taken
             if not m.any():
                 raise ValueError(f"layers[{name!r}] selects no pixel of the training leaf's blade")
             masks[name] = m
