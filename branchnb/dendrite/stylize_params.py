@@ -200,6 +200,14 @@ SMALL_ENDPOINT_POWER = 1.25
 SMALL_WIDTH_POWER = 0.45
 
 
+def _spacing_growth(scale: float) -> float:
+    """How much wider than on the 512-px picture the branches are spaced, in lattice px, on an
+    image of ``scale`` image px per lattice px: ``n_endpoints`` falls by ``scale **
+    SMALL_ENDPOINT_POWER`` below 1, and tips spread over the same area are spaced by the
+    square root of the count. 1 at ``scale >= 1``."""
+    return float(min(scale, 1.0) ** (-0.5 * SMALL_ENDPOINT_POWER))
+
+
 def effective_params(p: StylizeParams, scale: float) -> StylizeParams:
     """The parameters a stylization drawn at ``scale`` image px per lattice px really uses.
 
@@ -278,7 +286,7 @@ def effective_params(p: StylizeParams, scale: float) -> StylizeParams:
     lo = min(max(p.min_width, p.output_width / min(scale, 1.0)), 10.0)
     if scale >= 1.0:
         return _within_range(p, min_width=lo, max_width=max(p.max_width, 2.0 * lo))
-    grow = scale ** -0.75  # the branch spacing, in lattice px, grows by this
+    grow = _spacing_growth(scale)  # the branch spacing, in lattice px, grows by this
     # the widest strokes (the outline: most important) must not outgrow the branch
     # spacing, or a small input reads as a heavy outline round a sparse scribble
     return _within_range(
