@@ -25,7 +25,9 @@ darkness. With ``A(x)`` the ink per unit area of the current strokes
 the blurred darkness, lines of total area ``A`` cover about
 ``1 - exp(-A)`` of the paper (strokes combine by maximum coverage), so
 every node's width is multiplied by ``(-ln(1 - T) / A) ** strength`` a few
-times, clipped to ``[min_width, max_width]``. ``strength = 0`` keeps the
+times, clipped to ``[min_width, max_width]``. Both blurs run on a grid
+``sigma / 4`` times coarser than the lattice (:func:`_smooth_at`; within a few
+percent of the full blur, which cost most of a small image's run). ``strength = 0`` keeps the
 importance emphasis, ``1`` matches the tone; in between the edges stay
 thicker than their surroundings while dark regions fill in.
 """
