@@ -262,7 +262,7 @@ def effective_params(p: StylizeParams, scale: float) -> StylizeParams:
     photo 1.04 / 1.03; 1500 px within 1 % of 750 px. The ink maps of the
     tone match and the pruning are blurred on a grid ``sigma / 4`` times coarser
     (:func:`~branchnb.dendrite.thickness._smooth_at`), so a 200-250 px image
-    takes 1.0-1.1x the CPU of the same picture at 750 px (1.4-1.6x with the full
+    takes 0.9-1.25x the CPU of the same picture at 750 px (1.3-1.6x with the full
     blurs, same runs).
 
     Parameters
