@@ -200,6 +200,14 @@ SMALL_ENDPOINT_POWER = 1.25
 SMALL_WIDTH_POWER = 0.45
 
 
+def _spacing_growth(scale: float) -> float:
+    """How much wider than on the 512-px picture the branches are spaced, in lattice px, on an
+    image of ``scale`` image px per lattice px: ``n_endpoints`` falls by ``scale **
+    SMALL_ENDPOINT_POWER`` below 1, and tips spread over the same area are spaced by the
+    square root of the count. 1 at ``scale >= 1``."""
+    return float(min(scale, 1.0) ** (-0.5 * SMALL_ENDPOINT_POWER))
+
+
 def effective_params(p: StylizeParams, scale: float) -> StylizeParams:
     """The parameters a stylization drawn at ``scale`` image px per lattice px really uses.
 
@@ -213,7 +221,9 @@ def effective_params(p: StylizeParams, scale: float) -> StylizeParams:
     On an image smaller than the lattice (``scale < 1``) the branches would no
     longer fit between one another, so the endpoint count falls to
     ``n_endpoints * scale ** 1.25`` (``SMALL_ENDPOINT_POWER``), ``tone_sigma``
-    grows as the branch spacing does, by ``scale ** -0.75``, and ``max_width``
+    grows as the branch spacing does, by ``scale ** -0.625`` (``_spacing_growth``;
+    with ``-0.75`` the tone match averaged a 250-px object's outline with a wider
+    share of its interior than at 750 px), and ``max_width``
     by ``scale ** -0.45`` (``SMALL_WIDTH_POWER``; 0.3 left a 224-px night
     scene too pale, tone r 0.58). With the earlier 1.5 and
     0.75 the widest strokes, the object's outline, grew with the spacing: a
@@ -221,7 +231,11 @@ def effective_params(p: StylizeParams, scale: float) -> StylizeParams:
     scribble, the same object at 750 px as a dense texture with a thin outline
     (ink of an 8-px band along the outline over the interior's, both shown at
     400 px, 250 against 750 px: mid-grey body 1.37 against 1.07, now 1.25;
-    dark outlined 1.09 -> 1.01 against 1.00).
+    dark outlined 1.09 -> 1.01 against 1.00). The rest of that excess was the
+    outline's extra width (``edges``), grown with the texture's strokes:
+    :meth:`Stylizer._edge_gain` scales it back (mid-grey 1.31 -> 1.16 against
+    1.12, outlined 1.40 -> 1.26 against 1.31, gradient 1.38 -> 1.25 against 1.21;
+    ``python -m branchnb.dendrite._small_check``).
     Falling with ``scale`` alone left small inputs too dark (a maple leaf at
     200 px carried 1.44x the ink of the same leaf at 1000 px: the 1-px floor
     kept most strokes wider than the tone match asked for); falling with the
@@ -245,9 +259,11 @@ def effective_params(p: StylizeParams, scale: float) -> StylizeParams:
     the star's line under 1 px at 150), rope 1.12 / 1.13 (1.47 / 1.18), maple
     photo 1.03 / 0.97 (1.27 / 1.10), lizard 1.09 / 1.03 (1.16 / 1.09), clip-art
     tree 1.05 / 1.01, filled star 0.97 / 0.96, coffee photo 1.02 / 1.02, a night
-    photo 1.04 / 1.03; 1500 px within 1 % of 750 px. The blurs of the ink
-    maps are evaluated at the nodes only (bit for bit scipy's), so a 150-250 px
-    image takes 0.4-1.1 s of CPU in all (1.0-1.8 s before).
+    photo 1.04 / 1.03; 1500 px within 1 % of 750 px. The ink maps of the
+    tone match and the pruning are blurred on a grid ``sigma / 4`` times coarser
+    (:func:`~branchnb.dendrite.thickness._smooth_at`), so a 200-250 px image
+    takes 0.9-1.25x the CPU of the same picture at 750 px (1.3-1.6x with the full
+    blurs, same runs).
 
     Parameters
     ----------
@@ -278,7 +294,7 @@ def effective_params(p: StylizeParams, scale: float) -> StylizeParams:
     lo = min(max(p.min_width, p.output_width / min(scale, 1.0)), 10.0)
     if scale >= 1.0:
         return _within_range(p, min_width=lo, max_width=max(p.max_width, 2.0 * lo))
-    grow = scale ** -0.75  # the branch spacing, in lattice px, grows by this
+    grow = _spacing_growth(scale)  # the branch spacing, in lattice px, grows by this
     # the widest strokes (the outline: most important) must not outgrow the branch
     # spacing, or a small input reads as a heavy outline round a sparse scribble
     return _within_range(
