@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..core.structure import Structure
+from .delta_fan import head_share  # noqa: F401  (moved; read from here by the growers and tests)
 from .roots import outlet_starts
 
 if TYPE_CHECKING:
@@ -214,6 +215,10 @@ FAN_CHILD = 0.5
 #: the way to the example's mouths gets its score times ``exp(-TRUNK_HOLD a)`` (beyond the paper; issue 23,
 #: branching58). ``exp(kappa cos a)`` alone let a trunk entering through a side of the frame run along it.
 TRUNK_HOLD = 8.0
+#: ... and a channel takes one of the example's headings at the sea at least 0.9 x the smallest gap between
+#: them off its parent's (at most FAN_SPLIT, at least this): with FAN_SPLIT alone a trunk's children could
+#: take only the outermost of headings 17-22 degrees apart and bunched there (fan 38 against 21 degrees).
+FAN_SPLIT_MIN = float(np.radians(10.0))
 
 
 class _Drain:
@@ -307,29 +312,19 @@ class _Drain:
         return float(np.arctan2(d[1], d[0]))
 
     def _pick_offset(self, at, off: float, a_p: float, trunk: bool) -> float | None:
-        """One of the example's headings at the sea (off the axis) for a new channel leaving ``at`` with
-        heading ``off`` from a parent whose way down is ``a_p`` (both off the axis): at least
-        :data:`FAN_SPLIT` off ``a_p``, on the side the channel leaves on (a channel's channel: toward
-        the axis, between its parent and the trunk, as the example's); of those the one given least
-        often so far, the closest to ``off`` among equals. None when none fits."""
+        """:func:`.delta_fan.pick_offset` of the example's headings (None without them), counted as used."""
         if self.offsets is None:
             return None
-        o = self.offsets
-        rel = o - a_p
-        ok = np.abs(rel) >= FAN_SPLIT
-        if trunk or abs(a_p) < FAN_SPLIT:
-            side = 1.0 if off - a_p >= 0 else -1.0
-            ok &= np.sign(rel) == side
-        else:
-            ok &= (np.sign(rel) == -np.sign(a_p)) & ((np.sign(o) == np.sign(a_p)) | (np.abs(o) < FAN_SPLIT))
-        if not ok.any():
+        from .delta_fan import pick_offset
+
+        # channels parting less than FAN_SPLIT where the example's headings lie closer (its smallest gap)
+        gaps = np.diff(self.offsets)
+        split = float(np.clip(0.9 * gaps.min(), FAN_SPLIT_MIN, FAN_SPLIT)) if len(gaps) else FAN_SPLIT
+        k = pick_offset(self.offsets, self.used, off, a_p, trunk, split)
+        if k is None:
             return None
-        cand = np.flatnonzero(ok)
-        u = self.used[cand]
-        cand = cand[u == u.min()]
-        k = int(cand[np.argmin(np.abs(o[cand] - off))])
         self.used[k] += 1.0
-        return float(o[k])
+        return float(self.offsets[k])
 
     def frame_distance(self, pts: np.ndarray) -> np.ndarray:
         """Distance of ``pts`` ((..., 2) x, y) to the nearest side of the frame that cuts the land."""
@@ -366,7 +361,17 @@ class _Drain:
         upstream); where that limit would lay it along its parent's, it takes the parent's other side.
         ``spread`` (radians, the example's outer channels', :func:`fan_spread`): a trunk's child's
         bearing is this far off the descent on the side of ``heading``; a channel's child parts
-        toward the descent, :data:`FAN_CHILD` of the way from its parent's way down."""
+        toward the descent, :data:`FAN_CHILD` of the way from its parent's way down.
+
+        With an axis learned from the example (:meth:`set_axis`; beyond the paper, issue 23, branching58) the
+        angles are taken off the axis instead of the descent, and the bearing is one of the example's own
+        headings at the sea (:meth:`_pick_offset`, the least used so far) when one fits the side and
+        :data:`FAN_SPLIT`; the rule above (``spread`` at most the example's widest heading) only otherwise.
+        Over 5 delta kinds with the trunk 0-55 degrees off the descent x 2 sea sides x 300/512/1024 px x
+        3 seeds (``python -m branchnb.branching._delta_fan_check bottom,left 512,1024 3 OUT CACHE -
+        delta,fan0,fan30,fanm40,fan55``) the trunk's bearing error fell (fan55 300 px 16.8 -> 5.4 degrees,
+        fan30 left 512 px 19.4 -> 4.2, fan0 left 1024 px 20.9 -> 4.1) and a trunk entering through a side
+        of the frame fans like the example (fan55 300 px spread 3.3 -> 23.7 degrees, example 24.0)."""
         a_d = self._ref(at)
         wrap = lambda v: float(np.angle(np.exp(1j * v)))  # noqa: E731
         off = wrap(float(np.arctan2(heading[1], heading[0])) - a_d)
@@ -376,6 +381,9 @@ class _Drain:
             pick = self._pick_offset(at, off, wrap(float(np.arctan2(pd[1], pd[0])) - a_d), parent_fan is None)
             if pick is not None:
                 return self._to_sea(at, a_d, pick)
+            if spread is not None and len(self.offsets):
+                # no heading fits: the old rule, but no wider than the example's widest off the axis
+                spread = min(spread, float(np.abs(self.offsets).max()))
         if parent_fan is None and spread is not None:
             return self._to_sea(at, a_d, spread if off >= 0 else -spread)
         pd = self.way_down(at, parent_fan)
@@ -589,48 +597,6 @@ def fan_spread(example, domain) -> float | None:
         cos = float(c @ d) / max(float(np.hypot(*c)), 1e-9)
         out.append(float(np.arccos(np.clip(cos, -1.0, 1.0))))
     return min(max(out), np.pi / 2) if out else None
-
-
-def head_share(example, domain) -> float:
-    """Where a delta's channels part, as a share of its trunk's depth.
-
-    Beyond the paper (issue 23): the example's distributaries fan out from its head, not from where
-    its trunk enters the image. Fanned from the trunk's start, the channels of a 1000 px delta reached the
-    sea 1-15 degrees apart (circular spread of their last 30 px), against the example's 71.
-
-    Parameters
-    ----------
-    example : Structure
-        The example's structure.
-    domain : (H, W) array_like of bool
-        Where it may grow (the land); depth is the distance to its boundary.
-
-    Returns
-    -------
-    float
-        Depth of the example's first furcation on a root over the depth of that root's start
-        (1 = at the start, 0 at the sea); 0 when no root has a child.
-    """
-    from scipy import ndimage as ndi
-
-    dom = np.asarray(domain, bool)
-    depth = ndi.distance_transform_edt(dom)
-    h, w = dom.shape
-    best = 0.0
-    for i, b in enumerate(example.branches):
-        if b.parent is not None or len(b.points) < 2:
-            continue
-        kids = [c.parent_vertex for c in example.branches if c.parent == i and c.parent_vertex is not None]
-        if not kids:
-            continue
-        p = np.asarray(b.points, np.float64)
-        ix = np.clip(np.rint(p[:, 0]).astype(np.int64), 0, w - 1)
-        iy = np.clip(np.rint(p[:, 1]).astype(np.int64), 0, h - 1)
-        d = depth[iy, ix]
-        if d[0] <= 0:
-            continue
-        best = max(best, float(d[min(int(min(kids)), len(d) - 1)] / d[0]))
-    return best
 
 
 def _shore_margin(model: StructureModel) -> float:
