@@ -137,20 +137,41 @@ def fan_offsets(example: Structure, domain: np.ndarray, axis: np.ndarray) -> np.
     ax = np.asarray(axis, np.float64)
     a0 = float(np.arctan2(ax[1], ax[0]))
     idx, _ends = _mouths(example, depth)
-    out = []
-    for i in idx:
-        p = np.asarray(example.branches[i].points, np.float64)
-        ix = np.clip(np.rint(p).astype(int), 0, [w - 1, h - 1])
-        dv = depth[ix[:, 1], ix[:, 0]]
-        far = np.flatnonzero(dv >= HEADING_INLAND * diag)
-        k = int(far[-1]) if len(far) else len(p) - 1
-        seg = np.r_[0.0, np.cumsum(np.hypot(*np.diff(p[: k + 1], axis=0).T))]
-        j = int(np.searchsorted(seg, seg[-1] - HEADING_BACK * diag))
-        v = p[k] - p[j] if j < k else p[-1] - p[0]
-        if np.hypot(*v) < 1e-9:
-            continue
-        out.append(float(np.angle(np.exp(1j * (np.arctan2(v[1], v[0]) - a0)))))
-    return np.sort(np.asarray(out, np.float64))
+    return np.sort(np.asarray([v for v in (_heading_off(example, i, depth, diag, a0) for i in idx) if v is not None],
+                              np.float64))
+
+
+def root_offset(example: Structure, domain: np.ndarray, axis: np.ndarray) -> float | None:
+    """The heading at the sea (radians off ``axis``, as :func:`fan_offsets`) of the example's longest root;
+    None when it does not reach the sea (the trunk ends at the delta's head)."""
+    dom = np.asarray(domain, bool)
+    depth = ndi.distance_transform_edt(dom)
+    ax = np.asarray(axis, np.float64)
+    roots = [i for i, b in enumerate(example.branches) if b.parent is None and len(b.points) >= 2]
+    idx, _ends = _mouths(example, depth)
+    if not roots:
+        return None
+    r = max(roots, key=lambda i: float(np.hypot(*np.diff(np.asarray(example.branches[i].points, np.float64),
+                                                        axis=0).T).sum()))
+    if r not in idx:
+        return None
+    return _heading_off(example, r, depth, float(np.hypot(*dom.shape)), float(np.arctan2(ax[1], ax[0])))
+
+
+def _heading_off(example: Structure, i: int, depth: np.ndarray, diag: float, a0: float) -> float | None:
+    """Branch ``i``'s heading at the sea (radians off the axis at angle ``a0``; see :func:`fan_offsets`)."""
+    h, w = depth.shape
+    p = np.asarray(example.branches[i].points, np.float64)
+    ix = np.clip(np.rint(p).astype(int), 0, [w - 1, h - 1])
+    dv = depth[ix[:, 1], ix[:, 0]]
+    far = np.flatnonzero(dv >= HEADING_INLAND * diag)
+    k = int(far[-1]) if len(far) else len(p) - 1
+    seg = np.r_[0.0, np.cumsum(np.hypot(*np.diff(p[: k + 1], axis=0).T))]
+    j = int(np.searchsorted(seg, seg[-1] - HEADING_BACK * diag))
+    v = p[k] - p[j] if j < k else p[-1] - p[0]
+    if np.hypot(*v) < 1e-9:
+        return None
+    return float(np.angle(np.exp(1j * (np.arctan2(v[1], v[0]) - a0))))
 
 
 def pick_offset(offsets: np.ndarray, used: np.ndarray, off: float, a_p: float, trunk: bool,

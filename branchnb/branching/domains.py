@@ -219,6 +219,16 @@ TRUNK_HOLD = 8.0
 #: them off its parent's (at most FAN_SPLIT, at least this): with FAN_SPLIT alone a trunk's children could
 #: take only the outermost of headings 17-22 degrees apart and bunched there (fan 38 against 21 degrees).
 FAN_SPLIT_MIN = float(np.radians(10.0))
+#: ... and below the delta's head (:func:`.delta_fan.head_share` of its start's depth) the trunk runs on the
+#: example's root's heading at the sea (:func:`.delta_fan.root_offset`), as the example's root goes on as one
+#: of its channels: run on along the axis, the trunk added a channel in the fan's middle the example did not
+#: have (a 512 px delta: headings at the sea -42/0/22/48 degrees off the axis against the example's -56/22/58).
+#: Off by default: on (``_delta_fan_check bottom,left 300/512 3``) the fan of the ``delta`` kind at 512 px rose
+#: 36.5/33.8 -> 46.9/47.4 degrees (example 50.0/50.2) and fan0 300 px 43.2 -> 34.7 (35.2), but a trunk whose
+#: example root reaches the sea at a shallow angle ran along the coast with a hook at its mouth (fan55 300 px,
+#: spread 23.8 -> 16.5 against 24.0, lowest seed 7.3) and the trunk bearing error of fan0/delta 300 px rose
+#: 3.6/9.1 -> 11.1/12.6 degrees.
+TRUNK_TAIL = False
 
 
 class _Drain:
@@ -280,6 +290,17 @@ class _Drain:
         self.target: np.ndarray | None = None
         self.offsets: np.ndarray | None = None
         self.used: np.ndarray | None = None
+        #: the example's root's heading at the sea off the axis (radians; None: it ends at the head), and the
+        #: depth below which the synthesized trunk takes it (:meth:`set_tail_depth`; None: not yet known)
+        self.tail: float | None = None
+        self.tail_depth: float | None = None
+        self._tail_dir: np.ndarray | None = None
+
+    def set_tail_depth(self, depth: float) -> None:
+        """Below ``depth`` (the delta's head on the synthesized trunk) the trunk takes the example's root's
+        heading at the sea (:data:`TRUNK_TAIL`)."""
+        self.tail_depth = float(depth)
+        self._tail_dir = None
 
     def set_axis(self, example, domain) -> None:
         """Learn the delta's axis and its channels' headings from ``example`` grown in ``domain``.
@@ -290,7 +311,7 @@ class _Drain:
         reached the sea straight across the coast: a delta whose trunk enters 55 degrees off it ran its
         trunk along the frame and its channels in one bundle (fan spread 0-3 degrees against 24).
         """
-        from .delta_fan import delta_axis, fan_offsets
+        from .delta_fan import delta_axis, fan_offsets, root_offset
 
         dom = np.asarray(domain, bool)
         ax = delta_axis(example, dom)
@@ -304,7 +325,10 @@ class _Drain:
         if len(off):
             self.offsets = off
             self.used = np.zeros(len(off))
-            self.used[int(np.argmin(np.abs(off)))] += 1.0   # the trunk's own way to the sea
+            # the trunk's own way to the sea: the example's root's heading there (its tail, below the head)
+            tail = root_offset(example, dom, self.axis) if TRUNK_TAIL else None
+            self.tail = tail
+            self.used[int(np.argmin(np.abs(off - (0.0 if tail is None else tail))))] += 1.0
 
     def _ref(self, at) -> float:
         """Angle of the direction the fan's bearings are measured from: the axis, else the descent."""
@@ -429,7 +453,12 @@ class _Drain:
         else with the direction away from the apex once one is set."""
         at = np.asarray(at, np.float64)
         if fan is None and self.axis is not None:
-            # a trunk heads for the example's mouths (set_axis), along its axis once near them
+            # a trunk heads for the example's mouths (set_axis), along its axis once near them; below the
+            # delta's head on the example's root's heading there (TRUNK_TAIL)
+            if self.tail is not None and self.tail_depth is not None and self.depth_at(at)[0] <= self.tail_depth:
+                if self._tail_dir is None:
+                    self._tail_dir = self._to_sea(at, self._ref(at), self.tail)
+                return self._tail_dir.copy()
             if self.target is not None:
                 r = self.target - at
                 n = float(np.hypot(*r))
