@@ -215,6 +215,11 @@ FAN_CHILD = 0.5
 #: the way to the example's mouths gets its score times ``exp(-TRUNK_HOLD a)`` (beyond the paper; issue 23,
 #: branching58). ``exp(kappa cos a)`` alone let a trunk entering through a side of the frame run along it.
 TRUNK_HOLD = 8.0
+#: ... only when the axis runs at least this far off the descent at the example's trunk start (radians): on
+#: deltas whose trunk runs down the descent (the ``delta`` and ``fan0`` kinds, 1-10 degrees) the axis rules left
+#: a seed's channels on one side of the trunk or in one bundle (fan 1 degree against 45) and thinned trunks, so
+#: there the descent's rules stay (byte-identical structures).
+AXIS_MIN = float(np.radians(15.0))
 #: ... and a channel takes one of the example's headings at the sea at least 0.9 x the smallest gap between
 #: them off its parent's (at most FAN_SPLIT, at least this): with FAN_SPLIT alone a trunk's children could
 #: take only the outermost of headings 17-22 degrees apart and bunched there (fan 38 against 21 degrees).
@@ -319,7 +324,10 @@ class _Drain:
             return
         start, target = ax
         v = target - start
-        self.axis = v / float(np.hypot(*v))
+        axis = v / float(np.hypot(*v))
+        if float(np.arccos(np.clip(axis @ self.descent(start), -1.0, 1.0))) < AXIS_MIN:
+            return   # a trunk along the descent: the descent's rules (tuned on such deltas) stay
+        self.axis = axis
         self.target = target if dom.shape == self.shape else None
         off = fan_offsets(example, dom, self.axis)
         if len(off):
