@@ -215,7 +215,7 @@ FAN_CHILD = 0.5
 #: the way to the example's mouths gets its score times ``exp(-TRUNK_HOLD a)`` (beyond the paper; issue 23,
 #: branching58). ``exp(kappa cos a)`` alone let a trunk entering through a side of the frame run along it.
 TRUNK_HOLD = 8.0
-#: ... only when the axis runs at least this far off the descent at the example's trunk start (radians): on
+#: ... only when the axis runs at least this far off the descent's mean direction along it (radians): on
 #: deltas whose trunk runs down the descent (the ``delta`` and ``fan0`` kinds, 1-10 degrees) the axis rules left
 #: a seed's channels on one side of the trunk or in one bundle (fan 1 degree against 45) and thinned trunks, so
 #: there the descent's rules stay (byte-identical structures).
@@ -325,7 +325,10 @@ class _Drain:
         start, target = ax
         v = target - start
         axis = v / float(np.hypot(*v))
-        if float(np.arccos(np.clip(axis @ self.descent(start), -1.0, 1.0))) < AXIS_MIN:
+        # the descent's mean direction along the axis (at the trunk's start alone a corner turns it)
+        dn = np.mean([self.descent(start + t * v) for t in np.linspace(0.0, 1.0, 17)], axis=0)
+        dn = dn / max(float(np.hypot(*dn)), 1e-9)
+        if float(np.arccos(np.clip(axis @ dn, -1.0, 1.0))) < AXIS_MIN:
             return   # a trunk along the descent: the descent's rules (tuned on such deltas) stay
         self.axis = axis
         self.target = target if dom.shape == self.shape else None
