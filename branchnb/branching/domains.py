@@ -402,12 +402,13 @@ class _Drain:
         angles are taken off the axis instead of the descent, and the bearing is one of the example's own
         headings at the sea (:meth:`_pick_offset`, the least used so far) when one fits the side and
         :data:`FAN_SPLIT`; the rule above (``spread`` at most the example's widest heading) only otherwise.
-        Over 5 delta kinds (the trunk 0-55 degrees off the descent) x 2 sea sides x 300/512/1024 px x 3 seeds
-        (``python -m branchnb.branching._delta_fan_check bottom,left 300,512,1024 3 OUT CACHE -
-        delta,fan0,fan30,fanm40,fan55``, 90 structures) the trunk's bearing error (start to the mouths' mean,
-        against the example's) fell from median 7.9 / max 29.8 to 4.2 / 16.4 degrees and the fan spread's
-        distance from the example's from median 8.7 / max 37.2 to 5.4 / 19.9 (lowest seed per kind: 0-17
-        -> 16-30 degrees; a trunk entering through a side of the frame no longer runs along it)."""
+        Over 3 delta kinds whose trunk runs 25-40 degrees off the descent (fan30, fanm40, fan55) x 2 sea sides
+        x 300/512/1024 px x 3 seeds (``python -m branchnb.branching._delta_fan_check bottom,left 300,512,1024 3
+        OUT CACHE - fan30,fanm40,fan55``, 54 structures) the trunk's bearing error (start to the mouths' mean,
+        against the example's) fell from median 12.7 / max 22.1 to 3.8 / 16.4 degrees and the fan spread's
+        distance from the example's from median 6.4 / max 28.4 to 3.8 / 19.9 (lowest seed per kind 0-10 ->
+        18-22 degrees; a trunk entering through a side of the frame no longer runs along it). Deltas whose
+        trunk runs down the descent (:data:`AXIS_MIN`) are unchanged."""
         a_d = self._ref(at)
         wrap = lambda v: float(np.angle(np.exp(1j * v)))  # noqa: E731
         off = wrap(float(np.arctan2(heading[1], heading[0])) - a_d)
