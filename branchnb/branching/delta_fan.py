@@ -142,8 +142,30 @@ def fan_offsets(example: Structure, domain: np.ndarray, axis: np.ndarray) -> np.
 
 
 def root_offset(example: Structure, domain: np.ndarray, axis: np.ndarray) -> float | None:
-    """The heading at the sea (radians off ``axis``, as :func:`fan_offsets`) of the example's longest root;
-    None when it does not reach the sea (the trunk ends at the delta's head)."""
+    """The heading at the sea (radians off ``axis``, as :func:`fan_offsets`) of the example's longest root.
+
+    Parameters
+    ----------
+    example : Structure
+        The example's structure.
+    domain : (H, W) array_like of bool
+        Where it may grow (the land).
+    axis : (2,) array_like
+        The delta's axis direction (x, y).
+
+    Returns
+    -------
+    float or None
+        None when the root does not reach the sea (the trunk ends at the delta's head).
+
+    Examples
+    --------
+    >>> from branchnb.core.structure import Branch, Structure
+    >>> dom = np.zeros((100, 100), bool); dom[:80] = True
+    >>> s = Structure([Branch([(50, 0), (50, 79)], 2.0)])
+    >>> round(float(np.degrees(root_offset(s, dom, (0.0, 1.0)))))
+    0
+    """
     dom = np.asarray(domain, bool)
     depth = ndi.distance_transform_edt(dom)
     ax = np.asarray(axis, np.float64)
