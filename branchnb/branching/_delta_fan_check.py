@@ -1,15 +1,19 @@
 """Delta figures over orientations, sizes and seeds for issue 23 (branching47).
 
-``python -m branchnb.branching._delta_fan_check SIDES SIZES N [OUT] [CACHE] [MASKS]`` (e.g.
+``python -m branchnb.branching._delta_fan_check SIDES SIZES N [OUT] [CACHE] [MASKS] [KINDS]`` (e.g.
 ``bottom,top,left,right 320,512,1000 3 /tmp/b47/after /tmp/b47/cache -,4``; MASKS the mask seeds, ``-`` for
-``3 + size``) fits the default workflow
+``3 + size``; KINDS ``delta`` (default) and/or kinds of :data:`._delta_examples.FAN_KINDS`, deltas whose trunk
+runs at a known bearing off the way down, e.g. ``delta,fan0,fan30,fanm40,fan55``) fits the default workflow
 (``extract_structure`` -> ``example_domain`` -> ``fit_model``) on the procedural delta mask
-(:func:`._map_examples.delta_mask_example`) turned so its sea lies on side SIDE, synthesizes seeds
-0 .. N - 1 and prints per seed: the fan spread (:func:`._structure_check.sea_bearings_inland`, degrees),
-the chord deviation (:func:`chord_deviation`), the frame share (:func:`frame_share`), crossings, the far
-share over the example's, the channels reaching the sea and the length-weighted median radius over the
-example's; the example's own figures first, a summary line (medians, worst) per case last. Sheets of the
-example and seeds 0-2 go to ``OUT_side_size.png``.
+(:func:`._map_examples.delta_mask_example` or :func:`._delta_examples.delta_fan_mask`) turned so its sea lies
+on side SIDE, synthesizes seeds 0 .. N - 1 and prints per seed: the fan spread
+(:func:`._structure_check.sea_bearings_inland`, degrees), the trunk bearing's error against the example's
+(:func:`trunk_bearing`, degrees), the chord deviation (:func:`chord_deviation`), the frame share
+(:func:`frame_share`), crossings, the far share over the example's, the share of branches ending > 2 x thicker
+than they start (:func:`.measures.thick_end_share`), the channels reaching the sea and the length-weighted
+median radius over the example's; the example's own figures first (with the generator's true bearing for the
+FAN_KINDS), a summary line (medians, worst) per case last. Sheets of the example and seeds 0-2 go to
+``OUT_kind_side_size_mask.png``.
 """
 
 from __future__ import annotations
@@ -22,10 +26,11 @@ import numpy as np
 from scipy import ndimage as ndi
 
 from ._delta_coast_check import crossings, median_radius
+from ._delta_examples import FAN_KINDS, delta_fan_mask
 from ._map_examples import delta_mask_example
 from ._seed_check import _sheet
 from ._structure_check import sea_bearings_inland
-from .measures import far_share
+from .measures import far_share, thick_end_share
 
 
 def turned(mask: np.ndarray, side: str) -> np.ndarray:
@@ -72,6 +77,33 @@ def frame_share(s, shape, sea_side: str, skip: float = 12.0, margin: float = 8.0
     return near / max(total, 1e-9)
 
 
+def trunk_bearing(s, dom: np.ndarray, tol: float = 6.0) -> float:
+    """Bearing (degrees, image x/y) from the start of the longest root to the mean of the ends of the
+    branches that reach the sea (within ``tol`` px of it): where the delta runs from its trunk; nan when
+    none reaches the sea."""
+    d = ndi.distance_transform_edt(dom)
+    h, w = dom.shape
+    roots = [b for b in s.branches if b.parent is None and len(b.points) >= 2]
+    if not roots:
+        return float("nan")
+    root = max(roots, key=lambda b: float(np.hypot(*np.diff(np.asarray(b.points, float), axis=0).T).sum()))
+    ends = []
+    for b in s.branches:
+        if len(b.points) >= 2:
+            x, y = np.clip(np.rint(b.points[-1]).astype(int), 0, [w - 1, h - 1])
+            if d[y, x] <= tol:
+                ends.append(b.points[-1])
+    if not ends:
+        return float("nan")
+    v = np.mean(np.asarray(ends, float), 0) - np.asarray(root.points[0], float)
+    return float(np.degrees(np.arctan2(v[1], v[0])))
+
+
+def bearing_error(a: float, b: float) -> float:
+    """Absolute difference of two bearings in degrees (0-180)."""
+    return float(abs((a - b + 180.0) % 360.0 - 180.0))
+
+
 def n_to_sea(s, dom: np.ndarray, tol: float = 6.0) -> int:
     """Number of branches whose last vertex lies within ``tol`` px of the sea."""
     d = ndi.distance_transform_edt(dom)
@@ -84,17 +116,38 @@ def n_to_sea(s, dom: np.ndarray, tol: float = 6.0) -> int:
     return n
 
 
-def fitted(side: str, size: int, cache: str | None = None, mask_seed: int | None = None):
-    """(image, domain, model) of the delta (mask seed ``mask_seed``, ``3 + size`` when None) with its sea
-    on ``side`` at ``size`` px (default workflow)."""
+def mask_of(kind: str, size: int, mask_seed: int) -> np.ndarray:
+    """The delta mask (sea at the bottom) of ``kind``: ``delta`` or a :data:`._delta_examples.FAN_KINDS` name."""
+    if kind == "delta":
+        return delta_mask_example((size, size), mask_seed)[0]
+    t, c, f, n = FAN_KINDS[kind]
+    return delta_fan_mask((size, size), mask_seed, t, c, f, n)[0]
+
+
+def true_bearing(kind: str, side: str, size: int, mask_seed: int) -> float:
+    """The generator's trunk bearing (degrees, from the trunk's entry to the mouths' mean) after turning."""
+    if kind == "delta":
+        return float("nan")
+    t, c, f, n = FAN_KINDS[kind]
+    _m, _ch, _sea, entry, mouths = delta_fan_mask((size, size), mask_seed, t, c, f, n)
+    v = mouths.mean(0) - entry
+    # turned() as a map of directions (x, y) -> (x', y')
+    v = {"bottom": v, "top": (v[0], -v[1]), "left": (-v[1], v[0]), "right": (v[1], v[0])}[side]
+    return float(np.degrees(np.arctan2(v[1], v[0])))
+
+
+def fitted(side: str, size: int, cache: str | None = None, mask_seed: int | None = None, kind: str = "delta"):
+    """(image, domain, model) of the delta ``kind`` (mask seed ``mask_seed``, ``3 + size`` when None) with
+    its sea on ``side`` at ``size`` px (default workflow)."""
     from . import example_domain, extract_structure, fit_model
 
     mask_seed = 3 + size if mask_seed is None else int(mask_seed)
-    path = os.path.join(cache, f"delta_{side}_{size}_{mask_seed}.pkl") if cache else None
+    name = "delta" if kind == "delta" else f"delta_{kind}"
+    path = os.path.join(cache, f"{name}_{side}_{size}_{mask_seed}.pkl") if cache else None
     if path and os.path.exists(path):
         with open(path, "rb") as f:
             return pickle.load(f)
-    m = turned(delta_mask_example((size, size), mask_seed)[0], side)
+    m = turned(mask_of(kind, size, mask_seed), side)
     img = np.dstack([m] * 3)
     ex = extract_structure(img)
     dom = example_domain(img, ex)
@@ -107,37 +160,45 @@ def fitted(side: str, size: int, cache: str | None = None, mask_seed: int | None
 
 
 def figures(s, dom, side) -> dict:
-    return dict(fan=sea_bearings_inland(s, dom)[0], dev=chord_deviation(s, dom),
+    return dict(fan=sea_bearings_inland(s, dom)[0], bear=trunk_bearing(s, dom), dev=chord_deviation(s, dom),
                 frame=frame_share(s, dom.shape, side), cross=crossings(s), far=far_share(s, dom),
-                sea=n_to_sea(s, dom), rad=median_radius(s))
+                thick=thick_end_share(s), sea=n_to_sea(s, dom), rad=median_radius(s))
 
 
 def run(side: str, size: int, seeds, out: str | None = None, cache: str | None = None,
-        mask_seed: int | None = None) -> list[dict]:
+        mask_seed: int | None = None, kind: str = "delta") -> list[dict]:
     from . import synthesize_structure
 
-    img, dom, model = fitted(side, size, cache, mask_seed)
+    img, dom, model = fitted(side, size, cache, mask_seed, kind)
     ex = figures(model.example, dom, side)
-    print(f"{side} {size} mask {mask_seed} example: fan {ex['fan']:.1f} dev {ex['dev']:.3f} frame {ex['frame']:.3f} "
-          f"far {ex['far']:.3f} sea {ex['sea']} rad {ex['rad']:.2f}", flush=True)
+    ms = 3 + size if mask_seed is None else int(mask_seed)
+    print(f"{kind} {side} {size} mask {mask_seed} example: fan {ex['fan']:.1f} bearing {ex['bear']:.0f} "
+          f"(true {true_bearing(kind, side, size, ms):.0f}) dev {ex['dev']:.3f} frame {ex['frame']:.3f} "
+          f"far {ex['far']:.3f} thick {ex['thick']:.3f} sea {ex['sea']} rad {ex['rad']:.2f}", flush=True)
     rows = []
     for seed in seeds:
         s = synthesize_structure(model, rng=seed).structure
         f = figures(s, dom, side)
+        f["berr"] = bearing_error(f["bear"], ex["bear"])
         f["far"] /= max(ex["far"], 1e-3)
         f["rad"] /= ex["rad"]
         f["struct"] = s
         rows.append(f)
-        print(f"  seed {seed}: fan {f['fan']:.1f} dev {f['dev']:.3f} frame {f['frame']:.3f} cross {f['cross']} "
-              f"far x{f['far']:.2f} sea {f['sea']} rad x{f['rad']:.2f}", flush=True)
-    med = {k: float(np.median([r[k] for r in rows])) for k in ("fan", "dev", "frame", "far", "rad")}
-    print(f"  SUMMARY {side} {size} mask {mask_seed}: fan med {med['fan']:.1f} min {min(r['fan'] for r in rows):.1f} "
-          f"(ex {ex['fan']:.1f}) dev med {med['dev']:.3f} (ex {ex['dev']:.3f}) frame med {med['frame']:.3f} "
+        print(f"  seed {seed}: fan {f['fan']:.1f} bearing err {f['berr']:.1f} dev {f['dev']:.3f} "
+              f"frame {f['frame']:.3f} cross {f['cross']} far x{f['far']:.2f} thick {f['thick']:.3f} "
+              f"sea {f['sea']} rad x{f['rad']:.2f}", flush=True)
+    med = {k: float(np.median([r[k] for r in rows])) for k in ("fan", "berr", "dev", "frame", "far", "thick", "rad")}
+    print(f"  SUMMARY {kind} {side} {size} mask {mask_seed}: fan med {med['fan']:.1f} "
+          f"min {min(r['fan'] for r in rows):.1f} (ex {ex['fan']:.1f}) bearing err med {med['berr']:.1f} "
+          f"max {max(r['berr'] for r in rows):.1f} thick med {med['thick']:.3f} "
+          f"max {max(r['thick'] for r in rows):.3f} "
+          f"(ex {ex['thick']:.3f}) dev med {med['dev']:.3f} (ex {ex['dev']:.3f}) frame med {med['frame']:.3f} "
           f"max {max(r['frame'] for r in rows):.3f} cross {sum(r['cross'] for r in rows)} far med x{med['far']:.2f} "
           f"max x{max(r['far'] for r in rows):.2f} sea min {min(r['sea'] for r in rows)} rad med x{med['rad']:.2f} "
           f"max x{max(r['rad'] for r in rows):.2f}", flush=True)
     if out:
-        _sheet(img, dom, model.example, rows[:3], f"{out}_{side}_{size}_{mask_seed}.png")
+        tag = "" if kind == "delta" else f"_{kind}"
+        _sheet(img, dom, model.example, rows[:3], f"{out}{tag}_{side}_{size}_{mask_seed}.png")
     return rows
 
 
@@ -148,7 +209,9 @@ if __name__ == "__main__":
     out = sys.argv[4] if len(sys.argv) > 4 else None
     cache = sys.argv[5] if len(sys.argv) > 5 else None
     masks = [None] if len(sys.argv) <= 6 else [None if v == "-" else int(v) for v in sys.argv[6].split(",")]
-    for sz in sizes:
-        for sd in sides:
-            for ms in masks:
-                run(sd, sz, range(n), out, cache, ms)
+    kinds = sys.argv[7].split(",") if len(sys.argv) > 7 else ["delta"]
+    for kd in kinds:
+        for sz in sizes:
+            for sd in sides:
+                for ms in masks:
+                    run(sd, sz, range(n), out, cache, ms, kd)

@@ -340,6 +340,10 @@ class _Starts:
             k = min(ins.shape[1], valid.shape[1])
             stays = (ins[:, :k] | ~valid[:, :k]).all(1)
             score = np.where(stays, score, score * 1e-9)
+            if self.drain.axis is not None:
+                # ... and heads for the example's mouths (beyond the paper, issue 23, branching58: a trunk entering
+                # through a side of the frame took a head along it and could not turn to the sea)
+                score = score * self.drain.trunk_hold(x0, new[np.arange(len(new)), np.maximum(n, 1) - 1])
         if self.shore is not None:
             score = score * self.shore.factor(x0, new, n + 1) * self.shore.along_factor(x0, new, n + 1)
         mouth = self.shore is not None and parent is None
@@ -537,6 +541,13 @@ class _Starts:
             r_set = self._root_radius(roots)
             hr = np.array([max(model.bending.heads[i]["r0"], model.bending.heads[i]["r1"]) for i in pool])
             Q = (np.minimum(hr, r_set) / np.maximum(np.maximum(hr, r_set), 1e-9)) ** ROOT_RADIUS_POWER
+        if self.drain is not None and self.drain.axis is not None:
+            # a delta's trunk sets out for the example's mouths (beyond the paper, issue 23, branching58): the
+            # copied heads leave at the root's heading, and one along the frame could not turn to the sea
+            wd = self.drain.way_down((x, y))
+            theta = float(np.arctan2(wd[1], wd[0]))
+            if self.drain.tail_depth is None and self._head_share() > 0:
+                self.drain.set_tail_depth(self._head_share() * float(self.drain.depth_at((x, y))[0]))
         c = self._start_branch(np.array([x, y], float), float(theta), pool, Q, None, None, 0, r_set=r_set)
         if c is not None and pool is not roots and self.drain is None and self.p.thickness_blend:
             self._root_profile(c, self.__dict__.get("_root_like"))

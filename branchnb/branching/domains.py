@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..core.structure import Structure
+from .delta_fan import head_share  # noqa: F401  (moved; read from here by the growers and tests)
 from .roots import outlet_starts
 
 if TYPE_CHECKING:
@@ -210,6 +211,29 @@ FRAME_POWER = 3.0
 #: all reached the sea straight down, which capped the fan's spread (34-38 degrees against the
 #: examples' 41-50).
 FAN_CHILD = 0.5
+#: A trunk of a delta with an axis (:meth:`_Drain.set_axis`): a candidate whose chord runs ``a`` radians off
+#: the way to the example's mouths gets its score times ``exp(-TRUNK_HOLD a)`` (beyond the paper; issue 23,
+#: branching58). ``exp(kappa cos a)`` alone let a trunk entering through a side of the frame run along it.
+TRUNK_HOLD = 8.0
+#: ... only when the axis runs at least this far off the descent's mean direction along it (radians): on
+#: deltas whose trunk runs down the descent (the ``delta`` and ``fan0`` kinds, 1-10 degrees) the axis rules left
+#: a seed's channels on one side of the trunk or in one bundle (fan 1 degree against 45) and thinned trunks, so
+#: there the descent's rules stay (byte-identical structures).
+AXIS_MIN = float(np.radians(15.0))
+#: ... and a channel takes one of the example's headings at the sea at least 0.9 x the smallest gap between
+#: them off its parent's (at most FAN_SPLIT, at least this): with FAN_SPLIT alone a trunk's children could
+#: take only the outermost of headings 17-22 degrees apart and bunched there (fan 38 against 21 degrees).
+FAN_SPLIT_MIN = float(np.radians(10.0))
+#: ... and below the delta's head (:func:`.delta_fan.head_share` of its start's depth) the trunk runs on the
+#: example's root's heading at the sea (:func:`.delta_fan.root_offset`), as the example's root goes on as one
+#: of its channels: run on along the axis, the trunk added a channel in the fan's middle the example did not
+#: have (a 512 px delta: headings at the sea -42/0/22/48 degrees off the axis against the example's -56/22/58).
+#: Off by default: on (``_delta_fan_check bottom,left 300/512 3``) the fan of the ``delta`` kind at 512 px rose
+#: 36.5/33.8 -> 46.9/47.4 degrees (example 50.0/50.2) and fan0 300 px 43.2 -> 34.7 (35.2), but a trunk whose
+#: example root reaches the sea at a shallow angle ran along the coast with a hook at its mouth (fan55 300 px,
+#: spread 23.8 -> 16.5 against 24.0, lowest seed 7.3) and the trunk bearing error of fan0/delta 300 px rose
+#: 3.6/9.1 -> 11.1/12.6 degrees.
+TRUNK_TAIL = False
 
 
 class _Drain:
@@ -263,6 +287,79 @@ class _Drain:
         #: the delta's head on the trunk (x, y) once found (:meth:`set_head`)
         self.head_at: np.ndarray | None = None
         self.head = False
+        #: the example's axis (unit x, y, :func:`.delta_fan.delta_axis`), the mean of its mouths (x, y; None
+        #: when the synthesis frame is not the example's), the headings of its channels at the sea off the
+        #: axis (radians, :func:`.delta_fan.fan_offsets`) and how often each was given (:meth:`set_axis`);
+        #: None = the descent alone
+        self.axis: np.ndarray | None = None
+        self.target: np.ndarray | None = None
+        self.offsets: np.ndarray | None = None
+        self.used: np.ndarray | None = None
+        #: the example's root's heading at the sea off the axis (radians; None: it ends at the head), and the
+        #: depth below which the synthesized trunk takes it (:meth:`set_tail_depth`; None: not yet known)
+        self.tail: float | None = None
+        self.tail_depth: float | None = None
+        self._tail_dir: np.ndarray | None = None
+
+    def set_tail_depth(self, depth: float) -> None:
+        """Below ``depth`` (the delta's head on the synthesized trunk) the trunk takes the example's root's
+        heading at the sea (:data:`TRUNK_TAIL`)."""
+        self.tail_depth = float(depth)
+        self._tail_dir = None
+
+    def set_axis(self, example, domain) -> None:
+        """Learn the delta's axis and its channels' headings from ``example`` grown in ``domain``.
+
+        Beyond the paper (issue 23, branching58): the trunk heads for the example's mouths
+        (:meth:`way_down`) instead of down the steepest descent, and each channel's bearing is one of the
+        example's headings at the sea off that axis (:meth:`bearing`). With the descent the trunk always
+        reached the sea straight across the coast: a delta whose trunk enters 55 degrees off it ran its
+        trunk along the frame and its channels in one bundle (fan spread 0-3 degrees against 24).
+        """
+        from .delta_fan import delta_axis, fan_offsets, root_offset
+
+        dom = np.asarray(domain, bool)
+        ax = delta_axis(example, dom)
+        if ax is None:
+            return
+        start, target = ax
+        v = target - start
+        axis = v / float(np.hypot(*v))
+        # the descent's mean direction along the axis (at the trunk's start alone a corner turns it)
+        dn = np.mean([self.descent(start + t * v) for t in np.linspace(0.0, 1.0, 17)], axis=0)
+        dn = dn / max(float(np.hypot(*dn)), 1e-9)
+        if float(np.arccos(np.clip(axis @ dn, -1.0, 1.0))) < AXIS_MIN:
+            return   # a trunk along the descent: the descent's rules (tuned on such deltas) stay
+        self.axis = axis
+        self.target = target if dom.shape == self.shape else None
+        off = fan_offsets(example, dom, self.axis)
+        if len(off):
+            self.offsets = off
+            self.used = np.zeros(len(off))
+            # the trunk's own way to the sea: the example's root's heading there (its tail, below the head)
+            tail = root_offset(example, dom, self.axis) if TRUNK_TAIL else None
+            self.tail = tail
+            self.used[int(np.argmin(np.abs(off - (0.0 if tail is None else tail))))] += 1.0
+
+    def _ref(self, at) -> float:
+        """Angle of the direction the fan's bearings are measured from: the axis, else the descent."""
+        d = self.descent(at) if self.axis is None else self.axis
+        return float(np.arctan2(d[1], d[0]))
+
+    def _pick_offset(self, at, off: float, a_p: float, trunk: bool) -> float | None:
+        """:func:`.delta_fan.pick_offset` of the example's headings (None without them), counted as used."""
+        if self.offsets is None:
+            return None
+        from .delta_fan import pick_offset
+
+        # channels parting less than FAN_SPLIT where the example's headings lie closer (its smallest gap)
+        gaps = np.diff(self.offsets)
+        split = float(np.clip(0.9 * gaps.min(), FAN_SPLIT_MIN, FAN_SPLIT)) if len(gaps) else FAN_SPLIT
+        k = pick_offset(self.offsets, self.used, off, a_p, trunk, split)
+        if k is None:
+            return None
+        self.used[k] += 1.0
+        return float(self.offsets[k])
 
     def frame_distance(self, pts: np.ndarray) -> np.ndarray:
         """Distance of ``pts`` ((..., 2) x, y) to the nearest side of the frame that cuts the land."""
@@ -299,11 +396,31 @@ class _Drain:
         upstream); where that limit would lay it along its parent's, it takes the parent's other side.
         ``spread`` (radians, the example's outer channels', :func:`fan_spread`): a trunk's child's
         bearing is this far off the descent on the side of ``heading``; a channel's child parts
-        toward the descent, :data:`FAN_CHILD` of the way from its parent's way down."""
-        d = self.descent(at)
-        a_d = float(np.arctan2(d[1], d[0]))
+        toward the descent, :data:`FAN_CHILD` of the way from its parent's way down.
+
+        With an axis learned from the example (:meth:`set_axis`; beyond the paper, issue 23, branching58) the
+        angles are taken off the axis instead of the descent, and the bearing is one of the example's own
+        headings at the sea (:meth:`_pick_offset`, the least used so far) when one fits the side and
+        :data:`FAN_SPLIT`; the rule above (``spread`` at most the example's widest heading) only otherwise.
+        Over 3 delta kinds whose trunk runs 25-40 degrees off the descent (fan30, fanm40, fan55) x 2 sea sides
+        x 300/512/1024 px x 3 seeds (``python -m branchnb.branching._delta_fan_check bottom,left 300,512,1024 3
+        OUT CACHE - fan30,fanm40,fan55``, 54 structures) the trunk's bearing error (start to the mouths' mean,
+        against the example's) fell from median 12.7 / max 22.1 to 3.8 / 16.4 degrees and the fan spread's
+        distance from the example's from median 6.4 / max 28.4 to 3.8 / 19.9 (lowest seed per kind 0-10 ->
+        18-22 degrees; a trunk entering through a side of the frame no longer runs along it). Deltas whose
+        trunk runs down the descent (:data:`AXIS_MIN`) are unchanged."""
+        a_d = self._ref(at)
         wrap = lambda v: float(np.angle(np.exp(1j * v)))  # noqa: E731
         off = wrap(float(np.arctan2(heading[1], heading[0])) - a_d)
+        if self.offsets is not None:
+            # the example's headings at the sea, off its axis (set_axis)
+            pd = self.way_down(at, parent_fan)
+            pick = self._pick_offset(at, off, wrap(float(np.arctan2(pd[1], pd[0])) - a_d), parent_fan is None)
+            if pick is not None:
+                return self._to_sea(at, a_d, pick)
+            if spread is not None and len(self.offsets):
+                # no heading fits: the old rule, but no wider than the example's widest off the axis
+                spread = min(spread, float(np.abs(self.offsets).max()))
         if parent_fan is None and spread is not None:
             return self._to_sea(at, a_d, spread if off >= 0 else -spread)
         pd = self.way_down(at, parent_fan)
@@ -348,6 +465,19 @@ class _Drain:
         (:data:`FAN_WEIGHT`) with the channel's own bearing ``fan`` (:meth:`bearing`) when given,
         else with the direction away from the apex once one is set."""
         at = np.asarray(at, np.float64)
+        if fan is None and self.axis is not None:
+            # a trunk heads for the example's mouths (set_axis), along its axis once near them; below the
+            # delta's head on the example's root's heading there (TRUNK_TAIL)
+            if self.tail is not None and self.tail_depth is not None and self.depth_at(at)[0] <= self.tail_depth:
+                if self._tail_dir is None:
+                    self._tail_dir = self._to_sea(at, self._ref(at), self.tail)
+                return self._tail_dir.copy()
+            if self.target is not None:
+                r = self.target - at
+                n = float(np.hypot(*r))
+                if n > 0.1 * float(np.hypot(*self.shape)):
+                    return r / n
+            return self.axis.copy()
         d = self.descent(at)
         if fan is not None:
             d = (1.0 - BEARING_WEIGHT) * d + BEARING_WEIGHT * np.asarray(fan, np.float64)
@@ -399,6 +529,18 @@ class _Drain:
             return np.asarray(points[-1], np.float64)
         return np.asarray(points[max(0, len(points) - 1 - back)], np.float64)
 
+    def trunk_hold(self, tip, end: np.ndarray, pull: float = 1.0) -> np.ndarray:
+        """Score factor of a trunk's candidates ending at ``end`` ((C, 2)) from ``tip`` when the delta has
+        an axis (:meth:`set_axis`): ``exp(-TRUNK_HOLD a)``, ``a`` the angle of the chord off the way to the
+        example's mouths (1 without an axis)."""
+        if self.axis is None or TRUNK_HOLD <= 0:
+            return np.ones(len(end))
+        tip = np.asarray(tip, np.float64)
+        wd = self.way_down(tip)
+        chord = np.asarray(end, np.float64) - tip
+        off = np.abs(np.arctan2(chord[:, 1] * wd[0] - chord[:, 0] * wd[1], chord @ wd))
+        return np.exp(-pull * TRUNK_HOLD * off)
+
     def factor(self, tip, points: np.ndarray, n_new: np.ndarray, start=None, pull: float = 1.0,
                fan=None, hold_from=None) -> np.ndarray:
         """Score factor of candidates ``points`` ((C, M, 2), the first ``n_new`` new) from ``tip``.
@@ -432,6 +574,8 @@ class _Drain:
                 o2 = np.where(np.hypot(c2[:, 0], c2[:, 1]) > 4.0, o2, 0.0)
                 off = np.maximum(off, FAN_WHOLE * o2)
             f = f * np.exp(-pull * FAN_HOLD * off)
+        elif self.axis is not None and TRUNK_HOLD > 0:
+            f = f * self.trunk_hold(tip, end, pull)
         f = np.where(cos < UPSTREAM_COS, 0.0, f)
         if start is not None:
             net = end - np.asarray(start, np.float64)
@@ -495,48 +639,6 @@ def fan_spread(example, domain) -> float | None:
         cos = float(c @ d) / max(float(np.hypot(*c)), 1e-9)
         out.append(float(np.arccos(np.clip(cos, -1.0, 1.0))))
     return min(max(out), np.pi / 2) if out else None
-
-
-def head_share(example, domain) -> float:
-    """Where a delta's channels part, as a share of its trunk's depth.
-
-    Beyond the paper (issue 23): the example's distributaries fan out from its head, not from where
-    its trunk enters the image. Fanned from the trunk's start, the channels of a 1000 px delta reached the
-    sea 1-15 degrees apart (circular spread of their last 30 px), against the example's 71.
-
-    Parameters
-    ----------
-    example : Structure
-        The example's structure.
-    domain : (H, W) array_like of bool
-        Where it may grow (the land); depth is the distance to its boundary.
-
-    Returns
-    -------
-    float
-        Depth of the example's first furcation on a root over the depth of that root's start
-        (1 = at the start, 0 at the sea); 0 when no root has a child.
-    """
-    from scipy import ndimage as ndi
-
-    dom = np.asarray(domain, bool)
-    depth = ndi.distance_transform_edt(dom)
-    h, w = dom.shape
-    best = 0.0
-    for i, b in enumerate(example.branches):
-        if b.parent is not None or len(b.points) < 2:
-            continue
-        kids = [c.parent_vertex for c in example.branches if c.parent == i and c.parent_vertex is not None]
-        if not kids:
-            continue
-        p = np.asarray(b.points, np.float64)
-        ix = np.clip(np.rint(p[:, 0]).astype(np.int64), 0, w - 1)
-        iy = np.clip(np.rint(p[:, 1]).astype(np.int64), 0, h - 1)
-        d = depth[iy, ix]
-        if d[0] <= 0:
-            continue
-        best = max(best, float(d[min(int(min(kids)), len(d) - 1)] / d[0]))
-    return best
 
 
 def _shore_margin(model: StructureModel) -> float:
@@ -697,6 +799,18 @@ class _Shore:
         ix = np.clip(np.rint(pts[..., 0]).astype(np.int64), 0, w - 1)
         iy = np.clip(np.rint(pts[..., 1]).astype(np.int64), 0, h - 1)
         return self.depth[iy, ix]
+
+    def trunk_hold(self, tip, end: np.ndarray, pull: float = 1.0) -> np.ndarray:
+        """Score factor of a trunk's candidates ending at ``end`` ((C, 2)) from ``tip`` when the delta has
+        an axis (:meth:`set_axis`): ``exp(-TRUNK_HOLD a)``, ``a`` the angle of the chord off the way to the
+        example's mouths (1 without an axis)."""
+        if self.axis is None or TRUNK_HOLD <= 0:
+            return np.ones(len(end))
+        tip = np.asarray(tip, np.float64)
+        wd = self.way_down(tip)
+        chord = np.asarray(end, np.float64) - tip
+        off = np.abs(np.arctan2(chord[:, 1] * wd[0] - chord[:, 0] * wd[1], chord @ wd))
+        return np.exp(-pull * TRUNK_HOLD * off)
 
     def factor(self, tip, points: np.ndarray, n_new: np.ndarray) -> np.ndarray:
         """Score factor of candidates ``points`` ((C, M, 2), the first ``n_new`` new) from ``tip``."""

@@ -230,6 +230,8 @@ class _Grower(_Starts, _Filling):
         self.guidance = guidance
         self.drain = _Drain(region) if guidance is None and model.drains and region is not None \
             and not region.all() else None
+        if self.drain is not None and model.domain is not None:
+            self.drain.set_axis(model.example, model.domain)
         margin = _shore_margin(model) if guidance is None and region is not None \
             and not region.all() and self.drain is None else 0.0
         self.shore = _Shore(region, margin, inland=runs_inland(model)) if margin > 0 else None

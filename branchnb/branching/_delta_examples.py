@@ -1,0 +1,74 @@
+"""Procedural delta masks whose trunk runs at a known bearing and whose channels fan by a known angle
+(issue 23, branching58).
+
+:func:`delta_fan_mask` draws one trunk entering through the frame, running at ``trunk_deg`` off the
+straight way down to a sea along the bottom, and ``n`` distributaries leaving its head at offsets
+spread evenly over ``fan_deg`` about the trunk's bearing, so the true trunk bearing (from where the
+trunk enters to the mean of the mouths) is known and not the descent of the land to the sea.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..core.random import as_rng
+from ..core.render import draw_polylines
+from ._map_examples import _curve
+
+#: the kinds of :mod:`._delta_fan_check` (name: (trunk degrees off the way down, fan degrees, channels))
+#: (name: (trunk degrees off the way down, the fan's centre in degrees off the way down, fan degrees, channels))
+FAN_KINDS = {"fan0": (0.0, 0.0, 90.0, 3), "fan30": (30.0, 20.0, 70.0, 4), "fanm40": (-40.0, -20.0, 70.0, 3),
+             "fan55": (55.0, 25.0, 60.0, 3)}
+
+
+def delta_fan_mask(shape=(256, 256), rng=0, trunk_deg: float = 30.0, centre_deg: float = 20.0, fan_deg: float = 70.0,
+                   n: int = 3):
+    """A binary delta mask (1 = water) with its sea at the bottom: (mask, channels, sea, entry, mouths).
+
+    The trunk runs ``trunk_deg`` degrees off straight down (positive toward +x) from the frame to the
+    delta's head at 0.45 x the height; ``n`` channels leave the head at ``centre_deg + o`` for ``o`` evenly
+    over [-fan_deg / 2, fan_deg / 2] (at most 65 degrees off straight down) and reach the sea. ``entry`` is
+    where the trunk enters (x, y), ``mouths`` (n, 2) where the channels meet the sea.
+
+    Examples
+    --------
+    >>> m, ch, sea, entry, mouths = delta_fan_mask((128, 128), 0, 30.0, 20.0, 70.0, 3)
+    >>> m.shape, len(ch), mouths.shape
+    ((128, 128), 4, (3, 2))
+    """
+    rng = as_rng(rng)
+    h, w = shape
+    s = min(h, w) / 256.0
+    sea_y = 0.85 * h + rng.normal(0, 0.01 * h)
+    apex_y = 0.45 * h + rng.normal(0, 0.02 * h)
+    t = np.radians(trunk_deg + rng.normal(0, 2.0))
+    offs = np.radians(np.linspace(-fan_deg / 2, fan_deg / 2, n) + rng.normal(0, 3.0, n))
+    ang = np.clip(np.radians(centre_deg) + offs, -np.radians(65), np.radians(65))
+    drop = sea_y - apex_y
+    dx = drop * np.tan(ang)
+    # the head where the mouths' mean lies mid-frame, the mouths inside the frame
+    lo, hi = 0.08 * w - dx.min(), 0.92 * w - dx.max()
+    apex_x = float(np.clip(0.5 * w - dx.mean(), lo, hi)) if lo <= hi else 0.5 * w - 0.5 * (dx.max() + dx.min())
+    apex = np.array([apex_x, apex_y])
+    mouths = np.c_[np.clip(apex_x + dx, 0.04 * w, 0.96 * w), np.full(n, sea_y + 8 * s)]
+    # the trunk back from the head to the frame (top, or a side when it runs steeply)
+    back = -np.array([np.sin(t), np.cos(t)])
+    lim = [apex_y / max(-back[1], 1e-9)]
+    if back[0] < 0:
+        lim.append(apex_x / -back[0])
+    elif back[0] > 0:
+        lim.append((w - 1 - apex_x) / back[0])
+    entry = apex + back * (min(lim) + 3.0)
+    lines = [(_curve(entry, apex, rng, 0.02 * w), 7.0 * s)]
+    radii = np.linspace(4.5, 1.6, n) * s
+    for k in rng.permutation(n):
+        lines.append((_curve(apex, mouths[k], rng, 0.03 * w), float(radii[k])))
+    canvas = np.zeros(tuple(shape) + (3,), np.float32)
+    canvas = draw_polylines(canvas, [c for c, _ in lines], widths=[2 * r for _, r in lines], colors=(1, 1, 1))
+    sea = np.broadcast_to(np.arange(h)[:, None] >= sea_y, tuple(shape)).copy()
+    mask = (canvas[:, :, 0] > 0.5) | sea
+    channels = [(c[(c[:, 1] < sea_y - r) & (c[:, 1] >= 0) & (c[:, 0] >= 0) & (c[:, 0] <= w - 1)], float(r))
+                for c, r in lines]
+    entry = np.clip(entry, 0, [w - 1, h - 1])
+    mouths[:, 1] = sea_y
+    return mask.astype(np.float32), channels, sea, entry, mouths

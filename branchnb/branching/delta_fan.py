@@ -1,0 +1,290 @@
+"""A delta's own axis and fan, learned from the example (beyond the paper; issue 23, branching58).
+
+The paper's Markov chain has no notion of downstream; :class:`.domains._Drain` pulls a delta's
+branches toward the sea. Its trunk followed the steepest descent of the land to the sea, so it always
+reached the sea straight across the coast, and its channels took bearings off that descent. An
+example's trunk may run far off the descent (a river entering through a side of the frame and
+fanning toward a coast below): this module reads the delta's *axis* off the example, from where its
+trunk enters the land to the mean of its mouths (where its channels meet the sea), and the example's
+distribution of channel headings at the sea about that axis; the trunk heads for the example's mouths
+and each new channel takes a heading the synthesized channels have used least
+(:meth:`.domains._Drain.bearing`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy import ndimage as ndi
+
+from ..core.structure import Structure
+
+#: A branch reaches the sea when its last vertex is within this share of the land's deepest depth of
+#: it (as :func:`.domains._drains` and :func:`.domains.fan_spread`).
+SEA_SHARE = 0.1
+#: A channel's heading at the sea is taken where it last lies this share of the frame's diagonal from
+#: the sea, over the preceding :data:`HEADING_BACK` share (as ``_structure_check.sea_bearings_inland``,
+#: the fan's measure): the fan of the channels, not the turns of their mouths along the coast.
+HEADING_INLAND = 0.05
+HEADING_BACK = 0.03
+
+
+def _mouths(example: Structure, depth: np.ndarray) -> tuple[list[int], np.ndarray]:
+    """Indices and last vertices of the example's branches that reach the sea."""
+    h, w = depth.shape
+    deep = float(depth.max())
+    idx, ends = [], []
+    for i, b in enumerate(example.branches):
+        if len(b.points) < 2:
+            continue
+        x, y = np.clip(np.rint(b.points[-1]).astype(int), 0, [w - 1, h - 1])
+        if depth[y, x] < SEA_SHARE * deep:
+            idx.append(i)
+            ends.append(np.asarray(b.points[-1], np.float64))
+    return idx, np.asarray(ends, np.float64).reshape(-1, 2)
+
+
+def delta_axis(example: Structure, domain: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    """The delta's axis: (start, target), both (x, y).
+
+    ``start`` is the first vertex of the example's longest root (where its trunk enters the land) and
+    ``target`` the mean of the last vertices of its branches that reach the sea (within
+    :data:`SEA_SHARE` x the deepest depth of it): the direction from the inland root to the sea-side
+    spread of the channels, not the descent of the land. A trunk entering through a side of the frame
+    runs far off the descent (55 degrees on the ``fan55`` kind of :mod:`._delta_fan_check`).
+
+    Parameters
+    ----------
+    example : Structure
+        The example's structure.
+    domain : (H, W) array_like of bool
+        Where it may grow (the land); the sea lies outside it.
+
+    Returns
+    -------
+    tuple of two (2,) ndarray or None
+        None when no root starts inland of the target (at least a tenth of the deepest depth deeper)
+        or no branch reaches the sea.
+
+    Examples
+    --------
+    >>> from branchnb.core.structure import Branch, Structure
+    >>> dom = np.zeros((100, 100), bool); dom[:80] = True
+    >>> s = Structure([Branch([(0, 20), (40, 50)], 2.0), Branch([(40, 50), (20, 79)], 1.0, 0, 1),
+    ...                Branch([(40, 50), (80, 79)], 1.0, 0, 1)])
+    >>> start, target = delta_axis(s, dom)
+    >>> start.tolist(), target.tolist()
+    ([0.0, 20.0], [50.0, 79.0])
+    """
+    dom = np.asarray(domain, bool)
+    if dom.all() or not dom.any():
+        return None
+    depth = ndi.distance_transform_edt(dom)
+    roots = [b for b in example.branches if b.parent is None and len(b.points) >= 2]
+    if not roots:
+        return None
+    root = max(roots, key=lambda b: float(np.hypot(*np.diff(np.asarray(b.points, np.float64), axis=0).T).sum()))
+    _idx, ends = _mouths(example, depth)
+    if not len(ends):
+        return None
+    start = np.asarray(root.points[0], np.float64)
+    target = ends.mean(0)
+    h, w = dom.shape
+
+    def at(p):
+        x, y = np.clip(np.rint(p).astype(int), 0, [w - 1, h - 1])
+        return float(depth[y, x])
+
+    if at(start) < at(target) + 0.1 * float(depth.max()) or np.hypot(*(target - start)) < 1.0:
+        return None
+    return start, target
+
+
+def fan_offsets(example: Structure, domain: np.ndarray, axis: np.ndarray) -> np.ndarray:
+    """Signed angles (radians, image frame: positive clockwise on screen) of the headings of the example's
+    channels at the sea off the delta's ``axis`` (unit x, y, :func:`delta_axis`), one per branch that
+    reaches the sea, the trunk's included.
+
+    The heading is a channel's direction over the :data:`HEADING_BACK` x the diagonal before the point
+    where it last lies :data:`HEADING_INLAND` x the diagonal from the sea (its chord when shorter).
+
+    Parameters
+    ----------
+    example : Structure
+        The example's structure.
+    domain : (H, W) array_like of bool
+        Where it may grow (the land).
+    axis : (2,) array_like
+        The delta's axis direction (x, y).
+
+    Returns
+    -------
+    (K,) ndarray
+        Sorted; empty when no branch reaches the sea.
+
+    Examples
+    --------
+    >>> from branchnb.core.structure import Branch, Structure
+    >>> dom = np.zeros((100, 100), bool); dom[:80] = True
+    >>> s = Structure([Branch([(50, 0), (50, 40)], 2.0), Branch([(50, 40), (10, 80)], 1.0, 0, 1),
+    ...                Branch([(50, 40), (90, 80)], 1.0, 0, 1)])
+    >>> np.round(np.degrees(fan_offsets(s, dom, (0.0, 1.0)))).tolist()
+    [-45.0, 45.0]
+    """
+    dom = np.asarray(domain, bool)
+    depth = ndi.distance_transform_edt(dom)
+    h, w = dom.shape
+    diag = float(np.hypot(h, w))
+    ax = np.asarray(axis, np.float64)
+    a0 = float(np.arctan2(ax[1], ax[0]))
+    idx, _ends = _mouths(example, depth)
+    return np.sort(np.asarray([v for v in (_heading_off(example, i, depth, diag, a0) for i in idx) if v is not None],
+                              np.float64))
+
+
+def root_offset(example: Structure, domain: np.ndarray, axis: np.ndarray) -> float | None:
+    """The heading at the sea (radians off ``axis``, as :func:`fan_offsets`) of the example's longest root.
+
+    Parameters
+    ----------
+    example : Structure
+        The example's structure.
+    domain : (H, W) array_like of bool
+        Where it may grow (the land).
+    axis : (2,) array_like
+        The delta's axis direction (x, y).
+
+    Returns
+    -------
+    float or None
+        None when the root does not reach the sea (the trunk ends at the delta's head).
+
+    Examples
+    --------
+    >>> from branchnb.core.structure import Branch, Structure
+    >>> dom = np.zeros((100, 100), bool); dom[:80] = True
+    >>> s = Structure([Branch([(50, 0), (50, 79)], 2.0)])
+    >>> round(float(np.degrees(root_offset(s, dom, (0.0, 1.0)))))
+    0
+    """
+    dom = np.asarray(domain, bool)
+    depth = ndi.distance_transform_edt(dom)
+    ax = np.asarray(axis, np.float64)
+    roots = [i for i, b in enumerate(example.branches) if b.parent is None and len(b.points) >= 2]
+    idx, _ends = _mouths(example, depth)
+    if not roots:
+        return None
+    r = max(roots, key=lambda i: float(np.hypot(*np.diff(np.asarray(example.branches[i].points, np.float64),
+                                                        axis=0).T).sum()))
+    if r not in idx:
+        return None
+    return _heading_off(example, r, depth, float(np.hypot(*dom.shape)), float(np.arctan2(ax[1], ax[0])))
+
+
+def _heading_off(example: Structure, i: int, depth: np.ndarray, diag: float, a0: float) -> float | None:
+    """Branch ``i``'s heading at the sea (radians off the axis at angle ``a0``; see :func:`fan_offsets`)."""
+    h, w = depth.shape
+    p = np.asarray(example.branches[i].points, np.float64)
+    ix = np.clip(np.rint(p).astype(int), 0, [w - 1, h - 1])
+    dv = depth[ix[:, 1], ix[:, 0]]
+    far = np.flatnonzero(dv >= HEADING_INLAND * diag)
+    k = int(far[-1]) if len(far) else len(p) - 1
+    seg = np.r_[0.0, np.cumsum(np.hypot(*np.diff(p[: k + 1], axis=0).T))]
+    j = int(np.searchsorted(seg, seg[-1] - HEADING_BACK * diag))
+    v = p[k] - p[j] if j < k else p[-1] - p[0]
+    if np.hypot(*v) < 1e-9:
+        return None
+    return float(np.angle(np.exp(1j * (np.arctan2(v[1], v[0]) - a0))))
+
+
+def pick_offset(offsets: np.ndarray, used: np.ndarray, off: float, a_p: float, trunk: bool,
+                split: float) -> int | None:
+    """Index of the example's heading (``offsets``, off the axis) a new channel takes.
+
+    The channel leaves with heading ``off`` a parent whose way down is ``a_p`` (both radians off the
+    axis); the heading must lie at least ``split`` off ``a_p`` on the side the channel leaves on (a
+    channel's channel, ``trunk`` False, whose parent runs ``split`` or more off the axis: toward the axis,
+    between its parent and the trunk, as the example's do); of those, the one given least often so far
+    (``used``), the closest to ``off`` among equals.
+
+    Parameters
+    ----------
+    offsets : (K,) ndarray
+        The example's headings at the sea off the axis (:func:`fan_offsets`).
+    used : (K,) ndarray
+        How often each was given so far.
+    off : float
+        The channel's heading where it leaves its parent.
+    a_p : float
+        The parent's way down there.
+    trunk : bool
+        The parent is the trunk.
+    split : float
+        The least angle between the channel's heading and ``a_p``.
+
+    Returns
+    -------
+    int or None
+        None when no heading fits.
+
+    Examples
+    --------
+    >>> o = np.radians([-50.0, 0.0, 55.0])
+    >>> pick_offset(o, np.array([0.0, 1.0, 0.0]), 0.3, 0.0, True, np.radians(25.0))
+    2
+    >>> pick_offset(o, np.array([0.0, 1.0, 1.0]), -0.3, 0.0, True, np.radians(25.0))
+    0
+    """
+    o = np.asarray(offsets, np.float64)
+    rel = o - a_p
+    ok = np.abs(rel) >= split
+    if trunk or abs(a_p) < split:
+        ok &= np.sign(rel) == (1.0 if off - a_p >= 0 else -1.0)
+    else:
+        ok &= (np.sign(rel) == -np.sign(a_p)) & ((np.sign(o) == np.sign(a_p)) | (np.abs(o) < split))
+    if not ok.any():
+        return None
+    cand = np.flatnonzero(ok)
+    u = np.asarray(used)[cand]
+    cand = cand[u == u.min()]
+    return int(cand[np.argmin(np.abs(o[cand] - off))])
+
+
+def head_share(example, domain) -> float:
+    """Where a delta's channels part, as a share of its trunk's depth.
+
+    Beyond the paper (issue 23): the example's distributaries fan out from its head, not from where
+    its trunk enters the image. Fanned from the trunk's start, the channels of a 1000 px delta reached the
+    sea 1-15 degrees apart (circular spread of their last 30 px), against the example's 71.
+
+    Parameters
+    ----------
+    example : Structure
+        The example's structure.
+    domain : (H, W) array_like of bool
+        Where it may grow (the land); depth is the distance to its boundary.
+
+    Returns
+    -------
+    float
+        Depth of the example's first furcation on a root over the depth of that root's start
+        (1 = at the start, 0 at the sea); 0 when no root has a child.
+    """
+
+    dom = np.asarray(domain, bool)
+    depth = ndi.distance_transform_edt(dom)
+    h, w = dom.shape
+    best = 0.0
+    for i, b in enumerate(example.branches):
+        if b.parent is not None or len(b.points) < 2:
+            continue
+        kids = [c.parent_vertex for c in example.branches if c.parent == i and c.parent_vertex is not None]
+        if not kids:
+            continue
+        p = np.asarray(b.points, np.float64)
+        ix = np.clip(np.rint(p[:, 0]).astype(np.int64), 0, w - 1)
+        iy = np.clip(np.rint(p[:, 1]).astype(np.int64), 0, h - 1)
+        d = depth[iy, ix]
+        if d[0] <= 0:
+            continue
+        best = max(best, float(d[min(int(min(kids)), len(d) - 1)] / d[0]))
+    return best
