@@ -15,7 +15,8 @@ known tree of the same family; per output it prints
   the end > 0);
 - ``halo``: brightness of a ring 2-4 px beside the vessels above the local ground, in units of the
   example's vessel contrast (0 = none; the example's own is ~0);
-- ``sharp``: mean gradient magnitude of the output's ground over the example's;
+- ``sharp``: fine texture of the output's ground (its difference from a 1.5-px blur over its light)
+  over the example's;
 - ``sec``: seconds of ``synthesize_image``.
 
 "Dark" is a relative darkness ``1 - lum / local ground`` above 0.4 x the example's median on its own
@@ -187,14 +188,15 @@ def measure(example, s_ex, out, s_t, dom=None):
         ring &= ndi.binary_erosion(dom, iterations=6)
     rel = lum / np.maximum(ground, 1e-3) - 1.0
     halo = abs(float(np.mean(rel[ring]))) / max(contrast, 1e-3)
-    # sharpness: ground gradient, output over example (both away from vessels and matte)
+    # sharpness: the ground's fine texture relative to its light (so lighting it evenly is no loss),
+    # output over example (both away from vessels and matte)
     def grad(img, m, d):
         g = _lum(img)
-        gx, gy = cv2.Sobel(g, cv2.CV_32F, 1, 0), cv2.Sobel(g, cv2.CV_32F, 0, 1)
+        fine = np.abs(g - cv2.GaussianBlur(g, (0, 0), 1.5)) / np.maximum(cv2.GaussianBlur(g, (0, 0), 8.0), 1e-2)
         keep = ~ndi.binary_dilation(m, iterations=3)
         if d is not None:
             keep &= ndi.binary_erosion(d, iterations=6)
-        return float(np.mean(np.hypot(gx, gy)[keep]))
+        return float(np.mean(fine[keep]))
 
     sharp = grad(out, m_t, dom) / max(grad(example, m_ex, dom), 1e-6)
     return {"pcs": float(pcs), "gap": float(gaps), "tip": float(np.mean(tip_d)) / max(contrast, 1e-3) if tip_d else 0.0,
