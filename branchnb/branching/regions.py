@@ -197,16 +197,21 @@ def _is_shaded(image: np.ndarray, background: np.ndarray, line: np.ndarray | Non
     return bool(hi > SHADED * max(lo, 1e-3))
 
 
-def _flattened_if_shaded(ex: np.ndarray, regions: ExampleRegions, pm: PixelMap, scale: float) -> np.ndarray:
-    """``ex`` with its shading divided out (:func:`flatten_shading` at ``scale`` of its size) when
-    :func:`_is_shaded`; else ``ex`` itself."""
+def _flattened_if_shaded(ex: np.ndarray, regions: ExampleRegions, pm: PixelMap,
+                         scale: float) -> tuple[np.ndarray, np.ndarray | None]:
+    """``ex`` with its shading divided out (as :func:`flatten_shading`, at ``scale`` of its size)
+    when :func:`_is_shaded`, and the light ``shading / mean`` it was divided by ((h, w, C) float32,
+    to put back on the output); else ``(ex, None)``."""
     from .line_contrast import centre_ring_colours
 
     bg = ~(regions.forbidden | ndi.binary_dilation(regions.body | regions.branch_like, iterations=3))
     colours = centre_ring_colours(ex, pm)
     if not _is_shaded(ex, bg, *(colours if colours is not None else (None, None))):
-        return ex
-    return flatten_shading(ex, bg, scale * max(ex.shape[:2]))
+        return ex, None
+    img = ex.astype(np.float64)
+    shade = _normalized_blur(img, bg.astype(np.float64), scale * max(ex.shape[:2]))
+    light = np.maximum(shade, 1e-3) / img[bg].mean(axis=0)
+    return np.clip(img / light, 0.0, 1.0).astype(np.float32), light.astype(np.float32)
 
 
 def branch_likeness(image: np.ndarray, pm: PixelMap, usable: np.ndarray | None = None
