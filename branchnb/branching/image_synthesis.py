@@ -167,7 +167,7 @@ class ImageSynthesisParams:
         its dark rim) came out with dark dots at their tips, pale and dark halo
         streaks beside them (the gradient-domain correction spreading the steps
         in light) and in disconnected pieces (retina 512 px: 56 pieces, 20
-        gaps, halo 0.20 of the vessel contrast -> 7, 1, 0.03). Applied only to photos whose ground light varies by
+        gaps, halo 0.20 of the vessel contrast -> 43, 14, 0.02). Applied only to photos whose ground light varies by
         more than 20 % (``regions.SHADED``) and whose lines are darker than
         their ground (absorbing lines, darkened with their ground): evenly lit
         examples, light lines (a bolt among clouds, whose "shading" is the
