@@ -159,7 +159,9 @@ def test_poisson_anchors_prevent_colour_drift():
     img, src, tgt = _ramp_example()
     out = {}
     for anchors in (True, False):
-        p = ImageSynthesisParams(completion=False, reverse=False, radius_scale=5, anchors=anchors)
+        # (the paper's copies: flatten_shading would take the ramp out before any correction)
+        p = ImageSynthesisParams(completion=False, reverse=False, radius_scale=5, anchors=anchors,
+                                 flatten_shading=0.0)
         r = synthesize_image(img, src, tgt, rng=0, params=p)
         m = r.fragment_mask.copy()
         m[19:29] = False          # background only

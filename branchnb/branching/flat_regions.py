@@ -14,13 +14,21 @@ from scipy import ndimage as ndi
 
 __all__ = ["flat_colour_regions", "region_layout", "colour_labels", "two_tone_lines"]
 
+#: Largest colour range (any channel) across one flat piece of a flat-colour region; a wider drift is
+#: shading. Drawn maps and masks (noise and JPEG included) stay well below; the retina fundus's
+#: smooth ground drifts by 0.3 and more.
+SHADED_SPREAD = 0.15
+
+
 def flat_colour_regions(image: np.ndarray, exclude: np.ndarray | None = None, *, tol: float = 0.03,
                         min_fraction: float = 0.02) -> tuple[np.ndarray, float]:
     """Segment an example into its large flat-colour regions (land and sea of a map, a mask's two values).
 
     Pixels whose 5 x 5 neighbourhood varies by less than ``tol`` in every
-    channel are flat; their connected pieces are grouped by mean colour
-    (within ``2 tol``), and every group covering at least ``min_fraction``
+    channel are flat; their connected pieces whose colour drifts by more than
+    ``SHADED_SPREAD`` across them are shading, not flat colour (beyond the
+    paper: a soft, vignetted photo's ground is locally flat everywhere);
+    the others are grouped by mean colour (within ``2 tol``), and every group covering at least ``min_fraction``
     of the image is a region. Every other pixel (texture, branches, the
     ``exclude`` mask, e.g. the annotated branch bodies) takes the label of
     the nearest region pixel, so a branch lies in the region around it.
@@ -67,7 +75,14 @@ def flat_colour_regions(image: np.ndarray, exclude: np.ndarray | None = None, *,
     if n == 0:
         return zeros, 0.0
     area = np.bincount(lab.ravel(), minlength=n + 1)
-    means = np.stack([ndi.mean(img[..., c], lab, np.arange(1, n + 1)) for c in range(min(img.shape[2], 3))], 1)
+    idx = np.arange(1, n + 1)
+    nc = min(img.shape[2], 3)
+    means = np.stack([ndi.mean(img[..., c], lab, idx) for c in range(nc)], 1)
+    # beyond the paper: a flat piece whose colour drifts across it is smooth shading (a soft,
+    # vignetted photo's ground), not a flat colour; a drawn region keeps its colour to within noise
+    spread = np.max([ndi.maximum(img[..., c], lab, idx) - ndi.minimum(img[..., c], lab, idx)
+                     for c in range(nc)], axis=0)
+    area[1:][spread > SHADED_SPREAD] = 0
     order = np.argsort(-area[1:]) + 1
     groups: list[list[int]] = []
     colours: list[np.ndarray] = []

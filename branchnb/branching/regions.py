@@ -158,6 +158,62 @@ def flatten_shading(image: np.ndarray, background: np.ndarray, sigma: float) -> 
     return np.clip(img * gain, 0.0, 1.0).astype(np.float32)
 
 
+#: Ground light range (95th over 5th percentile of the example's background averaged at
+#: ``SHADING_SCALE`` of its size) from which an example counts as shaded; evenly lit examples (the
+#: procedural rivers and mud, 1.07-1.08; the mud photo 1.04) stay below, the retina fundus (1.29)
+#: and photos with a light gradient or vignetting (1.9-4.8) above.
+SHADED = 1.2
+SHADING_SCALE = 0.1
+
+
+def _is_shaded(image: np.ndarray, background: np.ndarray, line: np.ndarray | None,
+               ground: np.ndarray | None) -> bool:
+    """Whether the example's ground is unevenly lit and its lines are darker than their ground.
+
+    Absorbing lines (vessels, cracks, rivers) darken with the light that falls on them, so
+    dividing the light out leaves them intact; light lines (a bolt among clouds) are no such
+    thing, their "shading" is the clouds themselves. ``line``, ``ground``: the median colours of
+    the centre lines and of the ground beside them (None = unknown: not shaded).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> ramp = np.dstack([np.tile(np.linspace(0.3, 0.9, 64), (64, 1))] * 3)
+    >>> bg = np.ones((64, 64), bool)
+    >>> dark, light = np.full(3, 0.1), np.full(3, 0.6)
+    >>> _is_shaded(ramp, bg, dark, light), _is_shaded(ramp, bg, light, dark)
+    (True, False)
+    >>> _is_shaded(np.full((64, 64, 3), 0.6), bg, dark, light)
+    False
+    """
+    if line is None or ground is None or float(np.mean(line[:3])) >= float(np.mean(ground[:3])):
+        return False
+    if np.count_nonzero(background) < 64:
+        return False
+    img = np.asarray(image, np.float64)[..., :3]
+    shade = _normalized_blur(img, background.astype(np.float64), SHADING_SCALE * max(img.shape[:2]))
+    v = shade.mean(axis=2)[background]
+    lo, hi = np.percentile(v, [5, 95])
+    return bool(hi > SHADED * max(lo, 1e-3))
+
+
+def _flattened_if_shaded(ex: np.ndarray, regions: ExampleRegions, pm: PixelMap,
+                         scale: float) -> tuple[np.ndarray, np.ndarray | None]:
+    """``ex`` with its shading divided out (as :func:`flatten_shading`, at ``scale`` of its size)
+    when :func:`_is_shaded`, and the light ``shading / mean`` it was divided by ((h, w, C) float32,
+    to put back on the output); else ``(ex, None)``."""
+    from .line_contrast import centre_ring_colours
+
+    bg = ~(regions.forbidden | ndi.binary_dilation(regions.body | regions.branch_like, iterations=3))
+    colours = centre_ring_colours(ex, pm)
+    if not _is_shaded(ex, bg, *(colours if colours is not None else (None, None))):
+        return ex, None
+    img = ex.astype(np.float64)
+    shade = _normalized_blur(img, bg.astype(np.float64), scale * max(ex.shape[:2]))
+    light = np.maximum(shade, 1e-3) / img[bg].mean(axis=0)
+    return np.clip(img / light, 0.0, 1.0).astype(np.float32), light.astype(np.float32)
+
+
 def branch_likeness(image: np.ndarray, pm: PixelMap, usable: np.ndarray | None = None
                     ) -> np.ndarray:
     """Score ``(H, W)``: how far each pixel lies from its local background towards the branch colour.
