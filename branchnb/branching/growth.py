@@ -640,16 +640,21 @@ class _Grower(_Starts, _Filling):
         length = (len(pts) - 1) * p.h
         weights = None
         head = self._below_head(bi)
+        # a band's strands (line art): d among the example's branches of the same generation, and the fill
+        # rounds never take a branch past its generation's children per length (child_quota; issue 23)
+        fm, gen = self.model.furcation, (st.generation if self.keep_in else None)
         if extra:
             d = 1
             existing = self._child_vertices(bi)
+            if gen is not None and len(existing) >= fm._child_quota(length, gen):
+                return []
             weights = self._room(pts) if self._empty_dt is not None else None
             if head is not None:
                 weights = head * (1.0 if weights is None else weights)
             if weights is not None and not weights.any():
                 return []
         else:
-            d = p.d if p.d >= 0 else self.model.furcation.sample_d(length, self.rng)
+            d = p.d if p.d >= 0 else fm.sample_d(length, self.rng, generation=gen)
             existing = ()
             if head is not None and head.any():
                 weights = head.astype(np.float64)
