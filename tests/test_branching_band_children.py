@@ -73,3 +73,16 @@ def test_vine_example_knows_its_side_strands():
     img, ang = vine_example(384, rng=2, leaves=True)
     assert img.dtype == np.float32 and img.shape[1] == 384
     assert len(ang) >= 5 and ((ang >= 15) & (ang <= 40)).all()
+
+
+def test_only_one_pen_line_art_takes_the_band_children_rules():
+    from branchnb.branching._thin_children_check import example_mask
+    from branchnb.branching.child_angles import _one_pen
+    from branchnb.branching.strands import join_strands
+
+    def pen(img):
+        return _one_pen(join_strands(extract_structure(img)).resampled(4.0))
+
+    assert pen(vine_example(384, rng=0)[0]) and pen(example_image("L+", 384, 1))
+    # a river mask lies in a band of its frame too (branching53's rule), but its side branches taper
+    assert not pen(example_mask("river", 200, 1))

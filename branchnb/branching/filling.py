@@ -396,7 +396,7 @@ class _Filling:
         for bi, st in enumerate(self.branches):
             if st.generation >= self.p.max_generations or len(st.points) < 5:
                 continue
-            if self.keep_in and len(self._child_vertices(bi)) >= \
+            if self.strands and len(self._child_vertices(bi)) >= \
                     self.model.furcation._child_quota((len(st.points) - 1) * self.p.h, st.generation):
                 continue   # a band's strand with as many children as its generation's (see growth furcate)
             pts = np.asarray(st.points[1:-2], np.float64)

@@ -19,9 +19,12 @@ furcations (greedily: after each pick ``n-``/``n+`` change and the
 probabilities are recomputed), optionally at least ``min_spacing``
 vertices apart. ``d`` is drawn from the input's children-per-branch
 distribution (among input branches of similar length) unless the user
-sets it. A child's first segment is then chosen by comparing the
-parent's non-causal window at the furcation with the parent windows at
-every input furcation (the bending model's ``Q``); the causal model
+sets it. Beyond the paper (issue 23), one-pen line art in a band draws it among the
+input branches of the same generation, per length (:meth:`FurcationModel.sample_d`),
+and its fill rounds respect :meth:`FurcationModel._child_quota`: a vine's leaf
+stubs and a band's strand pieces, which have no children, grow none. A
+child's first segment is then chosen by comparing the parent's non-causal
+window at the furcation with the parent windows at every input furcation (the bending model's ``Q``); the causal model
 continues the child from there.
 """
 

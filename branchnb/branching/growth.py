@@ -24,6 +24,7 @@ import numpy as np
 from ..core.structure import Branch, Structure
 from . import _kernels, _loop_kernels
 from .branch_starts import LEAVE_BAND, _BranchState, _Starts
+from .child_angles import _one_pen
 from .colonization import (
     DensityMap,
     SegmentStore,
@@ -255,6 +256,9 @@ class _Grower(_Starts, _Filling):
         # a branch turns along it (LEAVE_BAND)
         self.keep_in = guidance is None and domain is not None and model.ground is not None \
             and _is_band(domain)
+        # and drawn with about one pen (an ornament, not a river mask in a band): its children follow the
+        # example's per generation, length and angle (.child_angles, FurcationModel._child_quota)
+        self.strands = self.keep_in and _one_pen(model.example)
         self._e_dom = np.zeros((1, 1), bool)
         # a root reads the frame ahead as density (a free frame only: a map's domain has its own rules)
         self.frame = params.colonization and guidance is None and (region is None or bool(region.all()))
@@ -640,9 +644,9 @@ class _Grower(_Starts, _Filling):
         length = (len(pts) - 1) * p.h
         weights = None
         head = self._below_head(bi)
-        # a band's strands (line art): d among the example's branches of the same generation, and the fill
+        # a band's strands (one-pen line art): d among the example's branches of the same generation, and the fill
         # rounds never take a branch past its generation's children per length (child_quota; issue 23)
-        fm, gen = self.model.furcation, (st.generation if self.keep_in else None)
+        fm, gen = self.model.furcation, (st.generation if self.strands else None)
         if extra:
             d = 1
             existing = self._child_vertices(bi)
