@@ -400,7 +400,7 @@ class _Filling:
         for bi, st in enumerate(self.branches):
             if st.generation >= self.p.max_generations or len(st.points) < 5:
                 continue
-            if self.strands and len(self._child_vertices(bi)) >= \
+            if self.strands and not self.quota_off and len(self._child_vertices(bi)) >= \
                     self.model.furcation._child_quota((len(st.points) - 1) * self.p.h, st.generation):
                 continue   # a band's strand with as many children as its generation's (see growth furcate)
             pts = np.asarray(st.points[1:-2], np.float64)
@@ -511,6 +511,11 @@ class _Filling:
                     self._drain([c])
             if self.stop_reason:
                 break
+        if not self.stop_reason and self.density.coverage() < STRAND_SHARE * self.coverage_target:
+            # no strand found room either: the fill rounds fill the band as the paper's do, past the quota
+            # (an L band's roots left it within 100-150 px in 2 of 2 seeds; bushes, but the band's length)
+            self.quota_off = True
+            self._fill_rounds()
         if not self.stop_reason or self.stop_reason == "density (coverage)":
             self.stop_reason = saved
 

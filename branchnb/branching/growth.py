@@ -259,6 +259,7 @@ class _Grower(_Starts, _Filling):
         # and drawn with about one pen (an ornament, not a river mask in a band): its children follow the
         # example's per generation, length and angle (.child_angles, FurcationModel._child_quota)
         self.strands = self.keep_in and _one_pen(model.example)
+        self.quota_off = False   # _Filling._more_strands found no room for a strand: fill as the paper
         self._e_dom = np.zeros((1, 1), bool)
         # a root reads the frame ahead as density (a free frame only: a map's domain has its own rules)
         self.frame = params.colonization and guidance is None and (region is None or bool(region.all()))
@@ -650,7 +651,7 @@ class _Grower(_Starts, _Filling):
         if extra:
             d = 1
             existing = self._child_vertices(bi)
-            if gen is not None and len(existing) >= fm._child_quota(length, gen):
+            if gen is not None and not self.quota_off and len(existing) >= fm._child_quota(length, gen):
                 return []
             weights = self._room(pts) if self._empty_dt is not None else None
             if head is not None:
