@@ -115,3 +115,75 @@ def crack_drawing_example(size: int = 256, rng=0, *, cells: int = 30, width: int
                 cv2.line(img, (int(p[0]), int(p[1])), (int(q[0]), int(q[1])), (0.1, 0.1, 0.1), int(width),
                          cv2.LINE_AA)
     return img
+
+
+def vine_example(size: int = 512, rng=0, *, leaves: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """A border vine: one wavy stem along the top of the frame with side strands that leave it at
+    shallow angles (15-40 degrees) and curl at their ends, optionally with leaf stubs (issue 23).
+
+    Parameters
+    ----------
+    size : int, default 512
+        Width of the image (pixels); the height is 0.6-0.9 x the width and every length scales with it.
+    rng : int or numpy.random.Generator, default 0
+        Seed for the stem's waves, the side strands and the leaves.
+    leaves : bool, default False
+        Small filled leaves on short stalks along the stem.
+
+    Returns
+    -------
+    image : (H, size, 3) float32
+        Black lines on white.
+    angles : (n,) float64 ndarray
+        The known answer: the angle (degrees) at which each side strand leaves the stem.
+
+    Examples
+    --------
+    >>> img, ang = vine_example(256, rng=0)
+    >>> img.shape[1], bool((img < 0.5).any()), bool(((ang >= 15) & (ang <= 40)).all())
+    (256, True, True)
+    """
+    import cv2
+
+    r = as_rng(rng)
+    W = int(size)
+    H = int(size * r.uniform(0.6, 0.9))
+    lw = max(2, int(round(size / r.uniform(120, 160))))
+    y0 = size * r.uniform(0.15, 0.18)
+    amp = size * r.uniform(0.012, 0.022)
+    period = size * r.uniform(0.3, 0.45)
+    ph = r.uniform(0, 2 * np.pi)
+    x = np.arange(0.0, W, 1.0)
+    stem = np.c_[x, y0 + amp * np.sin(2 * np.pi * x / period + ph)]
+    img = np.zeros((H, W), np.uint8)
+    cv2.polylines(img, [np.round(stem * 8).astype(np.int32)], False, 255, lw, cv2.LINE_AA, 3)
+    angles = []
+    gap = size * r.uniform(0.1, 0.14)
+    s = r.uniform(0.3, 0.7) * gap
+    side = 1 if r.random() < 0.5 else -1
+    while s < W - 0.12 * size:
+        i = int(s)
+        t = stem[min(i + 3, W - 1)] - stem[max(i - 3, 0)]
+        a0 = np.arctan2(t[1], t[0])
+        beta = np.radians(r.uniform(15, 40))
+        ln = size * r.uniform(0.08, 0.14)
+        n = int(ln)
+        curl = np.linspace(0, 1, n) ** 3 * r.uniform(2.5, 4.0)     # curls only toward its end
+        head = a0 + side * (beta + curl)
+        pts = stem[i] + np.cumsum(np.c_[np.cos(head), np.sin(head)], axis=0)
+        pts[:, 1] = np.clip(pts[:, 1], 2, H - 3)
+        cv2.polylines(img, [np.round(pts * 8).astype(np.int32)], False, 255, max(1, lw - 1), cv2.LINE_AA, 3)
+        angles.append(np.degrees(beta))
+        if leaves and r.random() < 0.7:
+            k = int(r.uniform(0.3, 0.6) * gap)
+            j = min(i + k, W - 1)
+            nrm = np.array([-np.sin(a0), np.cos(a0)]) * -side
+            ls = max(3.0, 0.012 * size)
+            c = stem[j] + nrm * ls * 1.6
+            ang = float(np.degrees(np.arctan2(nrm[1], nrm[0])))
+            cv2.ellipse(img, (int(c[0] * 8), int(c[1] * 8)), (int(ls * 1.4 * 8), int(ls * 0.7 * 8)), ang, 0, 360,
+                        255, -1, cv2.LINE_AA, 3)
+        s += gap * r.uniform(0.8, 1.2)
+        side = -side
+    out = 1.0 - img.astype(np.float32) / 255.0
+    return np.repeat(out[..., None], 3, axis=2), np.asarray(angles, np.float64)

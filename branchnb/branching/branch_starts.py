@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import _kernels, _loop_kernels
+from .child_angles import _AngleMatch, _head_angles
 from .domains import FAN_SPLIT, HEAD_PULL, MOUTH_TURN, fan_spread, head_share
 from .furcation import vertex_angles
 from .scoring import _DIRECTION_BINS
@@ -264,6 +265,13 @@ class _Starts:
             return hm.p_r, hm.counts_r, -1.0
         return ch[0], ch[1], hm.wG * float(ch[1].sum()) / hm.m
 
+    def _angle_match(self) -> _AngleMatch:
+        """The example's child angles and the synthesized children's so far (:class:`.child_angles._AngleMatch`)."""
+        got = self.__dict__.get("_angles")
+        if got is None:
+            got = self.__dict__["_angles"] = _AngleMatch(self.model.example)
+        return got
+
     def _head_share(self) -> float:
         if self._head is None:
             m = self.model
@@ -332,6 +340,10 @@ class _Starts:
             ins = self._inside(new.reshape(-1, 2)).reshape(new.shape[:2])
             k = min(ins.shape[1], valid.shape[1])
             score = np.where((ins[:, :k] | ~valid[:, :k]).all(1), score, score * LEAVE_BAND)
+        match = self._angle_match() if parent is not None and self.strands else None
+        if match is not None:   # a band's child leaves at the example's angles (.child_angles)
+            ang = _head_angles(x0, theta0, new, n + 1, 0.0 if r_cap is None else float(r_cap))
+            score = score * match.factor(ang)
         if self.drain is not None and parent is None:
             # beyond the paper (issue 23): a delta's trunk takes a head that stays in the land where one does
             # (a head running along the frame it starts on left the domain at its second vertex: nothing
@@ -351,6 +363,8 @@ class _Starts:
             span = np.where(valid, th, th[:, :1])
             score = np.where(np.ptp(span, axis=1) > MOUTH_TURN, score * 1e-9, score)
         j = self._pick(score, x0, new, n + 1)
+        if j is not None and match is not None:
+            match.add(float(ang[j]))
         if j is None:   # none of the share fits: all the heads (rare)
             if sub is None or not self._room_around(x0, length):
                 return None

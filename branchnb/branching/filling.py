@@ -33,6 +33,10 @@ PART_GROWN = 1.0
 #: Largest ``(H - 1)^2 + (W - 1)^2`` for which :func:`_edt` takes OpenCV's exact distance transform:
 #: below it every squared distance is recovered exactly from its float32 distance.
 EDT_CV2_LIMIT = 2 ** 22
+#: One-pen strands in a band (``_Grower.strands``) whose coverage ends below this share of the target
+#: start another strand from the root model (:meth:`_Filling._more_strands`), at most :data:`MORE_STRANDS` times.
+STRAND_SHARE = 0.7
+MORE_STRANDS = 4
 
 
 def _edt(mask: np.ndarray, float32: bool = False) -> np.ndarray:
@@ -396,6 +400,9 @@ class _Filling:
         for bi, st in enumerate(self.branches):
             if st.generation >= self.p.max_generations or len(st.points) < 5:
                 continue
+            if self.strands and not self.quota_off and len(self._child_vertices(bi)) >= \
+                    self.model.furcation._child_quota((len(st.points) - 1) * self.p.h, st.generation):
+                continue   # a band's strand with as many children as its generation's (see growth furcate)
             pts = np.asarray(st.points[1:-2], np.float64)
             d = np.hypot(*(pts - goal).T)
             head = self._below_head(bi)   # a delta's trunk parts at its head only
@@ -480,6 +487,37 @@ class _Filling:
         self.coverage_target = saved
         if not self.stop_reason or self.stop_reason == "density (coverage)":
             self.stop_reason = reason
+
+    def _more_strands(self, starts) -> None:
+        """Start another strand while a band of one-pen strands covers less than :data:`STRAND_SHARE` of
+        its target (beyond the paper, issue 23).
+
+        A band's children follow the example's per generation and length (``FurcationModel._child_quota``),
+        so the fill rounds no longer hide a root that left its band early under bushes of twigs: an
+        interlaced L band whose root left after 100 px ended at 0.34 of the example's length. Another
+        root (drawn from the root model like the first, ``starts(rng)``) grows a strand of its own.
+        """
+        if not getattr(self, "strands", False) or not callable(starts) or self.density is None or \
+                not 0 < self.coverage_target < 1 or self.stop_reason not in ("", "no branch can grow"):
+            return
+        saved = self.stop_reason
+        for _ in range(MORE_STRANDS):
+            if self.density.coverage() >= STRAND_SHARE * self.coverage_target:
+                break
+            self.stop_reason = ""
+            for x, y, th in starts(self.rng):
+                c = self.start_root(x, y, th)
+                if c is not None:
+                    self._drain([c])
+            if self.stop_reason:
+                break
+        if not self.stop_reason and self.density.coverage() < STRAND_SHARE * self.coverage_target:
+            # no strand found room either: the fill rounds fill the band as the paper's do, past the quota
+            # (an L band's roots left it within 100-150 px in 2 of 2 seeds; bushes, but the band's length)
+            self.quota_off = True
+            self._fill_rounds()
+        if not self.stop_reason or self.stop_reason == "density (coverage)":
+            self.stop_reason = saved
 
     def _prune_dry(self) -> None:
         """Drop a delta's channels that end inland (beyond the paper; :class:`.domains._Drain` only).

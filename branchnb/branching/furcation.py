@@ -19,9 +19,12 @@ furcations (greedily: after each pick ``n-``/``n+`` change and the
 probabilities are recomputed), optionally at least ``min_spacing``
 vertices apart. ``d`` is drawn from the input's children-per-branch
 distribution (among input branches of similar length) unless the user
-sets it. A child's first segment is then chosen by comparing the
-parent's non-causal window at the furcation with the parent windows at
-every input furcation (the bending model's ``Q``); the causal model
+sets it. Beyond the paper (issue 23), one-pen line art in a band draws it among the
+input branches of the same generation, per length (:meth:`FurcationModel.sample_d`),
+and its fill rounds respect :meth:`FurcationModel._child_quota`: a vine's leaf
+stubs and a band's strand pieces, which have no children, grow none. A
+child's first segment is then chosen by comparing the parent's non-causal
+window at the furcation with the parent windows at every input furcation (the bending model's ``Q``); the causal model
 continues the child from there.
 """
 
@@ -180,6 +183,9 @@ class FurcationModel:
     children_per_branch, branch_lengths : ndarray
         For drawing ``d``: children count and length (pixels) of every
         input branch.
+    branch_generations : ndarray
+        Generation of every input branch (0 = root), for drawing ``d`` among
+        one generation (:meth:`sample_d`) and :meth:`_child_quota`.
     n_positive, n_negative : int
         Training vertices that are furcations (+1) and that are not (-1).
     """
@@ -192,6 +198,7 @@ class FurcationModel:
     child_index: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
     children_per_branch: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
     branch_lengths: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    branch_generations: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
     n_positive: int = 0
     n_negative: int = 0
     #: The fitted classifier unrolled into numpy: per (calibration) fold the
@@ -247,7 +254,8 @@ class FurcationModel:
                 pwr.append(wr[c.parent_vertex])
                 cidx.append(j)
         lengths = np.array([b.length for b in structure.branches])
-        model = cls(k=int(k), children_per_branch=counts, branch_lengths=lengths,
+        gens = np.array([structure.generation(i) for i in range(n)], np.int64)
+        model = cls(k=int(k), children_per_branch=counts, branch_lengths=lengths, branch_generations=gens,
                     parent_windows_a=np.array(pwa).reshape(-1, 2 * k + 1),
                     parent_windows_r=np.array(pwr).reshape(-1, 2 * k + 1),
                     child_index=np.asarray(cidx, np.int64))
@@ -372,7 +380,16 @@ class FurcationModel:
             furc.append(v)
         return sorted(chosen)
 
-    def sample_d(self, length: float, rng: np.random.Generator, bandwidth: float = 0.5) -> int:
+    def _pool(self, generation: int | None) -> np.ndarray:
+        """Indices of the input branches of ``generation`` (the deepest one there is if deeper; all when
+        None or when the generations are unknown)."""
+        g = getattr(self, "branch_generations", None)   # None: a model pickled before branching60
+        if generation is None or g is None or len(g) != len(self.children_per_branch) or not len(g):
+            return np.arange(len(self.children_per_branch))
+        return np.flatnonzero(g == min(int(generation), int(g.max())))
+
+    def sample_d(self, length: float, rng: np.random.Generator, bandwidth: float = 0.5,
+                 generation: int | None = None) -> int:
         """Draw ``d`` from the children counts of input branches of similar length.
 
         Input branches are weighted by ``exp(-log(L / L_b)^2 / (2 bw^2))``.
@@ -386,22 +403,78 @@ class FurcationModel:
         bandwidth : float, default 0.5
             Width ``bw`` of the length kernel, in log units (0.5: a branch twice
             as long weighs ``exp(-0.96) ~ 0.38``).
+        generation : int, optional
+            Draw among the input branches of this generation only (the deepest
+            one there is if deeper; beyond the paper, issue 23: a vine's leaf
+            stubs and a band's strand pieces have no children, though as long as
+            a river's side branches that do), and a branch shorter than the drawn
+            one gets its children per length. None = among all, as the paper.
 
         Returns
         -------
         int
             ``d``, the number of furcations (0 for a model without input
             branches or ``length <= 0``).
+
+        Examples
+        --------
+        >>> fm = FurcationModel(k=1, children_per_branch=np.array([3, 0]), branch_lengths=np.array([100.0, 90.0]),
+        ...                     branch_generations=np.array([0, 1]))
+        >>> fm.sample_d(95.0, np.random.default_rng(0), generation=1)
+        0
         """
         if len(self.children_per_branch) == 0 or length <= 0:
             return 0
-        L = np.maximum(self.branch_lengths, 1e-6)
+        idx = self._pool(generation)
+        L = np.maximum(self.branch_lengths[idx], 1e-6)
         w = np.exp(-np.log(length / L) ** 2 / (2 * bandwidth ** 2))
         if w.sum() <= 0:
             w = np.ones_like(w)
         from .model import _choice  # model imports this module
 
-        return int(self.children_per_branch[_choice(rng, w / w.sum())])
+        j = idx[_choice(rng, w / w.sum())]
+        d = int(self.children_per_branch[j])
+        if generation is not None and d and length < self.branch_lengths[j]:
+            # as many per length as the drawn branch: a band's root that stopped at a sixth of the example's
+            # took all of its 9 children (rounded at random, so the mean count per length is the drawn one's)
+            x = d * length / max(float(self.branch_lengths[j]), 1e-9)
+            d = int(np.floor(x)) + int(rng.random() < x - np.floor(x))
+        return d
+
+    def _child_quota(self, length: float, generation: int, slack: float = 1.25) -> int:
+        """How many children a synthesized branch of ``length`` and ``generation`` may carry at most: its
+        generation's children per length in the input times ``length`` times ``slack``, rounded.
+
+        Beyond the paper (issue 23): the fill rounds, which furcate grown branches again until the domain is
+        as covered as the example, count against it; without it a border vine whose leaf stubs have no
+        children grew twigs on twigs to fill its band (45 branches where the example has 20).
+
+        Parameters
+        ----------
+        length : float
+            Length of the synthesized branch (pixels).
+        generation : int
+            Its generation (0 = root; the deepest input generation if deeper).
+        slack : float, default 1.25
+            Factor on the input's rate.
+
+        Returns
+        -------
+        int
+            The largest number of children (0: the input's branches of that generation have none).
+
+        Examples
+        --------
+        >>> fm = FurcationModel(k=1, children_per_branch=np.array([4, 0, 0]),
+        ...                     branch_lengths=np.array([400.0, 50.0, 60.0]), branch_generations=np.array([0, 1, 1]))
+        >>> fm._child_quota(160.0, 0), fm._child_quota(160.0, 1)
+        (2, 0)
+        """
+        idx = self._pool(generation)
+        if not len(idx):
+            return 0
+        rate = float(self.children_per_branch[idx].sum()) / max(float(self.branch_lengths[idx].sum()), 1e-9)
+        return int(np.floor(rate * max(float(length), 0.0) * float(slack) + 0.5))
 
     def child_quality(self, window_a, window_r, subset=None) -> np.ndarray:
         """Q of every input furcation for a synthesized parent window, ``(F,)``.

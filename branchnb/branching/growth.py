@@ -24,6 +24,7 @@ import numpy as np
 from ..core.structure import Branch, Structure
 from . import _kernels, _loop_kernels
 from .branch_starts import LEAVE_BAND, _BranchState, _Starts
+from .child_angles import _one_pen
 from .colonization import (
     DensityMap,
     SegmentStore,
@@ -257,6 +258,10 @@ class _Grower(_Starts, _Filling):
         # a branch turns along it (LEAVE_BAND)
         self.keep_in = guidance is None and domain is not None and model.ground is not None \
             and _is_band(domain)
+        # and drawn with about one pen (an ornament, not a river mask in a band): its children follow the
+        # example's per generation, length and angle (.child_angles, FurcationModel._child_quota)
+        self.strands = self.keep_in and _one_pen(model.example)
+        self.quota_off = False   # _Filling._more_strands found no room for a strand: fill as the paper
         self._e_dom = np.zeros((1, 1), bool)
         # a root reads the frame ahead as density (a free frame only: a map's domain has its own rules)
         self.frame = params.colonization and guidance is None and (region is None or bool(region.all()))
@@ -642,16 +647,21 @@ class _Grower(_Starts, _Filling):
         length = (len(pts) - 1) * p.h
         weights = None
         head = self._below_head(bi)
+        # a band's strands (one-pen line art): d among the example's branches of the same generation, and the fill
+        # rounds never take a branch past its generation's children per length (child_quota; issue 23)
+        fm, gen = self.model.furcation, (st.generation if self.strands else None)
         if extra:
             d = 1
             existing = self._child_vertices(bi)
+            if gen is not None and not self.quota_off and len(existing) >= fm._child_quota(length, gen):
+                return []
             weights = self._room(pts) if self._empty_dt is not None else None
             if head is not None:
                 weights = head * (1.0 if weights is None else weights)
             if weights is not None and not weights.any():
                 return []
         else:
-            d = p.d if p.d >= 0 else self.model.furcation.sample_d(length, self.rng)
+            d = p.d if p.d >= 0 else fm.sample_d(length, self.rng, generation=gen)
             existing = ()
             if head is not None and head.any():
                 weights = head.astype(np.float64)

@@ -363,6 +363,7 @@ def _grow_with_retries(model, p, rng, shp, guidance, starts, scorer, domain=None
         best.stop_reason = ""
     best._fill_far()
     best._fill_holes()
+    best._more_strands(starts)
     if cut and not best.stop_reason:
         best.stop_reason = "total length"
     best._drop_unborn(resume=False)
