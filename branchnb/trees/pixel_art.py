@@ -47,6 +47,14 @@ class PixelArt:
         Source pixels per art pixel (1: drawn at its own size; 2: enlarged x2 nearest).
     palette : (k, 3) float32 ndarray
         The distinct colours of the opaque pixels.
+
+    Examples
+    --------
+    >>> img = np.zeros((8, 8, 4), np.float32)
+    >>> img[2:6, 2:6] = (0.2, 0.6, 0.2, 1.0); img[2:4, 2:4, :3] = 0.0
+    >>> art = _detect(img)
+    >>> art.block, len(art.palette)
+    (2, 2)
     """
 
     block: int
