@@ -418,6 +418,13 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     return the first exemplar itself). A single exemplar is allowed and
     reproduces it: its only convex combination is itself.
 
+    Beyond the paper: when every mixed exemplar is pixel art (hard edges,
+    at most 32 colours, alpha 0/1, art pixels at least 2 working pixels
+    across; :mod:`~branchnb.trees.pixel_art`) and the colours are chosen
+    (``colour_mode`` ``"auto"`` or ``"choose"``), the mix is put back on the
+    sources' art-pixel grid in their palette, with a one-art-pixel outline
+    where they are outlined: pixel art in, pixel art out.
+
     Examples
     --------
     >>> from branchnb.trees import TreeLibrary
