@@ -329,8 +329,9 @@ def _drop_foot_spurs(tree: np.ndarray, rgb: np.ndarray, y_f: int, trunk_width: f
     a 2-4 px ink line sticking out sideways from the trunk's lowest rows, which every mix
     then shows as a black fleck beside its trunk foot. In the last half trunk width above the
     foot, pieces outside the trunk's column (its span in the row above, plus 1 px) that are
-    mostly ink (darker than half the trunk row's median) and thin (at most a quarter trunk
-    width, 3 px at least) go; a flared foot (fill-coloured or thick) stays.
+    mostly ink (darker than half the trunk row's median), thin (at most a quarter trunk
+    width, 3 px at least) and lying sideways (1.5 times as wide as tall) go; a flared foot
+    (fill-coloured or thick) and the trunk's own outline running up from it stay.
     """
     k = max(2, int(round(0.5 * trunk_width)))
     r = y_f - k - 1
@@ -355,7 +356,10 @@ def _drop_foot_spurs(tree: np.ndarray, rgb: np.ndarray, y_f: int, trunk_width: f
     idx = np.arange(1, n + 1)
     dark_share = ndi.mean(dark, lab, idx)
     thickness = 2 * ndi.maximum(thick, lab, idx) - 1
-    drop = (dark_share >= 0.75) & (thickness <= max(3.0, 0.25 * trunk_width))
+    # sideways: a trunk's own outline flaring at the foot runs up along the trunk instead
+    sl = ndi.find_objects(lab)
+    wide = np.array([(q[1].stop - q[1].start) >= max(3, 1.5 * (q[0].stop - q[0].start)) for q in sl])
+    drop = (dark_share >= 0.75) & (thickness <= max(3.0, 0.25 * trunk_width)) & wide
     if not drop.any():
         return tree
     res = tree & ~np.isin(lab, idx[drop])
