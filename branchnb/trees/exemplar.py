@@ -33,6 +33,7 @@ from ..core.io import encode_png
 from ..core.params import check_params, param
 from ..core.render import draw_polylines
 from ..core.validate import MAX_PIXELS, Array, Colour, Int, Real, checked
+from .pixel_art import _detect as _detect_pixel_art
 
 __all__ = [
     "ExemplarParams",
@@ -161,6 +162,9 @@ class Normalized:
         ``(H, W)`` of the source image.
     dropped_components : int
         Opaque regions removed (``components="largest"``/``"error"``).
+    pixel_art : PixelArt or None
+        Set when the source is pixel art (:mod:`~branchnb.trees.pixel_art`:
+        hard-edged, few colours); the image was then resized nearest.
 
     Examples
     --------
@@ -177,6 +181,7 @@ class Normalized:
     offset: tuple[float, float]
     source_shape: tuple[int, int]
     dropped_components: int = 0
+    pixel_art: object = None
 
     @property
     def alpha(self) -> np.ndarray:
@@ -240,6 +245,12 @@ class Normalized:
 
     def _repr_png_(self) -> bytes:
         return encode_png(composite_over(self.image, (1.0, 1.0, 1.0)))
+
+
+#: Pixel art (:mod:`~branchnb.trees.pixel_art`) is kept hard when its art pixels are at
+#: least this many working pixels across; smaller ones (a hard-edged drawing at about its
+#: own size) are resampled as before.
+ART_PIXEL_MIN = 2.0
 
 
 def _select_components(opaque: np.ndarray, mode: str, second_fraction: float):
@@ -380,7 +391,15 @@ def normalize_exemplar(image, params: ExemplarParams | None = None, **overrides)
     pre = img[y0:y1, x0:x1, :3] * opaque[y0:y1, x0:x1, None]
     rgba = np.dstack([pre, opaque[y0:y1, x0:x1].astype(np.float32)])
     nw, nh = max(1, int(round(bw * scale))), max(1, int(round(bh * scale)))
-    interp = cv2.INTER_AREA if scale < 1 else cv2.INTER_CUBIC
+    # Beyond the paper: pixel art keeps its hard pixels (a smooth resize draws its stair-steps
+    # as anti-aliased curves and mixes colours no palette has).
+    # (the raw alpha of the kept tree: soft edges say it is no pixel art; dropped regions are gone)
+    a_raw = img[y0:y1, x0:x1, 3]
+    kept = np.where(opaque[y0:y1, x0:x1] | (a_raw < p.alpha_threshold), a_raw, 0.0)
+    art = _detect_pixel_art(np.dstack([img[y0:y1, x0:x1, :3], kept]))
+    if art is not None and art.block * scale < ART_PIXEL_MIN:
+        art = None          # art pixels this small show no stair-steps: resampled like any drawing
+    interp = cv2.INTER_NEAREST if art is not None else cv2.INTER_AREA if scale < 1 else cv2.INTER_CUBIC
     small = cv2.resize(rgba, (nw, nh), interpolation=interp)
     small = np.clip(small, 0.0, 1.0)
     a = small[:, :, 3]
@@ -393,7 +412,7 @@ def normalize_exemplar(image, params: ExemplarParams | None = None, **overrides)
     if not keep.any():
         raise ValueError("the opaque region vanishes at this working size; use a larger size")
     return Normalized(out, (x0, y0, x1, y1), float(nw / bw), (float(ox), float(oy)), (h, w),
-                      dropped)
+                      dropped, art)
 
 
 def signed_area(polygon) -> float:

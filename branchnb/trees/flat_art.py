@@ -127,6 +127,29 @@ def _ink_outline(image: np.ndarray, exemplars: Sequence[Exemplar], cw: np.ndarra
     return _pen_outline(ink_silhouette(image, best.ink, best.width), best.ink, best.width, profile, pen)
 
 
+def _pixel_arts(exemplars: Sequence[Exemplar]):
+    """The exemplars' :class:`~branchnb.trees.pixel_art.PixelArt` when every one is pixel art, else None."""
+    arts = [getattr(e.normalized, "pixel_art", None) for e in exemplars]
+    return arts if arts and all(a is not None for a in arts) else None
+
+
+def _pixel_mix(image: np.ndarray, exemplars: Sequence[Exemplar], cw: np.ndarray, sources: np.ndarray,
+               trunk: np.ndarray, outline: bool = True):
+    """A mix of pixel-art exemplars on their art-pixel grid (beyond the paper, see
+    :mod:`~branchnb.trees.pixel_art`): ``(image, sources, trunk)``, all resampled alike."""
+    from .pixel_art import _pixelate
+
+    arts = _pixel_arts(exemplars)
+    blocks = [a.block * e.normalized.scale for a, e in zip(arts, exemplars, strict=True)]
+    outl = [exemplar_outline(e) for e in exemplars]
+    on = np.array([o.outlined for o in outl])
+    ink = None
+    if outline and on.any() and cw[on].sum() >= 0.5 * cw.sum() - 1e-9:
+        ink = outl[int(np.argmax(np.where(on, cw, -1.0)))].ink
+    out, (src, tr) = _pixelate(image, arts, blocks, ink=ink, layers=(sources, trunk))
+    return out, src, tr
+
+
 def _exemplar_pen(exemplar: Exemplar):
     """The pen profile of an outlined exemplar (:func:`~branchnb.trees.outline_pen._pen_profile`,
     cached on it; None when not outlined or unmeasurable)."""

@@ -322,6 +322,54 @@ def _drop_foot_leaves(tree: np.ndarray, stem: np.ndarray, foreign_small: np.ndar
     return out
 
 
+def _drop_foot_spurs(tree: np.ndarray, rgb: np.ndarray, y_f: int, trunk_width: float) -> np.ndarray:
+    """Cut the thin dark spurs a cut leaves beside the trunk foot (beyond the paper; issue 24).
+
+    The pile's leaves drawn against the foot keep their upper outlines above the foot row:
+    a 2-4 px ink line sticking out sideways from the trunk's lowest rows, which every mix
+    then shows as a black fleck beside its trunk foot. In the last half trunk width above the
+    foot, pieces outside the trunk's column (its span in the row above, plus 1 px) that are
+    mostly ink (darker than half the trunk row's median), thin (at most a quarter trunk
+    width, 3 px at least) and lying sideways (1.5 times as wide as tall) go; a flared foot
+    (fill-coloured or thick) and the trunk's own outline running up from it stay.
+    """
+    k = max(2, int(round(0.5 * trunk_width)))
+    r = y_f - k - 1
+    if r < 0 or not tree[r].any():
+        return tree
+    lum = np.asarray(rgb, np.float32) @ np.array([0.299, 0.587, 0.114], np.float32)
+    xs = np.flatnonzero(tree[r])
+    # the trunk's run in that row: the one under the foot's median column
+    runs = np.split(xs, np.flatnonzero(np.diff(xs) > 1) + 1)
+    mid = np.median(np.flatnonzero(tree[y_f])) if tree[y_f].any() else np.median(xs)
+    run = min(runs, key=lambda q: 0 if q[0] <= mid <= q[-1] else min(abs(q[0] - mid), abs(q[-1] - mid)))
+    col = np.zeros_like(tree)
+    col[:, max(0, run[0] - 1):run[-1] + 2] = True
+    band = np.zeros_like(tree)
+    band[r + 1:y_f + 1] = True
+    out = tree & band & ~col
+    if not out.any():
+        return tree
+    dark = lum <= 0.5 * float(np.median(lum[r, run]))
+    lab, n = ndi.label(out, structure=np.ones((3, 3), bool))
+    thick = ndi.distance_transform_edt(np.pad(out, 1))[1:-1, 1:-1]
+    idx = np.arange(1, n + 1)
+    dark_share = ndi.mean(dark, lab, idx)
+    thickness = 2 * ndi.maximum(thick, lab, idx) - 1
+    # sideways: a trunk's own outline flaring at the foot runs up along the trunk instead
+    sl = ndi.find_objects(lab)
+    wide = np.array([(q[1].stop - q[1].start) >= max(3, 1.5 * (q[0].stop - q[0].start)) for q in sl])
+    drop = (dark_share >= 0.75) & (thickness <= max(3.0, 0.25 * trunk_width)) & wide
+    if not drop.any():
+        return tree
+    res = tree & ~np.isin(lab, idx[drop])
+    lab2, n2 = ndi.label(res, structure=np.ones((3, 3), bool))
+    if n2 > 1:
+        ys = np.flatnonzero(res.any(axis=1))
+        res = lab2 == _crown_component(lab2[ys[0]:], max(1, int(0.3 * (ys[-1] - ys[0] + 1))))
+    return res
+
+
 def _profile_and_foot(small: np.ndarray, p: GroundParams):
     """(neck widths, neck mask, foot row, trunk width, band top) of a working mask.
 
@@ -507,6 +555,8 @@ def split_ground(image, params: GroundParams | None = None, **overrides) -> Grou
         tree = _drop_side_clutter(tree, stem, int(np.floor(stem_top / s)), y_f, w_t / s)
         if foreign_small is not None:
             tree = _drop_foot_leaves(tree, stem, foreign_small, y_f, w_t / s)
+        if rgb is not None:
+            tree = _drop_foot_spurs(tree, rgb, y_f, w_t / s)
         ground = mask & ~tree
     xs = np.flatnonzero(tree[y_f])
     foot = (float(np.median(xs)), float(y_f)) if xs.size else None

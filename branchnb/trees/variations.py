@@ -56,6 +56,8 @@ from .flat_art import (
     _ink_outline,
     _one_piece,
     _own_holes,
+    _pixel_arts,
+    _pixel_mix,
     exemplar_largest_hole,
     exemplar_outline,
     exemplar_parts,
@@ -416,6 +418,13 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     return the first exemplar itself). A single exemplar is allowed and
     reproduces it: its only convex combination is itself.
 
+    Beyond the paper: when every mixed exemplar is pixel art (hard edges,
+    at most 32 colours, alpha 0/1, art pixels at least 2 working pixels
+    across; :mod:`~branchnb.trees.pixel_art`) and the colours are chosen
+    (``colour_mode`` ``"auto"`` or ``"choose"``), the mix is put back on the
+    sources' art-pixel grid in their palette, with a one-art-pixel outline
+    where they are outlined: pixel art in, pixel art out.
+
     Examples
     --------
     >>> from branchnb.trees import TreeLibrary
@@ -469,7 +478,11 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     parts_mode = mode == "choose" and p.choose_by == "parts" and len(used) > 1
     own = _own_holes(image[..., 3] >= 0.5, [exemplars[i] for i in used], cage, p.m_points) if parts_mode else None
     image = _one_piece(image, [exemplars[i] for i in used], own_holes=own)
-    if p.outline and len(used) > 1:      # one exemplar: its own shape, its outline intact
+    pixel = mode == "choose" and len(used) > 1 and _pixel_arts([exemplars[i] for i in used]) is not None
+    if pixel:       # pixel art stays on its grid, in its palette, with a 1-art-pixel outline
+        image, sources, trunk = _pixel_mix(image, [exemplars[i] for i in used], cw[used], sources, trunk,
+                                           outline=p.outline)
+    elif p.outline and len(used) > 1:      # one exemplar: its own shape, its outline intact
         image = _ink_outline(image, [exemplars[i] for i in used], cw[used],
                              np.where(image[..., 3] >= 0.5, sources, -1) if mode == "choose" else None)
     sources = used[np.maximum(sources, 0)] * (sources >= 0) - (sources < 0)
