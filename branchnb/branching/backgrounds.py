@@ -501,7 +501,10 @@ def flat_background(gray, branches, radius: float, tol: float = 0.02) -> np.ndar
     land on both sides, so the land's closing bridges it, while a coast
     line has land on one side only and belongs to neither. A region holds
     no branches when less than 2 % of the branch pixels lie in it (the
-    river mouths touching the coast).
+    river mouths touching the coast). When more lie in it, only those with
+    the region on both sides count (``_two_sided``): where a wavy coast bends,
+    the closing of the sea covers stretches of the drawn coast line, which has
+    the sea on one side only (beyond the paper).
 
     Beyond that rule, a region of the colour the branches lie in (the
     median of the flat pixels 3-8 px beside them) is never background:

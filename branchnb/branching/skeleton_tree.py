@@ -388,10 +388,11 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
     root : {"auto", "thickest", "top", "bottom", "left", "right", "border", "nearest_region"} or (x, y)
         Root end point per piece: ``"auto"`` takes the end nearest to
         ``region`` when there is one and the piece's lines all have about one
-        width (its 75th radius percentile under 1.5 x the 25th, or less than
+        width (its 75th radius percentile under 1.5 x the 25th, or at most
         a pixel above it: a drawn map's rivers drain where they meet the sea;
         a node of the piece more than 4 px nearer than every end, a mouth the
-        coast's removed outline left as a loop, beats the ends), else the thickest end (a
+        coast's removed outline left as a loop, beats the ends; among several
+        ends at the sea, the one its forks point to, ``_region_outlet``), else the thickest end (a
         vessel tree's trunk, a delta's inland channel; the radius near an end,
         not at it, which the frame or a rounded tip pinches), every end where a thick line
         enters the frame (``_frame_entries``), or, on a piece of one width that meets the
