@@ -31,7 +31,7 @@ from scipy import ndimage as ndi
 
 KINDS = ("island", "coast", "bay", "paper", "frame", "crossing")
 SIZES = {"island": (400, 800), "coast": (800, 400), "bay": (600, 1000), "paper": (512, 768),
-         "frame": (300, 600), "crossing": (420, 520)}
+         "frame": (300, 600), "crossing": (320, 420)}
 
 
 def example(kind: str, size: int, seed: int):
