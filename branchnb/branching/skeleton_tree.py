@@ -104,7 +104,8 @@ def _frame_entries(cand: np.ndarray, end_r: np.ndarray, frame_d: np.ndarray, pts
     the middle and at other sides. A line cut by the frame at its full thickness enters there; every
     such entry roots a tree (the shortest-path tree splits the piece between them).
 
-    With ``r`` and ``members`` (the piece's node radii and nodes), the line must also *stay* that
+    With ``r`` and ``members`` (the piece's node radii and nodes; given for pieces of about one
+    width), the line must also *stay* that
     thick near the end (:func:`_held_radius` at least :data:`ENTRY_RATIO` x ``r_med``): two lines of
     one width meeting at the frame in a V make a blob there whose largest radius is twice theirs
     (a crossing river network was rooted at such a V on its far side).
@@ -515,8 +516,12 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
             if root == "auto":
                 lo, hi = np.percentile(r_full[members], [25, 75])
                 # one width: within 1.5 x, or within a pixel (the radius of a 1-2 px drawn line comes
-                # in half-pixel steps, 0.5 vs 0.9 or 1.5, which says nothing about where it drains)
-                one_width = hi < 1.5 * lo or hi - lo <= 1.0
+                # in half-pixel steps, 0.5 vs 0.9, which says nothing about where it drains); 0.5 vs 1.5
+                # too when the piece reaches the region (a paper map's 2-px rivers meeting its coast; a
+                # fundus's vessels, ending inside its matte, keep their thickest end)
+                one_width = hi < 1.5 * lo or hi - lo < 1.0 or (
+                    has_region and hi - lo <= 1.0 and float(region_dist[ys[cand], xs[cand]].min()) / scale
+                    <= OUTLET_FRAME + 2.0 * float(np.median(r_full[members])) + OUTLET_COAST)
                 if has_region and one_width:
                     key = region_dist[ys[cand], xs[cand]]
                     cand, key = _mouth_node(cand, key, members, region_dist[ys[members], xs[members]], scale)
@@ -526,8 +531,11 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
                         continue
                 else:
                     key = -_end_radius(pts_full, r_full, cand, members)
+                    # (on lines of about one width, a thick end must stay thick: see _frame_entries)
+                    even = hi <= 1.5 * lo or hi - lo <= 1.0
                     entries = _frame_entries(cand, -key, border_dist[ys[cand], xs[cand]] / scale,
-                                             pts_full, float(np.median(r_full[members])), r_full, members)
+                                             pts_full, float(np.median(r_full[members])),
+                                             r_full if even else None, members if even else None)
                     entries = _one_per_line(entries, g, r_full, -key[np.isin(cand, entries)].min()
                                             if entries else 0.0)
                     if entries:
