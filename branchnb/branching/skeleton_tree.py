@@ -70,8 +70,31 @@ ENTRY_SHARE = 0.75
 ENTRY_RATIO = 2.0
 
 
+def _held_radius(pts: np.ndarray, r: np.ndarray, ends: np.ndarray, members: np.ndarray) -> np.ndarray:
+    """How thick the line stays near each end: the median radius of the piece's nodes within
+    ``3 r_med + 4`` pixels of it (where :func:`_end_radius` takes the largest)."""
+    reach = 3.0 * float(np.median(r[members])) + 4.0
+    out = np.empty(len(ends))
+    for i in range(0, len(ends), 64):
+        e = ends[i:i + 64]
+        d2 = ((pts[e, None, :] - pts[None, members, :]) ** 2).sum(-1)
+        near = np.where(d2 <= reach * reach, r[members][None, :], np.nan)
+        out[i:i + 64] = np.nanmedian(near, axis=1)
+    return out
+
+
+def _even_ends(end_r: np.ndarray, pts: np.ndarray, r: np.ndarray, ends: np.ndarray, members: np.ndarray) -> bool:
+    """Whether no end of a piece is much thicker than its median end (:data:`OUTLET_EVEN`), by the
+    largest radius near each end (``end_r``) or, failing that, by how thick the line stays near it
+    (:func:`_held_radius`: two one-width lines meeting in a V at the frame are no thick end)."""
+    if end_r.max() <= OUTLET_EVEN * float(np.median(end_r)) + 0.5:
+        return True
+    held = _held_radius(pts, r, ends, members)
+    return bool(held.max() <= OUTLET_EVEN * float(np.median(held)) + 0.5)
+
+
 def _frame_entries(cand: np.ndarray, end_r: np.ndarray, frame_d: np.ndarray, pts: np.ndarray,
-                   r_med: float) -> list[int]:
+                   r_med: float, r: np.ndarray | None = None, members: np.ndarray | None = None) -> list[int]:
     """The ends of a piece where thick lines enter the frame, thickest first, each farther than
     4 x its radius from the ones before (empty when none).
 
@@ -80,11 +103,20 @@ def _frame_entries(cand: np.ndarray, end_r: np.ndarray, frame_d: np.ndarray, pts
     frame ends and inner ends beside a trunk, it was rooted inside and the output's trees started in
     the middle and at other sides. A line cut by the frame at its full thickness enters there; every
     such entry roots a tree (the shortest-path tree splits the piece between them).
+
+    With ``r`` and ``members`` (the piece's node radii and nodes; given for pieces of about one
+    width), the line must also *stay* that
+    thick near the end (:func:`_held_radius` at least :data:`ENTRY_RATIO` x ``r_med``): two lines of
+    one width meeting at the frame in a V make a blob there whose largest radius is twice theirs
+    (a crossing river network was rooted at such a V on its far side).
     """
     if not len(cand):
         return []
     top = float(end_r.max())
     ok = (frame_d <= ENTRY_FRAME) & (end_r >= ENTRY_SHARE * top) & (end_r >= ENTRY_RATIO * r_med)
+    if r is not None and members is not None and ok.any():
+        idx = np.flatnonzero(ok)
+        ok[idx] = _held_radius(pts, r, cand[idx], members) >= ENTRY_RATIO * r_med
     out: list[int] = []
     for i in np.flatnonzero(ok)[np.argsort(-end_r[ok], kind="stable")]:
         p = pts[cand[i]]
@@ -124,6 +156,9 @@ OUTLET_MARGIN = 0.35
 #: forks) gets more fork votes, by more than :data:`OUTLET_INNER_MARGIN` x the number of forks.
 OUTLET_INNER = 48
 OUTLET_INNER_MARGIN = 0.1
+#: A piece of one width reaches the region (the sea) when an end lies within ``OUTLET_FRAME + 2 r_med``
+#: plus this many pixels of it (:func:`_region_outlet`).
+OUTLET_COAST = 4.0
 
 
 def _walk_arm(g, deg: np.ndarray, start: int, prev: int, stop: np.ndarray, pts: np.ndarray,
@@ -221,6 +256,25 @@ def _frame_outlet(g, deg: np.ndarray, cand: np.ndarray, members: np.ndarray, pts
     er = _end_radius(pts, r, ends, members)
     key = np.lexsort((frame_d[at], -er, -score))
     return int(ends[key[0]])
+
+
+def _region_outlet(g, deg: np.ndarray, cand: np.ndarray, members: np.ndarray, pts: np.ndarray,
+                   r: np.ndarray, region_d: np.ndarray) -> int | None:
+    """The mouth of a piece of one width that reaches the region (the sea) at several ends: the one
+    its forks point to, as :func:`_frame_outlet` finds it at the frame (``None``: they point inside).
+
+    Beyond the paper (issue 23): on a paper map whose river network is joined by crossing lines,
+    several of its ends meet the coast, and the nearest was a tributary's (a one-pixel line reaches
+    a pixel closer to the sea than the trunk's rounded end): the tree was rooted there and the trunk
+    hung from the tributary. Ends within ``OUTLET_FRAME + 2 r_med`` px of the nearest one's distance
+    to the region are mouths; the forks, then the thickness, choose among them. A piece whose nearest
+    end is farther than that plus :data:`OUTLET_COAST` px (a drawn coast line and the blur beside it)
+    from the region does not reach it (a fundus's vessels end 15 px inside its matte): ``None``.
+    """
+    near = OUTLET_FRAME + 2.0 * float(np.median(r[members]))
+    if float(np.min(region_d)) > near + OUTLET_COAST:
+        return None
+    return _frame_outlet(g, deg, cand, members, pts, r, region_d - float(np.min(region_d)))
 
 
 def _mouth_node(cand: np.ndarray, key: np.ndarray, members: np.ndarray, member_key: np.ndarray,
@@ -343,10 +397,11 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
     root : {"auto", "thickest", "top", "bottom", "left", "right", "border", "nearest_region"} or (x, y)
         Root end point per piece: ``"auto"`` takes the end nearest to
         ``region`` when there is one and the piece's lines all have about one
-        width (its 75th radius percentile under 1.5 x the 25th, or less than
+        width (its 75th radius percentile under 1.5 x the 25th, or at most
         a pixel above it: a drawn map's rivers drain where they meet the sea;
         a node of the piece more than 4 px nearer than every end, a mouth the
-        coast's removed outline left as a loop, beats the ends), else the thickest end (a
+        coast's removed outline left as a loop, beats the ends; among several
+        ends at the sea, the one its forks point to, ``_region_outlet``), else the thickest end (a
         vessel tree's trunk, a delta's inland channel; the radius near an end,
         not at it, which the frame or a rounded tip pinches), every end where a thick line
         enters the frame (``_frame_entries``), or, on a piece of one width that meets the
@@ -461,24 +516,37 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
             if root == "auto":
                 lo, hi = np.percentile(r_full[members], [25, 75])
                 # one width: within 1.5 x, or within a pixel (the radius of a 1-2 px drawn line comes
-                # in half-pixel steps, 0.5 vs 0.9, which says nothing about where it drains)
-                one_width = hi < 1.5 * lo or hi - lo < 1.0
+                # in half-pixel steps, 0.5 vs 0.9, which says nothing about where it drains); 0.5 vs 1.5
+                # too when the piece reaches the region (a paper map's 2-px rivers meeting its coast; a
+                # fundus's vessels, ending inside its matte, keep their thickest end)
+                one_width = hi < 1.5 * lo or hi - lo < 1.0 or (
+                    has_region and hi - lo <= 1.0 and float(region_dist[ys[cand], xs[cand]].min()) / scale
+                    <= OUTLET_FRAME + 2.0 * float(np.median(r_full[members])) + OUTLET_COAST)
                 if has_region and one_width:
                     key = region_dist[ys[cand], xs[cand]]
                     cand, key = _mouth_node(cand, key, members, region_dist[ys[members], xs[members]], scale)
+                    if len(cand) > 1 and (mouth := _region_outlet(g, deg, cand, members, pts_full, r_full,
+                                                                   key / scale)) is not None:
+                        roots.append(mouth)
+                        continue
                 else:
                     key = -_end_radius(pts_full, r_full, cand, members)
+                    # (on lines of about one width, a thick end must stay thick: see _frame_entries)
+                    even = hi <= 1.5 * lo or hi - lo <= 1.0
                     entries = _frame_entries(cand, -key, border_dist[ys[cand], xs[cand]] / scale,
-                                             pts_full, float(np.median(r_full[members])))
+                                             pts_full, float(np.median(r_full[members])),
+                                             r_full if even else None, members if even else None)
                     entries = _one_per_line(entries, g, r_full, -key[np.isin(cand, entries)].min()
                                             if entries else 0.0)
                     if entries:
                         roots.extend(entries)
                         continue
                     # lines of one width (within a pixel: 1 and 2 px lines), no end much thicker than the
-                    # others (a drawn root system's trunks among its thin roots), that meet the frame drain there
+                    # others (a drawn root system's trunks among its thin roots; an end is as thick as the
+                    # line stays near it, not as the V where two lines meet at the frame), that meet the
+                    # frame drain there
                     if (hi <= 1.5 * lo or hi - lo <= 1.0) and len(ends) and \
-                            -key.min() <= OUTLET_EVEN * float(np.median(-key)) + 0.5 and (outlet := _frame_outlet(
+                            _even_ends(-key, pts_full, r_full, cand, members) and (outlet := _frame_outlet(
                             g, deg, cand, members, pts_full, r_full, border_dist[ys[cand], xs[cand]] / scale)) \
                             is not None:
                         roots.append(outlet)
