@@ -211,6 +211,8 @@ def flat_art(exemplars, blades) -> FlatArt | None:
         ink = blade & (v < INK_RATIO * fill_v) & (v < INK_MAX)
         rim = blade & ~_binary_erosion(blade, structure=np.ones((3, 3), bool))
         rim_ink = float(ink[rim].mean())
+        if rim_ink < MIN_RIM_INK:
+            return None  # not drawn whatever the others are (a photo: decided on its first exemplar)
         # The width from the ink's share at each (Euclidean) depth, as the
         # outline is drawn (3 x 3 erosions read a 3 px outline as 1.9 px).
         dist = np.floor(ndi.distance_transform_edt(blade) + 0.5).astype(np.int16)  # bins [j - 0.5, j + 0.5)
@@ -240,6 +242,8 @@ def flat_art(exemplars, blades) -> FlatArt | None:
         ink_col = np.median(rgb[ink], 0) if ink.any() else np.zeros(3, np.float32)
         ends = [(m, ink_col) for m in modes] + ([(modes[0], modes[1])] if len(modes) > 1 else [])
         flat = float(np.mean(_segment_distance(c, ends) < FLAT_TOL))
+        if flat < MIN_FLAT:
+            return None
         inks.append(ink)
         outlines.append(outline)
         widths.append(width)
@@ -247,8 +251,6 @@ def flat_art(exemplars, blades) -> FlatArt | None:
         rims.append(rim_ink)
         flats.append(flat)
         px.append(rgb[blade])
-    if min(rims) < MIN_RIM_INK or min(flats) < MIN_FLAT:
-        return None
     allpx = np.concatenate(px)
     q = np.minimum((allpx * 8).astype(np.int16), 7)
     code = q[:, 0] * 64 + q[:, 1] * 8 + q[:, 2]

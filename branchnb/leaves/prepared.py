@@ -38,9 +38,13 @@ def _bleed(img: np.ndarray, mask: np.ndarray) -> np.ndarray:
     mask = np.asarray(mask, bool)
     if not mask.any() or mask.all():
         return img
-    near = extend_nearest(img, mask)
     ring = _binary_dilation(mask, iterations=2)
-    # _smooth_fill keeps the known pixels (the ring) as they are.
+    # Only the ring's nearest colours are read (_smooth_fill keeps its known pixels as they are and
+    # ignores the others): the nearest-pixel search on the ring's box, not the canvas.
+    rows, cols = np.flatnonzero(ring.any(1)), np.flatnonzero(ring.any(0))
+    box = (slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1))
+    near = np.zeros_like(img)
+    near[box] = extend_nearest(img[box], mask[box])
     return _smooth_fill(near, ring)
 
 
