@@ -43,10 +43,10 @@ from dataclasses import dataclass
 
 import cv2
 import numpy as np
-from scipy import ndimage as ndi
 
 from ..core.completion import CompletionResult, complete_gaps
 from ..core.image import as_float_image, as_mask
+from ..core.morphology import _binary_dilation, _binary_erosion
 from ..core.random import as_rng
 from ..core.validate import COORD_LIMIT, Int, check_finite, checked, real_array
 
@@ -244,7 +244,7 @@ def correct_texture(warped, warp_map, source_image, *, band=(0.5, 2.0), mask=Non
     out = img.copy()
     if not distorted.any():
         return TextureCorrection(out, distorted, distorted.copy(), scale, None)
-    replaced = (ndi.binary_dilation(distorted, iterations=grow) if grow else distorted) & region
+    replaced = (_binary_dilation(distorted, iterations=grow) if grow else distorted) & region
     n_colour = 3 if img.shape[2] >= 3 else 1
     # The source at the output's texture scale.
     s = 1.0 / scale
@@ -258,7 +258,7 @@ def correct_texture(warped, warp_map, source_image, *, band=(0.5, 2.0), mask=Non
     if ps < 4:
         raise ValueError(f"patch_size must be >= 4, got {patch_size}")
     # Copy only from well inside the source leaf (no background at patch edges).
-    forbidden = ~ndi.binary_erosion(allowed_s, iterations=2)
+    forbidden = ~_binary_erosion(allowed_s, iterations=2)
     if forbidden.all():
         raise ValueError("source_mask leaves no pixels to copy texture from")
     canvas = np.ascontiguousarray(out[..., :n_colour])

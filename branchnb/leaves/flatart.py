@@ -22,6 +22,7 @@ import numpy as np
 from scipy import ndimage as ndi
 
 from ..core.image import extend_nearest
+from ..core.morphology import _binary_dilation, _binary_erosion, _binary_opening
 
 __all__ = ["FlatArt", "flat_art", "drawn_outline"]
 
@@ -38,7 +39,7 @@ FLAT_TOL = 0.05
 
 def _replace_from_blade(img: np.ndarray, blade: np.ndarray, remove: np.ndarray) -> np.ndarray:
     """``img`` with ``remove`` (grown by one pixel: anti-aliased rims) given the nearest other blade colour."""
-    gone = ndi.binary_dilation(remove) & blade
+    gone = _binary_dilation(remove) & blade
     keep = blade & ~gone
     if not gone.any() or not keep.any():
         return img
@@ -141,7 +142,7 @@ def drawn_outline(img, blade) -> np.ndarray:
         return out
     v = rgb.max(2)
     ink = blade & (v < INK_RATIO * float(np.median(v[blade]))) & (v < INK_MAX)
-    rim = blade & ~ndi.binary_erosion(blade, structure=np.ones((3, 3), bool))
+    rim = blade & ~_binary_erosion(blade, structure=np.ones((3, 3), bool))
     if float(ink[rim].mean()) < MIN_RIM_INK:
         return out
     return ndi.binary_propagation(ink & rim, mask=ink & (ndi.distance_transform_edt(blade) <= 8))
@@ -208,8 +209,10 @@ def flat_art(exemplars, blades) -> FlatArt | None:
         v = rgb.max(2)
         fill_v = float(np.median(v[blade]))
         ink = blade & (v < INK_RATIO * fill_v) & (v < INK_MAX)
-        rim = blade & ~ndi.binary_erosion(blade, structure=np.ones((3, 3), bool))
+        rim = blade & ~_binary_erosion(blade, structure=np.ones((3, 3), bool))
         rim_ink = float(ink[rim].mean())
+        if rim_ink < MIN_RIM_INK:
+            return None  # not drawn whatever the others are (a photo: decided on its first exemplar)
         # The width from the ink's share at each (Euclidean) depth, as the
         # outline is drawn (3 x 3 erosions read a 3 px outline as 1.9 px).
         dist = np.floor(ndi.distance_transform_edt(blade) + 0.5).astype(np.int16)  # bins [j - 0.5, j + 0.5)
@@ -225,7 +228,7 @@ def flat_art(exemplars, blades) -> FlatArt | None:
         # donor's outline on a diagonal reached past it and was pasted as
         # a vein along the new leaf's margin).
         outline = ndi.binary_propagation(ink & rim, mask=ink & (dist <= int(np.ceil(width)) + 1))
-        rest = blade & ~ndi.binary_dilation(ink) & ~rim
+        rest = blade & ~_binary_dilation(ink) & ~rim
         if rest.sum() < 16:
             return None
         # Flat: the pixels off the ink are the fill's two main colours or
@@ -239,6 +242,8 @@ def flat_art(exemplars, blades) -> FlatArt | None:
         ink_col = np.median(rgb[ink], 0) if ink.any() else np.zeros(3, np.float32)
         ends = [(m, ink_col) for m in modes] + ([(modes[0], modes[1])] if len(modes) > 1 else [])
         flat = float(np.mean(_segment_distance(c, ends) < FLAT_TOL))
+        if flat < MIN_FLAT:
+            return None
         inks.append(ink)
         outlines.append(outline)
         widths.append(width)
@@ -246,8 +251,6 @@ def flat_art(exemplars, blades) -> FlatArt | None:
         rims.append(rim_ink)
         flats.append(flat)
         px.append(rgb[blade])
-    if min(rims) < MIN_RIM_INK or min(flats) < MIN_FLAT:
-        return None
     allpx = np.concatenate(px)
     q = np.minimum((allpx * 8).astype(np.int16), 7)
     code = q[:, 0] * 64 + q[:, 1] * 8 + q[:, 2]
@@ -305,7 +308,7 @@ def _layer_lines(img, blade, mask, ink, outline) -> np.ndarray:
     # (A vein layer induced partly along the outline must not take the outline's ink for its colour.)
     mask = np.asarray(mask, bool) & blade & ~outline
     out = np.zeros(blade.shape, bool)
-    rest = blade & ~ndi.binary_dilation(mask, iterations=2) & ~np.asarray(ink, bool)
+    rest = blade & ~_binary_dilation(mask, iterations=2) & ~np.asarray(ink, bool)
     if mask.sum() < 4 or rest.sum() < 16:
         return out
     fill = np.median(rgb[rest], 0)
@@ -322,9 +325,9 @@ def _layer_lines(img, blade, mask, ink, outline) -> np.ndarray:
     sk = skeletonize(own)
     wmax = float(np.percentile(2.0 * ndi.distance_transform_edt(own)[sk] - 1.0, 90)) if sk.any() else 1.0
     r = int(np.ceil(0.5 * (LINE_WIDTH * max(wmax, 1.0) + 2.0)))
-    thick = ndi.binary_opening(cand, structure=disk(r))
+    thick = _binary_opening(cand, structure=disk(r))
     if thick.any():
-        cand &= ~ndi.binary_dilation(thick)
+        cand &= ~_binary_dilation(thick)
     joined = ndi.binary_propagation(own & cand, structure=np.ones((3, 3), bool),
-                                    mask=ndi.binary_dilation(cand, structure=np.ones((3, 3), bool)))
+                                    mask=_binary_dilation(cand, structure=np.ones((3, 3), bool)))
     return joined & cand

@@ -29,6 +29,8 @@ import cv2
 import numpy as np
 from scipy import ndimage as ndi
 
+from ..core.morphology import _binary_dilation, _binary_erosion
+
 __all__ = ["ridge_strength", "flatten_leftover", "layer_strength", "own_lines", "parallel_lines"]
 
 
@@ -104,7 +106,7 @@ def _line_pieces(img, blade, sigmas, sign, floor, w, min_length, corridor=None) 
     ``min_length`` of the leaf size and is no wider than ``max(3, 1.5 w)``
     px on average (area over extent).
     """
-    inner = ndi.binary_erosion(blade, iterations=2)
+    inner = _binary_erosion(blade, iterations=2)
     r = ridge_strength(np.asarray(img, np.float32)[..., :3].mean(-1), sigmas, sign)
     lines = (r >= max(floor, float(np.percentile(r[blade], 90)))) & inner
     if corridor is not None:
@@ -213,7 +215,7 @@ def flatten_leftover(residual, blade, source, layer_image, layer_mask, sign: flo
     if ref_level > 0:
         lab = _line_pieces(res, blade, sigmas, sign, level * ref_level, w, min_length, corridor)
         if lab.any():
-            hole = ndi.binary_dilation(lab > 0, iterations=1) & blade
+            hole = _binary_dilation(lab > 0, iterations=1) & blade
         if hole.any():
             from .prepared import _smooth_fill
             out = np.where(hole[..., None], _smooth_fill(res, blade & ~hole), res).astype(np.float32)
@@ -302,7 +304,7 @@ def own_lines(background, blade, layer_image, layer_mask, sign: float, width: fl
     filled = res.copy()
     if lab.any():
         from .prepared import _smooth_fill
-        hole = ndi.binary_dilation(lab[box] > 0, iterations=1) & blade[box]
+        hole = _binary_dilation(lab[box] > 0, iterations=1) & blade[box]
         sub = res[box]
         out = np.where(hole[..., None], _smooth_fill(sub, blade[box] & ~hole), sub).astype(np.float32)
         g = _grain(sub, blade[box] & ~hole, hole, int(np.ceil(2 * w)) + 2)
@@ -425,6 +427,6 @@ def parallel_lines(labels, footprint, reach: float, *, max_angle: float = 30.0, 
     hit = np.bincount(lab[beside].ravel(), minlength=n + 1)
     whole = (hit >= share * np.maximum(tot, 1)) & (tot > 0)
     whole[0] = False
-    grown = ndi.binary_dilation(beside, iterations=max(1, int(round(width)))) & ln
+    grown = _binary_dilation(beside, iterations=max(1, int(round(width)))) & ln
     out[box] = whole[lab] | grown
     return out

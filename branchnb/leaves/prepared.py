@@ -16,6 +16,7 @@ import numpy as np
 from scipy import ndimage as ndi
 
 from ..core.image import extend_nearest
+from ..core.morphology import _binary_dilation, _binary_erosion
 from .flatart import _layer_lines, _replace_from_blade, drawn_outline, flat_art
 from .leftover import flatten_leftover, layer_strength, own_lines, parallel_lines
 from .shaping import _grid, _map_jacobian, _remap_map, _remap_values, _sample
@@ -37,10 +38,14 @@ def _bleed(img: np.ndarray, mask: np.ndarray) -> np.ndarray:
     mask = np.asarray(mask, bool)
     if not mask.any() or mask.all():
         return img
-    near = extend_nearest(img, mask)
-    ring = ndi.binary_dilation(mask, iterations=2)
-    out = _smooth_fill(near, ring)
-    return np.where(ring[..., None] if img.ndim == 3 else ring, near, out).astype(np.float32)
+    ring = _binary_dilation(mask, iterations=2)
+    # Only the ring's nearest colours are read (_smooth_fill keeps its known pixels as they are and
+    # ignores the others): the nearest-pixel search on the ring's box, not the canvas.
+    rows, cols = np.flatnonzero(ring.any(1)), np.flatnonzero(ring.any(0))
+    box = (slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1))
+    near = np.zeros_like(img)
+    near[box] = extend_nearest(img[box], mask[box])
+    return _smooth_fill(near, ring)
 
 
 def _stored(img: np.ndarray) -> np.ndarray:
@@ -87,26 +92,26 @@ def _completed(img: np.ndarray, blade: np.ndarray, mask: np.ndarray, reach: int 
     procedural families unchanged (0.007-0.010).
     """
     img = np.asarray(img, np.float32)[..., :3]
-    under = _smooth_fill(img, blade & ~ndi.binary_dilation(mask, iterations=2))
+    under = _smooth_fill(img, blade & ~_binary_dilation(mask, iterations=2))
     diff = img - under
     d = np.median(diff[mask], axis=0)
     dn = float((d ** 2).sum())
     if dn < 1e-6:
         return mask, under
     strength = (diff @ d) / dn  # 1: as strong as the layer's median pixel, in its direction
-    near = ndi.binary_dilation(mask, iterations=reach) & blade
+    near = _binary_dilation(mask, iterations=reach) & blade
     grown = mask | (near & (strength > 0.5))
     if line:
         grown = _without_knobs(grown, mask)
     if grown.sum() == mask.sum():
         return mask, under
-    return grown, _smooth_fill(img, blade & ~ndi.binary_dilation(grown, iterations=2))
+    return grown, _smooth_fill(img, blade & ~_binary_dilation(grown, iterations=2))
 
 
 def _without_knobs(grown: np.ndarray, mask: np.ndarray) -> np.ndarray:
     """``grown`` without the parts beyond 1 px of ``mask`` that touch fewer than two of its pieces."""
     eight = np.ones((3, 3), bool)
-    near = ndi.binary_dilation(mask, structure=eight)
+    near = _binary_dilation(mask, structure=eight)
     extra = grown & ~near
     if not extra.any():
         return grown
@@ -134,7 +139,7 @@ def _smooth_fill(img: np.ndarray, known: np.ndarray) -> np.ndarray:
     two = img.ndim == 2
     v = img[..., None] if two else img
     w = known.astype(np.float32)
-    levels = [(v * w[..., None], w)]
+    levels = [(np.where(known[..., None], v, np.float32(0)), w)]
     while min(levels[-1][1].shape) > 2 and (levels[-1][1] <= 1e-6).any():
         pv, pw = levels[-1]
         h, wd = pw.shape
@@ -142,14 +147,20 @@ def _smooth_fill(img: np.ndarray, known: np.ndarray) -> np.ndarray:
         nv = cv2.resize(pv, size, interpolation=cv2.INTER_AREA)
         nw = cv2.resize(pw, size, interpolation=cv2.INTER_AREA)
         levels.append((nv.reshape(nv.shape[:2] + (v.shape[2],)), nw))
+    if len(levels) == 1:
+        return levels[0][0][..., 0] if two else levels[0][0]
     pv, pw = levels[-1]
     cur = pv / np.maximum(pw, 1e-12)[..., None]
-    for pv, pw in reversed(levels[:-1]):
+    for pv, pw in reversed(levels[1:-1]):
         h, wd = pw.shape
         up = cv2.resize(cur, (wd, h), interpolation=cv2.INTER_LINEAR).reshape(h, wd, v.shape[2])
         a = np.clip(pw, 0, 1)[..., None]
         cur = pv / np.maximum(pw, 1e-12)[..., None] * a + up * (1 - a)
-    out = np.where(known[..., None], v, cur).astype(np.float32)
+    # The finest level's weights are 0 or 1: its blend is the known pixels or the upsampled fill
+    # (the same values, without five full-resolution temporaries).
+    h, wd = w.shape
+    up = cv2.resize(cur, (wd, h), interpolation=cv2.INTER_LINEAR).reshape(h, wd, v.shape[2])
+    out = np.where(known[..., None], v, up)
     return out[..., 0] if two else out
 
 
@@ -185,8 +196,8 @@ def _refilled_rims(img: np.ndarray, a, e: int, top) -> np.ndarray:
         if j == top or not mk.any():
             continue
         grown, _ = _completed(a.residuals[j][e], blade, mk)
-        hole |= ndi.binary_dilation(grown, iterations=1)
-    hole &= ndi.binary_erosion(blade, iterations=1)
+        hole |= _binary_dilation(grown, iterations=1)
+    hole &= _binary_erosion(blade, iterations=1)
     if not hole.any():
         return img
     img = np.asarray(img, np.float32)
@@ -241,7 +252,7 @@ def _completeness(layer) -> list[float]:
 
 
 def _boundary(mask):
-    return mask & ~ndi.binary_erosion(mask)
+    return mask & ~_binary_erosion(mask)
 
 
 def registration_errors(analysis) -> list[float]:
@@ -332,7 +343,7 @@ class _Prepared:
                 reg = getattr(L, "registered", None)
                 corridor = None
                 if reg is not None and reg[e] is not None and np.asarray(reg[e]).any():
-                    corridor = ndi.binary_dilation(np.asarray(reg[e], bool),
+                    corridor = _binary_dilation(np.asarray(reg[e], bool),
                                                    iterations=max(1, int(np.ceil(L.eps_px[e]))))
                 src = np.asarray(a.exemplars[e], np.float32)
                 if outlines[e].any():
@@ -377,7 +388,7 @@ class _Prepared:
                     us.append(_stored(under))
                 else:
                     us.append(self.under[k + 1][e])
-                ms.append(_stored(ndi.binary_dilation(mk) & a.blades[e]))
+                ms.append(_stored(_binary_dilation(mk) & a.blades[e]))
                 wgt = np.where(a.blades[e], np.maximum(L.delta - L.combined[e], 0.0) / max(L.delta, 1e-6), 0.0)
                 ws.append(_stored(ndi.grey_dilation(wgt.astype(np.float32), size=3)))
             self.layer_masks.append(ms)
@@ -550,7 +561,7 @@ class _Prepared:
         _, pet_t, base_t = split_petiole(a.blades[t])
         self.base_t = base_t
         if base_t is not None:
-            rim = ndi.binary_dilation(pet_t, iterations=2) & ~ndi.binary_erosion(
+            rim = _binary_dilation(pet_t, iterations=2) & ~_binary_erosion(
                 a.blades[t] & ~pet_t, iterations=1)
             # With the faint alpha off the blade whose nearest blade pixel is
             # petiole (a photo's shadow and fringe along the stalk), which
@@ -565,7 +576,7 @@ class _Prepared:
                 self.petiole_base.append(None)
                 self.petiole_jac.append(None)
                 continue
-            keep = ndi.binary_dilation(pet, iterations=2)
+            keep = _binary_dilation(pet, iterations=2)
             # Only the petiole's box (plus a 2 px transparent rim) is kept: a
             # whole RGBA exemplar per petiole was 50 MB at 1 MP.
             ys, xs = np.nonzero(keep)
