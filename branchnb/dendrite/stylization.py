@@ -424,7 +424,11 @@ class Stylizer(_SeedSteps, _StrikeSteps):
             imp = self.importance(p)
             thr = (_ground_threshold(imp, p.endpoint_threshold) if metaphor == "vines"
                    else p.endpoint_threshold)
-            p = metaphor_params(given, metaphor, self.shape, float((imp >= thr).mean()), k)
+            share = float((imp >= thr).mean())
+            if metaphor == "lightning":  # an object found on its ground: tips for its area
+                content, found = self._lightning_content(p)
+                share = float(content.mean()) if found else share
+            p = metaphor_params(given, metaphor, self.shape, share, k)
             if thr > p.endpoint_threshold:
                 p = _within_range(p, endpoint_threshold=thr)
         if seed is None:

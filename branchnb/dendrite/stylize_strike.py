@@ -12,6 +12,8 @@ import numpy as np
 
 from ..core.image import as_gray
 from .dendrite import Dendrite, build_dendrite
+from .endpoints import place_endpoints
+from .foreground import object_mask
 from .lattice import Lattice
 from .main_channel import (
     channel_plan,
@@ -37,6 +39,34 @@ __all__: list[str] = []
 class _StrikeSteps:
     """:class:`~branchnb.dendrite.stylization.Stylizer`'s lightning methods (they use its
     cached stages: ``plan``, ``dendrite``, ``importance`` ...)."""
+
+    def _lightning_content(self, p: StylizeParams) -> tuple[np.ndarray, bool]:
+        """Where a lightning bolt finds something to draw, and whether that is an object
+        found on its ground (cached).
+
+        The importance at least ``p.endpoint_threshold``, as the paper's stippling has it.
+        Beyond the paper: where that covers the picture (more than ``STRIKE_MAX_COVER`` of
+        it: a sky gradient, a dark or textured ground pass the threshold) and the picture
+        has no strike of its own, the object that differs in colour from its frame
+        (:func:`~branchnb.dendrite.foreground.object_mask`), if there is one: a tree
+        cut-out over a sky and a grass strip got one generic bolt down a dark frame.
+        """
+        def make():
+            content = self.importance(p) >= p.endpoint_threshold
+            if silhouette(content).mean() <= STRIKE_MAX_COVER or self.strike(p) is not None:
+                return content, False
+            obj = object_mask(self.working_image(p))
+            return (content, False) if obj is None else (obj, True)
+        return self._get(("lightning_content", _subset(p, _IMPORTANCE), p.endpoint_threshold), make)
+
+    def _object_endpoints(self, p: StylizeParams, rng_seed: int, obj) -> np.ndarray:
+        # stippled on the object only: stippled on the whole picture, the tips on a sky
+        # drew branches across it
+        return self._get(("object_endpoints", _subset(p, _IMPORTANCE + _ENDPOINTS), rng_seed),
+                         lambda: place_endpoints(
+                             np.where(obj, self.importance(p), 0.0), p.n_endpoints,
+                             gamma=p.endpoint_gamma, floor=0.0, threshold=0.0,
+                             iterations=p.stipple_iterations, rng=rng_seed + 1))
 
     def _main_channel_straight(self, p: StylizeParams, seed, rng_seed: int) -> Dendrite:
         """:meth:`dendrite` with the hairpins of its main channel cut (cached).
@@ -75,7 +105,7 @@ class _StrikeSteps:
 
         def make():
             lat = self.lattice(p, rng_seed)
-            content = self.importance(p) >= p.endpoint_threshold
+            content, found = self._lightning_content(p)
             got = strike_weights(lat.weights, content, seed)
             if got is None:  # a photo: no object to go through
                 path = (photo_channel(lat.weights, content, seed)
@@ -115,7 +145,8 @@ class _StrikeSteps:
                 ends = np.concatenate([ends, path[-1:].astype(float)])
                 return res, with_channel(build_dendrite(res, ends), path), True
             res = self._plan_on(Lattice(got[0], lat.factors), p, seed)
-            ends = np.concatenate([self.endpoints(p, rng_seed), got[1][-1:].astype(float)])
+            ends = self._object_endpoints(p, rng_seed, content) if found else self.endpoints(p, rng_seed)
+            ends = np.concatenate([ends, got[1][-1:].astype(float)])
             d = straighten(res, build_dendrite(res, ends), ends,
                            reach=LIGHTNING_LOOP_REACH * float(np.hypot(*res.shape)))
             return res, d, True
