@@ -9,6 +9,7 @@ the channel with short side branches, and the dendrite pruned to the tips kept.
 from __future__ import annotations
 
 import numpy as np
+from scipy import ndimage
 
 from ..core.image import as_gray
 from .dendrite import Dendrite, build_dendrite
@@ -34,6 +35,12 @@ from .stylize_seed import _ENDPOINTS, _IMPORTANCE, _LATTICE, _PLAN, _SIDE_FACTOR
 
 __all__: list[str] = []
 
+#: Share of the content off the object (a ground passing the importance threshold) beyond
+#: which a lightning bolt draws the object found on its ground instead.
+CONTENT_MAX_SPILL = 0.25
+#: How far off the object content counts as spilled, as a share of the lattice's diagonal.
+CONTENT_SPILL_REACH = 0.02
+
 
 
 class _StrikeSteps:
@@ -47,16 +54,28 @@ class _StrikeSteps:
         The importance at least ``p.endpoint_threshold``, as the paper's stippling has it.
         Beyond the paper: where that covers the picture (more than ``STRIKE_MAX_COVER`` of
         it: a sky gradient, a dark or textured ground pass the threshold) and the picture
-        has no strike of its own, the object that differs in colour from its frame
+        has no strike of its own, or where more than ``CONTENT_MAX_SPILL`` of it lies farther
+        than ``CONTENT_SPILL_REACH`` of the diagonal from the object, the object that differs in colour from its frame
         (:func:`~branchnb.dendrite.foreground.object_mask`), if there is one: a tree
         cut-out over a sky and a grass strip got one generic bolt down a dark frame.
         """
         def make():
             content = self.importance(p) >= p.endpoint_threshold
-            if silhouette(content).mean() <= STRIKE_MAX_COVER or self.strike(p) is not None:
+            photo = silhouette(content).mean() > STRIKE_MAX_COVER
+            if photo and self.strike(p) is not None:
                 return content, False
             obj = object_mask(self.working_image(p))
-            return (content, False) if obj is None else (obj, True)
+            if obj is None:
+                return content, False
+            if photo:
+                return obj, True
+            # a ground that passes the threshold in part (a sky gradient's darker top) drew
+            # half the bolt on the sky: where much of the content lies off the object, the
+            # object is what to draw (a drawing on white keeps its own content, lines and all)
+            r = max(1, int(round(CONTENT_SPILL_REACH * float(np.hypot(*content.shape)))))
+            near = ndimage.distance_transform_edt(~obj) <= r
+            spill = float((content & ~near).sum()) / max(int(content.sum()), 1)
+            return (obj, True) if spill > CONTENT_MAX_SPILL else (content, False)
         return self._get(("lightning_content", _subset(p, _IMPORTANCE), p.endpoint_threshold), make)
 
     def _object_endpoints(self, p: StylizeParams, rng_seed: int, obj) -> np.ndarray:
