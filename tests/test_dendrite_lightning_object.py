@@ -75,3 +75,16 @@ def test_drawing_on_white_keeps_its_own_content():
     img[obj] = 0.3
     content, found = Stylizer(img)._lightning_content(StylizeParams())
     assert not found
+
+
+@pytest.mark.parametrize("ground, outlined", [("dark", False), ("textured", True)])
+def test_vines_grow_over_the_object_on_a_dark_or_textured_ground(ground, outlined):
+    img, obj = _scene(ground, 300, outlined=outlined)
+    out = np.asarray(stylize(img, rng=0, metaphor="vines").rendering.image)[..., :3]
+    ink = out.mean(-1) < 0.85
+    diag = float(np.hypot(*obj.shape))
+    near = ndimage.binary_dilation(obj, iterations=int(0.02 * diag))
+    assert ink[near].sum() / ink.sum() > 0.97  # main: 0.29 on the textured ground
+    # over the object, not along its outline only (main on the dark ground: the outline)
+    reach = ndimage.distance_transform_edt(~ink)[obj] < 0.03 * diag
+    assert reach.mean() > 0.8
