@@ -12,7 +12,7 @@ import pytest
 from scipy import ndimage
 
 from branchnb.dendrite import StylizeParams, Stylizer, stylize
-from branchnb.dendrite.foreground import object_mask
+from branchnb.dendrite.foreground import _object_mask
 
 
 def _scene(ground, n, seed=0, outlined=False):
@@ -40,7 +40,7 @@ def _scene(ground, n, seed=0, outlined=False):
 @pytest.mark.parametrize("ground", ["dark", "sky", "textured"])
 def test_object_mask_finds_the_object_on_its_ground(ground):
     img, obj = _scene(ground, 300)
-    m = object_mask(img)
+    m = _object_mask(img)
     assert m is not None
     assert (m & obj).sum() / (m | obj).sum() > 0.9
 
@@ -51,7 +51,7 @@ def test_object_mask_none_on_a_photo_filling_the_frame(name):
 
     img = getattr(data, name)().astype(np.float32) / 255
     img = img if img.ndim == 3 else np.stack([img] * 3, -1)
-    assert object_mask(img[::2, ::2]) is None
+    assert _object_mask(img[::2, ::2]) is None
 
 
 @pytest.mark.parametrize("ground, outlined", [("dark", False), ("dark", True), ("sky", False),

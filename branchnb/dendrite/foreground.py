@@ -42,7 +42,7 @@ def _ground_palette(lab: np.ndarray, ring: np.ndarray) -> np.ndarray:
     return cols[counts >= GROUND_MIN_SHARE * len(cols)]
 
 
-def object_mask(image) -> np.ndarray | None:
+def _object_mask(image) -> np.ndarray | None:
     """Where a picture's object is: its pixels far in colour from every ground colour.
 
     Parameters
@@ -61,7 +61,7 @@ def object_mask(image) -> np.ndarray | None:
     Examples
     --------
     >>> img = np.zeros((60, 60, 3)); img[15:45, 20:40] = (0.9, 0.2, 0.1)
-    >>> int(object_mask(img).sum())
+    >>> int(_object_mask(img).sum())
     600
     """
     rgb = np.clip(np.asarray(image, np.float32)[..., :3], 0.0, 1.0)

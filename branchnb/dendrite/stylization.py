@@ -24,7 +24,8 @@ and changing the metric does not re-stipple: sliders stay live.
 By step: the working image, its scale and the seed are in
 :mod:`~branchnb.dendrite.stylize_seed`, the lightning metaphor's main
 channel and strike in :mod:`~branchnb.dendrite.stylize_strike`
-(:class:`Stylizer` inherits their methods); the parameters in
+(:class:`Stylizer` inherits their methods), vines on an object found on a dark or
+textured ground in :mod:`~branchnb.dendrite.stylize_object`; the parameters in
 :mod:`~branchnb.dendrite.stylize_params`.
 """
 
@@ -449,8 +450,7 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
         res, d, struck = (self._strike(p, seed_lat, rng) if metaphor == "lightning" else
                           (self.plan(p, seed_lat, rng), self.dendrite(p, seed_lat, rng), False))
         if obj is not None:
-            d = self._vine_dendrite(p, seed_lat, rng, obj)
-            ends = d.points[d.tips]
+            d, ends = self._vine_dendrite(p, seed_lat, rng, obj)
         imp = self.importance(p)
         d = self._widths(d, p, p.min_width, p.max_width)
         if metaphor == "lightning":  # a planned channel stays bright down to its last fork

@@ -14,7 +14,7 @@ from scipy import ndimage
 from ..core.image import as_gray
 from .dendrite import Dendrite, build_dendrite
 from .endpoints import place_endpoints
-from .foreground import object_mask
+from .foreground import _object_mask
 from .lattice import Lattice
 from .main_channel import (
     channel_plan,
@@ -56,7 +56,7 @@ class _StrikeSteps:
         it: a sky gradient, a dark or textured ground pass the threshold) and the picture
         has no strike of its own, or where more than ``CONTENT_MAX_SPILL`` of it lies farther
         than ``CONTENT_SPILL_REACH`` of the diagonal from the object, the object that differs in colour from its frame
-        (:func:`~branchnb.dendrite.foreground.object_mask`), if there is one: a tree
+        (:func:`~branchnb.dendrite.foreground._object_mask`), if there is one: a tree
         cut-out over a sky and a grass strip got one generic bolt down a dark frame.
         """
         def make():
@@ -64,7 +64,7 @@ class _StrikeSteps:
             photo = silhouette(content).mean() > STRIKE_MAX_COVER
             if photo and self.strike(p) is not None:
                 return content, False
-            obj = object_mask(self.working_image(p))
+            obj = _object_mask(self.working_image(p))
             if obj is None:
                 return content, False
             if photo:
