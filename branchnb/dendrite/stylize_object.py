@@ -55,7 +55,7 @@ class _ObjectSteps:
             if obj is None:
                 return None
             content = imp >= _ground_threshold(imp, p.endpoint_threshold)
-            r = max(1, int(round(0.02 * float(np.hypot(*imp.shape)))))
+            r = max(3, int(round(0.02 * float(np.hypot(*imp.shape)))))
             near = ndimage.distance_transform_edt(~obj) <= r
             lum = as_gray(self.working_image(p))
             b = max(1, int(round(GROUND_RING * max(lum.shape))))

@@ -72,7 +72,8 @@ class _StrikeSteps:
             # a ground that passes the threshold in part (a sky gradient's darker top) drew
             # half the bolt on the sky: where much of the content lies off the object, the
             # object is what to draw (a drawing on white keeps its own content, lines and all)
-            r = max(1, int(round(CONTENT_SPILL_REACH * float(np.hypot(*content.shape)))))
+            # (at least 3 px: the importance's edges blur past a small object's outline)
+            r = max(3, int(round(CONTENT_SPILL_REACH * float(np.hypot(*content.shape)))))
             near = ndimage.distance_transform_edt(~obj) <= r
             spill = float((content & ~near).sum()) / max(int(content.sum()), 1)
             return (obj, True) if spill > CONTENT_MAX_SPILL else (content, False)
