@@ -24,7 +24,8 @@ and changing the metric does not re-stipple: sliders stay live.
 By step: the working image, its scale and the seed are in
 :mod:`~branchnb.dendrite.stylize_seed`, the lightning metaphor's main
 channel and strike in :mod:`~branchnb.dendrite.stylize_strike`
-(:class:`Stylizer` inherits their methods); the parameters in
+(:class:`Stylizer` inherits their methods), vines on an object found on a dark or
+textured ground in :mod:`~branchnb.dendrite.stylize_object`; the parameters in
 :mod:`~branchnb.dendrite.stylize_params`.
 """
 
@@ -49,6 +50,7 @@ from .main_channel import (
 )
 from .planner import PlanResult, plan
 from .render import Rendering
+from .stylize_object import _ObjectSteps
 from .stylize_params import (  # noqa: F401  (re-exported; the spacings too)
     LIGHTNING_LOOP_REACH,
     LIGHTNING_MAIN_EXPONENT,
@@ -143,7 +145,7 @@ class Stylization:
         return encode_png(self.dendrite.render())
 
 
-class Stylizer(_SeedSteps, _StrikeSteps):
+class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
     """The stylization pipeline on one image, with each stage cached.
 
     Parameters
@@ -431,6 +433,7 @@ class Stylizer(_SeedSteps, _StrikeSteps):
             raise ValueError(f"params.max_width ({p.max_width}) < params.min_width ({p.min_width})")
         k = float(np.sqrt(np.prod(self.scale(p))))
         given, p = p, effective_params(p, k)
+        obj = None
         if metaphor in ("vines", "lightning"):
             # the metaphors size their own strokes from the given parameters
             # vines: the object is what stands out from the picture's own ground (on a
@@ -439,11 +442,20 @@ class Stylizer(_SeedSteps, _StrikeSteps):
             imp = self.importance(p)
             thr = (_ground_threshold(imp, p.endpoint_threshold) if metaphor == "vines"
                    else p.endpoint_threshold)
-            p = metaphor_params(given, metaphor, self.shape, float((imp >= thr).mean()), k)
+            share = float((imp >= thr).mean())
+            if metaphor == "lightning":  # an object found on its ground: tips for its area
+                content, found = self._lightning_content(p)
+                share = float(content.mean()) if found else share
+            else:  # vines on an object lighter than its ground, or the ground textured
+                obj = self._vine_object(p)
+                share = float(obj.mean()) if obj is not None else share
+            p = metaphor_params(given, metaphor, self.shape, share, k)
             if thr > p.endpoint_threshold:
                 p = _within_range(p, endpoint_threshold=thr)
+        obj = obj if metaphor == "vines" else None
         if seed is None:
-            seed = self.top_seed(p) if metaphor == "lightning" else self.default_seed(p)
+            seed = (self.top_seed(p) if metaphor == "lightning" else self._vine_seed(p, obj)
+                    if obj is not None else self.default_seed(p))
         else:
             seed = as_points(np.reshape(np.asarray(seed, float), (1, 2)), name="seed",
                              image_shape=self.shape)[0]
@@ -452,6 +464,8 @@ class Stylizer(_SeedSteps, _StrikeSteps):
         ends = self.endpoints(p, rng)
         res, d, struck = (self._strike(p, seed_lat, rng) if metaphor == "lightning" else
                           (self.plan(p, seed_lat, rng), self.dendrite(p, seed_lat, rng), False))
+        if obj is not None:
+            d, ends = self._vine_dendrite(p, seed_lat, rng, obj)
         imp = self.importance(p)
         d = self._widths(d, p, p.min_width, p.max_width)
         if metaphor == "lightning":  # a planned channel stays bright down to its last fork

@@ -215,7 +215,7 @@ class _SeedSteps:
         >>> [round(v) for v in Stylizer(img).top_seed(StylizeParams(lattice_size=0))]
         [47, 7]
         """
-        content = self.importance(params) >= params.endpoint_threshold
+        content = self._lightning_content(params)[0]  # an object on its ground, if found
         if silhouette(content).mean() > STRIKE_MAX_COVER:
             # a photo: its own brightest strike's top, if it has one (beyond the paper:
             # from the top of the picture a bolt on a lightning photo started in the cloud)

@@ -9,9 +9,12 @@ the channel with short side branches, and the dendrite pruned to the tips kept.
 from __future__ import annotations
 
 import numpy as np
+from scipy import ndimage
 
 from ..core.image import as_gray
 from .dendrite import Dendrite, build_dendrite
+from .endpoints import place_endpoints
+from .foreground import _object_mask
 from .lattice import Lattice
 from .main_channel import (
     channel_plan,
@@ -32,11 +35,58 @@ from .stylize_seed import _ENDPOINTS, _IMPORTANCE, _LATTICE, _PLAN, _SIDE_FACTOR
 
 __all__: list[str] = []
 
+#: Share of the content off the object (a ground passing the importance threshold) beyond
+#: which a lightning bolt draws the object found on its ground instead.
+CONTENT_MAX_SPILL = 0.25
+#: How far off the object content counts as spilled, as a share of the lattice's diagonal.
+CONTENT_SPILL_REACH = 0.02
+
 
 
 class _StrikeSteps:
     """:class:`~branchnb.dendrite.stylization.Stylizer`'s lightning methods (they use its
     cached stages: ``plan``, ``dendrite``, ``importance`` ...)."""
+
+    def _lightning_content(self, p: StylizeParams) -> tuple[np.ndarray, bool]:
+        """Where a lightning bolt finds something to draw, and whether that is an object
+        found on its ground (cached).
+
+        The importance at least ``p.endpoint_threshold``, as the paper's stippling has it.
+        Beyond the paper: where that covers the picture (more than ``STRIKE_MAX_COVER`` of
+        it: a sky gradient, a dark or textured ground pass the threshold) and the picture
+        has no strike of its own, or where more than ``CONTENT_MAX_SPILL`` of it lies farther
+        than ``CONTENT_SPILL_REACH`` of the diagonal from the object, the object that differs in colour from its frame
+        (:func:`~branchnb.dendrite.foreground._object_mask`), if there is one: a tree
+        cut-out over a sky and a grass strip got one generic bolt down a dark frame.
+        """
+        def make():
+            content = self.importance(p) >= p.endpoint_threshold
+            photo = silhouette(content).mean() > STRIKE_MAX_COVER
+            if photo and self.strike(p) is not None:
+                return content, False
+            obj = _object_mask(self.working_image(p))
+            if obj is None:
+                return content, False
+            if photo:
+                return obj, True
+            # a ground that passes the threshold in part (a sky gradient's darker top) drew
+            # half the bolt on the sky: where much of the content lies off the object, the
+            # object is what to draw (a drawing on white keeps its own content, lines and all)
+            # (at least 3 px: the importance's edges blur past a small object's outline)
+            r = max(3, int(round(CONTENT_SPILL_REACH * float(np.hypot(*content.shape)))))
+            near = ndimage.distance_transform_edt(~obj) <= r
+            spill = float((content & ~near).sum()) / max(int(content.sum()), 1)
+            return (obj, True) if spill > CONTENT_MAX_SPILL else (content, False)
+        return self._get(("lightning_content", _subset(p, _IMPORTANCE), p.endpoint_threshold), make)
+
+    def _object_endpoints(self, p: StylizeParams, rng_seed: int, obj) -> np.ndarray:
+        # stippled on the object only: stippled on the whole picture, the tips on a sky
+        # drew branches across it
+        return self._get(("object_endpoints", _subset(p, _IMPORTANCE + _ENDPOINTS), rng_seed),
+                         lambda: place_endpoints(
+                             np.where(obj, self.importance(p), 0.0), p.n_endpoints,
+                             gamma=p.endpoint_gamma, floor=0.0, threshold=0.0,
+                             iterations=p.stipple_iterations, rng=rng_seed + 1))
 
     def _main_channel_straight(self, p: StylizeParams, seed, rng_seed: int) -> Dendrite:
         """:meth:`dendrite` with the hairpins of its main channel cut (cached).
@@ -75,7 +125,7 @@ class _StrikeSteps:
 
         def make():
             lat = self.lattice(p, rng_seed)
-            content = self.importance(p) >= p.endpoint_threshold
+            content, found = self._lightning_content(p)
             got = strike_weights(lat.weights, content, seed)
             if got is None:  # a photo: no object to go through
                 path = (photo_channel(lat.weights, content, seed)
@@ -115,7 +165,8 @@ class _StrikeSteps:
                 ends = np.concatenate([ends, path[-1:].astype(float)])
                 return res, with_channel(build_dendrite(res, ends), path), True
             res = self._plan_on(Lattice(got[0], lat.factors), p, seed)
-            ends = np.concatenate([self.endpoints(p, rng_seed), got[1][-1:].astype(float)])
+            ends = self._object_endpoints(p, rng_seed, content) if found else self.endpoints(p, rng_seed)
+            ends = np.concatenate([ends, got[1][-1:].astype(float)])
             d = straighten(res, build_dendrite(res, ends), ends,
                            reach=LIGHTNING_LOOP_REACH * float(np.hypot(*res.shape)))
             return res, d, True
