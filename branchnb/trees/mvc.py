@@ -375,7 +375,10 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
         spikes and bites along smooth crowns. With ``contours`` the warp is
         corrected by the residual ``C_i(j) - f_i(C(j))`` interpolated with
         mean value coordinates over the contour (exact on it, smooth inside),
-        so the rim maps onto the sources' rims. None: the cage warp alone.
+        so the rim maps onto the sources' rims; faded out for a source whose
+        largest residual exceeds 0.06-0.08 of the image side (shapes so
+        unlike, a palm and a broadleaf, that the correction would fold the
+        warp). None: the cage warp alone.
 
     Returns
     -------
@@ -428,7 +431,8 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
     pts = np.stack([xs, ys], axis=1).astype(np.float64)
     mapped = mvc_map(pts, tcage, np.stack([cages[i] for i in used]))
     if contours is not None:
-        mapped = mapped + _rim_correction(pts, tcage, [cages[i] for i in used], contours, used)
+        mapped = mapped + _rim_correction(pts, tcage, [cages[i] for i in used], contours, used,
+                                         max(mask.shape))
     # A source takes part at a pixel only where it is opaque there (sampled
     # alpha >= 0.5): where it is transparent its colour is not blended in as
     # a half-transparent layer, and the result is a clean cut-out.
@@ -482,7 +486,13 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
 RIM_VERTICES = 256
 
 
-def _rim_correction(pts: np.ndarray, tcage: np.ndarray, cages: list, contours, used: np.ndarray) -> np.ndarray:
+#: Rim correction in full up to this largest residual (share of the image side), none from RIM_NONE.
+RIM_FULL = 0.06
+RIM_NONE = 0.08
+
+
+def _rim_correction(pts: np.ndarray, tcage: np.ndarray, cages: list, contours, used: np.ndarray,
+                    side: int) -> np.ndarray:
     """Per used source, the displacement that makes the cage warp map the target contour onto the
     source's contour point by point, interpolated inside by mean value coordinates on the contour."""
     target, srcs = contours
@@ -497,7 +507,16 @@ def _rim_correction(pts: np.ndarray, tcage: np.ndarray, cages: list, contours, u
     v, idx = v[keep], np.arange(0, len(tc), step)[keep]
     on_rim = mvc_map(v, tcage, np.stack(cages))
     resid = np.stack([c[idx] for c in sc]) - on_rim
-    return _mvc_map(np.ascontiguousarray(pts), np.ascontiguousarray(v), np.ascontiguousarray(resid))
+    d = _mvc_map(np.ascontiguousarray(pts), np.ascontiguousarray(v), np.ascontiguousarray(resid))
+    # Mean value coordinates of a dense, very concave (or self-crossing) contour can overshoot far
+    # from it: no correction longer than the largest one on the contour.
+    top = np.hypot(resid[..., 0], resid[..., 1]).max(axis=1)
+    n = np.hypot(d[..., 0], d[..., 1])
+    d = d * np.minimum(1.0, top[:, None] / np.maximum(n, 1e-9))[..., None]
+    # Shapes far apart (a palm's fronds against a broadleaf crown: residuals of 0.09-0.13 of the
+    # side) would fold the warp (holes, torn fills); smooth crowns need <= 0.05 of the side.
+    fade = np.clip((RIM_NONE - top / side) / (RIM_NONE - RIM_FULL), 0.0, 1.0)
+    return d * fade[:, None, None]
 
 
 #: Flat-art sampling: a target pixel shows a source's ink (its thin dark strokes) when the ink
