@@ -471,7 +471,11 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
                                             region_scale=p.region_scale, seam=p.seam, rng=rng,
                                             return_sources=True, layers=[exemplars[i].trunk for i in used],
                                             groups=[_drawing_group(exemplars[i]) for i in used]
-                                            if mode == "choose" else None)
+                                            if mode == "choose" else None,
+                                            contours=None if any(_drawing_group(exemplars[i]) & 1 for i in used)
+                                            else (cr, [exemplars[i].resampled for i in used]))
+    # Rim correction (beyond the paper) only without an ink outline: an outlined mix's rim is
+    # repainted by _ink_outline, whose pen and seam measures the correction's local stretch upsets.
     # "parts": the alpha is the chosen parts' own; a crown's gaps between its branches grow with
     # the warp beyond the exemplars' largest hole and stay open (the cage maps them into a hole
     # of an exemplar); other holes larger than the exemplars' are filled as in the other modes.
