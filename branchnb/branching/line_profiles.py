@@ -99,7 +99,10 @@ def false_ridge_pixels(gray, skeleton, polarity: str, *, sigma_min: float = 1.0,
         over the skeleton pixels within ``local`` pixels instead of over its stretch: the
         skeleton of an edge between two noisy fields has a spur every few pixels, so its
         stretches are all shorter than ``min_run`` (beyond the paper; meant for dark lines,
-        which have no glow).
+        which have no glow). There a pixel is one-sided when its ratio is low at *every*
+        distance (a step's darker side is as dark as the line all the way across; a line in a
+        dense network sees ground on both sides at some distance), and only runs of at least
+        ``2 local`` such pixels are dropped (a shorter one is where lines meet).
 
     Returns
     -------
@@ -170,8 +173,9 @@ def false_ridge_pixels(gray, skeleton, polarity: str, *, sigma_min: float = 1.0,
             for _ in range(int(np.ceil(local))):
                 rmap[sy, sx] = ndi.convolve(rmap, _NEIGH.astype(np.float64), mode="constant")[sy, sx] / den
             loc.append(rmap[sy, sx])
-        loc = np.array(loc)
-        loc_score = np.max(np.minimum(loc[:-1], loc[1:]), axis=0) if len(loc) > 1 else loc[0]
+        # one-sided at *every* distance: the darker side of a step is as dark as the line all the way across,
+        # a line among others (a dense network) sees ground on both sides at some distance
+        loc_score = np.max(np.array(loc), axis=0)
         low = np.zeros(sk.shape, bool)
         low[sy[loc_score < two_sided], sx[loc_score < two_sided]] = True
         # a short low run is where a line meets or crosses another (its ratio sees the other line):
