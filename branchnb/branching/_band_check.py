@@ -11,14 +11,11 @@ the output over the example's ``turn``. PNG_DIR: sheets example | seed s | seed 
 # ruff: noqa: E501, E702
 from __future__ import annotations
 
-import sys
-
-import cv2
 import numpy as np
 from scipy import ndimage as ndi
 
 from ._band_examples import KINDS, band_example
-from ._check_table import print_table
+from ._check_table import check_args, print_table, write_sheet
 
 SIZES = (256, 384, 512, 640, 768)
 
@@ -62,7 +59,6 @@ def figures(img, spacing: float, ex, out) -> dict:
 
 def case(kind: str, size: int, seed: int, png: str | None = None) -> dict:
     from . import example_domain, extract_structure, fit_model, synthesize_structure
-    from ._thin_children_check import _draw
 
     leaves = kind.endswith("+")
     img, spacing = band_example(kind.rstrip("+"), size, seed, leaves=leaves)
@@ -71,19 +67,12 @@ def case(kind: str, size: int, seed: int, png: str | None = None) -> dict:
     res = synthesize_structure(model, rng=seed)
     f = figures(img, spacing, ex, res.structure)
     if png:
-        res1 = synthesize_structure(model, rng=seed + 1)
-        panels = [img, _draw(res.structure, img.shape[:2]), _draw(res1.structure, img.shape[:2])]
-        sheet = np.hstack(panels)
-        sheet[:, img.shape[1]::img.shape[1]] = 0.5
-        cv2.imwrite(png, (sheet * 255).astype(np.uint8)[..., ::-1])
+        write_sheet(png, img, res.structure, synthesize_structure(model, rng=seed + 1).structure)
     return f
 
 
 def main(argv=None) -> None:
-    argv = sys.argv[1:] if argv is None else argv
-    seeds = [int(s) for s in argv[0].split(",")] if argv else [0, 1, 2]
-    kinds = argv[1].split(",") if len(argv) > 1 and argv[1] != "all" else list(KINDS) + [k + "+" for k in KINDS]
-    pngdir = argv[2] if len(argv) > 2 else None
+    seeds, kinds, pngdir = check_args(argv, list(KINDS) + [k + "+" for k in KINDS], (0, 1, 2))
     keys = ("out", "nb", "ml", "len", "turn")
     print_table(kinds, seeds, lambda kind, s: SIZES[(s + KINDS.index(kind.rstrip("+"))) % len(SIZES)], case, keys,
                 lambda r: f"nb {r['nb_ex']:3d}->{r['nb_out']:3d}", pngdir, width=6)

@@ -7,7 +7,8 @@ Shared by :mod:`._root_sides_check`, :mod:`._thin_children_check` and :mod:`._ba
 from __future__ import annotations
 
 import os
-from collections.abc import Callable
+import sys
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
@@ -37,3 +38,32 @@ def print_table(kinds, seeds, size_of: Callable, case: Callable, keys, head: Cal
                   flush=True)
         print(f"MEAN {kind:{width}s} " + " ".join(f"{k}={np.mean([r[k] for r in rows]):.2f}" for k in keys),
               flush=True)
+
+
+def check_args(argv, kinds: Sequence[str], seeds: Sequence[int] = (0, 1)):
+    """``(seeds, kinds, png_dir)`` from a check script's ``[SEEDS] [KINDS|all] [PNG_DIR]`` arguments.
+
+    Examples
+    --------
+    >>> check_args(["0,2", "a"], ["a", "b"])
+    ([0, 2], ['a'], None)
+    >>> check_args([], ["a", "b"], (1,))
+    ([1], ['a', 'b'], None)
+    """
+    argv = sys.argv[1:] if argv is None else argv
+    seeds = [int(s) for s in argv[0].split(",")] if argv else list(seeds)
+    kinds = argv[1].split(",") if len(argv) > 1 and argv[1] != "all" else list(kinds)
+    return seeds, kinds, (argv[2] if len(argv) > 2 else None)
+
+
+def write_sheet(png: str, img, *structures) -> None:
+    """Write ``img`` and each structure drawn on its own panel (:func:`._thin_children_check._draw`) side
+    by side, grey lines between the panels."""
+    import cv2
+    import numpy as np
+
+    from ._thin_children_check import _draw
+
+    sheet = np.hstack([img] + [_draw(s, img.shape[:2]) for s in structures])
+    sheet[:, img.shape[1]::img.shape[1]] = 0.5
+    cv2.imwrite(png, (sheet * 255).astype(np.uint8)[..., ::-1])

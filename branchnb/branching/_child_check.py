@@ -14,12 +14,9 @@ example | seed s | seed s + 1.
 # ruff: noqa: E501, E702
 from __future__ import annotations
 
-import sys
-
-import cv2
 import numpy as np
 
-from ._check_table import print_table
+from ._check_table import check_args, print_table, write_sheet
 from .child_angles import ANGLE_EDGES
 from .child_angles import _child_angles as child_angles
 
@@ -60,7 +57,6 @@ def figures(ex, out) -> dict:
 def case(kind: str, size: int, seed: int, png: str | None = None) -> dict:
     from . import example_domain, extract_structure, fit_model, synthesize_structure
     from ._band_check import figures as band_figures
-    from ._thin_children_check import _draw
 
     img = example_image(kind, size, seed)
     ex = extract_structure(img)
@@ -75,19 +71,12 @@ def case(kind: str, size: int, seed: int, png: str | None = None) -> dict:
     f.update(figures(model.example, res.structure))
     f["nb_ex"], f["nb_out"] = len(model.example.branches), len(res.structure.branches)
     if png:
-        res1 = synthesize_structure(model, rng=seed + 1)
-        panels = [img, _draw(res.structure, img.shape[:2]), _draw(res1.structure, img.shape[:2])]
-        sheet = np.hstack(panels)
-        sheet[:, img.shape[1]::img.shape[1]] = 0.5
-        cv2.imwrite(png, (sheet * 255).astype(np.uint8)[..., ::-1])
+        write_sheet(png, img, res.structure, synthesize_structure(model, rng=seed + 1).structure)
     return f
 
 
 def main(argv=None) -> None:
-    argv = sys.argv[1:] if argv is None else argv
-    seeds = [int(s) for s in argv[0].split(",")] if argv else [0, 1]
-    kinds = argv[1].split(",") if len(argv) > 1 and argv[1] != "all" else list(KINDS)
-    pngdir = argv[2] if len(argv) > 2 else None
+    seeds, kinds, pngdir = check_args(argv, KINDS)
     keys = ("bk_ex", "bk_out", "bk", "ahd", "med_ex", "med_out", "out", "ml", "len", "turn")
     print_table(kinds, seeds, lambda kind, s: SIZES[(s + KINDS.index(kind)) % len(SIZES)], case, keys,
                 lambda r: f"nb {r['nb_ex']:3d}->{r['nb_out']:3d}", pngdir, width=6)

@@ -17,13 +17,11 @@ network entering from the bottom edge).
 # ruff: noqa: E501, E702
 from __future__ import annotations
 
-import sys
-
 import cv2
 import numpy as np
 from scipy import ndimage as ndi
 
-from ._check_table import print_table
+from ._check_table import check_args, print_table
 
 KINDS = ("top", "bottom", "left", "right", "topleft", "inside", "river")
 SIZES = (320, 420, 520)
@@ -162,10 +160,7 @@ def case(kind: str, width: int, seed: int, png: str | None = None) -> dict:
 
 
 def main(argv=None) -> None:
-    argv = sys.argv[1:] if argv is None else argv
-    seeds = [int(s) for s in argv[0].split(",")] if argv else [0, 1]
-    kinds = argv[1].split(",") if len(argv) > 1 and argv[1] != "all" else list(KINDS)
-    pngdir = argv[2] if len(argv) > 2 else None
+    seeds, kinds, pngdir = check_args(argv, KINDS)
     keys = ("side", "pos", "near", "len", "nb", "out")
     print_table(kinds, seeds, lambda kind, s: SIZES[(s + KINDS.index(kind)) % len(SIZES)], case, keys,
                 lambda r: f"roots {r['n_ex']}->{r['n_out']}", pngdir)

@@ -800,17 +800,8 @@ class _Shore:
         iy = np.clip(np.rint(pts[..., 1]).astype(np.int64), 0, h - 1)
         return self.depth[iy, ix]
 
-    def trunk_hold(self, tip, end: np.ndarray, pull: float = 1.0) -> np.ndarray:
-        """Score factor of a trunk's candidates ending at ``end`` ((C, 2)) from ``tip`` when the delta has
-        an axis (:meth:`set_axis`): ``exp(-TRUNK_HOLD a)``, ``a`` the angle of the chord off the way to the
-        example's mouths (1 without an axis)."""
-        if self.axis is None or TRUNK_HOLD <= 0:
-            return np.ones(len(end))
-        tip = np.asarray(tip, np.float64)
-        wd = self.way_down(tip)
-        chord = np.asarray(end, np.float64) - tip
-        off = np.abs(np.arctan2(chord[:, 1] * wd[0] - chord[:, 0] * wd[1], chord @ wd))
-        return np.exp(-pull * TRUNK_HOLD * off)
+    # the same hold as the drain's: the shore has an axis and a way down too
+    trunk_hold = _Drain.trunk_hold
 
     def factor(self, tip, points: np.ndarray, n_new: np.ndarray) -> np.ndarray:
         """Score factor of candidates ``points`` ((C, M, 2), the first ``n_new`` new) from ``tip``."""
