@@ -119,7 +119,7 @@ def shape_weights(shape, n: int, grid: int, sigma_px: float, rng, concentration:
     if g.sum() <= 0:  # a degenerate draw (all alphas tiny): one exemplar
         g = np.eye(n)[int(rng.integers(n))]
     g = g / g.sum()
-    if spread > 0:
+    if spread > 1e-6:  # below, the gamma noise is 1 to float precision (and spread ** 2 underflows)
         k = 1.0 / float(spread) ** 2
         noise = rng.gamma(k, 1.0 / k, size=(grid, grid, n))
     else:

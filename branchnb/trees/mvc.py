@@ -420,6 +420,19 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
         if c.shape != tcage.shape:
             raise ValueError(f"source_cages[{i}] has {len(c)} vertices, target_cage {len(tcage)}: "
                              "simplified contours must correspond vertex by vertex")
+    if contours is not None:
+        if not isinstance(contours, (tuple, list)) or len(contours) != 2 or \
+                not isinstance(contours[1], (tuple, list)):
+            raise TypeError("contours must be a (target contour, [source contours]) pair, got "
+                            f"{type(contours).__name__}")
+        if len(contours[1]) != len(srcs):
+            raise ValueError(f"contours: need one source contour per source: {len(srcs)} sources, "
+                             f"{len(contours[1])} contours")
+        target_c = as_points(contours[0], name="contours[0]", min_points=3)
+        contours = (target_c, [as_points(c, name=f"contours[1][{i}]", min_points=3)
+                               for i, c in enumerate(contours[1])])
+        if any(c.shape != target_c.shape for c in contours[1]):
+            raise ValueError("contours: the target and source contours must have the same number of points")
     mask = as_mask(target_mask, name="target_mask")
     gen = as_rng(rng)
     if colour_weights is None:
