@@ -15,7 +15,7 @@ import numpy as np
 from scipy import ndimage as ndi
 
 from ._band_examples import KINDS, band_example
-from ._check_table import check_args, print_table, write_sheet
+from ._check_table import check_args, length_share, print_table, write_sheet
 
 SIZES = (256, 384, 512, 640, 768)
 
@@ -42,15 +42,7 @@ def figures(img, spacing: float, ex, out) -> dict:
     """The figures of one case (example structure ``ex``, synthesized structure ``out``)."""
     ink = img[..., :3].mean(-1) < 0.5
     far = ndi.distance_transform_edt(~ink) > spacing
-    H, W = ink.shape
-    outside = tot = 0.0
-    for b in out.branches:
-        p = np.asarray(b.points, float)
-        if len(p) < 2:
-            continue
-        mid = 0.5 * (p[1:] + p[:-1]); sl = np.hypot(*np.diff(p, axis=0).T)
-        xi = np.clip(np.round(mid[:, 0]).astype(int), 0, W - 1); yi = np.clip(np.round(mid[:, 1]).astype(int), 0, H - 1)
-        outside += float(sl[far[yi, xi]].sum()); tot += float(sl.sum())
+    outside, tot = length_share(out, far)
     nb_e, nb_o = max(len(ex.branches), 1), max(len(out.branches), 1)
     return {"nb_ex": len(ex.branches), "nb_out": len(out.branches), "out": outside / max(tot, 1e-9),
             "nb": nb_o / nb_e, "ml": (out.total_length / nb_o) / max(ex.total_length / nb_e, 1e-9),

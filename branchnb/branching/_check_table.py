@@ -67,3 +67,32 @@ def write_sheet(png: str, img, *structures) -> None:
     sheet = np.hstack([img] + [_draw(s, img.shape[:2]) for s in structures])
     sheet[:, img.shape[1]::img.shape[1]] = 0.5
     cv2.imwrite(png, (sheet * 255).astype(np.uint8)[..., ::-1])
+
+
+def length_share(structure, mask) -> tuple[float, float]:
+    """``(length on mask, total length)`` of ``structure``'s branches: each segment counted where its
+    midpoint's pixel (clipped to the frame) is True in ``mask`` ((H, W) bool).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from branchnb.core.structure import Branch, Structure
+    >>> m = np.zeros((10, 10), bool); m[:, 5:] = True
+    >>> length_share(Structure([Branch([(x, 2) for x in range(10)], 1.0)]), m)
+    (4.0, 9.0)
+    """
+    import numpy as np
+
+    h, w = mask.shape
+    on = tot = 0.0
+    for b in structure.branches:
+        p = np.asarray(b.points, float)
+        if len(p) < 2:
+            continue
+        mid = 0.5 * (p[1:] + p[:-1])
+        sl = np.hypot(*np.diff(p, axis=0).T)
+        xi = np.clip(np.round(mid[:, 0]).astype(int), 0, w - 1)
+        yi = np.clip(np.round(mid[:, 1]).astype(int), 0, h - 1)
+        on += float(sl[mask[yi, xi]].sum())
+        tot += float(sl.sum())
+    return on, tot

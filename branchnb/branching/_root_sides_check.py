@@ -21,7 +21,7 @@ import cv2
 import numpy as np
 from scipy import ndimage as ndi
 
-from ._check_table import check_args, print_table
+from ._check_table import check_args, length_share, print_table
 
 KINDS = ("top", "bottom", "left", "right", "topleft", "inside", "river")
 SIZES = (320, 420, 520)
@@ -126,14 +126,7 @@ def figures(img, ent, ex, out) -> dict:
         pos.append(min(np.hypot(p[0] - e[0], p[1] - e[1]) for e in ent) / diag)
     ink = img[..., :3].mean(-1) < 0.5
     far = ndi.distance_transform_edt(~ink) > 0.08 * min(H, W)
-    tot = o = 0.0
-    for b in out.branches:
-        p = np.asarray(b.points, float)
-        if len(p) < 2:
-            continue
-        mid = 0.5 * (p[1:] + p[:-1]); sl = np.hypot(*np.diff(p, axis=0).T)
-        xi = np.clip(np.round(mid[:, 0]).astype(int), 0, W - 1); yi = np.clip(np.round(mid[:, 1]).astype(int), 0, H - 1)
-        o += float(sl[far[yi, xi]].sum()); tot += float(sl.sum())
+    o, tot = length_share(out, far)
     return {"side": float(np.mean(hit)) if hit else 0.0, "pos": float(np.mean(pos)) if pos else 1.0,
             "near": _near_share(out, ent, H, W) / max(_near_share(ex, ent, H, W), 1e-9),
             "len": out.total_length / max(ex.total_length, 1e-9),

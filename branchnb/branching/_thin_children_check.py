@@ -21,7 +21,7 @@ import cv2
 import numpy as np
 from scipy import ndimage as ndi
 
-from ._check_table import print_table
+from ._check_table import length_share, print_table
 
 KINDS = ("comb", "partial", "crack", "vessel", "river", "roots")
 SIZES = (200, 300, 380, 450, 600)
@@ -127,16 +127,8 @@ def figures(img, ex, out) -> dict:
     far = d > 0.08 * min(ink.shape)
     far15 = d > 0.15 * min(ink.shape)
     H, W = ink.shape
-    outside = outside15 = 0.0
-    tot = 0.0
-    for b in out.branches:
-        p = np.asarray(b.points, float)
-        if len(p) < 2:
-            continue
-        mid = 0.5 * (p[1:] + p[:-1]); sl = np.hypot(*np.diff(p, axis=0).T)
-        xi = np.clip(np.round(mid[:, 0]).astype(int), 0, W - 1); yi = np.clip(np.round(mid[:, 1]).astype(int), 0, H - 1)
-        outside += float(sl[far[yi, xi]].sum()); tot += float(sl.sum())
-        outside15 += float(sl[far15[yi, xi]].sum())
+    outside, tot = length_share(out, far)
+    outside15, _ = length_share(out, far15)
     return {"nb_ex": len(ex.branches), "nb_out": len(out.branches), "nb": len(out.branches) / max(len(ex.branches), 1),
             "len": lo.sum() / max(le.sum(), 1e-9),
             "thin_ex": float(le[re_ <= 1.0].sum() / max(le.sum(), 1e-9)),
