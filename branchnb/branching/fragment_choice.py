@@ -21,7 +21,7 @@ from .fragments import Fragment, FragmentLibrary
 from .skeleton_map import PixelMap, SkeletonMap
 
 if TYPE_CHECKING:
-    from .image_synthesis import ImageSynthesisParams
+    from .image_params import ImageSynthesisParams
 
 __all__: list[str] = []
 

@@ -165,7 +165,7 @@ def _synthesize_fragments(ctx: _Context, pm_t: PixelMap, targets: list, shape, l
     going beyond the paper, each fragment is shifted by the difference of the layouts at its
     target centre and its source centre, so a bolt copied from a bright cloud into a dark
     sky does not carry the cloud along as a glowing tube (its glow above the ground is kept)."""
-    from .image_synthesis import FragmentMatch
+    from .image_result import FragmentMatch
 
     ex, sm_s, sm_t, p = ctx.ex, ctx.sm_s, ctx.sm_t, ctx.p
     H, W = shape

@@ -18,7 +18,8 @@ from scipy import ndimage as ndi
 from .skeleton_map import PixelMap
 
 if TYPE_CHECKING:
-    from .image_synthesis import ImageSynthesisParams, ImageSynthesisResult
+    from .image_params import ImageSynthesisParams
+    from .image_result import ImageSynthesisResult
 
 __all__: list[str] = []
 
@@ -111,7 +112,7 @@ def _draw_flat(ex, example_structure, target_structure, layout, labels_t, target
                p: ImageSynthesisParams, t_start: float, report, shape) -> ImageSynthesisResult:
     """``synthesize_image`` for flat-colour examples: draw the target in the example's style."""
     from .drawing import draw_in_style, drawing_style
-    from .image_synthesis import ImageSynthesisResult
+    from .image_result import ImageSynthesisResult
 
     report(0.1, "measuring the example's drawing style")
     style = drawing_style(ex, example_structure, layout, pm_s)
