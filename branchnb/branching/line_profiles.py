@@ -12,11 +12,34 @@ so :func:`~branchnb.branching.extraction.extract_structure` drops them.
 from __future__ import annotations
 
 import numpy as np
+import scipy.sparse as sp
 from scipy import ndimage as ndi
 
 __all__ = ["false_ridge_pixels"]
 
 _NEIGH = np.ones((3, 3), np.int32)
+
+
+def _skeleton_adjacency(sy: np.ndarray, sx: np.ndarray, shape) -> sp.csr_matrix:
+    """(n, n) CSR matrix over the skeleton pixels ``(sy, sx)`` (raster order): 1 where two pixels are
+    8-neighbours or the same pixel. Each row's columns are sorted, i.e. in the raster order of the 3 x 3
+    neighbourhood, so ``adj @ x`` adds a pixel's values in the order a 3 x 3 convolution of the image
+    would (the same sums to the last bit)."""
+    h, w = shape
+    n = len(sy)
+    index = np.full((h + 2, w + 2), -1, np.int64)
+    index[sy + 1, sx + 1] = np.arange(n)
+    rows, cols = [], []
+    for dy in (-1, 0, 1):
+        for dx in (-1, 0, 1):
+            j = index[sy + 1 + dy, sx + 1 + dx]
+            ok = j >= 0
+            rows.append(np.flatnonzero(ok))
+            cols.append(j[ok])
+    adj = sp.csr_matrix((np.ones(sum(len(r) for r in rows)), (np.concatenate(rows), np.concatenate(cols))),
+                        shape=(n, n))
+    adj.sort_indices()
+    return adj
 
 
 def _hessian_across(gray: np.ndarray, sigmas) -> tuple[np.ndarray, ...]:
@@ -145,9 +168,6 @@ def false_ridge_pixels(gray, skeleton, polarity: str, *, sigma_min: float = 1.0,
     idx = np.arange(1, n + 1)
     meds = []
     ratio_d = [d for d in (2.0, 3.0, 4.5, 6.0, 8.0, 12.0) if d <= max(3.0, 3.0 * sigma_max) + 1e-9]
-    if local > 0:
-        sy_, sx_ = np.nonzero(sk)
-        nxs, nys = nx[sy_, sx_], ny[sy_, sx_]
     for d in ratio_d:
         a = ndi.map_coordinates(gs, [yy + d * uy, xx + d * ux], order=1, mode="nearest") * sign
         b = ndi.map_coordinates(gs, [yy - d * uy, xx - d * ux], order=1, mode="nearest") * sign
@@ -159,20 +179,21 @@ def false_ridge_pixels(gray, skeleton, polarity: str, *, sigma_min: float = 1.0,
         # each pixel's ratio averaged with its neighbours *along the skeleton* (a diffusion on its
         # pixels, about ``local`` px each way): a window would mix in the parallel lines nearby
         sy, sx = np.nonzero(sk)
-        skf = sk.astype(np.float64)
-        den = ndi.convolve(skf, _NEIGH.astype(np.float64), mode="constant")[sy, sx]
-        loc = []
-        for dd in ratio_d:
-            a = ndi.map_coordinates(gs, [sy + dd * nys, sx + dd * nxs], order=1, mode="nearest") * sign
-            b = ndi.map_coordinates(gs, [sy - dd * nys, sx - dd * nxs], order=1, mode="nearest") * sign
-            cc = gs[sy, sx] * sign
-            t = cc - np.maximum(a, b)
-            o = cc - np.minimum(a, b)
-            rmap = np.zeros(sk.shape)
-            rmap[sy, sx] = np.clip(np.where(o > 1e-3, t / np.maximum(o, 1e-3), -1.0), -1.0, 1.0)
-            for _ in range(int(np.ceil(local))):
-                rmap[sy, sx] = ndi.convolve(rmap, _NEIGH.astype(np.float64), mode="constant")[sy, sx] / den
-            loc.append(rmap[sy, sx])
+        nxs, nys = nx[sy, sx], ny[sy, sx]
+        adj = _skeleton_adjacency(sy, sx, sk.shape)
+        den = np.diff(adj.indptr).astype(np.float64)[:, None]
+        dd = np.asarray(ratio_d)[:, None]
+        a = ndi.map_coordinates(gs, [(sy + dd * nys).ravel(), (sx + dd * nxs).ravel()], order=1,
+                                mode="nearest").reshape(len(ratio_d), -1) * sign
+        b = ndi.map_coordinates(gs, [(sy - dd * nys).ravel(), (sx - dd * nxs).ravel()], order=1,
+                                mode="nearest").reshape(len(ratio_d), -1) * sign
+        cc = gs[sy, sx] * sign
+        t = cc - np.maximum(a, b)
+        o = cc - np.minimum(a, b)
+        rat = np.ascontiguousarray(np.clip(np.where(o > 1e-3, t / np.maximum(o, 1e-3), -1.0), -1.0, 1.0).T)
+        for _ in range(int(np.ceil(local))):
+            rat = (adj @ rat) / den
+        loc = rat.T
         # one-sided at *every* distance: the darker side of a step is as dark as the line all the way across,
         # a line among others (a dense network) sees ground on both sides at some distance
         loc_score = np.max(np.array(loc), axis=0)
