@@ -28,3 +28,31 @@ def test_second_render_of_an_example_reuses_its_preparation_with_the_same_result
     key = next(iter(isy._EXAMPLE_CACHE))
     isy.synthesize_image(img2, src, targets[0], rng=0)
     assert len(isy._EXAMPLE_CACHE) == 1 and next(iter(isy._EXAMPLE_CACHE)) != key
+
+
+def test_a_drawn_map_measures_its_layout_and_style_once(monkeypatch):
+    # flat-colour examples: the example's region layout and drawing style depend on the example only
+    from branchnb.branching import drawing
+    from branchnb.branching._map_examples import river_map_example
+
+    img, src, _land = river_map_example((128, 128), 0, n_trees=6)
+    targets = [random_tree((128, 128), k, n_children=3) for k in (7, 8)]
+    cold = []
+    for t in targets:
+        isy._EXAMPLE_CACHE.clear()
+        cold.append(isy.synthesize_image(img, src, t, rng=0))
+    calls = {"style": 0, "labels": 0}
+
+    def counted(fn, key):
+        def f(*a, **k):
+            calls[key] += 1
+            return fn(*a, **k)
+        return f
+
+    monkeypatch.setattr(drawing, "drawing_style", counted(drawing.drawing_style, "style"))
+    monkeypatch.setattr(isy, "colour_labels", counted(isy.colour_labels, "labels"))
+    warm = [isy.synthesize_image(img, src, t, rng=0) for t in reversed(targets)][::-1]
+    assert calls == {"style": 0, "labels": 0}
+    for a, b in zip(cold, warm):
+        np.testing.assert_array_equal(a.image, b.image)
+        np.testing.assert_array_equal(a.labels, b.labels)

@@ -228,18 +228,20 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     flat = bool(flat_share >= 0.5 and labels_ex.max() >= 1)
     if cached["mask"] and p.flat_drawing:
         return _draw_flat(ex, example_structure, target_structure, labels_ex, None, None,
-                          pm_s, labels_ex, p, t_start, report, (H, W))
+                          pm_s, labels_ex, p, t_start, report, (H, W), cache=cached)
     labels_t = None
     src_labels = labels_ex
     layout = labels_ex
     if target_domain is not None:
         target_domain = as_mask(target_domain, shape=(H, W), name="target_domain")
     if flat and (p.keep_regions or p.flat_drawing):
-        # a source pixel's region is its colour's (a white rim is water wherever it lies)
-        zone = pm_s.core(2.0 * p.exclusion, 2.0 * p.exclusion_margin)
-        src_labels = colour_labels(ex, labels_ex, ~zone)
-        # the example's land and sea around its branches (not its channels)
-        layout = region_layout(src_labels, zone, pm_s.core(1.0, 0.0))
+        if "layout" not in cached:
+            # a source pixel's region is its colour's (a white rim is water wherever it lies)
+            zone = pm_s.core(2.0 * p.exclusion, 2.0 * p.exclusion_margin)
+            cached["src_labels"] = colour_labels(ex, labels_ex, ~zone)
+            # the example's land and sea around its branches (not its channels)
+            cached["layout"] = region_layout(cached["src_labels"], zone, pm_s.core(1.0, 0.0))
+        src_labels, layout = cached["src_labels"], cached["layout"]
         if target_regions is not None:
             labels_t = np.asarray(target_regions)
             if labels_t.shape != (H, W) or not np.issubdtype(labels_t.dtype, np.integer):
@@ -256,7 +258,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
                                      pm_example=pm_s, pm_target=pm_t)
     if flat and p.flat_drawing:
         return _draw_flat(ex, example_structure, target_structure, layout, labels_t, target_domain,
-                          pm_s, labels_ex, p, t_start, report, (H, W))
+                          pm_s, labels_ex, p, t_start, report, (H, W), cache=cached)
     boundary = None
     matte_edge = False
     if labels_t is None and target_domain is not None and not flat and target_domain.any() \

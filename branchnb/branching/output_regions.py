@@ -109,13 +109,19 @@ def _across_example_mouths(domain: np.ndarray, pm_s: PixelMap) -> np.ndarray:
 
 
 def _draw_flat(ex, example_structure, target_structure, layout, labels_t, target_domain, pm_s, labels_ex,
-               p: ImageSynthesisParams, t_start: float, report, shape) -> ImageSynthesisResult:
-    """``synthesize_image`` for flat-colour examples: draw the target in the example's style."""
+               p: ImageSynthesisParams, t_start: float, report, shape, cache: dict | None = None
+               ) -> ImageSynthesisResult:
+    """``synthesize_image`` for flat-colour examples: draw the target in the example's style.
+    ``cache``: the example side kept between calls (:mod:`.example_cache`); its style is measured once."""
     from .drawing import draw_in_style, drawing_style
     from .image_result import ImageSynthesisResult
 
     report(0.1, "measuring the example's drawing style")
-    style = drawing_style(ex, example_structure, layout, pm_s)
+    style = None if cache is None else cache.get("flat_style")
+    if style is None:
+        style = drawing_style(ex, example_structure, layout, pm_s)
+        if cache is not None:
+            cache["flat_style"] = style
     H, W = shape
     if labels_t is None:
         labels_t = _domain_labels(layout, pm_s, target_domain) if target_domain is not None else \
