@@ -28,6 +28,12 @@ DETAIL_SCALE = 0.25
 #: Scale of the example's light layout, as a fraction of its long side (Gaussian sigma; at least the
 #: patch side, so that a small example's lines leave no dark trace in it).
 LAYOUT_SCALE = 1.0 / 16.0
+#: An example whose light layout varies by less than this factor (95th over 5th percentile) is evenly
+#: lit: its gaps are quilted as they are (relit, a field's patches came out as one even green).
+SHADED = 1.2
+#: Share of the ground's detail-scale variation the light layout may leave unexplained for the gaps
+#: to be relit at the detail scale (vignetted grounds 0.05-0.13; fields, blotches, stripes 0.23-0.95).
+TEXTURE_SHARE = 0.2
 
 
 def _coarse_blur(img: np.ndarray, weight: np.ndarray, sigma: float, levels: int = 0) -> np.ndarray:
@@ -77,7 +83,8 @@ def _coarse_blur(img: np.ndarray, weight: np.ndarray, sigma: float, levels: int 
 def light_layout(ex: np.ndarray, regions: ExampleRegions, patch_size: int) -> np.ndarray | None:
     """The example's light layout: its background averaged at ``LAYOUT_SCALE`` of its long side
     (at least ``patch_size``), defined everywhere; (h, w, n) float32 over its colour channels, or
-    None when there is no background to measure it on.
+    None when there is no background to measure it on or the example is evenly lit (the layout
+    varies by less than ``SHADED``: moving it would move texture, not light).
 
     The same layout :func:`_relight_setup` lights the gaps with; the fragments use it too (a
     fragment's ground is moved from the layout where it comes from to the layout where it goes).
@@ -97,18 +104,53 @@ def light_layout(ex: np.ndarray, regions: ExampleRegions, patch_size: int) -> np
     >>> import numpy as np
     >>> from branchnb.branching.regions import ExampleRegions
     >>> z = np.zeros((64, 64), bool)
-    >>> img = np.full((64, 64, 3), 0.5, np.float32)
-    >>> lay = light_layout(img, ExampleRegions(z, z, z, z.astype(float)), 32)
-    >>> lay.shape, bool(np.allclose(lay, 0.5, atol=1e-3))
+    >>> img = np.dstack([np.tile(np.linspace(0.2, 0.8, 64, dtype=np.float32), (64, 1))] * 3)
+    >>> lay = light_layout(img, ExampleRegions(z, z, z, z.astype(float)), 8)
+    >>> lay.shape, bool(lay[0, 0, 0] < 0.4 < 0.6 < lay[0, -1, 0])
     ((64, 64, 3), True)
+    >>> light_layout(np.full((64, 64, 3), 0.5, np.float32), ExampleRegions(z, z, z, z.astype(float)), 8) is None
+    True
     """
     n = min(ex.shape[2], 3)
     bg_ex = ~(regions.forbidden | ndi.binary_dilation(regions.body | regions.branch_like, iterations=3))
     if np.count_nonzero(bg_ex) < 64:
         return None
     exc = ex[..., :n].astype(np.float64)
-    return _coarse_blur(exc, bg_ex, max(LAYOUT_SCALE * max(ex.shape[:2]), float(patch_size)),
-                        levels=5).astype(np.float32)
+    layout = _coarse_blur(exc, bg_ex, max(LAYOUT_SCALE * max(ex.shape[:2]), float(patch_size)), levels=5)
+    lum = layout.mean(axis=2)[bg_ex]
+    lo, hi = np.percentile(lum, [5, 95])
+    if hi <= SHADED * max(lo, 1e-3):
+        # evenly lit: no light to move (what varies is texture: a field's patches, a disc's glow)
+        return None
+    return layout.astype(np.float32)
+
+
+def _light_mode(shade: np.ndarray, layout: np.ndarray, mean: np.ndarray, bg: np.ndarray) -> str:
+    """How the gaps of an example are relit: ``"even"`` (its light layout varies by less than
+    ``SHADED``: nothing to take out, the texture is copied as is), ``"lit"`` (the ground's variation
+    at the detail scale, ``shade``, is mostly the light ``layout``: taken out at the detail scale) or
+    ``"textured"`` (lit, but more than ``TEXTURE_SHARE`` of that variation is no light: patches,
+    blotches; only the layout is taken out).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> ramp = np.dstack([np.tile(np.linspace(0.3, 0.9, 32), (32, 1))] * 3)
+    >>> bg = np.ones((32, 32), bool)
+    >>> m = ramp[bg].mean(axis=0)
+    >>> _light_mode(ramp, ramp, m, bg), _light_mode(np.full_like(ramp, 0.5), np.full_like(ramp, 0.5), m, bg)
+    ('lit', 'even')
+    >>> patches = ramp + 0.2 * (np.indices((32, 32)).sum(0) // 8 % 2)[..., None]
+    >>> _light_mode(patches, ramp, m, bg)
+    'textured'
+    """
+    lum = layout.mean(axis=2)[bg]
+    lo, hi = np.percentile(lum, [5, 95])
+    if hi <= SHADED * max(lo, 1e-3):
+        return "even"
+    dc = float(((shade - mean)[bg] ** 2).sum())
+    dr = float(((shade - layout)[bg] ** 2).sum())
+    return "textured" if dr > TEXTURE_SHARE * max(dc, 1e-12) else "lit"
 
 
 def _relight_setup(ex: np.ndarray, canvas: np.ndarray, covered: np.ndarray, regions: ExampleRegions,
@@ -164,7 +206,14 @@ def _relight_setup(ex: np.ndarray, canvas: np.ndarray, covered: np.ndarray, regi
     mean = exc[bg_ex].mean(axis=0)
     # the example's light layout, at the output's size (same relative position)
     H, W = bg_t.shape
-    layout = _coarse_blur(exc, bg_ex, max(LAYOUT_SCALE * max(ex.shape[:2]), float(patch_size)), levels=5)
+    layout_sigma = max(LAYOUT_SCALE * max(ex.shape[:2]), float(patch_size))
+    layout = _coarse_blur(exc, bg_ex, layout_sigma, levels=5)
+    mode = _light_mode(shade_ex, layout, mean, bg_ex)
+    if mode == "even":
+        return None
+    if mode == "textured":
+        # the ground's patches are texture, not light: only the light layout is taken out
+        sigma, shade_ex = layout_sigma, layout
     g = cv2.resize(layout.astype(np.float32), (W, H), interpolation=cv2.INTER_LINEAR).reshape(H, W, n)
     # the fragments' light where they are (their background averaged at sigma), weighted by how
     # much of it lies around
