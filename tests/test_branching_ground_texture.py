@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from branchnb.branching import synthesize_image
-from branchnb.branching._ground_texture_check import _target, example, ground_distance
+from branchnb.branching._ground_texture_check import _target, disc_copy, example, ground_distance
 
 
 @pytest.mark.parametrize("kind, seed", [("fields", 0), ("fields", 3), ("noise", 2)])
@@ -24,3 +24,12 @@ def test_ground_keeps_its_patches(kind, seed):
     assert d["hist"] < 0.2, d
     assert d["spec"] < 0.8, d
     assert 0.9 < d["lstd"] < 1.1, d
+
+
+def test_no_copy_of_a_bright_disc():
+    # a bright disc on the root branch (a retina's optic disc): no fragment carries it off the
+    # branch's body (main: a blob of 0.15 of the disc's area at a junction; the ground's own grain 0.02-0.06)
+    img, s, disc = example("disc", 384, 1)
+    tgt = _target(384, 1)
+    out = synthesize_image(img, s, tgt, rng=1)
+    assert disc_copy(img, s, disc, np.asarray(out.image)) < 0.08
