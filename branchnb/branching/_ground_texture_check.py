@@ -18,7 +18,7 @@ the target another known tree. Per output it prints
 - ``pcs``: dark pieces per target tree (8-connected, :func:`._vessel_check.measure`); ``gap``: runs of
   >= 2 px along the target's centre lines that are not dark;
 - ``blob``: the largest bright blob of the output over the example's disc area (``disc`` kind,
-  :func:`disc_copy`; the ground's grain alone 0.02-0.06, a copy of the disc more);
+  :func:`disc_copy`; 0 = nothing brighter than the example's ground but the disc itself);
 - ``sec``: seconds of ``synthesize_image``.
 """
 # ruff: noqa: E501
@@ -160,13 +160,13 @@ def ground_distance(example_img, s_ex, out, s_t, skip_ex=None):
 
 def disc_copy(example_img, s_ex, disc, out) -> float:
     """Largest bright blob of ``out`` over the example's disc area: pixels 0.3 of the way from the
-    example ground's 99.5th percentile (away from the lines and the disc) to the disc's median
-    brightness, opened by one pixel (the ground's bright grain is no blob)."""
+    example ground's brightest pixel (away from the lines and the disc) to the disc's median
+    brightness, opened by one pixel."""
     n = example_img.shape[0]
     lum_ex = example_img[..., :3].mean(2)
     far = ~_band(s_ex, example_img.shape[:2]) & ~ndi.binary_dilation(disc, iterations=int(0.1 * n))
-    g = float(np.percentile(lum_ex[far], 99.5))
-    thr = g + 0.3 * (float(np.median(lum_ex[disc])) - g)
+    g = float(lum_ex[far].max())
+    thr = g + 0.3 * max(float(np.median(lum_ex[disc])) - g, 0.0)
     lab, k = ndi.label(ndi.binary_opening(np.asarray(out)[..., :3].mean(2) > thr, iterations=1))
     return (float(np.bincount(lab.ravel())[1:].max()) if k else 0.0) / max(int(disc.sum()), 1)
 

@@ -29,7 +29,8 @@ DETAIL_SCALE = 0.25
 #: patch side, so that a small example's lines leave no dark trace in it).
 LAYOUT_SCALE = 1.0 / 16.0
 #: An example whose light layout varies by less than this factor (95th over 5th percentile) is evenly
-#: lit: its gaps are quilted as they are (relit, a field's patches came out as one even green).
+#: lit: only its light layout is taken out of the gaps' texture (relit at the detail scale, a
+#: field's patches came out as one even green).
 SHADED = 1.2
 #: Share of the ground's detail-scale variation the light layout may leave unexplained for the gaps
 #: to be relit at the detail scale (vignetted grounds 0.05-0.13; fields, blotches, stripes 0.23-0.95).
@@ -119,10 +120,10 @@ def light_layout(ex: np.ndarray, regions: ExampleRegions, patch_size: int) -> np
 
 def _light_mode(shade: np.ndarray, layout: np.ndarray, mean: np.ndarray, bg: np.ndarray) -> str:
     """How the gaps of an example are relit: ``"even"`` (its light layout varies by less than
-    ``SHADED``: nothing to take out, the texture is copied as is), ``"lit"`` (the ground's variation
-    at the detail scale, ``shade``, is mostly the light ``layout``: taken out at the detail scale) or
-    ``"textured"`` (lit, but more than ``TEXTURE_SHARE`` of that variation is no light: patches,
-    blotches; only the layout is taken out).
+    ``SHADED``), ``"lit"`` (the ground's variation at the detail scale, ``shade``, is mostly the
+    light ``layout``: taken out at the detail scale) or ``"textured"`` (lit, but more than
+    ``TEXTURE_SHARE`` of that variation is no light: patches, blotches). Only ``"lit"`` grounds
+    lose their detail-scale variation; the others only their light layout.
 
     Examples
     --------
@@ -172,6 +173,14 @@ def _relight_setup(ex: np.ndarray, canvas: np.ndarray, covered: np.ndarray, regi
     patches of bright and dark. Returns ``(example, canvas, offset)`` or
     None when there is no background to measure the light on.
 
+    Only where the light explains the ground's detail-scale variation
+    (:func:`_light_mode` ``"lit"``: a vignetted fundus, a night sky) is it
+    taken out at the detail scale; elsewhere (evenly lit grounds, patches of
+    fields, blotches, stripes) only the light layout is, at its own scale:
+    taken out at the detail scale they came out as one even tone with faint
+    seams (``_ground_texture_check`` fields: energy of the patch-sized bands
+    0.10-0.22 of the example's).
+
     ``domains = (example_domain, output_domain)`` (an example whose domain a
     drawn line walls off, :mod:`~branchnb.branching.drawn_domains`): the light
     is measured and changed inside the domains only (the white outside of a
@@ -201,9 +210,7 @@ def _relight_setup(ex: np.ndarray, canvas: np.ndarray, covered: np.ndarray, regi
     layout_sigma = max(LAYOUT_SCALE * max(ex.shape[:2]), float(patch_size))
     layout = _coarse_blur(exc, bg_ex, layout_sigma, levels=5)
     mode = _light_mode(shade_ex, layout, mean, bg_ex)
-    if mode == "even":
-        return None
-    if mode == "textured":
+    if mode != "lit":
         # the ground's patches are texture, not light: only the light layout is taken out
         sigma, shade_ex = layout_sigma, layout
     g = cv2.resize(layout.astype(np.float32), (W, H), interpolation=cv2.INTER_LINEAR).reshape(H, W, n)
