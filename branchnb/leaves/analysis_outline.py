@@ -215,12 +215,15 @@ def _ink_zone(rgb, blade, layer_px: float) -> tuple[np.ndarray, float]:
     vein had the ink's colour: given a vein layer on plain fill, the
     outline of the other exemplars was induced as vein in a strip 2-4 px
     inside the blade's edge, outside :func:`_outline_band` (as wide as the
-    layer, 2 px). The zone is the lamina within the ink's mean width (ink
-    pixels per rim pixel), :data:`INK_ZONE_PAD` and the layer's width
-    ``layer_px`` of the closed blade's edge (:func:`_closed_blade`);
-    returned with that depth. A drawn vein ending at the outline crosses
-    the zone: only pieces running along it are taken out
-    (:func:`_outline_stretches` with the zone's depth).
+    layer, 2 px). The zone is the ink and the blade within
+    :data:`INK_ZONE_PAD` and the layer's width ``layer_px`` of it (measured
+    from the ink, not the blade's edge: a narrow sinus between two oak
+    lobes, closed by :func:`_closed_blade`, has ink on both sides, a dark
+    line deep inside the closed blade); returned with its depth, the ink's
+    mean width (ink pixels per rim pixel of the closed blade) plus that
+    reach. A drawn vein ending at the outline crosses the zone: only pieces
+    running along it are taken out (:func:`_outline_stretches` with the
+    zone's depth).
     """
     from .flatart import drawn_outline
     ink = drawn_outline(rgb, blade)
@@ -229,5 +232,5 @@ def _ink_zone(rgb, blade, layer_px: float) -> tuple[np.ndarray, float]:
     closed = _closed_blade(blade)
     inner = closed & ~_binary_dilation(~closed, iterations=1)
     n_rim = max(int(np.count_nonzero(closed)) - int(np.count_nonzero(inner)), 1)
-    reach = float(np.count_nonzero(ink)) / n_rim + INK_ZONE_PAD + max(1.0, float(layer_px))
-    return blade & (_edt(closed) <= reach), reach
+    pad = INK_ZONE_PAD + max(1.0, float(layer_px))
+    return blade & (_edt(~ink) <= pad), float(np.count_nonzero(ink)) / n_rim + pad
