@@ -224,6 +224,16 @@ def _ink_zone(rgb, blade, layer_px: float) -> tuple[np.ndarray, float]:
     reach. A drawn vein ending at the outline crosses the zone: only pieces
     running along it are taken out (:func:`_outline_stretches` with the
     zone's depth).
+
+    Measured (``python -m branchnb.leaves._measure_drawn --shapes maple,oak
+    --outlines 1,3 --shadows 1 --sizes 200,384,640,1000 --cycle``, and
+    ``--shapes elm,palmate --outlines 2,4 --shadows 0``; 24 cases of 4
+    drawn leaves), share of the outline zone taken as vein mean / max:
+    plain fill 0.321 / 0.532 -> 0.004 / 0.014; black drawn veins 0.122 /
+    0.332 -> 0.020 / 0.144 (precision mean / min 0.779 / 0.438 -> 0.973 /
+    0.883, recall 0.938 -> 0.940); coloured veins unchanged. Photos and
+    the procedural shaded families have no ink rim: nothing changes
+    (real-maple pairs, ``_measure_unseen`` willow, cordate, oak identical).
     """
     from .flatart import drawn_outline
     ink = drawn_outline(rgb, blade)
