@@ -534,7 +534,7 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
                       radius_widths: float = 3.0, min_evidence: float = 0.2, refine: bool = True,
                       line_frac: float = 0.08, fit: bool = True, fit_reach: float = 0.2, oriented: bool = True,
                       trace: bool = True, trace_kw=None, lightness_share: float = 0.3, directions=None,
-                      mirror: bool = True, return_centred: bool = False, basal: bool = True):
+                      mirror: bool = True, return_centred: bool = False, basal: bool = True, outlines=None):
     """The training layer ``user`` snapped onto every exemplar's own ridges.
 
     Parameters
@@ -597,6 +597,10 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
     basal : bool
         Look for the training junction's basal branches the snapping lost
         (:func:`~branchnb.leaves.snapping_basal.basal_branches`), default True.
+    outlines : list of ((H, W) bool ndarray or None), optional
+        Per exemplar, where its ridges are no evidence of the layer: a drawn
+        leaf's ink outline (:func:`~branchnb.leaves.analysis_outline._ink_zone`);
+        None (default, or an entry None): everywhere evidence.
 
     Returns
     -------
@@ -627,6 +631,8 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
         chains, widths, n_mirrored = mirror_missing(chains, widths, blades[t])
     if directions is not None and (isinstance(directions, (str, bytes)) or len(directions) != len(labs)):
         raise ValueError(f"directions must be a list of one direction or None per exemplar ({len(labs)})")
+    if outlines is not None and (isinstance(outlines, (str, bytes)) or len(outlines) != len(labs)):
+        raise ValueError(f"outlines must be a list of one mask or None per exemplar ({len(labs)})")
 
     def projected(d):
         if lightness_share > 0 and abs(d[0]) >= lightness_share:
@@ -662,6 +668,9 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
         scale_e = np.sqrt(float(b.sum())) / max(size_t, 1.0)
         # A hole's rim (a torn or eaten patch) is an edge, not a vein.
         rim = _hole_rim(b, HOLE_RIM, HOLE_SHARE)
+        if outlines is not None and outlines[e] is not None:
+            # A drawn leaf's ink outline is the blade's edge drawn, not a vein.
+            rim = rim | np.asarray(outlines[e], bool)[y0:y1, x0:x1]
         if rim.any():
             ev = np.where(rim, 0.0, ev).astype(np.float32)
             if hess is not None:
@@ -674,9 +683,15 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
         centre = vein_centre(lab, b, direction, width) if return_centred else None
         if rim.any():
             pev = np.where(rim, 0.0, pev).astype(np.float32)
+        evb = omaps = None
+        if fit and hess is not None:
+            # The fits, the traces and the basal search score poses on the same oriented maps: made once.
+            import cv2
+            evb = cv2.GaussianBlur(np.where(b, ev, 0.0).astype(np.float32), (0, 0), 0.7)
+            omaps = _oriented_maps(evb, hess)
 
         def place(chains, widths, n_user, e=e, b=b, ev=ev, hess=hess, scale=scale, scale_e=scale_e, pev=pev,
-                  centre=centre, off=off, b_full=b_full):
+                  centre=centre, off=off, b_full=b_full, omaps=omaps):
             # The branches carried into the exemplar, fitted, traced and snapped
             # to its ridges; the branches past ``n_user`` are candidates.
             carried = [carry_points(registrations[e], c) - off for c in chains]
@@ -698,7 +713,7 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
                     if _ONLY_START is not None and k != _ONLY_START:
                         continue
                     got, score = fit_branches(start, ev, b, reach=fit_reach * np.sqrt(float(b.sum())),
-                                              return_score=True, hessian=hess)
+                                              return_score=True, hessian=hess, maps=omaps)
                     if k == 2:
                         score = score / REGISTRATION_START
                     if best is None or score > best[1]:
@@ -706,14 +721,12 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
                 carried = best[0] if best is not None else carried
                 tube = max(2.0, 1.5 * width)
                 if trace and hess is not None:
-                    import cv2
-                    evb = cv2.GaussianBlur(np.where(b, ev, 0.0).astype(np.float32), (0, 0), 0.7)
                     # Two traces may not share a vein: "near a placed branch" spans
                     # the vein's own width (3 px on a 3 px vein; a drawn oak's 6 px
                     # veins at 480 px took two traces side by side, 4 px apart).
                     kw = {"overlap_px": max(3.0, float(np.ceil(width * scale_e)))}
                     kw.update(trace_kw or {})
-                    carried = trace_branches(carried, _oriented_maps(evb, hess), b, **kw)
+                    carried = trace_branches(carried, omaps, b, **kw)
             elif refine:
                 carried = refine_carried(carried, ev, b, reach=reach)
             sw = [wd * scale for wd in widths]
@@ -741,11 +754,9 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
                 m, k, mcen = m0, k0, mcen0
         if fit and star is not None and hess is not None:
             # The junction's branches the snapping lost (a basal vein at a wider angle), found by rays.
-            import cv2
-            evb = cv2.GaussianBlur(np.where(b, ev, 0.0).astype(np.float32), (0, 0), 0.7)
             jc = carry_points(registrations[e], star["centre"][None])[0] - off
             sw_star = [user_widths[i] * scale for i in star["index"]]
-            found = basal_branches(m, star, jc, _oriented_maps(evb, hess), pev, b, sw_star, scale_e,
+            found = basal_branches(m, star, jc, omaps, pev, b, sw_star, scale_e,
                                    max(2.0, 1.5 * width), min_evidence=min_evidence,
                                    overlap_px=max(3.0, float(np.ceil(width * scale_e))))
             m = m | found
