@@ -299,8 +299,8 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         q = [_quantise_lab(lab, space) for lab in labs]
         cdf = layer_cdfs(q[t], user, space.bins)
         report(step / steps, f"layer {name}: snapping to each exemplar's ridges")  # "cancel" stops here too
-        snapped, own, ridge_px, centred = _snapped(residual, blades, t, user, registrations, stats, tolerance, params,
-                                          labs=labs)
+        snapped, own, ridge_px, centred, rims = _snapped(residual, blades, t, user, registrations, stats, tolerance,
+                                                         params, labs=labs)
         # The training leaf's colour model where the exemplar's layer has its
         # colour (it is exact there; re-estimated from the found pixels it lost
         # 0.03-0.13 IoU on same-coloured veins), else the exemplar's own.
@@ -373,6 +373,11 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
                 elif inked_outline:
                     m = m & ~_outline_stretches(m & band, user)
             if e != t and snapped is not None:
+                if RIM_TRIM and rims[e] is not None:
+                    # A hole's rim in the layer's colour is no vein: the colour term took 58-99 % of
+                    # the vein-coloured rims of procedural holes (``_measure_holes``). The snapped
+                    # paths stay (their ridge evidence placed them; maple 07's lateral runs 3 px from a hole).
+                    m = m & ~(rims[e] & ~snapped[e])
                 m = _without_dots(m, layer_width(user))
             masks.append(m)
             taken[e] = taken[e] | m
@@ -492,6 +497,11 @@ def _induced(combined, delta, training_overlap, snapped, e, blade, taken, *, cen
     return m | (centred[e] & blade & ~taken & ndi.binary_dilation(m))
 
 
+#: Leave the exemplar's hole rims (:func:`~branchnb.leaves.snapping_stray._hole_rim`, one-sided rims
+#: included) out of a thin layer's induced mask.
+RIM_TRIM = True
+
+
 def _pinholes(blade, layer) -> np.ndarray:
     """The blade's holes narrower than the layer (inscribed disc no wider than its width, 3 px at least).
 
@@ -585,11 +595,12 @@ def _ridge_extension(residual, blades, t, e, user, m, stats, params, *, level: f
 def _snapped(residual, blades, t, user, registrations, stats, tolerance, params, *, labs=None):
     """The thin layer ``user`` snapped onto each exemplar's own ridges, and each exemplar's own contrast.
 
-    Returns ``(masks, own, pixels, centred)``: ``masks`` None (not thin / off) or one mask
+    Returns ``(masks, own, pixels, centred, rims)``: ``masks`` None (not thin / off) or one mask
     per exemplar (None on the training leaf), ``centred`` the same paths grown to each
     exemplar's own vein (:func:`~branchnb.leaves.snapping_width._grow_to_width`); ``own[e]`` the contrast
     direction of exemplar ``e``'s own layer where it differs from the
-    training leaf's (:func:`branchnb.leaves.own_contrast.exemplar_direction`), else None.
+    training leaf's (:func:`branchnb.leaves.own_contrast.exemplar_direction`), else None; ``rims[e]``
+    the exemplar's hole rims (:func:`~branchnb.leaves.snapping_stray._hole_rim`), no vein (:data:`RIM_TRIM`).
     """
     from .induction import layer_width
     from .own_contrast import exemplar_direction
@@ -597,7 +608,7 @@ def _snapped(residual, blades, t, user, registrations, stats, tolerance, params,
     own = [None] * len(blades)
     pixels = [None] * len(blades)
     if not params.snap or not is_thin_layer(user, max_width=thin_width(blades[t], user)):
-        return None, own, pixels, None
+        return None, own, pixels, None, [None] * len(blades)
     if labs is None:
         labs = [_matched_lab(r, stats, e, t, params) for e, r in enumerate(residual)]
     d_t = contrast_direction(labs[t], user, blades[t])
@@ -610,9 +621,11 @@ def _snapped(residual, blades, t, user, registrations, stats, tolerance, params,
                                               return_pixels=True)
             own[e] = d if took else None
             pixels[e] = pix
+    rims = [None] * len(blades)
     masks, _, centred = snap_to_exemplars(labs, blades, t, user, registrations, tolerance=tolerance,
-                                          radius_widths=params.snap_radius, directions=own, return_centred=True)
-    return masks, own, pixels, centred
+                                          radius_widths=params.snap_radius, directions=own, return_centred=True,
+                                          rims=rims)
+    return masks, own, pixels, centred, rims
 
 
 #: A layer of curves at most this share of the leaf size (``sqrt`` of the blade's area) wide is thin

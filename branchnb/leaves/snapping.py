@@ -194,7 +194,16 @@ from scipy import ndimage as ndi
 from ..core.distance import edt_boxed as _edt_boxed
 from ..core.image import as_mask
 from ..core.morphology import fill_holes
-from .snapping_basal import basal_branches, junction_star
+from .snapping_basal import (  # noqa: F401  (the anchor's constants, importable from here)
+    ANCHOR_MOVE,
+    ANCHOR_NEAR,
+    ANCHOR_REACH,
+    ANCHOR_SHARE,
+    _junction_of,
+    _petiole_anchor,
+    basal_branches,
+    junction_star,
+)
 from .snapping_carry import _affine_carry, _disk, _moment_carry, _nearest, _unbox, blade_box, carry_points  # noqa: F401
 from .snapping_evidence import contrast_direction, ridge_evidence
 from .snapping_fit import (  # noqa: F401  (the fit's names, importable from here as before)
@@ -534,7 +543,7 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
                       radius_widths: float = 3.0, min_evidence: float = 0.2, refine: bool = True,
                       line_frac: float = 0.08, fit: bool = True, fit_reach: float = 0.2, oriented: bool = True,
                       trace: bool = True, trace_kw=None, lightness_share: float = 0.3, directions=None,
-                      mirror: bool = True, return_centred: bool = False, basal: bool = True):
+                      mirror: bool = True, return_centred: bool = False, basal: bool = True, rims=None):
     """The training layer ``user`` snapped onto every exemplar's own ridges.
 
     Parameters
@@ -597,6 +606,10 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
     basal : bool
         Look for the training junction's basal branches the snapping lost
         (:func:`~branchnb.leaves.snapping_basal.basal_branches`), default True.
+    rims : list, optional
+        When given (one entry per exemplar), entry ``e`` is set to exemplar ``e``'s hole rims
+        (:func:`~branchnb.leaves.snapping_stray._hole_rim` with the one-sided rim,
+        :data:`HOLE_REACH`): where no vein of the layer is induced.
 
     Returns
     -------
@@ -662,6 +675,11 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
         scale_e = np.sqrt(float(b.sum())) / max(size_t, 1.0)
         # A hole's rim (a torn or eaten patch) is an edge, not a vein.
         rim = _hole_rim(b, HOLE_RIM, HOLE_SHARE)
+        if rims is not None:
+            # The rims no vein is induced on (the one-sided rim too, up to HOLE_REACH layer widths).
+            rims[e] = _unbox(_hole_rim(b, HOLE_RIM, HOLE_SHARE, hessian=hess,
+                                       reach=max(3.0, HOLE_REACH * width) if HOLE_REACH > 0 else 0.0),
+                             b_full.shape, y0, x0)
         if rim.any():
             ev = np.where(rim, 0.0, ev).astype(np.float32)
             if hess is not None:
@@ -675,8 +693,12 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
         if rim.any():
             pev = np.where(rim, 0.0, pev).astype(np.float32)
 
+        anchor = _petiole_anchor(star, blades[t], b_full, registrations[e]) if fit and star is not None else None
+        if anchor is not None:
+            anchor = (anchor[0], anchor[1] - off)
+
         def place(chains, widths, n_user, e=e, b=b, ev=ev, hess=hess, scale=scale, scale_e=scale_e, pev=pev,
-                  centre=centre, off=off, b_full=b_full):
+                  centre=centre, off=off, b_full=b_full, anchor=anchor):
             # The branches carried into the exemplar, fitted, traced and snapped
             # to its ridges; the branches past ``n_user`` are candidates.
             carried = [carry_points(registrations[e], c) - off for c in chains]
@@ -702,6 +724,16 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
                     if k == 2:
                         score = score / REGISTRATION_START
                     if best is None or score > best[1]:
+                        best = (got, score)
+                if anchor is not None and best is not None and ANCHOR_SHARE > 0 and _ONLY_START is None:
+                    # The template's junction held at the exemplar's own petiole base.
+                    jc = _affine_carry(registrations[e], blades[t], [anchor[0][None]])[0][0] - off
+                    held = [c + (anchor[1] - jc) for c in starts[0]]
+                    got, score = fit_branches(held, ev, b, reach=ANCHOR_REACH * np.sqrt(float(b.sum())),
+                                              return_score=True, hessian=hess)
+                    # Only where the fit moved the junction away from the petiole (else it is kept).
+                    moved = np.hypot(*(_junction_of(best[0], star) - _junction_of(got, star)))
+                    if score >= ANCHOR_SHARE * best[1] and moved > ANCHOR_MOVE * np.sqrt(float(b.sum())):
                         best = (got, score)
                 carried = best[0] if best is not None else carried
                 tube = max(2.0, 1.5 * width)
@@ -814,6 +846,10 @@ HOLE_RIM = 2
 #: Largest share of the blade the holes' rims may cover for them to take no evidence; past it the
 #: holes are texture, not damage (:func:`~branchnb.leaves.snapping_stray._hole_rim`).
 HOLE_SHARE = 0.1
+
+#: Reach (in layer widths, 3 px at least) of a hole's one-sided rim: ridge pixels with the hole on one
+#: side (:func:`~branchnb.leaves.snapping_stray._one_sided_rim`) take no evidence (0: off).
+HOLE_REACH = 2.0
 
 
 #: Power of the leaf-size ratio the snapped branches' widths scale by (1: in proportion); 0.5 measured
