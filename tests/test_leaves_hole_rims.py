@@ -44,7 +44,7 @@ def test_junction_of_a_star():
 def test_vein_coloured_hole_rim_near_the_junction_is_no_vein():
     """Procedural trilobed family at 192 px, a hole beside each exemplar's petiole junction with a rim
     in the veins' colour (``python -m branchnb.leaves._measure_holes``). Main took 96 % of the rims as
-    vein (IoU 0.72 0.77 0.74 against 0.76 0.82 0.77 intact); now about 5 % and no loss."""
+    vein (IoU 0.77 0.81 0.79); now 16 % (0.80 0.84 0.81; intact leaves 0.77 0.82 0.79)."""
     fam = leaf_family(4, size=192, kind="trilobed", rng=0)
     holed = [fam[0].image] + [hole_leaf(leaf, i, where=("junction",)) for i, leaf in enumerate(fam) if i > 0]
     images = [fam[0].image] + [x[0] for x in holed[1:]]
@@ -61,4 +61,4 @@ def test_vein_coloured_hole_rim_near_the_junction_is_no_vein():
     assert taken < 0.2, taken
     cut = [x[1] | x[2] for x in holed[1:]]
     ious = [iou(masks[e], on_canvas(fam[e].layers["veins"] & ~cut[e - 1], offs[e]) & blades[e]) for e in range(1, 4)]
-    assert min(ious) >= 0.74, ious
+    assert min(ious) >= 0.78, ious

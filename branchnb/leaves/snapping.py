@@ -184,6 +184,25 @@ own contrast (up to :data:`GROW_CAP` widths, pixels standing out at least
 stay the snapped layer itself (the hand-traced maples are traced wider
 than their veins' contrast: grown by contrast, their IoU fell to 0.38;
 unchanged now, 0.70 0.69 0.69 0.61 0.65 0.65 0.70).
+
+**Junction held at the petiole; hole rims no vein** (issue 22, beyond the paper). Training maple 04
+onto maple 07: both starts of the template fit carried 04's petiole junction 15-17 px above 07's,
+next to a hole with a browned rim, and the fit kept it there (the template's mean evidence there
+0.278, with its junction moved onto 07's own 0.261: 04's laterals fit 07's ridges better shifted).
+So when the training layer's junction lies at its petiole base, a fourth start carries the training
+petiole base onto the exemplar's own (:func:`~branchnb.leaves.snapping_basal._petiole_anchor`,
+template shift at most :data:`~branchnb.leaves.snapping_basal.ANCHOR_REACH` of the leaf size); it is
+taken when it scores at least :data:`~branchnb.leaves.snapping_basal.ANCHOR_SHARE` of the best start
+and that start's junction lies more than :data:`~branchnb.leaves.snapping_basal.ANCHOR_MOVE` of the
+leaf size away (without that condition 07 -> 02 and 07 -> 06 lost 0.05-0.06). And a hole's rim, its
+one-sided rim included (:func:`~branchnb.leaves.snapping_stray._one_sided_rim`: a ridge with the
+hole on one side, up to :data:`HOLE_REACH` layer widths from it), is left out of the induced layer
+except where a snapped path runs (``rims``, :func:`branchnb.leaves.analysis_induce.induce`): the
+colour term took 81-86 % of vein-coloured procedural rims as vein (``python -m
+branchnb.leaves._measure_holes``). Taking the one-sided rim's evidence away too was tried and not
+kept: in the template fit and the paths, 04 -> 07 0.36 -> 0.41 but 05 -> 07 0.49 -> 0.41 (05 -> 06
++0.08, 05 -> 03 -0.02); in the paths alone, 03 -> 07 0.66 -> 0.57 and 02 -> 07 0.63 -> 0.59 (07's
+traced laterals run within a few px of its holes).
 """
 
 from __future__ import annotations
@@ -848,7 +867,8 @@ HOLE_RIM = 2
 HOLE_SHARE = 0.1
 
 #: Reach (in layer widths, 3 px at least) of a hole's one-sided rim: ridge pixels with the hole on one
-#: side (:func:`~branchnb.leaves.snapping_stray._one_sided_rim`) take no evidence (0: off).
+#: side (:func:`~branchnb.leaves.snapping_stray._one_sided_rim`), no vein of the layer is induced on
+#: them outside the snapped paths (``rims``; 0: the rim of HOLE_RIM px only).
 HOLE_REACH = 2.0
 
 

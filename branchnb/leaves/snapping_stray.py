@@ -159,16 +159,31 @@ def _one_sided_rim(blade, holes, hessian, reach: float) -> np.ndarray:
 
     A vein stands out *between* blade on both of its sides. The dark (or
     pale) tissue round a torn or eaten hole stands out too, but the hole
-    lies on one side of it, across its ridge: maple 07's browned rim of a
-    hole 20 px above its petiole junction, 2-6 px wide, took the whole
-    template's junction of training maple 04 (the rim of :data:`~branchnb.leaves.snapping.HOLE_RIM`
-    px left its outer part). Each pixel's ridge normal is the eigenvector
+    lies on one side of it, across its ridge (maple 07's browned rim of a
+    hole 20 px above its petiole junction is 2-6 px wide; the rim of
+    :data:`~branchnb.leaves.snapping.HOLE_RIM` px leaves its outer part). Each pixel's ridge normal is the eigenvector
     of the Hessian's most negative eigenvalue (across a bright ridge of
     the projection); a pixel from which a step of 1..``reach`` px along
     either normal direction lands in a hole is one-sided. A vein crossing
-    a hole keeps its evidence up to the hole (its normal runs beside it);
-    a vein running along a hole within ``reach`` loses it there (beyond
-    the paper).
+    a hole is not a rim up to the hole (its normal runs beside it);
+    a vein running along a hole within ``reach`` is (beyond the paper).
+    Used to leave rims out of the induced layer
+    (:func:`branchnb.leaves.analysis_induce.induce`); taking their ridge
+    evidence away from the template fit and the paths lost on maple 07
+    (:mod:`branchnb.leaves.snapping` notes).
+
+    Parameters
+    ----------
+    blade, holes : (H, W) bool ndarray
+        The blade and its holes.
+    hessian : (3, H, W) ndarray
+        :func:`~branchnb.leaves.snapping_fit.ridge_hessian` (``Hxx, Hxy, Hyy``).
+    reach : float
+        How far from a hole (px).
+
+    Returns
+    -------
+    (H, W) bool ndarray
     """
     h, w = blade.shape
     near = (ndi.distance_transform_edt(~holes) <= reach) & blade
