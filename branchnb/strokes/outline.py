@@ -442,6 +442,7 @@ def clear_stale_outline(layer: np.ndarray, src_depth: np.ndarray, style: Outline
                 inked |= soft
                 good &= ~soft
         stale |= deep & filled & inked
+    stale, good = _tinted_rim(layer, stale, deep, good, src_depth, style)
     if not stale.any() or not good.any():
         return layer
     # the nearest good pixel within 3 w + 3 px: found on the stale pixels' box grown by that much
@@ -461,6 +462,95 @@ def clear_stale_outline(layer: np.ndarray, src_depth: np.ndarray, style: Outline
     win, src = out[r0:r1, c0:c1], layer[r0:r1, c0:c1]
     win[st, :3] = src[ir[st], ic[st], :3]
     return out
+
+
+def _close_rim_cracks(layer: np.ndarray) -> np.ndarray:
+    """``layer`` with the one-pixel cracks in its anti-aliased rim closed (a new array, or ``layer``).
+
+    Where two patches' edges meet a pixel apart along the silhouette, the seam
+    alternates between them and leaves a transparent pixel between one's faint
+    rim pixel and the other's opaque one: a light streak along the outline (an
+    octopus's straightened tentacle leaving its head). Such a pixel (alpha < 0.1
+    between two opposite neighbours of alpha >= 0.15, one of them >= 0.5) takes
+    the colour of its more opaque neighbour and the lesser of their alphas (a
+    soft rim pixel: the silhouette, alpha > 0.5, stays as it was). Beyond the
+    paper.
+    """
+    a = layer[..., 3]
+    h, w = a.shape
+    if h < 3 or w < 3:
+        return layer
+    out = None
+    for axis in (0, 1):
+        c = a[1:-1, 1:-1]
+        if axis == 0:
+            p, q = a[:-2, 1:-1], a[2:, 1:-1]
+        else:
+            p, q = a[1:-1, :-2], a[1:-1, 2:]
+        lo, hi = np.minimum(p, q), np.maximum(p, q)
+        crack = (c < 0.1) & (lo >= 0.15) & (hi >= 0.5)
+        if not crack.any():
+            continue
+        if out is None:
+            out = layer.copy()
+        rs, cs = np.nonzero(crack)
+        first = p[rs, cs] >= q[rs, cs]
+        d = np.where(first, -1, 1)
+        sr, sc = (rs + 1 + d, cs + 1) if axis == 0 else (rs + 1, cs + 1 + d)
+        out[rs + 1, cs + 1, :3] = layer[sr, sc, :3]
+        out[rs + 1, cs + 1, 3] = lo[rs, cs]
+    return layer if out is None else out
+
+
+#: Source depth (px, beyond the outline's width) of the band just inside the rim whose
+#: ink-tinted pixels are stale too when they now lie deep inside (:func:`_tinted_rim`).
+_TINT_BAND = 1.5
+
+#: A pixel of that band is ink-tinted when its colour lies nearer the ink than this share of
+#: the distance from the ink to the nearest clean interior pixel's colour.
+_TINT = 0.85
+
+
+def _tinted_rim(layer, stale, deep, good, src_depth, style) -> tuple[np.ndarray, np.ndarray]:
+    """``(stale, good)`` with the ink-tinted pixels from just inside the source's rim moved
+    from ``good`` to ``stale`` (these only where they now lie deep inside).
+
+    A patch rotated into place is resampled, so the outline's inner edge comes
+    as pixels averaged between the ink and the flesh, their source depth a
+    little over the outline's width: when a neighbour's rim copied with a patch
+    was repainted, they stayed as a trail of dark dots in the flesh (an
+    octopus's tentacle turned beside its head), and they gave their tint to the
+    stale pixels next to them. Pixels from within :data:`_TINT_BAND` px of the
+    outline's inner edge whose colour lies nearer the ink than :data:`_TINT` of
+    the way to the nearest clean interior pixel's (from deeper in the source)
+    give no colour, and are repainted where deep.
+    """
+    band = (src_depth > style.width + 0.5) & (src_depth <= style.width + _TINT_BAND)
+    near = band & (deep | good) & ~stale
+    clean = good & ~band
+    if not near.any() or not clean.any():
+        return stale, good
+    # against the colour of the nearest clean pixel (a multi-coloured object has no one
+    # interior colour), on the near pixels' box
+    g = int(np.ceil(3.0 * style.width + 3.0)) + 1
+    rs, cs = np.nonzero(near)
+    r0, r1 = max(rs.min() - g, 0), min(rs.max() + g + 1, near.shape[0])
+    c0, c1 = max(cs.min() - g, 0), min(cs.max() + g + 1, near.shape[1])
+    sub = clean[r0:r1, c0:c1]
+    if not sub.any():
+        return stale, good
+    dist, (ir, ic) = ndi.distance_transform_edt(~sub, return_indices=True)
+    rs, cs = rs - r0, cs - c0
+    win = layer[r0:r1, c0:c1, :3]
+    col = np.asarray(style.colour, np.float32)
+    mid = win[ir[rs, cs], ic[rs, cs]]
+    tinted = (dist[rs, cs] <= g) & (
+        np.linalg.norm(win[rs, cs] - col, axis=1) < _TINT * np.linalg.norm(mid - col, axis=1))
+    rs, cs = rs[tinted] + r0, cs[tinted] + c0
+    stale, good = stale.copy(), good.copy()
+    good[rs, cs] = False
+    stale[rs, cs] = deep[rs, cs]
+    return stale, good
 
 
 @_on_object_box()
