@@ -31,7 +31,6 @@ from scipy import ndimage as ndi
 
 sys.path.insert(0, os.path.dirname(__file__))
 from strokes_junction_table import EDITS as JT  # noqa: E402
-from strokes_junction_table import measure as jt_measure  # noqa: E402
 
 EIGHT = np.ones((3, 3), bool)
 
