@@ -11,8 +11,8 @@ measured alike.
 Per edit: ``crack`` (transparent px inside the anti-aliased rim: alpha < 0.1
 between two opposite neighbours with alpha >= 0.15, one of them >= 0.5 -- a
 light streak in the outline), ``fleck`` (px of pieces not joined to the
-object), ``dots`` (small dark pieces inside the flesh, eroded by the outline
-width + 2, result minus source), ``blob`` (dark px deeper than the outline's
+object), ``dots`` (small dark pieces inside the flesh, eroded by twice the
+outline width + 2, result minus source), ``blob`` (dark px deeper than the outline's
 half width + 1 inside a dark region, result minus source), ``light_edge``
 (light silhouette px, the junction table's), CPU s.
 
@@ -132,7 +132,7 @@ def _dark_parts(img, ow, thr):
     a = img[..., 3]
     obj = a > 0.5
     dark = obj & (_lum(img) < thr)
-    inner = ndi.binary_erosion(obj, iterations=ow + 2)
+    inner = ndi.binary_erosion(obj, iterations=2 * ow + 2)
     lab, n = ndi.label(dark & inner, structure=EIGHT)
     sizes = np.bincount(lab.ravel())[1:]
     small = sizes <= (3 * ow + 2) ** 2

@@ -252,6 +252,8 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
             if not disks:
                 plugged |= opened & (layer[:, :, 3] > 0.5)
             layer = clear_stale_outline(layer, depth, style, filled=plugged)
+        # (the joints' closings leave cracks of their own)
+        layer = _close_rim_cracks(layer)
         layer = drop_flecks(layer, index.premult[:, :, 3])
         layer = drop_flecks(layer, index.premult[:, :, 3], level=0.5)
         alpha = layer[:, :, 3]
