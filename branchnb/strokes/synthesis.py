@@ -232,10 +232,12 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
             layer = fill_joints(layer, [j[0] for j in joints], [j[1] for j in joints],
                                 keep_open=pockets)
         layer = close_hairlines(layer, [(d[0], 1.5 * d[2] + 4.0) for d in disks])
-        if style is not None and disks:
+        if style is not None and (disks or joints):
             # rims the last closings buried inside the object (a kept arm's outline
             # running into a turned arm's root): interior ink, repainted
             # and cut faces outlined before those closings joined them to a neighbour
+            # (also with no junction: a slit between two limbs' patches closed at a carried
+            # part's joint, an octopus's head between its tentacles, was a dark column)
             late = opened & (layer[:, :, 3] > 0.5)
             if inked is not None:
                 late |= inked
@@ -249,7 +251,7 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
             # lining, now inside: a dark blob at a crotch where two limbs' patches met
             # (an octopus's straightened tentacle beside its neighbour), repainted as stale
             plugged = layer[:, :, 3] != unplugged[:, :, 3]
-            if not disks:
+            if not (disks or joints):
                 plugged |= opened & (layer[:, :, 3] > 0.5)
             layer = clear_stale_outline(layer, depth, style, filled=plugged)
         # (the joints' closings leave cracks of their own)
