@@ -40,6 +40,7 @@ from scipy import ndimage as ndi
 
 from ..core.distance import edt as _edt
 from ..core.distance import edt_boxed as _edt_boxed
+from ..core.morphology import _binary_dilation
 
 __all__ = ["OutlineStyle", "outline_style", "source_depth", "close_cuts", "clear_stale_outline", "drop_flecks",
            "fill_joints", "fill_pinholes"]
@@ -502,6 +503,11 @@ def _close_rim_cracks(layer: np.ndarray) -> np.ndarray:
     return layer if out is None else out
 
 
+def _grown(m: np.ndarray, k: int) -> np.ndarray:
+    """``m`` dilated by a ``(2 k + 1)`` px square."""
+    return _binary_dilation(m, np.ones((2 * k + 1, 2 * k + 1), bool))
+
+
 #: Source depth (px, beyond the outline's width) of the band just inside the rim whose
 #: ink-tinted pixels are stale too when they now lie deep inside (:func:`_tinted_rim`).
 _TINT_BAND = 1.5
@@ -523,12 +529,23 @@ def _tinted_rim(layer, stale, deep, good, src_depth, style) -> tuple[np.ndarray,
     stale pixels next to them. Pixels from within :data:`_TINT_BAND` px of the
     outline's inner edge whose colour lies nearer the ink than :data:`_TINT` of
     the way to the nearest clean interior pixel's (from deeper in the source)
-    give no colour, and are repainted where deep.
+    give no colour, and are repainted where deep -- only within the outline's
+    width + 1 px of a stale rim pixel and not next to a rim pixel that stays.
     """
     band = (src_depth > style.width + 0.5) & (src_depth <= style.width + _TINT_BAND)
-    near = band & (deep | good) & ~stale
+    near = band & deep & ~stale
     clean = good & ~band
-    if not near.any() or not clean.any():
+    if not near.any() or not clean.any() or not stale.any():
+        return stale, good
+    # only beside a rim being repainted, and not beside one that stays or ink drawn on a cut
+    # face (the inner edge of an outline kept inside the object -- a flower's over the arm it
+    # sits on -- is no trail)
+    reach = int(np.ceil(style.width)) + 1
+    col = np.asarray(style.colour, np.float32)
+    ink = (layer[..., 3] > 0.5) & (np.abs(layer[..., :3] - col).max(axis=2) < 0.1)
+    rim = (src_depth > 0) & (src_depth <= style.width + 0.5) & (layer[..., 3] > 0.5)
+    near &= _grown(stale, reach) & ~_grown((rim | (ink & ~band)) & ~stale, 1)
+    if not near.any():
         return stale, good
     # against the colour of the nearest clean pixel (a multi-coloured object has no one
     # interior colour), on the near pixels' box
@@ -542,14 +559,14 @@ def _tinted_rim(layer, stale, deep, good, src_depth, style) -> tuple[np.ndarray,
     dist, (ir, ic) = ndi.distance_transform_edt(~sub, return_indices=True)
     rs, cs = rs - r0, cs - c0
     win = layer[r0:r1, c0:c1, :3]
-    col = np.asarray(style.colour, np.float32)
     mid = win[ir[rs, cs], ic[rs, cs]]
-    tinted = (dist[rs, cs] <= g) & (
-        np.linalg.norm(win[rs, cs] - col, axis=1) < _TINT * np.linalg.norm(mid - col, axis=1))
+    d_ink, d_mid = np.linalg.norm(win[rs, cs] - col, axis=1), np.linalg.norm(mid - col, axis=1)
+    tinted = (dist[rs, cs] <= g) & (d_ink < _TINT * d_mid)
     rs, cs = rs[tinted] + r0, cs[tinted] + c0
+    rs, cs = rs[deep[rs, cs]], cs[deep[rs, cs]]
     stale, good = stale.copy(), good.copy()
     good[rs, cs] = False
-    stale[rs, cs] = deep[rs, cs]
+    stale[rs, cs] = True
     return stale, good
 
 
