@@ -477,10 +477,26 @@ def _close_rim_cracks(layer: np.ndarray) -> np.ndarray:
     soft rim pixel: the silhouette, alpha > 0.5, stays as it was). Beyond the
     paper.
     """
+    rows, cols = np.flatnonzero(layer[..., 3].any(axis=1)), np.flatnonzero(layer[..., 3].any(axis=0))
+    if not len(rows):
+        return layer
+    # (on the object's box grown by a pixel: the same cracks)
+    r0, r1 = max(int(rows[0]) - 1, 0), min(int(rows[-1]) + 2, layer.shape[0])
+    c0, c1 = max(int(cols[0]) - 1, 0), min(int(cols[-1]) + 2, layer.shape[1])
+    sub = _close_rim_cracks_box(layer[r0:r1, c0:c1])
+    if sub is None:
+        return layer
+    out = layer.copy()
+    out[r0:r1, c0:c1] = sub
+    return out
+
+
+def _close_rim_cracks_box(layer: np.ndarray) -> np.ndarray | None:
+    """:func:`_close_rim_cracks` on a box (None: no crack)."""
     a = layer[..., 3]
     h, w = a.shape
     if h < 3 or w < 3:
-        return layer
+        return None
     out = None
     for axis in (0, 1):
         c = a[1:-1, 1:-1]
@@ -500,7 +516,7 @@ def _close_rim_cracks(layer: np.ndarray) -> np.ndarray:
         sr, sc = (rs + 1 + d, cs + 1) if axis == 0 else (rs + 1, cs + 1 + d)
         out[rs + 1, cs + 1, :3] = layer[sr, sc, :3]
         out[rs + 1, cs + 1, 3] = lo[rs, cs]
-    return layer if out is None else out
+    return out
 
 
 def _grown(m: np.ndarray, k: int) -> np.ndarray:
@@ -534,36 +550,39 @@ def _tinted_rim(layer, stale, deep, good, src_depth, style) -> tuple[np.ndarray,
     """
     band = (src_depth > style.width + 0.5) & (src_depth <= style.width + _TINT_BAND)
     near = band & deep & ~stale
-    clean = good & ~band
-    if not near.any() or not clean.any() or not stale.any():
+    if not near.any() or not stale.any():
+        return stale, good
+    # everything on the near pixels' box grown by the reach of the nearest clean pixel
+    g = int(np.ceil(3.0 * style.width + 3.0)) + 1
+    rs, cs = np.nonzero(near)
+    r0, r1 = max(rs.min() - g, 0), min(rs.max() + g + 1, near.shape[0])
+    c0, c1 = max(cs.min() - g, 0), min(cs.max() + g + 1, near.shape[1])
+    box = (slice(r0, r1), slice(c0, c1))
+    nb, bb, sb, lb = near[box], band[box], stale[box], layer[box]
+    clean = good[box] & ~bb
+    if not clean.any():
         return stale, good
     # only beside a rim being repainted, and not beside one that stays or ink drawn on a cut
     # face (the inner edge of an outline kept inside the object -- a flower's over the arm it
     # sits on -- is no trail)
     reach = int(np.ceil(style.width)) + 1
     col = np.asarray(style.colour, np.float32)
-    ink = (layer[..., 3] > 0.5) & (np.abs(layer[..., :3] - col).max(axis=2) < 0.1)
-    rim = (src_depth > 0) & (src_depth <= style.width + 0.5) & (layer[..., 3] > 0.5)
-    near &= _grown(stale, reach) & ~_grown((rim | (ink & ~band)) & ~stale, 1)
-    if not near.any():
+    opaque = lb[..., 3] > 0.5
+    ink = opaque & (np.abs(lb[..., :3] - col).max(axis=2) < 0.1)
+    db = src_depth[box]
+    rim = (db > 0) & (db <= style.width + 0.5) & opaque
+    nb = nb & _grown(sb, reach) & ~_grown((rim | (ink & ~bb)) & ~sb, 1)
+    if not nb.any():
         return stale, good
     # against the colour of the nearest clean pixel (a multi-coloured object has no one
-    # interior colour), on the near pixels' box
-    g = int(np.ceil(3.0 * style.width + 3.0)) + 1
-    rs, cs = np.nonzero(near)
-    r0, r1 = max(rs.min() - g, 0), min(rs.max() + g + 1, near.shape[0])
-    c0, c1 = max(cs.min() - g, 0), min(cs.max() + g + 1, near.shape[1])
-    sub = clean[r0:r1, c0:c1]
-    if not sub.any():
-        return stale, good
-    dist, (ir, ic) = ndi.distance_transform_edt(~sub, return_indices=True)
-    rs, cs = rs - r0, cs - c0
-    win = layer[r0:r1, c0:c1, :3]
+    # interior colour)
+    dist, (ir, ic) = ndi.distance_transform_edt(~clean, return_indices=True)
+    rs, cs = np.nonzero(nb)
+    win = lb[..., :3]
     mid = win[ir[rs, cs], ic[rs, cs]]
     d_ink, d_mid = np.linalg.norm(win[rs, cs] - col, axis=1), np.linalg.norm(mid - col, axis=1)
     tinted = (dist[rs, cs] <= g) & (d_ink < _TINT * d_mid)
     rs, cs = rs[tinted] + r0, cs[tinted] + c0
-    rs, cs = rs[deep[rs, cs]], cs[deep[rs, cs]]
     stale, good = stale.copy(), good.copy()
     good[rs, cs] = False
     stale[rs, cs] = True
