@@ -575,14 +575,19 @@ def _tinted_rim(layer, stale, deep, good, src_depth, style) -> tuple[np.ndarray,
     if not nb.any():
         return stale, good
     # against the colour of the nearest clean pixel (a multi-coloured object has no one
-    # interior colour)
-    dist, (ir, ic) = ndi.distance_transform_edt(~clean, return_indices=True)
+    # interior colour), on the box of the pixels left grown by its reach
     rs, cs = np.nonzero(nb)
-    win = lb[..., :3]
+    q0, q1 = max(rs.min() - g, 0), min(rs.max() + g + 1, nb.shape[0])
+    p0, p1 = max(cs.min() - g, 0), min(cs.max() + g + 1, nb.shape[1])
+    if not clean[q0:q1, p0:p1].any():
+        return stale, good
+    dist, (ir, ic) = ndi.distance_transform_edt(~clean[q0:q1, p0:p1], return_indices=True)
+    rs, cs = rs - q0, cs - p0
+    win = lb[q0:q1, p0:p1, :3]
     mid = win[ir[rs, cs], ic[rs, cs]]
     d_ink, d_mid = np.linalg.norm(win[rs, cs] - col, axis=1), np.linalg.norm(mid - col, axis=1)
     tinted = (dist[rs, cs] <= g) & (d_ink < _TINT * d_mid)
-    rs, cs = rs[tinted] + r0, cs[tinted] + c0
+    rs, cs = rs[tinted] + q0 + r0, cs[tinted] + p0 + c0
     stale, good = stale.copy(), good.copy()
     good[rs, cs] = False
     stale[rs, cs] = True
