@@ -462,8 +462,9 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
         seed_lat = self.to_lattice(p, seed)
         lat = self.lattice(p, rng)
         ends = self.endpoints(p, rng)
-        res, d, struck = (self._strike(p, seed_lat, rng) if metaphor == "lightning" else
-                          (self.plan(p, seed_lat, rng), self.dendrite(p, seed_lat, rng), False))
+        res, d, struck, grounded = (
+            self._strike(p, seed_lat, rng) if metaphor == "lightning" else
+            (self.plan(p, seed_lat, rng), self.dendrite(p, seed_lat, rng), False, False))
         if obj is not None:
             d, ends = self._vine_dendrite(p, seed_lat, rng, obj)
         imp = self.importance(p)
@@ -471,8 +472,10 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
         if metaphor == "lightning":  # a planned channel stays bright down to its last fork
             d = widen_main_path(d, p.min_width, p.max_width,
                                 exponent=STRIKE_MAIN_EXPONENT if struck else LIGHTNING_MAIN_EXPONENT,
-                                side=(STRIKE_PHOTO_SIDE if d.main is not None
+                                side=(STRIKE_PHOTO_SIDE if d.main is not None and not grounded
                                       else STRIKE_SIDE if struck else 1.0))
+            if grounded:
+                d = _to_ground(d)
         pinned = self._pinned
         if k < 1.0 and p.output_width > 0 and p.thickness == "importance" and metaphor in (
                 "plain", None):
@@ -507,6 +510,21 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
             lambda: self.to_image(p, ends))
         return Stylization(self.image, imp, lat, res, ends_image, d, rendering,
                            dataclasses.replace(p), np.asarray(seed, float), scale)
+
+
+def _to_ground(d: Dendrite) -> Dendrite:
+    """A bolt down an object's stem (a tree's trunk) as bright to its foot as where it last
+    forked (beyond the paper: below its last fork the channel is one tip's twig, drawn thin
+    and dim, and the strike faded out halfway down the trunk)."""
+    path = d.main
+    n = d.leaf_count()[path]
+    forks = np.flatnonzero(n > 1)
+    if path.size < 2 or forks.size == 0:
+        return d
+    r = d.radius.astype(np.float64, copy=True)
+    last = int(forks[-1])
+    r[path[last:]] = np.maximum(r[path[last:]], r[path[last]])
+    return d.with_radius(r)
 
 
 def stylize(image, params: StylizeParams | None = None, *, seed=None, rng: int | np.random.Generator = 0,
