@@ -35,6 +35,7 @@ import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
+from scipy import ndimage
 
 from ..core.image import as_float_image, as_points, as_rgb
 from ..core.io import encode_png
@@ -71,6 +72,7 @@ from .stylize_params import (  # noqa: F401  (re-exported; the spacings too)
     StylizeParams,
     _ground_threshold,
     _spacing_growth,
+    _vine_sizes,
     _within_range,
     effective_params,
     metaphor_params,
@@ -394,6 +396,33 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
             return 1.0
         return 1.0 / _spacing_growth(float(np.sqrt(np.prod(self.scale(p)))))
 
+    def _vine_sizes(self, p: StylizeParams, given: StylizeParams, obj, content, share: float,
+                    k: float, options: dict) -> dict:
+        """The vines' render options with leaf lengths sized to the object, and (in
+        ``self._vine_p``) ``p`` with its tip count following the object's outline
+        (:func:`~branchnb.dendrite.stylize_params._vine_sizes`); lengths the caller gave
+        are kept."""
+        from .main_channel import silhouette
+        from .metaphors import VINE_MIN_PIXELS, vine_length
+
+        sil = silhouette(obj if obj is not None else content)
+        outline = float((sil & ~ndimage.binary_erosion(sil)).sum()) * k
+        f, n = _vine_sizes(self.shape, share * self.shape[0] * self.shape[1], outline)
+        # the stems thin with the leaves (at least 1.8 image px, as metaphor_params has it)
+        hi = max(p.max_width * min(f, 1.0), 1.8 / k, p.min_width)
+        self._vine_p = _within_range(p, n_endpoints=int(np.clip(n, min(8, given.n_endpoints),
+                                                                 given.n_endpoints)),
+                                     max_width=hi if f < 1.0 else p.max_width)
+        self._vine_leaf = max(vine_length("leaf_length", self.shape) * min(f, 1.0),
+                              VINE_MIN_PIXELS["leaf_length"])
+        if f >= 1.0:
+            return options
+        options = dict(options)
+        for name in ("curl_length", "leaf_spacing", "leaf_length", "leaf_width"):
+            if options.get(name) is None:
+                options[name] = max(vine_length(name, self.shape) * f, VINE_MIN_PIXELS[name])
+        return options
+
     @checked(seed=Point())
     def run(self, params: StylizeParams | None = None, *, seed=None, rng: int | np.random.Generator = 0,
             metaphor: str | None = "plain", **render_options) -> Stylization:
@@ -450,6 +479,10 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
                 obj = self._vine_object(p)
                 share = float(obj.mean()) if obj is not None else share
             p = metaphor_params(given, metaphor, self.shape, share, k)
+            if metaphor == "vines":  # leaves sized to the object, tips along its outline
+                render_options = self._vine_sizes(p, given, obj, imp >= thr, share, k,
+                                                  render_options)
+                p = self._vine_p
             if thr > p.endpoint_threshold:
                 p = _within_range(p, endpoint_threshold=thr)
         obj = obj if metaphor == "vines" else None
