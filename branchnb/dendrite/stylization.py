@@ -80,15 +80,20 @@ from .stylize_params import (  # noqa: F401  (re-exported; the spacings too)
 from .stylize_seed import _ENDPOINTS, _IMPORTANCE, _LATTICE, _PLAN, _PRUNE_ROUNDS, _SeedSteps, _subset
 from .stylize_strike import _StrikeSteps
 from .thickness import (
+    _tone_fit,
     branch_thickness,
     importance_thickness,
     rolling_importance,
-    tone_thickness,
     twigs_within_ink,
 )
 from .ties import refine_ties
 
 __all__ = ["effective_params", "metaphor_params", "Stylization", "StylizeParams", "Stylizer", "stylize"]
+
+#: Darkness a drawn line stands above its surroundings to count fully as a line
+#: (:meth:`Stylizer._line_share`).
+LINE_CONTRAST = 0.5
+
 
 @dataclass
 class Stylization:
@@ -371,15 +376,22 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
             r = d.radius * np.maximum(d.leaf_count(), 1.0) ** p.hierarchy
             d = d.with_radius(np.clip(r, lo / 2, hi / 2))
         if p.tone > 0:
-            d = tone_thickness(d, self.darkness(p), sigma=p.tone_sigma, min_width=lo,
-                               max_width=hi, strength=p.tone)
+            # the target at the 512-px picture's blur (thickness._tone_fit)
+            grow = self._growth(p)
+            line = self._line_share(p, d.nodes) if grow > 1.0 else None
+            d = _tone_fit(d, self.darkness(p), p.tone_sigma, lo, hi, p.tone, 0.7, 4,
+                          target_sigma=p.tone_sigma / grow if line is not None else None,
+                          keep=line)
         # nodes the floor holds wider than the tone asks (before the edges' extra width)
         self._pinned = d.radius <= 0.5 * lo * 1.001
         if p.edges > 0:
             # the tone match spreads ink evenly over a region; the outline and the
             # veins of a drawing should still read as its strongest lines
             e = np.clip(rolling_importance(d, self.edge_map(p), p.window), 0.0, 1.0)
-            d = d.with_radius(np.clip(d.radius * (1.0 + p.edges * self._edge_gain(p) * e ** 2),
+            gain = self._edge_gain(p)
+            if gain < 1.0:  # a drawn line keeps its whole boost (_line_share)
+                gain = gain + (1.0 - gain) * self._line_share(p, d.nodes)
+            d = d.with_radius(np.clip(d.radius * (1.0 + p.edges * gain * e ** 2),
                                       lo / 2, hi / 2))
         return d
 
@@ -391,10 +403,34 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
         the heaviest line of a small input (ink of an 8-px band inside the outline over the
         interior's at one display size, mid-grey blob 250 px 1.31 against 1.12 at 750 px).
         Scaled back, the outline's extra ink per unit of its length is the 512-px drawing's
-        (``python -m branchnb.dendrite._small_check``)."""
+        (``python -m branchnb.dendrite._small_check``). A drawn line keeps its whole boost
+        (:meth:`_line_share`)."""
+        return 1.0 / self._growth(p)
+
+    def _line_share(self, p: StylizeParams, nodes) -> np.ndarray:
+        """How much of a drawn line each node lies on, in [0, 1]: the darkness standing
+        above its opening by a disk of half the 512-px tone blur (a line thinner than the
+        branch spacing), over ``LINE_CONTRAST`` (beyond the paper).
+
+        On a small input the tone match's wider blur spread a drawn outline's darkness
+        over the fill, and the outline's edge boost was scaled back for a step between
+        regions (:meth:`_edge_gain`): a light fill in a dark outline at 250 px had an
+        outline band 1.6-1.75x as inked as its interior against 2.2x at 750 px. On a
+        line both keep the 512-px picture's (``python -m branchnb.dendrite._small_check``).
+        """
+        def make():
+            dark = self.darkness(p).astype(np.float32)
+            r = max(1, int(round(0.5 * p.tone_sigma / self._growth(p))))
+            disk = np.hypot(*np.mgrid[-r:r + 1, -r:r + 1]) <= r
+            top = dark - ndimage.grey_opening(dark, footprint=disk)
+            return np.clip(top / LINE_CONTRAST, 0.0, 1.0)
+        top = self._get(("line_share", p.lattice_size, p.tone_sigma, p.output_width), make)
+        return top.ravel()[np.asarray(nodes, np.int64)]
+
+    def _growth(self, p: StylizeParams) -> float:
         if p.output_width <= 0:  # the size adaptation is off (effective_params)
             return 1.0
-        return 1.0 / _spacing_growth(float(np.sqrt(np.prod(self.scale(p)))))
+        return _spacing_growth(float(np.sqrt(np.prod(self.scale(p)))))
 
     def _vine_sizes(self, p: StylizeParams, given: StylizeParams, obj, content, share: float,
                     k: float, options: dict) -> dict:
@@ -405,9 +441,19 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
         from .main_channel import silhouette
         from .metaphors import VINE_MIN_PIXELS, vine_length
 
-        sil = silhouette(obj if obj is not None else content)
+        area = share * self.shape[0] * self.shape[1]
+        f, _ = _vine_sizes(self.shape, area, 0.0)
+        # the outline at the stems' spacing: a textured ground's specks that pass the
+        # threshold have outlines of their own (a cat on a dark ground got 700 tips)
+        leaf = max(vine_length("leaf_length", self.shape) * f, VINE_MIN_PIXELS["leaf_length"])
+        sil = ndimage.gaussian_filter(silhouette(obj if obj is not None else content)
+                                      .astype(np.float32), 0.5 * VINE_SPACING * leaf / k) > 0.5
+        pieces, count = ndimage.label(sil)
+        if count:
+            sizes = np.bincount(pieces.ravel())[1:]
+            sil = np.isin(pieces, 1 + np.flatnonzero(sizes >= 0.1 * sizes.sum()))
         outline = float((sil & ~ndimage.binary_erosion(sil)).sum()) * k
-        f, n = _vine_sizes(self.shape, share * self.shape[0] * self.shape[1], outline)
+        f, n = _vine_sizes(self.shape, area, outline)
         # the stems thin with the leaves (at least 1.8 image px, as metaphor_params has it)
         hi = max(p.max_width * min(f, 1.0), 1.8 / k, p.min_width)
         self._vine_p = _within_range(p, n_endpoints=int(np.clip(n, min(8, given.n_endpoints),

@@ -311,6 +311,9 @@ VINE_SPACING = 2.5
 VINE_LEAF_PER_SIZE = 0.035
 #: Fewest vine tips per leaf length of the object's outline (:func:`_vine_sizes`).
 VINE_OUTLINE_TIPS = 1.0
+#: ... but at most this many times the tips for its area (the outline of content strewn
+#: over a textured ground is no object's: a cat on a dark ground got 154 tips for 92).
+VINE_OUTLINE_CAP = 2.0
 
 
 def _vine_sizes(shape, area: float, outline: float) -> tuple[float, int]:
@@ -324,7 +327,7 @@ def _vine_sizes(shape, area: float, outline: float) -> tuple[float, int]:
     ``VINE_LEAF_PER_SIZE`` of the object's size (never below ``VINE_MIN_PIXELS``, never
     above the image's length: an object filling the frame keeps its leaves); the tips are
     one per ``(VINE_SPACING x leaf)**2`` of its area, at least ``VINE_OUTLINE_TIPS`` per leaf
-    length of its outline.
+    length of its outline, up to ``VINE_OUTLINE_CAP`` times the area's count.
 
     >>> f, n = _vine_sizes((750, 1000), 500.0 ** 2, 2000.0)
     >>> round(f, 2), n  # filling the frame: leaves as before, tips for the area
@@ -338,7 +341,8 @@ def _vine_sizes(shape, area: float, outline: float) -> tuple[float, int]:
     full = vine_length("leaf_length", shape)
     leaf = float(np.clip(VINE_LEAF_PER_SIZE * np.sqrt(max(area, 0.0)),
                          VINE_MIN_PIXELS["leaf_length"], full))
-    n = max(area / (VINE_SPACING * leaf) ** 2, VINE_OUTLINE_TIPS * outline / leaf)
+    n_area = area / (VINE_SPACING * leaf) ** 2
+    n = max(n_area, min(VINE_OUTLINE_TIPS * outline / leaf, VINE_OUTLINE_CAP * n_area))
     return leaf / full, int(round(n))
 
 #: The vines' object is what stands out from the picture's own ground (beyond the
