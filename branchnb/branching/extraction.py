@@ -338,6 +338,8 @@ def _extract_binary(gray, p: ExtractionParams, mask, return_maps: bool, root_poi
     work = rescale(gray, p.scale, order=0, anti_aliasing=False) if p.scale < 1 else gray
     pol = p.polarity
     channels, region, skel, radius = binary_channels(work, pol, flat_regions=flat_regions)
+    if region.any():
+        channels, region, skel = _hub_regions(channels, region, skel, radius)
     if colour is not None and np.ndim(colour) == 3 and _region_colours(colour) >= 3:
         # black lines on a map of two near-equal greys (a crop with no sea) read as binary: a drawn border
         # between two regions of different colours is still no branch. A true two-colour mask (a delta's
@@ -372,6 +374,28 @@ def _extract_binary(gray, p: ExtractionParams, mask, return_maps: bool, root_poi
         return s, (channels.astype(np.float32), channels, skel)
     return s
 
+
+
+def _hub_regions(channels: np.ndarray, region: np.ndarray, skel: np.ndarray, radius: np.ndarray):
+    """``(channels, region, skel)`` with the flat regions that are hubs (round, off the frame, three or
+    more channels leaving them: a big soma, a coral's centre; :func:`~branchnb.branching.hubs.find_hubs`)
+    given back to the channels: a sea roots its rivers at its edge, a hub roots one tree at its centre."""
+    from skimage.morphology import skeletonize
+
+    whole = channels | region
+    lab, _n = ndi.label(region)
+    back = np.zeros_like(region)
+    for hub in find_hubs(whole, skeletonize(whole), radius):
+        k = lab[hub.centre]
+        if k:
+            back |= lab == k
+    if not back.any():
+        return channels, region, skel
+    channels, region = channels | back, region & ~back
+    skel = skeletonize(channels)
+    if region.any():
+        skel &= ndi.distance_transform_edt(~region) > 1.5
+    return channels, region, skel
 
 
 def _straight_frame_end(pts: np.ndarray, k: int, shape) -> np.ndarray:
