@@ -56,7 +56,9 @@ class Hub:
     arms : list of (int, int)
         The (y, x) skeleton pixel where each line leaving it starts.
     arm_radius : float
-        The median radius of those lines.
+        The median radius of those lines (in the blob mask).
+    arm_radii : list of float, optional
+        Each line's traced radius beside the hub.
     """
 
     centre: tuple[int, int]
@@ -64,6 +66,7 @@ class Hub:
     region: np.ndarray
     arms: list[tuple[int, int]]
     arm_radius: float
+    arm_radii: list[float] | None = None
 
 
 def blob_contrast(gray: np.ndarray, skeleton: np.ndarray, polarity: str) -> np.ndarray:
@@ -157,6 +160,7 @@ def find_hubs(blobs: np.ndarray, skeleton: np.ndarray, radius: np.ndarray,
 
     fg = np.asarray(blobs, bool)
     sk = np.asarray(skeleton, bool)
+    rad = np.asarray(radius, np.float64)
     if not sk.any() or not fg.any():
         return []
     dt = ndi.distance_transform_edt(np.pad(fg, 1))[1:-1, 1:-1]
@@ -217,7 +221,10 @@ def find_hubs(blobs: np.ndarray, skeleton: np.ndarray, radius: np.ndarray,
         joined = ndi.binary_dilation(blab == blab[c], iterations=2)
         widths = [float(np.median(dt[y0:y1, x0:x1][pix])) for pix, _ in
                   _arms(axis[y0:y1, x0:x1] & band & joined, dreg, a, c)]
-        arms = [st for _, st in _arms(sk[y0:y1, x0:x1] & band & joined, dreg, a, c)]
+        traced = _arms(sk[y0:y1, x0:x1] & band & joined, dreg, a, c)
+        arms = [st for _, st in traced]
+        # each spoke carries its line's radius over the band (at the blob's foot the line flares)
+        arm_radii = [float(np.median(rad[y0:y1, x0:x1][pix])) for pix, _ in traced]
         if _DEBUG:
             print("   arms", len(widths), len(arms), "ratio", round(R / (max(widths, default=0) + 0.5), 2),
                   "rel", round(R / line_r, 2))
@@ -226,7 +233,7 @@ def find_hubs(blobs: np.ndarray, skeleton: np.ndarray, radius: np.ndarray,
         full = np.zeros(fg.shape, bool)
         full[y0:y1, x0:x1] = region
         out.append(Hub((int(cy), int(cx)), R, full, [(y0 + y, x0 + x) for y, x in arms],
-                       float(np.median(widths))))
+                       float(np.median(widths)), arm_radii))
     return out
 
 
@@ -297,9 +304,9 @@ def hub_skeleton(skeleton: np.ndarray, radius: np.ndarray, hubs: list[Hub]) -> t
     for hub in hubs:
         cy, cx = hub.centre
         top = 0.0
-        for ay, ax in hub.arms:
+        for i, (ay, ax) in enumerate(hub.arms):
             yy, xx = draw_line(cy, cx, ay, ax)
-            r_arm = float(rad[ay, ax]) if sk[ay, ax] else hub.arm_radius
+            r_arm = hub.arm_radii[i] if hub.arm_radii else float(rad[ay, ax])
             rad[yy, xx] = r_arm
             sk[yy, xx] = True
             top = max(top, r_arm)
