@@ -38,7 +38,6 @@ HUB_SOLID = 0.8
 #: ... and that (its lower quartile) at least this share of the upper quartile of its middle (within
 #: 0.4 ``R``).
 HUB_EVEN = 0.75
-_DEBUG = False
 
 
 @dataclass
@@ -207,9 +206,6 @@ def find_hubs(blobs: np.ndarray, skeleton: np.ndarray, radius: np.ndarray,
             # ... and even: a soft spot's middle is far darker/lighter than its outer part
             mid = float(np.percentile(con[region & (yy * yy + xx * xx <= (0.4 * R) ** 2)], 75))
             even = solid / max(mid, 1e-6)
-        if _DEBUG:
-            print("hub?", (cy, cx), round(R, 1), "round", round(float(roundness), 2), "solid", round(solid, 2),
-                  "even", round(even, 2), "touches", touches)
         if touches or roundness > HUB_ROUND or solid < HUB_SOLID or even < HUB_EVEN:
             continue
         dreg = ndi.distance_transform_edt(~region)
@@ -225,9 +221,6 @@ def find_hubs(blobs: np.ndarray, skeleton: np.ndarray, radius: np.ndarray,
         arms = [st for _, st in traced]
         # each spoke carries its line's radius over the band (at the blob's foot the line flares)
         arm_radii = [float(np.median(rad[y0:y1, x0:x1][pix])) for pix, _ in traced]
-        if _DEBUG:
-            print("   arms", len(widths), len(arms), "ratio", round(R / (max(widths, default=0) + 0.5), 2),
-                  "rel", round(R / line_r, 2))
         if min(len(widths), len(arms)) < HUB_ARMS or R < HUB_RATIO * (max(widths) + 0.5) or R < HUB_REL * line_r:
             continue
         full = np.zeros(fg.shape, bool)
