@@ -31,7 +31,8 @@ def _stroke_map(image: np.ndarray, parts: np.ndarray, ink: np.ndarray, width: fl
     stroke = np.zeros(alpha.shape, bool)
     for part in (1, 2):
         m = alpha & (parts == part)
-        deep = m & (depth > width + 2)
+        # the part's own fill: deep and not ink-coloured (a widened stroke or an ink blob is no fill)
+        deep = m & (depth > width + 2) & (np.linalg.norm(image[..., :3] - ink, axis=2) > 0.08)
         if deep.sum() < 5:
             continue
         fill = np.median(image[deep, :3], axis=0)

@@ -464,6 +464,7 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     cage = simplify_contour(cr, m_points=p.m_points, dilation=cparams.dilation,
                             n_points_crown=cparams.n_crown)
     mode = resolve_colour_mode(p.colour_mode, [exemplars[i] for i in used])
+    pixel = mode == "choose" and len(used) > 1 and _pixel_arts([exemplars[i] for i in used]) is not None
     image, sources, trunk = transfer_colour([exemplars[i].image for i in used],
                                             [exemplars[i].cage(p.m_points) for i in used],
                                             cage, mask, colour_weights=cw[used] / cw[used].sum(),
@@ -472,17 +473,17 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
                                             return_sources=True, layers=[exemplars[i].trunk for i in used],
                                             groups=[_drawing_group(exemplars[i]) for i in used]
                                             if mode == "choose" else None,
-                                            contours=None if any(_drawing_group(exemplars[i]) & 1 for i in used)
-                                            else (cr, [exemplars[i].resampled for i in used]))
-    # Rim correction (beyond the paper) only without an ink outline: an outlined mix's rim is
-    # repainted by _ink_outline, whose pen and seam measures the correction's local stretch upsets.
+                                            contours=None if pixel else (cr, [exemplars[i].resampled for i in used]))
+    # Rim correction (beyond the paper) on outlined trees too (trees33): it stretches the sources'
+    # strokes where it maps them onto the mixed rim, and _ink_outline thins dark regions thicker
+    # than the pen unless a source has a dark fill of its own. Not on pixel art: the mix goes back
+    # on the sources' grid, whose blocks the correction's sub-pixel shifts only jitter.
     # "parts": the alpha is the chosen parts' own; a crown's gaps between its branches grow with
     # the warp beyond the exemplars' largest hole and stay open (the cage maps them into a hole
     # of an exemplar); other holes larger than the exemplars' are filled as in the other modes.
     parts_mode = mode == "choose" and p.choose_by == "parts" and len(used) > 1
     own = _own_holes(image[..., 3] >= 0.5, [exemplars[i] for i in used], cage, p.m_points) if parts_mode else None
     image = _one_piece(image, [exemplars[i] for i in used], own_holes=own)
-    pixel = mode == "choose" and len(used) > 1 and _pixel_arts([exemplars[i] for i in used]) is not None
     if pixel:       # pixel art stays on its grid, in its palette, with a 1-art-pixel outline
         image, sources, trunk = _pixel_mix(image, [exemplars[i] for i in used], cw[used], sources, trunk,
                                            outline=p.outline)
