@@ -225,9 +225,7 @@ def test_choose_seams_across_fills_are_outlined(drawn_lib):
             assert v.sources.shape == v.image.shape[:2]
             assert set(np.unique(v.sources[v.image[..., 3] >= 0.5])) <= {0, 1, -1}
             out.append(bare_seam_share(v.image, v.sources))
-    # the cut alone leaves bare seams (not on every seed since the rim correction runs on outlined
-    # trees too, trees33: seeds 2 and 3 then cut along the outlines, 0.0 and 0.08)
-    assert max(bare) > 0.3, bare
+    assert min(bare) > 0.3, bare                 # the cut alone leaves bare seams
     assert max(inked) <= 0.05, inked
 
 

@@ -1,7 +1,7 @@
 """Dark-trunk clip art: the outline band along a mix's trunk (issue 24, trees33), not run by the tests.
 
-``python -m branchnb.trees._trunk_band_check [sizes] [seeds] [pens]`` (defaults ``200,400,1000``,
-2 and ``1,2,4``): libraries of three procedural clip-art trees
+``python -m branchnb.trees._trunk_band_check [sizes] [seeds] [pens] [png dir or -] [dark,light]``
+(defaults ``200,400,1000``, 2, ``1,2,4``, no PNGs, both trunks): libraries of three procedural clip-art trees
 (:func:`~branchnb.trees._clipart_check.clipart_tree`: round, cloud and cone crowns, flat fills,
 fruit, ``pen`` px outlines at 256 px) with a *dark* trunk (value 0.12-0.25, darker than the ink
 threshold of the whole tree) and with a light one, drawn at ``size`` px; three random mixes
@@ -84,11 +84,12 @@ def _q(w):
     return f"{np.median(w):4.2f}/{np.quantile(w, 0.9):4.2f}" if len(w) >= 10 else " nan/ nan"
 
 
-def measure(sizes=(200, 400, 1000), seeds: int = 2, pens=(1, 2, 4), mixes: int = 3, show: str | None = None):
+def measure(sizes=(200, 400, 1000), seeds: int = 2, pens=(1, 2, 4), mixes: int = 3, show: str | None = None,
+            trunks=("dark", "light")):
     from .outline import silhouette_outline
 
     out = {}
-    for dark in (True, False):
+    for dark in [t == "dark" for t in trunks]:
         for size in sizes:
             for pen in pens:
                 for seed in range(seeds):
@@ -132,4 +133,5 @@ if __name__ == "__main__":
     measure(tuple(int(x) for x in a[0].split(",")) if len(a) > 0 else (200, 400, 1000),
             int(a[1]) if len(a) > 1 else 2,
             tuple(float(x) for x in a[2].split(",")) if len(a) > 2 else (1, 2, 4),
-            show=a[3] if len(a) > 3 else None)
+            show=a[3] if len(a) > 3 and a[3] != "-" else None,
+            trunks=tuple(a[4].split(",")) if len(a) > 4 else ("dark", "light"))

@@ -473,11 +473,15 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
                                             return_sources=True, layers=[exemplars[i].trunk for i in used],
                                             groups=[_drawing_group(exemplars[i]) for i in used]
                                             if mode == "choose" else None,
-                                            contours=None if pixel else (cr, [exemplars[i].resampled for i in used]))
-    # Rim correction (beyond the paper) on outlined trees too (trees33): it stretches the sources'
-    # strokes where it maps them onto the mixed rim, and _ink_outline thins dark regions thicker
-    # than the pen unless a source has a dark fill of its own. Not on pixel art: the mix goes back
-    # on the sources' grid, whose blocks the correction's sub-pixel shifts only jitter.
+                                            contours=None if pixel or any(_drawing_group(exemplars[i]) & 1
+                                                                          for i in used)
+                                            else (cr, [exemplars[i].resampled for i in used]))
+    # Rim correction (beyond the paper) only without an ink outline. On outlined mixes it stretched
+    # the sources' strokes where it mapped them onto the mixed rim into bands thicker than
+    # 2 width + 2, which _drop_excess kept as dark fills (pen q90/q10 1.58); that is fixed
+    # (_has_dark_fill, trees33: a dark region is a fill only when a source has one), but the
+    # correction still leaves dark flecks just inside a crown's rim by its fruit and trunk
+    # (clip-art close-ups), so it stays off there. Not on pixel art either (back on its grid).
     # "parts": the alpha is the chosen parts' own; a crown's gaps between its branches grow with
     # the warp beyond the exemplars' largest hole and stay open (the cage maps them into a hole
     # of an exemplar); other holes larger than the exemplars' are filled as in the other modes.
