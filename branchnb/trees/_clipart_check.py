@@ -69,14 +69,15 @@ def _disc(n, cx, cy, r):
 
 
 def clipart_tree(kind: str = "round", *, line: float = 1.0, rng=0, size: int = 256,
-                 stretch=(1.0, 1.0), pen: bool = False) -> np.ndarray:
+                 stretch=(1.0, 1.0), pen: bool = False, bark=None) -> np.ndarray:
     """A flat clip-art tree: one flat crown colour, a thick or thin outline, fruit touching the rim.
 
     ``kind``: ``"round"`` (an ellipse crown), ``"cloud"`` (a union of discs drawn as one fill),
     ``"cone"`` (a triangle crown with baubles). ``line`` is the outline width in pixels at
     ``size`` (1 or 4 in the check). Half the fruits lie tangent to the crown's outline inside
     (their outlines merge with it), the others inside the crown. ``stretch`` (x, y) draws the
-    same tree stretched (its strokes too, unless ``pen``), ``size * stretch`` pixels.
+    same tree stretched (its strokes too, unless ``pen``), ``size * stretch`` pixels. ``bark``:
+    the trunk's RGB (default a random mid brown).
     """
     rng = np.random.default_rng(rng)
     u = rng.uniform
@@ -84,7 +85,8 @@ def clipart_tree(kind: str = "round", *, line: float = 1.0, rng=0, size: int = 2
     n = size * _SS
     ink = _hsv(u(0, 120), u(0.2, 0.7), u(0.03, 0.15))
     green = _hsv(u(80, 150), u(0.55, 0.95), u(0.45, 0.8))
-    bark = _hsv(u(15, 35), u(0.5, 0.8), u(0.3, 0.55))
+    drawn = _hsv(u(15, 35), u(0.5, 0.8), u(0.3, 0.55))      # drawn either way: the same tree otherwise
+    bark = drawn if bark is None else tuple(bark)
     fruitc = _hsv(u(0, 50), u(0.8, 1.0), u(0.85, 1.0))
     cx = S / 2 + u(-0.04, 0.04) * S
     foot = S * u(0.93, 0.97)

@@ -124,7 +124,11 @@ def _ink_outline(image: np.ndarray, exemplars: Sequence[Exemplar], cw: np.ndarra
     pens = [(_pen_width(p), w) for e, w, o in zip(exemplars, cw, on, strict=True)
             if o and w > 0 and (p := _exemplar_pen(e)) is not None]
     pen = float(np.average([p for p, _ in pens], weights=[w for _, w in pens])) if pens else None
-    return _pen_outline(ink_silhouette(image, best.ink, best.width), best.ink, best.width, profile, pen)
+    # Dark regions thicker than the stroke are kept as fills only when a source has one: the rim
+    # correction maps the sources' strokes onto the mixed rim and stretches them there.
+    fills = any(_exemplar_dark_fill(e) for e, w in zip(exemplars, cw, strict=True) if w > 0)
+    return _pen_outline(ink_silhouette(image, best.ink, best.width), best.ink, best.width, profile, pen,
+                        dark_fills=fills)
 
 
 def _pixel_arts(exemplars: Sequence[Exemplar]):
@@ -148,6 +152,17 @@ def _pixel_mix(image: np.ndarray, exemplars: Sequence[Exemplar], cw: np.ndarray,
         ink = outl[int(np.argmax(np.where(on, cw, -1.0)))].ink
     out, (src, tr) = _pixelate(image, arts, blocks, ink=ink, layers=(sources, trunk))
     return out, src, tr
+
+
+def _exemplar_dark_fill(exemplar: Exemplar) -> bool:
+    """Whether an exemplar has an ink-dark fill region (:func:`~branchnb.trees.outline._has_dark_fill`,
+    cached on it; True when it has no outline: nothing to tell)."""
+    if "dark_fill" not in exemplar._cages:
+        from .outline import _has_dark_fill
+
+        o = exemplar_outline(exemplar)
+        exemplar._cages["dark_fill"] = _has_dark_fill(exemplar.image, o.ink, o.width) if o.outlined else True
+    return exemplar._cages["dark_fill"]
 
 
 def _exemplar_pen(exemplar: Exemplar):

@@ -410,16 +410,40 @@ def even_outline(image, ink, width: int, *, holes: bool = True) -> np.ndarray:
     return img
 
 
-def _drop_excess(img: np.ndarray, ink: np.ndarray, width: int, holes: bool = True) -> np.ndarray:
+def _dark_split(img: np.ndarray, alpha: np.ndarray, depth: np.ndarray, ink: np.ndarray, width: int):
+    """``(light0, light)``: lighter than half-way from the ink to the median (``light0``), and
+    that or a dark fill told from the ink by colour (``light``, :func:`_dark_fill`)."""
+    ink_lum = float(np.asarray(ink, np.float64) @ _LUM)
+    lum = img[..., :3] @ _LUM
+    light0 = lum > ink_lum + 0.5 * (np.median(lum[alpha]) - ink_lum)
+    return light0, light0 | _dark_fill(img, alpha & ~light0, depth, ink, width)
+
+
+def _has_dark_fill(image: np.ndarray, ink, width: int) -> bool:
+    """Whether a drawing has an ink-dark region thicker than ``2 width + 2`` (a black trunk, a
+    sprite's shadow): what :func:`_drop_excess` keeps as a fill."""
+    alpha = image[..., 3] >= 0.5
+    if alpha.sum() < 9 or alpha.all():
+        return False
+    ink = np.asarray(ink, np.float64)
+    _, light = _dark_split(image, alpha, _depth(alpha), ink, width)
+    k = 2 * width + 3
+    # the frame counts as transparent here: a stroke along a crown or foot cut by it is no fill
+    return bool((cv2.morphologyEx((alpha & ~light).astype(np.uint8), cv2.MORPH_OPEN, np.ones((k, k), np.uint8),
+                                  borderType=cv2.BORDER_CONSTANT, borderValue=0) > 0).any())
+
+
+def _drop_excess(img: np.ndarray, ink: np.ndarray, width: int, holes: bool = True,
+                 dark_fills: bool = True) -> np.ndarray:
     """:func:`even_outline`'s first step, in place: a warped stroke deeper than ``width`` that runs
-    along the silhouette takes the colour of the nearest fill."""
+    along the silhouette takes the colour of the nearest fill. ``dark_fills=False``: the sources
+    have no dark fill (:func:`_has_dark_fill`), so a dark region thicker than ``2 width + 2`` is
+    a stroke the warp stretched (the rim correction's local stretch), not a fill to keep."""
     alpha = img[..., 3] >= 0.5
     if alpha.sum() < 9 or alpha.all():
         return img
     depth = _depth(alpha if holes else ndi.binary_fill_holes(alpha))
-    ink_lum = float(ink @ _LUM)
-    lum = img[..., :3] @ _LUM
-    light = lum > ink_lum + 0.5 * (np.median(lum[alpha]) - ink_lum)
+    light0, light = _dark_split(img, alpha, depth, ink, width)
     dark = alpha & ~light
     # Too thick: dark pixels of the shell (width, 2 width + 2] connected to the band along the rim.
     # Only ink that runs on unbroken from the rim inwards (a stroke beside the rim with fill
@@ -445,7 +469,16 @@ def _drop_excess(img: np.ndarray, ink: np.ndarray, width: int, holes: bool = Tru
         # Dark fills (a dark trunk, a sprite's shadow) are no stroke: thicker than 2 width + 2.
         k = 2 * width + 3
         thick = cv2.morphologyEx(dark.astype(np.uint8), cv2.MORPH_OPEN, np.ones((k, k), np.uint8)) > 0
+        if not dark_fills:
+            thick[:] = False
         excess &= ~(cv2.dilate(thick.astype(np.uint8), np.ones((3, 3), np.uint8)) > 0)
+        if dark_fills and (light != light0).any():
+            # a dark fill told from the ink (_dark_fill) keeps its ink next to a light fill (the
+            # crown's line across the trunk's top), as before: only its outline band is thinned
+            thick0 = cv2.morphologyEx((alpha & ~light0).astype(np.uint8), cv2.MORPH_OPEN,
+                                      np.ones((k, k), np.uint8)) > 0
+            by_light = cv2.dilate(light0.astype(np.uint8), np.ones((2 * k - 1, 2 * k - 1), np.uint8)) > 0
+            excess &= ~((cv2.dilate(thick0.astype(np.uint8), np.ones((3, 3), np.uint8)) > 0) & by_light)
         excess &= ~ring
         if excess.any():
             # with the stroke's soft inner edge (its anti-aliased pixels, lighter than ``dark``)
@@ -458,6 +491,46 @@ def _drop_excess(img: np.ndarray, ink: np.ndarray, width: int, holes: bool = Tru
                 excess &= dist <= width + 2
                 img[excess, :3] = img[idx[0][excess], idx[1][excess], :3]
     return img
+
+
+#: :func:`_drop_excess`: a dark fill (a dark trunk) is told from the ink only when its colour is at
+#: least this far (RGB) from it; nearer, the two are one colour and the fill stays as drawn.
+DARK_FILL_TOL = 0.08
+
+
+def _dark_fill(img: np.ndarray, dark: np.ndarray, depth: np.ndarray, ink: np.ndarray, width: int) -> np.ndarray:
+    """Pixels of ``dark`` that belong to a dark fill rather than to the ink (trees33).
+
+    A trunk drawn darker than the luminance threshold of the whole tree is "dark" with its
+    outline: a warp that widened the trunk's stroke (ink bled into the widened trunk) left a
+    band 2-3 times the pen, which :func:`_drop_excess` kept as a dark fill. Here the fill is the
+    colour of the nearest flat dark pixel deeper than the pen (3 x 3 span below 0.06, no
+    anti-aliased stroke edge) farther than :data:`DARK_FILL_TOL` from the ink, and a dark pixel
+    within ``2 (2 width + 3)`` of it is fill when it lies nearer that colour than the ink, on the
+    line between them (coverage below 1/2); fills within :data:`DARK_FILL_TOL` of the ink stay dark.
+    """
+    k = 2 * width + 3
+    out = np.zeros_like(dark)
+    core = dark & (depth > width + 1)
+    if not core.any():
+        return out
+    # the fill: flat (3 x 3 span < 0.06, no anti-aliased stroke edge) and not ink-coloured
+    rgb = img[..., :3]
+    span = (ndi.maximum_filter(rgb, size=(3, 3, 1)) - ndi.minimum_filter(rgb, size=(3, 3, 1))).max(axis=2)
+    core &= (span < 0.06) & (np.linalg.norm(rgb - np.asarray(ink, np.float32), axis=2) > DARK_FILL_TOL)
+    if not core.any():
+        return out
+    dist, idx = ndi.distance_transform_edt(~core, return_indices=True)
+    near = dark & (dist <= 2 * k)
+    if not near.any():
+        return out
+    ys, xs = np.nonzero(near)
+    fill = img[idx[0][ys, xs], idx[1][ys, xs], :3].astype(np.float64)
+    d = fill - np.asarray(ink, np.float64)[None]
+    n2 = (d * d).sum(axis=1)
+    c = ((fill - img[ys, xs, :3]) * d).sum(axis=1) / np.maximum(n2, 1e-12)
+    out[ys, xs] = (n2 >= DARK_FILL_TOL ** 2) & (c < 0.5)
+    return out
 
 
 #: :func:`even_outline`: a light piece is an inner shape (a fruit, a bauble) when it is smaller than

@@ -108,10 +108,12 @@ def _pen_width(profile: np.ndarray) -> float:
     return float(grid[k - 1] + t * _STEP + 0.5)
 
 
-def _pen_outline(image: np.ndarray, ink, width: int, profile: np.ndarray, pen: float | None = None) -> np.ndarray:
+def _pen_outline(image: np.ndarray, ink, width: int, profile: np.ndarray, pen: float | None = None,
+                 dark_fills: bool = True) -> np.ndarray:
     """A mix's outline in the sources' pen: the warped stroke deeper than ``width`` goes
     (:func:`~branchnb.trees.outline._drop_excess`), then :func:`_draw_pen` with ``profile``
-    shifted to the pen width ``pen`` (default: the profile's own)."""
+    shifted to the pen width ``pen`` (default: the profile's own). ``dark_fills``: whether the
+    sources have dark fills to keep (:func:`~branchnb.trees.outline._has_dark_fill`)."""
     from .outline import _depth, _drop_excess, _inner_shapes
 
     img = np.array(image, dtype=np.float32, copy=True)
@@ -122,7 +124,7 @@ def _pen_outline(image: np.ndarray, ink, width: int, profile: np.ndarray, pen: f
     ink_lum = float(np.asarray(ink, np.float32) @ _LUM)
     lum = img[..., :3] @ _LUM
     inner, _ = _inner_shapes(alpha & (lum > ink_lum + 0.5 * (np.median(lum[alpha]) - ink_lum)), _depth(alpha), width)
-    img = _drop_excess(img, np.asarray(ink, np.float64), width)
+    img = _drop_excess(img, np.asarray(ink, np.float64), width, dark_fills=dark_fills)
     shift = 0.0 if pen is None else pen - _pen_width(profile)
     return _draw_pen(img, ink, profile, shift=shift, inner=inner, inner_depth=int(1.75 * width))
 

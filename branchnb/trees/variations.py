@@ -464,6 +464,7 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     cage = simplify_contour(cr, m_points=p.m_points, dilation=cparams.dilation,
                             n_points_crown=cparams.n_crown)
     mode = resolve_colour_mode(p.colour_mode, [exemplars[i] for i in used])
+    pixel = mode == "choose" and len(used) > 1 and _pixel_arts([exemplars[i] for i in used]) is not None
     image, sources, trunk = transfer_colour([exemplars[i].image for i in used],
                                             [exemplars[i].cage(p.m_points) for i in used],
                                             cage, mask, colour_weights=cw[used] / cw[used].sum(),
@@ -472,17 +473,21 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
                                             return_sources=True, layers=[exemplars[i].trunk for i in used],
                                             groups=[_drawing_group(exemplars[i]) for i in used]
                                             if mode == "choose" else None,
-                                            contours=None if any(_drawing_group(exemplars[i]) & 1 for i in used)
+                                            contours=None if pixel or any(_drawing_group(exemplars[i]) & 1
+                                                                          for i in used)
                                             else (cr, [exemplars[i].resampled for i in used]))
-    # Rim correction (beyond the paper) only without an ink outline: an outlined mix's rim is
-    # repainted by _ink_outline, whose pen and seam measures the correction's local stretch upsets.
+    # Rim correction (beyond the paper) only without an ink outline. On outlined mixes it stretched
+    # the sources' strokes where it mapped them onto the mixed rim into bands thicker than
+    # 2 width + 2, which _drop_excess kept as dark fills (pen q90/q10 1.58); that is fixed
+    # (_has_dark_fill, trees33: a dark region is a fill only when a source has one), but the
+    # correction still leaves dark flecks just inside a crown's rim by its fruit and trunk
+    # (clip-art close-ups), so it stays off there. Not on pixel art either (back on its grid).
     # "parts": the alpha is the chosen parts' own; a crown's gaps between its branches grow with
     # the warp beyond the exemplars' largest hole and stay open (the cage maps them into a hole
     # of an exemplar); other holes larger than the exemplars' are filled as in the other modes.
     parts_mode = mode == "choose" and p.choose_by == "parts" and len(used) > 1
     own = _own_holes(image[..., 3] >= 0.5, [exemplars[i] for i in used], cage, p.m_points) if parts_mode else None
     image = _one_piece(image, [exemplars[i] for i in used], own_holes=own)
-    pixel = mode == "choose" and len(used) > 1 and _pixel_arts([exemplars[i] for i in used]) is not None
     if pixel:       # pixel art stays on its grid, in its palette, with a 1-art-pixel outline
         image, sources, trunk = _pixel_mix(image, [exemplars[i] for i in used], cw[used], sources, trunk,
                                            outline=p.outline)
