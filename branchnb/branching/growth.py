@@ -580,7 +580,9 @@ class _Grower(_Starts, _Filling):
                 inside = self._inside(pts.reshape(-1, 2)).reshape(pts.shape[:2])
                 live = np.arange(pts.shape[1])[None, :] < n_arr[:, None]
                 leave = (live & ~inside).any(1)
-                score = np.where(leave, score * LEAVE_BAND, score) * self._core_factor(pts, live)
+                score = np.where(leave, score * LEAVE_BAND, score)
+                if st.parent is None:   # a band's root keeps to the band its example's strands sweep
+                    score = score * self._core_factor(pts, live)
             # beyond the paper: no spirals. A candidate that would take the branch's heading range past the
             # winding limit is forbidden; the branch stops when nothing else is left (issue 23)
             score = np.where(zero, 0.0, score)
