@@ -684,6 +684,11 @@ class _Grower(_Starts, _Filling):
             return []
         if st.stop == "existing":
             return []
+        if self.strands and st.generation > int(self.model.branch_generation.max(initial=0)):
+            # a band's strands: no generation deeper than the example's + 1, even when the fill rounds
+            # fill past the child quota (quota_off; with the roots in the band's core a 512 px vine grew
+            # twigs 3 deep where the example has 1)
+            return []
         pts = np.asarray(st.points)
         rad = np.asarray(st.radii)
         length = (len(pts) - 1) * p.h
