@@ -511,12 +511,9 @@ class _Filling:
                     self._drain([c])
             if self.stop_reason:
                 break
-        if not self.stop_reason and self.density.coverage() < STRAND_SHARE * self.coverage_target and \
-                getattr(self, "core", None) is None:
+        if not self.stop_reason and self.density.coverage() < STRAND_SHARE * self.coverage_target:
             # no strand found room either: the fill rounds fill the band as the paper's do, past the quota
-            # (an L band's roots left it within 100-150 px in 2 of 2 seeds; bushes, but the band's length).
-            # Not when the roots keep to the band's core (growth._core): the coverage target counts the
-            # whole band domain, which strands in the core never reach (a 512 px vine grew twigs 3 deep)
+            # (an L band's roots left it within 100-150 px in 2 of 2 seeds; bushes, but the band's length)
             self.quota_off = True
             self._fill_rounds()
         if not self.stop_reason or self.stop_reason == "density (coverage)":
