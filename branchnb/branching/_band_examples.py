@@ -94,3 +94,24 @@ def band_example(kind: str, size: int, seed: int, *, leaves: bool = False) -> tu
                 cv2.ellipse(img, (int(c[0] * 8), int(c[1] * 8)), (int(ls * 1.4 * 8), int(ls * 0.7 * 8)), ang, 0, 360, 255, -1, cv2.LINE_AA, 3)
     out = 1.0 - img.astype(np.float32) / 255.0
     return np.repeat(out[..., None], 3, axis=2), float(spacing)
+
+
+def band_envelope(kind: str, size: int, seed: int, *, leaves: bool = False) -> np.ndarray:
+    """The known band of :func:`band_example` (same arguments): (H, W) bool, the pixels the strands
+    sweep (within their swing plus the pen of the centre path; with ``leaves`` plus the stubs' length).
+    Synthesized ornament lines are judged against it (:mod:`._child_check`)."""
+    from scipy import ndimage as ndi
+
+    rng = np.random.default_rng(5300 + seed * 31 + KINDS.index(kind) * 7 + (1 if leaves else 0))
+    W = int(size)
+    H = int(size * rng.uniform(0.75, 1.0)) if kind != "ring" else W
+    amp = size * rng.uniform(0.03, 0.05)
+    rng.uniform(0.25, 0.45)
+    lw = max(2, int(round(size / rng.uniform(110, 150))))
+    centre, _closed = _centre_path(kind, H, W, amp + size * 0.04)
+    reach = amp + lw + (2.6 * amp if kind == "wavy" else 0.0) + (2.8 * max(3.0, 0.012 * size) if leaves else 0.0)
+    line = np.ones((H, W), bool)
+    q = np.round(centre).astype(np.int64)
+    ok = (q[:, 0] >= 0) & (q[:, 0] < W) & (q[:, 1] >= 0) & (q[:, 1] < H)
+    line[q[ok, 1], q[ok, 0]] = False
+    return ndi.distance_transform_edt(line) <= reach

@@ -8,7 +8,9 @@ shallow side strands (:func:`._line_art_examples.vine_example`) at 256-768 px th
 prints per case and per kind: branches per 1000 px of length of the example (as fitted: strands joined)
 ``bk_ex`` and of the output ``bk_out``, their ratio ``bk``, the L1 distance of the child-angle histograms
 ``ahd`` (0 = equal, 2 = disjoint; :func:`.child_angles._child_angles`), the median child angle of both ``med_ex`` /
-``med_out`` (degrees), and :mod:`._band_check`'s ``out``, ``ml``, ``len`` and ``turn``. PNG_DIR: sheets
+``med_out`` (degrees) and the difference of their means ``dmean``, the share of the output roots' length
+``rout`` and of all its length ``lout`` outside the ornament's known band (:func:`example_envelope`: where
+the example's strands run, not the wider domain they may grow in), and :mod:`._band_check`'s ``out``, ``ml``, ``len`` and ``turn``. PNG_DIR: sheets
 example | seed s | seed s + 1.
 """
 # ruff: noqa: E501, E702
@@ -46,12 +48,37 @@ def example_image(kind: str, size: int, seed: int) -> np.ndarray:
     return band_example(kind.rstrip("+"), size, seed, leaves=leaves)[0]
 
 
+def example_envelope(kind: str, size: int, seed: int) -> np.ndarray:
+    """The known band of :func:`example_image`'s ornament ((H, W) bool): where its strands run."""
+    from ._band_examples import band_envelope
+    from ._line_art_examples import vine_envelope
+
+    leaves = kind.endswith("+")
+    if kind.rstrip("+") == "vine":
+        return vine_envelope(size, rng=seed, leaves=leaves)
+    return band_envelope(kind.rstrip("+"), size, seed, leaves=leaves)
+
+
+def envelope_figures(out, envelope: np.ndarray) -> dict:
+    """``rout`` the share of the roots' length and ``lout`` of all the length of ``out`` outside the
+    ornament's known band ``envelope``."""
+    from ..core.structure import Structure
+    from ._check_table import length_share
+
+    roots = Structure([b for b in out.branches if b.parent is None], image_shape=out.image_shape)
+    r_in, r_tot = length_share(roots, envelope)
+    a_in, a_tot = length_share(out, envelope)
+    return {"rout": 1.0 - r_in / max(r_tot, 1e-9), "lout": 1.0 - a_in / max(a_tot, 1e-9)}
+
+
 def figures(ex, out) -> dict:
-    """The child figures of one case (example structure ``ex`` as fitted, synthesized structure ``out``)."""
+    """The child figures of one case (example structure ``ex`` as fitted, synthesized structure ``out``):
+    also ``dmean``, the output's mean child angle minus the example's (degrees)."""
     ae, ao = child_angles(ex), child_angles(out)
     return {"bk_ex": per_1000(ex), "bk_out": per_1000(out), "bk": per_1000(out) / max(per_1000(ex), 1e-9),
             "ahd": angle_histogram_l1(ae, ao), "med_ex": float(np.median(ae)) if len(ae) else 0.0,
-            "med_out": float(np.median(ao)) if len(ao) else 0.0}
+            "med_out": float(np.median(ao)) if len(ao) else 0.0,
+            "dmean": float(np.mean(ao) - np.mean(ae)) if len(ae) and len(ao) else 0.0}
 
 
 def case(kind: str, size: int, seed: int, png: str | None = None) -> dict:
@@ -69,6 +96,7 @@ def case(kind: str, size: int, seed: int, png: str | None = None) -> dict:
     spacing = 2.0 * float(np.quantile(ndi.distance_transform_edt(~ink)[model.domain], 0.9))
     f = band_figures(img, spacing, model.example, res.structure)
     f.update(figures(model.example, res.structure))
+    f.update(envelope_figures(res.structure, example_envelope(kind, size, seed)))
     f["nb_ex"], f["nb_out"] = len(model.example.branches), len(res.structure.branches)
     if png:
         write_sheet(png, img, res.structure, synthesize_structure(model, rng=seed + 1).structure)
@@ -77,7 +105,7 @@ def case(kind: str, size: int, seed: int, png: str | None = None) -> dict:
 
 def main(argv=None) -> None:
     seeds, kinds, pngdir = check_args(argv, KINDS)
-    keys = ("bk_ex", "bk_out", "bk", "ahd", "med_ex", "med_out", "out", "ml", "len", "turn")
+    keys = ("bk_ex", "bk_out", "bk", "ahd", "med_ex", "med_out", "dmean", "rout", "lout", "out", "ml", "len", "turn")
     print_table(kinds, seeds, lambda kind, s: SIZES[(s + KINDS.index(kind)) % len(SIZES)], case, keys,
                 lambda r: f"nb {r['nb_ex']:3d}->{r['nb_out']:3d}", pngdir, width=6)
 

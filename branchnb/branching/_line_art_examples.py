@@ -187,3 +187,14 @@ def vine_example(size: int = 512, rng=0, *, leaves: bool = False) -> tuple[np.nd
         side = -side
     out = 1.0 - img.astype(np.float32) / 255.0
     return np.repeat(out[..., None], 3, axis=2), np.asarray(angles, np.float64)
+
+
+def vine_envelope(size: int = 512, rng=0, *, leaves: bool = False) -> np.ndarray:
+    """The known band of :func:`vine_example` (same arguments): (H, W) bool, the rows between the
+    highest and lowest ink of the vine (its stem runs along the frame's width), plus the pen."""
+    img = vine_example(size, rng=rng, leaves=leaves)[0]
+    rows = np.flatnonzero((img[..., 0] < 0.5).any(1))
+    lw = max(2, int(round(size / 120)))
+    out = np.zeros(img.shape[:2], bool)
+    out[max(rows.min() - lw, 0): rows.max() + lw + 1] = True
+    return out

@@ -156,3 +156,55 @@ def _is_band(domain) -> bool:
         return False
     depth = ndi.distance_transform_edt(np.pad(domain, 1))   # the frame is no edge of a band
     return bool(depth.max() <= BAND_DEPTH * min(domain.shape))
+
+
+#: A band's strands (one-pen line art, ``_Grower.strands``) keep within this share of the example's
+#: strand spacing of the example's lines (:func:`_strand_core`).
+CORE_SHARE = 1.0
+
+
+def _strand_core(example, domain) -> np.ndarray | None:
+    """Where a band's strands run: the pixels of ``domain`` ((H, W) bool) in the closing of the example's
+    lines by a disk of :data:`CORE_SHARE` x the strand spacing (:func:`_strand_spacing`), widened by the
+    pen, or None (no spacing, or no core in ``domain``).
+
+    Beyond the paper (issue 23, branching66): the band domain (:func:`_line_domain`) reaches a whole
+    spacing beyond the outermost strand to give growth room, and an ornament's margin to its frame is
+    part of it. Space colonization finds that margin empty and draws strands and their children into
+    it: synthesized interlaced bands ran 0.15-0.35 of their length outside the band the example's
+    strands sweep, children pointing off the band to the frame. A closing fills the eyes between
+    interlaced strands (and the wedges between a vine's stem and side strands) but adds nothing beyond
+    the outermost strands: the swept band with a pen's margin.
+
+    Examples
+    --------
+    >>> from branchnb.core.structure import Branch, Structure
+    >>> t = np.arange(0.0, 200.0)
+    >>> s = Structure([Branch(np.c_[t, np.full(200, 20.0)], 1.0), Branch(np.c_[t, np.full(200, 40.0)], 1.0)])
+    >>> core = _strand_core(s, np.ones((200, 200), bool))
+    >>> bool(core[30, 100]), bool(core[55, 100]), bool(core[150, 100])
+    (True, False, False)
+    """
+    import cv2
+
+    dom = np.asarray(domain, bool)
+    H, W = dom.shape
+    lines = np.zeros((H, W), np.uint8)
+    pen = 1.0
+    for b in example.branches:
+        p = np.asarray(b.points, np.float64)
+        if len(p) >= 2:
+            cv2.polylines(lines, [np.round(p * 4).astype(np.int32)], False, 1, 3, cv2.LINE_8, 2)
+            pen = max(pen, float(np.median(b.thickness)))
+    lines = lines > 0
+    s = _strand_spacing(lines, EMPTY_MARGIN * EMPTY_DISK * min(H, W))
+    if s is None:
+        return None
+    # the closing of the lines by a disk of radius ``CORE_SHARE * s``: the eyes between interlaced strands
+    # and a vine's side strands filled, nothing beyond the outermost strands (the frame is no edge)
+    r = CORE_SHARE * s
+    pad = int(np.ceil(r)) + 2
+    near = ndi.distance_transform_edt(~np.pad(lines, pad)) <= r
+    closed = (ndi.distance_transform_edt(near) > r - 0.5)[pad:-pad, pad:-pad]
+    core = dom & (ndi.distance_transform_edt(~(closed | lines)) <= pen + 2.0)
+    return core if core.any() else None

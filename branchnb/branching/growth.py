@@ -31,7 +31,7 @@ from .colonization import (
     frame_density,
 )
 from .domains import MOUTH_SHARE, MOUTH_TURN, _Drain, _Shore, _shore_margin, runs_inland
-from .empty_ground import _is_band
+from .empty_ground import _is_band, _strand_core
 from .filling import _Filling
 from .guidance import Guidance
 from .model import StructureModel, _choice
@@ -218,6 +218,29 @@ def _radius_keep(example) -> float:
     return min(1.0, float(np.quantile(ratios, RADIUS_KEEP_QUANTILE))) if ratios else 0.0
 
 
+#: A band strand's candidate scores ``exp(-d / CORE_SCALE)``, ``d`` its mean distance (pixels) outside the
+#: band the example's strands sweep (:func:`.empty_ground._strand_core`; beyond the paper, issue 23,
+#: branching66): 4 px out weighs like ``LEAVE_BAND`` ... ``exp(-2)``.
+CORE_SCALE = 2.0
+
+
+def _core(model: StructureModel, domain) -> tuple[np.ndarray, np.ndarray] | None:
+    """``(core, distance outside it)`` of a band of one-pen strands (:func:`.empty_ground._strand_core`)
+    when growth runs in the model's own domain (the example's lines say where the band is only there),
+    once per model; else None (any other example or domain)."""
+    if domain is None or model.domain is None or model.ground is None or domain.shape != model.domain.shape \
+            or not np.array_equal(domain, model.domain) or not _is_band(domain) or not _one_pen(model.example):
+        return None
+    got = model.__dict__.get("_strand_core")
+    if got is None or got[0] is not model.domain:
+        from scipy import ndimage as ndi
+
+        core = _strand_core(model.example, model.domain)
+        got = model.__dict__["_strand_core"] = (
+            model.domain, None if core is None else (core, ndi.distance_transform_edt(~core)))
+    return got[1]
+
+
 class _Grower(_Starts, _Filling):
     def __init__(self, model: StructureModel, params: SynthesisParams, rng, shape,
                  guidance: Guidance | None, scorer=None, domain: np.ndarray | None = None,
@@ -261,6 +284,8 @@ class _Grower(_Starts, _Filling):
         # and drawn with about one pen (an ornament, not a river mask in a band): its children follow the
         # example's per generation, length and angle (.child_angles, FurcationModel._child_quota)
         self.strands = self.keep_in and _one_pen(model.example)
+        # strands keep to the band the example's sweep, in the example's own domain (.empty_ground._strand_core)
+        self.core = _core(model, domain) if self.strands else None
         self.quota_off = False   # _Filling._more_strands found no room for a strand: fill as the paper
         self._e_dom = np.zeros((1, 1), bool)
         # a root reads the frame ahead as density (a free frame only: a map's domain has its own rules)
@@ -315,6 +340,20 @@ class _Grower(_Starts, _Filling):
         dom = self.domain
         return _kernels.inside(np.ascontiguousarray(pts, np.float64), h, w,
                                self._e_dom if dom is None else dom, dom is not None)
+
+    def _core_factor(self, pts: np.ndarray, live: np.ndarray) -> np.ndarray | float:
+        """``exp(-d / CORE_SCALE)`` of candidates (points ``pts`` (N, K, 2), ``live`` (N, K) the real ones),
+        ``d`` the mean distance (pixels) of their points outside a band's core
+        (:func:`.empty_ground._strand_core`): 1 inside it, and a strand that is out heads back in."""
+        if self.core is None or not len(pts):
+            return 1.0
+        h, w = self.shape
+        q = np.rint(pts.reshape(-1, 2)).astype(np.int64)
+        d = self.core[1][np.clip(q[:, 1], 0, h - 1), np.clip(q[:, 0], 0, w - 1)].reshape(pts.shape[:2])
+        k = min(d.shape[1], live.shape[1])
+        lv = live[:, :k]
+        mean = (d[:, :k] * lv).sum(1) / np.maximum(lv.sum(1), 1)
+        return np.exp(-mean / CORE_SCALE)
 
     def _frame_factor(self, tip, dirs: np.ndarray, D_c: np.ndarray) -> np.ndarray:
         """Score factor ``(D_c + eps) / (max(D_c, D_frame) + eps)`` of a root's candidates (issue 23).
@@ -539,8 +578,11 @@ class _Grower(_Starts, _Filling):
                 score = score * fb
             if self.keep_in and len(pts):
                 inside = self._inside(pts.reshape(-1, 2)).reshape(pts.shape[:2])
-                leave = ((np.arange(pts.shape[1])[None, :] < n_arr[:, None]) & ~inside).any(1)
+                live = np.arange(pts.shape[1])[None, :] < n_arr[:, None]
+                leave = (live & ~inside).any(1)
                 score = np.where(leave, score * LEAVE_BAND, score)
+                if st.parent is None:   # a band's root keeps to the band its example's strands sweep
+                    score = score * self._core_factor(pts, live)
             # beyond the paper: no spirals. A candidate that would take the branch's heading range past the
             # winding limit is forbidden; the branch stops when nothing else is left (issue 23)
             score = np.where(zero, 0.0, score)
@@ -641,6 +683,11 @@ class _Grower(_Starts, _Filling):
         if st.generation >= p.max_generations or not self.model.furcation.can_branch:
             return []
         if st.stop == "existing":
+            return []
+        if self.strands and st.generation > int(self.model.branch_generation.max(initial=0)):
+            # a band's strands: no generation deeper than the example's + 1, even when the fill rounds
+            # fill past the child quota (quota_off; with the roots in the band's core a 512 px vine grew
+            # twigs 3 deep where the example has 1)
             return []
         pts = np.asarray(st.points)
         rad = np.asarray(st.radii)

@@ -223,6 +223,11 @@ def _default_starts(model: StructureModel, shape, guidance, params: SynthesisPar
     if params is not None and params.roots == "learned" and model.roots is not None and model.roots.n_roots:
         dom = domain if domain is not None else np.ones(tuple(shape), bool)
         n = params.n_roots if params.n_roots >= 0 else None
+        from .growth import _core
+
+        core = _core(model, dom)
+        if core is not None:   # a band's strands start where the example's run (beyond the paper, issue 23)
+            return _in_core(model.roots.sample(dom, rng, n), core[1])
         return model.roots.sample(dom, rng, n)
     src = model.example
     sy, sx = 1.0, 1.0
@@ -234,6 +239,25 @@ def _default_starts(model: StructureModel, shape, guidance, params: SynthesisPar
             d = b.points[1] - b.points[0]
             out.append((float(b.points[0, 0] * sx), float(b.points[0, 1] * sy),
                         float(np.arctan2(d[1], d[0]))))
+    return out
+
+
+def _in_core(starts, dist: np.ndarray) -> list[tuple[float, float, float]]:
+    """Root ``starts`` of a band's strands moved to the nearest pixel of the band's core (``dist``: the
+    distance outside it, :func:`.growth._core`; beyond the paper, issue 23, branching66).
+
+    A strand root is drawn on the band domain's boundary at the example root's depth, but that domain
+    reaches a strand spacing past the strands: 2 of 2 seeds of a 256 px L band started their root
+    beside the band and ran the whole strand along its inner edge.
+    """
+    from scipy import ndimage as ndi
+
+    h, w = dist.shape
+    _d, (iy, ix) = ndi.distance_transform_edt(dist > 0, return_indices=True)
+    out = []
+    for x, y, a in starts:
+        yi, xi = int(np.clip(round(y), 0, h - 1)), int(np.clip(round(x), 0, w - 1))
+        out.append((float(ix[yi, xi]), float(iy[yi, xi]), a))
     return out
 
 
