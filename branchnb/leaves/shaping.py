@@ -200,9 +200,11 @@ def _remap_map(field, c):
     inside[..., 1] = np.clip(c[..., 1], 0, h - 1)
     out = _remap_values(field, inside)
     beyond = c - inside
-    if np.any(beyond):
-        out = out + (beyond @ _linear_part(field).T.astype(np.float32))
-    return out.astype(np.float32)
+    off = (beyond != 0).any(-1)
+    if off.any():
+        # Only the pixels past the edge (0 elsewhere: out + 0 is out), not a whole-canvas product.
+        out[off] += beyond[off] @ _linear_part(field).T.astype(np.float32)
+    return out.astype(np.float32, copy=False)
 
 
 def _remap_values(field, c):
