@@ -126,5 +126,10 @@ def rows(quick: bool = False) -> list[BenchRow]:
                         f"peak array memory {peak:.2f} GB (tracemalloc); target < 1 s and < 1 GB per leaf at ~1 MP "
                         "(CPU at load ~25: 0.4-0.7 s, 0.27 GB; preparation pass, interleaved CPU A/B at load ~20: "
                         "1.12 MP 0.94 -> 0.91, 0.88 -> 0.85 s per leaf, 0.30 MP 0.30 -> 0.29, 0.27 -> 0.26 s, "
-                        "traced peak 0.26 GB unchanged, the same leaves)"))
+                        "traced peak 0.26 GB unchanged, the same leaves; sampling pass (grain split and Lanczos "
+                        "on the source box, petiole on its output box, affine grids by row and column, the map "
+                        "continued past the canvas only there), interleaved CPU A/B at load ~20-40, 4 leaves "
+                        "after the caches: 1.12 MP 0.73 -> 0.57, 0.68 -> 0.63, 0.60 -> 0.56 s; 0.25 MP 0.16 -> "
+                        "0.14, 0.17 -> 0.14, 0.15 -> 0.14 s; 1.90 MP 1.12 -> 1.01 s; traced peak 0.229 -> 0.222 "
+                        "GB at 1.12 MP; 48 leaves at 0.25/1.12/1.90 MP bit-identical)"))
     return out

@@ -19,7 +19,7 @@ from ..core.image import extend_nearest
 from ..core.morphology import _binary_dilation, _binary_erosion
 from .flatart import _layer_lines, _replace_from_blade, drawn_outline, flat_art
 from .leftover import flatten_leftover, layer_strength, own_lines, parallel_lines
-from .shaping import _grid, _map_jacobian, _remap_map, _remap_values, _sample
+from .shaping import _affine_grid, _grid, _map_jacobian, _remap_map, _remap_values, _sample
 
 __all__ = ["registration_errors"]
 
@@ -516,8 +516,7 @@ class _Prepared:
         rot = to_exemplar
         # About the training centroid, the centre `posed` turns about, so a
         # blend of one exemplar gives back its own map.
-        q = (np.stack([self.xx, self.yy], -1).astype(np.float64) - self.centre_t) @ rot + self.centre_t
-        return _remap_map(self.from_exemplar[e], q.astype(np.float32))
+        return _remap_map(self.from_exemplar[e], _affine_grid(self.shape, rot.T, self.centre_t))
 
     def posed(self, upright: np.ndarray, weights, offset: float = 0.0) -> np.ndarray:
         """The blended upright map turned to the exemplars' mean pose (circular mean, ``weights``).
@@ -536,8 +535,7 @@ class _Prepared:
             return upright
         c, s = np.cos(theta), np.sin(theta)
         back = np.array([[c, s], [-s, c]])  # rotation by -theta: output pose -> upright frame
-        q = (np.stack([self.xx, self.yy], -1).astype(np.float64) - self.centre_t) @ back.T + self.centre_t
-        return _remap_map(upright, q.astype(np.float32))
+        return _remap_map(upright, _affine_grid(self.shape, back, self.centre_t))
 
     def _prepare_petioles(self):
         """Each exemplar's own petiole (RGBA, exemplar frame), its base and how its lamina meets the base.
@@ -626,9 +624,22 @@ class _Prepared:
                 rot = np.array([[np.cos(t), -np.sin(t)], [np.sin(t), np.cos(t)]])
         sim = rot * float(np.sqrt(sv.prod()))
         inv = np.linalg.inv(sim)
-        q = (np.stack([self.xx, self.yy], -1) - yb) @ inv.T + self.petiole_base[e]
         img, off = self.petiole_rgba[e]
-        return _sample(img, (q - off).astype(np.float32))
+        # Only the output box the petiole's own box lands in is sampled: beyond it the sample reads
+        # the box's transparent rim (replicated), 0 (a whole-canvas map per petiole was a tenth of
+        # a new leaf's time at 1 MP).
+        ph, pw = img.shape[:2]
+        corners = (np.array([[0, 0], [pw - 1, 0], [0, ph - 1], [pw - 1, ph - 1]], np.float64) + off
+                   - self.petiole_base[e]) @ sim.T + yb
+        h, w = self.shape
+        x0, y0 = (max(0, int(np.floor(v)) - 2) for v in corners.min(0))
+        x1, y1 = min(w, int(np.ceil(corners[:, 0].max())) + 3), min(h, int(np.ceil(corners[:, 1].max())) + 3)
+        out = np.zeros(self.shape + (img.shape[2],), np.float32)
+        if x0 < x1 and y0 < y1:
+            box = (slice(y0, y1), slice(x0, x1))
+            q = (np.stack([self.xx[box], self.yy[box]], -1) - yb) @ inv.T + self.petiole_base[e]
+            out[box] = _sample(img, (q - off).astype(np.float32))
+        return out
 
     def _lamina_axis(self, m: np.ndarray, yb) -> np.ndarray | None:
         """The new lamina's axis (from the base ``yb`` to its centroid) under the shape map ``m``, or None.

@@ -143,6 +143,20 @@ def _grid(shape):
     xx, yy = np.meshgrid(np.arange(w, dtype=np.float32), np.arange(h, dtype=np.float32))
     return xx, yy
 
+def _affine_grid(shape, lin, centre) -> np.ndarray:
+    """``(y - centre) @ lin.T + centre`` for every pixel ``y`` (x, y) of ``shape``, as float32 (H, W, 2).
+
+    Row and column terms apart (float64, then one add per pixel): the whole-canvas float64 stack
+    and matrix product were a tenth of a new leaf's time at 1 MP.
+    """
+    h, w = int(shape[0]), int(shape[1])
+    lin = np.asarray(lin, np.float64)
+    centre = np.asarray(centre, np.float64)
+    cols = (np.arange(w, dtype=np.float64) - centre[0])[:, None] * lin[:, 0]  # (W, 2): x's part
+    rows = (np.arange(h, dtype=np.float64) - centre[1])[:, None] * lin[:, 1] + centre  # (H, 2)
+    return (cols[None] + rows[:, None]).astype(np.float32)
+
+
 def _map_jacobian(field: np.ndarray, point) -> np.ndarray:
     """2 x 2 Jacobian of a dense coordinate map ``field`` (H, W, 2) at ``point`` (x, y), by central differences."""
     h, w = field.shape[:2]
@@ -186,9 +200,11 @@ def _remap_map(field, c):
     inside[..., 1] = np.clip(c[..., 1], 0, h - 1)
     out = _remap_values(field, inside)
     beyond = c - inside
-    if np.any(beyond):
-        out = out + (beyond @ _linear_part(field).T.astype(np.float32))
-    return out.astype(np.float32)
+    off = (beyond != 0).any(-1)
+    if off.any():
+        # Only the pixels past the edge (0 elsewhere: out + 0 is out), not a whole-canvas product.
+        out[off] += beyond[off] @ _linear_part(field).T.astype(np.float32)
+    return out.astype(np.float32, copy=False)
 
 
 def _remap_values(field, c):
@@ -228,20 +244,46 @@ def _sample_sharp(img, c):
     return np.clip(out, 0.0, 1.0)
 
 
-def _picked(img, c, where, interpolation):
-    """``img`` remapped at the pixels of ``where`` only, as (n, C) values (no clipping)."""
-    ch = img.shape[2] if img.ndim == 3 else 1
+def _picks(c, where):
+    """The flat indices of ``where`` and the coordinates ``c`` there, as two float32 vectors."""
     idx = np.flatnonzero(where)
-    n = idx.size
+    c = np.asarray(c, np.float32)
+    return idx, c[..., 0].reshape(-1)[idx], c[..., 1].reshape(-1)[idx]
+
+
+def _picked(img, px, py, interpolation):
+    """``img`` remapped at the coordinates ``(px, py)`` (vectors) only, as (n, C) values (no clipping)."""
+    ch = img.shape[2] if img.ndim == 3 else 1
+    n = px.size
     # The picked coordinates as a (rows, 1024) map (OpenCV maps are < 32767 on a side), padded.
     rows = -(-n // 1024)
     maps = []
-    for i in (0, 1):
+    for v0 in (px, py):
         v = np.zeros(rows * 1024, np.float32)
-        v[:n] = c[..., i].reshape(-1)[idx]
+        v[:n] = v0
         maps.append(v.reshape(rows, 1024))
     vals = cv2.remap(img, maps[0], maps[1], interpolation, borderMode=cv2.BORDER_REPLICATE)
     return vals.reshape(-1, ch)[:n]
+
+
+def _source_box(img, px, py, margin: int):
+    """``img`` cut to the box of the coordinates ``(px, py)`` plus ``margin`` px, and the box's (x0, y0).
+
+    The box's corner is a whole pixel, so ``px - x0`` is exact in float32 and a remap of the box at
+    the shifted coordinates reads the same pixels with the same weights; a box side that reaches
+    the image's edge keeps it (the replicated border is the same). ``(img, None)`` when the box is
+    the whole image.
+    """
+    h, w = img.shape[:2]
+    if not (np.isfinite(px).all() and np.isfinite(py).all()):
+        return img, None
+    x0 = max(0, int(np.floor(max(float(px.min()), -1.0))) - margin)
+    y0 = max(0, int(np.floor(max(float(py.min()), -1.0))) - margin)
+    x1 = min(w, int(np.ceil(min(float(px.max()), float(w)))) + margin + 1)
+    y1 = min(h, int(np.ceil(min(float(py.max()), float(h)))) + margin + 1)
+    if x0 >= x1 or y0 >= y1 or (x0 == 0 and y0 == 0 and x1 == w and y1 == h):
+        return img, None
+    return img[y0:y1, x0:x1], (np.float32(x0), np.float32(y0))
 
 
 def _sample_sharp_at(img, c, where):
@@ -252,13 +294,21 @@ def _sample_sharp_at(img, c, where):
     resampling of every channel over the whole canvas was half the time of
     a new leaf at a megapixel.
     """
-    img = np.ascontiguousarray(img, np.float32)
     ch = img.shape[2] if img.ndim == 3 else 1
     out = np.zeros(where.shape + (ch,), np.float32)
     if not where.any():
         return out
-    out.reshape(-1, ch)[np.flatnonzero(where)] = np.clip(_picked(img, c, where, cv2.INTER_LANCZOS4), 0.0, 1.0)
+    idx, px, py = _picks(c, where)
+    img, off = _source_box(img, px, py, _LANCZOS_REACH)  # the same samples (see _sample_grain_at)
+    if off is not None:
+        px, py = px - off[0], py - off[1]
+    img = np.ascontiguousarray(img, np.float32)
+    out.reshape(-1, ch)[idx] = np.clip(_picked(img, px, py, cv2.INTER_LANCZOS4), 0.0, 1.0)
     return out
+
+
+#: Pixels a Lanczos-4 sample reads on either side of its coordinate (and a margin).
+_LANCZOS_REACH = 5
 
 
 #: Gaussian sigma (px) splitting an image into the band resampled smoothly and its grain
@@ -281,18 +331,25 @@ def _sample_grain_at(img, c, where, sigma: float = GRAIN_SIGMA):
     keeps its variance, while the edges of veins and spots, in the low
     band, still move smoothly (sub-pixel, no stair steps).
     """
-    img = np.ascontiguousarray(img, np.float32)
     ch = img.shape[2] if img.ndim == 3 else 1
     out = np.zeros(where.shape + (ch,), np.float32)
     if not where.any():
         return out
+    idx, px, py = _picks(c, where)
+    # Only the source box the picked pixels read (Lanczos taps, the blur's kernel) is split into its
+    # bands: the same values as on the whole image (a float16 stage image turned to float32 and
+    # blurred over the canvas was a fifth of a new leaf's time at 1 MP).
+    img, off = _source_box(img, px, py, _LANCZOS_REACH + int(np.ceil(4 * float(sigma))) + 1)
+    if off is not None:
+        px, py = px - off[0], py - off[1]
+    img = np.ascontiguousarray(img, np.float32)
     low = cv2.GaussianBlur(img, (0, 0), float(sigma))
     # Rounded half up here (OpenCV's nearest rounds x.5 either way from pixel to pixel: a shift of
     # half a pixel doubled every other grain pixel and kept 0.28 of its Laplacian variance).
-    whole = np.floor(np.asarray(c, np.float32) + np.float32(0.5))
-    vals = _picked(low, c, where, cv2.INTER_LANCZOS4) + _picked(np.ascontiguousarray(img - low), whole, where,
-                                                                cv2.INTER_NEAREST)
-    out.reshape(-1, ch)[np.flatnonzero(where)] = np.clip(vals, 0.0, 1.0)
+    half = np.float32(0.5)
+    vals = _picked(low, px, py, cv2.INTER_LANCZOS4) + _picked(np.ascontiguousarray(img - low), np.floor(px + half),
+                                                              np.floor(py + half), cv2.INTER_NEAREST)
+    out.reshape(-1, ch)[idx] = np.clip(vals, 0.0, 1.0)
     return out
 
 
@@ -346,5 +403,9 @@ def _fit_size(p, m, size_from: int, shrink: float = 1.0, scale: float = 1.0) -> 
     shift = np.maximum(margin - lo_k, 0.0) - np.maximum(hi_k - (np.array([w - 1.0, h - 1.0]) - margin), 0.0)
     if abs(k - 1.0) < 1e-6 and not np.any(shift):
         return m
-    q = (np.stack([p.xx, p.yy], -1) - (ctr + shift).astype(np.float32)) / np.float32(k) + ctr.astype(np.float32)
-    return _remap_map(m, q.astype(np.float32))
+    # Each coordinate depends on its own axis only: the same float32 steps on a row and a column.
+    s32, c32, k32 = (ctr + shift).astype(np.float32), ctr.astype(np.float32), np.float32(k)
+    q = np.empty((h, w, 2), np.float32)
+    q[..., 0] = (np.arange(w, dtype=np.float32) - s32[0]) / k32 + c32[0]
+    q[..., 1] = ((np.arange(h, dtype=np.float32) - s32[1]) / k32 + c32[1])[:, None]
+    return _remap_map(m, q)

@@ -649,7 +649,10 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
         rgb, alpha = _ink_outline(rgb, alpha, p.flat)
         if own is not None:
             rgb[pet_own] = _to_palette(own, p.flat.palette, p.flat.hard) if len(p.flat.palette) else own
-    img = np.dstack([np.clip(rgb, 0, 1) * (alpha[..., None] > 0), alpha]).astype(np.float32)
+    img = np.empty(shape + (4,), np.float32)  # written in place: no whole-canvas temporaries
+    np.clip(rgb, 0, 1, out=img[..., :3])
+    img[..., :3] *= (alpha > 0)[..., None]
+    img[..., 3] = alpha
     inside = alpha > 0.5
     sw = [float(wts[i][inside].mean()) if inside.any() else float(wts[i].mean()) for i in range(n)]
     return GeneratedLeaf(img, int(seed), bg, chosen, sw, warps, pet_from)
