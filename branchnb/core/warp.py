@@ -203,3 +203,34 @@ def remap(image, map_x, map_y) -> tuple[np.ndarray, np.ndarray]:
     h, w = img.shape[:2]
     valid = (mx >= -0.5) & (mx <= w - 0.5) & (my >= -0.5) & (my <= h - 0.5)
     return out.astype(np.float32), valid
+
+
+#: OpenCV's remap asserts each side of its output is under SHRT_MAX.
+_REMAP_ROW = 4096
+
+
+def _remap_points(image, xs, ys, *, interpolation: int = cv2.INTER_LINEAR,
+                  border_mode: int = cv2.BORDER_REPLICATE, border_value: float = 0.0) -> np.ndarray:
+    """``cv2.remap`` of ``image`` at N points ``(xs[i], ys[i])``, any N.
+
+    The points are laid out as rows of :data:`_REMAP_ROW` (one row of N
+    failed OpenCV's SHRT_MAX assertion past 32766 points: a 2 MP leaf's
+    carried contour). Returns ``(N,)`` or ``(N, C)`` like ``cv2.remap``'s
+    single-row output.
+    """
+    xs = np.asarray(xs, np.float32).ravel()
+    ys = np.asarray(ys, np.float32).ravel()
+    n = xs.size
+    if n == 0:
+        img = np.asarray(image)
+        return np.zeros((0,) + img.shape[2:3], img.dtype)
+    if n <= _REMAP_ROW:
+        out = cv2.remap(image, xs[None], ys[None], interpolation, borderMode=border_mode, borderValue=border_value)
+        return out[0]
+    rows = -(-n // _REMAP_ROW)
+    pad = rows * _REMAP_ROW - n
+    mx = np.concatenate([xs, np.zeros(pad, np.float32)]).reshape(rows, _REMAP_ROW)
+    my = np.concatenate([ys, np.zeros(pad, np.float32)]).reshape(rows, _REMAP_ROW)
+    out = cv2.remap(image, mx, my, interpolation, borderMode=border_mode, borderValue=border_value)
+    return out.reshape((rows * _REMAP_ROW,) + out.shape[2:])[:n]
+

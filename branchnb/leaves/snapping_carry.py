@@ -59,11 +59,9 @@ def carry_points(registration, points) -> np.ndarray:
     mp = getattr(registration, "map_to_training", None)
     if mp is None:
         return np.asarray(registration.inverse(pts), np.float64)
-    import cv2
-    mp = np.asarray(mp, np.float32)
-    out = cv2.remap(mp, pts[:, 0].astype(np.float32)[None], pts[:, 1].astype(np.float32)[None],
-                    cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
-    return out[0].astype(np.float64)
+    from ..core.warp import _remap_points
+    out = _remap_points(np.asarray(mp, np.float32), pts[:, 0], pts[:, 1])
+    return out.astype(np.float64)
 
 
 def blade_box(blade, pad: int) -> tuple[int, int, int, int]:

@@ -7,6 +7,7 @@ import numpy as np
 
 from ..core.image import as_mask
 from ..core.morphology import _binary_erosion, fill_holes
+from ..core.warp import _remap_points
 from .snapping_fit import _densify, _pivot_ends, _stamp
 
 
@@ -73,8 +74,8 @@ def refine_carried(chains, evidence, blade, *, reach: float, nodes: int = 5, ite
         step = max(0.25, s / 4.0)
         for _ in range(int(iterations)):
             q = (allp + wts @ disp).astype(np.float32)
-            sx = cv2.remap(gx, q[:, 0][None], q[:, 1][None], cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT)[0]
-            sy = cv2.remap(gy, q[:, 0][None], q[:, 1][None], cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT)[0]
+            sx = _remap_points(gx, q[:, 0], q[:, 1], border_mode=cv2.BORDER_CONSTANT)
+            sy = _remap_points(gy, q[:, 0], q[:, 1], border_mode=cv2.BORDER_CONSTANT)
             grad = wts.T @ np.column_stack([sx, sy]) / np.maximum(mass, 1e-9)[:, None]
             norm = float(np.abs(grad).max())
             if norm <= 1e-12:
