@@ -249,6 +249,76 @@ def pick_offset(offsets: np.ndarray, used: np.ndarray, off: float, a_p: float, t
     return int(cand[np.argmin(np.abs(o[cand] - off))])
 
 
+def tail_share(example: Structure, domain: np.ndarray) -> float:
+    """Where a delta's trunk ends and turns into one of its channels, as a share of its depth.
+
+    Beyond the paper (issue 23, branching65): the example's longest root runs on past its first
+    furcation (often a dry side arm, :func:`head_share`) to the delta's head, where its first channel
+    that reaches the sea parts; below it the root is one of the fan's channels, not a trunk carrying on
+    in the fan's middle.
+
+    Parameters
+    ----------
+    example : Structure
+        The example's structure.
+    domain : (H, W) array_like of bool
+        Where it may grow (the land); depth is the distance to its boundary.
+
+    Returns
+    -------
+    float
+        Depth of the longest root's first child that reaches the sea (its subtree within
+        :data:`SEA_SHARE` x the deepest depth of it) over the depth of that root's start; 0 when the root
+        does not reach the sea or no child of it does.
+
+    Examples
+    --------
+    >>> from branchnb.core.structure import Branch, Structure
+    >>> dom = np.zeros((100, 100), bool); dom[:80] = True
+    >>> s = Structure([Branch([(50, 0), (50, 40), (20, 79)], 2.0), Branch([(50, 40), (80, 79)], 1.0, 0, 1)])
+    >>> round(tail_share(s, dom), 2)
+    0.5
+    """
+    dom = np.asarray(domain, bool)
+    if dom.all() or not dom.any():
+        return 0.0
+    depth = ndi.distance_transform_edt(dom)
+    h, w = dom.shape
+    roots = [i for i, b in enumerate(example.branches) if b.parent is None and len(b.points) >= 2]
+    idx, _ends = _mouths(example, depth)
+    if not roots:
+        return 0.0
+    r = max(roots, key=lambda i: float(np.hypot(*np.diff(np.asarray(example.branches[i].points, np.float64),
+                                                        axis=0).T).sum()))
+    wet = set(idx)
+    if r not in wet:
+        return 0.0
+    kids: dict[int, list[int]] = {}
+    for i, b in enumerate(example.branches):
+        if b.parent is not None:
+            kids.setdefault(int(b.parent), []).append(i)
+
+    def reaches(i: int) -> bool:
+        todo = [i]
+        while todo:
+            j = todo.pop()
+            if j in wet:
+                return True
+            todo.extend(kids.get(j, []))
+        return False
+
+    verts = [example.branches[c].parent_vertex for c in kids.get(r, [])
+             if example.branches[c].parent_vertex is not None and reaches(c)]
+    if not verts:
+        return 0.0
+    p = np.asarray(example.branches[r].points, np.float64)
+    ix = np.clip(np.rint(p).astype(np.int64), 0, [w - 1, h - 1])
+    d = depth[ix[:, 1], ix[:, 0]]
+    if d[0] <= 0:
+        return 0.0
+    return float(d[min(int(min(verts)), len(d) - 1)] / d[0])
+
+
 def head_share(example, domain) -> float:
     """Where a delta's channels part, as a share of its trunk's depth.
 

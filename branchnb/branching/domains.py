@@ -234,6 +234,18 @@ FAN_SPLIT_MIN = float(np.radians(10.0))
 #: spread 23.8 -> 16.5 against 24.0, lowest seed 7.3) and the trunk bearing error of fan0/delta 300 px rose
 #: 3.6/9.1 -> 11.1/12.6 degrees.
 TRUNK_TAIL = False
+#: A delta whose trunk runs down the descent (no axis, :data:`AXIS_MIN`): below the depth where the example's
+#: longest root lets its first channel that reaches the sea part (:func:`.delta_fan.tail_share` of its start's
+#: depth) the trunk turns into one of the fan's channels, on the example's root's heading at the sea off the
+#: descent (:func:`.delta_fan.root_offset`), and the trunk's channels take the example's other headings there
+#: (:meth:`_Drain.bearing`). Beyond the paper (issue 23, branching65): the trunk went on down the descent in
+#: the fan's middle, a channel the example does not have (``delta`` kind, fan spread 27-36 degrees against
+#: the example's 39-50, ``_delta_fan_check bottom 300,512,1024 3``). Only when the example's root reaches the
+#: sea at least :data:`FAN_SPLIT_MIN` off the descent (a root that carries on in the middle keeps the old rule),
+#: and the heading is capped at :data:`TAIL_MAX` off the descent so the trunk meets the coast steeply, never
+#: along it.
+STRAIGHT_TAIL = True
+TAIL_MAX = float(np.radians(60.0))
 
 
 class _Drain:
@@ -300,6 +312,9 @@ class _Drain:
         self.tail: float | None = None
         self.tail_depth: float | None = None
         self._tail_dir: np.ndarray | None = None
+        #: where the trunk takes ``tail`` as a share of its start's depth (None: the delta's head,
+        #: :func:`.delta_fan.head_share`; :data:`STRAIGHT_TAIL`)
+        self.tail_share: float | None = None
 
     def set_tail_depth(self, depth: float) -> None:
         """Below ``depth`` (the delta's head on the synthesized trunk) the trunk takes the example's root's
@@ -329,7 +344,11 @@ class _Drain:
         dn = np.mean([self.descent(start + t * v) for t in np.linspace(0.0, 1.0, 17)], axis=0)
         dn = dn / max(float(np.hypot(*dn)), 1e-9)
         if float(np.arccos(np.clip(axis @ dn, -1.0, 1.0))) < AXIS_MIN:
-            return   # a trunk along the descent: the descent's rules (tuned on such deltas) stay
+            # a trunk along the descent: the descent's rules (tuned on such deltas) stay, but the trunk
+            # turns into one of the fan's channels below the delta's head (STRAIGHT_TAIL)
+            if STRAIGHT_TAIL:
+                self._straight_tail(example, dom, dn)
+            return
         self.axis = axis
         self.target = target if dom.shape == self.shape else None
         off = fan_offsets(example, dom, self.axis)
@@ -340,6 +359,24 @@ class _Drain:
             tail = root_offset(example, dom, self.axis) if TRUNK_TAIL else None
             self.tail = tail
             self.used[int(np.argmin(np.abs(off - (0.0 if tail is None else tail))))] += 1.0
+
+    def _straight_tail(self, example, dom: np.ndarray, dn: np.ndarray) -> None:
+        """:data:`STRAIGHT_TAIL`: the example's root's heading at the sea and its channels' headings, off the
+        descent's mean direction ``dn`` along the axis, and the depth share where the trunk takes the former."""
+        from .delta_fan import fan_offsets, root_offset, tail_share
+
+        tail = root_offset(example, dom, dn)
+        share = tail_share(example, dom)
+        if tail is None or abs(tail) < FAN_SPLIT_MIN or share <= 0.0:
+            return
+        off = fan_offsets(example, dom, dn)
+        if len(off) < 2:
+            return
+        self.tail = float(np.clip(tail, -TAIL_MAX, TAIL_MAX))
+        self.tail_share = share
+        self.offsets = off
+        self.used = np.zeros(len(off))
+        self.used[int(np.argmin(np.abs(off - tail)))] += 1.0
 
     def _ref(self, at) -> float:
         """Angle of the direction the fan's bearings are measured from: the axis, else the descent."""
@@ -465,13 +502,15 @@ class _Drain:
         (:data:`FAN_WEIGHT`) with the channel's own bearing ``fan`` (:meth:`bearing`) when given,
         else with the direction away from the apex once one is set."""
         at = np.asarray(at, np.float64)
+        if fan is None and self.tail is not None and self.tail_depth is not None \
+                and self.depth_at(at)[0] <= self.tail_depth:
+            # below the delta's head a trunk runs on the example's root's heading at the sea (TRUNK_TAIL,
+            # STRAIGHT_TAIL)
+            if self._tail_dir is None:
+                self._tail_dir = self._to_sea(at, self._ref(at), self.tail)
+            return self._tail_dir.copy()
         if fan is None and self.axis is not None:
-            # a trunk heads for the example's mouths (set_axis), along its axis once near them; below the
-            # delta's head on the example's root's heading there (TRUNK_TAIL)
-            if self.tail is not None and self.tail_depth is not None and self.depth_at(at)[0] <= self.tail_depth:
-                if self._tail_dir is None:
-                    self._tail_dir = self._to_sea(at, self._ref(at), self.tail)
-                return self._tail_dir.copy()
+            # a trunk heads for the example's mouths (set_axis), along its axis once near them
             if self.target is not None:
                 r = self.target - at
                 n = float(np.hypot(*r))
