@@ -276,10 +276,6 @@ class _Starts:
         if self._head is None:
             m = self.model
             self._head = 0.0 if m.domain is None else head_share(m.example, m.domain)
-            if self.drain is not None and self.drain.tail_share is not None:
-                # the trunk turns into a channel where the example's first wet channel parts
-                # (domains.STRAIGHT_TAIL): the fan's channels part there too, not at a dry arm above it
-                self._head = self.drain.tail_share
         return self._head
 
 

@@ -237,13 +237,13 @@ TRUNK_TAIL = False
 #: A delta whose trunk runs down the descent (no axis, :data:`AXIS_MIN`): below the depth where the example's
 #: longest root lets its first channel that reaches the sea part (:func:`.delta_fan.tail_share` of its start's
 #: depth) the trunk turns into one of the fan's channels, on the example's root's heading at the sea off the
-#: descent (:func:`.delta_fan.root_offset`), and the trunk's channels take the example's other headings there
-#: (:meth:`_Drain.bearing`). Beyond the paper (issue 23, branching65): the trunk went on down the descent in
-#: the fan's middle, a channel the example does not have (``delta`` kind, fan spread 27-36 degrees against
-#: the example's 39-50, ``_delta_fan_check bottom 300,512,1024 3``). Only when the example's root reaches the
-#: sea at least :data:`FAN_SPLIT_MIN` off the descent (a root that carries on in the middle keeps the old rule),
-#: and the heading is capped at :data:`TAIL_MAX` off the descent so the trunk meets the coast steeply, never
-#: along it.
+#: descent (:func:`.delta_fan.root_offset`). Beyond the paper (issue 23, branching65): the trunk went on down
+#: the descent in the fan's middle, a channel the example does not have, so the fan stayed narrow (``delta``
+#: kind 512/1024 px, fan spread median 28/31 degrees against the example's 50/46; now 44/44, ``python -m
+#: branchnb.branching._delta_fan_check bottom 300,512,1024 3``). Only when the example's root reaches the sea
+#: at least :data:`FAN_SPLIT_MIN` off the descent (a root that carries on in the middle keeps the old rule), the
+#: heading capped at :data:`TAIL_MAX` off the descent so the trunk meets the coast steeply, never along it
+#: (``_delta_fan_check``'s coast share).
 STRAIGHT_TAIL = True
 TAIL_MAX = float(np.radians(60.0))
 
@@ -361,22 +361,19 @@ class _Drain:
             self.used[int(np.argmin(np.abs(off - (0.0 if tail is None else tail))))] += 1.0
 
     def _straight_tail(self, example, dom: np.ndarray, dn: np.ndarray) -> None:
-        """:data:`STRAIGHT_TAIL`: the example's root's heading at the sea and its channels' headings, off the
+        """:data:`STRAIGHT_TAIL`: the example's root's heading at the sea, off the
         descent's mean direction ``dn`` along the axis, and the depth share where the trunk takes the former."""
-        from .delta_fan import fan_offsets, root_offset, tail_share
+        from .delta_fan import root_offset, tail_share
 
         tail = root_offset(example, dom, dn)
         share = tail_share(example, dom)
         if tail is None or abs(tail) < FAN_SPLIT_MIN or share <= 0.0:
             return
-        off = fan_offsets(example, dom, dn)
-        if len(off) < 2:
-            return
+        # the channels keep the descent's bearings (spread about it): taken from the example's headings
+        # (set_axis) they bunched on one side of the trunk, and parting at the trunk's turn (not at the
+        # example's first furcation) squashed the fan against the coast
         self.tail = float(np.clip(tail, -TAIL_MAX, TAIL_MAX))
         self.tail_share = share
-        self.offsets = off
-        self.used = np.zeros(len(off))
-        self.used[int(np.argmin(np.abs(off - tail)))] += 1.0
 
     def _ref(self, at) -> float:
         """Angle of the direction the fan's bearings are measured from: the axis, else the descent."""
