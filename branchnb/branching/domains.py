@@ -502,7 +502,11 @@ class _Drain:
         if fan is None and self.tail is not None and self.tail_depth is not None \
                 and self.depth_at(at)[0] <= self.tail_depth:
             # below the delta's head a trunk runs on the example's root's heading at the sea (TRUNK_TAIL,
-            # STRAIGHT_TAIL)
+            # STRAIGHT_TAIL); turned toward the descent from where it is now when a straight run would meet
+            # the frame first (taken once at the head, a 256 px delta's trunk drifted into a corner of the
+            # frame and its last channel left it upstream)
+            if self.axis is None:
+                return self._to_sea(at, self._ref(at), self.tail)
             if self._tail_dir is None:
                 self._tail_dir = self._to_sea(at, self._ref(at), self.tail)
             return self._tail_dir.copy()

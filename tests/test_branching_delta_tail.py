@@ -1,0 +1,75 @@
+"""Issue 23 (branching65): a straight delta's trunk turns into one of its fan's channels where the example's
+does, instead of carrying on to the sea in the fan's middle; it meets the coast steeply, never along it."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from branchnb.branching import example_domain, extract_structure, fit_model, synthesize_structure
+from branchnb.branching._delta_fan_check import coast_share
+from branchnb.branching._map_examples import delta_mask_example
+from branchnb.branching._structure_check import sea_bearings_inland
+from branchnb.branching.delta_fan import root_offset, tail_share
+from branchnb.branching.domains import _Drain
+from branchnb.core.structure import Branch, Structure
+
+
+def _bent_delta() -> tuple[Structure, np.ndarray]:
+    """A trunk down the middle that turns 50 degrees off the descent at depth 40, a channel parting there."""
+    dom = np.zeros((200, 200), bool)
+    dom[:160] = True
+    t = np.tan(np.radians(50.0))
+    y = np.arange(0.0, 121.0, 2.0)
+    down = np.c_[np.full_like(y, 100.0), y]
+    v = np.linspace(0.0, 1.0, 21)[1:, None]
+    root = Branch(np.r_[down, (100.0, 120.0) + v * (-39 * t, 39.0)], 3.0)
+    kid = Branch((100.0, 120.0) + np.r_[[[0.0]], v] * (39.0, 39.0), 1.5, 0, len(down) - 1)
+    return Structure([root, kid]), dom
+
+
+def test_tail_share_is_where_the_first_wet_channel_parts():
+    s, dom = _bent_delta()
+    assert tail_share(s, dom) == pytest.approx(40.0 / 160.0, abs=0.02)
+    # a root that ends inland has no tail
+    s2 = Structure([Branch([(100, 0), (100, 100)], 3.0), Branch([(100, 100), (140, 159)], 1.5, 0, 1)])
+    assert tail_share(s2, dom) == 0.0
+
+
+def test_trunk_takes_the_example_roots_heading_below_the_head():
+    s, dom = _bent_delta()
+    d = _Drain(dom)
+    d.set_axis(s, dom)
+    assert d.axis is None                           # a straight delta: the descent's rules
+    assert d.tail is not None and abs(np.degrees(d.tail)) == pytest.approx(50.0, abs=6.0)
+    d.set_tail_depth(d.tail_share * float(d.depth_at((100, 0))[0]))
+    up, low = d.way_down((100, 60)), d.way_down((100, 135))
+    assert up[1] > 0.95                             # above the head: down the descent
+    assert abs(np.degrees(np.arctan2(low[0], low[1]))) > 35.0   # below: off to one side, toward the sea
+    assert low[1] > 0.5                                         # ... and steeply, not along the coast
+
+
+@pytest.fixture(scope="module")
+def straight_delta():
+    mask = delta_mask_example((300, 300), 303)[0]
+    img = np.dstack([mask] * 3)
+    ex = extract_structure(img)
+    dom = example_domain(img, ex)
+    return dom, fit_model(ex, domain=dom)
+
+
+def test_synthesized_trunk_turns_into_a_channel(straight_delta):
+    dom, model = straight_delta
+    ex_off = root_offset(model.example, dom, (0.0, 1.0))
+    assert ex_off is not None and abs(np.degrees(ex_off)) > 30.0
+    offs, fans = [], []
+    for seed in range(3):
+        s = synthesize_structure(model, rng=seed).structure
+        off = root_offset(s, dom, (0.0, 1.0))
+        offs.append(np.nan if off is None else abs(np.degrees(off)))
+        fans.append(sea_bearings_inland(s, dom)[0])
+        assert coast_share(s, dom) <= 0.02          # the trunk never runs along the coast
+    # main: the trunk reached the sea in the fan's middle (0-10 degrees off the descent)
+    assert np.nanmin(offs) > 20.0, offs
+    ex_fan = sea_bearings_inland(model.example, dom)[0]
+    assert np.median(fans) >= 0.78 * ex_fan, (fans, ex_fan)
