@@ -375,6 +375,10 @@ class _Drain:
         self.tail = float(np.clip(tail, -TAIL_MAX, TAIL_MAX))
         self.tail_share = share
 
+    def _in_tail(self, at) -> bool:
+        """Is ``at`` below the depth where a trunk takes the example's root's heading (:meth:`way_down`)?"""
+        return self.tail is not None and self.tail_depth is not None and self.depth_at(at)[0] <= self.tail_depth
+
     def _ref(self, at) -> float:
         """Angle of the direction the fan's bearings are measured from: the axis, else the descent."""
         d = self.descent(at) if self.axis is None else self.axis
@@ -499,8 +503,7 @@ class _Drain:
         (:data:`FAN_WEIGHT`) with the channel's own bearing ``fan`` (:meth:`bearing`) when given,
         else with the direction away from the apex once one is set."""
         at = np.asarray(at, np.float64)
-        if fan is None and self.tail is not None and self.tail_depth is not None \
-                and self.depth_at(at)[0] <= self.tail_depth:
+        if fan is None and self._in_tail(at):
             # below the delta's head a trunk runs on the example's root's heading at the sea (TRUNK_TAIL,
             # STRAIGHT_TAIL); turned toward the descent from where it is now when a straight run would meet
             # the frame first (taken once at the head, a 256 px delta's trunk drifted into a corner of the
@@ -573,7 +576,7 @@ class _Drain:
         """Score factor of a trunk's candidates ending at ``end`` ((C, 2)) from ``tip`` when the delta has
         an axis (:meth:`set_axis`): ``exp(-TRUNK_HOLD a)``, ``a`` the angle of the chord off the way to the
         example's mouths (1 without an axis)."""
-        if self.axis is None or TRUNK_HOLD <= 0:
+        if (self.axis is None and not self._in_tail(tip)) or TRUNK_HOLD <= 0:
             return np.ones(len(end))
         tip = np.asarray(tip, np.float64)
         wd = self.way_down(tip)
@@ -614,7 +617,9 @@ class _Drain:
                 o2 = np.where(np.hypot(c2[:, 0], c2[:, 1]) > 4.0, o2, 0.0)
                 off = np.maximum(off, FAN_WHOLE * o2)
             f = f * np.exp(-pull * FAN_HOLD * off)
-        elif self.axis is not None and TRUNK_HOLD > 0:
+        elif (self.axis is not None or self._in_tail(tip)) and TRUNK_HOLD > 0:
+            # a straight delta's trunk is held to its tail too (STRAIGHT_TAIL): the pull alone let the
+            # matching keep it on the descent (fan0 512 px: 6-22 degrees off it at the sea against 48)
             f = f * self.trunk_hold(tip, end, pull)
         f = np.where(cos < UPSTREAM_COS, 0.0, f)
         if start is not None:
