@@ -10,7 +10,7 @@ from branchnb.branching import example_domain, extract_structure, fit_model, syn
 from branchnb.branching._delta_fan_check import coast_share
 from branchnb.branching._map_examples import delta_mask_example
 from branchnb.branching._structure_check import sea_bearings_inland
-from branchnb.branching.delta_fan import root_offset, tail_share
+from branchnb.branching.delta_fan import _tail_share, root_offset
 from branchnb.branching.domains import _Drain
 from branchnb.core.structure import Branch, Structure
 
@@ -30,10 +30,10 @@ def _bent_delta() -> tuple[Structure, np.ndarray]:
 
 def test_tail_share_is_where_the_first_wet_channel_parts():
     s, dom = _bent_delta()
-    assert tail_share(s, dom) == pytest.approx(40.0 / 160.0, abs=0.02)
+    assert _tail_share(s, dom) == pytest.approx(40.0 / 160.0, abs=0.02)
     # a root that ends inland has no tail
     s2 = Structure([Branch([(100, 0), (100, 100)], 3.0), Branch([(100, 100), (140, 159)], 1.5, 0, 1)])
-    assert tail_share(s2, dom) == 0.0
+    assert _tail_share(s2, dom) == 0.0
 
 
 def test_trunk_takes_the_example_roots_heading_below_the_head():

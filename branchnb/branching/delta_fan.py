@@ -249,7 +249,7 @@ def pick_offset(offsets: np.ndarray, used: np.ndarray, off: float, a_p: float, t
     return int(cand[np.argmin(np.abs(o[cand] - off))])
 
 
-def tail_share(example: Structure, domain: np.ndarray) -> float:
+def _tail_share(example: Structure, domain: np.ndarray) -> float:
     """Where a delta's trunk ends and turns into one of its channels, as a share of its depth.
 
     Beyond the paper (issue 23, branching65): the example's longest root runs on past its first
@@ -276,7 +276,7 @@ def tail_share(example: Structure, domain: np.ndarray) -> float:
     >>> from branchnb.core.structure import Branch, Structure
     >>> dom = np.zeros((100, 100), bool); dom[:80] = True
     >>> s = Structure([Branch([(50, 0), (50, 40), (20, 79)], 2.0), Branch([(50, 40), (80, 79)], 1.0, 0, 1)])
-    >>> round(tail_share(s, dom), 2)
+    >>> round(_tail_share(s, dom), 2)
     0.5
     """
     dom = np.asarray(domain, bool)

@@ -235,7 +235,7 @@ FAN_SPLIT_MIN = float(np.radians(10.0))
 #: 3.6/9.1 -> 11.1/12.6 degrees.
 TRUNK_TAIL = False
 #: A delta whose trunk runs down the descent (no axis, :data:`AXIS_MIN`): below the depth where the example's
-#: longest root lets its first channel that reaches the sea part (:func:`.delta_fan.tail_share` of its start's
+#: longest root lets its first channel that reaches the sea part (:func:`.delta_fan._tail_share` of its start's
 #: depth) the trunk turns into one of the fan's channels, on the example's root's heading at the sea off the
 #: descent (:func:`.delta_fan.root_offset`). Beyond the paper (issue 23, branching65): the trunk went on down
 #: the descent in the fan's middle, a channel the example does not have, so the fan stayed narrow (``delta``
@@ -363,10 +363,10 @@ class _Drain:
     def _straight_tail(self, example, dom: np.ndarray, dn: np.ndarray) -> None:
         """:data:`STRAIGHT_TAIL`: the example's root's heading at the sea, off the
         descent's mean direction ``dn`` along the axis, and the depth share where the trunk takes the former."""
-        from .delta_fan import root_offset, tail_share
+        from .delta_fan import _tail_share, root_offset
 
         tail = root_offset(example, dom, dn)
-        share = tail_share(example, dom)
+        share = _tail_share(example, dom)
         if tail is None or abs(tail) < FAN_SPLIT_MIN or share <= 0.0:
             return
         # the channels keep the descent's bearings (spread about it): taken from the example's headings
