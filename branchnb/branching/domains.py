@@ -237,13 +237,17 @@ TRUNK_TAIL = False
 #: A delta whose trunk runs down the descent (no axis, :data:`AXIS_MIN`): below the depth where the example's
 #: longest root lets its first channel that reaches the sea part (:func:`.delta_fan._tail_share` of its start's
 #: depth) the trunk turns into one of the fan's channels, on the example's root's heading at the sea off the
-#: descent (:func:`.delta_fan.root_offset`). Beyond the paper (issue 23, branching65): the trunk went on down
-#: the descent in the fan's middle, a channel the example does not have, so the fan stayed narrow (``delta``
-#: kind 512/1024 px, fan spread median 28/31 degrees against the example's 50/46; now 44/44, ``python -m
-#: branchnb.branching._delta_fan_check bottom 300,512,1024 3``). Only when the example's root reaches the sea
-#: at least :data:`FAN_SPLIT_MIN` off the descent (a root that carries on in the middle keeps the old rule), the
-#: heading capped at :data:`TAIL_MAX` off the descent so the trunk meets the coast steeply, never along it
-#: (``_delta_fan_check``'s coast share).
+#: descent (:func:`.delta_fan.root_offset`), held to it as an axis trunk is (:data:`TRUNK_HOLD`) and re-aimed at
+#: the sea from where it is when a straight run would meet the frame first (:meth:`_to_sea`). Beyond the paper
+#: (issue 23, branching65): the trunk went on down the descent in the fan's middle, a channel the example does not
+#: have. ``python -m branchnb.branching._delta_fan_check bottom 300,512,1024 3 OUT CACHE - delta,fan0`` (fan
+#: spread median / lowest seed, degrees): ``delta`` 28.2/25.5, 28.1/27.3, 31.4/27.2 -> 37.0/32.5, 45.7/14.8,
+#: 41.5/34.9 (examples 38.9, 50.0, 45.8); ``fan0`` 36.6/34.2, 40.6/9.2, 33.2/1.5 -> 29.2/26.7, 33.4/24.1, 37.2/36.8
+#: (examples 35.2, 34.8, 38.7). The channels keep the descent's bearings about it: the fan is lopsided in some
+#: seeds (trunk bearing error median 4-9 -> 5-14 degrees; all channels of a 300 px ``fan0`` on the trunk's
+#: side). Only when the example's root reaches the sea at least :data:`FAN_SPLIT_MIN` off the descent (a root
+#: that carries on in the middle keeps the old rule), the heading capped at :data:`TAIL_MAX` off the descent so
+#: the trunk meets the coast steeply (``_delta_fan_check``'s coast share 0 on every kind and seed).
 STRAIGHT_TAIL = True
 TAIL_MAX = float(np.radians(60.0))
 
