@@ -13,9 +13,8 @@ from scipy import ndimage
 from skimage import draw
 
 from branchnb.dendrite import StylizeParams, Stylizer, stylize
-from branchnb.dendrite.metaphors import vine_length
 from branchnb.dendrite.stylization import effective_params
-from branchnb.dendrite.stylize_params import VINE_SPACING, _ground_threshold
+from branchnb.dendrite.stylize_params import _ground_threshold, _vine_sizes
 
 
 def _bottle(n):
@@ -57,8 +56,10 @@ def _on_white(n):
 
 
 def _expected(img, mask):
-    h, w = img.shape[:2]
-    return mask.mean() * h * w / (VINE_SPACING * vine_length("leaf_length", (h, w))) ** 2
+    # tips for the object's area with leaves sized to it, at least one per leaf length of
+    # its outline (stylize_params._vine_sizes)
+    outline = float((mask & ~ndimage.binary_erosion(mask)).sum())
+    return _vine_sizes(img.shape[:2], float(mask.sum()), outline)[1]
 
 
 @pytest.mark.parametrize("make", [_bottle, _cat])

@@ -52,6 +52,7 @@ from .clicks import (  # noqa: F401  (re-exported: split from this module)
     gray_for_extraction,
     structure_from_polylines,
 )
+from .hubs import blob_contrast, find_hubs, hub_skeleton
 from .params import ExtractionParams
 from .ridges import (  # noqa: F401  (re-exported: split from this module)
     _drawn_branching_width,
@@ -136,6 +137,10 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         darker and a lighter patch of ground (fields, tiles, a shading step) is
         no line: a traced stretch as dark as the ground on one of its sides is
         dropped (:func:`~branchnb.branching.line_profiles.false_ridge_pixels`).
+        A blob of the lines' colour much wider than the lines leaving it (a
+        neuron's soma, a coral's centre, a crater) is a hub, beyond the paper: it
+        is no tangle of spurs but spokes from its centre to its lines, and the
+        default root rule roots the piece there (:mod:`~branchnb.branching.hubs`).
     mask : (H, W) bool array_like, optional
         Only look inside this region.
     return_maps : bool, default False
@@ -285,6 +290,12 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         radius = half_contrast_radius(lines_w, skel, _pol, p.sigma_max)
     else:
         radius = ndi.distance_transform_edt(bw) - 0.5
+    # a blob of the lines' colour much wider than they are (a soma, a crater) is a hub: a region, not spurs
+    blob_src = work if lines is gray else (rescale(lines, p.scale, anti_aliasing=True) if p.scale < 1 else lines)
+    con = blob_contrast(blob_src, skel, _pol if lines is gray else "bright")
+    hubs = find_hubs(con >= 0.5, skel, radius, con)
+    if hubs:
+        skel, radius = hub_skeleton(skel, radius, hubs)
     region = None
     root = p.root
     if root in ("nearest_region", "auto"):
@@ -295,7 +306,7 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
                               root=root if root_point is None else root_point,
                               scale=p.scale, smooth=p.smooth_path, smooth_radius=p.smooth_radius,
                               image_shape=gray.shape[:2], region=region, joins=joins,
-                              close_cycles=p.close_cycles)
+                              close_cycles=p.close_cycles, hubs=[h.centre for h in hubs])
     if p.centre_reach > 0 and s.branches:
         from .centring import centre_on_lines
 
@@ -327,6 +338,8 @@ def _extract_binary(gray, p: ExtractionParams, mask, return_maps: bool, root_poi
     work = rescale(gray, p.scale, order=0, anti_aliasing=False) if p.scale < 1 else gray
     pol = p.polarity
     channels, region, skel, radius = binary_channels(work, pol, flat_regions=flat_regions)
+    if region.any():
+        channels, region, skel = _hub_regions(channels, region, skel, radius)
     if colour is not None and np.ndim(colour) == 3 and _region_colours(colour) >= 3:
         # black lines on a map of two near-equal greys (a crop with no sea) read as binary: a drawn border
         # between two regions of different colours is still no branch. A true two-colour mask (a delta's
@@ -345,18 +358,44 @@ def _extract_binary(gray, p: ExtractionParams, mask, return_maps: bool, root_poi
         if m.shape != skel.shape:
             m = resize(m.astype(np.float32), skel.shape, order=0) > 0.5
         skel &= m
+    hubs = find_hubs(channels, skel, radius)
+    if hubs:
+        skel, radius = hub_skeleton(skel, radius, hubs)
     root = p.root if root_point is None else root_point
     joins = find_stroke_joins(skel, radius, channels, max_gap=p.join_gaps, scale=p.scale)
     s = skeleton_to_structure(skel, radius, h=p.h, min_branch_length=p.min_branch_length,
                               min_component_length=p.min_component_length, root=root,
                               scale=p.scale, smooth=p.smooth_path, smooth_radius=p.smooth_radius,
                               image_shape=gray.shape[:2], region=region, joins=joins,
-                              close_cycles=0.0)   # (a mask's braids stay cut: see ExtractionParams.close_cycles)
+                              close_cycles=0.0,   # (a mask's braids stay cut: see ExtractionParams.close_cycles)
+                              hubs=[h.centre for h in hubs])
     s = _unpinch_frame_ends(s, gray.shape[:2])
     if return_maps:
         return s, (channels.astype(np.float32), channels, skel)
     return s
 
+
+
+def _hub_regions(channels: np.ndarray, region: np.ndarray, skel: np.ndarray, radius: np.ndarray):
+    """``(channels, region, skel)`` with the flat regions that are hubs (round, off the frame, three or
+    more channels leaving them: a big soma, a coral's centre; :func:`~branchnb.branching.hubs.find_hubs`)
+    given back to the channels: a sea roots its rivers at its edge, a hub roots one tree at its centre."""
+    from skimage.morphology import skeletonize
+
+    whole = channels | region
+    lab, _n = ndi.label(region)
+    back = np.zeros_like(region)
+    for hub in find_hubs(whole, skeletonize(whole), radius):
+        k = lab[hub.centre]
+        if k:
+            back |= lab == k
+    if not back.any():
+        return channels, region, skel
+    channels, region = channels | back, region & ~back
+    skel = skeletonize(channels)
+    if region.any():
+        skel &= ndi.distance_transform_edt(~region) > 1.5
+    return channels, region, skel
 
 
 def _straight_frame_end(pts: np.ndarray, k: int, shape) -> np.ndarray:

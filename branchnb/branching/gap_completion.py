@@ -28,6 +28,13 @@ DETAIL_SCALE = 0.25
 #: Scale of the example's light layout, as a fraction of its long side (Gaussian sigma; at least the
 #: patch side, so that a small example's lines leave no dark trace in it).
 LAYOUT_SCALE = 1.0 / 16.0
+#: An example whose light layout varies by less than this factor (95th over 5th percentile) is evenly
+#: lit: only its light layout is taken out of the gaps' texture (relit at the detail scale, a
+#: field's patches came out as one even green).
+SHADED = 1.2
+#: Share of the ground's detail-scale variation the light layout may leave unexplained for the gaps
+#: to be relit at the detail scale (vignetted grounds 0.05-0.13; fields, blotches, stripes 0.23-0.95).
+TEXTURE_SHARE = 0.2
 
 
 def _coarse_blur(img: np.ndarray, weight: np.ndarray, sigma: float, levels: int = 0) -> np.ndarray:
@@ -111,6 +118,34 @@ def light_layout(ex: np.ndarray, regions: ExampleRegions, patch_size: int) -> np
                         levels=5).astype(np.float32)
 
 
+def _light_mode(shade: np.ndarray, layout: np.ndarray, mean: np.ndarray, bg: np.ndarray) -> str:
+    """How the gaps of an example are relit: ``"even"`` (its light layout varies by less than
+    ``SHADED``), ``"lit"`` (the ground's variation at the detail scale, ``shade``, is mostly the
+    light ``layout``: taken out at the detail scale) or ``"textured"`` (lit, but more than
+    ``TEXTURE_SHARE`` of that variation is no light: patches, blotches). Only ``"lit"`` grounds
+    lose their detail-scale variation; the others only their light layout.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> ramp = np.dstack([np.tile(np.linspace(0.3, 0.9, 32), (32, 1))] * 3)
+    >>> bg = np.ones((32, 32), bool)
+    >>> m = ramp[bg].mean(axis=0)
+    >>> _light_mode(ramp, ramp, m, bg), _light_mode(np.full_like(ramp, 0.5), np.full_like(ramp, 0.5), m, bg)
+    ('lit', 'even')
+    >>> patches = ramp + 0.2 * (np.indices((32, 32)).sum(0) // 8 % 2)[..., None]
+    >>> _light_mode(patches, ramp, m, bg)
+    'textured'
+    """
+    lum = layout.mean(axis=2)[bg]
+    lo, hi = np.percentile(lum, [5, 95])
+    if hi <= SHADED * max(lo, 1e-3):
+        return "even"
+    dc = float(((shade - mean)[bg] ** 2).sum())
+    dr = float(((shade - layout)[bg] ** 2).sum())
+    return "textured" if dr > TEXTURE_SHARE * max(dc, 1e-12) else "lit"
+
+
 def _relight_setup(ex: np.ndarray, canvas: np.ndarray, covered: np.ndarray, regions: ExampleRegions,
                    body: np.ndarray, patch_size: int, dist: np.ndarray, dist_t: np.ndarray,
                    prior: float = 1.0, domains=None):
@@ -138,6 +173,14 @@ def _relight_setup(ex: np.ndarray, canvas: np.ndarray, covered: np.ndarray, regi
     patches of bright and dark. Returns ``(example, canvas, offset)`` or
     None when there is no background to measure the light on.
 
+    Only where the light explains the ground's detail-scale variation
+    (:func:`_light_mode` ``"lit"``: a vignetted fundus, a night sky) is it
+    taken out at the detail scale; elsewhere (evenly lit grounds, patches of
+    fields, blotches, stripes) only the light layout is, at its own scale:
+    taken out at the detail scale they came out as one even tone with faint
+    seams (``_ground_texture_check`` fields: energy of the patch-sized bands
+    0.10-0.22 of the example's).
+
     ``domains = (example_domain, output_domain)`` (an example whose domain a
     drawn line walls off, :mod:`~branchnb.branching.drawn_domains`): the light
     is measured and changed inside the domains only (the white outside of a
@@ -164,7 +207,12 @@ def _relight_setup(ex: np.ndarray, canvas: np.ndarray, covered: np.ndarray, regi
     mean = exc[bg_ex].mean(axis=0)
     # the example's light layout, at the output's size (same relative position)
     H, W = bg_t.shape
-    layout = _coarse_blur(exc, bg_ex, max(LAYOUT_SCALE * max(ex.shape[:2]), float(patch_size)), levels=5)
+    layout_sigma = max(LAYOUT_SCALE * max(ex.shape[:2]), float(patch_size))
+    layout = _coarse_blur(exc, bg_ex, layout_sigma, levels=5)
+    mode = _light_mode(shade_ex, layout, mean, bg_ex)
+    if mode != "lit":
+        # the ground's patches are texture, not light: only the light layout is taken out
+        sigma, shade_ex = layout_sigma, layout
     g = cv2.resize(layout.astype(np.float32), (W, H), interpolation=cv2.INTER_LINEAR).reshape(H, W, n)
     # the fragments' light where they are (their background averaged at sigma), weighted by how
     # much of it lies around

@@ -313,7 +313,10 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         if regions.salient is not None:
             excluded = excluded | regions.salient
     free_start, free_end = cached["free_start"].copy(), cached["free_end"].copy()
-    ctx = _Context(ex, sm_s, sm_t, pm_s, excluded, regions.unusable, p)
+    # a salient spot (a retina's optic disc) is copied by no fragment, not even its own branch's
+    # beyond that branch's body: carried along, it made pale copies of the disc at junctions
+    unusable = regions.unusable if regions.salient is None else regions.unusable | (regions.salient & ~regions.body)
+    ctx = _Context(ex, sm_s, sm_t, pm_s, excluded, unusable, p)
     free_t = _free_ends(sm_t, pm_t)
     if len(lib_b) == 0:
         raise ValueError("example_structure yields no source fragment (all branches have zero length)")

@@ -197,21 +197,94 @@ def _is_shaded(image: np.ndarray, background: np.ndarray, line: np.ndarray | Non
     return bool(hi > SHADED * max(lo, 1e-3))
 
 
+def _salient_halo(salient: np.ndarray | None) -> np.ndarray | None:
+    """``salient`` grown by each spot's own equivalent radius: the spot with its glow (a retina's
+    optic disc lights the ground around it well beyond its bright core), which is no light of the
+    example to put back where the output's pieces go.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> m = np.zeros((40, 40), bool); m[18:22, 18:22] = True     # equivalent radius 2.3
+    >>> h = _salient_halo(m)
+    >>> bool(h[20, 16] and not h[20, 13]), _salient_halo(None) is None
+    (True, True)
+    """
+    if salient is None or not salient.any():
+        return salient
+    lab, n = ndi.label(salient)
+    radius = np.sqrt(np.bincount(lab.ravel(), minlength=n + 1) / np.pi)
+    radius[0] = 0.0
+    dist, (iy, ix) = ndi.distance_transform_edt(~salient, return_indices=True)
+    return dist <= radius[lab[iy, ix]]
+
+
 def _flattened_if_shaded(ex: np.ndarray, regions: ExampleRegions, pm: PixelMap,
                          scale: float) -> tuple[np.ndarray, np.ndarray | None]:
     """``ex`` with its shading divided out (as :func:`flatten_shading`, at ``scale`` of its size)
-    when :func:`_is_shaded`, and the light ``shading / mean`` it was divided by ((h, w, C) float32,
-    to put back on the output); else ``(ex, None)``."""
+    when :func:`_is_shaded`, and the light to put back on the output ((h, w, C) float32: the light
+    ``shading / mean`` it was divided by, except near salient spots, where it is the smooth light of
+    :func:`_smooth_light`); else ``(ex, None)``."""
     from .line_contrast import centre_ring_colours
 
     bg = ~(regions.forbidden | ndi.binary_dilation(regions.body | regions.branch_like, iterations=3))
     colours = centre_ring_colours(ex, pm)
+    halo = _salient_halo(regions.salient)
+    if halo is not None and np.count_nonzero(bg & ~halo) >= 64:
+        # the light put back on the output is the example's vignetting, not its optic disc's glow
+        bg = bg & ~halo
     if not _is_shaded(ex, bg, *(colours if colours is not None else (None, None))):
         return ex, None
     img = ex.astype(np.float64)
     shade = _normalized_blur(img, bg.astype(np.float64), scale * max(ex.shape[:2]))
     light = np.maximum(shade, 1e-3) / img[bg].mean(axis=0)
-    return np.clip(img / light, 0.0, 1.0).astype(np.float32), light.astype(np.float32)
+    back = light
+    if halo is not None and halo.any():
+        # within the blur's reach of a salient spot the light is the spot's glow: there the smooth
+        # light is put back (elsewhere the example's own, blotches and all, at the same place)
+        sigma = scale * max(ex.shape[:2])
+        w = np.clip(1.0 - ndi.distance_transform_edt(~halo) / (3.0 * sigma), 0.0, 1.0)[..., None]
+        back = np.exp(w * np.log(_smooth_light(light, bg)) + (1.0 - w) * np.log(light))
+    return np.clip(img / light, 0.0, 1.0).astype(np.float32), back.astype(np.float32)
+
+
+#: Degree of the polynomial the light put back on the output is (in log light over the image plane).
+LIGHT_DEGREE = 4
+
+
+def _smooth_light(light: np.ndarray, bg: np.ndarray, degree: int = LIGHT_DEGREE) -> np.ndarray:
+    """``light`` ((h, w, C) > 0) as a polynomial of ``degree`` in x and y (least squares of its log
+    over ``bg``): the example's vignetting and light gradients, without what is local (a retina's
+    optic disc lights a wide patch of ground around it; put back where the output's pieces go, it
+    made a pale copy of the disc without its vessels).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> yy, xx = np.mgrid[:48, :64] / 64.0
+    >>> ramp = np.dstack([0.5 + xx] * 3)
+    >>> glow = ramp * (1 + 0.5 * np.exp(-((xx - 0.3) ** 2 + (yy - 0.4) ** 2) / 0.002))[..., None]
+    >>> out = _smooth_light(glow, np.ones((48, 64), bool))
+    >>> bool(abs(out[26, 19, 0] / ramp[26, 19, 0] - 1) < 0.25 < glow[26, 19, 0] / ramp[26, 19, 0] - 1)
+    True
+    """
+    h, w = bg.shape
+    step = max(1, int(max(h, w) // 128))
+    ys, xs = np.nonzero(bg[::step, ::step])
+    if len(ys) < 64:
+        return light
+
+    def terms(x, y):
+        return np.stack([x ** i * y ** j for i in range(degree + 1) for j in range(degree + 1 - i)], -1)
+
+    scale = float(max(h, w))
+    a = terms(xs * step / scale, ys * step / scale)
+    b = np.log(np.maximum(light[ys * step, xs * step], 1e-3))
+    coef, *_ = np.linalg.lstsq(a, b, rcond=None)
+    yy, xx = np.mgrid[:h, :w] / scale
+    # (no farther than the light seen: a photo's corners beyond its disk are extrapolated)
+    fit = np.clip(terms(xx.ravel(), yy.ravel()) @ coef, b.min(axis=0), b.max(axis=0))
+    return np.exp(fit).reshape(h, w, light.shape[2])
 
 
 def branch_likeness(image: np.ndarray, pm: PixelMap, usable: np.ndarray | None = None

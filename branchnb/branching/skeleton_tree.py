@@ -371,7 +371,8 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
                           min_component_length: float = 60.0, root="thickest",
                           scale: float = 1.0, smooth: float = 4.0,
                           smooth_radius: float = 8.0, image_shape=None, region=None,
-                          spur_factor: float = 2.0, joins=None, close_cycles: float = 0.0) -> Structure:
+                          spur_factor: float = 2.0, joins=None, close_cycles: float = 0.0,
+                          hubs=None) -> Structure:
     """Convert a one-pixel skeleton into a tree of branches.
 
     Each connected piece becomes one tree: a root end point is chosen
@@ -401,7 +402,8 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
         a pixel above it: a drawn map's rivers drain where they meet the sea;
         a node of the piece more than 4 px nearer than every end, a mouth the
         coast's removed outline left as a loop, beats the ends; among several
-        ends at the sea, the one its forks point to, ``_region_outlet``), else the thickest end (a
+        ends at the sea, the one its forks point to, ``_region_outlet``), else the centre of
+        every hub in the piece (``hubs``: a neuron grows out of its soma), else the thickest end (a
         vessel tree's trunk, a delta's inland channel; the radius near an end,
         not at it, which the frame or a rounded tip pinches), every end where a thick line
         enters the frame (``_frame_entries``), or, on a piece of one width that meets the
@@ -445,6 +447,12 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
         follows the skeleton across it and ends on a vertex of the branch on
         the other side (``branchnb.branching.skeleton_cycles``), so a
         crack network's cells stay closed. 0 = off (every cycle stays cut).
+    hubs : sequence of (y, x), optional
+        Skeleton pixels at the centres of hubs, blobs much wider than the lines
+        that leave them (a soma, a crater; :func:`~branchnb.branching.hubs.find_hubs`).
+        With ``root="auto"`` a piece holding hubs is rooted at them (each hub a
+        tree; the piece split where their shortest paths meet), unless it is a
+        line map's piece that drains into ``region`` (beyond the paper).
 
     Returns
     -------
@@ -508,10 +516,20 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
     np.minimum.at(comp_frame, comp, border_dist[ys, xs])
     min_len = np.where(comp_frame <= 4.0 * scale, 0.5 * min_component_length, min_component_length)
     roots = []
+    hub_nodes = np.zeros(0, np.int64)
+    if hubs:
+        hub_yx = np.asarray(hubs, np.float64).reshape(-1, 2)
+        if not (np.all(np.isfinite(hub_yx)) and np.all(hub_yx >= 0) and np.all(hub_yx < sk.shape)):
+            raise ValueError(f"hubs must be (y, x) pixels of the skeleton's shape {sk.shape}")
+        where = -np.ones(sk.shape, np.int64)
+        where[ys, xs] = np.arange(len(ys))
+        hub_nodes = np.asarray([where[int(y), int(x)] for y, x in hub_yx], np.int64)
+        hub_nodes = hub_nodes[hub_nodes >= 0]
     for c in np.flatnonzero(comp_len >= min_len):
         members = np.flatnonzero(comp == c)
         ends = members[deg[members] == 1]
         cand = ends if len(ends) else members
+        own_hubs = hub_nodes[comp[hub_nodes] == c]
         if isinstance(root, str):
             if root == "auto":
                 lo, hi = np.percentile(r_full[members], [25, 75])
@@ -529,7 +547,12 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
                                                                    key / scale)) is not None:
                         roots.append(mouth)
                         continue
-                else:
+                if len(own_hubs):
+                    # lines radiating from a blob much wider than they are grow out of it (a neuron's
+                    # soma, a crater): rooted at a line's tip, the learnt model grew from the wrong place
+                    roots.extend(int(v) for v in own_hubs)
+                    continue
+                if not (has_region and one_width):
                     key = -_end_radius(pts_full, r_full, cand, members)
                     # (on lines of about one width, a thick end must stay thick: see _frame_entries)
                     even = hi <= 1.5 * lo or hi - lo <= 1.0

@@ -516,6 +516,58 @@ def outline_band(content, band: float = STRIKE_BAND) -> tuple[np.ndarray, np.nda
     return sil, near, float(c[inner].mean()) if inner.any() else 0.0
 
 
+#: Height of a stem (a tree's trunk) at the silhouette's bottom, as a share of its height,
+#: from which the main channel runs down it (:func:`_stem_end`).
+STEM_MIN_DEPTH = 0.06
+#: Largest width of a stem's rows, as a share of the silhouette's widest row.
+STEM_MAX_WIDTH = 0.35
+
+
+def _stem_end(sil: np.ndarray, end: tuple[int, int]) -> tuple[int, int]:
+    """The foot of the one thin stem (a tree's trunk, a flower's stalk) the silhouette
+    stands on, or ``end`` (the wide part's bottom) when it has none.
+
+    Beyond the papers: the main channel ended at the bottom of the object's wide part
+    (:func:`wide_top` upside down) and the bolt's bright main path was the child with the
+    most tips, so on a tree it filled the crown and never ran down the trunk, the tree's
+    main axis. A stem is the run of bottom rows that each hold one stretch of the
+    silhouette at most ``STEM_MAX_WIDTH`` of its widest row, over at least
+    ``STEM_MIN_DEPTH`` of its height (a body on four legs has none: several stretches a row).
+
+    >>> m = np.zeros((100, 80), bool); m[10:60, 10:70] = True; m[60:95, 36:44] = True
+    >>> _stem_end(m, (40, 59))
+    (40, 94)
+    >>> m[60:95, 12:18] = True  # two legs: no stem
+    >>> _stem_end(m, (40, 59))
+    (40, 59)
+    """
+    rows = np.flatnonzero(sil.any(axis=1))
+    if rows.size == 0:
+        return end
+    width = sil.sum(axis=1)
+    runs = (sil[:, 1:] & ~sil[:, :-1]).sum(axis=1) + sil[:, 0]
+    thin = (width <= STEM_MAX_WIDTH * width.max()) & (runs == 1)
+    foot = int(rows[-1])
+    top = foot
+    while top > rows[0] and thin[top]:
+        top -= 1
+    if foot - top < STEM_MIN_DEPTH * (foot - rows[0] + 1):
+        return end
+    xs = np.flatnonzero(sil[foot])
+    return int(xs[len(xs) // 2]), foot
+
+
+def _channel_end(sil: np.ndarray) -> tuple[tuple[int, int] | None, bool]:
+    """Where the main channel through a silhouette ends, and whether that is a stem's foot:
+    the bottom of its wide part (:func:`wide_top` upside down), or :func:`_stem_end` below it."""
+    end = wide_top(sil[::-1], LIGHTNING_SEED_BLUR, LIGHTNING_SEED_DENSITY)
+    if end is None:
+        return None, False
+    end = (end[0], sil.shape[0] - 1 - end[1])
+    foot = _stem_end(sil, end)
+    return foot, foot != end
+
+
 def strike_channel(weights, content, seed, *, band: float = STRIKE_BAND,
                    penalty: float = STRIKE_PENALTY) -> np.ndarray:
     """The path of a lightning bolt's main channel: from the seed down through the object.
@@ -526,7 +578,8 @@ def strike_channel(weights, content, seed, *, band: float = STRIKE_BAND,
     bright channel ran round the whole silhouette instead of down through it.
     Here the main channel is planned on its own: the least cumulative cost
     path on ``weights`` from ``seed`` to the bottom of the object's wide part
-    (:func:`wide_top` of the mask turned upside down), inside the object's
+    (:func:`wide_top` of the mask turned upside down), or the foot of a thin stem
+    hanging below it (:func:`_stem_end`: a tree's trunk), inside the object's
     :func:`silhouette`, with ``penalty`` times the mean weight added within
     ``band`` of the diagonal of its outline (:func:`outline_band`), so it keeps
     off the outline and follows the object's middle in thin parts; outside the
@@ -568,10 +621,9 @@ def strike_channel(weights, content, seed, *, band: float = STRIKE_BAND,
         raise ValueError(f"penalty must be >= 0, got {penalty}")
     sx, sy = (int(round(float(v))) for v in seed)
     sil, near, _ = outline_band(c, band)
-    end = wide_top(sil[::-1], LIGHTNING_SEED_BLUR, LIGHTNING_SEED_DENSITY)
+    end, _ = _channel_end(sil)
     if end is None:
         return np.array([[sx, sy]], np.int64)
-    end = (end[0], w.shape[0] - 1 - end[1])
     mean = float(np.mean(w[np.isfinite(w)])) if np.isfinite(w).any() else 1.0
     cost = w + mean * np.where(sil, penalty * near, 10.0)
     res = plan(Lattice(cost), (sx, sy), metric="cumulative")

@@ -35,6 +35,7 @@ import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
+from scipy import ndimage
 
 from ..core.image import as_float_image, as_points, as_rgb
 from ..core.io import encode_png
@@ -71,6 +72,7 @@ from .stylize_params import (  # noqa: F401  (re-exported; the spacings too)
     StylizeParams,
     _ground_threshold,
     _spacing_growth,
+    _vine_sizes,
     _within_range,
     effective_params,
     metaphor_params,
@@ -78,15 +80,20 @@ from .stylize_params import (  # noqa: F401  (re-exported; the spacings too)
 from .stylize_seed import _ENDPOINTS, _IMPORTANCE, _LATTICE, _PLAN, _PRUNE_ROUNDS, _SeedSteps, _subset
 from .stylize_strike import _StrikeSteps
 from .thickness import (
+    _tone_fit,
     branch_thickness,
     importance_thickness,
     rolling_importance,
-    tone_thickness,
     twigs_within_ink,
 )
 from .ties import refine_ties
 
 __all__ = ["effective_params", "metaphor_params", "Stylization", "StylizeParams", "Stylizer", "stylize"]
+
+#: Darkness a drawn line stands above its surroundings to count fully as a line
+#: (:meth:`Stylizer._line_share`).
+LINE_CONTRAST = 0.3
+
 
 @dataclass
 class Stylization:
@@ -369,15 +376,22 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
             r = d.radius * np.maximum(d.leaf_count(), 1.0) ** p.hierarchy
             d = d.with_radius(np.clip(r, lo / 2, hi / 2))
         if p.tone > 0:
-            d = tone_thickness(d, self.darkness(p), sigma=p.tone_sigma, min_width=lo,
-                               max_width=hi, strength=p.tone)
+            # the target at the 512-px picture's blur (thickness._tone_fit)
+            grow = self._growth(p)
+            keep = self._line_share(p, d.nodes, filled=True) if grow > 1.0 else None
+            d = _tone_fit(d, self.darkness(p), p.tone_sigma, lo, hi, p.tone, 0.7, 4,
+                          target_sigma=p.tone_sigma / grow if keep is not None else None,
+                          keep=keep)
         # nodes the floor holds wider than the tone asks (before the edges' extra width)
         self._pinned = d.radius <= 0.5 * lo * 1.001
         if p.edges > 0:
             # the tone match spreads ink evenly over a region; the outline and the
             # veins of a drawing should still read as its strongest lines
             e = np.clip(rolling_importance(d, self.edge_map(p), p.window), 0.0, 1.0)
-            d = d.with_radius(np.clip(d.radius * (1.0 + p.edges * self._edge_gain(p) * e ** 2),
+            gain = self._edge_gain(p)
+            if gain < 1.0:  # a drawn line round a fill keeps its whole boost (_line_share)
+                gain = gain + (1.0 - gain) * self._line_share(p, d.nodes, filled=True)
+            d = d.with_radius(np.clip(d.radius * (1.0 + p.edges * gain * e ** 2),
                                       lo / 2, hi / 2))
         return d
 
@@ -389,10 +403,78 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
         the heaviest line of a small input (ink of an 8-px band inside the outline over the
         interior's at one display size, mid-grey blob 250 px 1.31 against 1.12 at 750 px).
         Scaled back, the outline's extra ink per unit of its length is the 512-px drawing's
-        (``python -m branchnb.dendrite._small_check``)."""
+        (``python -m branchnb.dendrite._small_check``). A drawn line keeps its whole boost
+        (:meth:`_line_share`)."""
+        return 1.0 / self._growth(p)
+
+    def _line_share(self, p: StylizeParams, nodes, filled: bool = False) -> np.ndarray:
+        """How much of a drawn line each node lies on, in [0, 1]: the darkness standing
+        above its opening by a disk of half the 512-px tone blur (a line thinner than the
+        branch spacing), over ``LINE_CONTRAST`` (beyond the paper).
+
+        On a small input the tone match's wider blur spread a drawn outline's darkness
+        over the fill, and the outline's edge boost was scaled back for a step between
+        regions (:meth:`_edge_gain`): a light fill in a dark outline at 250 px had an
+        outline band 1.6-1.75x as inked as its interior against 2.2x at 750 px. On a
+        line round a fill (``filled``: the darkness under the opening at least
+        ``LINE_CONTRAST``) both keep the 512-px picture's (on every line, a thin outline
+        on white, sharper than its wider ink blur, got 1.17x the ink of the same star at
+        750 px against 0.95x): 250 against 750 px, that ratio 0.81 / 0.72 ->
+        0.96 / 0.87 (two seeds); a mid-grey, outlined, dark or gradient fill stays within
+        0.05 of its former 0.95-1.04, the maple photo 0.91 -> 0.92
+        (``python -m branchnb.dendrite._small_check``).
+        """
+        def make():
+            dark = self.darkness(p).astype(np.float32)
+            r = max(1, int(round(0.5 * p.tone_sigma / self._growth(p))))
+            disk = np.hypot(*np.mgrid[-r:r + 1, -r:r + 1]) <= r
+            opened = ndimage.grey_opening(dark, footprint=disk)
+            line = np.clip((dark - opened) / LINE_CONTRAST, 0.0, 1.0)
+            return line, line * np.clip(opened / LINE_CONTRAST, 0.0, 1.0)
+        maps = self._get(("line_share", p.lattice_size, p.tone_sigma, p.output_width), make)
+        return maps[int(filled)].ravel()[np.asarray(nodes, np.int64)]
+
+    def _growth(self, p: StylizeParams) -> float:
         if p.output_width <= 0:  # the size adaptation is off (effective_params)
             return 1.0
-        return 1.0 / _spacing_growth(float(np.sqrt(np.prod(self.scale(p)))))
+        return _spacing_growth(float(np.sqrt(np.prod(self.scale(p)))))
+
+    def _vine_sizes(self, p: StylizeParams, given: StylizeParams, obj, content, share: float,
+                    k: float, options: dict) -> dict:
+        """The vines' render options with leaf lengths sized to the object, and (in
+        ``self._vine_p``) ``p`` with its tip count following the object's outline
+        (:func:`~branchnb.dendrite.stylize_params._vine_sizes`); lengths the caller gave
+        are kept."""
+        from .main_channel import silhouette
+        from .metaphors import VINE_MIN_PIXELS, vine_length
+
+        area = share * self.shape[0] * self.shape[1]
+        f, _ = _vine_sizes(self.shape, area, 0.0)
+        # the outline at the stems' spacing: a textured ground's specks that pass the
+        # threshold have outlines of their own (a cat on a dark ground got 700 tips)
+        leaf = max(vine_length("leaf_length", self.shape) * f, VINE_MIN_PIXELS["leaf_length"])
+        sil = ndimage.gaussian_filter(silhouette(obj if obj is not None else content)
+                                      .astype(np.float32), 0.5 * VINE_SPACING * leaf / k) > 0.5
+        pieces, count = ndimage.label(sil)
+        if count:
+            sizes = np.bincount(pieces.ravel())[1:]
+            sil = np.isin(pieces, 1 + np.flatnonzero(sizes >= 0.1 * sizes.sum()))
+        outline = float((sil & ~ndimage.binary_erosion(sil)).sum()) * k
+        f, n = _vine_sizes(self.shape, area, outline)
+        # the stems thin with the leaves (at least 1.8 image px, as metaphor_params has it)
+        hi = max(p.max_width * min(f, 1.0), 1.8 / k, p.min_width)
+        self._vine_p = _within_range(p, n_endpoints=int(np.clip(n, min(8, given.n_endpoints),
+                                                                 given.n_endpoints)),
+                                     max_width=hi if f < 1.0 else p.max_width)
+        self._vine_leaf = max(vine_length("leaf_length", self.shape) * min(f, 1.0),
+                              VINE_MIN_PIXELS["leaf_length"])
+        if f >= 1.0:
+            return options
+        options = dict(options)
+        for name in ("curl_length", "leaf_spacing", "leaf_length", "leaf_width"):
+            if options.get(name) is None:
+                options[name] = max(vine_length(name, self.shape) * f, VINE_MIN_PIXELS[name])
+        return options
 
     @checked(seed=Point())
     def run(self, params: StylizeParams | None = None, *, seed=None, rng: int | np.random.Generator = 0,
@@ -450,6 +532,10 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
                 obj = self._vine_object(p)
                 share = float(obj.mean()) if obj is not None else share
             p = metaphor_params(given, metaphor, self.shape, share, k)
+            if metaphor == "vines":  # leaves sized to the object, tips along its outline
+                render_options = self._vine_sizes(p, given, obj, imp >= thr, share, k,
+                                                  render_options)
+                p = self._vine_p
             if thr > p.endpoint_threshold:
                 p = _within_range(p, endpoint_threshold=thr)
         obj = obj if metaphor == "vines" else None
@@ -462,8 +548,9 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
         seed_lat = self.to_lattice(p, seed)
         lat = self.lattice(p, rng)
         ends = self.endpoints(p, rng)
-        res, d, struck = (self._strike(p, seed_lat, rng) if metaphor == "lightning" else
-                          (self.plan(p, seed_lat, rng), self.dendrite(p, seed_lat, rng), False))
+        res, d, struck, grounded = (
+            self._strike(p, seed_lat, rng) if metaphor == "lightning" else
+            (self.plan(p, seed_lat, rng), self.dendrite(p, seed_lat, rng), False, False))
         if obj is not None:
             d, ends = self._vine_dendrite(p, seed_lat, rng, obj)
         imp = self.importance(p)
@@ -471,8 +558,10 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
         if metaphor == "lightning":  # a planned channel stays bright down to its last fork
             d = widen_main_path(d, p.min_width, p.max_width,
                                 exponent=STRIKE_MAIN_EXPONENT if struck else LIGHTNING_MAIN_EXPONENT,
-                                side=(STRIKE_PHOTO_SIDE if d.main is not None
+                                side=(STRIKE_PHOTO_SIDE if d.main is not None and not grounded
                                       else STRIKE_SIDE if struck else 1.0))
+            if grounded:
+                d = _to_ground(d)
         pinned = self._pinned
         if k < 1.0 and p.output_width > 0 and p.thickness == "importance" and metaphor in (
                 "plain", None):
@@ -507,6 +596,21 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
             lambda: self.to_image(p, ends))
         return Stylization(self.image, imp, lat, res, ends_image, d, rendering,
                            dataclasses.replace(p), np.asarray(seed, float), scale)
+
+
+def _to_ground(d: Dendrite) -> Dendrite:
+    """A bolt down an object's stem (a tree's trunk) as bright to its foot as where it last
+    forked (beyond the paper: below its last fork the channel is one tip's twig, drawn thin
+    and dim, and the strike faded out halfway down the trunk)."""
+    path = d.main
+    n = d.leaf_count()[path]
+    forks = np.flatnonzero(n > 1)
+    if path.size < 2 or forks.size == 0:
+        return d
+    r = d.radius.astype(np.float64, copy=True)
+    last = int(forks[-1])
+    r[path[last:]] = np.maximum(r[path[last:]], r[path[last]])
+    return d.with_radius(r)
 
 
 def stylize(image, params: StylizeParams | None = None, *, seed=None, rng: int | np.random.Generator = 0,

@@ -305,6 +305,45 @@ def effective_params(p: StylizeParams, scale: float) -> StylizeParams:
 
 #: Vine stems are this many leaf lengths apart on average (:func:`metaphor_params`).
 VINE_SPACING = 2.5
+#: Longest vine leaf, as a share of the object's size (the square root of its area): a
+#: leaf sized to the image's diagonal was 0.071-0.098 of a small object's size against
+#: 0.027-0.037 of one filling the frame (:func:`_vine_sizes`).
+VINE_LEAF_PER_SIZE = 0.035
+#: Fewest vine tips per leaf length of the object's outline (:func:`_vine_sizes`).
+VINE_OUTLINE_TIPS = 1.0
+#: ... but at most this many times the tips for its area (the outline of content strewn
+#: over a textured ground is no object's: a cat on a dark ground got 154 tips for 92).
+VINE_OUTLINE_CAP = 2.0
+
+
+def _vine_sizes(shape, area: float, outline: float) -> tuple[float, int]:
+    """The vines' length factor on their image-diagonal lengths and their tip count, for an
+    object of ``area`` (px^2) and ``outline`` length (px) in an image of ``shape``.
+
+    Beyond the paper (issue 25): leaves scaled with the image's diagonal, so an object
+    filling a third of the frame's height got leaves 2.7x as long for its size as one
+    filling it, and tips for its area alone, so a thin letter got a third of a blob's tips
+    along its outline (``python -m branchnb.dendrite._vine_size_check``). A leaf is at most
+    ``VINE_LEAF_PER_SIZE`` of the object's size (never below ``VINE_MIN_PIXELS``, never
+    above the image's length: an object filling the frame keeps its leaves); the tips are
+    one per ``(VINE_SPACING x leaf)**2`` of its area, at least ``VINE_OUTLINE_TIPS`` per leaf
+    length of its outline, up to ``VINE_OUTLINE_CAP`` times the area's count.
+
+    >>> f, n = _vine_sizes((750, 1000), 500.0 ** 2, 2000.0)
+    >>> round(f, 2), n  # filling the frame: leaves as before, tips for the area
+    (1.0, 274)
+    >>> f, n = _vine_sizes((750, 1000), 250.0 ** 2, 1500.0)
+    >>> round(f, 2), n  # smaller, with a long outline: smaller leaves, tips for the outline
+    (0.72, 171)
+    """
+    from .metaphors import VINE_MIN_PIXELS, vine_length
+
+    full = vine_length("leaf_length", shape)
+    leaf = float(np.clip(VINE_LEAF_PER_SIZE * np.sqrt(max(area, 0.0)),
+                         VINE_MIN_PIXELS["leaf_length"], full))
+    n_area = area / (VINE_SPACING * leaf) ** 2
+    n = max(n_area, min(VINE_OUTLINE_TIPS * outline / leaf, VINE_OUTLINE_CAP * n_area))
+    return leaf / full, int(round(n))
 
 #: The vines' object is what stands out from the picture's own ground (beyond the
 #: paper, :func:`_ground_threshold`): importance at least ``endpoint_threshold`` above the

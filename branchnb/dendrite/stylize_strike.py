@@ -17,6 +17,7 @@ from .endpoints import place_endpoints
 from .foreground import _object_mask
 from .lattice import Lattice
 from .main_channel import (
+    _channel_end,
     channel_plan,
     silhouette,
     straighten,
@@ -107,7 +108,7 @@ class _StrikeSteps:
                               reach=LIGHTNING_LOOP_REACH * float(np.hypot(*res.shape)))
         return self._get(key, make)
 
-    def _strike(self, p: StylizeParams, seed, rng_seed: int) -> tuple[PlanResult, Dendrite, bool]:
+    def _strike(self, p: StylizeParams, seed, rng_seed: int) -> tuple[PlanResult, Dendrite, bool, bool]:
         """The plan and the dendrite of a lightning bolt, its main channel planned first (cached).
 
         Beyond the paper: on an object on a background the planner runs on
@@ -117,8 +118,10 @@ class _StrikeSteps:
         fork off the channel; then its hairpins are cut. On a photo the channel is
         :func:`~branchnb.dendrite.photo_strike.photo_channel` and the side branches
         follow :func:`~branchnb.dendrite.photo_strike.side_branches`; with nothing to
-        draw, the plain plan (:meth:`_main_channel_straight`). The flag says whether
-        the channel was planned.
+        draw, the plain plan (:meth:`_main_channel_straight`). The flags say whether
+        the channel was planned, and whether it runs down a stem to the object's foot
+        (:func:`~branchnb.dendrite.main_channel._channel_end`; it is then the dendrite's
+        ``main``).
         """
         key = ("strike", _subset(p, _IMPORTANCE + _LATTICE + _PLAN + _ENDPOINTS),
                tuple(np.round(np.asarray(seed, float), 3)), rng_seed)
@@ -132,7 +135,7 @@ class _StrikeSteps:
                         if silhouette(content).mean() > STRIKE_MAX_COVER else None)
                 if path is None or len(path) < 2:  # nothing to draw, or nothing below the seed
                     return (self.plan(p, seed, rng_seed),
-                            self._main_channel_straight(p, seed, rng_seed), False)
+                            self._main_channel_straight(p, seed, rng_seed), False, False)
                 region = None
                 if self.strike(p) is None:  # no bolt to follow: its straight stretches zigzag
                     path = jag_channel(path, content.shape, rng=rng_seed)
@@ -163,13 +166,21 @@ class _StrikeSteps:
                     ends = short if len(short) else ends
                 res = channel_plan(res, path)
                 ends = np.concatenate([ends, path[-1:].astype(float)])
-                return res, with_channel(build_dendrite(res, ends), path), True
+                return res, with_channel(build_dendrite(res, ends), path), True, False
             res = self._plan_on(Lattice(got[0], lat.factors), p, seed)
             ends = self._object_endpoints(p, rng_seed, content) if found else self.endpoints(p, rng_seed)
             ends = np.concatenate([ends, got[1][-1:].astype(float)])
             d = straighten(res, build_dendrite(res, ends), ends,
                            reach=LIGHTNING_LOOP_REACH * float(np.hypot(*res.shape)))
-            return res, d, True
+            # down a stem (a tree's trunk) the channel is the bolt's main path to its foot:
+            # by its tips the main path left it for the crown's largest limb
+            grounded = _channel_end(silhouette(content))[1]
+            if grounded:
+                try:
+                    d = with_channel(d, got[1])
+                except ValueError:  # the straightening cut through the channel
+                    grounded = False
+            return res, d, True, grounded
         return self._get(key, make)
 
     def _dendrite_pruned(self, p: StylizeParams, seed, rng_seed: int, keep) -> Dendrite:

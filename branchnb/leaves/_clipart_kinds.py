@@ -28,6 +28,8 @@ from ._unseen_kinds import UnseenLeaf, _curve, _oak
 
 CLIP_KINDS = ("maple", "oak", "elm", "palmate")
 STYLES = ("pale", "colour", "black")
+#: ``veins="none"``: plain fill, no veins drawn (the true veins returned as where the user scribbles).
+NONE = "none"
 
 _FILLS = {"maple": (0.86, 0.38, 0.12), "oak": (0.62, 0.52, 0.16), "elm": (0.40, 0.66, 0.24),
           "palmate": (0.30, 0.58, 0.30)}
@@ -117,8 +119,19 @@ def _elm(r):
     return outline, veins, kinds
 
 
-def clip_leaf(kind: str, size: int = 512, seed: int = 0, vein_px: float = 2.0, veins: str = "pale") -> UnseenLeaf:
-    """One drawn leaf of ``kind`` (:data:`CLIP_KINDS`), veins ``vein_px`` wide in style ``veins`` (:data:`STYLES`)."""
+def clip_leaf(kind: str, size: int = 512, seed: int = 0, vein_px: float = 2.0, veins: str = "pale", *,
+              outline_px: int = 2, shadow: bool = True) -> UnseenLeaf:
+    """One drawn leaf of ``kind`` (:data:`CLIP_KINDS`), veins ``vein_px`` wide in style ``veins`` (:data:`STYLES`).
+
+    ``veins="none"`` draws no veins (plain fill; the true veins are still
+    returned, as where a user would scribble them); ``outline_px`` is the
+    ink outline's width, ``shadow`` the grey drop shadow on the paper.
+    """
+    if veins == "none":
+        plain_fill = True
+        veins = "black"
+    else:
+        plain_fill = False
     r = np.random.default_rng([CLIP_KINDS.index(kind), STYLES.index(veins), int(round(4 * vein_px)), int(seed)])
     mid_w, side_w = float(vein_px), max(1.0, 0.7 * float(vein_px))
     if kind in ("maple", "palmate"):
@@ -152,7 +165,7 @@ def clip_leaf(kind: str, size: int = 512, seed: int = 0, vein_px: float = 2.0, v
     lines = [px(v) for v in vlines]
     widths = [np.full(len(v), mid_w if k == 0 else side_w) for v, k in zip(lines, vkinds)]
     vcov, _ = coverage_polylines(shape, lines, widths)
-    inner = ndi.binary_erosion(lam, iterations=3)
+    inner = ndi.binary_erosion(lam, iterations=max(3, int(outline_px) + 1))
     vcov = vcov * inner
     alpha = np.maximum(blade_cov, pet_cov)
     fill = np.array(_FILLS[kind], np.float32)
@@ -162,13 +175,15 @@ def clip_leaf(kind: str, size: int = 512, seed: int = 0, vein_px: float = 2.0, v
     ink = np.array((0.10, 0.12, 0.08), np.float32)
     paper = np.ones(shape + (3,), np.float32)
     off = int(round(0.025 * size))
-    sh = cv2.GaussianBlur(np.roll(alpha, (off, off), (0, 1)), (0, 0), 0.6)
-    paper = paper * (1 - 0.35 * sh[..., None])
+    if shadow:
+        sh = cv2.GaussianBlur(np.roll(alpha, (off, off), (0, 1)), (0, 0), 0.6)
+        paper = paper * (1 - 0.35 * sh[..., None])
     leaf = np.broadcast_to(fill, shape + (3,)).copy()
-    rim = lam & ~ndi.binary_erosion(lam, iterations=2)
+    rim = lam & ~ndi.binary_erosion(lam, iterations=int(outline_px))
     plain = leaf.copy()
     plain[rim] = ink
-    leaf = leaf * (1 - vcov[..., None]) + vein_col * vcov[..., None]
+    if not plain_fill:
+        leaf = leaf * (1 - vcov[..., None]) + vein_col * vcov[..., None]
     leaf[rim] = ink
     a3 = alpha[..., None]
     img = np.clip(paper * (1 - a3) + leaf * a3, 0, 1).astype(np.float32)

@@ -20,6 +20,7 @@ from .analysis_outline import (  # noqa: F401  (importable from here as before)
     OUTLINE_STRETCH,
     _closed_blade,
     _contrast,
+    _ink_zone,
     _inked_outline,
     _outline_band,
     _outline_in_layer,
@@ -299,8 +300,11 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         q = [_quantise_lab(lab, space) for lab in labs]
         cdf = layer_cdfs(q[t], user, space.bins)
         report(step / steps, f"layer {name}: snapping to each exemplar's ridges")  # "cancel" stops here too
-        snapped, own, ridge_px, centred = _snapped(residual, blades, t, user, registrations, stats, tolerance, params,
-                                          labs=labs)
+        # An ink layer the user drew with the leaf's outline (a sketch's ink) keeps it on every exemplar.
+        outline_in_layer = _outline_in_layer(blades[t], user)
+        snapped, own, ridge_px, centred, zones, rims = _snapped(
+            residual, blades, t, user, registrations, stats, tolerance, params, labs=labs,
+            rgb=None if outline_in_layer else rgb)
         # The training leaf's colour model where the exemplar's layer has its
         # colour (it is exact there; re-estimated from the found pixels it lost
         # 0.03-0.13 IoU on same-coloured veins), else the exemplar's own.
@@ -321,8 +325,6 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
                         np.full(ru.shape, 1e6, np.float32))
         best = None
         candidates = neighbourhood_candidates(params, blades[t], user)
-        # An ink layer the user drew with the leaf's outline (a sketch's ink) keeps it on every exemplar.
-        outline_in_layer = _outline_in_layer(blades[t], user)
         inked_outline = not outline_in_layer and _inked_outline(labs[t], blades[t], user)
         if snapped is not None:
             own_px = _under_induced(q, blades, t, user, cdf, own_px, ridge_px, dist, lengths, tolerance, params,
@@ -372,7 +374,15 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
                     m = m & ~band
                 elif inked_outline:
                     m = m & ~_outline_stretches(m & band, user)
+                if zones[e] is not None:
+                    # A drawn leaf's ink outline (and the strip inside it) taken along the blade's edge.
+                    m = m & ~_outline_stretches(m & zones[e][0], user, zones[e][1])
             if e != t and snapped is not None:
+                if RIM_TRIM and rims[e] is not None:
+                    # A hole's rim in the layer's colour is no vein: the colour term took 58-99 % of
+                    # the vein-coloured rims of procedural holes (``_measure_holes``). The snapped
+                    # paths stay (their ridge evidence placed them; maple 07's lateral runs 3 px from a hole).
+                    m = m & ~(rims[e] & ~snapped[e])
                 m = _without_dots(m, layer_width(user))
             masks.append(m)
             taken[e] = taken[e] | m
@@ -492,6 +502,11 @@ def _induced(combined, delta, training_overlap, snapped, e, blade, taken, *, cen
     return m | (centred[e] & blade & ~taken & ndi.binary_dilation(m))
 
 
+#: Leave the exemplar's hole rims (:func:`~branchnb.leaves.snapping_stray._hole_rim`, one-sided rims
+#: included) out of a thin layer's induced mask.
+RIM_TRIM = True
+
+
 def _pinholes(blade, layer) -> np.ndarray:
     """The blade's holes narrower than the layer (inscribed disc no wider than its width, 3 px at least).
 
@@ -582,26 +597,35 @@ def _ridge_extension(residual, blades, t, e, user, m, stats, params, *, level: f
     return ndi.binary_dilation(m, iterations=steps, mask=(ev >= level) & blades[e]) | m
 
 
-def _snapped(residual, blades, t, user, registrations, stats, tolerance, params, *, labs=None):
+def _snapped(residual, blades, t, user, registrations, stats, tolerance, params, *, labs=None, rgb=None):
     """The thin layer ``user`` snapped onto each exemplar's own ridges, and each exemplar's own contrast.
 
-    Returns ``(masks, own, pixels, centred)``: ``masks`` None (not thin / off) or one mask
+    Returns ``(masks, own, pixels, centred, zones, rims)``: ``masks`` None (not thin / off) or one mask
     per exemplar (None on the training leaf), ``centred`` the same paths grown to each
     exemplar's own vein (:func:`~branchnb.leaves.snapping_width._grow_to_width`); ``own[e]`` the contrast
     direction of exemplar ``e``'s own layer where it differs from the
-    training leaf's (:func:`branchnb.leaves.own_contrast.exemplar_direction`), else None.
+    training leaf's (:func:`branchnb.leaves.own_contrast.exemplar_direction`), else None;
+    ``zones[e]`` a drawn exemplar's ink outline zone and its depth (:func:`_ink_zone`, from
+    its colours ``rgb[e]``; given None: the user's layer holds the outline), else None; ``rims[e]``
+    the exemplar's hole rims (:func:`~branchnb.leaves.snapping_stray._hole_rim`), no vein (:data:`RIM_TRIM`).
     """
     from .induction import layer_width
     from .own_contrast import exemplar_direction
     from .snapping import contrast_direction, is_thin_layer, snap_to_exemplars
     own = [None] * len(blades)
     pixels = [None] * len(blades)
+    zones = [None] * len(blades)
     if not params.snap or not is_thin_layer(user, max_width=thin_width(blades[t], user)):
-        return None, own, pixels, None
+        return None, own, pixels, None, zones, [None] * len(blades)
     if labs is None:
         labs = [_matched_lab(r, stats, e, t, params) for e, r in enumerate(residual)]
     d_t = contrast_direction(labs[t], user, blades[t])
     width = max(1.0, layer_width(user))
+    if rgb is not None:
+        for e in range(len(blades)):
+            if e != t:
+                zone, depth = _ink_zone(rgb[e], blades[e], width)
+                zones[e] = (zone, depth) if zone.any() else None
     radius = max(3.0, 1.5 * float(tolerance), float(params.snap_radius) * width)
     for e in range(len(blades)):
         if e != t:
@@ -610,9 +634,11 @@ def _snapped(residual, blades, t, user, registrations, stats, tolerance, params,
                                               return_pixels=True)
             own[e] = d if took else None
             pixels[e] = pix
+    rims = [None] * len(blades)
     masks, _, centred = snap_to_exemplars(labs, blades, t, user, registrations, tolerance=tolerance,
-                                          radius_widths=params.snap_radius, directions=own, return_centred=True)
-    return masks, own, pixels, centred
+                                          radius_widths=params.snap_radius, directions=own, return_centred=True,
+                                          outlines=[None if z is None else z[0] for z in zones], rims=rims)
+    return masks, own, pixels, centred, zones, rims
 
 
 #: A layer of curves at most this share of the leaf size (``sqrt`` of the blade's area) wide is thin

@@ -250,6 +250,10 @@ def layer_width(mask) -> float:
     mask = as_mask(mask, name="mask")
     if not mask.any():
         raise ValueError("mask is empty")
+    # On the mask's box grown by 1 px within the image: the same EDT and skeleton (the frame is
+    # background, or the image's own edge), a fraction of the canvas (called per layer and exemplar).
+    ys, xs = np.flatnonzero(mask.any(1)), np.flatnonzero(mask.any(0))
+    mask = mask[max(ys[0] - 1, 0):ys[-1] + 2, max(xs[0] - 1, 0):xs[-1] + 2]
     edt = _edt(mask).astype(np.float64)
     skel = skeletonize(mask)
     vals = edt[skel] if skel.any() else edt[mask]

@@ -184,6 +184,25 @@ own contrast (up to :data:`GROW_CAP` widths, pixels standing out at least
 stay the snapped layer itself (the hand-traced maples are traced wider
 than their veins' contrast: grown by contrast, their IoU fell to 0.38;
 unchanged now, 0.70 0.69 0.69 0.61 0.65 0.65 0.70).
+
+**Junction held at the petiole; hole rims no vein** (issue 22, beyond the paper). Training maple 04
+onto maple 07: both starts of the template fit carried 04's petiole junction 15-17 px above 07's,
+next to a hole with a browned rim, and the fit kept it there (the template's mean evidence there
+0.278, with its junction moved onto 07's own 0.261: 04's laterals fit 07's ridges better shifted).
+So when the training layer's junction lies at its petiole base, a fourth start carries the training
+petiole base onto the exemplar's own (:func:`~branchnb.leaves.snapping_basal._petiole_anchor`,
+template shift at most :data:`~branchnb.leaves.snapping_basal.ANCHOR_REACH` of the leaf size); it is
+taken when it scores at least :data:`~branchnb.leaves.snapping_basal.ANCHOR_SHARE` of the best start
+and that start's junction lies more than :data:`~branchnb.leaves.snapping_basal.ANCHOR_MOVE` of the
+leaf size away (without that condition 07 -> 02 and 07 -> 06 lost 0.05-0.06). And a hole's rim, its
+one-sided rim included (:func:`~branchnb.leaves.snapping_stray._one_sided_rim`: a ridge with the
+hole on one side, up to :data:`HOLE_REACH` layer widths from it), is left out of the induced layer
+except where a snapped path runs (``rims``, :func:`branchnb.leaves.analysis_induce.induce`): the
+colour term took 81-86 % of vein-coloured procedural rims as vein (``python -m
+branchnb.leaves._measure_holes``). Taking the one-sided rim's evidence away too was tried and not
+kept: in the template fit and the paths, 04 -> 07 0.36 -> 0.41 but 05 -> 07 0.49 -> 0.41 (05 -> 06
++0.08, 05 -> 03 -0.02); in the paths alone, 03 -> 07 0.66 -> 0.57 and 02 -> 07 0.63 -> 0.59 (07's
+traced laterals run within a few px of its holes).
 """
 
 from __future__ import annotations
@@ -194,7 +213,16 @@ from scipy import ndimage as ndi
 from ..core.distance import edt_boxed as _edt_boxed
 from ..core.image import as_mask
 from ..core.morphology import fill_holes
-from .snapping_basal import basal_branches, junction_star
+from .snapping_basal import (  # noqa: F401  (the anchor's constants, importable from here)
+    ANCHOR_MOVE,
+    ANCHOR_NEAR,
+    ANCHOR_REACH,
+    ANCHOR_SHARE,
+    _junction_of,
+    _petiole_anchor,
+    basal_branches,
+    junction_star,
+)
 from .snapping_carry import _affine_carry, _disk, _moment_carry, _nearest, _unbox, blade_box, carry_points  # noqa: F401
 from .snapping_evidence import contrast_direction, ridge_evidence
 from .snapping_fit import (  # noqa: F401  (the fit's names, importable from here as before)
@@ -534,7 +562,8 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
                       radius_widths: float = 3.0, min_evidence: float = 0.2, refine: bool = True,
                       line_frac: float = 0.08, fit: bool = True, fit_reach: float = 0.2, oriented: bool = True,
                       trace: bool = True, trace_kw=None, lightness_share: float = 0.3, directions=None,
-                      mirror: bool = True, return_centred: bool = False, basal: bool = True):
+                      mirror: bool = True, return_centred: bool = False, basal: bool = True, outlines=None,
+                      rims=None):
     """The training layer ``user`` snapped onto every exemplar's own ridges.
 
     Parameters
@@ -597,6 +626,14 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
     basal : bool
         Look for the training junction's basal branches the snapping lost
         (:func:`~branchnb.leaves.snapping_basal.basal_branches`), default True.
+    outlines : list of ((H, W) bool ndarray or None), optional
+        Per exemplar, where its ridges are no evidence of the layer: a drawn
+        leaf's ink outline (:func:`~branchnb.leaves.analysis_outline._ink_zone`);
+        None (default, or an entry None): everywhere evidence.
+    rims : list, optional
+        When given (one entry per exemplar), entry ``e`` is set to exemplar ``e``'s hole rims
+        (:func:`~branchnb.leaves.snapping_stray._hole_rim` with the one-sided rim,
+        :data:`HOLE_REACH`): where no vein of the layer is induced.
 
     Returns
     -------
@@ -627,6 +664,8 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
         chains, widths, n_mirrored = mirror_missing(chains, widths, blades[t])
     if directions is not None and (isinstance(directions, (str, bytes)) or len(directions) != len(labs)):
         raise ValueError(f"directions must be a list of one direction or None per exemplar ({len(labs)})")
+    if outlines is not None and (isinstance(outlines, (str, bytes)) or len(outlines) != len(labs)):
+        raise ValueError(f"outlines must be a list of one mask or None per exemplar ({len(labs)})")
 
     def projected(d):
         if lightness_share > 0 and abs(d[0]) >= lightness_share:
@@ -662,6 +701,14 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
         scale_e = np.sqrt(float(b.sum())) / max(size_t, 1.0)
         # A hole's rim (a torn or eaten patch) is an edge, not a vein.
         rim = _hole_rim(b, HOLE_RIM, HOLE_SHARE)
+        if rims is not None:
+            # The rims no vein is induced on (the one-sided rim too, up to HOLE_REACH layer widths).
+            rims[e] = _unbox(_hole_rim(b, HOLE_RIM, HOLE_SHARE, hessian=hess,
+                                       reach=max(3.0, HOLE_REACH * width) if HOLE_REACH > 0 else 0.0),
+                             b_full.shape, y0, x0)
+        if outlines is not None and outlines[e] is not None:
+            # A drawn leaf's ink outline is the blade's edge drawn, not a vein.
+            rim = rim | np.asarray(outlines[e], bool)[y0:y1, x0:x1]
         if rim.any():
             ev = np.where(rim, 0.0, ev).astype(np.float32)
             if hess is not None:
@@ -674,9 +721,19 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
         centre = vein_centre(lab, b, direction, width) if return_centred else None
         if rim.any():
             pev = np.where(rim, 0.0, pev).astype(np.float32)
+        evb = omaps = None
+        if fit and hess is not None:
+            # The fits, the traces and the basal search score poses on the same oriented maps: made once.
+            import cv2
+            evb = cv2.GaussianBlur(np.where(b, ev, 0.0).astype(np.float32), (0, 0), 0.7)
+            omaps = _oriented_maps(evb, hess)
+
+        anchor = _petiole_anchor(star, blades[t], b_full, registrations[e]) if fit and star is not None else None
+        if anchor is not None:
+            anchor = (anchor[0], anchor[1] - off)
 
         def place(chains, widths, n_user, e=e, b=b, ev=ev, hess=hess, scale=scale, scale_e=scale_e, pev=pev,
-                  centre=centre, off=off, b_full=b_full):
+                  centre=centre, off=off, b_full=b_full, omaps=omaps, anchor=anchor):
             # The branches carried into the exemplar, fitted, traced and snapped
             # to its ridges; the branches past ``n_user`` are candidates.
             carried = [carry_points(registrations[e], c) - off for c in chains]
@@ -698,22 +755,30 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
                     if _ONLY_START is not None and k != _ONLY_START:
                         continue
                     got, score = fit_branches(start, ev, b, reach=fit_reach * np.sqrt(float(b.sum())),
-                                              return_score=True, hessian=hess)
+                                              return_score=True, hessian=hess, maps=omaps)
                     if k == 2:
                         score = score / REGISTRATION_START
                     if best is None or score > best[1]:
                         best = (got, score)
+                if anchor is not None and best is not None and ANCHOR_SHARE > 0 and _ONLY_START is None:
+                    # The template's junction held at the exemplar's own petiole base.
+                    jc = _affine_carry(registrations[e], blades[t], [anchor[0][None]])[0][0] - off
+                    held = [c + (anchor[1] - jc) for c in starts[0]]
+                    got, score = fit_branches(held, ev, b, reach=ANCHOR_REACH * np.sqrt(float(b.sum())),
+                                              return_score=True, hessian=hess, maps=omaps)
+                    # Only where the fit moved the junction away from the petiole (else it is kept).
+                    moved = np.hypot(*(_junction_of(best[0], star) - _junction_of(got, star)))
+                    if score >= ANCHOR_SHARE * best[1] and moved > ANCHOR_MOVE * np.sqrt(float(b.sum())):
+                        best = (got, score)
                 carried = best[0] if best is not None else carried
                 tube = max(2.0, 1.5 * width)
                 if trace and hess is not None:
-                    import cv2
-                    evb = cv2.GaussianBlur(np.where(b, ev, 0.0).astype(np.float32), (0, 0), 0.7)
                     # Two traces may not share a vein: "near a placed branch" spans
                     # the vein's own width (3 px on a 3 px vein; a drawn oak's 6 px
                     # veins at 480 px took two traces side by side, 4 px apart).
                     kw = {"overlap_px": max(3.0, float(np.ceil(width * scale_e)))}
                     kw.update(trace_kw or {})
-                    carried = trace_branches(carried, _oriented_maps(evb, hess), b, **kw)
+                    carried = trace_branches(carried, omaps, b, **kw)
             elif refine:
                 carried = refine_carried(carried, ev, b, reach=reach)
             sw = [wd * scale for wd in widths]
@@ -741,11 +806,9 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
                 m, k, mcen = m0, k0, mcen0
         if fit and star is not None and hess is not None:
             # The junction's branches the snapping lost (a basal vein at a wider angle), found by rays.
-            import cv2
-            evb = cv2.GaussianBlur(np.where(b, ev, 0.0).astype(np.float32), (0, 0), 0.7)
             jc = carry_points(registrations[e], star["centre"][None])[0] - off
             sw_star = [user_widths[i] * scale for i in star["index"]]
-            found = basal_branches(m, star, jc, _oriented_maps(evb, hess), pev, b, sw_star, scale_e,
+            found = basal_branches(m, star, jc, omaps, pev, b, sw_star, scale_e,
                                    max(2.0, 1.5 * width), min_evidence=min_evidence,
                                    overlap_px=max(3.0, float(np.ceil(width * scale_e))))
             m = m | found
@@ -814,6 +877,11 @@ HOLE_RIM = 2
 #: Largest share of the blade the holes' rims may cover for them to take no evidence; past it the
 #: holes are texture, not damage (:func:`~branchnb.leaves.snapping_stray._hole_rim`).
 HOLE_SHARE = 0.1
+
+#: Reach (in layer widths, 3 px at least) of a hole's one-sided rim: ridge pixels with the hole on one
+#: side (:func:`~branchnb.leaves.snapping_stray._one_sided_rim`), no vein of the layer is induced on
+#: them outside the snapped paths (``rims``; 0: the rim of HOLE_RIM px only).
+HOLE_REACH = 2.0
 
 
 #: Power of the leaf-size ratio the snapped branches' widths scale by (1: in proportion); 0.5 measured

@@ -442,3 +442,49 @@ def basal_branches(found, star, carried_centre, maps, fine, blade, widths, scale
         if details is not None:
             details.setdefault("added", []).append(float(cand[k]))
     return out
+
+
+#: A training junction within this share of the leaf size of its petiole base is held at the exemplar's
+#: (:func:`_petiole_anchor`): a fourth start of the template fit, shifted by at most ANCHOR_REACH of the
+#: leaf size, taken when it scores at least ANCHOR_SHARE of the best of the others (0: off).
+ANCHOR_NEAR = 0.2
+#: ... and only when the best of the others put the junction farther than this share of the leaf size away.
+ANCHOR_MOVE = 0.08
+ANCHOR_REACH = 0.05
+ANCHOR_SHARE = 0.9
+
+
+def _petiole_anchor(star, blade_t, blade_e, registration):
+    """The petiole bases of the training leaf and an exemplar, ``(base_t, base_e)`` (x, y), or None.
+
+    The primaries of a palmate leaf meet where its petiole joins the blade. When the training
+    layer's junction (:func:`~branchnb.leaves.snapping_basal.junction_star`) lies within
+    :data:`ANCHOR_NEAR` of the leaf size of the training leaf's petiole base
+    (:func:`~branchnb.leaves.starts.split_petiole`), the template fit also starts with the training
+    base carried onto the exemplar's own: an outline registration is least sure inside the blade,
+    and the fit put training maple 04's junction 17 px above maple 07's, on a browned hole rim
+    whose ridges fitted its laterals (beyond the paper). None when either leaf has no petiole.
+    """
+    from .starts import split_petiole
+    base_t = split_petiole(blade_t)[2]
+    if base_t is None:
+        return None
+    c = np.asarray(star["centre"], np.float64)
+    if np.hypot(*(c - base_t)) > ANCHOR_NEAR * np.sqrt(float(np.count_nonzero(blade_t))):
+        return None
+    base_e = split_petiole(blade_e)[2]
+    if base_e is None:
+        return None
+    return np.asarray(base_t, np.float64), np.asarray(base_e, np.float64)
+
+
+def _junction_of(chains, star) -> np.ndarray:
+    """Where the star's branches (``star["index"]``) meet in ``chains``: the mean of their ends nearer the others'."""
+    cs = [np.asarray(chains[i], np.float64) for i in star["index"] if i < len(chains) and len(chains[i])]
+    pts = []
+    for k, c in enumerate(cs):
+        others = np.array([q for j, o in enumerate(cs) if j != k for q in (o[0], o[-1])]).reshape(-1, 2)
+        if not len(others):
+            return c[0]
+        pts.append(min((c[0], c[-1]), key=lambda q: float(np.hypot(*(others - q).T).min())))
+    return np.mean(pts, axis=0)

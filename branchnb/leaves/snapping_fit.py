@@ -200,7 +200,7 @@ def _grid(r, step):
 
 def fit_branches(chains, evidence, blade, *, reach: float, max_angle: float = 25.0,
                  penalty: float = 0.1, return_score: bool = False, branch_angle: float = 10.0,
-                 overlap: float = 0.3, hessian=None):
+                 overlap: float = 0.3, hessian=None, maps=None):
     """Carried-over branches moved onto the exemplar's ridges that fit them best: all together, then each.
 
     A layer's main veins keep their pattern from leaf to leaf (a star of
@@ -252,6 +252,10 @@ def fit_branches(chains, evidence, blade, *, reach: float, max_angle: float = 25
         (default 0.3).
     hessian : (3, H, W) ndarray, optional
         :func:`ridge_hessian`, for oriented pose scores; None: evidence only.
+    maps : (K, H, W) ndarray, optional
+        ``_oriented_maps`` of the blurred evidence and ``hessian``, when the
+        caller has them already (several fits on one exemplar); None:
+        computed here.
 
     Returns
     -------
@@ -279,7 +283,7 @@ def fit_branches(chains, evidence, blade, *, reach: float, max_angle: float = 25
     allp = np.concatenate([d for d, _ in dense if d is not None])
     tang = [_tangents(d) for d, _ in dense if d is not None]
     allt = np.concatenate(tang)
-    hess = _oriented_maps(ev, hessian) if hessian is not None else None
+    hess = None if hessian is None else (maps if maps is not None else _oriented_maps(ev, hessian))
     centre = allp.mean(0)
     r = float(np.ceil(reach))
     z = np.zeros(2)

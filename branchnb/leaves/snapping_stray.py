@@ -124,7 +124,7 @@ def _stray_ridges(evidence, blade, found, level: float, min_length: float) -> np
 
 
 
-def _hole_rim(blade, rim: int, share: float) -> np.ndarray:
+def _hole_rim(blade, rim: int, share: float, *, hessian=None, reach: float = 0.0) -> np.ndarray:
     """The pixels within ``rim`` px of a hole in ``blade``, or none when the holes are texture.
 
     A torn patch's edge is no vein (maple 07), but a speckled blade whose
@@ -137,11 +137,75 @@ def _hole_rim(blade, rim: int, share: float) -> np.ndarray:
     maples as training leaf): vein IoU 0.56 0.65 0.56 0.43 0.65 0.66 ->
     0.58 0.56 0.66 0.49 0.72 0.70 (mean 0.585 -> 0.618; training 02 loses);
     the other maples' holes cover 0-4 % and keep their rims.
+
+    With ``hessian`` (:func:`~branchnb.leaves.snapping_fit.ridge_hessian`) and ``reach`` > 0, also
+    the *one-sided* rim (:func:`_one_sided_rim`): pixels up to ``reach`` px from a hole whose ridge
+    runs along it, the hole on one side.
     """
     b = np.asarray(blade, bool)
     if rim <= 0:
         return np.zeros_like(b)
-    out = _binary_dilation(fill_holes(b) & ~b, iterations=int(rim)) & b
+    holes = fill_holes(b) & ~b
+    out = _binary_dilation(holes, iterations=int(rim)) & b
     if out.sum() > share * max(int(b.sum()), 1):
         return np.zeros_like(b)
+    if hessian is not None and reach > 0 and holes.any():
+        out |= _one_sided_rim(b, holes, hessian, reach)
+    return out
+
+
+def _one_sided_rim(blade, holes, hessian, reach: float) -> np.ndarray:
+    """Blade pixels whose ridge has a hole on one side within ``reach`` px: a rim, not a vein.
+
+    A vein stands out *between* blade on both of its sides. The dark (or
+    pale) tissue round a torn or eaten hole stands out too, but the hole
+    lies on one side of it, across its ridge (maple 07's browned rim of a
+    hole 20 px above its petiole junction is 2-6 px wide; the rim of
+    :data:`~branchnb.leaves.snapping.HOLE_RIM` px leaves its outer part). Each pixel's ridge normal is the eigenvector
+    of the Hessian's most negative eigenvalue (across a bright ridge of
+    the projection); a pixel from which a step of 1..``reach`` px along
+    either normal direction lands in a hole is one-sided. A vein crossing
+    a hole is not a rim up to the hole (its normal runs beside it);
+    a vein running along a hole within ``reach`` is (beyond the paper).
+    Used to leave rims out of the induced layer
+    (:func:`branchnb.leaves.analysis_induce.induce`); taking their ridge
+    evidence away from the template fit and the paths lost on maple 07
+    (:mod:`branchnb.leaves.snapping` notes).
+
+    Parameters
+    ----------
+    blade, holes : (H, W) bool ndarray
+        The blade and its holes.
+    hessian : (3, H, W) ndarray
+        :func:`~branchnb.leaves.snapping_fit.ridge_hessian` (``Hxx, Hxy, Hyy``).
+    reach : float
+        How far from a hole (px).
+
+    Returns
+    -------
+    (H, W) bool ndarray
+    """
+    h, w = blade.shape
+    near = (ndi.distance_transform_edt(~holes) <= reach) & blade
+    ys, xs = np.nonzero(near)
+    if not len(ys):
+        return np.zeros_like(blade)
+    hxx, hxy, hyy = (np.asarray(c, np.float64)[ys, xs] for c in hessian)
+    lam = 0.5 * (hxx + hyy) - np.sqrt(0.25 * (hxx - hyy) ** 2 + hxy ** 2)
+    # (hxy, lam - hxx) and (lam - hyy, hxy) both solve (H - lam) v = 0; the longer is the better conditioned.
+    v1 = np.stack([hxy, lam - hxx])
+    v2 = np.stack([lam - hyy, hxy])
+    v = np.where(np.hypot(*v1) >= np.hypot(*v2), v1, v2)
+    n = np.hypot(*v)
+    flat = n < 1e-12
+    v = v / np.where(flat, 1.0, n)
+    hit = np.zeros(len(ys), bool)
+    for k in range(1, int(np.ceil(reach)) + 1):
+        for s in (-1.0, 1.0):
+            yy = np.clip(np.round(ys + s * k * v[1]).astype(int), 0, h - 1)
+            xx = np.clip(np.round(xs + s * k * v[0]).astype(int), 0, w - 1)
+            hit |= holes[yy, xx]
+    hit &= ~flat
+    out = np.zeros_like(blade)
+    out[ys[hit], xs[hit]] = True
     return out

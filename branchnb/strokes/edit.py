@@ -421,6 +421,12 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
     part's opaque pixels in the result: a copied or turned leaf is whole
     (no notch, no grey arcs of the berry's rim), a carried one stays under
     its berry.
+    Where a part nobody stroked surrounds the roots of strokes that leave it
+    (an octopus's head round its tentacles) and a stroke turns its limb away,
+    the part's own source pixels close the notch the root leaves (no
+    transparent wedge drawn as a dark blob); ink-tinted pixels from just
+    inside the source's rim are repainted with a stale rim, and one-pixel
+    cracks in the soft rim between two patches are closed (beyond the paper).
 
     Raises
     ------

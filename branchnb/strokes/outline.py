@@ -40,6 +40,7 @@ from scipy import ndimage as ndi
 
 from ..core.distance import edt as _edt
 from ..core.distance import edt_boxed as _edt_boxed
+from ..core.morphology import _binary_dilation
 
 __all__ = ["OutlineStyle", "outline_style", "source_depth", "close_cuts", "clear_stale_outline", "drop_flecks",
            "fill_joints", "fill_pinholes"]
@@ -442,6 +443,7 @@ def clear_stale_outline(layer: np.ndarray, src_depth: np.ndarray, style: Outline
                 inked |= soft
                 good &= ~soft
         stale |= deep & filled & inked
+    stale, good = _tinted_rim(layer, stale, deep, good, src_depth, style)
     if not stale.any() or not good.any():
         return layer
     # the nearest good pixel within 3 w + 3 px: found on the stale pixels' box grown by that much
@@ -461,6 +463,135 @@ def clear_stale_outline(layer: np.ndarray, src_depth: np.ndarray, style: Outline
     win, src = out[r0:r1, c0:c1], layer[r0:r1, c0:c1]
     win[st, :3] = src[ir[st], ic[st], :3]
     return out
+
+
+def _close_rim_cracks(layer: np.ndarray) -> np.ndarray:
+    """``layer`` with the one-pixel cracks in its anti-aliased rim closed (a new array, or ``layer``).
+
+    Where two patches' edges meet a pixel apart along the silhouette, the seam
+    alternates between them and leaves a transparent pixel between one's faint
+    rim pixel and the other's opaque one: a light streak along the outline (an
+    octopus's straightened tentacle leaving its head). Such a pixel (alpha < 0.1
+    between two opposite neighbours of alpha >= 0.15, one of them >= 0.5) takes
+    the colour of its more opaque neighbour and the lesser of their alphas (a
+    soft rim pixel: the silhouette, alpha > 0.5, stays as it was). Beyond the
+    paper.
+    """
+    rows, cols = np.flatnonzero(layer[..., 3].any(axis=1)), np.flatnonzero(layer[..., 3].any(axis=0))
+    if not len(rows):
+        return layer
+    # (on the object's box grown by a pixel: the same cracks)
+    r0, r1 = max(int(rows[0]) - 1, 0), min(int(rows[-1]) + 2, layer.shape[0])
+    c0, c1 = max(int(cols[0]) - 1, 0), min(int(cols[-1]) + 2, layer.shape[1])
+    sub = _close_rim_cracks_box(layer[r0:r1, c0:c1])
+    if sub is None:
+        return layer
+    out = layer.copy()
+    out[r0:r1, c0:c1] = sub
+    return out
+
+
+def _close_rim_cracks_box(layer: np.ndarray) -> np.ndarray | None:
+    """:func:`_close_rim_cracks` on a box (None: no crack)."""
+    a = layer[..., 3]
+    h, w = a.shape
+    if h < 3 or w < 3:
+        return None
+    out = None
+    for axis in (0, 1):
+        c = a[1:-1, 1:-1]
+        if axis == 0:
+            p, q = a[:-2, 1:-1], a[2:, 1:-1]
+        else:
+            p, q = a[1:-1, :-2], a[1:-1, 2:]
+        lo, hi = np.minimum(p, q), np.maximum(p, q)
+        crack = (c < 0.1) & (lo >= 0.15) & (hi >= 0.5)
+        if not crack.any():
+            continue
+        if out is None:
+            out = layer.copy()
+        rs, cs = np.nonzero(crack)
+        first = p[rs, cs] >= q[rs, cs]
+        d = np.where(first, -1, 1)
+        sr, sc = (rs + 1 + d, cs + 1) if axis == 0 else (rs + 1, cs + 1 + d)
+        out[rs + 1, cs + 1, :3] = layer[sr, sc, :3]
+        out[rs + 1, cs + 1, 3] = lo[rs, cs]
+    return out
+
+
+def _grown(m: np.ndarray, k: int) -> np.ndarray:
+    """``m`` dilated by a ``(2 k + 1)`` px square."""
+    return _binary_dilation(m, np.ones((2 * k + 1, 2 * k + 1), bool))
+
+
+#: Source depth (px, beyond the outline's width) of the band just inside the rim whose
+#: ink-tinted pixels are stale too when they now lie deep inside (:func:`_tinted_rim`).
+_TINT_BAND = 1.5
+
+#: A pixel of that band is ink-tinted when its colour lies nearer the ink than this share of
+#: the distance from the ink to the nearest clean interior pixel's colour.
+_TINT = 0.85
+
+
+def _tinted_rim(layer, stale, deep, good, src_depth, style) -> tuple[np.ndarray, np.ndarray]:
+    """``(stale, good)`` with the ink-tinted pixels from just inside the source's rim moved
+    from ``good`` to ``stale`` (these only where they now lie deep inside).
+
+    A patch rotated into place is resampled, so the outline's inner edge comes
+    as pixels averaged between the ink and the flesh, their source depth a
+    little over the outline's width: when a neighbour's rim copied with a patch
+    was repainted, they stayed as a trail of dark dots in the flesh (an
+    octopus's tentacle turned beside its head), and they gave their tint to the
+    stale pixels next to them. Pixels from within :data:`_TINT_BAND` px of the
+    outline's inner edge whose colour lies nearer the ink than :data:`_TINT` of
+    the way to the nearest clean interior pixel's (from deeper in the source)
+    give no colour, and are repainted where deep -- only within the outline's
+    width + 1 px of a stale rim pixel and not next to a rim pixel that stays.
+    """
+    band = (src_depth > style.width + 0.5) & (src_depth <= style.width + _TINT_BAND)
+    near = band & deep & ~stale
+    if not near.any() or not stale.any():
+        return stale, good
+    # everything on the near pixels' box grown by the reach of the nearest clean pixel
+    g = int(np.ceil(3.0 * style.width + 3.0)) + 1
+    rs, cs = np.nonzero(near)
+    r0, r1 = max(rs.min() - g, 0), min(rs.max() + g + 1, near.shape[0])
+    c0, c1 = max(cs.min() - g, 0), min(cs.max() + g + 1, near.shape[1])
+    box = (slice(r0, r1), slice(c0, c1))
+    nb, bb, sb, lb = near[box], band[box], stale[box], layer[box]
+    clean = good[box] & ~bb
+    if not clean.any():
+        return stale, good
+    # only beside a rim being repainted, and not beside one that stays or ink drawn on a cut
+    # face (the inner edge of an outline kept inside the object -- a flower's over the arm it
+    # sits on -- is no trail)
+    reach = int(np.ceil(style.width)) + 1
+    col = np.asarray(style.colour, np.float32)
+    opaque = lb[..., 3] > 0.5
+    ink = opaque & (np.abs(lb[..., :3] - col).max(axis=2) < 0.1)
+    db = src_depth[box]
+    rim = (db > 0) & (db <= style.width + 0.5) & opaque
+    nb = nb & _grown(sb, reach) & ~_grown((rim | (ink & ~bb)) & ~sb, 1)
+    if not nb.any():
+        return stale, good
+    # against the colour of the nearest clean pixel (a multi-coloured object has no one
+    # interior colour), on the box of the pixels left grown by its reach
+    rs, cs = np.nonzero(nb)
+    q0, q1 = max(rs.min() - g, 0), min(rs.max() + g + 1, nb.shape[0])
+    p0, p1 = max(cs.min() - g, 0), min(cs.max() + g + 1, nb.shape[1])
+    if not clean[q0:q1, p0:p1].any():
+        return stale, good
+    dist, (ir, ic) = ndi.distance_transform_edt(~clean[q0:q1, p0:p1], return_indices=True)
+    rs, cs = rs - q0, cs - p0
+    win = lb[q0:q1, p0:p1, :3]
+    mid = win[ir[rs, cs], ic[rs, cs]]
+    d_ink, d_mid = np.linalg.norm(win[rs, cs] - col, axis=1), np.linalg.norm(mid - col, axis=1)
+    tinted = (dist[rs, cs] <= g) & (d_ink < _TINT * d_mid)
+    rs, cs = rs[tinted] + q0 + r0, cs[tinted] + p0 + c0
+    stale, good = stale.copy(), good.copy()
+    good[rs, cs] = False
+    stale[rs, cs] = True
+    return stale, good
 
 
 @_on_object_box()

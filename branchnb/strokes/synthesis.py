@@ -23,6 +23,7 @@ from .joints import _refill_vacated_roots, close_hairlines, hold_joint_bodies, j
 from .junctions import far_side
 from .outline import (
     _POCKET,
+    _close_rim_cracks,
     _disk_closing,
     clear_stale_outline,
     close_cuts,
@@ -133,6 +134,7 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
               for jn in junctions]
     # The parts nobody stroked, each carried rigidly by its stroke (after all strokes).
     # (turned apart about their attachments where the parent's bend makes them collide)
+    notches, ends = [], _stroke_ends(index, attached)
     for (i, pi, s_t), fwd in zip(patches._carried, _fanned_maps(index, attached, patches._carried, window)):
         part, pair = index.parts[pi], attached[i]
         got = place_part(part, index.premult, fwd, target_shape)
@@ -152,12 +154,14 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
             reach = 2.0 * float(index.half_width(part.stroke, part.s)) + 2.0
             keep &= np.hypot(xx + origin[0] - p[0], yy + origin[1] - p[1]) <= reach
         placed.append(PlacedPatch(pix, valid, origin, True, keep, inverse, grow=True))
+        notches.append((len(placed) - 1, _part_notches(pix, valid, keep, _notch_radius(part, ends))))
         source_region[part.box] |= part.mask
         if part.contact:
             joints.append((pair.target.point_at(s_t),
                            1.5 * float(index.half_width(part.stroke, part.s)) + 4.0, None, None))
     comp = compose(placed, target_shape, method=params.composition, power=params.seam_power,
                    gradient_weighted=params.gradient_weighted)
+    _refill_notches(comp, placed, notches)
     # For an opaque source the alpha is 1 on every copied pixel (less on the
     # anti-aliased edges of cut ends), 0 elsewhere: the object region is the
     # union of the patches.
@@ -168,6 +172,7 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
     layer[nz, :3] = np.clip(premult[nz, :3] / alpha[nz, None], 0.0, 1.0)
     layer[:, :, 3] = alpha
     if index.has_alpha:
+        layer = _close_rim_cracks(layer)
         style = patches._style if params.close_cuts else None
         wide = [j for j in joints if j[2] is not None]
         filled = None
@@ -227,17 +232,30 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
             layer = fill_joints(layer, [j[0] for j in joints], [j[1] for j in joints],
                                 keep_open=pockets)
         layer = close_hairlines(layer, [(d[0], 1.5 * d[2] + 4.0) for d in disks])
-        if style is not None and disks:
+        if style is not None and (disks or joints):
             # rims the last closings buried inside the object (a kept arm's outline
             # running into a turned arm's root): interior ink, repainted
             # and cut faces outlined before those closings joined them to a neighbour
+            # (also with no junction: a slit between two limbs' patches closed at a carried
+            # part's joint, an octopus's head between its tentacles, was a dark column)
             late = opened & (layer[:, :, 3] > 0.5)
             if inked is not None:
                 late |= inked
             layer = clear_stale_outline(layer, depth, style,
                                         filled=late if filled is None else late | filled)
         layer = _refill_vacated_roots(layer, index, attached, window, 1.0 if style is None else style.width)
+        unplugged = layer
         layer = fill_pinholes(layer, 1.0 if style is None else style.width)
+        if style is not None and layer is not unplugged:
+            # a crack plugged with its nearest opaque colour -- the ink lining it -- and that
+            # lining, now inside: a dark blob at a crotch where two limbs' patches met
+            # (an octopus's straightened tentacle beside its neighbour), repainted as stale
+            plugged = layer[:, :, 3] != unplugged[:, :, 3]
+            if not (disks or joints):
+                plugged |= opened & (layer[:, :, 3] > 0.5)
+            layer = clear_stale_outline(layer, depth, style, filled=plugged)
+        # (the joints' closings leave cracks of their own)
+        layer = _close_rim_cracks(layer)
         layer = drop_flecks(layer, index.premult[:, :, 3])
         layer = drop_flecks(layer, index.premult[:, :, 3], level=0.5)
         alpha = layer[:, :, 3]
@@ -355,6 +373,77 @@ class _AcrossCheck:
         dt = self.tgt[np.clip(yy, 0, ht - 1), np.clip(xx, 0, wt - 1)]
         judged = bent & np.isfinite(ds) & np.isfinite(dt)
         return ~judged | (np.abs(dt - ds) <= self.tol)
+
+
+def _stroke_ends(index, attached) -> list[tuple[int, np.ndarray, float]]:
+    """``(stroke, point, half width)`` of every source stroke's ends."""
+    out = []
+    for k, p in enumerate(attached):
+        w = index.half_width(k, np.array([0.0, p.source.length]))
+        out += [(k, p.source.points[0], float(w[0])), (k, p.source.points[-1], float(w[1]))]
+    return out
+
+
+def _notch_radius(part, ends) -> int:
+    """Radius (px) of the closing that finds the notches strokes' roots cut into ``part``: the
+    widest half width of a stroke end within its half width (+ 2 px) of the part, the stroke it
+    hangs from aside (0: none)."""
+    ys, xs = np.nonzero(part.mask)
+    if not len(ys):
+        return 0
+    pts = np.c_[xs + part.box[1].start, ys + part.box[0].start].astype(float)
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    best = 0.0
+    for k, q, hw in ends:
+        if k == part.stroke or hw <= best or (q < lo - hw - 2.0).any() or (q > hi + hw + 2.0).any():
+            continue
+        if float(np.min(np.hypot(*(pts - q).T))) <= hw + 2.0:
+            best = hw
+    return int(np.ceil(best)) + 1 if best > 0 else 0
+
+
+def _part_notches(pix: np.ndarray, valid: np.ndarray, keep, radius: int) -> np.ndarray | None:
+    """Pixels of a carried part's square that close a notch in it: within its closing by a
+    disk of ``radius`` px, not its own, opaque in the source there (None if none)."""
+    if radius < 1 or not valid.any():
+        return None
+    # (a closing by a disk as two distance transforms: linear in the pixels, not in the disk's area)
+    pad = radius + 2
+    m = cv2.copyMakeBorder(valid.astype(np.uint8), pad, pad, pad, pad, cv2.BORDER_CONSTANT, value=0)
+    grown = (cv2.distanceTransform(1 - m, cv2.DIST_L2, cv2.DIST_MASK_PRECISE) <= radius).astype(np.uint8)
+    closed = cv2.distanceTransform(grown, cv2.DIST_L2, cv2.DIST_MASK_PRECISE)[pad:-pad, pad:-pad] > radius
+    notch = closed & ~valid & (pix[..., 3] > 0.5)
+    if keep is not None:
+        notch &= keep
+    return notch if notch.any() else None
+
+
+def _refill_notches(comp, placed: list, notches: list) -> None:
+    """Lay a carried part's notch pixels (:func:`_part_notches`) where the composition left no
+    opaque pixel, in place (``comp``'s image and labels).
+
+    A part nobody stroked hangs round the roots of the strokes that leave it (an
+    octopus's head round its tentacles): the strokes' tubes take those root pixels,
+    so the part has a notch there. When a stroke turns its part away, nothing lays
+    the root's place: a transparent sliver opened in the head, which the cut-face
+    outline then drew as a dark wedge. The part's own source pixels there (the
+    flesh the root sat in) close it. Beyond the paper.
+    """
+    for i, notch in notches:
+        if notch is None:
+            continue
+        pp = placed[i]
+        win = pp.window(comp.image.shape)
+        if win is None:
+            continue
+        canvas, patch, _ = win
+        sub = notch[patch]
+        open_ = sub & (comp.image[canvas][..., 3] < 0.5)
+        if not open_.any():
+            continue
+        comp.image[canvas][open_] = pp.pixels[patch][open_]
+        comp.labels[canvas][open_] = i
+        comp.covered[canvas] |= open_
 
 
 #: Parents with at most this many segments are measured exactly in :func:`_inside_points`.
