@@ -367,11 +367,15 @@ class _Drain:
     def _straight_tail(self, example, dom: np.ndarray, dn: np.ndarray) -> None:
         """:data:`STRAIGHT_TAIL`: the example's root's heading at the sea, off the
         descent's mean direction ``dn`` along the axis, and the depth share where the trunk takes the former."""
-        from .delta_fan import _tail_share, root_offset
+        from .delta_fan import _tail_share, _trunk_turns, root_offset
 
         tail = root_offset(example, dom, dn)
         share = _tail_share(example, dom)
         if tail is None or abs(tail) < FAN_SPLIT_MIN or share <= 0.0:
+            return
+        if not _trunk_turns(example, dom):
+            # the example's trunk carries on straight past its head (its root merely follows an outer
+            # channel): the old rule, channels on both sides of a straight trunk (branching68)
             return
         # the channels keep the descent's bearings (spread about it): taken from the example's headings
         # (set_axis) they bunched on one side of the trunk, and parting at the trunk's turn (not at the
