@@ -121,3 +121,23 @@ def test_fan0_trunk_carries_on_with_channels_on_both_sides(fan0_delta):
         sides.append(side_share(s, dom))
     assert max(errs) < 10.0, errs
     assert min(sides) >= 0.2, sides
+
+
+def test_channels_leave_a_turned_trunk_on_both_sides():
+    """branching68: sided off the descent alone, every channel of a trunk turned 50 degrees took the trunk's
+    side (delta 512 px seed 0: fan 14.8 degrees, every channel beside the trunk)."""
+    s, dom = _bent_delta()
+    d = _Drain(dom)
+    d.set_axis(s, dom)
+    d.set_tail_depth(d.tail_share * float(d.depth_at((100, 0))[0]))
+    sgn = np.sign(d.tail)
+    at = np.array([100.0 - sgn * 10.0, 135.0])
+    assert d._in_tail(at)
+    # leaving between the trunk and the descent, 20 degrees off the descent on the trunk's side
+    a = np.pi / 2 + sgn * np.radians(20.0)
+    sides = []
+    for _ in range(2):
+        b = d.bearing(at, np.array([np.cos(a), np.sin(a)]), None, spread=np.radians(45.0))
+        sides.append(np.degrees(np.arctan2(b[1], b[0])) - 90.0)
+    assert sides[0] * sgn < -30.0, sides           # the fan's far side first
+    assert abs(sides[1]) < 10.0, sides             # then its middle

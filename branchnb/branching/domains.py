@@ -248,6 +248,16 @@ TRUNK_TAIL = False
 #: side). Only when the example's root reaches the sea at least :data:`FAN_SPLIT_MIN` off the descent (a root
 #: that carries on in the middle keeps the old rule), the heading capped at :data:`TAIL_MAX` off the descent so
 #: the trunk meets the coast steeply (``_delta_fan_check``'s coast share 0 on every kind and seed).
+#: branching68: only where the example's trunk itself turns at its head (:func:`.delta_fan._trunk_turns`: its
+#: thickest channel there >= :data:`.delta_fan.TURN_WIDTH` x as wide as the one carrying its line on; a root
+#: that merely follows an outer channel is no turn), and a channel leaving the turned trunk on the descent's
+#: side takes the fan's other half (far side, then middle; :meth:`bearing`). Same command, ``side``: the
+#: smaller share of channel length below the head on one side of the trunk line: ``fan0`` identical to main
+#: again (fan 36.6/40.6/33.2, bearing error median 6.3/9.4/7.1 against branching65's 13.0/14.3/11.4);
+#: ``delta`` fan median / lowest seed 37.0/32.5, 45.7/43.8, 41.5/34.7 (512 px lowest seed 14.8 -> 43.8, all
+#: its channels had left on the trunk's side), side median / lowest 0.41/0.37, 0.36/0.31, 0.30/0.15
+#: (examples 0.41, 0.37, 0.42; main 0.29/0.28, 0.32/0.18, 0.38/0.19); bearing error median 5.0/10.0/6.2
+#: (main 7.4/3.9/5.5: the turned trunk's start-to-mouths chord is off the example's in some seeds).
 STRAIGHT_TAIL = True
 TAIL_MAX = float(np.radians(60.0))
 
@@ -319,6 +329,8 @@ class _Drain:
         #: where the trunk takes ``tail`` as a share of its start's depth (None: the delta's head,
         #: :func:`.delta_fan.head_share`; :data:`STRAIGHT_TAIL`)
         self.tail_share: float | None = None
+        #: channels given the fan's other half below a straight delta's turned trunk so far (:meth:`bearing`)
+        self._tail_kids = 0
 
     def set_tail_depth(self, depth: float) -> None:
         """Below ``depth`` (the delta's head on the synthesized trunk) the trunk takes the example's root's
@@ -467,6 +479,15 @@ class _Drain:
             if spread is not None and len(self.offsets):
                 # no heading fits: the old rule, but no wider than the example's widest off the axis
                 spread = min(spread, float(np.abs(self.offsets).max()))
+        if parent_fan is None and spread is not None and self.axis is None and self._in_tail(at):
+            # STRAIGHT_TAIL: the trunk took one of the fan's outer headings; a channel leaving it on the
+            # descent's side takes the fan's other half in turn (the far side, then the middle): sided
+            # off the descent alone they all took the trunk's side and ran beside it
+            sgn = 1.0 if self.tail >= 0 else -1.0
+            if wrap(off - self.tail) * sgn < 0:
+                k = self._tail_kids
+                self._tail_kids += 1
+                return self._to_sea(at, a_d, -sgn * spread if k % 2 == 0 else 0.0)
         if parent_fan is None and spread is not None:
             return self._to_sea(at, a_d, spread if off >= 0 else -spread)
         pd = self.way_down(at, parent_fan)
