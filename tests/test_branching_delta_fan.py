@@ -99,9 +99,16 @@ def test_delta_trunk_fans_out_as_wide_as_the_example(delta_model, seed):
     roots = [b for b in s.branches if b.parent is None]
     assert len(roots) == 1 and d.depth_at(roots[0].points[0])[0] > 0.5 * d.depth.max()
     sides = set()   # the sea is at the bottom: left or right of where they leave the trunk
-    for b in s.branches:
-        if b.parent == 0 and d.depth_at(b.points[-1])[0] <= 0.03 * d.depth.max():
-            sides.add(np.sign(b.points[-1][0] - b.points[0][0]))
+    wet = [b for b in s.branches if b.parent == 0 and d.depth_at(b.points[-1])[0] <= 0.03 * d.depth.max()]
+    for b in wet:
+        sides.add(np.sign(b.points[-1][0] - b.points[0][0]))
+    # a trunk turned into an outer channel (STRAIGHT_TAIL) is one side itself, from where the first leaves it
+    # (branching68: its channels leave it for the fan's other half)
+    t = np.asarray(roots[0].points)
+    if wet and d.depth_at(t[-1])[0] <= 0.03 * d.depth.max():
+        k = min(b.parent_vertex for b in wet)
+        if abs(t[-1][0] - t[k][0]) > np.tan(np.radians(20.0)) * abs(t[-1][1] - t[k][1]):
+            sides.add(np.sign(t[-1][0] - t[k][0]))
     assert sides == {-1.0, 1.0}
 
 

@@ -9,7 +9,8 @@ runs at a known bearing off the way down, e.g. ``delta,fan0,fan30,fanm40,fan55``
 on side SIDE, synthesizes seeds 0 .. N - 1 and prints per seed: the fan spread
 (:func:`._structure_check.sea_bearings_inland`, degrees), the trunk bearing's error against the example's
 (:func:`trunk_bearing`, degrees), the chord deviation (:func:`chord_deviation`), the frame share
-(:func:`frame_share`), crossings, the far share over the example's, the share of branches ending > 2 x thicker
+(:func:`frame_share`), the trunks' share along the coast
+(:func:`coast_share`), crossings, the far share over the example's, the share of branches ending > 2 x thicker
 than they start (:func:`.measures.thick_end_share`), the channels reaching the sea and the length-weighted
 median radius over the example's; the example's own figures first (with the generator's true bearing for the
 FAN_KINDS), a summary line (medians, worst) per case last. Sheets of the example and seeds 0-2 go to
@@ -99,6 +100,87 @@ def trunk_bearing(s, dom: np.ndarray, tol: float = 6.0) -> float:
     return float(np.degrees(np.arctan2(v[1], v[0])))
 
 
+def coast_share(s, dom: np.ndarray, near: float = 0.015) -> float:
+    """Share of the trunks' (roots') length within ``near`` x the frame's diagonal (at least 4 px) of the sea,
+    over the part that is not the mouth's straight approach: the last ``near`` x the diagonal / sin(30 deg)
+    of a root's length (a trunk meeting the coast 30 degrees or more off it) not counted. 0 when none runs
+    along the coast."""
+    d = ndi.distance_transform_edt(dom)
+    h, w = dom.shape
+    r = max(4.0, near * float(np.hypot(h, w)))
+    along = total = 0.0
+    for b in s.branches:
+        p = np.asarray(b.points, float)
+        if b.parent is not None or len(p) < 2:
+            continue
+        seg = np.hypot(*np.diff(p, axis=0).T)
+        mid = 0.5 * (p[1:] + p[:-1])
+        ix = np.clip(np.rint(mid).astype(int), 0, [w - 1, h - 1])
+        left = seg.sum() - np.cumsum(seg)
+        along += seg[(d[ix[:, 1], ix[:, 0]] <= r) & (left > 2.0 * r)].sum()
+        total += seg.sum()
+    return along / max(total, 1e-9)
+
+
+def side_share(s, dom: np.ndarray) -> float:
+    """The smaller share of the channels' length below the delta's head on one side of the trunk line.
+
+    The head is where the longest root's first child whose subtree reaches the sea (within
+    :data:`.delta_fan.SEA_SHARE` x the deepest depth) leaves it; the trunk line runs from the root's start
+    through the head. 0.5: as much channel length on either side; 0: a lopsided fan. NaN without a head."""
+    from .delta_fan import SEA_SHARE
+
+    d = ndi.distance_transform_edt(dom)
+    h, w = dom.shape
+    br = s.branches
+    roots = [i for i, b in enumerate(br) if b.parent is None and len(b.points) >= 2]
+    if not roots:
+        return float("nan")
+    r = max(roots, key=lambda i: float(np.hypot(*np.diff(np.asarray(br[i].points, float), axis=0).T).sum()))
+    deep = float(d.max())
+
+    def wet(i):
+        x, y = np.clip(np.rint(br[i].points[-1]).astype(int), 0, [w - 1, h - 1])
+        return d[y, x] < SEA_SHARE * deep
+
+    kids = {}
+    for i, b in enumerate(br):
+        if b.parent is not None:
+            kids.setdefault(int(b.parent), []).append(i)
+
+    def reaches(i):
+        todo = [i]
+        while todo:
+            j = todo.pop()
+            if wet(j):
+                return True
+            todo.extend(kids.get(j, []))
+        return False
+
+    verts = [br[c].parent_vertex for c in kids.get(r, []) if br[c].parent_vertex is not None and reaches(c)]
+    if not verts:
+        return float("nan")
+    p = np.asarray(br[r].points, float)
+    head = p[min(int(min(verts)), len(p) - 1)]
+    u = head - p[0]
+    u = u / max(float(np.hypot(*u)), 1e-9)
+    ix = np.clip(np.rint(head).astype(int), 0, [w - 1, h - 1])
+    d_head = d[ix[1], ix[0]]
+    side = np.zeros(2)
+    for b in br:
+        q = np.asarray(b.points, float)
+        if len(q) < 2:
+            continue
+        mid = 0.5 * (q[1:] + q[:-1])
+        seg = np.hypot(*np.diff(q, axis=0).T)
+        im = np.clip(np.rint(mid).astype(int), 0, [w - 1, h - 1])
+        below = d[im[:, 1], im[:, 0]] < d_head
+        cr = (mid[:, 0] - head[0]) * u[1] - (mid[:, 1] - head[1]) * u[0]
+        side[0] += seg[below & (cr > 0)].sum()
+        side[1] += seg[below & (cr < 0)].sum()
+    return float(side.min() / max(side.sum(), 1e-9))
+
+
 def bearing_error(a: float, b: float) -> float:
     """Absolute difference of two bearings in degrees (0-180)."""
     return float(abs((a - b + 180.0) % 360.0 - 180.0))
@@ -162,7 +244,8 @@ def fitted(side: str, size: int, cache: str | None = None, mask_seed: int | None
 def figures(s, dom, side) -> dict:
     return dict(fan=sea_bearings_inland(s, dom)[0], bear=trunk_bearing(s, dom), dev=chord_deviation(s, dom),
                 frame=frame_share(s, dom.shape, side), cross=crossings(s), far=far_share(s, dom),
-                thick=thick_end_share(s), sea=n_to_sea(s, dom), rad=median_radius(s))
+                thick=thick_end_share(s), sea=n_to_sea(s, dom), rad=median_radius(s), coast=coast_share(s, dom),
+                side=side_share(s, dom))
 
 
 def run(side: str, size: int, seeds, out: str | None = None, cache: str | None = None,
@@ -174,7 +257,9 @@ def run(side: str, size: int, seeds, out: str | None = None, cache: str | None =
     ms = 3 + size if mask_seed is None else int(mask_seed)
     print(f"{kind} {side} {size} mask {mask_seed} example: fan {ex['fan']:.1f} bearing {ex['bear']:.0f} "
           f"(true {true_bearing(kind, side, size, ms):.0f}) dev {ex['dev']:.3f} frame {ex['frame']:.3f} "
-          f"far {ex['far']:.3f} thick {ex['thick']:.3f} sea {ex['sea']} rad {ex['rad']:.2f}", flush=True)
+          f"far {ex['far']:.3f} thick {ex['thick']:.3f} sea {ex['sea']} rad {ex['rad']:.2f} coast {ex['coast']:.3f} "
+          f"side {ex['side']:.2f}",
+          flush=True)
     rows = []
     for seed in seeds:
         s = synthesize_structure(model, rng=seed).structure
@@ -186,8 +271,10 @@ def run(side: str, size: int, seeds, out: str | None = None, cache: str | None =
         rows.append(f)
         print(f"  seed {seed}: fan {f['fan']:.1f} bearing err {f['berr']:.1f} dev {f['dev']:.3f} "
               f"frame {f['frame']:.3f} cross {f['cross']} far x{f['far']:.2f} thick {f['thick']:.3f} "
-              f"sea {f['sea']} rad x{f['rad']:.2f}", flush=True)
-    med = {k: float(np.median([r[k] for r in rows])) for k in ("fan", "berr", "dev", "frame", "far", "thick", "rad")}
+              f"sea {f['sea']} rad x{f['rad']:.2f} coast {f['coast']:.3f} "
+              f"side {f['side']:.2f}", flush=True)
+    keys = ("fan", "berr", "dev", "frame", "far", "thick", "rad", "coast", "side")
+    med = {k: float(np.median([r[k] for r in rows])) for k in keys}
     print(f"  SUMMARY {kind} {side} {size} mask {mask_seed}: fan med {med['fan']:.1f} "
           f"min {min(r['fan'] for r in rows):.1f} (ex {ex['fan']:.1f}) bearing err med {med['berr']:.1f} "
           f"max {max(r['berr'] for r in rows):.1f} thick med {med['thick']:.3f} "
@@ -195,7 +282,10 @@ def run(side: str, size: int, seeds, out: str | None = None, cache: str | None =
           f"(ex {ex['thick']:.3f}) dev med {med['dev']:.3f} (ex {ex['dev']:.3f}) frame med {med['frame']:.3f} "
           f"max {max(r['frame'] for r in rows):.3f} cross {sum(r['cross'] for r in rows)} far med x{med['far']:.2f} "
           f"max x{max(r['far'] for r in rows):.2f} sea min {min(r['sea'] for r in rows)} rad med x{med['rad']:.2f} "
-          f"max x{max(r['rad'] for r in rows):.2f}", flush=True)
+          f"max x{max(r['rad'] for r in rows):.2f} coast med {med['coast']:.3f} "
+          f"max {max(r['coast'] for r in rows):.3f} "
+          f"(ex {ex['coast']:.3f}) side med {med['side']:.2f} min {min(r['side'] for r in rows):.2f} "
+          f"(ex {ex['side']:.2f})", flush=True)
     if out:
         tag = "" if kind == "delta" else f"_{kind}"
         _sheet(img, dom, model.example, rows[:3], f"{out}{tag}_{side}_{size}_{mask_seed}.png")

@@ -561,8 +561,10 @@ class _Starts:
             # copied heads leave at the root's heading, and one along the frame could not turn to the sea
             wd = self.drain.way_down((x, y))
             theta = float(np.arctan2(wd[1], wd[0]))
-            if self.drain.tail_depth is None and self._head_share() > 0:
-                self.drain.set_tail_depth(self._head_share() * float(self.drain.depth_at((x, y))[0]))
+        if self.drain is not None and self.drain.tail_depth is None:
+            share = self._head_share() if self.drain.tail_share is None else self.drain.tail_share
+            if share > 0 and (self.drain.axis is not None or self.drain.tail is not None):
+                self.drain.set_tail_depth(share * float(self.drain.depth_at((x, y))[0]))
         c = self._start_branch(np.array([x, y], float), float(theta), pool, Q, None, None, 0, r_set=r_set)
         if c is not None and pool is not roots and self.drain is None and self.p.thickness_blend:
             self._root_profile(c, self.__dict__.get("_root_like"))

@@ -249,6 +249,200 @@ def pick_offset(offsets: np.ndarray, used: np.ndarray, off: float, a_p: float, t
     return int(cand[np.argmin(np.abs(o[cand] - off))])
 
 
+def _tail_share(example: Structure, domain: np.ndarray) -> float:
+    """Where a delta's trunk ends and turns into one of its channels, as a share of its depth.
+
+    Beyond the paper (issue 23, branching65): the example's longest root runs on past its first
+    furcation (often a dry side arm, :func:`head_share`) to the delta's head, where its first channel
+    that reaches the sea parts; below it the root is one of the fan's channels, not a trunk carrying on
+    in the fan's middle.
+
+    Parameters
+    ----------
+    example : Structure
+        The example's structure.
+    domain : (H, W) array_like of bool
+        Where it may grow (the land); depth is the distance to its boundary.
+
+    Returns
+    -------
+    float
+        Depth of the longest root's first child that reaches the sea (its subtree within
+        :data:`SEA_SHARE` x the deepest depth of it) over the depth of that root's start; 0 when the root
+        does not reach the sea or no child of it does.
+
+    Examples
+    --------
+    >>> from branchnb.core.structure import Branch, Structure
+    >>> dom = np.zeros((100, 100), bool); dom[:80] = True
+    >>> s = Structure([Branch([(50, 0), (50, 40), (20, 79)], 2.0), Branch([(50, 40), (80, 79)], 1.0, 0, 1)])
+    >>> round(_tail_share(s, dom), 2)
+    0.5
+    """
+    dom = np.asarray(domain, bool)
+    if dom.all() or not dom.any():
+        return 0.0
+    depth = ndi.distance_transform_edt(dom)
+    h, w = dom.shape
+    roots = [i for i, b in enumerate(example.branches) if b.parent is None and len(b.points) >= 2]
+    idx, _ends = _mouths(example, depth)
+    if not roots:
+        return 0.0
+    r = max(roots, key=lambda i: float(np.hypot(*np.diff(np.asarray(example.branches[i].points, np.float64),
+                                                        axis=0).T).sum()))
+    wet = set(idx)
+    if r not in wet:
+        return 0.0
+    kids: dict[int, list[int]] = {}
+    for i, b in enumerate(example.branches):
+        if b.parent is not None:
+            kids.setdefault(int(b.parent), []).append(i)
+
+    def reaches(i: int) -> bool:
+        todo = [i]
+        while todo:
+            j = todo.pop()
+            if j in wet:
+                return True
+            todo.extend(kids.get(j, []))
+        return False
+
+    verts = [example.branches[c].parent_vertex for c in kids.get(r, [])
+             if example.branches[c].parent_vertex is not None and reaches(c)]
+    if not verts:
+        return 0.0
+    p = np.asarray(example.branches[r].points, np.float64)
+    ix = np.clip(np.rint(p).astype(np.int64), 0, [w - 1, h - 1])
+    d = depth[ix[:, 1], ix[:, 0]]
+    if d[0] <= 0:
+        return 0.0
+    return float(d[min(int(min(verts)), len(d) - 1)] / d[0])
+
+
+#: A channel leaving a straight delta's head carries its trunk on when it heads at most this far off the
+#: trunk's heading just above the head (:func:`_trunk_turns`; :data:`.domains.FAN_SPLIT`, the least angle
+#: at which channels part).
+CONTINUE_MAX = float(np.radians(25.0))
+#: ... and the trunk turns into the thickest channel instead only when that is at least this many times as
+#: wide as the one carrying it on (:func:`_trunk_turns`).
+TURN_WIDTH = 1.7
+
+
+def _trunk_turns(example: Structure, domain: np.ndarray) -> bool:
+    """Does a straight delta's trunk turn into one of its channels at its head, or carry on straight?
+
+    Beyond the paper (issue 23, branching68). The head is where the longest root's first child whose
+    subtree reaches the sea parts (:func:`_tail_share`); the channels leaving it are the root below it
+    and every branch of those subtrees starting within 6 % of the frame's diagonal of it. Each one's
+    heading is taken over its first 5 % of the diagonal, the trunk's over the 5 % above the head, and each
+    one's width as its median thickness over 2-10 % of the diagonal from its start. The trunk carries on
+    straight when a channel heads within :data:`CONTINUE_MAX` of the trunk and no channel is
+    :data:`TURN_WIDTH` x as wide as it; it turns otherwise. Which of the channels the skeleton's root
+    follows says nothing: on a delta with a straight trunk and a channel fanning off on each side
+    (``fan0`` of :mod:`._delta_fan_check`) the root takes one of the outer channels, and the synthesized
+    trunk that followed it bunched every channel on one side. ``python -m branchnb.branching._delta_fan_check``
+    examples (width of the thickest over the continuing channel): ``delta`` (the wide distributary
+    parts 55 degrees off the trunk, the middle one is half as wide) 1.84-2.06, ``fan0`` (widths 4.5 / 3.05
+    / 1.6 px from the left) 1.40-1.56, at 300/512/1024 px: the threshold lies between, set on these two
+    generators.
+
+    Parameters
+    ----------
+    example : Structure
+        The example's structure.
+    domain : (H, W) array_like of bool
+        Where it may grow (the land).
+
+    Returns
+    -------
+    bool
+        False also when the root does not reach the sea or has no child reaching it.
+
+    Examples
+    --------
+    >>> from branchnb.core.structure import Branch, Structure
+    >>> dom = np.zeros((100, 100), bool); dom[:80] = True
+    >>> bent = Structure([Branch([(50, 0), (50, 40), (20, 79)], 4.0), Branch([(50, 40), (80, 79)], 1.0, 0, 1)])
+    >>> _trunk_turns(bent, dom)
+    True
+    >>> straight = Structure([Branch([(50, 0), (50, 40), (20, 79)], 4.0), Branch([(50, 40), (80, 79)], 3.0, 0, 1),
+    ...                       Branch([(50, 40), (50, 79)], 3.0, 1, 0)])
+    >>> _trunk_turns(straight, dom)
+    False
+    """
+    dom = np.asarray(domain, bool)
+    if dom.all() or not dom.any():
+        return False
+    depth = ndi.distance_transform_edt(dom)
+    diag = float(np.hypot(*dom.shape))
+    br = example.branches
+    roots = [i for i, b in enumerate(br) if b.parent is None and len(b.points) >= 2]
+    if not roots:
+        return False
+
+    def arc(q):
+        return np.r_[0.0, np.cumsum(np.hypot(*np.diff(q, axis=0).T))]
+
+    r = max(roots, key=lambda i: float(arc(np.asarray(br[i].points, np.float64))[-1]))
+    idx, _ends = _mouths(example, depth)
+    wet = set(idx)
+    if r not in wet:
+        return False
+    kids: dict[int, list[int]] = {}
+    for i, b in enumerate(br):
+        if b.parent is not None:
+            kids.setdefault(int(b.parent), []).append(i)
+
+    def subtree(i: int) -> list[int]:
+        out, todo = [], [i]
+        while todo:
+            j = todo.pop()
+            out.append(j)
+            todo.extend(kids.get(j, []))
+        return out
+
+    trees = [subtree(c) for c in kids.get(r, []) if br[c].parent_vertex is not None]
+    trees = [(br[t[0]].parent_vertex, t) for t in trees if wet.intersection(t)]
+    if not trees:
+        return False
+    p = np.asarray(br[r].points, np.float64)
+    k = min(int(min(v for v, _t in trees)), len(p) - 1)
+    s = arc(p)
+    step, near = 0.05 * diag, 0.06 * diag
+
+    def heading(q, sq, at):
+        e = min(int(np.searchsorted(sq, sq[at] + step)), len(q) - 1)
+        v = q[e] - q[at]
+        return float(np.arctan2(v[1], v[0])) if np.hypot(*v) > 1e-9 else None
+
+    def width(b, sq, at):
+        t = np.broadcast_to(np.asarray(b.thickness, np.float64), (len(sq),))
+        sel = (sq >= sq[at] + 0.02 * diag) & (sq <= sq[at] + 0.1 * diag)
+        return float(np.median(t[sel])) if sel.any() else float(np.median(t[at:]))
+
+    v_in = p[k] - p[max(0, int(np.searchsorted(s, s[k] - step, side="right")) - 1)]
+    if np.hypot(*v_in) < 1e-9:
+        return False
+    a_in = float(np.arctan2(v_in[1], v_in[0]))
+    chans = [(heading(p, s, k), width(br[r], s, k))] if k < len(p) - 1 else []
+    for _v, t in trees:
+        for i in t:
+            q = np.asarray(br[i].points, np.float64)
+            if len(q) < 2 or np.hypot(*(q[0] - p[k])) > near:
+                continue
+            sq = arc(q)
+            chans.append((heading(q, sq, 0), width(br[i], sq, 0)))
+    chans = [(a, wd) for a, wd in chans if a is not None]
+    if not chans:
+        return False
+    off = np.abs(np.angle(np.exp(1j * (np.array([a for a, _w in chans]) - a_in))))
+    wd = np.array([w_ for _a, w_ in chans])
+    c = int(np.argmin(off))
+    if off[c] > CONTINUE_MAX:
+        return True
+    return bool(wd.max() >= TURN_WIDTH * wd[c])
+
+
 def head_share(example, domain) -> float:
     """Where a delta's channels part, as a share of its trunk's depth.
 

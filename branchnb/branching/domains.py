@@ -234,6 +234,32 @@ FAN_SPLIT_MIN = float(np.radians(10.0))
 #: spread 23.8 -> 16.5 against 24.0, lowest seed 7.3) and the trunk bearing error of fan0/delta 300 px rose
 #: 3.6/9.1 -> 11.1/12.6 degrees.
 TRUNK_TAIL = False
+#: A delta whose trunk runs down the descent (no axis, :data:`AXIS_MIN`): below the depth where the example's
+#: longest root lets its first channel that reaches the sea part (:func:`.delta_fan._tail_share` of its start's
+#: depth) the trunk turns into one of the fan's channels, on the example's root's heading at the sea off the
+#: descent (:func:`.delta_fan.root_offset`), held to it as an axis trunk is (:data:`TRUNK_HOLD`) and re-aimed at
+#: the sea from where it is when a straight run would meet the frame first (:meth:`_to_sea`). Beyond the paper
+#: (issue 23, branching65): the trunk went on down the descent in the fan's middle, a channel the example does not
+#: have. ``python -m branchnb.branching._delta_fan_check bottom 300,512,1024 3 OUT CACHE - delta,fan0`` (fan
+#: spread median / lowest seed, degrees): ``delta`` 28.2/25.5, 28.1/27.3, 31.4/27.2 -> 37.0/32.5, 45.7/14.8,
+#: 41.5/34.9 (examples 38.9, 50.0, 45.8); ``fan0`` 36.6/34.2, 40.6/9.2, 33.2/1.5 -> 29.2/26.7, 33.4/24.1, 37.2/36.8
+#: (examples 35.2, 34.8, 38.7). The channels keep the descent's bearings about it: the fan is lopsided in some
+#: seeds (trunk bearing error median 4-9 -> 5-14 degrees; all channels of a 300 px ``fan0`` on the trunk's
+#: side). Only when the example's root reaches the sea at least :data:`FAN_SPLIT_MIN` off the descent (a root
+#: that carries on in the middle keeps the old rule), the heading capped at :data:`TAIL_MAX` off the descent so
+#: the trunk meets the coast steeply (``_delta_fan_check``'s coast share 0 on every kind and seed).
+#: branching68: only where the example's trunk itself turns at its head (:func:`.delta_fan._trunk_turns`: its
+#: thickest channel there >= :data:`.delta_fan.TURN_WIDTH` x as wide as the one carrying its line on; a root
+#: that merely follows an outer channel is no turn), and a channel leaving the turned trunk on the descent's
+#: side takes the fan's other half (far side, then middle; :meth:`bearing`). Same command, ``side``: the
+#: smaller share of channel length below the head on one side of the trunk line: ``fan0`` identical to main
+#: again (fan 36.6/40.6/33.2, bearing error median 6.3/9.4/7.1 against branching65's 13.0/14.3/11.4);
+#: ``delta`` fan median / lowest seed 37.0/32.5, 45.7/43.8, 41.5/34.7 (512 px lowest seed 14.8 -> 43.8, all
+#: its channels had left on the trunk's side), side median / lowest 0.41/0.37, 0.36/0.31, 0.30/0.15
+#: (examples 0.41, 0.37, 0.42; main 0.29/0.28, 0.32/0.18, 0.38/0.19); bearing error median 5.0/10.0/6.2
+#: (main 7.4/3.9/5.5: the turned trunk's start-to-mouths chord is off the example's in some seeds).
+STRAIGHT_TAIL = True
+TAIL_MAX = float(np.radians(60.0))
 
 
 class _Drain:
@@ -300,6 +326,11 @@ class _Drain:
         self.tail: float | None = None
         self.tail_depth: float | None = None
         self._tail_dir: np.ndarray | None = None
+        #: where the trunk takes ``tail`` as a share of its start's depth (None: the delta's head,
+        #: :func:`.delta_fan.head_share`; :data:`STRAIGHT_TAIL`)
+        self.tail_share: float | None = None
+        #: channels given the fan's other half below a straight delta's turned trunk so far (:meth:`bearing`)
+        self._tail_kids = 0
 
     def set_tail_depth(self, depth: float) -> None:
         """Below ``depth`` (the delta's head on the synthesized trunk) the trunk takes the example's root's
@@ -329,7 +360,11 @@ class _Drain:
         dn = np.mean([self.descent(start + t * v) for t in np.linspace(0.0, 1.0, 17)], axis=0)
         dn = dn / max(float(np.hypot(*dn)), 1e-9)
         if float(np.arccos(np.clip(axis @ dn, -1.0, 1.0))) < AXIS_MIN:
-            return   # a trunk along the descent: the descent's rules (tuned on such deltas) stay
+            # a trunk along the descent: the descent's rules (tuned on such deltas) stay, but the trunk
+            # turns into one of the fan's channels below the delta's head (STRAIGHT_TAIL)
+            if STRAIGHT_TAIL:
+                self._straight_tail(example, dom, dn)
+            return
         self.axis = axis
         self.target = target if dom.shape == self.shape else None
         off = fan_offsets(example, dom, self.axis)
@@ -340,6 +375,29 @@ class _Drain:
             tail = root_offset(example, dom, self.axis) if TRUNK_TAIL else None
             self.tail = tail
             self.used[int(np.argmin(np.abs(off - (0.0 if tail is None else tail))))] += 1.0
+
+    def _straight_tail(self, example, dom: np.ndarray, dn: np.ndarray) -> None:
+        """:data:`STRAIGHT_TAIL`: the example's root's heading at the sea, off the
+        descent's mean direction ``dn`` along the axis, and the depth share where the trunk takes the former."""
+        from .delta_fan import _tail_share, _trunk_turns, root_offset
+
+        tail = root_offset(example, dom, dn)
+        share = _tail_share(example, dom)
+        if tail is None or abs(tail) < FAN_SPLIT_MIN or share <= 0.0:
+            return
+        if not _trunk_turns(example, dom):
+            # the example's trunk carries on straight past its head (its root merely follows an outer
+            # channel): the old rule, channels on both sides of a straight trunk (branching68)
+            return
+        # the channels keep the descent's bearings (spread about it): taken from the example's headings
+        # (set_axis) they bunched on one side of the trunk, and parting at the trunk's turn (not at the
+        # example's first furcation) squashed the fan against the coast
+        self.tail = float(np.clip(tail, -TAIL_MAX, TAIL_MAX))
+        self.tail_share = share
+
+    def _in_tail(self, at) -> bool:
+        """Is ``at`` below the depth where a trunk takes the example's root's heading (:meth:`way_down`)?"""
+        return self.tail is not None and self.tail_depth is not None and self.depth_at(at)[0] <= self.tail_depth
 
     def _ref(self, at) -> float:
         """Angle of the direction the fan's bearings are measured from: the axis, else the descent."""
@@ -421,6 +479,15 @@ class _Drain:
             if spread is not None and len(self.offsets):
                 # no heading fits: the old rule, but no wider than the example's widest off the axis
                 spread = min(spread, float(np.abs(self.offsets).max()))
+        if parent_fan is None and spread is not None and self.axis is None and self._in_tail(at):
+            # STRAIGHT_TAIL: the trunk took one of the fan's outer headings; a channel leaving it on the
+            # descent's side takes the fan's other half in turn (the far side, then the middle): sided
+            # off the descent alone they all took the trunk's side and ran beside it
+            sgn = 1.0 if self.tail >= 0 else -1.0
+            if wrap(off - self.tail) * sgn < 0:
+                k = self._tail_kids
+                self._tail_kids += 1
+                return self._to_sea(at, a_d, -sgn * spread if k % 2 == 0 else 0.0)
         if parent_fan is None and spread is not None:
             return self._to_sea(at, a_d, spread if off >= 0 else -spread)
         pd = self.way_down(at, parent_fan)
@@ -465,13 +532,18 @@ class _Drain:
         (:data:`FAN_WEIGHT`) with the channel's own bearing ``fan`` (:meth:`bearing`) when given,
         else with the direction away from the apex once one is set."""
         at = np.asarray(at, np.float64)
+        if fan is None and self._in_tail(at):
+            # below the delta's head a trunk runs on the example's root's heading at the sea (TRUNK_TAIL,
+            # STRAIGHT_TAIL); turned toward the descent from where it is now when a straight run would meet
+            # the frame first (taken once at the head, a 256 px delta's trunk drifted into a corner of the
+            # frame and its last channel left it upstream)
+            if self.axis is None:
+                return self._to_sea(at, self._ref(at), self.tail)
+            if self._tail_dir is None:
+                self._tail_dir = self._to_sea(at, self._ref(at), self.tail)
+            return self._tail_dir.copy()
         if fan is None and self.axis is not None:
-            # a trunk heads for the example's mouths (set_axis), along its axis once near them; below the
-            # delta's head on the example's root's heading there (TRUNK_TAIL)
-            if self.tail is not None and self.tail_depth is not None and self.depth_at(at)[0] <= self.tail_depth:
-                if self._tail_dir is None:
-                    self._tail_dir = self._to_sea(at, self._ref(at), self.tail)
-                return self._tail_dir.copy()
+            # a trunk heads for the example's mouths (set_axis), along its axis once near them
             if self.target is not None:
                 r = self.target - at
                 n = float(np.hypot(*r))
@@ -533,7 +605,7 @@ class _Drain:
         """Score factor of a trunk's candidates ending at ``end`` ((C, 2)) from ``tip`` when the delta has
         an axis (:meth:`set_axis`): ``exp(-TRUNK_HOLD a)``, ``a`` the angle of the chord off the way to the
         example's mouths (1 without an axis)."""
-        if self.axis is None or TRUNK_HOLD <= 0:
+        if (self.axis is None and not self._in_tail(tip)) or TRUNK_HOLD <= 0:
             return np.ones(len(end))
         tip = np.asarray(tip, np.float64)
         wd = self.way_down(tip)
@@ -574,7 +646,9 @@ class _Drain:
                 o2 = np.where(np.hypot(c2[:, 0], c2[:, 1]) > 4.0, o2, 0.0)
                 off = np.maximum(off, FAN_WHOLE * o2)
             f = f * np.exp(-pull * FAN_HOLD * off)
-        elif self.axis is not None and TRUNK_HOLD > 0:
+        elif (self.axis is not None or self._in_tail(tip)) and TRUNK_HOLD > 0:
+            # a straight delta's trunk is held to its tail too (STRAIGHT_TAIL): the pull alone let the
+            # matching keep it on the descent (fan0 512 px: 6-22 degrees off it at the sea against 48)
             f = f * self.trunk_hold(tip, end, pull)
         f = np.where(cos < UPSTREAM_COS, 0.0, f)
         if start is not None:
