@@ -349,19 +349,20 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         for e in range(n):
             report(step / steps, f"layer {name}: residual of exemplar {e + 1}/{n}")
             step += 1
+            over = e != t and snapped is not None and _over_induced(combined[e], delta, blades[e], user, blades[t])
             m = user.copy() if e == t else _induced(combined[e], delta, tr_iou, snapped, e, blades[e], taken[e],
-                                                                     centred=centred)
+                                                    centred=centred, over=over)
             # Only where the exemplar's layer has its own colour model (re-chosen
             # on same-coloured leaves too, whenever the training delta found
             # under half of the exemplar's ridge pixels, a lobed leaf's spots
             # went 0.70 -> 0.38 IoU after the wider vein removal).
             d_e = delta if e == t else _own_delta(combined[e], delta, own_px[e], blades[e])
-            if d_e > delta:
+            if d_e > delta and not over:
                 # Beyond the training leaf's delta only next to the exemplar's own layer pixels.
                 near = ndi.binary_dilation(ridge_px[e], iterations=1)
                 m = m | _induced(np.where(near, combined[e], np.inf), d_e, tr_iou, snapped, e, blades[e], taken[e],
                                   centred=centred)
-            if e != t and snapped is not None and tr_iou >= COLOUR_RELIABLE and own_px[e] is not None:
+            if e != t and snapped is not None and tr_iou >= COLOUR_RELIABLE and own_px[e] is not None and not over:
                 # Where {D < delta} is induced (the snapped paths alone are drawn to width already:
                 # trimmed, the sample maples' induced veins lost half their width, IoU 0.64 -> 0.43).
                 if contrast is None:
@@ -460,7 +461,7 @@ def _long_network(user, blade, *, share: float = 1.0) -> bool:
 COLOUR_RELIABLE = 0.5
 
 
-def _induced(combined, delta, training_overlap, snapped, e, blade, taken, *, centred=None):
+def _induced(combined, delta, training_overlap, snapped, e, blade, taken, *, centred=None, over: bool = False):
     """The induced layer on exemplar ``e``: ``{D < delta}``, with a thin layer's snapped ridges.
 
     Where the colour term reproduces the user's layer on the training leaf
@@ -477,11 +478,13 @@ def _induced(combined, delta, training_overlap, snapped, e, blade, taken, *, cen
     colour term left beside its thin veins (procedural elliptic 192 px,
     training leaf 2 -> exemplar 3, seed 2: IoU 0.64 -> 0.70); all of them
     (a union) added the off-vein paths too (lobed 192 px 0.81 -> 0.80).
+    ``over`` (:func:`_over_induced`): the colour term takes most of this exemplar's blade, the
+    snapped structure alone is induced there too (beyond the paper).
     """
     m = (combined < delta) & blade & ~taken
     if snapped is None or snapped[e] is None:
         return m
-    if training_overlap < COLOUR_RELIABLE:
+    if training_overlap < COLOUR_RELIABLE or over:
         return snapped[e] & ~taken
     # The snapped paths (grown to the side their vein lies) where they run
     # beside {D < delta}: the colour term, averaged over a neighbourhood,
@@ -489,6 +492,28 @@ def _induced(combined, delta, training_overlap, snapped, e, blade, taken, *, cen
     if centred is None or centred[e] is None:
         return m
     return m | (centred[e] & blade & ~taken & ndi.binary_dilation(m))
+
+
+#: A thin layer's ``{D < delta}`` covering more than this many times the area the layer should take
+#: on an exemplar (the training layer's share of its blade) is no layer: the colour term does not
+#: tell it from the blade there (:func:`_over_induced`).
+OVER_INDUCED = 4.0
+
+
+def _over_induced(combined, delta, blade, user, blade_t) -> bool:
+    """Whether ``{D < delta}`` takes over :data:`OVER_INDUCED` times the layer's expected area on this blade.
+
+    A drawn leaf's one-pixel veins of another hue (yellow on an orange
+    fill, 640 px) are antialiased into the fill: the colour histograms of
+    the vein pixels and of the fill overlap and ``{D < delta}`` covered
+    77-93 % of every exemplar's blade; what was left after the contrast trim
+    was a few dots (10-566 px of ~2000). The snapped paths found the veins
+    there; they alone are induced then, as when the colour term fails on
+    the training leaf itself (:data:`COLOUR_RELIABLE`). Beyond the paper.
+    """
+    expected = float(np.count_nonzero(user)) / max(float(np.count_nonzero(blade_t)), 1.0) * float(
+        np.count_nonzero(blade))
+    return float(np.count_nonzero((combined < delta) & blade)) > OVER_INDUCED * max(expected, 1.0)
 
 
 def _matched_lab(image, stats, e, t, params, lab=None):
