@@ -37,6 +37,7 @@ from .analysis_induce import (  # noqa: F401  (importable from here as before)
     _other_colour,
     _outline_band,
     _outline_in_layer,
+    _over_induced,
     _own_cdf,
     _own_delta,
     _pinholes,
@@ -347,8 +348,10 @@ def _retuned(analysis, changes):
                                                          a.blades, a.registrations, t, user)
         masks = []
         for e in range(len(a.blades)):
+            over = e != t and old.snapped is not None and _over_induced(combined[e], delta, a.blades[e], user,
+                                                                         a.blades[t])
             m = user.copy() if e == t else _induced(combined[e], delta, tr_iou, old.snapped, e, a.blades[e],
-                                                    taken[e], centred=old.centred)
+                                                    taken[e], centred=old.centred, over=over)
             if e != t and old.contrast is not None and old.contrast[e] is not None and tr_iou >= COLOUR_RELIABLE:
                 m = trim_by_contrast(without_blobs(m, user, a.blades[t], a.blades[e]), old.contrast[e])
             if e != t and old.snapped is not None:

@@ -26,6 +26,8 @@ from .analysis_outline import (  # noqa: F401  (importable from here as before)
     _outline_in_layer,
     _outline_stretches,
 )
+from .analysis_snapped import THIN_NETWORK, THIN_SHARE, _snapped, thin_width  # noqa: F401
+from .analysis_trim import RIM_TRIM, SPECK_LENGTH, SPECK_MIN, _pinholes, _trimmed, _without_dots  # noqa: F401
 from .induction import (
     ColourSpace,
     InductionParams,
@@ -347,19 +349,20 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         for e in range(n):
             report(step / steps, f"layer {name}: residual of exemplar {e + 1}/{n}")
             step += 1
+            over = e != t and snapped is not None and _over_induced(combined[e], delta, blades[e], user, blades[t])
             m = user.copy() if e == t else _induced(combined[e], delta, tr_iou, snapped, e, blades[e], taken[e],
-                                                                     centred=centred)
+                                                    centred=centred, over=over)
             # Only where the exemplar's layer has its own colour model (re-chosen
             # on same-coloured leaves too, whenever the training delta found
             # under half of the exemplar's ridge pixels, a lobed leaf's spots
             # went 0.70 -> 0.38 IoU after the wider vein removal).
             d_e = delta if e == t else _own_delta(combined[e], delta, own_px[e], blades[e])
-            if d_e > delta:
+            if d_e > delta and not over:
                 # Beyond the training leaf's delta only next to the exemplar's own layer pixels.
                 near = ndi.binary_dilation(ridge_px[e], iterations=1)
                 m = m | _induced(np.where(near, combined[e], np.inf), d_e, tr_iou, snapped, e, blades[e], taken[e],
                                   centred=centred)
-            if e != t and snapped is not None and tr_iou >= COLOUR_RELIABLE and own_px[e] is not None:
+            if e != t and snapped is not None and tr_iou >= COLOUR_RELIABLE and own_px[e] is not None and not over:
                 # Where {D < delta} is induced (the snapped paths alone are drawn to width already:
                 # trimmed, the sample maples' induced veins lost half their width, IoU 0.64 -> 0.43).
                 if contrast is None:
@@ -368,22 +371,9 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
                 contrast[e] = (high_pass(labs[e], blades[e], layer_width(user) + 1.0)
                                @ (np.asarray(dir_e, np.float64) / np.linalg.norm(dir_e))).astype(np.float32)
                 m = trim_by_contrast(without_blobs(m, user, blades[t], blades[e]), contrast[e])
-            if e != t and snapped is not None and not outline_in_layer:
-                band = _outline_band(blades[e], user)
-                if (m & band).sum() >= INKED_OUTLINE * max(int(band.sum()), 1):
-                    m = m & ~band
-                elif inked_outline:
-                    m = m & ~_outline_stretches(m & band, user)
-                if zones[e] is not None:
-                    # A drawn leaf's ink outline (and the strip inside it) taken along the blade's edge.
-                    m = m & ~_outline_stretches(m & zones[e][0], user, zones[e][1])
             if e != t and snapped is not None:
-                if RIM_TRIM and rims[e] is not None:
-                    # A hole's rim in the layer's colour is no vein: the colour term took 58-99 % of
-                    # the vein-coloured rims of procedural holes (``_measure_holes``). The snapped
-                    # paths stay (their ridge evidence placed them; maple 07's lateral runs 3 px from a hole).
-                    m = m & ~(rims[e] & ~snapped[e])
-                m = _without_dots(m, layer_width(user))
+                m = _trimmed(m, blades[e], user, snapped[e], zones[e], rims[e], outline_in_layer=outline_in_layer,
+                             inked_outline=inked_outline)
             masks.append(m)
             taken[e] = taken[e] | m
             gone = m if snapped is None or e == t else _ridge_extension(residual, blades, t, e, user, m, stats, params,
@@ -471,7 +461,7 @@ def _long_network(user, blade, *, share: float = 1.0) -> bool:
 COLOUR_RELIABLE = 0.5
 
 
-def _induced(combined, delta, training_overlap, snapped, e, blade, taken, *, centred=None):
+def _induced(combined, delta, training_overlap, snapped, e, blade, taken, *, centred=None, over: bool = False):
     """The induced layer on exemplar ``e``: ``{D < delta}``, with a thin layer's snapped ridges.
 
     Where the colour term reproduces the user's layer on the training leaf
@@ -488,11 +478,13 @@ def _induced(combined, delta, training_overlap, snapped, e, blade, taken, *, cen
     colour term left beside its thin veins (procedural elliptic 192 px,
     training leaf 2 -> exemplar 3, seed 2: IoU 0.64 -> 0.70); all of them
     (a union) added the off-vein paths too (lobed 192 px 0.81 -> 0.80).
+    ``over`` (:func:`_over_induced`): the colour term takes most of this exemplar's blade, the
+    snapped structure alone is induced there too (beyond the paper).
     """
     m = (combined < delta) & blade & ~taken
     if snapped is None or snapped[e] is None:
         return m
-    if training_overlap < COLOUR_RELIABLE:
+    if training_overlap < COLOUR_RELIABLE or over:
         return snapped[e] & ~taken
     # The snapped paths (grown to the side their vein lies) where they run
     # beside {D < delta}: the colour term, averaged over a neighbourhood,
@@ -502,55 +494,26 @@ def _induced(combined, delta, training_overlap, snapped, e, blade, taken, *, cen
     return m | (centred[e] & blade & ~taken & ndi.binary_dilation(m))
 
 
-#: Leave the exemplar's hole rims (:func:`~branchnb.leaves.snapping_stray._hole_rim`, one-sided rims
-#: included) out of a thin layer's induced mask.
-RIM_TRIM = True
+#: A thin layer's ``{D < delta}`` covering more than this many times the area the layer should take
+#: on an exemplar (the training layer's share of its blade) is no layer: the colour term does not
+#: tell it from the blade there (:func:`_over_induced`).
+OVER_INDUCED = 4.0
 
 
-def _pinholes(blade, layer) -> np.ndarray:
-    """The blade's holes narrower than the layer (inscribed disc no wider than its width, 3 px at least).
+def _over_induced(combined, delta, blade, user, blade_t) -> bool:
+    """Whether ``{D < delta}`` takes over :data:`OVER_INDUCED` times the layer's expected area on this blade.
 
-    Matte pinholes and specular dots of a photographed leaf, not its real
-    holes (wider). The user's layer keeps its pixels in them: maple_leaf_04's
-    hand-traced veins, cut into 3 pieces by its 334 pinholes, as the training
-    leaf: induced-vein IoU on maples 01/02/03/05/06 0.68/0.71/0.69/0.70/0.64
-    -> 0.77/0.82/0.73/0.76/0.71, but on 07 0.49 -> 0.36 (the whole template's
-    junction lands on 07's dark hole rim above its own).
+    A drawn leaf's one-pixel veins of another hue (yellow on an orange
+    fill, 640 px) are antialiased into the fill: the colour histograms of
+    the vein pixels and of the fill overlap and ``{D < delta}`` covered
+    77-93 % of every exemplar's blade; what was left after the contrast trim
+    was a few dots (10-566 px of ~2000). The snapped paths found the veins
+    there; they alone are induced then, as when the colour term fails on
+    the training leaf itself (:data:`COLOUR_RELIABLE`). Beyond the paper.
     """
-    from .induction import layer_width
-    holes = ndi.binary_fill_holes(blade) & ~blade
-    if not holes.any() or not layer.any():
-        return np.zeros_like(blade)
-    lab, n = ndi.label(holes)
-    depth = ndi.maximum(ndi.distance_transform_edt(holes), lab, np.arange(1, n + 1))
-    half = max(1.5, 0.5 * layer_width(layer & blade))
-    return np.isin(lab, np.flatnonzero(np.asarray(depth) <= half) + 1)
-
-
-#: A thin layer is elongated: an induced part (8-connected) spanning fewer than
-#: this many layer widths in both directions is a speck, no vein (:func:`_without_dots`) ...
-SPECK_LENGTH = 3.0
-#: ... and never fewer than this (px): dots of 1-4 px go at any width.
-SPECK_MIN = 5
-
-
-def _without_dots(m, width: float) -> np.ndarray:
-    """A thin layer's induced mask without its isolated dots (beyond the paper).
-
-    The colour term takes any pixel of the layer's colour near the carried
-    layer: a speck of mottling or a pinhole's rim beside a vein is induced as
-    a dot of vein. A vein is elongated: a part of the mask whose bounding box
-    is shorter than ``max(SPECK_MIN, SPECK_LENGTH x width)`` px on both sides
-    is no vein and is left out.
-    """
-    lab, n = ndi.label(m, structure=np.ones((3, 3), bool))
-    if n == 0:
-        return m
-    need = max(SPECK_MIN, int(np.ceil(SPECK_LENGTH * float(width))))
-    boxes = ndi.find_objects(lab)
-    short = [i + 1 for i, b in enumerate(boxes)
-             if b is not None and max(b[0].stop - b[0].start, b[1].stop - b[1].start) < need]
-    return m & ~np.isin(lab, short) if short else m
+    expected = float(np.count_nonzero(user)) / max(float(np.count_nonzero(blade_t)), 1.0) * float(
+        np.count_nonzero(blade))
+    return float(np.count_nonzero((combined < delta) & blade)) > OVER_INDUCED * max(expected, 1.0)
 
 
 def _matched_lab(image, stats, e, t, params, lab=None):
@@ -595,95 +558,6 @@ def _ridge_extension(residual, blades, t, e, user, m, stats, params, *, level: f
     ev = ridge_evidence(lab_of(e), blades[e], direction, max(1.0, layer_width(user)))
     steps = max(1, int(round(reach * np.sqrt(float(blades[e].sum())))))
     return ndi.binary_dilation(m, iterations=steps, mask=(ev >= level) & blades[e]) | m
-
-
-def _snapped(residual, blades, t, user, registrations, stats, tolerance, params, *, labs=None, rgb=None):
-    """The thin layer ``user`` snapped onto each exemplar's own ridges, and each exemplar's own contrast.
-
-    Returns ``(masks, own, pixels, centred, zones, rims)``: ``masks`` None (not thin / off) or one mask
-    per exemplar (None on the training leaf), ``centred`` the same paths grown to each
-    exemplar's own vein (:func:`~branchnb.leaves.snapping_width._grow_to_width`); ``own[e]`` the contrast
-    direction of exemplar ``e``'s own layer where it differs from the
-    training leaf's (:func:`branchnb.leaves.own_contrast.exemplar_direction`), else None;
-    ``zones[e]`` a drawn exemplar's ink outline zone and its depth (:func:`_ink_zone`, from
-    its colours ``rgb[e]``; given None: the user's layer holds the outline), else None; ``rims[e]``
-    the exemplar's hole rims (:func:`~branchnb.leaves.snapping_stray._hole_rim`), no vein (:data:`RIM_TRIM`).
-    """
-    from .induction import layer_width
-    from .own_contrast import exemplar_direction
-    from .snapping import contrast_direction, is_thin_layer, snap_to_exemplars
-    own = [None] * len(blades)
-    pixels = [None] * len(blades)
-    zones = [None] * len(blades)
-    if not params.snap or not is_thin_layer(user, max_width=thin_width(blades[t], user)):
-        return None, own, pixels, None, zones, [None] * len(blades)
-    if labs is None:
-        labs = [_matched_lab(r, stats, e, t, params) for e, r in enumerate(residual)]
-    d_t = contrast_direction(labs[t], user, blades[t])
-    width = max(1.0, layer_width(user))
-    if rgb is not None:
-        for e in range(len(blades)):
-            if e != t:
-                zone, depth = _ink_zone(rgb[e], blades[e], width)
-                zones[e] = (zone, depth) if zone.any() else None
-    radius = max(3.0, 1.5 * float(tolerance), float(params.snap_radius) * width)
-    for e in range(len(blades)):
-        if e != t:
-            prior = warp_mask(registrations[e], user, to_training=False, level=0.25) & blades[e]
-            d, took, pix = exemplar_direction(labs[e], blades[e], prior, width, d_t, radius=radius,
-                                              return_pixels=True)
-            own[e] = d if took else None
-            pixels[e] = pix
-    rims = [None] * len(blades)
-    masks, _, centred = snap_to_exemplars(labs, blades, t, user, registrations, tolerance=tolerance,
-                                          radius_widths=params.snap_radius, directions=own, return_centred=True,
-                                          outlines=[None if z is None else z[0] for z in zones], rims=rims)
-    return masks, own, pixels, centred, zones, rims
-
-
-#: A layer of curves at most this share of the leaf size (``sqrt`` of the blade's area) wide is thin
-#: (snapped), 6 px at least (:func:`branchnb.leaves.snapping.is_thin_layer`'s pixel width does not scale).
-THIN_SHARE = 0.04
-
-
-def thin_width(blade, user=None) -> float:
-    """The widest median curve width (px) of a thin layer on a leaf with this blade: :data:`THIN_SHARE`.
-
-    A sketched maple's ink veins at 360 px are 6.2 px wide (0.03 of the leaf
-    size); at 6 px they were not thin, nothing was snapped and the second
-    maple sketch got 1227 of its ~6000 vein pixels (its midrib stayed in
-    its residual); taken as thin, 5989. Only for a network: a ``user``
-    layer whose skeleton is at least :data:`THIN_NETWORK` leaf sizes long
-    in all (a few elongated spots are not; procedural spots at 512-1000 px
-    were taken as thin without this); 6 px otherwise.
-
-    Parameters
-    ----------
-    blade : (H, W) bool ndarray
-        The training leaf's blade.
-    user : (H, W) bool ndarray, optional
-        The layer; None: taken as a network.
-
-    Returns
-    -------
-    float
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> thin_width(np.ones((100, 100), bool)), thin_width(np.ones((400, 400), bool))
-    (6.0, 16.0)
-    """
-    size = float(np.sqrt(np.count_nonzero(blade)))
-    if user is not None:
-        from skimage.morphology import skeletonize
-        if np.count_nonzero(skeletonize(np.asarray(user, bool))) < THIN_NETWORK * size:
-            return 6.0
-    return max(6.0, THIN_SHARE * size)
-
-
-#: Least total skeleton length of a layer, in leaf sizes, for :func:`thin_width` to scale.
-THIN_NETWORK = 2.0
 
 
 #: An exemplar's layer has another colour than the training leaf's when its

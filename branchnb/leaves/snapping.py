@@ -24,7 +24,7 @@ spots) the carried-over layer is only a prior:
    ``sato``, at the layer's half width and width) of that projection,
    normalised by its 99th percentile inside the blade, in ``[0, 1]``.
 3. **Template fit.** The training layer's skeleton is cut into branches
-   at its junctions and its main branches (:func:`main_branches`) are
+   at its junctions and its main branches (:func:`~branchnb.leaves.snapping_branches.main_branches`) are
    carried into the exemplar three times: by the affine map nearest the
    registration, by the blades' centroids and sizes alone (a registration
    of outlines can turn a leaf's inside by tens of degrees: maple 02 -> 03)
@@ -130,10 +130,10 @@ Per training maple 0.62 0.64 0.67 0.59 0.63 0.57 0.57, mean 0.61 (before
 04 as exemplar, whose laterals the trace now follows to the lobe tips, as
 they run in the photograph, beyond where its hand trace stops (without 04
 as exemplar: mean 0.625 -> 0.629). Procedural blades have no holes
-(unchanged). A hole's rim (:data:`HOLE_RIM` px around it) takes no ridge
+(unchanged). A hole's rim (:data:`~branchnb.leaves.snapping_maps.HOLE_RIM` px around it) takes no ridge
 evidence: the edge of a torn patch is no vein, and traces ran along it
 (maple 04 as training leaf, onto maple 07: IoU 0.37 -> 0.49); unless the
-rims cover over :data:`HOLE_SHARE` of the blade (maple 04's specks: texture).
+rims cover over :data:`~branchnb.leaves.snapping_maps.HOLE_SHARE` of the blade (maple 04's specks: texture).
 
 Measured with the hand tracings version 2 (maple 04's laterals extended to
 the lobe tips, ``_measure maples``), per training maple 01-07: 0.70 0.69
@@ -196,9 +196,9 @@ taken when it scores at least :data:`~branchnb.leaves.snapping_basal.ANCHOR_SHAR
 and that start's junction lies more than :data:`~branchnb.leaves.snapping_basal.ANCHOR_MOVE` of the
 leaf size away (without that condition 07 -> 02 and 07 -> 06 lost 0.05-0.06). And a hole's rim, its
 one-sided rim included (:func:`~branchnb.leaves.snapping_stray._one_sided_rim`: a ridge with the
-hole on one side, up to :data:`HOLE_REACH` layer widths from it), is left out of the induced layer
-except where a snapped path runs (``rims``, :func:`branchnb.leaves.analysis_induce.induce`): the
-colour term took 81-86 % of vein-coloured procedural rims as vein (``python -m
+hole on one side, up to :data:`~branchnb.leaves.snapping_maps.HOLE_REACH` layer widths from it), is left
+out of the induced layer except where a snapped path runs (``rims``, :func:`branchnb.leaves.analysis_induce.induce`):
+the colour term took 81-86 % of vein-coloured procedural rims as vein (``python -m
 branchnb.leaves._measure_holes``). Taking the one-sided rim's evidence away too was tried and not
 kept: in the template fit and the paths, 04 -> 07 0.36 -> 0.41 but 05 -> 07 0.49 -> 0.41 (05 -> 06
 +0.08, 05 -> 03 -0.02); in the paths alone, 03 -> 07 0.66 -> 0.57 and 02 -> 07 0.63 -> 0.59 (07's
@@ -223,6 +223,7 @@ from .snapping_basal import (  # noqa: F401  (the anchor's constants, importable
     basal_branches,
     junction_star,
 )
+from .snapping_branches import _order, layer_branches, main_branches  # noqa: F401
 from .snapping_carry import _affine_carry, _disk, _moment_carry, _nearest, _unbox, blade_box, carry_points  # noqa: F401
 from .snapping_evidence import contrast_direction, ridge_evidence
 from .snapping_fit import (  # noqa: F401  (the fit's names, importable from here as before)
@@ -242,8 +243,10 @@ from .snapping_fit import (  # noqa: F401  (the fit's names, importable from her
     oriented_response,
     ridge_hessian,
 )
+from .snapping_maps import HOLE_REACH, HOLE_RIM, HOLE_SHARE, _exemplar_maps  # noqa: F401
 from .snapping_mirror import adds_only, mirror_missing
 from .snapping_parallel import along_ridges, is_parallel_layer
+from .snapping_place import _place_branches, _template_start  # noqa: F401
 from .snapping_stray import SIDE_LEVEL, STRAY_LENGTH, STRAY_LEVEL, _hole_rim, _side_ridges, _stray_ridges  # noqa: F401
 from .snapping_trace import refine_carried, trace_branches  # noqa: F401
 from .snapping_width import GROW_CAP, GROW_LEVEL, _area_widths, _grow_to_width, vein_centre  # noqa: F401
@@ -297,120 +300,6 @@ def is_thin_layer(mask, *, max_width: float = 6.0) -> bool:
     edt = ndi.distance_transform_edt(m)
     on = skel & curve[np.maximum(lab - 1, 0)] & (lab > 0)
     return float(np.median(2.0 * edt[on] - 1.0)) <= max_width
-
-
-def layer_branches(mask) -> tuple[list, list]:
-    """A thin layer's skeleton cut at its junctions: pixel chains (x, y) and their widths.
-
-    Each branch keeps the junction pixels it touches at its ends, so
-    branches meeting at a junction share the end point.
-
-    Parameters
-    ----------
-    mask : (H, W) bool array_like
-        The thin layer.
-
-    Returns
-    -------
-    chains : list of (N, 2) int ndarray
-        Ordered pixel chains (x, y).
-    widths : list of float
-        Median ``2 EDT - 1`` of each chain on the layer.
-    """
-    from skimage.morphology import skeletonize
-    m = as_mask(mask, name="mask")
-    skel = skeletonize(m)
-    if not skel.any():
-        return [], []
-    edt = ndi.distance_transform_edt(m)
-    nb = ndi.convolve(skel.astype(np.int32), np.ones((3, 3), np.int32), mode="constant") - 1
-    junction = skel & (nb >= 3)
-    body = skel & ~junction
-    lab, n = ndi.label(body, structure=np.ones((3, 3)))
-    chains, widths = [], []
-    jy, jx = np.nonzero(junction)
-    jset = set(zip(jy.tolist(), jx.tolist()))
-    objs = ndi.find_objects(lab)
-    for k in range(1, n + 1):
-        sl = objs[k - 1]
-        ys, xs = np.nonzero(lab[sl] == k)
-        ys, xs = ys + sl[0].start, xs + sl[1].start
-        pts = list(zip(ys.tolist(), xs.tolist()))
-        chain = _order(pts)
-        # Attach the junction pixels next to the chain's two ends.
-        for end_i in (0, -1):
-            y, x = chain[end_i]
-            near = [(y + dy, x + dx) for dy in (-1, 0, 1) for dx in (-1, 0, 1) if (y + dy, x + dx) in jset]
-            if near:
-                chain = [near[0]] + chain if end_i == 0 else chain + [near[0]]
-        c = np.array(chain)[:, ::-1]
-        if len(c) < 2:
-            continue
-        chains.append(c)
-        widths.append(float(max(1.0, np.median(2.0 * edt[c[:, 1], c[:, 0]] - 1.0))))
-    return chains, widths
-
-
-def main_branches(chains, widths, size: float, *, min_length: float = 0.12):
-    """The branches of a layer's main structure: long (``min_length`` of the leaf size) or wide.
-
-    Fine veins are grown anew on every leaf (they lie elsewhere on the
-    next one): snapping them would paste the training leaf's fine veins
-    onto whatever ridge is near; they are left to the colour term. Wide:
-    at least the 75th percentile of the branches' widths (length-weighted)
-    and wider than the thinnest.
-
-    Parameters
-    ----------
-    chains : list of (N, 2) ndarray
-        Branches from :func:`layer_branches`.
-    widths : list of float
-        Their widths.
-    size : float
-        The leaf's size in pixels (``sqrt(blade area)``).
-    min_length : float
-        Shortest main branch, as a fraction of ``size`` (default 0.12).
-
-    Returns
-    -------
-    chains : list of (N, 2) ndarray
-    widths : list of float
-        The kept branches and their widths, in the input order.
-    """
-    if not chains:
-        return [], []
-    lens = np.array([len(c) for c in chains], float)
-    w = np.asarray(widths, float)
-    order = np.argsort(w)
-    cum = np.cumsum(lens[order]) / lens.sum()
-    w75 = float(w[order][np.searchsorted(cum, 0.75)])
-    keep = (lens >= min_length * size) | ((w >= w75) & (w > w.min()))
-    return [c for c, k in zip(chains, keep) if k], [x for x, k in zip(widths, keep) if k]
-
-
-def _order(pts: list) -> list:
-    """Pixels of one skeleton branch in order along it (from an end, or anywhere on a loop)."""
-    s = set(pts)
-
-    def nbrs(p):
-        y, x = p
-        return [(y + dy, x + dx) for dy in (-1, 0, 1) for dx in (-1, 0, 1)
-                if (dy or dx) and (y + dy, x + dx) in s]
-
-    ends = [p for p in pts if len(nbrs(p)) <= 1]
-    start = ends[0] if ends else pts[0]
-    out, seen = [start], {start}
-    cur = start
-    while True:
-        nxt = [q for q in nbrs(cur) if q not in seen]
-        if not nxt:
-            break
-        # 4-neighbours first: a diagonal step past a 4-neighbour would skip it.
-        nxt.sort(key=lambda q: abs(q[0] - cur[0]) + abs(q[1] - cur[1]))
-        cur = nxt[0]
-        out.append(cur)
-        seen.add(cur)
-    return out
 
 
 def snap_layer(evidence, blade, chains, widths, tolerance: float, *, min_evidence: float = 0.2, centre=None):
@@ -633,7 +522,7 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
     rims : list, optional
         When given (one entry per exemplar), entry ``e`` is set to exemplar ``e``'s hole rims
         (:func:`~branchnb.leaves.snapping_stray._hole_rim` with the one-sided rim,
-        :data:`HOLE_REACH`): where no vein of the layer is induced.
+        :data:`~branchnb.leaves.snapping_maps.HOLE_REACH`): where no vein of the layer is induced.
 
     Returns
     -------
@@ -696,37 +585,14 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
             if d.shape != (3,) or not np.all(np.isfinite(d)) or np.linalg.norm(d) < 1e-9:
                 raise ValueError(f"directions[{e}] must be 3 finite numbers, not all 0, got {directions[e]!r}")
             direction = projected(d / np.linalg.norm(d))
-        ev = ridge_evidence(lab, b, direction, width, line_frac * np.sqrt(float(b.sum())))
-        hess = ridge_hessian(lab, b, direction, width) if oriented else None
         scale_e = np.sqrt(float(b.sum())) / max(size_t, 1.0)
-        # A hole's rim (a torn or eaten patch) is an edge, not a vein.
-        rim = _hole_rim(b, HOLE_RIM, HOLE_SHARE)
-        if rims is not None:
-            # The rims no vein is induced on (the one-sided rim too, up to HOLE_REACH layer widths).
-            rims[e] = _unbox(_hole_rim(b, HOLE_RIM, HOLE_SHARE, hessian=hess,
-                                       reach=max(3.0, HOLE_REACH * width) if HOLE_REACH > 0 else 0.0),
-                             b_full.shape, y0, x0)
-        if outlines is not None and outlines[e] is not None:
-            # A drawn leaf's ink outline is the blade's edge drawn, not a vein.
-            rim = rim | np.asarray(outlines[e], bool)[y0:y1, x0:x1]
-        if rim.any():
-            ev = np.where(rim, 0.0, ev).astype(np.float32)
-            if hess is not None:
-                hess = np.where(rim[None], 0.0, hess).astype(np.float32)
+        outline = (np.asarray(outlines[e], bool)[y0:y1, x0:x1]
+                   if outlines is not None and outlines[e] is not None else None)
+        ev, hess, pev, centre, omaps = _exemplar_maps(
+            lab, b, direction, width, line_frac, oriented=oriented, fit=fit, centred=return_centred,
+            outline=outline, box=(b_full.shape, y0, x0), rims=rims, e=e)
         # A branch's width scales with the leaf (damped, see WIDTH_POWER).
         scale = scale_e ** WIDTH_POWER
-        # The path itself on the finest ridge response (one-pixel scale, no
-        # line averaging): the centre of a 3 px vein, not of its blurred halo.
-        pev = ridge_evidence(lab, b, direction, 1.0)
-        centre = vein_centre(lab, b, direction, width) if return_centred else None
-        if rim.any():
-            pev = np.where(rim, 0.0, pev).astype(np.float32)
-        evb = omaps = None
-        if fit and hess is not None:
-            # The fits, the traces and the basal search score poses on the same oriented maps: made once.
-            import cv2
-            evb = cv2.GaussianBlur(np.where(b, ev, 0.0).astype(np.float32), (0, 0), 0.7)
-            omaps = _oriented_maps(evb, hess)
 
         anchor = _petiole_anchor(star, blades[t], b_full, registrations[e]) if fit and star is not None else None
         if anchor is not None:
@@ -734,68 +600,11 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
 
         def place(chains, widths, n_user, e=e, b=b, ev=ev, hess=hess, scale=scale, scale_e=scale_e, pev=pev,
                   centre=centre, off=off, b_full=b_full, omaps=omaps, anchor=anchor):
-            # The branches carried into the exemplar, fitted, traced and snapped
-            # to its ridges; the branches past ``n_user`` are candidates.
-            carried = [carry_points(registrations[e], c) - off for c in chains]
-            reach = max(radius, 0.12 * np.sqrt(float(b.sum())))
-            tube = radius
-            if fit and chains:
-                # Starts for the template: the affine map nearest the
-                # registration, the blades' centroids and sizes alone (a
-                # registration of outlines can turn the inside of a leaf by tens
-                # of degrees: maple 02 -> 03), and the registration itself (its
-                # non-rigid carry, unless REGISTRATION_START is 0). The better fit
-                # wins; the registration's own only by that margin.
-                best = None
-                starts = [[c - off for c in _affine_carry(registrations[e], blades[t], chains)],
-                          [c - off for c in _moment_carry(blades[t], b_full, chains)]]
-                if REGISTRATION_START > 0:
-                    starts.append(carried)
-                for k, start in enumerate(starts):
-                    if _ONLY_START is not None and k != _ONLY_START:
-                        continue
-                    got, score = fit_branches(start, ev, b, reach=fit_reach * np.sqrt(float(b.sum())),
-                                              return_score=True, hessian=hess, maps=omaps)
-                    if k == 2:
-                        score = score / REGISTRATION_START
-                    if best is None or score > best[1]:
-                        best = (got, score)
-                if anchor is not None and best is not None and ANCHOR_SHARE > 0 and _ONLY_START is None:
-                    # The template's junction held at the exemplar's own petiole base.
-                    jc = _affine_carry(registrations[e], blades[t], [anchor[0][None]])[0][0] - off
-                    held = [c + (anchor[1] - jc) for c in starts[0]]
-                    got, score = fit_branches(held, ev, b, reach=ANCHOR_REACH * np.sqrt(float(b.sum())),
-                                              return_score=True, hessian=hess, maps=omaps)
-                    # Only where the fit moved the junction away from the petiole (else it is kept).
-                    moved = np.hypot(*(_junction_of(best[0], star) - _junction_of(got, star)))
-                    if score >= ANCHOR_SHARE * best[1] and moved > ANCHOR_MOVE * np.sqrt(float(b.sum())):
-                        best = (got, score)
-                carried = best[0] if best is not None else carried
-                tube = max(2.0, 1.5 * width)
-                if trace and hess is not None:
-                    # Two traces may not share a vein: "near a placed branch" spans
-                    # the vein's own width (3 px on a 3 px vein; a drawn oak's 6 px
-                    # veins at 480 px took two traces side by side, 4 px apart).
-                    kw = {"overlap_px": max(3.0, float(np.ceil(width * scale_e)))}
-                    kw.update(trace_kw or {})
-                    carried = trace_branches(carried, omaps, b, **kw)
-            elif refine:
-                carried = refine_carried(carried, ev, b, reach=reach)
-            sw = [wd * scale for wd in widths]
-            got = snap_layer(pev, b, carried[:n_user], sw[:n_user], tube, min_evidence=min_evidence, centre=centre)
-            m, k = got[0], got[1]
-            mcen = got[2] if centre is not None else m
-            if len(carried) > n_user:
-                # A candidate (a mirrored branch) is kept only where it found a
-                # vein of its own: not one a branch of the user's already took.
-                taken = ndi.binary_dilation(m, iterations=max(2, int(np.ceil(max(sw[:n_user], default=1.0)))))
-                for c, wd in zip(carried[n_user:], sw[n_user:]):
-                    gc = snap_layer(pev, b, [c], [wd], tube, min_evidence=min_evidence, centre=centre)
-                    mc = gc[0]
-                    if mc.any() and (mc & taken).sum() < 0.5 * mc.sum():
-                        m = m | mc
-                        mcen = mcen | (gc[2] if centre is not None else mc)
-            return m, k, mcen
+            return _place_branches(chains, widths, n_user, registrations[e], blades[t], b_full, off, b, ev, hess,
+                                   pev, centre, omaps, anchor, star, radius=radius, width=width, scale=scale,
+                                   scale_e=scale_e, fit=fit, fit_reach=fit_reach, trace=trace, trace_kw=trace_kw,
+                                   refine=refine, min_evidence=min_evidence,
+                                   registration_start=REGISTRATION_START, only_start=_ONLY_START)
         m, k, mcen = place(chains, widths, n_user)
         if n_mirrored:
             # A completion may only add to the user's layer: where it moved
@@ -870,19 +679,6 @@ PARALLEL_RUN = 0.1
 
 #: Window of the veins' direction field on a parallel layer, as a fraction of the leaf size.
 PARALLEL_SCALE = 0.06
-
-#: Pixels around a hole in the blade with no ridge evidence (0: off).
-HOLE_RIM = 2
-
-#: Largest share of the blade the holes' rims may cover for them to take no evidence; past it the
-#: holes are texture, not damage (:func:`~branchnb.leaves.snapping_stray._hole_rim`).
-HOLE_SHARE = 0.1
-
-#: Reach (in layer widths, 3 px at least) of a hole's one-sided rim: ridge pixels with the hole on one
-#: side (:func:`~branchnb.leaves.snapping_stray._one_sided_rim`), no vein of the layer is induced on
-#: them outside the snapped paths (``rims``; 0: the rim of HOLE_RIM px only).
-HOLE_REACH = 2.0
-
 
 #: Power of the leaf-size ratio the snapped branches' widths scale by (1: in proportion); 0.5 measured
 #: best on the maples (module notes). Switched on with RELATIVE_EVIDENCE once the non-structural warning
