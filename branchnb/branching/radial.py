@@ -118,6 +118,15 @@ def _hub_starts(hm: _HubModel, starts, scale: float, shape, rng, domain=None):
     return new, hubs
 
 
+def _hub_discs(hubs, shape) -> np.ndarray:
+    """``(H, W)`` bool: the discs of :data:`HUB_OPAQUE` + :data:`HUB_FEATHER` radii round ``hubs``."""
+    yy, xx = np.ogrid[:shape[0], :shape[1]]
+    out = np.zeros(shape, bool)
+    for x, y, r in hubs:
+        out |= (xx - x) ** 2 + (yy - y) ** 2 <= ((HUB_OPAQUE + HUB_FEATHER) * r) ** 2
+    return out
+
+
 def _paste_hubs(canvas: np.ndarray, example: np.ndarray, ex_hubs, hubs) -> np.ndarray:
     """``canvas`` with the example's hub blob (hub ``i % len(ex_hubs)``) pasted on every hub of ``hubs``,
     scaled to its radius and feathered (:data:`HUB_OPAQUE`, :data:`HUB_FEATHER`)."""
