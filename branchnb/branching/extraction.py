@@ -311,6 +311,7 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         from .centring import centre_on_lines
 
         s = centre_on_lines(lines, s, _pol, p.centre_reach)
+    _carry_hubs(s, hubs, p.scale)
     if return_maps:
         return s, (resp, bw, skel)
     return s
@@ -370,10 +371,19 @@ def _extract_binary(gray, p: ExtractionParams, mask, return_maps: bool, root_poi
                               close_cycles=0.0,   # (a mask's braids stay cut: see ExtractionParams.close_cycles)
                               hubs=[h.centre for h in hubs])
     s = _unpinch_frame_ends(s, gray.shape[:2])
+    _carry_hubs(s, hubs, p.scale)
     if return_maps:
         return s, (channels.astype(np.float32), channels, skel)
     return s
 
+
+
+def _carry_hubs(s, hubs, scale: float) -> None:
+    """Put the hubs on the structure as ``s.hubs = [(x, y, radius), ...]`` (full-size pixels) for
+    radial synthesis (:mod:`.radial`); a structure without hubs gets no attribute."""
+    if hubs:
+        s.hubs = [(float(h.centre[1]) / scale, float(h.centre[0]) / scale, float(h.radius) / scale)
+                  for h in hubs]
 
 
 def _hub_regions(channels: np.ndarray, region: np.ndarray, skel: np.ndarray, radius: np.ndarray):

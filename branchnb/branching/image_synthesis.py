@@ -316,6 +316,12 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     # a salient spot (a retina's optic disc) is copied by no fragment, not even its own branch's
     # beyond that branch's body: carried along, it made pale copies of the disc at junctions
     unusable = regions.unusable if regions.salient is None else regions.unusable | (regions.salient & ~regions.body)
+    if getattr(target_structure, "hubs", None) and getattr(example_structure, "hubs", None):
+        # nor the example's hubs (drawn whole at the output's hubs): copied along a spoke, their fill
+        # made fat wedges on the primaries beside the hub (beyond the paper, issue 23)
+        from .radial import _hub_discs
+
+        unusable = unusable | _hub_discs(example_structure.hubs, unusable.shape)
     ctx = _Context(ex, sm_s, sm_t, pm_s, excluded, unusable, p)
     free_t = _free_ends(sm_t, pm_t)
     if len(lib_b) == 0:
@@ -390,6 +396,11 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
             and target_domain is not None and target_domain.any() and not target_domain.all():
         # beyond the paper: a photo's matte (a fundus's black surround) stays outside the domain
         canvas = _keep_matte(canvas, target_domain, cached["matte_colour"])
+    if getattr(target_structure, "hubs", None) and getattr(example_structure, "hubs", None):
+        # beyond the paper (issue 23): a radial structure's hubs (somas, a coral's centre) drawn from the example's
+        from .radial import _paste_hubs
+
+        canvas = _paste_hubs(canvas, as_float_image(example_image), example_structure.hubs, target_structure.hubs)
     fragment_mask = frag_index >= 0
     # Every stage keeps [0, 1]; this guards the contract (finite, in range) for any input.
     np.clip(np.nan_to_num(canvas, nan=0.0), 0.0, 1.0, out=canvas)

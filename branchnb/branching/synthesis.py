@@ -261,6 +261,31 @@ def _in_core(starts, dist: np.ndarray) -> list[tuple[float, float, float]]:
     return out
 
 
+def _radial_starts(model: StructureModel, starts, shape, domain, hubs: list):
+    """``starts`` (a list or a function of the attempt's rng) with every root start made a hub of
+    several primaries when the example has hubs (:func:`.radial._hub_starts`; the hubs of each
+    attempt appended to ``hubs``); ``starts`` itself otherwise (no rng drawn: output unchanged)."""
+    from .radial import _hub_model, _hub_starts
+
+    hm = _hub_model(model)
+    if hm is None:
+        return starts
+    src = model.source.image_shape
+    scale = 1.0 if src is None else 0.5 * (shape[0] / src[0] + shape[1] / src[1])
+    dom = None if domain is None else np.asarray(domain, bool)
+
+    def radial(r):
+        base = starts(r) if callable(starts) else starts
+        new, hh = _hub_starts(hm, base, scale, shape, r, dom)
+        hubs.append(hh)
+        return new
+
+    if callable(starts):
+        return radial
+    out = radial(np.random.default_rng(len(starts)))
+    return out
+
+
 def _lift_child_heads(s: Structure) -> Structure:
     """Branches start no thinner than they run on (beyond the paper).
 
@@ -510,6 +535,7 @@ def synthesize_structure(example, params: SynthesisParams | None = None, *, rng=
     shp = _domain(model, shape)
     guidance = _check_guidance(guidance, shp)
     dom = _check_domain(domain, model, shp)
+    starts_given = starts
     if starts is None:
         if guidance is not None or p.roots != "learned":
             starts = _default_starts(model, shp, guidance, p, dom, rng)
@@ -526,10 +552,15 @@ def synthesize_structure(example, params: SynthesisParams | None = None, *, rng=
         if bad.any():
             raise ValueError(f"starts[{int(np.flatnonzero(bad)[0])}] lies outside the {w} x {h} domain")
         starts = [tuple(map(float, s)) for s in st]
+    hubs: list = []
+    if starts_given is None and guidance is None:
+        starts = _radial_starts(model, starts, shp, dom, hubs)
     reg = _region(domain, model, shp)
     g = _grow_with_retries(model, p, rng, shp, guidance, starts, _scorer, dom, progress, reg)
     g.report(done=True)
     s = _lift_child_heads(g.structure())
+    if hubs:   # the hubs of the attempt kept (one list per attempt drawn)
+        s.hubs = list(hubs[min(g.attempt, len(hubs)) - 1])
     diag = g.diagnostics(t0)
     diag["attempts"] = g.attempt
     sa = s.angles() if s.branches else np.zeros(0)
