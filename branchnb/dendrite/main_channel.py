@@ -619,8 +619,11 @@ def strike_channel(weights, content, seed, *, band: float = STRIKE_BAND,
     Examples
     --------
     >>> m = np.zeros((60, 60), bool); m[5:55, 20:40] = True
-    >>> path = strike_channel(np.ones((60, 60)), m, (30, 5))
-    >>> bool(path[-1, 1] > 45 and np.abs(path[:, 0] - 29.5).max() < 6)
+    >>> path = strike_channel(np.ones((60, 60)), m, (30, 5), rng=0)
+    >>> bool(path[-1, 1] > 45 and m[path[:, 1], path[:, 0]].all())
+    True
+    >>> straight = strike_channel(np.ones((60, 60)), m, (30, 5), jag=0.0)
+    >>> bool(np.abs(straight[:, 0] - 29.5).max() < 6)
     True
     """
     from .lattice import Lattice
