@@ -239,8 +239,11 @@ def test_strike_channel_and_outline_band():
     assert fill == 1.0 and near[40, 25] == 1.0 and near[40, 40] == 0.0 and near[0, 0] == 1.0
     ring = m & ~np.pad(np.ones((66, 26), bool), ((7, 7), (27, 27)))  # an outline drawing
     assert outline_band(ring, 0.05)[2] < 0.05
-    path = strike_channel(np.ones((80, 80)), m, (40, 5))
+    path = strike_channel(np.ones((80, 80)), m, (40, 5), jag=0.0)
     assert path[-1, 1] >= 70 and np.abs(path[:, 0] - 39.5).max() < 5  # down the middle
+    # jagged (dendrite33), but inside and off the outline (the object spans 39.5 +- 15)
+    path = strike_channel(np.ones((80, 80)), m, (40, 5), rng=0)
+    assert path[-1, 1] >= 70 and np.abs(path[:, 0] - 39.5).max() < 13
     with pytest.raises(ValueError, match="weights and content"):
         strike_channel(np.ones((80, 80)), m[:10], (40, 5))
 
