@@ -223,7 +223,9 @@ def test_lightning_runs_down_through_a_flat_object(kind):
     outline = ndimage.distance_transform_edt(~(m & ~ndimage.binary_erosion(m)))
     near = outline[np.round(p[:, 1]).astype(int), np.round(p[:, 0]).astype(int)] <= 0.03 * diag
     # before: 0.73 (ellipse) and 0.88 (cone) of the main path ran round the outline
-    assert near.mean() < 0.3
+    # (< 0.4: since dendrite33 the jagged channel wanders within 0.03 of the diagonal of
+    # the outline in the cone's narrow apex and 36-px trunk, 0.36)
+    assert near.mean() < 0.4
     assert np.abs(p[:, 0] - 0.5 * n).mean() < 0.02 * diag  # on the vertical axis (before 0.07)
     assert p[:, 1].max() - p[:, 1].min() > 0.75 * n  # from top to bottom
     assert _end_turn(p, diag) < 120  # before: 179 deg, up the outline from the foot
@@ -237,8 +239,11 @@ def test_strike_channel_and_outline_band():
     assert fill == 1.0 and near[40, 25] == 1.0 and near[40, 40] == 0.0 and near[0, 0] == 1.0
     ring = m & ~np.pad(np.ones((66, 26), bool), ((7, 7), (27, 27)))  # an outline drawing
     assert outline_band(ring, 0.05)[2] < 0.05
-    path = strike_channel(np.ones((80, 80)), m, (40, 5))
+    path = strike_channel(np.ones((80, 80)), m, (40, 5), jag=0.0)
     assert path[-1, 1] >= 70 and np.abs(path[:, 0] - 39.5).max() < 5  # down the middle
+    # jagged (dendrite33), but inside and off the outline (the object spans 39.5 +- 15)
+    path = strike_channel(np.ones((80, 80)), m, (40, 5), rng=0)
+    assert path[-1, 1] >= 70 and np.abs(path[:, 0] - 39.5).max() < 13
     with pytest.raises(ValueError, match="weights and content"):
         strike_channel(np.ones((80, 80)), m[:10], (40, 5))
 

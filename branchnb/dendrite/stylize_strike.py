@@ -129,7 +129,7 @@ class _StrikeSteps:
         def make():
             lat = self.lattice(p, rng_seed)
             content, found = self._lightning_content(p)
-            got = strike_weights(lat.weights, content, seed)
+            got = strike_weights(lat.weights, content, seed, rng=rng_seed)
             if got is None:  # a photo: no object to go through
                 path = (photo_channel(lat.weights, content, seed)
                         if silhouette(content).mean() > STRIKE_MAX_COVER else None)
@@ -170,7 +170,8 @@ class _StrikeSteps:
             res = self._plan_on(Lattice(got[0], lat.factors), p, seed)
             ends = self._object_endpoints(p, rng_seed, content) if found else self.endpoints(p, rng_seed)
             ends = np.concatenate([ends, got[1][-1:].astype(float)])
-            d = straighten(res, build_dendrite(res, ends), ends,
+            whole = build_dendrite(res, ends)
+            d = straighten(res, whole, ends,
                            reach=LIGHTNING_LOOP_REACH * float(np.hypot(*res.shape)))
             # down a stem (a tree's trunk) the channel is the bolt's main path to its foot:
             # by its tips the main path left it for the crown's largest limb
@@ -178,8 +179,12 @@ class _StrikeSteps:
             if grounded:
                 try:
                     d = with_channel(d, got[1])
-                except ValueError:  # the straightening cut through the channel
-                    grounded = False
+                except ValueError:  # the straightening (of the walk by tips) cut through the
+                    # channel, which is jagged (strike_channel), not looped: keep it whole
+                    try:
+                        d = with_channel(whole, got[1])
+                    except ValueError:  # another path ties with it somewhere
+                        grounded = False
             return res, d, True, grounded
         return self._get(key, make)
 
