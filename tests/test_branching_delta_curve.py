@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from scipy import ndimage as ndi
 
-from branchnb.branching import domains, synthesize_structure
+from branchnb.branching import drain, synthesize_structure
 from branchnb.branching._seed_check import fitted_example
 from branchnb.branching._structure_check import sea_bearings_inland
 from branchnb.branching.domains import FAN_CHILD, FAN_FRAME_GUARD, FAN_SPLIT, FAN_STRAIGHT, FAN_WINDOW, _Drain
@@ -117,10 +117,10 @@ def test_channels_curve_and_keep_a_fan(monkeypatch):
 
     dev, fan = figures()
     # main's hold (branching43): step by step, a channel's channel on the descent, the plain frame factor
-    monkeypatch.setattr(domains, "FAN_WINDOW", 0.0)
-    monkeypatch.setattr(domains, "FAN_WHOLE", 0.0)
-    monkeypatch.setattr(domains, "FAN_CHILD", 1.0)
-    monkeypatch.setattr(domains, "FRAME_POWER", 1.0)
+    monkeypatch.setattr(drain, "FAN_WINDOW", 0.0)
+    monkeypatch.setattr(drain, "FAN_WHOLE", 0.0)
+    monkeypatch.setattr(drain, "FAN_CHILD", 1.0)
+    monkeypatch.setattr(drain, "FRAME_POWER", 1.0)
     dev0, fan0 = figures()
     assert dev > 1.5 * dev0                                    # 0.023 -> 0.051 (examples 0.043, 0.071)
     # the fan's spread over 6 runs moves with which channels a seed makes (4-6 reach the sea): 38.8 -> 29.2

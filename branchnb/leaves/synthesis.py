@@ -132,8 +132,10 @@ warps, shape weights, map composition and resampling),
 :mod:`branchnb.leaves.prepared` (what every leaf of one analysis shares:
 stage images, layer masks, maps, petioles), :mod:`branchnb.leaves.inking`
 (drawn leaves), :mod:`branchnb.leaves.correction` (texture correction)
-and :mod:`branchnb.leaves.comparison` (measures used by the tests); this
-module assembles a leaf and re-exports their public names.
+and :mod:`branchnb.leaves.comparison` (measures used by the tests),
+:mod:`branchnb.leaves.synthesis_draws` (which exemplars a leaf draws from,
+seeds stratified over a batch) and :mod:`branchnb.leaves.synthesis_save`
+(writing leaves out); this module assembles a leaf and re-exports their names.
 
 Every leaf keeps the seed that made it, the exemplars it used and the mean
 shape weights; :func:`save_leaves` writes RGBA PNGs and a strict-JSON record.
@@ -141,14 +143,12 @@ shape weights; :func:`save_leaves` writes RGBA PNGs and a strict-JSON record.
 
 from __future__ import annotations
 
-import os
 from dataclasses import dataclass, field
 
 import cv2
 import numpy as np
 
 from ..core.io import encode_png
-from ..core.jsonio import dumps_strict
 from ..core.params import check_params, param
 from ..core.random import as_rng
 from ..core.validate import check_callback
@@ -170,6 +170,10 @@ from .shaping import (
     random_warp,
     shape_weights,
 )
+from .synthesis_draws import _STRATA_TRIES as _STRATA_TRIES
+from .synthesis_draws import _TIE_SIZE as _TIE_SIZE
+from .synthesis_draws import _exemplar_draws, _stratified_seeds
+from .synthesis_save import save_leaves
 
 __all__ = ["SynthesisParams", "GeneratedLeaf", "generate", "generate_leaf", "save_leaves",
            "random_warp", "shape_weights", "registration_errors", "leaf_distance",
@@ -657,73 +661,10 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
     sw = [float(wts[i][inside].mean()) if inside.any() else float(wts[i].mean()) for i in range(n)]
     return GeneratedLeaf(img, int(seed), bg, chosen, sw, warps, pet_from)
 
-def _exemplar_draws(seed: int, n: int) -> tuple[int, int, int]:
-    """The exemplars giving leaf ``seed`` its pose, its size (and background) and its leading shape weight.
-
-    One exemplar for all three, from a stream of its own of the seed, so
-    the other draws do not depend on it. The pose is the leading shape
-    exemplar's: the upright shape maps are each exemplar's map turned to
-    fit the training leaf best, so part of how an exemplar's outline
-    differs lies in its pose; with the pose of another exemplar, new
-    leaves overlapped each other more than the exemplars do (procedural
-    elliptic family, 8 new leaves in 3 batches: median pairwise blade IoU
-    0.59-0.66 -> 0.56-0.59 against 0.55). So is the size: a shape and its
-    size go together in the exemplars, and with the size of an exemplar
-    drawn apart from the lead, two new leaves shared a lead or a size in
-    8 of 28 pairs of a batch of 8 from 4 exemplars (median pairwise blade
-    IoU, rng 0 and 7 of ``generate(a, 8)``, over the exemplars': procedural
-    trilobed 192 px seed 1 +0.06 and +0.15 -> +0.04 and +0.07, elliptic
-    seed 0 +0.03 and +0.12 -> -0.01 and +0.03, lobed within +-0.03 either
-    way). (Drawn independently per leaf, the pose of the leading exemplar
-    made leaves of one dominant exemplar lie alike: generate() stratifies
-    the draws.)
-    """
-    lead = int(np.random.default_rng((seed, 6)).integers(n))
-    if not _TIE_SIZE:
-        return (lead, int(np.random.default_rng((seed, 3)).integers(n)), lead)
-    return (lead, lead, lead)
-
-
-_TIE_SIZE = True
-
 
 #: A layer's donor is the background's own exemplar only when every other is stretched more than this
 #: (log of the scale; see :func:`generate_leaf`).
 _REUSE_STRETCH = float(np.log(1.5))
-
-#: Largest number of candidate seeds tried per leaf by :func:`_stratified_seeds`.
-_STRATA_TRIES = 4096
-
-
-def _stratified_seeds(gen, count: int, n: int) -> np.ndarray:
-    """``count`` leaf seeds whose exemplar draws (:func:`_exemplar_draws`) are stratified over a batch.
-
-    Going beyond the paper. Drawn independently, two new leaves take the
-    same exemplar's pose, size and leading shape one time in ``n``, while
-    two exemplars never are the same exemplar: with 4 exemplars, new
-    leaves overlapped each other more than the exemplars do (median
-    pairwise blade IoU 0.76 against 0.55 on a procedural elliptic family
-    whose leaves differ mostly by pose). Here the lead exemplars of
-    consecutive leaves run through random permutations of the exemplars,
-    and each leaf's seed is drawn until its own lead is the wanted one
-    (rejection: every leaf is still :func:`generate_leaf` of its seed).
-    """
-    if n < 2:
-        return gen.integers(0, 2**31 - 1, size=count)
-    # Leaf by leaf (a block of n leaves per permutation), so a shorter batch
-    # from the same rng is the start of a longer one.
-    seeds = np.empty(count, np.int64)
-    for i in range(count):
-        if i % n == 0:
-            perm = gen.permutation(n)
-        target = int(perm[i % n])
-        s = int(gen.integers(0, 2**31 - 1))
-        for _ in range(8 * _STRATA_TRIES):
-            if _exemplar_draws(s, n)[2] == target:
-                break
-            s = int(gen.integers(0, 2**31 - 1))
-        seeds[i] = s
-    return seeds
 
 
 def generate(analysis, n: int = 8, *, rng=None, params: SynthesisParams | None = None,
@@ -782,53 +723,3 @@ def generate(analysis, n: int = 8, *, rng=None, params: SynthesisParams | None =
     if progress is not None:
         progress(1.0, "done")
     return out
-
-
-def save_leaves(leaves, outdir, *, prefix: str = "leaf") -> list[str]:
-    """Write each leaf as an RGBA PNG plus ``leaves.json``, a strict-JSON record of what made each.
-
-    Returns the paths written (PNGs, then the JSON).
-
-    Parameters
-    ----------
-    leaves : list of GeneratedLeaf
-        The leaves, e.g. from :func:`generate`.
-    outdir : str or path-like
-        Output folder (created if needed; existing files are overwritten).
-    prefix : str
-        File names are ``<prefix>_0000.png``, ... and ``<prefix>s.json``
-        (default ``"leaf"``: ``leaves.json``).
-
-    Returns
-    -------
-    list of str
-    """
-    if isinstance(leaves, (str, bytes, dict)) or not isinstance(leaves, (list, tuple)):
-        raise TypeError(f"leaves must be a list of GeneratedLeaf, got {type(leaves).__name__}")
-    leaves = list(leaves)
-    if not isinstance(outdir, (str, os.PathLike)) or not str(outdir).strip():
-        raise TypeError(f"outdir must be a non-empty folder path, got {outdir!r:.60}")
-    if os.path.exists(outdir) and not os.path.isdir(outdir):
-        raise ValueError(f"outdir {str(outdir)!r} is a file, not a folder")
-    for i, leaf in enumerate(leaves):
-        if not isinstance(leaf, GeneratedLeaf):
-            raise TypeError(f"leaves[{i}] must be a GeneratedLeaf, got {type(leaf).__name__}")
-    if not isinstance(prefix, str) or not prefix or os.sep in prefix:
-        raise ValueError(f"prefix must be a plain file-name prefix, got {prefix!r}")
-    os.makedirs(outdir, exist_ok=True)
-    paths, records = [], []
-    for i, leaf in enumerate(leaves):
-        name = f"{prefix}_{i:04d}.png"
-        path = os.path.join(outdir, name)
-        with open(path, "wb") as f:
-            f.write(encode_png(leaf.image))
-        rec = leaf.record()
-        rec["file"] = name
-        records.append(rec)
-        paths.append(path)
-    jpath = os.path.join(outdir, f"{prefix}s.json")
-    text = dumps_strict({"version": 1, "leaves": records}, name="leaves", indent=1)
-    with open(jpath, "w") as f:
-        f.write(text)
-    paths.append(jpath)
-    return paths
