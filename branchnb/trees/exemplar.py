@@ -450,7 +450,9 @@ def _defringe(img: np.ndarray, opaque: np.ndarray) -> np.ndarray:
     rgb = img[:, :, :3]
     # the background's colour is that of the nearest clear pixel (however wide the soft band)
     _, (by, bx) = ndi.distance_transform_edt(~clear, return_indices=True)
-    bg = rgb[by, bx]
+    cf = clear.astype(np.float32)
+    smooth = cv2.blur(rgb * cf[:, :, None], (7, 7)) / np.maximum(cv2.blur(cf, (7, 7)), 1e-6)[:, :, None]
+    bg = smooth[by, bx]         # averaged over its clear neighbours: no paper grain
     # A matte background is one colour (paper, up to its grain); transparent pixels holding
     # leftover colours of the art (sprites) are no background to match against.
     ring = bg[soft]
