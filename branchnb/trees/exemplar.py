@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 
 import cv2
 import numpy as np
+from scipy import ndimage as ndi
 
 from ..core.image import as_float_image, as_mask, as_rgba, composite_over
 from ..core.io import encode_png
@@ -381,6 +382,7 @@ def normalize_exemplar(image, params: ExemplarParams | None = None, **overrides)
         from dataclasses import replace
         p = check_params(replace(p, **overrides))
     img, opaque = tree_rgba(image, alpha_threshold=p.alpha_threshold)
+    img = _defringe(img, opaque)
     h, w = img.shape[:2]
     opaque, dropped = _select_components(opaque, p.components, p.second_tree_fraction)
     ys, xs = np.nonzero(opaque)
@@ -413,6 +415,60 @@ def normalize_exemplar(image, params: ExemplarParams | None = None, **overrides)
         raise ValueError("the opaque region vanishes at this working size; use a larger size")
     return Normalized(out, (x0, y0, x1, y1), float(nw / bw), (float(ox), float(oy)), (h, w),
                       dropped, art)
+
+
+#: Defringing: a soft-edged opaque pixel (alpha below FRINGE_ALPHA) is background matted in when its
+#: colour lies within FRINGE_BG of the transparent pixels around it and farther than FRINGE_FAR from
+#: the nearest solid pixel.
+FRINGE_ALPHA = 0.9
+FRINGE_BG = 0.12
+FRINGE_FAR = 0.2
+#: Transparent pixels darker than this (every channel) are cleared, not a background colour.
+FRINGE_DARK = 0.15
+
+
+def _defringe(img: np.ndarray, opaque: np.ndarray) -> np.ndarray:
+    """Opaque soft-edge pixels that show the background's colour take their nearest solid pixel's.
+
+    Beyond the paper: a soft alpha (watercolour, blurred cut-outs) reaches 0.5 in the narrow notches
+    between lobes, where the straight colour is the paper's; thresholded, these pixels become opaque
+    paper-white specks on the rim, which a warp that stretches the lobe 2-4x draws as white slits.
+    Only pixels whose colour matches the transparent surroundings (within ``FRINGE_BG``) and is far
+    from the tree's own nearest colour are replaced, so a binary alpha (all samples, pixel art,
+    keyed photos) and soft edges of the tree's own colour are unchanged; transparent pixels cleared
+    to black carry no background colour, so a dark outline over them is kept (a tree matted on a
+    dark background keeps its fringe).
+    """
+    a = img[:, :, 3]
+    soft = opaque & (a < FRINGE_ALPHA)
+    if not soft.any():
+        return img
+    solid = a >= FRINGE_ALPHA
+    clear = a < 0.1
+    if not solid.any() or not clear.any():
+        return img
+    rgb = img[:, :, :3]
+    # the background's colour is that of the nearest clear pixel (however wide the soft band)
+    _, (by, bx) = ndi.distance_transform_edt(~clear, return_indices=True)
+    cf = clear.astype(np.float32)
+    smooth = cv2.blur(rgb * cf[:, :, None], (7, 7)) / np.maximum(cv2.blur(cf, (7, 7)), 1e-6)[:, :, None]
+    bg = smooth[by, bx]         # averaged over its clear neighbours: no paper grain
+    # A matte background is one colour (paper, up to its grain); transparent pixels holding
+    # leftover colours of the art (sprites) are no background to match against.
+    ring = bg[soft]
+    if np.percentile(np.abs(ring - np.median(ring, axis=0)).max(axis=1), 90) > FRINGE_BG / 2:
+        return img
+    _, (iy, ix) = ndi.distance_transform_edt(~solid, return_indices=True)
+    own = rgb[iy, ix]
+    # Cleared (black) transparent pixels say nothing about a background: a dark anti-aliased
+    # outline over them is the drawing's own.
+    fringe = soft & (bg.max(axis=2) > FRINGE_DARK) & (np.abs(rgb - bg).max(axis=2) <= FRINGE_BG) & \
+        (np.abs(rgb - own).max(axis=2) > FRINGE_FAR)
+    if not fringe.any():
+        return img
+    out = img.copy()
+    out[fringe, :3] = own[fringe]
+    return out
 
 
 def signed_area(polygon) -> float:
