@@ -56,6 +56,37 @@ def check_args(argv, kinds: Sequence[str], seeds: Sequence[int] = (0, 1)):
     return seeds, kinds, (argv[2] if len(argv) > 2 else None)
 
 
+def image_check_args(argv):
+    """``(seeds, kinds or None, png_dir, params)`` from an image check's ``[SEEDS] [KINDS|all] [PNG_DIR]
+    [name=value ...]`` arguments: ``params`` an :class:`.image_params.ImageSynthesisParams` with the
+    named fields set (None when none is), ``kinds`` None for all.
+
+    Examples
+    --------
+    >>> image_check_args(["0,1", "all", "flatten_shading=0.1"])[3].flatten_shading
+    0.1
+    """
+    from .image_params import ImageSynthesisParams
+
+    seeds = [int(s) for s in argv[0].split(",")] if argv else [0, 1]
+    kinds = argv[1].split(",") if len(argv) > 1 and argv[1] != "all" else None
+    pngdir = argv[2] if len(argv) > 2 and "=" not in argv[2] else None
+    kw = {}
+    for a in argv[2:]:
+        if "=" in a:
+            k, v = a.split("=", 1)
+            kw[k] = type(getattr(ImageSynthesisParams(), k))(v == "True" if v in ("True", "False") else float(v))
+    return seeds, kinds, pngdir, (ImageSynthesisParams(**kw) if kw else None)
+
+
+def write_pair(png: str, example, output) -> None:
+    """Write the example's RGB and the output side by side (an image check's sheet)."""
+    import cv2
+
+    sheet = np.concatenate([np.asarray(example)[..., :3], output], axis=1)
+    cv2.imwrite(png, (np.clip(sheet, 0, 1)[..., ::-1] * 255).astype(np.uint8))
+
+
 def write_sheet(png: str, img, *structures) -> None:
     """Write ``img`` and each structure drawn on its own panel (:func:`._thin_children_check._draw`) side
     by side, grey lines between the panels."""

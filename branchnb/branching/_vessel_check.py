@@ -34,7 +34,7 @@ from scipy import ndimage as ndi
 
 from ..core.render import draw_polylines
 from ..core.structure import Branch, Structure
-from ._check_table import print_table
+from ._check_table import image_check_args, print_table, write_pair
 from ._image_examples import random_tree, textured_ground
 
 EXTRACTED = True
@@ -225,23 +225,13 @@ def run_case(kind, size, seed, png=None, params=None):
     r = measure(ex, s_ex, out, tgt, dom if kind in ("matte", "vignette") else None)
     r["sec"] = sec
     if png:
-        sheet = np.concatenate([ex[..., :3], out], axis=1)
-        cv2.imwrite(png, (np.clip(sheet, 0, 1)[..., ::-1] * 255).astype(np.uint8))
+        write_pair(png, ex, out)
     return r
 
 
 def main(argv):
-    from .image_synthesis import ImageSynthesisParams
-
-    seeds = [int(s) for s in argv[0].split(",")] if argv else [0, 1]
-    kinds = argv[1].split(",") if len(argv) > 1 and argv[1] != "all" else list(KINDS)
-    pngdir = argv[2] if len(argv) > 2 and "=" not in argv[2] else None
-    kw = {}
-    for a in argv[2:]:
-        if "=" in a:
-            k, v = a.split("=", 1)
-            kw[k] = type(getattr(ImageSynthesisParams(), k))(v == "True" if v in ("True", "False") else float(v))
-    params = ImageSynthesisParams(**kw) if kw else None
+    seeds, kinds, pngdir, params = image_check_args(argv)
+    kinds = kinds or list(KINDS)
     print_table(kinds, seeds, lambda k, s: SIZES[(KINDS.index(k) + s) % len(SIZES)],
                 lambda k, n, s, png: run_case(k, n, s, png, params),
                 ("pcs", "gap", "tip", "halo", "sharp", "sec"), lambda r: "", pngdir)
