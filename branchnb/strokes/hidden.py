@@ -18,6 +18,7 @@ import numpy as np
 from scipy import ndimage as ndi
 
 from ..core.graphcut import gradient_magnitude
+from .outline import outline_style
 from .tubes import _tube_margin
 
 #: The other part's pixels grown by this much (px): its anti-aliased rim and outline go with it.
@@ -32,6 +33,48 @@ _DEEP = 0.6
 _END_REACH = 2.5
 
 
+#: A crossing of two strokes' tubes is one material (neither hides the other) when less than this
+#: share of its pixels away from the silhouette is ink (see :func:`_one_material`).
+_CROSS_INK = 0.03
+
+
+class _Lazy:
+    """A value computed on first call."""
+
+    def __init__(self, make):
+        self._make, self._done, self._value = make, False, None
+
+    def __call__(self):
+        if not self._done:
+            self._value, self._done = self._make(), True
+        return self._value
+
+
+def _one_material(index, box, cross: np.ndarray, style) -> bool:
+    """Whether two strokes' tubes cross as one material on an outlined object: no ink inside
+    their crossing ``cross`` (on ``box``) away from the silhouette's outline.
+
+    An octopus's tentacles crossing near their tips, drawn with one outline round their
+    union: neither lies over the other, so neither hides the other (filling each one's
+    crossing from farther along it smeared suckers' colour across the crossing). A strand
+    drawn over another carries its own outline across it: that crossing still hides.
+    Objects with no outline keep the rule that crossings hide. Beyond the paper.
+    """
+    st = style()
+    if st is None:
+        return False
+    inner = cross & (index.depth[box] > st.width + 1.5)
+    if inner.sum() < 4:
+        return False
+    pm = index.premult[box][inner]
+    rgb = pm[:, :3] / np.maximum(pm[:, 3:], 1e-6)
+    col = np.asarray(st.colour, np.float32)
+    # ink: nearer the outline's colour than a third of the way to the crossing's median colour
+    mid = np.median(rgb, axis=0)
+    ink = np.linalg.norm(rgb - col, axis=1) < max(float(np.linalg.norm(mid - col)) / 3.0, 0.1)
+    return float(ink.mean()) < _CROSS_INK
+
+
 def _own_views(index, tubes: dict, keys: list, cuts: list, joined: list, window: float = 3.0) -> dict:
     """Per stroke with a hidden stretch: ``(premult, depth, grad, hidden)`` with it filled in.
 
@@ -43,6 +86,7 @@ def _own_views(index, tubes: dict, keys: list, cuts: list, joined: list, window:
     h, w = index.shape
     n = len(index.strokes)
     views: dict = {}
+    style = _Lazy(lambda: outline_style(index.premult, index.depth))
     done: dict = {}
     for k in range(n):
         key = (keys[k], cuts[k])
@@ -82,7 +126,10 @@ def _own_views(index, tubes: dict, keys: list, cuts: list, joined: list, window:
                 if np.hypot(*(ends_k[:, None] - ends_o[None]).transpose(2, 0, 1)).min() < near_ends:
                     continue  # (a delta's distributaries leaving one fan head overlap there)
                 so = tb_o[1][box]
-                foreign |= tb_o[5][box] & (so > reach_o) & (so < index.strokes[o].length - reach_o)
+                cross = tb_o[5][box] & (so > reach_o) & (so < index.strokes[o].length - reach_o)
+                if cross.any() and _one_material(index, box, zone & cross, style):
+                    continue
+                foreign |= cross
         foreign &= (sb > reach_k) & (sb < st.length - reach_k)
         near = np.zeros(zone.shape, bool)  # the related strokes' own tubes (not a clean reference)
         for okey, tb_o in tubes.items():
