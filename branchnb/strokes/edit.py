@@ -553,6 +553,26 @@ class EditPatches:
         return isinstance(params, StrokeEditParams) and _fetch_key(params) == _fetch_key(self.params)
 
 
+def _still_crossings(index, pairs):
+    """``index`` without the own views of strokes left where they were and hidden only by
+    other strokes left where they were (``index`` itself if none).
+
+    Two strokes crossing in the source (an octopus's tentacle tips) each see the
+    other as lying over them and fill the crossing from farther along
+    themselves (:mod:`~branchnb.strokes.hidden`): that keeps a moved stroke from
+    dragging its neighbour's pixels along, but where neither moves both filled
+    patches meet at the crossing, a smear of each one's texture (suckers'
+    colour), where the source's own pixels were right. Beyond the paper.
+    """
+    still = {k for k, p in enumerate(pairs) if p.source.points.shape == p.target.points.shape
+             and np.array_equal(p.source.points, p.target.points)}
+    drop = [k for k in index.views if k in still and index.hidden_by.get(k) is not None
+            and index.hidden_by[k] <= still]
+    if not drop:
+        return index
+    return dataclasses.replace(index, views={k: v for k, v in index.views.items() if k not in drop})
+
+
 @checked(source_strokes=Seq(), target_strokes=Seq(), control_points=Seq(), target_shape=Shape())
 def fetch_patches(image, source_strokes, target_strokes, params: StrokeEditParams | None = None,
                   *, control_points=None, target_shape=None, background=None) -> EditPatches:
@@ -604,7 +624,8 @@ def fetch_patches(image, source_strokes, target_strokes, params: StrokeEditParam
                        source_shape=src_img.shape, target_shape=target_shape)
     if params.centre_strokes:
         pairs = _centred_pairs(src_img, pairs, control_points, target_shape)
-    index = source_index(src_img, [p.source for p in pairs], patch_size=params.patch_size)
+    index = _still_crossings(source_index(src_img, [p.source for p in pairs], patch_size=params.patch_size),
+                             pairs)
     typical = float(np.median(np.concatenate([
         index.radius(k, np.linspace(0, p.source.length, 32), params.patch_size)
         for k, p in enumerate(pairs)])))

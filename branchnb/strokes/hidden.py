@@ -18,7 +18,6 @@ import numpy as np
 from scipy import ndimage as ndi
 
 from ..core.graphcut import gradient_magnitude
-from .outline import outline_style
 from .tubes import _tube_margin
 
 #: The other part's pixels grown by this much (px): its anti-aliased rim and outline go with it.
@@ -33,66 +32,28 @@ _DEEP = 0.6
 _END_REACH = 2.5
 
 
-#: A crossing of two strokes' tubes is one material (neither hides the other) when less than this
-#: share of its pixels away from the silhouette is ink (see :func:`_one_material`).
-_CROSS_INK = 0.03
-
-
-class _Lazy:
-    """A value computed on first call."""
-
-    def __init__(self, make):
-        self._make, self._done, self._value = make, False, None
-
-    def __call__(self):
-        if not self._done:
-            self._value, self._done = self._make(), True
-        return self._value
-
-
-def _one_material(index, box, cross: np.ndarray, style) -> bool:
-    """Whether two strokes' tubes cross as one material on an outlined object: no ink inside
-    their crossing ``cross`` (on ``box``) away from the silhouette's outline.
-
-    An octopus's tentacles crossing near their tips, drawn with one outline round their
-    union: neither lies over the other, so neither hides the other (filling each one's
-    crossing from farther along it smeared suckers' colour across the crossing). A strand
-    drawn over another carries its own outline across it: that crossing still hides.
-    Objects with no outline keep the rule that crossings hide. Beyond the paper.
-    """
-    st = style()
-    if st is None:
-        return False
-    inner = cross & (index.depth[box] > st.width + 1.5)
-    if inner.sum() < 4:
-        return False
-    pm = index.premult[box][inner]
-    rgb = pm[:, :3] / np.maximum(pm[:, 3:], 1e-6)
-    col = np.asarray(st.colour, np.float32)
-    # ink: nearer the outline's colour than a third of the way to the crossing's median colour
-    mid = np.median(rgb, axis=0)
-    ink = np.linalg.norm(rgb - col, axis=1) < max(float(np.linalg.norm(mid - col)) / 3.0, 0.1)
-    return float(ink.mean()) < _CROSS_INK
-
-
-def _own_views(index, tubes: dict, keys: list, cuts: list, joined: list, window: float = 3.0) -> dict:
+def _own_views(index, tubes: dict, keys: list, cuts: list, joined: list, window: float = 3.0,
+               by: dict | None = None) -> dict:
     """Per stroke with a hidden stretch: ``(premult, depth, grad, hidden)`` with it filled in.
 
     ``tubes``: per ``(key, cuts)`` the ``(d, s_map, tube, interior, endw, core)``
     of :func:`~branchnb.strokes.source.source_index`'s first pass. Only for
     objects with an alpha channel. ``hidden`` is the full-size mask of the
-    pixels filled (the stroke may copy them).
+    pixels filled (the stroke may copy them). ``by``, if given, gets per
+    stroke with a view the strokes whose tubes hide it (None: a part does).
     """
     h, w = index.shape
     n = len(index.strokes)
     views: dict = {}
-    style = _Lazy(lambda: outline_style(index.premult, index.depth))
     done: dict = {}
+    done_by: dict = {}
     for k in range(n):
         key = (keys[k], cuts[k])
         if key in done:
             if done[key] is not None:
                 views[k] = done[key]
+                if by is not None:
+                    by[k] = done_by[key]
             continue
         done[key] = None
         # strokes joined to this one (its parent, its children) share its pixels at the joint
@@ -115,6 +76,7 @@ def _own_views(index, tubes: dict, keys: list, cuts: list, joined: list, window:
             continue
         reach_k = _END_REACH * float(np.median(index.width[k])) + 4.0
         foreign = np.zeros(zone.shape, bool)
+        causes = []  # (strokes, their tube's pixels here); None: a part's
         for okey, tb_o in tubes.items():
             if okey[0] not in rel_keys:
                 # another stroke's tube crossing this one's, away from both strokes' ends
@@ -127,9 +89,8 @@ def _own_views(index, tubes: dict, keys: list, cuts: list, joined: list, window:
                     continue  # (a delta's distributaries leaving one fan head overlap there)
                 so = tb_o[1][box]
                 cross = tb_o[5][box] & (so > reach_o) & (so < index.strokes[o].length - reach_o)
-                if cross.any() and _one_material(index, box, zone & cross, style):
-                    continue
                 foreign |= cross
+                causes.append(({j for j in range(n) if keys[j] == okey[0]}, cross))
         foreign &= (sb > reach_k) & (sb < st.length - reach_k)
         near = np.zeros(zone.shape, bool)  # the related strokes' own tubes (not a clean reference)
         for okey, tb_o in tubes.items():
@@ -151,6 +112,7 @@ def _own_views(index, tubes: dict, keys: list, cuts: list, joined: list, window:
             sub = np.zeros((h, w), bool)
             sub[part.box] = part.mask
             foreign |= sub[box]
+            causes.append((None, sub[box]))
         foreign &= zone
         if not foreign.any():
             continue
@@ -161,6 +123,14 @@ def _own_views(index, tubes: dict, keys: list, cuts: list, joined: list, window:
         foreign = np.isin(lab, deep[deep > 0])
         if not foreign.any():
             continue
+        # who hides it: strokes whose tubes cross it, or None if a part does
+        cause: set | None = set()
+        for who, m in causes:
+            if (m & foreign).any():
+                if who is None:
+                    cause = None
+                    break
+                cause |= who
         hidden = zone & ndi.binary_dilation(foreign, iterations=_RIM)
         # (the reference is the stroke's own tube: no part, not even one hanging from it)
         # and only pixels it may copy (not a tip-held part's, taken back from its tube)
@@ -206,6 +176,9 @@ def _own_views(index, tubes: dict, keys: list, cuts: list, joined: list, window:
         grad[g0:g1, c0:c1] = gradient_magnitude(premult[max(g0 - 2, 0):g1 + 2, max(c0 - 2, 0):c1 + 2])[
             g0 - max(g0 - 2, 0):g1 - max(g0 - 2, 0), c0 - max(c0 - 2, 0):c1 - max(c0 - 2, 0)]
         done[key] = views[k] = (premult, depth, grad, full)
+        done_by[key] = cause
+        if by is not None:
+            by[k] = cause
     return views
 
 

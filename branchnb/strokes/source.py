@@ -175,6 +175,9 @@ class SourceIndex:
         stroke's patches see it where another part hides its tube (the
         hidden pixels hold its own flesh and outline, see
         :mod:`~branchnb.strokes.hidden`); strokes not in it see the source.
+    hidden_by : dict
+        ``stroke -> set`` of the strokes whose tubes hide it (``None``: a
+        part hides it), for every stroke in ``views``.
     """
 
     premult: np.ndarray
@@ -195,6 +198,7 @@ class SourceIndex:
     edge: list = field(default_factory=list)
     side_width: dict = field(default_factory=dict)
     views: dict = field(default_factory=dict)
+    hidden_by: dict = field(default_factory=dict)
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -619,7 +623,7 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
                         side_width=side_width)
     add_bases(parts, index, window=3.0)
     if has_alpha:
-        index.views = _own_views(index, tubes, keys, cuts, joined)
+        index.views = _own_views(index, tubes, keys, cuts, joined, by=index.hidden_by)
         for k, (_, _, _, filled) in index.views.items():
             # (identical strokes share these arrays: the same pixels either way)
             allowed[k][filled] = True
