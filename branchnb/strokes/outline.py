@@ -568,7 +568,10 @@ def _tinted_rim(layer, stale, deep, good, src_depth, style) -> tuple[np.ndarray,
     reach = int(np.ceil(style.width)) + 1
     col = np.asarray(style.colour, np.float32)
     opaque = lb[..., 3] > 0.5
-    ink = opaque & (np.abs(lb[..., :3] - col).max(axis=2) < 0.1)
+    # (channel by channel: a max over the last axis is several times slower)
+    ink = opaque & (np.abs(lb[..., 0] - col[0]) < 0.1)
+    for c in (1, 2):
+        ink &= np.abs(lb[..., c] - col[c]) < 0.1
     db = src_depth[box]
     rim = (db > 0) & (db <= style.width + 0.5) & opaque
     nb = nb & _grown(sb, reach) & ~_grown((rim | (ink & ~bb)) & ~sb, 1)
