@@ -23,6 +23,10 @@ sys.path.insert(0, os.path.dirname(__file__))
 from strokes_touching_table import oct_edit  # noqa: E402
 
 
+def _cross(a, b):
+    return float(a[0] * b[1] - a[1] * b[0])
+
+
 def _dense(t):
     s = np.r_[0, np.cumsum(np.hypot(*np.diff(t, axis=0).T))]
     u = np.arange(0, s[-1], 1.0)
@@ -39,11 +43,11 @@ def _crossings(strokes, unchanged):
             a, b = strokes[i], strokes[j]
             for p, q in zip(a[:-1], a[1:]):
                 for r, s in zip(b[:-1], b[1:]):
-                    d = np.cross(q - p, s - r)
+                    d = _cross(q - p, s - r)
                     if abs(d) < 1e-9:
                         continue
-                    t = np.cross(r - p, s - r) / d
-                    u = np.cross(r - p, q - p) / d
+                    t = _cross(r - p, s - r) / d
+                    u = _cross(r - p, q - p) / d
                     if 0 <= t <= 1 and 0 <= u <= 1:
                         out.append(p + t * (q - p))
     return out
