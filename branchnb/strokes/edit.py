@@ -427,6 +427,9 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
     transparent wedge drawn as a dark blob); ink-tinted pixels from just
     inside the source's rim are repainted with a stale rim, and one-pixel
     cracks in the soft rim between two patches are closed (beyond the paper).
+    Strokes that cross in the source and stay where they were, hidden only
+    by strokes that stay too, copy their crossing as it is (two untouched
+    tentacles crossing: no smear of each one's filled-in texture).
 
     Raises
     ------
