@@ -14,6 +14,8 @@ white on black, 0/1), extracts, fits and synthesizes it with the defaults and pr
 - ``stub`` branches shorter than 2 line widths starting within 2 hub radii of a centre;
 - ``nn`` the median nearest-neighbour angle between a hub's primaries read at 2 radii, over the even share
   ``360 / n`` (1: evenly spread; primaries running in pairs read low), example / synthesized;
+- ``stubI`` line-coloured blobs (>= 3 px) between 1.0 and 1.35 hub radii farther than 2 px from the
+  structure's lines (drawn at their radii): stubs the image shows by the hub that no branch explains;
 - ``joint`` the median over primaries of the lightest line contrast along the primary between 0.9 and 1.6
   hub radii (1: as dark as the line beyond, 0: the ground), example / synthesized image.
 
@@ -131,6 +133,27 @@ def joint_contrast(gray, s, centres, r0: float, ink: float, ground: float) -> fl
     return float(np.median(out)) if out else float("nan")
 
 
+def image_stubs(gray, s, centres, r0: float, ink: float, ground: float) -> int:
+    """Line-coloured blobs by the hubs that none of ``s``'s lines explains (see the module docstring)."""
+    h, w = gray.shape
+    lines = np.zeros((h, w), np.uint8)
+    for b in s.branches:
+        p = np.asarray(b.points, np.float64)
+        r = np.asarray(b.thickness, np.float64)
+        for i in range(len(p) - 1):
+            cv2.line(lines, tuple(np.int32(np.round(p[i]))), tuple(np.int32(np.round(p[i + 1]))), 1,
+                     int(2 * max(r[i], 1.0) + 4))
+    yy, xx = np.mgrid[:h, :w]
+    ann = np.zeros((h, w), bool)
+    for c in centres:
+        x, y, r = _centre_r(c, r0)
+        d = np.hypot(xx - x, yy - y)
+        ann |= (d >= 1.0 * r) & (d <= 1.35 * r)
+    blob = ann & ((gray - ground) / (ink - ground) > 0.5) & (lines == 0)
+    n, _lab, st, _c = cv2.connectedComponentsWithStats(blob.astype(np.uint8), connectivity=8)
+    return int((st[1:, cv2.CC_STAT_AREA] >= 3).sum())
+
+
 def blob_radius(gray: np.ndarray, x: float, y: float, ink: float, ground: float) -> int:
     """Radius of the disc of line colour at ``(x, y)`` (1: none)."""
     yy, xx = np.mgrid[:gray.shape[0], :gray.shape[1]]
@@ -176,6 +199,7 @@ def case(kind: str, size: int, seed: int, png: str | None = None, cache: str | N
     gi = np.asarray(im)[..., :3].mean(-1)
     ratio = [round(blob_radius(gi, c[0], c[1], ink, ground) / rb, 2) for c in sc]
     te, ts = tree_stats(s, list(hubs), R), tree_stats(res.structure, sc, R)
+    ie, is_ = image_stubs(g, s, list(hubs), R, ink, ground), image_stubs(gi, res.structure, sc, R, ink, ground)
     je, js = joint_contrast(g, s, list(hubs), R, ink, ground), joint_contrast(gi, res.structure, sc, R, ink, ground)
     if png:
         vis = np.concatenate([rgb, np.asarray(im)[..., :3]], 1)
@@ -184,7 +208,7 @@ def case(kind: str, size: int, seed: int, png: str | None = None, cache: str | N
             f"syn {[e[0] for e in sy]} gap {[round(e[1]) for e in sy]} | hub {ratio} | "
             f"bp/p {te['bp']:.1f}/{ts['bp']:.1f} bp/L {te['bpL']:.2f}/{ts['bpL']:.2f} "
             f"gen {'/'.join(map(str, te['gen']))}|{'/'.join(map(str, ts['gen']))} stub {te['stub']}/{ts['stub']} "
-            f"nn {te['nn']:.2f}/{ts['nn']:.2f} joint {je:.2f}/{js:.2f}")
+            f"nn {te['nn']:.2f}/{ts['nn']:.2f} stubI {ie}/{is_} joint {je:.2f}/{js:.2f}")
 
 
 def main(argv=None) -> None:
