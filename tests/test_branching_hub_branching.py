@@ -7,7 +7,7 @@ import pytest
 from branchnb.branching import extract_structure, fit_model, synthesize_image, synthesize_structure
 from branchnb.branching._radial_examples import radial_example
 from branchnb.branching._radial_synth_check import blob_radius, tree_stats
-from branchnb.branching.radial import _fork_weights, _hub_view, _paste_hubs, _spokes
+from branchnb.branching.radial import _fork_weights, _hub_view, _into_hubs, _paste_hubs, _spokes
 from branchnb.core.structure import Branch, Structure
 
 
@@ -114,3 +114,18 @@ def test_user_starts_become_hubs(coral):
     roots = [b for b in res.structure.branches if b.parent is None]
     assert len(roots) >= 4
     assert all(abs(np.hypot(b.points[0, 0] - x, b.points[0, 1] - y) - r) < 1.5 for b in roots)
+
+
+def test_primaries_drawn_from_inside_the_hub():
+    # main: a primary's start was a free line end on the hub's rim, drawn with an example line end's
+    # fragment: a hook or stub with a light fleck beside the pasted disc
+    s = Structure([Branch(_line((110, 100), (180, 100)), 3.0), Branch(_line((150, 100), (150, 150)), 1.5, 0, 12),
+                   Branch(_line((20, 20), (60, 20)), 2.0)], image_shape=(200, 200))
+    s.hubs = [(100.0, 100.0, 10.0)]
+    t = _into_hubs(s)
+    assert t is not s and t.hubs == s.hubs
+    assert np.allclose(t.branches[0].points[0], (105, 100)) and len(t.branches[0].points) == 31
+    assert np.allclose(t.branches[0].points[t.branches[1].parent_vertex], s.branches[0].points[12])
+    assert np.allclose(t.branches[2].points, s.branches[2].points)   # a root away from the hub kept
+    s.hubs = None
+    assert _into_hubs(s) is s

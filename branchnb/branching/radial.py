@@ -244,6 +244,48 @@ def _hub_starts(hm: _HubModel, starts, scale: float, shape, rng, domain=None):
     return new, hubs
 
 
+#: A primary is drawn from this share of its hub's radius (under the pasted disc), see :func:`_into_hubs`.
+DRAW_FROM = 0.5
+
+
+def _into_hubs(structure):
+    """A copy of ``structure`` whose roots starting on a hub's rim (within 1.1 radii of its centre) start
+    :data:`DRAW_FROM` radii from the centre instead (one vertex put before their first, their children's
+    ``parent_vertex`` moved on by one); ``structure`` itself without hubs. For drawing only (beyond the
+    paper, issue 23): a primary's start was a free line end on the rim, drawn with a fragment of the
+    example's line ends, and its cap showed beside the pasted disc as a hook or stub with a light fleck;
+    from inside the disc, the pasted hub covers it.
+    """
+    from ..core.structure import Branch, Structure
+
+    hubs = _hubs_of(structure)
+    if not hubs:
+        return structure
+    moved = {}
+    for i, b in enumerate(structure.branches):
+        if b.parent is not None or len(b.points) < 2:
+            continue
+        for x, y, r in hubs:
+            d = float(np.hypot(b.points[0, 0] - x, b.points[0, 1] - y))
+            if DRAW_FROM * r < d <= 1.1 * r:
+                q = np.array([x, y]) + (b.points[0] - np.array([x, y])) * (DRAW_FROM * r / d)
+                moved[i] = q
+                break
+    if not moved:
+        return structure
+    out = []
+    for i, b in enumerate(structure.branches):
+        if i in moved:
+            out.append(Branch(np.vstack([moved[i], b.points]), np.r_[b.thickness[0], b.thickness], None, None))
+        elif b.parent in moved:
+            out.append(Branch(b.points, b.thickness, b.parent, b.parent_vertex + 1))
+        else:
+            out.append(Branch(b.points, b.thickness, b.parent, b.parent_vertex))
+    t = Structure(out, image_shape=structure.image_shape)
+    t.hubs = list(structure.hubs)
+    return t
+
+
 def _hub_discs(hubs, shape) -> np.ndarray:
     """``(H, W)`` bool: the discs of :data:`HUB_OPAQUE` + :data:`HUB_FEATHER` radii round ``hubs``."""
     yy, xx = np.ogrid[:shape[0], :shape[1]]
