@@ -20,9 +20,9 @@ white on black, 0/1), extracts, fits and synthesizes it with the defaults and pr
   hub radii (1: as dark as the line beyond, 0: the ground), example / synthesized image.
 
 branching69 (main -> now, 21 cases): branch points per primary 0.0-1.8 -> 0.8-6.5 (example 1.0-6.0; mean
-synthesized / example 0.09 -> 1.01, range 0.62-1.56), joint 0.51-1.00 -> 0.70-1.37 (example 0.97-1.73),
-a mask's hub 0.06-0.1 -> 0.9-1.0, primaries per hub and largest gap unchanged (before primaries were drawn
-from inside their hub, .radial._into_hubs: coral 512 s0 joint 0.92 -> 0.85, stubI 7 -> 7, no dark notches).
+synthesized / example 0.09 -> 1.01, range 0.62-1.56), joint 0.51-1.00 -> 0.71-1.32 (example 0.97-1.73),
+a mask's hub 0.06-0.1 -> 0.9-1.0, primaries per hub and largest gap unchanged; image stubs by the hub 0-12
+(example 0-14; drawn from inside the hub, .radial._into_hubs: no dark notches, coral 512 s0 joint 0.92 -> 0.85).
 
 PNG_DIR: example | synthesized image per case. CACHE_DIR: extracted examples kept (pickles) for reruns.
 """
