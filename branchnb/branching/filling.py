@@ -192,6 +192,8 @@ class _Filling:
         """
         dm, dt = self.density, self._empty_dt
         out = []
+        if self.radial:   # a hub's branches keep their drawn lengths (.radial._hub_budget)
+            return out
         for bi, st in enumerate(self.branches):
             if st.stop != "branch length" or len(st.points) < 2:
                 continue

@@ -308,6 +308,7 @@ class _Grower(_Starts, _Filling):
         self.r_max, self.r_grow, self.wind_max = _example_bounds(model)
         self.r_keep = _radius_keep(model.example) if self.drain is not None else 0.0
         self.fill_rounds = 0
+        self.radial = False   # roots are hub primaries (set by run)
         self._empty_dt: np.ndarray | None = None
         self.attempt = 1
         self.progress = None  # progress(GrowthProgress) after every Markov step
@@ -712,6 +713,12 @@ class _Grower(_Starts, _Filling):
             existing = ()
             if head is not None and head.any():
                 weights = head.astype(np.float64)
+        if self.radial:   # a hub's branches fork where the example's do along them (.radial._fork_weights)
+            from .radial import _fork_weights
+
+            fw = _fork_weights(self.model, st.generation, len(pts))
+            if fw is not None:
+                weights = fw if weights is None else weights * fw
         verts = self.model.furcation.choose(pts, rad, d, min_spacing=p.min_spacing, existing=existing,
                                             weights=weights)
         kids = []
@@ -724,6 +731,12 @@ class _Grower(_Starts, _Filling):
         return kids
 
     def run(self, starts) -> None:
+        if getattr(starts, "hubs", None) and self.p.max_total_length <= 0 and self.p.max_coverage <= 0:
+            # a hub's primaries: the example's length per hub, not its coverage (.radial._hub_budget)
+            from .radial import _hub_budget
+
+            self.max_total = _hub_budget(self.model, len(starts.hubs), starts.scale)
+            self.coverage_target, self.radial = 1.0, True
         queue = []
         for (x, y, th) in starts:
             if self.global_stop():

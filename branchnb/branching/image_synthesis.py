@@ -91,6 +91,21 @@ __all__ = ["ImageSynthesisParams", "ImageSynthesisResult", "FragmentMatch", "syn
 # validation
 
 
+def _flat_hubs(result: ImageSynthesisResult, example: np.ndarray, example_structure, target_structure,
+               given=None):
+    """``result`` of a flat drawing or a line mask with the example's hubs pasted on the target's (beyond
+    the paper, issue 23; without hubs ``result`` itself): :func:`.radial._paste_hubs` with ``flat``, as
+    the textured path does, which a drawn mask's somas lacked; ``result.target`` set to ``given``."""
+    if given is not None:
+        result.target = given
+    if not (getattr(target_structure, "hubs", None) and getattr(example_structure, "hubs", None)):
+        return result
+    from .radial import _paste_hubs
+
+    result.image = _paste_hubs(result.image, example, example_structure.hubs, target_structure.hubs, flat=True)
+    return result
+
+
 def _check_structure(s, name: str, image_shape=None) -> Structure:
     if not isinstance(s, Structure):
         raise TypeError(f"{name} must be a branchnb.branching.Structure, got {type(s).__name__}")
@@ -203,6 +218,13 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     if not inside.any():
         raise ValueError(f"target_structure lies entirely outside the {W} x {H} output (shape)")
 
+    given = target_structure
+    if getattr(target_structure, "hubs", None) and getattr(example_structure, "hubs", None):
+        # primaries drawn from inside their hub (beyond the paper, issue 23; .radial._into_hubs)
+        from .radial import _into_hubs
+
+        target_structure = _into_hubs(target_structure)
+
     def report(frac, text):
         if progress is not None:
             progress(float(min(max(frac, 0.0), 1.0)), text)
@@ -227,8 +249,9 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     pm_t = sm_t.pixel_map((H, W))
     flat = bool(flat_share >= 0.5 and labels_ex.max() >= 1)
     if cached["mask"] and p.flat_drawing:
-        return _draw_flat(ex, example_structure, target_structure, labels_ex, None, None,
-                          pm_s, labels_ex, p, t_start, report, (H, W), cache=cached)
+        return _flat_hubs(_draw_flat(ex, example_structure, target_structure, labels_ex, None, None,
+                                     pm_s, labels_ex, p, t_start, report, (H, W), cache=cached),
+                          ex, example_structure, target_structure, given)
     labels_t = None
     src_labels = labels_ex
     layout = labels_ex
@@ -257,8 +280,9 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
             labels_t = target_layout(layout, example_structure, target_structure, (H, W),
                                      pm_example=pm_s, pm_target=pm_t)
     if flat and p.flat_drawing:
-        return _draw_flat(ex, example_structure, target_structure, layout, labels_t, target_domain,
-                          pm_s, labels_ex, p, t_start, report, (H, W), cache=cached)
+        return _flat_hubs(_draw_flat(ex, example_structure, target_structure, layout, labels_t, target_domain,
+                                     pm_s, labels_ex, p, t_start, report, (H, W), cache=cached),
+                          ex, example_structure, target_structure, given)
     boundary = None
     matte_edge = False
     if labels_t is None and target_domain is not None and not flat and target_domain.any() \
@@ -407,5 +431,5 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     timings["total"] = time.perf_counter() - t_start
     report(1.0, "done")
     return ImageSynthesisResult(canvas, fragment_mask, fill, source, frag_index, seams, out.matches,
-                                out.total_seam, target_structure, regions, n_inpainted, timings, p,
+                                out.total_seam, given, regions, n_inpainted, timings, p,
                                 example_labels=labels_ex, labels=labels_t)

@@ -375,6 +375,10 @@ def fit_model(example: Structure, params: SynthesisParams | None = None, *,
                           branch_generation=np.array([ex.generation(i) for i in range(nb)]),
                           branch_length=np.array([b.length for b in ex.branches]),
                           branch_r0=np.array([np.mean(b.thickness[:3]) for b in ex.branches]))
+    if getattr(example, "hubs", None):   # a hub's spokes are its primaries (.radial._hub_view)
+        from .radial import _hub_view
+
+        _hub_view(model, example.hubs)
     # the matcher's example measures, taken once here (see StructureModel.matcher)
     model.__dict__["_matcher_data"] = ((id(ex), len(ex.branches)), ex_angles, ex_radii)
     return model

@@ -11,6 +11,11 @@ by :func:`~branchnb.branching.extract_structure`):
 - :func:`_hub_starts` turns every synthesized root start into a hub: as many primaries as one of the
   example's hubs has, starting on the hub's rim, their angular gaps those of that hub (turned by the
   root's heading), and records the hub on the result (``structure.hubs``);
+- :func:`_hub_view` reads the example's per-branch statistics (generation, children per branch) as if
+  every spoke were a root: the synthesized primaries stand for the example's spokes (see there);
+- :func:`_fork_weights`: a primary (and its children) fork where the example's do along their length;
+- :func:`_hub_budget`: a hub's forest stops at the example's length per hub, not at its coverage
+  (see there);
 - :func:`_paste_hubs` copies the example's hub blob (a feathered disc of its radius, scaled like the
   hub) onto every synthesized hub of the image.
 
@@ -88,6 +93,127 @@ def _hub_model(model) -> _HubModel | None:
     return got[1]
 
 
+def _spokes(structure) -> np.ndarray:
+    """``(n_branches,)`` bool: the branches starting within :data:`SPOKE_START` hub radii of a hub's centre
+    (a hub's root and its spokes)."""
+    out = np.zeros(len(structure.branches), bool)
+    for x, y, r in _hubs_of(structure):
+        for i, b in enumerate(structure.branches):
+            if len(b.points) and np.hypot(b.points[0, 0] - x, b.points[0, 1] - y) <= SPOKE_START * r:
+                out[i] = True
+    return out
+
+
+def _hub_view(model, hubs) -> None:
+    """Read ``model``'s per-branch statistics as if every spoke of the example's ``hubs`` were a root
+    (in place; beyond the paper, issue 23).
+
+    Extraction roots a hub's tree at its centre: one spoke is the root and the others its children at
+    its first vertex, so the spokes counted as generation 1 and the root as a branch with all of them
+    as children. Synthesis turns every root start into a hub whose primaries are roots, and a root
+    drew its target length among the example's roots only (all of a 7-armed star's primaries took
+    its one root's length, the longest arm's) and its children among branches whose counts held the
+    spokes. The primaries then took 0.8 of the total length where the example's take 0.66, the
+    coverage stop came before their children grew, and a drawn brittle star's arms barely forked.
+    Here a spoke is generation 0, every other branch one below its parent, and a branch's children
+    at a hub (the spokes) are not counted as its children.
+    """
+    ex = model.example
+    ex.hubs = hubs   # the resampled example reads the source's hubs
+    spoke = _spokes(ex)
+    if not spoke.any():
+        return
+    n = len(ex.branches)
+    gen = np.full(n, -1, np.int64)
+
+    def g(i: int) -> int:
+        if gen[i] < 0:
+            par = ex.branches[i].parent
+            gen[i] = 0 if spoke[i] or par is None else g(par) + 1
+        return int(gen[i])
+
+    for i in range(n):
+        g(i)
+    model.branch_generation = gen
+    # where along their parent (0: its start, 1: its end) the children of each generation's branches sit
+    pos: dict[int, list[float]] = {}
+    for i, b in enumerate(ex.branches):
+        if b.parent is not None and not spoke[i] and len(ex.branches[b.parent].points) > 1:
+            pos.setdefault(int(gen[b.parent]), []).append(b.parent_vertex / (len(ex.branches[b.parent].points) - 1))
+    model.__dict__["_fork_positions"] = {k: np.asarray(v) for k, v in pos.items()}
+    fm = model.furcation
+    fm.branch_generations = gen.copy()
+    counts = np.array(fm.children_per_branch, np.int64)
+    for i, b in enumerate(ex.branches):
+        if spoke[i] and b.parent is not None:
+            counts[b.parent] -= 1
+    fm.children_per_branch = np.maximum(counts, 0)
+
+
+#: Bandwidth of :func:`_fork_weights` (share of the parent's length) and the weight where the example
+#: has no fork (so a branch of another shape still forks where nothing else is left).
+FORK_BANDWIDTH = 0.08
+FORK_FLOOR = 0.02
+
+
+def _fork_weights(model, generation: int, n: int) -> np.ndarray | None:
+    """``(n,)`` weights on a branch's ``n`` vertices: where the example's branches of ``generation``
+    (read as :func:`_hub_view`) carry their children, by the share of their length (a Gaussian kernel
+    of :data:`FORK_BANDWIDTH`, at most 1, at least :data:`FORK_FLOOR`); None without a hub view or such
+    children (beyond the paper, issue 23).
+
+    The furcation SVM sees a vertex's neighbourhood and its distances to the neighbouring furcations,
+    not where it lies along the branch. On a coral's arms forking at their outer ends it read flat
+    (0.04-0.05 all along), and the greedy picks put a synthesized primary's children at 0.02-0.58 of its
+    length, the example's at 0.57-0.92: short side branches beside the hub instead of tufts out in
+    the arms.
+    """
+    pos = model.__dict__.get("_fork_positions")
+    if not pos or n < 2:
+        return None
+    g = min(int(generation), max(pos))
+    while g not in pos and g > 0:
+        g -= 1
+    if g not in pos:
+        return None
+    t = np.linspace(0.0, 1.0, n)
+    w = np.exp(-0.5 * ((t[:, None] - pos[g][None, :]) / FORK_BANDWIDTH) ** 2).sum(1)
+    return np.maximum(w / max(float(w.max()), 1e-12), FORK_FLOOR)
+
+
+class _HubStarts(list):
+    """The root starts :func:`_hub_starts` made (hub primaries), with ``hubs`` and ``scale`` on them so
+    the grower knows its roots are primaries (:func:`_hub_budget`)."""
+
+    hubs: list = []
+    scale: float = 1.0
+
+
+def _hub_budget(model, n_hubs: int, scale: float) -> float:
+    """The total length at which the synthesis of ``n_hubs`` hubs (scaled ``scale`` x the example's)
+    stops: the example's length per hub, times ``n_hubs``, times ``scale`` (beyond the paper,
+    issue 23).
+
+    The paper stops at the example's coverage. A hub's children hug their primaries (a brittle star's
+    forks, a neuron's dendrite tufts): the example's 7 coral primaries covered 0.17 of the frame and
+    their 32 children only 0.07 more, while the synthesized primaries grow first (breadth first) and
+    with their children's copied heads already covered 0.22 of the 0.24 target; the coverage stop
+    then came before the children grew and 16 of 28 were dropped as unborn heads (a 7-armed brittle
+    star's arms barely forked). Stopped at the example's length instead, the children get the
+    length they have in the example, and colonization still keeps them apart. The budget is the example's
+    length per hub times :data:`~branchnb.branching.stopping.LENGTH_FACTOR` (the children's copied heads
+    are counted before they grow), and the fill rounds reopen no tip: the length the dropped heads held
+    went to primaries grown on past their drawn length (a 256 px neuron mask's 100 px arms to 176 px).
+    Figures (``python -m branchnb.branching._radial_synth_check 0,1,2 all``): branch points per primary,
+    example / main -> now, neuron 1.4/0.0 -> 1.4, coral 4.6/0.1 -> 3.9, neuron_dark 3.4/0.0 -> 3.9.
+    """
+    from .stopping import LENGTH_FACTOR, example_length
+
+    hm = _hub_model(model)
+    n_ex = max(len(hm.radii) if hm is not None else 1, 1)
+    return LENGTH_FACTOR * example_length(model) / n_ex * n_hubs * scale
+
+
 def _hub_starts(hm: _HubModel, starts, scale: float, shape, rng, domain=None):
     """``(starts, hubs)``: every root start ``(x, y, angle)`` of ``starts`` replaced by the primaries of
     a hub centred there, and the hubs ``[(x, y, radius)]``.
@@ -118,6 +244,48 @@ def _hub_starts(hm: _HubModel, starts, scale: float, shape, rng, domain=None):
     return new, hubs
 
 
+#: A primary is drawn from this share of its hub's radius (under the pasted disc), see :func:`_into_hubs`.
+DRAW_FROM = 0.5
+
+
+def _into_hubs(structure):
+    """A copy of ``structure`` whose roots starting on a hub's rim (within 1.1 radii of its centre) start
+    :data:`DRAW_FROM` radii from the centre instead (one vertex put before their first, their children's
+    ``parent_vertex`` moved on by one); ``structure`` itself without hubs. For drawing only (beyond the
+    paper, issue 23): a primary's start was a free line end on the rim, drawn with a fragment of the
+    example's line ends, and its cap showed beside the pasted disc as a hook or stub with a light fleck;
+    from inside the disc, the pasted hub covers it.
+    """
+    from ..core.structure import Branch, Structure
+
+    hubs = _hubs_of(structure)
+    if not hubs:
+        return structure
+    moved = {}
+    for i, b in enumerate(structure.branches):
+        if b.parent is not None or len(b.points) < 2:
+            continue
+        for x, y, r in hubs:
+            d = float(np.hypot(b.points[0, 0] - x, b.points[0, 1] - y))
+            if DRAW_FROM * r < d <= 1.1 * r:
+                q = np.array([x, y]) + (b.points[0] - np.array([x, y])) * (DRAW_FROM * r / d)
+                moved[i] = q
+                break
+    if not moved:
+        return structure
+    out = []
+    for i, b in enumerate(structure.branches):
+        if i in moved:
+            out.append(Branch(np.vstack([moved[i], b.points]), np.r_[b.thickness[0], b.thickness], None, None))
+        elif b.parent in moved:
+            out.append(Branch(b.points, b.thickness, b.parent, b.parent_vertex + 1))
+        else:
+            out.append(Branch(b.points, b.thickness, b.parent, b.parent_vertex))
+    t = Structure(out, image_shape=structure.image_shape)
+    t.hubs = list(structure.hubs)
+    return t
+
+
 def _hub_discs(hubs, shape) -> np.ndarray:
     """``(H, W)`` bool: the discs of :data:`HUB_OPAQUE` + :data:`HUB_FEATHER` radii round ``hubs``."""
     yy, xx = np.ogrid[:shape[0], :shape[1]]
@@ -127,9 +295,16 @@ def _hub_discs(hubs, shape) -> np.ndarray:
     return out
 
 
-def _paste_hubs(canvas: np.ndarray, example: np.ndarray, ex_hubs, hubs) -> np.ndarray:
+def _paste_hubs(canvas: np.ndarray, example: np.ndarray, ex_hubs, hubs, flat: bool = False) -> np.ndarray:
     """``canvas`` with the example's hub blob (hub ``i % len(ex_hubs)``) pasted on every hub of ``hubs``,
-    scaled to its radius and feathered (:data:`HUB_OPAQUE`, :data:`HUB_FEATHER`)."""
+    scaled to its radius and feathered (:data:`HUB_OPAQUE`, :data:`HUB_FEATHER`).
+
+    In the feather a canvas pixel closer to the hub's colour than the blend is kept: the synthesized
+    primaries leave the hub there, and blended with the example's ground between its own spokes they
+    came out lighter at the joint (branching69: lightest contrast along a primary 0.54-0.71 of the
+    line's, the example's 0.97-1.2). ``flat`` (a flat drawing or a binary mask): nearest pixels and
+    no feather, so no new colour appears.
+    """
     import cv2
 
     H, W = canvas.shape[:2]
@@ -144,11 +319,20 @@ def _paste_hubs(canvas: np.ndarray, example: np.ndarray, ex_hubs, hubs) -> np.nd
         # the example's pixel under each target pixel (sub-pixel: the hub's centre is a float)
         mx = (ex_x + (tx - x) / f).astype(np.float32)
         my = (ex_y + (ty - y) / f).astype(np.float32)
-        patch = cv2.remap(example, mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REFLECT)
+        patch = cv2.remap(example, mx, my, cv2.INTER_NEAREST if flat else cv2.INTER_LINEAR,
+                          borderMode=cv2.BORDER_REFLECT)
         patch = patch.reshape(patch.shape[:2] + (-1,))
         d = np.hypot(tx - x, ty - y) / R
-        alpha = np.clip((HUB_OPAQUE + HUB_FEATHER - d) / HUB_FEATHER, 0.0, 1.0)[..., None]
+        if flat:
+            alpha = (d <= 1.0).astype(np.float64)[..., None]
+        else:
+            alpha = np.clip((HUB_OPAQUE + HUB_FEATHER - d) / HUB_FEATHER, 0.0, 1.0)[..., None]
         o = out[ty[ok], tx[ok]].reshape(-1, out.shape[2] if out.ndim == 3 else 1)
-        blend = (1 - alpha[ok]) * o + alpha[ok] * patch[ok][:, :o.shape[1]]
-        out[ty[ok], tx[ok]] = blend.reshape(out[ty[ok], tx[ok]].shape)
+        pk = patch[ok][:, :o.shape[1]]
+        blend = (1 - alpha[ok]) * o + alpha[ok] * pk
+        colour = np.median(pk[d[ok] < 0.6], axis=0) if np.any(d[ok] < 0.6) else None
+        if colour is not None:
+            keep = (alpha[ok][:, 0] < 1) & (np.linalg.norm(o - colour, axis=1) < np.linalg.norm(blend - colour, axis=1))
+            blend[keep] = o[keep]
+        out[ty[ok], tx[ok]] = blend.reshape(out[ty[ok], tx[ok]].shape).astype(out.dtype)
     return out

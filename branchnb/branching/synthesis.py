@@ -265,7 +265,7 @@ def _radial_starts(model: StructureModel, starts, shape, domain, hubs: list):
     """``starts`` (a list or a function of the attempt's rng) with every root start made a hub of
     several primaries when the example has hubs (:func:`.radial._hub_starts`; the hubs of each
     attempt appended to ``hubs``); ``starts`` itself otherwise (no rng drawn: output unchanged)."""
-    from .radial import _hub_model, _hub_starts
+    from .radial import _hub_model, _hub_starts, _HubStarts
 
     hm = _hub_model(model)
     if hm is None:
@@ -278,7 +278,9 @@ def _radial_starts(model: StructureModel, starts, shape, domain, hubs: list):
         base = starts(r) if callable(starts) else starts
         new, hh = _hub_starts(hm, base, scale, shape, r, dom)
         hubs.append(hh)
-        return new
+        out = _HubStarts(new)
+        out.hubs, out.scale = hh, scale
+        return out
 
     if callable(starts):
         return radial
@@ -404,7 +406,7 @@ def _grow_with_retries(model, p, rng, shp, guidance, starts, scorer, domain=None
     best._drop_unborn()   # heads queued when the growth stopped, their length grown on elsewhere
     auto = p.max_total_length <= 0
     cut = auto and best.stop_reason == "total length"
-    if auto:
+    if auto and not best.radial:   # (a hub's forest keeps its length, .radial._hub_budget)
         # holes the example does not have may still be filled past the auto cap, up to
         # FILL_LENGTH_FACTOR x the example's length per area
         best.max_total = length_cap(model, p, shp, reg, factor=FILL_LENGTH_FACTOR)
@@ -486,7 +488,8 @@ def synthesize_structure(example, params: SynthesisParams | None = None, *, rng=
         Output domain (default: the example's ``image_shape``).
     starts : sequence of (x, y, angle), optional
         Root start points and initial directions (radians, image
-        coordinates). Default (``params.roots = "learned"``): ``n_roots``
+        coordinates); when the example has hubs (:mod:`.radial`), each start is
+        a hub's centre with primaries all round it. Default (``params.roots = "learned"``): ``n_roots``
         starts (default: as many as the example has trees) drawn from the
         learnt root model (:mod:`.roots`): on the same kind of boundary as
         the example's roots (an image side, the domain's edge such as a
@@ -535,7 +538,6 @@ def synthesize_structure(example, params: SynthesisParams | None = None, *, rng=
     shp = _domain(model, shape)
     guidance = _check_guidance(guidance, shp)
     dom = _check_domain(domain, model, shp)
-    starts_given = starts
     if starts is None:
         if guidance is not None or p.roots != "learned":
             starts = _default_starts(model, shp, guidance, p, dom, rng)
@@ -553,7 +555,7 @@ def synthesize_structure(example, params: SynthesisParams | None = None, *, rng=
             raise ValueError(f"starts[{int(np.flatnonzero(bad)[0])}] lies outside the {w} x {h} domain")
         starts = [tuple(map(float, s)) for s in st]
     hubs: list = []
-    if starts_given is None and guidance is None:
+    if guidance is None:   # the user's starts too: each the centre of a hub when the example has hubs
         starts = _radial_starts(model, starts, shp, dom, hubs)
     reg = _region(domain, model, shp)
     g = _grow_with_retries(model, p, rng, shp, guidance, starts, _scorer, dom, progress, reg)
