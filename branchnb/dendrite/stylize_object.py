@@ -43,6 +43,7 @@ VINE_PART_MIN = 0.02
 #: whose far end always gets a vine tip: how far its skeleton runs beyond the inscribed disc
 #: where it meets the rest (:func:`_extremities`).
 VINE_LIMB = 0.12
+VINE_LIMB_THIN = 2.0
 
 
 class _ObjectSteps:
@@ -152,9 +153,10 @@ class _ObjectSteps:
 
 def _extremities(obj) -> np.ndarray:
     """The far ends of the object's limbs, lattice ``(x, y)`` ``(E, 2)``: ends of its skeleton
-    whose branch runs at least ``VINE_LIMB`` of the object's size beyond the inscribed disc
-    at the junction where it meets the rest (a lobe's spur does not; a whole part with no
-    junction gives both its ends).
+    whose branch runs at least ``VINE_LIMB`` of the object's size and ``VINE_LIMB_THIN``
+    times its own half-width beyond the inscribed disc at the junction where it meets the
+    rest (a lobe's spur or the end of a blob's axis does not; a thin part with no junction
+    gives both its ends).
 
     >>> m = np.zeros((60, 80), bool); m[10:40, 10:70] = True; m[40:58, 38:42] = True
     >>> np.round(_extremities(m)).astype(int).tolist()  # the stem's foot, not the box's corners
@@ -179,9 +181,12 @@ def _extremities(obj) -> np.ndarray:
     meet = ndimage.binary_dilation(near_junc, np.ones((3, 3), bool)) & (labels > 0)
     radius = np.zeros(n + 1)
     np.maximum.at(radius, labels[meet], edt[meet])
-    reach = VINE_LIMB * float(np.sqrt(obj.sum()))
+    # ... and is a limb: thin, at least VINE_LIMB_THIN times its own half-width long
+    half = np.asarray(ndimage.median(edt, labels, np.arange(n + 1)), float)
+    out = length - radius
+    limb = (out >= VINE_LIMB * float(np.sqrt(obj.sum()))) & (out >= VINE_LIMB_THIN * half)
     ty, tx = np.nonzero(tips & (labels > 0))
-    keep = length[labels[ty, tx]] - radius[labels[ty, tx]] >= reach
+    keep = limb[labels[ty, tx]]
     return np.column_stack([tx[keep], ty[keep]]).astype(float)
 
 
