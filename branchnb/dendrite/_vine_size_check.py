@@ -50,8 +50,13 @@ def _letter(u, v, ch: str, cx: float, half: float = 0.45, bar: float = 0.07) -> 
     return m
 
 
-def shape(kind: str, n: int, fill: str, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
-    """The object's mask in an ``(0.75 n, n)`` frame and its trunk (pole, stem) mask (may be
+def shape(kind: str, n: int, fill: str, seed: int = 0) -> np.ndarray:
+    """The object's mask in an ``(0.75 n, n)`` frame."""
+    return shape_trunk(kind, n, fill, seed)[0]
+
+
+def shape_trunk(kind: str, n: int, fill: str, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
+    """The object's mask in an ``(0.75 n, n)`` frame and its trunk (pole, legs) mask (may be
     empty)."""
     h = int(0.75 * n)
     f = 0.8 if fill == "big" else 0.3
@@ -167,7 +172,7 @@ def main(widths=WIDTHS, kinds=KINDS, fills=FILLS, looks=LOOKS, seeds=(0,)) -> No
                 for seed in seeds:
                     cells, first, last = [], None, None
                     for n in widths:
-                        m, trunk = shape(kind, n, fill, seed)
+                        m, trunk = shape_trunk(kind, n, fill, seed)
                         f = measure(picture(m, look, seed), m, trunk, seed)
                         first = first or f
                         last = f

@@ -39,6 +39,12 @@ VINE_OBJECT_FLOOR = 0.3
 #: Smallest separate part of the object, as a share of its area, that gets vines of its own
 #: (a root of its own: :meth:`_ObjectSteps._vine_seeds`); smaller specks get no tips.
 VINE_PART_MIN = 0.02
+#: Least share of the picture an object of separate parts covers (the object found on a
+#: ground covers 5 %: three small letters on white got vines crossing between them) ...
+VINE_PARTS_COVER = 0.005
+#: ... and most share of the content (importance above the ground's) off it: on a photo the
+#: content is everywhere and a few coloured specks are no object.
+VINE_PARTS_SPILL = 0.1
 #: Shortest limb (a trunk, a pole, a leg, a letter's stroke), as a share of the object's size,
 #: whose far end always gets a vine tip: how far its skeleton runs beyond the inscribed disc
 #: where it meets the rest (:func:`_extremities`).
@@ -86,7 +92,8 @@ class _ObjectSteps:
 
     def _vine_parts(self, p: StylizeParams) -> np.ndarray | None:
         """The object found on its ground when it has two or more separate parts (each at
-        least ``VINE_PART_MIN`` of its area), else None.
+        least ``VINE_PART_MIN`` of its area), covers at least ``VINE_PARTS_COVER`` of the
+        picture and holds all but ``VINE_PARTS_SPILL`` of the content, else None.
 
         Beyond the paper, whose dendrite is one tree from one seed: on a street lamp and a
         toadstool on a dusk sky the vines ran from one to the other through the darkest
@@ -95,9 +102,15 @@ class _ObjectSteps:
         ``pair``, ``word``). Separate parts get vines of their own.
         """
         def make():
-            obj = _object_mask(self.working_image(p))
-            return obj if obj is not None and _parts(obj)[1] >= 2 else None
-        return self._get(("vine_parts", _subset(p, _IMPORTANCE)), make)
+            obj = _object_mask(self.working_image(p), min_cover=VINE_PARTS_COVER)
+            if obj is None or _parts(obj)[1] < 2:
+                return None
+            imp = self.importance(p)
+            content = imp >= _ground_threshold(imp, p.endpoint_threshold)
+            r = max(3, int(round(0.02 * float(np.hypot(*imp.shape)))))
+            off = content & (ndimage.distance_transform_edt(~obj) > r)
+            return obj if off.sum() <= VINE_PARTS_SPILL * max(int(content.sum()), 1) else None
+        return self._get(("vine_parts", _subset(p, _IMPORTANCE), p.endpoint_threshold), make)
 
     def _vine_seeds(self, p: StylizeParams, obj, seed) -> np.ndarray:
         """``seed`` (lattice ``(x, y)``) and the most inner, most important point of every
@@ -187,7 +200,25 @@ def _extremities(obj) -> np.ndarray:
     limb = (out >= VINE_LIMB * float(np.sqrt(obj.sum()))) & (out >= VINE_LIMB_THIN * half)
     ty, tx = np.nonzero(tips & (labels > 0))
     keep = limb[labels[ty, tx]]
-    return np.column_stack([tx[keep], ty[keep]]).astype(float)
+    ends = []
+    for y, x in zip(ty[keep], tx[keep]):
+        # a skeleton ends a half-width short of its limb's end: carry on along the branch
+        # to a pixel short of the outline (a trunk's foot, not a half-width above it)
+        r = max(2.0, 2.0 * half[labels[y, x]])
+        by, bx = np.nonzero(labels == labels[y, x])
+        close = np.hypot(by - y, bx - x) <= r
+        d = np.array([x - bx[close].mean(), y - by[close].mean()])
+        p = np.array([x, y], float)
+        if np.hypot(*d) > 0:
+            d /= np.hypot(*d)
+            for _ in range(int(np.ceil(2 * r + 2))):
+                q = p + 0.5 * d
+                qx, qy = int(round(q[0] + d[0])), int(round(q[1] + d[1]))
+                if not (0 <= qy < obj.shape[0] and 0 <= qx < obj.shape[1] and obj[qy, qx]):
+                    break
+                p = q
+        ends.append(p)
+    return np.array(ends, float).reshape(-1, 2)
 
 
 def _parts(obj) -> tuple[np.ndarray, int]:
