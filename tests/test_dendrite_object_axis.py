@@ -48,11 +48,15 @@ def test_vines_on_a_small_object_are_as_dense_as_on_a_large_one():
 
 
 def test_vines_on_a_letter_follow_its_outline():
-    # an "E" of thin bars: at least ~one tip per leaf length of its outline (main: 0.58)
-    from branchnb.dendrite.metaphors import vine_length
+    # an "E" of thin bars: ~one tip per leaf length of its outline (dendrite31: 0.58 per 6.5-px
+    # leaf). Since dendrite35 the leaf drawn is 0.055 of the object's size (9.6 px here) and
+    # the tips stop at twice the area's count (VINE_OUTLINE_CAP): 0.69 per leaf drawn
+    from branchnb.dendrite import Stylizer
 
     m = shape("letter", 500, "big")
-    assert _tips_per_outline("letter", "big", 500) * vine_length("leaf_length", m.shape) > 0.8
+    st = Stylizer(np.repeat(np.where(m, 0.3, 1.0).astype(np.float32)[..., None], 3, axis=2))
+    tips = len(st.run(rng=0, metaphor="vines").dendrite.tips)
+    assert tips / float((m & ~ndimage.binary_erosion(m)).sum()) * st._vine_leaf > 0.65
 
 
 def test_a_drawn_outline_keeps_its_weight_on_a_small_input():

@@ -20,7 +20,7 @@ from branchnb import data
 from branchnb.core.image import as_gray, as_rgb
 from branchnb.dendrite import StylizeParams, Stylizer, stylize
 from branchnb.dendrite.importance import gradient_strength
-from branchnb.dendrite.metaphors import vine_curves, vine_length
+from branchnb.dendrite.metaphors import vine_curves
 from branchnb.dendrite.pareidolia import PareidoliaParams, pareidolia_tree, tree_crown
 from branchnb.dendrite.stylization import effective_params, metaphor_params
 
@@ -190,9 +190,11 @@ def _green(rendering):
 @pytest.mark.parametrize("n", [250, 1000])
 def test_vines_readable_at_any_size(n):
     img, mask = _fish(n)
-    s = stylize(img, rng=0, metaphor="vines")
-    # the endpoint count follows the object's area and the leaf size, not the paper's 3,000
-    leaf = vine_length("leaf_length", img.shape[:2])
+    st = Stylizer(img)
+    s = st.run(rng=0, metaphor="vines")
+    # the endpoint count follows the object's area and the leaf size (drawn: sized to the
+    # object since dendrite35), not the paper's 3,000
+    leaf = st._vine_leaf
     expect = mask.mean() * n * n / (2.5 * leaf) ** 2
     assert 0.5 * expect < len(s.endpoints) < 2.0 * expect
     # no overgrown mass: most of the object stays paper

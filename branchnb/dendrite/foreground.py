@@ -42,20 +42,22 @@ def _ground_palette(lab: np.ndarray, ring: np.ndarray) -> np.ndarray:
     return cols[counts >= GROUND_MIN_SHARE * len(cols)]
 
 
-def _object_mask(image) -> np.ndarray | None:
+def _object_mask(image, min_cover: float = OBJECT_COVER[0]) -> np.ndarray | None:
     """Where a picture's object is: its pixels far in colour from every ground colour.
 
     Parameters
     ----------
     image : (h, w, 3) float ndarray
         RGB in [0, 1].
+    min_cover : float
+        Least share of the picture the object covers (``OBJECT_COVER[0]`` by default).
 
     Returns
     -------
     (h, w) bool ndarray or None
         The object's filled silhouette (its holes filled, specks under 0.1 % of the
         picture dropped); None when the frame has no common colour, or the object
-        covers less or more than ``OBJECT_COVER`` of the picture or more than
+        covers less than ``min_cover`` or more than ``OBJECT_COVER[1]`` of the picture or more than
         ``OBJECT_MAX_RING`` of the frame (a photo, or nothing on the ground).
 
     Examples
@@ -88,6 +90,6 @@ def _object_mask(image) -> np.ndarray | None:
         return None
     sizes = np.bincount(lab_cc.ravel())[1:]
     m = np.isin(lab_cc, 1 + np.flatnonzero(sizes >= 0.001 * h * w))
-    if not OBJECT_COVER[0] <= m.mean() <= OBJECT_COVER[1] or m[ring].mean() > OBJECT_MAX_RING:
+    if not min_cover <= m.mean() <= OBJECT_COVER[1] or m[ring].mean() > OBJECT_MAX_RING:
         return None
     return m

@@ -68,6 +68,7 @@ from .stylize_params import (  # noqa: F401  (re-exported; the spacings too)
     STRIKE_PHOTO_SIDE,
     STRIKE_PHOTO_UP,
     STRIKE_SIDE,
+    VINE_MIN_LEAF,
     VINE_SPACING,
     StylizeParams,
     _ground_threshold,
@@ -446,13 +447,13 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
         (:func:`~branchnb.dendrite.stylize_params._vine_sizes`); lengths the caller gave
         are kept."""
         from .main_channel import silhouette
-        from .metaphors import VINE_MIN_PIXELS, vine_length
+        from .metaphors import VINE_MIN_PIXELS, _vine_smooth, vine_length
 
         area = share * self.shape[0] * self.shape[1]
         f, _ = _vine_sizes(self.shape, area, 0.0)
         # the outline at the stems' spacing: a textured ground's specks that pass the
         # threshold have outlines of their own (a cat on a dark ground got 700 tips)
-        leaf = max(vine_length("leaf_length", self.shape) * f, VINE_MIN_PIXELS["leaf_length"])
+        leaf = vine_length("leaf_length", self.shape) * f
         sil = ndimage.gaussian_filter(silhouette(obj if obj is not None else content)
                                       .astype(np.float32), 0.5 * VINE_SPACING * leaf / k) > 0.5
         pieces, count = ndimage.label(sil)
@@ -466,14 +467,18 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
         self._vine_p = _within_range(p, n_endpoints=int(np.clip(n, min(8, given.n_endpoints),
                                                                  given.n_endpoints)),
                                      max_width=hi if f < 1.0 else p.max_width)
-        self._vine_leaf = max(vine_length("leaf_length", self.shape) * min(f, 1.0),
-                              VINE_MIN_PIXELS["leaf_length"])
-        if f >= 1.0:
-            return options
+        # every length follows the leaf's; their floors keep the leaf's floor's proportions
+        floor = VINE_MIN_LEAF / VINE_MIN_PIXELS["leaf_length"]
+        self._vine_leaf = vine_length("leaf_length", self.shape) * f
         options = dict(options)
         for name in ("curl_length", "leaf_spacing", "leaf_length", "leaf_width"):
             if options.get(name) is None:
-                options[name] = max(vine_length(name, self.shape) * f, VINE_MIN_PIXELS[name])
+                options[name] = max(vine_length(name, self.shape) * f, VINE_MIN_PIXELS[name] * floor)
+        if options.get("smooth") is None:
+            # the stems are paths on the lattice: smoothed over as many of its nodes at every
+            # image size (by the image's diagonal a 300-px picture's vines were jagged steps
+            # and a 700-px one's soft curves)
+            options["smooth"] = _vine_smooth(None, self.working_image(p).shape[:2])
         return options
 
     @checked(seed=Point())
@@ -530,6 +535,7 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
                 share = float(content.mean()) if found else share
             else:  # vines on an object lighter than its ground, or the ground textured
                 obj = self._vine_object(p)
+                obj = obj if obj is not None else self._vine_parts(p)
                 share = float(obj.mean()) if obj is not None else share
             p = metaphor_params(given, metaphor, self.shape, share, k)
             if metaphor == "vines":  # leaves sized to the object, tips along its outline
@@ -585,7 +591,9 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
         scale = self.scale(p)
         if not np.allclose(scale, 1.0):
             d = d.rescaled(self.shape)
-            d.points[d.parent < 0] = seed  # the dendrite starts exactly at the seed
+            # the dendrite starts exactly at the seed (a forest's other roots stay put)
+            roots = np.flatnonzero(d.parent < 0)
+            d.points[roots[np.argmin(np.hypot(*(d.points[roots] - seed).T))]] = seed
         rendering = None
         if metaphor is not None:
             from .metaphors import render as render_metaphor

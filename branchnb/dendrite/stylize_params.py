@@ -305,10 +305,13 @@ def effective_params(p: StylizeParams, scale: float) -> StylizeParams:
 
 #: Vine stems are this many leaf lengths apart on average (:func:`metaphor_params`).
 VINE_SPACING = 2.5
-#: Longest vine leaf, as a share of the object's size (the square root of its area): a
-#: leaf sized to the image's diagonal was 0.071-0.098 of a small object's size against
-#: 0.027-0.037 of one filling the frame (:func:`_vine_sizes`).
-VINE_LEAF_PER_SIZE = 0.035
+#: Vine leaf length, as a share of the object's size (the square root of its area): the
+#: same at every image size, so an object looks the same drawn at 250 and 1000 px
+#: (:func:`_vine_sizes`).
+VINE_LEAF_PER_SIZE = 0.055
+#: Shortest vine leaf sized to an object (image px; its other lengths follow it): below,
+#: leaves read as green specks.
+VINE_MIN_LEAF = 5.5
 #: Fewest vine tips per leaf length of the object's outline (:func:`_vine_sizes`).
 VINE_OUTLINE_TIPS = 1.0
 #: ... but at most this many times the tips for its area (the outline of content strewn
@@ -323,24 +326,28 @@ def _vine_sizes(shape, area: float, outline: float) -> tuple[float, int]:
     Beyond the paper (issue 25): leaves scaled with the image's diagonal, so an object
     filling a third of the frame's height got leaves 2.7x as long for its size as one
     filling it, and tips for its area alone, so a thin letter got a third of a blob's tips
-    along its outline (``python -m branchnb.dendrite._vine_size_check``). A leaf is at most
-    ``VINE_LEAF_PER_SIZE`` of the object's size (never below ``VINE_MIN_PIXELS``, never
-    above the image's length: an object filling the frame keeps its leaves); the tips are
-    one per ``(VINE_SPACING x leaf)**2`` of its area, at least ``VINE_OUTLINE_TIPS`` per leaf
-    length of its outline, up to ``VINE_OUTLINE_CAP`` times the area's count.
+    along its outline. Then (dendrite32) a leaf was ``0.035`` of the object's size up to the
+    diagonal's length and at least 6.5 px: on a 250-px image that floor made leaves twice
+    as long for the object as at 1000 px, and with tips for the floored leaf the 250-px
+    blob got a quarter of the 1000-px blob's tips (leaf / size 250 against 1000 px 2.2x on
+    objects filling the frame; tips per outline 0.26-0.37x; ``python -m
+    branchnb.dendrite._vine_size_check``). Now a leaf is ``VINE_LEAF_PER_SIZE`` of the
+    object's size at every image size (at least ``VINE_MIN_LEAF`` px: readable leaves win
+    on objects under ~100 px); the tips are one per ``(VINE_SPACING x leaf)**2`` of its
+    area, at least ``VINE_OUTLINE_TIPS`` per leaf length of its outline, up to
+    ``VINE_OUTLINE_CAP`` times the area's count, the same for the same object at any size.
 
-    >>> f, n = _vine_sizes((750, 1000), 500.0 ** 2, 2000.0)
-    >>> round(f, 2), n  # filling the frame: leaves as before, tips for the area
-    (1.0, 274)
-    >>> f, n = _vine_sizes((750, 1000), 250.0 ** 2, 1500.0)
-    >>> round(f, 2), n  # smaller, with a long outline: smaller leaves, tips for the outline
-    (0.72, 171)
+    >>> from branchnb.dendrite.metaphors import vine_length
+    >>> for shape, size in (((750, 1000), 500.0), ((375, 500), 250.0)):  # one picture, two sizes
+    ...     f, n = _vine_sizes(shape, size ** 2, 3.6 * size)
+    ...     print(round(f * vine_length("leaf_length", shape) / size, 3), n)  # leaf / size, tips
+    0.055 65
+    0.055 65
     """
-    from .metaphors import VINE_MIN_PIXELS, vine_length
+    from .metaphors import vine_length
 
     full = vine_length("leaf_length", shape)
-    leaf = float(np.clip(VINE_LEAF_PER_SIZE * np.sqrt(max(area, 0.0)),
-                         VINE_MIN_PIXELS["leaf_length"], full))
+    leaf = max(VINE_LEAF_PER_SIZE * float(np.sqrt(max(area, 0.0))), VINE_MIN_LEAF)
     n_area = area / (VINE_SPACING * leaf) ** 2
     n = max(n_area, min(VINE_OUTLINE_TIPS * outline / leaf, VINE_OUTLINE_CAP * n_area))
     return leaf / full, int(round(n))
