@@ -18,6 +18,7 @@ from .foreground import _object_mask
 from .lattice import Lattice
 from .main_channel import (
     _channel_end,
+    _seed_part,
     channel_plan,
     silhouette,
     straighten,
@@ -175,7 +176,12 @@ class _StrikeSteps:
                            reach=LIGHTNING_LOOP_REACH * float(np.hypot(*res.shape)))
             # down a stem (a tree's trunk) the channel is the bolt's main path to its foot:
             # by its tips the main path left it for the crown's largest limb
-            grounded = _channel_end(silhouette(content))[1]
+            # on a picture of several separate objects too: the bolt strikes the one its seed
+            # lies over (beyond the paper: by its tips the main path jumped from object to
+            # object across the ground)
+            sil = silhouette(content)
+            part = _seed_part(sil, tuple(np.round(np.asarray(seed, float))))
+            grounded = _channel_end(part)[1] or int(part.sum()) < int(sil.sum())
             if grounded:
                 try:
                     d = with_channel(d, got[1])
