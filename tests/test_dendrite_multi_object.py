@@ -9,7 +9,8 @@ from scipy import ndimage
 from branchnb.dendrite import stylize
 from branchnb.dendrite._multi_bolt_check import case, chains, straight_run
 from branchnb.dendrite.channel_jag import _ground
-from branchnb.dendrite.main_channel import _seed_part, main_path, strike_channel
+from branchnb.dendrite.main_channel import main_path, strike_channel
+from branchnb.dendrite.strike_part import _seed_part
 
 
 def _pole_and_cap():

@@ -18,7 +18,6 @@ from .foreground import _object_mask
 from .lattice import Lattice
 from .main_channel import (
     _channel_end,
-    _seed_part,
     channel_plan,
     silhouette,
     straighten,
@@ -28,6 +27,7 @@ from .main_channel import (
 from .photo_side import _short_sides, side_branches, strike_region
 from .photo_strike import jag_channel, photo_channel
 from .planner import PlanResult
+from .strike_part import _seed_part
 from .stylize_params import (
     LIGHTNING_LOOP_REACH,
     STRIKE_MAX_COVER,
