@@ -14,6 +14,10 @@ __all__: list[str] = []
 #: cost (:func:`strike_channel`), and its largest scales (shares of the diagonal).
 CHANNEL_JAG = 1.8
 CHANNEL_SCALES = (0.005, 0.01, 0.02, 0.04)
+#: Share (of the log) of that noise kept on the cost of the outline band (dendrite34): with
+#: none the channel down a thin pole, all within the band, was a ruler-straight line (turn per
+#: 10 px 1.6-8.5 deg against 35-40 on a plain canvas); at 1 it left a flat tree's trunk.
+OUTLINE_JAG = 0.5
 
 def _field(shape: tuple[int, int], rng) -> np.ndarray:
     """Noise of unit std with equal strength at every scale from 1 px to ``CHANNEL_SCALES[-1]``
