@@ -62,3 +62,18 @@ def test_lamp_and_toadstool_bolt_has_no_straight_run_across_the_sky(rng):
     # and no branch crosses the sky in a straight line (on main: 44-70 px; a bolt on a
     # plain canvas of this size: 28-35 px)
     assert max(straight_run(c, outside, tol) for c in chains(d)) < 0.12 * diag
+
+
+@pytest.mark.parametrize("width", [6, 10])
+def test_channel_zigzags_down_a_thin_pole(width):
+    from branchnb.dendrite._bolt_shape_check import turning
+
+    m = np.zeros((240, 160), bool)
+    m[20:230, 80 - width // 2:80 + width - width // 2] = True
+    m[10:30, 70:90] = True
+    for rng in range(3):
+        p = strike_channel(np.ones(m.shape), m, (80, 12), rng=rng)
+        assert m[p[:, 1], p[:, 0]].all()
+        # on main: 0.6-4.8 deg per 10 px, straight down the pole's middle
+        assert turning(p, 10.0) > 9.0
+        assert np.ptp(p[p[:, 1] > 40, 0]) >= width // 2 + 1

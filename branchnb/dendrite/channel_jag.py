@@ -14,7 +14,8 @@ __all__: list[str] = []
 #: cost (:func:`strike_channel`), and its largest scales (shares of the diagonal).
 CHANNEL_JAG = 1.8
 CHANNEL_SCALES = (0.005, 0.01, 0.02, 0.04)
-#: Share (of the log) of that noise kept on the cost of the outline band (dendrite34): with
+#: Share (of the log) of that noise kept on the cost of the outline band in thin parts
+#: (:func:`_thin`; dendrite34): with
 #: none the channel down a thin pole, all within the band, was a ruler-straight line (turn per
 #: 10 px 1.6-8.5 deg against 35-40 on a plain canvas); at 1 it left a flat tree's trunk.
 OUTLINE_JAG = 0.5
@@ -37,6 +38,21 @@ def _rough(shape: tuple[int, int], amount: float, rng) -> np.ndarray:
     if amount <= 0:
         return np.ones(shape)
     return np.exp(amount * _field(shape, rng) - 0.5 * amount ** 2)
+
+
+def _thin(sil: np.ndarray, band: float) -> np.ndarray:
+    """Where a silhouette is thin: no pixel within ``band`` (share of the diagonal) of a
+    pixel lies deeper than ``band`` inside the outline (a pole, a trunk; not the rim of a
+    crown or a blob).
+
+    >>> m = np.zeros((60, 60), bool); m[5:55, 5:11] = True; m[5:55, 20:55] = True
+    >>> t = _thin(m, 0.05); bool(t[30, 7]), bool(t[30, 21])
+    (True, False)
+    """
+    reach = max(band * float(np.hypot(*sil.shape)), 1.0)
+    depth = ndimage.distance_transform_edt(np.pad(sil, 1))[1:-1, 1:-1]
+    size = 2 * int(np.ceil(reach)) + 1
+    return sil & (ndimage.maximum_filter(depth, size=size) <= reach)
 
 
 #: Where :func:`_ground` clips the noise's low side (in stds): below it the ground is flat.

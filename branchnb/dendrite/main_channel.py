@@ -25,7 +25,7 @@ import dataclasses
 import numpy as np
 from scipy import ndimage
 
-from .channel_jag import CHANNEL_JAG, OUTLINE_JAG, _ground, _rough, _taut
+from .channel_jag import CHANNEL_JAG, OUTLINE_JAG, _ground, _rough, _taut, _thin
 from .dendrite import Dendrite, build_dendrite
 from .photo_strike import photo_channel  # noqa: F401  (re-exported: it was defined here)
 from .planner import PlanResult
@@ -611,11 +611,11 @@ def strike_channel(weights, content, seed, *, band: float = STRIKE_BAND,
     # fading out towards the outline, so the channel still keeps off it in thin parts
     gen = np.random.default_rng(rng)
     rough = _rough(w.shape, jag, gen)
-    # the noise on the weights fades out towards the outline, but the outline band's cost
-    # keeps OUTLINE_JAG of it: all within the band, the channel ran ruler-straight down a
-    # thin pole (and on the ground too, should the channel cross it: a seed off the object)
+    # the noise on the weights fades out towards the outline, but in thin parts the outline
+    # band's cost keeps OUTLINE_JAG of it: all within the band, the channel ran ruler-straight
+    # down a thin pole (and on the ground too, should the channel cross it: a seed off the object)
     cost = np.where(sil, (w * rough ** (1.0 - near) + mean * penalty * near)
-                    * rough ** (OUTLINE_JAG * near),
+                    * rough ** (OUTLINE_JAG * near * _thin(sil, band)),
                     (w + 10.0 * mean) * _ground(sil, jag, gen))
     res = plan(Lattice(cost), (sx, sy), metric="cumulative")
     nodes = res.path(int(end[1]) * w.shape[1] + int(end[0]))
