@@ -551,7 +551,14 @@ def strike_channel(weights, content, seed, *, band: float = STRIKE_BAND,
     log, fading out towards the outline): the lattice's per-pixel noise averages out
     along a long path, and the channel through a crown was a ruler-straight line
     (tortuosity 1.08, 10-12 deg mean turn per 10 px against 35-39 for a bolt on a
-    plain canvas; ``python -m branchnb.dendrite._bolt_shape_check``).
+    plain canvas; ``python -m branchnb.dendrite._bolt_shape_check``). Beyond the papers
+    (dendrite34): on a picture of several separate objects the channel runs through the
+    one the seed lies over (:func:`~branchnb.dendrite.strike_part._seed_part`; the others
+    count as ground), in thin parts (a pole) the outline band keeps ``OUTLINE_JAG`` of the
+    noise, and the ground costs :func:`~branchnb.dendrite.channel_jag._ground` times more
+    (rough at every scale, growing off the objects): the channel ran from a street lamp
+    straight across the sky to a toadstool's foot (``python -m
+    branchnb.dendrite._multi_bolt_check``).
 
     Parameters
     ----------
@@ -635,7 +642,9 @@ def strike_weights(weights, content, seed, *, band: float = STRIKE_BAND,
     the branches planned from the seed fork off the channel inside the object
     instead of running round its outline. Only for an object on a
     background: None where its silhouette covers more than ``max_cover`` of
-    the picture (photos: 0.96-1; drawn objects 0.19-0.61).
+    the picture (photos: 0.96-1; drawn objects 0.19-0.61). Beyond the papers (dendrite34):
+    the ground between objects costs :func:`~branchnb.dendrite.channel_jag._ground` times
+    more, so branches jump from object to object where they are close, along jagged paths.
 
     Parameters
     ----------
