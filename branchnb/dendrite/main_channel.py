@@ -25,10 +25,11 @@ import dataclasses
 import numpy as np
 from scipy import ndimage
 
-from .channel_jag import CHANNEL_JAG, _rough, _taut
+from .channel_jag import CHANNEL_JAG, OUTLINE_JAG, _ground, _rough, _taut, _thin
 from .dendrite import Dendrite, build_dendrite
 from .photo_strike import photo_channel  # noqa: F401  (re-exported: it was defined here)
 from .planner import PlanResult
+from .strike_part import STEM_MAX_WIDTH, STEM_MIN_DEPTH, _seed_part, _stem_end  # noqa: F401
 from .stylize_params import (
     LIGHTNING_MAIN_EXPONENT,
     LIGHTNING_SEED_BLUR,
@@ -517,47 +518,6 @@ def outline_band(content, band: float = STRIKE_BAND) -> tuple[np.ndarray, np.nda
     return sil, near, float(c[inner].mean()) if inner.any() else 0.0
 
 
-#: Height of a stem (a tree's trunk) at the silhouette's bottom, as a share of its height,
-#: from which the main channel runs down it (:func:`_stem_end`).
-STEM_MIN_DEPTH = 0.06
-#: Largest width of a stem's rows, as a share of the silhouette's widest row.
-STEM_MAX_WIDTH = 0.35
-
-
-def _stem_end(sil: np.ndarray, end: tuple[int, int]) -> tuple[int, int]:
-    """The foot of the one thin stem (a tree's trunk, a flower's stalk) the silhouette
-    stands on, or ``end`` (the wide part's bottom) when it has none.
-
-    Beyond the papers: the main channel ended at the bottom of the object's wide part
-    (:func:`wide_top` upside down) and the bolt's bright main path was the child with the
-    most tips, so on a tree it filled the crown and never ran down the trunk, the tree's
-    main axis. A stem is the run of bottom rows that each hold one stretch of the
-    silhouette at most ``STEM_MAX_WIDTH`` of its widest row, over at least
-    ``STEM_MIN_DEPTH`` of its height (a body on four legs has none: several stretches a row).
-
-    >>> m = np.zeros((100, 80), bool); m[10:60, 10:70] = True; m[60:95, 36:44] = True
-    >>> _stem_end(m, (40, 59))
-    (40, 94)
-    >>> m[60:95, 12:18] = True  # two legs: no stem
-    >>> _stem_end(m, (40, 59))
-    (40, 59)
-    """
-    rows = np.flatnonzero(sil.any(axis=1))
-    if rows.size == 0:
-        return end
-    width = sil.sum(axis=1)
-    runs = (sil[:, 1:] & ~sil[:, :-1]).sum(axis=1) + sil[:, 0]
-    thin = (width <= STEM_MAX_WIDTH * width.max()) & (runs == 1)
-    foot = int(rows[-1])
-    top = foot
-    while top > rows[0] and thin[top]:
-        top -= 1
-    if foot - top < STEM_MIN_DEPTH * (foot - rows[0] + 1):
-        return end
-    xs = np.flatnonzero(sil[foot])
-    return int(xs[len(xs) // 2]), foot
-
-
 def _channel_end(sil: np.ndarray) -> tuple[tuple[int, int] | None, bool]:
     """Where the main channel through a silhouette ends, and whether that is a stem's foot:
     the bottom of its wide part (:func:`wide_top` upside down), or :func:`_stem_end` below it."""
@@ -591,7 +551,14 @@ def strike_channel(weights, content, seed, *, band: float = STRIKE_BAND,
     log, fading out towards the outline): the lattice's per-pixel noise averages out
     along a long path, and the channel through a crown was a ruler-straight line
     (tortuosity 1.08, 10-12 deg mean turn per 10 px against 35-39 for a bolt on a
-    plain canvas; ``python -m branchnb.dendrite._bolt_shape_check``).
+    plain canvas; ``python -m branchnb.dendrite._bolt_shape_check``). Beyond the papers
+    (dendrite34): on a picture of several separate objects the channel runs through the
+    one the seed lies over (:func:`~branchnb.dendrite.strike_part._seed_part`; the others
+    count as ground), in thin parts (a pole) the outline band keeps ``OUTLINE_JAG`` of the
+    noise, and the ground costs :func:`~branchnb.dendrite.channel_jag._ground` times more
+    (rough at every scale, growing off the objects): the channel ran from a street lamp
+    straight across the sky to a toadstool's foot (``python -m
+    branchnb.dendrite._multi_bolt_check``).
 
     Parameters
     ----------
@@ -639,6 +606,7 @@ def strike_channel(weights, content, seed, *, band: float = STRIKE_BAND,
         raise ValueError(f"jag must be >= 0, got {jag}")
     sx, sy = (int(round(float(v))) for v in seed)
     sil, near, _ = outline_band(c, band)
+    sil = _seed_part(sil, (sx, sy))  # the object the seed lies over: the others are ground
     end, _ = _channel_end(sil)
     if end is None:
         return np.array([[sx, sy]], np.int64)
@@ -648,8 +616,14 @@ def strike_channel(weights, content, seed, *, band: float = STRIKE_BAND,
     # weights only: the outline band and the outside keep their full cost) makes it turn
     # at every scale, as the bolt's branches do
     # fading out towards the outline, so the channel still keeps off it in thin parts
-    rough = _rough(w.shape, jag, rng) ** (1.0 - near)
-    cost = np.where(sil, w * rough + mean * penalty * near, w + 10.0 * mean)
+    gen = np.random.default_rng(rng)
+    rough = _rough(w.shape, jag, gen)
+    # the noise on the weights fades out towards the outline, but in thin parts the outline
+    # band's cost keeps OUTLINE_JAG of it: all within the band, the channel ran ruler-straight
+    # down a thin pole (and on the ground too, should the channel cross it: a seed off the object)
+    cost = np.where(sil, (w * rough ** (1.0 - near) + mean * penalty * near)
+                    * rough ** (OUTLINE_JAG * near * _thin(sil, band)),
+                    (w + 10.0 * mean) * _ground(sil, jag, gen))
     res = plan(Lattice(cost), (sx, sy), metric="cumulative")
     nodes = res.path(int(end[1]) * w.shape[1] + int(end[0]))
     return _taut(np.column_stack([nodes % w.shape[1], nodes // w.shape[1]]).astype(np.int64))
@@ -668,7 +642,9 @@ def strike_weights(weights, content, seed, *, band: float = STRIKE_BAND,
     the branches planned from the seed fork off the channel inside the object
     instead of running round its outline. Only for an object on a
     background: None where its silhouette covers more than ``max_cover`` of
-    the picture (photos: 0.96-1; drawn objects 0.19-0.61).
+    the picture (photos: 0.96-1; drawn objects 0.19-0.61). Beyond the papers (dendrite34):
+    the ground between objects costs :func:`~branchnb.dendrite.channel_jag._ground` times
+    more, so branches jump from object to object where they are close, along jagged paths.
 
     Parameters
     ----------
@@ -707,10 +683,14 @@ def strike_weights(weights, content, seed, *, band: float = STRIKE_BAND,
     sil, near, fill = outline_band(content, band)
     if sil.mean() > max_cover:
         return None
-    path = strike_channel(w, content, seed, band=band, penalty=penalty, jag=jag, rng=rng)
+    gen = np.random.default_rng(rng)
+    path = strike_channel(w, content, seed, band=band, penalty=penalty, jag=jag, rng=gen)
     if len(path) < 2:
         return None
     out = w + float(np.mean(w[np.isfinite(w)])) * penalty * fill * near
+    # the ground between objects rough at every scale: the branches jumping from one object
+    # to another crossed it in straight lines
+    out[~sil] *= _ground(sil, jag, gen)[~sil]
     out[path[:, 1], path[:, 0]] = 0.0
     return out, path
 

@@ -27,6 +27,7 @@ from .main_channel import (
 from .photo_side import _short_sides, side_branches, strike_region
 from .photo_strike import jag_channel, photo_channel
 from .planner import PlanResult
+from .strike_part import _seed_part
 from .stylize_params import (
     LIGHTNING_LOOP_REACH,
     STRIKE_MAX_COVER,
@@ -175,7 +176,12 @@ class _StrikeSteps:
                            reach=LIGHTNING_LOOP_REACH * float(np.hypot(*res.shape)))
             # down a stem (a tree's trunk) the channel is the bolt's main path to its foot:
             # by its tips the main path left it for the crown's largest limb
-            grounded = _channel_end(silhouette(content))[1]
+            # on a picture of several separate objects too: the bolt strikes the one its seed
+            # lies over (beyond the paper: by its tips the main path jumped from object to
+            # object across the ground)
+            sil = silhouette(content)
+            part = _seed_part(sil, tuple(np.round(np.asarray(seed, float))))
+            grounded = _channel_end(part)[1] or int(part.sum()) < int(sil.sum())
             if grounded:
                 try:
                     d = with_channel(d, got[1])
