@@ -220,12 +220,13 @@ def _radius_keep(example) -> float:
 
 #: A band strand's candidate scores ``exp(-d / CORE_SCALE)``, ``d`` its mean distance (pixels) outside the
 #: band the example's strands sweep (:func:`.empty_ground._strand_core`; beyond the paper, issue 23,
-#: branching66), roots and children alike (branching70): 3.5 px out weighs like ``LEAVE_BAND``. At 2 px
-#: (roots only) children ran out to the frame and into the eye of the band: 0.36-0.48 of the length
-#: of interlaced bands (L, U, frame, ring, S, spiral, knot, border; 256-1024 px, 3 seeds) outside the
-#: swept band; children held at 2 px still 0.22-0.47 (4 cases). A wall that makes a strand turn, not one it ends
-#: at: the core as the growth domain ended an L band's root after 20-40 px (length 0.28 x).
-CORE_SCALE = 0.5
+#: branching66), roots and children alike (branching70): 7 px out weighs like ``LEAVE_BAND``. At 2 px on
+#: roots only, children ran out to the frame and into the eye of the band: 0.36-0.48 of the length of
+#: interlaced bands (L, U, frame, ring, S, spiral, knot, border; 256-1024 px, 3 seeds) outside the swept
+#: band. At 0.5 px the strands kinked to stay in (turn per 10 px 1.06-1.34 x the example's on U and S
+#: bands, against 0.82-1.12 x at 1 px, for 0.05-0.09 less length outside); a hard wall (the core as the
+#: growth domain) ended an L band's root after 20-40 px (length 0.28 x).
+CORE_SCALE = 1.0
 
 
 def _core(model: StructureModel, domain) -> tuple[np.ndarray, np.ndarray] | None:
