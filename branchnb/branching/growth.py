@@ -224,7 +224,7 @@ def _radius_keep(example) -> float:
 #: roots only, children ran out to the frame and into the eye of the band: 0.36-0.48 of the length of
 #: interlaced bands (L, U, frame, ring, S, spiral, knot, border; 256-1024 px, 3 seeds) outside the swept
 #: band. At 0.5 px the strands kinked to stay in (turn per 10 px 1.06-1.34 x the example's on U and S
-#: bands, against 0.82-1.12 x at 1 px, for 0.05-0.09 less length outside); a hard wall (the core as the
+#: bands, against 0.82-1.12 x at 1 px, for 0-0.09 less length outside); a hard wall (the core as the
 #: growth domain) ended an L band's root after 20-40 px (length 0.28 x).
 CORE_SCALE = 1.0
 
