@@ -2,8 +2,10 @@
 
 :func:`band_example` draws, black on white, a pair of interlaced strands (or a few parallel wavy strands)
 along a centre path: ``L`` (the left and top borders), ``U`` (left, top, right), ``frame`` (all four),
-``wavy`` (three parallel wavy strands across the middle of the frame), ``ring`` (a circle), optionally with
-small leaf stubs at the strands' crests. It returns the image and the known strand spacing (the largest
+``wavy`` (three parallel wavy strands across the middle of the frame), ``ring`` (a circle), and (branching70)
+``S`` (an S-curve across the frame), ``spiral`` (one and a half turns out from the centre), ``knot`` (a
+closed trefoil path crossing itself three times) and ``border`` (a straight band along the top, its width
+from 0.04 to 0.2 of the side by the seed), optionally with small leaf stubs at the strands' crests. It returns the image and the known strand spacing (the largest
 distance between neighbouring strands), the answer the band's width is measured against.
 """
 # ruff: noqa: E501
@@ -12,7 +14,9 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-KINDS = ("L", "U", "frame", "wavy", "ring")
+KINDS = ("L", "U", "frame", "wavy", "ring", "S", "spiral", "knot", "border")
+#: kinds drawn on a square frame
+_SQUARE = ("ring", "spiral", "knot")
 
 
 def _centre_path(kind: str, H: int, W: int, inset: float) -> tuple[np.ndarray, bool]:
@@ -30,6 +34,20 @@ def _centre_path(kind: str, H: int, W: int, inset: float) -> tuple[np.ndarray, b
         t = np.linspace(0, 2 * np.pi, 721)
         r = 0.33 * min(H, W)
         return np.c_[0.5 * W + r * np.cos(t), 0.5 * H + r * np.sin(t)], True
+    elif kind == "S":
+        x = np.arange(inset, W - inset, 1.0)
+        return np.c_[x, 0.5 * H - (0.5 * H - 1.5 * inset) * np.sin(2 * np.pi * (x - inset) / (W - 2 * inset))], False
+    elif kind == "spiral":
+        t = np.linspace(0.0, 3 * np.pi, 4000)
+        r = min(H, W) * (0.1 + 0.33 * t / (3 * np.pi))
+        return np.c_[0.5 * W + r * np.cos(t), 0.5 * H + r * np.sin(t)], False
+    elif kind == "knot":
+        t = np.linspace(0, 2 * np.pi, 3001)
+        x, y = np.sin(t) + 2 * np.sin(2 * t), np.cos(t) - 2 * np.cos(2 * t)
+        f = (0.5 * min(H, W) - 1.2 * inset) / 3.0
+        return np.c_[0.5 * W + f * x, 0.5 * H + f * y], True
+    elif kind == "border":
+        corners = [(0.0, b), (W - 1.0, b)]
     else:
         raise ValueError(f"kind must be one of {KINDS}, got {kind!r}")
     c = np.asarray(corners, float)
@@ -46,15 +64,26 @@ def _centre_path(kind: str, H: int, W: int, inset: float) -> tuple[np.ndarray, b
     return pts, kind == "frame"
 
 
-def band_example(kind: str, size: int, seed: int, *, leaves: bool = False) -> tuple[np.ndarray, float]:
-    """An ornament of ``kind`` (see :data:`KINDS`), ``size`` px wide, as (H, W, 3) float32 black on white,
-    and its strand spacing (px)."""
+def _band_params(kind: str, size: int, seed: int, leaves: bool):
+    """``(rng, H, W, amp, period, lw)`` of a :func:`band_example` (the same draws for its envelope)."""
     rng = np.random.default_rng(5300 + seed * 31 + KINDS.index(kind) * 7 + (1 if leaves else 0))
     W = int(size)
-    H = int(size * rng.uniform(0.75, 1.0)) if kind != "ring" else W
+    H = int(size * rng.uniform(0.75, 1.0)) if kind not in _SQUARE else W
     amp = size * rng.uniform(0.03, 0.05)               # strands swing this far off the centre line
     period = size * rng.uniform(0.25, 0.45)
     lw = max(2, int(round(size / rng.uniform(110, 150))))
+    if kind == "border":   # borders of different widths: 0.04-0.2 of the side
+        amp = size * (0.02 + 0.08 * ((seed * 0.618) % 1.0))
+        period = max(period, 6.0 * amp)
+    elif kind == "spiral":   # the turns 0.22 of the side apart: room for the band and its margin
+        amp = min(amp, 0.035 * size)
+    return rng, H, W, amp, period, lw
+
+
+def band_example(kind: str, size: int, seed: int, *, leaves: bool = False) -> tuple[np.ndarray, float]:
+    """An ornament of ``kind`` (see :data:`KINDS`), ``size`` px wide, as (H, W, 3) float32 black on white,
+    and its strand spacing (px)."""
+    rng, H, W, amp, period, lw = _band_params(kind, size, seed, leaves)
     inset = amp + size * 0.04
     centre, closed = _centre_path(kind, H, W, inset)
     d = np.gradient(centre, axis=0)
@@ -102,12 +131,7 @@ def band_envelope(kind: str, size: int, seed: int, *, leaves: bool = False) -> n
     Synthesized ornament lines are judged against it (:mod:`._child_check`)."""
     from scipy import ndimage as ndi
 
-    rng = np.random.default_rng(5300 + seed * 31 + KINDS.index(kind) * 7 + (1 if leaves else 0))
-    W = int(size)
-    H = int(size * rng.uniform(0.75, 1.0)) if kind != "ring" else W
-    amp = size * rng.uniform(0.03, 0.05)
-    rng.uniform(0.25, 0.45)
-    lw = max(2, int(round(size / rng.uniform(110, 150))))
+    _rng, H, W, amp, _period, lw = _band_params(kind, size, seed, leaves)
     centre, _closed = _centre_path(kind, H, W, amp + size * 0.04)
     reach = amp + lw + (2.6 * amp if kind == "wavy" else 0.0) + (2.8 * max(3.0, 0.012 * size) if leaves else 0.0)
     line = np.ones((H, W), bool)

@@ -340,7 +340,7 @@ class _Starts:
             ins = self._inside(new.reshape(-1, 2)).reshape(new.shape[:2])
             k = min(ins.shape[1], valid.shape[1])
             score = np.where((ins[:, :k] | ~valid[:, :k]).all(1), score, score * LEAVE_BAND)
-            score = score * (self._core_factor(new, valid) if parent is None else 1.0)
+            score = score * self._core_factor(new, valid)
         match = self._angle_match() if parent is not None and self.strands else None
         if match is not None:   # a band's child leaves at the example's angles (.child_angles)
             ang = _head_angles(x0, theta0, new, n + 1, 0.0 if r_cap is None else float(r_cap))

@@ -37,6 +37,17 @@ REACH = 12.0
 ANGLE_EDGES = np.arange(0.0, 181.0, 15.0)
 #: Weight of the child-angle histogram factor ``exp(W (p_example - p_synthesized))`` of a child's head.
 ANGLE_WEIGHT = 12.0
+#: Score factor of a head whose angle bin is full: it already holds more children than the example's
+#: share of the children so far, :data:`ANGLE_SPARE` to spare (a bin holds its share rounded; none in a
+#: bin the example leaves empty; with 1 a bin of share 1/11 held 2 of 12 children).
+#: Beyond the paper (issue 23, branching70): the exponential factor alone let heads whose furcation and
+#: density scores were 10-30 x the others' fill a bin past its share; children leaving backward
+#: (105-135 degrees) made 0.36-0.5 of an interlaced U or S band's children against the example's
+#: 0.2-0.27, the mean child angle 10-20 degrees above the example's. (The angle read 13 px past the
+#: parent on a 16-20 px head was no cause: the heads' angles and the grown children's differ by 1-2.5
+#: degrees on the mean.)
+ANGLE_FULL = 1e-4
+ANGLE_SPARE = 0.5
 
 
 #: The children rules of a band (this module's and ``FurcationModel.sample_d(generation=)`` /
@@ -122,13 +133,17 @@ class _AngleMatch:
         return np.clip(np.searchsorted(ANGLE_EDGES, angles, side="right") - 1, 0, len(ANGLE_EDGES) - 2)
 
     def factor(self, angles: np.ndarray) -> np.ndarray:
-        """``exp(W (p_example - p_synthesized))`` of each candidate's angle bin (all 1 without an example
-        of at least 3 children)."""
+        """``exp(W (p_example - p_synthesized))`` of each candidate's angle bin, times :data:`ANGLE_FULL`
+        where the bin is full (all 1 without an example of at least 3 children)."""
         if not self.ok:
             return np.ones(len(angles))
         n = self.counts.sum()
         q = self.counts / n if n else np.zeros_like(self.counts)
-        return np.exp(ANGLE_WEIGHT * (self.p_ex - q)[self.bins(angles)])
+        b = self.bins(angles)
+        # a bin that already holds more than its share of the children so far (rounded) is full (beyond
+        # the paper, branching70): see ANGLE_FULL
+        full = self.counts + 1.0 > self.p_ex * (n + 1.0) + np.where(self.p_ex > 0, ANGLE_SPARE, 0.0)
+        return np.exp(ANGLE_WEIGHT * (self.p_ex - q)[b]) * np.where(full[b], ANGLE_FULL, 1.0)
 
     def add(self, angle: float) -> None:
         self.counts[self.bins(np.array([angle]))[0]] += 1

@@ -161,12 +161,16 @@ def _is_band(domain) -> bool:
 #: A band's strands (one-pen line art, ``_Grower.strands``) keep within this share of the example's
 #: strand spacing of the example's lines (:func:`_strand_core`).
 CORE_SHARE = 1.0
+#: Margin of the core past the closed lines, in (pen + 2 px) (:func:`_strand_core`). 1 (branching66) left
+#: a strand room to run along the core's edge outside the swing (an L band's root 3-4 px beside it at
+#: 256 px: 0.16 of that core lay outside the swept band); 0: the closed lines themselves (branching70).
+CORE_MARGIN = 0.0
 
 
 def _strand_core(example, domain) -> np.ndarray | None:
     """Where a band's strands run: the pixels of ``domain`` ((H, W) bool) in the closing of the example's
-    lines by a disk of :data:`CORE_SHARE` x the strand spacing (:func:`_strand_spacing`), widened by the
-    pen, or None (no spacing, or no core in ``domain``).
+    lines by a disk of :data:`CORE_SHARE` x the strand spacing (:func:`_strand_spacing`), widened by
+    :data:`CORE_MARGIN` x (the pen + 2 px), or None (no spacing, or no core in ``domain``).
 
     Beyond the paper (issue 23, branching66): the band domain (:func:`_line_domain`) reaches a whole
     spacing beyond the outermost strand to give growth room, and an ornament's margin to its frame is
@@ -206,5 +210,45 @@ def _strand_core(example, domain) -> np.ndarray | None:
     pad = int(np.ceil(r)) + 2
     near = ndi.distance_transform_edt(~np.pad(lines, pad)) <= r
     closed = (ndi.distance_transform_edt(near) > r - 0.5)[pad:-pad, pad:-pad]
-    core = dom & (ndi.distance_transform_edt(~(closed | lines)) <= pen + 2.0)
+    core = dom & (ndi.distance_transform_edt(~(closed | lines)) <= CORE_MARGIN * (pen + 2.0))
+    return core if core.any() else None
+
+
+def _band_width(mask: np.ndarray) -> float:
+    """The width (pixels) of a band ``mask`` ((H, W) bool): twice the median depth on its medial axis."""
+    from skimage.morphology import medial_axis
+
+    axis, depth = medial_axis(np.asarray(mask, bool), return_distance=True)
+    return 2.0 * float(np.median(depth[axis])) if axis.any() else 0.0
+
+
+def _painted_core(example_domain, example_core, domain) -> np.ndarray | None:
+    """The core of a band ``domain`` ((H, W) bool) the user drew for a band ornament: the middle strip of
+    it as wide, in proportion, as the example's strands' band (``example_core``,
+    :func:`_strand_core`) is in the example's band domain (``example_domain``); None when it leaves
+    nothing.
+
+    Beyond the paper (issue 23, branching70): the example's lines say where its strands run only in
+    its own domain; in a band the user paints the strands ran anywhere in it, children out to its
+    edges (0.3-0.7 of the length outside the painted band's middle). The painted band is read like an
+    example's band domain (a strand spacing of margin either side): with a band ``q`` = core width /
+    domain width in the example, the core is where the depth in ``domain`` is at least ``(1 - q)`` of
+    its half-width.
+
+    Examples
+    --------
+    >>> ex = np.zeros((100, 200), bool); ex[20:60] = True
+    >>> core = np.zeros((100, 200), bool); core[30:50] = True
+    >>> user = np.zeros((120, 120), bool); user[:, 30:90] = True
+    >>> c = _painted_core(ex, core, user)
+    >>> bool(c[60, 60]), bool(c[60, 35]), int(c[60].sum())
+    (True, False, 32)
+    """
+    dom = np.asarray(domain, bool)
+    if not dom.any():
+        return None
+    q = min(_band_width(example_core) / max(_band_width(example_domain), 1e-9), 1.0)
+    depth = ndi.distance_transform_edt(np.pad(dom, 1))[1:-1, 1:-1]
+    half = 0.5 * _band_width(dom)
+    core = dom & (depth >= (1.0 - q) * half)
     return core if core.any() else None

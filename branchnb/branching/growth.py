@@ -31,7 +31,7 @@ from .colonization import (
     frame_density,
 )
 from .domains import MOUTH_SHARE, MOUTH_TURN, _Drain, _Shore, _shore_margin, runs_inland
-from .empty_ground import _is_band, _strand_core
+from .empty_ground import _is_band, _painted_core, _strand_core
 from .filling import _Filling
 from .guidance import Guidance
 from .model import StructureModel, _choice
@@ -220,25 +220,39 @@ def _radius_keep(example) -> float:
 
 #: A band strand's candidate scores ``exp(-d / CORE_SCALE)``, ``d`` its mean distance (pixels) outside the
 #: band the example's strands sweep (:func:`.empty_ground._strand_core`; beyond the paper, issue 23,
-#: branching66): 4 px out weighs like ``LEAVE_BAND`` ... ``exp(-2)``.
-CORE_SCALE = 2.0
+#: branching66), roots and children alike (branching70): 7 px out weighs like ``LEAVE_BAND``. At 2 px on
+#: roots only, children ran out to the frame and into the eye of the band: 0.36-0.48 of the length of
+#: interlaced bands (L, U, frame, ring, S, spiral, knot, border; 256-1024 px, 3 seeds) outside the swept
+#: band. At 0.5 px the strands kinked to stay in (turn per 10 px 1.06-1.34 x the example's on U and S
+#: bands, against 0.82-1.12 x at 1 px, for 0-0.09 less length outside); a hard wall (the core as the
+#: growth domain) ended an L band's root after 20-40 px (length 0.28 x).
+CORE_SCALE = 1.0
 
 
 def _core(model: StructureModel, domain) -> tuple[np.ndarray, np.ndarray] | None:
-    """``(core, distance outside it)`` of a band of one-pen strands (:func:`.empty_ground._strand_core`)
-    when growth runs in the model's own domain (the example's lines say where the band is only there),
-    once per model; else None (any other example or domain)."""
-    if domain is None or model.domain is None or model.ground is None or domain.shape != model.domain.shape \
-            or not np.array_equal(domain, model.domain) or not _is_band(domain) or not _one_pen(model.example):
+    """``(core, distance outside it)`` of a band of one-pen strands (:func:`.empty_ground._strand_core`),
+    once per model and domain; else None (any other example or domain).
+
+    In the model's own domain the example's lines say where the band is; in a band domain of the user's
+    (another mask, or another size) the core is its middle strip in the example's proportions
+    (:func:`.empty_ground._painted_core`; beyond the paper, issue 23, branching70)."""
+    if domain is None or model.domain is None or model.ground is None or not _is_band(domain) \
+            or not _one_pen(model.example):
         return None
+    from scipy import ndimage as ndi
+
     got = model.__dict__.get("_strand_core")
     if got is None or got[0] is not model.domain:
-        from scipy import ndimage as ndi
-
         core = _strand_core(model.example, model.domain)
         got = model.__dict__["_strand_core"] = (
-            model.domain, None if core is None else (core, ndi.distance_transform_edt(~core)))
-    return got[1]
+            model.domain, None if core is None else (core, ndi.distance_transform_edt(~core)), {})
+    if got[1] is None or (domain.shape == model.domain.shape and np.array_equal(domain, model.domain)):
+        return got[1]
+    key = (domain.shape, hash(np.packbits(domain).tobytes()))
+    if key not in got[2]:
+        core = _painted_core(model.domain, got[1][0], domain)
+        got[2][key] = None if core is None else (core, ndi.distance_transform_edt(~core))
+    return got[2][key]
 
 
 class _Grower(_Starts, _Filling):
@@ -582,8 +596,8 @@ class _Grower(_Starts, _Filling):
                 live = np.arange(pts.shape[1])[None, :] < n_arr[:, None]
                 leave = (live & ~inside).any(1)
                 score = np.where(leave, score * LEAVE_BAND, score)
-                if st.parent is None:   # a band's root keeps to the band its example's strands sweep
-                    score = score * self._core_factor(pts, live)
+                # a band's strands, children too, keep to the band its example's strands sweep
+                score = score * self._core_factor(pts, live)
             # beyond the paper: no spirals. A candidate that would take the branch's heading range past the
             # winding limit is forbidden; the branch stops when nothing else is left (issue 23)
             score = np.where(zero, 0.0, score)
