@@ -9,7 +9,6 @@ pixels that ``reinduce(liberal_threshold=0.3)`` and a fresh ``analyze`` did not.
 
 import warnings
 
-import numpy as np
 import pytest
 
 from branchnb import data
