@@ -8,6 +8,7 @@ joined to the paths are now taken (:func:`branchnb.leaves.analysis_masks._exempl
 """
 
 import numpy as np
+from scipy import ndimage as ndi
 
 from branchnb.leaves.analysis_masks import _exemplar_mask, _MaskSteps
 
@@ -24,8 +25,9 @@ def _steps():
     ridge[31:45, 50] = True                      # another
     ridge[55:70, 60] = True                      # a ridge not joined to the paths (a stray line)
     n = [None, None]
+    zone = blade & ~ndi.binary_erosion(blade, iterations=3)     # a drawn leaf's ink outline zone
     return blade, _MaskSteps(user, [blade, blade], 0, [None, snapped], None, n, [None, ridge], [None, ridge],
-                             n, n, False, False), snapped
+                             [None, (zone, np.zeros(blade.shape, np.float32))], n, False, False), snapped
 
 
 def test_side_veins_joined_to_the_snapped_paths_are_taken():
