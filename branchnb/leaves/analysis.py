@@ -52,6 +52,7 @@ from .analysis_induce import (  # noqa: F401  (importable from here as before)
     thin_width,
     warp_mask,
 )
+from .analysis_masks import _contrast_map, _exemplar_mask, _MaskSteps
 from .analysis_normalise import (  # noqa: F401
     COMPOUND_GAP,
     _axis_angle,
@@ -64,11 +65,12 @@ from .analysis_normalise import (  # noqa: F401
 from .induction import (
     ColourSpace,
     InductionParams,
+    blade_lab_stats,
     layer_width,
     scaled_lengths,
 )
 from .layers import LayerSet, SnapParams, TrainingLayers, grow_layers
-from .own_contrast import trim_by_contrast, without_blobs
+from .own_contrast import trim_by_contrast, without_blobs  # noqa: F401
 from .stored_maps import CombinedMaps
 from .structural import MIN_FOUND, layer_standout, warn_analysis
 
@@ -258,10 +260,15 @@ class LeafAnalysis:
         """A quick re-induction (eqs. 2-4 only) for a changed ``eps``, ``kappa`` or liberal threshold.
 
         Each layer keeps its colour term ``S_e`` and neighbourhood; the
-        residuals are not inpainted again. Exact for the top layer, and for
-        a lower layer where the layers above it did not change (its
-        ``S_e`` was measured on the residual they left). For a slider
-        preview: generate from :meth:`reinduce`, whose residuals are new.
+        residuals are not inpainted again. The masks are made by the same
+        code as :meth:`reinduce`'s (:func:`~branchnb.leaves.analysis_masks._exemplar_mask`:
+        snapped paths, the exemplar's own ``delta``, contrast, outline,
+        ink-zone, hole-rim and speck trimming), so the top layer's masks
+        equal :meth:`reinduce`'s whenever the neighbourhood ``n`` the
+        induction chose stays the best one; a lower layer's too where the
+        layers above it did not change (its ``S_e`` was measured on the
+        residual they left). For a slider preview: generate from
+        :meth:`reinduce`, whose residuals are new.
 
         Examples: ``analysis.retune(eps=30)``, ``analysis.retune(kappa=2.0)``.
 
@@ -341,26 +348,41 @@ def _retuned(analysis, changes):
     tolerance = registration_tolerance(a.registrations, t)
     taken = [np.zeros_like(b) for b in a.blades]
     layers = []
-    for old in a.layers:
+    stats = None
+    for k, old in enumerate(a.layers):
         user = a.training.masks[old.name]
         user = user & (a.blades[t] | _pinholes(a.blades[t], user))
-        lam, overlap, combined, delta, tr_iou = _combine(old.colour, old.distance, lengths, tolerance, params,
-                                                         a.blades, a.registrations, t, user)
+        best = None
+        colours = old.steps.colours if old.steps is not None and old.steps.colours else {old.neighbourhood: old.colour}
+        for n_px, colour in colours.items():
+            # The window the induction would keep with these parameters (its rule: the best training IoU).
+            got = _combine(colour, old.distance, lengths, tolerance, params, a.blades, a.registrations, t, user)
+            if best is None or got[4] > best[0][4] + 1e-9:
+                best = (got, n_px, colour)
+        (lam, overlap, combined, delta, tr_iou), n_px, colour = best
+        steps = old.steps if old.steps is not None else _MaskSteps(
+            user, a.blades, t, old.snapped, old.centred, [None] * len(a.blades), [None] * len(a.blades),
+            [None] * len(a.blades), [None] * len(a.blades), [None] * len(a.blades), False, False)
+
+        def contrast_of(e, k=k, old=old, steps=steps):
+            # The induction's map where it made one; else (the trim newly applies) from the residual.
+            nonlocal stats
+            if old.contrast is not None and old.contrast[e] is not None:
+                return old.contrast[e]
+            if stats is None:
+                stats = [blade_lab_stats(im[..., :3], b) for im, b in zip(a.exemplars, a.blades)]
+            res = a.residuals[k]
+            return _contrast_map(_matched_lab(res[t], stats, t, t, params), _matched_lab(res[e], stats, e, t, params),
+                                 steps, e)
+
         masks = []
         for e in range(len(a.blades)):
-            over = e != t and old.snapped is not None and _over_induced(combined[e], delta, a.blades[e], user,
-                                                                         a.blades[t])
-            m = user.copy() if e == t else _induced(combined[e], delta, tr_iou, old.snapped, e, a.blades[e],
-                                                    taken[e], centred=old.centred, over=over)
-            if e != t and old.contrast is not None and old.contrast[e] is not None and tr_iou >= COLOUR_RELIABLE:
-                m = trim_by_contrast(without_blobs(m, user, a.blades[t], a.blades[e]), old.contrast[e])
-            if e != t and old.snapped is not None:
-                m = _without_dots(m, layer_width(user))
+            m, _ = _exemplar_mask(steps, e, combined[e], delta, tr_iou, taken[e], contrast_of)
             taken[e] |= m
             masks.append(m)
         layers.append(dataclasses.replace(old, lam=lam, liberal_overlap=overlap, delta=delta,
-                                          training_overlap=tr_iou, masks=masks,
-                                          combined=CombinedMaps(lam, old.colour, old.distance,
+                                          training_overlap=tr_iou, masks=masks, colour=colour, neighbourhood=n_px,
+                                          combined=CombinedMaps(lam, colour, old.distance,
                                                                 [ln[0] for ln in lengths]),
                                           eps_px=[ln[0] for ln in lengths]))
     return dataclasses.replace(a, params=params, layers=layers)

@@ -13,6 +13,7 @@ from ..core.distance import edt as _edt
 from ..core.image import as_mask, as_rgb
 from ..core.random import as_rng
 from ..core.validate import check_bool, check_callback, check_int, check_real
+from .analysis_masks import _contrast_map, _exemplar_mask, _MaskSteps
 from .analysis_outline import (  # noqa: F401  (importable from here as before)
     INKED_OUTLINE,
     OUTLINE_GAP,
@@ -46,7 +47,6 @@ from .induction import (
     scaled_lengths,
     spatial_term,
 )
-from .own_contrast import high_pass, trim_by_contrast, without_blobs
 from .snapping import contrast_direction
 from .stored_maps import BoxedMaps, CombinedMaps, DistanceMaps
 
@@ -146,6 +146,10 @@ class LayerInduction:
         training leaf's share of the blade); None
         for other layers (set by :func:`~branchnb.leaves.analysis.analyze`,
         read by :func:`~branchnb.leaves.structural.is_structural`).
+    steps : _MaskSteps or None, optional
+        What :func:`induce` found besides ``D`` (snapped paths, outline zones, hole rims, ...), so
+        :meth:`~branchnb.leaves.analysis.LeafAnalysis.retune` makes the masks by the same code
+        (:func:`~branchnb.leaves.analysis_masks._exemplar_mask`).
     """
 
     name: str
@@ -164,6 +168,7 @@ class LayerInduction:
     contrast: list | None = field(default=None, repr=False)
     centred: list | None = field(default=None, repr=False)
     standout: list | None = field(default=None, repr=False)
+    steps: _MaskSteps | None = field(default=None, repr=False)
 
     def spatial(self, e: int) -> np.ndarray:
         """``F(x, c)`` on exemplar ``e`` (recomputed from the stored terms).
@@ -331,6 +336,7 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         if snapped is not None:
             own_px = _under_induced(q, blades, t, user, cdf, own_px, ridge_px, dist, lengths, tolerance, params,
                                     registrations, space, candidates[0])
+        tried = {}
         for n_px in candidates:
             colour = []
             for e in range(n):
@@ -339,41 +345,24 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
                                                 weights=space.weights if params.lab_units else None))
             lam, overlap, combined, delta, tr_iou = _combine(colour, dist, lengths, tolerance, params, blades,
                                                              registrations, t, user)
+            tried[n_px] = colour
             if best is None or tr_iou > best[0] + 1e-9:
                 best = (tr_iou, n_px, colour, lam, overlap, combined, delta)
         step += n
         tr_iou, n_px, colour, lam, overlap, combined, delta = best
         masks = []
         new_residual = []
-        contrast = None
+        steps_kept = _MaskSteps(user, blades, t, snapped, centred, own, own_px, ridge_px, zones, rims,
+                                outline_in_layer, inked_outline)
+        contrast = [None] * n
+
+        def contrast_of(e, labs=labs, steps_kept=steps_kept):
+            return _contrast_map(labs[t], labs[e], steps_kept, e)
+
         for e in range(n):
             report(step / steps, f"layer {name}: residual of exemplar {e + 1}/{n}")
             step += 1
-            over = e != t and snapped is not None and _over_induced(combined[e], delta, blades[e], user, blades[t])
-            m = user.copy() if e == t else _induced(combined[e], delta, tr_iou, snapped, e, blades[e], taken[e],
-                                                    centred=centred, over=over)
-            # Only where the exemplar's layer has its own colour model (re-chosen
-            # on same-coloured leaves too, whenever the training delta found
-            # under half of the exemplar's ridge pixels, a lobed leaf's spots
-            # went 0.70 -> 0.38 IoU after the wider vein removal).
-            d_e = delta if e == t else _own_delta(combined[e], delta, own_px[e], blades[e])
-            if d_e > delta and not over:
-                # Beyond the training leaf's delta only next to the exemplar's own layer pixels.
-                near = ndi.binary_dilation(ridge_px[e], iterations=1)
-                m = m | _induced(np.where(near, combined[e], np.inf), d_e, tr_iou, snapped, e, blades[e], taken[e],
-                                  centred=centred)
-            if e != t and snapped is not None and tr_iou >= COLOUR_RELIABLE and own_px[e] is not None and not over:
-                # Where {D < delta} is induced (the snapped paths alone are drawn to width already:
-                # trimmed, the sample maples' induced veins lost half their width, IoU 0.64 -> 0.43).
-                if contrast is None:
-                    contrast = [None] * n
-                dir_e = own[e] if own[e] is not None else contrast_direction(labs[t], user, blades[t])
-                contrast[e] = (high_pass(labs[e], blades[e], layer_width(user) + 1.0)
-                               @ (np.asarray(dir_e, np.float64) / np.linalg.norm(dir_e))).astype(np.float32)
-                m = trim_by_contrast(without_blobs(m, user, blades[t], blades[e]), contrast[e])
-            if e != t and snapped is not None:
-                m = _trimmed(m, blades[e], user, snapped[e], zones[e], rims[e], outline_in_layer=outline_in_layer,
-                             inked_outline=inked_outline)
+            m, contrast[e] = _exemplar_mask(steps_kept, e, combined[e], delta, tr_iou, taken[e], contrast_of)
             masks.append(m)
             taken[e] = taken[e] | m
             gone = m if snapped is None or e == t else _ridge_extension(residual, blades, t, e, user, m, stats, params,
@@ -385,11 +374,14 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         # recomputed from the registered layers when read (the same values).
         eps_list = [ln[0] for ln in lengths]
         colour_kept = BoxedMaps(colour, blades, 1.0)
+        # Every window's S_e, so a retune picks the window as the induction would (:func:`_retuned`).
+        steps_kept.colours = {k: colour_kept if k == n_px else BoxedMaps(c, blades, 1.0) for k, c in tried.items()}
         dist_kept = DistanceMaps(reg_user)
         out.append(LayerInduction(name, lam, overlap, delta, tr_iou, masks, colour_kept,
                                   CombinedMaps(lam, colour_kept, dist_kept, eps_list),
-                                  reg_user, dist_kept, eps_list, n_px,
-                                  snapped=snapped, contrast=contrast, centred=centred))
+                                  reg_user, dist_kept, eps_list, n_px, snapped=snapped,
+                                  contrast=contrast if any(c is not None for c in contrast) else None,
+                                  centred=centred, steps=steps_kept))
         step += 1
     report(1.0, "induction done")
     return out, residuals, space
@@ -548,8 +540,7 @@ def _ridge_extension(residual, blades, t, e, user, m, stats, params, *, level: f
     the grown mask reached the outline and its fill left ink in the
     residual; 0.10 and 0.12: 1.00 / 1.02; a 2 px rim instead of 1: no gain).
     """
-    from .induction import layer_width
-    from .snapping import contrast_direction, ridge_evidence
+    from .snapping import ridge_evidence
 
     def lab_of(k):
         return labs[k] if labs is not None else _matched_lab(residual[k], stats, k, t, params)

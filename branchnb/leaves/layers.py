@@ -42,6 +42,7 @@ from skimage.color import rgb2lab
 from skimage.segmentation import slic
 
 from ..core.image import as_mask, as_rgb
+from ..core.morphology import fill_holes
 from ..core.params import check_params, param
 from ..core.validate import brief, check_int, check_real, check_shape
 from ._lines import _line_channel, _ridges
@@ -197,6 +198,7 @@ def _check_scribbles(layer_set: LayerSet, blade: np.ndarray) -> tuple[dict, dict
     groups = [(x.name, f"layer_set.layers[{x.name!r}]", x.scribbles) for x in layer_set.layers]
     groups.append(("blade", "layer_set.background", layer_set.background))
     seen: dict = {}
+    silhouette = None
     for name, label, scribbles in groups:
         m = np.zeros(shape, bool)
         each[name] = []
@@ -211,10 +213,16 @@ def _check_scribbles(layer_set: LayerSet, blade: np.ndarray) -> tuple[dict, dict
                     (p[:, 1] < -0.5).any() or (p[:, 1] > shape[0] - 0.5).any():
                 raise ValueError(f"{label}.scribbles[{i}] leaves the image ({shape[1]} x {shape[0]} px)")
             si = scribble_mask([s], shape)
-            on = (si & blade).sum()
+            # Inside the leaf's outline counts as on the leaf: a stroke along a vein the blade
+            # mask left out (a hole) is no mistake. A stroke mostly off the leaf is one (another
+            # image's coordinates, a forgotten offset): refused with its name, not clipped to a
+            # few pixels the user did not mean. The off-blade part of the others is dropped.
+            if silhouette is None:
+                silhouette = fill_holes(blade)
+            on = (si & silhouette).sum()
             if on < 0.5 * si.sum():
                 raise ValueError(f"{label}.scribbles[{i}] lies outside the leaf "
-                                 f"({int(on)} of {int(si.sum())} pixels on the blade)")
+                                 f"({int(on)} of {int(si.sum())} pixels on the leaf)")
             m |= si & blade
             each[name].append(si & blade)
         out[name] = m
