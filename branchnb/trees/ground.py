@@ -21,6 +21,9 @@ narrow band) and wide again on the crown. The trunk foot is the lowest row
 of the trunk, found by walking down from the narrow band while
 ``c(y) <= jump * w_t`` (a flared trunk base stays trunk); the tree is the
 part above the foot that is connected to the crown, the ground is the rest.
+Beyond that, a drawn trunk whose lowest rows carry pieces of the pile drawn
+over it is drawn on down from its clean rows above them (``repaint``), so
+no leaf colours or outlines stay at the foot.
 
 No ground is reported when the bottom rows are already the trunk, when no
 narrow band of at least ``min_stem_height`` of the tree height sits under
@@ -147,8 +150,8 @@ class GroundSplit:
         Returns
         -------
         (H, W, C) float32 ndarray
-            A copy with ground pixels set to 0 in every channel; the input
-            is not modified.
+            A copy with ground pixels set to 0 in every channel and, on RGBA
+            images, the ``repaint`` pixels set; the input is not modified.
         """
         img = np.array(image, dtype=np.float32, copy=True)
         gone = self.ground
