@@ -21,6 +21,9 @@ narrow band) and wide again on the crown. The trunk foot is the lowest row
 of the trunk, found by walking down from the narrow band while
 ``c(y) <= jump * w_t`` (a flared trunk base stays trunk); the tree is the
 part above the foot that is connected to the crown, the ground is the rest.
+Beyond that, a drawn trunk whose lowest rows carry pieces of the pile drawn
+over it is drawn on down from its clean rows above them (``repaint``), so
+no leaf colours or outlines stay at the foot.
 
 No ground is reported when the bottom rows are already the trunk, when no
 narrow band of at least ``min_stem_height`` of the tree height sits under
@@ -104,6 +107,11 @@ class GroundSplit:
         The trunk as the geometry sees it: the neck pixels from the foot up
         to where the crown widens (empty without a visible trunk). Colour
         cannot find a green palm trunk or a trunk a few pixels wide; this can.
+    repaint : (indices, values) pair of ndarrays or None
+        Flat pixel indices and their new RGBA values, set by :meth:`cut` on
+        RGBA images: a drawn trunk whose lowest rows carry the pile's leaves
+        is drawn on down from its clean rows above them (beyond the paper);
+        None when nothing is repainted.
 
     Examples
     --------
@@ -121,6 +129,7 @@ class GroundSplit:
     foot: tuple[float, float] | None
     trunk_width: float
     stem: np.ndarray | None = None
+    repaint: tuple[np.ndarray, np.ndarray] | None = None
 
     @property
     def has_ground(self) -> bool:
@@ -141,8 +150,8 @@ class GroundSplit:
         Returns
         -------
         (H, W, C) float32 ndarray
-            A copy with ground pixels set to 0 in every channel; the input
-            is not modified.
+            A copy with ground pixels set to 0 in every channel and, on RGBA
+            images, the ``repaint`` pixels set; the input is not modified.
         """
         img = np.array(image, dtype=np.float32, copy=True)
         gone = self.ground
@@ -150,6 +159,8 @@ class GroundSplit:
             near = cv2.dilate(gone.astype(np.uint8), np.ones((5, 5), np.uint8)) > 0
             gone = gone | (near & (img[:, :, 3] < 0.5) & ~self.tree)
         img[gone] = 0.0
+        if self.repaint is not None and img.ndim == 3 and img.shape[2] == 4:
+            img.reshape(-1, 4)[self.repaint[0]] = self.repaint[1]
         return img
 
 
@@ -370,6 +381,158 @@ def _drop_foot_spurs(tree: np.ndarray, rgb: np.ndarray, y_f: int, trunk_width: f
     return res
 
 
+def _clean_foot(tree: np.ndarray, rgb: np.ndarray, stem: np.ndarray, stem_top: int, y_f: int,
+                trunk_width: float):
+    """The trunk's clean rows above the pile's pieces drawn over it (beyond the paper; issue 24).
+
+    Leaves drawn over the trunk's lowest rows sit *inside* its column, where
+    :func:`_drop_foot_leaves` (outside the column) cannot take them: a cut at the row where the
+    pile widens the neck keeps their colours and outlines as a blob at the foot. The trunk's
+    column and colour are read on the two to six trunk widths above the foot (its sides fitted
+    as straight lines nearest the foot; the median of its middle third lighter than ink; its
+    outline's width at the sides); a row is dirty where a pixel of the column inside the
+    outline is opaque and farther than 25 CIELAB units from that colour (another colour, or
+    ink across the trunk). Walking up from the foot over dirty rows (gaps of at most 2 rows)
+    gives the lowest clean row, at most two trunk widths up: returns it with the fitted sides
+    (polynomials in the row), or None when the foot is clean or cannot be read. Not read:
+    curved trunks (a quarter of the rows off the straight sides by more than 1.5 px or 5 % of
+    the trunk width; a palm's ring sticking out is allowed) and trunks whose rows the sides
+    are fitted on are more than a quarter dirty themselves (bark in a photograph, a painted
+    trunk).
+    """
+    h, w = tree.shape
+    if trunk_width < 4:
+        return None
+    lab = cv2.cvtColor(np.ascontiguousarray(rgb, dtype=np.float32), cv2.COLOR_RGB2LAB)
+    # the trunk's rows above the pile, followed up from two trunk widths over the foot (the
+    # stem can stop short where fronds hang beside it)
+    y_hi = y_f - int(np.ceil(2 * trunk_width))
+    if y_hi < 0 or not tree[y_hi].any():
+        return None
+    xs = np.flatnonzero(stem[y_hi] & tree[y_hi]) if stem[y_hi].any() else np.flatnonzero(tree[y_hi])
+    centre = float(np.median(xs))
+    ys, lefts, rights = [], [], []
+    for y in range(y_hi, max(-1, y_hi - int(4 * trunk_width)), -1):
+        xs = np.flatnonzero(tree[y])
+        runs = np.split(xs, np.flatnonzero(np.diff(xs) > 1) + 1) if xs.size else []
+        run = next((q for q in runs if q[0] <= centre <= q[-1]), None)
+        if run is None or not 0.6 * trunk_width <= run.size <= 1.6 * trunk_width:
+            break
+        ys.append(y)
+        lefts.append(run[0])
+        rights.append(run[-1])
+        centre = 0.5 * (run[0] + run[-1])
+    if len(ys) < max(6, trunk_width):
+        return None
+    ys, lefts, rights = np.array(ys), np.array(lefts), np.array(rights)
+    # colour: the middle third of the rows (away from the outline); margin: the outline's
+    # width at the sides (the run of other colours in from each side), plus 2 px
+    mid = np.concatenate([lab[y, lf + (rt - lf) // 3:rt - (rt - lf) // 3 + 1]
+                          for y, lf, rt in zip(ys, lefts, rights)])
+    light = mid[:, 0] > 25.0
+    if light.mean() < 0.5:
+        return None                              # a trunk that is all ink: no colour to tell by
+    colour = np.median(mid[light], axis=0)
+    side = []
+    for y, lf, rt in zip(ys, lefts, rights):
+        same = np.flatnonzero(np.linalg.norm(lab[y, lf:rt + 1] - colour, axis=1) <= 25.0)
+        if same.size:
+            side += [same[0], rt - lf - same[-1]]
+    if not side:
+        return None
+    m = int(min(np.percentile(side, 90) + 2, 0.35 * trunk_width))
+    # the sides as straight lines fitted nearest the foot (a leaning or bent trunk)
+    near = slice(0, max(6, int(np.ceil(2 * trunk_width))))
+    fl, fr = np.polyfit(ys[near], lefts[near], 1), np.polyfit(ys[near], rights[near], 1)
+    resid = np.maximum(np.abs(np.polyval(fl, ys[near]) - lefts[near]),
+                       np.abs(np.polyval(fr, ys[near]) - rights[near]))
+    if np.percentile(resid, 75) > max(1.5, 0.05 * trunk_width):
+        return None                              # a curved trunk: no straight column to carry down
+
+    def interior(y):
+        return (max(0, int(np.ceil(np.polyval(fl, y))) + m),
+                min(w - 1, int(np.floor(np.polyval(fr, y))) - m))
+
+    def dirty(y):
+        a, b = interior(y)
+        if b <= a:
+            return True
+        px = lab[y, a:b + 1]
+        bad = (np.linalg.norm(px - colour, axis=1) > 25.0) & tree[y, a:b + 1]
+        return bool(bad.any())
+
+    # the trunk's own rows the sides are fitted on must be clean (flat drawn fills, not bark)
+    if np.mean([dirty(y) for y in ys[near]]) > 0.25:
+        return None
+    cap = int(np.ceil(2 * trunk_width))
+    y, top_dirty, gap = y_f, None, 0
+    while y >= y_f - cap:
+        if dirty(y):
+            top_dirty, gap = y, 0
+        elif top_dirty is not None:
+            gap += 1
+            if gap > 2:
+                break
+        elif y < y_f - 2:
+            return None                          # a clean foot
+        y -= 1
+    if top_dirty is None or y < y_f - cap:
+        return None
+    return top_dirty - 1, fl, fr
+
+
+def _repaint_foot(tree: np.ndarray, image: np.ndarray, y_c: int, y_f: int, fl, fr,
+                  trunk_width: float):
+    """The trunk drawn on down from its clean rows above ``y_c`` to the foot ``y_f`` under the pile.
+
+    Rows ``y_c + 1 .. y_f`` keep only the trunk's column: its run in row ``y_c`` carried down
+    along the fitted sides' slopes (``fl``, ``fr``: the trunk's lean); each of its pixels takes
+    the median RGBA of the pixels at the same place across the trunk in rows ``y_c - 2 .. y_c``
+    (fill and both outlines), so the foot stays where the shape put it (pins do not move) and
+    the pile's pieces on it go. Returns the tree mask and the ``(flat indices, RGBA values)``
+    of the repainted pixels, or None for them when row ``y_c`` shows no trunk.
+    """
+    h, w = tree.shape
+    mid = 0.5 * (np.polyval(fl, y_c) + np.polyval(fr, y_c))
+    xs = np.flatnonzero(tree[y_c])
+    runs = np.split(xs, np.flatnonzero(np.diff(xs) > 1) + 1) if xs.size else []
+    run = min(runs, key=lambda q: 0 if q[0] <= mid <= q[-1] else min(abs(q[0] - mid), abs(q[-1] - mid)),
+              default=None)
+    if run is None or y_c < 2:
+        return tree, None
+    a0, b0 = float(run[0]), float(run[-1])
+    out = tree.copy()
+    pad = int(np.ceil(2 * trunk_width))
+    idx, vals = [], []
+    for y in range(y_c + 1, y_f + 1):
+        a, b = a0 + fl[0] * (y - y_c), b0 + fr[0] * (y - y_c)
+        out[y, max(0, int(min(a, a0)) - pad):min(w, int(max(b, b0)) + pad + 1)] = False
+        xs = np.arange(max(0, int(round(a))), min(w - 1, int(round(b))) + 1)
+        u = (xs - a) / max(b - a, 1.0)
+        rows = []
+        for k in range(3):                       # rows y_c - 2 .. y_c at the same place across
+            yy = y_c - k
+            aa, bb = a0 - fl[0] * k, b0 - fr[0] * k
+            rows.append(image[yy, np.clip(np.round(aa + u * (bb - aa)).astype(int), 0, w - 1)])
+        out[y, xs] = True
+        idx.append(y * w + xs)
+        vals.append(np.median(np.stack(rows), axis=0))
+    if not idx:
+        return tree, None
+    return out, (np.concatenate(idx), np.concatenate(vals).astype(np.float32))
+
+
+def _cut_below(tree: np.ndarray, y: int) -> np.ndarray:
+    """``tree``, again the piece connected to the crown, without its rows below ``y``."""
+    out = tree.copy()
+    out[y + 1:] = False
+    lab, n = ndi.label(out, structure=np.ones((3, 3), bool))
+    if n > 1:
+        ys = np.flatnonzero(out.any(axis=1))
+        out = lab == _crown_component(lab[ys[0]:], max(1, int(0.3 * (ys[-1] - ys[0] + 1))))
+    return out
+
+
 def _profile_and_foot(small: np.ndarray, p: GroundParams):
     """(neck widths, neck mask, foot row, trunk width, band top) of a working mask.
 
@@ -504,6 +667,7 @@ def split_ground(image, params: GroundParams | None = None, **overrides) -> Grou
         small = mask
         s = 1.0
     empty = np.zeros_like(mask)
+    repaint = None
     c, neck, foot_small, w_t, top_small = _profile_and_foot(small, p)
     foreign_small = None
     if foot_small is not None and rgb is not None:
@@ -556,6 +720,10 @@ def split_ground(image, params: GroundParams | None = None, **overrides) -> Grou
         if foreign_small is not None:
             tree = _drop_foot_leaves(tree, stem, foreign_small, y_f, w_t / s)
         if rgb is not None:
+            clean = _clean_foot(tree, rgb, stem, int(np.floor(stem_top / s)), y_f, w_t / s)
+            if clean is not None:
+                tree, repaint = _repaint_foot(tree, img, clean[0], y_f, clean[1], clean[2], w_t / s)
+                tree = _cut_below(tree, y_f)
             tree = _drop_foot_spurs(tree, rgb, y_f, w_t / s)
         ground = mask & ~tree
     xs = np.flatnonzero(tree[y_f])
@@ -565,7 +733,10 @@ def split_ground(image, params: GroundParams | None = None, **overrides) -> Grou
         stem = cv2.dilate(stem.astype(np.uint8), np.ones((1, k), np.uint8)).astype(bool)
     stem &= tree
     stem[y_f + 1:] = False
-    return GroundSplit(tree, ground, foot, w_t / s, stem)
+    if repaint is not None:
+        keep = tree.ravel()[repaint[0]]
+        repaint = (repaint[0][keep], repaint[1][keep])
+    return GroundSplit(tree, ground, foot, w_t / s, stem, repaint)
 
 
 def ground_mask(image, params: GroundParams | None = None, **overrides) -> np.ndarray:
