@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import ndimage as ndi
 
+from .snapping_aim import _reaim_laterals
 from .snapping_basal import ANCHOR_MOVE, ANCHOR_REACH, ANCHOR_SHARE, _junction_of
 from .snapping_carry import _affine_carry, _moment_carry, carry_points
 from .snapping_fit import fit_branches
@@ -83,6 +84,9 @@ def _place_branches(chains, widths, n_user, registration, blade_t, b_full, off, 
             kw = {"overlap_px": max(3.0, float(np.ceil(width * scale_e)))}
             kw.update(trace_kw or {})
             carried = trace_branches(carried, omaps, b, **kw)
+            if star is not None:
+                # A lateral carried off its vein (a squeezed side of the leaf) re-aimed by its evidence.
+                carried = _reaim_laterals(carried, star, omaps, b, overlap_px=kw["overlap_px"])
     elif refine:
         carried = refine_carried(carried, ev, b, reach=reach)
     sw = [wd * scale for wd in widths]
