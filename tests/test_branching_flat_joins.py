@@ -1,7 +1,7 @@
 """Issue 23, connected output on the flat drawing path: each synthesized tree of a binary mask or a
 drawn map is one 8-connected line, its children joined to their parents, no specks.
 
-A guard (branching73): on main a2dc929 these already hold (28 masks and maps, 256-1024 px, measured
+A guard (branching73): on main a2dc929 these already hold (29 masks and maps, 256-1024 px, measured
 with :mod:`branchnb.branching._flat_joins_check`); the "floating pieces" of a downscaled neuron-mask
 sheet were one-pixel children lost in the shrinking. These tests keep the joins when the flat path
 changes (hub pastes, outlet extension and tail trimming, one-pixel rasters of thin lines).

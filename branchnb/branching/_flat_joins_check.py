@@ -8,12 +8,14 @@ thin crack/river/vessel masks (:func:`._thin_mask_check.thin_mask_example`), del
 prints :func:`flat_joins` per case and the totals. ``KINDS``: ``neuron,crack,river,vessel,delta,rmap,cmap``;
 ``radial``: the six radial kinds as masks, two seeds each.
 
-branching73 (main a2dc929, 13 + 15 cases): every tree one 8-connected piece in all 28 (pieces 1.00, 529
-children, none detached or starting off its parent, 0 specks); gaps 0 except ``cmap`` 512 s0 (3: river
-tails cut back short of the coast line on purpose, :func:`.drawing._trim_tail`). The floating pieces seen
-in a downscaled sheet (``cmp_mask_2``) are one-pixel children that vanish when shrunk, not breaks. The
-textured path on ``_radial_synth_check 0 all`` (:func:`.measures.relative_line_pieces`): 1.0 piece per
-tree (crack_bright 256: 1.2), 0-3 gaps, 0-1 specks (the examples' own: 1-6 pieces, 0-8 gaps).
+branching73 (main a2dc929; ``all``: 17 cases, ``radial``: 12): every tree one 8-connected piece in all 29
+(55 trees, pieces 1.00, 711 children, none detached or starting off its parent, 0 specks); gaps 0 except
+``cmap`` 512 s0 (3: river tails cut back short of the coast line on purpose, :func:`.drawing._trim_tail`).
+The floating pieces seen in a downscaled sheet (``cmp_mask_2``) are one-pixel
+children that vanish when shrunk, not breaks. The textured path on ``_radial_synth_check 0 all``
+(:func:`.measures.relative_line_pieces`): 1.0 piece per tree (crack_bright 256: 1.2), 0-3 gaps, 0-1
+specks (the examples' own: 1-6 pieces, 0-8 gaps). Not measured here: ``delta`` 512 s1's channels end
+~40 px short of the sea (its tree and the sea are two pieces) and the sea's edge has small notches.
 """
 # ruff: noqa: E702
 from __future__ import annotations
