@@ -426,6 +426,11 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
                                for i, c in enumerate(contours[1])])
         if any(c.shape != target_c.shape for c in contours[1]):
             raise ValueError("contours: the target and source contours must have the same number of points")
+    if _maps is not None and (isinstance(_maps, (str, bytes, dict)) or not hasattr(_maps, "__len__")
+                              or not all(isinstance(d, dict) for d in _maps)):
+        raise TypeError("_maps must be a sequence of dicts (one per source: where its maps are kept)")
+    if _maps is not None and len(_maps) != len(srcs):
+        raise ValueError(f"_maps: need one dict per source: {len(srcs)} sources, {len(_maps)} dicts")
     mask = as_mask(target_mask, name="target_mask")
     gen = as_rng(rng)
     if colour_weights is None:
