@@ -25,11 +25,10 @@ polygons. ACM TOG 25(4), 2006.
 
 from __future__ import annotations
 
-import cv2
 import numba
 import numpy as np
 
-from ..core.image import as_mask, as_points, as_rgba, extend_nearest
+from ..core.image import as_mask, as_points, as_rgba
 from ..core.random import as_rng
 from ..core.validate import Array, Choice, Real, checked
 from .morph import check_weights
@@ -43,6 +42,16 @@ from .mvc_pick import (  # noqa: F401
     _choose,
     _choose_parts,
     smooth_gumbel,
+)
+from .mvc_strokes import (  # noqa: F401
+    STRETCH_FULL,
+    STRETCH_START,
+    STROKE_COVER,
+    _footprint,
+    _remap,
+    _sample_strokes,
+    _stretch,
+    _StrokeMaps,
 )
 
 __all__ = [
@@ -256,23 +265,7 @@ def sample_rgba(image, points) -> np.ndarray:
     p = as_points(points, name="points", min_points=0)
     if len(p) == 0:
         return np.zeros((0, 4), np.float32)
-    # OpenCV maps must be smaller than SHRT_MAX in both directions: lay the
-    # points out as rows of 1024.
-    width = 1024
-    n = len(p)
-    rows = -(-n // width)
-    mx = np.full(rows * width, -2.0, np.float32)
-    my = np.full(rows * width, -2.0, np.float32)
-    mx[:n], my[:n] = p[:, 0], p[:, 1]
-    mx, my = mx.reshape(rows, width), my.reshape(rows, width)
-    out = np.empty((rows * width, 4), np.float32)
-    step = 16384
-    for k in range(0, rows, step):
-        out[k * width:(k + step) * width] = cv2.remap(
-            img, mx[k:k + step], my[k:k + step], cv2.INTER_LINEAR,
-            borderMode=cv2.BORDER_CONSTANT, borderValue=(0, 0, 0, 0)).reshape(-1, 4)
-    out = out[:n]
-    return out
+    return _remap(img, p)
 
 
 def _SEQ(value, name, allow_none):
@@ -291,7 +284,7 @@ COLOUR_MODES = ("blend", "choose", "parts")
 def transfer_colour(sources, source_cages, target_cage, target_mask, *,
                     colour_weights=None, rng=None, mode: str = "blend",
                     region_scale: float = 0.15, seam: float = 20.0, return_sources: bool = False,
-                    layers=None, groups=None, contours=None):
+                    layers=None, groups=None, contours=None, _maps=None):
     """Colour a target shape from one or more exemplars through their simplified contours.
 
     Parameters
@@ -433,6 +426,11 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
                                for i, c in enumerate(contours[1])])
         if any(c.shape != target_c.shape for c in contours[1]):
             raise ValueError("contours: the target and source contours must have the same number of points")
+    if _maps is not None and (isinstance(_maps, (str, bytes, dict)) or not hasattr(_maps, "__len__")
+                              or not all(isinstance(d, dict) for d in _maps)):
+        raise TypeError("_maps must be a sequence of dicts (one per source: where its maps are kept)")
+    if _maps is not None and len(_maps) != len(srcs):
+        raise ValueError(f"_maps: need one dict per source: {len(srcs)} sources, {len(_maps)} dicts")
     mask = as_mask(target_mask, name="target_mask")
     gen = as_rng(rng)
     if colour_weights is None:
@@ -453,10 +451,11 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
     cols = np.zeros((len(used), len(pts), 3), np.float32)
     flat = mode in ("choose", "parts")
     for k, i in enumerate(used):
-        smp = sample_rgba(srcs[i], mapped[k])
+        smp = _remap(srcs[i], mapped[k])
         on[k] = smp[:, 3] >= 0.5
         if flat:
-            cols[k] = _sample_strokes(srcs[i], mapped[k], smp, ys, xs, mask.shape)
+            cols[k] = _sample_strokes(srcs[i], mapped[k], smp, ys, xs, mask.shape,
+                                      maps=_kept_maps(_maps, sources, srcs, i))
         else:
             cols[k] = smp[:, :3] / np.maximum(smp[:, 3], 1e-6)[:, None]
     c = cw[used]
@@ -495,6 +494,21 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
     return (out, src) + extra
 
 
+def _kept_maps(store, sources, srcs, i: int):
+    """Source ``i``'s :class:`~branchnb.trees.mvc_strokes._StrokeMaps` from ``store`` (one dict per
+    source that the caller keeps, e.g. each exemplar's cache), made and put there when missing or
+    made from another object than ``sources[i]`` (``srcs[i]`` is its checked copy); None without a
+    store (made afresh, not kept)."""
+    if store is None:
+        return None
+    d = store[i]
+    m = d.get("stroke_maps")
+    if m is None or m.key is not sources[i]:
+        m = _StrokeMaps(srcs[i], key=sources[i])
+        d["stroke_maps"] = m
+    return m
+
+
 #: Vertices of the dense contour cage that interpolates the rim correction (cost ~ pixels x this).
 RIM_VERTICES = 256
 
@@ -530,240 +544,6 @@ def _rim_correction(pts: np.ndarray, tcage: np.ndarray, cages: list, contours, u
     # side) would fold the warp (holes, torn fills); smooth crowns need <= 0.05 of the side.
     fade = np.clip((RIM_NONE - top / side) / (RIM_NONE - RIM_FULL), 0.0, 1.0)
     return d * fade[:, None, None]
-
-
-#: Flat-art sampling: a target pixel shows a source's ink (its thin dark strokes) when the ink
-#: covers at least this share of a bilinear sample at one of four points of the pixel's footprint.
-STROKE_COVER = 0.6
-
-
-def _footprint(mapped: np.ndarray, ys: np.ndarray, xs: np.ndarray, shape) -> tuple[np.ndarray, np.ndarray]:
-    """Where a target pixel's right and lower neighbours map, relative to it (the warp's Jacobian
-    columns, by differences of neighbouring mapped pixels; backward differences on the mask's edge)."""
-    g = np.full(shape + (2,), np.nan)
-    g[ys, xs] = mapped
-    out = []
-    for axis in (1, 0):
-        fwd = np.full_like(g, np.nan)
-        bwd = np.full_like(g, np.nan)
-        if axis == 1:
-            fwd[:, :-1] = g[:, 1:] - g[:, :-1]
-            bwd[:, 1:] = g[:, 1:] - g[:, :-1]
-        else:
-            fwd[:-1] = g[1:] - g[:-1]
-            bwd[1:] = g[1:] - g[:-1]
-        d = np.where(np.isnan(fwd), bwd, fwd)[ys, xs]
-        unit = np.array([1.0, 0.0] if axis == 1 else [0.0, 1.0])
-        d[np.isnan(d).any(axis=1)] = unit
-        out.append(d)
-    return out[0], out[1]
-
-
-#: Flat-art sampling: from this local stretch of the warp (target pixels per source pixel along
-#: the most stretched direction) fills are sampled more and more from pure fill pixels only, fully
-#: from :data:`STRETCH_FULL` (between them a linear mix of both samples). An anti-aliased pixel
-#: stretched by 1.1 stays about one target pixel wide: no smear to remove, and the identity warp
-#: (stretch 1) keeps every source pixel exactly.
-STRETCH_START = 1.1
-STRETCH_FULL = 1.3
-
-
-def _stretch(jx: np.ndarray, jy: np.ndarray) -> np.ndarray:
-    """Local stretch of a warp from its target-to-source Jacobian columns ``jx``, ``jy`` (N, 2):
-    the inverse of the smaller singular value (1 for the identity, 2 where the target is twice
-    the source along some direction)."""
-    a, c = jx[:, 0], jx[:, 1]
-    b, d = jy[:, 0], jy[:, 1]
-    s2 = a * a + b * b + c * c + d * d
-    det = np.abs(a * d - b * c)
-    disc = np.sqrt(np.maximum(s2 * s2 - 4.0 * det * det, 0.0))
-    smin = np.sqrt(np.maximum(0.5 * (s2 - disc), 0.0))
-    return 1.0 / np.maximum(smin, 1e-6)
-
-
-def _pure_fill(rgb: np.ndarray, op: np.ndarray, ink: np.ndarray) -> np.ndarray:
-    """Opaque pixels that are fill colour as drawn: not ink, and either flat (their 3 x 3
-    neighbourhood varies by < 0.06 in every channel) or more than 2 px from ink. The pixels
-    between a stroke and a fill (its anti-aliased edge, 1-2 px) are neither."""
-    k3 = np.ones((3, 3), np.uint8)
-    c = np.ascontiguousarray(rgb, dtype=np.float32)
-    flat = (cv2.dilate(c, k3) - cv2.erode(c, k3)).max(axis=2) < 0.06
-    near = cv2.dilate(ink.astype(np.uint8), np.ones((5, 5), np.uint8)) > 0
-    return op & ~ink & (flat | ~near)
-
-
-def _darkest_ink(rgb: np.ndarray, ink: np.ndarray) -> np.ndarray:
-    """Every pixel given the colour of the darkest ink pixel in the 3 x 3 neighbourhood of its
-    nearest ink pixel: a stroke's own colour, not that of the lighter ink at its anti-aliased rim."""
-    from .outline import _LUM
-
-    h, w = ink.shape
-    lum = np.where(ink, rgb @ _LUM, np.inf)
-    pad = np.pad(lum, 1, constant_values=np.inf)
-    best = np.full((h, w), np.inf)
-    by, bx = np.mgrid[:h, :w]
-    oy, ox = by.copy(), bx.copy()
-    for dy in (-1, 0, 1):
-        for dx in (-1, 0, 1):
-            v = pad[1 + dy:1 + dy + h, 1 + dx:1 + dx + w]
-            better = v < best
-            best[better] = v[better]
-            oy[better], ox[better] = (by + dy)[better], (bx + dx)[better]
-    col = rgb[oy, ox]
-    return extend_nearest(col, ink)
-
-
-def _unmixed_fill(rgb: np.ndarray, pure: np.ndarray, soft: np.ndarray, inkcol: np.ndarray,
-                  radius: int = 5, tol: float = 0.12) -> np.ndarray:
-    """Fill colours under the ``soft`` (anti-aliased) pixels: of the pure fill pixels within
-    ``radius`` (Chebyshev), the one whose mix with the ink (``inkcol``, per pixel) passes nearest
-    the soft pixel's colour, if within ``tol`` (RGB); else the pixel's own colour (a fill of its
-    own). The nearest pure pixel is often the wrong fill: between a crown's outline and a fruit's
-    ring it is the fruit's, and a stretch then paints the gap orange."""
-    h, w = pure.shape
-    out = rgb.copy()
-    ys, xs = np.nonzero(soft)
-    if len(ys) == 0:
-        return out
-    c = rgb[ys, xs]
-    k = inkcol[ys, xs]
-    best = np.full(len(ys), tol)
-    fill = c.copy()
-    for dy in range(-radius, radius + 1):
-        for dx in range(-radius, radius + 1):
-            qy, qx = ys + dy, xs + dx
-            ok = (qy >= 0) & (qy < h) & (qx >= 0) & (qx < w)
-            qy, qx = np.clip(qy, 0, h - 1), np.clip(qx, 0, w - 1)
-            ok &= pure[qy, qx]
-            f = rgb[qy, qx]
-            d = f - k
-            tt = np.clip(((c - k) * d).sum(axis=1) / np.maximum((d * d).sum(axis=1), 1e-9), 0.0, 1.0)
-            # distance to the mix, then (a tie) the nearer pixel
-            dist = np.linalg.norm(k + tt[:, None] * d - c, axis=1) + 1e-3 * np.hypot(dy, dx)
-            better = ok & (dist < best)
-            best[better] = dist[better]
-            fill[better] = f[better]
-    out[ys, xs] = fill
-    return out
-
-
-def _stretched_sample(rgb: np.ndarray, op: np.ndarray, ink: np.ndarray, pts: np.ndarray,
-                      jx: np.ndarray, jy: np.ndarray):
-    """Colours of a flat source at ``pts`` where the warp (Jacobian columns ``jx``, ``jy``)
-    stretches it: ink over a pure fill colour (:func:`_pure_fill`) with an ink coverage
-    anti-aliased at the target's resolution, never a stretched blend of the two.
-
-    The ink coverage is 1 on ink, 0 on pure fill, and on the anti-aliased pixels between them how
-    far their colour lies from their fill's (:func:`_unmixed_fill`) towards the ink's. Sampled
-    bilinearly, it ramps across the stretched edge over several target pixels; it is steepened
-    about 1/2 (where the drawing's own coverage crosses 1/2, so a stroke keeps its width) to a
-    ramp of one target pixel. The ink colour is the stroke's darkest nearby pixel, the fill
-    colour a bilinear sample of pure pixels only. None where the source has no pure fill pixel."""
-    pure = _pure_fill(rgb, op, ink)
-    if not pure.any():
-        return None
-    inkcol = _darkest_ink(rgb, ink)
-    # the fill under each pixel, and how much of the pixel the ink covers: where its colour lies on
-    # the way from that fill to the ink
-    # (a faint ink pixel, a thin line's anti-aliased half or a dark red between a fruit and its
-    # ring, covers only part of its pixel: taken as all ink it thickened the line when stretched)
-    fcol = _unmixed_fill(rgb, pure, op & ~pure, inkcol)
-    d = fcol - inkcol
-    dd = (d * d).sum(axis=2)
-    found = (fcol != rgb).any(axis=2) & (dd > 0.05 ** 2)
-    cov = np.clip(((fcol - rgb) * d).sum(axis=2) / np.maximum(dd, 1e-9), 0.0, 1.0)
-    cov = np.where(pure, 0.0, np.where(found, cov, ink.astype(np.float64)))
-    # transparent pixels take the coverage of the nearest opaque one: a stroke along the silhouette
-    # stays ink out to the edge of the opaque samples (no fill fringe outside the outline)
-    cov = extend_nearest(cov, op)
-    gy, gx = np.gradient(cov)
-    # the peak coverage nearby: a thin or faint line (peak < 1) is cut at half its peak and drawn
-    # with its peak's strength, so it keeps its ink (as wide as its pixels, stretched, as faint)
-    peak = cv2.dilate(cov.astype(np.float32), np.ones((3, 3), np.uint8))
-    packed = np.stack([0.5 + gx, 0.5 + gy, cov, peak], axis=2).astype(np.float32)
-    g = sample_rgba(np.clip(packed, 0.0, 1.0), pts)
-    gs = g[:, :2] - 0.5
-    c = g[:, 2]
-    top = np.maximum(g[:, 3], 1e-3)
-    # the coverage's slope per target pixel (chain rule through the warp), steepened to 1
-    slope = np.hypot((gs * jx).sum(axis=1), (gs * jy).sum(axis=1)) / top
-    k = np.clip(1.0 / np.maximum(slope, 1e-3), 1.0, 8.0)
-    cs = (top * np.clip(0.5 + (c / top - 0.5) * k, 0.0, 1.0))[:, None]
-    # the fill weighted by how much of each pixel it covers (none on ink)
-    wgt = (op * (1.0 - cov)).astype(np.float32)
-    p = sample_rgba(np.concatenate([fcol * wgt[..., None], wgt[..., None]], axis=2).astype(np.float32), pts)
-    # deep in a stroke, the fill of the nearest pixel that has one
-    near = extend_nearest(fcol, wgt > 1e-3)
-    h, w = op.shape
-    px = np.clip(np.rint(pts[:, 0]), 0, w - 1).astype(np.int64)
-    py = np.clip(np.rint(pts[:, 1]), 0, h - 1).astype(np.int64)
-    fill = np.where(p[:, 3:] > 1e-3, p[:, :3] / np.maximum(p[:, 3:], 1e-6), near[py, px])
-    out = cs * inkcol[py, px] + (1.0 - cs) * fill
-    return out
-
-
-def _sample_strokes(src: np.ndarray, mapped: np.ndarray, smp: np.ndarray, ys, xs, shape) -> np.ndarray:
-    """Straight RGB of a flat (drawn) source at mapped points, its thin strokes kept whole.
-
-    Beyond the paper: bilinear samples of a 1 px stroke between two pixel centres are half
-    ink, half fill, lighter than the ink; where the warp shrinks the drawing, samples step over
-    the stroke. Both break a drawing's inner lines (tier lines, clump arcs) into dashes at
-    small sizes. Here the ink (pixels as dark as the drawing's outline,
-    :func:`~branchnb.trees.outline.silhouette_outline`'s threshold) is sampled as a coverage at
-    four points of each target pixel's footprint (a quarter pixel off its centre along the
-    warp's Jacobian): a pixel whose best coverage is at least :data:`STROKE_COVER` takes the ink
-    colour, any other the colour of the fill without ink. Strokes stay 1-2 px wide and
-    unbroken under a warp that shrinks by up to 2, and fills stay flat (no dark fringe).
-
-    Where the warp stretches the drawing (its local stretch, the inverse of the smaller singular
-    value of the target-to-source Jacobian, above :data:`STRETCH_START`), the anti-aliased pixels
-    between a stroke and a fill are no fill colour to sample: stretched, they became a 2-4 px
-    smear (a fruit's orange run into the outline, dark red; issue 24). There a pixel is either ink
-    or a pure fill colour (:func:`_stretched_sample`), fully from :data:`STRETCH_FULL` on, so the
-    edge is hard at the target's resolution. A warp that does not stretch (the identity: a
-    one-exemplar variation is an exact copy) samples every pixel as before (beyond the paper).
-    """
-    from .outline import _ink_threshold, _is_ink
-
-    a = src[..., 3]
-    op = a >= 0.5
-    rgb = src[..., :3] / np.maximum(a, 1e-6)[..., None]
-    if op.sum() < 9:
-        return smp[:, :3] / np.maximum(smp[:, 3], 1e-6)[:, None]
-    ink = (_is_ink(rgb, _ink_threshold(rgb, op)) & op).astype(np.float32)
-    base = smp[:, :3] / np.maximum(smp[:, 3], 1e-6)[:, None]
-    if not ink.any():
-        return base
-    inkimg = np.concatenate([rgb * ink[..., None], ink[..., None]], axis=2).astype(np.float32)
-    fill = a * (1.0 - ink)
-    fillimg = np.concatenate([rgb * fill[..., None], fill[..., None]], axis=2).astype(np.float32)
-    jx, jy = _footprint(mapped, ys, xs, shape)
-    best = np.zeros((len(mapped), 4), np.float32)
-    at = mapped.copy()
-    for sx in (-0.25, 0.25):
-        for sy in (-0.25, 0.25):
-            q = mapped + sx * jx + sy * jy
-            s = sample_rgba(inkimg, q)
-            better = s[:, 3] > best[:, 3]
-            best[better] = s[better]
-            at[better] = q[better]
-    f = sample_rgba(fillimg, mapped)
-    out = np.where(f[:, 3:] > 1e-3, f[:, :3] / np.maximum(f[:, 3:], 1e-6), base)
-    stroke = best[:, 3] >= STROKE_COVER
-    out[stroke] = best[stroke, :3] / best[stroke, 3:]
-    # The ink colour of the nearest ink pixel, not a mean of two inks (an outline and a dark fill).
-    h, w = ink.shape
-    px = np.clip(np.rint(at[:, 0]), 0, w - 1).astype(np.int64)
-    py = np.clip(np.rint(at[:, 1]), 0, h - 1).astype(np.int64)
-    own = stroke & (ink[py, px] > 0)
-    out[own] = rgb[py[own], px[own]]
-    t = np.clip((_stretch(jx, jy) - STRETCH_START) / (STRETCH_FULL - STRETCH_START), 0.0, 1.0)
-    if (t > 0).any():
-        k = np.flatnonzero(t > 0)
-        hard = _stretched_sample(rgb, op, ink > 0, mapped[k], jx[k], jy[k])
-        if hard is not None:
-            out[k] = (1.0 - t[k, None]) * out[k] + t[k, None] * hard
-    return out.astype(np.float32)
 
 
 def _layer_values(layers, srcs, used, mapped) -> np.ndarray:

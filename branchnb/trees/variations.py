@@ -475,7 +475,8 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
                                             if mode == "choose" else None,
                                             contours=None if pixel or any(_drawing_group(exemplars[i]) & 1
                                                                           for i in used)
-                                            else (cr, [exemplars[i].resampled for i in used]))
+                                            else (cr, [exemplars[i].resampled for i in used]),
+                                            _maps=[exemplars[i]._cages for i in used])
     # Rim correction (beyond the paper) only without an ink outline. On outlined mixes it stretched
     # the sources' strokes where it mapped them onto the mixed rim into bands thicker than
     # 2 width + 2, which _drop_excess kept as dark fills (pen q90/q10 1.58); that is fixed
