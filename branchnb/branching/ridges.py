@@ -230,6 +230,19 @@ def _off_outline(has: np.ndarray, outline: np.ndarray) -> np.ndarray:
     return rest & ~border[lab]
 
 
+#: A colour is painted solid on a textured ground when at least this share of its pixels has that exact
+#: colour in all of its 3 x 3 neighbours while at most :data:`SOLID_GROUND` of the other pixels do.
+SOLID_LINES = 0.3
+SOLID_GROUND = 0.02
+
+
+def _solid_on_texture(solid: np.ndarray, has: np.ndarray) -> bool:
+    """Whether the pixels ``has`` are a solid paint (:data:`SOLID_LINES`) on a ground that is not."""
+    if not has.any() or has.all():
+        return False
+    return bool(np.mean(solid[has]) >= SOLID_LINES and np.mean(solid[~has]) <= SOLID_GROUND)
+
+
 def _drawn_branching_width(has: np.ndarray, sigma_max: float) -> float | None:
     """Mean width of a colour's pixels when they form one connected, long, narrow shape (a drawn tree), else None.
 
@@ -377,6 +390,12 @@ def _line_colour_and_width(image, *, sigma_max: float = 4.0, min_contrast: float
         # wider than a line, yet in a drawing a coloured tree shape is still the structure
         width = _drawn_branching_width(has, sigma_max) if drawn and c.max() - c.min() >= 0.2 \
             and np.mean(solid[has]) >= 0.12 else None
+        if width is None and not drawn and _solid_on_texture(solid, has):
+            # lines painted in one exact colour on a textured ground (a root system on soil): where they
+            # are wider than the ridge filter's scales (a crown at the frame) the filter sees two edges
+            # and the crown is lost, so its shape is traced by its medial axis (beyond the paper)
+            w_line = _drawn_branching_width(has, sigma_max)
+            width = w_line if w_line is not None and w_line >= 3.0 else None
         if width is None and np.mean(line_like[has]) < 0.5:
             continue
         found.append((n, c, width))
