@@ -236,6 +236,12 @@ SOLID_LINES = 0.3
 SOLID_GROUND = 0.02
 
 
+def _is_drawn(gray: np.ndarray) -> bool:
+    """Whether at least half of a picture is flat (a drawing, not a photograph or a textured ground)."""
+    flat = (ndi.maximum_filter(gray, 5) - ndi.minimum_filter(gray, 5)) < 0.03
+    return bool(flat.mean() >= 0.5)
+
+
 def _solid_on_texture(solid: np.ndarray, has: np.ndarray) -> bool:
     """Whether the pixels ``has`` are a solid paint (:data:`SOLID_LINES`) on a ground that is not."""
     if not has.any() or has.all():
@@ -355,8 +361,7 @@ def _line_colour_and_width(image, *, sigma_max: float = 4.0, min_contrast: float
     qa = np.clip((rgb.reshape(-1, 3) * 8).astype(np.int64), 0, 7)
     all_counts = np.bincount((qa[:, 0] * 8 + qa[:, 1]) * 8 + qa[:, 2], minlength=512)
     gray = as_gray(rgb)
-    flat = (ndi.maximum_filter(gray, 5) - ndi.minimum_filter(gray, 5)) < 0.03
-    drawn = flat.mean() >= 0.5
+    drawn = _is_drawn(gray)
     # a drawing's shapes are filled with one exact colour; a smooth photograph (a fundus) is not
     solid = np.max([ndi.maximum_filter(rgb[..., i], 3) - ndi.minimum_filter(rgb[..., i], 3)
                     for i in range(3)], axis=0) < 0.005
