@@ -30,6 +30,9 @@ TROPISM_BINS = 16
 TROPISM_MIN = 0.35
 #: A bearing the example never takes keeps this share of the mean weight (a branch may still turn there).
 TROPISM_FLOOR = 0.1
+#: The weights are the smoothed histogram to this power: at 1 a root system's output (512 px) still ran
+#: 73-89 % of its length down against the example's 98 %.
+TROPISM_POWER = 2.0
 #: Inward normal (x, y) of the frame sides, as numbered by :func:`.roots.boundary_frame`.
 _INWARD = {0: (0.0, 1.0), 1: (0.0, -1.0), 2: (1.0, 0.0), 3: (-1.0, 0.0)}
 
@@ -53,8 +56,8 @@ def _fit_tropism(example: Structure, sides) -> np.ndarray | None:
         return None
     hist = np.bincount(_bearing_bin(d), weights=ln, minlength=TROPISM_BINS)
     hist = (np.roll(hist, 1) + 2.0 * hist + np.roll(hist, -1)) / 4.0
-    hist = hist / hist.mean()
-    return np.maximum(hist, TROPISM_FLOOR)
+    hist = (hist / hist.mean()) ** TROPISM_POWER
+    return np.maximum(hist / hist.mean(), TROPISM_FLOOR)
 
 
 def _bearing_bin(d: np.ndarray) -> np.ndarray:
