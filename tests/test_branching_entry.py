@@ -37,8 +37,8 @@ def test_root_system_grows_down_from_the_top():
 
 
 def test_tropism_only_for_a_structure_entering_from_one_side():
-    down = Structure([Branch([(50, 1), (52, 40), (50, 90)], 2.0), Branch([(52, 40), (70, 80)], 1.0, parent=0, parent_vertex=1)],
-                     image_shape=(100, 100))
+    down = Structure([Branch([(50, 1), (52, 40), (50, 90)], 2.0),
+                      Branch([(52, 40), (70, 80)], 1.0, parent=0, parent_vertex=1)], image_shape=(100, 100))
     w = _fit_tropism(down, [0])
     assert w is not None and w.shape == (16,) and abs(float(w.mean()) - 1.0) < 0.1
     assert int(np.argmax(w)) in (11, 12)                  # bearing +90 deg (down the image)

@@ -105,6 +105,10 @@ class StructureModel:
         mask's empty part, see :func:`~branchnb.branching.example_domain`):
         no branch grows there, but it is no coast or sea to fill or reach;
         coverage, holes, roots and the length cap count :attr:`region`.
+    tropism : (16,) ndarray, optional
+        Bearing weights of an example that enters from one side of a free
+        frame and runs away from it (a root system hanging from the top),
+        beyond the paper: see :mod:`.tropism`. None otherwise.
     """
 
     source: Structure
