@@ -152,4 +152,4 @@ if __name__ == "__main__":
     image = len(sys.argv) > 5 and sys.argv[5] == "1"
     for size in sizes:
         print_table(kinds, seeds, lambda k, s, n=size: n, lambda k, n, s, png: case(k, n, s, png, image),
-                    ("entry", "side", "inx", "inq", "cov", "glow"), lambda r: "")
+                    ("entry", "side", "inx", "inq", "cov", "glow"), lambda r: "", pngdir=pngdir)
