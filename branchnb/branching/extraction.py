@@ -27,7 +27,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import ndimage as ndi
 
-from ..core.image import as_rgb
+from ..core.image import as_gray, as_rgb
 from ..core.params import check_params
 from ..core.polyline import arc_length
 from ..core.structure import Branch, Structure
@@ -56,6 +56,7 @@ from .hubs import blob_contrast, find_hubs, hub_skeleton
 from .params import ExtractionParams
 from .ridges import (  # noqa: F401  (re-exported: split from this module)
     _drawn_branching_width,
+    _is_drawn,
     _line_colour_and_width,
     _local_background,
     _outside_field_of_view,
@@ -216,8 +217,11 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
             shape = np.abs(as_rgb(image)[..., :3] - line_colour).max(-1) <= 0.12
             # a thin line drawn across it (a ground line over the trunk) does not cut it in two
             shape |= ndi.binary_closing(shape, np.ones((5, 5), bool))
+            # painted on a textured ground (a root system on soil) its lines run on past the frame: their
+            # medial axis reaches it (a crown cut by the top edge enters there, see _frame_entries)
             return _extract_binary(np.where(shape, 0.0, 1.0), dataclasses.replace(p, polarity="dark"), mask,
-                                   return_maps, root_point, flat_regions=False)
+                                   return_maps, root_point, flat_regions=False,
+                                   frame_reach=not _is_drawn(as_gray(as_rgb(image)[..., :3])))
     if p.binary == "on" or (p.binary == "auto" and shape_width is None and is_binary(gray)):
         return _extract_binary(gray, p, mask, return_maps, root_point, colour=colour_image)
     lines = gray
@@ -326,7 +330,7 @@ def _region_colours(image, share: float = 0.01) -> int:
 
 
 def _extract_binary(gray, p: ExtractionParams, mask, return_maps: bool, root_point=None, flat_regions: bool = True,
-                    colour=None):
+                    colour=None, frame_reach: bool = False):
     """``extract_structure`` for a binary mask: medial axis + distance-transform radius (``colour``: the
     colour image, whose drawn region borders are taken out, see ``region_border_pixels``).
 
@@ -334,11 +338,23 @@ def _extract_binary(gray, p: ExtractionParams, mask, return_maps: bool, root_poi
     cuts every cycle once, where the two fronts meet (see
     :func:`skeleton_to_structure`).
     """
+    from skimage.morphology import skeletonize
     from skimage.transform import rescale
 
     work = rescale(gray, p.scale, order=0, anti_aliasing=False) if p.scale < 1 else gray
     pol = p.polarity
     channels, region, skel, radius = binary_channels(work, pol, flat_regions=flat_regions)
+    if frame_reach and channels.any():
+        # lines cut by the frame continue beyond it (edge rows repeated), so the medial axis runs on to it
+        # (the skeleton of a wide crown cut by the frame otherwise stops a radius or more short of it)
+        pad = int(np.ceil(2.0 * float(radius[skel].max()))) + 2 if skel.any() else 2
+        full = skeletonize(np.pad(channels, pad, mode="edge"))
+        skel = full[pad:-pad, pad:-pad] & channels
+        # the frame row holds only where the axis goes on outside (a crown's V whose apex touches the frame
+        # is an end there, not a bend): the ring just outside the frame, moved onto it
+        o = full[pad - 1:full.shape[0] - pad + 1, pad - 1:full.shape[1] - pad + 1]
+        skel[0], skel[-1] = o[0, 1:-1] & channels[0], o[-1, 1:-1] & channels[-1]
+        skel[:, 0], skel[:, -1] = o[1:-1, 0] & channels[:, 0], o[1:-1, -1] & channels[:, -1]
     if region.any():
         channels, region, skel = _hub_regions(channels, region, skel, radius)
     if colour is not None and np.ndim(colour) == 3 and _region_colours(colour) >= 3:

@@ -50,6 +50,7 @@ from .stopping import (
     winding_limit,
 )
 from .straightness import BEND_CAP, RUN_CAP, RUN_GAIN, RUN_MIN_MEAN, BendHistogram, StraightRuns
+from .tropism import _tropism_factor
 
 # the stopping rules' names (split to .stopping) stay importable from here
 __all__ = ["FILL_LENGTH_FACTOR", "GrowthProgress", "LENGTH_BOUND", "LENGTH_FACTOR", "LENGTH_FLOOR", "WIND_BOUNDS_DEG",
@@ -304,6 +305,7 @@ class _Grower(_Starts, _Filling):
         self._e_dom = np.zeros((1, 1), bool)
         # a root reads the frame ahead as density (a free frame only: a map's domain has its own rules)
         self.frame = params.colonization and guidance is None and (region is None or bool(region.all()))
+        self.tropism = model.tropism if self.frame else None   # hanging from one side (.tropism)
         # coverage = fraction of the domain within rho of a branch (D > exp(-1))
         self.density = DensityMap(self.shape, self.rho, domain=region, level=float(np.exp(-1.0))) \
             if params.colonization else None
@@ -490,7 +492,7 @@ class _Grower(_Starts, _Filling):
         scorer, no guidance, drain, shore, frame factor (a root on a free frame), goal or mouth?"""
         return (self.scorer is score_candidates and self.guidance is None and self.drain is None
                 and self.shore is None and st.goal is None and st.mouth is None
-                and not (self.frame and st.parent is None) and not self.keep_in)
+                and not (self.frame and st.parent is None) and not self.keep_in and self.tropism is None)
 
     def _plain_step(self, st, tip, t: np.ndarray, L: int):
         """``(stopped, score, points, chosen)`` of a plain step over the candidate windows ``t``
@@ -575,6 +577,8 @@ class _Grower(_Starts, _Filling):
                     end = pts[np.arange(len(n_arr)), np.maximum(n_arr, 1) - 1] - tip
                     dirs = end / np.maximum(np.hypot(end[:, 0], end[:, 1]), 1e-9)[:, None]
                     score = np.where(live, score * self._frame_factor(tip, dirs, cs.D_c), score)
+            if self.tropism is not None:
+                score = score * _tropism_factor(self.tropism, tip, pts, n_arr)
             if self.drain is not None:
                 score = score * self.drain.factor(
                     tip, pts, n_arr, start=st.points[0], fan=st.fan,

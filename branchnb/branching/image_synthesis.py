@@ -106,6 +106,15 @@ def _flat_hubs(result: ImageSynthesisResult, example: np.ndarray, example_struct
     return result
 
 
+def _in_example_range(canvas: np.ndarray, example: np.ndarray) -> np.ndarray:
+    """``canvas`` with every channel clipped to the range the example's takes (in place)."""
+    n = min(canvas.shape[2], example.shape[2]) if canvas.ndim == 3 and example.ndim == 3 else 0
+    if n:
+        flat = example[..., :n].reshape(-1, n)
+        np.clip(canvas[..., :n], flat.min(0), flat.max(0), out=canvas[..., :n])
+    return canvas
+
+
 def _check_structure(s, name: str, image_shape=None) -> Structure:
     if not isinstance(s, Structure):
         raise TypeError(f"{name} must be a branchnb.branching.Structure, got {type(s).__name__}")
@@ -425,6 +434,10 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         from .radial import _paste_hubs
 
         canvas = _paste_hubs(canvas, as_float_image(example_image), example_structure.hubs, target_structure.hubs)
+    # beyond the paper (issue 23): the gradient-domain correction overshoots where seams meet at a
+    # junction or a tip (glow dots of 5-8 px, 0.1-0.2 brighter than a root system's lines); every output
+    # colour is one of the example's, so no channel leaves the example's range
+    canvas = _in_example_range(canvas, as_float_image(example_image))
     fragment_mask = frag_index >= 0
     # Every stage keeps [0, 1]; this guards the contract (finite, in range) for any input.
     np.clip(np.nan_to_num(canvas, nan=0.0), 0.0, 1.0, out=canvas)

@@ -27,6 +27,7 @@ from .histogram_matching import HistogramMatcher
 from .params import SynthesisParams
 from .roots import RootModel, fit_roots
 from .strands import join_strands
+from .tropism import _fit_tropism
 
 __all__ = ["StructureModel", "fit_model"]
 
@@ -104,6 +105,10 @@ class StructureModel:
         mask's empty part, see :func:`~branchnb.branching.example_domain`):
         no branch grows there, but it is no coast or sea to fill or reach;
         coverage, holes, roots and the length cap count :attr:`region`.
+    tropism : (16,) ndarray, optional
+        Bearing weights of an example that enters from one side of a free
+        frame and runs away from it (a root system hanging from the top),
+        beyond the paper: see :mod:`.tropism`. None otherwise.
     """
 
     source: Structure
@@ -142,6 +147,8 @@ class StructureModel:
     #: None): a line mask's empty ground (:func:`~branchnb.branching.example_domain`), no coast or sea.
     ground: np.ndarray | None = field(repr=False, default=None)
     _coverage_rho: float = field(repr=False, default=-1.0)
+    #: Bearing weights of a structure entering from one side of a free frame (:mod:`.tropism`), or None.
+    tropism: np.ndarray | None = field(repr=False, default=None)
 
     @property
     def region(self) -> np.ndarray | None:
@@ -359,6 +366,8 @@ def fit_model(example: Structure, params: SynthesisParams | None = None, *,
     cover = coverage_fraction(ex, frame, p.rho if p.rho > 0 else rho, reg)
     roots = fit_roots(ex, reg, shape=frame)
     drains = _drains(ex, reg)
+    # a structure hanging from one side of a free frame keeps its global direction (.tropism)
+    trop = _fit_tropism(ex, roots.sides) if reg is None or bool(np.all(reg)) else None
     report(1.0, "fitted")
     model = StructureModel(source=example, example=ex, bending=bending, furcation=furc, params=p,
                           cum_a=cum_a, cum_r=cum_r, cand_counts_a=cca, cand_counts_r=ccr,
@@ -371,7 +380,7 @@ def fit_model(example: Structure, params: SynthesisParams | None = None, *,
                           max_branch_length=max(b.length for b in ex.branches),
                           r_min=float(ex_radii.min()),
                           rho=rho, domain=dom, coverage=cover, _coverage_rho=p.rho if p.rho > 0 else rho,
-                          roots=roots, drains=drains, ground=ground,
+                          roots=roots, drains=drains, ground=ground, tropism=trop,
                           branch_generation=np.array([ex.generation(i) for i in range(nb)]),
                           branch_length=np.array([b.length for b in ex.branches]),
                           branch_r0=np.array([np.mean(b.thickness[:3]) for b in ex.branches]))

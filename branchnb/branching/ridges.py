@@ -230,6 +230,25 @@ def _off_outline(has: np.ndarray, outline: np.ndarray) -> np.ndarray:
     return rest & ~border[lab]
 
 
+#: A colour is painted solid on a textured ground when at least this share of its pixels has that exact
+#: colour in all of its 3 x 3 neighbours while at most :data:`SOLID_GROUND` of the other pixels do.
+SOLID_LINES = 0.3
+SOLID_GROUND = 0.02
+
+
+def _is_drawn(gray: np.ndarray) -> bool:
+    """Whether at least half of a picture is flat (a drawing, not a photograph or a textured ground)."""
+    flat = (ndi.maximum_filter(gray, 5) - ndi.minimum_filter(gray, 5)) < 0.03
+    return bool(flat.mean() >= 0.5)
+
+
+def _solid_on_texture(solid: np.ndarray, has: np.ndarray) -> bool:
+    """Whether the pixels ``has`` are a solid paint (:data:`SOLID_LINES`) on a ground that is not."""
+    if not has.any() or has.all():
+        return False
+    return bool(np.mean(solid[has]) >= SOLID_LINES and np.mean(solid[~has]) <= SOLID_GROUND)
+
+
 def _drawn_branching_width(has: np.ndarray, sigma_max: float) -> float | None:
     """Mean width of a colour's pixels when they form one connected, long, narrow shape (a drawn tree), else None.
 
@@ -342,8 +361,7 @@ def _line_colour_and_width(image, *, sigma_max: float = 4.0, min_contrast: float
     qa = np.clip((rgb.reshape(-1, 3) * 8).astype(np.int64), 0, 7)
     all_counts = np.bincount((qa[:, 0] * 8 + qa[:, 1]) * 8 + qa[:, 2], minlength=512)
     gray = as_gray(rgb)
-    flat = (ndi.maximum_filter(gray, 5) - ndi.minimum_filter(gray, 5)) < 0.03
-    drawn = flat.mean() >= 0.5
+    drawn = _is_drawn(gray)
     # a drawing's shapes are filled with one exact colour; a smooth photograph (a fundus) is not
     solid = np.max([ndi.maximum_filter(rgb[..., i], 3) - ndi.minimum_filter(rgb[..., i], 3)
                     for i in range(3)], axis=0) < 0.005
@@ -377,6 +395,12 @@ def _line_colour_and_width(image, *, sigma_max: float = 4.0, min_contrast: float
         # wider than a line, yet in a drawing a coloured tree shape is still the structure
         width = _drawn_branching_width(has, sigma_max) if drawn and c.max() - c.min() >= 0.2 \
             and np.mean(solid[has]) >= 0.12 else None
+        if width is None and not drawn and _solid_on_texture(solid, has):
+            # lines painted in one exact colour on a textured ground (a root system on soil): where they
+            # are wider than the ridge filter's scales (a crown at the frame) the filter sees two edges
+            # and the crown is lost, so its shape is traced by its medial axis (beyond the paper)
+            w_line = _drawn_branching_width(has, sigma_max)
+            width = w_line if w_line is not None and w_line >= 3.0 else None
         if width is None and np.mean(line_like[has]) < 0.5:
             continue
         found.append((n, c, width))
