@@ -66,7 +66,7 @@ def _donor_stretch(a, params=_PLAIN):
     orig = p.source_coords
 
     def spy(e, m, d):
-        maps.append(m)
+        maps.append(synthesis._canvas_coords(p, m))  # the leaf's maps cover its work box
         return orig(e, m, d)
     p.source_coords = spy
     try:

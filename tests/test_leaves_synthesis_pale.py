@@ -57,7 +57,7 @@ def test_pale_veins_of_a_dark_leaf_keep_their_contrast_on_a_light_one(family):
 
     def spy(e, m, d):
         c = orig(e, m, d)
-        calls.append((e, c))
+        calls.append((e, synthesis._canvas_coords(p, c)))  # the leaf's maps cover its work box
         return c
     p.source_coords = spy
     ratios = []

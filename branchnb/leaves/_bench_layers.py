@@ -131,5 +131,11 @@ def rows(quick: bool = False) -> list[BenchRow]:
                         "continued past the canvas only there), interleaved CPU A/B at load ~20-40, 4 leaves "
                         "after the caches: 1.12 MP 0.73 -> 0.57, 0.68 -> 0.63, 0.60 -> 0.56 s; 0.25 MP 0.16 -> "
                         "0.14, 0.17 -> 0.14, 0.15 -> 0.14 s; 1.90 MP 1.12 -> 1.01 s; traced peak 0.229 -> 0.222 "
-                        "GB at 1.12 MP; 48 leaves at 0.25/1.12/1.90 MP bit-identical)"))
+                        "GB at 1.12 MP; 48 leaves at 0.25/1.12/1.90 MP bit-identical; work-box pass (background, "
+                        "layers, compositing, petiole and outline on the lamina's box plus two patch sides, and the"
+                        " petiole's), interleaved CPU A/B at load ~25-30, 4 leaves after the caches: 0.25 MP 0.198 "
+                        "-> 0.177, 0.173 -> 0.216 s (noise); 1.12 MP 0.641 -> 0.640, 0.613 -> 0.563 s; 1.90 MP "
+                        "1.063 -> 0.996, 1.095 -> 1.002 s; traced peak 0.050 -> 0.048, 0.222 -> 0.219, 0.374 -> "
+                        "0.369 GB; 24 leaves bit-identical; still on the whole canvas: the shape map (blend, pose, "
+                        "fit; about 30 % of a leaf) and the random warps)"))
     return out

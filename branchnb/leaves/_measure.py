@@ -536,7 +536,7 @@ def vein_system_scores(a, veins, spots=None, seeds=range(4), near: int = 4, para
     from the donor's veins and pasted layer: the counterfactual carries the
     donor's halo too, so no wider exclusion is needed; more pixels).
     """
-    from .synthesis import _prepared, generate_leaf
+    from .synthesis import _canvas_coords, _prepared, generate_leaf
 
     excl = int(near)
     p = _prepared(a)
@@ -548,7 +548,7 @@ def vein_system_scores(a, veins, spots=None, seeds=range(4), near: int = 4, para
 
     def spy(e, m, disp):
         c = orig(e, m, disp)
-        calls.append((e, c))
+        calls.append((e, _canvas_coords(p, c)))
         return c
     p.source_coords = spy
     out = []
@@ -623,7 +623,7 @@ def _counterfactual(a, p, seed, params, bg, c_bg, plain_img, spots):
     carried by the same coordinates ``c_bg``.
     """
     from .prepared import _bleed, _stored
-    from .synthesis import generate_leaf
+    from .synthesis import _canvas_coords, generate_leaf
 
     blade = a.blades[bg]
     res = np.asarray(p.stage[-1][bg], np.float32)[..., :3]
@@ -636,7 +636,7 @@ def _counterfactual(a, p, seed, params, bg, c_bg, plain_img, spots):
 
     def spy(e, m, disp):
         c = orig(e, m, disp)
-        calls.append(c)
+        calls.append(_canvas_coords(p, c))
         return c
     try:
         p.stage[-1] = list(stage)

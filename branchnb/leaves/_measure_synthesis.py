@@ -141,7 +141,7 @@ def synthesis_row(a, n_new: int = 6, seed: int = 0, name: str = "", save: str | 
     ``truth``: the exemplars' true vein masks (analysis frame) for the ``fine`` columns, or None.
     """
     from . import synthesis
-    from .synthesis import _prepared, generate
+    from .synthesis import _canvas_coords, _prepared, generate
 
     p = _prepared(a)
     calls = []
@@ -150,7 +150,7 @@ def synthesis_row(a, n_new: int = 6, seed: int = 0, name: str = "", save: str | 
 
     def spy(e, m, disp):
         c = orig(e, m, disp)
-        calls.append((e, c))
+        calls.append((e, _canvas_coords(p, c)))
         return c
 
     coords = []

@@ -301,7 +301,7 @@ def _masked_blur(img, mask, sigma):
     return np.where(m[..., None], low, img).astype(np.float32)
 
 
-def _correct(rgb, blade, mapping, source, source_blade, rng, source_detail=None):
+def _correct(rgb, blade, mapping, source, source_blade, rng, source_detail=None, patch_size=None):
     """Texture correction of the warped background, on its detail only.
 
     The distorted pixels get quilted *detail* (each image minus its blur
@@ -315,12 +315,14 @@ def _correct(rgb, blade, mapping, source, source_blade, rng, source_detail=None)
     0.039-0.046 -> 0.004-0.005, their Laplacian variance unchanged; see
     the test.) Everything is computed on the new blade's bounding box
     (plus a patch side), with the patch side of the whole canvas;
-    ``source_detail`` is the source's detail image when it is cached.
+    ``source_detail`` is the source's detail image when it is cached;
+    ``patch_size`` the patch side (None: that of ``blade``'s canvas; given
+    when ``rgb`` is a box of the canvas).
     """
     if not blade.any():
         return rgb
     full = blade.shape
-    ps = max(8, min(full) // 24)
+    ps = max(8, min(full) // 24) if patch_size is None else int(patch_size)
     sigma = ps / 2.0
     ys, xs = np.nonzero(blade)
     pad = 2 * ps

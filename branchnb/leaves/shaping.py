@@ -59,7 +59,8 @@ def random_warp(shape, amplitude: float, correlation: float, rng) -> np.ndarray:
     m = float(np.hypot(d[..., 0], d[..., 1]).max())
     if amplitude == 0 or m == 0:
         return np.zeros((h, w, 2), np.float32)
-    return (d * np.float32(amplitude / m)).astype(np.float32)
+    d *= np.float32(amplitude / m)  # in place: the same float32 products, no whole-canvas copy
+    return d
 
 def shape_weights(shape, n: int, grid: int, sigma_px: float, rng, concentration: float = 0.3,
                   spread: float = 0.75) -> np.ndarray:

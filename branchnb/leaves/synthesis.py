@@ -134,8 +134,17 @@ stage images, layer masks, maps, petioles), :mod:`branchnb.leaves.inking`
 (drawn leaves), :mod:`branchnb.leaves.correction` (texture correction)
 and :mod:`branchnb.leaves.comparison` (measures used by the tests),
 :mod:`branchnb.leaves.synthesis_draws` (which exemplars a leaf draws from,
-seeds stratified over a batch) and :mod:`branchnb.leaves.synthesis_save`
-(writing leaves out); this module assembles a leaf and re-exports their names.
+seeds stratified over a batch), :mod:`branchnb.leaves.synthesis_shape` (step 3:
+the shape map, its size, the petiole), :mod:`branchnb.leaves.synthesis_layers`
+(steps 1, 2, 4, 5: background, layers, compositing, petiole, drawn outline)
+and :mod:`branchnb.leaves.synthesis_save` (writing leaves out); this module
+assembles a leaf and re-exports their names.
+
+A leaf is computed on its work box (:func:`_work_box`: the lamina with a
+margin of two texture-correction patches, and the petiole); outside it
+the leaf is transparent and nothing is computed. The leaf is the same as
+computed over the whole canvas (bit-identical on 24 leaves at 0.25, 1.12
+and 1.9 MP and 48 of drawn, under-induced, fan and autumn families).
 
 Every leaf keeps the seed that made it, the exemplars it used and the mean
 shape weights; :func:`save_leaves` writes RGBA PNGs and a strict-JSON record.
@@ -145,7 +154,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-import cv2
 import numpy as np
 
 from ..core.io import encode_png
@@ -156,24 +164,19 @@ from .comparison import colour_range_fraction, leaf_distance
 from .correction import _correct as _correct
 from .correction import _detail as _detail
 from .correction import _masked_blur as _masked_blur
-from .inking import _ink_outline, _to_palette
 from .prepared import _CACHE_KEY as _CACHE_KEY
 from .prepared import _Prepared as _Prepared
 from .prepared import _prepared, registration_errors
-from .shaping import (
-    GRAIN_SIGMA,
-    _border_alpha,
-    _fit_size,
-    _sample,
-    _sample_grain_at,
-    _sample_sharp_at,
-    random_warp,
-    shape_weights,
-)
+from .shaping import _sample, random_warp, shape_weights
+from .shaping import _sample_sharp_at as _sample_sharp_at
 from .synthesis_draws import _STRATA_TRIES as _STRATA_TRIES
 from .synthesis_draws import _TIE_SIZE as _TIE_SIZE
-from .synthesis_draws import _exemplar_draws, _stratified_seeds
+from .synthesis_draws import _exemplar_draws as _exemplar_draws
+from .synthesis_draws import _stratified_seeds
+from .synthesis_layers import _REUSE_STRETCH as _REUSE_STRETCH
+from .synthesis_layers import _attach_petiole, _background, _finish, _paste_layers, _patch_side
 from .synthesis_save import save_leaves
+from .synthesis_shape import _fit_with_petiole, _shape_map
 
 __all__ = ["SynthesisParams", "GeneratedLeaf", "generate", "generate_leaf", "save_leaves",
            "random_warp", "shape_weights", "registration_errors", "leaf_distance",
@@ -405,266 +408,80 @@ def generate_leaf(analysis, seed: int, params: SynthesisParams | None = None) ->
     n, shape = p.n, p.shape
     corr = params.warp_scale * p.size
     eps_px = float(np.median(a.layers[0].eps_px)) if a.layers else 0.0
-    # The shape first: a convex blend of the inverse registration warps.
-    wts = shape_weights(shape, n, params.shape_grid, params.shape_sigma * p.size, rng,
-                        params.shape_concentration, params.shape_spread)
-    pose_from, size_from, lead = _exemplar_draws(int(seed), n)
-    if n > 1:
-        # The exemplar leading the shape (largest mean weight) is drawn
-        # from a stream of its own, so generate() can stratify it (see
-        # _stratified_seeds): the Dirichlet draw's weights are permuted to
-        # put its largest on ``lead`` (the same distribution).
-        top = int(np.argmax(wts.mean((1, 2))))
-        if top != lead:
-            wts[[top, lead]] = wts[[lead, top]]
-    # Only exemplars whose shape is compatible with the leading one's are
-    # blended (see SynthesisParams.shape_compatible).
-    comp = p.compatible(lead, params.shape_compatible) if n > 1 else np.ones(n, bool)
-    if not comp.all():
-        wts[~comp] = 0.0
-        wts /= np.maximum(wts.sum(0), 1e-12)
-    n_c = int(comp.sum())
-    gain = float(np.sqrt(n_c * params.shape_concentration + 1.0)) if params.restore_spread and n_c > 1 else 1.0
-    m = np.zeros(shape + (2,), np.float32)
-    for i in np.flatnonzero(comp):
-        # With the spread restored: the blend's departure from the
-        # exemplars' mean shape scaled by ``gain`` (an affine, no longer
-        # convex, combination; see SynthesisParams.restore_spread).
-        w_i = wts[i] if gain == 1.0 else np.float32(1.0 / n_c) + np.float32(gain) * (wts[i] - np.float32(1.0 / n_c))
-        m += w_i[..., None] * p.shape_maps[i]
-    # The pose of one exemplar: new leaves lie as variously as the
-    # exemplars do (the weighted mean pose gave every new leaf nearly the
-    # same angle: median pairwise blade IoU 0.80 against the exemplars' 0.58
-    # on a procedural family). It is the pose of the shape's leading
-    # exemplar (see _exemplar_draws; a pose drawn independently of the shape
-    # put one exemplar's outline at another's angle, more alike than either),
-    # and generate() stratifies the leading exemplars over a batch (drawn
-    # independently per leaf, leaves of one dominant exemplar all lay alike:
-    # IoU 0.76 against 0.51 on 3 trilobed exemplars).
-    # A smoothed bootstrap of the pose (beyond the paper): one exemplar's,
-    # turned by a Gaussian kernel of Silverman's bandwidth over the
-    # exemplars' poses, cut at 1.5 bandwidths (from a stream of its own).
-    # Drawn from the exemplars' poses alone, two new leaves lay alike one
-    # time in n: more alike than the exemplars (median pairwise blade IoU
-    # 0.71 against 0.58 on a procedural trilobed family). (The same kernel
-    # on the log size took a fifth of the Laplacian variance the size's
-    # resampling costs and no variety: not kept.)
-    z_pose = float(np.clip(np.random.default_rng((int(seed), 5)).standard_normal(), -1.5, 1.5)) \
-        if params.smooth_bootstrap else 0.0
-    m = p.posed(m, np.eye(n)[pose_from], z_pose * p.pose_bandwidth)
-    # One exemplar's own petiole, drawn from a stream of its own (the main
-    # one's use depends on the data: texture correction draws per replaced
-    # patch). A petiole the canvas would cut is exchanged for the next
-    # donor's (seeded order) that stays inside; if every one is cut, the
-    # leaf is made a little smaller (at most three times).
-    order = [int(e) for e in np.random.default_rng((int(seed), 1)).permutation(p.petiole_exemplars)]
-    # The size of the leading exemplar (see _exemplar_draws and _fit_size);
-    # that exemplar gives the background too, so its texture is seen at its
-    # own scale (a small exemplar's residual blown up to a large one's size
-    # came out blurred).
-    size_from = size_from if params.own_size and n > 1 else -1
-    # Smoothed bootstrap of the size too (from a stream of its own): the
-    # lead's size times exp of a Gaussian of the log sizes' bandwidth.
-    z_size = float(np.clip(np.random.default_rng((int(seed), 7)).standard_normal(), -1.5, 1.5)) \
-        if params.smooth_bootstrap and size_from >= 0 else 0.0
-    m0, pet, pet_j = m, None, -1
-    for attempt in range(4):
-        m = _fit_size(p, m0, size_from, 0.9 ** attempt, float(np.exp(z_size * p.size_bandwidth)))
-        pet, pet_j, best = None, -1, np.inf
-        for cand in order:
-            layer = p.petiole_layer(cand, m)
-            if layer is None:
-                continue
-            cut = _border_alpha(layer[..., 3])
-            if cut < best:
-                pet, pet_j, best = layer, cand, cut
-            if cut == 0:
-                break
-        if pet is None or best == 0:
-            break
+    # Step 3 first (the shape map), with the size and the petiole.
+    m, wts, size_from = _shape_map(p, params, int(seed), rng)
+    m, pet, pet_j = _fit_with_petiole(p, params, int(seed), m, size_from)
     # Background: one exemplar's residual, a warp below the registration error.
     bg = int(rng.integers(n))
     if size_from >= 0:
         bg = size_from
     base_amp = params.background_warp * p.registration_error
-    d0 = random_warp(shape, base_amp, corr, rng)
-    c_bg = p.source_coords(bg, m, d0)
-    alpha = _sample(p.alpha_t, m)[..., 0]
-    # Colours where the new leaf is, and a rim of a patch side around it: the
-    # texture correction matches patches against the canvas there.
-    rim = 2 * (max(8, min(shape) // 24) + 2) + 1
-    shown = cv2.dilate((alpha > 0).astype(np.uint8), cv2.getStructuringElement(cv2.MORPH_RECT, (rim, rim))) > 0
-    rgb = _sample_grain_at(p.stage[-1][bg][..., :3], c_bg, shown)
-    if params.correct:
-        # Texture correction where the composed warp stretches or squeezes,
-        # from the background exemplar's unwarped residual (before the layers
-        # go on, so no vein or spot is replaced by plain texture).
-        # From a stream of its own: how many draws the quilting takes depends
-        # on the pixels, and the layers' donors drawn after it changed with
-        # any change of the correction (two of four test leaves took the same ones).
-        rgb = _correct(rgb, alpha > 0.5, c_bg, p.stage[-1][bg], a.blades[bg],
-                       np.random.default_rng((int(seed), 4)), p.source_detail(bg))
+    alpha_full = _sample(p.alpha_t, m)[..., 0]
+    box = _work_box(alpha_full, pet, _patch_side(shape))
+    img = np.zeros(shape + (4,), np.float32)
+    if box is None:  # nothing of the leaf on the canvas: the whole canvas, as before
+        box = (slice(0, shape[0]), slice(0, shape[1]))
+    p.last_box = box  # read by the measurements that follow a leaf's coordinates (_canvas_coords)
+    mb, alpha = m[box], alpha_full[box]
+    rgb, c_bg = _background(p, a, params, int(seed), rng, mb, box, alpha, bg, base_amp, corr)
     warps = {"background": base_amp}
-    new_size = float(np.sqrt((alpha > 0.5).sum()))
-    used = {bg}
-    chosen = {}
-    # Layers, bottom first, each from another exemplar with its own warp.
-    cover = np.zeros(shape, np.float32)
-    rgb_low = None
-    mix = np.zeros(shape + (3,), np.float32)
-    wsum = np.zeros(shape, np.float32)
-    for k in reversed(range(len(a.layers))):
-        L = a.layers[k]
-        cands = [e for e in range(n) if L.masks[e].any()]
-        if not cands:
-            continue
-        # Under-induced donors (a layer far sparser than most exemplars':
-        # a few dashes of veins) are passed over while others have one.
-        full = [e for e in cands if p.layer_complete[k][e] >= params.donor_complete]
-        cands = full if full else cands
-        # Nor one whose layer stands out the other way than the training
-        # leaf's (see prepared._Prepared._agreement): a grass strip's dark dots
-        # induced as its pale veins gave new leaves dotted, not lined, veins
-        # (vein continuity 0.88 where that strip gave the veins).
-        same = [e for e in cands if p.layer_agrees[k][e]]
-        cands = same if same else cands
-        # Never the donor of another layer (two layers of one exemplar
-        # pasted with different warps lay beside each other: vein continuity
-        # 0.58 on maples whose spots and veins came from one leaf).
-        free = [e for e in cands if e not in chosen.values()] or cands
-        fresh = [e for e in free if e not in used]
-        if params.donor_size_sigma > 0 and len(free) > 1 and new_size > 0:
-            # Donors whose layer is carried with the least stretch (see
-            # SynthesisParams.donor_size_sigma); the background's own
-            # exemplar only when every other one is stretched more.
-            sig = params.donor_size_sigma
-            size = np.log(np.maximum([p.lamina_size[j] for j in free], 1e-6) / new_size)
-            aniso = np.array([p.carried_anisotropy(j, m, alpha > 0.5) for j in free])
-            stretch = np.hypot(size, np.maximum(aniso - 0.5 * _REUSE_STRETCH, 0.0))
-            ok = [i for i, j in enumerate(free) if j in fresh]
-            if not ok or stretch[ok].min() > max(float(stretch.min()) + 2.0 * sig, _REUSE_STRETCH):
-                ok = list(range(len(free)))
-            idx = ok
-            pool = [free[i] for i in idx]
-            # exp(-z^2 / 2) normalised, taken relative to its largest (no underflow when all are stretched)
-            logw = -0.5 * (stretch[idx] / sig) ** 2
-            w = np.exp(logw - logw.max())
-            w = w / w.sum() if w.sum() > 0 else np.full(len(pool), 1.0 / len(pool))
-            e = int(pool[int(rng.choice(len(pool), p=w))]) if len(pool) > 1 else int(pool[0])
-        else:
-            pool = fresh if fresh else free
-            e = int(rng.choice(pool))
-        used.add(e)
-        chosen[L.name] = e
-        amp = base_amp + params.layer_warp * eps_px * (1.0 - p.structural[k])
-        warps[L.name] = amp
-        c = p.source_coords(e, m, random_warp(shape, amp, corr, rng))
-        a_k = np.clip(_sample(p.layer_masks[k][e], c)[..., 0], 0, 1)
-        if p.leftover is not None and k == p.leftover[0] and params.one_system > 0:
-            # One vein system: the background's own lines of this layer that
-            # run beside the donor's pasted one (the same vein of the other
-            # leaf, moved by both registrations' errors and the warps) are
-            # taken out, filled from the blade's own texture.
-            gone = p.beside_lines(bg, c_bg, a_k > 0.5, alpha > 0.5,
-                                  params.one_system * (eps_px + p.registration_error) + p.leftover[2])
-            if gone is not None:
-                rgb[gone] = _sample_grain_at(p.own_lines(bg)[1], c_bg, gone)[gone]
-                rgb_low = None
-        on = a_k > 0  # the layer's colours are needed under its footprint only
-        col = _sample_grain_at(p.stage[k][e][..., :3], c, on)
-        if params.layer_colour == "contrast":
-            # The layer relative to the same leaf without it (the next
-            # residual): a vein of a yellow leaf darkens an orange
-            # background as it darkened its own leaf, instead of painting a
-            # yellow stripe on it.
-            # As a ratio (a pigment multiplies the light the leaf under it
-            # reflects), so black ink stays black whatever it lies on.
-            # Clipped to the layer's colours in the exemplars, widened to
-            # the background's own colour: a pixel the layer leaves as it
-            # was (ratio ~1, the mask's anti-aliased rim) keeps the
-            # background's colour. (Clipped to the layer's range alone, the
-            # rim of a light vein was lifted to the vein's colour: veins
-            # widened and blurred, new leaves had about half their
-            # exemplars' Laplacian variance on procedural families.)
-            # (On the layer's footprint only: a weight of 0 elsewhere.)
-            under = _sample_sharp_at(p.layer_under[k][e][..., :3], c, on)[on]
-            lo, hi = p.layer_range[k]
-            fg = col[on]
-            own = np.clip(rgb[on], *p.blade_range)
-            # The background under the layer without its grain: the layer's
-            # ratio brings the donor's grain (the leaf under it is smooth),
-            # and on top of the background's own it doubled the texture
-            # under the pasted footprint.
-            if rgb_low is None:
-                rgb_low = cv2.GaussianBlur(rgb, (0, 0), GRAIN_SIGMA)
-            bg_on = rgb_low[on]
-            # A layer lighter than the leaf under it (pale veins) is brought
-            # as a ratio of the light it lets through, 1 - (1 - rgb) (1 - col)
-            # / (1 - under) (a "screen"), a darker one as a ratio of the light
-            # (multiply): the ratio of a pale vein alone, on a background
-            # lighter than its own leaf, pushed it past every exemplar's vein
-            # (2-4 % of new blades' pixels above the exemplars' 99.5th
-            # percentile against 0.3-0.5 % in the exemplars, procedural
-            # families), which the blade's percentile clip had hidden by
-            # cutting every pale vein's crest.
-            mul = bg_on * fg / np.maximum(under, 0.02)
-            scr = 1.0 - (1.0 - bg_on) * (1.0 - fg) / np.maximum(1.0 - under, 0.02)
-            # Pale layers as a plain ratio too (it keeps the layer's relative
-            # contrast), only never past the exemplars' lightest blade colour
-            # (99.5th percentile) unless the screen goes past it: as a screen
-            # alone, a pale vein of a dark leaf pasted onto a light one kept
-            # about half its relative contrast (grass photos: 13-15 % of a
-            # dark strip's veins fell below half their own contrast on a light
-            # background; vein continuity 0.85).
-            light = np.maximum(scr, np.minimum(mul, p.blade_range[1]))
-            col[on] = np.clip(np.where(fg > under, light, mul), np.minimum(lo, own), np.maximum(hi, own))
-        wgt = (np.clip(_sample(p.layer_weights[k][e], c)[..., 0], 0, None) + 1e-6) * a_k
-        cover = np.maximum(cover, a_k)
-        mix += wgt[..., None] * col
-        wsum += wgt
-    layer_rgb = mix / np.maximum(wsum, 1e-12)[..., None]
-    rgb = rgb * (1 - cover[..., None]) + layer_rgb * cover[..., None]
+    inside_full = alpha_full > 0.5
+    # Step 2: the layers, bottom first, each from another exemplar with its own warp.
+    rgb, chosen = _paste_layers(p, params, rng, mb, m, inside_full, alpha, rgb, c_bg, bg, base_amp, corr,
+                                eps_px, warps)
     alpha = np.clip(alpha, 0, 1)
-    pet_from = -1
     pet_own = None
     if pet is not None:
-        # Attached at the new leaf's base, under the lamina.
-        pet_from = pet_j
-        ap = np.clip(pet[..., 3], 0, 1)
-        pet_own = ap * (1 - alpha) > 0.5
-        out_a = alpha + ap * (1 - alpha)
-        rgb = (rgb * alpha[..., None] + pet[..., :3] * (ap * (1 - alpha))[..., None]) / np.maximum(
-            out_a, 1e-6)[..., None]
-        alpha = out_a
-    if p.flat is not None:
-        own = None
-        if pet_own is not None and pet_own.any():
-            # A petiole drawn without ink (a fill-coloured stalk) stays as its
-            # exemplar drew it; the new outline is the lamina's. Outlined along
-            # its boundary too, a clip-art leaf's 2 px fill-coloured petiole
-            # came out solid ink on every new leaf. An inked petiole (most of
-            # its pixels nearer the ink than halfway to the blade's median
-            # colour) is outlined anew with the blade, as before.
-            own = pet[..., :3][pet_own]
-            ink = p.flat.outline_colour
-            half = 0.5 * float(np.linalg.norm(np.median(rgb[alpha > 0.5], axis=0) - ink))
-            if (np.linalg.norm(own - ink, axis=1) < half).mean() >= 0.5:
-                own = None
-        rgb, alpha = _ink_outline(rgb, alpha, p.flat)
-        if own is not None:
-            rgb[pet_own] = _to_palette(own, p.flat.palette, p.flat.hard) if len(p.flat.palette) else own
-    img = np.empty(shape + (4,), np.float32)  # written in place: no whole-canvas temporaries
-    np.clip(rgb, 0, 1, out=img[..., :3])
-    img[..., :3] *= (alpha > 0)[..., None]
-    img[..., 3] = alpha
-    inside = alpha > 0.5
-    sw = [float(wts[i][inside].mean()) if inside.any() else float(wts[i].mean()) for i in range(n)]
-    return GeneratedLeaf(img, int(seed), bg, chosen, sw, warps, pet_from)
+        # Step 5: attached at the new leaf's base, under the lamina.
+        pet = pet[box]
+        rgb, alpha, pet_own = _attach_petiole(rgb, alpha, pet)
+    img[box] = out = _finish(p, rgb, alpha, pet, pet_own)
+    # Mean shape weights over the new leaf (lamina and petiole); outside the box it is transparent.
+    inside = out[..., 3] > 0.5
+    sw = [float(wts[i][box][inside].mean()) if inside.any() else float(wts[i].mean()) for i in range(n)]
+    return GeneratedLeaf(img, int(seed), bg, chosen, sw, warps, pet_j if pet is not None else -1)
 
 
-#: A layer's donor is the background's own exemplar only when every other is stretched more than this
-#: (log of the scale; see :func:`generate_leaf`).
-_REUSE_STRETCH = float(np.log(1.5))
+def _work_box(alpha, pet, ps: int):
+    """The box of the canvas a new leaf is computed on (slices), or None when it is empty.
+
+    The lamina's pixels (``alpha > 0``) with a margin of two patch sides
+    ``ps`` and 8 px (the texture correction's box, the rim of colours it
+    matches against, the grain blur and a drawn outline read no farther),
+    joined with the petiole's (``pet``, RGBA or None). Outside it the new
+    leaf is transparent (alpha 0, colours 0).
+    """
+    h, w = alpha.shape
+    if not _BOX:
+        return (slice(0, h), slice(0, w))
+    boxes = []
+    for mk, margin in ((alpha > 0, 2 * ps + 8), (None if pet is None else pet[..., 3] > 0, 0)):
+        if mk is None:
+            continue
+        rows, cols = np.flatnonzero(mk.any(1)), np.flatnonzero(mk.any(0))
+        if len(rows):
+            boxes.append((rows[0] - margin, rows[-1] + 1 + margin, cols[0] - margin, cols[-1] + 1 + margin))
+    if not boxes:
+        return None
+    b = np.array(boxes)
+    y0, x0 = max(0, int(b[:, 0].min())), max(0, int(b[:, 2].min()))
+    y1, x1 = min(h, int(b[:, 1].max())), min(w, int(b[:, 3].max()))
+    return (slice(y0, y1), slice(x0, x1))
+
+
+def _canvas_coords(p, c: np.ndarray) -> np.ndarray:
+    """Coordinates ``c`` of the last leaf's work box (``p.last_box``) on the whole canvas, far off outside it.
+
+    For measurements spying on ``_Prepared.source_coords`` (a leaf's maps
+    cover its work box only); outside the box the new leaf is transparent.
+    """
+    full = np.full(tuple(p.shape) + c.shape[2:], -1e6, np.float32)
+    full[p.last_box] = c
+    return full
+
+
+#: Compute a new leaf on its work box only (False: the whole canvas; the same leaf).
+_BOX = True
 
 
 def generate(analysis, n: int = 8, *, rng=None, params: SynthesisParams | None = None,
