@@ -152,7 +152,7 @@ from .billboard_types import (  # noqa: F401  (importable from here)
     _front_overlay,
 )
 from .billboard_volume import _extend, _majority_parts, _volume_mask, _working_image, inflate_silhouette
-from .exemplar import _defringe, tree_rgba
+from .exemplar import tree_rgba
 from .outline import silhouette_outline
 from .segmentation import Segmentation, segment_tree
 
@@ -250,7 +250,6 @@ def _billboard_cloud(rgba, trunk, params, *, rng, slivers: bool = False) -> Bill
     of dark fills as fill (:func:`~branchnb.trees.billboard_lines.flat_slivers`)."""
     p = check_params(params if params is not None else BillboardParams())
     img, opaque_full = tree_rgba(rgba, alpha_threshold=p.alpha_threshold, min_pixels=16, name="rgba")
-    img = _defringe(img, opaque_full)       # no matte colour on the cards' rims (as in normalisation)
     rng = as_rng(rng)
     H0, W0 = opaque_full.shape
     seg = None
