@@ -51,6 +51,8 @@ _CONTRAST = 0.2
 _MAX_OUTLINE = 8
 #: Radius of the closing that fills pockets at joints (px).
 _POCKET = 2
+#: Alpha from which a pixel's colour counts as the object's own (not an anti-aliased rim's).
+_SOLID = 0.99
 
 
 #: Background px kept round the object's box when a step runs on the box only.
@@ -750,6 +752,16 @@ def fill_joints(layer: np.ndarray, joints, radii, *, pockets=None, inner: int = 
             # a pocket kept open stays open: raising its alpha would show its undefined
             # (black) colour as dark specks inside the object
             inner &= ~kept
+        raised = inner & ~new & (win[:, :, 3] < 1.0)
+        if raised.any():
+            # a half-transparent pixel made opaque keeps its own colour only for the
+            # coverage it had: the rest is the nearest solid colour (an anti-aliased rim
+            # often carries no colour of its own -- black under a soft alpha -- and
+            # became a dark speck in the crotch where a carried limb meets its parent)
+            solid = src[r0:r1, c0:c1, 3] >= _SOLID
+            jr, jc = _nearest_deep(solid if solid.any() else m, raised, depth)
+            a = win[raised, 3:4]
+            win[raised, :3] = a * win[raised, :3] + (1.0 - a) * win[jr, jc, :3]
         win[new | inner, 3] = np.maximum(win[new | inner, 3], np.where(inner[new | inner], 1.0, 0.0))
         win[new & ~inner, 3] = 0.5 + 0.5 * (win[new & ~inner, 3] > 0.5)
     return layer if out is None else out
