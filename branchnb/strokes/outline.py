@@ -782,13 +782,34 @@ def fill_joints(layer: np.ndarray, joints, radii, *, pockets=None, inner: int = 
             # coverage it had: the rest is the nearest solid colour (an anti-aliased rim
             # often carries no colour of its own -- black under a soft alpha -- and
             # became a dark speck in the crotch where a carried limb meets its parent)
-            solid = src[r0:r1, c0:c1, 3] >= _SOLID
-            jr, jc = _nearest_deep(solid if solid.any() else m, raised, depth)
-            a = win[raised, 3:4]
-            win[raised, :3] = a * win[raised, :3] + (1.0 - a) * win[jr, jc, :3]
+            win[raised, :3] = _with_solid_colour(win, src[r0:r1, c0:c1, 3] >= _SOLID, raised)
         win[new | inner, 3] = np.maximum(win[new | inner, 3], np.where(inner[new | inner], 1.0, 0.0))
         win[new & ~inner, 3] = 0.5 + 0.5 * (win[new & ~inner, 3] > 0.5)
     return layer if out is None else out
+
+
+def _with_solid_colour(win: np.ndarray, solid: np.ndarray, raised: np.ndarray) -> np.ndarray:
+    """Colours of the ``raised`` pixels of ``win`` (straight RGBA) made opaque: their own for
+    the coverage they had, the rest from the ``solid`` pixel within 2 px whose colour is
+    nearest theirs (an outlined object's soft ink stays ink; a rim stored black under its
+    alpha takes the darkest fill beside it), their own where no solid pixel is that near."""
+    rs, cs = np.nonzero(raised)
+    own = win[rs, cs, :3]
+    best = own.copy()
+    bd = np.full(len(rs), np.inf)
+    h, w = solid.shape
+    for dr in range(-2, 3):
+        for dc in range(-2, 3):
+            r2, c2 = rs + dr, cs + dc
+            ok = (r2 >= 0) & (r2 < h) & (c2 >= 0) & (c2 < w)
+            r2, c2 = np.clip(r2, 0, h - 1), np.clip(c2, 0, w - 1)
+            ok &= solid[r2, c2]
+            d = np.where(ok, np.abs(win[r2, c2, :3] - own).sum(axis=1), np.inf)
+            better = d < bd
+            bd[better] = d[better]
+            best[better] = win[r2[better], c2[better], :3]
+    a = win[rs, cs, 3:4]
+    return a * own + (1.0 - a) * best
 
 
 def _nearest_deep(m: np.ndarray, new: np.ndarray, depth: int) -> tuple[np.ndarray, np.ndarray]:
