@@ -228,6 +228,9 @@ def source_depth(labels: np.ndarray, source_maps: list, depth: np.ndarray) -> np
 def close_cuts(layer: np.ndarray, src_depth: np.ndarray, style: OutlineStyle) -> np.ndarray:
     """``layer`` (straight RGBA) with the outline painted over its cut faces (a new array).
 
+    A pixel already lined on its outer side by a source rim pixel is no cut
+    face (inking it doubled the outline in a crotch). Beyond the paper.
+
     Parameters
     ----------
     layer : (H, W, 4) ndarray
@@ -705,6 +708,13 @@ def fill_joints(layer: np.ndarray, joints, radii, *, pockets=None, inner: int = 
         closing by a disk of ``k`` px would fill stay open (e.g. those
         copied from a pocket the source itself has: a crotch between two
         fingers is no joint's gap).
+
+    Notes
+    -----
+    Half-transparent pixels the closing makes opaque keep their own colour
+    only for the coverage they had; the rest comes from the solid pixel
+    within 2 px nearest their colour (a cut-out storing black under its
+    soft rim showed dark specks in every crotch). Beyond the paper.
 
     Examples
     --------
