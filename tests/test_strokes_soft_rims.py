@@ -56,18 +56,3 @@ def test_bent_antler_crotches_have_no_dark_specks(seed):
     assert len(res.junctions) >= 3
     assert junction_specks(res) == 0
 
-
-def test_close_cuts_leaves_a_lined_rim_single():
-    """Flesh just inside a kept rim (a turned limb's flesh come up beside its parent's outline
-    in a crotch) is no cut face: inking it doubled the line (main inks the column beside the rim)."""
-    from branchnb.strokes.outline import OutlineStyle, close_cuts
-
-    layer = np.zeros((20, 20, 4), np.float32)
-    layer[2:18, 2:18] = (0.8, 0.3, 0.4, 1.0)
-    layer[2:18, 17] = (0.1, 0.0, 0.0, 1.0)            # the kept rim on the right
-    depth = np.full((20, 20), 6.0, np.float32)
-    depth[2:18, 17] = 1.0
-    out = close_cuts(layer, depth, OutlineStyle((0.1, 0.0, 0.0), 2.0))
-    # the column inside the kept rim keeps its flesh; the other (cut) sides are inked
-    assert np.abs(out[4:16, 16, :3] - layer[4:16, 16, :3]).max() < 1e-6
-    assert np.all(out[4:16, 2, 0] < 0.2) and np.all(out[2, 4:16, 0] < 0.2)

@@ -228,9 +228,6 @@ def source_depth(labels: np.ndarray, source_maps: list, depth: np.ndarray) -> np
 def close_cuts(layer: np.ndarray, src_depth: np.ndarray, style: OutlineStyle) -> np.ndarray:
     """``layer`` (straight RGBA) with the outline painted over its cut faces (a new array).
 
-    A pixel already lined on its outer side by a source rim pixel is no cut
-    face (inking it doubled the outline in a crotch). Beyond the paper.
-
     Parameters
     ----------
     layer : (H, W, 4) ndarray
@@ -259,34 +256,10 @@ def close_cuts(layer: np.ndarray, src_depth: np.ndarray, style: OutlineStyle) ->
     band = (alpha > 0.02) & (e <= style.width + 0.5) & (src_depth > style.width + 0.75)
     if not band.any():
         return layer
-    band = _unlined(band, obj & (src_depth > 0) & (src_depth <= style.width + 0.5), e)
-    if not band.any():
-        return layer
     cover = np.where(obj, np.clip(style.width + 1.0 - e, 0.0, 1.0), 1.0)[band]
     out = layer.copy()
     rgb = out[..., :3]
     rgb[band] = rgb[band] * (1 - cover[:, None]) + np.asarray(style.colour, np.float32) * cover[:, None]
-    return out
-
-
-def _unlined(band: np.ndarray, rim: np.ndarray, e: np.ndarray) -> np.ndarray:
-    """``band`` without the pixels a source rim pixel lines on their outer side (an 8-neighbour
-    of ``rim`` at least half a pixel nearer the silhouette by ``e``): the outline is there
-    already, and inking them too drew a doubled ink hair in a crotch where a turned limb's
-    flesh came up beside its parent's kept rim."""
-    rs, cs = np.nonzero(band)
-    h, w = band.shape
-    lined = np.zeros(len(rs), bool)
-    for dr in (-1, 0, 1):
-        for dc in (-1, 0, 1):
-            if dr == 0 and dc == 0:
-                continue
-            r2, c2 = np.clip(rs + dr, 0, h - 1), np.clip(cs + dc, 0, w - 1)
-            lined |= rim[r2, c2] & (e[r2, c2] <= e[rs, cs] - 0.5)
-    if not lined.any():
-        return band
-    out = band.copy()
-    out[rs[lined], cs[lined]] = False
     return out
 
 
