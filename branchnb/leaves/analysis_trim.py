@@ -62,6 +62,10 @@ def _without_dots(m, width: float) -> np.ndarray:
 #: Pixels from a hole (besides it) where a rim piece must touch to hug the hole (:func:`_rim_hugging`).
 RIM_TOUCH = 2
 
+#: ... of a hole at least this wide (inscribed radius, in leaf sizes): a torn or eaten patch. Small holes'
+#: pieces stay (every hole: sample maples 05 / 07 vein IoU 0.80 -> 0.79 / 0.65 -> 0.63, training leaf 01).
+RIM_HOLE = 0.03
+
 
 def _rim_hugging(m, blade, rim) -> np.ndarray:
     """The pieces of ``m`` on the one-sided hole rims ``rim`` that touch the hole: a path hugging it (beyond the paper).
@@ -88,6 +92,11 @@ def _rim_hugging(m, blade, rim) -> np.ndarray:
         return piece
     b = np.asarray(blade, bool)
     holes = fill_holes(b) & ~b
+    hl, nh = ndi.label(holes)
+    if nh == 0:
+        return np.zeros_like(piece)
+    depth = np.asarray(ndi.maximum(ndi.distance_transform_edt(holes), hl, np.arange(1, nh + 1)))
+    holes = np.isin(hl, np.flatnonzero(depth >= RIM_HOLE * np.sqrt(float(b.sum()))) + 1)
     touch = ndi.binary_dilation(holes, iterations=RIM_TOUCH) & b
     lab, n = ndi.label(piece, structure=np.ones((3, 3), bool))
     hit = np.unique(lab[touch & piece])
