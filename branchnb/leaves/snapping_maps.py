@@ -30,6 +30,11 @@ HOLE_SHARE = 0.1
 #: them outside the snapped paths (``rims``; 0: the rim of HOLE_RIM px only).
 HOLE_REACH = 2.0
 
+#: ... and at least this share of the leaf size (``sqrt`` of the blade's area): a torn patch's browned
+#: rim widens with the leaf (procedural rims of 0.025 leaf sizes: 4-5 px at 320 px, 9 px at 640 px
+#: reached past 2 layer widths and their outer half was induced as vein, ``_measure_holes``).
+HOLE_REACH_SHARE = 0.04
+
 
 def _exemplar_maps(lab, b, direction, width: float, line_frac: float, *, oriented: bool, fit: bool,
                    centred: bool, outline=None, box=None, rims=None, e: int = 0):
@@ -51,7 +56,8 @@ def _exemplar_maps(lab, b, direction, width: float, line_frac: float, *, oriente
         # The rims no vein is induced on (the one-sided rim too, up to HOLE_REACH layer widths).
         shape, y0, x0 = box
         rims[e] = _unbox(_hole_rim(b, HOLE_RIM, HOLE_SHARE, hessian=hess,
-                                   reach=max(3.0, HOLE_REACH * width) if HOLE_REACH > 0 else 0.0),
+                                   reach=max(3.0, HOLE_REACH * width, HOLE_REACH_SHARE * np.sqrt(float(b.sum())))
+                                   if HOLE_REACH > 0 else 0.0),
                          shape, y0, x0)
     if outline is not None:
         # A drawn leaf's ink outline is the blade's edge drawn, not a vein.
