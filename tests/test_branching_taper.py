@@ -2,6 +2,8 @@
 starts at a thick head does not keep that radius along its whole length."""
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -52,12 +54,16 @@ def test_synthesized_trunks_taper_like_the_example(seed, monkeypatch):
     ex = bolt_example(seed)
     model = fit_model(ex)
     q_ex = weighted_quantile(ex, 0.9)
-    out = {}
+    # The pull's own effect is compared with the entry tropism off on both sides: the bolt enters
+    # from the top, and the tropism (which directions grow) moves the thick-radius quantile by
+    # itself (max/min 0.72 without it, 0.79 with it on seed 1); the checks below run with the defaults.
+    plain = dataclasses.replace(model, tropism=None)
+    out, q = {}, {}
     for pull in (0.0, growth.RADIUS_PULL):
         monkeypatch.setattr(growth, "RADIUS_PULL", pull)
         out[pull] = [synthesize_structure(model, rng=k).structure for k in range(3)]
-    q_old = [weighted_quantile(s, 0.9) / q_ex for s in out[0.0]]
-    q_new = [weighted_quantile(s, 0.9) / q_ex for s in out[growth.RADIUS_PULL]]
+        q[pull] = [weighted_quantile(synthesize_structure(plain, rng=k).structure, 0.9) / q_ex for k in range(3)]
+    q_old, q_new = q[0.0], q[growth.RADIUS_PULL]
     # the example's trunks are thin after their first ~60 px: so are the synthesized ones
     # (before: 3 px along the whole trunk, 90th percentile ~ 5 x the example's; after ~ 3 x)
     for s in out[growth.RADIUS_PULL]:
