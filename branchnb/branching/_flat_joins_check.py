@@ -28,6 +28,8 @@ import cv2
 import numpy as np
 from scipy import ndimage as ndi
 
+from .measures import _line_gaps
+
 #: (kind, size, seed) of the default run
 CASES = (("neuron", 256, 0), ("neuron", 384, 1), ("neuron", 512, 2), ("neuron", 1024, 2),
          ("crack_bow", 512, 0), ("crack_wob", 300, 1), ("river_bow", 600, 0), ("river_wob", 450, 2),
@@ -80,7 +82,6 @@ def flat_joins(ink: np.ndarray, structure) -> dict:
     (2.0, 1, 0)
     """
     ink = np.asarray(ink, bool)
-    h, w = ink.shape
     lab, n = ndi.label(ink, structure=np.ones((3, 3)))
     sizes = np.bincount(lab.ravel(), minlength=n + 1)
     B = structure.branches
@@ -99,19 +100,7 @@ def flat_joins(ink: np.ndarray, structure) -> dict:
     detached = sum(1 for i in kids if ids[i].size and ids[B[i].parent].size
                    and np.bincount(ids[i]).argmax() != np.bincount(ids[B[i].parent]).argmax())
     off = sum(1 for i in kids if _off_parent(structure, i) > 1.0)
-    near = ndi.binary_dilation(ink, structure=np.ones((3, 3), bool))
-    gaps = 0
-    for b in B:
-        pts = np.asarray(b.points, np.float64)
-        arc = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))]
-        if arc[-1] < 2:
-            continue
-        t = np.arange(0.0, arc[-1], 1.0)
-        x, y = np.interp(t, arc, pts[:, 0]), np.interp(t, arc, pts[:, 1])
-        ok = (x >= 0) & (x < w) & (y >= 0) & (y < h)
-        miss = ~near[np.clip(np.rint(y).astype(int), 0, h - 1), np.clip(np.rint(x).astype(int), 0, w - 1)] & ok
-        e = np.diff(np.r_[0, miss.astype(np.int8), 0])
-        gaps += int(np.sum(np.flatnonzero(e == -1) - np.flatnonzero(e == 1) >= 2))
+    gaps = _line_gaps(B, ink)
     return {"trees": len(pieces), "pieces": float(np.mean(pieces)) if pieces else 0.0,
             "max_pieces": max(pieces) if pieces else 0, "kids": len(kids), "detached": int(detached),
             "off": int(off), "gaps": gaps, "specks": int(np.sum((sizes[1:] > 0) & (sizes[1:] < 10)))}

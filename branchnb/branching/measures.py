@@ -202,6 +202,26 @@ def line_pieces(image: np.ndarray, structure: Structure, colour, ground) -> dict
             "max_pieces": int(max(pieces)) if pieces else 0, "specks": specks}
 
 
+def _line_gaps(branches, line: np.ndarray) -> int:
+    """Gaps of >= 2 px along the branches' polylines (1 px steps) where no ``line`` pixel lies within
+    one pixel; points outside the image are no gap."""
+    near = ndi.binary_dilation(line, structure=np.ones((3, 3), bool))
+    h, w = line.shape
+    gaps = 0
+    for b in branches:
+        pts = np.asarray(b.points, float)
+        arc = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))]
+        if arc[-1] < 2:
+            continue
+        t = np.arange(0.0, arc[-1], 1.0)
+        x, y = np.interp(t, arc, pts[:, 0]), np.interp(t, arc, pts[:, 1])
+        ok = (x >= 0) & (x < w) & (y >= 0) & (y < h)
+        miss = ~near[np.clip(np.rint(y).astype(int), 0, h - 1), np.clip(np.rint(x).astype(int), 0, w - 1)] & ok
+        edges = np.diff(np.r_[0, miss.astype(np.int8), 0])
+        gaps += int(np.sum(np.flatnonzero(edges == -1) - np.flatnonzero(edges == 1) >= 2))
+    return gaps
+
+
 def relative_line_pieces(example: np.ndarray, example_structure: Structure, image: np.ndarray,
                          structure: Structure, share: float = 0.4) -> dict:
     """:func:`line_pieces` for photographs: line pixels judged against their *local* ground.
@@ -277,20 +297,7 @@ def relative_line_pieces(example: np.ndarray, example_structure: Structure, imag
     for t in np.unique(roots):
         ids = np.unique(lab[line & (tree == t)])
         pieces.append(int(np.count_nonzero(ids)))
-    near = ndi.binary_dilation(line, structure=np.ones((3, 3), bool))
-    h, w = line.shape
-    gaps = 0
-    for b in structure.branches:
-        pts = np.asarray(b.points, float)
-        arc = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))]
-        if arc[-1] < 2:
-            continue
-        t = np.arange(0.0, arc[-1], 1.0)
-        x, y = np.interp(t, arc, pts[:, 0]), np.interp(t, arc, pts[:, 1])
-        ok = (x >= 0) & (x < w) & (y >= 0) & (y < h)
-        miss = ~near[np.clip(np.rint(y).astype(int), 0, h - 1), np.clip(np.rint(x).astype(int), 0, w - 1)] & ok
-        edges = np.diff(np.r_[0, miss.astype(np.int8), 0])
-        gaps += int(np.sum(np.flatnonzero(edges == -1) - np.flatnonzero(edges == 1) >= 2))
+    gaps = _line_gaps(structure.branches, line)
     return {"trees": len(pieces), "pieces_per_tree": float(np.mean(pieces)) if pieces else 0.0,
             "max_pieces": max(pieces) if pieces else 0, "gaps": gaps,
             "specks": int(np.sum((sizes[1:] > 0) & (sizes[1:] < 10)))}
