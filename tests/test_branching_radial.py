@@ -5,20 +5,9 @@ import pytest
 
 from branchnb.branching import extract_structure, fit_model, synthesize_image, synthesize_structure
 from branchnb.branching._radial_examples import radial_example
+from branchnb.branching._radial_synth_check import spoke_angles as _spokes
 from branchnb.branching.examples import river_map_example
 from branchnb.branching.radial import _fit_hubs, _hub_starts
-
-
-def _spokes(s, x, y, r):
-    """Angles of the branches starting within 1.1 r of (x, y), read where they pass 1.3 r."""
-    a = []
-    for b in s.branches:
-        d = np.hypot(b.points[:, 0] - x, b.points[:, 1] - y)
-        far = np.flatnonzero(d > 1.3 * r)
-        if d[0] <= 1.1 * r and far.size:
-            p = b.points[far[0]]
-            a.append(np.arctan2(p[1] - y, p[0] - x) % (2 * np.pi))
-    return np.sort(a)
 
 
 def _largest_gap(a):

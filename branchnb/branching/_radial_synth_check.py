@@ -47,6 +47,18 @@ def _gap(a) -> float:
     return float(np.degrees(np.max(np.diff(np.r_[a, a[0] + 2 * np.pi])))) if len(a) >= 2 else 360.0
 
 
+def spoke_angles(s, x: float, y: float, r: float) -> np.ndarray:
+    """Sorted angles of the branches starting within 1.1 r of (x, y), read where they pass 1.3 r."""
+    a = []
+    for b in s.branches:
+        d = np.hypot(b.points[:, 0] - x, b.points[:, 1] - y)
+        far = np.flatnonzero(d > 1.3 * r)
+        if d[0] <= 1.1 * r and far.size:
+            p = b.points[far[0]]
+            a.append(np.arctan2(p[1] - y, p[0] - x) % (2 * np.pi))
+    return np.sort(a)
+
+
 def _centre_r(c, r0):
     return c[0], c[1], (c[2] if len(c) > 2 else r0)
 
@@ -56,14 +68,8 @@ def primaries(s, centres, r0: float) -> list[tuple[int, float]]:
     out = []
     for c in centres:
         x, y, r = _centre_r(c, r0)
-        a = []
-        for b in s.branches:
-            d = np.hypot(b.points[:, 0] - x, b.points[:, 1] - y)
-            far = np.flatnonzero(d > 1.3 * r)
-            if d[0] <= 1.1 * r and far.size:
-                p = b.points[far[0]]
-                a.append(np.arctan2(p[1] - y, p[0] - x) % (2 * np.pi))
-        out.append((len(a), _gap(np.sort(a))))
+        a = spoke_angles(s, x, y, r)
+        out.append((len(a), _gap(a)))
     return out
 
 
