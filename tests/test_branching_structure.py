@@ -585,7 +585,8 @@ def test_empty_example_is_rejected():
 
 
 def test_branches_shorter_than_k_plus_m():
-    short = Structure([Branch([(10, 10), (40, 12), (60, 30)], 2.0)], image_shape=(100, 100))
+    # shorter than k + m + 2 vertices even at the finest step (MIN_STEP = 1 px): refused
+    short = Structure([Branch([(10, 10), (16, 11), (20, 14)], 2.0)], image_shape=(100, 100))
     with pytest.raises(ValueError, match="shorter than k \\+ m"):
         fit_model(short)
     # documented handling: short branches are kept next to a long enough one

@@ -9,9 +9,11 @@ for the vectorised scorer (:mod:`.scoring`). Split from :mod:`branchnb.branching
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import threading
 import time
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -32,6 +34,9 @@ from .tropism import _fit_tropism
 __all__ = ["StructureModel", "fit_model"]
 
 _FIT_FIELDS = ("h", "m", "k", "bins", "svm_C")
+
+#: Smallest step (pixels) :func:`fit_model` falls to on an example too short for ``h``.
+MIN_STEP = 1.0
 
 
 
@@ -109,6 +114,10 @@ class StructureModel:
         Bearing weights of an example that enters from one side of a free
         frame and runs away from it (a root system hanging from the top),
         beyond the paper: see :mod:`.tropism`. None otherwise.
+    requested_h : float, optional
+        The step asked for when the example was too short for it and
+        :func:`fit_model` fitted at the finer ``params.h`` (a small
+        example, beyond the paper); None otherwise.
     """
 
     source: Structure
@@ -149,6 +158,9 @@ class StructureModel:
     _coverage_rho: float = field(repr=False, default=-1.0)
     #: Bearing weights of a structure entering from one side of a free frame (:mod:`.tropism`), or None.
     tropism: np.ndarray | None = field(repr=False, default=None)
+    #: The step asked for when the example was too short for it and :func:`fit_model` took a finer
+    #: one (``params.h``); None when the step asked for was used.
+    requested_h: float | None = None
 
     @property
     def region(self) -> np.ndarray | None:
@@ -252,7 +264,9 @@ class StructureModel:
             True when the fitted fields agree (the other fields only steer
             synthesis).
         """
-        return all(getattr(params, f) == getattr(self.params, f) for f in _FIT_FIELDS)
+        return all(getattr(params, f) == getattr(self.params, f) for f in _FIT_FIELDS) or (
+            self.requested_h is not None and params.h == self.requested_h
+            and all(getattr(params, f) == getattr(self.params, f) for f in _FIT_FIELDS if f != "h"))
 
 
 def _check_example(example) -> Structure:
@@ -295,9 +309,13 @@ def fit_model(example: Structure, params: SynthesisParams | None = None, *,
     ------
     ValueError
         Empty example, or no branch with at least ``k + m + 2`` vertices
-        after resampling (a full history of ``k + 1`` elements plus a
-        continuation is needed somewhere). Shorter branches are kept: they
-        feed the histograms, the furcation model and the candidates for
+        after resampling even at the finest step :data:`MIN_STEP` (a full
+        history of ``k + 1`` elements plus a continuation is needed
+        somewhere). An example too short for ``h`` but not for
+        :data:`MIN_STEP` is fitted at a finer step, with a ``UserWarning``
+        (beyond the paper; :attr:`StructureModel.requested_h` keeps ``h``).
+        Shorter branches are kept: they feed the histograms, the furcation
+        model and the candidates for
         short histories (the start of a branch).
 
     Examples
@@ -323,13 +341,23 @@ def fit_model(example: Structure, params: SynthesisParams | None = None, *,
         if not dom.any():
             raise ValueError("domain is empty: no pixel where branches may grow")
     # beyond the paper: a strand cut where another passes over it (line art) is one branch again
-    ex = join_strands(example).resampled(p.h)
+    joined = join_strands(example)
+    ex = joined.resampled(p.h)
     longest = max(len(b.points) for b in ex.branches)
     need = p.k + p.m + 2
+    requested_h = None
     if longest < need:
-        raise ValueError(
-            f"every branch of example is shorter than k + m: the longest has {longest} vertices at "
-            f"step h = {p.h}, need k + m + 2 = {need}. Lower k or m, lower h, or annotate longer branches")
+        h = _small_example_step(joined, need)
+        if h < MIN_STEP or h >= p.h:
+            raise ValueError(
+                f"every branch of example is shorter than k + m: the longest has {longest} vertices at "
+                f"step h = {p.h}, need k + m + 2 = {need}. Lower k or m, lower h, or annotate longer branches")
+        warnings.warn(
+            f"the example's longest branch ({max(b.length for b in joined.branches):.0f} px) is too short for "
+            f"k + m = {p.k + p.m} steps of h = {p.h} px: fitted at step h = {h:.2f} px (a small example)",
+            UserWarning, stacklevel=3)
+        requested_h, p = p.h, dataclasses.replace(p, h=h)
+        ex = joined.resampled(p.h)
     report(0.0, "bending model")
     bending = BendingModel.fit(ex, p.m, p.k, p.h)
     report(0.1, "furcation model (SVM)")
@@ -380,7 +408,7 @@ def fit_model(example: Structure, params: SynthesisParams | None = None, *,
                           max_branch_length=max(b.length for b in ex.branches),
                           r_min=float(ex_radii.min()),
                           rho=rho, domain=dom, coverage=cover, _coverage_rho=p.rho if p.rho > 0 else rho,
-                          roots=roots, drains=drains, ground=ground, tropism=trop,
+                          roots=roots, drains=drains, ground=ground, tropism=trop, requested_h=requested_h,
                           branch_generation=np.array([ex.generation(i) for i in range(nb)]),
                           branch_length=np.array([b.length for b in ex.branches]),
                           branch_r0=np.array([np.mean(b.thickness[:3]) for b in ex.branches]))
@@ -391,6 +419,20 @@ def fit_model(example: Structure, params: SynthesisParams | None = None, *,
     # the matcher's example measures, taken once here (see StructureModel.matcher)
     model.__dict__["_matcher_data"] = ((id(ex), len(ex.branches)), ex_angles, ex_radii)
     return model
+
+
+def _small_example_step(example: Structure, need: int) -> float:
+    """The step at which the example's longest branch has ``need + 1`` vertices.
+
+    Beyond the paper: its step ``h`` = 4 px suits examples of a few hundred
+    pixels; a small image (an icon, a thumbnail, a 128 px map) may have no
+    branch of ``(k + m + 1) h`` pixels. Rather than refuse it, the models are
+    fitted at the finer step that gives the longest branch one full history
+    plus a continuation and a spare vertex (the bending model then learns the
+    same number of steps over the shorter branch, as if the example had been
+    drawn larger).
+    """
+    return max(b.length for b in example.branches) / need
 
 
 #: Seconds between progress calls while the furcation SVM runs (see :func:`_fit_furcations`).

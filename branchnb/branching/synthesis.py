@@ -202,6 +202,9 @@ def _resolve(example, params) -> tuple[StructureModel, SynthesisParams]:
         model = example if example.compatible(p) else fit_model(example.source, p, domain=example.domain)
     else:
         model = fit_model(_check_example(example), p)
+    if model.requested_h is not None and p.h == model.requested_h:
+        # a small example was fitted at a finer step: synthesis walks at the step the models know
+        p = dataclasses.replace(p, h=model.params.h)
     return model, p
 
 

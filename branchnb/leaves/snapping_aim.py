@@ -23,10 +23,11 @@ secondaries (training 04 -> maple 05).
 Measured (``python -m branchnb.leaves._measure maples``, 42 pairs, each sample maple as training
 leaf): 04 -> 07 0.443 -> 0.544 (its left lateral on 07's own vein), 01 -> 07 0.664 -> 0.647 (the same
 lateral re-aimed, ray score 2.3 times its own: its path lay on 07's vein before and after, the new
-trace ends in a wider hook at the torn lobe's notch), the other 40 pairs identical; mean 0.7326 -> 0.7346, least 0.443 -> 0.493. The
-ratio separates: the two re-aims scored 1.53 and 2.26 times their own, the next lateral 1.41 (07 ->
-02, not re-aimed). Procedural families (``_measure snapping``): their traced layers' primaries seldom
-make a star (elliptic 384 px seeds 0-1 min / mean 0.73 / 0.82 before and after).
+trace ends in a wider hook at the torn lobe's notch), the other 40 pairs identical; mean 0.7326 ->
+0.7346, least 0.443 -> 0.493. The ratio separates: the two re-aims scored 1.53 and 2.26 times their
+own, the next lateral 1.41 (07 -> 02, not re-aimed). Procedural families (``_measure snapping``):
+their traced layers' primaries seldom make a star (elliptic 384 px seeds 0-1 min / mean 0.73 / 0.82
+before and after).
 
 Tried, not kept: a star path's outer tail fainter as a whole than 0.65 of the leaf's median path
 evidence cut (07's hand trace stops where its midrib fades past a crease of small holes): 02 -> 07
