@@ -117,9 +117,25 @@ def tree_stats(s, centres, r0: float) -> dict:
             a = np.sort(a)
             gaps = np.diff(np.r_[a, a[0] + 2 * np.pi])
             nn.extend(np.minimum(gaps, np.roll(gaps, 1)) / (2 * np.pi / len(a)))
-    return {"bp": kids / n_sp, "bpL": 100.0 * kids / max(lengths.sum(), 1e-9),
+    tp = []   # a child's taper: its mean radius over its last fifth / its first fifth
+    for i in np.flatnonzero(gen > 0):
+        r = np.asarray(s.branches[i].thickness, np.float64)
+        if r.size >= 5:
+            q = max(r.size // 5, 1)
+            tp.append(float(np.mean(r[-q:]) / max(np.mean(r[:q]), 1e-9)))
+    return {"taper": float(np.median(tp)) if tp else float("nan"),
+            "min": float(np.min(nn)) if nn else 0.0, "bp": kids / n_sp, "bpL": 100.0 * kids / max(lengths.sum(), 1e-9),
             "gen": [int((gen == k).sum()) for k in (1, 2, 3)],
             "stub": int((near & (lengths < 2 * width)).sum()), "nn": float(np.median(nn)) if nn else 0.0}
+
+
+def coverage(s, shape, share: float = 0.05) -> float:
+    """Share of the frame within ``share`` x its diagonal of a branch's centre line."""
+    h, w = shape
+    m = np.ones((h, w), np.uint8)
+    for b in s.branches:
+        cv2.polylines(m, [np.int32(np.round(b.points))], False, 0, 1)
+    return float((cv2.distanceTransform(m, cv2.DIST_L2, 5) <= share * np.hypot(h, w)).mean())
 
 
 def joint_contrast(gray, s, centres, r0: float, ink: float, ground: float) -> float:
@@ -219,7 +235,9 @@ def case(kind: str, size: int, seed: int, png: str | None = None, cache: str | N
             f"syn {[e[0] for e in sy]} gap {[round(e[1]) for e in sy]} | hub {ratio} | "
             f"bp/p {te['bp']:.1f}/{ts['bp']:.1f} bp/L {te['bpL']:.2f}/{ts['bpL']:.2f} "
             f"gen {'/'.join(map(str, te['gen']))}|{'/'.join(map(str, ts['gen']))} stub {te['stub']}/{ts['stub']} "
-            f"nn {te['nn']:.2f}/{ts['nn']:.2f} stubI {ie}/{is_} joint {je:.2f}/{js:.2f}")
+            f"nn {te['nn']:.2f}/{ts['nn']:.2f} min {te['min']:.2f}/{ts['min']:.2f} "
+            f"taper {te['taper']:.2f}/{ts['taper']:.2f} cov {coverage(s, g.shape):.2f}/{coverage(res.structure, g.shape):.2f} "
+            f"stubI {ie}/{is_} joint {je:.2f}/{js:.2f}")
 
 
 def main(argv=None) -> None:

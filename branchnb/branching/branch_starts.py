@@ -427,6 +427,11 @@ class _Starts:
             st.fan = self.drain.bearing(x0, pl[-1] - x0, self.branches[parent].fan, spread=spread)
             if trunk:
                 self._fan_count = (self._fan_count[0] + (side > 0), self._fan_count[1] + (side < 0))
+        if parent is not None and self.radial and p.thickness_blend:
+            # a hub's child tapers like the example's children of its generation (.radial._taper_profile)
+            from .radial import _taper_profile
+
+            st.profile = _taper_profile(model, generation, float(max(radii[:3])), st.target)
         self._register(pl, ea, radii)
         if parent is not None:
             self._child_count(radii)

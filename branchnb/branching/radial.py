@@ -181,6 +181,52 @@ def _fork_weights(model, generation: int, n: int) -> np.ndarray | None:
     return np.maximum(w / max(float(w.max()), 1e-12), FORK_FLOOR)
 
 
+#: Relative arc lengths at which :func:`_taper_profile` reads the example's children's radii.
+TAPER_SAMPLES = np.linspace(0.0, 1.0, 11)
+
+
+def _taper_profile(model, generation: int, r0: float, target: float):
+    """``(s, r)``: the radius a hub's child of ``generation`` starting at ``r0`` and ``target`` px long
+    has at arc length ``s`` (pixels): ``r0`` times the median over the example's branches of that
+    generation (read as :func:`_hub_view`; the deepest one if deeper) of their radius at the same share
+    of their length over their first radius; None without a hub view (beyond the paper, issue 23).
+
+    The synthesized radii follow the copied pieces' relative changes
+    (:func:`~branchnb.branching.scoring._continue_radii`) from the radius the child started at, and
+    pieces copied from anywhere along the example's branches pass on no taper of their own: the
+    children of a coral's or a brittle star's arms kept their start width to the end (end / start
+    radius ~1.0 where the example's thin to ~0.5), blunt ends where the example's taper to a point.
+    The child's radii are drawn back to this profile (``growth.CHILD_PROFILE_PULL``) as a root's are
+    to its input root's (``_Starts._root_profile``).
+    """
+    got = model.__dict__.get("_taper_profiles")
+    if got is None:
+        got = {}
+        gen = getattr(model.furcation, "branch_generations", None)
+        ex = model.example
+        if gen is not None and len(gen) == len(ex.branches):
+            for g in np.unique(gen[gen > 0]):
+                rows = []
+                for i in np.flatnonzero(gen == g):
+                    b = ex.branches[i]
+                    r = np.broadcast_to(np.asarray(b.thickness, np.float64), (len(b.points),))
+                    if len(r) < 3 or r[0] <= 0:
+                        continue
+                    t = np.r_[0.0, np.cumsum(np.hypot(*np.diff(np.asarray(b.points, np.float64), axis=0).T))]
+                    rows.append(np.interp(TAPER_SAMPLES * t[-1], t, r) / max(float(np.mean(r[:2])), 1e-9))
+                if rows:
+                    got[int(g)] = np.median(np.asarray(rows), axis=0)
+        model.__dict__["_taper_profiles"] = got
+    if not got or not np.isfinite(target) or target <= 0:
+        return None
+    g = min(int(generation), max(got))
+    while g not in got and g > 1:
+        g -= 1
+    if g not in got:
+        return None
+    return TAPER_SAMPLES * float(target), r0 * np.minimum(got[g], 1.0)
+
+
 class _HubStarts(list):
     """The root starts :func:`_hub_starts` made (hub primaries), with ``hubs`` and ``scale`` on them so
     the grower knows its roots are primaries (:func:`_hub_budget`)."""
@@ -189,7 +235,7 @@ class _HubStarts(list):
     scale: float = 1.0
 
 
-def _hub_budget(model, n_hubs: int, scale: float) -> float:
+def _hub_budget(model, n_hubs: int, scale: float, n_primaries: int | None = None) -> float:
     """The total length at which the synthesis of ``n_hubs`` hubs (scaled ``scale`` x the example's)
     stops: the example's length per hub, times ``n_hubs``, times ``scale`` (beyond the paper,
     issue 23).
@@ -206,10 +252,17 @@ def _hub_budget(model, n_hubs: int, scale: float) -> float:
     went to primaries grown on past their drawn length (a 256 px neuron mask's 100 px arms to 176 px).
     Figures (``python -m branchnb.branching._radial_synth_check 0,1,2 all``): branch points per primary,
     example / main -> now, neuron 1.4/0.0 -> 1.4, coral 4.6/0.1 -> 3.9, neuron_dark 3.4/0.0 -> 3.9.
+
+    With ``n_primaries`` (branching75) the budget is the example's length per spoke times the primaries
+    that started: hubs copy one of the example's at random, and a neuron's three somas of 4, 5 and 9
+    spokes drew 9, 4 and 9 primaries, whose children then shared the length of 18 spokes among 22
+    (branch points per primary 0.6 x the example's).
     """
     from .stopping import LENGTH_FACTOR, example_length
 
     hm = _hub_model(model)
+    if n_primaries is not None and hm is not None and sum(hm.counts) > 0:
+        return LENGTH_FACTOR * example_length(model) / sum(hm.counts) * n_primaries * scale
     n_ex = max(len(hm.radii) if hm is not None else 1, 1)
     return LENGTH_FACTOR * example_length(model) / n_ex * n_hubs * scale
 
