@@ -14,6 +14,11 @@ white on black, 0/1), extracts, fits and synthesizes it with the defaults and pr
 - ``stub`` branches shorter than 2 line widths starting within 2 hub radii of a centre;
 - ``nn`` the median nearest-neighbour angle between a hub's primaries read at 2 radii, over the even share
   ``360 / n`` (1: evenly spread; primaries running in pairs read low), example / synthesized;
+- ``min`` / ``min3`` (branching75) the smallest gap between neighbouring primaries over the even share,
+  read at 2 and 3 radii (primaries running in pairs read low), example / synthesized;
+- ``taper`` the median over children (below the primaries) of their mean radius over their last fifth
+  over their first fifth, example / synthesized; ``cov`` the share of the frame within 5 % of its
+  diagonal of a line, example / synthesized;
 - ``stubI`` line-coloured blobs (>= 3 px) between 1.0 and 1.35 hub radii farther than 2 px from the
   structure's lines (drawn at their radii): stubs the image shows by the hub that no branch explains;
 - ``joint`` the median over primaries of the lightest line contrast along the primary between 0.9 and 1.6
@@ -53,6 +58,18 @@ def spoke_angles(s, x: float, y: float, r: float) -> np.ndarray:
     for b in s.branches:
         d = np.hypot(b.points[:, 0] - x, b.points[:, 1] - y)
         far = np.flatnonzero(d > 1.3 * r)
+        if d[0] <= 1.1 * r and far.size:
+            p = b.points[far[0]]
+            a.append(np.arctan2(p[1] - y, p[0] - x) % (2 * np.pi))
+    return np.sort(a)
+
+
+def _read_at(s, x: float, y: float, r: float, at: float) -> np.ndarray:
+    """Sorted angles of the branches starting within 1.1 r of (x, y), read where they pass ``at`` r."""
+    a = []
+    for b in s.branches:
+        d = np.hypot(b.points[:, 0] - x, b.points[:, 1] - y)
+        far = np.flatnonzero(d > at * r)
         if d[0] <= 1.1 * r and far.size:
             p = b.points[far[0]]
             a.append(np.arctan2(p[1] - y, p[0] - x) % (2 * np.pi))
@@ -117,6 +134,13 @@ def tree_stats(s, centres, r0: float) -> dict:
             a = np.sort(a)
             gaps = np.diff(np.r_[a, a[0] + 2 * np.pi])
             nn.extend(np.minimum(gaps, np.roll(gaps, 1)) / (2 * np.pi / len(a)))
+    m3 = []   # the smallest gap between neighbouring primaries read at 3 radii, over the even share
+    for c in centres:
+        x, y, r = _centre_r(c, r0)
+        a = [t for t in _read_at(s, x, y, r, 3.0)]
+        if len(a) >= 2:
+            gaps = np.diff(np.r_[a, a[0] + 2 * np.pi])
+            m3.append(float(gaps.min() / (2 * np.pi / len(a))))
     tp = []   # a child's taper: its mean radius over its last fifth / its first fifth
     for i in np.flatnonzero(gen > 0):
         r = np.asarray(s.branches[i].thickness, np.float64)
@@ -124,7 +148,8 @@ def tree_stats(s, centres, r0: float) -> dict:
             q = max(r.size // 5, 1)
             tp.append(float(np.mean(r[-q:]) / max(np.mean(r[:q]), 1e-9)))
     return {"taper": float(np.median(tp)) if tp else float("nan"),
-            "min": float(np.min(nn)) if nn else 0.0, "bp": kids / n_sp, "bpL": 100.0 * kids / max(lengths.sum(), 1e-9),
+            "min": float(np.min(nn)) if nn else 0.0, "min3": float(np.min(m3)) if m3 else 0.0,
+            "bp": kids / n_sp, "bpL": 100.0 * kids / max(lengths.sum(), 1e-9),
             "gen": [int((gen == k).sum()) for k in (1, 2, 3)],
             "stub": int((near & (lengths < 2 * width)).sum()), "nn": float(np.median(nn)) if nn else 0.0}
 
@@ -236,7 +261,8 @@ def case(kind: str, size: int, seed: int, png: str | None = None, cache: str | N
             f"bp/p {te['bp']:.1f}/{ts['bp']:.1f} bp/L {te['bpL']:.2f}/{ts['bpL']:.2f} "
             f"gen {'/'.join(map(str, te['gen']))}|{'/'.join(map(str, ts['gen']))} stub {te['stub']}/{ts['stub']} "
             f"nn {te['nn']:.2f}/{ts['nn']:.2f} min {te['min']:.2f}/{ts['min']:.2f} "
-            f"taper {te['taper']:.2f}/{ts['taper']:.2f} cov {coverage(s, g.shape):.2f}/{coverage(res.structure, g.shape):.2f} "
+            f"min3 {te['min3']:.2f}/{ts['min3']:.2f} taper {te['taper']:.2f}/{ts['taper']:.2f} "
+            f"cov {coverage(s, g.shape):.2f}/{coverage(res.structure, g.shape):.2f} "
             f"stubI {ie}/{is_} joint {je:.2f}/{js:.2f}")
 
 

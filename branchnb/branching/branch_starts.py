@@ -578,6 +578,9 @@ class _Starts:
     def start_child(self, parent: int, vertex: int, toward=None, full: bool = False) -> int | None:
         model, fm = self.model, self.model.furcation
         st = self.branches[parent]
+        cap = self._gen_cap.get(st.generation + 1) if self._gen_cap else None
+        if cap is not None and sum(b.generation == st.generation + 1 for b in self.branches) >= cap:
+            return None   # a hub's forest has as many children of this generation as the example's
         k = fm.k
         # the parent's non-causal window at the vertex (window_features of the vertices around it only)
         lo, hi = max(vertex - k - 1, 0), min(vertex + k + 2, len(st.points))

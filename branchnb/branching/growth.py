@@ -328,6 +328,7 @@ class _Grower(_Starts, _Filling):
         self.r_keep = _radius_keep(model.example) if self.drain is not None else 0.0
         self.fill_rounds = 0
         self.radial = False   # roots are hub primaries (set by run)
+        self._gen_cap: dict = {}   # radial: children per generation at most (.radial._generation_caps)
         self._empty_dt: np.ndarray | None = None
         self.attempt = 1
         self.progress = None  # progress(GrowthProgress) after every Markov step
@@ -757,16 +758,21 @@ class _Grower(_Starts, _Filling):
     def run(self, starts) -> None:
         if getattr(starts, "hubs", None) and self.p.max_total_length <= 0 and self.p.max_coverage <= 0:
             # a hub's primaries: the example's length per hub, not its coverage (.radial._hub_budget)
-            from .radial import _hub_budget
+            from .radial import _generation_caps, _hub_budget
 
             self.max_total = _hub_budget(self.model, len(starts.hubs), starts.scale, len(starts))
             self.coverage_target, self.radial = 1.0, True
+            self._gen_cap = _generation_caps(self.model, len(starts))
         queue = []
         for (x, y, th) in starts:
             if self.global_stop():
                 break
             r = self.start_root(x, y, th)
             if r is not None:
+                if self.radial:   # a hub's primary heads out along its spoke first (.radial._spoke_goal)
+                    from .radial import _spoke_goal
+
+                    self.branches[r].goal = _spoke_goal(starts.hubs, x, y)
                 queue.append(r)
         self._drain(queue)
         self._fill_rounds()

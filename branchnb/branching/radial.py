@@ -227,6 +227,53 @@ def _taper_profile(model, generation: int, r0: float, target: float):
     return TAPER_SAMPLES * float(target), r0 * np.minimum(got[g], 1.0)
 
 
+def _generation_caps(model, n_primaries: int) -> dict[int, int]:
+    """``{generation: most children}`` of a synthesis from ``n_primaries`` hub primaries: the example's
+    branches of each generation below its spokes (read as :func:`_hub_view`) per spoke, times
+    ``n_primaries``, rounded up; ``{}`` without a hub view (beyond the paper, issue 23).
+
+    The length budget (:func:`_hub_budget`) is spent by whatever grows: where the synthesized
+    branches came out shorter than the example's, the fill rounds furcated them again until the
+    length was used, and a neuron's or coral's primaries carried 1.2-1.4 x the example's branch
+    points (without the fill rounds 0.55-1.0 x). Capped, the fill rounds add children only up to
+    the example's count, generation by generation.
+    """
+    gen = getattr(model.furcation, "branch_generations", None)
+    if gen is None or model.__dict__.get("_fork_positions") is None:
+        return {}
+    gen = np.asarray(gen)
+    n_sp = int((gen == 0).sum())
+    if n_sp == 0:
+        return {}
+    top = int(gen.max(initial=0))
+    return {g: int(np.ceil(float((gen == g).sum()) * n_primaries / n_sp - 1e-9)) for g in range(1, top + 2)}
+
+
+#: A hub's primary is pulled toward the point this many hub radii out along its spoke (:func:`_spoke_goal`).
+SPOKE_GOAL = 4.0
+
+
+def _spoke_goal(hubs, x: float, y: float) -> np.ndarray | None:
+    """The goal (``_BranchState.goal``, pulled toward as a branch grown into a hole is) of the primary
+    starting at ``(x, y)`` on the rim of the nearest of ``hubs``: :data:`SPOKE_GOAL` radii out from the
+    centre through the start; None off every rim (beyond the paper, issue 23).
+
+    Started on the rim heading out, the primaries copy heads from anywhere in the example and turn
+    as they do; nothing keeps neighbours apart before their lines are close, and two of them often
+    ran side by side: the smallest gap between neighbouring primaries (over the even share) at 3
+    radii was 0.17-0.39 where the example's spokes keep 0.63-0.81.
+    """
+    if not hubs:
+        return None
+    c = np.asarray([h[:2] for h in hubs], np.float64)
+    r = np.asarray([h[2] for h in hubs], np.float64)
+    d = np.hypot(c[:, 0] - x, c[:, 1] - y)
+    j = int(np.argmin(d / np.maximum(r, 1e-9)))
+    if d[j] > 1.5 * r[j] or d[j] <= 1e-9:
+        return None
+    return c[j] + (np.array([x, y]) - c[j]) * (SPOKE_GOAL * r[j] / d[j])
+
+
 class _HubStarts(list):
     """The root starts :func:`_hub_starts` made (hub primaries), with ``hubs`` and ``scale`` on them so
     the grower knows its roots are primaries (:func:`_hub_budget`)."""
