@@ -116,6 +116,7 @@ class _BranchState:
     #: a branch grown into a hole (see ``_Filling._fill_far``): the hole's centre (x, y) it heads
     #: for until within ``rho`` of it; None = free growth
     goal: np.ndarray | None = None
+    goal_kappa: float | None = None   # the goal's pull (None: filling.GOAL_KAPPA)
     #: (lowest, highest) heading along the branch so far (radians, unwrapped); None = not started
     heads: tuple | None = None
     #: a delta's channel that left its parent below the head: its own fan bearing (unit x, y,
@@ -578,7 +579,8 @@ class _Starts:
     def start_child(self, parent: int, vertex: int, toward=None, full: bool = False) -> int | None:
         model, fm = self.model, self.model.furcation
         st = self.branches[parent]
-        cap = self._gen_cap.get(st.generation + 1) if self._gen_cap else None
+        caps = getattr(self, "_gen_cap", None)
+        cap = caps.get(st.generation + 1) if caps else None
         if cap is not None and sum(b.generation == st.generation + 1 for b in self.branches) >= cap:
             return None   # a hub's forest has as many children of this generation as the example's
         k = fm.k

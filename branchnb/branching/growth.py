@@ -770,9 +770,10 @@ class _Grower(_Starts, _Filling):
             r = self.start_root(x, y, th)
             if r is not None:
                 if self.radial:   # a hub's primary heads out along its spoke first (.radial._spoke_goal)
-                    from .radial import _spoke_goal
+                    from .radial import SPOKE_KAPPA, _spoke_goal
 
                     self.branches[r].goal = _spoke_goal(starts.hubs, x, y)
+                    self.branches[r].goal_kappa = SPOKE_KAPPA
                 queue.append(r)
         self._drain(queue)
         self._fill_rounds()

@@ -251,6 +251,8 @@ def _generation_caps(model, n_primaries: int) -> dict[int, int]:
 
 #: A hub's primary is pulled toward the point this many hub radii out along its spoke (:func:`_spoke_goal`).
 SPOKE_GOAL = 4.0
+#: ... with candidates scored x ``exp(SPOKE_KAPPA (cos - 1))`` (``cos`` toward the goal; a hole's pull is 2).
+SPOKE_KAPPA = 20.0
 
 
 def _spoke_goal(hubs, x: float, y: float) -> np.ndarray | None:
