@@ -29,12 +29,13 @@ synthesized / example 0.09 -> 1.01, range 0.62-1.56), joint 0.51-1.00 -> 0.71-1.
 a mask's hub 0.06-0.1 -> 0.9-1.0, primaries per hub and largest gap unchanged; image stubs by the hub 0-12
 (example 0-14; drawn from inside the hub, .radial._into_hubs: no dark notches, coral 512 s0 joint 0.92 -> 0.85).
 
-branching75 (main -> now, structures of the 16 cached neuron/coral/crack cases, rng = seed): branch points
-per primary synthesized / example 0.62-1.38 -> 0.80-1.03 (16 of 16 in 0.8-1.2; children per generation
-capped at the example's per spoke, .radial._generation_caps; hub budget per primary); children's taper
-(end / start radius) 0.96-1.08 -> 0.64-0.85 where the example's are 0.57-0.75 on corals (1.0 -> 1.0 where the
-example's children do not thin); primaries' turn from the rim to 3 radii 14-19 -> 0.4-10 deg (example
-0.6-8.8; .radial._spoke_goal); smallest neighbour gap at 3 radii over the example's on coral 1024 0.79 -> 0.90.
+branching75 (main -> now, 21 cases): branch points per primary synthesized / example 0.62-1.56 -> 0.67-1.03
+(in 0.8-1.2: 14 -> 19 of 21; children per generation capped at the example's per spoke,
+.radial._generation_caps; hub budget per primary; below 0.8: crack_bright 512 s2 0.67, mask 256 s0 0.75, the
+length budget runs out first); children's taper (end / start radius) 0.95-1.10 -> 0.64-0.85 where the
+example's are 0.46-0.86 (1.0 -> 1.0 where the example's children do not thin; .radial._taper_profile);
+median turn of a primary from the rim to 3 radii 1.7-24.5 -> 0.4-10.3 deg (example 0.6-8.8;
+.radial._spoke_goal); smallest neighbour gap at 3 radii over the example's 0.56-1.55 -> 0.79-1.80.
 
 PNG_DIR: example | synthesized image per case. CACHE_DIR: extracted examples kept (pickles) for reruns.
 """
