@@ -14,6 +14,11 @@ white on black, 0/1), extracts, fits and synthesizes it with the defaults and pr
 - ``stub`` branches shorter than 2 line widths starting within 2 hub radii of a centre;
 - ``nn`` the median nearest-neighbour angle between a hub's primaries read at 2 radii, over the even share
   ``360 / n`` (1: evenly spread; primaries running in pairs read low), example / synthesized;
+- ``min`` / ``min3`` (branching75) the smallest gap between neighbouring primaries over the even share,
+  read at 2 and 3 radii (primaries running in pairs read low), example / synthesized;
+- ``taper`` the median over children (below the primaries) of their mean radius over their last fifth
+  over their first fifth, example / synthesized; ``cov`` the share of the frame within 5 % of its
+  diagonal of a line, example / synthesized;
 - ``stubI`` line-coloured blobs (>= 3 px) between 1.0 and 1.35 hub radii farther than 2 px from the
   structure's lines (drawn at their radii): stubs the image shows by the hub that no branch explains;
 - ``joint`` the median over primaries of the lightest line contrast along the primary between 0.9 and 1.6
@@ -23,6 +28,14 @@ branching69 (main -> now, 21 cases): branch points per primary 0.0-1.8 -> 0.8-6.
 synthesized / example 0.09 -> 1.01, range 0.62-1.56), joint 0.51-1.00 -> 0.71-1.32 (example 0.97-1.73),
 a mask's hub 0.06-0.1 -> 0.9-1.0, primaries per hub and largest gap unchanged; image stubs by the hub 0-12
 (example 0-14; drawn from inside the hub, .radial._into_hubs: no dark notches, coral 512 s0 joint 0.92 -> 0.85).
+
+branching75 (main -> now, 21 cases): branch points per primary synthesized / example 0.62-1.56 -> 0.67-1.03
+(in 0.8-1.2: 14 -> 19 of 21; children per generation capped at the example's per spoke,
+.radial._generation_caps; hub budget per primary; below 0.8: crack_bright 512 s2 0.67, mask 256 s0 0.75, the
+length budget runs out first); children's taper (end / start radius) |synthesized - example| mean 0.22 ->
+0.06, largest 0.51 -> 0.19 (main 0.95-1.10 where the example's are 0.46-0.86; .radial._taper_profile);
+median turn of a primary from the rim to 3 radii 1.7-24.5 -> 0.4-10.3 deg (example 0.6-8.8;
+.radial._spoke_goal); smallest neighbour gap at 3 radii over the example's 0.56-1.55 -> 0.79-1.80.
 
 PNG_DIR: example | synthesized image per case. CACHE_DIR: extracted examples kept (pickles) for reruns.
 """
@@ -53,6 +66,18 @@ def spoke_angles(s, x: float, y: float, r: float) -> np.ndarray:
     for b in s.branches:
         d = np.hypot(b.points[:, 0] - x, b.points[:, 1] - y)
         far = np.flatnonzero(d > 1.3 * r)
+        if d[0] <= 1.1 * r and far.size:
+            p = b.points[far[0]]
+            a.append(np.arctan2(p[1] - y, p[0] - x) % (2 * np.pi))
+    return np.sort(a)
+
+
+def _read_at(s, x: float, y: float, r: float, at: float) -> np.ndarray:
+    """Sorted angles of the branches starting within 1.1 r of (x, y), read where they pass ``at`` r."""
+    a = []
+    for b in s.branches:
+        d = np.hypot(b.points[:, 0] - x, b.points[:, 1] - y)
+        far = np.flatnonzero(d > at * r)
         if d[0] <= 1.1 * r and far.size:
             p = b.points[far[0]]
             a.append(np.arctan2(p[1] - y, p[0] - x) % (2 * np.pi))
@@ -117,9 +142,33 @@ def tree_stats(s, centres, r0: float) -> dict:
             a = np.sort(a)
             gaps = np.diff(np.r_[a, a[0] + 2 * np.pi])
             nn.extend(np.minimum(gaps, np.roll(gaps, 1)) / (2 * np.pi / len(a)))
-    return {"bp": kids / n_sp, "bpL": 100.0 * kids / max(lengths.sum(), 1e-9),
+    m3 = []   # the smallest gap between neighbouring primaries read at 3 radii, over the even share
+    for c in centres:
+        x, y, r = _centre_r(c, r0)
+        a = [t for t in _read_at(s, x, y, r, 3.0)]
+        if len(a) >= 2:
+            gaps = np.diff(np.r_[a, a[0] + 2 * np.pi])
+            m3.append(float(gaps.min() / (2 * np.pi / len(a))))
+    tp = []   # a child's taper: its mean radius over its last fifth / its first fifth
+    for i in np.flatnonzero(gen > 0):
+        r = np.asarray(s.branches[i].thickness, np.float64)
+        if r.size >= 5:
+            q = max(r.size // 5, 1)
+            tp.append(float(np.mean(r[-q:]) / max(np.mean(r[:q]), 1e-9)))
+    return {"taper": float(np.median(tp)) if tp else float("nan"),
+            "min": float(np.min(nn)) if nn else 0.0, "min3": float(np.min(m3)) if m3 else 0.0,
+            "bp": kids / n_sp, "bpL": 100.0 * kids / max(lengths.sum(), 1e-9),
             "gen": [int((gen == k).sum()) for k in (1, 2, 3)],
             "stub": int((near & (lengths < 2 * width)).sum()), "nn": float(np.median(nn)) if nn else 0.0}
+
+
+def coverage(s, shape, share: float = 0.05) -> float:
+    """Share of the frame within ``share`` x its diagonal of a branch's centre line."""
+    h, w = shape
+    m = np.ones((h, w), np.uint8)
+    for b in s.branches:
+        cv2.polylines(m, [np.int32(np.round(b.points))], False, 0, 1)
+    return float((cv2.distanceTransform(m, cv2.DIST_L2, 5) <= share * np.hypot(h, w)).mean())
 
 
 def joint_contrast(gray, s, centres, r0: float, ink: float, ground: float) -> float:
@@ -219,7 +268,10 @@ def case(kind: str, size: int, seed: int, png: str | None = None, cache: str | N
             f"syn {[e[0] for e in sy]} gap {[round(e[1]) for e in sy]} | hub {ratio} | "
             f"bp/p {te['bp']:.1f}/{ts['bp']:.1f} bp/L {te['bpL']:.2f}/{ts['bpL']:.2f} "
             f"gen {'/'.join(map(str, te['gen']))}|{'/'.join(map(str, ts['gen']))} stub {te['stub']}/{ts['stub']} "
-            f"nn {te['nn']:.2f}/{ts['nn']:.2f} stubI {ie}/{is_} joint {je:.2f}/{js:.2f}")
+            f"nn {te['nn']:.2f}/{ts['nn']:.2f} min {te['min']:.2f}/{ts['min']:.2f} "
+            f"min3 {te['min3']:.2f}/{ts['min3']:.2f} taper {te['taper']:.2f}/{ts['taper']:.2f} "
+            f"cov {coverage(s, g.shape):.2f}/{coverage(res.structure, g.shape):.2f} "
+            f"stubI {ie}/{is_} joint {je:.2f}/{js:.2f}")
 
 
 def main(argv=None) -> None:

@@ -116,6 +116,7 @@ class _BranchState:
     #: a branch grown into a hole (see ``_Filling._fill_far``): the hole's centre (x, y) it heads
     #: for until within ``rho`` of it; None = free growth
     goal: np.ndarray | None = None
+    goal_kappa: float | None = None   # the goal's pull (None: filling.GOAL_KAPPA)
     #: (lowest, highest) heading along the branch so far (radians, unwrapped); None = not started
     heads: tuple | None = None
     #: a delta's channel that left its parent below the head: its own fan bearing (unit x, y,
@@ -427,6 +428,11 @@ class _Starts:
             st.fan = self.drain.bearing(x0, pl[-1] - x0, self.branches[parent].fan, spread=spread)
             if trunk:
                 self._fan_count = (self._fan_count[0] + (side > 0), self._fan_count[1] + (side < 0))
+        if parent is not None and self.radial and p.thickness_blend:
+            # a hub's child tapers like the example's children of its generation (.radial._taper_profile)
+            from .radial import _taper_profile
+
+            st.profile = _taper_profile(model, generation, float(max(radii[:3])), st.target)
         self._register(pl, ea, radii)
         if parent is not None:
             self._child_count(radii)
@@ -573,6 +579,10 @@ class _Starts:
     def start_child(self, parent: int, vertex: int, toward=None, full: bool = False) -> int | None:
         model, fm = self.model, self.model.furcation
         st = self.branches[parent]
+        caps = getattr(self, "_gen_cap", None)
+        cap = caps.get(st.generation + 1) if caps else None
+        if cap is not None and sum(b.generation == st.generation + 1 for b in self.branches) >= cap:
+            return None   # a hub's forest has as many children of this generation as the example's
         k = fm.k
         # the parent's non-causal window at the vertex (window_features of the vertices around it only)
         lo, hi = max(vertex - k - 1, 0), min(vertex + k + 2, len(st.points))

@@ -389,7 +389,8 @@ class _Filling:
             return np.ones(len(n_arr))
         end = pts[np.arange(len(n_arr)), np.maximum(n_arr, 1) - 1] - tip
         cos = (end @ d) / np.maximum(np.hypot(end[:, 0], end[:, 1]) * dist, 1e-9)
-        return np.where(n_arr > 0, np.exp(GOAL_KAPPA * (cos - 1.0)), 1.0)
+        kappa = GOAL_KAPPA if st.goal_kappa is None else st.goal_kappa
+        return np.where(n_arr > 0, np.exp(kappa * (cos - 1.0)), 1.0)
 
     def _grow_into(self, goal: np.ndarray) -> bool:
         """Start a child at the branch vertex nearest to ``goal`` heading there, and grow it (with its children).

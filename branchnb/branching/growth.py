@@ -194,6 +194,9 @@ def _pull_radii(cont: np.ndarray, copied: np.ndarray, pull: float | None = None)
 #: :data:`RADIUS_PULL` of a root toward its input root's radius at the same arc length
 #: (:meth:`~branchnb.branching.branch_starts._Starts._root_profile`).
 ROOT_PROFILE_PULL = 0.05
+#: The same for a hub's child toward its generation's taper (:func:`.radial._taper_profile`): children
+#: are short (tens of elements), and at 0.05 the pull lagged the taper by half their length.
+CHILD_PROFILE_PULL = 0.5
 
 
 #: An example that drains (a delta): quantile of its branches' (thinnest radius over their first 90 % /
@@ -325,6 +328,7 @@ class _Grower(_Starts, _Filling):
         self.r_keep = _radius_keep(model.example) if self.drain is not None else 0.0
         self.fill_rounds = 0
         self.radial = False   # roots are hub primaries (set by run)
+        self._gen_cap: dict = {}   # radial: children per generation at most (.radial._generation_caps)
         self._empty_dt: np.ndarray | None = None
         self.attempt = 1
         self.progress = None  # progress(GrowthProgress) after every Markov step
@@ -642,7 +646,8 @@ class _Grower(_Starts, _Filling):
             # a delta's channels keep the width they started at (_channel_radius, _radius_keep): no pull
             if st.profile is not None:   # a root: toward its input root's radius there (_root_profile)
                 at = np.interp((len(st.points) - 1 + np.arange(1, n + 1)) * p.h, *st.profile)
-                rad = _pull_radii(cont, at, ROOT_PROFILE_PULL)
+                # (a hub's child: toward its generation's taper, .radial._taper_profile)
+                rad = _pull_radii(cont, at, ROOT_PROFILE_PULL if st.parent is None else CHILD_PROFILE_PULL)
             else:
                 rad = cont if self.drain is not None else _pull_radii(cont, rad)
             # beyond the paper: the taper's ratios multiply step after step, a random walk that ended
@@ -715,7 +720,9 @@ class _Grower(_Starts, _Filling):
         head = self._below_head(bi)
         # a band's strands (one-pen line art): d among the example's branches of the same generation, and the fill
         # rounds never take a branch past its generation's children per length (child_quota; issue 23)
-        fm, gen = self.model.furcation, (st.generation if self.strands else None)
+        # a hub's branches too (radial): drawn among all, a dendrite twig took a primary's count and
+        # its children twigs of their own (.radial._hub_view; issue 23)
+        fm, gen = self.model.furcation, (st.generation if self.strands or self.radial else None)
         if extra:
             d = 1
             existing = self._child_vertices(bi)
@@ -751,16 +758,22 @@ class _Grower(_Starts, _Filling):
     def run(self, starts) -> None:
         if getattr(starts, "hubs", None) and self.p.max_total_length <= 0 and self.p.max_coverage <= 0:
             # a hub's primaries: the example's length per hub, not its coverage (.radial._hub_budget)
-            from .radial import _hub_budget
+            from .radial import _generation_caps, _hub_budget
 
-            self.max_total = _hub_budget(self.model, len(starts.hubs), starts.scale)
+            self.max_total = _hub_budget(self.model, len(starts.hubs), starts.scale, len(starts))
             self.coverage_target, self.radial = 1.0, True
+            self._gen_cap = _generation_caps(self.model, len(starts))
         queue = []
         for (x, y, th) in starts:
             if self.global_stop():
                 break
             r = self.start_root(x, y, th)
             if r is not None:
+                if self.radial:   # a hub's primary heads out along its spoke first (.radial._spoke_goal)
+                    from .radial import SPOKE_KAPPA, _spoke_goal
+
+                    self.branches[r].goal = _spoke_goal(starts.hubs, x, y)
+                    self.branches[r].goal_kappa = SPOKE_KAPPA
                 queue.append(r)
         self._drain(queue)
         self._fill_rounds()

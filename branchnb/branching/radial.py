@@ -181,6 +181,101 @@ def _fork_weights(model, generation: int, n: int) -> np.ndarray | None:
     return np.maximum(w / max(float(w.max()), 1e-12), FORK_FLOOR)
 
 
+#: Relative arc lengths at which :func:`_taper_profile` reads the example's children's radii.
+TAPER_SAMPLES = np.linspace(0.0, 1.0, 11)
+
+
+def _taper_profile(model, generation: int, r0: float, target: float):
+    """``(s, r)``: the radius a hub's child of ``generation`` starting at ``r0`` and ``target`` px long
+    has at arc length ``s`` (pixels): ``r0`` times the median over the example's branches of that
+    generation (read as :func:`_hub_view`; the deepest one if deeper) of their radius at the same share
+    of their length over their first radius; None without a hub view (beyond the paper, issue 23).
+
+    The synthesized radii follow the copied pieces' relative changes
+    (:func:`~branchnb.branching.scoring._continue_radii`) from the radius the child started at, and
+    pieces copied from anywhere along the example's branches pass on no taper of their own: the
+    children of a coral's or a brittle star's arms kept their start width to the end (end / start
+    radius ~1.0 where the example's thin to ~0.5), blunt ends where the example's taper to a point.
+    The child's radii are drawn back to this profile (``growth.CHILD_PROFILE_PULL``) as a root's are
+    to its input root's (``_Starts._root_profile``).
+    """
+    got = model.__dict__.get("_taper_profiles")
+    if got is None:
+        got = {}
+        gen = getattr(model.furcation, "branch_generations", None)
+        ex = model.example
+        if gen is not None and len(gen) == len(ex.branches):
+            for g in np.unique(gen[gen > 0]):
+                rows = []
+                for i in np.flatnonzero(gen == g):
+                    b = ex.branches[i]
+                    r = np.broadcast_to(np.asarray(b.thickness, np.float64), (len(b.points),))
+                    if len(r) < 3 or r[0] <= 0:
+                        continue
+                    t = np.r_[0.0, np.cumsum(np.hypot(*np.diff(np.asarray(b.points, np.float64), axis=0).T))]
+                    rows.append(np.interp(TAPER_SAMPLES * t[-1], t, r) / max(float(np.mean(r[:2])), 1e-9))
+                if rows:
+                    got[int(g)] = np.median(np.asarray(rows), axis=0)
+        model.__dict__["_taper_profiles"] = got
+    if not got or not np.isfinite(target) or target <= 0:
+        return None
+    g = min(int(generation), max(got))
+    while g not in got and g > 1:
+        g -= 1
+    if g not in got:
+        return None
+    return TAPER_SAMPLES * float(target), r0 * np.minimum(got[g], 1.0)
+
+
+def _generation_caps(model, n_primaries: int) -> dict[int, int]:
+    """``{generation: most children}`` of a synthesis from ``n_primaries`` hub primaries: the example's
+    branches of each generation below its spokes (read as :func:`_hub_view`) per spoke, times
+    ``n_primaries``, rounded up; ``{}`` without a hub view (beyond the paper, issue 23).
+
+    The length budget (:func:`_hub_budget`) is spent by whatever grows: where the synthesized
+    branches came out shorter than the example's, the fill rounds furcated them again until the
+    length was used, and a neuron's or coral's primaries carried 1.2-1.4 x the example's branch
+    points (without the fill rounds 0.55-1.0 x). Capped, the fill rounds add children only up to
+    the example's count, generation by generation.
+    """
+    gen = getattr(model.furcation, "branch_generations", None)
+    if gen is None or model.__dict__.get("_fork_positions") is None:
+        return {}
+    gen = np.asarray(gen)
+    n_sp = int((gen == 0).sum())
+    if n_sp == 0:
+        return {}
+    top = int(gen.max(initial=0))
+    return {g: int(np.ceil(float((gen == g).sum()) * n_primaries / n_sp - 1e-9)) for g in range(1, top + 2)}
+
+
+#: A hub's primary is pulled toward the point this many hub radii out along its spoke (:func:`_spoke_goal`).
+SPOKE_GOAL = 4.0
+#: ... with candidates scored x ``exp(SPOKE_KAPPA (cos - 1))`` (``cos`` toward the goal; a hole's pull is 2).
+SPOKE_KAPPA = 20.0
+
+
+def _spoke_goal(hubs, x: float, y: float) -> np.ndarray | None:
+    """The goal (``_BranchState.goal``, pulled toward as a branch grown into a hole is) of the primary
+    starting at ``(x, y)`` on the rim of the nearest of ``hubs``: :data:`SPOKE_GOAL` radii out from the
+    centre through the start; None off every rim (beyond the paper, issue 23).
+
+    Started on the rim heading out, the primaries copy heads from anywhere in the example and turn
+    as they do; nothing keeps neighbours apart before their lines are close, and two of them often
+    ran side by side: the smallest gap between neighbouring primaries (over the even share) at 3
+    radii was 0.17-0.39 where the example's spokes keep 0.63-0.81.
+    """
+    if not hubs:
+        return None
+    c = np.asarray([h[:2] for h in hubs], np.float64)
+    r = np.asarray([h[2] for h in hubs], np.float64)
+    d = np.hypot(c[:, 0] - x, c[:, 1] - y)
+    j = int(np.argmin(d / np.maximum(r, 1e-9)))
+    if d[j] > 1.5 * r[j] or d[j] <= 1e-9:
+        return None
+    return c[j] + (np.array([x, y]) - c[j]) * (SPOKE_GOAL * r[j] / d[j])
+
+
 class _HubStarts(list):
     """The root starts :func:`_hub_starts` made (hub primaries), with ``hubs`` and ``scale`` on them so
     the grower knows its roots are primaries (:func:`_hub_budget`)."""
@@ -189,7 +284,7 @@ class _HubStarts(list):
     scale: float = 1.0
 
 
-def _hub_budget(model, n_hubs: int, scale: float) -> float:
+def _hub_budget(model, n_hubs: int, scale: float, n_primaries: int | None = None) -> float:
     """The total length at which the synthesis of ``n_hubs`` hubs (scaled ``scale`` x the example's)
     stops: the example's length per hub, times ``n_hubs``, times ``scale`` (beyond the paper,
     issue 23).
@@ -206,10 +301,17 @@ def _hub_budget(model, n_hubs: int, scale: float) -> float:
     went to primaries grown on past their drawn length (a 256 px neuron mask's 100 px arms to 176 px).
     Figures (``python -m branchnb.branching._radial_synth_check 0,1,2 all``): branch points per primary,
     example / main -> now, neuron 1.4/0.0 -> 1.4, coral 4.6/0.1 -> 3.9, neuron_dark 3.4/0.0 -> 3.9.
+
+    With ``n_primaries`` (branching75) the budget is the example's length per spoke times the primaries
+    that started: hubs copy one of the example's at random, and a neuron's three somas of 4, 5 and 9
+    spokes drew 9, 4 and 9 primaries, whose children then shared the length of 18 spokes among 22
+    (branch points per primary 0.6 x the example's).
     """
     from .stopping import LENGTH_FACTOR, example_length
 
     hm = _hub_model(model)
+    if n_primaries is not None and hm is not None and sum(hm.counts) > 0:
+        return LENGTH_FACTOR * example_length(model) / sum(hm.counts) * n_primaries * scale
     n_ex = max(len(hm.radii) if hm is not None else 1, 1)
     return LENGTH_FACTOR * example_length(model) / n_ex * n_hubs * scale
 
