@@ -444,7 +444,9 @@ def clear_stale_outline(layer: np.ndarray, src_depth: np.ndarray, style: Outline
                 soft[soft] = d_ink < half
                 inked |= soft
                 good &= ~soft
-        stale |= deep & filled & inked
+        # (ink a closing copied beyond the outline's band is on no outline: a doubled hair
+        # along the rim where a turned tentacle leaves the head)
+        stale |= obj & (e > style.width + 0.5) & filled & inked
     stale, good = _tinted_rim(layer, stale, deep, good, src_depth, style)
     if not stale.any() or not good.any():
         return layer
