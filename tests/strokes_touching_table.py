@@ -168,7 +168,9 @@ def _hairs(img, src_img, ow):
     the outline's width + 2 px inside the silhouette: ink hairs and trails on no outline."""
     sa = src_img[..., 3]
     e_s = ndi.distance_transform_edt(sa > 0.5)
-    ring = (sa > 0.9) & (e_s >= 1) & (e_s <= max(ow - 1, 1))
+    ring = (sa > 0.9) & (e_s <= ow + 0.5)
+    if ring.sum() < 10:
+        ring = (sa > 0.5) & (e_s <= ow + 0.5)
     col = np.median(src_img[..., :3][ring], axis=0)
     a = img[..., 3]
     ink = (a > 0.5) & (np.abs(img[..., :3] - col).max(axis=2) < 0.12)
