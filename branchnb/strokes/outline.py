@@ -398,7 +398,10 @@ def clear_stale_outline(layer: np.ndarray, src_depth: np.ndarray, style: Outline
         Pixels filled at joints (:func:`fill_joints`): their colours were
         copied from nearby pixels, possibly a stale rim's, so the
         outline-coloured ones among them are stale too, and no
-        outline-coloured pixel gives its colour. So are those tinted by
+        outline-coloured pixel gives its colour; the outline-coloured ones
+        are stale as soon as they lie beyond the outline's band (deeper
+        than its width + 0.5 px: a doubled hair along the rim where a
+        curled tentacle leaves its head). So are those tinted by
         the ink (nearer its colour than half-way to the object's median
         interior colour: an outline pixel averaged into a dark blob).
 

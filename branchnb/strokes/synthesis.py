@@ -464,7 +464,9 @@ def _overlap_rims(index, attached, junctions, placed, labels, depth, style, laye
     silhouette, was repainted as the stale rim of a joint (the copy's outline across
     the arm lost). Here, within the two parts' half widths + the outline's width + 2 px
     of such a contact, the touched part's own rim pixels (source depth up to the
-    outline's width + 1.5 px) are kept as they were laid. Beyond the paper.
+    outline's width + 1.5 px) are kept as they were laid. The stroke is taken to hang
+    from the part at its first point (strokes drawn from their roots): the contact at
+    its last point is the touch. Beyond the paper.
     """
     ends: dict = {}
     for jn in junctions:
