@@ -449,7 +449,11 @@ def clear_stale_outline(layer: np.ndarray, src_depth: np.ndarray, style: Outline
                 good &= ~soft
         # (ink a closing copied beyond the outline's band is on no outline: a doubled hair
         # along the rim where a turned tentacle leaves the head)
-        stale |= obj & (e > style.width + 0.5) & filled & inked
+        # (measured from the silhouette as it is: beside a pinhole left open it is the rim)
+        shallow = filled & inked & (e > style.width + 0.5)
+        if shallow.any():
+            shallow &= _edt_boxed(layer[..., 3] > 0.5) > style.width + 0.5
+        stale |= shallow
     stale, good = _tinted_rim(layer, stale, deep, good, src_depth, style)
     if not stale.any() or not good.any():
         return layer
