@@ -14,7 +14,8 @@ light streak in the outline), ``fleck`` (px of pieces not joined to the
 object), ``dots`` (small dark pieces inside the flesh, eroded by twice the
 outline width + 2, result minus source), ``blob`` (dark px deeper than the outline's
 half width + 1 inside a dark region, result minus source), ``light_edge``
-(light silhouette px, the junction table's), CPU s.
+(light silhouette px, the junction table's), ``hair`` (outline-coloured px farther than
+the outline's width + 2 px inside the silhouette, result minus source: ink hairs and trails), CPU s.
 
 ``PYTHONPATH=. python tests/strokes_touching_table.py TAG [SIZES...]`` prints the table
 (default sizes 300 500 800; ``SEEDS=0,1``, ``ONLY=oct_lead,...``) and writes PNGs to
@@ -159,7 +160,21 @@ def touch_measure(src_img, out, ow):
     edge = m & ~ndi.binary_erosion(m)
     light = edge & (_lum(out) > 0.35)
     return dict(crack=int(crack.sum()), fleck=fleck, dots=d_r - d_s, ndots=n_r - n_s, blob=b_r - b_s,
-                light_edge=int(light.sum()))
+                light_edge=int(light.sum()), hair=_hairs(out, src_img, ow) - _hairs(src_img, src_img, ow))
+
+
+def _hairs(img, src_img, ow):
+    """Outline-coloured px (within 0.12 per channel of the source's rim colour) farther than
+    the outline's width + 2 px inside the silhouette: ink hairs and trails on no outline."""
+    sa = src_img[..., 3]
+    e_s = ndi.distance_transform_edt(sa > 0.5)
+    ring = (sa > 0.9) & (e_s <= ow + 0.5)
+    if ring.sum() < 10:
+        ring = (sa > 0.5) & (e_s <= ow + 0.5)
+    col = np.median(src_img[..., :3][ring], axis=0)
+    a = img[..., 3]
+    ink = (a > 0.5) & (np.abs(img[..., :3] - col).max(axis=2) < 0.12)
+    return int((ink & (ndi.distance_transform_edt(a > 0.5) > ow + 2)).sum())
 
 
 def cases(sizes, seeds, only=None):

@@ -430,6 +430,11 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
     Strokes that cross in the source and stay where they were, hidden only
     by strokes that stay too, copy their crossing as it is (two untouched
     tentacles crossing: no smear of each one's filled-in texture).
+    A stroke touching other strokes with both ends hangs from the first and
+    only lies on (or under) the second: the part it lies under keeps its
+    outline there (a copy of an arm laid across the arm's own tip), and ink
+    a joint's closing copies beyond the outline's band is repainted (no
+    doubled hair where a curled tentacle leaves its head).
 
     Raises
     ------

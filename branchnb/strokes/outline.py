@@ -398,7 +398,10 @@ def clear_stale_outline(layer: np.ndarray, src_depth: np.ndarray, style: Outline
         Pixels filled at joints (:func:`fill_joints`): their colours were
         copied from nearby pixels, possibly a stale rim's, so the
         outline-coloured ones among them are stale too, and no
-        outline-coloured pixel gives its colour. So are those tinted by
+        outline-coloured pixel gives its colour; the outline-coloured ones
+        are stale as soon as they lie beyond the outline's band (deeper
+        than its width + 0.5 px: a doubled hair along the rim where a
+        curled tentacle leaves its head). So are those tinted by
         the ink (nearer its colour than half-way to the object's median
         interior colour: an outline pixel averaged into a dark blob).
 
@@ -444,7 +447,13 @@ def clear_stale_outline(layer: np.ndarray, src_depth: np.ndarray, style: Outline
                 soft[soft] = d_ink < half
                 inked |= soft
                 good &= ~soft
-        stale |= deep & filled & inked
+        # (ink a closing copied beyond the outline's band is on no outline: a doubled hair
+        # along the rim where a turned tentacle leaves the head)
+        # (measured from the silhouette as it is: beside a pinhole left open it is the rim)
+        shallow = filled & inked & (e > style.width + 0.5)
+        if shallow.any():
+            shallow &= _edt_boxed(layer[..., 3] > 0.5) > style.width + 0.5
+        stale |= shallow
     stale, good = _tinted_rim(layer, stale, deep, good, src_depth, style)
     if not stale.any() or not good.any():
         return layer

@@ -224,6 +224,7 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
             if filled is not None and filled.any():
                 depth = np.where(filled, np.float32(_FILLED_DEPTH), depth)
             uncut = layer
+            over = _overlap_rims(index, attached, junctions, placed, comp.labels, depth, style, layer)
             layer = close_cuts(layer, depth, style)
             inked = np.any(layer != uncut, axis=2) if layer is not uncut else None
             layer = clear_stale_outline(layer, depth, style, filled=filled)
@@ -254,6 +255,12 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
             if not (disks or joints):
                 plugged |= opened & (layer[:, :, 3] > 0.5)
             layer = clear_stale_outline(layer, depth, style, filled=plugged)
+        if style is not None and over is not None:
+            # a part lying over another keeps its outline there (no joint)
+            keep = over & (layer[:, :, 3] > 0.5)
+            if keep.any():
+                layer = layer.copy()
+                layer[keep, :3] = uncut[keep, :3]
         # (the joints' closings leave cracks of their own)
         layer = _close_rim_cracks(layer)
         layer = drop_flecks(layer, index.premult[:, :, 3])
@@ -444,6 +451,48 @@ def _refill_notches(comp, placed: list, notches: list) -> None:
         comp.image[canvas][open_] = pp.pixels[patch][open_]
         comp.labels[canvas][open_] = i
         comp.covered[canvas] |= open_
+
+
+def _overlap_rims(index, attached, junctions, placed, labels, depth, style, layer) -> np.ndarray | None:
+    """Pixels of a part's rim (and the band just inside it) where another part only lies
+    under it, not joined to it: None if there are none.
+
+    A stroke whose two ends both touch other strokes hangs from one and merely touches
+    the other: a copy of an arm laid across the arm's tip, a curled tentacle's tip on
+    its neighbour. :func:`~branchnb.strokes.junctions.find_junctions` still makes the
+    second contact a junction, and the rim of the part touched, now inside the object's
+    silhouette, was repainted as the stale rim of a joint (the copy's outline across
+    the arm lost). Here, within the two parts' half widths + the outline's width + 2 px
+    of such a contact, the touched part's own rim pixels (source depth up to the
+    outline's width + 1.5 px) are kept as they were laid. The stroke is taken to hang
+    from the part at its first point (strokes drawn from their roots): the contact at
+    its last point is the touch. Beyond the paper.
+    """
+    ends: dict = {}
+    for jn in junctions:
+        ends.setdefault(jn.child, set()).add((jn.end, jn.parent))
+    touch = [jn for jn in junctions
+             if len({e for e, _ in ends[jn.child]}) == 2
+             and any(e != jn.end and p != jn.parent for e, p in ends[jn.child])
+             and jn.end == 1]
+    if not touch:
+        return None
+    stroke_of = np.array([pp.stroke if pp.stroke is not None else -1 for pp in placed] + [-1])
+    rim = (depth > 0) & (depth <= style.width + 1.5) & (layer[:, :, 3] > 0.02)
+    h, w = labels.shape
+    out = np.zeros((h, w), bool)
+    for jn in touch:
+        hw = float(index.half_width(jn.parent, attached[jn.parent].source_arc_length(jn.parent_s)))
+        r = hw + _child_width(index, jn.child) + style.width + 2.0
+        x, y = jn.point
+        r0, r1 = max(int(y - r), 0), min(int(y + r) + 2, h)
+        c0, c1 = max(int(x - r), 0), min(int(x + r) + 2, w)
+        if r0 >= r1 or c0 >= c1:
+            continue
+        yy, xx = np.ogrid[r0:r1, c0:c1]
+        box = (slice(r0, r1), slice(c0, c1))
+        out[box] |= (np.hypot(xx - x, yy - y) <= r) & rim[box] & (stroke_of[labels[box]] == jn.parent)
+    return out if out.any() else None
 
 
 #: Parents with at most this many segments are measured exactly in :func:`_inside_points`.
