@@ -19,16 +19,22 @@ from ._map_examples import _curve
 #: (name: (trunk degrees off the way down, the fan's centre in degrees off the way down, fan degrees, channels))
 FAN_KINDS = {"fan0": (0.0, 0.0, 90.0, 3), "fan30": (30.0, 20.0, 70.0, 4), "fanm40": (-40.0, -20.0, 70.0, 3),
              "fan55": (55.0, 25.0, 60.0, 3)}
+#: meandering trunks (name: FAN_KINDS' four figures and the meander's amplitude as a share of the width,
+#: :func:`delta_fan_mask`'s ``meander``; issue 23, branching71)
+MEANDER_KINDS = {"mean0": (0.0, 0.0, 90.0, 3, 0.05), "mean20": (20.0, 10.0, 70.0, 4, 0.04),
+                 "mean0n2": (0.0, 0.0, 50.0, 2, 0.06)}
 
 
 def delta_fan_mask(shape=(256, 256), rng=0, trunk_deg: float = 30.0, centre_deg: float = 20.0, fan_deg: float = 70.0,
-                   n: int = 3):
+                   n: int = 3, meander: float = 0.0):
     """A binary delta mask (1 = water) with its sea at the bottom: (mask, channels, sea, entry, mouths).
 
     The trunk runs ``trunk_deg`` degrees off straight down (positive toward +x) from the frame to the
     delta's head at 0.45 x the height; ``n`` channels leave the head at ``centre_deg + o`` for ``o`` evenly
     over [-fan_deg / 2, fan_deg / 2] (at most 65 degrees off straight down) and reach the sea. ``entry`` is
-    where the trunk enters (x, y), ``mouths`` (n, 2) where the channels meet the sea.
+    where the trunk enters (x, y), ``mouths`` (n, 2) where the channels meet the sea. ``meander`` > 0
+    (a share of the width): the trunk swings sideways by a sine of that amplitude, 1.5 waves from its
+    entry to the head (no random draw: the other figures are those of ``meander=0``).
 
     Examples
     --------
@@ -59,7 +65,13 @@ def delta_fan_mask(shape=(256, 256), rng=0, trunk_deg: float = 30.0, centre_deg:
     elif back[0] > 0:
         lim.append((w - 1 - apex_x) / back[0])
     entry = apex + back * (min(lim) + 3.0)
-    lines = [(_curve(entry, apex, rng, 0.02 * w), 7.0 * s)]
+    trunk = _curve(entry, apex, rng, 0.02 * w)
+    if meander > 0:
+        d = apex - entry
+        nrm = np.array([-d[1], d[0]]) / max(float(np.hypot(*d)), 1e-9)
+        u = np.linspace(0.0, 1.0, len(trunk))[:, None]
+        trunk = trunk + nrm * meander * w * np.sin(1.5 * 2 * np.pi * u) * np.sin(np.pi * u) ** 0.5
+    lines = [(trunk, 7.0 * s)]
     radii = np.linspace(4.5, 1.6, n) * s
     for k in rng.permutation(n):
         lines.append((_curve(apex, mouths[k], rng, 0.03 * w), float(radii[k])))

@@ -27,7 +27,7 @@ import numpy as np
 from scipy import ndimage as ndi
 
 from ._delta_coast_check import crossings, median_radius
-from ._delta_examples import FAN_KINDS, delta_fan_mask
+from ._delta_examples import FAN_KINDS, MEANDER_KINDS, delta_fan_mask
 from ._map_examples import delta_mask_example
 from ._seed_check import _sheet
 from ._structure_check import sea_bearings_inland
@@ -181,6 +181,26 @@ def side_share(s, dom: np.ndarray) -> float:
     return float(side.min() / max(side.sum(), 1e-9))
 
 
+def trunk_sinuosity(s, dom: np.ndarray, share: float = 0.5) -> float:
+    """Path length over chord of the longest root's upper part, from its start down to where its depth
+    (distance to the sea) is ``share`` x its start's: how much the trunk meanders (1: straight); nan
+    without a root."""
+    d = ndi.distance_transform_edt(dom)
+    h, w = dom.shape
+    roots = [np.asarray(b.points, float) for b in s.branches if b.parent is None and len(b.points) >= 3]
+    if not roots:
+        return float("nan")
+    p = max(roots, key=lambda q: float(np.hypot(*np.diff(q, axis=0).T).sum()))
+    ix = np.clip(np.rint(p).astype(int), 0, [w - 1, h - 1])
+    dep = d[ix[:, 1], ix[:, 0]]
+    below = np.flatnonzero(dep <= share * dep[0])
+    p = p[: (int(below[0]) + 1 if below.size else len(p))]
+    if len(p) < 3:
+        return 1.0
+    chord = float(np.hypot(*(p[-1] - p[0])))
+    return float(np.hypot(*np.diff(p, axis=0).T).sum()) / max(chord, 1e-9)
+
+
 def bearing_error(a: float, b: float) -> float:
     """Absolute difference of two bearings in degrees (0-180)."""
     return float(abs((a - b + 180.0) % 360.0 - 180.0))
@@ -202,6 +222,9 @@ def mask_of(kind: str, size: int, mask_seed: int) -> np.ndarray:
     """The delta mask (sea at the bottom) of ``kind``: ``delta`` or a :data:`._delta_examples.FAN_KINDS` name."""
     if kind == "delta":
         return delta_mask_example((size, size), mask_seed)[0]
+    if kind in MEANDER_KINDS:
+        t, c, f, n, a = MEANDER_KINDS[kind]
+        return delta_fan_mask((size, size), mask_seed, t, c, f, n, meander=a)[0]
     t, c, f, n = FAN_KINDS[kind]
     return delta_fan_mask((size, size), mask_seed, t, c, f, n)[0]
 
@@ -210,7 +233,7 @@ def true_bearing(kind: str, side: str, size: int, mask_seed: int) -> float:
     """The generator's trunk bearing (degrees, from the trunk's entry to the mouths' mean) after turning."""
     if kind == "delta":
         return float("nan")
-    t, c, f, n = FAN_KINDS[kind]
+    t, c, f, n = (MEANDER_KINDS[kind][:4] if kind in MEANDER_KINDS else FAN_KINDS[kind])
     _m, _ch, _sea, entry, mouths = delta_fan_mask((size, size), mask_seed, t, c, f, n)
     v = mouths.mean(0) - entry
     # turned() as a map of directions (x, y) -> (x', y')
@@ -245,7 +268,7 @@ def figures(s, dom, side) -> dict:
     return dict(fan=sea_bearings_inland(s, dom)[0], bear=trunk_bearing(s, dom), dev=chord_deviation(s, dom),
                 frame=frame_share(s, dom.shape, side), cross=crossings(s), far=far_share(s, dom),
                 thick=thick_end_share(s), sea=n_to_sea(s, dom), rad=median_radius(s), coast=coast_share(s, dom),
-                side=side_share(s, dom))
+                side=side_share(s, dom), sin=trunk_sinuosity(s, dom))
 
 
 def run(side: str, size: int, seeds, out: str | None = None, cache: str | None = None,
@@ -258,7 +281,7 @@ def run(side: str, size: int, seeds, out: str | None = None, cache: str | None =
     print(f"{kind} {side} {size} mask {mask_seed} example: fan {ex['fan']:.1f} bearing {ex['bear']:.0f} "
           f"(true {true_bearing(kind, side, size, ms):.0f}) dev {ex['dev']:.3f} frame {ex['frame']:.3f} "
           f"far {ex['far']:.3f} thick {ex['thick']:.3f} sea {ex['sea']} rad {ex['rad']:.2f} coast {ex['coast']:.3f} "
-          f"side {ex['side']:.2f}",
+          f"side {ex['side']:.2f} sin {ex['sin']:.3f}",
           flush=True)
     rows = []
     for seed in seeds:
@@ -267,13 +290,14 @@ def run(side: str, size: int, seeds, out: str | None = None, cache: str | None =
         f["berr"] = bearing_error(f["bear"], ex["bear"])
         f["far"] /= max(ex["far"], 1e-3)
         f["rad"] /= ex["rad"]
+        f["nch"] = f["sea"] / max(ex["sea"], 1)
         f["struct"] = s
         rows.append(f)
         print(f"  seed {seed}: fan {f['fan']:.1f} bearing err {f['berr']:.1f} dev {f['dev']:.3f} "
               f"frame {f['frame']:.3f} cross {f['cross']} far x{f['far']:.2f} thick {f['thick']:.3f} "
               f"sea {f['sea']} rad x{f['rad']:.2f} coast {f['coast']:.3f} "
-              f"side {f['side']:.2f}", flush=True)
-    keys = ("fan", "berr", "dev", "frame", "far", "thick", "rad", "coast", "side")
+              f"side {f['side']:.2f} sin {f['sin']:.3f} nch x{f['nch']:.2f}", flush=True)
+    keys = ("fan", "berr", "dev", "frame", "far", "thick", "rad", "coast", "side", "sin", "nch")
     med = {k: float(np.median([r[k] for r in rows])) for k in keys}
     print(f"  SUMMARY {kind} {side} {size} mask {mask_seed}: fan med {med['fan']:.1f} "
           f"min {min(r['fan'] for r in rows):.1f} (ex {ex['fan']:.1f}) bearing err med {med['berr']:.1f} "
@@ -285,7 +309,8 @@ def run(side: str, size: int, seeds, out: str | None = None, cache: str | None =
           f"max x{max(r['rad'] for r in rows):.2f} coast med {med['coast']:.3f} "
           f"max {max(r['coast'] for r in rows):.3f} "
           f"(ex {ex['coast']:.3f}) side med {med['side']:.2f} min {min(r['side'] for r in rows):.2f} "
-          f"(ex {ex['side']:.2f})", flush=True)
+          f"(ex {ex['side']:.2f}) sin med {med['sin']:.3f} (ex {ex['sin']:.3f}) nch med x{med['nch']:.2f} "
+          f"min x{min(r['nch'] for r in rows):.2f}", flush=True)
     if out:
         tag = "" if kind == "delta" else f"_{kind}"
         _sheet(img, dom, model.example, rows[:3], f"{out}{tag}_{side}_{size}_{mask_seed}.png")

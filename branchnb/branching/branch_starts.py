@@ -28,6 +28,26 @@ __all__: list[str] = []
 #: side that already has more of them gets its score times this (the example's channels part to both
 #: sides of its head; without it 2 of 3 seeds of a 1000 px delta sent every channel to one side).
 FAN_OTHER_SIDE = 0.02
+#: A delta's channel of a channel (beyond the paper, issue 23, branching74) whose bearing
+#: (:meth:`.drain._Drain.bearing`)
+#: lies less than this many radians from that of a channel already started, and whose start lies less than
+#: :data:`FAN_BUNDLE_NEAR` x the frame's diagonal from that channel's line (its start along its bearing), is not
+#: started: it would run beside it to the sea. The bearings of a trunk's channels bottom out at
+#: :data:`.drain.FAN_SPLIT` off the descent and a channel's channel parting outward takes its parent's side
+#: again, so a side's third channel or a channel's grandchild took an earlier channel's bearing and the fan
+#: came out as a comb of two to four parallel channels on one side (``fan0`` 512 px, seed 3: bearings 54, 79,
+#: 53 degrees from starts 19 px off one line). With :data:`FAN_TRAPPED`, pairs of channels running side by side
+#: (chords < 10 degrees apart, one start < 5 % of the diagonal off the other's line; ``tests/
+#: test_branching_delta_comb.py``) over seeds 0-8 at 512 px: ``fan0`` 5 -> 0, ``mean0`` 4 -> 0, ``delta`` 1 -> 1;
+#: ``_delta_fan_check`` (same seeds; median / max): bearing error ``delta`` 8.8/17.4 -> 4.4/11.7, ``fan0``
+#: 14.4/21.1 -> 14.1/23.5, ``mean0`` 13.5/26.0 -> 15.7/24.0, ``fan30`` 2.8/9.0 -> 2.4/8.8 degrees; fan spread
+#: median / lowest seed ``mean0`` 30.7/21.0 -> 24.6/10.7 (example 34.9; worse), others within 1 degree.
+FAN_BUNDLE = float(np.radians(10.0))
+FAN_BUNDLE_NEAR = 0.05
+#: ... nor a channel's channel that leaves its parent on one side while its bearing lies on the other (a
+#: channel's channel parts toward the descent, :meth:`.drain._Drain.bearing`): it cannot cross its parent, so it
+#: ran beside it on the outside, 41 degrees off its bearing (``fan0`` 512 px, seed 6).
+FAN_TRAPPED = True
 #: Score factor of a candidate that would leave a domain drawn round a line mask's lines (issue 23,
 #: beyond the paper; :func:`.empty_ground._line_domain`): a strand turns to stay in its band instead of
 #: ending at its edge (in the band alone the border vines came out 2-3.5 x as many branches, half as long)
@@ -376,10 +396,11 @@ class _Starts:
                                  r_cap, r_set, mouth)
 
     def _make_branch(self, x0, theta0, j, heads, n, new, th, sign, parent, parent_vertex, generation,
-                     r_cap, r_set, mouth) -> int:
+                     r_cap, r_set, mouth) -> int | None:
         """The new branch of :meth:`_start_branch` with the chosen candidate head ``j`` (its first
         vertices ``new[j]``, headings ``th[j]``, ``n[j]`` copied elements, mirrored where ``sign[j]``
-        is -1): its state, radii, length target and fan bearing, registered; returns its index."""
+        is -1): its state, radii, length target and fan bearing, registered; returns its index (None: a
+        delta channel with no bearing left on its side, :data:`FAN_BUNDLE`)."""
         model, p = self.model, self.p
         hd = int(heads[j])
         full = np.vstack([x0, new[j, : n[j] + 1]])
@@ -426,6 +447,11 @@ class _Starts:
                 if spread is not None and k:   # the k-th channel on a side: between the others and the descent
                     spread = max(spread / (k + 1), FAN_SPLIT)
             st.fan = self.drain.bearing(x0, pl[-1] - x0, self.branches[parent].fan, spread=spread)
+            # (a trunk's channels keep their own rule, the k-th on a side below: refused there, a 300 px fan0
+            # delta's fan came out lopsided)
+            if (not trunk and self._bundled(x0, st.fan)) or self._trapped(pl[-1] - x0, self.branches[parent].fan,
+                                                                          st.fan):
+                return None
             if trunk:
                 self._fan_count = (self._fan_count[0] + (side > 0), self._fan_count[1] + (side < 0))
         if parent is not None and self.radial and p.thickness_blend:
@@ -438,6 +464,34 @@ class _Starts:
             self._child_count(radii)
         self.branches.append(st)
         return len(self.branches) - 1
+
+    def _bundled(self, x0, fan: np.ndarray) -> bool:
+        """Would a delta's channel from ``x0`` on bearing ``fan`` run beside one already started
+        (:data:`FAN_BUNDLE`)?"""
+        x0 = np.asarray(x0, np.float64)
+        near = FAN_BUNDLE_NEAR * float(np.hypot(*self.drain.shape))
+        cos_min = np.cos(FAN_BUNDLE)
+        for b in self.branches:
+            if b.fan is None or b.parent is None:
+                continue
+            u = np.asarray(b.fan, np.float64)
+            if float(u @ fan) < cos_min:
+                continue
+            r = x0 - np.asarray(b.points[0], np.float64)
+            if abs(float(r[0] * u[1] - r[1] * u[0])) < near:
+                return True
+        return False
+
+    @staticmethod
+    def _trapped(heading, parent_fan, fan) -> bool:
+        """Would a delta's channel leaving its parent channel (bearing ``parent_fan``; None for a trunk) with
+        ``heading`` have to cross it to take its own bearing ``fan`` (:data:`FAN_TRAPPED`)?"""
+        if not FAN_TRAPPED or parent_fan is None:
+            return False
+        pf = np.asarray(parent_fan, np.float64)
+        side_h = float(pf[0] * heading[1] - pf[1] * heading[0])
+        side_b = float(pf[0] * fan[1] - pf[1] * fan[0])
+        return side_h * side_b < 0.0
 
     def _channel_radius(self, r_cap: float) -> float | None:
         """A delta's new channel: the radius (at most ``r_cap``, its parent's there) where the synthesized
