@@ -95,7 +95,8 @@ def case(kind: str, n: int, ground: str = "grad", fill: str = "flat",
         tex = ndimage.gaussian_filter(rng.standard_normal((h, w)), max(1.0, n / 300))
         x = np.arange(w)[None, :] / w
         shade = 0.15 + 0.2 * np.abs(np.sin(40 * x))
-        colour = np.array([0.35, 0.22, 0.12]) * (0.6 + shade)[..., None] + 0.06 * (tex / max(tex.std(), 1e-9))[..., None]
+        grain = 0.06 * (tex / max(tex.std(), 1e-9))[..., None]
+        colour = np.array([0.35, 0.22, 0.12]) * (0.6 + shade)[..., None] + grain
     img[obj] = colour[obj]
     return np.clip(img, 0, 1).astype(np.float32), obj
 

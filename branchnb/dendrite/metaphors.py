@@ -29,8 +29,8 @@ from ..core.polyline import arc_length
 from ..core.random import as_rng
 from ..core.render import coverage_polylines, draw_polylines
 from ..core.svg import polylines_to_svg
-from ..core.validate_arrays import real_array
 from ..core.validate import Colour, Int, Point, Real, Shape, checked
+from ..core.validate_arrays import real_array
 from .dendrite import Dendrite, build_dendrite
 from .lattice import direction_factors, make_lattice
 from .planner import plan
@@ -314,8 +314,6 @@ def vine_curves(dendrite: Dendrite, *, smooth: int | None = None, curls: float =
                 t = line[k] - line[k - 1]
                 t = t / (np.hypot(*t) or 1.0)
                 ang = side * np.deg2rad(rng.uniform(35, 65))
-                c, sn = np.cos(ang), np.sin(ang)
-                d = np.array([c * t[0] - sn * t[1], sn * t[0] + c * t[1]])
                 size = rng.uniform(0.75, 1.25)
                 lp, lw = _leaf_within(line[k], t, ang, leaf_length * size, leaf_width * size,
                                       side, within)
