@@ -30,6 +30,7 @@ from ..core.random import as_rng
 from ..core.render import coverage_polylines, draw_polylines
 from ..core.svg import polylines_to_svg
 from ..core.validate import Colour, Int, Point, Real, Shape, checked
+from ..core.validate_arrays import real_array
 from .dendrite import Dendrite, build_dendrite
 from .lattice import direction_factors, make_lattice
 from .planner import plan
@@ -119,6 +120,33 @@ def _leaf(base, direction, length, width, side):
     return pts, widths
 
 
+def _leaf_within(base, tangent, ang, length, width, side, within):
+    """:func:`_leaf` at ``ang`` from the stem's ``tangent``; with a ``within`` mask, turned to
+    the stem's other side, then shortened (down to half), until its points lie in it; None
+    when none does."""
+    def at(a, sd, ln):
+        c, sn = np.cos(a), np.sin(a)
+        d = np.array([c * tangent[0] - sn * tangent[1], sn * tangent[0] + c * tangent[1]])
+        return _leaf(base, d, ln, width * min(1.0, ln / max(length, 1e-9)) ** 0.5, sd)
+
+    lp, lw = at(ang, side, length)
+    if within is None:
+        return lp, lw
+    h, w = within.shape
+
+    def inside(pts):
+        ix, iy = np.rint(pts[:, 0]).astype(int), np.rint(pts[:, 1]).astype(int)
+        ok = (ix >= 0) & (ix < w) & (iy >= 0) & (iy < h)
+        return bool(ok.all() and within[iy, ix].all())
+
+    for ln in (length, 0.75 * length, 0.5 * length):
+        for a, sd in ((ang, side), (-ang, -side)):
+            lp, lw = at(a, sd, ln)
+            if inside(lp):
+                return lp, lw
+    return None, None
+
+
 #: Vine lengths (pixels at 512 x 512) used when an argument is None.
 VINE_LENGTHS = {"curl_length": 14.0, "leaf_spacing": 14.0, "leaf_length": 7.0,
                 "leaf_width": 4.0, "max_leaf_radius": 1.6}
@@ -189,7 +217,7 @@ def vine_curves(dendrite: Dendrite, *, smooth: int | None = None, curls: float =
                 curl_length: float | None = None, leaves: bool = True,
                 leaf_spacing: float | None = None, leaf_length: float | None = None,
                 leaf_width: float | None = None, max_leaf_radius: float | None = None,
-                rng=None):
+                within=None, rng=None):
     """Geometry of the vine metaphor.
 
     Lengths left at None are :data:`VINE_LENGTHS` scaled to the dendrite's
@@ -220,6 +248,11 @@ def vine_curves(dendrite: Dendrite, *, smooth: int | None = None, curls: float =
     max_leaf_radius : float, optional
         Leaves grow only where the stem radius is at most this (1.6 px at
         512 x 512): twigs carry leaves, the trunk does not.
+    within : (H, W) bool array_like, optional
+        Where leaves may lie (the dendrite's image shape): a leaf whose points fall outside
+        is turned to the stem's other side, else shortened to no less than half its length,
+        else left out (beyond the paper: vines grown on an object's outline hung half their
+        leaves past it). Everywhere by default. The random draws do not depend on it.
     rng : {numpy.random.Generator, int}, optional
         Random generator or seed for curls and leaf placement.
 
@@ -250,6 +283,10 @@ def vine_curves(dendrite: Dendrite, *, smooth: int | None = None, curls: float =
     unit = _unit(shape)
     if smooth < 0 or not 0 <= curls <= 1 or leaf_spacing <= 0:
         raise ValueError("smooth must be >= 0, curls in [0, 1], leaf_spacing > 0")
+    if within is not None:
+        within = real_array(within, "within", ndim=2) > 0
+        if within.shape != tuple(shape):
+            raise ValueError(f"within must have the dendrite's shape {tuple(shape)}, got {within.shape}")
     rng = as_rng(rng)
     p = dendrite.smoothed_points(smooth)
     stems, widths, leaf_pts, leaf_w = [], [], [], []
@@ -277,12 +314,12 @@ def vine_curves(dendrite: Dendrite, *, smooth: int | None = None, curls: float =
                 t = line[k] - line[k - 1]
                 t = t / (np.hypot(*t) or 1.0)
                 ang = side * np.deg2rad(rng.uniform(35, 65))
-                c, sn = np.cos(ang), np.sin(ang)
-                d = np.array([c * t[0] - sn * t[1], sn * t[0] + c * t[1]])
                 size = rng.uniform(0.75, 1.25)
-                lp, lw = _leaf(line[k], d, leaf_length * size, leaf_width * size, side)
-                leaf_pts.append(lp)
-                leaf_w.append(lw)
+                lp, lw = _leaf_within(line[k], t, ang, leaf_length * size, leaf_width * size,
+                                      side, within)
+                if lp is not None:
+                    leaf_pts.append(lp)
+                    leaf_w.append(lw)
             side = -side
             s += leaf_spacing * rng.uniform(0.7, 1.3)
     return stems, widths, leaf_pts, leaf_w
@@ -294,7 +331,7 @@ def render_vines(dendrite: Dendrite, *, background=None, stem_color=(0.22, 0.3, 
                  leaf_color=(0.3, 0.55, 0.18), smooth: int | None = None, curls: float = 0.6,
                  curl_length: float | None = None, leaves: bool = True,
                  leaf_spacing: float | None = None, leaf_length: float | None = None,
-                 leaf_width: float | None = None, rng=0) -> Rendering:
+                 leaf_width: float | None = None, within=None, rng=0) -> Rendering:
     """The vine metaphor: smooth stems, curled tips, alternating leaves.
 
     Leaf colours vary slightly around ``leaf_color``; leaves grow only where
@@ -325,6 +362,8 @@ def render_vines(dendrite: Dendrite, *, background=None, stem_color=(0.22, 0.3, 
         See :func:`vine_curves`.
     leaf_width : float, optional
         See :func:`vine_curves`.
+    within : (H, W) bool array_like, optional
+        Where leaves may lie; see :func:`vine_curves`.
     rng : {numpy.random.Generator, int}, optional
         Random generator or seed of the geometry and the leaf shades; 0 by
         default, so the same dendrite always gives the same vines.
@@ -344,7 +383,8 @@ def render_vines(dendrite: Dendrite, *, background=None, stem_color=(0.22, 0.3, 
     canvas = _canvas(dendrite, background)
     stems, widths, lp, lw = vine_curves(
         dendrite, smooth=smooth, curls=curls, curl_length=curl_length, leaves=leaves,
-        leaf_spacing=leaf_spacing, leaf_length=leaf_length, leaf_width=leaf_width, rng=rng)
+        leaf_spacing=leaf_spacing, leaf_length=leaf_length, leaf_width=leaf_width,
+        within=within, rng=rng)
     img = draw_polylines(canvas, stems, widths=widths, colors=stem_color)
     h, w = canvas.shape[:2]
     cols = None

@@ -94,6 +94,9 @@ __all__ = ["effective_params", "metaphor_params", "Stylization", "StylizeParams"
 #: Darkness a drawn line stands above its surroundings to count fully as a line
 #: (:meth:`Stylizer._line_share`).
 LINE_CONTRAST = 0.3
+#: How far past the object (as a share of a leaf's length) the vines' leaves may reach
+#: (:meth:`Stylizer._vine_within`).
+VINE_LEAF_MARGIN = 0.25
 
 
 @dataclass
@@ -481,6 +484,20 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
             options["smooth"] = _vine_smooth(None, self.working_image(p).shape[:2])
         return options
 
+    def _vine_within(self, obj, leaf: float) -> np.ndarray:
+        """Where the vines' leaves may lie: the object (or the content's silhouette; a lattice
+        mask) at the image's size,
+        grown by ``VINE_LEAF_MARGIN`` of a leaf's length (the stems hug its outline from
+        either side).
+
+        Beyond the paper: leaves grown to the object's size on its outline hung past it at
+        1000 px (half of them on the outside of the stem).
+        """
+        import cv2
+
+        m = cv2.resize(np.asarray(obj, np.uint8), self.shape[::-1], interpolation=cv2.INTER_NEAREST) > 0
+        return ndimage.distance_transform_edt(~m) <= max(2.0, VINE_LEAF_MARGIN * leaf)
+
     @checked(seed=Point())
     def run(self, params: StylizeParams | None = None, *, seed=None, rng: int | np.random.Generator = 0,
             metaphor: str | None = "plain", **render_options) -> Stylization:
@@ -542,6 +559,11 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
                 render_options = self._vine_sizes(p, given, obj, imp >= thr, share, k,
                                                   render_options)
                 p = self._vine_p
+                if render_options.get("within") is None:
+                    from .main_channel import silhouette
+
+                    render_options["within"] = self._vine_within(
+                        obj if obj is not None else silhouette(imp >= thr), render_options["leaf_length"])
             if thr > p.endpoint_threshold:
                 p = _within_range(p, endpoint_threshold=thr)
         obj = obj if metaphor == "vines" else None
