@@ -50,6 +50,7 @@ from ..core.params import check_params, param
 from ..core.random import as_rng
 from ..core.validate import Int, Seq, checked
 from .contour import simplify_contour
+from .corners import corner_matched
 from .flat_art import (
     FLAT_ART_SHARE,
     _drawing_group,
@@ -455,7 +456,10 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
                            name="colour_weights")
     used = np.flatnonzero((w > 0) | (cw > 0))
     s = exemplars[0].size
-    cr = combine_shapes([exemplars[i].resampled for i in used], w[used])
+    # Beyond the paper: matched crown corners share an index, so tips meet tips (corners.py).
+    shapes = corner_matched([exemplars[i].resampled for i in used], w[used],
+                            exemplars[0].contour.pin_indices)
+    cr = combine_shapes(shapes, w[used])
     # C runs through the border pixel centres: grow the fill by one pixel so
     # the border pixels are coloured too (alpha comes from the samples).
     mask = fill_contour(cr, (s, s))
@@ -475,7 +479,7 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
                                             if mode == "choose" else None,
                                             contours=None if pixel or any(_drawing_group(exemplars[i]) & 1
                                                                           for i in used)
-                                            else (cr, [exemplars[i].resampled for i in used]),
+                                            else (cr, shapes),
                                             _maps=[exemplars[i]._cages for i in used])
     # Rim correction (beyond the paper) only without an ink outline. On outlined mixes it stretched
     # the sources' strokes where it mapped them onto the mixed rim into bands thicker than
