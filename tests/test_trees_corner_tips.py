@@ -20,16 +20,16 @@ def _square_with_notch(n=400):
 
 def test_corners_are_found_on_a_square_and_not_on_a_circle():
     sq = _square_with_notch()
-    idx, turn = corners.contour_corners(sq, (0, 40, 360))
+    idx, turn = corners._contour_corners(sq, (0, 40, 360))
     assert sorted(idx.tolist()) == [100, 200, 300]      # the corner at 0 is the pin B
     assert np.all(np.abs(np.abs(turn) - 90) < 15)
     a = np.linspace(0, 2 * np.pi, 400, endpoint=False)
     circle = np.stack([75 + 40 * np.cos(a), 75 + 40 * np.sin(a)], 1)
-    assert corners.contour_corners(circle, (0, 40, 360))[0].size == 0
+    assert corners._contour_corners(circle, (0, 40, 360))[0].size == 0
 
 
 def test_match_keeps_order_sign_and_shift():
-    pairs = corners.match_corners(np.array([0.1, 0.3, 0.5]), np.array([1, -1, 1]),
+    pairs = corners._match_corners(np.array([0.1, 0.3, 0.5]), np.array([1, -1, 1]),
                                   np.array([0.12, 0.28, 0.33, 0.9]), np.array([1, 1, -1, 1]))
     assert pairs == [(0, 0), (1, 2)]       # 0.5 has no partner within MATCH_SHIFT, 0.28 is a tip
 
@@ -38,7 +38,7 @@ def test_round_contours_are_left_alone():
     a = np.linspace(0, 2 * np.pi, 400, endpoint=False)
     c1 = np.stack([75 + 40 * np.cos(a), 75 + 40 * np.sin(a)], 1)
     c2 = np.stack([75 + 30 * np.cos(a), 75 + 45 * np.sin(a)], 1)
-    out = corners.corner_matched([c1, c2], [0.5, 0.5], (0, 40, 360))
+    out = corners._corner_matched([c1, c2], [0.5, 0.5], (0, 40, 360))
     assert np.array_equal(out[0], c1) and np.array_equal(out[1], c2)
 
 
@@ -65,7 +65,7 @@ def test_a_round_mix_is_unchanged(monkeypatch):
     for i, h in enumerate((260, 400)):
         lib.add(flat_tree("round", i, h), f"round{i}")
     v = make_variation(lib, [0.4, 0.6], colour_weights="shape", rng=1)
-    monkeypatch.setattr("branchnb.trees.variations.corner_matched",
+    monkeypatch.setattr("branchnb.trees.variations._corner_matched",
                         lambda cs, w, pins: [np.asarray(c, float) for c in cs])
     old = make_variation(lib, [0.4, 0.6], colour_weights="shape", rng=1)
     assert np.array_equal(v.image, old.image)

@@ -113,7 +113,7 @@ def flat_tree(kind: str, rng, height: int = 420, outline: bool = False) -> np.nd
 
 def _turns(alpha: np.ndarray) -> tuple[np.ndarray, float]:
     """Signed turning angles (tips > 0) at the corners of the largest silhouette's contour."""
-    from .corners import contour_corners
+    from .corners import _contour_corners
     cs, _ = cv2.findContours((alpha >= 0.5).astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
     c = max(cs, key=cv2.contourArea)[:, 0].astype(np.float64)
     c = np.roll(c, -int(np.argmax(c[:, 1])), axis=0)       # start at the foot, away from any tip
@@ -123,7 +123,7 @@ def _turns(alpha: np.ndarray) -> tuple[np.ndarray, float]:
     cc = np.vstack([c, c[:1]])
     pts = np.stack([np.interp(u, s, cc[:, 0]), np.interp(u, s, cc[:, 1])], 1)
     # only the part above the trunk: the crown's own corners (the trunk's feet are corners too)
-    i, t = contour_corners(pts, (0, 0, len(pts) - 1))
+    i, t = _contour_corners(pts, (0, 0, len(pts) - 1))
     top = pts[:, 1].min()
     keep = pts[i, 1] < top + 0.7 * np.ptp(pts[:, 1])
     return t[keep], float(s[-1])
@@ -146,22 +146,28 @@ def tip_stats(mix_alpha, source_alphas) -> tuple[float, float, float]:
     return s_mean, m_mean, float((mt >= sharp).sum() / max(np.mean([(t >= sharp).sum() for t in src]), 1e-9))
 
 
-def rim_flecks(image, band: int = 6, biggest: int = 4) -> float:
-    """Flecks per 1000 px of silhouette rim: connected specks of at most ``biggest`` px, within
-    ``band`` px inside the rim, either see-through (alpha < 0.5) or darker than 0.25 and not joined
-    to the dark outline."""
+def rim_flecks(image, band: int = 6, biggest: int = 6) -> float:
+    """Flecks per 1000 px of silhouette rim: specks of at most ``biggest`` px within ``band`` px
+    inside the rim that are see-through (alpha < 0.5 inside the silhouette) or pixels with an
+    opaque 3 x 3 neighbourhood off its median by more than 0.25 whose colour is outline-dark (max channel < 0.3) or
+    background-light (min channel > 0.8)."""
+    from scipy.ndimage import median_filter
+
     img = np.asarray(image, np.float32)
     a = img[..., 3] >= 0.5
-    filled = a.copy()
     cs, _ = cv2.findContours(a.astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
     filled = cv2.drawContours(np.zeros(a.shape, np.uint8), cs, -1, 1, -1).astype(bool)
     inner = cv2.erode(filled.astype(np.uint8), np.ones((3, 3), np.uint8), iterations=band).astype(bool)
     zone = filled & ~cv2.erode(filled.astype(np.uint8), np.ones((3, 3), np.uint8)).astype(bool)
     rim_len = max(int(zone.sum()), 1)
-    near = filled & ~inner & ~zone
+    near = filled & ~inner
+    rgb = img[..., :3]
+    med = median_filter(rgb, size=(3, 3, 1))
+    solid = cv2.erode(a.astype(np.uint8), np.ones((3, 3), np.uint8)).astype(bool)   # no see-through neighbour
+    odd = solid & (np.abs(rgb - med).max(axis=2) > 0.25)
+    tone = (rgb.max(axis=2) < 0.3) | (rgb.min(axis=2) > 0.8)
     count = 0
-    dark = a & (img[..., :3].max(axis=2) < 0.25)
-    for m in (filled & ~a, dark):
+    for m in (filled & ~a, odd & tone):
         n, lab, st, _ = cv2.connectedComponentsWithStats(m.astype(np.uint8), connectivity=8)
         small = np.flatnonzero(st[1:, cv2.CC_STAT_AREA] <= biggest) + 1
         if small.size:
@@ -187,7 +193,7 @@ def measure(size: int = 384, seeds: int = 3, only=None) -> dict:
     libs = {**libraries(False), **libraries(True)}
     if only:
         libs = {k: v for k, v in libs.items() if k in only}
-    new_cm = V.corner_matched
+    new_cm = V._corner_matched
     old_cm = lambda cs, w, pins: [np.asarray(c, np.float64) for c in cs]  # noqa: E731
     out = {}
     for name, srcs in libs.items():
@@ -200,13 +206,13 @@ def measure(size: int = 384, seeds: int = 3, only=None) -> dict:
         for seed in range(seeds):
             for tag, fn in (("old", old_cm), ("new", new_cm)) if seed % 2 == 0 else (("new", new_cm),
                                                                                      ("old", old_cm)):
-                V.corner_matched = fn
+                V._corner_matched = fn
                 t = time.process_time()
                 v = make_variation(lib, rng=seed)
                 cpu[tag] += time.process_time() - t
                 used = [lib.exemplars[i].alpha for i in np.flatnonzero(v.weights > 0)]
                 row[tag].append((*tip_stats(v.image[..., 3], used), rim_flecks(v.image), v.image))
-        V.corner_matched = new_cm
+        V._corner_matched = new_cm
         def f(tag, row=row):
             r = row[tag]
             return (f"src {np.mean([x[0] for x in r]):5.1f} mix {np.mean([x[1] for x in r]):5.1f} deg, "

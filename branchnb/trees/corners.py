@@ -39,6 +39,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.ndimage import gaussian_filter1d
 
+__all__: list[str] = []
+
 #: Smoothing of the contour before the turning angle, share of the tree's height.
 CORNER_SMOOTH = 0.006
 #: Half-window of the turning angle (chord back and ahead), share of the tree's height.
@@ -54,7 +56,7 @@ def _crown_range(n: int, pins: tuple[int, int, int]) -> tuple[int, int]:
     return int(ir), int(il)
 
 
-def contour_corners(contour: np.ndarray, pins: tuple[int, int, int]) -> tuple[np.ndarray, np.ndarray]:
+def _contour_corners(contour: np.ndarray, pins: tuple[int, int, int]) -> tuple[np.ndarray, np.ndarray]:
     """Corners on the crown ``R -> L`` of a resampled contour: their indices and signed turning
     angles in degrees (> 0: a tip, turning with the contour; < 0: a notch)."""
     c = np.asarray(contour, np.float64)
@@ -88,7 +90,7 @@ def contour_corners(contour: np.ndarray, pins: tuple[int, int, int]) -> tuple[np
     return found.astype(int), turn[found]
 
 
-def match_corners(ua: np.ndarray, sa: np.ndarray, ub: np.ndarray, sb: np.ndarray,
+def _match_corners(ua: np.ndarray, sa: np.ndarray, ub: np.ndarray, sb: np.ndarray,
                   shift: float = MATCH_SHIFT) -> list[tuple[int, int]]:
     """Order-keeping matching of two corner lists (positions ``u`` along the crown in [0, 1], signs
     ``s``) of highest total score ``sum 1 - |u_a - u_b| / shift``; returns index pairs."""
@@ -127,7 +129,7 @@ def _resample_crown(c: np.ndarray, ir: int, il: int, targets: np.ndarray, own: n
     return out
 
 
-def corner_matched(contours, weights, pins: tuple[int, int, int]) -> list[np.ndarray]:
+def _corner_matched(contours, weights, pins: tuple[int, int, int]) -> list[np.ndarray]:
     """The contours re-sampled so that their matched crown corners share indices (module doc).
 
     ``contours``: resampled contours ``C_r`` with the same pin indices ``pins`` (B, R, L);
@@ -140,7 +142,7 @@ def corner_matched(contours, weights, pins: tuple[int, int, int]) -> list[np.nda
     if len(live) < 2:
         return cs
     ir, il = int(pins[1]), int(pins[2])
-    found = [contour_corners(c, pins) for c in cs]
+    found = [_contour_corners(c, pins) for c in cs]
     span = float(il - ir)
     ref = int(live[np.argmax(w[live])])
     ia, sa = found[ref]
@@ -153,7 +155,7 @@ def corner_matched(contours, weights, pins: tuple[int, int, int]) -> list[np.nda
         if j == ref or found[j][0].size == 0:
             continue
         ib, sb = found[j]
-        for a, b in match_corners((ia - ir) / span, sa, (ib - ir) / span, sb):
+        for a, b in _match_corners((ia - ir) / span, sa, (ib - ir) / span, sb):
             matched[j, a] = ib[b]
     anchors = np.flatnonzero((matched[live] >= 0).sum(axis=0) >= 2)
     if anchors.size == 0:

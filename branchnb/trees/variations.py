@@ -7,7 +7,8 @@ This module strings the paper's steps together:
    the crown/trunk split, resampled to ``C_r`` (``N = 2000``) and simplified
    to the cage ``C_s`` (``M = 20``);
 2. a **variation** (:func:`make_variation`) combines the ``C_r`` of some
-   exemplars with convex weights (user weights or a Dirichlet draw), fills
+   exemplars (their sharp crown corners matched first, beyond the paper:
+   :mod:`~branchnb.trees.corners`) with convex weights (user weights or a Dirichlet draw), fills
    the combined contour for the new alpha mask, simplifies it to the target
    cage, and colours it from the exemplars through mean value coordinates;
    an optional reference tree recolours the result by histogram transfer
@@ -50,7 +51,7 @@ from ..core.params import check_params, param
 from ..core.random import as_rng
 from ..core.validate import Int, Seq, checked
 from .contour import simplify_contour
-from .corners import corner_matched
+from .corners import _corner_matched
 from .flat_art import (
     FLAT_ART_SHARE,
     _drawing_group,
@@ -419,6 +420,15 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     return the first exemplar itself). A single exemplar is allowed and
     reproduces it: its only convex combination is itself.
 
+    Beyond the paper: before the contours are combined, their sharp crown
+    corners (tier tips, zig-zag and star points, notches; turning at least
+    50 degrees) are matched in order and made to share an index
+    (:mod:`~branchnb.trees.corners`), so a tip meets a tip instead of the
+    middle of a flank: with the paper's arc-length correspondence mixes of
+    tiered firs and zig-zag crowns turned their sharp tips into round lumps.
+    Crowns without corners (round ones) keep the paper's correspondence.
+    ``python -m branchnb.trees._measure_corners`` measures it.
+
     Beyond the paper: when every mixed exemplar is pixel art (hard edges,
     at most 32 colours, alpha 0/1, art pixels at least 2 working pixels
     across; :mod:`~branchnb.trees.pixel_art`) and the colours are chosen
@@ -457,7 +467,7 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     used = np.flatnonzero((w > 0) | (cw > 0))
     s = exemplars[0].size
     # Beyond the paper: matched crown corners share an index, so tips meet tips (corners.py).
-    shapes = corner_matched([exemplars[i].resampled for i in used], w[used],
+    shapes = _corner_matched([exemplars[i].resampled for i in used], w[used],
                             exemplars[0].contour.pin_indices)
     cr = combine_shapes(shapes, w[used])
     # C runs through the border pixel centres: grow the fill by one pixel so
