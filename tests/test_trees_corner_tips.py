@@ -69,3 +69,32 @@ def test_a_round_mix_is_unchanged(monkeypatch):
                         lambda cs, w, pins: [np.asarray(c, float) for c in cs])
     old = make_variation(lib, [0.4, 0.6], colour_weights="shape", rng=1)
     assert np.array_equal(v.image, old.image)
+
+
+def _outlined_disc():
+    """A green disc with a 4 px black outline, a dark speck hanging 3 px under the outline at the
+    top by a 1 px thread, and an inner line running from the outline deep into the crown."""
+    import cv2
+    img = np.zeros((120, 120, 4), np.float32)
+    cv2.circle(img, (60, 60), 50, (0.2, 0.6, 0.2, 1.0), -1)
+    cv2.circle(img, (60, 60), 48, (0.05, 0.05, 0.05, 1.0), 4)
+    fleck = np.zeros((120, 120), np.uint8)
+    cv2.fillPoly(fleck, [np.int32([[57, 17], [63, 17], [60, 20]])], 1)
+    fleck[14:17, 60] = 1                                   # the thread to the outline
+    img[fleck > 0, :3] = 0.05
+    line = np.zeros((120, 120), np.uint8)
+    cv2.line(line, (100, 60), (60, 60), 1, 3)
+    img[line > 0, :3] = 0.05
+    return img, fleck > 0, line > 0
+
+
+def test_rim_flecks_of_outlined_mixes_are_repainted():
+    from branchnb.trees.flat_art import _drop_rim_flecks
+    img, fleck, line = _outlined_disc()
+    out = _drop_rim_flecks(img, (0.05, 0.05, 0.05), 4.0)
+    body = fleck.copy()
+    body[14:17, 60] = False                                # the thread's top joins the outline
+    assert np.all(out[body & (np.arange(120)[:, None] >= 18), 1] > 0.5)   # the speck is green now
+    assert np.array_equal(out[line], img[line])           # the inner line stays
+    ring = ~fleck & ~line & (np.abs(img[..., :3] - 0.05).max(axis=2) < 1e-6)
+    assert np.array_equal(out[ring], img[ring])           # so does the outline
