@@ -7,8 +7,9 @@ drawn 200-1000 px tall), ``seeds`` random mixes each at working size ``size``, w
 arc-length correspondence (``old``) and the corner-matched one (``new``), interleaved. Prints per
 library: the mean turning angle at the k sharpest tips of the sources and of the mixes (k: the
 fewest tips of a mixed source), the tips of the mixes over the mean tips of their sources
-(:func:`tip_stats`), flecks per 1000 px of crown rim (:func:`rim_flecks`) and the CPU-time ratio
-new/old.
+(:func:`tip_stats`), flecks per 1000 px of crown rim (:func:`rim_flecks` plus
+:func:`hanging_specks`) and the CPU-time ratio new/old (new: corners matched and rim flecks
+repainted; old: neither).
 """
 
 from __future__ import annotations
@@ -30,6 +31,10 @@ LIBS = {
     "round": ("round", "round", "lobed"),
     "lobed": ("lobed", "lobed", "round"),
 }
+
+#: Outlined drawn-tree libraries (:func:`~branchnb.trees.drawn.drawn_tree` kind, seed).
+DRAWN = {"drawnA": (("broadleaf", 10), ("fruit", 13), ("conifer", 12)),
+         "drawnB": (("palm", 21), ("broadleaf", 22), ("fruit", 23))}
 
 
 def _crown_polygon(kind: str, r, w: int, h: int) -> list[np.ndarray]:
@@ -176,6 +181,35 @@ def rim_flecks(image, band: int = 6, biggest: int = 6) -> float:
     return 1000.0 * count / rim_len
 
 
+def hanging_specks(image) -> float:
+    """Dark specks hanging inside the outline, per 1000 px of rim: the outline's thickness ``w`` is
+    the median depth of its inner edge (dark pixels next to an opaque lighter one, at most 15 px
+    deep); the dark pixels deeper than ``w + 1`` form pieces, and those reaching past ``w + 3`` px,
+    at most ``3 w + 1`` deep, ``2 w^2`` px and ``3 w + 1`` across are counted (the rule of
+    :func:`~branchnb.trees.flat_art._drop_rim_flecks`, with ``w`` read off the image)."""
+    from scipy import ndimage as ndi
+
+    img = np.asarray(image, np.float32)
+    a = img[..., 3] >= 0.5
+    dark = a & (img[..., :3].max(axis=2) < 0.3)
+    filled = ndi.binary_fill_holes(a)
+    depth = ndi.distance_transform_edt(np.pad(filled, 1))[1:-1, 1:-1]
+    rim_len = max(int((filled & (depth <= 1)).sum()), 1)
+    edge = dark & ndi.binary_dilation(a & ~dark, np.ones((3, 3), bool)) & (depth <= 15)
+    if not edge.any():
+        return 0.0
+    w = float(np.median(depth[edge]))
+    lab, n = ndi.label(dark & (depth > w + 1.0), structure=np.ones((3, 3), bool))
+    if n == 0:
+        return 0.0
+    idx = np.arange(1, n + 1)
+    far = ndi.maximum(depth, lab, idx)
+    area = ndi.sum(np.ones_like(depth), lab, idx)
+    span = np.array([max(b[0].stop - b[0].start, b[1].stop - b[1].start) for b in ndi.find_objects(lab)])
+    hit = (far > w + 3) & (far <= 3 * w + 1) & (area <= max(2 * w * w, 4)) & (span <= 3 * w + 1)
+    return 1000.0 * int(hit.sum()) / rim_len
+
+
 def libraries(outline: bool) -> dict:
     out = {}
     for li, (name, kinds) in enumerate(LIBS.items()):
@@ -187,14 +221,19 @@ def libraries(outline: bool) -> dict:
 
 
 def measure(size: int = 384, seeds: int = 3, only=None) -> dict:
+    from . import flat_art as FA
     from . import variations as V
+    from .drawn import drawn_tree
     from .variations import TreeLibrary, make_variation
 
     libs = {**libraries(False), **libraries(True)}
+    for name, spec in DRAWN.items():        # outlined drawn trees (as _measure_outline's)
+        libs[name] = [(f"{k}{s}", drawn_tree(k, rng=s, size=2 * size)) for k, s in spec]
     if only:
         libs = {k: v for k, v in libs.items() if k in only}
-    new_cm = V._corner_matched
+    new_cm, new_fl = V._corner_matched, FA._drop_rim_flecks
     old_cm = lambda cs, w, pins: [np.asarray(c, np.float64) for c in cs]  # noqa: E731
+    old_fl = lambda image, ink, width: image  # noqa: E731
     out = {}
     for name, srcs in libs.items():
         lib = TreeLibrary(size=size)
@@ -207,12 +246,14 @@ def measure(size: int = 384, seeds: int = 3, only=None) -> dict:
             for tag, fn in (("old", old_cm), ("new", new_cm)) if seed % 2 == 0 else (("new", new_cm),
                                                                                      ("old", old_cm)):
                 V._corner_matched = fn
+                FA._drop_rim_flecks = new_fl if fn is new_cm else old_fl
                 t = time.process_time()
                 v = make_variation(lib, rng=seed)
                 cpu[tag] += time.process_time() - t
                 used = [lib.exemplars[i].alpha for i in np.flatnonzero(v.weights > 0)]
-                row[tag].append((*tip_stats(v.image[..., 3], used), rim_flecks(v.image), v.image))
-        V._corner_matched = new_cm
+                row[tag].append((*tip_stats(v.image[..., 3], used), rim_flecks(v.image) + hanging_specks(v.image),
+                                 v.image))
+        V._corner_matched, FA._drop_rim_flecks = new_cm, new_fl
         def f(tag, row=row):
             r = row[tag]
             return (f"src {np.mean([x[0] for x in r]):5.1f} mix {np.mean([x[1] for x in r]):5.1f} deg, "
