@@ -18,10 +18,11 @@ index:
    height back and ahead of each point; local maxima of at least
    ``CORNER_ANGLE`` degrees are corners, signed (tips turn with the contour,
    notches against it).
-2. **Matching**: the corners of each exemplar are matched in order with those
-   of the reference (the exemplar of largest shape weight) by dynamic
-   programming (an alignment that keeps the order along the crown): only
-   corners of the same sign whose positions along the crown (share of its
+2. **Matching**: the tips (corners turning with the contour; the notches
+   between them follow by arc length) of each exemplar are matched in order
+   with those of the reference (the exemplar of largest shape weight) by
+   dynamic programming (an alignment that keeps the order along the crown):
+   only corners of the same sign whose positions along the crown (share of its
    arc length) differ by less than ``MATCH_SHIFT`` may match, a match scores
    ``1 - shift / MATCH_SHIFT``, the matching of highest total score wins.
 3. **Re-sampling**: a corner matched in several exemplars gets one common
@@ -30,8 +31,9 @@ index:
    (and the pins ``R``, ``L``), so its corners land exactly on their common
    indices. Trunk sides are left as they are.
 
-A crown with no corner (round, smoothly lobed) keeps the paper's
-correspondence exactly: with no matched corner nothing is re-sampled.
+A crown with no tip (round, lobed, bumpy cartoon crowns whose corners are
+all notches) keeps the paper's correspondence exactly: with no matched tip
+nothing is re-sampled.
 """
 
 from __future__ import annotations
@@ -142,7 +144,10 @@ def _corner_matched(contours, weights, pins: tuple[int, int, int]) -> list[np.nd
     if len(live) < 2:
         return cs
     ir, il = int(pins[1]), int(pins[2])
-    found = [_contour_corners(c, pins) for c in cs]
+    # Tips only: notches between the tips follow by arc length. Matching notches too reshaped
+    # bumpy cartoon crowns (notches between round bumps, no tip) for no gain: clip-art rim
+    # roughness 0.157 -> 0.169, outline q90/q10 4.87 -> 5.07.
+    found = [(i[t > 0], t[t > 0]) for i, t in (_contour_corners(c, pins) for c in cs)]
     span = float(il - ir)
     ref = int(live[np.argmax(w[live])])
     ia, sa = found[ref]
