@@ -426,7 +426,9 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     (:mod:`~branchnb.trees.corners`), so a tip meets a tip instead of the
     middle of a flank: with the paper's arc-length correspondence mixes of
     tiered firs and zig-zag crowns turned their sharp tips into round lumps.
-    Crowns without corners (round ones) keep the paper's correspondence.
+    Crowns without tips (round ones) keep the paper's correspondence, and so
+    do outlined and pixel-art mixes (coloured by the cage alone, where a
+    palm's frond tips matched to a conifer's tiers raised the cross-fade).
     ``python -m branchnb.trees._measure_corners`` measures it.
 
     Beyond the paper: when every mixed exemplar is pixel art (hard edges,
@@ -466,9 +468,16 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
                            name="colour_weights")
     used = np.flatnonzero((w > 0) | (cw > 0))
     s = exemplars[0].size
-    # Beyond the paper: matched crown corners share an index, so tips meet tips (corners.py).
-    shapes = _corner_matched([exemplars[i].resampled for i in used], w[used],
-                            exemplars[0].contour.pin_indices)
+    mode = resolve_colour_mode(p.colour_mode, [exemplars[i] for i in used])
+    pixel = mode == "choose" and len(used) > 1 and _pixel_arts([exemplars[i] for i in used]) is not None
+    # Outlined and pixel-art mixes are coloured without the rim correction (below).
+    inked = pixel or any(_drawing_group(exemplars[i]) & 1 for i in used)
+    # Beyond the paper: matched crown tips share an index, so tips meet tips (corners.py). Not on
+    # outlined mixes: there the colours come by the cage alone and a palm's frond tips matched to
+    # a conifer's tiers raised the cross-fade share of variations_of(palm) 0 -> 3.1 %.
+    shapes = [exemplars[i].resampled for i in used]
+    if not inked:
+        shapes = _corner_matched(shapes, w[used], exemplars[0].contour.pin_indices)
     cr = combine_shapes(shapes, w[used])
     # C runs through the border pixel centres: grow the fill by one pixel so
     # the border pixels are coloured too (alpha comes from the samples).
@@ -477,8 +486,6 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     cparams = exemplars[0].contour.params
     cage = simplify_contour(cr, m_points=p.m_points, dilation=cparams.dilation,
                             n_points_crown=cparams.n_crown)
-    mode = resolve_colour_mode(p.colour_mode, [exemplars[i] for i in used])
-    pixel = mode == "choose" and len(used) > 1 and _pixel_arts([exemplars[i] for i in used]) is not None
     image, sources, trunk = transfer_colour([exemplars[i].image for i in used],
                                             [exemplars[i].cage(p.m_points) for i in used],
                                             cage, mask, colour_weights=cw[used] / cw[used].sum(),
@@ -487,9 +494,7 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
                                             return_sources=True, layers=[exemplars[i].trunk for i in used],
                                             groups=[_drawing_group(exemplars[i]) for i in used]
                                             if mode == "choose" else None,
-                                            contours=None if pixel or any(_drawing_group(exemplars[i]) & 1
-                                                                          for i in used)
-                                            else (cr, shapes),
+                                            contours=None if inked else (cr, shapes),
                                             _maps=[exemplars[i]._cages for i in used])
     # Rim correction (beyond the paper) only without an ink outline. On outlined mixes it stretched
     # the sources' strokes where it mapped them onto the mixed rim into bands thicker than
