@@ -116,7 +116,8 @@ def _ink_outline(image: np.ndarray, exemplars: Sequence[Exemplar], cw: np.ndarra
     i = int(np.argmax(np.where(on, cw, -1.0)))
     profile = _exemplar_pen(exemplars[i])
     if profile is None:
-        return even_outline(ink_silhouette(image, best.ink, best.width), best.ink, best.width)
+        return _drop_rim_flecks(even_outline(ink_silhouette(image, best.ink, best.width), best.ink, best.width),
+                                best.ink, best.width)
     # The sources' own pen (width and soft inner edge, in Euclidean depth) rather than a band of
     # ``best.width`` whole pixels, which was thinner and ragged next to the sources' stroke. Each
     # source is scaled to the working size by its own box, so their pens differ: the mix's is the
@@ -127,8 +128,61 @@ def _ink_outline(image: np.ndarray, exemplars: Sequence[Exemplar], cw: np.ndarra
     # Dark regions thicker than the stroke are kept as fills only when a source has one: the rim
     # correction maps the sources' strokes onto the mixed rim and stretches them there.
     fills = any(_exemplar_dark_fill(e) for e, w in zip(exemplars, cw, strict=True) if w > 0)
-    return _pen_outline(ink_silhouette(image, best.ink, best.width), best.ink, best.width, profile, pen,
-                        dark_fills=fills)
+    image = _pen_outline(ink_silhouette(image, best.ink, best.width), best.ink, best.width, profile, pen,
+                         dark_fills=fills)
+    return _drop_rim_flecks(image, best.ink, best.width if pen is None else max(best.width, pen))
+
+
+#: Rim flecks: ink specks at most this many pen widths from the silhouette's edge and at most
+#: FLECK_AREA pen widths squared (and 3 pen widths across) are repainted with the fill round them.
+FLECK_BAND = 3.0
+FLECK_AREA = 2.0
+
+
+def _drop_rim_flecks(image: np.ndarray, ink, width: float) -> np.ndarray:
+    """Repaint ink-coloured specks just inside the mixed silhouette's outline with the fill next to
+    them (beyond the paper).
+
+    The sources' outlines at notches and bumps of their crowns are mapped a few pixels inside the
+    mix's (smoother) silhouette, where they are left as small dark triangles and dots cut off from
+    the outline, often hanging on a 1 px thread. A speck is a connected ink-coloured piece deeper
+    than the outline (one pen width and a pixel; reaching 2 px more), within ``FLECK_BAND`` pen widths of the
+    silhouette's edge, at most ``FLECK_AREA`` pen widths squared and 3 pen widths across; inner
+    lines of the drawing reach deeper or are longer and stay.
+    """
+    img = np.asarray(image, np.float32)
+    opaque = img[..., 3] >= 0.5
+    if not opaque.any():
+        return image
+    w = max(float(width), 1.0)
+    ink = np.asarray(ink, np.float32)[:3]
+    dark = opaque & (np.abs(img[..., :3] - ink).max(axis=2) < 0.25)
+    if not dark.any():
+        return image
+    filled = ndi.binary_fill_holes(opaque)
+    depth = ndi.distance_transform_edt(np.pad(filled, 1))[1:-1, 1:-1]
+    # Cut at the outline's own depth: a speck hanging off the outline by a 1 px thread is a fleck.
+    lab, n = ndi.label(dark & (depth > w + 1.0), structure=np.ones((3, 3), bool))
+    if n == 0:
+        return image
+    idx = np.arange(1, n + 1)
+    far = ndi.maximum(depth, lab, idx)
+    area = ndi.sum(np.ones_like(depth), lab, idx)
+    boxes = ndi.find_objects(lab)
+    span = np.array([max(b[0].stop - b[0].start, b[1].stop - b[1].start) for b in boxes])
+    # ... but not the outline's own ragged inner edge, which barely passes the cut.
+    fleck = (far > w + 3.0) & (far <= FLECK_BAND * w + 1.0) & (area <= max(FLECK_AREA * w * w, 4.0)) & \
+        (span <= 3.0 * w + 1.0)
+    if not fleck.any():
+        return image
+    drop = np.isin(lab, idx[fleck])
+    fill = opaque & ~dark
+    if not fill.any():
+        return image
+    _, (iy, ix) = ndi.distance_transform_edt(~fill, return_indices=True)
+    out = img.copy()
+    out[drop, :3] = img[iy[drop], ix[drop], :3]
+    return out
 
 
 def _pixel_arts(exemplars: Sequence[Exemplar]):

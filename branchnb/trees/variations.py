@@ -7,7 +7,8 @@ This module strings the paper's steps together:
    the crown/trunk split, resampled to ``C_r`` (``N = 2000``) and simplified
    to the cage ``C_s`` (``M = 20``);
 2. a **variation** (:func:`make_variation`) combines the ``C_r`` of some
-   exemplars with convex weights (user weights or a Dirichlet draw), fills
+   exemplars (their sharp crown corners matched first, beyond the paper:
+   :mod:`~branchnb.trees.corners`) with convex weights (user weights or a Dirichlet draw), fills
    the combined contour for the new alpha mask, simplifies it to the target
    cage, and colours it from the exemplars through mean value coordinates;
    an optional reference tree recolours the result by histogram transfer
@@ -50,6 +51,7 @@ from ..core.params import check_params, param
 from ..core.random import as_rng
 from ..core.validate import Int, Seq, checked
 from .contour import simplify_contour
+from .corners import _corner_matched
 from .flat_art import (
     FLAT_ART_SHARE,
     _drawing_group,
@@ -418,6 +420,17 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     return the first exemplar itself). A single exemplar is allowed and
     reproduces it: its only convex combination is itself.
 
+    Beyond the paper: before the contours are combined, their sharp crown
+    corners (tier tips, zig-zag and star points, notches; turning at least
+    50 degrees) are matched in order and made to share an index
+    (:mod:`~branchnb.trees.corners`), so a tip meets a tip instead of the
+    middle of a flank: with the paper's arc-length correspondence mixes of
+    tiered firs and zig-zag crowns turned their sharp tips into round lumps.
+    Crowns without tips (round ones) keep the paper's correspondence, and so
+    do outlined and pixel-art mixes (coloured by the cage alone, where a
+    palm's frond tips matched to a conifer's tiers raised the cross-fade).
+    ``python -m branchnb.trees._measure_corners`` measures it.
+
     Beyond the paper: when every mixed exemplar is pixel art (hard edges,
     at most 32 colours, alpha 0/1, art pixels at least 2 working pixels
     across; :mod:`~branchnb.trees.pixel_art`) and the colours are chosen
@@ -455,7 +468,17 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
                            name="colour_weights")
     used = np.flatnonzero((w > 0) | (cw > 0))
     s = exemplars[0].size
-    cr = combine_shapes([exemplars[i].resampled for i in used], w[used])
+    mode = resolve_colour_mode(p.colour_mode, [exemplars[i] for i in used])
+    pixel = mode == "choose" and len(used) > 1 and _pixel_arts([exemplars[i] for i in used]) is not None
+    # Outlined and pixel-art mixes are coloured without the rim correction (below).
+    inked = pixel or any(_drawing_group(exemplars[i]) & 1 for i in used)
+    # Beyond the paper: matched crown tips share an index, so tips meet tips (corners.py). Not on
+    # outlined mixes: there the colours come by the cage alone and a palm's frond tips matched to
+    # a conifer's tiers raised the cross-fade share of variations_of(palm) 0 -> 3.1 %.
+    shapes = [exemplars[i].resampled for i in used]
+    if not inked:
+        shapes = _corner_matched(shapes, w[used], exemplars[0].contour.pin_indices)
+    cr = combine_shapes(shapes, w[used])
     # C runs through the border pixel centres: grow the fill by one pixel so
     # the border pixels are coloured too (alpha comes from the samples).
     mask = fill_contour(cr, (s, s))
@@ -463,8 +486,6 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     cparams = exemplars[0].contour.params
     cage = simplify_contour(cr, m_points=p.m_points, dilation=cparams.dilation,
                             n_points_crown=cparams.n_crown)
-    mode = resolve_colour_mode(p.colour_mode, [exemplars[i] for i in used])
-    pixel = mode == "choose" and len(used) > 1 and _pixel_arts([exemplars[i] for i in used]) is not None
     image, sources, trunk = transfer_colour([exemplars[i].image for i in used],
                                             [exemplars[i].cage(p.m_points) for i in used],
                                             cage, mask, colour_weights=cw[used] / cw[used].sum(),
@@ -473,9 +494,7 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
                                             return_sources=True, layers=[exemplars[i].trunk for i in used],
                                             groups=[_drawing_group(exemplars[i]) for i in used]
                                             if mode == "choose" else None,
-                                            contours=None if pixel or any(_drawing_group(exemplars[i]) & 1
-                                                                          for i in used)
-                                            else (cr, [exemplars[i].resampled for i in used]),
+                                            contours=None if inked else (cr, shapes),
                                             _maps=[exemplars[i]._cages for i in used])
     # Rim correction (beyond the paper) only without an ink outline. On outlined mixes it stretched
     # the sources' strokes where it mapped them onto the mixed rim into bands thicker than
