@@ -444,22 +444,28 @@ FRINGE_T_DIV = 0.3
 #: a darker soft pixel (premultiplied ink) is unmixed only up to that band's colour, not the fill's.
 FRINGE_INK = 0.35
 FRINGE_RISE = 0.15
+#: ... and by at least this (a painted rim a shade darker than the colour beside it is no matte).
+FRINGE_RISE_MIN = 0.1
+#: Farthest a matted-in rim pixel lies from a clear one (px).
+FRINGE_REACH = 8
 
 
-def _full_alpha_share(rgb, a, solid, soft, ys, xs, inner, bg, iy, ix):
+def _full_alpha_share(rgb, a, solid, soft, ys, xs, inner, bg, near, far):
     """The tree's share ``t`` (on the matte -> inner colour line) of the colour at full alpha beside
     each soft pixel ``(ys, xs)``, and that pixel's alpha: the least over the solid pixels of its
-    3 x 3 neighbourhood (a drawn line's own colour when one is there, not the fill past it), else
-    its nearest solid pixel."""
+    5 x 5 neighbourhood (a drawn line's own colour when one is there, not the fill past it), else
+    its nearest solid pixel ``near``; NaN where that is ``far`` (a soft pixel inside a translucent
+    patch: no rim, nothing matted in)."""
     d = inner - bg
     t = np.clip(((rgb - bg) * d).sum(axis=2) / np.maximum((d * d).sum(axis=2), 1e-6), 0.0, 1.0)
-    box = np.ones((3, 3), bool)
+    box = np.ones((5, 5), bool)
     ring = ndi.binary_dilation(soft, box) & solid     # only where a soft pixel looks
     t_min = ndi.minimum_filter(np.where(ring, t, 2.0), footprint=box)[ys, xs]
     a_min = ndi.minimum_filter(np.where(ring, a, 2.0), footprint=box)[ys, xs]
     none = t_min > 1.5
-    t_min[none] = t[iy[ys, xs], ix[ys, xs]][none]
-    a_min[none] = a[iy[ys, xs], ix[ys, xs]][none]
+    iy, ix = near
+    t_min[none], a_min[none] = t[iy, ix][none], a[iy, ix][none]
+    t_min[none & far] = np.nan
     return t_min, a_min
 
 
@@ -518,9 +524,14 @@ def _defringe(img: np.ndarray, opaque: np.ndarray) -> np.ndarray:
     t = np.clip(((c_s - m_s) * d).sum(axis=1) / np.maximum((d * d).sum(axis=1), 1e-6), 0.0, 1.0)[:, None]
     mix_err = np.abs(c_s - (t * o_s + (1 - t) * m_s)).max(axis=1)
     plain_err = np.abs(c_s - o_s).max(axis=1)
-    t_f, a_f = _full_alpha_share(rgb, a, solid, soft, ys, xs, own_s[jy, jx], bg, iy, ix)
+    d_solid = ndi.distance_transform_edt(~solid)[ys, xs]
+    t_f, a_f = _full_alpha_share(rgb, a, solid, soft, ys, xs, own_s[jy, jx], bg,
+                                 (iy[ys, xs], ix[ys, xs]), d_solid > FRINGE_REACH)
     # A straight-colour line keeps its colour as alpha rises: the drawing's own, left as it is.
-    drawn = t_f - t[:, 0] < FRINGE_RISE * (a_f - a[ys, xs])
+    # A matte shows on the rim only: within FRINGE_REACH of a clear pixel, beside a solid one.
+    with np.errstate(invalid="ignore"):
+        drawn = ~(t_f - t[:, 0] >= np.maximum(FRINGE_RISE * (a_f - a[ys, xs]), FRINGE_RISE_MIN)) | \
+            (dist_clear[ys, xs] > FRINGE_REACH)
     comp = (t[:, 0] >= FRINGE_T) & (mix_err <= FRINGE_MIX) & (plain_err > FRINGE_NEAR) & \
         (mix_err <= 0.5 * plain_err) & (np.abs(d).max(axis=1) > FRINGE_FAR) & ~drawn
     if comp.any():
