@@ -448,6 +448,10 @@ FRINGE_RISE = 0.15
 FRINGE_RISE_MIN = 0.1
 #: Farthest a matted-in rim pixel lies from a clear one (px).
 FRINGE_REACH = 8
+#: Smallest tree (long side of its opaque box, px) whose composited edges are unmixed: below it a
+#: drawn 1 px anti-aliased outline never reaches full alpha and reads like a matte (96-128 px drawn
+#: trees lost 12-98 outline pixels each), so small trees keep their edges as drawn.
+FRINGE_MIN_SIZE = 192
 
 
 def _full_alpha_share(rgb, a, solid, soft, ys, xs, inner, bg, near, far):
@@ -486,8 +490,10 @@ def _defringe(img: np.ndarray, opaque: np.ndarray) -> np.ndarray:
     pixels' colour, black when cleared). Where that model explains a soft opaque pixel's colour
     (within ``FRINGE_MIX``, and at most half as far as the plain colour ``c`` of the nearby inner
     pixels does) the matte is taken out, ``(rgb - (1 - t) m) / t``. The tree's share ``t`` is
-    fitted, not read from the alpha (a keyed photo's alpha runs wider than its colour edge). A dark outline drawn
-    over cleared pixels keeps its colour: it is no mix of the fill beside it with black (t ~ 0).
+    fitted, not read from the alpha (a keyed photo's alpha runs wider than its colour edge). A dark
+    outline drawn over cleared pixels keeps its colour: it is no mix of the fill beside it with black
+    (t ~ 0). Trees smaller than ``FRINGE_MIN_SIZE`` keep their composited edges (a drawn 1 px outline
+    there never reaches full alpha and cannot be told from a matte).
     """
     a = img[:, :, 3]
     soft = opaque & (a < FRINGE_ALPHA)
@@ -506,6 +512,9 @@ def _defringe(img: np.ndarray, opaque: np.ndarray) -> np.ndarray:
     _, (iy, ix) = ndi.distance_transform_edt(~solid, return_indices=True)
     own = rgb[iy, ix]
     out = img.copy()
+    oy, ox = np.nonzero(opaque)
+    if max(oy.max() - oy.min(), ox.max() - ox.min()) + 1 < FRINGE_MIN_SIZE:
+        return _light_fringe(out, soft, bg, own)
     # Composited edges first (any matte, cleared black included): rgb = t * c + (1 - t) * m with c
     # the tree's colour inside (averaged: photographed leaves vary pixel to pixel; a keyed photo's
     # alpha runs wider than its colour edge, so t is fitted, not taken from alpha).
@@ -541,6 +550,11 @@ def _defringe(img: np.ndarray, opaque: np.ndarray) -> np.ndarray:
         unmixed = np.where(t >= FRINGE_T_DIV, m_s + (c_s - m_s) * goal / np.maximum(t, FRINGE_T_DIV),
                            m_s + goal * d)
         out[ys[comp], xs[comp], :3] = np.clip(unmixed, 0.0, 1.0)[comp]
+    return _light_fringe(out, soft, bg, own)
+
+
+def _light_fringe(out: np.ndarray, soft: np.ndarray, bg: np.ndarray, own: np.ndarray) -> np.ndarray:
+    """Soft pixels of ``out`` showing a light matte's colour take their nearest solid pixel's."""
     # A matte background is one colour (paper, up to its grain); transparent pixels holding
     # leftover colours of the art (sprites) are no background to match against.
     ring = bg[soft]
