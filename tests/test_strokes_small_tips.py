@@ -1,0 +1,56 @@
+"""Small objects (100-250 px): thin tips keep their solid core after an edit (issue 25).
+
+A tine tapering to 1-2 px under a soft alpha ends in a solid dot joined to the
+rest by faint pixels only; the solid-level fleck pass dropped it and left its
+faint rim as a grey ring round a hole (an antler at 150 px).
+"""
+import os
+import sys
+
+import numpy as np
+import pytest
+
+from branchnb.strokes import edit_structure
+from branchnb.strokes.outline import drop_flecks
+
+sys.path.insert(0, os.path.dirname(__file__))
+from strokes_small_table import ring_px  # noqa: E402
+from strokes_speck_table import antler  # noqa: E402
+
+
+@pytest.mark.parametrize("n, seed", [(100, 0), (150, 1)])
+def test_identity_edit_keeps_tip_cores(n, seed):
+    img, beam, tines, _ = antler(n, seed)
+    src = [beam] + tines
+    res = edit_structure(img, src, src)
+    tips = [t[-1] for t in tines]
+    # main: 6 and 8 ring px more than the source has at its tips
+    assert ring_px(res.layer, tips) - ring_px(img, tips) <= 0
+    # every tip whose source has a solid pixel within 2 px keeps one
+    yy, xx = np.mgrid[:n, :n]
+    for x, y in tips:
+        near = np.hypot(xx - x, yy - y) <= 2.0
+        if (img[..., 3][near] > 0.5).any():
+            assert (res.layer[..., 3][near] > 0.5).any()
+
+
+def _layer_with_dot():
+    layer = np.zeros((30, 30, 4), np.float32)
+    layer[5:25, 5:15] = (0.7, 0.6, 0.5, 1.0)
+    layer[14, 15:18, 3] = 0.3           # faint link
+    layer[14, 18:20] = (0.7, 0.6, 0.5, 0.6)   # a 2-px solid dot
+    return layer
+
+
+def test_solid_dot_like_the_sources_stays():
+    layer = _layer_with_dot()
+    out = drop_flecks(layer, layer[..., 3], level=0.5)
+    assert out[14, 18, 3] == pytest.approx(0.6)
+
+
+def test_solid_dot_the_source_lacks_goes():
+    layer = _layer_with_dot()
+    src = np.zeros((30, 30), np.float32)
+    src[5:25, 5:20] = 1.0
+    out = drop_flecks(layer, src, level=0.5)
+    assert out[14, 18, 3] == 0.0
