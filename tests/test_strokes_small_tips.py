@@ -94,3 +94,47 @@ def test_carried_thin_tips_keep_their_taper(name, n, seed):
             for c in kids]
     # main: up to 0.3-0.4 of the last quarter of a rigidly moved tine lost its solid body
     assert max(lost) < 0.15
+
+
+def _small_antler(n):
+    """A 4-tine antler at ``n`` px (tines tapering from 18/500 to 4/500 of the size)."""
+    import cv2
+    k = n / 500
+
+    def curve(p0, p1, p2, m=40):
+        t = np.linspace(0, 1, m)[:, None]
+        return (1 - t) ** 2 * np.asarray(p0) + 2 * (1 - t) * t * np.asarray(p1) + t ** 2 * np.asarray(p2)
+    beam = curve(np.array([250, 470]) * k, np.array([120, 300]) * k, np.array([260, 60]) * k)
+    tines = []
+    for f, side, length in ((0.25, -1, 100), (0.45, 1, 110), (0.62, -1, 100), (0.8, 1, 80)):
+        i = int(f * (len(beam) - 1))
+        tang = beam[i + 1] - beam[i - 1]
+        tang /= np.linalg.norm(tang)
+        d = 0.85 * np.array([-tang[1], tang[0]]) * side + 0.5 * tang
+        tines.append(curve(beam[i], beam[i] + d * length * k * 0.6, beam[i] + (d + 0.4 * tang) * length * k))
+    hard = np.zeros((n, n), np.uint8)
+    for pts, (w0, w1) in [(beam, (34 * k, 14 * k))] + [(t, (18 * k, 4 * k)) for t in tines]:
+        for j in range(len(pts) - 1):
+            w = w0 + (w1 - w0) * j / (len(pts) - 1)
+            cv2.line(hard, tuple(np.int32(pts[j])), tuple(np.int32(pts[j + 1])), 1, max(1, int(w)))
+    img = np.zeros((n, n, 4), np.float32)
+    img[hard > 0, :3] = (0.78, 0.68, 0.52)
+    img[..., 3] = cv2.GaussianBlur(hard.astype(np.float32), (0, 0), 0.6)
+    return img, beam, tines
+
+
+def test_added_tine_stays_apart_from_its_neighbour():
+    from scipy import ndimage as ndi
+    n = 150
+    img, beam, tines = _small_antler(n)
+    k = n / 500
+    new = tines[1] + np.array([40, -60]) * k
+    new = np.concatenate([[beam[26]], new[1:] + (beam[26] - new[0])])
+    src = [beam] + tines
+    res = edit_structure(img, src + [tines[1]], src + [new])
+    lab, m = ndi.label(res.layer[..., 3] < 0.5)
+    border = set(np.unique(np.r_[lab[0], lab[-1], lab[:, 0], lab[:, -1]]))
+    holes = [int((lab == j).sum()) for j in range(1, m + 1) if j not in border]
+    # the background between the beam, the new tine and the top tine (374 px at 500 px,
+    # ~34 at this size) -- main: closed by a 2-px closing into one blob (no hole)
+    assert max(holes, default=0) >= 8
