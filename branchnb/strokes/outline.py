@@ -622,7 +622,9 @@ def drop_flecks(layer: np.ndarray, source_alpha: np.ndarray, *, level: float = 0
     level : float
         Alpha above which pixels make pieces (default 0.02; at 0.5 a solid
         dot joined to the object by faint pixels only is a fleck too: an
-        outline pixel left 1 px off a limb hugging a trunk, 500 px).
+        outline pixel left 1 px off a limb hugging a trunk, 500 px). A solid
+        piece as large as half the source's smallest solid piece stays (the
+        solid dot a thin tip ends in at small sizes).
 
     Returns
     -------
@@ -643,7 +645,12 @@ def drop_flecks(layer: np.ndarray, source_alpha: np.ndarray, *, level: float = 0
     sizes = np.bincount(lab.ravel())[1:]
     src_lab, m = ndi.label(source_alpha > level, structure=eight)
     src_sizes = np.bincount(src_lab.ravel())[1:] if m else np.array([0])
-    src_sizes = src_sizes[src_sizes >= 4] if (src_sizes >= 4).any() else src_sizes
+    if level <= 0.02:
+        # (a few anti-aliasing specks of the source do not make every speck welcome)
+        src_sizes = src_sizes[src_sizes >= 4] if (src_sizes >= 4).any() else src_sizes
+    # (at a solid level every source piece counts: a tine 1-2 px wide at a 150-px antler
+    # ends in a solid dot joined by faint pixels only, which was dropped and left its
+    # faint rim as a grey ring round a hole)
     small = (sizes < 0.5 * src_sizes.min()) & (sizes < 0.05 * sizes.max())
     if not small.any():
         return layer

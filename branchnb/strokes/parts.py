@@ -545,6 +545,13 @@ def carry_stroke(child, parent_source, parent_target, *, window: float = 5.0) ->
     return pts @ m[:, :2].T + m[:, 2]
 
 
+def _thin(alpha: np.ndarray) -> np.ndarray:
+    """Solid pixels of stretches at most ~3 px wide (no pixel deeper than 2 px within 2 px)."""
+    solid = alpha > 0.5
+    depth = ndi.distance_transform_edt(np.pad(solid, 1))[1:-1, 1:-1]
+    return solid & (ndi.maximum_filter(depth, size=5) <= 2.0)
+
+
 def place_part(part: Part, premult: np.ndarray, forward: np.ndarray, shape) -> tuple | None:
     """The part (and its base) moved by the rigid map ``forward`` (source -> target).
 
@@ -567,7 +574,10 @@ def place_part(part: Part, premult: np.ndarray, forward: np.ndarray, shape) -> t
     -------
     tuple or None
         ``(pixels (S, S, 4) float32, valid (S, S) bool, base (S, S) bool,
-        origin (x, y), inverse (2, 3))``, bilinearly resampled.
+        origin (x, y), inverse (2, 3))``, bilinearly resampled; on
+        stretches at most ~3 px wide the nearest source pixel where it is
+        solid and the interpolation is not (a thin tip stays whole; beyond
+        the paper).
     """
     (rs, cs) = part.box
     crop = premult[rs, cs]
@@ -594,6 +604,19 @@ def place_part(part: Part, premult: np.ndarray, forward: np.ndarray, shape) -> t
     stack = np.dstack([part.mask, part.base]).astype(np.float32)
     lab = cv2.warpAffine(stack, m, (size, size), flags=flags, borderMode=cv2.BORDER_CONSTANT, borderValue=0)
     valid = (lab[..., 0] + lab[..., 1]) > 0.5
+    # A part's thin end (1-2 px under a soft alpha) interpolated between pixel centres fell
+    # under alpha 0.5 and out of ``valid``: a carried tine ended cut square at 150 px. On
+    # thin stretches the nearest source pixel is kept where it is solid (as in fetch).
+    near_flags = cv2.INTER_NEAREST | cv2.WARP_INVERSE_MAP
+    thin = _thin(crop[..., 3]) & (region > 0)
+    if thin.any():
+        nthin = cv2.warpAffine(thin.view(np.uint8), m, (size, size), flags=near_flags,
+                               borderMode=cv2.BORDER_CONSTANT, borderValue=0) > 0
+        near = cv2.warpAffine(crop, m, (size, size), flags=near_flags, borderMode=cv2.BORDER_CONSTANT,
+                              borderValue=0)
+        keep = nthin & (near[..., 3] > 0.5) & (pix[..., 3] < 0.5)
+        pix[keep] = near[keep]
+        valid |= keep
     base = valid & (lab[..., 1] > lab[..., 0])
     del hh, ww
     return pix.astype(np.float32), valid, base, (int(x0), int(y0)), inverse
