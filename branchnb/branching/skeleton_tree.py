@@ -145,8 +145,34 @@ def _small_frame_key(key: np.ndarray, frame_d: np.ndarray) -> np.ndarray:
     return np.where(on, key, key + float(np.ptp(key)) + 1.0)
 
 
+def _small_frame_lead(end_r: np.ndarray, frame_d: np.ndarray, pts: np.ndarray, r: np.ndarray,
+                      cand: np.ndarray, members: np.ndarray) -> int | None:
+    """On a small example, the frame end (within :data:`SMALL_FRAME` px) at least :data:`ENTRY_SHARE` x
+    as thick as the piece's thickest end whose line stays :data:`SMALL_LEAD` x as thick near it
+    (:func:`_held_radius`) as near any other frame end (``None``: no such end).
+
+    Beyond the paper (issue 23): traced up to the frame (:mod:`.small_frames`), a small vessel's
+    side branches leaving the frame became frame ends too, and the fork votes of
+    :func:`_frame_outlet` rooted it at a side branch's tip; a line that enters much thicker than the
+    others leave comes from there.
+    """
+    on = np.flatnonzero((frame_d <= SMALL_FRAME) & (end_r >= ENTRY_SHARE * float(end_r.max())))
+    if not len(on):
+        return None
+    at = np.flatnonzero(frame_d <= SMALL_FRAME)
+    held = _held_radius(pts, r, cand[at], members)
+    best = int(np.argmax(held))
+    if at[best] not in on or np.any(np.delete(held, best) * SMALL_LEAD > held[best]):
+        return None
+    return int(cand[at[best]])
+
+
+#: ... and the frame end it roots at stays this many times as thick as the line near other frame ends.
+SMALL_LEAD = 1.5
+
+
 #: On small examples an end within this many pixels of the frame is on it (see :func:`_small_frame_key`).
-SMALL_FRAME = 1.5
+SMALL_FRAME = ENTRY_FRAME
 
 
 def _one_per_line(entries: list[int], g, r: np.ndarray, r_entry: float) -> list[int]:
@@ -594,6 +620,10 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
                     # others (a drawn root system's trunks among its thin roots; an end is as thick as the
                     # line stays near it, not as the V where two lines meet at the frame), that meet the
                     # frame drain there
+                    if small and (lead := _small_frame_lead(-key, border_dist[ys[cand], xs[cand]] / scale, pts_full,
+                                                            r_full, cand, members)) is not None:
+                        roots.append(lead)
+                        continue
                     if (hi <= 1.5 * lo or hi - lo <= 1.0) and len(ends) and \
                             _even_ends(-key, pts_full, r_full, cand, members) and (outlet := _frame_outlet(
                             g, deg, cand, members, pts_full, r_full, border_dist[ys[cand], xs[cand]] / scale)) \
