@@ -24,12 +24,11 @@ BACK = 5
 MIN_COS = 0.5
 
 
-def _end_direction(skel: np.ndarray, y: int, x: int, back: int) -> np.ndarray | None:
-    """Unit (dy, dx) from the skeleton ``back`` pixels behind the end ``(y, x)`` to it, walking the
-    one-pixel line (``None`` when the walk is shorter than 2 pixels)."""
+def _end_path(skel: np.ndarray, y: int, x: int, n: int) -> list[tuple[int, int]]:
+    """The skeleton pixels from the end ``(y, x)`` back along the one-pixel line, up to ``n + 1`` of them."""
     h, w = skel.shape
     prev, cur, path = None, (y, x), [(y, x)]
-    for _ in range(back):
+    for _ in range(n):
         nxt = None
         for dy in (-1, 0, 1):
             for dx in (-1, 0, 1):
@@ -43,11 +42,13 @@ def _end_direction(skel: np.ndarray, y: int, x: int, back: int) -> np.ndarray | 
             break
         prev, cur = cur, nxt
         path.append(cur)
-    if len(path) < 3:
-        return None
-    d = np.asarray(path[0], np.float64) - np.asarray(path[-1], np.float64)
+    return path
+
+
+def _direction(a, b) -> np.ndarray | None:
+    d = np.asarray(a, np.float64) - np.asarray(b, np.float64)
     n = float(np.hypot(*d))
-    return d / n if n > 0 else None
+    return d / n if n >= 2.0 else None
 
 
 def _reach_frame(skel: np.ndarray, bw: np.ndarray, reach: float = REACH) -> np.ndarray:
@@ -56,7 +57,8 @@ def _reach_frame(skel: np.ndarray, bw: np.ndarray, reach: float = REACH) -> np.n
     An end within ``reach`` pixels of the frame is joined by a straight segment to the nearest frame
     pixel of ``bw`` (dilated by one) that lies ahead of it (within 60 degrees of its last :data:`BACK`
     pixels' direction, at most ``1.5 reach`` away) and whose segment lies in that mask: the line
-    itself goes on to the frame (a tip that ends inside the image stays).
+    itself goes on to the frame (a tip that ends inside the image stays). When none does (the axis
+    bends into a corner of the cut), the same from :data:`BACK` pixels behind the end.
     Examples whose long side exceeds :data:`SMALL_SIDE` come back unchanged.
 
     Parameters
@@ -94,20 +96,32 @@ def _reach_frame(skel: np.ndarray, bw: np.ndarray, reach: float = REACH) -> np.n
     ring[0], ring[-1], ring[:, 0], ring[:, -1] = True, True, True, True
     fy, fx = np.nonzero(ring & inside)
     out = skel.copy()
-    for y, x in zip(ey[keep], ex[keep]):
-        d = _end_direction(skel, int(y), int(x), BACK)
-        if d is None:
-            continue
-        vy, vx = fy - float(y), fx - float(x)
-        dist = np.hypot(vy, vx)
-        # the frame pixels of the line's mask ahead of the end (within 60 deg of its direction), nearest first
-        ok = (dist <= 1.5 * reach) & (vy * d[0] + vx * d[1] >= MIN_COS * dist)
-        for k in np.flatnonzero(ok)[np.argsort(dist[ok], kind="stable")]:
-            n = int(np.ceil(dist[k])) + 1
-            t = np.linspace(0.0, 1.0, n + 1)[1:]
-            py = np.rint(y + t * vy[k]).astype(int)
-            px = np.rint(x + t * vx[k]).astype(int)
-            if inside[py, px].all():
-                out[py, px] = True
+    for y0, x0 in zip(ey[keep], ex[keep]):
+        path = _end_path(skel, int(y0), int(x0), 2 * BACK)
+        # from the end, or (its axis bent into a corner of the cut, a medial axis's Y at a blunt end)
+        # from BACK pixels behind it along the stretch before the bend
+        for i in (0, BACK):
+            if i >= len(path) or (d := _direction(path[i], path[min(i + BACK, len(path) - 1)])) is None:
+                break
+            y, x = path[i]
+            vy, vx = fy - float(y), fx - float(x)
+            dist = np.hypot(vy, vx)
+            # the frame pixels of the line's mask ahead (within 60 deg of its direction), nearest first
+            ok = (dist <= 1.5 * reach) & (vy * d[0] + vx * d[1] >= MIN_COS * dist)
+            done = False
+            for k in np.flatnonzero(ok)[np.argsort(dist[ok], kind="stable")]:
+                n = int(np.ceil(dist[k])) + 1
+                t = np.linspace(0.0, 1.0, n + 1)[1:]
+                py = np.rint(y + t * vy[k]).astype(int)
+                px = np.rint(x + t * vx[k]).astype(int)
+                if inside[py, px].all():
+                    out[py, px] = True
+                    done = True
+                    if i and all(nb[q] == 2 for q in path[1:i]):
+                        # the bent tip goes: the line now leaves the frame straight
+                        qy, qx = np.asarray(path[:i]).T
+                        out[qy, qx] = False
+                    break
+            if done:
                 break
     return out
