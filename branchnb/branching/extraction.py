@@ -80,6 +80,7 @@ from .skeleton_tree import (  # noqa: F401  (re-exported: split from this module
     _skeleton_graph,
     skeleton_to_structure,
 )
+from .small_frames import SMALL_SIDE, _reach_frame
 from .stroke_joins import find_stroke_joins
 
 __all__ = [
@@ -288,6 +289,9 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
             # intermittent, a dotted test would cut it)
             skel &= ~false_ridge_pixels(work, skel, "dark", sigma_min=p.sigma_min, sigma_max=p.sigma_max,
                                         dotted=np.inf, beads=0.0, local=2.0 * p.sigma_max)
+    # small examples: a line leaving the frame is traced up to it (its axis stops a width short of it)
+    if max(np.shape(gray)[:2]) <= SMALL_SIDE:
+        skel = _reach_frame(skel, bw)
     if p.radius == "fwhm":
         lines_w = rescale(lines, p.scale, anti_aliasing=True) if p.scale < 1 and lines is not gray else \
             (work if lines is gray else lines)
@@ -316,6 +320,11 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
 
         s = centre_on_lines(lines, s, _pol, p.centre_reach)
     _carry_hubs(s, hubs, p.scale)
+    if max(np.shape(gray)[:2]) <= SMALL_SIDE:
+        # a line traced up to the frame (_reach_frame) may be centred or smoothed a fraction past it
+        hh, ww = np.shape(gray)[:2]
+        for b in s.branches:
+            b.points = np.clip(b.points, 0.0, [ww - 1.0, hh - 1.0])
     if return_maps:
         return s, (resp, bw, skel)
     return s

@@ -16,6 +16,7 @@ from scipy.sparse import csgraph
 
 from ..core.polyline import arc_length, polyline_length, resample_uniform
 from ..core.structure import Branch, Structure
+from .small_frames import SMALL_SIDE
 
 __all__ = [
     "skeleton_to_structure",
@@ -123,6 +124,55 @@ def _frame_entries(cand: np.ndarray, end_r: np.ndarray, frame_d: np.ndarray, pts
         if all(np.hypot(*(p - pts[j])) > 4.0 * end_r[i] for j in out):
             out.append(int(cand[i]))
     return out
+
+
+def _small_frame_key(key: np.ndarray, frame_d: np.ndarray) -> np.ndarray:
+    """``root="auto"`` on a small example (long side <= :data:`~.small_frames.SMALL_SIDE` px) whose
+    piece neither enters (:func:`_frame_entries`) nor drains (:func:`_frame_outlet`) at the frame by
+    those rules: its thickest end is taken among the ends on the frame (within
+    :data:`SMALL_FRAME` px) at least :data:`ENTRY_SHARE` x as thick as its thickest end, if any.
+
+    Beyond the paper (issue 23): at 96-256 px radii read in half-pixel steps (a tapering 4-px river
+    read 1.7 at its mouth, 1.3 at a bank's spur inside), so "thicker" says little; a 128 px map's
+    river entering from the bottom edge was rooted at a spur mid-canvas and its synthesis floated
+    there. A line cut by the frame nearly at its full width comes from outside. ``key`` is the
+    negated end radius; the result is ``key`` with the other ends pushed behind.
+    """
+    thick = -key
+    on = (frame_d <= SMALL_FRAME) & (thick >= ENTRY_SHARE * float(thick.max()))
+    if not on.any():
+        return key
+    return np.where(on, key, key + float(np.ptp(key)) + 1.0)
+
+
+def _small_frame_lead(end_r: np.ndarray, frame_d: np.ndarray, pts: np.ndarray, r: np.ndarray,
+                      cand: np.ndarray, members: np.ndarray) -> int | None:
+    """On a small example, the frame end (within :data:`SMALL_FRAME` px) at least :data:`ENTRY_SHARE` x
+    as thick as the piece's thickest end whose line stays :data:`SMALL_LEAD` x as thick near it
+    (:func:`_held_radius`) as near any other frame end (``None``: no such end).
+
+    Beyond the paper (issue 23): traced up to the frame (:mod:`.small_frames`), a small vessel's
+    side branches leaving the frame became frame ends too, and the fork votes of
+    :func:`_frame_outlet` rooted it at a side branch's tip; a line that enters much thicker than the
+    others leave comes from there.
+    """
+    on = np.flatnonzero((frame_d <= SMALL_FRAME) & (end_r >= ENTRY_SHARE * float(end_r.max())))
+    if not len(on):
+        return None
+    at = np.flatnonzero(frame_d <= SMALL_FRAME)
+    held = _held_radius(pts, r, cand[at], members)
+    best = int(np.argmax(held))
+    if at[best] not in on or np.any(np.delete(held, best) * SMALL_LEAD > held[best]):
+        return None
+    return int(cand[at[best]])
+
+
+#: ... and the frame end it roots at stays this many times as thick as the line near other frame ends.
+SMALL_LEAD = 1.5
+
+
+#: On small examples an end within this many pixels of the frame is on it (see :func:`_small_frame_key`).
+SMALL_FRAME = ENTRY_FRAME
 
 
 def _one_per_line(entries: list[int], g, r: np.ndarray, r_entry: float) -> list[int]:
@@ -515,6 +565,8 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
     comp_frame = np.full(n_comp, np.inf)
     np.minimum.at(comp_frame, comp, border_dist[ys, xs])
     min_len = np.where(comp_frame <= 4.0 * scale, 0.5 * min_component_length, min_component_length)
+    # small examples (issue 23): see _small_frame_key
+    small = max(hh, ww) / scale <= SMALL_SIDE
     roots = []
     hub_nodes = np.zeros(0, np.int64)
     if hubs:
@@ -568,12 +620,18 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
                     # others (a drawn root system's trunks among its thin roots; an end is as thick as the
                     # line stays near it, not as the V where two lines meet at the frame), that meet the
                     # frame drain there
+                    if small and (lead := _small_frame_lead(-key, border_dist[ys[cand], xs[cand]] / scale, pts_full,
+                                                            r_full, cand, members)) is not None:
+                        roots.append(lead)
+                        continue
                     if (hi <= 1.5 * lo or hi - lo <= 1.0) and len(ends) and \
                             _even_ends(-key, pts_full, r_full, cand, members) and (outlet := _frame_outlet(
                             g, deg, cand, members, pts_full, r_full, border_dist[ys[cand], xs[cand]] / scale)) \
                             is not None:
                         roots.append(outlet)
                         continue
+                    if small:
+                        key = _small_frame_key(key, border_dist[ys[cand], xs[cand]] / scale)
             elif root == "thickest":
                 key = -_end_radius(pts_full, r_full, cand, members)
             elif root == "top":
