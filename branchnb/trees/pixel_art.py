@@ -104,6 +104,34 @@ def _detect(rgba: np.ndarray) -> PixelArt | None:
     return PixelArt(int(block), pal)
 
 
+#: A pixel-art source is outlined when at least this share of its rim (the 8-connected rim of its
+#: silhouette) is its darkest palette colour.
+RIM_INK_SHARE = 0.6
+#: ... and that colour is at most this dark (Rec. 601 luma).
+RIM_INK_LUMA = 0.35
+
+
+def _rim_ink(image: np.ndarray, palette: np.ndarray):
+    """The outline colour of a pixel-art image when its rim is inked in its darkest palette
+    colour (see :data:`RIM_INK_SHARE`), else None.
+
+    The stroke-width measure of drawn art misses outlines enlarged by a non-integer factor
+    (rows doubled here and there) and on thin shapes (palm fronds); on a pixel grid the rim
+    itself says it.
+    """
+    img = np.asarray(image, np.float32)
+    op = img[..., 3] >= 0.5
+    rim = op & ~ndi.binary_erosion(np.pad(op, 1), np.ones((3, 3), bool))[1:-1, 1:-1]
+    pal = np.asarray(palette, np.float32)
+    if not rim.any() or len(pal) < 2:
+        return None
+    dark = pal[int(np.argmin(pal @ np.float32([0.299, 0.587, 0.114])))]
+    if float(dark @ np.float32([0.299, 0.587, 0.114])) > RIM_INK_LUMA:
+        return None
+    share = float(np.mean(np.abs(img[rim, :3] - dark).max(axis=1) <= 1.5 / _QUANT))
+    return dark if share >= RIM_INK_SHARE else None
+
+
 def _blocks(n: int, g: float, from_end: bool) -> np.ndarray:
     """Art-block index of each of ``n`` pixels (blocks of ``g`` px; ``from_end``: counted from the end)."""
     i = np.arange(n, dtype=np.float64)
@@ -124,7 +152,36 @@ def _clean_blocks(bo: np.ndarray) -> np.ndarray:
     for _ in range(2):
         nb = ndi.convolve(bo.astype(np.int8), st, mode="constant")
         bo = (bo & (nb >= 2)) | (~bo & (nb >= 3))
+    for k in range(4):          # the same for bumps 2 art pixels wide, on each side
+        bo = np.rot90(_drop_bumps(np.rot90(bo, k)), -k)
     return bo
+
+
+#: Widest bump (art pixels) one art pixel tall on a straight edge that :func:`_clean_blocks` takes off.
+BUMP_BLOCKS = 2
+
+
+def _drop_bumps(bo: np.ndarray) -> np.ndarray:
+    """Take off runs of at most :data:`BUMP_BLOCKS` art pixels hanging one art pixel below a straight
+    bottom edge (the edge goes on at both ends): re-inked, they show as outline stubs (e.g. under a
+    crown beside the trunk), which sprites do not draw."""
+    p = np.pad(bo, 1)
+    above = np.zeros_like(p)
+    above[1:] = p[:-1]
+    below = np.zeros_like(p)
+    below[:-1] = p[1:]
+    cand = p & above & ~below
+    lab, _ = ndi.label(cand, np.array([[0, 0, 0], [1, 1, 1], [0, 0, 0]]))
+    out = p.copy()
+    for sl in ndi.find_objects(lab):
+        if sl is None:
+            continue
+        r, c0, c1 = sl[0].start, sl[1].start, sl[1].stop - 1
+        if c1 - c0 + 1 > BUMP_BLOCKS or c0 < 1 or c1 > p.shape[1] - 2:
+            continue
+        if not p[r, c0 - 1] and not p[r, c1 + 1] and above[r, c0 - 1] and above[r, c1 + 1]:
+            out[r, c0:c1 + 1] = False
+    return out[1:-1, 1:-1]
 
 
 def _pixelate(image: np.ndarray, arts: list[PixelArt], blocks: list[float], *, ink=None,
@@ -144,6 +201,8 @@ def _pixelate(image: np.ndarray, arts: list[PixelArt], blocks: list[float], *, i
     img = np.asarray(image, np.float32)
     h, w = img.shape[:2]
     g = max(1.0, float(np.mean(blocks)))
+    if g < 1.5:     # sprites at about their own size (enlarged < 1.5x): the working pixel grid
+        g = 1.0
     by, bx = _blocks(h, g, True), _blocks(w, g, False)
     nby, nbx = int(by.max()) + 1, int(bx.max()) + 1
     bid = by[:, None] * nbx + bx[None, :]
