@@ -141,7 +141,7 @@ def _pixel_mix(image: np.ndarray, exemplars: Sequence[Exemplar], cw: np.ndarray,
                trunk: np.ndarray, outline: bool = True):
     """A mix of pixel-art exemplars on their art-pixel grid (beyond the paper, see
     :mod:`~branchnb.trees.pixel_art`): ``(image, sources, trunk)``, all resampled alike."""
-    from .pixel_art import _pixelate, _rim_ink
+    from .pixel_art import _inner_ink, _pixelate, _rim_ink
 
     arts = _pixel_arts(exemplars)
     blocks = [a.block * e.normalized.scale for a, e in zip(arts, exemplars, strict=True)]
@@ -153,7 +153,8 @@ def _pixel_mix(image: np.ndarray, exemplars: Sequence[Exemplar], cw: np.ndarray,
     ink = None
     if outline and on.any() and cw[on].sum() >= 0.5 * cw.sum() - 1e-9:
         ink = inks[int(np.argmax(np.where(on, cw, -1.0)))]
-    out, (src, tr) = _pixelate(image, arts, blocks, ink=ink, layers=(sources, trunk))
+    inner = ink is None or any(_inner_ink(e.image, ink, b) for e, b in zip(exemplars, blocks, strict=True))
+    out, (src, tr) = _pixelate(image, arts, blocks, ink=ink, layers=(sources, trunk), inner_ink=inner)
     return out, src, tr
 
 

@@ -23,6 +23,7 @@ from ..core.params import check_params
 from ..core.validate import Array, Int, Seq, checked
 from .contour import ContourParams
 from .exemplar import (
+    SPRITE_SIZE,
     ExemplarParams,
 )
 from .histogram_transfer import _remember_parts
@@ -64,11 +65,12 @@ def _extent(image) -> int:
 
 
 def _auto_size(extents) -> int:
-    """Automatic working size: the paper's 1024, never above the largest extent, at least
+    """Automatic working size: the paper's 1024, but the largest extent when that is at most
+    :data:`~branchnb.trees.exemplar.SPRITE_SIZE` (sprites), at least
     :data:`MIN_AUTO_SIZE` (an integer multiple of the extent below that, so that pixel art is
     enlarged by whole pixels)."""
     e = max([int(x) for x in extents] + [1])
-    if e >= PAPER_SIZE:
+    if e > SPRITE_SIZE:
         return PAPER_SIZE
     if e < MIN_AUTO_SIZE:
         return e * -(-MIN_AUTO_SIZE // e)
@@ -87,10 +89,10 @@ class TreeLibrary:
         must share the working size and contour layout.
     size : int or None
         Working size ``S`` of trees added later (paper: 1024). None (the
-        default) picks it from the trees added: the paper's 1024, but never
-        more than the largest tree's extent (its opaque bounding box), and
-        at least 32 (an integer multiple of the extent below that). Beyond
-        the paper: 48-256 px sprites are worked on, and their variations
+        default) picks it from the trees added: the paper's 1024, but when
+        no tree's extent (its opaque bounding box) exceeds 256 px, the
+        largest extent (at least 32: an integer multiple of the extent
+        below that). Beyond the paper: 32-256 px sprites are worked on, and their variations
         come out, at their own size, in a fraction of a second, instead of
         16x enlarged blocks at 1024; pixel art stays on its own pixel grid
         (:mod:`~branchnb.trees.pixel_art`). When a larger tree is added, the
@@ -108,6 +110,13 @@ class TreeLibrary:
     >>> lib = TreeLibrary.from_data(["tree_rpg_05", "tree_rpg_06"], size=128)
     >>> len(lib), lib.names
     (2, ['tree_rpg_05', 'tree_rpg_06'])
+
+    A 64 px sprite is worked on at its own size:
+
+    >>> from branchnb.trees._sprite_check import sprite
+    >>> sprites = TreeLibrary()
+    >>> sprites.add(sprite("fir", 64)).size, sprites.size
+    (62, 62)
     """
 
     @checked(exemplars=Seq(), size=Int(16, 8192))

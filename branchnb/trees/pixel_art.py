@@ -132,6 +132,17 @@ def _rim_ink(image: np.ndarray, palette: np.ndarray):
     return dark if share >= RIM_INK_SHARE else None
 
 
+def _inner_ink(image: np.ndarray, ink, block: float) -> bool:
+    """Whether a pixel-art image has ink-coloured pixels inside, off its rim (the rim taken
+    ``block`` + 1 pixels deep: enlarged art doubles some rows of its outline)."""
+    img = np.asarray(image, np.float32)
+    op = img[..., 3] >= 0.5
+    deep = ndi.binary_erosion(np.pad(op, 1), np.ones((3, 3), bool),
+                              iterations=int(np.ceil(block)) + 1)[1:-1, 1:-1]
+    k = deep & (np.abs(img[..., :3] - np.asarray(ink, np.float32)).max(axis=2) <= 1.5 / _QUANT)
+    return int(k.sum()) > 2 * block * block
+
+
 def _blocks(n: int, g: float, from_end: bool) -> np.ndarray:
     """Art-block index of each of ``n`` pixels (blocks of ``g`` px; ``from_end``: counted from the end)."""
     i = np.arange(n, dtype=np.float64)
@@ -185,7 +196,7 @@ def _drop_bumps(bo: np.ndarray) -> np.ndarray:
 
 
 def _pixelate(image: np.ndarray, arts: list[PixelArt], blocks: list[float], *, ink=None,
-              layers: tuple = ()) -> tuple[np.ndarray, tuple]:
+              layers: tuple = (), inner_ink: bool = True) -> tuple[np.ndarray, tuple]:
     """Put a mix of pixel-art sources back on their art-pixel grid.
 
     ``blocks`` are the sources' art-pixel sizes at the working size (their mean is the grid,
@@ -196,7 +207,9 @@ def _pixelate(image: np.ndarray, arts: list[PixelArt], blocks: list[float], *, i
     most common value, float ones (a trunk mask) their mean. With ``ink`` (the sources are
     outlined) the 8-connected rim of art pixels is inked with the palette colour nearest
     ``ink``, and ink-coloured art pixels just inside it (the warped old outline) or alone
-    inside (specks of a warped seam) take the colour of the nearest art pixel that is neither.
+    inside (specks of a warped seam) take the colour of the nearest art pixel that is neither;
+    without ``inner_ink`` (no source inks anything but its rim) every ink art pixel inside does
+    (stubs of a source's rim where a trunk meets a crown).
     """
     img = np.asarray(image, np.float32)
     h, w = img.shape[:2]
@@ -228,6 +241,8 @@ def _pixelate(image: np.ndarray, arts: list[PixelArt], blocks: list[float], *, i
         deep, n = ndi.label(is_ink & inner & ~ring, np.ones((3, 3), bool))
         speck = (np.bincount(deep.ravel(), minlength=n + 1) <= SPECK_BLOCKS)[deep] & (deep > 0)
         stray = (ring & is_ink) | speck
+        if not inner_ink:       # the sources ink only their rims: any ink inside is a warped rim
+            stray = is_ink & ~rim
         good = bo & ~rim & (bcol >= 0) & (bcol != k_ink)
         if stray.any() and good.any():
             near = ndi.distance_transform_edt(~good, return_distances=False, return_indices=True)
