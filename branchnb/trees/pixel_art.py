@@ -15,6 +15,14 @@ and a mix of such exemplars is put back on an art-pixel grid of the sources'
 block size (:func:`_pixelate`): one colour per block, snapped to the sources'
 palette, alpha 0/1, and a 1-block outline re-inked where the sources are
 outlined (their outline is the 8-connected rim of the silhouette, as sprites are drawn).
+
+Small sprites (32-256 px) are worked on at about their own size
+(:class:`~branchnb.trees.library.TreeLibrary`'s automatic size, beyond the paper's 1024): their
+art pixels are then 1-1.5 working pixels, kept hard (:data:`~branchnb.trees.exemplar.SPRITE_SIZE`)
+and mixed on the working pixel grid. An outline is also found from the rim alone
+(:func:`_rim_ink`), 1-2 pixel bumps hanging off a straight edge are taken off (:func:`_drop_bumps`:
+re-inked they were outline stubs beside a trunk), and when no source inks anything inside its rim
+(:func:`_inner_ink`), no ink is left inside a mix.
 """
 
 from __future__ import annotations
