@@ -28,7 +28,9 @@ def test_auto_size_rule():
     assert _auto_size([300, 120]) == 1024          # larger drawings: the paper's size
     assert _auto_size([20]) == 40                  # small ones enlarged by whole pixels
     assert _extent(sprite("fir", 64)) <= 64
-    assert TreeLibrary(size=128).size == 128       # an explicit size is kept
+    assert TreeLibrary(size=128).size == 128       # an explicit size is kept (and its older rules)
+    fixed = TreeLibrary(size=96)
+    assert fixed.add(sprite("fir", 64)).normalized.pixel_art is None
 
 
 def test_sprites_vary_at_their_own_size(lib64):
@@ -63,7 +65,7 @@ def test_rim_ink_finds_outlines_the_stroke_measure_misses():
     """A palm sprite enlarged by a non-integer factor (rows doubled here and there)."""
     t = sprite("palm", 48, True, rng=3)
     big = cv2.resize(t, (61, 61), interpolation=cv2.INTER_NEAREST)
-    lib = TreeLibrary(size=64)
+    lib = TreeLibrary()
     e = lib.add(big)
     ink = _rim_ink(e.image, e.normalized.pixel_art.palette)
     assert ink is not None and np.allclose(ink, INK, atol=0.01)
