@@ -75,7 +75,7 @@ class ExemplarParams:
     'largest'
     """
 
-    size: int = param(1024, min=64, max=4096, step=64, help="working size S (paper: 1024)")
+    size: int = param(1024, min=32, max=4096, step=32, help="working size S (paper: 1024)")
     alpha_threshold: float = param(0.5, min=0.01, max=0.99, step=0.01,
                                    help="alpha threshold (paper: 0.5)")
     components: str = param("largest", options=("largest", "all", "error"),
@@ -252,6 +252,13 @@ class Normalized:
 #: least this many working pixels across; smaller ones (a hard-edged drawing at about its
 #: own size) are resampled as before.
 ART_PIXEL_MIN = 2.0
+#: ... unless the working size is at most this and the art is not reduced (beyond the paper: a
+#: sprite worked on at about its own size, :class:`~branchnb.trees.library.TreeLibrary`'s
+#: automatic size, keeps its hard pixels, palette and 1 px outline).
+SPRITE_SIZE = 256
+#: Set (by :class:`~branchnb.trees.library.TreeLibrary` with its automatic size) while sprites
+#: are normalised; an explicit working size keeps the older rule (byte-identical results).
+_SPRITES = [False]
 
 
 def _select_components(opaque: np.ndarray, mode: str, second_fraction: float):
@@ -399,7 +406,8 @@ def normalize_exemplar(image, params: ExemplarParams | None = None, **overrides)
     a_raw = img[y0:y1, x0:x1, 3]
     kept = np.where(opaque[y0:y1, x0:x1] | (a_raw < p.alpha_threshold), a_raw, 0.0)
     art = _detect_pixel_art(np.dstack([img[y0:y1, x0:x1, :3], kept]))
-    if art is not None and art.block * scale < ART_PIXEL_MIN:
+    if art is not None and art.block * scale < ART_PIXEL_MIN and not (
+            _SPRITES[0] and s <= SPRITE_SIZE and scale >= 1.0):
         art = None          # art pixels this small show no stair-steps: resampled like any drawing
     interp = cv2.INTER_NEAREST if art is not None else cv2.INTER_AREA if scale < 1 else cv2.INTER_CUBIC
     small = cv2.resize(rgba, (nw, nh), interpolation=interp)

@@ -195,16 +195,20 @@ def _pixel_mix(image: np.ndarray, exemplars: Sequence[Exemplar], cw: np.ndarray,
                trunk: np.ndarray, outline: bool = True):
     """A mix of pixel-art exemplars on their art-pixel grid (beyond the paper, see
     :mod:`~branchnb.trees.pixel_art`): ``(image, sources, trunk)``, all resampled alike."""
-    from .pixel_art import _pixelate
+    from .pixel_art import _inner_ink, _pixelate, _rim_ink
 
     arts = _pixel_arts(exemplars)
     blocks = [a.block * e.normalized.scale for a, e in zip(arts, exemplars, strict=True)]
     outl = [exemplar_outline(e) for e in exemplars]
-    on = np.array([o.outlined for o in outl])
+    # inks: the measured outline, else a rim drawn in the darkest palette colour (sprites enlarged by a
+    # non-integer factor, thin palm fronds: the stroke measure misses those)
+    inks = [o.ink if o.outlined else _rim_ink(e.image, a.palette) for o, e, a in zip(outl, exemplars, arts)]
+    on = np.array([k is not None for k in inks])
     ink = None
     if outline and on.any() and cw[on].sum() >= 0.5 * cw.sum() - 1e-9:
-        ink = outl[int(np.argmax(np.where(on, cw, -1.0)))].ink
-    out, (src, tr) = _pixelate(image, arts, blocks, ink=ink, layers=(sources, trunk))
+        ink = inks[int(np.argmax(np.where(on, cw, -1.0)))]
+    inner = ink is None or any(_inner_ink(e.image, ink, b) for e, b in zip(exemplars, blocks, strict=True))
+    out, (src, tr) = _pixelate(image, arts, blocks, ink=ink, layers=(sources, trunk), inner_ink=inner)
     return out, src, tr
 
 

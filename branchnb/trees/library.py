@@ -21,8 +21,10 @@ from ..core.image import composite_over
 from ..core.io import encode_png
 from ..core.params import check_params
 from ..core.validate import Array, Int, Seq, checked
+from . import exemplar as _exemplar
 from .contour import ContourParams
 from .exemplar import (
+    SPRITE_SIZE,
     ExemplarParams,
 )
 from .histogram_transfer import _remember_parts
@@ -45,6 +47,36 @@ from .variety import morph_sequence, similar_variations, tree_variations
 
 __all__ = ["TreeLibrary"]
 
+#: The paper's working size ``S`` (and the most an automatic size takes).
+PAPER_SIZE = 1024
+#: Least automatic working size (``ExemplarParams.size``'s minimum).
+MIN_AUTO_SIZE = 32
+
+
+def _extent(image) -> int:
+    """Largest side of the opaque (alpha >= 0.5) bounding box of an RGBA image (0: none or not RGBA)."""
+    a = np.asarray(image)
+    if a.ndim != 3 or a.shape[2] != 4:
+        return 0
+    al = a[..., 3].astype(np.float32)
+    if np.issubdtype(a.dtype, np.integer):
+        al = al / float(np.iinfo(a.dtype).max)
+    ys, xs = np.nonzero(al >= 0.5)
+    return int(max(np.ptp(ys), np.ptp(xs)) + 1) if len(ys) else 0
+
+
+def _auto_size(extents) -> int:
+    """Automatic working size: the paper's 1024, but the largest extent when that is at most
+    :data:`~branchnb.trees.exemplar.SPRITE_SIZE` (sprites), at least
+    :data:`MIN_AUTO_SIZE` (an integer multiple of the extent below that, so that pixel art is
+    enlarged by whole pixels)."""
+    e = max([int(x) for x in extents] + [1])
+    if e > SPRITE_SIZE:
+        return PAPER_SIZE
+    if e < MIN_AUTO_SIZE:
+        return e * -(-MIN_AUTO_SIZE // e)
+    return e
+
 
 
 
@@ -56,8 +88,16 @@ class TreeLibrary:
     exemplars : sequence of Exemplar, optional
         Processed exemplars to start with (:func:`process_exemplar`); they
         must share the working size and contour layout.
-    size : int
-        Working size ``S`` of trees added later (paper: 1024).
+    size : int or None
+        Working size ``S`` of trees added later (paper: 1024). None (the
+        default) picks it from the trees added: the paper's 1024, but when
+        no tree's extent (its opaque bounding box) exceeds 256 px, the
+        largest extent (at least 32: an integer multiple of the extent
+        below that). Beyond the paper: 32-256 px sprites are worked on, and their variations
+        come out, at their own size, in a fraction of a second, instead of
+        16x enlarged blocks at 1024; pixel art stays on its own pixel grid
+        (:mod:`~branchnb.trees.pixel_art`). When a larger tree is added, the
+        trees added before are processed again at the new size.
     contour_params : ContourParams, optional
         For trees added later.
     trunk : {"auto", "segmentation", "stem"}
@@ -71,10 +111,17 @@ class TreeLibrary:
     >>> lib = TreeLibrary.from_data(["tree_rpg_05", "tree_rpg_06"], size=128)
     >>> len(lib), lib.names
     (2, ['tree_rpg_05', 'tree_rpg_06'])
+
+    A 64 px sprite is worked on at its own size:
+
+    >>> from branchnb.trees._sprite_check import sprite
+    >>> sprites = TreeLibrary()
+    >>> sprites.add(sprite("fir", 64)).size, sprites.size
+    (62, 62)
     """
 
     @checked(exemplars=Seq(), size=Int(16, 8192))
-    def __init__(self, exemplars: Sequence[Exemplar] = (), *, size: int = 1024,
+    def __init__(self, exemplars: Sequence[Exemplar] = (), *, size: int | None = None,
                  contour_params: ContourParams | None = None, trunk: str = "auto",
                  ground: str = "cut"):
         if trunk not in TRUNK_METHODS:
@@ -84,7 +131,10 @@ class TreeLibrary:
         self.exemplars: list[Exemplar] = []
         self.trunk = trunk
         self.ground = ground
-        self.size = int(size)
+        self._auto = size is None
+        self.size = PAPER_SIZE if size is None else int(size)
+        # source images of trees added by add() (for a new automatic working size)
+        self._sources: dict[str, tuple] = {}
         self.contour_params = contour_params if contour_params is not None else ContourParams()
         check_params(ExemplarParams(size=self.size), name="size")
         for i, e in enumerate(exemplars):
@@ -198,10 +248,30 @@ class TreeLibrary:
         ('tree_0', 1)
         """
         name = f"tree_{len(self)}" if name is None else str(name)
-        ex = process_exemplar(image, name, trunk_mask=trunk_mask, trunk=self.trunk,
-                              ground=self.ground, exemplar_params=ExemplarParams(size=self.size),
-                              contour_params=self.contour_params)
-        return self.add_exemplar(ex)
+        if self._auto and all(n in self._sources for n in self.names):
+            sources = {**self._sources, name: (image, trunk_mask)}
+            size = _auto_size([_extent(im) for im, _ in sources.values()])
+            if size != self.size:       # re-process the trees added before at the new size
+                self.size = size
+                old = [e.name for e in self.exemplars]
+                self.exemplars = []
+                for n in old:
+                    self._add_source(*sources[n], n)
+                if name in old:
+                    return self[name]
+        return self._add_source(image, trunk_mask, name)
+
+    def _add_source(self, image, trunk_mask, name: str) -> Exemplar:
+        _exemplar._SPRITES[0] = self._auto
+        try:
+            ex = process_exemplar(image, name, trunk_mask=trunk_mask, trunk=self.trunk,
+                                  ground=self.ground, exemplar_params=ExemplarParams(size=self.size),
+                                  contour_params=self.contour_params)
+        finally:
+            _exemplar._SPRITES[0] = False
+        out = self.add_exemplar(ex)
+        self._sources[name] = (image, trunk_mask)
+        return out
 
     @checked()
     def set_trunk(self, name: str, trunk, source: str = "mask") -> Exemplar:
@@ -252,6 +322,7 @@ class TreeLibrary:
             _check_compatible([self.exemplars[0], exemplar])
         elif exemplar.size != self.size:
             self.size = exemplar.size
+        self._sources.pop(exemplar.name, None)
         if exemplar.name in self.names:
             self.exemplars[self.index(exemplar.name)] = exemplar
         else:

@@ -15,6 +15,14 @@ and a mix of such exemplars is put back on an art-pixel grid of the sources'
 block size (:func:`_pixelate`): one colour per block, snapped to the sources'
 palette, alpha 0/1, and a 1-block outline re-inked where the sources are
 outlined (their outline is the 8-connected rim of the silhouette, as sprites are drawn).
+
+Small sprites (32-256 px) are worked on at about their own size
+(:class:`~branchnb.trees.library.TreeLibrary`'s automatic size, beyond the paper's 1024): their
+art pixels are then 1-1.5 working pixels, kept hard (:data:`~branchnb.trees.exemplar.SPRITE_SIZE`)
+and mixed on the working pixel grid. An outline is also found from the rim alone
+(:func:`_rim_ink`), 1-2 pixel bumps hanging off a straight edge are taken off (:func:`_drop_bumps`:
+re-inked they were outline stubs beside a trunk), and when no source inks anything inside its rim
+(:func:`_inner_ink`), no ink is left inside a mix.
 """
 
 from __future__ import annotations
@@ -104,6 +112,45 @@ def _detect(rgba: np.ndarray) -> PixelArt | None:
     return PixelArt(int(block), pal)
 
 
+#: A pixel-art source is outlined when at least this share of its rim (the 8-connected rim of its
+#: silhouette) is its darkest palette colour.
+RIM_INK_SHARE = 0.6
+#: ... and that colour is at most this dark (Rec. 601 luma).
+RIM_INK_LUMA = 0.35
+
+
+def _rim_ink(image: np.ndarray, palette: np.ndarray):
+    """The outline colour of a pixel-art image when its rim is inked in its darkest palette
+    colour (see :data:`RIM_INK_SHARE`), else None.
+
+    The stroke-width measure of drawn art misses outlines enlarged by a non-integer factor
+    (rows doubled here and there) and on thin shapes (palm fronds); on a pixel grid the rim
+    itself says it.
+    """
+    img = np.asarray(image, np.float32)
+    op = img[..., 3] >= 0.5
+    rim = op & ~ndi.binary_erosion(np.pad(op, 1), np.ones((3, 3), bool))[1:-1, 1:-1]
+    pal = np.asarray(palette, np.float32)
+    if not rim.any() or len(pal) < 2:
+        return None
+    dark = pal[int(np.argmin(pal @ np.float32([0.299, 0.587, 0.114])))]
+    if float(dark @ np.float32([0.299, 0.587, 0.114])) > RIM_INK_LUMA:
+        return None
+    share = float(np.mean(np.abs(img[rim, :3] - dark).max(axis=1) <= 1.5 / _QUANT))
+    return dark if share >= RIM_INK_SHARE else None
+
+
+def _inner_ink(image: np.ndarray, ink, block: float) -> bool:
+    """Whether a pixel-art image has ink-coloured pixels inside, off its rim (the rim taken
+    ``block`` + 1 pixels deep: enlarged art doubles some rows of its outline)."""
+    img = np.asarray(image, np.float32)
+    op = img[..., 3] >= 0.5
+    deep = ndi.binary_erosion(np.pad(op, 1), np.ones((3, 3), bool),
+                              iterations=int(np.ceil(block)) + 1)[1:-1, 1:-1]
+    k = deep & (np.abs(img[..., :3] - np.asarray(ink, np.float32)).max(axis=2) <= 1.5 / _QUANT)
+    return int(k.sum()) > 2 * block * block
+
+
 def _blocks(n: int, g: float, from_end: bool) -> np.ndarray:
     """Art-block index of each of ``n`` pixels (blocks of ``g`` px; ``from_end``: counted from the end)."""
     i = np.arange(n, dtype=np.float64)
@@ -124,11 +171,40 @@ def _clean_blocks(bo: np.ndarray) -> np.ndarray:
     for _ in range(2):
         nb = ndi.convolve(bo.astype(np.int8), st, mode="constant")
         bo = (bo & (nb >= 2)) | (~bo & (nb >= 3))
+    for k in range(4):          # the same for bumps 2 art pixels wide, on each side
+        bo = np.rot90(_drop_bumps(np.rot90(bo, k)), -k)
     return bo
 
 
+#: Widest bump (art pixels) one art pixel tall on a straight edge that :func:`_clean_blocks` takes off.
+BUMP_BLOCKS = 2
+
+
+def _drop_bumps(bo: np.ndarray) -> np.ndarray:
+    """Take off runs of at most :data:`BUMP_BLOCKS` art pixels hanging one art pixel below a straight
+    bottom edge (the edge goes on at both ends): re-inked, they show as outline stubs (e.g. under a
+    crown beside the trunk), which sprites do not draw."""
+    p = np.pad(bo, 1)
+    above = np.zeros_like(p)
+    above[1:] = p[:-1]
+    below = np.zeros_like(p)
+    below[:-1] = p[1:]
+    cand = p & above & ~below
+    lab, _ = ndi.label(cand, np.array([[0, 0, 0], [1, 1, 1], [0, 0, 0]]))
+    out = p.copy()
+    for sl in ndi.find_objects(lab):
+        if sl is None:
+            continue
+        r, c0, c1 = sl[0].start, sl[1].start, sl[1].stop - 1
+        if c1 - c0 + 1 > BUMP_BLOCKS or c0 < 1 or c1 > p.shape[1] - 2:
+            continue
+        if not p[r, c0 - 1] and not p[r, c1 + 1] and above[r, c0 - 1] and above[r, c1 + 1]:
+            out[r, c0:c1 + 1] = False
+    return out[1:-1, 1:-1]
+
+
 def _pixelate(image: np.ndarray, arts: list[PixelArt], blocks: list[float], *, ink=None,
-              layers: tuple = ()) -> tuple[np.ndarray, tuple]:
+              layers: tuple = (), inner_ink: bool = True) -> tuple[np.ndarray, tuple]:
     """Put a mix of pixel-art sources back on their art-pixel grid.
 
     ``blocks`` are the sources' art-pixel sizes at the working size (their mean is the grid,
@@ -139,11 +215,15 @@ def _pixelate(image: np.ndarray, arts: list[PixelArt], blocks: list[float], *, i
     most common value, float ones (a trunk mask) their mean. With ``ink`` (the sources are
     outlined) the 8-connected rim of art pixels is inked with the palette colour nearest
     ``ink``, and ink-coloured art pixels just inside it (the warped old outline) or alone
-    inside (specks of a warped seam) take the colour of the nearest art pixel that is neither.
+    inside (specks of a warped seam) take the colour of the nearest art pixel that is neither;
+    without ``inner_ink`` (no source inks anything but its rim) every ink art pixel inside does
+    (stubs of a source's rim where a trunk meets a crown).
     """
     img = np.asarray(image, np.float32)
     h, w = img.shape[:2]
     g = max(1.0, float(np.mean(blocks)))
+    if g < 1.5:     # sprites at about their own size (enlarged < 1.5x): the working pixel grid
+        g = 1.0
     by, bx = _blocks(h, g, True), _blocks(w, g, False)
     nby, nbx = int(by.max()) + 1, int(bx.max()) + 1
     bid = by[:, None] * nbx + bx[None, :]
@@ -169,6 +249,8 @@ def _pixelate(image: np.ndarray, arts: list[PixelArt], blocks: list[float], *, i
         deep, n = ndi.label(is_ink & inner & ~ring, np.ones((3, 3), bool))
         speck = (np.bincount(deep.ravel(), minlength=n + 1) <= SPECK_BLOCKS)[deep] & (deep > 0)
         stray = (ring & is_ink) | speck
+        if not inner_ink:       # the sources ink only their rims: any ink inside is a warped rim
+            stray = is_ink & ~rim
         good = bo & ~rim & (bcol >= 0) & (bcol != k_ink)
         if stray.any() and good.any():
             near = ndi.distance_transform_edt(~good, return_distances=False, return_indices=True)
