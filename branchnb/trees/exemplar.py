@@ -68,6 +68,12 @@ class ExemplarParams:
         dropped).
     second_tree_fraction : float
         Area ratio above which a second region counts as a second tree.
+    sprite_pixels : bool
+        Pixel art worked on at about its own size (``size`` at most
+        ``SPRITE_SIZE``, not reduced) keeps its hard pixels, palette and
+        1 px outline, however small its pixels (beyond the paper; set by
+        :class:`~branchnb.trees.library.TreeLibrary`'s automatic size).
+        False by default: the paper's resampling.
 
     Examples
     --------
@@ -83,6 +89,7 @@ class ExemplarParams:
     second_tree_fraction: float = param(0.1, min=0.0, max=1.0, step=0.01,
                                         help="area ratio making a second region a second tree",
                                         ui=False)
+    sprite_pixels: bool = param(False, help="keep a sprite's hard pixels at about its own size", ui=False)
 
 
 @checked(tol=Real(0, 2), background=Colour(channels=(3,)))
@@ -256,9 +263,6 @@ ART_PIXEL_MIN = 2.0
 #: sprite worked on at about its own size, :class:`~branchnb.trees.library.TreeLibrary`'s
 #: automatic size, keeps its hard pixels, palette and 1 px outline).
 SPRITE_SIZE = 256
-#: Set (by :class:`~branchnb.trees.library.TreeLibrary` with its automatic size) while sprites
-#: are normalised; an explicit working size keeps the older rule (byte-identical results).
-_SPRITES = [False]
 
 
 def _select_components(opaque: np.ndarray, mode: str, second_fraction: float):
@@ -407,7 +411,7 @@ def normalize_exemplar(image, params: ExemplarParams | None = None, **overrides)
     kept = np.where(opaque[y0:y1, x0:x1] | (a_raw < p.alpha_threshold), a_raw, 0.0)
     art = _detect_pixel_art(np.dstack([img[y0:y1, x0:x1, :3], kept]))
     if art is not None and art.block * scale < ART_PIXEL_MIN and not (
-            _SPRITES[0] and s <= SPRITE_SIZE and scale >= 1.0):
+            p.sprite_pixels and s <= SPRITE_SIZE and scale >= 1.0):
         art = None          # art pixels this small show no stair-steps: resampled like any drawing
     interp = cv2.INTER_NEAREST if art is not None else cv2.INTER_AREA if scale < 1 else cv2.INTER_CUBIC
     small = cv2.resize(rgba, (nw, nh), interpolation=interp)

@@ -21,7 +21,6 @@ from ..core.image import composite_over
 from ..core.io import encode_png
 from ..core.params import check_params
 from ..core.validate import Array, Int, Seq, checked
-from . import exemplar as _exemplar
 from .contour import ContourParams
 from .exemplar import (
     SPRITE_SIZE,
@@ -262,13 +261,9 @@ class TreeLibrary:
         return self._add_source(image, trunk_mask, name)
 
     def _add_source(self, image, trunk_mask, name: str) -> Exemplar:
-        _exemplar._SPRITES[0] = self._auto
-        try:
-            ex = process_exemplar(image, name, trunk_mask=trunk_mask, trunk=self.trunk,
-                                  ground=self.ground, exemplar_params=ExemplarParams(size=self.size),
-                                  contour_params=self.contour_params)
-        finally:
-            _exemplar._SPRITES[0] = False
+        ex = process_exemplar(image, name, trunk_mask=trunk_mask, trunk=self.trunk, ground=self.ground,
+                              exemplar_params=ExemplarParams(size=self.size, sprite_pixels=self._auto),
+                              contour_params=self.contour_params)
         out = self.add_exemplar(ex)
         self._sources[name] = (image, trunk_mask)
         return out
