@@ -61,17 +61,19 @@ def _fan(rng, S):
     col = np.where(pet[..., None] > 0, np.array([0.45, 0.55, 0.2]), col)
     leaf = (blade | pet) > 0
     img = np.where(leaf[..., None], np.clip(col, 0, 1), 1.0).astype(np.float32)
-    return img, leaf, veins
+    return img, leaf, veins, blade > 0
 
 
 @pytest.mark.parametrize("size,seed,index", [(128, 7, 1), (128, 7, 0), (96, 0, 1), (160, 3, 0)])
 def test_small_fan_vein_layer_stays_on_veins(size, seed, index):
     rng = np.random.default_rng(seed)
-    img, leaf, veins = [_fan(rng, size) for _ in range(index + 1)][index]
+    img, leaf, veins, blade = [_fan(rng, size) for _ in range(index + 1)][index]
     scr = simulate_scribbles(veins, 10, length=max(8, size // 20), rng=0)
     m = grow_layers(img, leaf, LayerSet([Layer("veins", "#d62728", 0, scr)]), rng=0).masks["veins"]
+    # The petiole (a stalk as dark as a vein) may go either way: judged on the blade.
+    m = m & blade
     near = ndi.binary_dilation(veins, np.ones((3, 3), bool))
     iou = (m & near).sum() / max(1, (m | veins).sum())
-    # main (128 px, seed 7, leaf 1): IoU 0.47, 263 px of rim taken as vein.
+    # main (128 px, seed 7, leaf 1): IoU 0.47, the yellow rim taken as vein.
     assert iou >= 0.75, iou
     assert (m & ~ndi.binary_dilation(veins, np.ones((5, 5), bool))).sum() <= 0.05 * veins.sum()
