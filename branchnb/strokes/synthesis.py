@@ -32,6 +32,7 @@ from .outline import (
     fill_pinholes,
     source_depth,
 )
+from .overlays import overlaid_parts, solid_cracks
 from .parts import place_part, rigid_frame
 from .sampling import choose, pair_energies
 
@@ -261,6 +262,10 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
             if keep.any():
                 layer = layer.copy()
                 layer[keep, :3] = uncut[keep, :3]
+        # a part moved over another part is drawn over it, with its own outline
+        layer = overlaid_parts(layer, placed, junctions, index, attached,
+                               0.0 if style is None else style.width)
+        layer = solid_cracks(layer, comp.labels, placed, index.premult[:, :, 3])
         # (the joints' closings leave cracks of their own)
         layer = _close_rim_cracks(layer)
         layer = drop_flecks(layer, index.premult[:, :, 3])

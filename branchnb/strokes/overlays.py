@@ -1,0 +1,196 @@
+"""A part moved over another part is drawn over it, with its own outline (beyond the paper).
+
+The graph cut of :func:`~branchnb.strokes.composition.compose` stitches the
+patches of every stroke into one silhouette. Where an edit lays one part over
+another part it was apart from in the source (a finger bent so that its tip lies
+over the next finger's tip), the cut runs wherever the two textures agree best:
+the two parts merge into one silhouette with a faint seam and no outline between
+them. An artist draws the moved part over the other one, its outline across the
+other's flesh. Here each stroke's patches are laid alone (every pixel from the
+patch whose centre lies nearest), and where two strokes' own silhouettes overlap
+on flesh that was not shared in the source, the stroke that moved more there is
+drawn over the result.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy import ndimage as ndi
+
+#: Alpha from which a stroke's own (laid alone) pixel is flesh.
+_FLESH = 0.5
+#: Source points of two strokes' pixels nearer than this (px, + the outline's width) are the
+#: same flesh (a joint, a crossing that stays): not an overlap the edit made.
+_SHARED = 3.0
+#: A stroke moved less than this (px) at an overlap did not move there.
+_STILL = 2.0
+#: Overlaps smaller than this (px) are left to the graph cut (touching, not lying over).
+_MIN_OVERLAP = 12
+
+
+def _solo(placed: list, shape) -> dict:
+    """``stroke -> (box, premult, src)``: each stroke's patches laid alone on the box of its
+    patches, every pixel from the covering patch whose centre lies nearest (``src``: the
+    source ``(x, y)`` of every pixel, NaN where none)."""
+    h, w = shape
+    by: dict = {}
+    for pp in placed:
+        if pp.stroke is None or pp.stroke < 0 or pp.source_map is None:
+            continue
+        by.setdefault(pp.stroke, []).append(pp)
+    out = {}
+    for k, pps in by.items():
+        x0 = max(min(p.origin[0] for p in pps), 0)
+        y0 = max(min(p.origin[1] for p in pps), 0)
+        x1 = min(max(p.origin[0] + p.valid.shape[1] for p in pps), w)
+        y1 = min(max(p.origin[1] + p.valid.shape[0] for p in pps), h)
+        if x0 >= x1 or y0 >= y1:
+            continue
+        pm = np.zeros((y1 - y0, x1 - x0, 4), np.float32)
+        src = np.full((y1 - y0, x1 - x0, 2), np.nan, np.float32)
+        best = np.full((y1 - y0, x1 - x0), np.inf, np.float32)
+        for p in pps:
+            s = p.valid.shape[0]
+            ox, oy = p.origin
+            a0, a1 = max(oy, y0), min(oy + s, y1)
+            b0, b1 = max(ox, x0), min(ox + s, x1)
+            if a0 >= a1 or b0 >= b1:
+                continue
+            pv = (slice(a0 - oy, a1 - oy), slice(b0 - ox, b1 - ox))
+            cv = (slice(a0 - y0, a1 - y0), slice(b0 - x0, b1 - x0))
+            yy, xx = np.mgrid[a0:a1, b0:b1]
+            d = np.hypot(xx - (ox + 0.5 * s), yy - (oy + 0.5 * s)).astype(np.float32)
+            take = p.valid[pv] & (p.pixels[pv][..., 3] > 0.02) & (d < best[cv])
+            if not take.any():
+                continue
+            best[cv][take] = d[take]
+            pm[cv][take] = p.pixels[pv][take]
+            m = p.source_map
+            src[cv][take] = np.c_[m[0, 0] * xx[take] + m[0, 1] * yy[take] + m[0, 2],
+                                  m[1, 0] * xx[take] + m[1, 1] * yy[take] + m[1, 2]]
+        out[k] = ((slice(y0, y1), slice(x0, x1)), pm, src)
+    return out
+
+
+def _on_canvas(item, shape):
+    box, pm, src = item
+    full = np.zeros((*shape, 4), np.float32)
+    fsrc = np.full((*shape, 2), np.nan, np.float32)
+    full[box] = pm
+    fsrc[box] = src
+    return full, fsrc
+
+
+def overlaid_parts(layer: np.ndarray, placed: list, junctions: list, index, attached,
+                   width: float = 0.0) -> np.ndarray:
+    """``layer`` (straight RGBA) with every stroke moved over another stroke's flesh drawn
+    over it as it is alone (its rim, the outline of an outlined source, across the
+    other's flesh).
+
+    Pairs joined by a junction are judged only beyond both parts' half widths +
+    ``width`` + 2 px of the junction (the joint is closed as before); flesh both
+    strokes copy from the same source place (within :data:`_SHARED` + ``width`` px:
+    a joint, a crossing that stays) is no overlap. The stroke that moved more over
+    the overlap (its pixels' mean distance to their source) lies on top; a stroke
+    hidden by the other in the source stays under it. ``width``: the outline's
+    width (0: none).
+    """
+    shape = layer.shape[:2]
+    solo = _solo(placed, shape)
+    keys = sorted(solo)
+    if len(keys) < 2:
+        return layer
+    full = {k: _on_canvas(solo[k], shape) for k in keys}
+    h, w = shape
+    yy, xx = np.mgrid[0:h, 0:w]
+    out = None
+    for a_i, i in enumerate(keys):
+        for j in keys[a_i + 1:]:
+            fi, si = full[i]
+            fj, sj = full[j]
+            both = (fi[..., 3] > _FLESH) & (fj[..., 3] > _FLESH)
+            if int(both.sum()) < _MIN_OVERLAP:
+                continue
+            shared = np.hypot(si[..., 0] - sj[..., 0], si[..., 1] - sj[..., 1]) <= _SHARED + width
+            both &= ~shared
+            for jn in junctions:
+                if {jn.child, jn.parent} != {i, j}:
+                    continue
+                hw = float(index.half_width(jn.parent, attached[jn.parent].source_arc_length(jn.parent_s)))
+                hc = float(np.max(index.half_width(jn.child, np.array([0.0, attached[jn.child].source.length]))))
+                r = hw + hc + width + 2.0
+                both &= np.hypot(xx - jn.point[0], yy - jn.point[1]) > r
+            if int(both.sum()) < _MIN_OVERLAP:
+                continue
+            mi = float(np.mean(np.hypot(xx[both] - si[both][:, 0], yy[both] - si[both][:, 1])))
+            mj = float(np.mean(np.hypot(xx[both] - sj[both][:, 0], yy[both] - sj[both][:, 1])))
+            if max(mi, mj) < _STILL:
+                continue
+            top, ft = (i, fi) if mi >= mj else (j, fj)
+            bottom = j if top == i else i
+            if bottom in index.views and top in (index.hidden_by.get(bottom) or ()):
+                pass
+            elif top in index.views and bottom in (index.hidden_by.get(top) or ()):
+                top, ft = bottom, (fj if bottom == j else fi)
+            # the top part's pixels over (and round, its rim) the overlap
+            near = ndi.binary_dilation(both, iterations=int(np.ceil(width)) + 2)
+            paint = near & (ft[..., 3] > 0.02)
+            if not paint.any():
+                continue
+            if out is None:
+                out = layer.copy()
+            a = ft[paint][:, 3:4]
+            la = out[paint][:, 3:4]
+            pm = ft[paint][:, :3] + out[paint][:, :3] * la * (1.0 - a)
+            na = a + la * (1.0 - a)
+            out[paint, :3] = np.where(na > 1e-6, pm / np.maximum(na, 1e-6), 0.0)
+            out[paint, 3] = na[:, 0]
+    return layer if out is None else out
+
+
+#: Alpha below which a result pixel is background for :func:`solid_cracks`.
+_CLEAR = 0.02
+#: Alpha from which a pixel is opaque.
+_OPAQUE = 0.98
+
+
+def solid_cracks(layer: np.ndarray, labels: np.ndarray, placed: list, source_alpha: np.ndarray) -> np.ndarray:
+    """``layer`` with the see-through pixels inside the object made opaque.
+
+    A patch's pixels are weighted by its tube's one-pixel ramp where the tube cuts the
+    object; where two fingers' tubes meet below the crotch between them and the palm
+    does not cover the ramps, a crack of half-transparent pixels runs on from the
+    crotch's bottom into the palm: white and grey ticks in the outline over a white
+    background. Pixels with 0.02 < alpha < 0.98 at least 1.5 px from the background
+    (alpha <= 0.02) whose source pixel (through the patch ``labels`` chose) was
+    opaque are set opaque, colour unchanged; anti-aliased rims of the source keep
+    their alpha (their source pixels were not opaque).
+    """
+    a = layer[..., 3]
+    part = (a > _CLEAR) & (a < _OPAQUE)
+    if not part.any():
+        return layer
+    far = ndi.distance_transform_edt(a > _CLEAR) >= 1.5
+    cand = part & far & (labels >= 0)
+    if not cand.any():
+        return layer
+    ys, xs = np.nonzero(cand)
+    lab = labels[ys, xs]
+    ok = np.zeros(len(ys), bool)
+    hs, ws = source_alpha.shape
+    for k in np.unique(lab):
+        m = placed[k].source_map
+        if m is None:
+            continue
+        sel = lab == k
+        sx = np.rint(m[0, 0] * xs[sel] + m[0, 1] * ys[sel] + m[0, 2]).astype(np.intp)
+        sy = np.rint(m[1, 0] * xs[sel] + m[1, 1] * ys[sel] + m[1, 2]).astype(np.intp)
+        inb = (sx >= 0) & (sx < ws) & (sy >= 0) & (sy < hs)
+        good = np.zeros(len(sx), bool)
+        good[inb] = source_alpha[sy[inb], sx[inb]] >= _OPAQUE
+        ok[np.flatnonzero(sel)[good]] = True
+    if not ok.any():
+        return layer
+    out = layer.copy()
+    out[ys[ok], xs[ok], 3] = 1.0
+    return out
