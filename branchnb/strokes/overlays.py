@@ -154,43 +154,28 @@ _CLEAR = 0.02
 _OPAQUE = 0.98
 
 
-def solid_cracks(layer: np.ndarray, labels: np.ndarray, placed: list, source_alpha: np.ndarray) -> np.ndarray:
+def solid_cracks(layer: np.ndarray, source_alpha: np.ndarray) -> np.ndarray:
     """``layer`` with the see-through pixels inside the object made opaque.
 
     A patch's pixels are weighted by its tube's one-pixel ramp where the tube cuts the
     object; where two fingers' tubes meet below the crotch between them and the palm
     does not cover the ramps, a crack of half-transparent pixels runs on from the
     crotch's bottom into the palm: white and grey ticks in the outline over a white
-    background. Pixels with 0.02 < alpha < 0.98 at least 1.5 px from the background
-    (alpha <= 0.02) whose source pixel (through the patch ``labels`` chose) was
-    opaque are set opaque, colour unchanged; anti-aliased rims of the source keep
-    their alpha (their source pixels were not opaque).
+    background. Pixels with 0.02 < alpha < 0.98 deeper inside the silhouette (from
+    alpha <= 0.02) than 1.5 px and than the source's own anti-aliased rim reaches
+    (+ 0.5 px) are set opaque, colour unchanged.
     """
     a = layer[..., 3]
     part = (a > _CLEAR) & (a < _OPAQUE)
     if not part.any():
         return layer
-    far = ndi.distance_transform_edt(a > _CLEAR) >= 1.5
-    cand = part & far & (labels >= 0)
+    s_part = (source_alpha > _CLEAR) & (source_alpha < _OPAQUE)
+    reach = 0.0
+    if s_part.any():
+        reach = float(np.percentile(ndi.distance_transform_edt(source_alpha > _CLEAR)[s_part], 99)) + 0.5
+    cand = part & (ndi.distance_transform_edt(a > _CLEAR) >= max(1.5, reach))
     if not cand.any():
         return layer
-    ys, xs = np.nonzero(cand)
-    lab = labels[ys, xs]
-    ok = np.zeros(len(ys), bool)
-    hs, ws = source_alpha.shape
-    for k in np.unique(lab):
-        m = placed[k].source_map
-        if m is None:
-            continue
-        sel = lab == k
-        sx = np.rint(m[0, 0] * xs[sel] + m[0, 1] * ys[sel] + m[0, 2]).astype(np.intp)
-        sy = np.rint(m[1, 0] * xs[sel] + m[1, 1] * ys[sel] + m[1, 2]).astype(np.intp)
-        inb = (sx >= 0) & (sx < ws) & (sy >= 0) & (sy < hs)
-        good = np.zeros(len(sx), bool)
-        good[inb] = source_alpha[sy[inb], sx[inb]] >= _OPAQUE
-        ok[np.flatnonzero(sel)[good]] = True
-    if not ok.any():
-        return layer
     out = layer.copy()
-    out[ys[ok], xs[ok], 3] = 1.0
+    out[cand, 3] = 1.0
     return out

@@ -265,11 +265,12 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
         # a part moved over another part is drawn over it, with its own outline
         layer = overlaid_parts(layer, placed, junctions, index, attached,
                                0.0 if style is None else style.width)
-        layer = solid_cracks(layer, comp.labels, placed, index.premult[:, :, 3])
         # (the joints' closings leave cracks of their own)
         layer = _close_rim_cracks(layer)
         layer = drop_flecks(layer, index.premult[:, :, 3])
         layer = drop_flecks(layer, index.premult[:, :, 3], level=0.5)
+        # (last: the closings above leave half-transparent pixels of their own)
+        layer = solid_cracks(layer, index.premult[:, :, 3])
         alpha = layer[:, :, 3]
     mask = alpha > 0.5
     seams = seam_mask(comp.labels, alpha, min_alpha=0.1)
