@@ -13,7 +13,7 @@ import numpy as np
 
 from branchnb.strokes import edit_structure
 from branchnb.strokes.junctions import find_junctions
-from branchnb.strokes.overlays import solid_cracks
+from branchnb.strokes.overlays import _solid_cracks
 from branchnb.strokes.strokes import Stroke
 
 sys.path.insert(0, os.path.dirname(__file__))
@@ -59,10 +59,10 @@ def test_see_through_pixels_inside_the_object_are_made_opaque():
     layer[2, 5:8, 3] = 0.5  # the anti-aliased rim
     src = np.zeros((20, 20), np.float32)
     src[2:18, 2:18] = 1.0
-    out = solid_cracks(layer, src)
+    out = _solid_cracks(layer, src)
     assert (out[8:12, 9, 3] == 1.0).all()
     assert (out[2, 5:8, 3] == 0.5).all()
     # a source whose rim is soft two px deep keeps such pixels soft
     soft = src.copy()
     soft[2:4, 2:18] = 0.5
-    assert (solid_cracks(layer, soft)[8:12, 9, 3] == 1.0).all()
+    assert (_solid_cracks(layer, soft)[8:12, 9, 3] == 1.0).all()

@@ -97,7 +97,7 @@ def find_junctions(strokes: list[Stroke], tolerance: float, sources: list[Stroke
     strokes are drawn from their roots) that lay on no source stroke and was
     moved onto a stroke joins nothing: the part lies over the other one (a
     finger bent over its neighbour's tip keeps its own outline there, see
-    :func:`~branchnb.strokes.overlays.overlaid_parts`). Beyond the paper.
+    :func:`~branchnb.strokes.overlays._overlaid_parts`). Beyond the paper.
 
     Parameters
     ----------

@@ -17,6 +17,8 @@ from __future__ import annotations
 import numpy as np
 from scipy import ndimage as ndi
 
+__all__: list[str] = []
+
 #: Alpha from which a stroke's own (laid alone) pixel is flesh.
 _FLESH = 0.5
 #: Source points of two strokes' pixels nearer than this (px, + the outline's width) are the
@@ -81,7 +83,7 @@ def _on_canvas(item, shape):
     return full, fsrc
 
 
-def overlaid_parts(layer: np.ndarray, placed: list, junctions: list, index, attached,
+def _overlaid_parts(layer: np.ndarray, placed: list, junctions: list, index, attached,
                    width: float = 0.0) -> np.ndarray:
     """``layer`` (straight RGBA) with every stroke moved over another stroke's flesh drawn
     over it as it is alone (its rim, the outline of an outlined source, across the
@@ -148,13 +150,13 @@ def overlaid_parts(layer: np.ndarray, placed: list, junctions: list, index, atta
     return layer if out is None else out
 
 
-#: Alpha below which a result pixel is background for :func:`solid_cracks`.
+#: Alpha below which a result pixel is background for :func:`_solid_cracks`.
 _CLEAR = 0.02
 #: Alpha from which a pixel is opaque.
 _OPAQUE = 0.98
 
 
-def solid_cracks(layer: np.ndarray, source_alpha: np.ndarray) -> np.ndarray:
+def _solid_cracks(layer: np.ndarray, source_alpha: np.ndarray) -> np.ndarray:
     """``layer`` with the see-through pixels inside the object made opaque.
 
     A patch's pixels are weighted by its tube's one-pixel ramp where the tube cuts the
