@@ -92,7 +92,8 @@ def _overlaid_parts(layer: np.ndarray, placed: list, junctions: list, index, att
     Pairs joined by a junction are judged only beyond both parts' half widths +
     ``width`` + 2 px of the junction (the joint is closed as before); flesh both
     strokes copy from the same source place (within :data:`_SHARED` + ``width`` px:
-    a joint, a crossing that stays) is no overlap. The stroke that moved more over
+    a joint, a crossing that stays), or whose source place lies that near the other
+    stroke's own flesh in the source (two tentacles' roots), is no overlap. The stroke that moved more over
     the overlap (its pixels' mean distance to their source) lies on top; a stroke
     hidden by the other in the source stays under it. ``width``: the outline's
     width (0: none).
@@ -103,6 +104,20 @@ def _overlaid_parts(layer: np.ndarray, placed: list, junctions: list, index, att
     if len(keys) < 2:
         return layer
     full = {k: _on_canvas(solo[k], shape) for k in keys}
+    apart: dict = {}
+
+    def away(k, src):
+        # px from each pixel's source place to stroke k's own flesh in the source
+        if k not in apart:
+            apart[k] = ndi.distance_transform_edt(~(index.allowed[k] & index.object))
+        d = apart[k]
+        hs, ws = d.shape
+        x = np.clip(np.rint(np.nan_to_num(src[..., 0], nan=-1)), -1, ws).astype(np.intp)
+        y = np.clip(np.rint(np.nan_to_num(src[..., 1], nan=-1)), -1, hs).astype(np.intp)
+        ok = (x >= 0) & (x < ws) & (y >= 0) & (y < hs)
+        out = np.zeros(src.shape[:2], np.float32)
+        out[ok] = d[y[ok], x[ok]]
+        return out
     h, w = shape
     yy, xx = np.mgrid[0:h, 0:w]
     out = None
@@ -115,6 +130,10 @@ def _overlaid_parts(layer: np.ndarray, placed: list, junctions: list, index, att
                 continue
             shared = np.hypot(si[..., 0] - sj[..., 0], si[..., 1] - sj[..., 1]) <= _SHARED + width
             both &= ~shared
+            if not both.any():
+                continue
+            # (flesh that touched the other part's in the source: the roots of two tentacles)
+            both &= (away(j, si) > _SHARED + width) & (away(i, sj) > _SHARED + width)
             for jn in junctions:
                 if {jn.child, jn.parent} != {i, j}:
                     continue
