@@ -74,13 +74,17 @@ def _solo(placed: list, shape) -> dict:
     return out
 
 
-def _on_canvas(item, shape):
-    box, pm, src = item
-    full = np.zeros((*shape, 4), np.float32)
-    fsrc = np.full((*shape, 2), np.nan, np.float32)
-    full[box] = pm
-    fsrc[box] = src
-    return full, fsrc
+def _cut(item, r0: int, r1: int, c0: int, c1: int):
+    """A stroke's laid-alone pixels and source places on the canvas box ``[r0:r1, c0:c1]``."""
+    (rs, cs), pm, src = item
+    pm_out = np.zeros((r1 - r0, c1 - c0, 4), np.float32)
+    src_out = np.full((r1 - r0, c1 - c0, 2), np.nan, np.float32)
+    a0, a1 = max(r0, rs.start), min(r1, rs.stop)
+    b0, b1 = max(c0, cs.start), min(c1, cs.stop)
+    if a0 < a1 and b0 < b1:
+        pm_out[a0 - r0:a1 - r0, b0 - c0:b1 - c0] = pm[a0 - rs.start:a1 - rs.start, b0 - cs.start:b1 - cs.start]
+        src_out[a0 - r0:a1 - r0, b0 - c0:b1 - c0] = src[a0 - rs.start:a1 - rs.start, b0 - cs.start:b1 - cs.start]
+    return pm_out, src_out
 
 
 def _overlaid_parts(layer: np.ndarray, placed: list, junctions: list, index, attached,
@@ -103,7 +107,6 @@ def _overlaid_parts(layer: np.ndarray, placed: list, junctions: list, index, att
     keys = sorted(solo)
     if len(keys) < 2:
         return layer
-    full = {k: _on_canvas(solo[k], shape) for k in keys}
     apart: dict = {}
 
     def away(k, src):
@@ -119,12 +122,21 @@ def _overlaid_parts(layer: np.ndarray, placed: list, junctions: list, index, att
         out[ok] = d[y[ok], x[ok]]
         return out
     h, w = shape
-    yy, xx = np.mgrid[0:h, 0:w]
+    m = int(np.ceil(width)) + 3
     out = None
     for a_i, i in enumerate(keys):
         for j in keys[a_i + 1:]:
-            fi, si = full[i]
-            fj, sj = full[j]
+            (ri, ci), (rj, cj) = solo[i][0], solo[j][0]
+            r0, r1 = max(ri.start, rj.start), min(ri.stop, rj.stop)
+            c0, c1 = max(ci.start, cj.start), min(ci.stop, cj.stop)
+            if r1 - r0 < 2 or c1 - c0 < 2:
+                continue
+            # (the boxes' overlap, grown by the top part's rim round it)
+            r0, r1, c0, c1 = max(r0 - m, 0), min(r1 + m, h), max(c0 - m, 0), min(c1 + m, w)
+            fi, si = _cut(solo[i], r0, r1, c0, c1)
+            fj, sj = _cut(solo[j], r0, r1, c0, c1)
+            yy, xx = np.mgrid[r0:r1, c0:c1]
+            box = (slice(r0, r1), slice(c0, c1))
             both = (fi[..., 3] > _FLESH) & (fj[..., 3] > _FLESH)
             if int(both.sum()) < _MIN_OVERLAP:
                 continue
@@ -160,12 +172,13 @@ def _overlaid_parts(layer: np.ndarray, placed: list, junctions: list, index, att
                 continue
             if out is None:
                 out = layer.copy()
+            sub = out[box]
             a = ft[paint][:, 3:4]
-            la = out[paint][:, 3:4]
-            pm = ft[paint][:, :3] + out[paint][:, :3] * la * (1.0 - a)
+            la = sub[paint][:, 3:4]
+            pm = ft[paint][:, :3] + sub[paint][:, :3] * la * (1.0 - a)
             na = a + la * (1.0 - a)
-            out[paint, :3] = np.where(na > 1e-6, pm / np.maximum(na, 1e-6), 0.0)
-            out[paint, 3] = na[:, 0]
+            sub[paint, :3] = np.where(na > 1e-6, pm / np.maximum(na, 1e-6), 0.0)
+            sub[paint, 3] = na[:, 0]
     return layer if out is None else out
 
 
