@@ -62,7 +62,7 @@ def test_see_through_pixels_inside_the_object_are_made_opaque():
     out = _solid_cracks(layer, src)
     assert (out[8:12, 9, 3] == 1.0).all()
     assert (out[2, 5:8, 3] == 0.5).all()
-    # a source whose rim is soft two px deep keeps such pixels soft
+    # an anti-aliased source: left as laid
     soft = src.copy()
-    soft[2:4, 2:18] = 0.5
-    assert (_solid_cracks(layer, soft)[8:12, 9, 3] == 1.0).all()
+    soft[2, 2:18] = 0.5
+    assert np.allclose(_solid_cracks(layer, soft)[8:12, 9, 3], 0.3)

@@ -165,6 +165,13 @@ def _overlaid_parts(layer: np.ndarray, placed: list, junctions: list, index, att
                 pass
             elif top in index.views and bottom in (index.hidden_by.get(top) or ()):
                 top, ft = bottom, (fj if bottom == j else fi)
+            # only where the top part ends over the other (a finger bent over its neighbour's
+            # tip), not where it crosses it on its way (a curled tentacle over the others)
+            tip = attached[top].target.points[-1]
+            reach = 3.0 * float(np.max(index.width[top]))
+            both &= np.hypot(xx - tip[0], yy - tip[1]) <= reach + width + 2.0
+            if int(both.sum()) < _MIN_OVERLAP:
+                continue
             # the top part's pixels over (and round, its rim) the overlap
             near = ndi.binary_dilation(both, iterations=int(np.ceil(width)) + 2)
             paint = near & (ft[..., 3] > 0.02)
@@ -195,19 +202,19 @@ def _solid_cracks(layer: np.ndarray, source_alpha: np.ndarray) -> np.ndarray:
     object; where two fingers' tubes meet below the crotch between them and the palm
     does not cover the ramps, a crack of half-transparent pixels runs on from the
     crotch's bottom into the palm: white and grey ticks in the outline over a white
-    background. Pixels with 0.02 < alpha < 0.98 deeper inside the silhouette (from
-    alpha <= 0.02) than 1.5 px and than the source's own anti-aliased rim reaches
-    (+ 0.5 px) are set opaque, colour unchanged.
+    background. For a source with a hard alpha (none half-transparent), pixels with
+    0.02 < alpha < 0.98 at least 1.5 px inside the silhouette (from alpha <= 0.02)
+    are set opaque, colour unchanged.
     """
     a = layer[..., 3]
     part = (a > _CLEAR) & (a < _OPAQUE)
     if not part.any():
         return layer
-    s_part = (source_alpha > _CLEAR) & (source_alpha < _OPAQUE)
-    reach = 0.0
-    if s_part.any():
-        reach = float(np.percentile(ndi.distance_transform_edt(source_alpha > _CLEAR)[s_part], 99)) + 0.5
-    cand = part & (ndi.distance_transform_edt(a > _CLEAR) >= max(1.5, reach))
+    if ((source_alpha > _CLEAR) & (source_alpha < _OPAQUE)).any():
+        # (an anti-aliased source: half-transparent ink there made opaque turned into dark
+        # blobs at an octopus's turned tentacles; left as laid)
+        return layer
+    cand = part & (ndi.distance_transform_edt(a > _CLEAR) >= 1.5)
     if not cand.any():
         return layer
     out = layer.copy()
