@@ -98,7 +98,9 @@ def _overlaid_parts(layer: np.ndarray, placed: list, junctions: list, index, att
     strokes copy from the same source place (within :data:`_SHARED` + ``width`` px:
     a joint, a crossing that stays), or whose source place lies that near the other
     stroke's own flesh in the source (two tentacles' roots), is no overlap. The stroke that moved more over
-    the overlap (its pixels' mean distance to their source) lies on top; a stroke
+    the overlap (its pixels' mean distance to their source) lies on top, and only
+    within three of its half widths of its tip (a part that ends over another; a
+    curled tentacle crossing others on its way is left as the cut laid it); a stroke
     hidden by the other in the source stays under it. ``width``: the outline's
     width (0: none).
     """
