@@ -435,6 +435,12 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
     outline there (a copy of an arm laid across the arm's own tip), and ink
     a joint's closing copies beyond the outline's band is repainted (no
     doubled hair where a curled tentacle leaves its head).
+    A stroke's tip moved onto another stroke joins nothing: a part moved
+    over another part it was apart from in the source is drawn over it,
+    with its own outline across the other's flesh (a finger bent over its
+    neighbour's tip); the stroke that moved more there lies on top.
+    Half-transparent pixels deeper inside the result than the source's own
+    anti-aliased rim are made opaque (no light ticks in crotches).
 
     Raises
     ------

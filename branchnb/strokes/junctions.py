@@ -93,7 +93,11 @@ def find_junctions(strokes: list[Stroke], tolerance: float, sources: list[Stroke
     stroke that was moved over it: it joins stroke ``j`` only if it lay on
     source stroke ``j`` too. Without this, a part turned over a kept part's
     end (a leaf laid along its twig, an arm over a leg) would take the kept
-    part as its child and drag it along. Beyond the paper.
+    part as its child and drag it along. And a stroke's last point (its tip:
+    strokes are drawn from their roots) that lay on no source stroke and was
+    moved onto a stroke joins nothing: the part lies over the other one (a
+    finger bent over its neighbour's tip keeps its own outline there, see
+    :func:`~branchnb.strokes.overlays._overlaid_parts`). Beyond the paper.
 
     Parameters
     ----------
@@ -137,6 +141,10 @@ def find_junctions(strokes: list[Stroke], tolerance: float, sources: list[Stroke
             if sources is not None:
                 q_src = sources[i].points[0 if end == 0 else -1]
                 stayed = q_src if np.hypot(*(q - q_src)) <= tolerance else None
+                if end == 1 and stayed is None and not any(
+                        sources[j].project(q_src[None])[1][0] <= tolerance
+                        for j in range(len(sources)) if j != i):
+                    continue  # a free tip moved onto another stroke lies on it
             best = None
             for j, other in enumerate(strokes):
                 if j == i:

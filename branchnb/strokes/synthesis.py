@@ -32,6 +32,7 @@ from .outline import (
     fill_pinholes,
     source_depth,
 )
+from .overlays import _overlaid_parts, _solid_cracks
 from .parts import place_part, rigid_frame
 from .sampling import choose, pair_energies
 
@@ -261,10 +262,15 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
             if keep.any():
                 layer = layer.copy()
                 layer[keep, :3] = uncut[keep, :3]
+        # a part moved over another part is drawn over it, with its own outline
+        layer = _overlaid_parts(layer, placed, junctions, index, attached,
+                               0.0 if style is None else style.width)
         # (the joints' closings leave cracks of their own)
         layer = _close_rim_cracks(layer)
         layer = drop_flecks(layer, index.premult[:, :, 3])
         layer = drop_flecks(layer, index.premult[:, :, 3], level=0.5)
+        # (last: the closings above leave half-transparent pixels of their own)
+        layer = _solid_cracks(layer, index.premult[:, :, 3])
         alpha = layer[:, :, 3]
     mask = alpha > 0.5
     seams = seam_mask(comp.labels, alpha, min_alpha=0.1)
