@@ -72,7 +72,7 @@ def test_head_rows_are_the_heads_sorted_bins(crack_model):
         want_r = np.repeat(np.arange(len(cr)), np.rint(cr).astype(int))
         assert np.array_equal(rows_r[hd, :n], want_r) and (rows_r[hd, n:] == 32767).all()
         checked += 1
-    assert checked > 10
+    assert checked >= 8   # the 192 px crack keeps fewer heads since the small-frame rules (10)
 
 
 @pytest.mark.parametrize("cell", [1.0, 2.0, 2.5])

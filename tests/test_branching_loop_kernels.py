@@ -26,7 +26,7 @@ def crack_model():
     from branchnb.branching import extract_structure
 
     # no domain: roots then start on a free frame, which only the general step handles, so both paths run
-    img = crack_pattern_example((192, 192), 2)
+    img = crack_pattern_example((288, 288), 2)   # above small_frames.SMALL_SIDE: the paper's frame rules
     # (its former roots: root="auto" now also roots a tree where a thick crack enters the frame)
     return fit_model(extract_structure(img, root="thickest"))
 
