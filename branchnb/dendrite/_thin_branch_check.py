@@ -58,7 +58,7 @@ def parts(kind: str, obj: np.ndarray) -> list[np.ndarray]:
     object with the stem's column band (2 stroke widths about its fullest column) taken out
     (the lamp's head, the mast's and the T's arm ends, the L's foot); for ``stem`` and
     ``fork`` the heads (the object's pixels that are deep, i.e. wider than the stem)."""
-    if kind in ("pole", "wide", "I"):
+    if kind in ("pole", "wide", "I", "plain") or not obj.any():
         return []
     if kind in ("stem", "fork"):
         depth = ndimage.distance_transform_edt(obj)
