@@ -645,7 +645,7 @@ def _strike_share(content: np.ndarray) -> float:
 
     >>> m = np.zeros((100, 100), bool); m[10:90, 48:52] = True
     >>> round(_strike_share(m), 3), float(m.mean())
-    (0.204, 0.032)
+    (0.302, 0.032)
     """
     from skimage.morphology import skeletonize
 
