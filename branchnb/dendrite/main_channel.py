@@ -631,9 +631,10 @@ def strike_channel(weights, content, seed, *, band: float = STRIKE_BAND,
                     * rough ** (OUTLINE_JAG * near * thin),
                     (w + 10.0 * mean) * _ground(sil, jag, gen))
     if thin.any():
-        # in thin parts the whole part is outline band: its depth no longer pulls the channel
-        # to the medial axis, and the noise's scales follow the part's width (dendrite38)
-        cost = np.where(thin, (w + mean * penalty) * _thin_rough(thin, jag, gen), cost)
+        # in thin parts the noise's scales follow the part's width (dendrite38); the band's
+        # depth still pulls the channel off the outline (flat, it ran along a thin trunk's
+        # edge, off a tree at 250 px)
+        cost = np.where(thin, (w + mean * penalty * near) * _thin_rough(thin, jag, gen), cost)
     res = plan(Lattice(cost), (sx, sy), metric="cumulative")
     nodes = res.path(int(end[1]) * w.shape[1] + int(end[0]))
     return _taut(np.column_stack([nodes % w.shape[1], nodes // w.shape[1]]).astype(np.int64))
