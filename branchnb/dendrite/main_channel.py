@@ -559,8 +559,8 @@ def strike_channel(weights, content, seed, *, band: float = STRIKE_BAND,
     (rough at every scale, growing off the objects): the channel ran from a street lamp
     straight across the sky to a toadstool's foot (``python -m
     branchnb.dendrite._multi_bolt_check``). Beyond the papers (dendrite38): in thin parts
-    (:func:`~branchnb.dendrite.channel_jag._thin`) the band's depth no longer pulls the
-    channel to the medial axis and the noise's scales follow the part's width
+    (:func:`~branchnb.dendrite.channel_jag._thin`) the whole cost carries noise whose scales
+    follow the part's width
     (:func:`~branchnb.dendrite.channel_jag._thin_rough`): down a pole or a mast the channel
     turned 17-24 deg per 10 px against 35-40 in a wide blob (``python -m
     branchnb.dendrite._thin_branch_check``).
