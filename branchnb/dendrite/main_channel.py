@@ -25,7 +25,7 @@ import dataclasses
 import numpy as np
 from scipy import ndimage
 
-from .channel_jag import CHANNEL_JAG, OUTLINE_JAG, _ground, _rough, _taut, _thin
+from .channel_jag import CHANNEL_JAG, OUTLINE_JAG, _ground, _rough, _taut, _thin, _thin_rough
 from .dendrite import Dendrite, build_dendrite
 from .photo_strike import photo_channel  # noqa: F401  (re-exported: it was defined here)
 from .planner import PlanResult
@@ -558,7 +558,12 @@ def strike_channel(weights, content, seed, *, band: float = STRIKE_BAND,
     noise, and the ground costs :func:`~branchnb.dendrite.channel_jag._ground` times more
     (rough at every scale, growing off the objects): the channel ran from a street lamp
     straight across the sky to a toadstool's foot (``python -m
-    branchnb.dendrite._multi_bolt_check``).
+    branchnb.dendrite._multi_bolt_check``). Beyond the papers (dendrite38): in thin parts
+    (:func:`~branchnb.dendrite.channel_jag._thin`) the whole cost carries noise whose scales
+    follow the part's width
+    (:func:`~branchnb.dendrite.channel_jag._thin_rough`): down a pole or a mast the channel
+    turned 17-24 deg per 10 px against 35-40 in a wide blob (``python -m
+    branchnb.dendrite._thin_branch_check``).
 
     Parameters
     ----------
@@ -621,9 +626,15 @@ def strike_channel(weights, content, seed, *, band: float = STRIKE_BAND,
     # the noise on the weights fades out towards the outline, but in thin parts the outline
     # band's cost keeps OUTLINE_JAG of it: all within the band, the channel ran ruler-straight
     # down a thin pole (and on the ground too, should the channel cross it: a seed off the object)
+    thin = _thin(sil, band)
     cost = np.where(sil, (w * rough ** (1.0 - near) + mean * penalty * near)
-                    * rough ** (OUTLINE_JAG * near * _thin(sil, band)),
+                    * rough ** (OUTLINE_JAG * near * thin),
                     (w + 10.0 * mean) * _ground(sil, jag, gen))
+    if thin.any():
+        # in thin parts the noise's scales follow the part's width (dendrite38); the band's
+        # depth still pulls the channel off the outline (flat, it ran along a thin trunk's
+        # edge, off a tree at 250 px)
+        cost = np.where(thin, (w + mean * penalty * near) * _thin_rough(thin, jag, gen), cost)
     res = plan(Lattice(cost), (sx, sy), metric="cumulative")
     nodes = res.path(int(end[1]) * w.shape[1] + int(end[0]))
     return _taut(np.column_stack([nodes % w.shape[1], nodes // w.shape[1]]).astype(np.int64))
@@ -645,6 +656,9 @@ def strike_weights(weights, content, seed, *, band: float = STRIKE_BAND,
     the picture (photos: 0.96-1; drawn objects 0.19-0.61). Beyond the papers (dendrite34):
     the ground between objects costs :func:`~branchnb.dendrite.channel_jag._ground` times
     more, so branches jump from object to object where they are close, along jagged paths.
+    Beyond the papers (dendrite38): in thin parts the outline band's constant is left off and
+    the weights carry :func:`~branchnb.dendrite.channel_jag._thin_rough`'s noise (the
+    branches along a mast's arms were straight lines round their outline).
 
     Parameters
     ----------
@@ -691,6 +705,11 @@ def strike_weights(weights, content, seed, *, band: float = STRIKE_BAND,
     # the ground between objects rough at every scale: the branches jumping from one object
     # to another crossed it in straight lines
     out[~sil] *= _ground(sil, jag, gen)[~sil]
+    thin = _thin(sil, band)
+    if thin.any():
+        # thin parts: noise at the part's width's scales on the branches' costs, the lattice's
+        # per-pixel noise drowned in the outline band's constant (straight stubs; dendrite38)
+        out[thin] = w[thin] * _thin_rough(thin, jag, gen)[thin]
     out[path[:, 1], path[:, 0]] = 0.0
     return out, path
 
