@@ -52,6 +52,7 @@ from ..core.random import as_rng
 from ..core.validate import Int, Seq, checked
 from .contour import simplify_contour
 from .corners import _corner_matched
+from .sticker import _sticker_mix
 from .flat_art import (
     FLAT_ART_SHARE,
     _drawing_group,
@@ -511,6 +512,10 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     if pixel:       # pixel art stays on its grid, in its palette, with a 1-art-pixel outline
         image, sources, trunk = _pixel_mix(image, [exemplars[i] for i in used], cw[used], sources, trunk,
                                            outline=p.outline)
+    elif p.outline and len(used) > 1 and (st := _sticker_mix(
+            image, [exemplars[i] for i in used], cw[used], w[used],
+            np.where(image[..., 3] >= 0.5, sources, -1) if mode == "choose" else None)) is not None:
+        image = st                         # sticker trees: border ring, outline ring, fill (sticker.py)
     elif p.outline and len(used) > 1:      # one exemplar: its own shape, its outline intact
         image = _ink_outline(image, [exemplars[i] for i in used], cw[used],
                              np.where(image[..., 3] >= 0.5, sources, -1) if mode == "choose" else None)
