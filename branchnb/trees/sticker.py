@@ -75,8 +75,8 @@ def sticker_border(image) -> StickerBorder | None:
     The rim (opaque pixels next to a transparent one) is a border when at least
     :data:`BORDER_SHARE` of it is one colour, that colour reaches in to a steady depth
     (the deepest 1 px ring still half as much in it, at most :data:`BORDER_MAX` of the
-    image side) and the pixels 2-3 px deeper are mostly something else (a flat tree whose fill reaches the rim has no border: its colour
-    runs on deep inside).
+    image side) and the pixels 2-3 px deeper are mostly something else (a flat tree whose
+    fill reaches the rim has no border: its colour runs on deep inside).
     """
     img = as_rgba(image, name="image")
     alpha = img[..., 3] >= 0.5
@@ -147,8 +147,6 @@ def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights
     (shape weights') mean of the bordered exemplars' widths, in the colour of the one
     with most colour weight.
     """
-    from .flat_art import _ink_outline
-
     borders = [_exemplar_border(e) for e in exemplars]
     on = np.array([b is not None for b in borders])
     if not on.any():
@@ -171,9 +169,6 @@ def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights
     if inner.sum() < 16:
         return None
     out = np.array(img, np.float32, copy=True)
-    # The warped border left inside the shrunk silhouette (the warp moved the rings inwards
-    # there) is part of the stroke to re-ink: it is painted in ink and thinned to the pen with
-    # the warped stroke (_drop_excess), where taking it as fill left a white band inside.
     stripped = [_stripped(e, b) if b is not None else e for e, b in zip(exemplars, borders, strict=True)]
     from .flat_art import exemplar_outline
 
@@ -183,16 +178,29 @@ def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights
     mid[..., 3] = np.where(inner, 1.0, 0.0)
     if any(ons):
         ink = outl[int(np.argmax(np.where(ons, share, -1.0)))]
-        ink_w = float(ink.width)
+        ink_w = float(np.average([o.width for o in outl if o.outlined],
+                                 weights=[x + 1e-9 for x, o in zip(share, outl, strict=True) if o.outlined]))
         di = _edt(inner)
-        left = inner & (np.linalg.norm(out[..., :3] - colour, axis=2) <= BORDER_TOL) & (di <= 2 * (width + ink_w) + 2)
-        lab, n = ndi.label(left, structure=np.ones((3, 3), bool))
-        if n:
-            touch = np.unique(lab[left & (di < 1.5)])
+        # Rebuild the outline ring: the warped border and outline joined to the shrunk rim
+        # (within two borders and pens of it) are repainted with the fill beyond them, then an
+        # even ring is inked. Taken as stroke they stayed a band up to 10 px thick where the warp
+        # had stretched them (_drop_excess keeps 2 pens + 2 at most).
+        rgb = out[..., :3]
+        lim = width + 2 * ink_w + 2
+        layer = inner & ((np.linalg.norm(rgb - colour, axis=2) <= 0.35) |
+                         (np.linalg.norm(rgb - ink.ink, axis=2) <= 0.45))
+        lab, n = ndi.label(layer & (di <= lim), structure=np.ones((3, 3), bool))
+        fill = inner & ~ndi.binary_dilation(layer, structure=np.ones((3, 3), bool), iterations=2)
+        if n and fill.any():
+            touch = np.unique(lab[(lab > 0) & (di < 1.5)])
             leak = np.isin(lab, touch[touch > 0])
-            mid[leak, :3] = ink.ink
-        src = None if sources is None else np.where(inner, sources, -1)
-        mid = _ink_outline(mid, list(stripped), cw, src)
+            _, (iy, ix) = ndi.distance_transform_edt(~fill, return_indices=True)
+            mid[leak, :3] = rgb[iy[leak], ix[leak]]
+        # The outline ring itself, in the sources' ink and pen width, with a half-ink inner edge.
+        pen = di <= ink_w + 1.0
+        mid[inner & pen, :3] = ink.ink
+        soft = inner & ~pen & (di <= ink_w + 2.0)
+        mid[soft, :3] = 0.5 * (mid[soft, :3] + ink.ink)
     res = out
     res[inner, :3] = mid[inner, :3]
     # The border ring, soft rim pixels included, in the border colour.
