@@ -52,7 +52,6 @@ from ..core.random import as_rng
 from ..core.validate import Int, Seq, checked
 from .contour import simplify_contour
 from .corners import _corner_matched
-from .sticker import _sticker_mix
 from .flat_art import (
     FLAT_ART_SHARE,
     _drawing_group,
@@ -72,6 +71,7 @@ from .histogram_transfer import _remember_parts, histogram_transfer
 from .morph import check_weights, combine_shapes, dirichlet_weights, fill_contour
 from .mvc import transfer_colour
 from .processing import GROUND_METHODS, TRUNK_METHODS, Exemplar, exemplar_trunk, process_exemplar
+from .sticker import _sticker_mix
 
 __all__ = [
     "RPG_TREES",
