@@ -425,10 +425,56 @@ FRINGE_BG = 0.12
 FRINGE_FAR = 0.2
 #: Transparent pixels darker than this (every channel) are cleared, not a background colour.
 FRINGE_DARK = 0.15
+#: Composited edges: a soft opaque pixel is ``a * tree + (1 - a) * matte`` (premultiplied, or cut
+#: from a dark matte / sky) when that model explains its colour within FRINGE_MIX and at most half
+#: as far as the tree's own nearby colour does, which lies farther than FRINGE_NEAR.
+FRINGE_MIX = 0.1
+FRINGE_NEAR = 0.06
+#: ... and the tree's share ``t`` of that mix is at least this (an ink line over cleared black
+#: pixels has t ~ 0: the drawing's own dark, kept).
+FRINGE_T = 0.08
+#: Unmixing divides by t when t is at least this; below, the pixel (almost all matte) takes the
+#: inner colour.
+FRINGE_T_DIV = 0.3
+#: A drawn outline is no matte: a soft pixel is left as it is when its colour does not move towards
+#: the tree's as alpha rises (from it to the colour at full alpha beside it, t grows by less than
+#: FRINGE_RISE x the alpha step: a composite's colour follows its coverage, t ~ alpha; a
+#: straight-colour anti-aliased line keeps its colour). When the colour at full alpha beside it is
+#: itself this dark on the matte -> tree line (t below FRINGE_INK: a dark band at full alpha, ink),
+#: a darker soft pixel (premultiplied ink) is unmixed only up to that band's colour, not the fill's.
+FRINGE_INK = 0.35
+FRINGE_RISE = 0.15
+#: ... and by at least this (a painted rim a shade darker than the colour beside it is no matte).
+FRINGE_RISE_MIN = 0.1
+#: Farthest a matted-in rim pixel lies from a clear one (px).
+FRINGE_REACH = 8
+#: Smallest tree (long side of its opaque box, px) whose composited edges are unmixed: below it a
+#: drawn 1 px anti-aliased outline never reaches full alpha and reads like a matte (96-128 px drawn
+#: trees lost 12-98 outline pixels each), so small trees keep their edges as drawn.
+FRINGE_MIN_SIZE = 192
+
+
+def _full_alpha_share(rgb, a, solid, soft, ys, xs, inner, bg, near, far):
+    """The tree's share ``t`` (on the matte -> inner colour line) of the colour at full alpha beside
+    each soft pixel ``(ys, xs)``, and that pixel's alpha: the least over the solid pixels of its
+    5 x 5 neighbourhood (a drawn line's own colour when one is there, not the fill past it), else
+    its nearest solid pixel ``near``; NaN where that is ``far`` (a soft pixel inside a translucent
+    patch: no rim, nothing matted in)."""
+    d = inner - bg
+    t = np.clip(((rgb - bg) * d).sum(axis=2) / np.maximum((d * d).sum(axis=2), 1e-6), 0.0, 1.0)
+    box = np.ones((5, 5), bool)
+    ring = ndi.binary_dilation(soft, box) & solid     # only where a soft pixel looks
+    t_min = ndi.minimum_filter(np.where(ring, t, 2.0), footprint=box)[ys, xs]
+    a_min = ndi.minimum_filter(np.where(ring, a, 2.0), footprint=box)[ys, xs]
+    none = t_min > 1.5
+    iy, ix = near
+    t_min[none], a_min[none] = t[iy, ix][none], a[iy, ix][none]
+    t_min[none & far] = np.nan
+    return t_min, a_min
 
 
 def _defringe(img: np.ndarray, opaque: np.ndarray) -> np.ndarray:
-    """Opaque soft-edge pixels that show the background's colour take their nearest solid pixel's.
+    """Opaque soft-edge pixels that show the background's colour take the tree's nearby colour.
 
     Beyond the paper: a soft alpha (watercolour, blurred cut-outs) reaches 0.5 in the narrow notches
     between lobes, where the straight colour is the paper's; thresholded, these pixels become opaque
@@ -436,8 +482,18 @@ def _defringe(img: np.ndarray, opaque: np.ndarray) -> np.ndarray:
     Only pixels whose colour matches the transparent surroundings (within ``FRINGE_BG``) and is far
     from the tree's own nearest colour are replaced, so a binary alpha (all samples, pixel art,
     keyed photos) and soft edges of the tree's own colour are unchanged; transparent pixels cleared
-    to black carry no background colour, so a dark outline over them is kept (a tree matted on a
-    dark background keeps its fringe).
+    to black carry no background colour, so a dark outline over them is kept by this rule.
+
+    Also beyond the paper: edges composited over a matte (premultiplied RGBA, cut-outs from a black,
+    dark-blue or dark-green background, trees photographed against a dark sky) hold
+    ``t * c + (1 - t) * m`` for the tree's colour ``c`` and the matte ``m`` (the nearest transparent
+    pixels' colour, black when cleared). Where that model explains a soft opaque pixel's colour
+    (within ``FRINGE_MIX``, and at most half as far as the plain colour ``c`` of the nearby inner
+    pixels does) the matte is taken out, ``(rgb - (1 - t) m) / t``. The tree's share ``t`` is
+    fitted, not read from the alpha (a keyed photo's alpha runs wider than its colour edge). A dark
+    outline drawn over cleared pixels keeps its colour: it is no mix of the fill beside it with black
+    (t ~ 0). Trees smaller than ``FRINGE_MIN_SIZE`` keep their composited edges (a drawn 1 px outline
+    there never reaches full alpha and cannot be told from a matte).
     """
     a = img[:, :, 3]
     soft = opaque & (a < FRINGE_ALPHA)
@@ -453,20 +509,62 @@ def _defringe(img: np.ndarray, opaque: np.ndarray) -> np.ndarray:
     cf = clear.astype(np.float32)
     smooth = cv2.blur(rgb * cf[:, :, None], (7, 7)) / np.maximum(cv2.blur(cf, (7, 7)), 1e-6)[:, :, None]
     bg = smooth[by, bx]         # averaged over its clear neighbours: no paper grain
+    _, (iy, ix) = ndi.distance_transform_edt(~solid, return_indices=True)
+    own = rgb[iy, ix]
+    out = img.copy()
+    oy, ox = np.nonzero(opaque)
+    if max(oy.max() - oy.min(), ox.max() - ox.min()) + 1 < FRINGE_MIN_SIZE:
+        return _light_fringe(out, soft, bg, own)
+    # Composited edges first (any matte, cleared black included): rgb = t * c + (1 - t) * m with c
+    # the tree's colour inside (averaged: photographed leaves vary pixel to pixel; a keyed photo's
+    # alpha runs wider than its colour edge, so t is fitted, not taken from alpha).
+    # inner = past the soft band twice over (a keyed photo's colour edge runs on inside its alpha)
+    dist_clear = ndi.distance_transform_edt(~clear)
+    depth = int(np.clip(np.ceil(2 * np.percentile(dist_clear[soft], 90)), 2, 8))
+    core = solid & (dist_clear > depth)
+    core = core if core.any() else solid
+    cf_ = core.astype(np.float32)
+    _, (jy, jx) = ndi.distance_transform_edt(~core, return_indices=True)
+    own_s = (cv2.blur(rgb * cf_[:, :, None], (5, 5)) / np.maximum(cv2.blur(cf_, (5, 5)), 1e-6)[:, :, None])
+    ys, xs = np.nonzero(soft)
+    o_s = own_s[jy[ys, xs], jx[ys, xs]]
+    c_s, m_s = rgb[ys, xs], bg[ys, xs]
+    d = o_s - m_s
+    t = np.clip(((c_s - m_s) * d).sum(axis=1) / np.maximum((d * d).sum(axis=1), 1e-6), 0.0, 1.0)[:, None]
+    mix_err = np.abs(c_s - (t * o_s + (1 - t) * m_s)).max(axis=1)
+    plain_err = np.abs(c_s - o_s).max(axis=1)
+    d_solid = ndi.distance_transform_edt(~solid)[ys, xs]
+    t_f, a_f = _full_alpha_share(rgb, a, solid, soft, ys, xs, own_s[jy, jx], bg,
+                                 (iy[ys, xs], ix[ys, xs]), d_solid > FRINGE_REACH)
+    # A straight-colour line keeps its colour as alpha rises: the drawing's own, left as it is.
+    # A matte shows on the rim only: within FRINGE_REACH of a clear pixel, beside a solid one.
+    with np.errstate(invalid="ignore"):
+        drawn = ~(t_f - t[:, 0] >= np.maximum(FRINGE_RISE * (a_f - a[ys, xs]), FRINGE_RISE_MIN)) | \
+            (dist_clear[ys, xs] > FRINGE_REACH)
+    comp = (t[:, 0] >= FRINGE_T) & (mix_err <= FRINGE_MIX) & (plain_err > FRINGE_NEAR) & \
+        (mix_err <= 0.5 * plain_err) & (np.abs(d).max(axis=1) > FRINGE_FAR) & ~drawn
+    if comp.any():
+        # The matte taken out of the pixel's own colour (photographed texture kept), up to the
+        # tree's colour, or only up to the dark band's beside it (a premultiplied ink line stays ink).
+        goal = np.where(t_f < FRINGE_INK, t_f, 1.0)[:, None]
+        unmixed = np.where(t >= FRINGE_T_DIV, m_s + (c_s - m_s) * goal / np.maximum(t, FRINGE_T_DIV),
+                           m_s + goal * d)
+        out[ys[comp], xs[comp], :3] = np.clip(unmixed, 0.0, 1.0)[comp]
+    return _light_fringe(out, soft, bg, own)
+
+
+def _light_fringe(out: np.ndarray, soft: np.ndarray, bg: np.ndarray, own: np.ndarray) -> np.ndarray:
+    """Soft pixels of ``out`` showing a light matte's colour take their nearest solid pixel's."""
     # A matte background is one colour (paper, up to its grain); transparent pixels holding
     # leftover colours of the art (sprites) are no background to match against.
     ring = bg[soft]
     if np.percentile(np.abs(ring - np.median(ring, axis=0)).max(axis=1), 90) > FRINGE_BG / 2:
-        return img
-    _, (iy, ix) = ndi.distance_transform_edt(~solid, return_indices=True)
-    own = rgb[iy, ix]
+        return out
     # Cleared (black) transparent pixels say nothing about a background: a dark anti-aliased
     # outline over them is the drawing's own.
-    fringe = soft & (bg.max(axis=2) > FRINGE_DARK) & (np.abs(rgb - bg).max(axis=2) <= FRINGE_BG) & \
-        (np.abs(rgb - own).max(axis=2) > FRINGE_FAR)
-    if not fringe.any():
-        return img
-    out = img.copy()
+    rgb2 = out[:, :, :3]
+    fringe = soft & (bg.max(axis=2) > FRINGE_DARK) & (np.abs(rgb2 - bg).max(axis=2) <= FRINGE_BG) & \
+        (np.abs(rgb2 - own).max(axis=2) > FRINGE_FAR)
     out[fringe, :3] = own[fringe]
     return out
 
