@@ -41,6 +41,8 @@ from ..core.image import as_rgba
 
 __all__: list[str] = []
 
+_LUM = np.array([0.299, 0.587, 0.114], np.float32)
+
 #: A border's pixels lie within this RGB distance of its colour (anti-aliasing aside).
 BORDER_TOL = 0.15
 #: Share of the rim pixels in the border colour for the rim to be a border.
@@ -187,8 +189,12 @@ def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights
         # had stretched them (_drop_excess keeps 2 pens + 2 at most).
         rgb = out[..., :3]
         lim = width + 2 * ink_w + 2
+        # Ink-like: near the ink colour and dark (a brown trunk lies within 0.45 of a grey ink).
+        lum = rgb @ _LUM
+        ink_lum = float(ink.ink @ _LUM)
+        dark = lum <= ink_lum + 0.35 * (float(np.median(lum[inner])) - ink_lum)
         layer = inner & ((np.linalg.norm(rgb - colour, axis=2) <= 0.35) |
-                         (np.linalg.norm(rgb - ink.ink, axis=2) <= 0.45))
+                         ((np.linalg.norm(rgb - ink.ink, axis=2) <= 0.45) & dark))
         lab, n = ndi.label(layer & (di <= lim), structure=np.ones((3, 3), bool))
         fill = inner & ~ndi.binary_dilation(layer, structure=np.ones((3, 3), bool), iterations=2)
         if n and fill.any():
