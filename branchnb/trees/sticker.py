@@ -77,8 +77,9 @@ def sticker_border(image) -> StickerBorder | None:
     The rim (opaque pixels next to a transparent one) is a border when at least
     :data:`BORDER_SHARE` of it is one colour, that colour reaches in to a steady depth
     (the deepest 1 px ring still half as much in it, at most :data:`BORDER_MAX` of the
-    image side) and the pixels 2-3 px deeper are mostly something else (a flat tree whose
-    fill reaches the rim has no border: its colour runs on deep inside).
+    image side), the pixels 2-3 px deeper are mostly something else (a flat tree whose
+    fill reaches the rim has no border: its colour runs on deep inside) and the border is
+    lighter than they are (a plain outlined tree's dark rim is its outline).
     """
     img = as_rgba(image, name="image")
     alpha = img[..., 3] >= 0.5
@@ -105,6 +106,10 @@ def sticker_border(image) -> StickerBorder | None:
         return None
     below = alpha & (depth >= width + 1.5) & (depth < width + 3.5)
     if not below.any() or near[below].mean() > 0.25:
+        return None
+    # A die-cut border is lighter than what it wraps: a plain outlined tree's dark rim is the
+    # outline itself, not a border (its mix is re-inked by flat_art as before).
+    if float(colour @ _LUM) < float(np.median(rgb[below] @ _LUM)) + 0.05:
         return None
     # The exemplar without its border: the border-coloured pixels joined to the rim (a border
     # drawn with a square pen is wider at corners than its mean Euclidean width).
@@ -172,7 +177,7 @@ def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights
         return None
     out = np.array(img, np.float32, copy=True)
     stripped = [_stripped(e, b) if b is not None else e for e, b in zip(exemplars, borders, strict=True)]
-    from .flat_art import exemplar_outline
+    from .flat_art import _drop_rim_flecks, exemplar_outline
 
     outl = [exemplar_outline(s) for s in stripped]
     ons = [o.outlined for o in outl]
@@ -207,6 +212,8 @@ def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights
         mid[inner & pen, :3] = ink.ink
         soft = inner & ~pen & (di <= ink_w + 2.0)
         mid[soft, :3] = 0.5 * (mid[soft, :3] + ink.ink)
+        # Pieces of the warped outline deeper than that (at the crown's notches) are specks.
+        mid = _drop_rim_flecks(mid, ink.ink, ink_w)
     res = out
     res[inner, :3] = mid[inner, :3]
     # The border ring, soft rim pixels included, in the border colour.
