@@ -194,12 +194,13 @@ def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights
         # had stretched them (_drop_excess keeps 2 pens + 2 at most).
         rgb = out[..., :3]
         lim = width + 2 * ink_w + 2
-        # Ink-like: near the ink colour and dark (a brown trunk lies within 0.45 of a grey ink).
-        lum = rgb @ _LUM
-        ink_lum = float(ink.ink @ _LUM)
-        dark = lum <= ink_lum + 0.35 * (float(np.median(lum[inner])) - ink_lum)
-        layer = inner & ((np.linalg.norm(rgb - colour, axis=2) <= 0.35) |
-                         ((np.linalg.norm(rgb - ink.ink, axis=2) <= 0.45) & dark))
+        # Ink-like: nearer the ink than half the way to the fills' colour nearest it (a brown trunk
+        # lies 0.38 from a grey ink and 0.4 from a navy one; taken as ink it took the crown's colour).
+        to_ink = np.linalg.norm(rgb - ink.ink, axis=2)
+        to_border = np.linalg.norm(rgb - colour, axis=2)
+        deep = inner & (di > ink_w + 2.5) & (to_border > 0.35)
+        tol = min(0.3, 0.5 * float(np.quantile(to_ink[deep], 0.02))) if deep.any() else 0.3
+        layer = inner & ((to_border <= 0.35) | (to_ink <= tol))
         lab, n = ndi.label(layer & (di <= lim), structure=np.ones((3, 3), bool))
         fill = inner & ~ndi.binary_dilation(layer, structure=np.ones((3, 3), bool), iterations=2)
         if n and fill.any():
