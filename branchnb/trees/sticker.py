@@ -200,12 +200,21 @@ def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights
         to_border = np.linalg.norm(rgb - colour, axis=2)
         deep = inner & (di > ink_w + 2.5) & (to_border > 0.35)
         tol = min(0.3, 0.5 * float(np.quantile(to_ink[deep], 0.02))) if deep.any() else 0.3
-        layer = inner & ((to_border <= 0.35) | (to_ink <= tol))
+        # ... or an anti-aliased blend of the two rings (on the line from ink to border colour).
+        d = colour - ink.ink
+        t = np.clip(((rgb - ink.ink) @ d) / max(float(d @ d), 1e-6), 0.0, 1.0)
+        blend = np.linalg.norm(rgb - (ink.ink + t[..., None] * d), axis=2) <= 0.1
+        layer = inner & ((to_border <= 0.35) | (to_ink <= tol) | blend)
         lab, n = ndi.label(layer & (di <= lim), structure=np.ones((3, 3), bool))
         fill = inner & ~ndi.binary_dilation(layer, structure=np.ones((3, 3), bool), iterations=2)
         if n and fill.any():
             touch = np.unique(lab[(lab > 0) & (di < 1.5)])
-            leak = np.isin(lab, touch[touch > 0])
+            # ... and the warped outline lying a little inside, cut off from the rim by fill: a
+            # piece running along the rim (longer than 4 depths of the band), not a detail.
+            boxes = ndi.find_objects(lab)
+            along = [i + 1 for i, b in enumerate(boxes)
+                     if b is not None and max(b[0].stop - b[0].start, b[1].stop - b[1].start) > 4 * lim]
+            leak = np.isin(lab, np.union1d(touch[touch > 0], along))
             _, (iy, ix) = ndi.distance_transform_edt(~fill, return_indices=True)
             mid[leak, :3] = rgb[iy[leak], ix[leak]]
         # The outline ring itself, in the sources' ink and pen width, with a half-ink inner edge.
