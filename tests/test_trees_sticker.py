@@ -7,7 +7,7 @@ from scipy import ndimage as ndi
 import branchnb.trees.variations as V
 from branchnb.trees import TreeLibrary
 from branchnb.trees._measure_sticker import sticker_tree
-from branchnb.trees.sticker import sticker_border
+from branchnb.trees.sticker import _sticker_border
 
 INK = np.array([0.1, 0.08, 0.08])
 
@@ -32,16 +32,16 @@ def _rings(img, border):
 
 
 def test_border_found_on_stickers_only(lib):
-    b = sticker_border(lib["s0"].image)
+    b = _sticker_border(lib["s0"].image)
     assert b is not None and 4 <= b.width <= 8 and np.allclose(b.colour, 1.0, atol=0.05)
-    assert sticker_border(sticker_tree(300, 1, border=None, outline=3)) is None      # plain outlined
-    assert sticker_border(sticker_tree(300, 1, border=None, outline=None)) is None   # borderless
+    assert _sticker_border(sticker_tree(300, 1, border=None, outline=3)) is None      # plain outlined
+    assert _sticker_border(sticker_tree(300, 1, border=None, outline=None)) is None   # borderless
 
 
 def test_mix_keeps_border_and_outline_rings(lib):
     for rng in range(3):
         v = np.asarray(lib.variation(rng=rng).image, np.float32)
-        w = float(np.mean([sticker_border(lib[n].image).width for n in lib.names]))
+        w = float(np.mean([_sticker_border(lib[n].image).width for n in lib.names]))
         white, ink = _rings(v, w)
         assert white >= 0.97, (rng, white)
         assert ink >= 0.9, (rng, ink)

@@ -19,7 +19,7 @@ from scipy import ndimage as ndi
 
 from . import variations as _V
 from .library import TreeLibrary
-from .sticker import sticker_border
+from .sticker import _sticker_border
 
 _INKS = [(0.1, 0.08, 0.08), (0.15, 0.1, 0.35), (0.45, 0.1, 0.1)]
 _BORDERS = [(1.0, 1.0, 1.0), (0.97, 0.93, 0.8), (0.7, 0.85, 1.0)]
@@ -174,10 +174,10 @@ def main(size: int = 256, n_mix: int = 3, png: str | None = None) -> None:
         _V._sticker_mix = orig
         same = all(np.array_equal(a, b) for a, b in zip(res["old"], res["new"], strict=True))
         if kind == "control":
-            det = sum(sticker_border(lib[n].image) is not None for n in lib.names)
+            det = sum(_sticker_border(lib[n].image) is not None for n in lib.names)
             print(f"{name:22s} control: detected {det} of {len(exs)}, mixes byte-identical {same}")
             continue
-        bw = float(np.mean([sticker_border(lib[n].image).width for n in lib.names]))
+        bw = float(np.mean([_sticker_border(lib[n].image).width for n in lib.names]))
         line = [f"{name:22s}"]
         for tag in ("old", "new"):
             bands = np.array([_bands(v, ink, bc, bw) for v in res[tag]])

@@ -23,7 +23,7 @@ Examples
 >>> import numpy as np
 >>> img = np.zeros((80, 80, 4), np.float32)
 >>> img[4:76, 4:76] = (1, 1, 1, 1); img[7:73, 7:73, :3] = 0.05; img[9:71, 9:71, :3] = (0.2, 0.6, 0.2)
->>> b = sticker_border(img)
+>>> b = _sticker_border(img)
 >>> b.width, [round(float(c), 2) for c in b.colour]
 (3.0, [1.0, 1.0, 1.0])
 """
@@ -52,7 +52,7 @@ BORDER_MAX = 0.04
 
 
 @dataclass(frozen=True)
-class StickerBorder:
+class _StickerBorder:
     """A die-cut border: its colour, its width (Euclidean pixels) and the image without it.
 
     ``inner`` is the image with alpha 0 on the border ring, so its rim is what lies
@@ -71,7 +71,7 @@ def _edt(alpha: np.ndarray) -> np.ndarray:
     return ndi.distance_transform_edt(alpha)
 
 
-def sticker_border(image) -> StickerBorder | None:
+def _sticker_border(image) -> _StickerBorder | None:
     """The die-cut border of a sticker-style tree, or None when its rim is no border.
 
     The rim (opaque pixels next to a transparent one) is a border when at least
@@ -127,17 +127,17 @@ def sticker_border(image) -> StickerBorder | None:
             ring |= grow & (dist < 0.7 * far)
     inner = np.array(img, np.float32, copy=True)
     inner[..., 3] = np.where(ring | ~alpha, 0.0, 1.0)
-    return StickerBorder(np.asarray(colour, np.float32), float(width), inner)
+    return _StickerBorder(np.asarray(colour, np.float32), float(width), inner)
 
 
-def _exemplar_border(exemplar) -> StickerBorder | None:
-    """:func:`sticker_border` of an exemplar (cached on it)."""
+def _exemplar_border(exemplar) -> _StickerBorder | None:
+    """:func:`_sticker_border` of an exemplar (cached on it)."""
     if "sticker" not in exemplar._cages:
-        exemplar._cages["sticker"] = sticker_border(exemplar.image)
+        exemplar._cages["sticker"] = _sticker_border(exemplar.image)
     return exemplar._cages["sticker"]
 
 
-def _stripped(exemplar, border: StickerBorder):
+def _stripped(exemplar, border: _StickerBorder):
     """A stand-in exemplar without its border (its own cache), for the outline measures."""
     key = "sticker_inner"
     if key not in exemplar._cages:
