@@ -71,6 +71,7 @@ from .histogram_transfer import _remember_parts, histogram_transfer
 from .morph import check_weights, combine_shapes, dirichlet_weights, fill_contour
 from .mvc import transfer_colour
 from .processing import GROUND_METHODS, TRUNK_METHODS, Exemplar, exemplar_trunk, process_exemplar
+from .sticker import _sticker_mix
 
 __all__ = [
     "RPG_TREES",
@@ -511,6 +512,10 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     if pixel:       # pixel art stays on its grid, in its palette, with a 1-art-pixel outline
         image, sources, trunk = _pixel_mix(image, [exemplars[i] for i in used], cw[used], sources, trunk,
                                            outline=p.outline)
+    elif p.outline and len(used) > 1 and (st := _sticker_mix(
+            image, [exemplars[i] for i in used], cw[used], w[used],
+            np.where(image[..., 3] >= 0.5, sources, -1) if mode == "choose" else None)) is not None:
+        image = st                         # sticker trees: border ring, outline ring, fill (sticker.py)
     elif p.outline and len(used) > 1:      # one exemplar: its own shape, its outline intact
         image = _ink_outline(image, [exemplars[i] for i in used], cw[used],
                              np.where(image[..., 3] >= 0.5, sources, -1) if mode == "choose" else None)

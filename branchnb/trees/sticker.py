@@ -1,0 +1,232 @@
+"""Sticker-style drawn trees in a variation: a die-cut border outside the outline (beyond the paper).
+
+A sticker tree is drawn with a dark outline round crown and trunk and then
+cut out with a light (white, cream or coloured) border of even width
+*outside* that outline, so the alpha covers the border and the silhouette's
+rim is light. The outline handling of :mod:`~branchnb.trees.flat_art`
+looks for the outline at the alpha rim and found none there; the mix's
+cage warp moved both rings off the mixed silhouette, so crowns lost their
+outline on whole sides and the border ran in and out (issue 24, trees41).
+
+Here the rings are found nested, from the rim inwards: the border (a ring of
+one colour from the rim to a steady depth, different from what lies inside
+it), and inside it the exemplar stripped of its border, whose own rim
+carries the outline (:func:`~branchnb.trees.outline.silhouette_outline`).
+A mix of such exemplars is rebuilt ring by ring: the mix's silhouette is
+shrunk by the mixed border width, the warped border left inside that is
+taken as part of the stroke, the outline is re-inked along the shrunk
+silhouette as for any outlined mix (:func:`~branchnb.trees.flat_art._ink_outline`),
+and the border ring is painted back outside it in the border colour.
+
+Examples
+--------
+>>> import numpy as np
+>>> img = np.zeros((80, 80, 4), np.float32)
+>>> img[4:76, 4:76] = (1, 1, 1, 1); img[7:73, 7:73, :3] = 0.05; img[9:71, 9:71, :3] = (0.2, 0.6, 0.2)
+>>> b = _sticker_border(img)
+>>> b.width, [round(float(c), 2) for c in b.colour]
+(3.0, [1.0, 1.0, 1.0])
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from types import SimpleNamespace
+
+import numpy as np
+from scipy import ndimage as ndi
+
+from ..core.image import as_rgba
+
+__all__: list[str] = []
+
+_LUM = np.array([0.299, 0.587, 0.114], np.float32)
+
+#: A border's pixels lie within this RGB distance of its colour (anti-aliasing aside).
+BORDER_TOL = 0.15
+#: Share of the rim pixels in the border colour for the rim to be a border.
+BORDER_SHARE = 0.8
+#: Thickest border considered, as a share of the image's larger side (a wider "border" is a fill).
+BORDER_MAX = 0.04
+
+
+@dataclass(frozen=True)
+class _StickerBorder:
+    """A die-cut border: its colour, its width (Euclidean pixels) and the image without it.
+
+    ``inner`` is the image with alpha 0 on the border ring, so its rim is what lies
+    inside the border (the outline, when the sticker has one).
+    """
+
+    colour: np.ndarray
+    width: float
+    inner: np.ndarray = field(repr=False)
+
+
+def _edt(alpha: np.ndarray) -> np.ndarray:
+    # The image frame is not transparent (a trunk cut by the frame has no rim there).
+    if alpha.all():
+        return np.full(alpha.shape, float(alpha.size))
+    return ndi.distance_transform_edt(alpha)
+
+
+def _sticker_border(image) -> _StickerBorder | None:
+    """The die-cut border of a sticker-style tree, or None when its rim is no border.
+
+    The rim (opaque pixels next to a transparent one) is a border when at least
+    :data:`BORDER_SHARE` of it is one colour, that colour reaches in to a steady depth
+    (the deepest 1 px ring still half as much in it, at most :data:`BORDER_MAX` of the
+    image side), the pixels 2-3 px deeper are mostly something else (a flat tree whose
+    fill reaches the rim has no border: its colour runs on deep inside) and the border is
+    lighter than they are (a plain outlined tree's dark rim is its outline).
+    """
+    img = as_rgba(image, name="image")
+    alpha = img[..., 3] >= 0.5
+    if alpha.sum() < 64:
+        return None
+    rgb = img[..., :3]
+    depth = _edt(alpha)
+    rim = alpha & (depth < 1.5)
+    if rim.sum() < 16:
+        return None
+    colour = np.median(rgb[rim], axis=0)
+    near = np.linalg.norm(rgb - colour, axis=2) <= BORDER_TOL
+    share = float(near[rim].mean())
+    if share < BORDER_SHARE:
+        return None
+    dmax = max(2, int(BORDER_MAX * max(alpha.shape)))
+    width = 1
+    for d in range(2, dmax + 2):
+        ring = alpha & (depth >= d - 0.5) & (depth < d + 0.5)
+        if not ring.any() or near[ring].mean() < 0.5 * share:
+            break
+        width = d
+    if width > dmax:
+        return None
+    below = alpha & (depth >= width + 1.5) & (depth < width + 3.5)
+    if not below.any() or near[below].mean() > 0.25:
+        return None
+    # A die-cut border is lighter than what it wraps: a plain outlined tree's dark rim is the
+    # outline itself, not a border (its mix is re-inked by flat_art as before).
+    if float(colour @ _LUM) < float(np.median(rgb[below] @ _LUM)) + 0.05:
+        return None
+    # The exemplar without its border: the border-coloured pixels joined to the rim (a border
+    # drawn with a square pen is wider at corners than its mean Euclidean width).
+    lab, _ = ndi.label(alpha & near & (depth <= 2 * width + 2), structure=np.ones((3, 3), bool))
+    ids = np.unique(lab[rim & near])
+    ring = np.isin(lab, ids[ids > 0])
+    # ... and the anti-aliased pixels between the border and what it wraps (more than a third
+    # border colour), so the stripped rim is the outline's own, not a grey blend of the two.
+    beyond = alpha & ~ring & (depth <= 2 * width + 4)
+    if beyond.any():
+        dist = np.linalg.norm(rgb - colour, axis=2)
+        far = float(np.quantile(dist[beyond], 0.9))
+        for _ in range(3):
+            grow = ndi.binary_dilation(ring, structure=np.ones((3, 3), bool)) & alpha & ~ring
+            ring |= grow & (dist < 0.7 * far)
+    inner = np.array(img, np.float32, copy=True)
+    inner[..., 3] = np.where(ring | ~alpha, 0.0, 1.0)
+    return _StickerBorder(np.asarray(colour, np.float32), float(width), inner)
+
+
+def _exemplar_border(exemplar) -> _StickerBorder | None:
+    """:func:`_sticker_border` of an exemplar (cached on it)."""
+    if "sticker" not in exemplar._cages:
+        exemplar._cages["sticker"] = _sticker_border(exemplar.image)
+    return exemplar._cages["sticker"]
+
+
+def _stripped(exemplar, border: _StickerBorder):
+    """A stand-in exemplar without its border (its own cache), for the outline measures."""
+    key = "sticker_inner"
+    if key not in exemplar._cages:
+        exemplar._cages[key] = SimpleNamespace(image=border.inner, _cages={})
+    return exemplar._cages[key]
+
+
+def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights: np.ndarray,
+                 sources: np.ndarray | None = None) -> np.ndarray | None:
+    """Rebuild a mix of sticker trees ring by ring (None when they are not stickers).
+
+    Bordered exemplars must hold at least half the colour weight (``sources``: the
+    ``"choose"`` mode's source per pixel, counted instead). The border is ``weights``'
+    (shape weights') mean of the bordered exemplars' widths, in the colour of the one
+    with most colour weight.
+    """
+    borders = [_exemplar_border(e) for e in exemplars]
+    on = np.array([b is not None for b in borders])
+    if not on.any():
+        return None
+    img = np.asarray(image, np.float32)
+    opaque = img[..., 3] >= 0.5
+    if opaque.sum() < 64:
+        return None
+    share = cw.astype(np.float64)
+    if sources is not None:
+        share = np.bincount(sources[(sources >= 0) & opaque], minlength=len(exemplars)).astype(np.float64)
+    if share[on].sum() < 0.5 * share.sum() - 1e-9:
+        return None
+    w = np.where(on, np.maximum(weights, 0.0) + 1e-9, 0.0)
+    width = float(np.average([b.width if b is not None else 0.0 for b in borders], weights=w))
+    best = borders[int(np.argmax(np.where(on, share, -1.0)))]
+    colour = best.colour
+    depth = _edt(opaque)
+    inner = opaque & (depth > width + 0.5)
+    if inner.sum() < 16:
+        return None
+    out = np.array(img, np.float32, copy=True)
+    stripped = [_stripped(e, b) if b is not None else e for e, b in zip(exemplars, borders, strict=True)]
+    from .flat_art import _drop_rim_flecks, exemplar_outline
+
+    outl = [exemplar_outline(s) for s in stripped]
+    ons = [o.outlined for o in outl]
+    mid = out.copy()
+    mid[..., 3] = np.where(inner, 1.0, 0.0)
+    if any(ons):
+        ink = outl[int(np.argmax(np.where(ons, share, -1.0)))]
+        ink_w = float(np.average([o.width for o in outl if o.outlined],
+                                 weights=[x + 1e-9 for x, o in zip(share, outl, strict=True) if o.outlined]))
+        di = _edt(inner)
+        # Rebuild the outline ring: the warped border and outline joined to the shrunk rim
+        # (within two borders and pens of it) are repainted with the fill beyond them, then an
+        # even ring is inked. Taken as stroke they stayed a band up to 10 px thick where the warp
+        # had stretched them (_drop_excess keeps 2 pens + 2 at most).
+        rgb = out[..., :3]
+        lim = width + 2 * ink_w + 2
+        # Ink-like: nearer the ink than half the way to the fills' colour nearest it (a brown trunk
+        # lies 0.38 from a grey ink and 0.4 from a navy one; taken as ink it took the crown's colour).
+        to_ink = np.linalg.norm(rgb - ink.ink, axis=2)
+        to_border = np.linalg.norm(rgb - colour, axis=2)
+        deep = inner & (di > ink_w + 2.5) & (to_border > 0.35)
+        tol = min(0.3, 0.5 * float(np.quantile(to_ink[deep], 0.02))) if deep.any() else 0.3
+        # ... or an anti-aliased blend of the two rings (on the line from ink to border colour).
+        d = colour - ink.ink
+        t = np.clip(((rgb - ink.ink) @ d) / max(float(d @ d), 1e-6), 0.0, 1.0)
+        blend = np.linalg.norm(rgb - (ink.ink + t[..., None] * d), axis=2) <= 0.1
+        layer = inner & ((to_border <= 0.35) | (to_ink <= tol) | blend)
+        lab, n = ndi.label(layer & (di <= lim), structure=np.ones((3, 3), bool))
+        fill = inner & ~ndi.binary_dilation(layer, structure=np.ones((3, 3), bool), iterations=2)
+        if n and fill.any():
+            touch = np.unique(lab[(lab > 0) & (di < 1.5)])
+            # ... and the warped outline lying a little inside, cut off from the rim by fill: a
+            # piece running along the rim (longer than 4 depths of the band), not a detail.
+            boxes = ndi.find_objects(lab)
+            along = [i + 1 for i, b in enumerate(boxes)
+                     if b is not None and max(b[0].stop - b[0].start, b[1].stop - b[1].start) > 4 * lim]
+            leak = np.isin(lab, np.union1d(touch[touch > 0], along))
+            _, (iy, ix) = ndi.distance_transform_edt(~fill, return_indices=True)
+            mid[leak, :3] = rgb[iy[leak], ix[leak]]
+        # The outline ring itself, in the sources' ink and pen width, with a half-ink inner edge.
+        pen = di <= ink_w + 1.0
+        mid[inner & pen, :3] = ink.ink
+        soft = inner & ~pen & (di <= ink_w + 2.0)
+        mid[soft, :3] = 0.5 * (mid[soft, :3] + ink.ink)
+        # Pieces of the warped outline deeper than that (at the crown's notches) are specks.
+        mid = _drop_rim_flecks(mid, ink.ink, ink_w)
+    res = out
+    res[inner, :3] = mid[inner, :3]
+    # The border ring, soft rim pixels included, in the border colour.
+    ring = (img[..., 3] > 0) & ~inner
+    res[ring, :3] = colour
+    return res
