@@ -12,6 +12,7 @@ from branchnb.core.metrics import iou
 from branchnb.leaves import analyze, leaf_family
 from branchnb.leaves._measure_holes import hole_leaf
 from branchnb.leaves.analysis import normalise_exemplars
+from branchnb.leaves.analysis_normalise import _on_canvas
 from branchnb.leaves.snapping import _junction_of
 from branchnb.leaves.snapping_stray import _one_sided_rim
 
@@ -50,15 +51,12 @@ def test_vein_coloured_hole_rim_near_the_junction_is_no_vein():
     images = [fam[0].image] + [x[0] for x in holed[1:]]
     _, blades, offs = normalise_exemplars(images)
 
-    def on_canvas(m, o):
-        c = np.zeros(blades[0].shape, bool)
-        c[o[1]:o[1] + m.shape[0], o[0]:o[0] + m.shape[1]] = m
-        return c
     a = analyze(images, 0, {"veins": fam[0].layers["veins"]})
     masks = a.layer("veins").masks
-    rims = [on_canvas(x[2], o) for x, o in zip(holed[1:], offs[1:])]
+    rims = [_on_canvas(x[2], o, blades[0].shape) for x, o in zip(holed[1:], offs[1:])]
     taken = sum((masks[e] & rims[e - 1]).sum() for e in range(1, 4)) / sum(r.sum() for r in rims)
     assert taken < 0.2, taken
     cut = [x[1] | x[2] for x in holed[1:]]
-    ious = [iou(masks[e], on_canvas(fam[e].layers["veins"] & ~cut[e - 1], offs[e]) & blades[e]) for e in range(1, 4)]
+    ious = [iou(masks[e], _on_canvas(fam[e].layers["veins"] & ~cut[e - 1], offs[e], blades[0].shape) & blades[e])
+            for e in range(1, 4)]
     assert min(ious) >= 0.78, ious

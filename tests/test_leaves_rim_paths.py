@@ -11,6 +11,7 @@ import numpy as np
 from branchnb.leaves import analyze, leaf_family
 from branchnb.leaves._measure_holes import hole_leaf
 from branchnb.leaves.analysis import normalise_exemplars
+from branchnb.leaves.analysis_normalise import _on_canvas
 from branchnb.leaves.analysis_trim import _trimmed
 
 
@@ -43,11 +44,7 @@ def test_holed_lobed_leaf_320px_rims_not_taken():
     images = [fam[0].image] + [x[0] for x in holed[1:]]
     _, blades, offs = normalise_exemplars(images)
 
-    def on_canvas(m, o):
-        c = np.zeros(blades[0].shape, bool)
-        c[o[1]:o[1] + m.shape[0], o[0]:o[0] + m.shape[1]] = m
-        return c
     masks = analyze(images, 0, {"veins": fam[0].layers["veins"]}).layer("veins").masks
-    rims = [on_canvas(x[2], o) for x, o in zip(holed[1:], offs[1:])]
+    rims = [_on_canvas(x[2], o, blades[0].shape) for x, o in zip(holed[1:], offs[1:])]
     taken = sum((masks[e] & rims[e - 1]).sum() for e in range(1, 4)) / sum(r.sum() for r in rims)
     assert taken < 0.1, taken

@@ -59,6 +59,8 @@ import sys
 import numpy as np
 from scipy import ndimage as ndi
 
+from .analysis_normalise import _on_canvas
+
 __all__: list[str] = []
 
 
@@ -215,13 +217,6 @@ def measure(a, truths, n_new=8, rng=0, k=None):
         g, pc = bead_scores(c_d, c_n, cov, pts, a.blades[e].shape)
         rows.append((g, pc, spikes, e))
     return rows, limit
-
-
-def _on_canvas(mask, offset, shape):
-    out = np.zeros(shape, bool)
-    dx, dy = offset
-    out[dy:dy + mask.shape[0], dx:dx + mask.shape[1]] = mask
-    return out
 
 
 def maple_case():

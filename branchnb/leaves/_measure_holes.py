@@ -118,6 +118,7 @@ def hole_rows(kinds=("lobed", "trilobed", "elliptic", "fan"), sizes=(192, 320), 
     """Yields one dict per (kind, size, seed): intact and holed induced-vein IoU per exemplar, rims taken."""
     from ..core.metrics import iou
     from .analysis import analyze, normalise_exemplars
+    from .analysis_normalise import _on_canvas
     from .procedural import leaf_family
 
     for kind in kinds:
@@ -134,16 +135,13 @@ def hole_rows(kinds=("lobed", "trilobed", "elliptic", "fan"), sizes=(192, 320), 
                     t0 = time.perf_counter()
                     _, blades, offs = normalise_exemplars(images)
 
-                    def on_canvas(m, o, shape=blades[0].shape):
-                        c = np.zeros(shape, bool)
-                        c[o[1]:o[1] + m.shape[0], o[0]:o[0] + m.shape[1]] = m
-                        return c
                     a = analyze(images, 0, {"veins": fam[0].layers["veins"]})
                     masks = a.layer("veins").masks
-                    row[tag] = [iou(masks[e], on_canvas(fam[e].layers["veins"] & ~cut[e], offs[e]) & blades[e])
-                                for e in range(1, n_leaves)]
+                    truth = [_on_canvas(fam[e].layers["veins"] & ~cut[e], offs[e], blades[0].shape)
+                             for e in range(n_leaves)]
+                    row[tag] = [iou(masks[e], truth[e] & blades[e]) for e in range(1, n_leaves)]
                     if tag == "holed":
-                        rims = [None] + [on_canvas(x[2], o) for x, o in zip(hl[1:], offs[1:])]
+                        rims = [None] + [_on_canvas(x[2], o, blades[0].shape) for x, o in zip(hl[1:], offs[1:])]
                         row["taken"] = float(sum((masks[e] & rims[e]).sum() for e in range(1, n_leaves))
                                              / max(sum(rims[e].sum() for e in range(1, n_leaves)), 1))
                     row[tag + "_s"] = time.perf_counter() - t0

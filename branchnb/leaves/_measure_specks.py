@@ -82,6 +82,7 @@ def speck_rows(kinds=("lobed", "trilobed", "elliptic", "fan"), sizes=(192, 320),
     """Yields one dict per (kind, palette, size, seed): clean and speckled induced-vein IoU per exemplar."""
     from ..core.metrics import iou
     from .analysis import analyze, normalise_exemplars
+    from .analysis_normalise import _on_canvas
     from .procedural import leaf_family
 
     for kind in kinds:
@@ -95,16 +96,12 @@ def speck_rows(kinds=("lobed", "trilobed", "elliptic", "fan"), sizes=(192, 320),
                         t0 = time.perf_counter()
                         _, blades, offs = normalise_exemplars(images)
 
-                        def on_canvas(m, o, shape=blades[0].shape):
-                            c = np.zeros(shape, bool)
-                            c[o[1]:o[1] + m.shape[0], o[0]:o[0] + m.shape[1]] = m
-                            return c
                         a = analyze(images, 0, {"veins": fam[0].layers["veins"]})
                         masks = a.layer("veins").masks
-                        row[tag] = [iou(masks[e], on_canvas(fam[e].layers["veins"], offs[e]))
+                        row[tag] = [iou(masks[e], _on_canvas(fam[e].layers["veins"], offs[e], blades[0].shape))
                                     for e in range(1, n_leaves)]
                         if tag == "speckled":
-                            spk = [on_canvas(s[1] | s[2], o) for s, o in zip(sp, offs)]
+                            spk = [_on_canvas(s[1] | s[2], o, blades[0].shape) for s, o in zip(sp, offs)]
                             row["taken"] = float(sum((masks[e] & spk[e]).sum() for e in range(1, n_leaves))
                                                  / max(sum(spk[e].sum() for e in range(1, n_leaves)), 1))
                         row[tag + "_s"] = time.perf_counter() - t0

@@ -158,3 +158,10 @@ def _shift_layers(layer_set: LayerSet, offset) -> LayerSet:
     return ls
 
 
+def _on_canvas(mask, offset, shape) -> np.ndarray:
+    """A leaf's own ``mask`` placed on the common canvas ``shape`` at its whole-pixel ``offset``
+    ``(dx, dy)`` from :func:`normalise_exemplars` (measures compare induced masks with a leaf's truth)."""
+    out = np.zeros(shape, bool)
+    dx, dy = offset
+    out[dy:dy + mask.shape[0], dx:dx + mask.shape[1]] = mask
+    return out
