@@ -12,10 +12,12 @@ they would collide, :mod:`~branchnb.strokes.fanning`).
 from __future__ import annotations
 
 import numpy as np
+from scipy import ndimage as ndi
+from skimage.morphology import disk
 
 from .centring import centre_stroke
 from .junctions import exit_length
-from .parts import add_bases, rigid_frame
+from .parts import add_bases, carry_frame, rigid_frame
 from .strokes import StrokePair, make_pairs
 
 __all__: list[str] = []
@@ -151,6 +153,9 @@ def _carried_parts(index, pairs, attached, window: float) -> list[tuple[int, int
         corners = np.array([[cs.start, rs.start, 1.0], [cs.stop, rs.stop, 1.0],
                             [cs.start, rs.stop, 1.0], [cs.stop, rs.start, 1.0]])
         mine = [i for i in range(len(pairs)) if keys[i] == keys[part.stroke]]
+        part.body = _is_body(index, part, len(mine))
+        if part.body:
+            _trim_body(index, part)
         if len(mine) > 1 and any(keys[j] != keys[part.stroke] for j, _ in part.anchors) \
                 and part.area > _own_area(index, part.stroke):
             # A source stroke drawn twice (a copy: an arm added) carries a copy of the
@@ -164,7 +169,7 @@ def _carried_parts(index, pairs, attached, window: float) -> list[tuple[int, int
             mine = [mine[int(np.argmin(shift))]]
         for i in mine:
             s_t = _mapped(attached[i], part.s)
-            moved = corners @ rigid_frame(attached[i].source, attached[i].target, part.s, s_t,
+            moved = corners @ carry_frame(part, attached[i].source, attached[i].target, part.s, s_t,
                                           window=window).T
             alike = True
             # A part held at both ends by two strokes (a twig in a crotch, its root on a
@@ -180,12 +185,70 @@ def _carried_parts(index, pairs, attached, window: float) -> list[tuple[int, int
             # turns) follows the stroke it touches most, as a limb would, instead of vanishing.
             own = [s_a for j, s_a in part.anchors if keys[j] == keys[i]]
             for s_a in own if len(own) > 1 else ():
-                other = corners @ rigid_frame(attached[i].source, attached[i].target, s_a,
+                other = corners @ carry_frame(part, attached[i].source, attached[i].target, s_a,
                                               _mapped(attached[i], s_a), window=window).T
                 alike &= float(np.abs(other - moved).max()) <= 2.0
             if alike:
                 out.append((i, pi, s_t))
     return out
+
+
+def _is_body(index, part, n_pairs: int) -> bool:
+    """Whether ``part`` is the body its stroke grows out of (moved, never turned: see
+    :func:`~branchnb.strokes.parts.carry_frame`).
+
+    Attached at the stroke's start (within two half widths of it; strokes are drawn from where a part grows out:
+    a trunk from the ground, a tail from the hip, as in the paper's figures) and larger
+    than the stroke's own piece; a stroke drawn once (a copy's body is handled by the
+    copies' rule in :func:`_carried_parts`).
+    """
+    if n_pairs != 1 or part.tip is not None:
+        return False
+    reach = 2.0 * float(index.half_width(part.stroke, 0.0)) + 2.0
+    return bool(part.s <= reach and part.area > _own_area(index, part.stroke))
+
+
+def _trim_body(index, part) -> None:
+    """Leave the stroke's own rim to the stroke: a body (:func:`_is_body`) loses its slivers along it.
+
+    A stroke's tube is a little narrower than its part in places, and the
+    strip left along its side joins the body it grows from. Turned with the
+    stroke that strip lay along the new part; a body is no longer turned, so
+    it stuck out in the old direction as prongs beside a bent tail.
+    """
+    k = part.stroke
+    st = index.strokes[k]
+    (rs, cs) = part.box
+    s_loc = index.s_map[k][rs, cs]
+    foot = st.point_at(s_loc.ravel()).reshape(*s_loc.shape, 2)
+    yy, xx = np.mgrid[rs, cs]
+    off = np.hypot(xx - foot[..., 0], yy - foot[..., 1])
+    half = np.asarray(index.half_width(k, s_loc.ravel()), np.float64).reshape(s_loc.shape)
+    start = 2.0 * float(index.half_width(k, 0.0)) + 2.0
+    # a strip beside the stroke past its start, thinner than the part (the body's own flesh there
+    # is thick: it stays)
+    r = max(1, int(round(0.5 * float(np.median(half)))))
+    thin = part.mask & ~ndi.binary_opening(part.mask, structure=disk(r))
+    rim = thin & (s_loc > start) & (off <= 1.5 * half + 2.0)
+    # and keeps what the stroke's start claimed inside it (a hole where the tail's tube began in the hip)
+    # (the pixels behind the stroke's start, which its tube's cap claimed, are the body's)
+    behind = (s_loc <= 1.0) & (off <= 1.5 * half + 2.0)
+    body = (part.mask & ~rim) | behind
+    # the slot the stroke's tube cut through the body from a start drawn inside it (up to where the
+    # body holds the stroke) is the body's own flesh, up to the body's outline closed across it
+    beside = part.mask & ~thin & (off <= 1.5 * half + 2.0)
+    exit_s = max(part.s, float(s_loc[beside].max())) if beside.any() else part.s
+    slot = (s_loc <= exit_s) & (off <= 1.5 * half + 2.0)
+    wide = max(1, int(round(float(index.half_width(k, 0.0)))) + 2)
+    pad = wide + 1
+    closed = ndi.binary_closing(np.pad(body, pad), structure=disk(wide))[pad:-pad, pad:-pad]
+    body |= closed & slot
+    part.mask = ndi.binary_fill_holes(body) & index.object[rs, cs]
+    part.area = int(part.mask.sum())
+    # its base (the overlap it is stitched in by) was the stroke's pixels along that strip too: only
+    # the stroke's start stays its base
+    base_s = index.s_map[k][rs, cs]
+    part.base = part.base & (base_s <= start)
 
 
 def _own_area(index, k: int) -> float:

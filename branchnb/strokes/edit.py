@@ -107,7 +107,10 @@ class StrokeEditParams:
     unstroked : {"follow", "drop"}
         Parts of the object nobody stroked follow the stroked part they hang
         from rigidly (default, beyond the paper) or are dropped (the paper's
-        output).
+        output). The body a stroke grows out of (the larger part at its
+        start: a lizard's trunk when only the tail is stroked) is moved with
+        the stroke's start only, never turned
+        (:func:`~branchnb.strokes.parts.carry_frame`).
     close_cuts : bool
         Draw the object's outline over faces the strokes cut (stroke ends,
         dropped parts); True, beyond the paper.

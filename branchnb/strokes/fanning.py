@@ -42,7 +42,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from .parts import rigid_frame
+from .parts import carry_frame, rigid_frame
 
 __all__: list[str] = []
 
@@ -166,7 +166,7 @@ def _fanned_maps(index, attached, carried, window: float) -> list[np.ndarray]:
     placed = []
     for i, pi, s_t in carried:
         part, pair = index.parts[pi], attached[i]
-        fwd = rigid_frame(pair.source, pair.target, part.s, s_t, window=window)
+        fwd = carry_frame(part, pair.source, pair.target, part.s, s_t, window=window)
         pivot = pair.target._point_at(s_t)
         tangent = float(pair.target._angle_at(s_t, window))
         placed.append(_Placed(part, fwd, pivot, tangent))

@@ -47,7 +47,7 @@ from scipy import ndimage as ndi
 
 from ..core.distance import edt as _edt
 
-__all__ = ["Part", "find_parts", "place_part", "rigid_frame", "carry_stroke"]
+__all__ = ["Part", "find_parts", "place_part", "rigid_frame", "carry_frame", "carry_stroke"]
 
 #: A piece touching a tube along at least this share of its pixels is a sliver of the tube's rim.
 _SLIVER = 0.4
@@ -119,6 +119,9 @@ class Part:
         The free tip (point, half width) of the stroke it hangs from when
         that tip ends inside it (see :func:`_tip_holder`): it hangs from
         that stroke, not from the one it touches most.
+    body : bool
+        The body the stroke grows out of (see :func:`carry_frame`): it is
+        moved with the stroke's start, never turned by it.
     """
 
     box: tuple
@@ -133,6 +136,7 @@ class Part:
     anchors: list = field(default_factory=list)
     ends: list = field(default_factory=list)
     tip: tuple | None = None
+    body: bool = False
 
 
 def find_parts(alpha: np.ndarray, inked: np.ndarray, claimed: np.ndarray, cores: list,
@@ -506,6 +510,52 @@ def rigid_frame(source, target, s_source: float, s_target: float, *, window: flo
     c, s = np.cos(th), np.sin(th)
     rot = np.array([[c, -s], [s, c]])
     return np.hstack([rot, (pt - rot @ ps)[:, None]])
+
+
+
+def carry_frame(part: Part, source, target, s_source: float, s_target: float, *, window: float) -> np.ndarray:
+    """The 2 x 3 map carrying an unstroked ``part`` from its source stroke to its target stroke.
+
+    :func:`rigid_frame` at the attachment, except for the *body* a stroke
+    grows out of (``part.body``: attached beyond the stroke's start and
+    larger than the stroke's own piece, e.g. a lizard's trunk when only its
+    tail is stroked): that is moved as the stroke's start moves, never
+    turned. Beyond the paper (which drops unstroked parts): turned with the
+    tail's first direction, bending a tail swung the whole lizard round its
+    hip and off the canvas, where a user expects only what they stroked to
+    move.
+
+    Parameters
+    ----------
+    part : Part
+        The part carried.
+    source, target : Stroke
+        Its stroke and that stroke's target.
+    s_source, s_target : float
+        Arc lengths of the attachment on the two strokes (unused for a body).
+    window : float
+        Half-length of the chords directions are taken from.
+
+    Returns
+    -------
+    (2, 3) float64 ndarray
+        Affine map: ``x_t = M[:, :2] @ x_s + M[:, 2]``.
+
+    Examples
+    --------
+    >>> from branchnb.strokes.strokes import Stroke
+    >>> body = Part((slice(0, 4), slice(0, 4)), np.ones((4, 4), bool), np.zeros((4, 4), bool),
+    ...             0, 0.0, 4, 1.0, 16, at_end=True, body=True)
+    >>> m = carry_frame(body, Stroke([(0, 0), (10, 0)]), Stroke([(2, 0), (2, 10)]), 0.0, 0.0, window=1.0)
+    >>> m.round(6).tolist()
+    [[1.0, 0.0, 2.0], [0.0, 1.0, 0.0]]
+    """
+    if not part.body:
+        return rigid_frame(source, target, s_source, s_target, window=window)
+    # the start's move, not the attachment's: where the part touches the stroke a little past its start,
+    # a bent target carries that point elsewhere and shifted the whole body by it
+    shift = np.asarray(target._point_at(0.0), np.float64) - np.asarray(source._point_at(0.0), np.float64)
+    return np.array([[1.0, 0.0, shift[0]], [0.0, 1.0, shift[1]]])
 
 
 def carry_stroke(child, parent_source, parent_target, *, window: float = 5.0) -> np.ndarray:

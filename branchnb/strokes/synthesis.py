@@ -143,8 +143,9 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
             continue
         pix, valid, _, origin, inverse = got
         keep = None
-        if part.contact and not part.at_end:
-            # not over the far side of the parent's centre line
+        if part.contact and not part.at_end and not part.body:
+            # not over the far side of the parent's centre line (a body the stroke grows out of lies
+            # on both sides of it)
             p, n = pair.target.point_at(s_t), pair.target.normal_at(s_t, window=window)
             yy, xx = np.mgrid[0:valid.shape[0], 0:valid.shape[1]]
             keep = ((xx + origin[0] - p[0]) * n[0] + (yy + origin[1] - p[1]) * n[1]) * part.side < -0.5
@@ -155,7 +156,13 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
             reach = 2.0 * float(index.half_width(part.stroke, part.s)) + 2.0
             keep &= np.hypot(xx + origin[0] - p[0], yy + origin[1] - p[1]) <= reach
         placed.append(PlacedPatch(pix, valid, origin, True, keep, inverse, grow=True))
-        notches.append((len(placed) - 1, _part_notches(pix, valid, keep, _notch_radius(part, ends))))
+        notch = _part_notches(pix, valid, keep, _notch_radius(part, ends))
+        if part.body:
+            # a body stays in place: where the moved stroke's patches left its own pixels transparent
+            # (their margins won the seam across the slot the stroke's tube left in it) it shows itself
+            own = valid & (pix[..., 3] > 0.5)
+            notch = own if notch is None else notch | own
+        notches.append((len(placed) - 1, notch))
         source_region[part.box] |= part.mask
         if part.contact:
             joints.append((pair.target.point_at(s_t),
