@@ -564,6 +564,8 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
 
                     render_options["within"] = self._vine_within(
                         obj if obj is not None else silhouette(imp >= thr), render_options["leaf_length"])
+                if render_options.get("hug") is None:
+                    render_options["hug"] = self._vine_hug()
             if thr > p.endpoint_threshold:
                 p = _within_range(p, endpoint_threshold=thr)
         obj = obj if metaphor == "vines" else None
