@@ -115,15 +115,23 @@ class _ObjectSteps:
     def _vine_hug(self) -> np.ndarray | None:
         """Where the vines' stems belong (``hug`` of :func:`~branchnb.dendrite.metaphors.vine_curves`):
         the object found on its ground at the image's own size (covering at least
-        ``VINE_PARTS_COVER``, its holes of the ground's colours open), or None (cached).
+        ``VINE_PARTS_COVER``, its holes of the ground's colours open) less a pixel along its
+        outline where it is wider than 3 px, or None (cached).
 
         Beyond the paper (issue 25): on drawn objects on white the stems, paths along the
         outline smoothed along the tree, ran 1-4 px past it (2-5 % of the stems' pixels off
         the object dilated by 1 px at 750 px), and on a stick figure the vines filled its
         ring head.
         """
-        return self._get(("vine_hug",), lambda: _object_mask(
-            self.image, min_cover=VINE_PARTS_COVER, keep_holes=True))
+        def make():
+            m = _object_mask(self.image, min_cover=VINE_PARTS_COVER, keep_holes=True)
+            if m is None:
+                return None
+            # a pixel in from the outline, so a stem's width stays on the object; strokes
+            # too thin for that keep their pixels
+            core = ndimage.binary_erosion(m)
+            return core | (m & ~ndimage.binary_dilation(core, iterations=2))
+        return self._get(("vine_hug",), make)
 
     def _vine_seeds(self, p: StylizeParams, obj, seed) -> np.ndarray:
         """``seed`` (lattice ``(x, y)``) and the most inner, most important point of every
