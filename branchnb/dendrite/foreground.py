@@ -52,7 +52,16 @@ def _ground_palette(lab: np.ndarray, ring: np.ndarray) -> np.ndarray:
     return cols[counts >= GROUND_MIN_SHARE * len(cols)]
 
 
-def _object_mask(image, min_cover: float = OBJECT_COVER[0]) -> np.ndarray | None:
+#: Least share of the picture a hole in the object takes to be kept open by
+#: ``_object_mask(keep_holes=True)`` when at most ``HOLE_FAR`` of it is far from the ground's
+#: colours (a stick figure's ring head, a letter A's counter); smaller holes, and holes of a
+#: textured fill, are filled.
+HOLE_MIN = 0.001
+HOLE_FAR = 0.5
+
+
+def _object_mask(image, min_cover: float = OBJECT_COVER[0], *,
+                 keep_holes: bool = False) -> np.ndarray | None:
     """Where a picture's object is: its pixels far in colour from every ground colour.
 
     Parameters
@@ -61,6 +70,10 @@ def _object_mask(image, min_cover: float = OBJECT_COVER[0]) -> np.ndarray | None
         RGB in [0, 1].
     min_cover : float
         Least share of the picture the object covers (``OBJECT_COVER[0]`` by default).
+    keep_holes : bool
+        Keep the holes of the ground's colours open (at least ``HOLE_MIN`` of the picture, at
+        most ``HOLE_FAR`` of them far from the ground's colours); False fills every hole.
+        The cover tests count the filled silhouette either way.
 
     Returns
     -------
@@ -94,6 +107,7 @@ def _object_mask(image, min_cover: float = OBJECT_COVER[0]) -> np.ndarray | None
     disk = np.hypot(*np.mgrid[-r:r + 1, -r:r + 1]) <= r
     m = ndimage.binary_opening(far, disk)
     m = ndimage.binary_closing(np.pad(m, 2 * r), disk, iterations=2)[2 * r:-2 * r, 2 * r:-2 * r]
+    unfilled = m
     m = ndimage.binary_fill_holes(m)
     lab_cc, n = ndimage.label(m)
     if n == 0:
@@ -105,6 +119,14 @@ def _object_mask(image, min_cover: float = OBJECT_COVER[0]) -> np.ndarray | None
         return None
     if cover < min_cover and not _is_thin_object(m, far):
         return None
+    if keep_holes:
+        holes, k = ndimage.label(m & ~unfilled)
+        if k:
+            size = np.bincount(holes.ravel(), minlength=k + 1)
+            far_n = np.bincount(holes.ravel(), weights=far.ravel(), minlength=k + 1)
+            open_ = (size >= HOLE_MIN * h * w) & (far_n <= HOLE_FAR * size)
+            open_[0] = False
+            m = m & ~open_[holes]
     return m
 
 

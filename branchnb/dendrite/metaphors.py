@@ -96,12 +96,14 @@ def _tip_tangent(line: np.ndarray, k: int = 6) -> np.ndarray:
     return d / n if n > 0 else np.array([1.0, 0.0])
 
 
-def _curl(start, direction, length, turn, rng, step=0.75):
-    """A tendril curl: a spiral whose curvature grows as it winds in."""
+def _curl(start, direction, length, turn, rng, step=0.75, total=None):
+    """A tendril curl: a spiral whose curvature grows as it winds in (``total`` radians,
+    drawn from ``rng`` when None)."""
     n = max(int(length / step), 4)
     phi = np.arctan2(direction[1], direction[0])
     pts = [np.asarray(start, float)]
-    total = rng.uniform(1.3, 2.2) * 2 * np.pi  # how far it winds
+    if total is None:
+        total = rng.uniform(1.3, 2.2) * 2 * np.pi  # how far it winds
     for k in range(1, n):
         t = k / n
         # curvature rises like 1 / (1 - t): an inward spiral
@@ -146,6 +148,33 @@ def _leaf_within(base, tangent, ang, length, width, side, within):
                 return lp, lw
     return None, None
 
+
+def _hug(points: np.ndarray, hug: np.ndarray, reach: float) -> np.ndarray:
+    """``points`` ``(N, 2)`` that lie off the mask ``hug`` but within ``reach`` pixels of it,
+    moved onto its nearest pixel; the others as they are."""
+    h, w = hug.shape
+    dist, (iy, ix) = ndimage.distance_transform_edt(~hug, return_indices=True)
+    cx = np.clip(np.rint(points[:, 0]).astype(int), 0, w - 1)
+    cy = np.clip(np.rint(points[:, 1]).astype(int), 0, h - 1)
+    move = (dist[cy, cx] > 0) & (dist[cy, cx] <= reach)
+    out = np.array(points, float, copy=True)
+    out[move, 0] = ix[cy[move], cx[move]]
+    out[move, 1] = iy[cy[move], cx[move]]
+    return out
+
+
+def _fits(pts: np.ndarray, mask: np.ndarray) -> bool:
+    h, w = mask.shape
+    ix, iy = np.rint(pts[:, 0]).astype(int), np.rint(pts[:, 1]).astype(int)
+    ok = (ix >= 0) & (ix < w) & (iy >= 0) & (iy < h)
+    return bool(ok.all() and mask[iy, ix].all())
+
+
+#: How far (share of the image's diagonal, at least ``VINE_HUG_PIXELS``) off the ``hug`` mask
+#: a vine's stem is moved onto it (:func:`vine_curves`): the smoothing along the tree and the
+#: lattice's coarser grid put stems on an outline 1-4 px past it.
+VINE_HUG_REACH = 0.006
+VINE_HUG_PIXELS = 3.0
 
 #: Vine lengths (pixels at 512 x 512) used when an argument is None.
 VINE_LENGTHS = {"curl_length": 14.0, "leaf_spacing": 14.0, "leaf_length": 7.0,
@@ -217,7 +246,7 @@ def vine_curves(dendrite: Dendrite, *, smooth: int | None = None, curls: float =
                 curl_length: float | None = None, leaves: bool = True,
                 leaf_spacing: float | None = None, leaf_length: float | None = None,
                 leaf_width: float | None = None, max_leaf_radius: float | None = None,
-                within=None, rng=None):
+                within=None, hug=None, rng=None):
     """Geometry of the vine metaphor.
 
     Lengths left at None are :data:`VINE_LENGTHS` scaled to the dendrite's
@@ -253,6 +282,12 @@ def vine_curves(dendrite: Dendrite, *, smooth: int | None = None, curls: float =
         is turned to the stem's other side, else shortened to no less than half its length,
         else left out (beyond the paper: vines grown on an object's outline hung half their
         leaves past it). Everywhere by default. The random draws do not depend on it.
+    hug : (H, W) bool array_like, optional
+        Where the stems belong (the object they grow on, the dendrite's image shape): smoothed
+        stem points off it by at most ``VINE_HUG_REACH`` of the diagonal (at least
+        ``VINE_HUG_PIXELS``) are moved onto its nearest pixel, and a curl that does not fit in
+        it grown by 1 px is turned the other way, else shortened (down to half), else left
+        out. None (the default) changes nothing; the random draws do not depend on it.
     rng : {numpy.random.Generator, int}, optional
         Random generator or seed for curls and leaf placement.
 
@@ -264,7 +299,15 @@ def vine_curves(dendrite: Dendrite, *, smooth: int | None = None, curls: float =
     Raises
     ------
     ValueError
-        If ``smooth < 0``, ``curls`` is outside [0, 1] or ``leaf_spacing <= 0``.
+        If ``smooth < 0``, ``curls`` is outside [0, 1] or ``leaf_spacing <= 0``, or ``within``
+        or ``hug`` does not have the dendrite's shape.
+
+    Notes
+    -----
+    ``hug`` is beyond the paper (issue 25): on a drawn object on white the stems, paths along
+    the object's outline smoothed over a dozen nodes and planned on a lattice coarser than a
+    large picture, ran 1-4 px past the outline, and tip curls wider than a thin stroke hung
+    off it.
 
     Examples
     --------
@@ -287,18 +330,38 @@ def vine_curves(dendrite: Dendrite, *, smooth: int | None = None, curls: float =
         within = real_array(within, "within", ndim=2) > 0
         if within.shape != tuple(shape):
             raise ValueError(f"within must have the dendrite's shape {tuple(shape)}, got {within.shape}")
+    if hug is not None:
+        hug = real_array(hug, "hug", ndim=2) > 0
+        if hug.shape != tuple(shape):
+            raise ValueError(f"hug must have the dendrite's shape {tuple(shape)}, got {hug.shape}")
+        if not hug.any():
+            hug = None
     rng = as_rng(rng)
     p = dendrite.smoothed_points(smooth)
+    if hug is not None:
+        p = _hug(p, hug, max(VINE_HUG_PIXELS, VINE_HUG_REACH * float(np.hypot(*shape[:2]))))
+        room = ndimage.binary_dilation(hug)
     stems, widths, leaf_pts, leaf_w = [], [], [], []
     for bi, b in enumerate(dendrite.branches):
         line, wid = p[b], 2.0 * dendrite.radius[b]
         if len(line) >= 3 and rng.random() < curls:
             t = _tip_tangent(line)
-            curl = _curl(line[-1], t, curl_length * rng.uniform(0.6, 1.2),
-                         rng.choice([-1.0, 1.0]), rng, step=0.75 * min(unit, 1.0))
-            cw = np.linspace(max(wid[-1], 0.6 * unit), 0.3 * unit, len(curl))
-            line = np.vstack([line, curl[1:]])
-            wid = np.concatenate([wid, cw[1:]])
+            length = curl_length * rng.uniform(0.6, 1.2)
+            turn = rng.choice([-1.0, 1.0])
+            total = rng.uniform(1.3, 2.2) * 2 * np.pi
+            step = 0.75 * min(unit, 1.0)
+            curl = _curl(line[-1], t, length, turn, rng, step=step, total=total)
+            if hug is not None and not _fits(curl, room):
+                curl = None
+                for f in (1.0, 0.75, 0.5):
+                    for sd in (turn, -turn):
+                        c = _curl(line[-1], t, f * length, sd, rng, step=step, total=total)
+                        if curl is None and _fits(c, room):
+                            curl = c
+            if curl is not None:
+                cw = np.linspace(max(wid[-1], 0.6 * unit), 0.3 * unit, len(curl))
+                line = np.vstack([line, curl[1:]])
+                wid = np.concatenate([wid, cw[1:]])
         stems.append(line)
         widths.append(wid)
         if not leaves or len(line) < 4:
@@ -331,7 +394,7 @@ def render_vines(dendrite: Dendrite, *, background=None, stem_color=(0.22, 0.3, 
                  leaf_color=(0.3, 0.55, 0.18), smooth: int | None = None, curls: float = 0.6,
                  curl_length: float | None = None, leaves: bool = True,
                  leaf_spacing: float | None = None, leaf_length: float | None = None,
-                 leaf_width: float | None = None, within=None, rng=0) -> Rendering:
+                 leaf_width: float | None = None, within=None, hug=None, rng=0) -> Rendering:
     """The vine metaphor: smooth stems, curled tips, alternating leaves.
 
     Leaf colours vary slightly around ``leaf_color``; leaves grow only where
@@ -364,6 +427,8 @@ def render_vines(dendrite: Dendrite, *, background=None, stem_color=(0.22, 0.3, 
         See :func:`vine_curves`.
     within : (H, W) bool array_like, optional
         Where leaves may lie; see :func:`vine_curves`.
+    hug : (H, W) bool array_like, optional
+        Where the stems belong; see :func:`vine_curves`.
     rng : {numpy.random.Generator, int}, optional
         Random generator or seed of the geometry and the leaf shades; 0 by
         default, so the same dendrite always gives the same vines.
@@ -384,7 +449,7 @@ def render_vines(dendrite: Dendrite, *, background=None, stem_color=(0.22, 0.3, 
     stems, widths, lp, lw = vine_curves(
         dendrite, smooth=smooth, curls=curls, curl_length=curl_length, leaves=leaves,
         leaf_spacing=leaf_spacing, leaf_length=leaf_length, leaf_width=leaf_width,
-        within=within, rng=rng)
+        within=within, hug=hug, rng=rng)
     img = draw_polylines(canvas, stems, widths=widths, colors=stem_color)
     h, w = canvas.shape[:2]
     cols = None

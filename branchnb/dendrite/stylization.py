@@ -617,6 +617,12 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
             roots = np.flatnonzero(d.parent < 0)
             d.points[roots[np.argmin(np.hypot(*(d.points[roots] - seed).T))]] = seed
         rendering = None
+        if metaphor == "vines" and render_options.get("hug") is None:
+            # the stems kept in from the outline by their width less the pixel they may reach
+            # past it (_vine_hug): 1 px at 250-750 px, more on larger pictures' wider stems
+            wide = float(np.percentile(d.radius, 90)) if d.n_nodes else 1.0
+            render_options = {**render_options,
+                              "hug": self._vine_hug(max(1, int(np.ceil(wide - 1.0))))}
         if metaphor is not None:
             from .metaphors import render as render_metaphor
 
