@@ -69,6 +69,24 @@ class Matte:
     noise: float
 
 
+#: Weight of the chroma part of a colour difference against its luma part.
+CHROMA_WEIGHT = 0.5
+_LUMA = np.array([0.299, 0.587, 0.114])
+
+
+def _colour_distance(diff: np.ndarray) -> np.ndarray:
+    """Length of colour differences (last axis RGB) with the chroma part down-weighted.
+
+    JPEG stores colour at half resolution: a dark branch on a blue sky
+    smears its chroma 4-8 px into the sky while the luma stays sharp;
+    measured in plain RGB those smears became blobs of object round every
+    edge.
+    """
+    y = diff @ _LUMA
+    c = diff - y[..., None]
+    return np.sqrt(3.0 * y * y + CHROMA_WEIGHT ** 2 * np.sum(c * c, axis=-1))
+
+
 def _poly_features(xn: np.ndarray, yn: np.ndarray, degree: int) -> np.ndarray:
     cols = [xn ** i * yn ** j for i in range(degree + 1) for j in range(degree + 1 - i)]
     return np.stack(cols, axis=1)
@@ -86,13 +104,13 @@ def _fit_poly(rgb, ys, xs, degree, h, w, keep=None, rounds=3):
         if keep.sum() < a.shape[1] * 3:
             break
         coef, *_ = np.linalg.lstsq(a[keep], vals[keep], rcond=None)
-        d = np.linalg.norm(vals - a @ coef, axis=1)
+        d = _colour_distance(vals - a @ coef)
         # outliers are the object crossing the border: far beyond the ground's own spread
         med = float(np.median(d[keep]))
         keep = d <= max(4.0 * med, 0.04)
     if coef is None:
         return None, None, keep
-    d = np.linalg.norm(vals - a @ coef, axis=1)
+    d = _colour_distance(vals - a @ coef)
     return coef, d, keep
 
 
@@ -197,7 +215,7 @@ def matte_from_background(image, *, tol: float | None = None, max_noise: float =
     model = _eval_poly(coef, 2, h, w)
 
     # 2. the ground connected to the border; refit on all of it
-    dist = np.linalg.norm(rgb - model, axis=2)
+    dist = _colour_distance(rgb - model)
     ground = _border_connected(dist <= t_lo)
     gy, gx = np.nonzero(ground)
     if len(gy) < 64:
@@ -208,25 +226,29 @@ def matte_from_background(image, *, tol: float | None = None, max_noise: float =
         model = _eval_poly(c2, 3, h, w)
     res = np.where(ground[..., None], rgb - model, 0.0).astype(np.float32)
     model = np.clip(model + _smooth_residual(res, ground, max(3.0, 0.03 * min(h, w))), 0.0, 1.0)
-    dist = np.linalg.norm(rgb - model, axis=2)
+    dist = _colour_distance(rgb - model)
     ground = _border_connected(dist <= t_lo)
 
-    # 3. the object: small pockets of ground colour kept, specks dropped
+    # 3. the object: specks dropped; enclosed ground colour is ground when large (the sky
+    # through a loop of a branch), object when small (a drawing's white eye)
     obj = ~ground
     n, lab, stats, _ = cv2.connectedComponentsWithStats(obj.astype(np.uint8), connectivity=8)
-    min_speck = max(4, int(1e-4 * h * w))
+    min_speck = max(12, int(2e-4 * h * w))
     small = np.zeros(n, bool)
     small[1:] = stats[1:, cv2.CC_STAT_AREA] < min_speck
     obj &= ~small[lab]
+    k3 = np.ones((3, 3), np.uint8)
+    enclosed = (cv2.erode(((dist <= t_lo) & obj).astype(np.uint8), k3) > 0)
+    ne, le, se, _ = cv2.connectedComponentsWithStats(enclosed.astype(np.uint8), connectivity=4)
+    area = int(obj.sum()) - int(enclosed.sum())
+    big = np.zeros(ne, bool)
+    big[1:] = se[1:, cv2.CC_STAT_AREA] >= max(0.05 * area, min_speck)
+    if big.any():
+        obj &= ~((cv2.dilate(big[le].astype(np.uint8), k3) > 0) & (dist <= t_lo))
     area = int(obj.sum())
     if area < min_speck or area > 0.9 * h * w:
         return None
-    nh, hl, hs, _ = cv2.connectedComponentsWithStats((~obj).astype(np.uint8), connectivity=4)
-    edge = np.unique(np.concatenate([hl[0], hl[-1], hl[:, 0], hl[:, -1]]))
-    pocket = np.zeros(nh, bool)
-    pocket[1:] = hs[1:, cv2.CC_STAT_AREA] < 0.05 * area
-    pocket[edge] = False
-    obj |= pocket[hl]
+    ground = ~obj
 
     # soft rim: the object pixels next to the ground, alpha from the projection on the strongest colour
     d_bg = ndimage.distance_transform_edt(obj)
@@ -241,6 +263,7 @@ def matte_from_background(image, *, tol: float | None = None, max_noise: float =
     # pixels of ground just outside the rim with some object colour mixed in
     outer = ~obj & (ndimage.distance_transform_edt(~obj) <= 1.0) & (dist > 0.5 * t_lo)
     alpha[outer] = np.clip(proj[outer], 0.0, 0.5)
+    alpha = _drop_specks(alpha, min_speck)
     a3 = alpha[..., None]
     with np.errstate(divide="ignore", invalid="ignore"):
         unmixed = np.where(a3 > 0.05, (rgb - (1.0 - a3) * model) / np.maximum(a3, 1e-6), fg)
@@ -322,4 +345,27 @@ def _ground_grain(res: np.ndarray, hole: np.ndarray, usable: np.ndarray) -> np.n
             idx = np.nonzero(todo)[0][ok]
             out[ys[idx], xs[idx]] = res[ty[ok], tx[ok]]
             todo[idx] = False
+    return out
+
+
+def _drop_specks(alpha: np.ndarray, min_area: int) -> np.ndarray:
+    """``alpha`` without opaque islands under ``min_area`` px and the soft pixels round them.
+
+    JPEG ringing next to a dark branch leaves islands of a few pixels just
+    off the object: as parts of their own they change how an edit splits
+    the object (a crumb read as the body the stroke grows out of).
+    """
+    n, lab, st, _ = cv2.connectedComponentsWithStats((alpha > 0.5).astype(np.uint8), connectivity=8)
+    small = np.zeros(n, bool)
+    small[1:] = st[1:, cv2.CC_STAT_AREA] < min_area
+    out = alpha.copy()
+    if small.any():
+        gone = cv2.dilate(small[lab].astype(np.uint8), np.ones((3, 3), np.uint8)) > 0
+        out[gone & ~cv2.dilate((~small[lab] & (lab > 0)).astype(np.uint8), np.ones((3, 3), np.uint8)).astype(bool)] = 0.0
+    # soft pixels touching no opaque pixel are ghosts of the rim, not object
+    n2, lab2 = cv2.connectedComponents((out > 0).astype(np.uint8), connectivity=8)
+    has = np.zeros(n2, bool)
+    has[np.unique(lab2[out > 0.5])] = True
+    has[0] = False
+    out[~has[lab2]] = 0.0
     return out
