@@ -107,3 +107,18 @@ def test_bad_arguments():
         matte_from_background(np.ones((20, 20, 3), np.float32), tol=0.0)
     with pytest.raises(ValueError, match="max_noise"):
         matte_from_background(np.ones((20, 20, 3), np.float32), max_noise=2.0)
+
+
+def test_trees_alpha_from_background_smooth_uses_the_matte():
+    from branchnb.trees.exemplar import alpha_from_background
+
+    img, alpha, _ = _stick(300, "sky")
+    keyed = alpha_from_background(img)                       # default: one colour, unchanged
+    smooth = alpha_from_background(img, background="smooth")
+    assert _iou(smooth[..., 3] > 0.5, alpha > 0.5) >= 0.95
+    assert _iou(keyed[..., 3] > 0.5, alpha > 0.5) <= 0.5    # a sky gradient is not one colour
+    with pytest.raises(ValueError, match="background"):
+        alpha_from_background(img, background="sky")
+    busy = np.random.default_rng(0).uniform(0, 1, (64, 64, 3)).astype(np.float32)
+    with pytest.raises(ValueError, match="not smooth"):
+        alpha_from_background(busy, background="smooth")

@@ -11,13 +11,12 @@ import cv2
 import numpy as np
 import pytest
 from scipy import ndimage as ndi
+from test_core_matte import _ground
 
 from branchnb import data
 from branchnb.core.image import composite_over
 from branchnb.strokes import StrokeEditParams, edit_structure
 from branchnb.strokes.procedural import figure
-
-from test_core_matte import _ground
 
 
 def _branch(size, kind, jpeg=False):

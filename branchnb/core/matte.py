@@ -360,8 +360,10 @@ def _drop_specks(alpha: np.ndarray, min_area: int) -> np.ndarray:
     small[1:] = st[1:, cv2.CC_STAT_AREA] < min_area
     out = alpha.copy()
     if small.any():
-        gone = cv2.dilate(small[lab].astype(np.uint8), np.ones((3, 3), np.uint8)) > 0
-        out[gone & ~cv2.dilate((~small[lab] & (lab > 0)).astype(np.uint8), np.ones((3, 3), np.uint8)).astype(bool)] = 0.0
+        k3 = np.ones((3, 3), np.uint8)
+        gone = cv2.dilate(small[lab].astype(np.uint8), k3) > 0
+        kept = cv2.dilate((~small[lab] & (lab > 0)).astype(np.uint8), k3) > 0
+        out[gone & ~kept] = 0.0
     # soft pixels touching no opaque pixel are ghosts of the rim, not object
     n2, lab2 = cv2.connectedComponents((out > 0).astype(np.uint8), connectivity=8)
     has = np.zeros(n2, bool)
