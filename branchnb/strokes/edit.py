@@ -234,7 +234,9 @@ class StrokeEditResult:
     ----------
     image : (H, W, 4) float32 ndarray
         The synthesized object over the background (transparent if none
-        was given), straight (not premultiplied) alpha.
+        was given; for an opaque image on a smooth ground, that image's own
+        ground with the vacated area filled), straight (not premultiplied)
+        alpha.
     mask : (H, W) bool ndarray
         Object mask: alpha > 0.5 of the synthesized object.
     seams : (H, W) bool ndarray
