@@ -39,6 +39,7 @@ import numpy as np
 from scipy import ndimage
 
 from .image import as_float_image
+from .validate import Real, checked
 
 __all__ = ["Matte", "matte_from_background"]
 
@@ -133,6 +134,7 @@ def _smooth_residual(res: np.ndarray, mask: np.ndarray, sigma: float) -> np.ndar
     return out * fade
 
 
+@checked(tol=Real(0, 1, low_open=True), max_noise=Real(0, 1), min_ground=Real(0, 1))
 def matte_from_background(image, *, tol: float | None = None, max_noise: float = 0.08,
                           min_ground: float = 0.4) -> Matte | None:
     """Separate the object of an opaque image from a plain or smooth ground.
