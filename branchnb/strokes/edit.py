@@ -128,7 +128,9 @@ class StrokeEditParams:
         :func:`~branchnb.core.matte.matte_from_background`) and its ground,
         and edited as an RGBA object: unstroked parts stay, and the result is
         painted over the photo's own ground with the vacated area filled by
-        the smooth ground model; True, beyond the paper. A busy ground (or
+        the smooth ground model (plus its grain); True, beyond the paper.
+        With a ``background`` given, or an output domain of another size,
+        the cut-out object goes over that (or stays on transparent). A busy ground (or
         False) keeps the opaque behaviour: the object is the union of the
         patches copied around the strokes.
 
