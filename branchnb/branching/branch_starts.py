@@ -374,7 +374,7 @@ class _Starts:
             k = min(ins.shape[1], valid.shape[1])
             stays = (ins[:, :k] | ~valid[:, :k]).all(1)
             score = np.where(stays, score, score * 1e-9)
-            if self.drain.axis is not None:
+            if self.drain.axis is not None or self.drain.trunk_axis is not None:
                 # ... and heads for the example's mouths (beyond the paper, issue 23, branching58: a trunk entering
                 # through a side of the frame took a head along it and could not turn to the sea)
                 score = score * self.drain.trunk_hold(x0, new[np.arange(len(new)), np.maximum(n, 1) - 1])
@@ -616,7 +616,7 @@ class _Starts:
             r_set = self._root_radius(roots)
             hr = np.array([max(model.bending.heads[i]["r0"], model.bending.heads[i]["r1"]) for i in pool])
             Q = (np.minimum(hr, r_set) / np.maximum(np.maximum(hr, r_set), 1e-9)) ** ROOT_RADIUS_POWER
-        if self.drain is not None and self.drain.axis is not None:
+        if self.drain is not None and (self.drain.axis is not None or self.drain.trunk_axis is not None):
             # a delta's trunk sets out for the example's mouths (beyond the paper, issue 23, branching58): the
             # copied heads leave at the root's heading, and one along the frame could not turn to the sea
             wd = self.drain.way_down((x, y))
