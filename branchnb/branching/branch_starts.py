@@ -641,6 +641,8 @@ class _Starts:
             r_set = self._root_radius(roots)
             hr = np.array([max(model.bending.heads[i]["r0"], model.bending.heads[i]["r1"]) for i in pool])
             Q = (np.minimum(hr, r_set) / np.maximum(np.maximum(hr, r_set), 1e-9)) ** ROOT_RADIUS_POWER
+        if self.drain is not None:
+            self.drain.set_trunk_start((x, y))
         if self.drain is not None and (self.drain.axis is not None or self.drain.trunk_axis is not None):
             # a delta's trunk sets out for the example's mouths (beyond the paper, issue 23, branching58): the
             # copied heads leave at the root's heading, and one along the frame could not turn to the sea

@@ -435,12 +435,31 @@ def _trunk_turns(example: Structure, domain: np.ndarray) -> bool:
     chans = [(a, wd) for a, wd in chans if a is not None]
     if not chans:
         return False
-    off = np.abs(np.angle(np.exp(1j * (np.array([a for a, _w in chans]) - a_in))))
+    signed = np.angle(np.exp(1j * (np.array([a for a, _w in chans]) - a_in)))
+    off = np.abs(signed)
     wd = np.array([w_ for _a, w_ in chans])
     c = int(np.argmin(off))
+    if _even_fork(signed, wd):
+        return False
     if off[c] > CONTINUE_MAX:
         return True
     return bool(wd.max() >= TURN_WIDTH * wd[c])
+
+
+def _even_fork(signed: np.ndarray, wd: np.ndarray) -> bool:
+    """Do the two widest channels leaving a delta's head (headings ``signed`` radians off the trunk's,
+    widths ``wd``) part evenly: one on each side of the trunk, as wide as each other (within
+    :data:`TURN_WIDTH`), their bisector within :data:`CONTINUE_MAX` / 2 of the trunk's heading?
+
+    Beyond the paper (issue 23, branching79): at an even fork the skeleton's root follows one of the two
+    arms as it happens; taken for a turn (:func:`_trunk_turns`), the synthesized trunk ran down one side
+    of the fan with most channels beside it (:func:`._delta_fan_check.side_share` 0.08-0.33 on the
+    binary deltas of :func:`._delta_examples.delta_tree_mask` against their 0.46-0.50)."""
+    if len(wd) < 2:
+        return False
+    i, j = np.argsort(-wd)[:2]
+    return bool(signed[i] * signed[j] < 0 and wd[i] < TURN_WIDTH * wd[j]
+                and abs(signed[i] + signed[j]) <= CONTINUE_MAX)  # bisector within CONTINUE_MAX / 2
 
 
 def head_share(example, domain) -> float:

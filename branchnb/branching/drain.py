@@ -210,6 +210,7 @@ class _Drain:
         #: its trunk alone (:data:`STRAIGHT_HOLD`; the channels keep the descent's rules)
         self.trunk_axis: np.ndarray | None = None
         self.trunk_target: np.ndarray | None = None
+        self._trunk_from: np.ndarray | None = None
         self.offsets: np.ndarray | None = None
         self.used: np.ndarray | None = None
         #: the example's root's heading at the sea off the axis (radians; None: it ends at the head), and the
@@ -257,6 +258,7 @@ class _Drain:
             if STRAIGHT_HOLD:
                 self.trunk_axis = axis
                 self.trunk_target = target if dom.shape == self.shape else None
+                self._trunk_from = start
             if STRAIGHT_TAIL:
                 self._straight_tail(example, dom, dn)
             return
@@ -293,6 +295,20 @@ class _Drain:
     def _in_tail(self, at) -> bool:
         """Is ``at`` below the depth where a trunk takes the example's root's heading (:meth:`way_down`)?"""
         return self.tail is not None and self.tail_depth is not None and self.depth_at(at)[0] <= self.tail_depth
+
+    def set_trunk_start(self, at) -> None:
+        """A straight delta's trunk starts at ``at`` (:data:`STRAIGHT_HOLD`): its target moves as far as
+        its start lies from the example's, so it runs on the example's bearing.
+
+        The one tree of a delta enters within ~3.5 % of the diagonal of the example's entry
+        (:meth:`.roots.RootModel.sample`); aimed at the example's mouths from there, the trunk ran up to
+        4-6 degrees off the example's bearing on 256-1024 px deltas. Only the first trunk moves it."""
+        if self.trunk_target is None or self._trunk_from is None:
+            return
+        h, w = self.shape
+        shift = np.asarray(at, np.float64) - self._trunk_from
+        self.trunk_target = np.clip(self.trunk_target + shift, 0.0, [w - 1.0, h - 1.0])
+        self._trunk_from = None
 
     def held(self, at) -> bool:
         """Is a trunk at ``at`` held to a way to the sea (:data:`TRUNK_HOLD`): an axis, a straight delta's
