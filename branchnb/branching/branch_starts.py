@@ -353,8 +353,8 @@ class _Starts:
             fan = self.drain.head and self.branches[parent].parent is None
             score = score * self.drain.factor(x0, new, n + 1, start=x0, pull=HEAD_PULL if self.drain.head else 1.0)
             if fan:   # and to the side of the trunk with fewer channels so far (both sides, like the example's)
-                side = self._fan_side(x0, self._fan_ref(x0, theta0), new, n)
-                left, right = self._fan_counts()
+                side = self._fan_side(x0, theta0, new, n)
+                left, right = self._fan_count
                 if left != right:
                     score = np.where(side == (1 if left < right else -1), score, score * FAN_OTHER_SIDE)
         if self.keep_in:   # a strand's head stays in its band (LEAVE_BAND)
@@ -442,8 +442,8 @@ class _Starts:
             spread = self._fan_spread()
             trunk = self.branches[parent].parent is None
             if trunk:
-                side = int(self._fan_side(x0, self._fan_ref(x0, theta0), new[j:j + 1], n[j:j + 1])[0])
-                k = self._fan_counts()[0 if side > 0 else 1]
+                side = int(self._fan_side(x0, theta0, new[j:j + 1], n[j:j + 1])[0])
+                k = self._fan_count[0] if side > 0 else self._fan_count[1]
                 if spread is not None and k:   # the k-th channel on a side: between the others and the descent
                     spread = max(spread / (k + 1), FAN_SPLIT)
             st.fan = self.drain.bearing(x0, pl[-1] - x0, self.branches[parent].fan, spread=spread)
@@ -474,12 +474,16 @@ class _Starts:
         for b in self.branches:
             if b.fan is None or b.parent is None:
                 continue
-            u = np.asarray(b.fan, np.float64)
-            if float(u @ fan) < cos_min:
-                continue
+            ways = [np.asarray(b.fan, np.float64)]
+            c = np.asarray(b.points[-1], np.float64) - np.asarray(b.points[0], np.float64)
+            if float(np.hypot(*c)) >= 2.0 * near:
+                # ... or on the course it took (branching79: a channel ran 15 degrees off its bearing, a
+                # grandchild's bearing 21 degrees off that bearing lay on its course: a comb on fan0 512 px)
+                ways.append(c / float(np.hypot(*c)))
             r = x0 - np.asarray(b.points[0], np.float64)
-            if abs(float(r[0] * u[1] - r[1] * u[0])) < near:
-                return True
+            for u in ways:
+                if float(u @ fan) >= cos_min and abs(float(r[0] * u[1] - r[1] * u[0])) < near:
+                    return True
         return False
 
     @staticmethod
@@ -526,31 +530,6 @@ class _Starts:
         if not ok.any():
             return None
         return float(min(med[int(np.argmax(np.where(ok, share - have, -np.inf)))], r_cap))
-
-    def _fan_ref(self, x0, theta0: float) -> float:
-        """The heading a delta's trunk channels are sided by (:meth:`_fan_side`): the trunk's own at ``x0``
-        (``theta0``), but the way from its start to the example's mouths (else the descent) once it turns into
-        one of its channels (:data:`.drain.STRAIGHT_TAIL`).
-
-        Beyond the paper (issue 23, branching79): sided by the turned trunk's heading, a channel leaving it
-        on its outer side counted as balancing one on its inner side, while both lie on the turned side of
-        the delta's axis: the fan of a balanced Y-split delta came out lopsided (the smaller side's share of
-        the channel length below the head 0.00-0.14 over 5 seeds of a 512 px, 150 degree fan)."""
-        d = self.drain
-        if d is None or d.tail is None or d.axis is not None:
-            return theta0
-        ref = d.trunk_axis if d.trunk_axis is not None else d.descent(x0)
-        return float(np.arctan2(ref[1], ref[0]))
-
-    def _fan_counts(self) -> tuple[int, int]:
-        """Channels of a delta's trunk started so far on each side of it (:meth:`_fan_side` +1, -1),
-        the trunk itself counted on its side where it turns into one of the fan's channels (:meth:`_fan_ref`)."""
-        left, right = self._fan_count
-        d = self.drain
-        if d is not None and d.tail is not None and d.axis is None:
-            # tail: radians clockwise off the descent, the side _fan_side calls +1
-            left, right = (left + 1, right) if d.tail >= 0 else (left, right + 1)
-        return left, right
 
     @staticmethod
     def _fan_side(x0, theta0: float, new: np.ndarray, n: np.ndarray) -> np.ndarray:

@@ -141,10 +141,14 @@ TRUNK_TAIL = False
 #: (examples 0.41, 0.37, 0.42; main 0.29/0.28, 0.32/0.18, 0.38/0.19); bearing error median 5.0/10.0/6.2
 #: (main 7.4/3.9/5.5: the turned trunk's start-to-mouths chord is off the example's in some seeds).
 STRAIGHT_TAIL = True
-#: A delta whose trunk runs down the descent (no axis, :data:`AXIS_MIN`): above the depth where it turns
-#: (:data:`STRAIGHT_TAIL`) its trunk heads for the example's mouths and is held to that way as an axis trunk is
-#: (:data:`TRUNK_HOLD`; beyond the paper, issue 23, branching79). With the pull of the descent alone the
-#: matching steered the trunk: it drifted toward a corner of the frame.
+#: A delta whose trunk runs down the descent (no axis, :data:`AXIS_MIN`) and carries on past its head (no turn,
+#: :data:`STRAIGHT_TAIL`): its trunk heads for the example's mouths (moved as far as its start lies from the
+#: example's, :meth:`_Drain.set_trunk_start`) and is held to that way as an axis trunk is (:data:`TRUNK_HOLD`;
+#: beyond the paper, issue 23, branching79). With the pull of the descent alone the matching steered the trunk
+#: and it drifted toward a corner of the frame, the mouths' mean with it (``_delta_fan_check bottom,left 512 5
+#: ... fan0,mean0``: trunk bearing error median 14.1/10.3/15.7/20.6 -> 5.4/5.0/3.9/1.2 degrees). A trunk that
+#: turns keeps the descent's pull above its turn: held there, the channels of the ``delta`` kind came out
+#: straighter (``test_branching_delta_curve``) for no gain in bearing (median 5.0/9.5 -> 7.1/4.2).
 STRAIGHT_HOLD = True
 TAIL_MAX = float(np.radians(60.0))
 
@@ -253,14 +257,14 @@ class _Drain:
         dn = dn / max(float(np.hypot(*dn)), 1e-9)
         if float(np.arccos(np.clip(axis @ dn, -1.0, 1.0))) < AXIS_MIN:
             # a trunk along the descent: the descent's rules (tuned on such deltas) stay, but the trunk
-            # turns into one of the fan's channels below the delta's head (STRAIGHT_TAIL); above it the
-            # trunk heads for the example's mouths (STRAIGHT_HOLD)
-            if STRAIGHT_HOLD:
+            # turns into one of the fan's channels below the delta's head (STRAIGHT_TAIL); one that carries
+            # on heads for the example's mouths (STRAIGHT_HOLD)
+            if STRAIGHT_TAIL:
+                self._straight_tail(example, dom, dn)
+            if STRAIGHT_HOLD and self.tail is None:
                 self.trunk_axis = axis
                 self.trunk_target = target if dom.shape == self.shape else None
                 self._trunk_from = start
-            if STRAIGHT_TAIL:
-                self._straight_tail(example, dom, dn)
             return
         self.axis = axis
         self.target = target if dom.shape == self.shape else None
