@@ -458,7 +458,9 @@ def _even_fork(signed: np.ndarray, wd: np.ndarray) -> bool:
     between the arms, held to the example's mouths (:data:`.drain.STRAIGHT_HOLD`), its channels on both
     sides. On the even binary deltas of :func:`._delta_examples.delta_tree_mask` (2-4 orders, 60-140 degree
     fans, 256-1024 px, four sea sides; 5 seeds each) the trunk bearing error, mean over the seeds, was
-    5.7-19.7 degrees on main and is 2.1-4.2 with this and the hold. A fork whose arms' bisector lies more
+    10.2-19.7 degrees on main and is 2.1-4.2 with this and the hold (``python -m
+    branchnb.branching._delta_tree_check 5``, 7 of its 8 cases; the mouths on the smaller side of the trunk,
+    :func:`._delta_fan_check.mouth_share`, mean 0.02-0.36 -> 0.36-0.43). A fork whose arms' bisector lies more
     than :data:`CONTINUE_MAX` / 2 off the trunk's heading is still a turn (a 150 degree fan at 512 px:
     arms 36 and -63 degrees off it; bearing error as main, 21.6).
 
