@@ -146,9 +146,11 @@ STRAIGHT_TAIL = True
 #: example's, :meth:`_Drain.set_trunk_start`) and is held to that way as an axis trunk is (:data:`TRUNK_HOLD`;
 #: beyond the paper, issue 23, branching79). With the pull of the descent alone the matching steered the trunk
 #: and it drifted toward a corner of the frame, the mouths' mean with it (``_delta_fan_check bottom,left 512 5
-#: ... fan0,mean0``: trunk bearing error median 14.1/10.3/15.7/20.6 -> 5.4/5.0/3.9/1.2 degrees). A trunk that
-#: turns keeps the descent's pull above its turn: held there, the channels of the ``delta`` kind came out
-#: straighter (``test_branching_delta_curve``) for no gain in bearing (median 5.0/9.5 -> 7.1/4.2).
+#: ... fan0,mean0``, sea at the bottom/left: trunk bearing error mean over 5 seeds 4.4/5.7/3.6/2.3 degrees, median
+#: 14.1/10.3/15.7/20.6 -> 4.8/5.0/3.9/1.2; the smaller side's share of the channels below the head, median
+#: 0.19/0.30/0.35/0.06 -> 0.41/0.34/0.39/0.41, example 0.40; ``_delta_tree_check`` with
+#: :func:`.delta_fan._even_fork`). A trunk that turns (the ``delta`` kind) keeps main's rule above its turn:
+#: held there together with other changes its bearing error median went 5.0/9.5 -> 7.1/4.2, no clear gain.
 STRAIGHT_HOLD = True
 TAIL_MAX = float(np.radians(60.0))
 
