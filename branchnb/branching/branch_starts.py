@@ -42,6 +42,9 @@ FAN_OTHER_SIDE = 0.02
 #: ``_delta_fan_check`` (same seeds; median / max): bearing error ``delta`` 8.8/17.4 -> 4.4/11.7, ``fan0``
 #: 14.4/21.1 -> 14.1/23.5, ``mean0`` 13.5/26.0 -> 15.7/24.0, ``fan30`` 2.8/9.0 -> 2.4/8.8 degrees; fan spread
 #: median / lowest seed ``mean0`` 30.7/21.0 -> 24.6/10.7 (example 34.9; worse), others within 1 degree.
+#: branching79: the earlier channel's course (its chord so far, once 2 x FAN_BUNDLE_NEAR x the diagonal long)
+#: counts as well as its bearing: a channel 15 degrees off its bearing took a grandchild's 21 degrees off it
+#: beside it (``fan0`` 512 px, seeds 2 and 3 with the held trunk, :data:`.drain.STRAIGHT_HOLD`: 1 comb each -> 0).
 FAN_BUNDLE = float(np.radians(10.0))
 FAN_BUNDLE_NEAR = 0.05
 #: ... nor a channel's channel that leaves its parent on one side while its bearing lies on the other (a
