@@ -324,17 +324,66 @@ def _small_holes(solid: np.ndarray, width: float, alpha: np.ndarray | None = Non
 
 #: A crack (a thin enclosed hole) is filled up to this many times a pinhole's area.
 _CRACK = 4.0
+#: A slit (see :func:`_enclosed_slits`) is at most this many px wider (half width, from its
+#: middle to the nearest pixel of alpha > 0.5) than the outline.
+_SLIT = 1.0
 
 
-@_on_object_box()
-def fill_pinholes(layer: np.ndarray, width: float = 1.0) -> np.ndarray:
+def _enclosed_slits(alpha: np.ndarray, width: float) -> np.ndarray | None:
+    """Narrow background pockets enclosed at the silhouette's level (None if none).
+
+    An enclosed region of alpha <= 0.5 (4-connected, not reaching the box's
+    border) of at most :data:`_CRACK` ``(2 width + 2) ** 2`` px whose open
+    pixels all lie within ``width +`` :data:`_SLIT` px of the silhouette
+    (alpha > 0.5), with the half-transparent pixels (alpha <= 0.98) round it:
+    the slit left between a new tine and its neighbour where their rims touch
+    farther out (a 150 px antler: 24-59 px of background enclosed). Their
+    anti-aliased rims still join the slit to the background around the
+    object at the alpha <= 0.98 level, so :func:`_small_holes` does not see
+    it. Pockets wider than that (a finger bent into a loop) stay open.
+    """
+    obj = alpha > 0.5
+    rs, cs = np.nonzero(obj)
+    if not len(rs):
+        return None
+    r0, r1, c0, c1 = rs.min(), rs.max() + 1, cs.min(), cs.max() + 1
+    lab, n = ndi.label(~obj[r0:r1, c0:c1])
+    if n == 0:
+        return None
+    sizes = np.bincount(lab.ravel())
+    edge = np.unique(np.concatenate([lab[0], lab[-1], lab[:, 0], lab[:, -1]]))
+    cand = sizes <= _CRACK * (2.0 * float(width) + 2.0) ** 2
+    cand[0] = False
+    cand[edge] = False
+    if not cand.any():
+        return None
+    depth = ndi.distance_transform_edt(lab > 0)
+    widest = np.asarray(ndi.maximum(depth, lab, index=np.arange(len(sizes))))
+    cand &= widest <= float(width) + _SLIT
+    if not cand.any():
+        return None
+    slit = cand[lab]
+    slit |= ndi.binary_dilation(slit, structure=np.ones((3, 3), bool)) & (alpha[r0:r1, c0:c1] <= 0.98)
+    out = np.zeros(alpha.shape, bool)
+    out[r0:r1, c0:c1] = slit
+    return out
+
+
+@_on_object_box("source_alpha")
+def fill_pinholes(layer: np.ndarray, width: float = 1.0, *,
+                  source_alpha: np.ndarray | None = None) -> np.ndarray:
     """``layer`` with its small enclosed holes made opaque (a new array, or ``layer``).
 
     A hole is a connected region of alpha <= 0.98 that does not reach the
     image border or the background around the object and has at most
     ``(2 width + 2) ** 2`` px: the pinholes a seam leaves where a carried
     part meets its parent's cut end (faint light dashes across the object).
-    They take the colour of the nearest opaque pixel. Beyond the paper.
+    Narrow background pockets enclosed at the silhouette's level (alpha > 0.5)
+    are filled too, with their anti-aliased rims (:func:`_enclosed_slits`: a
+    slit closed off between a new tine and its neighbour, background enclosed
+    by the object). They take the colour of the nearest opaque pixel (the
+    lining ink of an outlined object, repainted as stale outline where it is
+    now deep inside, see :func:`clear_stale_outline`). Beyond the paper.
 
     Parameters
     ----------
@@ -342,6 +391,9 @@ def fill_pinholes(layer: np.ndarray, width: float = 1.0) -> np.ndarray:
         The result, straight RGBA.
     width : float
         The source's outline width (px; 1 without an outline).
+    source_alpha : (H', W') ndarray, optional
+        The source's alpha: slits it has itself (within ``2 width + 2`` px when
+        the canvas is the source's size; anywhere otherwise) are its own and stay open.
 
     Returns
     -------
@@ -357,6 +409,19 @@ def fill_pinholes(layer: np.ndarray, width: float = 1.0) -> np.ndarray:
     """
     solid = layer[..., 3] > 0.98
     hole = _small_holes(solid, width, layer[..., 3])
+    slits = _enclosed_slits(layer[..., 3], width)
+    own = None if slits is None or source_alpha is None else _enclosed_slits(source_alpha, width)
+    if own is not None:
+        if own.shape != slits.shape:
+            slits = None
+        else:
+            near = ndi.binary_dilation(own, iterations=int(np.ceil(2.0 * float(width) + 2.0)))
+            lab, _ = ndi.label(slits, structure=np.ones((3, 3), bool))
+            slits = np.isin(lab, np.unique(lab[near]), invert=True) & slits
+            slits = slits if slits.any() else None
+    if slits is not None:
+        hole = slits if hole is None else hole | slits
+        solid = solid & ~slits
     if hole is None:
         return layer
     rs, cs = np.nonzero(hole)
