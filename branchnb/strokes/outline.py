@@ -327,20 +327,28 @@ _CRACK = 4.0
 #: A slit (see :func:`_enclosed_slits`) is at most this many px wider (half width, from its
 #: middle to the nearest pixel of alpha > 0.5) than the outline.
 _SLIT = 1.0
+#: A slit is lined with ink where its lining is this much darker (luminance) than the flesh.
+_LINED = 0.15
 
 
-def _enclosed_slits(alpha: np.ndarray, width: float) -> np.ndarray | None:
-    """Narrow background pockets enclosed at the silhouette's level (None if none).
+def _enclosed_slits(alpha: np.ndarray, width: float, rgb: np.ndarray | None = None) -> np.ndarray | None:
+    """Narrow background pockets enclosed at the silhouette's level, lined with ink (None if none).
 
     An enclosed region of alpha <= 0.5 (4-connected, not reaching the box's
     border) of at most :data:`_CRACK` ``(2 width + 2) ** 2`` px whose open
     pixels all lie within ``width +`` :data:`_SLIT` px of the silhouette
-    (alpha > 0.5), with the half-transparent pixels (alpha <= 0.98) round it:
-    the slit left between a new tine and its neighbour where their rims touch
-    farther out (a 150 px antler: 24-59 px of background enclosed). Their
-    anti-aliased rims still join the slit to the background around the
-    object at the alpha <= 0.98 level, so :func:`_small_holes` does not see
-    it. Pockets wider than that (a finger bent into a loop) stay open.
+    (alpha > 0.5), lined with ink (a quarter of the silhouette's pixels within
+    2 px of it darker by :data:`_LINED` than the median of the pixels deeper
+    than ``width + 2`` px inside), with the half-transparent pixels (alpha <=
+    0.98) round it:
+    the slit left between a new tine and its neighbour on an outlined object
+    where their rims touch farther out (a 150 px antler: 24-59 px of
+    background enclosed). Their anti-aliased rims still join the slit to the
+    background around the object at the alpha <= 0.98 level, so
+    :func:`_small_holes` does not see it. Pockets wider than that (a finger
+    bent into a loop) and pockets lined with flesh (an object with no
+    outline: the slit is all that keeps the two parts apart) stay open.
+    Without ``rgb`` (straight colours) the lining is not looked at.
     """
     obj = alpha > 0.5
     rs, cs = np.nonzero(obj)
@@ -362,28 +370,49 @@ def _enclosed_slits(alpha: np.ndarray, width: float) -> np.ndarray | None:
     cand &= widest <= float(width) + _SLIT
     if not cand.any():
         return None
-    slit = cand[lab]
-    slit |= ndi.binary_dilation(slit, structure=np.ones((3, 3), bool)) & (alpha[r0:r1, c0:c1] <= 0.98)
+    a = alpha[r0:r1, c0:c1]
+    if rgb is not None:
+        lum = rgb[r0:r1, c0:c1] @ np.array([0.299, 0.587, 0.114], np.float32)
+        inner = ndi.distance_transform_edt(obj[r0:r1, c0:c1]) > float(width) + 2.0
+        if not inner.any():
+            return None
+        flesh = float(np.median(lum[inner]))
     out = np.zeros(alpha.shape, bool)
-    out[r0:r1, c0:c1] = slit
-    return out
+    for i in np.flatnonzero(cand):
+        slit = lab == i
+        if rgb is not None:
+            # (the silhouette's pixels round it, half-transparent ones too: on a small
+            # object the one-pixel ink lining is the anti-aliased rim itself)
+            lining = ndi.binary_dilation(slit, structure=np.ones((3, 3), bool), iterations=2) & obj[r0:r1, c0:c1]
+            if not lining.any() or float(np.percentile(lum[lining], 25)) > flesh - _LINED:
+                continue
+        slit |= ndi.binary_dilation(slit, structure=np.ones((3, 3), bool)) & (a <= 0.98)
+        out[r0:r1, c0:c1] |= slit
+    return out if out.any() else None
 
 
 @_on_object_box("source_alpha")
-def fill_pinholes(layer: np.ndarray, width: float = 1.0, *,
-                  source_alpha: np.ndarray | None = None) -> np.ndarray:
+def fill_pinholes(layer: np.ndarray, width: float = 1.0, *, slits: bool = False,
+                  outlined: bool = False, source_alpha: np.ndarray | None = None) -> np.ndarray:
     """``layer`` with its small enclosed holes made opaque (a new array, or ``layer``).
 
     A hole is a connected region of alpha <= 0.98 that does not reach the
     image border or the background around the object and has at most
     ``(2 width + 2) ** 2`` px: the pinholes a seam leaves where a carried
     part meets its parent's cut end (faint light dashes across the object).
-    Narrow background pockets enclosed at the silhouette's level (alpha > 0.5)
-    are filled too, with their anti-aliased rims (:func:`_enclosed_slits`: a
-    slit closed off between a new tine and its neighbour, background enclosed
-    by the object). They take the colour of the nearest opaque pixel (the
-    lining ink of an outlined object, repainted as stale outline where it is
-    now deep inside, see :func:`clear_stale_outline`). Beyond the paper.
+    With ``slits``, narrow background pockets enclosed at the silhouette's
+    level (alpha > 0.5) are filled too, with their anti-aliased rims
+    (:func:`_enclosed_slits`: a slit closed off between a new tine and its
+    neighbour, background enclosed by the object). They take the colour of
+    the nearest opaque pixel. Beyond the paper.
+
+    Notes
+    -----
+    Unless ``outlined``, only slits lined with ink are filled (an outline too thin
+    for :func:`outline_style`, on a small object): they take the lining's ink, a dark
+    line that keeps the two parts apart as an artist draws parts that touch.
+    On an object without an outline the slit is all that keeps them apart
+    (filled, a new tine would merge into its neighbour): it stays open.
 
     Parameters
     ----------
@@ -391,6 +420,12 @@ def fill_pinholes(layer: np.ndarray, width: float = 1.0, *,
         The result, straight RGBA.
     width : float
         The source's outline width (px; 1 without an outline).
+    slits : bool
+        Also fill narrow enclosed pockets of background (see Notes); False.
+    outlined : bool
+        The object has an outline (:func:`outline_style` found one): every narrow
+        pocket is filled, lined with ink or not (with flesh: a crack torn into a palm
+        below a bent finger's crotch).
     source_alpha : (H', W') ndarray, optional
         The source's alpha: slits it has itself (within ``2 width + 2`` px when
         the canvas is the source's size; anywhere otherwise) are its own and stay open.
@@ -409,7 +444,7 @@ def fill_pinholes(layer: np.ndarray, width: float = 1.0, *,
     """
     solid = layer[..., 3] > 0.98
     hole = _small_holes(solid, width, layer[..., 3])
-    slits = _enclosed_slits(layer[..., 3], width)
+    slits = _enclosed_slits(layer[..., 3], width, None if outlined else layer[..., :3]) if slits else None
     own = None if slits is None or source_alpha is None else _enclosed_slits(source_alpha, width)
     if own is not None:
         if own.shape != slits.shape:

@@ -248,6 +248,7 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
         layer = _refill_vacated_roots(layer, index, attached, window, 1.0 if style is None else style.width)
         unplugged = layer
         layer = fill_pinholes(layer, 1.0 if style is None else style.width,
+                              slits=True, outlined=style is not None,
                               source_alpha=index.premult[:, :, 3])
         if style is not None and layer is not unplugged:
             # a crack plugged with its nearest opaque colour -- the ink lining it -- and that
