@@ -391,9 +391,10 @@ def _enclosed_slits(alpha: np.ndarray, width: float, rgb: np.ndarray | None = No
     return out if out.any() else None
 
 
-@_on_object_box("source_alpha")
+@_on_object_box("source_alpha", "zones")
 def fill_pinholes(layer: np.ndarray, width: float = 1.0, *, slits: bool = False,
-                  outlined: bool = False, source_alpha: np.ndarray | None = None) -> np.ndarray:
+                  outlined: bool = False, zones: np.ndarray | None = None,
+                  source_alpha: np.ndarray | None = None) -> np.ndarray:
     """``layer`` with its small enclosed holes made opaque (a new array, or ``layer``).
 
     A hole is a connected region of alpha <= 0.98 that does not reach the
@@ -403,16 +404,23 @@ def fill_pinholes(layer: np.ndarray, width: float = 1.0, *, slits: bool = False,
     With ``slits``, narrow background pockets enclosed at the silhouette's
     level (alpha > 0.5) are filled too, with their anti-aliased rims
     (:func:`_enclosed_slits`: a slit closed off between a new tine and its
-    neighbour, background enclosed by the object). They take the colour of
-    the nearest opaque pixel. Beyond the paper.
+    neighbour, background enclosed by the object). Pinholes take the colour
+    of the nearest opaque pixel; a slit's open pixels that of the nearest
+    pixel of the silhouette (alpha > 0.5: its lining), and its anti-aliased
+    rim is made opaque as it is. Beyond the paper.
 
     Notes
     -----
-    Unless ``outlined``, only slits lined with ink are filled (an outline too thin
-    for :func:`outline_style`, on a small object): they take the lining's ink, a dark
-    line that keeps the two parts apart as an artist draws parts that touch.
-    On an object without an outline the slit is all that keeps them apart
-    (filled, a new tine would merge into its neighbour): it stays open.
+    Unless ``outlined``, only slits lined with ink (an outline too thin for
+    :func:`outline_style`, on a small object) and reaching into the ``zones``
+    are filled: they take the lining's ink, a dark line that keeps the two
+    parts apart as an artist draws parts that touch (two lines with flesh
+    between where the slit is wider than 2 px). On an object without an
+    outline the slit is all that keeps them apart (filled, a new tine would
+    merge into its neighbour): it stays open. Elsewhere (two tentacles of an
+    octopus laid side by side, whose source has no ink where its tentacles
+    touch) a filled slit's lining is a dark streak the stale-outline pass
+    cannot repaint without an outline style: left open too.
 
     Parameters
     ----------
@@ -425,7 +433,11 @@ def fill_pinholes(layer: np.ndarray, width: float = 1.0, *, slits: bool = False,
     outlined : bool
         The object has an outline (:func:`outline_style` found one): every narrow
         pocket is filled, lined with ink or not (with flesh: a crack torn into a palm
-        below a bent finger's crotch).
+        below a bent finger's crotch), like a pinhole (the caller repaints the lining
+        now inside as stale outline).
+    zones : (H, W) bool ndarray, optional
+        Unless ``outlined``, only slits reaching into these pixels are filled (the
+        joints: a new tine's crotch); None: anywhere.
     source_alpha : (H', W') ndarray, optional
         The source's alpha: slits it has itself (within ``2 width + 2`` px when
         the canvas is the source's size; anywhere otherwise) are its own and stay open.
@@ -445,6 +457,10 @@ def fill_pinholes(layer: np.ndarray, width: float = 1.0, *, slits: bool = False,
     solid = layer[..., 3] > 0.98
     hole = _small_holes(solid, width, layer[..., 3])
     slits = _enclosed_slits(layer[..., 3], width, None if outlined else layer[..., :3]) if slits else None
+    if slits is not None and not outlined and zones is not None:
+        lab, _ = ndi.label(slits, structure=np.ones((3, 3), bool))
+        slits = np.isin(lab, np.unique(lab[zones & slits])) & slits
+        slits = slits if slits.any() else None
     own = None if slits is None or source_alpha is None else _enclosed_slits(source_alpha, width)
     if own is not None:
         if own.shape != slits.shape:
@@ -454,21 +470,46 @@ def fill_pinholes(layer: np.ndarray, width: float = 1.0, *, slits: bool = False,
             lab, _ = ndi.label(slits, structure=np.ones((3, 3), bool))
             slits = np.isin(lab, np.unique(lab[near]), invert=True) & slits
             slits = slits if slits.any() else None
-    if slits is not None:
-        hole = slits if hole is None else hole | slits
-        solid = solid & ~slits
-    if hole is None:
+    if slits is not None and hole is not None:
+        hole &= ~slits
+        hole = hole if hole.any() else None
+    if hole is None and slits is None:
         return layer
-    rs, cs = np.nonzero(hole)
-    g = int(np.ceil(2.0 * float(width) + 2.0)) + 1
-    r0, r1 = max(rs.min() - g, 0), rs.max() + g + 1
-    c0, c1 = max(cs.min() - g, 0), cs.max() + g + 1
-    sub, hs = solid[r0:r1, c0:c1], hole[r0:r1, c0:c1]
-    _, (ir, ic) = ndi.distance_transform_edt(~sub, return_indices=True)
     out = layer.copy()
-    win = out[r0:r1, c0:c1]
-    win[hs, :3] = layer[r0:r1, c0:c1][ir[hs], ic[hs], :3]
-    win[hs, 3] = 1.0
+    g = int(np.ceil(2.0 * float(width) + 2.0)) + 1
+    # a pinhole takes its nearest opaque pixel's colour; a slit's open pixels their nearest
+    # pixel of the silhouette's (its lining: the ink of a thin outline is the anti-aliased
+    # rim, half transparent), and that rim is made opaque as it is
+    again = slits is not None
+    if slits is not None and outlined:
+        # (an outlined object: filled like pinholes, the lining repainted by the caller)
+        hole = slits if hole is None else hole | slits
+        slits = None
+    for fill, src in ((hole, solid), (slits, None)):
+        if fill is None:
+            continue
+        if src is None:
+            fill = fill & (layer[..., 3] <= 0.5)
+            src = layer[..., 3] > 0.5
+            out[slits & src, 3] = 1.0
+        rs, cs = np.nonzero(fill)
+        r0, r1 = max(rs.min() - g, 0), rs.max() + g + 1
+        c0, c1 = max(cs.min() - g, 0), cs.max() + g + 1
+        sub, hs = src[r0:r1, c0:c1] & ~fill[r0:r1, c0:c1], fill[r0:r1, c0:c1]
+        _, (ir, ic) = ndi.distance_transform_edt(~sub, return_indices=True)
+        win = out[r0:r1, c0:c1]
+        win[hs, :3] = layer[r0:r1, c0:c1][ir[hs], ic[hs], :3]
+        win[hs, 3] = 1.0
+        if src is not solid:
+            # the middle of a slit wider than 2 px takes the flesh beyond the lining (two
+            # outlined parts touching, each with its own outline; not a band of ink)
+            mid = hs & (ndi.distance_transform_edt(hs) > 1.0)
+            if mid.any():
+                _, (jr, jc) = ndi.distance_transform_edt(~solid[r0:r1, c0:c1], return_indices=True)
+                win[mid, :3] = layer[r0:r1, c0:c1][jr[mid], jc[mid], :3]
+    if again:
+        # (a filled slit can close off half-transparent pixels beside it: pinholes now)
+        out = fill_pinholes(out, width)
     return out
 
 
