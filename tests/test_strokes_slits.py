@@ -107,3 +107,17 @@ def test_fill_pinholes_closes_slit_but_not_wide_pocket_or_source_slit():
     assert fill_pinholes(plain, 1.0, slits=True)[20, 20, 3] == 0.0
     # a slit the source has itself stays open
     assert fill_pinholes(lay, 1.0, slits=True, source_alpha=lay[..., 3].copy())[20, 20, 3] == 0.0
+
+
+def test_fill_pinholes_closes_a_tear_lined_with_deep_flesh():
+    """A flesh-lined crack (no ink) is a tear where its lining came from deep inside the
+    source (a white tick in a palm under a bent finger), the gap between two parts where it
+    came from their rims (an object with no outline: the slit keeps them apart)."""
+    lay = np.zeros((40, 40, 4), np.float32)
+    lay[5:35, 5:35] = (0.6, 0.4, 0.25, 1.0)
+    lay[20:22, 10:28, 3] = 0.0          # the tick
+    lay[20:22, 5:10, 3] = 0.7           # reaching the outside at the alpha 0.98 level only
+    deep = np.full((40, 40), 9.0, np.float32)
+    rim = np.full((40, 40), 1.0, np.float32)
+    assert fill_pinholes(lay, 1.0, slits=True, depth=deep)[20:22, 10:28, 3].min() == 1.0
+    assert fill_pinholes(lay, 1.0, slits=True, depth=rim)[21, 20, 3] == 0.0

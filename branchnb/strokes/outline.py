@@ -391,10 +391,10 @@ def _enclosed_slits(alpha: np.ndarray, width: float, rgb: np.ndarray | None = No
     return out if out.any() else None
 
 
-@_on_object_box("source_alpha", "zones")
+@_on_object_box("source_alpha", "zones", "depth")
 def fill_pinholes(layer: np.ndarray, width: float = 1.0, *, slits: bool = False,
                   outlined: bool = False, zones: np.ndarray | None = None,
-                  source_alpha: np.ndarray | None = None) -> np.ndarray:
+                  depth: np.ndarray | None = None, source_alpha: np.ndarray | None = None) -> np.ndarray:
     """``layer`` with its small enclosed holes made opaque (a new array, or ``layer``).
 
     A hole is a connected region of alpha <= 0.98 that does not reach the
@@ -438,6 +438,11 @@ def fill_pinholes(layer: np.ndarray, width: float = 1.0, *, slits: bool = False,
     zones : (H, W) bool ndarray, optional
         Unless ``outlined``, only slits reaching into these pixels are filled (the
         joints: a new tine's crotch); None: anywhere.
+    depth : (H, W) ndarray, optional
+        Source depth of every result pixel (:func:`source_depth`): unless ``outlined``,
+        a slit whose lining came from deeper than ``width + 2`` px inside the source
+        (a tear in flesh: a white tick under a bent finger's crotch) is filled like a
+        pinhole, wherever it lies and whatever its lining's colour.
     source_alpha : (H', W') ndarray, optional
         The source's alpha: slits it has itself (within ``2 width + 2`` px when
         the canvas is the source's size; anywhere otherwise) are its own and stay open.
@@ -456,20 +461,45 @@ def fill_pinholes(layer: np.ndarray, width: float = 1.0, *, slits: bool = False,
     """
     solid = layer[..., 3] > 0.98
     hole = _small_holes(solid, width, layer[..., 3])
+    eight = np.ones((3, 3), bool)
+    torn = None
+    if slits and not outlined and depth is not None:
+        every = _enclosed_slits(layer[..., 3], width)
+        if every is not None:
+            lab, n = ndi.label(every, structure=eight)
+            lining = ndi.binary_dilation(every, structure=eight, iterations=2) & ~every & (layer[..., 3] > 0.5)
+            # (each lining pixel to its slit: the label of the nearest slit pixel)
+            _, (iy, ix) = ndi.distance_transform_edt(lab == 0, return_indices=True)
+            near_lab = lab[iy, ix]
+            med = ndi.median(depth, np.where(lining, near_lab, 0), index=np.arange(1, n + 1))
+            deep = np.r_[False, np.asarray(med, float) > float(width) + 2.0]
+            torn = deep[lab] & every
+            torn = torn if torn.any() else None
     slits = _enclosed_slits(layer[..., 3], width, None if outlined else layer[..., :3]) if slits else None
     if slits is not None and not outlined and zones is not None:
-        lab, _ = ndi.label(slits, structure=np.ones((3, 3), bool))
+        lab, _ = ndi.label(slits, structure=eight)
         slits = np.isin(lab, np.unique(lab[zones & slits])) & slits
         slits = slits if slits.any() else None
-    own = None if slits is None or source_alpha is None else _enclosed_slits(source_alpha, width)
+    if torn is not None and slits is not None:
+        torn &= ~slits
+    own = None
+    if (slits is not None or torn is not None) and source_alpha is not None:
+        own = _enclosed_slits(source_alpha, width)
     if own is not None:
-        if own.shape != slits.shape:
-            slits = None
-        else:
+        near = None
+        if own.shape == layer.shape[:2]:
             near = ndi.binary_dilation(own, iterations=int(np.ceil(2.0 * float(width) + 2.0)))
-            lab, _ = ndi.label(slits, structure=np.ones((3, 3), bool))
-            slits = np.isin(lab, np.unique(lab[near]), invert=True) & slits
-            slits = slits if slits.any() else None
+
+        def not_own(m):
+            if m is None or near is None:
+                return None
+            lab, _ = ndi.label(m, structure=eight)
+            m = np.isin(lab, np.unique(lab[near]), invert=True) & m
+            return m if m.any() else None
+        slits, torn = not_own(slits), not_own(torn)
+    if torn is not None:
+        # (filled like a pinhole: its nearest opaque pixel's colour, the flesh round it)
+        hole = torn if hole is None else hole | torn
     if slits is not None and hole is not None:
         hole &= ~slits
         hole = hole if hole.any() else None
@@ -480,7 +510,7 @@ def fill_pinholes(layer: np.ndarray, width: float = 1.0, *, slits: bool = False,
     # a pinhole takes its nearest opaque pixel's colour; a slit's open pixels their nearest
     # pixel of the silhouette's (its lining: the ink of a thin outline is the anti-aliased
     # rim, half transparent), and that rim is made opaque as it is
-    again = slits is not None
+    again = slits is not None or torn is not None
     if slits is not None and outlined:
         # (an outlined object: filled like pinholes, the lining repainted by the caller)
         hole = slits if hole is None else hole | slits

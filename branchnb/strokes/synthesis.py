@@ -250,6 +250,8 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
         layer = fill_pinholes(layer, 1.0 if style is None else style.width,
                               slits=True, outlined=style is not None,
                               zones=_joint_zones(layer.shape[:2], disks, 1.0 if style is None else style.width),
+                              depth=None if style is not None else source_depth(
+                                  comp.labels, [pp.source_map for pp in placed], index.depth),
                               source_alpha=index.premult[:, :, 3])
         if style is not None and layer is not unplugged:
             # a crack plugged with its nearest opaque colour -- the ink lining it -- and that
