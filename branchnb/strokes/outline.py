@@ -41,6 +41,7 @@ from scipy import ndimage as ndi
 from ..core.distance import edt as _edt
 from ..core.distance import edt_boxed as _edt_boxed
 from ..core.morphology import _binary_dilation
+from .slits import _fill_lined, _select_slits
 
 __all__ = ["OutlineStyle", "outline_style", "source_depth", "close_cuts", "clear_stale_outline", "drop_flecks",
            "fill_joints", "fill_pinholes"]
@@ -324,73 +325,6 @@ def _small_holes(solid: np.ndarray, width: float, alpha: np.ndarray | None = Non
 
 #: A crack (a thin enclosed hole) is filled up to this many times a pinhole's area.
 _CRACK = 4.0
-#: A slit (see :func:`_enclosed_slits`) is at most this many px wider (half width, from its
-#: middle to the nearest pixel of alpha > 0.5) than the outline.
-_SLIT = 1.0
-#: A slit is lined with ink where its lining is this much darker (luminance) than the flesh.
-_LINED = 0.15
-
-
-def _enclosed_slits(alpha: np.ndarray, width: float, rgb: np.ndarray | None = None) -> np.ndarray | None:
-    """Narrow background pockets enclosed at the silhouette's level, lined with ink (None if none).
-
-    An enclosed region of alpha <= 0.5 (4-connected, not reaching the box's
-    border) of at most :data:`_CRACK` ``(2 width + 2) ** 2`` px whose open
-    pixels all lie within ``width +`` :data:`_SLIT` px of the silhouette
-    (alpha > 0.5), lined with ink (a quarter of the silhouette's pixels within
-    2 px of it darker by :data:`_LINED` than the median of the pixels deeper
-    than ``width + 2`` px inside), with the half-transparent pixels (alpha <=
-    0.98) round it:
-    the slit left between a new tine and its neighbour on an outlined object
-    where their rims touch farther out (a 150 px antler: 24-59 px of
-    background enclosed). Their anti-aliased rims still join the slit to the
-    background around the object at the alpha <= 0.98 level, so
-    :func:`_small_holes` does not see it. Pockets wider than that (a finger
-    bent into a loop) and pockets lined with flesh (an object with no
-    outline: the slit is all that keeps the two parts apart) stay open.
-    Without ``rgb`` (straight colours) the lining is not looked at.
-    """
-    obj = alpha > 0.5
-    rs, cs = np.nonzero(obj)
-    if not len(rs):
-        return None
-    r0, r1, c0, c1 = rs.min(), rs.max() + 1, cs.min(), cs.max() + 1
-    lab, n = ndi.label(~obj[r0:r1, c0:c1])
-    if n == 0:
-        return None
-    sizes = np.bincount(lab.ravel())
-    edge = np.unique(np.concatenate([lab[0], lab[-1], lab[:, 0], lab[:, -1]]))
-    cand = sizes <= _CRACK * (2.0 * float(width) + 2.0) ** 2
-    cand[0] = False
-    cand[edge] = False
-    if not cand.any():
-        return None
-    depth = ndi.distance_transform_edt(lab > 0)
-    widest = np.asarray(ndi.maximum(depth, lab, index=np.arange(len(sizes))))
-    cand &= widest <= float(width) + _SLIT
-    if not cand.any():
-        return None
-    a = alpha[r0:r1, c0:c1]
-    if rgb is not None:
-        lum = rgb[r0:r1, c0:c1] @ np.array([0.299, 0.587, 0.114], np.float32)
-        inner = ndi.distance_transform_edt(obj[r0:r1, c0:c1]) > float(width) + 2.0
-        if not inner.any():
-            return None
-        flesh = float(np.median(lum[inner]))
-    out = np.zeros(alpha.shape, bool)
-    for i in np.flatnonzero(cand):
-        slit = lab == i
-        if rgb is not None:
-            # (the silhouette's pixels round it, half-transparent ones too: on a small
-            # object the one-pixel ink lining is the anti-aliased rim itself)
-            lining = ndi.binary_dilation(slit, structure=np.ones((3, 3), bool), iterations=2) & obj[r0:r1, c0:c1]
-            if not lining.any() or float(np.percentile(lum[lining], 25)) > flesh - _LINED:
-                continue
-        slit |= ndi.binary_dilation(slit, structure=np.ones((3, 3), bool)) & (a <= 0.98)
-        out[r0:r1, c0:c1] |= slit
-    return out if out.any() else None
-
-
 @_on_object_box("source_alpha", "zones", "depth")
 def fill_pinholes(layer: np.ndarray, width: float = 1.0, *, slits: bool = False,
                   outlined: bool = False, zones: np.ndarray | None = None,
@@ -403,7 +337,7 @@ def fill_pinholes(layer: np.ndarray, width: float = 1.0, *, slits: bool = False,
     part meets its parent's cut end (faint light dashes across the object).
     With ``slits``, narrow background pockets enclosed at the silhouette's
     level (alpha > 0.5) are filled too, with their anti-aliased rims
-    (:func:`_enclosed_slits`: a slit closed off between a new tine and its
+    (:mod:`~branchnb.strokes.slits`: a slit closed off between a new tine and its
     neighbour, background enclosed by the object). Pinholes take the colour
     of the nearest opaque pixel; a slit's open pixels that of the nearest
     pixel of the silhouette (alpha > 0.5: its lining), and its anti-aliased
@@ -461,82 +395,36 @@ def fill_pinholes(layer: np.ndarray, width: float = 1.0, *, slits: bool = False,
     """
     solid = layer[..., 3] > 0.98
     hole = _small_holes(solid, width, layer[..., 3])
-    eight = np.ones((3, 3), bool)
-    torn = None
-    if slits and not outlined and depth is not None:
-        every = _enclosed_slits(layer[..., 3], width)
-        if every is not None:
-            lab, n = ndi.label(every, structure=eight)
-            lining = ndi.binary_dilation(every, structure=eight, iterations=2) & ~every & (layer[..., 3] > 0.5)
-            # (each lining pixel to its slit: the label of the nearest slit pixel)
-            _, (iy, ix) = ndi.distance_transform_edt(lab == 0, return_indices=True)
-            near_lab = lab[iy, ix]
-            med = ndi.median(depth, np.where(lining, near_lab, 0), index=np.arange(1, n + 1))
-            deep = np.r_[False, np.asarray(med, float) > float(width) + 2.0]
-            torn = deep[lab] & every
-            torn = torn if torn.any() else None
-    slits = _enclosed_slits(layer[..., 3], width, None if outlined else layer[..., :3]) if slits else None
-    if slits is not None and not outlined and zones is not None:
-        lab, _ = ndi.label(slits, structure=eight)
-        slits = np.isin(lab, np.unique(lab[zones & slits])) & slits
-        slits = slits if slits.any() else None
-    if torn is not None and slits is not None:
-        torn &= ~slits
-    own = None
-    if (slits is not None or torn is not None) and source_alpha is not None:
-        own = _enclosed_slits(source_alpha, width)
-    if own is not None:
-        near = None
-        if own.shape == layer.shape[:2]:
-            near = ndi.binary_dilation(own, iterations=int(np.ceil(2.0 * float(width) + 2.0)))
-
-        def not_own(m):
-            if m is None or near is None:
-                return None
-            lab, _ = ndi.label(m, structure=eight)
-            m = np.isin(lab, np.unique(lab[near]), invert=True) & m
-            return m if m.any() else None
-        slits, torn = not_own(slits), not_own(torn)
+    lined, torn = (None, None)
+    if slits:
+        lined, torn = _select_slits(layer, width, outlined=outlined, zones=zones, depth=depth,
+                                    source_alpha=source_alpha)
+    again = lined is not None or torn is not None
+    if outlined and lined is not None:
+        # (an outlined object: filled like pinholes, the lining repainted by the caller)
+        torn = lined if torn is None else torn | lined
+        lined = None
     if torn is not None:
         # (filled like a pinhole: its nearest opaque pixel's colour, the flesh round it)
         hole = torn if hole is None else hole | torn
-    if slits is not None and hole is not None:
-        hole &= ~slits
+    if lined is not None and hole is not None:
+        hole &= ~lined
         hole = hole if hole.any() else None
-    if hole is None and slits is None:
+    if hole is None and lined is None:
         return layer
     out = layer.copy()
-    g = int(np.ceil(2.0 * float(width) + 2.0)) + 1
-    # a pinhole takes its nearest opaque pixel's colour; a slit's open pixels their nearest
-    # pixel of the silhouette's (its lining: the ink of a thin outline is the anti-aliased
-    # rim, half transparent), and that rim is made opaque as it is
-    again = slits is not None or torn is not None
-    if slits is not None and outlined:
-        # (an outlined object: filled like pinholes, the lining repainted by the caller)
-        hole = slits if hole is None else hole | slits
-        slits = None
-    for fill, src in ((hole, solid), (slits, None)):
-        if fill is None:
-            continue
-        if src is None:
-            fill = fill & (layer[..., 3] <= 0.5)
-            src = layer[..., 3] > 0.5
-            out[slits & src, 3] = 1.0
-        rs, cs = np.nonzero(fill)
+    if hole is not None:
+        rs, cs = np.nonzero(hole)
+        g = int(np.ceil(2.0 * float(width) + 2.0)) + 1
         r0, r1 = max(rs.min() - g, 0), rs.max() + g + 1
         c0, c1 = max(cs.min() - g, 0), cs.max() + g + 1
-        sub, hs = src[r0:r1, c0:c1] & ~fill[r0:r1, c0:c1], fill[r0:r1, c0:c1]
+        sub, hs = solid[r0:r1, c0:c1], hole[r0:r1, c0:c1]
         _, (ir, ic) = ndi.distance_transform_edt(~sub, return_indices=True)
         win = out[r0:r1, c0:c1]
         win[hs, :3] = layer[r0:r1, c0:c1][ir[hs], ic[hs], :3]
         win[hs, 3] = 1.0
-        if src is not solid:
-            # the middle of a slit wider than 2 px takes the flesh beyond the lining (two
-            # outlined parts touching, each with its own outline; not a band of ink)
-            mid = hs & (ndi.distance_transform_edt(hs) > 1.0)
-            if mid.any():
-                _, (jr, jc) = ndi.distance_transform_edt(~solid[r0:r1, c0:c1], return_indices=True)
-                win[mid, :3] = layer[r0:r1, c0:c1][jr[mid], jc[mid], :3]
+    if lined is not None:
+        _fill_lined(out, layer, lined, width)
     if again:
         # (a filled slit can close off half-transparent pixels beside it: pinholes now)
         out = fill_pinholes(out, width)

@@ -35,6 +35,7 @@ from .outline import (
 from .overlays import _overlaid_parts, _solid_cracks
 from .parts import place_part, rigid_frame
 from .sampling import choose, pair_energies
+from .slits import _joint_zones
 
 __all__ = ["compose_patches"]
 
@@ -301,23 +302,6 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
         layer=layer, labels=comp.labels, samples=samples, pairs=attached, junctions=junctions,
         radius=patches.radius, source_region=source_region & index.object,
         params=dataclasses.replace(params), auto=dict(patches._auto))
-
-
-def _joint_zones(shape, disks, width: float) -> np.ndarray:
-    """Pixels within twice the joint disks' radii + 4 px + the outline's width of their
-    centres (where a slit closed off between a new child and its neighbour starts)."""
-    zones = np.zeros(shape, bool)
-    h, w = shape
-    for centre, _inv, r, *_ in disks:
-        g = 2.0 * float(r) + 4.0 + float(width)
-        cx, cy = float(centre[0]), float(centre[1])
-        r0, r1 = max(int(cy - g), 0), min(int(cy + g) + 2, h)
-        c0, c1 = max(int(cx - g), 0), min(int(cx + g) + 2, w)
-        if r0 >= r1 or c0 >= c1:
-            continue
-        yy, xx = np.mgrid[r0:r1, c0:c1]
-        zones[r0:r1, c0:c1] |= (xx - cx) ** 2 + (yy - cy) ** 2 <= g * g
-    return zones
 
 
 #: A patch pixel lands at most this share of the patch radius (and 2 px) farther from or nearer
