@@ -7,10 +7,10 @@ px wide (truth: coverage >= 0.5). The user draws radius-1 strokes over the
 middle of the midrib(s) and three laterals, and one blade blob.
 
 Before (main at ea60042, seeds 0 / 1): strip 96 px IoU 0.49 / 0.50, strip
-128 px 0.64 / 0.91, lobed 96 px 0.67 / 0.68. After: strip 0.81 / 0.65 and
-0.82 / 0.90, lobed 0.83 / 0.83 (``_lines._plain_level``'s far-blade level,
-the blade scribbles' level in ``_line_channel``, ``layers._on_layer``'s
-split ring and two-group stroke).
+128 px 0.64 / 0.91, lobed 96 px 0.67 / 0.68. After: strip 0.63 / 0.65 and
+0.81 / 0.81, lobed 0.85 / 0.86 (``_lines._plain_level``'s far-blade level
+on a flat blade, the blade scribbles' level in ``_line_channel``,
+``layers._on_layer``'s split ring).
 """
 
 import cv2
