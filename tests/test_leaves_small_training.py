@@ -64,7 +64,8 @@ def _leaf(kind, S, seed, contrast=0.6):
             for sgn in (-1, 1):
                 wy = hw * (1 + 0.25 * y) * np.sqrt(max(0.0, 1 - y * y))
                 xs = np.linspace(0, 0.9, 15)
-                q = np.stack([c[0] + sgn * xs * wy, c[1] + y * hl + sgn * 0.04 * hl - xs * 0.5 * hw - 0.2 * hw * xs**2], 1)
+                q = np.stack([c[0] + sgn * xs * wy,
+                              c[1] + y * hl + sgn * 0.04 * hl - xs * 0.5 * hw - 0.2 * hw * xs**2], 1)
                 lines.append((q, 1, False))
     else:
         L, hw = S * rng.uniform(0.42, 0.46), S * rng.uniform(0.09, 0.11)
@@ -140,7 +141,8 @@ def test_small_leaves_induce_unbroken_veins():
     from branchnb.leaves import analyze
 
     fam = [_leaf("lobed", 128, s) for s in range(3)]
-    a = analyze([np.dstack([f[0], f[1].astype(np.float32)]) for f in fam], 0, _strokes(fam[0][3], fam[0][1], fam[0][2], 0))
+    a = analyze([np.dstack([f[0], f[1].astype(np.float32)]) for f in fam], 0,
+                _strokes(fam[0][3], fam[0][1], fam[0][2], 0))
     for i in (1, 2):
         img, blade, veins, lines = fam[i]
         m = np.asarray(a.layers[0].masks[i], bool)
