@@ -171,6 +171,78 @@ def _small_frame_lead(end_r: np.ndarray, frame_d: np.ndarray, pts: np.ndarray, r
 SMALL_LEAD = 1.5
 
 
+#: On a small example a frame end's thickness is read along its line from this many median radii
+#: plus :data:`INSIDE_FADE` px past it (:func:`_inside_radius`) ...
+INSIDE_FROM = 2.0
+#: ... (the last pixels before the border, where the filters' responses fade: the half-contrast radius
+#: of a 6-px river read 0.5-0.9 px within 8 px of the frame of a 160 px map, 2.4-2.7 px beyond) ...
+INSIDE_FADE = 8.0
+#: ... over this many more median radii (plus 8 px).
+INSIDE_SPAN = 4.0
+#: Frame ends whose lines are within this factor as thick as the thickest frame end's are a tie,
+#: which the forks decide (:func:`_small_frame_entry`).
+SMALL_TIE = 1.25
+
+
+def _inside_radius(g, ends: np.ndarray, r: np.ndarray, r_med: float) -> np.ndarray:
+    """How thick the line is just inside each end: the median radius of the nodes between
+    ``INSIDE_FROM r_med + INSIDE_FADE`` and that plus ``INSIDE_SPAN r_med + 8`` pixels along the
+    skeleton from it (of all the nodes within that reach when none is that far: a short spur)."""
+    a = INSIDE_FROM * r_med + INSIDE_FADE
+    b = a + INSIDE_SPAN * r_med + 8.0
+    dist = csgraph.dijkstra(g, directed=False, indices=ends, limit=b)
+    out = np.empty(len(ends))
+    for i, d in enumerate(np.atleast_2d(dist)):
+        near = np.isfinite(d)
+        band = near & (d >= a)
+        out[i] = float(np.median(r[band] if band.any() else r[near]))
+    return out
+
+
+def _small_frame_entry(g, deg: np.ndarray, cand: np.ndarray, members: np.ndarray, pts: np.ndarray,
+                       r: np.ndarray, frame_d: np.ndarray) -> int | None:
+    """On a small example, the frame end (within :data:`SMALL_FRAME` px) where the thickest line
+    enters, read just inside the frame (:func:`_inside_radius`); ``None`` when no frame end's line is
+    at least :data:`ENTRY_SHARE` x as thick as the piece's median radius (only tapering tips leave),
+    or when at least :data:`SMALL_VOTES` forks are there and more of them point away from every such
+    end than to it (lines spreading from inside, their tips leaving the frame).
+
+    Beyond the paper (issue 23): traced up to the frame (:mod:`.small_frames`), a line's last pixels
+    lie where the ridge mask fades against the border, so the radius *at* a frame end says little:
+    a 6-px river entering a 160 px map read 0.5 px there, thinner than its tributaries' tips, and the
+    map was rooted at a tributary's source 41 px inside; a 96 px river's trunk and a tributary both
+    leaving the frame read alike (1.74 px) and the first in pixel order won; a 256 px map of 2-px
+    black rivers was rooted at a tip inside, where two lines overlap in a blob twice as thick as
+    they are. Inside the frame the trunk is the thicker line, and a line entering is no tapering tip.
+    Frame ends within :data:`SMALL_TIE` x of the thickest are decided by the forks, as
+    :func:`_frame_outlet` does (the arm toward the outlet runs opposite the two others), then by
+    thickness.
+    """
+    at = np.flatnonzero(frame_d <= SMALL_FRAME)
+    if not len(at):
+        return None
+    r_med = float(np.median(r[members]))
+    inside = _inside_radius(g, cand[at], r, r_med)
+    ok = inside >= ENTRY_SHARE * r_med
+    if not ok.any():
+        return None
+    at, inside = at[ok], inside[ok]
+    votes = _junction_trunk_arms(g, deg, members, pts, 6.0 * r_med + 8.0)
+    score = np.zeros(len(at))
+    if votes:
+        dist = csgraph.dijkstra(g, directed=False, indices=cand[at])
+        for arms, trunk in votes:
+            score += np.where(np.argmin(dist[:, arms], axis=1) == trunk, 1.0, -1.0)
+        if len(votes) >= SMALL_VOTES and score.max() < 0:
+            return None
+    tied = np.flatnonzero(inside * SMALL_TIE >= float(inside.max()))
+    return int(cand[at[tied[np.lexsort((-inside[tied], -score[tied]))[0]]]])
+
+
+#: ... the forks overrule the thickness from this many clear forks on (:func:`_junction_trunk_arms`).
+SMALL_VOTES = 3
+
+
 #: On small examples an end within this many pixels of the frame is on it (see :func:`_small_frame_key`).
 SMALL_FRAME = ENTRY_FRAME
 
@@ -620,6 +692,10 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
                     # others (a drawn root system's trunks among its thin roots; an end is as thick as the
                     # line stays near it, not as the V where two lines meet at the frame), that meet the
                     # frame drain there
+                    if small and (lead := _small_frame_entry(g, deg, cand, members, pts_full, r_full,
+                                                             border_dist[ys[cand], xs[cand]] / scale)) is not None:
+                        roots.append(lead)
+                        continue
                     if small and (lead := _small_frame_lead(-key, border_dist[ys[cand], xs[cand]] / scale, pts_full,
                                                             r_full, cand, members)) is not None:
                         roots.append(lead)
