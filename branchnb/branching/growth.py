@@ -140,12 +140,18 @@ def _min_branches(model: StructureModel) -> tuple[int, float]:
     Beyond the paper (issue 23): on a small example (a 128 px river map: a 100 px trunk and
     tributaries of 17-62 px) the coverage of the example's domain is reached by a trunk and one
     child (the trunk ran on past the example's, to the far side of the frame), and the output was a
-    line with one side branch where the example has a trunk with two or three. A larger example's
-    output has far more branches than this when its coverage is reached. Spurs (shorter than
-    :data:`MIN_BRANCH_SHARE` x the longest branch) are not counted, in the example or in the output.
+    line with one side branch where the example has a trunk with two or three. Small examples only
+    (long side <= :data:`~.small_frames.SMALL_SIDE` px, else ``(0, 0.0)``): a larger example's output
+    has far more branches when its coverage is reached, and its first fill round may still come with
+    fewer than three (a 512 px crack's did: starting children before re-opening tips then gave 21
+    branches instead of 29), so larger examples are left as they were. Spurs (shorter than :data:`MIN_BRANCH_SHARE` x the
+    longest branch) are not counted, in the example or in the output.
     """
+    from .small_frames import SMALL_SIDE
+
+    shape = model.example.image_shape
     lengths = np.asarray([b.length for b in model.example.branches], np.float64)
-    if not len(lengths):
+    if not len(lengths) or shape is None or max(shape) > SMALL_SIDE:
         return 0, 0.0
     need = MIN_BRANCH_SHARE * float(lengths.max())
     return int(min(MIN_BRANCHES, int(np.sum(lengths >= need)))), need
@@ -441,21 +447,20 @@ class _Grower(_Starts, _Filling):
         if self.total_length >= self.max_total - 1e-6:  # tolerance: summation order
             self.stop_reason = "total length"
         elif self.density is not None and self.coverage_target < 1 and \
-                self._enough_branches() and self.density.coverage() >= self.coverage_target:
+                self.density.coverage() >= self.coverage_target and self._enough_branches():
             self.stop_reason = "density (coverage)"
         return bool(self.stop_reason)
 
     def _enough_branches(self) -> bool:
-        """Whether :attr:`min_branches` branches have grown at least the example's spur length past
-        their head (:func:`_min_branches`); once true, true (branches only grow)."""
+        """Whether :attr:`min_branches` branches have grown (a Markov step at least) to the example's
+        spur length (:func:`_min_branches`); once true, true (branches only grow)."""
         if self.min_branches <= 0:
             return True
         if len(self.branches) < self.min_branches:
             return False
-        # a child starts as a copied head of m elements, and a head never grown is dropped at the end
-        # (filling._drop_unborn): only what Markov steps grew past the head counts
-        h = self.p.h
-        need = self._min_branch_len + (self.p.m * h)
+        # a head never grown is dropped at the end (filling._drop_unborn): a child counts once it took a
+        # Markov step
+        h, need = self.p.h, self._min_branch_len
         grown = sum(not st.unborn and (st.parent is None or bool(st.src)) and (len(st.points) - 1) * h >= need
                     for st in self.branches)
         if grown >= self.min_branches:

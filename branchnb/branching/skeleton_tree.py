@@ -63,10 +63,14 @@ def _end_radius(pts: np.ndarray, r: np.ndarray, ends: np.ndarray, members: np.nd
     return np.maximum(out, r[ends])
 
 
-#: ``root="auto"`` on a piece not of one width: ends within this many pixels of the frame, at least
+#: ``root="auto"`` on a piece not of one width: ends within this many pixels (plus :data:`ENTRY_RADII` x
+#: their radius) of the frame, at least
 #: :data:`ENTRY_SHARE` x as thick as the piece's thickest end and :data:`ENTRY_RATIO` x its median
 #: radius, are where it enters the frame: each roots a tree (:func:`_frame_entries`).
 ENTRY_FRAME = 4.0
+#: ... plus this many times the end's radius: a thick line's medial axis stops about a radius short
+#: of the frame that cuts it (beyond the paper, issue 23; a thin interior end stays off the frame).
+ENTRY_RADII = 1.0
 ENTRY_SHARE = 0.75
 ENTRY_RATIO = 2.0
 
@@ -95,7 +99,8 @@ def _even_ends(end_r: np.ndarray, pts: np.ndarray, r: np.ndarray, ends: np.ndarr
 
 
 def _frame_entries(cand: np.ndarray, end_r: np.ndarray, frame_d: np.ndarray, pts: np.ndarray,
-                   r_med: float, r: np.ndarray | None = None, members: np.ndarray | None = None) -> list[int]:
+                   r_med: float, r: np.ndarray | None = None, members: np.ndarray | None = None,
+                   radii: float = ENTRY_RADII) -> list[int]:
     """The ends of a piece where thick lines enter the frame, thickest first, each farther than
     4 x its radius from the ones before (empty when none).
 
@@ -110,11 +115,16 @@ def _frame_entries(cand: np.ndarray, end_r: np.ndarray, frame_d: np.ndarray, pts
     thick near the end (:func:`_held_radius` at least :data:`ENTRY_RATIO` x ``r_med``): two lines of
     one width meeting at the frame in a V make a blob there whose largest radius is twice theirs
     (a crossing river network was rooted at such a V on its far side).
+
+    ``radii``: an end lies at the frame within ``ENTRY_FRAME + radii x`` its radius (0 on small
+    examples, whose lines :mod:`.small_frames` traced up to the frame: a fork's blob a radius inside
+    is no entry there).
     """
     if not len(cand):
         return []
     top = float(end_r.max())
-    ok = (frame_d <= ENTRY_FRAME) & (end_r >= ENTRY_SHARE * top) & (end_r >= ENTRY_RATIO * r_med)
+    ok = (frame_d <= ENTRY_FRAME + radii * end_r) & (end_r >= ENTRY_SHARE * top) & \
+        (end_r >= ENTRY_RATIO * r_med)
     if r is not None and members is not None and ok.any():
         idx = np.flatnonzero(ok)
         ok[idx] = _held_radius(pts, r, cand[idx], members) >= ENTRY_RATIO * r_med
@@ -201,11 +211,12 @@ def _inside_radius(g, ends: np.ndarray, r: np.ndarray, r_med: float) -> np.ndarr
 
 def _small_frame_entry(g, deg: np.ndarray, cand: np.ndarray, members: np.ndarray, pts: np.ndarray,
                        r: np.ndarray, frame_d: np.ndarray) -> int | None:
-    """On a small example, the frame end (within :data:`SMALL_FRAME` px) where the thickest line
-    enters, read just inside the frame (:func:`_inside_radius`); ``None`` when no frame end's line is
-    at least :data:`ENTRY_SHARE` x as thick as the piece's median radius (only tapering tips leave),
-    or when at least :data:`SMALL_VOTES` forks are there and more of them point away from every such
-    end than to it (lines spreading from inside, their tips leaving the frame).
+    """On a small example (on a larger one when :func:`_frame_outlet` finds none), the frame end
+    (within :data:`SMALL_FRAME` px) where the thickest line enters, read just inside the frame
+    (:func:`_inside_radius`); ``None`` when no frame end's line is at least :data:`ENTRY_SHARE` x as
+    thick as the piece's median radius (only tapering tips leave), or when at least :data:`SMALL_VOTES`
+    forks are there and more of them point away from every such end than to it (lines spreading from
+    inside, their tips leaving the frame).
 
     Beyond the paper (issue 23): traced up to the frame (:mod:`.small_frames`), a line's last pixels
     lie where the ridge mask fades against the border, so the radius *at* a frame end says little:
@@ -213,7 +224,8 @@ def _small_frame_entry(g, deg: np.ndarray, cand: np.ndarray, members: np.ndarray
     map was rooted at a tributary's source 41 px inside; a 96 px river's trunk and a tributary both
     leaving the frame read alike (1.74 px) and the first in pixel order won; a 256 px map of 2-px
     black rivers was rooted at a tip inside, where two lines overlap in a blob twice as thick as
-    they are. Inside the frame the trunk is the thicker line, and a line entering is no tapering tip.
+    they are (and a 512 px one, whose four forks split two for the frame end, two against). Inside the
+    frame the trunk is the thicker line, and a line entering is no tapering tip.
     Frame ends within :data:`SMALL_TIE` x of the thickest are decided by the forks, as
     :func:`_frame_outlet` does (the arm toward the outlet runs opposite the two others), then by
     thickness.
@@ -682,7 +694,8 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
                     even = hi <= 1.5 * lo or hi - lo <= 1.0
                     entries = _frame_entries(cand, -key, border_dist[ys[cand], xs[cand]] / scale,
                                              pts_full, float(np.median(r_full[members])),
-                                             r_full if even else None, members if even else None)
+                                             r_full if even else None, members if even else None,
+                                             0.0 if small else ENTRY_RADII)
                     entries = _one_per_line(entries, g, r_full, -key[np.isin(cand, entries)].min()
                                             if entries else 0.0)
                     if entries:
@@ -705,6 +718,14 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
                             g, deg, cand, members, pts_full, r_full, border_dist[ys[cand], xs[cand]] / scale)) \
                             is not None:
                         roots.append(outlet)
+                        continue
+                    # larger examples too: a line of one width entering at the frame whose few forks
+                    # do not agree (a 512 px map of 2-px black rivers: 2 of 4 forks for the outlet) was
+                    # rooted at a blob of overlapping lines inside (_small_frame_entry)
+                    if not small and (lead := _small_frame_entry(g, deg, cand, members, pts_full, r_full,
+                                                                 border_dist[ys[cand], xs[cand]] / scale)) \
+                            is not None:
+                        roots.append(lead)
                         continue
                     if small:
                         key = _small_frame_key(key, border_dist[ys[cand], xs[cand]] / scale)
