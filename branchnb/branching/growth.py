@@ -144,8 +144,8 @@ def _min_branches(model: StructureModel) -> tuple[int, float]:
     (long side <= :data:`~.small_frames.SMALL_SIDE` px, else ``(0, 0.0)``): a larger example's output
     has far more branches when its coverage is reached, and its first fill round may still come with
     fewer than three (a 512 px crack's did: starting children before re-opening tips then gave 21
-    branches instead of 29), so larger examples are left as they were. Spurs (shorter than :data:`MIN_BRANCH_SHARE` x the
-    longest branch) are not counted, in the example or in the output.
+    branches instead of 29), so larger examples are left as they were. Spurs (shorter than
+    :data:`MIN_BRANCH_SHARE` x the longest branch) are not counted, in the example or in the output.
     """
     from .small_frames import SMALL_SIDE
 
