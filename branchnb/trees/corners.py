@@ -49,6 +49,10 @@ CORNER_SMOOTH = 0.006
 CORNER_SPAN = 0.025
 #: Least turning angle of a corner, degrees.
 CORNER_ANGLE = 50.0
+#: Least smoothing of a pixel-art contour, share of its art-pixel size (one stair-step).
+GRAIN_SMOOTH = 0.7
+#: Least half-window of the turning angle on pixel art, art pixels.
+GRAIN_SPAN = 2.0
 #: Largest shift (share of the crown's arc length) between two matched corners.
 MATCH_SHIFT = 0.12
 
@@ -58,18 +62,21 @@ def _crown_range(n: int, pins: tuple[int, int, int]) -> tuple[int, int]:
     return int(ir), int(il)
 
 
-def _contour_corners(contour: np.ndarray, pins: tuple[int, int, int]) -> tuple[np.ndarray, np.ndarray]:
+def _contour_corners(contour: np.ndarray, pins: tuple[int, int, int],
+                     grain: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
     """Corners on the crown ``R -> L`` of a resampled contour: their indices and signed turning
-    angles in degrees (> 0: a tip, turning with the contour; < 0: a notch)."""
+    angles in degrees (> 0: a tip, turning with the contour; < 0: a notch). ``grain``: the art-pixel
+    size (px) of pixel art, whose stair-steps are no corners (smoothing at least ``GRAIN_SMOOTH``
+    of it, chords at least ``GRAIN_SPAN`` of it)."""
     c = np.asarray(contour, np.float64)
     n = len(c)
     ir, il = _crown_range(n, pins)
     height = float(np.ptp(c[:, 1])) or 1.0
     step = np.hypot(*np.diff(c[ir:il + 1], axis=0).T)
     step = float(np.median(step[step > 0])) if np.any(step > 0) else 1.0
-    sigma = max(CORNER_SMOOTH * height / step, 0.5)
-    sm = np.stack([gaussian_filter1d(c[:, k], sigma, mode="wrap") for k in range(2)], axis=1)
-    d = max(2, int(round(CORNER_SPAN * height / step)))
+    sigma = max(CORNER_SMOOTH * height, GRAIN_SMOOTH * grain) / step
+    sm = np.stack([gaussian_filter1d(c[:, k], max(sigma, 0.5), mode="wrap") for k in range(2)], axis=1)
+    d = max(2, int(round(max(CORNER_SPAN * height, GRAIN_SPAN * grain) / step)))
     back = sm - np.roll(sm, d, axis=0)
     ahead = np.roll(sm, -d, axis=0) - sm
     cross = back[:, 0] * ahead[:, 1] - back[:, 1] * ahead[:, 0]
@@ -131,12 +138,12 @@ def _resample_crown(c: np.ndarray, ir: int, il: int, targets: np.ndarray, own: n
     return out
 
 
-def _corner_matched(contours, weights, pins: tuple[int, int, int]) -> list[np.ndarray]:
+def _corner_matched(contours, weights, pins: tuple[int, int, int], grains=None) -> list[np.ndarray]:
     """The contours re-sampled so that their matched crown corners share indices (module doc).
 
     ``contours``: resampled contours ``C_r`` with the same pin indices ``pins`` (B, R, L);
-    ``weights``: their shape weights. Contours come back unchanged (the same arrays) when no
-    corner is matched.
+    ``weights``: their shape weights; ``grains``: the art-pixel size of each (pixel art; None or
+    0: smooth art). Contours come back unchanged (the same arrays) when no corner is matched.
     """
     cs = [np.asarray(c, np.float64) for c in contours]
     w = np.asarray(weights, np.float64)
@@ -147,7 +154,8 @@ def _corner_matched(contours, weights, pins: tuple[int, int, int]) -> list[np.nd
     # Tips only: notches between the tips follow by arc length. Matching notches too reshaped
     # bumpy cartoon crowns (notches between round bumps, no tip) for no gain: clip-art rim
     # roughness 0.157 -> 0.169, outline q90/q10 4.87 -> 5.07.
-    found = [(i[t > 0], t[t > 0]) for i, t in (_contour_corners(c, pins) for c in cs)]
+    grains = [0.0] * len(cs) if grains is None else [float(g or 0.0) for g in grains]
+    found = [(i[t > 0], t[t > 0]) for i, t in (_contour_corners(c, pins, g) for c, g in zip(cs, grains, strict=True))]
     span = float(il - ir)
     ref = int(live[np.argmax(w[live])])
     ia, sa = found[ref]

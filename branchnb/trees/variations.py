@@ -477,8 +477,9 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     # outlined mixes: there the colours come by the cage alone and a palm's frond tips matched to
     # a conifer's tiers raised the cross-fade share of variations_of(palm) 0 -> 3.1 %.
     shapes = [exemplars[i].resampled for i in used]
-    if not inked:
-        shapes = _corner_matched(shapes, w[used], exemplars[0].contour.pin_indices)
+    grains = ([a.block * exemplars[i].normalized.scale for a, i in zip(_pixel_arts([exemplars[i] for i in used]), used)]
+              if pixel else None)
+    shapes = _corner_matched(shapes, w[used], exemplars[0].contour.pin_indices, grains)
     cr = combine_shapes(shapes, w[used])
     # C runs through the border pixel centres: grow the fill by one pixel so
     # the border pixels are coloured too (alpha comes from the samples).
