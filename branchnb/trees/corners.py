@@ -53,6 +53,8 @@ CORNER_ANGLE = 50.0
 GRAIN_SMOOTH = 0.7
 #: Least half-window of the turning angle on pixel art, art pixels.
 GRAIN_SPAN = 2.0
+#: Most flank bend (:func:`_flank_bend`, share of the height) of a polygonal crown.
+POLYGON_BEND = 0.01
 #: Largest shift (share of the crown's arc length) between two matched corners.
 MATCH_SHIFT = 0.12
 
@@ -97,6 +99,35 @@ def _contour_corners(contour: np.ndarray, pins: tuple[int, int, int],
     if found.size > 1:   # a flat-topped maximum: keep its first point
         found = found[np.concatenate([[True], np.diff(found) > d])]
     return found.astype(int), turn[found]
+
+
+def _flank_bend(contour: np.ndarray, pins: tuple[int, int, int], grain: float = 0.0) -> float:
+    """How far the crown ``R -> L`` bends off the straight lines between its corners (tips and
+    notches): the mean distance of its points to the chord of their stretch, as a share of the
+    tree's height. About 0.005 on polygonal crowns (firs, zig-zags, stars), several times that on
+    curved ones (a palm's arching fronds, round bumps)."""
+    c = np.asarray(contour, np.float64)
+    ir, il = int(pins[1]), int(pins[2])
+    idx, _ = _contour_corners(c, pins, grain)
+    knots = np.unique(np.concatenate([[ir], idx, [il]]))
+    height = float(np.ptp(c[:, 1])) or 1.0
+    dev = []
+    for a, b in zip(knots[:-1], knots[1:], strict=True):
+        p, q = c[a], c[b]
+        seg = c[a:b + 1]
+        d = q - p
+        n = float(np.hypot(*d))
+        if n < 1e-9:
+            dev.append(np.hypot(*(seg - p).T))
+        else:
+            dev.append(np.abs(d[0] * (seg[:, 1] - p[1]) - d[1] * (seg[:, 0] - p[0])) / n)
+    return float(np.mean(np.concatenate(dev))) / height
+
+
+def _polygonal(contours, pins: tuple[int, int, int], grains=None) -> bool:
+    """Every crown's flanks run straight between its corners (:data:`POLYGON_BEND`)."""
+    grains = [0.0] * len(contours) if grains is None else grains
+    return all(_flank_bend(c, pins, g or 0.0) <= POLYGON_BEND for c, g in zip(contours, grains, strict=True))
 
 
 def _match_corners(ua: np.ndarray, sa: np.ndarray, ub: np.ndarray, sb: np.ndarray,

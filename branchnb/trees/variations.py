@@ -51,7 +51,7 @@ from ..core.params import check_params, param
 from ..core.random import as_rng
 from ..core.validate import Int, Seq, checked
 from .contour import simplify_contour
-from .corners import _corner_matched
+from .corners import _corner_matched, _polygonal
 from .flat_art import (
     FLAT_ART_SHARE,
     _drawing_group,
@@ -479,7 +479,9 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     shapes = [exemplars[i].resampled for i in used]
     grains = ([a.block * exemplars[i].normalized.scale for a, i in zip(_pixel_arts([exemplars[i] for i in used]), used)]
               if pixel else None)
-    shapes = _corner_matched(shapes, w[used], exemplars[0].contour.pin_indices, grains)
+    pins = exemplars[0].contour.pin_indices
+    if pixel or not inked or _polygonal([s_ for s_, wi in zip(shapes, w[used], strict=True) if wi > 0], pins):
+        shapes = _corner_matched(shapes, w[used], pins, grains)
     cr = combine_shapes(shapes, w[used])
     # C runs through the border pixel centres: grow the fill by one pixel so
     # the border pixels are coloured too (alpha comes from the samples).
