@@ -428,8 +428,11 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     middle of a flank: with the paper's arc-length correspondence mixes of
     tiered firs and zig-zag crowns turned their sharp tips into round lumps.
     Crowns without tips (round ones) keep the paper's correspondence, and so
-    do outlined and pixel-art mixes (coloured by the cage alone, where a
-    palm's frond tips matched to a conifer's tiers raised the cross-fade).
+    do outlined mixes of curved crowns (flanks bending off the lines between
+    their corners, :func:`~branchnb.trees.corners._flank_bend`: a palm's
+    frond tips matched to a conifer's tiers raised the cross-fade); outlined
+    polygonal crowns and pixel art (corners at the art-pixel grain, so
+    stair-steps are no corners) are matched too.
     ``python -m branchnb.trees._measure_corners`` measures it.
 
     Beyond the paper: when every mixed exemplar is pixel art (hard edges,
@@ -473,9 +476,10 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     pixel = mode == "choose" and len(used) > 1 and _pixel_arts([exemplars[i] for i in used]) is not None
     # Outlined and pixel-art mixes are coloured without the rim correction (below).
     inked = pixel or any(_drawing_group(exemplars[i]) & 1 for i in used)
-    # Beyond the paper: matched crown tips share an index, so tips meet tips (corners.py). Not on
-    # outlined mixes: there the colours come by the cage alone and a palm's frond tips matched to
-    # a conifer's tiers raised the cross-fade share of variations_of(palm) 0 -> 3.1 %.
+    # Beyond the paper: matched crown tips share an index, so tips meet tips (corners.py). On
+    # outlined mixes only when every crown is polygonal: a palm's frond tips matched to a
+    # conifer's tiers raised the cross-fade share of variations_of(palm) 0 -> 3.1 %, while outlined
+    # firs and stars lost their tips without it (tips per mix x0.00-0.82 -> x0.55-1.09 of the sources').
     shapes = [exemplars[i].resampled for i in used]
     grains = ([a.block * exemplars[i].normalized.scale for a, i in zip(_pixel_arts([exemplars[i] for i in used]), used)]
               if pixel else None)
