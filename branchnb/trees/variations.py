@@ -485,7 +485,8 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
               if pixel else None)
     pins = exemplars[0].contour.pin_indices
     if pixel or not inked or _polygonal([s_ for s_, wi in zip(shapes, w[used], strict=True) if wi > 0], pins):
-        shapes = _corner_matched(shapes, w[used], pins, grains)
+        shapes = (_corner_matched(shapes, w[used], pins) if grains is None
+                  else _corner_matched(shapes, w[used], pins, grains))
     cr = combine_shapes(shapes, w[used])
     # C runs through the border pixel centres: grow the fill by one pixel so
     # the border pixels are coloured too (alpha comes from the samples).
