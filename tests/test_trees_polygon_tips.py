@@ -93,7 +93,7 @@ def test_polygonal_crowns_bend_less_than_round_ones():
     tri = np.array([[100, 10], [30, 190], [170, 190]], float)
     seg = np.concatenate([tri[i] + np.linspace(0, 1, 667, endpoint=False)[:, None] * (tri[(i + 1) % 3] - tri[i])
                           for i in range(3)])[:2000]
-    assert _flank_bend(seg, (0, 50, 1950)) < 0.005
+    assert _flank_bend(seg, (0, 50, 1950)) < 0.003
     assert _flank_bend(circle, (0, 50, 1950)) > 0.05
 
 

@@ -53,8 +53,11 @@ CORNER_ANGLE = 50.0
 GRAIN_SMOOTH = 0.7
 #: Least half-window of the turning angle on pixel art, art pixels.
 GRAIN_SPAN = 2.0
+#: Least turning (degrees) of the corners a flank runs between in :func:`_flank_bend` (shallow
+#: corners too: the notches of a saw-toothed crown turn less than :data:`CORNER_ANGLE`).
+BEND_KNOT_ANGLE = 25.0
 #: Most flank bend (:func:`_flank_bend`, share of the height) of a polygonal crown.
-POLYGON_BEND = 0.01
+POLYGON_BEND = 0.006
 #: Largest shift (share of the crown's arc length) between two matched corners.
 MATCH_SHIFT = 0.12
 
@@ -65,7 +68,7 @@ def _crown_range(n: int, pins: tuple[int, int, int]) -> tuple[int, int]:
 
 
 def _contour_corners(contour: np.ndarray, pins: tuple[int, int, int],
-                     grain: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+                     grain: float = 0.0, angle: float = CORNER_ANGLE) -> tuple[np.ndarray, np.ndarray]:
     """Corners on the crown ``R -> L`` of a resampled contour: their indices and signed turning
     angles in degrees (> 0: a tip, turning with the contour; < 0: a notch). ``grain``: the art-pixel
     size (px) of pixel art, whose stair-steps are no corners (smoothing at least ``GRAIN_SMOOTH``
@@ -94,7 +97,7 @@ def _contour_corners(contour: np.ndarray, pins: tuple[int, int, int],
     if idx.size == 0:
         return np.zeros(0, int), np.zeros(0)
     win = np.lib.stride_tricks.sliding_window_view(np.pad(mag, d, mode="wrap"), 2 * d + 1)[idx]
-    peak = (mag[idx] >= CORNER_ANGLE) & (mag[idx] >= win.max(axis=1))
+    peak = (mag[idx] >= angle) & (mag[idx] >= win.max(axis=1))
     found = idx[peak]
     if found.size > 1:   # a flat-topped maximum: keep its first point
         found = found[np.concatenate([[True], np.diff(found) > d])]
@@ -103,12 +106,13 @@ def _contour_corners(contour: np.ndarray, pins: tuple[int, int, int],
 
 def _flank_bend(contour: np.ndarray, pins: tuple[int, int, int], grain: float = 0.0) -> float:
     """How far the crown ``R -> L`` bends off the straight lines between its corners (tips and
-    notches): the mean distance of its points to the chord of their stretch, as a share of the
-    tree's height. About 0.005 on polygonal crowns (firs, zig-zags, stars), several times that on
-    curved ones (a palm's arching fronds, round bumps)."""
+    notches turning at least :data:`BEND_KNOT_ANGLE`): the mean distance of its points to the chord
+    of their stretch, as a share of the tree's height. 0.0013-0.0043 on procedural and drawn
+    polygonal crowns (firs, saw-toothed and star crowns, poplars, drawn conifers), 0.008-0.34 on
+    curved ones (drawn palms' arching fronds, fruit trees, broadleaves, round and lobed crowns)."""
     c = np.asarray(contour, np.float64)
     ir, il = int(pins[1]), int(pins[2])
-    idx, _ = _contour_corners(c, pins, grain)
+    idx, _ = _contour_corners(c, pins, grain, BEND_KNOT_ANGLE)
     knots = np.unique(np.concatenate([[ir], idx, [il]]))
     height = float(np.ptp(c[:, 1])) or 1.0
     dev = []
