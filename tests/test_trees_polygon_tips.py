@@ -9,7 +9,7 @@ from scipy.ndimage import gaussian_filter1d
 from branchnb.trees.corners import _contour_corners, _flank_bend
 from branchnb.trees.library import TreeLibrary
 from branchnb.trees.pixel_art import _clean_blocks
-from branchnb.trees.sticker import _pen_cover, _sticker_border
+from branchnb.trees.sticker import _pen_cover, _sticker_border, _thin_ink
 
 INK = (0.06, 0.05, 0.05)
 
@@ -143,3 +143,18 @@ def test_sticker_pen_cover_reads_fractional_widths():
         b = _sticker_border(img)
         assert b is not None
         assert lo <= _pen_cover(img, b, np.asarray(INK, np.float32), pen + 2.0) <= hi
+
+
+def test_thin_sticker_outline_scaled_down_is_found():
+    # a 3 px pen on an 800 px sticker at 200 px: 0.75 px of ink blended with border and fill, which
+    # the outline measure does not call an outline
+    big = _sticker(800, 3, 12)
+    small = cv2.resize(big, (big.shape[1] // 4, big.shape[0] // 4), interpolation=cv2.INTER_AREA)
+    b = _sticker_border(small)
+    assert b is not None
+    ink = _thin_ink(small, b)
+    assert ink is not None and float(ink @ (0.299, 0.587, 0.114)) < 0.3
+    assert 0.5 <= _pen_cover(small, b, ink, 3.0) <= 1.5
+    bare = _sticker(200, 0, 5)                # no outline: nothing found
+    bare_b = _sticker_border(bare)
+    assert bare_b is not None and _thin_ink(bare, bare_b) is None

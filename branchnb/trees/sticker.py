@@ -145,8 +145,8 @@ def _stripped(exemplar, border: _StickerBorder):
     return exemplar._cages[key]
 
 
-#: A thin outline's rim pixels are at least this much darker (luminance) than the fill 2-4 px
-#: deeper, on at least THIN_SHARE of the rim, for a sticker's inner rim to count as outlined.
+#: A thin outline's pixels are at least this much darker (luminance) than the border and the fill
+#: beside them, next to at least THIN_SHARE of the first ring inside the border (:func:`_thin_ink`).
 THIN_DARKER = 0.08
 THIN_SHARE = 0.75
 
@@ -182,24 +182,29 @@ def _pen_cover(image: np.ndarray, border: _StickerBorder, ink: np.ndarray, limit
     return float(best_q[band & ~(np.linalg.norm(rgb - border.colour, axis=2) <= BORDER_TOL)].sum()) / float(first.sum())
 
 
-def _thin_ink(image: np.ndarray) -> np.ndarray | None:
-    """The ink of an outline too thin (blended with the fill) for the outline measure, or None: the
-    rim of a stripped sticker darker than what lies 2-4 px inside on most of it."""
-    alpha = image[..., 3] >= 0.5
+def _thin_ink(image: np.ndarray, border: _StickerBorder) -> np.ndarray | None:
+    """The ink of an outline too thin for the outline measure (blended with the border and the
+    fill once scaled down), or None: pixels from the border's inner edge to 2 px inside it darker
+    (luminance) by :data:`THIN_DARKER` than both the border and the fill nearest them, within
+    1 px of at least :data:`THIN_SHARE` of the first ring inside the border."""
+    img = np.asarray(image, np.float32)
+    alpha = img[..., 3] >= 0.5
     depth = _edt(alpha)
-    rim = alpha & (depth < 1.5)
-    if rim.sum() < 16:
+    w = border.width
+    lum = img[..., :3] @ _LUM
+    fill = alpha & (depth > w + 3.5)
+    first = alpha & (depth > w + 0.5) & (depth <= w + 1.5)
+    if first.sum() < 16 or not fill.any():
         return None
-    lum = image[..., :3] @ _LUM
-    deep = alpha & (depth >= 2.5) & (depth < 4.5)
-    if not deep.any():
+    _, (iy, ix) = ndi.distance_transform_edt(~fill, return_indices=True)
+    band = alpha & (depth > w - 1.0) & (depth <= w + 2.5)
+    dark = band & (lum <= np.minimum(lum[iy, ix], float(border.colour @ _LUM)) - THIN_DARKER)
+    if not dark.any():
         return None
-    _, (iy, ix) = ndi.distance_transform_edt(~deep, return_indices=True)
-    darker = lum[iy, ix] - lum >= THIN_DARKER
-    if float(darker[rim].mean()) < THIN_SHARE:
+    near = ndi.binary_dilation(dark, structure=np.ones((3, 3), bool))
+    if float(near[first].mean()) < THIN_SHARE:
         return None
-    dark = rim & darker
-    return np.median(image[..., :3][dark & (lum <= np.quantile(lum[dark], 0.25))], axis=0).astype(np.float32)
+    return np.median(img[..., :3][dark & (lum <= np.quantile(lum[dark], 0.25))], axis=0).astype(np.float32)
 
 
 def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights: np.ndarray,
@@ -239,8 +244,8 @@ def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights
     outl = [exemplar_outline(s) for s in stripped]
     # Outlines blended with the fill (thin pens scaled down) escape the outline measure: found
     # from the rim being darker than the fill inside it (beyond trees41).
-    thin = [None if o.outlined or b is None else _thin_ink(s.image)
-            for o, s, b in zip(outl, stripped, borders, strict=True)]
+    thin = [None if o.outlined or b is None else _thin_ink(e.image, b)
+            for o, e, b in zip(outl, exemplars, borders, strict=True)]
     outl = [SimpleNamespace(outlined=True, ink=t, width=1) if t is not None else o
             for o, t in zip(outl, thin, strict=True)]
     ons = [o.outlined for o in outl]
