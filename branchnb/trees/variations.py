@@ -484,7 +484,7 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     grains = ([a.block * exemplars[i].normalized.scale for a, i in zip(_pixel_arts([exemplars[i] for i in used]), used)]
               if pixel else None)
     pins = exemplars[0].contour.pin_indices
-    if pixel or not inked or _polygonal([s_ for s_, wi in zip(shapes, w[used], strict=True) if wi > 0], pins):
+    if pixel or not inked or _polygonal([c for c, wi in zip(shapes, w[used], strict=True) if wi > 0], pins):
         shapes = (_corner_matched(shapes, w[used], pins) if grains is None
                   else _corner_matched(shapes, w[used], pins, grains))
     cr = combine_shapes(shapes, w[used])
