@@ -562,10 +562,13 @@ def draw_in_style(style: DrawingStyle, structure: Structure, labels: np.ndarray)
     s = _to_outlets(structure, inside, style.outlet_reach, style.tip_reach, clear)
     radii = [b.thickness for b in s.branches]
     if style.taper is not None or style.tip_radius > 0:
-        from .drawn_taper import tapered_radii
+        from .drawn_taper import burrs, tapered_radii
 
         radii = tapered_radii(s, (h, w), style.taper, style.tip_radius)
-    drawn = [i for i, b in enumerate(s.branches) if len(b.points) >= 2]
+        skip = burrs(s, radii, style.width_scale)
+    else:
+        skip = np.zeros(len(s.branches), bool)
+    drawn = [i for i, b in enumerate(s.branches) if len(b.points) >= 2 and not skip[i]]
     pls = [s.branches[i].points for i in drawn]
     raw = [style.width_scale * 2 * np.asarray(radii[i], np.float64) for i in drawn]
     wid = [np.maximum(x, 1.0) for x in raw]

@@ -23,12 +23,16 @@ from scipy.spatial import cKDTree
 
 from ..core.structure import Structure
 
-__all__ = ["example_taper", "tapered_radii"]
+__all__ = ["burrs", "example_taper", "tapered_radii"]
 
 #: a child is a stub when it sticks out of its parent by less than this many of its radii
 STUB_RADII = 3.0
 #: the free end narrows over this many of its radii
 TIP_RADII = 3.0
+#: a child starts no thicker than its parent where it leaves (off: a thick child the synthesis grew off
+#: a thinner parent keeps its radius, tapering from there; on, a 4-px crack mask's output lost its
+#: thick lines)
+CHILD_BELOW_PARENT = False
 
 
 def _arc(points: np.ndarray) -> np.ndarray:
@@ -57,14 +61,19 @@ def _free_ends(structure: Structure, shape) -> np.ndarray:
     pts, own, rad = np.vstack(pts), np.concatenate(own), np.concatenate(rad)
     tree = cKDTree(pts)
     reach = float(rad.max()) + 1.5
+    length = np.array([b.length if len(b.points) > 1 else 0.0 for b in bs])
     for i, b in enumerate(bs):
         if len(b.points) < 2:
             continue
         x, y = np.asarray(b.points[-1], np.float64)
         if min(x, y, w - 1 - x, h - 1 - y) < 3:
             continue
+        # a child leaving at the very end continues the branch only when it is no stub itself
+        # (a 3-vertex twig at the end of a thick piece left that piece's end blunt)
+        short = STUB_RADII * float(b.thickness[-1])
         near = tree.query_ball_point((x, y), reach)
         hit = [j for j in near if own[j] != i and own[j] != b.parent
+               and not (bs[own[j]].parent == i and length[own[j]] < short)
                and np.hypot(*(pts[j] - (x, y))) <= rad[j] + 1.0]
         free[i] = not hit
     return free
@@ -78,11 +87,11 @@ def example_taper(structure: Structure, shape) -> tuple[float | None, float]:
     Examples
     --------
     >>> from branchnb.core.structure import Branch
-    >>> s = Structure([Branch(np.c_[np.linspace(10, 90, 20), np.full(20, 50.0)], np.linspace(3, 1, 20))
-    ...                for _ in range(3)])
+    >>> s = Structure([Branch(np.c_[np.linspace(10, 90, 20), np.full(20, y)], np.linspace(3, 1, 20))
+    ...                for y in (20.0, 50.0, 80.0)])
     >>> taper, tip = example_taper(s, (100, 100))
     >>> round(taper, 2), round(tip, 2)
-    (0.4, 1.0)
+    (0.41, 1.0)
     """
     ratios = []
     for b in structure.branches:
@@ -134,7 +143,8 @@ def tapered_radii(structure: Structure, shape, taper: float | None, tip: float) 
         if b.parent is not None and 0 <= b.parent < len(bs) and len(out[b.parent]):
             pr = out[b.parent]
             rp = float(pr[int(np.clip(b.parent_vertex or 0, 0, len(pr) - 1))])
-            r0 = min(r0, rp)
+            if CHILD_BELOW_PARENT:
+                r0 = min(r0, rp)
             # what shows beyond the parent's body: a short one is a twig, never a blunt tooth
             beyond = length - rp
             r = np.minimum(r, max(beyond / STUB_RADII, 0.5))
@@ -161,3 +171,35 @@ def _depth(bs, i: int) -> int:
         i = bs[i].parent
         d += 1
     return d
+
+
+def burrs(structure: Structure, radii: list, scale: float = 1.0) -> np.ndarray:
+    """Per branch: a leaf child (no children of its own) that shows less than 3 of its radii beyond its
+    parent's drawn body (``radii`` x ``scale``: the radii of :func:`tapered_radii` as drawn), a radius
+    below a pixel counting as one pixel and the parent's edge rasterized half a pixel out: a burr on its
+    parent's line (a comb's tooth), not a branch; :func:`~branchnb.branching.drawing.draw_in_style`
+    leaves it out.
+
+    Examples
+    --------
+    >>> from branchnb.core.structure import Branch
+    >>> s = Structure([Branch([(0, 10), (40, 10)], 1.0), Branch([(20, 10), (20, 13)], 0.5, 0, 1),
+    ...                Branch([(30, 10), (30, 20)], 0.5, 0, 1)])
+    >>> burrs(s, [b.thickness for b in s.branches]).tolist()
+    [False, True, False]
+    """
+    bs = structure.branches
+    has_kids = np.zeros(len(bs), bool)
+    for b in bs:
+        if b.parent is not None and 0 <= b.parent < len(bs):
+            has_kids[b.parent] = True
+    out = np.zeros(len(bs), bool)
+    for i, b in enumerate(bs):
+        if b.parent is None or has_kids[i] or len(b.points) < 2 or not 0 <= b.parent < len(bs):
+            continue
+        pr = np.asarray(radii[b.parent], np.float64)
+        if not len(pr):
+            continue
+        rp = scale * float(pr[int(np.clip(b.parent_vertex or 0, 0, len(pr) - 1))]) + 0.5
+        out[i] = b.length - rp < STUB_RADII * max(scale * float(np.max(radii[i])), 1.0)
+    return out
