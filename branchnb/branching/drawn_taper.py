@@ -157,8 +157,7 @@ def tapered_radii(structure: Structure, shape, taper: float | None, tip: float) 
             # the last 3 r narrow to the example's tip radius
             span = max(TIP_RADII * float(r[-1]), 1.0)
             left = length - s
-            ramp = tip + (r[-1] - tip) * np.clip(left / span, 0.0, 1.0)
-            r = np.minimum(r, ramp)
+            r = np.minimum(r, tip + (r - tip) * np.clip(left / span, 0.0, 1.0))
         out[i] = np.maximum(r, min(0.5, float(np.min(b.thickness))))
     return out
 
