@@ -517,6 +517,15 @@ def draw_in_style(style: DrawingStyle, structure: Structure, labels: np.ndarray)
     every branch with the line colour at ``width_scale * 2 r`` (at least one
     pixel, so no branch breaks into dots).
 
+    For a mask (``style.taper`` or ``style.tip_radius`` set) the radii are
+    first bounded by what the example shows (beyond the paper, issue 23;
+    :func:`~branchnb.branching.drawn_taper.tapered_radii`): each branch stays
+    under the example's end-to-start ramp and never ends more than twice as
+    thick as it starts, free ends narrow to the example's tip radius, short
+    children are drawn as thin twigs and leaf twigs showing less than three
+    radii beyond their parent are left out
+    (:func:`~branchnb.branching.drawn_taper.burrs`).
+
     Parameters
     ----------
     style : DrawingStyle
