@@ -12,16 +12,20 @@ then follows each branch from the wrong start, and the re-aim
 misplaced branches do not start.
 
 So the star is scored as a whole, the way its veins show on the exemplar: about every candidate
-junction within :data:`STAR_REACH` of the leaf size of the placed one, the mean oriented ridge score
-along rays (:func:`~branchnb.leaves.snapping_basal.ray_scores`, from :data:`STAR_R0` of the leaf size
-out to half each branch's length) is taken for every direction; the training star (its branches'
-angles about its midrib, :func:`~branchnb.leaves.snapping_basal.junction_star`) is turned through
-every angle within :data:`STAR_TURN` degrees of the placed midrib's, each branch taking the best ray
-within :data:`STAR_SLACK` degrees of its slot (a broad leaf's laterals open wider). The best
-(junction, turn) sums its branches' best rays. When that sum is at least :data:`STAR_RATIO` times the
-placed branches' own (each branch's ray from its own start along its own direction), every branch of
-the star is traced anew from the new junction along its ray (all together, so no two take one vein).
-A star already on its veins scores about its own sum and is left as it is.
+junction within :data:`STAR_REACH` of the leaf size of the placed one (and :data:`STAR_DEPTH` px inside
+the blade), the mean oriented ridge score along rays (:func:`~branchnb.leaves.snapping_basal.ray_scores`,
+from :data:`STAR_R0` of the leaf size out to half each branch's length, at least :data:`STAR_FLOOR` of
+the longest) is taken for every whole degree; the training star (its branches' angles about its
+midrib, :func:`~branchnb.leaves.snapping_basal.junction_star`) is turned through every angle within
+:data:`STAR_TURN` degrees of the placed midrib's and :data:`STAR_AXIS` of the leaf's axis, each branch
+taking the best ray within :data:`STAR_SLACK` degrees of its slot (a broad leaf's laterals open
+wider). The best (junction, turn) sums its branches' best rays. When that sum is at least
+:data:`STAR_RATIO` times the placed branches' own (each branch's ray from its own start along its own
+direction), the branches off their veins are traced anew from the new junction along their rays (all
+together, so no two take one vein; at least half way to the margin), and the branches already on a
+vein of their own (:data:`STAR_KEEP`) are joined to the new junction. A star already on its veins
+scores about its own sum and is left as it is. Only a whole star is re-seated (as many branches on
+either side of the midrib): one short of a branch fits as well one slot over.
 
 Measured: see :mod:`branchnb.leaves.snapping` (issue 22, ``_measure maples``).
 """
@@ -51,10 +55,13 @@ STAR_SLACK = 15.0
 
 #: A placed branch whose own ray scores at least this share of its new ray's (and that points along no
 #: other branch's new ray) is kept as placed, joined to the new junction.
-STAR_KEEP = 0.8
+STAR_KEEP = 0.9
 
 #: Candidate junctions lie at least this many px inside the blade.
 STAR_DEPTH = 2
+
+#: Rays are scored out to at least this share of the star's longest placed branch.
+STAR_FLOOR = 0.25
 
 #: Rays are scored from this share of the leaf size out (the junction's own blob is skipped).
 STAR_R0 = 0.06
@@ -139,9 +146,16 @@ def reseat_star(chains, star, maps, blade, *, overlap_px: float = 3.0, details: 
     ang_t = np.array([float(star["angles"][pos[i]]) for i in idx])
     mid = int(np.argmin(np.abs(ang_t)))
     rel = np.degrees(_wrap(ang_t - ang_t[mid]))
+    side = np.sign(np.delete(rel, mid))
+    if (side > 0).sum() != (side < 0).sum():
+        # A star short of a branch on one side (maple 06's trace has no left basal vein) fits as well one
+        # slot over, its midrib on a lateral (06 -> maple 07 0.67 -> 0.52): only a whole star is re-seated.
+        return out
     oriented = [_toward_out(out[i], jc) for i in idx]
     lengths = np.array([float(np.hypot(*np.diff(c, axis=0).T).sum()) for c, _ in oriented])
-    r1s = np.maximum(r0 + 4.0, 0.5 * lengths)
+    # A branch traced short on the training leaf (maple 07's lateral stops at its torn lobe) is scored
+    # over a quarter of the star's longest branch at least: near the junction every ridge looks alike.
+    r1s = np.maximum(r0 + 4.0, np.maximum(0.5 * lengths, STAR_FLOOR * lengths.max()))
     # The placed star's own score: each branch along its own first half, from its own start.
     dirs, owns = [], []
     for (c, _), r1 in zip(oriented, r1s):
@@ -198,6 +212,8 @@ def reseat_star(chains, star, maps, blade, *, overlap_px: float = 3.0, details: 
     moved = [k for k in range(len(idx))
              if owns[k] < STAR_KEEP * each[k]
              or any(abs(float(_wrap(dirs[k] - pk[j]))) < np.radians(RAY_APART) for j in range(len(idx)) if j != k)]
+    if details is not None:
+        details.update(owns=np.round(owns, 2).tolist(), each=np.round(each, 2).tolist())
     if not moved:
         return out
     # The moved branches traced anew from the new junction along their rays (together: no two on one
