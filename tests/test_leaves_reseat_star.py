@@ -87,8 +87,10 @@ def test_reseat_star_bad_input():
 def test_procedural_pinnate_leaves_induce_their_own_veins(size, n_lat, seed):
     """Midrib and 4-8 laterals, junctions and angles differing per leaf, defaults (TPS-RPM).
 
-    Measured (``/tmp``-free: ``leaves_pinnate.induced_vein_ious``) before / after the star step, sizes
-    128-512, 6 families x 3 leaves: min 0.834 / see the commit, mean 0.961."""
+    Measured (``leaves_pinnate.induced_vein_ious``; families (size, laterals, seed) (128, 4, 0),
+    (256, 6, 1), (384, 8, 2), (512, 5, 3), (192, 7, 4), (320, 4, 5), 3 exemplars each): min 0.834,
+    mean 0.961 before and after the star step (a pinnate midrib base makes no star; one leaf
+    0.930 -> 0.936). These two: 0.93-0.97 and 0.97-1.00."""
     from leaves_pinnate import induced_vein_ious
     scores = induced_vein_ious(size, n_lat, seed)
     assert min(scores) >= 0.7, scores
