@@ -84,3 +84,59 @@ def delta_fan_mask(shape=(256, 256), rng=0, trunk_deg: float = 30.0, centre_deg:
     entry = np.clip(entry, 0, [w - 1, h - 1])
     mouths[:, 1] = sea_y
     return mask.astype(np.float32), channels, sea, entry, mouths
+
+
+def delta_tree_mask(shape=(256, 256), rng=0, fan_deg: float = 90.0, orders: int = 2, radius: float = 4.0):
+    """A balanced binary delta mask (1 = water), sea at the bottom: (mask, entry, mouths, head).
+
+    Beyond :func:`delta_fan_mask`'s one order of channels (issue 23, branching79): a trunk of ``radius`` px
+    enters through the top near the middle and runs to the delta's head; there it splits in two, and each
+    channel splits again, ``orders`` times in all (2 ** ``orders`` mouths), the offsets halving at each order
+    so the outer channels run ``fan_deg / 2`` off straight down, symmetric about the trunk (the radius 0.55 x
+    at each order, at least 1 px). The head lies as deep as lets the outer channels reach the sea inside
+    the frame, so the example is balanced: as many channels and as much channel length on either side of
+    the trunk, the mouths' mean below the entry.
+
+    Examples
+    --------
+    >>> m, entry, mouths, head = delta_tree_mask((128, 128), 0, 90.0, 2, 3.0)
+    >>> m.shape, mouths.shape
+    ((128, 128), (4, 2))
+    """
+    rng = as_rng(rng)
+    h, w = shape
+    if orders < 1:
+        raise ValueError(f"orders must be >= 1, got {orders}")
+    sea_y = 0.85 * h + rng.normal(0, 0.01 * h)
+    half = np.radians(min(max(fan_deg, 10.0), 170.0) / 2.0)
+    # offsets of the orders, halving, summing to the half fan
+    steps = half * 2.0 ** -np.arange(orders) / (2.0 - 2.0 ** (1 - orders))
+    # the outer channel's sideways run per px of drop: the head as deep as keeps it 0.44 x the width
+    drop = min(0.45 * h, 0.44 * w / max(float(np.mean(np.tan(np.cumsum(steps)))), 1e-3))
+    apex = np.array([0.5 * w + rng.normal(0, 0.02 * w), sea_y - drop])
+    entry = np.array([apex[0] + rng.normal(0, 0.02 * w), -3.0])
+    lines = [(_curve(entry, apex, rng, 0.02 * w), float(radius))]
+    nodes = [(apex, 0.0, float(radius))]
+    mouths = []
+    for k in range(orders):
+        seg = drop / orders
+        nxt = []
+        for p, a, r in nodes:
+            for sgn in (-1.0, 1.0):
+                b = a + sgn * steps[k] + rng.normal(0, np.radians(2.0))
+                rc = max(0.55 * r, 1.0)
+                if k == orders - 1:
+                    q = np.array([p[0] + (sea_y + 6 - p[1]) * np.tan(b), sea_y + 6])
+                else:
+                    q = p + seg * np.array([np.tan(b), 1.0])
+                q[0] = np.clip(q[0], 0.03 * w, 0.97 * w)
+                lines.append((_curve(p, q, rng, 0.02 * w), rc))
+                nxt.append((q, b, rc))
+                if k == orders - 1:
+                    mouths.append([q[0], sea_y])
+        nodes = nxt
+    canvas = np.zeros(tuple(shape) + (3,), np.float32)
+    canvas = draw_polylines(canvas, [c for c, _ in lines], widths=[2 * r for _, r in lines], colors=(1, 1, 1))
+    sea = np.arange(h)[:, None] >= sea_y
+    mask = (canvas[:, :, 0] > 0.5) | np.broadcast_to(sea, tuple(shape))
+    return mask.astype(np.float32), entry, np.asarray(mouths, np.float64), apex

@@ -181,6 +181,42 @@ def side_share(s, dom: np.ndarray) -> float:
     return float(side.min() / max(side.sum(), 1e-9))
 
 
+def mouth_share(s, dom: np.ndarray, tol: float = 6.0) -> float:
+    """The smaller share of the delta's mouths on one side of its trunk line (issue 23, branching79).
+
+    The mouths are the last vertices of the branches that start inland (over 10 % of the deepest depth
+    from the sea) and end within ``tol`` px of it, the trunk's included; the trunk line runs from the
+    longest root's start through its first vertex that a child leaves (the delta's head). 0.5: as many
+    mouths on either side; 0: all on one. NaN without a child of the trunk."""
+    d = ndi.distance_transform_edt(dom)
+    h, w = dom.shape
+    br = s.branches
+    roots = [i for i, b in enumerate(br) if b.parent is None and len(b.points) >= 2]
+    if not roots:
+        return float("nan")
+    r = max(roots, key=lambda i: float(np.hypot(*np.diff(np.asarray(br[i].points, float), axis=0).T).sum()))
+    kids = [b.parent_vertex for b in br if b.parent == r and b.parent_vertex is not None]
+    if not kids:
+        return float("nan")
+
+    def at(q):
+        x, y = np.clip(np.rint(q).astype(int), 0, [w - 1, h - 1])
+        return float(d[y, x])
+
+    p = np.asarray(br[r].points, float)
+    head = p[min(int(min(kids)), len(p) - 1)]
+    u = head - p[0]
+    deep = float(d.max())
+    cnt = np.zeros(2)
+    for b in br:
+        q = np.asarray(b.points, float)
+        if len(q) < 2 or at(q[-1]) > tol or at(q[0]) < 0.1 * deep:
+            continue
+        e = q[-1] - head
+        cnt[int(u[0] * e[1] - u[1] * e[0] < 0)] += 1
+    return float(cnt.min() / max(cnt.sum(), 1.0))
+
+
 def trunk_sinuosity(s, dom: np.ndarray, share: float = 0.5) -> float:
     """Path length over chord of the longest root's upper part, from its start down to where its depth
     (distance to the sea) is ``share`` x its start's: how much the trunk meanders (1: straight); nan

@@ -42,6 +42,9 @@ FAN_OTHER_SIDE = 0.02
 #: ``_delta_fan_check`` (same seeds; median / max): bearing error ``delta`` 8.8/17.4 -> 4.4/11.7, ``fan0``
 #: 14.4/21.1 -> 14.1/23.5, ``mean0`` 13.5/26.0 -> 15.7/24.0, ``fan30`` 2.8/9.0 -> 2.4/8.8 degrees; fan spread
 #: median / lowest seed ``mean0`` 30.7/21.0 -> 24.6/10.7 (example 34.9; worse), others within 1 degree.
+#: branching79: the earlier channel's course (its chord so far, once 2 x FAN_BUNDLE_NEAR x the diagonal long)
+#: counts as well as its bearing: a channel 15 degrees off its bearing took a grandchild's 21 degrees off it
+#: beside it (``fan0`` 512 px, seeds 2 and 3 with the held trunk, :data:`.drain.STRAIGHT_HOLD`: 1 comb each -> 0).
 FAN_BUNDLE = float(np.radians(10.0))
 FAN_BUNDLE_NEAR = 0.05
 #: ... nor a channel's channel that leaves its parent on one side while its bearing lies on the other (a
@@ -374,7 +377,7 @@ class _Starts:
             k = min(ins.shape[1], valid.shape[1])
             stays = (ins[:, :k] | ~valid[:, :k]).all(1)
             score = np.where(stays, score, score * 1e-9)
-            if self.drain.axis is not None:
+            if self.drain.axis is not None or self.drain.trunk_axis is not None:
                 # ... and heads for the example's mouths (beyond the paper, issue 23, branching58: a trunk entering
                 # through a side of the frame took a head along it and could not turn to the sea)
                 score = score * self.drain.trunk_hold(x0, new[np.arange(len(new)), np.maximum(n, 1) - 1])
@@ -474,12 +477,16 @@ class _Starts:
         for b in self.branches:
             if b.fan is None or b.parent is None:
                 continue
-            u = np.asarray(b.fan, np.float64)
-            if float(u @ fan) < cos_min:
-                continue
+            ways = [np.asarray(b.fan, np.float64)]
+            c = np.asarray(b.points[-1], np.float64) - np.asarray(b.points[0], np.float64)
+            if float(np.hypot(*c)) >= 2.0 * near:
+                # ... or on the course it took (branching79: a channel ran 15 degrees off its bearing, a
+                # grandchild's bearing 21 degrees off that bearing lay on its course: a comb on fan0 512 px)
+                ways.append(c / float(np.hypot(*c)))
             r = x0 - np.asarray(b.points[0], np.float64)
-            if abs(float(r[0] * u[1] - r[1] * u[0])) < near:
-                return True
+            for u in ways:
+                if float(u @ fan) >= cos_min and abs(float(r[0] * u[1] - r[1] * u[0])) < near:
+                    return True
         return False
 
     @staticmethod
@@ -616,7 +623,9 @@ class _Starts:
             r_set = self._root_radius(roots)
             hr = np.array([max(model.bending.heads[i]["r0"], model.bending.heads[i]["r1"]) for i in pool])
             Q = (np.minimum(hr, r_set) / np.maximum(np.maximum(hr, r_set), 1e-9)) ** ROOT_RADIUS_POWER
-        if self.drain is not None and self.drain.axis is not None:
+        if self.drain is not None:
+            self.drain.set_trunk_start((x, y))
+        if self.drain is not None and (self.drain.axis is not None or self.drain.trunk_axis is not None):
             # a delta's trunk sets out for the example's mouths (beyond the paper, issue 23, branching58): the
             # copied heads leave at the root's heading, and one along the frame could not turn to the sea
             wd = self.drain.way_down((x, y))

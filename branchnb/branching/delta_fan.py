@@ -337,7 +337,8 @@ def _trunk_turns(example: Structure, domain: np.ndarray) -> bool:
     heading is taken over its first 5 % of the diagonal, the trunk's over the 5 % above the head, and each
     one's width as its median thickness over 2-10 % of the diagonal from its start. The trunk carries on
     straight when a channel heads within :data:`CONTINUE_MAX` of the trunk and no channel is
-    :data:`TURN_WIDTH` x as wide as it; it turns otherwise. Which of the channels the skeleton's root
+    :data:`TURN_WIDTH` x as wide as it; it turns otherwise, unless its two widest channels part evenly
+    about it (:func:`_even_fork`, branching79). Which of the channels the skeleton's root
     follows says nothing: on a delta with a straight trunk and a channel fanning off on each side
     (``fan0`` of :mod:`._delta_fan_check`) the root takes one of the outer channels, and the synthesized
     trunk that followed it bunched every channel on one side. ``python -m branchnb.branching._delta_fan_check``
@@ -435,12 +436,46 @@ def _trunk_turns(example: Structure, domain: np.ndarray) -> bool:
     chans = [(a, wd) for a, wd in chans if a is not None]
     if not chans:
         return False
-    off = np.abs(np.angle(np.exp(1j * (np.array([a for a, _w in chans]) - a_in))))
+    signed = np.angle(np.exp(1j * (np.array([a for a, _w in chans]) - a_in)))
+    off = np.abs(signed)
     wd = np.array([w_ for _a, w_ in chans])
     c = int(np.argmin(off))
+    if _even_fork(signed, wd):
+        return False
     if off[c] > CONTINUE_MAX:
         return True
     return bool(wd.max() >= TURN_WIDTH * wd[c])
+
+
+def _even_fork(signed: np.ndarray, wd: np.ndarray) -> bool:
+    """Do the two widest channels leaving a delta's head (headings ``signed`` radians off the trunk's,
+    widths ``wd``) part evenly: one on each side of the trunk, as wide as each other (within
+    :data:`TURN_WIDTH`), their bisector within :data:`CONTINUE_MAX` / 2 of the trunk's heading?
+
+    Beyond the paper (issue 23, branching79): at an even fork the skeleton's root follows one of the two
+    arms as it happens; taken for a turn (:func:`_trunk_turns`), the synthesized trunk ran down that arm's
+    side of the fan and the other channels bunched beside it. An even fork is no turn: the trunk carries on
+    between the arms, held to the example's mouths (:data:`.drain.STRAIGHT_HOLD`), its channels on both
+    sides. On the even binary deltas of :func:`._delta_examples.delta_tree_mask` (2-4 orders, 60-140 degree
+    fans, 256-1024 px, four sea sides; 5 seeds each) the trunk bearing error, mean over the seeds, was
+    10.2-19.7 degrees on main and is 2.1-4.2 with this and the hold (``python -m
+    branchnb.branching._delta_tree_check 5``, 7 of its 8 cases; the mouths on the smaller side of the trunk,
+    :func:`._delta_fan_check.mouth_share`, mean 0.02-0.36 -> 0.36-0.43). A fork whose arms' bisector lies more
+    than :data:`CONTINUE_MAX` / 2 off the trunk's heading is still a turn (a 150 degree fan at 512 px:
+    arms 36 and -63 degrees off it; bearing error as main, 21.6).
+
+    Examples
+    --------
+    >>> bool(_even_fork(np.radians([30.0, -35.0]), np.array([3.0, 2.6])))
+    True
+    >>> bool(_even_fork(np.radians([30.0, -35.0]), np.array([3.0, 1.0])))   # one arm much thinner
+    False
+    """
+    if len(wd) < 2:
+        return False
+    i, j = np.argsort(-wd)[:2]
+    return bool(signed[i] * signed[j] < 0 and wd[i] < TURN_WIDTH * wd[j]
+                and abs(signed[i] + signed[j]) <= CONTINUE_MAX)  # bisector within CONTINUE_MAX / 2
 
 
 def head_share(example, domain) -> float:

@@ -141,6 +141,17 @@ TRUNK_TAIL = False
 #: (examples 0.41, 0.37, 0.42; main 0.29/0.28, 0.32/0.18, 0.38/0.19); bearing error median 5.0/10.0/6.2
 #: (main 7.4/3.9/5.5: the turned trunk's start-to-mouths chord is off the example's in some seeds).
 STRAIGHT_TAIL = True
+#: A delta whose trunk runs down the descent (no axis, :data:`AXIS_MIN`) and carries on past its head (no turn,
+#: :data:`STRAIGHT_TAIL`): its trunk heads for the example's mouths (moved as far as its start lies from the
+#: example's, :meth:`_Drain.set_trunk_start`) and is held to that way as an axis trunk is (:data:`TRUNK_HOLD`;
+#: beyond the paper, issue 23, branching79). With the pull of the descent alone the matching steered the trunk
+#: and it drifted toward a corner of the frame, the mouths' mean with it (``_delta_fan_check bottom,left 512 5
+#: ... fan0,mean0``, sea at the bottom/left: trunk bearing error mean over 5 seeds 4.4/5.7/3.6/2.3 degrees, median
+#: 14.1/10.3/15.7/20.6 -> 4.8/5.0/3.9/1.2; the smaller side's share of the channels below the head, median
+#: 0.19/0.30/0.35/0.06 -> 0.41/0.34/0.39/0.41, example 0.40; ``_delta_tree_check`` with
+#: :func:`.delta_fan._even_fork`). A trunk that turns (the ``delta`` kind) keeps main's rule above its turn:
+#: held there together with other changes its bearing error median went 5.0/9.5 -> 7.1/4.2, no clear gain.
+STRAIGHT_HOLD = True
 TAIL_MAX = float(np.radians(60.0))
 
 
@@ -201,6 +212,11 @@ class _Drain:
         #: None = the descent alone
         self.axis: np.ndarray | None = None
         self.target: np.ndarray | None = None
+        #: a delta whose trunk runs down the descent: the example's axis and mouths' mean all the same, for
+        #: its trunk alone (:data:`STRAIGHT_HOLD`; the channels keep the descent's rules)
+        self.trunk_axis: np.ndarray | None = None
+        self.trunk_target: np.ndarray | None = None
+        self._trunk_from: np.ndarray | None = None
         self.offsets: np.ndarray | None = None
         self.used: np.ndarray | None = None
         #: the example's root's heading at the sea off the axis (radians; None: it ends at the head), and the
@@ -243,9 +259,14 @@ class _Drain:
         dn = dn / max(float(np.hypot(*dn)), 1e-9)
         if float(np.arccos(np.clip(axis @ dn, -1.0, 1.0))) < AXIS_MIN:
             # a trunk along the descent: the descent's rules (tuned on such deltas) stay, but the trunk
-            # turns into one of the fan's channels below the delta's head (STRAIGHT_TAIL)
+            # turns into one of the fan's channels below the delta's head (STRAIGHT_TAIL); one that carries
+            # on heads for the example's mouths (STRAIGHT_HOLD)
             if STRAIGHT_TAIL:
                 self._straight_tail(example, dom, dn)
+            if STRAIGHT_HOLD and self.tail is None:
+                self.trunk_axis = axis
+                self.trunk_target = target if dom.shape == self.shape else None
+                self._trunk_from = start
             return
         self.axis = axis
         self.target = target if dom.shape == self.shape else None
@@ -280,6 +301,25 @@ class _Drain:
     def _in_tail(self, at) -> bool:
         """Is ``at`` below the depth where a trunk takes the example's root's heading (:meth:`way_down`)?"""
         return self.tail is not None and self.tail_depth is not None and self.depth_at(at)[0] <= self.tail_depth
+
+    def set_trunk_start(self, at) -> None:
+        """A straight delta's trunk starts at ``at`` (:data:`STRAIGHT_HOLD`): its target moves as far as
+        its start lies from the example's, so it runs on the example's bearing.
+
+        The one tree of a delta enters within ~3.5 % of the diagonal of the example's entry
+        (:meth:`.roots.RootModel.sample`); aimed at the example's mouths from there, the trunk ran up to
+        4-6 degrees off the example's bearing on 256-1024 px deltas. Only the first trunk moves it."""
+        if self.trunk_target is None or self._trunk_from is None:
+            return
+        h, w = self.shape
+        shift = np.asarray(at, np.float64) - self._trunk_from
+        self.trunk_target = np.clip(self.trunk_target + shift, 0.0, [w - 1.0, h - 1.0])
+        self._trunk_from = None
+
+    def held(self, at) -> bool:
+        """Is a trunk at ``at`` held to a way to the sea (:data:`TRUNK_HOLD`): an axis, a straight delta's
+        (:data:`STRAIGHT_HOLD`) or its tail?"""
+        return self.axis is not None or self.trunk_axis is not None or self._in_tail(at)
 
     def _ref(self, at) -> float:
         """Angle of the direction the fan's bearings are measured from: the axis, else the descent."""
@@ -424,14 +464,15 @@ class _Drain:
             if self._tail_dir is None:
                 self._tail_dir = self._to_sea(at, self._ref(at), self.tail)
             return self._tail_dir.copy()
-        if fan is None and self.axis is not None:
-            # a trunk heads for the example's mouths (set_axis), along its axis once near them
-            if self.target is not None:
-                r = self.target - at
+        axis, target = (self.axis, self.target) if self.axis is not None else (self.trunk_axis, self.trunk_target)
+        if fan is None and axis is not None:
+            # a trunk heads for the example's mouths (set_axis, STRAIGHT_HOLD), along its axis once near them
+            if target is not None:
+                r = target - at
                 n = float(np.hypot(*r))
                 if n > 0.1 * float(np.hypot(*self.shape)):
                     return r / n
-            return self.axis.copy()
+            return axis.copy()
         d = self.descent(at)
         if fan is not None:
             d = (1.0 - BEARING_WEIGHT) * d + BEARING_WEIGHT * np.asarray(fan, np.float64)
@@ -487,7 +528,7 @@ class _Drain:
         """Score factor of a trunk's candidates ending at ``end`` ((C, 2)) from ``tip`` when the delta has
         an axis (:meth:`set_axis`): ``exp(-TRUNK_HOLD a)``, ``a`` the angle of the chord off the way to the
         example's mouths (1 without an axis)."""
-        if (self.axis is None and not self._in_tail(tip)) or TRUNK_HOLD <= 0:
+        if not self.held(tip) or TRUNK_HOLD <= 0:
             return np.ones(len(end))
         tip = np.asarray(tip, np.float64)
         wd = self.way_down(tip)
@@ -528,7 +569,7 @@ class _Drain:
                 o2 = np.where(np.hypot(c2[:, 0], c2[:, 1]) > 4.0, o2, 0.0)
                 off = np.maximum(off, FAN_WHOLE * o2)
             f = f * np.exp(-pull * FAN_HOLD * off)
-        elif (self.axis is not None or self._in_tail(tip)) and TRUNK_HOLD > 0:
+        elif self.held(tip) and TRUNK_HOLD > 0:
             # a straight delta's trunk is held to its tail too (STRAIGHT_TAIL): the pull alone let the
             # matching keep it on the descent (fan0 512 px: 6-22 degrees off it at the sea against 48)
             f = f * self.trunk_hold(tip, end, pull)

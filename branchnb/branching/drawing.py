@@ -75,6 +75,15 @@ class DrawingStyle:
         8-connected centre line (beyond the paper: a mask synthesized from
         a mask stays a mask, and its one-pixel lines stay whole and full
         strength).
+    taper : float or None
+        For masks (one ground, or lines in the colour of a region: a delta's
+        channels in the sea's): the example's median end-to-start radius
+        ratio along its branches, and ``tip_radius`` the median radius of its
+        free ends; :func:`draw_in_style` then draws every branch within them
+        (:mod:`~branchnb.branching.drawn_taper`: children that taper, no
+        blunt ends or stubs). None: the structure's radii as they are.
+    tip_radius : float
+        See ``taper``.
     """
 
     region_colours: np.ndarray
@@ -87,6 +96,8 @@ class DrawingStyle:
     tip_reach: float = 0.0
     region_textures: dict | None = None
     two_tone: bool = False
+    taper: float | None = None
+    tip_radius: float = 0.0
 
 
 def _median_colour(img: np.ndarray, mask: np.ndarray, fallback) -> np.ndarray:
@@ -207,9 +218,16 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
     # a binary line mask: every pixel is the ground colour or the line colour
     two_tone = bool(k == 1 and b_col is None and not textures
                     and np.all(np.minimum(np.abs(img - cols[0]).max(-1), np.abs(img - line).max(-1)) <= 1.5 / 255))
+    # a mask (lines on one ground, or drawn in a region's own colour: a delta's channels in the sea's
+    # colour) is drawn with the example's taper; a map's rivers in their own ink keep their radii
+    taper, tip_r = None, 0.0
+    if k == 1 or np.min(np.linalg.norm(np.delete(cols, branch_region, axis=0) - line, axis=-1)) <= tol:
+        from .drawn_taper import example_taper
+
+        taper, tip_r = example_taper(structure, lay.shape)
     return DrawingStyle(cols.astype(np.float32), branch_region, line.astype(np.float32), scale,
                         None if b_col is None else b_col.astype(np.float32), b_width, reach, tip_reach,
-                        textures or None, two_tone)
+                        textures or None, two_tone, taper, tip_r)
 
 
 def _boundary_line(img, inside, lay, k, pm, mean_r, off_region, unlike_region, line, cover, cols, tol):
@@ -499,6 +517,15 @@ def draw_in_style(style: DrawingStyle, structure: Structure, labels: np.ndarray)
     every branch with the line colour at ``width_scale * 2 r`` (at least one
     pixel, so no branch breaks into dots).
 
+    For a mask (``style.taper`` or ``style.tip_radius`` set) the radii are
+    first bounded by what the example shows (beyond the paper, issue 23;
+    :func:`~branchnb.branching.drawn_taper.tapered_radii`): each branch stays
+    under the example's end-to-start ramp and never ends more than twice as
+    thick as it starts, free ends narrow to the example's tip radius, short
+    children are drawn as thin twigs and leaf twigs showing less than three
+    radii beyond their parent are left out
+    (:func:`~branchnb.branching.drawn_taper.burrs`).
+
     Parameters
     ----------
     style : DrawingStyle
@@ -542,9 +569,17 @@ def draw_in_style(style: DrawingStyle, structure: Structure, labels: np.ndarray)
         img[...] = draw_boundary(img, inside, style.boundary_colour, style.boundary_width)
     clear = 2.0 * style.boundary_width + 2.0 if style.boundary_colour is not None else 0.0
     s = _to_outlets(structure, inside, style.outlet_reach, style.tip_reach, clear)
-    drawn = [b for b in s.branches if len(b.points) >= 2]
-    pls = [b.points for b in drawn]
-    raw = [style.width_scale * 2 * b.thickness for b in drawn]
+    radii = [b.thickness for b in s.branches]
+    if style.taper is not None or style.tip_radius > 0:
+        from .drawn_taper import burrs, tapered_radii
+
+        radii = tapered_radii(s, (h, w), style.taper, style.tip_radius)
+        skip = burrs(s, radii, style.width_scale)
+    else:
+        skip = np.zeros(len(s.branches), bool)
+    drawn = [i for i, b in enumerate(s.branches) if len(b.points) >= 2 and not skip[i]]
+    pls = [s.branches[i].points for i in drawn]
+    raw = [style.width_scale * 2 * np.asarray(radii[i], np.float64) for i in drawn]
     wid = [np.maximum(x, 1.0) for x in raw]
     if pls and style.two_tone:
         # a binary mask: lines under 1.5 px are one-pixel rasters (as the example draws them), wider

@@ -127,6 +127,36 @@ def _radius_growth(example) -> float:
     return max(1.0, float(np.quantile(ratios, RADIUS_GROWTH_QUANTILE))) if ratios else np.inf
 
 
+#: The density (coverage) stop waits until the output has at least this many branches, or as many as
+#: the example has of at least :data:`MIN_BRANCH_SHARE` x its longest branch's length (:func:`_min_branches`).
+MIN_BRANCHES = 3
+MIN_BRANCH_SHARE = 0.1
+
+
+def _min_branches(model: StructureModel) -> tuple[int, float]:
+    """How many branches the output grows, each at least how long (pixels), before the density stop
+    may end it.
+
+    Beyond the paper (issue 23): on a small example (a 128 px river map: a 100 px trunk and
+    tributaries of 17-62 px) the coverage of the example's domain is reached by a trunk and one
+    child (the trunk ran on past the example's, to the far side of the frame), and the output was a
+    line with one side branch where the example has a trunk with two or three. Small examples only
+    (long side <= :data:`~.small_frames.SMALL_SIDE` px, else ``(0, 0.0)``): a larger example's output
+    has far more branches when its coverage is reached, and its first fill round may still come with
+    fewer than three (a 512 px crack's did: starting children before re-opening tips then gave 21
+    branches instead of 29), so larger examples are left as they were. Spurs (shorter than
+    :data:`MIN_BRANCH_SHARE` x the longest branch) are not counted, in the example or in the output.
+    """
+    from .small_frames import SMALL_SIDE
+
+    shape = model.example.image_shape
+    lengths = np.asarray([b.length for b in model.example.branches], np.float64)
+    if not len(lengths) or shape is None or max(shape) > SMALL_SIDE:
+        return 0, 0.0
+    need = MIN_BRANCH_SHARE * float(lengths.max())
+    return int(min(MIN_BRANCHES, int(np.sum(lengths >= need)))), need
+
+
 def _example_bounds(model: StructureModel) -> tuple[float, float, float]:
     """``(thickest radius, _radius_growth, winding_limit)`` of the model's example, computed once per
     model (a 1000 px crack example has 2.9 k branches: 0.2 s per growth attempt)."""
@@ -314,6 +344,8 @@ class _Grower(_Starts, _Filling):
             if params.colonization else None
         self.coverage_target = params.max_coverage if params.max_coverage > 0 else \
             min(model.coverage_at(self.rho), 1.0)
+        # the density stop waits for as many branches as the example has, up to MIN_BRANCHES (_min_branches)
+        self.min_branches, self._min_branch_len = _min_branches(model) if params.max_coverage <= 0 else (0, 0.0)
         self.store = SegmentStore(shape=self.shape)
         self.branches: list[_BranchState] = []
         self.total_length = 0.0
@@ -415,9 +447,25 @@ class _Grower(_Starts, _Filling):
         if self.total_length >= self.max_total - 1e-6:  # tolerance: summation order
             self.stop_reason = "total length"
         elif self.density is not None and self.coverage_target < 1 and \
-                self.density.coverage() >= self.coverage_target:
+                self.density.coverage() >= self.coverage_target and self._enough_branches():
             self.stop_reason = "density (coverage)"
         return bool(self.stop_reason)
+
+    def _enough_branches(self) -> bool:
+        """Whether :attr:`min_branches` branches have grown (a Markov step at least) to the example's
+        spur length (:func:`_min_branches`); once true, true (branches only grow)."""
+        if self.min_branches <= 0:
+            return True
+        if len(self.branches) < self.min_branches:
+            return False
+        # a head never grown is dropped at the end (filling._drop_unborn): a child counts once it took a
+        # Markov step
+        h, need = self.p.h, self._min_branch_len
+        grown = sum(not st.unborn and (st.parent is None or bool(st.src)) and (len(st.points) - 1) * h >= need
+                    for st in self.branches)
+        if grown >= self.min_branches:
+            self.min_branches = 0
+        return self.min_branches <= 0
 
     # -- selection --------------------------------------------------------
     def _cap(self) -> int:
@@ -791,12 +839,18 @@ class _Grower(_Starts, _Filling):
             before = len(self.branches)
             self._update_room()
             rooms = self._max_rooms()
-            # tips that ended at their drawn length with free space ahead grow on
-            self._drain(self._reopen_tips())
+            # tips that ended at their drawn length with free space ahead grow on; in an output with
+            # fewer branches than the example (_min_branches) after new children, not before (a small
+            # example's trunk ran on across the frame and took the length the children needed)
+            few = len(self.branches) < self.min_branches
+            if not few:
+                self._drain(self._reopen_tips())
             for bi in np.argsort(rooms, kind="stable")[::-1]:
                 if self.global_stop() or rooms[bi] <= 0:
                     break
                 self._drain(self.furcate(int(bi), extra=True))
+            if few and not self.global_stop():
+                self._drain(self._reopen_tips())
             self._empty_dt = None
             if len(self.branches) == before:
                 break

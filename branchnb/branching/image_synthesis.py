@@ -115,6 +115,17 @@ def _in_example_range(canvas: np.ndarray, example: np.ndarray) -> np.ndarray:
     return canvas
 
 
+def _two_colours(image: np.ndarray) -> bool:
+    """Whether every pixel of ``image`` has one of at most two colours (a binary mask)."""
+    flat = np.ascontiguousarray(image.reshape(-1, image.shape[2]) if image.ndim == 3 else image.reshape(-1, 1))
+    first = flat[0]
+    other = np.any(flat != first, axis=1)
+    if not other.any():
+        return True
+    second = flat[np.argmax(other)]
+    return bool(np.all(~other | np.all(flat == second, axis=1)))
+
+
 def _check_structure(s, name: str, image_shape=None) -> Structure:
     if not isinstance(s, Structure):
         raise TypeError(f"{name} must be a branchnb.branching.Structure, got {type(s).__name__}")
@@ -249,7 +260,10 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         # Flat-colour examples (maps, masks): their regions, and no matte / Poisson.
         labels_ex, flat_share = flat_colour_regions(ex, pm_s.core(p.exclusion, p.exclusion_margin))
         # a line mask on one plain ground (its lines too thin to form a flat region of their own)
-        mask = bool(flat_share >= 0.5 and labels_ex.max() == 0 and two_tone_lines(ex))
+        # (a strictly two-colour image is flat however densely its lines cover it: a 128 px crack mask
+        # with 3-4 px trunks has under half its pixels in flat cells, and copied fragment by fragment it
+        # fell apart into 3-6 pieces with grey smudges; beyond the paper, issue 23)
+        mask = bool((flat_share >= 0.5 or _two_colours(ex)) and labels_ex.max() == 0 and two_tone_lines(ex))
         cached = _EXAMPLE_CACHE[key] = {"sm_s": sm_s, "pm_s": pm_s, "labels_ex": labels_ex,
                                         "flat_share": flat_share, "mask": mask,
                                         "matte_colour": _matte_colour(ex) if p.exclude_matte else None}

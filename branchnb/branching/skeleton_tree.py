@@ -63,10 +63,14 @@ def _end_radius(pts: np.ndarray, r: np.ndarray, ends: np.ndarray, members: np.nd
     return np.maximum(out, r[ends])
 
 
-#: ``root="auto"`` on a piece not of one width: ends within this many pixels of the frame, at least
+#: ``root="auto"`` on a piece not of one width: ends within this many pixels (plus :data:`ENTRY_RADII` x
+#: their radius) of the frame, at least
 #: :data:`ENTRY_SHARE` x as thick as the piece's thickest end and :data:`ENTRY_RATIO` x its median
 #: radius, are where it enters the frame: each roots a tree (:func:`_frame_entries`).
 ENTRY_FRAME = 4.0
+#: ... plus this many times the end's radius: a thick line's medial axis stops about a radius short
+#: of the frame that cuts it (beyond the paper, issue 23; a thin interior end stays off the frame).
+ENTRY_RADII = 1.0
 ENTRY_SHARE = 0.75
 ENTRY_RATIO = 2.0
 
@@ -95,7 +99,8 @@ def _even_ends(end_r: np.ndarray, pts: np.ndarray, r: np.ndarray, ends: np.ndarr
 
 
 def _frame_entries(cand: np.ndarray, end_r: np.ndarray, frame_d: np.ndarray, pts: np.ndarray,
-                   r_med: float, r: np.ndarray | None = None, members: np.ndarray | None = None) -> list[int]:
+                   r_med: float, r: np.ndarray | None = None, members: np.ndarray | None = None,
+                   radii: float = ENTRY_RADII) -> list[int]:
     """The ends of a piece where thick lines enter the frame, thickest first, each farther than
     4 x its radius from the ones before (empty when none).
 
@@ -110,11 +115,16 @@ def _frame_entries(cand: np.ndarray, end_r: np.ndarray, frame_d: np.ndarray, pts
     thick near the end (:func:`_held_radius` at least :data:`ENTRY_RATIO` x ``r_med``): two lines of
     one width meeting at the frame in a V make a blob there whose largest radius is twice theirs
     (a crossing river network was rooted at such a V on its far side).
+
+    ``radii``: an end lies at the frame within ``ENTRY_FRAME + radii x`` its radius (0 on small
+    examples, whose lines :mod:`.small_frames` traced up to the frame: a fork's blob a radius inside
+    is no entry there).
     """
     if not len(cand):
         return []
     top = float(end_r.max())
-    ok = (frame_d <= ENTRY_FRAME) & (end_r >= ENTRY_SHARE * top) & (end_r >= ENTRY_RATIO * r_med)
+    ok = (frame_d <= ENTRY_FRAME + radii * end_r) & (end_r >= ENTRY_SHARE * top) & \
+        (end_r >= ENTRY_RATIO * r_med)
     if r is not None and members is not None and ok.any():
         idx = np.flatnonzero(ok)
         ok[idx] = _held_radius(pts, r, cand[idx], members) >= ENTRY_RATIO * r_med
@@ -169,6 +179,80 @@ def _small_frame_lead(end_r: np.ndarray, frame_d: np.ndarray, pts: np.ndarray, r
 
 #: ... and the frame end it roots at stays this many times as thick as the line near other frame ends.
 SMALL_LEAD = 1.5
+
+
+#: On a small example a frame end's thickness is read along its line from this many median radii
+#: plus :data:`INSIDE_FADE` px past it (:func:`_inside_radius`) ...
+INSIDE_FROM = 2.0
+#: ... (the last pixels before the border, where the filters' responses fade: the half-contrast radius
+#: of a 6-px river read 0.5-0.9 px within 8 px of the frame of a 160 px map, 2.4-2.7 px beyond) ...
+INSIDE_FADE = 8.0
+#: ... over this many more median radii (plus 8 px).
+INSIDE_SPAN = 4.0
+#: Frame ends whose lines are within this factor as thick as the thickest frame end's are a tie,
+#: which the forks decide (:func:`_small_frame_entry`).
+SMALL_TIE = 1.25
+
+
+def _inside_radius(g, ends: np.ndarray, r: np.ndarray, r_med: float) -> np.ndarray:
+    """How thick the line is just inside each end: the median radius of the nodes between
+    ``INSIDE_FROM r_med + INSIDE_FADE`` and that plus ``INSIDE_SPAN r_med + 8`` pixels along the
+    skeleton from it (of all the nodes within that reach when none is that far: a short spur)."""
+    a = INSIDE_FROM * r_med + INSIDE_FADE
+    b = a + INSIDE_SPAN * r_med + 8.0
+    dist = csgraph.dijkstra(g, directed=False, indices=ends, limit=b)
+    out = np.empty(len(ends))
+    for i, d in enumerate(np.atleast_2d(dist)):
+        near = np.isfinite(d)
+        band = near & (d >= a)
+        out[i] = float(np.median(r[band] if band.any() else r[near]))
+    return out
+
+
+def _small_frame_entry(g, deg: np.ndarray, cand: np.ndarray, members: np.ndarray, pts: np.ndarray,
+                       r: np.ndarray, frame_d: np.ndarray) -> int | None:
+    """On a small example (on a larger one when :func:`_frame_outlet` finds none), the frame end
+    (within :data:`SMALL_FRAME` px) where the thickest line enters, read just inside the frame
+    (:func:`_inside_radius`); ``None`` when no frame end's line is at least :data:`ENTRY_SHARE` x as
+    thick as the piece's median radius (only tapering tips leave), or when at least :data:`SMALL_VOTES`
+    forks are there and more of them point away from every such end than to it (lines spreading from
+    inside, their tips leaving the frame).
+
+    Beyond the paper (issue 23): traced up to the frame (:mod:`.small_frames`), a line's last pixels
+    lie where the ridge mask fades against the border, so the radius *at* a frame end says little:
+    a 6-px river entering a 160 px map read 0.5 px there, thinner than its tributaries' tips, and the
+    map was rooted at a tributary's source 41 px inside; a 96 px river's trunk and a tributary both
+    leaving the frame read alike (1.74 px) and the first in pixel order won; a 256 px map of 2-px
+    black rivers was rooted at a tip inside, where two lines overlap in a blob twice as thick as
+    they are (and a 512 px one, whose four forks split two for the frame end, two against). Inside the
+    frame the trunk is the thicker line, and a line entering is no tapering tip.
+    Frame ends within :data:`SMALL_TIE` x of the thickest are decided by the forks, as
+    :func:`_frame_outlet` does (the arm toward the outlet runs opposite the two others), then by
+    thickness.
+    """
+    at = np.flatnonzero(frame_d <= SMALL_FRAME)
+    if not len(at):
+        return None
+    r_med = float(np.median(r[members]))
+    inside = _inside_radius(g, cand[at], r, r_med)
+    ok = inside >= ENTRY_SHARE * r_med
+    if not ok.any():
+        return None
+    at, inside = at[ok], inside[ok]
+    votes = _junction_trunk_arms(g, deg, members, pts, 6.0 * r_med + 8.0)
+    score = np.zeros(len(at))
+    if votes:
+        dist = csgraph.dijkstra(g, directed=False, indices=cand[at])
+        for arms, trunk in votes:
+            score += np.where(np.argmin(dist[:, arms], axis=1) == trunk, 1.0, -1.0)
+        if len(votes) >= SMALL_VOTES and score.max() < 0:
+            return None
+    tied = np.flatnonzero(inside * SMALL_TIE >= float(inside.max()))
+    return int(cand[at[tied[np.lexsort((-inside[tied], -score[tied]))[0]]]])
+
+
+#: ... the forks overrule the thickness from this many clear forks on (:func:`_junction_trunk_arms`).
+SMALL_VOTES = 3
 
 
 #: On small examples an end within this many pixels of the frame is on it (see :func:`_small_frame_key`).
@@ -610,7 +694,8 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
                     even = hi <= 1.5 * lo or hi - lo <= 1.0
                     entries = _frame_entries(cand, -key, border_dist[ys[cand], xs[cand]] / scale,
                                              pts_full, float(np.median(r_full[members])),
-                                             r_full if even else None, members if even else None)
+                                             r_full if even else None, members if even else None,
+                                             0.0 if small else ENTRY_RADII)
                     entries = _one_per_line(entries, g, r_full, -key[np.isin(cand, entries)].min()
                                             if entries else 0.0)
                     if entries:
@@ -620,6 +705,10 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
                     # others (a drawn root system's trunks among its thin roots; an end is as thick as the
                     # line stays near it, not as the V where two lines meet at the frame), that meet the
                     # frame drain there
+                    if small and (lead := _small_frame_entry(g, deg, cand, members, pts_full, r_full,
+                                                             border_dist[ys[cand], xs[cand]] / scale)) is not None:
+                        roots.append(lead)
+                        continue
                     if small and (lead := _small_frame_lead(-key, border_dist[ys[cand], xs[cand]] / scale, pts_full,
                                                             r_full, cand, members)) is not None:
                         roots.append(lead)
@@ -629,6 +718,14 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
                             g, deg, cand, members, pts_full, r_full, border_dist[ys[cand], xs[cand]] / scale)) \
                             is not None:
                         roots.append(outlet)
+                        continue
+                    # larger examples too: a line of one width entering at the frame whose few forks
+                    # do not agree (a 512 px map of 2-px black rivers: 2 of 4 forks for the outlet) was
+                    # rooted at a blob of overlapping lines inside (_small_frame_entry)
+                    if not small and (lead := _small_frame_entry(g, deg, cand, members, pts_full, r_full,
+                                                                 border_dist[ys[cand], xs[cand]] / scale)) \
+                            is not None:
+                        roots.append(lead)
                         continue
                     if small:
                         key = _small_frame_key(key, border_dist[ys[cand], xs[cand]] / scale)

@@ -7,17 +7,27 @@ within a few pixels of the border. At 512 px that gap is small against the frame
 entering from the bottom edge ended 5 px from it, was rooted in the middle of the canvas and its
 synthesis floated there. :func:`_reach_frame` runs such ends on to the frame, straight along their
 last few pixels, through the line's own mask. Larger examples are left as they are.
+
+How far short of the frame the axis stops grows with the line's width (a 6-px river's axis on a
+160 px map ended 9 px from the frame, past a fixed 8 px reach, and the map was rooted at a spur
+beside it): the reach is :data:`REACH` plus :data:`REACH_RADII` x the line's radius at the end,
+at most :data:`REACH_SHARE` of the example's short side.
 """
 
 from __future__ import annotations
 
 import numpy as np
 from scipy import ndimage as ndi
+from skimage.morphology import thin
 
 #: Examples whose long side is at most this many pixels get their frame ends extended.
 SMALL_SIDE = 256
-#: How far (pixels) a skeleton end may lie from the frame and still be run on to it.
+#: How far (pixels) a skeleton end of a thin line may lie from the frame and still be run on to it ...
 REACH = 8.0
+#: ... plus this many times the line's radius at the end (its mask's distance transform there) ...
+REACH_RADII = 2.0
+#: ... but never more than this share of the example's short side.
+REACH_SHARE = 0.125
 #: How many pixels back along the skeleton the end's direction is read.
 BACK = 5
 #: The frame point an end runs on to lies within this cosine of the end's direction.
@@ -54,11 +64,14 @@ def _direction(a, b) -> np.ndarray | None:
 def _reach_frame(skel: np.ndarray, bw: np.ndarray, reach: float = REACH) -> np.ndarray:
     """``skel`` with its ends near the frame run on to it through ``bw`` (small examples only).
 
-    An end within ``reach`` pixels of the frame is joined by a straight segment to the nearest frame
-    pixel of ``bw`` (dilated by one) that lies ahead of it (within 60 degrees of its last :data:`BACK`
-    pixels' direction, at most ``1.5 reach`` away) and whose segment lies in that mask: the line
-    itself goes on to the frame (a tip that ends inside the image stays). When none does (the axis
-    bends into a corner of the cut), the same from :data:`BACK` pixels behind the end.
+    An end within ``reach + REACH_RADII r`` pixels of the frame (``r`` the line's radius there, the
+    whole at most :data:`REACH_SHARE` x the short side) is joined by a straight segment to the nearest
+    frame pixel of ``bw`` (dilated by one) that lies ahead of it (within 60 degrees of its last
+    :data:`BACK` pixels' direction, at most 1.5 x that reach away) and whose segment lies in that mask:
+    the line itself goes on to the frame (a tip that ends inside the image stays). When none does (the
+    axis bends into a corner of the cut), the same from :data:`BACK` pixels behind the end. The new
+    pixels and their neighbours are thinned again (a rounded segment beside the axis's last pixels
+    made three-pixel cycles there, and the frame end was no end point of the skeleton's graph).
     Examples whose long side exceeds :data:`SMALL_SIDE` come back unchanged.
 
     Parameters
@@ -68,7 +81,7 @@ def _reach_frame(skel: np.ndarray, bw: np.ndarray, reach: float = REACH) -> np.n
     bw : ndarray of bool, shape (H, W)
         The line mask the skeleton came from.
     reach : float
-        Largest distance (pixels) from an end to the frame.
+        Largest distance (pixels) from the end of a thin line to the frame (see above for thick ones).
 
     Returns
     -------
@@ -88,15 +101,20 @@ def _reach_frame(skel: np.ndarray, bw: np.ndarray, reach: float = REACH) -> np.n
     nb = ndi.convolve(skel.astype(np.uint8), np.ones((3, 3), np.uint8), mode="constant") - 1
     ey, ex = np.nonzero(skel & (nb == 1))
     fd = np.minimum(np.minimum(ey, h - 1 - ey), np.minimum(ex, w - 1 - ex))
-    keep = (fd > 0) & (fd <= reach)
+    bw = np.asarray(bw, bool)
+    # the line's radius at the end: the largest distance to its mask's edge within a pixel of it (the
+    # end itself sits a radius from the blunt cut, where the distance transform has fallen)
+    rad = ndi.maximum_filter(ndi.distance_transform_edt(bw), size=3)[ey, ex]
+    ends_reach = np.minimum(reach + REACH_RADII * rad, max(reach, REACH_SHARE * min(h, w)))
+    keep = (fd > 0) & (fd <= ends_reach)
     if not keep.any():
         return skel
-    inside = ndi.binary_dilation(np.asarray(bw, bool), np.ones((3, 3), bool))
+    inside = ndi.binary_dilation(bw, np.ones((3, 3), bool))
     ring = np.zeros_like(inside)
     ring[0], ring[-1], ring[:, 0], ring[:, -1] = True, True, True, True
     fy, fx = np.nonzero(ring & inside)
     out = skel.copy()
-    for y0, x0 in zip(ey[keep], ex[keep]):
+    for y0, x0, reach in zip(ey[keep], ex[keep], ends_reach[keep]):
         path = _end_path(skel, int(y0), int(x0), 2 * BACK)
         # from the end, or (its axis bent into a corner of the cut, a medial axis's Y at a blunt end)
         # from BACK pixels behind it along the stretch before the bend
@@ -124,4 +142,8 @@ def _reach_frame(skel: np.ndarray, bw: np.ndarray, reach: float = REACH) -> np.n
                     break
             if done:
                 break
+    added = out & ~skel
+    if added.any():
+        near = ndi.binary_dilation(added, np.ones((3, 3), bool), iterations=2)
+        out = np.where(near, thin(out), out)
     return out

@@ -54,6 +54,11 @@ spots) the carried-over layer is only a prior:
    short on the training leaf is followed as far as it shows. A trace that meets damage (a crease or tear
    of the blade, :func:`~branchnb.leaves.snapping_trace._crease_end`) and fades beyond it ends there
    (training maples 01 / 02 -> 07: 0.65 / 0.63 -> 0.73 / 0.69, 07's midrib past its crease).
+   **Re-seated star** (:func:`~branchnb.leaves.snapping_star.reseat_star`, before the re-aim): the
+   petiole junction's branches are scored as one star about candidate junctions near the placed one;
+   a star posed one vein slot over (training maple 05 onto 07: its left lateral on 07's midrib, its
+   midrib on a faint ridge starting 20 px above 07's junction) is traced anew from the exemplar's
+   junction (issue 22: 05 -> 07 0.49 -> 0.72, 04 -> 07 0.54 -> 0.66).
    **Re-aimed laterals** (:func:`~branchnb.leaves.snapping_aim._reaim_laterals`): a lateral of the
    petiole junction is traced anew from a ray about the junction that scores
    :data:`~branchnb.leaves.snapping_aim.AIM_RATIO` times its own along the first half of its length

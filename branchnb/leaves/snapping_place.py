@@ -14,6 +14,7 @@ from .snapping_aim import _reaim_laterals
 from .snapping_basal import ANCHOR_MOVE, ANCHOR_REACH, ANCHOR_SHARE, _junction_of
 from .snapping_carry import _affine_carry, _moment_carry, carry_points
 from .snapping_fit import fit_branches
+from .snapping_star import reseat_star
 from .snapping_trace import refine_carried, trace_branches
 
 
@@ -85,6 +86,8 @@ def _place_branches(chains, widths, n_user, registration, blade_t, b_full, off, 
             kw.update(trace_kw or {})
             carried = trace_branches(carried, omaps, b, **kw)
             if star is not None:
+                # A star posed one vein slot over (its midrib on a faint ridge beside the exemplar's).
+                carried = reseat_star(carried, star, omaps, b, overlap_px=kw["overlap_px"])
                 # A lateral carried off its vein (a squeezed side of the leaf) re-aimed by its evidence.
                 carried = _reaim_laterals(carried, star, omaps, b, overlap_px=kw["overlap_px"])
     elif refine:

@@ -41,6 +41,7 @@ from scipy import ndimage as ndi
 from ..core.distance import edt as _edt
 from ..core.distance import edt_boxed as _edt_boxed
 from ..core.morphology import _binary_dilation
+from .slits import _fill_lined, _select_slits
 
 __all__ = ["OutlineStyle", "outline_style", "source_depth", "close_cuts", "clear_stale_outline", "drop_flecks",
            "fill_joints", "fill_pinholes"]
@@ -324,17 +325,36 @@ def _small_holes(solid: np.ndarray, width: float, alpha: np.ndarray | None = Non
 
 #: A crack (a thin enclosed hole) is filled up to this many times a pinhole's area.
 _CRACK = 4.0
-
-
-@_on_object_box()
-def fill_pinholes(layer: np.ndarray, width: float = 1.0) -> np.ndarray:
+@_on_object_box("source_alpha", "zones", "depth")
+def fill_pinholes(layer: np.ndarray, width: float = 1.0, *, slits: bool = False,
+                  outlined: bool = False, zones: np.ndarray | None = None,
+                  depth: np.ndarray | None = None, source_alpha: np.ndarray | None = None) -> np.ndarray:
     """``layer`` with its small enclosed holes made opaque (a new array, or ``layer``).
 
     A hole is a connected region of alpha <= 0.98 that does not reach the
     image border or the background around the object and has at most
     ``(2 width + 2) ** 2`` px: the pinholes a seam leaves where a carried
     part meets its parent's cut end (faint light dashes across the object).
-    They take the colour of the nearest opaque pixel. Beyond the paper.
+    With ``slits``, narrow background pockets enclosed at the silhouette's
+    level (alpha > 0.5) are filled too, with their anti-aliased rims
+    (:mod:`~branchnb.strokes.slits`: a slit closed off between a new tine and its
+    neighbour, background enclosed by the object). Pinholes take the colour
+    of the nearest opaque pixel; a slit's open pixels that of the nearest
+    pixel of the silhouette (alpha > 0.5: its lining), and its anti-aliased
+    rim is made opaque as it is. Beyond the paper.
+
+    Notes
+    -----
+    Unless ``outlined``, only slits lined with ink (an outline too thin for
+    :func:`outline_style`, on a small object) and reaching into the ``zones``
+    are filled: they take the lining's ink, a dark line that keeps the two
+    parts apart as an artist draws parts that touch (two lines with flesh
+    between where the slit is wider than 2 px). On an object without an
+    outline the slit is all that keeps them apart (filled, a new tine would
+    merge into its neighbour): it stays open. Elsewhere (two tentacles of an
+    octopus laid side by side, whose source has no ink where its tentacles
+    touch) a filled slit's lining is a dark streak the stale-outline pass
+    cannot repaint without an outline style: left open too.
 
     Parameters
     ----------
@@ -342,6 +362,24 @@ def fill_pinholes(layer: np.ndarray, width: float = 1.0) -> np.ndarray:
         The result, straight RGBA.
     width : float
         The source's outline width (px; 1 without an outline).
+    slits : bool
+        Also fill narrow enclosed pockets of background (see Notes); False.
+    outlined : bool
+        The object has an outline (:func:`outline_style` found one): every narrow
+        pocket is filled, lined with ink or not (with flesh: a crack torn into a palm
+        below a bent finger's crotch), like a pinhole (the caller repaints the lining
+        now inside as stale outline).
+    zones : (H, W) bool ndarray, optional
+        Unless ``outlined``, only slits reaching into these pixels are filled (the
+        joints: a new tine's crotch); None: anywhere.
+    depth : (H, W) ndarray, optional
+        Source depth of every result pixel (:func:`source_depth`): unless ``outlined``,
+        a slit whose lining came from deeper than ``width + 2`` px inside the source
+        (a tear in flesh: a white tick under a bent finger's crotch) is filled like a
+        pinhole, wherever it lies and whatever its lining's colour.
+    source_alpha : (H', W') ndarray, optional
+        The source's alpha: slits it has itself (within ``2 width + 2`` px when
+        the canvas is the source's size; anywhere otherwise) are its own and stay open.
 
     Returns
     -------
@@ -357,18 +395,39 @@ def fill_pinholes(layer: np.ndarray, width: float = 1.0) -> np.ndarray:
     """
     solid = layer[..., 3] > 0.98
     hole = _small_holes(solid, width, layer[..., 3])
-    if hole is None:
+    lined, torn = (None, None)
+    if slits:
+        lined, torn = _select_slits(layer, width, outlined=outlined, zones=zones, depth=depth,
+                                    source_alpha=source_alpha)
+    again = lined is not None or torn is not None
+    if outlined and lined is not None:
+        # (an outlined object: filled like pinholes, the lining repainted by the caller)
+        torn = lined if torn is None else torn | lined
+        lined = None
+    if torn is not None:
+        # (filled like a pinhole: its nearest opaque pixel's colour, the flesh round it)
+        hole = torn if hole is None else hole | torn
+    if lined is not None and hole is not None:
+        hole &= ~lined
+        hole = hole if hole.any() else None
+    if hole is None and lined is None:
         return layer
-    rs, cs = np.nonzero(hole)
-    g = int(np.ceil(2.0 * float(width) + 2.0)) + 1
-    r0, r1 = max(rs.min() - g, 0), rs.max() + g + 1
-    c0, c1 = max(cs.min() - g, 0), cs.max() + g + 1
-    sub, hs = solid[r0:r1, c0:c1], hole[r0:r1, c0:c1]
-    _, (ir, ic) = ndi.distance_transform_edt(~sub, return_indices=True)
     out = layer.copy()
-    win = out[r0:r1, c0:c1]
-    win[hs, :3] = layer[r0:r1, c0:c1][ir[hs], ic[hs], :3]
-    win[hs, 3] = 1.0
+    if hole is not None:
+        rs, cs = np.nonzero(hole)
+        g = int(np.ceil(2.0 * float(width) + 2.0)) + 1
+        r0, r1 = max(rs.min() - g, 0), rs.max() + g + 1
+        c0, c1 = max(cs.min() - g, 0), cs.max() + g + 1
+        sub, hs = solid[r0:r1, c0:c1], hole[r0:r1, c0:c1]
+        _, (ir, ic) = ndi.distance_transform_edt(~sub, return_indices=True)
+        win = out[r0:r1, c0:c1]
+        win[hs, :3] = layer[r0:r1, c0:c1][ir[hs], ic[hs], :3]
+        win[hs, 3] = 1.0
+    if lined is not None:
+        _fill_lined(out, layer, lined, width)
+    if again:
+        # (a filled slit can close off half-transparent pixels beside it: pinholes now)
+        out = fill_pinholes(out, width)
     return out
 
 

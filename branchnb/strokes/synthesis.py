@@ -35,6 +35,7 @@ from .outline import (
 from .overlays import _overlaid_parts, _solid_cracks
 from .parts import place_part, rigid_frame
 from .sampling import choose, pair_energies
+from .slits import _joint_zones
 
 __all__ = ["compose_patches"]
 
@@ -254,7 +255,12 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
                                         filled=late if filled is None else late | filled)
         layer = _refill_vacated_roots(layer, index, attached, window, 1.0 if style is None else style.width)
         unplugged = layer
-        layer = fill_pinholes(layer, 1.0 if style is None else style.width)
+        layer = fill_pinholes(layer, 1.0 if style is None else style.width,
+                              slits=True, outlined=style is not None,
+                              zones=_joint_zones(layer.shape[:2], disks, 1.0 if style is None else style.width),
+                              depth=None if style is not None else source_depth(
+                                  comp.labels, [pp.source_map for pp in placed], index.depth),
+                              source_alpha=index.premult[:, :, 3])
         if style is not None and layer is not unplugged:
             # a crack plugged with its nearest opaque colour -- the ink lining it -- and that
             # lining, now inside: a dark blob at a crotch where two limbs' patches met

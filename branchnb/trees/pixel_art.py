@@ -170,10 +170,27 @@ def _clean_blocks(bo: np.ndarray) -> np.ndarray:
     st = np.array([[0, 1, 0], [1, 0, 1], [0, 1, 0]])
     for _ in range(2):
         nb = ndi.convolve(bo.astype(np.int8), st, mode="constant")
-        bo = (bo & (nb >= 2)) | (~bo & (nb >= 3))
+        bo = (bo & ((nb >= 2) | _spike_ends(bo, nb))) | (~bo & (nb >= 3))
     for k in range(4):          # the same for bumps 2 art pixels wide, on each side
         bo = np.rot90(_drop_bumps(np.rot90(bo, k)), -k)
     return bo
+
+
+def _spike_ends(bo: np.ndarray, nb: np.ndarray) -> np.ndarray:
+    """Art pixels hanging on by one side that end a spike (a crown's tip) rather than stick out of
+    a flat edge: the one neighbour they hang on has an open side across the direction of the spike.
+    A wobble on a straight edge hangs on a pixel of that edge, closed on both sides."""
+    p = np.pad(bo, 1)
+    h, w = bo.shape
+    out = np.zeros_like(bo)
+    one = bo & (nb == 1)
+    for dy, dx in ((-1, 0), (1, 0), (0, -1), (0, 1)):
+        at = p[1 + dy:1 + dy + h, 1 + dx:1 + dx + w]            # the neighbour in this direction
+        # its two sides across (dy, dx)
+        s1 = p[1 + dy + dx:1 + dy + dx + h, 1 + dx + dy:1 + dx + dy + w]
+        s2 = p[1 + dy - dx:1 + dy - dx + h, 1 + dx - dy:1 + dx - dy + w]
+        out |= one & at & ~(s1 & s2)
+    return out
 
 
 #: Widest bump (art pixels) one art pixel tall on a straight edge that :func:`_clean_blocks` takes off.

@@ -145,6 +145,68 @@ def _stripped(exemplar, border: _StickerBorder):
     return exemplar._cages[key]
 
 
+#: A thin outline's pixels are at least this much darker (luminance) than the border and the fill
+#: beside them, next to at least THIN_SHARE of the first ring inside the border (:func:`_thin_ink`).
+THIN_DARKER = 0.08
+THIN_SHARE = 0.75
+
+
+def _pen_cover(image: np.ndarray, border: _StickerBorder, ink: np.ndarray, limit: float) -> float:
+    """The outline's width (pixels, fractional) inside a sticker's border: the ink share of each
+    pixel from the border to ``limit`` px inside it, summed and divided by the pixel count of the
+    first ring inside the border. A pixel's ink share is read on the line from the ink to the
+    border colour or to the fill nearest it, whichever passes nearer its colour. An outline
+    thinner than a pixel after the exemplar was scaled down (a 4 px pen on a 1000 px sticker
+    worked on at 256 px) is a 1 px ring of ink blended with the fill: it counts as part of a
+    pixel, so the mix's ring is drawn as thin."""
+    alpha = image[..., 3] >= 0.5
+    depth = _edt(alpha)
+    rgb = image[..., :3]
+    w = border.width
+    to_ink = np.linalg.norm(rgb - ink, axis=2)
+    fill = alpha & (depth > w + limit + 1.0) & (to_ink > 0.35)
+    first = alpha & (depth > w + 0.5) & (depth <= w + 1.5)
+    if not fill.any() or not first.any():
+        return 0.0
+    _, (iy, ix) = ndi.distance_transform_edt(~fill, return_indices=True)
+    best_q = np.zeros(depth.shape)
+    best_r = np.full(depth.shape, np.inf)
+    for other in (rgb[iy, ix], np.broadcast_to(border.colour, rgb.shape)):
+        d = other - ink
+        dd = np.maximum((d * d).sum(axis=2), 1e-6)
+        t = np.clip(((rgb - ink) * d).sum(axis=2) / dd, 0.0, 1.0)
+        r = np.linalg.norm(rgb - (ink + t[..., None] * d), axis=2)
+        take = r < best_r
+        best_q[take], best_r[take] = 1.0 - t[take], r[take]
+    band = alpha & (depth <= w + limit)
+    return float(best_q[band & ~(np.linalg.norm(rgb - border.colour, axis=2) <= BORDER_TOL)].sum()) / float(first.sum())
+
+
+def _thin_ink(image: np.ndarray, border: _StickerBorder) -> np.ndarray | None:
+    """The ink of an outline too thin for the outline measure (blended with the border and the
+    fill once scaled down), or None: pixels from the border's inner edge to 2 px inside it darker
+    (luminance) by :data:`THIN_DARKER` than both the border and the fill nearest them, within
+    1 px of at least :data:`THIN_SHARE` of the first ring inside the border."""
+    img = np.asarray(image, np.float32)
+    alpha = img[..., 3] >= 0.5
+    depth = _edt(alpha)
+    w = border.width
+    lum = img[..., :3] @ _LUM
+    fill = alpha & (depth > w + 3.5)
+    first = alpha & (depth > w + 0.5) & (depth <= w + 1.5)
+    if first.sum() < 16 or not fill.any():
+        return None
+    _, (iy, ix) = ndi.distance_transform_edt(~fill, return_indices=True)
+    band = alpha & (depth > w - 1.0) & (depth <= w + 2.5)
+    dark = band & (lum <= np.minimum(lum[iy, ix], float(border.colour @ _LUM)) - THIN_DARKER)
+    if not dark.any():
+        return None
+    near = ndi.binary_dilation(dark, structure=np.ones((3, 3), bool))
+    if float(near[first].mean()) < THIN_SHARE:
+        return None
+    return np.median(img[..., :3][dark & (lum <= np.quantile(lum[dark], 0.25))], axis=0).astype(np.float32)
+
+
 def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights: np.ndarray,
                  sources: np.ndarray | None = None) -> np.ndarray | None:
     """Rebuild a mix of sticker trees ring by ring (None when they are not stickers).
@@ -180,6 +242,12 @@ def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights
     from .flat_art import _drop_rim_flecks, exemplar_outline
 
     outl = [exemplar_outline(s) for s in stripped]
+    # Outlines blended with the fill (thin pens scaled down) escape the outline measure: found
+    # from the rim being darker than the fill inside it (beyond trees41).
+    thin = [None if o.outlined or b is None else _thin_ink(e.image, b)
+            for o, e, b in zip(outl, exemplars, borders, strict=True)]
+    outl = [SimpleNamespace(outlined=True, ink=t, width=1) if t is not None else o
+            for o, t in zip(outl, thin, strict=True)]
     ons = [o.outlined for o in outl]
     mid = out.copy()
     mid[..., 3] = np.where(inner, 1.0, 0.0)
@@ -187,6 +255,11 @@ def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights
         ink = outl[int(np.argmax(np.where(ons, share, -1.0)))]
         ink_w = float(np.average([o.width for o in outl if o.outlined],
                                  weights=[x + 1e-9 for x, o in zip(share, outl, strict=True) if o.outlined]))
+        # The pen's width in fractions of a pixel (the ring is drawn with a soft inner edge of that
+        # width): whole rings of ``width + 1`` px came out 1.35-2.3x as thick as the sources'.
+        covers = [(_pen_cover(e.image, b, o.ink, o.width + 2.0), x)
+                  for e, b, o, x in zip(exemplars, borders, outl, share, strict=True) if o.outlined and b is not None]
+        pen_w = float(np.average([c for c, _ in covers], weights=[x + 1e-9 for _, x in covers]))
         di = _edt(inner)
         # Rebuild the outline ring: the warped border and outline joined to the shrunk rim
         # (within two borders and pens of it) are repainted with the fill beyond them, then an
@@ -218,10 +291,10 @@ def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights
             _, (iy, ix) = ndi.distance_transform_edt(~fill, return_indices=True)
             mid[leak, :3] = rgb[iy[leak], ix[leak]]
         # The outline ring itself, in the sources' ink and pen width, with a half-ink inner edge.
-        pen = di <= ink_w + 1.0
-        mid[inner & pen, :3] = ink.ink
-        soft = inner & ~pen & (di <= ink_w + 2.0)
-        mid[soft, :3] = 0.5 * (mid[soft, :3] + ink.ink)
+        # A pixel of depth d (1 on the rim) holds the band from d - 1 to d.
+        q = np.clip(pen_w - (di - 1.0), 0.0, 1.0)[..., None]
+        ring_px = inner & (q[..., 0] > 0)
+        mid[ring_px, :3] = (q * ink.ink + (1.0 - q) * mid[..., :3])[ring_px]
         # Pieces of the warped outline deeper than that (at the crown's notches) are specks.
         mid = _drop_rim_flecks(mid, ink.ink, ink_w)
     res = out

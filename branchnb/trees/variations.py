@@ -51,7 +51,7 @@ from ..core.params import check_params, param
 from ..core.random import as_rng
 from ..core.validate import Int, Seq, checked
 from .contour import simplify_contour
-from .corners import _corner_matched
+from .corners import _corner_matched, _polygonal
 from .flat_art import (
     FLAT_ART_SHARE,
     _drawing_group,
@@ -428,8 +428,11 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     middle of a flank: with the paper's arc-length correspondence mixes of
     tiered firs and zig-zag crowns turned their sharp tips into round lumps.
     Crowns without tips (round ones) keep the paper's correspondence, and so
-    do outlined and pixel-art mixes (coloured by the cage alone, where a
-    palm's frond tips matched to a conifer's tiers raised the cross-fade).
+    do outlined mixes of curved crowns (flanks bending off the lines between
+    their corners, :func:`~branchnb.trees.corners._flank_bend`: a palm's
+    frond tips matched to a conifer's tiers raised the cross-fade); outlined
+    polygonal crowns and pixel art (corners at the art-pixel grain, so
+    stair-steps are no corners) are matched too.
     ``python -m branchnb.trees._measure_corners`` measures it.
 
     Beyond the paper: when every mixed exemplar is pixel art (hard edges,
@@ -473,12 +476,17 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     pixel = mode == "choose" and len(used) > 1 and _pixel_arts([exemplars[i] for i in used]) is not None
     # Outlined and pixel-art mixes are coloured without the rim correction (below).
     inked = pixel or any(_drawing_group(exemplars[i]) & 1 for i in used)
-    # Beyond the paper: matched crown tips share an index, so tips meet tips (corners.py). Not on
-    # outlined mixes: there the colours come by the cage alone and a palm's frond tips matched to
-    # a conifer's tiers raised the cross-fade share of variations_of(palm) 0 -> 3.1 %.
+    # Beyond the paper: matched crown tips share an index, so tips meet tips (corners.py). On
+    # outlined mixes only when every crown is polygonal: a palm's frond tips matched to a
+    # conifer's tiers raised the cross-fade share of variations_of(palm) 0 -> 3.1 %, while outlined
+    # firs and stars lost their tips without it (tips per mix x0.00-0.82 -> x0.55-1.09 of the sources').
     shapes = [exemplars[i].resampled for i in used]
-    if not inked:
-        shapes = _corner_matched(shapes, w[used], exemplars[0].contour.pin_indices)
+    grains = ([a.block * exemplars[i].normalized.scale for a, i in zip(_pixel_arts([exemplars[i] for i in used]), used)]
+              if pixel else None)
+    pins = exemplars[0].contour.pin_indices
+    if pixel or not inked or _polygonal([c for c, wi in zip(shapes, w[used], strict=True) if wi > 0], pins):
+        shapes = (_corner_matched(shapes, w[used], pins) if grains is None
+                  else _corner_matched(shapes, w[used], pins, grains))
     cr = combine_shapes(shapes, w[used])
     # C runs through the border pixel centres: grow the fill by one pixel so
     # the border pixels are coloured too (alpha comes from the samples).

@@ -1,0 +1,198 @@
+"""Narrow pockets of background closed off inside the object after an edit (beyond the paper).
+
+Where an edit lays two parts side by side (a tine added beside its
+neighbour on a small outlined antler), their anti-aliased rims touch
+farther out and close the slit between them into a pocket of background
+enclosed by the object: a white sliver lined with ink. A crack torn into
+flesh (a white tick in a palm under a bent finger's crotch) is another.
+The pinhole pass (:func:`~branchnb.strokes.outline.fill_pinholes`) sees
+enclosed regions at the alpha <= 0.98 level only, and these still reach the
+background round the object through their half-transparent rims.
+
+:func:`_select_slits` finds the pockets enclosed at the silhouette's level
+(alpha > 0.5) that are narrow (none of their pixels more than the outline's
+width + 1 px from the silhouette) and small, and keeps those that are
+defects: on an object with a detected outline all of them; otherwise those
+lined with ink and reaching a joint (two parts touching, drawn as a dark
+line, :func:`_fill_lined`) and those lined with flesh from deep inside the
+source (tears). A pocket the source has itself stays, and so does a slit
+lined with flesh from the parts' rims on an object with no outline: there
+it is all that keeps the two parts apart.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy import ndimage as ndi
+
+__all__: list[str] = []
+
+_EIGHT = np.ones((3, 3), bool)
+
+#: A slit holds at most this many times a pinhole's area ``(2 width + 2) ** 2`` (as a crack does).
+_AREA = 4.0
+#: A slit (see :func:`_enclosed_slits`) is at most this many px wider (half width, from its
+#: middle to the nearest pixel of alpha > 0.5) than the outline.
+_SLIT = 1.0
+#: A slit is lined with ink where its lining is this much darker (luminance) than the flesh.
+_LINED = 0.15
+
+
+def _enclosed_slits(alpha: np.ndarray, width: float, rgb: np.ndarray | None = None) -> np.ndarray | None:
+    """Narrow background pockets enclosed at the silhouette's level, lined with ink (None if none).
+
+    An enclosed region of alpha <= 0.5 (4-connected, not reaching the box's
+    border) of at most :data:`_AREA` ``(2 width + 2) ** 2`` px whose open
+    pixels all lie within ``width +`` :data:`_SLIT` px of the silhouette
+    (alpha > 0.5), lined with ink (a quarter of the silhouette's pixels within
+    2 px of it darker by :data:`_LINED` than the median of the pixels deeper
+    than ``width + 2`` px inside), with the half-transparent pixels (alpha <=
+    0.98) round it: the slit left between a new tine and its neighbour on an
+    outlined object where their rims touch farther out (a 150 px antler:
+    24-59 px of background enclosed). Pockets wider than that (a finger bent
+    into a loop) and pockets lined with flesh (an object with no outline: the
+    slit is all that keeps the two parts apart) are not slits. Without
+    ``rgb`` (straight colours) the lining is not looked at.
+
+    Examples
+    --------
+    >>> a = np.zeros((20, 20), np.float32); a[3:17, 3:17] = 1.0; a[6:14, 9] = 0.0
+    >>> int(_enclosed_slits(a, 1.0).sum())
+    8
+        """
+    obj = alpha > 0.5
+    rs, cs = np.nonzero(obj)
+    if not len(rs):
+        return None
+    r0, r1, c0, c1 = rs.min(), rs.max() + 1, cs.min(), cs.max() + 1
+    lab, n = ndi.label(~obj[r0:r1, c0:c1])
+    if n == 0:
+        return None
+    sizes = np.bincount(lab.ravel())
+    edge = np.unique(np.concatenate([lab[0], lab[-1], lab[:, 0], lab[:, -1]]))
+    cand = sizes <= _AREA * (2.0 * float(width) + 2.0) ** 2
+    cand[0] = False
+    cand[edge] = False
+    if not cand.any():
+        return None
+    depth = ndi.distance_transform_edt(lab > 0)
+    widest = np.asarray(ndi.maximum(depth, lab, index=np.arange(len(sizes))))
+    cand &= widest <= float(width) + _SLIT
+    if not cand.any():
+        return None
+    a = alpha[r0:r1, c0:c1]
+    if rgb is not None:
+        lum = rgb[r0:r1, c0:c1] @ np.array([0.299, 0.587, 0.114], np.float32)
+        inner = ndi.distance_transform_edt(obj[r0:r1, c0:c1]) > float(width) + 2.0
+        if not inner.any():
+            return None
+        flesh = float(np.median(lum[inner]))
+    out = np.zeros(alpha.shape, bool)
+    for i in np.flatnonzero(cand):
+        slit = lab == i
+        if rgb is not None:
+            # (the silhouette's pixels round it, half-transparent ones too: on a small
+            # object the one-pixel ink lining is the anti-aliased rim itself)
+            lining = ndi.binary_dilation(slit, structure=np.ones((3, 3), bool), iterations=2) & obj[r0:r1, c0:c1]
+            if not lining.any() or float(np.percentile(lum[lining], 25)) > flesh - _LINED:
+                continue
+        slit |= ndi.binary_dilation(slit, structure=np.ones((3, 3), bool)) & (a <= 0.98)
+        out[r0:r1, c0:c1] |= slit
+    return out if out.any() else None
+
+
+def _select_slits(layer: np.ndarray, width: float, *, outlined: bool = False,
+                  zones: np.ndarray | None = None, depth: np.ndarray | None = None,
+                  source_alpha: np.ndarray | None = None) -> tuple:
+    """``(lined, torn)``: the slits of ``layer`` (straight RGBA) to fill with their lining
+    (:func:`_fill_lined`) and those to fill like pinholes (each a bool mask, or None).
+
+    ``outlined``: every slit, as ``lined`` (the caller fills them like pinholes and
+    repaints the lining as stale outline). Otherwise ``lined``: slits lined with ink
+    reaching into ``zones`` (anywhere if None); ``torn``: slits whose lining's median
+    source ``depth`` (per result pixel) exceeds ``width + 2``. Slits within ``2 width + 2``
+    px of a slit of ``source_alpha`` (any, if the canvas is not the source's size) are
+    the source's own and left.
+    """
+    alpha = layer[..., 3]
+    torn = None
+    if not outlined and depth is not None:
+        every = _enclosed_slits(alpha, width)
+        if every is not None:
+            lab, n = ndi.label(every, structure=_EIGHT)
+            lining = ndi.binary_dilation(every, structure=_EIGHT, iterations=2) & ~every & (alpha > 0.5)
+            # (each lining pixel to its slit: the label of the nearest slit pixel)
+            _, (iy, ix) = ndi.distance_transform_edt(lab == 0, return_indices=True)
+            med = ndi.median(depth, np.where(lining, lab[iy, ix], 0), index=np.arange(1, n + 1))
+            deep = np.r_[False, np.asarray(med, float) > float(width) + 2.0]
+            torn = _some(deep[lab] & every)
+    lined = _enclosed_slits(alpha, width, None if outlined else layer[..., :3])
+    if lined is not None and not outlined and zones is not None:
+        lab, _ = ndi.label(lined, structure=_EIGHT)
+        lined = _some(np.isin(lab, np.unique(lab[zones & lined])) & lined)
+    if torn is not None and lined is not None:
+        torn = _some(torn & ~lined)
+    if (lined is not None or torn is not None) and source_alpha is not None:
+        own = _enclosed_slits(source_alpha, width)
+        if own is not None:
+            if own.shape != alpha.shape:
+                return None, None
+            near = ndi.binary_dilation(own, iterations=int(np.ceil(2.0 * float(width) + 2.0)))
+            lined, torn = _not_near(lined, near), _not_near(torn, near)
+    return lined, torn
+
+
+def _some(mask: np.ndarray) -> np.ndarray | None:
+    return mask if mask.any() else None
+
+
+def _not_near(mask: np.ndarray | None, near: np.ndarray) -> np.ndarray | None:
+    """``mask`` without its (8-connected) pieces touching ``near``."""
+    if mask is None:
+        return None
+    lab, _ = ndi.label(mask, structure=_EIGHT)
+    return _some(np.isin(lab, np.unique(lab[near]), invert=True) & mask)
+
+
+def _fill_lined(out: np.ndarray, layer: np.ndarray, lined: np.ndarray, width: float) -> None:
+    """Fill the slits ``lined`` of ``layer`` into ``out`` (in place): open pixels (alpha
+    <= 0.5) take their nearest silhouette pixel's colour (the lining: the ink of a thin
+    outline is the anti-aliased rim, half transparent), the middle of a slit wider than
+    2 px the flesh beyond (two outlined parts touching, each with its own outline, not a
+    band of ink); the slit's rim is made opaque as it is."""
+    a = layer[..., 3]
+    fill = lined & (a <= 0.5)
+    out[lined & (a > 0.5), 3] = 1.0
+    if not fill.any():
+        return
+    rs, cs = np.nonzero(fill)
+    g = int(np.ceil(2.0 * float(width) + 2.0)) + 1
+    r0, r1 = max(rs.min() - g, 0), rs.max() + g + 1
+    c0, c1 = max(cs.min() - g, 0), cs.max() + g + 1
+    hs = fill[r0:r1, c0:c1]
+    _, (ir, ic) = ndi.distance_transform_edt(~((a[r0:r1, c0:c1] > 0.5) & ~hs), return_indices=True)
+    win = out[r0:r1, c0:c1]
+    win[hs, :3] = layer[r0:r1, c0:c1][ir[hs], ic[hs], :3]
+    win[hs, 3] = 1.0
+    mid = hs & (ndi.distance_transform_edt(hs) > 1.0)
+    if mid.any():
+        _, (jr, jc) = ndi.distance_transform_edt(~(a[r0:r1, c0:c1] > 0.98), return_indices=True)
+        win[mid, :3] = layer[r0:r1, c0:c1][jr[mid], jc[mid], :3]
+
+
+def _joint_zones(shape, disks, width: float) -> np.ndarray:
+    """Pixels within twice the joint disks' radii + 4 px + the outline's ``width`` of their
+    centres (where a slit closed off between a new child and its neighbour starts); ``disks``
+    from :func:`~branchnb.strokes.joints.joint_disks`."""
+    zones = np.zeros(shape, bool)
+    h, w = shape
+    for centre, _inv, r, *_ in disks:
+        g = 2.0 * float(r) + 4.0 + float(width)
+        cx, cy = float(centre[0]), float(centre[1])
+        r0, r1 = max(int(cy - g), 0), min(int(cy + g) + 2, h)
+        c0, c1 = max(int(cx - g), 0), min(int(cx + g) + 2, w)
+        if r0 >= r1 or c0 >= c1:
+            continue
+        yy, xx = np.mgrid[r0:r1, c0:c1]
+        zones[r0:r1, c0:c1] |= (xx - cx) ** 2 + (yy - cy) ** 2 <= g * g
+    return zones
