@@ -503,6 +503,7 @@ ARGS = {
     "n_points": _v(8), "n_endpoints": _v(12), "rho": _v(4.0),
     # ---- per function
     "core:extend_nearest.values": _e("image"), "core:extend_nearest.known": _e("mask"),
+    "core:matte_from_background.image": lambda: np.where(_tree_rgba()[..., 3:] > 0, _tree_rgba()[..., :3], 1.0),
     "core:as_rng.rng": _v(0), "core:resample_chord.n": _v(5), "core:resample_uniform.h": _v(2.0),
     "core:polylines_to_svg.size": _v((28, 24)), "core:draw_polylines.widths": _v(2.0),
     "core:compare_samples.samples": _v(([0.1, 0.5, 0.9], [0.2, 0.3])),

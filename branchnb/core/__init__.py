@@ -1,6 +1,7 @@
 """What two or more techniques share: image conventions, polylines, histograms,
 rendering, skeleton structures, graph-cut seams, Poisson compositing, example-based
-completion, warps, stippling and comparison metrics.
+completion, warps, stippling, mattes of objects on smooth grounds and comparison
+metrics.
 
 Each concept lives in its own module; the most used functions are
 re-exported here.
@@ -20,6 +21,7 @@ from .image import (
     split_alpha,
     to_uint8,
 )
+from .matte import Matte, matte_from_background
 from .metrics import iou, psnr
 from .poisson import grid_laplacian, poisson_blend
 from .polyline import (
@@ -65,6 +67,8 @@ __all__ = [
     "histogram_distance",
     "histograms",
     "iou",
+    "Matte",
+    "matte_from_background",
     "normals",
     "poisson_blend",
     "polyline_length",

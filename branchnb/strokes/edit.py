@@ -30,6 +30,7 @@ import numpy as np
 
 from ..core.image import as_float_image, as_rgba, composite_over
 from ..core.io import encode_png
+from ..core.matte import matte_from_background
 from ..core.params import check_params, param
 from ..core.random import as_rng
 from ..core.validate import Seq, Shape, checked
@@ -120,6 +121,18 @@ class StrokeEditParams:
         beyond the paper (which assumes strokes on the skeleton). Strokes
         within 1 px of the middle, strokes kept in place and pairs with
         control points stay as drawn.
+    separate_ground : bool
+        An opaque image whose ground is plain or smooth (white, a flat
+        colour, a vertical or diagonal gradient, light paper texture) is
+        split into the object (a soft alpha matte,
+        :func:`~branchnb.core.matte.matte_from_background`) and its ground,
+        and edited as an RGBA object: unstroked parts stay, and the result is
+        painted over the photo's own ground with the vacated area filled by
+        the smooth ground model (plus its grain); True, beyond the paper.
+        With a ``background`` given, or an output domain of another size,
+        the cut-out object goes over that (or stays on transparent). A busy ground (or
+        False) keeps the opaque behaviour: the object is the union of the
+        patches copied around the strokes.
 
     Examples
     --------
@@ -176,6 +189,9 @@ class StrokeEditParams:
     centre_strokes: bool = param(
         True, help="slide each moved source stroke onto the middle of the part it was drawn along "
                    "(hand-drawn strokes off the skeleton fetch background otherwise)")
+    separate_ground: bool = param(
+        True, help="opaque image on a plain or smooth ground (white, a flat colour, a gradient, paper): "
+                   "cut the object out with a soft matte and paint the result over the photo's own ground")
 
 
 @dataclass
@@ -220,7 +236,9 @@ class StrokeEditResult:
     ----------
     image : (H, W, 4) float32 ndarray
         The synthesized object over the background (transparent if none
-        was given), straight (not premultiplied) alpha.
+        was given; for an opaque image on a smooth ground, that image's own
+        ground with the vacated area filled), straight (not premultiplied)
+        alpha.
     mask : (H, W) bool ndarray
         Object mask: alpha > 0.5 of the synthesized object.
     seams : (H, W) bool ndarray
@@ -371,9 +389,11 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
     ----------
     image : (H, W, C) array_like
         Source image: an RGBA object on a transparent background (the
-        object region is alpha > 0.5), or an opaque image (the object
-        region is then the union of the patches copied around the source
-        strokes).
+        object region is alpha > 0.5), or an opaque image: on a plain or
+        smooth ground the object is cut out with a soft matte and the
+        result is painted over that ground (``params.separate_ground``);
+        on a busy ground the object region is the union of the patches
+        copied around the source strokes.
     source_strokes : list of (N, 2) array_like or Stroke
         Strokes along the object's skeleton, on ``image``. The same
         stroke may be given several times (e.g. to grow two branches
@@ -392,7 +412,9 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
         Size of the output domain (default: the background image's, or
         the source image's).
     background : None, RGB(A) colour or (H, W, C) image, optional
-        What lies behind the object: None keeps it transparent.
+        What lies behind the object: None keeps it transparent (for an
+        opaque image on a smooth ground: the image's own ground, the
+        vacated area filled with its smooth model).
     rng : int or numpy.random.Generator, optional
         Accepted for API uniformity; the method is deterministic.
 
@@ -481,7 +503,7 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
 #: The parameters the fetched candidate patches depend on (see :class:`EditPatches`); with
 #: ``sampling == "none"`` only one candidate per sample is fetched, so whether it is "none" counts too.
 FETCH_FIELDS = ("patch_size", "spacing", "search_window", "search_across", "search_step",
-                "junction_tolerance", "extend_branches", "unstroked", "centre_strokes")
+                "junction_tolerance", "extend_branches", "unstroked", "centre_strokes", "separate_ground")
 
 
 def _check_edit_params(params) -> StrokeEditParams:
@@ -636,6 +658,7 @@ def fetch_patches(image, source_strokes, target_strokes, params: StrokeEditParam
     """
     params = _check_edit_params(params)
     src_img = as_rgba(image, name="image")
+    src_img, background = _separate_ground(src_img, params, background, target_shape)
     bg_img, target_shape = _background(background, target_shape, src_img.shape)
     pairs = make_pairs(source_strokes, target_strokes, control_points,
                        source_shape=src_img.shape, target_shape=target_shape)
@@ -707,6 +730,25 @@ def fetch_patches(image, source_strokes, target_strokes, params: StrokeEditParam
                        _background=None if background is None else background, _bg_img=bg_img,
                        _carried=carried, _auto=_auto_values(params, typical, tol),
                        _style=outline_style(index.premult, index.depth) if index.has_alpha else None)
+
+
+def _separate_ground(src_img: np.ndarray, params: StrokeEditParams, background, target_shape):
+    """An opaque ``src_img`` on a smooth ground as (RGBA object, its ground as the background).
+
+    Returns ``(src_img, background)`` unchanged for RGBA objects, busy
+    grounds and ``separate_ground=False``. The photo's own ground (its
+    smooth model where the object lay) becomes the background only when
+    the caller gave none and the output domain has the source's size.
+    """
+    if not params.separate_ground or bool((src_img[..., 3] < 0.999).any()):
+        return src_img, background
+    matte = matte_from_background(src_img[..., :3])
+    if matte is None:
+        return src_img, background
+    same = target_shape is None or tuple(int(v) for v in tuple(target_shape)[:2]) == src_img.shape[:2]
+    if background is None and same:
+        background = matte.background
+    return matte.image, background
 
 
 #: A pair is mirrored when its source and target strokes turn opposite ways, each by more than this (rad).

@@ -48,7 +48,10 @@ tail's width, not the body's), so the synthesized piece has a clean cut end (hid
 parent for a branch) instead of a round bite out of the source.
 
 The *object region* is where the source is opaque (alpha > 0.5) for an
-RGBA image; for an opaque image it is the union of the copied patches.
+RGBA image; for an opaque image it is the union of the copied patches
+(:func:`~branchnb.strokes.edit.edit_structure` first cuts an object on a
+plain or smooth ground out with :func:`~branchnb.core.matte.matte_from_background`,
+so only opaque images on busy grounds get here).
 """
 
 from __future__ import annotations

@@ -31,9 +31,11 @@ from scipy import ndimage as ndi
 
 from ..core.image import as_float_image, as_mask, as_rgba, composite_over
 from ..core.io import encode_png
+from ..core.matte import matte_from_background
 from ..core.params import check_params, param
 from ..core.render import draw_polylines
-from ..core.validate import MAX_PIXELS, Array, Colour, Int, Real, checked
+from ..core.validate import MAX_PIXELS, Array, Int, Real, checked
+from ..core.validate_arrays import as_colour
 from .pixel_art import _detect as _detect_pixel_art
 
 __all__ = [
@@ -92,7 +94,7 @@ class ExemplarParams:
     sprite_pixels: bool = param(False, help="keep a sprite's hard pixels at about its own size", ui=False)
 
 
-@checked(tol=Real(0, 2), background=Colour(channels=(3,)))
+@checked(tol=Real(0, 2))
 def alpha_from_background(image, tol: float = 0.1, *, background=None,
                           connected: bool = False) -> np.ndarray:
     """Give an RGB image an alpha channel by keying out its background colour.
@@ -104,8 +106,12 @@ def alpha_from_background(image, tol: float = 0.1, *, background=None,
     tol : float
         A pixel is background when every channel differs from the
         background colour by at most ``tol`` (Chebyshev distance, in [0, 1]).
-    background : 3-tuple, optional
+    background : 3-tuple or "smooth", optional
         Background colour; by default the median colour of the image border.
+        ``"smooth"``: the ground is a smooth model fitted at the border (a
+        sky gradient over grass, light paper) and alpha is a soft matte
+        (:func:`~branchnb.core.matte.matte_from_background`; ``tol`` is then
+        its colour tolerance, and ``connected`` is implied).
     connected : bool
         If True only background-coloured pixels connected to the image
         border become transparent (keeps background-coloured details inside
@@ -120,7 +126,8 @@ def alpha_from_background(image, tol: float = 0.1, *, background=None,
     Raises
     ------
     ValueError
-        ``tol`` outside [0, 1], or a background colour that is not an RGB triple.
+        ``tol`` outside [0, 1], a background colour that is not an RGB triple,
+        or ``background="smooth"`` on a picture whose ground is not smooth.
 
     Examples
     --------
@@ -128,6 +135,13 @@ def alpha_from_background(image, tol: float = 0.1, *, background=None,
     >>> img = np.ones((8, 8, 3), np.float32); img[2:6, 3:5] = (0.2, 0.5, 0.1)
     >>> float(alpha_from_background(img)[..., 3].sum())
     8.0
+
+    A tree on a sky gradient (one colour cannot key it out):
+
+    >>> sky = np.linspace(0.4, 0.95, 64, dtype=np.float32)[:, None, None] * np.ones((64, 64, 3), np.float32)
+    >>> sky[16:48, 28:36] = (0.3, 0.2, 0.1)
+    >>> float(alpha_from_background(sky, background="smooth")[..., 3].sum())
+    256.0
     """
     img = as_float_image(image)
     if img.shape[2] == 1:
@@ -135,6 +149,16 @@ def alpha_from_background(image, tol: float = 0.1, *, background=None,
     rgb = img[:, :, :3]
     if not (0.0 <= float(tol) <= 1.0):
         raise ValueError(f"tol must lie in [0, 1], got {tol}")
+    if isinstance(background, str):
+        if background != "smooth":
+            raise ValueError(f'background must be an RGB triple or "smooth", got {background!r}')
+        matte = matte_from_background(rgb, tol=float(tol) if tol > 0 else None)
+        if matte is None:
+            raise ValueError("background='smooth': the image's ground is not smooth (a busy photo); "
+                             "give an RGBA image or key one colour with background=(r, g, b)")
+        return matte.image
+    if background is not None:
+        background = as_colour(background, "background", channels=(3,))
     if background is None:
         border = np.concatenate([rgb[0], rgb[-1], rgb[:, 0], rgb[:, -1]], axis=0)
         bg = np.median(border, axis=0)
@@ -330,7 +354,8 @@ def tree_rgba(image, *, alpha_threshold: float = 0.5, min_pixels: int = 1,
     if img.shape[2] != 4:
         raise ValueError(
             f"{name} must be RGBA (H, W, 4) with the tree opaque on a transparent background, "
-            f"got {img.shape[2]} channel(s); make an alpha channel with alpha_from_background(image, tol)"
+            f"got {img.shape[2]} channel(s); make an alpha channel with alpha_from_background(image, tol) "
+            f"(background='smooth' for a gradient or paper ground)"
         )
     if not 0.0 <= alpha_threshold <= 1.0:
         raise ValueError(f"alpha_threshold must be in [0, 1], got {alpha_threshold}")

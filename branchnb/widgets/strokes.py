@@ -77,7 +77,8 @@ SECTIONS = [
                               "search_step", "shift_penalty"]),
     ("composition (seams)", ["composition", "seam_power", "gradient_weighted"]),
     ("junctions", ["junction_tolerance", "extend_branches"]),
-    ("parts nobody stroked (beyond the paper)", ["unstroked", "close_cuts", "centre_strokes"]),
+    ("parts nobody stroked (beyond the paper)", ["unstroked", "close_cuts", "centre_strokes",
+                                                 "separate_ground"]),
 ]
 LABELS = {
     "patch_size": ("patch size (0: auto)", "2r"), "spacing": ("spacing (0: auto)", "h"),
@@ -88,6 +89,7 @@ LABELS = {
     "junction_tolerance": ("joint reach (0: auto)", ""), "extend_branches": ("extend branches", ""),
     "unstroked": ("unstroked parts", ""), "close_cuts": ("outline cut faces", ""),
     "centre_strokes": ("centre strokes on their part", ""),
+    "separate_ground": ("cut out of a smooth ground", ""),
 }
 
 #: Title of the result view's second image (the target canvas shows the result itself).
