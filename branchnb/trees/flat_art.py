@@ -207,8 +207,13 @@ def _pixel_mix(image: np.ndarray, exemplars: Sequence[Exemplar], cw: np.ndarray,
     ink = None
     if outline and on.any() and cw[on].sum() >= 0.5 * cw.sum() - 1e-9:
         ink = inks[int(np.argmax(np.where(on, cw, -1.0)))]
+    # the outline's width in art pixels, as the outlined sources draw it (a 2-3 px game-sprite
+    # outline was re-inked 1 px wide and the ring inside it repainted as a stray outline)
+    wide = [o.width / max(b, 1.0) for o, b in zip(outl, blocks, strict=True) if o.outlined]
+    ink_blocks = max(1, int(round(float(np.median(wide))))) if wide else 1
     inner = ink is None or any(_inner_ink(e.image, ink, b) for e, b in zip(exemplars, blocks, strict=True))
-    out, (src, tr) = _pixelate(image, arts, blocks, ink=ink, layers=(sources, trunk), inner_ink=inner)
+    out, (src, tr) = _pixelate(image, arts, blocks, ink=ink, layers=(sources, trunk), inner_ink=inner,
+                               ink_blocks=ink_blocks)
     return out, src, tr
 
 
