@@ -411,6 +411,11 @@ def normalize_exemplar(image, params: ExemplarParams | None = None, **overrides)
     already is), then divides by the resampled alpha and thresholds it
     again at 0.5, so the edges neither darken nor blur.
 
+    Pixel art (beyond the paper) is resized nearest. Soft regions lying
+    apart from the opaque tree (a sprite's cast-shadow ellipse, below the
+    threshold and dropped with the background) do not make a hard-edged
+    source count as anti-aliased (:func:`_drop_cast_shadows`).
+
     Examples
     --------
     >>> from branchnb import data
