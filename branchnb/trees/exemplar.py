@@ -289,6 +289,35 @@ ART_PIXEL_MIN = 2.0
 SPRITE_SIZE = 256
 
 
+#: A soft (semi-transparent) region of a source is a shape of its own, not the anti-aliased edge of
+#: the tree, when less than this share of its pixels touch (8-adjacent) the opaque tree.
+SOFT_EDGE_SHARE = 0.5
+
+
+def _drop_cast_shadows(alpha: np.ndarray, opaque: np.ndarray, threshold: float) -> np.ndarray:
+    """``alpha`` with the soft regions that are shapes of their own (not the tree's anti-aliased
+    edge) made transparent, for the pixel-art test.
+
+    Beyond the paper (issue 24): game sprites draw a soft cast-shadow ellipse (alpha <= 0.35) at
+    the trunk foot. It lies under the alpha threshold, so it is no part of the exemplar, but its
+    soft pixels told :func:`~branchnb.trees.pixel_art._detect` the sprite was anti-aliased: the
+    same hard-edged, outlined sprite went to the pixel-art path without a shadow and was resampled
+    smoothly with one (its 1 px outline blurred, trunk edges left without a dark line). An
+    anti-aliased edge hugs the opaque silhouette; a cast shadow mostly lies away from it.
+    """
+    soft = (alpha > 1.0 / 255) & (alpha < threshold)
+    if not soft.any():
+        return alpha
+    lab, n = ndi.label(soft, structure=np.ones((3, 3), bool))
+    hug = ndi.binary_dilation(opaque, structure=np.ones((3, 3), bool))
+    idx = np.arange(1, n + 1)
+    share = ndi.mean(hug.astype(np.float64), lab, idx)
+    own = np.isin(lab, idx[np.asarray(share) < SOFT_EDGE_SHARE])
+    if not own.any():
+        return alpha
+    return np.where(own, 0.0, alpha)
+
+
 def _select_components(opaque: np.ndarray, mode: str, second_fraction: float):
     n, labels, stats, _ = cv2.connectedComponentsWithStats(opaque.astype(np.uint8), connectivity=8)
     if n <= 2:  # background + one region
@@ -407,6 +436,11 @@ def normalize_exemplar(image, params: ExemplarParams | None = None, **overrides)
     already is), then divides by the resampled alpha and thresholds it
     again at 0.5, so the edges neither darken nor blur.
 
+    Pixel art (beyond the paper) is resized nearest. Soft regions lying
+    apart from the opaque tree (a sprite's cast-shadow ellipse, below the
+    threshold and dropped with the background) do not make a hard-edged
+    source count as anti-aliased (:func:`_drop_cast_shadows`).
+
     Examples
     --------
     >>> from branchnb import data
@@ -434,6 +468,7 @@ def normalize_exemplar(image, params: ExemplarParams | None = None, **overrides)
     # (the raw alpha of the kept tree: soft edges say it is no pixel art; dropped regions are gone)
     a_raw = img[y0:y1, x0:x1, 3]
     kept = np.where(opaque[y0:y1, x0:x1] | (a_raw < p.alpha_threshold), a_raw, 0.0)
+    kept = _drop_cast_shadows(kept, opaque[y0:y1, x0:x1], p.alpha_threshold)
     art = _detect_pixel_art(np.dstack([img[y0:y1, x0:x1, :3], kept]))
     if art is not None and art.block * scale < ART_PIXEL_MIN and not (
             p.sprite_pixels and s <= SPRITE_SIZE and scale >= 1.0):

@@ -99,8 +99,7 @@ def _ink_outline(image: np.ndarray, exemplars: Sequence[Exemplar], cw: np.ndarra
                  sources: np.ndarray | None = None) -> np.ndarray:
     """Ink the silhouette when outlined exemplars hold at least half the colour weight, and
     (``sources``: the ``"choose"`` mode's source per pixel) the seams that cross a fill."""
-    from .outline import even_outline, ink_seams, ink_silhouette
-    from .outline_pen import _pen_outline, _pen_width
+    from .outline import ink_seams
 
     outl = [exemplar_outline(e) for e in exemplars]
     on = np.array([o.outlined for o in outl])
@@ -113,6 +112,48 @@ def _ink_outline(image: np.ndarray, exemplars: Sequence[Exemplar], cw: np.ndarra
     best = outl[int(np.argmax(np.where(on, cw, -1.0)))]
     if sources is not None:
         image = ink_seams(image, sources, best.ink, best.width)
+    closed = [_closed_foot(e, o) for e, o in zip(exemplars, outl, strict=True)]
+    if sum(w for w, c, o in zip(cw, closed, on, strict=True) if c and o) > 0.5 * cw[on].sum():
+        # The outlined sources draw their foot's bottom edge too: the frame's bottom row is then
+        # no cut through the trunk, and the mix's foot is inked like the rest of its rim.
+        pad = np.zeros((1,) + image.shape[1:], np.float32)
+        return _ink_outline_rim(np.concatenate([image, pad], 0), exemplars, cw, on, outl, best)[:-1]
+    return _ink_outline_rim(image, exemplars, cw, on, outl, best)
+
+
+#: A source's foot is closed (its outline runs along the bottom of the trunk) when at least this
+#: share of its bottom row is ink.
+CLOSED_FOOT_SHARE = 0.6
+
+
+def _closed_foot(exemplar: Exemplar, outline) -> bool:
+    """Whether an outlined exemplar's trunk foot (its bottom row, where it stands) is inked."""
+    from .outline import _LUM
+
+    if not outline.outlined:
+        return False
+    if "closed_foot" not in exemplar._cages:
+        img = np.asarray(exemplar.image, np.float32)
+        row = img[-1]
+        op = row[:, 3] >= 0.5
+        ok = False
+        if op.sum() >= 2:
+            lum = img[..., :3] @ _LUM
+            alpha = img[..., 3] >= 0.5
+            ink_lum = float(np.asarray(outline.ink, np.float32) @ _LUM)
+            # as dark as the outline (a soft, anti-aliased stroke included), not the trunk's fill
+            dark = lum[-1] <= ink_lum + 0.5 * (float(np.median(lum[alpha])) - ink_lum)
+            ok = bool(dark[op].mean() >= CLOSED_FOOT_SHARE)
+        exemplar._cages["closed_foot"] = ok
+    return exemplar._cages["closed_foot"]
+
+
+def _ink_outline_rim(image: np.ndarray, exemplars: Sequence[Exemplar], cw: np.ndarray, on: np.ndarray,
+                     outl: list, best) -> np.ndarray:
+    """The silhouette outline of :func:`_ink_outline` (seams inked already)."""
+    from .outline import even_outline, ink_silhouette
+    from .outline_pen import _pen_outline, _pen_width
+
     i = int(np.argmax(np.where(on, cw, -1.0)))
     profile = _exemplar_pen(exemplars[i])
     if profile is None:
@@ -207,8 +248,13 @@ def _pixel_mix(image: np.ndarray, exemplars: Sequence[Exemplar], cw: np.ndarray,
     ink = None
     if outline and on.any() and cw[on].sum() >= 0.5 * cw.sum() - 1e-9:
         ink = inks[int(np.argmax(np.where(on, cw, -1.0)))]
+    # the outline's width in art pixels, as the outlined sources draw it (a 2-3 px game-sprite
+    # outline was re-inked 1 px wide and the ring inside it repainted as a stray outline)
+    wide = [o.width / max(b, 1.0) for o, b in zip(outl, blocks, strict=True) if o.outlined]
+    ink_blocks = max(1, int(round(float(np.median(wide))))) if wide else 1
     inner = ink is None or any(_inner_ink(e.image, ink, b) for e, b in zip(exemplars, blocks, strict=True))
-    out, (src, tr) = _pixelate(image, arts, blocks, ink=ink, layers=(sources, trunk), inner_ink=inner)
+    out, (src, tr) = _pixelate(image, arts, blocks, ink=ink, layers=(sources, trunk), inner_ink=inner,
+                               ink_blocks=ink_blocks)
     return out, src, tr
 
 

@@ -105,6 +105,20 @@ class TreeLibrary:
         Whether trees added later have ground clutter at the trunk foot
         cut off (:func:`process_exemplar`).
 
+    Notes
+    -----
+    Cast shadows (beyond the paper; issue 24): a soft, semi-transparent
+    shadow under a tree (a game sprite's ellipse at the foot, alpha below
+    the 0.5 alpha threshold) is no part of an exemplar. It is dropped from
+    every exemplar, so from every variation too: a tree added with its
+    shadow gives the same exemplar as without it, and no mix carries a
+    half shadow. The shadow is not redrawn under a mix (the variations stand
+    on the bottom edge of their square image, with no room below the foot);
+    composite one under the variation when the scene needs it. Nor do its
+    soft pixels make a hard-edged sprite count as anti-aliased
+    (:func:`~branchnb.trees.exemplar.normalize_exemplar`): it stays pixel art,
+    outline and all.
+
     Examples
     --------
     >>> lib = TreeLibrary.from_data(["tree_rpg_05", "tree_rpg_06"], size=128)
