@@ -185,7 +185,8 @@ def _anneal_compiled(x, v, system, lab_x, lab_v, t, t_init, t_final, prm, pair_c
                                       np.ascontiguousarray(sys_.q2), float(t), float(t_init), float(t_final),
                                       float(prm.anneal_rate), int(prm.iterations), int(prm.sinkhorn_iterations),
                                       float(prm.lambda1_init), float(prm.lambda2_init), _SINK_TOL,
-                                      _MOVE_TOL * np.sqrt(t_final), _COUNTS, fvs, cx, float(t_end))
+                                      _MOVE_TOL * np.sqrt(t_final), _COUNTS, fvs, cx, float(t_end),
+                                      *_fit_space(sys_, prm))
         f = ThinPlateSpline(sys_.v, w, d)
         if done:
             break
@@ -197,9 +198,48 @@ def _anneal_compiled(x, v, system, lab_x, lab_v, t, t_init, t_final, prm, pair_c
                                       float(t_final), float(prm.anneal_rate), int(prm.iterations),
                                       int(prm.sinkhorn_iterations), float(prm.lambda1_init),
                                       float(prm.lambda2_init), _SINK_TOL, _MOVE_TOL * np.sqrt(t_final),
-                                      _COUNTS, np.ascontiguousarray(f(v)), cx, 0.0)
+                                      _COUNTS, np.ascontiguousarray(f(v)), cx, 0.0, *_fit_space(system, prm))
         f = ThinPlateSpline(system.v, w, d)
     return f, m
+
+
+#: Fit in the spline's values at the centres (:func:`_fit_space`) unless A^-1 is
+#: this ill-conditioned (then the normal equations in z, as before).
+_VALUES_COND = 1e8
+_NO_VALUES = (np.zeros((0, 0)), np.zeros((0, 0)))
+
+
+def _fit_space(system, prm):
+    """``(A^-1, A^-T R0 A^-1)`` of a spline system for the compiled annealing, or empty arrays.
+
+    Each annealing round solves ``(A^T C A + k T R0) z = A^T C y + k T r0``
+    for the spline's coefficients ``z`` (``A = [P | Phi Q2]`` the centres'
+    basis, ``C`` the match masses, ``R0`` the bending and affine
+    regularisers per unit temperature). ``A`` is square and invertible for
+    distinct centres, so with ``u = A z`` (the spline at its centres) the
+    same equations read ``(C + k T A^-T R0 A^-1) u = C y + k T A^-T r0``:
+    the matrix is a diagonal plus a fixed one scaled, and the ``(K, K)``
+    product ``A^T C A`` of every round (a third of a round) is gone. The
+    two differ by rounding only (maps within ~1e-9 of the blade radius).
+    Beyond the paper (an implementation detail of its linear solve).
+    """
+    a = np.ascontiguousarray(system.a)
+    k = a.shape[0]
+    if k < 4 or a.shape[1] != k:
+        return _NO_VALUES
+    try:
+        if not np.isfinite(a).all() or np.linalg.cond(a) > _VALUES_COND:
+            return _NO_VALUES
+        ainv = np.linalg.inv(a)
+    except np.linalg.LinAlgError:
+        return _NO_VALUES
+    r0 = np.zeros((k, k))
+    r0[3:, 3:] = prm.lambda1_init * system.bend
+    r0[1, 1] += prm.lambda2_init
+    r0[2, 2] += prm.lambda2_init
+    reg0 = ainv.T @ r0 @ ainv
+    reg0 = 0.5 * (reg0 + reg0.T)  # symmetric to the last bit: the Cholesky reads one triangle
+    return ainv, np.ascontiguousarray(reg0)
 
 
 def _anneal(x, v, f, system, lab_x, lab_v, t, t_init, t_final, cx, prm, pair_cost=None):
@@ -359,8 +399,12 @@ def _spd_solve_nb(h, rhs):  # pragma: no cover
 @numba.njit(cache=True)
 def _anneal_nb(x, v, lab_x, lab_v, use_lab, cost, use_cost, phi, amat, bend, q2, t, t_init, t_final,
                rate, iterations, sinkhorn, lam1, lam2, sink_tol, move_tol, counts, fv0, cx_in,
-               t_end):  # pragma: no cover
+               t_end, ainv, reg0):  # pragma: no cover
     n, k = x.shape[0], v.shape[0]
+    # With ``ainv`` (A^-1, (K, K)) the fit is solved for the spline's values at
+    # the centres, u = A z (see _fit_space): no (K, K) product per round.
+    values = ainv.shape[0] == k
+    kz = np.empty((k, k))
     d = np.zeros((3, 2))
     d[1, 0] = 1.0
     d[2, 1] = 1.0
@@ -388,22 +432,40 @@ def _anneal_nb(x, v, lab_x, lab_v, use_lab, cost, use_cost, phi, amat, bend, q2,
                 else:
                     y[i, 0], y[i, 1] = fv[i, 0], fv[i, 1]
                 c[i] = min(max(s, 1e-3), 1.0)
-            for i in range(k):
-                ca[i] = c[i] * amat[i]
-            h = np.dot(amat.T, ca)
-            rhs = np.dot(ca.T, y)
-            l1, l2 = lam1 * k * t, lam2 * k * t
-            h[1, 1] += l2
-            h[2, 2] += l2
-            rhs[1, 0] += l2
-            rhs[2, 1] += l2
-            h[3:, 3:] += l1 * bend
-            z = _spd_solve_nb(h, rhs)
-            w = np.dot(q2, np.ascontiguousarray(z[3:]))
-            d = z[:3].copy()
-            fv_new = np.dot(v, d[1:]) + np.dot(phi, w)
-            fv_new[:, 0] += d[0, 0]
-            fv_new[:, 1] += d[0, 1]
+            if values:
+                # (C + k t A^-T R0 A^-1) u = C y + k t lambda2 A^-T E: the normal
+                # equations below multiplied by A^-T, with z = A^-1 u.
+                tk = k * t
+                for i in range(k):
+                    for j in range(k):
+                        kz[i, j] = tk * reg0[i, j]
+                    kz[i, i] += c[i]
+                rhs = np.empty((k, 2))
+                l2 = lam2 * tk
+                for i in range(k):
+                    rhs[i, 0] = c[i] * y[i, 0] + l2 * ainv[1, i]
+                    rhs[i, 1] = c[i] * y[i, 1] + l2 * ainv[2, i]
+                fv_new = _spd_solve_nb(kz, rhs)
+                z = np.dot(ainv, fv_new)
+                w = np.dot(q2, np.ascontiguousarray(z[3:]))
+                d = z[:3].copy()
+            else:
+                for i in range(k):
+                    ca[i] = c[i] * amat[i]
+                h = np.dot(amat.T, ca)
+                rhs = np.dot(ca.T, y)
+                l1, l2 = lam1 * k * t, lam2 * k * t
+                h[1, 1] += l2
+                h[2, 2] += l2
+                rhs[1, 0] += l2
+                rhs[2, 1] += l2
+                h[3:, 3:] += l1 * bend
+                z = _spd_solve_nb(h, rhs)
+                w = np.dot(q2, np.ascontiguousarray(z[3:]))
+                d = z[:3].copy()
+                fv_new = np.dot(v, d[1:]) + np.dot(phi, w)
+                fv_new[:, 0] += d[0, 0]
+                fv_new[:, 1] += d[0, 1]
             move = np.abs(fv_new - fv).max()
             fv = fv_new
             if move < move_tol:  # the spline stopped moving: the next round would repeat this one
