@@ -79,6 +79,7 @@ from .stylize_params import (  # noqa: F401  (re-exported; the spacings too)
     metaphor_params,
 )
 from .stylize_seed import _ENDPOINTS, _IMPORTANCE, _LATTICE, _PLAN, _PRUNE_ROUNDS, _SeedSteps, _subset
+from .strike_outline import thin_on_ground
 from .stylize_strike import _StrikeSteps
 from .thickness import (
     _tone_fit,
@@ -590,6 +591,9 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
                                       else STRIKE_SIDE if struck else 1.0))
             if grounded:
                 d = _to_ground(d)
+            objs = self._traced_outlines(p) if struck else None
+            if objs is not None:
+                d = thin_on_ground(d, objs)
         pinned = self._pinned
         if k < 1.0 and p.output_width > 0 and p.thickness == "importance" and metaphor in (
                 "plain", None):

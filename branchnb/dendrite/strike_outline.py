@@ -1,0 +1,163 @@
+"""A lightning bolt over several separate objects traced along their outlines (issue 25,
+dendrite40; beyond the papers).
+
+On a word logo (thick letters on a paper ground), a row of icons or a few fruits, the bolt
+of :func:`~branchnb.dendrite.main_channel.strike_weights` ran down through the object its
+seed lies over and its few other branches (one tip per ``LIGHTNING_SPACING`` of the
+diagonal, squared) forked inside the objects, away from their outlines: on "Oak" one
+horizontal bolt along the bottom of the letters, no letter readable. A letter is read by
+its outline, so where the picture's silhouette has two or more parts of at least
+``OUTLINE_MIN_PART`` of the picture each (:func:`outline_parts`), the bolt's tips are laid
+along every part's outline, holes included (:func:`outline_endpoints`: one per
+``OUTLINE_SPACING`` of the diagonal of outline), and the band just inside the outlines is
+made cheap (:func:`outline_weights`), so the branches from the main channel run along the
+letters' edges to their tips. One-object pictures keep the paper's look.
+
+Measured with the defaults (before -> after) on procedural words (2-5 bold letters, 256-800
+px, white, cream and dark grounds), a row of icons, fruits and blobs: the least share of a
+part's outline with ink within 4 px ``python /tmp/...`` see the commit message.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy import ndimage
+
+__all__: list[str] = []
+
+#: Smallest part of a silhouette (share of the picture) counted as an object of its own.
+OUTLINE_MIN_PART = 0.02
+#: Half the widest neck (share of the diagonal) at which :func:`outline_parts` splits a part.
+OUTLINE_NECK = 0.012
+#: Spacing of the bolt's tips along the objects' outlines (share of the lattice's diagonal).
+OUTLINE_SPACING = 0.05
+#: Factor on the lattice's weights in the band inside the outlines (the branches run there).
+OUTLINE_DISCOUNT = 0.15
+#: Depth of that band (share of the diagonal; at least 1 px).
+OUTLINE_BAND = 0.008
+
+
+def outline_parts(sil: np.ndarray, min_part: float = OUTLINE_MIN_PART,
+                  neck: float = OUTLINE_NECK) -> np.ndarray:
+    """Label image of a silhouette's parts of at least ``min_part`` of the picture each (0
+    elsewhere): its 8-connected pieces, split where they join through a neck narrower than
+    ``2 x neck`` of the diagonal (letters and fruits whose blurred edges or shadows touch),
+    every pixel going to the nearest part.
+
+    >>> m = np.zeros((40, 40), bool); m[2:20, 2:10] = True; m[2:20, 20:30] = True; m[35, 35] = True
+    >>> int(outline_parts(m).max())
+    2
+    >>> m[10, 10:20] = True  # joined by a 1-px bridge: still two parts
+    >>> int(outline_parts(m).max())
+    2
+    """
+    s = np.asarray(sil, bool)
+    if s.ndim != 2:
+        raise ValueError(f"sil must be 2-D, got shape {s.shape}")
+    r = max(1, int(round(neck * float(np.hypot(*s.shape)))))
+    disk = np.hypot(*np.mgrid[-r:r + 1, -r:r + 1]) <= r
+    core = ndimage.binary_erosion(np.pad(s, r), disk)[r:-r, r:-r]
+    lab, n = ndimage.label(core, structure=np.ones((3, 3), bool))
+    if n == 0:
+        return lab
+    _, (iy, ix) = ndimage.distance_transform_edt(lab == 0, return_indices=True)
+    lab = np.where(s, lab[iy, ix], 0)
+    sizes = np.bincount(lab.ravel(), minlength=n + 1)
+    keep = np.flatnonzero(sizes >= min_part * s.size)
+    keep = keep[keep > 0]
+    out = np.zeros_like(lab)
+    for i, k in enumerate(keep, 1):
+        out[lab == k] = i
+    return out
+
+
+def _band(content: np.ndarray, parts: np.ndarray) -> np.ndarray:
+    """The band inside the outlines (holes included) of the content within the parts."""
+    inner = content & (parts > 0)
+    depth = ndimage.distance_transform_edt(np.pad(inner, 1))[1:-1, 1:-1]
+    reach = max(1.0, OUTLINE_BAND * float(np.hypot(*content.shape)))
+    return inner & (depth <= reach)
+
+
+def outline_weights(strike: np.ndarray, weights: np.ndarray, content: np.ndarray,
+                    parts: np.ndarray) -> np.ndarray:
+    """The bolt's weights ``strike`` (:func:`~branchnb.dendrite.main_channel.strike_weights`:
+    its channel a highway, the outline band and the ground costly) with the band inside the
+    parts' outlines at ``OUTLINE_DISCOUNT`` of the lattice's own ``weights`` instead.
+
+    >>> c = np.zeros((30, 30), bool); c[5:25, 5:25] = True
+    >>> w = outline_weights(np.full((30, 30), 9.0), np.ones((30, 30)), c, c.astype(int))
+    >>> float(w[5, 15]), float(w[15, 15])
+    (0.15, 9.0)
+    """
+    s = np.asarray(strike, np.float64)
+    w = np.asarray(weights, np.float64)
+    if s.shape != w.shape or s.shape != np.shape(content) or s.shape != np.shape(parts):
+        raise ValueError(f"strike, weights, content and parts must share a shape, got "
+                         f"{s.shape}, {w.shape}, {np.shape(content)}, {np.shape(parts)}")
+    band = _band(np.asarray(content, bool), np.asarray(parts))
+    out = s.copy()
+    # the channel stays a highway where it crosses the band
+    out[band] = np.where(s[band] == 0.0, 0.0, OUTLINE_DISCOUNT * w[band])
+    return out
+
+
+def outline_endpoints(content: np.ndarray, parts: np.ndarray, rng=None) -> np.ndarray:
+    """Tips ``(x, y)`` along the outlines of the content within each part, one per
+    ``OUTLINE_SPACING`` of the diagonal (at least 3 per part), greedily spread from a
+    random order so that no two lie closer than the spacing.
+
+    >>> c = np.zeros((100, 100), bool); c[10:40, 10:40] = c[60:90, 60:90] = True
+    >>> e = outline_endpoints(c, outline_parts(c), rng=0)
+    >>> len(e) >= 6, bool(np.all(c[e[:, 1].astype(int), e[:, 0].astype(int)]))
+    (True, True)
+    """
+    gen = np.random.default_rng(rng)
+    c = np.asarray(content, bool)
+    spacing = max(2.0, OUTLINE_SPACING * float(np.hypot(*c.shape)))
+    out = []
+    for k in range(1, int(parts.max()) + 1):
+        inner = c & (parts == k)
+        edge = inner & ~ndimage.binary_erosion(inner)
+        ys, xs = np.nonzero(edge)
+        if xs.size == 0:
+            continue
+        order = gen.permutation(xs.size)
+        gap = min(spacing, np.sqrt(xs.size / 3.0))  # small parts: at least ~3 tips
+        chosen: list[tuple[float, float]] = []
+        for i in order:
+            x, y = float(xs[i]), float(ys[i])
+            if all((x - a) ** 2 + (y - b) ** 2 >= gap * gap for a, b in chosen):
+                chosen.append((x, y))
+        out.extend(chosen)
+    return np.asarray(out, np.float64).reshape(-1, 2)
+
+
+def thin_on_ground(dendrite, objects: np.ndarray):
+    """``dendrite`` (on the lattice of ``objects``) with its strokes across the ground between
+    the objects no wider than its thinnest twig.
+
+    Beyond the papers: the bolt's main path, widest, jumped from letter to letter across the
+    paper, and the arcs between a row of icons took a quarter of the ink; drawn as thin as a
+    twig they join the objects without hiding their outlines.
+
+    >>> from branchnb.dendrite import build_dendrite, make_lattice, plan
+    >>> d = build_dendrite(plan(make_lattice(np.ones((5, 20)), rng=0), (1, 2)), [(18, 2)])
+    >>> d = d.with_radius(np.linspace(3, 1, d.n_nodes))
+    >>> m = np.zeros((5, 20), bool); m[:, :4] = m[:, 15:] = True
+    >>> r = thin_on_ground(d, m).radius; gap = (d.points[:, 0] > 5) & (d.points[:, 0] < 13)
+    >>> float(r.max()), bool(gap.any() and np.all(r[gap] == 1.0))
+    (3.0, True)
+    """
+    obj = np.asarray(objects, bool)
+    if dendrite.n_nodes == 0 or not obj.any():
+        return dendrite
+    # a pixel of slack: the lattice's points round onto the outline's either side
+    near = ndimage.binary_dilation(obj, iterations=1)
+    xy = np.rint(dendrite.points).astype(int)
+    x = np.clip(xy[:, 0], 0, obj.shape[1] - 1)
+    y = np.clip(xy[:, 1], 0, obj.shape[0] - 1)
+    r = np.asarray(dendrite.radius, np.float64).copy()
+    ground = ~near[y, x]
+    r[ground] = np.minimum(r[ground], float(r.min()))
+    return dendrite.with_radius(r)
