@@ -30,7 +30,7 @@ OUTLINE_MIN_PART = 0.02
 #: Half the widest neck (share of the diagonal) at which :func:`outline_parts` splits a part.
 OUTLINE_NECK = 0.012
 #: Spacing of the bolt's tips along the objects' outlines (share of the lattice's diagonal).
-OUTLINE_SPACING = 0.05
+OUTLINE_SPACING = 0.025
 #: Factor on the lattice's weights in the band inside the outlines (the branches run there).
 OUTLINE_DISCOUNT = 0.15
 #: Depth of that band (share of the diagonal; at least 1 px).
@@ -123,7 +123,7 @@ def outline_endpoints(content: np.ndarray, parts: np.ndarray, rng=None) -> np.nd
         if xs.size == 0:
             continue
         order = gen.permutation(xs.size)
-        gap = min(spacing, np.sqrt(xs.size / 3.0))  # small parts: at least ~3 tips
+        gap = min(spacing, xs.size / 3.0)  # a small part's outline still gets ~3 tips
         chosen: list[tuple[float, float]] = []
         for i in order:
             x, y = float(xs[i]), float(ys[i])
