@@ -56,13 +56,22 @@ def outline_parts(sil: np.ndarray, min_part: float = OUTLINE_MIN_PART,
         raise ValueError(f"sil must be 2-D, got shape {s.shape}")
     r = max(1, int(round(neck * float(np.hypot(*s.shape)))))
     disk = np.hypot(*np.mgrid[-r:r + 1, -r:r + 1]) <= r
-    core = ndimage.binary_erosion(np.pad(s, r), disk)[r:-r, r:-r]
-    lab, n = ndimage.label(core, structure=np.ones((3, 3), bool))
-    if n == 0:
-        return lab
-    _, (iy, ix) = ndimage.distance_transform_edt(lab == 0, return_indices=True)
-    lab = np.where(s, lab[iy, ix], 0)
-    sizes = np.bincount(lab.ravel(), minlength=n + 1)
+    comp, n = ndimage.label(s, structure=np.ones((3, 3), bool))
+    lab = np.zeros(s.shape, np.int64)
+    count = 0
+    for k, box in enumerate(ndimage.find_objects(comp), 1):
+        piece = comp[box] == k
+        core = ndimage.binary_erosion(np.pad(piece, r), disk)[r:-r, r:-r]
+        cores, m = ndimage.label(core, structure=np.ones((3, 3), bool))
+        if m < 2:  # one part (a thin piece without a core too: a separate object all the same)
+            lab[box][piece] = count + 1
+            count += 1
+            continue
+        # every pixel of the piece goes to its nearest core
+        _, (iy, ix) = ndimage.distance_transform_edt(cores == 0, return_indices=True)
+        lab[box][piece] = count + cores[iy, ix][piece]
+        count += m
+    sizes = np.bincount(lab.ravel(), minlength=count + 1)
     keep = np.flatnonzero(sizes >= min_part * s.size)
     keep = keep[keep > 0]
     out = np.zeros_like(lab)
@@ -124,11 +133,18 @@ def outline_endpoints(content: np.ndarray, parts: np.ndarray, rng=None) -> np.nd
             continue
         order = gen.permutation(xs.size)
         gap = min(spacing, xs.size / 3.0)  # a small part's outline still gets ~3 tips
+        # a tip blocks the disc of radius ``gap`` round it (painted on a mask: an outline of
+        # thousands of pixels and a hundred tips)
+        r = int(np.ceil(gap))
+        disc = np.hypot(*np.mgrid[-r:r + 1, -r:r + 1]) < gap
+        blocked = np.zeros((c.shape[0] + 2 * r, c.shape[1] + 2 * r), bool)
         chosen: list[tuple[float, float]] = []
         for i in order:
-            x, y = float(xs[i]), float(ys[i])
-            if all((x - a) ** 2 + (y - b) ** 2 >= gap * gap for a, b in chosen):
-                chosen.append((x, y))
+            x, y = int(xs[i]), int(ys[i])
+            if blocked[y + r, x + r]:
+                continue
+            chosen.append((float(x), float(y)))
+            blocked[y:y + 2 * r + 1, x:x + 2 * r + 1] |= disc
         out.extend(chosen)
     return np.asarray(out, np.float64).reshape(-1, 2)
 

@@ -144,7 +144,11 @@ class _StrikeSteps:
         fork off the channel; then its hairpins are cut. On a photo the channel is
         :func:`~branchnb.dendrite.photo_strike.photo_channel` and the side branches
         follow :func:`~branchnb.dendrite.photo_strike.side_branches`; with nothing to
-        draw, the plain plan (:meth:`_main_channel_straight`). The flags say whether
+        draw, the plain plan (:meth:`_main_channel_straight`). Beyond the paper (dendrite40):
+        on a word or several separate objects (:meth:`_traced_outlines`) the tips lie along
+        every object's outline and the band inside the outlines is cheap
+        (:mod:`~branchnb.dendrite.strike_outline`), so the bolt traces the letters instead of
+        running along their bottom. The flags say whether
         the channel was planned, and whether it runs down a stem to the object's foot
         (:func:`~branchnb.dendrite.main_channel._channel_end`; it is then the dendrite's
         ``main``).
