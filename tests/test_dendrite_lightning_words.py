@@ -127,3 +127,12 @@ def test_outline_endpoints_lie_on_each_parts_outline():
 def test_outline_weights_checks_shapes():
     with pytest.raises(ValueError, match="share a shape"):
         outline_weights(np.ones((4, 4)), np.ones((4, 5)), np.ones((4, 4), bool), np.ones((4, 4), int))
+
+
+def test_a_piece_of_small_cores_stays_one_part():
+    m = np.zeros((100, 100), bool)
+    m[10:90, 5:45] = True  # one object
+    # another, whose two cores (joined by a 2-px neck) are each under 2 % of the picture
+    m[40:52, 60:72] = m[40:52, 80:92] = True
+    m[45:47, 72:80] = True
+    assert outline_parts(m).max() == 2

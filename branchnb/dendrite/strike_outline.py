@@ -67,7 +67,16 @@ def outline_parts(sil: np.ndarray, min_part: float = OUTLINE_MIN_PART,
             lab[box][piece] = count + 1
             count += 1
             continue
-        # every pixel of the piece goes to its nearest core
+        # every pixel of the piece goes to its nearest core; the cores whose share stays
+        # under min_part (a toadstool's cap cut from its stem) give theirs to the others
+        _, (iy, ix) = ndimage.distance_transform_edt(cores == 0, return_indices=True)
+        sub = np.where(piece, cores[iy, ix], 0)
+        big = np.flatnonzero(np.bincount(sub.ravel(), minlength=m + 1)[1:] >= min_part * s.size) + 1
+        if big.size < 2:
+            lab[box][piece] = count + 1
+            count += 1
+            continue
+        cores = np.where(np.isin(cores, big), cores, 0)
         _, (iy, ix) = ndimage.distance_transform_edt(cores == 0, return_indices=True)
         lab[box][piece] = count + cores[iy, ix][piece]
         count += m
