@@ -51,6 +51,7 @@ from .main_channel import (
 )
 from .planner import PlanResult, plan
 from .render import Rendering
+from .strike_outline import thin_on_ground
 from .stylize_object import _ObjectSteps
 from .stylize_params import (  # noqa: F401  (re-exported; the spacings too)
     LIGHTNING_LOOP_REACH,
@@ -79,7 +80,6 @@ from .stylize_params import (  # noqa: F401  (re-exported; the spacings too)
     metaphor_params,
 )
 from .stylize_seed import _ENDPOINTS, _IMPORTANCE, _LATTICE, _PLAN, _PRUNE_ROUNDS, _SeedSteps, _subset
-from .strike_outline import thin_on_ground
 from .stylize_strike import _StrikeSteps
 from .thickness import (
     _tone_fit,
