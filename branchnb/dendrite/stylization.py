@@ -51,6 +51,7 @@ from .main_channel import (
 )
 from .planner import PlanResult, plan
 from .render import Rendering
+from .strike_outline import thin_on_ground
 from .stylize_object import _ObjectSteps
 from .stylize_params import (  # noqa: F401  (re-exported; the spacings too)
     LIGHTNING_LOOP_REACH,
@@ -590,6 +591,9 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
                                       else STRIKE_SIDE if struck else 1.0))
             if grounded:
                 d = _to_ground(d)
+            objs = self._traced_outlines(p) if struck else None
+            if objs is not None:
+                d = thin_on_ground(d, objs)
         pinned = self._pinned
         if k < 1.0 and p.output_width > 0 and p.thickness == "importance" and metaphor in (
                 "plain", None):

@@ -27,6 +27,7 @@ from .main_channel import (
 from .photo_side import _short_sides, side_branches, strike_region
 from .photo_strike import jag_channel, photo_channel
 from .planner import PlanResult
+from .strike_outline import outline_endpoints, outline_parts, outline_weights
 from .strike_part import _seed_part
 from .stylize_params import (
     LIGHTNING_LOOP_REACH,
@@ -81,6 +82,30 @@ class _StrikeSteps:
             return (obj, True) if spill > CONTENT_MAX_SPILL else (content, False)
         return self._get(("lightning_content", _subset(p, _IMPORTANCE), p.endpoint_threshold), make)
 
+    def _outline_parts(self, p: StylizeParams, content) -> tuple[np.ndarray, np.ndarray]:
+        """The objects whose outlines a lightning bolt traces, and their parts (cached;
+        :func:`~branchnb.dendrite.strike_outline.outline_parts`).
+
+        The object that differs in colour from the frame
+        (:func:`~branchnb.dendrite.foreground._object_mask`) where there is one, else the
+        content's silhouette: the importance's blurred edges and a drop shadow join a word's
+        letters into one blob.
+        """
+        def make():
+            obj = _object_mask(self.working_image(p))
+            objs = obj & content if obj is not None else silhouette(content)
+            return objs, outline_parts(objs)
+        return self._get(("outline_parts", _subset(p, _IMPORTANCE), p.endpoint_threshold), make)
+
+    def _traced_outlines(self, p: StylizeParams) -> np.ndarray | None:
+        """The objects whose outlines a lightning bolt traces (two parts or more of
+        :meth:`_outline_parts` on a picture that is not a photo), or None."""
+        content, _ = self._lightning_content(p)
+        if silhouette(content).mean() > STRIKE_MAX_COVER:
+            return None
+        objs, parts = self._outline_parts(p, content)
+        return objs if parts.max() >= 2 else None
+
     def _object_endpoints(self, p: StylizeParams, rng_seed: int, obj) -> np.ndarray:
         # stippled on the object only: stippled on the whole picture, the tips on a sky
         # drew branches across it
@@ -119,7 +144,11 @@ class _StrikeSteps:
         fork off the channel; then its hairpins are cut. On a photo the channel is
         :func:`~branchnb.dendrite.photo_strike.photo_channel` and the side branches
         follow :func:`~branchnb.dendrite.photo_strike.side_branches`; with nothing to
-        draw, the plain plan (:meth:`_main_channel_straight`). The flags say whether
+        draw, the plain plan (:meth:`_main_channel_straight`). Beyond the paper (dendrite40):
+        on a word or several separate objects (:meth:`_traced_outlines`) the tips lie along
+        every object's outline and the band inside the outlines is cheap
+        (:mod:`~branchnb.dendrite.strike_outline`), so the bolt traces the letters instead of
+        running along their bottom. The flags say whether
         the channel was planned, and whether it runs down a stem to the object's foot
         (:func:`~branchnb.dendrite.main_channel._channel_end`; it is then the dendrite's
         ``main``).
@@ -168,8 +197,16 @@ class _StrikeSteps:
                 res = channel_plan(res, path)
                 ends = np.concatenate([ends, path[-1:].astype(float)])
                 return res, with_channel(build_dendrite(res, ends), path), True, False
-            res = self._plan_on(Lattice(got[0], lat.factors), p, seed)
-            ends = self._object_endpoints(p, rng_seed, content) if found else self.endpoints(p, rng_seed)
+            objs, parts = self._outline_parts(p, content)
+            if self._traced_outlines(p) is not None:  # several objects, letters: the bolt
+                # traces their outlines
+                res = self._plan_on(Lattice(outline_weights(got[0], lat.weights, objs, parts),
+                                            lat.factors), p, seed)
+                ends = outline_endpoints(objs, parts, rng=rng_seed)
+            else:
+                res = self._plan_on(Lattice(got[0], lat.factors), p, seed)
+                ends = (self._object_endpoints(p, rng_seed, content) if found
+                        else self.endpoints(p, rng_seed))
             ends = np.concatenate([ends, got[1][-1:].astype(float)])
             whole = build_dendrite(res, ends)
             d = straighten(res, whole, ends,
