@@ -426,21 +426,56 @@ def _mouth_node(cand: np.ndarray, key: np.ndarray, members: np.ndarray, member_k
     return cand, key
 
 
+def _fan_root(g, deg: np.ndarray, cand: np.ndarray, members: np.ndarray, pts: np.ndarray, r: np.ndarray,
+              sea_d: np.ndarray) -> int | None:
+    """The end away from the sea from which a piece fans out to it (:func:`.delta_source.fan_source`),
+    ``None`` when there is none (fewer than two ends at the sea, the forks disagree, or they point to an
+    end at the sea: a river draining there)."""
+    from .delta_source import fan_source
+
+    if len(cand) < 3:
+        return None
+    src = fan_source(g, deg, cand, members, pts, r, sea_d, _end_radius(pts, r, cand, members))
+    return None if src is None or src[1] else src[0]
+
+
 def _delta_source_key(key: np.ndarray, pts: np.ndarray, r: np.ndarray, ends: np.ndarray,
-                      members: np.ndarray, scale: float) -> np.ndarray:
+                      members: np.ndarray, scale: float, g=None, deg=None, has_region: bool = True) -> np.ndarray:
     """Root key of a piece that reaches the region at several mouths: a delta roots at its source.
 
     A river drains to the sea at one mouth; a delta reaches it at several
-    (its distributaries) and comes from one wide channel inland. When two
-    or more ends of the piece lie at the region (within ``3 + 2 r`` pixels
-    of it) and the thickest end away from it is at least 1.5 x thicker than
-    every mouth, that end becomes the root (key -1); else ``key`` is kept.
-    Going beyond the paper, whose roots are clicked: rooted at a mouth, a
-    delta's tree runs upstream and the synthesis grows its trunk from the sea.
+    (its distributaries) and comes from one channel inland. With the
+    skeleton graph ``g`` (and ``deg``), the end the piece fans out from
+    (:func:`.delta_source.fan_source`: the end its forks point to, the
+    farthest from where its sea ends' paths meet) becomes the root (key
+    -1): away from the region, or anywhere when there is no region and the
+    frame is the sea (``has_region`` False: a trunk entering through the
+    frame, its channels leaving it). Else, with a region, when two or more
+    ends of the piece lie at the region (within ``3 + 2 r`` pixels of it)
+    and the thickest end away from it is at least 1.5 x thicker than every
+    mouth, that end becomes the root; else ``key`` is kept. Going beyond
+    the paper, whose roots are clicked: rooted at a mouth, a delta's tree
+    runs upstream and the synthesis grows its trunk from the sea.
+
+    Notes
+    -----
+    The forks before the widths (issue 23, branching83): on balanced
+    binary deltas the ends are too alike in width for the 1.5 x rule
+    (a 2-px trunk beside 1-px channels the sea widens at their mouths).
     """
     if len(ends) < 3:
         return key
     er = _end_radius(pts, r, ends, members)
+    if g is not None:
+        from .delta_source import fan_source
+
+        src = fan_source(g, deg, ends, members, pts, r, np.asarray(key, np.float64) / scale, er)
+        if src is not None and (not src[1] or not has_region):
+            out = np.asarray(key, np.float64).copy()
+            out[ends == src[0]] = -1.0
+            return out
+    if not has_region:
+        return key
     near = key * 1.0 / scale <= 3.0 + 2.0 * er
     if near.sum() < 2 or near.all():
         return key
@@ -683,6 +718,11 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
                                                                    key / scale)) is not None:
                         roots.append(mouth)
                         continue
+                    # forks pointing inland at several mouths: a delta, rooted where it fans out from
+                    # (its ends' widths too alike to tell, issue 23, branching83)
+                    if (src := _fan_root(g, deg, cand, members, pts_full, r_full, key / scale)) is not None:
+                        roots.append(src)
+                        continue
                 if len(own_hubs):
                     # lines radiating from a blob much wider than they are grow out of it (a neuron's
                     # soma, a crater): rooted at a line's tip, the learnt model grew from the wrong place
@@ -742,8 +782,8 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
             elif root in ("border", "nearest_region"):
                 key = region_dist[ys[cand], xs[cand]] if root == "nearest_region" else \
                     border_dist[ys[cand], xs[cand]]
-                if root == "nearest_region" and has_region:
-                    key = _delta_source_key(key, pts_full, r_full, cand, members, scale)
+                if root == "nearest_region":
+                    key = _delta_source_key(key, pts_full, r_full, cand, members, scale, g, deg, has_region)
             else:
                 raise ValueError("root must be auto/thickest/top/bottom/left/right/border/nearest_region "
                                  f"or (x, y), got {root!r}")

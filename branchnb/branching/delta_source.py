@@ -1,0 +1,107 @@
+"""Where a delta comes from: the end of a skeleton piece from which its channels fan out to the sea.
+
+Beyond the paper (issue 23, branching83), whose roots are clicked. A river drains to the sea at one mouth;
+a delta reaches it at several (its distributaries) and comes from one channel inland. Rooted at a mouth,
+the whole example is learnt backwards (the synthesis grows its trunk from the sea). Widths alone do not
+tell the source: on balanced binary deltas whose trunk is 2-6 px the ends are too alike in width (a
+2-px trunk's end read no thicker than a mouth's 1-px channel, whose end the sea widens), and 4 of 8
+such masks were rooted at a mouth. The whole tree's shape does tell it:
+
+- at each fork the two distributaries leave at an acute angle and the arm toward the source runs
+  opposite both (:func:`~.skeleton_tree._junction_trunk_arms`): the source is the end the most forks
+  point to (its shortest path enters them by their trunk arm);
+- among ends the forks point to alike (the trunk's own spurs), the source is the one farthest from
+  where the sea ends' paths meet (the trunk's whole length away; a spur on the trunk is nearer).
+
+Split from :mod:`.skeleton_tree` (which calls :func:`fan_source`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.sparse import csgraph
+
+__all__ = ["fan_source"]
+
+#: An end lies at the sea (or the frame) within this many pixels plus :data:`SEA_RADII` x its radius.
+SEA_FRAME = 4.0
+SEA_RADII = 2.0
+#: Ends whose fork score is within this share of the number of voting forks (at least one vote) of the
+#: best are a tie, decided by how far the end lies from where the sea ends' paths meet.
+FAN_TIE = 0.1
+#: The source's fork score must be at least this share of the number of voting forks: most forks fan
+#: out from it (a network whose forks disagree, tributaries joining as much as channels split, keeps
+#: the caller's rule).
+FAN_AGREE = 0.5
+
+
+def _steiner_distance(dist_c: np.ndarray, dist_mm: np.ndarray) -> float:
+    """How far an end lies from where the paths between the sea ends meet: the least, over pairs of sea
+    ends (m, m'), of the Gromov product ``(d(c, m) + d(c, m') - d(m, m')) / 2`` (on a tree, the
+    distance from the end to the path joining m and m')."""
+    k = len(dist_c)
+    if k < 2:
+        return float(dist_c.min()) if k else 0.0
+    iu = np.triu_indices(k, 1)
+    prod = 0.5 * (dist_c[:, None] + dist_c[None, :] - dist_mm)[iu]
+    prod = prod[np.isfinite(prod)]
+    return float(prod.min()) if len(prod) else 0.0
+
+
+def fan_source(g, deg: np.ndarray, cand: np.ndarray, members: np.ndarray, pts: np.ndarray, r: np.ndarray,
+               sea_d: np.ndarray, end_r: np.ndarray) -> tuple[int, bool] | None:
+    """The end of a piece from which it fans out to the sea, and whether that end lies at the sea.
+
+    Parameters
+    ----------
+    g : sparse matrix
+        The skeleton graph (:func:`~.skeleton_tree._skeleton_graph`).
+    deg : (N,) int array
+        Each node's number of neighbours.
+    cand : (K,) int array
+        The piece's ends.
+    members : (M,) int array
+        The piece's nodes.
+    pts, r : (N, 2), (N,) arrays
+        Node positions (x, y) and radii, full-size pixels.
+    sea_d : (K,) array
+        Each end's distance to the sea (the region, or the frame when there is none), full-size pixels.
+    end_r : (K,) array
+        Each end's radius (:func:`~.skeleton_tree._end_radius`).
+
+    Returns
+    -------
+    (int, bool) or None
+        The source node and whether it lies at the sea itself (a river draining there, or, with the frame
+        for the sea, a trunk entering through it); ``None`` when fewer than two ends lie at the sea, no
+        fork votes, or the best end gets fewer than :data:`FAN_AGREE` of the votes.
+    """
+    from .skeleton_tree import _junction_trunk_arms
+
+    if len(cand) < 3:
+        return None
+    at = sea_d <= SEA_FRAME + SEA_RADII * end_r
+    if at.sum() < 2:
+        return None
+    r_med = float(np.median(r[members]))
+    votes = _junction_trunk_arms(g, deg, members, pts, 6.0 * r_med + 8.0)
+    if not votes:
+        return None
+    dist = csgraph.dijkstra(g, directed=False, indices=cand)
+    score = np.zeros(len(cand))
+    for arms, trunk in votes:
+        score += np.where(np.argmin(dist[:, arms], axis=1) == trunk, 1.0, -1.0)
+    best = float(score.max())
+    if best < FAN_AGREE * len(votes):
+        return None
+    tied = np.flatnonzero(score >= best - max(1.0, FAN_TIE * len(votes)))
+    sea = np.flatnonzero(at)
+    dist_mm = dist[np.ix_(sea, cand[sea])]
+    far = []
+    for i in tied:
+        others = sea[sea != i]
+        keep = np.isin(sea, others)
+        far.append(_steiner_distance(dist[i, cand[others]], dist_mm[np.ix_(keep, keep)]))
+    # the farthest from the sea ends' meeting; then the better voted, the thicker
+    k = tied[np.lexsort((-end_r[tied], -score[tied], -np.asarray(far)))[0]]
+    return int(cand[k]), bool(at[k])
