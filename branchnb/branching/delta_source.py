@@ -9,7 +9,8 @@ such masks were rooted at a mouth. The whole tree's shape does tell it:
 
 - at each fork the two distributaries leave at an acute angle and the arm toward the source runs
   opposite both (:func:`~.skeleton_tree._junction_trunk_arms`): the source is the end the most forks
-  point to (its shortest path enters them by their trunk arm);
+  point to (its shortest path enters them by their trunk arm); where the angles do not tell (a channel
+  leaving a bent trunk's head at a right angle), the fork's thickest arm is its trunk arm;
 - among ends the forks point to alike (the trunk's own spurs), the source is the one farthest from
   where the sea ends' paths meet (the trunk's whole length away; a spur on the trunk is nearer).
 
@@ -26,13 +27,81 @@ __all__ = ["fan_source"]
 #: An end lies at the sea (or the frame) within this many pixels plus :data:`SEA_RADII` x its radius.
 SEA_FRAME = 4.0
 SEA_RADII = 2.0
-#: Ends whose fork score is within this share of the number of voting forks (at least one vote) of the
-#: best are a tie, decided by how far the end lies from where the sea ends' paths meet.
+#: Ends whose fork score is within this share of the number of voting forks of the best are a tie (an
+#: exact tie under ten forks: with two forks a mouth beside the other's channel scores 0 to the source's
+#: 2), decided by how far the end lies from where the sea ends' paths meet.
 FAN_TIE = 0.1
 #: The source's fork score must be at least this share of the number of voting forks: most forks fan
 #: out from it (a network whose forks disagree, tributaries joining as much as channels split, keeps
 #: the caller's rule).
 FAN_AGREE = 0.5
+
+
+#: A fork whose arms' angles do not tell its trunk arm (by ``OUTLET_MARGIN``: a channel leaving a bent
+#: trunk's head at a right angle) votes for the arm whose line is at least this many times as thick as
+#: either other arm's (the median radius along it): a channel splits into thinner ones, and tributaries
+#: join into a thicker one, so the thickest arm runs toward the root either way.
+FORK_WIDER = 1.3
+
+
+def _arm_radius(g, deg: np.ndarray, start: int, prev: int, stop: np.ndarray, pts: np.ndarray, r: np.ndarray,
+                reach: float) -> tuple[float, float, int]:
+    """Follow an arm as :func:`~.skeleton_tree._walk_arm` does: (median radius past its first 2 px,
+    length walked, last node)."""
+    cur, back = int(start), int(prev)
+    walked = float(np.hypot(*(pts[start] - pts[prev])))
+    seen = [cur]
+    while walked < reach and deg[cur] == 2 and not stop[cur]:
+        nb = g.indices[g.indptr[cur]:g.indptr[cur + 1]]
+        nxt = int(nb[0]) if int(nb[0]) != back else int(nb[1])
+        walked += float(np.hypot(*(pts[nxt] - pts[cur])))
+        back, cur = cur, nxt
+        seen.append(cur)
+    rr = r[seen[2:]] if len(seen) > 4 else r[seen]
+    return float(np.median(rr)), walked, cur
+
+
+def _fork_votes(g, deg: np.ndarray, members: np.ndarray, pts: np.ndarray, r: np.ndarray,
+                reach: float) -> list[tuple[np.ndarray, int]]:
+    """Per three-armed fork: ``(first nodes of its arms, index of its trunk arm)``, by the arms' angles as
+    :func:`~.skeleton_tree._junction_trunk_arms` reads them, else by their widths (:data:`FORK_WIDER`)."""
+    from .skeleton_tree import OUTLET_MARGIN
+
+    jn = members[deg[members] >= 3]
+    if not len(jn):
+        return []
+    is_j = np.zeros(len(deg), bool)
+    is_j[jn] = True
+    _n, lab = csgraph.connected_components(g[jn][:, jn], directed=False)
+    out = []
+    for c in np.unique(lab):
+        cl = jn[lab == c]
+        centre = pts[cl].mean(0)
+        arms, dirs, wide, short = [], [], [], False
+        for v in cl:
+            for u in g.indices[g.indptr[v]:g.indptr[v + 1]]:
+                if is_j[u]:
+                    continue
+                rad, walked, end = _arm_radius(g, deg, int(u), int(v), is_j, pts, r, reach)
+                short |= walked < 0.5 * reach
+                d = pts[end] - centre
+                arms.append(int(u))
+                dirs.append(np.arctan2(d[1], d[0]))
+                wide.append(rad)
+        if short or len(arms) != 3:
+            continue
+        a = np.asarray(dirs)
+        pair = np.abs(np.angle(np.exp(1j * (a[:, None] - a[None, :]))))
+        ang = np.array([pair[1, 2], pair[0, 2], pair[0, 1]])
+        order = np.argsort(ang)
+        if ang[order[1]] - ang[order[0]] >= OUTLET_MARGIN:
+            out.append((np.asarray(arms, np.int64), int(order[0])))
+            continue
+        wide = np.asarray(wide)
+        k = int(np.argmax(wide))
+        if np.all(wide[k] >= FORK_WIDER * np.delete(wide, k)):
+            out.append((np.asarray(arms, np.int64), k))
+    return out
 
 
 def _steiner_distance(dist_c: np.ndarray, dist_mm: np.ndarray) -> float:
@@ -76,15 +145,13 @@ def fan_source(g, deg: np.ndarray, cand: np.ndarray, members: np.ndarray, pts: n
         for the sea, a trunk entering through it); ``None`` when fewer than two ends lie at the sea, no
         fork votes, or the best end gets fewer than :data:`FAN_AGREE` of the votes.
     """
-    from .skeleton_tree import _junction_trunk_arms
-
     if len(cand) < 3:
         return None
     at = sea_d <= SEA_FRAME + SEA_RADII * end_r
     if at.sum() < 2:
         return None
     r_med = float(np.median(r[members]))
-    votes = _junction_trunk_arms(g, deg, members, pts, 6.0 * r_med + 8.0)
+    votes = _fork_votes(g, deg, members, pts, r, 6.0 * r_med + 8.0)
     if not votes:
         return None
     dist = csgraph.dijkstra(g, directed=False, indices=cand)
@@ -94,7 +161,7 @@ def fan_source(g, deg: np.ndarray, cand: np.ndarray, members: np.ndarray, pts: n
     best = float(score.max())
     if best < FAN_AGREE * len(votes):
         return None
-    tied = np.flatnonzero(score >= best - max(1.0, FAN_TIE * len(votes)))
+    tied = np.flatnonzero(score >= best - FAN_TIE * len(votes))
     sea = np.flatnonzero(at)
     dist_mm = dist[np.ix_(sea, cand[sea])]
     far = []

@@ -571,7 +571,8 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
         a pixel above it: a drawn map's rivers drain where they meet the sea;
         a node of the piece more than 4 px nearer than every end, a mouth the
         coast's removed outline left as a loop, beats the ends; among several
-        ends at the sea, the one its forks point to, ``_region_outlet``), else the centre of
+        ends at the sea, the one its forks point to, ``_region_outlet``; when they point to an
+        end inland instead, a delta's source, that end, ``delta_source.fan_source``), else the centre of
         every hub in the piece (``hubs``: a neuron grows out of its soma), else the thickest end (a
         vessel tree's trunk, a delta's inland channel; the radius near an end,
         not at it, which the frame or a rounded tip pinches), every end where a thick line
@@ -580,8 +581,9 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
         the frame drains there, beyond the paper); or the thickest, the top-most ..., the one
         nearest to the image border, the one nearest to ``region`` (e.g.
         the sea a river flows into; the border if there is none; a piece
-        that meets the region at several mouths and has a much thicker end
-        away from it, a delta, roots at that end, see ``_delta_source_key``),
+        that meets the region, or the border, at several mouths and fans out
+        from an end away from them, a delta, roots at that end, see
+        ``_delta_source_key``),
         or the one nearest to a given point (full-size pixels). Default
         ``"thickest"``.
     scale : float, default 1.0
