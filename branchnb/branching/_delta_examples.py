@@ -173,7 +173,6 @@ def delta_river_mask(shape=(256, 256), rng=0, side: str = "top", radius: float =
     h0, w0 = shape
     # drawn entering from the top: a transposed frame for the left and right sides
     h, w = (w0, h0) if side in ("left", "right") else (h0, w0)
-    s = min(h, w) / 256.0
     far = (rng.uniform(0.84, 0.9) * h) if sea else h + 6.0
     head = np.array([rng.uniform(0.35, 0.65) * w, rng.uniform(0.3, 0.5) * h])
     entry = np.array([np.clip(head[0] + rng.normal(0, 0.1 * w), 0.15 * w, 0.85 * w), -3.0])

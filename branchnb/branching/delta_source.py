@@ -14,7 +14,8 @@ such masks were rooted at a mouth. The whole tree's shape does tell it:
 - among ends the forks point to alike (the trunk's own spurs), the source is the one farthest from
   where the sea ends' paths meet (the trunk's whole length away; a spur on the trunk is nearer).
 
-Split from :mod:`.skeleton_tree` (which calls :func:`fan_source`).
+Split from :mod:`.skeleton_tree`, which calls :func:`_fan_root` and :func:`_delta_source_key` (this module
+imports from it inside its functions: it imports this module).
 """
 
 from __future__ import annotations
@@ -172,3 +173,65 @@ def fan_source(g, deg: np.ndarray, cand: np.ndarray, members: np.ndarray, pts: n
     # the farthest from the sea ends' meeting; then the better voted, the thicker
     k = tied[np.lexsort((-end_r[tied], -score[tied], -np.asarray(far)))[0]]
     return int(cand[k]), bool(at[k])
+
+
+def _fan_root(g, deg: np.ndarray, cand: np.ndarray, members: np.ndarray, pts: np.ndarray, r: np.ndarray,
+              sea_d: np.ndarray) -> int | None:
+    """The end away from the sea from which a piece fans out to it (:func:`fan_source`),
+    ``None`` when there is none (fewer than two ends at the sea, the forks disagree, or they point to an
+    end at the sea: a river draining there)."""
+    from .skeleton_tree import _end_radius
+
+    if len(cand) < 3:
+        return None
+    src = fan_source(g, deg, cand, members, pts, r, sea_d, _end_radius(pts, r, cand, members))
+    return None if src is None or src[1] else src[0]
+
+
+def _delta_source_key(key: np.ndarray, pts: np.ndarray, r: np.ndarray, ends: np.ndarray,
+                      members: np.ndarray, scale: float, g=None, deg=None, has_region: bool = True) -> np.ndarray:
+    """Root key of a piece that reaches the region at several mouths: a delta roots at its source.
+
+    A river drains to the sea at one mouth; a delta reaches it at several
+    (its distributaries) and comes from one channel inland. With the
+    skeleton graph ``g`` (and ``deg``), the end the piece fans out from
+    (:func:`fan_source`: the end its forks point to, the
+    farthest from where its sea ends' paths meet) becomes the root (key
+    -1): away from the region, or anywhere when there is no region and the
+    frame is the sea (``has_region`` False: a trunk entering through the
+    frame, its channels leaving it). Else, with a region, when two or more
+    ends of the piece lie at the region (within ``3 + 2 r`` pixels of it)
+    and the thickest end away from it is at least 1.5 x thicker than every
+    mouth, that end becomes the root; else ``key`` is kept. Going beyond
+    the paper, whose roots are clicked: rooted at a mouth, a delta's tree
+    runs upstream and the synthesis grows its trunk from the sea.
+
+    Notes
+    -----
+    The forks before the widths (issue 23, branching83): on balanced
+    binary deltas the ends are too alike in width for the 1.5 x rule
+    (a 2-px trunk beside 1-px channels the sea widens at their mouths).
+    """
+    from .skeleton_tree import _end_radius
+
+    if len(ends) < 3:
+        return key
+    er = _end_radius(pts, r, ends, members)
+    if g is not None:
+        src = fan_source(g, deg, ends, members, pts, r, np.asarray(key, np.float64) / scale, er)
+        if src is not None and (not src[1] or not has_region):
+            out = np.asarray(key, np.float64).copy()
+            out[ends == src[0]] = -1.0
+            return out
+    if not has_region:
+        return key
+    near = key * 1.0 / scale <= 3.0 + 2.0 * er
+    if near.sum() < 2 or near.all():
+        return key
+    far = np.flatnonzero(~near)
+    best = far[np.argmax(er[far])]
+    if er[best] < 1.5 * er[near].max():
+        return key
+    out = np.asarray(key, np.float64).copy()
+    out[best] = -1.0
+    return out

@@ -16,6 +16,7 @@ from scipy.sparse import csgraph
 
 from ..core.polyline import arc_length, polyline_length, resample_uniform
 from ..core.structure import Branch, Structure
+from .delta_source import _delta_source_key, _fan_root
 from .small_frames import SMALL_SIDE
 
 __all__ = [
@@ -424,68 +425,6 @@ def _mouth_node(cand: np.ndarray, key: np.ndarray, members: np.ndarray, member_k
     if len(key) and member_key[k] + 4.0 * scale < float(np.min(key)):
         return members[k:k + 1], member_key[k:k + 1]
     return cand, key
-
-
-def _fan_root(g, deg: np.ndarray, cand: np.ndarray, members: np.ndarray, pts: np.ndarray, r: np.ndarray,
-              sea_d: np.ndarray) -> int | None:
-    """The end away from the sea from which a piece fans out to it (:func:`.delta_source.fan_source`),
-    ``None`` when there is none (fewer than two ends at the sea, the forks disagree, or they point to an
-    end at the sea: a river draining there)."""
-    from .delta_source import fan_source
-
-    if len(cand) < 3:
-        return None
-    src = fan_source(g, deg, cand, members, pts, r, sea_d, _end_radius(pts, r, cand, members))
-    return None if src is None or src[1] else src[0]
-
-
-def _delta_source_key(key: np.ndarray, pts: np.ndarray, r: np.ndarray, ends: np.ndarray,
-                      members: np.ndarray, scale: float, g=None, deg=None, has_region: bool = True) -> np.ndarray:
-    """Root key of a piece that reaches the region at several mouths: a delta roots at its source.
-
-    A river drains to the sea at one mouth; a delta reaches it at several
-    (its distributaries) and comes from one channel inland. With the
-    skeleton graph ``g`` (and ``deg``), the end the piece fans out from
-    (:func:`.delta_source.fan_source`: the end its forks point to, the
-    farthest from where its sea ends' paths meet) becomes the root (key
-    -1): away from the region, or anywhere when there is no region and the
-    frame is the sea (``has_region`` False: a trunk entering through the
-    frame, its channels leaving it). Else, with a region, when two or more
-    ends of the piece lie at the region (within ``3 + 2 r`` pixels of it)
-    and the thickest end away from it is at least 1.5 x thicker than every
-    mouth, that end becomes the root; else ``key`` is kept. Going beyond
-    the paper, whose roots are clicked: rooted at a mouth, a delta's tree
-    runs upstream and the synthesis grows its trunk from the sea.
-
-    Notes
-    -----
-    The forks before the widths (issue 23, branching83): on balanced
-    binary deltas the ends are too alike in width for the 1.5 x rule
-    (a 2-px trunk beside 1-px channels the sea widens at their mouths).
-    """
-    if len(ends) < 3:
-        return key
-    er = _end_radius(pts, r, ends, members)
-    if g is not None:
-        from .delta_source import fan_source
-
-        src = fan_source(g, deg, ends, members, pts, r, np.asarray(key, np.float64) / scale, er)
-        if src is not None and (not src[1] or not has_region):
-            out = np.asarray(key, np.float64).copy()
-            out[ends == src[0]] = -1.0
-            return out
-    if not has_region:
-        return key
-    near = key * 1.0 / scale <= 3.0 + 2.0 * er
-    if near.sum() < 2 or near.all():
-        return key
-    far = np.flatnonzero(~near)
-    best = far[np.argmax(er[far])]
-    if er[best] < 1.5 * er[near].max():
-        return key
-    out = np.asarray(key, np.float64).copy()
-    out[best] = -1.0
-    return out
 
 
 def _add_joins(g, ys, xs, node_r, shape, joins):
