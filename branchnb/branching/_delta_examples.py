@@ -140,3 +140,82 @@ def delta_tree_mask(shape=(256, 256), rng=0, fan_deg: float = 90.0, orders: int 
     sea = np.arange(h)[:, None] >= sea_y
     mask = (canvas[:, :, 0] > 0.5) | np.broadcast_to(sea, tuple(shape))
     return mask.astype(np.float32), entry, np.asarray(mouths, np.float64), apex
+
+
+#: the sides a river enters from, and how :func:`delta_river_mask` turns its top-entry drawing there
+RIVER_SIDES = ("top", "bottom", "left", "right")
+
+
+def delta_river_mask(shape=(256, 256), rng=0, side: str = "top", radius: float = 4.0, sea: bool = True,
+                     splits: int = 3):
+    """An uneven binary river delta (1 = water) whose trunk enters through the frame's ``side``:
+    (mask, entry, mouths).
+
+    Unlike :func:`delta_tree_mask` (issue 23, branching83): the trunk of ``radius`` px enters at a random
+    place on ``side`` and winds to the delta's head (0.3-0.5 x the way across); there ``splits`` times in
+    all a channel forks into two of random, unequal widths (0.45-0.8 x its radius, at least 1 px) and
+    angles (15-40 degrees off its heading), the fork taken at a random open channel, so some channels
+    reach the sea at once and others fork again. ``sea``: a sea fills the far side (0.84-0.9 x the way
+    across) and the channels end in it; else they run out through the far frame edge. ``entry`` is where
+    the trunk enters (x, y, in the frame), ``mouths`` (k, 2) where the channels end.
+
+    Examples
+    --------
+    >>> m, entry, mouths = delta_river_mask((128, 128), 0, "left", 3.0, True, 2)
+    >>> m.shape, mouths.shape, bool(entry[0] == 0)
+    ((128, 128), (3, 2), True)
+    """
+    if side not in RIVER_SIDES:
+        raise ValueError(f"side must be one of {RIVER_SIDES}, got {side!r}")
+    if splits < 1:
+        raise ValueError(f"splits must be >= 1, got {splits}")
+    rng = as_rng(rng)
+    h0, w0 = shape
+    # drawn entering from the top: a transposed frame for the left and right sides
+    h, w = (w0, h0) if side in ("left", "right") else (h0, w0)
+    far = (rng.uniform(0.84, 0.9) * h) if sea else h + 6.0
+    head = np.array([rng.uniform(0.35, 0.65) * w, rng.uniform(0.3, 0.5) * h])
+    entry = np.array([np.clip(head[0] + rng.normal(0, 0.1 * w), 0.15 * w, 0.85 * w), -3.0])
+    lines = [(_curve(entry, head, rng, 0.04 * w), float(radius))]
+    # open channels: (start, heading off straight down, radius); a fork ends one and opens two
+    open_ = [(head, rng.normal(0, np.radians(8.0)), float(radius))]
+    for _k in range(splits):
+        # (open_ runs left to right; the new channels keep between their neighbours' headings: no crossing)
+        i = int(rng.integers(len(open_)))
+        p, a, r = open_.pop(i)
+        if _k:
+            # the channel runs some way before it forks
+            q = p + rng.uniform(0.25, 0.45) * (far - p[1]) * np.array([np.tan(a), 1.0])
+            q[0] = np.clip(q[0], 0.05 * w, 0.95 * w)
+            lines.append((_curve(p, q, rng, 0.02 * w), r))
+            p = q
+        lo = open_[i - 1][1] + np.radians(8.0) if i > 0 else -np.radians(55.0)
+        hi = open_[i][1] - np.radians(8.0) if i < len(open_) else np.radians(55.0)
+        spread = np.radians(rng.uniform(15.0, 40.0, 2))
+        shares = rng.uniform(0.45, 0.8, 2)
+        kids = [(p, float(np.clip(a + sgn * da, lo, hi)), max(sh * r, 1.0))
+                for sgn, da, sh in zip((-1.0, 1.0), spread, shares)]
+        open_[i:i] = kids
+    mouths = []
+    for p, a, r in open_:
+        q = np.array([p[0] + (far + 6.0 - p[1]) * np.tan(a), far + 6.0])
+        q[0] = np.clip(q[0], 0.03 * w, 0.97 * w)
+        lines.append((_curve(p, q, rng, 0.02 * w), r))
+        mouths.append([q[0], min(far, h - 1.0)])
+    canvas = np.zeros((h, w, 3), np.float32)
+    canvas = draw_polylines(canvas, [c for c, _ in lines], widths=[2 * r for _, r in lines], colors=(1, 1, 1))
+    mask = (canvas[:, :, 0] > 0.5) | (np.arange(h)[:, None] >= far)
+    entry = np.array([entry[0], 0.0])
+    mouths = np.asarray(mouths, np.float64)
+    # turned so the trunk enters through ``side`` ((x, y) follow the pixels)
+    if side == "bottom":
+        mask = mask[::-1]
+        entry[1], mouths[:, 1] = h - 1 - entry[1], h - 1 - mouths[:, 1]
+    elif side == "left":
+        mask = mask.T
+        entry, mouths = entry[::-1].copy(), mouths[:, ::-1].copy()
+    elif side == "right":
+        mask = mask.T[:, ::-1]
+        entry, mouths = entry[::-1].copy(), mouths[:, ::-1].copy()
+        entry[0], mouths[:, 0] = h - 1 - entry[0], h - 1 - mouths[:, 0]
+    return np.ascontiguousarray(mask).astype(np.float32), entry, mouths

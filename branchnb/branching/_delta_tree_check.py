@@ -10,8 +10,9 @@ example's (mean, max), the side share (:func:`._delta_fan_check.side_share`), th
 Sheets of the example and seeds 0-2 go to ``OUT_case.png``; fitted examples are cached in CACHE.
 
 The examples are extracted with ``root=`` their trunk's entry: the automatic root took a mouth of 4 of these 8
-masks (its ends' radii too even for :func:`.skeleton_tree._delta_source_key`), and such an example does not
-drain.
+masks (its ends' radii too even for :func:`.delta_source._delta_source_key`), and such an example does not
+drain. (Since branching83 the automatic root takes the entry of all 8, :func:`.delta_source.fan_source`;
+the explicit root keeps these figures comparable with the earlier ones.)
 """
 
 from __future__ import annotations

@@ -248,9 +248,11 @@ class ExtractionParams:
         Which end point of each connected piece becomes the root: auto = the
         thickest end where widths vary (vessels, a delta's inland trunk), the outlet
         where the network meets a large branch-free flat region (a map's sea; else
-        the border) where every line has one width; or the thickest, the top-most
-        ..., the one nearest to the image border, or the one nearest to a large flat
-        region (else the border).
+        the border) where every line has one width, unless it meets it at several
+        mouths and its forks fan out from an end inland (a delta: rooted there); or
+        the thickest, the top-most ..., the one nearest to the image border, or the
+        one nearest to a large flat region (else the border; a delta reaching it at
+        several mouths roots at the end its channels fan out from).
     binary : {'auto', 'on', 'off'}, default 'auto'
         Binary (or near-binary) input such as a water mask: centre lines by the
         medial axis with the distance-transform radius instead of the ridge filter;
@@ -321,7 +323,8 @@ class ExtractionParams:
                       help="which end point of each connected piece becomes the root: auto = the thickest "
                            "end where widths vary (vessels, a delta's inland trunk), the outlet where the "
                            "network meets a large branch-free flat region (a map's sea; else the border) "
-                           "where every line has one width; or the thickest, "
+                           "where every line has one width (a delta fanning out to it at several mouths: the end "
+                           "inland it fans out from); or the thickest, "
                            "the top-most ..., the one nearest to the image border, or the one nearest "
                            "to a large flat region (else the border)")
     binary: str = param("auto", options=("auto", "on", "off"),

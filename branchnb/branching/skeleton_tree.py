@@ -16,6 +16,7 @@ from scipy.sparse import csgraph
 
 from ..core.polyline import arc_length, polyline_length, resample_uniform
 from ..core.structure import Branch, Structure
+from .delta_source import _delta_source_key, _fan_root
 from .small_frames import SMALL_SIDE
 
 __all__ = [
@@ -426,33 +427,6 @@ def _mouth_node(cand: np.ndarray, key: np.ndarray, members: np.ndarray, member_k
     return cand, key
 
 
-def _delta_source_key(key: np.ndarray, pts: np.ndarray, r: np.ndarray, ends: np.ndarray,
-                      members: np.ndarray, scale: float) -> np.ndarray:
-    """Root key of a piece that reaches the region at several mouths: a delta roots at its source.
-
-    A river drains to the sea at one mouth; a delta reaches it at several
-    (its distributaries) and comes from one wide channel inland. When two
-    or more ends of the piece lie at the region (within ``3 + 2 r`` pixels
-    of it) and the thickest end away from it is at least 1.5 x thicker than
-    every mouth, that end becomes the root (key -1); else ``key`` is kept.
-    Going beyond the paper, whose roots are clicked: rooted at a mouth, a
-    delta's tree runs upstream and the synthesis grows its trunk from the sea.
-    """
-    if len(ends) < 3:
-        return key
-    er = _end_radius(pts, r, ends, members)
-    near = key * 1.0 / scale <= 3.0 + 2.0 * er
-    if near.sum() < 2 or near.all():
-        return key
-    far = np.flatnonzero(~near)
-    best = far[np.argmax(er[far])]
-    if er[best] < 1.5 * er[near].max():
-        return key
-    out = np.asarray(key, np.float64).copy()
-    out[best] = -1.0
-    return out
-
-
 def _add_joins(g, ys, xs, node_r, shape, joins):
     """The skeleton graph with a chain of extra nodes (about one pixel apart) for every join.
 
@@ -536,7 +510,8 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
         a pixel above it: a drawn map's rivers drain where they meet the sea;
         a node of the piece more than 4 px nearer than every end, a mouth the
         coast's removed outline left as a loop, beats the ends; among several
-        ends at the sea, the one its forks point to, ``_region_outlet``), else the centre of
+        ends at the sea, the one its forks point to, ``_region_outlet``; when they point to an
+        end inland instead, a delta's source, that end, ``delta_source.fan_source``), else the centre of
         every hub in the piece (``hubs``: a neuron grows out of its soma), else the thickest end (a
         vessel tree's trunk, a delta's inland channel; the radius near an end,
         not at it, which the frame or a rounded tip pinches), every end where a thick line
@@ -545,8 +520,9 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
         the frame drains there, beyond the paper); or the thickest, the top-most ..., the one
         nearest to the image border, the one nearest to ``region`` (e.g.
         the sea a river flows into; the border if there is none; a piece
-        that meets the region at several mouths and has a much thicker end
-        away from it, a delta, roots at that end, see ``_delta_source_key``),
+        that meets the region, or the border, at several mouths and fans out
+        from an end away from them, a delta, roots at that end, see
+        ``_delta_source_key``),
         or the one nearest to a given point (full-size pixels). Default
         ``"thickest"``.
     scale : float, default 1.0
@@ -683,6 +659,11 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
                                                                    key / scale)) is not None:
                         roots.append(mouth)
                         continue
+                    # forks pointing inland at several mouths: a delta, rooted where it fans out from
+                    # (its ends' widths too alike to tell, issue 23, branching83)
+                    if (src := _fan_root(g, deg, cand, members, pts_full, r_full, key / scale)) is not None:
+                        roots.append(src)
+                        continue
                 if len(own_hubs):
                     # lines radiating from a blob much wider than they are grow out of it (a neuron's
                     # soma, a crater): rooted at a line's tip, the learnt model grew from the wrong place
@@ -742,8 +723,8 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
             elif root in ("border", "nearest_region"):
                 key = region_dist[ys[cand], xs[cand]] if root == "nearest_region" else \
                     border_dist[ys[cand], xs[cand]]
-                if root == "nearest_region" and has_region:
-                    key = _delta_source_key(key, pts_full, r_full, cand, members, scale)
+                if root == "nearest_region":
+                    key = _delta_source_key(key, pts_full, r_full, cand, members, scale, g, deg, has_region)
             else:
                 raise ValueError("root must be auto/thickest/top/bottom/left/right/border/nearest_region "
                                  f"or (x, y), got {root!r}")
