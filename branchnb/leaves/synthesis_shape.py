@@ -65,10 +65,10 @@ def _shape_map(p, params, seed: int, rng):
     # 0.71 against 0.58 on a procedural trilobed family). (The same kernel
     # on the log size took a fifth of the Laplacian variance the size's
     # resampling costs and no variety: not kept.)
-    # The kernel's width is ``pose_kernel`` times that bandwidth (default
-    # 0.15, see SynthesisParams.pose_kernel: with the leading exemplars
-    # stratified over a batch, a batch of 8 new leaves swung by up to +-0.1
-    # in median pairwise blade IoU around the exemplars' with the full one).
+    # The kernel's width is ``pose_kernel`` times that bandwidth (see
+    # SynthesisParams.pose_kernel: with the leading exemplars stratified
+    # over a batch, a batch of 8 new leaves swung by up to +-0.1 in median
+    # pairwise blade IoU around the exemplars' with the full one).
     z_pose = float(np.clip(np.random.default_rng((int(seed), 5)).standard_normal(), -1.5, 1.5)) \
         if params.smooth_bootstrap else 0.0
     m = p.posed(m, np.eye(n)[pose_from], z_pose * params.pose_kernel * p.pose_bandwidth)
