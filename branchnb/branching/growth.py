@@ -289,6 +289,73 @@ def _core(model: StructureModel, domain) -> tuple[np.ndarray, np.ndarray] | None
     return got[2][key]
 
 
+#: Width (pixels) of the band along the image frame that a branch, once out of it, may enter only heading
+#: out of the frame (beyond the paper, issue 23, branching82). The paper's scores know nothing of the
+#: frame: a copied piece that would cross it is cut there, and the candidates left are those that turn
+#: along it; the roots' frame factor (:meth:`_Grower._frame_factor`) even prefers them. So trunks that
+#: reached the far side turned 90 deg and ran along it for a third of the canvas, and children lay along
+#: the sides (a painted root system, 320 px). A branch whose step enters the band at a shallower angle
+#: than :data:`FRAME_EXIT` stops there, as one leaving the frame would (``"left the domain"``); a steep
+#: one goes on out through a side where a line of the example ends (else it stops too). Only where the example's own lines keep off the frame (:data:`FRAME_HUG_SHARE`).
+FRAME_BAND = 6.0
+#: In the band, a branch keeps a point only if it came at least this much (sine of the angle to the frame)
+#: closer to the frame from the one before: 0.5 = heading out at 30 deg or steeper.
+FRAME_EXIT = 0.5
+#: The band rule is off when more than this share of the example's length lies within :data:`FRAME_BAND`
+#: of its frame (the first 2 radii of each root, entering there, left out): lines drawn along a border.
+FRAME_HUG_SHARE = 0.05
+
+
+def _frame_share(example: Structure, band: float) -> float:
+    """Share of ``example``'s length within ``band`` px of its image frame (its roots' first 2 radii left
+    out); 1.0 when it has no ``image_shape`` (the band rule is then off)."""
+    if example.image_shape is None:
+        return 1.0
+    h, w = example.image_shape[:2]
+    near = total = 0.0
+    for b in example.branches:
+        p = np.asarray(b.points, np.float64)
+        if len(p) < 2:
+            continue
+        seg = np.hypot(*np.diff(p, axis=0).T)
+        mid = (p[:-1] + p[1:]) / 2.0
+        d = np.minimum(np.minimum(mid[:, 0], mid[:, 1]), np.minimum(w - 1.0 - mid[:, 0], h - 1.0 - mid[:, 1]))
+        keep = d < band
+        if b.parent is None:
+            keep &= np.r_[0.0, np.cumsum(seg)[:-1]] >= 2.0 * float(np.asarray(b.thickness).ravel()[0])
+        near += float(seg[keep].sum())
+        total += float(seg.sum())
+    return near / total if total > 0 else 1.0
+
+
+def _frame_sides(pts, shape) -> tuple[np.ndarray, np.ndarray]:
+    """``(distance, side)`` of points (n, 2) to the frame of ``shape`` (H, W): the distance to the nearest
+    side (pixels) and which (0 left, 1 top, 2 right, 3 bottom)."""
+    h, w = shape[:2]
+    q = np.asarray(pts, np.float64).reshape(-1, 2)
+    all_d = np.stack([q[:, 0], q[:, 1], w - 1.0 - q[:, 0], h - 1.0 - q[:, 1]], 1)
+    side = np.argmin(all_d, 1)
+    return all_d[np.arange(len(q)), side], side
+
+
+def _frame_ends(example: Structure, band: float) -> np.ndarray:
+    """``(4,)`` bool: the sides of ``example``'s image frame (0 left, 1 top, 2 right, 3 bottom) that a
+    branch of it ends at (its last point within ``band`` px) and no root starts at; none without an
+    ``image_shape``."""
+    out = np.zeros(4, bool)
+    if example.image_shape is None or not example.branches:
+        return out
+    d, side = _frame_sides([b.points[-1] for b in example.branches], example.image_shape)
+    out[side[d < band]] = True
+    # not the sides the roots enter from: a line ending there is a second trunk traced from its junction
+    # with the first (two roots of a crown that meet), not a line leaving the frame
+    roots = [b.points[0] for b in example.branches if b.parent is None]
+    if roots:
+        d0, side0 = _frame_sides(roots, example.image_shape)
+        out[side0[d0 < band]] = False
+    return out
+
+
 class _Grower(_Starts, _Filling):
     def __init__(self, model: StructureModel, params: SynthesisParams, rng, shape,
                  guidance: Guidance | None, scorer=None, domain: np.ndarray | None = None,
@@ -359,6 +426,12 @@ class _Grower(_Starts, _Filling):
         self.r_max, self.r_grow, self.wind_max = _example_bounds(model)
         self.r_keep = _radius_keep(model.example) if self.drain is not None else 0.0
         self.fill_rounds = 0
+        # a branch that left the frame's band does not come back to run along the frame (FRAME_BAND)
+        self.frame_band = FRAME_BAND if _frame_share(model.example, FRAME_BAND) <= FRAME_HUG_SHARE else 0.0
+        # and where no line of the example ends at its frame, none heads out of it either
+        # (per side: a river network leaving through the bottom of its example leaves only through the bottom)
+        self.frame_exit = np.where(_frame_ends(model.example, FRAME_BAND), FRAME_EXIT, np.inf)
+        self._left_band: set = set()
         self.radial = False   # roots are hub primaries (set by run)
         self._gen_cap: dict = {}   # radial: children per generation at most (.radial._generation_caps)
         self._empty_dt: np.ndarray | None = None
@@ -393,6 +466,31 @@ class _Grower(_Starts, _Filling):
         dom = self.domain
         return _kernels.inside(np.ascontiguousarray(pts, np.float64), h, w,
                                self._e_dom if dom is None else dom, dom is not None)
+
+    def _off_frame(self, bi: int, st, tip, new_pts: np.ndarray) -> np.ndarray:
+        """Which of a step's new points ``new_pts`` branch ``bi`` may keep under the frame band rule
+        (:data:`FRAME_BAND`): all but those from the first that, after the branch has been out of the band,
+        lies in it without heading out of the frame at :data:`FRAME_EXIT` or steeper."""
+        q = np.vstack([np.asarray(tip, np.float64)[None], new_pts])
+        d, side = _frame_sides(q, self.shape)
+        seg = np.hypot(*np.diff(q, axis=0).T)
+        out = d[1:] >= self.frame_band
+        off = bi in self._left_band
+        if not off and (d[0] >= self.frame_band or st.parent is not None and len(st.points) > 1
+                        and self._frame_dist(st.points[0]) >= self.frame_band):
+            off = True
+        ok = np.ones(len(new_pts), bool)
+        for k in range(len(new_pts)):
+            if off and not out[k] and d[k] - d[k + 1] < self.frame_exit[side[k + 1]] * seg[k]:
+                ok[k:] = False
+                break
+            off = off or bool(out[k])
+        if off:
+            self._left_band.add(bi)
+        return ok
+
+    def _frame_dist(self, pt) -> float:
+        return float(_frame_sides(pt, self.shape)[0][0])
 
     def _core_factor(self, pts: np.ndarray, live: np.ndarray) -> np.ndarray | float:
         """``exp(-d / CORE_SCALE)`` of candidates (points ``pts`` (N, K, 2), ``live`` (N, K) the real ones),
@@ -704,6 +802,8 @@ class _Grower(_Starts, _Filling):
             if self.r_keep > 0:   # and a delta's channels keep their width (see _radius_keep)
                 rad = np.maximum(rad, self.r_keep * max(float(st.radii[0]), float(st.radii[1])))
         ok = self._inside(new_pts)
+        if self.frame_band > 0 and len(new_pts):
+            ok &= self._off_frame(bi, st, tip, new_pts)
         if not ok.all():
             cut = int(np.argmin(ok))
             new_pts, ang, rad = new_pts[:cut], ang[:cut], rad[:cut]
