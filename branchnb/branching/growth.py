@@ -301,6 +301,8 @@ FRAME_BAND = 6.0
 #: In the band, a branch keeps a point only if it came at least this much (sine of the angle to the frame)
 #: closer to the frame from the one before: 0.5 = heading out at 30 deg or steeper.
 FRAME_EXIT = 0.5
+#: A line of the example ends at its frame (leaves it) when its last point is closer than this (pixels).
+FRAME_END = 2.0
 #: The band rule is off when more than this share of the example's length lies within :data:`FRAME_BAND`
 #: of its frame (the first 2 radii of each root, entering there, left out): lines drawn along a border.
 FRAME_HUG_SHARE = 0.05
@@ -430,7 +432,7 @@ class _Grower(_Starts, _Filling):
         self.frame_band = FRAME_BAND if _frame_share(model.example, FRAME_BAND) <= FRAME_HUG_SHARE else 0.0
         # and where no line of the example ends at its frame, none heads out of it either
         # (per side: a river network leaving through the bottom of its example leaves only through the bottom)
-        self.frame_exit = np.where(_frame_ends(model.example, FRAME_BAND), FRAME_EXIT, np.inf)
+        self.frame_exit = np.where(_frame_ends(model.example, FRAME_END), FRAME_EXIT, np.inf)
         self._left_band: set = set()
         self.radial = False   # roots are hub primaries (set by run)
         self._gen_cap: dict = {}   # radial: children per generation at most (.radial._generation_caps)
@@ -469,25 +471,31 @@ class _Grower(_Starts, _Filling):
 
     def _off_frame(self, bi: int, st, tip, new_pts: np.ndarray) -> np.ndarray:
         """Which of a step's new points ``new_pts`` branch ``bi`` may keep under the frame band rule
-        (:data:`FRAME_BAND`): all but those from the first that, after the branch has been out of the band,
-        lies in it without heading out of the frame at :data:`FRAME_EXIT` or steeper."""
+        (:data:`FRAME_BAND`, :meth:`_band_ok`); a child that started out of the band has left it."""
+        off = bi in self._left_band or (st.parent is not None and len(st.points) > 1
+                                        and self._frame_dist(st.points[0]) >= self.frame_band)
+        ok, off = self._band_ok(tip, new_pts, off)
+        if off:
+            self._left_band.add(bi)
+        return ok
+
+    def _band_ok(self, tip, new_pts: np.ndarray, off: bool) -> tuple[np.ndarray, bool]:
+        """``(ok, off)``: which points ``new_pts`` after ``tip`` a branch keeps (all but those from the first
+        that, once the branch is out of the band, lies in it without heading out of the frame at
+        :data:`FRAME_EXIT` or steeper through a side the example's lines leave by), and whether the branch
+        is out of the band (``off``: it was before, or ``tip`` or a kept point is)."""
         q = np.vstack([np.asarray(tip, np.float64)[None], new_pts])
         d, side = _frame_sides(q, self.shape)
         seg = np.hypot(*np.diff(q, axis=0).T)
         out = d[1:] >= self.frame_band
-        off = bi in self._left_band
-        if not off and (d[0] >= self.frame_band or st.parent is not None and len(st.points) > 1
-                        and self._frame_dist(st.points[0]) >= self.frame_band):
-            off = True
+        off = off or bool(d[0] >= self.frame_band)
         ok = np.ones(len(new_pts), bool)
         for k in range(len(new_pts)):
             if off and not out[k] and d[k] - d[k + 1] < self.frame_exit[side[k + 1]] * seg[k]:
                 ok[k:] = False
                 break
             off = off or bool(out[k])
-        if off:
-            self._left_band.add(bi)
-        return ok
+        return ok, off
 
     def _frame_dist(self, pt) -> float:
         return float(_frame_sides(pt, self.shape)[0][0])
