@@ -73,7 +73,7 @@ def hug_example(kind: str, N: int, seed: int):
         out.append((np.asarray(pts), np.asarray(rad), gen))
         me = len(out)
         q = np.asarray(pts, np.int32).reshape(-1, 1, 2)
-        cv2.polylines(occ, [q], False, me, int(2 * r + 2 * step_len + 4))
+        cv2.polylines(occ, [q], False, me, int(2 * r + 2 * step_len + 6 + 0.03 * N))
         for (kx, ky, ka, kr, kl) in kids:
             grow(kx, ky, ka, kr, gen + 1, kl, me)
 

@@ -900,6 +900,10 @@ class _Grower(_Starts, _Filling):
             fw = _fork_weights(self.model, st.generation, len(pts))
             if fw is not None:
                 weights = fw if weights is None else weights * fw
+        if self.frame_band > 0:   # no child starts in the frame's band, where it could only run along it
+            clear = _frame_sides(pts, self.shape)[0] >= self.frame_band
+            if not clear.all():
+                weights = clear.astype(np.float64) if weights is None else weights * clear
         verts = self.model.furcation.choose(pts, rad, d, min_spacing=p.min_spacing, existing=existing,
                                             weights=weights)
         kids = []
