@@ -6,7 +6,7 @@ import pytest
 
 from branchnb.branching import example_domain, extract_structure, fit_model, synthesize_structure
 from branchnb.branching._frame_hug_check import frame_share, hug_example
-from branchnb.branching.growth import FRAME_BAND, FRAME_HUG_SHARE, _frame_ends, _frame_share
+from branchnb.branching.frame_band import FRAME_BAND, FRAME_HUG_SHARE, _frame_ends, _frame_share
 from branchnb.core.structure import Branch, Structure
 
 

@@ -33,6 +33,16 @@ from .colonization import (
 from .domains import MOUTH_SHARE, MOUTH_TURN, _Drain, _Shore, _shore_margin, runs_inland
 from .empty_ground import _is_band, _painted_core, _strand_core
 from .filling import _Filling
+from .frame_band import (
+    FRAME_BAND,
+    FRAME_END,
+    FRAME_EXIT,
+    FRAME_HUG_SHARE,
+    _frame_ends,
+    _frame_share,
+    _frame_sides,
+    band_keep,
+)
 from .guidance import Guidance
 from .model import StructureModel, _choice
 from .params import SynthesisParams
@@ -289,75 +299,6 @@ def _core(model: StructureModel, domain) -> tuple[np.ndarray, np.ndarray] | None
     return got[2][key]
 
 
-#: Width (pixels) of the band along the image frame that a branch, once out of it, may enter only heading
-#: out of the frame (beyond the paper, issue 23, branching82). The paper's scores know nothing of the
-#: frame: a copied piece that would cross it is cut there, and the candidates left are those that turn
-#: along it; the roots' frame factor (:meth:`_Grower._frame_factor`) even prefers them. So trunks that
-#: reached the far side turned 90 deg and ran along it for a third of the canvas, and children lay along
-#: the sides (a painted root system, 320 px). A branch whose step enters the band at a shallower angle
-#: than :data:`FRAME_EXIT` stops there, as one leaving the frame would (``"left the domain"``); a steep
-#: one goes on out through a side where a line of the example ends (else it stops too). Only where the example's own lines keep off the frame (:data:`FRAME_HUG_SHARE`).
-FRAME_BAND = 6.0
-#: In the band, a branch keeps a point only if it came at least this much (sine of the angle to the frame)
-#: closer to the frame from the one before: 0.5 = heading out at 30 deg or steeper.
-FRAME_EXIT = 0.5
-#: A line of the example ends at its frame (leaves it) when its last point is closer than this (pixels).
-FRAME_END = 2.0
-#: The band rule is off when more than this share of the example's length lies within :data:`FRAME_BAND`
-#: of its frame (the first 2 radii of each root, entering there, left out): lines drawn along a border.
-FRAME_HUG_SHARE = 0.05
-
-
-def _frame_share(example: Structure, band: float) -> float:
-    """Share of ``example``'s length within ``band`` px of its image frame (its roots' first 2 radii left
-    out); 1.0 when it has no ``image_shape`` (the band rule is then off)."""
-    if example.image_shape is None:
-        return 1.0
-    h, w = example.image_shape[:2]
-    near = total = 0.0
-    for b in example.branches:
-        p = np.asarray(b.points, np.float64)
-        if len(p) < 2:
-            continue
-        seg = np.hypot(*np.diff(p, axis=0).T)
-        mid = (p[:-1] + p[1:]) / 2.0
-        d = np.minimum(np.minimum(mid[:, 0], mid[:, 1]), np.minimum(w - 1.0 - mid[:, 0], h - 1.0 - mid[:, 1]))
-        keep = d < band
-        if b.parent is None:
-            keep &= np.r_[0.0, np.cumsum(seg)[:-1]] >= 2.0 * float(np.asarray(b.thickness).ravel()[0])
-        near += float(seg[keep].sum())
-        total += float(seg.sum())
-    return near / total if total > 0 else 1.0
-
-
-def _frame_sides(pts, shape) -> tuple[np.ndarray, np.ndarray]:
-    """``(distance, side)`` of points (n, 2) to the frame of ``shape`` (H, W): the distance to the nearest
-    side (pixels) and which (0 left, 1 top, 2 right, 3 bottom)."""
-    h, w = shape[:2]
-    q = np.asarray(pts, np.float64).reshape(-1, 2)
-    all_d = np.stack([q[:, 0], q[:, 1], w - 1.0 - q[:, 0], h - 1.0 - q[:, 1]], 1)
-    side = np.argmin(all_d, 1)
-    return all_d[np.arange(len(q)), side], side
-
-
-def _frame_ends(example: Structure, band: float) -> np.ndarray:
-    """``(4,)`` bool: the sides of ``example``'s image frame (0 left, 1 top, 2 right, 3 bottom) that a
-    branch of it ends at (its last point within ``band`` px) and no root starts at; none without an
-    ``image_shape``."""
-    out = np.zeros(4, bool)
-    if example.image_shape is None or not example.branches:
-        return out
-    d, side = _frame_sides([b.points[-1] for b in example.branches], example.image_shape)
-    out[side[d < band]] = True
-    # not the sides the roots enter from: a line ending there is a second trunk traced from its junction
-    # with the first (two roots of a crown that meet), not a line leaving the frame
-    roots = [b.points[0] for b in example.branches if b.parent is None]
-    if roots:
-        d0, side0 = _frame_sides(roots, example.image_shape)
-        out[side0[d0 < band]] = False
-    return out
-
-
 class _Grower(_Starts, _Filling):
     def __init__(self, model: StructureModel, params: SynthesisParams, rng, shape,
                  guidance: Guidance | None, scorer=None, domain: np.ndarray | None = None,
@@ -428,7 +369,7 @@ class _Grower(_Starts, _Filling):
         self.r_max, self.r_grow, self.wind_max = _example_bounds(model)
         self.r_keep = _radius_keep(model.example) if self.drain is not None else 0.0
         self.fill_rounds = 0
-        # a branch that left the frame's band does not come back to run along the frame (FRAME_BAND)
+        # a branch that left the frame's band does not come back to run along the frame (.frame_band)
         self.frame_band = FRAME_BAND if _frame_share(model.example, FRAME_BAND) <= FRAME_HUG_SHARE else 0.0
         # and where no line of the example ends at its frame, none heads out of it either
         # (per side: a river network leaving through the bottom of its example leaves only through the bottom)
@@ -471,7 +412,7 @@ class _Grower(_Starts, _Filling):
 
     def _off_frame(self, bi: int, st, tip, new_pts: np.ndarray) -> np.ndarray:
         """Which of a step's new points ``new_pts`` branch ``bi`` may keep under the frame band rule
-        (:data:`FRAME_BAND`, :meth:`_band_ok`); a child that started out of the band has left it."""
+        (:data:`.frame_band.FRAME_BAND`, :meth:`_band_ok`); a child that started out of the band has left it."""
         off = bi in self._left_band or (st.parent is not None and len(st.points) > 1
                                         and self._frame_dist(st.points[0]) >= self.frame_band)
         ok, off = self._band_ok(tip, new_pts, off)
@@ -480,22 +421,8 @@ class _Grower(_Starts, _Filling):
         return ok
 
     def _band_ok(self, tip, new_pts: np.ndarray, off: bool) -> tuple[np.ndarray, bool]:
-        """``(ok, off)``: which points ``new_pts`` after ``tip`` a branch keeps (all but those from the first
-        that, once the branch is out of the band, lies in it without heading out of the frame at
-        :data:`FRAME_EXIT` or steeper through a side the example's lines leave by), and whether the branch
-        is out of the band (``off``: it was before, or ``tip`` or a kept point is)."""
-        q = np.vstack([np.asarray(tip, np.float64)[None], new_pts])
-        d, side = _frame_sides(q, self.shape)
-        seg = np.hypot(*np.diff(q, axis=0).T)
-        out = d[1:] >= self.frame_band
-        off = off or bool(d[0] >= self.frame_band)
-        ok = np.ones(len(new_pts), bool)
-        for k in range(len(new_pts)):
-            if off and not out[k] and d[k] - d[k + 1] < self.frame_exit[side[k + 1]] * seg[k]:
-                ok[k:] = False
-                break
-            off = off or bool(out[k])
-        return ok, off
+        """:func:`.frame_band.band_keep` of points ``new_pts`` after ``tip`` in this grower's frame."""
+        return band_keep(tip, new_pts, off, self.shape, self.frame_band, self.frame_exit)
 
     def _frame_dist(self, pt) -> float:
         return float(_frame_sides(pt, self.shape)[0][0])
