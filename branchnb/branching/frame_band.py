@@ -34,11 +34,6 @@ FRAME_END = 2.0
 #: of its frame (the first 2 radii of each root, entering there, left out): lines drawn along a border.
 FRAME_HUG_SHARE = 0.05
 
-#: Where the band rule holds, a root reads the frame ahead as density (``growth._Grower._frame_factor``)
-#: only over this share of the example's median root length: enough to turn a root started near a
-#: side or corner into the image, not so long that a trunk reaching the far side turns back.
-FRAME_ROOT_SHARE = 0.5
-
 
 def _frame_share(example: Structure, band: float) -> float:
     """Share of ``example``'s length within ``band`` px of its image frame (its roots' first 2 radii left

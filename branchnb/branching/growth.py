@@ -38,7 +38,6 @@ from .frame_band import (
     FRAME_END,
     FRAME_EXIT,
     FRAME_HUG_SHARE,
-    FRAME_ROOT_SHARE,
     _frame_ends,
     _frame_share,
     _frame_sides,
@@ -376,9 +375,6 @@ class _Grower(_Starts, _Filling):
         # (per side: a river network leaving through the bottom of its example leaves only through the bottom)
         self.frame_exit = np.where(_frame_ends(model.example, FRAME_END), FRAME_EXIT, np.inf)
         self._left_band: set = set()
-        lengths = getattr(model.roots, "lengths", None)
-        self._root_reach = FRAME_ROOT_SHARE * float(np.median(lengths)) \
-            if lengths is not None and len(lengths) else None
         self.radial = False   # roots are hub primaries (set by run)
         self._gen_cap: dict = {}   # radial: children per generation at most (.radial._generation_caps)
         self._empty_dt: np.ndarray | None = None
@@ -444,18 +440,6 @@ class _Grower(_Starts, _Filling):
         lv = live[:, :k]
         mean = (d[:, :k] * lv).sum(1) / np.maximum(lv.sum(1), 1)
         return np.exp(-mean / CORE_SCALE)
-
-    def _frame_root(self, st) -> bool:
-        """Does :meth:`_frame_factor` weigh branch ``st``'s candidates: a root on a free frame, and where the
-        frame band rule holds (:mod:`.frame_band`) only over its first :data:`.frame_band.FRAME_ROOT_SHARE`
-        x the example's median root length (beyond the paper, issue 23, branching82): past that, a trunk
-        that meets the far side of the frame turned back up in a hairpin (the frame ahead read as
-        density) where it may now stop at the band like the example's trunks."""
-        if not (self.frame and st.parent is None):
-            return False
-        if self.frame_band <= 0 or self._root_reach is None:
-            return True
-        return (len(st.points) - 1) * self.p.h < self._root_reach
 
     def _frame_factor(self, tip, dirs: np.ndarray, D_c: np.ndarray) -> np.ndarray:
         """Score factor ``(D_c + eps) / (max(D_c, D_frame) + eps)`` of a root's candidates (issue 23).
@@ -593,7 +577,7 @@ class _Grower(_Starts, _Filling):
         scorer, no guidance, drain, shore, frame factor (a root on a free frame), goal or mouth?"""
         return (self.scorer is score_candidates and self.guidance is None and self.drain is None
                 and self.shore is None and st.goal is None and st.mouth is None
-                and not self._frame_root(st) and not self.keep_in and self.tropism is None)
+                and not (self.frame and st.parent is None) and not self.keep_in and self.tropism is None)
 
     def _plain_step(self, st, tip, t: np.ndarray, L: int):
         """``(stopped, score, points, chosen)`` of a plain step over the candidate windows ``t``
@@ -672,7 +656,7 @@ class _Grower(_Starts, _Filling):
             self.n_candidates += len(t_arr)
 
             score = cs.score
-            if self._frame_root(st):
+            if self.frame and st.parent is None:
                 live = n_arr > 0
                 if live.any():
                     end = pts[np.arange(len(n_arr)), np.maximum(n_arr, 1) - 1] - tip
