@@ -24,6 +24,10 @@ from ..core.structure import Structure
 #: than :data:`FRAME_EXIT` stops there, as one leaving the frame would (``"left the domain"``); a steep
 #: one goes on out through a side where a line of the example ends (else it stops too). Only where the
 #: example's own lines keep off the frame (:data:`FRAME_HUG_SHARE`); no child starts in the band.
+#: Figures (:mod:`._frame_hug_check`, map workflow, roots from the top / rivers from the bottom / bolts
+#: from the top, 256/512/768 px, 5 seeds each, 45 cases): share of output length within 6 px of the
+#: frame mean 0.012 (max 0.047; 17 cases above 2 x the example's + 0.01) -> 0.0005 (max 0.008; none);
+#: main-branch bearing off the example's unchanged (median 14.7 -> 14.3 deg, 15 cases above 25 deg both).
 FRAME_BAND = 6.0
 #: In the band, a branch keeps a point only if it came at least this much (sine of the angle to the frame)
 #: closer to the frame from the one before: 0.5 = heading out at 30 deg or steeper.
