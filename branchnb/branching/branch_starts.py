@@ -408,6 +408,9 @@ class _Starts:
         hd = int(heads[j])
         full = np.vstack([x0, new[j, : n[j] + 1]])
         ok = self._inside(full)
+        if self.frame_band > 0 and parent is not None and len(full) > 2:
+            # a child's head keeps off the frame like its Markov steps (growth.FRAME_BAND), its first vertex always
+            ok[2:] &= self._band_ok(full[1], full[2:], self._frame_dist(x0) >= self.frame_band)[0]
         cut = len(full) if ok.all() else int(np.argmin(ok))
         pl = full[:cut]
         head = model.bending.heads[hd]

@@ -33,6 +33,16 @@ from .colonization import (
 from .domains import MOUTH_SHARE, MOUTH_TURN, _Drain, _Shore, _shore_margin, runs_inland
 from .empty_ground import _is_band, _painted_core, _strand_core
 from .filling import _Filling
+from .frame_band import (
+    FRAME_BAND,
+    FRAME_END,
+    FRAME_EXIT,
+    FRAME_HUG_SHARE,
+    _frame_ends,
+    _frame_share,
+    _frame_sides,
+    band_keep,
+)
 from .guidance import Guidance
 from .model import StructureModel, _choice
 from .params import SynthesisParams
@@ -359,6 +369,12 @@ class _Grower(_Starts, _Filling):
         self.r_max, self.r_grow, self.wind_max = _example_bounds(model)
         self.r_keep = _radius_keep(model.example) if self.drain is not None else 0.0
         self.fill_rounds = 0
+        # a branch that left the frame's band does not come back to run along the frame (.frame_band)
+        self.frame_band = FRAME_BAND if _frame_share(model.example, FRAME_BAND) <= FRAME_HUG_SHARE else 0.0
+        # and where no line of the example ends at its frame, none heads out of it either
+        # (per side: a river network leaving through the bottom of its example leaves only through the bottom)
+        self.frame_exit = np.where(_frame_ends(model.example, FRAME_END), FRAME_EXIT, np.inf)
+        self._left_band: set = set()
         self.radial = False   # roots are hub primaries (set by run)
         self._gen_cap: dict = {}   # radial: children per generation at most (.radial._generation_caps)
         self._empty_dt: np.ndarray | None = None
@@ -393,6 +409,23 @@ class _Grower(_Starts, _Filling):
         dom = self.domain
         return _kernels.inside(np.ascontiguousarray(pts, np.float64), h, w,
                                self._e_dom if dom is None else dom, dom is not None)
+
+    def _off_frame(self, bi: int, st, tip, new_pts: np.ndarray) -> np.ndarray:
+        """Which of a step's new points ``new_pts`` branch ``bi`` may keep under the frame band rule
+        (:data:`.frame_band.FRAME_BAND`, :meth:`_band_ok`); a child that started out of the band has left it."""
+        off = bi in self._left_band or (st.parent is not None and len(st.points) > 1
+                                        and self._frame_dist(st.points[0]) >= self.frame_band)
+        ok, off = self._band_ok(tip, new_pts, off)
+        if off:
+            self._left_band.add(bi)
+        return ok
+
+    def _band_ok(self, tip, new_pts: np.ndarray, off: bool) -> tuple[np.ndarray, bool]:
+        """:func:`.frame_band.band_keep` of points ``new_pts`` after ``tip`` in this grower's frame."""
+        return band_keep(tip, new_pts, off, self.shape, self.frame_band, self.frame_exit)
+
+    def _frame_dist(self, pt) -> float:
+        return float(_frame_sides(pt, self.shape)[0][0])
 
     def _core_factor(self, pts: np.ndarray, live: np.ndarray) -> np.ndarray | float:
         """``exp(-d / CORE_SCALE)`` of candidates (points ``pts`` (N, K, 2), ``live`` (N, K) the real ones),
@@ -704,6 +737,8 @@ class _Grower(_Starts, _Filling):
             if self.r_keep > 0:   # and a delta's channels keep their width (see _radius_keep)
                 rad = np.maximum(rad, self.r_keep * max(float(st.radii[0]), float(st.radii[1])))
         ok = self._inside(new_pts)
+        if self.frame_band > 0 and len(new_pts):
+            ok &= self._off_frame(bi, st, tip, new_pts)
         if not ok.all():
             cut = int(np.argmin(ok))
             new_pts, ang, rad = new_pts[:cut], ang[:cut], rad[:cut]
@@ -792,6 +827,10 @@ class _Grower(_Starts, _Filling):
             fw = _fork_weights(self.model, st.generation, len(pts))
             if fw is not None:
                 weights = fw if weights is None else weights * fw
+        if self.frame_band > 0:   # no child starts in the frame's band, where it could only run along it
+            clear = _frame_sides(pts, self.shape)[0] >= self.frame_band
+            if not clear.all():
+                weights = clear.astype(np.float64) if weights is None else weights * clear
         verts = self.model.furcation.choose(pts, rad, d, min_spacing=p.min_spacing, existing=existing,
                                             weights=weights)
         kids = []
