@@ -275,7 +275,7 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         skel = frame_reaching_skeleton(bw, skel, near_wide)
     # a wide line's axis is checked against the image already: the outline and false-ridge tests below
     # measure across a few sigma_max and take its flat interior for a flat region or an edge
-    wide_axis = skel & ndi.binary_dilation(wide, iterations=2) if wide.any() else None
+    wide_axis = skel & near_wide if wide.any() else None
     outside = border_flat_regions(work, 4 * p.sigma_max, branches=bw)
     skel &= ~outline_pixels(skel, outside, 2 * p.sigma_max + 2, gray=ndi.median_filter(work, 3))
     rgb = as_rgb(colour_image)
