@@ -35,6 +35,8 @@ WIDE_DISK = 1.5
 WIDE_CONTRAST = 0.5
 #: ... and when its centre line is at least this many times its mean width (a line, not a patch).
 WIDE_ELONGATION = 3.0
+#: ... and when it is uniformly dark across: half-way to its edges at least this share of its axis' contrast.
+WIDE_FLAT = 0.85
 
 
 def _disk(r: int) -> np.ndarray:
@@ -78,8 +80,10 @@ def wide_line_mask(gray, ridge: np.ndarray, polarity: str, sigma_max: float) -> 
     noise. The dark pixels a disk of radius :data:`WIDE_DISK` x
     ``sigma_max`` fits in (binary opening) form candidate regions; one is a
     wide line when it is elongated (:data:`WIDE_ELONGATION`), covers less
-    than a third of the image, and touches the fine ridge mask (a wide
-    line's children, or its edges, are there). A cluster of thin lines
+    than a third of the image, touches the fine ridge mask (a wide
+    line's children, or its edges, are there) and is uniformly dark across
+    (:data:`WIDE_FLAT`; a bright line's glow fades from its core). The black
+    outside a fundus's circular view is left out as in the ridge response. A cluster of thin lines
     is not dark between its lines, so it does not merge into one region
     as it does in a coarse ridge filter.
 
@@ -136,7 +140,13 @@ def wide_line_mask(gray, ridge: np.ndarray, polarity: str, sigma_max: float) -> 
     ground = ~cv2.dilate(bw.astype(np.uint8), _disk(3)).astype(bool)
     noise = 1.4826 * float(np.median(np.abs(con[ground] - np.median(con[ground])))) if ground.any() else 0.0
     thr = max(WIDE_CONTRAST * ref, 3.0 * noise, 0.02)
-    dark = (con >= thr).astype(np.uint8)
+    dark = con >= thr
+    if polarity == "dark":
+        from .ridges import _outside_field_of_view
+
+        # the black outside a fundus's circular view is no line, as the ridge response says too
+        dark &= ~_outside_field_of_view(g, 2.5 * float(sigma_max) + 2, float(sigma_max))
+    dark = dark.astype(np.uint8)
     core = cv2.morphologyEx(dark, cv2.MORPH_OPEN, _disk(int(np.ceil(r_in)))).astype(bool)
     if not core.any():
         return out
@@ -147,12 +157,30 @@ def wide_line_mask(gray, ridge: np.ndarray, polarity: str, sigma_max: float) -> 
         if sl is None or touch[i] == 0 or area[i] > h * w / 3.0:
             continue
         reg = lab[sl] == i
-        length = float(skeletonize(reg).sum())
+        axis = skeletonize(reg)
+        length = float(axis.sum())
         width = float(area[i]) / max(length, 1.0)
-        if length < WIDE_ELONGATION * width:
+        if length < WIDE_ELONGATION * width or not _flat_across(reg, axis, con[sl]):
             continue
         out[sl] |= reg
     return out
+
+
+def _flat_across(reg: np.ndarray, axis: np.ndarray, con: np.ndarray) -> bool:
+    """Whether the region ``reg`` is as dark (bright) half-way to its edges as on its ``axis``
+    (:data:`WIDE_FLAT`): a painted wide line is; the glow around a thin bright line (a lightning
+    bolt's halo) fades from its core and is no line of its own (0.76 on the lightning example,
+    0.93-1.01 on painted lines 14-30 px wide)."""
+    if not axis.any():
+        return False
+    dt = ndi.distance_transform_edt(np.pad(reg, 1))[1:-1, 1:-1]
+    _d, (iy, ix) = ndi.distance_transform_edt(~axis, return_indices=True)
+    rel = dt / np.maximum(dt[iy, ix], 1e-6)
+    half = reg & (rel >= 0.35) & (rel <= 0.65)
+    on_axis = float(np.median(con[axis]))
+    if not half.any() or on_axis <= 0:
+        return False
+    return float(np.median(con[half])) >= WIDE_FLAT * on_axis
 
 
 def frame_reaching_skeleton(mask: np.ndarray, skel: np.ndarray, near: np.ndarray) -> np.ndarray:
