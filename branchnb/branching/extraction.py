@@ -144,6 +144,13 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         neuron's soma, a coral's centre, a crater) is a hub, beyond the paper: it
         is no tangle of spurs but spokes from its centre to its lines, and the
         default root rule roots the piece there (:mod:`~branchnb.branching.hubs`).
+        Lines much wider than the filter's scales (a painted root system's 20 px
+        trunk, a wide river, a vessel at high resolution), whose flat interior
+        the filter does not see, are found against the image itself, beyond
+        the paper: uniformly dark (bright) across, elongated, of one piece with
+        the fine lines (:func:`~branchnb.branching.wide_lines.wide_line_mask`);
+        they join the ridge mask, their axis runs on to the frame where they
+        enter, their radius is their own half width.
     mask : (H, W) bool array_like, optional
         Only look inside this region.
     return_maps : bool, default False
