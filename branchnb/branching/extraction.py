@@ -82,6 +82,7 @@ from .skeleton_tree import (  # noqa: F401  (re-exported: split from this module
 )
 from .small_frames import SMALL_SIDE, _reach_frame
 from .stroke_joins import find_stroke_joins
+from .wide_lines import frame_reaching_skeleton, wide_line_mask
 
 __all__ = [
     "branch_from_clicks",
@@ -143,6 +144,13 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         neuron's soma, a coral's centre, a crater) is a hub, beyond the paper: it
         is no tangle of spurs but spokes from its centre to its lines, and the
         default root rule roots the piece there (:mod:`~branchnb.branching.hubs`).
+        Lines much wider than the filter's scales (a painted root system's 20 px
+        trunk, a wide river, a vessel at high resolution), whose flat interior
+        the filter does not see, are found against the image itself, beyond
+        the paper: uniformly dark (bright) across, elongated, of one piece with
+        the fine lines (:func:`~branchnb.branching.wide_lines.wide_line_mask`);
+        they join the ridge mask, their axis runs on to the frame where they
+        enter, their radius is their own half width.
     mask : (H, W) bool array_like, optional
         Only look inside this region.
     return_maps : bool, default False
@@ -258,8 +266,23 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
     bw = bw & ~frame_lines(bw, band=int(np.ceil(3 * p.sigma_max)) + 3)
     bw = remove_small_objects(bw, max_size=min_area) if _rso_has_max_size() else \
         remove_small_objects(bw, min_size=min_area)
-    skel = skeletonize(bw)
     work = rescale(gray, p.scale, anti_aliasing=True) if p.scale < 1 else gray
+    # lines wider than the filter's scales (a 20 px trunk): the filter misses their flat interior; found
+    # against the image itself (uniformly dark across), added to the mask (beyond the paper, issue 23)
+    wide = wide_line_mask(work, bw, _pol, p.sigma_max) if lines is gray else np.zeros_like(bw)
+    near_wide = wide
+    if wide.any():
+        near_wide = ndi.binary_dilation(wide, iterations=int(np.ceil(2 * p.sigma_max)))
+        bw = bw | wide
+        # the filter's two edge rails along a wide line leave slivers between them and its core
+        bw |= ndi.binary_fill_holes(bw) & near_wide
+    skel = skeletonize(bw)
+    if wide.any():
+        # a wide line cut by the frame: its axis runs on to the frame (the root starts where it enters)
+        skel = frame_reaching_skeleton(bw, skel, near_wide)
+    # a wide line's axis is checked against the image already: the outline and false-ridge tests below
+    # measure across a few sigma_max and take its flat interior for a flat region or an edge
+    wide_axis = skel & near_wide if wide.any() else None
     outside = border_flat_regions(work, 4 * p.sigma_max, branches=bw)
     skel &= ~outline_pixels(skel, outside, 2 * p.sigma_max + 2, gray=ndi.median_filter(work, 3))
     rgb = as_rgb(colour_image)
@@ -289,6 +312,8 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
             # intermittent, a dotted test would cut it)
             skel &= ~false_ridge_pixels(work, skel, "dark", sigma_min=p.sigma_min, sigma_max=p.sigma_max,
                                         dotted=np.inf, beads=0.0, local=2.0 * p.sigma_max)
+    if wide_axis is not None:
+        skel |= wide_axis
     # small examples: a line leaving the frame is traced up to it (its axis stops a width short of it)
     if max(np.shape(gray)[:2]) <= SMALL_SIDE:
         skel = _reach_frame(skel, bw)
@@ -298,6 +323,9 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         radius = half_contrast_radius(lines_w, skel, _pol, p.sigma_max)
     else:
         radius = ndi.distance_transform_edt(bw) - 0.5
+    if wide.any():
+        # the half-contrast top-hat is no wider than the filter's lines: a wide line's own width counts
+        radius = np.where(near_wide, np.maximum(radius, ndi.distance_transform_edt(bw) - 0.5), radius)
     # a blob of the lines' colour much wider than they are (a soma, a crater) is a hub: a region, not spurs
     blob_src = work if lines is gray else (rescale(lines, p.scale, anti_aliasing=True) if p.scale < 1 else lines)
     con = blob_contrast(blob_src, skel, _pol if lines is gray else "bright")
