@@ -512,13 +512,12 @@ def rigid_frame(source, target, s_source: float, s_target: float, *, window: flo
     return np.hstack([rot, (pt - rot @ ps)[:, None]])
 
 
-
 def carry_frame(part: Part, source, target, s_source: float, s_target: float, *, window: float) -> np.ndarray:
     """The 2 x 3 map carrying an unstroked ``part`` from its source stroke to its target stroke.
 
     :func:`rigid_frame` at the attachment, except for the *body* a stroke
-    grows out of (``part.body``: attached beyond the stroke's start and
-    larger than the stroke's own piece, e.g. a lizard's trunk when only its
+    grows out of (``part.body``: attached at the stroke's start and larger
+    than the stroke's own piece, e.g. a lizard's trunk when only its
     tail is stroked): that is moved as the stroke's start moves, never
     turned. Beyond the paper (which drops unstroked parts): turned with the
     tail's first direction, bending a tail swung the whole lizard round its
