@@ -274,8 +274,13 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
     if wide.any():
         near_wide = ndi.binary_dilation(wide, iterations=int(np.ceil(2 * p.sigma_max)))
         bw = bw | wide
-        # the filter's two edge rails along a wide line leave slivers between them and its core
-        bw |= ndi.binary_fill_holes(bw) & near_wide
+        # the filter's two edge rails along a wide line leave slivers between them and its core (thin
+        # holes only: the cells a crack network closes round a wide stretch are ground, not line)
+        holes = ndi.binary_fill_holes(bw) & ~bw & near_wide
+        if holes.any():
+            lab, n = ndi.label(holes)
+            depth = ndi.maximum(ndi.distance_transform_edt(holes), lab, np.arange(1, n + 1))
+            bw |= np.isin(lab, 1 + np.flatnonzero(np.asarray(depth) <= p.sigma_max))
     skel = skeletonize(bw)
     if wide.any():
         # a wide line cut by the frame: its axis runs on to the frame (the root starts where it enters)

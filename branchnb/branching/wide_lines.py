@@ -38,6 +38,10 @@ WIDE_ELONGATION = 3.0
 #: ... and when it is uniformly dark across: half-way to its edges at least this share of its axis' contrast.
 WIDE_FLAT = 0.85
 
+#: Largest median contrast 2-4 px outside a wide line's dark area, as a share of the dark threshold:
+#: a line's edge is a step to its ground, a shaded patch's edge fades (see :func:`_sharp_edged`).
+WIDE_EDGE = 0.5
+
 
 def _disk(r: int) -> np.ndarray:
     import cv2
@@ -151,6 +155,7 @@ def wide_line_mask(gray, ridge: np.ndarray, polarity: str, sigma_max: float) -> 
     if not core.any():
         return out
     lab, n = ndi.label(core, np.ones((3, 3), bool))
+    dark_lab, _ = ndi.label(dark.astype(bool), np.ones((3, 3), bool))
     touch = np.bincount(lab[cv2.dilate(bw.astype(np.uint8), _disk(2)).astype(bool)], minlength=n + 1)
     area = np.bincount(lab.ravel(), minlength=n + 1)
     for i, sl in enumerate(ndi.find_objects(lab), start=1):
@@ -162,8 +167,27 @@ def wide_line_mask(gray, ridge: np.ndarray, polarity: str, sigma_max: float) -> 
         width = float(area[i]) / max(length, 1.0)
         if length < WIDE_ELONGATION * width or not _flat_across(reg, axis, con[sl]):
             continue
+        if not _sharp_edged(dark_lab, lab == i, con, thr):
+            continue
         out[sl] |= reg
     return out
+
+
+def _sharp_edged(dark_lab: np.ndarray, reg: np.ndarray, con: np.ndarray, thr: float) -> bool:
+    """Whether the dark area holding ``reg`` ends in a step: a painted line or a river has ground
+    next to its edge (contrast under half the threshold 2-4 px outside it, :data:`WIDE_EDGE`); a
+    shaded patch of a photograph (a darker stretch of cracked mud round a junction, traced as a
+    36 px blob) fades out gradually."""
+    ids = np.unique(dark_lab[reg])
+    ids = ids[ids > 0]
+    if not ids.size:
+        return False
+    area = np.isin(dark_lab, ids)
+    d = ndi.distance_transform_edt(~area)
+    ring = (d >= 2.0) & (d <= 4.0)
+    if not ring.any():
+        return True
+    return float(np.median(con[ring])) <= WIDE_EDGE * thr
 
 
 def _flat_across(reg: np.ndarray, axis: np.ndarray, con: np.ndarray) -> bool:
