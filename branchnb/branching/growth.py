@@ -370,7 +370,9 @@ class _Grower(_Starts, _Filling):
         self.r_keep = _radius_keep(model.example) if self.drain is not None else 0.0
         self.fill_rounds = 0
         # a branch that left the frame's band does not come back to run along the frame (.frame_band)
-        self.frame_band = FRAME_BAND if _frame_share(model.example, FRAME_BAND) <= FRAME_HUG_SHARE else 0.0
+        # (not in an example that drains to a sea: its channels end at the sea wherever it meets the frame)
+        self.frame_band = FRAME_BAND if self.drain is None and _frame_share(model.example, FRAME_BAND) \
+            <= FRAME_HUG_SHARE else 0.0
         # and where no line of the example ends at its frame, none heads out of it either
         # (per side: a river network leaving through the bottom of its example leaves only through the bottom)
         self.frame_exit = np.where(_frame_ends(model.example, FRAME_END), FRAME_EXIT, np.inf)
