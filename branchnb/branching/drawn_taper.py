@@ -84,6 +84,18 @@ def example_taper(structure: Structure, shape) -> tuple[float | None, float]:
     median radius of their last fifth over that of their first, clipped to [0.25, 2] (None with fewer
     than 3 such branches), and the median last radius of its free ends (0 without any).
 
+    Parameters
+    ----------
+    structure : Structure
+        The example's structure.
+    shape : (H, W)
+        Its image's shape (free ends at the frame do not count).
+
+    Returns
+    -------
+    (float or None, float)
+        ``(taper, tip)``.
+
     Examples
     --------
     >>> from branchnb.core.structure import Branch
@@ -178,6 +190,20 @@ def burrs(structure: Structure, radii: list, scale: float = 1.0) -> np.ndarray:
     below a pixel counting as one pixel and the parent's edge rasterized half a pixel out: a burr on its
     parent's line (a comb's tooth), not a branch; :func:`~branchnb.branching.drawing.draw_in_style`
     leaves it out.
+
+    Parameters
+    ----------
+    structure : Structure
+        The structure drawn.
+    radii : list of (N_i,) ndarray
+        The radii each branch is drawn with.
+    scale : float
+        Pixels per structure unit.
+
+    Returns
+    -------
+    (B,) bool ndarray
+        Per branch, whether it is a burr.
 
     Examples
     --------

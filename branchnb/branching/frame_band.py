@@ -99,6 +99,26 @@ def band_keep(tip, new_pts: np.ndarray, off: bool, shape, band: float,
     length closer to that side is dropped (``exit_sine`` (4,): :data:`FRAME_EXIT` where the example's
     lines leave by that side, ``inf`` elsewhere).
 
+    Parameters
+    ----------
+    tip : (x, y)
+        The branch's last point.
+    new_pts : (n, 2) ndarray
+        The step's new points.
+    off : bool
+        Whether the branch has already left the band.
+    shape : (H, W)
+        The canvas.
+    band : float
+        Width of the band (pixels).
+    exit_sine : (4,) ndarray
+        Per side (left, top, right, bottom), how steeply a branch must head out there.
+
+    Returns
+    -------
+    (ndarray of bool, bool)
+        ``(ok, off)``.
+
     Examples
     --------
     >>> ok, off = band_keep((50.0, 20.0), np.array([[50.0, 10.0], [50.0, 4.0], [55.0, 3.0]]), False,

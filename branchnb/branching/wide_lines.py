@@ -216,6 +216,20 @@ def frame_reaching_skeleton(mask: np.ndarray, skel: np.ndarray, near: np.ndarray
     repeated outward the axis runs on straight to the frame. Only pixels
     in ``near`` (the wide lines, a little dilated) change: thin lines keep
     their skeleton.
+
+    Parameters
+    ----------
+    mask : (H, W) bool ndarray
+        The ridge mask with the wide lines.
+    skel : (H, W) bool ndarray
+        Its skeleton.
+    near : (H, W) bool ndarray
+        Where the skeleton may change.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        The skeleton, reaching the frame along wide lines.
     """
     from skimage.morphology import skeletonize
 

@@ -64,6 +64,22 @@ def outline_parts(sil: np.ndarray, min_part: float = OUTLINE_MIN_PART,
     ``2 x neck`` of the diagonal (letters and fruits whose blurred edges or shadows touch),
     every pixel going to the nearest part.
 
+    Parameters
+    ----------
+    sil : (H, W) bool ndarray
+        The silhouette (objects found on their ground).
+    min_part : float
+        Least area of a part, as a share of the picture.
+    neck : float
+        Half width of a neck that splits two parts, as a share of the diagonal.
+
+    Returns
+    -------
+    (H, W) int ndarray
+        Part labels 1..n, 0 elsewhere.
+
+    Examples
+    --------
     >>> m = np.zeros((40, 40), bool); m[2:20, 2:10] = True; m[2:20, 20:30] = True; m[35, 35] = True
     >>> int(outline_parts(m).max())
     2
@@ -123,6 +139,24 @@ def outline_weights(strike: np.ndarray, weights: np.ndarray, content: np.ndarray
     its channel a highway, the outline band and the ground costly) with the band inside the
     parts' outlines at ``OUTLINE_DISCOUNT`` of the lattice's own ``weights`` instead.
 
+    Parameters
+    ----------
+    strike : (h, w) ndarray
+        The bolt's lattice weights.
+    weights : (h, w) ndarray
+        The lattice's own weights.
+    content : (h, w) bool ndarray
+        The objects' pixels on the lattice.
+    parts : (h, w) int ndarray
+        Their part labels (:func:`outline_parts`).
+
+    Returns
+    -------
+    (h, w) ndarray
+        The weights with the outline band discounted.
+
+    Examples
+    --------
     >>> c = np.zeros((30, 30), bool); c[5:25, 5:25] = True
     >>> w = outline_weights(np.full((30, 30), 9.0), np.ones((30, 30)), c, c.astype(int))
     >>> float(w[5, 15]), float(w[15, 15])
@@ -145,6 +179,22 @@ def outline_endpoints(content: np.ndarray, parts: np.ndarray, rng=None) -> np.nd
     ``OUTLINE_SPACING`` of the diagonal (at least 3 per part), greedily spread from a
     random order so that no two lie closer than the spacing.
 
+    Parameters
+    ----------
+    content : (h, w) bool ndarray
+        The objects' pixels.
+    parts : (h, w) int ndarray
+        Their part labels (:func:`outline_parts`).
+    rng : int or numpy.random.Generator, optional
+        Seed of the random order.
+
+    Returns
+    -------
+    (E, 2) float ndarray
+        Tips ``(x, y)``.
+
+    Examples
+    --------
     >>> c = np.zeros((100, 100), bool); c[10:40, 10:40] = c[60:90, 60:90] = True
     >>> e = outline_endpoints(c, outline_parts(c), rng=0)
     >>> len(e) >= 6, bool(np.all(c[e[:, 1].astype(int), e[:, 0].astype(int)]))
@@ -186,6 +236,20 @@ def thin_on_ground(dendrite, objects: np.ndarray):
     paper, and the arcs between a row of icons took a quarter of the ink; drawn as thin as a
     twig they join the objects without hiding their outlines.
 
+    Parameters
+    ----------
+    dendrite : Dendrite
+        The traced bolt with its radii.
+    objects : (h, w) bool ndarray
+        The objects on the dendrite's lattice.
+
+    Returns
+    -------
+    Dendrite
+        The same dendrite with its ground strokes thinned.
+
+    Examples
+    --------
     >>> from branchnb.dendrite import build_dendrite, make_lattice, plan
     >>> d = build_dendrite(plan(make_lattice(np.ones((5, 20)), rng=0), (1, 2)), [(18, 2)])
     >>> d = d.with_radius(np.linspace(3, 1, d.n_nodes))
