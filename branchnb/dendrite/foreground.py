@@ -10,6 +10,8 @@ not what is darker.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 from scipy import ndimage
 from scipy.spatial import cKDTree
@@ -147,3 +149,111 @@ def _is_thin_object(m: np.ndarray, far: np.ndarray) -> bool:
     reach = max(2, int(round(0.01 * max(h, w))))
     near = ndimage.binary_dilation(m, iterations=reach)
     return float((far & ~near).sum()) <= THIN_STRAY * float(m.sum())
+
+
+
+#: Largest luminance of a ground the plain metaphor draws on as dark paper (scratchboard).
+DARK_GROUND = 0.3
+#: Smallest luminance of a ground taken as white paper (the paper's case: left as it is).
+WHITE_GROUND = 0.85
+#: Least margin by which the object's mean luminance differs from its ground's.
+GROUND_LIFT = 0.15
+#: Percentile of the ground's luminance (the frame's ring outside the object) taken as the
+#: edge of its grain: beyond it (lighter on a dark ground, darker on a light one) is drawing.
+GROUND_GRAIN = 95.0
+
+_LUMA = np.array([0.2125, 0.7154, 0.0721], np.float32)
+
+
+@dataclass(frozen=True)
+class PaperGround:
+    """A picture's ground taken as the paper of a plain stylization.
+
+    Attributes
+    ----------
+    dark : bool
+        True for a light object on a dark ground (drawn in light ink on it).
+    level : float
+        The luminance at the edge of the ground's grain (``GROUND_GRAIN``).
+    colour : (3,) float32 ndarray
+        The ground's median colour.
+    """
+
+    dark: bool
+    level: float
+    colour: np.ndarray
+
+
+def _paper_ground(image) -> PaperGround | None:
+    """The ground of ``image`` when it is the paper of a drawing that is not on white.
+
+    Beyond the paper, whose tone target ``1 - L`` inks what is dark: on a coloured or grainy
+    paper (a drawing on pink card, chalk on a blackboard, a neon sign, a white logo on
+    black) the ground's own tone and grain drew a dense tangle over the whole ground, and
+    on a dark ground the object vanished in it. The ground found along the frame
+    (:func:`_object_mask`) is paper: the picture is levelled to it (:func:`_on_paper`), and
+    a light object on a dark ground is drawn the way a scratchboard artist would, light
+    lines whose density follows the lightness.
+
+    Parameters
+    ----------
+    image : (h, w, 3) float ndarray
+        RGB in [0, 1].
+
+    Returns
+    -------
+    PaperGround or None
+        None when there is no object on a ground (:func:`_object_mask`), when the ground is
+        white paper (median luminance at least ``WHITE_GROUND``: the paper's own case), or
+        when the object's mean luminance is not ``GROUND_LIFT`` away from the ground's on
+        the side of a drawing (darker on a light ground, lighter on a dark one).
+
+    Examples
+    --------
+    >>> img = np.full((80, 80, 3), 0.05); img[20:60, 30:50] = 0.9
+    >>> g = _paper_ground(img); g.dark, round(g.level, 2)
+    (True, 0.05)
+    >>> _paper_ground(1 - img) is None  # a dark object on white: the paper's case
+    True
+    """
+    rgb = np.clip(np.asarray(image, np.float32)[..., :3], 0.0, 1.0)
+    h, w = rgb.shape[:2]
+    b = max(1, int(round(GROUND_RING * max(h, w))))
+    if 2 * b >= min(h, w):
+        return None
+    lum = rgb @ _LUMA
+    ring = np.ones((h, w), bool)
+    ring[b:-b, b:-b] = False
+    ground_lum = float(np.median(lum[ring]))
+    if ground_lum >= WHITE_GROUND:
+        return None
+    m = _object_mask(rgb, keep_holes=True)
+    if m is None:
+        return None
+    ground = ring & ~m
+    if not ground.any():
+        return None
+    obj_lum = float(lum[m].mean())
+    dark = ground_lum <= DARK_GROUND and obj_lum >= ground_lum + GROUND_LIFT
+    if not dark and obj_lum > ground_lum - GROUND_LIFT:
+        return None
+    level = float(np.percentile(lum[ground], GROUND_GRAIN if dark else 100.0 - GROUND_GRAIN))
+    return PaperGround(dark, level, np.median(rgb[ground], axis=0).astype(np.float32))
+
+
+def _on_paper(image, ground: PaperGround) -> np.ndarray:
+    """``image`` as a grey drawing on white paper: its ground and the ground's grain white,
+    the drawing's tone relative to the ground (inverted on a dark ground).
+
+    Examples
+    --------
+    >>> img = np.full((4, 4, 3), 0.1, np.float32); img[1, 1] = 0.7
+    >>> [round(float(v), 2) for v in _on_paper(img, PaperGround(True, 0.1, img[0, 0]))[1:3, 1]]
+    [0.33, 1.0]
+    """
+    lum = np.clip(np.asarray(image, np.float32)[..., :3], 0.0, 1.0) @ _LUMA
+    if ground.dark:
+        ink = (lum - ground.level) / max(1.0 - ground.level, 1e-6)
+    else:
+        ink = 1.0 - lum / max(ground.level, 1e-6)
+    return (1.0 - np.clip(ink, 0.0, 1.0)).astype(np.float32)

@@ -164,8 +164,9 @@ def render_plain(dendrite, *, background=None, color=(0.0, 0.0, 0.0), smooth: in
     dendrite : Dendrite
         The dendrite; each node is drawn with width ``2 * radius``.
     background : (H, W, C) array_like, optional
-        Image to draw on (white by default). The SVG always has a white
-        background and only the strokes.
+        Image to draw on (white by default). The SVG has only the strokes, on
+        the background's colour when it is one flat colour (light ink on a dark
+        ground stays visible) and on white otherwise.
     color : RGB triple
         Stroke colour in [0, 1]; black by default.
     smooth : int
@@ -187,10 +188,12 @@ def render_plain(dendrite, *, background=None, color=(0.0, 0.0, 0.0), smooth: in
     canvas = _canvas(dendrite, background)
     lines = dendrite.polylines(smooth)
     widths = [w * width_scale for w in dendrite.widths()]
+    flat = canvas.reshape(-1, canvas.shape[-1])[:, :3]
+    paper = tuple(float(c) for c in flat[0]) if np.ptp(flat, axis=0).max() < 1e-3 else (1, 1, 1)
     image = draw_polylines(canvas, lines, widths=widths, colors=color)
     h, w = canvas.shape[:2]
     return Rendering(image, lambda: polylines_to_svg(lines, widths=widths, colors=color,
-                                                     size=(w, h), background=(1, 1, 1)))
+                                                     size=(w, h), background=paper))
 
 
 @checked(bands=Int(1, 4096), cmap=Colormap())

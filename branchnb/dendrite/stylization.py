@@ -34,6 +34,7 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass
 
+import cv2
 import numpy as np
 from scipy import ndimage
 
@@ -51,6 +52,7 @@ from .main_channel import (
 )
 from .planner import PlanResult, plan
 from .render import Rendering
+from .foreground import PaperGround, _on_paper, _paper_ground
 from .strike_outline import thin_on_ground
 from .stylize_object import _ObjectSteps
 from .stylize_params import (  # noqa: F401  (re-exported; the spacings too)
@@ -155,6 +157,12 @@ class Stylization:
         if self.rendering is not None:
             return encode_png(self.rendering.image)
         return encode_png(self.dendrite.render())
+
+
+#: Long side (pixels) of the copy a picture's paper ground is judged on.
+PAPER_GROUND_SIZE = 256
+#: Ink of the plain metaphor on a dark ground (scratchboard white).
+SCRATCH_INK = (0.97, 0.96, 0.92)
 
 
 class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
@@ -536,6 +544,10 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
         rng = as_seed(rng)  # stages are cached by an int seed; a Generator gives one
         if p.max_width < p.min_width:
             raise ValueError(f"params.max_width ({p.max_width}) < params.min_width ({p.min_width})")
+        if metaphor in ("plain", None):
+            ground = self._get(("paper_ground",), self._find_paper_ground)
+            if ground is not None:
+                return self._on_ground(ground, p, seed, rng, metaphor, render_options)
         k = float(np.sqrt(np.prod(self.scale(p))))
         given, p = p, effective_params(p, k)
         obj = None
@@ -637,6 +649,33 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
         return Stylization(self.image, imp, lat, res, ends_image, d, rendering,
                            dataclasses.replace(p), np.asarray(seed, float), scale)
 
+    def _find_paper_ground(self) -> PaperGround | None:
+        # judged on a copy of at most 256 px: the ground's colours and the object's cover
+        # do not need more, and a slider's first move should not wait for a 1-MP Lab map
+        h, w = self.shape
+        f = min(1.0, PAPER_GROUND_SIZE / max(h, w))
+        small = self.image if f == 1.0 else cv2.resize(
+            self.image, (max(1, round(w * f)), max(1, round(h * f))), interpolation=cv2.INTER_AREA)
+        return _paper_ground(small)
+
+    def _on_ground(self, ground: PaperGround, p, seed, rng, metaphor, render_options) -> Stylization:
+        """The plain metaphor on a picture whose ground is its paper (beyond the paper, see
+        :func:`~branchnb.dendrite.foreground._paper_ground`): every stage runs on the picture
+        levelled to its ground (:func:`~branchnb.dendrite.foreground._on_paper`), so the
+        ground and its grain stay clean; on a dark ground the strokes are light ink on the
+        ground's colour (a scratchboard)."""
+        levelled = self._get(("on_paper",), lambda: Stylizer(_on_paper(self.image, ground)))
+        res = levelled.run(p, seed=seed, rng=rng, metaphor=None)
+        rendering = None
+        if metaphor == "plain":
+            from .metaphors import render as render_metaphor
+
+            options = dict(render_options)
+            if ground.dark:
+                options.setdefault("background", np.broadcast_to(ground.colour, self.image.shape).copy())
+                options.setdefault("color", SCRATCH_INK)
+            rendering = render_metaphor(res.dendrite, "plain", **options)
+        return dataclasses.replace(res, image=self.image, rendering=rendering)
 
 #: Tips per ``LIGHTNING_SPACING`` of a found object's medial axis (:func:`_strike_share`).
 THIN_TIPS = 3.0
