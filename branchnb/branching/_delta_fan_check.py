@@ -19,13 +19,12 @@ FAN_KINDS), a summary line (medians, worst) per case last. Sheets of the example
 
 from __future__ import annotations
 
-import os
-import pickle
 import sys
 
 import numpy as np
 from scipy import ndimage as ndi
 
+from ._check_table import cached
 from ._delta_coast_check import crossings, median_radius
 from ._delta_examples import FAN_KINDS, MEANDER_KINDS, delta_fan_mask
 from ._map_examples import delta_mask_example
@@ -254,23 +253,31 @@ def n_to_sea(s, dom: np.ndarray, tol: float = 6.0) -> int:
     return n
 
 
+def _kind_args(kind: str) -> tuple[tuple, dict]:
+    """``(args, kwargs)`` of :func:`._delta_examples.delta_fan_mask` after its shape and seed for a
+    :data:`._delta_examples.FAN_KINDS` or :data:`._delta_examples.MEANDER_KINDS` name."""
+    if kind in MEANDER_KINDS:
+        t, c, f, n, a = MEANDER_KINDS[kind]
+        return (t, c, f, n), {"meander": a}
+    if kind in FAN_KINDS:
+        return tuple(FAN_KINDS[kind]), {}
+    raise ValueError(f"kind: 'delta' or one of {sorted(FAN_KINDS) + sorted(MEANDER_KINDS)}, not {kind!r}")
+
+
 def mask_of(kind: str, size: int, mask_seed: int) -> np.ndarray:
     """The delta mask (sea at the bottom) of ``kind``: ``delta`` or a :data:`._delta_examples.FAN_KINDS` name."""
     if kind == "delta":
         return delta_mask_example((size, size), mask_seed)[0]
-    if kind in MEANDER_KINDS:
-        t, c, f, n, a = MEANDER_KINDS[kind]
-        return delta_fan_mask((size, size), mask_seed, t, c, f, n, meander=a)[0]
-    t, c, f, n = FAN_KINDS[kind]
-    return delta_fan_mask((size, size), mask_seed, t, c, f, n)[0]
+    args, kw = _kind_args(kind)
+    return delta_fan_mask((size, size), mask_seed, *args, **kw)[0]
 
 
 def true_bearing(kind: str, side: str, size: int, mask_seed: int) -> float:
     """The generator's trunk bearing (degrees, from the trunk's entry to the mouths' mean) after turning."""
     if kind == "delta":
         return float("nan")
-    t, c, f, n = (MEANDER_KINDS[kind][:4] if kind in MEANDER_KINDS else FAN_KINDS[kind])
-    _m, _ch, _sea, entry, mouths = delta_fan_mask((size, size), mask_seed, t, c, f, n)
+    args, kw = _kind_args(kind)
+    _m, _ch, _sea, entry, mouths = delta_fan_mask((size, size), mask_seed, *args, **kw)
     v = mouths.mean(0) - entry
     # turned() as a map of directions (x, y) -> (x', y')
     v = {"bottom": v, "top": (v[0], -v[1]), "left": (-v[1], v[0]), "right": (v[1], v[0])}[side]
@@ -284,20 +291,14 @@ def fitted(side: str, size: int, cache: str | None = None, mask_seed: int | None
 
     mask_seed = 3 + size if mask_seed is None else int(mask_seed)
     name = "delta" if kind == "delta" else f"delta_{kind}"
-    path = os.path.join(cache, f"{name}_{side}_{size}_{mask_seed}.pkl") if cache else None
-    if path and os.path.exists(path):
-        with open(path, "rb") as f:
-            return pickle.load(f)
-    m = turned(mask_of(kind, size, mask_seed), side)
-    img = np.dstack([m] * 3)
-    ex = extract_structure(img)
-    dom = example_domain(img, ex)
-    out = (img, dom, fit_model(ex, domain=dom))
-    if path:
-        os.makedirs(cache, exist_ok=True)
-        with open(path, "wb") as f:
-            pickle.dump(out, f)
-    return out
+
+    def make():
+        img = np.dstack([turned(mask_of(kind, size, mask_seed), side)] * 3)
+        ex = extract_structure(img)
+        dom = example_domain(img, ex)
+        return img, dom, fit_model(ex, domain=dom)
+
+    return cached(cache, f"{name}_{side}_{size}_{mask_seed}.pkl", make)
 
 
 def figures(s, dom, side) -> dict:
