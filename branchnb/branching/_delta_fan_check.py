@@ -11,8 +11,9 @@ on side SIDE, synthesizes seeds 0 .. N - 1 and prints per seed: the fan spread
 (:func:`trunk_bearing`, degrees), the chord deviation (:func:`chord_deviation`), the frame share
 (:func:`frame_share`), the trunks' share along the coast
 (:func:`coast_share`), crossings, the far share over the example's, the share of branches ending > 2 x thicker
-than they start (:func:`.measures.thick_end_share`), the channels reaching the sea and the length-weighted
-median radius over the example's; the example's own figures first (with the generator's true bearing for the
+than they start (:func:`.measures.thick_end_share`), the channels reaching the sea, the length-weighted
+median radius over the example's, the trunk's sinuosity (:func:`trunk_sinuosity`) and the mouth share
+(:func:`mouth_share`); the example's own figures first (with the generator's true bearing for the
 FAN_KINDS), a summary line (medians, worst) per case last. Sheets of the example and seeds 0-2 go to
 ``OUT_kind_side_size_mask.png``.
 """
@@ -305,7 +306,7 @@ def figures(s, dom, side) -> dict:
     return dict(fan=sea_bearings_inland(s, dom)[0], bear=trunk_bearing(s, dom), dev=chord_deviation(s, dom),
                 frame=frame_share(s, dom.shape, side), cross=crossings(s), far=far_share(s, dom),
                 thick=thick_end_share(s), sea=n_to_sea(s, dom), rad=median_radius(s), coast=coast_share(s, dom),
-                side=side_share(s, dom), sin=trunk_sinuosity(s, dom))
+                side=side_share(s, dom), sin=trunk_sinuosity(s, dom), mouth=mouth_share(s, dom))
 
 
 def run(side: str, size: int, seeds, out: str | None = None, cache: str | None = None,
@@ -318,7 +319,7 @@ def run(side: str, size: int, seeds, out: str | None = None, cache: str | None =
     print(f"{kind} {side} {size} mask {mask_seed} example: fan {ex['fan']:.1f} bearing {ex['bear']:.0f} "
           f"(true {true_bearing(kind, side, size, ms):.0f}) dev {ex['dev']:.3f} frame {ex['frame']:.3f} "
           f"far {ex['far']:.3f} thick {ex['thick']:.3f} sea {ex['sea']} rad {ex['rad']:.2f} coast {ex['coast']:.3f} "
-          f"side {ex['side']:.2f} sin {ex['sin']:.3f}",
+          f"side {ex['side']:.2f} sin {ex['sin']:.3f} mouth {ex['mouth']:.2f}",
           flush=True)
     rows = []
     for seed in seeds:
@@ -333,8 +334,8 @@ def run(side: str, size: int, seeds, out: str | None = None, cache: str | None =
         print(f"  seed {seed}: fan {f['fan']:.1f} bearing err {f['berr']:.1f} dev {f['dev']:.3f} "
               f"frame {f['frame']:.3f} cross {f['cross']} far x{f['far']:.2f} thick {f['thick']:.3f} "
               f"sea {f['sea']} rad x{f['rad']:.2f} coast {f['coast']:.3f} "
-              f"side {f['side']:.2f} sin {f['sin']:.3f} nch x{f['nch']:.2f}", flush=True)
-    keys = ("fan", "berr", "dev", "frame", "far", "thick", "rad", "coast", "side", "sin", "nch")
+              f"side {f['side']:.2f} sin {f['sin']:.3f} mouth {f['mouth']:.2f} nch x{f['nch']:.2f}", flush=True)
+    keys = ("fan", "berr", "dev", "frame", "far", "thick", "rad", "coast", "side", "sin", "nch", "mouth")
     med = {k: float(np.median([r[k] for r in rows])) for k in keys}
     print(f"  SUMMARY {kind} {side} {size} mask {mask_seed}: fan med {med['fan']:.1f} "
           f"min {min(r['fan'] for r in rows):.1f} (ex {ex['fan']:.1f}) bearing err med {med['berr']:.1f} "
@@ -347,7 +348,7 @@ def run(side: str, size: int, seeds, out: str | None = None, cache: str | None =
           f"max {max(r['coast'] for r in rows):.3f} "
           f"(ex {ex['coast']:.3f}) side med {med['side']:.2f} min {min(r['side'] for r in rows):.2f} "
           f"(ex {ex['side']:.2f}) sin med {med['sin']:.3f} (ex {ex['sin']:.3f}) nch med x{med['nch']:.2f} "
-          f"min x{min(r['nch'] for r in rows):.2f}", flush=True)
+          f"min x{min(r['nch'] for r in rows):.2f} mouth med {med['mouth']:.2f} (ex {ex['mouth']:.2f})", flush=True)
     if out:
         tag = "" if kind == "delta" else f"_{kind}"
         _sheet(img, dom, model.example, rows[:3], f"{out}{tag}_{side}_{size}_{mask_seed}.png")
