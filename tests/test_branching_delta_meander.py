@@ -37,8 +37,8 @@ def test_meander_is_told_from_a_bend_and_a_straight_trunk():
 
 @pytest.mark.parametrize("seed", [0, 1])
 def test_meandering_trunk_keeps_its_sinuosity_and_bearing(seed):
-    # main: sinuosity 1.003 / 1.007 (example 1.134), bearing error 6.8 / 4.7 deg; branching85: 1.12 / 1.09,
-    # 6.1 / 2.2 deg
+    # main: sinuosity 1.003 / 1.007 (example 1.134), bearing error 6.8 / 4.7 deg; branching85: 1.09 / 1.07,
+    # 6.2 / 3.1 deg
     img = np.dstack([turned(mask_of("mean0", 320, 2), "left")] * 3)
     ex = extract_structure(img)
     dom = example_domain(img, ex)

@@ -154,11 +154,17 @@ STRAIGHT_TAIL = True
 STRAIGHT_HOLD = True
 #: A trunk held to its way (:data:`TRUNK_HOLD`, :data:`STRAIGHT_HOLD`) whose example's trunk meanders
 #: (:func:`_meander_of`: the example's longest root above half its start's depth has a sinuosity of at least
-#: this and swings to either side of its chord at least 3 times) is held to a sine about that way instead,
-#: of the example's wavelength and sinuosity, down to half its start's depth (beyond the paper, issue 23,
-#: branching85). Held to the straight way the meandering ``mean0`` delta's trunk came out ruler-straight
-#: (sinuosity 1.002 against 1.16); held by its chord from its start it drifted to one side (bearing error
-#: median 1.1 -> 12.4 degrees, sinuosity 1.035) without meandering: the matching alone does not swing it.
+#: this and swings to either side of its chord at least 3 times) is pulled and held to a sine about that way
+#: instead: as many lobes as the example's over the trunk's own straight run down to :data:`MEANDER_DEPTH`,
+#: its slope from the example's sinuosity, fading at both ends as the example's (beyond the paper, issue 23,
+#: branching85). Held to the straight way the meandering trunk came out ruler-straight; held by its chord from
+#: its start it drifted to one side (bearing error median 1.1 -> 12.4 degrees, sinuosity 1.035) without
+#: meandering: the matching alone does not swing it. ``_delta_fan_check`` (512 px, sea bottom/left, 3 seeds,
+#: medians; without -> with): trunk sinuosity ``mean0`` 1.002/1.003 -> 1.108/1.080 (example 1.161/1.159),
+#: ``mean20`` 1.025/1.015 -> 1.059/1.064 (1.098/1.094); bearing error 1.1/0.8 -> 2.2/5.8 and 8.3/5.4 ->
+#: 2.1/2.3 degrees; ``mean0`` at 1000 px (2 seeds): 1.001 -> 1.096 (1.198), bearing error 1.4 -> 7.2, but its
+#: fan spread 37.0 -> 22.9 degrees (one seed's channels all on one side: 10.3). Other kinds: no meander,
+#: byte-identical.
 MEANDER_SIN = 1.05
 #: ... held to it this firmly (as :data:`TRUNK_HOLD`; at 8 the trunk swung half as far: sinuosity 1.03-1.10)
 MEANDER_HOLD = 16.0
@@ -584,8 +590,13 @@ class _Drain:
             low = np.flatnonzero(~inside | (self.depth_at(np.clip(q, 0, [self.shape[1] - 1, self.shape[0] - 1]))
                                              <= MEANDER_DEPTH * float(self.depth_at(start)[0])))
             self._meander_len[key] = float(t[low[0]] if low.size else t[-1])
-        lam = 2.0 * max(self._meander_len[key], 1.0) / lobes
-        theta = sign * float(np.arctan(k * np.cos(2.0 * np.pi * float((tip - start) @ u) / lam)))
+        run = max(self._meander_len[key], 1.0)
+        at = float((tip - start) @ u)
+        # the swings fade toward the run's ends, as the example's do (a sine's slope is largest where its
+        # offset is 0: at full slope there the trunk reached the head heading 40 deg off its way and every
+        # channel of a 1000 px mean0 delta left it on one side, fan 37 -> 10 deg, mouth share 0.5 -> 0)
+        fade = float(np.sqrt(np.sin(np.pi * np.clip(at / run, 0.0, 1.0))))
+        theta = sign * float(np.arctan(k * fade * np.cos(np.pi * lobes * at / run)))
         n = np.array([-wd[1], wd[0]])
         return np.cos(theta) * wd + np.sin(theta) * n
 
