@@ -86,3 +86,17 @@ def test_even_y_fans_from_its_stem_but_a_river_drains_at_its_mouth():
     for root in ("auto", "nearest_region"):
         s = skeleton_to_structure(sk, np.full(sk.shape, 1.0), root=root, region=sea, min_component_length=20)
         assert np.hypot(*(_main_root(s) - (100, 199))) < 4.0, root
+
+
+@pytest.mark.parametrize("ci, fan, orders, rad, size, side, n_trib",
+                         [(1, 120, 2, 3.0, 384, "left", 3), (6, 60, 2, 2.5, 256, "right", 2),
+                          (0, 90, 2, 4.0, 256, "bottom", 2)])
+def test_delta_with_tributaries_is_rooted_at_its_trunks_entry(ci, fan, orders, rad, size, side, n_trib):
+    # branching85: a trunk with tributaries joining upstream of the fan; on main the first two were rooted
+    # at a tributary's source 70 and 49 radii from the trunk's entry (each confluence voted against the
+    # trunk's source), 3 of 8 such deltas in all (the third at 768 px)
+    m0, entry, _mouths, _head = delta_tree_mask((size, size), 40 + ci, fan, orders, rad, tributaries=n_trib)
+    x, y = float(np.clip(entry[0], 0, size - 1)), float(np.clip(entry[1], 0, size - 1))
+    e = {"bottom": (x, y), "top": (x, size - 1 - y), "left": (size - 1 - y, x), "right": (y, x)}[side]
+    d = np.hypot(*(_main_root(extract_structure(np.dstack([turned(m0, side)] * 3))) - e))
+    assert d <= 2.0 * rad, d / rad

@@ -1,7 +1,8 @@
 """The table the branching check scripts print: one row per kind and seed, then each kind's means.
 
 Shared by :mod:`._root_sides_check`, :mod:`._thin_children_check` and :mod:`._band_check`
-(private measurement scripts, not part of the API).
+(private measurement scripts, not part of the API); :func:`cached` keeps the fitted examples of
+:mod:`._delta_fan_check`, :mod:`._delta_tree_check`, :mod:`._radius_check` and :mod:`._seed_check`.
 """
 
 from __future__ import annotations
@@ -38,6 +39,31 @@ def print_table(kinds, seeds, size_of: Callable, case: Callable, keys, head: Cal
                   flush=True)
         print(f"MEAN {kind:{width}s} " + " ".join(f"{k}={np.mean([r[k] for r in rows]):.2f}" for k in keys),
               flush=True)
+
+
+def cached(cache: str | None, name: str, make: Callable):
+    """``make()``, pickled as ``cache/name`` and read from there the next time (the 1000 px extractions
+    take most of a check's time); just ``make()`` when ``cache`` is None.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> d = tempfile.mkdtemp()
+    >>> cached(d, "x.pkl", lambda: 3), cached(d, "x.pkl", lambda: 4), cached(None, "x.pkl", lambda: 5)
+    (3, 3, 5)
+    """
+    import pickle
+
+    path = os.path.join(cache, name) if cache else None
+    if path and os.path.exists(path):
+        with open(path, "rb") as f:
+            return pickle.load(f)
+    out = make()
+    if path:
+        os.makedirs(cache, exist_ok=True)
+        with open(path, "wb") as f:
+            pickle.dump(out, f)
+    return out
 
 
 def check_args(argv, kinds: Sequence[str], seeds: Sequence[int] = (0, 1)):

@@ -86,7 +86,8 @@ def delta_fan_mask(shape=(256, 256), rng=0, trunk_deg: float = 30.0, centre_deg:
     return mask.astype(np.float32), channels, sea, entry, mouths
 
 
-def delta_tree_mask(shape=(256, 256), rng=0, fan_deg: float = 90.0, orders: int = 2, radius: float = 4.0):
+def delta_tree_mask(shape=(256, 256), rng=0, fan_deg: float = 90.0, orders: int = 2, radius: float = 4.0,
+                    tributaries: int = 0):
     """A balanced binary delta mask (1 = water), sea at the bottom: (mask, entry, mouths, head).
 
     Beyond :func:`delta_fan_mask`'s one order of channels (issue 23, branching79): a trunk of ``radius`` px
@@ -96,6 +97,10 @@ def delta_tree_mask(shape=(256, 256), rng=0, fan_deg: float = 90.0, orders: int 
     at each order, at least 1 px). The head lies as deep as lets the outer channels reach the sea inside
     the frame, so the example is balanced: as many channels and as much channel length on either side of
     the trunk, the mouths' mean below the entry.
+
+    ``tributaries`` (0-3; issue 23, branching85): as many tributaries (0.6 x the trunk's radius) entering
+    through the left and right sides in turn and joining the trunk upstream of the head, at 25 %, 50 % and
+    70 % of its length, heading downstream; drawn after the rest, so the example is otherwise the same.
 
     Examples
     --------
@@ -107,6 +112,8 @@ def delta_tree_mask(shape=(256, 256), rng=0, fan_deg: float = 90.0, orders: int 
     h, w = shape
     if orders < 1:
         raise ValueError(f"orders must be >= 1, got {orders}")
+    if not 0 <= int(tributaries) <= 3:
+        raise ValueError(f"tributaries must be 0-3, got {tributaries}")
     sea_y = 0.85 * h + rng.normal(0, 0.01 * h)
     half = np.radians(min(max(fan_deg, 10.0), 170.0) / 2.0)
     # offsets of the orders, halving, summing to the half fan
@@ -135,6 +142,12 @@ def delta_tree_mask(shape=(256, 256), rng=0, fan_deg: float = 90.0, orders: int 
                 if k == orders - 1:
                     mouths.append([q[0], sea_y])
         nodes = nxt
+    trunk = lines[0][0]
+    for k, f in enumerate((0.25, 0.5, 0.7)[: int(tributaries)]):
+        j = trunk[int(f * (len(trunk) - 1))]
+        # from a side, 0.12-0.2 x the height upstream of the junction: joining at 35-60 deg off the trunk
+        src = np.array([-3.0 if k % 2 == 0 else w + 2.0, max(j[1] - rng.uniform(0.12, 0.2) * h, 0.02 * h)])
+        lines.append((_curve(src, j, rng, 0.015 * w), max(0.6 * radius, 1.0)))
     canvas = np.zeros(tuple(shape) + (3,), np.float32)
     canvas = draw_polylines(canvas, [c for c, _ in lines], widths=[2 * r for _, r in lines], colors=(1, 1, 1))
     sea = np.arange(h)[:, None] >= sea_y

@@ -11,21 +11,21 @@ on side SIDE, synthesizes seeds 0 .. N - 1 and prints per seed: the fan spread
 (:func:`trunk_bearing`, degrees), the chord deviation (:func:`chord_deviation`), the frame share
 (:func:`frame_share`), the trunks' share along the coast
 (:func:`coast_share`), crossings, the far share over the example's, the share of branches ending > 2 x thicker
-than they start (:func:`.measures.thick_end_share`), the channels reaching the sea and the length-weighted
-median radius over the example's; the example's own figures first (with the generator's true bearing for the
+than they start (:func:`.measures.thick_end_share`), the channels reaching the sea, the length-weighted
+median radius over the example's, the trunk's sinuosity (:func:`trunk_sinuosity`) and the mouth share
+(:func:`mouth_share`); the example's own figures first (with the generator's true bearing for the
 FAN_KINDS), a summary line (medians, worst) per case last. Sheets of the example and seeds 0-2 go to
 ``OUT_kind_side_size_mask.png``.
 """
 
 from __future__ import annotations
 
-import os
-import pickle
 import sys
 
 import numpy as np
 from scipy import ndimage as ndi
 
+from ._check_table import cached
 from ._delta_coast_check import crossings, median_radius
 from ._delta_examples import FAN_KINDS, MEANDER_KINDS, delta_fan_mask
 from ._map_examples import delta_mask_example
@@ -254,23 +254,31 @@ def n_to_sea(s, dom: np.ndarray, tol: float = 6.0) -> int:
     return n
 
 
+def _kind_args(kind: str) -> tuple[tuple, dict]:
+    """``(args, kwargs)`` of :func:`._delta_examples.delta_fan_mask` after its shape and seed for a
+    :data:`._delta_examples.FAN_KINDS` or :data:`._delta_examples.MEANDER_KINDS` name."""
+    if kind in MEANDER_KINDS:
+        t, c, f, n, a = MEANDER_KINDS[kind]
+        return (t, c, f, n), {"meander": a}
+    if kind in FAN_KINDS:
+        return tuple(FAN_KINDS[kind]), {}
+    raise ValueError(f"kind: 'delta' or one of {sorted(FAN_KINDS) + sorted(MEANDER_KINDS)}, not {kind!r}")
+
+
 def mask_of(kind: str, size: int, mask_seed: int) -> np.ndarray:
     """The delta mask (sea at the bottom) of ``kind``: ``delta`` or a :data:`._delta_examples.FAN_KINDS` name."""
     if kind == "delta":
         return delta_mask_example((size, size), mask_seed)[0]
-    if kind in MEANDER_KINDS:
-        t, c, f, n, a = MEANDER_KINDS[kind]
-        return delta_fan_mask((size, size), mask_seed, t, c, f, n, meander=a)[0]
-    t, c, f, n = FAN_KINDS[kind]
-    return delta_fan_mask((size, size), mask_seed, t, c, f, n)[0]
+    args, kw = _kind_args(kind)
+    return delta_fan_mask((size, size), mask_seed, *args, **kw)[0]
 
 
 def true_bearing(kind: str, side: str, size: int, mask_seed: int) -> float:
     """The generator's trunk bearing (degrees, from the trunk's entry to the mouths' mean) after turning."""
     if kind == "delta":
         return float("nan")
-    t, c, f, n = (MEANDER_KINDS[kind][:4] if kind in MEANDER_KINDS else FAN_KINDS[kind])
-    _m, _ch, _sea, entry, mouths = delta_fan_mask((size, size), mask_seed, t, c, f, n)
+    args, kw = _kind_args(kind)
+    _m, _ch, _sea, entry, mouths = delta_fan_mask((size, size), mask_seed, *args, **kw)
     v = mouths.mean(0) - entry
     # turned() as a map of directions (x, y) -> (x', y')
     v = {"bottom": v, "top": (v[0], -v[1]), "left": (-v[1], v[0]), "right": (v[1], v[0])}[side]
@@ -284,27 +292,21 @@ def fitted(side: str, size: int, cache: str | None = None, mask_seed: int | None
 
     mask_seed = 3 + size if mask_seed is None else int(mask_seed)
     name = "delta" if kind == "delta" else f"delta_{kind}"
-    path = os.path.join(cache, f"{name}_{side}_{size}_{mask_seed}.pkl") if cache else None
-    if path and os.path.exists(path):
-        with open(path, "rb") as f:
-            return pickle.load(f)
-    m = turned(mask_of(kind, size, mask_seed), side)
-    img = np.dstack([m] * 3)
-    ex = extract_structure(img)
-    dom = example_domain(img, ex)
-    out = (img, dom, fit_model(ex, domain=dom))
-    if path:
-        os.makedirs(cache, exist_ok=True)
-        with open(path, "wb") as f:
-            pickle.dump(out, f)
-    return out
+
+    def make():
+        img = np.dstack([turned(mask_of(kind, size, mask_seed), side)] * 3)
+        ex = extract_structure(img)
+        dom = example_domain(img, ex)
+        return img, dom, fit_model(ex, domain=dom)
+
+    return cached(cache, f"{name}_{side}_{size}_{mask_seed}.pkl", make)
 
 
 def figures(s, dom, side) -> dict:
     return dict(fan=sea_bearings_inland(s, dom)[0], bear=trunk_bearing(s, dom), dev=chord_deviation(s, dom),
                 frame=frame_share(s, dom.shape, side), cross=crossings(s), far=far_share(s, dom),
                 thick=thick_end_share(s), sea=n_to_sea(s, dom), rad=median_radius(s), coast=coast_share(s, dom),
-                side=side_share(s, dom), sin=trunk_sinuosity(s, dom))
+                side=side_share(s, dom), sin=trunk_sinuosity(s, dom), mouth=mouth_share(s, dom))
 
 
 def run(side: str, size: int, seeds, out: str | None = None, cache: str | None = None,
@@ -317,7 +319,7 @@ def run(side: str, size: int, seeds, out: str | None = None, cache: str | None =
     print(f"{kind} {side} {size} mask {mask_seed} example: fan {ex['fan']:.1f} bearing {ex['bear']:.0f} "
           f"(true {true_bearing(kind, side, size, ms):.0f}) dev {ex['dev']:.3f} frame {ex['frame']:.3f} "
           f"far {ex['far']:.3f} thick {ex['thick']:.3f} sea {ex['sea']} rad {ex['rad']:.2f} coast {ex['coast']:.3f} "
-          f"side {ex['side']:.2f} sin {ex['sin']:.3f}",
+          f"side {ex['side']:.2f} sin {ex['sin']:.3f} mouth {ex['mouth']:.2f}",
           flush=True)
     rows = []
     for seed in seeds:
@@ -332,8 +334,8 @@ def run(side: str, size: int, seeds, out: str | None = None, cache: str | None =
         print(f"  seed {seed}: fan {f['fan']:.1f} bearing err {f['berr']:.1f} dev {f['dev']:.3f} "
               f"frame {f['frame']:.3f} cross {f['cross']} far x{f['far']:.2f} thick {f['thick']:.3f} "
               f"sea {f['sea']} rad x{f['rad']:.2f} coast {f['coast']:.3f} "
-              f"side {f['side']:.2f} sin {f['sin']:.3f} nch x{f['nch']:.2f}", flush=True)
-    keys = ("fan", "berr", "dev", "frame", "far", "thick", "rad", "coast", "side", "sin", "nch")
+              f"side {f['side']:.2f} sin {f['sin']:.3f} mouth {f['mouth']:.2f} nch x{f['nch']:.2f}", flush=True)
+    keys = ("fan", "berr", "dev", "frame", "far", "thick", "rad", "coast", "side", "sin", "nch", "mouth")
     med = {k: float(np.median([r[k] for r in rows])) for k in keys}
     print(f"  SUMMARY {kind} {side} {size} mask {mask_seed}: fan med {med['fan']:.1f} "
           f"min {min(r['fan'] for r in rows):.1f} (ex {ex['fan']:.1f}) bearing err med {med['berr']:.1f} "
@@ -346,7 +348,7 @@ def run(side: str, size: int, seeds, out: str | None = None, cache: str | None =
           f"max {max(r['coast'] for r in rows):.3f} "
           f"(ex {ex['coast']:.3f}) side med {med['side']:.2f} min {min(r['side'] for r in rows):.2f} "
           f"(ex {ex['side']:.2f}) sin med {med['sin']:.3f} (ex {ex['sin']:.3f}) nch med x{med['nch']:.2f} "
-          f"min x{min(r['nch'] for r in rows):.2f}", flush=True)
+          f"min x{min(r['nch'] for r in rows):.2f} mouth med {med['mouth']:.2f} (ex {ex['mouth']:.2f})", flush=True)
     if out:
         tag = "" if kind == "delta" else f"_{kind}"
         _sheet(img, dom, model.example, rows[:3], f"{out}{tag}_{side}_{size}_{mask_seed}.png")

@@ -17,12 +17,11 @@ the explicit root keeps these figures comparable with the earlier ones.)
 
 from __future__ import annotations
 
-import os
-import pickle
 import sys
 
 import numpy as np
 
+from ._check_table import cached
 from ._delta_examples import delta_tree_mask
 from ._delta_fan_check import bearing_error, mouth_share, n_to_sea, side_share, trunk_bearing, turned
 
@@ -37,23 +36,18 @@ def fitted(ci: int, cache: str | None = None):
     from . import example_domain, extract_structure, fit_model
 
     fan, orders, rad, size, side = CASES[ci]
-    path = os.path.join(cache, f"tree_{fan}_{orders}_{rad}_{size}_{side}.pkl") if cache else None
-    if path and os.path.exists(path):
-        with open(path, "rb") as f:
-            return pickle.load(f)
-    m0, entry, _mouths, _head = delta_tree_mask((size, size), 10 + ci, fan, orders, rad)
-    x, y = float(np.clip(entry[0], 0, size - 1)), float(np.clip(entry[1], 0, size - 1))
-    # the entry (x, y) of the mask with its sea at the bottom, after turned()
-    root = {"bottom": (x, y), "top": (x, size - 1 - y), "left": (size - 1 - y, x), "right": (y, x)}[side]
-    img = np.dstack([turned(m0, side)] * 3)
-    ex = extract_structure(img, root=root)
-    dom = example_domain(img, ex)
-    out = (img, dom, fit_model(ex, domain=dom))
-    if path:
-        os.makedirs(cache, exist_ok=True)
-        with open(path, "wb") as f:
-            pickle.dump(out, f)
-    return out
+
+    def make():
+        m0, entry, _mouths, _head = delta_tree_mask((size, size), 10 + ci, fan, orders, rad)
+        x, y = float(np.clip(entry[0], 0, size - 1)), float(np.clip(entry[1], 0, size - 1))
+        # the entry (x, y) of the mask with its sea at the bottom, after turned()
+        root = {"bottom": (x, y), "top": (x, size - 1 - y), "left": (size - 1 - y, x), "right": (y, x)}[side]
+        img = np.dstack([turned(m0, side)] * 3)
+        ex = extract_structure(img, root=root)
+        dom = example_domain(img, ex)
+        return img, dom, fit_model(ex, domain=dom)
+
+    return cached(cache, f"tree_{fan}_{orders}_{rad}_{size}_{side}.pkl", make)
 
 
 def run(seeds, out: str | None = None, cache: str | None = None) -> list[float]:

@@ -10,7 +10,6 @@ bolts; ``thin``: a sharp core and a narrow glow). Default: all.
 
 from __future__ import annotations
 
-import os
 import sys
 import time
 
@@ -44,34 +43,28 @@ def storm_image(kind: str, seed: int = 0) -> np.ndarray:
 
 def fitted(kind: str, cache: str | None = None):
     """``(image, domain, model)`` of ``kind`` (the default workflow)."""
-    import pickle
-
     from . import example_domain, extract_structure, fit_model
+    from ._check_table import cached
     from ._seed_check import fitted_example
 
     if kind in ("retina", "river"):
         return fitted_example(kind, 512, cache)
-    path = os.path.join(cache, f"{kind}.pkl") if cache else None
-    if path and os.path.exists(path):
-        with open(path, "rb") as f:
-            return pickle.load(f)
-    if kind == "noaa":
-        import cv2
 
-        bgr = cv2.imread("/work/shared/data/photos/branching/lightning_noaa.jpg", cv2.IMREAD_COLOR)
-        s = 512 / max(bgr.shape[:2])
-        bgr = cv2.resize(bgr, None, fx=s, fy=s, interpolation=cv2.INTER_AREA)
-        img = cv2.cvtColor(bgr, cv2.COLOR_BGR2RGB).astype(np.float32) / 255
-    else:
-        img = storm_image(kind)
-    ex = extract_structure(img)
-    dom = example_domain(img, ex)
-    out = (img, dom, fit_model(ex, domain=dom))
-    if path:
-        os.makedirs(cache, exist_ok=True)
-        with open(path, "wb") as f:
-            pickle.dump(out, f)
-    return out
+    def make():
+        if kind == "noaa":
+            import cv2
+
+            bgr = cv2.imread("/work/shared/data/photos/branching/lightning_noaa.jpg", cv2.IMREAD_COLOR)
+            s = 512 / max(bgr.shape[:2])
+            bgr = cv2.resize(bgr, None, fx=s, fy=s, interpolation=cv2.INTER_AREA)
+            img = cv2.cvtColor(bgr, cv2.COLOR_BGR2RGB).astype(np.float32) / 255
+        else:
+            img = storm_image(kind)
+        ex = extract_structure(img)
+        dom = example_domain(img, ex)
+        return img, dom, fit_model(ex, domain=dom)
+
+    return cached(cache, f"{kind}.pkl", make)
 
 
 def run(kind: str, seeds, cache: str | None = None, png: str | None = None) -> list[float]:

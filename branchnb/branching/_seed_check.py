@@ -77,25 +77,17 @@ def fitted_example(kind: str, size: int, cache: str | None = None):
     ``cache``: a folder where the result is pickled and read again (the
     1000 px extractions take most of a check's time).
     """
-    import os
-    import pickle
-
     from . import example_domain, extract_structure, fit_model
+    from ._check_table import cached
 
-    path = os.path.join(cache, f"{kind}_{size}.pkl") if cache else None
-    if path and os.path.exists(path):
-        with open(path, "rb") as f:
-            return pickle.load(f)
-    img = example(kind, size)
-    root = ROOTS.get(kind)
-    ex = extract_structure(img, root=root) if root else extract_structure(img)
-    dom = example_domain(img, ex)
-    out = (img, dom, fit_model(ex, domain=dom))
-    if path:
-        os.makedirs(cache, exist_ok=True)
-        with open(path, "wb") as f:
-            pickle.dump(out, f)
-    return out
+    def make():
+        img = example(kind, size)
+        root = ROOTS.get(kind)
+        ex = extract_structure(img, root=root) if root else extract_structure(img)
+        dom = example_domain(img, ex)
+        return img, dom, fit_model(ex, domain=dom)
+
+    return cached(cache, f"{kind}_{size}.pkl", make)
 
 
 def seed_rows(kind: str, size: int, seeds=range(10), params=None, out_png: str | None = None):

@@ -12,7 +12,12 @@ such masks were rooted at a mouth. The whole tree's shape does tell it:
   point to (its shortest path enters them by their trunk arm); where the angles do not tell (a channel
   leaving a bent trunk's head at a right angle), the fork's thickest arm is its trunk arm;
 - among ends the forks point to alike (the trunk's own spurs), the source is the one farthest from
-  where the sea ends' paths meet (the trunk's whole length away; a spur on the trunk is nearer).
+  where the sea ends' paths meet (the trunk's whole length away; a spur on the trunk is nearer);
+- but a tributary joining the trunk upstream of the fan is tied with the trunk's source (its confluence
+  has every mouth down its trunk arm and does not vote) and may lie farther: an inland end
+  :data:`FORK_WIDER` x thinner than another tied one is no source (branching85: 3 of 8 deltas with 1-3
+  tributaries were rooted at a tributary's source, up to 130 radii from the trunk's entry; a confluence
+  voted against the trunk's source once per tributary).
 
 Split from :mod:`.skeleton_tree`, which calls :func:`_fan_root` and :func:`_delta_source_key` (this module
 imports from it inside its functions: it imports this module).
@@ -157,12 +162,26 @@ def fan_source(g, deg: np.ndarray, cand: np.ndarray, members: np.ndarray, pts: n
         return None
     dist = csgraph.dijkstra(g, directed=False, indices=cand)
     score = np.zeros(len(cand))
+    n_votes = 0
     for arms, trunk in votes:
-        score += np.where(np.argmin(dist[:, arms], axis=1) == trunk, 1.0, -1.0)
-    best = float(score.max())
-    if best < FAN_AGREE * len(votes):
+        arm = np.argmin(dist[:, arms], axis=1)
+        # a confluence (a tributary joining upstream of the fan) has every mouth down its trunk arm: it
+        # tells nothing of the source and would vote against the trunk's, once per tributary
+        if np.all(arm[at] == trunk):
+            continue
+        score += np.where(arm == trunk, 1.0, -1.0)
+        n_votes += 1
+    if n_votes == 0:
         return None
-    tied = np.flatnonzero(score >= best - FAN_TIE * len(votes))
+    best = float(score.max())
+    if best < FAN_AGREE * n_votes:
+        return None
+    tied = np.flatnonzero(score >= best - FAN_TIE * n_votes)
+    # a tributary joining the trunk upstream of the fan scores as its trunk's source does (the confluence
+    # votes against both); it is the thinner: inland ends tied with one FORK_WIDER x thicker are out
+    inland = tied[~at[tied]]
+    if len(inland) > 1:
+        tied = np.setdiff1d(tied, inland[FORK_WIDER * end_r[inland] < end_r[inland].max()])
     sea = np.flatnonzero(at)
     dist_mm = dist[np.ix_(sea, cand[sea])]
     far = []

@@ -152,6 +152,27 @@ STRAIGHT_TAIL = True
 #: :func:`.delta_fan._even_fork`). A trunk that turns (the ``delta`` kind) keeps main's rule above its turn:
 #: held there together with other changes its bearing error median went 5.0/9.5 -> 7.1/4.2, no clear gain.
 STRAIGHT_HOLD = True
+#: A trunk held to its way (:data:`TRUNK_HOLD`, :data:`STRAIGHT_HOLD`) whose example's trunk meanders
+#: (:func:`_meander_of`: the example's longest root above half its start's depth has a sinuosity of at least
+#: this and swings to either side of its chord at least 3 times) is pulled and held to a sine about that way
+#: instead: as many lobes as the example's over the trunk's own straight run down to :data:`MEANDER_DEPTH`,
+#: its slope from the example's sinuosity, fading at both ends as the example's (beyond the paper, issue 23,
+#: branching85). Held to the straight way the meandering trunk came out ruler-straight; held by its chord from
+#: its start it drifted to one side (bearing error median 1.1 -> 12.4 degrees, sinuosity 1.035) without
+#: meandering: the matching alone does not swing it. ``_delta_fan_check`` (512 px, sea bottom/left, 3 seeds,
+#: medians; without -> with): trunk sinuosity ``mean0`` 1.002/1.003 -> 1.108/1.080 (example 1.161/1.159),
+#: ``mean20`` 1.025/1.015 -> 1.059/1.064 (1.098/1.094); bearing error 1.1/0.8 -> 2.2/5.8 and 8.3/5.4 ->
+#: 2.1/2.3 degrees; ``mean0`` at 1000 px (2 seeds): 1.001 -> 1.096 (1.198), bearing error 1.4 -> 7.2, but its
+#: fan spread 37.0 -> 22.9 degrees (one seed's channels all on one side: 10.3). Other kinds: no meander,
+#: byte-identical.
+MEANDER_SIN = 1.05
+#: ... held to it this firmly (as :data:`TRUNK_HOLD`; at 8 the trunk swung half as far: sinuosity 1.03-1.10)
+MEANDER_HOLD = 16.0
+#: ... measured and followed down to this share of the trunk's start's depth.
+MEANDER_DEPTH = 0.5
+#: ... a lobe of the meander: a run to one side of the trunk's chord past this share of its largest offset
+#: (a meander that grows from the frame: ``mean0``'s first lobe is 0.21 x its largest).
+MEANDER_LOBE = 0.15
 TAIL_MAX = float(np.radians(60.0))
 
 
@@ -223,6 +244,9 @@ class _Drain:
         #: depth below which the synthesized trunk takes it (:meth:`set_tail_depth`; None: not yet known)
         self.tail: float | None = None
         self.tail_depth: float | None = None
+        #: the example's trunk's meander (:func:`_meander_of`), else None
+        self.meander: tuple[float, float, float] | None = None
+        self._meander_len: dict = {}   # per trunk start: the straight way's run down to MEANDER_DEPTH
         self._tail_dir: np.ndarray | None = None
         #: where the trunk takes ``tail`` as a share of its start's depth (None: the delta's head,
         #: :func:`.delta_fan.head_share`; :data:`STRAIGHT_TAIL`)
@@ -252,6 +276,7 @@ class _Drain:
         if ax is None:
             return
         start, target = ax
+        self.meander = _meander_of(example, dom)
         v = target - start
         axis = v / float(np.hypot(*v))
         # the descent's mean direction along the axis (at the trunk's start alone a corner turns it)
@@ -524,17 +549,56 @@ class _Drain:
             return np.asarray(points[-1], np.float64)
         return np.asarray(points[max(0, len(points) - 1 - back)], np.float64)
 
-    def trunk_hold(self, tip, end: np.ndarray, pull: float = 1.0) -> np.ndarray:
+    def trunk_hold(self, tip, end: np.ndarray, pull: float = 1.0, start=None) -> np.ndarray:
         """Score factor of a trunk's candidates ending at ``end`` ((C, 2)) from ``tip`` when the delta has
         an axis (:meth:`set_axis`): ``exp(-TRUNK_HOLD a)``, ``a`` the angle of the chord off the way to the
-        example's mouths (1 without an axis)."""
-        if not self.held(tip) or TRUNK_HOLD <= 0:
-            return np.ones(len(end))
+        example's mouths (1 without an axis); with the trunk's first point ``start`` and a meandering
+        example (:data:`MEANDER_SIN`), off that way turned by the meander's slope there."""
         tip = np.asarray(tip, np.float64)
-        wd = self.way_down(tip)
+        if not (self.held(tip) or self._meandering(tip, start)) or TRUNK_HOLD <= 0:
+            return np.ones(len(end))
+        wd = self._meander_way(tip, self.way_down(tip), start)
         chord = np.asarray(end, np.float64) - tip
         off = np.abs(np.arctan2(chord[:, 1] * wd[0] - chord[:, 0] * wd[1], chord @ wd))
-        return np.exp(-pull * TRUNK_HOLD * off)
+        hold = MEANDER_HOLD if self._meandering(tip, start) else TRUNK_HOLD
+        return np.exp(-pull * hold * off)
+
+    def _meandering(self, tip, start) -> bool:
+        """Does a trunk from ``start`` at ``tip`` follow the example's meander (:data:`MEANDER_SIN`)?"""
+        if self.meander is None or start is None or self._in_tail(tip):
+            return False
+        d0, d1 = self.depth_at([start, tip])
+        return bool(d1 > MEANDER_DEPTH * d0)
+
+    def _meander_way(self, tip: np.ndarray, wd: np.ndarray, start) -> np.ndarray:
+        """``wd`` turned by the slope of the example's meander (:func:`_meander_of`) at ``tip``'s way along
+        it from ``start``; ``wd`` itself without a meander or start, in the tail, or below half the start's
+        depth (where the example's was measured)."""
+        if not self._meandering(tip, start):
+            return wd
+        start = np.asarray(start, np.float64)
+        k, lobes, sign = self.meander
+        u = self.way_down(start)
+        key = (float(start[0]), float(start[1]))
+        if key not in self._meander_len:
+            # as many lobes as the example's over the straight way's run down to MEANDER_DEPTH: the trunk
+            # ends its meander on its line, as the example's does (the example's wavelength left it up to a
+            # lobe's amplitude aside, its bearing 7-9 degrees off)
+            t = np.arange(0.0, float(np.hypot(*self.shape)), 2.0)
+            q = start + t[:, None] * u
+            inside = (q[:, 0] >= 0) & (q[:, 1] >= 0) & (q[:, 0] <= self.shape[1] - 1) & (q[:, 1] <= self.shape[0] - 1)
+            low = np.flatnonzero(~inside | (self.depth_at(np.clip(q, 0, [self.shape[1] - 1, self.shape[0] - 1]))
+                                             <= MEANDER_DEPTH * float(self.depth_at(start)[0])))
+            self._meander_len[key] = float(t[low[0]] if low.size else t[-1])
+        run = max(self._meander_len[key], 1.0)
+        at = float((tip - start) @ u)
+        # the swings fade toward the run's ends, as the example's do (a sine's slope is largest where its
+        # offset is 0: at full slope there the trunk reached the head heading 40 deg off its way and every
+        # channel of a 1000 px mean0 delta left it on one side, fan 37 -> 10 deg, mouth share 0.5 -> 0)
+        fade = float(np.sqrt(np.sin(np.pi * np.clip(at / run, 0.0, 1.0))))
+        theta = sign * float(np.arctan(k * fade * np.cos(np.pi * lobes * at / run)))
+        n = np.array([-wd[1], wd[0]])
+        return np.cos(theta) * wd + np.sin(theta) * n
 
     def factor(self, tip, points: np.ndarray, n_new: np.ndarray, start=None, pull: float = 1.0,
                fan=None, hold_from=None) -> np.ndarray:
@@ -552,7 +616,14 @@ class _Drain:
         """
         tip = np.asarray(tip, np.float64)
         end = points[np.arange(len(points)), np.maximum(n_new, 1) - 1]
-        cos = self._cos(tip, end - tip, fan)
+        if fan is None and self._meandering(tip, start):
+            # a meandering trunk is pulled along its meander too (held to it alone, the pull down the
+            # straight way flattened its swings: sinuosity 1.03-1.07 against the example's 1.16)
+            v = end - tip
+            cos = (v @ self._meander_way(tip, self.way_down(tip), start)) / np.maximum(np.hypot(v[:, 0], v[:, 1]),
+                                                                                        1e-9)
+        else:
+            cos = self._cos(tip, end - tip, fan)
         k = self.kappa * (FAN_KAPPA_GAIN if fan is not None else 1.0)
         ff = self.frame_factor(tip, points, n_new)
         if fan is not None and FRAME_POWER != 1.0:
@@ -569,16 +640,50 @@ class _Drain:
                 o2 = np.where(np.hypot(c2[:, 0], c2[:, 1]) > 4.0, o2, 0.0)
                 off = np.maximum(off, FAN_WHOLE * o2)
             f = f * np.exp(-pull * FAN_HOLD * off)
-        elif self.held(tip) and TRUNK_HOLD > 0:
+        elif (self.held(tip) or self._meandering(tip, start)) and TRUNK_HOLD > 0:
             # a straight delta's trunk is held to its tail too (STRAIGHT_TAIL): the pull alone let the
             # matching keep it on the descent (fan0 512 px: 6-22 degrees off it at the sea against 48)
-            f = f * self.trunk_hold(tip, end, pull)
+            f = f * self.trunk_hold(tip, end, pull, start)
         f = np.where(cos < UPSTREAM_COS, 0.0, f)
         if start is not None:
             net = end - np.asarray(start, np.float64)
             far = np.hypot(net[:, 0], net[:, 1]) > 4.0
             f = np.where(far & (self._cos(start, net, fan) < 0.0), 0.0, f)
         return f
+
+
+def _meander_of(example, dom: np.ndarray) -> tuple[float, float, float] | None:
+    """``(slope, lobes, sign)`` of the meander of ``example``'s trunk (its longest root from its start
+    down to :data:`MEANDER_DEPTH` x its start's depth in ``dom``): a sine ``e(s) = sign A sin(2 pi s / L)``
+    off its chord whose largest slope ``2 pi A / L`` gives the trunk's sinuosity (``1 + slope**2 / 4``);
+    ``L`` twice the chord over the number of its ``lobes`` (runs to one side of the chord past
+    :data:`MEANDER_LOBE` x its largest offset), ``sign`` the side of the first. None when the sinuosity is under
+    :data:`MEANDER_SIN` or the trunk swings to either side fewer than 3 times (a bend, not a meander)."""
+    from scipy import ndimage as ndi
+
+    roots = [np.asarray(b.points, np.float64) for b in example.branches if b.parent is None and len(b.points) >= 3]
+    if not roots:
+        return None
+    p = max(roots, key=lambda q: float(np.hypot(*np.diff(q, axis=0).T).sum()))
+    d = ndi.distance_transform_edt(dom)
+    h, w = dom.shape
+    ix = np.clip(np.rint(p).astype(np.int64), 0, [w - 1, h - 1])
+    dep = d[ix[:, 1], ix[:, 0]]
+    below = np.flatnonzero(dep <= MEANDER_DEPTH * dep[0])
+    p = p[: (int(below[0]) + 1 if below.size else len(p))]
+    if len(p) < 3:
+        return None
+    c = p[-1] - p[0]
+    chord = float(np.hypot(*c))
+    sin = float(np.hypot(*np.diff(p, axis=0).T).sum()) / max(chord, 1e-9)
+    if sin < MEANDER_SIN:
+        return None
+    e = (p - p[0]) @ (np.array([-c[1], c[0]]) / chord)
+    sg = np.sign(e[np.abs(e) > MEANDER_LOBE * float(np.abs(e).max())])
+    lobes = 1 + int(np.count_nonzero(sg[1:] != sg[:-1]))
+    if lobes < 3:
+        return None
+    return 2.0 * float(np.sqrt(sin - 1.0)), float(lobes), float(sg[0])
 
 
 #: A map's rivers keep off the coast: the margin is this quantile of the depths (distance to the region

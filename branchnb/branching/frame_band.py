@@ -7,6 +7,12 @@ of the canvas, and children lay along the sides. ``growth._Grower`` reads here h
 the frame a branch may not run back into (:func:`band_keep`), and where the example's lines leave
 the frame (:func:`_frame_ends`); the rule holds only where the example keeps off its own frame
 (:func:`_frame_share`).
+
+In an example that drains to a sea (a delta, ``drain._Drain``) the sea's coast is one more side where
+the example's lines end: a step in the band that heads for the sea as steeply as one heading out of
+the frame would (``sea_depth`` of :func:`band_keep`) is kept, so a distributary reaching the sea where
+the coast meets a side frame is not cut there, while the band still keeps channels off the delta's
+other (side) frames. (Before issue 23's branching85 the band was simply off for every such example.)
 """
 
 from __future__ import annotations
@@ -90,14 +96,16 @@ def _frame_ends(example: Structure, band: float) -> np.ndarray:
 
 
 def band_keep(tip, new_pts: np.ndarray, off: bool, shape, band: float,
-              exit_sine: np.ndarray) -> tuple[np.ndarray, bool]:
+              exit_sine: np.ndarray, sea_depth: np.ndarray | None = None) -> tuple[np.ndarray, bool]:
     """``(ok, off)``: which points ``new_pts`` (n, 2) after ``tip`` a branch keeps, and whether it is out
     of the band.
 
     Once out of the band (``off``, or ``tip`` or a kept point at least ``band`` px from the frame), every
     point from the first that lies in the band without having come ``exit_sine[side]`` x its segment's
     length closer to that side is dropped (``exit_sine`` (4,): :data:`FRAME_EXIT` where the example's
-    lines leave by that side, ``inf`` elsewhere).
+    lines leave by that side, ``inf`` elsewhere). With ``sea_depth`` (an example that drains) a point
+    that came :data:`FRAME_EXIT` x its segment's length closer to the sea is kept too: the coast is a
+    side where the example's lines end.
 
     Parameters
     ----------
@@ -113,6 +121,8 @@ def band_keep(tip, new_pts: np.ndarray, off: bool, shape, band: float,
         Width of the band (pixels).
     exit_sine : (4,) ndarray
         Per side (left, top, right, bottom), how steeply a branch must head out there.
+    sea_depth : (H, W) ndarray, optional
+        Distance (pixels) of every pixel to the sea of an example that drains (``drain._Drain.depth``).
 
     Returns
     -------
@@ -131,9 +141,16 @@ def band_keep(tip, new_pts: np.ndarray, off: bool, shape, band: float,
     seg = np.hypot(*np.diff(q, axis=0).T)
     out = d[1:] >= band
     off = off or bool(d[0] >= band)
+    if sea_depth is not None:
+        if np.shape(sea_depth) != tuple(shape[:2]):
+            raise ValueError(f"sea_depth: shape {np.shape(sea_depth)} is not the canvas' {tuple(shape[:2])}")
+        ix = np.clip(np.rint(q).astype(np.int64), 0, [shape[1] - 1, shape[0] - 1])
+        seaward = sea_depth[ix[:-1, 1], ix[:-1, 0]] - sea_depth[ix[1:, 1], ix[1:, 0]] >= FRAME_EXIT * seg
+    else:
+        seaward = np.zeros(len(q) - 1, bool)
     ok = np.ones(len(q) - 1, bool)
     for k in range(len(q) - 1):
-        if off and not out[k] and d[k] - d[k + 1] < exit_sine[side[k + 1]] * seg[k]:
+        if off and not out[k] and d[k] - d[k + 1] < exit_sine[side[k + 1]] * seg[k] and not seaward[k]:
             ok[k:] = False
             break
         off = off or bool(out[k])

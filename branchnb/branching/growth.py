@@ -369,10 +369,10 @@ class _Grower(_Starts, _Filling):
         self.r_max, self.r_grow, self.wind_max = _example_bounds(model)
         self.r_keep = _radius_keep(model.example) if self.drain is not None else 0.0
         self.fill_rounds = 0
-        # a branch that left the frame's band does not come back to run along the frame (.frame_band)
-        # (not in an example that drains to a sea: its channels end at the sea wherever it meets the frame)
-        self.frame_band = FRAME_BAND if self.drain is None and _frame_share(model.example, FRAME_BAND) \
-            <= FRAME_HUG_SHARE else 0.0
+        # a branch that left the frame's band does not come back to run along the frame (.frame_band);
+        # in an example that drains its channels also end at the sea, wherever it meets the frame: the
+        # coast is one more side they may head out by (_band_ok)
+        self.frame_band = FRAME_BAND if _frame_share(model.example, FRAME_BAND) <= FRAME_HUG_SHARE else 0.0
         # and where no line of the example ends at its frame, none heads out of it either
         # (per side: a river network leaving through the bottom of its example leaves only through the bottom)
         self.frame_exit = np.where(_frame_ends(model.example, FRAME_END), FRAME_EXIT, np.inf)
@@ -424,7 +424,8 @@ class _Grower(_Starts, _Filling):
 
     def _band_ok(self, tip, new_pts: np.ndarray, off: bool) -> tuple[np.ndarray, bool]:
         """:func:`.frame_band.band_keep` of points ``new_pts`` after ``tip`` in this grower's frame."""
-        return band_keep(tip, new_pts, off, self.shape, self.frame_band, self.frame_exit)
+        return band_keep(tip, new_pts, off, self.shape, self.frame_band, self.frame_exit,
+                         None if self.drain is None else self.drain.depth)
 
     def _frame_dist(self, pt) -> float:
         return float(_frame_sides(pt, self.shape)[0][0])
