@@ -58,3 +58,24 @@ def ndi_dilate(mask, r):
     from scipy import ndimage as ndi
 
     return ndi.binary_dilation(mask, iterations=r)
+
+
+@pytest.mark.parametrize("size,turn", [(160, 20.0), (320, 0.0), (320, 20.0)])
+def test_the_body_keeps_its_hip_where_the_tail_left(size, turn):
+    """The tail's tube took the convex cap of the body's contour at the hip; once the tail swings
+    away the body has it back (strokes.hips): no bite deeper than 2 px (main: 4.5 / 8.5 / 14.8 px)."""
+    img, body, tail = _animal(size, turn)
+    t = np.linspace(0.0, 1.0, 12)[:, None]
+    bent = tail[0] + np.hstack([-0.35 * size * np.sin(1.3 * t), 0.4 * size * t])
+    alpha = np.asarray(edit_structure(img, [tail], [bent], rng=0).layer)[..., 3] > 0.5
+    hip = np.hypot(*(np.mgrid[:size, :size][::-1] - tail[1][:, None, None])) < 0.2 * size
+    from scipy import ndimage as ndi
+
+    missing = body & ~alpha & hip
+    depth = float(ndi.distance_transform_edt(body)[missing].max()) if missing.any() else 0.0
+    assert depth <= 2.0, f"a bite {depth:.1f} px deep at the hip"
+    # and the body did not grow a stump of the old tail there (160 px: 20 px up to 4.5 px out)
+    grown = alpha & ~body & hip & ~ndi.binary_dilation(body, iterations=3)
+    tube = np.zeros((size, size), np.uint8)
+    cv2.polylines(tube, [bent.astype(np.int32)], False, 1, int(0.12 * size))
+    assert int((grown & (tube == 0)).sum()) <= 0.005 * body.sum()

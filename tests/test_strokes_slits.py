@@ -121,3 +121,34 @@ def test_fill_pinholes_closes_a_tear_lined_with_deep_flesh():
     rim = np.full((40, 40), 1.0, np.float32)
     assert fill_pinholes(lay, 1.0, slits=True, depth=deep)[20:22, 10:28, 3].min() == 1.0
     assert fill_pinholes(lay, 1.0, slits=True, depth=rim)[21, 20, 3] == 0.0
+
+
+def _heavy_slit_layer(ow, gap):
+    """A square with an ``ow`` px ink outline split by a slit ``gap`` px wide lined with ``ow`` px of
+    ink on each side, closed off at the top by half-opaque touching rims."""
+    lay = np.zeros((48, 48, 4), np.float32)
+    lay[4:44, 4:44] = (*INK, 1.0)
+    lay[4 + ow:44 - ow, 4 + ow:44 - ow, :3] = BROWN
+    c0 = 24 - gap // 2
+    lay[4:20, c0 - ow:c0 + gap + ow, :3] = INK
+    lay[4 + ow:20, c0:c0 + gap, 3] = 0.0
+    lay[4:4 + ow, c0:c0 + gap, 3] = 0.7
+    return lay, (slice(4 + ow, 20), slice(c0, c0 + gap))
+
+
+def test_slit_lined_with_a_heavy_outline_is_filled_with_flesh():
+    """A heavy outline's ink lining is a line of its own: the slit between two linings takes the
+    flesh (not a band of ink three outline widths wide), all but its mouth; a slit lined with a
+    1 px outline still takes the ink (one line keeping the parts apart)."""
+    for ow, gap in ((2, 2), (3, 2), (3, 3)):
+        lay, (rs, cs) = _heavy_slit_layer(ow, gap)
+        out = fill_pinholes(lay, 1.0, slits=True)
+        assert out[rs, cs, 3].min() == 1.0
+        inner = out[rs.start + ow:rs.stop, cs, :3].reshape(-1, 3)
+        d_fill = np.abs(inner - BROWN).max(axis=1)
+        d_ink = np.abs(inner - INK).max(axis=1)
+        assert (d_fill < d_ink).mean() >= 0.95, (ow, gap, (d_fill < d_ink).mean())
+    lay, (rs, cs) = _heavy_slit_layer(1, 2)
+    out = fill_pinholes(lay, 1.0, slits=True)
+    thin = out[rs, cs, :3].reshape(-1, 3)
+    assert (np.abs(thin - INK).max(axis=1) < np.abs(thin - BROWN).max(axis=1)).mean() >= 0.8

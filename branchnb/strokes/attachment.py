@@ -16,6 +16,7 @@ from scipy import ndimage as ndi
 from skimage.morphology import disk
 
 from .centring import centre_stroke
+from .hips import restore_hip
 from .junctions import exit_length
 from .parts import add_bases, carry_frame, rigid_frame
 from .strokes import StrokePair, make_pairs
@@ -218,6 +219,7 @@ def _trim_body(index, part) -> None:
     """
     k = part.stroke
     st = index.strokes[k]
+    _grow_box(part, int(np.ceil(2.0 * float(index.half_width(k, 0.0)))) + 2, index.object.shape)
     (rs, cs) = part.box
     s_loc = index.s_map[k][rs, cs]
     foot = st.point_at(s_loc.ravel()).reshape(*s_loc.shape, 2)
@@ -243,12 +245,30 @@ def _trim_body(index, part) -> None:
     pad = wide + 1
     closed = ndi.binary_closing(np.pad(body, pad), structure=disk(wide))[pad:-pad, pad:-pad]
     body |= closed & slot
+    # and the convex cap of its contour where the tail left it (closing fills notches only: a bite
+    # out of the hip once the tail swung away)
+    h0 = float(index.half_width(k, 0.0))
+    root = (s_loc <= max(exit_s, start) + 2.0 * h0) & (off <= 1.5 * half + 2.0)
+    body = restore_hip(ndi.binary_fill_holes(body) & index.object[rs, cs], index.object[rs, cs], root, h0)
     part.mask = ndi.binary_fill_holes(body) & index.object[rs, cs]
     part.area = int(part.mask.sum())
     # its base (the overlap it is stitched in by) was the stroke's pixels along that strip too: only
     # the stroke's start stays its base
     base_s = index.s_map[k][rs, cs]
     part.base = part.base & (base_s <= start)
+
+
+def _grow_box(part, pad: int, shape) -> None:
+    """Grow ``part``'s box by ``pad`` px on every side within ``shape`` (its mask and base padded
+    with False; in place): the cap of a body's contour its stroke's tube took lies outside the
+    box of what is left (see :func:`~branchnb.strokes.hips.restore_hip`)."""
+    (rs, cs) = part.box
+    r0, r1 = max(rs.start - pad, 0), min(rs.stop + pad, shape[0])
+    c0, c1 = max(cs.start - pad, 0), min(cs.stop + pad, shape[1])
+    grown = ((rs.start - r0, r1 - rs.stop), (cs.start - c0, c1 - cs.stop))
+    part.box = (slice(r0, r1), slice(c0, c1))
+    part.mask = np.pad(part.mask, grown)
+    part.base = np.pad(part.base, grown)
 
 
 def _own_area(index, k: int) -> float:

@@ -159,25 +159,110 @@ def _fill_lined(out: np.ndarray, layer: np.ndarray, lined: np.ndarray, width: fl
     <= 0.5) take their nearest silhouette pixel's colour (the lining: the ink of a thin
     outline is the anti-aliased rim, half transparent), the middle of a slit wider than
     2 px the flesh beyond (two outlined parts touching, each with its own outline, not a
-    band of ink); the slit's rim is made opaque as it is."""
+    band of ink); the slit's rim is made opaque as it is.
+
+    Notes
+    -----
+    Beyond the paper (and the rule above): where the ink lining a slit is itself
+    :data:`_THICK` px or more thick (:func:`_lining_thickness`: a heavy outline on
+    a small object, too thin for :func:`~branchnb.strokes.outline.outline_style`
+    to find at 150-200 px), each lining already is a line keeping the two parts
+    apart; filled with that ink too, the slit and its two linings read as one
+    dark band three outline widths wide (a pocket of ink between a new tine and
+    its neighbour). Its open pixels then take the colour of the nearest flesh
+    (opaque pixels not darker than the flesh by :data:`_LINED`), all but those
+    within the lining's thickness of the background round the object (the
+    outline carried on across the slit's mouth).
+    """
     a = layer[..., 3]
     fill = lined & (a <= 0.5)
     out[lined & (a > 0.5), 3] = 1.0
     if not fill.any():
         return
     rs, cs = np.nonzero(fill)
-    g = int(np.ceil(2.0 * float(width) + 2.0)) + 1
+    g = int(np.ceil(2.0 * float(width) + 2.0)) + 1 + _THICK_REACH
     r0, r1 = max(rs.min() - g, 0), rs.max() + g + 1
     c0, c1 = max(cs.min() - g, 0), cs.max() + g + 1
     hs = fill[r0:r1, c0:c1]
+    sub = layer[r0:r1, c0:c1]
     _, (ir, ic) = ndi.distance_transform_edt(~((a[r0:r1, c0:c1] > 0.5) & ~hs), return_indices=True)
     win = out[r0:r1, c0:c1]
-    win[hs, :3] = layer[r0:r1, c0:c1][ir[hs], ic[hs], :3]
+    win[hs, :3] = sub[ir[hs], ic[hs], :3]
     win[hs, 3] = 1.0
     mid = hs & (ndi.distance_transform_edt(hs) > 1.0)
     if mid.any():
         _, (jr, jc) = ndi.distance_transform_edt(~(a[r0:r1, c0:c1] > 0.98), return_indices=True)
-        win[mid, :3] = layer[r0:r1, c0:c1][jr[mid], jc[mid], :3]
+        win[mid, :3] = sub[jr[mid], jc[mid], :3]
+    flesh_lum = _flesh_lum(layer, width)
+    if flesh_lum is not None:
+        _flesh_fill(win, sub, lined[r0:r1, c0:c1], hs, flesh_lum)
+
+
+def _flesh_lum(layer: np.ndarray, width: float) -> float | None:
+    """Median luminance of ``layer``'s pixels deeper than ``width + 2`` px inside its silhouette
+    (the flesh; None if there are none), as :func:`_enclosed_slits` measures it."""
+    obj = layer[..., 3] > 0.5
+    rs, cs = np.nonzero(obj)
+    if not len(rs):
+        return None
+    box = (slice(rs.min(), rs.max() + 1), slice(cs.min(), cs.max() + 1))
+    inner = ndi.distance_transform_edt(np.pad(obj[box], 1))[1:-1, 1:-1] > float(width) + 2.0
+    if not inner.any():
+        return None
+    lum = layer[box][..., :3] @ np.array([0.299, 0.587, 0.114], np.float32)
+    return float(np.median(lum[inner]))
+
+
+#: A slit's ink lining this many px thick or more is a line of its own (see :func:`_fill_lined`).
+_THICK = 2
+#: How far (px) from a slit its lining's thickness is looked for.
+_THICK_REACH = 6
+
+
+def _lining_thickness(dark: np.ndarray, slit: np.ndarray, obj: np.ndarray) -> int:
+    """Thickness (px) of the dark band round ``slit``: the last ring (1 px steps out from
+    the slit, within ``obj``) of which at least half is ``dark``, counting from the first."""
+    d = ndi.distance_transform_edt(~slit)
+    k = 0
+    for ring in range(1, _THICK_REACH + 1):
+        on = obj & (d > ring - 1) & (d <= ring)
+        if not on.any() or 2 * int((dark & on).sum()) < int(on.sum()):
+            break
+        k = ring
+    return k
+
+
+def _flesh_fill(win: np.ndarray, layer: np.ndarray, lined: np.ndarray, hs: np.ndarray, flesh_lum: float) -> None:
+    """Repaint the open pixels ``hs`` of slits with a thick ink lining with the nearest
+    flesh's colour (in place, ``win`` the output window over ``layer``; ``flesh_lum`` the
+    object's median luminance deep inside; see :func:`_fill_lined`)."""
+    a = layer[..., 3]
+    obj = a > 0.5
+    lum = layer[..., :3] @ np.array([0.299, 0.587, 0.114], np.float32)
+    flesh = (a > 0.98) & ~lined & (lum > flesh_lum - _LINED)
+    if not flesh.any():
+        return
+    dark = obj & ~lined & (lum <= flesh_lum - _LINED)
+    # (a slit with its half-transparent rim, which lies on the lining)
+    lab, n = ndi.label(lined, structure=_EIGHT)
+    paint = np.zeros(hs.shape, bool)
+    outside = ~obj & ~lined
+    for i in range(1, n + 1):
+        whole = lab == i
+        slit = whole & hs
+        if not slit.any():
+            continue
+        thick = _lining_thickness(dark, whole, obj & ~lined)
+        if thick < _THICK:
+            continue
+        # (the slit's mouth: its pixels within the lining's thickness of the ground outside
+        # carry the outline on across it)
+        mouth = ndi.distance_transform_edt(~outside) <= thick if outside.any() else np.zeros_like(slit)
+        paint |= slit & ~mouth
+    if not paint.any():
+        return
+    _, (fr, fc) = ndi.distance_transform_edt(~flesh, return_indices=True)
+    win[paint, :3] = layer[fr[paint], fc[paint], :3]
 
 
 def _joint_zones(shape, disks, width: float) -> np.ndarray:
