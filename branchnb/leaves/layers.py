@@ -610,10 +610,10 @@ def grow_layers(image, blade, layer_set: LayerSet, params: SnapParams | None = N
 
 #: A thin line layer's scribbled pixels between its lines left unpinned (:func:`_on_line_pins`).
 _ON_LINE_PINS = True
-#: ... dropped where its strength is under this and the pixel stands out less than
+#: ... kept where its strength is at least this or the pixel stands out at least
 #: _ON_LINE_ABOVE times as much as the scribbled pixels do.
-_ON_LINE = 0.05
-_ON_LINE_ABOVE = 0.0
+_ON_LINE = 0.25
+_ON_LINE_ABOVE = 0.5
 #: ... unless fewer than this share of the scribbled layer pixels are left (then all are kept).
 _ON_LINE_KEEP = 0.3
 #: ... and only where the lines (strength 0.5 or more) cover at least this share of the blade.
@@ -629,12 +629,13 @@ def _on_line_pins(fg_px: np.ndarray, line: np.ndarray, ridges: np.ndarray, blade
     layer, those pixels took the blade between the scribbled veins into it
     and into its colour model (faint veins, 20 % darker than the blade:
     training IoU 0.32-0.48, 9-16 % of the layer more than 1 px off every
-    vein; induced on the other leaves 0.44-0.49). Dropped: pixels off every
-    line (strength under :data:`_ON_LINE`) that do not stand out as the
-    scribbled pixels do (lighter than the blade around them, for a dark
-    layer). Only where the lines are dense (at least :data:`_DENSE_LINES`
-    of the blade at half strength or more: small leaves, 14-29 % measured
-    on 96-128 px strips, lobed and elliptic leaves): on a sparse venation
+    vein; induced on the other leaves 0.44-0.49). Kept: pixels on a line
+    (strength at least :data:`_ON_LINE`) or standing out from the blade
+    around them at least :data:`_ON_LINE_ABOVE` as much as the scribbled
+    pixels do (the inside of a vein wider than the line filter). Only
+    where the lines are dense (at least :data:`_DENSE_LINES` of the blade
+    at half strength or more: small leaves, 14-29 % measured on 96-128 px
+    strips, lobed and elliptic leaves): on a sparse venation
     the scribbles' off-line pixels are the flanks of wider veins the user
     meant (the sample maple, 8 %: its vein layer lost a quarter of its
     pixels and the induced veins' IoU with the hand tracing fell 0.48 ->
@@ -646,7 +647,7 @@ def _on_line_pins(fg_px: np.ndarray, line: np.ndarray, ridges: np.ndarray, blade
     k = 1 if np.median(ridges[..., 3][fg_px]) > np.median(ridges[..., 2][fg_px]) else 0
     above = ridges[..., 2 + k]
     lift = max(float(np.median(above[fg_px])), 1e-6)
-    on = fg_px & ~((np.asarray(line) < _ON_LINE) & (above < _ON_LINE_ABOVE * lift))
+    on = fg_px & ((np.asarray(line) >= _ON_LINE) | (above >= _ON_LINE_ABOVE * lift))
     if on.sum() < max(4, _ON_LINE_KEEP * fg_px.sum()):
         return fg_px
     return on
