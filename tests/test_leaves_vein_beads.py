@@ -71,3 +71,18 @@ def test_pasted_vein_layer_keeps_to_the_vein(specked):
     for o, c in rows:
         assert o < 0.25 and c > 0.5
 
+
+
+def test_bead_measure_sees_the_pasted_vein_layer(specked):
+    """``_measure_beads.measure`` reads the vein layer where the synthesis pastes it: before the fix its hook
+    (``generate_leaf``'s locals) no longer saw the paste: KeyError on ``c``."""
+    a, truths = specked
+    leaf, cap = mb._trace_leaf(a, 0)
+    assert cap["k"] == 0 and cap["a_k"].shape == leaf.blade.shape and cap["c"].shape[:2] == leaf.blade.shape
+    rows, limit = mb.measure(a, truths, n_new=2)
+    gaps = np.array([r[0] for r in rows])
+    pieces = np.array([r[1] for r in rows])
+    assert np.isfinite(gaps).all() and np.isfinite(pieces).all(), rows
+    # A pasted 1-2 px procedural vein stays about as continuous as its donor's.
+    assert gaps.max() < 0.25, rows
+    assert limit > 0

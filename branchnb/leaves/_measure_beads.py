@@ -167,12 +167,21 @@ def outline_turning(blade: np.ndarray, arc: int = 3) -> np.ndarray:
 
 
 def _trace_leaf(a, seed):
-    """``generate_leaf(a, seed)`` with its vein layer's sample coordinates and coverage."""
+    """``generate_leaf(a, seed)`` with its vein layer's sample coordinates and coverage.
+
+    Read from the locals of :func:`branchnb.leaves.synthesis_layers._paste_layers` as it returns: the
+    layers are pasted bottom first, so its last ``c`` (the donor's source coordinates) and ``a_k`` (the
+    sampled layer coverage) are layer 0's whenever layer 0 had a donor. (``generate_leaf``'s own locals
+    held them before the paste moved there; the hook then saw neither and measure() failed on them.) Both are
+    returned on the whole canvas (0 outside the work box the synthesis computed the leaf on).
+    """
     from . import synthesis
+    from .synthesis_layers import _paste_layers
+    code = _paste_layers.__code__
     cap = {}
 
     def prof(frame, event, arg):
-        if event == "return" and frame.f_code.co_name == "generate_leaf":
+        if event == "return" and frame.f_code is code:
             cap.update(frame.f_locals)
 
     old = sys.getprofile()
@@ -181,6 +190,18 @@ def _trace_leaf(a, seed):
         leaf = synthesis.generate_leaf(a, seed)
     finally:
         sys.setprofile(old)
+    if "chosen" not in cap:
+        raise RuntimeError("_measure_beads: generate_leaf no longer pastes its layers through "
+                           "synthesis_layers._paste_layers; update _trace_leaf")
+    if "a_k" in cap:
+        # The paste works on the new leaf's work box (``p.last_box``); the measure reads the whole canvas.
+        box = cap["p"].last_box
+        shape = leaf.blade.shape
+        c = np.zeros(shape + (2,), np.float32)
+        a_k = np.zeros(shape, np.float32)
+        c[box] = cap["c"][..., :2]
+        a_k[box] = cap["a_k"]
+        cap["c"], cap["a_k"] = c, a_k
     return leaf, cap
 
 
@@ -208,7 +229,7 @@ def measure(a, truths, n_new=8, rng=0, k=None):
         leaf, cap = _trace_leaf(a, int(s))
         e = leaf.layers.get(a.layers[k].name, -1)
         spikes = float(outline_turning(_lamina(leaf.blade)).max(initial=0.0))
-        if e < 0 or k != 0:
+        if e < 0 or k != 0 or cap.get("k") != 0 or "a_k" not in cap:
             rows.append((float("nan"), float("nan"), spikes, e))
             continue
         donor = np.asarray(p.stage[k][e], np.float32)

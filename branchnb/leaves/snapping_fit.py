@@ -270,6 +270,30 @@ def fit_branches(chains, evidence, blade, *, reach: float, max_angle: float = 25
     >>> bool(np.abs(moved[:, 1] - 40).max() < 1.0)
     True
     """
+    fit = _fit_template(chains, evidence, blade, reach=reach, max_angle=max_angle, penalty=penalty,
+                        hessian=hessian, maps=maps)
+    out = _fit_each(fit, branch_angle=branch_angle, overlap=overlap)
+    return (out, fit.score) if return_score else out
+
+
+class _TemplateFit:
+    """The template stage of :func:`fit_branches` (its score decides between starts), for :func:`_fit_each`."""
+
+    __slots__ = ("cs", "score", "ev", "good", "dense", "hess", "centre", "pose", "penalty", "reach")
+
+    def __init__(self, cs, score, ev=None, good=None, dense=None, hess=None, centre=None, pose=None,
+                 penalty=0.0, reach=0.0):
+        self.cs, self.score, self.ev, self.good, self.dense = cs, score, ev, good, dense
+        self.hess, self.centre, self.pose, self.penalty, self.reach = hess, centre, pose, penalty, reach
+
+
+def _fit_template(chains, evidence, blade, *, reach: float, max_angle: float = 25.0, penalty: float = 0.1,
+                  hessian=None, maps=None) -> _TemplateFit:
+    """:func:`fit_branches`' first stage: the branches moved as one template, and its score.
+
+    Split off so that several starts are compared on their template scores and only the winner pays
+    for the per-branch stage (:func:`_fit_each`; the same numbers as :func:`fit_branches`).
+    """
     import cv2
     ev = np.asarray(evidence, np.float32)
     blade = as_mask(blade, shape=ev.shape, name="blade")
@@ -278,7 +302,7 @@ def fit_branches(chains, evidence, blade, *, reach: float, max_angle: float = 25
     cs = [np.asarray(c, np.float64) for c in chains]
     good = [len(c) >= 2 and bool(np.all(np.isfinite(c))) for c in cs]
     if reach <= 0 or not any(good):
-        return (cs, -np.inf) if return_score else cs
+        return _TemplateFit(cs, -np.inf)
     dense = [_densify(c) if g else (None, 0.0) for c, g in zip(cs, good)]
     allp = np.concatenate([d for d, _ in dense if d is not None])
     tang = [_tangents(d) for d, _ in dense if d is not None]
@@ -299,6 +323,17 @@ def fit_branches(chains, evidence, blade, *, reach: float, max_angle: float = 25
     score, a, sc, d = _pose_search(allp, centre, ev, reach, (0.0,), (1.0,), _grid(1.0, 1.0), a, sc, d, penalty,
                                    allt, hess)
     cs = [_apply_pose(c, centre, a, sc, d) for c in cs]
+    return _TemplateFit(cs, score, ev, good, dense, hess, centre, (a, sc, d), penalty, reach)
+
+
+def _fit_each(fit: _TemplateFit, *, branch_angle: float = 10.0, overlap: float = 0.3) -> list:
+    """:func:`fit_branches`' second stage: each branch of the posed template moved about its junction."""
+    cs = fit.cs
+    if fit.ev is None:
+        return cs
+    ev, good, dense, hess, centre, penalty, reach = fit.ev, fit.good, fit.dense, fit.hess, fit.centre, \
+        fit.penalty, fit.reach
+    a, sc, d = fit.pose
     ends = np.array([[c[0], c[-1]] for c, g in zip(cs, good) if g]).reshape(-1, 2)
     out = list(cs)
     rb = min(reach / 3.0, 8.0)
@@ -338,7 +373,7 @@ def fit_branches(chains, evidence, blade, *, reach: float, max_angle: float = 25
         a2, s2, d2, ix, iy = chosen
         out[i] = _apply_pose(cs[i], pivot, a2, s2, d2)
         _stamp(placed, iy, ix, 3)
-    return (out, score) if return_score else out
+    return out
 
 
 def _branch_poses(p, pivot, ev, reach, max_angle, penalty, keep: int = 12, tang=None, hess=None):

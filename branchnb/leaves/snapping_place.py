@@ -13,7 +13,7 @@ from scipy import ndimage as ndi
 from .snapping_aim import _reaim_laterals
 from .snapping_basal import ANCHOR_MOVE, ANCHOR_REACH, ANCHOR_SHARE, _junction_of
 from .snapping_carry import _affine_carry, _moment_carry, carry_points
-from .snapping_fit import fit_branches
+from .snapping_fit import _fit_each, _fit_template
 from .snapping_star import reseat_star
 from .snapping_trace import refine_carried, trace_branches
 
@@ -36,26 +36,31 @@ def _template_start(registration, blade_t, b_full, chains, carried, off, ev, b, 
               [c - off for c in _moment_carry(blade_t, b_full, chains)]]
     if registration_start > 0:
         starts.append(carried)
+    # The starts compete on their template scores; only the winner's branches are then posed one by one
+    # (the per-branch stage was a third of the fits' time; the same poses as fitting every start fully).
     for k, start in enumerate(starts):
         if only_start is not None and k != only_start:
             continue
-        got, score = fit_branches(start, ev, b, reach=fit_reach * np.sqrt(float(b.sum())),
-                                  return_score=True, hessian=hess, maps=omaps)
-        if k == 2:
-            score = score / registration_start
+        fit = _fit_template(start, ev, b, reach=fit_reach * np.sqrt(float(b.sum())), hessian=hess, maps=omaps)
+        score = fit.score / registration_start if k == 2 else fit.score
         if best is None or score > best[1]:
-            best = (got, score)
-    if anchor is not None and best is not None and ANCHOR_SHARE > 0 and only_start is None:
+            best = (fit, score)
+    if best is None:
+        return None
+    best = (_fit_each(best[0]), best[1])
+    if anchor is not None and ANCHOR_SHARE > 0 and only_start is None:
         # The template's junction held at the exemplar's own petiole base.
         jc = _affine_carry(registration, blade_t, [anchor[0][None]])[0][0] - off
         held = [c + (anchor[1] - jc) for c in starts[0]]
-        got, score = fit_branches(held, ev, b, reach=ANCHOR_REACH * np.sqrt(float(b.sum())),
-                                  return_score=True, hessian=hess, maps=omaps)
-        # Only where the fit moved the junction away from the petiole (else it is kept).
-        moved = np.hypot(*(_junction_of(best[0], star) - _junction_of(got, star)))
-        if score >= ANCHOR_SHARE * best[1] and moved > ANCHOR_MOVE * np.sqrt(float(b.sum())):
-            best = (got, score)
-    return None if best is None else best[0]
+        fit = _fit_template(held, ev, b, reach=ANCHOR_REACH * np.sqrt(float(b.sum())), hessian=hess, maps=omaps)
+        score = fit.score
+        if score >= ANCHOR_SHARE * best[1]:
+            got = _fit_each(fit)
+            # Only where the fit moved the junction away from the petiole (else it is kept).
+            moved = np.hypot(*(_junction_of(best[0], star) - _junction_of(got, star)))
+            if moved > ANCHOR_MOVE * np.sqrt(float(b.sum())):
+                best = (got, score)
+    return best[0]
 
 
 def _place_branches(chains, widths, n_user, registration, blade_t, b_full, off, b, ev, hess, pev, centre, omaps,
