@@ -58,6 +58,8 @@ def _thin(sil: np.ndarray, band: float) -> np.ndarray:
 
 #: Largest scale of the noise in thin parts (:func:`_thin_rough`), in widths of the part.
 THIN_SCALE = 1.0
+#: Factor on the strength of that noise (on the ``amount`` given to :func:`_thin_rough`).
+THIN_GAIN = 1.0
 
 
 def _thin_width(thin: np.ndarray) -> float:
@@ -89,6 +91,7 @@ def _thin_rough(thin: np.ndarray, amount: float, rng) -> np.ndarray:
     out = np.ones(thin.shape)
     if amount <= 0 or not thin.any():
         return out
+    amount = amount * THIN_GAIN
     gen = np.random.default_rng(rng)
     width = _thin_width(thin)
     field = np.zeros(thin.shape)

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage
 
-from ..core.image import as_gray
+from ..core.image import as_float_image, as_gray
 from ..core.params import check_params, param
 from ..core.validate import Real, checked
 
@@ -147,13 +147,42 @@ def gradient_strength(image, *, sigma: float = 1.0, min_edge: float = 0.05) -> n
     (0.0, 1.0)
     """
     gray = as_gray(image).astype(np.float64)
-    if sigma > 0:
-        g = ndimage.gaussian_gradient_magnitude(gray, sigma)
-    else:
-        gy, gx = np.gradient(gray)
-        g = np.hypot(gx, gy)
+    g = _magnitude(gray, sigma)
+    # the reference is the luminance's alone: a picture without colour borders keeps its G
     ref = max(float(np.percentile(g, 99.0)), float(min_edge))
+    chroma = _opponent(image)
+    if chroma is not None:
+        gc = np.hypot(_magnitude(chroma[0], sigma), _magnitude(chroma[1], sigma))
+        g = np.maximum(g, CHROMA_WEIGHT * gc)
     return np.clip(g / ref, 0.0, 1.0).astype(np.float32)
+
+
+#: Weight of the colour (opponent-channel) gradient against the luminance's in
+#: :func:`gradient_strength`: a colour border counts where it is steeper than the luminance's
+#: edge by ``1 / CHROMA_WEIGHT``.
+CHROMA_WEIGHT = 0.5
+
+
+def _magnitude(channel: np.ndarray, sigma: float) -> np.ndarray:
+    if sigma > 0:
+        return ndimage.gaussian_gradient_magnitude(channel, sigma)
+    gy, gx = np.gradient(channel)
+    return np.hypot(gx, gy)
+
+
+def _opponent(image) -> np.ndarray | None:
+    """The two opponent colour channels ``(R - G) / sqrt 2`` and ``(R + G - 2 B) / sqrt 6``
+    of a colour image (orthogonal to grey, in the units of the luminance), or None for a grey
+    one (a single channel or equal R, G, B)."""
+    img = as_float_image(image).astype(np.float64)
+    if img.shape[2] < 3:
+        return None
+    r, gr, b = img[..., 0], img[..., 1], img[..., 2]
+    o1 = (r - gr) / np.sqrt(2.0)
+    o2 = (r + gr - 2.0 * b) / np.sqrt(6.0)
+    if not (np.ptp(o1) > 1e-6 or np.ptp(o2) > 1e-6):
+        return None
+    return np.stack([o1, o2])
 
 
 @checked()
