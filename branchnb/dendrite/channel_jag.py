@@ -60,6 +60,8 @@ def _thin(sil: np.ndarray, band: float) -> np.ndarray:
 THIN_SCALE = 1.0
 #: Factor on the strength of that noise (on the ``amount`` given to :func:`_thin_rough`).
 THIN_GAIN = 1.0
+#: Share of the outline band's cost kept in thin parts on the main channel's cost.
+THIN_BAND = 1.0
 
 
 def _thin_width(thin: np.ndarray) -> float:

@@ -18,8 +18,11 @@ twig (:func:`thin_on_ground`): the widest path jumped from letter to letter, and
 icons a quarter of the ink lay on the paper. Parts are found on the object that differs in
 colour from the frame (:func:`~branchnb.dendrite.foreground._object_mask`) where there is
 one: the importance's blurred edges and a drop shadow joined the letters of "Oak" into one
-blob. Limits: objects that overlap or touch along a wide stretch are one part (traced by the
-paper's bolt as before); letters under ``OUTLINE_MIN_PART`` of the picture (a line of small
+blob. Objects that overlap or touch along a wide stretch are split where they differ in
+colour along a sharp border (:func:`split_by_colour`, dendrite41: two overlapping fruits of
+different colours, letters of two colours overlapping in a bold word), each traced on its own.
+Limits: touching objects of one colour are one part (traced by the paper's bolt as before);
+letters under ``OUTLINE_MIN_PART`` of the picture (a line of small
 text) keep the paper's bolt; a thin piece without a core (a pole) counts as a part but is not
 split.
 
