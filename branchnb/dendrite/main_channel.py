@@ -25,7 +25,6 @@ import dataclasses
 import numpy as np
 from scipy import ndimage
 
-from . import channel_jag as _cj
 from .channel_jag import CHANNEL_JAG, OUTLINE_JAG, _ground, _rough, _taut, _thin, _thin_rough
 from .dendrite import Dendrite, build_dendrite
 from .photo_strike import photo_channel  # noqa: F401  (re-exported: it was defined here)
@@ -635,8 +634,7 @@ def strike_channel(weights, content, seed, *, band: float = STRIKE_BAND,
         # in thin parts the noise's scales follow the part's width (dendrite38); the band's
         # depth still pulls the channel off the outline (flat, it ran along a thin trunk's
         # edge, off a tree at 250 px)
-        cost = np.where(thin, (w + mean * penalty * near * _cj.THIN_BAND) * _thin_rough(thin, jag, gen),
-                        cost)
+        cost = np.where(thin, (w + mean * penalty * near) * _thin_rough(thin, jag, gen), cost)
     res = plan(Lattice(cost), (sx, sy), metric="cumulative")
     nodes = res.path(int(end[1]) * w.shape[1] + int(end[0]))
     return _taut(np.column_stack([nodes % w.shape[1], nodes // w.shape[1]]).astype(np.int64))
