@@ -60,8 +60,8 @@ def _thin(sil: np.ndarray, band: float) -> np.ndarray:
 #: (dendrite41: 1 -> 0.5, with :data:`THIN_GAIN`; see :func:`_thin_rough`).
 THIN_SCALE = 0.5
 #: Factor on the strength of that noise (on the ``amount`` given to :func:`_thin_rough`;
-#: dendrite41: 1 -> 3).
-THIN_GAIN = 3.0
+#: dendrite41: 1 -> 2; the median kept).
+THIN_GAIN = 2.0
 
 
 def _thin_width(thin: np.ndarray) -> float:
@@ -86,10 +86,11 @@ def _thin_rough(thin: np.ndarray, amount: float, rng) -> np.ndarray:
 
     Dendrite41: at scales up to the part's width and the channel's strength the bolt still
     ran straighter down a thin part than inside a wide one (its branches' turn per 10 px
-    inside a pole, a stem, a T 0.54x a wide blob's at 250 px); the octaves up to
-    ``THIN_SCALE = 0.5`` width, of ``THIN_GAIN = 3`` times the strength, make it zigzag
-    across the part (the main channel down a pole 8-12 px wide, 6 seeds: 21.6 -> 32.4 deg
-    per 10 px; more gain or smaller scales add nothing: the part's width bounds the turn).
+    inside a pole, a stem, a T 0.54x a wide blob's at 250 px); octaves up to
+    ``THIN_SCALE = 0.5`` width with ``THIN_GAIN = 2`` times the spread (the median kept, so a
+    thin part costs what it did against the wide parts) make it zigzag across the part (the
+    main channel down a pole 8-12 px wide, 6 seeds: 21.6 -> 31.0 deg per 10 px; more gain or
+    smaller scales add little: the part's width bounds the turn).
 
     >>> m = np.zeros((64, 64), bool); m[:, 28:36] = True
     >>> r = _thin_rough(m, 1.8, 0)
@@ -100,7 +101,6 @@ def _thin_rough(thin: np.ndarray, amount: float, rng) -> np.ndarray:
     out = np.ones(thin.shape)
     if amount <= 0 or not thin.any():
         return out
-    amount = amount * THIN_GAIN
     gen = np.random.default_rng(rng)
     width = _thin_width(thin)
     field = np.zeros(thin.shape)
@@ -108,7 +108,9 @@ def _thin_rough(thin: np.ndarray, amount: float, rng) -> np.ndarray:
         octave = ndimage.gaussian_filter(gen.standard_normal(thin.shape), sigma, mode="reflect")
         field += octave / max(float(octave.std()), 1e-12)
     field /= max(float(field[thin].std()), 1e-12)
-    out[thin] = np.exp(amount * field[thin] - 0.5 * amount ** 2)
+    # the gain widens the spread but keeps the median (the part's cost against the wide
+    # parts': scaled to mean 1 instead, a thin part at 3x became a highway 1e-6 as cheap)
+    out[thin] = np.exp(THIN_GAIN * amount * field[thin] - 0.5 * amount ** 2)
     return out
 
 #: Where :func:`_ground` clips the noise's low side (in stds): below it the ground is flat.
