@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import ndimage
 
-from ..core.image import as_gray
+from ..core.image import as_gray, as_rgb
 from .dendrite import Dendrite, build_dendrite
 from .endpoints import place_endpoints
 from .foreground import _object_mask
@@ -89,12 +89,14 @@ class _StrikeSteps:
         The object that differs in colour from the frame
         (:func:`~branchnb.dendrite.foreground._object_mask`) where there is one, else the
         content's silhouette: the importance's blurred edges and a drop shadow join a word's
-        letters into one blob.
+        letters into one blob. Parts of two colours meeting along a sharp border are split
+        (:func:`~branchnb.dendrite.strike_outline.split_by_colour`).
         """
         def make():
             obj = _object_mask(self.working_image(p))
             objs = obj & content if obj is not None else silhouette(content)
-            return objs, outline_parts(objs)
+            # and split by colour: touching fruits, overlapping letters of two colours
+            return objs, outline_parts(objs, image=as_rgb(self.working_image(p)))
         return self._get(("outline_parts", _subset(p, _IMPORTANCE), p.endpoint_threshold), make)
 
     def _traced_outlines(self, p: StylizeParams) -> np.ndarray | None:
