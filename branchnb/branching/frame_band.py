@@ -138,3 +138,68 @@ def band_keep(tip, new_pts: np.ndarray, off: bool, shape, band: float,
             break
         off = off or bool(out[k])
     return ok, off
+
+
+#: Width (pixels) of the wider band along the frame in which a branch may not run parallel to a side
+#: for long (beyond the paper, issue 23, branching84; :func:`parallel_keep`).
+PARALLEL_BAND = 25.0
+#: ... for more than this share of that side's length (the run along it, stepping less than
+#: :data:`FRAME_EXIT` x its length toward or away from it).
+PARALLEL_SHARE = 1.0 / 16.0
+
+
+def parallel_keep(tip, new_pts: np.ndarray, run: float, shape, skip_side: int = -1,
+                  band: float = PARALLEL_BAND, share: float = PARALLEL_SHARE) -> tuple[np.ndarray, float]:
+    """``(ok, run)``: which points ``new_pts`` (n, 2) after ``tip`` a branch keeps, and the length it has
+    now run along a side within ``band`` px of it.
+
+    Beyond the paper (issue 23, branching84): the 6-px band (:func:`band_keep`) leaves a trunk that
+    reached the far side free to turn and run along it 10-25 px inside (a painted root system, 320 px:
+    the left trunk ran 170 px along the bottom). The example's trunks end before the far side; so once
+    a branch has run more than ``share`` x a side's length within ``band`` px of it and parallel to it
+    (each step less than :data:`FRAME_EXIT` x its length closer to or farther from it), the points from
+    there on are dropped: the branch ends there.
+
+    Parameters
+    ----------
+    tip : (x, y)
+        The branch's last point.
+    new_pts : (n, 2) ndarray
+        The step's new points.
+    run : float
+        The length run along a side so far (0 at the branch's start).
+    shape : (H, W)
+        The canvas.
+    skip_side : int, default -1
+        A side (0 left, 1 top, 2 right, 3 bottom) not counted: the one the branch enters by.
+    band, share : float
+        The band's width (pixels) and the longest run as a share of the side.
+
+    Returns
+    -------
+    (ndarray of bool, float)
+        ``(ok, run)``.
+
+    Examples
+    --------
+    >>> ok, run = parallel_keep((10.0, 90.0), np.array([[20.0, 90.0], [30.0, 91.0], [40.0, 90.0]]), 0.0,
+    ...                         (100, 200))
+    >>> ok.tolist(), round(run, 1)
+    ([True, False, False], 20.0)
+    """
+    q = np.vstack([np.asarray(tip, np.float64).reshape(1, 2), np.asarray(new_pts, np.float64).reshape(-1, 2)])
+    h, w = shape[:2]
+    all_d = np.stack([q[:, 0], q[:, 1], w - 1.0 - q[:, 0], h - 1.0 - q[:, 1]], 1)
+    side = np.argmin(all_d, 1)
+    d = all_d[np.arange(len(q)), side]
+    seg = np.hypot(*np.diff(q, axis=0).T)
+    ok = np.ones(len(q) - 1, bool)
+    for k in range(len(q) - 1):
+        s = int(side[k + 1])
+        along = d[k + 1] < band and s != skip_side and \
+            abs(all_d[k, s] - all_d[k + 1, s]) < FRAME_EXIT * seg[k]
+        run = run + float(seg[k]) if along else 0.0
+        if run > share * (w if s in (1, 3) else h):
+            ok[k:] = False
+            break
+    return ok, run
