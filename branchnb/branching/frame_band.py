@@ -6,7 +6,9 @@ the top, 320 px) the synthesized trunks reached the bottom, turned 90 deg and ra
 of the canvas, and children lay along the sides. ``growth._Grower`` reads here how wide a band along
 the frame a branch may not run back into (:func:`band_keep`), and where the example's lines leave
 the frame (:func:`_frame_ends`); the rule holds only where the example keeps off its own frame
-(:func:`_frame_share`).
+(:func:`_frame_share`). Within a wider band (:data:`PARALLEL_BAND`) a branch may not run along a side
+for long either (:func:`parallel_keep`, branching84): it ends there, as the example's trunks end
+before the far side.
 """
 
 from __future__ import annotations
@@ -141,15 +143,18 @@ def band_keep(tip, new_pts: np.ndarray, off: bool, shape, band: float,
 
 
 #: Width (pixels) of the wider band along the frame in which a branch may not run parallel to a side
-#: for long (beyond the paper, issue 23, branching84; :func:`parallel_keep`).
+#: for long (beyond the paper, issue 23, branching84; :func:`parallel_keep`) ...
 PARALLEL_BAND = 25.0
+#: ... or this share of the canvas's short side when wider (a 768 px root system's trunk ran 200 px
+#: along the bottom 50 px above it).
+PARALLEL_BAND_SHARE = 0.08
 #: ... for more than this share of that side's length (the run along it, stepping less than
 #: :data:`FRAME_EXIT` x its length toward or away from it).
 PARALLEL_SHARE = 1.0 / 16.0
 
 
 def parallel_keep(tip, new_pts: np.ndarray, run: float, shape, skip_side: int = -1,
-                  band: float = PARALLEL_BAND, share: float = PARALLEL_SHARE) -> tuple[np.ndarray, float]:
+                  band: float | None = None, share: float = PARALLEL_SHARE) -> tuple[np.ndarray, float]:
     """``(ok, run)``: which points ``new_pts`` (n, 2) after ``tip`` a branch keeps, and the length it has
     now run along a side within ``band`` px of it.
 
@@ -172,8 +177,11 @@ def parallel_keep(tip, new_pts: np.ndarray, run: float, shape, skip_side: int = 
         The canvas.
     skip_side : int, default -1
         A side (0 left, 1 top, 2 right, 3 bottom) not counted: the one the branch enters by.
-    band, share : float
-        The band's width (pixels) and the longest run as a share of the side.
+    band : float, optional
+        The band's width (pixels); default the larger of :data:`PARALLEL_BAND` and
+        :data:`PARALLEL_BAND_SHARE` x the short side.
+    share : float
+        The longest run as a share of the side.
 
     Returns
     -------
@@ -189,6 +197,8 @@ def parallel_keep(tip, new_pts: np.ndarray, run: float, shape, skip_side: int = 
     """
     q = np.vstack([np.asarray(tip, np.float64).reshape(1, 2), np.asarray(new_pts, np.float64).reshape(-1, 2)])
     h, w = shape[:2]
+    if band is None:
+        band = max(PARALLEL_BAND, PARALLEL_BAND_SHARE * min(h, w))
     all_d = np.stack([q[:, 0], q[:, 1], w - 1.0 - q[:, 0], h - 1.0 - q[:, 1]], 1)
     side = np.argmin(all_d, 1)
     d = all_d[np.arange(len(q)), side]

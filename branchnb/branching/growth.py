@@ -39,6 +39,7 @@ from .frame_band import (
     FRAME_EXIT,
     FRAME_HUG_SHARE,
     PARALLEL_BAND,
+    PARALLEL_BAND_SHARE,
     _frame_ends,
     _frame_share,
     _frame_sides,
@@ -429,7 +430,7 @@ class _Grower(_Starts, _Filling):
         """Which of a step's new points ``new_pts`` branch ``bi`` may keep before it has run along a side of
         the frame for long (:func:`.frame_band.parallel_keep`; the side it starts near not counted)."""
         d0, s0 = _frame_sides(st.points[0], self.shape)
-        skip = int(s0[0]) if d0[0] < PARALLEL_BAND else -1
+        skip = int(s0[0]) if d0[0] < max(PARALLEL_BAND, PARALLEL_BAND_SHARE * min(self.shape[:2])) else -1
         ok, self._par_run[bi] = parallel_keep(tip, new_pts, self._par_run.get(bi, 0.0), self.shape, skip)
         return ok
 
