@@ -6,7 +6,9 @@ the top, 320 px) the synthesized trunks reached the bottom, turned 90 deg and ra
 of the canvas, and children lay along the sides. ``growth._Grower`` reads here how wide a band along
 the frame a branch may not run back into (:func:`band_keep`), and where the example's lines leave
 the frame (:func:`_frame_ends`); the rule holds only where the example keeps off its own frame
-(:func:`_frame_share`).
+(:func:`_frame_share`). Within a wider band (:data:`PARALLEL_BAND`) a branch may not run along a side
+for long either (:func:`parallel_keep`, branching84): it ends there, as the example's trunks end
+before the far side.
 
 In an example that drains to a sea (a delta, ``drain._Drain``) the sea's coast is one more side where
 the example's lines end: a step in the band that heads for the sea as steeply as one heading out of
@@ -155,3 +157,76 @@ def band_keep(tip, new_pts: np.ndarray, off: bool, shape, band: float,
             break
         off = off or bool(out[k])
     return ok, off
+
+
+#: Width (pixels) of the wider band along the frame in which a branch may not run parallel to a side
+#: for long (beyond the paper, issue 23, branching84; :func:`parallel_keep`) ...
+PARALLEL_BAND = 25.0
+#: ... or this share of the canvas's short side when wider (a 768 px root system's trunk ran 200 px
+#: along the bottom 50 px above it).
+PARALLEL_BAND_SHARE = 0.08
+#: ... for more than this share of that side's length (the run along it, stepping less than
+#: :data:`FRAME_EXIT` x its length toward or away from it).
+PARALLEL_SHARE = 1.0 / 16.0
+
+
+def parallel_keep(tip, new_pts: np.ndarray, run: float, shape, skip_side: int = -1,
+                  band: float | None = None, share: float = PARALLEL_SHARE) -> tuple[np.ndarray, float]:
+    """``(ok, run)``: which points ``new_pts`` (n, 2) after ``tip`` a branch keeps, and the length it has
+    now run along a side within ``band`` px of it.
+
+    Beyond the paper (issue 23, branching84): the 6-px band (:func:`band_keep`) leaves a trunk that
+    reached the far side free to turn and run along it 10-25 px inside (a painted root system, 320 px:
+    the left trunk ran 170 px along the bottom). The example's trunks end before the far side; so once
+    a branch has run more than ``share`` x a side's length within ``band`` px of it and parallel to it
+    (each step less than :data:`FRAME_EXIT` x its length closer to or farther from it), the points from
+    there on are dropped: the branch ends there.
+
+    Parameters
+    ----------
+    tip : (x, y)
+        The branch's last point.
+    new_pts : (n, 2) ndarray
+        The step's new points.
+    run : float
+        The length run along a side so far (0 at the branch's start).
+    shape : (H, W)
+        The canvas.
+    skip_side : int, default -1
+        A side (0 left, 1 top, 2 right, 3 bottom) not counted: the one the branch enters by.
+    band : float, optional
+        The band's width (pixels); default the larger of :data:`PARALLEL_BAND` and
+        :data:`PARALLEL_BAND_SHARE` x the short side.
+    share : float
+        The longest run as a share of the side.
+
+    Returns
+    -------
+    (ndarray of bool, float)
+        ``(ok, run)``.
+
+    Examples
+    --------
+    >>> ok, run = parallel_keep((10.0, 90.0), np.array([[20.0, 90.0], [30.0, 91.0], [40.0, 90.0]]), 0.0,
+    ...                         (100, 200))
+    >>> ok.tolist(), round(run, 1)
+    ([True, False, False], 20.0)
+    """
+    q = np.vstack([np.asarray(tip, np.float64).reshape(1, 2), np.asarray(new_pts, np.float64).reshape(-1, 2)])
+    h, w = shape[:2]
+    if band is None:
+        band = max(PARALLEL_BAND, PARALLEL_BAND_SHARE * min(h, w))
+    all_d = np.stack([q[:, 0], q[:, 1], w - 1.0 - q[:, 0], h - 1.0 - q[:, 1]], 1)
+    side = np.argmin(all_d, 1)
+    d = all_d[np.arange(len(q)), side]
+    seg = np.hypot(*np.diff(q, axis=0).T)
+    ok = np.ones(len(q) - 1, bool)
+    for k in range(len(q) - 1):
+        s = int(side[k + 1])
+        along = d[k + 1] < band and s != skip_side and \
+            abs(all_d[k, s] - all_d[k + 1, s]) < FRAME_EXIT * seg[k]
+        run = run + float(seg[k]) if along else 0.0
+        if run > share * (w if s in (1, 3) else h):
+            ok[k:] = False
+            break
+    return ok, run

@@ -38,10 +38,13 @@ from .frame_band import (
     FRAME_END,
     FRAME_EXIT,
     FRAME_HUG_SHARE,
+    PARALLEL_BAND,
+    PARALLEL_BAND_SHARE,
     _frame_ends,
     _frame_share,
     _frame_sides,
     band_keep,
+    parallel_keep,
 )
 from .guidance import Guidance
 from .model import StructureModel, _choice
@@ -377,6 +380,7 @@ class _Grower(_Starts, _Filling):
         # (per side: a river network leaving through the bottom of its example leaves only through the bottom)
         self.frame_exit = np.where(_frame_ends(model.example, FRAME_END), FRAME_EXIT, np.inf)
         self._left_band: set = set()
+        self._par_run: dict = {}   # per branch, the length run along a side of the frame (_along_frame)
         self.radial = False   # roots are hub primaries (set by run)
         self._gen_cap: dict = {}   # radial: children per generation at most (.radial._generation_caps)
         self._empty_dt: np.ndarray | None = None
@@ -420,6 +424,14 @@ class _Grower(_Starts, _Filling):
         ok, off = self._band_ok(tip, new_pts, off)
         if off:
             self._left_band.add(bi)
+        return ok
+
+    def _along_frame(self, bi: int, st, tip, new_pts: np.ndarray) -> np.ndarray:
+        """Which of a step's new points ``new_pts`` branch ``bi`` may keep before it has run along a side of
+        the frame for long (:func:`.frame_band.parallel_keep`; the side it starts near not counted)."""
+        d0, s0 = _frame_sides(st.points[0], self.shape)
+        skip = int(s0[0]) if d0[0] < max(PARALLEL_BAND, PARALLEL_BAND_SHARE * min(self.shape[:2])) else -1
+        ok, self._par_run[bi] = parallel_keep(tip, new_pts, self._par_run.get(bi, 0.0), self.shape, skip)
         return ok
 
     def _band_ok(self, tip, new_pts: np.ndarray, off: bool) -> tuple[np.ndarray, bool]:
@@ -742,6 +754,7 @@ class _Grower(_Starts, _Filling):
         ok = self._inside(new_pts)
         if self.frame_band > 0 and len(new_pts):
             ok &= self._off_frame(bi, st, tip, new_pts)
+            ok &= self._along_frame(bi, st, tip, new_pts)
         if not ok.all():
             cut = int(np.argmin(ok))
             new_pts, ang, rad = new_pts[:cut], ang[:cut], rad[:cut]

@@ -17,6 +17,7 @@ from scipy.sparse import csgraph
 from ..core.polyline import arc_length, polyline_length, resample_uniform
 from ..core.structure import Branch, Structure
 from .delta_source import _delta_source_key, _fan_root
+from .frame_trunks import frame_trunks
 from .small_frames import SMALL_SIDE
 
 __all__ = [
@@ -260,22 +261,35 @@ SMALL_VOTES = 3
 SMALL_FRAME = ENTRY_FRAME
 
 
-def _one_per_line(entries: list[int], g, r: np.ndarray, r_entry: float) -> list[int]:
+def _one_per_line(entries: list[int], g, r: np.ndarray, r_entry: float,
+                  side: np.ndarray | None = None) -> list[int]:
     """``entries`` less those joined to an earlier one by a line at least half as thick as the thinnest
     entry: one thick line crossing the frame (a crack's trunk from side to side) enters once, at its
-    thickest end (not split into two trees meeting in its middle)."""
+    thickest end (not split into two trees meeting in its middle).
+
+    ``side`` (per node, the frame side it is nearest to; optional): entries on the same side are two
+    trunks, never one line (beyond the paper, issue 23, branching84): a line crossing the canvas leaves
+    by another side, while two root trunks from the top edge whose children touch are joined by a
+    line half as thick as they enter, and were one tree rooted at one trunk whose main branch ran
+    down it and up the other (a hairpin the synthesis copied).
+    """
     if len(entries) < 2:
         return entries
     thick = np.flatnonzero(r >= 0.5 * r_entry)
     sub = g[thick][:, thick]
     _n, lab = csgraph.connected_components(sub, directed=False)
     where = dict(zip(thick.tolist(), lab.tolist()))
-    seen, out = set(), []
+    seen: dict = {}
+    out = []
     for e in entries:
         c = where.get(e, -1 - e)
-        if c not in seen:
-            seen.add(c)
-            out.append(e)
+        sides = seen.setdefault(c, set())
+        s_e = -1 if side is None else int(side[e])
+        # a line already entered here: it may enter once more only by the same side (a second trunk)
+        if sides and (side is None or s_e not in sides):
+            continue
+        sides.add(s_e)
+        out.append(e)
     return out
 
 
@@ -637,6 +651,8 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
         where[ys, xs] = np.arange(len(ys))
         hub_nodes = np.asarray([where[int(y), int(x)] for y, x in hub_yx], np.int64)
         hub_nodes = hub_nodes[hub_nodes >= 0]
+    # the frame side each node is nearest to (0 left, 1 top, 2 right, 3 bottom; see _one_per_line)
+    node_side = np.argmin(np.stack([xs, ys, ww - 1 - xs, hh - 1 - ys], 1), 1)
     for c in np.flatnonzero(comp_len >= min_len):
         members = np.flatnonzero(comp == c)
         ends = members[deg[members] == 1]
@@ -678,9 +694,18 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
                                              r_full if even else None, members if even else None,
                                              0.0 if small else ENTRY_RADII)
                     entries = _one_per_line(entries, g, r_full, -key[np.isin(cand, entries)].min()
-                                            if entries else 0.0)
+                                            if entries else 0.0, node_side)
+                    # trunks entering less than twice as thick as the piece's median line (a river
+                    # network from the bottom edge: 1.5-1.8 x), each rooting its own tree (.frame_trunks);
+                    # beside a full-thickness entry, those entering by its side of the frame
+                    trunks = frame_trunks(g, deg, cand, members, pts_full, r_full,
+                                          border_dist[ys[cand], xs[cand]] / scale, -key, node_side)
                     if entries:
-                        roots.extend(entries)
+                        trunks = [t for t in trunks if node_side[t] in {int(node_side[e]) for e in entries}
+                                  and all(np.hypot(*(pts_full[t] - pts_full[e])) > 4.0 * r_full[e]
+                                          for e in entries)]
+                    if entries or trunks:
+                        roots.extend(entries + trunks)
                         continue
                     # lines of one width (within a pixel: 1 and 2 px lines), no end much thicker than the
                     # others (a drawn root system's trunks among its thin roots; an end is as thick as the
