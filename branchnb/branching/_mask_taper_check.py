@@ -7,8 +7,9 @@ vessel,crack,delta,comb,dfan 128,256,512``) runs each kind through the default w
 mask sampled along every branch of the structure, example and output alike): ``thick_end`` the share of
 branches whose end radius is more than 2 x their start radius (start: just past the parent's body),
 ``tip`` the median radius over the last 2 px of the free ends, ``stubs`` the drawn children (ink along at
-least half their length beyond the parent) sticking out of their parent by less than 3 of their radii
-(at least 1 px each) over ``children``, ``pieces`` the most 8-connected ink
+least half their length from a pixel past the parent's ink) sticking out of it by less than 3 of their radii
+(at least 1 px each) with their ink ending at their tip (not a short child under a sibling drawn on from
+the same vertex) over ``children``, ``pieces`` the most 8-connected ink
 pieces one tree's centre lines touch (1 = every tree one piece).
 
 Kinds: :func:`taper_mask`'s ``vessel`` (white bifurcating tree, radius falling 0.7x per generation, round
@@ -148,6 +149,19 @@ def _along(dt: np.ndarray, pts) -> tuple[np.ndarray, np.ndarray]:
     return s, ndi.map_coordinates(dt, [np.interp(s, t, p[:, 1]), np.interp(s, t, p[:, 0])], order=1, mode="nearest")
 
 
+def _ink_runs_on(m: np.ndarray, pts) -> bool:
+    """Whether the ink ``m`` goes on 1.5 px past the end of the polyline ``pts`` along its last heading."""
+    p = np.asarray(pts, float)
+    d = p[-1] - p[-2]
+    n = float(np.hypot(*d))
+    if n < 1e-9:
+        return False
+    x, y = p[-1] + 1.5 * d / n
+    h, w = m.shape
+    xi, yi = int(round(x)), int(round(y))
+    return 0 <= xi < w and 0 <= yi < h and bool(m[yi, xi])
+
+
 def figures(img: np.ndarray, structure, min_len: float = 6.0) -> dict:
     """``thick_end``, ``tip``, ``stubs``, ``children`` and ``pieces`` of ``img`` along ``structure`` (see the module).
 
@@ -158,17 +172,25 @@ def figures(img: np.ndarray, structure, min_len: float = 6.0) -> dict:
     h, w = m.shape
     r_img = np.maximum(ndi.distance_transform_edt(m) - 0.5, 0.0)
     ends, tips, stubs, kids = [], [], 0, 0
-    for b in structure.branches:
+    bs = structure.branches
+    for b in bs:
         if len(b.points) < 2:
             continue
         s, v = _along(r_img, b.points)
         length = s[-1]
         a = float(v[0]) if b.parent is not None else 0.0
         body = v[s >= a] if np.any(s >= a) else v[-1:]
-        if b.parent is not None and np.mean(body > 0) >= 0.5:
+        # drawn: ink (a quarter pixel inside it) along at least half of the child from a pixel past the
+        # parent's edge, over a pixel at least (the distance transform at the start is the parent's
+        # narrowest half width, its round end reaches further). The interpolated distance transform is slightly positive for a pixel along the
+        # outside of that edge, which a child left out of the drawing at a shallow angle follows
+        clear = v[s >= a + 1.0]
+        if b.parent is not None and clear.size >= 3 and np.mean(clear >= 0.25) >= 0.5:
             # (a child with no ink beyond its parent is not drawn: no stub to see)
             kids += 1
-            stubs += int(length - a < 3.0 * max(float(np.median(body)), 1.0))
+            # a stub ends where its ink ends; a short child whose ink runs on past its tip (a sibling
+            # drawn over it from the same vertex) shows no end of its own
+            stubs += int(length - a < 3.0 * max(float(np.median(body)), 1.0) and not _ink_runs_on(m, b.points))
         if length - a < min_len:
             continue
         span = max(2.0, 0.15 * (length - a))

@@ -234,6 +234,8 @@ def _off_outline(has: np.ndarray, outline: np.ndarray) -> np.ndarray:
 #: colour in all of its 3 x 3 neighbours while at most :data:`SOLID_GROUND` of the other pixels do.
 SOLID_LINES = 0.3
 SOLID_GROUND = 0.02
+#: ... or at most a tenth of the lines' share, up to this (flat pebbles on a grainy soil).
+SOLID_GROUND_MAX = 0.05
 
 
 def _is_drawn(gray: np.ndarray) -> bool:
@@ -243,10 +245,18 @@ def _is_drawn(gray: np.ndarray) -> bool:
 
 
 def _solid_on_texture(solid: np.ndarray, has: np.ndarray) -> bool:
-    """Whether the pixels ``has`` are a solid paint (:data:`SOLID_LINES`) on a ground that is not."""
+    """Whether the pixels ``has`` are a solid paint (:data:`SOLID_LINES`) on a ground that is not.
+
+    The ground may hold a little solid paint of its own: pebbles painted flat on a grainy soil cover
+    3 % of a 1024 px root painting (2 % at most before, which sent it to the ridge filter: its grain
+    traced as short branches, precision 0.86). Up to a tenth of the lines' own solid share (at most
+    :data:`SOLID_GROUND_MAX`) the ground still counts as textured (beyond the paper).
+    """
     if not has.any() or has.all():
         return False
-    return bool(np.mean(solid[has]) >= SOLID_LINES and np.mean(solid[~has]) <= SOLID_GROUND)
+    lines = float(np.mean(solid[has]))
+    ground = float(np.mean(solid[~has]))
+    return bool(lines >= SOLID_LINES and ground <= max(SOLID_GROUND, min(SOLID_GROUND_MAX, 0.1 * lines)))
 
 
 def _drawn_branching_width(has: np.ndarray, sigma_max: float) -> float | None:
