@@ -142,6 +142,14 @@ def ink_mask(img: np.ndarray) -> np.ndarray:
     return np.abs(g - ground) > 0.5
 
 
+def _dense(pts) -> np.ndarray:
+    """Points every half pixel along the polyline ``pts`` (the samples of :func:`_along`)."""
+    p = np.asarray(pts, float)
+    t = np.r_[0, np.cumsum(np.hypot(*np.diff(p, axis=0).T))]
+    s = np.arange(0, t[-1] + 1e-9, 0.5)
+    return np.c_[np.interp(s, t, p[:, 0]), np.interp(s, t, p[:, 1])]
+
+
 def _along(dt: np.ndarray, pts) -> tuple[np.ndarray, np.ndarray]:
     p = np.asarray(pts, float)
     t = np.r_[0, np.cumsum(np.hypot(*np.diff(p, axis=0).T))]
@@ -149,14 +157,25 @@ def _along(dt: np.ndarray, pts) -> tuple[np.ndarray, np.ndarray]:
     return s, ndi.map_coordinates(dt, [np.interp(s, t, p[:, 1]), np.interp(s, t, p[:, 0])], order=1, mode="nearest")
 
 
-def _ink_runs_on(m: np.ndarray, pts) -> bool:
-    """Whether the ink ``m`` goes on 1.5 px past the end of the polyline ``pts`` along its last heading."""
+def _under_other(i: int, branches, tree, owner: np.ndarray, pts: np.ndarray) -> bool:
+    """Whether most points ``pts`` of branch ``i`` lie within a pixel of another branch's centre line (not
+    its parent's): a child drawn over by a sibling leaving the same vertex is that sibling's line."""
+    if tree is None or not len(pts):
+        return False
+    skip = {i, branches[i].parent}
+    near = tree.query_ball_point(pts, 1.0)
+    return float(np.mean([any(owner[j] not in skip for j in js) for js in near])) > 0.5
+
+
+def _ink_runs_on(m: np.ndarray, pts, r_end: float) -> bool:
+    """Whether the ink ``m`` goes on 1.5 px past the round cap (radius ``r_end`` + 0.5) at the end of the
+    polyline ``pts``, along its last heading."""
     p = np.asarray(pts, float)
     d = p[-1] - p[-2]
     n = float(np.hypot(*d))
     if n < 1e-9:
         return False
-    x, y = p[-1] + 1.5 * d / n
+    x, y = p[-1] + (max(float(r_end), 0.0) + 2.0) * d / n
     h, w = m.shape
     xi, yi = int(round(x)), int(round(y))
     return 0 <= xi < w and 0 <= yi < h and bool(m[yi, xi])
@@ -173,7 +192,12 @@ def figures(img: np.ndarray, structure, min_len: float = 6.0) -> dict:
     r_img = np.maximum(ndi.distance_transform_edt(m) - 0.5, 0.0)
     ends, tips, stubs, kids = [], [], 0, 0
     bs = structure.branches
-    for b in bs:
+    from scipy.spatial import cKDTree
+
+    dense = [(_dense(b.points), k) for k, b in enumerate(bs) if len(b.points) > 1]
+    tree = cKDTree(np.vstack([d for d, _ in dense])) if dense else None
+    owner = np.concatenate([np.full(len(d), k) for d, k in dense]) if dense else np.zeros(0, int)
+    for i, b in enumerate(bs):
         if len(b.points) < 2:
             continue
         s, v = _along(r_img, b.points)
@@ -190,7 +214,9 @@ def figures(img: np.ndarray, structure, min_len: float = 6.0) -> dict:
             kids += 1
             # a stub ends where its ink ends; a short child whose ink runs on past its tip (a sibling
             # drawn over it from the same vertex) shows no end of its own
-            stubs += int(length - a < 3.0 * max(float(np.median(body)), 1.0) and not _ink_runs_on(m, b.points))
+            if length - a < 3.0 * max(float(np.median(body)), 1.0):
+                past = _dense(b.points)[s >= a]
+                stubs += int(not _ink_runs_on(m, b.points, float(v[-1])) and not _under_other(i, bs, tree, owner, past))
         if length - a < min_len:
             continue
         span = max(2.0, 0.15 * (length - a))

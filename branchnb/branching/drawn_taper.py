@@ -198,10 +198,10 @@ def _depth(bs, i: int) -> int:
 
 def burrs(structure: Structure, radii: list, scale: float = 1.0) -> np.ndarray:
     """Per branch: a leaf child (no children of its own) that shows less than 3 of its radii and a pixel
-    (:data:`STUB_MARGIN`) beyond its parent's drawn body (``radii`` x ``scale``: the radii of :func:`tapered_radii` as drawn), a radius
-    below a pixel counting as one pixel and the parent's edge rasterized half a pixel out: a burr on its
-    parent's line (a comb's tooth), not a branch; :func:`~branchnb.branching.drawing.draw_in_style`
-    leaves it out.
+    (:data:`STUB_MARGIN`) beyond its parent's drawn body (``radii`` x ``scale``: the radii of
+    :func:`tapered_radii` as drawn), a radius below a pixel counting as one pixel and the parent's edge
+    rasterized half a pixel out: a burr on its parent's line (a comb's tooth), not a branch;
+    :func:`~branchnb.branching.drawing.draw_in_style` leaves it out.
 
     Parameters
     ----------
