@@ -236,6 +236,8 @@ SOLID_LINES = 0.3
 SOLID_GROUND = 0.02
 #: ... or at most a tenth of the lines' share, up to this (flat pebbles on a grainy soil).
 SOLID_GROUND_MAX = 0.05
+#: Lines painted solid on a textured ground may be this many separate pieces (root systems side by side).
+PAINTED_PIECES = 3
 
 
 def _is_drawn(gray: np.ndarray) -> bool:
@@ -259,12 +261,14 @@ def _solid_on_texture(solid: np.ndarray, has: np.ndarray) -> bool:
     return bool(lines >= SOLID_LINES and ground <= max(SOLID_GROUND, min(SOLID_GROUND_MAX, 0.1 * lines)))
 
 
-def _drawn_branching_width(has: np.ndarray, sigma_max: float) -> float | None:
+def _drawn_branching_width(has: np.ndarray, sigma_max: float, pieces: int = 1) -> float | None:
     """Mean width of a colour's pixels when they form one connected, long, narrow shape (a drawn tree), else None.
 
     Narrow is relative to the image (a trunk drawn 20 px wide in a 1000 px
     picture is still a tree's), long means a centre line of at least half
-    the image's width plus height.
+    the image's width plus height. With ``pieces`` > 1 up to that many
+    connected pieces may hold the colour (several root systems painted side
+    by side on a soil, each entering at the frame; beyond the paper).
     """
     from skimage.morphology import skeletonize
 
@@ -273,9 +277,11 @@ def _drawn_branching_width(has: np.ndarray, sigma_max: float) -> float | None:
     if n == 0:
         return None
     sizes = np.bincount(lab[has], minlength=n + 1)[1:]
-    if sizes.max() < 0.8 * sizes.sum():
+    order = np.argsort(-sizes)
+    k = int(np.searchsorted(np.cumsum(sizes[order]), 0.8 * sizes.sum())) + 1
+    if k > pieces:
         return None
-    main = has & (lab == (int(np.argmax(sizes)) + 1))
+    main = has & np.isin(lab, order[:k] + 1)
     length = int(skeletonize(main).sum())
     h, w = has.shape
     width = float(main.sum()) / max(length, 1)
@@ -409,7 +415,7 @@ def _line_colour_and_width(image, *, sigma_max: float = 4.0, min_contrast: float
             # lines painted in one exact colour on a textured ground (a root system on soil): where they
             # are wider than the ridge filter's scales (a crown at the frame) the filter sees two edges
             # and the crown is lost, so its shape is traced by its medial axis (beyond the paper)
-            w_line = _drawn_branching_width(has, sigma_max)
+            w_line = _drawn_branching_width(has, sigma_max, pieces=PAINTED_PIECES)
             width = w_line if w_line is not None and w_line >= 3.0 else None
         if width is None and np.mean(line_like[has]) < 0.5:
             continue
