@@ -7,8 +7,9 @@ vessel,crack,delta,comb,dfan 128,256,512``) runs each kind through the default w
 mask sampled along every branch of the structure, example and output alike): ``thick_end`` the share of
 branches whose end radius is more than 2 x their start radius (start: just past the parent's body),
 ``tip`` the median radius over the last 2 px of the free ends, ``stubs`` the drawn children (ink along at
-least half their length beyond the parent) sticking out of their parent by less than 3 of their radii
-(at least 1 px each) over ``children``, ``pieces`` the most 8-connected ink
+least half their length from a pixel past the parent's ink) sticking out of it by less than 3 of their radii
+(at least 1 px each) with their ink ending at their tip (not a short child under a sibling drawn on from
+the same vertex) over ``children``, ``pieces`` the most 8-connected ink
 pieces one tree's centre lines touch (1 = every tree one piece).
 
 Kinds: :func:`taper_mask`'s ``vessel`` (white bifurcating tree, radius falling 0.7x per generation, round
@@ -141,11 +142,43 @@ def ink_mask(img: np.ndarray) -> np.ndarray:
     return np.abs(g - ground) > 0.5
 
 
+def _dense(pts) -> np.ndarray:
+    """Points every half pixel along the polyline ``pts`` (the samples of :func:`_along`)."""
+    p = np.asarray(pts, float)
+    t = np.r_[0, np.cumsum(np.hypot(*np.diff(p, axis=0).T))]
+    s = np.arange(0, t[-1] + 1e-9, 0.5)
+    return np.c_[np.interp(s, t, p[:, 0]), np.interp(s, t, p[:, 1])]
+
+
 def _along(dt: np.ndarray, pts) -> tuple[np.ndarray, np.ndarray]:
     p = np.asarray(pts, float)
     t = np.r_[0, np.cumsum(np.hypot(*np.diff(p, axis=0).T))]
     s = np.arange(0, t[-1] + 1e-9, 0.5)
     return s, ndi.map_coordinates(dt, [np.interp(s, t, p[:, 1]), np.interp(s, t, p[:, 0])], order=1, mode="nearest")
+
+
+def _under_other(i: int, branches, tree, owner: np.ndarray, pts: np.ndarray) -> bool:
+    """Whether most points ``pts`` of branch ``i`` lie within a pixel of another branch's centre line (not
+    its parent's): a child drawn over by a sibling leaving the same vertex is that sibling's line."""
+    if tree is None or not len(pts):
+        return False
+    skip = {i, branches[i].parent}
+    near = tree.query_ball_point(pts, 1.0)
+    return float(np.mean([any(owner[j] not in skip for j in js) for js in near])) > 0.5
+
+
+def _ink_runs_on(m: np.ndarray, pts, r_end: float) -> bool:
+    """Whether the ink ``m`` goes on 1.5 px past the round cap (radius ``r_end`` + 0.5) at the end of the
+    polyline ``pts``, along its last heading."""
+    p = np.asarray(pts, float)
+    d = p[-1] - p[-2]
+    n = float(np.hypot(*d))
+    if n < 1e-9:
+        return False
+    x, y = p[-1] + (max(float(r_end), 0.0) + 2.0) * d / n
+    h, w = m.shape
+    xi, yi = int(round(x)), int(round(y))
+    return 0 <= xi < w and 0 <= yi < h and bool(m[yi, xi])
 
 
 def figures(img: np.ndarray, structure, min_len: float = 6.0) -> dict:
@@ -158,17 +191,32 @@ def figures(img: np.ndarray, structure, min_len: float = 6.0) -> dict:
     h, w = m.shape
     r_img = np.maximum(ndi.distance_transform_edt(m) - 0.5, 0.0)
     ends, tips, stubs, kids = [], [], 0, 0
-    for b in structure.branches:
+    bs = structure.branches
+    from scipy.spatial import cKDTree
+
+    dense = [(_dense(b.points), k) for k, b in enumerate(bs) if len(b.points) > 1]
+    tree = cKDTree(np.vstack([d for d, _ in dense])) if dense else None
+    owner = np.concatenate([np.full(len(d), k) for d, k in dense]) if dense else np.zeros(0, int)
+    for i, b in enumerate(bs):
         if len(b.points) < 2:
             continue
         s, v = _along(r_img, b.points)
         length = s[-1]
         a = float(v[0]) if b.parent is not None else 0.0
         body = v[s >= a] if np.any(s >= a) else v[-1:]
-        if b.parent is not None and np.mean(body > 0) >= 0.5:
+        # drawn: ink (a quarter pixel inside it) along at least half of the child from a pixel past the
+        # parent's edge, over a pixel at least (the distance transform at the start is the parent's
+        # narrowest half width, its round end reaches further). The interpolated distance transform is slightly positive for a pixel along the
+        # outside of that edge, which a child left out of the drawing at a shallow angle follows
+        clear = v[s >= a + 1.0]
+        if b.parent is not None and clear.size >= 3 and np.mean(clear >= 0.25) >= 0.5:
             # (a child with no ink beyond its parent is not drawn: no stub to see)
             kids += 1
-            stubs += int(length - a < 3.0 * max(float(np.median(body)), 1.0))
+            # a stub ends where its ink ends; a short child whose ink runs on past its tip (a sibling
+            # drawn over it from the same vertex) shows no end of its own
+            if length - a < 3.0 * max(float(np.median(body)), 1.0):
+                past = _dense(b.points)[s >= a]
+                stubs += int(not _ink_runs_on(m, b.points, float(v[-1])) and not _under_other(i, bs, tree, owner, past))
         if length - a < min_len:
             continue
         span = max(2.0, 0.15 * (length - a))

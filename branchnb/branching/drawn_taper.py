@@ -13,7 +13,16 @@ every branch is bounded by what the example shows:
 * a free end (not at the frame, not running into another branch) narrows to the example's tip radius over
   its last ``3 r`` pixels;
 * a child that sticks out of its parent by less than 3 of its radii is drawn no thicker than a third of
-  that length (a one-pixel line at least), so it reads as a short thin twig, not a blunt tooth.
+  that length less a pixel (a one-pixel line at least), so it reads as a short thin twig, not a blunt tooth;
+  a leaf twig that would still show less than 3 radii and a pixel is left out (:func:`burrs`).
+
+Notes
+-----
+Beyond the paper. The two rules keep :data:`STUB_MARGIN` (one pixel) between a drawn child and the
+3-radius line: capped at exactly a third of what shows, a child sat on that line and the rasterization
+of its cap and of its parent's edge (half a pixel each) decided whether the drawing showed a twig or a
+stub (3 stubs in 243 outputs of ``_mask_taper_check``, each 2.9 radii out). With the margin a child
+is either drawn clearly beyond 3 radii or not drawn.
 """
 
 from __future__ import annotations
@@ -27,6 +36,9 @@ __all__ = ["burrs", "example_taper", "tapered_radii"]
 
 #: a child is a stub when it sticks out of its parent by less than this many of its radii
 STUB_RADII = 3.0
+#: pixels a drawn child keeps beyond the stub line (rasterization moves the parent's edge and the child's
+#: cap by up to half a pixel each)
+STUB_MARGIN = 1.0
 #: the free end narrows over this many of its radii
 TIP_RADII = 3.0
 #: a child starts no thicker than its parent where it leaves (off: a thick child the synthesis grew off
@@ -159,7 +171,7 @@ def tapered_radii(structure: Structure, shape, taper: float | None, tip: float) 
                 r0 = min(r0, rp)
             # what shows beyond the parent's body: a short one is a twig, never a blunt tooth
             beyond = length - rp
-            r = np.minimum(r, max(beyond / STUB_RADII, 0.5))
+            r = np.minimum(r, max((beyond - STUB_MARGIN) / STUB_RADII, 0.5))
             r0 = min(r0, float(r[0]))
         if taper is not None and length > 0:
             r = np.minimum(r, r0 * (1.0 + (taper - 1.0) * s / length))
@@ -185,11 +197,11 @@ def _depth(bs, i: int) -> int:
 
 
 def burrs(structure: Structure, radii: list, scale: float = 1.0) -> np.ndarray:
-    """Per branch: a leaf child (no children of its own) that shows less than 3 of its radii beyond its
-    parent's drawn body (``radii`` x ``scale``: the radii of :func:`tapered_radii` as drawn), a radius
-    below a pixel counting as one pixel and the parent's edge rasterized half a pixel out: a burr on its
-    parent's line (a comb's tooth), not a branch; :func:`~branchnb.branching.drawing.draw_in_style`
-    leaves it out.
+    """Per branch: a leaf child (no children of its own) that shows less than 3 of its radii and a pixel
+    (:data:`STUB_MARGIN`) beyond its parent's drawn body (``radii`` x ``scale``: the radii of
+    :func:`tapered_radii` as drawn), a radius below a pixel counting as one pixel and the parent's edge
+    rasterized half a pixel out: a burr on its parent's line (a comb's tooth), not a branch;
+    :func:`~branchnb.branching.drawing.draw_in_style` leaves it out.
 
     Parameters
     ----------
@@ -226,5 +238,5 @@ def burrs(structure: Structure, radii: list, scale: float = 1.0) -> np.ndarray:
         if not len(pr):
             continue
         rp = scale * float(pr[int(np.clip(b.parent_vertex or 0, 0, len(pr) - 1))]) + 0.5
-        out[i] = b.length - rp < STUB_RADII * max(scale * float(np.max(radii[i])), 1.0)
+        out[i] = b.length - rp < STUB_RADII * max(scale * float(np.max(radii[i])), 1.0) + STUB_MARGIN
     return out

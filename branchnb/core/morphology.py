@@ -6,7 +6,44 @@ import cv2
 import numpy as np
 from scipy import ndimage as ndi
 
-__all__ = ["fill_holes"]
+__all__ = ["disk", "fill_holes"]
+
+
+def disk(radius: int) -> np.ndarray:
+    """A disk-shaped structuring element of ``radius`` px: OpenCV's elliptic kernel, ``(2r+1, 2r+1)`` uint8.
+
+    One helper for every technique that opens, closes or dilates by a disk
+    with OpenCV (which wants a numeric kernel; use ``disk(r).astype(bool)``
+    for SciPy or NumPy masks). A radius under 1 gives the 3 x 3 disk.
+
+    Parameters
+    ----------
+    radius : int
+        Radius in pixels (rounded down to an integer, at least 1).
+
+    Returns
+    -------
+    (2r+1, 2r+1) uint8 ndarray
+        1 inside the disk, 0 outside.
+
+    Raises
+    ------
+    ValueError
+        If ``radius`` is not a finite number.
+
+    Examples
+    --------
+    >>> int(disk(2).sum()), disk(0).shape
+    (17, (3, 3))
+    """
+    try:
+        r = float(radius)
+    except (TypeError, ValueError):
+        raise ValueError(f"radius must be a finite number, got {radius!r}") from None
+    if not np.isfinite(r):
+        raise ValueError(f"radius must be a finite number, got {radius!r}")
+    r = max(int(r), 1)
+    return cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
 
 
 def fill_holes(mask) -> np.ndarray:

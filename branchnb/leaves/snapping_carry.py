@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..core.morphology import disk
+
 
 def _affine_carry(registration, blade_t, chains, step: int = 4):
     """Chains carried by the affine map nearest the registration over the training blade."""
@@ -33,8 +35,8 @@ def _nearest(ys, xs, p):
 
 
 def _disk(r: int) -> np.ndarray:
-    y, x = np.mgrid[-r:r + 1, -r:r + 1]
-    return x * x + y * y <= r * r + r
+    """A boolean disk of radius ``r`` px (the shared :func:`~branchnb.core.morphology.disk`)."""
+    return disk(r).astype(bool)
 
 
 def carry_points(registration, points) -> np.ndarray:
