@@ -101,23 +101,23 @@ def is_bare_alpha(alpha: np.ndarray, loose: bool = False) -> bool:
     ys, xs = np.nonzero(op)
     ext = max(np.ptp(ys), np.ptp(xs)) + 1
 
-    def disc(d):
-        d = max(3, int(d) | 1)
-        return cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (d, d)), d
-
-    k, pad = disc(ext / 12)
-    env = cv2.morphologyEx(np.pad(op, pad).astype(np.uint8), cv2.MORPH_CLOSE, k)[pad:-pad, pad:-pad]
-    env = ndi.binary_fill_holes(env > 0)
-    if op.sum() > (BARE_FILL_LOOSE if loose else BARE_FILL) * env.sum():
+    # discs by distance transforms (a 1/12-extent disc kernel took seconds at 1024 px)
+    y0, y1, x0, x1 = ys.min(), ys.max() + 1, xs.min(), xs.max() + 1
+    r = ext / 24
+    pad = int(r) + 2
+    crop = np.pad(op[y0:y1, x0:x1], pad)
+    grown = ndi.distance_transform_edt(~crop) <= r
+    env = ndi.binary_fill_holes(ndi.distance_transform_edt(grown) > r)
+    if crop.sum() > (BARE_FILL_LOOSE if loose else BARE_FILL) * max(env.sum(), 1):
         return False
-    sk = skeletonize(op)
+    inner = ndi.distance_transform_edt(crop)
+    sk = skeletonize(crop)
     if not sk.any():
         return False
-    dt = ndi.distance_transform_edt(op)[sk]
-    if (dt <= max(2.5, ext / 60)).mean() < (BARE_THIN_LOOSE if loose else BARE_THIN):
+    if (inner[sk] <= max(2.5, ext / 60)).mean() < (BARE_THIN_LOOSE if loose else BARE_THIN):
         return False
-    thick = cv2.morphologyEx(op.astype(np.uint8), cv2.MORPH_OPEN, disc(ext / 10)[0])
-    return bool(thick.sum() <= (BARE_THICK_LOOSE if loose else BARE_THICK) * op.sum())
+    thick = ndi.distance_transform_edt(~(inner > ext / 20)) <= ext / 20
+    return bool((thick & crop).sum() <= (BARE_THICK_LOOSE if loose else BARE_THICK) * crop.sum())
 
 
 def _foot(alpha: np.ndarray) -> tuple[float, float]:
