@@ -506,13 +506,15 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     cage = simplify_contour(cr, m_points=p.m_points, dilation=cparams.dilation,
                             n_points_crown=cparams.n_crown)
     # bare trees (beyond the paper): the dominant one bare, the others at least loosely so
-    bare = (not pixel and len(used) > 1 and w[used].max() > 0
+    bare = (len(used) > 1 and w[used].max() > 0
             and is_bare_alpha(exemplars[used[np.argmax(w[used])]].image[..., 3])
             and all(is_bare_alpha(exemplars[i].image[..., 3], loose=True) for i in used))
     if bare:    # bare trees: envelopes mixed, the dominant's limbs warped whole (bare.py)
-        image, sources, trunk = bare_mix([soft_image(exemplars[i].image, exemplars[i].normalized.soft_alpha)
+        # hard-edged (pixel-art) bare trees stay hard-edged: a soft mix of them would look blurred
+        image, sources, trunk = bare_mix([exemplars[i].image if pixel else
+                                          soft_image(exemplars[i].image, exemplars[i].normalized.soft_alpha)
                                           for i in used], w[used], cw[used],
-                                         [exemplars[i].trunk for i in used])
+                                         [exemplars[i].trunk for i in used], hard=pixel)
     else:
         image, sources, trunk = transfer_colour([exemplars[i].image for i in used],
                                                 [exemplars[i].cage(p.m_points) for i in used],
