@@ -112,3 +112,20 @@ def test_bare_mix_identity_and_errors():
     assert set(np.unique(src)) <= {-1, 0}
     with pytest.raises(ValueError, match="weights"):
         bare_mix([img, img], [1.0], [0.5, 0.5])
+
+
+def test_hard_edged_bare_mixes_stay_hard_and_joined():
+    lib = TreeLibrary()
+    srcs = []
+    for i, sh in enumerate(("round", "weeping", "asym")):
+        t = bare_tree(160, sh, 20 + i)
+        t[..., 3] = t[..., 3] >= 0.5             # a hard-edged, one-colour drawing (pixel art)
+        srcs.append(lib.add(t, sh).image)
+    twig0 = np.median([_twig_width(s) for s in srcs])
+    for s in range(3):
+        m = lib.variation(rng=s).image
+        assert set(np.unique(m[..., 3])) <= {0.0, 1.0}
+        lab, _ = ndi.label(m[..., 3] > 0.5, structure=np.ones((3, 3)))
+        areas = np.bincount(lab.ravel())[1:]
+        assert areas.max() >= 0.95 * areas.sum()
+        assert 0.8 <= _twig_width(m) / twig0 <= 1.5
