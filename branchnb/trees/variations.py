@@ -50,6 +50,7 @@ from ..core.io import encode_png
 from ..core.params import check_params, param
 from ..core.random import as_rng
 from ..core.validate import Int, Seq, checked
+from .bare import bare_mix, is_bare_alpha, soft_image
 from .contour import simplify_contour
 from .corners import _corner_matched, _polygonal
 from .flat_art import (
@@ -72,7 +73,6 @@ from .morph import check_weights, combine_shapes, dirichlet_weights, fill_contou
 from .mvc import transfer_colour
 from .processing import GROUND_METHODS, TRUNK_METHODS, Exemplar, exemplar_trunk, process_exemplar
 from .sticker import _sticker_mix
-from .bare import bare_mix, is_bare_alpha, soft_image
 
 __all__ = [
     "RPG_TREES",
