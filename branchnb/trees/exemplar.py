@@ -197,6 +197,10 @@ class Normalized:
     pixel_art : PixelArt or None
         Set when the source is pixel art (:mod:`~branchnb.trees.pixel_art`:
         hard-edged, few colours); the image was then resized nearest.
+    soft_alpha : (S, S) float32 ndarray or None
+        The source's own (anti-aliased) alpha resampled like ``image``
+        (None for pixel art); the thin-structure mix of bare trees keeps its
+        soft edges (:mod:`~branchnb.trees.bare`).
 
     Examples
     --------
@@ -214,6 +218,7 @@ class Normalized:
     source_shape: tuple[int, int]
     dropped_components: int = 0
     pixel_art: object = None
+    soft_alpha: np.ndarray | None = None
 
     @property
     def alpha(self) -> np.ndarray:
@@ -485,8 +490,13 @@ def normalize_exemplar(image, params: ExemplarParams | None = None, **overrides)
     out[oy:oy + nh, ox:ox + nw, 3] = keep
     if not keep.any():
         raise ValueError("the opaque region vanishes at this working size; use a larger size")
+    soft = None
+    if art is None:     # the anti-aliased edge, for bare trees' mixes (bare.py)
+        soft = np.zeros((s, s), np.float32)
+        soft[oy:oy + nh, ox:ox + nw] = np.clip(cv2.resize(kept.astype(np.float32), (nw, nh), interpolation=interp),
+                                               0.0, 1.0)
     return Normalized(out, (x0, y0, x1, y1), float(nw / bw), (float(ox), float(oy)), (h, w),
-                      dropped, art)
+                      dropped, art, soft)
 
 
 #: Defringing: a soft-edged opaque pixel (alpha below FRINGE_ALPHA) is background matted in when its

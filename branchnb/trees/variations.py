@@ -50,6 +50,7 @@ from ..core.io import encode_png
 from ..core.params import check_params, param
 from ..core.random import as_rng
 from ..core.validate import Int, Seq, checked
+from .bare import bare_mix, is_bare_alpha, soft_image
 from .contour import simplify_contour
 from .corners import _corner_matched, _polygonal
 from .flat_art import (
@@ -435,6 +436,15 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     stair-steps are no corners) are matched too.
     ``python -m branchnb.trees._measure_corners`` measures it.
 
+    Beyond the paper: when the dominant exemplar is a bare (leafless) tree
+    and the others are at least loosely so (thin limbs, an open crown, no
+    leafy blob; :func:`~branchnb.trees.bare.is_bare_alpha`), contour
+    combination cannot mix a lattice of 1 px twigs (the contours trace
+    every twig and do not correspond: limbs were cut off the trunk, twigs
+    turned into clumps). The crowns' envelopes are mixed instead and the
+    dominant exemplar's branches warped whole into the mix, with their
+    anti-aliased edges (:mod:`~branchnb.trees.bare`).
+
     Beyond the paper: when every mixed exemplar is pixel art (hard edges,
     at most 32 colours, alpha 0/1, art pixels at least 2 working pixels
     across; :mod:`~branchnb.trees.pixel_art`) and the colours are chosen
@@ -495,16 +505,27 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     cparams = exemplars[0].contour.params
     cage = simplify_contour(cr, m_points=p.m_points, dilation=cparams.dilation,
                             n_points_crown=cparams.n_crown)
-    image, sources, trunk = transfer_colour([exemplars[i].image for i in used],
-                                            [exemplars[i].cage(p.m_points) for i in used],
-                                            cage, mask, colour_weights=cw[used] / cw[used].sum(),
-                                            mode="parts" if mode == "choose" and p.choose_by == "parts" else mode,
-                                            region_scale=p.region_scale, seam=p.seam, rng=rng,
-                                            return_sources=True, layers=[exemplars[i].trunk for i in used],
-                                            groups=[_drawing_group(exemplars[i]) for i in used]
-                                            if mode == "choose" else None,
-                                            contours=None if inked else (cr, shapes),
-                                            _maps=[exemplars[i]._cages for i in used])
+    # bare trees (beyond the paper): the dominant one bare, the others at least loosely so
+    bare = (len(used) > 1 and w[used].max() > 0
+            and is_bare_alpha(exemplars[used[np.argmax(w[used])]].image[..., 3])
+            and all(is_bare_alpha(exemplars[i].image[..., 3], loose=True) for i in used))
+    if bare:    # bare trees: envelopes mixed, the dominant's limbs warped whole (bare.py)
+        # hard-edged (pixel-art) bare trees stay hard-edged: a soft mix of them would look blurred
+        image, sources, trunk = bare_mix([exemplars[i].image if pixel else
+                                          soft_image(exemplars[i].image, exemplars[i].normalized.soft_alpha)
+                                          for i in used], w[used], cw[used],
+                                         [exemplars[i].trunk for i in used], hard=pixel)
+    else:
+        image, sources, trunk = transfer_colour([exemplars[i].image for i in used],
+                                                [exemplars[i].cage(p.m_points) for i in used],
+                                                cage, mask, colour_weights=cw[used] / cw[used].sum(),
+                                                mode="parts" if mode == "choose" and p.choose_by == "parts" else mode,
+                                                region_scale=p.region_scale, seam=p.seam, rng=rng,
+                                                return_sources=True, layers=[exemplars[i].trunk for i in used],
+                                                groups=[_drawing_group(exemplars[i]) for i in used]
+                                                if mode == "choose" else None,
+                                                contours=None if inked else (cr, shapes),
+                                                _maps=[exemplars[i]._cages for i in used])
     # Rim correction (beyond the paper) only without an ink outline. On outlined mixes it stretched
     # the sources' strokes where it mapped them onto the mixed rim into bands thicker than
     # 2 width + 2, which _drop_excess kept as dark fills (pen q90/q10 1.58); that is fixed
@@ -515,9 +536,13 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     # the warp beyond the exemplars' largest hole and stay open (the cage maps them into a hole
     # of an exemplar); other holes larger than the exemplars' are filled as in the other modes.
     parts_mode = mode == "choose" and p.choose_by == "parts" and len(used) > 1
-    own = _own_holes(image[..., 3] >= 0.5, [exemplars[i] for i in used], cage, p.m_points) if parts_mode else None
-    image = _one_piece(image, [exemplars[i] for i in used], own_holes=own)
-    if pixel:       # pixel art stays on its grid, in its palette, with a 1-art-pixel outline
+    own = (_own_holes(image[..., 3] >= 0.5, [exemplars[i] for i in used], cage, p.m_points)
+           if parts_mode and not bare else None)
+    if not bare:    # a bare mix is one piece already (a one-to-one warp of one exemplar)
+        image = _one_piece(image, [exemplars[i] for i in used], own_holes=own)
+    if bare:        # no outline, sticker or palette step: its soft alpha and colours stay
+        pass
+    elif pixel:       # pixel art stays on its grid, in its palette, with a 1-art-pixel outline
         image, sources, trunk = _pixel_mix(image, [exemplars[i] for i in used], cw[used], sources, trunk,
                                            outline=p.outline)
     elif p.outline and len(used) > 1 and (st := _sticker_mix(
