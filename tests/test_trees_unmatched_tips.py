@@ -7,8 +7,7 @@ import numpy as np
 import pytest
 from scipy.ndimage import gaussian_filter1d
 
-from branchnb.trees import TreeLibrary
-from branchnb.trees import corners
+from branchnb.trees import TreeLibrary, corners
 
 
 def _star_tree(n: int, h: int, seed: int) -> np.ndarray:

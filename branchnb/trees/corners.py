@@ -31,9 +31,19 @@ index:
    (and the pins ``R``, ``L``), so its corners land exactly on their common
    indices. Trunk sides are left as they are.
 
-A crown with no tip (round, lobed, bumpy cartoon crowns whose corners are
-all notches) keeps the paper's correspondence exactly: with no matched tip
-nothing is re-sampled.
+4. **Unmatched tips** (issue 24, trees44, :func:`_tip_matched`): crowns with
+   different numbers of points (a 5- and a 7-point star, a fir of 4 tiers and
+   one of 6, a spiky crown and a round one) leave tips that only some
+   exemplars hold. The convex combination scaled them by those exemplars'
+   weights: round bumps 0.1-0.6 of the sources' tip length. Each such tip is
+   kept whole (its offset from the chord between the notches round it is
+   carried by the exemplars lacking it) or dropped (flattened to that chord),
+   at most as many kept as the weighted mean of the exemplars' tip counts
+   allows, those held by most weight first. The colour transfer keeps the
+   kept tips opaque (:func:`_fill_tips`).
+
+A mix of crowns none of which has a tip (round, lobed, bumpy cartoon crowns
+whose corners are all notches) keeps the paper's correspondence exactly.
 
 Pixel art (issue 24, trees42): a sprite's contour is a staircase whose every
 step turned more than ``CORNER_ANGLE`` at the default scale, so tips were
@@ -234,7 +244,8 @@ def _tip_profile(c: np.ndarray, a: int, b: int) -> tuple[np.ndarray, np.ndarray,
 
 
 def _tip_matched(contours, weights, pins: tuple[int, int, int], grains=None):
-    """Corner matching with every tip kept or dropped: (contours to combine, matched contours).
+    """Corner matching with every tip kept or dropped: (contours to combine, matched contours,
+    spans ``(start, end)`` of the kept tips in the common indices, for :func:`_fill_tips`).
 
     The second list is the corner-matched contours (the module doc's steps 1-3); the first is the
     same with the tips that not every weighted contour holds made whole (beyond the paper): a
@@ -271,7 +282,7 @@ def _tip_matched(contours, weights, pins: tuple[int, int, int], grains=None):
         ib, sb = found[j]
         if ib.size == 0:
             continue
-        pos = np.array([np.average([cs_i for cs_i in g.values()], weights=[w[k] for k in g]) for g in groups])
+        pos = np.array([np.average(list(g.values()), weights=[w[k] for k in g]) for g in groups])
         srt = np.argsort(pos, kind="stable") if groups else np.zeros(0, int)
         pairs = _match_corners((pos[srt] - ir) / span, np.ones(len(srt)), (ib - ir) / span, sb) if groups else []
         hit = set()
@@ -331,7 +342,7 @@ def _tip_matched(contours, weights, pins: tuple[int, int, int], grains=None):
             kept.append(x)
             last = x[5]
     kept_ids = {id(x[0]) for x in kept}
-    for g, donor, a, t, b, _ in info:
+    for g, donor, a, _t, b, _ in info:
         if len(g) == len(live) or b - a < 2:
             continue
         if id(g) in kept_ids:

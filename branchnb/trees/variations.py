@@ -432,7 +432,9 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     their corners, :func:`~branchnb.trees.corners._flank_bend`: a palm's
     frond tips matched to a conifer's tiers raised the cross-fade); outlined
     polygonal crowns and pixel art (corners at the art-pixel grain, so
-    stair-steps are no corners) are matched too.
+    stair-steps are no corners) are matched too. A tip only some exemplars
+    hold (crowns with different numbers of points) is kept whole or dropped,
+    never scaled into a bump (:func:`~branchnb.trees.corners._tip_matched`).
     ``python -m branchnb.trees._measure_corners`` measures it.
 
     Beyond the paper: when every mixed exemplar is pixel art (hard edges,
