@@ -82,6 +82,9 @@ GRAIN_SPAN = 2.0
 BEND_KNOT_ANGLE = 25.0
 #: Most flank bend (:func:`_flank_bend`, share of the height) of a polygonal crown.
 POLYGON_BEND = 0.006
+#: Most offset of a contour's own stretch from its chord, share of the tip's height, for an
+#: unmatched tip to be carried onto it (:func:`_tip_matched`).
+STRAIGHT_RUN = 0.35
 #: Largest shift (share of the crown's arc length) between two matched corners.
 MATCH_SHIFT = 0.12
 
@@ -256,7 +259,9 @@ def _tip_matched(contours, weights, pins: tuple[int, int, int], grains=None):
     same stretch of the contours that lack it, so the mix carries it whole, or **dropped**,
     flattened to that chord in the contours holding it. The mix keeps ``round(sum_i w_i n_i)``
     tips (``n_i`` the tips of contour ``i``, within the sources' least and most), the groups
-    held by most weight first, none overlapping a kept one. The matched contours (no tip added)
+    held by most weight first, none overlapping a kept one. A kept tip is carried only onto
+    stretches that run straight (offset from their chord at most :data:`STRAIGHT_RUN` of the
+    tip's height); where a contour has its own corners there, it is left to the combination. The matched contours (no tip added)
     are what the rim correction of the colour transfer maps onto: a tip added to a source that
     lacks it lies off its image.
     """
@@ -349,14 +354,18 @@ def _tip_matched(contours, weights, pins: tuple[int, int, int], grains=None):
             for j in live:
                 if int(j) in g:
                     continue
-                # The donor's offset from its chord onto this contour's chord: the tip whole.
-                # Added onto this contour's own stretch instead, it met the notches and tier ends
-                # there (zig-zag fir feet); turned with the chord, tips on short runs pointed askew.
+                # The donor's offset from its chord onto this contour's chord: the tip whole. Only
+                # onto a straight run (STRAIGHT_RUN): over this contour's own tier ends and notches
+                # the added tip crossed them (zig-zag fir feet; a fir mixed with a saw crown lost
+                # 18 deg of tip sharpness); there the tip is left to the combination as before.
                 c = out[j].copy()
+                _, own_off, _ = _tip_profile(c, a, b)
+                _, tip_off, _ = _tip_profile(matched[donor], a, b)
+                if np.abs(own_off).max() > STRAIGHT_RUN * np.abs(tip_off).max():
+                    continue
                 s_ = np.linspace(0.0, 1.0, b - a + 1)[:, None]
                 d = matched[donor]
-                off = d[a:b + 1] - (d[a] + s_ * (d[b] - d[a]))
-                c[a:b + 1] = c[a] + s_ * (c[b] - c[a]) + off
+                c[a:b + 1] = c[a] + s_ * (c[b] - c[a]) + d[a:b + 1] - (d[a] + s_ * (d[b] - d[a]))
                 out[j] = c
         else:
             for j in g:

@@ -510,7 +510,7 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
                                             if mode == "choose" else None,
                                             contours=None if inked else (cr, rims),
                                             _maps=[exemplars[i]._cages for i in used])
-    if spans:
+    if spans and not inked:     # outlined and pixel-art mixes are re-inked and re-gridded below
         image, sources, trunk = _fill_tips(image, sources, trunk, cr, spans, mask)
     # Rim correction (beyond the paper) only without an ink outline. On outlined mixes it stretched
     # the sources' strokes where it mapped them onto the mixed rim into bands thicker than
