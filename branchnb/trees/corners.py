@@ -261,9 +261,9 @@ def _tip_matched(contours, weights, pins: tuple[int, int, int], grains=None):
     tips (``n_i`` the tips of contour ``i``, within the sources' least and most), the groups
     held by most weight first, none overlapping a kept one. A kept tip is carried only onto
     stretches that run straight (offset from their chord at most :data:`STRAIGHT_RUN` of the
-    tip's height); where a contour has its own corners there, it is left to the combination. The matched contours (no tip added)
-    are what the rim correction of the colour transfer maps onto: a tip added to a source that
-    lacks it lies off its image.
+    tip's height); where a contour has its own corners there, it is left to the combination.
+    The matched contours (no tip added) are what the rim correction of the colour transfer maps
+    onto: a tip added to a source that lacks it lies off its image.
     """
     cs = [np.asarray(c, np.float64) for c in contours]
     w = np.asarray(weights, np.float64)
