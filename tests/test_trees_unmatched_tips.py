@@ -73,14 +73,14 @@ def _tips(alpha: np.ndarray) -> np.ndarray:
 
 @pytest.mark.parametrize("counts, heights", [((5, 7), (200, 280)), ((4, 6), (140, 360))])
 def test_unmatched_star_tips_stay_tips(counts, heights):
-    lib = TreeLibrary(size=192)
+    lib = TreeLibrary(size=256)
     for i, (n, h) in enumerate(zip(counts, heights, strict=True)):
         lib.add(_star_tree(n, h, i), f"star{n}")
     src = [_tips(e.alpha) for e in lib.exemplars]
     v = lib.variation([0.4, 0.6], rng=0)
     mix = _tips(v.image[..., 3])
-    # arc-length pairing of the unmatched points (main): 0.51-0.61 of the sources' tip length,
-    # tips lost (6 of 5..7 with one a stub, 3 of 3..5)
+    # main: the unmatched points scaled into stubs (9 tips of 5..7, four of them 0.03 of the
+    # height) or cut off by the colour transfer's alpha (1 tip of 3..5)
     assert min(len(t) for t in src) <= len(mix) <= max(len(t) for t in src)
     assert mix.min() >= 0.7 * np.concatenate(src).mean()
 
