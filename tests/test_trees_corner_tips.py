@@ -65,8 +65,8 @@ def test_a_round_mix_is_unchanged(monkeypatch):
     for i, h in enumerate((260, 400)):
         lib.add(flat_tree("round", i, h), f"round{i}")
     v = make_variation(lib, [0.4, 0.6], colour_weights="shape", rng=1)
-    monkeypatch.setattr("branchnb.trees.variations._corner_matched",
-                        lambda cs, w, pins: [np.asarray(c, float) for c in cs])
+    monkeypatch.setattr("branchnb.trees.variations._tip_matched",
+                        lambda cs, w, pins: ([np.asarray(c, float) for c in cs],) * 2 + ([],))
     old = make_variation(lib, [0.4, 0.6], colour_weights="shape", rng=1)
     assert np.array_equal(v.image, old.image)
 

@@ -231,8 +231,8 @@ def measure(size: int = 384, seeds: int = 3, only=None) -> dict:
         libs[name] = [(f"{k}{s}", drawn_tree(k, rng=s, size=2 * size)) for k, s in spec]
     if only:
         libs = {k: v for k, v in libs.items() if k in only}
-    new_cm, new_fl = V._corner_matched, FA._drop_rim_flecks
-    old_cm = lambda cs, w, pins: [np.asarray(c, np.float64) for c in cs]  # noqa: E731
+    new_cm, new_fl = V._tip_matched, FA._drop_rim_flecks
+    old_cm = lambda cs, w, pins, grains=None: ([np.asarray(c, np.float64) for c in cs],) * 2 + ([],)  # noqa: E731
     old_fl = lambda image, ink, width: image  # noqa: E731
     out = {}
     for name, srcs in libs.items():
@@ -245,7 +245,7 @@ def measure(size: int = 384, seeds: int = 3, only=None) -> dict:
         for seed in range(seeds):
             for tag, fn in (("old", old_cm), ("new", new_cm)) if seed % 2 == 0 else (("new", new_cm),
                                                                                      ("old", old_cm)):
-                V._corner_matched = fn
+                V._tip_matched = fn
                 FA._drop_rim_flecks = new_fl if fn is new_cm else old_fl
                 t = time.process_time()
                 v = make_variation(lib, rng=seed)
@@ -253,7 +253,7 @@ def measure(size: int = 384, seeds: int = 3, only=None) -> dict:
                 used = [lib.exemplars[i].alpha for i in np.flatnonzero(v.weights > 0)]
                 row[tag].append((*tip_stats(v.image[..., 3], used), rim_flecks(v.image) + hanging_specks(v.image),
                                  v.image))
-        V._corner_matched, FA._drop_rim_flecks = new_cm, new_fl
+        V._tip_matched, FA._drop_rim_flecks = new_cm, new_fl
         def f(tag, row=row):
             r = row[tag]
             return (f"src {np.mean([x[0] for x in r]):5.1f} mix {np.mean([x[1] for x in r]):5.1f} deg, "

@@ -52,7 +52,7 @@ from ..core.random import as_rng
 from ..core.validate import Int, Seq, checked
 from .bare import bare_mix, is_bare_alpha, soft_image
 from .contour import simplify_contour
-from .corners import _corner_matched, _polygonal
+from .corners import _fill_tips, _polygonal, _tip_matched
 from .flat_art import (
     FLAT_ART_SHARE,
     _drawing_group,
@@ -433,7 +433,9 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     their corners, :func:`~branchnb.trees.corners._flank_bend`: a palm's
     frond tips matched to a conifer's tiers raised the cross-fade); outlined
     polygonal crowns and pixel art (corners at the art-pixel grain, so
-    stair-steps are no corners) are matched too.
+    stair-steps are no corners) are matched too. A tip only some exemplars
+    hold (crowns with different numbers of points) is kept whole or dropped,
+    never scaled into a bump (:func:`~branchnb.trees.corners._tip_matched`).
     ``python -m branchnb.trees._measure_corners`` measures it.
 
     Beyond the paper: when the dominant exemplar is a bare (leafless) tree
@@ -494,9 +496,12 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     grains = ([a.block * exemplars[i].normalized.scale for a, i in zip(_pixel_arts([exemplars[i] for i in used]), used)]
               if pixel else None)
     pins = exemplars[0].contour.pin_indices
+    # Tips held by some sources only are kept whole or dropped (corners._tip_matched); the rim
+    # correction maps onto the matched contours, which lie on the sources' own rims.
+    rims, spans = shapes, []
     if pixel or not inked or _polygonal([c for c, wi in zip(shapes, w[used], strict=True) if wi > 0], pins):
-        shapes = (_corner_matched(shapes, w[used], pins) if grains is None
-                  else _corner_matched(shapes, w[used], pins, grains))
+        shapes, rims, spans = (_tip_matched(shapes, w[used], pins) if grains is None
+                               else _tip_matched(shapes, w[used], pins, grains))
     cr = combine_shapes(shapes, w[used])
     # C runs through the border pixel centres: grow the fill by one pixel so
     # the border pixels are coloured too (alpha comes from the samples).
@@ -524,8 +529,10 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
                                                 return_sources=True, layers=[exemplars[i].trunk for i in used],
                                                 groups=[_drawing_group(exemplars[i]) for i in used]
                                                 if mode == "choose" else None,
-                                                contours=None if inked else (cr, shapes),
+                                                contours=None if inked else (cr, rims),
                                                 _maps=[exemplars[i]._cages for i in used])
+        if spans and not inked:     # outlined and pixel-art mixes are re-inked and re-gridded below
+            image, sources, trunk = _fill_tips(image, sources, trunk, cr, spans, mask)
     # Rim correction (beyond the paper) only without an ink outline. On outlined mixes it stretched
     # the sources' strokes where it mapped them onto the mixed rim into bands thicker than
     # 2 width + 2, which _drop_excess kept as dark fills (pen q90/q10 1.58); that is fixed
