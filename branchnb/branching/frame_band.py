@@ -147,7 +147,7 @@ def band_keep(tip, new_pts: np.ndarray, off: bool, shape, band: float,
         if np.shape(sea_depth) != tuple(shape[:2]):
             raise ValueError(f"sea_depth: shape {np.shape(sea_depth)} is not the canvas' {tuple(shape[:2])}")
         ix = np.clip(np.rint(q).astype(np.int64), 0, [shape[1] - 1, shape[0] - 1])
-        seaward = sea_depth[ix[:-1, 1], ix[:-1, 0]] - sea_depth[ix[1:, 1], ix[1:, 0]] >= FRAME_EXIT * seg
+        seaward = sea_depth[ix[:-1, 1], ix[:-1, 0]] - sea_depth[ix[1:, 1], ix[1:, 0]] >= SEA_EXIT * seg
     else:
         seaward = np.zeros(len(q) - 1, bool)
     ok = np.ones(len(q) - 1, bool)
@@ -157,6 +157,13 @@ def band_keep(tip, new_pts: np.ndarray, off: bool, shape, band: float,
             break
         off = off or bool(out[k])
     return ok, off
+
+
+#: How steeply (sine of the angle to the coast) a step in the band must head for the sea to be kept
+#: (:func:`band_keep` with ``sea_depth``). Lower than :data:`FRAME_EXIT`: a distributary near a side
+#: frame bends along the coast's slant on its way to the sea (a 320-px delta mask lost one of its two
+#: mouths with the frame's rule).
+SEA_EXIT = 0.1
 
 
 #: Width (pixels) of the wider band along the frame in which a branch may not run parallel to a side

@@ -754,7 +754,8 @@ class _Grower(_Starts, _Filling):
         ok = self._inside(new_pts)
         if self.frame_band > 0 and len(new_pts):
             ok &= self._off_frame(bi, st, tip, new_pts)
-            ok &= self._along_frame(bi, st, tip, new_pts)
+            if self.drain is None:   # a delta's channels end at the sea, which parallel_keep does not know
+                ok &= self._along_frame(bi, st, tip, new_pts)
         if not ok.all():
             cut = int(np.argmin(ok))
             new_pts, ang, rad = new_pts[:cut], ang[:cut], rad[:cut]

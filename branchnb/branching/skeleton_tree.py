@@ -698,8 +698,11 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
                     # trunks entering less than twice as thick as the piece's median line (a river
                     # network from the bottom edge: 1.5-1.8 x), each rooting its own tree (.frame_trunks);
                     # beside a full-thickness entry, those entering by its side of the frame
-                    trunks = frame_trunks(g, deg, cand, members, pts_full, r_full,
-                                          border_dist[ys[cand], xs[cand]] / scale, -key, node_side)
+                    # (not on lines of about one width: there a thick end at the frame is where two lines
+                    # meet it in a V, and a crossing network from the bottom was rooted at the top frame)
+                    trunks = [] if even else frame_trunks(g, deg, cand, members, pts_full, r_full,
+                                                          border_dist[ys[cand], xs[cand]] / scale, -key,
+                                                          node_side)
                     if entries:
                         trunks = [t for t in trunks if node_side[t] in {int(node_side[e]) for e in entries}
                                   and all(np.hypot(*(pts_full[t] - pts_full[e])) > 4.0 * r_full[e]
