@@ -169,7 +169,7 @@ _LUMA = np.array([0.2125, 0.7154, 0.0721], np.float32)
 class PaperGround:
     """A picture's ground taken as the paper of a plain stylization.
 
-    Attributes
+    Parameters
     ----------
     dark : bool
         True for a light object on a dark ground (drawn in light ink on it).
