@@ -17,6 +17,8 @@ from scipy import ndimage
 from scipy.spatial import cKDTree
 from skimage.color import rgb2lab
 
+from ..core.image import as_gray
+
 __all__: list[str] = []
 
 #: Width of the frame's ring whose colours are the ground, as a share of the long side.
@@ -42,6 +44,17 @@ OBJECT_MAX_RING = 0.35
 THIN_COVER = 0.005
 THIN_EXTENT = 0.4
 THIN_STRAY = 0.1
+
+
+def _frame_ring(h: int, w: int) -> np.ndarray | None:
+    """The frame's ring (``GROUND_RING`` of the long side wide) whose colours are the ground; None
+    when the picture is too small to have an inside."""
+    b = max(1, int(round(GROUND_RING * max(h, w))))
+    if 2 * b >= min(h, w):
+        return None
+    ring = np.ones((h, w), bool)
+    ring[b:-b, b:-b] = False
+    return ring
 
 
 def _ground_palette(lab: np.ndarray, ring: np.ndarray) -> np.ndarray:
@@ -93,12 +106,10 @@ def _object_mask(image, min_cover: float = OBJECT_COVER[0], *,
     """
     rgb = np.clip(np.asarray(image, np.float32)[..., :3], 0.0, 1.0)
     h, w = rgb.shape[:2]
-    b = max(1, int(round(GROUND_RING * max(h, w))))
-    if 2 * b >= min(h, w):
+    ring = _frame_ring(h, w)
+    if ring is None:
         return None
     lab = rgb2lab(rgb).astype(np.float32)
-    ring = np.ones((h, w), bool)
-    ring[b:-b, b:-b] = False
     palette = _ground_palette(lab, ring)
     if len(palette) == 0:
         return None
@@ -162,8 +173,6 @@ GROUND_LIFT = 0.15
 #: edge of its grain: beyond it (lighter on a dark ground, darker on a light one) is drawing.
 GROUND_GRAIN = 95.0
 
-_LUMA = np.array([0.2125, 0.7154, 0.0721], np.float32)
-
 
 @dataclass(frozen=True)
 class PaperGround:
@@ -217,13 +226,10 @@ def _paper_ground(image) -> PaperGround | None:
     True
     """
     rgb = np.clip(np.asarray(image, np.float32)[..., :3], 0.0, 1.0)
-    h, w = rgb.shape[:2]
-    b = max(1, int(round(GROUND_RING * max(h, w))))
-    if 2 * b >= min(h, w):
+    ring = _frame_ring(*rgb.shape[:2])
+    if ring is None:
         return None
-    lum = rgb @ _LUMA
-    ring = np.ones((h, w), bool)
-    ring[b:-b, b:-b] = False
+    lum = as_gray(rgb)
     ground_lum = float(np.median(lum[ring]))
     if ground_lum >= WHITE_GROUND:
         return None
@@ -251,7 +257,7 @@ def _on_paper(image, ground: PaperGround) -> np.ndarray:
     >>> [round(float(v), 2) for v in _on_paper(img, PaperGround(True, 0.1, img[0, 0]))[1:3, 1]]
     [0.33, 1.0]
     """
-    lum = np.clip(np.asarray(image, np.float32)[..., :3], 0.0, 1.0) @ _LUMA
+    lum = as_gray(np.clip(np.asarray(image, np.float32)[..., :3], 0.0, 1.0))
     if ground.dark:
         ink = (lum - ground.level) / max(1.0 - ground.level, 1e-6)
     else:
