@@ -211,11 +211,12 @@ def _corner_matched(contours, weights, pins: tuple[int, int, int], grains=None) 
     return _tip_matched(contours, weights, pins, grains)[0]
 
 
-def _tip_extent(c: np.ndarray, pins: tuple[int, int, int], grain: float, tips: np.ndarray) -> np.ndarray:
+def _tip_extent(c: np.ndarray, pins: tuple[int, int, int], grain: float, tips: np.ndarray,
+                to_tips: bool = False) -> np.ndarray:
     """(k, 3) indices (start, tip, end) of each tip of ``tips`` on contour ``c``: from the notch
     before it to the notch after it (corners turning against the contour by at least
     :data:`BEND_KNOT_ANGLE`, between it and its neighbouring tips), half way to the neighbour
-    (or the pin) where there is none."""
+    (or the pin) where there is none, or (``to_tips``) the neighbouring tip itself."""
     ir, il = int(pins[1]), int(pins[2])
     ni, nt = _contour_corners(c, pins, grain, BEND_KNOT_ANGLE)
     notches = ni[nt < 0]
@@ -225,8 +226,8 @@ def _tip_extent(c: np.ndarray, pins: tuple[int, int, int], grain: float, tips: n
         hi = tips[k + 1] if k + 1 < len(tips) else il
         before = notches[(notches > lo) & (notches < t)]
         after = notches[(notches > t) & (notches < hi)]
-        a = int(before[-1]) if before.size else int((lo + t) // 2)
-        b = int(after[0]) if after.size else int((t + hi + 1) // 2)
+        a = int(before[-1]) if before.size else int(lo if to_tips and k > 0 else (lo + t) // 2)
+        b = int(after[0]) if after.size else int(hi if to_tips and k + 1 < len(tips) else (t + hi + 1) // 2)
         out[k] = (a, t, b)
     return out
 
@@ -347,6 +348,28 @@ def _tip_matched(contours, weights, pins: tuple[int, int, int], grains=None):
             kept.append(x)
             last = x[5]
     kept_ids = {id(x[0]) for x in kept}
+    # Tips mirrored across the apex (the left and right ends of one fir tier) are kept or dropped
+    # together: kept on one side only they left a lopsided, flag-like tier (a 3-tier fir mixed
+    # 0.1/0.9 with a 5-tier one: 5 tiers on the left, 4 on the right). Dropping is always
+    # possible (a flattened tip), so a kept tip whose mirror is dropped is dropped too.
+    ref = matched[int(order[0])]
+    height = float(np.ptp(ref[:, 1])) or 1.0
+    apex_x = float(ref[ir + int(np.argmin(ref[ir:il + 1, 1])), 0])
+    tip_at = {id(x[0]): matched[x[1]][x[3]] for x in info}
+    for x in info:
+        if id(x[0]) not in kept_ids or len(x[0]) == len(live):
+            continue
+        p = tip_at[id(x[0])]
+        if abs(p[0] - apex_x) < 0.05 * height:
+            continue
+        for y in info:
+            q = tip_at[id(y[0])]
+            if (y is not x and id(y[0]) not in kept_ids and abs(p[1] - q[1]) < 0.04 * height
+                    and (p[0] - apex_x) * (q[0] - apex_x) < 0
+                    and abs((p[0] - apex_x) + (q[0] - apex_x)) < 0.15 * abs(p[0] - apex_x)):
+                kept_ids.discard(id(x[0]))
+                break
+    kept = [x for x in kept if id(x[0]) in kept_ids]
     for g, donor, a, _t, b, _ in info:
         if len(g) == len(live) or b - a < 2:
             continue
@@ -367,13 +390,33 @@ def _tip_matched(contours, weights, pins: tuple[int, int, int], grains=None):
                 d = matched[donor]
                 c[a:b + 1] = c[a] + s_ * (c[b] - c[a]) + d[a:b + 1] - (d[a] + s_ * (d[b] - d[a]))
                 out[j] = c
-        # A tip not kept is left to the combination. Flattened to its chord, it left specks at
-        # the cut on outlined firs and poly libraries (_measure_corners flecks 0 -> 1.3-1.7 per
-        # 1000 px of rim) and cost mixed 5/7-point stars nothing the count cap needs.
+    # A tip not kept is dropped whole: flattened to the chord between its notches on every
+    # contour holding it, and on the rims the colour transfer maps onto (left to the combination
+    # it came out scaled by its holders' weights, a bump or a half tier: fir mixes of 3 and 5
+    # tiers kept tiers 0.3-0.5 of the sources' smallest, and read as dented flanks). The rims
+    # are flattened too: the mix's chord maps inside the holder, not onto its cut-off tip's
+    # rim (flattening only the mixed contour left specks at the cut, 1.3-1.7 per 1000 px of rim).
+    rims = list(matched)
+    # Where no notch parts a dropped tip from its neighbour (a fir's top tier and its apex) the
+    # chord runs to the neighbour: half way there it pinched the crown below the apex.
+    reach = {int(j): _tip_extent(cs[j], pins, grains[j], found[j][0], to_tips=True) for j in ext}
+    for g, donor, a, _t, b, _ in info:
+        if len(g) == len(live) or id(g) in kept_ids:
+            continue
+        for j, i in g.items():
+            row = reach[j][int(np.flatnonzero(found[j][0] == i)[0])]
+            a_, b_ = new_index(j, row[0]), new_index(j, row[2])
+            if b_ - a_ < 2:
+                continue
+            s_ = np.linspace(0.0, 1.0, b_ - a_ + 1)[:, None]
+            for lst in (out, rims):
+                c = lst[j].copy()
+                c[a_:b_ + 1] = c[a_] + s_ * (c[b_] - c[a_])
+                lst[j] = c
     # every kept tip, matched ones too: a tip matched across a shift (a 5-point star's upper
     # points to a 7-point star's) maps off the rim of the source it moved in
     spans = [(a, b) for g, _, a, _, b, _ in info if id(g) in kept_ids and b - a >= 2]
-    return out, matched, spans
+    return out, rims, spans
 
 
 def _fill_tips(image: np.ndarray, sources: np.ndarray, trunk: np.ndarray, contour: np.ndarray,
