@@ -39,6 +39,7 @@ import cv2
 import numpy as np
 from scipy import ndimage as ndi
 from skimage.morphology import skeletonize
+from skimage.segmentation import watershed
 
 __all__ = ["is_bare_alpha", "bare_mix", "soft_image", "BARE_FILL", "BARE_THIN", "BARE_THICK", "BARE_FILL_LOOSE",
            "BARE_THIN_LOOSE", "BARE_THICK_LOOSE", "BARE_SCALE"]
@@ -59,6 +60,22 @@ _BINS = 180
 #: diagonal line can fall under 0.5 all across (at 0.5 the hard mixes of 1 px-twig trees broke
 #: into 19-46 pieces, at 0.4 into 1-10 with twigs 1.06-1.2x the sources', at 0.3 twigs 1.25-1.4x).
 HARD_CUT = 0.4
+#: A tree's stem (split off before its limbs are shared out): pixels at least this share as deep
+#: as its deepest pixel (a trunk 1, its first limbs 0.65 of its width in the procedural trees).
+LIMB_STEM = 0.8
+#: The stem grown back by this many times its depth: the fork where its limbs leave it (its
+#: limbs touched each other just past a trunk grown back by its depth only: one limb).
+LIMB_GROW = 2.5
+#: A limb longer than this share of the tree's skeleton is split at its own stem (up to
+#: :data:`LIMB_DEPTH` times), so the limbs can be shared out by weight.
+LIMB_SHARE = 0.2
+LIMB_DEPTH = 0
+#: Most share of a limb lying near the limbs already taken (within :data:`LIMB_GAP` of the
+#: tree's extent) for the mix to take it too: limbs of two trees do not pile up.
+LIMB_OVERLAP = 0.25
+LIMB_GAP = 0.01
+#: Least share of the weighted mean limb length a mix keeps (the dominant tree fills it up).
+LIMB_FILL = 0.8
 
 
 def is_bare_alpha(alpha: np.ndarray, loose: bool = False) -> bool:
@@ -190,7 +207,7 @@ def soft_image(image: np.ndarray, soft_alpha: np.ndarray | None) -> np.ndarray:
 
 
 def bare_mix(images: Sequence[np.ndarray], weights: np.ndarray, colour_weights: np.ndarray,
-             trunks: Sequence[np.ndarray] | None = None, hard: bool = False
+             trunks: Sequence[np.ndarray] | None = None, hard: bool = False, rng=None
              ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Mix bare trees by their envelopes: warp the dominant exemplar into the mixed envelope.
 
@@ -208,6 +225,9 @@ def bare_mix(images: Sequence[np.ndarray], weights: np.ndarray, colour_weights: 
     hard : bool
         Hard-edged sources (pixel art): the warped alpha is thresholded at
         :data:`HARD_CUT` (hard edges in, hard edges out).
+    rng : int or numpy.random.Generator, optional
+        Which limbs each exemplar gives (drawn by their length); None: the
+        longest first.
 
     Returns
     -------
@@ -244,31 +264,150 @@ def bare_mix(images: Sequence[np.ndarray], weights: np.ndarray, colour_weights: 
     ws = w / w.sum()
     foot_m = np.sum([wi * np.array(f) for wi, f in zip(ws, feet, strict=True)], axis=0)
     prof_m = np.sum([wi * p for wi, p in zip(ws, profs, strict=True)], axis=0)
-    k = np.clip(profs[d] / prof_m, *BARE_SCALE)
     yy, xx = np.mgrid[0:h, 0:wd].astype(np.float32)
     dx, dy = xx - foot_m[0], foot_m[1] - yy
     th = np.arctan2(dy, dx)
     pos = (th + np.pi) / (2 * np.pi) * _BINS - 0.5
-    kk = np.interp(pos.ravel(), np.arange(-1, _BINS + 1), np.r_[k[-1], k, k[0]]).reshape(h, wd)
-    mx = (feet[d][0] + kk * dx).astype(np.float32)
-    my = (feet[d][1] - kk * dy).astype(np.float32)
-    src = imgs[d]
-    pre = np.dstack([src[..., :3] * src[..., 3:], src[..., 3]])
-    out = cv2.remap(pre, mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT, borderValue=0)
-    a = np.clip(out[..., 3], 0, 1)
-    rgb = out[..., :3] / np.maximum(a, 1e-6)[..., None]
-    if hard:
-        a = (a >= HARD_CUT).astype(np.float32)
     cws = cw / cw.sum() if cw.sum() > 0 else ws
     target = np.sum([ci * _mean_colour(im) for ci, im in zip(cws, imgs, strict=True)], axis=0)
-    gain = target / np.maximum(_mean_colour(src), 1e-3)
-    rgb = np.clip(rgb * gain, 0, 1)
+    live = [i for i in range(len(imgs)) if w[i] > 0] or [d]
+    warped = {}
+    for i in live:      # every exemplar warped from its own envelope into the mixed one
+        k = np.clip(profs[i] / prof_m, *BARE_SCALE)
+        kk = np.interp(pos.ravel(), np.arange(-1, _BINS + 1), np.r_[k[-1], k, k[0]]).reshape(h, wd)
+        mx = (feet[i][0] + kk * dx).astype(np.float32)
+        my = (feet[i][1] - kk * dy).astype(np.float32)
+        src = imgs[i]
+        pre = np.dstack([src[..., :3] * src[..., 3:], src[..., 3]])
+        out = cv2.remap(pre, mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT, borderValue=0)
+        a = np.clip(out[..., 3], 0, 1)
+        rgb = out[..., :3] / np.maximum(a, 1e-6)[..., None]
+        if hard:
+            a = (a >= HARD_CUT).astype(np.float32)
+        rgb = np.clip(rgb * (target / np.maximum(_mean_colour(src), 1e-3)), 0, 1)
+        tr = (cv2.remap(np.asarray(trunks[i], np.float32), mx, my, cv2.INTER_LINEAR,
+                        borderMode=cv2.BORDER_CONSTANT, borderValue=0) if trunks is not None
+              else np.zeros((h, wd), np.float32))
+        warped[i] = (rgb, a, tr)
+    cut = HARD_CUT if hard else 0.5
+    if len(live) > 1 and all(np.abs(warped[i][1] - warped[d][1]).max() < 1e-3 for i in live):
+        live = [d]           # one tree several times: nothing to share out
+    ext = float(np.hypot(*np.ptp(np.argwhere(warped[d][1] >= cut), axis=0))) if (warped[d][1] >= cut).any() else 1.0
+    own = _share_limbs({i: warped[i][1] >= cut for i in live}, d, ws, ext,
+                       None if rng is None else np.random.default_rng(rng))
+    # each exemplar's chosen limbs with their anti-aliased fringe; the most opaque one wins
+    alpha = np.zeros((h, wd), np.float32)
+    sources = np.full((h, wd), -1)
+    for i in live:
+        sel = cv2.dilate(own[i].astype(np.uint8), np.ones((3, 3), np.uint8)).astype(bool)
+        ai = np.where(sel, warped[i][1], 0.0)
+        win = ai > alpha
+        alpha = np.where(win, ai, alpha)
+        sources = np.where(win, i, sources)
+    rgb = np.full((h, wd, 3), target, np.float32)
+    trunk = np.zeros((h, wd), np.float32)
+    for i in live:
+        m = sources == i
+        rgb[m] = warped[i][0][m]
+        trunk[m] = warped[i][2][m]
+    a = alpha.astype(np.float32)
     # transparent pixels keep the mean colour (no black fringe when composited unpremultiplied)
     rgb = np.where(a[..., None] > 1e-4, rgb, target)
     image = np.dstack([rgb, a]).astype(np.float32)
-    sources = np.where(a >= 0.5, d, -1)
-    trunk = np.zeros((h, wd), np.float32)
-    if trunks is not None:
-        trunk = cv2.remap(np.asarray(trunks[d], np.float32), mx, my, cv2.INTER_LINEAR,
-                          borderMode=cv2.BORDER_CONSTANT, borderValue=0)
+    sources = np.where(a >= 0.5, sources, -1)
     return image, sources, trunk
+
+
+def _pieces(mask: np.ndarray, depth: int, share: float, total: float, top: bool = True):
+    """A tree's limbs as pieces ``(stem, limb)``: the mask without its thickest part (the stem,
+    pixels at least :data:`LIMB_STEM` as deep as the deepest, grown back by that depth) falls
+    into limbs; a limb longer than ``share`` of ``total`` (skeleton px) is split alike, its own
+    stem going along with each of its pieces."""
+    dt = ndi.distance_transform_edt(mask)
+    deep = float(dt.max())
+    rows = np.flatnonzero(mask.any(axis=1))
+    if top and rows.size:
+        # the trunk's own depth, read near the foot: the forks, where strokes overlap, run deeper
+        low = dt[rows[-1] - max(1, int(0.1 * (rows[-1] - rows[0]))):rows[-1] + 1]
+        deep = float(np.median(low.max(axis=1)))
+    if deep <= 0:
+        return []
+    seeds = dt >= LIMB_STEM * deep
+    stem = (ndi.distance_transform_edt(~seeds) <= LIMB_GROW * deep + 1.0) & mask
+    # Limbs: flooded from where they leave the stem, through the mask, thick parts first (a
+    # watershed on the depth); crowns whose twigs cross are parted where they cross (as
+    # connected pieces, all the limbs of a round crown were one).
+    rest = mask & ~stem
+    base = rest & (ndi.distance_transform_edt(~stem) <= 2.0)
+    markers, n = ndi.label(base, structure=np.ones((3, 3)))
+    lab = watershed(-dt, markers, mask=rest, connectivity=2) if n else markers
+    out = []
+    if n == 0:
+        return out
+    length = ndi.sum(skeletonize(mask), lab, np.arange(1, n + 1))
+    for j in range(n):
+        limb = lab == j + 1
+        if length[j] < 2:
+            continue
+        if depth > 0 and length[j] > share * total:
+            sub = _pieces(limb, depth - 1, share, total, top=False)
+            if len(sub) > 1:
+                out += [(st | stem, lb, ln) for st, lb, ln in sub]
+                continue
+        out.append((stem, limb, float(length[j])))
+    return out
+
+
+def _share_limbs(masks: dict, d: int, ws: np.ndarray, extent: float, rng=None) -> dict:
+    """Which pixels of each warped exemplar the mix takes (beyond the paper's single-tree warp):
+    the trunk of the dominant ``d``; the limbs of all, shared out by their shape weights ``ws``
+    (the exemplar furthest below its share of the limb length takes its longest limb that does
+    not lie over the limbs taken so far), up to their weighted mean limb length."""
+    own = {i: np.zeros_like(m) for i, m in masks.items()}
+    if len(masks) == 1:
+        own[d] = masks[d].copy()
+        return own
+    pieces = {i: _pieces(m, LIMB_DEPTH, LIMB_SHARE, float(skeletonize(m).sum())) for i, m in masks.items()}
+    if any(not p for p in pieces.values()):
+        own[d] = masks[d].copy()
+        return own
+    stems = {}
+    for i, p in pieces.items():     # the trunk: what every piece of the tree stands on
+        st = p[0][0].copy()
+        for q in p[1:]:
+            st &= q[0]
+        stems[i] = st
+    taken = stems[d].copy()
+    own[d] |= stems[d]
+    goal = sum(ws[i] * sum(q[2] for q in p) for i, p in pieces.items())
+    got = {i: 0.0 for i in pieces}
+    left = {i: sorted(p, key=lambda q: -q[2]) for i, p in pieces.items()}
+    near = max(2.0, LIMB_GAP * extent)
+    spare = []
+    def take(i, limb, stem, length) -> bool:
+        grown = ndi.distance_transform_edt(~taken) <= near
+        if (grown & limb).sum() > LIMB_OVERLAP * limb.sum():
+            return False
+        own[i] |= limb | stem
+        taken[...] |= limb | stem
+        got[i] += length
+        return True
+
+    while sum(got.values()) < goal and any(left.values()):
+        i = max((i for i in left if left[i]), key=lambda i: ws[i] * goal - got[i])
+        pick = 0 if rng is None else int(rng.choice(len(left[i]), p=(q := np.array([x[2] for x in left[i]])) / q.sum()))
+        stem, limb, length = left[i].pop(pick)
+        # only a limb that brings its tree nearer its share: a tree of weight 0.16 gave half
+        # the limbs of a two-limbed mix
+        if abs(got[i] + length - ws[i] * goal) < abs(got[i] - ws[i] * goal):
+            take(i, limb, stem, length)
+        else:
+            spare.append((i, stem, limb, length))
+    # a crown left short (a limb would overshoot its tree's share; limbs lay over others): the
+    # limbs passed over fill it, the heaviest tree's first (a one-limbed mix otherwise)
+    spare += [(i, *q) for i in left for q in left[i]]
+    for i, stem, limb, length in sorted(spare, key=lambda q: (-ws[q[0]], -q[3])):
+        if sum(got.values()) >= LIMB_FILL * goal:
+            break
+        take(i, limb, stem, length)
+    return own

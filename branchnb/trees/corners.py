@@ -247,7 +247,7 @@ def _tip_profile(c: np.ndarray, a: int, b: int) -> tuple[np.ndarray, np.ndarray,
     return along, normal, chord
 
 
-def _tip_matched(contours, weights, pins: tuple[int, int, int], grains=None):
+def _tip_matched(contours, weights, pins: tuple[int, int, int], grains=None, drop: bool = True):
     """Corner matching with every tip kept or dropped: (contours to combine, matched contours,
     spans ``(start, end)`` of the kept tips in the common indices, for :func:`_fill_tips`).
 
@@ -356,7 +356,7 @@ def _tip_matched(contours, weights, pins: tuple[int, int, int], grains=None):
     height = float(np.ptp(ref[:, 1])) or 1.0
     apex_x = float(ref[ir + int(np.argmin(ref[ir:il + 1, 1])), 0])
     tip_at = {id(x[0]): matched[x[1]][x[3]] for x in info}
-    for x in info:
+    for x in info if drop else []:
         if id(x[0]) not in kept_ids or len(x[0]) == len(live):
             continue
         p = tip_at[id(x[0])]
@@ -401,7 +401,7 @@ def _tip_matched(contours, weights, pins: tuple[int, int, int], grains=None):
     # chord runs to the neighbour: half way there it pinched the crown below the apex.
     reach = {int(j): _tip_extent(cs[j], pins, grains[j], found[j][0], to_tips=True) for j in ext}
     for g, donor, a, _t, b, _ in info:
-        if len(g) == len(live) or id(g) in kept_ids:
+        if len(g) == len(live) or id(g) in kept_ids or not drop:
             continue
         for j, i in g.items():
             row = reach[j][int(np.flatnonzero(found[j][0] == i)[0])]
