@@ -340,11 +340,13 @@ def _tip_matched(contours, weights, pins: tuple[int, int, int], grains=None, dro
     rest = sorted((x for x in info if not all(int(j) in x[0] for j in live)), key=lambda x: -x[5])
     kept = list(full)
     last = None
+    # extents meeting half way between two tips may overlap by the rounding of their midpoint
+    slack = max(1, int(0.004 * span)) if drop else 0
     for x in rest:
         # Groups held by the same weight go together (the left and right tier ends of a fir).
         if len(kept) >= keep_n and not (last is not None and abs(x[5] - last) < 1e-9 and len(kept) < max(n_tips)):
             break
-        if all(x[4] <= y[2] or x[2] >= y[4] for y in kept):
+        if all(x[4] <= y[2] + slack or x[2] >= y[4] - slack for y in kept):
             kept.append(x)
             last = x[5]
     kept_ids = {id(x[0]) for x in kept}
