@@ -42,6 +42,18 @@ index:
    allows, those held by most weight first. The colour transfer keeps the
    kept tips opaque (:func:`_fill_tips`).
 
+5. **Dropped tips** (issue 24, trees46): on plain (not re-inked) mixes a tip
+   not kept is flattened to the chord between its notches on every contour
+   holding it (and on the rims the colour transfer maps onto), so a fir of 3
+   tiers mixed with one of 5 gets whole tiers, never a tier scaled by its
+   holders' weight (a bump or dent 0.3-0.5 of a tier; 8-9 corners of 25-60
+   degrees on the flanks of 0.7/0.3 mixes, none after). The two ends of a
+   tier (tips mirrored across the apex) are kept or dropped together, and a
+   dropped top tier is flattened up to the apex. Not on outlined mixes:
+   there the cut left specks at the re-inked rim (flecks 0 -> 2.1 per 1000 px).
+   Tiers are not inserted into a tier of another source yet: an even mix of 3
+   and 5 tiers has the reference's 3.
+
 A mix of crowns none of which has a tip (round, lobed, bumpy cartoon crowns
 whose corners are all notches) keeps the paper's correspondence exactly.
 
@@ -402,7 +414,7 @@ def _tip_matched(contours, weights, pins: tuple[int, int, int], grains=None, dro
     # Where no notch parts a dropped tip from its neighbour (a fir's top tier and its apex) the
     # chord runs to the neighbour: half way there it pinched the crown below the apex.
     reach = {int(j): _tip_extent(cs[j], pins, grains[j], found[j][0], to_tips=True) for j in ext}
-    for g, donor, a, _t, b, _ in info:
+    for g, _donor, _a, _t, _b, _ in info:
         if len(g) == len(live) or id(g) in kept_ids or not drop:
             continue
         for j, i in g.items():

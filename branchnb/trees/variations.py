@@ -444,8 +444,9 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     combination cannot mix a lattice of 1 px twigs (the contours trace
     every twig and do not correspond: limbs were cut off the trunk, twigs
     turned into clumps). The crowns' envelopes are mixed instead and the
-    dominant exemplar's branches warped whole into the mix, with their
-    anti-aliased edges (:mod:`~branchnb.trees.bare`).
+    exemplars' branches warped whole into the mix, with their anti-aliased
+    edges; the mix has the dominant's trunk and whole limbs of each
+    exemplar by its weight (:mod:`~branchnb.trees.bare`).
 
     Beyond the paper: when every mixed exemplar is pixel art (hard edges,
     at most 32 colours, alpha 0/1, art pixels at least 2 working pixels
