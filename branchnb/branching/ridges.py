@@ -411,7 +411,7 @@ def _line_colour_and_width(image, *, sigma_max: float = 4.0, min_contrast: float
         # wider than a line, yet in a drawing a coloured tree shape is still the structure
         width = _drawn_branching_width(has, sigma_max) if drawn and c.max() - c.min() >= 0.2 \
             and np.mean(solid[has]) >= 0.12 else None
-        if width is None and not drawn and _solid_on_texture(solid, has):
+        if width is None and _solid_on_texture(solid, has):
             # lines painted in one exact colour on a textured ground (a root system on soil): where they
             # are wider than the ridge filter's scales (a crown at the frame) the filter sees two edges
             # and the crown is lost, so its shape is traced by its medial axis (beyond the paper)
