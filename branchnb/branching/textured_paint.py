@@ -23,6 +23,16 @@ GRAIN_SIGMA_MIN = 1.25
 #: The lines' tone starts where the pixels in excess of the ground's mirrored peak are this many times the
 #: ground's own.
 DOMINANCE = 2.0
+#: The shape's mean width is at least this many times the ridge filter's largest scale: thinner lines on a
+#: textured ground (a tree drawn on noise, cracks in mud) the filter traces well, and their smoothed tone
+#: loses their thin ends (recall 0.91 -> 0.52 on a 512 px tree on noise).
+MIN_WIDTH_SIGMAS = 1.5
+#: ... unless the ground's fine grain (its high-pass standard deviation) is at least this share of the lines'
+#: tone contrast: the ridge filter then traces the grain (0.13-0.24 on roots given the soil's grain; 0.05-0.09
+#: on trees drawn on noise, cracks in mud), ...
+GRAIN_MIN = 0.11
+#: ... and at most this share: a ground grained as strongly as the lines' contrast (stripes) has no second tone.
+GRAIN_MAX = 0.35
 #: The lines' tone covers at least / at most this share of the image.
 MIN_SHARE, MAX_SHARE = 0.01, 0.4
 
@@ -70,8 +80,10 @@ def textured_line_shape(image, sigma_max: float = 4.0) -> np.ndarray | None:
     image : (H, W) or (H, W, C) array_like
         A textured picture (not a flat drawing).
     sigma_max : float, default 4.0
-        The ridge filter's largest scale: the shape must be a branching one at least 3 px wide on average
-        (:func:`~branchnb.branching.ridges._drawn_branching_width`); thinner lines are the filter's.
+        The ridge filter's largest scale: the shape must be a branching one at least 3 px and
+        :data:`MIN_WIDTH_SIGMAS` times as wide on average
+        (:func:`~branchnb.branching.ridges._drawn_branching_width`), or its ground grained enough for the
+        filter to trace the grain (:data:`GRAIN_MIN`); other lines are the filter's.
 
     Returns
     -------
@@ -108,5 +120,10 @@ def textured_line_shape(image, sigma_max: float = 4.0) -> np.ndarray | None:
     shape = keep[lab]
     width = _drawn_branching_width(shape, sigma_max, pieces=PAINTED_PIECES)
     if width is None or width < 3.0:
+        return None
+    hp = gray - ndi.gaussian_filter(gray, 1.0)
+    outer = ndi.distance_transform_edt(~shape) >= 3.0
+    grain = float(np.std(hp[outer])) / max(abs(ground - peak), 1e-6) if outer.any() else np.inf
+    if grain > GRAIN_MAX or (width < MIN_WIDTH_SIGMAS * sigma_max and grain < GRAIN_MIN):
         return None
     return shape
