@@ -29,7 +29,7 @@ def test_painted_roots_on_smooth_and_noisy_soil(ground, seed):
 
 
 def test_roots_with_the_soils_grain():
-    # main: precision 0.22, recall 0.88, 1186 branches for 80 roots
+    # main: precision 0.22, recall 0.88, 1186 branches for 80 roots (now 0.98 / 0.92, 80)
     img, lines = make(512, "textured", 0)
     s = extract_structure(img)
     prec, rec = scores(lines, s, 512)

@@ -238,14 +238,14 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         if line_colour is None and shape_width is None and not _is_drawn(as_gray(as_rgb(image)[..., :3])):
             # lines painted with the ground's own grain (roots given the soil's texture): no solid colour, and
             # the ridge filter would trace every grain; their tone, smoothed at the grain's scale, still is
-            # a branching shape of its own (beyond the paper, issue 23)
+            # a branching shape of its own (beyond the paper, issue 23). Its cycles stay cut: closing them
+            # took recall 0.90 -> 0.92 but the branch count from 1.6 to 2.5 times the painted roots'
             from .textured_paint import textured_line_shape
 
             shape = textured_line_shape(image, p.sigma_max)
             if shape is not None:
                 return _extract_binary(np.where(shape, 0.0, 1.0), dataclasses.replace(p, polarity="dark"), mask,
-                                       return_maps, root_point, flat_regions=False, frame_reach=True,
-                                       close_cycles=p.close_cycles)
+                                       return_maps, root_point, flat_regions=False, frame_reach=True)
     if p.binary == "on" or (p.binary == "auto" and shape_width is None and is_binary(gray)):
         return _extract_binary(gray, p, mask, return_maps, root_point, colour=colour_image)
     lines = gray
