@@ -1,9 +1,10 @@
 """Issue-23 figures (branching86): a painted root system on a textured soil, with known centre lines.
 
 ``python -m branchnb.branching._soil_roots_check [SIZES] [GROUNDS] [PNG_DIR] [SEEDS]`` (e.g. ``320,640,1024
-smooth,grainy,pebbly OUT 0``) extracts each painting with the defaults and prints ``prec`` (share of the
-extracted skeleton length within max(3 px, radius) of a true centre line), ``rec`` (share of the true
-centre-line length within that of the extracted one), the branch and root counts and the time.
+smooth,grainy,pebbly OUT 0``; grounds: see :data:`GROUNDS` and :func:`make`) extracts each painting with the
+defaults and prints ``prec`` (share of the extracted skeleton length within max(3 px, radius) of a true centre
+line), ``rec`` (share of the true centre-line length within that of the extracted one), the branch and root
+counts (the painting has 80 roots) and the time.
 """
 # ruff: noqa: E501
 from __future__ import annotations

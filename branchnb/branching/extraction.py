@@ -151,6 +151,12 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         the fine lines (:func:`~branchnb.branching.wide_lines.wide_line_mask`);
         they join the ridge mask, their axis runs on to the frame where they
         enter, their radius is their own half width.
+        Lines painted in one solid colour on a ground that is not (roots on
+        soil, smooth or grained) are traced by that colour's shape, and lines
+        painted with the ground's own grain (no solid colour) by their tone
+        smoothed at the grain's scale
+        (:func:`~branchnb.branching.textured_paint.textured_line_shape`), not by
+        the filter, which would trace every grain (beyond the paper, issue 23).
     mask : (H, W) bool array_like, optional
         Only look inside this region.
     return_maps : bool, default False

@@ -414,7 +414,9 @@ def _line_colour_and_width(image, *, sigma_max: float = 4.0, min_contrast: float
         if width is None and _solid_on_texture(solid, has):
             # lines painted in one exact colour on a textured ground (a root system on soil): where they
             # are wider than the ridge filter's scales (a crown at the frame) the filter sees two edges
-            # and the crown is lost, so its shape is traced by its medial axis (beyond the paper)
+            # and the crown is lost, so its shape is traced by its medial axis (beyond the paper). A smooth
+            # soil (faint grain) passes for a drawing, yet its ground has no solid paint either: the same
+            # (a dull brown root paint missed the drawn-tree test above; recall 0.84-0.89 by the filter)
             w_line = _drawn_branching_width(has, sigma_max, pieces=PAINTED_PIECES)
             width = w_line if w_line is not None and w_line >= 3.0 else None
         if width is None and np.mean(line_like[has]) < 0.5:
