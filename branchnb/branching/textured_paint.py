@@ -16,6 +16,8 @@ from scipy import ndimage as ndi
 
 from ..core.image import as_gray, as_rgb
 
+__all__ = ["textured_line_shape"]
+
 #: The grain is smoothed away by a Gaussian of this sigma (pixels) per 1024 px of the image's shorter side,
 #: at least :data:`GRAIN_SIGMA_MIN` (thin lines of a small image keep their tone).
 GRAIN_SIGMA = 2.0
