@@ -1,9 +1,10 @@
 """Issue-23 figures (branching86): a painted root system on a textured soil, with known centre lines.
 
 ``python -m branchnb.branching._soil_roots_check [SIZES] [GROUNDS] [PNG_DIR] [SEEDS]`` (e.g. ``320,640,1024
-smooth,grainy,pebbly OUT 0``) extracts each painting with the defaults and prints ``prec`` (share of the
-extracted skeleton length within max(3 px, radius) of a true centre line), ``rec`` (share of the true
-centre-line length within that of the extracted one), the branch and root counts and the time.
+smooth,grainy,pebbly OUT 0``; grounds: see :data:`GROUNDS` and :func:`make`) extracts each painting with the
+defaults and prints ``prec`` (share of the extracted skeleton length within max(3 px, radius) of a true centre
+line), ``rec`` (share of the true centre-line length within that of the extracted one), the branch and root
+counts (the painting has 80 roots) and the time.
 """
 # ruff: noqa: E501
 from __future__ import annotations
@@ -16,15 +17,18 @@ import cv2
 import numpy as np
 from scipy.spatial import cKDTree
 
-GROUNDS = ("smooth", "grainy", "pebbly")
+GROUNDS = ("smooth", "noisy", "grainy", "patchy", "pebbly", "textured")
 
 
 
 
 def make(N: int, ground: str, seed: int = 0):
     """A painted root system ``N`` x ``N`` (two trees from the top edge, 30 -> ~6 px wide at 1024 px, scaled
-    with ``N``) on a ``smooth``, ``grainy`` (strong fine grain, streaks and shading) or ``pebbly`` (flat
-    pebbles of lighter and darker tones with shadows) soil; ``(image, [(centreline, radii), ...])``."""
+    with ``N``) on a ``smooth``, ``noisy`` (strong per-pixel colour noise), ``grainy`` (strong fine grain,
+    streaks and shading), ``patchy`` (large patches of lighter and darker soil, soft-edged, with a little grain)
+    or ``pebbly`` (flat pebbles of lighter and darker tones with shadows) soil; ``textured``: the roots carry
+    the soil's own grain (a grain texture multiplied into the whole painting after the roots are painted, so
+    no pixel keeps the paint's exact colour); ``(image, [(centreline, radii), ...])``."""
     if ground not in GROUNDS:
         raise ValueError(f"ground must be one of {GROUNDS}, got {ground!r}")
     rng = np.random.default_rng(seed)
@@ -32,6 +36,13 @@ def make(N: int, ground: str, seed: int = 0):
     img = np.ones((N, N, 3), np.float32) * base
     if ground == "smooth":
         img += cv2.GaussianBlur(rng.normal(0, 0.03, (N, N)).astype(np.float32), (0, 0), 1.0)[..., None]
+    elif ground == "noisy":
+        img += rng.normal(0, 0.06, (N, N, 3)).astype(np.float32)
+    elif ground == "patchy":
+        # soft-edged patches a tenth of the image across, +-0.12 in tone, and a little grain
+        blobs = cv2.GaussianBlur(rng.normal(0, 1, (N, N)).astype(np.float32), (0, 0), N / 25)
+        blobs = np.tanh(3.0 * blobs / (blobs.std() + 1e-9)) * 0.12
+        img += (blobs + cv2.GaussianBlur(rng.normal(0, 0.04, (N, N)).astype(np.float32), (0, 0), 0.8))[..., None]
     elif ground == "grainy":
         # strong grain: fine noise, streaks, and shading
         n1 = rng.normal(0, 0.07, (N, N)).astype(np.float32)
@@ -80,6 +91,13 @@ def make(N: int, ground: str, seed: int = 0):
             grow(pts[-1], ang + rng.normal(0, 0.3), w * 0.7, depth + 1)
     for x in (0.3, 0.7):
         grow(np.array([x * N, 0.0]), np.pi / 2 + rng.normal(0, 0.2), 15.0 * s, 0)
+    if ground == "textured":
+        # one grain over soil and roots alike: fine speckle, grains a few px across, streaks
+        g1 = cv2.GaussianBlur(rng.normal(0, 1, (N, N)).astype(np.float32), (0, 0), 0.7)
+        g2 = cv2.GaussianBlur(rng.normal(0, 1, (N, N)).astype(np.float32), (0, 0), max(1.0, N / 400))
+        g3 = cv2.GaussianBlur(rng.normal(0, 1, (N, N)).astype(np.float32), (0, 0), sigmaX=N / 80, sigmaY=N / 400)
+        tex = 1.0 + sum(0.12 * g / (g.std() + 1e-9) for g in (g1, g2, g3))
+        img *= tex[..., None]
     return img.clip(0, 1), lines
 
 

@@ -236,6 +236,9 @@ SOLID_LINES = 0.3
 SOLID_GROUND = 0.02
 #: ... or at most a tenth of the lines' share, up to this (flat pebbles on a grainy soil).
 SOLID_GROUND_MAX = 0.05
+#: On a ground smooth enough to pass for a drawing, at least this share of a solid paint's pixels are
+#: line-like (contrast to their local median): roots on a smooth soil 0.18-0.67, a photo's black surround 0.
+DRAWN_LINE_LIKE = 0.1
 #: Lines painted solid on a textured ground may be this many separate pieces (root systems side by side).
 PAINTED_PIECES = 3
 
@@ -411,10 +414,15 @@ def _line_colour_and_width(image, *, sigma_max: float = 4.0, min_contrast: float
         # wider than a line, yet in a drawing a coloured tree shape is still the structure
         width = _drawn_branching_width(has, sigma_max) if drawn and c.max() - c.min() >= 0.2 \
             and np.mean(solid[has]) >= 0.12 else None
-        if width is None and not drawn and _solid_on_texture(solid, has):
+        if width is None and _solid_on_texture(solid, has) and \
+                (not drawn or np.mean(line_like[has]) >= DRAWN_LINE_LIKE):
             # lines painted in one exact colour on a textured ground (a root system on soil): where they
             # are wider than the ridge filter's scales (a crown at the frame) the filter sees two edges
-            # and the crown is lost, so its shape is traced by its medial axis (beyond the paper)
+            # and the crown is lost, so its shape is traced by its medial axis (beyond the paper). A smooth
+            # soil (faint grain) passes for a drawing, yet its ground has no solid paint either: the same
+            # (a dull brown root paint missed the drawn-tree test above; recall 0.84-0.89 by the filter),
+            # as long as some of the colour stands out from its surroundings as a line does (a fundus
+            # photo's black surround, a region, has none)
             w_line = _drawn_branching_width(has, sigma_max, pieces=PAINTED_PIECES)
             width = w_line if w_line is not None and w_line >= 3.0 else None
         if width is None and np.mean(line_like[has]) < 0.5:
