@@ -174,6 +174,18 @@ MEANDER_DEPTH = 0.5
 #: (a meander that grows from the frame: ``mean0``'s first lobe is 0.21 x its largest).
 MEANDER_LOBE = 0.15
 TAIL_MAX = float(np.radians(60.0))
+#: A straight delta's trunk that turns at its head (:data:`STRAIGHT_TAIL`) into the example's outermost
+#: channel on its side (no heading of the example's channels at the sea, :func:`.delta_fan.fan_offsets` off the
+#: descent, lies beyond its root's): no channel leaves the synthesized trunk on the outer side of its turn at
+#: or below the delta's head (:meth:`_Drain.outer_side`; within :data:`TAIL_OUTER_HEAD` x the tail's depth), its
+#: channels take the fan's other half (:meth:`_Drain.bearing`). Beyond the paper (issue 23, branching88): on a
+#: delta whose trunk runs 20 degrees off the descent (``mean20``) the trunk turned 35 degrees to one side and
+#: its first channel left it on the same side, even further out; every channel below the head lay on one side
+#: of the trunk's line (the smaller side's share of the channel length 0.00-0.33, the example's 0.42).
+TAIL_OUTER = True
+#: ... from this share above the tail's depth down (the head on the synthesized trunk is found at its first
+#: vertex at or below that depth; a channel may leave a vertex or two above it)
+TAIL_OUTER_HEAD = 1.05
 
 
 class _Drain:
@@ -253,6 +265,8 @@ class _Drain:
         self.tail_share: float | None = None
         #: channels given the fan's other half below a straight delta's turned trunk so far (:meth:`bearing`)
         self._tail_kids = 0
+        #: the turned trunk's tail is the example's outermost channel on its side (:data:`TAIL_OUTER`)
+        self.tail_outer = False
 
     def set_tail_depth(self, depth: float) -> None:
         """Below ``depth`` (the delta's head on the synthesized trunk) the trunk takes the example's root's
@@ -307,7 +321,7 @@ class _Drain:
     def _straight_tail(self, example, dom: np.ndarray, dn: np.ndarray) -> None:
         """:data:`STRAIGHT_TAIL`: the example's root's heading at the sea, off the
         descent's mean direction ``dn`` along the axis, and the depth share where the trunk takes the former."""
-        from .delta_fan import _tail_share, _trunk_turns, root_offset
+        from .delta_fan import _tail_share, _trunk_turns, fan_offsets, root_offset
 
         tail = root_offset(example, dom, dn)
         share = _tail_share(example, dom)
@@ -322,6 +336,22 @@ class _Drain:
         # example's first furcation) squashed the fan against the coast
         self.tail = float(np.clip(tail, -TAIL_MAX, TAIL_MAX))
         self.tail_share = share
+        if TAIL_OUTER:
+            offs = fan_offsets(example, dom, dn)
+            self.tail_outer = bool(len(offs) and (tail >= offs.max() - 1e-6 if tail > 0 else tail <= offs.min() + 1e-6))
+
+    def outer_side(self, at) -> tuple[int, float]:
+        """The side of a turned trunk no channel may leave it on at ``at`` (:data:`TAIL_OUTER`; +1: at a
+        positive angle off the second value, the tail's heading there, image frame); 0 where any may.
+
+        The side is taken off the tail's heading (the descent turned by the example's root's heading at the
+        sea), not the trunk's own there: a trunk that meanders down to its head headed 40 degrees off its
+        tail at some vertices, and a head leaving it inward of its own heading ran outside the tail."""
+        if not self.tail_outer or self.tail is None or self.tail_depth is None:
+            return 0, 0.0
+        if self.depth_at(at)[0] > TAIL_OUTER_HEAD * self.tail_depth:
+            return 0, 0.0
+        return (1 if self.tail > 0 else -1), self._ref(at) + self.tail
 
     def _in_tail(self, at) -> bool:
         """Is ``at`` below the depth where a trunk takes the example's root's heading (:meth:`way_down`)?"""
@@ -431,7 +461,9 @@ class _Drain:
             # descent's side takes the fan's other half in turn (the far side, then the middle): sided
             # off the descent alone they all took the trunk's side and ran beside it
             sgn = 1.0 if self.tail >= 0 else -1.0
-            if wrap(off - self.tail) * sgn < 0:
+            # (every channel when the tail is the fan's outermost, TAIL_OUTER: the trunk's meander turned the
+            # heading of one leaving on the descent's side of it past the tail, and its channel ran outside it)
+            if wrap(off - self.tail) * sgn < 0 or self.tail_outer:
                 k = self._tail_kids
                 self._tail_kids += 1
                 return self._to_sea(at, a_d, -sgn * spread if k % 2 == 0 else 0.0)
