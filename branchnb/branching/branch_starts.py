@@ -33,6 +33,13 @@ FAN_OTHER_SIDE = 0.02
 #: of 5 seeds of a 512 px ``mean20`` delta (where the trunk meanders no head leaves inward), and its channel
 #: ran outside the trunk to the sea; none starts there instead (the fan is completed elsewhere, ``_finish_fan``).
 TAIL_OUTER_SIDE = 0.0
+#: A delta's channel of a channel starts only where the side of the trunk its first ancestor left the trunk
+#: on holds no more channels so far (the trunk's and theirs) than the other side (beyond the paper, issue 23,
+#: branching88): :data:`FAN_OTHER_SIDE` balanced the trunk's own channels alone, so a side with one channel and
+#: two of its channels' channels held three times the other's length, and a meandering trunk's fan came out
+#: lopsided (``mean0``, sea on the left, 512 px: the smaller side's share of the channel length below the head
+#: 0.12-0.49, median 0.23, against the example's 0.40).
+FAN_TALLY_ALL = True
 #: A delta's channel of a channel (beyond the paper, issue 23, branching74) whose bearing
 #: (:meth:`.drain._Drain.bearing`)
 #: lies less than this many radians from that of a channel already started, and whose start lies less than
@@ -150,6 +157,9 @@ class _BranchState:
     #: a delta's channel that left its parent below the head: its own fan bearing (unit x, y,
     #: :meth:`.domains._Drain.bearing`); None = the descent alone (a trunk) or no delta
     fan: np.ndarray | None = None
+    #: a delta's channel below the head: the side of the trunk (+1 / -1) its first ancestor that left the
+    #: trunk left it on (:data:`FAN_TALLY_ALL`); 0 = none
+    fan_side: int = 0
     #: a root (not in a delta): the input root's radius by arc length ((arc lengths, radii)) its radii are
     #: drawn back to (:func:`~branchnb.branching.growth._pull_radii`); None = the copied pieces' radii
     profile: tuple | None = None
@@ -321,7 +331,7 @@ class _Starts:
         """
         model, p = self.model, self.p
         heads = np.asarray(heads, np.int64)
-        if len(heads) == 0:
+        if len(heads) == 0 or self._side_full(parent):
             return None
         sub = None if full else self._share(len(heads))
         if sub is not None:
@@ -471,6 +481,10 @@ class _Starts:
                 return None
             if trunk:
                 self._fan_count = (self._fan_count[0] + (side > 0), self._fan_count[1] + (side < 0))
+                st.fan_side = side
+            else:
+                st.fan_side = self.branches[parent].fan_side
+            self._fan_tally = (self._fan_tally[0] + (st.fan_side > 0), self._fan_tally[1] + (st.fan_side < 0))
         if parent is not None and self.radial and p.thickness_blend:
             # a hub's child tapers like the example's children of its generation (.radial._taper_profile)
             from .radial import _taper_profile
@@ -481,6 +495,17 @@ class _Starts:
             self._child_count(radii)
         self.branches.append(st)
         return len(self.branches) - 1
+
+    def _side_full(self, parent: int | None) -> bool:
+        """Does a delta's channel of a channel (``parent`` a channel below the head) wait for the other side
+        of the trunk (:data:`FAN_TALLY_ALL`)?"""
+        if not FAN_TALLY_ALL or self.drain is None or parent is None or not self.drain.head:
+            return False
+        side = self.branches[parent].fan_side
+        if side == 0 or self.branches[parent].parent is None:
+            return False
+        left, right = self._fan_tally
+        return (left > right) if side > 0 else (right > left)
 
     def _bundled(self, x0, fan: np.ndarray) -> bool:
         """Would a delta's channel from ``x0`` on bearing ``fan`` run beside one already started
