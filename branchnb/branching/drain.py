@@ -173,6 +173,12 @@ MEANDER_DEPTH = 0.5
 #: ... a lobe of the meander: a run to one side of the trunk's chord past this share of its largest offset
 #: (a meander that grows from the frame: ``mean0``'s first lobe is 0.21 x its largest).
 MEANDER_LOBE = 0.15
+#: ... its slope solved for the faded sine the trunk follows (:func:`_faded_slope`), not a plain sine's
+#: ``2 sqrt(sinuosity - 1)``: the swings fade toward the run's ends (:meth:`_Drain._meander_way`), so with the
+#: plain sine's slope the trunk's path was shorter than the example's (beyond the paper, issue 23,
+#: branching88; ``_delta_fan_check bottom,left 512 5 ... mean0,mean20``, trunk sinuosity median: see the
+#: commit message).
+MEANDER_FADED = True
 TAIL_MAX = float(np.radians(60.0))
 #: A straight delta's trunk that turns at its head (:data:`STRAIGHT_TAIL`) into the example's outermost
 #: channel on its side (no heading of the example's channels at the sea, :func:`.delta_fan.fan_offsets` off the
@@ -715,7 +721,32 @@ def _meander_of(example, dom: np.ndarray) -> tuple[float, float, float] | None:
     lobes = 1 + int(np.count_nonzero(sg[1:] != sg[:-1]))
     if lobes < 3:
         return None
-    return 2.0 * float(np.sqrt(sin - 1.0)), float(lobes), float(sg[0])
+    return _faded_slope(sin, lobes) if MEANDER_FADED else 2.0 * float(np.sqrt(sin - 1.0)), float(lobes), float(sg[0])
+
+
+def _faded_slope(sin: float, lobes: int) -> float:
+    """The largest slope ``k`` of the faded sine :meth:`_Drain._meander_way` turns a trunk by (heading
+    ``arctan(k sqrt(sin(pi u)) cos(pi lobes u))`` at ``u`` of its run) whose path over its run is ``sin`` x
+    as long (:data:`MEANDER_FADED`).
+
+    Examples
+    --------
+    >>> round(_faded_slope(1.0, 3), 3)
+    0.0
+    >>> 2.0 * np.sqrt(0.16) < _faded_slope(1.16, 3) < 1.3
+    True
+    """
+    if sin <= 1.0:
+        return 0.0
+    u = (np.arange(400) + 0.5) / 400.0
+    g = np.sqrt(np.sin(np.pi * u)) * np.cos(np.pi * lobes * u)
+    lo, hi = 0.0, 1.0
+    while float(np.mean(np.sqrt(1.0 + (hi * g) ** 2))) < sin and hi < 1e3:
+        hi *= 2.0
+    for _ in range(50):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if float(np.mean(np.sqrt(1.0 + (mid * g) ** 2))) < sin else (lo, mid)
+    return 0.5 * (lo + hi)
 
 
 #: A map's rivers keep off the coast: the margin is this quantile of the depths (distance to the region
