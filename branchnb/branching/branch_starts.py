@@ -33,13 +33,6 @@ FAN_OTHER_SIDE = 0.02
 #: of 5 seeds of a 512 px ``mean20`` delta (where the trunk meanders no head leaves inward), and its channel
 #: ran outside the trunk to the sea; none starts there instead (the fan is completed elsewhere, ``_finish_fan``).
 TAIL_OUTER_SIDE = 0.0
-#: A delta's channel of a channel starts only where the side of the trunk its first ancestor left the trunk
-#: on holds no more channels so far (the trunk's and theirs) than the other side (beyond the paper, issue 23,
-#: branching88): :data:`FAN_OTHER_SIDE` balanced the trunk's own channels alone, so a side with one channel and
-#: two of its channels' channels held three times the other's length, and a meandering trunk's fan came out
-#: lopsided (``mean0``, sea on the left, 512 px: the smaller side's share of the channel length below the head
-#: 0.12-0.49, median 0.23, against the example's 0.40).
-FAN_TALLY_ALL = True
 #: A delta's channel of a channel (beyond the paper, issue 23, branching74) whose bearing
 #: (:meth:`.drain._Drain.bearing`)
 #: lies less than this many radians from that of a channel already started, and whose start lies less than
@@ -157,9 +150,6 @@ class _BranchState:
     #: a delta's channel that left its parent below the head: its own fan bearing (unit x, y,
     #: :meth:`.domains._Drain.bearing`); None = the descent alone (a trunk) or no delta
     fan: np.ndarray | None = None
-    #: a delta's channel below the head: the side of the trunk (+1 / -1) its first ancestor that left the
-    #: trunk left it on (:data:`FAN_TALLY_ALL`); 0 = none
-    fan_side: int = 0
     #: a root (not in a delta): the input root's radius by arc length ((arc lengths, radii)) its radii are
     #: drawn back to (:func:`~branchnb.branching.growth._pull_radii`); None = the copied pieces' radii
     profile: tuple | None = None
@@ -331,7 +321,7 @@ class _Starts:
         """
         model, p = self.model, self.p
         heads = np.asarray(heads, np.int64)
-        if len(heads) == 0 or self._side_full(parent):
+        if len(heads) == 0:
             return None
         sub = None if full else self._share(len(heads))
         if sub is not None:
@@ -374,7 +364,8 @@ class _Starts:
             if outer:   # a turned trunk that is the fan's outermost channel: none beyond it (.drain.TAIL_OUTER)
                 # its first edge too: a head that curved back inward after setting out outward was cut short
                 # at the frame band and left its channel heading outward
-                out = (self._fan_side(x0, a_tail, new, n) == outer) | (self._fan_side(x0, a_tail, new, np.ones_like(n)) == outer)
+                out = (self._fan_side(x0, a_tail, new, n) == outer) \
+                    | (self._fan_side(x0, a_tail, new, np.ones_like(n)) == outer)
                 score = np.where(out, score * TAIL_OUTER_SIDE, score)
             elif fan:   # and to the side of the trunk with fewer channels so far (both sides, like the example's)
                 side = self._fan_side(x0, theta0, new, n)
@@ -481,10 +472,6 @@ class _Starts:
                 return None
             if trunk:
                 self._fan_count = (self._fan_count[0] + (side > 0), self._fan_count[1] + (side < 0))
-                st.fan_side = side
-            else:
-                st.fan_side = self.branches[parent].fan_side
-            self._fan_tally = (self._fan_tally[0] + (st.fan_side > 0), self._fan_tally[1] + (st.fan_side < 0))
         if parent is not None and self.radial and p.thickness_blend:
             # a hub's child tapers like the example's children of its generation (.radial._taper_profile)
             from .radial import _taper_profile
@@ -495,17 +482,6 @@ class _Starts:
             self._child_count(radii)
         self.branches.append(st)
         return len(self.branches) - 1
-
-    def _side_full(self, parent: int | None) -> bool:
-        """Does a delta's channel of a channel (``parent`` a channel below the head) wait for the other side
-        of the trunk (:data:`FAN_TALLY_ALL`)?"""
-        if not FAN_TALLY_ALL or self.drain is None or parent is None or not self.drain.head:
-            return False
-        side = self.branches[parent].fan_side
-        if side == 0 or self.branches[parent].parent is None:
-            return False
-        left, right = self._fan_tally
-        return (left > right) if side > 0 else (right > left)
 
     def _bundled(self, x0, fan: np.ndarray) -> bool:
         """Would a delta's channel from ``x0`` on bearing ``fan`` run beside one already started

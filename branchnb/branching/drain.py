@@ -189,6 +189,12 @@ TAIL_MAX = float(np.radians(60.0))
 #: its first channel left it on the same side, even further out; every channel below the head lay on one side
 #: of the trunk's line (the smaller side's share of the channel length 0.00-0.33, the example's 0.42).
 TAIL_OUTER = True
+#: ... only where the example's trunk turns at its head, where its first channel parts (its tail's depth share,
+#: :func:`.delta_fan._tail_share`, at least this x its first furcation's, :func:`.delta_fan.head_share`):
+#: where it turns further down (the ``delta`` kind: 0.27 against 0.66) channels below the turn lie on both
+#: sides of it, and without them the fan of a 300 px ``delta`` narrowed (test_branching_delta_tail: spread
+#: median 22.8 degrees against the example's 38.9).
+TAIL_OUTER_AT_HEAD = 0.8
 #: ... from this share above the tail's depth down (the head on the synthesized trunk is found at its first
 #: vertex at or below that depth; a channel may leave a vertex or two above it)
 TAIL_OUTER_HEAD = 1.05
@@ -327,7 +333,7 @@ class _Drain:
     def _straight_tail(self, example, dom: np.ndarray, dn: np.ndarray) -> None:
         """:data:`STRAIGHT_TAIL`: the example's root's heading at the sea, off the
         descent's mean direction ``dn`` along the axis, and the depth share where the trunk takes the former."""
-        from .delta_fan import _tail_share, _trunk_turns, fan_offsets, root_offset
+        from .delta_fan import _tail_share, _trunk_turns, fan_offsets, head_share, root_offset
 
         tail = root_offset(example, dom, dn)
         share = _tail_share(example, dom)
@@ -342,7 +348,7 @@ class _Drain:
         # example's first furcation) squashed the fan against the coast
         self.tail = float(np.clip(tail, -TAIL_MAX, TAIL_MAX))
         self.tail_share = share
-        if TAIL_OUTER:
+        if TAIL_OUTER and share >= TAIL_OUTER_AT_HEAD * head_share(example, dom):
             offs = fan_offsets(example, dom, dn)
             self.tail_outer = bool(len(offs) and (tail >= offs.max() - 1e-6 if tail > 0 else tail <= offs.min() + 1e-6))
 
@@ -467,9 +473,7 @@ class _Drain:
             # descent's side takes the fan's other half in turn (the far side, then the middle): sided
             # off the descent alone they all took the trunk's side and ran beside it
             sgn = 1.0 if self.tail >= 0 else -1.0
-            # (every channel when the tail is the fan's outermost, TAIL_OUTER: the trunk's meander turned the
-            # heading of one leaving on the descent's side of it past the tail, and its channel ran outside it)
-            if wrap(off - self.tail) * sgn < 0 or self.tail_outer:
+            if wrap(off - self.tail) * sgn < 0:
                 k = self._tail_kids
                 self._tail_kids += 1
                 return self._to_sea(at, a_d, -sgn * spread if k % 2 == 0 else 0.0)

@@ -396,8 +396,6 @@ class _Grower(_Starts, _Filling):
         self._head: float | None = None
         #: a delta's channels that left its trunk below the head so far, (left, right) of it
         self._fan_count = (0, 0)
-        #: ... and with their channels' channels (branch_starts.FAN_TALLY_ALL)
-        self._fan_tally = (0, 0)
 
     def report(self, done: bool = False) -> None:
         if self.progress is None:
