@@ -277,8 +277,11 @@ class _Drain:
         self.tail_share: float | None = None
         #: channels given the fan's other half below a straight delta's turned trunk so far (:meth:`bearing`)
         self._tail_kids = 0
-        #: the turned trunk's tail is the example's outermost channel on its side (:data:`TAIL_OUTER`)
+        #: the turned trunk's tail is the example's outermost channel on its side (:data:`TAIL_OUTER`), the
+        #: example's other channels' headings at the sea off the descent and how often each was given
         self.tail_outer = False
+        self.tail_offsets: np.ndarray | None = None
+        self.tail_used: np.ndarray | None = None
 
     def set_tail_depth(self, depth: float) -> None:
         """Below ``depth`` (the delta's head on the synthesized trunk) the trunk takes the example's root's
@@ -351,6 +354,10 @@ class _Drain:
         if TAIL_OUTER and share >= TAIL_OUTER_AT_HEAD * head_share(example, dom):
             offs = fan_offsets(example, dom, dn)
             self.tail_outer = bool(len(offs) and (tail >= offs.max() - 1e-6 if tail > 0 else tail <= offs.min() + 1e-6))
+            if self.tail_outer and len(offs) > 1:
+                # the other channels' headings at the sea, the trunk's (the outermost) left out
+                self.tail_offsets = np.delete(offs, int(np.argmin(np.abs(offs - tail))))
+                self.tail_used = np.zeros(len(self.tail_offsets))
 
     def outer_side(self, at) -> tuple[int, float]:
         """The side of a turned trunk no channel may leave it on at ``at`` (:data:`TAIL_OUTER`; +1: at a
@@ -472,6 +479,14 @@ class _Drain:
             # STRAIGHT_TAIL: the trunk took one of the fan's outer headings; a channel leaving it on the
             # descent's side takes the fan's other half in turn (the far side, then the middle): sided
             # off the descent alone they all took the trunk's side and ran beside it
+            if self.tail_offsets is not None:
+                # TAIL_OUTER: each channel takes the example's heading given least so far (the nearest among
+                # equals), as an axis delta's (_pick_offset): the far side then the middle put the mouths' mean
+                # off the example's (trunk bearing error median 3 -> 11 degrees on mean20 512 px)
+                u = np.flatnonzero(self.tail_used == self.tail_used.min())
+                k = int(u[np.argmin(np.abs(self.tail_offsets[u] - off))])
+                self.tail_used[k] += 1.0
+                return self._to_sea(at, a_d, float(self.tail_offsets[k]))
             sgn = 1.0 if self.tail >= 0 else -1.0
             if wrap(off - self.tail) * sgn < 0:
                 k = self._tail_kids
