@@ -176,8 +176,9 @@ MEANDER_LOBE = 0.15
 #: ... its slope solved for the faded sine the trunk follows (:func:`_faded_slope`), not a plain sine's
 #: ``2 sqrt(sinuosity - 1)``: the swings fade toward the run's ends (:meth:`_Drain._meander_way`), so with the
 #: plain sine's slope the trunk's path was shorter than the example's (beyond the paper, issue 23,
-#: branching88; ``_delta_fan_check bottom,left 512 5 ... mean0,mean20``, trunk sinuosity median: see the
-#: commit message).
+#: branching88). ``_delta_fan_check bottom,left 512 5 ... mean0,mean20``, trunk sinuosity median, sea at the
+#: bottom/left: ``mean0`` 1.108/1.083 -> 1.172/1.094 (example 1.161/1.159), ``mean20`` 1.062/1.062 ->
+#: 1.101/1.107 (1.098/1.094); ``mean0`` at 1024 px 1.106/1.104 -> 1.190/1.157 (1.189/1.179). No crossings.
 MEANDER_FADED = True
 TAIL_MAX = float(np.radians(60.0))
 #: A straight delta's trunk that turns at its head (:data:`STRAIGHT_TAIL`) into the example's outermost
@@ -187,7 +188,11 @@ TAIL_MAX = float(np.radians(60.0))
 #: channels take the fan's other half (:meth:`_Drain.bearing`). Beyond the paper (issue 23, branching88): on a
 #: delta whose trunk runs 20 degrees off the descent (``mean20``) the trunk turned 35 degrees to one side and
 #: its first channel left it on the same side, even further out; every channel below the head lay on one side
-#: of the trunk's line (the smaller side's share of the channel length 0.00-0.33, the example's 0.42).
+#: of the trunk's line. ``_delta_fan_check bottom,left 512 5 ... mean20`` (sea at the bottom/left; with
+#: :attr:`_Drain.tail_offsets`): the smaller side's share of the channel length below the head, median (lowest
+#: seed) 0.24 (0.00) / 0.24 (0.19) -> 0.37 (0.27) / 0.46 (0.43), examples 0.42 / 0.39; fan spread median
+#: 27.5/27.1 -> 28.9/27.1 degrees (21.2/21.1); but the trunk's bearing error median 5.0/3.5 -> 8.9/9.8 degrees
+#: (twice the example's channels reach the sea, on the inner side now, and the mouths' mean moves inward).
 TAIL_OUTER = True
 #: ... only where the example's trunk turns at its head, where its first channel parts (its tail's depth share,
 #: :func:`.delta_fan._tail_share`, at least this x its first furcation's, :func:`.delta_fan.head_share`):
