@@ -28,6 +28,11 @@ __all__: list[str] = []
 #: side that already has more of them gets its score times this (the example's channels part to both
 #: sides of its head; without it 2 of 3 seeds of a 1000 px delta sent every channel to one side).
 FAN_OTHER_SIDE = 0.02
+#: ... and one on the outer side of a turned trunk that is the example's outermost channel
+#: (:data:`.drain.TAIL_OUTER`) this: at FAN_OTHER_SIDE, even at 1e-6, a head leaving outward still won in 2
+#: of 5 seeds of a 512 px ``mean20`` delta (where the trunk meanders no head leaves inward), and its channel
+#: ran outside the trunk to the sea; none starts there instead (the fan is completed elsewhere, ``_finish_fan``).
+TAIL_OUTER_SIDE = 0.0
 #: A delta's channel of a channel (beyond the paper, issue 23, branching74) whose bearing
 #: (:meth:`.drain._Drain.bearing`)
 #: lies less than this many radians from that of a channel already started, and whose start lies less than
@@ -355,7 +360,14 @@ class _Starts:
             # a channel leaving the trunk at or below the delta's head heads apart by its furcation angle
             fan = self.drain.head and self.branches[parent].parent is None
             score = score * self.drain.factor(x0, new, n + 1, start=x0, pull=HEAD_PULL if self.drain.head else 1.0)
-            if fan:   # and to the side of the trunk with fewer channels so far (both sides, like the example's)
+            outer, a_tail = self.drain.outer_side(x0) if fan else (0, 0.0)
+            if outer:   # a turned trunk that is the fan's outermost channel: none beyond it (.drain.TAIL_OUTER)
+                # its first edge too: a head that curved back inward after setting out outward was cut short
+                # at the frame band and left its channel heading outward
+                out = (self._fan_side(x0, a_tail, new, n) == outer) \
+                    | (self._fan_side(x0, a_tail, new, np.ones_like(n)) == outer)
+                score = np.where(out, score * TAIL_OUTER_SIDE, score)
+            elif fan:   # and to the side of the trunk with fewer channels so far (both sides, like the example's)
                 side = self._fan_side(x0, theta0, new, n)
                 left, right = self._fan_count
                 if left != right:

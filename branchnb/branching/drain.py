@@ -12,6 +12,16 @@ from __future__ import annotations
 
 import numpy as np
 
+from .drain_meander import (  # noqa: F401
+    MEANDER_DEPTH,
+    MEANDER_FADED,
+    MEANDER_HOLD,
+    MEANDER_LOBE,
+    MEANDER_SIN,
+    _faded_slope,
+    _meander_of,
+)
+
 #: Strength of the pull toward the sea of an example that drains (``exp(kappa cos)``).
 DRAIN_KAPPA = 2.0
 #: An example that drains: the way down is this share the direction away from the delta's apex (when one
@@ -152,28 +162,29 @@ STRAIGHT_TAIL = True
 #: :func:`.delta_fan._even_fork`). A trunk that turns (the ``delta`` kind) keeps main's rule above its turn:
 #: held there together with other changes its bearing error median went 5.0/9.5 -> 7.1/4.2, no clear gain.
 STRAIGHT_HOLD = True
-#: A trunk held to its way (:data:`TRUNK_HOLD`, :data:`STRAIGHT_HOLD`) whose example's trunk meanders
-#: (:func:`_meander_of`: the example's longest root above half its start's depth has a sinuosity of at least
-#: this and swings to either side of its chord at least 3 times) is pulled and held to a sine about that way
-#: instead: as many lobes as the example's over the trunk's own straight run down to :data:`MEANDER_DEPTH`,
-#: its slope from the example's sinuosity, fading at both ends as the example's (beyond the paper, issue 23,
-#: branching85). Held to the straight way the meandering trunk came out ruler-straight; held by its chord from
-#: its start it drifted to one side (bearing error median 1.1 -> 12.4 degrees, sinuosity 1.035) without
-#: meandering: the matching alone does not swing it. ``_delta_fan_check`` (512 px, sea bottom/left, 3 seeds,
-#: medians; without -> with): trunk sinuosity ``mean0`` 1.002/1.003 -> 1.108/1.080 (example 1.161/1.159),
-#: ``mean20`` 1.025/1.015 -> 1.059/1.064 (1.098/1.094); bearing error 1.1/0.8 -> 2.2/5.8 and 8.3/5.4 ->
-#: 2.1/2.3 degrees; ``mean0`` at 1000 px (2 seeds): 1.001 -> 1.096 (1.198), bearing error 1.4 -> 7.2, but its
-#: fan spread 37.0 -> 22.9 degrees (one seed's channels all on one side: 10.3). Other kinds: no meander,
-#: byte-identical.
-MEANDER_SIN = 1.05
-#: ... held to it this firmly (as :data:`TRUNK_HOLD`; at 8 the trunk swung half as far: sinuosity 1.03-1.10)
-MEANDER_HOLD = 16.0
-#: ... measured and followed down to this share of the trunk's start's depth.
-MEANDER_DEPTH = 0.5
-#: ... a lobe of the meander: a run to one side of the trunk's chord past this share of its largest offset
-#: (a meander that grows from the frame: ``mean0``'s first lobe is 0.21 x its largest).
-MEANDER_LOBE = 0.15
 TAIL_MAX = float(np.radians(60.0))
+#: A straight delta's trunk that turns at its head (:data:`STRAIGHT_TAIL`) into the example's outermost
+#: channel on its side (no heading of the example's channels at the sea, :func:`.delta_fan.fan_offsets` off the
+#: descent, lies beyond its root's): no channel leaves the synthesized trunk on the outer side of its turn at
+#: or below the delta's head (:meth:`_Drain.outer_side`; within :data:`TAIL_OUTER_HEAD` x the tail's depth), its
+#: channels take the fan's other half (:meth:`_Drain.bearing`). Beyond the paper (issue 23, branching88): on a
+#: delta whose trunk runs 20 degrees off the descent (``mean20``) the trunk turned 35 degrees to one side and
+#: its first channel left it on the same side, even further out; every channel below the head lay on one side
+#: of the trunk's line. ``_delta_fan_check bottom,left 512 5 ... mean20`` (sea at the bottom/left; with
+#: :attr:`_Drain.tail_offsets`): the smaller side's share of the channel length below the head, median (lowest
+#: seed) 0.24 (0.00) / 0.24 (0.19) -> 0.37 (0.27) / 0.46 (0.43), examples 0.42 / 0.39; fan spread median
+#: 27.5/27.1 -> 28.9/27.1 degrees (21.2/21.1); but the trunk's bearing error median 5.0/3.5 -> 8.9/9.8 degrees
+#: (twice the example's channels reach the sea, on the inner side now, and the mouths' mean moves inward).
+TAIL_OUTER = True
+#: ... only where the example's trunk turns at its head, where its first channel parts (its tail's depth share,
+#: :func:`.delta_fan._tail_share`, at least this x its first furcation's, :func:`.delta_fan.head_share`):
+#: where it turns further down (the ``delta`` kind: 0.27 against 0.66) channels below the turn lie on both
+#: sides of it, and without them the fan of a 300 px ``delta`` narrowed (test_branching_delta_tail: spread
+#: median 22.8 degrees against the example's 38.9).
+TAIL_OUTER_AT_HEAD = 0.8
+#: ... from this share above the tail's depth down (the head on the synthesized trunk is found at its first
+#: vertex at or below that depth; a channel may leave a vertex or two above it)
+TAIL_OUTER_HEAD = 1.05
 
 
 class _Drain:
@@ -253,6 +264,11 @@ class _Drain:
         self.tail_share: float | None = None
         #: channels given the fan's other half below a straight delta's turned trunk so far (:meth:`bearing`)
         self._tail_kids = 0
+        #: the turned trunk's tail is the example's outermost channel on its side (:data:`TAIL_OUTER`), the
+        #: example's other channels' headings at the sea off the descent and how often each was given
+        self.tail_outer = False
+        self.tail_offsets: np.ndarray | None = None
+        self.tail_used: np.ndarray | None = None
 
     def set_tail_depth(self, depth: float) -> None:
         """Below ``depth`` (the delta's head on the synthesized trunk) the trunk takes the example's root's
@@ -307,7 +323,7 @@ class _Drain:
     def _straight_tail(self, example, dom: np.ndarray, dn: np.ndarray) -> None:
         """:data:`STRAIGHT_TAIL`: the example's root's heading at the sea, off the
         descent's mean direction ``dn`` along the axis, and the depth share where the trunk takes the former."""
-        from .delta_fan import _tail_share, _trunk_turns, root_offset
+        from .delta_fan import _tail_share, _trunk_turns, fan_offsets, head_share, root_offset
 
         tail = root_offset(example, dom, dn)
         share = _tail_share(example, dom)
@@ -322,6 +338,26 @@ class _Drain:
         # example's first furcation) squashed the fan against the coast
         self.tail = float(np.clip(tail, -TAIL_MAX, TAIL_MAX))
         self.tail_share = share
+        if TAIL_OUTER and share >= TAIL_OUTER_AT_HEAD * head_share(example, dom):
+            offs = fan_offsets(example, dom, dn)
+            self.tail_outer = bool(len(offs) and (tail >= offs.max() - 1e-6 if tail > 0 else tail <= offs.min() + 1e-6))
+            if self.tail_outer and len(offs) > 1:
+                # the other channels' headings at the sea, the trunk's (the outermost) left out
+                self.tail_offsets = np.delete(offs, int(np.argmin(np.abs(offs - tail))))
+                self.tail_used = np.zeros(len(self.tail_offsets))
+
+    def outer_side(self, at) -> tuple[int, float]:
+        """The side of a turned trunk no channel may leave it on at ``at`` (:data:`TAIL_OUTER`; +1: at a
+        positive angle off the second value, the tail's heading there, image frame); 0 where any may.
+
+        The side is taken off the tail's heading (the descent turned by the example's root's heading at the
+        sea), not the trunk's own there: a trunk that meanders down to its head headed 40 degrees off its
+        tail at some vertices, and a head leaving it inward of its own heading ran outside the tail."""
+        if not self.tail_outer or self.tail is None or self.tail_depth is None:
+            return 0, 0.0
+        if self.depth_at(at)[0] > TAIL_OUTER_HEAD * self.tail_depth:
+            return 0, 0.0
+        return (1 if self.tail > 0 else -1), self._ref(at) + self.tail
 
     def _in_tail(self, at) -> bool:
         """Is ``at`` below the depth where a trunk takes the example's root's heading (:meth:`way_down`)?"""
@@ -430,6 +466,14 @@ class _Drain:
             # STRAIGHT_TAIL: the trunk took one of the fan's outer headings; a channel leaving it on the
             # descent's side takes the fan's other half in turn (the far side, then the middle): sided
             # off the descent alone they all took the trunk's side and ran beside it
+            if self.tail_offsets is not None:
+                # TAIL_OUTER: each channel takes the example's heading given least so far (the nearest among
+                # equals), as an axis delta's (_pick_offset): the far side then the middle put the mouths' mean
+                # off the example's (trunk bearing error median 3 -> 11 degrees on mean20 512 px)
+                u = np.flatnonzero(self.tail_used == self.tail_used.min())
+                k = int(u[np.argmin(np.abs(self.tail_offsets[u] - off))])
+                self.tail_used[k] += 1.0
+                return self._to_sea(at, a_d, float(self.tail_offsets[k]))
             sgn = 1.0 if self.tail >= 0 else -1.0
             if wrap(off - self.tail) * sgn < 0:
                 k = self._tail_kids
@@ -650,40 +694,6 @@ class _Drain:
             far = np.hypot(net[:, 0], net[:, 1]) > 4.0
             f = np.where(far & (self._cos(start, net, fan) < 0.0), 0.0, f)
         return f
-
-
-def _meander_of(example, dom: np.ndarray) -> tuple[float, float, float] | None:
-    """``(slope, lobes, sign)`` of the meander of ``example``'s trunk (its longest root from its start
-    down to :data:`MEANDER_DEPTH` x its start's depth in ``dom``): a sine ``e(s) = sign A sin(2 pi s / L)``
-    off its chord whose largest slope ``2 pi A / L`` gives the trunk's sinuosity (``1 + slope**2 / 4``);
-    ``L`` twice the chord over the number of its ``lobes`` (runs to one side of the chord past
-    :data:`MEANDER_LOBE` x its largest offset), ``sign`` the side of the first. None when the sinuosity is under
-    :data:`MEANDER_SIN` or the trunk swings to either side fewer than 3 times (a bend, not a meander)."""
-    from scipy import ndimage as ndi
-
-    roots = [np.asarray(b.points, np.float64) for b in example.branches if b.parent is None and len(b.points) >= 3]
-    if not roots:
-        return None
-    p = max(roots, key=lambda q: float(np.hypot(*np.diff(q, axis=0).T).sum()))
-    d = ndi.distance_transform_edt(dom)
-    h, w = dom.shape
-    ix = np.clip(np.rint(p).astype(np.int64), 0, [w - 1, h - 1])
-    dep = d[ix[:, 1], ix[:, 0]]
-    below = np.flatnonzero(dep <= MEANDER_DEPTH * dep[0])
-    p = p[: (int(below[0]) + 1 if below.size else len(p))]
-    if len(p) < 3:
-        return None
-    c = p[-1] - p[0]
-    chord = float(np.hypot(*c))
-    sin = float(np.hypot(*np.diff(p, axis=0).T).sum()) / max(chord, 1e-9)
-    if sin < MEANDER_SIN:
-        return None
-    e = (p - p[0]) @ (np.array([-c[1], c[0]]) / chord)
-    sg = np.sign(e[np.abs(e) > MEANDER_LOBE * float(np.abs(e).max())])
-    lobes = 1 + int(np.count_nonzero(sg[1:] != sg[:-1]))
-    if lobes < 3:
-        return None
-    return 2.0 * float(np.sqrt(sin - 1.0)), float(lobes), float(sg[0])
 
 
 #: A map's rivers keep off the coast: the margin is this quantile of the depths (distance to the region
