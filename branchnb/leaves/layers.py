@@ -367,7 +367,7 @@ def _nearest(colours: np.ndarray, centres: np.ndarray) -> np.ndarray:
     return _nearest_nb(c, k)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _nearest_nb(colours, centres):  # pragma: no cover - compiled
     n, d = colours.shape
     out = np.empty(n, np.float32)
