@@ -5,11 +5,11 @@ import zlib
 
 import numpy as np
 import pytest
+from leaves_threads_reference import REFERENCE
 
 from branchnb.core.metrics import iou
 from branchnb.core.threads import job_seeds, thread_count, thread_map
 from branchnb.leaves import Layer, LayerSet, analyze, leaf_family, simulate_scribbles
-from leaves_threads_reference import REFERENCE
 
 CASES = (("lobed", 160, 3), ("elliptic", 192, 4))
 

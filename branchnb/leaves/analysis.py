@@ -443,6 +443,15 @@ def analyze(exemplars, training_index: int, layers, params: InductionParams | No
         An exemplar's blade holds a grey drop or cast shadow
         (:func:`~branchnb.leaves.structural.shadow_share`).
 
+    Notes
+    -----
+    Beyond the paper: the exemplars are registered, snapped and induced in
+    threads (:func:`branchnb.core.threads.thread_map`; NumPy, OpenCV and the
+    compiled kernels release the GIL), one per core; the environment
+    variable ``BRANCHNB_THREADS=1`` runs them in turn. The results do not
+    depend on it (the residuals' patch quilting still draws from one
+    generator, exemplar after exemplar).
+
     Examples
     --------
     The whole pipeline on three procedural leaves: scribbles on the

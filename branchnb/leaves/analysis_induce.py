@@ -11,6 +11,7 @@ from scipy import ndimage as ndi
 
 from ..core.distance import edt as _edt
 from ..core.image import as_mask, as_rgb
+from ..core.morphology import _binary_dilation
 from ..core.random import as_rng
 from ..core.threads import thread_map
 from ..core.validate import check_bool, check_callback, check_int, check_real
@@ -302,8 +303,8 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
             raise ValueError(f"user_masks[{name!r}] is empty on the training leaf's blade")
         # Each residual's CIELAB (moved onto the training leaf's statistics),
         # converted once for the colour term, the snapping and the ridge extension.
-        labs = thread_map(lambda e: _matched_lab(residual[e], stats, e, t, params,
-                                                 lab=lab0[e] if residual[e] is rgb[e] else None), range(n))
+        labs = thread_map(lambda e, residual=residual, lab0=lab0: _matched_lab(
+            residual[e], stats, e, t, params, lab=lab0[e] if residual[e] is rgb[e] else None), range(n))
         lab0 = [None] * n  # later layers' residuals differ: not held any longer
         q = thread_map(lambda lab: _quantise_lab(lab, space), labs)
         cdf = layer_cdfs(q[t], user, space.bins)
@@ -323,7 +324,7 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
                   for e, p in enumerate(ridge_px)]
         # The registered user layer and its distance map do not depend on n.
 
-        def registered(e):
+        def registered(e, user=user, snapped=snapped):
             ru = user if e == t else warp_mask(registrations[e], user, to_training=False, level=0.25) & blades[e]
             if snapped is not None and e != t:
                 # The exemplar's own main structure joins the carried-over prior.
@@ -340,7 +341,7 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         tried = {}
         for n_px in candidates:
             report(step / steps, f"layer {name}: colour and space terms ({n_px} px window)")
-            colour = thread_map(lambda e, n_px=n_px: colour_similarity(
+            colour = thread_map(lambda e, n_px=n_px, q=q, own_px=own_px, cdf=cdf: colour_similarity(
                 q[e], blades[e], _own_cdf(q[e], own_px[e], cdf, space.bins), n_px,
                 weights=space.weights if params.lab_units else None), range(n))
             lam, overlap, combined, delta, tr_iou = _combine(colour, dist, lengths, tolerance, params, blades,
@@ -361,7 +362,8 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
 
         report(step / steps, f"layer {name}: masks")
 
-        def induced(e):
+        def induced(e, user=user, snapped=snapped, residual=residual, labs=labs, own=own, steps_kept=steps_kept,
+                    combined=combined, delta=delta, tr_iou=tr_iou):
             m, c = _exemplar_mask(steps_kept, e, combined[e], delta, tr_iou, taken[e], contrast_of)
             gone = m if snapped is None or e == t else _ridge_extension(residual, blades, t, e, user, m, stats, params,
                                                                         labs=labs, direction=own[e])
@@ -489,7 +491,7 @@ def _induced(combined, delta, training_overlap, snapped, e, blade, taken, *, cen
     # puts a thin vein's pixels one pixel off along whole side veins.
     if centred is None or centred[e] is None:
         return m
-    return m | (centred[e] & blade & ~taken & ndi.binary_dilation(m))
+    return m | (centred[e] & blade & ~taken & _binary_dilation(m))
 
 
 #: A thin layer's ``{D < delta}`` covering more than this many times the area the layer should take
