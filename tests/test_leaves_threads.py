@@ -88,3 +88,17 @@ def test_one_thread_and_several_give_the_same_analysis(monkeypatch):
         assert float(np.abs(r1 - r2).max()) == 0.0
     for r1, r2 in zip(one.registrations[1:], many.registrations[1:]):
         assert float(np.abs(r1.map_to_training - r2.map_to_training).max()) == 0.0
+
+
+def test_closed_blade_is_remembered_per_blade_and_never_shared():
+    from branchnb.core.distance import edt
+    from branchnb.leaves import analysis_outline as ao
+    b = leaf_family(1, size=200, rng=2)[0].blade
+    b2 = b.copy()
+    b2[60:64, 60:120] = False  # a gap between paint strokes, closed by _closed_of
+    for m in (b, b2, b):
+        closed = ao._closed_blade(m)
+        assert np.array_equal(closed, ao._closed_of(m))
+        assert np.array_equal(ao._closed_distance(m), edt(ao._closed_of(m)))
+        closed[:] = False  # the caller's copy: the next call is not changed
+    assert ao._closed_blade(b).sum() == ao._closed_of(b).sum() > 0
