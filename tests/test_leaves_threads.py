@@ -46,6 +46,17 @@ def test_thread_map_keeps_order_and_raises_the_first_error():
         thread_map(3, [1])
 
 
+def test_thread_map_runs_blas_on_one_thread_and_restores_it():
+    threadpoolctl = pytest.importorskip("threadpoolctl")
+
+    def blas():
+        return [i["num_threads"] for i in threadpoolctl.threadpool_info() if i["user_api"] == "blas"]
+    before = blas()
+    inside = thread_map(lambda _: blas(), range(3), threads=2)
+    assert blas() == before
+    assert all(n == 1 for x in inside for n in x)
+
+
 def test_thread_count_follows_the_environment(monkeypatch):
     monkeypatch.setenv("BRANCHNB_THREADS", "1")
     assert thread_count(8) == 1
