@@ -12,6 +12,7 @@ import re
 from pathlib import Path
 
 import numpy as np
+from scipy import ndimage
 
 from ..core.image import as_float_image, as_points, as_rgb
 from ..core.io import encode_png
@@ -196,9 +197,14 @@ def render_plain(dendrite, *, background=None, color=(0.0, 0.0, 0.0), smooth: in
                                                      size=(w, h), background=paper))
 
 
+#: Window of the median that :func:`visiting_order_image` smooths its bands with when
+#: ``flat`` (share of the lattice's diagonal; 5 px on the 512-px lattice).
+FLAT_WINDOW = 0.007
+
+
 @checked(bands=Int(1, 4096), cmap=Colormap())
 def visiting_order_image(plan_result: PlanResult, *, bands: int = 16, cmap: str = "magma",
-                         seeds: bool = True) -> np.ndarray:
+                         seeds: bool = True, flat: bool = False) -> np.ndarray:
     """The order in which Dijkstra settled the nodes, as banded contours.
 
     The visiting rank is split into ``bands`` equal-count bands drawn in
@@ -218,6 +224,12 @@ def visiting_order_image(plan_result: PlanResult, *, bands: int = 16, cmap: str 
         Matplotlib colormap name the visiting rank is coloured with.
     seeds : bool
         Mark the seeds with green dots (when there are at most 64 of them).
+    flat : bool
+        One colour per band (its middle rank's), the band of every node the median of its
+        neighbours' within ``FLAT_WINDOW`` of the diagonal (at least 3 px): the fronts'
+        shapes at a glance without the single-node speckle, in at most ``2 + bands``
+        colours, so the image stores as a small palette PNG
+        (:func:`~branchnb.core.io.encode_png`).
 
     Returns
     -------
@@ -245,6 +257,11 @@ def visiting_order_image(plan_result: PlanResult, *, bands: int = 16, cmap: str 
     n = max(len(plan_result.order), 1)
     t = np.where(rank >= 0, rank / n, np.nan)
     band = np.floor(np.nan_to_num(t) * bands)
+    if flat:
+        band = np.minimum(band, bands - 1).reshape(plan_result.shape)
+        size = max(3, 2 * int(round(0.5 * FLAT_WINDOW * float(np.hypot(*plan_result.shape)))) + 1)
+        band = ndimage.median_filter(band, size=size, mode="nearest").ravel()
+        t = np.where(np.isnan(t), np.nan, (band + 0.5) / bands)
     shade = np.where(band % 2 == 0, 1.0, 0.78)
     rgb = matplotlib.colormaps[cmap](np.nan_to_num(t) * 0.85 + 0.1)[..., :3] * shade[:, None]
     rgb[np.isnan(t)] = 0.5

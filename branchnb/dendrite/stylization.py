@@ -582,7 +582,7 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
         obj = obj if metaphor == "vines" else None
         if seed is None:
             seed = (self.top_seed(p) if metaphor == "lightning" else self._vine_seed(p, obj)
-                    if obj is not None else self.default_seed(p))
+                    if obj is not None else self.default_seed(p, metaphor=metaphor))
         else:
             seed = as_points(np.reshape(np.asarray(seed, float), (1, 2)), name="seed",
                              image_shape=self.shape)[0]
@@ -658,13 +658,17 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
             self.image, (max(1, round(w * f)), max(1, round(h * f))), interpolation=cv2.INTER_AREA)
         return _paper_ground(small)
 
+    def _levelled(self, ground: PaperGround) -> "Stylizer":
+        """A stylizer of the picture levelled to its paper ``ground`` (cached)."""
+        return self._get(("on_paper",), lambda: Stylizer(_on_paper(self.image, ground)))
+
     def _on_ground(self, ground: PaperGround, p, seed, rng, metaphor, render_options) -> Stylization:
         """The plain metaphor on a picture whose ground is its paper (beyond the paper, see
         :func:`~branchnb.dendrite.foreground._paper_ground`): every stage runs on the picture
         levelled to its ground (:func:`~branchnb.dendrite.foreground._on_paper`), so the
         ground and its grain stay clean; on a dark ground the strokes are light ink on the
         ground's colour (a scratchboard)."""
-        levelled = self._get(("on_paper",), lambda: Stylizer(_on_paper(self.image, ground)))
+        levelled = self._levelled(ground)
         res = levelled.run(p, seed=seed, rng=rng, metaphor=None)
         rendering = None
         if metaphor == "plain":

@@ -134,7 +134,8 @@ class _SeedSteps:
         return (np.asarray(points, float) + 0.5) * self.scale(p) - 0.5
 
     @checked()
-    def default_seed(self, params: StylizeParams | None = None) -> np.ndarray:
+    def default_seed(self, params: StylizeParams | None = None,
+                     metaphor: str | None = "plain") -> np.ndarray:
         """Where the dendrite starts by default.
 
         Without ``params``, the image centre. With them, the centre of the most
@@ -151,11 +152,24 @@ class _SeedSteps:
         params : StylizeParams, optional
             Parameters of the importance map and the endpoint threshold; None
             gives the image centre.
+        metaphor : {"plain", "vines", "lightning", None}
+            The rendering the seed is for. For ``"plain"`` and None, on a picture whose
+            ground is its paper (a neon drawing on black, chalk on a board, ink on pink
+            card: :func:`~branchnb.dendrite.foreground._paper_ground`) the seed is found
+            on the picture levelled to that ground, as :meth:`run` finds it; the other
+            metaphors read the picture as it is.
 
         Returns
         -------
         (2,) float64 ndarray
             ``(x, y)`` in image pixels.
+
+        Notes
+        -----
+        Beyond the paper (dendrite42): :meth:`run` with the plain metaphor seeds on the
+        levelled picture, but the app's preview asked for the seed on the picture as it is,
+        so on a dark or coloured paper its trunk started elsewhere than the full update's
+        (on a dark ground the ground itself is the darkest region).
 
         Examples
         --------
@@ -165,9 +179,20 @@ class _SeedSteps:
         >>> st.default_seed().tolist(), bool(st.default_seed(StylizeParams(lattice_size=0))[0] > 30)
         ([29.5, 19.5], True)
         """
+        if metaphor not in ("plain", "vines", "lightning", None):
+            raise ValueError(f"metaphor must be 'plain', 'vines', 'lightning' or None, got {metaphor!r}")
         h, w = self.shape
         if params is None:
             return np.array([(w - 1) / 2.0, (h - 1) / 2.0])
+        if metaphor in ("plain", None):
+            ground = self._get(("paper_ground",), self._find_paper_ground)
+            if ground is not None:
+                return self._levelled(ground)._importance_seed(params)
+        return self._importance_seed(params)
+
+    def _importance_seed(self, params: StylizeParams) -> np.ndarray:
+        """:meth:`default_seed` on the picture as it is (image pixels)."""
+        h, w = self.shape
         imp = self.importance(params).astype(np.float64)
         if np.ptp(imp) == 0:
             return np.array([(w - 1) / 2.0, (h - 1) / 2.0])

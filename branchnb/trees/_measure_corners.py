@@ -232,7 +232,7 @@ def measure(size: int = 384, seeds: int = 3, only=None) -> dict:
     if only:
         libs = {k: v for k, v in libs.items() if k in only}
     new_cm, new_fl = V._tip_matched, FA._drop_rim_flecks
-    old_cm = lambda cs, w, pins, grains=None: ([np.asarray(c, np.float64) for c in cs],) * 2 + ([],)  # noqa: E731
+    old_cm = lambda cs, w, pins, grains=None, drop=True: ([np.asarray(c, np.float64) for c in cs],) * 2 + ([],)  # noqa: E731
     old_fl = lambda image, ink, width: image  # noqa: E731
     out = {}
     for name, srcs in libs.items():

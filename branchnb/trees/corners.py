@@ -42,6 +42,18 @@ index:
    allows, those held by most weight first. The colour transfer keeps the
    kept tips opaque (:func:`_fill_tips`).
 
+5. **Dropped tips** (issue 24, trees46): on plain (not re-inked) mixes a tip
+   not kept is flattened to the chord between its notches on every contour
+   holding it (and on the rims the colour transfer maps onto), so a fir of 3
+   tiers mixed with one of 5 gets whole tiers, never a tier scaled by its
+   holders' weight (a bump or dent 0.3-0.5 of a tier; 8-9 corners of 25-60
+   degrees on the flanks of 0.7/0.3 mixes, none after). The two ends of a
+   tier (tips mirrored across the apex) are kept or dropped together, and a
+   dropped top tier is flattened up to the apex. Not on outlined mixes:
+   there the cut left specks at the re-inked rim (flecks 0 -> 2.1 per 1000 px).
+   Tiers are not inserted into a tier of another source yet: an even mix of 3
+   and 5 tiers has the reference's 3.
+
 A mix of crowns none of which has a tip (round, lobed, bumpy cartoon crowns
 whose corners are all notches) keeps the paper's correspondence exactly.
 
@@ -211,11 +223,12 @@ def _corner_matched(contours, weights, pins: tuple[int, int, int], grains=None) 
     return _tip_matched(contours, weights, pins, grains)[0]
 
 
-def _tip_extent(c: np.ndarray, pins: tuple[int, int, int], grain: float, tips: np.ndarray) -> np.ndarray:
+def _tip_extent(c: np.ndarray, pins: tuple[int, int, int], grain: float, tips: np.ndarray,
+                to_tips: bool = False) -> np.ndarray:
     """(k, 3) indices (start, tip, end) of each tip of ``tips`` on contour ``c``: from the notch
     before it to the notch after it (corners turning against the contour by at least
     :data:`BEND_KNOT_ANGLE`, between it and its neighbouring tips), half way to the neighbour
-    (or the pin) where there is none."""
+    (or the pin) where there is none, or (``to_tips``) the neighbouring tip itself."""
     ir, il = int(pins[1]), int(pins[2])
     ni, nt = _contour_corners(c, pins, grain, BEND_KNOT_ANGLE)
     notches = ni[nt < 0]
@@ -225,8 +238,8 @@ def _tip_extent(c: np.ndarray, pins: tuple[int, int, int], grain: float, tips: n
         hi = tips[k + 1] if k + 1 < len(tips) else il
         before = notches[(notches > lo) & (notches < t)]
         after = notches[(notches > t) & (notches < hi)]
-        a = int(before[-1]) if before.size else int((lo + t) // 2)
-        b = int(after[0]) if after.size else int((t + hi + 1) // 2)
+        a = int(before[-1]) if before.size else int(lo if to_tips and k > 0 else (lo + t) // 2)
+        b = int(after[0]) if after.size else int(hi if to_tips and k + 1 < len(tips) else (t + hi + 1) // 2)
         out[k] = (a, t, b)
     return out
 
@@ -246,7 +259,7 @@ def _tip_profile(c: np.ndarray, a: int, b: int) -> tuple[np.ndarray, np.ndarray,
     return along, normal, chord
 
 
-def _tip_matched(contours, weights, pins: tuple[int, int, int], grains=None):
+def _tip_matched(contours, weights, pins: tuple[int, int, int], grains=None, drop: bool = True):
     """Corner matching with every tip kept or dropped: (contours to combine, matched contours,
     spans ``(start, end)`` of the kept tips in the common indices, for :func:`_fill_tips`).
 
@@ -339,14 +352,38 @@ def _tip_matched(contours, weights, pins: tuple[int, int, int], grains=None):
     rest = sorted((x for x in info if not all(int(j) in x[0] for j in live)), key=lambda x: -x[5])
     kept = list(full)
     last = None
+    # extents meeting half way between two tips may overlap by the rounding of their midpoint
+    slack = max(1, int(0.004 * span)) if drop else 0
     for x in rest:
         # Groups held by the same weight go together (the left and right tier ends of a fir).
         if len(kept) >= keep_n and not (last is not None and abs(x[5] - last) < 1e-9 and len(kept) < max(n_tips)):
             break
-        if all(x[4] <= y[2] or x[2] >= y[4] for y in kept):
+        if all(x[4] <= y[2] + slack or x[2] >= y[4] - slack for y in kept):
             kept.append(x)
             last = x[5]
     kept_ids = {id(x[0]) for x in kept}
+    # Tips mirrored across the apex (the left and right ends of one fir tier) are kept or dropped
+    # together: kept on one side only they left a lopsided, flag-like tier (a 3-tier fir mixed
+    # 0.1/0.9 with a 5-tier one: 5 tiers on the left, 4 on the right). Dropping is always
+    # possible (a flattened tip), so a kept tip whose mirror is dropped is dropped too.
+    ref = matched[int(order[0])]
+    height = float(np.ptp(ref[:, 1])) or 1.0
+    apex_x = float(ref[ir + int(np.argmin(ref[ir:il + 1, 1])), 0])
+    tip_at = {id(x[0]): matched[x[1]][x[3]] for x in info}
+    for x in info if drop else []:
+        if id(x[0]) not in kept_ids or len(x[0]) == len(live):
+            continue
+        p = tip_at[id(x[0])]
+        if abs(p[0] - apex_x) < 0.05 * height:
+            continue
+        for y in info:
+            q = tip_at[id(y[0])]
+            if (y is not x and id(y[0]) not in kept_ids and abs(p[1] - q[1]) < 0.04 * height
+                    and (p[0] - apex_x) * (q[0] - apex_x) < 0
+                    and abs((p[0] - apex_x) + (q[0] - apex_x)) < 0.15 * abs(p[0] - apex_x)):
+                kept_ids.discard(id(x[0]))
+                break
+    kept = [x for x in kept if id(x[0]) in kept_ids]
     for g, donor, a, _t, b, _ in info:
         if len(g) == len(live) or b - a < 2:
             continue
@@ -367,13 +404,33 @@ def _tip_matched(contours, weights, pins: tuple[int, int, int], grains=None):
                 d = matched[donor]
                 c[a:b + 1] = c[a] + s_ * (c[b] - c[a]) + d[a:b + 1] - (d[a] + s_ * (d[b] - d[a]))
                 out[j] = c
-        # A tip not kept is left to the combination. Flattened to its chord, it left specks at
-        # the cut on outlined firs and poly libraries (_measure_corners flecks 0 -> 1.3-1.7 per
-        # 1000 px of rim) and cost mixed 5/7-point stars nothing the count cap needs.
+    # A tip not kept is dropped whole: flattened to the chord between its notches on every
+    # contour holding it, and on the rims the colour transfer maps onto (left to the combination
+    # it came out scaled by its holders' weights, a bump or a half tier: fir mixes of 3 and 5
+    # tiers kept tiers 0.3-0.5 of the sources' smallest, and read as dented flanks). The rims
+    # are flattened too: the mix's chord maps inside the holder, not onto its cut-off tip's
+    # rim (flattening only the mixed contour left specks at the cut, 1.3-1.7 per 1000 px of rim).
+    rims = list(matched)
+    # Where no notch parts a dropped tip from its neighbour (a fir's top tier and its apex) the
+    # chord runs to the neighbour: half way there it pinched the crown below the apex.
+    reach = {int(j): _tip_extent(cs[j], pins, grains[j], found[j][0], to_tips=True) for j in ext}
+    for g, _donor, _a, _t, _b, _ in info:
+        if len(g) == len(live) or id(g) in kept_ids or not drop:
+            continue
+        for j, i in g.items():
+            row = reach[j][int(np.flatnonzero(found[j][0] == i)[0])]
+            a_, b_ = new_index(j, row[0]), new_index(j, row[2])
+            if b_ - a_ < 2:
+                continue
+            s_ = np.linspace(0.0, 1.0, b_ - a_ + 1)[:, None]
+            for lst in (out, rims):
+                c = lst[j].copy()
+                c[a_:b_ + 1] = c[a_] + s_ * (c[b_] - c[a_])
+                lst[j] = c
     # every kept tip, matched ones too: a tip matched across a shift (a 5-point star's upper
     # points to a 7-point star's) maps off the rim of the source it moved in
     spans = [(a, b) for g, _, a, _, b, _ in info if id(g) in kept_ids and b - a >= 2]
-    return out, matched, spans
+    return out, rims, spans
 
 
 def _fill_tips(image: np.ndarray, sources: np.ndarray, trunk: np.ndarray, contour: np.ndarray,

@@ -403,7 +403,8 @@ class DendriteApp(widgets.VBox):
             k = float(np.sqrt(np.prod(self.preview_stylizer.scale(p))))
             p = dataclasses.replace(effective_params(p, k), output_width=0.0)
         # the full update's seed (clicked, or the stylizer's important region), in preview pixels
-        seed = self.stylizer.default_seed(full) if self.seed is None else self.seed
+        seed = (self.stylizer.default_seed(full, metaphor=self.metaphor.value) if self.seed is None
+                else self.seed)
         seed = (np.asarray(seed, float) + 0.5) * s - 0.5
         try:
             self.preview = self.preview_stylizer.run(p, seed=seed, rng=int(self.rng.value),
@@ -450,8 +451,12 @@ class DendriteApp(widgets.VBox):
         self.comparison = c
         self.rendering = c.second.rendering
         # the plan lives on the planning lattice: shown at the image's size like the renderings
-        order = cv2.resize(visiting_order_image(c.second.plan), (self.image.shape[1], self.image.shape[0]),
-                           interpolation=cv2.INTER_NEAREST)
+        # (no larger than the view sends, so that it is not blended back into thousands of
+        # colours), its bands flat: a palette PNG of 10-40 kB in the notebook, not 80-430
+        h, w = self.image.shape[:2]
+        f = min(1.0, self.views.max_size / max(h, w)) if self.views.max_size else 1.0
+        order = cv2.resize(visiting_order_image(c.second.plan, flat=True),
+                           (max(1, round(w * f)), max(1, round(h * f))), interpolation=cv2.INTER_NEAREST)
         self.views.update(
             [c.first.rendering.image, c.second.rendering.image, order],
             [f"{c.first.params.metric}", f"{c.second.params.metric}"

@@ -18,8 +18,8 @@ MIN_CELL = 180
 
 
 def _encode(image, fast: bool) -> tuple[bytes, str]:
-    if not fast:
-        return encode_png(image), "png"
+    if not fast:  # a banded map or a line drawing of few colours goes as a palette PNG
+        return encode_png(image, palette=True), "png"
     u8 = to_uint8(image)
     if u8.ndim == 3 and u8.shape[2] == 4:
         return encode_png(image), "png"  # JPEG has no alpha
