@@ -1,4 +1,4 @@
-"""Induced masks of main before the threaded analysis (commit b099fb9), for tests/test_leaves_threads.py.
+"""Induced masks of main before the threaded analysis (commit 87217cb), for tests/test_leaves_threads.py.
 
 Each entry: (kind, layer, exemplar) -> (shape, zlib-compressed np.packbits of the mask, base64). Made by
 analyze() on leaf_family(3, size, kind, rng=seed) with simulate_scribbles as in the test.

@@ -84,10 +84,11 @@ def rows(quick: bool = False) -> list[BenchRow]:
                         "issue 22 threads pass (the exemplars registered, snapped, their CIELAB, S_e, distance maps "
                         "and masks in threads, core.threads; numba kernels nogil; the closed blade's distance map "
                         "once per exemplar): identical layers on the maples, 8 x 256 px, 4 x 512 px elliptic and "
-                        "trilobed, 4 x 1 MP lobed; CPU at load ~20-25 one thread 6.1, 6.5 s, two 7.0, 7.5 s; the "
-                        "threaded jobs are 5.9 s of it, their overlap on 2 idle cores saves an estimated 1.5-2.9 s "
-                        "(each job's thread CPU: sum minus max(longest, sum / 2), halved when half of it holds the "
-                        "GIL): unloaded wall ~3-4.5 s)"))
+                        "trilobed, 4 x 1 MP lobed; same-load CPU at load ~22: main 5.78 s, threads 5.86 s, one thread "
+                        "5.88 s (OpenBLAS kept on one thread inside the pool: without, two threads spin-waited, "
+                        "8.26 s); the threaded jobs are 4.8 of 6.1 s CPU, their overlap on 2 idle cores saves an "
+                        "estimated 1.2-2.4 s (each job's thread CPU: sum minus max(longest, sum / 2), halved when "
+                        "half of it holds the GIL): unloaded wall ~3.5-4.5 s; measured wall 9.7 s at load ~14)"))
     size = 384 if quick else 1000
     a, t_analysis, cpu = _analysis(4, size)
     mp = a.exemplars[0].shape[0] * a.exemplars[0].shape[1] / 1e6
@@ -117,9 +118,10 @@ def rows(quick: bool = False) -> list[BenchRow]:
                         "TPS-RPM values pass (as the row above), same-load CPU A/B at load ~25: 19.42 -> 19.21 s, "
                         "registration 2.92 -> 2.63 s (the induction, 12.4 s, is most of it), veins IoU >= 0.9996, "
                         "maps within 6e-5 px; "
-                        "issue 22 threads pass (as the row above), identical layers, CPU at load ~16-40: 19.3 -> "
-                        "19.7-21.9 s (threads under load cost CPU); threaded jobs 11.5 s of it, estimated overlap "
-                        "on 2 idle cores 2.9-5.7 s: unloaded wall ~13.5-16.5 s; "
+                        "issue 22 threads pass (as the row above), identical layers, same-load CPU at load ~22: "
+                        "main 20.20 s, threads 18.65 s, one thread 18.56 s; threaded jobs 10.1 of 18.2 s CPU, "
+                        "estimated overlap on 2 idle cores 2.5-5.0 s: unloaded wall ~13-16 s; measured wall "
+                        "25.8 s at load ~10; "
                         "the paper: several minutes"))
     # The per-analysis preparation (stage images bled, layers completed, petioles), paid by the first leaf.
     t_prep = timeit(lambda: generate(a, 1, rng=0), repeat=1, warmup=False)
