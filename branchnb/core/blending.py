@@ -81,7 +81,7 @@ def _dilate(mask: np.ndarray) -> np.ndarray:
 _NO_MASK = np.zeros((1, 1), bool)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _overlap_pins(cov, valid, prot_a, prot_b, has_a, has_b):
     """``overlap``, ``only_b``, ``pin_a`` and ``pin_b`` of a window in one pass.
 

@@ -223,7 +223,7 @@ def _hole_cells(uncovered: np.ndarray, size: int) -> list[tuple[int, int]]:
     return list(dict.fromkeys(cells))
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _window_choice(ssd, has_ssd, f, used, usable, forbid_weight, reuse_weight, tolerance):
     """Coarse window costs of :meth:`_Matcher.choose` (``fast``): the typical (median) match,
     and the flat indices (row-major) of the usable windows within the tolerance of the best."""

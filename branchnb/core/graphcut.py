@@ -45,7 +45,7 @@ _HARD = 1e9
 _POWER = Real(0, 16, low_open=True)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _channel_smoothed_norm(gx, gy):
     """``sqrt(sum_c sx_c^2 + sy_c^2)`` with ``s = [1, 2, 1] / 8`` across the channels (replicated ends),
     in float64: the values of the vectorised expression, without its temporaries."""
@@ -153,7 +153,7 @@ def _pair_costs(a: np.ndarray, b: np.ndarray, power: float = 1.0, gradient_weigh
     return right.astype(np.float64), down.astype(np.float64)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _pair_costs_f32(a, b, g, weighted, eps):
     """``right, down`` of :func:`_pair_costs` for float32 images and ``power == 1``: the same float32
     colour distances (channels summed in order) and float64 divisions as the vectorised code."""
@@ -459,7 +459,7 @@ def _inner_depth(mask: np.ndarray) -> int:
     return int(ndi.distance_transform_edt(mask).max())
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _v(imgs, grads, k, l, py, px, qy, qx, eps, gw):
     """Seam cost ``V_pq(k, l)`` of one neighbour pair (0 when ``k == l``)."""
     if k == l:
@@ -477,7 +477,7 @@ def _v(imgs, grads, k, l, py, px, qy, qx, eps, gw):
     return d
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _pairwise_energy(imgs, grads, lab, reg, eps, gw):
     h, w = lab.shape
     e = 0.0
@@ -492,7 +492,7 @@ def _pairwise_energy(imgs, grads, lab, reg, eps, gw):
     return e
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _expansion_terms(imgs, grads, lab, reg, a, smooth, eps, gw, e0, e1, cap_r, cap_d):
     """Add the pairwise terms of the expansion move to label ``a`` (Kolmogorov-Zabih form).
 

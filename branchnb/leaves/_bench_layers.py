@@ -48,11 +48,13 @@ def _shiftmap(analysis, e: int = 1):
 
 
 def _analysis(n: int, size: int):
+    """The analysis, its wall time and the process's CPU time (the unloaded 2-core wall is about
+    ``CPU - saved``, ``saved`` the threads' overlap: see the rows' notes)."""
     from .analysis import analyze
     fam = _family(n, size)
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     a = analyze(fam, 0, _layers(fam[0], size))
-    return a, time.perf_counter() - t0
+    return a, time.perf_counter() - t0, time.process_time() - c0
 
 
 def rows(quick: bool = False) -> list[BenchRow]:
@@ -61,10 +63,11 @@ def rows(quick: bool = False) -> list[BenchRow]:
     out = []
     # Many small exemplars: a user's phone photos cut to ~250 px.
     small_n, small_size = (4, 160) if quick else (8, 256)
-    a, t = _analysis(small_n, small_size)
+    a, t, cpu = _analysis(small_n, small_size)
     mp = a.exemplars[0].shape[0] * a.exemplars[0].shape[1] / 1e6
     out.append(BenchRow(f"leaves analysis: {small_n} exemplars {mp:.2f} MP each, 2 layers", t,
                         "one cv2.xphoto shift-map inpainting of one vein layer", _shiftmap(a),
+                        f"CPU {cpu:.1f} s this run; "
                         "target < 10 s for 8 exemplars of ~250 px (CPU, loaded 2 cores: 12.6 s before the "
                         "compiled snapping, 8-9 s after; issue 22 speed pass, A/B: one run at load ~25 "
                         "15.5 -> 10.2 s, three interleaved at load ~4 9.7-10.4 -> 9.2-10.0 s; the same layers; "
@@ -77,13 +80,22 @@ def rows(quick: bool = False) -> list[BenchRow]:
                         "interleaved CPU A/B at load ~20: 10.47 -> 8.96, 10.73 -> 9.12 s, identical layers and "
                         "residuals, maps within 4e-6 px; issue 22 TPS-RPM values pass (each round solved for "
                         "the spline's values at its centres, no (K, K) product), same-load CPU A/B at load ~25: "
-                        "7.69 -> 6.69 s, registration 3.23 -> 2.20 s, identical layers, maps within 4e-6 px)"))
+                        "7.69 -> 6.69 s, registration 3.23 -> 2.20 s, identical layers, maps within 4e-6 px; "
+                        "issue 22 threads pass (the exemplars registered, snapped, their CIELAB, S_e, distance maps "
+                        "and masks in threads, core.threads; numba kernels nogil; the closed blade's distance map "
+                        "once per exemplar): identical layers on the maples, 8 x 256 px, 4 x 512 px elliptic and "
+                        "trilobed, 4 x 1 MP lobed; same-load CPU at load ~22: main 5.78 s, threads 5.86 s, one thread "
+                        "5.88 s (OpenBLAS kept on one thread inside the pool: without, two threads spin-waited, "
+                        "8.26 s); the threaded jobs are 4.8 of 6.1 s CPU, their overlap on 2 idle cores saves an "
+                        "estimated 1.2-2.4 s (each job's thread CPU: sum minus max(longest, sum / 2), halved when "
+                        "half of it holds the GIL): unloaded wall ~3.5-4.5 s; measured wall 9.7 s at load ~14)"))
     size = 384 if quick else 1000
-    a, t_analysis = _analysis(4, size)
+    a, t_analysis, cpu = _analysis(4, size)
     mp = a.exemplars[0].shape[0] * a.exemplars[0].shape[1] / 1e6
     out.append(BenchRow(f"leaves analysis: 4 exemplars {mp:.2f} MP, 2 layers (lazy snapping, TPS-RPM, "
                         "induction, residuals)", t_analysis,
                         "one cv2.xphoto shift-map inpainting of one vein layer", _shiftmap(a),
+                        f"CPU {cpu:.1f} s this run; "
                         "target < 20 s at ~1 MP (CPU, loaded 2 cores: 38-39 s before the compiled snapping, "
                         "25-27 s after; issue 22 speed pass (registration 2.5 -> 1.3-1.5 s per exemplar with "
                         "its dense maps, lazy snapping 3.4 -> 2.3 s), A/B runs: 30.4 -> 20.2 s at load ~25, "
@@ -106,6 +118,10 @@ def rows(quick: bool = False) -> list[BenchRow]:
                         "TPS-RPM values pass (as the row above), same-load CPU A/B at load ~25: 19.42 -> 19.21 s, "
                         "registration 2.92 -> 2.63 s (the induction, 12.4 s, is most of it), veins IoU >= 0.9996, "
                         "maps within 6e-5 px; "
+                        "issue 22 threads pass (as the row above), identical layers, same-load CPU at load ~22: "
+                        "main 20.20 s, threads 18.65 s, one thread 18.56 s; threaded jobs 10.1 of 18.2 s CPU, "
+                        "estimated overlap on 2 idle cores 2.5-5.0 s: unloaded wall ~13-16 s; measured wall "
+                        "25.8 s at load ~10; "
                         "the paper: several minutes"))
     # The per-analysis preparation (stage images bled, layers completed, petioles), paid by the first leaf.
     t_prep = timeit(lambda: generate(a, 1, rng=0), repeat=1, warmup=False)

@@ -91,7 +91,7 @@ def _gaussian(a: np.ndarray, sigma: float, order, truncate: float) -> np.ndarray
     return cv2.sepFilter2D(np.ascontiguousarray(a, np.float32), cv2.CV_32F, kx, ky, borderType=cv2.BORDER_REFLECT)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def sample_scores(src, k, q, shifts):  # pragma: no cover - compiled
     """Mean of ``src[k[p], round(q[p] + s)]`` over points ``p`` (0 outside the image), per shift ``s``.
 
@@ -114,7 +114,7 @@ def sample_scores(src, k, q, shifts):  # pragma: no cover - compiled
     return out
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def sample_scores_many(src, k, q, shifts):  # pragma: no cover - compiled
     """:func:`sample_scores` for several point sets at once (one call per pose search, not per pose).
 
@@ -143,7 +143,7 @@ def sample_scores_many(src, k, q, shifts):  # pragma: no cover - compiled
     return out
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def sample_scores_int(src, k, q, shifts):  # pragma: no cover - compiled
     """:func:`sample_scores_many` for whole-pixel ``shifts`` (S, 2) int64: the same sums, integer addressing.
 
@@ -193,7 +193,7 @@ def sample_scores_int(src, k, q, shifts):  # pragma: no cover - compiled
     return out
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def polar_dp(s, rs, da, slope):  # pragma: no cover - compiled
     """The polar trace's dynamic programme: summed score per final angle, back pointers, float32 flag.
 
@@ -243,7 +243,7 @@ def polar_dp(s, rs, da, slope):  # pragma: no cover - compiled
     return v, back, single
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def oriented_maps(hess, ev, tx, ty, weight):  # pragma: no cover - compiled
     """``weight * oriented_response(hess, t_k) + (1 - weight) * ev`` for every direction ``t_k = (tx[k], ty[k])``.
 

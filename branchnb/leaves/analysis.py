@@ -17,6 +17,7 @@ import numpy as np
 from ..core.image import as_rgb
 from ..core.params import check_params
 from ..core.random import as_rng
+from ..core.threads import thread_map
 from ..core.validate import check_int, check_shape
 from .analysis_induce import (  # noqa: F401  (importable from here as before)
     COLOUR_RELIABLE,
@@ -442,6 +443,15 @@ def analyze(exemplars, training_index: int, layers, params: InductionParams | No
         An exemplar's blade holds a grey drop or cast shadow
         (:func:`~branchnb.leaves.structural.shadow_share`).
 
+    Notes
+    -----
+    Beyond the paper: the exemplars are registered, snapped and induced in
+    threads (:func:`branchnb.core.threads.thread_map`; NumPy, OpenCV and the
+    compiled kernels release the GIL), one per core; the environment
+    variable ``BRANCHNB_THREADS=1`` runs them in turn. The results do not
+    depend on it (the residuals' patch quilting still draws from one
+    generator, exemplar after exemplar).
+
     Examples
     --------
     The whole pipeline on three procedural leaves: scribbles on the
@@ -530,16 +540,24 @@ def analyze(exemplars, training_index: int, layers, params: InductionParams | No
     elif len(registrations) != n:
         raise ValueError(f"registrations must have one entry per exemplar ({n}), got {len(registrations)}")
     registrations = list(registrations)
-    for i in range(n):
-        if registrations[i] is not None:
-            continue
-        report(0.05 + 0.45 * i / n, f"registering exemplar {i + 1}/{n}")
-        if i == t:
-            registrations[i] = IdentityRegistration(blades[t].shape)
-        else:
-            from .registration import register
-            registrations[i] = register(images[i], images[t], blades[i], blades[t],
-                                        params=registration_params, rng=rng)
+    if registrations[t] is None:
+        registrations[t] = IdentityRegistration(blades[t].shape)
+    todo = [i for i in range(n) if registrations[i] is None]
+    if todo:
+        from .registration import RegistrationParams, _as_leaf, _training_keypoints, register
+        report(0.05, f"registering {len(todo)} exemplar(s)")
+        prm = RegistrationParams() if registration_params is None else registration_params
+        if len(todo) > 1 and isinstance(prm, RegistrationParams):
+            # The training leaf's keypoints, found once here (remembered), not by every thread at once.
+            tr = _as_leaf(images[t], blades[t], "training")
+            _training_keypoints(tr.rgb, tr.blade, prm.n_keypoints, prm.outline_fraction)
+        # The exemplars register independently (deterministic, no shared state): in threads, as
+        # TPS-RPM's kernels, OpenCV and NumPy's loops release the GIL.
+        done = thread_map(lambda i: register(images[i], images[t], blades[i], blades[t],
+                                             params=registration_params, rng=rng), todo)
+        for i, r in zip(todo, done):
+            registrations[i] = r
+        report(0.5, "registered")
     layers_out, residuals, space = induce(
         [im[..., :3] for im in images], blades, t, {k: training.masks[k] for k in training.order},
         registrations, params, progress=_progress(progress, 0.5, 1.0), rng=rng)

@@ -11,7 +11,9 @@ from scipy import ndimage as ndi
 
 from ..core.distance import edt as _edt
 from ..core.image import as_mask, as_rgb
+from ..core.morphology import _binary_dilation
 from ..core.random import as_rng
+from ..core.threads import thread_map
 from ..core.validate import check_bool, check_callback, check_int, check_real
 from .analysis_masks import _contrast_map, _exemplar_mask, _MaskSteps
 from .analysis_outline import (  # noqa: F401  (importable from here as before)
@@ -301,10 +303,10 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
             raise ValueError(f"user_masks[{name!r}] is empty on the training leaf's blade")
         # Each residual's CIELAB (moved onto the training leaf's statistics),
         # converted once for the colour term, the snapping and the ridge extension.
-        labs = [_matched_lab(r, stats, e, t, params, lab=lab0[e] if r is rgb[e] else None)
-                for e, r in enumerate(residual)]
+        labs = thread_map(lambda e, residual=residual, lab0=lab0: _matched_lab(
+            residual[e], stats, e, t, params, lab=lab0[e] if residual[e] is rgb[e] else None), range(n))
         lab0 = [None] * n  # later layers' residuals differ: not held any longer
-        q = [_quantise_lab(lab, space) for lab in labs]
+        q = thread_map(lambda lab: _quantise_lab(lab, space), labs)
         cdf = layer_cdfs(q[t], user, space.bins)
         report(step / steps, f"layer {name}: snapping to each exemplar's ridges")  # "cancel" stops here too
         # An ink layer the user drew with the leaf's outline (a sketch's ink) keeps it on every exemplar.
@@ -321,15 +323,15 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
                   and not _has_layer_colour(labs, t, user, blades[t], e, p, blades[e]) else None
                   for e, p in enumerate(ridge_px)]
         # The registered user layer and its distance map do not depend on n.
-        reg_user, dist = [], []
-        for e in range(n):
+
+        def registered(e, user=user, snapped=snapped):
             ru = user if e == t else warp_mask(registrations[e], user, to_training=False, level=0.25) & blades[e]
             if snapped is not None and e != t:
                 # The exemplar's own main structure joins the carried-over prior.
                 ru = ru | snapped[e]
-            reg_user.append(ru)
-            dist.append(_edt(~ru) if ru.any() else
-                        np.full(ru.shape, 1e6, np.float32))
+            return ru, (_edt(~ru) if ru.any() else np.full(ru.shape, 1e6, np.float32))
+
+        reg_user, dist = (list(x) for x in zip(*thread_map(registered, range(n))))
         best = None
         candidates = neighbourhood_candidates(params, blades[t], user)
         inked_outline = not outline_in_layer and _inked_outline(labs[t], blades[t], user)
@@ -338,11 +340,10 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
                                     registrations, space, candidates[0])
         tried = {}
         for n_px in candidates:
-            colour = []
-            for e in range(n):
-                report(step / steps, f"layer {name}: colour and space terms on exemplar {e + 1}/{n}")
-                colour.append(colour_similarity(q[e], blades[e], _own_cdf(q[e], own_px[e], cdf, space.bins), n_px,
-                                                weights=space.weights if params.lab_units else None))
+            report(step / steps, f"layer {name}: colour and space terms ({n_px} px window)")
+            colour = thread_map(lambda e, n_px=n_px, q=q, own_px=own_px, cdf=cdf: colour_similarity(
+                q[e], blades[e], _own_cdf(q[e], own_px[e], cdf, space.bins), n_px,
+                weights=space.weights if params.lab_units else None), range(n))
             lam, overlap, combined, delta, tr_iou = _combine(colour, dist, lengths, tolerance, params, blades,
                                                              registrations, t, user)
             tried[n_px] = colour
@@ -366,14 +367,21 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         def contrast_of(e, labs=labs, steps_kept=steps_kept):
             return _contrast_map(labs[t], labs[e], steps_kept, e)
 
-        for e in range(n):
-            report(step / steps, f"layer {name}: residual of exemplar {e + 1}/{n}")
-            step += 1
-            m, contrast[e] = _exemplar_mask(steps_kept, e, combined[e], delta, tr_iou, taken[e], contrast_of)
-            masks.append(m)
-            taken[e] = taken[e] | m
+        report(step / steps, f"layer {name}: masks")
+
+        def induced(e, user=user, snapped=snapped, residual=residual, labs=labs, own=own, steps_kept=steps_kept,
+                    combined=combined, delta=delta, tr_iou=tr_iou):
+            m, c = _exemplar_mask(steps_kept, e, combined[e], delta, tr_iou, taken[e], contrast_of)
             gone = m if snapped is None or e == t else _ridge_extension(residual, blades, t, e, user, m, stats, params,
                                                                         labs=labs, direction=own[e])
+            return m, c, gone
+
+        for e, (m, contrast[e], gone) in enumerate(thread_map(induced, range(n))):
+            report(step / steps, f"layer {name}: residual of exemplar {e + 1}/{n}")
+            step += 1
+            masks.append(m)
+            taken[e] = taken[e] | m
+            # In turn: the patch quilting of wide parts draws from one generator, exemplar after exemplar.
             new_residual.append(remove_layer(residual[e], blades[e], gone, rng=rng))
         residual = new_residual
         residuals.append(list(residual))
@@ -531,7 +539,7 @@ def _induced(combined, delta, training_overlap, snapped, e, blade, taken, *, cen
     # puts a thin vein's pixels one pixel off along whole side veins.
     if centred is None or centred[e] is None:
         return m
-    return m | (centred[e] & blade & ~taken & ndi.binary_dilation(m))
+    return m | (centred[e] & blade & ~taken & _binary_dilation(m))
 
 
 #: A thin layer's ``{D < delta}`` covering more than this many times the area the layer should take

@@ -14,6 +14,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage as ndi
 
+from ..core.morphology import _binary_dilation
+
 
 @dataclass
 class _MaskSteps:
@@ -88,7 +90,7 @@ def _exemplar_mask(steps: _MaskSteps, e: int, combined_e, delta: float, tr_iou: 
     d_e = _own_delta(combined_e, delta, s.own_px[e], blade)
     if d_e > delta and not over:
         # Beyond the training leaf's delta only next to the exemplar's own layer pixels.
-        near = ndi.binary_dilation(s.ridge_px[e], iterations=1)
+        near = _binary_dilation(s.ridge_px[e], iterations=1)
         m = m | _induced(np.where(near, combined_e, np.inf), d_e, tr_iou, s.snapped, e, blade, taken_e,
                          centred=s.centred)
     contrast = None

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..core.threads import thread_map
 from .analysis_outline import _ink_zone
 
 
@@ -40,13 +41,15 @@ def _snapped(residual, blades, t, user, registrations, stats, tolerance, params,
                 zone, depth = _ink_zone(rgb[e], blades[e], width)
                 zones[e] = (zone, depth) if zone.any() else None
     radius = max(3.0, 1.5 * float(tolerance), float(params.snap_radius) * width)
-    for e in range(len(blades)):
-        if e != t:
-            prior = warp_mask(registrations[e], user, to_training=False, level=0.25) & blades[e]
-            d, took, pix = exemplar_direction(labs[e], blades[e], prior, width, d_t, radius=radius,
-                                              return_pixels=True)
-            own[e] = d if took else None
-            pixels[e] = pix
+
+    def direction_of(e):
+        prior = warp_mask(registrations[e], user, to_training=False, level=0.25) & blades[e]
+        return exemplar_direction(labs[e], blades[e], prior, width, d_t, radius=radius, return_pixels=True)
+
+    others = [e for e in range(len(blades)) if e != t]
+    for e, (d, took, pix) in zip(others, thread_map(direction_of, others)):
+        own[e] = d if took else None
+        pixels[e] = pix
     rims = [None] * len(blades)
     masks, _, centred = snap_to_exemplars(labs, blades, t, user, registrations, tolerance=tolerance,
                                           radius_widths=params.snap_radius, directions=own, return_centred=True,

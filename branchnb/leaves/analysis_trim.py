@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import ndimage as ndi
 
+from ..core.morphology import _binary_dilation
 from .analysis_outline import INKED_OUTLINE, _outline_band, _outline_stretches
 
 #: Leave the exemplar's hole rims (:func:`~branchnb.leaves.snapping_stray._hole_rim`, one-sided rims
@@ -97,7 +98,7 @@ def _rim_hugging(m, blade, rim) -> np.ndarray:
         return np.zeros_like(piece)
     depth = np.asarray(ndi.maximum(ndi.distance_transform_edt(holes), hl, np.arange(1, nh + 1)))
     holes = np.isin(hl, np.flatnonzero(depth >= RIM_HOLE * np.sqrt(float(b.sum()))) + 1)
-    touch = ndi.binary_dilation(holes, iterations=RIM_TOUCH) & b
+    touch = _binary_dilation(holes, iterations=RIM_TOUCH) & b
     lab, n = ndi.label(piece, structure=np.ones((3, 3), bool))
     hit = np.unique(lab[touch & piece])
     return np.isin(lab, hit[hit > 0])

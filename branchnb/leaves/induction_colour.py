@@ -299,7 +299,7 @@ def colour_similarity(q: np.ndarray, blade, cdfs: np.ndarray, size: int, weights
 
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _add_emd_terms(total, counts, inv, g, w):  # pragma: no cover - compiled
     """``total[j] += |counts * inv - g[j]| * w`` for every layer ``j``, in float32 (NumPy's operations, fused).
 

@@ -42,7 +42,7 @@ from skimage.color import rgb2lab
 from skimage.segmentation import slic
 
 from ..core.image import as_mask, as_rgb
-from ..core.morphology import fill_holes
+from ..core.morphology import _binary_dilation, _binary_opening, fill_holes
 from ..core.params import check_params, param
 from ..core.validate import brief, check_int, check_real, check_shape
 from ._lines import _line_channel, _ridges
@@ -265,7 +265,7 @@ def _on_layer(each: list, feat: np.ndarray, blade: np.ndarray) -> np.ndarray:
         y0, y1 = max(ys.min() - 6, 0), min(ys.max() + 7, h)
         x0, x1 = max(xs.min() - 6, 0), min(xs.max() + 7, w)
         mc, fc = m[y0:y1, x0:x1], feat[y0:y1, x0:x1]
-        ring = ndi.binary_dilation(mc, iterations=5) & ~ndi.binary_dilation(mc, iterations=2) & blade[y0:y1, x0:x1]
+        ring = _binary_dilation(mc, iterations=5) & ~_binary_dilation(mc, iterations=2) & blade[y0:y1, x0:x1]
         if ring.sum() < 4:
             out |= m
             continue
@@ -367,7 +367,7 @@ def _nearest(colours: np.ndarray, centres: np.ndarray) -> np.ndarray:
     return _nearest_nb(c, k)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _nearest_nb(colours, centres):  # pragma: no cover - compiled
     n, d = colours.shape
     out = np.empty(n, np.float32)
@@ -681,7 +681,7 @@ def _off_lines(line: np.ndarray, ridges: np.ndarray, fg_px: np.ndarray, blade: n
     # blade around it to stand out from) are not sure either.
     half = max(2, reach // 2)
     disk = np.hypot(*np.mgrid[-half:half + 1, -half:half + 1]) <= half
-    narrow = blade & ~ndi.binary_opening(blade, disk)
+    narrow = blade & ~_binary_opening(blade, disk)
     # Only long narrow parts: a sharp corner of the blade leaves a small
     # tip here (and a pale rim grown from it was the fault this rule mends).
     lab, n = ndi.label(narrow)
@@ -690,7 +690,7 @@ def _off_lines(line: np.ndarray, ridges: np.ndarray, fg_px: np.ndarray, blade: n
         long = area >= _NARROW_LONG * half * half
         long[0] = False
         narrow = long[lab]
-    return ~(ndi.binary_dilation(possible, iterations=reach) | narrow)
+    return ~(_binary_dilation(possible, iterations=reach) | narrow)
 
 
 def _refine(mask, feat, blade, fg_px, bg_px, fg_c, bg_c, prior, smoothness: float, line=None,

@@ -224,6 +224,7 @@ from scipy import ndimage as ndi
 from ..core.distance import edt_boxed as _edt_boxed
 from ..core.image import as_mask
 from ..core.morphology import fill_holes
+from ..core.threads import thread_map
 from .snapping_basal import (  # noqa: F401  (the anchor's constants, importable from here)
     ANCHOR_MOVE,
     ANCHOR_NEAR,
@@ -576,14 +577,12 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
     radius = max(3.0, 1.5 * float(tolerance), float(radius_widths) * width)
     # The training layer's petiole junction and the branches leaving it (None: no star).
     star = junction_star(user_chains, blades[t]) if (fit and basal and not parallel) else None
-    masks, kept, centred_masks = [], [], []
     size_t = np.sqrt(float(blades[t].sum()))
-    for e, (lab, b) in enumerate(zip(labs, blades)):
+
+    def one(e):
+        lab, b = labs[e], blades[e]
         if e == t:
-            masks.append(None)
-            kept.append(1.0)
-            centred_masks.append(None)
-            continue
+            return None, 1.0, None
         # Everything below runs on the blade's box (a padded canvas is 2-5x
         # larger): the same values, a fraction of the memory and time.
         b_full = b
@@ -650,9 +649,13 @@ def snap_to_exemplars(labs, blades, training_index: int, user, registrations, *,
             win = max(4.0, 3.0 * wd, PARALLEL_SCALE * np.sqrt(float(b.sum())))
             m = along_ridges(m, ev, b, wd, min_run=run, scale=win)
             mcen = along_ridges(mcen, ev, b, wd, min_run=run, centre=centre, scale=win) if centre is not None else m
-        masks.append(_unbox(m, b_full.shape, y0, x0))
-        kept.append(k)
-        centred_masks.append(_unbox(mcen, b_full.shape, y0, x0) if return_centred else None)
+        return (_unbox(m, b_full.shape, y0, x0), k,
+                _unbox(mcen, b_full.shape, y0, x0) if return_centred else None)
+
+    # The exemplars are snapped independently (each on its own maps; ``rims[e]`` is exemplar e's):
+    # in threads, as OpenCV, NumPy's loops and the compiled kernels release the GIL.
+    done = thread_map(one, range(len(labs)))
+    masks, kept, centred_masks = ([d[j] for d in done] for j in range(3))
     if return_centred:
         return masks, kept, centred_masks
     return masks, kept

@@ -251,7 +251,7 @@ def along_ridges(mask, evidence, blade, width: float, *, level: float = ALONG_LE
     return _grow_to_width(skeletonize(lines), float(width), centre) & b
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _bilinear(img, x, y):  # pragma: no cover - numba
     h, w = img.shape
     x = min(max(x, 0.0), w - 1.001)
@@ -264,7 +264,7 @@ def _bilinear(img, x, y):  # pragma: no cover - numba
             + (img[y0 + 1, x0] * (1 - fx) + img[y0 + 1, x0 + 1] * fx) * fy)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _follow_kernel(sy, sx, ev, tx, ty, inner, level, sep, gap, cos_turn, cos_total,
                    min_length):  # pragma: no cover - numba
     h, w = ev.shape

@@ -30,9 +30,9 @@ import warnings
 
 import cv2
 import numpy as np
-from scipy import ndimage as ndi
 
 from ..core.image import as_mask, as_rgb
+from ..core.morphology import _binary_dilation
 from ..core.validate import check_int, check_real
 
 __all__ = [
@@ -265,7 +265,7 @@ def layer_standout(image, blade, mask, *, ring: int = 4, margin: float = 2.0) ->
     y0, y1 = max(ys.min() - ring - 1, 0), ys.max() + ring + 2
     x0, x1 = max(xs.min() - ring - 1, 0), xs.max() + ring + 2
     m, b = mask[y0:y1, x0:x1], blade[y0:y1, x0:x1] & inner[y0:y1, x0:x1]
-    around = ndi.binary_dilation(m, iterations=int(ring)) & b & ~whole[y0:y1, x0:x1]
+    around = _binary_dilation(m, iterations=int(ring)) & b & ~whole[y0:y1, x0:x1]
     if around.sum() < 2:
         return None
     lab = cv2.cvtColor(np.ascontiguousarray(np.clip(img[y0:y1, x0:x1, :3], 0, 1)), cv2.COLOR_RGB2Lab)

@@ -31,7 +31,7 @@ def _sqdist(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _tps_eval_nb(p, c, w, d, jac):  # pragma: no cover
     """``f(p)`` and (if ``jac``) its Jacobian, one point at a time (no (N, K) temporaries at a megapixel)."""
     n, k = p.shape[0], c.shape[0]

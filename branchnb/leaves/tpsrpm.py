@@ -275,7 +275,7 @@ _INV_LN2 = 1.44269504088896338700e+00
 _EXP_TAYLOR = tuple(1.0 / float(np.prod(np.arange(1, j + 1))) for j in range(13, -1, -1))
 
 
-@numba.njit(cache=True, fastmath={"contract"})
+@numba.njit(cache=True, nogil=True, fastmath={"contract"})
 def _exp_row(z, out):  # pragma: no cover
     """``out = exp(z)`` for ``z <= 0``, 0 where ``z <= -708``; within 1 ulp of ``np.exp``.
 
@@ -299,7 +299,7 @@ def _exp_row(z, out):  # pragma: no cover
         out[j] = out[j] * scale[j] if z[j] > -708.0 else 0.0
 
 
-@numba.njit(cache=True, fastmath={"reassoc", "contract", "arcp", "nsz"})
+@numba.njit(cache=True, nogil=True, fastmath={"reassoc", "contract", "arcp", "nsz"})
 def _softassign_nb(x, fv, lab_x, lab_v, use_lab, cost, use_cost, t, t0, cx, cv, sinkhorn, tol):  # pragma: no cover
     n, k = x.shape[0], fv.shape[0]
     m = np.zeros((n + 1, k + 1))
@@ -371,7 +371,7 @@ def _softassign_nb(x, fv, lab_x, lab_v, use_lab, cost, use_cost, t, t0, cx, cv, 
     return m[:n, :k].copy()
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _spd_solve_nb(h, rhs):  # pragma: no cover
     """``h^-1 rhs`` for a symmetric positive definite ``h`` (Cholesky, then two triangular solves).
 
@@ -396,7 +396,7 @@ def _spd_solve_nb(h, rhs):  # pragma: no cover
     return z
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _anneal_nb(x, v, lab_x, lab_v, use_lab, cost, use_cost, phi, amat, bend, q2, t, t_init, t_final,
                rate, iterations, sinkhorn, lam1, lam2, sink_tol, move_tol, counts, fv0, cx_in,
                t_end, ainv, reg0):  # pragma: no cover

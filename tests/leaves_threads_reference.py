@@ -1,0 +1,108 @@
+"""Induced masks of main before the threaded analysis (commit 87217cb), for tests/test_leaves_threads.py.
+
+Each entry: (kind, layer, exemplar) -> (shape, zlib-compressed np.packbits of the mask, base64). Made by
+analyze() on leaf_family(3, size, kind, rng=seed) with simulate_scribbles as in the test.
+"""
+
+
+REFERENCE = {
+    ('lobed', 'veins', 0): ((170, 172),
+        'eNrtVr9vEzEUfi8++Q5xynl0RERvY8RdUIaovT/FVQeWSpyYwlSHIFg6dOTPYGR0VakTYu54SMwoiCVIhfCctHe+Ow8wIISUlwzV'
+        'p8/vlz9/KcAudvFfRhpE7W9T8xB18Feo7CZEPbR/MJYJUZMgNZQ2Daa1RYjKg1Qdog5CVJMHwIQFwNPFsg++SjBwvDCiB2KQKjrU'
+        'zTgYdag6SOVDR4U2tdinjYrN1xsdN63LNtVui7WzpmAHfWolQd1SoxqMGSFUiahpc42THBIqSA3gqklwRZsGu/eJ5NWIg9sNdU3N'
+        'yUmNzuCrgW1Tb5rtGbaE7VaaWkcc+OC2/1mdVCmYabm5wbg+/wRN+hmNcqmWd/JCO8SFlawCUPsLU2/gvRzj+ie1yhNVL2t0CVa4'
+        'rNIu6mWxoeYITkLXsqYW5RRKQVvMY3x9B0YcbeaoAyihkSd1YFxWnXlvKQVFS81Zim/RNBugv8VzKq9sc2OKyBhXcM2jRrMMjAbB'
+        'aXwLqhFRwlwhUBKalxChmZakOlwkXlcg2RdHTV8Y730hHBsn0JOlb1wqlSA0sCvfDOK5uWDx2ijlXTd+VFyoEhjSCprzx6B45Nrz'
+        'znOm0eqCUl74XjKG8ZAEb3npPywDuirggD5eKMEfRCQG9A2G7uqbLMpLbytuMWJUpdkqb1kJZ3gGNuNtjy610ilUVrYM8yxjQBC2'
+        'bC+bW5myrhOWkizvpGsNtNZ0rPveqi5f9p2IjX0B3cXoQ8jdfpie5zCIl+35XTyCh+DeQZtqmYWn3REErm0kuyPg96z3cxaJm/PT'
+        'nu0fHdyLDrtJ+R6cw6pLfWzuQzLrdQXvcN7pFSsaTO61OygoYY7zrN3UgSH9CzVtoc8Sp3cOEx+M7crpXaNfDJfZ1pBbcpl1gaaJ'
+        'EBjt/iPaxS7+TfwCrp6XSA=='
+    ),
+    ('lobed', 'veins', 1): ((170, 172),
+        'eNrtVrFu1EAUnPU6tpWYO0sBZKTT+SpEaSQkEhQRi4KaD6CwhARlDtFEIiIbDiE+ISWfkBLRsCYFTUQoU1D4/sB0Bwo63prEt7t2'
+        'RYd0W2yi0Yt3dua92QDLtVzL9a/L6UTzLvBtF9gTFpCqbc8CWX1UYYIyVnuUGmAIqeoPzM+WXv0j0jH3V02TM6N0L+U1C6PU59ig'
+        '/bVZitgXYF9HJgEmTmhf4ybX0FVnPU6tG0wUj5cm6EHd66A00ZE6e+CZoE/XpQMz05EjRhIEloJT3L+QUVNgI/ZGqI/T1ikTn8F4'
+        'zwBXZRimiFNpoBHkMdh6aH5AhEGE22UhTF/yA+H4JyYv0UMcjXaOhd0DHx13aOk6wbUMct/SNXUFQksWFCvvwWRm6bpBXZW4Vun+'
+        'kIw5skr900lN2XKrVIwsqlld1V8Am1INRa62akF+roaCaLJSE8C/NSKfRoZZEulDspQHwELr0HM8SWrfNUvzfLdubvqq1mjelbo3'
+        'gfWs4SolE9fr3/igMTYIQ7BKlbrptDmslBI3qNWkvMk/NEzJN2oe3w15ljRnJTRlY3CZyasa2e2Y+hKpG18M6F8BfgtyVeCJiPlC'
+        'weicVIrhVEw8akDOZhjR+GxBb4DILx0CfHBjVL6ojX0zAiNXlmS4LbxKzyli6KrLPrDDRpLeoR02YUT+615HlAhblEDFmTntFBkR'
+        'BnTjRAsGusVzrJRboLs0peT/swpPnTG0HKG5UIbluTCsHQQYgrswuoAxF3egZlCjK9M0w4y/IazQGs4jb8WmQNafa3fIKvDjM3h9'
+        'TZl9l7q3vw3saKBfCeL4qUIy1W/7LvYQvMK81OMxKUSJyY95bMSLfxiquWDCSNK1n1L1XMyMIEnOqVup1Ewif6YMiq3Q9eeqBaxS'
+        '9EUUt/KtFe6XkkUd4BAdpXwadJS+GMuOh+ye2wZZkXU8hbvw2mBfdLya7HvXA7srkbb5r4K3+Ysc7cvOfLR1SUTrJaC/P2wnHjCW'
+        '7XDEaq+jtBXCl+PRIfXyf6nl+m/XH8gipmo='
+    ),
+    ('lobed', 'veins', 2): ((170, 172),
+        'eNrtVj2LFEEQrZqe7R10vBvwgsGD27nsAoUBD1lQlvkBBpcJRg2mImtmINgiGIkYGt5PuNCwz8BfIXJgYGIw4Qaya3fvrHR1V7CJ'
+        'ILgNu/Q83lRXvamPBtit3frHVsuBNzlQXHFoFj6gHjZNCJ5w793ZbFRI7YbNXkgtNxsdohtqTZ2MHCFn0FgPyBvDuj682BO0Z7wC'
+        'yQQAMOeCHXMy44vIS78KXTMGbqypmSJBLdbUGXFKDsq8DNAG5msRRR9+OYFmvdOhrO0+Iyy+/pYKq+oHKVXCMv0GaPaZqOaiT0EJ'
+        'jxhqI9VfK4EKwKR5rSGPU6iCWzS1fQro7DFNotb/LudEFlGDQqhyquBMS2e5I/mB9jRbVkWUmva0xnmq4gLOoMJ3EJdBizqnYeVT'
+        'a7qBT5R6rKHBYkzBUWGplaooetvakKOc5qur2Qt9QFIZvbsP4UNacIe0YwzSt0RWgGudD4IKgHtw6qgdLY2pbUySWH2iR1JPo8o8'
+        '/KGVE7+kDetK+/SlSmULl7JcqyyTKnaORtQczkDiDGgTM1a4s5J+PVVaJxGo+gK1jeYk6hmzGs6tv5EkK1O4TKkhVEWseiN9AYaq'
+        'PF+cOkUoVU4nPosN0doSxHnngi1osl++LSApxPy7+SyTAlKvSqXSabH8wpXgT5V0cru+ZhUkPVL0d21Dvr+MUKHG78UqHlG/SBvc'
+        'dONF5JR3cxIddEQG0h+93f+92KJrY3yD0hxYc0NXvOGoiqOW3OBAdnC0yB3FevWMA0sORL31TSLjwJyV6ik7Obc/SrLNnb20HLFR'
+        'XXDoMXtUxaGGM1pvfb9C9uow4QTAj6yB3W32f1i/AeV6Z5M='
+    ),
+    ('lobed', 'spots', 0): ((170, 172),
+        'eNrtlM0JwjAYhhMK9iLt1UNoVnAAaVdxkKIdxGHqAuII3nq0NyNIY3L9fAYo8r2QQF4evr+EGKNSqVQq1X/pQWZ1FEY+dzdhtmmV'
+        'bxGgyOfYCrQbjakniS5p62eB+kxthGkXKtNj8f16hz2SuSXTInogs0T0Z2D7PDA57GJIqaJEQ1o7OVufUOOEWQeo1cYBCnIB26Ti'
+        'Hfb5JLT6EDrho6b8V3pC/k4oZmoavBKKak+Evqgrj0Fncs+Uqrzox6ZSrUtf6kssmA=='
+    ),
+    ('lobed', 'spots', 1): ((170, 172),
+        'eNpjYBgFo2AUDEVwAJsgDzZBRqxKZbAJMmNVake8A+yxKi0Yja5RMApGwWAFLlgLU6wl3DtsgnxYTf3fgEWQ/wdWpdjs4v+HVekH'
+        'LILs/7EprcemlP8BNqU12ATZsXmAwQBrzTGaiEbBKBiRAACzdBIB'
+    ),
+    ('lobed', 'spots', 2): ((170, 172),
+        'eNpjYBgFo2AUjIJRMApGKniGTZD/DzbR/wewCDL/wGpAAzbRGmyC7NhMZbDDJsj4AJuoHFZ/PRiN2kEJeLBG7AGiI5b7AdGmjoJR'
+        'MApGAW0BADbtCn0='
+    ),
+    ('elliptic', 'veins', 0): ((204, 198),
+        'eNrtl79uFDEQxsf2ancLK7t0lnLKLX0kjGi2OJ32UcyfB7iSLk6QoEEKJXQ8iqMgQcUTUNxBj47uihT40ubnIlIKkG5Kz92M5/s+'
+        'z8yKHOxgB/t3bVtyrEuOVDg3pT8clRxPCufNez6faj5X0hcCDRM73FUh9XNbSBE9h6rlnAFptYro8E4XgA2c3Cjv0VFZ4Uv1XnGK'
+        'kBhCdSEOHdpJQIcNBsuLSrAKLRVLqhXPyvE6jozTESNrZGQAKwmYenDKlJhYcIb49BNnkB+nyIQYlsck84LQwitEsFbnTjwKzQ4I'
+        'yGA9c5H6SKw6JS/wFYdKfUR9xNdmon6gZWjw2VuJMxRU1gDLIFU5C755p9VnJrufJaQiXm1IB8GYLhqiwtpfMqPy+qWluts9tjX8'
+        '3uc+AeS1klQvQF7GopoIwQzHschvUKaTURoH/SlIaEdiO6r4CHQTamnSKcKRS0gBUvT8Jq0ELSuQ4GA+uAZ1cBzDyrwBxxfVpWPS'
+        'oOv+SIPyXxgiT2STCyEdqLc8q7Ymj5cVTJdUJUzt9hwtIdLjuOPh9r1bywjVqfUz6ai4Rmy1Iy1bGc4SkbdSl9fUl9W6WVtNTzUt'
+        'ZNlim8gJ/N0kodlL/yuI1ubSzBZE22cNdDRUX+IGkqv71ssJZPBqPTWJuqk5lx118mSrM5ieNjei+YZ0Vss7XJZ8W9/wsPUn+z5F'
+        '42V7OzLu3vZiEtplGpMBjHDbqp5En9Bt5xI76oJ+1GqHtw3dTxx5191Ni/Po8kYG6vF6IaUlquCwpQ3RlxyRVHDb/c+QDOPnO97f'
+        '0n231nlpZU4rPtelSP19V+xipPbBvgceLtLBDnaw/9T+AlyJf2I='
+    ),
+    ('elliptic', 'veins', 1): ((204, 198),
+        'eNrtV7Fu1EAQfes1ayOcsyOlWHRHzqKA1giETsopcRQJGj5iEVKqSFxBEVCk2+MkiwIQJZ9xH0CxSYp00NKxBSXF0QWJAgOl3xYn'
+        'IdHclPu8Y8+bmTdjYG1rW9t/tiQEDH0A2AjdqEKA48cyCjyfpQFgUhb0XCytoUB8CEuBYiS5J2ti7klY/m6onMYnoHMeHYymgBa2'
+        'poBR/GNhC+5Jog7wcSp5Mrbi65woU5zR89w94N8kRKAOVOYVBdIxJUSiMs5RAk8tJaQQMSgh5tkuL8KZ89STbBmnnjL9iHvS+wvJ'
+        'GBReng8ZMHS5umCeDvCTF04sqxEvHFieVRMpkKpVAmkFUiET4LE7YF0R5W/s+y4QIdt+ImqWo2IIRm0Bc0ypNcmpp9TaHeUYtVI0'
+        'm75PLvSgnW0IcIy7bRWSKEocUfUq6mQhuEzscMaHeAvaekfQN3nhoDwgcbcqIeaNWHR5Ek4NMLddvblhtY+66qVwG08RT7qvsNm+'
+        'Qb9L7Rb6bQWOSY4wrpAumcIbh1ue8IRz4AdtsddgWc1w7R4GjCd16Kl4ja702pQTq1ONwBAzvYB4WY+y+7S0qgfhugrVtteSlHmG'
+        'LPlkEJMRmUpvMSLM6jwCic+hqiAGjFnv0Hgim+oMkiiIwuYrxN+6wACJwXbFBvreDBPS3Zf4GA2ZxDtVbDDK78yW9S4Xu/2EJVU0'
+        '6J2w85cD7DlhSdifcYGoS5SKikjjqmcdlpas7XU7PS15RfvsrBEf2F4iGk3D8LKoxywMp2oet81bmaLTcJDQCa1QvaC13MNFxheQ'
+        'aFJSVfu9sNArowlS2knfLWha8TXlrSe+OD7cxCXXzT9NFtijAs1dbgeaex5YRO+fCA5M3435wF0+5K6et2FQO5kGVtrpikszQksz'
+        '31f+aktI7AKACnkqQkAdOJehC9nKPxF2VT7Wtra1/Xv7BYgekbQ='
+    ),
+    ('elliptic', 'veins', 2): ((204, 198),
+        'eNrtVzFrVEEQ/jZ77B64ee/KPTxyT/wDG0V9ypEcBPwdC2ksjvCsvEJ0Y2EsAqZMIfgXUorVxkIsLK3laS1yoMUVQtxrfd8WEQuL'
+        'm3KHnZmdb+abWWAta1nLX8kgp5hmzkXIKHpZFxU/L88zpnZVzoXNKHZyQS0z5zL3BsMVFo4rKkSuiBkXIudC+V2uGOMXt3S6wS+Y'
+        'qg/Pg6rERw5qkPSG3ICmloo+OBizTEakDY/YuccNfGYhRTwQxxQ62RpWtgrDQB/Rx30OhoPlj/DwHNYgnvN6cooXiA7DQJvMYAaK'
+        'khUtL0+XkDil0dqUEoqqZ+gJ6NTE5OEq3tIXDL1N8WJM68Ci51ETRZOwECyF73AbrL3FCea0x2SEp5yj0vuOaflD8WK2sBqS2Fqk'
+        'FGrSlr3kOe4QWy4qhdfE0mGwDhPCKzLuBwL3AEa8YnB7jHTLQIqot4CWoIpFwyypqfpC4S7D9nsEAtJEHJ4qRdtCestAiqnOH4aW'
+        'DYsC38quD71Co7151uWV5EVCRwKeCPdW6m4TK/GJlY7HvKhYEUbdNl1LiVdOxBG6loppGdWcDL4xDjAOGHUc1MKkaiZwezVKZghI'
+        '0Ux6qCxJ4MANECMdYFOhaFt8BSMjg2KCKwS8CRqXQu48TyxT9cfY7QvTSCG3sN25UXllVLsitj+ltW4MsWAsH3+ynpRRlpakFleD'
+        'SeESutsLdxDKbsqlXm0BjqS8TNwiuiEd42AzkCktF9JcZ62XivlxYPxYQL5lrtO7TE2ZqIb32GHkf02E4QfCmz8S4jO2yixhXUuY'
+        '0yVC/c44WERxuGDRytDTJFGrIhw0DKNkfS+QDVKnVq3ZBC1gdKBF60cWJV2K6imdPGkWgk6eOkU64ltAM2XjMw2xc76JeimbPlO0'
+        'RoOaal1T0sUrHoWGKp7N+eIlXvILVrzRdAtuZJjz7UfxC3C2zqzN+5k9++7ugiueXmTW4yeX/XfI3AWTU7icIua+Npd2Uf2zf1g/'
+        'p/CX/YflPk+w69/uWv4n+Q0ym6En'
+    ),
+    ('elliptic', 'spots', 0): ((204, 198),
+        'eNpjYBgFo2AUjIJRMApGwSgY9uABDnHmAzgk+C1wSNjjMIrxPy6TfuCQMD6GQ+JdBQ6Jybi8Yd+Aw1F/sIvL83/ALlEhPwObsAFj'
+        'T00CNi8cYDB8gs3eZwxsh7E5lv0GgwQ/NsfKA7EdNpP+AQlsjmUHeo0Rq0k/SIw5BhuSU03DaI4aBaNgFIyCUTAKRgF9AAAkiRxI'
+    ),
+    ('elliptic', 'spots', 1): ((204, 198),
+        'eNrtlLENwyAQRbm4cIPiBSyzBhNkp0hR4tEYxSNYSgoKK4QBeJFIm/8KCr64u39wOCeEEOLPGVYQAp24U6QdBKMUXu0XX0mwP9GB'
+        'hYRIwtZZ0omEmYRME0apC9geC0U6QHhACnvTrHa2I/Z+BmTayJu/gXClUp9U06sul1ZfayRrOQn1Is6tNAWsDxlelCUNsxBCCCF+'
+        '4gOtKBvV'
+    ),
+    ('elliptic', 'spots', 2): ((204, 198),
+        'eNrtlDEOwjAQBM+4QDSQgiISSOYhCP8kX6ClSvw0Or7hjpaSAuFc+l16pJ3yJsnZd6uYCSGEEELYsSfi9sL18KxYrPMdi82XtNi9'
+        'iZhIPXyIiJWJ/9kEW0T0RQQ02oMXUwGi+Rsj2lCrFtHMUyuW0AizP51Ri6u3GNBplxCc0eqWEJzQ9VgIIomTrX4MkToWkMC67AsR'
+        'D/alCxPshlt22E7/JSGEEELMCkYgLQ=='
+    ),
+}
