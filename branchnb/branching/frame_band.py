@@ -253,13 +253,39 @@ _INWARD = np.array([[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]])
 
 
 def bearing_window(shape) -> float:
-    """The chord length (pixels) :func:`entry_turn_limit` and :func:`bearing_keep` measure turns over."""
+    """The chord length (pixels) :func:`entry_turn_limit` and :func:`bearing_keep` measure turns over.
+
+    Parameters
+    ----------
+    shape : (H, W)
+        The canvas.
+
+    Returns
+    -------
+    float
+        :data:`BEARING_WINDOW`, or :data:`PARALLEL_SHARE` x the long side when longer.
+    """
     return max(BEARING_WINDOW, PARALLEL_SHARE * float(max(shape[:2])))
 
 
 def entry_side(point, radius: float, shape) -> int:
-    """The frame side (0 left, 1 top, 2 right, 3 bottom) a root starting at ``point`` with ``radius``
-    enters by, or -1 when it starts inside."""
+    """The frame side a root starting at ``point`` enters by.
+
+    Parameters
+    ----------
+    point : (x, y)
+        The root's start.
+    radius : float
+        Its radius there.
+    shape : (H, W)
+        The canvas.
+
+    Returns
+    -------
+    int
+        0 left, 1 top, 2 right, 3 bottom (within :data:`ENTRY_PX` + 2 ``radius``), or -1 when it
+        starts inside.
+    """
     d, s = _frame_sides(point, shape)
     return int(s[0]) if d[0] <= ENTRY_PX + 2.0 * float(radius) else -1
 
@@ -283,6 +309,16 @@ def entry_turn_limit(example: Structure) -> float:
     none enters (or no ``image_shape``).
 
     Beyond the paper (issue 23, branching87): see :func:`bearing_keep`.
+
+    Parameters
+    ----------
+    example : Structure
+        The example (roots: branches without a parent).
+
+    Returns
+    -------
+    float
+        The limit in degrees, or ``inf``.
     """
     if example.image_shape is None:
         return float("inf")
@@ -312,6 +348,24 @@ def bearing_keep(points, new_pts: np.ndarray, side: int, limit: float, shape) ->
     bottom of a 512 px map ran up to 45 px under the top, turned 90 deg and ran 200 px along it; a
     256 px bolt's trunk turned sideways near the bottom. The example's roots keep their bearing within
     their own largest turn (:func:`entry_turn_limit`); a root turning past it ends there.
+
+    Parameters
+    ----------
+    points : (m, 2) array_like
+        The root's points so far.
+    new_pts : (n, 2) ndarray
+        The step's new points.
+    side : int
+        The side it entered by (-1: none, every point is kept).
+    limit : float
+        Degrees (``inf``: every point is kept).
+    shape : (H, W)
+        The canvas.
+
+    Returns
+    -------
+    (n,) ndarray of bool
+        Which new points are kept.
 
     Examples
     --------
