@@ -27,11 +27,11 @@ def test_relink_joins_only_floating_pieces_to_the_frame():
     inner[:10] = False
     assert _pieces(relink_fragments(inner, np.roll(drop, 5, axis=0), 30.0)) == 2
     # a dropped stretch far longer than the piece it would link is a line of its own
-    sk2 = np.zeros((200, 60), bool)
+    sk2 = np.zeros((260, 60), bool)
     sk2[0:20, 30] = True
-    sk2[150:190, 30] = True
+    sk2[200:240, 30] = True
     drop2 = np.zeros_like(sk2)
-    drop2[20:150, 30] = True
+    drop2[20:200, 30] = True
     assert _pieces(relink_fragments(sk2, drop2, 30.0)) == 2
 
 

@@ -27,9 +27,9 @@ __all__ = ["relink_fragments"]
 FRAME_PX = 4.0
 #: A dropped stretch is put back only when it is at most this many times as long as the floating
 #: piece it links (a much longer dropped stretch is a line of its own, judged false on its own merits).
-#: In a glowing bolt (white core, blue halo, 512 px) a side branch's first 90 px ran in the trunk's
-#: glow and were dropped, leaving a 94 px piece.
-LINK_SHARE = 2.0
+#: In a glowing bolt (white core, blue halo) a side branch's first 90 px ran in the trunk's glow and were
+#: dropped, leaving a 94 px piece (512 px); at 1024 px 185-196 px were dropped before an 85 px piece.
+LINK_SHARE = 4.0
 
 _EIGHT = np.ones((3, 3), bool)
 
