@@ -52,6 +52,7 @@ from .clicks import (  # noqa: F401  (re-exported: split from this module)
     gray_for_extraction,
     structure_from_polylines,
 )
+from .fragment_links import relink_fragments
 from .hubs import blob_contrast, find_hubs, hub_skeleton
 from .params import ExtractionParams
 from .ridges import (  # noqa: F401  (re-exported: split from this module)
@@ -320,6 +321,8 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
     if p.false_ridges and skel.any():
         from .line_profiles import false_ridge_pixels
 
+        before_false = skel.copy()
+
         if lines is not gray:
             # a line colour traced on a photo: the edge between a darker and a lighter field has a little
             # of the line colour on its darker side only, and the hysteresis joins those edges to the
@@ -338,6 +341,9 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
             # intermittent, a dotted test would cut it)
             skel &= ~false_ridge_pixels(work, skel, "dark", sigma_min=p.sigma_min, sigma_max=p.sigma_max,
                                         dotted=np.inf, beads=0.0, local=2.0 * p.sigma_max)
+        # a thin side branch cut off its frame-entering line where it leaves it (the stretch beside the
+        # trunk reads one-sided) is linked back: rooted inside, it grew trees away from the entry
+        skel = relink_fragments(skel, before_false & ~skel, p.min_component_length * p.scale)
     if wide_axis is not None:
         skel |= wide_axis
     # small examples: a line leaving the frame is traced up to it (its axis stops a width short of it)
