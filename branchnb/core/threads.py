@@ -5,8 +5,7 @@ NumPy's large array loops, OpenCV and the project's ``numba`` kernels
 overlap on several cores without the copies and start-up of processes.
 Results come back in the order of the inputs and do not depend on the
 number of threads (a job must not share mutable state or a random
-generator with another: give each its own, e.g. from
-:func:`job_seeds`).
+generator with another).
 """
 
 from __future__ import annotations
@@ -18,7 +17,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-__all__ = ["job_seeds", "thread_count", "thread_map"]
+__all__ = ["thread_count", "thread_map"]
 
 #: Environment variable capping the threads (``1``: run every job in the caller's thread).
 THREADS_ENV = "BRANCHNB_THREADS"
@@ -110,26 +109,3 @@ def _blas_in_turn():
         return contextlib.nullcontext()
     return threadpool_limits(1, user_api="blas")
 
-
-def job_seeds(rng: np.random.Generator, n: int) -> list[int]:
-    """``n`` seeds drawn from ``rng`` at once, one per job (the same whatever runs first).
-
-    Parameters
-    ----------
-    rng : numpy.random.Generator
-        The caller's generator (advanced by one draw of ``n`` numbers).
-    n : int
-        Number of jobs.
-
-    Returns
-    -------
-    list of int
-
-    Examples
-    --------
-    >>> len(job_seeds(np.random.default_rng(0), 3))
-    3
-    """
-    if not isinstance(rng, np.random.Generator):
-        raise TypeError(f"rng must be a numpy Generator, got {type(rng).__name__}")
-    return [int(s) for s in rng.integers(0, 2**31 - 1, size=int(n))]
