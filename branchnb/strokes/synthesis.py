@@ -35,6 +35,7 @@ from .outline import (
 from .overlays import _overlaid_parts, _solid_cracks
 from .parts import place_part, rigid_frame
 from .sampling import choose, pair_energies
+from .tubes import _distance_map
 from .slits import _joint_zones
 
 __all__ = ["compose_patches"]
@@ -112,7 +113,8 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
             valid = f.valid[k]
             if i in across:
                 valid = valid & across[i](f.origin, valid.shape[0], _patch_map(f, k), f.source_points[k],
-                                          float(f.source_angles[k]), float(f.source_s[k]))
+                                          float(f.source_angles[k]), float(f.source_s[k]),
+                                          float(smp.s[j]))
             rows, cols = f.source_pixels(k, index.shape)
             behind = None
             if i in index.views:
@@ -379,8 +381,11 @@ class _AcrossCheck:
 
         self.src = dist(pair.source, index.shape)
         self.tgt = dist(pair.target, shape)
+        self.target = pair.target
+        self.t_map = _distance_map(pair.target, shape, reach)[1]
 
-    def __call__(self, origin, size: int, m: np.ndarray, centre, angle: float, s0: float) -> np.ndarray:
+    def __call__(self, origin, size: int, m: np.ndarray, centre, angle: float, s0: float,
+                 t0: float | None = None) -> np.ndarray:
         x0, y0 = int(origin[0]), int(origin[1])
         yy, xx = np.mgrid[y0:y0 + size, x0:x0 + size]
         fx = m[0, 0] * xx + m[0, 1] * yy + m[0, 2]
@@ -398,7 +403,25 @@ class _AcrossCheck:
         ht, wt = self.tgt.shape
         dt = self.tgt[np.clip(yy, 0, ht - 1), np.clip(xx, 0, wt - 1)]
         judged = bent & np.isfinite(ds) & np.isfinite(dt)
-        return ~judged | (np.abs(dt - ds) <= self.tol)
+        keep = ~judged | (np.abs(dt - ds) <= self.tol)
+        if t0 is None:
+            return keep
+        # the same across a bend of the target stroke (a tentacle re-stroked into a curl
+        # tighter than its half width): a pixel whose nearest target point lies much
+        # farther along (or back) than its offset along the patch, and that lands nearer
+        # to the target stroke than its source pixel lies from the source stroke, is the
+        # patch folded over another turn of the curl (the texture knotted at the tips);
+        # the patches centred nearer along the stroke cover it. Pixels landing farther
+        # out (the outside of a sharp corner) are kept: no other patch reaches them.
+        # Beyond the paper.
+        q = self.target.point_at(float(t0))
+        a = float(self.target.angle_at(float(t0), window=3.0))
+        along_t = (xx - q[0]) * np.cos(a) + (yy - q[1]) * np.sin(a)
+        sig_t = self.t_map[np.clip(yy, 0, ht - 1), np.clip(xx, 0, wt - 1)]
+        length_t = float(self.target.length)
+        bent_t = (np.abs(sig_t - t0 - along_t) > self.bend) & (sig_t > 0.5) & (sig_t < length_t - 0.5)
+        folded = bent_t & np.isfinite(ds) & np.isfinite(dt) & (dt < ds - self.tol)
+        return keep & ~folded
 
 
 def _stroke_ends(index, attached) -> list[tuple[int, np.ndarray, float]]:
