@@ -319,6 +319,8 @@ _ACROSS_TOL = 0.06
 #: ... judged only where its source stroke's nearest point lies more than this share of the
 #: patch radius farther along (or back) than the pixel's own offset along the patch.
 _BEND_TOL = 0.25
+#: Turn (rad) within one patch radius past which a target stroke is a curl (see _AcrossCheck).
+_CURL_TURN = 0.75
 
 
 def _rigid(pair, tol: float = 1.0) -> bool:
@@ -382,7 +384,16 @@ class _AcrossCheck:
         self.src = dist(pair.source, index.shape)
         self.tgt = dist(pair.target, shape)
         self.target = pair.target
-        self.t_map = _distance_map(pair.target, shape, reach)[1]
+        # the target-side check only where the target turns by over 0.75 rad within one
+        # patch radius (a curl tighter than about 1.3 r): elsewhere no patch reaches
+        # across a turn, and the result (and the cost) is the check's without it
+        r = float(np.median(radii))
+        grid = np.arange(0.0, pair.target.length + 0.5, 1.0)
+        turn = np.unwrap(pair.target.angle_at(grid, window=2.0))
+        span = max(1, int(round(r)))
+        self.t_map = None
+        if len(grid) > span and np.abs(turn[span:] - turn[:-span]).max() > _CURL_TURN:
+            self.t_map = _distance_map(pair.target, shape, reach)[1]
 
     def __call__(self, origin, size: int, m: np.ndarray, centre, angle: float, s0: float,
                  t0: float | None = None) -> np.ndarray:
@@ -404,7 +415,7 @@ class _AcrossCheck:
         dt = self.tgt[np.clip(yy, 0, ht - 1), np.clip(xx, 0, wt - 1)]
         judged = bent & np.isfinite(ds) & np.isfinite(dt)
         keep = ~judged | (np.abs(dt - ds) <= self.tol)
-        if t0 is None:
+        if t0 is None or self.t_map is None:
             return keep
         # the same across a bend of the target stroke (a tentacle re-stroked into a curl
         # tighter than its half width): a pixel whose nearest target point lies much
