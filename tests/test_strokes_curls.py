@@ -79,3 +79,31 @@ def test_curled_tentacles_do_not_fold(kind):
         p = st.target.point_at(np.linspace(0, st.target.length * 0.95, 200))
         r, c = np.clip(np.rint(p[:, 1]).astype(int), 0, n - 1), np.clip(np.rint(p[:, 0]).astype(int), 0, n - 1)
         assert res.mask[r, c].mean() > 0.97
+
+
+def test_curled_tip_keeps_the_sources_width():
+    from scipy import ndimage as ndi
+
+    from branchnb.strokes.strokes import Stroke
+    n, hw = 768, 0.045 * 768
+    c = _Canvas(n, n, 4.5, np.random.default_rng(1))
+    t = np.linspace(0, 1, 30)
+    pts = np.c_[0.08 * n + 0.84 * n * t, 0.2 * n + 0.03 * n * np.sin(3 * t + 1)]
+    sdf, s = c.capsule(pts, hw, taper=0.1)
+    band = 0.5 + 0.5 * np.cos(2 * np.pi * s / (1.2 * hw))
+    c.part(pts, "arm", -1, hw, (sdf, np.array((0.75, 0.3, 0.45))[None, None] * (0.7 + 0.35 * band)[..., None], 1))
+    obj = c.result()
+    length = Stroke(pts).length
+    # a straight lead-in, then a spiral whose radius shrinks from 0.12 n to 0.015 n
+    u = np.linspace(0, length, 400)
+    k = np.where(u < 0.3 * length, 0.0, 1.0 / (0.12 * n * (0.125 ** ((u - 0.3 * length) / (0.7 * length)))))
+    ang = np.cumsum(k * (u[1] - u[0]))
+    tgt = (np.array([0.1 * n, 0.55 * n]) + np.cumsum(np.c_[np.cos(ang), np.sin(ang)] * (u[1] - u[0]), axis=0))[::4]
+    res = edit_structure(obj.image, [pts], [tgt])
+    e_src = ndi.distance_transform_edt(obj.image[..., 3] > 0.5)
+    e_out = ndi.distance_transform_edt(res.mask)
+    src, out = Stroke(pts), res.pairs[0].target
+    for f in (0.9, 0.95):
+        (xs, ys), (xt, yt) = np.rint(src.point_at(f * src.length)), np.rint(out.point_at(f * out.length))
+        # main: 1.0 and 2.0 px against the source's 7.0 and 5.0 (the tip knotted into the curl)
+        assert abs(e_out[int(yt), int(xt)] - e_src[int(ys), int(xs)]) <= 1.5

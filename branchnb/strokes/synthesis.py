@@ -353,6 +353,14 @@ class _AcrossCheck:
     pixels along the tube and is kept. Pixels off the source stroke's own tube (beyond
     twice the patch radius) are not judged. Beyond the paper (its patches are rigid
     copies, its strokes short).
+
+    The same holds across a bend of the target stroke (``t0``, the sample's target arc
+    length, given): on a target that curls tighter than about the patch radius
+    (:data:`_CURL_TURN`), a patch pixel whose nearest target point lies much farther
+    along than its offset along the patch and that lands nearer to the target stroke
+    than its source pixel lies from the source stroke is folded over another turn (an
+    octopus's tentacle re-stroked into a spiral: the tips knotted, outline scraps inside
+    the curl) and is dropped; the patches centred nearer along the stroke cover it.
     """
 
     def __init__(self, index, stroke: int, pair, radii, shape):
