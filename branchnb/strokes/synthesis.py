@@ -35,8 +35,8 @@ from .outline import (
 from .overlays import _overlaid_parts, _solid_cracks
 from .parts import place_part, rigid_frame
 from .sampling import choose, pair_energies
-from .tubes import _distance_map
 from .slits import _joint_zones
+from .tubes import _distance_map
 
 __all__ = ["compose_patches"]
 
