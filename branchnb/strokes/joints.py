@@ -307,8 +307,7 @@ def hold_joint_bodies(layer: np.ndarray, source_premult: np.ndarray, source_dept
     return out, held
 
 
-def close_hairlines(layer: np.ndarray, zones, *, reach: int = 2,
-                    source_alpha: np.ndarray | None = None) -> np.ndarray:
+def close_hairlines(layer: np.ndarray, zones, *, reach: int = 2) -> np.ndarray:
     """Close thin, partly transparent lines inside the object near the joints.
 
     Two anti-aliased edges meeting inside the object (a turned arm's edge
@@ -326,12 +325,6 @@ def close_hairlines(layer: np.ndarray, zones, *, reach: int = 2,
         Centres ``(x, y)`` and radii of the discs to work in.
     reach : int
         How far (px) to look for the opaque sides.
-    source_alpha : (H, W) ndarray, optional
-        The source object's alpha, in the layer's frame. A pixel open in the
-        source (alpha < 0.9) whose 3 x 3 neighbourhood the layer reproduces
-        (alpha within 0.25 of the source's) is the source's own slit
-        (the V between two petals at a flower's disk, under 4 px wide): it stays
-        open. Beyond the paper.
 
     Returns
     -------
@@ -358,10 +351,6 @@ def close_hairlines(layer: np.ndarray, zones, *, reach: int = 2,
         hit = _hairline(win[..., 3], reach)
         yy, xx = np.mgrid[r0:r1, c0:c1]
         hit &= (xx - cx) ** 2 + (yy - cy) ** 2 <= r * r
-        if hit.any() and source_alpha is not None:
-            src = source_alpha[r0:r1, c0:c1]
-            same = ndi.maximum_filter(np.abs(win[..., 3] - src), size=3) <= 0.25
-            hit &= ~(same & (src < 0.9))
         if not hit.any():
             continue
         _, (iy, ix) = ndi.distance_transform_edt(win[..., 3] < 0.98, return_indices=True)

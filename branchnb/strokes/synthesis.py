@@ -243,8 +243,7 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
         if joints:
             layer = fill_joints(layer, [j[0] for j in joints], [j[1] for j in joints],
                                 pockets=[_thin_closing(index, j[3]) for j in joints], keep_open=pockets)
-        src_alpha = index.premult[..., 3] if index.premult.shape[:2] == layer.shape[:2] else None
-        layer = close_hairlines(layer, [(d[0], 1.5 * d[2] + 4.0) for d in disks], source_alpha=src_alpha)
+        layer = close_hairlines(layer, [(d[0], 1.5 * d[2] + 4.0) for d in disks])
         if style is not None and (disks or joints):
             # rims the last closings buried inside the object (a kept arm's outline
             # running into a turned arm's root): interior ink, repainted
