@@ -36,6 +36,7 @@ from .overlays import _overlaid_parts, _solid_cracks
 from .parts import place_part, rigid_frame
 from .sampling import choose, pair_energies
 from .slits import _joint_zones
+from .tubes import _distance_map
 
 __all__ = ["compose_patches"]
 
@@ -112,7 +113,8 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
             valid = f.valid[k]
             if i in across:
                 valid = valid & across[i](f.origin, valid.shape[0], _patch_map(f, k), f.source_points[k],
-                                          float(f.source_angles[k]), float(f.source_s[k]))
+                                          float(f.source_angles[k]), float(f.source_s[k]),
+                                          float(smp.s[j]))
             rows, cols = f.source_pixels(k, index.shape)
             behind = None
             if i in index.views:
@@ -317,6 +319,8 @@ _ACROSS_TOL = 0.06
 #: ... judged only where its source stroke's nearest point lies more than this share of the
 #: patch radius farther along (or back) than the pixel's own offset along the patch.
 _BEND_TOL = 0.25
+#: Turn (rad) within one patch radius past which a target stroke is a curl (see _AcrossCheck).
+_CURL_TURN = 0.75
 
 
 def _rigid(pair, tol: float = 1.0) -> bool:
@@ -349,6 +353,14 @@ class _AcrossCheck:
     pixels along the tube and is kept. Pixels off the source stroke's own tube (beyond
     twice the patch radius) are not judged. Beyond the paper (its patches are rigid
     copies, its strokes short).
+
+    The same holds across a bend of the target stroke (``t0``, the sample's target arc
+    length, given): on a target that curls tighter than about the patch radius
+    (:data:`_CURL_TURN`), a patch pixel whose nearest target point lies much farther
+    along than its offset along the patch and that lands nearer to the target stroke
+    than its source pixel lies from the source stroke is folded over another turn (an
+    octopus's tentacle re-stroked into a spiral: the tips knotted, outline scraps inside
+    the curl) and is dropped; the patches centred nearer along the stroke cover it.
     """
 
     def __init__(self, index, stroke: int, pair, radii, shape):
@@ -379,8 +391,20 @@ class _AcrossCheck:
 
         self.src = dist(pair.source, index.shape)
         self.tgt = dist(pair.target, shape)
+        self.target = pair.target
+        # the target-side check only where the target turns by over 0.75 rad within one
+        # patch radius (a curl tighter than about 1.3 r): elsewhere no patch reaches
+        # across a turn, and the result (and the cost) is the check's without it
+        r = float(np.median(radii))
+        grid = np.arange(0.0, pair.target.length + 0.5, 1.0)
+        turn = np.unwrap(pair.target.angle_at(grid, window=2.0))
+        span = max(1, int(round(r)))
+        self.t_map = None
+        if len(grid) > span and np.abs(turn[span:] - turn[:-span]).max() > _CURL_TURN:
+            self.t_map = _distance_map(pair.target, shape, reach)[1]
 
-    def __call__(self, origin, size: int, m: np.ndarray, centre, angle: float, s0: float) -> np.ndarray:
+    def __call__(self, origin, size: int, m: np.ndarray, centre, angle: float, s0: float,
+                 t0: float | None = None) -> np.ndarray:
         x0, y0 = int(origin[0]), int(origin[1])
         yy, xx = np.mgrid[y0:y0 + size, x0:x0 + size]
         fx = m[0, 0] * xx + m[0, 1] * yy + m[0, 2]
@@ -398,7 +422,25 @@ class _AcrossCheck:
         ht, wt = self.tgt.shape
         dt = self.tgt[np.clip(yy, 0, ht - 1), np.clip(xx, 0, wt - 1)]
         judged = bent & np.isfinite(ds) & np.isfinite(dt)
-        return ~judged | (np.abs(dt - ds) <= self.tol)
+        keep = ~judged | (np.abs(dt - ds) <= self.tol)
+        if t0 is None or self.t_map is None:
+            return keep
+        # the same across a bend of the target stroke (a tentacle re-stroked into a curl
+        # tighter than its half width): a pixel whose nearest target point lies much
+        # farther along (or back) than its offset along the patch, and that lands nearer
+        # to the target stroke than its source pixel lies from the source stroke, is the
+        # patch folded over another turn of the curl (the texture knotted at the tips);
+        # the patches centred nearer along the stroke cover it. Pixels landing farther
+        # out (the outside of a sharp corner) are kept: no other patch reaches them.
+        # Beyond the paper.
+        q = self.target.point_at(float(t0))
+        a = float(self.target.angle_at(float(t0), window=3.0))
+        along_t = (xx - q[0]) * np.cos(a) + (yy - q[1]) * np.sin(a)
+        sig_t = self.t_map[np.clip(yy, 0, ht - 1), np.clip(xx, 0, wt - 1)]
+        length_t = float(self.target.length)
+        bent_t = (np.abs(sig_t - t0 - along_t) > self.bend) & (sig_t > 0.5) & (sig_t < length_t - 0.5)
+        folded = bent_t & np.isfinite(ds) & np.isfinite(dt) & (dt < ds - self.tol)
+        return keep & ~folded
 
 
 def _stroke_ends(index, attached) -> list[tuple[int, np.ndarray, float]]:
