@@ -39,7 +39,9 @@ from .induction import (
     colour_similarity,
     colour_space,
     layer_cdfs,
+    TIE_LEVEL,
     layer_weight,
+    positional_tie,
     layer_width,
     liberal_layer,
     neighbourhood_candidates,
@@ -695,7 +697,12 @@ def _own_cdf(q, pixels, cdf, bins):
 
 
 def _combine(colour, dist, lengths, tolerance, params, blades, registrations, t, user):
-    """Eqs. 2-4 from the colour terms and distance maps: ``lambda``, ``D`` per exemplar, ``delta``."""
+    """Eqs. 2-4 from the colour terms and distance maps: ``lambda``, ``D`` per exemplar, ``delta``.
+
+    ``lambda`` is 0 when the layer's colour is not found near the registered layer beyond chance
+    (:func:`~branchnb.leaves.induction.positional_tie` under :data:`~branchnb.leaves.induction.TIE_LEVEL`):
+    beyond the paper, marks at random places keep no positional tie from chance overlaps.
+    """
     liberal_t, spat = [], []
     for e in range(len(colour)):
         eps_px, _, lib_r = lengths[e]
@@ -704,6 +711,13 @@ def _combine(colour, dist, lengths, tolerance, params, blades, registrations, t,
         liberal_t.append(lib_t & blades[t])
         spat.append(spatial_term(dist[e], colour[e], eps_px))
     lam, overlap = layer_weight(liberal_t, params.kappa)
+    if lam > 0:
+        # A chance overlap of marks at random places is no positional tie (beyond the paper, issue 22).
+        radii = [max(ln[2], tolerance) for ln in lengths]
+        tie = positional_tie([colour[e] < params.liberal_threshold for e in range(len(colour))], dist, blades, t,
+                             radii)
+        if tie < TIE_LEVEL:
+            lam = 0.0
     combined = [(np.float32(lam) * f + s).astype(np.float32) for f, s in zip(spat, colour)]
     delta, tr_iou = choose_threshold(combined[t], user, blades[t])
     return lam, overlap, combined, delta, tr_iou
