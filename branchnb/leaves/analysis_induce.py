@@ -700,8 +700,10 @@ def _combine(colour, dist, lengths, tolerance, params, blades, registrations, t,
     """Eqs. 2-4 from the colour terms and distance maps: ``lambda``, ``D`` per exemplar, ``delta``.
 
     ``lambda`` is 0 when the layer's colour is not found near the registered layer beyond chance
-    (:func:`~branchnb.leaves.induction.positional_tie` under :data:`~branchnb.leaves.induction.TIE_LEVEL`):
-    beyond the paper, marks at random places keep no positional tie from chance overlaps.
+    (:func:`~branchnb.leaves.induction.positional_tie` under :data:`~branchnb.leaves.induction.TIE_LEVEL`)
+    while that colour singles the layer out on the training leaf (at least half of its pixels with
+    ``S_e`` under the liberal threshold are the user's layer): beyond the paper, marks at random places
+    keep no positional tie from chance overlaps.
     """
     liberal_t, spat = [], []
     for e in range(len(colour)):
@@ -711,8 +713,12 @@ def _combine(colour, dist, lengths, tolerance, params, blades, registrations, t,
         liberal_t.append(lib_t & blades[t])
         spat.append(spatial_term(dist[e], colour[e], eps_px))
     lam, overlap = layer_weight(liberal_t, params.kappa)
-    if lam > 0:
+    match_t = (colour[t] < params.liberal_threshold) & blades[t]
+    if lam > 0 and (match_t & user).sum() >= 0.5 * match_t.sum():
         # A chance overlap of marks at random places is no positional tie (beyond the paper, issue 22).
+        # Only where the layer's colour singles it out on the training leaf (most of its colour matches
+        # are the layer): a layer of the blade's own colour (veins scribbled on a plain blade) has only
+        # its place to go by.
         radii = [max(ln[2], tolerance) for ln in lengths]
         tie = positional_tie([colour[e] < params.liberal_threshold for e in range(len(colour))], dist, blades, t,
                              radii)
