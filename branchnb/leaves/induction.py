@@ -40,6 +40,12 @@ exemplar and a user layer ``c``:
     brought into the training frame: a structural layer (veins) sits at
     the same place in every exemplar, so its liberal layers overlap and it
     leans on space; a non-structural one (spots) leans on colour.
+    **Beyond the paper** (issue 22): a chance overlap of marks at random
+    places gives a small ``lambda > 0`` that forbids every mark away from
+    the training leaf's; so ``lambda = 0`` when the layer's colour is not
+    found near the registered layer more than by chance
+    (:func:`positional_tie` under :data:`TIE_LEVEL`, applied by
+    :func:`branchnb.leaves.analysis_induce.induce`).
 
 **Scale.** ``eps = 40`` px and ``n = 8`` are the paper's values for leaves
 photographed at about 2 MP (1633 x 1225): a leaf filling such a frame
