@@ -200,7 +200,13 @@ class Normalized:
     soft_alpha : (S, S) float32 ndarray or None
         The source's own (anti-aliased) alpha resampled like ``image``
         (None for pixel art); the thin-structure mix of bare trees keeps its
-        soft edges (:mod:`~branchnb.trees.bare`).
+        soft edges (:mod:`~branchnb.trees.bare`). For a translucent source
+        (:mod:`~branchnb.trees.translucent`) it is the source's own alpha,
+        which the variations carry through the mix.
+    alpha_level : float
+        The source alpha the silhouette was taken at: 0.5 (the paper's
+        threshold) unless the source is translucent (beyond the paper,
+        :func:`~branchnb.trees.translucent.translucent_level`).
 
     Examples
     --------
@@ -219,6 +225,7 @@ class Normalized:
     dropped_components: int = 0
     pixel_art: object = None
     soft_alpha: np.ndarray | None = None
+    alpha_level: float = 0.5
 
     @property
     def alpha(self) -> np.ndarray:

@@ -33,6 +33,7 @@ from .exemplar import (
     tree_rgba,
 )
 from .ground import _join_detached_trunk, split_ground
+from .translucent import from_working_alpha, to_working_alpha, translucent_level
 
 __all__ = ["Exemplar", "exemplar_trunk", "process_exemplar", "TRUNK_METHODS", "GROUND_METHODS"]
 
@@ -304,6 +305,16 @@ def process_exemplar(image, name: str = "", *, trunk_mask=None, trunk: str = "au
     if ground not in GROUND_METHODS:
         raise ValueError(f"ground must be one of {list(GROUND_METHODS)}, got {ground!r}")
     cut = None
+    # Beyond the paper: a translucent source (watercolour wash, airbrushed or glass crown) is taken
+    # at its wash's own level, remapped to the threshold so every step below keeps it, and keeps
+    # its own soft alpha for the mix (translucent.py).
+    level = ep.alpha_threshold
+    src = np.asarray(image)
+    if src.ndim == 3 and src.shape[2] == 4:
+        img0 = as_float_image(src, name="image")
+        level = translucent_level(img0[..., 3], ep.alpha_threshold)
+        if level < ep.alpha_threshold:
+            image = np.dstack([img0[..., :3], to_working_alpha(img0[..., 3], level, ep.alpha_threshold)])
     # An icon's trunk drawn apart from the crown is the tree's, no clutter.
     image = _join_detached_trunk(image, ep.alpha_threshold)
     if ground == "cut":
@@ -313,6 +324,9 @@ def process_exemplar(image, name: str = "", *, trunk_mask=None, trunk: str = "au
             cut = split.ground
             image = split.cut(img)
     norm = normalize_exemplar(image, ep)
+    if level < ep.alpha_threshold and norm.soft_alpha is not None:
+        norm = replace(norm, soft_alpha=from_working_alpha(norm.soft_alpha, level, ep.alpha_threshold),
+                       alpha_level=level)
     if trunk_mask is None:
         tmask, source = exemplar_trunk(norm.image, trunk)
     else:
