@@ -43,6 +43,7 @@ from dataclasses import dataclass, field, fields, replace
 
 import cv2
 import numpy as np
+from scipy import ndimage as ndi
 
 from .. import data as _data
 from ..core.image import as_float_image, composite_over
@@ -580,6 +581,10 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
                      parts)
 
 
+#: Widest fall-off (px) a translucent mix's alpha is continued by outside its silhouette.
+FEATHER_MAX = 24.0
+
+
 def _translucent_alpha(image: np.ndarray, soft: np.ndarray, level: float) -> np.ndarray:
     """``image`` with the carried soft alpha of translucent sources inside its silhouette.
 
@@ -601,8 +606,19 @@ def _translucent_alpha(image: np.ndarray, soft: np.ndarray, level: float) -> np.
         den = cv2.boxFilter(good.astype(np.float32), -1, (7, 7), normalize=False)
         local = np.where(den > 0, num / np.maximum(den, 1e-6), fill)
         a = np.where(miss, np.maximum(local, level), a)
+    # The silhouette cuts the sources' fall-off at ``level``: continue it outside at the slope the
+    # carried alpha rises with just inside (an airbrushed halo fades out; a pooled or flat rim, which
+    # does not rise inwards, keeps a 1 px edge).
+    inside = cv2.distanceTransform(op.astype(np.uint8), cv2.DIST_L2, 5)
+    band = op & (inside >= 1.5) & (inside <= 4.5)
+    slope = float(np.median((a[band] - level) / inside[band])) if band.any() else 0.0
+    reach = float(np.clip(level / slope, 1.0, FEATHER_MAX)) if slope > 0 else 1.0
+    dist, idx = ndi.distance_transform_edt(~op, return_indices=True)
+    ring = ~op & (dist < reach + 1e-6)
     out = image.copy()
     out[..., 3] = np.clip(a, 0.0, 1.0)
+    out[..., 3][ring] = level * np.clip(1.0 - (dist[ring] - 0.5) / reach, 0.0, 1.0)
+    out[..., :3][ring] = image[..., :3][idx[0][ring], idx[1][ring]]
     return out
 
 
