@@ -285,6 +285,15 @@ def process_exemplar(image, name: str = "", *, trunk_mask=None, trunk: str = "au
     (:func:`~branchnb.trees.ground._join_detached_trunk`), while a sun, a
     ground disc, a leaf pile or a pebble is still dropped or cut.
 
+    Beyond the paper: a translucent source (watercolour washes of alpha
+    ~0.4, an airbrushed halo, a glass tree of alpha 0.3) would come out
+    with a hollow crown (only the pooled rim at alpha >= 0.5) or be refused
+    as transparent. Its silhouette is taken at its wash's own level
+    (:func:`~branchnb.trees.translucent.translucent_level`; the alpha is
+    remapped so that level is the threshold for every step), and the
+    exemplar keeps its source's soft alpha (``normalized.soft_alpha``,
+    ``normalized.alpha_level``), which the variations carry through the mix.
+
     Examples
     --------
     >>> from branchnb import data

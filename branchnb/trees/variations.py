@@ -448,6 +448,13 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     dominant exemplar's branches warped whole into the mix, with their
     anti-aliased edges (:mod:`~branchnb.trees.bare`).
 
+    Beyond the paper: when a mixed exemplar is translucent (watercolour,
+    airbrushed or glass crowns; :mod:`~branchnb.trees.translucent`), its
+    source's own alpha is carried through the colour transfer like the
+    colour, and the result's silhouette takes it (its fall-off continued
+    just outside): the crown is as translucent as the sources, not an
+    opaque cut-out of un-premultiplied colour (much darker on paper).
+
     Beyond the paper: when every mixed exemplar is pixel art (hard edges,
     at most 32 colours, alpha 0/1, art pixels at least 2 working pixels
     across; :mod:`~branchnb.trees.pixel_art`) and the colours are chosen
