@@ -200,7 +200,13 @@ class Normalized:
     soft_alpha : (S, S) float32 ndarray or None
         The source's own (anti-aliased) alpha resampled like ``image``
         (None for pixel art); the thin-structure mix of bare trees keeps its
-        soft edges (:mod:`~branchnb.trees.bare`).
+        soft edges (:mod:`~branchnb.trees.bare`). For a translucent source
+        (:mod:`~branchnb.trees.translucent`) it is the source's own alpha,
+        which the variations carry through the mix.
+    alpha_level : float
+        The source alpha the silhouette was taken at: 0.5 (the paper's
+        threshold) unless the source is translucent (beyond the paper,
+        :func:`~branchnb.trees.translucent.translucent_level`).
 
     Examples
     --------
@@ -219,6 +225,7 @@ class Normalized:
     dropped_components: int = 0
     pixel_art: object = None
     soft_alpha: np.ndarray | None = None
+    alpha_level: float = 0.5
 
     @property
     def alpha(self) -> np.ndarray:
@@ -407,7 +414,8 @@ def tree_rgba(image, *, alpha_threshold: float = 0.5, min_pixels: int = 1,
 
 
 @checked()
-def normalize_exemplar(image, params: ExemplarParams | None = None, **overrides) -> Normalized:
+def normalize_exemplar(image, params: ExemplarParams | None = None, *, defringe: bool = True,
+                       **overrides) -> Normalized:
     """Normalise a tree image (paper: threshold, black background, crop, square, resize).
 
     Parameters
@@ -418,6 +426,11 @@ def normalize_exemplar(image, params: ExemplarParams | None = None, **overrides)
         :func:`alpha_from_background`.
     params : ExemplarParams, optional
         ``size`` (S = 1024), ``alpha_threshold`` (0.5), ``components``.
+    defringe : bool
+        Give soft edge pixels that show the background's colour the tree's
+        nearby colour (:func:`_defringe`); False for translucent sources,
+        whose soft alpha is the paint's own coverage, not a matte
+        (:mod:`~branchnb.trees.translucent`).
     **overrides
         Fields of ``params`` to override, e.g. ``size=256``.
 
@@ -457,7 +470,8 @@ def normalize_exemplar(image, params: ExemplarParams | None = None, **overrides)
         from dataclasses import replace
         p = check_params(replace(p, **overrides))
     img, opaque = tree_rgba(image, alpha_threshold=p.alpha_threshold)
-    img = _defringe(img, opaque)
+    if defringe:
+        img = _defringe(img, opaque)
     h, w = img.shape[:2]
     opaque, dropped = _select_components(opaque, p.components, p.second_tree_fraction)
     ys, xs = np.nonzero(opaque)

@@ -22,6 +22,7 @@ from ..core.io import encode_png
 from ..core.params import check_params
 from ..core.validate import Array, Int, Seq, checked
 from .contour import ContourParams
+from .translucent import translucent_level
 from .exemplar import (
     SPRITE_SIZE,
     ExemplarParams,
@@ -53,14 +54,16 @@ MIN_AUTO_SIZE = 32
 
 
 def _extent(image) -> int:
-    """Largest side of the opaque (alpha >= 0.5) bounding box of an RGBA image (0: none or not RGBA)."""
+    """Largest side of the opaque (alpha >= 0.5, or a translucent source's own level) bounding box of
+    an RGBA image (0: none or not RGBA)."""
     a = np.asarray(image)
     if a.ndim != 3 or a.shape[2] != 4:
         return 0
     al = a[..., 3].astype(np.float32)
     if np.issubdtype(a.dtype, np.integer):
         al = al / float(np.iinfo(a.dtype).max)
-    ys, xs = np.nonzero(al >= 0.5)
+    # a translucent source's silhouette lies lower (translucent.py): a glass tree has no alpha >= 0.5
+    ys, xs = np.nonzero(al >= translucent_level(al))
     return int(max(np.ptp(ys), np.ptp(xs)) + 1) if len(ys) else 0
 
 

@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import numba
 import numpy as np
+from scipy import ndimage as ndi
 
 from ..core.image import as_mask, as_points, as_rgba
 from ..core.random import as_rng
@@ -284,7 +285,7 @@ COLOUR_MODES = ("blend", "choose", "parts")
 def transfer_colour(sources, source_cages, target_cage, target_mask, *,
                     colour_weights=None, rng=None, mode: str = "blend",
                     region_scale: float = 0.15, seam: float = 20.0, return_sources: bool = False,
-                    layers=None, groups=None, contours=None, _maps=None):
+                    layers=None, groups=None, contours=None, alphas=None, _maps=None):
     """Colour a target shape from one or more exemplars through their simplified contours.
 
     Parameters
@@ -352,6 +353,10 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
         source its colour comes from (see ``sources`` below), so a result's
         parts need no new segmentation (beyond the paper).
 
+    alphas : sequence of (H, W) array_like, optional
+        One soft alpha per source (a translucent source's own alpha,
+        :mod:`~branchnb.trees.translucent`), carried like ``layers`` but
+        sampled bilinearly; returned last (beyond the paper).
     groups : sequence of int, optional
         ``"parts"``: one label per source (e.g. 1 outlined, 0 not); the
         trunk comes only from a source of the crown source's group, so an
@@ -388,7 +393,9 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
         most colour weight among those opaque there in ``"blend"`` mode), -1
         where alpha is 0.
     layer : (H, W) float32 ndarray
-        With ``layers`` (last): the carried map, 0 where alpha is 0.
+        With ``layers``: the carried map, 0 where alpha is 0.
+    alpha : (H, W) float32 ndarray
+        With ``alphas`` (last): the carried soft alpha, 0 where alpha is 0.
 
     Examples
     --------
@@ -487,6 +494,11 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
         val = lv[li, np.arange(len(li))]
         lay[ys[opaque], xs[opaque]] = val[opaque]
         extra = (lay,)
+    if alphas is not None:
+        av = _alpha_values(alphas, srcs, used, mapped)
+        soft = np.zeros(mask.shape, np.float32)
+        soft[ys[opaque], xs[opaque]] = av[li, np.arange(len(li))][opaque]
+        extra = extra + (soft,)
     if not return_sources:
         return (out,) + extra if extra else out
     src = np.full(mask.shape, -1, np.int64)
@@ -544,6 +556,19 @@ def _rim_correction(pts: np.ndarray, tcage: np.ndarray, cages: list, contours, u
     # side) would fold the warp (holes, torn fills); smooth crowns need <= 0.05 of the side.
     fade = np.clip((RIM_NONE - top / side) / (RIM_NONE - RIM_FULL), 0.0, 1.0)
     return d * fade[:, None, None]
+
+
+def _alpha_values(alphas, srcs, used, mapped) -> np.ndarray:
+    """Each used source's soft alpha at the mapped points, (k, P) float32 (bilinear)."""
+    if isinstance(alphas, (str, bytes)) or not hasattr(alphas, "__len__") or len(alphas) != len(srcs):
+        raise ValueError(f"alphas: need one (H, W) map per source ({len(srcs)})")
+    out = np.zeros((len(used), mapped.shape[1]), np.float32)
+    for k, i in enumerate(used):
+        m = np.asarray(alphas[i], np.float32)
+        if m.shape != srcs[i].shape[:2]:
+            raise ValueError(f"alphas[{i}] has shape {m.shape}, its source {srcs[i].shape[:2]}")
+        out[k] = ndi.map_coordinates(m, [mapped[k][:, 1], mapped[k][:, 0]], order=1, mode="nearest")
+    return out
 
 
 def _layer_values(layers, srcs, used, mapped) -> np.ndarray:

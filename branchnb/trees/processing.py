@@ -33,6 +33,7 @@ from .exemplar import (
     tree_rgba,
 )
 from .ground import _join_detached_trunk, split_ground
+from .translucent import from_working_alpha, to_working_alpha, translucent_level
 
 __all__ = ["Exemplar", "exemplar_trunk", "process_exemplar", "TRUNK_METHODS", "GROUND_METHODS"]
 
@@ -284,6 +285,15 @@ def process_exemplar(image, name: str = "", *, trunk_mask=None, trunk: str = "au
     (:func:`~branchnb.trees.ground._join_detached_trunk`), while a sun, a
     ground disc, a leaf pile or a pebble is still dropped or cut.
 
+    Beyond the paper: a translucent source (watercolour washes of alpha
+    ~0.4, an airbrushed halo, a glass tree of alpha 0.3) would come out
+    with a hollow crown (only the pooled rim at alpha >= 0.5) or be refused
+    as transparent. Its silhouette is taken at its wash's own level
+    (:func:`~branchnb.trees.translucent.translucent_level`; the alpha is
+    remapped so that level is the threshold for every step), and the
+    exemplar keeps its source's soft alpha (``normalized.soft_alpha``,
+    ``normalized.alpha_level``), which the variations carry through the mix.
+
     Examples
     --------
     >>> from branchnb import data
@@ -304,6 +314,16 @@ def process_exemplar(image, name: str = "", *, trunk_mask=None, trunk: str = "au
     if ground not in GROUND_METHODS:
         raise ValueError(f"ground must be one of {list(GROUND_METHODS)}, got {ground!r}")
     cut = None
+    # Beyond the paper: a translucent source (watercolour wash, airbrushed or glass crown) is taken
+    # at its wash's own level, remapped to the threshold so every step below keeps it, and keeps
+    # its own soft alpha for the mix (translucent.py).
+    level = ep.alpha_threshold
+    src = np.asarray(image)
+    if src.ndim == 3 and src.shape[2] == 4:
+        img0 = as_float_image(src, name="image")
+        level = translucent_level(img0[..., 3], ep.alpha_threshold)
+        if level < ep.alpha_threshold:
+            image = np.dstack([img0[..., :3], to_working_alpha(img0[..., 3], level, ep.alpha_threshold)])
     # An icon's trunk drawn apart from the crown is the tree's, no clutter.
     image = _join_detached_trunk(image, ep.alpha_threshold)
     if ground == "cut":
@@ -312,7 +332,12 @@ def process_exemplar(image, name: str = "", *, trunk_mask=None, trunk: str = "au
         if split.has_ground:
             cut = split.ground
             image = split.cut(img)
-    norm = normalize_exemplar(image, ep)
+    # a translucent source's soft alpha is its paint's coverage, no matted-in background: the
+    # defringe recoloured 5 % of a watercolour crown's pixels (pink specks in the wash)
+    norm = normalize_exemplar(image, ep, defringe=level >= ep.alpha_threshold)
+    if level < ep.alpha_threshold and norm.soft_alpha is not None:
+        norm = replace(norm, soft_alpha=from_working_alpha(norm.soft_alpha, level, ep.alpha_threshold),
+                       alpha_level=level)
     if trunk_mask is None:
         tmask, source = exemplar_trunk(norm.image, trunk)
     else:

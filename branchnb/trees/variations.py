@@ -43,6 +43,7 @@ from dataclasses import dataclass, field, fields, replace
 
 import cv2
 import numpy as np
+from scipy import ndimage as ndi
 
 from .. import data as _data
 from ..core.image import as_float_image, composite_over
@@ -448,6 +449,13 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     edges; the mix has the dominant's trunk and whole limbs of each
     exemplar by its weight (:mod:`~branchnb.trees.bare`).
 
+    Beyond the paper: when a mixed exemplar is translucent (watercolour,
+    airbrushed or glass crowns; :mod:`~branchnb.trees.translucent`), its
+    source's own alpha is carried through the colour transfer like the
+    colour, and the result's silhouette takes it (its fall-off continued
+    just outside): the crown is as translucent as the sources, not an
+    opaque cut-out of un-premultiplied colour (much darker on paper).
+
     Beyond the paper: when every mixed exemplar is pixel art (hard edges,
     at most 32 colours, alpha 0/1, art pixels at least 2 working pixels
     across; :mod:`~branchnb.trees.pixel_art`) and the colours are chosen
@@ -525,7 +533,11 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
                                           for i in used], w[used], cw[used],
                                          [exemplars[i].trunk for i in used], hard=pixel, rng=rng)
     else:
-        image, sources, trunk = transfer_colour([exemplars[i].image for i in used],
+        # Beyond the paper: translucent sources' own alpha rides along (translucent.py).
+        clear = [i for i in used if exemplars[i].normalized.alpha_level < 0.5]
+        alphas = ([exemplars[i].normalized.soft_alpha if exemplars[i].normalized.soft_alpha is not None
+                   else exemplars[i].image[..., 3] for i in used] if clear else None)
+        image, sources, trunk, *carried = transfer_colour([exemplars[i].image for i in used],
                                                 [exemplars[i].cage(p.m_points) for i in used],
                                                 cage, mask, colour_weights=cw[used] / cw[used].sum(),
                                                 mode="parts" if mode == "choose" and p.choose_by == "parts" else mode,
@@ -533,7 +545,7 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
                                                 return_sources=True, layers=[exemplars[i].trunk for i in used],
                                                 groups=[_drawing_group(exemplars[i]) for i in used]
                                                 if mode == "choose" else None,
-                                                contours=None if inked else (cr, rims),
+                                                contours=None if inked else (cr, rims), alphas=alphas,
                                                 _maps=[exemplars[i]._cages for i in used])
         if spans and not inked:     # outlined and pixel-art mixes are re-inked and re-gridded below
             image, sources, trunk = _fill_tips(image, sources, trunk, cr, spans, mask)
@@ -574,8 +586,51 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
                                    reference_labels=None if ref_ex is None else exemplar_parts(ref_ex))
     sources = np.where(image[..., 3] >= 0.5, sources, -1)
     _remember_parts(image, parts)
+    if not bare and clear:
+        image = _translucent_alpha(image, carried[0], min(exemplars[i].normalized.alpha_level for i in clear))
     return Variation(image, tuple(e.name for e in exemplars), w, cw, cr, cage, mask, ref_name, mode, sources,
                      parts)
+
+
+#: Widest fall-off (px) a translucent mix's alpha is continued by outside its silhouette.
+FEATHER_MAX = 24.0
+
+
+def _translucent_alpha(image: np.ndarray, soft: np.ndarray, level: float) -> np.ndarray:
+    """``image`` with the carried soft alpha of translucent sources inside its silhouette.
+
+    Beyond the paper: the mix of translucent sources (:mod:`~branchnb.trees.translucent`) keeps
+    their alpha instead of an opaque cut-out (whose straight colour, shown opaque, looks much
+    darker than the wash on paper). Pixels the carried alpha misses (mapped outside a source's
+    silhouette, tips and holes filled after the colour transfer) take the mean carried alpha of
+    their 7 x 7 neighbourhood, else of the whole silhouette.
+    """
+    op = image[..., 3] >= 0.5
+    if not op.any():
+        return image
+    a = np.where(op, soft, 0.0).astype(np.float32)
+    miss = op & (a < level)
+    if miss.any():
+        good = op & ~miss
+        fill = float(np.median(a[good])) if good.any() else level
+        num = cv2.boxFilter(np.where(good, a, 0.0).astype(np.float32), -1, (7, 7), normalize=False)
+        den = cv2.boxFilter(good.astype(np.float32), -1, (7, 7), normalize=False)
+        local = np.where(den > 0, num / np.maximum(den, 1e-6), fill)
+        a = np.where(miss, np.maximum(local, level), a)
+    # The silhouette cuts the sources' fall-off at ``level``: continue it outside at the slope the
+    # carried alpha rises with just inside (an airbrushed halo fades out; a pooled or flat rim, which
+    # does not rise inwards, keeps a 1 px edge).
+    inside = cv2.distanceTransform(op.astype(np.uint8), cv2.DIST_L2, 5)
+    band = op & (inside >= 1.5) & (inside <= 4.5)
+    slope = float(np.median((a[band] - level) / inside[band])) if band.any() else 0.0
+    reach = float(np.clip(level / slope, 1.0, FEATHER_MAX)) if slope > 0 else 1.0
+    dist, idx = ndi.distance_transform_edt(~op, return_indices=True)
+    ring = ~op & (dist < reach + 1e-6)
+    out = image.copy()
+    out[..., 3] = np.clip(a, 0.0, 1.0)
+    out[..., 3][ring] = level * np.clip(1.0 - (dist[ring] - 0.5) / reach, 0.0, 1.0)
+    out[..., :3][ring] = image[..., :3][idx[0][ring], idx[1][ring]]
+    return out
 
 
 def _reference_exemplar(reference, library):

@@ -1,0 +1,143 @@
+"""Translucent tree sources (beyond the paper): watercolour washes, airbrushed crowns, glass trees.
+
+The paper thresholds a source's alpha at 0.5. Scanned watercolours, soft airbrushed game art,
+glass or ghost trees and "colour to alpha" cut-outs paint their crowns as wide washes of alpha
+0.3-0.45 (more where the pigment pools at the rim): at 0.5 only the pooled rim is the tree and every
+variation comes out with a hollow crown, or the whole tree is refused as transparent.
+
+:func:`translucent_level` tells such a source from an opaque one and picks the level its
+silhouette is taken at; :func:`to_working_alpha` remaps the alpha so that level becomes 0.5
+(every later step keeps the paper's threshold), :func:`from_working_alpha` undoes it so the
+exemplar keeps its source's own soft alpha, which the variation carries through the mix
+(:func:`~branchnb.trees.variations.make_variation`): a translucent crown stays translucent.
+
+Examples
+--------
+>>> import numpy as np
+>>> a = np.zeros((64, 64), np.float32); a[8:40, 12:52] = 0.35; a[40:60, 30:34] = 1.0
+>>> round(translucent_level(a), 3)
+0.175
+>>> b = np.zeros((64, 64), np.float32); b[8:40, 12:52] = 1.0
+>>> translucent_level(b)
+0.5
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy import ndimage as ndi
+
+from ..core.validate import Real, checked
+
+__all__ = ["translucent_level", "to_working_alpha", "from_working_alpha", "TRANSLUCENT_SHARE",
+           "TRANSLUCENT_WIDTH", "TRANSLUCENT_LEVEL", "TRANSLUCENT_CONTACT"]
+
+#: A source is translucent when its wide soft regions that belong to the tree cover at least this
+#: share of the tree (soft regions plus the pixels at or above the threshold).
+TRANSLUCENT_SHARE = 0.2
+#: Soft pixels count as "wide" when their whole disc of this radius (px) is soft: an anti-aliased
+#: edge (1-2 px) or a slightly feathered cut-out never is.
+TRANSLUCENT_WIDTH = 2
+#: The silhouette is taken at this share of the median alpha of the tree's soft regions (the
+#: wash's own level), clipped to [TRANSLUCENT_MIN, threshold - 0.05].
+TRANSLUCENT_LEVEL = 0.5
+TRANSLUCENT_MIN = 0.05
+#: A soft region outside the filled opaque part belongs to the tree when at least this share of
+#: its border touches the opaque part (an airbrushed halo round an opaque core: about half; a cast
+#: shadow crossed by the trunk foot: a few per cent).
+TRANSLUCENT_CONTACT = 0.25
+#: Pixels with alpha above this are painted at all.
+_PAINTED = 0.02
+
+
+@checked(threshold=Real(0, 1, low_open=True))
+def translucent_level(alpha, threshold: float = 0.5) -> float:
+    """The alpha level a source's silhouette is taken at: ``threshold`` for an opaque source, lower
+    for a translucent one.
+
+    Parameters
+    ----------
+    alpha : (H, W) array_like
+        The source's alpha in [0, 1].
+    threshold : float
+        The opacity threshold (paper: 0.5).
+
+    Returns
+    -------
+    float
+        ``threshold`` unless the source is translucent; then ``TRANSLUCENT_LEVEL`` times the
+        median alpha of its wide soft regions, within ``[TRANSLUCENT_MIN, threshold - 0.05]``.
+
+    Notes
+    -----
+    Beyond the paper. Soft pixels (painted, alpha below ``threshold``) form wide regions when they
+    survive an erosion by a disc of radius ``TRANSLUCENT_WIDTH``. Such a region belongs to the tree
+    when it lies mostly inside the opaque part with its holes filled (a wash inside a pooled rim),
+    when at least ``TRANSLUCENT_CONTACT`` of its border touches the opaque part (an airbrushed halo),
+    or when nearly nothing is opaque (a glass tree, the largest region). A detached cast-shadow
+    ellipse or one crossed only by the trunk foot (a flat region in the bottom fifth of the tree)
+    does not belong; any other region touching the opaque part does (a glass crown on an opaque
+    trunk). The source is translucent when
+    those regions cover at least ``TRANSLUCENT_SHARE`` of the tree.
+    """
+    a = np.asarray(alpha, np.float32)
+    if a.ndim != 2:
+        raise ValueError(f"alpha must be (H, W), got shape {a.shape}")
+    painted = a > _PAINTED
+    opaque = a >= threshold
+    soft = painted & ~opaque
+    if soft.sum() < TRANSLUCENT_SHARE * max(int(painted.sum()), 1):
+        return float(threshold)
+    r = TRANSLUCENT_WIDTH
+    yy, xx = np.mgrid[-r:r + 1, -r:r + 1]
+    disc = yy * yy + xx * xx <= r * r
+    wide = ndi.binary_erosion(soft, disc)
+    if not wide.any():
+        return float(threshold)
+    eight = np.ones((3, 3), bool)
+    lab, n = ndi.label(soft, structure=eight)
+    idx = np.arange(1, n + 1)
+    has_wide = np.asarray(ndi.maximum(wide, lab, idx)) > 0
+    area = np.asarray(ndi.sum(np.ones_like(soft), lab, idx))
+    if opaque.sum() < 0.05 * painted.sum():     # a glass tree: nothing opaque, the largest wash is it
+        belong = has_wide & (area == area[has_wide].max()) if has_wide.any() else has_wide
+    else:
+        inside = np.asarray(ndi.mean(ndi.binary_fill_holes(opaque), lab, idx)) >= 0.5
+        border = soft & ~ndi.binary_erosion(soft, eight)
+        touch = border & ndi.binary_dilation(opaque, eight)
+        contact = np.asarray(ndi.sum(touch, lab, idx)) / np.maximum(np.asarray(ndi.sum(border, lab, idx)), 1)
+        # a cast shadow lies at the foot, flat: in the bottom fifth of the tree, wider than tall
+        ys = np.nonzero(painted)[0]
+        foot = ys.min() + 0.8 * (ys.max() - ys.min())
+        cy = np.asarray(ndi.mean(np.indices(a.shape)[0], lab, idx))
+        spans = ndi.find_objects(lab)
+        flat = np.array([(sl[0].stop - sl[0].start) < 0.5 * (sl[1].stop - sl[1].start) for sl in spans])
+        shadow = (cy >= foot) & flat
+        belong = has_wide & (inside | (contact >= TRANSLUCENT_CONTACT) | ((contact > 0) & ~shadow))
+    if not belong.any():
+        return float(threshold)
+    region = np.isin(lab, idx[belong])
+    if region.sum() < TRANSLUCENT_SHARE * (region.sum() + opaque.sum()):
+        return float(threshold)
+    level = TRANSLUCENT_LEVEL * float(np.median(a[region]))
+    return float(np.clip(level, TRANSLUCENT_MIN, threshold - 0.05))
+
+
+def to_working_alpha(alpha: np.ndarray, level: float, threshold: float = 0.5) -> np.ndarray:
+    """``alpha`` remapped piecewise linearly so that ``level`` becomes ``threshold`` (0 and 1 stay)."""
+    a = np.clip(np.asarray(alpha, np.float32), 0.0, 1.0)
+    if level >= threshold:
+        return a
+    lo = a * (threshold / level)
+    hi = threshold + (a - level) * ((1.0 - threshold) / (1.0 - level))
+    return np.where(a < level, lo, hi).astype(np.float32)
+
+
+def from_working_alpha(alpha: np.ndarray, level: float, threshold: float = 0.5) -> np.ndarray:
+    """Inverse of :func:`to_working_alpha`."""
+    a = np.clip(np.asarray(alpha, np.float32), 0.0, 1.0)
+    if level >= threshold:
+        return a
+    lo = a * (level / threshold)
+    hi = level + (a - threshold) * ((1.0 - level) / (1.0 - threshold))
+    return np.where(a < threshold, lo, hi).astype(np.float32)
