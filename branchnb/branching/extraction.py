@@ -255,6 +255,14 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
                                        return_maps, root_point, flat_regions=False, frame_reach=True)
     if p.binary == "on" or (p.binary == "auto" and shape_width is None and is_binary(gray)):
         return _extract_binary(gray, p, mask, return_maps, root_point, colour=colour_image)
+    if auto_colour and line_colour is None and p.binary != "on":
+        # a line of about its ground's luminance that differs in hue (a river over fields seen from the
+        # air): traced on the opponent-colour channel that separates it best (beyond the paper, issue 23)
+        from .colour_contrast import colour_contrast_gray
+
+        hue = colour_contrast_gray(image)
+        if hue is not None:
+            gray = hue
     lines = gray
     if line_colour is not None:
         if isinstance(line_colour, str):
