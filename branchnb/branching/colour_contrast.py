@@ -26,6 +26,12 @@ OUTLIER_Z = 3.0
 MIN_SHARE, MAX_SHARE = 0.003, 0.25
 #: Smallest Lab distance (chroma units) between the lines' and the ground's median colour.
 MIN_CHROMA = 12.0
+#: Largest half width of the lines (90th percentile of the distance to their edge), as a share of the
+#: image's shorter side: a blob of colour (a crown, a flower) is no line network.
+MAX_HALF_WIDTH = 0.02
+#: Smallest centre-line length of the largest standing-out piece, as a share of the image's longer side:
+#: scattered spots of colour (baubles, flowers) are no network.
+MIN_NETWORK = 0.4
 #: The chroma direction's separation must beat the luminance's by this factor.
 GAIN = 1.5
 
@@ -59,7 +65,11 @@ def colour_contrast_gray(image, *, angles: int = 12) -> np.ndarray | None:
     z-score. The best chroma direction wins when it is at least
     :data:`GAIN` times as strong as the luminance and its standing-out
     pixels are at least :data:`MIN_CHROMA` Lab units away from the
-    median colour.
+    median colour and thin (90 % of them within
+    :data:`MAX_HALF_WIDTH` x the image's shorter side + 2 px of their
+    edge: a network of lines, not a coloured region), and their largest
+    8-connected piece has a centre line at least :data:`MIN_NETWORK` x
+    the image's longer side (not scattered spots of colour).
 
     Parameters
     ----------
@@ -121,6 +131,21 @@ def colour_contrast_gray(image, *, angles: int = 12) -> np.ndarray | None:
     lines = proj > med + OUTLIER_Z * mad
     line_med = float(np.median(proj[lines]))
     if line_med - med < MIN_CHROMA:
+        return None
+    # lines, not regions: a coloured crown or a sky standing out of a white or grey ground is no network
+    # (luminance or the binary path trace those); the standing-out pixels must be thin and one long network
+    from scipy import ndimage as ndi
+    from skimage.morphology import skeletonize
+
+    out = ndi.binary_opening((proj > med + OUTLIER_Z * mad).reshape(lab[::step, ::step].shape[:2]))
+    if not out.any():
+        return None
+    half = ndi.distance_transform_edt(out)[out] * step
+    if np.percentile(half, 90) > MAX_HALF_WIDTH * min(h, w) + 2.0:
+        return None
+    pieces, n = ndi.label(out, np.ones((3, 3), bool))
+    axis_len = np.bincount(pieces[skeletonize(out)], minlength=n + 1)[1:] * step
+    if axis_len.max() < MIN_NETWORK * max(h, w):
         return None
     full = lab[..., 1:] @ u
     g = 0.7 - 0.5 * (full - med) / (line_med - med)
