@@ -158,6 +158,11 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         smoothed at the grain's scale
         (:func:`~branchnb.branching.textured_paint.textured_line_shape`), not by
         the filter, which would trace every grain (beyond the paper, issue 23).
+        Lines of about their ground's luminance that differ in hue (a
+        blue-grey river over green and tan fields seen from the air, whose
+        luminance steps the filter would trace instead) are traced on the
+        opponent-colour channel that sets them apart, beyond the paper
+        (:func:`~branchnb.branching.colour_contrast.colour_contrast_gray`).
     mask : (H, W) bool array_like, optional
         Only look inside this region.
     return_maps : bool, default False
@@ -168,8 +173,8 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         each pixel has that colour rather than its surroundings'. "auto"
         looks for a coloured thin-line colour (:func:`thin_line_colour`,
         e.g. the blue rivers of a map over a grey relief, which
-        brightness alone confuses with the relief's edges); None never
-        does. The colour of an annotation can be read with
+        brightness alone confuses with the relief's edges), and when there
+        is none, for lines set apart by hue (see above); None does neither. The colour of an annotation can be read with
         :func:`line_colour_of`.
     **overrides
         Fields of :class:`ExtractionParams` replacing those of ``params``
