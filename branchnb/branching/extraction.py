@@ -229,6 +229,7 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         if n_filled:
             gray = image = filled
     auto_colour = isinstance(line_colour, str) and line_colour == "auto"
+    hue = None
     shape_width = None
     if auto_colour and p.binary != "on":
         line_colour, shape_width = _line_colour_and_width(image, sigma_max=p.sigma_max)
@@ -247,7 +248,15 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
                                    return_maps, root_point, flat_regions=False,
                                    frame_reach=not _is_drawn(as_gray(as_rgb(image)[..., :3])),
                                    close_cycles=p.close_cycles)
-        if line_colour is None and shape_width is None and not _is_drawn(as_gray(as_rgb(image)[..., :3])):
+        if line_colour is None and shape_width is None and p.binary != "on":
+            # a line of about its ground's luminance that differs in hue (a river over fields seen from the
+            # air): traced on the opponent-colour channel that separates it best (beyond the paper, issue 23);
+            # checked first, as a patchwork of fields would pass for lines painted with the ground's grain
+            from .colour_contrast import colour_contrast_gray
+
+            hue = colour_contrast_gray(image)
+        if hue is None and line_colour is None and shape_width is None and \
+                not _is_drawn(as_gray(as_rgb(image)[..., :3])):
             # lines painted with the ground's own grain (roots given the soil's texture): no solid colour, and
             # the ridge filter would trace every grain; their tone, smoothed at the grain's scale, still is
             # a branching shape of its own (beyond the paper, issue 23). Its cycles stay cut: closing them
@@ -260,14 +269,8 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
                                        return_maps, root_point, flat_regions=False, frame_reach=True)
     if p.binary == "on" or (p.binary == "auto" and shape_width is None and is_binary(gray)):
         return _extract_binary(gray, p, mask, return_maps, root_point, colour=colour_image)
-    if auto_colour and line_colour is None and p.binary != "on":
-        # a line of about its ground's luminance that differs in hue (a river over fields seen from the
-        # air): traced on the opponent-colour channel that separates it best (beyond the paper, issue 23)
-        from .colour_contrast import colour_contrast_gray
-
-        hue = colour_contrast_gray(image)
-        if hue is not None:
-            gray = hue
+    if hue is not None:
+        gray = hue
     lines = gray
     if line_colour is not None:
         if isinstance(line_colour, str):
