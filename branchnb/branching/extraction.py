@@ -158,6 +158,11 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         smoothed at the grain's scale
         (:func:`~branchnb.branching.textured_paint.textured_line_shape`), not by
         the filter, which would trace every grain (beyond the paper, issue 23).
+        Lines of about their ground's luminance that differ in hue (a
+        blue-grey river over green and tan fields seen from the air, whose
+        luminance steps the filter would trace instead) are traced on the
+        opponent-colour channel that sets them apart, beyond the paper
+        (:func:`~branchnb.branching.colour_contrast.colour_contrast_gray`).
     mask : (H, W) bool array_like, optional
         Only look inside this region.
     return_maps : bool, default False
@@ -168,8 +173,8 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         each pixel has that colour rather than its surroundings'. "auto"
         looks for a coloured thin-line colour (:func:`thin_line_colour`,
         e.g. the blue rivers of a map over a grey relief, which
-        brightness alone confuses with the relief's edges); None never
-        does. The colour of an annotation can be read with
+        brightness alone confuses with the relief's edges), and when there
+        is none, for lines set apart by hue (see above); None does neither. The colour of an annotation can be read with
         :func:`line_colour_of`.
     **overrides
         Fields of :class:`ExtractionParams` replacing those of ``params``
@@ -224,6 +229,7 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         if n_filled:
             gray = image = filled
     auto_colour = isinstance(line_colour, str) and line_colour == "auto"
+    hue = None
     shape_width = None
     if auto_colour and p.binary != "on":
         line_colour, shape_width = _line_colour_and_width(image, sigma_max=p.sigma_max)
@@ -242,7 +248,15 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
                                    return_maps, root_point, flat_regions=False,
                                    frame_reach=not _is_drawn(as_gray(as_rgb(image)[..., :3])),
                                    close_cycles=p.close_cycles)
-        if line_colour is None and shape_width is None and not _is_drawn(as_gray(as_rgb(image)[..., :3])):
+        if line_colour is None and shape_width is None and p.binary != "on":
+            # a line of about its ground's luminance that differs in hue (a river over fields seen from the
+            # air): traced on the opponent-colour channel that separates it best (beyond the paper, issue 23);
+            # checked first, as a patchwork of fields would pass for lines painted with the ground's grain
+            from .colour_contrast import colour_contrast_gray
+
+            hue = colour_contrast_gray(image)
+        if hue is None and line_colour is None and shape_width is None and \
+                not _is_drawn(as_gray(as_rgb(image)[..., :3])):
             # lines painted with the ground's own grain (roots given the soil's texture): no solid colour, and
             # the ridge filter would trace every grain; their tone, smoothed at the grain's scale, still is
             # a branching shape of its own (beyond the paper, issue 23). Its cycles stay cut: closing them
@@ -255,6 +269,8 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
                                        return_maps, root_point, flat_regions=False, frame_reach=True)
     if p.binary == "on" or (p.binary == "auto" and shape_width is None and is_binary(gray)):
         return _extract_binary(gray, p, mask, return_maps, root_point, colour=colour_image)
+    if hue is not None:
+        gray = hue
     lines = gray
     if line_colour is not None:
         if isinstance(line_colour, str):
