@@ -140,4 +140,7 @@ def test_channels_leave_a_turned_trunk_on_both_sides():
         b = d.bearing(at, np.array([np.cos(a), np.sin(a)]), None, spread=np.radians(45.0))
         sides.append(np.degrees(np.arctan2(b[1], b[0])) - 90.0)
     assert sides[0] * sgn < -30.0, sides           # the fan's far side first
-    assert abs(sides[1]) < 10.0, sides             # then its middle
+    # and never beyond the trunk (branching88: a turned trunk that is the example's outermost channel
+    # has no channel on its outer side; the next heading is the least given one once a channel is placed,
+    # so two asks with nothing placed between them get the same far-side heading)
+    assert all(side * sgn < 10.0 for side in sides), sides

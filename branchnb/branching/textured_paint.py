@@ -35,6 +35,9 @@ MIN_WIDTH_SIGMAS = 1.5
 GRAIN_MIN = 0.11
 #: ... and at most this share: a ground grained as strongly as the lines' contrast (stripes) has no second tone.
 GRAIN_MAX = 0.35
+#: Lines whose grain (high-pass spread inside them) is more than this many times the ground's have a
+#: texture of their own: not lines painted with the ground's grain.
+OWN_GRAIN = 2.0
 #: The lines' tone covers at least / at most this share of the image.
 MIN_SHARE, MAX_SHARE = 0.01, 0.4
 
@@ -127,5 +130,11 @@ def textured_line_shape(image, sigma_max: float = 4.0) -> np.ndarray | None:
     outer = ndi.distance_transform_edt(~shape) >= 3.0
     grain = float(np.std(hp[outer])) / max(abs(ground - peak), 1e-6) if outer.any() else np.inf
     if grain > GRAIN_MAX or (width < MIN_WIDTH_SIGMAS * sigma_max and grain < GRAIN_MIN):
+        return None
+    # the lines carry the ground's grain; lines with a texture of their own, much stronger than the
+    # ground's (a speckled neuron or a bright crack network on a dark ground, with a soma or hub: 2.3-5.9x
+    # against 0.6-1.1x for roots painted with the soil's grain), are the other routes' (hubs, glow)
+    inner = ndi.distance_transform_edt(shape) >= 2.0
+    if inner.any() and float(np.std(hp[inner])) / max(abs(ground - peak), 1e-6) > OWN_GRAIN * grain:
         return None
     return shape
