@@ -41,9 +41,7 @@ from .induction import (
     colour_similarity,
     colour_space,
     layer_cdfs,
-    TIE_LEVEL,
     layer_weight,
-    positional_tie,
     layer_width,
     liberal_layer,
     neighbourhood_candidates,
@@ -705,14 +703,7 @@ def _own_cdf(q, pixels, cdf, bins):
 
 
 def _combine(colour, dist, lengths, tolerance, params, blades, registrations, t, user):
-    """Eqs. 2-4 from the colour terms and distance maps: ``lambda``, ``D`` per exemplar, ``delta``.
-
-    ``lambda`` is 0 when the layer's colour is not found near the registered layer beyond chance
-    (:func:`~branchnb.leaves.induction.positional_tie` under :data:`~branchnb.leaves.induction.TIE_LEVEL`)
-    while that colour singles the layer out on the training leaf (at least half of its pixels with
-    ``S_e`` under the liberal threshold are the user's layer): beyond the paper, marks at random places
-    keep no positional tie from chance overlaps.
-    """
+    """Eqs. 2-4 from the colour terms and distance maps: ``lambda``, ``D`` per exemplar, ``delta``."""
     liberal_t, spat = [], []
     for e in range(len(colour)):
         eps_px, _, lib_r = lengths[e]
@@ -721,17 +712,6 @@ def _combine(colour, dist, lengths, tolerance, params, blades, registrations, t,
         liberal_t.append(lib_t & blades[t])
         spat.append(spatial_term(dist[e], colour[e], eps_px))
     lam, overlap = layer_weight(liberal_t, params.kappa)
-    match_t = (colour[t] < params.liberal_threshold) & blades[t]
-    if lam > 0 and (match_t & user).sum() >= 0.5 * match_t.sum():
-        # A chance overlap of marks at random places is no positional tie (beyond the paper, issue 22).
-        # Only where the layer's colour singles it out on the training leaf (most of its colour matches
-        # are the layer): a layer of the blade's own colour (veins scribbled on a plain blade) has only
-        # its place to go by.
-        radii = [max(ln[2], tolerance) for ln in lengths]
-        tie = positional_tie([colour[e] < params.liberal_threshold for e in range(len(colour))], dist, blades, t,
-                             radii)
-        if tie < TIE_LEVEL:
-            lam = 0.0
     combined = [(np.float32(lam) * f + s).astype(np.float32) for f, s in zip(spat, colour)]
     delta, tr_iou = choose_threshold(combined[t], user, blades[t])
     return lam, overlap, combined, delta, tr_iou

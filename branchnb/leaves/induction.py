@@ -40,12 +40,6 @@ exemplar and a user layer ``c``:
     brought into the training frame: a structural layer (veins) sits at
     the same place in every exemplar, so its liberal layers overlap and it
     leans on space; a non-structural one (spots) leans on colour.
-    **Beyond the paper** (issue 22): a chance overlap of marks at random
-    places gives a small ``lambda > 0`` that forbids every mark away from
-    the training leaf's; so ``lambda = 0`` when the layer's colour is not
-    found near the registered layer more than by chance
-    (:func:`positional_tie` under :data:`TIE_LEVEL`, applied by
-    :func:`branchnb.leaves.analysis_induce.induce`).
 
 **Scale.** ``eps = 40`` px and ``n = 8`` are the paper's values for leaves
 photographed at about 2 MP (1633 x 1225): a leaf filling such a frame
@@ -106,7 +100,6 @@ __all__ = [
     "choose_threshold",
     "liberal_layer",
     "layer_weight",
-    "positional_tie",
     "remove_layer",
     "telea",
 ]
@@ -504,76 +497,3 @@ def layer_weight(liberal_in_training, kappa: float) -> tuple[float, float]:
     overlap = 0.0 if nu == 0 else float(inter.sum() / nu)
     return float(kappa * overlap), overlap
 
-
-
-#: :func:`positional_tie` below which a layer gets no positional tie (``lambda = 0``). Measured on
-#: procedural families: veins 0.9-1.0; rust spots of which one sits at the same place on every leaf 0.23.
-TIE_LEVEL = 0.5
-
-
-def positional_tie(colour_in_blades, distances, blades, training_index: int, radius_px) -> float:
-    """How much more than by chance an exemplar's layer-coloured pixels sit near the registered layer.
-
-    Beyond the paper (issue 22). ``lambda = kappa |cap L~e| / |cup L~e|``
-    is meant to be 0 for a layer at random places (spots), but one spot
-    of each exemplar falling by chance near one of the training leaf's
-    makes the intersection non-empty, and any ``lambda > 0`` makes ``F``
-    (up to ``e^60``) forbid every pixel away from the registered layer:
-    on birch-like leaves a chance ``lambda = 0.086`` lost half the spots
-    of ordinary leaves. So each exemplar ``e`` is asked which share ``p_e``
-    of its layer-coloured pixels (``{S_e < threshold}`` on its blade) lie
-    within the liberal radius of the registered layer, against the share
-    ``a_e`` of its blade that does (what ``p_e`` would be were the layer
-    placed without regard to position); the tie is the median over the
-    exemplars of ``(p_e - a_e) / (1 - a_e)`` (Cohen's kappa-like): near 1
-    for veins, a midrib or a margin (their colour is found where the
-    training leaf has them), near 0 for marks at random places, where
-    ``lambda > 0`` would throw away every mark but the coincident ones.
-
-    Parameters
-    ----------
-    colour_in_blades : sequence of (H, W) bool array_like
-        ``{S_e < threshold}`` on each exemplar's blade, in its own frame.
-    distances : sequence of (H, W) array_like
-        ``||x, c||``, distance to the registered layer on each exemplar.
-    blades : sequence of (H, W) bool array_like
-        The exemplars' blades.
-    training_index : int
-        The training leaf (left out).
-    radius_px : float or sequence of float
-        The liberal radius (per exemplar or one for all), in pixels.
-
-    Returns
-    -------
-    float
-        The median discounted share, at most 1; 1 when there is no other
-        exemplar. An exemplar without layer-coloured pixels counts 0.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> b = np.ones((40, 40), bool); a = np.zeros_like(b); a[20, 5:35] = True
-    >>> d = np.abs(np.arange(40) - 20.0)[:, None] * np.ones((1, 40))
-    >>> round(positional_tie([a, a], [d, d], [b, b], 0, 1.0), 2)
-    1.0
-    """
-    n = len(blades)
-    if not 0 <= training_index < n:
-        raise ValueError(f"training_index must be in [0, {n}), got {training_index}")
-    if len(colour_in_blades) != n or len(distances) != n:
-        raise ValueError("colour_in_blades, distances and blades must have one entry per exemplar")
-    radii = np.broadcast_to(np.asarray(radius_px, np.float64), (n,))
-    ties = []
-    for e in range(n):
-        if e == training_index:
-            continue
-        blade = as_mask(blades[e], name=f"blades[{e}]")
-        matches = as_mask(colour_in_blades[e], shape=blade.shape, name=f"colour_in_blades[{e}]") & blade
-        near = np.asarray(distances[e]) < float(radii[e])
-        if not matches.any() or not blade.any():
-            ties.append(0.0)
-            continue
-        share = float(near[matches].mean())
-        chance = float(near[blade].mean())
-        ties.append(1.0 if chance >= 1.0 else (share - chance) / (1.0 - chance))
-    return float(min(np.median(ties), 1.0)) if ties else 1.0
