@@ -123,21 +123,23 @@ def translucent_level(alpha, threshold: float = 0.5) -> float:
     return float(np.clip(level, TRANSLUCENT_MIN, threshold - 0.05))
 
 
+def _two_piece(alpha: np.ndarray, x0: float, y0: float) -> np.ndarray:
+    """``alpha`` mapped piecewise linearly through (0, 0), (x0, y0), (1, 1)."""
+    a = np.clip(np.asarray(alpha, np.float32), 0.0, 1.0)
+    lo = a * (y0 / x0)
+    hi = y0 + (a - x0) * ((1.0 - y0) / (1.0 - x0))
+    return np.where(a < x0, lo, hi).astype(np.float32)
+
+
 def to_working_alpha(alpha: np.ndarray, level: float, threshold: float = 0.5) -> np.ndarray:
     """``alpha`` remapped piecewise linearly so that ``level`` becomes ``threshold`` (0 and 1 stay)."""
-    a = np.clip(np.asarray(alpha, np.float32), 0.0, 1.0)
     if level >= threshold:
-        return a
-    lo = a * (threshold / level)
-    hi = threshold + (a - level) * ((1.0 - threshold) / (1.0 - level))
-    return np.where(a < level, lo, hi).astype(np.float32)
+        return np.clip(np.asarray(alpha, np.float32), 0.0, 1.0)
+    return _two_piece(alpha, level, threshold)
 
 
 def from_working_alpha(alpha: np.ndarray, level: float, threshold: float = 0.5) -> np.ndarray:
     """Inverse of :func:`to_working_alpha`."""
-    a = np.clip(np.asarray(alpha, np.float32), 0.0, 1.0)
     if level >= threshold:
-        return a
-    lo = a * (level / threshold)
-    hi = level + (a - threshold) * ((1.0 - level) / (1.0 - threshold))
-    return np.where(a < threshold, lo, hi).astype(np.float32)
+        return np.clip(np.asarray(alpha, np.float32), 0.0, 1.0)
+    return _two_piece(alpha, threshold, level)
