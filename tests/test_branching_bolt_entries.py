@@ -5,8 +5,6 @@ from scipy import ndimage as ndi
 from branchnb.branching import extract_structure
 from branchnb.branching._frame_hug_check import hug_example
 from branchnb.branching.fragment_links import relink_fragments
-from branchnb.branching.frame_band import bearing_keep, entry_turn_limit
-from branchnb.core.structure import Branch, Structure
 
 
 def _pieces(sk):
@@ -47,22 +45,3 @@ def test_bolt_pieces_are_rooted_at_the_frame_entries():
         assert d <= 4.0, f"root at {b.points[0]} is {d:.1f} px past 2 radii from every entry"
     for q, rr in entries:
         assert min(np.hypot(*(b.points[0] - q)) for b in roots) <= 4.0 + 2.0 * rr
-
-
-def test_entering_root_turning_past_the_example_ends():
-    n = 200
-    y = np.arange(0.0, 150.0, 4.0)
-    straight = np.column_stack([100.0 + 5.0 * np.sin(y / 30.0), y])
-    ex = Structure([Branch(straight, np.full(len(y), 2.0))], image_shape=(n, n))
-    lim = entry_turn_limit(ex)
-    assert 20.0 < lim < 40.0                      # the example turns ~10 deg, plus the 20 deg margin
-    pts = np.column_stack([np.full(20, 100.0), np.arange(0.0, 80.0, 4.0)])
-    down = np.column_stack([np.full(5, 100.0), 80.0 + 4.0 * np.arange(1, 6)])
-    assert bearing_keep(pts, down, 1, lim, (n, n)).all()
-    side = np.column_stack([100.0 + 4.0 * np.arange(1, 11), np.full(10, 76.0)])
-    ok = bearing_keep(pts, side, 1, lim, (n, n))
-    assert ok[0] and not ok[-1]
-    # a root starting inside (no side) or an example whose roots start inside: no limit
-    assert bearing_keep(pts, side, -1, lim, (n, n)).all()
-    inner = Structure([Branch(straight + [0.0, 30.0], np.full(len(y), 2.0))], image_shape=(n, n))
-    assert entry_turn_limit(inner) == float("inf")

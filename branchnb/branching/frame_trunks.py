@@ -32,11 +32,6 @@ TRUNK_FRAME_RADII = 1.0
 TRUNK_RATIO = 1.2
 #: ... and at least this share of the thickest frame end's thickness.
 TRUNK_SHARE = 0.75
-#: Both thickness tests above allow this many pixels: a bolt's 1-3 px trunks read their radii in
-#: quarter- to half-pixel steps, and of two trunks of one piece entering the top of a 768 px bolt at the
-#: same width one read 1.74 px just inside, under 0.75 x the other's 2.33 and 1.2 x the median 1.5, and
-#: grew as a child of the other tree (issue 23, branching87).
-TRUNK_SLACK = 0.25
 #: The forks of an entry's part of the piece overrule it (pointing away from it) from this many on.
 TRUNK_VOTES = 3
 #: Two entries are one line (a trunk crossing the canvas enters once) when a path of nodes at least
@@ -115,7 +110,7 @@ def frame_trunks(g, deg: np.ndarray, cand: np.ndarray, members: np.ndarray, pts:
         return []
     r_med = float(np.median(r[members]))
     inside = _inside_radius(g, cand[at], r, r_med)
-    ok = (inside + TRUNK_SLACK >= TRUNK_RATIO * r_med) & (inside + TRUNK_SLACK >= TRUNK_SHARE * float(inside.max()))
+    ok = (inside >= TRUNK_RATIO * r_med) & (inside >= TRUNK_SHARE * float(inside.max()))
     if not ok.any():
         return []
     at, inside = at[ok], inside[ok]

@@ -353,10 +353,6 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
         source its colour comes from (see ``sources`` below), so a result's
         parts need no new segmentation (beyond the paper).
 
-    alphas : sequence of (H, W) array_like, optional
-        One soft alpha per source (a translucent source's own alpha,
-        :mod:`~branchnb.trees.translucent`), carried like ``layers`` but
-        sampled bilinearly; returned last (beyond the paper).
     groups : sequence of int, optional
         ``"parts"``: one label per source (e.g. 1 outlined, 0 not); the
         trunk comes only from a source of the crown source's group, so an
@@ -377,6 +373,10 @@ def transfer_colour(sources, source_cages, target_cage, target_mask, *,
         largest residual exceeds 0.06-0.08 of the image side (shapes so
         unlike, a palm and a broadleaf, that the correction would fold the
         warp). None: the cage warp alone.
+    alphas : sequence of (H, W) array_like, optional
+        One soft alpha per source (a translucent source's own alpha,
+        :mod:`~branchnb.trees.translucent`), carried like ``layers`` but
+        sampled bilinearly; returned last (beyond the paper).
 
     Returns
     -------

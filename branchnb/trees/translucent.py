@@ -132,14 +132,55 @@ def _two_piece(alpha: np.ndarray, x0: float, y0: float) -> np.ndarray:
 
 
 def to_working_alpha(alpha: np.ndarray, level: float, threshold: float = 0.5) -> np.ndarray:
-    """``alpha`` remapped piecewise linearly so that ``level`` becomes ``threshold`` (0 and 1 stay)."""
+    """``alpha`` remapped piecewise linearly so that ``level`` becomes ``threshold`` (0 and 1 stay).
+
+    Parameters
+    ----------
+    alpha : (H, W) array_like
+        A source's alpha, in [0, 1].
+    level : float
+        The source's silhouette level (:func:`translucent_level`).
+    threshold : float, default 0.5
+        The working images' opacity threshold.
+
+    Returns
+    -------
+    (H, W) float32 ndarray
+        ``alpha`` itself (clipped) when ``level >= threshold``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> [round(float(v), 3) for v in to_working_alpha(np.array([0.0, 0.1, 0.2, 1.0]), 0.2)]
+    [0.0, 0.25, 0.5, 1.0]
+    """
     if level >= threshold:
         return np.clip(np.asarray(alpha, np.float32), 0.0, 1.0)
     return _two_piece(alpha, level, threshold)
 
 
 def from_working_alpha(alpha: np.ndarray, level: float, threshold: float = 0.5) -> np.ndarray:
-    """Inverse of :func:`to_working_alpha`."""
+    """Inverse of :func:`to_working_alpha`.
+
+    Parameters
+    ----------
+    alpha : (H, W) array_like
+        A working alpha, in [0, 1].
+    level : float
+        The source's silhouette level (:func:`translucent_level`).
+    threshold : float, default 0.5
+        The working images' opacity threshold.
+
+    Returns
+    -------
+    (H, W) float32 ndarray
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> [round(float(v), 3) for v in from_working_alpha(np.array([0.0, 0.25, 0.5, 1.0]), 0.2)]
+    [0.0, 0.1, 0.2, 1.0]
+    """
     if level >= threshold:
         return np.clip(np.asarray(alpha, np.float32), 0.0, 1.0)
     return _two_piece(alpha, threshold, level)
