@@ -361,8 +361,8 @@ class _Drain:
         roots = [b for b in example.branches if b.parent is None and len(b.points) >= 2]
         if not roots or self.tail_share is None:
             return
-        p = np.asarray(max(roots, key=lambda b: float(np.hypot(*np.diff(np.asarray(b.points, float), axis=0).T).sum())).points,
-                       np.float64)
+        root = max(roots, key=lambda b: float(np.hypot(*np.diff(np.asarray(b.points, float), axis=0).T).sum()))
+        p = np.asarray(root.points, np.float64)
         d = self.depth_at(p)
         below = np.flatnonzero(d <= self.tail_share * float(d[0]))
         if not below.size or below[0] == 0:

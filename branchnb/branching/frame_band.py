@@ -311,7 +311,10 @@ def bearing_keep(points, new_pts: np.ndarray, side: int, limit: float, shape) ->
     leave a root free to turn anywhere beyond :data:`PARALLEL_BAND`; a river network's trunk from the
     bottom of a 512 px map ran up to 45 px under the top, turned 90 deg and ran 200 px along it; a
     256 px bolt's trunk turned sideways near the bottom. The example's roots keep their bearing within
-    their own largest turn (:func:`entry_turn_limit`); a root turning past it ends there.
+    their own largest turn (:func:`entry_turn_limit`); a root turning past it ends there. Its tree then
+    furcates on less length and children crowd: those whose first Markov step the density refused are
+    dropped with the unborn heads (``_BranchState.bearing_cut``, ``_Filling._drop_heads``; branching94: on
+    tests/test_branching_unborn.py's crack, seed 0, 3 bare heads -> 0; _frame_hug_check's 45 cases 42 -> 44).
 
     Examples
     --------
